@@ -1,0 +1,36 @@
+// The multi-level (Mallat) 2D DWT on the GPU as a sequence of per-level dispatches:
+// analysis, synthesis and the squared-filter variance analysis. Owns the scratch buffers
+// that carry the low-low band between levels; they are allocated only when a transform
+// has two or more levels.
+#pragma once
+
+#include "host/vk/gpu_image.h"
+#include "host/vk/recorder.h"
+#include "host/wavelet.h"
+
+namespace mcd {
+
+class WaveletTransform {
+public:
+    WaveletTransform(vk::Context &context, int width, int height, int channels);
+
+    // `in` and `coef` are width x height x channels; levels in [0, MaxWaveletLevels].
+    void RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
+                        const vk::GpuImage &in, const vk::GpuImage &coef);
+    void RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
+                         const vk::GpuImage &coef, const vk::GpuImage &out);
+    // Per-coefficient variance from per-pixel variance (AWR eqs. 9-10).
+    void RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
+                          const vk::GpuImage &variance, const vk::GpuImage &coef, float lowSum,
+                          float highSum);
+
+private:
+    void Check(int levels, const vk::GpuImage &a, const vk::GpuImage &b) const;
+    vk::ImageView Scratch(int index, int level);
+
+    vk::Context &context;
+    int width, height, channels;
+    vk::Buffer scratch[2];
+};
+
+}  // namespace mcd

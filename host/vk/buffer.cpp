@@ -1,0 +1,173 @@
+#include "host/vk/buffer.h"
+
+#include <fmt/format.h>
+
+#include <cstring>
+#include <utility>
+
+#include "host/vk/check.h"
+#include "host/vk/context.h"
+
+namespace mcd::vk {
+namespace {
+
+struct RawBuffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    bool hostVisible = false;
+};
+
+RawBuffer CreateRaw(Context &context, VkDeviceSize bytes, VkBufferUsageFlags usage,
+                    VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred,
+                    VkMemoryPropertyFlags avoided = 0) {
+    RawBuffer raw;
+    VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bi.size = bytes;
+    bi.usage = usage;
+    bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    MCD_VK(vkCreateBuffer(context.Device(), &bi, nullptr, &raw.buffer));
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(context.Device(), raw.buffer, &req);
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.allocationSize = req.size;
+    try {
+        ai.memoryTypeIndex =
+            context.FindMemoryType(req.memoryTypeBits, required, preferred, avoided);
+        MCD_VK(vkAllocateMemory(context.Device(), &ai, nullptr, &raw.memory));
+        MCD_VK(vkBindBufferMemory(context.Device(), raw.buffer, raw.memory, 0));
+    } catch (...) {
+        if (raw.memory) vkFreeMemory(context.Device(), raw.memory, nullptr);
+        vkDestroyBuffer(context.Device(), raw.buffer, nullptr);
+        throw;
+    }
+    VkPhysicalDeviceMemoryProperties props;
+    vkGetPhysicalDeviceMemoryProperties(context.PhysicalDevice(), &props);
+    raw.hostVisible = props.memoryTypes[ai.memoryTypeIndex].propertyFlags &
+                      VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    return raw;
+}
+
+void DestroyRaw(Context &context, RawBuffer &raw) {
+    if (raw.buffer) vkDestroyBuffer(context.Device(), raw.buffer, nullptr);
+    if (raw.memory) vkFreeMemory(context.Device(), raw.memory, nullptr);
+    raw = {};
+}
+
+}  // namespace
+
+Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
+    : context(&context), bytes(bytes), name(std::move(name)) {
+    // Zero-sized buffers are invalid in Vulkan; keep one word so empty images still bind.
+    VkDeviceSize allocBytes = bytes > 0 ? bytes : 4;
+    // Unified memory (CPU devices, integrated GPUs): map device memory directly. Discrete
+    // GPUs: plain VRAM, not the small host-visible BAR window, and stage transfers.
+    VkPhysicalDeviceType type = context.Info().type;
+    bool unified = type == VK_PHYSICAL_DEVICE_TYPE_CPU ||
+                   type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU;
+    VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    if (unified)
+        preferred |= VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    RawBuffer raw = CreateRaw(context, allocBytes,
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                  VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+    buffer = raw.buffer;
+    memory = raw.memory;
+    if (raw.hostVisible) {
+        try {
+            MCD_VK(vkMapMemory(context.Device(), memory, 0, VK_WHOLE_SIZE, 0, &mapped));
+        } catch (...) {
+            Release();
+            throw;
+        }
+    }
+}
+
+Buffer::~Buffer() { Release(); }
+
+Buffer::Buffer(Buffer &&other) noexcept { *this = std::move(other); }
+
+Buffer &Buffer::operator=(Buffer &&other) noexcept {
+    if (this != &other) {
+        Release();
+        context = std::exchange(other.context, nullptr);
+        buffer = std::exchange(other.buffer, VK_NULL_HANDLE);
+        memory = std::exchange(other.memory, VK_NULL_HANDLE);
+        bytes = std::exchange(other.bytes, 0);
+        mapped = std::exchange(other.mapped, nullptr);
+        name = std::move(other.name);
+    }
+    return *this;
+}
+
+void Buffer::Release() {
+    if (!context) return;
+    if (mapped) vkUnmapMemory(context->Device(), memory);
+    if (buffer) vkDestroyBuffer(context->Device(), buffer, nullptr);
+    if (memory) vkFreeMemory(context->Device(), memory, nullptr);
+    buffer = VK_NULL_HANDLE;
+    memory = VK_NULL_HANDLE;
+    mapped = nullptr;
+    context = nullptr;
+}
+
+void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {
+    if (byteOffset + byteCount > bytes)
+        throw Error(fmt::format("upload of {} bytes at {} overruns buffer '{}' of {} bytes",
+                                byteCount, byteOffset, name, bytes));
+    if (byteCount == 0) return;
+    if (mapped) {
+        std::memcpy(static_cast<char *>(mapped) + byteOffset, data, byteCount);
+        return;
+    }
+    RawBuffer staging = CreateRaw(*context, byteCount, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                  VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                      VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                  0);
+    try {
+        void *ptr = nullptr;
+        MCD_VK(vkMapMemory(context->Device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &ptr));
+        std::memcpy(ptr, data, byteCount);
+        vkUnmapMemory(context->Device(), staging.memory);
+        context->SubmitAndWait([&](VkCommandBuffer cb) {
+            VkBufferCopy region{0, byteOffset, byteCount};
+            vkCmdCopyBuffer(cb, staging.buffer, buffer, 1, &region);
+        });
+    } catch (...) {
+        DestroyRaw(*context, staging);
+        throw;
+    }
+    DestroyRaw(*context, staging);
+}
+
+void Buffer::Download(void *data, size_t byteCount, size_t byteOffset) const {
+    if (byteOffset + byteCount > bytes)
+        throw Error(fmt::format("download of {} bytes at {} overruns buffer '{}' of {} bytes",
+                                byteCount, byteOffset, name, bytes));
+    if (byteCount == 0) return;
+    if (mapped) {
+        std::memcpy(data, static_cast<const char *>(mapped) + byteOffset, byteCount);
+        return;
+    }
+    RawBuffer staging = CreateRaw(*context, byteCount, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                  VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                      VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                                  VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    try {
+        context->SubmitAndWait([&](VkCommandBuffer cb) {
+            VkBufferCopy region{byteOffset, 0, byteCount};
+            vkCmdCopyBuffer(cb, buffer, staging.buffer, 1, &region);
+        });
+        void *ptr = nullptr;
+        MCD_VK(vkMapMemory(context->Device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &ptr));
+        std::memcpy(data, ptr, byteCount);
+        vkUnmapMemory(context->Device(), staging.memory);
+    } catch (...) {
+        DestroyRaw(*context, staging);
+        throw;
+    }
+    DestroyRaw(*context, staging);
+}
+
+}  // namespace mcd::vk

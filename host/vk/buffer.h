@@ -1,0 +1,53 @@
+// RAII storage buffer. Memory is device-local where the device has it; uploads and
+// downloads map it directly when it is also host-visible (lavapipe, unified memory) and
+// go through a staging buffer otherwise.
+#pragma once
+
+#include <volk.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace mcd::vk {
+
+class Context;
+
+class Buffer {
+public:
+    Buffer() = default;
+    Buffer(Context &context, VkDeviceSize bytes, std::string name);
+    ~Buffer();
+    Buffer(Buffer &&other) noexcept;
+    Buffer &operator=(Buffer &&other) noexcept;
+    Buffer(const Buffer &) = delete;
+    Buffer &operator=(const Buffer &) = delete;
+
+    VkBuffer Handle() const { return buffer; }
+    VkDeviceSize Bytes() const { return bytes; }
+    const std::string &Name() const { return name; }
+    bool Valid() const { return buffer != VK_NULL_HANDLE; }
+
+    void Upload(const void *data, size_t byteCount, size_t byteOffset = 0);
+    void Download(void *data, size_t byteCount, size_t byteOffset = 0) const;
+    void UploadFloats(const std::vector<float> &values) {
+        Upload(values.data(), values.size() * sizeof(float));
+    }
+    std::vector<float> DownloadFloats(size_t count, size_t floatOffset = 0) const {
+        std::vector<float> values(count);
+        Download(values.data(), count * sizeof(float), floatOffset * sizeof(float));
+        return values;
+    }
+
+private:
+    void Release();
+
+    Context *context = nullptr;
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize bytes = 0;
+    void *mapped = nullptr;
+    std::string name;
+};
+
+}  // namespace mcd::vk

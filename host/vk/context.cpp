@@ -1,0 +1,365 @@
+#include "host/vk/context.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
+
+#include "host/vk/check.h"
+#include "host/vk/kernel.h"
+
+namespace mcd::vk {
+namespace {
+
+constexpr const char *kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+void InitVolk() {
+    static const VkResult result = volkInitialize();
+    if (result != VK_SUCCESS)
+        throw Error(
+            "no Vulkan loader found (libvulkan.so.1): install libvulkan1 and a driver, "
+            "e.g. mesa-vulkan-drivers for the lavapipe CPU device");
+}
+
+bool HasLayer(const char *name) {
+    uint32_t count = 0;
+    MCD_VK(vkEnumerateInstanceLayerProperties(&count, nullptr));
+    std::vector<VkLayerProperties> layers(count);
+    MCD_VK(vkEnumerateInstanceLayerProperties(&count, layers.data()));
+    for (const VkLayerProperties &layer : layers)
+        if (std::strcmp(layer.layerName, name) == 0) return true;
+    return false;
+}
+
+bool HasInstanceExtension(const char *name) {
+    uint32_t count = 0;
+    MCD_VK(vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr));
+    std::vector<VkExtensionProperties> extensions(count);
+    MCD_VK(vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data()));
+    for (const VkExtensionProperties &e : extensions)
+        if (std::strcmp(e.extensionName, name) == 0) return true;
+    return false;
+}
+
+bool HasDeviceExtension(VkPhysicalDevice physicalDevice, const char *name) {
+    uint32_t count = 0;
+    MCD_VK(vkEnumerateDeviceExtensionProperties(physicalDevice, nullptr, &count, nullptr));
+    std::vector<VkExtensionProperties> extensions(count);
+    MCD_VK(vkEnumerateDeviceExtensionProperties(physicalDevice, nullptr, &count,
+                                                extensions.data()));
+    for (const VkExtensionProperties &e : extensions)
+        if (std::strcmp(e.extensionName, name) == 0) return true;
+    return false;
+}
+
+int ComputeQueueFamily(VkPhysicalDevice physicalDevice, bool *timestamps) {
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice, &count, families.data());
+    // Prefer a compute-only family (async compute on GPUs), else any with compute.
+    int best = -1;
+    for (uint32_t i = 0; i < count; ++i) {
+        if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
+        bool computeOnly = !(families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT);
+        if (best < 0 || computeOnly) best = int(i);
+    }
+    if (best >= 0 && timestamps) *timestamps = families[best].timestampValidBits > 0;
+    return best;
+}
+
+DeviceInfo DescribeDevice(VkPhysicalDevice physicalDevice, int index) {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(physicalDevice, &props);
+    DeviceInfo info;
+    info.index = index;
+    info.name = props.deviceName;
+    info.type = props.deviceType;
+    info.apiVersion = props.apiVersion;
+    info.driverVersion = props.driverVersion;
+    info.limits = props.limits;
+    bool queueTimestamps = false;
+    info.hasCompute = ComputeQueueFamily(physicalDevice, &queueTimestamps) >= 0;
+    info.timestamps = queueTimestamps && props.limits.timestampPeriod > 0;
+    info.pushDescriptors = HasDeviceExtension(physicalDevice, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+    VkPhysicalDeviceMemoryProperties memory;
+    vkGetPhysicalDeviceMemoryProperties(physicalDevice, &memory);
+    for (uint32_t i = 0; i < memory.memoryHeapCount; ++i)
+        if (memory.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            info.deviceLocalBytes += memory.memoryHeaps[i].size;
+    return info;
+}
+
+int TypeRank(VkPhysicalDeviceType type) {
+    switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
+    default: return 0;
+    }
+}
+
+std::string Lower(std::string s) {
+    for (char &c : s) c = char(std::tolower((unsigned char)c));
+    return s;
+}
+
+// Pick a device per the selector (index or name substring), else the best ranked one.
+int SelectDevice(const std::vector<DeviceInfo> &devices, std::string selector) {
+    auto listing = [&] {
+        std::string s;
+        for (const DeviceInfo &d : devices)
+            s += fmt::format("\n  {}: {} ({})", d.index, d.name, DeviceTypeName(d.type));
+        return s;
+    };
+    if (devices.empty()) throw Error("no Vulkan device found (is a driver such as mesa-vulkan-drivers installed?)");
+    if (!selector.empty()) {
+        bool numeric = std::all_of(selector.begin(), selector.end(),
+                                   [](char c) { return std::isdigit((unsigned char)c); });
+        if (numeric) {
+            int index = std::atoi(selector.c_str());
+            if (index < 0 || index >= int(devices.size()))
+                throw Error(fmt::format("device index {} out of range; devices:{}", index, listing()));
+            if (!devices[index].hasCompute)
+                throw Error(fmt::format("device {} has no compute queue", index));
+            return index;
+        }
+        for (const DeviceInfo &d : devices)
+            if (d.hasCompute && Lower(d.name).find(Lower(selector)) != std::string::npos)
+                return d.index;
+        throw Error(fmt::format("no device matches '{}'; devices:{}", selector, listing()));
+    }
+    int best = -1;
+    for (const DeviceInfo &d : devices)
+        if (d.hasCompute && (best < 0 || TypeRank(d.type) > TypeRank(devices[best].type)))
+            best = d.index;
+    if (best < 0) throw Error("no Vulkan device with a compute queue");
+    return best;
+}
+
+VkInstance CreateInstance(bool validation, bool debugUtils) {
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "mcdenoise";
+    app.apiVersion = VK_API_VERSION_1_1;
+    std::vector<const char *> layers, extensions;
+    if (validation) layers.push_back(kValidationLayer);
+    if (debugUtils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ci.pApplicationInfo = &app;
+    ci.enabledLayerCount = uint32_t(layers.size());
+    ci.ppEnabledLayerNames = layers.data();
+    ci.enabledExtensionCount = uint32_t(extensions.size());
+    ci.ppEnabledExtensionNames = extensions.data();
+    VkInstance instance = VK_NULL_HANDLE;
+    MCD_VK(vkCreateInstance(&ci, nullptr, &instance));
+    volkLoadInstanceOnly(instance);
+    return instance;
+}
+
+std::vector<VkPhysicalDevice> PhysicalDevices(VkInstance instance) {
+    uint32_t count = 0;
+    MCD_VK(vkEnumeratePhysicalDevices(instance, &count, nullptr));
+    std::vector<VkPhysicalDevice> devices(count);
+    MCD_VK(vkEnumeratePhysicalDevices(instance, &count, devices.data()));
+    return devices;
+}
+
+VKAPI_ATTR VkBool32 VKAPI_CALL OnValidationMessage(
+    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT type,
+    const VkDebugUtilsMessengerCallbackDataEXT *data, void *user) {
+    auto *context = static_cast<Context *>(user);
+    const char *level =
+        (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "error" : "warning";
+    context->AddValidationMessage(
+        fmt::format("validation {}: {}", level, data->pMessage ? data->pMessage : "?"));
+    return VK_FALSE;
+}
+
+}  // namespace
+
+const char *DeviceTypeName(VkPhysicalDeviceType type) {
+    switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
+    default: return "other";
+    }
+}
+
+std::vector<DeviceInfo> ListDevices() {
+    InitVolk();
+    VkInstance instance = CreateInstance(false, false);
+    std::vector<DeviceInfo> infos;
+    std::vector<VkPhysicalDevice> devices = PhysicalDevices(instance);
+    for (size_t i = 0; i < devices.size(); ++i) infos.push_back(DescribeDevice(devices[i], int(i)));
+    vkDestroyInstance(instance, nullptr);
+    return infos;
+}
+
+Context::Context(const ContextOptions &options) {
+    InitVolk();
+    if (options.validation && !HasLayer(kValidationLayer))
+        throw Error(fmt::format("the Vulkan validation layer {} is not installed "
+                                "(Debian package vulkan-validationlayers)",
+                                kValidationLayer));
+    bool debugUtils = options.validation && HasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    instance = CreateInstance(options.validation, debugUtils);
+    try {
+        if (debugUtils) {
+            VkDebugUtilsMessengerCreateInfoEXT mi{
+                VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+            mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                                 VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+            mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                             VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+            mi.pfnUserCallback = OnValidationMessage;
+            mi.pUserData = this;
+            MCD_VK(vkCreateDebugUtilsMessengerEXT(instance, &mi, nullptr, &messenger));
+        }
+
+        std::vector<VkPhysicalDevice> devices = PhysicalDevices(instance);
+        std::vector<DeviceInfo> infos;
+        for (size_t i = 0; i < devices.size(); ++i)
+            infos.push_back(DescribeDevice(devices[i], int(i)));
+        std::string selector = options.device;
+        if (selector.empty())
+            if (const char *env = std::getenv("MCD_DEVICE")) selector = env;
+        int chosen = SelectDevice(infos, selector);
+        physicalDevice = devices[chosen];
+        info = infos[chosen];
+        vkGetPhysicalDeviceMemoryProperties(physicalDevice, &memoryProperties);
+        queueFamily = uint32_t(ComputeQueueFamily(physicalDevice, nullptr));
+
+        float priority = 1.f;
+        VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+        qi.queueFamilyIndex = queueFamily;
+        qi.queueCount = 1;
+        qi.pQueuePriorities = &priority;
+        std::vector<const char *> extensions;
+        if (info.pushDescriptors) extensions.push_back(VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+        VkDeviceCreateInfo di{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+        di.queueCreateInfoCount = 1;
+        di.pQueueCreateInfos = &qi;
+        di.enabledExtensionCount = uint32_t(extensions.size());
+        di.ppEnabledExtensionNames = extensions.data();
+        MCD_VK(vkCreateDevice(physicalDevice, &di, nullptr, &device));
+        volkLoadDevice(device);
+        vkGetDeviceQueue(device, queueFamily, 0, &queue);
+
+        VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        pi.queueFamilyIndex = queueFamily;
+        MCD_VK(vkCreateCommandPool(device, &pi, nullptr, &commandPool));
+        VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        MCD_VK(vkCreateFence(device, &fi, nullptr, &fence));
+    } catch (...) {
+        Destroy();
+        throw;
+    }
+}
+
+Context::~Context() { Destroy(); }
+
+void Context::Destroy() {
+    if (device) {
+        vkDeviceWaitIdle(device);
+        kernels.clear();
+        if (fence) vkDestroyFence(device, fence, nullptr);
+        if (commandPool) vkDestroyCommandPool(device, commandPool, nullptr);
+        vkDestroyDevice(device, nullptr);
+        device = VK_NULL_HANDLE;
+    }
+    if (messenger) {
+        vkDestroyDebugUtilsMessengerEXT(instance, messenger, nullptr);
+        messenger = VK_NULL_HANDLE;
+    }
+    if (instance) {
+        vkDestroyInstance(instance, nullptr);
+        instance = VK_NULL_HANDLE;
+    }
+}
+
+uint32_t Context::FindMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
+                                 VkMemoryPropertyFlags preferred,
+                                 VkMemoryPropertyFlags avoided) const {
+    int fallback = -1, partial = -1;
+    for (uint32_t i = 0; i < memoryProperties.memoryTypeCount; ++i) {
+        if (!(typeBits & (1u << i))) continue;
+        VkMemoryPropertyFlags flags = memoryProperties.memoryTypes[i].propertyFlags;
+        if ((flags & required) != required) continue;
+        bool preferredOk = (flags & preferred) == preferred;
+        if (preferredOk && !(flags & avoided)) return i;
+        if (preferredOk && partial < 0) partial = int(i);
+        if (fallback < 0) fallback = int(i);
+    }
+    if (partial >= 0) return uint32_t(partial);
+    if (fallback < 0) throw Error("no Vulkan memory type fits the request");
+    return uint32_t(fallback);
+}
+
+VkCommandBuffer Context::AllocateCommandBuffer() {
+    VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    ai.commandPool = commandPool;
+    ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    ai.commandBufferCount = 1;
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    MCD_VK(vkAllocateCommandBuffers(device, &ai, &commandBuffer));
+    return commandBuffer;
+}
+
+void Context::FreeCommandBuffer(VkCommandBuffer commandBuffer) {
+    vkFreeCommandBuffers(device, commandPool, 1, &commandBuffer);
+}
+
+void Context::SubmitAndWait(VkCommandBuffer commandBuffer) {
+    VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    si.commandBufferCount = 1;
+    si.pCommandBuffers = &commandBuffer;
+    MCD_VK(vkResetFences(device, 1, &fence));
+    MCD_VK(vkQueueSubmit(queue, 1, &si, fence));
+    MCD_VK(vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX));
+}
+
+void Context::SubmitAndWait(const std::function<void(VkCommandBuffer)> &record) {
+    VkCommandBuffer commandBuffer = AllocateCommandBuffer();
+    try {
+        VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        MCD_VK(vkBeginCommandBuffer(commandBuffer, &bi));
+        record(commandBuffer);
+        MCD_VK(vkEndCommandBuffer(commandBuffer));
+        SubmitAndWait(commandBuffer);
+    } catch (...) {
+        FreeCommandBuffer(commandBuffer);
+        throw;
+    }
+    FreeCommandBuffer(commandBuffer);
+}
+
+const Kernel &Context::GetKernel(const KernelDesc &desc) {
+    std::string key = KernelKey(desc);
+    auto it = kernels.find(key);
+    if (it != kernels.end()) return *it->second;
+    auto kernel = std::make_unique<Kernel>(*this, desc);
+    const Kernel &ref = *kernel;
+    kernels.emplace(std::move(key), std::move(kernel));
+    return ref;
+}
+
+std::vector<std::string> Context::TakeValidationMessages() {
+    std::lock_guard<std::mutex> lock(messageMutex);
+    std::vector<std::string> messages;
+    messages.swap(validationMessages);
+    return messages;
+}
+
+void Context::AddValidationMessage(std::string message) {
+    std::lock_guard<std::mutex> lock(messageMutex);
+    validationMessages.push_back(std::move(message));
+}
+
+}  // namespace mcd::vk

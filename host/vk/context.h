@@ -1,0 +1,100 @@
+// The Vulkan context: instance (with the validation layer when asked), device selection,
+// one compute queue, memory-type lookup, one-shot submits and the kernel cache.
+#pragma once
+
+#include <volk.h>
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace mcd::vk {
+
+class Kernel;
+struct KernelDesc;
+
+struct DeviceInfo {
+    int index = -1;
+    std::string name;
+    VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+    uint32_t apiVersion = 0;
+    uint32_t driverVersion = 0;
+    bool hasCompute = false;
+    bool pushDescriptors = false;
+    bool timestamps = false;
+    VkPhysicalDeviceLimits limits{};
+    VkDeviceSize deviceLocalBytes = 0;
+};
+
+const char *DeviceTypeName(VkPhysicalDeviceType type);
+
+// Every Vulkan device the loader sees, in enumeration order.
+std::vector<DeviceInfo> ListDevices();
+
+struct ContextOptions {
+    // Device index or case-insensitive name substring; empty means $MCD_DEVICE, then the
+    // best device (discrete, then integrated, then virtual, then CPU).
+    std::string device;
+    // Khronos validation layer; its messages are collected (see TakeValidationMessages).
+    bool validation = false;
+};
+
+class Context {
+public:
+    explicit Context(const ContextOptions &options = {});
+    ~Context();
+    Context(const Context &) = delete;
+    Context &operator=(const Context &) = delete;
+
+    VkInstance Instance() const { return instance; }
+    VkPhysicalDevice PhysicalDevice() const { return physicalDevice; }
+    VkDevice Device() const { return device; }
+    VkQueue Queue() const { return queue; }
+    uint32_t QueueFamily() const { return queueFamily; }
+    const DeviceInfo &Info() const { return info; }
+    const VkPhysicalDeviceLimits &Limits() const { return info.limits; }
+    bool ValidationEnabled() const { return messenger != VK_NULL_HANDLE; }
+
+    // Index of a memory type allowed by typeBits with all `required` flags, preferring
+    // one that also has `preferred` and none of `avoided`.
+    uint32_t FindMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,
+                            VkMemoryPropertyFlags preferred,
+                            VkMemoryPropertyFlags avoided = 0) const;
+
+    // Record with `record` into a fresh command buffer, submit, and wait for it.
+    void SubmitAndWait(const std::function<void(VkCommandBuffer)> &record);
+    VkCommandBuffer AllocateCommandBuffer();
+    void FreeCommandBuffer(VkCommandBuffer commandBuffer);
+    void SubmitAndWait(VkCommandBuffer commandBuffer);
+
+    // A kernel is built once per SPIR-V blob and specialization, then reused.
+    const Kernel &GetKernel(const KernelDesc &desc);
+
+    // Validation messages since the last call (errors and warnings).
+    std::vector<std::string> TakeValidationMessages();
+    void AddValidationMessage(std::string message);
+
+private:
+    void Destroy();
+
+    VkInstance instance = VK_NULL_HANDLE;
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queueFamily = 0;
+    VkCommandPool commandPool = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    DeviceInfo info;
+    VkPhysicalDeviceMemoryProperties memoryProperties{};
+
+    std::mutex messageMutex;
+    std::vector<std::string> validationMessages;
+    std::map<std::string, std::unique_ptr<Kernel>> kernels;
+};
+
+}  // namespace mcd::vk

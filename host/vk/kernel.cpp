@@ -1,0 +1,92 @@
+#include "host/vk/kernel.h"
+
+#include <fmt/format.h>
+
+#include "host/vk/check.h"
+#include "host/vk/context.h"
+
+namespace mcd::vk {
+
+std::string KernelKey(const KernelDesc &desc) {
+    std::string key = fmt::format("{}@{}", desc.name, static_cast<const void *>(desc.code));
+    for (auto [id, value] : desc.specialization) key += fmt::format(":{}={}", id, value);
+    return key;
+}
+
+Kernel::Kernel(Context &context, const KernelDesc &desc)
+    : context(context),
+      name(desc.name),
+      bindingCount(desc.bindingCount),
+      pushBytes(desc.pushBytes) {
+    VkDevice device = context.Device();
+    if (pushBytes > context.Limits().maxPushConstantsSize)
+        throw Error(fmt::format("kernel {}: {} bytes of push constants exceed the device's {}",
+                                name, pushBytes, context.Limits().maxPushConstantsSize));
+    try {
+        std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
+        for (uint32_t i = 0; i < bindingCount; ++i) {
+            bindings[i].binding = i;
+            bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            bindings[i].descriptorCount = 1;
+            bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+        }
+        VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        if (context.Info().pushDescriptors)
+            li.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+        li.bindingCount = bindingCount;
+        li.pBindings = bindings.data();
+        MCD_VK(vkCreateDescriptorSetLayout(device, &li, nullptr, &setLayout));
+
+        VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes};
+        VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        pli.setLayoutCount = 1;
+        pli.pSetLayouts = &setLayout;
+        pli.pushConstantRangeCount = pushBytes > 0 ? 1 : 0;
+        pli.pPushConstantRanges = &range;
+        MCD_VK(vkCreatePipelineLayout(device, &pli, nullptr, &layout));
+
+        VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        mi.codeSize = desc.codeBytes;
+        mi.pCode = desc.code;
+        VkShaderModule module = VK_NULL_HANDLE;
+        MCD_VK(vkCreateShaderModule(device, &mi, nullptr, &module));
+
+        std::vector<VkSpecializationMapEntry> entries;
+        std::vector<int32_t> values;
+        for (auto [id, value] : desc.specialization) {
+            entries.push_back({id, uint32_t(values.size() * sizeof(int32_t)), sizeof(int32_t)});
+            values.push_back(value);
+        }
+        VkSpecializationInfo si{uint32_t(entries.size()), entries.data(),
+                                values.size() * sizeof(int32_t), values.data()};
+        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        ci.stage.module = module;
+        ci.stage.pName = "main";
+        ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
+        ci.layout = layout;
+        VkResult result = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
+        vkDestroyShaderModule(device, module, nullptr);
+        if (result != VK_SUCCESS)
+            ThrowVkError(result, fmt::format("vkCreateComputePipelines({})", name).c_str(),
+                         __FILE__, __LINE__);
+    } catch (...) {
+        Release();
+        throw;
+    }
+}
+
+Kernel::~Kernel() { Release(); }
+
+void Kernel::Release() {
+    VkDevice device = context.Device();
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
+    if (setLayout) vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
+    pipeline = VK_NULL_HANDLE;
+    layout = VK_NULL_HANDLE;
+    setLayout = VK_NULL_HANDLE;
+}
+
+}  // namespace mcd::vk

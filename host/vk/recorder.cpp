@@ -1,0 +1,213 @@
+#include "host/vk/recorder.h"
+
+#include <fmt/format.h>
+
+#include "host/vk/buffer.h"
+#include "host/vk/check.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+
+namespace mcd::vk {
+namespace {
+
+constexpr uint32_t kMaxTimedDispatches = 4096;
+constexpr uint32_t kSetsPerPool = 256;
+constexpr uint32_t kMaxBindings = 8;
+
+}  // namespace
+
+Recorder::Recorder(Context &context) : context(context) {}
+
+Recorder::~Recorder() {
+    VkDevice device = context.Device();
+    if (commandBuffer) context.FreeCommandBuffer(commandBuffer);
+    if (queryPool) vkDestroyQueryPool(device, queryPool, nullptr);
+    for (VkDescriptorPool pool : descriptorPools) vkDestroyDescriptorPool(device, pool, nullptr);
+}
+
+void Recorder::Begin() {
+    if (recording) return;
+    if (!commandBuffer) commandBuffer = context.AllocateCommandBuffer();
+    MCD_VK(vkResetCommandBuffer(commandBuffer, 0));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    MCD_VK(vkBeginCommandBuffer(commandBuffer, &bi));
+    if (context.Info().timestamps) {
+        if (!queryPool) {
+            VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+            qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+            qi.queryCount = 2 * kMaxTimedDispatches;
+            MCD_VK(vkCreateQueryPool(context.Device(), &qi, nullptr, &queryPool));
+            queryCapacity = kMaxTimedDispatches;
+        }
+        vkCmdResetQueryPool(commandBuffer, queryPool, 0, 2 * queryCapacity);
+    }
+    recording = true;
+    labels.clear();
+    barriers = 0;
+    writtenSinceBarrier.clear();
+    readSinceBarrier.clear();
+}
+
+void Recorder::BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Access>> &uses) {
+    bool hazard = false;
+    for (auto [buffer, access] : uses) {
+        VkBuffer handle = buffer->Handle();
+        if (writtenSinceBarrier.count(handle)) hazard = true;                   // RAW, WAW
+        if (access != Access::Read && readSinceBarrier.count(handle)) hazard = true;  // WAR
+    }
+    if (!hazard) return;
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    VkPipelineStageFlags stages =
+        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    vkCmdPipelineBarrier(commandBuffer, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    ++barriers;
+    writtenSinceBarrier.clear();
+    readSinceBarrier.clear();
+}
+
+void Recorder::Touch(const Buffer *buffer, Access access) {
+    if (access != Access::Write) readSinceBarrier.insert(buffer->Handle());
+    if (access != Access::Read) writtenSinceBarrier.insert(buffer->Handle());
+}
+
+void Recorder::Dispatch(const Kernel &kernel, const std::string &label,
+                        const std::vector<Binding> &bindings, const void *push,
+                        uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
+    const VkPhysicalDeviceLimits &limits = context.Limits();
+    if (bindings.size() != kernel.BindingCount() || bindings.size() > kMaxBindings)
+        throw Error(fmt::format("dispatch '{}': kernel {} takes {} buffers, got {}", label,
+                                kernel.Name(), kernel.BindingCount(), bindings.size()));
+    uint32_t groups[3] = {groupsX, groupsY, groupsZ};
+    for (int i = 0; i < 3; ++i)
+        if (groups[i] > limits.maxComputeWorkGroupCount[i])
+            throw Error(fmt::format(
+                "dispatch '{}': {} workgroups along axis {} exceed the device limit {}", label,
+                groups[i], i, limits.maxComputeWorkGroupCount[i]));
+    for (const Binding &b : bindings) {
+        if (!b.buffer || !b.buffer->Valid())
+            throw Error(fmt::format("dispatch '{}': unbound buffer", label));
+        if (b.buffer->Bytes() > limits.maxStorageBufferRange)
+            throw Error(fmt::format(
+                "dispatch '{}': buffer '{}' of {} bytes exceeds the device's storage buffer "
+                "range of {} bytes; split the work",
+                label, b.buffer->Name(), b.buffer->Bytes(), limits.maxStorageBufferRange));
+    }
+    Begin();
+    if (groupsX == 0 || groupsY == 0 || groupsZ == 0) return;
+
+    std::vector<std::pair<const Buffer *, Access>> uses;
+    for (const Binding &b : bindings) uses.push_back({b.buffer, b.access});
+    BarrierIfNeeded(uses);
+
+    std::vector<VkDescriptorBufferInfo> infos(bindings.size());
+    std::vector<VkWriteDescriptorSet> writes(bindings.size());
+    for (size_t i = 0; i < bindings.size(); ++i) {
+        infos[i] = {bindings[i].buffer->Handle(), 0, VK_WHOLE_SIZE};
+        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        writes[i].dstBinding = uint32_t(i);
+        writes[i].descriptorCount = 1;
+        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[i].pBufferInfo = &infos[i];
+    }
+    vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.Pipeline());
+    if (context.Info().pushDescriptors) {
+        vkCmdPushDescriptorSetKHR(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.Layout(),
+                                  0, uint32_t(writes.size()), writes.data());
+    } else {
+        if (descriptorPools.empty() || setsInPool == kSetsPerPool) {
+            VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                      kSetsPerPool * kMaxBindings};
+            VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+            pi.maxSets = kSetsPerPool;
+            pi.poolSizeCount = 1;
+            pi.pPoolSizes = &size;
+            VkDescriptorPool pool = VK_NULL_HANDLE;
+            MCD_VK(vkCreateDescriptorPool(context.Device(), &pi, nullptr, &pool));
+            descriptorPools.push_back(pool);
+            setsInPool = 0;
+        }
+        VkDescriptorSetLayout setLayout = kernel.SetLayout();
+        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        ai.descriptorPool = descriptorPools.back();
+        ai.descriptorSetCount = 1;
+        ai.pSetLayouts = &setLayout;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        MCD_VK(vkAllocateDescriptorSets(context.Device(), &ai, &set));
+        ++setsInPool;
+        for (VkWriteDescriptorSet &w : writes) w.dstSet = set;
+        vkUpdateDescriptorSets(context.Device(), uint32_t(writes.size()), writes.data(), 0,
+                               nullptr);
+        vkCmdBindDescriptorSets(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.Layout(),
+                                0, 1, &set, 0, nullptr);
+    }
+    if (kernel.PushBytes() > 0)
+        vkCmdPushConstants(commandBuffer, kernel.Layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                           kernel.PushBytes(), push);
+
+    uint32_t slot = uint32_t(labels.size());
+    bool timed = queryPool && slot < queryCapacity;
+    if (timed)
+        vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool,
+                            2 * slot);
+    vkCmdDispatch(commandBuffer, groupsX, groupsY, groupsZ);
+    if (timed)
+        vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool,
+                            2 * slot + 1);
+    labels.push_back(label);
+    for (auto [buffer, access] : uses) Touch(buffer, access);
+}
+
+void Recorder::Copy(const Buffer &src, const Buffer &dst, VkDeviceSize bytes,
+                    VkDeviceSize srcOffset, VkDeviceSize dstOffset) {
+    if (srcOffset + bytes > src.Bytes() || dstOffset + bytes > dst.Bytes())
+        throw Error(fmt::format("copy of {} bytes from '{}' to '{}' overruns a buffer", bytes,
+                                src.Name(), dst.Name()));
+    Begin();
+    if (bytes == 0) return;
+    BarrierIfNeeded({{&src, Access::Read}, {&dst, Access::Write}});
+    VkBufferCopy region{srcOffset, dstOffset, bytes};
+    vkCmdCopyBuffer(commandBuffer, src.Handle(), dst.Handle(), 1, &region);
+    Touch(&src, Access::Read);
+    Touch(&dst, Access::Write);
+}
+
+void Recorder::Submit() {
+    timings.clear();
+    if (!recording) return;
+    MCD_VK(vkEndCommandBuffer(commandBuffer));
+    recording = false;
+    context.SubmitAndWait(commandBuffer);
+    uint32_t timed = queryPool ? uint32_t(std::min<size_t>(labels.size(), queryCapacity)) : 0;
+    std::vector<uint64_t> stamps(2 * size_t(timed));
+    if (timed > 0)
+        MCD_VK(vkGetQueryPoolResults(context.Device(), queryPool, 0, 2 * timed,
+                                     stamps.size() * sizeof(uint64_t), stamps.data(),
+                                     sizeof(uint64_t),
+                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    double period = context.Limits().timestampPeriod;
+    for (size_t i = 0; i < labels.size(); ++i) {
+        double ms = -1;
+        if (i < timed) ms = double(stamps[2 * i + 1] - stamps[2 * i]) * period * 1e-6;
+        timings.push_back({labels[i], ms});
+    }
+    for (VkDescriptorPool pool : descriptorPools)
+        vkResetDescriptorPool(context.Device(), pool, 0);
+    if (!descriptorPools.empty()) {
+        for (size_t i = 1; i < descriptorPools.size(); ++i)
+            vkDestroyDescriptorPool(context.Device(), descriptorPools[i], nullptr);
+        descriptorPools.resize(1);
+    }
+    setsInPool = 0;
+}
+
+double Recorder::TotalGpuMs() const {
+    double total = 0;
+    for (const DispatchTiming &t : timings) total += t.gpuMs > 0 ? t.gpuMs : 0;
+    return total;
+}
+
+}  // namespace mcd::vk

@@ -1,0 +1,24 @@
+// One Vulkan context per test process, with the Khronos validation layer on. Any
+// validation message during a test fails it.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include "host/vk/context.h"
+
+namespace mcd::test {
+
+// The shared context (created on first use; device from $MCD_DEVICE or the best one).
+vk::Context &TestContext();
+
+class GpuTest : public ::testing::Test {
+protected:
+    void SetUp() override;
+    void TearDown() override;
+    vk::Context &Ctx() { return TestContext(); }
+};
+
+template <typename Param>
+class GpuTestWithParam : public GpuTest, public ::testing::WithParamInterface<Param> {};
+
+}  // namespace mcd::test

@@ -1,0 +1,26 @@
+// Seeded test inputs. A case's seed is a hash of its name, so a failure replays.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "host/image.h"
+
+namespace mcd::test {
+
+enum class InputKind {
+    Uniform,            // U[-1, 1)
+    LogNormalFireflies, // exp(N(0,1)) with 1% spikes of 1e4x
+    Constant,           // one value everywhere
+    Impulse,            // zero but one pixel per channel
+    NonFinite,          // uniform laced with NaN, +Inf and -Inf
+};
+
+const char *InputKindName(InputKind kind);
+uint64_t SeedFromName(std::string_view name);
+Image MakeInput(InputKind kind, int width, int height, int channels, uint64_t seed);
+// Non-negative inputs (variances): the same kinds, made positive.
+Image MakeVarianceInput(InputKind kind, int width, int height, int channels, uint64_t seed);
+
+}  // namespace mcd::test
