@@ -1,0 +1,317 @@
+// GPU wavelet kernels against the CPU reference (cpu_reference/wavelet_*.cpp), in the
+// style of ggml's test-backend-ops: every case is named by its parameters and seeded by a
+// hash of that name, so a failure replays.
+//
+// Tolerances: the GPU lifts in float32. Each level applies at most 2 axes x 4 lifting
+// steps (CDF 9/7) plus a scaling; each step rounds once or twice, on intermediates at most
+// ~4x the output's sum |h| |x| (the first 9/7 predict step has gain 1 + 2|alpha| = 4.2).
+// So per level the error is within about 2 x 9 x 4 = 72 units of round-off of the
+// magnitude twin (sum |h| |x| composed over levels, from the reference); we allow
+// kUlpsPerLevel of them per level. The measured worst ratio is printed by
+// WaveletTolerance.Headroom so the bound can be seen to be neither loose nor tight.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cpu_reference/wavelet_analyze.h"
+#include "cpu_reference/wavelet_sqanalyze.h"
+#include "cpu_reference/wavelet_synthesize.h"
+#include "harness/compare.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/error.h"
+#include "host/kernels/wavelet_analyze.h"
+#include "host/methods/wavelet_transform.h"
+#include "host/vk/context.h"
+
+namespace mcd::test {
+namespace {
+
+constexpr double kUnitRoundoff = 0x1p-24;
+constexpr double kUlpsPerLevel = 96;
+
+// Worst error as a fraction of the allowed bound, per check, printed after the run.
+struct Headroom : ::testing::Environment {
+    std::map<std::string, double> worst;
+    void Note(const std::string &check, const CompareStats &stats) {
+        worst[check] = std::max(worst[check], stats.maxErrorRatio);
+    }
+    void TearDown() override {
+        for (auto &[check, ratio] : worst)
+            std::fprintf(stderr, "[mcd] %s: worst error %.3f of the tolerance\n", check.c_str(),
+                         ratio);
+    }
+};
+Headroom *const headroom =
+    static_cast<Headroom *>(::testing::AddGlobalTestEnvironment(new Headroom));
+
+Image GpuAnalyze(vk::Context &ctx, const Image &in, WaveletBasis basis, int levels) {
+    vk::GpuImage src(ctx, in.width, in.height, in.channels, "in");
+    vk::GpuImage coef(ctx, in.width, in.height, in.channels, "coef");
+    src.Upload(in);
+    WaveletTransform transform(ctx, in.width, in.height, in.channels);
+    vk::Recorder recorder(ctx);
+    transform.RecordAnalysis(recorder, basis, levels, src, coef);
+    recorder.Submit();
+    return coef.Download();
+}
+
+Image GpuSynthesize(vk::Context &ctx, const Image &coefficients, WaveletBasis basis,
+                    int levels) {
+    vk::GpuImage coef(ctx, coefficients.width, coefficients.height, coefficients.channels,
+                      "coef");
+    vk::GpuImage out(ctx, coefficients.width, coefficients.height, coefficients.channels,
+                     "out");
+    coef.Upload(coefficients);
+    WaveletTransform transform(ctx, coefficients.width, coefficients.height,
+                               coefficients.channels);
+    vk::Recorder recorder(ctx);
+    transform.RecordSynthesis(recorder, basis, levels, coef, out);
+    recorder.Submit();
+    return out.Download();
+}
+
+Image GpuSqAnalyze(vk::Context &ctx, const Image &variance, WaveletBasis basis, int levels,
+                   float lowSum, float highSum) {
+    vk::GpuImage src(ctx, variance.width, variance.height, variance.channels, "variance");
+    vk::GpuImage coef(ctx, variance.width, variance.height, variance.channels, "coefvar");
+    src.Upload(variance);
+    WaveletTransform transform(ctx, variance.width, variance.height, variance.channels);
+    vk::Recorder recorder(ctx);
+    transform.RecordSqAnalysis(recorder, basis, levels, src, coef, lowSum, highSum);
+    recorder.Submit();
+    return coef.Download();
+}
+
+struct WaveletCase {
+    int width, height, channels;
+    WaveletBasis basis;
+    int levels;
+    InputKind kind;
+
+    std::string Name() const {
+        return fmt::format("{}x{}x{}_{}_L{}_{}", width, height, channels, WaveletName(basis),
+                           levels, InputKindName(kind));
+    }
+    uint64_t Seed() const { return SeedFromName(Name()); }
+    Tolerance Tol() const { return {kUlpsPerLevel * kUnitRoundoff * std::max(levels, 1), 0, 1e-9}; }
+};
+
+std::vector<WaveletCase> AllCases() {
+    const int sizes[][2] = {{1, 1},  {1, 7},   {7, 1},  {2, 2},   {3, 3},   {5, 9},
+                            {17, 13}, {31, 33}, {64, 64}, {67, 41}, {97, 3}, {33, 70}};
+    std::vector<WaveletCase> cases;
+    for (auto [w, h] : sizes)
+        for (WaveletBasis basis :
+             {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97}) {
+            int maxLevels = MaxWaveletLevels(w, h);
+            std::vector<int> levelList;
+            for (int l : {1, 2, maxLevels})
+                if (l <= maxLevels && (levelList.empty() || levelList.back() != l))
+                    levelList.push_back(l);
+            if (maxLevels == 0) levelList = {0};
+            for (int levels : levelList)
+                for (InputKind kind :
+                     {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant,
+                      InputKind::Impulse, InputKind::NonFinite})
+                    cases.push_back({w, h, 3, basis, levels, kind});
+        }
+    return cases;
+}
+
+class WaveletKernel : public GpuTestWithParam<WaveletCase> {};
+
+TEST_P(WaveletKernel, AnalyzeMatchesReference) {
+    const WaveletCase &p = GetParam();
+    Image in = MakeInput(p.kind, p.width, p.height, p.channels, p.Seed());
+    Image expected = ref::WaveletAnalyze(in, p.basis, p.levels);
+    Image magnitude = ref::WaveletAnalyzeMagnitude(in, p.basis, p.levels);
+    Image actual = GpuAnalyze(Ctx(), in, p.basis, p.levels);
+    CompareStats stats;
+    EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, p.Tol(), &stats)) << p.Name();
+    headroom->Note("analyze", stats);
+}
+
+TEST_P(WaveletKernel, SynthesizeMatchesReference) {
+    const WaveletCase &p = GetParam();
+    Image in = MakeInput(p.kind, p.width, p.height, p.channels, p.Seed());
+    Image coefficients = ref::WaveletAnalyze(in, p.basis, p.levels);
+    Image expected = ref::WaveletSynthesize(coefficients, p.basis, p.levels);
+    Image magnitude = ref::WaveletSynthesizeMagnitude(coefficients, p.basis, p.levels);
+    Image actual = GpuSynthesize(Ctx(), coefficients, p.basis, p.levels);
+    CompareStats stats;
+    EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, p.Tol(), &stats)) << p.Name();
+    headroom->Note("synthesize", stats);
+}
+
+TEST_P(WaveletKernel, SqAnalyzeMatchesReference) {
+    const WaveletCase &p = GetParam();
+    Image variance = MakeVarianceInput(p.kind, p.width, p.height, p.channels, p.Seed());
+    for (auto [lowSum, highSum] : {std::pair{0.f, 0.f}, std::pair{1.05f, 0.70710678f}}) {
+        Image expected = ref::WaveletSqAnalyze(variance, p.basis, p.levels, lowSum, highSum);
+        Image actual = GpuSqAnalyze(Ctx(), variance, p.basis, p.levels, lowSum, highSum);
+        // All squared taps are positive: |expected| is the round-off scale; 9 taps and a
+        // renormalisation per axis and level.
+        Tolerance tol{24 * kUnitRoundoff * std::max(p.levels, 1), 0, 1e-9};
+        CompareStats stats;
+        EXPECT_TRUE(ImagesMatch(expected, actual, Image(), tol, &stats))
+            << p.Name() << " lowSum " << lowSum << " highSum " << highSum;
+        headroom->Note("sqanalyze", stats);
+    }
+}
+
+TEST_P(WaveletKernel, RoundTripReturnsInput) {
+    const WaveletCase &p = GetParam();
+    Image in = MakeInput(p.kind, p.width, p.height, p.channels, p.Seed());
+    Image coefficients = GpuAnalyze(Ctx(), in, p.basis, p.levels);
+    Image back = GpuSynthesize(Ctx(), coefficients, p.basis, p.levels);
+    // Non-finite pixels spread over their filters' support on the way: a non-finite input
+    // must stay non-finite, and where the output is finite it must be the input.
+    for (size_t i = 0; i < in.Size(); ++i) {
+        if (!std::isfinite(in.data[i])) {
+            ASSERT_FALSE(std::isfinite(back.data[i])) << p.Name() << " element " << i;
+            in.data[i] = back.data[i] = 0.f;
+        } else if (!std::isfinite(back.data[i])) {
+            ASSERT_EQ(p.kind, InputKind::NonFinite) << p.Name() << " element " << i;
+            in.data[i] = back.data[i] = 0.f;
+        }
+    }
+    // Round-off of both directions, on the scale of synthesis(|analysis|(|x|)).
+    Image magnitude = ref::WaveletSynthesizeMagnitude(
+        ref::WaveletAnalyzeMagnitude(in, p.basis, p.levels), p.basis, p.levels);
+    Tolerance tol{2 * kUlpsPerLevel * kUnitRoundoff * std::max(p.levels, 1), 0, 1e-9};
+    CompareStats stats;
+    EXPECT_TRUE(ImagesMatch(in, back, magnitude, tol, &stats)) << p.Name();
+    headroom->Note("round trip", stats);
+}
+
+TEST_P(WaveletKernel, RerunIsBitIdentical) {
+    const WaveletCase &p = GetParam();
+    Image in = MakeInput(p.kind, p.width, p.height, p.channels, p.Seed());
+    Image a = GpuAnalyze(Ctx(), in, p.basis, p.levels);
+    Image b = GpuAnalyze(Ctx(), in, p.basis, p.levels);
+    EXPECT_TRUE(BitIdentical(a, b)) << p.Name();
+    Image sa = GpuSynthesize(Ctx(), a, p.basis, p.levels);
+    Image sb = GpuSynthesize(Ctx(), a, p.basis, p.levels);
+    EXPECT_TRUE(BitIdentical(sa, sb)) << p.Name();
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletKernel, ::testing::ValuesIn(AllCases()),
+                         [](const ::testing::TestParamInfo<WaveletCase> &info) {
+                             return info.param.Name();
+                         });
+
+class WaveletProperties : public GpuTest {};
+
+// A constant image has no detail: every detail coefficient is zero up to round-off.
+TEST_F(WaveletProperties, ConstantHasZeroDetail) {
+    for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97})
+        for (auto [w, h] : {std::pair{37, 23}, std::pair{64, 64}, std::pair{5, 1}}) {
+            int levels = MaxWaveletLevels(w, h);
+            Image in(w, h, 2, 0.75f);
+            Image coef = GpuAnalyze(Ctx(), in, basis, levels);
+            double maxDetail = 0;
+            for (int c = 0; c < 2; ++c)
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x)
+                        if (x > 0 || y > 0) maxDetail = std::max(maxDetail, double(std::fabs(coef.At(c, y, x))));
+            // LL = 0.75 * sqrt2^(axes transformed); details are round-off of that.
+            double ll = coef.At(0, 0, 0);
+            EXPECT_LT(maxDetail, 64 * kUnitRoundoff * levels * ll)
+                << WaveletName(basis) << " " << w << "x" << h;
+        }
+}
+
+// Squared-filter analysis of a constant variance v: every coefficient is v times a product
+// of per-axis sums (the squared taps sum to lowSum or highSum), at the borders too.
+TEST_F(WaveletProperties, SqAnalyzeConstantMatchesClosedForm) {
+    const float v = 0.37f, lowSum = 1.05f, highSum = 0.70710678f;
+    for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97})
+        for (auto [w, h] : {std::pair{45, 29}, std::pair{16, 16}}) {
+            int levels = 3;
+            Image var(w, h, 1, v);
+            Image coef = GpuSqAnalyze(Ctx(), var, basis, levels, lowSum, highSum);
+            // Expected value per position: walk the levels like the layout does.
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    double expected = v;
+                    int px = x, py = y;
+                    for (int level = 0; level < levels; ++level) {
+                        int lw = LevelExtent(w, level), lh = LevelExtent(h, level);
+                        if (px >= lw || py >= lh) break;
+                        int hw = (lw + 1) / 2, hh = (lh + 1) / 2;
+                        bool highX = lw > 1 && px >= hw, highY = lh > 1 && py >= hh;
+                        if (lw > 1) expected *= highX ? highSum : lowSum;
+                        if (lh > 1) expected *= highY ? highSum : lowSum;
+                        if (highX || highY) break;
+                    }
+                    EXPECT_NEAR(coef.At(0, y, x), expected, 1e-5 * expected)
+                        << WaveletName(basis) << " " << w << "x" << h << " at " << x << "," << y;
+                }
+        }
+}
+
+// Write-only guard bands: padded strides and planes around every view must come back
+// untouched, and NaN in the source's padding must never be read.
+TEST_F(WaveletProperties, GuardBandsUntouched) {
+    vk::Context &ctx = Ctx();
+    const int w = 45, h = 19, channels = 2, pad = 3;
+    const int stride = w + pad, plane = stride * (h + pad);
+    const float sentinel = 12345.f;
+    Image in = MakeInput(InputKind::Uniform, w, h, channels, SeedFromName("guard"));
+    std::vector<float> src(size_t(plane) * channels + pad,
+                           std::numeric_limits<float>::quiet_NaN());
+    for (int c = 0; c < channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) src[size_t(c) * plane + y * stride + x] = in.At(c, y, x);
+    for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97}) {
+        vk::Buffer srcBuffer(ctx, src.size() * 4, "src"), coefBuffer(ctx, src.size() * 4, "coef");
+        srcBuffer.UploadFloats(src);
+        std::vector<float> fill(src.size(), sentinel);
+        coefBuffer.UploadFloats(fill);
+        vk::Recorder recorder(ctx);
+        // Single level straight into the padded coefficient view, low band in place.
+        vk::ImageView srcView{&srcBuffer, stride, plane}, coefView{&coefBuffer, stride, plane};
+        RecordWaveletAnalyze(ctx, recorder, basis, w, h, channels, srcView, coefView, coefView);
+        recorder.Submit();
+        std::vector<float> out = coefBuffer.DownloadFloats(src.size());
+        Image expected = ref::WaveletAnalyze(in, basis, 1);
+        Image magnitude = ref::WaveletAnalyzeMagnitude(in, basis, 1);
+        Image actual(w, h, channels);
+        for (size_t i = 0; i < out.size(); ++i) {
+            size_t c = i / plane, r = i % plane;
+            int y = int(r / stride), x = int(r % stride);
+            bool inside = c < size_t(channels) && y < h && x < w;
+            if (inside)
+                actual.At(int(c), y, x) = out[i];
+            else
+                ASSERT_EQ(out[i], sentinel) << WaveletName(basis) << ": guard written at " << i;
+        }
+        EXPECT_TRUE(ImagesMatch(expected, actual, magnitude,
+                                {kUlpsPerLevel * kUnitRoundoff, 0, 1e-9}))
+            << WaveletName(basis);
+    }
+}
+
+// Out-of-range levels and mismatched images are refused with a clear message.
+TEST_F(WaveletProperties, BadArgumentsThrow) {
+    vk::Context &ctx = Ctx();
+    vk::GpuImage a(ctx, 8, 8, 1, "a"), b(ctx, 8, 8, 1, "b"), c(ctx, 4, 8, 1, "c");
+    WaveletTransform transform(ctx, 8, 8, 1);
+    vk::Recorder recorder(ctx);
+    try {
+        transform.RecordAnalysis(recorder, WaveletBasis::Cdf97, 4, a, b);
+        FAIL() << "4 levels of 8x8 accepted";
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("allows 0..3"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(transform.RecordAnalysis(recorder, WaveletBasis::Cdf97, 1, a, c), Error);
+}
+
+}  // namespace
+}  // namespace mcd::test
