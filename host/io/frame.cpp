@@ -1,0 +1,169 @@
+#include "host/io/frame.h"
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <system_error>
+#include <utility>
+
+#include "host/error.h"
+#include "host/io/layer_names.h"
+
+namespace mcd::io {
+
+namespace {
+
+// How a channel's stored values become our floats. OIIO hands integer data over as
+// normalized [0,1] floats.
+enum class Decode {
+    None,     // float data, or integer data in a linear color space
+    Srgb,     // 8/16-bit display data: undo the sRGB transfer curve
+    Integer,  // 32-bit unsigned (EXR ids): undo OIIO's normalization
+};
+
+float SrgbToLinear(float v) {
+    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+bool IsLinearColorSpace(std::string colorSpace) {
+    for (char &c : colorSpace) c = char(std::tolower((unsigned char)c));
+    return colorSpace.find("linear") != std::string::npos;
+}
+
+bool IsAlpha(const std::string &channelName) {
+    return channelName == "A" || channelName.ends_with(".A");
+}
+
+}  // namespace
+
+const Image &Frame::Get(const std::string &layer) const {
+    if (auto it = layers.find(layer); it != layers.end()) return it->second;
+    std::string have;
+    for (const auto &[name, image] : layers) have += (have.empty() ? "" : ", ") + name;
+    throw Error(fmt::format("'{}' has no layer '{}' (it has: {})", path, layer,
+                            have.empty() ? "no layers" : have));
+}
+
+Frame ReadFrame(const std::string &path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec))
+        throw Error(fmt::format("cannot read '{}': no such file", path));
+    // Keep color as stored: OIIO would premultiply a PNG's unassociated alpha, and alpha
+    // is not ours to apply.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path, &config);
+    if (!in) throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
+
+    // Only subimage 0 is read: a multi-part EXR's other parts are ignored (renderers we
+    // take frames from, pbrt-v4 and Blender, write all layers into one part). The data
+    // window is the frame; an EXR display window is ignored.
+    const OIIO::ImageSpec &spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+        throw Error(fmt::format("cannot read '{}': it has zero size ({}x{}, {} channels)", path,
+                                spec.width, spec.height, spec.nchannels));
+    if (spec.deep)
+        throw Error(fmt::format("cannot read '{}': deep images are unsupported", path));
+    if (spec.depth > 1)
+        throw Error(fmt::format("cannot read '{}': volume images are unsupported", path));
+
+    // Decide per channel how its values are turned into floats.
+    int channelCount = spec.nchannels;
+    bool linear = IsLinearColorSpace(spec.get_string_attribute("oiio:ColorSpace"));
+    std::vector<Decode> decode(channelCount);
+    for (int c = 0; c < channelCount; ++c) {
+        OIIO::TypeDesc format = spec.channelformat(c);
+        if (format == OIIO::TypeDesc::FLOAT || format == OIIO::TypeDesc::HALF ||
+            format == OIIO::TypeDesc::DOUBLE)
+            decode[c] = Decode::None;
+        else if (format == OIIO::TypeDesc::UINT8 || format == OIIO::TypeDesc::UINT16)
+            decode[c] = linear || IsAlpha(spec.channelnames[c]) ? Decode::None : Decode::Srgb;
+        else if (format == OIIO::TypeDesc::UINT32)
+            decode[c] = Decode::Integer;
+        else
+            throw Error(fmt::format("cannot read '{}': channel '{}' has unsupported format {}",
+                                    path, spec.channelnames[c], format.c_str()));
+    }
+
+    std::vector<LayerChannels> grouped;
+    try {
+        grouped = GroupChannels(spec.channelnames);
+    } catch (const Error &e) {
+        throw Error(fmt::format("cannot read '{}': {}", path, e.what()));
+    }
+
+    Frame frame;
+    frame.path = path;
+    frame.width = spec.width;
+    frame.height = spec.height;
+    // Where each file channel goes: layer plane, or nowhere (alpha, pbrt-v4 P.*).
+    std::vector<float *> destination(channelCount, nullptr);
+    for (const LayerChannels &layer : grouped) {
+        Image &image = frame.layers[layer.name] =
+            Image(spec.width, spec.height, int(layer.channels.size()));
+        for (size_t c = 0; c < layer.channels.size(); ++c)
+            destination[layer.channels[c]] = image.Plane(int(c));
+    }
+
+    // Read a band of rows at a time, interleaved, and scatter it into the planes; a whole
+    // interleaved copy of a histogram frame would double the memory needed. Tiled files
+    // need band heights on tile boundaries (read_scanlines does not read them).
+    bool tiled = spec.tile_width > 0;
+    int bandRows =
+        tiled ? spec.tile_height * std::max(1, 32 / std::max(1, spec.tile_height)) : 32;
+    size_t rowValues = size_t(spec.width) * size_t(channelCount);
+    std::vector<float> band(size_t(bandRows) * rowValues);
+    for (int y0 = 0; y0 < spec.height; y0 += bandRows) {
+        int y1 = std::min(spec.height, y0 + bandRows);
+        bool ok = tiled ? in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + y0,
+                                         spec.y + y1, spec.z, spec.z + 1, 0, channelCount,
+                                         OIIO::TypeFloat, band.data())
+                        : in->read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0,
+                                             channelCount, OIIO::TypeFloat, band.data());
+        if (!ok) throw Error(fmt::format("cannot read '{}': {}", path, in->geterror()));
+
+        for (int c = 0; c < channelCount; ++c) {
+            if (!destination[c]) continue;
+            for (int y = y0; y < y1; ++y) {
+                const float *src = band.data() + size_t(y - y0) * rowValues + c;
+                float *dst = destination[c] + size_t(y) * spec.width;
+                for (int x = 0; x < spec.width; ++x) {
+                    float v = src[size_t(x) * channelCount];
+                    switch (decode[c]) {
+                        case Decode::None:
+                            break;
+                        case Decode::Srgb:
+                            v = SrgbToLinear(v);
+                            break;
+                        // Exact for ids below 2^24, which is what a float can hold anyway.
+                        case Decode::Integer:
+                            v = float(std::round(double(v) * 4294967295.0));
+                            break;
+                    }
+                    dst[x] = v;
+                }
+            }
+        }
+    }
+
+    // The file's string attributes; "oiio:*" are OIIO's own hints, not the file's.
+    for (const OIIO::ParamValue &attribute : spec.extra_attribs) {
+        std::string name = attribute.name().string();
+        if (attribute.type() == OIIO::TypeString && !name.starts_with("oiio:"))
+            frame.metadata[name] = attribute.get_string();
+    }
+    return frame;
+}
+
+Image ReadImage(const std::string &path, const std::string &layer) {
+    Frame frame = ReadFrame(path);
+    frame.Get(layer);  // throws if missing
+    return std::move(frame.layers[layer]);
+}
+
+}  // namespace mcd::io

@@ -1,0 +1,612 @@
+// host/io: frame reading and writing, layer-name grouping, errors and atomic writes.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "host/error.h"
+#include "host/image.h"
+#include "host/io/frame.h"
+
+namespace mcd::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The message of the mcd::Error that f throws, or a marker saying it threw none.
+template <typename F>
+std::string ErrorOf(F &&f) {
+    try {
+        f();
+    } catch (const Error &e) {
+        return e.what();
+    } catch (const std::exception &e) {
+        return std::string("<not an mcd::Error: ") + e.what() + ">";
+    }
+    return "<no error>";
+}
+
+::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
+    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure()
+           << "'" << text << "' does not contain '" << part << "'";
+}
+
+std::string ReadBytes(const fs::path &path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A test image whose values differ per channel and pixel.
+Image Ramp(int width, int height, int channels, float offset) {
+    Image image(width, height, channels);
+    for (size_t i = 0; i < image.Size(); ++i) image.data[i] = offset + 0.37f * float(i) - 3.f;
+    return image;
+}
+
+bool BitEqual(const Image &a, const Image &b) {
+    return a.SameShape(b) && std::memcmp(a.data.data(), b.data.data(), a.Size() * 4) == 0;
+}
+
+// The value a raw test file holds in channel c at (x, y): tells channels apart.
+float RawValue(int c, int x, int y) {
+    return 1000.f * float(c) + 10.f * float(y) + float(x);
+}
+
+class IoTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        std::random_device random;
+        dir = fs::temp_directory_path() /
+              ("mcd_io_test_" + std::to_string(::getpid()) + "_" + std::to_string(random()));
+        fs::create_directories(dir);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+
+    std::string Path(const std::string &name) const { return (dir / name).string(); }
+
+    std::vector<std::string> Listing() const {
+        std::vector<std::string> names;
+        for (const auto &entry : fs::directory_iterator(dir))
+            names.push_back(entry.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    }
+
+    // Write a file with OIIO directly, with raw channel names; channel c holds RawValue.
+    void WriteRaw(const std::string &path, int width, int height,
+                  const std::vector<std::string> &channels,
+                  OIIO::TypeDesc format = OIIO::TypeFloat, int tileSize = 0) {
+        int n = int(channels.size());
+        OIIO::ImageSpec spec(width, height, n, format);
+        spec.channelnames = channels;
+        if (tileSize) spec.tile_width = spec.tile_height = tileSize;
+        std::vector<float> pixels(size_t(width) * height * n);
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                for (int c = 0; c < n; ++c)
+                    pixels[(size_t(y) * width + x) * n + c] = RawValue(c, x, y);
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out) << OIIO::geterror();
+        ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+        ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data())) << out->geterror();
+        ASSERT_TRUE(out->close());
+    }
+
+    // Check a layer holds the raw channels named, in that order.
+    void ExpectLayer(const Frame &frame, const std::string &layer,
+                     const std::vector<std::string> &fileChannels,
+                     const std::vector<std::string> &written) {
+        ASSERT_TRUE(frame.Has(layer)) << layer;
+        const Image &image = frame.Get(layer);
+        ASSERT_EQ(image.channels, int(fileChannels.size())) << layer;
+        for (size_t k = 0; k < fileChannels.size(); ++k) {
+            auto it = std::find(written.begin(), written.end(), fileChannels[k]);
+            ASSERT_NE(it, written.end()) << fileChannels[k];
+            int c = int(it - written.begin());
+            for (int y = 0; y < image.height; ++y)
+                for (int x = 0; x < image.width; ++x)
+                    ASSERT_EQ(image.At(int(k), y, x), RawValue(c, x, y))
+                        << layer << " channel " << k << " should be " << fileChannels[k];
+        }
+    }
+
+    fs::path dir;
+};
+
+TEST_F(IoTest, ExrRoundTripIsBitExact) {
+    const int w = 13, h = 70;  // more rows than one band
+    Image color = Ramp(w, h, 3, 0.f);
+    color.At(0, 0, 0) = std::numeric_limits<float>::quiet_NaN();
+    color.At(1, 0, 0) = -0.f;
+    color.At(2, 0, 0) = std::numeric_limits<float>::denorm_min();
+    color.At(0, 1, 0) = std::numeric_limits<float>::infinity();
+    color.At(1, 1, 0) = 3.4e38f;
+    Image variance = Ramp(w, h, 3, 1.f), spp = Ramp(w, h, 1, 2.f), normal = Ramp(w, h, 3, 3.f);
+    Image depth = Ramp(w, h, 1, 4.f), hist = Ramp(w, h, 3 * 20 + 1, 5.f);
+    Image diffInd = Ramp(w, h, 3, 6.f), feature = Ramp(w, h, 12, 7.f);
+    std::vector<std::pair<std::string, const Image *>> layers = {
+        {"color", &color},     {"variance", &variance}, {"spp", &spp},
+        {"normal", &normal},   {"depth", &depth},       {"hist", &hist},
+        {"DiffInd", &diffInd}, {"feature", &feature}};
+    std::map<std::string, std::string> metadata = {{"mcd:spp", "64"},
+                                                   {"mcd:scene", "cornell box"}};
+    std::string path = Path("frame.exr");
+    WriteExr(path, layers, metadata);
+    EXPECT_EQ(Listing(), std::vector<std::string>{"frame.exr"});
+
+    Frame frame = ReadFrame(path);
+    EXPECT_EQ(frame.path, path);
+    EXPECT_EQ(frame.width, w);
+    EXPECT_EQ(frame.height, h);
+    EXPECT_EQ(frame.layers.size(), layers.size());
+    for (const auto &[name, image] : layers) {
+        ASSERT_TRUE(frame.Has(name)) << name;
+        EXPECT_TRUE(BitEqual(frame.Get(name), *image)) << name;
+    }
+    for (const auto &[key, value] : metadata) EXPECT_EQ(frame.metadata[key], value) << key;
+
+    // The file holds float32 channels under the DESIGN.md names.
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in);
+    const OIIO::ImageSpec &spec = in->spec();
+    for (int c = 0; c < spec.nchannels; ++c)
+        EXPECT_EQ(spec.channelformat(c), OIIO::TypeFloat) << spec.channelnames[c];
+    for (const char *name : {"R", "G", "B", "variance.R", "spp.Y", "normal.X", "normal.Z",
+                             "depth.Z", "Bin_0000", "Bin_0060", "DiffInd.B", "feature.11"})
+        EXPECT_NE(std::find(spec.channelnames.begin(), spec.channelnames.end(), name),
+                  spec.channelnames.end())
+            << name;
+    EXPECT_EQ(spec.nchannels, 3 + 3 + 1 + 3 + 1 + 61 + 3 + 12);
+}
+
+TEST_F(IoTest, ReadsPfm) {
+    // OIIO 2.4 reads PFM but cannot write it, so write the (simple) format by hand:
+    // header, then little-endian floats with the bottom row first.
+    auto writePfm = [](const std::string &path, const char *magic, int w, int h, int n) {
+        std::FILE *f = std::fopen(path.c_str(), "wb");
+        ASSERT_TRUE(f);
+        std::fprintf(f, "%s\n%d %d\n-1.0\n", magic, w, h);
+        for (int fileRow = 0; fileRow < h; ++fileRow)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < n; ++c) {
+                    float v = RawValue(c, x, h - 1 - fileRow);
+                    std::fwrite(&v, 4, 1, f);
+                }
+        std::fclose(f);
+    };
+    writePfm(Path("rgb.pfm"), "PF", 3, 2, 3);
+    writePfm(Path("grey.pfm"), "Pf", 3, 2, 1);
+
+    Frame rgb = ReadFrame(Path("rgb.pfm"));
+    EXPECT_EQ(rgb.layers.size(), 1u);
+    ExpectLayer(rgb, "color", {"R", "G", "B"}, {"R", "G", "B"});
+    Frame grey = ReadFrame(Path("grey.pfm"));
+    EXPECT_EQ(grey.layers.size(), 1u);
+    ExpectLayer(grey, "color", {"Y"}, {"Y"});
+}
+
+TEST_F(IoTest, ReadsHdr) {
+    // Values with one shared power-of-two exponent per pixel survive RGBE closely.
+    OIIO::ImageSpec spec(2, 1, 3, OIIO::TypeFloat);
+    float pixels[6] = {0.5f, 1.f, 2.f, 0.25f, 0.125f, 0.0625f};
+    std::string path = Path("image.hdr");
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out && out->open(path, spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels));
+    out->close();
+
+    Image color = ReadImage(path);
+    ASSERT_EQ(color.channels, 3);
+    ASSERT_EQ(color.width, 2);
+    for (int x = 0; x < 2; ++x)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(color.At(c, 0, x), pixels[x * 3 + c], pixels[x * 3 + c] * 0.01f);
+}
+
+TEST_F(IoTest, ReadsPngAsLinear) {
+    auto srgbToLinear = [](double v) {
+        return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+    };
+    {  // 8-bit RGBA: alpha is ignored, values are sRGB-decoded.
+        OIIO::ImageSpec spec(2, 1, 4, OIIO::TypeUInt8);
+        spec.attribute("oiio:UnassociatedAlpha", 1);  // store these bytes as they are
+        uint8_t pixels[8] = {0, 128, 255, 7, 64, 200, 1, 255};
+        std::string path = Path("rgba.png");
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out && out->open(path, spec));
+        ASSERT_TRUE(out->write_image(OIIO::TypeUInt8, pixels));
+        out->close();
+
+        Frame frame = ReadFrame(path);
+        EXPECT_EQ(frame.layers.size(), 1u);
+        const Image &color = frame.Get("color");
+        ASSERT_EQ(color.channels, 3);
+        for (int x = 0; x < 2; ++x)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(color.At(c, 0, x), srgbToLinear(pixels[x * 4 + c] / 255.0), 1e-6);
+    }
+    {  // 16-bit grey: one color channel.
+        OIIO::ImageSpec spec(3, 1, 1, OIIO::TypeUInt16);
+        uint16_t pixels[3] = {0, 32768, 65535};
+        std::string path = Path("grey16.png");
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out && out->open(path, spec));
+        ASSERT_TRUE(out->write_image(OIIO::TypeUInt16, pixels));
+        out->close();
+
+        Image color = ReadImage(path);
+        ASSERT_EQ(color.channels, 1);
+        for (int x = 0; x < 3; ++x)
+            EXPECT_NEAR(color.At(0, 0, x), srgbToLinear(pixels[x] / 65535.0), 1e-6);
+    }
+}
+
+TEST_F(IoTest, GroupsPbrtV4Channels) {
+    std::vector<std::string> channels = {"R",
+                                         "G",
+                                         "B",
+                                         "Albedo.R",
+                                         "Albedo.G",
+                                         "Albedo.B",
+                                         "P.X",
+                                         "P.Y",
+                                         "P.Z",
+                                         "dzdx",
+                                         "dzdy",
+                                         "N.X",
+                                         "N.Y",
+                                         "N.Z",
+                                         "Ns.X",
+                                         "Ns.Y",
+                                         "Ns.Z",
+                                         "u",
+                                         "v",
+                                         "Variance.R",
+                                         "Variance.G",
+                                         "Variance.B",
+                                         "RelativeVariance.R",
+                                         "RelativeVariance.G",
+                                         "RelativeVariance.B"};
+    std::string path = Path("pbrt.exr");
+    WriteRaw(path, 4, 3, channels);
+    Frame frame = ReadFrame(path);
+
+    ExpectLayer(frame, "color", {"R", "G", "B"}, channels);
+    ExpectLayer(frame, "albedo", {"Albedo.R", "Albedo.G", "Albedo.B"}, channels);
+    ExpectLayer(frame, "normal", {"N.X", "N.Y", "N.Z"}, channels);  // N preferred to Ns
+    ExpectLayer(frame, "Ns", {"Ns.X", "Ns.Y", "Ns.Z"}, channels);
+    ExpectLayer(frame, "variance", {"Variance.R", "Variance.G", "Variance.B"}, channels);
+    ExpectLayer(frame, "RelativeVariance",
+                {"RelativeVariance.R", "RelativeVariance.G", "RelativeVariance.B"}, channels);
+    for (const char *single : {"dzdx", "dzdy", "u", "v"})
+        ExpectLayer(frame, single, {single}, channels);
+    EXPECT_FALSE(frame.Has("P"));
+    EXPECT_EQ(frame.layers.size(), 10u);
+}
+
+TEST_F(IoTest, GroupsBlenderChannels) {
+    std::vector<std::string> channels = {
+        "ViewLayer.Combined.R",         "ViewLayer.Combined.G",
+        "ViewLayer.Combined.B",         "ViewLayer.Combined.A",
+        "ViewLayer.Denoising Albedo.R", "ViewLayer.Denoising Albedo.G",
+        "ViewLayer.Denoising Albedo.B", "ViewLayer.Denoising Normal.X",
+        "ViewLayer.Denoising Normal.Y", "ViewLayer.Denoising Normal.Z",
+        "ViewLayer.Denoising Depth.Z",  "ViewLayer.Depth.Z",
+        "ViewLayer.DiffInd.R",          "ViewLayer.DiffInd.G",
+        "ViewLayer.DiffInd.B",          "ViewLayer.CryptoObject00.R",
+        "ViewLayer.CryptoObject00.G",   "ViewLayer.CryptoObject00.B",
+        "ViewLayer.CryptoObject00.A"};
+    std::string path = Path("blender.exr");
+    WriteRaw(path, 3, 2, channels);
+    Frame frame = ReadFrame(path);
+
+    ExpectLayer(frame, "color",
+                {"ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B"},
+                channels);
+    ExpectLayer(frame, "albedo",
+                {"ViewLayer.Denoising Albedo.R", "ViewLayer.Denoising Albedo.G",
+                 "ViewLayer.Denoising Albedo.B"},
+                channels);
+    ExpectLayer(frame, "normal",
+                {"ViewLayer.Denoising Normal.X", "ViewLayer.Denoising Normal.Y",
+                 "ViewLayer.Denoising Normal.Z"},
+                channels);
+    ExpectLayer(frame, "depth", {"ViewLayer.Denoising Depth.Z"}, channels);
+    // The plainer depth pass loses "depth" and keeps its own name.
+    ExpectLayer(frame, "ViewLayer.Depth", {"ViewLayer.Depth.Z"}, channels);
+    ExpectLayer(frame, "DiffInd",
+                {"ViewLayer.DiffInd.R", "ViewLayer.DiffInd.G", "ViewLayer.DiffInd.B"},
+                channels);
+    // Unknown layers are kept whole, alpha included.
+    ExpectLayer(frame, "ViewLayer.CryptoObject00",
+                {"ViewLayer.CryptoObject00.R", "ViewLayer.CryptoObject00.G",
+                 "ViewLayer.CryptoObject00.B", "ViewLayer.CryptoObject00.A"},
+                channels);
+    EXPECT_EQ(frame.layers.size(), 7u);
+}
+
+TEST_F(IoTest, BlenderNoisyImageWinsColorOverCombined) {
+    std::vector<std::string> channels = {"ViewLayer.Combined.R",    "ViewLayer.Combined.G",
+                                         "ViewLayer.Combined.B",    "ViewLayer.Noisy Image.R",
+                                         "ViewLayer.Noisy Image.G", "ViewLayer.Noisy Image.B"};
+    std::string path = Path("noisy.exr");
+    WriteRaw(path, 2, 2, channels);
+    Frame frame = ReadFrame(path);
+    ExpectLayer(
+        frame, "color",
+        {"ViewLayer.Noisy Image.R", "ViewLayer.Noisy Image.G", "ViewLayer.Noisy Image.B"},
+        channels);
+    ExpectLayer(frame, "ViewLayer.Combined",
+                {"ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B"},
+                channels);
+}
+
+TEST_F(IoTest, OrdersChannelsWithinLayers) {
+    std::vector<std::string> channels = {
+        "B",         "A",          "G",         "R",         "albedo.B",   "albedo.G",
+        "albedo.R",  "normal.Z",   "normal.X",  "normal.Y",  "spp",        "depth",
+        "partId.V",  "objectId.Y", "mystery.U", "mystery.V", "feature.10", "feature.2",
+        "feature.0", "feature.1",  "feature.3", "feature.4", "feature.5",  "feature.6",
+        "feature.7", "feature.8",  "feature.9"};
+    std::string path = Path("order.exr");
+    WriteRaw(path, 3, 2, channels);
+    Frame frame = ReadFrame(path);
+    ExpectLayer(frame, "color", {"R", "G", "B"}, channels);
+    ExpectLayer(frame, "albedo", {"albedo.R", "albedo.G", "albedo.B"}, channels);
+    ExpectLayer(frame, "normal", {"normal.X", "normal.Y", "normal.Z"}, channels);
+    ExpectLayer(frame, "spp", {"spp"}, channels);
+    ExpectLayer(frame, "depth", {"depth"}, channels);
+    ExpectLayer(frame, "partId", {"partId.V"}, channels);
+    ExpectLayer(frame, "objectId", {"objectId.Y"}, channels);
+    ExpectLayer(frame, "mystery", {"mystery.U", "mystery.V"}, channels);
+    std::vector<std::string> feature;
+    for (int i = 0; i <= 10; ++i) feature.push_back("feature." + std::to_string(i));
+    ExpectLayer(frame, "feature", feature, channels);
+    EXPECT_FALSE(frame.Has("A"));
+    EXPECT_EQ(frame.layers.size(), 9u);
+}
+
+TEST_F(IoTest, ReadsHistogramBinsInNumericOrder) {
+    // Unpadded numbers sort differently as text (Bin_10 before Bin_2).
+    std::vector<std::string> channels;
+    for (int b = 0; b < 3 * 4 + 1; ++b) channels.push_back("Bin_" + std::to_string(b));
+    std::string path = Path("bins.exr");
+    WriteRaw(path, 2, 3, channels);
+    Frame frame = ReadFrame(path);
+    ExpectLayer(frame, "hist", channels, channels);
+    EXPECT_EQ(frame.layers.size(), 1u);
+}
+
+TEST_F(IoTest, RefusesMalformedHistograms) {
+    std::vector<std::string> sixty;
+    for (int b = 0; b < 60; ++b) sixty.push_back("Bin_" + std::to_string(b));
+    WriteRaw(Path("sixty.exr"), 2, 2, sixty);
+    std::string error = ErrorOf([&] { ReadFrame(Path("sixty.exr")); });
+    EXPECT_TRUE(Contains(error, Path("sixty.exr")));
+    EXPECT_TRUE(Contains(error, "3n+1"));
+
+    WriteRaw(Path("gap.exr"), 2, 2,
+             {"R", "G", "B", "Bin_0000", "Bin_0001", "Bin_0003", "Bin_0004"});
+    error = ErrorOf([&] { ReadFrame(Path("gap.exr")); });
+    EXPECT_TRUE(Contains(error, Path("gap.exr")));
+    EXPECT_TRUE(Contains(error, "bin 2 is missing"));
+
+    // WriteExr refuses a "hist" layer that ReadFrame would refuse.
+    Image bad(2, 2, 5);
+    error = ErrorOf([&] { WriteExr(Path("bad.exr"), {{"hist", &bad}}); });
+    EXPECT_TRUE(Contains(error, "3n+1"));
+    EXPECT_FALSE(fs::exists(Path("bad.exr")));
+}
+
+TEST_F(IoTest, ReadsIntegerIdsAndTiledExr) {
+    {  // 32-bit unsigned EXR channels keep their integer values.
+        OIIO::ImageSpec spec(3, 1, 1, OIIO::TypeDesc::UINT32);
+        spec.channelnames = {"objectId.Y"};
+        uint32_t ids[3] = {0, 17, 123456};
+        std::string path = Path("ids.exr");
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out && out->open(path, spec));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT32, ids));
+        out->close();
+        Image objectId = ReadImage(path, "objectId");
+        ASSERT_EQ(objectId.channels, 1);
+        for (int x = 0; x < 3; ++x) EXPECT_EQ(objectId.At(0, 0, x), float(ids[x]));
+    }
+    {  // Tiled, with partial tiles at the right and bottom and more rows than one band.
+        std::vector<std::string> channels = {"R", "G", "B", "spp.Y"};
+        std::string path = Path("tiled.exr");
+        WriteRaw(path, 37, 45, channels, OIIO::TypeFloat, 16);
+        Frame frame = ReadFrame(path);
+        ExpectLayer(frame, "color", {"R", "G", "B"}, channels);
+        ExpectLayer(frame, "spp", {"spp.Y"}, channels);
+    }
+}
+
+TEST_F(IoTest, CopiesStringMetadata) {
+    OIIO::ImageSpec spec(1, 1, 3, OIIO::TypeFloat);
+    spec.attribute("mcd:spp", "256");
+    spec.attribute("renderer", "pbrt-v4");
+    spec.attribute("someInt", 5);
+    float pixel[3] = {1, 2, 3};
+    std::string path = Path("meta.exr");
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out && out->open(path, spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixel));
+    out->close();
+    Frame frame = ReadFrame(path);
+    EXPECT_EQ(frame.metadata["mcd:spp"], "256");
+    EXPECT_EQ(frame.metadata["renderer"], "pbrt-v4");
+    EXPECT_EQ(frame.metadata.count("someInt"), 0u);  // string attributes only
+}
+
+TEST_F(IoTest, ErrorsNameTheFileAndTheLayer) {
+    std::string missing = Path("missing.exr");
+    EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(missing); }), missing));
+
+    std::string text = Path("text.exr");
+    std::ofstream(text) << "not an image";
+    EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(text); }), text));
+
+    std::string path = Path("color.exr");
+    Image color = Ramp(4, 4, 3, 0.f), spp = Ramp(4, 4, 1, 0.f);
+    WriteExr(path, {{"color", &color}, {"spp", &spp}});
+    Frame frame = ReadFrame(path);
+    std::string error = ErrorOf([&] { frame.Get("normal"); });
+    EXPECT_TRUE(Contains(error, path));
+    EXPECT_TRUE(Contains(error, "'normal'"));
+    EXPECT_TRUE(Contains(error, "color, spp"));
+    error = ErrorOf([&] { ReadImage(path, "albedo"); });
+    EXPECT_TRUE(Contains(error, path));
+    EXPECT_TRUE(Contains(error, "'albedo'"));
+}
+
+TEST_F(IoTest, TruncatedFilesAreErrorsNotCrashes) {
+    Image color = Ramp(64, 64, 3, 0.f), hist = Ramp(64, 64, 61, 0.f);
+    WriteExr(Path("full.exr"), {{"color", &color}, {"hist", &hist}});
+    WritePng(Path("full.png"), color);
+    for (const char *name : {"full.exr", "full.png"}) {
+        std::string full = ReadBytes(dir / name);
+        for (double fraction : {0.1, 0.5, 0.95}) {
+            std::string cut = Path(std::string("cut_") + name);
+            std::ofstream(cut, std::ios::binary)
+                << full.substr(0, size_t(full.size() * fraction));
+            EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(cut); }), cut)) << fraction;
+        }
+    }
+}
+
+TEST_F(IoTest, RefusesUnsupportedChannelFormat) {
+    OIIO::ImageSpec spec(2, 2, 1, OIIO::TypeDesc::INT16);
+    int16_t pixels[4] = {-5, 0, 5, 100};
+    std::string path = Path("signed.tif");
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out && out->open(path, spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::INT16, pixels));
+    out->close();
+    std::string error = ErrorOf([&] { ReadFrame(path); });
+    EXPECT_TRUE(Contains(error, path));
+    EXPECT_TRUE(Contains(error, "unsupported"));
+}
+
+TEST_F(IoTest, WriteExrRefusesMismatchedAndEmptyLayers) {
+    Image color(8, 8, 3), variance(8, 7, 3), empty;
+    std::string path = Path("out.exr");
+    std::string error = ErrorOf([&] {
+        WriteExr(path, {{"color", &color}, {"variance", &variance}});
+    });
+    EXPECT_TRUE(Contains(error, path));
+    EXPECT_TRUE(Contains(error, "'variance'"));
+    error = ErrorOf([&] { WriteExr(path, {{"color", &empty}}); });
+    EXPECT_TRUE(Contains(error, "'color'"));
+    EXPECT_TRUE(Contains(ErrorOf([&] { WriteExr(path, {}); }), path));
+    EXPECT_TRUE(Listing().empty());
+}
+
+TEST_F(IoTest, RefusesUnwritableDirectory) {
+    // Root may write anywhere, so use directories that cannot hold a file at all.
+    Image color(4, 4, 3, 0.5f);
+    std::string noDir = Path("no/such/dir/out.exr");
+    EXPECT_TRUE(Contains(ErrorOf([&] { WriteExr(noDir, {{"color", &color}}); }), noDir));
+    std::string noPng = Path("no/such/dir/out.png");
+    EXPECT_TRUE(Contains(ErrorOf([&] { WritePng(noPng, color); }), noPng));
+
+    std::ofstream(Path("file")) << "a file, not a directory";
+    std::string underFile = Path("file/out.exr");
+    EXPECT_TRUE(Contains(ErrorOf([&] {
+                             WriteExr(underFile, {{"color", &color}});
+                         }),
+                         underFile));
+    EXPECT_EQ(Listing(), std::vector<std::string>{"file"});
+}
+
+TEST_F(IoTest, FailedWritesLeaveTheOldFileIntact) {
+    std::string path = Path("frame.exr");
+    Image good = Ramp(6, 5, 3, 1.f);
+    WriteExr(path, {{"color", &good}});
+    std::string before = ReadBytes(path);
+    ASSERT_FALSE(before.empty());
+
+    // A write refused for its layers.
+    Image color(6, 5, 3, 9.f), spp(5, 5, 1, 1.f);
+    EXPECT_TRUE(Contains(ErrorOf([&] {
+                             WriteExr(path, {{"color", &color}, {"spp", &spp}});
+                         }),
+                         path));
+    EXPECT_EQ(ReadBytes(path), before);
+    EXPECT_EQ(Listing(), std::vector<std::string>{"frame.exr"});
+
+    // A write that fails after the temporary file is written: the rename onto a
+    // non-empty directory fails, and the temporary file must go.
+    fs::create_directory(dir / "taken.exr");
+    std::ofstream(dir / "taken.exr" / "keep") << "x";
+    EXPECT_TRUE(Contains(ErrorOf([&] {
+                             WriteExr(Path("taken.exr"), {{"color", &color}});
+                         }),
+                         Path("taken.exr")));
+    EXPECT_TRUE(
+        Contains(ErrorOf([&] { WritePng(Path("taken.exr"), color); }), Path("taken.exr")));
+    EXPECT_TRUE(fs::exists(dir / "taken.exr" / "keep"));
+    EXPECT_EQ(Listing(), (std::vector<std::string>{"frame.exr", "taken.exr"}));
+
+    // A good write replaces the file whole and leaves nothing else behind.
+    WriteExr(path, {{"color", &color}});
+    EXPECT_TRUE(BitEqual(ReadImage(path), color));
+    EXPECT_EQ(Listing(), (std::vector<std::string>{"frame.exr", "taken.exr"}));
+}
+
+TEST_F(IoTest, WritePngShowsNonFiniteAsMagenta) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    Image rgb(5, 1, 3);
+    float values[5][3] = {{nan, 0.5f, 0.5f},
+                          {0.f, inf, 0.f},
+                          {2.f, 1.f, 1.5f},
+                          {-1.f, 0.f, -inf},
+                          {1.f, 0.f, 0.f}};
+    for (int x = 0; x < 5; ++x)
+        for (int c = 0; c < 3; ++c) rgb.At(c, 0, x) = values[x][c];
+    std::string path = Path("preview.png");
+    WritePng(path, rgb, 0.5f);
+    EXPECT_EQ(Listing(), std::vector<std::string>{"preview.png"});
+
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in) << OIIO::geterror();
+    ASSERT_EQ(in->spec().nchannels, 3);
+    ASSERT_EQ(in->spec().width, 5);
+    uint8_t pixels[15];
+    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeUInt8, pixels));
+    const uint8_t expected[5][3] = {
+        {255, 0, 255}, {255, 0, 255}, {255, 188, 225}, {255, 0, 255}, {188, 0, 0}};
+    for (int x = 0; x < 5; ++x)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(int(pixels[x * 3 + c]), int(expected[x][c])) << x << "," << c;
+
+    // A grey image with NaN also works, and ReadFrame can read the preview back.
+    Image grey(3, 2, 1, 0.25f);
+    grey.At(0, 1, 2) = nan;
+    WritePng(Path("grey.png"), grey);
+    Image back = ReadImage(Path("grey.png"));
+    EXPECT_EQ(back.channels, 3);
+    EXPECT_NEAR(back.At(0, 0, 0), 0.25f, 0.01f);
+    EXPECT_EQ(back.At(1, 1, 2), 0.f);  // magenta: no green
+    EXPECT_EQ(back.At(0, 1, 2), 1.f);
+}
+
+}  // namespace
+}  // namespace mcd::io
