@@ -1,36 +1,47 @@
 #include "host/kernels/wavelet_analyze.h"
 
-#include <cstdint>
-
+#include "host/kernels/wavelet_lines.h"
 #include "host/vk/context.h"
 #include "host/vk/kernel.h"
 #include "wavelet/analyze.h"
 #include "wavelet/analyze_spv.h"
 
 namespace mcd {
+namespace {
+
+const vk::Kernel &AnalyzeKernel(vk::Context &context, WaveletBasis basis, int axis, bool vec4) {
+    return context.GetKernel({"wavelet_analyze", k_wavelet_analyze_spv,
+                              sizeof(k_wavelet_analyze_spv), WAVELET_ANALYZE_BINDINGS,
+                              sizeof(shader::WaveletAnalyzePush),
+                              {{WAVELET_SPEC_BASIS, int32_t(basis)},
+                               {WAVELET_SPEC_AXIS, axis},
+                               {WAVELET_SPEC_VEC4, vec4 ? 1 : 0}}});
+}
+
+}  // namespace
 
 void RecordWaveletAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                           int width, int height, int channels, const vk::ImageView &src,
-                          const vk::ImageView &coef, const vk::ImageView &low,
+                          const vk::ImageView &tmp, const vk::ImageView &dst,
                           const std::string &label) {
-    int lowWidth = LevelExtent(width, width > 1 ? 1 : 0);
-    int lowHeight = LevelExtent(height, height > 1 ? 1 : 0);
     vk::CheckView(src, width, height, channels, "wavelet analyze source");
-    vk::CheckView(coef, width, height, channels, "wavelet analyze coefficients");
-    vk::CheckView(low, lowWidth, lowHeight, channels, "wavelet analyze low band");
+    vk::CheckView(tmp, width, height, channels, "wavelet analyze temporary");
+    vk::CheckView(dst, width, height, channels, "wavelet analyze destination");
+    CheckWaveletTemporary(tmp, src, dst, width, "wavelet analyze");
 
-    const vk::Kernel &kernel = context.GetKernel(
-        {"wavelet_analyze", k_wavelet_analyze_spv, sizeof(k_wavelet_analyze_spv),
-         WAVELET_ANALYZE_BINDINGS, sizeof(shader::WaveletAnalyzePush),
-         {{0, int32_t(basis)}}});
-    shader::WaveletAnalyzePush push{width,       height,     src.stride, src.plane,
-                                    coef.stride, coef.plane, low.stride, low.plane};
-    recorder.Dispatch(kernel, label,
-                      {{src.buffer, vk::Access::Read},
-                       {coef.buffer, vk::Access::Write},
-                       {low.buffer, vk::Access::Write}},
-                      &push, uint32_t((width + WAVELET_TILE - 1) / WAVELET_TILE),
-                      uint32_t((height + WAVELET_TILE - 1) / WAVELET_TILE), uint32_t(channels));
+    bool vec4 = WaveletVec4Rows(src, tmp);
+    shader::WaveletAnalyzePush rows{width, height, src.stride, src.plane, tmp.stride, tmp.plane};
+    WaveletGrid g = WaveletPassGrid(WAVELET_AXIS_ROWS, width, height, channels);
+    recorder.Dispatch(AnalyzeKernel(context, basis, WAVELET_AXIS_ROWS, vec4), label + ".rows",
+                      {{src.buffer, vk::Access::Read}, {tmp.buffer, vk::Access::Write}}, &rows,
+                      g.x, g.y, g.z);
+
+    shader::WaveletAnalyzePush columns{width, height, tmp.stride, tmp.plane, dst.stride, dst.plane};
+    g = WaveletPassGrid(WAVELET_AXIS_COLUMNS, width, height, channels);
+    recorder.Dispatch(AnalyzeKernel(context, basis, WAVELET_AXIS_COLUMNS, false),
+                      label + ".columns",
+                      {{tmp.buffer, vk::Access::Read}, {dst.buffer, vk::Access::Write}},
+                      &columns, g.x, g.y, g.z);
 }
 
 }  // namespace mcd

@@ -1,4 +1,5 @@
-// Record one level of the forward 2D DWT (shaders/wavelet/analyze.comp).
+// Record one level of the forward 2D DWT (shaders/wavelet/analyze.comp): a rows pass
+// from `src` into `tmp`, then a columns pass from `tmp` into `dst`.
 #pragma once
 
 #include <string>
@@ -9,11 +10,12 @@
 
 namespace mcd {
 
-// Transform the width x height region of `src`; detail bands go to `coef` (Mallat
-// layout), the low-low band, compact, to `low` (may view the same buffer as `coef`).
+// Transform the width x height region of `src` into the four bands of `dst` (Mallat
+// layout, low-low band at the top left). `tmp` holds the row-transformed region and must
+// be a buffer of its own; `src` and `dst` may be the same view (in-place levels).
 void RecordWaveletAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                           int width, int height, int channels, const vk::ImageView &src,
-                          const vk::ImageView &coef, const vk::ImageView &low,
+                          const vk::ImageView &tmp, const vk::ImageView &dst,
                           const std::string &label = "wavelet.analyze");
 
 }  // namespace mcd

@@ -1,4 +1,5 @@
-// Record one level of the inverse 2D DWT (shaders/wavelet/synthesize.comp).
+// Record one level of the inverse 2D DWT (shaders/wavelet/synthesize.comp): a columns
+// pass from `src` into `tmp`, then a rows pass from `tmp` into `dst`.
 #pragma once
 
 #include <string>
@@ -9,11 +10,11 @@
 
 namespace mcd {
 
-// Rebuild the width x height region into `dst` from the compact low-low band in `low`
-// and the detail bands in `coef` (Mallat layout; `low` may view the `coef` buffer).
+// Rebuild the width x height region into `dst` from its four bands in `src` (Mallat
+// layout). `tmp` must be a buffer of its own; `src` and `dst` may be the same view.
 void RecordWaveletSynthesize(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
-                             int width, int height, int channels, const vk::ImageView &low,
-                             const vk::ImageView &coef, const vk::ImageView &dst,
+                             int width, int height, int channels, const vk::ImageView &src,
+                             const vk::ImageView &tmp, const vk::ImageView &dst,
                              const std::string &label = "wavelet.synthesize");
 
 }  // namespace mcd

@@ -24,6 +24,15 @@ void WaveletTransform::Check(int levels, const vk::GpuImage &a, const vk::GpuIma
                                     image->channels, image->buffer.Name()));
 }
 
+// The interleaved temporary between the two passes of a level, rows padded to 4 floats.
+vk::ImageView WaveletTransform::Temporary() {
+    int stride = (width + 3) / 4 * 4;
+    if (!temporary.Valid())
+        temporary = vk::Buffer(context, VkDeviceSize(stride) * height * channels * sizeof(float),
+                               "wavelet.temporary");
+    return {&temporary, stride, stride * height};
+}
+
 // Compact view of the region of `level` in scratch buffer `index` (0 or 1).
 vk::ImageView WaveletTransform::Scratch(int index, int level) {
     if (!scratch[index].Valid()) {
@@ -43,33 +52,23 @@ void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis
         recorder.Copy(in.buffer, coef.buffer, in.buffer.Bytes());
         return;
     }
-    vk::ImageView src = in.View();
-    for (int level = 0; level < levels; ++level) {
-        bool last = level == levels - 1;
-        // The low-low band ping-pongs between the scratch buffers; the last goes in place.
-        vk::ImageView low = last ? coef.View() : Scratch(level % 2, level + 1);
+    // Level 0 reads the image; deeper levels transform their low-low band in place.
+    for (int level = 0; level < levels; ++level)
         RecordWaveletAnalyze(context, recorder, basis, LevelExtent(width, level),
-                             LevelExtent(height, level), channels, src, coef.View(), low,
+                             LevelExtent(height, level), channels,
+                             level == 0 ? in.View() : coef.View(), Temporary(), coef.View(),
                              fmt::format("wavelet.analyze.L{}", level));
-        src = low;
-    }
 }
 
 void WaveletTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                                        const vk::GpuImage &coef, const vk::GpuImage &out) {
     Check(levels, coef, out);
-    if (levels == 0) {
-        recorder.Copy(coef.buffer, out.buffer, coef.buffer.Bytes());
-        return;
-    }
-    vk::ImageView low = coef.View();
-    for (int level = levels - 1; level >= 0; --level) {
-        vk::ImageView dst = level == 0 ? out.View() : Scratch(level % 2, level);
+    // Work in place in `out` so the caller's coefficients survive.
+    recorder.Copy(coef.buffer, out.buffer, coef.buffer.Bytes());
+    for (int level = levels - 1; level >= 0; --level)
         RecordWaveletSynthesize(context, recorder, basis, LevelExtent(width, level),
-                                LevelExtent(height, level), channels, low, coef.View(), dst,
-                                fmt::format("wavelet.synthesize.L{}", level));
-        low = dst;
-    }
+                                LevelExtent(height, level), channels, out.View(), Temporary(),
+                                out.View(), fmt::format("wavelet.synthesize.L{}", level));
 }
 
 void WaveletTransform::RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,

@@ -1,7 +1,9 @@
 // The multi-level (Mallat) 2D DWT on the GPU as a sequence of per-level dispatches:
-// analysis, synthesis and the squared-filter variance analysis. Owns the scratch buffers
-// that carry the low-low band between levels; they are allocated only when a transform
-// has two or more levels.
+// analysis, synthesis and the squared-filter variance analysis. Analysis and synthesis
+// run every level in place in the output image, through one interleaved temporary (rows
+// padded to a multiple of 4 floats for the vec4 path). The squared-filter analysis
+// carries its low-low band between levels in two scratch buffers. All of them are
+// allocated on first use, only by transforms that need them.
 #pragma once
 
 #include "host/vk/gpu_image.h"
@@ -26,10 +28,12 @@ public:
 
 private:
     void Check(int levels, const vk::GpuImage &a, const vk::GpuImage &b) const;
+    vk::ImageView Temporary();
     vk::ImageView Scratch(int index, int level);
 
     vk::Context &context;
     int width, height, channels;
+    vk::Buffer temporary;
     vk::Buffer scratch[2];
 };
 

@@ -1,14 +1,12 @@
-// Shared-memory tile and lifting steps for the wavelet kernels. Include after the
-// kernel's header. Tile coordinates: local (tx, ty) in [0, WAVELET_TILE_EXT) is position
-// (origin.x + tx, origin.y + ty) with origin = group * WAVELET_TILE - WAVELET_HALO; the
-// origin is even, so local parity is position parity (even = low-pass, odd = high-pass).
+// Line lifting for the wavelet kernels. Include after the kernel's header. A line holds
+// positions origin + k, k in [0, WAVELET_TILE_EXT), with origin = segment start -
+// WAVELET_HALO even, so the parity of k is the parity of the position (even = low-pass,
+// odd = high-pass). The segment's positions are k in [WAVELET_HALO, WAVELET_HALO +
+// WAVELET_TILE); the steps below leave them exact (the apron absorbs the edge effects).
 
-layout(constant_id = 0) const int WAVELET = MCD_WAVELET_CDF97;
+layout(constant_id = WAVELET_SPEC_BASIS) const int WAVELET = MCD_WAVELET_CDF97;
 
 const int kExt = WAVELET_TILE_EXT;
-const int kLocal = WAVELET_LOCAL_SIZE;
-// Positions of one parity that have both neighbours in the tile: 1..kExt-2.
-const int kInner = (kExt - 2) / 2;
 
 // CDF 9/7 lifting factorisation (Daubechies and Sweldens) and the scaling that gives the
 // filter bank of AWR appendix A (low-pass sums to sqrt 2).
@@ -19,22 +17,21 @@ const float kDelta = 0.443506852043971;
 const float kZeta = 1.149604398860241;
 const float kSqrt2 = 1.4142135623730951;
 
-shared float tile[kExt * kExt];
 
 // Fold a position into [0, n): whole-sample symmetric for the odd-length banks (parity
 // preserving), half-sample symmetric for Haar (its unpaired last sample pairs with itself).
+// Reflect until inside rather than take a modulo: lavapipe runs both sides of a branch
+// under a mask, and vector integer division is scalarised, so a `%` here would cost
+// every load; the loop runs zero times inside the region and once in the apron.
 int MirrorAnalysis(int p, int n) {
     if (n == 1) return 0;
-    if (WAVELET == MCD_WAVELET_HAAR) {
-        int period = 2 * n;
-        p = p % period;
-        if (p < 0) p += period;
-        return p < n ? p : period - 1 - p;
+    while (p < 0 || p >= n) {
+        if (WAVELET == MCD_WAVELET_HAAR)
+            p = p < 0 ? -1 - p : 2 * n - 1 - p;
+        else
+            p = p < 0 ? -p : 2 * (n - 1) - p;
     }
-    int period = 2 * (n - 1);
-    p = p % period;
-    if (p < 0) p += period;
-    return p < n ? p : period - p;
+    return p;
 }
 
 // Scale of the low (even) and high (odd) outputs after the lifting steps.
@@ -54,88 +51,49 @@ int BandIndex(int p, int n) {
     return (p & 1) == 0 ? (p >> 1) : ((n + 1) >> 1) + (p >> 1);
 }
 
-// x[p] += left * x[p-1] + right * x[p+1] for positions p of `parity` along rows
-// [row0, row1) of the tile.
-void StepX(int parity, float left, float right, int row0, int row1) {
-    int start = parity == 1 ? 1 : 2;
-    int count = (row1 - row0) * kInner;
-    for (int i = int(gl_LocalInvocationIndex); i < count; i += kLocal) {
-        int r = row0 + i / kInner;
-        int at = r * kExt + start + 2 * (i % kInner);
-        tile[at] += left * tile[at - 1] + right * tile[at + 1];
-    }
-    barrier();
-}
+// The lifting runs as a wavefront: once line[k] is loaded, ForwardAt(k) applies step 1 at
+// k-1, step 2 at k-2, step 3 at k-3 and step 4 at k-4, so position k - kDelay is final.
+// The same operations on the same operands as step-by-step sweeps (bit-identical), but
+// only a handful of values are live at once: a whole-line sweep keeps 64 floats per
+// invocation live, which spills on lavapipe.
+const int kDelay = WAVELET_HALO;
 
-// The same along columns [col0, col1) of the tile.
-void StepY(int parity, float left, float right, int col0, int col1) {
-    int start = parity == 1 ? 1 : 2;
-    int cols = col1 - col0;
-    int count = cols * kInner;
-    for (int i = int(gl_LocalInvocationIndex); i < count; i += kLocal) {
-        int at = (start + 2 * (i / cols)) * kExt + col0 + i % cols;
-        tile[at] += left * tile[at - kExt] + right * tile[at + kExt];
+// Lifting over a line array L of type T, written once as a macro so another line type
+// (say a vec4 of four lines) can share the schedule.
+#define MCD_LINE_LIFTING(T, L, StepAtT, ForwardAtT, InverseAtT)          \
+    T L[kExt];                                                           \
+    void StepAtT(int k, int parity, float left, float right) {           \
+        if (k >= 1 && k < kExt - 1 && (k & 1) == parity)                 \
+            L[k] += left * L[k - 1] + right * L[k + 1];                  \
+    }                                                                    \
+    void ForwardAtT(int k) {                                             \
+        if (WAVELET == MCD_WAVELET_CDF97) {                              \
+            StepAtT(k - 1, 1, kAlpha, kAlpha);                           \
+            StepAtT(k - 2, 0, kBeta, kBeta);                             \
+            StepAtT(k - 3, 1, kGamma, kGamma);                           \
+            StepAtT(k - 4, 0, kDelta, kDelta);                           \
+        } else if (WAVELET == MCD_WAVELET_LEGALL53) {                    \
+            StepAtT(k - 1, 1, -0.5, -0.5);                               \
+            StepAtT(k - 2, 0, 0.25, 0.25);                               \
+        } else {                                                         \
+            StepAtT(k - 1, 1, -1.0, 0.0);                                \
+            StepAtT(k - 2, 0, 0.0, 0.5);                                 \
+        }                                                                \
+    }                                                                    \
+    /* The inverse steps in reverse order, as a wavefront of the same shape. */ \
+    void InverseAtT(int k) {                                             \
+        if (WAVELET == MCD_WAVELET_CDF97) {                              \
+            StepAtT(k - 1, 0, -kDelta, -kDelta);                         \
+            StepAtT(k - 2, 1, -kGamma, -kGamma);                         \
+            StepAtT(k - 3, 0, -kBeta, -kBeta);                           \
+            StepAtT(k - 4, 1, -kAlpha, -kAlpha);                         \
+        } else if (WAVELET == MCD_WAVELET_LEGALL53) {                    \
+            StepAtT(k - 1, 0, -0.25, -0.25);                             \
+            StepAtT(k - 2, 1, 0.5, 0.5);                                 \
+        } else {                                                         \
+            StepAtT(k - 1, 0, 0.0, -0.5);                                \
+            StepAtT(k - 2, 1, 1.0, 0.0);                                 \
+        }                                                                \
     }
-    barrier();
-}
 
-void ForwardX(int row0, int row1) {
-    if (WAVELET == MCD_WAVELET_CDF97) {
-        StepX(1, kAlpha, kAlpha, row0, row1);
-        StepX(0, kBeta, kBeta, row0, row1);
-        StepX(1, kGamma, kGamma, row0, row1);
-        StepX(0, kDelta, kDelta, row0, row1);
-    } else if (WAVELET == MCD_WAVELET_LEGALL53) {
-        StepX(1, -0.5, -0.5, row0, row1);
-        StepX(0, 0.25, 0.25, row0, row1);
-    } else {
-        StepX(1, -1.0, 0.0, row0, row1);
-        StepX(0, 0.0, 0.5, row0, row1);
-    }
-}
-
-void ForwardY(int col0, int col1) {
-    if (WAVELET == MCD_WAVELET_CDF97) {
-        StepY(1, kAlpha, kAlpha, col0, col1);
-        StepY(0, kBeta, kBeta, col0, col1);
-        StepY(1, kGamma, kGamma, col0, col1);
-        StepY(0, kDelta, kDelta, col0, col1);
-    } else if (WAVELET == MCD_WAVELET_LEGALL53) {
-        StepY(1, -0.5, -0.5, col0, col1);
-        StepY(0, 0.25, 0.25, col0, col1);
-    } else {
-        StepY(1, -1.0, 0.0, col0, col1);
-        StepY(0, 0.0, 0.5, col0, col1);
-    }
-}
-
-// Undo the steps in reverse order.
-void InverseX(int row0, int row1) {
-    if (WAVELET == MCD_WAVELET_CDF97) {
-        StepX(0, -kDelta, -kDelta, row0, row1);
-        StepX(1, -kGamma, -kGamma, row0, row1);
-        StepX(0, -kBeta, -kBeta, row0, row1);
-        StepX(1, -kAlpha, -kAlpha, row0, row1);
-    } else if (WAVELET == MCD_WAVELET_LEGALL53) {
-        StepX(0, -0.25, -0.25, row0, row1);
-        StepX(1, 0.5, 0.5, row0, row1);
-    } else {
-        StepX(0, 0.0, -0.5, row0, row1);
-        StepX(1, 1.0, 0.0, row0, row1);
-    }
-}
-
-void InverseY(int col0, int col1) {
-    if (WAVELET == MCD_WAVELET_CDF97) {
-        StepY(0, -kDelta, -kDelta, col0, col1);
-        StepY(1, -kGamma, -kGamma, col0, col1);
-        StepY(0, -kBeta, -kBeta, col0, col1);
-        StepY(1, -kAlpha, -kAlpha, col0, col1);
-    } else if (WAVELET == MCD_WAVELET_LEGALL53) {
-        StepY(0, -0.25, -0.25, col0, col1);
-        StepY(1, 0.5, 0.5, col0, col1);
-    } else {
-        StepY(0, 0.0, -0.5, col0, col1);
-        StepY(1, 1.0, 0.0, col0, col1);
-    }
-}
+MCD_LINE_LIFTING(float, line, StepAt, ForwardAt, InverseAt)

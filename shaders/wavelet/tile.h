@@ -1,13 +1,23 @@
-// Tiling of the 2D wavelet kernels, shared by GLSL and C++: a workgroup owns a
-// WAVELET_TILE^2 block of positions and loads it with a WAVELET_HALO-wide apron (the
-// reach of the four CDF 9/7 lifting steps), so row and column passes of one level run in
-// shared memory with one read and one write of global memory.
+// Line geometry of the wavelet kernels, shared by GLSL and C++. Measured on lavapipe,
+// shared memory and barriers cost more than a second pass over global memory, so a 2D
+// level runs as two dispatches that each lift whole lines in registers: a rows pass (one
+// invocation per row segment, contiguous and vec4-wide when aligned) into an interleaved
+// temporary, then a columns pass (one invocation per column segment, neighbouring
+// invocations on neighbouring columns). A segment is WAVELET_TILE positions read with a
+// WAVELET_HALO-wide apron on each side, the reach of the four CDF 9/7 lifting steps.
 #ifndef MCD_SHADERS_WAVELET_TILE_H
 #define MCD_SHADERS_WAVELET_TILE_H
 
-#define WAVELET_TILE 32
+#define WAVELET_TILE 56
 #define WAVELET_HALO 4
 #define WAVELET_TILE_EXT (WAVELET_TILE + 2 * WAVELET_HALO)
-#define WAVELET_LOCAL_SIZE 256
+#define WAVELET_LOCAL_SIZE 64  // lines per workgroup
+
+// Specialization constants of the analyze and synthesize kernels.
+#define WAVELET_SPEC_BASIS 0  // MCD_WAVELET_*
+#define WAVELET_SPEC_AXIS 1   // WAVELET_AXIS_*
+#define WAVELET_SPEC_VEC4 2   // 1: rows pass may use vec4 access (strides are multiples of 4)
+#define WAVELET_AXIS_ROWS 0
+#define WAVELET_AXIS_COLUMNS 1
 
 #endif

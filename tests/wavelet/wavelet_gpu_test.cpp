@@ -274,12 +274,16 @@ TEST_F(WaveletProperties, GuardBandsUntouched) {
         srcBuffer.UploadFloats(src);
         std::vector<float> fill(src.size(), sentinel);
         coefBuffer.UploadFloats(fill);
+        vk::Buffer tmpBuffer(ctx, src.size() * 4, "tmp");
+        tmpBuffer.UploadFloats(fill);
         vk::Recorder recorder(ctx);
-        // Single level straight into the padded coefficient view, low band in place.
+        // Single level straight into the padded coefficient view, through a padded temporary.
         vk::ImageView srcView{&srcBuffer, stride, plane}, coefView{&coefBuffer, stride, plane};
-        RecordWaveletAnalyze(ctx, recorder, basis, w, h, channels, srcView, coefView, coefView);
+        vk::ImageView tmpView{&tmpBuffer, stride, plane};
+        RecordWaveletAnalyze(ctx, recorder, basis, w, h, channels, srcView, tmpView, coefView);
         recorder.Submit();
         std::vector<float> out = coefBuffer.DownloadFloats(src.size());
+        std::vector<float> tmpOut = tmpBuffer.DownloadFloats(src.size());
         Image expected = ref::WaveletAnalyze(in, basis, 1);
         Image magnitude = ref::WaveletAnalyzeMagnitude(in, basis, 1);
         Image actual(w, h, channels);
@@ -287,10 +291,12 @@ TEST_F(WaveletProperties, GuardBandsUntouched) {
             size_t c = i / plane, r = i % plane;
             int y = int(r / stride), x = int(r % stride);
             bool inside = c < size_t(channels) && y < h && x < w;
-            if (inside)
+            if (inside) {
                 actual.At(int(c), y, x) = out[i];
-            else
+            } else {
                 ASSERT_EQ(out[i], sentinel) << WaveletName(basis) << ": guard written at " << i;
+                ASSERT_EQ(tmpOut[i], sentinel) << WaveletName(basis) << ": tmp guard at " << i;
+            }
         }
         EXPECT_TRUE(ImagesMatch(expected, actual, magnitude,
                                 {kUlpsPerLevel * kUnitRoundoff, 0, 1e-9}))

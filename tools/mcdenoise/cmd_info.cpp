@@ -1,0 +1,79 @@
+// `mcdenoise info`: Vulkan devices and their limits, or the layers of a frame.
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "host/io/frame.h"
+#include "tools/mcdenoise/commands.h"
+
+namespace mcd::tool {
+namespace {
+
+void PrintDevices(const std::string &selected) {
+    std::vector<vk::DeviceInfo> devices = vk::ListDevices();
+    if (devices.empty()) {
+        fmt::print("no Vulkan devices found\n");
+        return;
+    }
+    vk::Context context({selected, false});
+    for (const vk::DeviceInfo &d : devices) {
+        bool chosen = d.index == context.Info().index;
+        fmt::print("{} {}: {} ({}), Vulkan {}.{}.{}{}\n", chosen ? "*" : " ", d.index, d.name,
+                   vk::DeviceTypeName(d.type), VK_API_VERSION_MAJOR(d.apiVersion),
+                   VK_API_VERSION_MINOR(d.apiVersion), VK_API_VERSION_PATCH(d.apiVersion),
+                   d.hasCompute ? "" : ", no compute queue");
+        const VkPhysicalDeviceLimits &l = d.limits;
+        fmt::print("    device-local memory       {:.1f} GiB\n",
+                   double(d.deviceLocalBytes) / (1u << 30));
+        fmt::print("    maxStorageBufferRange     {} bytes ({} MiB)\n", l.maxStorageBufferRange,
+                   l.maxStorageBufferRange >> 20);
+        fmt::print("    maxComputeWorkGroupCount  {} x {} x {}\n", l.maxComputeWorkGroupCount[0],
+                   l.maxComputeWorkGroupCount[1], l.maxComputeWorkGroupCount[2]);
+        fmt::print("    maxComputeWorkGroupSize   {} x {} x {} ({} invocations)\n",
+                   l.maxComputeWorkGroupSize[0], l.maxComputeWorkGroupSize[1],
+                   l.maxComputeWorkGroupSize[2], l.maxComputeWorkGroupInvocations);
+        fmt::print("    maxComputeSharedMemory    {} bytes\n", l.maxComputeSharedMemorySize);
+        fmt::print("    maxPushConstantsSize      {} bytes\n", l.maxPushConstantsSize);
+        fmt::print("    timestamps                {}{}\n", d.timestamps ? "yes" : "no",
+                   d.timestamps ? fmt::format(" ({} ns per tick)", l.timestampPeriod) : "");
+        fmt::print("    push descriptors          {}\n", d.pushDescriptors ? "yes" : "no");
+    }
+    fmt::print("(* = the device mcdenoise uses with these settings)\n");
+}
+
+void PrintFrame(const std::string &path) {
+    io::Frame frame = io::ReadFrame(path);
+    fmt::print("{}: {}x{}\n", path, frame.width, frame.height);
+    for (const auto &[name, image] : frame.layers) {
+        double sum = 0;
+        size_t nonFinite = 0;
+        for (float v : image.data) {
+            if (std::isfinite(v))
+                sum += v;
+            else
+                ++nonFinite;
+        }
+        fmt::print("  {:<12} {:>3} channel{}  mean {:.6g}{}\n", name, image.channels,
+                   image.channels == 1 ? " " : "s", image.Empty() ? 0.0 : sum / image.Size(),
+                   nonFinite ? fmt::format("  ({} non-finite values)", nonFinite) : "");
+    }
+    for (const auto &[key, value] : frame.metadata)
+        if (key.rfind("mcd:", 0) == 0) fmt::print("  {} = {}\n", key, value);
+}
+
+}  // namespace
+
+void AddInfoCommand(CLI::App &app) {
+    CLI::App *info = app.add_subcommand(
+        "info", "List Vulkan devices and their limits, or the layers of a frame file");
+    auto files = std::make_shared<std::vector<std::string>>();
+    auto device = std::make_shared<std::string>();
+    info->add_option("frames", *files, "frame files (EXR, PFM, HDR, PNG) to describe");
+    info->add_option("--device", *device, "device to mark as selected (index or name)");
+    info->callback([files, device] {
+        if (files->empty()) PrintDevices(*device);
+        for (const std::string &path : *files) PrintFrame(path);
+    });
+}
+
+}  // namespace mcd::tool

@@ -1,0 +1,138 @@
+// `mcdenoise wavelet`: a round trip of an image through the GPU DWT, with the bands
+// dumped as images on request.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "host/error.h"
+#include "host/io/frame.h"
+#include "host/methods/wavelet_transform.h"
+#include "host/vk/gpu_image.h"
+#include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/gpu_wavelet.h"
+
+namespace mcd::tool {
+
+WaveletRoundTrip RunWaveletRoundTrip(vk::Context &context, const Image &image,
+                                     WaveletBasis basis, int levels) {
+    vk::GpuImage in(context, image.width, image.height, image.channels, "image");
+    vk::GpuImage coef(context, image.width, image.height, image.channels, "coefficients");
+    vk::GpuImage out(context, image.width, image.height, image.channels, "reconstruction");
+    in.Upload(image);
+    WaveletTransform transform(context, image.width, image.height, image.channels);
+    vk::Recorder recorder(context);
+    transform.RecordAnalysis(recorder, basis, levels, in, coef);
+    transform.RecordSynthesis(recorder, basis, levels, coef, out);
+    recorder.Submit();
+    WaveletRoundTrip result;
+    for (const vk::DispatchTiming &t : recorder.Timings())
+        (t.label.find("analyze") != std::string::npos ? result.analysisMs : result.synthesisMs) +=
+            std::max(t.gpuMs, 0.0);
+    result.coefficients = coef.Download();
+    result.reconstruction = out.Download();
+    return result;
+}
+
+namespace {
+
+Image Crop(const Image &image, int x0, int y0, int x1, int y1) {
+    Image crop(x1 - x0, y1 - y0, image.channels);
+    for (int c = 0; c < image.channels; ++c)
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) crop.At(c, y - y0, x - x0) = image.At(c, y, x);
+    return crop;
+}
+
+// Write one band as EXR (raw coefficients) and PNG (|c| scaled so the mean is mid-grey).
+void DumpBand(const std::filesystem::path &dir, const std::string &name, const Image &band) {
+    io::WriteExr((dir / (name + ".exr")).string(), {{"color", &band}});
+    Image magnitude = band;
+    double sum = 0;
+    size_t count = 0;
+    for (float &v : magnitude.data) {
+        v = std::fabs(v);
+        if (std::isfinite(v)) sum += v, ++count;
+    }
+    double mean = count ? sum / count : 0;
+    io::WritePng((dir / (name + ".png")).string(), magnitude,
+                 mean > 0 ? float(0.25 / mean) : 1.f);
+}
+
+void DumpBands(const std::filesystem::path &dir, const Image &coef, int levels) {
+    std::filesystem::create_directories(dir);
+    for (int level = 0; level < levels; ++level) {
+        int lw = LevelExtent(coef.width, level), lh = LevelExtent(coef.height, level);
+        int hw = lw > 1 ? (lw + 1) / 2 : lw, hh = lh > 1 ? (lh + 1) / 2 : lh;
+        // Paper numbering: level 1 is the finest.
+        std::string prefix = fmt::format("L{}_", level + 1);
+        if (lw > 1) DumpBand(dir, prefix + "HL", Crop(coef, hw, 0, lw, hh));
+        if (lh > 1) DumpBand(dir, prefix + "LH", Crop(coef, 0, hh, hw, lh));
+        if (lw > 1 && lh > 1) DumpBand(dir, prefix + "HH", Crop(coef, hw, hh, lw, lh));
+    }
+    int lw = LevelExtent(coef.width, levels), lh = LevelExtent(coef.height, levels);
+    DumpBand(dir, fmt::format("L{}_LL", levels), Crop(coef, 0, 0, lw, lh));
+}
+
+}  // namespace
+
+void AddWaveletCommand(CLI::App &app) {
+    struct Options {
+        std::string input, output, layer = "color", basis = "cdf97", dump;
+        int levels = -1;
+        DeviceOptions device;
+    };
+    auto opt = std::make_shared<Options>();
+    CLI::App *cmd = app.add_subcommand(
+        "wavelet",
+        "Round-trip an image through the GPU wavelet transform (analysis, then synthesis) "
+        "and report the error; --dump writes every band as EXR and PNG");
+    cmd->add_option("input", opt->input, "input image (EXR, PFM, HDR, PNG)")->required();
+    cmd->add_option("-o,--output", opt->output, "reconstructed image (.exr or .png)");
+    cmd->add_option("--layer", opt->layer, "layer of the input to transform")
+        ->capture_default_str();
+    cmd->add_option("--basis", opt->basis, "haar, legall53 or cdf97")->capture_default_str();
+    cmd->add_option("--levels", opt->levels, "decomposition levels (default: as many as fit)");
+    cmd->add_option("--dump", opt->dump, "directory for the coefficient bands");
+    opt->device.Add(cmd);
+    cmd->callback([opt] {
+        std::optional<WaveletBasis> basis = ParseWavelet(opt->basis);
+        if (!basis) throw Error("unknown wavelet basis '" + opt->basis + "' (haar, legall53, cdf97)");
+        Image image = io::ReadImage(opt->input, opt->layer);
+        int maxLevels = MaxWaveletLevels(image.width, image.height);
+        int levels = opt->levels < 0 ? maxLevels : opt->levels;
+        if (levels > maxLevels)
+            throw Error(fmt::format("{} levels requested; a {}x{} image allows 0..{}", levels,
+                                    image.width, image.height, maxLevels));
+        vk::Context context(opt->device.ContextOptions());
+        WaveletRoundTrip trip = RunWaveletRoundTrip(context, image, *basis, levels);
+        double maxError = 0, maxValue = 0;
+        for (size_t i = 0; i < image.Size(); ++i) {
+            if (!std::isfinite(image.data[i])) continue;
+            maxError = std::max(maxError, double(std::fabs(trip.reconstruction.data[i] - image.data[i])));
+            maxValue = std::max(maxValue, double(std::fabs(image.data[i])));
+        }
+        fmt::print("{}: {}x{}x{}, {} levels of {} on {}\n", opt->input, image.width,
+                   image.height, image.channels, levels, WaveletName(*basis),
+                   context.Info().name);
+        fmt::print("  analysis {:.3f} ms, synthesis {:.3f} ms (GPU)\n", trip.analysisMs,
+                   trip.synthesisMs);
+        fmt::print("  round trip: max |error| {:.3g} (relative to max |value| {:.3g})\n",
+                   maxError, maxValue > 0 ? maxError / maxValue : 0.0);
+        if (!opt->dump.empty()) {
+            DumpBands(opt->dump, trip.coefficients, levels);
+            fmt::print("  bands written to {}\n", opt->dump);
+        }
+        if (!opt->output.empty()) {
+            std::string ext = std::filesystem::path(opt->output).extension().string();
+            if (ext == ".png")
+                io::WritePng(opt->output, trip.reconstruction);
+            else
+                io::WriteExr(opt->output, {{"color", &trip.reconstruction}});
+            fmt::print("  wrote {}\n", opt->output);
+        }
+    });
+}
+
+}  // namespace mcd::tool
