@@ -39,9 +39,12 @@ inline int MaxWaveletLevels(int width, int height) {
 
 inline const char *WaveletName(WaveletBasis basis) {
     switch (basis) {
-    case WaveletBasis::Haar: return "haar";
-    case WaveletBasis::LeGall53: return "legall53";
-    case WaveletBasis::Cdf97: return "cdf97";
+        case WaveletBasis::Haar:
+            return "haar";
+        case WaveletBasis::LeGall53:
+            return "legall53";
+        case WaveletBasis::Cdf97:
+            return "cdf97";
     }
     return "?";
 }

@@ -10,8 +10,10 @@ namespace mcd {
 namespace {
 
 const vk::Kernel &AnalyzeKernel(vk::Context &context, WaveletBasis basis, int axis, bool vec4) {
-    return context.GetKernel({"wavelet_analyze", k_wavelet_analyze_spv,
-                              sizeof(k_wavelet_analyze_spv), WAVELET_ANALYZE_BINDINGS,
+    return context.GetKernel({"wavelet_analyze",
+                              k_wavelet_analyze_spv,
+                              sizeof(k_wavelet_analyze_spv),
+                              WAVELET_ANALYZE_BINDINGS,
                               sizeof(shader::WaveletAnalyzePush),
                               {{WAVELET_SPEC_BASIS, int32_t(basis)},
                                {WAVELET_SPEC_AXIS, axis},
@@ -30,13 +32,15 @@ void RecordWaveletAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletB
     CheckWaveletTemporary(tmp, src, dst, width, "wavelet analyze");
 
     bool vec4 = WaveletVec4Rows(src, tmp);
-    shader::WaveletAnalyzePush rows{width, height, src.stride, src.plane, tmp.stride, tmp.plane};
+    shader::WaveletAnalyzePush rows{width,     height,     src.stride,
+                                    src.plane, tmp.stride, tmp.plane};
     WaveletGrid g = WaveletPassGrid(WAVELET_AXIS_ROWS, width, height, channels);
     recorder.Dispatch(AnalyzeKernel(context, basis, WAVELET_AXIS_ROWS, vec4), label + ".rows",
                       {{src.buffer, vk::Access::Read}, {tmp.buffer, vk::Access::Write}}, &rows,
                       g.x, g.y, g.z);
 
-    shader::WaveletAnalyzePush columns{width, height, tmp.stride, tmp.plane, dst.stride, dst.plane};
+    shader::WaveletAnalyzePush columns{width,     height,     tmp.stride,
+                                       tmp.plane, dst.stride, dst.plane};
     g = WaveletPassGrid(WAVELET_AXIS_COLUMNS, width, height, channels);
     recorder.Dispatch(AnalyzeKernel(context, basis, WAVELET_AXIS_COLUMNS, false),
                       label + ".columns",

@@ -17,7 +17,8 @@ struct WaveletGrid {
 inline WaveletGrid WaveletPassGrid(int axis, int width, int height, int channels) {
     auto divUp = [](int a, int b) { return uint32_t((a + b - 1) / b); };
     if (axis == WAVELET_AXIS_ROWS)
-        return {divUp(width, WAVELET_TILE), divUp(height, WAVELET_LOCAL_SIZE), uint32_t(channels)};
+        return {divUp(width, WAVELET_TILE), divUp(height, WAVELET_LOCAL_SIZE),
+                uint32_t(channels)};
     return {divUp(width, WAVELET_LOCAL_SIZE), divUp(height, WAVELET_TILE), uint32_t(channels)};
 }
 
@@ -33,8 +34,9 @@ inline void CheckWaveletTemporary(const vk::ImageView &tmp, const vk::ImageView 
     if (tmp.buffer == src.buffer || tmp.buffer == dst.buffer)
         throw Error(std::string(kernel) + ": the temporary must be a buffer of its own");
     if (tmp.stride % 4 != 0 || tmp.plane % 4 != 0 || tmp.stride < (width + 3) / 4 * 4)
-        throw Error(std::string(kernel) + ": the temporary's rows must be padded to a multiple "
-                                          "of 4 floats");
+        throw Error(std::string(kernel) +
+                    ": the temporary's rows must be padded to a multiple "
+                    "of 4 floats");
 }
 
 }  // namespace mcd

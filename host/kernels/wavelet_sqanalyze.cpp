@@ -19,10 +19,12 @@ void RecordWaveletSqAnalyze(vk::Context &context, vk::Recorder &recorder, Wavele
     vk::CheckView(coef, width, height, channels, "wavelet sqanalyze coefficients");
     vk::CheckView(low, lowWidth, lowHeight, channels, "wavelet sqanalyze low band");
 
-    const vk::Kernel &kernel = context.GetKernel(
-        {"wavelet_sqanalyze", k_wavelet_sqanalyze_spv, sizeof(k_wavelet_sqanalyze_spv),
-         WAVELET_SQANALYZE_BINDINGS, sizeof(shader::WaveletSqAnalyzePush),
-         {{0, int32_t(basis)}}});
+    const vk::Kernel &kernel = context.GetKernel({"wavelet_sqanalyze",
+                                                  k_wavelet_sqanalyze_spv,
+                                                  sizeof(k_wavelet_sqanalyze_spv),
+                                                  WAVELET_SQANALYZE_BINDINGS,
+                                                  sizeof(shader::WaveletSqAnalyzePush),
+                                                  {{0, int32_t(basis)}}});
     shader::WaveletSqAnalyzePush push{width,       height,     src.stride, src.plane,
                                       coef.stride, coef.plane, low.stride, low.plane,
                                       lowSum,      highSum};

@@ -11,8 +11,10 @@ namespace {
 
 const vk::Kernel &SynthesizeKernel(vk::Context &context, WaveletBasis basis, int axis,
                                    bool vec4) {
-    return context.GetKernel({"wavelet_synthesize", k_wavelet_synthesize_spv,
-                              sizeof(k_wavelet_synthesize_spv), WAVELET_SYNTHESIZE_BINDINGS,
+    return context.GetKernel({"wavelet_synthesize",
+                              k_wavelet_synthesize_spv,
+                              sizeof(k_wavelet_synthesize_spv),
+                              WAVELET_SYNTHESIZE_BINDINGS,
                               sizeof(shader::WaveletSynthesizePush),
                               {{WAVELET_SPEC_BASIS, int32_t(basis)},
                                {WAVELET_SPEC_AXIS, axis},
@@ -30,8 +32,8 @@ void RecordWaveletSynthesize(vk::Context &context, vk::Recorder &recorder, Wavel
     vk::CheckView(dst, width, height, channels, "wavelet synthesize destination");
     CheckWaveletTemporary(tmp, src, dst, width, "wavelet synthesize");
 
-    shader::WaveletSynthesizePush columns{width,      height,    src.stride,
-                                          src.plane,  tmp.stride, tmp.plane};
+    shader::WaveletSynthesizePush columns{width,     height,     src.stride,
+                                          src.plane, tmp.stride, tmp.plane};
     WaveletGrid g = WaveletPassGrid(WAVELET_AXIS_COLUMNS, width, height, channels);
     recorder.Dispatch(SynthesizeKernel(context, basis, WAVELET_AXIS_COLUMNS, false),
                       label + ".columns",
@@ -39,9 +41,11 @@ void RecordWaveletSynthesize(vk::Context &context, vk::Recorder &recorder, Wavel
                       &columns, g.x, g.y, g.z);
 
     bool vec4 = WaveletVec4Rows(tmp, dst);
-    shader::WaveletSynthesizePush rows{width, height, tmp.stride, tmp.plane, dst.stride, dst.plane};
+    shader::WaveletSynthesizePush rows{width,     height,     tmp.stride,
+                                       tmp.plane, dst.stride, dst.plane};
     g = WaveletPassGrid(WAVELET_AXIS_ROWS, width, height, channels);
-    recorder.Dispatch(SynthesizeKernel(context, basis, WAVELET_AXIS_ROWS, vec4), label + ".rows",
+    recorder.Dispatch(SynthesizeKernel(context, basis, WAVELET_AXIS_ROWS, vec4),
+                      label + ".rows",
                       {{tmp.buffer, vk::Access::Read}, {dst.buffer, vk::Access::Write}}, &rows,
                       g.x, g.y, g.z);
 }

@@ -28,8 +28,9 @@ void WaveletTransform::Check(int levels, const vk::GpuImage &a, const vk::GpuIma
 vk::ImageView WaveletTransform::Temporary() {
     int stride = (width + 3) / 4 * 4;
     if (!temporary.Valid())
-        temporary = vk::Buffer(context, VkDeviceSize(stride) * height * channels * sizeof(float),
-                               "wavelet.temporary");
+        temporary =
+            vk::Buffer(context, VkDeviceSize(stride) * height * channels * sizeof(float),
+                       "wavelet.temporary");
     return {&temporary, stride, stride * height};
 }
 

@@ -13,7 +13,7 @@
 namespace mcd {
 
 class WaveletTransform {
-public:
+  public:
     WaveletTransform(vk::Context &context, int width, int height, int channels);
 
     // `in` and `coef` are width x height x channels; levels in [0, MaxWaveletLevels].
@@ -26,7 +26,7 @@ public:
                           const vk::GpuImage &variance, const vk::GpuImage &coef, float lowSum,
                           float highSum);
 
-private:
+  private:
     void Check(int levels, const vk::GpuImage &a, const vk::GpuImage &b) const;
     vk::ImageView Temporary();
     vk::ImageView Scratch(int index, int level);

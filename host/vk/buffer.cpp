@@ -62,16 +62,16 @@ Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
     // Unified memory (CPU devices, integrated GPUs): map device memory directly. Discrete
     // GPUs: plain VRAM, not the small host-visible BAR window, and stage transfers.
     VkPhysicalDeviceType type = context.Info().type;
-    bool unified = type == VK_PHYSICAL_DEVICE_TYPE_CPU ||
-                   type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU;
+    bool unified =
+        type == VK_PHYSICAL_DEVICE_TYPE_CPU || type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU;
     VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
     if (unified)
         preferred |= VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    RawBuffer raw = CreateRaw(context, allocBytes,
-                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                  VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                              0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+    RawBuffer raw =
+        CreateRaw(context, allocBytes,
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                      VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                  0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
     buffer = raw.buffer;
     memory = raw.memory;
     if (raw.hostVisible) {
@@ -84,9 +84,13 @@ Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
     }
 }
 
-Buffer::~Buffer() { Release(); }
+Buffer::~Buffer() {
+    Release();
+}
 
-Buffer::Buffer(Buffer &&other) noexcept { *this = std::move(other); }
+Buffer::Buffer(Buffer &&other) noexcept {
+    *this = std::move(other);
+}
 
 Buffer &Buffer::operator=(Buffer &&other) noexcept {
     if (this != &other) {
@@ -113,7 +117,7 @@ void Buffer::Release() {
 }
 
 void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {
-    if (byteOffset + byteCount > bytes)
+    if (byteOffset > bytes || byteCount > bytes - byteOffset)
         throw Error(fmt::format("upload of {} bytes at {} overruns buffer '{}' of {} bytes",
                                 byteCount, byteOffset, name, bytes));
     if (byteCount == 0) return;
@@ -121,10 +125,9 @@ void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {
         std::memcpy(static_cast<char *>(mapped) + byteOffset, data, byteCount);
         return;
     }
-    RawBuffer staging = CreateRaw(*context, byteCount, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                                  VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                      VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                  0);
+    RawBuffer staging = CreateRaw(
+        *context, byteCount, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0);
     try {
         void *ptr = nullptr;
         MCD_VK(vkMapMemory(context->Device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &ptr));
@@ -142,7 +145,7 @@ void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {
 }
 
 void Buffer::Download(void *data, size_t byteCount, size_t byteOffset) const {
-    if (byteOffset + byteCount > bytes)
+    if (byteOffset > bytes || byteCount > bytes - byteOffset)
         throw Error(fmt::format("download of {} bytes at {} overruns buffer '{}' of {} bytes",
                                 byteCount, byteOffset, name, bytes));
     if (byteCount == 0) return;
@@ -150,10 +153,10 @@ void Buffer::Download(void *data, size_t byteCount, size_t byteOffset) const {
         std::memcpy(data, static_cast<const char *>(mapped) + byteOffset, byteCount);
         return;
     }
-    RawBuffer staging = CreateRaw(*context, byteCount, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                  VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                      VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                                  VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+    RawBuffer staging =
+        CreateRaw(*context, byteCount, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                  VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                  VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
     try {
         context->SubmitAndWait([&](VkCommandBuffer cb) {
             VkBufferCopy region{byteOffset, 0, byteCount};

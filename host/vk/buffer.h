@@ -14,7 +14,7 @@ namespace mcd::vk {
 class Context;
 
 class Buffer {
-public:
+  public:
     Buffer() = default;
     Buffer(Context &context, VkDeviceSize bytes, std::string name);
     ~Buffer();
@@ -39,7 +39,7 @@ public:
         return values;
     }
 
-private:
+  private:
     void Release();
 
     Context *context = nullptr;

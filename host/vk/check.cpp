@@ -7,7 +7,8 @@ namespace mcd::vk {
 const char *ResultName(VkResult result) {
     switch (result) {
 #define MCD_CASE(r) \
-    case r: return #r;
+    case r:         \
+        return #r;
         MCD_CASE(VK_SUCCESS)
         MCD_CASE(VK_NOT_READY)
         MCD_CASE(VK_TIMEOUT)
@@ -26,8 +27,14 @@ const char *ResultName(VkResult result) {
         MCD_CASE(VK_ERROR_FRAGMENTED_POOL)
         MCD_CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
         MCD_CASE(VK_ERROR_INVALID_SHADER_NV)
+        MCD_CASE(VK_ERROR_UNKNOWN)
+        MCD_CASE(VK_ERROR_INVALID_EXTERNAL_HANDLE)
+        MCD_CASE(VK_ERROR_FRAGMENTATION)
+        MCD_CASE(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
+        MCD_CASE(VK_PIPELINE_COMPILE_REQUIRED)
 #undef MCD_CASE
-    default: return "VK_ERROR_(unknown)";
+        default:
+            return "VK_ERROR_(unknown)";
     }
 }
 

@@ -15,9 +15,9 @@ const char *ResultName(VkResult result);
 
 }  // namespace mcd::vk
 
-#define MCD_VK(call)                                                        \
-    do {                                                                    \
-        VkResult mcdVkResult_ = (call);                                     \
-        if (mcdVkResult_ != VK_SUCCESS)                                     \
+#define MCD_VK(call)                                                          \
+    do {                                                                      \
+        VkResult mcdVkResult_ = (call);                                       \
+        if (mcdVkResult_ != VK_SUCCESS)                                       \
             ::mcd::vk::ThrowVkError(mcdVkResult_, #call, __FILE__, __LINE__); \
     } while (0)

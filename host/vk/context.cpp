@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 
 #include "host/vk/check.h"
 #include "host/vk/kernel.h"
@@ -83,7 +84,8 @@ DeviceInfo DescribeDevice(VkPhysicalDevice physicalDevice, int index) {
     bool queueTimestamps = false;
     info.hasCompute = ComputeQueueFamily(physicalDevice, &queueTimestamps) >= 0;
     info.timestamps = queueTimestamps && props.limits.timestampPeriod > 0;
-    info.pushDescriptors = HasDeviceExtension(physicalDevice, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
+    info.pushDescriptors =
+        HasDeviceExtension(physicalDevice, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
     VkPhysicalDeviceMemoryProperties memory;
     vkGetPhysicalDeviceMemoryProperties(physicalDevice, &memory);
     for (uint32_t i = 0; i < memory.memoryHeapCount; ++i)
@@ -94,11 +96,16 @@ DeviceInfo DescribeDevice(VkPhysicalDevice physicalDevice, int index) {
 
 int TypeRank(VkPhysicalDeviceType type) {
     switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-    default: return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return 4;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return 3;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return 1;
+        default:
+            return 0;
     }
 }
 
@@ -115,14 +122,17 @@ int SelectDevice(const std::vector<DeviceInfo> &devices, std::string selector) {
             s += fmt::format("\n  {}: {} ({})", d.index, d.name, DeviceTypeName(d.type));
         return s;
     };
-    if (devices.empty()) throw Error("no Vulkan device found (is a driver such as mesa-vulkan-drivers installed?)");
+    if (devices.empty())
+        throw Error(
+            "no Vulkan device found (is a driver such as mesa-vulkan-drivers installed?)");
     if (!selector.empty()) {
         bool numeric = std::all_of(selector.begin(), selector.end(),
                                    [](char c) { return std::isdigit((unsigned char)c); });
         if (numeric) {
-            int index = std::atoi(selector.c_str());
+            int index = selector.size() > 6 ? -1 : std::atoi(selector.c_str());
             if (index < 0 || index >= int(devices.size()))
-                throw Error(fmt::format("device index {} out of range; devices:{}", index, listing()));
+                throw Error(
+                    fmt::format("device index {} out of range; devices:{}", index, listing()));
             if (!devices[index].hasCompute)
                 throw Error(fmt::format("device {} has no compute queue", index));
             return index;
@@ -155,7 +165,12 @@ VkInstance CreateInstance(bool validation, bool debugUtils) {
     ci.ppEnabledExtensionNames = extensions.data();
     VkInstance instance = VK_NULL_HANDLE;
     MCD_VK(vkCreateInstance(&ci, nullptr, &instance));
-    volkLoadInstanceOnly(instance);
+    // Load every entry point once per process, through vkGetInstanceProcAddr: those are the
+    // loader's trampolines, which dispatch on the handle and so stay valid for every
+    // instance and device (validated or not). Reloading per context (or volkLoadDevice's
+    // direct device pointers) would retarget the calls of contexts that already exist.
+    static std::once_flag loaded;
+    std::call_once(loaded, [instance] { volkLoadInstance(instance); });
     return instance;
 }
 
@@ -182,11 +197,16 @@ VKAPI_ATTR VkBool32 VKAPI_CALL OnValidationMessage(
 
 const char *DeviceTypeName(VkPhysicalDeviceType type) {
     switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-    default: return "other";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "CPU";
+        default:
+            return "other";
     }
 }
 
@@ -195,7 +215,8 @@ std::vector<DeviceInfo> ListDevices() {
     VkInstance instance = CreateInstance(false, false);
     std::vector<DeviceInfo> infos;
     std::vector<VkPhysicalDevice> devices = PhysicalDevices(instance);
-    for (size_t i = 0; i < devices.size(); ++i) infos.push_back(DescribeDevice(devices[i], int(i)));
+    for (size_t i = 0; i < devices.size(); ++i)
+        infos.push_back(DescribeDevice(devices[i], int(i)));
     vkDestroyInstance(instance, nullptr);
     return infos;
 }
@@ -203,10 +224,12 @@ std::vector<DeviceInfo> ListDevices() {
 Context::Context(const ContextOptions &options) {
     InitVolk();
     if (options.validation && !HasLayer(kValidationLayer))
-        throw Error(fmt::format("the Vulkan validation layer {} is not installed "
-                                "(Debian package vulkan-validationlayers)",
-                                kValidationLayer));
-    bool debugUtils = options.validation && HasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+        throw Error(
+            fmt::format("the Vulkan validation layer {} is not installed "
+                        "(Debian package vulkan-validationlayers)",
+                        kValidationLayer));
+    bool debugUtils =
+        options.validation && HasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     instance = CreateInstance(options.validation, debugUtils);
     try {
         if (debugUtils) {
@@ -218,7 +241,14 @@ Context::Context(const ContextOptions &options) {
                              VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
             mi.pfnUserCallback = OnValidationMessage;
             mi.pUserData = this;
-            MCD_VK(vkCreateDebugUtilsMessengerEXT(instance, &mi, nullptr, &messenger));
+            // Instance-extension entry points belong to this instance: fetch them here.
+            auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+                vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+            destroyMessenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+                vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+            if (!create || !destroyMessenger)
+                throw Error("VK_EXT_debug_utils is advertised but its functions are missing");
+            MCD_VK(create(instance, &mi, nullptr, &messenger));
         }
 
         std::vector<VkPhysicalDevice> devices = PhysicalDevices(instance);
@@ -247,7 +277,6 @@ Context::Context(const ContextOptions &options) {
         di.enabledExtensionCount = uint32_t(extensions.size());
         di.ppEnabledExtensionNames = extensions.data();
         MCD_VK(vkCreateDevice(physicalDevice, &di, nullptr, &device));
-        volkLoadDevice(device);
         vkGetDeviceQueue(device, queueFamily, 0, &queue);
 
         VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -262,7 +291,9 @@ Context::Context(const ContextOptions &options) {
     }
 }
 
-Context::~Context() { Destroy(); }
+Context::~Context() {
+    Destroy();
+}
 
 void Context::Destroy() {
     if (device) {
@@ -274,7 +305,7 @@ void Context::Destroy() {
         device = VK_NULL_HANDLE;
     }
     if (messenger) {
-        vkDestroyDebugUtilsMessengerEXT(instance, messenger, nullptr);
+        destroyMessenger(instance, messenger, nullptr);
         messenger = VK_NULL_HANDLE;
     }
     if (instance) {

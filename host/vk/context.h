@@ -44,7 +44,7 @@ struct ContextOptions {
 };
 
 class Context {
-public:
+  public:
     explicit Context(const ContextOptions &options = {});
     ~Context();
     Context(const Context &) = delete;
@@ -78,11 +78,12 @@ public:
     std::vector<std::string> TakeValidationMessages();
     void AddValidationMessage(std::string message);
 
-private:
+  private:
     void Destroy();
 
     VkInstance instance = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    PFN_vkDestroyDebugUtilsMessengerEXT destroyMessenger = nullptr;
     VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
     VkQueue queue = VK_NULL_HANDLE;

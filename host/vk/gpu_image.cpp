@@ -15,8 +15,8 @@ GpuImage::GpuImage(Context &context, int width, int height, int channels, std::s
 void GpuImage::Upload(const Image &image) {
     if (image.width != width || image.height != height || image.channels != channels)
         throw Error(fmt::format("upload of a {}x{}x{} image into GPU image '{}' of {}x{}x{}",
-                                image.width, image.height, image.channels, buffer.Name(),
-                                width, height, channels));
+                                image.width, image.height, image.channels, buffer.Name(), width,
+                                height, channels));
     buffer.UploadFloats(image.data);
 }
 
@@ -32,8 +32,9 @@ void CheckView(const ImageView &view, int width, int height, int channels, const
     if (width <= 0 || height <= 0 || channels <= 0)
         throw Error(fmt::format("{}: empty region {}x{}x{}", what, width, height, channels));
     if (view.stride < width || (channels > 1 && view.plane < view.stride * height))
-        throw Error(fmt::format("{}: stride {} / plane {} too small for {}x{}", what,
-                                view.stride, view.plane, width, height));
+        throw Error(fmt::format("{}: stride {} / plane {} of buffer '{}' too small for {}x{}",
+                                what, view.stride, view.plane, view.buffer->Name(), width,
+                                height));
     VkDeviceSize last = VkDeviceSize(channels - 1) * view.plane +
                         VkDeviceSize(height - 1) * view.stride + VkDeviceSize(width);
     if (last * sizeof(float) > view.buffer->Bytes())

@@ -66,7 +66,8 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
         ci.stage.pName = "main";
         ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
         ci.layout = layout;
-        VkResult result = vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
+        VkResult result =
+            vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
         vkDestroyShaderModule(device, module, nullptr);
         if (result != VK_SUCCESS)
             ThrowVkError(result, fmt::format("vkCreateComputePipelines({})", name).c_str(),
@@ -77,7 +78,9 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
     }
 }
 
-Kernel::~Kernel() { Release(); }
+Kernel::~Kernel() {
+    Release();
+}
 
 void Kernel::Release() {
     VkDevice device = context.Device();

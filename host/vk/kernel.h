@@ -15,10 +15,10 @@ namespace mcd::vk {
 class Context;
 
 struct KernelDesc {
-    std::string name;              // for errors, timings and the cache key
+    std::string name;  // for errors, timings and the cache key
     const uint32_t *code = nullptr;
     size_t codeBytes = 0;
-    uint32_t bindingCount = 0;     // storage buffers at bindings 0..bindingCount-1
+    uint32_t bindingCount = 0;  // storage buffers at bindings 0..bindingCount-1
     uint32_t pushBytes = 0;
     std::vector<std::pair<uint32_t, int32_t>> specialization;  // constant_id, value
 };
@@ -26,7 +26,7 @@ struct KernelDesc {
 std::string KernelKey(const KernelDesc &desc);
 
 class Kernel {
-public:
+  public:
     Kernel(Context &context, const KernelDesc &desc);
     ~Kernel();
     Kernel(const Kernel &) = delete;
@@ -39,7 +39,7 @@ public:
     uint32_t BindingCount() const { return bindingCount; }
     uint32_t PushBytes() const { return pushBytes; }
 
-private:
+  private:
     void Release();
 
     Context &context;

@@ -22,7 +22,8 @@ Recorder::~Recorder() {
     VkDevice device = context.Device();
     if (commandBuffer) context.FreeCommandBuffer(commandBuffer);
     if (queryPool) vkDestroyQueryPool(device, queryPool, nullptr);
-    for (VkDescriptorPool pool : descriptorPools) vkDestroyDescriptorPool(device, pool, nullptr);
+    for (VkDescriptorPool pool : descriptorPools)
+        vkDestroyDescriptorPool(device, pool, nullptr);
 }
 
 void Recorder::Begin() {
@@ -53,7 +54,7 @@ void Recorder::BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Acces
     bool hazard = false;
     for (auto [buffer, access] : uses) {
         VkBuffer handle = buffer->Handle();
-        if (writtenSinceBarrier.count(handle)) hazard = true;                   // RAW, WAW
+        if (writtenSinceBarrier.count(handle)) hazard = true;  // RAW, WAW
         if (access != Access::Read && readSinceBarrier.count(handle)) hazard = true;  // WAR
     }
     if (!hazard) return;
@@ -115,8 +116,8 @@ void Recorder::Dispatch(const Kernel &kernel, const std::string &label,
     }
     vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.Pipeline());
     if (context.Info().pushDescriptors) {
-        vkCmdPushDescriptorSetKHR(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.Layout(),
-                                  0, uint32_t(writes.size()), writes.data());
+        vkCmdPushDescriptorSetKHR(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE,
+                                  kernel.Layout(), 0, uint32_t(writes.size()), writes.data());
     } else {
         if (descriptorPools.empty() || setsInPool == kSetsPerPool) {
             VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,

@@ -29,7 +29,7 @@ struct DispatchTiming {
 };
 
 class Recorder {
-public:
+  public:
     explicit Recorder(Context &context);
     ~Recorder();
     Recorder(const Recorder &) = delete;
@@ -51,7 +51,7 @@ public:
     const std::vector<DispatchTiming> &Timings() const { return timings; }
     double TotalGpuMs() const;
 
-private:
+  private:
     void Begin();
     void Touch(const Buffer *buffer, Access access);
     void BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Access>> &uses);

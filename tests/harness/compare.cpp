@@ -12,10 +12,9 @@ namespace mcd::test {
                                        const Image &magnitude, const Tolerance &tolerance,
                                        CompareStats *statsOut) {
     if (!expected.SameShape(actual))
-        return ::testing::AssertionFailure()
-               << fmt::format("shape {}x{}x{} expected, got {}x{}x{}", expected.width,
-                              expected.height, expected.channels, actual.width,
-                              actual.height, actual.channels);
+        return ::testing::AssertionFailure() << fmt::format(
+                   "shape {}x{}x{} expected, got {}x{}x{}", expected.width, expected.height,
+                   expected.channels, actual.width, actual.height, actual.channels);
     bool haveMagnitude = !magnitude.Empty();
     CompareStats stats;
     std::string report;
@@ -44,8 +43,9 @@ namespace mcd::test {
                 if (bad) {
                     ++stats.mismatches;
                     if (reported++ < 8)
-                        report += fmt::format("\n  (x={}, y={}, c={}) expected {:.9g} actual {:.9g}{}",
-                                              x, y, c, e, a, why);
+                        report += fmt::format(
+                            "\n  (x={}, y={}, c={}) expected {:.9g} actual {:.9g}{}", x, y, c,
+                            e, a, why);
                 }
             }
     stats.nmse = refSq > 0 ? errSq / refSq : errSq;

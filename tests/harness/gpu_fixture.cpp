@@ -15,7 +15,9 @@ vk::Context &TestContext() {
     return *context;
 }
 
-void GpuTest::SetUp() { TestContext().TakeValidationMessages(); }
+void GpuTest::SetUp() {
+    TestContext().TakeValidationMessages();
+}
 
 void GpuTest::TearDown() {
     for (const std::string &message : TestContext().TakeValidationMessages())

@@ -12,7 +12,7 @@ namespace mcd::test {
 vk::Context &TestContext();
 
 class GpuTest : public ::testing::Test {
-protected:
+  protected:
     void SetUp() override;
     void TearDown() override;
     vk::Context &Ctx() { return TestContext(); }

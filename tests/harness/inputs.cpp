@@ -8,11 +8,16 @@ namespace mcd::test {
 
 const char *InputKindName(InputKind kind) {
     switch (kind) {
-    case InputKind::Uniform: return "uniform";
-    case InputKind::LogNormalFireflies: return "lognormal_fireflies";
-    case InputKind::Constant: return "constant";
-    case InputKind::Impulse: return "impulse";
-    case InputKind::NonFinite: return "nonfinite";
+        case InputKind::Uniform:
+            return "uniform";
+        case InputKind::LogNormalFireflies:
+            return "lognormal_fireflies";
+        case InputKind::Constant:
+            return "constant";
+        case InputKind::Impulse:
+            return "impulse";
+        case InputKind::NonFinite:
+            return "nonfinite";
     }
     return "?";
 }
@@ -34,37 +39,37 @@ Image MakeInput(InputKind kind, int width, int height, int channels, uint64_t se
     std::uniform_real_distribution<float> unit(0.f, 1.f);
     Image image(width, height, channels);
     switch (kind) {
-    case InputKind::Uniform:
-        for (float &v : image.data) v = uniform(rng);
-        break;
-    case InputKind::LogNormalFireflies:
-        for (float &v : image.data) {
-            v = std::exp(normal(rng));
-            if (unit(rng) < 0.01f) v *= 1e4f;
+        case InputKind::Uniform:
+            for (float &v : image.data) v = uniform(rng);
+            break;
+        case InputKind::LogNormalFireflies:
+            for (float &v : image.data) {
+                v = std::exp(normal(rng));
+                if (unit(rng) < 0.01f) v *= 1e4f;
+            }
+            break;
+        case InputKind::Constant: {
+            float value = 0.5f + unit(rng);
+            for (float &v : image.data) v = value;
+            break;
         }
-        break;
-    case InputKind::Constant: {
-        float value = 0.5f + unit(rng);
-        for (float &v : image.data) v = value;
-        break;
-    }
-    case InputKind::Impulse:
-        for (int c = 0; c < channels; ++c) {
-            int x = int(rng() % uint64_t(width)), y = int(rng() % uint64_t(height));
-            image.At(c, y, x) = 1.f + unit(rng);
+        case InputKind::Impulse:
+            for (int c = 0; c < channels; ++c) {
+                int x = int(rng() % uint64_t(width)), y = int(rng() % uint64_t(height));
+                image.At(c, y, x) = 1.f + unit(rng);
+            }
+            break;
+        case InputKind::NonFinite: {
+            const float specials[3] = {std::numeric_limits<float>::quiet_NaN(),
+                                       std::numeric_limits<float>::infinity(),
+                                       -std::numeric_limits<float>::infinity()};
+            for (float &v : image.data) v = uniform(rng);
+            // A few specials, at least one, so small images get one too.
+            size_t count = 1 + image.Size() / 97;
+            for (size_t i = 0; i < count; ++i)
+                image.data[rng() % image.Size()] = specials[rng() % 3];
+            break;
         }
-        break;
-    case InputKind::NonFinite: {
-        const float specials[3] = {std::numeric_limits<float>::quiet_NaN(),
-                                   std::numeric_limits<float>::infinity(),
-                                   -std::numeric_limits<float>::infinity()};
-        for (float &v : image.data) v = uniform(rng);
-        // A few specials, at least one, so small images get one too.
-        size_t count = 1 + image.Size() / 97;
-        for (size_t i = 0; i < count; ++i)
-            image.data[rng() % image.Size()] = specials[rng() % 3];
-        break;
-    }
     }
     return image;
 }

@@ -10,11 +10,11 @@
 namespace mcd::test {
 
 enum class InputKind {
-    Uniform,            // U[-1, 1)
-    LogNormalFireflies, // exp(N(0,1)) with 1% spikes of 1e4x
-    Constant,           // one value everywhere
-    Impulse,            // zero but one pixel per channel
-    NonFinite,          // uniform laced with NaN, +Inf and -Inf
+    Uniform,             // U[-1, 1)
+    LogNormalFireflies,  // exp(N(0,1)) with 1% spikes of 1e4x
+    Constant,            // one value everywhere
+    Impulse,             // zero but one pixel per channel
+    NonFinite,           // uniform laced with NaN, +Inf and -Inf
 };
 
 const char *InputKindName(InputKind kind);

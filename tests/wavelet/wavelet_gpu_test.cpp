@@ -11,8 +11,8 @@
 // WaveletTolerance.Headroom so the bound can be seen to be neither loose nor tight.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <string>
@@ -99,11 +99,13 @@ struct WaveletCase {
                            levels, InputKindName(kind));
     }
     uint64_t Seed() const { return SeedFromName(Name()); }
-    Tolerance Tol() const { return {kUlpsPerLevel * kUnitRoundoff * std::max(levels, 1), 0, 1e-9}; }
+    Tolerance Tol() const {
+        return {kUlpsPerLevel * kUnitRoundoff * std::max(levels, 1), 0, 1e-9};
+    }
 };
 
 std::vector<WaveletCase> AllCases() {
-    const int sizes[][2] = {{1, 1},  {1, 7},   {7, 1},  {2, 2},   {3, 3},   {5, 9},
+    const int sizes[][2] = {{1, 1},   {1, 7},   {7, 1},   {2, 2},   {3, 3},  {5, 9},
                             {17, 13}, {31, 33}, {64, 64}, {67, 41}, {97, 3}, {33, 70}};
     std::vector<WaveletCase> cases;
     for (auto [w, h] : sizes)
@@ -219,7 +221,9 @@ TEST_F(WaveletProperties, ConstantHasZeroDetail) {
             for (int c = 0; c < 2; ++c)
                 for (int y = 0; y < h; ++y)
                     for (int x = 0; x < w; ++x)
-                        if (x > 0 || y > 0) maxDetail = std::max(maxDetail, double(std::fabs(coef.At(c, y, x))));
+                        if (x > 0 || y > 0)
+                            maxDetail =
+                                std::max(maxDetail, double(std::fabs(coef.At(c, y, x))));
             // LL = 0.75 * sqrt2^(axes transformed); details are round-off of that.
             double ll = coef.At(0, 0, 0);
             EXPECT_LT(maxDetail, 64 * kUnitRoundoff * levels * ll)
@@ -251,7 +255,8 @@ TEST_F(WaveletProperties, SqAnalyzeConstantMatchesClosedForm) {
                         if (highX || highY) break;
                     }
                     EXPECT_NEAR(coef.At(0, y, x), expected, 1e-5 * expected)
-                        << WaveletName(basis) << " " << w << "x" << h << " at " << x << "," << y;
+                        << WaveletName(basis) << " " << w << "x" << h << " at " << x << ","
+                        << y;
                 }
         }
 }
@@ -268,9 +273,12 @@ TEST_F(WaveletProperties, GuardBandsUntouched) {
                            std::numeric_limits<float>::quiet_NaN());
     for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) src[size_t(c) * plane + y * stride + x] = in.At(c, y, x);
-    for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97}) {
-        vk::Buffer srcBuffer(ctx, src.size() * 4, "src"), coefBuffer(ctx, src.size() * 4, "coef");
+            for (int x = 0; x < w; ++x)
+                src[size_t(c) * plane + y * stride + x] = in.At(c, y, x);
+    for (WaveletBasis basis :
+         {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97}) {
+        vk::Buffer srcBuffer(ctx, src.size() * 4, "src"),
+            coefBuffer(ctx, src.size() * 4, "coef");
         srcBuffer.UploadFloats(src);
         std::vector<float> fill(src.size(), sentinel);
         coefBuffer.UploadFloats(fill);
@@ -298,8 +306,8 @@ TEST_F(WaveletProperties, GuardBandsUntouched) {
                 ASSERT_EQ(tmpOut[i], sentinel) << WaveletName(basis) << ": tmp guard at " << i;
             }
         }
-        EXPECT_TRUE(ImagesMatch(expected, actual, magnitude,
-                                {kUlpsPerLevel * kUnitRoundoff, 0, 1e-9}))
+        EXPECT_TRUE(
+            ImagesMatch(expected, actual, magnitude, {kUlpsPerLevel * kUnitRoundoff, 0, 1e-9}))
             << WaveletName(basis);
     }
 }

@@ -19,7 +19,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+double Ms(Clock::duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+}
 
 double Median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -29,7 +31,8 @@ double Median(std::vector<double> v) {
 // PyWavelets' wavedec2 + waverec2 (bior4.4, float32, per channel) on the same work, in
 // seconds; negative when python3-pywt is not installed.
 double PyWaveletsSeconds(int width, int height, int channels, int levels, int repeats) {
-    const char *python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    const char *python =
+        std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     std::string script = fmt::format(
         "import time, numpy as np, pywt\n"
         "x = np.random.default_rng(1).random(({c}, {h}, {w})).astype(np.float32)\n"
@@ -62,9 +65,10 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     repeats = std::max(repeats, 1);
 
     vk::Context context(device.ContextOptions());
-    fmt::print("bench wavelet: {}x{} RGB float32, {} levels of {}, forward + inverse, on {} ({})\n",
-               width, height, levels, WaveletName(*basis), context.Info().name,
-               vk::DeviceTypeName(context.Info().type));
+    fmt::print(
+        "bench wavelet: {}x{} RGB float32, {} levels of {}, forward + inverse, on {} ({})\n",
+        width, height, levels, WaveletName(*basis), context.Info().name,
+        vk::DeviceTypeName(context.Info().type));
     Image image(width, height, channels);
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> uniform(0.f, 1.f);
@@ -110,7 +114,8 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     // The device's own streaming rate: buffer copies of the same image.
     std::vector<double> copyMs;
     for (int r = 0; r < 3; ++r) {
-        for (int k = 0; k < 4; ++k) recorder.Copy(in.buffer, k % 2 ? coef.buffer : out.buffer, in.buffer.Bytes());
+        for (int k = 0; k < 4; ++k)
+            recorder.Copy(in.buffer, k % 2 ? coef.buffer : out.buffer, in.buffer.Bytes());
         Clock::time_point start = Clock::now();
         recorder.Submit();
         copyMs.push_back(Ms(Clock::now() - start) / 4);
@@ -121,22 +126,29 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     // Nominal traffic: every level reads and writes its region once, in each direction.
     double levelBytes = 0;
     for (int level = 0; level < levels; ++level)
-        levelBytes += 2.0 * LevelExtent(width, level) * LevelExtent(height, level) * channels * 4;
+        levelBytes +=
+            2.0 * LevelExtent(width, level) * LevelExtent(height, level) * channels * 4;
     double totalGpu = Median(gpuForward) + Median(gpuInverse);
     double dwtGBs = 2 * levelBytes / (totalGpu * 1e6);
 
-    fmt::print("  GPU time (timestamps, median of {}): forward {:.2f} ms, inverse {:.2f} ms, total {:.2f} ms\n",
-               repeats, Median(gpuForward), Median(gpuInverse), totalGpu);
+    fmt::print(
+        "  GPU time (timestamps, median of {}): forward {:.2f} ms, inverse {:.2f} ms, total "
+        "{:.2f} ms\n",
+        repeats, Median(gpuForward), Median(gpuInverse), totalGpu);
     fmt::print("  wall time of the submit: {:.2f} ms; upload {:.2f} ms, download {:.2f} ms\n",
                Median(wall), uploadMs, downloadMs);
-    fmt::print("  traffic {:.0f} MB at {:.2f} GB/s; buffer copy streams {:.2f} GB/s: {:.0f}% of it\n",
-               2 * levelBytes / 1e6, dwtGBs, copyGBs, 100 * dwtGBs / copyGBs);
+    fmt::print(
+        "  traffic {:.0f} MB at {:.2f} GB/s; buffer copy streams {:.2f} GB/s: {:.0f}% of it\n",
+        2 * levelBytes / 1e6, dwtGBs, copyGBs, 100 * dwtGBs / copyGBs);
     fmt::print("  round-trip max |error| {:.3g}\n", maxError);
     if (pywt) {
-        double seconds = PyWaveletsSeconds(width, height, channels, levels, std::min(repeats, 3));
+        double seconds =
+            PyWaveletsSeconds(width, height, channels, levels, std::min(repeats, 3));
         if (seconds > 0)
-            fmt::print("  PyWavelets (wavedec2+waverec2, bior4.4, same CPU): {:.1f} ms: mcdenoise is {:.1f}x faster (wall)\n",
-                       seconds * 1e3, seconds * 1e3 / Median(wall));
+            fmt::print(
+                "  PyWavelets (wavedec2+waverec2, bior4.4, same CPU): {:.1f} ms: mcdenoise is "
+                "{:.1f}x faster (wall)\n",
+                seconds * 1e3, seconds * 1e3 / Median(wall));
         else
             fmt::print("  PyWavelets: not available (install python3-pywt to compare)\n");
     }
@@ -145,7 +157,8 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
 }  // namespace
 
 void AddBenchCommand(CLI::App &app) {
-    CLI::App *bench = app.add_subcommand("bench", "Speed and quality benchmarks (print figures)");
+    CLI::App *bench =
+        app.add_subcommand("bench", "Speed and quality benchmarks (print figures)");
     bench->require_subcommand(1);
 
     struct WaveletOptions {
@@ -156,11 +169,13 @@ void AddBenchCommand(CLI::App &app) {
     };
     auto opt = std::make_shared<WaveletOptions>();
     CLI::App *wavelet = bench->add_subcommand(
-        "wavelet", "Time forward + inverse DWT of an RGB float image on the device, with "
-                   "its fraction of the device's copy bandwidth and PyWavelets beside it");
+        "wavelet",
+        "Time forward + inverse DWT of an RGB float image on the device, with "
+        "its fraction of the device's copy bandwidth and PyWavelets beside it");
     wavelet->add_option("--size", opt->size, "image size WxH")->capture_default_str();
     wavelet->add_option("--levels", opt->levels, "decomposition levels")->capture_default_str();
-    wavelet->add_option("--basis", opt->basis, "haar, legall53 or cdf97")->capture_default_str();
+    wavelet->add_option("--basis", opt->basis, "haar, legall53 or cdf97")
+        ->capture_default_str();
     wavelet->add_option("--repeat", opt->repeats, "timed runs (after one warm-up)")
         ->capture_default_str();
     wavelet->add_flag("--no-pywt", opt->noPywt, "skip the PyWavelets comparison");
@@ -175,7 +190,8 @@ void AddBenchCommand(CLI::App &app) {
          {std::tuple{"render", "samples per second per scene", "issue #3"},
           std::tuple{"quality", "error against run time for every method", "issue #8"}}) {
         CLI::App *cmd = bench->add_subcommand(name, std::string(what) + " [not available yet]");
-        std::string message = fmt::format("'bench {}' is not available yet: it lands with {}", name, when);
+        std::string message =
+            fmt::format("'bench {}' is not available yet: it lands with {}", name, when);
         cmd->callback([message] { throw Error(message); });
     }
 }

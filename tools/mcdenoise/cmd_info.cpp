@@ -27,8 +27,9 @@ void PrintDevices(const std::string &selected) {
                    double(d.deviceLocalBytes) / (1u << 30));
         fmt::print("    maxStorageBufferRange     {} bytes ({} MiB)\n", l.maxStorageBufferRange,
                    l.maxStorageBufferRange >> 20);
-        fmt::print("    maxComputeWorkGroupCount  {} x {} x {}\n", l.maxComputeWorkGroupCount[0],
-                   l.maxComputeWorkGroupCount[1], l.maxComputeWorkGroupCount[2]);
+        fmt::print("    maxComputeWorkGroupCount  {} x {} x {}\n",
+                   l.maxComputeWorkGroupCount[0], l.maxComputeWorkGroupCount[1],
+                   l.maxComputeWorkGroupCount[2]);
         fmt::print("    maxComputeWorkGroupSize   {} x {} x {} ({} invocations)\n",
                    l.maxComputeWorkGroupSize[0], l.maxComputeWorkGroupSize[1],
                    l.maxComputeWorkGroupSize[2], l.maxComputeWorkGroupInvocations);

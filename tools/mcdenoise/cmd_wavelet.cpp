@@ -28,7 +28,8 @@ WaveletRoundTrip RunWaveletRoundTrip(vk::Context &context, const Image &image,
     recorder.Submit();
     WaveletRoundTrip result;
     for (const vk::DispatchTiming &t : recorder.Timings())
-        (t.label.find("analyze") != std::string::npos ? result.analysisMs : result.synthesisMs) +=
+        (t.label.find("analyze") != std::string::npos ? result.analysisMs
+                                                      : result.synthesisMs) +=
             std::max(t.gpuMs, 0.0);
     result.coefficients = coef.Download();
     result.reconstruction = out.Download();
@@ -98,7 +99,8 @@ void AddWaveletCommand(CLI::App &app) {
     opt->device.Add(cmd);
     cmd->callback([opt] {
         std::optional<WaveletBasis> basis = ParseWavelet(opt->basis);
-        if (!basis) throw Error("unknown wavelet basis '" + opt->basis + "' (haar, legall53, cdf97)");
+        if (!basis)
+            throw Error("unknown wavelet basis '" + opt->basis + "' (haar, legall53, cdf97)");
         Image image = io::ReadImage(opt->input, opt->layer);
         int maxLevels = MaxWaveletLevels(image.width, image.height);
         int levels = opt->levels < 0 ? maxLevels : opt->levels;
@@ -110,7 +112,8 @@ void AddWaveletCommand(CLI::App &app) {
         double maxError = 0, maxValue = 0;
         for (size_t i = 0; i < image.Size(); ++i) {
             if (!std::isfinite(image.data[i])) continue;
-            maxError = std::max(maxError, double(std::fabs(trip.reconstruction.data[i] - image.data[i])));
+            maxError = std::max(maxError,
+                                double(std::fabs(trip.reconstruction.data[i] - image.data[i])));
             maxValue = std::max(maxValue, double(std::fabs(image.data[i])));
         }
         fmt::print("{}: {}x{}x{}, {} levels of {} on {}\n", opt->input, image.width,

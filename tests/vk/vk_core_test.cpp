@@ -1,0 +1,715 @@
+// host/vk: device listing and selection, the validation messenger, VkResult checking,
+// buffers, the recorder's barrier tracking and timings, view checks and the kernel cache.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cpu_reference/wavelet_analyze.h"
+#include "harness/compare.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/error.h"
+#include "host/kernels/wavelet_analyze.h"
+#include "host/kernels/wavelet_synthesize.h"
+#include "host/vk/buffer.h"
+#include "host/vk/check.h"
+#include "host/vk/context.h"
+#include "host/vk/gpu_image.h"
+#include "host/vk/kernel.h"
+#include "host/vk/recorder.h"
+#include "wavelet/analyze.h"
+
+namespace mcd::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The message of the mcd::Error that f throws, or a marker saying it threw none.
+template <typename F>
+std::string ErrorOf(F &&f) {
+    try {
+        f();
+    } catch (const Error &e) {
+        return e.what();
+    } catch (const std::exception &e) {
+        return std::string("<not an mcd::Error: ") + e.what() + ">";
+    }
+    return "<no exception>";
+}
+
+bool Contains(const std::string &haystack, const std::string &needle) {
+    return haystack.find(needle) != std::string::npos;
+}
+
+std::string Lower(std::string s) {
+    for (char &c : s) c = char(std::tolower((unsigned char)c));
+    return s;
+}
+
+// The lavapipe device, if the loader sees one.
+std::optional<vk::DeviceInfo> Lavapipe(const std::vector<vk::DeviceInfo> &devices) {
+    for (const vk::DeviceInfo &d : devices)
+        if (Contains(Lower(d.name), "llvmpipe")) return d;
+    return std::nullopt;
+}
+
+// Sets (or unsets, for nullopt) an environment variable for the guard's lifetime.
+class EnvGuard {
+  public:
+    EnvGuard(const char *name, std::optional<std::string> value) : name(name) {
+        if (const char *old = std::getenv(name)) saved = old;
+        if (value)
+            setenv(name, value->c_str(), 1);
+        else
+            unsetenv(name);
+    }
+    ~EnvGuard() {
+        if (saved)
+            setenv(name, saved->c_str(), 1);
+        else
+            unsetenv(name);
+    }
+    EnvGuard(const EnvGuard &) = delete;
+    EnvGuard &operator=(const EnvGuard &) = delete;
+
+  private:
+    const char *name;
+    std::optional<std::string> saved;
+};
+
+// ---------------------------------------------------------------------------------------
+// Devices
+
+class VkDevices : public ::testing::Test {};
+
+TEST_F(VkDevices, ListHasAComputeDeviceWithNames) {
+    std::vector<vk::DeviceInfo> devices = vk::ListDevices();
+    ASSERT_FALSE(devices.empty());
+    bool anyCompute = false;
+    for (size_t i = 0; i < devices.size(); ++i) {
+        EXPECT_EQ(devices[i].index, int(i));
+        EXPECT_FALSE(devices[i].name.empty()) << "device " << i;
+        anyCompute |= devices[i].hasCompute;
+    }
+    EXPECT_TRUE(anyCompute);
+    // The listing must be stable: a second call sees the same devices.
+    std::vector<vk::DeviceInfo> again = vk::ListDevices();
+    ASSERT_EQ(again.size(), devices.size());
+    for (size_t i = 0; i < devices.size(); ++i) EXPECT_EQ(again[i].name, devices[i].name);
+}
+
+TEST_F(VkDevices, TypeNames) {
+    EXPECT_STREQ(vk::DeviceTypeName(VK_PHYSICAL_DEVICE_TYPE_CPU), "CPU");
+    EXPECT_STREQ(vk::DeviceTypeName(VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU), "discrete GPU");
+    EXPECT_STREQ(vk::DeviceTypeName(VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU), "integrated GPU");
+    EXPECT_STREQ(vk::DeviceTypeName(VK_PHYSICAL_DEVICE_TYPE_OTHER), "other");
+    std::optional<vk::DeviceInfo> lavapipe = Lavapipe(vk::ListDevices());
+    if (!lavapipe) GTEST_SKIP() << "no lavapipe device";
+    EXPECT_EQ(lavapipe->type, VK_PHYSICAL_DEVICE_TYPE_CPU);
+    EXPECT_STREQ(vk::DeviceTypeName(lavapipe->type), "CPU");
+    EXPECT_TRUE(lavapipe->hasCompute);
+}
+
+TEST_F(VkDevices, SelectByIndex) {
+    EnvGuard env("MCD_DEVICE", std::nullopt);
+    std::vector<vk::DeviceInfo> devices = vk::ListDevices();
+    ASSERT_FALSE(devices.empty());
+    if (!devices[0].hasCompute) GTEST_SKIP() << "device 0 has no compute queue";
+    vk::Context context(vk::ContextOptions{.device = "0"});
+    EXPECT_EQ(context.Info().index, 0);
+    EXPECT_EQ(context.Info().name, devices[0].name);
+    EXPECT_NE(context.Device(), VK_NULL_HANDLE);
+    EXPECT_FALSE(context.ValidationEnabled());
+}
+
+TEST_F(VkDevices, SelectByNameIsCaseInsensitiveSubstring) {
+    EnvGuard env("MCD_DEVICE", std::nullopt);
+    std::optional<vk::DeviceInfo> lavapipe = Lavapipe(vk::ListDevices());
+    if (!lavapipe) GTEST_SKIP() << "no lavapipe device";
+    for (const char *selector : {"llvmpipe", "LLVMPIPE", "LlvmPipe"}) {
+        vk::Context context(vk::ContextOptions{.device = selector});
+        EXPECT_EQ(context.Info().index, lavapipe->index) << selector;
+        EXPECT_EQ(context.Info().name, lavapipe->name) << selector;
+    }
+}
+
+TEST_F(VkDevices, BadSelectorsThrowAndListTheDevices) {
+    EnvGuard env("MCD_DEVICE", std::nullopt);
+    std::vector<vk::DeviceInfo> devices = vk::ListDevices();
+    bool lavapipe = Lavapipe(devices).has_value();
+    for (const char *selector : {"no-such-gpu", "99"}) {
+        std::string message =
+            ErrorOf([&] { vk::Context context(vk::ContextOptions{.device = selector}); });
+        EXPECT_FALSE(Contains(message, "<no exception>")) << selector;
+        EXPECT_FALSE(Contains(message, "<not an mcd::Error")) << selector << ": " << message;
+        for (const vk::DeviceInfo &d : devices)
+            EXPECT_TRUE(Contains(message, d.name)) << selector << ": " << message;
+        if (lavapipe) {
+            EXPECT_TRUE(Contains(message, "llvmpipe")) << selector << ": " << message;
+        }
+        EXPECT_TRUE(Contains(message, selector)) << message;
+    }
+}
+
+TEST_F(VkDevices, EnvironmentSelectsWhenOptionIsEmpty) {
+    {
+        // A bad $MCD_DEVICE must be honoured (and so fail) when options.device is empty...
+        EnvGuard env("MCD_DEVICE", "no-such-gpu");
+        std::string message = ErrorOf([] { vk::Context context; });
+        EXPECT_TRUE(Contains(message, "no-such-gpu")) << message;
+        // ...and ignored when options.device names one.
+        vk::Context context(vk::ContextOptions{.device = "0"});
+        EXPECT_EQ(context.Info().index, 0);
+    }
+    std::optional<vk::DeviceInfo> lavapipe = Lavapipe(vk::ListDevices());
+    if (!lavapipe) GTEST_SKIP() << "no lavapipe device";
+    EnvGuard env("MCD_DEVICE", "LLVMpipe");
+    vk::Context context;
+    EXPECT_EQ(context.Info().index, lavapipe->index);
+}
+
+// ---------------------------------------------------------------------------------------
+// Validation messages
+
+class VkValidation : public GpuTest {};
+
+// A buffer with no usage bits is invalid (VUID-VkBufferCreateInfo-usage-requiredbitmask)
+// but harmless to the driver.
+void CreateBufferWithoutUsage(vk::Context &context) {
+    VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bi.size = 256;
+    bi.usage = 0;
+    bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkResult result = vkCreateBuffer(context.Device(), &bi, nullptr, &buffer);
+    if (result == VK_SUCCESS && buffer != VK_NULL_HANDLE)
+        vkDestroyBuffer(context.Device(), buffer, nullptr);
+}
+
+TEST_F(VkValidation, InvalidCallIsReported) {
+    ASSERT_TRUE(Ctx().ValidationEnabled());
+    EXPECT_TRUE(Ctx().TakeValidationMessages().empty());
+    CreateBufferWithoutUsage(Ctx());
+    std::vector<std::string> messages = Ctx().TakeValidationMessages();
+    ASSERT_FALSE(messages.empty()) << "the validation layer reported nothing";
+    bool relevant = false;
+    for (const std::string &m : messages)
+        relevant |= Contains(m, "VkBufferCreateInfo") && Contains(m, "usage");
+    EXPECT_TRUE(relevant) << messages.front();
+    EXPECT_TRUE(Contains(messages.front(), "validation error")) << messages.front();
+    // Taken means gone.
+    EXPECT_TRUE(Ctx().TakeValidationMessages().empty());
+}
+
+// Other contexts (their own instance and device) and ListDevices() must not take the
+// shared context's validation away: entry points are loaded once per process as loader
+// trampolines, which dispatch on the handle.
+TEST_F(VkValidation, StillReportedAfterAnotherContext) {
+    {
+        EnvGuard env("MCD_DEVICE", std::nullopt);
+        vk::Context other;
+        vk::Buffer buffer(other, 64, "other");
+        EXPECT_TRUE(buffer.Valid());
+        (void)vk::ListDevices();
+    }
+    CreateBufferWithoutUsage(Ctx());
+    EXPECT_FALSE(Ctx().TakeValidationMessages().empty())
+        << "validation went silent after another context was created";
+}
+
+// ListDevices() makes a temporary instance without VK_EXT_debug_utils while a validated
+// Context lives; the Context must still tear its messenger down. Run in a child process,
+// since the failure mode is a crash.
+TEST(VkDevicesDeathTest, ListDevicesWhileAValidatedContextLives) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    EXPECT_EXIT(
+        {
+            {
+                vk::Context context(vk::ContextOptions{.validation = true});
+                (void)vk::ListDevices();
+                vk::Buffer buffer(context, 64, "after");
+                buffer.UploadFloats({1.f});
+            }
+            std::_Exit(0);
+        },
+        ::testing::ExitedWithCode(0), "");
+}
+
+// ---------------------------------------------------------------------------------------
+// VkResult checking
+
+VkResult FailWithOutOfDeviceMemory() {
+    return VK_ERROR_OUT_OF_DEVICE_MEMORY;
+}
+
+TEST(VkCheck, ThrowVkErrorNamesCallResultFileAndLine) {
+    std::string message = ErrorOf([] {
+        vk::ThrowVkError(VK_ERROR_DEVICE_LOST, "vkQueueSubmit(queue)", "some/file.cpp", 4321);
+    });
+    EXPECT_TRUE(Contains(message, "vkQueueSubmit(queue)")) << message;
+    EXPECT_TRUE(Contains(message, "VK_ERROR_DEVICE_LOST")) << message;
+    EXPECT_TRUE(Contains(message, "some/file.cpp")) << message;
+    EXPECT_TRUE(Contains(message, "4321")) << message;
+}
+
+TEST(VkCheck, MacroThrowsWithTheCallSite) {
+    auto failing = [] { return VK_ERROR_OUT_OF_DEVICE_MEMORY; };
+    int line = 0;
+    std::string message = ErrorOf([&] {
+        line = __LINE__ + 1;
+        MCD_VK(failing());
+    });
+    EXPECT_TRUE(Contains(message, "failing()")) << message;
+    EXPECT_TRUE(Contains(message, "VK_ERROR_OUT_OF_DEVICE_MEMORY")) << message;
+    EXPECT_TRUE(Contains(message, fs::path(__FILE__).filename().string())) << message;
+    EXPECT_TRUE(Contains(message, ":" + std::to_string(line))) << message;
+
+    message = ErrorOf([] { MCD_VK(FailWithOutOfDeviceMemory()); });
+    EXPECT_TRUE(Contains(message, "FailWithOutOfDeviceMemory()")) << message;
+    EXPECT_TRUE(Contains(message, "VK_ERROR_OUT_OF_DEVICE_MEMORY")) << message;
+}
+
+TEST(VkCheck, MacroEvaluatesOnceAndPassesSuccess) {
+    int calls = 0;
+    auto ok = [&] {
+        ++calls;
+        return VK_SUCCESS;
+    };
+    EXPECT_NO_THROW(MCD_VK(ok()));
+    EXPECT_EQ(calls, 1);
+    auto failing = [&] {
+        ++calls;
+        return VK_ERROR_DEVICE_LOST;
+    };
+    // A single statement, so it nests in an unbraced if/else.
+    auto either = [&](bool fail) {
+        if (fail)
+            MCD_VK(failing());
+        else
+            MCD_VK(ok());
+    };
+    EXPECT_THROW(either(true), Error);
+    EXPECT_NO_THROW(either(false));
+    EXPECT_EQ(calls, 3);
+    EXPECT_STREQ(vk::ResultName(VK_SUCCESS), "VK_SUCCESS");
+    EXPECT_STREQ(vk::ResultName(VK_ERROR_OUT_OF_HOST_MEMORY), "VK_ERROR_OUT_OF_HOST_MEMORY");
+}
+
+// ---------------------------------------------------------------------------------------
+// Buffers
+
+class VkBuffer_ : public GpuTest {};
+
+std::vector<uint32_t> RandomBits(size_t count, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::vector<uint32_t> bits(count);
+    for (uint32_t &b : bits) b = rng();
+    return bits;
+}
+
+TEST_F(VkBuffer_, RoundTripIsBitExact) {
+    // Random bit patterns: NaN payloads, denormals and negative zero included.
+    std::vector<uint32_t> bits = RandomBits(4099, 1);
+    bits[0] = 0x7fc00001u;  // quiet NaN with a payload
+    bits[1] = 0x80000000u;  // -0
+    bits[2] = 0x00000001u;  // smallest denormal
+    std::vector<float> values(bits.size());
+    std::memcpy(values.data(), bits.data(), bits.size() * sizeof(float));
+    vk::Buffer buffer(Ctx(), values.size() * sizeof(float), "roundtrip");
+    EXPECT_TRUE(buffer.Valid());
+    EXPECT_EQ(buffer.Bytes(), values.size() * sizeof(float));
+    EXPECT_EQ(buffer.Name(), "roundtrip");
+    buffer.UploadFloats(values);
+    std::vector<float> back = buffer.DownloadFloats(values.size());
+    ASSERT_EQ(back.size(), values.size());
+    EXPECT_EQ(std::memcmp(back.data(), values.data(), values.size() * sizeof(float)), 0);
+}
+
+TEST_F(VkBuffer_, OffsetUploadAndDownload) {
+    const size_t n = 64;
+    vk::Buffer buffer(Ctx(), n * sizeof(float), "offsets");
+    std::vector<float> base(n);
+    for (size_t i = 0; i < n; ++i) base[i] = float(i);
+    buffer.UploadFloats(base);
+    // Overwrite floats 10..14 through a byte offset, then read pieces back.
+    std::vector<float> patch = {-1.f, -2.f, -3.f, -4.f, -5.f};
+    buffer.Upload(patch.data(), patch.size() * sizeof(float), 10 * sizeof(float));
+    std::vector<float> expected = base;
+    std::copy(patch.begin(), patch.end(), expected.begin() + 10);
+    EXPECT_EQ(buffer.DownloadFloats(n), expected);
+    EXPECT_EQ(buffer.DownloadFloats(7, 8),
+              std::vector<float>(expected.begin() + 8, expected.begin() + 15));
+    // The last element, exactly at the end.
+    EXPECT_EQ(buffer.DownloadFloats(1, n - 1), std::vector<float>{float(n - 1)});
+    // An unaligned byte offset.
+    uint8_t byte = 0;
+    buffer.Download(&byte, 1, 10 * sizeof(float) + 3);
+    uint32_t minusOne;
+    std::memcpy(&minusOne, &patch[0], 4);
+    EXPECT_EQ(byte, uint8_t(minusOne >> 24));
+}
+
+TEST_F(VkBuffer_, OverrunsThrow) {
+    vk::Buffer buffer(Ctx(), 16, "small");
+    std::vector<uint8_t> data(32, 0xab);
+    EXPECT_NO_THROW(buffer.Upload(data.data(), 16));
+    EXPECT_NO_THROW(buffer.Upload(data.data(), 4, 12));
+    EXPECT_NO_THROW(buffer.Download(data.data(), 16));
+    std::string message = ErrorOf([&] { buffer.Upload(data.data(), 17); });
+    EXPECT_TRUE(Contains(message, "small")) << message;
+    message = ErrorOf([&] { buffer.Upload(data.data(), 4, 13); });
+    EXPECT_TRUE(Contains(message, "overruns")) << message;
+    message = ErrorOf([&] { buffer.Download(data.data(), 17); });
+    EXPECT_TRUE(Contains(message, "small")) << message;
+    message = ErrorOf([&] { buffer.Download(data.data(), 1, 16); });
+    EXPECT_TRUE(Contains(message, "overruns")) << message;
+    EXPECT_THROW(buffer.DownloadFloats(5), Error);
+    EXPECT_THROW(buffer.UploadFloats(std::vector<float>(5)), Error);
+    // The failed uploads wrote nothing.
+    std::vector<uint8_t> back(16);
+    buffer.Download(back.data(), 16);
+    EXPECT_EQ(back, std::vector<uint8_t>(16, 0xab));
+}
+
+TEST_F(VkBuffer_, ZeroBytes) {
+    vk::Buffer empty(Ctx(), 0, "empty");
+    EXPECT_TRUE(empty.Valid());
+    EXPECT_EQ(empty.Bytes(), 0u);
+    EXPECT_NO_THROW(empty.Upload(nullptr, 0));
+    EXPECT_NO_THROW(empty.Download(nullptr, 0));
+    EXPECT_TRUE(empty.DownloadFloats(0).empty());
+    float x = 1.f;
+    EXPECT_THROW(empty.Upload(&x, sizeof x), Error);
+    EXPECT_THROW(empty.Download(&x, sizeof x), Error);
+}
+
+TEST_F(VkBuffer_, MoveLeavesSourceInvalid) {
+    vk::Buffer a(Ctx(), 8 * sizeof(float), "a");
+    std::vector<float> values = {1, 2, 3, 4, 5, 6, 7, 8};
+    a.UploadFloats(values);
+    VkBuffer handle = a.Handle();
+
+    vk::Buffer b(std::move(a));
+    EXPECT_FALSE(a.Valid());
+    EXPECT_EQ(a.Handle(), VK_NULL_HANDLE);
+    EXPECT_EQ(a.Bytes(), 0u);
+    EXPECT_TRUE(b.Valid());
+    EXPECT_EQ(b.Handle(), handle);
+    EXPECT_EQ(b.Bytes(), 8 * sizeof(float));
+    EXPECT_EQ(b.Name(), "a");
+    EXPECT_EQ(b.DownloadFloats(8), values);
+    EXPECT_THROW(a.DownloadFloats(1), Error);
+
+    vk::Buffer c(Ctx(), 4, "c");
+    c = std::move(b);
+    EXPECT_FALSE(b.Valid());
+    EXPECT_EQ(b.Bytes(), 0u);
+    EXPECT_EQ(c.Handle(), handle);
+    EXPECT_EQ(c.Name(), "a");
+    EXPECT_EQ(c.DownloadFloats(8), values);
+    std::vector<float> more = {9, 10, 11, 12, 13, 14, 15, 16};
+    c.UploadFloats(more);
+    EXPECT_EQ(c.DownloadFloats(8), more);
+
+    // Assigning into a default-constructed buffer, and a moved-from one being reused.
+    vk::Buffer d;
+    EXPECT_FALSE(d.Valid());
+    d = std::move(c);
+    EXPECT_EQ(d.DownloadFloats(8), more);
+    a = vk::Buffer(Ctx(), 4, "reborn");
+    EXPECT_TRUE(a.Valid());
+    EXPECT_EQ(a.Name(), "reborn");
+}
+
+// ---------------------------------------------------------------------------------------
+// Recorder
+
+class VkRecorder : public GpuTest {};
+
+constexpr int kW = 16, kH = 16, kC = 1;
+
+Image Input(uint64_t seed) {
+    return MakeInput(InputKind::Uniform, kW, kH, kC, seed);
+}
+
+Tolerance WaveletTol() {
+    return {200 * 0x1p-24, 0, 1e-9};
+}
+
+TEST_F(VkRecorder, IndependentDispatchesNeedNoBarrier) {
+    Image in1 = Input(1), in2 = Input(2);
+    vk::GpuImage src1(Ctx(), kW, kH, kC, "src1"), coef1(Ctx(), kW, kH, kC, "coef1");
+    vk::GpuImage src2(Ctx(), kW, kH, kC, "src2"), coef2(Ctx(), kW, kH, kC, "coef2");
+    vk::GpuImage tmp1(Ctx(), kW, kH, kC, "tmp1"), tmp2(Ctx(), kW, kH, kC, "tmp2");
+    src1.Upload(in1);
+    src2.Upload(in2);
+    vk::Recorder recorder(Ctx());
+    // Each analysis is a rows pass into its temporary and a columns pass out of it: one
+    // barrier inside each, none between the two.
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src1.View(),
+                         tmp1.View(), coef1.View(), "first");
+    EXPECT_EQ(recorder.BarrierCount(), 1u);
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src2.View(),
+                         tmp2.View(), coef2.View(), "second");
+    EXPECT_EQ(recorder.DispatchCount(), 4u);
+    EXPECT_EQ(recorder.BarrierCount(), 2u);
+    recorder.Submit();
+    EXPECT_TRUE(ImagesMatch(ref::WaveletAnalyze(in1, WaveletBasis::Cdf97, 1), coef1.Download(),
+                            ref::WaveletAnalyzeMagnitude(in1, WaveletBasis::Cdf97, 1),
+                            WaveletTol()));
+    EXPECT_TRUE(ImagesMatch(ref::WaveletAnalyze(in2, WaveletBasis::Cdf97, 1), coef2.Download(),
+                            ref::WaveletAnalyzeMagnitude(in2, WaveletBasis::Cdf97, 1),
+                            WaveletTol()));
+
+    // Timings: one per dispatch, in order, with the labels given.
+    const std::vector<vk::DispatchTiming> &timings = recorder.Timings();
+    ASSERT_EQ(timings.size(), 4u);
+    EXPECT_EQ(timings[0].label, "first.rows");
+    EXPECT_EQ(timings[1].label, "first.columns");
+    EXPECT_EQ(timings[2].label, "second.rows");
+    EXPECT_EQ(timings[3].label, "second.columns");
+    for (const vk::DispatchTiming &t : timings) {
+        if (Ctx().Info().timestamps)
+            EXPECT_GE(t.gpuMs, 0) << t.label;
+        else
+            EXPECT_LT(t.gpuMs, 0) << t.label;
+    }
+    EXPECT_GE(recorder.TotalGpuMs(), 0);
+    if (Lavapipe({Ctx().Info()})) {
+        EXPECT_TRUE(Ctx().Info().timestamps);
+    }
+}
+
+TEST_F(VkRecorder, ReadAfterWriteGetsOneBarrier) {
+    Image in = Input(3);
+    vk::GpuImage src(Ctx(), kW, kH, kC, "src"), coef(Ctx(), kW, kH, kC, "coef"),
+        out(Ctx(), kW, kH, kC, "out"), tmp(Ctx(), kW, kH, kC, "tmp");
+    src.Upload(in);
+    vk::Recorder recorder(Ctx());
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::LeGall53, kW, kH, kC, src.View(),
+                         tmp.View(), coef.View(), "analyze");
+    EXPECT_EQ(recorder.BarrierCount(), 1u);  // rows -> tmp -> columns
+    // Synthesis reads coef (just written) and rewrites tmp (just read): one barrier before
+    // its columns pass, one between its passes.
+    RecordWaveletSynthesize(Ctx(), recorder, WaveletBasis::LeGall53, kW, kH, kC, coef.View(),
+                            tmp.View(), out.View(), "synthesize");
+    EXPECT_EQ(recorder.BarrierCount(), 3u);
+    recorder.Submit();
+    EXPECT_EQ(recorder.BarrierCount(), 3u);
+    Image back = out.Download();
+    EXPECT_TRUE(ImagesMatch(in, back, Image(), {0, 1e-5, 1e-9}));
+    ASSERT_EQ(recorder.Timings().size(), 4u);
+    EXPECT_EQ(recorder.Timings()[0].label, "analyze.rows");
+    EXPECT_EQ(recorder.Timings()[3].label, "synthesize.rows");
+}
+
+TEST_F(VkRecorder, WriteAfterReadAndCopiesAreOrdered) {
+    Image in = Input(4);
+    vk::GpuImage a(Ctx(), kW, kH, kC, "a"), b(Ctx(), kW, kH, kC, "b"),
+        c(Ctx(), kW, kH, kC, "c"), d(Ctx(), kW, kH, kC, "d"), t(Ctx(), kW, kH, kC, "t"),
+        u(Ctx(), kW, kH, kC, "u");
+    a.Upload(in);
+    vk::Recorder recorder(Ctx());
+    // Copy a -> b, analyze b -> c (its rows pass reads what the copy wrote: barrier; its
+    // columns pass reads its rows pass's output: barrier).
+    recorder.Copy(a.buffer, b.buffer, a.buffer.Bytes());
+    EXPECT_EQ(recorder.BarrierCount(), 0u);
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(), t.View(),
+                         c.View(), "analyze");
+    EXPECT_EQ(recorder.BarrierCount(), 2u);
+    // Overwrite b: its reader (the rows pass) is already behind the analysis's own
+    // rows -> columns barrier, so the copy needs none.
+    recorder.Copy(a.buffer, b.buffer, a.buffer.Bytes() / 2);
+    EXPECT_EQ(recorder.BarrierCount(), 2u);
+    // Write c again through another temporary: the rows pass (reads a, writes u) needs no
+    // barrier, the columns pass reads u and rewrites c: one.
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, a.View(), u.View(),
+                         d.View(), "again");
+    EXPECT_EQ(recorder.BarrierCount(), 3u);
+    // Reading b (its copy is behind the barrier inside "again") through t (last read before
+    // barrier 2): only the analysis's own barrier.
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(), t.View(),
+                         c.View(), "third");
+    EXPECT_EQ(recorder.BarrierCount(), 4u);
+    recorder.Submit();
+    EXPECT_EQ(recorder.DispatchCount(), 6u);
+    EXPECT_TRUE(BitIdentical(c.Download(), d.Download()));
+    EXPECT_TRUE(ImagesMatch(ref::WaveletAnalyze(in, WaveletBasis::Haar, 1), c.Download(),
+                            ref::WaveletAnalyzeMagnitude(in, WaveletBasis::Haar, 1),
+                            WaveletTol()));
+    EXPECT_TRUE(BitIdentical(in, b.Download()));
+}
+
+TEST_F(VkRecorder, ReusableAfterSubmit) {
+    Image in = Input(5);
+    vk::GpuImage src(Ctx(), kW, kH, kC, "src"), coef(Ctx(), kW, kH, kC, "coef"),
+        tmp(Ctx(), kW, kH, kC, "tmp");
+    src.Upload(in);
+    vk::Recorder recorder(Ctx());
+    std::vector<Image> results;
+    for (int run = 0; run < 3; ++run) {
+        coef.Upload(Image(kW, kH, kC, float(run) + 7.f));
+        RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src.View(),
+                             tmp.View(), coef.View(), "run");
+        EXPECT_EQ(recorder.DispatchCount(), 2u) << "run " << run;
+        EXPECT_EQ(recorder.BarrierCount(), 1u) << "run " << run;
+        recorder.Submit();
+        EXPECT_EQ(recorder.Timings().size(), 2u) << "run " << run;
+        results.push_back(coef.Download());
+    }
+    EXPECT_TRUE(BitIdentical(results[0], results[1]));
+    EXPECT_TRUE(BitIdentical(results[0], results[2]));
+    // Submitting with nothing recorded is a no-op that clears the timings.
+    recorder.Submit();
+    EXPECT_TRUE(recorder.Timings().empty());
+    EXPECT_EQ(recorder.TotalGpuMs(), 0);
+}
+
+// The analyze kernel's SPIR-V, read from the build tree (the embedded array's header is
+// private to mcd_kernels): <build>/tests/mcd_tests -> <build>/shaders/wavelet/analyze.spv.
+const std::vector<uint32_t> *AnalyzeSpirv() {
+    static const std::vector<uint32_t> code = [] {
+        std::vector<uint32_t> words;
+        std::error_code ec;
+        fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+        if (ec) return words;
+        std::ifstream file(exe.parent_path().parent_path() / "shaders/wavelet/analyze.spv",
+                           std::ios::binary);
+        if (!file) return words;
+        std::string bytes((std::istreambuf_iterator<char>(file)), {});
+        words.resize(bytes.size() / 4);
+        std::memcpy(words.data(), bytes.data(), words.size() * 4);
+        return words;
+    }();
+    return code.empty() ? nullptr : &code;
+}
+
+vk::KernelDesc AnalyzeDesc(const std::vector<uint32_t> &code, WaveletBasis basis) {
+    return {"wavelet_analyze",
+            code.data(),
+            code.size() * sizeof(uint32_t),
+            WAVELET_ANALYZE_BINDINGS,
+            sizeof(shader::WaveletAnalyzePush),
+            {{0, int32_t(basis)}}};
+}
+
+TEST_F(VkRecorder, DispatchLimitsThrow) {
+    const std::vector<uint32_t> *code = AnalyzeSpirv();
+    ASSERT_NE(code, nullptr) << "analyze.spv not found next to the test binary's build tree";
+    const vk::Kernel &kernel = Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+    vk::Buffer a(Ctx(), 256, "a"), b(Ctx(), 256, "b");
+    shader::WaveletAnalyzePush push{};
+    std::vector<vk::Binding> bindings = {{&a, vk::Access::Read}, {&b, vk::Access::Write}};
+    vk::Recorder recorder(Ctx());
+    const VkPhysicalDeviceLimits &limits = Ctx().Limits();
+    for (int axis = 0; axis < 3; ++axis) {
+        uint32_t groups[3] = {1, 1, 1};
+        if (limits.maxComputeWorkGroupCount[axis] == UINT32_MAX) continue;
+        groups[axis] = limits.maxComputeWorkGroupCount[axis] + 1;
+        std::string message = ErrorOf([&] {
+            recorder.Dispatch(kernel, "huge", bindings, &push, groups[0], groups[1], groups[2]);
+        });
+        EXPECT_TRUE(Contains(message, "workgroups")) << message;
+        EXPECT_TRUE(Contains(message, "huge")) << message;
+    }
+    std::string message =
+        ErrorOf([&] { recorder.Dispatch(kernel, "short", {bindings[0]}, &push, 1); });
+    EXPECT_TRUE(Contains(message, "wavelet_analyze")) << message;
+    EXPECT_TRUE(Contains(message, "short")) << message;
+    EXPECT_THROW(
+        recorder.Dispatch(kernel, "long", {bindings[0], bindings[1], bindings[1]}, &push, 1),
+        Error);
+    vk::Buffer invalid;
+    EXPECT_THROW(recorder.Dispatch(kernel, "unbound",
+                                   {bindings[0], {&invalid, vk::Access::Write}}, &push, 1),
+                 Error);
+    EXPECT_THROW(recorder.Dispatch(kernel, "null", {bindings[0], {}}, &push, 1), Error);
+    EXPECT_EQ(recorder.DispatchCount(), 0u);
+    // The rejected dispatches left the recorder usable.
+    push = {4, 4, 4, 16, 4, 16};
+    recorder.Dispatch(kernel, "fine", bindings, &push, 1);
+    recorder.Submit();
+    ASSERT_EQ(recorder.Timings().size(), 1u);
+    EXPECT_EQ(recorder.Timings()[0].label, "fine");
+}
+
+// ---------------------------------------------------------------------------------------
+// View checks
+
+class VkView : public GpuTest {};
+
+TEST_F(VkView, FittingViewsPass) {
+    // Exactly enough: the last row needs only `width` of its stride.
+    vk::Buffer exact(Ctx(), ((2 - 1) * 40 + (3 - 1) * 12 + 10) * sizeof(float), "exact");
+    EXPECT_NO_THROW(vk::CheckView({&exact, 12, 40}, 10, 3, 2, "probe"));
+    vk::GpuImage image(Ctx(), 5, 4, 3, "image");
+    EXPECT_NO_THROW(vk::CheckView(image.View(), 5, 4, 3, "probe"));
+    EXPECT_NO_THROW(vk::CheckView(image.View(), 3, 2, 3, "probe"));  // a sub-region
+}
+
+TEST_F(VkView, TooSmallBufferThrowsNamingIt) {
+    vk::Buffer tiny(Ctx(), (16 * 16 - 1) * sizeof(float), "tiny-buffer");
+    std::string message = ErrorOf([&] {
+        vk::CheckView({&tiny, 16, 256}, 16, 16, 1, "probe view");
+    });
+    EXPECT_TRUE(Contains(message, "tiny-buffer")) << message;
+    EXPECT_TRUE(Contains(message, "probe view")) << message;
+    vk::GpuImage image(Ctx(), 8, 8, 2, "two-channel");
+    message = ErrorOf([&] { vk::CheckView(image.View(), 8, 8, 3, "channels"); });
+    EXPECT_TRUE(Contains(message, "two-channel")) << message;
+}
+
+TEST_F(VkView, BadStrideOrPlaneThrows) {
+    vk::Buffer big(Ctx(), 4096 * sizeof(float), "big");
+    std::string message = ErrorOf([&] { vk::CheckView({&big, 8, 256}, 16, 16, 1, "stride"); });
+    EXPECT_TRUE(Contains(message, "stride")) << message;
+    EXPECT_FALSE(Contains(message, "<no exception>"));
+    message = ErrorOf([&] { vk::CheckView({&big, 16, 100}, 16, 16, 2, "plane"); });
+    EXPECT_FALSE(Contains(message, "<no exception>"));
+    EXPECT_TRUE(Contains(message, "plane")) << message;
+    // One channel: the plane does not matter.
+    EXPECT_NO_THROW(vk::CheckView({&big, 16, 0}, 16, 16, 1, "one channel"));
+    EXPECT_THROW(vk::CheckView({nullptr, 16, 256}, 16, 16, 1, "null"), Error);
+    vk::Buffer invalid;
+    EXPECT_THROW(vk::CheckView({&invalid, 16, 256}, 16, 16, 1, "invalid"), Error);
+    EXPECT_THROW(vk::CheckView({&big, 16, 256}, 0, 16, 1, "empty"), Error);
+}
+
+// ---------------------------------------------------------------------------------------
+// Kernel cache
+
+class VkKernelCache : public GpuTest {};
+
+TEST_F(VkKernelCache, SameDescSameKernel) {
+    const std::vector<uint32_t> *code = AnalyzeSpirv();
+    ASSERT_NE(code, nullptr) << "analyze.spv not found next to the test binary's build tree";
+    const vk::Kernel &haar = Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+    const vk::Kernel &again = Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+    EXPECT_EQ(&haar, &again);
+    EXPECT_EQ(haar.Pipeline(), again.Pipeline());
+    const vk::Kernel &cdf = Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Cdf97));
+    EXPECT_NE(&haar, &cdf);
+    EXPECT_NE(haar.Pipeline(), cdf.Pipeline());
+    EXPECT_EQ(haar.Name(), "wavelet_analyze");
+    EXPECT_EQ(haar.BindingCount(), uint32_t(WAVELET_ANALYZE_BINDINGS));
+    EXPECT_EQ(haar.PushBytes(), sizeof(shader::WaveletAnalyzePush));
+    // The cached kernel is still the first one after another was added.
+    EXPECT_EQ(&Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar)), &haar);
+    EXPECT_NE(vk::KernelKey(AnalyzeDesc(*code, WaveletBasis::Haar)),
+              vk::KernelKey(AnalyzeDesc(*code, WaveletBasis::Cdf97)));
+}
+
+}  // namespace
+}  // namespace mcd::test
