@@ -8,10 +8,10 @@
 layout(local_size_x = WAVELET_LOCAL_SIZE) in;
 layout(constant_id = WAVELET_SPEC_AXIS) const int AXIS = WAVELET_AXIS_COLUMNS;
 layout(constant_id = WAVELET_SPEC_VEC4) const int VEC4 = 0;
-layout(std430, binding = WAVELET_SYNTHESIZE_SRC) readonly buffer Src { float src[]; };
-layout(std430, binding = WAVELET_SYNTHESIZE_SRC) readonly buffer Src4 { vec4 src4[]; };
-layout(std430, binding = WAVELET_SYNTHESIZE_DST) writeonly buffer Dst { float dst[]; };
-layout(std430, binding = WAVELET_SYNTHESIZE_DST) writeonly buffer Dst4 { vec4 dst4[]; };
+layout(std430, binding = WAVELET_LINES_SRC) readonly buffer Src { float src[]; };
+layout(std430, binding = WAVELET_LINES_SRC) readonly buffer Src4 { vec4 src4[]; };
+layout(std430, binding = WAVELET_LINES_DST) writeonly buffer Dst { float dst[]; };
+layout(std430, binding = WAVELET_LINES_DST) writeonly buffer Dst4 { vec4 dst4[]; };
 
 #include "wavelet/lifting.glsl"
 

@@ -20,4 +20,5 @@
 #define WAVELET_AXIS_ROWS 0
 #define WAVELET_AXIS_COLUMNS 1
 
+
 #endif

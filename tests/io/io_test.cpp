@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/errors.h"
 #include "host/error.h"
 #include "host/image.h"
 #include "host/io/frame.h"
@@ -24,19 +25,7 @@ namespace mcd::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The message of the mcd::Error that f throws, or a marker saying it threw none.
-template <typename F>
-std::string ErrorOf(F &&f) {
-    try {
-        f();
-    } catch (const Error &e) {
-        return e.what();
-    } catch (const std::exception &e) {
-        return std::string("<not an mcd::Error: ") + e.what() + ">";
-    }
-    return "<no error>";
-}
+using test::ErrorOf;
 
 ::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
     if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();

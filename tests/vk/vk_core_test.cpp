@@ -18,6 +18,7 @@
 
 #include "cpu_reference/wavelet_analyze.h"
 #include "harness/compare.h"
+#include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/error.h"
@@ -29,29 +30,12 @@
 #include "host/vk/gpu_image.h"
 #include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
-#include "wavelet/analyze.h"
+#include "wavelet/lines.h"
 
 namespace mcd::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The message of the mcd::Error that f throws, or a marker saying it threw none.
-template <typename F>
-std::string ErrorOf(F &&f) {
-    try {
-        f();
-    } catch (const Error &e) {
-        return e.what();
-    } catch (const std::exception &e) {
-        return std::string("<not an mcd::Error: ") + e.what() + ">";
-    }
-    return "<no exception>";
-}
-
-bool Contains(const std::string &haystack, const std::string &needle) {
-    return haystack.find(needle) != std::string::npos;
-}
 
 std::string Lower(std::string s) {
     for (char &c : s) c = char(std::tolower((unsigned char)c));
@@ -152,7 +136,7 @@ TEST_F(VkDevices, BadSelectorsThrowAndListTheDevices) {
     for (const char *selector : {"no-such-gpu", "99"}) {
         std::string message =
             ErrorOf([&] { vk::Context context(vk::ContextOptions{.device = selector}); });
-        EXPECT_FALSE(Contains(message, "<no exception>")) << selector;
+        EXPECT_FALSE(Contains(message, "<no error>")) << selector;
         EXPECT_FALSE(Contains(message, "<not an mcd::Error")) << selector << ": " << message;
         for (const vk::DeviceInfo &d : devices)
             EXPECT_TRUE(Contains(message, d.name)) << selector << ": " << message;
@@ -600,8 +584,8 @@ vk::KernelDesc AnalyzeDesc(const std::vector<uint32_t> &code, WaveletBasis basis
     return {"wavelet_analyze",
             code.data(),
             code.size() * sizeof(uint32_t),
-            WAVELET_ANALYZE_BINDINGS,
-            sizeof(shader::WaveletAnalyzePush),
+            WAVELET_LINES_BINDINGS,
+            sizeof(shader::WaveletLinesPush),
             {{0, int32_t(basis)}}};
 }
 
@@ -610,7 +594,7 @@ TEST_F(VkRecorder, DispatchLimitsThrow) {
     ASSERT_NE(code, nullptr) << "analyze.spv not found next to the test binary's build tree";
     const vk::Kernel &kernel = Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
     vk::Buffer a(Ctx(), 256, "a"), b(Ctx(), 256, "b");
-    shader::WaveletAnalyzePush push{};
+    shader::WaveletLinesPush push{};
     std::vector<vk::Binding> bindings = {{&a, vk::Access::Read}, {&b, vk::Access::Write}};
     vk::Recorder recorder(Ctx());
     const VkPhysicalDeviceLimits &limits = Ctx().Limits();
@@ -675,9 +659,9 @@ TEST_F(VkView, BadStrideOrPlaneThrows) {
     vk::Buffer big(Ctx(), 4096 * sizeof(float), "big");
     std::string message = ErrorOf([&] { vk::CheckView({&big, 8, 256}, 16, 16, 1, "stride"); });
     EXPECT_TRUE(Contains(message, "stride")) << message;
-    EXPECT_FALSE(Contains(message, "<no exception>"));
+    EXPECT_FALSE(Contains(message, "<no error>"));
     message = ErrorOf([&] { vk::CheckView({&big, 16, 100}, 16, 16, 2, "plane"); });
-    EXPECT_FALSE(Contains(message, "<no exception>"));
+    EXPECT_FALSE(Contains(message, "<no error>"));
     EXPECT_TRUE(Contains(message, "plane")) << message;
     // One channel: the plane does not matter.
     EXPECT_NO_THROW(vk::CheckView({&big, 16, 0}, 16, 16, 1, "one channel"));
@@ -703,8 +687,8 @@ TEST_F(VkKernelCache, SameDescSameKernel) {
     EXPECT_NE(&haar, &cdf);
     EXPECT_NE(haar.Pipeline(), cdf.Pipeline());
     EXPECT_EQ(haar.Name(), "wavelet_analyze");
-    EXPECT_EQ(haar.BindingCount(), uint32_t(WAVELET_ANALYZE_BINDINGS));
-    EXPECT_EQ(haar.PushBytes(), sizeof(shader::WaveletAnalyzePush));
+    EXPECT_EQ(haar.BindingCount(), uint32_t(WAVELET_LINES_BINDINGS));
+    EXPECT_EQ(haar.PushBytes(), sizeof(shader::WaveletLinesPush));
     // The cached kernel is still the first one after another was added.
     EXPECT_EQ(&Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar)), &haar);
     EXPECT_NE(vk::KernelKey(AnalyzeDesc(*code, WaveletBasis::Haar)),
