@@ -61,7 +61,8 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     std::optional<WaveletBasis> basis = ParseWavelet(basisName);
     if (!basis) throw Error("unknown wavelet basis '" + basisName + "'");
     if (levels < 1 || levels > MaxWaveletLevels(width, height))
-        throw Error(fmt::format("{} levels do not fit a {}x{} image", levels, width, height));
+        throw Error(fmt::format("--levels {}: a {}x{} image takes 1..{}", levels, width, height,
+                                MaxWaveletLevels(width, height)));
     repeats = std::max(repeats, 1);
 
     vk::Context context(device.ContextOptions());

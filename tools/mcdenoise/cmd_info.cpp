@@ -54,8 +54,9 @@ void PrintFrame(const std::string &path) {
             else
                 ++nonFinite;
         }
-        fmt::print("  {:<12} {:>3} channel{}  mean {:.6g}{}\n", name, image.channels,
-                   image.channels == 1 ? " " : "s", image.Empty() ? 0.0 : sum / image.Size(),
+        size_t finite = image.Size() - nonFinite;
+        fmt::print("  {:<12} {:>3} channel{}  mean {:.6g} (of finite values){}\n", name,
+                   image.channels, image.channels == 1 ? " " : "s", finite ? sum / finite : 0.0,
                    nonFinite ? fmt::format("  ({} non-finite values)", nonFinite) : "");
     }
     for (const auto &[key, value] : frame.metadata)

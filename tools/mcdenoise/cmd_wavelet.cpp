@@ -49,6 +49,9 @@ Image BuiltinImage(const std::string &spec) {
         name = name.substr(0, at);
     }
     if (name != "rings") throw Error("unknown built-in image '" + spec + "' (builtin:rings)");
+    if (size_t(width) * size_t(height) > (size_t(1) << 26))
+        throw Error(fmt::format("built-in image of {}x{} is too large (at most 64 Mpixels)",
+                                width, height));
     Image image(width, height, 3);
     uint32_t state = 12345;
     for (int y = 0; y < height; ++y)
@@ -88,7 +91,6 @@ void DumpBand(const std::filesystem::path &dir, const std::string &name, const I
 }
 
 void DumpBands(const std::filesystem::path &dir, const Image &coef, int levels) {
-    std::filesystem::create_directories(dir);
     for (int level = 0; level < levels; ++level) {
         int lw = LevelExtent(coef.width, level), lh = LevelExtent(coef.height, level);
         int hw = lw > 1 ? (lw + 1) / 2 : lw, hh = lh > 1 ? (lh + 1) / 2 : lh;
@@ -123,15 +125,20 @@ void AddWaveletCommand(CLI::App &app) {
     cmd->add_option("--layer", opt->layer, "layer of the input to transform")
         ->capture_default_str();
     cmd->add_option("--basis", opt->basis, "haar, legall53 or cdf97")->capture_default_str();
-    cmd->add_option("--levels", opt->levels, "decomposition levels (default: as many as fit)");
+    cmd->add_option("--levels", opt->levels, "decomposition levels (default: as many as fit)")
+        ->check(CLI::Range(0, 64));
     cmd->add_option("--dump", opt->dump, "directory for the coefficient bands");
     opt->device.Add(cmd);
     cmd->callback([opt] {
         std::optional<WaveletBasis> basis = ParseWavelet(opt->basis);
         if (!basis)
             throw Error("unknown wavelet basis '" + opt->basis + "' (haar, legall53, cdf97)");
-        Image image = opt->input.rfind("builtin:", 0) == 0 ? BuiltinImage(opt->input)
-                                                          : io::ReadImage(opt->input, opt->layer);
+        // Refuse bad destinations before any work.
+        if (!opt->output.empty()) CheckOutputPath(opt->output, {".exr", ".png"});
+        if (!opt->dump.empty()) PrepareDirectory(opt->dump);
+        Image image = opt->input.rfind("builtin:", 0) == 0
+                          ? BuiltinImage(opt->input)
+                          : io::ReadImage(opt->input, opt->layer);
         int maxLevels = MaxWaveletLevels(image.width, image.height);
         int levels = opt->levels < 0 ? maxLevels : opt->levels;
         if (levels > maxLevels)

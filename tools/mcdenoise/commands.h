@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <initializer_list>
 #include <string>
 
 #include "host/vk/context.h"
@@ -23,7 +24,17 @@ void AddWaveletCommand(CLI::App &app);
 void AddBenchCommand(CLI::App &app);
 void AddPlannedCommands(CLI::App &app);
 
-// Parse "WxH" (e.g. 2048x2048); throws mcd::Error.
+// Largest image side the tool accepts for sizes it makes up itself.
+constexpr int kMaxImageSide = 32768;
+
+// Parse "WxH" (e.g. 2048x2048), the whole string; throws mcd::Error.
 void ParseSize(const std::string &text, int *width, int *height);
+
+// Refuse, before any work, an output whose extension is not listed or whose directory
+// does not exist.
+void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions);
+
+// Create `path` as a directory (with parents) or throw if it cannot be one.
+void PrepareDirectory(const std::string &path);
 
 }  // namespace mcd::tool

@@ -1,6 +1,10 @@
 // mcdenoise: a denoiser for Monte Carlo renders on Vulkan compute.
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
 
 #include "host/error.h"
 #include "tools/mcdenoise/commands.h"
@@ -16,13 +20,44 @@ void DeviceOptions::Add(CLI::App *command) {
 }
 
 void ParseSize(const std::string &text, int *width, int *height) {
-    int w = 0, h = 0;
+    int w = 0, h = 0, used = 0;
     char x = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d", &w, &x, &h) != 3 || (x != 'x' && x != 'X') ||
-        w <= 0 || h <= 0)
+    if (std::sscanf(text.c_str(), "%d%c%d%n", &w, &x, &h, &used) != 3 ||
+        used != int(text.size()) || (x != 'x' && x != 'X') || w <= 0 || h <= 0)
         throw Error("size '" + text + "' is not WIDTHxHEIGHT with positive numbers");
+    if (w > kMaxImageSide || h > kMaxImageSide)
+        throw Error(
+            fmt::format("size '{}' is larger than {} pixels on a side", text, kMaxImageSide));
     *width = w;
     *height = h;
+}
+
+void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions) {
+    namespace fs = std::filesystem;
+    std::string ext = fs::path(path).extension().string();
+    bool known = false;
+    std::string list;
+    for (const char *e : extensions) {
+        known |= ext == e;
+        list += std::string(list.empty() ? "" : ", ") + e;
+    }
+    if (!known)
+        throw Error(
+            fmt::format("output '{}': unsupported extension '{}' (use {})", path, ext, list));
+    fs::path dir = fs::path(path).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw Error(
+            fmt::format("output '{}': directory '{}' does not exist", path, dir.string()));
+}
+
+void PrepareDirectory(const std::string &path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(path, ec);
+    if (ec || !fs::is_directory(path))
+        throw Error(fmt::format("cannot use '{}' as a directory: {}", path,
+                                ec ? ec.message() : "it is a file"));
 }
 
 }  // namespace mcd::tool
@@ -40,6 +75,12 @@ int main(int argc, char **argv) {
     } catch (const CLI::ParseError &e) {
         return app.exit(e);
     } catch (const mcd::Error &e) {
+        std::fprintf(stderr, "mcdenoise: error: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc &) {
+        std::fprintf(stderr, "mcdenoise: error: out of memory\n");
+        return 1;
+    } catch (const std::filesystem::filesystem_error &e) {
         std::fprintf(stderr, "mcdenoise: error: %s\n", e.what());
         return 1;
     } catch (const std::exception &e) {
