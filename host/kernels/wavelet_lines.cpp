@@ -2,6 +2,9 @@
 
 #include "host/error.h"
 
+#include <cstring>
+#include <vector>
+
 namespace mcd {
 
 void CheckWaveletTemporary(const vk::ImageView &tmp, const vk::ImageView &src,
@@ -17,27 +20,31 @@ void RecordWaveletLinePass(vk::Context &context, vk::Recorder &recorder, const c
                            const uint32_t *spirv, size_t spirvBytes, WaveletBasis basis,
                            int axis, int width, int height, int channels,
                            const vk::ImageView &src, const vk::ImageView &dst,
-                           const std::string &label) {
+                           const std::string &label, std::initializer_list<float> extra) {
     bool rows = axis == WAVELET_AXIS_ROWS;
     bool vec4 = rows && src.stride % 4 == 0 && src.plane % 4 == 0 && dst.stride % 4 == 0 &&
                 dst.plane % 4 == 0;
-    const vk::Kernel &k = context.GetKernel({kernel,
-                                             spirv,
-                                             spirvBytes,
-                                             WAVELET_LINES_BINDINGS,
-                                             sizeof(shader::WaveletLinesPush),
-                                             {{WAVELET_SPEC_BASIS, int32_t(basis)},
-                                              {WAVELET_SPEC_AXIS, axis},
-                                              {WAVELET_SPEC_VEC4, vec4 ? 1 : 0}}});
-    shader::WaveletLinesPush push{width, height, src.stride, src.plane, dst.stride, dst.plane};
+    const vk::Kernel &k = context.GetKernel(
+        {kernel,
+         spirv,
+         spirvBytes,
+         WAVELET_LINES_BINDINGS,
+         uint32_t(sizeof(shader::WaveletLinesPush) + extra.size() * sizeof(float)),
+         {{WAVELET_SPEC_BASIS, int32_t(basis)},
+          {WAVELET_SPEC_AXIS, axis},
+          {WAVELET_SPEC_VEC4, vec4 ? 1 : 0}}});
+    shader::WaveletLinesPush lines{width, height, src.stride, src.plane, dst.stride, dst.plane};
+    std::vector<char> push(sizeof(lines) + extra.size() * sizeof(float));
+    std::memcpy(push.data(), &lines, sizeof(lines));
+    std::memcpy(push.data() + sizeof(lines), std::data(extra), extra.size() * sizeof(float));
     // Rows: one invocation per row, a segment of WAVELET_TILE positions per group along x;
     // columns the other way round.
     auto divUp = [](int a, int b) { return uint32_t((a + b - 1) / b); };
     uint32_t groupsX = rows ? divUp(width, WAVELET_TILE) : divUp(width, WAVELET_LOCAL_SIZE);
     uint32_t groupsY = rows ? divUp(height, WAVELET_LOCAL_SIZE) : divUp(height, WAVELET_TILE);
     recorder.Dispatch(k, label + (rows ? ".rows" : ".columns"),
-                      {{src.buffer, vk::Access::Read}, {dst.buffer, vk::Access::Write}}, &push,
-                      groupsX, groupsY, uint32_t(channels));
+                      {{src.buffer, vk::Access::Read}, {dst.buffer, vk::Access::Write}},
+                      push.data(), groupsX, groupsY, uint32_t(channels));
 }
 
 }  // namespace mcd

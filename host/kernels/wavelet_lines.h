@@ -3,6 +3,7 @@
 // lives in their GLSL.
 #pragma once
 
+#include <initializer_list>
 #include <string>
 
 #include "host/vk/context.h"
@@ -21,11 +22,12 @@ void CheckWaveletTemporary(const vk::ImageView &tmp, const vk::ImageView &src,
 
 // Record one pass (WAVELET_AXIS_ROWS or _COLUMNS) of the kernel in `spirv` over the
 // width x height x channels region, from `src` into `dst`. The rows pass moves vec4s
-// when both views keep rows and planes 16-byte aligned.
+// when both views keep rows and planes 16-byte aligned. `extra` follows WaveletLinesPush
+// in the push constants (WAVELET_LINES_EXTRA_PUSH in the kernel).
 void RecordWaveletLinePass(vk::Context &context, vk::Recorder &recorder, const char *kernel,
                            const uint32_t *spirv, size_t spirvBytes, WaveletBasis basis,
                            int axis, int width, int height, int channels,
                            const vk::ImageView &src, const vk::ImageView &dst,
-                           const std::string &label);
+                           const std::string &label, std::initializer_list<float> extra = {});
 
 }  // namespace mcd

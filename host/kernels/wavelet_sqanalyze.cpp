@@ -1,9 +1,6 @@
 #include "host/kernels/wavelet_sqanalyze.h"
 
-#include <cstdint>
-
-#include "host/vk/context.h"
-#include "host/vk/kernel.h"
+#include "host/kernels/wavelet_lines.h"
 #include "wavelet/sqanalyze.h"
 #include "wavelet/sqanalyze_spv.h"
 
@@ -11,29 +8,19 @@ namespace mcd {
 
 void RecordWaveletSqAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                             int width, int height, int channels, const vk::ImageView &src,
-                            const vk::ImageView &coef, const vk::ImageView &low, float lowSum,
+                            const vk::ImageView &tmp, const vk::ImageView &dst, float lowSum,
                             float highSum, const std::string &label) {
-    int lowWidth = LevelExtent(width, width > 1 ? 1 : 0);
-    int lowHeight = LevelExtent(height, height > 1 ? 1 : 0);
     vk::CheckView(src, width, height, channels, "wavelet sqanalyze source");
-    vk::CheckView(coef, width, height, channels, "wavelet sqanalyze coefficients");
-    vk::CheckView(low, lowWidth, lowHeight, channels, "wavelet sqanalyze low band");
-
-    const vk::Kernel &kernel = context.GetKernel({"wavelet_sqanalyze",
-                                                  k_wavelet_sqanalyze_spv,
-                                                  sizeof(k_wavelet_sqanalyze_spv),
-                                                  WAVELET_SQANALYZE_BINDINGS,
-                                                  sizeof(shader::WaveletSqAnalyzePush),
-                                                  {{0, int32_t(basis)}}});
-    shader::WaveletSqAnalyzePush push{width,       height,     src.stride, src.plane,
-                                      coef.stride, coef.plane, low.stride, low.plane,
-                                      lowSum,      highSum};
-    recorder.Dispatch(kernel, label,
-                      {{src.buffer, vk::Access::Read},
-                       {coef.buffer, vk::Access::Write},
-                       {low.buffer, vk::Access::Write}},
-                      &push, uint32_t((width + WAVELET_TILE - 1) / WAVELET_TILE),
-                      uint32_t((height + WAVELET_TILE - 1) / WAVELET_TILE), uint32_t(channels));
+    vk::CheckView(tmp, width, height, channels, "wavelet sqanalyze temporary");
+    vk::CheckView(dst, width, height, channels, "wavelet sqanalyze destination");
+    CheckWaveletTemporary(tmp, src, dst, width, "wavelet sqanalyze");
+    static_assert(sizeof(shader::WaveletSqAnalyzePush) ==
+                  sizeof(shader::WaveletLinesPush) + 2 * sizeof(float));
+    for (int axis : {WAVELET_AXIS_ROWS, WAVELET_AXIS_COLUMNS})
+        RecordWaveletLinePass(context, recorder, "wavelet_sqanalyze", k_wavelet_sqanalyze_spv,
+                              sizeof(k_wavelet_sqanalyze_spv), basis, axis, width, height,
+                              channels, axis == WAVELET_AXIS_ROWS ? src : tmp,
+                              axis == WAVELET_AXIS_ROWS ? tmp : dst, label, {lowSum, highSum});
 }
 
 }  // namespace mcd

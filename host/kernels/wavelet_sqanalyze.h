@@ -1,5 +1,6 @@
 // Record one level of the squared-filter (variance) analysis of AWR eqs. 9-10
-// (shaders/wavelet/sqanalyze.comp).
+// (shaders/wavelet/sqanalyze.comp): a rows pass from `src` into `tmp`, then a columns
+// pass from `tmp` into `dst`.
 #pragma once
 
 #include <string>
@@ -10,11 +11,11 @@
 
 namespace mcd {
 
-// Same layout as RecordWaveletAnalyze. The squared 1D low (high) taps are renormalised to
+// Same views as RecordWaveletAnalyze. The squared 1D low (high) taps are renormalised to
 // sum to lowSum (highSum); values <= 0 keep the natural sums.
 void RecordWaveletSqAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                             int width, int height, int channels, const vk::ImageView &src,
-                            const vk::ImageView &coef, const vk::ImageView &low, float lowSum,
+                            const vk::ImageView &tmp, const vk::ImageView &dst, float lowSum,
                             float highSum, const std::string &label = "wavelet.sqanalyze");
 
 }  // namespace mcd

@@ -34,18 +34,6 @@ vk::ImageView WaveletTransform::Temporary() {
     return {&temporary, stride, stride * height};
 }
 
-// Compact view of the region of `level` in scratch buffer `index` (0 or 1).
-vk::ImageView WaveletTransform::Scratch(int index, int level) {
-    if (!scratch[index].Valid()) {
-        VkDeviceSize floats =
-            VkDeviceSize(LevelExtent(width, 1)) * LevelExtent(height, 1) * channels;
-        scratch[index] = vk::Buffer(context, floats * sizeof(float),
-                                    fmt::format("wavelet.scratch{}", index));
-    }
-    int w = LevelExtent(width, level), h = LevelExtent(height, level);
-    return {&scratch[index], w, w * h};
-}
-
 void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                                       const vk::GpuImage &in, const vk::GpuImage &coef) {
     Check(levels, in, coef);
@@ -80,15 +68,11 @@ void WaveletTransform::RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis bas
         recorder.Copy(variance.buffer, coef.buffer, variance.buffer.Bytes());
         return;
     }
-    vk::ImageView src = variance.View();
-    for (int level = 0; level < levels; ++level) {
-        bool last = level == levels - 1;
-        vk::ImageView low = last ? coef.View() : Scratch(level % 2, level + 1);
-        RecordWaveletSqAnalyze(context, recorder, basis, LevelExtent(width, level),
-                               LevelExtent(height, level), channels, src, coef.View(), low,
-                               lowSum, highSum, fmt::format("wavelet.sqanalyze.L{}", level));
-        src = low;
-    }
+    for (int level = 0; level < levels; ++level)
+        RecordWaveletSqAnalyze(
+            context, recorder, basis, LevelExtent(width, level), LevelExtent(height, level),
+            channels, level == 0 ? variance.View() : coef.View(), Temporary(), coef.View(),
+            lowSum, highSum, fmt::format("wavelet.sqanalyze.L{}", level));
 }
 
 }  // namespace mcd

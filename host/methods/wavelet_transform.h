@@ -1,9 +1,7 @@
 // The multi-level (Mallat) 2D DWT on the GPU as a sequence of per-level dispatches:
-// analysis, synthesis and the squared-filter variance analysis. Analysis and synthesis
-// run every level in place in the output image, through one interleaved temporary (rows
-// padded to a multiple of 4 floats for the vec4 path). The squared-filter analysis
-// carries its low-low band between levels in two scratch buffers. All of them are
-// allocated on first use, only by transforms that need them.
+// analysis, synthesis and the squared-filter variance analysis. Every level runs in
+// place in the output image, through one interleaved temporary (rows padded to a multiple
+// of 4 floats for the vec4 path), allocated on first use: a 0-level transform is a copy.
 #pragma once
 
 #include "host/vk/gpu_image.h"
@@ -29,12 +27,10 @@ class WaveletTransform {
   private:
     void Check(int levels, const vk::GpuImage &a, const vk::GpuImage &b) const;
     vk::ImageView Temporary();
-    vk::ImageView Scratch(int index, int level);
 
     vk::Context &context;
     int width, height, channels;
     vk::Buffer temporary;
-    vk::Buffer scratch[2];
 };
 
 }  // namespace mcd

@@ -23,6 +23,9 @@ layout(push_constant) uniform WaveletLinesPush {
     int srcPlane;   // floats per channel plane of src
     int dstStride;
     int dstPlane;
+#ifdef WAVELET_LINES_EXTRA_PUSH
+    WAVELET_LINES_EXTRA_PUSH  // fields a kernel appends (GLSL; C++ wraps the struct)
+#endif
 #ifdef __cplusplus
 };
 static_assert(sizeof(WaveletLinesPush) == 24);

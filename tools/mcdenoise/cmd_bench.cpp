@@ -112,6 +112,14 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     for (size_t i = 0; i < image.Size(); ++i)
         maxError = std::max(maxError, double(std::fabs(back.data[i] - image.data[i])));
 
+    // The squared-filter (variance) analysis AWR runs on every frame, same size and levels.
+    std::vector<double> sqMs;
+    for (int r = 0; r <= std::min(repeats, 3); ++r) {
+        transform.RecordSqAnalysis(recorder, *basis, levels, in, coef, 1.05f, 0.70710678f);
+        recorder.Submit();
+        if (r > 0) sqMs.push_back(recorder.TotalGpuMs());
+    }
+
     // The device's own streaming rate: buffer copies of the same image.
     std::vector<double> copyMs;
     for (int r = 0; r < 3; ++r) {
@@ -141,6 +149,8 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     fmt::print(
         "  traffic {:.0f} MB at {:.2f} GB/s; buffer copy streams {:.2f} GB/s: {:.0f}% of it\n",
         2 * levelBytes / 1e6, dwtGBs, copyGBs, 100 * dwtGBs / copyGBs);
+    fmt::print("  squared-filter analysis (variance, AWR eq. 9-10): {:.2f} ms GPU\n",
+               Median(sqMs));
     fmt::print("  round-trip max |error| {:.3g}\n", maxError);
     if (pywt) {
         double seconds =
