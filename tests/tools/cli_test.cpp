@@ -73,14 +73,6 @@ std::set<std::string> Listing(const fs::path &dir) {
     return names;
 }
 
-Image Crop(const Image &image, int x0, int y0, int x1, int y1) {
-    Image crop(x1 - x0, y1 - y0, image.channels);
-    for (int c = 0; c < image.channels; ++c)
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) crop.At(c, y - y0, x - x0) = image.At(c, y, x);
-    return crop;
-}
-
 class CliTest : public ::testing::Test {
   protected:
     void SetUp() override {
@@ -242,8 +234,8 @@ TEST_F(CliTest, WaveletRoundTripAndBandDump) {
         fs::path exr = Path("bands") / (band.name + ".exr");
         ASSERT_TRUE(fs::exists(exr));
         Image dumped = io::ReadImage(exr.string());
-        Image expected = Crop(coef, band.x0, band.y0, band.x1, band.y1);
-        Image scale = Crop(magnitude, band.x0, band.y0, band.x1, band.y1);
+        Image expected = coef.Crop(band.x0, band.y0, band.x1, band.y1);
+        Image scale = magnitude.Crop(band.x0, band.y0, band.x1, band.y1);
         EXPECT_TRUE(ImagesMatch(expected, dumped, scale, {1e-5, 0, 1e-9}));
         Image png = io::ReadImage((Path("bands") / (band.name + ".png")).string());
         EXPECT_EQ(png.width, band.x1 - band.x0);

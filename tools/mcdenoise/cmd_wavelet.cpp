@@ -67,14 +67,6 @@ Image BuiltinImage(const std::string &spec) {
     return image;
 }
 
-Image Crop(const Image &image, int x0, int y0, int x1, int y1) {
-    Image crop(x1 - x0, y1 - y0, image.channels);
-    for (int c = 0; c < image.channels; ++c)
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) crop.At(c, y - y0, x - x0) = image.At(c, y, x);
-    return crop;
-}
-
 // Write one band as EXR (raw coefficients) and PNG (|c| scaled so the mean is mid-grey).
 void DumpBand(const std::filesystem::path &dir, const std::string &name, const Image &band) {
     io::WriteExr((dir / (name + ".exr")).string(), {{"color", &band}});
@@ -96,12 +88,12 @@ void DumpBands(const std::filesystem::path &dir, const Image &coef, int levels) 
         int hw = lw > 1 ? (lw + 1) / 2 : lw, hh = lh > 1 ? (lh + 1) / 2 : lh;
         // Paper numbering: level 1 is the finest.
         std::string prefix = fmt::format("L{}_", level + 1);
-        if (lw > 1) DumpBand(dir, prefix + "HL", Crop(coef, hw, 0, lw, hh));
-        if (lh > 1) DumpBand(dir, prefix + "LH", Crop(coef, 0, hh, hw, lh));
-        if (lw > 1 && lh > 1) DumpBand(dir, prefix + "HH", Crop(coef, hw, hh, lw, lh));
+        if (lw > 1) DumpBand(dir, prefix + "HL", coef.Crop(hw, 0, lw, hh));
+        if (lh > 1) DumpBand(dir, prefix + "LH", coef.Crop(0, hh, hw, lh));
+        if (lw > 1 && lh > 1) DumpBand(dir, prefix + "HH", coef.Crop(hw, hh, lw, lh));
     }
     int lw = LevelExtent(coef.width, levels), lh = LevelExtent(coef.height, levels);
-    DumpBand(dir, fmt::format("L{}_LL", levels), Crop(coef, 0, 0, lw, lh));
+    DumpBand(dir, fmt::format("L{}_LL", levels), coef.Crop(0, 0, lw, lh));
 }
 
 }  // namespace
