@@ -24,6 +24,12 @@ void WaveletTransform::Check(int levels, const vk::GpuImage &a, const vk::GpuIma
                                     image->channels, image->buffer.Name()));
 }
 
+// A copy of a buffer onto itself is invalid in Vulkan, and in place is what it asks for.
+void WaveletTransform::CopyUnlessSame(vk::Recorder &recorder, const vk::GpuImage &from,
+                                      const vk::GpuImage &to) {
+    if (&from.buffer != &to.buffer) recorder.Copy(from.buffer, to.buffer, from.buffer.Bytes());
+}
+
 // The interleaved temporary between the two passes of a level, rows padded to 4 floats.
 vk::ImageView WaveletTransform::Temporary() {
     int stride = (width + 3) / 4 * 4;
@@ -38,7 +44,7 @@ void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis
                                       const vk::GpuImage &in, const vk::GpuImage &coef) {
     Check(levels, in, coef);
     if (levels == 0) {
-        recorder.Copy(in.buffer, coef.buffer, in.buffer.Bytes());
+        CopyUnlessSame(recorder, in, coef);
         return;
     }
     // Level 0 reads the image; deeper levels transform their low-low band in place.
@@ -52,8 +58,8 @@ void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis
 void WaveletTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                                        const vk::GpuImage &coef, const vk::GpuImage &out) {
     Check(levels, coef, out);
-    // Work in place in `out` so the caller's coefficients survive.
-    recorder.Copy(coef.buffer, out.buffer, coef.buffer.Bytes());
+    // Work in place in `out` so the caller's coefficients survive (unless they are `out`).
+    CopyUnlessSame(recorder, coef, out);
     for (int level = levels - 1; level >= 0; --level)
         RecordWaveletSynthesize(context, recorder, basis, LevelExtent(width, level),
                                 LevelExtent(height, level), channels, out.View(), Temporary(),
@@ -65,7 +71,7 @@ void WaveletTransform::RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis bas
                                         float lowSum, float highSum) {
     Check(levels, variance, coef);
     if (levels == 0) {
-        recorder.Copy(variance.buffer, coef.buffer, variance.buffer.Bytes());
+        CopyUnlessSame(recorder, variance, coef);
         return;
     }
     for (int level = 0; level < levels; ++level)

@@ -14,7 +14,8 @@ class WaveletTransform {
   public:
     WaveletTransform(vk::Context &context, int width, int height, int channels);
 
-    // `in` and `coef` are width x height x channels; levels in [0, MaxWaveletLevels].
+    // `in` and `coef` are width x height x channels; levels in [0, MaxWaveletLevels]. The
+    // input and output of each transform may be the same image (in place).
     void RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                         const vk::GpuImage &in, const vk::GpuImage &coef);
     void RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
@@ -27,6 +28,8 @@ class WaveletTransform {
   private:
     void Check(int levels, const vk::GpuImage &a, const vk::GpuImage &b) const;
     vk::ImageView Temporary();
+    static void CopyUnlessSame(vk::Recorder &recorder, const vk::GpuImage &from,
+                               const vk::GpuImage &to);
 
     vk::Context &context;
     int width, height, channels;

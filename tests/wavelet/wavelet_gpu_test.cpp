@@ -275,6 +275,28 @@ TEST_F(WaveletProperties, GuardBandsUntouched) {
     }
 }
 
+// In place (input and output the same image) gives what out of place gives, also with 0
+// levels, where the transform is a copy (and a copy onto itself would be invalid Vulkan).
+TEST_F(WaveletProperties, InPlaceMatchesOutOfPlace) {
+    vk::Context &ctx = Ctx();
+    Image in = MakeInput(InputKind::Uniform, 45, 29, 2, SeedFromName("inplace"));
+    for (int levels : {0, 3}) {
+        Image expected = GpuAnalyze(ctx, in, WaveletBasis::Cdf97, levels);
+        vk::GpuImage image(ctx, 45, 29, 2, "image");
+        image.Upload(in);
+        WaveletTransform transform(ctx, 45, 29, 2);
+        vk::Recorder recorder(ctx);
+        transform.RecordAnalysis(recorder, WaveletBasis::Cdf97, levels, image, image);
+        recorder.Submit();
+        EXPECT_TRUE(BitIdentical(expected, image.Download())) << levels << " levels";
+        transform.RecordSynthesis(recorder, WaveletBasis::Cdf97, levels, image, image);
+        recorder.Submit();
+        EXPECT_TRUE(BitIdentical(GpuSynthesize(ctx, expected, WaveletBasis::Cdf97, levels),
+                                 image.Download()))
+            << levels << " levels";
+    }
+}
+
 // Out-of-range levels and mismatched images are refused with a clear message.
 TEST_F(WaveletProperties, BadArgumentsThrow) {
     vk::Context &ctx = Ctx();
