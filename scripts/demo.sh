@@ -1,17 +1,26 @@
 #!/usr/bin/env bash
-# Build mcdenoise and run its main job on the built-in default input, writing images and a
-# report to out/demo/. Until the renderer and the methods land, the main job is the
-# wavelet foundation: a round trip of the built-in test image through the GPU DWT with
-# every band dumped, and the wavelet benchmark at a size that finishes quickly.
+# Build mcdenoise and run its main job on the built-in default scene, writing images and a
+# report to out/demo/: the cornell scene rendered with every layer group (the frame the
+# methods will denoise), a converged reference, previews, and the error of the noisy frame
+# against the reference. No denoising method exists yet (issues #4-#7); until then the
+# job also runs the wavelet foundation on the frame: a GPU DWT round trip with every band
+# dumped, and the wavelet benchmark at a size that finishes quickly.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 out=out/demo
 mkdir -p "$out"
+mcd=build/mcdenoise
 {
     echo "# mcdenoise demo, $(date -u +%Y-%m-%dT%H:%M:%SZ)"
-    build/mcdenoise info
-    build/mcdenoise wavelet builtin:rings -o "$out/roundtrip.png" --levels 5 --dump "$out/bands"
-    build/mcdenoise bench wavelet --size 1024x1024 --repeat 3
+    $mcd info
+    $mcd render --scene cornell --size 256x256 --spp 8 --seed 1 --layers all \
+        -o "$out/cornell.exr" --preview "$out/cornell.png"
+    $mcd render --scene cornell --size 256x256 --spp 256 --seed 2 \
+        -o "$out/cornell-reference.exr" --preview "$out/cornell-reference.png"
+    $mcd info "$out/cornell.exr"
+    $mcd compare "$out/cornell.exr" "$out/cornell-reference.exr"
+    $mcd wavelet "$out/cornell.exr" -o "$out/roundtrip.png" --levels 5 --dump "$out/bands"
+    $mcd bench wavelet --size 1024x1024 --repeat 3
 } 2>&1 | tee "$out/report.txt"
 echo "demo: images and report in $out/"

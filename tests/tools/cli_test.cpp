@@ -333,8 +333,10 @@ TEST_F(CliTest, DumpOntoFileIsAnError) {
 
 TEST_F(CliTest, PlannedCommandsNameTheirIssue) {
     const std::pair<const char *, const char *> planned[] = {
-        {"denoise", "#4"},      {"render x", "#3"},      {"diff", "#8"},
-        {"bench render", "#3"}, {"bench quality", "#8"},
+        {"denoise", "#4"},
+        {"diff", "#8"},
+        {"bench render", "#3"},
+        {"bench quality", "#8"},
     };
     for (auto [args, issue] : planned) {
         SCOPED_TRACE(args);
@@ -343,6 +345,34 @@ TEST_F(CliTest, PlannedCommandsNameTheirIssue) {
         EXPECT_TRUE(Contains(r.err, "not available yet"));
         EXPECT_TRUE(Contains(r.err, issue));
     }
+}
+
+TEST_F(CliTest, RenderAndCompare) {
+    RunResult r =
+        Run("render --scene cornell --size 12x8 --spp 2 --layers all -o f.exr "
+            "--preview f.png");
+    ASSERT_EQ(r.code, 0) << r.All();
+    r = Run("info f.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    for (const char *layer :
+         {"color", "variance", "spp", "min", "max", "hist", "direct", "indirect", "pivot",
+          "albedo", "normal", "depth", "objectId", "partId"})
+        EXPECT_TRUE(Contains(r.out, layer)) << layer;
+    EXPECT_TRUE(Contains(r.out, "mcd:scene = cornell"));
+    r = Run("render --size 12x8 --spp 1 --seed 9 -o g.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    r = Run("compare f.exr f.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "PSNR inf"));
+    r = Run("compare g.exr f.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "relMSE"));
+    EXPECT_TRUE(IsError(Run("render --scene nope -o h.exr"), "cornell"));
+    EXPECT_TRUE(IsError(Run("render --spp 0 -o h.exr"), "samples"));
+    EXPECT_TRUE(IsError(Run("render --layers hist,nope -o h.exr"), "nope"));
+    EXPECT_TRUE(IsError(Run("render --size 4x4 -o h.png"), ".png"));
+    EXPECT_FALSE(fs::exists(Path("h.exr")));
+    EXPECT_TRUE(IsError(Run("compare f.exr missing.exr"), "missing.exr"));
 }
 
 TEST_F(CliTest, BenchWavelet) {

@@ -18,8 +18,6 @@ void AddPlanned(CLI::App &app, const char *name, const char *what, const char *w
 void AddPlannedCommands(CLI::App &app) {
     AddPlanned(app, "denoise", "Denoise a frame with rhf, awr, bayes or pivot",
                "the methods land with issues #4 (rhf), #5 (awr), #6 (bayes), #7 (pivot)");
-    AddPlanned(app, "render", "Render a built-in scene with every layer the methods use",
-               "the built-in renderer lands with issue #3");
     AddPlanned(app, "diff", "Run a method on the GPU and on the CPU reference and compare",
                "it lands with issue #8, once the methods exist");
 }

@@ -22,6 +22,8 @@ struct DeviceOptions {
 void AddInfoCommand(CLI::App &app);
 void AddWaveletCommand(CLI::App &app);
 void AddBenchCommand(CLI::App &app);
+void AddRenderCommand(CLI::App &app);
+void AddCompareCommand(CLI::App &app);
 void AddPlannedCommands(CLI::App &app);
 
 // Largest image side the tool accepts for sizes it makes up itself.

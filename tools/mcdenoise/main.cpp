@@ -67,6 +67,8 @@ int main(int argc, char **argv) {
     app.require_subcommand(1);
     app.set_version_flag("--version", "mcdenoise 0.1.0");
     mcd::tool::AddInfoCommand(app);
+    mcd::tool::AddRenderCommand(app);
+    mcd::tool::AddCompareCommand(app);
     mcd::tool::AddWaveletCommand(app);
     mcd::tool::AddBenchCommand(app);
     mcd::tool::AddPlannedCommands(app);

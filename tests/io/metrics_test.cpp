@@ -1,0 +1,58 @@
+// Error metrics (DESIGN.md): known values, edge cases, refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "harness/errors.h"
+#include "harness/inputs.h"
+#include "host/metrics.h"
+
+namespace mcd::test {
+namespace {
+
+TEST(Metrics, IdenticalImagesArePerfect) {
+    Image a = MakeInput(InputKind::Uniform, 23, 17, 3, SeedFromName("metrics"));
+    ErrorMetrics m = CompareImages(a, a);
+    EXPECT_EQ(m.relMse, 0);
+    EXPECT_TRUE(std::isinf(m.psnr));
+    EXPECT_NEAR(m.ssim, 1.0, 1e-12);
+}
+
+TEST(Metrics, KnownOffset) {
+    // r = 0.25 everywhere, x = r + 0.05: relMSE = 0.0025 / (0.0625 + 0.01); PSNR from the
+    // sRGB-encoded difference; SSIM of two constants is (2ab + c1) / (a^2 + b^2 + c1).
+    Image r(16, 16, 3, 0.25f), x(16, 16, 3, 0.30f);
+    ErrorMetrics m = CompareImages(x, r);
+    EXPECT_NEAR(m.relMse, 0.0025 / 0.0725, 1e-6);
+    auto srgb = [](double v) { return 1.055 * std::pow(v, 1 / 2.4) - 0.055; };
+    double d = srgb(0.30) - srgb(0.25);
+    EXPECT_NEAR(m.psnr, 10 * std::log10(1 / (d * d)), 1e-4);
+    double a = srgb(0.30), b = srgb(0.25), c1 = 1e-4;
+    EXPECT_NEAR(m.ssim, (2 * a * b + c1) / (a * a + b * b + c1), 1e-6);
+}
+
+TEST(Metrics, NoiseLowersSsimAndPsnr) {
+    Image r(32, 32, 3, 0.5f), small = r, large = r;
+    Image n = MakeInput(InputKind::Uniform, 32, 32, 3, SeedFromName("noise"));
+    for (size_t i = 0; i < r.Size(); ++i)
+        small.data[i] += 0.02f * n.data[i], large.data[i] += 0.2f * n.data[i];
+    ErrorMetrics a = CompareImages(small, r), b = CompareImages(large, r);
+    EXPECT_GT(a.ssim, b.ssim);
+    EXPECT_GT(a.psnr, b.psnr);
+    EXPECT_LT(a.relMse, b.relMse);
+    EXPECT_LT(b.ssim, 0.9);
+}
+
+TEST(Metrics, NonFiniteAndMismatchedInputs) {
+    Image r(8, 8, 3, 0.5f), x = r;
+    x.At(1, 2, 3) = std::numeric_limits<float>::quiet_NaN();
+    ErrorMetrics m = CompareImages(x, r);
+    EXPECT_EQ(m.nonFinite, 1u);
+    EXPECT_EQ(m.relMse, 0);
+    EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(Image(8, 7, 3), r); }), "8x7"));
+    EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(r, x); }), "non-finite"));
+}
+
+}  // namespace
+}  // namespace mcd::test

@@ -1,0 +1,146 @@
+// The built-in renderer: layers agree with each other, frames are deterministic for any
+// thread count, the estimator is unbiased, bad arguments are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "harness/compare.h"
+#include "harness/errors.h"
+#include "tools/render/renderer.h"
+
+namespace mcd::test {
+namespace {
+
+using render::RenderOptions;
+
+const Image &Layer(const render::RenderResult &r, const std::string &name) {
+    for (const auto &[n, image] : r.layers)
+        if (n == name) return image;
+    throw Error("no layer " + name);
+}
+
+render::RenderResult RenderCornell(int w, int h, int spp, uint64_t seed, unsigned layers,
+                                   int threads = 0) {
+    static const render::Scene scene = render::BuildScene("cornell");
+    RenderOptions o;
+    o.width = w, o.height = h, o.spp = spp, o.seed = seed, o.layers = layers,
+    o.threads = threads;
+    return render::Render(scene, o);
+}
+
+// RHF Algorithm 1 by hand: v -> v^(1/2.2)/2.5, 20 bins, bins 0..18 cover [0,1] linearly.
+TEST(RenderHistogram, BinsByHand) {
+    float h[60] = {};
+    double zero[3] = {0, -5, 0};  // negatives clamp to 0: all weight in bin 0
+    render::AddToHistogram(zero, 20, h);
+    EXPECT_FLOAT_EQ(h[0], 1.f);
+    EXPECT_FLOAT_EQ(h[20], 1.f);
+    float g[60] = {};
+    // v = 2.5^2.2 compresses to exactly 1: the boundary between the last linear bin and
+    // the saturation bin, all weight on bin 18.
+    double one[3] = {std::pow(2.5, 2.2), 0, 0};
+    render::AddToHistogram(one, 20, g);
+    EXPECT_NEAR(g[18], 1.f, 1e-5);
+    EXPECT_NEAR(g[19], 0.f, 1e-5);
+    float s[60] = {};
+    double huge[3] = {1e9, 0, 0};  // saturates at 2: all weight on the last bin
+    render::AddToHistogram(huge, 20, s);
+    EXPECT_NEAR(s[19], 1.f, 1e-6);
+    float m[60] = {};
+    double mid[3] = {std::pow(0.5 * 2.5, 2.2), 0, 0};  // compresses to 0.5: fbin 9, bin 9
+    render::AddToHistogram(mid, 20, m);
+    EXPECT_NEAR(m[9], 1.f, 1e-5);
+}
+
+TEST(RenderLayers, AgreeWithEachOther) {
+    render::RenderResult r = RenderCornell(24, 18, 8, 7, render::kLayersAll);
+    const Image &color = Layer(r, "color"), &mn = Layer(r, "min"), &mx = Layer(r, "max");
+    const Image &direct = Layer(r, "direct"), &indirect = Layer(r, "indirect");
+    const Image &hist = Layer(r, "hist"), &spp = Layer(r, "spp"),
+                &variance = Layer(r, "variance");
+    ASSERT_EQ(hist.channels, 61);
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
+            EXPECT_EQ(spp.At(0, y, x), 8.f);
+            EXPECT_EQ(hist.At(60, y, x), 8.f);
+            for (int c = 0; c < 3; ++c) {
+                float v = color.At(c, y, x);
+                EXPECT_TRUE(std::isfinite(v));
+                EXPECT_LE(mn.At(c, y, x), v * (1 + 1e-6f) + 1e-7f);
+                EXPECT_GE(mx.At(c, y, x), v * (1 - 1e-6f) - 1e-7f);
+                EXPECT_GE(variance.At(c, y, x), 0.f);
+                // Split sample by sample: the means add up to float round-off.
+                EXPECT_NEAR(direct.At(c, y, x) + indirect.At(c, y, x), v, 1e-5f * (1 + v));
+                double bins = 0;
+                for (int b = 0; b < 20; ++b) bins += hist.At(c * 20 + b, y, x);
+                EXPECT_NEAR(bins, 8.0, 1e-4) << x << "," << y << " channel " << c;
+            }
+        }
+    EXPECT_EQ(r.nonFiniteSamples, 0u);
+}
+
+TEST(RenderDeterminism, SameFrameForAnyThreadCount) {
+    render::RenderResult one = RenderCornell(20, 14, 4, 3, render::kLayersAll, 1);
+    render::RenderResult two = RenderCornell(20, 14, 4, 3, render::kLayersAll, 2);
+    ASSERT_EQ(one.layers.size(), two.layers.size());
+    for (size_t i = 0; i < one.layers.size(); ++i)
+        EXPECT_TRUE(BitIdentical(one.layers[i].second, two.layers[i].second))
+            << one.layers[i].first;
+}
+
+TEST(RenderDeterminism, PivotDoesNotDependOnTheSeed) {
+    render::RenderResult a = RenderCornell(20, 14, 2, 1, render::kLayersPivot);
+    render::RenderResult b = RenderCornell(20, 14, 2, 99, render::kLayersPivot);
+    EXPECT_TRUE(BitIdentical(Layer(a, "pivot"), Layer(b, "pivot")));
+    EXPECT_FALSE(BitIdentical(Layer(a, "color"), Layer(b, "color")));
+}
+
+// Unbiased: the squared error against a converged render falls like 1/N (a biased
+// estimator would level off at its bias). The MSE of a few hundred pixels is itself
+// heavy-tailed, so average it over seeds and allow a factor of 2 either side of 16.
+TEST(RenderEstimator, ErrorFallsLikeOneOverN) {
+    const int w = 16, h = 12;
+    Image reference = Layer(RenderCornell(w, h, 16384, 1000, 0), "color");
+    auto mse = [&](int spp, uint64_t seed) {
+        Image img = Layer(RenderCornell(w, h, spp, seed, 0), "color");
+        double sum = 0;
+        for (size_t i = 0; i < img.Size(); ++i) {
+            double d = img.data[i] - reference.data[i];
+            sum += d * d;
+        }
+        return sum / img.Size();
+    };
+    double low = 0, high = 0;
+    for (uint64_t seed = 1; seed <= 8; ++seed)
+        low += mse(16, seed), high += mse(256, seed + 100);
+    double ratio = low / high;
+    std::fprintf(stderr, "[mcd] 16x the samples: %.1fx lower squared error\n", ratio);
+    EXPECT_GT(ratio, 8.0);
+    EXPECT_LT(ratio, 32.0);
+}
+
+TEST(RenderArguments, BadOnesAreRefused) {
+    EXPECT_TRUE(Contains(ErrorOf([] { render::BuildScene("nope"); }), "cornell"));
+    EXPECT_TRUE(Contains(ErrorOf([] { RenderCornell(0, 4, 1, 1, 0); }), "size"));
+    EXPECT_TRUE(Contains(ErrorOf([] { RenderCornell(4, 4, 0, 1, 0); }), "samples"));
+    EXPECT_TRUE(Contains(ErrorOf([] { render::ParseLayerGroups("hist,nope"); }), "nope"));
+    EXPECT_EQ(render::ParseLayerGroups("hist,pivot"),
+              render::kLayersHist | render::kLayersPivot);
+}
+
+// The sample source gives the same sample for the same (x, y, key), another for another key.
+TEST(RenderSampleSource, KeyedAndRepeatable) {
+    render::Scene scene = render::BuildScene("cornell");
+    render::SampleSource source(scene, 32, 32, 5);
+    render::PathSample a = source.Trace(10.5, 20.25, 77), b = source.Trace(10.5, 20.25, 77);
+    EXPECT_EQ(a.color.x, b.color.x);
+    EXPECT_EQ(a.color.y, b.color.y);
+    double differ = 0;
+    for (uint64_t k = 0; k < 64; ++k)
+        differ += std::fabs(source.Trace(10.5, 20.25, k).color.x - a.color.x);
+    EXPECT_GT(differ, 0);
+}
+
+}  // namespace
+}  // namespace mcd::test

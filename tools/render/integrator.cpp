@@ -1,0 +1,160 @@
+#include "tools/render/integrator.h"
+
+#include <limits>
+
+namespace mcd::render {
+namespace {
+
+constexpr int kMaxDepth = 16;
+constexpr int kPivotDepth = 8;
+
+// Density of the von Mises-Fisher lobe of concentration kappa around unit `axis`.
+double VmfPdf(const Vec3 &w, const Vec3 &axis, double kappa) {
+    return kappa / (2 * kPi * -std::expm1(-2 * kappa)) * std::exp(kappa * (Dot(w, axis) - 1));
+}
+
+Vec3 SampleVmf(const Vec3 &axis, double kappa, double u1, double u2) {
+    double w = 1 + std::log(u1 + (1 - u1) * std::exp(-2 * kappa)) / kappa;
+    w = std::clamp(w, -1.0, 1.0);
+    double r = std::sqrt(std::max(0.0, 1 - w * w)), phi = 2 * kPi * u2;
+    return Frame(axis).ToWorld({r * std::cos(phi), r * std::sin(phi), w});
+}
+
+Vec3 SampleCosine(const Vec3 &n, double u1, double u2) {
+    double r = std::sqrt(u1), phi = 2 * kPi * u2;
+    return Frame(n).ToWorld({r * std::cos(phi), r * std::sin(phi), std::sqrt(1 - u1)});
+}
+
+Vec3 Offset(const Hit &hit) {
+    return hit.position + hit.normal * (1e-7 * (1 + Length(hit.position)));
+}
+
+// f(wo, wi) cos(theta_i) of the diffuse and glossy parts (the mirror is a delta).
+Vec3 SmoothBsdfCos(const Scene &scene, const Material &m, const Hit &hit, const Vec3 &wo,
+                   const Vec3 &wi) {
+    double cosI = Dot(wi, hit.normal);
+    if (cosI <= 0) return Vec3(0);
+    Vec3 f = scene.Diffuse(m, hit) * (cosI / kPi);
+    if (!m.glossy.IsBlack())
+        f += scene.Glossy(m, hit) * VmfPdf(wi, Reflect(-wo, hit.normal), m.glossyKappa);
+    return f;
+}
+
+// Light reaching `hit` from the lights, one sample of the area lights (chosen by area)
+// plus every point light, through the smooth part of the BSDF.
+Vec3 DirectLight(const Scene &scene, const Material &m, const Hit &hit, const Vec3 &wo,
+                 Rng &rng) {
+    Vec3 sum(0);
+    Vec3 origin = Offset(hit);
+    for (const PointLight &light : scene.pointLights) {
+        Vec3 d = light.position - origin;
+        double dist2 = Dot(d, d);
+        Vec3 wi = d / std::sqrt(dist2);
+        Vec3 f = SmoothBsdfCos(scene, m, hit, wo, wi);
+        if (f.IsBlack() || scene.Occluded(origin, light.position)) continue;
+        sum += f * light.intensity / dist2;
+    }
+    if (!scene.lightQuads.empty()) {
+        double total = 0;
+        for (int q : scene.lightQuads) total += scene.quads[q].Area();
+        double pick = Uniform(rng) * total;
+        const Quad *quad = &scene.quads[scene.lightQuads.back()];
+        for (int q : scene.lightQuads) {
+            pick -= scene.quads[q].Area();
+            if (pick < 0) {
+                quad = &scene.quads[q];
+                break;
+            }
+        }
+        Vec3 p = quad->origin + quad->edgeU * Uniform(rng) + quad->edgeV * Uniform(rng);
+        Vec3 d = p - origin;
+        double dist2 = Dot(d, d), dist = std::sqrt(dist2);
+        Vec3 wi = d / dist;
+        double cosL = -Dot(quad->Normal(), wi);  // emits on its normal's side only
+        if (cosL > 0) {
+            Vec3 f = SmoothBsdfCos(scene, m, hit, wo, wi);
+            if (!f.IsBlack() && !scene.Occluded(origin, p))
+                sum += f * scene.materials[quad->material].emission * (cosL * total / dist2);
+        }
+    }
+    return sum;
+}
+
+}  // namespace
+
+PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
+    PathSample out;
+    Ray ray = cameraRay;
+    Vec3 throughput(1);
+    int smoothVertices = 0;     // diffuse or glossy vertices so far
+    bool afterSpecular = true;  // the last vertex was the camera or a mirror
+    for (int depth = 0; depth < kMaxDepth; ++depth) {
+        Hit hit;
+        if (!scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit)) break;
+        const Material &m = scene.materials[hit.material];
+        Vec3 wo = -ray.direction;
+        if (depth == 0) {
+            out.albedo = scene.Diffuse(m, hit) + scene.Glossy(m, hit) + m.mirror;
+            out.normal = hit.normal;
+            out.depth = hit.t;
+            out.objectId = hit.objectId;
+            out.partId = hit.partId;
+        }
+        // Emission counts when no light sample could have found it: right after the camera
+        // or a mirror (mirror chains after a smooth vertex carry caustics: indirect).
+        if (!m.emission.IsBlack() && hit.frontFace && afterSpecular)
+            (smoothVertices == 0 ? out.direct : out.indirect) += throughput * m.emission;
+
+        Vec3 diffuse = scene.Diffuse(m, hit), glossy = scene.Glossy(m, hit);
+        double wd = diffuse.MaxComponent(), wg = glossy.MaxComponent(),
+               wm = m.mirror.MaxComponent();
+        double total = wd + wg + wm;
+        if (total <= 0) break;
+        if (wd + wg > 0) {
+            Vec3 light = throughput * DirectLight(scene, m, hit, wo, rng);
+            (smoothVertices == 0 ? out.direct : out.indirect) += light;
+        }
+        // Pick one lobe in proportion to its weight and continue the path through it.
+        double pick = Uniform(rng) * total, u1 = Uniform(rng), u2 = Uniform(rng);
+        Vec3 wi;
+        if (pick < wd) {
+            wi = SampleCosine(hit.normal, u1, u2);
+            throughput *= diffuse * (total / wd);
+            ++smoothVertices;
+            afterSpecular = false;
+        } else if (pick < wd + wg) {
+            wi = SampleVmf(Reflect(ray.direction, hit.normal), m.glossyKappa, u1, u2);
+            if (Dot(wi, hit.normal) <= 0) break;  // the lobe's mass below the surface is lost
+            throughput *= glossy * (total / wg);
+            ++smoothVertices;
+            afterSpecular = false;
+        } else {
+            wi = Reflect(ray.direction, hit.normal);
+            throughput *= m.mirror * (total / wm);
+            afterSpecular = true;
+        }
+        // Russian roulette once the path has some length.
+        if (depth >= 3) {
+            double survive = std::min(0.95, throughput.MaxComponent());
+            if (Uniform(rng) >= survive) break;
+            throughput = throughput / survive;
+        }
+        ray = {Offset(hit), wi};
+    }
+    out.color = out.direct + out.indirect;
+    return out;
+}
+
+Vec3 PivotRadiance(const Scene &scene, const Ray &ray, int depth) {
+    Hit hit;
+    if (!scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit)) return Vec3(1);
+    const Material &m = scene.materials[hit.material];
+    Vec3 radiance = scene.Diffuse(m, hit);
+    Vec3 mirrorDir = Reflect(ray.direction, hit.normal);
+    if (Dot(mirrorDir, hit.normal) > 0) radiance += scene.Glossy(m, hit);
+    if (!m.mirror.IsBlack() && depth < kPivotDepth)
+        radiance += m.mirror * PivotRadiance(scene, {Offset(hit), mirrorDir}, depth + 1);
+    return radiance;
+}
+
+}  // namespace mcd::render

@@ -1,0 +1,36 @@
+// Path tracing with next-event estimation, and the deterministic pivot image.
+#pragma once
+
+#include <pcg_random.hpp>
+
+#include "tools/render/scene.h"
+
+namespace mcd::render {
+
+using Rng = pcg32;
+
+inline double Uniform(Rng &rng) {
+    return rng() * 0x1p-32;
+}
+
+// One camera path. color = direct + indirect exactly, sample by sample: `direct` is light
+// reaching the camera through at most one non-specular vertex (emitters seen directly or
+// in mirrors, and next-event estimation at the first diffuse or glossy vertex); the rest,
+// diffuse interreflection, is `indirect` (Xu-Pattanaik's split). The first hit fills the
+// G-buffer fields.
+struct PathSample {
+    Vec3 color, direct, indirect;
+    Vec3 albedo, normal;
+    double depth = 0;
+    int objectId = 0, partId = 0;
+};
+
+PathSample TracePath(const Scene &scene, const Ray &ray, Rng &rng);
+
+// Ershov eq. 9: what the camera would see under unit ambient light with no shadowing:
+// texture times the directional albedo of the surface's BSDF (Lambert: its albedo;
+// glossy: its weight when the mirror direction is above the surface), mirror chains
+// followed deterministically up to a depth limit, 1 for rays that escape.
+Vec3 PivotRadiance(const Scene &scene, const Ray &ray, int depth = 0);
+
+}  // namespace mcd::render

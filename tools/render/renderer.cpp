@@ -1,0 +1,220 @@
+#include "tools/render/renderer.h"
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "host/error.h"
+
+namespace mcd::render {
+
+unsigned ParseLayerGroups(const std::string &text) {
+    unsigned groups = 0;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        if (item == "hist")
+            groups |= kLayersHist;
+        else if (item == "split")
+            groups |= kLayersSplit;
+        else if (item == "pivot")
+            groups |= kLayersPivot;
+        else if (item == "gbuffer")
+            groups |= kLayersGbuffer;
+        else if (item == "all")
+            groups |= kLayersAll;
+        else if (!item.empty())
+            throw Error(fmt::format(
+                "unknown layer group '{}' (hist, split, pivot, gbuffer, all)", item));
+    }
+    return groups;
+}
+
+void AddToHistogram(const double color[3], int bins, float *histogram) {
+    const double gamma = 2.2, scale = 2.5, saturation = 2.0;
+    for (int c = 0; c < 3; ++c) {
+        double v = std::max(color[c], 0.0);
+        v = std::min(std::pow(v, 1 / gamma) / scale, saturation);
+        double fbin = v * (bins - 2);
+        int low = int(std::floor(fbin));
+        double high;
+        if (low < bins - 2) {
+            high = fbin - low;
+        } else {
+            // The last bin stands for the saturation value: split [1, saturation] linearly.
+            low = bins - 2;
+            high = (v - 1) / (saturation - 1);
+        }
+        histogram[c * bins + low] += float(1 - high);
+        histogram[c * bins + low + 1] += float(high);
+    }
+}
+
+namespace {
+
+// SplitMix64: decorrelates (seed, key) into a PCG state.
+uint64_t Mix(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+}  // namespace
+
+PathSample SampleSource::Trace(double x, double y, uint64_t key) const {
+    Rng rng(Mix(seed ^ Mix(key)), key);
+    double lu = Uniform(rng), lv = Uniform(rng);
+    return TracePath(scene, scene.camera.Generate(x, y, width, height, lu, lv), rng);
+}
+
+RenderResult Render(const Scene &scene, const RenderOptions &o) {
+    if (o.width <= 0 || o.height <= 0)
+        throw Error(fmt::format("image size {}x{} must be positive", o.width, o.height));
+    if (o.spp <= 0)
+        throw Error(fmt::format("samples per pixel must be positive, not {}", o.spp));
+    if (o.histBins < 3) throw Error("a histogram needs at least 3 bins per channel");
+    const int w = o.width, h = o.height, bins = o.histBins;
+    auto start = std::chrono::steady_clock::now();
+
+    Image color(w, h, 3), variance(w, h, 3), spp(w, h, 1), mn(w, h, 3), mx(w, h, 3);
+    Image hist, direct, indirect, pivot, albedo, normal, depth, objectId, partId;
+    if (o.layers & kLayersHist) hist = Image(w, h, 3 * bins + 1);
+    if (o.layers & kLayersSplit) direct = Image(w, h, 3), indirect = Image(w, h, 3);
+    if (o.layers & kLayersPivot) pivot = Image(w, h, 3);
+    if (o.layers & kLayersGbuffer) {
+        albedo = Image(w, h, 3), normal = Image(w, h, 3), depth = Image(w, h, 1);
+        objectId = Image(w, h, 1), partId = Image(w, h, 1);
+    }
+
+    SampleSource source(scene, w, h, o.seed);
+    std::atomic<int> nextRow{0}, rowsDone{0};
+    std::atomic<uint64_t> nonFinite{0};
+    std::mutex progressMutex;
+    auto renderRows = [&] {
+        std::vector<float> bucket(3 * bins);
+        for (int y = nextRow++; y < h; y = nextRow++) {
+            for (int x = 0; x < w; ++x) {
+                double sum[3] = {}, sumSq[3] = {}, lo[3], hi[3], sumDirect[3] = {},
+                       sumIndirect[3] = {}, sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0;
+                for (int c = 0; c < 3; ++c) lo[c] = INFINITY, hi[c] = -INFINITY;
+                std::fill(bucket.begin(), bucket.end(), 0.f);
+                int firstObject = 0, firstPart = 0;
+                uint64_t pixel = uint64_t(y) * w + x;
+                for (int s = 0; s < o.spp; ++s) {
+                    // Box reconstruction filter: uniform positions inside the pixel.
+                    Rng jitter(Mix(o.seed ^ Mix(~(pixel << 24 | uint64_t(s)))), pixel);
+                    double px = x + Uniform(jitter), py = y + Uniform(jitter);
+                    PathSample p = source.Trace(px, py, pixel << 24 | uint64_t(s));
+                    double c3[3] = {p.color.x, p.color.y, p.color.z};
+                    if (!std::isfinite(c3[0]) || !std::isfinite(c3[1]) ||
+                        !std::isfinite(c3[2])) {
+                        ++nonFinite;
+                        p.color = p.direct = p.indirect = Vec3(0);
+                        c3[0] = c3[1] = c3[2] = 0;
+                    }
+                    for (int c = 0; c < 3; ++c) {
+                        sum[c] += c3[c];
+                        sumSq[c] += c3[c] * c3[c];
+                        lo[c] = std::min(lo[c], c3[c]);
+                        hi[c] = std::max(hi[c], c3[c]);
+                        sumDirect[c] += p.direct[c];
+                        sumIndirect[c] += p.indirect[c];
+                        sumAlbedo[c] += p.albedo[c];
+                        sumNormal[c] += p.normal[c];
+                    }
+                    sumDepth += p.depth;
+                    if (s == 0) firstObject = p.objectId, firstPart = p.partId;
+                    if (!hist.Empty()) AddToHistogram(c3, bins, bucket.data());
+                }
+                double n = o.spp;
+                for (int c = 0; c < 3; ++c) {
+                    double mean = sum[c] / n;
+                    color.At(c, y, x) = float(mean);
+                    // Variance of the mean: the unbiased sample variance over n.
+                    double var =
+                        n > 1 ? std::max(0.0, (sumSq[c] - n * mean * mean) / (n - 1)) : 0;
+                    variance.At(c, y, x) = float(var / n);
+                    mn.At(c, y, x) = float(lo[c]);
+                    mx.At(c, y, x) = float(hi[c]);
+                    if (!direct.Empty()) {
+                        direct.At(c, y, x) = float(sumDirect[c] / n);
+                        indirect.At(c, y, x) = float(sumIndirect[c] / n);
+                    }
+                    if (!albedo.Empty()) {
+                        albedo.At(c, y, x) = float(sumAlbedo[c] / n);
+                        normal.At(c, y, x) = float(sumNormal[c] / n);
+                    }
+                }
+                spp.At(0, y, x) = float(n);
+                if (!depth.Empty()) {
+                    depth.At(0, y, x) = float(sumDepth / n);
+                    objectId.At(0, y, x) = float(firstObject);
+                    partId.At(0, y, x) = float(firstPart);
+                }
+                if (!hist.Empty()) {
+                    for (int b = 0; b < 3 * bins; ++b) hist.At(b, y, x) = bucket[b];
+                    hist.At(3 * bins, y, x) = float(n);
+                }
+                if (!pivot.Empty()) {
+                    // Deterministic: a fixed 4x4 grid of pinhole rays per pixel.
+                    Vec3 sumPivot(0);
+                    for (int j = 0; j < 16; ++j) {
+                        double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
+                        sumPivot +=
+                            PivotRadiance(scene, scene.camera.Generate(sx, sy, w, h, 0.5, 0.0));
+                    }
+                    for (int c = 0; c < 3; ++c) pivot.At(c, y, x) = float(sumPivot[c] / 16);
+                }
+            }
+            int done = ++rowsDone;
+            if (o.progress) {
+                std::lock_guard<std::mutex> lock(progressMutex);
+                o.progress(done, h);
+            }
+        }
+    };
+    int threads =
+        o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(renderRows);
+    renderRows();
+    for (std::thread &t : pool) t.join();
+
+    RenderResult result;
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.nonFiniteSamples = nonFinite;
+    auto add = [&](const char *name, Image &image) {
+        if (!image.Empty()) result.layers.emplace_back(name, std::move(image));
+    };
+    add("color", color);
+    add("variance", variance);
+    add("spp", spp);
+    add("min", mn);
+    add("max", mx);
+    add("hist", hist);
+    add("direct", direct);
+    add("indirect", indirect);
+    add("pivot", pivot);
+    add("albedo", albedo);
+    add("normal", normal);
+    add("depth", depth);
+    add("objectId", objectId);
+    add("partId", partId);
+    result.metadata = {{"mcd:scene", scene.name},
+                       {"mcd:spp", std::to_string(o.spp)},
+                       {"mcd:seed", std::to_string(o.seed)},
+                       {"mcd:size", fmt::format("{}x{}", w, h)},
+                       {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
+                       {"mcd:renderer", "mcdenoise 0.1.0 path tracer 1"},
+                       {"mcd:nonFiniteSamples", std::to_string(result.nonFiniteSamples)}};
+    return result;
+}
+
+}  // namespace mcd::render

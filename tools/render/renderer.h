@@ -1,0 +1,69 @@
+// The built-in renderer: every layer of DESIGN.md for a built-in scene, on all cores,
+// bit-identical for any thread count (each pixel's samples come from their own PCG
+// streams, keyed by seed, pixel and sample index).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "host/image.h"
+#include "tools/render/integrator.h"
+#include "tools/render/scene.h"
+
+namespace mcd::render {
+
+// Opt-in layer groups; color, variance, spp, min and max are always written.
+enum LayerGroup : unsigned {
+    kLayersHist = 1,     // RHF histograms (layer "hist", Bin_NNNN in files)
+    kLayersSplit = 2,    // direct, indirect
+    kLayersPivot = 4,    // pivot (Ershov eq. 9)
+    kLayersGbuffer = 8,  // albedo, normal, depth, objectId, partId
+    kLayersAll = 15,
+};
+
+// Parse "hist,split,pivot,gbuffer", "all" or "" (none); throws mcd::Error.
+unsigned ParseLayerGroups(const std::string &text);
+
+struct RenderOptions {
+    int width = 256, height = 256, spp = 16;
+    uint64_t seed = 1;
+    unsigned layers = 0;
+    int threads = 0;    // 0: all cores
+    int histBins = 20;  // per channel
+    // Called with (rows done, rows total) from the rendering threads, serialised.
+    std::function<void(int, int)> progress;
+};
+
+struct RenderResult {
+    std::vector<std::pair<std::string, Image>> layers;  // in DESIGN.md order
+    std::map<std::string, std::string> metadata;
+    double seconds = 0;
+    uint64_t nonFiniteSamples = 0;  // paths that produced NaN/Inf (counted as 0)
+};
+
+RenderResult Render(const Scene &scene, const RenderOptions &options);
+
+// RHF Algorithm 1 (the authors' tool's constants): add one sample of weight 1 to the
+// 3 x bins histogram of a pixel (channel c's bins start at c * bins).
+void AddToHistogram(const double color[3], int bins, float *histogram);
+
+// The sample source of DESIGN.md: one sample at a continuous image position, for the
+// renderer's own per-pixel loop and for AWR's adaptive sampler. `key` picks the random
+// stream, so the same (x, y, key) always gives the same sample.
+class SampleSource {
+  public:
+    SampleSource(const Scene &scene, int width, int height, uint64_t seed)
+        : scene(scene), width(width), height(height), seed(seed) {}
+    PathSample Trace(double x, double y, uint64_t key) const;
+
+  private:
+    const Scene &scene;
+    int width, height;
+    uint64_t seed;
+};
+
+}  // namespace mcd::render
