@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "host/error.h"
+#include "tools/render/text.h"
 
 namespace mcd::render {
 
@@ -80,6 +81,24 @@ bool IntersectQuad(const Quad &q, const Ray &ray, double tMax, double *t, double
     return true;
 }
 
+// Shading normal of a quad's relief h(s, t) = relief * sum_i sin(k_i . (s, t) + phase_i), in
+// metres along the edges: n - dh/ds u - dh/dt v.
+Vec3 ReliefNormal(const Quad &q, double u, double v) {
+    double lu = Length(q.edgeU), lv = Length(q.edgeV);
+    double s = u * lu, t = v * lv, k = 2 * kPi / q.reliefWavelength;
+    // Fixed directions and phases: the same relief in every run.
+    const double dirs[4][2] = {{1, 0.3}, {-0.4, 1}, {0.7, 0.7}, {0.9, -0.5}};
+    const double phases[4] = {0.3, 1.7, 4.1, 2.2}, scales[4] = {1, 1.3, 0.7, 1.9};
+    double ds = 0, dt = 0;
+    for (int i = 0; i < 4; ++i) {
+        double kx = k * scales[i] * dirs[i][0], ky = k * scales[i] * dirs[i][1];
+        double c = q.relief * std::cos(kx * s + ky * t + phases[i]) / 4;
+        ds += c * kx;
+        dt += c * ky;
+    }
+    return Normalize(q.Normal() - q.edgeU / lu * ds - q.edgeV / lv * dt);
+}
+
 }  // namespace
 
 bool Scene::Intersect(const Ray &ray, double tMax, Hit *hit) const {
@@ -107,6 +126,7 @@ bool Scene::Intersect(const Ray &ray, double tMax, Hit *hit) const {
         hit->t = t;
         hit->position = ray.At(t);
         hit->normal = q.Normal();
+        if (q.relief > 0) hit->normal = ReliefNormal(q, u, v);
         hit->u = u;
         hit->v = v;
         hit->material = q.material;
@@ -195,21 +215,193 @@ Scene Cornell() {
     return scene;
 }
 
+// Lettering seen from the camera side (-z): +x is on the image's left with the camera
+// convention of the classic Cornell data, so the bitmap is mirrored to read left to right.
+int TextTexture(Scene &scene, const std::string &word, Vec3 ink, Vec3 paper, double repeat) {
+    Texture t{Texture::Kind::Bitmap, ink, paper, repeat};
+    Image text = TextBitmap(word, 96);
+    t.bitmap = text;
+    for (int y = 0; y < text.height; ++y)
+        for (int x = 0; x < text.width; ++x)
+            t.bitmap.At(0, y, x) = text.At(0, y, text.width - 1 - x);
+    return AddTexture(scene, std::move(t));
+}
+
+// Cornell box with 20% mirror and 60% glossy surfaces and two boxes lettered "ABC"
+// (Ershov 7.3).
+Scene GlossyCornell() {
+    Scene scene = Cornell();
+    scene.name = "glossy-cornell";
+    int abc = TextTexture(scene, "ABC", Vec3(0.1, 0.1, 0.5), Vec3(0.9), 1);
+    for (Material &m : scene.materials) {
+        if (!m.emission.IsBlack()) continue;
+        m.glossy = m.diffuse * 0.6;
+        m.glossyKappa = 150;
+        m.mirror = Vec3(0.2);
+        m.diffuse = m.diffuse * 0.2;
+    }
+    Material lettered{Vec3(0.2), abc};
+    lettered.glossy = Vec3(0.6);
+    lettered.glossyTexture = abc;
+    lettered.glossyKappa = 150;
+    int boxes = AddMaterial(scene, lettered);
+    for (Quad &q : scene.quads)
+        if (q.objectId >= 7) q.material = boxes;
+    return scene;
+}
+
+// A point light inside a matte spherical shade, open below, `height` above the floor.
+void AddShadedLamp(Scene &scene, double height, int objectId) {
+    int shade = AddMaterial(scene, {Vec3(0.7)});
+    scene.spheres.push_back({{0, height, 0}, 0.15, shade, objectId, 0, height - 0.08});
+    scene.pointLights.push_back({{0, height, 0}, Vec3(8)});
+}
+
+// 2x2 m plane with a random relief and a glossy lobe lettered "ABC", lit by a point light
+// in a matte shade 1.5 m above (Ershov 7.1).
+Scene ReliefAbc() {
+    Scene scene;
+    scene.name = "relief-abc";
+    scene.camera = {{0, 1.6, -2.2}, {0, 0, 0.1}, {0, 1, 0}, 45};
+    int abc = TextTexture(scene, "ABC", Vec3(1.0), Vec3(0.25), 1);
+    Material plane{Vec3(0.3), abc};
+    plane.glossy = Vec3(0.6);
+    plane.glossyTexture = abc;
+    plane.glossyKappa = 60;
+    int m = AddMaterial(scene, plane);
+    AddQuad(scene, {-1, 0, -1}, {2, 0, 0}, {0, 0, 2}, m, 1);
+    scene.quads.back().relief = 0.004;
+    scene.quads.back().reliefWavelength = 0.08;
+    AddShadedLamp(scene, 1.5, 2);
+    return scene;
+}
+
+// 5x5 m plane: Lambert 0.5 times a chessboard plus a glossy lobe 0.5 times repeated
+// "FRONT", the same lamp (Ershov 7.2).
+Scene DoubleTextured() {
+    Scene scene;
+    scene.name = "double-textured";
+    scene.camera = {{0, 1.8, -3.2}, {0, 0, 0.6}, {0, 1, 0}, 50};
+    int chess = AddTexture(scene, {Texture::Kind::Checker, Vec3(1.0), Vec3(0.15), 10});
+    int front = TextTexture(scene, "FRONT", Vec3(1.0), Vec3(0.1), 4);
+    Material plane{Vec3(0.5), chess};
+    plane.glossy = Vec3(0.5);
+    plane.glossyTexture = front;
+    plane.glossyKappa = 80;
+    int m = AddMaterial(scene, plane);
+    AddQuad(scene, {-2.5, 0, -2.5}, {5, 0, 0}, {0, 0, 5}, m, 1);
+    AddShadedLamp(scene, 1.5, 2);
+    return scene;
+}
+
+// Objects spread in depth, thin-lens depth of field, a rectangular area light with soft
+// shadows, a textured floor (AWR's toasters and chess: a 6D integrand).
+Scene DofArealight() {
+    Scene scene;
+    scene.name = "dof-arealight";
+    scene.camera = {{0, 1.0, -4.0}, {0, 0.5, 2.0}, {0, 1, 0}, 40, 0.08, 6.0};
+    int checker = AddTexture(scene, {Texture::Kind::Checker, Vec3(0.8), Vec3(0.2), 8});
+    int floor = AddMaterial(scene, {Vec3(1.0), checker});
+    AddQuad(scene, {-4, 0, -2}, {8, 0, 0}, {0, 0, 10}, floor, 1);
+    const Vec3 colors[5] = {
+        {0.8, 0.2, 0.2}, {0.2, 0.7, 0.2}, {0.2, 0.3, 0.8}, {0.8, 0.7, 0.2}, {0.7, 0.7, 0.7}};
+    for (int i = 0; i < 5; ++i) {
+        Material m{colors[i]};
+        if (i % 2) m.glossy = Vec3(0.3), m.glossyKappa = 100;
+        int material = AddMaterial(scene, m);
+        scene.spheres.push_back(
+            {{-1.6 + 0.8 * i, 0.45, -0.5 + 1.6 * i}, 0.45, material, 2 + i});
+    }
+    Material lamp{Vec3(0.5)};
+    lamp.emission = Vec3(12);
+    int light = AddMaterial(scene, lamp);
+    // Edge order sets the emitting side: this one faces down onto the scene.
+    AddQuad(scene, {-2.5, 3.0, 0.5}, {1.0, -0.2, 0}, {0, 0, 1.5}, light, 9);
+    return scene;
+}
+
+// A room lit mostly indirectly: a bright sky patch shines through a window in the left
+// wall onto the floor, the rest of the room sees it through interreflection
+// (Xu-Pattanaik's cabin and conference room).
+Scene Interior() {
+    Scene scene;
+    scene.name = "interior";
+    const double w = 4, h = 2.8, d = 5;
+    scene.camera = {{0.4, 1.4, 0.3}, {-0.6, 1.0, 4.0}, {0, 1, 0}, 60};
+    int wood = AddTexture(
+        scene, {Texture::Kind::Checker, Vec3(0.75, 0.55, 0.35), Vec3(0.6, 0.42, 0.25), 6});
+    int floor = AddMaterial(scene, {Vec3(1.0), wood});
+    int wall = AddMaterial(scene, {Vec3(0.75, 0.73, 0.7)});
+    int blue = AddMaterial(scene, {Vec3(0.2, 0.3, 0.6)});
+    Material sunlight{Vec3(0)};
+    sunlight.emission = Vec3(640, 590, 520);
+    int sun = AddMaterial(scene, sunlight);
+    double x0 = -w / 2, x1 = w / 2;
+    AddQuad(scene, {x0, 0, 0}, {w, 0, 0}, {0, 0, d}, floor, 1);
+    AddQuad(scene, {x0, h, 0}, {w, 0, 0}, {0, 0, d}, wall, 2);
+    AddQuad(scene, {x0, 0, d}, {w, 0, 0}, {0, h, 0}, wall, 3);
+    AddQuad(scene, {x0, 0, 0}, {w, 0, 0}, {0, h, 0}, wall, 4);
+    AddQuad(scene, {x1, 0, 0}, {0, 0, d}, {0, h, 0}, wall, 5);
+    // Left wall with a window 1.2 m wide, from 0.9 m to 2.1 m high, centred in depth.
+    double wz0 = 1.9, wz1 = 3.1, wy0 = 0.9, wy1 = 2.1;
+    AddQuad(scene, {x0, 0, 0}, {0, 0, wz0}, {0, h, 0}, wall, 6, 0);
+    AddQuad(scene, {x0, 0, wz1}, {0, 0, d - wz1}, {0, h, 0}, wall, 6, 1);
+    AddQuad(scene, {x0, 0, wz0}, {0, 0, wz1 - wz0}, {0, wy0, 0}, wall, 6, 2);
+    AddQuad(scene, {x0, wy1, wz0}, {0, 0, wz1 - wz0}, {0, h - wy1, 0}, wall, 6, 3);
+    // The sun: a small, bright quad outside, aimed through the window at the floor in view.
+    Vec3 target(-0.8, 0, 3.0), window(x0, 1.5, 2.5);
+    Vec3 toSun = window - target, facing = Normalize(-toSun);
+    Vec3 e1 = Normalize(Cross(Vec3(0, 1, 0), facing)) * 0.6, e2 = Cross(facing, e1 / 0.6) * 0.6;
+    Vec3 centre = window + toSun * 2.0;
+    AddQuad(scene, centre - e1 * 0.5 - e2 * 0.5, e1, e2, sun, 7);
+    AddBox(scene, {0.4, 0, 3.2}, {0.9, 0.75, 0.6}, 20, blue, 8);
+    return scene;
+}
+
+// Rare bright paths: a small, very bright light above a mirror sphere casts a caustic
+// that only BSDF sampling finds (light -> mirror -> floor), impulse noise for RHF's kNN;
+// a dim large light keeps the rest visible.
+Scene Fireflies() {
+    Scene scene;
+    scene.name = "fireflies";
+    scene.camera = {{0, 1.2, -3.0}, {0, 0.4, 0.5}, {0, 1, 0}, 45};
+    int floor = AddMaterial(scene, {Vec3(0.7)});
+    int wall = AddMaterial(scene, {Vec3(0.6, 0.6, 0.65)});
+    Material chrome{Vec3(0)};
+    chrome.mirror = Vec3(0.95);
+    int mirror = AddMaterial(scene, chrome);
+    Material hot{Vec3(0)};
+    hot.emission = Vec3(4000);
+    int small = AddMaterial(scene, hot);
+    Material soft{Vec3(0)};
+    soft.emission = Vec3(1.5);
+    int big = AddMaterial(scene, soft);
+    AddQuad(scene, {-3, 0, -3}, {6, 0, 0}, {0, 0, 6}, floor, 1);
+    AddQuad(scene, {-3, 0, 2}, {6, 0, 0}, {0, 3, 0}, wall, 2);
+    scene.spheres.push_back({{0.3, 0.5, 0.6}, 0.5, mirror, 3});
+    AddQuad(scene, {0.25, 2.0, 0.5}, {0.04, 0, 0}, {0, 0, 0.04}, small, 4);
+    AddQuad(scene, {-3, 2.9, -3}, {6, 0, 0}, {0, 0, 5}, big, 5);
+    return scene;
+}
+
 }  // namespace
 
 std::vector<std::string> SceneNames() {
-    return {"cornell"};
+    return {"cornell",       "relief-abc", "double-textured", "glossy-cornell",
+            "dof-arealight", "interior",   "fireflies"};
 }
 
 Scene BuildScene(const std::string &name) {
     if (name == "cornell") return Cornell();
+    if (name == "relief-abc") return ReliefAbc();
+    if (name == "double-textured") return DoubleTextured();
+    if (name == "glossy-cornell") return GlossyCornell();
+    if (name == "dof-arealight") return DofArealight();
+    if (name == "interior") return Interior();
+    if (name == "fireflies") return Fireflies();
     std::string names;
     for (const std::string &n : SceneNames()) names += (names.empty() ? "" : ", ") + n;
-    throw Error(
-        fmt::format("unknown scene '{}' (built-in scenes: {}; relief-abc, "
-                    "double-textured, glossy-cornell, dof-arealight, interior and "
-                    "fireflies are still to come with issue #3)",
-                    name, names));
+    throw Error(fmt::format("unknown scene '{}' (built-in scenes: {})", name, names));
 }
 
 }  // namespace mcd::render

@@ -45,6 +45,9 @@ struct Sphere {
 struct Quad {
     Vec3 origin, edgeU, edgeV;
     int material = 0, objectId = 0, partId = 0;
+    // Relief: a fixed sum of sines of this amplitude (metres) and wavelength bends the
+    // shading normal; 0: flat.
+    double relief = 0, reliefWavelength = 0.1;
     Vec3 Normal() const { return Normalize(Cross(edgeU, edgeV)); }
     double Area() const { return Length(Cross(edgeU, edgeV)); }
 };
