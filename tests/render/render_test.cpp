@@ -120,6 +120,33 @@ TEST(RenderEstimator, ErrorFallsLikeOneOverN) {
     EXPECT_LT(ratio, 32.0);
 }
 
+// Every built-in scene renders: finite, some light, direct + indirect = color, the same
+// frame twice, and a pivot with no zeros where the camera sees a surface.
+TEST(RenderScenes, EveryOneRendersConsistently) {
+    for (const std::string &name : render::SceneNames()) {
+        SCOPED_TRACE(name);
+        render::Scene scene = render::BuildScene(name);
+        RenderOptions o;
+        o.width = 16, o.height = 12, o.spp = 4, o.seed = 5, o.layers = render::kLayersAll;
+        render::RenderResult a = render::Render(scene, o), b = render::Render(scene, o);
+        EXPECT_EQ(a.nonFiniteSamples, 0u);
+        const Image &color = Layer(a, "color"), &direct = Layer(a, "direct"),
+                    &indirect = Layer(a, "indirect");
+        double sum = 0;
+        for (size_t i = 0; i < color.Size(); ++i) {
+            ASSERT_TRUE(std::isfinite(color.data[i]));
+            EXPECT_GE(color.data[i], 0.f);
+            EXPECT_NEAR(direct.data[i] + indirect.data[i], color.data[i],
+                        1e-5f * (1 + color.data[i]));
+            sum += color.data[i];
+        }
+        EXPECT_GT(sum / color.Size(), 1e-3) << "a black frame";
+        for (size_t i = 0; i < a.layers.size(); ++i)
+            EXPECT_TRUE(BitIdentical(a.layers[i].second, b.layers[i].second))
+                << a.layers[i].first;
+    }
+}
+
 TEST(RenderArguments, BadOnesAreRefused) {
     EXPECT_TRUE(Contains(ErrorOf([] { render::BuildScene("nope"); }), "cornell"));
     EXPECT_TRUE(Contains(ErrorOf([] { RenderCornell(0, 4, 1, 1, 0); }), "size"));
