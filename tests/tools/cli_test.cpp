@@ -90,9 +90,10 @@ class CliTest : public ::testing::Test {
     }
 
     // Runs the tool with `args` (shell words) in the temporary directory.
-    RunResult Run(const std::string &args) {
-        std::string command = "cd '" + dir.string() + "' && '" MCD_TOOL_PATH "' " + args +
-                              " 2>'" + errFile.string() + "'";
+    // `env` is prepended to the command (e.g. "VAR=value ").
+    RunResult Run(const std::string &args, const std::string &env = "") {
+        std::string command = "cd '" + dir.string() + "' && " + env + "'" MCD_TOOL_PATH "' " +
+                              args + " 2>'" + errFile.string() + "'";
         RunResult result;
         FILE *pipe = popen(command.c_str(), "r");
         if (!pipe) {
@@ -335,7 +336,6 @@ TEST_F(CliTest, PlannedCommandsNameTheirIssue) {
     const std::pair<const char *, const char *> planned[] = {
         {"denoise", "#4"},
         {"diff", "#8"},
-        {"bench render", "#3"},
         {"bench quality", "#8"},
     };
     for (auto [args, issue] : planned) {
@@ -373,6 +373,22 @@ TEST_F(CliTest, RenderAndCompare) {
     EXPECT_TRUE(IsError(Run("render --size 4x4 -o h.png"), ".png"));
     EXPECT_FALSE(fs::exists(Path("h.exr")));
     EXPECT_TRUE(IsError(Run("compare f.exr missing.exr"), "missing.exr"));
+}
+
+// References are rendered once and then come from the cache (XDG_CACHE_HOME).
+TEST_F(CliTest, ReferenceIsCached) {
+    std::string cache = "XDG_CACHE_HOME=" + Path("cache").string() + " ";
+    RunResult r = Run("render --reference --spp 8 --size 10x6 -o a.exr", cache);
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Contains(r.out, "from the cache"));
+    r = Run("render --reference --spp 8 --size 10x6 -o b.exr", cache);
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "from the cache"));
+    io::Frame a = io::ReadFrame(Path("a.exr").string()),
+              b = io::ReadFrame(Path("b.exr").string());
+    ASSERT_EQ(a.layers.size(), b.layers.size());
+    for (const auto &[name, image] : a.layers)
+        EXPECT_TRUE(BitIdentical(image, b.Get(name))) << name;
 }
 
 TEST_F(CliTest, BenchWavelet) {

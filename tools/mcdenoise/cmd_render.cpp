@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 
 #include "host/error.h"
 #include "host/io/frame.h"
@@ -10,12 +12,29 @@
 #include "tools/render/renderer.h"
 
 namespace mcd::tool {
+namespace {
+
+constexpr uint64_t kReferenceSeed = 0x5eed5eed;
+
+std::string ReferenceCachePath(const std::string &scene, const render::RenderOptions &o) {
+    const char *xdg = std::getenv("XDG_CACHE_HOME"), *home = std::getenv("HOME");
+    std::filesystem::path dir =
+        xdg && *xdg ? std::filesystem::path(xdg)
+                    : std::filesystem::path(home && *home ? home : "/tmp") / ".cache";
+    return (dir / "mcdenoise" / "references" /
+            fmt::format("{}-{}x{}-{}spp-{}.exr", scene, o.width, o.height, o.spp,
+                        render::kRendererVersion))
+        .string();
+}
+
+}  // namespace
 
 void AddRenderCommand(CLI::App &app) {
     struct Options {
         std::string scene = "cornell", size = "256x256", layers, output, preview;
         int spp = 16, threads = 0;
         uint64_t seed = 1;
+        bool reference = false;
     };
     auto opt = std::make_shared<Options>();
     std::string names;
@@ -24,7 +43,8 @@ void AddRenderCommand(CLI::App &app) {
         "render",
         "Render a built-in scene with the built-in path tracer into a multi-layer EXR");
     cmd->add_option("--scene", opt->scene, "scene: " + names)->capture_default_str();
-    cmd->add_option("--spp", opt->spp, "samples per pixel")->capture_default_str();
+    CLI::Option *sppOption = cmd->add_option(
+        "--spp", opt->spp, "samples per pixel (default 16; 4096 with --reference)");
     cmd->add_option("--size", opt->size, "image size WxH")->capture_default_str();
     cmd->add_option("--seed", opt->seed, "random seed (same seed, same frame)")
         ->capture_default_str();
@@ -36,7 +56,13 @@ void AddRenderCommand(CLI::App &app) {
                     "threads (default: all cores; the frame is the same)");
     cmd->add_option("-o,--output", opt->output, "output EXR")->required();
     cmd->add_option("--preview", opt->preview, "also write a tonemapped PNG of the color");
-    cmd->callback([opt] {
+    cmd->add_flag(
+        "--reference", opt->reference,
+        "a converged reference (the always-written layers, its own fixed seed), cached under "
+        "$XDG_CACHE_HOME/mcdenoise (else ~/.cache/mcdenoise) by scene, size, spp and "
+        "renderer version, so tests and benchmarks render it once");
+    cmd->callback([opt, sppOption] {
+        if (opt->reference && !sppOption->count()) opt->spp = 4096;
         render::RenderOptions options;
         ParseSize(opt->size, &options.width, &options.height);
         options.spp = opt->spp;
@@ -46,6 +72,20 @@ void AddRenderCommand(CLI::App &app) {
         CheckOutputPath(opt->output, {".exr"});
         if (!opt->preview.empty()) CheckOutputPath(opt->preview, {".png"});
         render::Scene scene = render::BuildScene(opt->scene);
+        if (opt->reference) {
+            options.layers = 0;
+            options.seed = kReferenceSeed;
+            std::string cached = ReferenceCachePath(opt->scene, options);
+            if (std::filesystem::exists(cached)) {
+                io::Frame frame = io::ReadFrame(cached);
+                std::vector<std::pair<std::string, const Image *>> layers;
+                for (const auto &[name, image] : frame.layers) layers.push_back({name, &image});
+                io::WriteExr(opt->output, layers, frame.metadata);
+                if (!opt->preview.empty()) io::WritePng(opt->preview, frame.Get("color"));
+                fmt::print("{}: reference from the cache ({})\n", opt->output, cached);
+                return;
+            }
+        }
         bool terminal = isatty(fileno(stderr));
         if (terminal)
             options.progress = [&](int done, int total) {
@@ -57,6 +97,17 @@ void AddRenderCommand(CLI::App &app) {
         std::vector<std::pair<std::string, const Image *>> layers;
         for (const auto &[name, image] : result.layers) layers.push_back({name, &image});
         io::WriteExr(opt->output, layers, result.metadata);
+        if (opt->reference) {
+            std::string cached = ReferenceCachePath(opt->scene, options);
+            std::error_code ec;
+            std::filesystem::create_directories(std::filesystem::path(cached).parent_path(),
+                                                ec);
+            try {
+                io::WriteExr(cached, layers, result.metadata);
+            } catch (const Error &e) {
+                fmt::print("  note: reference not cached: {}\n", e.what());
+            }
+        }
         if (!opt->preview.empty()) io::WritePng(opt->preview, result.layers[0].second);
         double paths = double(options.width) * options.height * options.spp;
         fmt::print("{}: {} {}x{} at {} spp, {} layers, {:.2f} s ({:.2f} M samples/s)\n",

@@ -207,13 +207,14 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     add("depth", depth);
     add("objectId", objectId);
     add("partId", partId);
-    result.metadata = {{"mcd:scene", scene.name},
-                       {"mcd:spp", std::to_string(o.spp)},
-                       {"mcd:seed", std::to_string(o.seed)},
-                       {"mcd:size", fmt::format("{}x{}", w, h)},
-                       {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
-                       {"mcd:renderer", "mcdenoise 0.1.0 path tracer 1"},
-                       {"mcd:nonFiniteSamples", std::to_string(result.nonFiniteSamples)}};
+    result.metadata = {
+        {"mcd:scene", scene.name},
+        {"mcd:spp", std::to_string(o.spp)},
+        {"mcd:seed", std::to_string(o.seed)},
+        {"mcd:size", fmt::format("{}x{}", w, h)},
+        {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
+        {"mcd:renderer", fmt::format("mcdenoise path tracer {}", kRendererVersion)},
+        {"mcd:nonFiniteSamples", std::to_string(result.nonFiniteSamples)}};
     return result;
 }
 

@@ -16,6 +16,9 @@
 
 namespace mcd::render {
 
+// Bumped whenever a change alters what a scene renders to: it keys cached references.
+constexpr const char *kRendererVersion = "r1";
+
 // Opt-in layer groups; color, variance, spp, min and max are always written.
 enum LayerGroup : unsigned {
     kLayersHist = 1,     // RHF histograms (layer "hist", Bin_NNNN in files)
