@@ -334,7 +334,6 @@ TEST_F(CliTest, DumpOntoFileIsAnError) {
 
 TEST_F(CliTest, PlannedCommandsNameTheirIssue) {
     const std::pair<const char *, const char *> planned[] = {
-        {"denoise", "#4"},
         {"diff", "#8"},
         {"bench quality", "#8"},
     };
@@ -373,6 +372,24 @@ TEST_F(CliTest, RenderAndCompare) {
     EXPECT_TRUE(IsError(Run("render --size 4x4 -o h.png"), ".png"));
     EXPECT_FALSE(fs::exists(Path("h.exr")));
     EXPECT_TRUE(IsError(Run("compare f.exr missing.exr"), "missing.exr"));
+}
+
+TEST_F(CliTest, DenoiseAwr) {
+    ASSERT_EQ(Run("render --size 24x16 --spp 4 -o n.exr").code, 0);
+    ASSERT_EQ(Run("render --size 24x16 --spp 64 --seed 5 -o r.exr").code, 0);
+    RunResult r = Run("denoise n.exr --method awr --explain -o d.exr --reference r.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "soft shrinkage"));
+    EXPECT_TRUE(Contains(r.out, "PSNR"));
+    EXPECT_EQ(io::ReadImage(Path("d.exr").string()).width, 24);
+    r = Run("denoise n.exr --variance layer --cs 0 --explain -o e.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "cs is 0"));
+    EXPECT_TRUE(IsError(Run("denoise n.exr --method rhf -o f.exr"), "#4"));
+    Image color(8, 8, 3, 0.5f);
+    io::WriteExr(Path("bare.exr").string(), {{"color", &color}});
+    EXPECT_TRUE(IsError(Run("denoise bare.exr -o f.exr"), "variance layer"));
+    EXPECT_FALSE(fs::exists(Path("f.exr")));
 }
 
 // References are rendered once and then come from the cache (XDG_CACHE_HOME).

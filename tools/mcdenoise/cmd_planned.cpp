@@ -16,8 +16,6 @@ void AddPlanned(CLI::App &app, const char *name, const char *what, const char *w
 }  // namespace
 
 void AddPlannedCommands(CLI::App &app) {
-    AddPlanned(app, "denoise", "Denoise a frame with rhf, awr, bayes or pivot",
-               "the methods land with issues #4 (rhf), #5 (awr), #6 (bayes), #7 (pivot)");
     AddPlanned(app, "diff", "Run a method on the GPU and on the CPU reference and compare",
                "it lands with issue #8, once the methods exist");
 }

@@ -24,6 +24,7 @@ void AddWaveletCommand(CLI::App &app);
 void AddBenchCommand(CLI::App &app);
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
+void AddDenoiseCommand(CLI::App &app);
 void AddPlannedCommands(CLI::App &app);
 
 // Largest image side the tool accepts for sizes it makes up itself.

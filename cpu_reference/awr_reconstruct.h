@@ -1,0 +1,21 @@
+// AWR wavelet reconstruction (Overbeck et al., section 4.2), the CPU reference: the soft
+// shrinkage of eq. 11 written as a plain loop, and the whole reconstruction composed from
+// the wavelet references.
+#pragma once
+
+#include "host/image.h"
+#include "host/wavelet.h"
+
+namespace mcd::ref {
+
+// W = sign(W~) max(0, |W~| - cs sqrt(var)) on every coefficient outside the top-left
+// lowWidth x lowHeight band.
+Image AwrShrink(const Image &coefficients, const Image &variance, int lowWidth, int lowHeight,
+                double cs);
+
+// Analysis of `color`, squared-filter analysis of `variance` (squared 1D filters summing
+// to lowSum / highSum), shrinkage, synthesis.
+Image AwrReconstruct(const Image &color, const Image &variance, WaveletBasis basis, int levels,
+                     double cs, double lowSum, double highSum);
+
+}  // namespace mcd::ref

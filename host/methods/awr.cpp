@@ -1,0 +1,109 @@
+#include "host/methods/awr.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "host/error.h"
+#include "host/kernels/awr_shrink.h"
+#include "host/methods/wavelet_transform.h"
+#include "host/vk/gpu_image.h"
+
+namespace mcd {
+namespace {
+
+// Refuse non-finite values (and negatives where they make no sense), naming where.
+void CheckLayer(const Image &image, const char *what, bool nonNegative) {
+    for (int c = 0; c < image.channels; ++c)
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                float v = image.At(c, y, x);
+                if (!std::isfinite(v) || (nonNegative && v < 0))
+                    throw Error(fmt::format(
+                        "awr: {} has {} at pixel ({}, {}), channel {}; fix or "
+                        "mask the input first",
+                        what, std::isfinite(v) ? "a negative value" : "NaN/Inf", x, y, c));
+            }
+}
+
+}  // namespace
+
+Image AwrVarianceFromRange(const Image &min, const Image &max, const Image &spp) {
+    if (!min.SameShape(max) || spp.width != min.width || spp.height != min.height)
+        throw Error("awr: the min, max and spp layers differ in size");
+    Image variance(min.width, min.height, min.channels);
+    for (int c = 0; c < min.channels; ++c)
+        for (int y = 0; y < min.height; ++y)
+            for (int x = 0; x < min.width; ++x) {
+                double range = double(max.At(c, y, x)) - min.At(c, y, x);
+                double n = spp.At(0, y, x);
+                // A pixel without samples has nothing to trust: infinite variance would
+                // erase its details, which is what it deserves, but keep it finite.
+                variance.At(c, y, x) = float(n > 0 ? range * range / n : range * range);
+            }
+    return variance;
+}
+
+AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &variance,
+                         const AwrOptions &options) {
+    if (!color.SameShape(variance))
+        throw Error(fmt::format("awr: color is {}x{}x{} but variance is {}x{}x{}", color.width,
+                                color.height, color.channels, variance.width, variance.height,
+                                variance.channels));
+    CheckLayer(color, "color", false);
+    CheckLayer(variance, "variance", true);
+    int maxLevels = MaxWaveletLevels(color.width, color.height);
+    int levels = options.levels < 0 ? maxLevels : options.levels;
+    if (levels > maxLevels)
+        throw Error(fmt::format("awr: {} levels requested; a {}x{} image allows 0..{}", levels,
+                                color.width, color.height, maxLevels));
+
+    AwrResult result;
+    bool anyVariance = false;
+    for (float v : variance.data) anyVariance |= v > 0;
+    if (!anyVariance || options.cs == 0 || levels == 0) {
+        // Shrinking by zero keeps every coefficient: the transform would give the input back.
+        result.image = color;
+        result.plan.push_back(
+            fmt::format("left out: the whole reconstruction ({}): the output is the input",
+                        !anyVariance ? "the variance is zero everywhere"
+                                     : (options.cs == 0 ? "cs is 0" : "0 levels")));
+        return result;
+    }
+    result.plan.push_back(fmt::format("{}-level {} DWT of color ({}x{}x{})", levels,
+                                      WaveletName(options.basis), color.width, color.height,
+                                      color.channels));
+    result.plan.push_back(fmt::format(
+        "squared-filter DWT of the variance (eq. 10), squared 1D filters summing to {:.4g} "
+        "(low) and {:.4g} (high)",
+        options.lowSum, options.highSum));
+    result.plan.push_back(
+        fmt::format("soft shrinkage of the details by cs = {} standard "
+                    "deviations (eq. 11); the coarsest low band is kept",
+                    options.cs));
+    result.plan.push_back("synthesis");
+
+    vk::GpuImage colorGpu(context, color.width, color.height, color.channels, "awr.color");
+    vk::GpuImage varianceGpu(context, color.width, color.height, color.channels,
+                             "awr.variance");
+    vk::GpuImage coef(context, color.width, color.height, color.channels, "awr.coef");
+    vk::GpuImage coefVariance(context, color.width, color.height, color.channels,
+                              "awr.coefVariance");
+    colorGpu.Upload(color);
+    varianceGpu.Upload(variance);
+    WaveletTransform transform(context, color.width, color.height, color.channels);
+    vk::Recorder recorder(context);
+    transform.RecordAnalysis(recorder, options.basis, levels, colorGpu, coef);
+    transform.RecordSqAnalysis(recorder, options.basis, levels, varianceGpu, coefVariance,
+                               options.lowSum, options.highSum);
+    RecordAwrShrink(context, recorder, coef, coefVariance, LevelExtent(color.width, levels),
+                    LevelExtent(color.height, levels), options.cs);
+    // The input image's buffer takes the result: no fifth image.
+    transform.RecordSynthesis(recorder, options.basis, levels, coef, colorGpu);
+    recorder.Submit();
+    result.timings = recorder.Timings();
+    result.image = colorGpu.Download();
+    return result;
+}
+
+}  // namespace mcd

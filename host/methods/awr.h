@@ -1,0 +1,42 @@
+// Method `awr`: Adaptive Wavelet Rendering's reconstruction (Overbeck et al., section 4.2)
+// on the GPU. The noisy image's DWT, the squared-filter DWT of its per-pixel variance
+// (eq. 10: the variance of every coefficient), soft shrinkage of the details by cs times
+// the coefficients' standard deviation (eq. 11), synthesis.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/image.h"
+#include "host/vk/context.h"
+#include "host/vk/recorder.h"
+#include "host/wavelet.h"
+
+namespace mcd {
+
+struct AwrOptions {
+    WaveletBasis basis = WaveletBasis::Cdf97;
+    int levels = -1;  // -1: as many as the image allows
+    float cs = 1.f;   // smoothing constant
+    // The squared 1D filters are renormalised to sum to these (the paper: 2^-1/2 for the
+    // reconstruction, to damp coarse-scale smoothing).
+    float lowSum = 0.70710678f, highSum = 0.70710678f;
+};
+
+struct AwrResult {
+    Image image;
+    std::vector<std::string> plan;            // what ran and what was left out, and why
+    std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
+};
+
+// Per-pixel variance of the mean from the sample range (AWR section 4.2: the functional
+// variance (Imax - Imin)^2 over the pixel's N samples).
+Image AwrVarianceFromRange(const Image &min, const Image &max, const Image &spp);
+
+// Denoise `color` with per-pixel variance of the mean `variance` (same size and channels).
+// Throws mcd::Error naming the first offending pixel when either holds NaN/Inf or the
+// variance is negative.
+AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &variance,
+                         const AwrOptions &options);
+
+}  // namespace mcd

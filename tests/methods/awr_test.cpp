@@ -1,0 +1,159 @@
+// Method awr: the shrink kernel and the whole reconstruction against the CPU reference,
+// the properties of issue #5, and a real denoising gain on a rendered frame.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <cmath>
+#include <limits>
+
+#include "cpu_reference/awr_reconstruct.h"
+#include "cpu_reference/wavelet_analyze.h"
+#include "cpu_reference/wavelet_sqanalyze.h"
+#include "cpu_reference/wavelet_synthesize.h"
+#include "harness/compare.h"
+#include "harness/errors.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/kernels/awr_shrink.h"
+#include "host/methods/awr.h"
+#include "host/metrics.h"
+#include "tools/render/renderer.h"
+
+namespace mcd::test {
+namespace {
+
+constexpr double kUnitRoundoff = 0x1p-24;
+
+class AwrKernel : public GpuTest {};
+
+TEST_F(AwrKernel, ShrinkMatchesReference) {
+    for (auto [w, h, lw, lh] : {std::tuple{37, 23, 5, 3}, std::tuple{1, 1, 1, 1},
+                                std::tuple{64, 7, 64, 7}, std::tuple{9, 13, 0, 0}}) {
+        SCOPED_TRACE(fmt::format("{}x{} low {}x{}", w, h, lw, lh));
+        uint64_t seed = SeedFromName(fmt::format("shrink{}x{}", w, h));
+        Image coef = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+        Image signs = MakeInput(InputKind::Uniform, w, h, 3, seed + 1);
+        for (size_t i = 0; i < coef.Size(); ++i) coef.data[i] *= signs.data[i] < 0 ? -1.f : 1.f;
+        Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 2);
+        for (float cs : {0.f, 1.f, 3.5f}) {
+            Image expected = ref::AwrShrink(coef, variance, lw, lh, cs);
+            vk::GpuImage c(Ctx(), w, h, 3, "coef"), v(Ctx(), w, h, 3, "variance");
+            c.Upload(coef);
+            v.Upload(variance);
+            vk::Recorder recorder(Ctx());
+            RecordAwrShrink(Ctx(), recorder, c, v, lw, lh, cs);
+            recorder.Submit();
+            // One sqrt, one multiply, one subtraction in float: a few units of round-off of
+            // |w| + cs sqrt(var).
+            Image scale(w, h, 3);
+            for (size_t i = 0; i < scale.Size(); ++i)
+                scale.data[i] = std::fabs(coef.data[i]) + cs * std::sqrt(variance.data[i]);
+            EXPECT_TRUE(
+                ImagesMatch(expected, c.Download(), scale, {4 * kUnitRoundoff, 0, 1e-12}))
+                << "cs " << cs;
+        }
+    }
+}
+
+// The whole reconstruction against ref::AwrReconstruct. Shrinkage is 1-Lipschitz in the
+// coefficient and in its threshold, so the GPU's error is bounded by the synthesis of the
+// analysis error plus cs times the threshold error: the magnitude twins of both, composed.
+TEST_F(AwrKernel, ReconstructionMatchesReference) {
+    for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97})
+        for (auto [w, h] : {std::pair{45, 31}, std::pair{16, 16}, std::pair{3, 70}}) {
+            SCOPED_TRACE(fmt::format("{} {}x{}", WaveletName(basis), w, h));
+            uint64_t seed = SeedFromName(fmt::format("awr{}{}x{}", int(basis), w, h));
+            Image color = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+            Image variance =
+                MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 1);
+            for (float &v : variance.data) v *= 0.01f;
+            int levels = MaxWaveletLevels(w, h);
+            const double cs = 1, sum = 0.70710678;
+            Image expected = ref::AwrReconstruct(color, variance, basis, levels, cs, sum, sum);
+            AwrOptions options;
+            options.basis = basis;
+            AwrResult result = AwrReconstruct(Ctx(), color, variance, options);
+            Image bound = ref::WaveletAnalyzeMagnitude(color, basis, levels);
+            Image deltas = ref::WaveletSqAnalyze(variance, basis, levels, sum, sum);
+            for (size_t i = 0; i < bound.Size(); ++i)
+                bound.data[i] += cs * std::sqrt(deltas.data[i]);
+            Image magnitude = ref::WaveletSynthesizeMagnitude(bound, basis, levels);
+            Tolerance tol{2 * 96 * kUnitRoundoff * levels, 0, 1e-9};
+            EXPECT_TRUE(ImagesMatch(expected, result.image, magnitude, tol));
+        }
+}
+
+class AwrProperties : public GpuTest {};
+
+TEST_F(AwrProperties, ZeroVarianceOrZeroCsLeaveTheImage) {
+    Image color = MakeInput(InputKind::LogNormalFireflies, 33, 20, 3, SeedFromName("awr0"));
+    AwrResult zero = AwrReconstruct(Ctx(), color, Image(33, 20, 3, 0.f), {});
+    EXPECT_TRUE(BitIdentical(color, zero.image));
+    ASSERT_FALSE(zero.plan.empty());
+    EXPECT_TRUE(Contains(zero.plan[0], "variance is zero"));
+    AwrOptions noSmoothing;
+    noSmoothing.cs = 0;
+    AwrResult cs0 = AwrReconstruct(Ctx(), color, Image(33, 20, 3, 0.5f), noSmoothing);
+    EXPECT_TRUE(BitIdentical(color, cs0.image));
+    EXPECT_TRUE(Contains(cs0.plan[0], "cs is 0"));
+    EXPECT_TRUE(cs0.timings.empty()) << "nothing should have been dispatched";
+}
+
+TEST_F(AwrProperties, ConstantStaysConstant) {
+    Image color(29, 17, 3, 0.37f);
+    Image variance =
+        MakeVarianceInput(InputKind::LogNormalFireflies, 29, 17, 3, SeedFromName("awrc"));
+    AwrResult r = AwrReconstruct(Ctx(), color, variance, {});
+    for (float v : r.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
+}
+
+TEST_F(AwrProperties, BadInputsAreRefusedWithTheirPlace) {
+    Image color(8, 6, 3, 0.5f), variance(8, 6, 3, 0.1f);
+    Image nan = color;
+    nan.At(1, 4, 5) = std::numeric_limits<float>::quiet_NaN();
+    std::string message = ErrorOf([&] { AwrReconstruct(Ctx(), nan, variance, {}); });
+    EXPECT_TRUE(Contains(message, "(5, 4)")) << message;
+    EXPECT_TRUE(Contains(message, "NaN")) << message;
+    Image negative = variance;
+    negative.At(0, 2, 3) = -1;
+    message = ErrorOf([&] { AwrReconstruct(Ctx(), color, negative, {}); });
+    EXPECT_TRUE(Contains(message, "negative")) << message;
+    EXPECT_TRUE(
+        Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, Image(8, 5, 3), {}); }), "8x5x3"));
+    AwrOptions tooDeep;
+    tooDeep.levels = 9;
+    EXPECT_TRUE(
+        Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, variance, tooDeep); }), "allows"));
+}
+
+// What the method is for: on a rendered frame, closer to the converged image (PSNR and
+// SSIM), with either source of variance. Measured with the CLI on cornell at 4 spp: at
+// 96x96 PSNR gains 1.8-2.6 dB and SSIM 0.13-0.19 for levels 3-5; at 48x48 the walls' and
+// light's edges are a few pixels wide and PSNR drops 0.5-1.8 dB (SSIM still rises), so the
+// test uses 96x96. relMSE gets worse in both: ringing into the dark ceiling (issue #5).
+TEST_F(AwrProperties, DenoisesARenderedFrame) {
+    render::Scene scene = render::BuildScene("cornell");
+    render::RenderOptions o;
+    o.width = 96, o.height = 96, o.spp = 4, o.seed = 3;
+    render::RenderResult noisy = render::Render(scene, o);
+    o.spp = 256, o.seed = 99;
+    render::RenderResult converged = render::Render(scene, o);
+    auto layer = [](const render::RenderResult &r, const char *name) -> const Image & {
+        for (const auto &[n, image] : r.layers)
+            if (n == name) return image;
+        throw Error(name);
+    };
+    const Image &color = layer(noisy, "color"), &reference = layer(converged, "color");
+    ErrorMetrics before = CompareImages(color, reference);
+    for (const Image &variance : {layer(noisy, "variance"),
+                                  AwrVarianceFromRange(layer(noisy, "min"), layer(noisy, "max"),
+                                                       layer(noisy, "spp"))}) {
+        ErrorMetrics after =
+            CompareImages(AwrReconstruct(Ctx(), color, variance, {}).image, reference);
+        EXPECT_GT(after.psnr, before.psnr + 1.0) << before.psnr << " -> " << after.psnr;
+        EXPECT_GT(after.ssim, before.ssim) << before.ssim << " -> " << after.ssim;
+    }
+}
+
+}  // namespace
+}  // namespace mcd::test
