@@ -261,6 +261,9 @@ Context::Context(const ContextOptions &options) {
         int chosen = SelectDevice(infos, selector);
         physicalDevice = devices[chosen];
         info = infos[chosen];
+        // Exercise the descriptor-pool path on devices that do have push descriptors.
+        if (const char *off = std::getenv("MCD_NO_PUSH_DESCRIPTORS"); off && *off == '1')
+            info.pushDescriptors = false;
         vkGetPhysicalDeviceMemoryProperties(physicalDevice, &memoryProperties);
         queueFamily = uint32_t(ComputeQueueFamily(physicalDevice, nullptr));
 
