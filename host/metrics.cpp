@@ -66,6 +66,9 @@ ErrorMetrics CompareImages(const Image &image, const Image &reference) {
     if (image.width != reference.width || image.height != reference.height)
         throw Error(fmt::format("cannot compare a {}x{} image with a {}x{} reference",
                                 image.width, image.height, reference.width, reference.height));
+    if (image.channels != reference.channels && (image.channels < 3 || reference.channels < 3))
+        throw Error(fmt::format("cannot compare a {}-channel image with a {}-channel reference",
+                                image.channels, reference.channels));
     int channels = std::min(std::min(image.channels, reference.channels), 3);
     if (channels < 1) throw Error("cannot compare images without channels");
     ErrorMetrics m;
@@ -90,6 +93,13 @@ ErrorMetrics CompareImages(const Image &image, const Image &reference) {
     m.relMse = count ? rel / count : 0;
     double mse = count ? sq / count : 0;
     m.psnr = mse > 0 ? 10 * std::log10(1 / mse) : std::numeric_limits<double>::infinity();
+    if (m.nonFinite > 0) {
+        // A result with NaN/Inf in it is as wrong as it gets: it must never score well.
+        m.relMse = std::numeric_limits<double>::infinity();
+        m.psnr = 0;
+        m.ssim = 0;
+        return m;
+    }
 
     // SSIM (Wang et al. 2004) on display luminance, Gaussian-weighted local statistics.
     int w = image.width, h = image.height;

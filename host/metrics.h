@@ -9,10 +9,11 @@ struct ErrorMetrics {
     double relMse = 0;     // mean((x - r)^2 / (r^2 + 0.01)), every channel
     double psnr = 0;       // dB, on [0,1]-clamped sRGB-encoded values; +inf when equal
     double ssim = 0;       // mean SSIM of the luminance of those values (Gaussian window 1.5)
-    size_t nonFinite = 0;  // elements of x that are NaN/Inf (left out of every metric)
+    size_t nonFinite = 0;  // elements of x that are NaN/Inf: then relMSE inf, PSNR 0, SSIM 0
 };
 
-// Throws mcd::Error when the shapes differ or the reference has non-finite values.
+// Throws mcd::Error when the sizes or channel counts differ (3 or more compare the first
+// three) or the reference has non-finite values.
 ErrorMetrics CompareImages(const Image &image, const Image &reference);
 
 }  // namespace mcd

@@ -50,6 +50,10 @@ AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &
         throw Error(fmt::format("awr: color is {}x{}x{} but variance is {}x{}x{}", color.width,
                                 color.height, color.channels, variance.width, variance.height,
                                 variance.channels));
+    if (!std::isfinite(options.cs) || options.cs < 0)
+        throw Error(fmt::format("awr: cs must be a finite number >= 0, not {}", options.cs));
+    if (!std::isfinite(options.lowSum) || !std::isfinite(options.highSum))
+        throw Error("awr: the renormalisation sums must be finite numbers");
     CheckLayer(color, "color", false);
     CheckLayer(variance, "variance", true);
     int maxLevels = MaxWaveletLevels(color.width, color.height);

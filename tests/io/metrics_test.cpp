@@ -49,7 +49,11 @@ TEST(Metrics, NonFiniteAndMismatchedInputs) {
     x.At(1, 2, 3) = std::numeric_limits<float>::quiet_NaN();
     ErrorMetrics m = CompareImages(x, r);
     EXPECT_EQ(m.nonFinite, 1u);
-    EXPECT_EQ(m.relMse, 0);
+    // Non-finite output scores as badly as possible, never as well as a perfect one.
+    EXPECT_TRUE(std::isinf(m.relMse));
+    EXPECT_EQ(m.psnr, 0);
+    EXPECT_EQ(m.ssim, 0);
+    EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(Image(8, 8, 1), r); }), "1-channel"));
     EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(Image(8, 7, 3), r); }), "8x7"));
     EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(r, x); }), "non-finite"));
 }

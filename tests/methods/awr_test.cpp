@@ -120,6 +120,10 @@ TEST_F(AwrProperties, BadInputsAreRefusedWithTheirPlace) {
     EXPECT_TRUE(Contains(message, "negative")) << message;
     EXPECT_TRUE(
         Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, Image(8, 5, 3), {}); }), "8x5x3"));
+    AwrOptions nanCs;
+    nanCs.cs = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_TRUE(
+        Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, variance, nanCs); }), "cs"));
     AwrOptions tooDeep;
     tooDeep.levels = 9;
     EXPECT_TRUE(

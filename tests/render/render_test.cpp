@@ -151,6 +151,10 @@ TEST(RenderArguments, BadOnesAreRefused) {
     EXPECT_TRUE(Contains(ErrorOf([] { render::BuildScene("nope"); }), "cornell"));
     EXPECT_TRUE(Contains(ErrorOf([] { RenderCornell(0, 4, 1, 1, 0); }), "size"));
     EXPECT_TRUE(Contains(ErrorOf([] { RenderCornell(4, 4, 0, 1, 0); }), "samples"));
+    EXPECT_TRUE(Contains(ErrorOf([] { RenderCornell(4, 4, 1 << 24, 1, 0); }), "at most"));
+    // More threads than rows, or than can start, still give the frame.
+    EXPECT_TRUE(BitIdentical(Layer(RenderCornell(6, 3, 2, 1, 0, 64), "color"),
+                             Layer(RenderCornell(6, 3, 2, 1, 0, 1), "color")));
     EXPECT_TRUE(Contains(ErrorOf([] { render::ParseLayerGroups("hist,nope"); }), "nope"));
     EXPECT_EQ(render::ParseLayerGroups("hist,pivot"),
               render::kLayersHist | render::kLayersPivot);

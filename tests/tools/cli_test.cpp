@@ -386,6 +386,12 @@ TEST_F(CliTest, DenoiseAwr) {
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "cs is 0"));
     EXPECT_TRUE(IsError(Run("denoise n.exr --method rhf -o f.exr"), "#4"));
+    // A reference of the wrong size is refused before anything is written over a good file.
+    ASSERT_EQ(Run("render --size 12x8 --spp 2 -o small.exr").code, 0);
+    std::ofstream(Path("keep.exr")) << "good";
+    EXPECT_TRUE(IsError(Run("denoise n.exr -o keep.exr --reference small.exr"), "12x8"));
+    std::ifstream kept(Path("keep.exr"));
+    EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), {}), "good");
     Image color(8, 8, 3, 0.5f);
     io::WriteExr(Path("bare.exr").string(), {{"color", &color}});
     EXPECT_TRUE(IsError(Run("denoise bare.exr -o f.exr"), "variance layer"));

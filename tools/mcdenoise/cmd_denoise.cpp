@@ -89,7 +89,13 @@ void AddDenoiseCommand(CLI::App &app) {
         std::string why;
         Image variance = AwrVariance(frame, opt->variance, &why);
         Image reference;
-        if (!opt->reference.empty()) reference = io::ReadImage(opt->reference);
+        if (!opt->reference.empty()) {
+            reference = io::ReadImage(opt->reference);
+            if (reference.width != color.width || reference.height != color.height)
+                throw Error(fmt::format("reference {} is {}x{}, the frame {}x{}",
+                                        opt->reference, reference.width, reference.height,
+                                        color.width, color.height));
+        }
 
         AwrOptions options;
         options.basis = *basis;
@@ -108,6 +114,20 @@ void AddDenoiseCommand(CLI::App &app) {
             fmt::print("awr on {} ({}):\n  {}\n", opt->input, context.Info().name, why);
             for (const std::string &step : result.plan) fmt::print("  {}\n", step);
         }
+        // Measure before writing: a failure here must not leave a file behind.
+        std::string errorLine;
+        if (!reference.Empty()) {
+            ErrorMetrics before = CompareImages(color, reference);
+            ErrorMetrics after = CompareImages(result.image, reference);
+            errorLine = fmt::format(
+                "  error vs {}: relMSE {:.5g} -> {:.5g}, PSNR {:.2f} -> {:.2f} dB, SSIM {:.4f} "
+                "-> "
+                "{:.4f}{}\n",
+                opt->reference, before.relMse, after.relMse, before.psnr, after.psnr,
+                before.ssim, after.ssim,
+                after.nonFinite ? fmt::format(" ({} non-finite output values)", after.nonFinite)
+                                : "");
+        }
         if (opt->output.size() > 4 && opt->output.substr(opt->output.size() - 4) == ".png")
             io::WritePng(opt->output, result.image);
         else
@@ -116,15 +136,7 @@ void AddDenoiseCommand(CLI::App &app) {
         if (!opt->preview.empty()) io::WritePng(opt->preview, result.image);
         fmt::print("{}: awr in {:.1f} ms ({:.1f} ms GPU, {} dispatches)\n", opt->output, wallMs,
                    gpuMs, result.timings.size());
-        if (!reference.Empty()) {
-            ErrorMetrics before = CompareImages(color, reference);
-            ErrorMetrics after = CompareImages(result.image, reference);
-            fmt::print(
-                "  error vs {}: relMSE {:.5g} -> {:.5g}, PSNR {:.2f} -> {:.2f} dB, SSIM "
-                "{:.4f} -> {:.4f}\n",
-                opt->reference, before.relMse, after.relMse, before.psnr, after.psnr,
-                before.ssim, after.ssim);
-        }
+        fmt::print("{}", errorLine);
     });
 }
 

@@ -15,9 +15,10 @@ inline double Uniform(Rng &rng) {
 
 // One camera path. color = direct + indirect exactly, sample by sample: `direct` is light
 // reaching the camera through at most one non-specular vertex (emitters seen directly or
-// in mirrors, and next-event estimation at the first diffuse or glossy vertex); the rest,
-// diffuse interreflection, is `indirect` (Xu-Pattanaik's split). The first hit fills the
-// G-buffer fields.
+// in mirrors, and next-event estimation at the first diffuse or glossy vertex), except
+// caustics (a diffuse or glossy vertex, then mirrors, then a light), which count as
+// indirect with the rest, diffuse interreflection (Xu-Pattanaik's split). The first hit fills
+// the G-buffer fields.
 struct PathSample {
     Vec3 color, direct, indirect;
     Vec3 albedo, normal;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <mutex>
 #include <sstream>
+#include <system_error>
 #include <thread>
 
 #include "host/error.h"
@@ -78,6 +79,9 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
         throw Error(fmt::format("image size {}x{} must be positive", o.width, o.height));
     if (o.spp <= 0)
         throw Error(fmt::format("samples per pixel must be positive, not {}", o.spp));
+    // Sample keys are pixel << 24 | sample: more would reuse another sample's random numbers.
+    if (o.spp >= (1 << 24))
+        throw Error(fmt::format("at most {} samples per pixel, not {}", (1 << 24) - 1, o.spp));
     if (o.histBins < 3) throw Error("a histogram needs at least 3 bins per channel");
     const int w = o.width, h = o.height, bins = o.histBins;
     auto start = std::chrono::steady_clock::now();
@@ -167,7 +171,7 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                     for (int j = 0; j < 16; ++j) {
                         double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
                         sumPivot +=
-                            PivotRadiance(scene, scene.camera.Generate(sx, sy, w, h, 0.5, 0.0));
+                            PivotRadiance(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0));
                     }
                     for (int c = 0; c < 3; ++c) pivot.At(c, y, x) = float(sumPivot[c] / 16);
                 }
@@ -179,10 +183,19 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
             }
         }
     };
+    // Rows are handed out one at a time, so any number of threads gives the same frame; more
+    // threads than rows would idle. A thread that cannot start leaves its rows to the rest.
     int threads =
         o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    threads = std::clamp(threads, 1, std::min(h, 1024));
     std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(renderRows);
+    for (int t = 1; t < threads; ++t) {
+        try {
+            pool.emplace_back(renderRows);
+        } catch (const std::system_error &) {
+            break;
+        }
+    }
     renderRows();
     for (std::thread &t : pool) t.join();
 

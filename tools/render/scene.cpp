@@ -103,6 +103,7 @@ Vec3 ReliefNormal(const Quad &q, double u, double v) {
 
 bool Scene::Intersect(const Ray &ray, double tMax, Hit *hit) const {
     bool found = false;
+    Vec3 geometric;
     for (const Sphere &s : spheres) {
         double t;
         if (!IntersectSphere(s, ray, tMax, &t)) continue;
@@ -111,6 +112,7 @@ bool Scene::Intersect(const Ray &ray, double tMax, Hit *hit) const {
         hit->t = t;
         hit->position = ray.At(t);
         hit->normal = (hit->position - s.center) / s.radius;
+        geometric = hit->normal;
         Vec3 d = hit->normal;
         hit->u = 0.5 + std::atan2(d.z, d.x) / (2 * kPi);
         hit->v = 0.5 + std::asin(std::clamp(d.y, -1.0, 1.0)) / kPi;
@@ -126,6 +128,7 @@ bool Scene::Intersect(const Ray &ray, double tMax, Hit *hit) const {
         hit->t = t;
         hit->position = ray.At(t);
         hit->normal = q.Normal();
+        geometric = hit->normal;
         if (q.relief > 0) hit->normal = ReliefNormal(q, u, v);
         hit->u = u;
         hit->v = v;
@@ -133,7 +136,9 @@ bool Scene::Intersect(const Ray &ray, double tMax, Hit *hit) const {
         hit->objectId = q.objectId;
         hit->partId = q.partId;
     }
-    hit->frontFace = Dot(hit->normal, ray.direction) < 0;
+    // Sidedness from the geometric normal; the shading normal follows it.
+    hit->frontFace = Dot(geometric, ray.direction) < 0;
+    hit->geometricNormal = hit->frontFace ? geometric : -geometric;
     if (found && !hit->frontFace) hit->normal = -hit->normal;
     return found;
 }

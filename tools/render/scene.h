@@ -67,7 +67,8 @@ struct Camera {
 
 struct Hit {
     double t = 0;
-    Vec3 position, normal;  // normal faces the incoming ray
+    Vec3 position, normal;  // shading normal, facing the incoming ray
+    Vec3 geometricNormal;   // the surface's own normal, facing the incoming ray
     bool frontFace = true;  // the ray came from the side the surface's normal points to
     double u = 0, v = 0;
     int material = -1, objectId = 0, partId = 0;
