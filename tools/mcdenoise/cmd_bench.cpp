@@ -215,7 +215,7 @@ void AddBenchCommand(CLI::App &app) {
         options.spp = ropt->spp;
         options.threads = ropt->threads;
         fmt::print(
-            "bench render: {}x{} at {} spp, all layer groups, {} threads\n", options.width,
+            "bench render: {}x{} at {} spp, {} threads; time without, then with, every layer group\n", options.width,
             options.height, options.spp,
             options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
         for (const std::string &name : render::SceneNames()) {
