@@ -2,13 +2,16 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
 #include "host/error.h"
 #include "host/io/frame.h"
+#include "host/methods/awr.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/render/adaptive.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::tool {
@@ -27,6 +30,49 @@ std::string ReferenceCachePath(const std::string &scene, const render::RenderOpt
         .string();
 }
 
+template <typename Options>
+void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
+                         const render::RenderOptions &base) {
+    render::AdaptiveOptions options;
+    options.width = base.width;
+    options.height = base.height;
+    options.averageSpp = base.spp;
+    options.seed = base.seed;
+    if (isatty(fileno(stderr)))
+        options.progress = [](uint64_t done, uint64_t total) {
+            std::fprintf(stderr, "\radaptive: %3d%%", int(100 * done / total));
+        };
+    vk::Context context(opt.device.ContextOptions());
+    render::AdaptiveResult result = render::RenderAdaptive(context, scene, options);
+    if (options.progress) std::fprintf(stderr, "\n");
+    std::vector<std::pair<std::string, const Image *>> layers;
+    for (const auto &[name, image] : result.layers) layers.push_back({name, &image});
+    const Image &color = result.layers[0].second, &spp = result.layers[2].second;
+    Image denoised;
+    if (!opt.denoised.empty())
+        denoised =
+            AwrReconstruct(
+                context, color,
+                AwrVarianceFromRange(result.layers[3].second, result.layers[4].second, spp), {})
+                .image;
+    io::WriteExr(opt.output, layers, result.metadata);
+    if (!opt.preview.empty()) io::WritePng(opt.preview, color);
+    if (!denoised.Empty()) {
+        if (opt.denoised.size() > 4 && opt.denoised.substr(opt.denoised.size() - 4) == ".png")
+            io::WritePng(opt.denoised, denoised);
+        else
+            io::WriteExr(opt.denoised, {{"color", &denoised}}, {{"mcd:method", "awr"}});
+    }
+    float most = *std::max_element(spp.data.begin(), spp.data.end());
+    float least = *std::min_element(spp.data.begin(), spp.data.end());
+    if (!opt.density.empty()) io::WritePng(opt.density, spp, 1.f / most);
+    fmt::print(
+        "{}: {} {}x{} adaptive (awr) at {} spp on average, {} rounds, {:.2f} s; "
+        "samples per pixel {:.0f}..{:.0f}\n",
+        opt.output, scene.name, options.width, options.height, options.averageSpp,
+        result.rounds, result.seconds, least, most);
+}
+
 }  // namespace
 
 void AddRenderCommand(CLI::App &app) {
@@ -35,6 +81,8 @@ void AddRenderCommand(CLI::App &app) {
         int spp = 16, threads = 0;
         uint64_t seed = 1;
         bool reference = false;
+        std::string adaptive, denoised, density;
+        DeviceOptions device;
     };
     auto opt = std::make_shared<Options>();
     std::string names;
@@ -61,6 +109,15 @@ void AddRenderCommand(CLI::App &app) {
         "a converged reference (the always-written layers, its own fixed seed), cached under "
         "$XDG_CACHE_HOME/mcdenoise (else ~/.cache/mcdenoise) by scene, size, spp and "
         "renderer version, so tests and benchmarks render it once");
+    cmd->add_option("--adaptive", opt->adaptive,
+                    "adaptive sampler: awr (Overbeck et al. 4.1; --spp is then the average, "
+                    "at least 4; writes color, variance, spp = the sample density, min, max)");
+    cmd->add_option("--denoised", opt->denoised,
+                    "with --adaptive awr: also write the AWR reconstruction of the frame here");
+    cmd->add_option(
+        "--density", opt->density,
+        "with --adaptive: also write the sample density as a PNG (brightest = most)");
+    opt->device.Add(cmd);
     cmd->callback([opt, sppOption] {
         if (opt->reference && !sppOption->count()) opt->spp = 4096;
         render::RenderOptions options;
@@ -72,6 +129,16 @@ void AddRenderCommand(CLI::App &app) {
         CheckOutputPath(opt->output, {".exr"});
         if (!opt->preview.empty()) CheckOutputPath(opt->preview, {".png"});
         render::Scene scene = render::BuildScene(opt->scene);
+        if (!opt->adaptive.empty()) {
+            if (opt->adaptive != "awr")
+                throw Error("--adaptive takes awr, not '" + opt->adaptive + "'");
+            if (opt->reference || !opt->layers.empty())
+                throw Error("--adaptive writes its own layers; drop --reference and --layers");
+            if (!opt->denoised.empty()) CheckOutputPath(opt->denoised, {".exr", ".png"});
+            if (!opt->density.empty()) CheckOutputPath(opt->density, {".png"});
+            RenderAdaptiveFrame(scene, *opt, options);
+            return;
+        }
         if (opt->reference) {
             options.layers = 0;
             options.seed = kReferenceSeed;

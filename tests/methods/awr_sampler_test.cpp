@@ -1,0 +1,106 @@
+// AWR's adaptive sampler (section 4.1): budget, determinism, adaptation, scale-function
+// profiles, and what it is for: lower error after reconstruction than uniform sampling.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "harness/compare.h"
+#include "harness/errors.h"
+#include "harness/gpu_fixture.h"
+#include "host/methods/awr.h"
+#include "host/metrics.h"
+#include "tools/render/adaptive.h"
+
+namespace mcd::test {
+namespace {
+
+class AwrSampler : public GpuTest {};
+
+render::AdaptiveResult Adaptive(vk::Context &ctx, int w, int h, int spp, uint64_t seed) {
+    static const render::Scene scene = render::BuildScene("cornell");
+    render::AdaptiveOptions o;
+    o.width = w, o.height = h, o.averageSpp = spp, o.seed = seed;
+    return render::RenderAdaptive(ctx, scene, o);
+}
+
+const Image &Layer(const render::AdaptiveResult &r, const char *name) {
+    for (const auto &[n, image] : r.layers)
+        if (n == name) return image;
+    throw Error(name);
+}
+
+TEST_F(AwrSampler, SpendsTheBudgetExactlyAndRepeats) {
+    render::AdaptiveResult a = Adaptive(Ctx(), 40, 28, 12, 7),
+                           b = Adaptive(Ctx(), 40, 28, 12, 7);
+    const Image &spp = Layer(a, "spp");
+    double total = std::accumulate(spp.data.begin(), spp.data.end(), 0.0);
+    EXPECT_EQ(total, 12.0 * 40 * 28);
+    EXPECT_EQ(a.samples, uint64_t(12) * 40 * 28);
+    EXPECT_GE(*std::min_element(spp.data.begin(), spp.data.end()), 4.f);
+    // Adapted: some pixels got many more samples than others.
+    EXPECT_GT(*std::max_element(spp.data.begin(), spp.data.end()), 3 * 4.f);
+    for (size_t i = 0; i < a.layers.size(); ++i)
+        EXPECT_TRUE(BitIdentical(a.layers[i].second, b.layers[i].second)) << a.layers[i].first;
+    EXPECT_GT(a.rounds, 1);
+}
+
+TEST_F(AwrSampler, ScaleFunctionProfiles) {
+    for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97})
+        for (int level = 0; level <= 5; ++level) {
+            render::ScaleProfile p = render::ScaleFunctionProfile(basis, level);
+            ASSERT_FALSE(p.cdf.empty());
+            EXPECT_TRUE(std::is_sorted(p.cdf.begin(), p.cdf.end()));
+            EXPECT_EQ(p.cdf.back(), 1.0);
+            // Support: (taps - 1)(2^k - 1) + 1 positions; symmetric banks centred on 0.
+            int reach =
+                basis == WaveletBasis::Cdf97 ? 3 : (basis == WaveletBasis::LeGall53 ? 1 : 0);
+            if (basis != WaveletBasis::Haar) {
+                EXPECT_EQ(int(p.cdf.size()), 2 * reach * ((1 << level) - 1) + 1);
+                EXPECT_EQ(p.origin, -reach * ((1 << level) - 1));
+            } else {
+                EXPECT_EQ(int(p.cdf.size()), 1 << level);  // a box of 2^k pixels
+                EXPECT_EQ(p.origin, 0);
+            }
+        }
+}
+
+TEST_F(AwrSampler, RefusesATooSmallBudget) {
+    EXPECT_TRUE(Contains(ErrorOf([&] { Adaptive(Ctx(), 8, 8, 3, 1); }), "at least"));
+}
+
+// Equal budget, both reconstructed by awr: adaptive sampling ends closer to the converged
+// image. Measured with the CLI at 128x128, 16 spp: relMSE 0.022 against 0.052, PSNR 29.7
+// against 28.2 dB, SSIM 0.870 against 0.879.
+TEST_F(AwrSampler, BeatsUniformSamplingAfterReconstruction) {
+    const int w = 96, h = 96, spp = 16;
+    render::Scene scene = render::BuildScene("cornell");
+    render::RenderOptions uniform;
+    uniform.width = w, uniform.height = h, uniform.spp = spp, uniform.seed = 3;
+    render::RenderResult u = render::Render(scene, uniform);
+    uniform.spp = 512, uniform.seed = 77;
+    render::RenderResult converged = render::Render(scene, uniform);
+    auto layer = [](const auto &r, const char *name) -> const Image & {
+        for (const auto &[n, image] : r.layers)
+            if (n == name) return image;
+        throw Error(name);
+    };
+    const Image &reference = layer(converged, "color");
+    auto reconstruct = [&](const auto &r) {
+        return AwrReconstruct(
+                   Ctx(), layer(r, "color"),
+                   AwrVarianceFromRange(layer(r, "min"), layer(r, "max"), layer(r, "spp")), {})
+            .image;
+    };
+    ErrorMetrics uniformError = CompareImages(reconstruct(u), reference);
+    ErrorMetrics adaptiveError =
+        CompareImages(reconstruct(Adaptive(Ctx(), w, h, spp, 3)), reference);
+    EXPECT_LT(adaptiveError.relMse, uniformError.relMse)
+        << adaptiveError.relMse << " vs " << uniformError.relMse;
+    EXPECT_GT(adaptiveError.psnr, uniformError.psnr)
+        << adaptiveError.psnr << " vs " << uniformError.psnr;
+}
+
+}  // namespace
+}  // namespace mcd::test

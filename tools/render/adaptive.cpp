@@ -1,0 +1,240 @@
+#include "tools/render/adaptive.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "host/error.h"
+#include "host/methods/wavelet_transform.h"
+#include "host/vk/gpu_image.h"
+
+namespace mcd::render {
+namespace {
+
+// SplitMix64, as in the renderer: decorrelates keys into PCG states.
+uint64_t Mix(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+// Position of a sample drawn from |phi| (profile CDF) around a coefficient at `centre`,
+// folded back into [0, n) like the transform folds the image.
+double DrawPosition(const ScaleProfile &profile, double centre, int n, double u1, double u2) {
+    int index =
+        int(std::upper_bound(profile.cdf.begin(), profile.cdf.end(), u1) - profile.cdf.begin());
+    index = std::min(index, int(profile.cdf.size()) - 1);
+    double p = centre + profile.origin + index + u2;
+    for (int k = 0; k < 4 && (p < 0 || p >= n); ++k) p = p < 0 ? -p : 2.0 * n - p;
+    return std::clamp(p, 0.0, std::nextafter(double(n), 0.0));
+}
+
+struct PixelStats {
+    double sum[3] = {}, sumSq[3] = {};
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double lumLo = INFINITY, lumHi = -INFINITY;
+    uint32_t n = 0;
+};
+
+}  // namespace
+
+ScaleProfile ScaleFunctionProfile(WaveletBasis basis, int level) {
+    // Synthesis low-pass taps (AWR appendix A; Haar: the pair (2n, 2n+1)), by offset.
+    std::vector<std::pair<int, double>> taps;
+    const double r = 1 / std::sqrt(2.0);
+    if (basis == WaveletBasis::Cdf97) {
+        const double half[4] = {1.115087052456994, 0.5912717631142470, -0.05754352622849957,
+                                -0.09127176311424948};
+        for (int k = -3; k <= 3; ++k) taps.push_back({k, r * half[std::abs(k)]});
+    } else if (basis == WaveletBasis::LeGall53) {
+        taps = {{-1, r * 0.5}, {0, r}, {1, r * 0.5}};
+    } else {
+        taps = {{0, r}, {1, r}};
+    }
+    // Cascade: phi_{j+1}[n] = sum_m phi_j[m] g0[n - 2m], upsampling by 2 each level.
+    std::vector<double> phi = {1.0};
+    int origin = 0;
+    for (int j = 0; j < level; ++j) {
+        int lo = taps.front().first, hi = taps.back().first;
+        std::vector<double> next(2 * (phi.size() - 1) + 1 + (hi - lo), 0.0);
+        for (size_t m = 0; m < phi.size(); ++m)
+            for (auto [offset, tap] : taps) next[2 * m + (offset - lo)] += phi[m] * tap;
+        origin = 2 * origin + lo;
+        phi = std::move(next);
+    }
+    ScaleProfile profile;
+    profile.origin = origin;
+    double total = 0;
+    for (double v : phi) total += std::fabs(v);
+    double running = 0;
+    for (double v : phi) profile.cdf.push_back((running += std::fabs(v)) / total);
+    profile.cdf.back() = 1;
+    return profile;
+}
+
+AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
+                              const AdaptiveOptions &o) {
+    const int w = o.width, h = o.height;
+    if (w <= 0 || h <= 0) throw Error(fmt::format("image size {}x{} must be positive", w, h));
+    if (o.initialSpp < 1 || o.averageSpp < o.initialSpp)
+        throw Error(
+            fmt::format("the adaptive sampler starts with {} samples per pixel: the "
+                        "average must be at least that, not {}",
+                        o.initialSpp, o.averageSpp));
+    auto start = std::chrono::steady_clock::now();
+    const uint64_t budget = uint64_t(o.averageSpp) * w * h;
+    std::vector<PixelStats> pixels(size_t(w) * h);
+    SampleSource source(scene, w, h, o.seed);
+    auto add = [&](double x, double y, uint64_t key) {
+        PathSample p = source.Trace(x, y, key);
+        PixelStats &s = pixels[size_t(int(y)) * w + int(x)];
+        double lum = p.color.Luminance();
+        if (!std::isfinite(lum)) return;
+        for (int c = 0; c < 3; ++c) {
+            s.sum[c] += p.color[c];
+            s.sumSq[c] += p.color[c] * p.color[c];
+            s.lo[c] = std::min(s.lo[c], p.color[c]);
+            s.hi[c] = std::max(s.hi[c], p.color[c]);
+        }
+        s.lumLo = std::min(s.lumLo, lum);
+        s.lumHi = std::max(s.lumHi, lum);
+        ++s.n;
+    };
+
+    // Step 1: coarse uniform sampling.
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int s = 0; s < o.initialSpp; ++s) {
+                uint64_t key = (uint64_t(y) * w + x) << 24 | uint64_t(s);
+                Rng jitter(Mix(o.seed ^ Mix(~key)), key);
+                add(x + Uniform(jitter), y + Uniform(jitter), key);
+            }
+    uint64_t samples = uint64_t(o.initialSpp) * w * h, counter = 0;
+
+    const int levels = std::min(o.maxLevel, MaxWaveletLevels(w, h));
+    std::vector<ScaleProfile> profiles;
+    for (int k = 0; k <= levels; ++k) profiles.push_back(ScaleFunctionProfile(o.basis, k));
+    vk::GpuImage luminance(context, w, h, 1, "adaptive.luminance");
+    vk::GpuImage variance(context, w, h, 1, "adaptive.variance");
+    vk::GpuImage coef(context, w, h, 1, "adaptive.coef");
+    std::vector<vk::GpuImage> scaleVariance;
+    for (int k = 1; k <= levels; ++k)
+        scaleVariance.emplace_back(context, w, h, 1,
+                                   fmt::format("adaptive.scaleVariance{}", k));
+    WaveletTransform transform(context, w, h, 1);
+    Image lum(w, h, 1), var(w, h, 1);
+
+    struct Candidate {
+        double priority;
+        int level, i, j;
+    };
+    std::vector<Candidate> candidates;
+    AdaptiveResult result;
+    while (samples < budget) {
+        // Step 2: priorities from the pixel means and Mitchell-contrast variances.
+        for (size_t p = 0; p < pixels.size(); ++p) {
+            const PixelStats &s = pixels[p];
+            lum.data[p] =
+                float((0.2126 * s.sum[0] + 0.7152 * s.sum[1] + 0.0722 * s.sum[2]) / s.n);
+            double range = s.lumHi + s.lumLo;
+            double contrast = range > 0 ? (s.lumHi - s.lumLo) / range : 0;
+            var.data[p] = float(contrast * contrast / s.n);
+        }
+        luminance.Upload(lum);
+        variance.Upload(var);
+        vk::Recorder recorder(context);
+        transform.RecordAnalysis(recorder, o.basis, levels, luminance, coef);
+        for (int k = 1; k <= levels; ++k)
+            transform.RecordSqAnalysis(recorder, o.basis, k, variance, scaleVariance[k - 1],
+                                       o.lowSum, 0.f);
+        recorder.Submit();
+        Image details = coef.Download();
+        candidates.clear();
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) candidates.push_back({var.At(0, j, i), 0, i, j});
+        for (int k = 1; k <= levels; ++k) {
+            Image sv = scaleVariance[k - 1].Download();
+            int pw = LevelExtent(w, k - 1), ph = LevelExtent(h, k - 1);
+            int hw = pw > 1 ? (pw + 1) / 2 : pw, hh = ph > 1 ? (ph + 1) / 2 : ph;
+            for (int j = 0; j < LevelExtent(h, k); ++j)
+                for (int i = 0; i < LevelExtent(w, k); ++i) {
+                    // Mean square of the wavelets at this position (those the size has).
+                    double squares = 0;
+                    int count = 0;
+                    auto take = [&](int x, int y) {
+                        if (x < pw && y < ph)
+                            squares += double(details.At(0, y, x)) * details.At(0, y, x),
+                                ++count;
+                    };
+                    if (pw > 1) take(hw + i, j);
+                    if (ph > 1) take(i, hh + j);
+                    if (pw > 1 && ph > 1) take(hw + i, hh + j);
+                    double wavelets = count ? squares / count : 0;
+                    candidates.push_back({sv.At(0, j, i) - wavelets, k, i, j});
+                }
+        }
+        std::stable_sort(
+            candidates.begin(), candidates.end(),
+            [](const Candidate &a, const Candidate &b) { return a.priority > b.priority; });
+
+        // Step 3, batched: the top coefficients, 64 x 2^k samples each, until an eighth of
+        // what is left (at least 1/64 of the budget) is placed.
+        uint64_t round = std::max((budget - samples) / 8, budget / 64), used = 0;
+        for (const Candidate &c : candidates) {
+            uint64_t count = std::min<uint64_t>(uint64_t(64) << c.level, budget - samples);
+            double centreX = double(c.i << c.level), centreY = double(c.j << c.level);
+            for (uint64_t s = 0; s < count; ++s) {
+                uint64_t key = (uint64_t(1) << 62) + counter++;
+                Rng place(Mix(o.seed ^ Mix(key ^ 0x5a5a5a5a)), key);
+                double u1 = Uniform(place), u2 = Uniform(place), u3 = Uniform(place),
+                       u4 = Uniform(place);
+                add(DrawPosition(profiles[c.level], centreX, w, u1, u2),
+                    DrawPosition(profiles[c.level], centreY, h, u3, u4), key);
+            }
+            samples += count;
+            used += count;
+            if (used >= round || samples >= budget) break;
+        }
+        ++result.rounds;
+        if (o.progress) o.progress(samples, budget);
+    }
+
+    Image color(w, h, 3), variance3(w, h, 3), spp(w, h, 1), mn(w, h, 3), mx(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const PixelStats &s = pixels[size_t(y) * w + x];
+            double n = s.n;
+            spp.At(0, y, x) = float(n);
+            for (int c = 0; c < 3; ++c) {
+                double mean = s.sum[c] / n;
+                color.At(c, y, x) = float(mean);
+                double v = n > 1 ? std::max(0.0, (s.sumSq[c] - n * mean * mean) / (n - 1)) : 0;
+                variance3.At(c, y, x) = float(v / n);
+                mn.At(c, y, x) = float(s.lo[c]);
+                mx.At(c, y, x) = float(s.hi[c]);
+            }
+        }
+    result.samples = samples;
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.layers = {{"color", std::move(color)},
+                     {"variance", std::move(variance3)},
+                     {"spp", std::move(spp)},
+                     {"min", std::move(mn)},
+                     {"max", std::move(mx)}};
+    result.metadata = {
+        {"mcd:scene", scene.name},
+        {"mcd:spp", std::to_string(o.averageSpp)},
+        {"mcd:sampler", fmt::format("awr adaptive, {} levels of {}, {} rounds", levels,
+                                    WaveletName(o.basis), result.rounds)},
+        {"mcd:seed", std::to_string(o.seed)},
+        {"mcd:size", fmt::format("{}x{}", w, h)},
+        {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
+        {"mcd:renderer", fmt::format("mcdenoise path tracer {}", kRendererVersion)}};
+    return result;
+}
+
+}  // namespace mcd::render
