@@ -49,12 +49,9 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
     for (const auto &[name, image] : result.layers) layers.push_back({name, &image});
     const Image &color = result.layers[0].second, &spp = result.layers[2].second;
     Image denoised;
+    // The frame's sample variance, as `denoise --variance auto` uses (see cmd_denoise.cpp).
     if (!opt.denoised.empty())
-        denoised =
-            AwrReconstruct(
-                context, color,
-                AwrVarianceFromRange(result.layers[3].second, result.layers[4].second, spp), {})
-                .image;
+        denoised = AwrReconstruct(context, color, result.layers[1].second, {}).image;
     io::WriteExr(opt.output, layers, result.metadata);
     if (!opt.preview.empty()) io::WritePng(opt.preview, color);
     if (!denoised.Empty()) {
