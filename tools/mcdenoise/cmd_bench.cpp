@@ -215,8 +215,9 @@ void AddBenchCommand(CLI::App &app) {
         options.spp = ropt->spp;
         options.threads = ropt->threads;
         fmt::print(
-            "bench render: {}x{} at {} spp, {} threads; time without, then with, every layer group\n", options.width,
-            options.height, options.spp,
+            "bench render: {}x{} at {} spp, {} threads; time without, then with, every layer "
+            "group\n",
+            options.width, options.height, options.spp,
             options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
         for (const std::string &name : render::SceneNames()) {
             render::Scene scene = render::BuildScene(name);

@@ -27,9 +27,10 @@ Image AwrVariance(const io::Frame &frame, const std::string &source, std::string
     }
     if (source == "range" || source == "auto") {
         if (!range)
-            throw Error(fmt::format("{}: awr needs a variance layer or min, max and spp layers; "
-                                    "the frame has neither",
-                                    frame.path));
+            throw Error(
+                fmt::format("{}: awr needs a variance layer or min, max and spp layers; "
+                            "the frame has neither",
+                            frame.path));
         *why = "variance of the mean from the sample range, (max - min)^2 / spp (AWR 4.2)";
         return AwrVarianceFromRange(frame.Get("min"), frame.Get("max"), frame.Get("spp"));
     }
@@ -130,11 +131,8 @@ void AddDenoiseCommand(CLI::App &app) {
                 after.nonFinite ? fmt::format(" ({} non-finite output values)", after.nonFinite)
                                 : "");
         }
-        if (opt->output.size() > 4 && opt->output.substr(opt->output.size() - 4) == ".png")
-            io::WritePng(opt->output, result.image);
-        else
-            io::WriteExr(opt->output, {{"color", &result.image}},
-                         {{"mcd:method", "awr"}, {"mcd:source", opt->input}});
+        WriteImage(opt->output, result.image,
+                   {{"mcd:method", "awr"}, {"mcd:source", opt->input}});
         if (!opt->preview.empty()) io::WritePng(opt->preview, result.image);
         fmt::print("{}: awr in {:.1f} ms ({:.1f} ms GPU, {} dispatches)\n", opt->output, wallMs,
                    gpuMs, result.timings.size());

@@ -54,12 +54,7 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
         denoised = AwrReconstruct(context, color, result.layers[1].second, {}).image;
     io::WriteExr(opt.output, layers, result.metadata);
     if (!opt.preview.empty()) io::WritePng(opt.preview, color);
-    if (!denoised.Empty()) {
-        if (opt.denoised.size() > 4 && opt.denoised.substr(opt.denoised.size() - 4) == ".png")
-            io::WritePng(opt.denoised, denoised);
-        else
-            io::WriteExr(opt.denoised, {{"color", &denoised}}, {{"mcd:method", "awr"}});
-    }
+    if (!denoised.Empty()) WriteImage(opt.denoised, denoised, {{"mcd:method", "awr"}});
     float most = *std::max_element(spp.data.begin(), spp.data.end());
     float least = *std::min_element(spp.data.begin(), spp.data.end());
     if (!opt.density.empty()) io::WritePng(opt.density, spp, 1.f / most);

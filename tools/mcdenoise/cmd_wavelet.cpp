@@ -157,11 +157,7 @@ void AddWaveletCommand(CLI::App &app) {
             fmt::print("  bands written to {}\n", opt->dump);
         }
         if (!opt->output.empty()) {
-            std::string ext = std::filesystem::path(opt->output).extension().string();
-            if (ext == ".png")
-                io::WritePng(opt->output, trip.reconstruction);
-            else
-                io::WriteExr(opt->output, {{"color", &trip.reconstruction}});
+            WriteImage(opt->output, trip.reconstruction);
             fmt::print("  wrote {}\n", opt->output);
         }
     });

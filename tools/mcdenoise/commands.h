@@ -5,8 +5,10 @@
 #include <CLI/CLI.hpp>
 
 #include <initializer_list>
+#include <map>
 #include <string>
 
+#include "host/image.h"
 #include "host/vk/context.h"
 
 namespace mcd::tool {
@@ -36,6 +38,11 @@ void ParseSize(const std::string &text, int *width, int *height);
 // Refuse, before any work, an output whose extension is not listed or whose directory
 // does not exist.
 void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions);
+
+// Write one image as a tonemapped PNG if `path` ends in .png, else as a float EXR (layer
+// color) with `metadata`.
+void WriteImage(const std::string &path, const Image &image,
+                const std::map<std::string, std::string> &metadata = {});
 
 // Create `path` as a directory (with parents) or throw if it cannot be one.
 void PrepareDirectory(const std::string &path);

@@ -7,6 +7,7 @@
 #include <new>
 
 #include "host/error.h"
+#include "host/io/frame.h"
 #include "tools/mcdenoise/commands.h"
 
 namespace mcd::tool {
@@ -49,6 +50,14 @@ void CheckOutputPath(const std::string &path, std::initializer_list<const char *
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw Error(
             fmt::format("output '{}': directory '{}' does not exist", path, dir.string()));
+}
+
+void WriteImage(const std::string &path, const Image &image,
+                const std::map<std::string, std::string> &metadata) {
+    if (std::filesystem::path(path).extension() == ".png")
+        io::WritePng(path, image);
+    else
+        io::WriteExr(path, {{"color", &image}}, metadata);
 }
 
 void PrepareDirectory(const std::string &path) {

@@ -13,14 +13,6 @@
 namespace mcd::render {
 namespace {
 
-// SplitMix64, as in the renderer: decorrelates keys into PCG states.
-uint64_t Mix(uint64_t x) {
-    x += 0x9e3779b97f4a7c15ull;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    return x ^ (x >> 31);
-}
-
 // Position of a sample drawn from |phi| (profile CDF) around a coefficient at `centre`,
 // folded back into [0, n) like the transform folds the image.
 double DrawPosition(const ScaleProfile &profile, double centre, int n, double u1, double u2) {

@@ -3,11 +3,21 @@
 
 #include <pcg_random.hpp>
 
+#include <cstdint>
+
 #include "tools/render/scene.h"
 
 namespace mcd::render {
 
 using Rng = pcg32;
+
+// SplitMix64: decorrelates (seed, key) pairs into PCG states.
+inline uint64_t Mix(uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
 
 inline double Uniform(Rng &rng) {
     return rng() * 0x1p-32;

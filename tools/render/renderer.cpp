@@ -56,17 +56,7 @@ void AddToHistogram(const double color[3], int bins, float *histogram) {
     }
 }
 
-namespace {
-
-// SplitMix64: decorrelates (seed, key) into a PCG state.
-uint64_t Mix(uint64_t x) {
-    x += 0x9e3779b97f4a7c15ull;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    return x ^ (x >> 31);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 PathSample SampleSource::Trace(double x, double y, uint64_t key) const {
     Rng rng(Mix(seed ^ Mix(key)), key);
