@@ -385,7 +385,7 @@ TEST_F(CliTest, DenoiseAwr) {
     r = Run("denoise n.exr --variance layer --cs 0 --explain -o e.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "cs is 0"));
-    EXPECT_TRUE(IsError(Run("denoise n.exr --method rhf -o f.exr"), "#4"));
+    EXPECT_TRUE(IsError(Run("denoise n.exr --method nope -o f.exr"), "unknown method 'nope'"));
     // A reference of the wrong size is refused before anything is written over a good file.
     ASSERT_EQ(Run("render --size 12x8 --spp 2 -o small.exr").code, 0);
     std::ofstream(Path("keep.exr")) << "good";
