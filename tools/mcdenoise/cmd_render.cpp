@@ -38,6 +38,7 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
     options.height = base.height;
     options.averageSpp = base.spp;
     options.seed = base.seed;
+    options.lowSum = opt.samplerRenorm;
     if (isatty(fileno(stderr)))
         options.progress = [](uint64_t done, uint64_t total) {
             std::fprintf(stderr, "\radaptive: %3d%%", int(100 * done / total));
@@ -74,6 +75,7 @@ void AddRenderCommand(CLI::App &app) {
         uint64_t seed = 1;
         bool reference = false;
         std::string adaptive, denoised, density;
+        float samplerRenorm = render::AdaptiveOptions().lowSum;
         DeviceOptions device;
     };
     auto opt = std::make_shared<Options>();
@@ -109,6 +111,11 @@ void AddRenderCommand(CLI::App &app) {
     cmd->add_option(
         "--density", opt->density,
         "with --adaptive: also write the sample density as a PNG (brightest = most)");
+    cmd->add_option("--sampler-renorm", opt->samplerRenorm,
+                    "with --adaptive awr: sum of the squared 1D low-pass filter in the "
+                    "priorities' variance DWT (eq. 9); above 1 favours coarse levels")
+        ->capture_default_str()
+        ->check(CLI::Range(0.5f, 4.f));
     opt->device.Add(cmd);
     cmd->callback([opt, sppOption] {
         if (opt->reference && !sppOption->count()) opt->spp = 4096;

@@ -29,7 +29,15 @@ struct PixelStats {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double lumLo = INFINITY, lumHi = -INFINITY;
     uint32_t n = 0;
+    double levelSum = 0;  // over the adaptive samples: the level that placed each
+    uint32_t adaptiveN = 0;
 };
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::duration d) {
+    return std::chrono::duration<double>(d).count();
+}
 
 }  // namespace
 
@@ -67,7 +75,7 @@ ScaleProfile ScaleFunctionProfile(WaveletBasis basis, int level) {
     return profile;
 }
 
-AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
+AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
                               const AdaptiveOptions &o) {
     const int w = o.width, h = o.height;
     if (w <= 0 || h <= 0) throw Error(fmt::format("image size {}x{} must be positive", w, h));
@@ -76,20 +84,21 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
             fmt::format("the adaptive sampler starts with {} samples per pixel: the "
                         "average must be at least that, not {}",
                         o.initialSpp, o.averageSpp));
-    auto start = std::chrono::steady_clock::now();
+    Clock::time_point start = Clock::now();
     const uint64_t budget = uint64_t(o.averageSpp) * w * h;
     std::vector<PixelStats> pixels(size_t(w) * h);
-    SampleSource source(scene, w, h, o.seed);
-    auto add = [&](double x, double y, uint64_t key) {
-        PathSample p = source.Trace(x, y, key);
+    // Trace one sample and fold it into its pixel; `level` < 0 for the initial samples.
+    auto add = [&](double x, double y, uint64_t key, int level) {
+        Vec3 color = trace(x, y, key);
         PixelStats &s = pixels[size_t(int(y)) * w + int(x)];
-        double lum = p.color.Luminance();
+        if (level >= 0) s.levelSum += level, ++s.adaptiveN;
+        double lum = color.Luminance();
         if (!std::isfinite(lum)) return;
         for (int c = 0; c < 3; ++c) {
-            s.sum[c] += p.color[c];
-            s.sumSq[c] += p.color[c] * p.color[c];
-            s.lo[c] = std::min(s.lo[c], p.color[c]);
-            s.hi[c] = std::max(s.hi[c], p.color[c]);
+            s.sum[c] += color[c];
+            s.sumSq[c] += color[c] * color[c];
+            s.lo[c] = std::min(s.lo[c], color[c]);
+            s.hi[c] = std::max(s.hi[c], color[c]);
         }
         s.lumLo = std::min(s.lumLo, lum);
         s.lumHi = std::max(s.lumHi, lum);
@@ -102,8 +111,10 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
             for (int s = 0; s < o.initialSpp; ++s) {
                 uint64_t key = (uint64_t(y) * w + x) << 24 | uint64_t(s);
                 Rng jitter(Mix(o.seed ^ Mix(~key)), key);
-                add(x + Uniform(jitter), y + Uniform(jitter), key);
+                add(x + Uniform(jitter), y + Uniform(jitter), key, -1);
             }
+    AdaptiveResult result;
+    result.traceSeconds = Seconds(Clock::now() - start);
     uint64_t samples = uint64_t(o.initialSpp) * w * h, counter = 0;
 
     const int levels = std::min(o.maxLevel, MaxWaveletLevels(w, h));
@@ -124,8 +135,9 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
         int level, i, j;
     };
     std::vector<Candidate> candidates;
-    AdaptiveResult result;
+    result.samplesPerLevel.assign(levels + 1, 0);
     while (samples < budget) {
+        Clock::time_point priorityStart = Clock::now();
         // Step 2: priorities from the pixel means and Mitchell-contrast variances.
         for (size_t p = 0; p < pixels.size(); ++p) {
             const PixelStats &s = pixels[p];
@@ -171,6 +183,8 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
         std::stable_sort(
             candidates.begin(), candidates.end(),
             [](const Candidate &a, const Candidate &b) { return a.priority > b.priority; });
+        Clock::time_point traceStart = Clock::now();
+        result.prioritySeconds += Seconds(traceStart - priorityStart);
 
         // Step 3, batched: the top coefficients, 64 x 2^k samples each, until an eighth of
         // what is left (at least 1/64 of the budget) is placed.
@@ -184,22 +198,27 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
                 double u1 = Uniform(place), u2 = Uniform(place), u3 = Uniform(place),
                        u4 = Uniform(place);
                 add(DrawPosition(profiles[c.level], centreX, w, u1, u2),
-                    DrawPosition(profiles[c.level], centreY, h, u3, u4), key);
+                    DrawPosition(profiles[c.level], centreY, h, u3, u4), key, c.level);
             }
+            result.samplesPerLevel[c.level] += count;
             samples += count;
             used += count;
             if (used >= round || samples >= budget) break;
         }
+        result.traceSeconds += Seconds(Clock::now() - traceStart);
         ++result.rounds;
         if (o.progress) o.progress(samples, budget);
     }
 
     Image color(w, h, 3), variance3(w, h, 3), spp(w, h, 1), mn(w, h, 3), mx(w, h, 3);
+    result.placementLevel = Image(w, h, 1);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const PixelStats &s = pixels[size_t(y) * w + x];
             double n = s.n;
             spp.At(0, y, x) = float(n);
+            result.placementLevel.At(0, y, x) =
+                s.adaptiveN ? float(s.levelSum / s.adaptiveN) : -1.f;
             for (int c = 0; c < 3; ++c) {
                 double mean = s.sum[c] / n;
                 color.At(c, y, x) = float(mean);
@@ -210,20 +229,29 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
             }
         }
     result.samples = samples;
-    result.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds = Seconds(Clock::now() - start);
     result.layers = {{"color", std::move(color)},
                      {"variance", std::move(variance3)},
                      {"spp", std::move(spp)},
                      {"min", std::move(mn)},
                      {"max", std::move(mx)}};
+    return result;
+}
+
+AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
+                              const AdaptiveOptions &o) {
+    SampleSource source(scene, o.width, o.height, o.seed);
+    AdaptiveResult result = SampleAdaptive(
+        context,
+        [&](double x, double y, uint64_t key) { return source.Trace(x, y, key).color; }, o);
+    int levels = std::min(o.maxLevel, MaxWaveletLevels(o.width, o.height));
     result.metadata = {
         {"mcd:scene", scene.name},
         {"mcd:spp", std::to_string(o.averageSpp)},
         {"mcd:sampler", fmt::format("awr adaptive, {} levels of {}, {} rounds", levels,
                                     WaveletName(o.basis), result.rounds)},
         {"mcd:seed", std::to_string(o.seed)},
-        {"mcd:size", fmt::format("{}x{}", w, h)},
+        {"mcd:size", fmt::format("{}x{}", o.width, o.height)},
         {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
         {"mcd:renderer", fmt::format("mcdenoise path tracer {}", kRendererVersion)}};
     return result;
