@@ -9,8 +9,12 @@
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
+#include "harness/gpu_wavelet.h"
+#include "harness/inputs.h"
 #include "host/methods/awr.h"
+#include "host/methods/wavelet_transform.h"
 #include "host/metrics.h"
+#include "host/vk/gpu_image.h"
 #include "tools/render/adaptive.h"
 
 namespace mcd::test {
@@ -100,6 +104,31 @@ TEST_F(AwrSampler, EdgesFromFineLevelsSmoothNoiseFromCoarse) {
     // The noisy half holds nearly all the variance, and coarse levels serve it.
     EXPECT_GT(r.samplesPerLevel[3] + r.samplesPerLevel[4] + r.samplesPerLevel[5],
               r.samplesPerLevel[0]);
+}
+
+// The sampler chains one-level squared analyses image to image; each level's corner must
+// hold exactly what the in-place multi-level transform leaves there.
+TEST_F(AwrSampler, ChainedScaleVariancesMatchTheInPlaceTransform) {
+    const int w = 45, h = 37, levels = MaxWaveletLevels(w, h);
+    Image variance = MakeVarianceInput(InputKind::Uniform, w, h, 1, SeedFromName("chain"));
+    vk::GpuImage in(Ctx(), w, h, 1, "in");
+    std::vector<vk::GpuImage> chained;
+    for (int k = 0; k < levels; ++k) chained.emplace_back(Ctx(), w, h, 1, "chained");
+    in.Upload(variance);
+    WaveletTransform transform(Ctx(), w, h, 1);
+    vk::Recorder recorder(Ctx());
+    for (int k = 0; k < levels; ++k)
+        transform.RecordSqAnalysisLevel(recorder, WaveletBasis::Cdf97, k,
+                                        k == 0 ? in : chained[k - 1], chained[k], 1.2f, 0.f);
+    recorder.Submit();
+    for (int k = 1; k <= levels; ++k) {
+        Image full = GpuSqAnalyze(Ctx(), variance, WaveletBasis::Cdf97, k, 1.2f, 0.f);
+        Image mine = chained[k - 1].Download();
+        for (int y = 0; y < LevelExtent(h, k); ++y)
+            for (int x = 0; x < LevelExtent(w, k); ++x)
+                ASSERT_EQ(mine.At(0, y, x), full.At(0, y, x))
+                    << "level " << k << " at " << x << ", " << y;
+    }
 }
 
 TEST_F(AwrSampler, RefusesATooSmallBudget) {

@@ -11,9 +11,11 @@
 #include <thread>
 
 #include "host/error.h"
+#include "host/methods/awr.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/render/adaptive.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::tool {
@@ -167,6 +169,91 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     }
 }
 
+struct AwrBenchOptions {
+    std::string size = "1024x1024", samplerScene = "dof-arealight", samplerSize = "256x256";
+    int repeats = 5, samplerSpp = 16;
+    DeviceOptions device;
+};
+
+// AWR: the reconstruction's stages against one forward + inverse DWT of the same frame,
+// then the adaptive sampler's own cost per sample against tracing.
+void BenchAwr(const AwrBenchOptions &opt) {
+    int width = 0, height = 0;
+    ParseSize(opt.size, &width, &height);
+    int repeats = std::max(opt.repeats, 1);
+    vk::Context context(opt.device.ContextOptions());
+    int levels = MaxWaveletLevels(width, height);
+    fmt::print(
+        "bench awr: reconstruction of a {}x{} RGB frame, {} levels of CDF 9/7, on {} ({})\n",
+        width, height, levels, context.Info().name, vk::DeviceTypeName(context.Info().type));
+    Image color(width, height, 3), variance(width, height, 3);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> uniform(0.f, 1.f);
+    for (size_t i = 0; i < color.Size(); ++i)
+        color.data[i] = uniform(rng), variance.data[i] = 0.01f * uniform(rng);
+
+    // Stages by dispatch label; the first run warms up pipelines and memory.
+    const char *stages[] = {"sqanalyze", "analyze", "shrink", "synthesize"};
+    std::vector<std::vector<double>> stageMs(4);
+    std::vector<double> totalMs, wallMs;
+    for (int r = 0; r <= repeats; ++r) {
+        Clock::time_point start = Clock::now();
+        AwrResult result = AwrReconstruct(context, color, variance, {});
+        double wall = Ms(Clock::now() - start);
+        if (r == 0) continue;
+        double stage[4] = {}, total = 0;
+        for (const vk::DispatchTiming &t : result.timings) {
+            int s = 0;
+            while (s < 3 && t.label.find(stages[s]) == std::string::npos) ++s;
+            stage[s] += std::max(t.gpuMs, 0.0);
+            total += std::max(t.gpuMs, 0.0);
+        }
+        for (int s = 0; s < 4; ++s) stageMs[s].push_back(stage[s]);
+        totalMs.push_back(total);
+        wallMs.push_back(wall);
+    }
+    // One forward + inverse DWT of the same frame, the yardstick the issue names.
+    vk::GpuImage in(context, width, height, 3, "bench.in"),
+        coef(context, width, height, 3, "bench.coef");
+    in.Upload(color);
+    WaveletTransform transform(context, width, height, 3);
+    vk::Recorder recorder(context);
+    std::vector<double> dwtMs;
+    for (int r = 0; r <= repeats; ++r) {
+        transform.RecordAnalysis(recorder, WaveletBasis::Cdf97, levels, in, coef);
+        transform.RecordSynthesis(recorder, WaveletBasis::Cdf97, levels, coef, in);
+        recorder.Submit();
+        if (r > 0) dwtMs.push_back(recorder.TotalGpuMs());
+    }
+    const char *names[] = {"squared-filter DWT of the variance", "DWT of the color",
+                           "soft shrinkage", "synthesis"};
+    fmt::print("  GPU time per stage (timestamps, median of {}):\n", repeats);
+    for (int s : {1, 0, 2, 3})
+        fmt::print("    {:<36} {:8.2f} ms\n", names[s], Median(stageMs[s]));
+    double total = Median(totalMs), dwt = Median(dwtMs);
+    fmt::print("    {:<36} {:8.2f} ms (goal: under 100 ms)\n", "total", total);
+    fmt::print("  wall time with upload and download: {:.1f} ms\n", Median(wallMs));
+    fmt::print(
+        "  one forward + inverse DWT of the frame: {:.2f} ms; reconstruction / DWT = {:.2f} "
+        "(goal: at most 2)\n",
+        dwt, total / dwt);
+
+    // The sampler: its own work (transforms, priorities, sorting) against tracing.
+    render::Scene scene = render::BuildScene(opt.samplerScene);
+    render::AdaptiveOptions sampler;
+    ParseSize(opt.samplerSize, &sampler.width, &sampler.height);
+    sampler.averageSpp = opt.samplerSpp;
+    render::AdaptiveResult adaptive = render::RenderAdaptive(context, scene, sampler);
+    double samples = double(adaptive.samples);
+    fmt::print(
+        "  adaptive sampler on {} {}x{} at {} spp: {} rounds, {:.2f} s; tracing {:.3f} us per "
+        "sample, the sampler's own work {:.3f} us per sample ({:.1f}% of tracing)\n",
+        opt.samplerScene, sampler.width, sampler.height, sampler.averageSpp, adaptive.rounds,
+        adaptive.seconds, adaptive.traceSeconds / samples * 1e6,
+        adaptive.prioritySeconds / samples * 1e6,
+        100 * adaptive.prioritySeconds / adaptive.traceSeconds);
+}
+
 }  // namespace
 
 void AddBenchCommand(CLI::App &app) {
@@ -232,6 +319,24 @@ void AddBenchCommand(CLI::App &app) {
             std::fflush(stdout);
         }
     });
+
+    auto aopt = std::make_shared<AwrBenchOptions>();
+    CLI::App *awr = bench->add_subcommand(
+        "awr",
+        "AWR: reconstruction time per stage against one DWT, and the adaptive "
+        "sampler's overhead per sample against tracing");
+    awr->add_option("--size", aopt->size, "frame size WxH for the reconstruction")
+        ->capture_default_str();
+    awr->add_option("--repeat", aopt->repeats, "timed runs (after one warm-up)")
+        ->capture_default_str();
+    awr->add_option("--sampler-scene", aopt->samplerScene, "scene for the sampler run")
+        ->capture_default_str();
+    awr->add_option("--sampler-size", aopt->samplerSize, "image size of the sampler run")
+        ->capture_default_str();
+    awr->add_option("--sampler-spp", aopt->samplerSpp, "average spp of the sampler run")
+        ->capture_default_str();
+    aopt->device.Add(awr);
+    awr->callback([aopt] { BenchAwr(*aopt); });
 
     CLI::App *quality = bench->add_subcommand(
         "quality", "error against run time for every method [not available yet]");

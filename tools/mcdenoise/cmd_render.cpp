@@ -39,6 +39,7 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
     options.averageSpp = base.spp;
     options.seed = base.seed;
     options.lowSum = opt.samplerRenorm;
+    options.threads = base.threads;
     if (isatty(fileno(stderr)))
         options.progress = [](uint64_t done, uint64_t total) {
             std::fprintf(stderr, "\radaptive: %3d%%", int(100 * done / total));

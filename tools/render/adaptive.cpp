@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <system_error>
+#include <thread>
 
 #include "host/error.h"
 #include "host/methods/wavelet_transform.h"
@@ -31,6 +34,13 @@ struct PixelStats {
     uint32_t n = 0;
     double levelSum = 0;  // over the adaptive samples: the level that placed each
     uint32_t adaptiveN = 0;
+};
+
+// A placed sample waiting to be traced; `level` < 0 for the initial uniform samples.
+struct PendingSample {
+    double x, y;
+    uint64_t key;
+    int level;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -87,11 +97,10 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
     Clock::time_point start = Clock::now();
     const uint64_t budget = uint64_t(o.averageSpp) * w * h;
     std::vector<PixelStats> pixels(size_t(w) * h);
-    // Trace one sample and fold it into its pixel; `level` < 0 for the initial samples.
-    auto add = [&](double x, double y, uint64_t key, int level) {
-        Vec3 color = trace(x, y, key);
-        PixelStats &s = pixels[size_t(int(y)) * w + int(x)];
-        if (level >= 0) s.levelSum += level, ++s.adaptiveN;
+    // Fold a traced sample into its pixel.
+    auto add = [&](const PendingSample &p, const Vec3 &color) {
+        PixelStats &s = pixels[size_t(int(p.y)) * w + int(p.x)];
+        if (p.level >= 0) s.levelSum += p.level, ++s.adaptiveN;
         double lum = color.Luminance();
         if (!std::isfinite(lum)) return;
         for (int c = 0; c < 3; ++c) {
@@ -104,6 +113,33 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
         s.lumHi = std::max(s.lumHi, lum);
         ++s.n;
     };
+    // Trace a batch of samples on every core, then fold them into their pixels in batch
+    // order, so the frame is the same for any number of threads.
+    std::vector<PendingSample> batch;
+    std::vector<Vec3> colors;
+    auto traceBatch = [&] {
+        colors.resize(batch.size());
+        std::atomic<size_t> next = 0;
+        auto work = [&] {
+            for (size_t begin; (begin = next.fetch_add(256)) < batch.size();)
+                for (size_t i = begin; i < std::min(begin + 256, batch.size()); ++i)
+                    colors[i] = trace(batch[i].x, batch[i].y, batch[i].key);
+        };
+        int threads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
+        threads = std::clamp<int>(threads, 1, int(batch.size() / 256 + 1));
+        std::vector<std::thread> pool;
+        for (int t = 1; t < threads; ++t) {
+            try {
+                pool.emplace_back(work);
+            } catch (const std::system_error &) {
+                break;  // the threads that started share the work
+            }
+        }
+        work();
+        for (std::thread &t : pool) t.join();
+        for (size_t i = 0; i < batch.size(); ++i) add(batch[i], colors[i]);
+        batch.clear();
+    };
 
     // Step 1: coarse uniform sampling.
     for (int y = 0; y < h; ++y)
@@ -111,8 +147,9 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
             for (int s = 0; s < o.initialSpp; ++s) {
                 uint64_t key = (uint64_t(y) * w + x) << 24 | uint64_t(s);
                 Rng jitter(Mix(o.seed ^ Mix(~key)), key);
-                add(x + Uniform(jitter), y + Uniform(jitter), key, -1);
+                batch.push_back({x + Uniform(jitter), y + Uniform(jitter), key, -1});
             }
+    traceBatch();
     AdaptiveResult result;
     result.traceSeconds = Seconds(Clock::now() - start);
     uint64_t samples = uint64_t(o.initialSpp) * w * h, counter = 0;
@@ -151,9 +188,11 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
         variance.Upload(var);
         vk::Recorder recorder(context);
         transform.RecordAnalysis(recorder, o.basis, levels, luminance, coef);
+        // Scale variances of every level, each level from the one before (eq. 9).
         for (int k = 1; k <= levels; ++k)
-            transform.RecordSqAnalysis(recorder, o.basis, k, variance, scaleVariance[k - 1],
-                                       o.lowSum, 0.f);
+            transform.RecordSqAnalysisLevel(recorder, o.basis, k - 1,
+                                            k == 1 ? variance : scaleVariance[k - 2],
+                                            scaleVariance[k - 1], o.lowSum, 0.f);
         recorder.Submit();
         Image details = coef.Download();
         candidates.clear();
@@ -180,15 +219,22 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
                     candidates.push_back({sv.At(0, j, i) - wavelets, k, i, j});
                 }
         }
-        std::stable_sort(
-            candidates.begin(), candidates.end(),
-            [](const Candidate &a, const Candidate &b) { return a.priority > b.priority; });
+        // Step 3, batched: the top coefficients, 64 x 2^k samples each, until an eighth of
+        // what is left (at least 1/64 of the budget) is placed. Each takes at least 64, so
+        // only the top round / 64 + 1 need ordering; ties go to the finer level, then to
+        // the lower row and column, a total order whatever the sort's algorithm.
+        uint64_t round = std::max((budget - samples) / 8, budget / 64), used = 0;
+        size_t top = std::min<size_t>(candidates.size(), round / 64 + 1);
+        std::partial_sort(candidates.begin(), candidates.begin() + top, candidates.end(),
+                          [](const Candidate &a, const Candidate &b) {
+                              if (a.priority != b.priority) return a.priority > b.priority;
+                              if (a.level != b.level) return a.level < b.level;
+                              return a.j != b.j ? a.j < b.j : a.i < b.i;
+                          });
+        candidates.resize(top);
         Clock::time_point traceStart = Clock::now();
         result.prioritySeconds += Seconds(traceStart - priorityStart);
 
-        // Step 3, batched: the top coefficients, 64 x 2^k samples each, until an eighth of
-        // what is left (at least 1/64 of the budget) is placed.
-        uint64_t round = std::max((budget - samples) / 8, budget / 64), used = 0;
         for (const Candidate &c : candidates) {
             uint64_t count = std::min<uint64_t>(uint64_t(64) << c.level, budget - samples);
             double centreX = double(c.i << c.level), centreY = double(c.j << c.level);
@@ -197,14 +243,16 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
                 Rng place(Mix(o.seed ^ Mix(key ^ 0x5a5a5a5a)), key);
                 double u1 = Uniform(place), u2 = Uniform(place), u3 = Uniform(place),
                        u4 = Uniform(place);
-                add(DrawPosition(profiles[c.level], centreX, w, u1, u2),
-                    DrawPosition(profiles[c.level], centreY, h, u3, u4), key, c.level);
+                batch.push_back({DrawPosition(profiles[c.level], centreX, w, u1, u2),
+                                 DrawPosition(profiles[c.level], centreY, h, u3, u4), key,
+                                 c.level});
             }
             result.samplesPerLevel[c.level] += count;
             samples += count;
             used += count;
             if (used >= round || samples >= budget) break;
         }
+        traceBatch();
         result.traceSeconds += Seconds(Clock::now() - traceStart);
         ++result.rounds;
         if (o.progress) o.progress(samples, budget);

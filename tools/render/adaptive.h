@@ -34,6 +34,7 @@ struct AdaptiveOptions {
     // 0.00061 both.
     float lowSum = 1.2f;
     uint64_t seed = 1;
+    int threads = 0;  // tracing threads, 0: all cores; the frame is the same for any number
     std::function<void(uint64_t, uint64_t)> progress;  // (samples so far, budget)
 };
 
