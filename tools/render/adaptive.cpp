@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <system_error>
 #include <thread>
 
@@ -48,6 +49,47 @@ using Clock = std::chrono::steady_clock;
 double Seconds(Clock::duration d) {
     return std::chrono::duration<double>(d).count();
 }
+
+// The GPU side of a round: both transforms in one submission.
+class GpuPriorityTransforms {
+  public:
+    GpuPriorityTransforms(vk::Context &context, int w, int h, int levels)
+        : luminance(context, w, h, 1, "adaptive.luminance"),
+          variance(context, w, h, 1, "adaptive.variance"),
+          coef(context, w, h, 1, "adaptive.coef"),
+          transform(context, w, h, 1),
+          context(context),
+          levels(levels) {
+        for (int k = 1; k <= levels; ++k)
+            scaleVariance.emplace_back(context, w, h, 1,
+                                       fmt::format("adaptive.scaleVariance{}", k));
+    }
+
+    void Run(const Image &lum, const Image &var, WaveletBasis basis, float lowSum,
+             Image *details, std::vector<Image> *scaleVariances) {
+        luminance.Upload(lum);
+        variance.Upload(var);
+        vk::Recorder recorder(context);
+        transform.RecordAnalysis(recorder, basis, levels, luminance, coef);
+        // Scale variances of every level, each level from the one before (eq. 9).
+        for (int k = 1; k <= levels; ++k)
+            transform.RecordSqAnalysisLevel(recorder, basis, k - 1,
+                                            k == 1 ? variance : scaleVariance[k - 2],
+                                            scaleVariance[k - 1], lowSum, 0.f);
+        recorder.Submit();
+        *details = coef.Download();
+        scaleVariances->clear();
+        for (const vk::GpuImage &image : scaleVariance)
+            scaleVariances->push_back(image.Download());
+    }
+
+  private:
+    vk::GpuImage luminance, variance, coef;
+    std::vector<vk::GpuImage> scaleVariance;
+    WaveletTransform transform;
+    vk::Context &context;
+    int levels;
+};
 
 }  // namespace
 
@@ -157,15 +199,17 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
     const int levels = std::min(o.maxLevel, MaxWaveletLevels(w, h));
     std::vector<ScaleProfile> profiles;
     for (int k = 0; k <= levels; ++k) profiles.push_back(ScaleFunctionProfile(o.basis, k));
-    vk::GpuImage luminance(context, w, h, 1, "adaptive.luminance");
-    vk::GpuImage variance(context, w, h, 1, "adaptive.variance");
-    vk::GpuImage coef(context, w, h, 1, "adaptive.coef");
-    std::vector<vk::GpuImage> scaleVariance;
-    for (int k = 1; k <= levels; ++k)
-        scaleVariance.emplace_back(context, w, h, 1,
-                                   fmt::format("adaptive.scaleVariance{}", k));
-    WaveletTransform transform(context, w, h, 1);
-    Image lum(w, h, 1), var(w, h, 1);
+    PriorityTransforms transforms = o.transforms;
+    std::optional<GpuPriorityTransforms> gpu;
+    if (!transforms) {
+        gpu.emplace(context, w, h, levels);
+        transforms = [&](const Image &lum, const Image &var, WaveletBasis basis, int levels,
+                         float lowSum, Image *details, std::vector<Image> *scaleVariances) {
+            gpu->Run(lum, var, basis, lowSum, details, scaleVariances);
+        };
+    }
+    Image lum(w, h, 1), var(w, h, 1), details;
+    std::vector<Image> scaleVariances;
 
     struct Candidate {
         double priority;
@@ -184,22 +228,12 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
             double contrast = range > 0 ? (s.lumHi - s.lumLo) / range : 0;
             var.data[p] = float(contrast * contrast / s.n);
         }
-        luminance.Upload(lum);
-        variance.Upload(var);
-        vk::Recorder recorder(context);
-        transform.RecordAnalysis(recorder, o.basis, levels, luminance, coef);
-        // Scale variances of every level, each level from the one before (eq. 9).
-        for (int k = 1; k <= levels; ++k)
-            transform.RecordSqAnalysisLevel(recorder, o.basis, k - 1,
-                                            k == 1 ? variance : scaleVariance[k - 2],
-                                            scaleVariance[k - 1], o.lowSum, 0.f);
-        recorder.Submit();
-        Image details = coef.Download();
+        transforms(lum, var, o.basis, levels, o.lowSum, &details, &scaleVariances);
         candidates.clear();
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i) candidates.push_back({var.At(0, j, i), 0, i, j});
         for (int k = 1; k <= levels; ++k) {
-            Image sv = scaleVariance[k - 1].Download();
+            const Image &sv = scaleVariances[k - 1];
             int pw = LevelExtent(w, k - 1), ph = LevelExtent(h, k - 1);
             int hw = pw > 1 ? (pw + 1) / 2 : pw, hh = ph > 1 ? (ph + 1) / 2 : ph;
             for (int j = 0; j < LevelExtent(h, k); ++j)

@@ -12,11 +12,20 @@
 #include <functional>
 #include <vector>
 
+#include "host/image.h"
 #include "host/vk/context.h"
 #include "host/wavelet.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::render {
+
+// The transforms of a round (step 2): the luminance DWT (Mallat layout, for the details)
+// and, for k = 1..levels, the squared low-pass analysis of the variance to level k (eq. 9;
+// only the top-left LevelExtent(k) corner is read). The sampler runs them on the GPU;
+// tests pass the scalar reference to run the same loop on the CPU.
+using PriorityTransforms = std::function<void(
+    const Image &luminance, const Image &variance, WaveletBasis basis, int levels, float lowSum,
+    Image *details, std::vector<Image> *scaleVariances)>;
 
 struct AdaptiveOptions {
     int width = 256, height = 256;
@@ -35,6 +44,7 @@ struct AdaptiveOptions {
     float lowSum = 1.2f;
     uint64_t seed = 1;
     int threads = 0;  // tracing threads, 0: all cores; the frame is the same for any number
+    PriorityTransforms transforms;                     // empty: on the GPU of the context
     std::function<void(uint64_t, uint64_t)> progress;  // (samples so far, budget)
 };
 
