@@ -26,6 +26,7 @@
 #include "harness/inputs.h"
 #include "host/image.h"
 #include "host/io/frame.h"
+#include "host/metrics.h"
 #include "host/vk/context.h"
 #include "host/wavelet.h"
 
@@ -335,7 +336,6 @@ TEST_F(CliTest, DumpOntoFileIsAnError) {
 TEST_F(CliTest, PlannedCommandsNameTheirIssue) {
     const std::pair<const char *, const char *> planned[] = {
         {"diff", "#8"},
-        {"bench quality", "#8"},
     };
     for (auto [args, issue] : planned) {
         SCOPED_TRACE(args);
@@ -412,6 +412,47 @@ TEST_F(CliTest, ReferenceIsCached) {
     ASSERT_EQ(a.layers.size(), b.layers.size());
     for (const auto &[name, image] : a.layers)
         EXPECT_TRUE(BitIdentical(image, b.Get(name))) << name;
+}
+
+// The error-against-time report: one row per (scene, spp, method) whose figures agree with
+// a direct measurement, a plot, crops, and refusals of bad ladders before any work.
+TEST_F(CliTest, BenchQuality) {
+    std::string cache = "XDG_CACHE_HOME=" + Path("cache").string() + " ";
+    RunResult r =
+        Run("bench quality --scenes dof-arealight --size 24x16 --spp 2,8 --reference-spp 64 "
+            "--crop-spp 8 -o bq",
+            cache);
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "| dof-arealight | awr |"));
+    std::ifstream csv(Path("bq/quality.csv"));
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(csv, line);) lines.push_back(line);
+    ASSERT_EQ(lines.size(), 1u + 2 * 2) << "header + (mc, awr) x 2 spp";
+    EXPECT_EQ(lines[0].rfind("scene,spp,method,", 0), 0u);
+    // The MC row at 2 spp is the plain render: its relMSE is what compare measures.
+    ASSERT_EQ(Run("render --scene dof-arealight --size 24x16 --spp 2 -o mc2.exr").code, 0);
+    ASSERT_EQ(
+        Run("render --scene dof-arealight --size 24x16 --spp 64 --reference -o ref.exr", cache)
+            .code,
+        0);
+    io::Frame mc = io::ReadFrame(Path("mc2.exr").string()),
+              ref = io::ReadFrame(Path("ref.exr").string());
+    double relMse = CompareImages(mc.Get("color"), ref.Get("color")).relMse;
+    std::string row = *std::find_if(lines.begin(), lines.end(), [](const std::string &l) {
+        return l.rfind("dof-arealight,2,mc,", 0) == 0;
+    });
+    std::vector<std::string> fields;
+    std::stringstream stream(row);
+    for (std::string f; std::getline(stream, f, ',');) fields.push_back(f);
+    ASSERT_EQ(fields.size(), 10u) << row;
+    EXPECT_NEAR(std::stod(fields[7]), relMse, 1e-5 * relMse) << row;
+    for (const char *file :
+         {"bq/index.html", "bq/dof-arealight.svg", "bq/dof-arealight-input.png",
+          "bq/dof-arealight-awr.png", "bq/dof-arealight-reference.png"})
+        EXPECT_TRUE(fs::exists(Path(file))) << file;
+    EXPECT_TRUE(IsError(Run("bench quality --spp 0 -o bq2"), "--spp"));
+    EXPECT_TRUE(IsError(Run("bench quality --scenes nope -o bq2"), "nope"));
+    EXPECT_FALSE(fs::exists(Path("bq2")));
 }
 
 TEST_F(CliTest, BenchWavelet) {

@@ -338,10 +338,7 @@ void AddBenchCommand(CLI::App &app) {
     aopt->device.Add(awr);
     awr->callback([aopt] { BenchAwr(*aopt); });
 
-    CLI::App *quality = bench->add_subcommand(
-        "quality", "error against run time for every method [not available yet]");
-    quality->callback(
-        [] { throw Error("'bench quality' is not available yet: it lands with issue #8"); });
+    AddBenchQualityCommand(bench);
 }
 
 }  // namespace mcd::tool

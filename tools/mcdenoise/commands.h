@@ -24,6 +24,7 @@ struct DeviceOptions {
 void AddInfoCommand(CLI::App &app);
 void AddWaveletCommand(CLI::App &app);
 void AddBenchCommand(CLI::App &app);
+void AddBenchQualityCommand(CLI::App *bench);  // the `bench quality` subcommand
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);
