@@ -396,6 +396,15 @@ TEST_F(CliTest, DenoiseAwr) {
     io::WriteExr(Path("bare.exr").string(), {{"color", &color}});
     EXPECT_TRUE(IsError(Run("denoise bare.exr -o f.exr"), "variance layer"));
     EXPECT_FALSE(fs::exists(Path("f.exr")));
+    // A refused frame (NaN color) leaves the good file at the output path alone.
+    io::Frame noisy = io::ReadFrame(Path("n.exr").string());
+    noisy.layers["color"].At(0, 3, 4) = NAN;
+    std::vector<std::pair<std::string, const Image *>> layers;
+    for (const auto &[name, image] : noisy.layers) layers.push_back({name, &image});
+    io::WriteExr(Path("nan.exr").string(), layers);
+    EXPECT_TRUE(IsError(Run("denoise nan.exr -o keep.exr"), "pixel (4, 3)"));
+    std::ifstream keptAgain(Path("keep.exr"));
+    EXPECT_EQ(std::string((std::istreambuf_iterator<char>(keptAgain)), {}), "good");
 }
 
 // References are rendered once and then come from the cache (XDG_CACHE_HOME).
