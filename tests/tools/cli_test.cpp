@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -333,17 +334,24 @@ TEST_F(CliTest, DumpOntoFileIsAnError) {
     EXPECT_TRUE(IsError(r, "afile"));
 }
 
-TEST_F(CliTest, PlannedCommandsNameTheirIssue) {
-    const std::pair<const char *, const char *> planned[] = {
-        {"diff", "#8"},
-    };
-    for (auto [args, issue] : planned) {
-        SCOPED_TRACE(args);
-        RunResult r = Run(args);
-        EXPECT_NE(r.code, 0);
-        EXPECT_TRUE(Contains(r.err, "not available yet"));
-        EXPECT_TRUE(Contains(r.err, issue));
+// `diff`: every awr stage on the GPU against the CPU reference, dumped on request. NMSE of
+// float32 against double is ~1e-13 here; 1e-9 leaves room and still fails a wrong stage.
+TEST_F(CliTest, DiffAwrStages) {
+    ASSERT_EQ(Run("render --size 29x17 --spp 4 -o f.exr").code, 0);
+    RunResult r = Run("diff f.exr --method awr --dump dd");
+    ASSERT_EQ(r.code, 0) << r.All();
+    for (const char *stage : {"analysis", "variance analysis", "shrinkage", "synthesis"}) {
+        size_t at = r.out.find(std::string("  ") + stage + " ");
+        ASSERT_NE(at, std::string::npos) << stage << "\n" << r.out;
+        double nmse = std::strtod(r.out.c_str() + at + 2 + std::strlen(stage), nullptr);
+        EXPECT_LT(nmse, 1e-9) << stage;
+        std::string file = stage;
+        std::replace(file.begin(), file.end(), ' ', '-');
+        EXPECT_TRUE(fs::exists(Path("dd/" + file + ".gpu.exr"))) << file;
+        EXPECT_TRUE(fs::exists(Path("dd/" + file + ".cpu.exr"))) << file;
     }
+    EXPECT_TRUE(IsError(Run("diff f.exr --method nope"), "nope"));
+    EXPECT_TRUE(IsError(Run("diff f.exr --cs 0"), "nothing to compare"));
 }
 
 TEST_F(CliTest, RenderAndCompare) {

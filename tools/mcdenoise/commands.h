@@ -28,7 +28,7 @@ void AddBenchQualityCommand(CLI::App *bench);  // the `bench quality` subcommand
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);
-void AddPlannedCommands(CLI::App &app);
+void AddDiffCommand(CLI::App &app);
 
 // Largest image side the tool accepts for sizes it makes up itself.
 constexpr int kMaxImageSide = 32768;
