@@ -1,0 +1,116 @@
+#include "cpu_reference/bayes_denoise.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cpu_reference/wavelet_analyze.h"
+#include "cpu_reference/wavelet_synthesize.h"
+
+namespace mcd::ref {
+
+std::vector<double> BayesFloors(const Image &color, double floorRel) {
+    std::vector<double> floors(color.channels);
+    for (int c = 0; c < color.channels; ++c) {
+        double sum = 0;
+        int64_t n = 0;
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double v = color.At(c, y, x);
+                if (std::isfinite(v) && v > 0) sum += v, ++n;
+            }
+        floors[c] = std::max(n > 0 ? floorRel * sum / n : 1.0, 1e-30);
+    }
+    return floors;
+}
+
+Image BayesLog(const Image &color, const std::vector<double> &floors) {
+    Image out(color.width, color.height, color.channels);
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double v = color.At(c, y, x);
+                bool usable = std::isfinite(v) && v > floors[c];
+                out.At(c, y, x) = float(std::log(usable ? v : floors[c]));
+            }
+    return out;
+}
+
+Image BayesExp(const Image &logImage, const Image &original) {
+    Image out(logImage.width, logImage.height, logImage.channels);
+    for (int c = 0; c < out.channels; ++c)
+        for (int y = 0; y < out.height; ++y)
+            for (int x = 0; x < out.width; ++x) {
+                double v = original.At(c, y, x);
+                double z = std::clamp(double(logImage.At(c, y, x)), -87.0, 88.0);
+                out.At(c, y, x) = std::isfinite(v) && v > 0 ? float(std::exp(z)) : 0.f;
+            }
+    return out;
+}
+
+std::vector<BayesBand> BayesBands(int width, int height, int channels, int levels) {
+    std::vector<BayesBand> bands;
+    for (int c = 0; c < channels; ++c)
+        for (int level = 0; level < levels; ++level) {
+            int w = LevelExtent(width, level), h = LevelExtent(height, level);
+            int lowW = (w + 1) / 2, lowH = (h + 1) / 2;
+            bands.push_back({c, level, 0, lowW, 0, w, lowH});  // HL: high in x
+            bands.push_back({c, level, 1, 0, lowH, lowW, h});  // LH: high in y
+            bands.push_back({c, level, 2, lowW, lowH, w, h});  // HH
+        }
+    return bands;
+}
+
+BandMoments MeasureBand(const Image &coefficients, const BayesBand &band) {
+    BandMoments m;
+    for (int y = band.y0; y < band.y1; ++y)
+        for (int x = band.x0; x < band.x1; ++x) {
+            double v = coefficients.At(band.channel, y, x);
+            m.m2 += v * v;
+            m.m4 += v * v * v * v;
+            m.maxAbs = std::max(m.maxAbs, std::fabs(v));
+            ++m.count;
+        }
+    if (m.count > 0) m.m2 /= double(m.count), m.m4 /= double(m.count);
+    return m;
+}
+
+double BandNoiseS(int level, double sn, double hpFactor) {
+    return level == 0 ? hpFactor * sn : sn;
+}
+
+Image BayesShrinkDirect(const Image &coefficients, const std::vector<BayesBand> &bands,
+                        const std::vector<BandFit> &fits, const std::vector<double> &bandSn,
+                        double pn) {
+    Image out = coefficients;
+    for (size_t b = 0; b < bands.size(); ++b) {
+        const BayesBand &band = bands[b];
+        for (int y = band.y0; y < band.y1; ++y)
+            for (int x = band.x0; x < band.x1; ++x)
+                out.At(band.channel, y, x) = float(
+                    PosteriorMean(coefficients.At(band.channel, y, x), fits[b], bandSn[b], pn));
+    }
+    return out;
+}
+
+BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) {
+    BayesRefResult result;
+    std::vector<double> floors = BayesFloors(color, options.floorRel);
+    Image logImage = BayesLog(color, floors);
+    Image coefficients = WaveletAnalyze(logImage, options.basis, options.levels);
+    std::vector<BayesBand> bands =
+        BayesBands(color.width, color.height, color.channels, options.levels);
+    std::vector<double> bandSn;
+    for (const BayesBand &band : bands) {
+        BandMoments m = MeasureBand(coefficients, band);
+        double sn = BandNoiseS(band.level, options.sn, options.hpFactor);
+        result.moments.push_back(m);
+        result.fits.push_back(SolveBand(m.m2, m.m4, m.count, sn, options.pn));
+        bandSn.push_back(sn);
+    }
+    Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, options.pn);
+    Image back = WaveletSynthesize(shrunk, options.basis, options.levels);
+    result.image = BayesExp(back, color);
+    return result;
+}
+
+}  // namespace mcd::ref
