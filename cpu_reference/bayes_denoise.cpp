@@ -11,14 +11,15 @@ namespace mcd::ref {
 std::vector<double> BayesFloors(const Image &color, double floorRel) {
     std::vector<double> floors(color.channels);
     for (int c = 0; c < color.channels; ++c) {
-        double sum = 0;
-        int64_t n = 0;
+        std::vector<double> positive;
         for (int y = 0; y < color.height; ++y)
             for (int x = 0; x < color.width; ++x) {
                 double v = color.At(c, y, x);
-                if (std::isfinite(v) && v > 0) sum += v, ++n;
+                if (std::isfinite(v) && v > 0) positive.push_back(v);
             }
-        floors[c] = std::max(n > 0 ? floorRel * sum / n : 1.0, 1e-30);
+        std::sort(positive.begin(), positive.end());
+        double median = positive.empty() ? 1.0 : positive[positive.size() / 2];
+        floors[c] = std::max(floorRel * median, 1e-30);
     }
     return floors;
 }

@@ -13,8 +13,10 @@
 
 namespace mcd::ref {
 
-// Per channel: floorRel times the mean of the channel's finite positive values (1 when it
-// has none), at least 1e-30. Values below it (zeros, negatives, tiny) take its log.
+// Per channel: floorRel times the median of the channel's finite positive values (element
+// n/2 of them sorted; 1 when there are none), at least 1e-30. The median, not the mean:
+// one 1e8 firefly must not raise the floor of the whole channel. Values below it (zeros,
+// negatives, tiny) take its log.
 std::vector<double> BayesFloors(const Image &color, double floorRel);
 
 // log(max(v, floor_c)); NaN, Inf and values <= 0 take log(floor_c).

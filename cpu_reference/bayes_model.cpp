@@ -73,6 +73,7 @@ double PosteriorMean(double y, const BandFit &fit, double sn, double pn) {
     if (fit.fit == BAYES_FIT_NO_NOISE) return y;
     if (fit.fit == BAYES_FIT_NO_SIGNAL || fit.fit == BAYES_FIT_EMPTY) return 0;
     double ay = std::fabs(y);
+    if (ay == 0) return 0;  // odd: exactly 0, not the quadrature's round-off
     double sc = fit.sc, pc = fit.pc;
     double a = std::min(sn, sc);
     double noiseWidth = sn * std::pow(BAYES_TAIL, 1 / pn);

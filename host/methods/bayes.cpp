@@ -54,7 +54,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors,
     say(nonFinite, "NaN/Inf", "taken as the log floor, output 0");
     say(negative, "negative", "taken as the log floor, output 0");
     say(zero, "zero", "taken as the log floor, output restored to exactly 0");
-    say(floored, "tiny positive", "raised to the log floor (floorRel x the channel's mean)");
+    say(floored, "tiny positive", "raised to the log floor (floorRel x the channel's median)");
 }
 
 // Median of |x| of the pooled finest-level HH bands.
@@ -94,13 +94,18 @@ const char *BayesFitName(int fit) {
 std::vector<float> BayesFloors(const Image &color, float floorRel) {
     std::vector<float> floors(color.channels);
     for (int c = 0; c < color.channels; ++c) {
-        double sum = 0;
-        size_t n = 0;
+        std::vector<float> positive;
         for (size_t i = 0; i < color.PixelCount(); ++i) {
             float v = color.Plane(c)[i];
-            if (Finite(v) && v > 0) sum += v, ++n;
+            if (Finite(v) && v > 0) positive.push_back(v);
         }
-        floors[c] = float(std::max(n ? double(floorRel) * sum / double(n) : 1.0, 1e-30));
+        float median = 1.f;
+        if (!positive.empty()) {
+            auto mid = positive.begin() + positive.size() / 2;
+            std::nth_element(positive.begin(), mid, positive.end());
+            median = *mid;
+        }
+        floors[c] = float(std::max(double(floorRel) * median, 1e-30));
     }
     return floors;
 }
@@ -147,7 +152,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
     std::vector<float> floors = BayesFloors(color, options.floorRel);
     CountSpecials(color, floors, &result.warnings);
     result.plan.push_back(fmt::format(
-        "log domain (eqs. 4-5), per channel; floor {} x the channel's mean positive value; "
+        "log domain (eqs. 4-5), per channel; floor {} x the channel's median positive value; "
         "zeros restored exactly after exp",
         options.floorRel));
     if (levels < options.levels)

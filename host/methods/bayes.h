@@ -22,7 +22,7 @@ struct BayesOptions {
     float sn = 0.19f;        // noise s (the paper's "cabin" example)
     float pn = 1.5f;         // noise shape p
     float hpFactor = 2.f;    // the finest level's noise s is hpFactor * sn (paper: 2)
-    float floorRel = 1e-3f;  // log floor: floorRel times the channel's mean positive value
+    float floorRel = 1e-3f;  // log floor: floorRel times the channel's median positive value
     // Estimate the finest level's noise s from the data (median absolute deviation of the
     // finest HH bands, all channels pooled, through the generalised Laplacian of shape pn);
     // then sn = that / hpFactor.
@@ -52,7 +52,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesOp
 BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const Image &indirect,
                               const BayesOptions &options);
 
-// The per-channel log floors (floorRel times the mean finite positive value, 1 when none,
+// The per-channel log floors (floorRel times the median finite positive value, 1 if none,
 // at least 1e-30), and the s of a generalised Laplacian of shape p whose median absolute
 // value is `mad`.
 std::vector<float> BayesFloors(const Image &color, float floorRel);

@@ -1,6 +1,6 @@
 // Method `bayes`, stage 1: the log domain (eqs. 4-5). out = log(max(v, floor_c)), where
 // NaN, Inf and values <= floor_c (zeros, negatives) take log(floor_c); floor_c per channel
-// from the `floors` buffer (host: floorRel times the channel's mean positive value).
+// from the `floors` buffer (host: floorRel times the channel's median positive value).
 #ifndef MCD_SHADERS_BAYES_LOG_H
 #define MCD_SHADERS_BAYES_LOG_H
 

@@ -52,7 +52,7 @@ DenoiseMethod BayesMethod() {
                         "finest HH coefficient, shape --pn)")
             ->capture_default_str();
         cmd->add_option("--log-floor", opt->floorRel,
-                        "bayes: log floor relative to the channel's mean positive value")
+                        "bayes: log floor relative to the channel's median positive value")
             ->capture_default_str()
             ->check(CLI::Range(1e-12f, 0.5f));
         cmd->add_flag("--no-split", opt->noSplit,
