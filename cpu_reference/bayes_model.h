@@ -32,8 +32,9 @@ BandFit SolveBand(double m2, double m4, int64_t count, double sn, double pn);
 // the ratio of int c pn(y-c) pc(c) dc to int pn(y-c) pc(c) dc by the midpoint rule on the
 // grid c = a sinh(t), a = min(s_n, s_c), t uniform over [asinh(-R/a), asinh((|y|+R)/a)],
 // R = max(s_n T^(1/p_n), s_c T^(1/p_c)), T = BAYES_TAIL (beyond it every term is below
-// exp(-T) of the peak), with step dt = min(1/8, s_n / (8 (|y| + s_n T^(1/p_n) + a))) so the
-// spacing is at most s_n/8 over [0, y] and a/8 near 0; point count clamped to
+// exp(-T) of the peak), with step dt = min(1/S, s_n / (S (|y| + s_n T^(1/p_n) + a))),
+// S = BAYES_STEPS_PER_WIDTH, so the spacing is at most s_n/S over [0, y] and a/S near 0
+// (the posterior's peak lies in [0, y] and is no narrower than those); point count clamped to
 // [BAYES_MIN_POINTS, BAYES_MAX_POINTS]. Sums by log-sum-exp (two passes): no 0/0.
 // Odd: c^(-y) = -c^(y).
 double PosteriorMean(double y, const BandFit &fit, double sn, double pn);

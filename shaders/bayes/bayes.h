@@ -37,7 +37,7 @@
 // the peak are cut; the grid step is at most 1/BAYES_STEPS_PER_WIDTH of the noise width
 // over [0, y] and the point count is clamped to [BAYES_MIN_POINTS, BAYES_MAX_POINTS].
 #define BAYES_TAIL 40.0
-#define BAYES_STEPS_PER_WIDTH 8.0
+#define BAYES_STEPS_PER_WIDTH 4.0
 #define BAYES_MIN_POINTS 64
 #define BAYES_MAX_POINTS 65536
 

@@ -65,18 +65,20 @@ float BayesPosteriorMean(float y, float sn, float pn, float sc, float pc) {
     float points = ceil((t1 - t0) / dt);
     int n = int(clamp(points, float(BAYES_MIN_POINTS), float(BAYES_MAX_POINTS)));
     dt = (t1 - t0) / float(n);
+    // The grid weight a cosh(t) dt multiplies after the exp: it spans a few decades at
+    // most, far from float's range, so only the log densities need the running maximum.
     float peak = 0.0, num = 0.0, den = 0.0;
     for (int k = 0; k < n; ++k) {
-        float t = t0 + (float(k) + 0.5) * dt;
-        float c = a * sinh(t);
-        float l = -BayesPowAbs(y - c, sn, pn) - BayesPowAbs(c, sc, pc) + log(a * cosh(t) * dt);
+        float e = exp(t0 + (float(k) + 0.5) * dt);
+        float c = 0.5 * a * (e - 1.0 / e), weight = 0.5 * a * (e + 1.0 / e);
+        float l = -BayesPowAbs(y - c, sn, pn) - BayesPowAbs(c, sc, pc);
         if (k == 0 || l > peak) {
             float scale = k == 0 ? 0.0 : exp(peak - l);
-            num = num * scale + c;
-            den = den * scale + 1.0;
+            num = num * scale + weight * c;
+            den = den * scale + weight;
             peak = l;
         } else {
-            float w = exp(l - peak);
+            float w = weight * exp(l - peak);
             num += w * c;
             den += w;
         }
