@@ -36,14 +36,15 @@ Image BayesLog(const Image &color, const std::vector<double> &floors) {
     return out;
 }
 
-Image BayesExp(const Image &logImage, const Image &original) {
+Image BayesExp(const Image &logImage, const Image &original, bool restoreZeros) {
     Image out(logImage.width, logImage.height, logImage.channels);
     for (int c = 0; c < out.channels; ++c)
         for (int y = 0; y < out.height; ++y)
             for (int x = 0; x < out.width; ++x) {
                 double v = original.At(c, y, x);
                 double z = std::clamp(double(logImage.At(c, y, x)), -87.0, 88.0);
-                out.At(c, y, x) = std::isfinite(v) && v > 0 ? float(std::exp(z)) : 0.f;
+                bool keep = std::isfinite(v) && (v > 0 || (!restoreZeros && v == 0));
+                out.At(c, y, x) = keep ? float(std::exp(z)) : 0.f;
             }
     return out;
 }
@@ -110,7 +111,7 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
     }
     Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, options.pn);
     Image back = WaveletSynthesize(shrunk, options.basis, options.levels);
-    result.image = BayesExp(back, color);
+    result.image = BayesExp(back, color, options.restoreZeros);
     return result;
 }
 

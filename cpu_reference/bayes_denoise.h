@@ -22,9 +22,9 @@ std::vector<double> BayesFloors(const Image &color, double floorRel);
 // log(max(v, floor_c)); NaN, Inf and values <= 0 take log(floor_c).
 Image BayesLog(const Image &color, const std::vector<double> &floors);
 
-// exp(z), or exactly 0 where the original value was not a finite positive number (black
-// stays black; NaN/Inf/negatives become 0). z is clamped to [-87, 88] so exp stays finite.
-Image BayesExp(const Image &logImage, const Image &original);
+// exp(z), or exactly 0 where the original value was NaN/Inf/negative, and where it was 0
+// when restoreZeros (black stays black). z is clamped to [-87, 88] so exp stays finite.
+Image BayesExp(const Image &logImage, const Image &original, bool restoreZeros = true);
 
 // One detail band of the Mallat layout: [x0, x1) x [y0, y1) of channel `channel`.
 struct BayesBand {
@@ -54,6 +54,7 @@ struct BayesRefOptions {
     WaveletBasis basis = WaveletBasis::Haar;
     int levels = 3;
     double sn = 0.19, pn = 1.5, hpFactor = 2, floorRel = 1e-3;
+    bool restoreZeros = true;
 };
 struct BayesRefResult {
     Image image;

@@ -11,7 +11,7 @@
 namespace mcd {
 
 void RecordBayesExp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &logImage,
-                    const vk::GpuImage &original, const vk::GpuImage &out) {
+                    const vk::GpuImage &original, const vk::GpuImage &out, bool restoreZeros) {
     for (const vk::GpuImage *image : {&original, &out})
         if (image->width != logImage.width || image->height != logImage.height ||
             image->channels != logImage.channels)
@@ -25,7 +25,7 @@ void RecordBayesExp(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                                                   BAYES_EXP_BINDINGS,
                                                   sizeof(shader::BayesExpPush),
                                                   {}});
-    shader::BayesExpPush push{logImage.width, logImage.height};
+    shader::BayesExpPush push{logImage.width, logImage.height, restoreZeros ? 1 : 0};
     recorder.Dispatch(
         kernel, "bayes.exp",
         {{&logImage.buffer, vk::Access::Read},

@@ -153,8 +153,10 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
     CountSpecials(color, floors, &result.warnings);
     result.plan.push_back(fmt::format(
         "log domain (eqs. 4-5), per channel; floor {} x the channel's median positive value; "
-        "zeros restored exactly after exp",
-        options.floorRel));
+        "{}",
+        options.floorRel,
+        options.restoreZeros ? "zeros restored exactly after exp"
+                             : "zeros denoised like other pixels (--zeros denoise)"));
     if (levels < options.levels)
         result.plan.push_back(fmt::format("{} levels requested; a {}x{} image allows {}",
                                           options.levels, color.width, color.height, levels));
@@ -172,6 +174,9 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
 
     if (levels == 0) {
         result.plan.push_back("left out: the shrinkage (a 1x1 image has no detail band)");
+        RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
+        recorder.Submit();
+        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
     } else {
         transform.RecordAnalysis(recorder, options.basis, levels, work, work);
         float sn = options.sn;
@@ -198,7 +203,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
         RecordBayesTable(context, recorder, params, bands, table);
         RecordBayesShrink(context, recorder, work, levels, params, table);
         transform.RecordSynthesis(recorder, options.basis, levels, work, work);
-        RecordBayesExp(context, recorder, work, colorGpu, out);
+        RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
         recorder.Submit();
         for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
         std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
@@ -225,13 +230,25 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
                             f.params[2], f.params[3], BayesFitName(fit)));
         }
         result.plan.push_back("synthesis, exp");
-        result.image = out.Download();
-        return result;
     }
-    RecordBayesExp(context, recorder, work, colorGpu, out);
-    recorder.Submit();
-    for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
     result.image = out.Download();
+    if (options.keepMean) {
+        std::string scales;
+        for (int c = 0; c < channels; ++c) {
+            double in = 0, outSum = 0;
+            for (size_t i = 0; i < color.PixelCount(); ++i) {
+                float v = color.Plane(c)[i];
+                if (Finite(v) && v >= 0) in += v;
+                outSum += result.image.Plane(c)[i];
+            }
+            double scale = outSum > 0 ? in / outSum : 1.0;
+            for (size_t i = 0; i < color.PixelCount(); ++i)
+                result.image.Plane(c)[i] = float(result.image.Plane(c)[i] * scale);
+            scales += fmt::format("{}{:.4g}", c ? ", " : "", scale);
+        }
+        result.plan.push_back(fmt::format(
+            "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
+    }
     return result;
 }
 

@@ -27,6 +27,13 @@ struct BayesOptions {
     // finest HH bands, all channels pooled, through the generalised Laplacian of shape pn);
     // then sn = that / hpFactor.
     bool noiseAuto = false;
+    // Exact zeros come out exactly 0 (the issue: black stays black). Off: they are denoised
+    // like any pixel (from the log floor), which suits low-spp renders whose zeros are noise.
+    bool restoreZeros = true;
+    // Beyond the paper: scale each channel so its mean equals the input's (mean of the
+    // finite, non-negative input values), undoing the log domain's pull toward the
+    // geometric mean. Done on the host after download.
+    bool keepMean = false;
 };
 
 struct BayesBandFit {

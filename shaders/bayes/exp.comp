@@ -14,5 +14,6 @@ void main() {
     int at = (c * push.height + y) * push.width + x;
     float v = original[at];
     bool finite = (floatBitsToUint(v) & 0x7f800000u) != 0x7f800000u;
-    outColor[at] = finite && v > 0.0 ? exp(clamp(logImage[at], -87.0, 88.0)) : 0.0;
+    bool keep = finite && (v > 0.0 || (push.restoreZeros == 0 && v == 0.0));
+    outColor[at] = keep ? exp(clamp(logImage[at], -87.0, 88.0)) : 0.0;
 }

@@ -1,5 +1,6 @@
-// Method `bayes`, last stage: back from the log domain. out = exp(clamp(z, -87, 88)), or
-// exactly 0 where the original value was not a finite positive number (black stays black).
+// Method `bayes`, last stage: back from the log domain. out = exp(clamp(z, -87, 88)), or,
+// with restoreZeros, exactly 0 where the original value was not a finite positive number
+// (black stays black); without it only NaN/Inf/negative originals give 0.
 #ifndef MCD_SHADERS_BAYES_EXP_H
 #define MCD_SHADERS_BAYES_EXP_H
 
@@ -17,9 +18,10 @@ layout(push_constant) uniform BayesExpPush {
 #endif
     int width;
     int height;
+    int restoreZeros;
 #ifdef __cplusplus
 };
-static_assert(sizeof(BayesExpPush) == 8);
+static_assert(sizeof(BayesExpPush) == 12);
 }  // namespace mcd::shader
 #else
 }

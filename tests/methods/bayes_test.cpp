@@ -248,7 +248,7 @@ TEST_F(BayesKernel, LogAndExpMatchReference) {
         vk::Buffer floorsGpu = Floats(floors, "floors");
         vk::Recorder recorder(Ctx());
         RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
-        RecordBayesExp(Ctx(), recorder, out, in, back);
+        RecordBayesExp(Ctx(), recorder, out, in, back, true);
         recorder.Submit();
         Image logGpu = out.Download();
         EXPECT_TRUE(ImagesMatch(expected, logGpu, {}, {4 * kUnitRoundoff, 0x1p-21, 1e-9}));
@@ -262,6 +262,22 @@ TEST_F(BayesKernel, LogAndExpMatchReference) {
         for (size_t i = 0; i < color.Size(); ++i)
             if (!(std::isfinite(color.data[i]) && color.data[i] > 0))
                 EXPECT_EQ(expGpu.data[i], 0.f) << "exact zero at " << i;
+        // Zeros denoised: they take exp of their log like any pixel; NaN/Inf/negatives 0.
+        vk::Recorder again(Ctx());
+        RecordBayesExp(Ctx(), again, out, in, back, false);
+        again.Submit();
+        Image expNoRestore = back.Download();
+        Image expectedNoRestore = ref::BayesExp(logGpu, color, false);
+        for (size_t i = 0; i < scale.Size(); ++i)
+            scale.data[i] =
+                std::fabs(expectedNoRestore.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
+        EXPECT_TRUE(
+            ImagesMatch(expectedNoRestore, expNoRestore, scale, {kUnitRoundoff, 0, 1e-9}));
+        for (size_t i = 0; i < color.Size(); ++i) {
+            if (color.data[i] == 0) EXPECT_GT(expNoRestore.data[i], 0.f) << i;
+            if (!(std::isfinite(color.data[i]) && color.data[i] >= 0))
+                EXPECT_EQ(expNoRestore.data[i], 0.f) << i;
+        }
     }
 }
 

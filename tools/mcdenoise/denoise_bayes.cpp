@@ -17,7 +17,8 @@ struct BayesCliOptions {
     std::string basis = "haar", noise = "fixed";
     int levels = 3;
     float sn = 0.19f, pn = 1.5f, hpFactor = 2.f, floorRel = 1e-3f;
-    bool noSplit = false;
+    bool noSplit = false, keepMean = false;
+    std::string zeros = "restore";
 };
 
 }  // namespace
@@ -55,6 +56,13 @@ DenoiseMethod BayesMethod() {
                         "bayes: log floor relative to the channel's median positive value")
             ->capture_default_str()
             ->check(CLI::Range(1e-12f, 0.5f));
+        cmd->add_option("--zeros", opt->zeros,
+                        "bayes: restore (exact zeros stay 0, the paper's black) or denoise "
+                        "(zeros are noise, as in low-spp renders)")
+            ->capture_default_str();
+        cmd->add_flag("--keep-mean", opt->keepMean,
+                      "bayes: scale each channel to the input's mean (undoes the log "
+                      "domain's geometric-mean bias)");
         cmd->add_flag("--no-split", opt->noSplit,
                       "bayes: denoise the whole color even when direct/indirect exist");
     };
@@ -63,7 +71,11 @@ DenoiseMethod BayesMethod() {
         if (!basis) throw Error("bayes: unknown wavelet basis '" + opt->basis + "'");
         if (opt->noise != "fixed" && opt->noise != "auto")
             throw Error("--noise takes fixed or auto, not '" + opt->noise + "'");
+        if (opt->zeros != "restore" && opt->zeros != "denoise")
+            throw Error("--zeros takes restore or denoise, not '" + opt->zeros + "'");
         BayesOptions options;
+        options.restoreZeros = opt->zeros == "restore";
+        options.keepMean = opt->keepMean;
         options.basis = *basis;
         options.levels = opt->levels;
         options.sn = opt->sn;
