@@ -95,6 +95,35 @@ Image BayesShrinkDirect(const Image &coefficients, const std::vector<BayesBand> 
 }
 
 BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) {
+    if (options.spins > 1) {
+        BayesRefOptions once = options;
+        once.spins = 1;
+        int w = color.width, h = color.height, n = options.spins;
+        BayesRefResult result = BayesDenoise(color, once);
+        Image sum(w, h, color.channels);
+        std::vector<double> acc(color.Size(), 0.0);
+        for (int dy = 0; dy < n; ++dy)
+            for (int dx = 0; dx < n; ++dx) {
+                // Pad dx columns and dy rows at the top left, mirrored: position -k-1 reads k
+                // (clamped to the image for images narrower than the shift).
+                Image padded(w + dx, h + dy, color.channels);
+                for (int c = 0; c < color.channels; ++c)
+                    for (int y = 0; y < h + dy; ++y)
+                        for (int x = 0; x < w + dx; ++x) {
+                            int sx = x - dx < 0 ? std::min(dx - x - 1, w - 1) : x - dx;
+                            int sy = y - dy < 0 ? std::min(dy - y - 1, h - 1) : y - dy;
+                            padded.At(c, y, x) = color.At(c, sy, sx);
+                        }
+                Image one = BayesDenoise(padded, once).image;
+                size_t i = 0;
+                for (int c = 0; c < color.channels; ++c)
+                    for (int y = 0; y < h; ++y)
+                        for (int x = 0; x < w; ++x) acc[i++] += one.At(c, y + dy, x + dx);
+            }
+        for (size_t i = 0; i < acc.size(); ++i) sum.data[i] = float(acc[i] / (n * n));
+        result.image = sum;
+        return result;
+    }
     BayesRefResult result;
     std::vector<double> floors = BayesFloors(color, options.floorRel);
     Image logImage = BayesLog(color, floors);

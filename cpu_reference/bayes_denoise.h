@@ -55,13 +55,15 @@ struct BayesRefOptions {
     int levels = 3;
     double sn = 0.19, pn = 1.5, hpFactor = 2, floorRel = 1e-3;
     bool restoreZeros = true;
+    int spins = 1;  // cycle spinning over spins x spins shifts (mirrored top-left padding)
 };
 struct BayesRefResult {
     Image image;
     std::vector<BandMoments> moments;
     std::vector<BandFit> fits;
 };
-// The whole method on one image (no direct/indirect split).
+// The whole method on one image (no direct/indirect split). With spins > 1 the result is
+// the mean over the shifts and the moments/fits are the unshifted run's.
 BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options);
 
 }  // namespace mcd::ref

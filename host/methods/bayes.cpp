@@ -71,6 +71,25 @@ double FinestMad(const Image &coef) {
     return *mid;
 }
 
+// Scale each channel of result->image to the mean of color's finite non-negative values.
+void KeepMean(const Image &color, BayesResult *result) {
+    std::string scales;
+    for (int c = 0; c < color.channels; ++c) {
+        double in = 0, outSum = 0;
+        for (size_t i = 0; i < color.PixelCount(); ++i) {
+            float v = color.Plane(c)[i];
+            if (Finite(v) && v >= 0) in += v;
+            outSum += result->image.Plane(c)[i];
+        }
+        double scale = outSum > 0 ? in / outSum : 1.0;
+        for (size_t i = 0; i < color.PixelCount(); ++i)
+            result->image.Plane(c)[i] = float(result->image.Plane(c)[i] * scale);
+        scales += fmt::format("{}{:.4g}", c ? ", " : "", scale);
+    }
+    result->plan.push_back(fmt::format(
+        "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
+}
+
 }  // namespace
 
 const char *BayesFitName(int fit) {
@@ -129,8 +148,10 @@ double BayesScaleFromMad(double mad, double p) {
     return mad / end;
 }
 
-BayesResult BayesDenoise(vk::Context &context, const Image &color,
-                         const BayesOptions &options) {
+namespace {
+
+BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
+                             const BayesOptions &options) {
     if (color.Empty() || color.width < 1 || color.height < 1)
         throw Error("bayes: the image is empty");
     if (!std::isfinite(options.sn) || options.sn < 0)
@@ -232,23 +253,55 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
         result.plan.push_back("synthesis, exp");
     }
     result.image = out.Download();
-    if (options.keepMean) {
-        std::string scales;
-        for (int c = 0; c < channels; ++c) {
-            double in = 0, outSum = 0;
-            for (size_t i = 0; i < color.PixelCount(); ++i) {
-                float v = color.Plane(c)[i];
-                if (Finite(v) && v >= 0) in += v;
-                outSum += result.image.Plane(c)[i];
+    if (options.keepMean) KeepMean(color, &result);
+    return result;
+}
+
+}  // namespace
+
+BayesResult BayesDenoise(vk::Context &context, const Image &color,
+                         const BayesOptions &options) {
+    if (options.spins < 1 || options.spins > 8)
+        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", options.spins));
+    if (options.spins == 1) return BayesDenoiseOnce(context, color, options);
+    // Cycle spinning: the first shift's result carries the plan, warnings and fits.
+    BayesOptions once = options;
+    once.spins = 1;
+    once.keepMean = false;  // applied once to the average below
+    BayesResult result;
+    std::vector<double> sum(color.Size(), 0.0);
+    int w = color.width, h = color.height;
+    // Mirror -k-1 -> k, clamped for images narrower than the shift.
+    auto mirror = [](int i, int n) { return i < 0 ? std::min(-i - 1, n - 1) : i; };
+    for (int dy = 0; dy < options.spins; ++dy)
+        for (int dx = 0; dx < options.spins; ++dx) {
+            Image padded(w + dx, h + dy, color.channels);
+            for (int c = 0; c < color.channels; ++c)
+                for (int y = 0; y < h + dy; ++y)
+                    for (int x = 0; x < w + dx; ++x)
+                        padded.At(c, y, x) = color.At(c, mirror(y - dy, h), mirror(x - dx, w));
+            BayesResult one = BayesDenoiseOnce(context, padded, once);
+            for (int c = 0; c < color.channels; ++c)
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x)
+                        sum[(size_t(c) * h + y) * w + x] += one.image.At(c, y + dy, x + dx);
+            for (const vk::DispatchTiming &t : one.timings) result.timings.push_back(t);
+            if (dx == 0 && dy == 0) {
+                result.plan = std::move(one.plan);
+                result.warnings = std::move(one.warnings);
+                result.fits = std::move(one.fits);
+                result.sn = one.sn;
+                result.levels = one.levels;
             }
-            double scale = outSum > 0 ? in / outSum : 1.0;
-            for (size_t i = 0; i < color.PixelCount(); ++i)
-                result.image.Plane(c)[i] = float(result.image.Plane(c)[i] * scale);
-            scales += fmt::format("{}{:.4g}", c ? ", " : "", scale);
         }
-        result.plan.push_back(fmt::format(
-            "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
-    }
+    result.plan.insert(result.plan.begin(),
+                       fmt::format("cycle spinning: the average over {} x {} shifts (mirrored "
+                                   "padding); the bands below are the unshifted run's",
+                                   options.spins, options.spins));
+    result.image = Image(w, h, color.channels);
+    double count = double(options.spins) * options.spins;
+    for (size_t i = 0; i < sum.size(); ++i) result.image.data[i] = float(sum[i] / count);
+    if (options.keepMean) KeepMean(color, &result);
     return result;
 }
 

@@ -34,6 +34,10 @@ struct BayesOptions {
     // finite, non-negative input values), undoing the log domain's pull toward the
     // geometric mean. Done on the host after download.
     bool keepMean = false;
+    // Shift invariance by cycle spinning (Coifman & Donoho): the average of the method
+    // over the spins x spins shifts (dx, dy) in [0, spins)^2, each made by padding the
+    // image at the top left by mirroring (x -> -x-1) and cropping back. 1: off.
+    int spins = 1;
 };
 
 struct BayesBandFit {

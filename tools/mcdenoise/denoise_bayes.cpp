@@ -15,7 +15,7 @@ namespace {
 
 struct BayesCliOptions {
     std::string basis = "haar", noise = "fixed";
-    int levels = 3;
+    int levels = 3, spins = 1;
     float sn = 0.19f, pn = 1.5f, hpFactor = 2.f, floorRel = 1e-3f;
     bool noSplit = false, keepMean = false;
     std::string zeros = "restore";
@@ -63,6 +63,11 @@ DenoiseMethod BayesMethod() {
         cmd->add_flag("--keep-mean", opt->keepMean,
                       "bayes: scale each channel to the input's mean (undoes the log "
                       "domain's geometric-mean bias)");
+        cmd->add_option("--spins", opt->spins,
+                        "bayes: shift invariance by cycle spinning over spins x spins shifts "
+                        "(1: off; cost x spins^2)")
+            ->capture_default_str()
+            ->check(CLI::Range(1, 8));
         cmd->add_flag("--no-split", opt->noSplit,
                       "bayes: denoise the whole color even when direct/indirect exist");
     };
@@ -76,6 +81,7 @@ DenoiseMethod BayesMethod() {
         BayesOptions options;
         options.restoreZeros = opt->zeros == "restore";
         options.keepMean = opt->keepMean;
+        options.spins = opt->spins;
         options.basis = *basis;
         options.levels = opt->levels;
         options.sn = opt->sn;
