@@ -125,11 +125,12 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         return result;
     }
     BayesRefResult result;
+    int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
     std::vector<double> floors = BayesFloors(color, options.floorRel);
     Image logImage = BayesLog(color, floors);
-    Image coefficients = WaveletAnalyze(logImage, options.basis, options.levels);
+    Image coefficients = WaveletAnalyze(logImage, options.basis, levels);
     std::vector<BayesBand> bands =
-        BayesBands(color.width, color.height, color.channels, options.levels);
+        BayesBands(color.width, color.height, color.channels, levels);
     std::vector<double> bandSn;
     for (const BayesBand &band : bands) {
         BandMoments m = MeasureBand(coefficients, band);
@@ -139,7 +140,7 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         bandSn.push_back(sn);
     }
     Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, options.pn);
-    Image back = WaveletSynthesize(shrunk, options.basis, options.levels);
+    Image back = WaveletSynthesize(shrunk, options.basis, levels);
     result.image = BayesExp(back, color, options.restoreZeros);
     return result;
 }

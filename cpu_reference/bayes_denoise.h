@@ -62,7 +62,8 @@ struct BayesRefResult {
     std::vector<BandMoments> moments;
     std::vector<BandFit> fits;
 };
-// The whole method on one image (no direct/indirect split). With spins > 1 the result is
+// The whole method on one image (no direct/indirect split); levels are clamped to what
+// the image allows. With spins > 1 the result is
 // the mean over the shifts and the moments/fits are the unshifted run's.
 BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options);
 
