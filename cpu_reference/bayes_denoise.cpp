@@ -128,6 +128,21 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
     int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
     std::vector<double> floors = BayesFloors(color, options.floorRel);
     Image logImage = BayesLog(color, floors);
+    // Opponent colour: L = (r+g+b)/sqrt3, C1 = (r-g)/sqrt2, C2 = (r+g-2b)/sqrt6 of the logs.
+    const double k3 = 1 / std::sqrt(3.0), k2 = 1 / std::sqrt(2.0), k6 = 1 / std::sqrt(6.0);
+    const double opp[3][3] = {{k3, k3, k3}, {k2, -k2, 0}, {k6, k6, -2 * k6}};
+    auto mix = [&](Image &image, bool inverse) {
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                double v[3], o[3] = {0, 0, 0};
+                for (int c = 0; c < 3; ++c) v[c] = image.At(c, y, x);
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j)
+                        o[i] += (inverse ? opp[j][i] : opp[i][j]) * v[j];
+                for (int c = 0; c < 3; ++c) image.At(c, y, x) = float(o[c]);
+            }
+    };
+    if (options.opponent && levels > 0) mix(logImage, false);
     Image coefficients = WaveletAnalyze(logImage, options.basis, levels);
     std::vector<BayesBand> bands =
         BayesBands(color.width, color.height, color.channels, levels);
@@ -141,6 +156,7 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
     }
     Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, options.pn);
     Image back = WaveletSynthesize(shrunk, options.basis, levels);
+    if (options.opponent && levels > 0) mix(back, true);
     result.image = BayesExp(back, color, options.restoreZeros);
     return result;
 }

@@ -55,6 +55,7 @@ struct BayesRefOptions {
     int levels = 3;
     double sn = 0.19, pn = 1.5, hpFactor = 2, floorRel = 1e-3;
     bool restoreZeros = true;
+    bool opponent = false;  // log luminance + 2 log chroma (orthonormal) instead of RGB
     int spins = 1;  // cycle spinning over spins x spins shifts (mirrored top-left padding)
 };
 struct BayesRefResult {

@@ -9,6 +9,7 @@
 #include "host/error.h"
 #include "host/kernels/bayes_exp.h"
 #include "host/kernels/bayes_log.h"
+#include "host/kernels/bayes_mix.h"
 #include "host/kernels/bayes_moments.h"
 #include "host/kernels/bayes_shrink.h"
 #include "host/methods/wavelet_transform.h"
@@ -165,6 +166,9 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         throw Error(
             fmt::format("bayes: the log floor must be in (0, 1), not {}", options.floorRel));
     if (options.levels < 0) throw Error("bayes: levels must be >= 0");
+    if (options.opponent && color.channels != 3)
+        throw Error(
+            fmt::format("bayes: luminance + chroma needs 3 channels, not {}", color.channels));
 
     BayesResult result;
     int maxLevels = MaxWaveletLevels(color.width, color.height);
@@ -199,6 +203,11 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         recorder.Submit();
         for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
     } else {
+        if (options.opponent) {
+            RecordBayesMix(context, recorder, work, BayesOpponent());
+            result.plan.push_back(
+                "colour: log luminance + 2 log chroma (orthonormal opponent transform)");
+        }
         transform.RecordAnalysis(recorder, options.basis, levels, work, work);
         float sn = options.sn;
         if (options.noiseAuto) {
@@ -224,6 +233,7 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         RecordBayesTable(context, recorder, params, bands, table);
         RecordBayesShrink(context, recorder, work, levels, params, table);
         transform.RecordSynthesis(recorder, options.basis, levels, work, work);
+        if (options.opponent) RecordBayesMix(context, recorder, work, BayesOpponentInverse());
         RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
         recorder.Submit();
         for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);

@@ -2,7 +2,8 @@
 // on the GPU. log (eqs. 4-5) -> decimated DWT -> per-band E[y^2], E[y^4] -> (s_c, p_c) per
 // band from eqs. 17-18 -> a per-band table of the posterior mean (eq. 11) -> every detail
 // coefficient through its band's table -> synthesis -> exp, exact zeros restored.
-// Colour: every channel is shrunk on its own, with its own bands and fits.
+// Colour: by default every channel is shrunk on its own, with its own bands and fits;
+// `opponent` shrinks log luminance and two log chroma channels instead (3 channels).
 #pragma once
 
 #include <array>
@@ -38,6 +39,9 @@ struct BayesOptions {
     // over the spins x spins shifts (dx, dy) in [0, spins)^2, each made by padding the
     // image at the top left by mirroring (x -> -x-1) and cropping back. 1: off.
     int spins = 1;
+    // Shrink the orthonormal opponent transform of the log channels (log luminance, two
+    // log chroma) instead of log R, G, B. Needs 3 channels.
+    bool opponent = false;
 };
 
 struct BayesBandFit {

@@ -19,6 +19,7 @@
 #include "harness/inputs.h"
 #include "host/kernels/bayes_exp.h"
 #include "host/kernels/bayes_log.h"
+#include "host/kernels/bayes_mix.h"
 #include "host/kernels/bayes_moments.h"
 #include "host/kernels/bayes_shrink.h"
 #include "host/methods/bayes.h"
@@ -537,6 +538,56 @@ TEST_F(BayesKernel, CycleSpinningMatchesReference) {
         EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
         EXPECT_TRUE(Contains(gpu.plan[0], "cycle spinning"));
     }
+}
+
+// The mix kernel: three products and two sums in float per output, so within 4 u of
+// sum |m_ij| |v_j|; forward then inverse gives the input back within twice that.
+TEST_F(BayesKernel, MixMatchesReference) {
+    Image v = MakeInput(InputKind::Uniform, 37, 5, 3, SeedFromName("bayes mix"));
+    vk::GpuImage image(Ctx(), 37, 5, 3, "mix");
+    image.Upload(v);
+    vk::Recorder recorder(Ctx());
+    RecordBayesMix(Ctx(), recorder, image, BayesOpponent());
+    recorder.Submit();
+    Image mixed = image.Download();
+    const double k3 = 1 / std::sqrt(3.0), k2 = 1 / std::sqrt(2.0), k6 = 1 / std::sqrt(6.0);
+    const double m[3][3] = {{k3, k3, k3}, {k2, -k2, 0}, {k6, k6, -2 * k6}};
+    for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 37; ++x)
+            for (int i = 0; i < 3; ++i) {
+                double e = 0, scale = 0;
+                for (int j = 0; j < 3; ++j)
+                    e += m[i][j] * v.At(j, y, x), scale += std::fabs(m[i][j] * v.At(j, y, x));
+                EXPECT_NEAR(mixed.At(i, y, x), e, 4 * kUnitRoundoff * scale + 1e-30);
+            }
+    RecordBayesMix(Ctx(), recorder, image, BayesOpponentInverse());
+    recorder.Submit();
+    Image back = image.Download();
+    for (size_t i = 0; i < v.Size(); ++i) EXPECT_NEAR(back.data[i], v.data[i], 2e-6);
+}
+
+// Luminance + chroma: the same pipeline with the opponent mix around the transform.
+TEST_F(BayesKernel, OpponentColourMatchesReference) {
+    for (auto [w, h] : {std::pair{23, 17}, std::pair{1, 1}, std::pair{4, 9}}) {
+        SCOPED_TRACE(fmt::format("{}x{}", w, h));
+        Image color = NoisyPicture(w, h, SeedFromName(fmt::format("opp{}x{}", w, h)), 0.3);
+        BayesOptions options;
+        options.opponent = true;
+        BayesResult gpu = BayesDenoise(Ctx(), color, options);
+        ref::BayesRefOptions refOptions;
+        refOptions.opponent = true;
+        ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+        for (size_t b = 0; b < cpu.fits.size(); ++b)
+            EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+        Image logGpu = gpu.image, logCpu = cpu.image;
+        for (float &v : logGpu.data) v = std::log(v);
+        for (float &v : logCpu.data) v = std::log(v);
+        EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
+    }
+    BayesOptions options;
+    options.opponent = true;
+    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(4, 4, 2, 1.f), options); }),
+                         "3 channels"));
 }
 
 TEST_F(BayesKernel, RerunsAreBitIdentical) {

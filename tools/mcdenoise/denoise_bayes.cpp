@@ -18,7 +18,7 @@ struct BayesCliOptions {
     int levels = 3, spins = 1;
     float sn = 0.19f, pn = 1.5f, hpFactor = 2.f, floorRel = 1e-3f;
     bool noSplit = false, keepMean = false;
-    std::string zeros = "restore";
+    std::string zeros = "restore", colour = "rgb";
 };
 
 }  // namespace
@@ -68,6 +68,10 @@ DenoiseMethod BayesMethod() {
                         "(1: off; cost x spins^2)")
             ->capture_default_str()
             ->check(CLI::Range(1, 8));
+        cmd->add_option("--colour", opt->colour,
+                        "bayes: rgb (each log channel on its own) or opponent (log luminance "
+                        "+ 2 log chroma)")
+            ->capture_default_str();
         cmd->add_flag("--no-split", opt->noSplit,
                       "bayes: denoise the whole color even when direct/indirect exist");
     };
@@ -82,6 +86,9 @@ DenoiseMethod BayesMethod() {
         options.restoreZeros = opt->zeros == "restore";
         options.keepMean = opt->keepMean;
         options.spins = opt->spins;
+        if (opt->colour != "rgb" && opt->colour != "opponent")
+            throw Error("--colour takes rgb or opponent, not '" + opt->colour + "'");
+        options.opponent = opt->colour == "opponent";
         options.basis = *basis;
         options.levels = opt->levels;
         options.sn = opt->sn;
