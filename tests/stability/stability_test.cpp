@@ -127,6 +127,34 @@ std::vector<Case> Cases() {
          Expect::Finite,
          "",
          {{"awr", "--variance range"}}});
+    for (const char *options :
+         {"--pn 0.3", "--pn 4", "--pn 0.1", "--pn 10", "--sn 0", "--sn 1000", "--noise auto",
+          "--bayes-levels 0", "--spins 3", "--colour opponent", "--zeros denoise --keep-mean",
+          "--log-floor 1e-12", "--hp-factor 1000"})
+        add({fmt::format("bayes {}", options),
+             13,
+             11,
+             nullptr,
+             Expect::Finite,
+             "",
+             {{"bayes", options}}});
+    add({"bayes too many levels",
+         13,
+         11,
+         nullptr,
+         Expect::FiniteOrRefused,
+         "levels",
+         {{"bayes", "--bayes-levels 9"}}});
+    add({"bayes auto on 1e-8..1e8",
+         13,
+         11,
+         [](io::Frame &f) {
+             Image &c = f.layers["color"];
+             for (size_t i = 0; i < c.data.size(); ++i) c.data[i] = i % 3 ? 1e-8f : 1e8f;
+         },
+         Expect::Finite,
+         "",
+         {{"bayes", "--noise auto"}}});
     return cases;
 }
 

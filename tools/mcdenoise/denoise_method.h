@@ -42,10 +42,11 @@ struct DenoiseMethod {
 };
 
 DenoiseMethod AwrMethod();
+DenoiseMethod BayesMethod();
 
 // Every method the tool knows, in the order --help lists them.
 inline std::vector<DenoiseMethod> DenoiseMethods() {
-    return {AwrMethod()};
+    return {AwrMethod(), BayesMethod()};
 }
 
 }  // namespace mcd::tool
