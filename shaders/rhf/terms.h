@@ -1,0 +1,43 @@
+// RHF pixel terms (issue #4, paper eq. 3 with counts): for every offset o between patch
+// centres in the (2b+1)^2 search window and every pixel p of a strip of rows, the sum over
+// the 3n bins of (n_q h_p[i] - n_p h_q[i])^2 / (n_p n_q (h_p[i] + h_q[i])), q = p + o,
+// counted where h_p[i] + h_q[i] > 1 and both counts are non-zero, and how many were
+// counted. Box-summed over a patch later (distance.comp), so no term is computed twice.
+// Histograms are planar [plane][y][x], split over up to RHF_HIST_SLOTS buffers of
+// planesPerSlot planes each (one binding holds at most 128 MiB on lavapipe).
+#ifndef MCD_SHADERS_RHF_TERMS_H
+#define MCD_SHADERS_RHF_TERMS_H
+
+#define RHF_HIST_SLOTS 6  // with the two outputs, the recorder's 8 bindings
+#define RHF_TERMS_HIST 0  // slots 0..RHF_HIST_SLOTS-1
+#define RHF_TERMS_SUM 6
+#define RHF_TERMS_COUNT 7
+#define RHF_TERMS_BINDINGS 8
+#define RHF_TERMS_LOCAL_SIZE 64
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct RhfTermsPush {
+#else
+layout(push_constant) uniform RhfTermsPush {
+#endif
+    int width;  // of the scale's image
+    int height;
+    int binPlanes;      // 3n; plane 3n is the sample count
+    int searchHalf;     // b
+    int rowBase;        // first image row of the strip
+    int rows;           // rows in the strip
+    int planesPerSlot;  // histogram planes per buffer
+    float histScale;    // the scale's count-preserving factor, applied to bins and counts
+#ifdef __cplusplus
+};
+static_assert(sizeof(RhfTermsPush) == 32);
+static_assert(offsetof(RhfTermsPush, histScale) == 28);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif
