@@ -245,7 +245,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             histScale = coarseTotal > 0 ? float(total / coarseTotal) : 1.f;
             result.plan.push_back(fmt::format(
                 "scale {}: Gaussian downsampling by {} (sigma {:.4g}) of color and {} "
-                "histogram planes to {}x{}; histograms rescaled by {:.6g} to keep the sample "
+                "histogram planes to {}x{}; histograms rescaled by {:.9g} to keep the sample "
                 "total",
                 s, 1 << s, sigma, planes, Ws, Hs, histScale));
         }
