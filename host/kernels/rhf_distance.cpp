@@ -27,13 +27,14 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
             "rhf distance: centre rows {}..{} with term rows {}..{} of a "
             "{}x{} image do not fit the buffers",
             rowBase, rowBase + rows - 1, termBase, termBase + termRows - 1, width, height));
-    const vk::Kernel &kernel = context.GetKernel({"rhf_distance",
-                                                  k_rhf_distance_spv,
-                                                  sizeof(k_rhf_distance_spv),
-                                                  RHF_DISTANCE_BINDINGS,
-                                                  sizeof(shader::RhfDistancePush),
-                                                  {}});
-    shader::RhfDistancePush push{width,    height,   patchHalf, searchHalf,
+    const vk::Kernel &kernel =
+        context.GetKernel({"rhf_distance",
+                           k_rhf_distance_spv,
+                           sizeof(k_rhf_distance_spv),
+                           RHF_DISTANCE_BINDINGS,
+                           sizeof(shader::RhfDistancePush),
+                           {{RHF_DISTANCE_SPEC_SEARCH_HALF, searchHalf}}});
+    shader::RhfDistancePush push{width,    height,   patchHalf, 0,
                                  termBase, termRows, rowBase,   rows};
     recorder.Dispatch(kernel, "rhf.distance",
                       {{&termSum, vk::Access::Read},
@@ -41,7 +42,7 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
                        {&dist, vk::Access::Write}},
                       &push,
                       uint32_t((width + RHF_DISTANCE_LOCAL_SIZE - 1) / RHF_DISTANCE_LOCAL_SIZE),
-                      uint32_t(rows), uint32_t(side * side));
+                      uint32_t(rows), uint32_t(side));
 }
 
 }  // namespace mcd

@@ -28,7 +28,7 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
                                                   sizeof(k_rhf_terms_spv),
                                                   RHF_TERMS_BINDINGS,
                                                   sizeof(shader::RhfTermsPush),
-                                                  {}});
+                                                  {{RHF_TERMS_SPEC_SEARCH_HALF, searchHalf}}});
     shader::RhfTermsPush push{hist.width, hist.height, hist.planes - 1,    searchHalf,
                               rowBase,    rows,        hist.planesPerSlot, histScale};
     std::vector<vk::Binding> bindings;
@@ -40,7 +40,7 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
     bindings.push_back({&termCount, vk::Access::Write});
     recorder.Dispatch(kernel, "rhf.terms", bindings, &push,
                       uint32_t((hist.width + RHF_TERMS_LOCAL_SIZE - 1) / RHF_TERMS_LOCAL_SIZE),
-                      uint32_t(rows), uint32_t(side * side));
+                      uint32_t(rows), uint32_t(side));
 }
 
 }  // namespace mcd

@@ -32,9 +32,10 @@ void main() {
             for (int word = 0; word < push.words; ++word) {
                 uint bits = mask[(word * H + cy) * W + cx];
                 selected += bitCount(bits);
-                while (bits != 0u) {
-                    int o = word * 32 + findLSB(bits);
-                    bits &= bits - 1u;
+                // The same offset on every lane: the candidates' reads are contiguous.
+                int first = word * 32, last = min(first + 32, side * side);
+                for (int o = first; o < last; ++o) {
+                    if ((bits & (1u << (o - first))) == 0u) continue;
                     // Candidate c + o, at this pixel's place in the patch: p + o.
                     int qx = x + o % side - push.searchHalf, qy = y + o / side - push.searchHalf;
                     sum += ColorAt(qy * W + qx, plane);

@@ -3,30 +3,35 @@
 
 #include "rhf/distance.h"
 
-// One invocation per (centre, offset): x across, strip row and offset from the grid.
+// One invocation per (centre, window row dy): x across, strip row and dy from the grid;
+// the lane walks the 2b+1 offsets of that row.
 layout(local_size_x = RHF_DISTANCE_LOCAL_SIZE) in;
+layout(constant_id = RHF_DISTANCE_SPEC_SEARCH_HALF) const int B = 6;
+const int SIDE = 2 * B + 1;
 layout(std430, binding = RHF_DISTANCE_SUM) readonly buffer TermSum { float termSum[]; };
 layout(std430, binding = RHF_DISTANCE_COUNT) readonly buffer TermCount { float termCount[]; };
 layout(std430, binding = RHF_DISTANCE_OUT) writeonly buffer Distance { float dist[]; };
 
 void main() {
-    int x = int(gl_GlobalInvocationID.x), r = int(gl_WorkGroupID.y), o = int(gl_WorkGroupID.z);
+    int x = int(gl_GlobalInvocationID.x), r = int(gl_WorkGroupID.y), dy = int(gl_WorkGroupID.z);
     if (x >= push.width) return;
-    int side = 2 * push.searchHalf + 1;
-    int y = push.rowBase + r, qx = x + o % side - push.searchHalf,
-        qy = y + o / side - push.searchHalf;
+    int y = push.rowBase + r, qy = y + dy - B;
     int w0 = min(min(push.patchHalf, min(x, y)), min(push.width - 1 - x, push.height - 1 - y));
-    float d = -1.0;
-    if (qx >= w0 && qx <= push.width - 1 - w0 && qy >= w0 && qy <= push.height - 1 - w0) {
-        float sum = 0.0, count = 0.0;
-        for (int ty = -w0; ty <= w0; ++ty) {
-            int row = (o * push.termRows + y + ty - push.termBase) * push.width + x;
-            for (int tx = -w0; tx <= w0; ++tx) {
-                sum += termSum[row + tx];
-                count += termCount[row + tx];
+    bool rowOk = qy >= w0 && qy <= push.height - 1 - w0;
+    for (int k = 0; k < SIDE; ++k) {
+        int o = dy * SIDE + k, qx = x + k - B;
+        float d = -1.0;
+        if (rowOk && qx >= w0 && qx <= push.width - 1 - w0) {
+            float sum = 0.0, count = 0.0;
+            for (int ty = -w0; ty <= w0; ++ty) {
+                int row = (o * push.termRows + y + ty - push.termBase) * push.width + x;
+                for (int tx = -w0; tx <= w0; ++tx) {
+                    sum += termSum[row + tx];
+                    count += termCount[row + tx];
+                }
             }
+            d = sum / (count + 1e-4);
         }
-        d = sum / (count + 1e-4);
+        dist[(o * push.rows + r) * push.width + x] = d;
     }
-    dist[(o * push.rows + r) * push.width + x] = d;
 }

@@ -11,6 +11,7 @@
 #define RHF_DISTANCE_OUT 2
 #define RHF_DISTANCE_BINDINGS 3
 #define RHF_DISTANCE_LOCAL_SIZE 64
+#define RHF_DISTANCE_SPEC_SEARCH_HALF 0  // b
 
 #ifdef __cplusplus
 #include <cstddef>
@@ -21,12 +22,12 @@ layout(push_constant) uniform RhfDistancePush {
 #endif
     int width;
     int height;
-    int patchHalf;   // w
-    int searchHalf;  // b
-    int termBase;    // first image row held by the term buffers
-    int termRows;    // rows they hold
-    int rowBase;     // first centre row of the strip
-    int rows;        // centre rows in the strip
+    int patchHalf;  // w
+    int unused;
+    int termBase;  // first image row held by the term buffers
+    int termRows;  // rows they hold
+    int rowBase;   // first centre row of the strip
+    int rows;      // centre rows in the strip
 #ifdef __cplusplus
 };
 static_assert(sizeof(RhfDistancePush) == 32);

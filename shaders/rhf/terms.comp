@@ -3,8 +3,12 @@
 
 #include "rhf/terms.h"
 
-// One invocation per (pixel, offset): x across, strip row and offset from the grid.
+// One invocation per (pixel, window row dy): x across, strip row and dy from the grid. A
+// lane keeps the 2b+1 offsets of its window row in registers, reads each of its own bins
+// once, and the lanes of a group read the candidates' bins contiguously.
 layout(local_size_x = RHF_TERMS_LOCAL_SIZE) in;
+layout(constant_id = RHF_TERMS_SPEC_SEARCH_HALF) const int B = 6;
+const int SIDE = 2 * B + 1;
 layout(std430, binding = 0) readonly buffer Hist0 { float hist0[]; };
 layout(std430, binding = 1) readonly buffer Hist1 { float hist1[]; };
 layout(std430, binding = 2) readonly buffer Hist2 { float hist2[]; };
@@ -14,7 +18,7 @@ layout(std430, binding = 5) readonly buffer Hist5 { float hist5[]; };
 layout(std430, binding = RHF_TERMS_SUM) writeonly buffer TermSum { float termSum[]; };
 layout(std430, binding = RHF_TERMS_COUNT) writeonly buffer TermCount { float termCount[]; };
 
-// Bin `plane` of pixel `pixel`, from the buffer that holds that plane.
+// Plane `plane` of pixel `pixel`, from the buffer that holds that plane.
 float Hist(int plane, int pixel) {
     int slot = plane / push.planesPerSlot;
     int at = (plane - slot * push.planesPerSlot) * (push.width * push.height) + pixel;
@@ -28,30 +32,59 @@ float Hist(int plane, int pixel) {
     }
 }
 
+float sum[SIDE], count[SIDE], nq[SIDE];
+
+// Add the terms of the bin planes buffer `h` (slot `slot`) holds.
+#define ACCUMULATE(h, slot)                                                              \
+    {                                                                                    \
+        int first = slot * push.planesPerSlot;                                           \
+        int last = min(first + push.planesPerSlot, push.binPlanes);                      \
+        for (int plane = first; plane < last; ++plane) {                                 \
+            int base = (plane - first) * pixels;                                         \
+            float hp = h[base + p] * push.histScale;                                     \
+            for (int k = 0; k < SIDE; ++k) {                                             \
+                float hq = h[base + qRow + clamp(x + k - B, 0, push.width - 1)] *        \
+                           push.histScale;                                               \
+                float both = hp + hq;                                                    \
+                if (both > 1.0 && nq[k] != 0.0) {                                        \
+                    float d = nq[k] * hp - np * hq;                                      \
+                    sum[k] += d * d / (np * nq[k] * both);                               \
+                    count[k] += 1.0;                                                     \
+                }                                                                        \
+            }                                                                            \
+        }                                                                                \
+    }
+
 void main() {
-    int x = int(gl_GlobalInvocationID.x), r = int(gl_WorkGroupID.y), o = int(gl_WorkGroupID.z);
+    int x = int(gl_GlobalInvocationID.x), r = int(gl_WorkGroupID.y), dy = int(gl_WorkGroupID.z);
     if (x >= push.width) return;
-    int side = 2 * push.searchHalf + 1;
-    int y = push.rowBase + r, qx = x + o % side - push.searchHalf,
-        qy = y + o / side - push.searchHalf;
-    float sum = 0.0, count = 0.0;
-    if (qx >= 0 && qx < push.width && qy >= 0 && qy < push.height) {
-        int p = y * push.width + x, q = qy * push.width + qx;
+    int y = push.rowBase + r, qy = y + dy - B, pixels = push.width * push.height;
+    for (int k = 0; k < SIDE; ++k) {
+        sum[k] = 0.0;
+        count[k] = 0.0;
+        nq[k] = 0.0;
+    }
+    if (qy >= 0 && qy < push.height) {
+        int p = y * push.width + x, qRow = qy * push.width;
         float np = Hist(push.binPlanes, p) * push.histScale;
-        float nq = Hist(push.binPlanes, q) * push.histScale;
-        if (np != 0.0 && nq != 0.0) {
-            for (int i = 0; i < push.binPlanes; ++i) {
-                float hp = Hist(i, p) * push.histScale, hq = Hist(i, q) * push.histScale;
-                float both = hp + hq;
-                if (both > 1.0) {
-                    float d = nq * hp - np * hq;
-                    sum += d * d / (np * nq * both);
-                    count += 1.0;
-                }
-            }
+        for (int k = 0; k < SIDE; ++k) {
+            int qx = x + k - B;
+            if (qx >= 0 && qx < push.width)
+                nq[k] = Hist(push.binPlanes, qRow + qx) * push.histScale;
+        }
+        if (np != 0.0) {
+            int slots = (push.binPlanes + push.planesPerSlot - 1) / push.planesPerSlot;
+            ACCUMULATE(hist0, 0)
+            if (slots > 1) ACCUMULATE(hist1, 1)
+            if (slots > 2) ACCUMULATE(hist2, 2)
+            if (slots > 3) ACCUMULATE(hist3, 3)
+            if (slots > 4) ACCUMULATE(hist4, 4)
+            if (slots > 5) ACCUMULATE(hist5, 5)
         }
     }
-    int at = (o * push.rows + r) * push.width + x;
-    termSum[at] = sum;
-    termCount[at] = count;
+    for (int k = 0; k < SIDE; ++k) {
+        int at = ((dy * SIDE + k) * push.rows + r) * push.width + x;
+        termSum[at] = sum[k];
+        termCount[at] = count[k];
+    }
 }

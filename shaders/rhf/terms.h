@@ -14,6 +14,7 @@
 #define RHF_TERMS_COUNT 7
 #define RHF_TERMS_BINDINGS 8
 #define RHF_TERMS_LOCAL_SIZE 64
+#define RHF_TERMS_SPEC_SEARCH_HALF 0  // b, so a lane keeps one window row in registers
 
 #ifdef __cplusplus
 #include <cstddef>
@@ -24,8 +25,8 @@ layout(push_constant) uniform RhfTermsPush {
 #endif
     int width;  // of the scale's image
     int height;
-    int binPlanes;      // 3n; plane 3n is the sample count
-    int searchHalf;     // b
+    int binPlanes;  // 3n; plane 3n is the sample count
+    int unused;
     int rowBase;        // first image row of the strip
     int rows;           // rows in the strip
     int planesPerSlot;  // histogram planes per buffer
