@@ -18,9 +18,9 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
                        const vk::Buffer &dist) {
     size_t side = 2 * searchHalf + 1;
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
-        termBase > std::max(0, rowBase - patchHalf) ||
+        termBase > std::max(0, rowBase - patchHalf - searchHalf) ||
         termBase + termRows < std::min(height, rowBase + rows + patchHalf) ||
-        termSum.Bytes() < side * side * termRows * width * sizeof(float) ||
+        termSum.Bytes() < (searchHalf + 1) * side * termRows * width * sizeof(float) ||
         termCount.Bytes() < termSum.Bytes() ||
         dist.Bytes() < side * side * rows * width * sizeof(float))
         throw Error(fmt::format(

@@ -7,7 +7,8 @@
 namespace mcd {
 
 // The term buffers hold image rows termBase..termBase+termRows-1 (they must cover the
-// strip's rows +- patchHalf inside the image); dist gets (2b+1)^2 planes of rows x width.
+// strip's rows - patchHalf - searchHalf to + patchHalf, inside the image); dist gets (2b+1)^2
+// planes of rows x width.
 void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, int height,
                        int patchHalf, int searchHalf, int termBase, int termRows, int rowBase,
                        int rows, const vk::Buffer &termSum, const vk::Buffer &termCount,

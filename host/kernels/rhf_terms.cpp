@@ -14,7 +14,7 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
                     int searchHalf, int rowBase, int rows, float histScale,
                     const vk::Buffer &termSum, const vk::Buffer &termCount) {
     int side = 2 * searchHalf + 1;
-    size_t need = size_t(side) * side * rows * hist.width * sizeof(float);
+    size_t need = size_t(searchHalf + 1) * side * rows * hist.width * sizeof(float);
     if (hist.slots.empty() || hist.slots.size() > RHF_HIST_SLOTS || hist.planesPerSlot <= 0 ||
         (hist.planes + hist.planesPerSlot - 1) / hist.planesPerSlot != int(hist.slots.size()))
         throw Error(fmt::format("rhf terms: {} histogram planes in {} buffers of {} planes",
@@ -40,7 +40,7 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
     bindings.push_back({&termCount, vk::Access::Write});
     recorder.Dispatch(kernel, "rhf.terms", bindings, &push,
                       uint32_t((hist.width + RHF_TERMS_LOCAL_SIZE - 1) / RHF_TERMS_LOCAL_SIZE),
-                      uint32_t(rows), uint32_t(side));
+                      uint32_t(rows), uint32_t(searchHalf + 1));
 }
 
 }  // namespace mcd

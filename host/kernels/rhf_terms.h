@@ -17,8 +17,8 @@ struct RhfHistogram {
     size_t PixelCount() const { return size_t(width) * size_t(height); }
 };
 
-// termSum / termCount get (2b+1)^2 planes of rows x width, for image rows
-// rowBase..rowBase+rows-1; bins and counts are multiplied by histScale as they are read.
+// termSum / termCount get (b+1)(2b+1) planes (offsets with dy >= 0) of rows x width, for image
+// rows rowBase..rowBase+rows-1; bins and counts are multiplied by histScale as they are read.
 void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
                     int searchHalf, int rowBase, int rows, float histScale,
                     const vk::Buffer &termSum, const vk::Buffer &termCount);

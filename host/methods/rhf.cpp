@@ -145,16 +145,21 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             fmt::format("rhf: a {}x{} frame's {} histogram planes do not fit in {} "
                         "buffers of {} floats",
                         W, H, planes, RHF_HIST_SLOTS, maxFloats));
-    size_t rowFloats = size_t(offsets) * W;
+    // A strip's distances take offsets x rows x W floats, its terms (b+1)(2b+1) x (rows +
+    // 2w + b) x W: both within one binding.
+    size_t rowFloats = size_t(offsets) * W, termRowFloats = size_t(o.searchHalf + 1) * side * W;
+    int apron = 2 * o.patchHalf + o.searchHalf;
     int stripRows =
-        o.stripRows > 0 ? o.stripRows : int(maxFloats / 2 / rowFloats) - 2 * o.patchHalf;
+        o.stripRows > 0
+            ? o.stripRows
+            : int(std::min<size_t>(maxFloats / rowFloats, maxFloats / termRowFloats - apron));
     stripRows = std::min(stripRows, H);
-    if (stripRows < 1)
+    if (stripRows < 1 || maxFloats / termRowFloats <= size_t(apron))
         throw Error(
             fmt::format("rhf: a {}-pixel-wide image needs more than {} floats per "
                         "distance strip; reduce the search window",
-                        W, maxFloats / 2));
-    int termRowsMax = std::min(H, stripRows + 2 * o.patchHalf);
+                        W, maxFloats));
+    int termRowsMax = std::min(H, stripRows + apron);
 
     int scales = RhfScalesUsed(W, H, o);
     result.scalesUsed = scales;
@@ -187,8 +192,8 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     }
 
     // Work buffers, sized for the finest scale and reused by every scale.
-    vk::Buffer termSum(context, rowFloats * termRowsMax * sizeof(float), "rhf.termSum");
-    vk::Buffer termCount(context, rowFloats * termRowsMax * sizeof(float), "rhf.termCount");
+    vk::Buffer termSum(context, termRowFloats * termRowsMax * sizeof(float), "rhf.termSum");
+    vk::Buffer termCount(context, termRowFloats * termRowsMax * sizeof(float), "rhf.termCount");
     vk::Buffer dist(context, rowFloats * stripRows * sizeof(float), "rhf.distance");
     vk::Buffer mask(context, size_t(RhfMaskWords(o.searchHalf)) * pixels * sizeof(uint32_t),
                     "rhf.mask");
@@ -253,7 +258,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
         int strips = 0;
         for (int y0 = 0; y0 < Hs; y0 += stripRows, ++strips) {
             int rows = std::min(stripRows, Hs - y0);
-            int termBase = std::max(0, y0 - o.patchHalf);
+            int termBase = std::max(0, y0 - o.patchHalf - o.searchHalf);
             int termRows = std::min(Hs, y0 + rows + o.patchHalf) - termBase;
             RecordRhfTerms(context, recorder, *h, o.searchHalf, termBase, termRows, histScale,
                            termSum, termCount);

@@ -10,6 +10,8 @@
 #define RHF_AGGREGATE_OUT 2
 #define RHF_AGGREGATE_BINDINGS 3
 #define RHF_AGGREGATE_LOCAL_SIZE 64
+#define RHF_AGGREGATE_SPEC_SEARCH_HALF 0  // b
+#define RHF_AGGREGATE_SPEC_PATCH_HALF 1   // w
 
 #ifdef __cplusplus
 #include <cstddef>

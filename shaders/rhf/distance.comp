@@ -19,12 +19,16 @@ void main() {
     int w0 = min(min(push.patchHalf, min(x, y)), min(push.width - 1 - x, push.height - 1 - y));
     bool rowOk = qy >= w0 && qy <= push.height - 1 - w0;
     for (int k = 0; k < SIDE; ++k) {
-        int o = dy * SIDE + k, qx = x + k - B;
+        int ox = k - B, oy = dy - B, qx = x + ox;
         float d = -1.0;
         if (rowOk && qx >= w0 && qx <= push.width - 1 - w0) {
+            // Offsets with oy < 0: the terms of -o, stored at the candidate's pixels.
+            bool mirrored = oy < 0;
+            int plane = mirrored ? -oy * SIDE + 2 * B - k : oy * SIDE + k;
+            int sx = x + (mirrored ? ox : 0), sy = y + (mirrored ? oy : 0) - push.termBase;
             float sum = 0.0, count = 0.0;
             for (int ty = -w0; ty <= w0; ++ty) {
-                int row = (o * push.termRows + y + ty - push.termBase) * push.width + x;
+                int row = (plane * push.termRows + sy + ty) * push.width + sx;
                 for (int tx = -w0; tx <= w0; ++tx) {
                     sum += termSum[row + tx];
                     count += termCount[row + tx];
@@ -32,6 +36,6 @@ void main() {
             }
             d = sum / (count + 1e-4);
         }
-        dist[(o * push.rows + r) * push.width + x] = d;
+        dist[((dy * SIDE + k) * push.rows + r) * push.width + x] = d;
     }
 }

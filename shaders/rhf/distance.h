@@ -1,5 +1,6 @@
 // RHF patch distances (issue #4): for every centre of a strip and every offset o in the
-// search window, the pixel terms (terms.comp) box-summed over the centre's patch, shrunk
+// search window, the pixel terms (terms.comp; those of offsets with dy < 0 read as the
+// terms of -o at the candidate's pixels) box-summed over the centre's patch, shrunk
 // near the border to w0 = min(w, distance to the edge), divided by the number of counted
 // terms + 1e-4. Offsets whose patch would leave the image (the window is clamped so every
 // compared patch fits) get -1.

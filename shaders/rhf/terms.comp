@@ -3,7 +3,8 @@
 
 #include "rhf/terms.h"
 
-// One invocation per (pixel, window row dy): x across, strip row and dy from the grid. A
+// One invocation per (pixel, window row dy >= 0): x across, strip row and dy from the
+// grid; the rows dy < 0 are the same terms seen from the candidate (distance.comp). A
 // lane keeps the 2b+1 offsets of its window row in registers, reads each of its own bins
 // once, and the lanes of a group read the candidates' bins contiguously.
 layout(local_size_x = RHF_TERMS_LOCAL_SIZE) in;
@@ -58,7 +59,7 @@ float sum[SIDE], count[SIDE], nq[SIDE];
 void main() {
     int x = int(gl_GlobalInvocationID.x), r = int(gl_WorkGroupID.y), dy = int(gl_WorkGroupID.z);
     if (x >= push.width) return;
-    int y = push.rowBase + r, qy = y + dy - B, pixels = push.width * push.height;
+    int y = push.rowBase + r, qy = y + dy, pixels = push.width * push.height;
     for (int k = 0; k < SIDE; ++k) {
         sum[k] = 0.0;
         count[k] = 0.0;

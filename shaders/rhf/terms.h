@@ -1,8 +1,10 @@
-// RHF pixel terms (issue #4, paper eq. 3 with counts): for every offset o between patch
-// centres in the (2b+1)^2 search window and every pixel p of a strip of rows, the sum over
+// RHF pixel terms (issue #4, paper eq. 3 with counts): for every offset o = (dx, dy)
+// with dy in 0..b, |dx| <= b, and every pixel p of a strip of rows, the sum over
 // the 3n bins of (n_q h_p[i] - n_p h_q[i])^2 / (n_p n_q (h_p[i] + h_q[i])), q = p + o,
 // counted where h_p[i] + h_q[i] > 1 and both counts are non-zero, and how many were
-// counted. Box-summed over a patch later (distance.comp), so no term is computed twice.
+// counted; planes [dy][dx + b]. The term is symmetric in p and q, bit for bit, so the
+// offsets with dy < 0 are read at q with -o and never computed. Box-summed over a patch
+// later (distance.comp), so no term is computed twice.
 // Histograms are planar [plane][y][x], split over up to RHF_HIST_SLOTS buffers of
 // planesPerSlot planes each (one binding holds at most 128 MiB on lavapipe).
 #ifndef MCD_SHADERS_RHF_TERMS_H
