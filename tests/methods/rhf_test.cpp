@@ -163,6 +163,21 @@ TEST_F(RhfProperties, OnlyItselfLeavesTheImageUnchanged) {
     EXPECT_TRUE(ImagesMatch(f.color, out, {}, {20 * kUnitRoundoff, 0, 1e-12}));
 }
 
+// At two scales too: the coarse scale then selects nothing (k_NN is 0 there), so u_1 is
+// D(u) and the recombination adds U(D(u)) - U(D(u)), the same bits computed twice.
+TEST_F(RhfProperties, OnlyItselfAtTwoScalesLeavesTheImageUnchanged) {
+    Frame f = MakeFrame(30, 28, SeedFromName("rhf identity 2"));
+    RhfOptions o;
+    o.threshold = 0;
+    o.knn = 1;
+    o.scales = 2;
+    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    ASSERT_EQ(result.scalesUsed, 2);
+    // (u - a) + a rounds twice: a few units of round-off of the larger of u and a.
+    EXPECT_TRUE(ImagesMatch(f.color, result.image, {},
+                            {0, 8 * kUnitRoundoff * MaxAbs(f.color), 1e-12}));
+}
+
 // Any selection averages equal values: a constant colour stays constant, at every scale.
 TEST_F(RhfProperties, ConstantStaysConstant) {
     Frame f = MakeFrame(40, 36, SeedFromName("rhf constant"));
