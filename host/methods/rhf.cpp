@@ -191,6 +191,11 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
         full.slots.back().Upload(hist.Plane(first), size_t(count) * pixels * sizeof(float));
     }
 
+    result.plan.push_back(fmt::format(
+        "histograms: {} planes ({} bins per colour + the count) in {} buffer(s) of up to {} "
+        "planes; distances in strips of up to {} rows",
+        planes, n3 / 3, full.slots.size(), perSlot, stripRows));
+
     // Work buffers, sized for the finest scale and reused by every scale.
     vk::Buffer termSum(context, termRowFloats * termRowsMax * sizeof(float), "rhf.termSum");
     vk::Buffer termCount(context, termRowFloats * termRowsMax * sizeof(float), "rhf.termCount");
