@@ -10,6 +10,9 @@
 
 namespace mcd {
 
+// Each lane owns RHF_TERMS_PIXELS_PER_LANE pixels of a row.
+constexpr int kPixelsPerGroup = RHF_TERMS_LOCAL_SIZE * RHF_TERMS_PIXELS_PER_LANE;
+
 void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
                     int searchHalf, int rowBase, int rows, float histScale,
                     const vk::Buffer &termSum, const vk::Buffer &termCount) {
@@ -39,7 +42,7 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
     bindings.push_back({&termSum, vk::Access::Write});
     bindings.push_back({&termCount, vk::Access::Write});
     recorder.Dispatch(kernel, "rhf.terms", bindings, &push,
-                      uint32_t((hist.width + RHF_TERMS_LOCAL_SIZE - 1) / RHF_TERMS_LOCAL_SIZE),
+                      uint32_t((hist.width + kPixelsPerGroup - 1) / kPixelsPerGroup),
                       uint32_t(rows), uint32_t(searchHalf + 1));
 }
 
