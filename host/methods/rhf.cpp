@@ -223,6 +223,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
 
     vk::Recorder recorder(context);
     const vk::GpuImage *previous = nullptr;
+    std::vector<std::pair<std::string, const vk::GpuImage *>> kept;
     for (int s = scales - 1; s >= 0; --s) {
         const int Ws = Shrunk(W, s), Hs = Shrunk(H, s);
         const vk::GpuImage *u = &colorGpu;
@@ -232,6 +233,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             double sigma = SigmaOfScale(s);
             u = &images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.color{}", s));
             downsample(colorGpu.buffer, W, H, 3, s, sigma, u->buffer, recorder);
+            kept.push_back({fmt::format("color s{}", s), u});
             RhfHistogram &coarse = histograms.emplace_back();
             coarse.width = Ws;
             coarse.height = Hs;
@@ -275,6 +277,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
         const vk::GpuImage &filtered =
             images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.filtered{}", s));
         RecordRhfAggregate(context, recorder, *u, mask, o.patchHalf, o.searchHalf, filtered);
+        kept.push_back({fmt::format("filtered s{}", s), &filtered});
         result.plan.push_back(fmt::format(
             "scale {} ({}x{}): chi-square pixel terms for {} offsets x {} bins, {}x{} patch "
             "distances, selection of {} nearest + distance < {} in {} strip(s), aggregation",
@@ -288,6 +291,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             const vk::GpuImage &combined =
                 images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.combined{}", s));
             RecordRhfCombine(context, recorder, filtered, low, *previous, combined);
+            kept.push_back({fmt::format("combined s{}", s), &combined});
             result.plan.push_back(fmt::format(
                 "scale {}: u_{} - U(D(u_{})) + U(u_{}) with bicubic U (Keys, a = -0.5)", s, s,
                 s, s + 1));
@@ -299,6 +303,9 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     recorder.Submit();
     result.timings = recorder.Timings();
     result.image = previous->Download();
+    if (o.keepStages)
+        for (const auto &[name, image] : kept)
+            result.stages.push_back({name, image->Download()});
     return result;
 }
 

@@ -25,6 +25,8 @@ struct RhfOptions {
     // exercise the split paths on small frames.
     int planesPerSlot = 0;  // histogram planes per buffer
     int stripRows = 0;      // centre rows per distance strip
+    // Download every scale's images after the run (for `mcdenoise diff`).
+    bool keepStages = false;
 };
 
 struct RhfResult {
@@ -33,6 +35,10 @@ struct RhfResult {
     std::vector<std::string> warnings;        // bad pixels found in the input, with counts
     std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
     int scalesUsed = 0;
+    // With keepStages, coarse to fine: "color s<k>" (D_k of the colour, k >= 1),
+    // "filtered s<k>" (that scale's RHF), "combined s<k>" (the recombination, k below the
+    // coarsest); the last one is the output.
+    std::vector<std::pair<std::string, Image>> stages;
 };
 
 // Scales filtered: scale s >= 1 only while its image is at least the search window's size

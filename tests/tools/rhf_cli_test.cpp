@@ -74,6 +74,11 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
     EXPECT_FALSE(Has(r.out, "scale 1")) << r.out;
     EXPECT_TRUE(Has(r.out, "5x5 patch distances")) << r.out;
     EXPECT_TRUE(Has(r.out, "81 offsets")) << r.out;
+    // Every stage against the CPU reference.
+    r = Run("diff n.exr --method rhf");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_TRUE(Has(r.out, "filtered s1")) << r.out;
+    EXPECT_TRUE(Has(r.out, "combined s0")) << r.out;
     // A frame without histograms is refused, naming what is missing.
     ASSERT_EQ(Run("render --size 8x8 --spp 2 -o bare.exr").code, 0);
     r = Run("denoise bare.exr --method rhf -o f.exr");
