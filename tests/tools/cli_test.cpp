@@ -441,7 +441,7 @@ TEST_F(CliTest, BenchQuality) {
     std::string cache = "XDG_CACHE_HOME=" + Path("cache").string() + " ";
     RunResult r =
         Run("bench quality --scenes dof-arealight --size 24x16 --spp 2,8 --reference-spp 64 "
-            "--crop-spp 8 -o bq",
+            "--crop-spp 8 --methods awr -o bq",
             cache);
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "| dof-arealight | awr |"));

@@ -46,10 +46,11 @@ struct DenoiseMethod {
 
 DenoiseMethod AwrMethod();
 DenoiseMethod BayesMethod();
+DenoiseMethod RhfMethod();
 
 // Every method the tool knows, in the order --help lists them.
 inline std::vector<DenoiseMethod> DenoiseMethods() {
-    return {AwrMethod(), BayesMethod()};
+    return {AwrMethod(), BayesMethod(), RhfMethod()};
 }
 
 }  // namespace mcd::tool
