@@ -110,6 +110,8 @@ std::vector<Case> Cases() {
                  f.layers["spp"].At(0, 4, x) = 0;
                  for (const char *layer : {"color", "variance", "min", "max"})
                      for (int c = 0; c < 3; ++c) f.layers[layer].At(c, 4, x) = 0;
+                 Image &hist = f.layers["hist"];  // empty histograms, zero count
+                 for (int c = 0; c < hist.channels; ++c) hist.At(c, 4, x) = 0;
              }
          }});
     add({"1 spp", 13, 11, [](io::Frame &f) { f = RenderedFrame(13, 11, 1); }});
@@ -149,6 +151,28 @@ std::vector<Case> Cases() {
              Expect::Finite,
              "",
              {{"bayes", options}}});
+    for (const char *options :
+         {"--kappa 0", "--kappa 1e30", "--knn 0", "--search-half 20", "--patch-half 20",
+          "--patch-half 0", "--nscales 8", "--kappa 0 --knn 1"})
+        add({fmt::format("rhf {}", options),
+             13,
+             11,
+             nullptr,
+             Expect::Finite,
+             "",
+             {{"rhf", options}}});
+    // kNN beyond the search window is refused, naming it.
+    for (const char *options : {"--knn 1681", "--search-half 0"})
+        add({fmt::format("rhf {}", options),
+             13,
+             11,
+             nullptr,
+             Expect::Refused,
+             "kNN",
+             {{"rhf", options}}});
+    add({"rhf NaN histogram bin", 13, 11,
+         [](io::Frame &f) { f.layers["hist"].At(5, 3, 3) = NAN; }, Expect::FiniteOrRefused,
+         "hist|Bin"});
     add({"bayes too many levels",
          13,
          11,

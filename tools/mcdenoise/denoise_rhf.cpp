@@ -91,6 +91,9 @@ DenoiseMethod RhfMethod() {
             ->capture_default_str()
             ->check(CLI::Range(1, 8));
     };
+    method.missing = [](const io::Frame &frame) -> std::string {
+        return frame.Has("hist") ? "" : "no histogram channels (Bin_0000..)";
+    };
     method.run = [opt](vk::Context &context, const io::Frame &frame) {
         if (!frame.Has("hist"))
             throw Error(
