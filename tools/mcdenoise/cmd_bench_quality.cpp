@@ -197,7 +197,9 @@ void BenchQuality(const QualityOptions &opt) {
         "text-align:right}} img.crop{{image-rendering:pixelated;width:192px}}"
         "</style></head><body><h1>Error against run time</h1><p>{}x{}, references at {} "
         "spp, device {}. Time is render + denoise (wall; the first run of each method is "
-        "an untimed warm-up that compiles its pipelines).</p>\n",
+        "an untimed warm-up that compiles its pipelines). A method runs on the plain frame "
+        "(color, variance, spp, min, max) when that is all it needs, else on a frame with "
+        "every layer group, and is charged that frame's render time.</p>\n",
         width, height, opt.referenceSpp, context.Info().name);
     std::string headline;
 
@@ -221,17 +223,25 @@ void BenchQuality(const QualityOptions &opt) {
             mc.error = CompareImages(plain.layers[0].second, reference);
             curves[0].second.push_back(mc);
             if (spp == opt.cropSpp) crops["input"] = plain.layers[0].second;
-            // Every layer group, for the methods: their render time is this one's.
+            // Every layer group, for the methods that need more than the plain frame has.
             options.layers = render::kLayersAll;
             render::RenderResult full = render::Render(scene, options);
-            io::Frame frame;
-            frame.path = fmt::format("{} at {} spp", sceneName, spp);
-            frame.width = width, frame.height = height;
-            for (auto &[name, image] : full.layers) frame.layers[name] = std::move(image);
+            auto frameOf = [&](render::RenderResult &r) {
+                io::Frame frame;
+                frame.path = fmt::format("{} at {} spp", sceneName, spp);
+                frame.width = width, frame.height = height;
+                for (auto &[name, image] : r.layers) frame.layers[name] = std::move(image);
+                return frame;
+            };
+            io::Frame plainFrame = frameOf(plain), fullFrame = frameOf(full);
             std::string line = fmt::format("  {:<15} {:3} spp: mc relMSE {:.4g} ({:.2f} s)",
                                            sceneName, spp, mc.error.relMse, mc.renderSeconds);
             for (size_t m = 0; m < methods.size(); ++m) {
                 if (skipped.count(methods[m].name)) continue;
+                // The plain frame when it has what the method needs, and its render time.
+                bool needsMore = methods[m].missing && !methods[m].missing(plainFrame).empty();
+                const io::Frame &frame = needsMore ? fullFrame : plainFrame;
+                double renderSeconds = needsMore ? full.seconds : plain.seconds;
                 try {
                     // Untimed until a run has dispatched (and so compiled) its kernels: a
                     // frame with nothing to do (1 spp: no variance) dispatches nothing.
@@ -240,7 +250,7 @@ void BenchQuality(const QualityOptions &opt) {
                         warm.insert(methods[m].name);
                     Clock::time_point start = Clock::now();
                     DenoiseResult result = methods[m].run(context, frame);
-                    Point p{sceneName, methods[m].name, spp, full.seconds,
+                    Point p{sceneName, methods[m].name, spp, renderSeconds,
                             Seconds(Clock::now() - start)};
                     for (const vk::DispatchTiming &t : result.timings)
                         p.gpuSeconds += std::max(t.gpuMs, 0.0) * 1e-3;
