@@ -34,10 +34,11 @@ struct DenoiseMethod {
 };
 
 DenoiseMethod AwrMethod();
+DenoiseMethod PivotMethod();
 
 // Every method the tool knows, in the order --help lists them.
 inline std::vector<DenoiseMethod> DenoiseMethods() {
-    return {AwrMethod()};
+    return {AwrMethod(), PivotMethod()};
 }
 
 }  // namespace mcd::tool

@@ -1,0 +1,31 @@
+// Record the pivot filter's fit stage (shaders/pivot/fit.comp): per centre and channel, the
+// grown square and the planes of the square and its quadrants, into two buffers of 8
+// planes each ([plane][channel][y][x]; planes in shaders/pivot/pivot.h).
+#pragma once
+
+#include "host/vk/gpu_image.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+// The optional guides on the GPU: normals (3 channels), ids (2 channels: object, part).
+struct PivotGpuGuides {
+    const vk::GpuImage *normal = nullptr;
+    const vk::GpuImage *ids = nullptr;
+};
+
+struct PivotFitSettings {
+    int maxRadius = 30;
+    float targetNoise = 0.02f, goodNoise = 1.f, disagreement = 0.1f, k = 1.f;
+};
+
+// `fitLo` and `fitHi` hold 8 x channels planes of z's size each.
+void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
+                    const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
+                    const PivotFitSettings &settings, const vk::GpuImage &fitLo,
+                    const vk::GpuImage &fitHi);
+
+// Throw unless the guides match width x height with 3 and 2 channels.
+void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides);
+
+}  // namespace mcd

@@ -1,0 +1,109 @@
+// `mcdenoise denoise --method pivot`: Ershov et al.'s pivot-image filter
+// (host/methods/pivot.h), planefit or the bilateral baseline.
+#include <fmt/format.h>
+
+#include <memory>
+
+#include "host/error.h"
+#include "host/methods/pivot.h"
+#include "tools/mcdenoise/denoise_method.h"
+
+namespace mcd::tool {
+namespace {
+
+struct PivotCliOptions {
+    std::string filter = "planefit", guides = "auto", noise = "auto";
+    PivotOptions options;
+};
+
+}  // namespace
+
+DenoiseMethod PivotMethod() {
+    auto opt = std::make_shared<PivotCliOptions>();
+    DenoiseMethod method;
+    method.name = "pivot";
+    method.summary =
+        "Ershov et al.'s pivot-image filter (needs a pivot layer; normals, objectId, partId, "
+        "variance refine it)";
+    method.addOptions = [opt](CLI::App *cmd) {
+        PivotOptions &o = opt->options;
+        cmd->add_option("--filter", opt->filter,
+                        "pivot: planefit (the paper's plane fits, eqs. 10-13) or bilateral "
+                        "(cross-bilateral baseline of z = color / pivot)")
+            ->capture_default_str();
+        cmd->add_option("--max-radius", o.maxRadius,
+                        "pivot: largest half-size of a planefit square (paper: 30-40)")
+            ->capture_default_str()
+            ->check(CLI::Range(2, 64));
+        cmd->add_option("--target-noise", o.targetNoise,
+                        "pivot: relative std of a centre's fit that stops the growth")
+            ->capture_default_str()
+            ->check(CLI::Range(0.f, 1e6f));
+        cmd->add_option("--good-noise", o.goodNoise,
+                        "pivot: pixels whose relative std exceeds this are left out of fits")
+            ->capture_default_str()
+            ->check(CLI::Range(1e-6f, 1e6f));
+        cmd->add_option("--disagreement", o.disagreement,
+                        "pivot: relative square-vs-quadrant difference that stops the growth")
+            ->capture_default_str()
+            ->check(CLI::Range(0.f, 1e6f));
+        cmd->add_option("--robust-k", o.k, "pivot: k of eq. 10")
+            ->capture_default_str()
+            ->check(CLI::Range(0.f, 1e6f));
+        cmd->add_option("--bilateral-radius", o.bilateralRadius,
+                        "pivot: window half-size of the bilateral filter")
+            ->capture_default_str()
+            ->check(CLI::Range(0, 64));
+        cmd->add_option("--sigma-range", o.sigmaRange,
+                        "pivot: bilateral range sigma on the pivot's relative difference")
+            ->capture_default_str()
+            ->check(CLI::Range(1e-6f, 1e6f));
+        cmd->add_option("--pivot-floor", o.floor,
+                        "pivot: pixels with pivot <= this x the channel mean keep their input")
+            ->capture_default_str()
+            ->check(CLI::Range(1e-12f, 1e6f));
+        cmd->add_option("--guides", opt->guides,
+                        "pivot: auto (normals and ids when the frame has them) or none")
+            ->capture_default_str();
+        cmd->add_option("--pivot-noise", opt->noise,
+                        "pivot: auto (the variance layer when present) or estimate (from the "
+                        "3x3 neighbours of z)")
+            ->capture_default_str();
+    };
+    method.run = [opt](vk::Context &context, const io::Frame &frame) {
+        PivotOptions options = opt->options;
+        if (opt->filter == "planefit")
+            options.filter = PivotFilter::PlaneFit;
+        else if (opt->filter == "bilateral")
+            options.filter = PivotFilter::Bilateral;
+        else
+            throw Error("--filter takes planefit or bilateral, not '" + opt->filter + "'");
+        if (opt->guides != "auto" && opt->guides != "none")
+            throw Error("--guides takes auto or none, not '" + opt->guides + "'");
+        if (opt->noise != "auto" && opt->noise != "estimate")
+            throw Error("--pivot-noise takes auto or estimate, not '" + opt->noise + "'");
+        if (!frame.Has("pivot"))
+            throw Error(fmt::format(
+                "{}: the pivot method needs a pivot layer (render it with `mcdenoise render "
+                "--layers pivot`)",
+                frame.path));
+        PivotInputs in;
+        in.color = &frame.Get("color");
+        in.pivot = &frame.Get("pivot");
+        if (opt->noise == "auto" && frame.Has("variance")) in.variance = &frame.Get("variance");
+        if (opt->guides == "auto") {
+            if (frame.Has("normal")) in.normal = &frame.Get("normal");
+            if (frame.Has("objectId")) in.objectId = &frame.Get("objectId");
+            if (frame.Has("partId")) in.partId = &frame.Get("partId");
+        }
+        PivotResult pivot = PivotDenoise(context, in, options);
+        DenoiseResult result;
+        result.image = std::move(pivot.image);
+        result.plan = std::move(pivot.plan);
+        result.timings = std::move(pivot.timings);
+        return result;
+    };
+    return method;
+}
+
+}  // namespace mcd::tool
