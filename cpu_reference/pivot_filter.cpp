@@ -135,6 +135,17 @@ double PivotIdTerm(const Image *ids, int x, int y, int x0, int y0) {
     return 1;
 }
 
+double PivotBoundaryTerm(const Image *ids, int x, int y) {
+    if (!ids) return 1;
+    int w = ids->width, h = ids->height;
+    const int offsets[4][2] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+    for (const auto &o : offsets) {
+        int u = x + o[0], v = y + o[1];
+        if (u >= 0 && u < w && v >= 0 && v < h && PivotIdTerm(ids, u, v, x, y) == 0) return 0;
+    }
+    return 1;
+}
+
 PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *variance,
                         double floor) {
     int w = color.width, h = color.height;
@@ -214,7 +225,8 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                             double nu = ratio.nu.At(c, y, x);
                             if (nu < 0 || nu > good) continue;
                             double geo = PivotNormalTerm(guides.normal, x, y, x0, y0) *
-                                         PivotIdTerm(guides.ids, x, y, x0, y0);
+                                         PivotIdTerm(guides.ids, x, y, x0, y0) *
+                                         PivotBoundaryTerm(guides.ids, x, y);
                             if (geo == 0) continue;
                             double zq = z.At(c, y, x), dx = x - x0, dy = y - y0;
                             double e = params.k * std::fabs(zq - mean) /
@@ -307,7 +319,8 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
     for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (ratio.nu.At(c, y, x) < 0) continue;
+                if (ratio.nu.At(c, y, x) < 0 || PivotBoundaryTerm(guides.ids, x, y) == 0)
+                    continue;
                 double sumW = 0, sumWz = 0;
                 // Every centre whose square holds (x, y) (eq. 13); none reaches further
                 // than the largest radius.
@@ -346,7 +359,8 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (ratio.nu.At(c, y, x) < 0) continue;
+                if (ratio.nu.At(c, y, x) < 0 || PivotBoundaryTerm(guides.ids, x, y) == 0)
+                    continue;
                 double g = Luma(pivot, x, y), sumW = 0, sumWz = 0;
                 for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
                     for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {
@@ -360,7 +374,8 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
                         if (e > kExpCut) continue;
                         double weight = std::exp(-e) *
                                         PivotNormalTerm(guides.normal, u, v, x, y) *
-                                        PivotIdTerm(guides.ids, u, v, x, y);
+                                        PivotIdTerm(guides.ids, u, v, x, y) *
+                                        PivotBoundaryTerm(guides.ids, u, v);
                         sumW += weight;
                         sumWz += weight * ratio.z.At(c, v, u);
                     }

@@ -26,7 +26,10 @@
 //   and equal noise).
 // - Normal term (n.n0)^4 for n.n0 > 1/2 else 0 (unit normals; two zero normals give 1, one
 //   gives 0), object and part terms 0 when the ids differ; they multiply both the fit
-//   weights ("effectively excluded from fitting", 4.3) and the averaging weight.
+//   weights ("effectively excluded from fitting", 4.3) and the averaging weight. The
+//   boundary term w_b ("0 near projections of the boundaries") is 0 for a pixel whose
+//   4-neighbours have other ids: such pixels may mix both sides (the ids are the first
+//   sample's), so they give no data to fits or averages and keep their input.
 // - Eq. 13's base weight is exp(-d^2 / R0^2) of the centre's window (d^2 = dx^2 + dy^2),
 //   normalised by the sum of the weights.
 #pragma once
@@ -48,7 +51,7 @@ struct PivotParams {
     double targetNoise = 0.02;  // stop growing at this relative std of the centre value
     double goodNoise = 1.0;     // pixels with relative std above this are not fitted
     double disagreement = 0.1;  // relative square-vs-quadrant limit at the centre
-    double k = 1.0;             // eq. 10's robustness constant
+    double k = 0.3;             // eq. 10's robustness constant
     // Bilateral baseline: window half-size, spatial sigma = radius / 2, range sigma on
     // the relative difference of the pivot's channel mean.
     int bilateralRadius = 8;
@@ -89,5 +92,6 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
 // The normal and id terms, exposed for the tests.
 double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0);
 double PivotIdTerm(const Image *ids, int x, int y, int x0, int y0);
+double PivotBoundaryTerm(const Image *ids, int x, int y);
 
 }  // namespace mcd::ref

@@ -16,7 +16,7 @@ struct PivotGpuGuides {
 
 struct PivotFitSettings {
     int maxRadius = 30;
-    float targetNoise = 0.02f, goodNoise = 1.f, disagreement = 0.1f, k = 1.f;
+    float targetNoise = 0.02f, goodNoise = 1.f, disagreement = 0.1f, k = 0.3f;
 };
 
 // `fitLo` and `fitHi` hold 8 x channels planes of z's size each.

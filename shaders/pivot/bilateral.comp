@@ -14,7 +14,7 @@ layout(std430, binding = PIVOT_BILATERAL_NORMALS) readonly buffer Normals { floa
 layout(std430, binding = PIVOT_BILATERAL_IDS) readonly buffer Ids { float ids[]; };
 layout(std430, binding = PIVOT_BILATERAL_OUT) writeonly buffer Out { float outImage[]; };
 
-int planeSize;
+int planeSize, gw, gh;
 
 #include "pivot/guides.glsl"
 
@@ -30,8 +30,10 @@ void main() {
     int w = push.width, h = push.height, r = push.radius;
     if (x >= w) return;
     planeSize = w * h;
+    gw = w;
+    gh = h;
     int i = y * w + x, at = c * planeSize + i, base = c * planeSize;
-    if (nuIn[at] < 0.0) {
+    if (nuIn[at] < 0.0 || boundaryTerm(x, y) == 0.0) {
         outImage[at] = color[at];
         return;
     }
@@ -48,7 +50,7 @@ void main() {
             float d2 = float((u - x) * (u - x) + (v - y) * (v - y));
             float e = d2 * spatial + rel * rel * range;
             if (e > PIVOT_EXP_CUT) continue;
-            float weight = exp(-e) * normalTerm(q, i) * idTerm(q, i);
+            float weight = exp(-e) * normalTerm(q, i) * idTerm(q, i) * boundaryTerm(u, v);
             sumW += weight;
             sumWz += weight * zIn[base + q];
         }

@@ -14,7 +14,7 @@ layout(std430, binding = PIVOT_FIT_IDS) readonly buffer Ids { float ids[]; };
 layout(std430, binding = PIVOT_FIT_LO) writeonly buffer FitLo { float fitLo[]; };
 layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { float fitHi[]; };
 
-int planeSize;
+int planeSize, gw, gh;
 
 #include "pivot/guides.glsl"
 
@@ -83,7 +83,7 @@ float weightAt(int x, int y, float mean, float radius, out float z, out float s)
     z = zIn[base + i];
     s = sIn[base + i];
     if (nu < 0.0 || nu > goodNu) return 0.0;
-    float geo = normalTerm(i, y0 * w + x0) * idTerm(i, y0 * w + x0);
+    float geo = normalTerm(i, y0 * w + x0) * idTerm(i, y0 * w + x0) * boundaryTerm(x, y);
     if (geo == 0.0) return 0.0;
     float dx = float(x - x0), dy = float(y - y0);
     float e = k * abs(z - mean) / max(abs(mean), PIVOT_TINY) + nu;
@@ -142,6 +142,8 @@ void main() {
     h = push.height;
     if (x0 >= w) return;
     planeSize = w * h;
+    gw = w;
+    gh = h;
     base = c * planeSize;
     goodNu = push.goodNu;
     k = push.k;

@@ -15,7 +15,7 @@ layout(std430, binding = PIVOT_GATHER_NORMALS) readonly buffer Normals { float n
 layout(std430, binding = PIVOT_GATHER_IDS) readonly buffer Ids { float ids[]; };
 layout(std430, binding = PIVOT_GATHER_OUT) writeonly buffer Out { float outImage[]; };
 
-int planeSize;
+int planeSize, gw, gh;
 
 #include "pivot/guides.glsl"
 
@@ -42,8 +42,10 @@ void main() {
     int w = push.width, h = push.height;
     if (x >= w) return;
     planeSize = w * h;
+    gw = w;
+    gh = h;
     int i = y * w + x, at = c * planeSize + i;
-    if (nuIn[at] < 0.0) {
+    if (nuIn[at] < 0.0 || boundaryTerm(x, y) == 0.0) {
         outImage[at] = color[at];
         return;
     }

@@ -1,6 +1,7 @@
 // The geometric terms of the pivot filter (section 4.4), for kernels that declare the
 // buffers `normals` (3 planes) and `ids` (2 planes: object, part), the specialization
-// constants useNormals / useIds and the int `planeSize` (width x height).
+// constants useNormals / useIds and the ints `planeSize` (width x height) and `gw`, `gh`
+// (width, height).
 
 // (n.n0)^4 when n.n0 > 1/2 for the unit normals at pixels i and i0, else 0; two zero
 // normals (no surface) give 1, one gives 0.
@@ -19,4 +20,17 @@ float normalTerm(int i, int i0) {
 float idTerm(int i, int i0) {
     if (useIds == 0) return 1.0;
     return ids[i] == ids[i0] && ids[planeSize + i] == ids[planeSize + i0] ? 1.0 : 0.0;
+}
+
+// The boundary term w_b as a property of a data pixel: 0 when a 4-neighbour has other ids
+// (the pixel may straddle an object or part boundary and mix both sides), else 1. Such
+// pixels give no data to fits or averages and keep their input.
+float boundaryTerm(int x, int y) {
+    if (useIds == 0) return 1.0;
+    int i = y * gw + x;
+    if (x > 0 && idTerm(i - 1, i) == 0.0) return 0.0;
+    if (x + 1 < gw && idTerm(i + 1, i) == 0.0) return 0.0;
+    if (y > 0 && idTerm(i - gw, i) == 0.0) return 0.0;
+    if (y + 1 < gh && idTerm(i + gw, i) == 0.0) return 0.0;
+    return 1.0;
 }
