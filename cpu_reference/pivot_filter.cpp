@@ -147,7 +147,7 @@ double PivotBoundaryTerm(const Image *ids, int x, int y) {
 }
 
 PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *variance,
-                        double floor) {
+                        double floor, const Image *ids) {
     int w = color.width, h = color.height;
     PivotRatio r{Image(w, h, color.channels), Image(w, h, color.channels),
                  Image(w, h, color.channels, -1.f)};
@@ -188,6 +188,10 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 r.z.At(c, y, x) = float(zOf(x, y));
                 r.s.At(c, y, x) = float(s);
                 r.nu.At(c, y, x) = float(s / std::max(zl * zl, kTiny));
+                if (PivotBoundaryTerm(ids, x, y) == 0) {
+                    r.z.At(c, y, x) = r.s.At(c, y, x) = 0;
+                    r.nu.At(c, y, x) = -1;
+                }
             }
     }
     return r;
@@ -225,8 +229,7 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                             double nu = ratio.nu.At(c, y, x);
                             if (nu < 0 || nu > good) continue;
                             double geo = PivotNormalTerm(guides.normal, x, y, x0, y0) *
-                                         PivotIdTerm(guides.ids, x, y, x0, y0) *
-                                         PivotBoundaryTerm(guides.ids, x, y);
+                                         PivotIdTerm(guides.ids, x, y, x0, y0);
                             if (geo == 0) continue;
                             double zq = z.At(c, y, x), dx = x - x0, dy = y - y0;
                             double e = params.k * std::fabs(zq - mean) /
@@ -319,8 +322,7 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
     for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (ratio.nu.At(c, y, x) < 0 || PivotBoundaryTerm(guides.ids, x, y) == 0)
-                    continue;
+                if (ratio.nu.At(c, y, x) < 0) continue;
                 double sumW = 0, sumWz = 0;
                 // Every centre whose square holds (x, y) (eq. 13); none reaches further
                 // than the largest radius.
@@ -359,8 +361,7 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (ratio.nu.At(c, y, x) < 0 || PivotBoundaryTerm(guides.ids, x, y) == 0)
-                    continue;
+                if (ratio.nu.At(c, y, x) < 0) continue;
                 double g = Luma(pivot, x, y), sumW = 0, sumWz = 0;
                 for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
                     for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {
@@ -374,8 +375,7 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
                         if (e > kExpCut) continue;
                         double weight = std::exp(-e) *
                                         PivotNormalTerm(guides.normal, u, v, x, y) *
-                                        PivotIdTerm(guides.ids, u, v, x, y) *
-                                        PivotBoundaryTerm(guides.ids, u, v);
+                                        PivotIdTerm(guides.ids, u, v, x, y);
                         sumW += weight;
                         sumWz += weight * ratio.z.At(c, v, u);
                     }

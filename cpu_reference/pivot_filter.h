@@ -29,7 +29,8 @@
 //   weights ("effectively excluded from fitting", 4.3) and the averaging weight. The
 //   boundary term w_b ("0 near projections of the boundaries") is 0 for a pixel whose
 //   4-neighbours have other ids: such pixels may mix both sides (the ids are the first
-//   sample's), so they give no data to fits or averages and keep their input.
+//   sample's), so the ratio stage gives them no z: no data to fits or averages, and they
+//   keep their input.
 // - Eq. 13's base weight is exp(-d^2 / R0^2) of the centre's window (d^2 = dx^2 + dy^2),
 //   normalised by the sum of the weights.
 #pragma once
@@ -69,8 +70,9 @@ struct PivotGuides {
 struct PivotRatio {
     Image z, s, nu;
 };
+// With `ids`, pixels on an object/part boundary (the boundary term) have no z either.
 PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *variance,
-                        double floor);
+                        double floor, const Image *ids = nullptr);
 
 // Stage 2. Fits of every centre: kPivotPlanes x channels planes, plane p of channel c at
 // channel p * channels + c. `margin` (channels as the color), when not null, receives per

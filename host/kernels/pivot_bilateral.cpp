@@ -29,7 +29,7 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
          sizeof(k_pivot_bilateral_spv),
          PIVOT_BILATERAL_BINDINGS,
          sizeof(shader::PivotBilateralPush),
-         {{PIVOT_SPEC_NORMALS, guides.normal ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}}});
+         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}}});
     shader::PivotBilateralPush push{color.width,
                                     color.height,
                                     color.channels,
@@ -37,17 +37,15 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
                                     std::max(0.5f, settings.radius / 2.f),
                                     settings.sigmaRange,
                                     settings.goodNoise * settings.goodNoise};
-    recorder.Dispatch(
-        kernel, "pivot.bilateral",
-        {{&color.buffer, vk::Access::Read},
-         {&pivot.buffer, vk::Access::Read},
-         {&z.buffer, vk::Access::Read},
-         {&nu.buffer, vk::Access::Read},
-         {guides.normal ? &guides.normal->buffer : &color.buffer, vk::Access::Read},
-         {guides.ids ? &guides.ids->buffer : &color.buffer, vk::Access::Read},
-         {&out.buffer, vk::Access::Write}},
-        &push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
-        uint32_t(color.height), uint32_t(color.channels));
+    recorder.Dispatch(kernel, "pivot.bilateral",
+                      {{&color.buffer, vk::Access::Read},
+                       {&pivot.buffer, vk::Access::Read},
+                       {&z.buffer, vk::Access::Read},
+                       {&nu.buffer, vk::Access::Read},
+                       {guides.image ? &guides.image->buffer : &color.buffer, vk::Access::Read},
+                       {&out.buffer, vk::Access::Write}},
+                      &push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+                      uint32_t(color.height), uint32_t(color.channels));
 }
 
 }  // namespace mcd

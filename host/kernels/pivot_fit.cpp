@@ -14,15 +14,14 @@
 namespace mcd {
 
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides) {
-    auto check = [&](const vk::GpuImage *image, int channels, const char *name) {
-        if (image &&
-            (image->width != width || image->height != height || image->channels != channels))
-            throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{}", what, name,
-                                    image->width, image->height, image->channels, width, height,
-                                    channels));
-    };
-    check(guides.normal, 3, "the normal guide");
-    check(guides.ids, 2, "the id guide");
+    const vk::GpuImage *image = guides.image;
+    if ((guides.normals || guides.ids) && !image)
+        throw Error(fmt::format("{}: guides are switched on without a guide image", what));
+    if (image && (image->width != width || image->height != height ||
+                  image->channels != PIVOT_GUIDE_PLANES))
+        throw Error(fmt::format("{}: the guide image is {}x{}x{}, expected {}x{}x{}", what,
+                                image->width, image->height, image->channels, width, height,
+                                PIVOT_GUIDE_PLANES));
 }
 
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
@@ -46,7 +45,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
          sizeof(k_pivot_fit_spv),
          PIVOT_FIT_BINDINGS,
          sizeof(shader::PivotFitPush),
-         {{PIVOT_SPEC_NORMALS, guides.normal ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}}});
+         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}}});
     shader::PivotFitPush push{z.width,
                               z.height,
                               z.channels,
@@ -55,13 +54,12 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                               settings.goodNoise * settings.goodNoise,
                               settings.disagreement,
                               settings.k};
-    // Absent guides are compiled out; z stands in for their bindings.
+    // Absent guides are compiled out; z stands in for their binding.
     recorder.Dispatch(kernel, "pivot.fit",
                       {{&z.buffer, vk::Access::Read},
                        {&s.buffer, vk::Access::Read},
                        {&nu.buffer, vk::Access::Read},
-                       {guides.normal ? &guides.normal->buffer : &z.buffer, vk::Access::Read},
-                       {guides.ids ? &guides.ids->buffer : &z.buffer, vk::Access::Read},
+                       {guides.image ? &guides.image->buffer : &z.buffer, vk::Access::Read},
                        {&fitLo.buffer, vk::Access::Write},
                        {&fitHi.buffer, vk::Access::Write}},
                       &push, uint32_t((z.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),

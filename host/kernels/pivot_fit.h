@@ -8,10 +8,12 @@
 
 namespace mcd {
 
-// The optional guides on the GPU: normals (3 channels), ids (2 channels: object, part).
+// The optional guides on the GPU: one image of PIVOT_GUIDE_PLANES channels (normal x, y, z,
+// object id, part id); `normals` and `ids` say which parts the kernels use (the others are
+// compiled out). No image: neither.
 struct PivotGpuGuides {
-    const vk::GpuImage *normal = nullptr;
-    const vk::GpuImage *ids = nullptr;
+    const vk::GpuImage *image = nullptr;
+    bool normals = false, ids = false;
 };
 
 struct PivotFitSettings {
@@ -25,7 +27,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                     const PivotFitSettings &settings, const vk::GpuImage &fitLo,
                     const vk::GpuImage &fitHi);
 
-// Throw unless the guides match width x height with 3 and 2 channels.
+// Throw unless the guide image matches width x height x PIVOT_GUIDE_PLANES when one is used.
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides);
 
 }  // namespace mcd

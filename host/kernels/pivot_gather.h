@@ -2,14 +2,21 @@
 // gather, then the back-multiplication by the pivot.
 #pragma once
 
+#include "host/image.h"
 #include "host/kernels/pivot_fit.h"
 
 namespace mcd {
 
-// `reach`: the largest radius among the fits (0 if none).
+// Per channel and PIVOT_GATHER_TILE-square tile of centres, the largest radius of their fits
+// (-1: none), from the radius planes (width x height x channels); `reach` receives the
+// largest overall (0 if none).
+Image PivotTileRadii(const Image &radii, int *reach);
+
+// `tiles` from PivotTileRadii of the fits' radii; `reach` its largest radius.
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                        const vk::GpuImage &pivot, const vk::GpuImage &nu,
                        const vk::GpuImage &fitLo, const vk::GpuImage &fitHi,
-                       const PivotGpuGuides &guides, int reach, const vk::GpuImage &out);
+                       const PivotGpuGuides &guides, const vk::GpuImage &tiles, int reach,
+                       const vk::GpuImage &out);
 
 }  // namespace mcd

@@ -1,10 +1,11 @@
 // Record the pivot filter's ratio stage (shaders/pivot/ratio.comp): z = L / L_a, the
 // variance s of z and its relative version nu (-1 where the pivot is at or below the
-// channel's threshold).
+// channel's threshold, or on an object/part boundary when `guides` has ids).
 #pragma once
 
 #include <vector>
 
+#include "host/kernels/pivot_fit.h"
 #include "host/vk/gpu_image.h"
 #include "host/vk/recorder.h"
 
@@ -14,8 +15,8 @@ namespace mcd {
 // `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel.
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
-                      const std::vector<float> &thresholds, const vk::GpuImage &z,
-                      const vk::GpuImage &s, const vk::GpuImage &nu);
+                      const std::vector<float> &thresholds, const PivotGpuGuides &guides,
+                      const vk::GpuImage &z, const vk::GpuImage &s, const vk::GpuImage &nu);
 
 // Throw unless the images have the same width, height and channel count.
 void CheckPivotShapes(const char *what, const vk::GpuImage &a,

@@ -106,44 +106,44 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
     vk::GpuImage pivotGpu(context, w, h, channels, "pivot.pivot");
     colorGpu.Upload(color);
     pivotGpu.Upload(*in.pivot);
-    std::optional<vk::GpuImage> varianceGpu, normalGpu, idsGpu;
+    vk::GpuImage z(context, w, h, channels, "pivot.z");
+    vk::GpuImage s(context, w, h, channels, "pivot.s");
+    vk::GpuImage nu(context, w, h, channels, "pivot.nu");
+    vk::GpuImage out(context, w, h, channels, "pivot.out");
+    std::optional<vk::GpuImage> varianceGpu, guideGpu;
     if (in.variance) {
         varianceGpu.emplace(context, w, h, channels, "pivot.variance");
         varianceGpu->Upload(*in.variance);
     }
     PivotGpuGuides guides;
-    if (in.normal) {
-        normalGpu.emplace(context, w, h, 3, "pivot.normal");
-        normalGpu->Upload(*in.normal);
-        guides.normal = &*normalGpu;
-        result.plan.push_back("normal term (n.n0)^4, n.n0 > 1/2: on");
-    } else {
-        result.plan.push_back("left out: the normal term (the frame has no normals)");
-    }
-    if (in.objectId || in.partId) {
-        Image ids(w, h, 2);
+    guides.normals = in.normal != nullptr;
+    guides.ids = in.objectId || in.partId;
+    if (guides.normals || guides.ids) {
+        // One guide image: normal x, y, z, object id, part id (absent parts stay zero).
+        Image guide(w, h, PIVOT_GUIDE_PLANES);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (in.objectId) ids.At(0, y, x) = in.objectId->At(0, y, x);
-                if (in.partId) ids.At(1, y, x) = in.partId->At(0, y, x);
+                for (int c = 0; c < 3 && in.normal; ++c)
+                    guide.At(c, y, x) = in.normal->At(c, y, x);
+                if (in.objectId) guide.At(3, y, x) = in.objectId->At(0, y, x);
+                if (in.partId) guide.At(4, y, x) = in.partId->At(0, y, x);
             }
-        idsGpu.emplace(context, w, h, 2, "pivot.ids");
-        idsGpu->Upload(ids);
-        guides.ids = &*idsGpu;
-        result.plan.push_back(
-            fmt::format("object/part terms: on ({}{})", in.objectId ? "objectId" : "",
-                        in.partId ? (in.objectId ? ", partId" : "partId") : ""));
-    } else {
-        result.plan.push_back("left out: the object and part terms (the frame has no ids)");
+        guideGpu.emplace(context, w, h, PIVOT_GUIDE_PLANES, "pivot.guides");
+        guideGpu->Upload(guide);
+        guides.image = &*guideGpu;
     }
+    result.plan.push_back(guides.normals
+                              ? "normal term (n.n0)^4, n.n0 > 1/2: on"
+                              : "left out: the normal term (the frame has no normals)");
+    result.plan.push_back(
+        guides.ids ? fmt::format("object/part and boundary terms: on ({}{})",
+                                 in.objectId ? "objectId" : "",
+                                 in.partId ? (in.objectId ? ", partId" : "partId") : "")
+                   : "left out: the object, part and boundary terms (the frame has no ids)");
 
-    vk::GpuImage z(context, w, h, channels, "pivot.z");
-    vk::GpuImage s(context, w, h, channels, "pivot.s");
-    vk::GpuImage nu(context, w, h, channels, "pivot.nu");
-    vk::GpuImage out(context, w, h, channels, "pivot.out");
     vk::Recorder recorder(context);
     RecordPivotRatio(context, recorder, colorGpu, pivotGpu,
-                     varianceGpu ? &*varianceGpu : nullptr, thresholds, z, s, nu);
+                     varianceGpu ? &*varianceGpu : nullptr, thresholds, guides, z, s, nu);
 
     if (options.filter == PivotFilter::Bilateral) {
         PivotBilateralSettings settings{options.bilateralRadius, options.sigmaRange,
@@ -167,19 +167,19 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
     RecordPivotFit(context, recorder, z, s, nu, guides, settings, fitLo, fitHi);
     recorder.Submit();
     result.timings = recorder.Timings();
-    // The radii decide how far the gather looks.
-    std::vector<float> radii = fitHi.buffer.DownloadFloats(
-        size_t(channels) * w * h,
-        size_t(PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER) * channels * w * h);
+    // The radii decide how far the gather looks, tile by tile.
+    Image radii(w, h, channels);
+    fitHi.buffer.Download(
+        radii.data.data(), radii.Size() * sizeof(float),
+        size_t(PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER) * radii.Size() * sizeof(float));
     double sum = 0;
     size_t fitted = 0;
-    for (float r : radii)
-        if (r >= 0) {
-            sum += r;
-            ++fitted;
-            result.largestRadius = std::max(result.largestRadius, int(r));
-        }
+    for (float r : radii.data)
+        if (r >= 0) sum += r, ++fitted;
     result.meanRadius = fitted ? sum / fitted : 0;
+    Image tileRadii = PivotTileRadii(radii, &result.largestRadius);
+    vk::GpuImage tiles(context, tileRadii.width, tileRadii.height, channels, "pivot.tiles");
+    tiles.Upload(tileRadii);
     result.plan.push_back(fmt::format(
         "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
         "square-vs-quadrant disagreement {}); mean radius {:.2f}, largest {}; fits of the "
@@ -191,10 +191,14 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
     result.plan.push_back(
         "eqs. 11-13: combined square/quadrant fits averaged over every square holding the "
         "pixel (a gather), times the pivot");
-    RecordPivotGather(context, recorder, colorGpu, pivotGpu, nu, fitLo, fitHi, guides,
+    RecordPivotGather(context, recorder, colorGpu, pivotGpu, nu, fitLo, fitHi, guides, tiles,
                       result.largestRadius, out);
     recorder.Submit();
     Append(result.timings, recorder.Timings());
+    std::string times;
+    for (const vk::DispatchTiming &t : result.timings)
+        times += fmt::format("{}{} {:.1f} ms", times.empty() ? "" : ", ", t.label, t.gpuMs);
+    result.plan.push_back("GPU time: " + times);
     result.image = out.Download();
     return result;
 }

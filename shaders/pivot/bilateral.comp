@@ -10,8 +10,7 @@ layout(std430, binding = PIVOT_BILATERAL_COLOR) readonly buffer Color { float co
 layout(std430, binding = PIVOT_BILATERAL_PIVOT) readonly buffer Pivot { float pivot[]; };
 layout(std430, binding = PIVOT_BILATERAL_Z) readonly buffer Z { float zIn[]; };
 layout(std430, binding = PIVOT_BILATERAL_NU) readonly buffer Nu { float nuIn[]; };
-layout(std430, binding = PIVOT_BILATERAL_NORMALS) readonly buffer Normals { float normals[]; };
-layout(std430, binding = PIVOT_BILATERAL_IDS) readonly buffer Ids { float ids[]; };
+layout(std430, binding = PIVOT_BILATERAL_GUIDES) readonly buffer Guides { float guides[]; };
 layout(std430, binding = PIVOT_BILATERAL_OUT) writeonly buffer Out { float outImage[]; };
 
 int planeSize, gw, gh;
@@ -33,7 +32,7 @@ void main() {
     gw = w;
     gh = h;
     int i = y * w + x, at = c * planeSize + i, base = c * planeSize;
-    if (nuIn[at] < 0.0 || boundaryTerm(x, y) == 0.0) {
+    if (nuIn[at] < 0.0) {
         outImage[at] = color[at];
         return;
     }
@@ -50,7 +49,7 @@ void main() {
             float d2 = float((u - x) * (u - x) + (v - y) * (v - y));
             float e = d2 * spatial + rel * rel * range;
             if (e > PIVOT_EXP_CUT) continue;
-            float weight = exp(-e) * normalTerm(q, i) * idTerm(q, i) * boundaryTerm(u, v);
+            float weight = exp(-e) * normalTerm(q, i) * idTerm(q, i);
             sumW += weight;
             sumWz += weight * zIn[base + q];
         }

@@ -9,8 +9,7 @@ layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
 layout(std430, binding = PIVOT_FIT_Z) readonly buffer Z { float zIn[]; };
 layout(std430, binding = PIVOT_FIT_S) readonly buffer S { float sIn[]; };
 layout(std430, binding = PIVOT_FIT_NU) readonly buffer Nu { float nuIn[]; };
-layout(std430, binding = PIVOT_FIT_NORMALS) readonly buffer Normals { float normals[]; };
-layout(std430, binding = PIVOT_FIT_IDS) readonly buffer Ids { float ids[]; };
+layout(std430, binding = PIVOT_FIT_GUIDES) readonly buffer Guides { float guides[]; };
 layout(std430, binding = PIVOT_FIT_LO) writeonly buffer FitLo { float fitLo[]; };
 layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { float fitHi[]; };
 
@@ -83,7 +82,7 @@ float weightAt(int x, int y, float mean, float radius, out float z, out float s)
     z = zIn[base + i];
     s = sIn[base + i];
     if (nu < 0.0 || nu > goodNu) return 0.0;
-    float geo = normalTerm(i, y0 * w + x0) * idTerm(i, y0 * w + x0) * boundaryTerm(x, y);
+    float geo = normalTerm(i, y0 * w + x0) * idTerm(i, y0 * w + x0);
     if (geo == 0.0) return 0.0;
     float dx = float(x - x0), dy = float(y - y0);
     float e = k * abs(z - mean) / max(abs(mean), PIVOT_TINY) + nu;

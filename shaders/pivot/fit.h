@@ -11,11 +11,10 @@
 #define PIVOT_FIT_Z 0
 #define PIVOT_FIT_S 1
 #define PIVOT_FIT_NU 2
-#define PIVOT_FIT_NORMALS 3
-#define PIVOT_FIT_IDS 4
-#define PIVOT_FIT_LO 5  // planes 0..7
-#define PIVOT_FIT_HI 6  // planes 8..15
-#define PIVOT_FIT_BINDINGS 7
+#define PIVOT_FIT_GUIDES 3
+#define PIVOT_FIT_LO 4  // planes 0..7
+#define PIVOT_FIT_HI 5  // planes 8..15
+#define PIVOT_FIT_BINDINGS 6
 
 #ifdef __cplusplus
 #include <cstddef>

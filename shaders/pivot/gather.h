@@ -13,10 +13,13 @@
 #define PIVOT_GATHER_NU 2
 #define PIVOT_GATHER_FIT_LO 3
 #define PIVOT_GATHER_FIT_HI 4
-#define PIVOT_GATHER_NORMALS 5
-#define PIVOT_GATHER_IDS 6
-#define PIVOT_GATHER_OUT 7
+#define PIVOT_GATHER_GUIDES 5
+#define PIVOT_GATHER_OUT 6
+#define PIVOT_GATHER_TILES 7  // per channel, the largest radius among a tile's centres
 #define PIVOT_GATHER_BINDINGS 8
+// Centres are visited tile by tile; a tile none of whose squares can reach the pixel is
+// skipped whole.
+#define PIVOT_GATHER_TILE 8
 
 #ifdef __cplusplus
 #include <cstddef>
@@ -29,9 +32,11 @@ layout(push_constant) uniform PivotGatherPush {
     int height;
     int channels;
     int reach;  // the largest radius of any fit: no centre further away holds the pixel
+    int tilesX;  // ceil(width / PIVOT_GATHER_TILE)
+    int tilesY;
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotGatherPush) == 16);
+static_assert(sizeof(PivotGatherPush) == 24);
 }  // namespace mcd::shader
 #else
 } push;

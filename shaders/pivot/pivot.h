@@ -19,6 +19,10 @@
 
 #define PIVOT_LOCAL_SIZE 64
 
+// The guide buffer's planes: normal x, y, z, object id, part id (what is absent is zero and
+// compiled out).
+#define PIVOT_GUIDE_PLANES 5
+
 // |z| above this makes a pixel invalid (z^2 and the fit sums stay finite in float); the
 // variance of z is clamped to its square.
 #define PIVOT_Z_MAX 1e18

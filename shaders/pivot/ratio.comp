@@ -11,6 +11,13 @@ layout(std430, binding = PIVOT_RATIO_VARIANCE) readonly buffer Variance { float 
 layout(std430, binding = PIVOT_RATIO_Z) writeonly buffer Z { float zOut[]; };
 layout(std430, binding = PIVOT_RATIO_S) writeonly buffer S { float sOut[]; };
 layout(std430, binding = PIVOT_RATIO_NU) writeonly buffer Nu { float nuOut[]; };
+layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
+const int useNormals = 0;
+layout(std430, binding = PIVOT_RATIO_GUIDES) readonly buffer Guides { float guides[]; };
+
+int planeSize, gw, gh;
+
+#include "pivot/guides.glsl"
 
 float threshold;
 
@@ -29,9 +36,12 @@ void main() {
     if (x >= w) return;
     threshold = c == 0 ? push.threshold0
                        : (c == 1 ? push.threshold1 : (c == 2 ? push.threshold2 : push.threshold3));
+    planeSize = w * h;
+    gw = w;
+    gh = h;
     int base = c * w * h, at = base + y * w + x;
     float z;
-    if (!ratioAt(at, z)) {
+    if (!ratioAt(at, z) || boundaryTerm(x, y) == 0.0) {
         zOut[at] = 0.0;
         sOut[at] = 0.0;
         nuOut[at] = -1.0;

@@ -76,18 +76,33 @@ ref::PivotParams RefParams(const PivotOptions &o) {
     return p;
 }
 
+// The GPU's guide image: normal x, y, z, object id, part id.
+Image GuideOf(const Frame &f) {
+    Image guide(f.normal.width, f.normal.height, PIVOT_GUIDE_PLANES);
+    for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < f.normal.PixelCount(); ++i)
+            guide.data[c * f.normal.PixelCount() + i] =
+                f.normal.data[c * f.normal.PixelCount() + i];
+    for (size_t i = 0; i < f.ids.Size(); ++i)
+        guide.data[3 * f.normal.PixelCount() + i] = f.ids.data[i];
+    return guide;
+}
+
 // The GPU ratio stage's z, s and nu.
 ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivot,
-                         const Image *variance, float floor) {
+                         const Image *variance, float floor, const Image *guide) {
     int w = color.width, h = color.height, ch = color.channels;
     vk::GpuImage c(ctx, w, h, ch, "color"), p(ctx, w, h, ch, "pivot"), v(ctx, w, h, ch, "var");
     vk::GpuImage z(ctx, w, h, ch, "z"), s(ctx, w, h, ch, "s"), nu(ctx, w, h, ch, "nu");
     c.Upload(color);
     p.Upload(pivot);
     if (variance) v.Upload(*variance);
+    vk::GpuImage g(ctx, w, h, PIVOT_GUIDE_PLANES, "guides");
+    if (guide) g.Upload(*guide);
+    PivotGpuGuides guides{guide ? &g : nullptr, false, guide != nullptr};
     vk::Recorder recorder(ctx);
     RecordPivotRatio(ctx, recorder, c, p, variance ? &v : nullptr,
-                     PivotThresholds(pivot, floor), z, s, nu);
+                     PivotThresholds(pivot, floor), guides, z, s, nu);
     recorder.Submit();
     return {z.Download(), s.Download(), nu.Download()};
 }
@@ -109,15 +124,18 @@ class PivotKernel : public GpuTest {};
 // Positive data, as rendered frames have, so zl is bounded away from 0.
 TEST_F(PivotKernel, RatioMatchesReference) {
     for (auto [w, h] : {std::pair{37, 23}, std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 1}})
-        for (bool withVariance : {true, false}) {
-            SCOPED_TRACE(fmt::format("{}x{} variance {}", w, h, withVariance));
+        for (auto [withVariance, withIds] : {std::pair{true, false}, std::pair{false, true}}) {
+            SCOPED_TRACE(fmt::format("{}x{} variance {} ids {}", w, h, withVariance, withIds));
             Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h)));
             // Black and near-black pivots: excluded, never divided by.
             for (int i = 0; i < int(f.pivot.Size()); i += 7) f.pivot.data[i] = 0;
             if (f.pivot.Size() > 3) f.pivot.data[3] = 1e-6f;
             const Image *variance = withVariance ? &f.variance : nullptr;
-            ref::PivotRatio expected = ref::PivotRatioOf(f.color, f.pivot, variance, 1e-3);
-            ref::PivotRatio actual = GpuRatio(Ctx(), f.color, f.pivot, variance, 1e-3f);
+            ref::PivotRatio expected =
+                ref::PivotRatioOf(f.color, f.pivot, variance, 1e-3, withIds ? &f.ids : nullptr);
+            Image guide = GuideOf(f);
+            ref::PivotRatio actual =
+                GpuRatio(Ctx(), f.color, f.pivot, variance, 1e-3f, withIds ? &guide : nullptr);
             for (size_t i = 0; i < expected.nu.Size(); ++i)
                 ASSERT_EQ(expected.nu.data[i] < 0, actual.nu.data[i] < 0)
                     << "validity at " << i;
@@ -156,7 +174,8 @@ TEST_F(PivotKernel, FitMatchesReference) {
         for (bool guides : {false, true}) {
             SCOPED_TRACE(fmt::format("{}x{} guides {}", w, h, guides));
             Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("fit{}x{}", w, h)));
-            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3);
+            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3,
+                                                      guides ? &f.ids : nullptr);
             PivotOptions o;
             o.maxRadius = 6;
             o.targetNoise = 0.05f;
@@ -166,14 +185,13 @@ TEST_F(PivotKernel, FitMatchesReference) {
 
             vk::GpuImage z(Ctx(), w, h, 3, "z"), s(Ctx(), w, h, 3, "s"),
                 nu(Ctx(), w, h, 3, "nu");
-            vk::GpuImage n(Ctx(), w, h, 3, "normal"), ids(Ctx(), w, h, 2, "ids");
+            vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
             vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
             z.Upload(ratio.z);
             s.Upload(ratio.s);
             nu.Upload(ratio.nu);
-            n.Upload(f.normal);
-            ids.Upload(f.ids);
-            PivotGpuGuides gpuGuides{guides ? &n : nullptr, guides ? &ids : nullptr};
+            guide.Upload(GuideOf(f));
+            PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
             vk::Recorder recorder(Ctx());
             RecordPivotFit(Ctx(), recorder, z, s, nu, gpuGuides,
                            {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k}, lo,
@@ -232,7 +250,8 @@ TEST_F(PivotKernel, GatherMatchesReference) {
             SCOPED_TRACE(fmt::format("{}x{} guides {}", w, h, guides));
             Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("gather{}x{}", w, h)));
             for (int i = 0; i < int(f.pivot.Size()); i += 11) f.pivot.data[i] = 0;
-            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3);
+            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3,
+                                                      guides ? &f.ids : nullptr);
             PivotOptions o;
             o.maxRadius = 5;
             ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
@@ -241,21 +260,22 @@ TEST_F(PivotKernel, GatherMatchesReference) {
 
             vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
             vk::GpuImage nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "out");
-            vk::GpuImage n(Ctx(), w, h, 3, "normal"), ids(Ctx(), w, h, 2, "ids");
+            vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
             vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
             color.Upload(f.color);
             pivot.Upload(f.pivot);
             nu.Upload(ratio.nu);
-            n.Upload(f.normal);
-            ids.Upload(f.ids);
+            guide.Upload(GuideOf(f));
             lo.Upload(Planes(fits, 0, 8, 3));
             hi.Upload(Planes(fits, 8, 8, 3));
             int reach = 0;
-            for (int i = 0; i < 3 * w * h; ++i)
-                reach = std::max(reach, int(fits.data[size_t(15 * 3) * w * h + i]));
-            PivotGpuGuides gpuGuides{guides ? &n : nullptr, guides ? &ids : nullptr};
+            Image tileRadii = PivotTileRadii(Planes(fits, 15, 1, 3), &reach);
+            vk::GpuImage tiles(Ctx(), tileRadii.width, tileRadii.height, 3, "tiles");
+            tiles.Upload(tileRadii);
+            PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
             vk::Recorder recorder(Ctx());
-            RecordPivotGather(Ctx(), recorder, color, pivot, nu, lo, hi, gpuGuides, reach, out);
+            RecordPivotGather(Ctx(), recorder, color, pivot, nu, lo, hi, gpuGuides, tiles,
+                              reach, out);
             recorder.Submit();
             double zScale = 0;
             for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
@@ -275,7 +295,8 @@ TEST_F(PivotKernel, BilateralMatchesReference) {
         for (bool guides : {false, true}) {
             SCOPED_TRACE(fmt::format("{}x{} guides {}", w, h, guides));
             Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("bilateral{}x{}", w, h)));
-            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3);
+            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3,
+                                                      guides ? &f.ids : nullptr);
             PivotOptions o;
             o.bilateralRadius = 4;
             ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
@@ -284,14 +305,13 @@ TEST_F(PivotKernel, BilateralMatchesReference) {
             vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
             vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"),
                 out(Ctx(), w, h, 3, "o");
-            vk::GpuImage n(Ctx(), w, h, 3, "normal"), ids(Ctx(), w, h, 2, "ids");
+            vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
             color.Upload(f.color);
             pivot.Upload(f.pivot);
             z.Upload(ratio.z);
             nu.Upload(ratio.nu);
-            n.Upload(f.normal);
-            ids.Upload(f.ids);
-            PivotGpuGuides gpuGuides{guides ? &n : nullptr, guides ? &ids : nullptr};
+            guide.Upload(GuideOf(f));
+            PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
             vk::Recorder recorder(Ctx());
             RecordPivotBilateral(Ctx(), recorder, color, pivot, z, nu, gpuGuides,
                                  {o.bilateralRadius, o.sigmaRange, o.goodNoise}, out);
@@ -347,7 +367,8 @@ TEST_F(PivotMethod, MatchesReferenceAndRerunsBitIdentically) {
             EXPECT_TRUE(BitIdentical(first.image, second.image));
 
             ref::PivotParams p = RefParams(o);
-            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor);
+            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor,
+                                                      guides ? &f.ids : nullptr);
             ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
             Image expected =
                 filter == PivotFilter::PlaneFit
