@@ -96,6 +96,34 @@ TEST_F(PivotCli, DenoisesWithBothFilters) {
     EXPECT_TRUE(fs::exists(Path("b.exr")));
 }
 
+// --demodulate runs another method on z = color / pivot: with AWR's cs = 0 (the identity)
+// the output is the input to round-off; with the default AWR it is finite and multiplied
+// back (the plan says so); pixels without a pivot keep their input.
+TEST_F(PivotCli, DemodulatesForOtherMethods) {
+    ASSERT_EQ(Run("render --scene cornell --size 24x20 --spp 4 --layers pivot,gbuffer -o "
+                  "n.exr")
+                  .code,
+              0);
+    RunResult r =
+        Run("denoise n.exr --method awr --cs 0 --demodulate pivot --explain -o i.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "demodulated: the method ran on color / pivot")) << r.out;
+    Image input = io::ReadImage(Path("n.exr").string()),
+          same = io::ReadImage(Path("i.exr").string());
+    ASSERT_EQ(input.Size(), same.Size());
+    for (size_t i = 0; i < input.Size(); ++i)
+        ASSERT_NEAR(same.data[i], input.data[i], 1e-6 * (1 + std::fabs(input.data[i]))) << i;
+    r = Run("denoise n.exr --method awr --demodulate albedo -o a.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    for (float v : io::ReadImage(Path("a.exr").string()).data) ASSERT_TRUE(std::isfinite(v));
+    r = Run("denoise n.exr --method pivot --demodulate pivot -o p.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "divides by itself")) << r.err;
+    r = Run("denoise n.exr --method awr --demodulate depth -o p.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "pivot or albedo")) << r.err;
+}
+
 TEST_F(PivotCli, RefusesBadOptionsAndMissingPivot) {
     ASSERT_EQ(Run("render --size 12x8 --spp 2 -o plain.exr").code, 0);
     RunResult r = Run("denoise plain.exr --method pivot -o f.exr");
