@@ -136,7 +136,8 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
                               ? "normal term (n.n0)^4, n.n0 > 1/2: on"
                               : "left out: the normal term (the frame has no normals)");
     result.plan.push_back(
-        guides.ids ? fmt::format("object/part and boundary terms: on ({}{})",
+        guides.ids ? fmt::format("object/part and boundary terms: on ({}{}); pixels next to "
+                                 "other ids keep their input",
                                  in.objectId ? "objectId" : "",
                                  in.partId ? (in.objectId ? ", partId" : "partId") : "")
                    : "left out: the object, part and boundary terms (the frame has no ids)");
