@@ -234,7 +234,7 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                             double zq = z.At(c, y, x), dx = x - x0, dy = y - y0;
                             double e = params.k * std::fabs(zq - mean) /
                                            std::max(std::fabs(mean), kTiny) +
-                                       nu;
+                                       params.sigmaWeight * nu;
                             if (radius > 0) e += (dx * dx + dy * dy) / (radius * radius);
                             if (e > kExpCut) continue;
                             samples.push_back(

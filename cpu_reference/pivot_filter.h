@@ -50,9 +50,10 @@ struct PivotParams {
     double floor = 1e-3;        // pivot validity: L_a > floor x channel mean
     int maxRadius = 30;         // largest half-size of the square
     double targetNoise = 0.02;  // stop growing at this relative std of the centre value
-    double goodNoise = 1.0;     // pixels with relative std above this are not fitted
+    double goodNoise = 100.0;   // pixels with relative std above this are not fitted
     double disagreement = 0.1;  // relative square-vs-quadrant limit at the centre
     double k = 0.3;             // eq. 10's robustness constant
+    double sigmaWeight = 0.0;   // multiplies sigma in eq. 10 (1: the paper)
     // Bilateral baseline: window half-size, spatial sigma = radius / 2, range sigma on
     // the relative difference of the pivot's channel mean.
     int bilateralRadius = 8;

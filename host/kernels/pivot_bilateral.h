@@ -8,7 +8,7 @@ namespace mcd {
 
 struct PivotBilateralSettings {
     int radius = 8;
-    float sigmaRange = 0.2f, goodNoise = 1.f;
+    float sigmaRange = 0.2f, goodNoise = 100.f;
 };
 
 void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,

@@ -53,7 +53,8 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                               settings.targetNoise,
                               settings.goodNoise * settings.goodNoise,
                               settings.disagreement,
-                              settings.k};
+                              settings.k,
+                              settings.sigmaWeight};
     // Absent guides are compiled out; z stands in for their binding.
     recorder.Dispatch(kernel, "pivot.fit",
                       {{&z.buffer, vk::Access::Read},

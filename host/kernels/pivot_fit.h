@@ -18,7 +18,8 @@ struct PivotGpuGuides {
 
 struct PivotFitSettings {
     int maxRadius = 30;
-    float targetNoise = 0.02f, goodNoise = 1.f, disagreement = 0.1f, k = 0.3f;
+    float targetNoise = 0.02f, goodNoise = 100.f, disagreement = 0.1f, k = 0.3f,
+          sigmaWeight = 0.f;
 };
 
 // `fitLo` and `fitHi` hold 8 x channels planes of z's size each.

@@ -73,7 +73,9 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
     if (!finitePositive(options.floor) || !finitePositive(options.goodNoise) ||
         !(std::isfinite(options.targetNoise) && options.targetNoise >= 0) ||
         !(std::isfinite(options.disagreement) && options.disagreement >= 0) ||
-        !(std::isfinite(options.k) && options.k >= 0) || !finitePositive(options.sigmaRange))
+        !(std::isfinite(options.k) && options.k >= 0) ||
+        !(std::isfinite(options.sigmaWeight) && options.sigmaWeight >= 0) ||
+        !finitePositive(options.sigmaRange))
         throw Error(
             "pivot: floor, noise threshold and range sigma must be finite and > 0; target "
             "noise, disagreement and k finite and >= 0");
@@ -163,8 +165,8 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
 
     vk::GpuImage fitLo(context, w, h, PIVOT_PLANES_PER_BUFFER * channels, "pivot.fitLo");
     vk::GpuImage fitHi(context, w, h, PIVOT_PLANES_PER_BUFFER * channels, "pivot.fitHi");
-    PivotFitSettings settings{options.maxRadius, options.targetNoise, options.goodNoise,
-                              options.disagreement, options.k};
+    PivotFitSettings settings{options.maxRadius,    options.targetNoise, options.goodNoise,
+                              options.disagreement, options.k,           options.sigmaWeight};
     RecordPivotFit(context, recorder, z, s, nu, guides, settings, fitLo, fitHi);
     recorder.Submit();
     result.timings = recorder.Timings();

@@ -85,7 +85,7 @@ float weightAt(int x, int y, float mean, float radius, out float z, out float s)
     float geo = normalTerm(i, y0 * w + x0) * idTerm(i, y0 * w + x0);
     if (geo == 0.0) return 0.0;
     float dx = float(x - x0), dy = float(y - y0);
-    float e = k * abs(z - mean) / max(abs(mean), PIVOT_TINY) + nu;
+    float e = k * abs(z - mean) / max(abs(mean), PIVOT_TINY) + push.sigmaWeight * nu;
     if (radius > 0.0) e += (dx * dx + dy * dy) / (radius * radius);
     if (e > PIVOT_EXP_CUT) return 0.0;
     return geo * exp(-e);

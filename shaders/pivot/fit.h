@@ -31,10 +31,11 @@ layout(push_constant) uniform PivotFitPush {
     float goodNu;        // pixels with nu above this are not fitted (goodNoise^2)
     float disagreement;  // relative square-vs-quadrant limit at the centre
     float k;             // eq. 10's robustness constant
+    float sigmaWeight;   // multiplies sigma (nu) in eq. 10's exponent (1: the paper)
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotFitPush) == 32);
-static_assert(offsetof(PivotFitPush, k) == 28);
+static_assert(sizeof(PivotFitPush) == 36);
+static_assert(offsetof(PivotFitPush, sigmaWeight) == 32);
 }  // namespace mcd::shader
 #else
 } push;

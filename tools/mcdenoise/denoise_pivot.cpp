@@ -50,6 +50,12 @@ DenoiseMethod PivotMethod() {
         cmd->add_option("--robust-k", o.k, "pivot: k of eq. 10")
             ->capture_default_str()
             ->check(CLI::Range(0.f, 1e6f));
+        cmd->add_option(
+               "--sigma-weight", o.sigmaWeight,
+               "pivot: weight of the noise term sigma in eq. 10 (1: the paper; 0 keeps "
+               "fireflies' energy in heavy-tailed noise)")
+            ->capture_default_str()
+            ->check(CLI::Range(0.f, 1e6f));
         cmd->add_option("--bilateral-radius", o.bilateralRadius,
                         "pivot: window half-size of the bilateral filter")
             ->capture_default_str()
