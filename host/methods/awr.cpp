@@ -100,13 +100,24 @@ AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &
     transform.RecordAnalysis(recorder, options.basis, levels, colorGpu, coef);
     transform.RecordSqAnalysis(recorder, options.basis, levels, varianceGpu, coefVariance,
                                options.lowSum, options.highSum);
+    // With keepStages, submit and download after every stage; else one submission.
+    auto stage = [&](const char *name, const vk::GpuImage &buffer) {
+        if (!options.keepStages) return;
+        recorder.Submit();
+        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+        result.stages.push_back({name, buffer.Download()});
+    };
+    stage("analysis", coef);
+    stage("variance analysis", coefVariance);
     RecordAwrShrink(context, recorder, coef, coefVariance, LevelExtent(color.width, levels),
                     LevelExtent(color.height, levels), options.cs);
+    stage("shrinkage", coef);
     // The input image's buffer takes the result: no fifth image.
     transform.RecordSynthesis(recorder, options.basis, levels, coef, colorGpu);
     recorder.Submit();
-    result.timings = recorder.Timings();
+    for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
     result.image = colorGpu.Download();
+    if (options.keepStages) result.stages.push_back({"synthesis", result.image});
     return result;
 }
 

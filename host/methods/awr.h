@@ -21,12 +21,17 @@ struct AwrOptions {
     // The squared 1D filters are renormalised to sum to these (the paper: 2^-1/2 for the
     // reconstruction, to damp coarse-scale smoothing).
     float lowSum = 0.70710678f, highSum = 0.70710678f;
+    // Download every stage's buffer (for `mcdenoise diff`): one submission per stage.
+    bool keepStages = false;
 };
 
 struct AwrResult {
     Image image;
     std::vector<std::string> plan;            // what ran and what was left out, and why
     std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
+    // With keepStages: "analysis", "variance analysis", "shrinkage", "synthesis" (the
+    // output), each the full-size buffer after its stage; empty when nothing ran.
+    std::vector<std::pair<std::string, Image>> stages;
 };
 
 // Per-pixel variance of the mean from the sample range (AWR section 4.2: the functional

@@ -81,4 +81,15 @@ void WaveletTransform::RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis bas
             lowSum, highSum, fmt::format("wavelet.sqanalyze.L{}", level));
 }
 
+void WaveletTransform::RecordSqAnalysisLevel(vk::Recorder &recorder, WaveletBasis basis,
+                                             int level, const vk::GpuImage &from,
+                                             const vk::GpuImage &to, float lowSum,
+                                             float highSum) {
+    Check(level + 1, from, to);
+    RecordWaveletSqAnalyze(context, recorder, basis, LevelExtent(width, level),
+                           LevelExtent(height, level), channels, from.View(), Temporary(),
+                           to.View(), lowSum, highSum,
+                           fmt::format("wavelet.sqanalyze.L{}", level));
+}
+
 }  // namespace mcd

@@ -24,6 +24,13 @@ class WaveletTransform {
     void RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                           const vk::GpuImage &variance, const vk::GpuImage &coef, float lowSum,
                           float highSum);
+    // One level of it: level `level` (0 = the full image) reads the low-low band that
+    // level's input occupies in `from` and writes its bands to the same region of `to`,
+    // leaving the rest of `to` alone. Chained from image to image, the top-left corners
+    // keep every level's scale variances, which the in-place transform overwrites.
+    void RecordSqAnalysisLevel(vk::Recorder &recorder, WaveletBasis basis, int level,
+                               const vk::GpuImage &from, const vk::GpuImage &to, float lowSum,
+                               float highSum);
 
   private:
     void Check(int levels, const vk::GpuImage &a, const vk::GpuImage &b) const;

@@ -7,13 +7,17 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <random>
 #include <thread>
 
 #include "host/error.h"
+#include "host/methods/awr.h"
+#include "host/methods/bayes.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/render/adaptive.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::tool {
@@ -167,6 +171,167 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     }
 }
 
+struct AwrBenchOptions {
+    std::string size = "1024x1024", samplerScene = "dof-arealight", samplerSize = "256x256";
+    int repeats = 5, samplerSpp = 16;
+    DeviceOptions device;
+};
+
+// AWR: the reconstruction's stages against one forward + inverse DWT of the same frame,
+// then the adaptive sampler's own cost per sample against tracing.
+void BenchAwr(const AwrBenchOptions &opt) {
+    int width = 0, height = 0;
+    ParseSize(opt.size, &width, &height);
+    int repeats = std::max(opt.repeats, 1);
+    vk::Context context(opt.device.ContextOptions());
+    int levels = MaxWaveletLevels(width, height);
+    fmt::print(
+        "bench awr: reconstruction of a {}x{} RGB frame, {} levels of CDF 9/7, on {} ({})\n",
+        width, height, levels, context.Info().name, vk::DeviceTypeName(context.Info().type));
+    Image color(width, height, 3), variance(width, height, 3);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> uniform(0.f, 1.f);
+    for (size_t i = 0; i < color.Size(); ++i)
+        color.data[i] = uniform(rng), variance.data[i] = 0.01f * uniform(rng);
+
+    // Stages by dispatch label; the first run warms up pipelines and memory.
+    const char *stages[] = {"sqanalyze", "analyze", "shrink", "synthesize"};
+    std::vector<std::vector<double>> stageMs(4);
+    std::vector<double> totalMs, wallMs;
+    for (int r = 0; r <= repeats; ++r) {
+        Clock::time_point start = Clock::now();
+        AwrResult result = AwrReconstruct(context, color, variance, {});
+        double wall = Ms(Clock::now() - start);
+        if (r == 0) continue;
+        double stage[4] = {}, total = 0;
+        for (const vk::DispatchTiming &t : result.timings) {
+            int s = 0;
+            while (s < 3 && t.label.find(stages[s]) == std::string::npos) ++s;
+            stage[s] += std::max(t.gpuMs, 0.0);
+            total += std::max(t.gpuMs, 0.0);
+        }
+        for (int s = 0; s < 4; ++s) stageMs[s].push_back(stage[s]);
+        totalMs.push_back(total);
+        wallMs.push_back(wall);
+    }
+    // One forward + inverse DWT of the same frame, the yardstick the issue names.
+    vk::GpuImage in(context, width, height, 3, "bench.in"),
+        coef(context, width, height, 3, "bench.coef");
+    in.Upload(color);
+    WaveletTransform transform(context, width, height, 3);
+    vk::Recorder recorder(context);
+    std::vector<double> dwtMs;
+    for (int r = 0; r <= repeats; ++r) {
+        transform.RecordAnalysis(recorder, WaveletBasis::Cdf97, levels, in, coef);
+        transform.RecordSynthesis(recorder, WaveletBasis::Cdf97, levels, coef, in);
+        recorder.Submit();
+        if (r > 0) dwtMs.push_back(recorder.TotalGpuMs());
+    }
+    const char *names[] = {"squared-filter DWT of the variance", "DWT of the color",
+                           "soft shrinkage", "synthesis"};
+    fmt::print("  GPU time per stage (timestamps, median of {}):\n", repeats);
+    for (int s : {1, 0, 2, 3})
+        fmt::print("    {:<36} {:8.2f} ms\n", names[s], Median(stageMs[s]));
+    double total = Median(totalMs), dwt = Median(dwtMs);
+    fmt::print("    {:<36} {:8.2f} ms (goal: under 100 ms)\n", "total", total);
+    fmt::print("  wall time with upload and download: {:.1f} ms\n", Median(wallMs));
+    fmt::print(
+        "  one forward + inverse DWT of the frame: {:.2f} ms; reconstruction / DWT = {:.2f} "
+        "(goal: at most 2)\n",
+        dwt, total / dwt);
+
+    // The sampler: its own work (transforms, priorities, sorting) against tracing.
+    render::Scene scene = render::BuildScene(opt.samplerScene);
+    render::AdaptiveOptions sampler;
+    ParseSize(opt.samplerSize, &sampler.width, &sampler.height);
+    sampler.averageSpp = opt.samplerSpp;
+    render::AdaptiveResult adaptive = render::RenderAdaptive(context, scene, sampler);
+    double samples = double(adaptive.samples);
+    fmt::print(
+        "  adaptive sampler on {} {}x{} at {} spp: {} rounds, {:.2f} s; tracing {:.3f} us per "
+        "sample, the sampler's own work {:.3f} us per sample ({:.1f}% of tracing)\n",
+        opt.samplerScene, sampler.width, sampler.height, sampler.averageSpp, adaptive.rounds,
+        adaptive.seconds, adaptive.traceSeconds / samples * 1e6,
+        adaptive.prioritySeconds / samples * 1e6,
+        100 * adaptive.prioritySeconds / adaptive.traceSeconds);
+}
+
+// Method bayes on a synthetic frame (smooth picture times log-normal noise, RGB): GPU time
+// per stage, median over repeats, and scikit-image's BayesShrink on the same work.
+void BenchBayes(const std::string &size, int levels, const std::string &basisName, int repeats,
+                bool skimage, const DeviceOptions &device) {
+    int width = 0, height = 0;
+    ParseSize(size, &width, &height);
+    std::optional<WaveletBasis> basis = ParseWavelet(basisName);
+    if (!basis) throw Error("unknown wavelet basis '" + basisName + "'");
+    repeats = std::max(repeats, 1);
+    vk::Context context(device.ContextOptions());
+    fmt::print("bench bayes: {}x{} RGB float32, {} levels of {}, on {} ({})\n", width, height,
+               levels, WaveletName(*basis), context.Info().name,
+               vk::DeviceTypeName(context.Info().type));
+    Image image(width, height, 3);
+    std::mt19937 rng(1);
+    std::normal_distribution<float> normal(0.f, 0.4f);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                image.At(c, y, x) = (0.3f + 0.5f * (x > width / 2) +
+                                     0.2f * std::sin(0.05f * float(y) + float(c))) *
+                                    std::exp(normal(rng));
+    BayesOptions options;
+    options.basis = *basis;
+    options.levels = levels;
+    std::map<std::string, std::vector<double>> stages;
+    std::vector<double> wall, gpu;
+    for (int r = 0; r <= repeats; ++r) {  // run 0 warms up
+        Clock::time_point start = Clock::now();
+        BayesResult result = BayesDenoise(context, image, options);
+        double wallMs = Ms(Clock::now() - start);
+        if (r == 0) continue;
+        std::map<std::string, double> perStage;
+        double total = 0;
+        for (const vk::DispatchTiming &t : result.timings) {
+            std::string stage = t.label.substr(0, t.label.find(".L"));
+            perStage[stage] += std::max(t.gpuMs, 0.0);
+            total += std::max(t.gpuMs, 0.0);
+        }
+        for (const auto &[stage, ms] : perStage) stages[stage].push_back(ms);
+        gpu.push_back(total);
+        wall.push_back(wallMs);
+    }
+    for (const auto &[stage, ms] : stages)
+        fmt::print("    {:<28} {:8.2f} ms\n", stage, Median(ms));
+    fmt::print(
+        "  GPU total {:.2f} ms, wall (upload, run, download) {:.2f} ms (medians of {})\n",
+        Median(gpu), Median(wall), repeats);
+    if (!skimage) return;
+    const char *python =
+        std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    std::string script = fmt::format(
+        "import time, numpy as np\n"
+        "from skimage.restoration import denoise_wavelet\n"
+        "rng = np.random.default_rng(1)\n"
+        "x = rng.random(({h}, {w}, 3)).astype(np.float32)\n"
+        "t = time.perf_counter()\n"
+        "denoise_wavelet(x, method='BayesShrink', mode='soft', wavelet_levels={l}, "
+        "channel_axis=-1, convert2ycbcr=False, rescale_sigma=True)\n"
+        "print(time.perf_counter() - t)\n",
+        fmt::arg("h", height), fmt::arg("w", width), fmt::arg("l", levels));
+    FILE *pipe = popen(fmt::format("{} -c \"{}\" 2>/dev/null", python, script).c_str(), "r");
+    double seconds = -1;
+    if (pipe) {
+        if (std::fscanf(pipe, "%lf", &seconds) != 1) seconds = -1;
+        if (pclose(pipe) != 0) seconds = -1;
+    }
+    if (seconds > 0)
+        fmt::print(
+            "  scikit-image denoise_wavelet (BayesShrink, same size, same CPU): {:.1f} "
+            "ms\n",
+            seconds * 1e3);
+    else
+        fmt::print("  scikit-image: not available (python3-skimage)\n");
+}
+
 }  // namespace
 
 void AddBenchCommand(CLI::App &app) {
@@ -233,10 +398,47 @@ void AddBenchCommand(CLI::App &app) {
         }
     });
 
-    CLI::App *quality = bench->add_subcommand(
-        "quality", "error against run time for every method [not available yet]");
-    quality->callback(
-        [] { throw Error("'bench quality' is not available yet: it lands with issue #8"); });
+    auto aopt = std::make_shared<AwrBenchOptions>();
+    CLI::App *awr = bench->add_subcommand(
+        "awr",
+        "AWR: reconstruction time per stage against one DWT, and the adaptive "
+        "sampler's overhead per sample against tracing");
+    awr->add_option("--size", aopt->size, "frame size WxH for the reconstruction")
+        ->capture_default_str();
+    awr->add_option("--repeat", aopt->repeats, "timed runs (after one warm-up)")
+        ->capture_default_str();
+    awr->add_option("--sampler-scene", aopt->samplerScene, "scene for the sampler run")
+        ->capture_default_str();
+    awr->add_option("--sampler-size", aopt->samplerSize, "image size of the sampler run")
+        ->capture_default_str();
+    awr->add_option("--sampler-spp", aopt->samplerSpp, "average spp of the sampler run")
+        ->capture_default_str();
+    aopt->device.Add(awr);
+    awr->callback([aopt] { BenchAwr(*aopt); });
+
+    struct BayesBenchOptions {
+        std::string size = "1024x1024", basis = "haar";
+        int levels = 3, repeats = 3;
+        bool noSkimage = false;
+        DeviceOptions device;
+    };
+    auto bopt = std::make_shared<BayesBenchOptions>();
+    CLI::App *bayes = bench->add_subcommand(
+        "bayes",
+        "Time method bayes per stage on an RGB frame, scikit-image's BayesShrink beside it");
+    bayes->add_option("--size", bopt->size, "image size WxH")->capture_default_str();
+    bayes->add_option("--levels", bopt->levels, "decomposition levels")->capture_default_str();
+    bayes->add_option("--basis", bopt->basis, "haar, legall53 or cdf97")->capture_default_str();
+    bayes->add_option("--repeat", bopt->repeats, "timed runs (after one warm-up)")
+        ->capture_default_str();
+    bayes->add_flag("--no-skimage", bopt->noSkimage, "skip the scikit-image comparison");
+    bopt->device.Add(bayes);
+    bayes->callback([bopt] {
+        BenchBayes(bopt->size, bopt->levels, bopt->basis, bopt->repeats, !bopt->noSkimage,
+                   bopt->device);
+    });
+
+    AddBenchQualityCommand(bench);
 }
 
 }  // namespace mcd::tool

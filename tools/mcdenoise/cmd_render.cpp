@@ -11,24 +11,12 @@
 #include "host/io/frame.h"
 #include "host/methods/awr.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/reference_cache.h"
 #include "tools/render/adaptive.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::tool {
 namespace {
-
-constexpr uint64_t kReferenceSeed = 0x5eed5eed;
-
-std::string ReferenceCachePath(const std::string &scene, const render::RenderOptions &o) {
-    const char *xdg = std::getenv("XDG_CACHE_HOME"), *home = std::getenv("HOME");
-    std::filesystem::path dir =
-        xdg && *xdg ? std::filesystem::path(xdg)
-                    : std::filesystem::path(home && *home ? home : "/tmp") / ".cache";
-    return (dir / "mcdenoise" / "references" /
-            fmt::format("{}-{}x{}-{}spp-{}.exr", scene, o.width, o.height, o.spp,
-                        render::kRendererVersion))
-        .string();
-}
 
 template <typename Options>
 void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
@@ -38,6 +26,8 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
     options.height = base.height;
     options.averageSpp = base.spp;
     options.seed = base.seed;
+    options.lowSum = opt.samplerRenorm;
+    options.threads = base.threads;
     if (isatty(fileno(stderr)))
         options.progress = [](uint64_t done, uint64_t total) {
             std::fprintf(stderr, "\radaptive: %3d%%", int(100 * done / total));
@@ -74,6 +64,7 @@ void AddRenderCommand(CLI::App &app) {
         uint64_t seed = 1;
         bool reference = false;
         std::string adaptive, denoised, density;
+        float samplerRenorm = render::AdaptiveOptions().lowSum;
         DeviceOptions device;
     };
     auto opt = std::make_shared<Options>();
@@ -109,6 +100,11 @@ void AddRenderCommand(CLI::App &app) {
     cmd->add_option(
         "--density", opt->density,
         "with --adaptive: also write the sample density as a PNG (brightest = most)");
+    cmd->add_option("--sampler-renorm", opt->samplerRenorm,
+                    "with --adaptive awr: sum of the squared 1D low-pass filter in the "
+                    "priorities' variance DWT (eq. 9); above 1 favours coarse levels")
+        ->capture_default_str()
+        ->check(CLI::Range(0.5f, 4.f));
     opt->device.Add(cmd);
     cmd->callback([opt, sppOption] {
         if (opt->reference && !sppOption->count()) opt->spp = 4096;
@@ -132,18 +128,19 @@ void AddRenderCommand(CLI::App &app) {
             return;
         }
         if (opt->reference) {
-            options.layers = 0;
-            options.seed = kReferenceSeed;
-            std::string cached = ReferenceCachePath(opt->scene, options);
-            if (std::filesystem::exists(cached)) {
-                io::Frame frame = io::ReadFrame(cached);
-                std::vector<std::pair<std::string, const Image *>> layers;
-                for (const auto &[name, image] : frame.layers) layers.push_back({name, &image});
-                io::WriteExr(opt->output, layers, frame.metadata);
-                if (!opt->preview.empty()) io::WritePng(opt->preview, frame.Get("color"));
-                fmt::print("{}: reference from the cache ({})\n", opt->output, cached);
-                return;
-            }
+            bool rendered = false;
+            io::Frame frame = CachedReference(opt->scene, options.width, options.height,
+                                              options.spp, options.threads, &rendered);
+            std::vector<std::pair<std::string, const Image *>> layers;
+            for (const auto &[name, image] : frame.layers) layers.push_back({name, &image});
+            io::WriteExr(opt->output, layers, frame.metadata);
+            if (!opt->preview.empty()) io::WritePng(opt->preview, frame.Get("color"));
+            fmt::print(
+                "{}: reference {} {}x{} at {} spp {} ({})\n", opt->output, opt->scene,
+                options.width, options.height, options.spp,
+                rendered ? "rendered and cached" : "from the cache",
+                ReferenceCachePath(opt->scene, options.width, options.height, options.spp));
+            return;
         }
         bool terminal = isatty(fileno(stderr));
         if (terminal)
@@ -156,17 +153,6 @@ void AddRenderCommand(CLI::App &app) {
         std::vector<std::pair<std::string, const Image *>> layers;
         for (const auto &[name, image] : result.layers) layers.push_back({name, &image});
         io::WriteExr(opt->output, layers, result.metadata);
-        if (opt->reference) {
-            std::string cached = ReferenceCachePath(opt->scene, options);
-            std::error_code ec;
-            std::filesystem::create_directories(std::filesystem::path(cached).parent_path(),
-                                                ec);
-            try {
-                io::WriteExr(cached, layers, result.metadata);
-            } catch (const Error &e) {
-                fmt::print("  note: reference not cached: {}\n", e.what());
-            }
-        }
         if (!opt->preview.empty()) io::WritePng(opt->preview, result.layers[0].second);
         double paths = double(options.width) * options.height * options.spp;
         fmt::print("{}: {} {}x{} at {} spp, {} layers, {:.2f} s ({:.2f} M samples/s)\n",

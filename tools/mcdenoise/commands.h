@@ -24,10 +24,11 @@ struct DeviceOptions {
 void AddInfoCommand(CLI::App &app);
 void AddWaveletCommand(CLI::App &app);
 void AddBenchCommand(CLI::App &app);
+void AddBenchQualityCommand(CLI::App *bench);  // the `bench quality` subcommand
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);
-void AddPlannedCommands(CLI::App &app);
+void AddDiffCommand(CLI::App &app);
 
 // Largest image side the tool accepts for sizes it makes up itself.
 constexpr int kMaxImageSide = 32768;

@@ -3,6 +3,10 @@
 
 #include <memory>
 
+#include "cpu_reference/awr_reconstruct.h"
+#include "cpu_reference/wavelet_analyze.h"
+#include "cpu_reference/wavelet_sqanalyze.h"
+#include "cpu_reference/wavelet_synthesize.h"
 #include "host/error.h"
 #include "host/methods/awr.h"
 #include "host/wavelet.h"
@@ -40,6 +44,17 @@ struct AwrCliOptions {
     std::string basis = "cdf97", variance = "auto";
     int levels = -1;
     float cs = 1.f, renorm = 0.70710678f;
+
+    AwrOptions Options() const {
+        std::optional<WaveletBasis> parsed = ParseWavelet(basis);
+        if (!parsed) throw Error("unknown wavelet basis '" + basis + "'");
+        AwrOptions options;
+        options.basis = *parsed;
+        options.levels = levels;
+        options.cs = cs;
+        options.lowSum = options.highSum = renorm;
+        return options;
+    }
 };
 
 }  // namespace
@@ -71,22 +86,39 @@ DenoiseMethod AwrMethod() {
             ->capture_default_str();
     };
     method.run = [opt](vk::Context &context, const io::Frame &frame) {
-        std::optional<WaveletBasis> basis = ParseWavelet(opt->basis);
-        if (!basis) throw Error("unknown wavelet basis '" + opt->basis + "'");
         std::string why;
         Image variance = AwrVariance(frame, opt->variance, &why);
-        AwrOptions options;
-        options.basis = *basis;
-        options.levels = opt->levels;
-        options.cs = opt->cs;
-        options.lowSum = options.highSum = opt->renorm;
-        AwrResult awr = AwrReconstruct(context, frame.Get("color"), variance, options);
+        AwrResult awr = AwrReconstruct(context, frame.Get("color"), variance, opt->Options());
         DenoiseResult result;
         result.image = std::move(awr.image);
         result.plan.push_back(why);
         for (std::string &step : awr.plan) result.plan.push_back(std::move(step));
         result.timings = std::move(awr.timings);
         return result;
+    };
+    method.stages = [opt](vk::Context &context, const io::Frame &frame) {
+        std::string why;
+        Image variance = AwrVariance(frame, opt->variance, &why);
+        const Image &color = frame.Get("color");
+        AwrOptions options = opt->Options();
+        options.keepStages = true;
+        AwrResult gpu = AwrReconstruct(context, color, variance, options);
+        if (gpu.stages.empty())
+            throw Error("awr: nothing to compare: " +
+                        (gpu.plan.empty() ? std::string("no stage ran") : gpu.plan.back()));
+        int levels =
+            options.levels < 0 ? MaxWaveletLevels(color.width, color.height) : options.levels;
+        Image coef = ref::WaveletAnalyze(color, options.basis, levels);
+        Image coefVariance = ref::WaveletSqAnalyze(variance, options.basis, levels,
+                                                   options.lowSum, options.highSum);
+        Image shrunk = ref::AwrShrink(coef, coefVariance, LevelExtent(color.width, levels),
+                                      LevelExtent(color.height, levels), options.cs);
+        Image out = ref::WaveletSynthesize(shrunk, options.basis, levels);
+        const Image *cpu[] = {&coef, &coefVariance, &shrunk, &out};
+        std::vector<StagePair> pairs;
+        for (size_t i = 0; i < gpu.stages.size(); ++i)
+            pairs.push_back({gpu.stages[i].first, std::move(gpu.stages[i].second), *cpu[i]});
+        return pairs;
     };
     return method;
 }

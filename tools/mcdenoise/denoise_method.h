@@ -24,6 +24,12 @@ struct DenoiseResult {
     std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
 };
 
+// One stage of a method, as the GPU computed it and as the CPU reference does.
+struct StagePair {
+    std::string name;
+    Image gpu, cpu;
+};
+
 struct DenoiseMethod {
     std::string name;
     std::string summary;  // one line for --help
@@ -31,14 +37,17 @@ struct DenoiseMethod {
     std::function<void(CLI::App *)> addOptions;
     // Validate the options and run; throws mcd::Error naming what is wrong and where.
     std::function<DenoiseResult(vk::Context &, const io::Frame &)> run;
+    // Every stage on the GPU and on the CPU reference, same options (`mcdenoise diff`).
+    std::function<std::vector<StagePair>(vk::Context &, const io::Frame &)> stages;
 };
 
 DenoiseMethod AwrMethod();
+DenoiseMethod BayesMethod();
 DenoiseMethod PivotMethod();
 
 // Every method the tool knows, in the order --help lists them.
 inline std::vector<DenoiseMethod> DenoiseMethods() {
-    return {AwrMethod(), PivotMethod()};
+    return {AwrMethod(), BayesMethod(), PivotMethod()};
 }
 
 }  // namespace mcd::tool

@@ -81,7 +81,7 @@ int main(int argc, char **argv) {
     mcd::tool::AddCompareCommand(app);
     mcd::tool::AddWaveletCommand(app);
     mcd::tool::AddBenchCommand(app);
-    mcd::tool::AddPlannedCommands(app);
+    mcd::tool::AddDiffCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError &e) {

@@ -3,8 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <system_error>
+#include <thread>
 
 #include "host/error.h"
 #include "host/methods/wavelet_transform.h"
@@ -29,6 +33,62 @@ struct PixelStats {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     double lumLo = INFINITY, lumHi = -INFINITY;
     uint32_t n = 0;
+    double levelSum = 0;  // over the adaptive samples: the level that placed each
+    uint32_t adaptiveN = 0;
+};
+
+// A placed sample waiting to be traced; `level` < 0 for the initial uniform samples.
+struct PendingSample {
+    double x, y;
+    uint64_t key;
+    int level;
+};
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::duration d) {
+    return std::chrono::duration<double>(d).count();
+}
+
+// The GPU side of a round: both transforms in one submission.
+class GpuPriorityTransforms {
+  public:
+    GpuPriorityTransforms(vk::Context &context, int w, int h, int levels)
+        : luminance(context, w, h, 1, "adaptive.luminance"),
+          variance(context, w, h, 1, "adaptive.variance"),
+          coef(context, w, h, 1, "adaptive.coef"),
+          transform(context, w, h, 1),
+          context(context),
+          levels(levels) {
+        for (int k = 1; k <= levels; ++k)
+            scaleVariance.emplace_back(context, w, h, 1,
+                                       fmt::format("adaptive.scaleVariance{}", k));
+    }
+
+    void Run(const Image &lum, const Image &var, WaveletBasis basis, float lowSum,
+             Image *details, std::vector<Image> *scaleVariances) {
+        luminance.Upload(lum);
+        variance.Upload(var);
+        vk::Recorder recorder(context);
+        transform.RecordAnalysis(recorder, basis, levels, luminance, coef);
+        // Scale variances of every level, each level from the one before (eq. 9).
+        for (int k = 1; k <= levels; ++k)
+            transform.RecordSqAnalysisLevel(recorder, basis, k - 1,
+                                            k == 1 ? variance : scaleVariance[k - 2],
+                                            scaleVariance[k - 1], lowSum, 0.f);
+        recorder.Submit();
+        *details = coef.Download();
+        scaleVariances->clear();
+        for (const vk::GpuImage &image : scaleVariance)
+            scaleVariances->push_back(image.Download());
+    }
+
+  private:
+    vk::GpuImage luminance, variance, coef;
+    std::vector<vk::GpuImage> scaleVariance;
+    WaveletTransform transform;
+    vk::Context &context;
+    int levels;
 };
 
 }  // namespace
@@ -67,7 +127,7 @@ ScaleProfile ScaleFunctionProfile(WaveletBasis basis, int level) {
     return profile;
 }
 
-AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
+AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
                               const AdaptiveOptions &o) {
     const int w = o.width, h = o.height;
     if (w <= 0 || h <= 0) throw Error(fmt::format("image size {}x{} must be positive", w, h));
@@ -76,24 +136,51 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
             fmt::format("the adaptive sampler starts with {} samples per pixel: the "
                         "average must be at least that, not {}",
                         o.initialSpp, o.averageSpp));
-    auto start = std::chrono::steady_clock::now();
+    Clock::time_point start = Clock::now();
     const uint64_t budget = uint64_t(o.averageSpp) * w * h;
     std::vector<PixelStats> pixels(size_t(w) * h);
-    SampleSource source(scene, w, h, o.seed);
-    auto add = [&](double x, double y, uint64_t key) {
-        PathSample p = source.Trace(x, y, key);
-        PixelStats &s = pixels[size_t(int(y)) * w + int(x)];
-        double lum = p.color.Luminance();
+    // Fold a traced sample into its pixel.
+    auto add = [&](const PendingSample &p, const Vec3 &color) {
+        PixelStats &s = pixels[size_t(int(p.y)) * w + int(p.x)];
+        if (p.level >= 0) s.levelSum += p.level, ++s.adaptiveN;
+        double lum = color.Luminance();
         if (!std::isfinite(lum)) return;
         for (int c = 0; c < 3; ++c) {
-            s.sum[c] += p.color[c];
-            s.sumSq[c] += p.color[c] * p.color[c];
-            s.lo[c] = std::min(s.lo[c], p.color[c]);
-            s.hi[c] = std::max(s.hi[c], p.color[c]);
+            s.sum[c] += color[c];
+            s.sumSq[c] += color[c] * color[c];
+            s.lo[c] = std::min(s.lo[c], color[c]);
+            s.hi[c] = std::max(s.hi[c], color[c]);
         }
         s.lumLo = std::min(s.lumLo, lum);
         s.lumHi = std::max(s.lumHi, lum);
         ++s.n;
+    };
+    // Trace a batch of samples on every core, then fold them into their pixels in batch
+    // order, so the frame is the same for any number of threads.
+    std::vector<PendingSample> batch;
+    std::vector<Vec3> colors;
+    auto traceBatch = [&] {
+        colors.resize(batch.size());
+        std::atomic<size_t> next = 0;
+        auto work = [&] {
+            for (size_t begin; (begin = next.fetch_add(256)) < batch.size();)
+                for (size_t i = begin; i < std::min(begin + 256, batch.size()); ++i)
+                    colors[i] = trace(batch[i].x, batch[i].y, batch[i].key);
+        };
+        int threads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
+        threads = std::clamp<int>(threads, 1, int(batch.size() / 256 + 1));
+        std::vector<std::thread> pool;
+        for (int t = 1; t < threads; ++t) {
+            try {
+                pool.emplace_back(work);
+            } catch (const std::system_error &) {
+                break;  // the threads that started share the work
+            }
+        }
+        work();
+        for (std::thread &t : pool) t.join();
+        for (size_t i = 0; i < batch.size(); ++i) add(batch[i], colors[i]);
+        batch.clear();
     };
 
     // Step 1: coarse uniform sampling.
@@ -102,30 +189,36 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
             for (int s = 0; s < o.initialSpp; ++s) {
                 uint64_t key = (uint64_t(y) * w + x) << 24 | uint64_t(s);
                 Rng jitter(Mix(o.seed ^ Mix(~key)), key);
-                add(x + Uniform(jitter), y + Uniform(jitter), key);
+                batch.push_back({x + Uniform(jitter), y + Uniform(jitter), key, -1});
             }
+    traceBatch();
+    AdaptiveResult result;
+    result.traceSeconds = Seconds(Clock::now() - start);
     uint64_t samples = uint64_t(o.initialSpp) * w * h, counter = 0;
 
     const int levels = std::min(o.maxLevel, MaxWaveletLevels(w, h));
     std::vector<ScaleProfile> profiles;
     for (int k = 0; k <= levels; ++k) profiles.push_back(ScaleFunctionProfile(o.basis, k));
-    vk::GpuImage luminance(context, w, h, 1, "adaptive.luminance");
-    vk::GpuImage variance(context, w, h, 1, "adaptive.variance");
-    vk::GpuImage coef(context, w, h, 1, "adaptive.coef");
-    std::vector<vk::GpuImage> scaleVariance;
-    for (int k = 1; k <= levels; ++k)
-        scaleVariance.emplace_back(context, w, h, 1,
-                                   fmt::format("adaptive.scaleVariance{}", k));
-    WaveletTransform transform(context, w, h, 1);
-    Image lum(w, h, 1), var(w, h, 1);
+    PriorityTransforms transforms = o.transforms;
+    std::optional<GpuPriorityTransforms> gpu;
+    if (!transforms) {
+        gpu.emplace(context, w, h, levels);
+        transforms = [&](const Image &lum, const Image &var, WaveletBasis basis, int levels,
+                         float lowSum, Image *details, std::vector<Image> *scaleVariances) {
+            gpu->Run(lum, var, basis, lowSum, details, scaleVariances);
+        };
+    }
+    Image lum(w, h, 1), var(w, h, 1), details;
+    std::vector<Image> scaleVariances;
 
     struct Candidate {
         double priority;
         int level, i, j;
     };
     std::vector<Candidate> candidates;
-    AdaptiveResult result;
+    result.samplesPerLevel.assign(levels + 1, 0);
     while (samples < budget) {
+        Clock::time_point priorityStart = Clock::now();
         // Step 2: priorities from the pixel means and Mitchell-contrast variances.
         for (size_t p = 0; p < pixels.size(); ++p) {
             const PixelStats &s = pixels[p];
@@ -135,20 +228,12 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
             double contrast = range > 0 ? (s.lumHi - s.lumLo) / range : 0;
             var.data[p] = float(contrast * contrast / s.n);
         }
-        luminance.Upload(lum);
-        variance.Upload(var);
-        vk::Recorder recorder(context);
-        transform.RecordAnalysis(recorder, o.basis, levels, luminance, coef);
-        for (int k = 1; k <= levels; ++k)
-            transform.RecordSqAnalysis(recorder, o.basis, k, variance, scaleVariance[k - 1],
-                                       o.lowSum, 0.f);
-        recorder.Submit();
-        Image details = coef.Download();
+        transforms(lum, var, o.basis, levels, o.lowSum, &details, &scaleVariances);
         candidates.clear();
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i) candidates.push_back({var.At(0, j, i), 0, i, j});
         for (int k = 1; k <= levels; ++k) {
-            Image sv = scaleVariance[k - 1].Download();
+            const Image &sv = scaleVariances[k - 1];
             int pw = LevelExtent(w, k - 1), ph = LevelExtent(h, k - 1);
             int hw = pw > 1 ? (pw + 1) / 2 : pw, hh = ph > 1 ? (ph + 1) / 2 : ph;
             for (int j = 0; j < LevelExtent(h, k); ++j)
@@ -168,13 +253,22 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
                     candidates.push_back({sv.At(0, j, i) - wavelets, k, i, j});
                 }
         }
-        std::stable_sort(
-            candidates.begin(), candidates.end(),
-            [](const Candidate &a, const Candidate &b) { return a.priority > b.priority; });
-
         // Step 3, batched: the top coefficients, 64 x 2^k samples each, until an eighth of
-        // what is left (at least 1/64 of the budget) is placed.
+        // what is left (at least 1/64 of the budget) is placed. Each takes at least 64, so
+        // only the top round / 64 + 1 need ordering; ties go to the finer level, then to
+        // the lower row and column, a total order whatever the sort's algorithm.
         uint64_t round = std::max((budget - samples) / 8, budget / 64), used = 0;
+        size_t top = std::min<size_t>(candidates.size(), round / 64 + 1);
+        std::partial_sort(candidates.begin(), candidates.begin() + top, candidates.end(),
+                          [](const Candidate &a, const Candidate &b) {
+                              if (a.priority != b.priority) return a.priority > b.priority;
+                              if (a.level != b.level) return a.level < b.level;
+                              return a.j != b.j ? a.j < b.j : a.i < b.i;
+                          });
+        candidates.resize(top);
+        Clock::time_point traceStart = Clock::now();
+        result.prioritySeconds += Seconds(traceStart - priorityStart);
+
         for (const Candidate &c : candidates) {
             uint64_t count = std::min<uint64_t>(uint64_t(64) << c.level, budget - samples);
             double centreX = double(c.i << c.level), centreY = double(c.j << c.level);
@@ -183,23 +277,30 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
                 Rng place(Mix(o.seed ^ Mix(key ^ 0x5a5a5a5a)), key);
                 double u1 = Uniform(place), u2 = Uniform(place), u3 = Uniform(place),
                        u4 = Uniform(place);
-                add(DrawPosition(profiles[c.level], centreX, w, u1, u2),
-                    DrawPosition(profiles[c.level], centreY, h, u3, u4), key);
+                batch.push_back({DrawPosition(profiles[c.level], centreX, w, u1, u2),
+                                 DrawPosition(profiles[c.level], centreY, h, u3, u4), key,
+                                 c.level});
             }
+            result.samplesPerLevel[c.level] += count;
             samples += count;
             used += count;
             if (used >= round || samples >= budget) break;
         }
+        traceBatch();
+        result.traceSeconds += Seconds(Clock::now() - traceStart);
         ++result.rounds;
         if (o.progress) o.progress(samples, budget);
     }
 
     Image color(w, h, 3), variance3(w, h, 3), spp(w, h, 1), mn(w, h, 3), mx(w, h, 3);
+    result.placementLevel = Image(w, h, 1);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const PixelStats &s = pixels[size_t(y) * w + x];
             double n = s.n;
             spp.At(0, y, x) = float(n);
+            result.placementLevel.At(0, y, x) =
+                s.adaptiveN ? float(s.levelSum / s.adaptiveN) : -1.f;
             for (int c = 0; c < 3; ++c) {
                 double mean = s.sum[c] / n;
                 color.At(c, y, x) = float(mean);
@@ -210,20 +311,29 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
             }
         }
     result.samples = samples;
-    result.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds = Seconds(Clock::now() - start);
     result.layers = {{"color", std::move(color)},
                      {"variance", std::move(variance3)},
                      {"spp", std::move(spp)},
                      {"min", std::move(mn)},
                      {"max", std::move(mx)}};
+    return result;
+}
+
+AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
+                              const AdaptiveOptions &o) {
+    SampleSource source(scene, o.width, o.height, o.seed);
+    AdaptiveResult result = SampleAdaptive(
+        context,
+        [&](double x, double y, uint64_t key) { return source.Trace(x, y, key).color; }, o);
+    int levels = std::min(o.maxLevel, MaxWaveletLevels(o.width, o.height));
     result.metadata = {
         {"mcd:scene", scene.name},
         {"mcd:spp", std::to_string(o.averageSpp)},
         {"mcd:sampler", fmt::format("awr adaptive, {} levels of {}, {} rounds", levels,
                                     WaveletName(o.basis), result.rounds)},
         {"mcd:seed", std::to_string(o.seed)},
-        {"mcd:size", fmt::format("{}x{}", w, h)},
+        {"mcd:size", fmt::format("{}x{}", o.width, o.height)},
         {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
         {"mcd:renderer", fmt::format("mcdenoise path tracer {}", kRendererVersion)}};
     return result;

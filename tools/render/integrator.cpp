@@ -78,7 +78,8 @@ Vec3 DirectLight(const Scene &scene, const Material &m, const Hit &hit, const Ve
             }
         }
         const Quad *quad = &scene.quads[chosen];
-        Vec3 p = quad->origin + quad->edgeU * Uniform(rng) + quad->edgeV * Uniform(rng);
+        double u = Uniform(rng), v = Uniform(rng);  // in this order on every compiler
+        Vec3 p = quad->origin + quad->edgeU * u + quad->edgeV * v;
         Vec3 d = p - origin;
         double dist2 = Dot(d, d), dist = std::sqrt(dist2);
         Vec3 wi = d / dist;

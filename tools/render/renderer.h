@@ -17,7 +17,7 @@
 namespace mcd::render {
 
 // Bumped whenever a change alters what a scene renders to: it keys cached references.
-constexpr const char *kRendererVersion = "r2";
+constexpr const char *kRendererVersion = "r3";
 
 // Opt-in layer groups; color, variance, spp, min and max are always written.
 enum LayerGroup : unsigned {

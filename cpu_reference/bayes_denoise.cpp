@@ -1,0 +1,164 @@
+#include "cpu_reference/bayes_denoise.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cpu_reference/wavelet_analyze.h"
+#include "cpu_reference/wavelet_synthesize.h"
+
+namespace mcd::ref {
+
+std::vector<double> BayesFloors(const Image &color, double floorRel) {
+    std::vector<double> floors(color.channels);
+    for (int c = 0; c < color.channels; ++c) {
+        std::vector<double> positive;
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double v = color.At(c, y, x);
+                if (std::isfinite(v) && v > 0) positive.push_back(v);
+            }
+        std::sort(positive.begin(), positive.end());
+        double median = positive.empty() ? 1.0 : positive[positive.size() / 2];
+        floors[c] = std::max(floorRel * median, 1e-30);
+    }
+    return floors;
+}
+
+Image BayesLog(const Image &color, const std::vector<double> &floors) {
+    Image out(color.width, color.height, color.channels);
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double v = color.At(c, y, x);
+                bool usable = std::isfinite(v) && v > floors[c];
+                out.At(c, y, x) = float(std::log(usable ? v : floors[c]));
+            }
+    return out;
+}
+
+Image BayesExp(const Image &logImage, const Image &original, bool restoreZeros) {
+    Image out(logImage.width, logImage.height, logImage.channels);
+    for (int c = 0; c < out.channels; ++c)
+        for (int y = 0; y < out.height; ++y)
+            for (int x = 0; x < out.width; ++x) {
+                double v = original.At(c, y, x);
+                double z = std::clamp(double(logImage.At(c, y, x)), -87.0, 88.0);
+                bool keep = std::isfinite(v) && (v > 0 || (!restoreZeros && v == 0));
+                out.At(c, y, x) = keep ? float(std::exp(z)) : 0.f;
+            }
+    return out;
+}
+
+std::vector<BayesBand> BayesBands(int width, int height, int channels, int levels) {
+    std::vector<BayesBand> bands;
+    for (int c = 0; c < channels; ++c)
+        for (int level = 0; level < levels; ++level) {
+            int w = LevelExtent(width, level), h = LevelExtent(height, level);
+            int lowW = (w + 1) / 2, lowH = (h + 1) / 2;
+            bands.push_back({c, level, 0, lowW, 0, w, lowH});  // HL: high in x
+            bands.push_back({c, level, 1, 0, lowH, lowW, h});  // LH: high in y
+            bands.push_back({c, level, 2, lowW, lowH, w, h});  // HH
+        }
+    return bands;
+}
+
+BandMoments MeasureBand(const Image &coefficients, const BayesBand &band) {
+    BandMoments m;
+    for (int y = band.y0; y < band.y1; ++y)
+        for (int x = band.x0; x < band.x1; ++x) {
+            double v = coefficients.At(band.channel, y, x);
+            m.m2 += v * v;
+            m.m4 += v * v * v * v;
+            m.maxAbs = std::max(m.maxAbs, std::fabs(v));
+            ++m.count;
+        }
+    if (m.count > 0) m.m2 /= double(m.count), m.m4 /= double(m.count);
+    return m;
+}
+
+double BandNoiseS(int level, double sn, double hpFactor) {
+    return level == 0 ? hpFactor * sn : sn;
+}
+
+Image BayesShrinkDirect(const Image &coefficients, const std::vector<BayesBand> &bands,
+                        const std::vector<BandFit> &fits, const std::vector<double> &bandSn,
+                        double pn) {
+    Image out = coefficients;
+    for (size_t b = 0; b < bands.size(); ++b) {
+        const BayesBand &band = bands[b];
+        for (int y = band.y0; y < band.y1; ++y)
+            for (int x = band.x0; x < band.x1; ++x)
+                out.At(band.channel, y, x) = float(
+                    PosteriorMean(coefficients.At(band.channel, y, x), fits[b], bandSn[b], pn));
+    }
+    return out;
+}
+
+BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) {
+    if (options.spins > 1) {
+        BayesRefOptions once = options;
+        once.spins = 1;
+        int w = color.width, h = color.height, n = options.spins;
+        BayesRefResult result = BayesDenoise(color, once);
+        Image sum(w, h, color.channels);
+        std::vector<double> acc(color.Size(), 0.0);
+        for (int dy = 0; dy < n; ++dy)
+            for (int dx = 0; dx < n; ++dx) {
+                // Pad dx columns and dy rows at the top left, mirrored: position -k-1 reads k
+                // (clamped to the image for images narrower than the shift).
+                Image padded(w + dx, h + dy, color.channels);
+                for (int c = 0; c < color.channels; ++c)
+                    for (int y = 0; y < h + dy; ++y)
+                        for (int x = 0; x < w + dx; ++x) {
+                            int sx = x - dx < 0 ? std::min(dx - x - 1, w - 1) : x - dx;
+                            int sy = y - dy < 0 ? std::min(dy - y - 1, h - 1) : y - dy;
+                            padded.At(c, y, x) = color.At(c, sy, sx);
+                        }
+                Image one = BayesDenoise(padded, once).image;
+                size_t i = 0;
+                for (int c = 0; c < color.channels; ++c)
+                    for (int y = 0; y < h; ++y)
+                        for (int x = 0; x < w; ++x) acc[i++] += one.At(c, y + dy, x + dx);
+            }
+        for (size_t i = 0; i < acc.size(); ++i) sum.data[i] = float(acc[i] / (n * n));
+        result.image = sum;
+        return result;
+    }
+    BayesRefResult result;
+    int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
+    std::vector<double> floors = BayesFloors(color, options.floorRel);
+    Image logImage = BayesLog(color, floors);
+    // Opponent colour: L = (r+g+b)/sqrt3, C1 = (r-g)/sqrt2, C2 = (r+g-2b)/sqrt6 of the logs.
+    const double k3 = 1 / std::sqrt(3.0), k2 = 1 / std::sqrt(2.0), k6 = 1 / std::sqrt(6.0);
+    const double opp[3][3] = {{k3, k3, k3}, {k2, -k2, 0}, {k6, k6, -2 * k6}};
+    auto mix = [&](Image &image, bool inverse) {
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                double v[3], o[3] = {0, 0, 0};
+                for (int c = 0; c < 3; ++c) v[c] = image.At(c, y, x);
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j)
+                        o[i] += (inverse ? opp[j][i] : opp[i][j]) * v[j];
+                for (int c = 0; c < 3; ++c) image.At(c, y, x) = float(o[c]);
+            }
+    };
+    if (options.opponent && levels > 0) mix(logImage, false);
+    Image coefficients = WaveletAnalyze(logImage, options.basis, levels);
+    std::vector<BayesBand> bands =
+        BayesBands(color.width, color.height, color.channels, levels);
+    std::vector<double> bandSn;
+    for (const BayesBand &band : bands) {
+        BandMoments m = MeasureBand(coefficients, band);
+        double sn = BandNoiseS(band.level, options.sn, options.hpFactor);
+        result.moments.push_back(m);
+        result.fits.push_back(SolveBand(m.m2, m.m4, m.count, sn, options.pn));
+        bandSn.push_back(sn);
+    }
+    Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, options.pn);
+    Image back = WaveletSynthesize(shrunk, options.basis, levels);
+    if (options.opponent && levels > 0) mix(back, true);
+    result.image = BayesExp(back, color, options.restoreZeros);
+    return result;
+}
+
+}  // namespace mcd::ref

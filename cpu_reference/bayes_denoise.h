@@ -1,0 +1,71 @@
+// Method `bayes` (Xu & Pattanaik section 4), the CPU reference of the pipeline, stage by
+// stage: log domain (eqs. 4-5), decimated DWT (the wavelet references), per-band moments,
+// the moment solver and the posterior mean of every coefficient by direct integration
+// (cpu_reference/bayes_model.h), synthesis, exp with exact zeros restored.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cpu_reference/bayes_model.h"
+#include "host/image.h"
+#include "host/wavelet.h"
+
+namespace mcd::ref {
+
+// Per channel: floorRel times the median of the channel's finite positive values (element
+// n/2 of them sorted; 1 when there are none), at least 1e-30. The median, not the mean:
+// one 1e8 firefly must not raise the floor of the whole channel. Values below it (zeros,
+// negatives, tiny) take its log.
+std::vector<double> BayesFloors(const Image &color, double floorRel);
+
+// log(max(v, floor_c)); NaN, Inf and values <= 0 take log(floor_c).
+Image BayesLog(const Image &color, const std::vector<double> &floors);
+
+// exp(z), or exactly 0 where the original value was NaN/Inf/negative, and where it was 0
+// when restoreZeros (black stays black). z is clamped to [-87, 88] so exp stays finite.
+Image BayesExp(const Image &logImage, const Image &original, bool restoreZeros = true);
+
+// One detail band of the Mallat layout: [x0, x1) x [y0, y1) of channel `channel`.
+struct BayesBand {
+    int channel, level, orientation;  // orientation 0 HL, 1 LH, 2 HH
+    int x0, y0, x1, y1;
+};
+// All detail bands in the order of shaders/bayes/bayes.h.
+std::vector<BayesBand> BayesBands(int width, int height, int channels, int levels);
+
+struct BandMoments {
+    double m2 = 0, m4 = 0, maxAbs = 0;
+    int64_t count = 0;
+};
+BandMoments MeasureBand(const Image &coefficients, const BayesBand &band);
+
+// The noise s of a band: hpFactor * sn at the finest level (the paper's high-pass band
+// uses 2 s_n), sn elsewhere.
+double BandNoiseS(int level, double sn, double hpFactor);
+
+// Every detail coefficient replaced by its posterior mean (direct integral per
+// coefficient); the coarsest low-low band is kept.
+Image BayesShrinkDirect(const Image &coefficients, const std::vector<BayesBand> &bands,
+                        const std::vector<BandFit> &fits, const std::vector<double> &bandSn,
+                        double pn);
+
+struct BayesRefOptions {
+    WaveletBasis basis = WaveletBasis::Haar;
+    int levels = 3;
+    double sn = 0.19, pn = 1.5, hpFactor = 2, floorRel = 1e-3;
+    bool restoreZeros = true;
+    bool opponent = false;  // log luminance + 2 log chroma (orthonormal) instead of RGB
+    int spins = 1;  // cycle spinning over spins x spins shifts (mirrored top-left padding)
+};
+struct BayesRefResult {
+    Image image;
+    std::vector<BandMoments> moments;
+    std::vector<BandFit> fits;
+};
+// The whole method on one image (no direct/indirect split); levels are clamped to what
+// the image allows. With spins > 1 the result is
+// the mean over the shifts and the moments/fits are the unshifted run's.
+BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options);
+
+}  // namespace mcd::ref

@@ -1,0 +1,38 @@
+#include "host/kernels/bayes_exp.h"
+
+#include <fmt/format.h>
+
+#include "bayes/exp.h"
+#include "bayes/exp_spv.h"
+#include "host/error.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+
+namespace mcd {
+
+void RecordBayesExp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &logImage,
+                    const vk::GpuImage &original, const vk::GpuImage &out, bool restoreZeros) {
+    for (const vk::GpuImage *image : {&original, &out})
+        if (image->width != logImage.width || image->height != logImage.height ||
+            image->channels != logImage.channels)
+            throw Error(fmt::format("bayes exp: '{}' is {}x{}x{}, the log image {}x{}x{}",
+                                    image->buffer.Name(), image->width, image->height,
+                                    image->channels, logImage.width, logImage.height,
+                                    logImage.channels));
+    const vk::Kernel &kernel = context.GetKernel({"bayes_exp",
+                                                  k_bayes_exp_spv,
+                                                  sizeof(k_bayes_exp_spv),
+                                                  BAYES_EXP_BINDINGS,
+                                                  sizeof(shader::BayesExpPush),
+                                                  {}});
+    shader::BayesExpPush push{logImage.width, logImage.height, restoreZeros ? 1 : 0};
+    recorder.Dispatch(
+        kernel, "bayes.exp",
+        {{&logImage.buffer, vk::Access::Read},
+         {&original.buffer, vk::Access::Read},
+         {&out.buffer, vk::Access::Write}},
+        &push, uint32_t((logImage.width + BAYES_EXP_LOCAL_SIZE - 1) / BAYES_EXP_LOCAL_SIZE),
+        uint32_t(logImage.height), uint32_t(logImage.channels));
+}
+
+}  // namespace mcd

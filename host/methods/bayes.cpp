@@ -1,0 +1,343 @@
+#include "host/methods/bayes.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "bayes/bayes.h"
+#include "host/error.h"
+#include "host/kernels/bayes_exp.h"
+#include "host/kernels/bayes_log.h"
+#include "host/kernels/bayes_mix.h"
+#include "host/kernels/bayes_moments.h"
+#include "host/kernels/bayes_shrink.h"
+#include "host/methods/wavelet_transform.h"
+#include "host/vk/buffer.h"
+#include "host/vk/gpu_image.h"
+
+namespace mcd {
+namespace {
+
+bool Finite(float v) {
+    return std::isfinite(v);
+}
+
+// Count what the log domain cannot take as is, with the first place of each.
+void CountSpecials(const Image &color, const std::vector<float> &floors,
+                   std::vector<std::string> *warnings) {
+    struct Count {
+        size_t n = 0;
+        int x = 0, y = 0, c = 0;
+    } nonFinite, negative, zero, floored;
+    auto add = [](Count &count, int c, int y, int x) {
+        if (count.n++ == 0) count.x = x, count.y = y, count.c = c;
+    };
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                float v = color.At(c, y, x);
+                if (!Finite(v))
+                    add(nonFinite, c, y, x);
+                else if (v < 0)
+                    add(negative, c, y, x);
+                else if (v == 0)
+                    add(zero, c, y, x);
+                else if (v <= floors[c])
+                    add(floored, c, y, x);
+            }
+    auto say = [&](const Count &count, const char *what, const char *then) {
+        if (count.n)
+            warnings->push_back(fmt::format(
+                "bayes: {} {} value{} (first at pixel ({}, {}), channel {}): {}", count.n, what,
+                count.n == 1 ? "" : "s", count.x, count.y, count.c, then));
+    };
+    say(nonFinite, "NaN/Inf", "taken as the log floor, output 0");
+    say(negative, "negative", "taken as the log floor, output 0");
+    say(zero, "zero", "taken as the log floor, output restored to exactly 0");
+    say(floored, "tiny positive", "raised to the log floor (floorRel x the channel's median)");
+}
+
+// Median of |x| of the pooled finest-level HH bands.
+double FinestMad(const Image &coef) {
+    int lowW = (coef.width + 1) / 2, lowH = (coef.height + 1) / 2;
+    std::vector<float> values;
+    for (int c = 0; c < coef.channels; ++c)
+        for (int y = lowH; y < coef.height; ++y)
+            for (int x = lowW; x < coef.width; ++x)
+                values.push_back(std::fabs(coef.At(c, y, x)));
+    if (values.empty()) return 0;
+    auto mid = values.begin() + values.size() / 2;
+    std::nth_element(values.begin(), mid, values.end());
+    return *mid;
+}
+
+// Scale each channel of result->image to the mean of color's finite non-negative values.
+void KeepMean(const Image &color, BayesResult *result) {
+    std::string scales;
+    for (int c = 0; c < color.channels; ++c) {
+        double in = 0, outSum = 0;
+        for (size_t i = 0; i < color.PixelCount(); ++i) {
+            float v = color.Plane(c)[i];
+            if (Finite(v) && v >= 0) in += v;
+            outSum += result->image.Plane(c)[i];
+        }
+        double scale = outSum > 0 ? in / outSum : 1.0;
+        for (size_t i = 0; i < color.PixelCount(); ++i)
+            result->image.Plane(c)[i] = float(result->image.Plane(c)[i] * scale);
+        scales += fmt::format("{}{:.4g}", c ? ", " : "", scale);
+    }
+    result->plan.push_back(fmt::format(
+        "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
+}
+
+}  // namespace
+
+const char *BayesFitName(int fit) {
+    switch (fit) {
+        case BAYES_FIT_SOLVED:
+            return "solved";
+        case BAYES_FIT_NO_SIGNAL:
+            return "no signal (variance <= noise's): zeroed";
+        case BAYES_FIT_P_LOW:
+            return "kurtosis above reach: p_c clamped low";
+        case BAYES_FIT_P_HIGH:
+            return "kurtosis below reach: p_c clamped high";
+        case BAYES_FIT_NO_NOISE:
+            return "no noise: kept";
+        case BAYES_FIT_EMPTY:
+            return "empty";
+    }
+    return "?";
+}
+
+std::vector<float> BayesFloors(const Image &color, float floorRel) {
+    std::vector<float> floors(color.channels);
+    for (int c = 0; c < color.channels; ++c) {
+        std::vector<float> positive;
+        for (size_t i = 0; i < color.PixelCount(); ++i) {
+            float v = color.Plane(c)[i];
+            if (Finite(v) && v > 0) positive.push_back(v);
+        }
+        float median = 1.f;
+        if (!positive.empty()) {
+            auto mid = positive.begin() + positive.size() / 2;
+            std::nth_element(positive.begin(), mid, positive.end());
+            median = *mid;
+        }
+        floors[c] = float(std::max(double(floorRel) * median, 1e-30));
+    }
+    return floors;
+}
+
+double BayesScaleFromMad(double mad, double p) {
+    // For s = 1: find m with int_0^m exp(-t^p) dt = Gamma(1/p) / (2p), by Simpson's rule
+    // on a fine grid up to where the density is below e^-40.
+    double total = std::exp(std::lgamma(1 / p)) / p, end = std::pow(40.0, 1 / p);
+    const int steps = 20000;
+    double h = end / steps, acc = 0;
+    auto f = [p](double t) { return std::exp(-std::pow(t, p)); };
+    for (int i = 0; i < steps; ++i) {
+        double a = i * h, piece = h / 6 * (f(a) + 4 * f(a + h / 2) + f(a + h));
+        if (acc + piece >= total / 2) {
+            // Inside this step: the density is nearly flat over h, interpolate linearly.
+            double median = a + h * (total / 2 - acc) / piece;
+            return mad / median;
+        }
+        acc += piece;
+    }
+    return mad / end;
+}
+
+namespace {
+
+BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
+                             const BayesOptions &options) {
+    if (color.Empty() || color.width < 1 || color.height < 1)
+        throw Error("bayes: the image is empty");
+    if (!std::isfinite(options.sn) || options.sn < 0)
+        throw Error(fmt::format("bayes: s_n must be a finite number >= 0, not {}", options.sn));
+    if (!std::isfinite(options.pn) || options.pn < 0.1f || options.pn > 10.f)
+        throw Error(fmt::format("bayes: p_n must be in [0.1, 10], not {}", options.pn));
+    if (!std::isfinite(options.hpFactor) || options.hpFactor <= 0)
+        throw Error(
+            fmt::format("bayes: the high-pass factor must be > 0, not {}", options.hpFactor));
+    if (!std::isfinite(options.floorRel) || options.floorRel <= 0 || options.floorRel >= 1)
+        throw Error(
+            fmt::format("bayes: the log floor must be in (0, 1), not {}", options.floorRel));
+    if (options.levels < 0) throw Error("bayes: levels must be >= 0");
+    if (options.opponent && color.channels != 3)
+        throw Error(
+            fmt::format("bayes: luminance + chroma needs 3 channels, not {}", color.channels));
+
+    BayesResult result;
+    int maxLevels = MaxWaveletLevels(color.width, color.height);
+    int levels = std::min(options.levels, maxLevels);
+    result.levels = levels;
+    std::vector<float> floors = BayesFloors(color, options.floorRel);
+    CountSpecials(color, floors, &result.warnings);
+    result.plan.push_back(fmt::format(
+        "log domain (eqs. 4-5), per channel; floor {} x the channel's median positive value; "
+        "{}",
+        options.floorRel,
+        options.restoreZeros ? "zeros restored exactly after exp"
+                             : "zeros denoised like other pixels (--zeros denoise)"));
+    if (levels < options.levels)
+        result.plan.push_back(fmt::format("{} levels requested; a {}x{} image allows {}",
+                                          options.levels, color.width, color.height, levels));
+
+    int w = color.width, h = color.height, channels = color.channels;
+    vk::GpuImage colorGpu(context, w, h, channels, "bayes.color");
+    vk::GpuImage work(context, w, h, channels, "bayes.work");
+    vk::GpuImage out(context, w, h, channels, "bayes.out");
+    vk::Buffer floorsGpu(context, channels * sizeof(float), "bayes.floors");
+    colorGpu.Upload(color);
+    floorsGpu.UploadFloats(floors);
+    WaveletTransform transform(context, w, h, channels);
+    vk::Recorder recorder(context);
+    RecordBayesLog(context, recorder, colorGpu, floorsGpu, work);
+
+    if (levels == 0) {
+        result.plan.push_back("left out: the shrinkage (a 1x1 image has no detail band)");
+        RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
+        recorder.Submit();
+        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+    } else {
+        if (options.opponent) {
+            RecordBayesMix(context, recorder, work, BayesOpponent());
+            result.plan.push_back(
+                "colour: log luminance + 2 log chroma (orthonormal opponent transform)");
+        }
+        transform.RecordAnalysis(recorder, options.basis, levels, work, work);
+        float sn = options.sn;
+        if (options.noiseAuto) {
+            recorder.Submit();
+            for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+            double mad = FinestMad(work.Download());
+            double finest = BayesScaleFromMad(mad, options.pn);
+            sn = float(finest / options.hpFactor);
+            result.plan.push_back(fmt::format(
+                "--noise auto: finest HH bands' median |y| {:.4g} -> finest-level s {:.4g} "
+                "(p_n {}) -> s_n {:.4g}",
+                mad, finest, options.pn, sn));
+        }
+        result.sn = sn;
+        int bands = BayesBandCount(channels, levels);
+        vk::Buffer moments(context, bands * BAYES_MOMENT_STRIDE * sizeof(float),
+                           "bayes.moments");
+        vk::Buffer params(context, bands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
+        vk::Buffer table(context, bands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
+        RecordBayesMoments(context, recorder, work, levels, moments);
+        RecordBayesSolve(context, recorder, moments, bands, levels, sn, options.pn,
+                         sn * options.hpFactor, params);
+        RecordBayesTable(context, recorder, params, bands, table);
+        RecordBayesShrink(context, recorder, work, levels, params, table);
+        transform.RecordSynthesis(recorder, options.basis, levels, work, work);
+        if (options.opponent) RecordBayesMix(context, recorder, work, BayesOpponentInverse());
+        RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
+        recorder.Submit();
+        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+        std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
+        for (int b = 0; b < bands; ++b) {
+            BayesBandFit fit{b / (3 * levels), (b % (3 * levels)) / 3, b % 3, {}};
+            std::copy_n(p.begin() + b * BAYES_PARAM_STRIDE, BAYES_PARAM_STRIDE,
+                        fit.params.begin());
+            result.fits.push_back(fit);
+        }
+        result.plan.push_back(fmt::format(
+            "{}-level {} DWT; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
+            levels, WaveletName(options.basis), sn, options.pn, sn * options.hpFactor,
+            options.hpFactor));
+        result.plan.push_back(fmt::format(
+            "per band: E[y^2], E[y^4] -> (s_c, p_c) by eqs. 17-18; posterior-mean table of "
+            "{} entries (log-sum-exp quadrature), applied with interpolation",
+            BAYES_TABLE_SIZE));
+        static const char *kOrientation[3] = {"HL", "LH", "HH"};
+        for (const BayesBandFit &f : result.fits) {
+            int fit = int(f.params[4]);
+            result.plan.push_back(
+                fmt::format("  band L{} {} ch{}: y_max {:.3g}, s_c {:.4g}, p_c {:.3g}: {}",
+                            f.level, kOrientation[f.orientation], f.channel, f.params[5],
+                            f.params[2], f.params[3], BayesFitName(fit)));
+        }
+        result.plan.push_back("synthesis, exp");
+    }
+    result.image = out.Download();
+    if (options.keepMean) KeepMean(color, &result);
+    return result;
+}
+
+}  // namespace
+
+BayesResult BayesDenoise(vk::Context &context, const Image &color,
+                         const BayesOptions &options) {
+    if (options.spins < 1 || options.spins > 8)
+        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", options.spins));
+    if (options.spins == 1) return BayesDenoiseOnce(context, color, options);
+    // Cycle spinning: the first shift's result carries the plan, warnings and fits.
+    BayesOptions once = options;
+    once.spins = 1;
+    once.keepMean = false;  // applied once to the average below
+    BayesResult result;
+    std::vector<double> sum(color.Size(), 0.0);
+    int w = color.width, h = color.height;
+    // Mirror -k-1 -> k, clamped for images narrower than the shift.
+    auto mirror = [](int i, int n) { return i < 0 ? std::min(-i - 1, n - 1) : i; };
+    for (int dy = 0; dy < options.spins; ++dy)
+        for (int dx = 0; dx < options.spins; ++dx) {
+            Image padded(w + dx, h + dy, color.channels);
+            for (int c = 0; c < color.channels; ++c)
+                for (int y = 0; y < h + dy; ++y)
+                    for (int x = 0; x < w + dx; ++x)
+                        padded.At(c, y, x) = color.At(c, mirror(y - dy, h), mirror(x - dx, w));
+            BayesResult one = BayesDenoiseOnce(context, padded, once);
+            for (int c = 0; c < color.channels; ++c)
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x)
+                        sum[(size_t(c) * h + y) * w + x] += one.image.At(c, y + dy, x + dx);
+            for (const vk::DispatchTiming &t : one.timings) result.timings.push_back(t);
+            if (dx == 0 && dy == 0) {
+                result.plan = std::move(one.plan);
+                result.warnings = std::move(one.warnings);
+                result.fits = std::move(one.fits);
+                result.sn = one.sn;
+                result.levels = one.levels;
+            }
+        }
+    result.plan.insert(result.plan.begin(),
+                       fmt::format("cycle spinning: the average over {} x {} shifts (mirrored "
+                                   "padding); the bands below are the unshifted run's",
+                                   options.spins, options.spins));
+    result.image = Image(w, h, color.channels);
+    double count = double(options.spins) * options.spins;
+    for (size_t i = 0; i < sum.size(); ++i) result.image.data[i] = float(sum[i] / count);
+    if (options.keepMean) KeepMean(color, &result);
+    return result;
+}
+
+BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const Image &indirect,
+                              const BayesOptions &options) {
+    if (!direct.SameShape(indirect))
+        throw Error(fmt::format("bayes: direct is {}x{}x{} but indirect is {}x{}x{}",
+                                direct.width, direct.height, direct.channels, indirect.width,
+                                indirect.height, indirect.channels));
+    BayesResult result = BayesDenoise(context, indirect, options);
+    size_t nonFinite = 0;
+    for (size_t i = 0; i < direct.Size(); ++i) {
+        float d = direct.data[i];
+        if (!Finite(d)) {
+            ++nonFinite;
+            d = 0;
+        }
+        result.image.data[i] += d;
+    }
+    if (nonFinite)
+        result.warnings.push_back(
+            fmt::format("bayes: {} NaN/Inf values in the direct layer, taken as 0", nonFinite));
+    result.plan.insert(result.plan.begin(),
+                       "split (section 4.1): only the indirect layer is denoised; the direct "
+                       "layer is added back");
+    return result;
+}
+
+}  // namespace mcd

@@ -1,0 +1,78 @@
+// Method `bayes`: Bayesian wavelet shrinkage in the log domain (Xu & Pattanaik, section 4)
+// on the GPU. log (eqs. 4-5) -> decimated DWT -> per-band E[y^2], E[y^4] -> (s_c, p_c) per
+// band from eqs. 17-18 -> a per-band table of the posterior mean (eq. 11) -> every detail
+// coefficient through its band's table -> synthesis -> exp, exact zeros restored.
+// Colour: by default every channel is shrunk on its own, with its own bands and fits;
+// `opponent` shrinks log luminance and two log chroma channels instead (3 channels).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "host/image.h"
+#include "host/vk/context.h"
+#include "host/vk/recorder.h"
+#include "host/wavelet.h"
+
+namespace mcd {
+
+struct BayesOptions {
+    WaveletBasis basis = WaveletBasis::Haar;
+    int levels = 3;          // clamped to what the image allows
+    float sn = 0.19f;        // noise s (the paper's "cabin" example)
+    float pn = 1.5f;         // noise shape p
+    float hpFactor = 2.f;    // the finest level's noise s is hpFactor * sn (paper: 2)
+    float floorRel = 1e-3f;  // log floor: floorRel times the channel's median positive value
+    // Estimate the finest level's noise s from the data (median absolute deviation of the
+    // finest HH bands, all channels pooled, through the generalised Laplacian of shape pn);
+    // then sn = that / hpFactor.
+    bool noiseAuto = false;
+    // Exact zeros come out exactly 0 (the issue: black stays black). Off: they are denoised
+    // like any pixel (from the log floor), which suits low-spp renders whose zeros are noise.
+    bool restoreZeros = true;
+    // Beyond the paper: scale each channel so its mean equals the input's (mean of the
+    // finite, non-negative input values), undoing the log domain's pull toward the
+    // geometric mean. Done on the host after download.
+    bool keepMean = false;
+    // Shift invariance by cycle spinning (Coifman & Donoho): the average of the method
+    // over the spins x spins shifts (dx, dy) in [0, spins)^2, each made by padding the
+    // image at the top left by mirroring (x -> -x-1) and cropping back. 1: off.
+    int spins = 1;
+    // Shrink the orthonormal opponent transform of the log channels (log luminance, two
+    // log chroma) instead of log R, G, B. Needs 3 channels.
+    bool opponent = false;
+};
+
+struct BayesBandFit {
+    int channel, level, orientation;
+    std::array<float, 8> params;  // s_n, p_n, s_c, p_c, fit, y_max, b, du (bayes.h)
+};
+
+struct BayesResult {
+    Image image;
+    std::vector<std::string> plan;
+    std::vector<std::string> warnings;  // counts of zeros, negatives, NaN/Inf, floored values
+    std::vector<vk::DispatchTiming> timings;
+    std::vector<BayesBandFit> fits;
+    float sn = 0;  // the noise s used (estimated with noiseAuto)
+    int levels = 0;
+};
+
+// Denoise one image (all channels). Throws mcd::Error on bad options or an empty image;
+// NaN/Inf/negative pixels are not an error: they come out 0 and are counted in warnings.
+BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesOptions &options);
+
+// Section 4.1: denoise the indirect part only and add the direct part back.
+BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const Image &indirect,
+                              const BayesOptions &options);
+
+// The per-channel log floors (floorRel times the median finite positive value, 1 if none,
+// at least 1e-30), and the s of a generalised Laplacian of shape p whose median absolute
+// value is `mad`.
+std::vector<float> BayesFloors(const Image &color, float floorRel);
+double BayesScaleFromMad(double mad, double p);
+
+const char *BayesFitName(int fit);
+
+}  // namespace mcd

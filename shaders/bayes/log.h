@@ -1,0 +1,30 @@
+// Method `bayes`, stage 1: the log domain (eqs. 4-5). out = log(max(v, floor_c)), where
+// NaN, Inf and values <= floor_c (zeros, negatives) take log(floor_c); floor_c per channel
+// from the `floors` buffer (host: floorRel times the channel's median positive value).
+#ifndef MCD_SHADERS_BAYES_LOG_H
+#define MCD_SHADERS_BAYES_LOG_H
+
+#define BAYES_LOG_COLOR 0
+#define BAYES_LOG_FLOORS 1
+#define BAYES_LOG_OUT 2
+#define BAYES_LOG_BINDINGS 3
+#define BAYES_LOG_LOCAL_SIZE 64
+
+#ifdef __cplusplus
+namespace mcd::shader {
+struct BayesLogPush {
+#else
+layout(push_constant) uniform BayesLogPush {
+#endif
+    int width;
+    int height;
+#ifdef __cplusplus
+};
+static_assert(sizeof(BayesLogPush) == 8);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif

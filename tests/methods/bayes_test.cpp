@@ -1,0 +1,721 @@
+// Method bayes (Xu & Pattanaik): the model of the CPU reference (moment solver, posterior
+// mean), every GPU stage against the reference fed with the same input, the whole method
+// on edge sizes, bit-identical reruns, and extreme inputs.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "bayes/bayes.h"
+#include "cpu_reference/bayes_denoise.h"
+#include "cpu_reference/bayes_model.h"
+#include "cpu_reference/wavelet_analyze.h"
+#include "harness/compare.h"
+#include "harness/errors.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/kernels/bayes_exp.h"
+#include "host/kernels/bayes_log.h"
+#include "host/kernels/bayes_mix.h"
+#include "host/kernels/bayes_moments.h"
+#include "host/kernels/bayes_shrink.h"
+#include "host/methods/bayes.h"
+#include "host/vk/buffer.h"
+
+namespace mcd::test {
+namespace {
+
+constexpr double kUnitRoundoff = 0x1p-24;
+
+// n samples of the generalised Laplacian f(x; s, p): |x| = s G^(1/p), G ~ Gamma(1/p, 1),
+// with a random sign.
+std::vector<double> SampleGl(double s, double p, size_t n, std::mt19937_64 &rng) {
+    std::gamma_distribution<double> gamma(1 / p, 1.0);
+    std::bernoulli_distribution sign(0.5);
+    std::vector<double> x(n);
+    for (double &v : x) v = s * std::pow(gamma(rng), 1 / p) * (sign(rng) ? 1 : -1);
+    return x;
+}
+
+// ---------------------------------------------------------------- the reference's model
+
+TEST(BayesModel, KurtosisIsMonotoneOverTheBracket) {
+    double previous = INFINITY;
+    for (double p = BAYES_P_LO; p <= BAYES_P_HI; p += 0.01) {
+        double k = ref::GlKurtosis(p);
+        EXPECT_LT(k, previous) << "p " << p;
+        previous = k;
+    }
+    EXPECT_NEAR(ref::GlKurtosis(2), 3, 1e-12);
+    EXPECT_NEAR(ref::GlKurtosis(1), 6, 1e-12);
+}
+
+// Exact moments of c + n (eqs. 17-18) give back (s_c, p_c) to the bisection's precision.
+TEST(BayesModel, SolverInvertsExactMoments) {
+    const double sn = 0.19, pn = 1.5;
+    for (double p : {0.5, 0.7, 1.0, 1.5, 2.0})
+        for (double s : {1e-3, 1e-1, 1.0, 30.0}) {
+            double sN = s * 0.05;  // noise well below the signal, scaled with it
+            double var = ref::GlSecondMoment(s, p), varN = ref::GlSecondMoment(sN, pn);
+            double m2 = var + varN;
+            double m4 =
+                ref::GlFourthMoment(s, p) + ref::GlFourthMoment(sN, pn) + 6 * var * varN;
+            ref::BandFit fit = ref::SolveBand(m2, m4, 1000, sN, pn);
+            EXPECT_EQ(fit.fit, BAYES_FIT_SOLVED) << s << " " << p;
+            EXPECT_NEAR(fit.pc, p, 1e-9 * p) << s << " " << p;
+            EXPECT_NEAR(fit.sc, s, 1e-8 * s) << s << " " << p;
+            (void)sn;
+        }
+}
+
+// Sampled moments of synthetic c + n: (s, p) recovered for p in [0.5, 2] and s over four
+// decades. The tolerance is the sampling error: E[x^4] of 400k samples of p = 0.5 has a
+// relative standard deviation of sqrt((Gamma(18) Gamma(2) / Gamma(10)^2 - 1) / 4e5) = 8%,
+// which moves p by about 0.03; tighter shapes do much better.
+TEST(BayesModel, SolverRecoversSampledParameters) {
+    std::mt19937_64 rng(SeedFromName("bayes solver samples"));
+    const size_t n = 400000;
+    const double pn = 1.5;
+    for (double p : {0.5, 0.8, 1.2, 2.0})
+        for (double s : {1e-3, 1e-1, 10.0}) {
+            double sN = 0.2 * s;
+            std::vector<double> c = SampleGl(s, p, n, rng), noise = SampleGl(sN, pn, n, rng);
+            double m2 = 0, m4 = 0;
+            for (size_t i = 0; i < n; ++i) {
+                double y = c[i] + noise[i];
+                m2 += y * y;
+                m4 += y * y * y * y;
+            }
+            ref::BandFit fit = ref::SolveBand(m2 / n, m4 / n, int64_t(n), sN, pn);
+            SCOPED_TRACE(
+                fmt::format("s {} p {}: got s_c {:.4g} p_c {:.4g}", s, p, fit.sc, fit.pc));
+            EXPECT_EQ(fit.fit, BAYES_FIT_SOLVED);
+            EXPECT_NEAR(fit.pc, p, 0.12 * p);
+            EXPECT_NEAR(fit.sc, s, 0.25 * s);
+        }
+}
+
+TEST(BayesModel, SolverFallbacksAreDocumentedAndFinite) {
+    const double sn = 0.2, pn = 1.5;
+    double varN = ref::GlSecondMoment(sn, pn), m4N = ref::GlFourthMoment(sn, pn);
+    EXPECT_EQ(ref::SolveBand(0.5 * varN, m4N, 10, sn, pn).fit, BAYES_FIT_NO_SIGNAL);
+    EXPECT_EQ(ref::SolveBand(varN, m4N, 10, sn, pn).fit, BAYES_FIT_NO_SIGNAL);
+    EXPECT_EQ(ref::SolveBand(NAN, m4N, 10, sn, pn).fit, BAYES_FIT_NO_SIGNAL);
+    EXPECT_EQ(ref::SolveBand(INFINITY, INFINITY, 10, sn, pn).fit, BAYES_FIT_NO_SIGNAL);
+    EXPECT_EQ(ref::SolveBand(1, 1, 0, sn, pn).fit, BAYES_FIT_EMPTY);
+    EXPECT_EQ(ref::SolveBand(1, 1, 10, 0, pn).fit, BAYES_FIT_NO_NOISE);
+    // Signal variance 1: a fourth moment far above any p's reach, and one below the noise's.
+    ref::BandFit low = ref::SolveBand(1 + varN, 1e6, 10, sn, pn);
+    EXPECT_EQ(low.fit, BAYES_FIT_P_LOW);
+    EXPECT_EQ(low.pc, BAYES_P_LO);
+    ref::BandFit high = ref::SolveBand(1 + varN, 0.5, 10, sn, pn);
+    EXPECT_EQ(high.fit, BAYES_FIT_P_HIGH);
+    EXPECT_EQ(high.pc, BAYES_P_HI);
+    ref::BandFit flat = ref::SolveBand(1 + varN, 2.0, 10, sn, pn);  // kurtosis ~2 < 2.42
+    EXPECT_EQ(flat.fit, BAYES_FIT_P_HIGH);
+    for (const ref::BandFit &f : {low, high, flat}) {
+        EXPECT_TRUE(std::isfinite(f.sc) && f.sc > 0);
+        EXPECT_NEAR(ref::GlSecondMoment(f.sc, f.pc), 1, 1e-9);  // the variance still holds
+        for (double y : {0.0, 0.1, 1.0, 100.0})
+            EXPECT_TRUE(std::isfinite(ref::PosteriorMean(y, f, sn, pn)));
+    }
+}
+
+// The posterior mean is odd, monotone, inside [0, y] for y > 0, and shrinks small
+// coefficients (relative to y) more than large ones; finite at extreme scales. Monotone
+// needs a prior whose tails are at least as heavy as the noise's (p_c < p_n, or p_c = p_n
+// and s_c >= s_n): otherwise a very large y is better explained by noise and c^ falls
+// back toward 0 (true of eq. 11 itself; checked in the last case).
+TEST(BayesModel, PosteriorMeanProperties) {
+    struct Case {
+        double sc, pc, sn, pn;
+    };
+    for (Case k :
+         {Case{1, 0.7, 0.2, 1.5}, Case{0.1, 1.0, 0.3, 1.5}, Case{2, 2.0, 0.5, 2.0},
+          Case{1e-4, 0.5, 1, 1.5}, Case{1e3, 0.6, 1e-3, 0.8}, Case{0.5, 0.6, 0.19, 0.6}}) {
+        SCOPED_TRACE(fmt::format("s_c {} p_c {} s_n {} p_n {}", k.sc, k.pc, k.sn, k.pn));
+        ref::BandFit fit{BAYES_FIT_SOLVED, k.sc, k.pc};
+        // "Small" is y < s_n, "large" y > 4 s_n: every small y keeps a smaller fraction of
+        // itself than any large one (near 0 the fraction may dip slightly: the cubic term).
+        double previous = 0, maxSmallRatio = 0, minLargeRatio = INFINITY;
+        for (int i = 1; i <= 120; ++i) {
+            double y = k.sn * 0.05 * i * (1 + i / 10.0);
+            double c = ref::PosteriorMean(y, fit, k.sn, k.pn);
+            ASSERT_TRUE(std::isfinite(c)) << y;
+            EXPECT_EQ(ref::PosteriorMean(-y, fit, k.sn, k.pn), -c) << y;
+            EXPECT_GE(c, previous - 1e-12 * y) << "monotone at y " << y;
+            EXPECT_GE(c, -1e-12 * y);
+            EXPECT_LE(c, y * (1 + 1e-9)) << y;
+            if (y < k.sn) maxSmallRatio = std::max(maxSmallRatio, c / y);
+            if (y > 4 * k.sn) minLargeRatio = std::min(minLargeRatio, c / y);
+            previous = c;
+        }
+        // (Equal for Gaussian prior and noise: the Wiener gain. A prior far narrower than
+        // the noise, s_c = 1e-4 s_n, only lets go beyond y ~ 100 s_n: not "large" here.)
+        if (k.sc >= 0.1 * k.sn) EXPECT_LE(maxSmallRatio, minLargeRatio * (1 + 1e-9));
+        EXPECT_EQ(ref::PosteriorMean(0, fit, k.sn, k.pn), 0);
+    }
+    ref::BandFit light{BAYES_FIT_SOLVED, 0.05, 1.3};
+    double mid = ref::PosteriorMean(1.0, light, 0.19, 0.6);
+    double far = ref::PosteriorMean(15.0, light, 0.19, 0.6);
+    EXPECT_LT(far, mid) << "p_c > p_n: large y is taken for noise";
+    EXPECT_TRUE(std::isfinite(far) && far > 0);
+}
+
+// The sinh-grid quadrature against a plain composite Simpson rule on a uniform grid fine
+// enough to resolve both densities (step min(s_n, s_c) / 200 over the same range).
+TEST(BayesModel, QuadratureMatchesAFineUniformIntegral) {
+    struct Case {
+        double sc, pc, sn, pn;
+    };
+    for (Case k : {Case{1, 0.8, 0.2, 1.5}, Case{0.3, 1.6, 0.4, 1.2}, Case{0.05, 0.6, 0.1, 2.0}})
+        for (double y : {0.05, 0.3, 1.0, 3.0}) {
+            ref::BandFit fit{BAYES_FIT_SOLVED, k.sc, k.pc};
+            double reach =
+                std::max(k.sn * std::pow(40.0, 1 / k.pn), k.sc * std::pow(40.0, 1 / k.pc));
+            double lo = -reach, hi = y + reach, h = std::min(k.sn, k.sc) / 200;
+            int n = int(std::ceil((hi - lo) / h / 2)) * 2;
+            h = (hi - lo) / n;
+            double num = 0, den = 0;
+            for (int i = 0; i <= n; ++i) {
+                double c = lo + i * h;
+                double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+                double f = std::exp(-std::pow(std::fabs(y - c) / k.sn, k.pn) -
+                                    std::pow(std::fabs(c) / k.sc, k.pc));
+                num += w * f * c;
+                den += w * f;
+            }
+            double expected = num / den;
+            EXPECT_NEAR(ref::PosteriorMean(y, fit, k.sn, k.pn), expected, 2e-4 * k.sn)
+                << fmt::format("s_c {} p_c {} s_n {} p_n {} y {}", k.sc, k.pc, k.sn, k.pn, y);
+        }
+}
+
+// ---------------------------------------------------------------- GPU stages vs reference
+
+class BayesKernel : public GpuTest {
+  protected:
+    vk::Buffer Floats(const std::vector<float> &values, const char *name) {
+        vk::Buffer b(Ctx(), std::max<size_t>(values.size(), 1) * sizeof(float), name);
+        if (!values.empty()) b.UploadFloats(values);
+        return b;
+    }
+};
+
+// An image with zeros, negatives, tiny values, NaN/Inf and fireflies.
+Image AwkwardInput(int w, int h, int channels, uint64_t seed) {
+    Image image = MakeInput(InputKind::LogNormalFireflies, w, h, channels, seed);
+    Image special = MakeInput(InputKind::NonFinite, w, h, channels, seed + 1);
+    std::mt19937_64 rng(seed + 2);
+    for (size_t i = 0; i < image.Size(); ++i) {
+        if (!std::isfinite(special.data[i])) image.data[i] = special.data[i];
+        switch (rng() % 16) {
+            case 0:
+                image.data[i] = 0;
+                break;
+            case 1:
+                image.data[i] = -0.5f;
+                break;
+            case 2:
+                image.data[i] = 1e-9f;
+                break;
+            default:
+                break;
+        }
+    }
+    return image;
+}
+
+const std::vector<std::pair<int, int>> kSizes = {{1, 1},   {2, 1},  {1, 5}, {3, 3},
+                                                 {37, 23}, {64, 7}, {3, 70}};
+
+// GLSL log: within 3 ulp of |log v| outside [0.5, 2], 2^-21 absolute inside; the reference
+// rounds once more (0.5 ulp). exp: (3 + 2 |z|) ulp, plus the reference's rounding.
+TEST_F(BayesKernel, LogAndExpMatchReference) {
+    for (auto [w, h] : kSizes) {
+        SCOPED_TRACE(fmt::format("{}x{}", w, h));
+        Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayeslog{}x{}", w, h)));
+        std::vector<float> floors = BayesFloors(color, 1e-3f);
+        std::vector<double> refFloors = ref::BayesFloors(color, 1e-3);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(floors[c], refFloors[c], 1e-6 * refFloors[c]);
+        std::vector<double> floorsAsGpu(floors.begin(), floors.end());
+        Image expected = ref::BayesLog(color, floorsAsGpu);
+        vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log"),
+            back(Ctx(), w, h, 3, "exp");
+        in.Upload(color);
+        vk::Buffer floorsGpu = Floats(floors, "floors");
+        vk::Recorder recorder(Ctx());
+        RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
+        RecordBayesExp(Ctx(), recorder, out, in, back, true);
+        recorder.Submit();
+        Image logGpu = out.Download();
+        EXPECT_TRUE(ImagesMatch(expected, logGpu, {}, {4 * kUnitRoundoff, 0x1p-21, 1e-9}));
+        Image expExpected = ref::BayesExp(logGpu, color);
+        Image scale(w, h, 3);
+        for (size_t i = 0; i < scale.Size(); ++i)
+            scale.data[i] =
+                std::fabs(expExpected.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
+        Image expGpu = back.Download();
+        EXPECT_TRUE(ImagesMatch(expExpected, expGpu, scale, {kUnitRoundoff, 0, 1e-9}));
+        for (size_t i = 0; i < color.Size(); ++i)
+            if (!(std::isfinite(color.data[i]) && color.data[i] > 0))
+                EXPECT_EQ(expGpu.data[i], 0.f) << "exact zero at " << i;
+        // Zeros denoised: they take exp of their log like any pixel; NaN/Inf/negatives 0.
+        vk::Recorder again(Ctx());
+        RecordBayesExp(Ctx(), again, out, in, back, false);
+        again.Submit();
+        Image expNoRestore = back.Download();
+        Image expectedNoRestore = ref::BayesExp(logGpu, color, false);
+        for (size_t i = 0; i < scale.Size(); ++i)
+            scale.data[i] =
+                std::fabs(expectedNoRestore.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
+        EXPECT_TRUE(
+            ImagesMatch(expectedNoRestore, expNoRestore, scale, {kUnitRoundoff, 0, 1e-9}));
+        for (size_t i = 0; i < color.Size(); ++i) {
+            if (color.data[i] == 0) EXPECT_GT(expNoRestore.data[i], 0.f) << i;
+            if (!(std::isfinite(color.data[i]) && color.data[i] >= 0))
+                EXPECT_EQ(expNoRestore.data[i], 0.f) << i;
+        }
+    }
+}
+
+// Sums of positive terms in float: lane l adds count/256 terms, then 8 tree levels, then
+// one division; v^2 and v^4 round twice. Relative error <= (count/256 + 8 + 4) u.
+TEST_F(BayesKernel, MomentsMatchReference) {
+    for (auto [w, h] : kSizes)
+        for (int levels : {1, 3}) {
+            if (levels > MaxWaveletLevels(w, h)) continue;
+            SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
+            Image coef = MakeInput(InputKind::Uniform, w, h, 2,
+                                   SeedFromName(fmt::format("bayesmom{}x{}", w, h)));
+            int bands = BayesBandCount(2, levels);
+            vk::GpuImage c(Ctx(), w, h, 2, "coef");
+            c.Upload(coef);
+            vk::Buffer moments(Ctx(), bands * BAYES_MOMENT_STRIDE * sizeof(float), "moments");
+            vk::Recorder recorder(Ctx());
+            RecordBayesMoments(Ctx(), recorder, c, levels, moments);
+            recorder.Submit();
+            std::vector<float> got = moments.DownloadFloats(bands * BAYES_MOMENT_STRIDE);
+            std::vector<ref::BayesBand> refBands = ref::BayesBands(w, h, 2, levels);
+            ASSERT_EQ(int(refBands.size()), bands);
+            for (int b = 0; b < bands; ++b) {
+                ref::BandMoments m = ref::MeasureBand(coef, refBands[b]);
+                double tol = (double(m.count) / 256 + 12) * kUnitRoundoff;
+                EXPECT_NEAR(got[b * 4 + 0], m.m2, tol * m.m2) << "band " << b;
+                EXPECT_NEAR(got[b * 4 + 1], m.m4, tol * m.m4) << "band " << b;
+                EXPECT_EQ(got[b * 4 + 2], float(m.maxAbs)) << "band " << b;
+                EXPECT_EQ(got[b * 4 + 3], float(m.count)) << "band " << b;
+            }
+        }
+}
+
+struct SolveCase {
+    double m2, m4, count;
+    int level;
+};
+
+// The GPU solver in float against ref::SolveBand on the same (float) moments. The error
+// budget: the float subtractions of eq. 17-18 (4 u of each term over the difference),
+// float lgamma (about 2^-20 absolute per call, 6 calls per log kurtosis), propagated to
+// p_c through the slope of log kurtosis(p) and to s_c through sigma_c^2 and p_c.
+TEST_F(BayesKernel, SolveMatchesReference) {
+    const float sn = 0.19f, pn = 1.5f, snFinest = 0.38f;
+    const int levels = 2;
+    std::vector<SolveCase> cases;
+    // Well-conditioned bands from known (s, p) plus the band's noise, and every fallback.
+    for (double p : {0.4, 0.6, 1.0, 1.5, 2.5})
+        for (double s : {0.05, 1.0, 20.0})
+            for (int level : {0, 1}) {
+                double sN = level == 0 ? snFinest : sn;
+                double var = ref::GlSecondMoment(s, p), varN = ref::GlSecondMoment(sN, pn);
+                cases.push_back(
+                    {var + varN,
+                     ref::GlFourthMoment(s, p) + ref::GlFourthMoment(sN, pn) + 6 * var * varN,
+                     100, level});
+            }
+    double varN = ref::GlSecondMoment(sn, pn);
+    cases.push_back({0.5 * varN, 1, 100, 1});  // no signal
+    cases.push_back({1 + varN, 1e7, 100, 1});  // kurtosis too high
+    cases.push_back({1 + varN, 0.5, 100, 1});  // 4th moment below the noise's
+    cases.push_back({1 + varN, 2.0, 100, 1});  // kurtosis too low
+    cases.push_back({0, 0, 0, 1});             // empty
+    cases.push_back({NAN, 1, 100, 1});         // non-finite
+    // Bands laid out as 3 per level: put case k at band (k / 3 levels) ... just use the
+    // band index's level: band b has level (b % (3 levels)) / 3.
+    std::vector<float> moments;
+    std::vector<int> caseOfBand;
+    int bands = 0;
+    for (size_t k = 0; k < cases.size(); ++k) {
+        // Find the next band index with the case's level.
+        while (((bands % (3 * levels)) / 3) != cases[k].level) {
+            moments.insert(moments.end(), {0, 0, 0, 0});
+            caseOfBand.push_back(-1);
+            ++bands;
+        }
+        moments.insert(moments.end(),
+                       {float(cases[k].m2), float(cases[k].m4), 3.f, float(cases[k].count)});
+        caseOfBand.push_back(int(k));
+        ++bands;
+    }
+    vk::Buffer momentsGpu = Floats(moments, "moments");
+    vk::Buffer params(Ctx(), bands * BAYES_PARAM_STRIDE * sizeof(float), "params");
+    vk::Recorder recorder(Ctx());
+    RecordBayesSolve(Ctx(), recorder, momentsGpu, bands, levels, sn, pn, snFinest, params);
+    recorder.Submit();
+    std::vector<float> got = params.DownloadFloats(bands * BAYES_PARAM_STRIDE);
+    for (int b = 0; b < bands; ++b) {
+        const float *p = &got[b * BAYES_PARAM_STRIDE];
+        int level = (b % (3 * levels)) / 3;
+        double sN = level == 0 ? snFinest : sn;
+        double m2 = moments[b * 4], m4 = moments[b * 4 + 1];
+        ref::BandFit e = ref::SolveBand(m2, m4, int64_t(moments[b * 4 + 3]), sN, pn);
+        SCOPED_TRACE(
+            fmt::format("band {} (case {}): m2 {} m4 {} ref fit {} s_c {} p_c {}; gpu "
+                        "fit {} s_c {} p_c {}",
+                        b, caseOfBand[b], m2, m4, e.fit, e.sc, e.pc, p[4], p[2], p[3]));
+        for (int i = 0; i < BAYES_PARAM_STRIDE; ++i) EXPECT_TRUE(std::isfinite(p[i])) << i;
+        EXPECT_EQ(p[0], float(sN));
+        ASSERT_EQ(int(p[4]), e.fit);
+        if (e.fit == BAYES_FIT_NO_SIGNAL || e.fit == BAYES_FIT_EMPTY) continue;
+        double vN = ref::GlSecondMoment(sN, pn), m4N = ref::GlFourthMoment(sN, pn);
+        double varC = m2 - vN, m4C = m4 - m4N - 6 * varC * vN;
+        // sigma_n^2 and m4_n come from float lgamma and exp: relative error E each.
+        const double eps = 4 * kUnitRoundoff, E = 1e-5;
+        double dVar = (eps * m2 + E * vN) / varC;
+        double dM4 = (eps * m4 + E * (m4N + 6 * varC * vN) + 6 * vN * varC * dVar) / m4C;
+        double errLogK = dM4 + 2 * dVar + 6 * 0x1p-20;
+        double slope = std::fabs(std::log(ref::GlKurtosis(e.pc * 1.001)) -
+                                 std::log(ref::GlKurtosis(e.pc * 0.999))) /
+                       (0.002 * e.pc);
+        double dp = e.fit == BAYES_FIT_SOLVED ? 2 * errLogK / slope + 1e-6 : 1e-7;
+        EXPECT_NEAR(p[3], e.pc, dp);
+        double scShift = std::fabs(std::sqrt(varC * std::exp(std::lgamma(1 / (e.pc + dp)) -
+                                                             std::lgamma(3 / (e.pc + dp)))) -
+                                   e.sc);
+        EXPECT_NEAR(p[2], e.sc, 2 * scShift + (dVar + 1e-5) * e.sc);
+    }
+}
+
+// One band per fit: the GPU table at its nodes against the direct integral at the same y
+// (from the GPU's params), then the interpolated lookup of many coefficients against the
+// direct integral per coefficient: the table's error, measured and bounded.
+TEST_F(BayesKernel, TableAndShrinkMatchTheDirectIntegral) {
+    const int w = 64, h = 64, levels = 2, channels = 2;
+    // Coefficients: band-specific scales, Laplacian-ish, plus a few large ones.
+    Image coef(w, h, channels);
+    std::mt19937_64 rng(SeedFromName("bayes table"));
+    std::normal_distribution<float> normal(0.f, 1.f);
+    for (float &v : coef.data) v = normal(rng) * (normal(rng) > 1.2f ? 4.f : 0.4f);
+    coef.At(0, 40, 40) = 25.f;
+    coef.At(1, 5, 50) = -12.f;
+    int bands = BayesBandCount(channels, levels);
+    vk::GpuImage c(Ctx(), w, h, channels, "coef");
+    c.Upload(coef);
+    vk::Buffer moments(Ctx(), bands * 4 * sizeof(float), "moments"),
+        params(Ctx(), bands * BAYES_PARAM_STRIDE * sizeof(float), "params"),
+        table(Ctx(), bands * BAYES_TABLE_SIZE * sizeof(float), "table");
+    const float sn = 0.19f, pn = 1.5f;
+    vk::Recorder recorder(Ctx());
+    RecordBayesMoments(Ctx(), recorder, c, levels, moments);
+    RecordBayesSolve(Ctx(), recorder, moments, bands, levels, sn, pn, 2 * sn, params);
+    RecordBayesTable(Ctx(), recorder, params, bands, table);
+    RecordBayesShrink(Ctx(), recorder, c, levels, params, table);
+    recorder.Submit();
+    std::vector<float> p = params.DownloadFloats(bands * BAYES_PARAM_STRIDE);
+    std::vector<float> t = table.DownloadFloats(bands * BAYES_TABLE_SIZE);
+    Image shrunk = c.Download();
+    std::vector<ref::BayesBand> refBands = ref::BayesBands(w, h, channels, levels);
+    int solved = 0;
+    double worstNode = 0, worstLookup = 0, worstNodeAbs = 0, worstLookupAbs = 0;
+    for (int b = 0; b < bands; ++b) {
+        const float *q = &p[b * BAYES_PARAM_STRIDE];
+        ref::BandFit fit{int(q[4]), q[2], q[3]};
+        solved += fit.fit == BAYES_FIT_SOLVED;
+        // Nodes: float quadrature of the same rule. Each log term carries a few ulp of its
+        // own size, (|y|/s_n)^p_n at most, so the weights are off by that relatively and
+        // the mean by that times the posterior's spread (about s_n), plus 8 u of y.
+        for (int i = 0; i < BAYES_TABLE_SIZE; ++i) {
+            double y = double(q[6]) * std::sinh(double(i) * q[7]);
+            double e = ref::PosteriorMean(y, fit, q[0], q[1]);
+            double bound = 64 * kUnitRoundoff * (1 + std::pow(y / q[0], q[1])) * q[0] +
+                           8 * kUnitRoundoff * y + 1e-7;
+            worstNode = std::max(worstNode, std::fabs(t[b * BAYES_TABLE_SIZE + i] - e) / bound);
+            worstNodeAbs =
+                std::max(worstNodeAbs, std::fabs(t[b * BAYES_TABLE_SIZE + i] - e) / q[0]);
+            EXPECT_NEAR(t[b * BAYES_TABLE_SIZE + i], e, bound) << "band " << b << " node " << i;
+        }
+        // Lookups: linear interpolation in u = asinh(y / s_n) with step du: the error is at
+        // most du^2 / 8 max |d^2 c^ / du^2|; c^ ~ y far out gives d^2/du^2 ~ y, and the knee
+        // near y ~ s_n bends it by about s_n. Bound: du^2 (|y| + 4 s_n) (measured below).
+        const ref::BayesBand &band = refBands[b];
+        double du = q[7];
+        for (int y = band.y0; y < band.y1; ++y)
+            for (int x = band.x0; x < band.x1; ++x) {
+                double v = coef.At(band.channel, y, x);
+                double e = ref::PosteriorMean(v, fit, q[0], q[1]);
+                double bound =
+                    du * du * (std::fabs(v) + 4 * q[0]) + 1e-5 * (std::fabs(v) + q[0]);
+                double err = std::fabs(shrunk.At(band.channel, y, x) - e);
+                worstLookup = std::max(worstLookup, err / bound);
+                worstLookupAbs = std::max(worstLookupAbs, err / q[0]);
+                EXPECT_NEAR(shrunk.At(band.channel, y, x), e, bound)
+                    << "band " << b << " at (" << x << ", " << y << ") y = " << v;
+            }
+    }
+    EXPECT_GT(solved, 0);
+    std::printf(
+        "[ table ] worst node error %.3g of its bound (%.2g s_n), worst lookup %.3g of its "
+        "bound "
+        "(%.2g s_n)\n",
+        worstNode, worstNodeAbs, worstLookup, worstLookupAbs);
+    // The low-low band is untouched.
+    for (int y = 0; y < LevelExtent(h, levels); ++y)
+        for (int x = 0; x < LevelExtent(w, levels); ++x)
+            EXPECT_EQ(shrunk.At(0, y, x), coef.At(0, y, x));
+}
+
+// ---------------------------------------------------------------- the whole method
+
+// A smooth picture times multiplicative log-normal noise: the case the model is for.
+Image NoisyPicture(int w, int h, uint64_t seed, double noise) {
+    Image image(w, h, 3);
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double clean = 0.4 + 0.5 * (x > w / 2) + 0.3 * std::sin(0.3 * y + c);
+                image.At(c, y, x) = float(clean * std::exp(noise * normal(rng)));
+            }
+    return image;
+}
+
+// GPU against the reference end to end. The GPU's per-coefficient error is the table's
+// (bounded above) plus float analysis error; the fits may move within their bound. In the
+// log domain the output's error is then a few times the shrink error, summed over levels:
+// 2e-3 absolute in log (0.2% in value) covers it with room, and the mean stays at 1e-4.
+TEST_F(BayesKernel, WholeMethodMatchesReference) {
+    for (auto [w, h] : kSizes)
+        for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::Cdf97}) {
+            SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
+            Image color =
+                NoisyPicture(w, h, SeedFromName(fmt::format("whole{}x{}", w, h)), 0.3);
+            BayesOptions options;
+            options.basis = basis;
+            BayesResult gpu = BayesDenoise(Ctx(), color, options);
+            ref::BayesRefOptions refOptions;
+            refOptions.basis = basis;
+            refOptions.levels = gpu.levels;
+            ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+            ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
+            for (size_t b = 0; b < cpu.fits.size(); ++b)
+                EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+            Image logGpu = gpu.image, logCpu = cpu.image;
+            for (float &v : logGpu.data) v = std::log(v);
+            for (float &v : logCpu.data) v = std::log(v);
+            EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
+        }
+}
+
+// Cycle spinning on both sides: the same tolerance as one run (an average of results
+// each within it).
+TEST_F(BayesKernel, CycleSpinningMatchesReference) {
+    for (auto [w, h, spins] :
+         {std::tuple{19, 11, 2}, std::tuple{1, 6, 2}, std::tuple{2, 3, 4}}) {
+        SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
+        Image color = NoisyPicture(w, h, SeedFromName(fmt::format("spin{}x{}", w, h)), 0.3);
+        BayesOptions options;
+        options.spins = spins;
+        BayesResult gpu = BayesDenoise(Ctx(), color, options);
+        ref::BayesRefOptions refOptions;
+        refOptions.spins = spins;  // levels clamped per shifted image on both sides
+        Image cpu = ref::BayesDenoise(color, refOptions).image;
+        for (float &v : gpu.image.data) v = std::log(v);
+        for (float &v : cpu.data) v = std::log(v);
+        EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
+        EXPECT_TRUE(Contains(gpu.plan[0], "cycle spinning"));
+    }
+}
+
+// The mix kernel: three products and two sums in float per output, so within 4 u of
+// sum |m_ij| |v_j|; forward then inverse gives the input back within twice that.
+TEST_F(BayesKernel, MixMatchesReference) {
+    Image v = MakeInput(InputKind::Uniform, 37, 5, 3, SeedFromName("bayes mix"));
+    vk::GpuImage image(Ctx(), 37, 5, 3, "mix");
+    image.Upload(v);
+    vk::Recorder recorder(Ctx());
+    RecordBayesMix(Ctx(), recorder, image, BayesOpponent());
+    recorder.Submit();
+    Image mixed = image.Download();
+    const double k3 = 1 / std::sqrt(3.0), k2 = 1 / std::sqrt(2.0), k6 = 1 / std::sqrt(6.0);
+    const double m[3][3] = {{k3, k3, k3}, {k2, -k2, 0}, {k6, k6, -2 * k6}};
+    for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 37; ++x)
+            for (int i = 0; i < 3; ++i) {
+                double e = 0, scale = 0;
+                for (int j = 0; j < 3; ++j)
+                    e += m[i][j] * v.At(j, y, x), scale += std::fabs(m[i][j] * v.At(j, y, x));
+                EXPECT_NEAR(mixed.At(i, y, x), e, 4 * kUnitRoundoff * scale + 1e-30);
+            }
+    RecordBayesMix(Ctx(), recorder, image, BayesOpponentInverse());
+    recorder.Submit();
+    Image back = image.Download();
+    for (size_t i = 0; i < v.Size(); ++i) EXPECT_NEAR(back.data[i], v.data[i], 2e-6);
+}
+
+// Luminance + chroma: the same pipeline with the opponent mix around the transform.
+TEST_F(BayesKernel, OpponentColourMatchesReference) {
+    for (auto [w, h] : {std::pair{23, 17}, std::pair{1, 1}, std::pair{4, 9}}) {
+        SCOPED_TRACE(fmt::format("{}x{}", w, h));
+        Image color = NoisyPicture(w, h, SeedFromName(fmt::format("opp{}x{}", w, h)), 0.3);
+        BayesOptions options;
+        options.opponent = true;
+        BayesResult gpu = BayesDenoise(Ctx(), color, options);
+        ref::BayesRefOptions refOptions;
+        refOptions.opponent = true;
+        ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+        for (size_t b = 0; b < cpu.fits.size(); ++b)
+            EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+        Image logGpu = gpu.image, logCpu = cpu.image;
+        for (float &v : logGpu.data) v = std::log(v);
+        for (float &v : logCpu.data) v = std::log(v);
+        EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
+    }
+    BayesOptions options;
+    options.opponent = true;
+    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(4, 4, 2, 1.f), options); }),
+                         "3 channels"));
+}
+
+TEST_F(BayesKernel, RerunsAreBitIdentical) {
+    Image color = AwkwardInput(45, 31, 3, SeedFromName("bayes rerun"));
+    BayesOptions options;
+    options.basis = WaveletBasis::Cdf97;
+    options.noiseAuto = true;
+    options.spins = 2;
+    Image first = BayesDenoise(Ctx(), color, options).image;
+    Image second = BayesDenoise(Ctx(), color, options).image;
+    EXPECT_TRUE(BitIdentical(first, second));
+}
+
+// ---------------------------------------------------------------- properties
+
+class BayesProperties : public GpuTest {};
+
+bool AllFinite(const Image &image) {
+    for (float v : image.data)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+
+bool AnyWarning(const BayesResult &r, const std::string &part) {
+    for (const std::string &w : r.warnings)
+        if (Contains(w, part)) return true;
+    return false;
+}
+
+TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
+    const int w = 33, h = 21;
+    // Zeros, 1e-8 and 1e8 in one image.
+    Image mixed = NoisyPicture(w, h, SeedFromName("mixed"), 0.3);
+    for (int x = 0; x < w; ++x) mixed.At(0, 3, x) = 0;
+    mixed.At(1, 10, 10) = 1e-8f;
+    mixed.At(2, 11, 11) = 1e8f;
+    BayesResult r = BayesDenoise(Ctx(), mixed, {});
+    EXPECT_TRUE(AllFinite(r.image));
+    EXPECT_TRUE(AnyWarning(r, "33 zero values")) << ::testing::PrintToString(r.warnings);
+    EXPECT_TRUE(AnyWarning(r, "1 tiny positive value")) << ::testing::PrintToString(r.warnings);
+    for (int x = 0; x < w; ++x) EXPECT_EQ(r.image.At(0, 3, x), 0.f) << "black stays black";
+    // NaN/Inf/negatives: 0 out, counted.
+    Image bad = NoisyPicture(w, h, SeedFromName("bad"), 0.3);
+    bad.At(0, 1, 2) = std::numeric_limits<float>::quiet_NaN();
+    bad.At(1, 4, 5) = std::numeric_limits<float>::infinity();
+    bad.At(2, 6, 7) = -std::numeric_limits<float>::infinity();
+    bad.At(2, 8, 9) = -3.f;
+    r = BayesDenoise(Ctx(), bad, {});
+    EXPECT_TRUE(AllFinite(r.image));
+    EXPECT_TRUE(AnyWarning(r, "3 NaN/Inf values (first at pixel (2, 1), channel 0)"))
+        << ::testing::PrintToString(r.warnings);
+    EXPECT_TRUE(AnyWarning(r, "1 negative value")) << ::testing::PrintToString(r.warnings);
+    EXPECT_EQ(r.image.At(0, 1, 2), 0.f);
+    // All zeros, all NaN, pure noise (no signal at all), constant.
+    for (float fill : {0.f, std::numeric_limits<float>::quiet_NaN()}) {
+        BayesResult z = BayesDenoise(Ctx(), Image(w, h, 3, fill), {});
+        EXPECT_TRUE(AllFinite(z.image));
+        for (float v : z.image.data) EXPECT_EQ(v, 0.f);
+        EXPECT_FALSE(z.warnings.empty());
+    }
+    Image noise(w, h, 3);
+    std::mt19937_64 rng(SeedFromName("pure noise"));
+    std::normal_distribution<float> normal(0.f, 0.19f);
+    for (float &v : noise.data) v = std::exp(normal(rng));
+    BayesOptions options;
+    options.noiseAuto = true;
+    BayesResult pure = BayesDenoise(Ctx(), noise, options);
+    EXPECT_TRUE(AllFinite(pure.image));
+    // Pure noise: the output varies far less than the input.
+    double varIn = 0, varOut = 0, meanIn = 0, meanOut = 0;
+    for (size_t i = 0; i < noise.Size(); ++i)
+        meanIn += noise.data[i], meanOut += pure.image.data[i];
+    meanIn /= noise.Size(), meanOut /= noise.Size();
+    for (size_t i = 0; i < noise.Size(); ++i)
+        varIn += std::pow(noise.data[i] - meanIn, 2),
+            varOut += std::pow(pure.image.data[i] - meanOut, 2);
+    EXPECT_LT(varOut, 0.25 * varIn) << varIn << " -> " << varOut;
+    Image constant(w, h, 3, 0.37f);
+    BayesResult k = BayesDenoise(Ctx(), constant, {});
+    for (float v : k.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
+    for (const BayesBandFit &f : k.fits) EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_SIGNAL);
+}
+
+TEST_F(BayesProperties, BadOptionsAreRefused) {
+    Image color(8, 6, 3, 0.5f);
+    BayesOptions o;
+    o.sn = -1;
+    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "s_n"));
+    o = {};
+    o.pn = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "p_n"));
+    o = {};
+    o.floorRel = 0;
+    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "floor"));
+    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(), {}); }), "empty"));
+    EXPECT_TRUE(Contains(
+        ErrorOf([&] { BayesDenoiseSplit(Ctx(), color, Image(8, 5, 3, 0.1f), {}); }), "8x5x3"));
+}
+
+// --noise auto on log-normal noise of known sigma recovers the finest level's s: for
+// Haar, white noise of standard deviation sigma keeps sigma in every band, and s of a
+// p = 2 generalised Laplacian is sigma sqrt(2).
+TEST_F(BayesProperties, NoiseAutoEstimatesTheNoise) {
+    const double sigma = 0.3;
+    Image noise(96, 96, 3);
+    std::mt19937_64 rng(SeedFromName("noise auto"));
+    std::normal_distribution<float> normal(0.f, float(sigma));
+    for (float &v : noise.data) v = std::exp(normal(rng));
+    BayesOptions options;
+    options.noiseAuto = true;
+    options.pn = 2;
+    options.hpFactor = 1;
+    BayesResult r = BayesDenoise(Ctx(), noise, options);
+    EXPECT_NEAR(r.sn, sigma * std::sqrt(2.0), 0.05 * sigma * std::sqrt(2.0));
+    EXPECT_NEAR(BayesScaleFromMad(0.6744897501960817, 2), std::sqrt(2.0), 1e-4);
+}
+
+TEST_F(BayesProperties, SplitAddsTheDirectPartBack) {
+    Image indirect = NoisyPicture(20, 12, SeedFromName("split"), 0.2);
+    Image direct(20, 12, 3, 0.25f);
+    direct.At(0, 0, 0) = std::numeric_limits<float>::quiet_NaN();
+    BayesResult whole = BayesDenoise(Ctx(), indirect, {});
+    BayesResult split = BayesDenoiseSplit(Ctx(), direct, indirect, {});
+    for (size_t i = 1; i < whole.image.Size(); ++i)
+        EXPECT_EQ(split.image.data[i], whole.image.data[i] + 0.25f);
+    EXPECT_TRUE(AnyWarning(split, "1 NaN/Inf values in the direct layer"));
+    EXPECT_TRUE(Contains(split.plan[0], "split"));
+}
+
+}  // namespace
+}  // namespace mcd::test

@@ -1,0 +1,127 @@
+// `mcdenoise denoise --method bayes` run as a subprocess (MCD_TOOL_PATH): the split and
+// no-split plans, warnings with counts on NaN/zero pixels, the output against the method
+// called in process, option errors. Small frames: every run starts Vulkan.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "harness/compare.h"
+#include "harness/errors.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/io/frame.h"
+#include "host/methods/bayes.h"
+
+namespace mcd::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Output {
+    int code = -1;
+    std::string out, err;
+};
+
+class BayesCli : public GpuTest {
+  protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        dir = fs::temp_directory_path() / ("mcd_bayes_cli_" + std::to_string(::getpid()) + "_" +
+                                           std::to_string(std::random_device{}()));
+        fs::create_directories(dir);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+        GpuTest::TearDown();
+    }
+    Output Run(const std::string &args) {
+        fs::path errFile = dir / "stderr.txt";
+        std::string command = "cd '" + dir.string() + "' && '" MCD_TOOL_PATH "' " + args +
+                              " 2>'" + errFile.string() + "'";
+        Output result;
+        FILE *pipe = popen(command.c_str(), "r");
+        if (!pipe) return result;
+        char buffer[4096];
+        size_t n;
+        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0)
+            result.out.append(buffer, n);
+        int status = pclose(pipe);
+        result.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        std::ifstream in(errFile);
+        result.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        return result;
+    }
+    fs::path dir;
+};
+
+Image Positive(int w, int h, uint64_t seed) {
+    Image image = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+    for (float &v : image.data) v = std::min(v, 50.f) * 0.1f;
+    return image;
+}
+
+TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
+    const int w = 29, h = 17;
+    Image direct = Positive(w, h, SeedFromName("cli direct")),
+          indirect = Positive(w, h, SeedFromName("cli indirect"));
+    Image color(w, h, 3);
+    for (size_t i = 0; i < color.Size(); ++i) color.data[i] = direct.data[i] + indirect.data[i];
+    indirect.At(1, 2, 3) = 0;  // a zero pixel: counted, kept at 0
+    indirect.At(2, 5, 6) = std::numeric_limits<float>::quiet_NaN();
+    io::WriteExr((dir / "split.exr").string(),
+                 {{"color", &color}, {"direct", &direct}, {"indirect", &indirect}});
+    io::WriteExr((dir / "plain.exr").string(), {{"color", &color}});
+
+    Output r = Run("denoise split.exr -o out.exr --method bayes --explain --sn 0.3");
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_TRUE(Contains(r.out, "split (section 4.1)")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "s_n 0.3")) << r.out;
+    EXPECT_TRUE(Contains(r.err, "1 NaN/Inf value (first at pixel (6, 5), channel 2)")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "1 zero value")) << r.err;
+    BayesOptions options;
+    options.sn = 0.3f;
+    Image expected = BayesDenoiseSplit(Ctx(), direct, indirect, options).image;
+    EXPECT_TRUE(BitIdentical(expected, io::ReadImage((dir / "out.exr").string())));
+
+    r = Run("denoise split.exr -o whole.exr --method bayes --explain --no-split");
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_TRUE(Contains(r.out, "no split (--no-split)")) << r.out;
+    r =
+        Run("denoise plain.exr -o plain_out.exr --method bayes --explain --noise auto "
+            "--bayes-wavelet cdf97 --bayes-levels 2");
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_TRUE(Contains(r.out, "the frame has no direct and indirect layers")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "--noise auto")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "2-level cdf97")) << r.out;
+    Image out = io::ReadImage((dir / "plain_out.exr").string());
+    for (float v : out.data) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST_F(BayesCli, OptionErrors) {
+    Image color = Positive(8, 8, 1);
+    io::WriteExr((dir / "f.exr").string(), {{"color", &color}});
+    Output r = Run("denoise f.exr -o o.exr --method bayes --noise maybe");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "--noise takes fixed or auto")) << r.err;
+    r = Run("denoise f.exr -o o.exr --method bayes --bayes-wavelet db4");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "unknown wavelet basis 'db4'")) << r.err;
+    r = Run("denoise f.exr -o o.exr --method bayes --pn 0");
+    EXPECT_NE(r.code, 0);
+    EXPECT_FALSE(fs::exists(dir / "o.exr"));
+    r = Run("denoise --help");
+    EXPECT_TRUE(Contains(r.out, "bayes: noise s_n")) << r.out;
+}
+
+}  // namespace
+}  // namespace mcd::test

@@ -1,0 +1,358 @@
+// `mcdenoise bench quality`: error against run time. For each scene and a ladder of sample
+// counts: render (timed), run every method the frame supports (timed, wall and GPU),
+// measure each against the cached reference; write a CSV, a log-log SVG plot per scene,
+// crops, and an HTML report that opens from disk; print the headline figures.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "host/error.h"
+#include "host/metrics.h"
+#include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/denoise_method.h"
+#include "tools/mcdenoise/reference_cache.h"
+#include "tools/render/renderer.h"
+
+namespace mcd::tool {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::duration d) {
+    return std::chrono::duration<double>(d).count();
+}
+
+struct QualityOptions {
+    std::string scenes = "all", spp = "1,2,4,8,16,32,64", size = "128x128", methods = "all",
+                out = "out/bench-quality";
+    int referenceSpp = 2048, cropSpp = 8, threads = 0;
+    DeviceOptions device;
+};
+
+// One measured point: `method` is "mc" for the plain render.
+struct Point {
+    std::string scene, method;
+    int spp = 0;
+    double renderSeconds = 0, denoiseSeconds = 0, gpuSeconds = 0;
+    ErrorMetrics error;
+    double Total() const { return renderSeconds + denoiseSeconds; }
+};
+
+std::vector<std::string> SplitList(const std::string &text) {
+    std::vector<std::string> items;
+    std::stringstream stream(text);
+    for (std::string item; std::getline(stream, item, ',');)
+        if (!item.empty()) items.push_back(item);
+    return items;
+}
+
+bool Listed(const std::vector<std::string> &list, const std::string &name) {
+    return std::find(list.begin(), list.end(), name) != list.end();
+}
+
+// Time a curve needs to reach `error`, by log-log interpolation between its points
+// (sorted by spp). Negative when the curve never gets that low; `*atFirst` when its first
+// point is already below (the time is then an upper bound).
+double TimeToReach(const std::vector<Point> &curve, double error, bool *atFirst) {
+    *atFirst = false;
+    if (curve.empty()) return -1;
+    if (curve[0].error.relMse <= error) {
+        *atFirst = true;
+        return curve[0].Total();
+    }
+    for (size_t i = 0; i + 1 < curve.size(); ++i) {
+        double e0 = curve[i].error.relMse, e1 = curve[i + 1].error.relMse;
+        if (e0 >= error && e1 <= error && e0 > 0 && e1 > 0 && e0 != e1) {
+            double t = (std::log(error) - std::log(e0)) / (std::log(e1) - std::log(e0));
+            return std::exp(std::log(curve[i].Total()) +
+                            t * (std::log(curve[i + 1].Total()) - std::log(curve[i].Total())));
+        }
+    }
+    return -1;
+}
+
+// Error of a curve at `seconds` by log-log interpolation; clamped to its ends (`*clamped`).
+double ErrorAt(const std::vector<Point> &curve, double seconds, bool *clamped) {
+    *clamped = false;
+    for (size_t i = 0; i + 1 < curve.size(); ++i) {
+        double t0 = curve[i].Total(), t1 = curve[i + 1].Total();
+        if (t0 <= seconds && seconds <= t1 && t0 > 0 && t1 > t0) {
+            double t = (std::log(seconds) - std::log(t0)) / (std::log(t1) - std::log(t0));
+            return std::exp(
+                std::log(curve[i].error.relMse) +
+                t * (std::log(curve[i + 1].error.relMse) - std::log(curve[i].error.relMse)));
+        }
+    }
+    *clamped = true;
+    return seconds < curve.front().Total() ? curve.front().error.relMse
+                                           : curve.back().error.relMse;
+}
+
+// A log-log plot of relMSE against total time, one polyline per method, as SVG.
+std::string PlotSvg(const std::string &scene,
+                    const std::vector<std::pair<std::string, std::vector<Point>>> &curves) {
+    double tMin = INFINITY, tMax = 0, eMin = INFINITY, eMax = 0;
+    for (const auto &[name, curve] : curves)
+        for (const Point &p : curve) {
+            if (!(p.Total() > 0) || !(p.error.relMse > 0) || !std::isfinite(p.error.relMse))
+                continue;
+            tMin = std::min(tMin, p.Total()), tMax = std::max(tMax, p.Total());
+            eMin = std::min(eMin, p.error.relMse), eMax = std::max(eMax, p.error.relMse);
+        }
+    if (!(tMax > 0) || !(eMax > 0)) return "";
+    double x0 = std::floor(std::log10(tMin)), x1 = std::ceil(std::log10(tMax));
+    double y0 = std::floor(std::log10(eMin)), y1 = std::ceil(std::log10(eMax));
+    x1 = std::max(x1, x0 + 1), y1 = std::max(y1, y0 + 1);
+    const int w = 640, h = 420, left = 70, right = 150, top = 30, bottom = 50;
+    auto px = [&](double t) {
+        return left + (std::log10(t) - x0) / (x1 - x0) * (w - left - right);
+    };
+    auto py = [&](double e) {
+        return top + (y1 - std::log10(e)) / (y1 - y0) * (h - top - bottom);
+    };
+    std::string svg = fmt::format(
+        "<svg xmlns='http://www.w3.org/2000/svg' width='{}' height='{}' "
+        "font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' "
+        "fill='white'/>\n<text x='{}' y='18' font-size='14'>{}: relMSE against render + "
+        "denoise time</text>\n",
+        w, h, left, scene);
+    for (double d = x0; d <= x1; ++d)
+        svg += fmt::format(
+            "<line x1='{0:.1f}' y1='{1}' x2='{0:.1f}' y2='{2}' stroke='#ddd'/><text "
+            "x='{0:.1f}' "
+            "y='{3}' text-anchor='middle'>1e{4:g} s</text>\n",
+            px(std::pow(10, d)), top, h - bottom, h - bottom + 16, d);
+    for (double d = y0; d <= y1; ++d)
+        svg += fmt::format(
+            "<line x1='{0}' y1='{1:.1f}' x2='{2}' y2='{1:.1f}' stroke='#ddd'/><text x='{3}' "
+            "y='{1:.1f}' text-anchor='end' dy='4'>1e{4:g}</text>\n",
+            left, py(std::pow(10, d)), w - right, left - 6, d);
+    const char *colors[] = {"#000000", "#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"};
+    int index = 0;
+    for (const auto &[name, curve] : curves) {
+        const char *color = colors[index % 6];
+        std::string points;
+        for (const Point &p : curve)
+            if (p.Total() > 0 && p.error.relMse > 0 && std::isfinite(p.error.relMse)) {
+                points += fmt::format("{:.1f},{:.1f} ", px(p.Total()), py(p.error.relMse));
+                svg += fmt::format(
+                    "<circle cx='{:.1f}' cy='{:.1f}' r='3' fill='{}'><title>{} {} spp: "
+                    "{:.4g} s, relMSE {:.4g}</title></circle>\n",
+                    px(p.Total()), py(p.error.relMse), color, name, p.spp, p.Total(),
+                    p.error.relMse);
+            }
+        svg +=
+            fmt::format("<polyline points='{}' fill='none' stroke='{}' stroke-width='{}'/>\n",
+                        points, color, name == "mc" ? 2.5 : 1.5);
+        svg += fmt::format("<text x='{}' y='{}' fill='{}'>{}</text>\n", w - right + 10,
+                           top + 16 * (index + 1), color, name == "mc" ? "Monte Carlo" : name);
+        ++index;
+    }
+    return svg + "</svg>\n";
+}
+
+void BenchQuality(const QualityOptions &opt) {
+    int width = 0, height = 0;
+    ParseSize(opt.size, &width, &height);
+    std::vector<std::string> scenes =
+        opt.scenes == "all" ? render::SceneNames() : SplitList(opt.scenes);
+    for (const std::string &s : scenes) render::BuildScene(s);  // unknown names fail here
+    std::vector<int> ladder;
+    for (const std::string &s : SplitList(opt.spp)) {
+        int n = 0;
+        try {
+            n = std::stoi(s);
+        } catch (...) {
+        }
+        if (n < 1 || n >= opt.referenceSpp)
+            throw Error(fmt::format("--spp: '{}' is not a sample count in 1..{}", s,
+                                    opt.referenceSpp - 1));
+        ladder.push_back(n);
+    }
+    std::sort(ladder.begin(), ladder.end());
+    ladder.erase(std::unique(ladder.begin(), ladder.end()), ladder.end());
+    if (ladder.empty()) throw Error("--spp: no sample counts");
+    std::vector<DenoiseMethod> methods;
+    for (DenoiseMethod &m : DenoiseMethods())
+        if (opt.methods == "all" || Listed(SplitList(opt.methods), m.name))
+            methods.push_back(std::move(m));
+    PrepareDirectory(opt.out);
+
+    vk::Context context(opt.device.ContextOptions());
+    fmt::print("bench quality: {} scene(s) at {}x{}, spp {}, methods {}, on {}\n",
+               scenes.size(), width, height, opt.spp, methods.empty() ? "none" : opt.methods,
+               context.Info().name);
+    std::vector<Point> points;
+    std::string html = fmt::format(
+        "<!doctype html><html><head><meta charset='utf-8'><title>mcdenoise bench "
+        "quality</title><style>body{{font-family:sans-serif}} td,th{{padding:2px 8px;"
+        "text-align:right}} img.crop{{image-rendering:pixelated;width:192px}}"
+        "</style></head><body><h1>Error against run time</h1><p>{}x{}, references at {} "
+        "spp, device {}. Time is render + denoise (wall; the first run of each method is "
+        "an untimed warm-up that compiles its pipelines).</p>\n",
+        width, height, opt.referenceSpp, context.Info().name);
+    std::string headline;
+
+    for (const std::string &sceneName : scenes) {
+        bool rendered = false;
+        io::Frame referenceFrame =
+            CachedReference(sceneName, width, height, opt.referenceSpp, opt.threads, &rendered);
+        const Image &reference = referenceFrame.Get("color");
+        render::Scene scene = render::BuildScene(sceneName);
+        std::vector<std::pair<std::string, std::vector<Point>>> curves = {{"mc", {}}};
+        for (const DenoiseMethod &m : methods) curves.push_back({m.name, {}});
+        std::map<std::string, std::string> skipped;
+        std::map<std::string, Image> crops;
+        std::set<std::string> warm;
+        for (int spp : ladder) {
+            render::RenderOptions options;
+            options.width = width, options.height = height, options.spp = spp;
+            options.threads = opt.threads;
+            render::RenderResult plain = render::Render(scene, options);
+            Point mc{sceneName, "mc", spp, plain.seconds};
+            mc.error = CompareImages(plain.layers[0].second, reference);
+            curves[0].second.push_back(mc);
+            if (spp == opt.cropSpp) crops["input"] = plain.layers[0].second;
+            // Every layer group, for the methods: their render time is this one's.
+            options.layers = render::kLayersAll;
+            render::RenderResult full = render::Render(scene, options);
+            io::Frame frame;
+            frame.path = fmt::format("{} at {} spp", sceneName, spp);
+            frame.width = width, frame.height = height;
+            for (auto &[name, image] : full.layers) frame.layers[name] = std::move(image);
+            std::string line = fmt::format("  {:<15} {:3} spp: mc relMSE {:.4g} ({:.2f} s)",
+                                           sceneName, spp, mc.error.relMse, mc.renderSeconds);
+            for (size_t m = 0; m < methods.size(); ++m) {
+                if (skipped.count(methods[m].name)) continue;
+                try {
+                    // Untimed until a run has dispatched (and so compiled) its kernels: a
+                    // frame with nothing to do (1 spp: no variance) dispatches nothing.
+                    if (!warm.count(methods[m].name) &&
+                        !methods[m].run(context, frame).timings.empty())
+                        warm.insert(methods[m].name);
+                    Clock::time_point start = Clock::now();
+                    DenoiseResult result = methods[m].run(context, frame);
+                    Point p{sceneName, methods[m].name, spp, full.seconds,
+                            Seconds(Clock::now() - start)};
+                    for (const vk::DispatchTiming &t : result.timings)
+                        p.gpuSeconds += std::max(t.gpuMs, 0.0) * 1e-3;
+                    p.error = CompareImages(result.image, reference);
+                    curves[m + 1].second.push_back(p);
+                    if (spp == opt.cropSpp) crops[methods[m].name] = std::move(result.image);
+                    line += fmt::format(", {} {:.4g} ({:.2f} s)", methods[m].name,
+                                        p.error.relMse, p.Total());
+                } catch (const Error &e) {
+                    // A frame that lacks a method's layers fails the same way at every spp.
+                    skipped[methods[m].name] = e.what();
+                    line += fmt::format(", {} skipped", methods[m].name);
+                }
+            }
+            fmt::print("{}\n", line);
+            std::fflush(stdout);
+        }
+        for (auto &[name, curve] : curves)
+            points.insert(points.end(), curve.begin(), curve.end());
+
+        // Headline: speedup at the error MC reaches at the top of the ladder, and the error
+        // at the time MC takes to get there.
+        const Point &top = curves[0].second.back();
+        std::string table = fmt::format(
+            "<table><tr><th>method</th><th>speedup at equal error</th><th>error at equal "
+            "time (MC / method)</th></tr>\n");
+        for (size_t m = 1; m < curves.size(); ++m) {
+            const std::vector<Point> &curve = curves[m].second;
+            if (curve.empty()) continue;
+            bool atFirst = false, clamped = false;
+            double t = TimeToReach(curve, top.error.relMse, &atFirst);
+            double e = ErrorAt(curve, top.Total(), &clamped);
+            std::string speedup =
+                t > 0 ? fmt::format("{}{:.2f}x", atFirst ? ">= " : "", top.Total() / t)
+                      : "not reached";
+            std::string ratio =
+                fmt::format("{}{:.2f}x", clamped ? "~" : "", top.error.relMse / e);
+            headline += fmt::format("| {} | {} | {} | {} |\n", sceneName, curves[m].first,
+                                    speedup, ratio);
+            table += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                                 curves[m].first, speedup, ratio);
+        }
+        table += "</table>\n";
+
+        std::string svg = PlotSvg(sceneName, curves);
+        std::string svgName = sceneName + ".svg";
+        std::ofstream(fs::path(opt.out) / svgName) << svg;
+        html += fmt::format(
+            "<h2>{}</h2><img src='{}'>\n<p>Monte Carlo at {} spp: relMSE "
+            "{:.4g} in {:.3f} s.</p>{}",
+            sceneName, svgName, top.spp, top.error.relMse, top.Total(), table);
+        for (const auto &[name, why] : skipped)
+            html += fmt::format("<p>{} left out: {}</p>\n", name, why);
+        if (!crops.empty()) {
+            // The centre half of the frame, side by side.
+            int x0 = width / 4, y0 = height / 4, x1 = std::max(x0 + 1, 3 * width / 4),
+                y1 = std::max(y0 + 1, 3 * height / 4);
+            crops["reference"] = reference;
+            html += fmt::format("<p>Crops at {} spp:</p><table><tr>", opt.cropSpp);
+            std::vector<std::string> order = {"input"};
+            for (const DenoiseMethod &m : methods) order.push_back(m.name);
+            order.push_back("reference");
+            for (const std::string &name : order) {
+                if (!crops.count(name)) continue;
+                std::string file = fmt::format("{}-{}.png", sceneName, name);
+                io::WritePng((fs::path(opt.out) / file).string(),
+                             crops[name].Crop(x0, y0, x1, y1));
+                html += fmt::format("<td><img class='crop' src='{}'><br>{}</td>", file, name);
+            }
+            html += "</tr></table>\n";
+        }
+    }
+
+    std::string csv =
+        "scene,spp,method,render_s,denoise_wall_s,denoise_gpu_s,total_s,relmse,psnr,ssim\n";
+    for (const Point &p : points)
+        csv += fmt::format("{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},{:.5f}\n",
+                           p.scene, p.spp, p.method, p.renderSeconds, p.denoiseSeconds,
+                           p.gpuSeconds, p.Total(), p.error.relMse, p.error.psnr, p.error.ssim);
+    std::ofstream(fs::path(opt.out) / "quality.csv") << csv;
+    std::ofstream(fs::path(opt.out) / "index.html") << html << "</body></html>\n";
+    fmt::print(
+        "\n| scene | method | speedup at equal error | error at equal time |\n"
+        "|---|---|---|---|\n{}",
+        headline);
+    fmt::print("wrote {}/quality.csv, {}/index.html and a plot per scene\n", opt.out, opt.out);
+}
+
+}  // namespace
+
+void AddBenchQualityCommand(CLI::App *bench) {
+    auto opt = std::make_shared<QualityOptions>();
+    CLI::App *quality = bench->add_subcommand(
+        "quality",
+        "Error against run time: render each scene at a ladder of spp, run every method, "
+        "measure against cached references; CSV, SVG plots and an HTML report");
+    quality->add_option("--scenes", opt->scenes, "comma-separated scene names, or all")
+        ->capture_default_str();
+    quality->add_option("--spp", opt->spp, "the ladder of sample counts")
+        ->capture_default_str();
+    quality->add_option("--size", opt->size, "image size WxH")->capture_default_str();
+    quality->add_option("--methods", opt->methods, "comma-separated methods, or all")
+        ->capture_default_str();
+    quality->add_option("--reference-spp", opt->referenceSpp, "spp of the references")
+        ->capture_default_str()
+        ->check(CLI::Range(2, 1 << 20));
+    quality->add_option("--crop-spp", opt->cropSpp, "spp of the crops in the report")
+        ->capture_default_str();
+    quality->add_option("--threads", opt->threads, "render threads (default: all cores)");
+    quality->add_option("-o,--out", opt->out, "output directory")->capture_default_str();
+    opt->device.Add(quality);
+    quality->callback([opt] { BenchQuality(*opt); });
+}
+
+}  // namespace mcd::tool

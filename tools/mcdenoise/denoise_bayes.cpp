@@ -1,0 +1,121 @@
+// `mcdenoise denoise --method bayes`: Bayesian wavelet shrinkage in the log domain
+// (Xu & Pattanaik; host/methods/bayes.h). With direct and indirect layers only the
+// indirect part is denoised (section 4.1); otherwise the whole image, and the plan says so.
+#include <fmt/format.h>
+
+#include <memory>
+
+#include "host/error.h"
+#include "host/methods/bayes.h"
+#include "host/wavelet.h"
+#include "tools/mcdenoise/denoise_method.h"
+
+namespace mcd::tool {
+namespace {
+
+struct BayesCliOptions {
+    std::string basis = "haar", noise = "fixed";
+    int levels = 3, spins = 1;
+    float sn = 0.19f, pn = 1.5f, hpFactor = 2.f, floorRel = 1e-3f;
+    bool noSplit = false, keepMean = false;
+    std::string zeros = "restore", colour = "rgb";
+};
+
+}  // namespace
+
+DenoiseMethod BayesMethod() {
+    auto opt = std::make_shared<BayesCliOptions>();
+    DenoiseMethod method;
+    method.name = "bayes";
+    method.summary =
+        "Bayesian wavelet shrinkage in the log domain, Xu & Pattanaik (color; uses "
+        "direct/indirect when present)";
+    method.addOptions = [opt](CLI::App *cmd) {
+        cmd->add_option("--bayes-wavelet", opt->basis, "bayes: haar, legall53 or cdf97")
+            ->capture_default_str();
+        cmd->add_option("--bayes-levels", opt->levels,
+                        "bayes: DWT levels (clamped to what the image allows)")
+            ->capture_default_str()
+            ->check(CLI::Range(0, 64));
+        cmd->add_option("--sn", opt->sn,
+                        "bayes: noise s_n in the log domain (paper: 0.19, 0.6)")
+            ->capture_default_str()
+            ->check(CLI::Range(0.f, 1e3f));
+        cmd->add_option("--pn", opt->pn, "bayes: noise shape p_n (paper: 1.5)")
+            ->capture_default_str()
+            ->check(CLI::Range(0.1f, 10.f));
+        cmd->add_option("--hp-factor", opt->hpFactor,
+                        "bayes: the finest level's noise s is this times s_n (paper: 2)")
+            ->capture_default_str()
+            ->check(CLI::Range(1e-3f, 1e3f));
+        cmd->add_option("--noise", opt->noise,
+                        "bayes: fixed (use --sn/--pn) or auto (s from the median absolute "
+                        "finest HH coefficient, shape --pn)")
+            ->capture_default_str();
+        cmd->add_option("--log-floor", opt->floorRel,
+                        "bayes: log floor relative to the channel's median positive value")
+            ->capture_default_str()
+            ->check(CLI::Range(1e-12f, 0.5f));
+        cmd->add_option("--zeros", opt->zeros,
+                        "bayes: restore (exact zeros stay 0, the paper's black) or denoise "
+                        "(zeros are noise, as in low-spp renders)")
+            ->capture_default_str();
+        cmd->add_flag("--keep-mean", opt->keepMean,
+                      "bayes: scale each channel to the input's mean (undoes the log "
+                      "domain's geometric-mean bias)");
+        cmd->add_option("--spins", opt->spins,
+                        "bayes: shift invariance by cycle spinning over spins x spins shifts "
+                        "(1: off; cost x spins^2)")
+            ->capture_default_str()
+            ->check(CLI::Range(1, 8));
+        cmd->add_option("--colour", opt->colour,
+                        "bayes: rgb (each log channel on its own) or opponent (log luminance "
+                        "+ 2 log chroma)")
+            ->capture_default_str();
+        cmd->add_flag("--no-split", opt->noSplit,
+                      "bayes: denoise the whole color even when direct/indirect exist");
+    };
+    method.run = [opt](vk::Context &context, const io::Frame &frame) {
+        std::optional<WaveletBasis> basis = ParseWavelet(opt->basis);
+        if (!basis) throw Error("bayes: unknown wavelet basis '" + opt->basis + "'");
+        if (opt->noise != "fixed" && opt->noise != "auto")
+            throw Error("--noise takes fixed or auto, not '" + opt->noise + "'");
+        if (opt->zeros != "restore" && opt->zeros != "denoise")
+            throw Error("--zeros takes restore or denoise, not '" + opt->zeros + "'");
+        BayesOptions options;
+        options.restoreZeros = opt->zeros == "restore";
+        options.keepMean = opt->keepMean;
+        options.spins = opt->spins;
+        if (opt->colour != "rgb" && opt->colour != "opponent")
+            throw Error("--colour takes rgb or opponent, not '" + opt->colour + "'");
+        options.opponent = opt->colour == "opponent";
+        options.basis = *basis;
+        options.levels = opt->levels;
+        options.sn = opt->sn;
+        options.pn = opt->pn;
+        options.hpFactor = opt->hpFactor;
+        options.floorRel = opt->floorRel;
+        options.noiseAuto = opt->noise == "auto";
+        bool split = frame.Has("direct") && frame.Has("indirect");
+        BayesResult bayes;
+        DenoiseResult result;
+        if (split && !opt->noSplit) {
+            bayes =
+                BayesDenoiseSplit(context, frame.Get("direct"), frame.Get("indirect"), options);
+        } else {
+            bayes = BayesDenoise(context, frame.Get("color"), options);
+            result.plan.push_back(
+                split ? "no split (--no-split): the whole color is denoised"
+                      : "no split: the frame has no direct and indirect layers, so the whole "
+                        "color is denoised");
+        }
+        result.image = std::move(bayes.image);
+        for (std::string &step : bayes.plan) result.plan.push_back(std::move(step));
+        result.warnings = std::move(bayes.warnings);
+        result.timings = std::move(bayes.timings);
+        return result;
+    };
+    return method;
+}
+
+}  // namespace mcd::tool
