@@ -29,11 +29,11 @@ Demodulation Demodulate(io::Frame &frame, const std::string &layer, const std::s
     if (layer != "pivot" && layer != "albedo")
         throw Error("--demodulate takes pivot or albedo, not '" + layer + "'");
     if (method == "pivot") throw Error("--demodulate: the pivot method divides by itself");
-    if (frame.Has("hist"))
+    if (method == "rhf")
         throw Error(fmt::format(
-            "--demodulate: {} has sample histograms of the color, not of color / {}; the "
-            "renderer cannot write those yet",
-            frame.path, layer));
+            "--demodulate: rhf needs histograms of the samples of color / {}, which the "
+            "renderer cannot write yet",
+            layer));
     Demodulation d;
     d.layer = layer;
     d.guide = frame.Get(layer);
