@@ -160,6 +160,9 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
         recorder.Submit();
         result.timings = recorder.Timings();
         result.image = out.Download();
+        if (options.keepStages)
+            result.stages = {
+                {"z", z.Download()}, {"nu", nu.Download()}, {"output", result.image}};
         return result;
     }
 
@@ -203,6 +206,16 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
         times += fmt::format("{}{} {:.1f} ms", times.empty() ? "" : ", ", t.label, t.gpuMs);
     result.plan.push_back("GPU time: " + times);
     result.image = out.Download();
+    if (options.keepStages) {
+        Image fits(w, h, PIVOT_PLANES * channels);
+        Image lo = fitLo.Download(), hi = fitHi.Download();
+        std::copy(lo.data.begin(), lo.data.end(), fits.data.begin());
+        std::copy(hi.data.begin(), hi.data.end(), fits.data.begin() + lo.data.size());
+        result.stages = {{"z", z.Download()},
+                         {"nu", nu.Download()},
+                         {"fits", std::move(fits)},
+                         {"output", result.image}};
+    }
     return result;
 }
 

@@ -40,6 +40,8 @@ struct PivotOptions {
     // bilateral
     int bilateralRadius = 8;
     float sigmaRange = 0.2f;
+    // Keep every stage's output in PivotResult::stages (for `mcdenoise diff`).
+    bool keepStages = false;
 };
 
 // The frame's layers the method reads; all but color and pivot may be absent (nullptr).
@@ -57,6 +59,9 @@ struct PivotResult {
     double meanRadius = 0;                    // planefit: over the centres with a fit
     int largestRadius = 0;
     size_t pixelsWithoutZ = 0;  // pixel-channels whose pivot is below the floor
+    // With keepStages: z, nu, the fits (planefit; 16 x channels planes as in
+    // cpu_reference/pivot_filter.h) and the output, by name.
+    std::vector<std::pair<std::string, Image>> stages;
 };
 
 // Per-channel pivot threshold: floor x the mean of max(L_a, 0).

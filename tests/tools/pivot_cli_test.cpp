@@ -94,6 +94,12 @@ TEST_F(PivotCli, DenoisesWithBothFilters) {
     EXPECT_TRUE(Contains(r.out, "left out: the normal term")) << r.out;
     EXPECT_TRUE(Contains(r.out, "estimated from the 3x3")) << r.out;
     EXPECT_TRUE(fs::exists(Path("b.exr")));
+
+    // `diff`: every stage of the method against the CPU reference on the rendered frame.
+    r = Run("diff n.exr --method pivot --max-radius 6");
+    ASSERT_EQ(r.code, 0) << r.All();
+    for (const char *stage : {"z", "nu", "fits", "output"})
+        EXPECT_TRUE(Contains(r.out, std::string("\n  ") + stage + " ")) << stage << r.out;
 }
 
 // --demodulate runs another method on z = color / pivot: with AWR's cs = 0 (the identity)

@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "cpu_reference/pivot_filter.h"
 #include "host/error.h"
 #include "host/methods/pivot.h"
 #include "tools/mcdenoise/denoise_method.h"
@@ -15,6 +16,37 @@ struct PivotCliOptions {
     std::string filter = "planefit", guides = "auto", noise = "auto";
     PivotOptions options;
 };
+
+// The method's inputs and options from the frame and the command line.
+PivotInputs PivotInputsOf(const PivotCliOptions &opt, const io::Frame &frame,
+                          PivotOptions *options) {
+    *options = opt.options;
+    if (opt.filter == "planefit")
+        options->filter = PivotFilter::PlaneFit;
+    else if (opt.filter == "bilateral")
+        options->filter = PivotFilter::Bilateral;
+    else
+        throw Error("--filter takes planefit or bilateral, not '" + opt.filter + "'");
+    if (opt.guides != "auto" && opt.guides != "none")
+        throw Error("--guides takes auto or none, not '" + opt.guides + "'");
+    if (opt.noise != "auto" && opt.noise != "estimate")
+        throw Error("--pivot-noise takes auto or estimate, not '" + opt.noise + "'");
+    if (!frame.Has("pivot"))
+        throw Error(fmt::format(
+            "{}: the pivot method needs a pivot layer (render it with `mcdenoise render "
+            "--layers pivot`)",
+            frame.path));
+    PivotInputs in;
+    in.color = &frame.Get("color");
+    in.pivot = &frame.Get("pivot");
+    if (opt.noise == "auto" && frame.Has("variance")) in.variance = &frame.Get("variance");
+    if (opt.guides == "auto") {
+        if (frame.Has("normal")) in.normal = &frame.Get("normal");
+        if (frame.Has("objectId")) in.objectId = &frame.Get("objectId");
+        if (frame.Has("partId")) in.partId = &frame.Get("partId");
+    }
+    return in;
+}
 
 }  // namespace
 
@@ -77,37 +109,53 @@ DenoiseMethod PivotMethod() {
             ->capture_default_str();
     };
     method.run = [opt](vk::Context &context, const io::Frame &frame) {
-        PivotOptions options = opt->options;
-        if (opt->filter == "planefit")
-            options.filter = PivotFilter::PlaneFit;
-        else if (opt->filter == "bilateral")
-            options.filter = PivotFilter::Bilateral;
-        else
-            throw Error("--filter takes planefit or bilateral, not '" + opt->filter + "'");
-        if (opt->guides != "auto" && opt->guides != "none")
-            throw Error("--guides takes auto or none, not '" + opt->guides + "'");
-        if (opt->noise != "auto" && opt->noise != "estimate")
-            throw Error("--pivot-noise takes auto or estimate, not '" + opt->noise + "'");
-        if (!frame.Has("pivot"))
-            throw Error(fmt::format(
-                "{}: the pivot method needs a pivot layer (render it with `mcdenoise render "
-                "--layers pivot`)",
-                frame.path));
-        PivotInputs in;
-        in.color = &frame.Get("color");
-        in.pivot = &frame.Get("pivot");
-        if (opt->noise == "auto" && frame.Has("variance")) in.variance = &frame.Get("variance");
-        if (opt->guides == "auto") {
-            if (frame.Has("normal")) in.normal = &frame.Get("normal");
-            if (frame.Has("objectId")) in.objectId = &frame.Get("objectId");
-            if (frame.Has("partId")) in.partId = &frame.Get("partId");
-        }
+        PivotOptions options;
+        PivotInputs in = PivotInputsOf(*opt, frame, &options);
         PivotResult pivot = PivotDenoise(context, in, options);
         DenoiseResult result;
         result.image = std::move(pivot.image);
         result.plan = std::move(pivot.plan);
         result.timings = std::move(pivot.timings);
         return result;
+    };
+    method.stages = [opt](vk::Context &context, const io::Frame &frame) {
+        PivotOptions options;
+        PivotInputs in = PivotInputsOf(*opt, frame, &options);
+        options.keepStages = true;
+        PivotResult gpu = PivotDenoise(context, in, options);
+        // The CPU reference on the same inputs and options.
+        ref::PivotParams p;
+        p.floor = options.floor;
+        p.maxRadius = options.maxRadius;
+        p.targetNoise = options.targetNoise;
+        p.goodNoise = options.goodNoise;
+        p.disagreement = options.disagreement;
+        p.k = options.k;
+        p.sigmaWeight = options.sigmaWeight;
+        p.bilateralRadius = options.bilateralRadius;
+        p.sigmaRange = options.sigmaRange;
+        Image ids;
+        if (in.objectId || in.partId) {
+            ids = Image(frame.width, frame.height, 2);
+            for (size_t i = 0; i < ids.PixelCount(); ++i) {
+                if (in.objectId) ids.data[i] = in.objectId->data[i];
+                if (in.partId) ids.data[ids.PixelCount() + i] = in.partId->data[i];
+            }
+        }
+        ref::PivotGuides guides{in.normal, ids.Empty() ? nullptr : &ids};
+        ref::PivotRatio ratio =
+            ref::PivotRatioOf(*in.color, *in.pivot, in.variance, p.floor, guides.ids);
+        std::vector<Image> cpu = {ratio.z, ratio.nu};
+        if (options.filter == PivotFilter::PlaneFit) {
+            cpu.push_back(ref::PivotFit(ratio, guides, p));
+            cpu.push_back(ref::PivotGather(*in.color, *in.pivot, ratio, cpu.back(), guides));
+        } else {
+            cpu.push_back(ref::PivotBilateral(*in.color, *in.pivot, ratio, guides, p));
+        }
+        std::vector<StagePair> pairs;
+        for (size_t i = 0; i < gpu.stages.size(); ++i)
+            pairs.push_back({gpu.stages[i].first, std::move(gpu.stages[i].second), cpu[i]});
+        return pairs;
     };
     return method;
 }
