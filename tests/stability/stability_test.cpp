@@ -120,7 +120,7 @@ std::vector<Case> Cases() {
              for (auto it = f.layers.begin(); it != f.layers.end();)
                  it = it->first == "color" ? std::next(it) : f.layers.erase(it);
          },
-         Expect::FiniteOrRefused, "variance|Bin_0000"});
+         Expect::FiniteOrRefused, "variance|Bin_0000|pivot"});
     add({"awr cs 0", 13, 11, nullptr, Expect::Finite, "", {{"awr", "--cs 0"}}});
     add({"awr cs 100", 13, 11, nullptr, Expect::Finite, "", {{"awr", "--cs 100"}}});
     add({"awr 0 levels", 13, 11, nullptr, Expect::Finite, "", {{"awr", "--levels 0"}}});
@@ -190,6 +190,18 @@ std::vector<Case> Cases() {
          Expect::Finite,
          "",
          {{"bayes", "--noise auto"}}});
+    for (const char *options :
+         {"--filter bilateral", "--max-radius 2", "--max-radius 64", "--target-noise 0",
+          "--disagreement 0", "--sigma-weight 1 --good-noise 1e-6", "--robust-k 1e6",
+          "--guides none --pivot-noise estimate", "--pivot-floor 1e6",
+          "--filter bilateral --bilateral-radius 0"})
+        add({fmt::format("pivot {}", options),
+             13,
+             11,
+             nullptr,
+             Expect::Finite,
+             "",
+             {{"pivot", options}}});
     return cases;
 }
 

@@ -8,12 +8,70 @@
 
 #include "host/error.h"
 #include "host/io/frame.h"
+#include "host/methods/pivot.h"
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/denoise_method.h"
 
 namespace mcd::tool {
 namespace {
+
+// --demodulate: the frame's color-like layers divided by a guide layer, and what is needed
+// to multiply back. Pixels whose guide is at or below 1e-3 x the channel mean are left
+// as they are and keep their input in the output (as in the pivot method).
+struct Demodulation {
+    Image guide;
+    std::vector<float> thresholds;
+    std::string layer;
+};
+
+Demodulation Demodulate(io::Frame &frame, const std::string &layer, const std::string &method) {
+    if (layer != "pivot" && layer != "albedo")
+        throw Error("--demodulate takes pivot or albedo, not '" + layer + "'");
+    if (method == "pivot") throw Error("--demodulate: the pivot method divides by itself");
+    if (method == "rhf")
+        throw Error(fmt::format(
+            "--demodulate: rhf needs histograms of the samples of color / {}, which the "
+            "renderer cannot write yet",
+            layer));
+    Demodulation d;
+    d.layer = layer;
+    d.guide = frame.Get(layer);
+    const Image &color = frame.Get("color");
+    if (!d.guide.SameShape(color))
+        throw Error(fmt::format("--demodulate: {} is {}x{}x{}, color {}x{}x{}", layer,
+                                d.guide.width, d.guide.height, d.guide.channels, color.width,
+                                color.height, color.channels));
+    d.thresholds = PivotThresholds(d.guide, 1e-3f);
+    for (auto &[name, image] : frame.layers) {
+        int power = name == "variance" ? 2
+                    : (name == "color" || name == "min" || name == "max" || name == "direct" ||
+                       name == "indirect")
+                        ? 1
+                        : 0;
+        if (power == 0 || !image.SameShape(color)) continue;
+        for (int c = 0; c < image.channels; ++c)
+            for (size_t i = 0; i < image.PixelCount(); ++i) {
+                float g = d.guide.Plane(c)[i];
+                if (g > d.thresholds[c]) image.Plane(c)[i] /= power == 2 ? g * g : g;
+            }
+    }
+    return d;
+}
+
+void Remodulate(const Demodulation &d, const Image &input, DenoiseResult *result) {
+    Image &image = result->image;
+    for (int c = 0; c < image.channels; ++c)
+        for (size_t i = 0; i < image.PixelCount(); ++i) {
+            float g = d.guide.Plane(c)[i];
+            image.Plane(c)[i] = g > d.thresholds[c] ? image.Plane(c)[i] * g : input.Plane(c)[i];
+        }
+    result->plan.insert(result->plan.begin(),
+                        fmt::format("demodulated: the method ran on color / {} (pixels with {} "
+                                    "<= 1e-3 x the channel mean keep their input), then "
+                                    "multiplied back",
+                                    d.layer, d.layer));
+}
 
 // The GPU buffers a run allocated, by name with their sizes, and its peak.
 std::string LedgerText(const vk::Context::MemoryLedger &ledger) {
@@ -37,7 +95,7 @@ std::string LedgerText(const vk::Context::MemoryLedger &ledger) {
 
 void AddDenoiseCommand(CLI::App &app) {
     struct Options {
-        std::string input, output, method = "awr", reference, preview;
+        std::string input, output, method = "awr", reference, preview, demodulate;
         bool explain = false;
         DeviceOptions device;
     };
@@ -58,6 +116,10 @@ void AddDenoiseCommand(CLI::App &app) {
                     "converged image to measure the error against, before and after");
     cmd->add_option("--preview", opt->preview, "also write a tonemapped PNG");
     cmd->add_flag("--explain", opt->explain, "print what runs and what is left out, and why");
+    cmd->add_option("--demodulate", opt->demodulate,
+                    "divide the frame by its pivot or albedo layer before the method and "
+                    "multiply back after (Ershov et al. 4.1: filter z = color / pivot with "
+                    "any method)");
     opt->device.Add(cmd);
     for (const DenoiseMethod &m : *methods) m.addOptions(cmd);
 
@@ -70,7 +132,7 @@ void AddDenoiseCommand(CLI::App &app) {
         CheckOutputPath(opt->output, {".exr", ".png"});
         if (!opt->preview.empty()) CheckOutputPath(opt->preview, {".png"});
         io::Frame frame = io::ReadFrame(opt->input);
-        const Image &color = frame.Get("color");
+        const Image color = frame.Get("color");  // a copy: --demodulate changes the frame
         Image reference;
         if (!opt->reference.empty()) {
             reference = io::ReadImage(opt->reference);
@@ -83,7 +145,11 @@ void AddDenoiseCommand(CLI::App &app) {
         vk::Context context(opt->device.ContextOptions());
         context.ResetLedger();
         auto start = std::chrono::steady_clock::now();
+        Demodulation demodulation;
+        if (!opt->demodulate.empty())
+            demodulation = Demodulate(frame, opt->demodulate, method->name);
         DenoiseResult result = method->run(context, frame);
+        if (!opt->demodulate.empty()) Remodulate(demodulation, color, &result);
         double wallMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                 .count();

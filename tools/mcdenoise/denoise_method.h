@@ -46,11 +46,12 @@ struct DenoiseMethod {
 
 DenoiseMethod AwrMethod();
 DenoiseMethod BayesMethod();
+DenoiseMethod PivotMethod();
 DenoiseMethod RhfMethod();
 
 // Every method the tool knows, in the order --help lists them.
 inline std::vector<DenoiseMethod> DenoiseMethods() {
-    return {AwrMethod(), BayesMethod(), RhfMethod()};
+    return {AwrMethod(), BayesMethod(), PivotMethod(), RhfMethod()};
 }
 
 }  // namespace mcd::tool

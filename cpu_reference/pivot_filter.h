@@ -1,0 +1,100 @@
+// The pivot-image filter (Ershov et al., section 4), the CPU reference: pseudo-brightness
+// z = L / L_a, the adaptive-radius plane fits of the square and its four quadrants (4.2,
+// 4.3), the combined approximation (eqs. 11-12), the two-stage averaging (eq. 13) and the
+// back-multiplication; and the cross-bilateral baseline of z. Written loop by loop in
+// double, every window refitted from scratch (the GPU grows its sums ring by ring).
+//
+// Readings of the paper, shared with the GPU path (host/methods/pivot.h states them too):
+// - A pixel's pivot L_a is "far below the image's scale" when L_a <= floor x the mean of
+//   max(L_a, 0) over the channel. Such pixels have no z, are left out of every fit and
+//   average, and keep their input value in the output. So do pixels no fit reaches.
+// - Noise: s = variance of z (the variance layer / L_a^2, or without one the sample
+//   variance of z over the valid 3x3 neighbours), nu = s / zl^2 its relative version, zl
+//   the mean z of the valid 3x3 neighbours. sigma in eq. 10 is nu; a pixel is fitted only
+//   when nu <= goodNoise^2 (the threshold of section 4.2).
+// - Eq. 10's distance term is read as d^2 / R^2 (dimensionless; as printed, d^2 / R would
+//   leave e^-30 at the edge of a 30-pixel window).
+// - Window growth (4.3) fits with eq. 10's weight without its distance term and with <z>
+//   the centre's zl, which is what lets the GPU add one ring per step; the chosen radius is
+//   then fitted once more with eq. 10 in full (<z> = mean z of the fitted pixels).
+// - Growth stops at the first radius r >= 2 where (a) a quadrant's centre value differs
+//   from the square's by more than disagreement x |Z| + 2 x the quadrant value's predicted
+//   standard deviation (the radius is then r - 1, at least 2), or (b) the square's
+//   predicted standard deviation at the centre is <= targetNoise x |Z|, or (c) r is
+//   maxRadius or the square covers the image. Predicted variance of a fit at q:
+//   (sum w^2 s / sum w) q^T M^-1 q, M the weighted normal matrix (exact for equal weights
+//   and equal noise).
+// - Normal term (n.n0)^4 for n.n0 > 1/2 else 0 (unit normals; two zero normals give 1, one
+//   gives 0), object and part terms 0 when the ids differ; they multiply both the fit
+//   weights ("effectively excluded from fitting", 4.3) and the averaging weight. The
+//   boundary term w_b ("0 near projections of the boundaries") is 0 for a pixel whose
+//   4-neighbours have other ids: such pixels may mix both sides (the ids are the first
+//   sample's), so the ratio stage gives them no z: no data to fits or averages, and they
+//   keep their input.
+// - Eq. 13's base weight is exp(-d^2 / R0^2) of the centre's window (d^2 = dx^2 + dy^2),
+//   normalised by the sum of the weights.
+#pragma once
+
+#include "host/image.h"
+
+namespace mcd::ref {
+
+// Plane layout of the fits: (a, b, c) of Z = a dx + b dy + c for the square, then quadrants
+// 0..3, then the radius (-1: no fit). Coordinates (dx, dy) are relative to the centre.
+// Quadrant 0: dx >= 0, dy >= 0; 1: dx <= 0, dy >= 0; 2: dx <= 0, dy <= 0; 3: dx >= 0,
+// dy <= 0 (axes in both; eq. 11 assigns a pixel by dx >= 0 ? (dy >= 0 ? 0 : 3) :
+// (dy >= 0 ? 1 : 2)). A quadrant without a fit repeats the square's plane.
+constexpr int kPivotPlanes = 16;
+
+struct PivotParams {
+    double floor = 1e-3;        // pivot validity: L_a > floor x channel mean
+    int maxRadius = 30;         // largest half-size of the square
+    double targetNoise = 0.02;  // stop growing at this relative std of the centre value
+    double goodNoise = 100.0;   // pixels with relative std above this are not fitted
+    double disagreement = 0.1;  // relative square-vs-quadrant limit at the centre
+    double k = 0.3;             // eq. 10's robustness constant
+    double sigmaWeight = 0.0;   // multiplies sigma in eq. 10 (1: the paper)
+    // Bilateral baseline: window half-size, spatial sigma = radius / 2, range sigma on
+    // the relative difference of the pivot's channel mean.
+    int bilateralRadius = 8;
+    double sigmaRange = 0.2;
+};
+
+// Optional guides: normals (3 channels) and ids (2 channels: object, part); nullptr when
+// absent.
+struct PivotGuides {
+    const Image *normal = nullptr;
+    const Image *ids = nullptr;
+};
+
+// Stage 1. z, s and nu (channels as the color); nu = -1 marks pixels without z.
+struct PivotRatio {
+    Image z, s, nu;
+};
+// With `ids`, pixels on an object/part boundary (the boundary term) have no z either.
+PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *variance,
+                        double floor, const Image *ids = nullptr);
+
+// Stage 2. Fits of every centre: kPivotPlanes x channels planes, plane p of channel c at
+// channel p * channels + c. `margin` (channels as the color), when not null, receives per
+// centre the smallest relative distance of any growth or rank decision to its threshold:
+// where it is tiny, float and double may decide differently.
+Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotParams &params,
+               Image *margin = nullptr);
+
+// Stage 3. Eqs. 11-13 and the back-multiplication; pixels without z or without any
+// averaging weight keep their color.
+Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &ratio,
+                  const Image &fits, const PivotGuides &guides);
+
+// The bilateral baseline: cross-bilateral filter of z guided by the pivot (and the guides),
+// over fitted pixels, then back-multiplied.
+Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &ratio,
+                     const PivotGuides &guides, const PivotParams &params);
+
+// The normal and id terms, exposed for the tests.
+double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0);
+double PivotIdTerm(const Image *ids, int x, int y, int x0, int y0);
+double PivotBoundaryTerm(const Image *ids, int x, int y);
+
+}  // namespace mcd::ref

@@ -1,0 +1,70 @@
+#include "host/kernels/pivot_fit.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "host/error.h"
+#include "host/kernels/pivot_ratio.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+#include "pivot/fit.h"
+#include "pivot/fit_spv.h"
+
+namespace mcd {
+
+void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides) {
+    const vk::GpuImage *image = guides.image;
+    if ((guides.normals || guides.ids) && !image)
+        throw Error(fmt::format("{}: guides are switched on without a guide image", what));
+    if (image && (image->width != width || image->height != height ||
+                  image->channels != PIVOT_GUIDE_PLANES))
+        throw Error(fmt::format("{}: the guide image is {}x{}x{}, expected {}x{}x{}", what,
+                                image->width, image->height, image->channels, width, height,
+                                PIVOT_GUIDE_PLANES));
+}
+
+void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
+                    const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
+                    const PivotFitSettings &settings, const vk::GpuImage &fitLo,
+                    const vk::GpuImage &fitHi) {
+    CheckPivotShapes("pivot fit", z, {&s, &nu});
+    CheckPivotGuides("pivot fit", z.width, z.height, guides);
+    for (const vk::GpuImage *fit : {&fitLo, &fitHi})
+        if (fit->width != z.width || fit->height != z.height ||
+            fit->channels != PIVOT_PLANES_PER_BUFFER * z.channels)
+            throw Error(fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x{}",
+                                    fit->buffer.Name(), fit->width, fit->height, fit->channels,
+                                    z.width, z.height, PIVOT_PLANES_PER_BUFFER * z.channels));
+    if (settings.maxRadius < 2 || settings.maxRadius > 64)
+        throw Error(fmt::format("pivot fit: the maximum radius is {}; 2..64 allowed",
+                                settings.maxRadius));
+    const vk::Kernel &kernel = context.GetKernel(
+        {"pivot_fit",
+         k_pivot_fit_spv,
+         sizeof(k_pivot_fit_spv),
+         PIVOT_FIT_BINDINGS,
+         sizeof(shader::PivotFitPush),
+         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}}});
+    shader::PivotFitPush push{z.width,
+                              z.height,
+                              z.channels,
+                              settings.maxRadius,
+                              settings.targetNoise,
+                              settings.goodNoise * settings.goodNoise,
+                              settings.disagreement,
+                              settings.k,
+                              settings.sigmaWeight};
+    // Absent guides are compiled out; z stands in for their binding.
+    recorder.Dispatch(kernel, "pivot.fit",
+                      {{&z.buffer, vk::Access::Read},
+                       {&s.buffer, vk::Access::Read},
+                       {&nu.buffer, vk::Access::Read},
+                       {guides.image ? &guides.image->buffer : &z.buffer, vk::Access::Read},
+                       {&fitLo.buffer, vk::Access::Write},
+                       {&fitHi.buffer, vk::Access::Write}},
+                      &push, uint32_t((z.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+                      uint32_t(z.height), uint32_t(z.channels));
+}
+
+}  // namespace mcd

@@ -1,0 +1,34 @@
+// Record the pivot filter's fit stage (shaders/pivot/fit.comp): per centre and channel, the
+// grown square and the planes of the square and its quadrants, into two buffers of 8
+// planes each ([plane][channel][y][x]; planes in shaders/pivot/pivot.h).
+#pragma once
+
+#include "host/vk/gpu_image.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+// The optional guides on the GPU: one image of PIVOT_GUIDE_PLANES channels (normal x, y, z,
+// object id, part id); `normals` and `ids` say which parts the kernels use (the others are
+// compiled out). No image: neither.
+struct PivotGpuGuides {
+    const vk::GpuImage *image = nullptr;
+    bool normals = false, ids = false;
+};
+
+struct PivotFitSettings {
+    int maxRadius = 30;
+    float targetNoise = 0.02f, goodNoise = 100.f, disagreement = 0.1f, k = 0.3f,
+          sigmaWeight = 0.f;
+};
+
+// `fitLo` and `fitHi` hold 8 x channels planes of z's size each.
+void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
+                    const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
+                    const PivotFitSettings &settings, const vk::GpuImage &fitLo,
+                    const vk::GpuImage &fitHi);
+
+// Throw unless the guide image matches width x height x PIVOT_GUIDE_PLANES when one is used.
+void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides);
+
+}  // namespace mcd

@@ -1,0 +1,58 @@
+#include "host/kernels/pivot_ratio.h"
+
+#include <fmt/format.h>
+
+#include "host/error.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+#include "pivot/ratio.h"
+#include "pivot/ratio_spv.h"
+
+namespace mcd {
+
+void CheckPivotShapes(const char *what, const vk::GpuImage &a,
+                      std::initializer_list<const vk::GpuImage *> others) {
+    for (const vk::GpuImage *b : others)
+        if (b->width != a.width || b->height != a.height || b->channels != a.channels)
+            throw Error(fmt::format("{}: {} is {}x{}x{} but {} is {}x{}x{}", what,
+                                    a.buffer.Name(), a.width, a.height, a.channels,
+                                    b->buffer.Name(), b->width, b->height, b->channels));
+    if (a.channels < 1 || a.channels > 4)
+        throw Error(fmt::format("{}: {} channels; 1 to 4 are supported", what, a.channels));
+}
+
+void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                      const vk::GpuImage &pivot, const vk::GpuImage *variance,
+                      const std::vector<float> &thresholds, const PivotGpuGuides &guides,
+                      const vk::GpuImage &z, const vk::GpuImage &s, const vk::GpuImage &nu) {
+    CheckPivotShapes("pivot ratio", color, {&pivot, &z, &s, &nu});
+    if (variance) CheckPivotShapes("pivot ratio", color, {variance});
+    CheckPivotGuides("pivot ratio", color.width, color.height, guides);
+    if (int(thresholds.size()) != color.channels)
+        throw Error(fmt::format("pivot ratio: {} thresholds for {} channels", thresholds.size(),
+                                color.channels));
+    const vk::Kernel &kernel = context.GetKernel(
+        {"pivot_ratio",
+         k_pivot_ratio_spv,
+         sizeof(k_pivot_ratio_spv),
+         PIVOT_RATIO_BINDINGS,
+         sizeof(shader::PivotRatioPush),
+         {{PIVOT_SPEC_VARIANCE, variance ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}}});
+    float t[4] = {};
+    for (size_t c = 0; c < thresholds.size(); ++c) t[c] = thresholds[c];
+    shader::PivotRatioPush push{color.width, color.height, t[0], t[1], t[2], t[3]};
+    // Without a variance layer the kernel reads none: the color stands in for the binding.
+    recorder.Dispatch(
+        kernel, "pivot.ratio",
+        {{&color.buffer, vk::Access::Read},
+         {&pivot.buffer, vk::Access::Read},
+         {variance ? &variance->buffer : &color.buffer, vk::Access::Read},
+         {&z.buffer, vk::Access::Write},
+         {&s.buffer, vk::Access::Write},
+         {&nu.buffer, vk::Access::Write},
+         {guides.image ? &guides.image->buffer : &color.buffer, vk::Access::Read}},
+        &push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+        uint32_t(color.height), uint32_t(color.channels));
+}
+
+}  // namespace mcd

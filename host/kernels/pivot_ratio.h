@@ -1,0 +1,25 @@
+// Record the pivot filter's ratio stage (shaders/pivot/ratio.comp): z = L / L_a, the
+// variance s of z and its relative version nu (-1 where the pivot is at or below the
+// channel's threshold, or on an object/part boundary when `guides` has ids).
+#pragma once
+
+#include <vector>
+
+#include "host/kernels/pivot_fit.h"
+#include "host/vk/gpu_image.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+// `color`, `pivot`, `variance` (nullptr: estimate the noise from the 3x3 neighbours), `z`,
+// `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel.
+void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                      const vk::GpuImage &pivot, const vk::GpuImage *variance,
+                      const std::vector<float> &thresholds, const PivotGpuGuides &guides,
+                      const vk::GpuImage &z, const vk::GpuImage &s, const vk::GpuImage &nu);
+
+// Throw unless the images have the same width, height and channel count.
+void CheckPivotShapes(const char *what, const vk::GpuImage &a,
+                      std::initializer_list<const vk::GpuImage *> others);
+
+}  // namespace mcd

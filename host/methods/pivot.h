@@ -1,0 +1,75 @@
+// Method `pivot`: the image-based filter of Ershov et al. (section 4) on the GPU. The noisy
+// image is divided by the pivot (the deterministic render under unit ambient light, eq.
+// 9), the pseudo-brightness z is filtered, and the result is multiplied back.
+// `planefit` (default) is the paper's filter: squares grown from 5x5 per centre, weighted
+// plane fits of the square and its quadrants (eq. 10), their combination (eqs. 11-12) and
+// the two-stage averaging (eq. 13). `bilateral` is the cross-bilateral baseline of 4.1.
+// Normals and object/part ids refine both when the frame has them. The readings of the
+// paper are listed in cpu_reference/pivot_filter.h, the CPU twin.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/image.h"
+#include "host/vk/context.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+enum class PivotFilter { PlaneFit, Bilateral };
+
+struct PivotOptions {
+    PivotFilter filter = PivotFilter::PlaneFit;
+    float floor = 1e-3f;  // pixels with pivot <= floor x channel mean have no z
+    // planefit
+    int maxRadius = 30;         // paper: 30-40
+    float targetNoise = 0.02f;  // relative std of a centre's fit that stops growth
+    // Relative std above which a pixel is not fitted (section 4.2's threshold). Measured at
+    // 16 spp (cornell, relief-abc, double-textured, glossy-cornell, 128x128): 100 beats 1 and
+    // 3 on PSNR in all four; 1 darkens heavy-tailed scenes (the fireflies carry the energy).
+    float goodNoise = 100.f;
+    float disagreement = 0.1f;  // square-vs-quadrant limit, relative
+    // eq. 10; k = 1 darkened cornell at 16 spp by 5% (it down-weights the bright tail of
+    // the noise), 0 and 0.3 measure the same.
+    float k = 0.3f;
+    // Multiplies sigma in eq. 10. With heavy-tailed noise the pixels that carry the energy
+    // (fireflies) have the largest sigma: 1 (the paper) halved relief-abc's plane at 16 spp;
+    // 0 measured better PSNR on all four scenes above (e.g. glossy-cornell 24.5 -> 25.9 dB).
+    float sigmaWeight = 0.f;
+    // bilateral
+    int bilateralRadius = 8;
+    float sigmaRange = 0.2f;
+    // Keep every stage's output in PivotResult::stages (for `mcdenoise diff`).
+    bool keepStages = false;
+};
+
+// The frame's layers the method reads; all but color and pivot may be absent (nullptr).
+struct PivotInputs {
+    const Image *color = nullptr, *pivot = nullptr;
+    const Image *variance = nullptr;                     // of the pixel mean, as color
+    const Image *normal = nullptr;                       // 3 channels
+    const Image *objectId = nullptr, *partId = nullptr;  // 1 channel each
+};
+
+struct PivotResult {
+    Image image;
+    std::vector<std::string> plan;            // what ran and what was left out, and why
+    std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
+    double meanRadius = 0;                    // planefit: over the centres with a fit
+    int largestRadius = 0;
+    size_t pixelsWithoutZ = 0;  // pixel-channels whose pivot is below the floor
+    // With keepStages: z, nu, the fits (planefit; 16 x channels planes as in
+    // cpu_reference/pivot_filter.h) and the output, by name.
+    std::vector<std::pair<std::string, Image>> stages;
+};
+
+// Per-channel pivot threshold: floor x the mean of max(L_a, 0).
+std::vector<float> PivotThresholds(const Image &pivot, float floor);
+
+// Throws mcd::Error naming the layer and pixel when an input holds NaN/Inf (or a negative
+// variance), when shapes differ or options are out of range.
+PivotResult PivotDenoise(vk::Context &context, const PivotInputs &inputs,
+                         const PivotOptions &options);
+
+}  // namespace mcd

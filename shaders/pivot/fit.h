@@ -1,0 +1,44 @@
+// Pivot filter stage 2: for every centre and channel, the square window grown from 5x5
+// (section 4.3) and the weighted least-squares planes Z = a dx + b dy + c of the square and
+// its four quadrants (section 4.2, weight eq. 10) at the chosen radius. Growth adds one ring
+// of pixels per step to running sums; see cpu_reference/pivot_filter.h for the rules. One
+// invocation per centre and channel.
+#ifndef MCD_SHADERS_PIVOT_FIT_H
+#define MCD_SHADERS_PIVOT_FIT_H
+
+#include "pivot/pivot.h"
+
+#define PIVOT_FIT_Z 0
+#define PIVOT_FIT_S 1
+#define PIVOT_FIT_NU 2
+#define PIVOT_FIT_GUIDES 3
+#define PIVOT_FIT_LO 4  // planes 0..7
+#define PIVOT_FIT_HI 5  // planes 8..15
+#define PIVOT_FIT_BINDINGS 6
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct PivotFitPush {
+#else
+layout(push_constant) uniform PivotFitPush {
+#endif
+    int width;
+    int height;
+    int channels;
+    int maxRadius;
+    float targetNoise;   // relative std of the centre value that stops growth
+    float goodNu;        // pixels with nu above this are not fitted (goodNoise^2)
+    float disagreement;  // relative square-vs-quadrant limit at the centre
+    float k;             // eq. 10's robustness constant
+    float sigmaWeight;   // multiplies sigma (nu) in eq. 10's exponent (1: the paper)
+#ifdef __cplusplus
+};
+static_assert(sizeof(PivotFitPush) == 36);
+static_assert(offsetof(PivotFitPush, sigmaWeight) == 32);
+}  // namespace mcd::shader
+#else
+} push;
+#endif
+
+#endif

@@ -1,0 +1,91 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "pivot/gather.h"
+
+layout(local_size_x = PIVOT_LOCAL_SIZE) in;
+layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
+layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
+layout(std430, binding = PIVOT_GATHER_COLOR) readonly buffer Color { float color[]; };
+layout(std430, binding = PIVOT_GATHER_PIVOT) readonly buffer Pivot { float pivot[]; };
+layout(std430, binding = PIVOT_GATHER_NU) readonly buffer Nu { float nuIn[]; };
+layout(std430, binding = PIVOT_GATHER_FIT_LO) readonly buffer FitLo { float fitLo[]; };
+layout(std430, binding = PIVOT_GATHER_FIT_HI) readonly buffer FitHi { float fitHi[]; };
+layout(std430, binding = PIVOT_GATHER_GUIDES) readonly buffer Guides { float guides[]; };
+layout(std430, binding = PIVOT_GATHER_OUT) writeonly buffer Out { float outImage[]; };
+layout(std430, binding = PIVOT_GATHER_TILES) readonly buffer Tiles { float tiles[]; };
+
+int planeSize, gw, gh;
+
+#include "pivot/guides.glsl"
+
+// Eqs. 11-12 with t = 1 / w_m = (min(|Z|, |Zm|) / max(|Z|, |Zm|))^8 in [0, 1], which cannot
+// overflow: (t Z + Zm) / (t + 1); opposite signs or one zero give t = 0 (Zm).
+float combine(float z, float zm) {
+    float lo = min(abs(z), abs(zm)), hi = max(abs(z), abs(zm));
+    float t;
+    if (hi == 0.0)
+        t = 1.0;
+    else if (z == 0.0 || zm == 0.0 || (z > 0.0) != (zm > 0.0))
+        t = 0.0;
+    else {
+        float r = lo / hi;
+        r *= r;
+        r *= r;
+        t = r * r;
+    }
+    return (t * z + zm) / (t + 1.0);
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y), c = int(gl_WorkGroupID.z);
+    int w = push.width, h = push.height;
+    if (x >= w) return;
+    planeSize = w * h;
+    gw = w;
+    gh = h;
+    int i = y * w + x, at = c * planeSize + i;
+    if (nuIn[at] < 0.0) {
+        outImage[at] = color[at];
+        return;
+    }
+    int stride = push.channels * planeSize;
+    int lo = c * planeSize;  // channel c's offset inside a plane group
+    float sumW = 0.0, sumWz = 0.0;
+    const int T = PIVOT_GATHER_TILE;
+    int tileBase = c * push.tilesX * push.tilesY;
+    for (int ty = max(0, y - push.reach) / T; ty <= min(h - 1, y + push.reach) / T; ++ty)
+        for (int tx = max(0, x - push.reach) / T; tx <= min(w - 1, x + push.reach) / T; ++tx) {
+            // Chebyshev distance from the pixel to the tile: no square of a smaller radius
+            // holds the pixel.
+            int gapX = max(0, max(tx * T - x, x - (tx * T + T - 1)));
+            int gapY = max(0, max(ty * T - y, y - (ty * T + T - 1)));
+            if (float(max(gapX, gapY)) > tiles[tileBase + ty * push.tilesX + tx]) continue;
+            for (int y0 = ty * T; y0 < min(h, ty * T + T); ++y0)
+                for (int x0 = tx * T; x0 < min(w, tx * T + T); ++x0) {
+                    int i0 = y0 * w + x0;
+                    float radius = fitHi[7 * stride + lo + i0];
+                    int dx = x - x0, dy = y - y0;
+                    if (radius < 0.0 || float(abs(dx)) > radius || float(abs(dy)) > radius) continue;
+                    float fdx = float(dx), fdy = float(dy);
+                    float weight = exp(-(fdx * fdx + fdy * fdy) / (radius * radius)) *
+                                   normalTerm(i, i0) * idTerm(i, i0);
+                    if (weight == 0.0) continue;
+                    int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
+                    float zs = fitLo[lo + i0] * fdx + fitLo[stride + lo + i0] * fdy +
+                               fitLo[2 * stride + lo + i0];
+                    // Quadrant m's planes are 3 + 3m .. 5 + 3m, across the two buffers.
+                    float coef[3];
+                    for (int j = 0; j < 3; ++j) {
+                        int p = 3 + 3 * m + j;
+                        coef[j] = p < PIVOT_PLANES_PER_BUFFER
+                                      ? fitLo[p * stride + lo + i0]
+                                      : fitHi[(p - PIVOT_PLANES_PER_BUFFER) * stride + lo + i0];
+                    }
+                    float zm = coef[0] * fdx + coef[1] * fdy + coef[2];
+                    sumW += weight;
+                    sumWz += weight * combine(zs, zm);
+                }
+        }
+    outImage[at] = sumW > 0.0 ? pivot[at] * (sumWz / sumW) : color[at];
+}

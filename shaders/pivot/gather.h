@@ -1,0 +1,45 @@
+// Pivot filter stage 3: the two-stage averaging (eq. 13) written as a gather. Every pixel
+// with z sums, over the centres whose squares hold it, the centre's combined approximation
+// (eqs. 11-12) at the pixel with weight exp(-d^2 / R0^2) x normal term x id terms,
+// normalises, and multiplies back by the pivot; other pixels keep their color. One
+// invocation per pixel and channel.
+#ifndef MCD_SHADERS_PIVOT_GATHER_H
+#define MCD_SHADERS_PIVOT_GATHER_H
+
+#include "pivot/pivot.h"
+
+#define PIVOT_GATHER_COLOR 0
+#define PIVOT_GATHER_PIVOT 1
+#define PIVOT_GATHER_NU 2
+#define PIVOT_GATHER_FIT_LO 3
+#define PIVOT_GATHER_FIT_HI 4
+#define PIVOT_GATHER_GUIDES 5
+#define PIVOT_GATHER_OUT 6
+#define PIVOT_GATHER_TILES 7  // per channel, the largest radius among a tile's centres
+#define PIVOT_GATHER_BINDINGS 8
+// Centres are visited tile by tile; a tile none of whose squares can reach the pixel is
+// skipped whole.
+#define PIVOT_GATHER_TILE 8
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct PivotGatherPush {
+#else
+layout(push_constant) uniform PivotGatherPush {
+#endif
+    int width;
+    int height;
+    int channels;
+    int reach;  // the largest radius of any fit: no centre further away holds the pixel
+    int tilesX;  // ceil(width / PIVOT_GATHER_TILE)
+    int tilesY;
+#ifdef __cplusplus
+};
+static_assert(sizeof(PivotGatherPush) == 24);
+}  // namespace mcd::shader
+#else
+} push;
+#endif
+
+#endif

@@ -1,0 +1,39 @@
+// The geometric terms of the pivot filter (section 4.4), for kernels that declare the
+// buffer `guides` (5 planes: normal x, y, z, object id, part id), the specialization
+// constants useNormals / useIds and the ints `planeSize` (width x height) and `gw`, `gh`
+// (width, height).
+
+// (n.n0)^4 when n.n0 > 1/2 for the unit normals at pixels i and i0, else 0; two zero
+// normals (no surface) give 1, one gives 0.
+float normalTerm(int i, int i0) {
+    if (useNormals == 0) return 1.0;
+    vec3 n = vec3(guides[i], guides[planeSize + i], guides[2 * planeSize + i]);
+    vec3 n0 = vec3(guides[i0], guides[planeSize + i0], guides[2 * planeSize + i0]);
+    float len = dot(n, n), len0 = dot(n0, n0);
+    if (len == 0.0 && len0 == 0.0) return 1.0;
+    if (len == 0.0 || len0 == 0.0) return 0.0;
+    float d = dot(n, n0) / sqrt(len * len0);
+    return d > 0.5 ? d * d * d * d : 0.0;
+}
+
+// 0 across object boundaries and between parts: the ids differ.
+float idTerm(int i, int i0) {
+    if (useIds == 0) return 1.0;
+    int objects = 3 * planeSize, parts = 4 * planeSize;
+    return guides[objects + i] == guides[objects + i0] && guides[parts + i] == guides[parts + i0]
+               ? 1.0
+               : 0.0;
+}
+
+// The boundary term w_b as a property of a pixel: 0 when a 4-neighbour has other ids (the
+// pixel may straddle an object or part boundary and mix both sides), else 1. The ratio
+// stage marks such pixels as having no z: they give no data and keep their input.
+float boundaryTerm(int x, int y) {
+    if (useIds == 0) return 1.0;
+    int i = y * gw + x;
+    if (x > 0 && idTerm(i - 1, i) == 0.0) return 0.0;
+    if (x + 1 < gw && idTerm(i + 1, i) == 0.0) return 0.0;
+    if (y > 0 && idTerm(i - gw, i) == 0.0) return 0.0;
+    if (y + 1 < gh && idTerm(i + gw, i) == 0.0) return 0.0;
+    return 1.0;
+}

@@ -1,0 +1,36 @@
+// Constants shared by the pivot-filter kernels (Ershov et al., section 4) and their host
+// code: the layout of the fit planes, the specialization constants and the numerical
+// cut-offs. The CPU reference (cpu_reference/pivot_filter.cpp) keeps its own copies.
+#ifndef MCD_SHADERS_PIVOT_PIVOT_H
+#define MCD_SHADERS_PIVOT_PIVOT_H
+
+// Fit planes per channel: (a, b, c) of the square, then of quadrants 0..3, then the radius
+// (-1: no fit). Planes 0..7 live in one buffer and 8..15 in another, so that a 1024x1024
+// RGB frame stays under lavapipe's 128 MiB per binding.
+#define PIVOT_PLANES 16
+#define PIVOT_PLANES_PER_BUFFER 8
+
+// Specialization constants: the normal term and the object/part terms are compiled out
+// when the frame has no normals or ids; the ratio kernel reads the variance layer or
+// estimates the noise.
+#define PIVOT_SPEC_NORMALS 0
+#define PIVOT_SPEC_IDS 1
+#define PIVOT_SPEC_VARIANCE 2
+
+#define PIVOT_LOCAL_SIZE 64
+
+// The guide buffer's planes: normal x, y, z, object id, part id (what is absent is zero and
+// compiled out).
+#define PIVOT_GUIDE_PLANES 5
+
+// |z| above this makes a pixel invalid (z^2 and the fit sums stay finite in float); the
+// variance of z is clamped to its square.
+#define PIVOT_Z_MAX 1e18
+// A weight exp(-e) with e above this is 0 (no denormals: float and double agree).
+#define PIVOT_EXP_CUT 30.0
+// Floor of denominators that may be zero.
+#define PIVOT_TINY 1e-30
+// An elimination pivot at or below this fraction of its raw second moment drops the unknown.
+#define PIVOT_RANK_EPS 1e-4
+
+#endif

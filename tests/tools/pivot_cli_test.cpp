@@ -1,0 +1,148 @@
+// `mcdenoise denoise --method pivot`, run as a subprocess (MCD_TOOL_PATH) in a temporary
+// directory: both filters on a rendered frame with a pivot layer, the plan with and
+// without guides, option and layer errors.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+
+#include "host/image.h"
+#include "host/io/frame.h"
+
+namespace mcd::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+    int code = -1;
+    std::string out, err;
+    std::string All() const { return out + err; }
+};
+
+bool Contains(const std::string &text, const std::string &part) {
+    return text.find(part) != std::string::npos;
+}
+
+class PivotCli : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        std::random_device random;
+        std::string name =
+            "mcd_pivot_cli_" + std::to_string(::getpid()) + "_" + std::to_string(random());
+        dir = fs::temp_directory_path() / name;
+        errFile = fs::temp_directory_path() / (name + ".stderr");
+        fs::create_directories(dir);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+        fs::remove(errFile, ec);
+    }
+
+    RunResult Run(const std::string &args) {
+        std::string command = "cd '" + dir.string() + "' && '" MCD_TOOL_PATH "' " + args +
+                              " 2>'" + errFile.string() + "'";
+        RunResult result;
+        FILE *pipe = popen(command.c_str(), "r");
+        if (!pipe) return result;
+        char buffer[4096];
+        size_t n;
+        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0)
+            result.out.append(buffer, n);
+        int status = pclose(pipe);
+        if (WIFEXITED(status)) result.code = WEXITSTATUS(status);
+        std::ifstream in(errFile);
+        result.err.assign(std::istreambuf_iterator<char>(in), {});
+        return result;
+    }
+
+    fs::path Path(const std::string &name) const { return dir / name; }
+
+    fs::path dir, errFile;
+};
+
+TEST_F(PivotCli, DenoisesWithBothFilters) {
+    ASSERT_EQ(Run("render --scene relief-abc --size 24x20 --spp 4 --layers pivot,gbuffer -o "
+                  "n.exr")
+                  .code,
+              0);
+    ASSERT_EQ(Run("render --scene relief-abc --size 24x20 --spp 64 --seed 5 -o r.exr").code, 0);
+    RunResult r = Run("denoise n.exr --method pivot --explain -o d.exr --reference r.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "planefit: squares grown from 5x5")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "normal term (n.n0)^4")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "object/part and boundary terms: on")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "PSNR")) << r.out;
+    Image d = io::ReadImage(Path("d.exr").string());
+    ASSERT_EQ(d.width, 24);
+    ASSERT_EQ(d.height, 20);
+    for (float v : d.data) ASSERT_TRUE(std::isfinite(v));
+
+    r =
+        Run("denoise n.exr --method pivot --filter bilateral --guides none --pivot-noise "
+            "estimate --explain -o b.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "bilateral: cross-bilateral")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "left out: the normal term")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "estimated from the 3x3")) << r.out;
+    EXPECT_TRUE(fs::exists(Path("b.exr")));
+
+    // `diff`: every stage of the method against the CPU reference on the rendered frame.
+    r = Run("diff n.exr --method pivot --max-radius 6");
+    ASSERT_EQ(r.code, 0) << r.All();
+    for (const char *stage : {"z", "nu", "fits", "output"})
+        EXPECT_TRUE(Contains(r.out, std::string("\n  ") + stage + " ")) << stage << r.out;
+}
+
+// --demodulate runs another method on z = color / pivot: with AWR's cs = 0 (the identity)
+// the output is the input to round-off; with the default AWR it is finite and multiplied
+// back (the plan says so); pixels without a pivot keep their input.
+TEST_F(PivotCli, DemodulatesForOtherMethods) {
+    ASSERT_EQ(Run("render --scene cornell --size 24x20 --spp 4 --layers pivot,gbuffer -o "
+                  "n.exr")
+                  .code,
+              0);
+    RunResult r =
+        Run("denoise n.exr --method awr --cs 0 --demodulate pivot --explain -o i.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "demodulated: the method ran on color / pivot")) << r.out;
+    Image input = io::ReadImage(Path("n.exr").string()),
+          same = io::ReadImage(Path("i.exr").string());
+    ASSERT_EQ(input.Size(), same.Size());
+    for (size_t i = 0; i < input.Size(); ++i)
+        ASSERT_NEAR(same.data[i], input.data[i], 1e-6 * (1 + std::fabs(input.data[i]))) << i;
+    r = Run("denoise n.exr --method awr --demodulate albedo -o a.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    for (float v : io::ReadImage(Path("a.exr").string()).data) ASSERT_TRUE(std::isfinite(v));
+    r = Run("denoise n.exr --method pivot --demodulate pivot -o p.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "divides by itself")) << r.err;
+    r = Run("denoise n.exr --method awr --demodulate depth -o p.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "pivot or albedo")) << r.err;
+}
+
+TEST_F(PivotCli, RefusesBadOptionsAndMissingPivot) {
+    ASSERT_EQ(Run("render --size 12x8 --spp 2 -o plain.exr").code, 0);
+    RunResult r = Run("denoise plain.exr --method pivot -o f.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "needs a pivot layer")) << r.err;
+    ASSERT_EQ(Run("render --size 12x8 --spp 2 --layers pivot -o p.exr").code, 0);
+    r = Run("denoise p.exr --method pivot --filter median -o f.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "planefit or bilateral")) << r.err;
+    r = Run("denoise p.exr --method pivot --max-radius 1 -o f.exr");
+    EXPECT_NE(r.code, 0);
+    EXPECT_FALSE(fs::exists(Path("f.exr")));
+}
+
+}  // namespace
+}  // namespace mcd::test
