@@ -406,8 +406,18 @@ TEST_F(CliTest, DenoiseAwr) {
     EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), {}), "good");
     Image color(8, 8, 3, 0.5f);
     io::WriteExr(Path("bare.exr").string(), {{"color", &color}});
-    EXPECT_TRUE(IsError(Run("denoise bare.exr -o f.exr"), "variance layer"));
+    EXPECT_TRUE(IsError(Run("denoise bare.exr --method awr -o f.exr"), "variance layer"));
     EXPECT_FALSE(fs::exists(Path("f.exr")));
+    // auto (the default) takes the first method in its measured order that the frame
+    // has the layers for, and says what it left out and why.
+    r = Run("denoise bare.exr -o g.exr --explain");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "auto: bayes")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "left out awr: no variance layer")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "left out rhf: no histogram")) << r.out;
+    r = Run("denoise n.exr -o g.exr --explain");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "auto: awr")) << r.out;
     // A refused frame (NaN color) leaves the good file at the output path alone.
     io::Frame noisy = io::ReadFrame(Path("n.exr").string());
     noisy.layers["color"].At(0, 3, 4) = NAN;
