@@ -74,6 +74,7 @@ Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
                   0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
     buffer = raw.buffer;
     memory = raw.memory;
+    context.NoteAllocation(this->name, allocBytes);
     if (raw.hostVisible) {
         try {
             MCD_VK(vkMapMemory(context.Device(), memory, 0, VK_WHOLE_SIZE, 0, &mapped));
@@ -107,6 +108,7 @@ Buffer &Buffer::operator=(Buffer &&other) noexcept {
 
 void Buffer::Release() {
     if (!context) return;
+    if (buffer) context->NoteRelease(bytes > 0 ? bytes : 4);
     if (mapped) vkUnmapMemory(context->Device(), memory);
     if (buffer) vkDestroyBuffer(context->Device(), buffer, nullptr);
     if (memory) vkFreeMemory(context->Device(), memory, nullptr);

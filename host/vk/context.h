@@ -4,6 +4,7 @@
 
 #include <volk.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -78,6 +79,25 @@ class Context {
     std::vector<std::string> TakeValidationMessages();
     void AddValidationMessage(std::string message);
 
+    // GPU memory held in Buffers: live bytes, the peak since the last reset, and every
+    // allocation since then by name, so a run can say what it allocated (--explain) and
+    // tests can check what it did not.
+    struct MemoryLedger {
+        VkDeviceSize live = 0, peak = 0;
+        std::vector<std::pair<std::string, VkDeviceSize>> allocations;
+    };
+    const MemoryLedger &Ledger() const { return ledger; }
+    void ResetLedger() {
+        ledger.peak = ledger.live;
+        ledger.allocations.clear();
+    }
+    void NoteAllocation(const std::string &name, VkDeviceSize bytes) {
+        ledger.live += bytes;
+        ledger.peak = std::max(ledger.peak, ledger.live);
+        ledger.allocations.push_back({name, bytes});
+    }
+    void NoteRelease(VkDeviceSize bytes) { ledger.live -= std::min(ledger.live, bytes); }
+
   private:
     void Destroy();
 
@@ -96,6 +116,7 @@ class Context {
     std::mutex messageMutex;
     std::vector<std::string> validationMessages;
     std::map<std::string, std::unique_ptr<Kernel>> kernels;
+    MemoryLedger ledger;
 };
 
 }  // namespace mcd::vk

@@ -506,6 +506,10 @@ TEST_F(CliTest, DenoiseAwr) {
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "soft shrinkage"));
     EXPECT_TRUE(Contains(r.out, "PSNR"));
+    // The plan lists the GPU buffers: awr's own, and nothing for layers it does not use.
+    EXPECT_TRUE(Contains(r.out, "GPU buffers:")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "awr.color")) << r.out;
+    EXPECT_FALSE(Contains(r.out, "hist")) << r.out;
     EXPECT_EQ(io::ReadImage(Path("d.exr").string()).width, 24);
     r = Run("denoise n.exr --variance layer --cs 0 --explain -o e.exr");
     ASSERT_EQ(r.code, 0) << r.All();
@@ -554,15 +558,20 @@ TEST_F(CliTest, BenchQuality) {
     std::string cache = "XDG_CACHE_HOME=" + Path("cache").string() + " ";
     RunResult r =
         Run("bench quality --scenes dof-arealight --size 24x16 --spp 2,8 --reference-spp 64 "
-            "--crop-spp 8 -o bq",
+            "--crop-spp 8 --methods awr -o bq",
             cache);
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "| dof-arealight | awr |"));
     std::ifstream csv(Path("bq/quality.csv"));
     std::vector<std::string> lines;
     for (std::string line; std::getline(csv, line);) lines.push_back(line);
-    ASSERT_EQ(lines.size(), 1u + 2 * 2) << "header + (mc, awr) x 2 spp";
+    ASSERT_GE(lines.size(), 1u + 2 * 2) << "header + (mc, awr, ...) x 2 spp";
     EXPECT_EQ(lines[0].rfind("scene,spp,method,", 0), 0u);
+    for (const char *method : {",mc,", ",awr,"})
+        EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
+                                [&](const std::string &l) { return Contains(l, method); }),
+                  2)
+            << method;
     // The MC row at 2 spp is the plain render: its relMSE is what compare measures.
     ASSERT_EQ(Run("render --scene dof-arealight --size 24x16 --spp 2 -o mc2.exr").code, 0);
     ASSERT_EQ(

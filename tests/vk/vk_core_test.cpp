@@ -697,3 +697,34 @@ TEST_F(VkKernelCache, SameDescSameKernel) {
 
 }  // namespace
 }  // namespace mcd::test
+
+namespace mcd::test {
+namespace {
+
+class VkLedger : public GpuTest {};
+
+// The memory ledger sees every Buffer: live and peak bytes, allocations by name since the
+// last reset, and releases, including through moves.
+TEST_F(VkLedger, CountsAllocationsAndReleases) {
+    vk::Context &ctx = Ctx();
+    VkDeviceSize before = ctx.Ledger().live;
+    ctx.ResetLedger();
+    {
+        vk::Buffer a(ctx, 1000, "ledger.a");
+        vk::Buffer b(ctx, 0, "ledger.b");  // kept as one word
+        EXPECT_EQ(ctx.Ledger().live, before + 1004);
+        vk::Buffer c = std::move(a);
+        EXPECT_EQ(ctx.Ledger().live, before + 1004);
+    }
+    EXPECT_EQ(ctx.Ledger().live, before);
+    EXPECT_EQ(ctx.Ledger().peak, before + 1004);
+    ASSERT_EQ(ctx.Ledger().allocations.size(), 2u);
+    EXPECT_EQ(ctx.Ledger().allocations[0].first, "ledger.a");
+    EXPECT_EQ(ctx.Ledger().allocations[0].second, 1000u);
+    ctx.ResetLedger();
+    EXPECT_TRUE(ctx.Ledger().allocations.empty());
+    EXPECT_EQ(ctx.Ledger().peak, before);
+}
+
+}  // namespace
+}  // namespace mcd::test

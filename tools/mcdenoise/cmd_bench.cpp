@@ -14,6 +14,7 @@
 #include "host/error.h"
 #include "host/methods/awr.h"
 #include "host/methods/bayes.h"
+#include "host/methods/rhf.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
 #include "tools/mcdenoise/commands.h"
@@ -332,6 +333,59 @@ void BenchBayes(const std::string &size, int levels, const std::string &basisNam
         fmt::print("  scikit-image: not available (python3-skimage)\n");
 }
 
+// RHF with default parameters on a rendered frame with histograms: GPU time per kernel
+// (summed over its dispatches), so the expensive stage is visible.
+void BenchRhf(const std::string &size, const std::string &sceneName, int spp, int repeats,
+              const DeviceOptions &device) {
+    render::RenderOptions options;
+    ParseSize(size, &options.width, &options.height);
+    options.spp = spp;
+    options.layers = render::kLayersHist;
+    render::RenderResult frame = render::Render(render::BuildScene(sceneName), options);
+    const Image *color = nullptr, *hist = nullptr;
+    for (const auto &[name, layer] : frame.layers) {
+        if (name == "color") color = &layer;
+        if (name == "hist") hist = &layer;
+    }
+    if (!color || !hist) throw Error("bench rhf: the renderer gave no color or hist layer");
+    vk::Context context(device.ContextOptions());
+    RhfOptions rhf;
+    fmt::print(
+        "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, {} "
+        "scales, on {} ({})\n",
+        sceneName, options.width, options.height, spp, rhf.patchHalf, rhf.searchHalf,
+        rhf.threshold, rhf.knn, rhf.scales, context.Info().name,
+        vk::DeviceTypeName(context.Info().type));
+    repeats = std::max(repeats, 1);
+    std::vector<double> gpu, wall;
+    std::vector<std::pair<std::string, double>> perKernel;
+    for (int r = 0; r <= repeats; ++r) {  // run 0 warms up (pipelines, first touch)
+        Clock::time_point start = Clock::now();
+        RhfResult result = RhfDenoise(context, *color, *hist, rhf);
+        double wallMs = Ms(Clock::now() - start);
+        if (r == 0) continue;
+        double total = 0;
+        perKernel.clear();
+        for (const vk::DispatchTiming &t : result.timings) {
+            total += std::max(t.gpuMs, 0.0);
+            auto it = std::find_if(perKernel.begin(), perKernel.end(),
+                                   [&](const auto &p) { return p.first == t.label; });
+            if (it == perKernel.end())
+                perKernel.push_back({t.label, std::max(t.gpuMs, 0.0)});
+            else
+                it->second += std::max(t.gpuMs, 0.0);
+        }
+        gpu.push_back(total);
+        wall.push_back(wallMs);
+        fmt::print("  run {}/{}: {:.1f} ms GPU, {:.1f} ms wall with upload/download\n", r,
+                   repeats, total, wallMs);
+        std::fflush(stdout);
+    }
+    for (const auto &[label, ms] : perKernel) fmt::print("    {:<20} {:10.2f} ms\n", label, ms);
+    fmt::print("  GPU time (timestamps, median of {}): {:.2f} ms; wall {:.2f} ms\n", repeats,
+               Median(gpu), Median(wall));
+}
+
 }  // namespace
 
 void AddBenchCommand(CLI::App &app) {
@@ -437,6 +491,24 @@ void AddBenchCommand(CLI::App &app) {
         BenchBayes(bopt->size, bopt->levels, bopt->basis, bopt->repeats, !bopt->noSkimage,
                    bopt->device);
     });
+
+    struct RhfBenchOptions {
+        std::string size = "512x512", scene = "cornell";
+        int spp = 8, repeats = 1;
+        DeviceOptions device;
+    };
+    auto hopt = std::make_shared<RhfBenchOptions>();
+    CLI::App *rhfBench = bench->add_subcommand(
+        "rhf",
+        "Time Ray Histogram Fusion (default parameters) on a rendered frame, per kernel");
+    rhfBench->add_option("--size", hopt->size, "image size WxH")->capture_default_str();
+    rhfBench->add_option("--scene", hopt->scene, "scene to render")->capture_default_str();
+    rhfBench->add_option("--spp", hopt->spp, "samples per pixel")->capture_default_str();
+    rhfBench->add_option("--repeat", hopt->repeats, "timed runs (after one warm-up)")
+        ->capture_default_str();
+    hopt->device.Add(rhfBench);
+    rhfBench->callback(
+        [hopt] { BenchRhf(hopt->size, hopt->scene, hopt->spp, hopt->repeats, hopt->device); });
 
     AddBenchQualityCommand(bench);
 }

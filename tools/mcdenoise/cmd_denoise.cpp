@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 
 #include "host/error.h"
 #include "host/io/frame.h"
@@ -12,6 +13,27 @@
 #include "tools/mcdenoise/denoise_method.h"
 
 namespace mcd::tool {
+namespace {
+
+// The GPU buffers a run allocated, by name with their sizes, and its peak.
+std::string LedgerText(const vk::Context::MemoryLedger &ledger) {
+    std::map<std::string, std::pair<int, double>> byName;
+    for (const auto &[name, bytes] : ledger.allocations) {
+        auto &[count, total] = byName[name];
+        ++count, total += double(bytes);
+    }
+    std::string text =
+        fmt::format("  GPU buffers: {} allocations, peak {:.2f} MB:", ledger.allocations.size(),
+                    double(ledger.peak) / 1e6);
+    for (const auto &[name, entry] : byName)
+        text += fmt::format(" {}{} {:.2f} MB;", name,
+                            entry.first > 1 ? fmt::format(" x{}", entry.first) : "",
+                            entry.second / 1e6);
+    if (ledger.allocations.empty()) text += " none";
+    return text + "\n";
+}
+
+}  // namespace
 
 void AddDenoiseCommand(CLI::App &app) {
     struct Options {
@@ -59,6 +81,7 @@ void AddDenoiseCommand(CLI::App &app) {
         }
 
         vk::Context context(opt->device.ContextOptions());
+        context.ResetLedger();
         auto start = std::chrono::steady_clock::now();
         DenoiseResult result = method->run(context, frame);
         double wallMs =
@@ -69,6 +92,7 @@ void AddDenoiseCommand(CLI::App &app) {
         if (opt->explain) {
             fmt::print("{} on {} ({}):\n", method->name, opt->input, context.Info().name);
             for (const std::string &step : result.plan) fmt::print("  {}\n", step);
+            fmt::print("{}", LedgerText(context.Ledger()));
         }
         for (const std::string &warning : result.warnings)
             fmt::print(stderr, "warning: {}\n", warning);

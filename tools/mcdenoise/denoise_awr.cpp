@@ -96,6 +96,13 @@ DenoiseMethod AwrMethod() {
         result.timings = std::move(awr.timings);
         return result;
     };
+    method.missing = [opt](const io::Frame &frame) -> std::string {
+        bool range = frame.Has("min") && frame.Has("max") && frame.Has("spp");
+        if (opt->variance == "layer" && !frame.Has("variance")) return "no variance layer";
+        if (opt->variance == "range" && !range) return "no min, max and spp layers";
+        if (!range && !frame.Has("variance")) return "no variance layer nor min, max and spp";
+        return "";
+    };
     method.stages = [opt](vk::Context &context, const io::Frame &frame) {
         std::string why;
         Image variance = AwrVariance(frame, opt->variance, &why);

@@ -37,16 +37,20 @@ struct DenoiseMethod {
     std::function<void(CLI::App *)> addOptions;
     // Validate the options and run; throws mcd::Error naming what is wrong and where.
     std::function<DenoiseResult(vk::Context &, const io::Frame &)> run;
+    // Why the frame cannot be denoised by this method with its current options ("" when
+    // it can): `--method auto` skips such methods. Empty: the method needs only color.
+    std::function<std::string(const io::Frame &)> missing;
     // Every stage on the GPU and on the CPU reference, same options (`mcdenoise diff`).
     std::function<std::vector<StagePair>(vk::Context &, const io::Frame &)> stages;
 };
 
 DenoiseMethod AwrMethod();
 DenoiseMethod BayesMethod();
+DenoiseMethod RhfMethod();
 
 // Every method the tool knows, in the order --help lists them.
 inline std::vector<DenoiseMethod> DenoiseMethods() {
-    return {AwrMethod(), BayesMethod()};
+    return {AwrMethod(), BayesMethod(), RhfMethod()};
 }
 
 }  // namespace mcd::tool

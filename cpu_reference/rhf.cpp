@@ -1,0 +1,194 @@
+#include "cpu_reference/rhf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <vector>
+
+namespace mcd::ref {
+namespace {
+
+int Clamp(int v, int lo, int hi) {
+    return std::min(std::max(v, lo), hi);
+}
+
+double Keys(double x) {
+    const double a = -0.5;
+    x = std::fabs(x);
+    if (x <= 1) return (a + 2) * x * x * x - (a + 3) * x * x + 1;
+    if (x < 2) return a * x * x * x - 5 * a * x * x + 8 * a * x - 4 * a;
+    return 0;
+}
+
+double SigmaOfScale(int s) {
+    return 0.55 * std::sqrt(std::pow(4.0, s) - 1);
+}
+
+}  // namespace
+
+int RhfScalesUsed(int width, int height, const RhfParams &params) {
+    int side = 2 * params.searchHalf + 1, used = 1;
+    while (used < params.scales) {
+        int w = (width + (1 << used) - 1) >> used, h = (height + (1 << used) - 1) >> used;
+        if (w < side || h < side) break;
+        ++used;
+    }
+    return used;
+}
+
+double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w0) {
+    int n3 = hist.channels - 1;
+    double sum = 0;
+    long counted = 0;
+    for (int ty = -w0; ty <= w0; ++ty)
+        for (int tx = -w0; tx <= w0; ++tx) {
+            double nx = hist.At(n3, y0 + ty, x0 + tx), ny = hist.At(n3, y1 + ty, x1 + tx);
+            if (nx == 0 || ny == 0) continue;
+            for (int i = 0; i < n3; ++i) {
+                double hx = hist.At(i, y0 + ty, x0 + tx), hy = hist.At(i, y1 + ty, x1 + tx);
+                if (hx + hy <= 1) continue;
+                double d = ny * hx - nx * hy;
+                sum += d * d / (nx * ny * (hx + hy));
+                ++counted;
+            }
+        }
+    return sum / (double(counted) + 1e-4);
+}
+
+Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
+                     double threshold, int knn) {
+    const int W = color.width, H = color.height, C = color.channels;
+    std::vector<double> sum(size_t(C) * W * H, 0.0), count(size_t(W) * H, 0.0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            // Shrink the patch to fit; clamp the window so every compared patch fits.
+            int w0 = std::min({patchHalf, x, y, W - 1 - x, H - 1 - y});
+            int xmin = std::max(x - searchHalf, w0),
+                xmax = std::min(x + searchHalf, W - 1 - w0);
+            int ymin = std::max(y - searchHalf, w0),
+                ymax = std::min(y + searchHalf, H - 1 - w0);
+            // (distance, order, qx, qy): order -1 for the patch itself, else its scan index.
+            std::vector<std::tuple<double, int, int, int>> candidates;
+            for (int qy = ymin; qy <= ymax; ++qy)
+                for (int qx = xmin; qx <= xmax; ++qx) {
+                    int order = (qx == x && qy == y)
+                                    ? -1
+                                    : (qy - y + searchHalf) * (2 * searchHalf + 1) +
+                                          (qx - x + searchHalf);
+                    candidates.emplace_back(RhfPatchDistance(hist, x, y, qx, qy, w0), order, qx,
+                                            qy);
+                }
+            std::sort(candidates.begin(), candidates.end());
+            // Eq. 6: the average of the selected patches.
+            int side = 2 * w0 + 1;
+            std::vector<double> patch(size_t(C) * side * side, 0.0);
+            int selected = 0;
+            for (size_t k = 0; k < candidates.size(); ++k) {
+                auto [d, order, qx, qy] = candidates[k];
+                if (int(k) >= knn && !(d < threshold)) continue;
+                ++selected;
+                for (int c = 0; c < C; ++c)
+                    for (int ty = -w0; ty <= w0; ++ty)
+                        for (int tx = -w0; tx <= w0; ++tx)
+                            patch[(size_t(c) * side + ty + w0) * side + tx + w0] +=
+                                color.At(c, qy + ty, qx + tx);
+            }
+            if (selected == 0) continue;
+            // Eq. 7: one more estimate for every pixel of the patch.
+            for (int ty = -w0; ty <= w0; ++ty)
+                for (int tx = -w0; tx <= w0; ++tx) {
+                    size_t at = size_t(y + ty) * W + x + tx;
+                    count[at] += 1;
+                    for (int c = 0; c < C; ++c)
+                        sum[size_t(c) * W * H + at] +=
+                            patch[(size_t(c) * side + ty + w0) * side + tx + w0] / selected;
+                }
+        }
+    Image out(W, H, C);
+    for (int c = 0; c < C; ++c)
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                size_t at = size_t(y) * W + x;
+                out.At(c, y, x) = count[at] > 0 ? float(sum[size_t(c) * W * H + at] / count[at])
+                                                : color.At(c, y, x);
+            }
+    return out;
+}
+
+Image RhfGaussianDownsample(const Image &image, int s, double sigma) {
+    int step = 1 << s, radius = int(std::ceil(3 * sigma));
+    std::vector<double> g(2 * radius + 1);
+    double total = 0;
+    for (int i = -radius; i <= radius; ++i)
+        total += g[i + radius] = std::exp(-i * i / (2 * sigma * sigma));
+    for (double &v : g) v /= total;
+    int W = (image.width + step - 1) / step, H = (image.height + step - 1) / step;
+    Image out(W, H, image.channels);
+    for (int c = 0; c < image.channels; ++c)
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                double v = 0;
+                for (int j = -radius; j <= radius; ++j)
+                    for (int i = -radius; i <= radius; ++i)
+                        v += g[j + radius] * g[i + radius] *
+                             image.At(c, Clamp(step * y + j, 0, image.height - 1),
+                                      Clamp(step * x + i, 0, image.width - 1));
+                out.At(c, y, x) = float(v);
+            }
+    return out;
+}
+
+Image RhfBicubicUpsample(const Image &coarse, int width, int height) {
+    Image out(width, height, coarse.channels);
+    for (int c = 0; c < coarse.channels; ++c)
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                double tx = x / 2.0, ty = y / 2.0;
+                int ix = int(std::floor(tx)), iy = int(std::floor(ty));
+                double v = 0;
+                for (int j = iy - 1; j <= iy + 2; ++j)
+                    for (int i = ix - 1; i <= ix + 2; ++i)
+                        v += Keys(tx - i) * Keys(ty - j) *
+                             coarse.At(c, Clamp(j, 0, coarse.height - 1),
+                                       Clamp(i, 0, coarse.width - 1));
+                out.At(c, y, x) = float(v);
+            }
+    return out;
+}
+
+Image Rhf(const Image &color, const Image &hist, const RhfParams &params) {
+    int scales = RhfScalesUsed(color.width, color.height, params);
+    int n3 = hist.channels - 1;
+    // n_T: the total of the bins over the image, kept at every scale.
+    double total = 0;
+    for (int i = 0; i < n3; ++i)
+        for (size_t p = 0; p < hist.PixelCount(); ++p) total += hist.Plane(i)[p];
+    Image previous;
+    for (int s = scales - 1; s >= 0; --s) {
+        Image u = color, h = hist;
+        if (s > 0) {
+            u = RhfGaussianDownsample(color, s, SigmaOfScale(s));
+            h = RhfGaussianDownsample(hist, s, SigmaOfScale(s));
+            double totalS = 0;
+            for (int i = 0; i < n3; ++i)
+                for (size_t p = 0; p < h.PixelCount(); ++p) totalS += h.Plane(i)[p];
+            double factor = totalS > 0 ? total / totalS : 1.0;
+            for (float &v : h.data) v = float(v * factor);
+        }
+        Image filtered = RhfSingleScale(u, h, params.patchHalf, params.searchHalf,
+                                        params.threshold, s == 0 ? params.knn : 0);
+        if (s < scales - 1) {
+            // u_s - U(D(u_s)) + U(u_{s+1}).
+            Image low = RhfBicubicUpsample(RhfGaussianDownsample(filtered, 1, SigmaOfScale(1)),
+                                           u.width, u.height);
+            Image coarse = RhfBicubicUpsample(previous, u.width, u.height);
+            for (size_t i = 0; i < filtered.Size(); ++i)
+                filtered.data[i] =
+                    float(double(filtered.data[i]) - low.data[i] + coarse.data[i]);
+        }
+        previous = std::move(filtered);
+    }
+    return previous;
+}
+
+}  // namespace mcd::ref

@@ -1,0 +1,48 @@
+// Ray Histogram Fusion (Delbracio et al., IPOL 2015), the CPU reference: Algorithm 2 (one
+// scale) and Algorithm 3 (multi-scale) written as plain loops, with the choices the
+// authors' tool makes where the paper leaves them open (issue #4). In double where it
+// matters; nothing is shared with the GPU path.
+//
+// Histograms are an Image of 3n+1 channels: channel c*n+b is bin b of colour c (R, G, B),
+// the last channel is the pixel's sample count.
+#pragma once
+
+#include "host/image.h"
+
+namespace mcd::ref {
+
+struct RhfParams {
+    int patchHalf = 1;       // w
+    int searchHalf = 6;      // b
+    double threshold = 0.8;  // kappa
+    int knn = 2;             // k_NN, at the finest scale only
+    int scales = 2;          // n_scal requested
+};
+
+// Scales actually filtered: scale s >= 1 is used only while its image is at least as big
+// as the search window (2b+1) both ways ("leave out what the frame does not need").
+int RhfScalesUsed(int width, int height, const RhfParams &params);
+
+// Chi-square patch distance between the patches of half-size w0 centred at (x0, y0) and
+// (x1, y1): the sum of the counted pixel terms over the patch and the bins, divided by the
+// number of counted terms + 1e-4.
+double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w0);
+
+// Algorithm 2 on one scale: kNN (knn nearest, ties to the patch itself first, then in scan
+// order) plus every patch closer than the threshold, binary weights, aggregation over the
+// patches covering each pixel. A pixel no selected patch covers keeps its value.
+Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
+                     double threshold, int knn);
+
+// D_s: Gaussian blur of standard deviation sigma (truncated at ceil(3 sigma), normalised,
+// edges clamped) sampled at 2^s x; the result is ceil(W / 2^s) x ceil(H / 2^s).
+Image RhfGaussianDownsample(const Image &image, int s, double sigma);
+
+// U: bicubic (Keys, a = -0.5) interpolation of `coarse` onto a width x height grid where
+// fine pixel x sits at coarse position x / 2; edges clamped.
+Image RhfBicubicUpsample(const Image &coarse, int width, int height);
+
+// Algorithm 3: the whole filter.
+Image Rhf(const Image &color, const Image &hist, const RhfParams &params);
+
+}  // namespace mcd::ref

@@ -1,0 +1,45 @@
+#include "host/kernels/rhf_aggregate.h"
+
+#include <fmt/format.h>
+
+#include "host/error.h"
+#include "host/kernels/rhf_select.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+#include "rhf/aggregate.h"
+#include "rhf/aggregate_spv.h"
+
+namespace mcd {
+
+void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                        const vk::Buffer &mask, int patchHalf, int searchHalf,
+                        const vk::GpuImage &out) {
+    int words = RhfMaskWords(searchHalf);
+    if (color.channels != 3 || out.channels != 3 || color.width != out.width ||
+        color.height != out.height ||
+        mask.Bytes() < size_t(words) * color.width * color.height * sizeof(uint32_t))
+        throw Error(
+            fmt::format("rhf aggregate: color {}x{}x{}, out {}x{}x{} and a {}-byte "
+                        "mask do not fit",
+                        color.width, color.height, color.channels, out.width, out.height,
+                        out.channels, mask.Bytes()));
+    const vk::Kernel &kernel =
+        context.GetKernel({"rhf_aggregate",
+                           k_rhf_aggregate_spv,
+                           sizeof(k_rhf_aggregate_spv),
+                           RHF_AGGREGATE_BINDINGS,
+                           sizeof(shader::RhfAggregatePush),
+                           {{RHF_AGGREGATE_SPEC_SEARCH_HALF, searchHalf},
+                            {RHF_AGGREGATE_SPEC_PATCH_HALF, patchHalf}}});
+    shader::RhfAggregatePush push{color.width, color.height, patchHalf, searchHalf, words};
+    recorder.Dispatch(
+        kernel, "rhf.aggregate",
+        {{&color.buffer, vk::Access::Read},
+         {&mask, vk::Access::Read},
+         {&out.buffer, vk::Access::Write}},
+        &push,
+        uint32_t((color.width + RHF_AGGREGATE_LOCAL_SIZE - 1) / RHF_AGGREGATE_LOCAL_SIZE),
+        uint32_t(color.height));
+}
+
+}  // namespace mcd

@@ -1,0 +1,15 @@
+// Record RHF's aggregation (shaders/rhf/aggregate.comp): the filtered image of one scale.
+#pragma once
+
+#include "host/vk/buffer.h"
+#include "host/vk/gpu_image.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+// color and out are 3-channel images of one size; mask is select's, for the whole image.
+void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                        const vk::Buffer &mask, int patchHalf, int searchHalf,
+                        const vk::GpuImage &out);
+
+}  // namespace mcd

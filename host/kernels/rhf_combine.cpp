@@ -1,0 +1,43 @@
+#include "host/kernels/rhf_combine.h"
+
+#include <fmt/format.h>
+
+#include "host/error.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+#include "rhf/combine.h"
+#include "rhf/combine_spv.h"
+
+namespace mcd {
+
+void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
+                      const vk::GpuImage &filtered, const vk::GpuImage &low,
+                      const vk::GpuImage &coarse, const vk::GpuImage &out) {
+    if (!(filtered.width == out.width && filtered.height == out.height &&
+          low.width == coarse.width && low.height == coarse.height &&
+          low.width == (filtered.width + 1) / 2 && low.height == (filtered.height + 1) / 2 &&
+          filtered.channels == 3 && out.channels == 3 && low.channels == 3 &&
+          coarse.channels == 3))
+        throw Error(
+            fmt::format("rhf combine: filtered {}x{}, low {}x{}, coarse {}x{} do not "
+                        "fit",
+                        filtered.width, filtered.height, low.width, low.height, coarse.width,
+                        coarse.height));
+    const vk::Kernel &kernel = context.GetKernel({"rhf_combine",
+                                                  k_rhf_combine_spv,
+                                                  sizeof(k_rhf_combine_spv),
+                                                  RHF_COMBINE_BINDINGS,
+                                                  sizeof(shader::RhfCombinePush),
+                                                  {}});
+    shader::RhfCombinePush push{filtered.width, filtered.height, low.width, low.height};
+    recorder.Dispatch(
+        kernel, "rhf.combine",
+        {{&filtered.buffer, vk::Access::Read},
+         {&low.buffer, vk::Access::Read},
+         {&coarse.buffer, vk::Access::Read},
+         {&out.buffer, vk::Access::Write}},
+        &push, uint32_t((filtered.width + RHF_COMBINE_LOCAL_SIZE - 1) / RHF_COMBINE_LOCAL_SIZE),
+        uint32_t(filtered.height), 3u);
+}
+
+}  // namespace mcd

@@ -1,0 +1,42 @@
+#include "host/kernels/rhf_select.h"
+
+#include <fmt/format.h>
+
+#include "host/error.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+#include "rhf/select.h"
+#include "rhf/select_spv.h"
+
+namespace mcd {
+
+int RhfMaskWords(int searchHalf) {
+    int side = 2 * searchHalf + 1;
+    return (side * side + 31) / 32;
+}
+
+void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
+                     int searchHalf, int rowBase, int rows, int knn, float threshold,
+                     const vk::Buffer &dist, const vk::Buffer &mask) {
+    size_t side = 2 * searchHalf + 1, words = RhfMaskWords(searchHalf);
+    if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
+        dist.Bytes() < side * side * rows * width * sizeof(float) ||
+        mask.Bytes() < words * height * width * sizeof(uint32_t))
+        throw Error(
+            fmt::format("rhf select: rows {}..{} of a {}x{} image do not fit the "
+                        "buffers",
+                        rowBase, rowBase + rows - 1, width, height));
+    const vk::Kernel &kernel = context.GetKernel({"rhf_select",
+                                                  k_rhf_select_spv,
+                                                  sizeof(k_rhf_select_spv),
+                                                  RHF_SELECT_BINDINGS,
+                                                  sizeof(shader::RhfSelectPush),
+                                                  {}});
+    shader::RhfSelectPush push{width, height, searchHalf, rowBase,
+                               rows,  knn,    int(words), threshold};
+    recorder.Dispatch(
+        kernel, "rhf.select", {{&dist, vk::Access::Read}, {&mask, vk::Access::Write}}, &push,
+        uint32_t((width + RHF_SELECT_LOCAL_SIZE - 1) / RHF_SELECT_LOCAL_SIZE), uint32_t(rows));
+}
+
+}  // namespace mcd

@@ -1,0 +1,18 @@
+// Record RHF's patch selection (shaders/rhf/select.comp) for a strip of centres.
+#pragma once
+
+#include "host/vk/buffer.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+// Mask words per centre for a search half-window b: one bit per offset.
+int RhfMaskWords(int searchHalf);
+
+// dist holds the strip's (2b+1)^2 distance planes of rows x width; mask (whole image,
+// RhfMaskWords planes of height x width) gets the strip's rows.
+void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
+                     int searchHalf, int rowBase, int rows, int knn, float threshold,
+                     const vk::Buffer &dist, const vk::Buffer &mask);
+
+}  // namespace mcd

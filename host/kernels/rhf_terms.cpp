@@ -1,0 +1,49 @@
+#include "host/kernels/rhf_terms.h"
+
+#include <fmt/format.h>
+
+#include "host/error.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+#include "rhf/terms.h"
+#include "rhf/terms_spv.h"
+
+namespace mcd {
+
+// Each lane owns RHF_TERMS_PIXELS_PER_LANE pixels of a row.
+constexpr int kPixelsPerGroup = RHF_TERMS_LOCAL_SIZE * RHF_TERMS_PIXELS_PER_LANE;
+
+void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
+                    int searchHalf, int rowBase, int rows, float histScale,
+                    const vk::Buffer &termSum, const vk::Buffer &termCount) {
+    int side = 2 * searchHalf + 1;
+    size_t need = size_t(searchHalf + 1) * side * rows * hist.width * sizeof(float);
+    if (hist.slots.empty() || hist.slots.size() > RHF_HIST_SLOTS || hist.planesPerSlot <= 0 ||
+        (hist.planes + hist.planesPerSlot - 1) / hist.planesPerSlot != int(hist.slots.size()))
+        throw Error(fmt::format("rhf terms: {} histogram planes in {} buffers of {} planes",
+                                hist.planes, hist.slots.size(), hist.planesPerSlot));
+    if (rowBase < 0 || rows <= 0 || rowBase + rows > hist.height || termSum.Bytes() < need ||
+        termCount.Bytes() < need)
+        throw Error(fmt::format("rhf terms: rows {}..{} of {} need {} bytes per term buffer",
+                                rowBase, rowBase + rows - 1, hist.height, need));
+    const vk::Kernel &kernel = context.GetKernel({"rhf_terms",
+                                                  k_rhf_terms_spv,
+                                                  sizeof(k_rhf_terms_spv),
+                                                  RHF_TERMS_BINDINGS,
+                                                  sizeof(shader::RhfTermsPush),
+                                                  {{RHF_TERMS_SPEC_SEARCH_HALF, searchHalf}}});
+    shader::RhfTermsPush push{hist.width, hist.height, hist.planes - 1,    searchHalf,
+                              rowBase,    rows,        hist.planesPerSlot, histScale};
+    std::vector<vk::Binding> bindings;
+    // Unused slots repeat the first buffer: the shader never reads them.
+    for (int slot = 0; slot < RHF_HIST_SLOTS; ++slot)
+        bindings.push_back(
+            {&hist.slots[slot < int(hist.slots.size()) ? slot : 0], vk::Access::Read});
+    bindings.push_back({&termSum, vk::Access::Write});
+    bindings.push_back({&termCount, vk::Access::Write});
+    recorder.Dispatch(kernel, "rhf.terms", bindings, &push,
+                      uint32_t((hist.width + kPixelsPerGroup - 1) / kPixelsPerGroup),
+                      uint32_t(rows), uint32_t(searchHalf + 1));
+}
+
+}  // namespace mcd

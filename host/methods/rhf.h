@@ -1,0 +1,55 @@
+// Method `rhf`: Ray Histogram Fusion (Delbracio et al., IPOL 2015) on the GPU, with the
+// choices of the authors' tool where the paper leaves them open (issue #4). Per scale,
+// coarse to fine: Gaussian downsampling of the colour and the histograms (count-preserving
+// rescale), per-offset chi-square pixel terms, patch distances by box sums, kNN +
+// threshold selection, gather aggregation; scales recombined as
+// u_s - U(D(u_s)) + U(u_{s+1}) with bicubic U.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/image.h"
+#include "host/vk/context.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+struct RhfOptions {
+    int patchHalf = 1;       // w: patches are (2w+1)^2
+    int searchHalf = 6;      // b: the search window is (2b+1)^2
+    float threshold = 0.8f;  // kappa, on the normalised chi-square patch distance
+    int knn = 2;             // nearest patches always averaged, finest scale only
+    int scales = 2;          // requested; see RhfScalesUsed
+    // Splitting knobs (0: automatic, from the device's binding limit). Tests use them to
+    // exercise the split paths on small frames.
+    int planesPerSlot = 0;  // histogram planes per buffer
+    int stripRows = 0;      // centre rows per distance strip
+    // Download every scale's images after the run (for `mcdenoise diff`).
+    bool keepStages = false;
+};
+
+struct RhfResult {
+    Image image;
+    std::vector<std::string> plan;            // what ran and what was left out, and why
+    std::vector<std::string> warnings;        // bad pixels found in the input, with counts
+    std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
+    int scalesUsed = 0;
+    // With keepStages, coarse to fine: "color s<k>" (D_k of the colour, k >= 1),
+    // "filtered s<k>" (that scale's RHF), "combined s<k>" (the recombination, k below the
+    // coarsest); the last one is the output.
+    std::vector<std::pair<std::string, Image>> stages;
+};
+
+// Scales filtered: scale s >= 1 only while its image is at least the search window's size
+// both ways; coarser scales would compare clamped windows of a handful of pixels.
+int RhfScalesUsed(int width, int height, const RhfOptions &options);
+
+// Denoise `color` (3 channels) with its histograms `hist` (3n+1 channels: channel c*n+b is
+// bin b of colour c, the last is the sample count; ReadFrame's "hist" layer). NaN/Inf
+// colours are taken as black pixels without samples, NaN/Inf/negative bins and counts as
+// 0; each kind is counted in a warning. Throws mcd::Error on bad shapes or options.
+RhfResult RhfDenoise(vk::Context &context, const Image &color, const Image &hist,
+                     const RhfOptions &options);
+
+}  // namespace mcd

@@ -1,0 +1,35 @@
+// RHF multi-scale recombination (Algorithm 3, line 10): u_s - U(D(u_s)) + U(u_{s+1}),
+// U the bicubic (Keys, a = -0.5) interpolator by 2 with fine pixel x at coarse position
+// x / 2 and edges clamped. D(u_s) and u_{s+1} are both coarseWidth x coarseHeight.
+#ifndef MCD_SHADERS_RHF_COMBINE_H
+#define MCD_SHADERS_RHF_COMBINE_H
+
+#define RHF_COMBINE_FILTERED 0
+#define RHF_COMBINE_LOW 1
+#define RHF_COMBINE_COARSE 2
+#define RHF_COMBINE_OUT 3
+#define RHF_COMBINE_BINDINGS 4
+#define RHF_COMBINE_LOCAL_SIZE 64
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct RhfCombinePush {
+#else
+layout(push_constant) uniform RhfCombinePush {
+#endif
+    int width;
+    int height;
+    int coarseWidth;
+    int coarseHeight;
+#ifdef __cplusplus
+};
+static_assert(sizeof(RhfCombinePush) == 16);
+static_assert(offsetof(RhfCombinePush, coarseHeight) == 12);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif

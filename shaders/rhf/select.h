@@ -1,0 +1,38 @@
+// RHF selection (Algorithm 2, lines 10-17): for every centre of a strip, the k_NN nearest
+// patches of its search window (ties: the patch itself first, then scan order) plus every
+// patch closer than the threshold, as a bit mask over the window's offsets, planar
+// [word][y][x] over the whole image.
+#ifndef MCD_SHADERS_RHF_SELECT_H
+#define MCD_SHADERS_RHF_SELECT_H
+
+#define RHF_SELECT_DISTANCE 0
+#define RHF_SELECT_MASK 1
+#define RHF_SELECT_BINDINGS 2
+#define RHF_SELECT_LOCAL_SIZE 64
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct RhfSelectPush {
+#else
+layout(push_constant) uniform RhfSelectPush {
+#endif
+    int width;
+    int height;
+    int searchHalf;  // b
+    int rowBase;     // first centre row of the strip
+    int rows;        // centre rows in the strip
+    int knn;         // nearest patches always taken
+    int words;       // mask words per centre, ceil((2b+1)^2 / 32)
+    float threshold;
+#ifdef __cplusplus
+};
+static_assert(sizeof(RhfSelectPush) == 32);
+static_assert(offsetof(RhfSelectPush, threshold) == 28);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif

@@ -1,0 +1,103 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+
+#include "rhf/terms.h"
+
+// One invocation per (PIX pixels of a row, window row dy >= 0): x across, strip row and
+// dy from the grid; the rows dy < 0 are the same terms seen from the candidate
+// (distance.comp). The loops are unrolled so the lane's arrays stay in registers: on
+// lavapipe the loads dominate, and sharing the candidates' bins between the lane's
+// pixels halves the terms' time (measured at 128x128).
+layout(local_size_x = RHF_TERMS_LOCAL_SIZE) in;
+layout(constant_id = RHF_TERMS_SPEC_SEARCH_HALF) const int B = 6;
+const int SIDE = 2 * B + 1;
+layout(std430, binding = 0) readonly buffer Hist0 { float hist0[]; };
+layout(std430, binding = 1) readonly buffer Hist1 { float hist1[]; };
+layout(std430, binding = 2) readonly buffer Hist2 { float hist2[]; };
+layout(std430, binding = 3) readonly buffer Hist3 { float hist3[]; };
+layout(std430, binding = 4) readonly buffer Hist4 { float hist4[]; };
+layout(std430, binding = 5) readonly buffer Hist5 { float hist5[]; };
+layout(std430, binding = RHF_TERMS_SUM) writeonly buffer TermSum { float termSum[]; };
+layout(std430, binding = RHF_TERMS_COUNT) writeonly buffer TermCount { float termCount[]; };
+
+// Plane `plane` of pixel `pixel`, from the buffer that holds that plane.
+float Hist(int plane, int pixel) {
+    int slot = plane / push.planesPerSlot;
+    int at = (plane - slot * push.planesPerSlot) * (push.width * push.height) + pixel;
+    switch (slot) {
+    case 0: return hist0[at];
+    case 1: return hist1[at];
+    case 2: return hist2[at];
+    case 3: return hist3[at];
+    case 4: return hist4[at];
+    default: return hist5[at];
+    }
+}
+
+// A lane owns PIX consecutive pixels of a row: the candidates of its window row then share
+// their bins between the lane's pixels (PIX + 2b reads for PIX x (2b+1) terms per bin).
+const int PIX = RHF_TERMS_PIXELS_PER_LANE;
+const int SPAN = PIX + 2 * B;
+float sum[PIX * SIDE], count[PIX * SIDE], np[PIX], nq[SPAN], hp[PIX], hq[SPAN];
+
+// Add the terms of the bin planes buffer `h` (slot `slot`) holds.
+#define ACCUMULATE(h, slot)                                                              \
+    {                                                                                    \
+        int first = slot * push.planesPerSlot;                                           \
+        int last = min(first + push.planesPerSlot, push.binPlanes);                      \
+        for (int plane = first; plane < last; ++plane) {                                 \
+            int base = (plane - first) * pixels;                                         \
+            [[unroll]] for (int j = 0; j < PIX; ++j)                                     \
+                hp[j] = h[base + pRow + min(x0 + j, push.width - 1)] * push.histScale;   \
+            [[unroll]] for (int m = 0; m < SPAN; ++m)                                    \
+                hq[m] = h[base + qRow + clamp(x0 + m - B, 0, push.width - 1)] *          \
+                        push.histScale;                                                  \
+            [[unroll]] for (int j = 0; j < PIX; ++j)                                     \
+                [[unroll]] for (int k = 0; k < SIDE; ++k) {                              \
+                    float both = hp[j] + hq[j + k];                                      \
+                    if (both > 1.0 && np[j] != 0.0 && nq[j + k] != 0.0) {                \
+                        float d = nq[j + k] * hp[j] - np[j] * hq[j + k];                 \
+                        sum[j * SIDE + k] += d * d / (np[j] * nq[j + k] * both);         \
+                        count[j * SIDE + k] += 1.0;                                      \
+                    }                                                                    \
+                }                                                                        \
+        }                                                                                \
+    }
+
+void main() {
+    int x0 = int(gl_GlobalInvocationID.x) * PIX, r = int(gl_WorkGroupID.y),
+        dy = int(gl_WorkGroupID.z);
+    if (x0 >= push.width) return;
+    int y = push.rowBase + r, qy = y + dy, pixels = push.width * push.height;
+    [[unroll]] for (int i = 0; i < PIX * SIDE; ++i) {
+        sum[i] = 0.0;
+        count[i] = 0.0;
+    }
+    if (qy >= 0 && qy < push.height) {
+        int pRow = y * push.width, qRow = qy * push.width;
+        // Counts; 0 marks a pixel or candidate outside the image (never counted).
+        [[unroll]] for (int j = 0; j < PIX; ++j)
+            np[j] = x0 + j < push.width ? Hist(push.binPlanes, pRow + x0 + j) * push.histScale
+                                        : 0.0;
+        [[unroll]] for (int m = 0; m < SPAN; ++m) {
+            int qx = x0 + m - B;
+            nq[m] = qx >= 0 && qx < push.width ? Hist(push.binPlanes, qRow + qx) * push.histScale
+                                               : 0.0;
+        }
+        int slots = (push.binPlanes + push.planesPerSlot - 1) / push.planesPerSlot;
+        ACCUMULATE(hist0, 0)
+        if (slots > 1) ACCUMULATE(hist1, 1)
+        if (slots > 2) ACCUMULATE(hist2, 2)
+        if (slots > 3) ACCUMULATE(hist3, 3)
+        if (slots > 4) ACCUMULATE(hist4, 4)
+        if (slots > 5) ACCUMULATE(hist5, 5)
+    }
+    [[unroll]] for (int j = 0; j < PIX; ++j)
+        [[unroll]] for (int k = 0; k < SIDE; ++k) {
+            if (x0 + j >= push.width) continue;
+            int at = ((dy * SIDE + k) * push.rows + r) * push.width + x0 + j;
+            termSum[at] = sum[j * SIDE + k];
+            termCount[at] = count[j * SIDE + k];
+        }
+}

@@ -1,0 +1,272 @@
+// Method rhf: the GPU filter against the CPU reference (cpu_reference/rhf.h) on random
+// histograms and edge sizes, the split paths, reruns, and the properties of issue #4.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "cpu_reference/rhf.h"
+#include "harness/compare.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/error.h"
+#include "host/methods/rhf.h"
+#include "tools/render/renderer.h"
+
+namespace mcd::test {
+namespace {
+
+constexpr double kUnitRoundoff = 0x1p-24;
+constexpr int kBins = 20;
+
+// A frame of a few flat regions with Monte Carlo noise: each pixel's samples are its
+// region's colour times lognormal noise, binned as the renderer bins them; the colour is
+// the samples' mean. Sample counts vary from 4 to 24 so the count terms matter.
+struct Frame {
+    Image color, hist;
+};
+
+Frame MakeFrame(int w, int h, uint64_t seed, int bins = kBins) {
+    std::mt19937_64 rng(seed);
+    std::uniform_int_distribution<int> spp(4, 24);
+    std::normal_distribution<double> noise(0.0, 0.6);
+    const double regions[3][3] = {{0.2, 0.3, 0.4}, {0.9, 0.5, 0.1}, {2.5, 2.0, 1.5}};
+    Frame f{Image(w, h, 3), Image(w, h, 3 * bins + 1)};
+    std::vector<float> pixelHist(3 * bins);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            // Diagonal bands, so patches straddle region edges.
+            const double *base = regions[((x + 2 * y) / 5) % 3];
+            int n = spp(rng);
+            std::fill(pixelHist.begin(), pixelHist.end(), 0.f);
+            double sum[3] = {0, 0, 0};
+            for (int k = 0; k < n; ++k) {
+                double c[3];
+                double m = std::exp(noise(rng) - 0.18);
+                for (int ch = 0; ch < 3; ++ch) sum[ch] += c[ch] = base[ch] * m;
+                render::AddToHistogram(c, bins, pixelHist.data());
+            }
+            for (int ch = 0; ch < 3; ++ch) f.color.At(ch, y, x) = float(sum[ch] / n);
+            for (int i = 0; i < 3 * bins; ++i) f.hist.At(i, y, x) = pixelHist[i];
+            f.hist.At(3 * bins, y, x) = float(n);
+        }
+    return f;
+}
+
+ref::RhfParams Params(const RhfOptions &o) {
+    return {o.patchHalf, o.searchHalf, double(o.threshold), o.knn, o.scales};
+}
+
+double MaxAbs(const Image &image) {
+    double m = 0;
+    for (float v : image.data) m = std::max(m, double(std::fabs(v)));
+    return m;
+}
+
+// The output is, per scale, a mean of at most (2w+1)^2 means of at most (2b+1)^2 colours:
+// float summation errs by at most (terms) unit round-offs of the largest colour. Each
+// coarser scale comes back through a Gaussian (taps summing to 1) and two bicubic
+// interpolations (absolute weights summing to 1.5625 per axis pair), which multiplies
+// what it carries by at most ~4 per scale; 2000 round-offs of the largest colour cover
+// three scales of the default window with room to spare. Selections are discrete: a
+// distance within round-off of the threshold could flip, which random data never hits.
+Tolerance ToleranceFor(const Image &color, const RhfOptions &o) {
+    int side = 2 * o.searchHalf + 1, patch = 2 * o.patchHalf + 1;
+    double terms = side * side + patch * patch + 2;
+    double perScale = 2 * terms * kUnitRoundoff * MaxAbs(color);
+    return {0, perScale * std::pow(4.0, o.scales - 1) * 2, 1e-9};
+}
+
+class RhfKernel : public GpuTest {};
+
+TEST_F(RhfKernel, SingleScaleMatchesReference) {
+    struct Case {
+        int w, h, patchHalf, searchHalf, knn;
+        float threshold;
+    };
+    for (Case c :
+         {Case{37, 23, 1, 6, 2, 0.8f}, Case{1, 1, 1, 6, 2, 0.8f}, Case{2, 2, 1, 6, 2, 0.8f},
+          Case{5, 4, 1, 6, 2, 0.8f}, Case{13, 9, 2, 3, 3, 0.5f}, Case{16, 16, 0, 2, 1, 1.5f},
+          Case{11, 3, 1, 6, 0, 0.8f}}) {
+        SCOPED_TRACE(fmt::format("{}x{} w {} b {} knn {} kappa {}", c.w, c.h, c.patchHalf,
+                                 c.searchHalf, c.knn, c.threshold));
+        Frame f = MakeFrame(c.w, c.h, SeedFromName(fmt::format("rhf1 {}x{}", c.w, c.h)));
+        RhfOptions o;
+        o.patchHalf = c.patchHalf;
+        o.searchHalf = c.searchHalf;
+        o.knn = c.knn;
+        o.threshold = c.threshold;
+        o.scales = 1;
+        Image expected = ref::Rhf(f.color, f.hist, Params(o));
+        RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+        EXPECT_TRUE(result.warnings.empty());
+        EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
+    }
+}
+
+TEST_F(RhfKernel, MultiScaleMatchesReference) {
+    struct Case {
+        int w, h, searchHalf, scales, expectedScales;
+    };
+    for (Case c : {Case{40, 30, 6, 2, 2}, Case{29, 33, 3, 3, 3}, Case{27, 26, 6, 2, 2},
+                   Case{23, 40, 6, 2, 1}}) {
+        SCOPED_TRACE(fmt::format("{}x{} b {} scales {}", c.w, c.h, c.searchHalf, c.scales));
+        Frame f = MakeFrame(c.w, c.h, SeedFromName(fmt::format("rhfms {}x{}", c.w, c.h)));
+        RhfOptions o;
+        o.searchHalf = c.searchHalf;
+        o.scales = c.scales;
+        ASSERT_EQ(ref::RhfScalesUsed(c.w, c.h, Params(o)), c.expectedScales);
+        Image expected = ref::Rhf(f.color, f.hist, Params(o));
+        RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+        EXPECT_EQ(result.scalesUsed, c.expectedScales);
+        EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
+    }
+}
+
+// Histograms split over several buffers and distances computed in thin strips (the
+// paths big frames take) give the same bits as the one-buffer, one-strip run.
+TEST_F(RhfKernel, SplitsAreBitIdentical) {
+    Frame f = MakeFrame(33, 31, SeedFromName("rhf split"));
+    RhfOptions o;
+    o.searchHalf = 4;
+    Image whole = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    for (auto [perSlot, strip] : {std::pair{11, 0}, std::pair{0, 3}, std::pair{13, 1}}) {
+        SCOPED_TRACE(fmt::format("{} planes per buffer, {} rows per strip", perSlot, strip));
+        o.planesPerSlot = perSlot;
+        o.stripRows = strip;
+        EXPECT_TRUE(BitIdentical(whole, RhfDenoise(Ctx(), f.color, f.hist, o).image));
+    }
+}
+
+TEST_F(RhfKernel, RerunsAreBitIdentical) {
+    Frame f = MakeFrame(45, 38, SeedFromName("rhf rerun"));
+    RhfOptions o;
+    Image first = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    EXPECT_TRUE(BitIdentical(first, RhfDenoise(Ctx(), f.color, f.hist, o).image));
+}
+
+class RhfProperties : public GpuTest {};
+
+// Threshold 0 and k_NN 1 select only the patch itself: every estimate of a pixel is its
+// own value, and a mean of equal values is that value up to the rounding of the sum.
+TEST_F(RhfProperties, OnlyItselfLeavesTheImageUnchanged) {
+    Frame f = MakeFrame(21, 17, SeedFromName("rhf identity"));
+    RhfOptions o;
+    o.threshold = 0;
+    o.knn = 1;
+    o.scales = 1;
+    Image out = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    EXPECT_TRUE(ImagesMatch(f.color, out, {}, {20 * kUnitRoundoff, 0, 1e-12}));
+}
+
+// At two scales too: the coarse scale then selects nothing (k_NN is 0 there), so u_1 is
+// D(u) and the recombination adds U(D(u)) - U(D(u)), the same bits computed twice.
+TEST_F(RhfProperties, OnlyItselfAtTwoScalesLeavesTheImageUnchanged) {
+    Frame f = MakeFrame(30, 28, SeedFromName("rhf identity 2"));
+    RhfOptions o;
+    o.threshold = 0;
+    o.knn = 1;
+    o.scales = 2;
+    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    ASSERT_EQ(result.scalesUsed, 2);
+    // (u - a) + a rounds twice: a few units of round-off of the larger of u and a.
+    EXPECT_TRUE(ImagesMatch(f.color, result.image, {},
+                            {0, 8 * kUnitRoundoff * MaxAbs(f.color), 1e-12}));
+}
+
+// Any selection averages equal values: a constant colour stays constant, at every scale.
+TEST_F(RhfProperties, ConstantStaysConstant) {
+    Frame f = MakeFrame(40, 36, SeedFromName("rhf constant"));
+    for (float &v : f.color.data) v = 0.7f;
+    RhfOptions o;
+    Image out = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    EXPECT_TRUE(ImagesMatch(f.color, out, {}, {200 * kUnitRoundoff, 0, 1e-12}));
+}
+
+// Identical histograms everywhere: every distance is 0, so every patch of the clamped
+// window is averaged. Checked against that average written directly.
+TEST_F(RhfProperties, IdenticalHistogramsSelectTheWholeWindow) {
+    const int w = 19, h = 14;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf identical"));
+    for (int i = 0; i < f.hist.channels; ++i)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) f.hist.At(i, y, x) = f.hist.At(i, 0, 0);
+    RhfOptions o;
+    o.scales = 1;
+    o.searchHalf = 4;
+    o.knn = 0;
+    Image out = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    Image direct(w, h, 3);
+    const int pw = o.patchHalf, b = o.searchHalf;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double total = 0;
+                int estimates = 0;
+                for (int cy = y - pw; cy <= y + pw; ++cy)
+                    for (int cx = x - pw; cx <= x + pw; ++cx) {
+                        if (cx < 0 || cy < 0 || cx >= w || cy >= h) continue;
+                        int w0 = std::min({pw, cx, cy, w - 1 - cx, h - 1 - cy});
+                        if (std::abs(x - cx) > w0 || std::abs(y - cy) > w0) continue;
+                        double mean = 0;
+                        int n = 0;
+                        for (int qy = std::max(cy - b, w0); qy <= std::min(cy + b, h - 1 - w0);
+                             ++qy)
+                            for (int qx = std::max(cx - b, w0);
+                                 qx <= std::min(cx + b, w - 1 - w0); ++qx, ++n)
+                                mean += f.color.At(c, qy + y - cy, qx + x - cx);
+                        total += mean / n;
+                        ++estimates;
+                    }
+                direct.At(c, y, x) = float(total / estimates);
+            }
+    EXPECT_TRUE(ImagesMatch(direct, out, {}, ToleranceFor(f.color, o)));
+}
+
+TEST_F(RhfProperties, BadPixelsGiveFiniteOutputAndCountedWarnings) {
+    const int w = 24, h = 20, n3 = 3 * kBins;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf bad"));
+    float nan = std::numeric_limits<float>::quiet_NaN(),
+          inf = std::numeric_limits<float>::infinity();
+    f.color.At(0, 3, 4) = nan;
+    f.color.At(2, 10, 11) = inf;
+    f.color.At(1, 0, 0) = -inf;
+    f.hist.At(n3, 5, 5) = 0;                                // no samples
+    for (int i = 0; i <= n3; ++i) f.hist.At(i, 7, 20) = 0;  // empty histogram
+    f.hist.At(3, 12, 2) = nan;                              // a NaN bin
+    f.hist.At(n3, 19, 23) = -2;                             // a negative count
+    RhfOptions o;
+    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    for (float v : result.image.data) ASSERT_TRUE(std::isfinite(v));
+    std::string all;
+    for (const std::string &s : result.warnings) all += s + "\n";
+    EXPECT_NE(all.find("3 pixel(s) have a NaN/Inf colour"), std::string::npos) << all;
+    EXPECT_NE(all.find("2 pixel(s) have NaN/Inf/negative histogram"), std::string::npos) << all;
+    // The count-0 pixel, the empty one, and the negative count set to 0.
+    EXPECT_NE(all.find("3 pixel(s) have no samples"), std::string::npos) << all;
+    // All histograms empty: nothing is counted, every distance is 0, still finite.
+    for (float &v : f.hist.data) v = 0;
+    result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    for (float v : result.image.data) ASSERT_TRUE(std::isfinite(v));
+}
+
+TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
+    Frame f = MakeFrame(8, 8, 1);
+    RhfOptions o;
+    Image wrong(8, 8, 60);
+    EXPECT_THROW(RhfDenoise(Ctx(), f.color, wrong, o), Error);
+    Image small(4, 8, f.hist.channels);
+    EXPECT_THROW(RhfDenoise(Ctx(), f.color, small, o), Error);
+    o.knn = 1000;
+    EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
+    o = {};
+    o.threshold = -1;
+    EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
+}
+
+}  // namespace
+}  // namespace mcd::test

@@ -1,0 +1,113 @@
+// `mcdenoise denoise --method rhf` end to end: a rendered frame with histograms in, a
+// denoised frame out, the plan, errors on frames without histograms, and frames from
+// another renderer in the authors' channel layout.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "host/image.h"
+#include "host/io/frame.h"
+
+namespace mcd::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Ran {
+    int code = -1;
+    std::string out;
+};
+
+class RhfCli : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir = fs::temp_directory_path() / ("mcd_rhf_cli_" + std::to_string(::getpid()));
+        fs::create_directories(dir);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+    // Run the tool in the temporary directory; stdout and stderr together.
+    Ran Run(const std::string &args) {
+        std::string command =
+            "cd '" + dir.string() + "' && '" MCD_TOOL_PATH "' " + args + " 2>&1";
+        Ran ran;
+        FILE *pipe = popen(command.c_str(), "r");
+        if (!pipe) return ran;
+        char buffer[4096];
+        size_t n;
+        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) ran.out.append(buffer, n);
+        int status = pclose(pipe);
+        ran.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+        return ran;
+    }
+    std::string Path(const std::string &name) const { return (dir / name).string(); }
+    static bool Has(const std::string &text, const std::string &part) {
+        return text.find(part) != std::string::npos;
+    }
+    fs::path dir;
+};
+
+TEST_F(RhfCli, DenoisesARenderedFrame) {
+    ASSERT_EQ(Run("render --scene cornell --size 32x28 --spp 4 --layers hist -o n.exr").code,
+              0);
+    ASSERT_EQ(Run("render --scene cornell --size 32x28 --spp 64 --seed 7 -o r.exr").code, 0);
+    Ran r = Run("denoise n.exr --method rhf --explain -o d.exr --reference r.exr");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_TRUE(Has(r.out, "chi-square pixel terms")) << r.out;
+    EXPECT_TRUE(Has(r.out, "u_0 - U(D(u_0)) + U(u_1)")) << r.out;
+    EXPECT_TRUE(Has(r.out, "PSNR")) << r.out;
+    Image out = io::ReadImage(Path("d.exr"));
+    EXPECT_EQ(out.width, 32);
+    for (float v : out.data) ASSERT_TRUE(std::isfinite(v));
+    // Options reach the method: one scale requested, none left out.
+    r =
+        Run("denoise n.exr --method rhf --nscales 1 --kappa 0.5 --knn 3 --patch-half 2 "
+            "--search-half 4 --explain -o e.exr");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_FALSE(Has(r.out, "scale 1")) << r.out;
+    EXPECT_TRUE(Has(r.out, "5x5 patch distances")) << r.out;
+    EXPECT_TRUE(Has(r.out, "81 offsets")) << r.out;
+    // Every stage against the CPU reference.
+    r = Run("diff n.exr --method rhf");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_TRUE(Has(r.out, "filtered s1")) << r.out;
+    EXPECT_TRUE(Has(r.out, "combined s0")) << r.out;
+    // A frame without histograms is refused, naming what is missing.
+    ASSERT_EQ(Run("render --size 8x8 --spp 2 -o bare.exr").code, 0);
+    r = Run("denoise bare.exr --method rhf -o f.exr");
+    EXPECT_NE(r.code, 0);
+    EXPECT_TRUE(Has(r.out, "Bin_0000")) << r.out;
+    EXPECT_FALSE(fs::exists(dir / "f.exr"));
+}
+
+// Another renderer's file in the authors' layout: Bin_NNNN channels only next to the RGB
+// colour, here with 8 bins and a NaN colour, reads as histograms and gives a warning.
+TEST_F(RhfCli, ReadsOtherRenderersLayoutAndWarns) {
+    const int w = 16, h = 12, n = 8;
+    Image color(w, h, 3), hist(w, h, 3 * n + 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int bin = (x / 4) % n;
+            for (int c = 0; c < 3; ++c) {
+                color.At(c, y, x) = 0.1f * float(bin + 1);
+                hist.At(c * n + bin, y, x) = 6;
+            }
+            hist.At(3 * n, y, x) = 6;
+        }
+    color.At(1, 3, 3) = std::nanf("");
+    io::WriteExr(Path("other.exr"), {{"color", &color}, {"hist", &hist}});
+    Ran r = Run("denoise other.exr --method rhf -o d.exr");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_TRUE(Has(r.out, "1 pixel(s) have a NaN/Inf colour")) << r.out;
+    for (float v : io::ReadImage(Path("d.exr")).data) ASSERT_TRUE(std::isfinite(v));
+}
+
+}  // namespace
+}  // namespace mcd::test
