@@ -157,7 +157,9 @@ TEST(BayesModel, PosteriorMeanProperties) {
         }
         // (Equal for Gaussian prior and noise: the Wiener gain. A prior far narrower than
         // the noise, s_c = 1e-4 s_n, only lets go beyond y ~ 100 s_n: not "large" here.)
-        if (k.sc >= 0.1 * k.sn) EXPECT_LE(maxSmallRatio, minLargeRatio * (1 + 1e-9));
+        if (k.sc >= 0.1 * k.sn) {
+            EXPECT_LE(maxSmallRatio, minLargeRatio * (1 + 1e-9));
+        }
         EXPECT_EQ(ref::PosteriorMean(0, fit, k.sn, k.pn), 0);
     }
     ref::BandFit light{BAYES_FIT_SOLVED, 0.05, 1.3};
@@ -263,8 +265,9 @@ TEST_F(BayesKernel, LogAndExpMatchReference) {
         Image expGpu = back.Download();
         EXPECT_TRUE(ImagesMatch(expExpected, expGpu, scale, {kUnitRoundoff, 0, 1e-9}));
         for (size_t i = 0; i < color.Size(); ++i)
-            if (!(std::isfinite(color.data[i]) && color.data[i] > 0))
+            if (!(std::isfinite(color.data[i]) && color.data[i] > 0)) {
                 EXPECT_EQ(expGpu.data[i], 0.f) << "exact zero at " << i;
+            }
         // Zeros denoised: they take exp of their log like any pixel; NaN/Inf/negatives 0.
         vk::Recorder again(Ctx());
         RecordBayesExp(Ctx(), again, out, in, back, false);
@@ -277,9 +280,12 @@ TEST_F(BayesKernel, LogAndExpMatchReference) {
         EXPECT_TRUE(
             ImagesMatch(expectedNoRestore, expNoRestore, scale, {kUnitRoundoff, 0, 1e-9}));
         for (size_t i = 0; i < color.Size(); ++i) {
-            if (color.data[i] == 0) EXPECT_GT(expNoRestore.data[i], 0.f) << i;
-            if (!(std::isfinite(color.data[i]) && color.data[i] >= 0))
+            if (color.data[i] == 0) {
+                EXPECT_GT(expNoRestore.data[i], 0.f) << i;
+            }
+            if (!(std::isfinite(color.data[i]) && color.data[i] >= 0)) {
                 EXPECT_EQ(expNoRestore.data[i], 0.f) << i;
+            }
         }
     }
 }
@@ -573,9 +579,11 @@ TEST_F(BayesKernel, ExtremeNoiseModelsMatchReference) {
         for (float &v : gpu.image.data) v = std::log(v);
         for (float &v : cpu.image.data) v = std::log(v);
         EXPECT_TRUE(ImagesMatch(cpu.image, gpu.image, {}, {0, 2e-3, 1e-4}));
-        if (pn < 0.2f)
-            for (const BayesBandFit &f : gpu.fits)
+        if (pn < 0.2f) {
+            for (const BayesBandFit &f : gpu.fits) {
                 EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_SIGNAL);
+            }
+        }
         if (sn < BAYES_MIN_NOISE_S) {
             for (const BayesBandFit &f : gpu.fits)
                 EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_NOISE);
