@@ -94,12 +94,38 @@ Image BayesShrinkDirect(const Image &coefficients, const std::vector<BayesBand> 
     return out;
 }
 
+namespace {
+
+// Scale each output channel by (sum of the input's finite values >= 0) / (sum of the
+// output), in double; a channel whose output sums to 0 is left as is.
+void KeepMean(const Image &color, BayesRefResult *result, bool keepStage) {
+    Image &out = result->image;
+    for (int c = 0; c < color.channels; ++c) {
+        double in = 0, sum = 0;
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double v = color.At(c, y, x);
+                if (std::isfinite(v) && v >= 0) in += v;
+                sum += out.At(c, y, x);
+            }
+        double scale = sum > 0 ? in / sum : 1.0;
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x)
+                out.At(c, y, x) = float(out.At(c, y, x) * scale);
+    }
+    if (keepStage) result->stages.push_back({"keep mean", out});
+}
+
+}  // namespace
+
 BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) {
     if (options.spins > 1) {
         BayesRefOptions once = options;
         once.spins = 1;
+        once.keepMean = false;  // applied once, to the mean over the shifts
         int w = color.width, h = color.height, n = options.spins;
         BayesRefResult result = BayesDenoise(color, once);
+        once.keepStages = false;
         Image sum(w, h, color.channels);
         std::vector<double> acc(color.Size(), 0.0);
         for (int dy = 0; dy < n; ++dy)
@@ -122,12 +148,18 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
             }
         for (size_t i = 0; i < acc.size(); ++i) sum.data[i] = float(acc[i] / (n * n));
         result.image = sum;
+        if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
+        if (options.keepMean) KeepMean(color, &result, options.keepStages);
         return result;
     }
     BayesRefResult result;
+    auto stage = [&](const char *name, const Image &image) {
+        if (options.keepStages) result.stages.push_back({name, image});
+    };
     int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
     std::vector<double> floors = BayesFloors(color, options.floorRel);
     Image logImage = BayesLog(color, floors);
+    stage("log", logImage);
     // Opponent colour: L = (r+g+b)/sqrt3, C1 = (r-g)/sqrt2, C2 = (r+g-2b)/sqrt6 of the logs.
     const double k3 = 1 / std::sqrt(3.0), k2 = 1 / std::sqrt(2.0), k6 = 1 / std::sqrt(6.0);
     const double opp[3][3] = {{k3, k3, k3}, {k2, -k2, 0}, {k6, k6, -2 * k6}};
@@ -142,22 +174,55 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
                 for (int c = 0; c < 3; ++c) image.At(c, y, x) = float(o[c]);
             }
     };
-    if (options.opponent && levels > 0) mix(logImage, false);
+    if (levels == 0) {
+        // A 1x1 image: no detail band, log then exp.
+        result.image = BayesExp(logImage, color, options.restoreZeros);
+        stage("exp", result.image);
+        if (options.keepMean) KeepMean(color, &result, options.keepStages);
+        return result;
+    }
+    if (options.opponent) {
+        mix(logImage, false);
+        stage("opponent", logImage);
+    }
     Image coefficients = WaveletAnalyze(logImage, options.basis, levels);
+    stage("analysis", coefficients);
     std::vector<BayesBand> bands =
         BayesBands(color.width, color.height, color.channels, levels);
     std::vector<double> bandSn;
+    double snBase = options.snOverride >= 0 ? options.snOverride : options.sn;
     for (const BayesBand &band : bands) {
         BandMoments m = MeasureBand(coefficients, band);
-        double sn = BandNoiseS(band.level, options.sn, options.hpFactor);
+        double sn = BandNoiseS(band.level, snBase, options.hpFactor);
         result.moments.push_back(m);
         result.fits.push_back(SolveBand(m.m2, m.m4, m.count, sn, options.pn));
         bandSn.push_back(sn);
     }
+    if (options.keepStages) {
+        int n = int(bands.size());
+        Image moments(4, n, 1), fits(3, n, 1);
+        for (int b = 0; b < n; ++b) {
+            const BandMoments &m = result.moments[b];
+            const BandFit &f = result.fits[b];
+            double row[4] = {m.m2, m.m4, m.maxAbs, double(m.count)};
+            for (int i = 0; i < 4; ++i) moments.At(0, b, i) = float(row[i]);
+            double fit[3] = {f.sc, f.pc, double(f.fit)};
+            for (int i = 0; i < 3; ++i) fits.At(0, b, i) = float(fit[i]);
+        }
+        stage("moments", moments);
+        stage("fits", fits);
+    }
     Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, options.pn);
+    stage("shrinkage", shrunk);
     Image back = WaveletSynthesize(shrunk, options.basis, levels);
-    if (options.opponent && levels > 0) mix(back, true);
+    stage("synthesis", back);
+    if (options.opponent) {
+        mix(back, true);
+        stage("opponent inverse", back);
+    }
     result.image = BayesExp(back, color, options.restoreZeros);
+    stage("exp", result.image);
+    if (options.keepMean) KeepMean(color, &result, options.keepStages);
     return result;
 }
 

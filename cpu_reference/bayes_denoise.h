@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "cpu_reference/bayes_model.h"
@@ -57,15 +59,22 @@ struct BayesRefOptions {
     bool restoreZeros = true;
     bool opponent = false;  // log luminance + 2 log chroma (orthonormal) instead of RGB
     int spins = 1;  // cycle spinning over spins x spins shifts (mirrored top-left padding)
+    // Scale each channel so its mean is the mean of the input's finite values >= 0.
+    bool keepMean = false;
+    // Keep every stage, named and laid out as host/methods/bayes.h's BayesResult::stages.
+    bool keepStages = false;
+    // When set, used instead of sn (the GPU's --noise auto estimate, for `mcdenoise diff`).
+    double snOverride = -1;
 };
 struct BayesRefResult {
     Image image;
     std::vector<BandMoments> moments;
     std::vector<BandFit> fits;
+    std::vector<std::pair<std::string, Image>> stages;
 };
 // The whole method on one image (no direct/indirect split); levels are clamped to what
-// the image allows. With spins > 1 the result is
-// the mean over the shifts and the moments/fits are the unshifted run's.
+// the image allows. With spins > 1 the result is the mean over the shifts and the
+// moments/fits/stages are the unshifted run's (then "cycle spinning", the mean).
 BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options);
 
 }  // namespace mcd::ref

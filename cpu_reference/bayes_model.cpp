@@ -26,7 +26,8 @@ BandFit SolveBand(double m2, double m4, int64_t count, double sn, double pn) {
         result.fit = BAYES_FIT_EMPTY;
         return result;
     }
-    if (sn == 0) {
+    // Compared in float, as the GPU's band parameters are: the same side of the bound.
+    if (float(sn) < float(BAYES_MIN_NOISE_S)) {
         result.fit = BAYES_FIT_NO_NOISE;
         return result;
     }

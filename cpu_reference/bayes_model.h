@@ -25,7 +25,8 @@ struct BandFit {
 // the (monotone) kurtosis m4_c / sigma_c^4 over [BAYES_P_LO, BAYES_P_HI]; s_c from sigma_c^2.
 // Fallbacks (never NaN): m2 <= sigma_n^2 (1 + BAYES_MIN_SIGNAL_FRACTION) -> NO_SIGNAL;
 // kurtosis above the bracket's -> P_LOW, below it or m4_c <= 0 -> P_HIGH; s_n == 0 ->
-// NO_NOISE; count == 0 -> EMPTY. Non-finite moments are NO_SIGNAL.
+// NO_NOISE
+// (s_n < BAYES_MIN_NOISE_S, which 0 is); count == 0 -> EMPTY. Non-finite moments are NO_SIGNAL.
 BandFit SolveBand(double m2, double m4, int64_t count, double sn, double pn);
 
 // Posterior mean c^(y) of eq. 11 for the band's fit: for NO_SIGNAL 0, NO_NOISE y; otherwise

@@ -195,24 +195,35 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     floorsGpu.UploadFloats(floors);
     WaveletTransform transform(context, w, h, channels);
     vk::Recorder recorder(context);
+    // With keepStages, submit and download after every stage; else one submission.
+    auto submit = [&] {
+        recorder.Submit();
+        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+    };
+    auto stage = [&](const char *name, const vk::GpuImage &buffer) {
+        if (!options.keepStages) return;
+        submit();
+        result.stages.push_back({name, buffer.Download()});
+    };
     RecordBayesLog(context, recorder, colorGpu, floorsGpu, work);
+    stage("log", work);
 
     if (levels == 0) {
         result.plan.push_back("left out: the shrinkage (a 1x1 image has no detail band)");
         RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
-        recorder.Submit();
-        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+        submit();
     } else {
         if (options.opponent) {
             RecordBayesMix(context, recorder, work, BayesOpponent());
             result.plan.push_back(
                 "colour: log luminance + 2 log chroma (orthonormal opponent transform)");
+            stage("opponent", work);
         }
         transform.RecordAnalysis(recorder, options.basis, levels, work, work);
+        stage("analysis", work);
         float sn = options.sn;
         if (options.noiseAuto) {
-            recorder.Submit();
-            for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+            submit();
             double mad = FinestMad(work.Download());
             double finest = BayesScaleFromMad(mad, options.pn);
             sn = float(finest / options.hpFactor);
@@ -228,15 +239,35 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         vk::Buffer params(context, bands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
         vk::Buffer table(context, bands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
         RecordBayesMoments(context, recorder, work, levels, moments);
+        if (options.keepStages) {
+            submit();
+            std::vector<float> m = moments.DownloadFloats(size_t(bands) * BAYES_MOMENT_STRIDE);
+            Image rows(BAYES_MOMENT_STRIDE, bands, 1);
+            std::copy(m.begin(), m.end(), rows.data.begin());
+            result.stages.push_back({"moments", std::move(rows)});
+        }
         RecordBayesSolve(context, recorder, moments, bands, levels, sn, options.pn,
                          sn * options.hpFactor, params);
+        if (options.keepStages) {
+            submit();
+            std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
+            Image fits(3, bands, 1);
+            for (int b = 0; b < bands; ++b)
+                for (int i = 0; i < 3; ++i)
+                    fits.At(0, b, i) = p[size_t(b) * BAYES_PARAM_STRIDE + 2 + i];
+            result.stages.push_back({"fits", std::move(fits)});
+        }
         RecordBayesTable(context, recorder, params, bands, table);
         RecordBayesShrink(context, recorder, work, levels, params, table);
+        stage("shrinkage", work);
         transform.RecordSynthesis(recorder, options.basis, levels, work, work);
-        if (options.opponent) RecordBayesMix(context, recorder, work, BayesOpponentInverse());
+        stage("synthesis", work);
+        if (options.opponent) {
+            RecordBayesMix(context, recorder, work, BayesOpponentInverse());
+            stage("opponent inverse", work);
+        }
         RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
-        recorder.Submit();
-        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+        submit();
         std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
         for (int b = 0; b < bands; ++b) {
             BayesBandFit fit{b / (3 * levels), (b % (3 * levels)) / 3, b % 3, {}};
@@ -263,7 +294,11 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         result.plan.push_back("synthesis, exp");
     }
     result.image = out.Download();
-    if (options.keepMean) KeepMean(color, &result);
+    if (options.keepStages) result.stages.push_back({"exp", result.image});
+    if (options.keepMean) {
+        KeepMean(color, &result);
+        if (options.keepStages) result.stages.push_back({"keep mean", result.image});
+    }
     return result;
 }
 
@@ -291,6 +326,12 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
                     for (int x = 0; x < w + dx; ++x)
                         padded.At(c, y, x) = color.At(c, mirror(y - dy, h), mirror(x - dx, w));
             BayesResult one = BayesDenoiseOnce(context, padded, once);
+            if (once.noiseAuto) {
+                // One noise estimate for every shift, the unshifted image's: the shifts
+                // must differ only in where the transform's grid falls.
+                once.noiseAuto = false;
+                once.sn = one.sn;
+            }
             for (int c = 0; c < color.channels; ++c)
                 for (int y = 0; y < h; ++y)
                     for (int x = 0; x < w; ++x)
@@ -302,16 +343,22 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
                 result.fits = std::move(one.fits);
                 result.sn = one.sn;
                 result.levels = one.levels;
+                result.stages = std::move(one.stages);
             }
         }
     result.plan.insert(result.plan.begin(),
                        fmt::format("cycle spinning: the average over {} x {} shifts (mirrored "
-                                   "padding); the bands below are the unshifted run's",
+                                   "padding); the bands below (and --noise auto's estimate, "
+                                   "used by every shift) are the unshifted run's",
                                    options.spins, options.spins));
     result.image = Image(w, h, color.channels);
     double count = double(options.spins) * options.spins;
     for (size_t i = 0; i < sum.size(); ++i) result.image.data[i] = float(sum[i] / count);
-    if (options.keepMean) KeepMean(color, &result);
+    if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
+    if (options.keepMean) {
+        KeepMean(color, &result);
+        if (options.keepStages) result.stages.push_back({"keep mean", result.image});
+    }
     return result;
 }
 

@@ -42,6 +42,8 @@ struct BayesOptions {
     // Shrink the orthonormal opponent transform of the log channels (log luminance, two
     // log chroma) instead of log R, G, B. Needs 3 channels.
     bool opponent = false;
+    // Download every stage's buffer (for `mcdenoise diff`): one submission per stage.
+    bool keepStages = false;
 };
 
 struct BayesBandFit {
@@ -57,6 +59,13 @@ struct BayesResult {
     std::vector<BayesBandFit> fits;
     float sn = 0;  // the noise s used (estimated with noiseAuto)
     int levels = 0;
+    // With keepStages, in order: "log", "opponent" (--colour opponent), "analysis" (the
+    // Mallat layout), "moments" (1 channel, a row per band: E[y^2], E[y^4], max |y|,
+    // count), "fits" (a row per band: s_c, p_c, fit), "shrinkage", "synthesis",
+    // "opponent inverse", "exp"; with spins > 1 these are the unshifted run's, then
+    // "cycle spinning" (the average); "keep mean" last when on. A 1x1 image (no level)
+    // has "log" and "exp" only.
+    std::vector<std::pair<std::string, Image>> stages;
 };
 
 // Denoise one image (all channels). Throws mcd::Error on bad options or an empty image;

@@ -26,8 +26,16 @@
 #define BAYES_FIT_NO_SIGNAL 1  // band variance <= noise variance: c^ = 0
 #define BAYES_FIT_P_LOW 2      // kurtosis above the reachable range: p_c = BAYES_P_LO
 #define BAYES_FIT_P_HIGH 3     // kurtosis below it (or 4th moment <= noise's): p_c = BAYES_P_HI
-#define BAYES_FIT_NO_NOISE 4   // s_n = 0: c^ = y
+#define BAYES_FIT_NO_NOISE 4   // s_n < BAYES_MIN_NOISE_S: c^ = y
 #define BAYES_FIT_EMPTY 5      // no coefficients in the band
+
+// A band whose noise s is below this is NO_NOISE (kept as is). In the log domain s_n is a
+// relative error of the pixel values: 1e-6 is below what any render carries and at the
+// float resolution of the log image itself (1 ulp of a log value near 8), so keeping the
+// coefficient changes the output by about s_n relatively: invisible. Below it the float
+// quadrature breaks down: the table's y/s_n range and (|y - c| / s_n)^p_n overflow and the
+// grid cannot resolve the posterior (measured: NaN bands, black output, at s_n 1e-19).
+#define BAYES_MIN_NOISE_S 1e-6
 
 // A band whose signal variance is below this fraction of the noise variance is NO_SIGNAL:
 // s_c would be so small that the prior is a spike at 0 and c^ is 0 to within it.

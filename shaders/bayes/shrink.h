@@ -1,7 +1,7 @@
 // Method `bayes`, the shrinkage: every detail coefficient y of a Mallat-layout image is
 // replaced, in place, by its band's table at |y| (linear in u = asinh(|y| / b)), with y's
-// sign; past the last entry the table continues with slope 1. NO_NOISE bands (s_n = 0)
-// keep y exactly; the coarsest low-low band is kept.
+// sign; past the last entry the table continues with slope 1. NO_NOISE bands (s_n below
+// BAYES_MIN_NOISE_S) keep y exactly; the coarsest low-low band is kept.
 #ifndef MCD_SHADERS_BAYES_SHRINK_H
 #define MCD_SHADERS_BAYES_SHRINK_H
 

@@ -25,7 +25,7 @@ void main() {
     float sc = 0.0, pc = 0.0;
     if (count == 0.0) {
         fit = BAYES_FIT_EMPTY;
-    } else if (sn == 0.0) {
+    } else if (sn < float(BAYES_MIN_NOISE_S)) {
         fit = BAYES_FIT_NO_NOISE;
     } else {
         float varN = sn * sn * exp(BayesLgamma(3.0 / pn) - BayesLgamma(1.0 / pn));
@@ -71,5 +71,5 @@ void main() {
     params[at + 4] = float(fit);
     params[at + 5] = yMax;
     params[at + 6] = sn;
-    params[at + 7] = sn > 0.0 ? asinh(yMax / sn) / float(BAYES_TABLE_SIZE - 1) : 0.0;
+    params[at + 7] = fit != BAYES_FIT_NO_NOISE ? asinh(yMax / sn) / float(BAYES_TABLE_SIZE - 1) : 0.0;
 }

@@ -107,6 +107,8 @@ TEST(BayesModel, SolverFallbacksAreDocumentedAndFinite) {
     EXPECT_EQ(ref::SolveBand(INFINITY, INFINITY, 10, sn, pn).fit, BAYES_FIT_NO_SIGNAL);
     EXPECT_EQ(ref::SolveBand(1, 1, 0, sn, pn).fit, BAYES_FIT_EMPTY);
     EXPECT_EQ(ref::SolveBand(1, 1, 10, 0, pn).fit, BAYES_FIT_NO_NOISE);
+    EXPECT_EQ(ref::SolveBand(1, 1, 10, 0.5 * BAYES_MIN_NOISE_S, pn).fit, BAYES_FIT_NO_NOISE);
+    EXPECT_NE(ref::SolveBand(1, 1, 10, 2 * BAYES_MIN_NOISE_S, pn).fit, BAYES_FIT_NO_NOISE);
     // Signal variance 1: a fourth moment far above any p's reach, and one below the noise's.
     ref::BandFit low = ref::SolveBand(1 + varN, 1e6, 10, sn, pn);
     EXPECT_EQ(low.fit, BAYES_FIT_P_LOW);
@@ -155,7 +157,9 @@ TEST(BayesModel, PosteriorMeanProperties) {
         }
         // (Equal for Gaussian prior and noise: the Wiener gain. A prior far narrower than
         // the noise, s_c = 1e-4 s_n, only lets go beyond y ~ 100 s_n: not "large" here.)
-        if (k.sc >= 0.1 * k.sn) EXPECT_LE(maxSmallRatio, minLargeRatio * (1 + 1e-9));
+        if (k.sc >= 0.1 * k.sn) {
+            EXPECT_LE(maxSmallRatio, minLargeRatio * (1 + 1e-9));
+        }
         EXPECT_EQ(ref::PosteriorMean(0, fit, k.sn, k.pn), 0);
     }
     ref::BandFit light{BAYES_FIT_SOLVED, 0.05, 1.3};
@@ -261,8 +265,9 @@ TEST_F(BayesKernel, LogAndExpMatchReference) {
         Image expGpu = back.Download();
         EXPECT_TRUE(ImagesMatch(expExpected, expGpu, scale, {kUnitRoundoff, 0, 1e-9}));
         for (size_t i = 0; i < color.Size(); ++i)
-            if (!(std::isfinite(color.data[i]) && color.data[i] > 0))
+            if (!(std::isfinite(color.data[i]) && color.data[i] > 0)) {
                 EXPECT_EQ(expGpu.data[i], 0.f) << "exact zero at " << i;
+            }
         // Zeros denoised: they take exp of their log like any pixel; NaN/Inf/negatives 0.
         vk::Recorder again(Ctx());
         RecordBayesExp(Ctx(), again, out, in, back, false);
@@ -275,9 +280,12 @@ TEST_F(BayesKernel, LogAndExpMatchReference) {
         EXPECT_TRUE(
             ImagesMatch(expectedNoRestore, expNoRestore, scale, {kUnitRoundoff, 0, 1e-9}));
         for (size_t i = 0; i < color.Size(); ++i) {
-            if (color.data[i] == 0) EXPECT_GT(expNoRestore.data[i], 0.f) << i;
-            if (!(std::isfinite(color.data[i]) && color.data[i] >= 0))
+            if (color.data[i] == 0) {
+                EXPECT_GT(expNoRestore.data[i], 0.f) << i;
+            }
+            if (!(std::isfinite(color.data[i]) && color.data[i] >= 0)) {
                 EXPECT_EQ(expNoRestore.data[i], 0.f) << i;
+            }
         }
     }
 }
@@ -479,6 +487,12 @@ TEST_F(BayesKernel, TableAndShrinkMatchTheDirectIntegral) {
 
 // ---------------------------------------------------------------- the whole method
 
+bool AllFinite(const Image &image) {
+    for (float v : image.data)
+        if (!std::isfinite(v)) return false;
+    return true;
+}
+
 // A smooth picture times multiplicative log-normal noise: the case the model is for.
 Image NoisyPicture(int w, int h, uint64_t seed, double noise) {
     Image image(w, h, 3);
@@ -538,6 +552,65 @@ TEST_F(BayesKernel, CycleSpinningMatchesReference) {
         EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
         EXPECT_TRUE(Contains(gpu.plan[0], "cycle spinning"));
     }
+}
+
+// Noise models at the ends of the options' ranges, against the reference with the whole
+// method's tolerance. p_n 10 with s_n 0.01: (|y - c| / s_n)^10 overflowed float before
+// model.glsl capped the exponent (NaN tables, a black image; 1e-3 too, measured with `diff`,
+// left out here for time: its tables need the full 65536 points). s_n 1e-30: below
+// BAYES_MIN_NOISE_S every band is NO_NOISE and the input comes back through the transforms
+// (before: NaN bands, a black image). p_n 0.1: every band NO_SIGNAL.
+TEST_F(BayesKernel, ExtremeNoiseModelsMatchReference) {
+    Image color = NoisyPicture(23, 14, SeedFromName("extreme noise models"), 0.3);
+    for (auto [sn, pn] :
+         {std::pair{0.01f, 10.f}, std::pair{1e-30f, 1.5f}, std::pair{0.19f, 0.1f}}) {
+        SCOPED_TRACE(fmt::format("s_n {} p_n {}", sn, pn));
+        BayesOptions options;
+        options.sn = sn;
+        options.pn = pn;
+        BayesResult gpu = BayesDenoise(Ctx(), color, options);
+        EXPECT_TRUE(AllFinite(gpu.image));
+        ref::BayesRefOptions refOptions;
+        refOptions.sn = sn;
+        refOptions.pn = pn;
+        ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+        for (size_t b = 0; b < cpu.fits.size(); ++b)
+            EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+        for (float &v : gpu.image.data) v = std::log(v);
+        for (float &v : cpu.image.data) v = std::log(v);
+        EXPECT_TRUE(ImagesMatch(cpu.image, gpu.image, {}, {0, 2e-3, 1e-4}));
+        if (pn < 0.2f) {
+            for (const BayesBandFit &f : gpu.fits) {
+                EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_SIGNAL);
+            }
+        }
+        if (sn < BAYES_MIN_NOISE_S) {
+            for (const BayesBandFit &f : gpu.fits)
+                EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_NOISE);
+            Image logIn = color;
+            for (float &v : logIn.data) v = std::log(v);
+            EXPECT_TRUE(ImagesMatch(logIn, gpu.image, {}, {0, 1e-5, 1e-6}));
+        }
+    }
+}
+
+// --noise auto with cycle spinning: one estimate (the unshifted image's) for every shift,
+// so the reference given that s_n agrees within the usual tolerance.
+TEST_F(BayesKernel, NoiseAutoSpinsShareOneEstimate) {
+    Image color = NoisyPicture(21, 13, SeedFromName("auto spins"), 0.3);
+    BayesOptions options;
+    options.noiseAuto = true;
+    options.spins = 2;
+    BayesResult gpu = BayesDenoise(Ctx(), color, options);
+    options.spins = 1;
+    EXPECT_EQ(BayesDenoise(Ctx(), color, options).sn, gpu.sn);
+    ref::BayesRefOptions refOptions;
+    refOptions.spins = 2;
+    refOptions.snOverride = gpu.sn;
+    Image cpu = ref::BayesDenoise(color, refOptions).image;
+    for (float &v : gpu.image.data) v = std::log(v);
+    for (float &v : cpu.data) v = std::log(v);
+    EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
 }
 
 // The mix kernel: three products and two sums in float per output, so within 4 u of
@@ -604,12 +677,6 @@ TEST_F(BayesKernel, RerunsAreBitIdentical) {
 // ---------------------------------------------------------------- properties
 
 class BayesProperties : public GpuTest {};
-
-bool AllFinite(const Image &image) {
-    for (float v : image.data)
-        if (!std::isfinite(v)) return false;
-    return true;
-}
 
 bool AnyWarning(const BayesResult &r, const std::string &part) {
     for (const std::string &w : r.warnings)

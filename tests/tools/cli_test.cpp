@@ -16,12 +16,14 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <random>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "bayes/bayes.h"
 #include "cpu_reference/wavelet_analyze.h"
 #include "harness/compare.h"
 #include "harness/inputs.h"
@@ -352,6 +354,121 @@ TEST_F(CliTest, DiffAwrStages) {
     }
     EXPECT_TRUE(IsError(Run("diff f.exr --method nope"), "nope"));
     EXPECT_TRUE(IsError(Run("diff f.exr --cs 0"), "nothing to compare"));
+}
+
+// The rows of `mcdenoise diff`: stage -> (NMSE, max rel error), and the stage order.
+struct DiffRows {
+    std::vector<std::string> order;
+    std::map<std::string, std::pair<double, double>> rows;
+};
+DiffRows ParseDiff(const std::string &out) {
+    DiffRows d;
+    std::istringstream lines(out);
+    std::string line;
+    std::getline(lines, line);  // title
+    std::getline(lines, line);  // header
+    while (std::getline(lines, line)) {
+        // The name may hold spaces; the last three fields are numbers.
+        std::istringstream fields(line);
+        std::vector<std::string> words{std::istream_iterator<std::string>(fields), {}};
+        if (words.size() < 4) continue;
+        std::string name;
+        for (size_t i = 0; i + 3 < words.size(); ++i) name += (i ? " " : "") + words[i];
+        d.order.push_back(name);
+        d.rows[name] = {std::stod(words[words.size() - 3]), std::stod(words[words.size() - 2])};
+    }
+    return d;
+}
+
+// `diff --method bayes`: every stage of the GPU run (float32) against the CPU reference
+// (double where it matters), with bounds derived stage by stage (u = 2^-24):
+// - log, analysis, moments: float rounding of a few to tens of u per element (GLSL log 3
+//   ulp; Haar 2 u per level; the moment sums (count/256 + 12) u, and m4 carries 4 times
+//   its coefficients' error): relative error under 50 u, NMSE under (50 u)^2 ~ 1e-11.
+// - fits (s_c, p_c, fit code): float lgamma is good to about 2^-20 absolute, 6 calls per
+//   log kurtosis, moving p_c by that over the slope of log kurtosis (>= 0.2 on the
+//   bracket): relative error under 3e-5, NMSE under 1e-9. A fit code that differs (codes
+//   are O(1) beside s_c, p_c) would be far above it.
+// - shrinkage: the table's interpolation error, at most du^2 (|y| + 4 s_n) per detail
+//   coefficient (BayesKernel.TableAndShrinkMatchTheDirectIntegral) with du = asinh(y_max /
+//   s_n) / 255; taken at the worst band (largest |y|, smallest s_n) and summed over the
+//   dumped coefficients, plus the fits' 1e-9. A worst-case bound: the error is that large
+//   only at the table's knee, so it is loose by about 10^3 on this frame.
+// - synthesis: orthonormal Haar keeps the error's energy, plus 2 u per level.
+// - exp: out (1 + dz) with |dz| <= the synthesis' max rel error times max |z|, plus exp's
+//   (3 + 2 |z|) u: NMSE <= max dz^2. split: the same absolute error on a larger image.
+TEST_F(CliTest, DiffBayesStages) {
+    ASSERT_EQ(Run("render --size 29x17 --spp 4 --layers split -o f.exr").code, 0);
+    RunResult r = Run("diff f.exr --method bayes --dump db");
+    ASSERT_EQ(r.code, 0) << r.All();
+    DiffRows d = ParseDiff(r.out);
+    const std::vector<std::string> stages = {"log",       "analysis",  "moments", "fits",
+                                             "shrinkage", "synthesis", "exp",     "split"};
+    ASSERT_EQ(d.order, stages) << r.out;
+    const double u = std::ldexp(1.0, -24), sn = 0.19;  // the defaults: 3 Haar levels
+    const int levels = 3;
+    Image coef = io::ReadImage(Path("db/analysis.cpu.exr").string());
+    Image shrunk = io::ReadImage(Path("db/shrinkage.cpu.exr").string());
+    Image logOut = io::ReadImage(Path("db/synthesis.cpu.exr").string());
+    int lowW = LevelExtent(coef.width, levels), lowH = LevelExtent(coef.height, levels);
+    double yMax = 0, maxZ = 0, num = 0, den = 0;
+    auto detail = [&](int y, int x) { return x >= lowW || y >= lowH; };
+    for (int c = 0; c < coef.channels; ++c)
+        for (int y = 0; y < coef.height; ++y)
+            for (int x = 0; x < coef.width; ++x)
+                if (detail(y, x)) yMax = std::max(yMax, double(std::fabs(coef.At(c, y, x))));
+    double du = std::asinh(yMax / sn) / (BAYES_TABLE_SIZE - 1);
+    for (int c = 0; c < coef.channels; ++c)
+        for (int y = 0; y < coef.height; ++y)
+            for (int x = 0; x < coef.width; ++x) {
+                if (detail(y, x))
+                    num += std::pow(du * du * (std::fabs(coef.At(c, y, x)) + 8 * sn), 2);
+                den += double(shrunk.At(c, y, x)) * shrunk.At(c, y, x);
+            }
+    for (float z : logOut.data) maxZ = std::max(maxZ, double(std::fabs(z)));
+    std::map<std::string, double> bound = {
+        {"log", 1e-11}, {"analysis", 1e-11}, {"moments", 1e-11}, {"fits", 1e-9}};
+    bound["shrinkage"] = num / den + 1e-9;
+    bound["synthesis"] = std::pow(std::sqrt(bound["shrinkage"]) + 2 * (levels + 1) * u, 2);
+    double dz = d.rows["synthesis"].second * maxZ + (3 + 2 * maxZ) * u;
+    bound["exp"] = bound["split"] = dz * dz * 1.01;
+    for (const std::string &stage : stages) {
+        SCOPED_TRACE(stage);
+        EXPECT_LT(d.rows[stage].first, bound[stage]) << r.out;
+        EXPECT_GT(bound[stage], 0);
+        std::string file = stage;
+        EXPECT_TRUE(fs::exists(Path("db/" + file + ".gpu.exr")));
+        EXPECT_TRUE(fs::exists(Path("db/" + file + ".cpu.exr")));
+    }
+    // Every optional stage, in order, on the whole color. exp's bound as above from the
+    // stage before it; cycle spinning averages the shifted runs' exps, whose log error is
+    // not printed (only the unshifted run's stages are): taken as at most twice the
+    // unshifted one's, so 4 dz^2; keep mean scales by a ratio of sums good to ~1e-7.
+    r =
+        Run("diff f.exr --method bayes --no-split --colour opponent --spins 2 --keep-mean "
+            "--noise auto --dump db2");
+    ASSERT_EQ(r.code, 0) << r.All();
+    d = ParseDiff(r.out);
+    ASSERT_EQ(d.order,
+              (std::vector<std::string>{"log", "opponent", "analysis", "moments", "fits",
+                                        "shrinkage", "synthesis", "opponent inverse", "exp",
+                                        "cycle spinning", "keep mean"}))
+        << r.out;
+    maxZ = 0;
+    for (float z : io::ReadImage(Path("db2/opponent-inverse.cpu.exr").string()).data)
+        maxZ = std::max(maxZ, double(std::fabs(z)));
+    dz = d.rows["opponent inverse"].second * maxZ + (3 + 2 * maxZ) * u;
+    EXPECT_LT(d.rows["exp"].first, dz * dz * 1.01) << r.out;
+    for (const char *stage : {"cycle spinning", "keep mean"})
+        EXPECT_LT(d.rows[stage].first, 4 * dz * dz) << stage << "\n" << r.out;
+    for (const char *stage : {"log", "opponent", "analysis", "moments"})
+        EXPECT_LT(d.rows[stage].first, 1e-11) << stage << "\n" << r.out;
+    EXPECT_LT(d.rows["fits"].first, 1e-9) << r.out;
+    // A 1x1 frame has no detail band: log and exp only.
+    ASSERT_EQ(Run("render --size 1x1 --spp 2 -o one.exr").code, 0);
+    r = Run("diff one.exr --method bayes");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_EQ(ParseDiff(r.out).order, (std::vector<std::string>{"log", "exp"})) << r.out;
 }
 
 TEST_F(CliTest, RenderAndCompare) {

@@ -3,7 +3,10 @@
 // indirect part is denoised (section 4.1); otherwise the whole image, and the plan says so.
 #include <fmt/format.h>
 
+#include <cmath>
 #include <memory>
+
+#include "cpu_reference/bayes_denoise.h"
 
 #include "host/error.h"
 #include "host/methods/bayes.h"
@@ -19,6 +22,30 @@ struct BayesCliOptions {
     float sn = 0.19f, pn = 1.5f, hpFactor = 2.f, floorRel = 1e-3f;
     bool noSplit = false, keepMean = false;
     std::string zeros = "restore", colour = "rgb";
+
+    BayesOptions Options() const {
+        std::optional<WaveletBasis> parsed = ParseWavelet(basis);
+        if (!parsed) throw Error("bayes: unknown wavelet basis '" + basis + "'");
+        if (noise != "fixed" && noise != "auto")
+            throw Error("--noise takes fixed or auto, not '" + noise + "'");
+        if (zeros != "restore" && zeros != "denoise")
+            throw Error("--zeros takes restore or denoise, not '" + zeros + "'");
+        if (colour != "rgb" && colour != "opponent")
+            throw Error("--colour takes rgb or opponent, not '" + colour + "'");
+        BayesOptions options;
+        options.restoreZeros = zeros == "restore";
+        options.keepMean = keepMean;
+        options.spins = spins;
+        options.opponent = colour == "opponent";
+        options.basis = *parsed;
+        options.levels = levels;
+        options.sn = sn;
+        options.pn = pn;
+        options.hpFactor = hpFactor;
+        options.floorRel = floorRel;
+        options.noiseAuto = noise == "auto";
+        return options;
+    }
 };
 
 }  // namespace
@@ -76,26 +103,7 @@ DenoiseMethod BayesMethod() {
                       "bayes: denoise the whole color even when direct/indirect exist");
     };
     method.run = [opt](vk::Context &context, const io::Frame &frame) {
-        std::optional<WaveletBasis> basis = ParseWavelet(opt->basis);
-        if (!basis) throw Error("bayes: unknown wavelet basis '" + opt->basis + "'");
-        if (opt->noise != "fixed" && opt->noise != "auto")
-            throw Error("--noise takes fixed or auto, not '" + opt->noise + "'");
-        if (opt->zeros != "restore" && opt->zeros != "denoise")
-            throw Error("--zeros takes restore or denoise, not '" + opt->zeros + "'");
-        BayesOptions options;
-        options.restoreZeros = opt->zeros == "restore";
-        options.keepMean = opt->keepMean;
-        options.spins = opt->spins;
-        if (opt->colour != "rgb" && opt->colour != "opponent")
-            throw Error("--colour takes rgb or opponent, not '" + opt->colour + "'");
-        options.opponent = opt->colour == "opponent";
-        options.basis = *basis;
-        options.levels = opt->levels;
-        options.sn = opt->sn;
-        options.pn = opt->pn;
-        options.hpFactor = opt->hpFactor;
-        options.floorRel = opt->floorRel;
-        options.noiseAuto = opt->noise == "auto";
+        BayesOptions options = opt->Options();
         bool split = frame.Has("direct") && frame.Has("indirect");
         BayesResult bayes;
         DenoiseResult result;
@@ -114,6 +122,53 @@ DenoiseMethod BayesMethod() {
         result.warnings = std::move(bayes.warnings);
         result.timings = std::move(bayes.timings);
         return result;
+    };
+    method.stages = [opt](vk::Context &context, const io::Frame &frame) {
+        BayesOptions options = opt->Options();
+        options.keepStages = true;
+        bool split = frame.Has("direct") && frame.Has("indirect") && !opt->noSplit;
+        const Image &input = split ? frame.Get("indirect") : frame.Get("color");
+        BayesResult gpu = split
+                              ? BayesDenoiseSplit(context, frame.Get("direct"), input, options)
+                              : BayesDenoise(context, input, options);
+        ref::BayesRefOptions refOptions;
+        refOptions.basis = options.basis;
+        refOptions.levels = options.levels;
+        refOptions.sn = options.sn;
+        refOptions.pn = options.pn;
+        refOptions.hpFactor = options.hpFactor;
+        refOptions.floorRel = options.floorRel;
+        refOptions.restoreZeros = options.restoreZeros;
+        refOptions.opponent = options.opponent;
+        refOptions.spins = options.spins;
+        refOptions.keepMean = options.keepMean;
+        refOptions.keepStages = true;
+        // --noise auto: the estimate is host code on the downloaded coefficients, not a
+        // kernel; the reference takes the GPU run's s_n so that the stages after it compare
+        // the same model.
+        if (options.noiseAuto) refOptions.snOverride = gpu.sn;
+        ref::BayesRefResult cpu = ref::BayesDenoise(input, refOptions);
+        if (split) {
+            // The direct layer added back, non-finite values as 0 (BayesDenoiseSplit).
+            const Image &direct = frame.Get("direct");
+            Image sum = cpu.image;
+            for (size_t i = 0; i < sum.data.size(); ++i)
+                sum.data[i] += std::isfinite(direct.data[i]) ? direct.data[i] : 0.f;
+            gpu.stages.push_back({"split", gpu.image});
+            cpu.stages.push_back({"split", sum});
+        }
+        if (gpu.stages.size() != cpu.stages.size())
+            throw Error(fmt::format("bayes: {} stages on the GPU, {} on the CPU reference",
+                                    gpu.stages.size(), cpu.stages.size()));
+        std::vector<StagePair> pairs;
+        for (size_t i = 0; i < gpu.stages.size(); ++i) {
+            if (gpu.stages[i].first != cpu.stages[i].first)
+                throw Error(fmt::format("bayes: stage {} is '{}' on the GPU, '{}' on the CPU",
+                                        i, gpu.stages[i].first, cpu.stages[i].first));
+            pairs.push_back({gpu.stages[i].first, std::move(gpu.stages[i].second),
+                             std::move(cpu.stages[i].second)});
+        }
+        return pairs;
     };
     return method;
 }
