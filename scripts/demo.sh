@@ -2,8 +2,8 @@
 # Build mcdenoise and run its main job on the built-in default scene, writing images and a
 # report to out/demo/: the cornell scene rendered with every layer group (the frame the
 # methods will denoise), a reference (cached after the first run), previews, and the
-# error of the noisy frame against the reference; then every method that exists so far
-# (awr; rhf, bayes and pivot come with #4, #6, #7) with its error against the reference;
+# error of the noisy frame against the reference; then each of the four methods (awr,
+# rhf, bayes, pivot) with its plan, time and error against the reference;
 # then the wavelet foundation on the frame (a GPU DWT round trip with every band dumped)
 # and the wavelet benchmark at a size that finishes quickly.
 set -euo pipefail
@@ -21,8 +21,10 @@ mcd=build/mcdenoise
         -o "$out/cornell-reference.exr" --preview "$out/cornell-reference.png"
     $mcd info "$out/cornell.exr"
     $mcd compare "$out/cornell.exr" "$out/cornell-reference.exr"
-    $mcd denoise "$out/cornell.exr" --method awr --explain -o "$out/cornell-awr.exr" \
-        --preview "$out/cornell-awr.png" --reference "$out/cornell-reference.exr"
+    for method in awr rhf bayes pivot; do
+        $mcd denoise "$out/cornell.exr" --method $method --explain -o "$out/cornell-$method.exr" \
+            --preview "$out/cornell-$method.png" --reference "$out/cornell-reference.exr"
+    done
     $mcd wavelet "$out/cornell.exr" -o "$out/roundtrip.png" --levels 5 --dump "$out/bands"
     $mcd bench wavelet --size 1024x1024 --repeat 3
 } 2>&1 | tee "$out/report.txt"
