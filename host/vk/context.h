@@ -74,6 +74,13 @@ class Context {
 
     // A kernel is built once per SPIR-V blob and specialization, then reused.
     const Kernel &GetKernel(const KernelDesc &desc);
+    // Keys (name, code, specialization constants; see KernelKey) of the kernels built so
+    // far: which variants a run compiled.
+    std::vector<std::string> KernelKeys() const {
+        std::vector<std::string> keys;
+        for (const auto &[key, kernel] : kernels) keys.push_back(key);
+        return keys;
+    }
 
     // Validation messages since the last call (errors and warnings).
     std::vector<std::string> TakeValidationMessages();

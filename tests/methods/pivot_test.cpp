@@ -552,3 +552,43 @@ TEST_F(PivotProperties, DenoisesARenderedFrame) {
 
 }  // namespace
 }  // namespace mcd::test
+
+namespace mcd::test {
+namespace {
+
+// Issue #8: a frame without normals or ids runs the kernels compiled without the normal
+// and id terms (specialization constants 0), and only those; with them, the variants
+// with the terms. A fresh context, so its kernel cache holds only this run's kernels.
+TEST(PivotSpecialization, FramesWithoutGuidesCompileKernelsWithoutTheirTerms) {
+    const int w = 20, h = 14;
+    Image color(w, h, 3, 0.5f), pivot(w, h, 3, 0.25f), variance(w, h, 3, 0.01f);
+    Image normal(w, h, 3, 0.f), ids(w, h, 1, 1.f);
+    for (size_t i = 0; i < normal.PixelCount(); ++i) normal.Plane(2)[i] = 1.f;
+    auto keysOf = [&](bool guides) {
+        vk::Context context;
+        PivotInputs in;
+        in.color = &color, in.pivot = &pivot, in.variance = &variance;
+        if (guides) in.normal = &normal, in.objectId = &ids, in.partId = &ids;
+        PivotDenoise(context, in, {});
+        std::vector<std::string> pivotKeys;
+        for (const std::string &key : context.KernelKeys())
+            if (key.rfind("pivot", 0) == 0) pivotKeys.push_back(key);
+        return pivotKeys;
+    };
+    const std::string normalsOff = fmt::format(":{}=0", PIVOT_SPEC_NORMALS),
+                      normalsOn = fmt::format(":{}=1", PIVOT_SPEC_NORMALS);
+    std::vector<std::string> bare = keysOf(false), guided = keysOf(true);
+    ASSERT_FALSE(bare.empty());
+    int specialised = 0;
+    for (const std::string &key : bare) {
+        EXPECT_FALSE(Contains(key, normalsOn)) << key;
+        specialised += Contains(key, normalsOff);
+    }
+    EXPECT_GT(specialised, 0) << "no pivot kernel takes the normal term as a constant";
+    int withNormals = 0;
+    for (const std::string &key : guided) withNormals += Contains(key, normalsOn);
+    EXPECT_EQ(withNormals, specialised);
+}
+
+}  // namespace
+}  // namespace mcd::test

@@ -75,12 +75,12 @@ std::vector<Case> Cases() {
     for (auto [w, h] : {std::pair{1, 1}, {1, 9}, {9, 1}, {2, 2}, {63, 5}, {65, 3}, {57, 2}})
         add({fmt::format("size {}x{}", w, h), w, h});
     add({"NaN color pixel", 13, 11, [](io::Frame &f) { f.layers["color"].At(1, 5, 7) = NAN; },
-         Expect::FiniteOrRefused, "color"});
+         Expect::FiniteOrRefused, "color has NaN/Inf at pixel (7, 5)"});
     add({"Inf color pixel", 13, 11,
          [](io::Frame &f) { f.layers["color"].At(0, 0, 0) = INFINITY; },
-         Expect::FiniteOrRefused, "color"});
+         Expect::FiniteOrRefused, "color has NaN/Inf at pixel (0, 0)"});
     add({"negative color", 13, 11, [](io::Frame &f) { f.layers["color"].At(2, 3, 3) = -5.f; },
-         Expect::FiniteOrRefused, "color"});
+         Expect::FiniteOrRefused, "negative value at pixel (3, 3)"});
     add({"all zero", 13, 11, [](io::Frame &f) {
              for (auto &[name, image] : f.layers)
                  if (name != "spp") Fill(image, 0.f);
@@ -104,7 +104,7 @@ std::vector<Case> Cases() {
     add({"variance 1e30", 13, 11, [](io::Frame &f) { Fill(f.layers["variance"], 1e30f); }});
     add({"variance 3e38", 13, 11, [](io::Frame &f) { Fill(f.layers["variance"], 3e38f); }});
     add({"NaN variance", 13, 11, [](io::Frame &f) { f.layers["variance"].At(0, 2, 2) = NAN; },
-         Expect::FiniteOrRefused, "variance|Bin_0000"});
+         Expect::FiniteOrRefused, "variance has NaN/Inf at pixel (2, 2)"});
     add({"zero-sample pixels", 13, 11, [](io::Frame &f) {
              for (int x = 0; x < 13; ++x) {
                  f.layers["spp"].At(0, 4, x) = 0;
@@ -120,7 +120,7 @@ std::vector<Case> Cases() {
              for (auto it = f.layers.begin(); it != f.layers.end();)
                  it = it->first == "color" ? std::next(it) : f.layers.erase(it);
          },
-         Expect::FiniteOrRefused, "variance|Bin_0000|pivot"});
+         Expect::FiniteOrRefused, "needs a variance layer|Bin_0000|needs a pivot layer"});
     add({"awr cs 0", 13, 11, nullptr, Expect::Finite, "", {{"awr", "--cs 0"}}});
     add({"awr cs 100", 13, 11, nullptr, Expect::Finite, "", {{"awr", "--cs 100"}}});
     add({"awr 0 levels", 13, 11, nullptr, Expect::Finite, "", {{"awr", "--levels 0"}}});

@@ -353,6 +353,9 @@ TEST_F(CliTest, DiffAwrStages) {
         EXPECT_TRUE(fs::exists(Path("dd/" + file + ".cpu.exr"))) << file;
     }
     EXPECT_TRUE(IsError(Run("diff f.exr --method nope"), "nope"));
+    // --max-nmse turns a mismatch into a failure: no float32 stage meets 0 exactly.
+    EXPECT_TRUE(IsError(Run("diff f.exr --method awr --max-nmse 0"), "--max-nmse"));
+    EXPECT_EQ(Run("diff f.exr --method awr --max-nmse 1e-9").code, 0);
     EXPECT_TRUE(IsError(Run("diff f.exr --cs 0"), "nothing to compare"));
 }
 

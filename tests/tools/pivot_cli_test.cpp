@@ -96,7 +96,12 @@ TEST_F(PivotCli, DenoisesWithBothFilters) {
     EXPECT_TRUE(fs::exists(Path("b.exr")));
 
     // `diff`: every stage of the method against the CPU reference on the rendered frame.
-    r = Run("diff n.exr --method pivot --max-radius 6");
+    // z, nu and the fits agree to NMSE ~1e-14 (float32 against double), but a window's
+    // growth is a discrete decision: where float and double fall on either side of a
+    // threshold the radius differs and so does that pixel's output (measured NMSE 1.8e-4
+    // here; pivot_test.cpp checks the decisions away from their margins exactly). 1e-3
+    // still fails a stage that is off by a few percent everywhere.
+    r = Run("diff n.exr --method pivot --max-radius 6 --max-nmse 1e-3");
     ASSERT_EQ(r.code, 0) << r.All();
     for (const char *stage : {"z", "nu", "fits", "output"})
         EXPECT_TRUE(Contains(r.out, std::string("\n  ") + stage + " ")) << stage << r.out;

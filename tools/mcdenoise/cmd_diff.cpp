@@ -53,6 +53,7 @@ std::string FileName(const std::string &stage) {
 void AddDiffCommand(CLI::App &app) {
     struct Options {
         std::string input, method = "awr", dump;
+        double maxNmse = -1;
         DeviceOptions device;
     };
     auto opt = std::make_shared<Options>();
@@ -68,6 +69,9 @@ void AddDiffCommand(CLI::App &app) {
         ->required();
     cmd->add_option("--method", opt->method, names)->capture_default_str();
     cmd->add_option("--dump", opt->dump, "directory: write <stage>.gpu.exr and .cpu.exr here");
+    cmd->add_option("--max-nmse", opt->maxNmse,
+                    "fail (exit 1) when a stage's NMSE exceeds this or its non-finite "
+                    "elements differ");
     opt->device.Add(cmd);
     for (const DenoiseMethod &m : *methods) m.addOptions(cmd);
     cmd->callback([opt, methods, names] {
@@ -85,6 +89,7 @@ void AddDiffCommand(CLI::App &app) {
                    context.Info().name);
         fmt::print("  {:<24} {:>12} {:>16} {:>10}\n", "stage", "NMSE", "max rel error",
                    "parity");
+        std::string worst;
         for (const StagePair &s : stages) {
             if (!s.gpu.SameShape(s.cpu))
                 throw Error(
@@ -95,6 +100,11 @@ void AddDiffCommand(CLI::App &app) {
             StageError e = Measure(s.gpu, s.cpu);
             fmt::print("  {:<24} {:>12.3g} {:>16.3g} {:>10}\n", s.name, e.nmse, e.maxRel,
                        e.parity);
+            if (opt->maxNmse >= 0 && worst.empty() && (e.nmse > opt->maxNmse || e.parity))
+                worst = fmt::format(
+                    "diff: stage {} is off: NMSE {:.3g} (--max-nmse {:.3g}), "
+                    "{} elements finite on one side only",
+                    s.name, e.nmse, opt->maxNmse, e.parity);
             if (!opt->dump.empty()) {
                 std::filesystem::path dir(opt->dump);
                 io::WriteExr((dir / (FileName(s.name) + ".gpu.exr")).string(),
@@ -103,6 +113,7 @@ void AddDiffCommand(CLI::App &app) {
                              {{"color", &s.cpu}});
             }
         }
+        if (!worst.empty()) throw Error(worst);
     });
 }
 

@@ -6,6 +6,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <optional>
 #include <system_error>
 #include <thread>
@@ -43,6 +45,11 @@ struct PendingSample {
     uint64_t key;
     int level;
 };
+
+// A priority the sort can order: NaN (from a non-finite transform) goes last.
+double Ordered(double priority) {
+    return std::isnan(priority) ? -INFINITY : priority;
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -140,11 +147,11 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
     const uint64_t budget = uint64_t(o.averageSpp) * w * h;
     std::vector<PixelStats> pixels(size_t(w) * h);
     // Fold a traced sample into its pixel.
-    auto add = [&](const PendingSample &p, const Vec3 &color) {
+    auto add = [&](const PendingSample &p, Vec3 color) {
         PixelStats &s = pixels[size_t(int(p.y)) * w + int(p.x)];
         if (p.level >= 0) s.levelSum += p.level, ++s.adaptiveN;
         double lum = color.Luminance();
-        if (!std::isfinite(lum)) return;
+        if (!std::isfinite(lum)) color = Vec3(0), lum = 0;  // as the uniform renderer does
         for (int c = 0; c < 3; ++c) {
             s.sum[c] += color[c];
             s.sumSq[c] += color[c] * color[c];
@@ -162,10 +169,18 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
     auto traceBatch = [&] {
         colors.resize(batch.size());
         std::atomic<size_t> next = 0;
+        std::exception_ptr failure;
+        std::mutex failureMutex;
         auto work = [&] {
-            for (size_t begin; (begin = next.fetch_add(256)) < batch.size();)
-                for (size_t i = begin; i < std::min(begin + 256, batch.size()); ++i)
-                    colors[i] = trace(batch[i].x, batch[i].y, batch[i].key);
+            try {
+                for (size_t begin; (begin = next.fetch_add(256)) < batch.size();)
+                    for (size_t i = begin; i < std::min(begin + 256, batch.size()); ++i)
+                        colors[i] = trace(batch[i].x, batch[i].y, batch[i].key);
+            } catch (...) {  // rethrown on the calling thread after the join
+                std::lock_guard<std::mutex> lock(failureMutex);
+                if (!failure) failure = std::current_exception();
+                next = batch.size();
+            }
         };
         int threads = o.threads > 0 ? o.threads : int(std::thread::hardware_concurrency());
         threads = std::clamp<int>(threads, 1, int(batch.size() / 256 + 1));
@@ -179,6 +194,7 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
         }
         work();
         for (std::thread &t : pool) t.join();
+        if (failure) std::rethrow_exception(failure);
         for (size_t i = 0; i < batch.size(); ++i) add(batch[i], colors[i]);
         batch.clear();
     };
@@ -222,6 +238,10 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
         // Step 2: priorities from the pixel means and Mitchell-contrast variances.
         for (size_t p = 0; p < pixels.size(); ++p) {
             const PixelStats &s = pixels[p];
+            if (s.n == 0) {  // every sample non-finite: unknown, as uncertain as can be
+                lum.data[p] = 0, var.data[p] = 1;
+                continue;
+            }
             lum.data[p] =
                 float((0.2126 * s.sum[0] + 0.7152 * s.sum[1] + 0.0722 * s.sum[2]) / s.n);
             double range = s.lumHi + s.lumLo;
@@ -231,7 +251,8 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
         transforms(lum, var, o.basis, levels, o.lowSum, &details, &scaleVariances);
         candidates.clear();
         for (int j = 0; j < h; ++j)
-            for (int i = 0; i < w; ++i) candidates.push_back({var.At(0, j, i), 0, i, j});
+            for (int i = 0; i < w; ++i)
+                candidates.push_back({Ordered(var.At(0, j, i)), 0, i, j});
         for (int k = 1; k <= levels; ++k) {
             const Image &sv = scaleVariances[k - 1];
             int pw = LevelExtent(w, k - 1), ph = LevelExtent(h, k - 1);
@@ -250,7 +271,7 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
                     if (ph > 1) take(i, hh + j);
                     if (pw > 1 && ph > 1) take(hw + i, hh + j);
                     double wavelets = count ? squares / count : 0;
-                    candidates.push_back({sv.At(0, j, i) - wavelets, k, i, j});
+                    candidates.push_back({Ordered(sv.At(0, j, i) - wavelets), k, i, j});
                 }
         }
         // Step 3, batched: the top coefficients, 64 x 2^k samples each, until an eighth of
