@@ -137,6 +137,14 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     const size_t maxFloats =
         std::min<size_t>(context.Limits().maxStorageBufferRange / sizeof(float), 1u << 25);
 
+    // The selection mask is one binding: refuse, before any work, a frame it cannot hold.
+    size_t maskBytes = size_t(RhfMaskWords(o.searchHalf)) * pixels * sizeof(uint32_t);
+    if (maskBytes > context.Limits().maxStorageBufferRange)
+        throw Error(fmt::format(
+            "rhf: a {}x{} frame with search half-window {} needs a {:.0f} MB selection mask, "
+            "above this device's {:.0f} MB per binding; crop the frame or shrink the window",
+            W, H, o.searchHalf, maskBytes / 1e6, context.Limits().maxStorageBufferRange / 1e6));
+
     // Histogram planes per buffer, and centre rows per distance strip.
     int perSlot = o.planesPerSlot > 0 ? o.planesPerSlot
                                       : int(std::min<size_t>(planes, maxFloats / pixels));

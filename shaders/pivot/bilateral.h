@@ -36,7 +36,8 @@ static_assert(sizeof(PivotBilateralPush) == 28);
 static_assert(offsetof(PivotBilateralPush, goodNu) == 24);
 }  // namespace mcd::shader
 #else
-} push;
+}
+push;
 #endif
 
 #endif

@@ -38,7 +38,8 @@ static_assert(sizeof(PivotFitPush) == 36);
 static_assert(offsetof(PivotFitPush, sigmaWeight) == 32);
 }  // namespace mcd::shader
 #else
-} push;
+}
+push;
 #endif
 
 #endif

@@ -31,7 +31,7 @@ layout(push_constant) uniform PivotGatherPush {
     int width;
     int height;
     int channels;
-    int reach;  // the largest radius of any fit: no centre further away holds the pixel
+    int reach;   // the largest radius of any fit: no centre further away holds the pixel
     int tilesX;  // ceil(width / PIVOT_GATHER_TILE)
     int tilesY;
 #ifdef __cplusplus
@@ -39,7 +39,8 @@ layout(push_constant) uniform PivotGatherPush {
 static_assert(sizeof(PivotGatherPush) == 24);
 }  // namespace mcd::shader
 #else
-} push;
+}
+push;
 #endif
 
 #endif

@@ -37,7 +37,8 @@ static_assert(sizeof(PivotRatioPush) == 24);
 static_assert(offsetof(PivotRatioPush, threshold3) == 20);
 }  // namespace mcd::shader
 #else
-} push;
+}
+push;
 #endif
 
 #endif

@@ -592,3 +592,24 @@ TEST(PivotSpecialization, FramesWithoutGuidesCompileKernelsWithoutTheirTerms) {
 
 }  // namespace
 }  // namespace mcd::test
+
+namespace mcd::test {
+namespace {
+
+class PivotLimits : public GpuTest {};
+
+// A frame whose fit buffers cannot be one binding each is refused before any work.
+TEST_F(PivotLimits, RefusesFitsAboveTheBindingLimit) {
+    const int w = 1500, h = 1000;
+    if (double(PIVOT_PLANES_PER_BUFFER) * 3 * w * h * 4 <= Ctx().Limits().maxStorageBufferRange)
+        GTEST_SKIP() << "this device binds " << Ctx().Limits().maxStorageBufferRange;
+    Image color(w, h, 3, 0.5f), pivot(w, h, 3, 0.25f);
+    PivotInputs in;
+    in.color = &color, in.pivot = &pivot;
+    std::string error = ErrorOf([&] { PivotDenoise(Ctx(), in, {}); });
+    EXPECT_TRUE(Contains(error, "per binding")) << error;
+    EXPECT_TRUE(Contains(error, "1500x1000x3")) << error;
+}
+
+}  // namespace
+}  // namespace mcd::test

@@ -11,6 +11,7 @@
 
 #include "cpu_reference/rhf.h"
 #include "harness/compare.h"
+#include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/error.h"
@@ -266,6 +267,29 @@ TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
     o = {};
     o.threshold = -1;
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
+}
+
+}  // namespace
+}  // namespace mcd::test
+
+namespace mcd::test {
+namespace {
+
+class RhfLimits : public GpuTest {};
+
+// A frame whose selection mask cannot be one binding is refused up front, naming the
+// window and the limit: 640x1024 with search half-window 20 needs 53 words a pixel.
+TEST_F(RhfLimits, RefusesAMaskAboveTheBindingLimit) {
+    const int w = 640, h = 1024;
+    size_t maskBytes = size_t(53) * w * h * 4;
+    if (maskBytes <= Ctx().Limits().maxStorageBufferRange)
+        GTEST_SKIP() << "this device binds " << Ctx().Limits().maxStorageBufferRange;
+    Image color(w, h, 3, 0.5f), hist(w, h, 7, 1.f);  // 2 bins a channel and the count
+    RhfOptions o;
+    o.searchHalf = 20;
+    std::string error = ErrorOf([&] { RhfDenoise(Ctx(), color, hist, o); });
+    EXPECT_TRUE(Contains(error, "selection mask")) << error;
+    EXPECT_TRUE(Contains(error, "search half-window 20")) << error;
 }
 
 }  // namespace
