@@ -94,9 +94,9 @@ std::string LedgerText(const vk::Context::MemoryLedger &ledger) {
         auto &[count, total] = byName[name];
         ++count, total += double(bytes);
     }
-    std::string text =
-        fmt::format("  GPU buffers: {} allocations, peak {:.2f} MB:", ledger.allocations.size(),
-                    double(ledger.peak) / 1e6);
+    std::string text = fmt::format(
+        "  GPU buffers: {} allocations, peak {:.2f} MB (staging for transfers not counted):",
+        ledger.allocations.size(), double(ledger.peak) / 1e6);
     for (const auto &[name, entry] : byName)
         text += fmt::format(" {}{} {:.2f} MB;", name,
                             entry.first > 1 ? fmt::format(" x{}", entry.first) : "",
