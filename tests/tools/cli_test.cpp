@@ -608,6 +608,7 @@ TEST_F(CliTest, BenchQuality) {
         EXPECT_TRUE(fs::exists(Path(file))) << file;
     EXPECT_TRUE(IsError(Run("bench quality --spp 0 -o bq2"), "--spp"));
     EXPECT_TRUE(IsError(Run("bench quality --scenes nope -o bq2"), "nope"));
+    EXPECT_TRUE(IsError(Run("bench quality --methods awr,nope -o bq2"), "'nope'"));
     EXPECT_FALSE(fs::exists(Path("bq2")));
 }
 

@@ -181,9 +181,18 @@ void BenchQuality(const QualityOptions &opt) {
     ladder.erase(std::unique(ladder.begin(), ladder.end()), ladder.end());
     if (ladder.empty()) throw Error("--spp: no sample counts");
     std::vector<DenoiseMethod> methods;
-    for (DenoiseMethod &m : DenoiseMethods())
+    std::string known;
+    for (DenoiseMethod &m : DenoiseMethods()) {
+        known += (known.empty() ? "" : ", ") + m.name;
         if (opt.methods == "all" || Listed(SplitList(opt.methods), m.name))
             methods.push_back(std::move(m));
+    }
+    if (opt.methods != "all")
+        for (const std::string &name : SplitList(opt.methods))
+            if (std::none_of(methods.begin(), methods.end(),
+                             [&](const DenoiseMethod &m) { return m.name == name; }))
+                throw Error(
+                    fmt::format("--methods: unknown method '{}' (methods: {})", name, known));
     PrepareDirectory(opt.out);
 
     vk::Context context(opt.device.ContextOptions());
