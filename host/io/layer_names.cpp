@@ -71,7 +71,7 @@ struct Target {
     int priority;
 };
 
-// Ershov section 8's partial images: partial<k>.color and partial<k>.pivot, k decimal.
+// Ershov section 8's partial images: partial<k>.color, .pivot and .variance, k decimal.
 // Own names whole, so that "partial0.pivot" is not read as view layer "partial0" of pivot.
 bool IsPartialName(std::string_view name) {
     if (name.rfind("partial", 0) != 0) return false;
@@ -80,7 +80,7 @@ bool IsPartialName(std::string_view name) {
     for (size_t i = 7; i < dot; ++i)
         if (name[i] < '0' || name[i] > '9') return false;
     std::string_view what = name.substr(dot + 1);
-    return what == "color" || what == "pivot";
+    return what == "color" || what == "pivot" || what == "variance";
 }
 
 bool IsOwnName(std::string_view name) {

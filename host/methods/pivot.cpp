@@ -244,10 +244,12 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
             throw Error(fmt::format("pivot: {} needs its color and pivot", name));
         CheckLayer(*partial.color, (name + ".color").c_str(), w, h, channels, false);
         CheckLayer(*partial.pivot, (name + ".pivot").c_str(), w, h, channels, false);
+        if (partial.variance)
+            CheckLayer(*partial.variance, (name + ".variance").c_str(), w, h, channels, true);
         PivotInputs one = in;
         one.color = partial.color;
         one.pivot = partial.pivot;
-        one.variance = nullptr;
+        one.variance = partial.variance;
         one.partials.clear();
         one.remainder = nullptr;
         PivotResult r = PivotDenoiseOne(context, one, options);
@@ -271,7 +273,7 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
         result.plan.begin(),
         fmt::format("section 8: {} partial images, each filtered against its own pivot "
                     "(partial<k>.color / partial<k>.pivot), summed, plus the remainder "
-                    "unfiltered; the pivot and variance layers are not used",
+                    "unfiltered; the frame's pivot and variance layers are not used",
                     in.partials.size()));
     return result;
 }

@@ -48,6 +48,7 @@ struct PivotOptions {
 // first diffuse hit).
 struct PivotPartial {
     const Image *color = nullptr, *pivot = nullptr;
+    const Image *variance = nullptr;  // of the partial's pixel mean; absent: estimated
 };
 
 // The frame's layers the method reads; all but color and pivot may be absent (nullptr).
@@ -57,7 +58,8 @@ struct PivotInputs {
     const Image *normal = nullptr;                       // 3 channels
     const Image *objectId = nullptr, *partId = nullptr;  // 1 channel each
     // Section 8: with partials, each is filtered against its own pivot by the pipeline
-    // above (variance estimated: the variance layer is the whole color's), the results
+    // above (with its own variance, else estimated: the variance layer is the whole
+    // color's), the results
     // are summed in order and the remainder (required then) is added unfiltered; color
     // and pivot are then only checked for shape.
     std::vector<PivotPartial> partials;

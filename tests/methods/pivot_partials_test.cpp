@@ -41,13 +41,14 @@ TEST(PivotPartials, SumToColorAndLeaveOtherLayersAlone) {
     render::RenderResult r =
         RenderGlossy(20, 16, 4, render::kLayersPivot | render::kLayersPartials);
     render::RenderResult plain = RenderGlossy(20, 16, 4, render::kLayersPivot);
-    ASSERT_EQ(r.layers.size(), plain.layers.size() + 5);
+    ASSERT_EQ(r.layers.size(), plain.layers.size() + 7);
     for (const auto &[name, image] : plain.layers)
         EXPECT_TRUE(BitIdentical(image, Layer(r, name))) << name;
     const Image &color = Layer(r, "color"), &pivot = Layer(r, "pivot");
     const Image &c0 = Layer(r, "partial0.color"), &c1 = Layer(r, "partial1.color");
     const Image &p0 = Layer(r, "partial0.pivot"), &p1 = Layer(r, "partial1.pivot");
     const Image &rest = Layer(r, "remainder");
+    const Image &v0 = Layer(r, "partial0.variance"), &v1 = Layer(r, "partial1.variance");
     double sum1 = 0, sumRest = 0, sumP1 = 0;
     for (int c = 0; c < 3; ++c)
         for (int y = 0; y < color.height; ++y)
@@ -59,6 +60,8 @@ TEST(PivotPartials, SumToColorAndLeaveOtherLayersAlone) {
                 EXPECT_GE(a, 0);
                 EXPECT_GE(b, 0);
                 EXPECT_GE(e, 0);
+                EXPECT_GE(v0.At(c, y, x), 0);
+                EXPECT_GE(v1.At(c, y, x), 0);
                 double la = pivot.At(c, y, x), q0 = p0.At(c, y, x), q1 = p1.At(c, y, x);
                 EXPECT_GT(q0, 0);
                 EXPECT_GE(q1, 0);
@@ -83,13 +86,14 @@ PivotInputs PartialInputs(const render::RenderResult &r) {
     in.partId = &Layer(r, "partId");
     for (int k = 0; k < render::kPartialTypes; ++k)
         in.partials.push_back({&Layer(r, fmt::format("partial{}.color", k)),
-                               &Layer(r, fmt::format("partial{}.pivot", k))});
+                               &Layer(r, fmt::format("partial{}.pivot", k)),
+                               &Layer(r, fmt::format("partial{}.variance", k))});
     in.remainder = &Layer(r, "remainder");
     return in;
 }
 
 // The frame with partials is the single-image pipeline run on each partial against its
-// own pivot (variance estimated), summed in order, plus the remainder: the same float
+// own pivot (and variance), summed in order, plus the remainder: the same float
 // operations, so bit for bit; and reruns are bit-identical.
 TEST_F(PivotPartialsMethod, FiltersEachPartialAgainstItsOwnPivot) {
     render::RenderResult r = RenderGlossy(
@@ -112,7 +116,7 @@ TEST_F(PivotPartialsMethod, FiltersEachPartialAgainstItsOwnPivot) {
             PivotInputs one = in;
             one.color = partial.color;
             one.pivot = partial.pivot;
-            one.variance = nullptr;
+            one.variance = partial.variance;
             one.partials.clear();
             one.remainder = nullptr;
             Image filtered = PivotDenoise(Ctx(), one, o).image;
@@ -158,7 +162,7 @@ TEST_F(PivotPartialsMethod, MatchesTheReferencePerPartial) {
     Image expected = *in.remainder, magnitude = *in.remainder;
     for (const PivotPartial &partial : in.partials) {
         ref::PivotRatio ratio =
-            ref::PivotRatioOf(*partial.color, *partial.pivot, nullptr, p.floor, &ids);
+            ref::PivotRatioOf(*partial.color, *partial.pivot, partial.variance, p.floor, &ids);
         Image filtered = ref::PivotGather(*partial.color, *partial.pivot, ratio,
                                           ref::PivotFit(ratio, guides, p), guides);
         for (size_t i = 0; i < expected.Size(); ++i) {

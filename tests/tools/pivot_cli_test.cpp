@@ -124,7 +124,8 @@ TEST_F(PivotCli, RoundTripsAndDenoisesPartials) {
         EXPECT_EQ(read.data, image.data) << name;
     }
     for (const char *name :
-         {"partial0.color", "partial0.pivot", "partial1.color", "partial1.pivot", "remainder"})
+         {"partial0.color", "partial0.pivot", "partial0.variance", "partial1.color",
+          "partial1.pivot", "partial1.variance", "remainder"})
         EXPECT_TRUE(frame.Has(name)) << name;
 
     RunResult r = Run("denoise n.exr --method pivot --max-radius 5 --explain -o d.exr");

@@ -55,7 +55,10 @@ PivotInputs PivotInputsOf(const PivotCliOptions &opt, const io::Frame &frame,
                     fmt::format("{}: layer {}.color has no {}.pivot (or pass "
                                 "--no-partials)",
                                 frame.path, name, name));
-            in.partials.push_back({&frame.Get(name + ".color"), &frame.Get(name + ".pivot")});
+            PivotPartial partial{&frame.Get(name + ".color"), &frame.Get(name + ".pivot")};
+            if (opt.noise == "auto" && frame.Has(name + ".variance"))
+                partial.variance = &frame.Get(name + ".variance");
+            in.partials.push_back(partial);
         }
         if (!in.partials.empty()) {
             if (!frame.Has("remainder"))

@@ -84,11 +84,12 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     if (o.layers & kLayersSplit) direct = Image(w, h, 3), indirect = Image(w, h, 3);
     if (o.layers & kLayersPivot) pivot = Image(w, h, 3);
     // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
-    std::vector<Image> partialColors, partialPivots;
+    std::vector<Image> partialColors, partialPivots, partialVariances;
     if (o.layers & kLayersPartials)
         for (int k = 0; k <= kPartialTypes; ++k) {
             partialColors.emplace_back(w, h, 3);
-            if (k < kPartialTypes) partialPivots.emplace_back(w, h, 3);
+            if (k < kPartialTypes)
+                partialPivots.emplace_back(w, h, 3), partialVariances.emplace_back(w, h, 3);
         }
     if (o.layers & kLayersGbuffer) {
         albedo = Image(w, h, 3), normal = Image(w, h, 3), depth = Image(w, h, 1);
@@ -107,7 +108,7 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                        sumIndirect[3] = {}, sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0;
                 for (int c = 0; c < 3; ++c) lo[c] = INFINITY, hi[c] = -INFINITY;
                 std::fill(bucket.begin(), bucket.end(), 0.f);
-                Vec3 sumPartial[kPartialTypes + 1];
+                Vec3 sumPartial[kPartialTypes + 1], sumSqPartial[kPartialTypes + 1];
                 int firstObject = 0, firstPart = 0;
                 uint64_t pixel = uint64_t(y) * w + x;
                 for (int s = 0; s < o.spp; ++s) {
@@ -133,7 +134,10 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                         sumAlbedo[c] += p.albedo[c];
                         sumNormal[c] += p.normal[c];
                     }
-                    for (int k = 0; k <= kPartialTypes; ++k) sumPartial[k] += p.partial[k];
+                    for (int k = 0; k <= kPartialTypes; ++k) {
+                        sumPartial[k] += p.partial[k];
+                        sumSqPartial[k] += p.partial[k] * p.partial[k];
+                    }
                     sumDepth += p.depth;
                     if (s == 0) firstObject = p.objectId, firstPart = p.partId;
                     if (!hist.Empty()) AddToHistogram(c3, bins, bucket.data());
@@ -189,9 +193,16 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                     }
                     for (int k = 0; k <= kPartialTypes; ++k)
                         for (int c = 0; c < 3; ++c) {
-                            partialColors[k].At(c, y, x) = float(sumPartial[k][c] / n);
-                            if (k < kPartialTypes)
-                                partialPivots[k].At(c, y, x) = float(sumPivot[k][c] / 16);
+                            double mean = sumPartial[k][c] / n;
+                            partialColors[k].At(c, y, x) = float(mean);
+                            if (k == kPartialTypes) continue;
+                            partialPivots[k].At(c, y, x) = float(sumPivot[k][c] / 16);
+                            // As the variance layer: of the mean, unbiased.
+                            double var =
+                                n > 1 ? std::max(0.0, (sumSqPartial[k][c] - n * mean * mean) /
+                                                          (n - 1))
+                                      : 0;
+                            partialVariances[k].At(c, y, x) = float(var / n);
                         }
                 }
             }
@@ -244,6 +255,8 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                                    std::move(partialColors[k]));
         result.layers.emplace_back(fmt::format("partial{}.pivot", k),
                                    std::move(partialPivots[k]));
+        result.layers.emplace_back(fmt::format("partial{}.variance", k),
+                                   std::move(partialVariances[k]));
     }
     if (!partialColors.empty())
         result.layers.emplace_back("remainder", std::move(partialColors.back()));

@@ -26,7 +26,7 @@ enum LayerGroup : unsigned {
     kLayersPivot = 4,    // pivot (Ershov eq. 9)
     kLayersGbuffer = 8,  // albedo, normal, depth, objectId, partId
     kLayersAll = 15,
-    // Ershov section 8 (not in "all"): partial<k>.color and partial<k>.pivot for k <
+    // Ershov section 8 (not in "all"): partial<k>.color, .pivot and .variance for k <
     // kPartialTypes mirror bounces before the first diffuse/glossy hit, and "remainder",
     // the rest of color (see PathSample).
     kLayersPartials = 16,
