@@ -24,9 +24,9 @@ constexpr int kOwnPriority = 3;
 constexpr int kUnknownPriority = 0;
 
 // Our layer names (DESIGN.md), plus "hist" for the Bin_NNNN channels.
-constexpr std::array<std::string_view, 15> kOwnNames = {
-    "color", "variance", "spp",    "min",   "max",      "hist",   "direct",   "indirect",
-    "pivot", "albedo",   "normal", "depth", "objectId", "partId", "reference"};
+constexpr std::array<std::string_view, 16> kOwnNames = {
+    "color", "variance", "spp",    "min",   "max",      "hist",   "direct",    "indirect",
+    "pivot", "albedo",   "normal", "depth", "objectId", "partId", "reference", "remainder"};
 
 struct Alias {
     std::string_view from, to;  // to == "" drops the channels
@@ -71,8 +71,21 @@ struct Target {
     int priority;
 };
 
+// Ershov section 8's partial images: partial<k>.color, .pivot and .variance, k decimal.
+// Own names whole, so that "partial0.pivot" is not read as view layer "partial0" of pivot.
+bool IsPartialName(std::string_view name) {
+    if (name.rfind("partial", 0) != 0) return false;
+    size_t dot = name.find('.');
+    if (dot == std::string_view::npos || dot == 7 || dot > 7 + 9) return false;
+    for (size_t i = 7; i < dot; ++i)
+        if (name[i] < '0' || name[i] > '9') return false;
+    std::string_view what = name.substr(dot + 1);
+    return what == "color" || what == "pivot" || what == "variance";
+}
+
 bool IsOwnName(std::string_view name) {
-    return std::find(kOwnNames.begin(), kOwnNames.end(), name) != kOwnNames.end();
+    return std::find(kOwnNames.begin(), kOwnNames.end(), name) != kOwnNames.end() ||
+           IsPartialName(name);
 }
 
 std::optional<Target> LookUp(std::string_view name) {

@@ -54,8 +54,10 @@ std::vector<float> PivotThresholds(const Image &pivot, float floor) {
     return thresholds;
 }
 
-PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
-                         const PivotOptions &options) {
+namespace {
+
+PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
+                            const PivotOptions &options) {
     if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
     const Image &color = *in.color;
     int w = color.width, h = color.height, channels = color.channels;
@@ -226,6 +228,63 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
                          {"fits", std::move(fits)},
                          {"output", result.image}};
     }
+    return result;
+}
+
+}  // namespace
+
+PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
+                         const PivotOptions &options) {
+    if (in.partials.empty()) return PivotDenoiseOne(context, in, options);
+    if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
+    int w = in.color->width, h = in.color->height, channels = in.color->channels;
+    if (channels < 1 || channels > 4 || w < 1 || h < 1)
+        throw Error(fmt::format("pivot: color is {}x{}x{}; 1 to 4 channels are supported", w, h,
+                                channels));
+    CheckLayer(*in.pivot, "pivot", w, h, channels, false);
+    if (!in.remainder) throw Error("pivot: partial images need the remainder layer");
+    CheckLayer(*in.remainder, "remainder", w, h, channels, false);
+    PivotResult result;
+    result.image = Image(w, h, channels);
+    double radiusSum = 0;
+    for (size_t k = 0; k < in.partials.size(); ++k) {
+        const PivotPartial &partial = in.partials[k];
+        std::string name = fmt::format("partial{}", k);
+        if (!partial.color || !partial.pivot)
+            throw Error(fmt::format("pivot: {} needs its color and pivot", name));
+        CheckLayer(*partial.color, (name + ".color").c_str(), w, h, channels, false);
+        CheckLayer(*partial.pivot, (name + ".pivot").c_str(), w, h, channels, false);
+        if (partial.variance)
+            CheckLayer(*partial.variance, (name + ".variance").c_str(), w, h, channels, true);
+        PivotInputs one = in;
+        one.color = partial.color;
+        one.pivot = partial.pivot;
+        one.variance = partial.variance;
+        one.partials.clear();
+        one.remainder = nullptr;
+        PivotResult r = PivotDenoiseOne(context, one, options);
+        for (size_t i = 0; i < result.image.Size(); ++i)
+            result.image.data[i] += r.image.data[i];
+        for (const std::string &line : r.plan) result.plan.push_back(name + ": " + line);
+        for (vk::DispatchTiming &t : r.timings) {
+            t.label = name + "." + t.label;
+            result.timings.push_back(std::move(t));
+        }
+        for (auto &[stage, image] : r.stages)
+            result.stages.emplace_back(name + "." + stage, std::move(image));
+        radiusSum += r.meanRadius;
+        result.largestRadius = std::max(result.largestRadius, r.largestRadius);
+        result.pixelsWithoutZ += r.pixelsWithoutZ;
+    }
+    result.meanRadius = radiusSum / double(in.partials.size());
+    for (size_t i = 0; i < result.image.Size(); ++i)
+        result.image.data[i] += in.remainder->data[i];
+    result.plan.insert(
+        result.plan.begin(),
+        fmt::format("section 8: {} partial images, each filtered against its own pivot "
+                    "(partial<k>.color / partial<k>.pivot), summed, plus the remainder "
+                    "unfiltered; the frame's pivot and variance layers are not used",
+                    in.partials.size()));
     return result;
 }
 

@@ -44,12 +44,26 @@ struct PivotOptions {
     bool keepStages = false;
 };
 
+// One partial image of section 8 and its own pivot (the same camera ray path before the
+// first diffuse hit).
+struct PivotPartial {
+    const Image *color = nullptr, *pivot = nullptr;
+    const Image *variance = nullptr;  // of the partial's pixel mean; absent: estimated
+};
+
 // The frame's layers the method reads; all but color and pivot may be absent (nullptr).
 struct PivotInputs {
     const Image *color = nullptr, *pivot = nullptr;
     const Image *variance = nullptr;                     // of the pixel mean, as color
     const Image *normal = nullptr;                       // 3 channels
     const Image *objectId = nullptr, *partId = nullptr;  // 1 channel each
+    // Section 8: with partials, each is filtered against its own pivot by the pipeline
+    // above (with its own variance, else estimated: the variance layer is the whole
+    // color's), the results
+    // are summed in order and the remainder (required then) is added unfiltered; color
+    // and pivot are then only checked for shape.
+    std::vector<PivotPartial> partials;
+    const Image *remainder = nullptr;
 };
 
 struct PivotResult {
@@ -57,10 +71,12 @@ struct PivotResult {
     std::vector<std::string> plan;            // what ran and what was left out, and why
     std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
     double meanRadius = 0;                    // planefit: over the centres with a fit
-    int largestRadius = 0;
-    size_t pixelsWithoutZ = 0;  // pixel-channels whose pivot is below the floor
+    int largestRadius = 0;                    // (with partials: of all partials)
+    size_t pixelsWithoutZ =
+        0;  // pixel-channels (with partials: summed over them) whose pivot is below the floor
     // With keepStages: z, nu, the fits (planefit; 16 x channels planes as in
-    // cpu_reference/pivot_filter.h) and the output, by name.
+    // cpu_reference/pivot_filter.h) and the output, by name (with partials, each partial's
+    // prefixed "partial<k>.").
     std::vector<std::pair<std::string, Image>> stages;
 };
 

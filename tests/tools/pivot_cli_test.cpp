@@ -15,6 +15,7 @@
 
 #include "host/image.h"
 #include "host/io/frame.h"
+#include "tools/render/renderer.h"
 
 namespace mcd::test {
 namespace {
@@ -105,6 +106,44 @@ TEST_F(PivotCli, DenoisesWithBothFilters) {
     ASSERT_EQ(r.code, 0) << r.All();
     for (const char *stage : {"z", "nu", "fits", "output"})
         EXPECT_TRUE(Contains(r.out, std::string("\n  ") + stage + " ")) << stage << r.out;
+}
+
+// Section 8 through files: the renderer's partial layers come back from the EXR under
+// their own names, bit for bit as rendered in-process (not read as view layers of color
+// and pivot); denoise filters them per partial unless --no-partials, and says which.
+TEST_F(PivotCli, RoundTripsAndDenoisesPartials) {
+    ASSERT_EQ(Run("render --scene glossy-cornell --size 20x14 --spp 4 --seed 3 --threads 2 "
+                  "--layers pivot,gbuffer,partials -o n.exr")
+                  .code,
+              0);
+    io::Frame frame = io::ReadFrame(Path("n.exr").string());
+    render::RenderOptions o;
+    o.width = 20, o.height = 14, o.spp = 4, o.seed = 3, o.threads = 2;
+    o.layers = render::kLayersPivot | render::kLayersGbuffer | render::kLayersPartials;
+    render::RenderResult rendered = render::Render(render::BuildScene("glossy-cornell"), o);
+    EXPECT_EQ(frame.layers.size(), rendered.layers.size());
+    for (const auto &[name, image] : rendered.layers) {
+        ASSERT_TRUE(frame.Has(name)) << name;
+        const Image &read = frame.Get(name);
+        ASSERT_EQ(read.channels, image.channels) << name;
+        EXPECT_EQ(read.data, image.data) << name;
+    }
+    for (const char *name :
+         {"partial0.color", "partial0.pivot", "partial0.variance", "partial1.color",
+          "partial1.pivot", "partial1.variance", "remainder"})
+        EXPECT_TRUE(frame.Has(name)) << name;
+
+    RunResult r = Run("denoise n.exr --method pivot --max-radius 5 --explain -o d.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "section 8: 2 partial images")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "partial1: planefit")) << r.out;
+    r = Run("denoise n.exr --method pivot --max-radius 5 --no-partials --explain -o w.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Contains(r.out, "section 8")) << r.out;
+    Image d = io::ReadImage(Path("d.exr").string()),
+          whole = io::ReadImage(Path("w.exr").string());
+    for (float v : d.data) ASSERT_TRUE(std::isfinite(v));
+    EXPECT_NE(d.data, whole.data);
 }
 
 // --demodulate runs another method on z = color / pivot: with AWR's cs = 0 (the identity)

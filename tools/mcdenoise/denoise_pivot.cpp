@@ -14,6 +14,7 @@ namespace {
 
 struct PivotCliOptions {
     std::string filter = "planefit", guides = "auto", noise = "auto";
+    bool noPartials = false;
     PivotOptions options;
 };
 
@@ -44,6 +45,28 @@ PivotInputs PivotInputsOf(const PivotCliOptions &opt, const io::Frame &frame,
         if (frame.Has("normal")) in.normal = &frame.Get("normal");
         if (frame.Has("objectId")) in.objectId = &frame.Get("objectId");
         if (frame.Has("partId")) in.partId = &frame.Get("partId");
+    }
+    // Section 8: partial0, partial1, ... while the frame has them, and the remainder.
+    if (!opt.noPartials) {
+        for (int k = 0; frame.Has(fmt::format("partial{}.color", k)); ++k) {
+            std::string name = fmt::format("partial{}", k);
+            if (!frame.Has(name + ".pivot"))
+                throw Error(
+                    fmt::format("{}: layer {}.color has no {}.pivot (or pass "
+                                "--no-partials)",
+                                frame.path, name, name));
+            PivotPartial partial{&frame.Get(name + ".color"), &frame.Get(name + ".pivot")};
+            if (opt.noise == "auto" && frame.Has(name + ".variance"))
+                partial.variance = &frame.Get(name + ".variance");
+            in.partials.push_back(partial);
+        }
+        if (!in.partials.empty()) {
+            if (!frame.Has("remainder"))
+                throw Error(fmt::format(
+                    "{}: the partial images need a remainder layer (or pass --no-partials)",
+                    frame.path));
+            in.remainder = &frame.Get("remainder");
+        }
     }
     return in;
 }
@@ -107,6 +130,10 @@ DenoiseMethod PivotMethod() {
                         "pivot: auto (the variance layer when present) or estimate (from the "
                         "3x3 neighbours of z)")
             ->capture_default_str();
+        cmd->add_flag("--no-partials", opt->noPartials,
+                      "pivot: filter color as one image even when the frame has section 8's "
+                      "partial<k>.color/.pivot and remainder layers (by default each partial "
+                      "is filtered against its own pivot and the remainder added)");
     };
     method.missing = [](const io::Frame &frame) -> std::string {
         return frame.Has("pivot") ? "" : "no pivot layer";
@@ -124,6 +151,9 @@ DenoiseMethod PivotMethod() {
     method.stages = [opt](vk::Context &context, const io::Frame &frame) {
         PivotOptions options;
         PivotInputs in = PivotInputsOf(*opt, frame, &options);
+        // The stages of the single-image pipeline (the partials run the same one).
+        in.partials.clear();
+        in.remainder = nullptr;
         options.keepStages = true;
         PivotResult gpu = PivotDenoise(context, in, options);
         // The CPU reference on the same inputs and options.

@@ -104,6 +104,12 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
     Vec3 throughput(1);
     int smoothVertices = 0;     // diffuse or glossy vertices so far
     bool afterSpecular = true;  // the last vertex was the camera or a mirror
+    int mirrorPrefix = 0;       // mirror bounces before the first smooth vertex
+    // Add to direct or indirect, and to the partial image of the path's mirror prefix.
+    auto addLight = [&](const Vec3 &light) {
+        (smoothVertices == 0 ? out.direct : out.indirect) += light;
+        out.partial[std::min(mirrorPrefix, kPartialTypes)] += light;
+    };
     for (int depth = 0; depth < kMaxDepth; ++depth) {
         Hit hit;
         if (!scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit)) break;
@@ -119,7 +125,7 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
         // Emission counts when no light sample could have found it: right after the camera
         // or a mirror (mirror chains after a smooth vertex carry caustics: indirect).
         if (!m.emission.IsBlack() && hit.frontFace && afterSpecular)
-            (smoothVertices == 0 ? out.direct : out.indirect) += throughput * m.emission;
+            addLight(throughput * m.emission);
 
         Vec3 diffuse = scene.Diffuse(m, hit), glossy = scene.Glossy(m, hit);
         double wd = diffuse.MaxComponent(), wg = glossy.MaxComponent(),
@@ -127,8 +133,7 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
         double total = wd + wg + wm;
         if (total <= 0) break;
         if (wd + wg > 0) {
-            Vec3 light = throughput * DirectLight(scene, m, hit, wo, rng);
-            (smoothVertices == 0 ? out.direct : out.indirect) += light;
+            addLight(throughput * DirectLight(scene, m, hit, wo, rng));
         }
         // Pick one lobe in proportion to its weight and continue the path through it.
         double pick = Uniform(rng) * total, u1 = Uniform(rng), u2 = Uniform(rng);
@@ -148,6 +153,7 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
             wi = Reflect(ray.direction, hit.normal);
             throughput *= m.mirror * (total / wm);
             afterSpecular = true;
+            if (smoothVertices == 0) ++mirrorPrefix;
         }
         // A bent shading normal can send a direction under the surface: absorb it.
         if (Dot(wi, hit.geometricNormal) <= 0) break;
@@ -174,6 +180,29 @@ Vec3 PivotRadiance(const Scene &scene, const Ray &ray, int depth) {
         radiance +=
             m.mirror * PivotRadiance(scene, {Offset(hit, mirrorDir), mirrorDir}, depth + 1);
     return radiance;
+}
+
+void PivotPartials(const Scene &scene, const Ray &cameraRay, Vec3 partial[kPartialTypes + 1]) {
+    for (int k = 0; k <= kPartialTypes; ++k) partial[k] = Vec3(0);
+    // PivotRadiance unrolled: the term found after k mirrors, times their product.
+    Ray ray = cameraRay;
+    Vec3 weight(1);
+    for (int depth = 0; depth <= kPivotDepth; ++depth) {
+        Vec3 &term = partial[std::min(depth, kPartialTypes)];
+        Hit hit;
+        if (!scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit)) {
+            term += weight;
+            return;
+        }
+        const Material &m = scene.materials[hit.material];
+        Vec3 own = scene.Diffuse(m, hit);
+        Vec3 mirrorDir = Reflect(ray.direction, hit.normal);
+        if (Dot(mirrorDir, hit.normal) > 0) own += scene.Glossy(m, hit);
+        term += weight * own;
+        if (m.mirror.IsBlack() || depth == kPivotDepth) return;
+        weight *= m.mirror;
+        ray = {Offset(hit, mirrorDir), mirrorDir};
+    }
 }
 
 }  // namespace mcd::render

@@ -29,8 +29,14 @@ inline double Uniform(Rng &rng) {
 // caustics (a diffuse or glossy vertex, then mirrors, then a light), which count as
 // indirect with the rest, diffuse interreflection (Xu-Pattanaik's split). The first hit fills
 // the G-buffer fields.
+// Ershov section 8: `partial[k]` (k < kPartialTypes) is the light of the paths whose camera
+// ray took k mirror bounces before its first diffuse or glossy vertex (or emitter); the
+// last entry, the remainder, holds the longer mirror prefixes. They sum to color.
+constexpr int kPartialTypes = 2;
+
 struct PathSample {
     Vec3 color, direct, indirect;
+    Vec3 partial[kPartialTypes + 1];
     Vec3 albedo, normal;
     double depth = 0;
     int objectId = 0, partId = 0;
@@ -43,5 +49,11 @@ PathSample TracePath(const Scene &scene, const Ray &ray, Rng &rng);
 // glossy: its weight when the mirror direction is above the surface), mirror chains
 // followed deterministically up to a depth limit, 1 for rays that escape.
 Vec3 PivotRadiance(const Scene &scene, const Ray &ray, int depth = 0);
+
+// PivotRadiance split by the number k of mirror bounces before the term: partial[k] is the
+// pivot of the section-8 partial image k (the same camera ray path before its first
+// diffuse or glossy hit); the remainder entry holds k >= kPartialTypes. They sum to
+// PivotRadiance to round-off.
+void PivotPartials(const Scene &scene, const Ray &ray, Vec3 partial[kPartialTypes + 1]);
 
 }  // namespace mcd::render

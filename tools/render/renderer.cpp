@@ -27,11 +27,13 @@ unsigned ParseLayerGroups(const std::string &text) {
             groups |= kLayersPivot;
         else if (item == "gbuffer")
             groups |= kLayersGbuffer;
+        else if (item == "partials")
+            groups |= kLayersPartials;
         else if (item == "all")
             groups |= kLayersAll;
         else if (!item.empty())
             throw Error(fmt::format(
-                "unknown layer group '{}' (hist, split, pivot, gbuffer, all)", item));
+                "unknown layer group '{}' (hist, split, pivot, gbuffer, partials, all)", item));
     }
     return groups;
 }
@@ -81,6 +83,14 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     if (o.layers & kLayersHist) hist = Image(w, h, 3 * bins + 1);
     if (o.layers & kLayersSplit) direct = Image(w, h, 3), indirect = Image(w, h, 3);
     if (o.layers & kLayersPivot) pivot = Image(w, h, 3);
+    // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
+    std::vector<Image> partialColors, partialPivots, partialVariances;
+    if (o.layers & kLayersPartials)
+        for (int k = 0; k <= kPartialTypes; ++k) {
+            partialColors.emplace_back(w, h, 3);
+            if (k < kPartialTypes)
+                partialPivots.emplace_back(w, h, 3), partialVariances.emplace_back(w, h, 3);
+        }
     if (o.layers & kLayersGbuffer) {
         albedo = Image(w, h, 3), normal = Image(w, h, 3), depth = Image(w, h, 1);
         objectId = Image(w, h, 1), partId = Image(w, h, 1);
@@ -98,6 +108,7 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                        sumIndirect[3] = {}, sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0;
                 for (int c = 0; c < 3; ++c) lo[c] = INFINITY, hi[c] = -INFINITY;
                 std::fill(bucket.begin(), bucket.end(), 0.f);
+                Vec3 sumPartial[kPartialTypes + 1], sumSqPartial[kPartialTypes + 1];
                 int firstObject = 0, firstPart = 0;
                 uint64_t pixel = uint64_t(y) * w + x;
                 for (int s = 0; s < o.spp; ++s) {
@@ -110,6 +121,7 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                         !std::isfinite(c3[2])) {
                         ++nonFinite;
                         p.color = p.direct = p.indirect = Vec3(0);
+                        for (Vec3 &part : p.partial) part = Vec3(0);
                         c3[0] = c3[1] = c3[2] = 0;
                     }
                     for (int c = 0; c < 3; ++c) {
@@ -121,6 +133,10 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                         sumIndirect[c] += p.indirect[c];
                         sumAlbedo[c] += p.albedo[c];
                         sumNormal[c] += p.normal[c];
+                    }
+                    for (int k = 0; k <= kPartialTypes; ++k) {
+                        sumPartial[k] += p.partial[k];
+                        sumSqPartial[k] += p.partial[k] * p.partial[k];
                     }
                     sumDepth += p.depth;
                     if (s == 0) firstObject = p.objectId, firstPart = p.partId;
@@ -164,6 +180,30 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                             PivotRadiance(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0));
                     }
                     for (int c = 0; c < 3; ++c) pivot.At(c, y, x) = float(sumPivot[c] / 16);
+                }
+                if (!partialColors.empty()) {
+                    // The pivot's grid of rays, its terms split by mirror prefix.
+                    Vec3 sumPivot[kPartialTypes + 1];
+                    for (int j = 0; j < 16; ++j) {
+                        double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
+                        Vec3 terms[kPartialTypes + 1];
+                        PivotPartials(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0),
+                                      terms);
+                        for (int k = 0; k <= kPartialTypes; ++k) sumPivot[k] += terms[k];
+                    }
+                    for (int k = 0; k <= kPartialTypes; ++k)
+                        for (int c = 0; c < 3; ++c) {
+                            double mean = sumPartial[k][c] / n;
+                            partialColors[k].At(c, y, x) = float(mean);
+                            if (k == kPartialTypes) continue;
+                            partialPivots[k].At(c, y, x) = float(sumPivot[k][c] / 16);
+                            // As the variance layer: of the mean, unbiased.
+                            double var =
+                                n > 1 ? std::max(0.0, (sumSqPartial[k][c] - n * mean * mean) /
+                                                          (n - 1))
+                                      : 0;
+                            partialVariances[k].At(c, y, x) = float(var / n);
+                        }
                 }
             }
             int done = ++rowsDone;
@@ -210,6 +250,16 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     add("depth", depth);
     add("objectId", objectId);
     add("partId", partId);
+    for (int k = 0; k < int(partialPivots.size()); ++k) {
+        result.layers.emplace_back(fmt::format("partial{}.color", k),
+                                   std::move(partialColors[k]));
+        result.layers.emplace_back(fmt::format("partial{}.pivot", k),
+                                   std::move(partialPivots[k]));
+        result.layers.emplace_back(fmt::format("partial{}.variance", k),
+                                   std::move(partialVariances[k]));
+    }
+    if (!partialColors.empty())
+        result.layers.emplace_back("remainder", std::move(partialColors.back()));
     result.metadata = {
         {"mcd:scene", scene.name},
         {"mcd:spp", std::to_string(o.spp)},

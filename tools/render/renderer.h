@@ -26,9 +26,13 @@ enum LayerGroup : unsigned {
     kLayersPivot = 4,    // pivot (Ershov eq. 9)
     kLayersGbuffer = 8,  // albedo, normal, depth, objectId, partId
     kLayersAll = 15,
+    // Ershov section 8 (not in "all"): partial<k>.color, .pivot and .variance for k <
+    // kPartialTypes mirror bounces before the first diffuse/glossy hit, and "remainder",
+    // the rest of color (see PathSample).
+    kLayersPartials = 16,
 };
 
-// Parse "hist,split,pivot,gbuffer", "all" or "" (none); throws mcd::Error.
+// Parse "hist,split,pivot,gbuffer,partials", "all" or "" (none); throws mcd::Error.
 unsigned ParseLayerGroups(const std::string &text);
 
 struct RenderOptions {
