@@ -82,7 +82,8 @@ TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
                  {{"color", &color}, {"direct", &direct}, {"indirect", &indirect}});
     io::WriteExr((dir / "plain.exr").string(), {{"color", &color}});
 
-    Output r = Run("denoise split.exr -o out.exr --method bayes --explain --sn 0.3");
+    Output r =
+        Run("denoise split.exr -o out.exr --method bayes --explain --noise fixed --sn 0.3");
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_TRUE(Contains(r.out, "split (section 4.1)")) << r.out;
     EXPECT_TRUE(Contains(r.out, "s_n 0.3")) << r.out;

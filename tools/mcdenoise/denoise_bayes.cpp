@@ -16,8 +16,10 @@
 namespace mcd::tool {
 namespace {
 
+// --noise defaults to auto: on cornell and interior at 4/16/64 spp (README, Method bayes)
+// the variance estimate beat the fixed s_n 0.19 in every row, by 0.4 to 3.3 dB.
 struct BayesCliOptions {
-    std::string basis = "haar", noise = "fixed";
+    std::string basis = "haar", noise = "auto";
     int levels = 3, spins = 1;
     float sn = 0.19f, pn = 1.5f, hpFactor = 2.f, floorRel = 1e-3f;
     bool noSplit = false, keepMean = false;
