@@ -178,7 +178,8 @@ double BayesScaleFromMad(double mad, double p) {
 // bound on the indirect part's relative noise (the direct part's variance is in V).
 std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
                                       const Image &variance, const std::vector<float> &floors,
-                                      WaveletBasis basis, int levels, float pn, bool opponent) {
+                                      WaveletBasis basis, int levels, float pn, bool opponent,
+                                      std::vector<vk::DispatchTiming> *timings) {
     if (!variance.SameShape(color))
         throw Error(fmt::format(
             "bayes: the variance layer is {}x{}x{} but the image is {}x{}x{}", variance.width,
@@ -199,6 +200,8 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
     vk::Recorder recorder(context);
     transform.RecordSqAnalysis(recorder, basis, levels, varGpu, varGpu, 0.f, 0.f);
     recorder.Submit();
+    if (timings)
+        for (const vk::DispatchTiming &t : recorder.Timings()) timings->push_back(t);
     Image coef = varGpu.Download();
     double toS = std::exp(0.5 * (std::lgamma(1.0 / pn) - std::lgamma(3.0 / pn)));
     std::vector<double> bandVar;
@@ -306,8 +309,9 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         for (int b = 0; b < bands; ++b)
             bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * options.hpFactor : sn;
         if (options.variance) {
-            bandSn = BayesVarianceNoise(context, color, *options.variance, floors,
-                                        options.basis, levels, options.pn, options.opponent);
+            bandSn =
+                BayesVarianceNoise(context, color, *options.variance, floors, options.basis,
+                                   levels, options.pn, options.opponent, &result.timings);
             double mean = 0;
             for (float v : bandSn) mean += v / bands;
             sn = float(mean);

@@ -91,10 +91,12 @@ const char *BayesFitName(int fit);
 
 // --noise variance: the noise s of every band (band order of shaders/bayes/bayes.h) from the
 // per-pixel variance of the mean of `color` (see the derivation in bayes.cpp). The squared-
-// filter analysis runs on the GPU, the rest on the host. Non-finite or negative variances
+// filter analysis runs on the GPU (its dispatch timings appended to `timings` when given),
+// the rest on the host. Non-finite or negative variances
 // count as 0; `opponent` gives every channel the mean over channels.
 std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
                                       const Image &variance, const std::vector<float> &floors,
-                                      WaveletBasis basis, int levels, float pn, bool opponent);
+                                      WaveletBasis basis, int levels, float pn, bool opponent,
+                                      std::vector<vk::DispatchTiming> *timings = nullptr);
 
 }  // namespace mcd
