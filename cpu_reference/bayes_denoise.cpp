@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <limits>
+
 #include "cpu_reference/wavelet_analyze.h"
+#include "cpu_reference/wavelet_sqanalyze.h"
 #include "cpu_reference/wavelet_synthesize.h"
+#include "host/error.h"
 
 namespace mcd::ref {
 
@@ -118,6 +122,46 @@ void KeepMean(const Image &color, BayesRefResult *result, bool keepStage) {
 
 }  // namespace
 
+std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance,
+                                       const std::vector<double> &floors, WaveletBasis basis,
+                                       int levels, double pn, bool opponent) {
+    if (!variance.SameShape(color)) throw Error("bayes reference: variance shape differs");
+    Image perPixel(color.width, color.height, color.channels);
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double v = variance.At(c, y, x), value = color.At(c, y, x);
+                if (std::isnan(v) || v < 0) v = 0;
+                if (std::isinf(v)) v = std::numeric_limits<float>::max();
+                double mean = std::isfinite(value) ? std::max(value, floors[c]) : floors[c];
+                perPixel.At(c, y, x) = float(std::log1p(v / (mean * mean)));
+            }
+    Image coefVar = WaveletSqAnalyze(perPixel, basis, levels);
+    double shape = std::sqrt(std::exp(std::lgamma(1 / pn) - std::lgamma(3 / pn)));
+    std::vector<BayesBand> bands =
+        BayesBands(color.width, color.height, color.channels, levels);
+    std::vector<double> var(bands.size(), 0.0);
+    for (size_t b = 0; b < bands.size(); ++b) {
+        const BayesBand &band = bands[b];
+        int64_t n = int64_t(band.x1 - band.x0) * (band.y1 - band.y0);
+        for (int y = band.y0; y < band.y1; ++y)
+            for (int x = band.x0; x < band.x1; ++x) var[b] += coefVar.At(band.channel, y, x);
+        if (n > 0) var[b] /= double(n);
+    }
+    if (opponent) {
+        // Bands of channel c are at c * (3 levels) + k.
+        size_t per = size_t(3 * levels);
+        for (size_t k = 0; k < per; ++k) {
+            double sum = 0;
+            for (int c = 0; c < color.channels; ++c) sum += var[c * per + k];
+            for (int c = 0; c < color.channels; ++c) var[c * per + k] = sum / color.channels;
+        }
+    }
+    std::vector<double> s;
+    for (double v : var) s.push_back(std::sqrt(std::max(v, 0.0)) * shape);
+    return s;
+}
+
 BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) {
     if (options.spins > 1) {
         BayesRefOptions once = options;
@@ -140,6 +184,18 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
                             int sy = y - dy < 0 ? std::min(dy - y - 1, h - 1) : y - dy;
                             padded.At(c, y, x) = color.At(c, sy, sx);
                         }
+                Image paddedVariance;
+                if (options.variance) {
+                    paddedVariance = Image(w + dx, h + dy, color.channels);
+                    for (int c = 0; c < color.channels; ++c)
+                        for (int y = 0; y < h + dy; ++y)
+                            for (int x = 0; x < w + dx; ++x) {
+                                int sx = x - dx < 0 ? std::min(dx - x - 1, w - 1) : x - dx;
+                                int sy = y - dy < 0 ? std::min(dy - y - 1, h - 1) : y - dy;
+                                paddedVariance.At(c, y, x) = options.variance->At(c, sy, sx);
+                            }
+                    once.variance = &paddedVariance;
+                }
                 Image one = BayesDenoise(padded, once).image;
                 size_t i = 0;
                 for (int c = 0; c < color.channels; ++c)
@@ -191,9 +247,14 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         BayesBands(color.width, color.height, color.channels, levels);
     std::vector<double> bandSn;
     double snBase = options.snOverride >= 0 ? options.snOverride : options.sn;
+    std::vector<double> varianceSn;
+    if (options.variance)
+        varianceSn = BayesVarianceNoise(color, *options.variance, floors, options.basis, levels,
+                                        options.pn, options.opponent);
     for (const BayesBand &band : bands) {
         BandMoments m = MeasureBand(coefficients, band);
-        double sn = BandNoiseS(band.level, snBase, options.hpFactor);
+        double sn = options.variance ? varianceSn[bandSn.size()]
+                                     : BandNoiseS(band.level, snBase, options.hpFactor);
         result.moments.push_back(m);
         result.fits.push_back(SolveBand(m.m2, m.m4, m.count, sn, options.pn));
         bandSn.push_back(sn);

@@ -52,6 +52,17 @@ Image BayesShrinkDirect(const Image &coefficients, const std::vector<BayesBand> 
                         const std::vector<BandFit> &fits, const std::vector<double> &bandSn,
                         double pn);
 
+// --noise variance: the noise s of every band (order of BayesBands) from the per-pixel
+// variance V of the mean of `color`: per pixel sigma^2 = log(1 + V / max(Y, floor)^2)
+// (the delta method's V / Y^2 to first order, exact for log-normal Y; NaN/negative V is 0,
+// +Inf V is FLT_MAX, NaN/Inf Y is the floor), through the DWT with squared taps
+// (var(sum h_i z_i) = sum h_i^2 var(z_i) for independent pixels; WaveletSqAnalyze at
+// natural sums), the mean over the band, and s = sigma sqrt(Gamma(1/p) / Gamma(3/p)) for
+// a generalised Laplacian of shape p. `opponent`: the mean over channels for every channel.
+std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance,
+                                       const std::vector<double> &floors, WaveletBasis basis,
+                                       int levels, double pn, bool opponent);
+
 struct BayesRefOptions {
     WaveletBasis basis = WaveletBasis::Haar;
     int levels = 3;
@@ -65,6 +76,9 @@ struct BayesRefOptions {
     bool keepStages = false;
     // When set, used instead of sn (the GPU's --noise auto estimate, for `mcdenoise diff`).
     double snOverride = -1;
+    // When set, every band's noise s is BayesVarianceNoise of it (--noise variance); sn,
+    // hpFactor and snOverride are then unused. Not owned.
+    const Image *variance = nullptr;
 };
 struct BayesRefResult {
     Image image;

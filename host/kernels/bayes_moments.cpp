@@ -32,9 +32,10 @@ void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::
 }
 
 void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &moments,
-                      int bands, int levels, float sn, float pn, float snFinest,
+                      int bands, int levels, const vk::Buffer &noise, float pn,
                       const vk::Buffer &params) {
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
+        noise.Bytes() < VkDeviceSize(bands) * sizeof(float) ||
         moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
         throw Error(fmt::format("bayes solve: buffers too small for {} bands", bands));
     const vk::Kernel &kernel = context.GetKernel({"bayes_solve",
@@ -43,9 +44,12 @@ void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Bu
                                                   BAYES_SOLVE_BINDINGS,
                                                   sizeof(shader::BayesSolvePush),
                                                   {}});
-    shader::BayesSolvePush push{bands, levels, sn, pn, snFinest};
+    shader::BayesSolvePush push{bands, levels, pn};
     recorder.Dispatch(kernel, "bayes.solve",
-                      {{&moments, vk::Access::Read}, {&params, vk::Access::Write}}, &push,
+                      {{&moments, vk::Access::Read},
+                       {&params, vk::Access::Write},
+                       {&noise, vk::Access::Read}},
+                      &push,
                       uint32_t((bands + BAYES_SOLVE_LOCAL_SIZE - 1) / BAYES_SOLVE_LOCAL_SIZE));
 }
 

@@ -16,9 +16,9 @@ inline int BayesBandCount(int channels, int levels) {
 void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
                         int levels, const vk::Buffer &moments);
 
-// params[band] from moments[band]: noise s `sn` (`snFinest` at level 0), shape `pn`.
+// params[band] from moments[band]: noise s noise[band] (one float per band), shape `pn`.
 void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &moments,
-                      int bands, int levels, float sn, float pn, float snFinest,
+                      int bands, int levels, const vk::Buffer &noise, float pn,
                       const vk::Buffer &params);
 
 }  // namespace mcd

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "bayes/bayes.h"
 #include "host/error.h"
@@ -149,6 +150,87 @@ double BayesScaleFromMad(double mad, double p) {
     return mad / end;
 }
 
+// --noise variance. Derivation:
+// 1. Log domain. The method shrinks z = log(max(Y, floor)). For a pixel mean Y with
+//    variance V (the variance layer), the delta method gives var(z) ~ V / Y^2 to first
+//    order. We use log(1 + V / max(Y, floor)^2), which agrees with it to first order and is
+//    exact for log-normal Y (var(log Y) = log(1 + V / E[Y]^2)); it grows only
+//    logarithmically where V >> Y^2 (dark pixels at low spp), so one such pixel cannot
+//    swamp the band's estimate, and it is finite for any finite V (V = FLT_MAX over a
+//    1e-30 floor gives about 227). Y is the noisy mean itself: the best we have per pixel.
+// 2. Through the DWT. Pixel noises are independent, so a coefficient sum_i h_i z_i has
+//    noise variance sum_i h_i^2 var(z_i): the DWT with every tap squared (AWR eqs. 9-10,
+//    the foundation's squared analysis at natural sums) turns the per-pixel log variance
+//    into every coefficient's noise variance, per level and orientation: orthonormal Haar
+//    keeps white noise's variance at every level (its squared taps are (1/2, 1/2)), the
+//    biorthogonal 5/3 and 9/7 scale it per band by their squared-tap sums. So no fixed
+//    high-pass factor: each band gets its own. Exact for Haar at every level and for any
+//    basis at the finest level; at coarser levels of 5/3 and 9/7 the cascade treats the
+//    previous low-pass outputs as independent though their overlapping filters correlate
+//    them (tests/methods/bayes_test.cpp measures 0.88 to 1.18 of the true variance).
+// 3. Per band, the noise variance sigma^2 is the mean of those over the band's
+//    coefficients (a heteroscedastic mixture has the mean variance), and a generalised
+//    Laplacian of shape p has variance s^2 Gamma(3/p) / Gamma(1/p), so
+//    s_n = sigma sqrt(Gamma(1/p) / Gamma(3/p)).
+// With --colour opponent the orthonormal mix gives each opponent channel a weighted mean of
+// the RGB variances with weights summing to 1; we use the plain mean over channels.
+// In the split the variance is that of the whole colour over the indirect value: an upper
+// bound on the indirect part's relative noise (the direct part's variance is in V).
+std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
+                                      const Image &variance, const std::vector<float> &floors,
+                                      WaveletBasis basis, int levels, float pn, bool opponent,
+                                      std::vector<vk::DispatchTiming> *timings) {
+    if (!variance.SameShape(color))
+        throw Error(fmt::format(
+            "bayes: the variance layer is {}x{}x{} but the image is {}x{}x{}", variance.width,
+            variance.height, variance.channels, color.width, color.height, color.channels));
+    int w = color.width, h = color.height, channels = color.channels;
+    Image logVar(w, h, channels);
+    for (int c = 0; c < channels; ++c)
+        for (size_t i = 0; i < color.PixelCount(); ++i) {
+            float y = color.Plane(c)[i], v = variance.Plane(c)[i];
+            if (!(v > 0)) v = 0;  // NaN and negatives: no information
+            if (!Finite(v)) v = std::numeric_limits<float>::max();
+            double base = Finite(y) ? std::max(double(y), double(floors[c])) : floors[c];
+            logVar.Plane(c)[i] = float(std::log1p(double(v) / (base * base)));
+        }
+    vk::GpuImage varGpu(context, w, h, channels, "bayes.logvar");
+    varGpu.Upload(logVar);
+    WaveletTransform transform(context, w, h, channels);
+    vk::Recorder recorder(context);
+    transform.RecordSqAnalysis(recorder, basis, levels, varGpu, varGpu, 0.f, 0.f);
+    recorder.Submit();
+    if (timings)
+        for (const vk::DispatchTiming &t : recorder.Timings()) timings->push_back(t);
+    Image coef = varGpu.Download();
+    double toS = std::exp(0.5 * (std::lgamma(1.0 / pn) - std::lgamma(3.0 / pn)));
+    std::vector<double> bandVar;
+    for (int c = 0; c < channels; ++c)
+        for (int level = 0; level < levels; ++level) {
+            int lw = LevelExtent(w, level), lh = LevelExtent(h, level);
+            int lowW = (lw + 1) / 2, lowH = (lh + 1) / 2;
+            int box[3][4] = {{lowW, 0, lw, lowH}, {0, lowH, lowW, lh}, {lowW, lowH, lw, lh}};
+            for (auto &b : box) {
+                double sum = 0;
+                size_t n = 0;
+                for (int y = b[1]; y < b[3]; ++y)
+                    for (int x = b[0]; x < b[2]; ++x, ++n) sum += coef.At(c, y, x);
+                bandVar.push_back(n ? sum / double(n) : 0.0);
+            }
+        }
+    if (opponent) {
+        size_t perChannel = size_t(levels) * 3;
+        for (size_t k = 0; k < perChannel; ++k) {
+            double mean = 0;
+            for (int c = 0; c < channels; ++c) mean += bandVar[c * perChannel + k] / channels;
+            for (int c = 0; c < channels; ++c) bandVar[c * perChannel + k] = mean;
+        }
+    }
+    std::vector<float> s;
+    for (double v : bandVar) s.push_back(float(std::sqrt(std::max(v, 0.0)) * toS));
+    return s;
+}
+
 namespace {
 
 BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
@@ -222,18 +304,46 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         transform.RecordAnalysis(recorder, options.basis, levels, work, work);
         stage("analysis", work);
         float sn = options.sn;
-        if (options.noiseAuto) {
+        int bands = BayesBandCount(channels, levels);
+        std::vector<float> bandSn(bands);
+        for (int b = 0; b < bands; ++b)
+            bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * options.hpFactor : sn;
+        if (options.variance) {
+            bandSn =
+                BayesVarianceNoise(context, color, *options.variance, floors, options.basis,
+                                   levels, options.pn, options.opponent, &result.timings);
+            double mean = 0;
+            for (float v : bandSn) mean += v / bands;
+            sn = float(mean);
+            std::string perLevel;
+            for (int level = 0; level < levels; ++level) {
+                double m = 0;
+                for (int c = 0; c < channels; ++c)
+                    for (int o = 0; o < 3; ++o)
+                        m += bandSn[(c * levels + level) * 3 + o] / (3.0 * channels);
+                perLevel += fmt::format("{}{:.4g}", level ? ", " : "", m);
+            }
+            result.plan.push_back(fmt::format(
+                "--noise variance: per band from the variance layer: log(1 + V / max(Y, "
+                "floor)^2) per pixel (the delta method's V / Y^2, exact for log-normal), "
+                "squared-filter DWT, band mean -> s (p_n {}); mean s per level (finest "
+                "first) {}",
+                options.pn, perLevel));
+        } else if (options.noiseAuto) {
             submit();
             double mad = FinestMad(work.Download());
             double finest = BayesScaleFromMad(mad, options.pn);
             sn = float(finest / options.hpFactor);
+            for (int b = 0; b < bands; ++b)
+                bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * options.hpFactor : sn;
             result.plan.push_back(fmt::format(
                 "--noise auto: finest HH bands' median |y| {:.4g} -> finest-level s {:.4g} "
                 "(p_n {}) -> s_n {:.4g}",
                 mad, finest, options.pn, sn));
         }
         result.sn = sn;
-        int bands = BayesBandCount(channels, levels);
+        vk::Buffer noiseGpu(context, bands * sizeof(float), "bayes.noise");
+        noiseGpu.UploadFloats(bandSn);
         vk::Buffer moments(context, bands * BAYES_MOMENT_STRIDE * sizeof(float),
                            "bayes.moments");
         vk::Buffer params(context, bands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
@@ -246,8 +356,8 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
             std::copy(m.begin(), m.end(), rows.data.begin());
             result.stages.push_back({"moments", std::move(rows)});
         }
-        RecordBayesSolve(context, recorder, moments, bands, levels, sn, options.pn,
-                         sn * options.hpFactor, params);
+        RecordBayesSolve(context, recorder, moments, bands, levels, noiseGpu, options.pn,
+                         params);
         if (options.keepStages) {
             submit();
             std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
@@ -275,10 +385,15 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                         fit.params.begin());
             result.fits.push_back(fit);
         }
-        result.plan.push_back(fmt::format(
-            "{}-level {} DWT; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
-            levels, WaveletName(options.basis), sn, options.pn, sn * options.hpFactor,
-            options.hpFactor));
+        if (options.variance)
+            result.plan.push_back(
+                fmt::format("{}-level {} DWT; noise per band (mean s {:.4g}), p_n {}", levels,
+                            WaveletName(options.basis), sn, options.pn));
+        else
+            result.plan.push_back(fmt::format(
+                "{}-level {} DWT; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
+                levels, WaveletName(options.basis), sn, options.pn, sn * options.hpFactor,
+                options.hpFactor));
         result.plan.push_back(fmt::format(
             "per band: E[y^2], E[y^4] -> (s_c, p_c) by eqs. 17-18; posterior-mean table of "
             "{} entries (log-sum-exp quadrature), applied with interpolation",
@@ -325,8 +440,19 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
                 for (int y = 0; y < h + dy; ++y)
                     for (int x = 0; x < w + dx; ++x)
                         padded.At(c, y, x) = color.At(c, mirror(y - dy, h), mirror(x - dx, w));
+            // --noise variance: the variance layer shifted like the image, estimated per shift.
+            Image paddedVariance;
+            if (options.variance) {
+                paddedVariance = Image(w + dx, h + dy, color.channels);
+                for (int c = 0; c < color.channels; ++c)
+                    for (int y = 0; y < h + dy; ++y)
+                        for (int x = 0; x < w + dx; ++x)
+                            paddedVariance.At(c, y, x) =
+                                options.variance->At(c, mirror(y - dy, h), mirror(x - dx, w));
+                once.variance = &paddedVariance;
+            }
             BayesResult one = BayesDenoiseOnce(context, padded, once);
-            if (once.noiseAuto) {
+            if (once.noiseAuto && !options.variance) {
                 // One noise estimate for every shift, the unshifted image's: the shifts
                 // must differ only in where the transform's grid falls.
                 once.noiseAuto = false;

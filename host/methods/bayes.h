@@ -28,6 +28,10 @@ struct BayesOptions {
     // finest HH bands, all channels pooled, through the generalised Laplacian of shape pn);
     // then sn = that / hpFactor.
     bool noiseAuto = false;
+    // --noise variance (beyond the paper; overrides noiseAuto): every band's noise s from
+    // this per-pixel variance of the mean (same shape as the image), by
+    // BayesVarianceNoise; hpFactor and sn are then unused. Not owned.
+    const Image *variance = nullptr;
     // Exact zeros come out exactly 0 (the issue: black stays black). Off: they are denoised
     // like any pixel (from the log floor), which suits low-spp renders whose zeros are noise.
     bool restoreZeros = true;
@@ -57,7 +61,8 @@ struct BayesResult {
     std::vector<std::string> warnings;  // counts of zeros, negatives, NaN/Inf, floored values
     std::vector<vk::DispatchTiming> timings;
     std::vector<BayesBandFit> fits;
-    float sn = 0;  // the noise s used (estimated with noiseAuto)
+    float sn =
+        0;  // the noise s used (estimated with noiseAuto; the mean over bands with variance)
     int levels = 0;
     // With keepStages, in order: "log", "opponent" (--colour opponent), "analysis" (the
     // Mallat layout), "moments" (1 channel, a row per band: E[y^2], E[y^4], max |y|,
@@ -83,5 +88,15 @@ std::vector<float> BayesFloors(const Image &color, float floorRel);
 double BayesScaleFromMad(double mad, double p);
 
 const char *BayesFitName(int fit);
+
+// --noise variance: the noise s of every band (band order of shaders/bayes/bayes.h) from the
+// per-pixel variance of the mean of `color` (see the derivation in bayes.cpp). The squared-
+// filter analysis runs on the GPU (its dispatch timings appended to `timings` when given),
+// the rest on the host. Non-finite or negative variances
+// count as 0; `opponent` gives every channel the mean over channels.
+std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
+                                      const Image &variance, const std::vector<float> &floors,
+                                      WaveletBasis basis, int levels, float pn, bool opponent,
+                                      std::vector<vk::DispatchTiming> *timings = nullptr);
 
 }  // namespace mcd

@@ -7,6 +7,7 @@
 layout(local_size_x = BAYES_SOLVE_LOCAL_SIZE) in;
 layout(std430, binding = BAYES_SOLVE_MOMENTS) readonly buffer Moments { float moments[]; };
 layout(std430, binding = BAYES_SOLVE_PARAMS) writeonly buffer Params { float params[]; };
+layout(std430, binding = BAYES_SOLVE_NOISE) readonly buffer Noise { float noise[]; };
 
 float LogKurtosis(float p) {
     return BayesLgamma(5.0 / p) + BayesLgamma(1.0 / p) - 2.0 * BayesLgamma(3.0 / p);
@@ -15,12 +16,11 @@ float LogKurtosis(float p) {
 void main() {
     int band = int(gl_GlobalInvocationID.x);
     if (band >= push.bands) return;
-    int level = (band % (3 * push.levels)) / 3;
     float m2 = moments[band * BAYES_MOMENT_STRIDE + 0];
     float m4 = moments[band * BAYES_MOMENT_STRIDE + 1];
     float yMax = moments[band * BAYES_MOMENT_STRIDE + 2];
     float count = moments[band * BAYES_MOMENT_STRIDE + 3];
-    float sn = level == 0 ? push.snFinest : push.sn, pn = push.pn;
+    float sn = noise[band], pn = push.pn;
     int fit = BAYES_FIT_SOLVED;
     float sc = 0.0, pc = 0.0;
     if (count == 0.0) {

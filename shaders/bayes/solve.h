@@ -3,13 +3,15 @@
 // fourth moment of the signal m4 - m4_n - 6 sigma_c^2 sigma_n^2, p_c by bisection of the
 // log kurtosis over [BAYES_P_LO, BAYES_P_HI], s_c from sigma_c^2; the fallbacks of
 // cpu_reference/bayes_model.h. Also the band's table scale b = s_n and step
-// du = asinh(y_max / b) / (BAYES_TABLE_SIZE - 1).
+// du = asinh(y_max / b) / (BAYES_TABLE_SIZE - 1). The noise s of every band is read from
+// the noise buffer (one float per band), so it may differ per channel and level.
 #ifndef MCD_SHADERS_BAYES_SOLVE_H
 #define MCD_SHADERS_BAYES_SOLVE_H
 
 #define BAYES_SOLVE_MOMENTS 0
 #define BAYES_SOLVE_PARAMS 1
-#define BAYES_SOLVE_BINDINGS 2
+#define BAYES_SOLVE_NOISE 2
+#define BAYES_SOLVE_BINDINGS 3
 #define BAYES_SOLVE_LOCAL_SIZE 64
 
 #ifdef __cplusplus
@@ -20,12 +22,10 @@ layout(push_constant) uniform BayesSolvePush {
 #endif
     int bands;
     int levels;
-    float sn;        // noise s of every level but the finest
-    float pn;        // noise shape
-    float snFinest;  // noise s of the finest level (the paper: 2 s_n)
+    float pn;  // noise shape
 #ifdef __cplusplus
 };
-static_assert(sizeof(BayesSolvePush) == 20);
+static_assert(sizeof(BayesSolvePush) == 12);
 }  // namespace mcd::shader
 #else
 }

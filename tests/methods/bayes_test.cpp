@@ -371,7 +371,10 @@ TEST_F(BayesKernel, SolveMatchesReference) {
     vk::Buffer momentsGpu = Floats(moments, "moments");
     vk::Buffer params(Ctx(), bands * BAYES_PARAM_STRIDE * sizeof(float), "params");
     vk::Recorder recorder(Ctx());
-    RecordBayesSolve(Ctx(), recorder, momentsGpu, bands, levels, sn, pn, snFinest, params);
+    std::vector<float> noise(bands);
+    for (int b = 0; b < bands; ++b) noise[b] = (b % (3 * levels)) / 3 == 0 ? snFinest : sn;
+    vk::Buffer noiseGpu = Floats(noise, "noise");
+    RecordBayesSolve(Ctx(), recorder, momentsGpu, bands, levels, noiseGpu, pn, params);
     recorder.Submit();
     std::vector<float> got = params.DownloadFloats(bands * BAYES_PARAM_STRIDE);
     for (int b = 0; b < bands; ++b) {
@@ -428,7 +431,10 @@ TEST_F(BayesKernel, TableAndShrinkMatchTheDirectIntegral) {
     const float sn = 0.19f, pn = 1.5f;
     vk::Recorder recorder(Ctx());
     RecordBayesMoments(Ctx(), recorder, c, levels, moments);
-    RecordBayesSolve(Ctx(), recorder, moments, bands, levels, sn, pn, 2 * sn, params);
+    std::vector<float> noise(bands);
+    for (int b = 0; b < bands; ++b) noise[b] = (b % (3 * levels)) / 3 == 0 ? 2 * sn : sn;
+    vk::Buffer noiseGpu = Floats(noise, "noise");
+    RecordBayesSolve(Ctx(), recorder, moments, bands, levels, noiseGpu, pn, params);
     RecordBayesTable(Ctx(), recorder, params, bands, table);
     RecordBayesShrink(Ctx(), recorder, c, levels, params, table);
     recorder.Submit();
@@ -782,6 +788,190 @@ TEST_F(BayesProperties, SplitAddsTheDirectPartBack) {
         EXPECT_EQ(split.image.data[i], whole.image.data[i] + 0.25f);
     EXPECT_TRUE(AnyWarning(split, "1 NaN/Inf values in the direct layer"));
     EXPECT_TRUE(Contains(split.plan[0], "split"));
+}
+
+// ---------------------------------------------------------------- --noise variance
+
+class BayesVariance : public GpuTest {};
+
+// A variance layer with zeros, negatives, NaN, +Inf, 1e30 and ordinary values.
+Image AwkwardVariance(const Image &color, uint64_t seed) {
+    Image variance(color.width, color.height, color.channels);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> rel(0.f, 0.5f);
+    for (size_t i = 0; i < variance.Size(); ++i) {
+        float y = std::isfinite(color.data[i]) ? color.data[i] : 1.f;
+        variance.data[i] = rel(rng) * y * y;
+        switch (rng() % 20) {
+            case 0:
+                variance.data[i] = 0;
+                break;
+            case 1:
+                variance.data[i] = -1;
+                break;
+            case 2:
+                variance.data[i] = std::numeric_limits<float>::quiet_NaN();
+                break;
+            case 3:
+                variance.data[i] = std::numeric_limits<float>::infinity();
+                break;
+            case 4:
+                variance.data[i] = 1e30f;
+                break;
+            default:
+                break;
+        }
+    }
+    return variance;
+}
+
+// Host (GPU squared analysis) against the reference estimate. Both take the same floors
+// and the same per-pixel log(1 + V / Y^2) (double, rounded to float); the rest is sums of
+// non-negative terms, so no cancellation: the GPU's squared analysis has at most ~10
+// float operations per output per axis pass, 2 passes per level, 3 levels, each within u
+// relatively, and the reference rounds to float after every level too: 2 x 60 u = 7e-6 on
+// a band's variance, half that on s. 1e-5 relative leaves room.
+TEST_F(BayesVariance, EstimateMatchesReference) {
+    std::vector<std::pair<int, int>> sizes = kSizes;
+    sizes.push_back({64, 48});
+    for (auto [w, h] : sizes)
+        for (WaveletBasis basis :
+             {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97})
+            for (bool opponent : {false, true}) {
+                SCOPED_TRACE(
+                    fmt::format("{}x{} {} opponent {}", w, h, WaveletName(basis), opponent));
+                uint64_t seed = SeedFromName(fmt::format("variance{}x{}", w, h));
+                Image color = AwkwardInput(w, h, 3, seed);
+                Image variance = AwkwardVariance(color, seed + 7);
+                int levels = std::min(3, MaxWaveletLevels(w, h));
+                std::vector<float> floors = BayesFloors(color, 1e-3f);
+                std::vector<double> refFloors(floors.begin(), floors.end());
+                std::vector<float> gpu = BayesVarianceNoise(Ctx(), color, variance, floors,
+                                                            basis, levels, 1.5f, opponent);
+                std::vector<double> cpu = ref::BayesVarianceNoise(color, variance, refFloors,
+                                                                  basis, levels, 1.5, opponent);
+                ASSERT_EQ(gpu.size(), cpu.size());
+                ASSERT_EQ(gpu.size(), size_t(3 * 3 * levels));
+                for (size_t b = 0; b < cpu.size(); ++b) {
+                    EXPECT_TRUE(std::isfinite(gpu[b]) && gpu[b] >= 0) << "band " << b;
+                    EXPECT_NEAR(gpu[b], cpu[b], 1e-5 * cpu[b]) << "band " << b;
+                }
+            }
+}
+
+// Synthetic log-normal noise of known, per-pixel sigma in [0.2, 0.4] on a smooth picture,
+// with the variance layer a renderer would write for it (V = Y^2 (e^sigma^2 - 1), the
+// sample variance scaling with its own mean): every level's estimated noise variance
+// (s^2 Gamma(3/p) / Gamma(1/p), p_n 1.5, the mean over the level's bands) must match the
+// measured variance of the pure-noise coefficients, the DWT of log Y - log C. The
+// measurement is a mean of n squared Gaussians with different variances: its relative
+// standard deviation is sqrt(2 k / n), k = E[sigma^4] / E[sigma^2]^2 = 1.14 for sigma
+// uniform on [0.2, 0.4]; the biorthogonal bases correlate neighbouring coefficients, which
+// we allow for with a factor 2 in variance, and take 6 standard deviations: on 256x256,
+// 6% at the finest level (n = 49152) to 23% at the third (n = 3072). A wrong filter gain,
+// the variance-to-s conversion or the log-normal formula each miss by more.
+// Exact (up to that sampling) for Haar at every level and every basis at the finest level.
+// For the biorthogonal 5/3 and 9/7 at coarser levels the squared cascade ignores the
+// correlation their overlapping low-pass puts between the next level's inputs: measured
+// here 0.88 (5/3) and 0.95 (9/7) at level 1, 1.18 and 1.12 at level 2 (with the level's
+// sampling tolerance on top); those levels get 0.25 plus the sampling tolerance.
+TEST_F(BayesVariance, RecoversKnownLogNormalSigma) {
+    const int w = 256, h = 256, levels = 3;
+    const double pn = 1.5;
+    Image clean(w, h, 1), noisy(w, h, 1), variance(w, h, 1), noise(w, h, 1);
+    std::mt19937_64 rng(SeedFromName("variance lognormal"));
+    std::normal_distribution<double> normal(0, 1);
+    std::uniform_real_distribution<double> sigmaDist(0.2, 0.4);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double c = 0.5 + 0.4 * std::sin(0.05 * x) * std::cos(0.03 * y);
+            double sigma = sigmaDist(rng), z = sigma * normal(rng);
+            float yv = float(c * std::exp(z));
+            clean.At(0, y, x) = float(c);
+            noisy.At(0, y, x) = yv;
+            noise.At(0, y, x) = float(std::log(double(yv)) - std::log(c));
+            variance.At(0, y, x) = float(double(yv) * yv * std::expm1(sigma * sigma));
+        }
+    std::vector<float> floors = BayesFloors(noisy, 1e-3f);
+    double toVariance = std::exp(std::lgamma(3 / pn) - std::lgamma(1 / pn));
+    for (WaveletBasis basis :
+         {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97}) {
+        std::vector<float> s =
+            BayesVarianceNoise(Ctx(), noisy, variance, floors, basis, levels, float(pn), false);
+        Image coef = ref::WaveletAnalyze(noise, basis, levels);
+        std::vector<ref::BayesBand> bands = ref::BayesBands(w, h, 1, levels);
+        for (int level = 0; level < levels; ++level) {
+            double estimated = 0, measured = 0;
+            int64_t n = 0;
+            for (size_t b = 0; b < bands.size(); ++b) {
+                if (bands[b].level != level) continue;
+                estimated += double(s[b]) * s[b] * toVariance / 3;
+                for (int y = bands[b].y0; y < bands[b].y1; ++y)
+                    for (int x = bands[b].x0; x < bands[b].x1; ++x, ++n)
+                        measured += double(coef.At(0, y, x)) * coef.At(0, y, x);
+            }
+            measured /= double(n);
+            double tolerance = 6 * std::sqrt(2 * 1.14 * 2 / double(n));
+            std::printf(
+                "[ variance ] %s level %d: estimated / measured %.4f (sampling tol %.3f)\n",
+                WaveletName(basis), level, estimated / measured, tolerance);
+            if (basis != WaveletBasis::Haar && level > 0) tolerance += 0.25;
+            EXPECT_NEAR(estimated / measured, 1.0, tolerance)
+                << WaveletName(basis) << " level " << level << ": estimated " << estimated
+                << ", measured " << measured;
+        }
+    }
+}
+
+// Zero and huge variances: finite, non-negative noise s, finite output; zero variance is
+// no noise (every band NO_NOISE, the input back), a huge one zeroes the detail
+// (NO_SIGNAL). The whole method with the layer against the reference (the whole method's
+// tolerance), with cycle spinning too, and bit-identical reruns.
+TEST_F(BayesVariance, ZeroAndHugeVarianceAreStable) {
+    Image color = NoisyPicture(33, 21, SeedFromName("variance extremes"), 0.3);
+    for (float fill :
+         {0.f, 1e30f, std::numeric_limits<float>::max(), std::numeric_limits<float>::infinity(),
+          std::numeric_limits<float>::quiet_NaN()}) {
+        SCOPED_TRACE(fmt::format("variance {}", fill));
+        Image variance(color.width, color.height, 3, fill);
+        BayesOptions options;
+        options.variance = &variance;
+        BayesResult r = BayesDenoise(Ctx(), color, options);
+        EXPECT_TRUE(AllFinite(r.image));
+        for (const BayesBandFit &f : r.fits) {
+            EXPECT_TRUE(std::isfinite(f.params[0]) && f.params[0] >= 0);
+            int expect = fill > 1e29f ? BAYES_FIT_NO_SIGNAL : BAYES_FIT_NO_NOISE;
+            EXPECT_EQ(int(f.params[4]), expect);
+        }
+    }
+    Image awkward = AwkwardInput(37, 23, 3, SeedFromName("variance awkward"));
+    Image awkwardVariance = AwkwardVariance(awkward, 5);
+    BayesOptions options;
+    options.variance = &awkwardVariance;
+    EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), awkward, options).image));
+    for (auto [w, h, spins] :
+         {std::tuple{37, 23, 1}, std::tuple{1, 1, 1}, std::tuple{19, 11, 2}}) {
+        SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
+        Image c = NoisyPicture(w, h, SeedFromName(fmt::format("var whole{}x{}", w, h)), 0.3);
+        Image v = c;
+        for (float &x : v.data) x = 0.05f * x * x;
+        BayesOptions o;
+        o.variance = &v;
+        o.spins = spins;
+        o.basis = WaveletBasis::Cdf97;
+        BayesResult gpu = BayesDenoise(Ctx(), c, o);
+        EXPECT_TRUE(BitIdentical(gpu.image, BayesDenoise(Ctx(), c, o).image));
+        ref::BayesRefOptions refOptions;
+        refOptions.variance = &v;
+        refOptions.spins = spins;
+        refOptions.basis = WaveletBasis::Cdf97;
+        ref::BayesRefResult cpu = ref::BayesDenoise(c, refOptions);
+        for (size_t b = 0; b < cpu.fits.size() && b < gpu.fits.size(); ++b)
+            EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+        for (float &x : gpu.image.data) x = std::log(x);
+        for (float &x : cpu.image.data) x = std::log(x);
+        EXPECT_TRUE(ImagesMatch(cpu.image, gpu.image, {}, {0, 2e-3, 1e-4}));
+    }
 }
 
 }  // namespace

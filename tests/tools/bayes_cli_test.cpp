@@ -82,7 +82,8 @@ TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
                  {{"color", &color}, {"direct", &direct}, {"indirect", &indirect}});
     io::WriteExr((dir / "plain.exr").string(), {{"color", &color}});
 
-    Output r = Run("denoise split.exr -o out.exr --method bayes --explain --sn 0.3");
+    Output r =
+        Run("denoise split.exr -o out.exr --method bayes --explain --noise fixed --sn 0.3");
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_TRUE(Contains(r.out, "split (section 4.1)")) << r.out;
     EXPECT_TRUE(Contains(r.out, "s_n 0.3")) << r.out;
@@ -107,12 +108,39 @@ TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
     for (float v : out.data) EXPECT_TRUE(std::isfinite(v));
 }
 
+// --noise auto takes the variance layer when there is one (and says so), the MAD estimate
+// otherwise; the output is the in-process method's with the layer.
+TEST_F(BayesCli, NoiseAutoUsesTheVarianceLayer) {
+    const int w = 21, h = 13;
+    Image color = Positive(w, h, SeedFromName("cli variance color"));
+    Image variance(w, h, 3);
+    for (size_t i = 0; i < color.Size(); ++i)
+        variance.data[i] = 0.04f * color.data[i] * color.data[i];
+    io::WriteExr((dir / "v.exr").string(), {{"color", &color}, {"variance", &variance}});
+    Output r = Run("denoise v.exr -o out.exr --method bayes --explain --noise auto");
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_TRUE(Contains(r.out, "the frame has a variance layer")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "--noise variance: per band")) << r.out;
+    BayesOptions options;
+    options.variance = &variance;
+    Image expected = BayesDenoise(Ctx(), color, options).image;
+    EXPECT_TRUE(BitIdentical(expected, io::ReadImage((dir / "out.exr").string())));
+    io::WriteExr((dir / "c.exr").string(), {{"color", &color}});
+    r = Run("denoise c.exr -o out2.exr --method bayes --explain --noise auto");
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_TRUE(Contains(r.out, "no variance layer")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "finest HH bands' median")) << r.out;
+}
+
 TEST_F(BayesCli, OptionErrors) {
     Image color = Positive(8, 8, 1);
     io::WriteExr((dir / "f.exr").string(), {{"color", &color}});
     Output r = Run("denoise f.exr -o o.exr --method bayes --noise maybe");
     EXPECT_EQ(r.code, 1);
-    EXPECT_TRUE(Contains(r.err, "--noise takes fixed or auto")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "--noise takes fixed, auto, mad or variance")) << r.err;
+    r = Run("denoise f.exr -o o.exr --method bayes --noise variance");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "--noise variance needs a variance layer")) << r.err;
     r = Run("denoise f.exr -o o.exr --method bayes --bayes-wavelet db4");
     EXPECT_EQ(r.code, 1);
     EXPECT_TRUE(Contains(r.err, "unknown wavelet basis 'db4'")) << r.err;
