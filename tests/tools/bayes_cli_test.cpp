@@ -2,8 +2,6 @@
 // no-split plans, warnings with counts on NaN/zero pixels, the output against the method
 // called in process, option errors. Small frames: every run starts Vulkan.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -11,13 +9,13 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <random>
 #include <string>
 
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "harness/tool.h"
 #include "host/io/frame.h"
 #include "host/methods/bayes.h"
 
@@ -26,42 +24,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Output {
-    int code = -1;
-    std::string out, err;
-};
+using Output = ToolResult;
 
 class BayesCli : public GpuTest {
   protected:
-    void SetUp() override {
-        GpuTest::SetUp();
-        dir = fs::temp_directory_path() / ("mcd_bayes_cli_" + std::to_string(::getpid()) + "_" +
-                                           std::to_string(std::random_device{}()));
-        fs::create_directories(dir);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-        GpuTest::TearDown();
-    }
-    Output Run(const std::string &args) {
-        fs::path errFile = dir / "stderr.txt";
-        std::string command = "cd '" + dir.string() + "' && '" MCD_TOOL_PATH "' " + args +
-                              " 2>'" + errFile.string() + "'";
-        Output result;
-        FILE *pipe = popen(command.c_str(), "r");
-        if (!pipe) return result;
-        char buffer[4096];
-        size_t n;
-        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0)
-            result.out.append(buffer, n);
-        int status = pclose(pipe);
-        result.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        std::ifstream in(errFile);
-        result.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-        return result;
-    }
-    fs::path dir;
+    Output Run(const std::string &args) { return tool.Run(args); }
+    ToolDir tool{"mcd_bayes_cli"};
+    const fs::path &dir = tool.Dir();
 };
 
 Image Positive(int w, int h, uint64_t seed) {

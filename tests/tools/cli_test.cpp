@@ -4,8 +4,6 @@
 // clobbered outputs after a failure, the placeholder commands and `bench wavelet`.
 // Small images only: every run starts Vulkan (~0.3 s on lavapipe).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +15,6 @@
 #include <iterator>
 #include <limits>
 #include <map>
-#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -27,6 +24,7 @@
 #include "cpu_reference/wavelet_analyze.h"
 #include "harness/compare.h"
 #include "harness/inputs.h"
+#include "harness/tool.h"
 #include "host/image.h"
 #include "host/io/frame.h"
 #include "host/metrics.h"
@@ -38,11 +36,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-    int code = -1;  // exit status; 128 + signal when killed
-    std::string out, err;
-    std::string All() const { return out + err; }
-};
+using RunResult = ToolResult;
 
 std::string ReadBytes(const fs::path &path) {
     std::ifstream in(path, std::ios::binary);
@@ -79,45 +73,10 @@ std::set<std::string> Listing(const fs::path &dir) {
 
 class CliTest : public ::testing::Test {
   protected:
-    void SetUp() override {
-        std::random_device random;
-        std::string name =
-            "mcd_cli_test_" + std::to_string(::getpid()) + "_" + std::to_string(random());
-        dir = fs::temp_directory_path() / name;
-        errFile = fs::temp_directory_path() / (name + ".stderr");
-        fs::create_directories(dir);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-        fs::remove(errFile, ec);
-    }
-
-    // Runs the tool with `args` (shell words) in the temporary directory.
-    // `env` is prepended to the command (e.g. "VAR=value ").
     RunResult Run(const std::string &args, const std::string &env = "") {
-        std::string command = "cd '" + dir.string() + "' && " + env + "'" MCD_TOOL_PATH "' " +
-                              args + " 2>'" + errFile.string() + "'";
-        RunResult result;
-        FILE *pipe = popen(command.c_str(), "r");
-        if (!pipe) {
-            ADD_FAILURE() << "popen failed for: " << command;
-            return result;
-        }
-        char buffer[4096];
-        size_t n;
-        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0)
-            result.out.append(buffer, n);
-        int status = pclose(pipe);
-        if (WIFEXITED(status))
-            result.code = WEXITSTATUS(status);
-        else if (WIFSIGNALED(status))
-            result.code = 128 + WTERMSIG(status);
-        result.err = ReadBytes(errFile);
-        return result;
+        return tool.Run(args, env);
     }
-
-    fs::path Path(const std::string &name) const { return dir / name; }
+    fs::path Path(const std::string &name) const { return tool.Path(name); }
 
     // A 37x23 RGB input with a variance layer, written as EXR in the temporary directory.
     Image WriteInput(const std::string &name) {
@@ -127,7 +86,7 @@ class CliTest : public ::testing::Test {
         return color;
     }
 
-    fs::path dir, errFile;
+    ToolDir tool{"mcd_cli_test"};
 };
 
 TEST_F(CliTest, HelpListsCommands) {
@@ -162,7 +121,9 @@ TEST_F(CliTest, InfoListsDevicesAndLimits) {
     bool lavapipe = std::any_of(devices.begin(), devices.end(), [](const vk::DeviceInfo &d) {
         return d.name.find("llvmpipe") != std::string::npos;
     });
-    if (lavapipe) EXPECT_TRUE(Contains(r.out, "llvmpipe"));
+    if (lavapipe) {
+        EXPECT_TRUE(Contains(r.out, "llvmpipe"));
+    }
 }
 
 TEST_F(CliTest, InfoDescribesFrameLayers) {
@@ -274,7 +235,7 @@ TEST_F(CliTest, WaveletBuiltinImage) {
 
 TEST_F(CliTest, ErrorsNameTheProblem) {
     WriteInput("in.exr");
-    std::set<std::string> before = Listing(dir);
+    std::set<std::string> before = Listing(tool.Dir());
 
     RunResult r = Run("wavelet missing.exr -o out.exr");
     EXPECT_TRUE(IsError(r, "missing.exr"));
@@ -295,7 +256,7 @@ TEST_F(CliTest, ErrorsNameTheProblem) {
     EXPECT_TRUE(IsError(r, "nodir"));
 
     // Nothing was written: no output, no temporary files, no directory made.
-    EXPECT_EQ(Listing(dir), before);
+    EXPECT_EQ(Listing(tool.Dir()), before);
 
     // Unknown options are CLI11 parse errors.
     r = Run("wavelet in.exr --bogus");
@@ -326,7 +287,7 @@ TEST_F(CliTest, FailedRunKeepsExistingOutput) {
         EXPECT_NE(r.code, 0) << r.All();
         EXPECT_EQ(ReadBytes(Path("out.exr")), good);
     }
-    EXPECT_EQ(Listing(dir), (std::set<std::string>{"afile", "in.exr", "out.exr"}));
+    EXPECT_EQ(Listing(tool.Dir()), (std::set<std::string>{"afile", "in.exr", "out.exr"}));
 }
 
 // A --dump path that is an existing file is refused up front, as an error naming it.

@@ -2,17 +2,15 @@
 // directory: both filters on a rendered frame with a pivot layer, the plan with and
 // without guides, option and layer errors.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <random>
 #include <string>
 
+#include "harness/tool.h"
 #include "host/image.h"
 #include "host/io/frame.h"
 #include "tools/render/renderer.h"
@@ -22,11 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-    int code = -1;
-    std::string out, err;
-    std::string All() const { return out + err; }
-};
+using RunResult = ToolResult;
 
 bool Contains(const std::string &text, const std::string &part) {
     return text.find(part) != std::string::npos;
@@ -34,40 +28,9 @@ bool Contains(const std::string &text, const std::string &part) {
 
 class PivotCli : public ::testing::Test {
   protected:
-    void SetUp() override {
-        std::random_device random;
-        std::string name =
-            "mcd_pivot_cli_" + std::to_string(::getpid()) + "_" + std::to_string(random());
-        dir = fs::temp_directory_path() / name;
-        errFile = fs::temp_directory_path() / (name + ".stderr");
-        fs::create_directories(dir);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-        fs::remove(errFile, ec);
-    }
-
-    RunResult Run(const std::string &args) {
-        std::string command = "cd '" + dir.string() + "' && '" MCD_TOOL_PATH "' " + args +
-                              " 2>'" + errFile.string() + "'";
-        RunResult result;
-        FILE *pipe = popen(command.c_str(), "r");
-        if (!pipe) return result;
-        char buffer[4096];
-        size_t n;
-        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0)
-            result.out.append(buffer, n);
-        int status = pclose(pipe);
-        if (WIFEXITED(status)) result.code = WEXITSTATUS(status);
-        std::ifstream in(errFile);
-        result.err.assign(std::istreambuf_iterator<char>(in), {});
-        return result;
-    }
-
-    fs::path Path(const std::string &name) const { return dir / name; }
-
-    fs::path dir, errFile;
+    RunResult Run(const std::string &args) { return tool.Run(args); }
+    fs::path Path(const std::string &name) const { return tool.Path(name); }
+    ToolDir tool{"mcd_pivot_cli"};
 };
 
 TEST_F(PivotCli, DenoisesWithBothFilters) {

@@ -2,14 +2,13 @@
 // denoised frame out, the plan, errors on frames without histograms, and frames from
 // another renderer in the authors' channel layout.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
+#include "harness/tool.h"
 #include "host/image.h"
 #include "host/io/frame.h"
 
@@ -18,6 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Stdout and stderr together: the tests look for messages wherever they are printed.
 struct Ran {
     int code = -1;
     std::string out;
@@ -25,33 +25,15 @@ struct Ran {
 
 class RhfCli : public ::testing::Test {
   protected:
-    void SetUp() override {
-        dir = fs::temp_directory_path() / ("mcd_rhf_cli_" + std::to_string(::getpid()));
-        fs::create_directories(dir);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
-    // Run the tool in the temporary directory; stdout and stderr together.
     Ran Run(const std::string &args) {
-        std::string command =
-            "cd '" + dir.string() + "' && '" MCD_TOOL_PATH "' " + args + " 2>&1";
-        Ran ran;
-        FILE *pipe = popen(command.c_str(), "r");
-        if (!pipe) return ran;
-        char buffer[4096];
-        size_t n;
-        while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) ran.out.append(buffer, n);
-        int status = pclose(pipe);
-        ran.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-        return ran;
+        ToolResult r = tool.Run(args);
+        return {r.code, r.out + r.err};
     }
-    std::string Path(const std::string &name) const { return (dir / name).string(); }
+    std::string Path(const std::string &name) const { return tool.Path(name).string(); }
     static bool Has(const std::string &text, const std::string &part) {
         return text.find(part) != std::string::npos;
     }
-    fs::path dir;
+    ToolDir tool{"mcd_rhf_cli"};
 };
 
 TEST_F(RhfCli, DenoisesARenderedFrame) {
@@ -85,7 +67,7 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
     r = Run("denoise bare.exr --method rhf -o f.exr");
     EXPECT_NE(r.code, 0);
     EXPECT_TRUE(Has(r.out, "Bin_0000")) << r.out;
-    EXPECT_FALSE(fs::exists(dir / "f.exr"));
+    EXPECT_FALSE(fs::exists(Path("f.exr")));
 }
 
 // Another renderer's file in the authors' layout: Bin_NNNN channels only next to the RGB

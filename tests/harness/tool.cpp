@@ -1,0 +1,52 @@
+#include "harness/tool.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <random>
+
+namespace fs = std::filesystem;
+
+namespace mcd::test {
+
+ToolDir::ToolDir(const std::string &prefix) {
+    std::string name = prefix + "_" + std::to_string(::getpid()) + "_" +
+                       std::to_string(std::random_device{}());
+    dir = fs::temp_directory_path() / name;
+    errFile = fs::temp_directory_path() / (name + ".stderr");
+    fs::create_directories(dir);
+}
+
+ToolDir::~ToolDir() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    fs::remove(errFile, ec);
+}
+
+ToolResult ToolDir::Run(const std::string &args, const std::string &env) const {
+    std::string command = "cd '" + dir.string() + "' && " + env + "'" MCD_TOOL_PATH "' " +
+                          args + " 2>'" + errFile.string() + "'";
+    ToolResult result;
+    FILE *pipe = popen(command.c_str(), "r");
+    if (!pipe) {
+        ADD_FAILURE() << "popen failed for: " << command;
+        return result;
+    }
+    char buffer[4096];
+    size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) result.out.append(buffer, n);
+    int status = pclose(pipe);
+    if (WIFEXITED(status))
+        result.code = WEXITSTATUS(status);
+    else if (WIFSIGNALED(status))
+        result.code = 128 + WTERMSIG(status);
+    std::ifstream in(errFile, std::ios::binary);
+    result.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    return result;
+}
+
+}  // namespace mcd::test

@@ -1,0 +1,34 @@
+// The built mcdenoise tool (MCD_TOOL_PATH) run as a subprocess in a temporary directory of
+// its own, for the command-line tests.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace mcd::test {
+
+struct ToolResult {
+    int code = -1;  // exit status; 128 + signal when killed
+    std::string out, err;
+    std::string All() const { return out + err; }
+};
+
+// A fresh directory under the system's temporary directory, removed with the object.
+class ToolDir {
+  public:
+    explicit ToolDir(const std::string &prefix);
+    ~ToolDir();
+    ToolDir(const ToolDir &) = delete;
+    ToolDir &operator=(const ToolDir &) = delete;
+
+    // Run the tool with `args` (shell words) in the directory; `env` is prepended to the
+    // command (e.g. "VAR=value "). Stdout and stderr are captured apart.
+    ToolResult Run(const std::string &args, const std::string &env = "") const;
+    std::filesystem::path Path(const std::string &name) const { return dir / name; }
+    const std::filesystem::path &Dir() const { return dir; }
+
+  private:
+    std::filesystem::path dir, errFile;
+};
+
+}  // namespace mcd::test
