@@ -6,27 +6,11 @@
 
 #include "host/error.h"
 #include "host/kernels/awr_shrink.h"
+#include "host/methods/checks.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
 
 namespace mcd {
-namespace {
-
-// Refuse non-finite values (and negatives where they make no sense), naming where.
-void CheckLayer(const Image &image, const char *what, bool nonNegative) {
-    for (int c = 0; c < image.channels; ++c)
-        for (int y = 0; y < image.height; ++y)
-            for (int x = 0; x < image.width; ++x) {
-                float v = image.At(c, y, x);
-                if (!std::isfinite(v) || (nonNegative && v < 0))
-                    throw Error(fmt::format(
-                        "awr: {} has {} at pixel ({}, {}), channel {}; fix or "
-                        "mask the input first",
-                        what, std::isfinite(v) ? "a negative value" : "NaN/Inf", x, y, c));
-            }
-}
-
-}  // namespace
 
 Image AwrVarianceFromRange(const Image &min, const Image &max, const Image &spp) {
     if (!min.SameShape(max) || spp.width != min.width || spp.height != min.height)
@@ -54,8 +38,8 @@ AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &
         throw Error(fmt::format("awr: cs must be a finite number >= 0, not {}", options.cs));
     if (!std::isfinite(options.lowSum) || !std::isfinite(options.highSum))
         throw Error("awr: the renormalisation sums must be finite numbers");
-    CheckLayer(color, "color", false);
-    CheckLayer(variance, "variance", true);
+    CheckFinite("awr", color, "color", false);
+    CheckFinite("awr", variance, "variance", true);
     int maxLevels = MaxWaveletLevels(color.width, color.height);
     int levels = options.levels < 0 ? maxLevels : options.levels;
     if (levels > maxLevels)

@@ -11,6 +11,7 @@
 #include "host/kernels/pivot_fit.h"
 #include "host/kernels/pivot_gather.h"
 #include "host/kernels/pivot_ratio.h"
+#include "host/methods/checks.h"
 #include "host/vk/gpu_image.h"
 #include "pivot/pivot.h"
 
@@ -24,16 +25,7 @@ void CheckLayer(const Image &image, const char *what, int width, int height, int
         throw Error(fmt::format("pivot: {} is {}x{}x{}, expected {}x{}x{}", what, image.width,
                                 image.height, image.channels, width, height,
                                 channels > 0 ? channels : image.channels));
-    for (int c = 0; c < image.channels; ++c)
-        for (int y = 0; y < image.height; ++y)
-            for (int x = 0; x < image.width; ++x) {
-                float v = image.At(c, y, x);
-                if (!std::isfinite(v) || (nonNegative && v < 0))
-                    throw Error(fmt::format(
-                        "pivot: {} has {} at pixel ({}, {}), channel {}; fix or mask the "
-                        "input first",
-                        what, std::isfinite(v) ? "a negative value" : "NaN/Inf", x, y, c));
-            }
+    CheckFinite("pivot", image, what, nonNegative);
 }
 
 void Append(std::vector<vk::DispatchTiming> &to, const std::vector<vk::DispatchTiming> &from) {
