@@ -13,6 +13,7 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "host/methods/pivot.h"
+#include "methods/pivot_params.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
@@ -145,14 +146,7 @@ TEST_F(PivotPartialsMethod, MatchesTheReferencePerPartial) {
     o.maxRadius = 5;
     PivotResult gpu = PivotDenoise(Ctx(), in, o);
 
-    ref::PivotParams p;
-    p.floor = o.floor;
-    p.maxRadius = o.maxRadius;
-    p.targetNoise = o.targetNoise;
-    p.goodNoise = o.goodNoise;
-    p.disagreement = o.disagreement;
-    p.k = o.k;
-    p.sigmaWeight = o.sigmaWeight;
+    ref::PivotParams p = RefParams(o);
     Image ids(21, 17, 2);
     for (size_t i = 0; i < ids.PixelCount(); ++i) {
         ids.data[i] = in.objectId->data[i];

@@ -19,6 +19,7 @@
 #include "host/kernels/pivot_ratio.h"
 #include "host/methods/pivot.h"
 #include "host/metrics.h"
+#include "methods/pivot_params.h"
 #include "pivot/pivot.h"
 #include "tools/render/renderer.h"
 
@@ -61,20 +62,6 @@ Frame MakeFrame(int w, int h, double noise, uint64_t seed) {
             f.ids.At(1, y, x) = float(y < h / 3);
         }
     return f;
-}
-
-ref::PivotParams RefParams(const PivotOptions &o) {
-    ref::PivotParams p;
-    p.floor = o.floor;
-    p.maxRadius = o.maxRadius;
-    p.targetNoise = o.targetNoise;
-    p.goodNoise = o.goodNoise;
-    p.disagreement = o.disagreement;
-    p.k = o.k;
-    p.sigmaWeight = o.sigmaWeight;
-    p.bilateralRadius = o.bilateralRadius;
-    p.sigmaRange = o.sigmaRange;
-    return p;
 }
 
 // The GPU's guide image: normal x, y, z, object id, part id.
@@ -602,7 +589,8 @@ class PivotLimits : public GpuTest {};
 TEST_F(PivotLimits, RefusesFitsAboveTheBindingLimit) {
     const int w = 1500, h = 1000;
     if (double(PIVOT_PLANES_PER_BUFFER) * 3 * w * h * 4 <= Ctx().Limits().maxStorageBufferRange)
-        GTEST_SKIP() << "this device binds " << Ctx().Limits().maxStorageBufferRange;
+        GTEST_SKIP() << "this device binds " << Ctx().Limits().maxStorageBufferRange
+                     << " bytes: the frame fits, nothing to refuse";
     Image color(w, h, 3, 0.5f), pivot(w, h, 3, 0.25f);
     PivotInputs in;
     in.color = &color, in.pivot = &pivot;

@@ -283,7 +283,8 @@ TEST_F(RhfLimits, RefusesAMaskAboveTheBindingLimit) {
     const int w = 640, h = 1024;
     size_t maskBytes = size_t(53) * w * h * 4;
     if (maskBytes <= Ctx().Limits().maxStorageBufferRange)
-        GTEST_SKIP() << "this device binds " << Ctx().Limits().maxStorageBufferRange;
+        GTEST_SKIP() << "this device binds " << Ctx().Limits().maxStorageBufferRange
+                     << " bytes: the frame fits, nothing to refuse";
     Image color(w, h, 3, 0.5f), hist(w, h, 7, 1.f);  // 2 bins a channel and the count
     RhfOptions o;
     o.searchHalf = 20;
