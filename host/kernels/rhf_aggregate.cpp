@@ -23,14 +23,14 @@ void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::
                         "mask do not fit",
                         color.width, color.height, color.channels, out.width, out.height,
                         out.channels, mask.Bytes()));
-    const vk::Kernel &kernel =
-        context.GetKernel({"rhf_aggregate",
-                           k_rhf_aggregate_spv,
-                           sizeof(k_rhf_aggregate_spv),
-                           RHF_AGGREGATE_BINDINGS,
-                           sizeof(shader::RhfAggregatePush),
-                           {{RHF_AGGREGATE_SPEC_SEARCH_HALF, searchHalf},
-                            {RHF_AGGREGATE_SPEC_PATCH_HALF, patchHalf}}});
+    const vk::Kernel &kernel = context.GetKernel({"rhf_aggregate",
+                                                  k_rhf_aggregate_spv,
+                                                  sizeof(k_rhf_aggregate_spv),
+                                                  RHF_AGGREGATE_BINDINGS,
+                                                  sizeof(shader::RhfAggregatePush),
+                                                  {{RHF_AGGREGATE_SPEC_SEARCH_HALF, searchHalf},
+                                                   {RHF_AGGREGATE_SPEC_PATCH_HALF, patchHalf}},
+                                                  1u << RHF_AGGREGATE_COLOR});
     shader::RhfAggregatePush push{color.width, color.height, patchHalf, searchHalf, words};
     recorder.Dispatch(
         kernel, "rhf.aggregate",

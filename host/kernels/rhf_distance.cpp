@@ -33,7 +33,9 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
                            sizeof(k_rhf_distance_spv),
                            RHF_DISTANCE_BINDINGS,
                            sizeof(shader::RhfDistancePush),
-                           {{RHF_DISTANCE_SPEC_SEARCH_HALF, searchHalf}}});
+                           {{RHF_DISTANCE_SPEC_SEARCH_HALF, searchHalf},
+                            {RHF_DISTANCE_SPEC_PATCH_HALF, patchHalf}},
+                           (1u << RHF_DISTANCE_SUM) | (1u << RHF_DISTANCE_COUNT)});
     shader::RhfDistancePush push{width,    height,   patchHalf, 0,
                                  termBase, termRows, rowBase,   rows};
     recorder.Dispatch(kernel, "rhf.distance",
@@ -42,7 +44,7 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
                        {&dist, vk::Access::Write}},
                       &push,
                       uint32_t((width + RHF_DISTANCE_LOCAL_SIZE - 1) / RHF_DISTANCE_LOCAL_SIZE),
-                      uint32_t(rows), uint32_t(side));
+                      uint32_t(rows), uint32_t(side * side));
 }
 
 }  // namespace mcd

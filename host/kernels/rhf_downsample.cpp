@@ -42,7 +42,8 @@ void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk:
                                                   sizeof(k_rhf_downsample_spv),
                                                   RHF_DOWNSAMPLE_BINDINGS,
                                                   sizeof(shader::RhfDownsamplePush),
-                                                  {}});
+                                                  {},
+                                                  1u << RHF_DOWNSAMPLE_SRC});
     auto groups = [](int n) {
         return uint32_t((n + RHF_DOWNSAMPLE_LOCAL_SIZE - 1) / RHF_DOWNSAMPLE_LOCAL_SIZE);
     };

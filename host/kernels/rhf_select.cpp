@@ -31,7 +31,8 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
                                                   sizeof(k_rhf_select_spv),
                                                   RHF_SELECT_BINDINGS,
                                                   sizeof(shader::RhfSelectPush),
-                                                  {}});
+                                                  {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}},
+                                                  1u << RHF_SELECT_DISTANCE});
     shader::RhfSelectPush push{width, height, searchHalf, rowBase,
                                rows,  knn,    int(words), threshold};
     recorder.Dispatch(

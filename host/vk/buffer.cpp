@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstring>
 #include <utility>
 
@@ -69,8 +70,9 @@ Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
         preferred |= VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     RawBuffer raw =
         CreateRaw(context, allocBytes,
-                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                      VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                      VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                      VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                   0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
     buffer = raw.buffer;
     memory = raw.memory;
@@ -101,6 +103,7 @@ Buffer &Buffer::operator=(Buffer &&other) noexcept {
         memory = std::exchange(other.memory, VK_NULL_HANDLE);
         bytes = std::exchange(other.bytes, 0);
         mapped = std::exchange(other.mapped, nullptr);
+        floatView = std::exchange(other.floatView, VK_NULL_HANDLE);
         name = std::move(other.name);
     }
     return *this;
@@ -110,12 +113,30 @@ void Buffer::Release() {
     if (!context) return;
     if (buffer) context->NoteRelease(bytes > 0 ? bytes : 4);
     if (mapped) vkUnmapMemory(context->Device(), memory);
+    if (floatView) vkDestroyBufferView(context->Device(), floatView, nullptr);
     if (buffer) vkDestroyBuffer(context->Device(), buffer, nullptr);
     if (memory) vkFreeMemory(context->Device(), memory, nullptr);
     buffer = VK_NULL_HANDLE;
     memory = VK_NULL_HANDLE;
     mapped = nullptr;
+    floatView = VK_NULL_HANDLE;
     context = nullptr;
+}
+
+VkBufferView Buffer::FloatView() const {
+    if (floatView || !buffer) return floatView;
+    VkDeviceSize elements = std::max<VkDeviceSize>(bytes / sizeof(float), 1);
+    if (elements > context->Limits().maxTexelBufferElements)
+        throw Error(fmt::format("buffer '{}' of {} floats exceeds the device's {} texel buffer "
+                                "elements; split the work",
+                                name, elements, context->Limits().maxTexelBufferElements));
+    VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    vi.buffer = buffer;
+    vi.format = VK_FORMAT_R32_SFLOAT;
+    vi.offset = 0;
+    vi.range = elements * sizeof(float);
+    MCD_VK(vkCreateBufferView(context->Device(), &vi, nullptr, &floatView));
+    return floatView;
 }
 
 void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {

@@ -27,6 +27,10 @@ class Buffer {
     VkDeviceSize Bytes() const { return bytes; }
     const std::string &Name() const { return name; }
     bool Valid() const { return buffer != VK_NULL_HANDLE; }
+    // The whole buffer as a read-only texel buffer of floats (created on first use).
+    // Kernels read through it where loads dominate: lavapipe gathers texel fetches as
+    // vectors but loads storage buffers one lane at a time.
+    VkBufferView FloatView() const;
 
     void Upload(const void *data, size_t byteCount, size_t byteOffset = 0);
     void Download(void *data, size_t byteCount, size_t byteOffset = 0) const;
@@ -47,6 +51,7 @@ class Buffer {
     VkDeviceMemory memory = VK_NULL_HANDLE;
     VkDeviceSize bytes = 0;
     void *mapped = nullptr;
+    mutable VkBufferView floatView = VK_NULL_HANDLE;
     std::string name;
 };
 

@@ -10,6 +10,7 @@ namespace mcd::vk {
 std::string KernelKey(const KernelDesc &desc) {
     std::string key = fmt::format("{}@{}", desc.name, static_cast<const void *>(desc.code));
     for (auto [id, value] : desc.specialization) key += fmt::format(":{}={}", id, value);
+    if (desc.texelBindings) key += fmt::format(":texel={:x}", desc.texelBindings);
     return key;
 }
 
@@ -17,7 +18,8 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
     : context(context),
       name(desc.name),
       bindingCount(desc.bindingCount),
-      pushBytes(desc.pushBytes) {
+      pushBytes(desc.pushBytes),
+      texelBindings(desc.texelBindings) {
     VkDevice device = context.Device();
     if (pushBytes > context.Limits().maxPushConstantsSize)
         throw Error(fmt::format("kernel {}: {} bytes of push constants exceed the device's {}",
@@ -26,7 +28,8 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
         std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
         for (uint32_t i = 0; i < bindingCount; ++i) {
             bindings[i].binding = i;
-            bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            bindings[i].descriptorType = IsTexel(i) ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
+                                                    : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
             bindings[i].descriptorCount = 1;
             bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
         }

@@ -1,5 +1,6 @@
 // A compute kernel: pipeline built from embedded SPIR-V with specialization constants,
-// a descriptor layout of N storage buffers (bindings 0..N-1) and a push-constant block.
+// a descriptor layout of N buffers (bindings 0..N-1: storage buffers, or read-only float
+// texel buffers where the desc says so) and a push-constant block.
 #pragma once
 
 #include <volk.h>
@@ -18,9 +19,12 @@ struct KernelDesc {
     std::string name;  // for errors, timings and the cache key
     const uint32_t *code = nullptr;
     size_t codeBytes = 0;
-    uint32_t bindingCount = 0;  // storage buffers at bindings 0..bindingCount-1
+    uint32_t bindingCount = 0;  // buffers at bindings 0..bindingCount-1
     uint32_t pushBytes = 0;
     std::vector<std::pair<uint32_t, int32_t>> specialization;  // constant_id, value
+    // Bit i set: binding i is a read-only uniform texel buffer of floats (samplerBuffer in
+    // GLSL), not a storage buffer.
+    uint32_t texelBindings = 0;
 };
 
 std::string KernelKey(const KernelDesc &desc);
@@ -38,13 +42,14 @@ class Kernel {
     VkDescriptorSetLayout SetLayout() const { return setLayout; }
     uint32_t BindingCount() const { return bindingCount; }
     uint32_t PushBytes() const { return pushBytes; }
+    bool IsTexel(uint32_t binding) const { return (texelBindings >> binding) & 1u; }
 
   private:
     void Release();
 
     Context &context;
     std::string name;
-    uint32_t bindingCount = 0, pushBytes = 0;
+    uint32_t bindingCount = 0, pushBytes = 0, texelBindings = 0;
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;

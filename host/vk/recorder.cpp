@@ -88,10 +88,16 @@ void Recorder::Dispatch(const Kernel &kernel, const std::string &label,
             throw Error(fmt::format(
                 "dispatch '{}': {} workgroups along axis {} exceed the device limit {}", label,
                 groups[i], i, limits.maxComputeWorkGroupCount[i]));
-    for (const Binding &b : bindings) {
+    for (uint32_t i = 0; i < bindings.size(); ++i) {
+        const Binding &b = bindings[i];
         if (!b.buffer || !b.buffer->Valid())
             throw Error(fmt::format("dispatch '{}': unbound buffer", label));
-        if (b.buffer->Bytes() > limits.maxStorageBufferRange)
+        if (kernel.IsTexel(i) && b.access != Access::Read)
+            throw Error(fmt::format("dispatch '{}': binding {} of kernel {} is a texel buffer, "
+                                    "which kernels only read",
+                                    label, i, kernel.Name()));
+        // Texel views have their own limit, checked when the view is made.
+        if (!kernel.IsTexel(i) && b.buffer->Bytes() > limits.maxStorageBufferRange)
             throw Error(fmt::format(
                 "dispatch '{}': buffer '{}' of {} bytes exceeds the device's storage buffer "
                 "range of {} bytes; split the work",
@@ -106,13 +112,20 @@ void Recorder::Dispatch(const Kernel &kernel, const std::string &label,
 
     std::vector<VkDescriptorBufferInfo> infos(bindings.size());
     std::vector<VkWriteDescriptorSet> writes(bindings.size());
-    for (size_t i = 0; i < bindings.size(); ++i) {
-        infos[i] = {bindings[i].buffer->Handle(), 0, VK_WHOLE_SIZE};
+    std::vector<VkBufferView> views(bindings.size(), VK_NULL_HANDLE);
+    for (uint32_t i = 0; i < bindings.size(); ++i) {
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        writes[i].dstBinding = uint32_t(i);
+        writes[i].dstBinding = i;
         writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &infos[i];
+        if (kernel.IsTexel(i)) {
+            views[i] = bindings[i].buffer->FloatView();
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+            writes[i].pTexelBufferView = &views[i];
+        } else {
+            infos[i] = {bindings[i].buffer->Handle(), 0, VK_WHOLE_SIZE};
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            writes[i].pBufferInfo = &infos[i];
+        }
     }
     vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.Pipeline());
     if (context.Info().pushDescriptors) {
@@ -120,12 +133,13 @@ void Recorder::Dispatch(const Kernel &kernel, const std::string &label,
                                   kernel.Layout(), 0, uint32_t(writes.size()), writes.data());
     } else {
         if (descriptorPools.empty() || setsInPool == kSetsPerPool) {
-            VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                                      kSetsPerPool * kMaxBindings};
+            VkDescriptorPoolSize sizes[2] = {
+                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kSetsPerPool * kMaxBindings},
+                {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, kSetsPerPool * kMaxBindings}};
             VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
             pi.maxSets = kSetsPerPool;
-            pi.poolSizeCount = 1;
-            pi.pPoolSizes = &size;
+            pi.poolSizeCount = 2;
+            pi.pPoolSizes = sizes;
             VkDescriptorPool pool = VK_NULL_HANDLE;
             MCD_VK(vkCreateDescriptorPool(context.Device(), &pi, nullptr, &pool));
             descriptorPools.push_back(pool);

@@ -11,7 +11,7 @@ layout(local_size_x = RHF_AGGREGATE_LOCAL_SIZE) in;
 layout(constant_id = RHF_AGGREGATE_SPEC_SEARCH_HALF) const int B = 6;
 layout(constant_id = RHF_AGGREGATE_SPEC_PATCH_HALF) const int PW = 1;
 const int SIDE = 2 * B + 1, OFFSETS = SIDE * SIDE, PS = 2 * PW + 1, CENTRES = PS * PS;
-layout(std430, binding = RHF_AGGREGATE_COLOR) readonly buffer Color { float color[]; };
+layout(binding = RHF_AGGREGATE_COLOR) uniform samplerBuffer color;
 layout(std430, binding = RHF_AGGREGATE_MASK) readonly buffer Mask { uint mask[]; };
 layout(std430, binding = RHF_AGGREGATE_OUT) writeonly buffer Out { float outColor[]; };
 
@@ -20,7 +20,8 @@ int centre[CENTRES];
 uint bits[CENTRES];
 
 vec3 ColorAt(int at, int plane) {
-    return vec3(color[at], color[at + plane], color[at + 2 * plane]);
+    return vec3(texelFetch(color, at).r, texelFetch(color, at + plane).r,
+                texelFetch(color, at + 2 * plane).r);
 }
 
 void main() {

@@ -3,7 +3,7 @@
 // terms of -o at the candidate's pixels) box-summed over the centre's patch, shrunk
 // near the border to w0 = min(w, distance to the edge), divided by the number of counted
 // terms + 1e-4. Offsets whose patch would leave the image (the window is clamped so every
-// compared patch fits) get -1.
+// compared patch fits) get -1. Distances are planar [offset][strip row][x].
 #ifndef MCD_SHADERS_RHF_DISTANCE_H
 #define MCD_SHADERS_RHF_DISTANCE_H
 
@@ -13,6 +13,7 @@
 #define RHF_DISTANCE_BINDINGS 3
 #define RHF_DISTANCE_LOCAL_SIZE 64
 #define RHF_DISTANCE_SPEC_SEARCH_HALF 0  // b
+#define RHF_DISTANCE_SPEC_PATCH_HALF 1   // w
 
 #ifdef __cplusplus
 #include <cstddef>

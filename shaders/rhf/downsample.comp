@@ -5,7 +5,7 @@
 
 // One invocation per result element: x across, row and plane from the grid.
 layout(local_size_x = RHF_DOWNSAMPLE_LOCAL_SIZE) in;
-layout(std430, binding = RHF_DOWNSAMPLE_SRC) readonly buffer Src { float src[]; };
+layout(binding = RHF_DOWNSAMPLE_SRC) uniform samplerBuffer src;
 layout(std430, binding = RHF_DOWNSAMPLE_DST) writeonly buffer Dst { float dst[]; };
 layout(std430, binding = RHF_DOWNSAMPLE_WEIGHTS) readonly buffer Weights { float weights[]; };
 
@@ -18,11 +18,12 @@ void main() {
         int row = srcPlane + y * push.srcWidth;
         for (int i = -push.radius; i <= push.radius; ++i)
             v += weights[i + push.radius] *
-                 src[row + clamp(push.step * x + i, 0, push.srcWidth - 1)];
+                 texelFetch(src, row + clamp(push.step * x + i, 0, push.srcWidth - 1)).r;
     } else {
         for (int i = -push.radius; i <= push.radius; ++i) {
             int row = clamp(push.step * y + i, 0, push.srcHeight - 1);
-            v += weights[i + push.radius] * src[srcPlane + row * push.srcWidth + x];
+            v += weights[i + push.radius] *
+                 texelFetch(src, srcPlane + row * push.srcWidth + x).r;
         }
     }
     dst[(p * push.dstHeight + y) * push.dstWidth + x] = v;

@@ -9,6 +9,7 @@
 #define RHF_SELECT_MASK 1
 #define RHF_SELECT_BINDINGS 2
 #define RHF_SELECT_LOCAL_SIZE 64
+#define RHF_SELECT_SPEC_SEARCH_HALF 0  // b
 
 #ifdef __cplusplus
 #include <cstddef>

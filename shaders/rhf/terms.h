@@ -16,7 +16,7 @@
 #define RHF_TERMS_COUNT 7
 #define RHF_TERMS_BINDINGS 8
 #define RHF_TERMS_LOCAL_SIZE 64
-#define RHF_TERMS_PIXELS_PER_LANE 4   // consecutive pixels of a row per lane
+#define RHF_TERMS_PIXELS_PER_LANE 8   // consecutive pixels of a row per lane
 #define RHF_TERMS_SPEC_SEARCH_HALF 0  // b, so a lane keeps one window row in registers
 
 #ifdef __cplusplus

@@ -22,6 +22,7 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/error.h"
+#include "host/kernels/rhf_downsample.h"
 #include "host/kernels/wavelet_analyze.h"
 #include "host/kernels/wavelet_synthesize.h"
 #include "host/vk/buffer.h"
@@ -30,6 +31,7 @@
 #include "host/vk/gpu_image.h"
 #include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
+#include "rhf/downsample.h"
 #include "wavelet/lines.h"
 
 namespace mcd::test {
@@ -561,22 +563,23 @@ TEST_F(VkRecorder, ReusableAfterSubmit) {
     EXPECT_EQ(recorder.TotalGpuMs(), 0);
 }
 
-// The analyze kernel's SPIR-V, read from the build tree (the embedded array's header is
-// private to mcd_kernels): <build>/tests/mcd_tests -> <build>/shaders/wavelet/analyze.spv.
+// A kernel's SPIR-V, read from the build tree (the embedded arrays' headers are private
+// to mcd_kernels): <build>/tests/mcd_tests -> <build>/shaders/<path>; empty if missing.
+std::vector<uint32_t> BuiltSpirv(const std::string &path) {
+    std::vector<uint32_t> words;
+    std::error_code ec;
+    fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) return words;
+    std::ifstream file(exe.parent_path().parent_path() / "shaders" / path, std::ios::binary);
+    if (!file) return words;
+    std::string bytes((std::istreambuf_iterator<char>(file)), {});
+    words.resize(bytes.size() / 4);
+    std::memcpy(words.data(), bytes.data(), words.size() * 4);
+    return words;
+}
+
 const std::vector<uint32_t> *AnalyzeSpirv() {
-    static const std::vector<uint32_t> code = [] {
-        std::vector<uint32_t> words;
-        std::error_code ec;
-        fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-        if (ec) return words;
-        std::ifstream file(exe.parent_path().parent_path() / "shaders/wavelet/analyze.spv",
-                           std::ios::binary);
-        if (!file) return words;
-        std::string bytes((std::istreambuf_iterator<char>(file)), {});
-        words.resize(bytes.size() / 4);
-        std::memcpy(words.data(), bytes.data(), words.size() * 4);
-        return words;
-    }();
+    static const std::vector<uint32_t> code = BuiltSpirv("wavelet/analyze.spv");
     return code.empty() ? nullptr : &code;
 }
 
@@ -693,6 +696,66 @@ TEST_F(VkKernelCache, SameDescSameKernel) {
     EXPECT_EQ(&Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar)), &haar);
     EXPECT_NE(vk::KernelKey(AnalyzeDesc(*code, WaveletBasis::Haar)),
               vk::KernelKey(AnalyzeDesc(*code, WaveletBasis::Cdf97)));
+}
+
+// ---------------------------------------------------------------------------------------
+// Texel-buffer bindings
+
+class VkTexelRecorder : public GpuTest {};
+
+// A kernel reading its source through a texel view sees the buffer's floats exactly: a
+// one-tap "downsampling" by 1 with weight 1 copies them (x * 1 is exact for every finite
+// float; denormals are left out, as a GPU may flush them on fetch).
+TEST_F(VkTexelRecorder, TexelViewsReadTheBufferExactly) {
+    const int w = 37, h = 5, planes = 2;
+    std::mt19937 rng(SeedFromName("texel view"));
+    std::uniform_real_distribution<float> mantissa(-4.f, 4.f);
+    std::uniform_int_distribution<int> exponent(-100, 100);
+    std::vector<float> values(size_t(w) * h * planes);
+    for (float &v : values) v = std::ldexp(mantissa(rng), exponent(rng));
+    values[3] = 0.f;  // not -0: the kernel's sum starts at +0, and +0 + -0 is +0
+    vk::Buffer src(Ctx(), values.size() * sizeof(float), "src"),
+        scratch(Ctx(), values.size() * sizeof(float), "scratch"),
+        dst(Ctx(), values.size() * sizeof(float), "dst"), one(Ctx(), sizeof(float), "one");
+    src.UploadFloats(values);
+    one.UploadFloats({1.f});
+    vk::Recorder recorder(Ctx());
+    RecordRhfDownsample(Ctx(), recorder, src, w, h, planes, 1, one, 0, scratch, dst);
+    recorder.Submit();
+    std::vector<float> out = dst.DownloadFloats(values.size());
+    EXPECT_EQ(std::memcmp(out.data(), values.data(), values.size() * sizeof(float)), 0);
+}
+
+// Texel bindings are read-only: binding a buffer there for writing is refused, by name.
+TEST_F(VkTexelRecorder, WritingThroughATexelBindingThrows) {
+    static const std::vector<uint32_t> code = BuiltSpirv("rhf/downsample.spv");
+    ASSERT_FALSE(code.empty()) << "downsample.spv not found in the build tree";
+    vk::KernelDesc desc{"rhf_downsample",
+                        code.data(),
+                        code.size() * sizeof(uint32_t),
+                        RHF_DOWNSAMPLE_BINDINGS,
+                        sizeof(shader::RhfDownsamplePush),
+                        {},
+                        1u << RHF_DOWNSAMPLE_SRC};
+    const vk::Kernel &kernel = Ctx().GetKernel(desc);
+    EXPECT_TRUE(kernel.IsTexel(RHF_DOWNSAMPLE_SRC));
+    EXPECT_FALSE(kernel.IsTexel(RHF_DOWNSAMPLE_DST));
+    vk::Buffer a(Ctx(), 64, "a"), b(Ctx(), 64, "b"), c(Ctx(), 64, "c");
+    shader::RhfDownsamplePush push{4, 4, 4, 4, 1, 0, 0};
+    vk::Recorder recorder(Ctx());
+    try {
+        recorder.Dispatch(
+            kernel, "bad",
+            {{&a, vk::Access::Write}, {&b, vk::Access::Write}, {&c, vk::Access::Read}}, &push,
+            1);
+        FAIL() << "no error";
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("texel buffer"), std::string::npos) << e.what();
+    }
+    // The texel and storage kinds of one shader are different cache entries.
+    vk::KernelDesc storage = desc;
+    storage.texelBindings = 0;
+    EXPECT_NE(vk::KernelKey(desc), vk::KernelKey(storage));
 }
 
 }  // namespace
