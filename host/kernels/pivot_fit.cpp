@@ -45,7 +45,9 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
          sizeof(k_pivot_fit_spv),
          PIVOT_FIT_BINDINGS,
          sizeof(shader::PivotFitPush),
-         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}}});
+         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
+         (1u << PIVOT_FIT_Z) | (1u << PIVOT_FIT_S) | (1u << PIVOT_FIT_NU) |
+             (1u << PIVOT_FIT_GUIDES)});
     shader::PivotFitPush push{z.width,
                               z.height,
                               z.channels,

@@ -6,11 +6,11 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
-layout(std430, binding = PIVOT_BILATERAL_COLOR) readonly buffer Color { float color[]; };
-layout(std430, binding = PIVOT_BILATERAL_PIVOT) readonly buffer Pivot { float pivot[]; };
-layout(std430, binding = PIVOT_BILATERAL_Z) readonly buffer Z { float zIn[]; };
-layout(std430, binding = PIVOT_BILATERAL_NU) readonly buffer Nu { float nuIn[]; };
-layout(std430, binding = PIVOT_BILATERAL_GUIDES) readonly buffer Guides { float guides[]; };
+layout(binding = PIVOT_BILATERAL_COLOR) uniform samplerBuffer color;
+layout(binding = PIVOT_BILATERAL_PIVOT) uniform samplerBuffer pivot;
+layout(binding = PIVOT_BILATERAL_Z) uniform samplerBuffer zIn;
+layout(binding = PIVOT_BILATERAL_NU) uniform samplerBuffer nuIn;
+layout(binding = PIVOT_BILATERAL_GUIDES) uniform samplerBuffer guides;
 layout(std430, binding = PIVOT_BILATERAL_OUT) writeonly buffer Out { float outImage[]; };
 
 int planeSize, gw, gh;
@@ -20,7 +20,7 @@ int planeSize, gw, gh;
 // The pivot's channel mean: the range guide, shared by the channels.
 float luma(int i) {
     float sum = 0.0;
-    for (int c = 0; c < push.channels; ++c) sum += pivot[c * planeSize + i];
+    for (int c = 0; c < push.channels; ++c) sum += texelFetch(pivot, c * planeSize + i).r;
     return sum / float(push.channels);
 }
 
@@ -32,8 +32,8 @@ void main() {
     gw = w;
     gh = h;
     int i = y * w + x, at = c * planeSize + i, base = c * planeSize;
-    if (nuIn[at] < 0.0) {
-        outImage[at] = color[at];
+    if (texelFetch(nuIn, at).r < 0.0) {
+        outImage[at] = texelFetch(color, at).r;
         return;
     }
     float g = luma(i), sumW = 0.0, sumWz = 0.0;
@@ -42,7 +42,7 @@ void main() {
     for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
         for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
             int q = v * w + u;
-            float nu = nuIn[base + q];
+            float nu = texelFetch(nuIn, base + q).r;
             if (nu < 0.0 || nu > push.goodNu) continue;
             float gq = luma(q);
             float rel = (gq - g) / max(max(abs(g), abs(gq)), PIVOT_TINY);
@@ -51,7 +51,8 @@ void main() {
             if (e > PIVOT_EXP_CUT) continue;
             float weight = exp(-e) * normalTerm(q, i) * idTerm(q, i);
             sumW += weight;
-            sumWz += weight * zIn[base + q];
+            sumWz += weight * texelFetch(zIn, base + q).r;
         }
-    outImage[at] = sumW > 0.0 ? pivot[at] * (sumWz / sumW) : color[at];
+    outImage[at] =
+        sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;
 }

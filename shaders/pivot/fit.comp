@@ -6,10 +6,10 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
-layout(std430, binding = PIVOT_FIT_Z) readonly buffer Z { float zIn[]; };
-layout(std430, binding = PIVOT_FIT_S) readonly buffer S { float sIn[]; };
-layout(std430, binding = PIVOT_FIT_NU) readonly buffer Nu { float nuIn[]; };
-layout(std430, binding = PIVOT_FIT_GUIDES) readonly buffer Guides { float guides[]; };
+layout(binding = PIVOT_FIT_Z) uniform samplerBuffer zIn;
+layout(binding = PIVOT_FIT_S) uniform samplerBuffer sIn;
+layout(binding = PIVOT_FIT_NU) uniform samplerBuffer nuIn;
+layout(binding = PIVOT_FIT_GUIDES) uniform samplerBuffer guides;
 layout(std430, binding = PIVOT_FIT_LO) writeonly buffer FitLo { float fitLo[]; };
 layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { float fitHi[]; };
 
@@ -78,9 +78,9 @@ float goodNu, k;
 // 0 for pixels not fitted.
 float weightAt(int x, int y, float mean, float radius, out float z, out float s) {
     int i = y * w + x;
-    float nu = nuIn[base + i];
-    z = zIn[base + i];
-    s = sIn[base + i];
+    float nu = texelFetch(nuIn, base + i).r;
+    z = texelFetch(zIn, base + i).r;
+    s = texelFetch(sIn, base + i).r;
     if (nu < 0.0 || nu > goodNu) return 0.0;
     float geo = normalTerm(i, y0 * w + x0) * idTerm(i, y0 * w + x0);
     if (geo == 0.0) return 0.0;
@@ -147,7 +147,7 @@ void main() {
     goodNu = push.goodNu;
     k = push.k;
     int at = y0 * w + x0;
-    if (nuIn[base + at] < 0.0) {
+    if (texelFetch(nuIn, base + at).r < 0.0) {
         storeNone(c, at);
         return;
     }
@@ -157,8 +157,8 @@ void main() {
     int n = 0;
     for (int v = max(0, y0 - 1); v <= min(h - 1, y0 + 1); ++v)
         for (int u = max(0, x0 - 1); u <= min(w - 1, x0 + 1); ++u)
-            if (nuIn[base + v * w + u] >= 0.0) {
-                zc += zIn[base + v * w + u];
+            if (texelFetch(nuIn, base + v * w + u).r >= 0.0) {
+                zc += texelFetch(zIn, base + v * w + u).r;
                 ++n;
             }
     zc /= float(n);

@@ -6,14 +6,14 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
-layout(std430, binding = PIVOT_GATHER_COLOR) readonly buffer Color { float color[]; };
-layout(std430, binding = PIVOT_GATHER_PIVOT) readonly buffer Pivot { float pivot[]; };
-layout(std430, binding = PIVOT_GATHER_NU) readonly buffer Nu { float nuIn[]; };
-layout(std430, binding = PIVOT_GATHER_FIT_LO) readonly buffer FitLo { float fitLo[]; };
-layout(std430, binding = PIVOT_GATHER_FIT_HI) readonly buffer FitHi { float fitHi[]; };
-layout(std430, binding = PIVOT_GATHER_GUIDES) readonly buffer Guides { float guides[]; };
+layout(binding = PIVOT_GATHER_COLOR) uniform samplerBuffer color;
+layout(binding = PIVOT_GATHER_PIVOT) uniform samplerBuffer pivot;
+layout(binding = PIVOT_GATHER_NU) uniform samplerBuffer nuIn;
+layout(binding = PIVOT_GATHER_FIT_LO) uniform samplerBuffer fitLo;
+layout(binding = PIVOT_GATHER_FIT_HI) uniform samplerBuffer fitHi;
+layout(binding = PIVOT_GATHER_GUIDES) uniform samplerBuffer guides;
 layout(std430, binding = PIVOT_GATHER_OUT) writeonly buffer Out { float outImage[]; };
-layout(std430, binding = PIVOT_GATHER_TILES) readonly buffer Tiles { float tiles[]; };
+layout(binding = PIVOT_GATHER_TILES) uniform samplerBuffer tiles;
 
 int planeSize, gw, gh;
 
@@ -45,8 +45,8 @@ void main() {
     gw = w;
     gh = h;
     int i = y * w + x, at = c * planeSize + i;
-    if (nuIn[at] < 0.0) {
-        outImage[at] = color[at];
+    if (texelFetch(nuIn, at).r < 0.0) {
+        outImage[at] = texelFetch(color, at).r;
         return;
     }
     int stride = push.channels * planeSize;
@@ -60,11 +60,12 @@ void main() {
             // holds the pixel.
             int gapX = max(0, max(tx * T - x, x - (tx * T + T - 1)));
             int gapY = max(0, max(ty * T - y, y - (ty * T + T - 1)));
-            if (float(max(gapX, gapY)) > tiles[tileBase + ty * push.tilesX + tx]) continue;
+            float reach = texelFetch(tiles, tileBase + ty * push.tilesX + tx).r;
+            if (float(max(gapX, gapY)) > reach) continue;
             for (int y0 = ty * T; y0 < min(h, ty * T + T); ++y0)
                 for (int x0 = tx * T; x0 < min(w, tx * T + T); ++x0) {
                     int i0 = y0 * w + x0;
-                    float radius = fitHi[7 * stride + lo + i0];
+                    float radius = texelFetch(fitHi, 7 * stride + lo + i0).r;
                     int dx = x - x0, dy = y - y0;
                     if (radius < 0.0 || float(abs(dx)) > radius || float(abs(dy)) > radius) continue;
                     float fdx = float(dx), fdy = float(dy);
@@ -72,20 +73,24 @@ void main() {
                                    normalTerm(i, i0) * idTerm(i, i0);
                     if (weight == 0.0) continue;
                     int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
-                    float zs = fitLo[lo + i0] * fdx + fitLo[stride + lo + i0] * fdy +
-                               fitLo[2 * stride + lo + i0];
+                    float zs = texelFetch(fitLo, lo + i0).r * fdx +
+                               texelFetch(fitLo, stride + lo + i0).r * fdy +
+                               texelFetch(fitLo, 2 * stride + lo + i0).r;
                     // Quadrant m's planes are 3 + 3m .. 5 + 3m, across the two buffers.
                     float coef[3];
                     for (int j = 0; j < 3; ++j) {
                         int p = 3 + 3 * m + j;
                         coef[j] = p < PIVOT_PLANES_PER_BUFFER
-                                      ? fitLo[p * stride + lo + i0]
-                                      : fitHi[(p - PIVOT_PLANES_PER_BUFFER) * stride + lo + i0];
+                                      ? texelFetch(fitLo, p * stride + lo + i0).r
+                                      : texelFetch(fitHi,
+                                                   (p - PIVOT_PLANES_PER_BUFFER) * stride + lo + i0)
+                                            .r;
                     }
                     float zm = coef[0] * fdx + coef[1] * fdy + coef[2];
                     sumW += weight;
                     sumWz += weight * combine(zs, zm);
                 }
         }
-    outImage[at] = sumW > 0.0 ? pivot[at] * (sumWz / sumW) : color[at];
+    outImage[at] =
+        sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;
 }

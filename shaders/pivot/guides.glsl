@@ -1,14 +1,18 @@
 // The geometric terms of the pivot filter (section 4.4), for kernels that declare the
-// buffer `guides` (5 planes: normal x, y, z, object id, part id), the specialization
+// texel buffer `guides` (5 planes: normal x, y, z, object id, part id), the specialization
 // constants useNormals / useIds and the ints `planeSize` (width x height) and `gw`, `gh`
 // (width, height).
+
+float Guide(int at) {
+    return texelFetch(guides, at).r;
+}
 
 // (n.n0)^4 when n.n0 > 1/2 for the unit normals at pixels i and i0, else 0; two zero
 // normals (no surface) give 1, one gives 0.
 float normalTerm(int i, int i0) {
     if (useNormals == 0) return 1.0;
-    vec3 n = vec3(guides[i], guides[planeSize + i], guides[2 * planeSize + i]);
-    vec3 n0 = vec3(guides[i0], guides[planeSize + i0], guides[2 * planeSize + i0]);
+    vec3 n = vec3(Guide(i), Guide(planeSize + i), Guide(2 * planeSize + i));
+    vec3 n0 = vec3(Guide(i0), Guide(planeSize + i0), Guide(2 * planeSize + i0));
     float len = dot(n, n), len0 = dot(n0, n0);
     if (len == 0.0 && len0 == 0.0) return 1.0;
     if (len == 0.0 || len0 == 0.0) return 0.0;
@@ -20,7 +24,7 @@ float normalTerm(int i, int i0) {
 float idTerm(int i, int i0) {
     if (useIds == 0) return 1.0;
     int objects = 3 * planeSize, parts = 4 * planeSize;
-    return guides[objects + i] == guides[objects + i0] && guides[parts + i] == guides[parts + i0]
+    return Guide(objects + i) == Guide(objects + i0) && Guide(parts + i) == Guide(parts + i0)
                ? 1.0
                : 0.0;
 }

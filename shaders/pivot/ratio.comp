@@ -5,15 +5,15 @@
 
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_VARIANCE) const int hasVariance = 0;
-layout(std430, binding = PIVOT_RATIO_COLOR) readonly buffer Color { float color[]; };
-layout(std430, binding = PIVOT_RATIO_PIVOT) readonly buffer Pivot { float pivot[]; };
-layout(std430, binding = PIVOT_RATIO_VARIANCE) readonly buffer Variance { float variance[]; };
+layout(binding = PIVOT_RATIO_COLOR) uniform samplerBuffer color;
+layout(binding = PIVOT_RATIO_PIVOT) uniform samplerBuffer pivot;
+layout(binding = PIVOT_RATIO_VARIANCE) uniform samplerBuffer variance;
 layout(std430, binding = PIVOT_RATIO_Z) writeonly buffer Z { float zOut[]; };
 layout(std430, binding = PIVOT_RATIO_S) writeonly buffer S { float sOut[]; };
 layout(std430, binding = PIVOT_RATIO_NU) writeonly buffer Nu { float nuOut[]; };
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
 const int useNormals = 0;
-layout(std430, binding = PIVOT_RATIO_GUIDES) readonly buffer Guides { float guides[]; };
+layout(binding = PIVOT_RATIO_GUIDES) uniform samplerBuffer guides;
 
 int planeSize, gw, gh;
 
@@ -23,10 +23,10 @@ float threshold;
 
 // z at `at` when the pixel has one.
 bool ratioAt(int at, out float z) {
-    float la = pivot[at];
+    float la = texelFetch(pivot, at).r;
     z = 0.0;
     if (!(la > threshold)) return false;
-    z = color[at] / la;
+    z = texelFetch(color, at).r / la;
     return abs(z) <= PIVOT_Z_MAX;
 }
 
@@ -62,8 +62,8 @@ void main() {
     float zl = sum / float(n);
     float s;
     if (hasVariance != 0) {
-        float la = pivot[at];
-        s = variance[at] / la / la;
+        float la = texelFetch(pivot, at).r;
+        s = texelFetch(variance, at).r / la / la;
     } else {
         float sumSq = 0.0;
         for (int v = max(0, y - 1); v <= min(h - 1, y + 1); ++v)
