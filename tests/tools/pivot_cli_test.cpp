@@ -151,5 +151,24 @@ TEST_F(PivotCli, RefusesBadOptionsAndMissingPivot) {
     EXPECT_FALSE(fs::exists(Path("f.exr")));
 }
 
+// `bench pivot` prints each stage's GPU time and the grown radius, for both filters, and
+// refuses an unknown filter by name.
+TEST_F(PivotCli, BenchPrintsStagesAndRadius) {
+    RunResult r = Run("bench pivot --size 20x16 --spp 4 --max-radius 6");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "20x16 at 4 spp, planefit filter, max radius 6")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "pivot.fit")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "pivot.gather")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "grown radius: mean")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "(of at most 6)")) << r.out;
+    r = Run("bench pivot --size 20x16 --spp 4 --filter bilateral");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "pivot.bilateral")) << r.out;
+    EXPECT_FALSE(Contains(r.out, "grown radius")) << r.out;
+    r = Run("bench pivot --size 20x16 --filter median");
+    EXPECT_NE(r.code, 0);
+    EXPECT_TRUE(Contains(r.err, "'median'")) << r.All();
+}
+
 }  // namespace
 }  // namespace mcd::test

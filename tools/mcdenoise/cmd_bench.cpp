@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <random>
 #include <thread>
@@ -14,6 +15,7 @@
 #include "host/error.h"
 #include "host/methods/awr.h"
 #include "host/methods/bayes.h"
+#include "host/methods/pivot.h"
 #include "host/methods/rhf.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
@@ -333,40 +335,21 @@ void BenchBayes(const std::string &size, int levels, const std::string &basisNam
         fmt::print("  scikit-image: not available (python3-skimage)\n");
 }
 
-// RHF with default parameters on a rendered frame with histograms: GPU time per kernel
-// (summed over its dispatches), so the expensive stage is visible.
-void BenchRhf(const std::string &size, const std::string &sceneName, int spp, int repeats,
-              const DeviceOptions &device) {
-    render::RenderOptions options;
-    ParseSize(size, &options.width, &options.height);
-    options.spp = spp;
-    options.layers = render::kLayersHist;
-    render::RenderResult frame = render::Render(render::BuildScene(sceneName), options);
-    const Image *color = nullptr, *hist = nullptr;
-    for (const auto &[name, layer] : frame.layers) {
-        if (name == "color") color = &layer;
-        if (name == "hist") hist = &layer;
-    }
-    if (!color || !hist) throw Error("bench rhf: the renderer gave no color or hist layer");
-    vk::Context context(device.ContextOptions());
-    RhfOptions rhf;
-    fmt::print(
-        "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, {} "
-        "scales, on {} ({})\n",
-        sceneName, options.width, options.height, spp, rhf.patchHalf, rhf.searchHalf,
-        rhf.threshold, rhf.knn, rhf.scales, context.Info().name,
-        vk::DeviceTypeName(context.Info().type));
+// Time `run` (one method call returning its dispatch timings) `repeats` times after one
+// untimed warm-up (pipelines, first touch); print each run, then the last run's GPU time
+// per kernel (summed over its dispatches) so the expensive stage is visible.
+void TimeMethodRuns(int repeats, const std::function<std::vector<vk::DispatchTiming>()> &run) {
     repeats = std::max(repeats, 1);
     std::vector<double> gpu, wall;
     std::vector<std::pair<std::string, double>> perKernel;
-    for (int r = 0; r <= repeats; ++r) {  // run 0 warms up (pipelines, first touch)
+    for (int r = 0; r <= repeats; ++r) {
         Clock::time_point start = Clock::now();
-        RhfResult result = RhfDenoise(context, *color, *hist, rhf);
+        std::vector<vk::DispatchTiming> timings = run();
         double wallMs = Ms(Clock::now() - start);
         if (r == 0) continue;
         double total = 0;
         perKernel.clear();
-        for (const vk::DispatchTiming &t : result.timings) {
+        for (const vk::DispatchTiming &t : timings) {
             total += std::max(t.gpuMs, 0.0);
             auto it = std::find_if(perKernel.begin(), perKernel.end(),
                                    [&](const auto &p) { return p.first == t.label; });
@@ -384,6 +367,78 @@ void BenchRhf(const std::string &size, const std::string &sceneName, int spp, in
     for (const auto &[label, ms] : perKernel) fmt::print("    {:<20} {:10.2f} ms\n", label, ms);
     fmt::print("  GPU time (timestamps, median of {}): {:.2f} ms; wall {:.2f} ms\n", repeats,
                Median(gpu), Median(wall));
+}
+
+// A rendered frame's layers by name.
+struct RenderedFrame {
+    render::RenderResult result;
+    const Image *Layer(const std::string &name) const {
+        for (const auto &[layerName, layer] : result.layers)
+            if (layerName == name) return &layer;
+        return nullptr;
+    }
+};
+
+RenderedFrame RenderFrame(const std::string &size, const std::string &sceneName, int spp,
+                          int layers) {
+    render::RenderOptions options;
+    ParseSize(size, &options.width, &options.height);
+    options.spp = spp;
+    options.layers = layers;
+    return {render::Render(render::BuildScene(sceneName), options)};
+}
+
+// RHF with default parameters on a rendered frame with histograms.
+void BenchRhf(const std::string &size, const std::string &sceneName, int spp, int repeats,
+              const DeviceOptions &device) {
+    RenderedFrame frame = RenderFrame(size, sceneName, spp, render::kLayersHist);
+    const Image *color = frame.Layer("color"), *hist = frame.Layer("hist");
+    if (!color || !hist) throw Error("bench rhf: the renderer gave no color or hist layer");
+    vk::Context context(device.ContextOptions());
+    RhfOptions rhf;
+    fmt::print(
+        "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, {} "
+        "scales, on {} ({})\n",
+        sceneName, color->width, color->height, spp, rhf.patchHalf, rhf.searchHalf,
+        rhf.threshold, rhf.knn, rhf.scales, context.Info().name,
+        vk::DeviceTypeName(context.Info().type));
+    TimeMethodRuns(repeats, [&] { return RhfDenoise(context, *color, *hist, rhf).timings; });
+}
+
+// The pivot filter with its defaults (max radius 30) on a rendered frame with every layer
+// it uses (pivot, variance, normals, ids), and the radius the squares grew to.
+void BenchPivot(const std::string &size, const std::string &sceneName, int spp,
+                const std::string &filter, int maxRadius, int repeats,
+                const DeviceOptions &device) {
+    RenderedFrame frame = RenderFrame(size, sceneName, spp, render::kLayersAll);
+    PivotInputs in;
+    in.color = frame.Layer("color");
+    in.pivot = frame.Layer("pivot");
+    in.variance = frame.Layer("variance");
+    in.normal = frame.Layer("normal");
+    in.objectId = frame.Layer("objectId");
+    in.partId = frame.Layer("partId");
+    if (!in.color || !in.pivot) throw Error("bench pivot: the renderer gave no color or pivot");
+    PivotOptions pivot;
+    if (filter == "bilateral")
+        pivot.filter = PivotFilter::Bilateral;
+    else if (filter != "planefit")
+        throw Error(
+            fmt::format("bench pivot: --filter is planefit or bilateral, not '{}'", filter));
+    pivot.maxRadius = maxRadius;
+    vk::Context context(device.ContextOptions());
+    fmt::print("bench pivot: {} {}x{} at {} spp, {} filter, max radius {}, on {} ({})\n",
+               sceneName, in.color->width, in.color->height, spp, filter, maxRadius,
+               context.Info().name, vk::DeviceTypeName(context.Info().type));
+    std::fflush(stdout);
+    PivotResult last;
+    TimeMethodRuns(repeats, [&] {
+        last = PivotDenoise(context, in, pivot);
+        return last.timings;
+    });
+    if (pivot.filter == PivotFilter::PlaneFit)
+        fmt::print("  grown radius: mean {:.2f}, largest {} (of at most {})\n", last.meanRadius,
+                   last.largestRadius, maxRadius);
 }
 
 }  // namespace
@@ -509,6 +564,33 @@ void AddBenchCommand(CLI::App &app) {
     hopt->device.Add(rhfBench);
     rhfBench->callback(
         [hopt] { BenchRhf(hopt->size, hopt->scene, hopt->spp, hopt->repeats, hopt->device); });
+
+    struct PivotBenchOptions {
+        std::string size = "256x256", scene = "cornell", filter = "planefit";
+        int spp = 16, maxRadius = 30, repeats = 1;
+        DeviceOptions device;
+    };
+    auto popt = std::make_shared<PivotBenchOptions>();
+    CLI::App *pivotBench = bench->add_subcommand(
+        "pivot",
+        "Time the pivot filter on a rendered frame with all its layers, per stage, with the "
+        "mean grown radius");
+    pivotBench
+        ->add_option("--size", popt->size, "image size WxH (the issue's figure: 1024x1024)")
+        ->capture_default_str();
+    pivotBench->add_option("--scene", popt->scene, "scene to render")->capture_default_str();
+    pivotBench->add_option("--spp", popt->spp, "samples per pixel")->capture_default_str();
+    pivotBench->add_option("--filter", popt->filter, "planefit or bilateral")
+        ->capture_default_str();
+    pivotBench->add_option("--max-radius", popt->maxRadius, "planefit: largest square radius")
+        ->capture_default_str();
+    pivotBench->add_option("--repeat", popt->repeats, "timed runs (after one warm-up)")
+        ->capture_default_str();
+    popt->device.Add(pivotBench);
+    pivotBench->callback([popt] {
+        BenchPivot(popt->size, popt->scene, popt->spp, popt->filter, popt->maxRadius,
+                   popt->repeats, popt->device);
+    });
 
     AddBenchQualityCommand(bench);
 }
