@@ -37,6 +37,7 @@ void main() {
         return;
     }
     float g = luma(i), sumW = 0.0, sumWz = 0.0;
+    Surface here = surfaceAt(i);
     float spatial = 1.0 / (2.0 * push.sigmaS * push.sigmaS);
     float range = 1.0 / (2.0 * push.sigmaRange * push.sigmaRange);
     for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
@@ -49,7 +50,7 @@ void main() {
             float d2 = float((u - x) * (u - x) + (v - y) * (v - y));
             float e = d2 * spatial + rel * rel * range;
             if (e > PIVOT_EXP_CUT) continue;
-            float weight = exp(-e) * normalTerm(q, i) * idTerm(q, i);
+            float weight = exp(-e) * geometricTerm(surfaceAt(q), here);
             sumW += weight;
             sumWz += weight * texelFetch(zIn, base + q).r;
         }

@@ -72,6 +72,7 @@ Plane solve(Moments m) {
 }
 
 int x0, y0, w, h, base;
+Surface centre;
 float goodNu, k;
 
 // Eq. 10's weight of pixel (x, y) for <z> = mean, and the distance term when radius > 0;
@@ -82,7 +83,7 @@ float weightAt(int x, int y, float mean, float radius, out float z, out float s)
     z = texelFetch(zIn, base + i).r;
     s = texelFetch(sIn, base + i).r;
     if (nu < 0.0 || nu > goodNu) return 0.0;
-    float geo = normalTerm(i, y0 * w + x0) * idTerm(i, y0 * w + x0);
+    float geo = geometricTerm(surfaceAt(i), centre);
     if (geo == 0.0) return 0.0;
     float dx = float(x - x0), dy = float(y - y0);
     float e = k * abs(z - mean) / max(abs(mean), PIVOT_TINY) + push.sigmaWeight * nu;
@@ -147,6 +148,7 @@ void main() {
     goodNu = push.goodNu;
     k = push.k;
     int at = y0 * w + x0;
+    centre = surfaceAt(at);
     if (texelFetch(nuIn, base + at).r < 0.0) {
         storeNone(c, at);
         return;

@@ -52,6 +52,7 @@ void main() {
     int stride = push.channels * planeSize;
     int lo = c * planeSize;  // channel c's offset inside a plane group
     float sumW = 0.0, sumWz = 0.0;
+    Surface here = surfaceAt(i);
     const int T = PIVOT_GATHER_TILE;
     int tileBase = c * push.tilesX * push.tilesY;
     for (int ty = max(0, y - push.reach) / T; ty <= min(h - 1, y + push.reach) / T; ++ty)
@@ -70,7 +71,7 @@ void main() {
                     if (radius < 0.0 || float(abs(dx)) > radius || float(abs(dy)) > radius) continue;
                     float fdx = float(dx), fdy = float(dy);
                     float weight = exp(-(fdx * fdx + fdy * fdy) / (radius * radius)) *
-                                   normalTerm(i, i0) * idTerm(i, i0);
+                                   geometricTerm(here, surfaceAt(i0));
                     if (weight == 0.0) continue;
                     int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
                     float zs = texelFetch(fitLo, lo + i0).r * fdx +

@@ -29,6 +29,43 @@ float idTerm(int i, int i0) {
                : 0.0;
 }
 
+// A pixel's guides, read once where one side of many comparisons stays the same.
+struct Surface {
+    vec3 n;
+    float len;  // dot(n, n)
+    float object, part;
+};
+
+Surface surfaceAt(int i) {
+    Surface s = Surface(vec3(0.0), 0.0, 0.0, 0.0);
+    if (useNormals != 0) {
+        s.n = vec3(Guide(i), Guide(planeSize + i), Guide(2 * planeSize + i));
+        s.len = dot(s.n, s.n);
+    }
+    if (useIds != 0) {
+        s.object = Guide(3 * planeSize + i);
+        s.part = Guide(4 * planeSize + i);
+    }
+    return s;
+}
+
+// normalTerm(i, i0) * idTerm(i, i0) from the two pixels' surfaces, bit for bit.
+float geometricTerm(Surface s, Surface s0) {
+    float normal = 1.0;
+    if (useNormals != 0) {
+        if (s.len == 0.0 && s0.len == 0.0)
+            normal = 1.0;
+        else if (s.len == 0.0 || s0.len == 0.0)
+            normal = 0.0;
+        else {
+            float d = dot(s.n, s0.n) / sqrt(s.len * s0.len);
+            normal = d > 0.5 ? d * d * d * d : 0.0;
+        }
+    }
+    float ids = useIds == 0 || (s.object == s0.object && s.part == s0.part) ? 1.0 : 0.0;
+    return normal * ids;
+}
+
 // The boundary term w_b as a property of a pixel: 0 when a 4-neighbour has other ids (the
 // pixel may straddle an object or part boundary and mix both sides), else 1. The ratio
 // stage marks such pixels as having no z: they give no data and keep their input.
