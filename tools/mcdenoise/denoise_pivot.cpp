@@ -102,7 +102,10 @@ DenoiseMethod PivotMethod() {
                         "pivot: relative square-vs-quadrant difference that stops the growth")
             ->capture_default_str()
             ->check(CLI::Range(0.f, 1e6f));
-        cmd->add_option("--robust-k", o.k, "pivot: k of eq. 10")
+        cmd->add_option("--robust-k", o.k,
+                        "pivot: k of eq. 10; above 0 the fits down-weight outliers, which "
+                        "lowers the error but darkens heavy-tailed frames (relief-abc 16 spp: "
+                        "mean 0.65 of the reference with 0.3, 1.04 with 0)")
             ->capture_default_str()
             ->check(CLI::Range(0.f, 1e6f));
         cmd->add_option(
