@@ -311,6 +311,18 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     recorder.Submit();
     result.timings = recorder.Timings();
     result.image = previous->Download();
+    if (o.clampNegative) {
+        size_t negative = 0;
+        for (float &v : result.image.data)
+            if (v < 0) {
+                v = 0;
+                ++negative;
+            }
+        result.plan.push_back(fmt::format(
+            "clamped {} negative value(s) to 0 (the bicubic recombination overshoots at strong "
+            "edges; --keep-negative keeps them)",
+            negative));
+    }
     if (o.keepStages)
         for (const auto &[name, image] : kept)
             result.stages.push_back({name, image->Download()});

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 
@@ -31,17 +32,20 @@ struct Frame {
     Image color, hist;
 };
 
-Frame MakeFrame(int w, int h, uint64_t seed, int bins = kBins) {
+// `Region(x, y)` gives a pixel's noise-free colour; by default diagonal bands.
+Frame MakeFrame(int w, int h, uint64_t seed, int bins = kBins,
+                std::function<const double *(int, int)> region = nullptr) {
     std::mt19937_64 rng(seed);
     std::uniform_int_distribution<int> spp(4, 24);
     std::normal_distribution<double> noise(0.0, 0.6);
-    const double regions[3][3] = {{0.2, 0.3, 0.4}, {0.9, 0.5, 0.1}, {2.5, 2.0, 1.5}};
+    static const double regions[3][3] = {{0.2, 0.3, 0.4}, {0.9, 0.5, 0.1}, {2.5, 2.0, 1.5}};
+    // Diagonal bands, so patches straddle region edges.
+    if (!region) region = [](int x, int y) { return regions[((x + 2 * y) / 5) % 3]; };
     Frame f{Image(w, h, 3), Image(w, h, 3 * bins + 1)};
     std::vector<float> pixelHist(3 * bins);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            // Diagonal bands, so patches straddle region edges.
-            const double *base = regions[((x + 2 * y) / 5) % 3];
+            const double *base = region(x, y);
             int n = spp(rng);
             std::fill(pixelHist.begin(), pixelHist.end(), 0.f);
             double sum[3] = {0, 0, 0};
@@ -60,6 +64,12 @@ Frame MakeFrame(int w, int h, uint64_t seed, int bins = kBins) {
 
 ref::RhfParams Params(const RhfOptions &o) {
     return {o.patchHalf, o.searchHalf, double(o.threshold), o.knn, o.scales};
+}
+
+// The method's default output: the reference's with negatives clamped to 0.
+Image NonNegative(Image image) {
+    for (float &v : image.data) v = std::max(v, 0.f);
+    return image;
 }
 
 double MaxAbs(const Image &image) {
@@ -102,7 +112,7 @@ TEST_F(RhfKernel, SingleScaleMatchesReference) {
         o.knn = c.knn;
         o.threshold = c.threshold;
         o.scales = 1;
-        Image expected = ref::Rhf(f.color, f.hist, Params(o));
+        Image expected = NonNegative(ref::Rhf(f.color, f.hist, Params(o)));
         RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
         EXPECT_TRUE(result.warnings.empty());
         EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
@@ -122,9 +132,14 @@ TEST_F(RhfKernel, MultiScaleMatchesReference) {
         o.scales = c.scales;
         ASSERT_EQ(ref::RhfScalesUsed(c.w, c.h, Params(o)), c.expectedScales);
         Image expected = ref::Rhf(f.color, f.hist, Params(o));
+        o.clampNegative = false;
         RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
         EXPECT_EQ(result.scalesUsed, c.expectedScales);
         EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
+        o.clampNegative = true;
+        EXPECT_TRUE(ImagesMatch(NonNegative(expected),
+                                RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
+                                ToleranceFor(f.color, o)));
     }
 }
 
@@ -226,6 +241,30 @@ TEST_F(RhfProperties, IdenticalHistogramsSelectTheWholeWindow) {
                 direct.At(c, y, x) = float(total / estimates);
             }
     EXPECT_TRUE(ImagesMatch(direct, out, {}, ToleranceFor(f.color, o)));
+}
+
+// Two scales across a 100:1 edge (an area light beside a dim ceiling): the bicubic
+// recombination overshoots below 0 on the dark side. By default those values come out 0,
+// counted in the plan, and the rest is the raw output bit for bit.
+TEST_F(RhfProperties, RecombinationUndershootIsClampedAndCounted) {
+    const int w = 40, h = 32;
+    static const double light[3] = {12, 12, 12}, ceiling[3] = {0.1, 0.1, 0.1};
+    Frame f = MakeFrame(w, h, SeedFromName("rhf overshoot"), kBins,
+                        [](int x, int) { return x < 17 ? light : ceiling; });
+    RhfOptions o;
+    o.clampNegative = false;
+    Image raw = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    size_t negative = 0;
+    for (float v : raw.data) negative += v < 0;
+    ASSERT_GT(negative, 0u) << "the edge no longer overshoots: the test needs a stronger one";
+    o.clampNegative = true;
+    RhfResult clamped = RhfDenoise(Ctx(), f.color, f.hist, o);
+    EXPECT_TRUE(BitIdentical(NonNegative(raw), clamped.image));
+    std::string plan;
+    for (const std::string &line : clamped.plan) plan += line + "\n";
+    EXPECT_NE(plan.find(fmt::format("clamped {} negative value(s) to 0", negative)),
+              std::string::npos)
+        << plan;
 }
 
 TEST_F(RhfProperties, BadPixelsGiveFiniteOutputAndCountedWarnings) {

@@ -90,6 +90,10 @@ DenoiseMethod RhfMethod() {
                         "window)")
             ->capture_default_str()
             ->check(CLI::Range(1, 8));
+        cmd->add_flag(
+            "--keep-negative", [opt](int64_t) { opt->clampNegative = false; },
+            "rhf: keep negative output values, as the authors' tool does (by default the "
+            "scale recombination's bicubic overshoot below 0 is clamped to 0)");
     };
     method.missing = [](const io::Frame &frame) -> std::string {
         return frame.Has("hist") ? "" : "no histogram channels (Bin_0000..)";
