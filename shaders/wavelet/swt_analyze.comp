@@ -1,0 +1,71 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+
+// One pass of one level of the stationary wavelet analysis (layout in swt.h), one
+// invocation per output position, every tap gathered through the texel view. Rows: one
+// plane per channel -> row-low, row-high (two planes at dstBase). Columns: the row-low and
+// row-high planes at srcBase -> LL at dstLow, HL, LH, HH at dstBase + 0, 1, 2 planes.
+// SQUARED: every tap squared (variance analysis; Haar: 1/2 (a + b) for both bands).
+
+#include "wavelet/wavelet.h"
+#include "wavelet/swt.h"
+
+layout(local_size_x = WAVELET_SWT_LOCAL_SIZE) in;
+layout(constant_id = WAVELET_SWT_SPEC_SQUARED) const int SQUARED = 0;
+layout(binding = WAVELET_SWT_SRC) uniform samplerBuffer src;
+layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst { float dst[]; };
+
+#include "wavelet/swt.glsl"
+
+float Tap(float t) {
+    return SQUARED != 0 ? t * t : t;
+}
+
+float Load(int at) {
+    return texelFetch(src, at).r;
+}
+
+// Low and high outputs at position i of a line of n samples `stride` floats apart from
+// `base`. Only the filters' own taps are read.
+vec2 Analyze(int base, int i, int n, int stride, bool transform) {
+    if (!transform) return vec2(Load(base + i * stride), 0.0);
+    int s = push.step;
+    if (WAVELET == MCD_WAVELET_HAAR) {
+        float a = Load(base + i * stride), b = Load(base + Fold(i + s, n) * stride);
+        if (SQUARED != 0) return vec2(0.5 * a + 0.5 * b);
+        return vec2(kHaar * a + kHaar * b, -kHaar * a + kHaar * b);
+    }
+    bool inside = i - kLowReach * s >= 0 && i + kLowReach * s < n;
+    float lo = 0.0, hi = 0.0;
+    [[unroll]] for (int k = -kLowReach; k <= kLowReach; ++k) {
+        int p = i + k * s;
+        if (!inside) p = Fold(p, n);
+        float v = Load(base + p * stride);
+        lo += Tap(AnalysisLow(abs(k))) * v;
+        if (abs(k) <= kHighReach) hi += Tap(AnalysisHigh(abs(k))) * v;
+    }
+    return vec2(lo, hi);
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
+    int c = int(gl_GlobalInvocationID.z);
+    if (x >= push.width) return;
+    int w = push.width, plane = w * push.height, at = y * w + x;
+    int src0 = c * push.srcChannel, dst0 = c * push.dstChannel;
+    if (AXIS == WAVELET_SWT_ROWS) {
+        vec2 r = Analyze(src0 + push.srcBase + y * w, x, w, 1,
+                         (push.flags & WAVELET_SWT_TRANSFORM_X) != 0);
+        dst[dst0 + push.dstBase + at] = r.x;
+        dst[dst0 + push.dstBase + plane + at] = r.y;
+    } else {
+        bool ty = (push.flags & WAVELET_SWT_TRANSFORM_Y) != 0;
+        vec2 l = Analyze(src0 + push.srcBase + x, y, push.height, w, ty);
+        vec2 h = Analyze(src0 + push.srcBase + plane + x, y, push.height, w, ty);
+        dst[dst0 + push.dstLow + at] = l.x;
+        dst[dst0 + push.dstBase + at] = h.x;              // HL
+        dst[dst0 + push.dstBase + plane + at] = l.y;      // LH
+        dst[dst0 + push.dstBase + 2 * plane + at] = h.y;  // HH
+    }
+}

@@ -1,0 +1,66 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+
+// One pass of one level of the stationary wavelet synthesis (layout and formula in
+// swt.h), one invocation per output position, taps gathered through the texel view.
+// Columns: (LL at srcLow, LH) -> row-low, (HL, HH) -> row-high, the details at srcBase +
+// 0, 1, 2 planes, the outputs two planes at dstBase. Rows: row-low, row-high at srcBase ->
+// one plane at dstBase.
+
+#include "wavelet/wavelet.h"
+#include "wavelet/swt.h"
+
+layout(local_size_x = WAVELET_SWT_LOCAL_SIZE) in;
+layout(binding = WAVELET_SWT_SRC) uniform samplerBuffer src;
+layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst { float dst[]; };
+
+#include "wavelet/swt.glsl"
+
+float Load(int at) {
+    return texelFetch(src, at).r;
+}
+
+// x at position i of a line of n samples `stride` floats apart, from its low band at
+// `low` and high band at `high`.
+float Synthesize(int low, int high, int i, int n, int stride, bool transform) {
+    if (!transform) return Load(low + i * stride);
+    int s = push.step;
+    if (WAVELET == MCD_WAVELET_HAAR) {
+        // The pair at i (i its first sample), and the pair at i - s (i its second).
+        float first = kHaar * Load(low + i * stride) - kHaar * Load(high + i * stride);
+        if (i < s) return first;
+        int j = (i - s) * stride;
+        return 0.5 * (first + (kHaar * Load(low + j) + kHaar * Load(high + j)));
+    }
+    const int reach = kSynthLowReach > kSynthHighReach ? kSynthLowReach : kSynthHighReach;
+    bool inside = i - reach * s >= 0 && i + reach * s < n;
+    float sum = 0.0;
+    [[unroll]] for (int k = -reach; k <= reach; ++k) {
+        int p = i - k * s;
+        if (!inside) p = Fold(p, n);
+        if (abs(k) <= kSynthLowReach) sum += SynthesisLow(abs(k)) * Load(low + p * stride);
+        if (abs(k) <= kSynthHighReach) sum += SynthesisHigh(abs(k)) * Load(high + p * stride);
+    }
+    return 0.5 * sum;
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
+    int c = int(gl_GlobalInvocationID.z);
+    if (x >= push.width) return;
+    int w = push.width, plane = w * push.height, at = y * w + x;
+    int src0 = c * push.srcChannel, dst0 = c * push.dstChannel;
+    if (AXIS == WAVELET_SWT_ROWS) {
+        int row = src0 + push.srcBase + y * w;
+        dst[dst0 + push.dstBase + at] = Synthesize(row, row + plane, x, w, 1,
+                                                   (push.flags & WAVELET_SWT_TRANSFORM_X) != 0);
+    } else {
+        bool ty = (push.flags & WAVELET_SWT_TRANSFORM_Y) != 0;
+        int details = src0 + push.srcBase + x;
+        dst[dst0 + push.dstBase + at] =
+            Synthesize(src0 + push.srcLow + x, details + plane, y, push.height, w, ty);
+        dst[dst0 + push.dstBase + plane + at] =
+            Synthesize(details, details + 2 * plane, y, push.height, w, ty);
+    }
+}
