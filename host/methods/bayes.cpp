@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "bayes/bayes.h"
 #include "host/error.h"
@@ -13,9 +14,12 @@
 #include "host/kernels/bayes_mix.h"
 #include "host/kernels/bayes_moments.h"
 #include "host/kernels/bayes_shrink.h"
+#include "host/kernels/bayes_swt.h"
+#include "host/methods/wavelet_swt.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/buffer.h"
 #include "host/vk/gpu_image.h"
+#include "wavelet/swt.h"
 
 namespace mcd {
 namespace {
@@ -73,6 +77,24 @@ double FinestMad(const Image &coef) {
     return *mid;
 }
 
+// The same over the stationary transform's finest HH planes (downloaded alone); empty (0)
+// when level 0 does not transform both axes.
+double FinestMadSwt(const vk::GpuImage &coef, int channels, int levels) {
+    if (!shader::SwtTransformsAxis(coef.width, 0) || !shader::SwtTransformsAxis(coef.height, 0))
+        return 0;
+    size_t plane = size_t(coef.width) * coef.height;
+    std::vector<float> values;
+    for (int c = 0; c < channels; ++c) {
+        size_t at =
+            (size_t(c) * shader::SwtPlaneCount(levels) + shader::SwtDetailPlane(0, 2)) * plane;
+        std::vector<float> hh = coef.buffer.DownloadFloats(plane, at);
+        for (float v : hh) values.push_back(std::fabs(v));
+    }
+    auto mid = values.begin() + values.size() / 2;
+    std::nth_element(values.begin(), mid, values.end());
+    return *mid;
+}
+
 // Scale each channel of result->image to the mean of color's finite non-negative values.
 void KeepMean(const Image &color, BayesResult *result) {
     std::string scales;
@@ -93,6 +115,10 @@ void KeepMean(const Image &color, BayesResult *result) {
 }
 
 }  // namespace
+
+const char *BayesTransformName(BayesTransform transform) {
+    return transform == BayesTransform::Swt ? "swt" : "dwt";
+}
 
 const char *BayesFitName(int fit) {
     switch (fit) {
@@ -176,10 +202,14 @@ double BayesScaleFromMad(double mad, double p) {
 // the RGB variances with weights summing to 1; we use the plain mean over channels.
 // In the split the variance is that of the whole colour over the indirect value: an upper
 // bound on the indirect part's relative noise (the direct part's variance is in V).
+// The stationary transform (--bayes-transform swt) filters with the same taps without
+// decimating, so steps 2 and 3 carry over: its squared analysis at every position, the
+// mean over the full-size band.
 std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
                                       const Image &variance, const std::vector<float> &floors,
                                       WaveletBasis basis, int levels, float pn, bool opponent,
-                                      std::vector<vk::DispatchTiming> *timings) {
+                                      std::vector<vk::DispatchTiming> *timings,
+                                      BayesTransform kind) {
     if (!variance.SameShape(color))
         throw Error(fmt::format(
             "bayes: the variance layer is {}x{}x{} but the image is {}x{}x{}", variance.width,
@@ -196,13 +226,22 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
         }
     vk::GpuImage varGpu(context, w, h, channels, "bayes.logvar");
     varGpu.Upload(logVar);
+    bool swt = kind == BayesTransform::Swt;
     WaveletTransform transform(context, w, h, channels);
     vk::Recorder recorder(context);
-    transform.RecordSqAnalysis(recorder, basis, levels, varGpu, varGpu, 0.f, 0.f);
+    if (!swt) transform.RecordSqAnalysis(recorder, basis, levels, varGpu, varGpu, 0.f, 0.f);
+    // The stationary transform: full-size planes (shaders/wavelet/swt.h).
+    std::optional<SwtTransform> swtTransform;
+    vk::GpuImage swtVar;
+    if (swt) {
+        swtTransform.emplace(context, w, h, channels, levels);
+        swtVar = swtTransform->MakeCoefficients("bayes.swt.var");
+        swtTransform->RecordAnalysis(recorder, basis, varGpu, swtVar, true);
+    }
     recorder.Submit();
     if (timings)
         for (const vk::DispatchTiming &t : recorder.Timings()) timings->push_back(t);
-    Image coef = varGpu.Download();
+    Image coef = swt ? swtVar.Download() : varGpu.Download();
     double toS = std::exp(0.5 * (std::lgamma(1.0 / pn) - std::lgamma(3.0 / pn)));
     std::vector<double> bandVar;
     for (int c = 0; c < channels; ++c)
@@ -210,7 +249,19 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
             int lw = LevelExtent(w, level), lh = LevelExtent(h, level);
             int lowW = (lw + 1) / 2, lowH = (lh + 1) / 2;
             int box[3][4] = {{lowW, 0, lw, lowH}, {0, lowH, lowW, lh}, {lowW, lowH, lw, lh}};
+            for (int o = 0; swt && o < 3; ++o) {
+                // A band whose axis is not transformed at this level is empty.
+                bool tx = shader::SwtTransformsAxis(w, level);
+                bool ty = shader::SwtTransformsAxis(h, level);
+                bool used = o == 0 ? tx : (o == 1 ? ty : tx && ty);
+                const float *p = coef.Plane(c * shader::SwtPlaneCount(levels) +
+                                            shader::SwtDetailPlane(level, o));
+                double sum = 0;
+                for (size_t i = 0; used && i < coef.PixelCount(); ++i) sum += p[i];
+                bandVar.push_back(used ? sum / double(coef.PixelCount()) : 0.0);
+            }
             for (auto &b : box) {
+                if (swt) break;
                 double sum = 0;
                 size_t n = 0;
                 for (int y = b[1]; y < b[3]; ++y)
@@ -269,6 +320,8 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                                           options.levels, color.width, color.height, levels));
 
     int w = color.width, h = color.height, channels = color.channels;
+    if (options.transform == BayesTransform::Swt && levels > 0)
+        CheckSwtFits(context, w, h, channels, levels, "bayes --bayes-transform swt");
     vk::GpuImage colorGpu(context, w, h, channels, "bayes.color");
     vk::GpuImage work(context, w, h, channels, "bayes.work");
     vk::GpuImage out(context, w, h, channels, "bayes.out");
@@ -276,6 +329,15 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     colorGpu.Upload(color);
     floorsGpu.UploadFloats(floors);
     WaveletTransform transform(context, w, h, channels);
+    // --bayes-transform swt: the stationary transform's coefficients, channels (3 levels +
+    // 1) full-size planes, refused up front when they exceed one binding.
+    bool swt = options.transform == BayesTransform::Swt && levels > 0;
+    std::optional<SwtTransform> swtTransform;
+    vk::GpuImage swtCoef;
+    if (swt) {
+        swtTransform.emplace(context, w, h, channels, levels);
+        swtCoef = swtTransform->MakeCoefficients("bayes.swt");
+    }
     vk::Recorder recorder(context);
     // With keepStages, submit and download after every stage; else one submission.
     auto submit = [&] {
@@ -301,17 +363,20 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                 "colour: log luminance + 2 log chroma (orthonormal opponent transform)");
             stage("opponent", work);
         }
-        transform.RecordAnalysis(recorder, options.basis, levels, work, work);
-        stage("analysis", work);
+        if (swt)
+            swtTransform->RecordAnalysis(recorder, options.basis, work, swtCoef);
+        else
+            transform.RecordAnalysis(recorder, options.basis, levels, work, work);
+        stage("analysis", swt ? swtCoef : work);
         float sn = options.sn;
         int bands = BayesBandCount(channels, levels);
         std::vector<float> bandSn(bands);
         for (int b = 0; b < bands; ++b)
             bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * options.hpFactor : sn;
         if (options.variance) {
-            bandSn =
-                BayesVarianceNoise(context, color, *options.variance, floors, options.basis,
-                                   levels, options.pn, options.opponent, &result.timings);
+            bandSn = BayesVarianceNoise(context, color, *options.variance, floors,
+                                        options.basis, levels, options.pn, options.opponent,
+                                        &result.timings, options.transform);
             double mean = 0;
             for (float v : bandSn) mean += v / bands;
             sn = float(mean);
@@ -326,12 +391,13 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
             result.plan.push_back(fmt::format(
                 "--noise variance: per band from the variance layer: log(1 + V / max(Y, "
                 "floor)^2) per pixel (the delta method's V / Y^2, exact for log-normal), "
-                "squared-filter DWT, band mean -> s (p_n {}); mean s per level (finest "
+                "squared-filter {}, band mean -> s (p_n {}); mean s per level (finest "
                 "first) {}",
-                options.pn, perLevel));
+                swt ? "SWT" : "DWT", options.pn, perLevel));
         } else if (options.noiseAuto) {
             submit();
-            double mad = FinestMad(work.Download());
+            double mad =
+                swt ? FinestMadSwt(swtCoef, channels, levels) : FinestMad(work.Download());
             double finest = BayesScaleFromMad(mad, options.pn);
             sn = float(finest / options.hpFactor);
             for (int b = 0; b < bands; ++b)
@@ -348,7 +414,10 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                            "bayes.moments");
         vk::Buffer params(context, bands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
         vk::Buffer table(context, bands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
-        RecordBayesMoments(context, recorder, work, levels, moments);
+        if (swt)
+            RecordBayesSwtMoments(context, recorder, swtCoef, channels, levels, moments);
+        else
+            RecordBayesMoments(context, recorder, work, levels, moments);
         if (options.keepStages) {
             submit();
             std::vector<float> m = moments.DownloadFloats(size_t(bands) * BAYES_MOMENT_STRIDE);
@@ -368,9 +437,15 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
             result.stages.push_back({"fits", std::move(fits)});
         }
         RecordBayesTable(context, recorder, params, bands, table);
-        RecordBayesShrink(context, recorder, work, levels, params, table);
-        stage("shrinkage", work);
-        transform.RecordSynthesis(recorder, options.basis, levels, work, work);
+        if (swt)
+            RecordBayesSwtShrink(context, recorder, swtCoef, channels, levels, params, table);
+        else
+            RecordBayesShrink(context, recorder, work, levels, params, table);
+        stage("shrinkage", swt ? swtCoef : work);
+        if (swt)
+            swtTransform->RecordSynthesis(recorder, options.basis, swtCoef, work);
+        else
+            transform.RecordSynthesis(recorder, options.basis, levels, work, work);
         stage("synthesis", work);
         if (options.opponent) {
             RecordBayesMix(context, recorder, work, BayesOpponentInverse());
@@ -385,15 +460,18 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                         fit.params.begin());
             result.fits.push_back(fit);
         }
+        const char *transformName =
+            swt ? "stationary (undecimated) wavelet transform (--bayes-transform swt)"
+                : "DWT (--bayes-transform dwt)";
         if (options.variance)
             result.plan.push_back(
-                fmt::format("{}-level {} DWT; noise per band (mean s {:.4g}), p_n {}", levels,
-                            WaveletName(options.basis), sn, options.pn));
+                fmt::format("{}-level {} {}; noise per band (mean s {:.4g}), p_n {}", levels,
+                            WaveletName(options.basis), transformName, sn, options.pn));
         else
             result.plan.push_back(fmt::format(
-                "{}-level {} DWT; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
-                levels, WaveletName(options.basis), sn, options.pn, sn * options.hpFactor,
-                options.hpFactor));
+                "{}-level {} {}; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
+                levels, WaveletName(options.basis), transformName, sn, options.pn,
+                sn * options.hpFactor, options.hpFactor));
         result.plan.push_back(fmt::format(
             "per band: E[y^2], E[y^4] -> (s_c, p_c) by eqs. 17-18; posterior-mean table of "
             "{} entries (log-sum-exp quadrature), applied with interpolation",

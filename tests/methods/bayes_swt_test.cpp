@@ -7,15 +7,21 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <tuple>
 
+#include "bayes/bayes.h"
+#include "cpu_reference/bayes_denoise.h"
 #include "cpu_reference/wavelet_analyze.h"
 #include "cpu_reference/wavelet_swt.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/kernels/bayes_moments.h"
+#include "host/kernels/bayes_swt.h"
+#include "host/methods/bayes.h"
 #include "host/methods/wavelet_swt.h"
 #include "wavelet/swt.h"
 
@@ -283,6 +289,215 @@ TEST_F(BayesSwtKernel, RefusesCoefficientsAboveOneBinding) {
     EXPECT_TRUE(Contains(message, "4096x4096x3")) << message;
     EXPECT_TRUE(Contains(message, "30 planes")) << message;
     EXPECT_NO_THROW(CheckSwtFits(Ctx(), 64, 64, 3, 3, "test"));
+}
+
+// ---------------------------------------------------------------- method bayes over the SWT
+
+class BayesSwtMethod : public GpuTest {};
+
+// A smooth picture times multiplicative log-normal noise (as bayes_test.cpp's).
+Image NoisyPicture(int w, int h, uint64_t seed, double noise) {
+    Image image(w, h, 3);
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double clean = 0.4 + 0.5 * (x > w / 2) + 0.3 * std::sin(0.3 * y + c);
+                image.At(c, y, x) = float(clean * std::exp(noise * normal(rng)));
+            }
+    return image;
+}
+
+Image Log(Image image) {
+    for (float &v : image.data) v = std::log(v);
+    return image;
+}
+
+// Moments of full-size SWT bands, empty bands included (count 0): the sum bound of
+// BayesKernel.MomentsMatchReference, (count / 256 + 12) u relative.
+TEST_F(BayesSwtMethod, MomentsMatchReference) {
+    for (auto [w, h] : {std::pair{2, 3}, std::pair{1, 9}, std::pair{37, 23}, std::pair{64, 7}})
+        for (int levels : {1, MaxWaveletLevels(w, h)}) {
+            SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
+            const int channels = 2;
+            Image coef =
+                MakeInput(InputKind::Uniform, w, h, channels * shader::SwtPlaneCount(levels),
+                          SeedFromName(fmt::format("swtmom{}x{}", w, h)));
+            int bands = BayesBandCount(channels, levels);
+            vk::GpuImage c(Ctx(), w, h, coef.channels, "coef");
+            c.Upload(coef);
+            vk::Buffer moments(Ctx(), bands * BAYES_MOMENT_STRIDE * sizeof(float), "moments");
+            vk::Recorder recorder(Ctx());
+            RecordBayesSwtMoments(Ctx(), recorder, c, channels, levels, moments);
+            recorder.Submit();
+            std::vector<float> got = moments.DownloadFloats(bands * BAYES_MOMENT_STRIDE);
+            std::vector<ref::BayesBand> refBands = ref::BayesSwtBands(w, h, channels, levels);
+            ASSERT_EQ(int(refBands.size()), bands);
+            int empty = 0;
+            for (int b = 0; b < bands; ++b) {
+                ref::BandMoments m = ref::MeasureBand(coef, refBands[b]);
+                empty += m.count == 0;
+                double tol = (double(m.count) / 256 + 12) * kUnitRoundoff;
+                EXPECT_NEAR(got[b * 4 + 0], m.m2, tol * m.m2) << "band " << b;
+                EXPECT_NEAR(got[b * 4 + 1], m.m4, tol * m.m4) << "band " << b;
+                EXPECT_EQ(got[b * 4 + 2], float(m.maxAbs)) << "band " << b;
+                EXPECT_EQ(got[b * 4 + 3], float(m.count)) << "band " << b;
+            }
+            // 1x9 and 2x3 at their deepest level leave an axis untransformed.
+            if (w <= 2 && levels > 1) EXPECT_GT(empty, 0);
+        }
+}
+
+// The whole method with --bayes-transform swt against the reference with swt, on the
+// bayes edge sizes. The tolerance is BayesKernel.WholeMethodMatchesReference's (2e-3 in
+// log, mean 1e-4): the per-coefficient error is the same table error plus float transform
+// round-off, and the SWT synthesis averages two reconstructions, which does not enlarge it.
+TEST_F(BayesSwtMethod, WholeMethodMatchesReference) {
+    for (auto [w, h] : {std::pair{1, 1}, std::pair{2, 1}, std::pair{1, 5}, std::pair{3, 3},
+                        std::pair{37, 23}, std::pair{64, 7}, std::pair{3, 70}})
+        for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::Cdf97}) {
+            SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
+            Image color =
+                NoisyPicture(w, h, SeedFromName(fmt::format("swtwhole{}x{}", w, h)), 0.3);
+            BayesOptions options;
+            options.basis = basis;
+            options.transform = BayesTransform::Swt;
+            BayesResult gpu = BayesDenoise(Ctx(), color, options);
+            ref::BayesRefOptions refOptions;
+            refOptions.basis = basis;
+            refOptions.swt = true;
+            refOptions.levels = gpu.levels;
+            ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+            ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
+            for (size_t b = 0; b < cpu.fits.size(); ++b)
+                EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+            EXPECT_TRUE(ImagesMatch(Log(cpu.image), Log(gpu.image), {}, {0, 2e-3, 1e-4}));
+            if (gpu.levels > 0) {
+                bool said = false;
+                for (const std::string &line : gpu.plan) said |= Contains(line, "stationary");
+                EXPECT_TRUE(said);
+            }
+        }
+}
+
+// --noise variance through the SWT: the GPU's squared analysis and band means against the
+// reference's; the same arithmetic count as BayesVariance.EstimateMatchesReference (all
+// terms positive, a few tens of u), and the band means sum w h terms in double.
+TEST_F(BayesSwtMethod, VarianceNoiseMatchesReference) {
+    for (auto [w, h] : {std::pair{2, 3}, std::pair{1, 9}, std::pair{37, 23}})
+        for (WaveletBasis basis : kBases) {
+            SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
+            Image color =
+                NoisyPicture(w, h, SeedFromName(fmt::format("swtvar{}x{}", w, h)), 0.3);
+            Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3,
+                                               SeedFromName(fmt::format("swtvv{}x{}", w, h)));
+            int levels = std::min(3, MaxWaveletLevels(w, h));
+            std::vector<float> floors = BayesFloors(color, 1e-3f);
+            std::vector<double> refFloors(floors.begin(), floors.end());
+            std::vector<float> gpu =
+                BayesVarianceNoise(Ctx(), color, variance, floors, basis, levels, 1.5f, false,
+                                   nullptr, BayesTransform::Swt);
+            std::vector<double> cpu = ref::BayesVarianceNoise(color, variance, refFloors, basis,
+                                                              levels, 1.5, false, true);
+            ASSERT_EQ(gpu.size(), cpu.size());
+            for (size_t b = 0; b < cpu.size(); ++b)
+                EXPECT_NEAR(gpu[b], cpu[b], 1e-5 * cpu[b]) << "band " << b;
+            // And the whole method with it, against the reference.
+            BayesOptions options;
+            options.basis = basis;
+            options.transform = BayesTransform::Swt;
+            options.variance = &variance;
+            Image got = BayesDenoise(Ctx(), color, options).image;
+            ref::BayesRefOptions refOptions;
+            refOptions.basis = basis;
+            refOptions.swt = true;
+            refOptions.variance = &variance;
+            Image expected = ref::BayesDenoise(color, refOptions).image;
+            EXPECT_TRUE(ImagesMatch(Log(expected), Log(got), {}, {0, 2e-3, 1e-4}));
+        }
+}
+
+// --noise auto over the SWT: the finest HH planes hold every polyphase of the DWT's finest
+// HH band, so on log-normal noise of known sigma (Haar, p = 2) it recovers s = sigma
+// sqrt 2 as the DWT's estimate does (BayesProperties.NoiseAutoEstimatesTheNoise, 5%).
+TEST_F(BayesSwtMethod, NoiseAutoEstimatesTheNoise) {
+    const double sigma = 0.3;
+    Image noise(96, 96, 3);
+    std::mt19937_64 rng(SeedFromName("swt noise auto"));
+    std::normal_distribution<float> normal(0.f, float(sigma));
+    for (float &v : noise.data) v = std::exp(normal(rng));
+    BayesOptions options;
+    options.noiseAuto = true;
+    options.pn = 2;
+    options.hpFactor = 1;
+    options.transform = BayesTransform::Swt;
+    BayesResult r = BayesDenoise(Ctx(), noise, options);
+    EXPECT_NEAR(r.sn, sigma * std::sqrt(2.0), 0.05 * sigma * std::sqrt(2.0));
+    ref::BayesRefOptions refOptions;
+    refOptions.swt = true;
+    refOptions.pn = 2;
+    refOptions.hpFactor = 1;
+    refOptions.snOverride = r.sn;
+    Image expected = ref::BayesDenoise(noise, refOptions).image;
+    EXPECT_TRUE(ImagesMatch(Log(expected), Log(r.image), {}, {0, 2e-3, 1e-4}));
+}
+
+// What the SWT is for: shifting the input by one pixel shifts the output (away from the
+// borders, where the mirror extension differs, and up to the fits, which see slightly
+// different bands), while the DWT's output changes with the grid. Same noisy frame, fixed
+// noise model; the SWT's interior change must be a fraction of the DWT's.
+TEST_F(BayesSwtMethod, ShiftingTheInputShiftsTheOutput) {
+    const int w = 64, h = 48, margin = 12;
+    Image big = NoisyPicture(w + 1, h, SeedFromName("swt shift"), 0.3);
+    Image a(w, h, 3), b(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                a.At(c, y, x) = big.At(c, y, x), b.At(c, y, x) = big.At(c, y, x + 1);
+    double change[2] = {0, 0};
+    for (BayesTransform transform : {BayesTransform::Dwt, BayesTransform::Swt}) {
+        BayesOptions options;
+        options.transform = transform;
+        Image outA = Log(BayesDenoise(Ctx(), a, options).image);
+        Image outB = Log(BayesDenoise(Ctx(), b, options).image);
+        double sum = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int y = margin; y < h - margin; ++y)
+                for (int x = margin; x < w - margin; ++x) {
+                    double d = outA.At(c, y, x + 1) - outB.At(c, y, x);
+                    sum += d * d;
+                }
+        change[transform == BayesTransform::Swt] = std::sqrt(sum);
+    }
+    std::printf("[ shift ] interior change under a 1-pixel shift: dwt %.4g, swt %.4g\n",
+                change[0], change[1]);
+    EXPECT_LT(change[1], 0.25 * change[0]);
+}
+
+TEST_F(BayesSwtMethod, RerunsAreBitIdentical) {
+    Image color = NoisyPicture(45, 31, SeedFromName("swt method rerun"), 0.3);
+    color.At(0, 3, 3) = 0;
+    color.At(1, 4, 4) = std::numeric_limits<float>::quiet_NaN();
+    BayesOptions options;
+    options.basis = WaveletBasis::Cdf97;
+    options.noiseAuto = true;
+    options.transform = BayesTransform::Swt;
+    Image first = BayesDenoise(Ctx(), color, options).image;
+    Image second = BayesDenoise(Ctx(), color, options).image;
+    EXPECT_TRUE(BitIdentical(first, second));
+    for (float v : first.data) EXPECT_TRUE(std::isfinite(v));
+}
+
+// An image whose SWT exceeds one binding is refused before any GPU work, naming the
+// sizes: 4096 x 1024 x 1 at 3 levels is 10 planes, 160 MiB.
+TEST_F(BayesSwtMethod, RefusesAboveOneBinding) {
+    BayesOptions options;
+    options.transform = BayesTransform::Swt;
+    std::string message =
+        ErrorOf([&] { BayesDenoise(Ctx(), Image(4096, 1024, 1, 0.5f), options); });
+    EXPECT_TRUE(Contains(message, "4096x1024x1")) << message;
+    EXPECT_TRUE(Contains(message, "--bayes-transform swt")) << message;
 }
 
 }  // namespace
