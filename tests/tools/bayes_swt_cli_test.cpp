@@ -87,7 +87,9 @@ TEST_F(BayesSwtCli, DenoiseDiffAndErrors) {
     EXPECT_EQ(r.code, 1);
     EXPECT_TRUE(Contains(r.err, "--bayes-transform takes dwt or swt, not 'fft'")) << r.err;
     r = Run("denoise --help");
-    EXPECT_TRUE(Contains(r.out, "bayes: dwt")) << r.out;
+    EXPECT_TRUE(
+        Contains(r.out, "bayes: swt (stationary, undecimated: shift-invariant; the default"))
+        << r.out;
 }
 
 }  // namespace

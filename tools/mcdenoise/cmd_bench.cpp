@@ -474,7 +474,7 @@ void AddBenchCommand(CLI::App &app) {
     awr->callback([aopt] { BenchAwr(*aopt); });
 
     struct BayesBenchOptions {
-        std::string size = "1024x1024", basis = "haar", transform = "dwt";
+        std::string size = "1024x1024", basis = "haar", transform = "swt";
         int levels = 3, repeats = 3;
         bool noSkimage = false;
         DeviceOptions device;
