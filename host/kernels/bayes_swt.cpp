@@ -16,7 +16,7 @@ namespace mcd {
 namespace {
 
 void CheckCoefficients(const vk::GpuImage &coef, int channels, int levels, const char *kernel) {
-    if (levels < 1 || channels < 1 || coef.channels != channels * shader::SwtPlaneCount(levels))
+    if (levels < 1 || channels < 1 || coef.channels < channels * shader::SwtPlaneCount(levels))
         throw Error(fmt::format("{}: {} planes are not the SWT of {} channels at {} levels",
                                 kernel, coef.channels, channels, levels));
 }

@@ -77,19 +77,23 @@ double FinestMad(const Image &coef) {
     return *mid;
 }
 
-// The same over the stationary transform's finest HH planes (downloaded alone); empty (0)
-// when level 0 does not transform both axes.
-double FinestMadSwt(const vk::GpuImage &coef, int channels, int levels) {
+// |y| of the stationary transform's finest HH planes of `channels` channels (downloaded
+// alone), appended to `values`; none when level 0 does not transform both axes.
+void CollectFinestHH(const vk::GpuImage &coef, int channels, int levels,
+                     std::vector<float> *values) {
     if (!shader::SwtTransformsAxis(coef.width, 0) || !shader::SwtTransformsAxis(coef.height, 0))
-        return 0;
+        return;
     size_t plane = size_t(coef.width) * coef.height;
-    std::vector<float> values;
     for (int c = 0; c < channels; ++c) {
         size_t at =
             (size_t(c) * shader::SwtPlaneCount(levels) + shader::SwtDetailPlane(0, 2)) * plane;
-        std::vector<float> hh = coef.buffer.DownloadFloats(plane, at);
-        for (float v : hh) values.push_back(std::fabs(v));
+        for (float v : coef.buffer.DownloadFloats(plane, at)) values->push_back(std::fabs(v));
     }
+}
+
+// Element n/2 of the values in order (0 when empty): FinestMad's median.
+double MedianOf(std::vector<float> &values) {
+    if (values.empty()) return 0;
     auto mid = values.begin() + values.size() / 2;
     std::nth_element(values.begin(), mid, values.end());
     return *mid;
@@ -209,7 +213,7 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
                                       const Image &variance, const std::vector<float> &floors,
                                       WaveletBasis basis, int levels, float pn, bool opponent,
                                       std::vector<vk::DispatchTiming> *timings,
-                                      BayesTransform kind) {
+                                      BayesTransform kind, int swtGroupChannels) {
     if (!variance.SameShape(color))
         throw Error(fmt::format(
             "bayes: the variance layer is {}x{}x{} but the image is {}x{}x{}", variance.width,
@@ -230,18 +234,33 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
     WaveletTransform transform(context, w, h, channels);
     vk::Recorder recorder(context);
     if (!swt) transform.RecordSqAnalysis(recorder, basis, levels, varGpu, varGpu, 0.f, 0.f);
-    // The stationary transform: full-size planes (shaders/wavelet/swt.h).
-    std::optional<SwtTransform> swtTransform;
-    vk::GpuImage swtVar;
+    // The stationary transform: full-size planes (shaders/wavelet/swt.h), in groups of as
+    // many channels as one binding holds, gathered on the host.
+    Image swtVar;
     if (swt) {
-        swtTransform.emplace(context, w, h, channels, levels);
-        swtVar = swtTransform->MakeCoefficients("bayes.swt.var");
-        swtTransform->RecordAnalysis(recorder, basis, varGpu, swtVar, true);
+        int groupSize = std::min(channels, SwtChannelsPerBinding(context, w, h, levels));
+        if (groupSize < 1) CheckSwtFits(context, w, h, 1, levels, "bayes --noise variance");
+        if (swtGroupChannels > 0) groupSize = std::min(groupSize, swtGroupChannels);
+        int count = shader::SwtPlaneCount(levels);
+        swtVar = Image(w, h, channels * count);
+        for (int first = 0; first < channels; first += groupSize) {
+            int n = std::min(groupSize, channels - first);
+            SwtTransform swtTransform(context, w, h, n, levels);
+            vk::GpuImage part = swtTransform.MakeCoefficients("bayes.swt.var");
+            vk::Recorder partRecorder(context);
+            swtTransform.RecordAnalysis(partRecorder, basis, varGpu, part, true, first);
+            partRecorder.Submit();
+            if (timings)
+                for (const vk::DispatchTiming &t : partRecorder.Timings())
+                    timings->push_back(t);
+            Image planes = part.Download();
+            std::copy(planes.data.begin(), planes.data.end(), swtVar.Plane(first * count));
+        }
     }
     recorder.Submit();
     if (timings)
         for (const vk::DispatchTiming &t : recorder.Timings()) timings->push_back(t);
-    Image coef = swt ? swtVar.Download() : varGpu.Download();
+    Image coef = swt ? std::move(swtVar) : varGpu.Download();
     double toS = std::exp(0.5 * (std::lgamma(1.0 / pn) - std::lgamma(3.0 / pn)));
     std::vector<double> bandVar;
     for (int c = 0; c < channels; ++c)
@@ -320,8 +339,27 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                                           options.levels, color.width, color.height, levels));
 
     int w = color.width, h = color.height, channels = color.channels;
-    if (options.transform == BayesTransform::Swt && levels > 0)
-        CheckSwtFits(context, w, h, channels, levels, "bayes --bayes-transform swt");
+    // --bayes-transform swt: the stationary transform's coefficients, channels (3 levels +
+    // 1) full-size planes, in groups of as many channels as one binding holds (bands and
+    // fits are per channel, so the groups change nothing); refused up front when not even
+    // one channel's fit.
+    bool swt = options.transform == BayesTransform::Swt && levels > 0;
+    int groupSize = channels;
+    if (swt) {
+        groupSize = std::min(channels, SwtChannelsPerBinding(context, w, h, levels));
+        if (groupSize < 1)
+            CheckSwtFits(context, w, h, 1, levels, "bayes --bayes-transform swt");
+        if (options.swtGroupChannels > 0)
+            groupSize = std::min(groupSize, options.swtGroupChannels);
+    }
+    int groups = (channels + groupSize - 1) / groupSize;
+    int lastSize = channels - (groups - 1) * groupSize;
+    if (groups > 1 && options.keepStages)
+        throw Error(fmt::format(
+            "bayes: the SWT of this {}x{}x{} image runs in {} channel groups (one binding "
+            "holds {} channels' coefficients); the stages need one: use --bayes-transform "
+            "dwt or a smaller image",
+            w, h, channels, groups, groupSize));
     vk::GpuImage colorGpu(context, w, h, channels, "bayes.color");
     vk::GpuImage work(context, w, h, channels, "bayes.work");
     vk::GpuImage out(context, w, h, channels, "bayes.out");
@@ -329,15 +367,24 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     colorGpu.Upload(color);
     floorsGpu.UploadFloats(floors);
     WaveletTransform transform(context, w, h, channels);
-    // --bayes-transform swt: the stationary transform's coefficients, channels (3 levels +
-    // 1) full-size planes, refused up front when they exceed one binding.
-    bool swt = options.transform == BayesTransform::Swt && levels > 0;
-    std::optional<SwtTransform> swtTransform;
+    // Group g holds channels [g groupSize, g groupSize + GroupChannels(g)); a smaller last
+    // group has a transform of its own, sharing the coefficient buffer.
+    std::optional<SwtTransform> swtTransform, swtLast;
     vk::GpuImage swtCoef;
     if (swt) {
-        swtTransform.emplace(context, w, h, channels, levels);
+        swtTransform.emplace(context, w, h, groupSize, levels);
+        if (lastSize != groupSize) swtLast.emplace(context, w, h, lastSize, levels);
         swtCoef = swtTransform->MakeCoefficients("bayes.swt");
     }
+    auto groupChannels = [&](int g) { return g == groups - 1 ? lastSize : groupSize; };
+    auto analyzeGroup = [&](vk::Recorder &recorder, int g) {
+        SwtTransform &t = g == groups - 1 && swtLast ? *swtLast : *swtTransform;
+        t.RecordAnalysis(recorder, options.basis, work, swtCoef, false, g * groupSize);
+    };
+    auto synthesizeGroup = [&](vk::Recorder &recorder, int g) {
+        SwtTransform &t = g == groups - 1 && swtLast ? *swtLast : *swtTransform;
+        t.RecordSynthesis(recorder, options.basis, swtCoef, work, g * groupSize);
+    };
     vk::Recorder recorder(context);
     // With keepStages, submit and download after every stage; else one submission.
     auto submit = [&] {
@@ -364,7 +411,7 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
             stage("opponent", work);
         }
         if (swt)
-            swtTransform->RecordAnalysis(recorder, options.basis, work, swtCoef);
+            analyzeGroup(recorder, 0);
         else
             transform.RecordAnalysis(recorder, options.basis, levels, work, work);
         stage("analysis", swt ? swtCoef : work);
@@ -374,9 +421,9 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         for (int b = 0; b < bands; ++b)
             bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * options.hpFactor : sn;
         if (options.variance) {
-            bandSn = BayesVarianceNoise(context, color, *options.variance, floors,
-                                        options.basis, levels, options.pn, options.opponent,
-                                        &result.timings, options.transform);
+            bandSn = BayesVarianceNoise(
+                context, color, *options.variance, floors, options.basis, levels, options.pn,
+                options.opponent, &result.timings, options.transform, options.swtGroupChannels);
             double mean = 0;
             for (float v : bandSn) mean += v / bands;
             sn = float(mean);
@@ -396,8 +443,19 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                 swt ? "SWT" : "DWT", options.pn, perLevel));
         } else if (options.noiseAuto) {
             submit();
-            double mad =
-                swt ? FinestMadSwt(swtCoef, channels, levels) : FinestMad(work.Download());
+            double mad = 0;
+            if (swt) {
+                // Every group's finest HH planes, pooled; then group 0's coefficients again.
+                std::vector<float> values;
+                for (int g = 0; g < groups; ++g) {
+                    if (g > 0) analyzeGroup(recorder, g), submit();
+                    CollectFinestHH(swtCoef, groupChannels(g), levels, &values);
+                }
+                if (groups > 1) analyzeGroup(recorder, 0);
+                mad = MedianOf(values);
+            } else {
+                mad = FinestMad(work.Download());
+            }
             double finest = BayesScaleFromMad(mad, options.pn);
             sn = float(finest / options.hpFactor);
             for (int b = 0; b < bands; ++b)
@@ -408,44 +466,61 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                 mad, finest, options.pn, sn));
         }
         result.sn = sn;
-        vk::Buffer noiseGpu(context, bands * sizeof(float), "bayes.noise");
-        noiseGpu.UploadFloats(bandSn);
-        vk::Buffer moments(context, bands * BAYES_MOMENT_STRIDE * sizeof(float),
-                           "bayes.moments");
-        vk::Buffer params(context, bands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
-        vk::Buffer table(context, bands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
-        if (swt)
-            RecordBayesSwtMoments(context, recorder, swtCoef, channels, levels, moments);
-        else
-            RecordBayesMoments(context, recorder, work, levels, moments);
-        if (options.keepStages) {
-            submit();
-            std::vector<float> m = moments.DownloadFloats(size_t(bands) * BAYES_MOMENT_STRIDE);
-            Image rows(BAYES_MOMENT_STRIDE, bands, 1);
-            std::copy(m.begin(), m.end(), rows.data.begin());
-            result.stages.push_back({"moments", std::move(rows)});
+        // Per channel group (one unless the SWT is split): its bands' noise, moments, fits,
+        // tables, shrinkage and synthesis. Buffers live until the submission.
+        std::vector<vk::Buffer> noises, momentBuffers, paramBuffers, tables;
+        for (auto *v : {&noises, &momentBuffers, &paramBuffers, &tables}) v->reserve(groups);
+        for (int g = 0; g < groups; ++g) {
+            int first = g * groupSize, inGroup = swt ? groupChannels(g) : channels;
+            int groupBands = BayesBandCount(inGroup, levels);
+            int firstBand = BayesBandCount(first, levels);
+            if (g > 0) analyzeGroup(recorder, g);
+            vk::Buffer &noiseGpu =
+                noises.emplace_back(context, groupBands * sizeof(float), "bayes.noise");
+            noiseGpu.UploadFloats(std::vector<float>(bandSn.begin() + firstBand,
+                                                     bandSn.begin() + firstBand + groupBands));
+            vk::Buffer &moments = momentBuffers.emplace_back(
+                context, groupBands * BAYES_MOMENT_STRIDE * sizeof(float), "bayes.moments");
+            vk::Buffer &params = paramBuffers.emplace_back(
+                context, groupBands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
+            vk::Buffer &table = tables.emplace_back(
+                context, groupBands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
+            if (swt)
+                RecordBayesSwtMoments(context, recorder, swtCoef, inGroup, levels, moments);
+            else
+                RecordBayesMoments(context, recorder, work, levels, moments);
+            if (options.keepStages) {
+                submit();
+                std::vector<float> m =
+                    moments.DownloadFloats(size_t(bands) * BAYES_MOMENT_STRIDE);
+                Image rows(BAYES_MOMENT_STRIDE, bands, 1);
+                std::copy(m.begin(), m.end(), rows.data.begin());
+                result.stages.push_back({"moments", std::move(rows)});
+            }
+            RecordBayesSolve(context, recorder, moments, groupBands, levels, noiseGpu,
+                             options.pn, params);
+            if (options.keepStages) {
+                submit();
+                std::vector<float> p =
+                    params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
+                Image fits(3, bands, 1);
+                for (int b = 0; b < bands; ++b)
+                    for (int i = 0; i < 3; ++i)
+                        fits.At(0, b, i) = p[size_t(b) * BAYES_PARAM_STRIDE + 2 + i];
+                result.stages.push_back({"fits", std::move(fits)});
+            }
+            RecordBayesTable(context, recorder, params, groupBands, table);
+            if (swt)
+                RecordBayesSwtShrink(context, recorder, swtCoef, inGroup, levels, params,
+                                     table);
+            else
+                RecordBayesShrink(context, recorder, work, levels, params, table);
+            stage("shrinkage", swt ? swtCoef : work);
+            if (swt)
+                synthesizeGroup(recorder, g);
+            else
+                transform.RecordSynthesis(recorder, options.basis, levels, work, work);
         }
-        RecordBayesSolve(context, recorder, moments, bands, levels, noiseGpu, options.pn,
-                         params);
-        if (options.keepStages) {
-            submit();
-            std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
-            Image fits(3, bands, 1);
-            for (int b = 0; b < bands; ++b)
-                for (int i = 0; i < 3; ++i)
-                    fits.At(0, b, i) = p[size_t(b) * BAYES_PARAM_STRIDE + 2 + i];
-            result.stages.push_back({"fits", std::move(fits)});
-        }
-        RecordBayesTable(context, recorder, params, bands, table);
-        if (swt)
-            RecordBayesSwtShrink(context, recorder, swtCoef, channels, levels, params, table);
-        else
-            RecordBayesShrink(context, recorder, work, levels, params, table);
-        stage("shrinkage", swt ? swtCoef : work);
-        if (swt)
-            swtTransform->RecordSynthesis(recorder, options.basis, swtCoef, work);
-        else
-            transform.RecordSynthesis(recorder, options.basis, levels, work, work);
         stage("synthesis", work);
         if (options.opponent) {
             RecordBayesMix(context, recorder, work, BayesOpponentInverse());
@@ -453,7 +528,11 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         }
         RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
         submit();
-        std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
+        std::vector<float> p;
+        for (const vk::Buffer &params : paramBuffers) {
+            std::vector<float> q = params.DownloadFloats(params.Bytes() / sizeof(float));
+            p.insert(p.end(), q.begin(), q.end());
+        }
         for (int b = 0; b < bands; ++b) {
             BayesBandFit fit{b / (3 * levels), (b % (3 * levels)) / 3, b % 3, {}};
             std::copy_n(p.begin() + b * BAYES_PARAM_STRIDE, BAYES_PARAM_STRIDE,

@@ -27,6 +27,9 @@ const char *BayesTransformName(BayesTransform transform);
 struct BayesOptions {
     WaveletBasis basis = WaveletBasis::Haar;
     BayesTransform transform = BayesTransform::Dwt;
+    // swt: at most this many channels' coefficients at a time (0: as many as one binding
+    // holds, maxStorageBufferRange); a smaller group needs less memory, same result.
+    int swtGroupChannels = 0;
     int levels = 3;          // clamped to what the image allows
     float sn = 0.19f;        // noise s (the paper's "cabin" example)
     float pn = 1.5f;         // noise shape p
@@ -107,6 +110,7 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
                                       const Image &variance, const std::vector<float> &floors,
                                       WaveletBasis basis, int levels, float pn, bool opponent,
                                       std::vector<vk::DispatchTiming> *timings = nullptr,
-                                      BayesTransform transform = BayesTransform::Dwt);
+                                      BayesTransform transform = BayesTransform::Dwt,
+                                      int swtGroupChannels = 0);
 
 }  // namespace mcd

@@ -15,11 +15,23 @@ size_t SwtCoefficientBytes(int width, int height, int channels, int levels) {
     return size_t(width) * height * channels * shader::SwtPlaneCount(levels) * sizeof(float);
 }
 
+namespace {
+
+size_t SwtBindingLimit(vk::Context &context) {
+    return std::min<size_t>(context.Limits().maxStorageBufferRange,
+                            size_t(context.Limits().maxTexelBufferElements) * 4);
+}
+
+}  // namespace
+
+int SwtChannelsPerBinding(vk::Context &context, int width, int height, int levels) {
+    return int(SwtBindingLimit(context) / SwtCoefficientBytes(width, height, 1, levels));
+}
+
 void CheckSwtFits(vk::Context &context, int width, int height, int channels, int levels,
                   const char *caller) {
     size_t bytes = SwtCoefficientBytes(width, height, channels, levels);
-    size_t limit = std::min<size_t>(context.Limits().maxStorageBufferRange,
-                                    size_t(context.Limits().maxTexelBufferElements) * 4);
+    size_t limit = SwtBindingLimit(context);
     if (bytes > limit)
         throw Error(fmt::format(
             "{}: the stationary wavelet coefficients of a {}x{}x{} image at {} levels are {} "
@@ -49,8 +61,10 @@ vk::GpuImage SwtTransform::MakeCoefficients(const char *name) const {
     return vk::GpuImage(context, width, height, channels * shader::SwtPlaneCount(levels), name);
 }
 
-void SwtTransform::Check(const vk::GpuImage &image, int planes, const char *what) const {
-    if (image.width != width || image.height != height || image.channels != planes)
+void SwtTransform::Check(const vk::GpuImage &image, int planes, const char *what,
+                         bool atLeast) const {
+    if (image.width != width || image.height != height ||
+        (atLeast ? image.channels < planes : image.channels != planes))
         throw Error(fmt::format("stationary wavelet set up for {}x{}x{} got {} {}x{}x{}", width,
                                 height, planes, what, image.width, image.height,
                                 image.channels));
@@ -58,19 +72,20 @@ void SwtTransform::Check(const vk::GpuImage &image, int planes, const char *what
 
 void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
                                   const vk::GpuImage &in, const vk::GpuImage &coef,
-                                  bool squared) {
+                                  bool squared, int firstChannel) {
     int count = shader::SwtPlaneCount(levels), plane = width * height;
-    Check(in, channels, "input");
-    Check(coef, channels * count, "coefficients");
+    Check(in, firstChannel + channels, "input", true);
+    Check(coef, channels * count, "coefficients", true);
     if (levels == 0) {
-        recorder.Copy(in.buffer, coef.buffer, in.buffer.Bytes());
+        recorder.Copy(in.buffer, coef.buffer, coef.buffer.Bytes(),
+                      VkDeviceSize(firstChannel) * plane * sizeof(float));
         return;
     }
     for (int level = 0; level < levels; ++level) {
         int flags = (shader::SwtTransformsAxis(width, level) ? WAVELET_SWT_TRANSFORM_X : 0) |
                     (shader::SwtTransformsAxis(height, level) ? WAVELET_SWT_TRANSFORM_Y : 0);
         // Level 0 reads the image, deeper levels the previous level's low plane.
-        shader::WaveletSwtPush rows{width, height, 1 << level, flags,     0,
+        shader::WaveletSwtPush rows{width, height, 1 << level, flags,     firstChannel * plane,
                                     plane, 0,      0,          2 * plane, 0};
         if (level > 0)
             rows.srcBase = shader::SwtLowPlane(levels) * plane, rows.srcChannel = count * plane;
@@ -94,12 +109,14 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
 }
 
 void SwtTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis,
-                                   const vk::GpuImage &coef, const vk::GpuImage &out) {
+                                   const vk::GpuImage &coef, const vk::GpuImage &out,
+                                   int firstChannel) {
     int count = shader::SwtPlaneCount(levels), plane = width * height;
-    Check(coef, channels * count, "coefficients");
-    Check(out, channels, "output");
+    Check(coef, channels * count, "coefficients", true);
+    Check(out, firstChannel + channels, "output", true);
     if (levels == 0) {
-        recorder.Copy(coef.buffer, out.buffer, out.buffer.Bytes());
+        recorder.Copy(coef.buffer, out.buffer, coef.buffer.Bytes(), 0,
+                      VkDeviceSize(firstChannel) * plane * sizeof(float));
         return;
     }
     for (int level = levels - 1; level >= 0; --level) {
@@ -119,8 +136,8 @@ void SwtTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis,
                              columns, channels, coef.buffer, temporary,
                              fmt::format("swt.synthesize.L{}.columns", level));
         // Level 0 writes the image, deeper levels the next finer level's low plane.
-        shader::WaveletSwtPush rows{width,     height, 1 << level, flags, 0,
-                                    2 * plane, 0,      0,          plane, 0};
+        shader::WaveletSwtPush rows{width,     height, 1 << level,           flags, 0,
+                                    2 * plane, 0,      firstChannel * plane, plane, 0};
         if (level > 0)
             rows.dstBase = shader::SwtLowPlane(levels) * plane, rows.dstChannel = count * plane;
         RecordWaveletSwtPass(context, recorder, SwtPass::SynthesizeRows, basis, false, rows,
