@@ -56,16 +56,17 @@ void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder,
                                                   sizeof(k_bayes_swt_shrink_spv),
                                                   BAYES_SWT_SHRINK_BINDINGS,
                                                   sizeof(shader::BayesSwtPush),
-                                                  {}});
+                                                  {},
+                                                  1u << BAYES_SWT_TABLE});
     shader::BayesSwtPush push{coef.width, coef.height, levels};
-    recorder.Dispatch(
-        kernel, "bayes.swt.shrink",
-        {{&coef.buffer, vk::Access::ReadWrite},
-         {&params, vk::Access::Read},
-         {&table, vk::Access::Read}},
-        &push,
-        uint32_t((coef.width + BAYES_SWT_SHRINK_LOCAL_SIZE - 1) / BAYES_SWT_SHRINK_LOCAL_SIZE),
-        uint32_t(coef.height), uint32_t(bands));
+    recorder.Dispatch(kernel, "bayes.swt.shrink",
+                      {{&coef.buffer, vk::Access::ReadWrite},
+                       {&params, vk::Access::Read},
+                       {&table, vk::Access::Read}},
+                      &push,
+                      uint32_t((coef.width + 4 * BAYES_SWT_SHRINK_LOCAL_SIZE - 1) /
+                               (4 * BAYES_SWT_SHRINK_LOCAL_SIZE)),
+                      uint32_t(coef.height), uint32_t(bands));
 }
 
 }  // namespace mcd

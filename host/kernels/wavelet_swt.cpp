@@ -38,7 +38,7 @@ void RecordWaveletSwtPass(vk::Context &context, vk::Recorder &recorder, SwtPass 
                                      1u << WAVELET_SWT_SRC});
     recorder.Dispatch(
         kernel, label, {{&src, vk::Access::Read}, {&dst, vk::Access::Write}}, &push,
-        uint32_t((push.width + WAVELET_SWT_LOCAL_SIZE - 1) / WAVELET_SWT_LOCAL_SIZE),
+        uint32_t((push.width + 4 * WAVELET_SWT_LOCAL_SIZE - 1) / (4 * WAVELET_SWT_LOCAL_SIZE)),
         uint32_t(push.height), uint32_t(channels));
 }
 

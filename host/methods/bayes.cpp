@@ -539,9 +539,13 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                         fit.params.begin());
             result.fits.push_back(fit);
         }
-        const char *transformName =
+        std::string transformName =
             swt ? "stationary (undecimated) wavelet transform (--bayes-transform swt)"
                 : "DWT (--bayes-transform dwt)";
+        if (groups > 1)
+            transformName += fmt::format(
+                " in {} channel groups (one binding holds the coefficients of {} channel{})",
+                groups, groupSize, groupSize == 1 ? "" : "s");
         if (options.variance)
             result.plan.push_back(
                 fmt::format("{}-level {} {}; noise per band (mean s {:.4g}), p_n {}", levels,

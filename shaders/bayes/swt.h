@@ -9,7 +9,7 @@
 #define BAYES_SWT_COEF 0     // moments: read as a float texel buffer; shrink: read-write
 #define BAYES_SWT_MOMENTS 1  // moments only
 #define BAYES_SWT_PARAMS 1   // shrink only
-#define BAYES_SWT_TABLE 2    // shrink only
+#define BAYES_SWT_TABLE 2    // shrink only; read as a float texel buffer
 #define BAYES_SWT_MOMENTS_BINDINGS 2
 #define BAYES_SWT_SHRINK_BINDINGS 3
 #define BAYES_SWT_MOMENTS_LOCAL_SIZE 256

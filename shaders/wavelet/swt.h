@@ -25,7 +25,7 @@
 #define WAVELET_SWT_SRC 0  // read as a float texel buffer
 #define WAVELET_SWT_DST 1
 #define WAVELET_SWT_BINDINGS 2
-#define WAVELET_SWT_LOCAL_SIZE 64  // invocations along x per workgroup
+#define WAVELET_SWT_LOCAL_SIZE 64  // invocations along x per workgroup, 4 positions each
 
 // Specialization constants.
 #define WAVELET_SWT_SPEC_BASIS 0    // MCD_WAVELET_*

@@ -15,6 +15,7 @@ layout(local_size_x = WAVELET_SWT_LOCAL_SIZE) in;
 layout(constant_id = WAVELET_SWT_SPEC_SQUARED) const int SQUARED = 0;
 layout(binding = WAVELET_SWT_SRC) uniform samplerBuffer src;
 layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst { float dst[]; };
+layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst4 { vec4 dst4[]; };
 
 #include "wavelet/swt.glsl"
 
@@ -48,24 +49,53 @@ vec2 Analyze(int base, int i, int n, int stride, bool transform) {
     return vec2(lo, hi);
 }
 
+// Store the outputs of positions x0 .. x0 + n - 1 from `at`: one vec4 when rows are whole
+// vec4s (every offset is then a multiple of 4), else one float at a time.
+void Store(int at, vec4 v, int n) {
+    if ((push.width & 3) == 0) {
+        dst4[at >> 2] = v;
+        return;
+    }
+    [[unroll]] for (int k = 0; k < 4; ++k)
+        if (k < n) dst[at + k] = v[k];
+}
+
+// A lane computes 4 neighbouring positions of a row: lavapipe stores storage buffers lane
+// by lane, so a vec4 per store is what counts.
 void main() {
-    int x = int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
+    int x0 = 4 * int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
     int c = int(gl_GlobalInvocationID.z);
-    if (x >= push.width) return;
-    int w = push.width, plane = w * push.height, at = y * w + x;
+    if (x0 >= push.width) return;
+    int w = push.width, plane = w * push.height, at = y * w + x0, n = min(4, w - x0);
     int src0 = c * push.srcChannel, dst0 = c * push.dstChannel;
     if (AXIS == WAVELET_SWT_ROWS) {
-        vec2 r = Analyze(src0 + push.srcBase + y * w, x, w, 1,
-                         (push.flags & WAVELET_SWT_TRANSFORM_X) != 0);
-        dst[dst0 + push.dstBase + at] = r.x;
-        dst[dst0 + push.dstBase + plane + at] = r.y;
+        bool tx = (push.flags & WAVELET_SWT_TRANSFORM_X) != 0;
+        vec4 lo = vec4(0.0), hi = vec4(0.0);
+        [[unroll]] for (int k = 0; k < 4; ++k) {
+            if (k < n) {
+                vec2 r = Analyze(src0 + push.srcBase + y * w, x0 + k, w, 1, tx);
+                lo[k] = r.x;
+                hi[k] = r.y;
+            }
+        }
+        Store(dst0 + push.dstBase + at, lo, n);
+        Store(dst0 + push.dstBase + plane + at, hi, n);
     } else {
         bool ty = (push.flags & WAVELET_SWT_TRANSFORM_Y) != 0;
-        vec2 l = Analyze(src0 + push.srcBase + x, y, push.height, w, ty);
-        vec2 h = Analyze(src0 + push.srcBase + plane + x, y, push.height, w, ty);
-        dst[dst0 + push.dstLow + at] = l.x;
-        dst[dst0 + push.dstBase + at] = h.x;              // HL
-        dst[dst0 + push.dstBase + plane + at] = l.y;      // LH
-        dst[dst0 + push.dstBase + 2 * plane + at] = h.y;  // HH
+        vec4 ll = vec4(0.0), lh = vec4(0.0), hl = vec4(0.0), hh = vec4(0.0);
+        [[unroll]] for (int k = 0; k < 4; ++k) {
+            if (k < n) {
+                vec2 l = Analyze(src0 + push.srcBase + x0 + k, y, push.height, w, ty);
+                vec2 h = Analyze(src0 + push.srcBase + plane + x0 + k, y, push.height, w, ty);
+                ll[k] = l.x;
+                lh[k] = l.y;
+                hl[k] = h.x;
+                hh[k] = h.y;
+            }
+        }
+        Store(dst0 + push.dstLow + at, ll, n);
+        Store(dst0 + push.dstBase + at, hl, n);
+        Store(dst0 + push.dstBase + plane + at, lh, n);
+        Store(dst0 + push.dstBase + 2 * plane + at, hh, n);
     }
 }

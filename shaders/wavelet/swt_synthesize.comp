@@ -14,6 +14,7 @@
 layout(local_size_x = WAVELET_SWT_LOCAL_SIZE) in;
 layout(binding = WAVELET_SWT_SRC) uniform samplerBuffer src;
 layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst { float dst[]; };
+layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst4 { vec4 dst4[]; };
 
 #include "wavelet/swt.glsl"
 
@@ -45,22 +46,43 @@ float Synthesize(int low, int high, int i, int n, int stride, bool transform) {
     return 0.5 * sum;
 }
 
+// Store the outputs of positions x0 .. x0 + n - 1 from `at` (as swt_analyze.comp).
+void Store(int at, vec4 v, int n) {
+    if ((push.width & 3) == 0) {
+        dst4[at >> 2] = v;
+        return;
+    }
+    [[unroll]] for (int k = 0; k < 4; ++k)
+        if (k < n) dst[at + k] = v[k];
+}
+
+// A lane computes 4 neighbouring positions of a row (vec4 stores).
 void main() {
-    int x = int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
+    int x0 = 4 * int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
     int c = int(gl_GlobalInvocationID.z);
-    if (x >= push.width) return;
-    int w = push.width, plane = w * push.height, at = y * w + x;
+    if (x0 >= push.width) return;
+    int w = push.width, plane = w * push.height, at = y * w + x0, n = min(4, w - x0);
     int src0 = c * push.srcChannel, dst0 = c * push.dstChannel;
     if (AXIS == WAVELET_SWT_ROWS) {
+        bool tx = (push.flags & WAVELET_SWT_TRANSFORM_X) != 0;
         int row = src0 + push.srcBase + y * w;
-        dst[dst0 + push.dstBase + at] = Synthesize(row, row + plane, x, w, 1,
-                                                   (push.flags & WAVELET_SWT_TRANSFORM_X) != 0);
+        vec4 v = vec4(0.0);
+        [[unroll]] for (int k = 0; k < 4; ++k)
+            if (k < n) v[k] = Synthesize(row, row + plane, x0 + k, w, 1, tx);
+        Store(dst0 + push.dstBase + at, v, n);
     } else {
         bool ty = (push.flags & WAVELET_SWT_TRANSFORM_Y) != 0;
-        int details = src0 + push.srcBase + x;
-        dst[dst0 + push.dstBase + at] =
-            Synthesize(src0 + push.srcLow + x, details + plane, y, push.height, w, ty);
-        dst[dst0 + push.dstBase + plane + at] =
-            Synthesize(details, details + 2 * plane, y, push.height, w, ty);
+        int details = src0 + push.srcBase + x0;
+        vec4 rowLow = vec4(0.0), rowHigh = vec4(0.0);
+        [[unroll]] for (int k = 0; k < 4; ++k) {
+            if (k < n) {
+                rowLow[k] = Synthesize(src0 + push.srcLow + x0 + k, details + plane + k, y,
+                                       push.height, w, ty);
+                rowHigh[k] = Synthesize(details + k, details + 2 * plane + k, y, push.height,
+                                        w, ty);
+            }
+        }
+        Store(dst0 + push.dstBase + at, rowLow, n);
+        Store(dst0 + push.dstBase + plane + at, rowHigh, n);
     }
 }
