@@ -14,10 +14,14 @@ void RecordWaveletSwtPass(vk::Context &context, vk::Recorder &recorder, SwtPass 
                           const std::string &label) {
     if (push.width < 1 || push.height < 1 || channels < 1 || push.step < 1)
         throw Error("wavelet swt: empty pass");
-    bool analyze = pass == SwtPass::AnalyzeRows || pass == SwtPass::AnalyzeColumns;
+    bool analyze = pass == SwtPass::AnalyzeRows || pass == SwtPass::AnalyzeColumns ||
+                   pass == SwtPass::AnalyzeFused;
     bool rows = pass == SwtPass::AnalyzeRows || pass == SwtPass::SynthesizeRows;
     if (squared && !analyze) throw Error("wavelet swt: the squared taps are analysis only");
-    int axis = rows ? WAVELET_SWT_ROWS : WAVELET_SWT_COLUMNS;
+    bool fused = pass == SwtPass::AnalyzeFused;
+    if (fused && basis != WaveletBasis::Haar)
+        throw Error("wavelet swt: the fused passes are Haar only");
+    int axis = fused ? WAVELET_SWT_FUSED : rows ? WAVELET_SWT_ROWS : WAVELET_SWT_COLUMNS;
     const vk::Kernel &kernel =
         analyze ? context.GetKernel({"wavelet_swt_analyze",
                                      k_wavelet_swt_analyze_spv,

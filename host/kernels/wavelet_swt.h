@@ -11,7 +11,15 @@
 
 namespace mcd {
 
-enum class SwtPass { AnalyzeRows, AnalyzeColumns, SynthesizeColumns, SynthesizeRows };
+// AnalyzeFused: Haar only, a whole level (both axes) in one pass, reading as the rows pass
+// and writing as the columns pass; never in place.
+enum class SwtPass {
+    AnalyzeRows,
+    AnalyzeColumns,
+    AnalyzeFused,
+    SynthesizeColumns,
+    SynthesizeRows
+};
 
 // `push` says the level (step, flags) and where the pass reads and writes in `src` (read
 // through its float texel view) and `dst`; `channels` workgroup layers. `squared` only

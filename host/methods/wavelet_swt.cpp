@@ -89,6 +89,27 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
                                     plane, 0,      0,          2 * plane, 0};
         if (level > 0)
             rows.srcBase = shader::SwtLowPlane(levels) * plane, rows.srcChannel = count * plane;
+        if (basis == WaveletBasis::Haar) {
+            // One pass, reading the level's input as the rows pass does and writing as the
+            // columns pass. Never in place (invocations read their neighbours' inputs):
+            // deeper levels first copy the low planes into the temporary.
+            shader::WaveletSwtPush fused = rows;
+            if (level > 0) {
+                for (int c = 0; c < channels; ++c)
+                    recorder.Copy(coef.buffer, temporary, VkDeviceSize(plane) * sizeof(float),
+                                  (VkDeviceSize(c) * count + shader::SwtLowPlane(levels)) *
+                                      plane * sizeof(float),
+                                  VkDeviceSize(c) * plane * sizeof(float));
+                fused.srcBase = 0, fused.srcChannel = plane;
+            }
+            fused.dstBase = shader::SwtDetailPlane(level, 0) * plane;
+            fused.dstChannel = count * plane;
+            fused.dstLow = shader::SwtLowPlane(levels) * plane;
+            RecordWaveletSwtPass(context, recorder, SwtPass::AnalyzeFused, basis, squared,
+                                 fused, channels, level == 0 ? in.buffer : temporary,
+                                 coef.buffer, fmt::format("swt.analyze.L{}", level));
+            continue;
+        }
         RecordWaveletSwtPass(context, recorder, SwtPass::AnalyzeRows, basis, squared, rows,
                              channels, level == 0 ? in.buffer : coef.buffer, temporary,
                              fmt::format("swt.analyze.L{}.rows", level));

@@ -33,6 +33,7 @@
 #define WAVELET_SWT_SPEC_SQUARED 2  // analysis only: 1 squares every tap (variance analysis)
 #define WAVELET_SWT_ROWS 0
 #define WAVELET_SWT_COLUMNS 1
+#define WAVELET_SWT_FUSED 2  // analysis, Haar only: a whole level (both axes) in one pass
 
 // Push flags: which axes this level transforms.
 #define WAVELET_SWT_TRANSFORM_X 1

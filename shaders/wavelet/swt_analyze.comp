@@ -60,12 +60,52 @@ void Store(int at, vec4 v, int n) {
         if (k < n) dst[at + k] = v[k];
 }
 
+// Haar, rows and columns of a level at once (WAVELET_SWT_FUSED): the level's four bands
+// at (x, y) from the 2 x 2 samples at x, x + step and y, y + step, with the arithmetic of
+// the two separate passes (the same float results), and no temporary. Reads the level's
+// input as the rows pass does, writes as the columns pass.
+vec4 HaarPair(float a, float b, bool transform) {
+    if (!transform) return vec4(a, 0.0, 0.0, 0.0);
+    if (SQUARED != 0) return vec4(0.5 * a + 0.5 * b, 0.5 * a + 0.5 * b, 0.0, 0.0);
+    return vec4(kHaar * a + kHaar * b, -kHaar * a + kHaar * b, 0.0, 0.0);
+}
+
+void FusedHaar(int x0, int y, int c) {
+    int w = push.width, h = push.height, plane = w * h, n = min(4, w - x0), s = push.step;
+    bool tx = (push.flags & WAVELET_SWT_TRANSFORM_X) != 0;
+    bool ty = (push.flags & WAVELET_SWT_TRANSFORM_Y) != 0;
+    int src = c * push.srcChannel + push.srcBase, dst0 = c * push.dstChannel;
+    int row0 = src + y * w, row1 = src + (ty ? Fold(y + s, h) : y) * w;
+    vec4 ll = vec4(0.0), lh = vec4(0.0), hl = vec4(0.0), hh = vec4(0.0);
+    [[unroll]] for (int k = 0; k < 4; ++k) {
+        if (k < n) {
+            int x = x0 + k, x1 = tx ? Fold(x + s, w) : x;
+            vec2 r0 = HaarPair(Load(row0 + x), Load(row0 + x1), tx).xy;
+            vec2 r1 = HaarPair(Load(row1 + x), Load(row1 + x1), tx).xy;
+            vec2 l = HaarPair(r0.x, r1.x, ty).xy, hi = HaarPair(r0.y, r1.y, ty).xy;
+            ll[k] = l.x;
+            lh[k] = l.y;
+            hl[k] = hi.x;
+            hh[k] = hi.y;
+        }
+    }
+    int at = y * w + x0;
+    Store(dst0 + push.dstLow + at, ll, n);
+    Store(dst0 + push.dstBase + at, hl, n);
+    Store(dst0 + push.dstBase + plane + at, lh, n);
+    Store(dst0 + push.dstBase + 2 * plane + at, hh, n);
+}
+
 // A lane computes 4 neighbouring positions of a row: lavapipe stores storage buffers lane
 // by lane, so a vec4 per store is what counts.
 void main() {
     int x0 = 4 * int(gl_GlobalInvocationID.x), y = int(gl_GlobalInvocationID.y);
     int c = int(gl_GlobalInvocationID.z);
     if (x0 >= push.width) return;
+    if (AXIS == WAVELET_SWT_FUSED) {
+        FusedHaar(x0, y, c);
+        return;
+    }
     int w = push.width, plane = w * push.height, at = y * w + x0, n = min(4, w - x0);
     int src0 = c * push.srcChannel, dst0 = c * push.dstChannel;
     if (AXIS == WAVELET_SWT_ROWS) {
