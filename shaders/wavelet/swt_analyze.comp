@@ -29,7 +29,8 @@ float Load(int at) {
 
 // Low and high outputs at position i of a line of n samples `stride` floats apart from
 // `base`. Only the filters' own taps are read.
-vec2 Analyze(int base, int i, int n, int stride, bool transform) {
+// `edge` false (a constant after inlining) when every tap lies inside the line.
+vec2 Analyze(int base, int i, int n, int stride, bool transform, bool edge) {
     if (!transform) return vec2(Load(base + i * stride), 0.0);
     int s = push.step;
     if (WAVELET == MCD_WAVELET_HAAR) {
@@ -37,16 +38,20 @@ vec2 Analyze(int base, int i, int n, int stride, bool transform) {
         if (SQUARED != 0) return vec2(0.5 * a + 0.5 * b);
         return vec2(kHaar * a + kHaar * b, -kHaar * a + kHaar * b);
     }
-    bool inside = i - kLowReach * s >= 0 && i + kLowReach * s < n;
     float lo = 0.0, hi = 0.0;
     [[unroll]] for (int k = -kLowReach; k <= kLowReach; ++k) {
         int p = i + k * s;
-        if (!inside) p = Fold(p, n);
+        if (edge) p = Fold(p, n);
         float v = Load(base + p * stride);
         lo += Tap(AnalysisLow(abs(k))) * v;
         if (abs(k) <= kHighReach) hi += Tap(AnalysisHigh(abs(k))) * v;
     }
     return vec2(lo, hi);
+}
+
+// Whether every tap of positions first..last lies inside a line of n.
+bool Inside(int first, int last, int n) {
+    return first - kLowReach * push.step >= 0 && last + kLowReach * push.step < n;
 }
 
 // Store the outputs of positions x0 .. x0 + n - 1 from `at`: one vec4 when rows are whole
@@ -111,11 +116,20 @@ void main() {
     if (AXIS == WAVELET_SWT_ROWS) {
         bool tx = (push.flags & WAVELET_SWT_TRANSFORM_X) != 0;
         vec4 lo = vec4(0.0), hi = vec4(0.0);
-        [[unroll]] for (int k = 0; k < 4; ++k) {
-            if (k < n) {
-                vec2 r = Analyze(src0 + push.srcBase + y * w, x0 + k, w, 1, tx);
+        int row = src0 + push.srcBase + y * w;
+        if (Inside(x0, x0 + 3, w)) {
+            [[unroll]] for (int k = 0; k < 4; ++k) {
+                vec2 r = Analyze(row, x0 + k, w, 1, tx, false);
                 lo[k] = r.x;
                 hi[k] = r.y;
+            }
+        } else {
+            [[unroll]] for (int k = 0; k < 4; ++k) {
+                if (k < n) {
+                    vec2 r = Analyze(row, x0 + k, w, 1, tx, true);
+                    lo[k] = r.x;
+                    hi[k] = r.y;
+                }
             }
         }
         Store(dst0 + push.dstBase + at, lo, n);
@@ -123,10 +137,19 @@ void main() {
     } else {
         bool ty = (push.flags & WAVELET_SWT_TRANSFORM_Y) != 0;
         vec4 ll = vec4(0.0), lh = vec4(0.0), hl = vec4(0.0), hh = vec4(0.0);
+        // Statements, not ?: (glslang may evaluate both sides of a select).
+        bool inside = Inside(y, y, push.height);
         [[unroll]] for (int k = 0; k < 4; ++k) {
             if (k < n) {
-                vec2 l = Analyze(src0 + push.srcBase + x0 + k, y, push.height, w, ty);
-                vec2 h = Analyze(src0 + push.srcBase + plane + x0 + k, y, push.height, w, ty);
+                int column = src0 + push.srcBase + x0 + k;
+                vec2 l, h;
+                if (inside) {
+                    l = Analyze(column, y, push.height, w, ty, false);
+                    h = Analyze(column + plane, y, push.height, w, ty, false);
+                } else {
+                    l = Analyze(column, y, push.height, w, ty, true);
+                    h = Analyze(column + plane, y, push.height, w, ty, true);
+                }
                 ll[k] = l.x;
                 lh[k] = l.y;
                 hl[k] = h.x;

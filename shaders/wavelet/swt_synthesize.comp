@@ -24,7 +24,8 @@ float Load(int at) {
 
 // x at position i of a line of n samples `stride` floats apart, from its low band at
 // `low` and high band at `high`.
-float Synthesize(int low, int high, int i, int n, int stride, bool transform) {
+// `edge` false (a constant after inlining) when every tap lies inside the line.
+float Synthesize(int low, int high, int i, int n, int stride, bool transform, bool edge) {
     if (!transform) return Load(low + i * stride);
     int s = push.step;
     if (WAVELET == MCD_WAVELET_HAAR) {
@@ -35,15 +36,23 @@ float Synthesize(int low, int high, int i, int n, int stride, bool transform) {
         return 0.5 * (first + (kHaar * Load(low + j) + kHaar * Load(high + j)));
     }
     const int reach = kSynthLowReach > kSynthHighReach ? kSynthLowReach : kSynthHighReach;
-    bool inside = i - reach * s >= 0 && i + reach * s < n;
     float sum = 0.0;
     [[unroll]] for (int k = -reach; k <= reach; ++k) {
         int p = i - k * s;
-        if (!inside) p = Fold(p, n);
+        if (edge) p = Fold(p, n);
         if (abs(k) <= kSynthLowReach) sum += SynthesisLow(abs(k)) * Load(low + p * stride);
         if (abs(k) <= kSynthHighReach) sum += SynthesisHigh(abs(k)) * Load(high + p * stride);
     }
     return 0.5 * sum;
+}
+
+// Whether every tap of positions first..last lies inside a line of n. Haar folds nothing
+// (it reads back to i - step only when i >= step): always the one general loop, which
+// measured faster for it than the split.
+bool Inside(int first, int last, int n) {
+    if (WAVELET == MCD_WAVELET_HAAR) return false;
+    const int reach = kSynthLowReach > kSynthHighReach ? kSynthLowReach : kSynthHighReach;
+    return first - reach * push.step >= 0 && last + reach * push.step < n;
 }
 
 // Store the outputs of positions x0 .. x0 + n - 1 from `at` (as swt_analyze.comp).
@@ -67,19 +76,34 @@ void main() {
         bool tx = (push.flags & WAVELET_SWT_TRANSFORM_X) != 0;
         int row = src0 + push.srcBase + y * w;
         vec4 v = vec4(0.0);
-        [[unroll]] for (int k = 0; k < 4; ++k)
-            if (k < n) v[k] = Synthesize(row, row + plane, x0 + k, w, 1, tx);
+        if (Inside(x0, x0 + 3, w)) {
+            [[unroll]] for (int k = 0; k < 4; ++k)
+                v[k] = Synthesize(row, row + plane, x0 + k, w, 1, tx, false);
+        } else {
+            [[unroll]] for (int k = 0; k < 4; ++k)
+                if (k < n) v[k] = Synthesize(row, row + plane, x0 + k, w, 1, tx, true);
+        }
         Store(dst0 + push.dstBase + at, v, n);
     } else {
         bool ty = (push.flags & WAVELET_SWT_TRANSFORM_Y) != 0;
         int details = src0 + push.srcBase + x0;
         vec4 rowLow = vec4(0.0), rowHigh = vec4(0.0);
-        [[unroll]] for (int k = 0; k < 4; ++k) {
-            if (k < n) {
-                rowLow[k] = Synthesize(src0 + push.srcLow + x0 + k, details + plane + k, y,
-                                       push.height, w, ty);
-                rowHigh[k] = Synthesize(details + k, details + 2 * plane + k, y, push.height,
-                                        w, ty);
+        // Statements, not ?: (glslang may evaluate both sides of a select).
+        if (Inside(y, y, push.height)) {
+            [[unroll]] for (int k = 0; k < 4; ++k) {
+                if (k < n) {
+                    int low = src0 + push.srcLow + x0 + k, d = details + k;
+                    rowLow[k] = Synthesize(low, d + plane, y, push.height, w, ty, false);
+                    rowHigh[k] = Synthesize(d, d + 2 * plane, y, push.height, w, ty, false);
+                }
+            }
+        } else {
+            [[unroll]] for (int k = 0; k < 4; ++k) {
+                if (k < n) {
+                    int low = src0 + push.srcLow + x0 + k, d = details + k;
+                    rowLow[k] = Synthesize(low, d + plane, y, push.height, w, ty, true);
+                    rowHigh[k] = Synthesize(d, d + 2 * plane, y, push.height, w, ty, true);
+                }
             }
         }
         Store(dst0 + push.dstBase + at, rowLow, n);
