@@ -20,7 +20,8 @@ namespace {
 // the variance estimate beat the fixed s_n 0.19 in every row, by 0.3 to 2.2 dB PSNR.
 // --bayes-transform defaults to swt: on the same six frames (scripts/bayes_transform.sh,
 // 128x128, defaults otherwise) it beat the decimated DWT on all six, by 0.02 to 1.0 dB PSNR
-// (relMSE 3% to 20% lower), at about 4x the GPU time (1024x1024 RGB: 1.2 s vs 0.29 s).
+// (relMSE 2% to 20% lower), and beat the DWT with 2 x 2 cycle spinning too, at about 3x
+// the DWT's GPU time (bench bayes 1024x1024 RGB, Haar, quiet lavapipe: 394 ms vs 129 ms).
 struct BayesCliOptions {
     std::string basis = "haar", noise = "auto", transform = "swt";
     int levels = 3, spins = 1;
@@ -91,7 +92,7 @@ DenoiseMethod BayesMethod() {
         cmd->add_option("--bayes-transform", opt->transform,
                         "bayes: swt (stationary, undecimated: shift-invariant; the default, "
                         "measured better than dwt on all six cornell/interior 4/16/64 spp "
-                        "frames, at ~4x the GPU time and 3 levels + 1 image-sized planes per "
+                        "frames, at ~3x the GPU time and 3 levels + 1 image-sized planes per "
                         "channel) or dwt (the decimated DWT)")
             ->capture_default_str();
         cmd->add_option("--bayes-levels", opt->levels,
