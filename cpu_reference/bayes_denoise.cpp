@@ -7,8 +7,10 @@
 
 #include "cpu_reference/wavelet_analyze.h"
 #include "cpu_reference/wavelet_sqanalyze.h"
+#include "cpu_reference/wavelet_swt.h"
 #include "cpu_reference/wavelet_synthesize.h"
 #include "host/error.h"
+#include "wavelet/swt.h"
 
 namespace mcd::ref {
 
@@ -62,6 +64,22 @@ std::vector<BayesBand> BayesBands(int width, int height, int channels, int level
             bands.push_back({c, level, 0, lowW, 0, w, lowH});  // HL: high in x
             bands.push_back({c, level, 1, 0, lowH, lowW, h});  // LH: high in y
             bands.push_back({c, level, 2, lowW, lowH, w, h});  // HH
+        }
+    return bands;
+}
+
+std::vector<BayesBand> BayesSwtBands(int width, int height, int channels, int levels) {
+    std::vector<BayesBand> bands;
+    for (int c = 0; c < channels; ++c)
+        for (int level = 0; level < levels; ++level) {
+            bool tx = shader::SwtTransformsAxis(width, level);
+            bool ty = shader::SwtTransformsAxis(height, level);
+            for (int o = 0; o < 3; ++o) {
+                bool used = o == 0 ? tx : (o == 1 ? ty : tx && ty);
+                int plane =
+                    c * shader::SwtPlaneCount(levels) + shader::SwtDetailPlane(level, o);
+                bands.push_back({plane, level, o, 0, 0, used ? width : 0, height});
+            }
         }
     return bands;
 }
@@ -124,7 +142,7 @@ void KeepMean(const Image &color, BayesRefResult *result, bool keepStage) {
 
 std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance,
                                        const std::vector<double> &floors, WaveletBasis basis,
-                                       int levels, double pn, bool opponent) {
+                                       int levels, double pn, bool opponent, bool swt) {
     if (!variance.SameShape(color)) throw Error("bayes reference: variance shape differs");
     Image perPixel(color.width, color.height, color.channels);
     for (int c = 0; c < color.channels; ++c)
@@ -136,10 +154,12 @@ std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance
                 double mean = std::isfinite(value) ? std::max(value, floors[c]) : floors[c];
                 perPixel.At(c, y, x) = float(std::log1p(v / (mean * mean)));
             }
-    Image coefVar = WaveletSqAnalyze(perPixel, basis, levels);
+    Image coefVar = swt ? WaveletSwtSqAnalyze(perPixel, basis, levels)
+                        : WaveletSqAnalyze(perPixel, basis, levels);
     double shape = std::sqrt(std::exp(std::lgamma(1 / pn) - std::lgamma(3 / pn)));
     std::vector<BayesBand> bands =
-        BayesBands(color.width, color.height, color.channels, levels);
+        swt ? BayesSwtBands(color.width, color.height, color.channels, levels)
+            : BayesBands(color.width, color.height, color.channels, levels);
     std::vector<double> var(bands.size(), 0.0);
     for (size_t b = 0; b < bands.size(); ++b) {
         const BayesBand &band = bands[b];
@@ -241,16 +261,18 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         mix(logImage, false);
         stage("opponent", logImage);
     }
-    Image coefficients = WaveletAnalyze(logImage, options.basis, levels);
+    Image coefficients = options.swt ? WaveletSwtAnalyze(logImage, options.basis, levels)
+                                     : WaveletAnalyze(logImage, options.basis, levels);
     stage("analysis", coefficients);
     std::vector<BayesBand> bands =
-        BayesBands(color.width, color.height, color.channels, levels);
+        options.swt ? BayesSwtBands(color.width, color.height, color.channels, levels)
+                    : BayesBands(color.width, color.height, color.channels, levels);
     std::vector<double> bandSn;
     double snBase = options.snOverride >= 0 ? options.snOverride : options.sn;
     std::vector<double> varianceSn;
     if (options.variance)
         varianceSn = BayesVarianceNoise(color, *options.variance, floors, options.basis, levels,
-                                        options.pn, options.opponent);
+                                        options.pn, options.opponent, options.swt);
     for (const BayesBand &band : bands) {
         BandMoments m = MeasureBand(coefficients, band);
         double sn = options.variance ? varianceSn[bandSn.size()]
@@ -275,7 +297,8 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
     }
     Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, options.pn);
     stage("shrinkage", shrunk);
-    Image back = WaveletSynthesize(shrunk, options.basis, levels);
+    Image back = options.swt ? WaveletSwtSynthesize(shrunk, options.basis, levels)
+                             : WaveletSynthesize(shrunk, options.basis, levels);
     stage("synthesis", back);
     if (options.opponent) {
         mix(back, true);

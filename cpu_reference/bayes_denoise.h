@@ -35,6 +35,10 @@ struct BayesBand {
 };
 // All detail bands in the order of shaders/bayes/bayes.h.
 std::vector<BayesBand> BayesBands(int width, int height, int channels, int levels);
+// The same bands of the stationary wavelet transform (cpu_reference/wavelet_swt.h): full
+// size, `channel` is the band's plane of the coefficient image (band b of channel c is plane
+// b + c), and a band whose axis is not transformed at its level is empty (x0 = x1).
+std::vector<BayesBand> BayesSwtBands(int width, int height, int channels, int levels);
 
 struct BandMoments {
     double m2 = 0, m4 = 0, maxAbs = 0;
@@ -59,13 +63,16 @@ Image BayesShrinkDirect(const Image &coefficients, const std::vector<BayesBand> 
 // (var(sum h_i z_i) = sum h_i^2 var(z_i) for independent pixels; WaveletSqAnalyze at
 // natural sums), the mean over the band, and s = sigma sqrt(Gamma(1/p) / Gamma(3/p)) for
 // a generalised Laplacian of shape p. `opponent`: the mean over channels for every channel.
+// `swt`: through the stationary transform's squared analysis and its bands instead.
 std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance,
                                        const std::vector<double> &floors, WaveletBasis basis,
-                                       int levels, double pn, bool opponent);
+                                       int levels, double pn, bool opponent, bool swt = false);
 
 struct BayesRefOptions {
     WaveletBasis basis = WaveletBasis::Haar;
     int levels = 3;
+    // The stationary (undecimated) wavelet transform instead of the decimated DWT.
+    bool swt = false;
     double sn = 0.19, pn = 1.5, hpFactor = 2, floorRel = 1e-3;
     bool restoreZeros = true;
     bool opponent = false;  // log luminance + 2 log chroma (orthonormal) instead of RGB

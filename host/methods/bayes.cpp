@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "bayes/bayes.h"
 #include "host/error.h"
@@ -13,9 +14,12 @@
 #include "host/kernels/bayes_mix.h"
 #include "host/kernels/bayes_moments.h"
 #include "host/kernels/bayes_shrink.h"
+#include "host/kernels/bayes_swt.h"
+#include "host/methods/wavelet_swt.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/buffer.h"
 #include "host/vk/gpu_image.h"
+#include "wavelet/swt.h"
 
 namespace mcd {
 namespace {
@@ -73,6 +77,28 @@ double FinestMad(const Image &coef) {
     return *mid;
 }
 
+// |y| of the stationary transform's finest HH planes of `channels` channels (downloaded
+// alone), appended to `values`; none when level 0 does not transform both axes.
+void CollectFinestHH(const vk::GpuImage &coef, int channels, int levels,
+                     std::vector<float> *values) {
+    if (!shader::SwtTransformsAxis(coef.width, 0) || !shader::SwtTransformsAxis(coef.height, 0))
+        return;
+    size_t plane = size_t(coef.width) * coef.height;
+    for (int c = 0; c < channels; ++c) {
+        size_t at =
+            (size_t(c) * shader::SwtPlaneCount(levels) + shader::SwtDetailPlane(0, 2)) * plane;
+        for (float v : coef.buffer.DownloadFloats(plane, at)) values->push_back(std::fabs(v));
+    }
+}
+
+// Element n/2 of the values in order (0 when empty): FinestMad's median.
+double MedianOf(std::vector<float> &values) {
+    if (values.empty()) return 0;
+    auto mid = values.begin() + values.size() / 2;
+    std::nth_element(values.begin(), mid, values.end());
+    return *mid;
+}
+
 // Scale each channel of result->image to the mean of color's finite non-negative values.
 void KeepMean(const Image &color, BayesResult *result) {
     std::string scales;
@@ -93,6 +119,10 @@ void KeepMean(const Image &color, BayesResult *result) {
 }
 
 }  // namespace
+
+const char *BayesTransformName(BayesTransform transform) {
+    return transform == BayesTransform::Swt ? "swt" : "dwt";
+}
 
 const char *BayesFitName(int fit) {
     switch (fit) {
@@ -176,10 +206,14 @@ double BayesScaleFromMad(double mad, double p) {
 // the RGB variances with weights summing to 1; we use the plain mean over channels.
 // In the split the variance is that of the whole colour over the indirect value: an upper
 // bound on the indirect part's relative noise (the direct part's variance is in V).
+// The stationary transform (--bayes-transform swt) filters with the same taps without
+// decimating, so steps 2 and 3 carry over: its squared analysis at every position, the
+// mean over the full-size band.
 std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
                                       const Image &variance, const std::vector<float> &floors,
                                       WaveletBasis basis, int levels, float pn, bool opponent,
-                                      std::vector<vk::DispatchTiming> *timings) {
+                                      std::vector<vk::DispatchTiming> *timings,
+                                      BayesTransform kind, int swtGroupChannels) {
     if (!variance.SameShape(color))
         throw Error(fmt::format(
             "bayes: the variance layer is {}x{}x{} but the image is {}x{}x{}", variance.width,
@@ -196,13 +230,37 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
         }
     vk::GpuImage varGpu(context, w, h, channels, "bayes.logvar");
     varGpu.Upload(logVar);
+    bool swt = kind == BayesTransform::Swt;
     WaveletTransform transform(context, w, h, channels);
     vk::Recorder recorder(context);
-    transform.RecordSqAnalysis(recorder, basis, levels, varGpu, varGpu, 0.f, 0.f);
+    if (!swt) transform.RecordSqAnalysis(recorder, basis, levels, varGpu, varGpu, 0.f, 0.f);
+    // The stationary transform: full-size planes (shaders/wavelet/swt.h), in groups of as
+    // many channels as one binding holds, gathered on the host.
+    Image swtVar;
+    if (swt) {
+        int groupSize = std::min(channels, SwtChannelsPerBinding(context, w, h, levels));
+        if (groupSize < 1) CheckSwtFits(context, w, h, 1, levels, "bayes --noise variance");
+        if (swtGroupChannels > 0) groupSize = std::min(groupSize, swtGroupChannels);
+        int count = shader::SwtPlaneCount(levels);
+        swtVar = Image(w, h, channels * count);
+        for (int first = 0; first < channels; first += groupSize) {
+            int n = std::min(groupSize, channels - first);
+            SwtTransform swtTransform(context, w, h, n, levels);
+            vk::GpuImage part = swtTransform.MakeCoefficients("bayes.swt.var");
+            vk::Recorder partRecorder(context);
+            swtTransform.RecordAnalysis(partRecorder, basis, varGpu, part, true, first);
+            partRecorder.Submit();
+            if (timings)
+                for (const vk::DispatchTiming &t : partRecorder.Timings())
+                    timings->push_back(t);
+            Image planes = part.Download();
+            std::copy(planes.data.begin(), planes.data.end(), swtVar.Plane(first * count));
+        }
+    }
     recorder.Submit();
     if (timings)
         for (const vk::DispatchTiming &t : recorder.Timings()) timings->push_back(t);
-    Image coef = varGpu.Download();
+    Image coef = swt ? std::move(swtVar) : varGpu.Download();
     double toS = std::exp(0.5 * (std::lgamma(1.0 / pn) - std::lgamma(3.0 / pn)));
     std::vector<double> bandVar;
     for (int c = 0; c < channels; ++c)
@@ -210,7 +268,19 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
             int lw = LevelExtent(w, level), lh = LevelExtent(h, level);
             int lowW = (lw + 1) / 2, lowH = (lh + 1) / 2;
             int box[3][4] = {{lowW, 0, lw, lowH}, {0, lowH, lowW, lh}, {lowW, lowH, lw, lh}};
+            for (int o = 0; swt && o < 3; ++o) {
+                // A band whose axis is not transformed at this level is empty.
+                bool tx = shader::SwtTransformsAxis(w, level);
+                bool ty = shader::SwtTransformsAxis(h, level);
+                bool used = o == 0 ? tx : (o == 1 ? ty : tx && ty);
+                const float *p = coef.Plane(c * shader::SwtPlaneCount(levels) +
+                                            shader::SwtDetailPlane(level, o));
+                double sum = 0;
+                for (size_t i = 0; used && i < coef.PixelCount(); ++i) sum += p[i];
+                bandVar.push_back(used ? sum / double(coef.PixelCount()) : 0.0);
+            }
             for (auto &b : box) {
+                if (swt) break;
                 double sum = 0;
                 size_t n = 0;
                 for (int y = b[1]; y < b[3]; ++y)
@@ -269,6 +339,27 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                                           options.levels, color.width, color.height, levels));
 
     int w = color.width, h = color.height, channels = color.channels;
+    // --bayes-transform swt: the stationary transform's coefficients, channels (3 levels +
+    // 1) full-size planes, in groups of as many channels as one binding holds (bands and
+    // fits are per channel, so the groups change nothing); refused up front when not even
+    // one channel's fit.
+    bool swt = options.transform == BayesTransform::Swt && levels > 0;
+    int groupSize = channels;
+    if (swt) {
+        groupSize = std::min(channels, SwtChannelsPerBinding(context, w, h, levels));
+        if (groupSize < 1)
+            CheckSwtFits(context, w, h, 1, levels, "bayes --bayes-transform swt");
+        if (options.swtGroupChannels > 0)
+            groupSize = std::min(groupSize, options.swtGroupChannels);
+    }
+    int groups = (channels + groupSize - 1) / groupSize;
+    int lastSize = channels - (groups - 1) * groupSize;
+    if (groups > 1 && options.keepStages)
+        throw Error(fmt::format(
+            "bayes: the SWT of this {}x{}x{} image runs in {} channel groups (one binding "
+            "holds {} channels' coefficients); the stages need one: use --bayes-transform "
+            "dwt or a smaller image",
+            w, h, channels, groups, groupSize));
     vk::GpuImage colorGpu(context, w, h, channels, "bayes.color");
     vk::GpuImage work(context, w, h, channels, "bayes.work");
     vk::GpuImage out(context, w, h, channels, "bayes.out");
@@ -276,6 +367,24 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     colorGpu.Upload(color);
     floorsGpu.UploadFloats(floors);
     WaveletTransform transform(context, w, h, channels);
+    // Group g holds channels [g groupSize, g groupSize + GroupChannels(g)); a smaller last
+    // group has a transform of its own, sharing the coefficient buffer.
+    std::optional<SwtTransform> swtTransform, swtLast;
+    vk::GpuImage swtCoef;
+    if (swt) {
+        swtTransform.emplace(context, w, h, groupSize, levels);
+        if (lastSize != groupSize) swtLast.emplace(context, w, h, lastSize, levels);
+        swtCoef = swtTransform->MakeCoefficients("bayes.swt");
+    }
+    auto groupChannels = [&](int g) { return g == groups - 1 ? lastSize : groupSize; };
+    auto analyzeGroup = [&](vk::Recorder &recorder, int g) {
+        SwtTransform &t = g == groups - 1 && swtLast ? *swtLast : *swtTransform;
+        t.RecordAnalysis(recorder, options.basis, work, swtCoef, false, g * groupSize);
+    };
+    auto synthesizeGroup = [&](vk::Recorder &recorder, int g) {
+        SwtTransform &t = g == groups - 1 && swtLast ? *swtLast : *swtTransform;
+        t.RecordSynthesis(recorder, options.basis, swtCoef, work, g * groupSize);
+    };
     vk::Recorder recorder(context);
     // With keepStages, submit and download after every stage; else one submission.
     auto submit = [&] {
@@ -301,17 +410,20 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                 "colour: log luminance + 2 log chroma (orthonormal opponent transform)");
             stage("opponent", work);
         }
-        transform.RecordAnalysis(recorder, options.basis, levels, work, work);
-        stage("analysis", work);
+        if (swt)
+            analyzeGroup(recorder, 0);
+        else
+            transform.RecordAnalysis(recorder, options.basis, levels, work, work);
+        stage("analysis", swt ? swtCoef : work);
         float sn = options.sn;
         int bands = BayesBandCount(channels, levels);
         std::vector<float> bandSn(bands);
         for (int b = 0; b < bands; ++b)
             bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * options.hpFactor : sn;
         if (options.variance) {
-            bandSn =
-                BayesVarianceNoise(context, color, *options.variance, floors, options.basis,
-                                   levels, options.pn, options.opponent, &result.timings);
+            bandSn = BayesVarianceNoise(
+                context, color, *options.variance, floors, options.basis, levels, options.pn,
+                options.opponent, &result.timings, options.transform, options.swtGroupChannels);
             double mean = 0;
             for (float v : bandSn) mean += v / bands;
             sn = float(mean);
@@ -326,12 +438,24 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
             result.plan.push_back(fmt::format(
                 "--noise variance: per band from the variance layer: log(1 + V / max(Y, "
                 "floor)^2) per pixel (the delta method's V / Y^2, exact for log-normal), "
-                "squared-filter DWT, band mean -> s (p_n {}); mean s per level (finest "
+                "squared-filter {}, band mean -> s (p_n {}); mean s per level (finest "
                 "first) {}",
-                options.pn, perLevel));
+                swt ? "SWT" : "DWT", options.pn, perLevel));
         } else if (options.noiseAuto) {
             submit();
-            double mad = FinestMad(work.Download());
+            double mad = 0;
+            if (swt) {
+                // Every group's finest HH planes, pooled; then group 0's coefficients again.
+                std::vector<float> values;
+                for (int g = 0; g < groups; ++g) {
+                    if (g > 0) analyzeGroup(recorder, g), submit();
+                    CollectFinestHH(swtCoef, groupChannels(g), levels, &values);
+                }
+                if (groups > 1) analyzeGroup(recorder, 0);
+                mad = MedianOf(values);
+            } else {
+                mad = FinestMad(work.Download());
+            }
             double finest = BayesScaleFromMad(mad, options.pn);
             sn = float(finest / options.hpFactor);
             for (int b = 0; b < bands; ++b)
@@ -342,35 +466,61 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                 mad, finest, options.pn, sn));
         }
         result.sn = sn;
-        vk::Buffer noiseGpu(context, bands * sizeof(float), "bayes.noise");
-        noiseGpu.UploadFloats(bandSn);
-        vk::Buffer moments(context, bands * BAYES_MOMENT_STRIDE * sizeof(float),
-                           "bayes.moments");
-        vk::Buffer params(context, bands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
-        vk::Buffer table(context, bands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
-        RecordBayesMoments(context, recorder, work, levels, moments);
-        if (options.keepStages) {
-            submit();
-            std::vector<float> m = moments.DownloadFloats(size_t(bands) * BAYES_MOMENT_STRIDE);
-            Image rows(BAYES_MOMENT_STRIDE, bands, 1);
-            std::copy(m.begin(), m.end(), rows.data.begin());
-            result.stages.push_back({"moments", std::move(rows)});
+        // Per channel group (one unless the SWT is split): its bands' noise, moments, fits,
+        // tables, shrinkage and synthesis. Buffers live until the submission.
+        std::vector<vk::Buffer> noises, momentBuffers, paramBuffers, tables;
+        for (auto *v : {&noises, &momentBuffers, &paramBuffers, &tables}) v->reserve(groups);
+        for (int g = 0; g < groups; ++g) {
+            int first = g * groupSize, inGroup = swt ? groupChannels(g) : channels;
+            int groupBands = BayesBandCount(inGroup, levels);
+            int firstBand = BayesBandCount(first, levels);
+            if (g > 0) analyzeGroup(recorder, g);
+            vk::Buffer &noiseGpu =
+                noises.emplace_back(context, groupBands * sizeof(float), "bayes.noise");
+            noiseGpu.UploadFloats(std::vector<float>(bandSn.begin() + firstBand,
+                                                     bandSn.begin() + firstBand + groupBands));
+            vk::Buffer &moments = momentBuffers.emplace_back(
+                context, groupBands * BAYES_MOMENT_STRIDE * sizeof(float), "bayes.moments");
+            vk::Buffer &params = paramBuffers.emplace_back(
+                context, groupBands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
+            vk::Buffer &table = tables.emplace_back(
+                context, groupBands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
+            if (swt)
+                RecordBayesSwtMoments(context, recorder, swtCoef, inGroup, levels, moments);
+            else
+                RecordBayesMoments(context, recorder, work, levels, moments);
+            if (options.keepStages) {
+                submit();
+                std::vector<float> m =
+                    moments.DownloadFloats(size_t(bands) * BAYES_MOMENT_STRIDE);
+                Image rows(BAYES_MOMENT_STRIDE, bands, 1);
+                std::copy(m.begin(), m.end(), rows.data.begin());
+                result.stages.push_back({"moments", std::move(rows)});
+            }
+            RecordBayesSolve(context, recorder, moments, groupBands, levels, noiseGpu,
+                             options.pn, params);
+            if (options.keepStages) {
+                submit();
+                std::vector<float> p =
+                    params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
+                Image fits(3, bands, 1);
+                for (int b = 0; b < bands; ++b)
+                    for (int i = 0; i < 3; ++i)
+                        fits.At(0, b, i) = p[size_t(b) * BAYES_PARAM_STRIDE + 2 + i];
+                result.stages.push_back({"fits", std::move(fits)});
+            }
+            RecordBayesTable(context, recorder, params, groupBands, table);
+            if (swt)
+                RecordBayesSwtShrink(context, recorder, swtCoef, inGroup, levels, params,
+                                     table);
+            else
+                RecordBayesShrink(context, recorder, work, levels, params, table);
+            stage("shrinkage", swt ? swtCoef : work);
+            if (swt)
+                synthesizeGroup(recorder, g);
+            else
+                transform.RecordSynthesis(recorder, options.basis, levels, work, work);
         }
-        RecordBayesSolve(context, recorder, moments, bands, levels, noiseGpu, options.pn,
-                         params);
-        if (options.keepStages) {
-            submit();
-            std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
-            Image fits(3, bands, 1);
-            for (int b = 0; b < bands; ++b)
-                for (int i = 0; i < 3; ++i)
-                    fits.At(0, b, i) = p[size_t(b) * BAYES_PARAM_STRIDE + 2 + i];
-            result.stages.push_back({"fits", std::move(fits)});
-        }
-        RecordBayesTable(context, recorder, params, bands, table);
-        RecordBayesShrink(context, recorder, work, levels, params, table);
-        stage("shrinkage", work);
-        transform.RecordSynthesis(recorder, options.basis, levels, work, work);
         stage("synthesis", work);
         if (options.opponent) {
             RecordBayesMix(context, recorder, work, BayesOpponentInverse());
@@ -378,22 +528,33 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         }
         RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
         submit();
-        std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
+        std::vector<float> p;
+        for (const vk::Buffer &params : paramBuffers) {
+            std::vector<float> q = params.DownloadFloats(params.Bytes() / sizeof(float));
+            p.insert(p.end(), q.begin(), q.end());
+        }
         for (int b = 0; b < bands; ++b) {
             BayesBandFit fit{b / (3 * levels), (b % (3 * levels)) / 3, b % 3, {}};
             std::copy_n(p.begin() + b * BAYES_PARAM_STRIDE, BAYES_PARAM_STRIDE,
                         fit.params.begin());
             result.fits.push_back(fit);
         }
+        std::string transformName =
+            swt ? "stationary (undecimated) wavelet transform (--bayes-transform swt)"
+                : "DWT (--bayes-transform dwt)";
+        if (groups > 1)
+            transformName += fmt::format(
+                " in {} channel groups (one binding holds the coefficients of {} channel{})",
+                groups, groupSize, groupSize == 1 ? "" : "s");
         if (options.variance)
             result.plan.push_back(
-                fmt::format("{}-level {} DWT; noise per band (mean s {:.4g}), p_n {}", levels,
-                            WaveletName(options.basis), sn, options.pn));
+                fmt::format("{}-level {} {}; noise per band (mean s {:.4g}), p_n {}", levels,
+                            WaveletName(options.basis), transformName, sn, options.pn));
         else
             result.plan.push_back(fmt::format(
-                "{}-level {} DWT; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
-                levels, WaveletName(options.basis), sn, options.pn, sn * options.hpFactor,
-                options.hpFactor));
+                "{}-level {} {}; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
+                levels, WaveletName(options.basis), transformName, sn, options.pn,
+                sn * options.hpFactor, options.hpFactor));
         result.plan.push_back(fmt::format(
             "per band: E[y^2], E[y^4] -> (s_c, p_c) by eqs. 17-18; posterior-mean table of "
             "{} entries (log-sum-exp quadrature), applied with interpolation",

@@ -17,8 +17,19 @@
 
 namespace mcd {
 
+// The wavelet transform the shrinkage runs in: the foundation's decimated DWT (Mallat
+// layout), or the stationary (undecimated, "a trous") transform of host/methods/
+// wavelet_swt.h: shift-invariant, 3 levels + 1 full-size planes per channel.
+enum class BayesTransform { Dwt, Swt };
+
+const char *BayesTransformName(BayesTransform transform);
+
 struct BayesOptions {
     WaveletBasis basis = WaveletBasis::Haar;
+    BayesTransform transform = BayesTransform::Dwt;
+    // swt: at most this many channels' coefficients at a time (0: as many as one binding
+    // holds, maxStorageBufferRange); a smaller group needs less memory, same result.
+    int swtGroupChannels = 0;
     int levels = 3;          // clamped to what the image allows
     float sn = 0.19f;        // noise s (the paper's "cabin" example)
     float pn = 1.5f;         // noise shape p
@@ -65,11 +76,11 @@ struct BayesResult {
         0;  // the noise s used (estimated with noiseAuto; the mean over bands with variance)
     int levels = 0;
     // With keepStages, in order: "log", "opponent" (--colour opponent), "analysis" (the
-    // Mallat layout), "moments" (1 channel, a row per band: E[y^2], E[y^4], max |y|,
-    // count), "fits" (a row per band: s_c, p_c, fit), "shrinkage", "synthesis",
-    // "opponent inverse", "exp"; with spins > 1 these are the unshifted run's, then
-    // "cycle spinning" (the average); "keep mean" last when on. A 1x1 image (no level)
-    // has "log" and "exp" only.
+    // Mallat layout, or the SWT's channels (3 levels + 1) planes), "moments" (1 channel, a row
+    // per band: E[y^2], E[y^4], max |y|, count), "fits" (a row per band: s_c, p_c, fit),
+    // "shrinkage", "synthesis", "opponent inverse", "exp"; with spins > 1 these are the
+    // unshifted run's, then "cycle spinning" (the average); "keep mean" last when on. A 1x1
+    // image (no level) has "log" and "exp" only.
     std::vector<std::pair<std::string, Image>> stages;
 };
 
@@ -93,10 +104,13 @@ const char *BayesFitName(int fit);
 // per-pixel variance of the mean of `color` (see the derivation in bayes.cpp). The squared-
 // filter analysis runs on the GPU (its dispatch timings appended to `timings` when given),
 // the rest on the host. Non-finite or negative variances
-// count as 0; `opponent` gives every channel the mean over channels.
+// count as 0; `opponent` gives every channel the mean over channels. `transform` picks the
+// squared analysis and the bands (the stationary transform's: full-size planes).
 std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
                                       const Image &variance, const std::vector<float> &floors,
                                       WaveletBasis basis, int levels, float pn, bool opponent,
-                                      std::vector<vk::DispatchTiming> *timings = nullptr);
+                                      std::vector<vk::DispatchTiming> *timings = nullptr,
+                                      BayesTransform transform = BayesTransform::Dwt,
+                                      int swtGroupChannels = 0);
 
 }  // namespace mcd

@@ -60,6 +60,7 @@ TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
     EXPECT_TRUE(Contains(r.err, "1 zero value")) << r.err;
     BayesOptions options;
     options.sn = 0.3f;
+    options.transform = BayesTransform::Swt;  // the CLI's default
     Image expected = BayesDenoiseSplit(Ctx(), direct, indirect, options).image;
     EXPECT_TRUE(BitIdentical(expected, io::ReadImage((dir / "out.exr").string())));
 
@@ -92,6 +93,7 @@ TEST_F(BayesCli, NoiseAutoUsesTheVarianceLayer) {
     EXPECT_TRUE(Contains(r.out, "--noise variance: per band")) << r.out;
     BayesOptions options;
     options.variance = &variance;
+    options.transform = BayesTransform::Swt;  // the CLI's default
     Image expected = BayesDenoise(Ctx(), color, options).image;
     EXPECT_TRUE(BitIdentical(expected, io::ReadImage((dir / "out.exr").string())));
     io::WriteExr((dir / "c.exr").string(), {{"color", &color}});

@@ -363,7 +363,8 @@ DiffRows ParseDiff(const std::string &out) {
 //   (3 + 2 |z|) u: NMSE <= max dz^2. split: the same absolute error on a larger image.
 TEST_F(CliTest, DiffBayesStages) {
     ASSERT_EQ(Run("render --size 29x17 --spp 4 --layers split -o f.exr").code, 0);
-    RunResult r = Run("diff f.exr --method bayes --dump db");
+    // The bounds below read the DWT's Mallat layout (the CLI's default is swt).
+    RunResult r = Run("diff f.exr --method bayes --bayes-transform dwt --dump db");
     ASSERT_EQ(r.code, 0) << r.All();
     DiffRows d = ParseDiff(r.out);
     const std::vector<std::string> stages = {"log",       "analysis",  "moments", "fits",

@@ -262,15 +262,17 @@ void BenchAwr(const AwrBenchOptions &opt) {
 // Method bayes on a synthetic frame (smooth picture times log-normal noise, RGB): GPU time
 // per stage, median over repeats, and scikit-image's BayesShrink on the same work.
 void BenchBayes(const std::string &size, int levels, const std::string &basisName, int repeats,
-                bool skimage, const DeviceOptions &device) {
+                bool skimage, const DeviceOptions &device, const std::string &transform) {
     int width = 0, height = 0;
     ParseSize(size, &width, &height);
     std::optional<WaveletBasis> basis = ParseWavelet(basisName);
     if (!basis) throw Error("unknown wavelet basis '" + basisName + "'");
+    if (transform != "dwt" && transform != "swt")
+        throw Error("--transform takes dwt or swt, not '" + transform + "'");
     repeats = std::max(repeats, 1);
     vk::Context context(device.ContextOptions());
-    fmt::print("bench bayes: {}x{} RGB float32, {} levels of {}, on {} ({})\n", width, height,
-               levels, WaveletName(*basis), context.Info().name,
+    fmt::print("bench bayes: {}x{} RGB float32, {} levels of {} {}, on {} ({})\n", width,
+               height, levels, WaveletName(*basis), transform, context.Info().name,
                vk::DeviceTypeName(context.Info().type));
     Image image(width, height, 3);
     std::mt19937 rng(1);
@@ -284,6 +286,7 @@ void BenchBayes(const std::string &size, int levels, const std::string &basisNam
     BayesOptions options;
     options.basis = *basis;
     options.levels = levels;
+    options.transform = transform == "swt" ? BayesTransform::Swt : BayesTransform::Dwt;
     std::map<std::string, std::vector<double>> stages;
     std::vector<double> wall, gpu;
     for (int r = 0; r <= repeats; ++r) {  // run 0 warms up
@@ -526,7 +529,7 @@ void AddBenchCommand(CLI::App &app) {
     awr->callback([aopt] { BenchAwr(*aopt); });
 
     struct BayesBenchOptions {
-        std::string size = "1024x1024", basis = "haar";
+        std::string size = "1024x1024", basis = "haar", transform = "swt";
         int levels = 3, repeats = 3;
         bool noSkimage = false;
         DeviceOptions device;
@@ -540,11 +543,13 @@ void AddBenchCommand(CLI::App &app) {
     bayes->add_option("--basis", bopt->basis, "haar, legall53 or cdf97")->capture_default_str();
     bayes->add_option("--repeat", bopt->repeats, "timed runs (after one warm-up)")
         ->capture_default_str();
+    bayes->add_option("--transform", bopt->transform, "dwt or swt (--bayes-transform)")
+        ->capture_default_str();
     bayes->add_flag("--no-skimage", bopt->noSkimage, "skip the scikit-image comparison");
     bopt->device.Add(bayes);
     bayes->callback([bopt] {
         BenchBayes(bopt->size, bopt->levels, bopt->basis, bopt->repeats, !bopt->noSkimage,
-                   bopt->device);
+                   bopt->device, bopt->transform);
     });
 
     struct RhfBenchOptions {

@@ -1,0 +1,21 @@
+// Record method bayes' per-band moments and shrinkage over stationary wavelet bands
+// (shaders/bayes/swt_moments.comp, swt_shrink.comp; layout in shaders/wavelet/swt.h).
+#pragma once
+
+#include "host/vk/gpu_image.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+// `coef` holds the SWT of a `channels`-channel image at `levels` levels in its first
+// channels (3 levels + 1) planes (it may have more, unused). moments[band] = E[y^2], E[y^4], max |y|, count (shaders/bayes/bayes.h).
+void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
+                           const vk::GpuImage &coef, int channels, int levels,
+                           const vk::Buffer &moments);
+
+// In place on `coef`: every detail coefficient through its band's table.
+void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder,
+                          const vk::GpuImage &coef, int channels, int levels,
+                          const vk::Buffer &params, const vk::Buffer &table);
+
+}  // namespace mcd

@@ -1,0 +1,541 @@
+// The stationary (undecimated) wavelet transform used by method bayes (--bayes-transform
+// swt; layout in shaders/wavelet/swt.h): the CPU reference against its definition and the
+// foundation's DWT, and the GPU kernels against the reference on random and edge sizes,
+// perfect reconstruction, constants, bit-identical reruns and the binding limit.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <tuple>
+
+#include "bayes/bayes.h"
+#include "cpu_reference/bayes_denoise.h"
+#include "cpu_reference/wavelet_analyze.h"
+#include "cpu_reference/wavelet_swt.h"
+#include "harness/compare.h"
+#include "harness/errors.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/kernels/bayes_moments.h"
+#include "host/kernels/bayes_swt.h"
+#include "host/methods/bayes.h"
+#include "host/methods/wavelet_swt.h"
+#include "wavelet/swt.h"
+
+namespace mcd::test {
+namespace {
+
+constexpr double kUnitRoundoff = 0x1p-24;
+const WaveletBasis kBases[] = {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97};
+
+std::vector<double> RandomLine(int n, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<double> x(n);
+    for (double &v : x) v = u(rng);
+    return x;
+}
+
+// ---------------------------------------------------------------- the reference
+
+// Level 0 without decimation holds the DWT: its even low outputs are the DWT's low-pass
+// coefficients and its high outputs at 2n (Haar) or 2n + 1 (5/3, 9/7, centred there) the
+// DWT's high-pass ones, boundaries included (the same symmetric extensions).
+TEST(BayesSwtReference, LevelZeroContainsTheDwt) {
+    for (WaveletBasis basis : kBases)
+        for (int n : {2, 3, 4, 7, 10, 31}) {
+            SCOPED_TRACE(fmt::format("{} n {}", WaveletName(basis), n));
+            std::vector<double> x = RandomLine(n, SeedFromName(fmt::format("swt1d{}", n)));
+            std::vector<double> low, high;
+            ref::SwtAnalyze1D(x, basis, ref::GetFilterBank(basis), 1, true, &low, &high);
+            std::vector<double> dwt = ref::Analyze1D(x, basis);
+            int nLow = (n + 1) / 2;
+            for (int i = 0; i < nLow; ++i) EXPECT_NEAR(low[2 * i], dwt[i], 1e-14) << i;
+            int offset = basis == WaveletBasis::Haar ? 0 : 1;
+            for (int i = 0; i < n / 2; ++i)
+                EXPECT_NEAR(high[2 * i + offset], dwt[nLow + i], 1e-14) << i;
+        }
+}
+
+// Analysis then synthesis is the identity in double, for every level count the image
+// allows, on sizes below the filters' reach at the deeper levels.
+TEST(BayesSwtReference, PerfectReconstruction) {
+    for (WaveletBasis basis : kBases)
+        for (auto [w, h] : {std::pair{1, 1}, std::pair{2, 3}, std::pair{5, 1}, std::pair{7, 6},
+                            std::pair{19, 11}, std::pair{40, 9}}) {
+            for (int levels = 0; levels <= MaxWaveletLevels(w, h); ++levels) {
+                SCOPED_TRACE(
+                    fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
+                std::vector<double> x =
+                    RandomLine(w * h, SeedFromName(fmt::format("pr{}x{}", w, h)));
+                const ref::FilterBank &bank = ref::GetFilterBank(basis);
+                auto planes = ref::SwtAnalyzePlane(x, w, h, basis, bank, levels);
+                ASSERT_EQ(int(planes.size()), shader::SwtPlaneCount(levels));
+                std::vector<double> back =
+                    ref::SwtSynthesizePlane(planes, w, h, basis, bank, levels);
+                for (size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(back[i], x[i], 1e-12) << i;
+            }
+        }
+}
+
+// A constant c: every detail coefficient is 0 (the high-pass taps sum to 0) and the low
+// plane is c times the low-pass gain (sum of taps sqrt 2) per transformed axis and level.
+TEST(BayesSwtReference, ConstantsHaveNoDetail) {
+    for (WaveletBasis basis : kBases) {
+        int w = 13, h = 6, levels = MaxWaveletLevels(w, h);
+        std::vector<double> x(w * h, 0.75);
+        auto planes = ref::SwtAnalyzePlane(x, w, h, basis, ref::GetFilterBank(basis), levels);
+        double gain = 1;
+        for (int level = 0; level < levels; ++level) {
+            for (int o = 0; o < 3; ++o)
+                for (double v : planes[shader::SwtDetailPlane(level, o)])
+                    EXPECT_NEAR(v, 0, 1e-13);
+            gain *= (shader::SwtTransformsAxis(w, level) ? std::sqrt(2.0) : 1.0) *
+                    (shader::SwtTransformsAxis(h, level) ? std::sqrt(2.0) : 1.0);
+        }
+        for (double v : planes[shader::SwtLowPlane(levels)]) EXPECT_NEAR(v, 0.75 * gain, 1e-12);
+    }
+}
+
+// The normalisation the bayes noise model relies on: under white noise every band's
+// coefficient variance is the decimated band's (the SWT band is the union of the DWT's
+// polyphase bands). Pooled over 8 frames of 192 x 128, the coarsest DWT band (level 2)
+// still has 8 x 24 x 16 = 3072 samples: the sampling error of its variance is about
+// sqrt(2 / 3072) = 2.6%, the SWT band's (correlated neighbours) of the same order; 10% is
+// about 3 sigma of the ratio.
+TEST(BayesSwtReference, WhiteNoiseBandVariancesMatchTheDwt) {
+    const int w = 192, h = 128, levels = 3, frames = 8;
+    std::mt19937_64 rng(SeedFromName("swt white noise"));
+    std::normal_distribution<double> normal(0, 1);
+    for (WaveletBasis basis : kBases) {
+        SCOPED_TRACE(WaveletName(basis));
+        double dv[levels][3] = {}, sv[levels][3] = {};
+        double dn[levels][3] = {}, sn[levels][3] = {};
+        for (int f = 0; f < frames; ++f) {
+            Image noise(w, h, 1);
+            for (float &v : noise.data) v = float(normal(rng));
+            Image swt = ref::WaveletSwtAnalyze(noise, basis, levels);
+            Image dwt = ref::WaveletAnalyze(noise, basis, levels);
+            for (int level = 0; level < levels; ++level) {
+                int lw = LevelExtent(w, level), lh = LevelExtent(h, level);
+                int lowW = (lw + 1) / 2, lowH = (lh + 1) / 2;
+                int box[3][4] = {
+                    {lowW, 0, lw, lowH}, {0, lowH, lowW, lh}, {lowW, lowH, lw, lh}};
+                for (int o = 0; o < 3; ++o) {
+                    for (int y = box[o][1]; y < box[o][3]; ++y)
+                        for (int x = box[o][0]; x < box[o][2]; ++x, ++dn[level][o])
+                            dv[level][o] += double(dwt.At(0, y, x)) * dwt.At(0, y, x);
+                    const float *p = swt.Plane(shader::SwtDetailPlane(level, o));
+                    for (size_t i = 0; i < swt.PixelCount(); ++i, ++sn[level][o])
+                        sv[level][o] += double(p[i]) * p[i];
+                }
+            }
+        }
+        for (int level = 0; level < levels; ++level)
+            for (int o = 0; o < 3; ++o)
+                EXPECT_NEAR((sv[level][o] / sn[level][o]) / (dv[level][o] / dn[level][o]), 1.0,
+                            0.1)
+                    << "level " << level << " orientation " << o;
+    }
+}
+
+// ---------------------------------------------------------------- GPU against reference
+
+class BayesSwtKernel : public GpuTest {
+  protected:
+    Image Analyze(const Image &in, WaveletBasis basis, int levels, bool squared = false) {
+        SwtTransform transform(Ctx(), in.width, in.height, in.channels, levels);
+        vk::GpuImage image(Ctx(), in.width, in.height, in.channels, "swt.in");
+        vk::GpuImage coef = transform.MakeCoefficients("swt.coef");
+        image.Upload(in);
+        vk::Recorder recorder(Ctx());
+        transform.RecordAnalysis(recorder, basis, image, coef, squared);
+        recorder.Submit();
+        return coef.Download();
+    }
+    Image Synthesize(const Image &coefficients, WaveletBasis basis, int levels, int channels) {
+        SwtTransform transform(Ctx(), coefficients.width, coefficients.height, channels,
+                               levels);
+        vk::GpuImage coef = transform.MakeCoefficients("swt.coef");
+        vk::GpuImage out(Ctx(), coefficients.width, coefficients.height, channels, "swt.out");
+        coef.Upload(coefficients);
+        vk::Recorder recorder(Ctx());
+        transform.RecordSynthesis(recorder, basis, coef, out);
+        recorder.Submit();
+        return out.Download();
+    }
+};
+
+// Edge sizes: 1x1 (no level), 2x3, lines, odd sizes, and sizes below the reach of the
+// deeper levels (9/7 at level 2 reaches 16 samples each way).
+const std::vector<std::pair<int, int>> kSizes = {{1, 1},   {2, 3},  {3, 2},  {1, 9},  {5, 4},
+                                                 {17, 13}, {64, 7}, {3, 70}, {33, 33}};
+
+// Error budget per pass: each output is a float dot product of at most 9 taps (the
+// analysis) whose taps are themselves float products (a few u each), so its error is at
+// most about (9 + 2) u times sum |tap| |x|; an input error propagates through the next
+// pass scaled by at most the same |tap| sums. Composed over the 2 passes of L levels, the
+// error of a coefficient is at most 11 (2 L) u times the reference's magnitude twin (|taps|
+// on |x|, levels composed), plus the reference's own rounding to float (u / 2).
+TEST_F(BayesSwtKernel, AnalysisMatchesReference) {
+    for (WaveletBasis basis : kBases)
+        for (auto [w, h] : kSizes)
+            for (int levels : {1, 3, MaxWaveletLevels(w, h)}) {
+                if (levels > MaxWaveletLevels(w, h)) continue;
+                SCOPED_TRACE(
+                    fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
+                Image in = MakeInput(InputKind::Uniform, w, h, 2,
+                                     SeedFromName(fmt::format("swta{}x{}", w, h)));
+                Image expected = ref::WaveletSwtAnalyze(in, basis, levels);
+                Image magnitude = ref::WaveletSwtAnalyzeMagnitude(in, basis, levels);
+                Image got = Analyze(in, basis, levels);
+                double rel = (22.0 * levels + 1) * kUnitRoundoff;
+                EXPECT_TRUE(ImagesMatch(expected, got, magnitude, {rel, 1e-30, 1}));
+            }
+}
+
+// Squared taps on a non-negative variance: all terms are positive, so the relative error
+// bound is the same count of roundings against the value itself (its own magnitude).
+TEST_F(BayesSwtKernel, SquaredAnalysisMatchesReference) {
+    for (WaveletBasis basis : kBases)
+        for (auto [w, h] : kSizes) {
+            int levels = std::min(3, MaxWaveletLevels(w, h));
+            SCOPED_TRACE(fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
+            Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 2,
+                                               SeedFromName(fmt::format("swtsq{}x{}", w, h)));
+            Image expected = ref::WaveletSwtSqAnalyze(variance, basis, levels);
+            Image got = Analyze(variance, basis, levels, true);
+            double rel = (22.0 * levels + 1) * kUnitRoundoff;
+            EXPECT_TRUE(ImagesMatch(expected, got, {}, {rel, 1e-30, 1}));
+        }
+}
+
+// Synthesis of the same float coefficients: each output sums at most 9 + 7 products (the
+// 1/2 is exact), so (16 + 2) u per pass, composed over 2 L passes against the synthesis's
+// magnitude twin.
+TEST_F(BayesSwtKernel, SynthesisMatchesReference) {
+    for (WaveletBasis basis : kBases)
+        for (auto [w, h] : kSizes)
+            for (int levels : {1, MaxWaveletLevels(w, h)}) {
+                if (levels > MaxWaveletLevels(w, h)) continue;
+                SCOPED_TRACE(
+                    fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
+                Image coef =
+                    MakeInput(InputKind::Uniform, w, h, 2 * shader::SwtPlaneCount(levels),
+                              SeedFromName(fmt::format("swts{}x{}", w, h)));
+                Image expected = ref::WaveletSwtSynthesize(coef, basis, levels);
+                Image magnitude = ref::WaveletSwtSynthesizeMagnitude(coef, basis, levels);
+                Image got = Synthesize(coef, basis, levels, 2);
+                double rel = (36.0 * levels + 1) * kUnitRoundoff;
+                EXPECT_TRUE(ImagesMatch(expected, got, magnitude, {rel, 1e-30, 1}));
+            }
+}
+
+// GPU analysis then GPU synthesis gives the input back: the analysis error carried
+// through the synthesis's |taps| plus the synthesis's own, both bounded by the composed
+// magnitude (synthesis magnitude of the analysis magnitude).
+TEST_F(BayesSwtKernel, PerfectReconstruction) {
+    for (WaveletBasis basis : kBases)
+        for (auto [w, h] : kSizes) {
+            int levels = std::min(3, MaxWaveletLevels(w, h));
+            SCOPED_TRACE(fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
+            Image in = MakeInput(InputKind::LogNormalFireflies, w, h, 3,
+                                 SeedFromName(fmt::format("swtpr{}x{}", w, h)));
+            Image back = Synthesize(Analyze(in, basis, levels), basis, levels, 3);
+            Image magnitude = ref::WaveletSwtSynthesizeMagnitude(
+                ref::WaveletSwtAnalyzeMagnitude(in, basis, levels), basis, levels);
+            double rel = (58.0 * levels + 2) * kUnitRoundoff;
+            EXPECT_TRUE(ImagesMatch(in, back, magnitude, {rel, 1e-30, 1e-10}));
+        }
+}
+
+// A constant stays a constant through the round trip, and its detail coefficients are
+// round-off (float high-pass taps do not sum to exactly 0): bounded by the same per-pass
+// budget against the magnitude.
+TEST_F(BayesSwtKernel, ConstantsStayConstant) {
+    for (WaveletBasis basis : kBases) {
+        const int w = 29, h = 18, levels = 3;
+        Image in(w, h, 1, 2.5f);
+        Image coef = Analyze(in, basis, levels);
+        Image magnitude = ref::WaveletSwtAnalyzeMagnitude(in, basis, levels);
+        for (int level = 0; level < levels; ++level)
+            for (int o = 0; o < 3; ++o) {
+                int p = shader::SwtDetailPlane(level, o);
+                for (size_t i = 0; i < coef.PixelCount(); ++i)
+                    EXPECT_LE(std::fabs(coef.Plane(p)[i]),
+                              (22.0 * levels) * kUnitRoundoff * magnitude.Plane(p)[i]);
+            }
+        Image back = Synthesize(coef, basis, levels, 1);
+        for (float v : back.data) EXPECT_NEAR(v, 2.5f, 2.5 * 200 * kUnitRoundoff);
+    }
+}
+
+TEST_F(BayesSwtKernel, RerunsAreBitIdentical) {
+    Image in = MakeInput(InputKind::LogNormalFireflies, 45, 31, 3, SeedFromName("swt rerun"));
+    for (WaveletBasis basis : kBases) {
+        Image a = Analyze(in, basis, 3), b = Analyze(in, basis, 3);
+        EXPECT_TRUE(BitIdentical(a, b));
+        EXPECT_TRUE(BitIdentical(Synthesize(a, basis, 3, 3), Synthesize(b, basis, 3, 3)));
+    }
+}
+
+// Coefficients above one binding are refused up front, naming the sizes: 4096 x 4096 RGB
+// at 3 levels is 30 planes, 1920 MiB.
+TEST_F(BayesSwtKernel, RefusesCoefficientsAboveOneBinding) {
+    std::string message = ErrorOf([&] { CheckSwtFits(Ctx(), 4096, 4096, 3, 3, "test"); });
+    EXPECT_TRUE(Contains(message, "4096x4096x3")) << message;
+    EXPECT_TRUE(Contains(message, "30 planes")) << message;
+    EXPECT_NO_THROW(CheckSwtFits(Ctx(), 64, 64, 3, 3, "test"));
+}
+
+// ---------------------------------------------------------------- method bayes over the SWT
+
+class BayesSwtMethod : public GpuTest {};
+
+// A smooth picture times multiplicative log-normal noise (as bayes_test.cpp's).
+Image NoisyPicture(int w, int h, uint64_t seed, double noise) {
+    Image image(w, h, 3);
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double clean = 0.4 + 0.5 * (x > w / 2) + 0.3 * std::sin(0.3 * y + c);
+                image.At(c, y, x) = float(clean * std::exp(noise * normal(rng)));
+            }
+    return image;
+}
+
+Image Log(Image image) {
+    for (float &v : image.data) v = std::log(v);
+    return image;
+}
+
+// Moments of full-size SWT bands, empty bands included (count 0): the sum bound of
+// BayesKernel.MomentsMatchReference, (count / 256 + 12) u relative.
+TEST_F(BayesSwtMethod, MomentsMatchReference) {
+    for (auto [w, h] : {std::pair{2, 3}, std::pair{1, 9}, std::pair{37, 23}, std::pair{64, 7}})
+        for (int levels : {1, MaxWaveletLevels(w, h)}) {
+            SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
+            const int channels = 2;
+            Image coef =
+                MakeInput(InputKind::Uniform, w, h, channels * shader::SwtPlaneCount(levels),
+                          SeedFromName(fmt::format("swtmom{}x{}", w, h)));
+            int bands = BayesBandCount(channels, levels);
+            vk::GpuImage c(Ctx(), w, h, coef.channels, "coef");
+            c.Upload(coef);
+            vk::Buffer moments(Ctx(), bands * BAYES_MOMENT_STRIDE * sizeof(float), "moments");
+            vk::Recorder recorder(Ctx());
+            RecordBayesSwtMoments(Ctx(), recorder, c, channels, levels, moments);
+            recorder.Submit();
+            std::vector<float> got = moments.DownloadFloats(bands * BAYES_MOMENT_STRIDE);
+            std::vector<ref::BayesBand> refBands = ref::BayesSwtBands(w, h, channels, levels);
+            ASSERT_EQ(int(refBands.size()), bands);
+            int empty = 0;
+            for (int b = 0; b < bands; ++b) {
+                ref::BandMoments m = ref::MeasureBand(coef, refBands[b]);
+                empty += m.count == 0;
+                double tol = (double(m.count) / 256 + 12) * kUnitRoundoff;
+                EXPECT_NEAR(got[b * 4 + 0], m.m2, tol * m.m2) << "band " << b;
+                EXPECT_NEAR(got[b * 4 + 1], m.m4, tol * m.m4) << "band " << b;
+                EXPECT_EQ(got[b * 4 + 2], float(m.maxAbs)) << "band " << b;
+                EXPECT_EQ(got[b * 4 + 3], float(m.count)) << "band " << b;
+            }
+            // 1x9 and 2x3 at their deepest level leave an axis untransformed.
+            if (w <= 2 && levels > 1) EXPECT_GT(empty, 0);
+        }
+}
+
+// The whole method with --bayes-transform swt against the reference with swt, on the
+// bayes edge sizes. The tolerance is BayesKernel.WholeMethodMatchesReference's (2e-3 in
+// log, mean 1e-4): the per-coefficient error is the same table error plus float transform
+// round-off, and the SWT synthesis averages two reconstructions, which does not enlarge it.
+TEST_F(BayesSwtMethod, WholeMethodMatchesReference) {
+    for (auto [w, h] : {std::pair{1, 1}, std::pair{2, 1}, std::pair{1, 5}, std::pair{3, 3},
+                        std::pair{37, 23}, std::pair{64, 7}, std::pair{3, 70}})
+        for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::Cdf97}) {
+            SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
+            Image color =
+                NoisyPicture(w, h, SeedFromName(fmt::format("swtwhole{}x{}", w, h)), 0.3);
+            BayesOptions options;
+            options.basis = basis;
+            options.transform = BayesTransform::Swt;
+            BayesResult gpu = BayesDenoise(Ctx(), color, options);
+            ref::BayesRefOptions refOptions;
+            refOptions.basis = basis;
+            refOptions.swt = true;
+            refOptions.levels = gpu.levels;
+            ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+            ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
+            for (size_t b = 0; b < cpu.fits.size(); ++b)
+                EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+            EXPECT_TRUE(ImagesMatch(Log(cpu.image), Log(gpu.image), {}, {0, 2e-3, 1e-4}));
+            if (gpu.levels > 0) {
+                bool said = false;
+                for (const std::string &line : gpu.plan) said |= Contains(line, "stationary");
+                EXPECT_TRUE(said);
+            }
+        }
+}
+
+// --noise variance through the SWT: the GPU's squared analysis and band means against the
+// reference's; the same arithmetic count as BayesVariance.EstimateMatchesReference (all
+// terms positive, a few tens of u), and the band means sum w h terms in double.
+TEST_F(BayesSwtMethod, VarianceNoiseMatchesReference) {
+    for (auto [w, h] : {std::pair{2, 3}, std::pair{1, 9}, std::pair{37, 23}})
+        for (WaveletBasis basis : kBases) {
+            SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
+            Image color =
+                NoisyPicture(w, h, SeedFromName(fmt::format("swtvar{}x{}", w, h)), 0.3);
+            Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3,
+                                               SeedFromName(fmt::format("swtvv{}x{}", w, h)));
+            int levels = std::min(3, MaxWaveletLevels(w, h));
+            std::vector<float> floors = BayesFloors(color, 1e-3f);
+            std::vector<double> refFloors(floors.begin(), floors.end());
+            std::vector<float> gpu =
+                BayesVarianceNoise(Ctx(), color, variance, floors, basis, levels, 1.5f, false,
+                                   nullptr, BayesTransform::Swt);
+            std::vector<double> cpu = ref::BayesVarianceNoise(color, variance, refFloors, basis,
+                                                              levels, 1.5, false, true);
+            ASSERT_EQ(gpu.size(), cpu.size());
+            for (size_t b = 0; b < cpu.size(); ++b)
+                EXPECT_NEAR(gpu[b], cpu[b], 1e-5 * cpu[b]) << "band " << b;
+            // And the whole method with it, against the reference.
+            BayesOptions options;
+            options.basis = basis;
+            options.transform = BayesTransform::Swt;
+            options.variance = &variance;
+            Image got = BayesDenoise(Ctx(), color, options).image;
+            ref::BayesRefOptions refOptions;
+            refOptions.basis = basis;
+            refOptions.swt = true;
+            refOptions.variance = &variance;
+            Image expected = ref::BayesDenoise(color, refOptions).image;
+            EXPECT_TRUE(ImagesMatch(Log(expected), Log(got), {}, {0, 2e-3, 1e-4}));
+        }
+}
+
+// --noise auto over the SWT: the finest HH planes hold every polyphase of the DWT's finest
+// HH band, so on log-normal noise of known sigma (Haar, p = 2) it recovers s = sigma
+// sqrt 2 as the DWT's estimate does (BayesProperties.NoiseAutoEstimatesTheNoise, 5%).
+TEST_F(BayesSwtMethod, NoiseAutoEstimatesTheNoise) {
+    const double sigma = 0.3;
+    Image noise(96, 96, 3);
+    std::mt19937_64 rng(SeedFromName("swt noise auto"));
+    std::normal_distribution<float> normal(0.f, float(sigma));
+    for (float &v : noise.data) v = std::exp(normal(rng));
+    BayesOptions options;
+    options.noiseAuto = true;
+    options.pn = 2;
+    options.hpFactor = 1;
+    options.transform = BayesTransform::Swt;
+    BayesResult r = BayesDenoise(Ctx(), noise, options);
+    EXPECT_NEAR(r.sn, sigma * std::sqrt(2.0), 0.05 * sigma * std::sqrt(2.0));
+    // Against the reference given the GPU's estimate, on a crop (the reference integrates
+    // every coefficient's posterior directly: 27 full-size bands are slow).
+    Image crop(29, 19, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < 19; ++y)
+            for (int x = 0; x < 29; ++x) crop.At(c, y, x) = noise.At(c, y, x);
+    r = BayesDenoise(Ctx(), crop, options);
+    ref::BayesRefOptions refOptions;
+    refOptions.swt = true;
+    refOptions.pn = 2;
+    refOptions.hpFactor = 1;
+    refOptions.snOverride = r.sn;
+    Image expected = ref::BayesDenoise(crop, refOptions).image;
+    EXPECT_TRUE(ImagesMatch(Log(expected), Log(r.image), {}, {0, 2e-3, 1e-4}));
+}
+
+// What the SWT is for: shifting the input by one pixel shifts the output (away from the
+// borders, where the mirror extension differs, and up to the fits, which see slightly
+// different bands), while the DWT's output changes with the grid. Same noisy frame, fixed
+// noise model; the SWT's interior change must be a fraction of the DWT's.
+TEST_F(BayesSwtMethod, ShiftingTheInputShiftsTheOutput) {
+    const int w = 64, h = 48, margin = 12;
+    Image big = NoisyPicture(w + 1, h, SeedFromName("swt shift"), 0.3);
+    Image a(w, h, 3), b(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                a.At(c, y, x) = big.At(c, y, x), b.At(c, y, x) = big.At(c, y, x + 1);
+    double change[2] = {0, 0};
+    for (BayesTransform transform : {BayesTransform::Dwt, BayesTransform::Swt}) {
+        BayesOptions options;
+        options.transform = transform;
+        Image outA = Log(BayesDenoise(Ctx(), a, options).image);
+        Image outB = Log(BayesDenoise(Ctx(), b, options).image);
+        double sum = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int y = margin; y < h - margin; ++y)
+                for (int x = margin; x < w - margin; ++x) {
+                    double d = outA.At(c, y, x + 1) - outB.At(c, y, x);
+                    sum += d * d;
+                }
+        change[transform == BayesTransform::Swt] = std::sqrt(sum);
+    }
+    std::printf("[ shift ] interior change under a 1-pixel shift: dwt %.4g, swt %.4g\n",
+                change[0], change[1]);
+    EXPECT_LT(change[1], 0.25 * change[0]);
+}
+
+TEST_F(BayesSwtMethod, RerunsAreBitIdentical) {
+    Image color = NoisyPicture(45, 31, SeedFromName("swt method rerun"), 0.3);
+    color.At(0, 3, 3) = 0;
+    color.At(1, 4, 4) = std::numeric_limits<float>::quiet_NaN();
+    BayesOptions options;
+    options.basis = WaveletBasis::Cdf97;
+    options.noiseAuto = true;
+    options.transform = BayesTransform::Swt;
+    Image first = BayesDenoise(Ctx(), color, options).image;
+    Image second = BayesDenoise(Ctx(), color, options).image;
+    EXPECT_TRUE(BitIdentical(first, second));
+    for (float v : first.data) EXPECT_TRUE(std::isfinite(v));
+}
+
+// Channel groups (what a frame above one binding runs in; BayesSwtLarge for a real one):
+// bands, fits and every noise model are per channel or pool the same values, so groups of
+// 1 and 2 channels must give the image and the fits bit-identical to one group.
+TEST_F(BayesSwtMethod, ChannelGroupsChangeNothing) {
+    const int w = 37, h = 23;
+    Image color = NoisyPicture(w, h, SeedFromName("swt groups"), 0.3);
+    Image variance(w, h, 3);
+    for (size_t i = 0; i < color.Size(); ++i)
+        variance.data[i] = 0.05f * color.data[i] * color.data[i];
+    for (int noise = 0; noise < 3; ++noise) {
+        SCOPED_TRACE(noise == 0 ? "fixed" : (noise == 1 ? "mad" : "variance"));
+        BayesOptions options;
+        options.transform = BayesTransform::Swt;
+        options.basis = WaveletBasis::Cdf97;
+        options.noiseAuto = noise == 1;
+        if (noise == 2) options.variance = &variance;
+        BayesResult all = BayesDenoise(Ctx(), color, options);
+        for (int group : {1, 2}) {
+            options.swtGroupChannels = group;
+            BayesResult grouped = BayesDenoise(Ctx(), color, options);
+            EXPECT_TRUE(BitIdentical(all.image, grouped.image)) << group;
+            ASSERT_EQ(all.fits.size(), grouped.fits.size());
+            for (size_t b = 0; b < all.fits.size(); ++b)
+                EXPECT_EQ(all.fits[b].params, grouped.fits[b].params) << group << " " << b;
+            EXPECT_EQ(all.sn, grouped.sn);
+        }
+    }
+}
+
+// An image whose SWT exceeds one binding even for one channel is refused before any GPU
+// work, naming the sizes: 4096 x 4096 x 1 at 3 levels is 10 planes, 640 MiB.
+TEST_F(BayesSwtMethod, RefusesAboveOneBinding) {
+    BayesOptions options;
+    options.transform = BayesTransform::Swt;
+    std::string message =
+        ErrorOf([&] { BayesDenoise(Ctx(), Image(4096, 4096, 1, 0.5f), options); });
+    EXPECT_TRUE(Contains(message, "4096x4096x1")) << message;
+    EXPECT_TRUE(Contains(message, "--bayes-transform swt")) << message;
+}
+
+}  // namespace
+}  // namespace mcd::test
