@@ -53,6 +53,42 @@ TEST(RenderHistogram, BinsByHand) {
     EXPECT_NEAR(m[9], 1.f, 1e-5);
 }
 
+// At 1 spp a pixel's colour is its one sample: hist bins that sample, zhist the sample
+// over the pixel's pivot (the sample itself where a channel's pivot is 0). The pivot comes
+// with zhist, and the layers are not in "all".
+TEST(RenderLayers, ZHistogramsBinColorOverPivot) {
+    // fireflies: some pixels there have pivot 0.
+    RenderOptions o;
+    o.width = 32, o.height = 32, o.spp = 1, o.seed = 3;
+    o.layers = render::ParseLayerGroups("hist,zhist");
+    render::RenderResult r = render::Render(render::BuildScene("fireflies"), o);
+    const Image &color = Layer(r, "color"), &pivot = Layer(r, "pivot"),
+                &hist = Layer(r, "hist"), &zhist = Layer(r, "zhist");
+    ASSERT_EQ(zhist.channels, hist.channels);
+    int zeroPivots = 0;
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
+            double c3[3], z3[3];
+            for (int c = 0; c < 3; ++c) {
+                c3[c] = color.At(c, y, x);
+                float a = pivot.At(c, y, x);
+                z3[c] = a > 0 ? c3[c] / a : c3[c];
+                zeroPivots += a == 0;
+            }
+            float expected[2][60] = {};
+            render::AddToHistogram(c3, 20, expected[0]);
+            render::AddToHistogram(z3, 20, expected[1]);
+            for (int b = 0; b < 60; ++b) {
+                // The colour is the float of the double sample: bins agree to its rounding.
+                ASSERT_NEAR(hist.At(b, y, x), expected[0][b], 1e-5) << x << "," << y;
+                ASSERT_NEAR(zhist.At(b, y, x), expected[1][b], 1e-5) << x << "," << y;
+            }
+            EXPECT_EQ(zhist.At(60, y, x), 1.f);
+        }
+    EXPECT_GT(zeroPivots, 0) << "fireflies should have pixels with pivot 0";
+    EXPECT_EQ(render::ParseLayerGroups("all") & render::kLayersZHist, 0u);
+}
+
 TEST(RenderLayers, AgreeWithEachOther) {
     render::RenderResult r = RenderCornell(24, 18, 8, 7, render::kLayersAll);
     const Image &color = Layer(r, "color"), &mn = Layer(r, "min"), &mx = Layer(r, "max");

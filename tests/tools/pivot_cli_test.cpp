@@ -137,6 +137,39 @@ TEST_F(PivotCli, DemodulatesForOtherMethods) {
     EXPECT_TRUE(Contains(r.err, "pivot or albedo")) << r.err;
 }
 
+// rhf filters z = color / pivot with the renderer's histograms of z (zhist); without
+// them, or demodulating by the albedo, it refuses and says what is missing. With the
+// threshold 0 and k_NN 1 it selects only each patch itself, so the frame comes back.
+TEST_F(PivotCli, RhfFiltersZWithItsHistograms) {
+    ASSERT_EQ(
+        Run("render --scene cornell --size 24x20 --spp 4 --layers zhist,gbuffer -o z.exr").code,
+        0);
+    RunResult r = Run("denoise z.exr --method rhf --demodulate pivot --explain -o d.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "demodulated: the method ran on color / pivot")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "rhf compared the frame's zhist")) << r.out;
+    for (float v : io::ReadImage(Path("d.exr").string()).data) ASSERT_TRUE(std::isfinite(v));
+    r =
+        Run("denoise z.exr --method rhf --demodulate pivot --kappa 0 --knn 1 --nscales 1 -o "
+            "i.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    Image input = io::ReadImage(Path("z.exr").string()),
+          same = io::ReadImage(Path("i.exr").string());
+    for (size_t i = 0; i < input.Size(); ++i)
+        ASSERT_NEAR(same.data[i], input.data[i], 1e-5 * (1 + std::fabs(input.data[i]))) << i;
+    r = Run("denoise z.exr --method rhf --demodulate albedo -o a.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "only the pivot has them")) << r.err;
+    ASSERT_EQ(
+        Run("render --scene cornell --size 24x20 --spp 4 --layers hist,pivot -o h.exr").code,
+        0);
+    r = Run("denoise h.exr --method rhf --demodulate pivot -o b.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "'zhist' layer")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "--layers zhist")) << r.err;
+    EXPECT_FALSE(fs::exists(Path("b.exr")));
+}
+
 TEST_F(PivotCli, RefusesBadOptionsAndMissingPivot) {
     ASSERT_EQ(Run("render --size 12x8 --spp 2 -o plain.exr").code, 0);
     RunResult r = Run("denoise plain.exr --method pivot -o f.exr");

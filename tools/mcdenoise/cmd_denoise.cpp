@@ -23,18 +23,26 @@ struct Demodulation {
     Image guide;
     std::vector<float> thresholds;
     std::string layer;
+    std::string histograms;  // what rhf compared instead of the frame's hist, if it ran
 };
 
 Demodulation Demodulate(io::Frame &frame, const std::string &layer, const std::string &method) {
     if (layer != "pivot" && layer != "albedo")
         throw Error("--demodulate takes pivot or albedo, not '" + layer + "'");
     if (method == "pivot") throw Error("--demodulate: the pivot method divides by itself");
-    if (method == "rhf")
-        throw Error(fmt::format(
-            "--demodulate: rhf needs histograms of the samples of color / {}, which the "
-            "renderer cannot write yet",
-            layer));
+    if (method == "rhf") {
+        // The histograms must be of the samples of color / guide: the renderer's zhist.
+        if (layer != "pivot" || !frame.Has("zhist"))
+            throw Error(fmt::format(
+                "--demodulate {}: rhf needs histograms of the samples of color / {}, a "
+                "'zhist' layer ({}; mcdenoise render --layers zhist writes it for the pivot)",
+                layer, layer,
+                layer == "pivot" ? fmt::format("{} has none", frame.path)
+                                 : "only the pivot has them"));
+        frame.layers["hist"] = frame.Get("zhist");
+    }
     Demodulation d;
+    if (method == "rhf") d.histograms = "zhist (histograms of the samples of color / pivot)";
     d.layer = layer;
     d.guide = frame.Get(layer);
     const Image &color = frame.Get("color");
@@ -71,6 +79,9 @@ void Remodulate(const Demodulation &d, const Image &input, DenoiseResult *result
                                     "<= 1e-3 x the channel mean keep their input), then "
                                     "multiplied back",
                                     d.layer, d.layer));
+    if (!d.histograms.empty())
+        result->plan.insert(result->plan.begin() + 1,
+                            "demodulated: rhf compared the frame's " + d.histograms);
 }
 
 // `--method auto` tries the methods in this order and takes the first the frame has the
@@ -161,7 +172,9 @@ void AddDenoiseCommand(CLI::App &app) {
                 auto candidate = byName(name);
                 if (candidate == methods->end()) continue;
                 std::string lacks = candidate->missing ? candidate->missing(frame) : "";
-                bool demodulable = candidate->name != "pivot" && candidate->name != "rhf";
+                bool demodulable = candidate->name != "pivot" &&
+                                   (candidate->name != "rhf" ||
+                                    (opt->demodulate == "pivot" && frame.Has("zhist")));
                 if (lacks.empty() && (opt->demodulate.empty() || demodulable)) {
                     method = candidate;
                     break;

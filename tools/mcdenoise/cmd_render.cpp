@@ -82,11 +82,12 @@ void AddRenderCommand(CLI::App &app) {
     cmd->add_option("--layers", opt->layers,
                     "extra layer groups, comma-separated: hist (RHF histograms), split "
                     "(direct, indirect), pivot, gbuffer (albedo, normal, depth, objectId, "
-                    "partId), or all; partials (Ershov section 8: partial<k>.color, .pivot and "
-                    ".variance per "
-                    "number k < 2 of mirror bounces before the first diffuse/glossy hit, and "
-                    "the remainder) is not in all; color, variance, spp, min and max are "
-                    "always written");
+                    "partId), or all; not in all: partials (Ershov section 8: "
+                    "partial<k>.color, .pivot and .variance per number k < 2 of mirror bounces "
+                    "before the first diffuse/glossy hit, and the remainder) and zhist "
+                    "(histograms of color / pivot, with the pivot, for denoise --method rhf "
+                    "--demodulate pivot); color, variance, spp, min and max are always "
+                    "written");
     cmd->add_option("--threads", opt->threads,
                     "threads (default: all cores; the frame is the same)");
     cmd->add_option("-o,--output", opt->output, "output EXR")->required();

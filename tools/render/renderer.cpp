@@ -29,11 +29,14 @@ unsigned ParseLayerGroups(const std::string &text) {
             groups |= kLayersGbuffer;
         else if (item == "partials")
             groups |= kLayersPartials;
+        else if (item == "zhist")
+            groups |= kLayersZHist | kLayersPivot;
         else if (item == "all")
             groups |= kLayersAll;
         else if (!item.empty())
             throw Error(fmt::format(
-                "unknown layer group '{}' (hist, split, pivot, gbuffer, partials, all)", item));
+                "unknown layer group '{}' (hist, split, pivot, gbuffer, partials, zhist, all)",
+                item));
     }
     return groups;
 }
@@ -81,8 +84,10 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     Image color(w, h, 3), variance(w, h, 3), spp(w, h, 1), mn(w, h, 3), mx(w, h, 3);
     Image hist, direct, indirect, pivot, albedo, normal, depth, objectId, partId;
     if (o.layers & kLayersHist) hist = Image(w, h, 3 * bins + 1);
+    Image zhist;
+    if (o.layers & kLayersZHist) zhist = Image(w, h, 3 * bins + 1);
     if (o.layers & kLayersSplit) direct = Image(w, h, 3), indirect = Image(w, h, 3);
-    if (o.layers & kLayersPivot) pivot = Image(w, h, 3);
+    if (o.layers & (kLayersPivot | kLayersZHist)) pivot = Image(w, h, 3);
     // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
     std::vector<Image> partialColors, partialPivots, partialVariances;
     if (o.layers & kLayersPartials)
@@ -101,16 +106,27 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     std::atomic<uint64_t> nonFinite{0};
     std::mutex progressMutex;
     auto renderRows = [&] {
-        std::vector<float> bucket(3 * bins);
+        std::vector<float> bucket(3 * bins), zbucket(3 * bins);
         for (int y = nextRow++; y < h; y = nextRow++) {
             for (int x = 0; x < w; ++x) {
                 double sum[3] = {}, sumSq[3] = {}, lo[3], hi[3], sumDirect[3] = {},
                        sumIndirect[3] = {}, sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0;
                 for (int c = 0; c < 3; ++c) lo[c] = INFINITY, hi[c] = -INFINITY;
                 std::fill(bucket.begin(), bucket.end(), 0.f);
+                std::fill(zbucket.begin(), zbucket.end(), 0.f);
                 Vec3 sumPartial[kPartialTypes + 1], sumSqPartial[kPartialTypes + 1];
                 int firstObject = 0, firstPart = 0;
                 uint64_t pixel = uint64_t(y) * w + x;
+                if (!pivot.Empty()) {
+                    // Deterministic: a fixed 4x4 grid of pinhole rays per pixel.
+                    Vec3 sumPivot(0);
+                    for (int j = 0; j < 16; ++j) {
+                        double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
+                        sumPivot +=
+                            PivotRadiance(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0));
+                    }
+                    for (int c = 0; c < 3; ++c) pivot.At(c, y, x) = float(sumPivot[c] / 16);
+                }
                 for (int s = 0; s < o.spp; ++s) {
                     // Box reconstruction filter: uniform positions inside the pixel.
                     Rng jitter(Mix(o.seed ^ Mix(~(pixel << 24 | uint64_t(s)))), pixel);
@@ -141,6 +157,15 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                     sumDepth += p.depth;
                     if (s == 0) firstObject = p.objectId, firstPart = p.partId;
                     if (!hist.Empty()) AddToHistogram(c3, bins, bucket.data());
+                    if (!zhist.Empty()) {
+                        // Divided by the layer's float pivot, as the denoiser will.
+                        double z3[3];
+                        for (int c = 0; c < 3; ++c) {
+                            float a = pivot.At(c, y, x);
+                            z3[c] = a > 0 ? c3[c] / a : c3[c];
+                        }
+                        AddToHistogram(z3, bins, zbucket.data());
+                    }
                 }
                 double n = o.spp;
                 for (int c = 0; c < 3; ++c) {
@@ -171,15 +196,9 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
                     for (int b = 0; b < 3 * bins; ++b) hist.At(b, y, x) = bucket[b];
                     hist.At(3 * bins, y, x) = float(n);
                 }
-                if (!pivot.Empty()) {
-                    // Deterministic: a fixed 4x4 grid of pinhole rays per pixel.
-                    Vec3 sumPivot(0);
-                    for (int j = 0; j < 16; ++j) {
-                        double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
-                        sumPivot +=
-                            PivotRadiance(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0));
-                    }
-                    for (int c = 0; c < 3; ++c) pivot.At(c, y, x) = float(sumPivot[c] / 16);
+                if (!zhist.Empty()) {
+                    for (int b = 0; b < 3 * bins; ++b) zhist.At(b, y, x) = zbucket[b];
+                    zhist.At(3 * bins, y, x) = float(n);
                 }
                 if (!partialColors.empty()) {
                     // The pivot's grid of rays, its terms split by mirror prefix.
@@ -242,6 +261,7 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     add("min", mn);
     add("max", mx);
     add("hist", hist);
+    add("zhist", zhist);
     add("direct", direct);
     add("indirect", indirect);
     add("pivot", pivot);

@@ -30,9 +30,14 @@ enum LayerGroup : unsigned {
     // kPartialTypes mirror bounces before the first diffuse/glossy hit, and "remainder",
     // the rest of color (see PathSample).
     kLayersPartials = 16,
+    // Histograms of z = sample / pivot (not in "all"; implies pivot): layer "zhist", laid
+    // out as "hist", so that rhf can filter the demodulated frame (Ershov 4.1 with
+    // `denoise --method rhf --demodulate pivot`). Where a channel's pivot is 0, z is the
+    // sample itself, as --demodulate leaves such pixels undivided.
+    kLayersZHist = 32,
 };
 
-// Parse "hist,split,pivot,gbuffer,partials", "all" or "" (none); throws mcd::Error.
+// Parse "hist,split,pivot,gbuffer,partials,zhist", "all" or "" (none); throws mcd::Error.
 unsigned ParseLayerGroups(const std::string &text);
 
 struct RenderOptions {
