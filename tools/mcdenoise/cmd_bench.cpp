@@ -339,13 +339,16 @@ void BenchBayes(const std::string &size, int levels, const std::string &basisNam
 }
 
 // Time `run` (one method call returning its dispatch timings) `repeats` times after one
-// untimed warm-up (pipelines, first touch); print each run, then the last run's GPU time
-// per kernel (summed over its dispatches) so the expensive stage is visible.
-void TimeMethodRuns(int repeats, const std::function<std::vector<vk::DispatchTiming>()> &run) {
+// untimed warm-up (pipelines, first touch; `warmUp` when given, else `run`); print each
+// run, then the last run's GPU time per kernel (summed over its dispatches) so the
+// expensive stage is visible.
+void TimeMethodRuns(int repeats, const std::function<std::vector<vk::DispatchTiming>()> &run,
+                    const std::function<void()> &warmUp = nullptr) {
     repeats = std::max(repeats, 1);
+    if (warmUp) warmUp();
     std::vector<double> gpu, wall;
     std::vector<std::pair<std::string, double>> perKernel;
-    for (int r = 0; r <= repeats; ++r) {
+    for (int r = warmUp ? 1 : 0; r <= repeats; ++r) {
         Clock::time_point start = Clock::now();
         std::vector<vk::DispatchTiming> timings = run();
         double wallMs = Ms(Clock::now() - start);
@@ -434,11 +437,32 @@ void BenchPivot(const std::string &size, const std::string &sceneName, int spp,
                sceneName, in.color->width, in.color->height, spp, filter, maxRadius,
                context.Info().name, vk::DeviceTypeName(context.Info().type));
     std::fflush(stdout);
+    // Above 256x256, warm up on a 16x16 crop: a full-size warm-up would double minutes of
+    // work. (lavapipe may then compile a kernel variant for the full size's buffers in the
+    // timed run: tens of ms, negligible there.)
+    PivotInputs small = in;
+    std::vector<Image> crops;
+    crops.reserve(6);
+    for (const Image **layer : {&small.color, &small.pivot, &small.variance, &small.normal,
+                                &small.objectId, &small.partId}) {
+        if (!*layer) continue;
+        Image &crop = crops.emplace_back(std::min(16, (*layer)->width),
+                                         std::min(16, (*layer)->height), (*layer)->channels);
+        for (int c = 0; c < crop.channels; ++c)
+            for (int y = 0; y < crop.height; ++y)
+                for (int x = 0; x < crop.width; ++x) crop.At(c, y, x) = (*layer)->At(c, y, x);
+        *layer = &crop;
+    }
     PivotResult last;
-    TimeMethodRuns(repeats, [&] {
-        last = PivotDenoise(context, in, pivot);
-        return last.timings;
-    });
+    TimeMethodRuns(
+        repeats,
+        [&] {
+            last = PivotDenoise(context, in, pivot);
+            return last.timings;
+        },
+        in.color->PixelCount() > 256 * 256
+            ? std::function<void()>([&] { PivotDenoise(context, small, pivot); })
+            : nullptr);
     if (pivot.filter == PivotFilter::PlaneFit)
         fmt::print("  grown radius: mean {:.2f}, largest {} (of at most {})\n", last.meanRadius,
                    last.largestRadius, maxRadius);
