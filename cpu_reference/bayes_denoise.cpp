@@ -72,8 +72,8 @@ std::vector<BayesBand> BayesSwtBands(int width, int height, int channels, int le
     std::vector<BayesBand> bands;
     for (int c = 0; c < channels; ++c)
         for (int level = 0; level < levels; ++level) {
-            bool tx = shader::SwtTransformsAxis(width, level);
-            bool ty = shader::SwtTransformsAxis(height, level);
+            bool tx = SwtAxisTransformed(width, level);
+            bool ty = SwtAxisTransformed(height, level);
             for (int o = 0; o < 3; ++o) {
                 bool used = o == 0 ? tx : (o == 1 ? ty : tx && ty);
                 int plane =

@@ -10,6 +10,12 @@
 
 namespace mcd::ref {
 
+bool SwtAxisTransformed(int n, int level) {
+    long spacing = 1;
+    for (int j = 0; j < level && spacing < n; ++j) spacing *= 2;
+    return spacing < n;
+}
+
 namespace {
 
 // Half-sample symmetric extension (period 2n), Haar's: -1 -> 0, n -> n-1.
@@ -104,8 +110,8 @@ std::vector<std::vector<double>> SwtAnalyzePlane(std::span<const double> plane, 
     std::vector<double> low, high;
     for (int level = 0; level < levels; ++level) {
         int step = 1 << level;
-        bool tx = shader::SwtTransformsAxis(width, level);
-        bool ty = shader::SwtTransformsAxis(height, level);
+        bool tx = SwtAxisTransformed(width, level);
+        bool ty = SwtAxisTransformed(height, level);
         // Rows into a row-low and a row-high plane.
         std::vector<double> rowLow(size), rowHigh(size);
         for (int y = 0; y < height; ++y) {
@@ -144,8 +150,8 @@ std::vector<double> SwtSynthesizePlane(const std::vector<std::vector<double>> &p
     std::vector<double> current = planes[shader::SwtLowPlane(levels)];
     for (int level = levels - 1; level >= 0; --level) {
         int step = 1 << level;
-        bool tx = shader::SwtTransformsAxis(width, level);
-        bool ty = shader::SwtTransformsAxis(height, level);
+        bool tx = SwtAxisTransformed(width, level);
+        bool ty = SwtAxisTransformed(height, level);
         const std::vector<double> &hl = planes[shader::SwtDetailPlane(level, 0)];
         const std::vector<double> &lh = planes[shader::SwtDetailPlane(level, 1)];
         const std::vector<double> &hh = planes[shader::SwtDetailPlane(level, 2)];

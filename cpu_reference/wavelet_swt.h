@@ -14,6 +14,10 @@
 
 namespace mcd::ref {
 
+// Whether an axis of length n is transformed at `level`: while the level's tap spacing
+// 2^level is still shorter than the axis (else its high band is empty, as the DWT's).
+bool SwtAxisTransformed(int n, int level);
+
 // One 1D analysis step of x with holes `step`: low and high bands of x's length. When
 // `transform` is false, low = x and high = 0. `bank` may be squared or absolute.
 void SwtAnalyze1D(std::span<const double> x, WaveletBasis basis, const FilterBank &bank,

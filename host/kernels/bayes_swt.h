@@ -8,7 +8,8 @@
 namespace mcd {
 
 // `coef` holds the SWT of a `channels`-channel image at `levels` levels in its first
-// channels (3 levels + 1) planes (it may have more, unused). moments[band] = E[y^2], E[y^4], max |y|, count (shaders/bayes/bayes.h).
+// channels (3 levels + 1) planes (it may have more, unused). moments[band] = E[y^2], E[y^4],
+// max |y|, count (shaders/bayes/bayes.h).
 void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
                            const vk::GpuImage &coef, int channels, int levels,
                            const vk::Buffer &moments);

@@ -448,7 +448,10 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                 // Every group's finest HH planes, pooled; then group 0's coefficients again.
                 std::vector<float> values;
                 for (int g = 0; g < groups; ++g) {
-                    if (g > 0) analyzeGroup(recorder, g), submit();
+                    if (g > 0) {
+                        analyzeGroup(recorder, g);
+                        submit();
+                    }
                     CollectFinestHH(swtCoef, groupChannels(g), levels, &values);
                 }
                 if (groups > 1) analyzeGroup(recorder, 0);

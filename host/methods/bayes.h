@@ -28,7 +28,7 @@ struct BayesOptions {
     WaveletBasis basis = WaveletBasis::Haar;
     BayesTransform transform = BayesTransform::Dwt;
     // swt: at most this many channels' coefficients at a time (0: as many as one binding
-    // holds, maxStorageBufferRange); a smaller group needs less memory, same result.
+    // holds, vk::Context::BindingBytes); a smaller group needs less memory, same result.
     int swtGroupChannels = 0;
     int levels = 3;          // clamped to what the image allows
     float sn = 0.19f;        // noise s (the paper's "cabin" example)

@@ -58,15 +58,17 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
             fmt::format("pivot: color has {} channels; 1 to 4 are supported", channels));
     if (w < 1 || h < 1) throw Error("pivot: the image is empty");
     // Each of the two fit buffers holds PIVOT_PLANES_PER_BUFFER planes per channel in one
-    // binding: refuse, before any work, a frame the device cannot hold.
+    // binding (written by the fit, read by the gather as a texel view): refuse, before any
+    // work, a frame the device cannot hold.
     double fitBytes = double(PIVOT_PLANES_PER_BUFFER) * channels * w * h * sizeof(float);
-    if (fitBytes > double(context.Limits().maxStorageBufferRange))
+    double binding = double(context.BindingBytes());
+    if (fitBytes > binding)
         throw Error(fmt::format(
             "pivot: a {}x{}x{} frame needs {:.0f} MB per fit buffer, above this device's "
-            "{:.0f} MB per binding (at most {} pixels of {} channels); crop or tile the frame",
-            w, h, channels, fitBytes / 1e6, context.Limits().maxStorageBufferRange / 1e6,
-            context.Limits().maxStorageBufferRange / (PIVOT_PLANES_PER_BUFFER * channels * 4),
-            channels));
+            "{:.0f} MB per binding (at most {:.0f} pixels of {} channels); crop or tile the "
+            "frame",
+            w, h, channels, fitBytes / 1e6, binding / 1e6,
+            std::floor(binding / (PIVOT_PLANES_PER_BUFFER * channels * 4)), channels));
     CheckLayer(color, "color", w, h, channels, false);
     CheckLayer(*in.pivot, "pivot", w, h, channels, false);
     if (in.variance) CheckLayer(*in.variance, "variance", w, h, channels, true);

@@ -134,8 +134,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     result.warnings = Sanitize(color, hist);
     const int W = color.width, H = color.height, planes = hist.channels, n3 = planes - 1;
     const size_t pixels = color.PixelCount();
-    const size_t maxFloats =
-        std::min<size_t>(context.Limits().maxStorageBufferRange / sizeof(float), 1u << 25);
+    const size_t maxFloats = std::min<size_t>(context.BindingBytes() / sizeof(float), 1u << 25);
 
     // The selection mask is one binding: refuse, before any work, a frame it cannot hold.
     size_t maskBytes = size_t(RhfMaskWords(o.searchHalf)) * pixels * sizeof(uint32_t);

@@ -18,8 +18,7 @@ size_t SwtCoefficientBytes(int width, int height, int channels, int levels) {
 namespace {
 
 size_t SwtBindingLimit(vk::Context &context) {
-    return std::min<size_t>(context.Limits().maxStorageBufferRange,
-                            size_t(context.Limits().maxTexelBufferElements) * 4);
+    return size_t(context.BindingBytes());
 }
 
 }  // namespace
@@ -77,7 +76,7 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
     Check(in, firstChannel + channels, "input", true);
     Check(coef, channels * count, "coefficients", true);
     if (levels == 0) {
-        recorder.Copy(in.buffer, coef.buffer, coef.buffer.Bytes(),
+        recorder.Copy(in.buffer, coef.buffer, VkDeviceSize(channels) * plane * sizeof(float),
                       VkDeviceSize(firstChannel) * plane * sizeof(float));
         return;
     }
@@ -87,8 +86,10 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
         // Level 0 reads the image, deeper levels the previous level's low plane.
         shader::WaveletSwtPush rows{width, height, 1 << level, flags,     firstChannel * plane,
                                     plane, 0,      0,          2 * plane, 0};
-        if (level > 0)
-            rows.srcBase = shader::SwtLowPlane(levels) * plane, rows.srcChannel = count * plane;
+        if (level > 0) {
+            rows.srcBase = shader::SwtLowPlane(levels) * plane;
+            rows.srcChannel = count * plane;
+        }
         if (basis == WaveletBasis::Haar) {
             // One pass, reading the level's input as the rows pass does and writing as the
             // columns pass. Never in place (invocations read their neighbours' inputs):
@@ -100,7 +101,8 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
                                   (VkDeviceSize(c) * count + shader::SwtLowPlane(levels)) *
                                       plane * sizeof(float),
                                   VkDeviceSize(c) * plane * sizeof(float));
-                fused.srcBase = 0, fused.srcChannel = plane;
+                fused.srcBase = 0;
+                fused.srcChannel = plane;
             }
             fused.dstBase = shader::SwtDetailPlane(level, 0) * plane;
             fused.dstChannel = count * plane;
@@ -136,8 +138,8 @@ void SwtTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis,
     Check(coef, channels * count, "coefficients", true);
     Check(out, firstChannel + channels, "output", true);
     if (levels == 0) {
-        recorder.Copy(coef.buffer, out.buffer, coef.buffer.Bytes(), 0,
-                      VkDeviceSize(firstChannel) * plane * sizeof(float));
+        recorder.Copy(coef.buffer, out.buffer, VkDeviceSize(channels) * plane * sizeof(float),
+                      0, VkDeviceSize(firstChannel) * plane * sizeof(float));
         return;
     }
     for (int level = levels - 1; level >= 0; --level) {
@@ -159,8 +161,10 @@ void SwtTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis,
         // Level 0 writes the image, deeper levels the next finer level's low plane.
         shader::WaveletSwtPush rows{width,     height, 1 << level,           flags, 0,
                                     2 * plane, 0,      firstChannel * plane, plane, 0};
-        if (level > 0)
-            rows.dstBase = shader::SwtLowPlane(levels) * plane, rows.dstChannel = count * plane;
+        if (level > 0) {
+            rows.dstBase = shader::SwtLowPlane(levels) * plane;
+            rows.dstChannel = count * plane;
+        }
         RecordWaveletSwtPass(context, recorder, SwtPass::SynthesizeRows, basis, false, rows,
                              channels, temporary, level == 0 ? out.buffer : coef.buffer,
                              fmt::format("swt.synthesize.L{}.rows", level));

@@ -21,8 +21,9 @@ class SwtTransform {
 
     // `in` is width x height with at least firstChannel + channels channels, of which
     // channels [firstChannel, firstChannel + channels) are transformed (a group of a larger
-    // image); `coef` from MakeCoefficients (or one with more planes: the first are used). `squared` squares every tap (per-coefficient
-    // variance from per-pixel variance of independent pixels).
+    // image); `coef` from MakeCoefficients (or one with more planes: the first are used).
+    // `squared` squares every tap (per-coefficient variance from per-pixel variance of
+    // independent pixels).
     void RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis, const vk::GpuImage &in,
                         const vk::GpuImage &coef, bool squared = false, int firstChannel = 0);
     // The inverse into channels [firstChannel, firstChannel + channels) of `out`; it

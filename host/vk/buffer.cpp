@@ -68,12 +68,11 @@ Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
     VkMemoryPropertyFlags preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
     if (unified)
         preferred |= VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    RawBuffer raw =
-        CreateRaw(context, allocBytes,
-                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                      VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-                      VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                  0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+    RawBuffer raw = CreateRaw(
+        context, allocBytes,
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+            VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+        0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
     buffer = raw.buffer;
     memory = raw.memory;
     context.NoteAllocation(this->name, allocBytes);
@@ -127,9 +126,10 @@ VkBufferView Buffer::FloatView() const {
     if (floatView || !buffer) return floatView;
     VkDeviceSize elements = std::max<VkDeviceSize>(bytes / sizeof(float), 1);
     if (elements > context->Limits().maxTexelBufferElements)
-        throw Error(fmt::format("buffer '{}' of {} floats exceeds the device's {} texel buffer "
-                                "elements; split the work",
-                                name, elements, context->Limits().maxTexelBufferElements));
+        throw Error(
+            fmt::format("buffer '{}' of {} floats exceeds the device's {} texel buffer "
+                        "elements; split the work",
+                        name, elements, context->Limits().maxTexelBufferElements));
     VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
     vi.buffer = buffer;
     vi.format = VK_FORMAT_R32_SFLOAT;

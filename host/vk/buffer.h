@@ -31,9 +31,9 @@ class Buffer {
     // Kernels read through it where loads dominate: lavapipe gathers texel fetches as
     // vectors but loads storage buffers one lane at a time. It is not free: lavapipe
     // compiles a kernel variant per class of bound buffer sizes, so it pays in kernels of
-    // few dispatches (rhf, pivot) and cost the wavelet kernels (many small dispatches in
-    // the adaptive sampler) 40x in recompiles, for no measured gain, so they keep storage
-    // buffers.
+    // few dispatches (rhf, pivot, the SWT) and cost the DWT kernels (many small dispatches
+    // in the adaptive sampler) 40x in recompiles, for no measured gain, so they keep
+    // storage buffers.
     VkBufferView FloatView() const;
 
     void Upload(const void *data, size_t byteCount, size_t byteOffset = 0);

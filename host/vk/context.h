@@ -58,6 +58,13 @@ class Context {
     uint32_t QueueFamily() const { return queueFamily; }
     const DeviceInfo &Info() const { return info; }
     const VkPhysicalDeviceLimits &Limits() const { return info.limits; }
+    // The largest buffer a kernel can bind both as a storage buffer and as a float texel
+    // view (Buffer::FloatView): what one binding of a stage written by one kernel and read
+    // by the next may hold.
+    VkDeviceSize BindingBytes() const {
+        return std::min<VkDeviceSize>(info.limits.maxStorageBufferRange,
+                                      VkDeviceSize(info.limits.maxTexelBufferElements) * 4);
+    }
     bool ValidationEnabled() const { return messenger != VK_NULL_HANDLE; }
 
     // Index of a memory type allowed by typeBits with all `required` flags, preferring

@@ -93,9 +93,10 @@ void Recorder::Dispatch(const Kernel &kernel, const std::string &label,
         if (!b.buffer || !b.buffer->Valid())
             throw Error(fmt::format("dispatch '{}': unbound buffer", label));
         if (kernel.IsTexel(i) && b.access != Access::Read)
-            throw Error(fmt::format("dispatch '{}': binding {} of kernel {} is a texel buffer, "
-                                    "which kernels only read",
-                                    label, i, kernel.Name()));
+            throw Error(
+                fmt::format("dispatch '{}': binding {} of kernel {} is a texel buffer, "
+                            "which kernels only read",
+                            label, i, kernel.Name()));
         // Texel views have their own limit, checked when the view is made.
         if (!kernel.IsTexel(i) && b.buffer->Bytes() > limits.maxStorageBufferRange)
             throw Error(fmt::format(

@@ -24,7 +24,7 @@ layout(push_constant) uniform RhfSelectPush {
     int rowBase;     // first centre row of the strip
     int rows;        // centre rows in the strip
     int knn;         // nearest patches always taken
-    int words;       // mask words per centre, ceil((2b+1)^2 / 32)
+    int unused;
     float threshold;
 #ifdef __cplusplus
 };

@@ -39,7 +39,8 @@ TEST_F(BayesSwtLarge, ChannelGroupsAboveOneBinding) {
     Image variance(w, h, 3);
     for (size_t i = 0; i < color.Size(); ++i)
         variance.data[i] = 0.05f * color.data[i] * color.data[i];
-    ASSERT_GT(SwtCoefficientBytes(w, h, 3, 3), size_t(Ctx().Limits().maxStorageBufferRange));
+    if (SwtChannelsPerBinding(Ctx(), w, h, 3) >= 3)
+        GTEST_SKIP() << "this device binds all three channels' coefficients: no groups";
     for (bool useVariance : {false, true}) {
         SCOPED_TRACE(useVariance ? "--noise variance" : "fixed noise");
         BayesOptions options;
