@@ -56,8 +56,8 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
          (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_NU) |
              (1u << PIVOT_GATHER_FIT_LO) | (1u << PIVOT_GATHER_FIT_HI) |
              (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES)});
-    shader::PivotGatherPush push{color.width, color.height, color.channels,
-                                 reach < 0 ? 0 : reach};
+    shader::PivotGatherPush push{color.width,           color.height, color.channels,
+                                 reach < 0 ? 0 : reach, tilesX,       tilesY};
     recorder.Dispatch(kernel, "pivot.gather",
                       {{&color.buffer, vk::Access::Read},
                        {&pivot.buffer, vk::Access::Read},

@@ -379,6 +379,42 @@ TEST_F(PivotMethod, MatchesReferenceAndRerunsBitIdentically) {
         }
 }
 
+// The gather skips tiles of centres whose squares cannot reach the pixel, by each tile's
+// largest radius per channel. Radii that differ between tiles and channels (channel 0's
+// top tile row noise-free, so its squares stop at 5x5; elsewhere up to 12, mean 4.1) must
+// be read for the right tile and channel: the result is the full gather's, pixel for
+// pixel. (Reading tile row 0 of channel 0 for every tile mismatched 3014 of 5760 values.)
+TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
+    const int w = 48, h = 40;
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName("tile radii"));
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < w; ++x) {
+            f.color.At(0, y, x) = f.pivot.At(0, y, x) * 0.7f;
+            f.variance.At(0, y, x) = 0;
+        }
+    Image objectId, partId;
+    PivotInputs in = InputsOf(f, false, &objectId, &partId);
+    PivotOptions o;
+    o.maxRadius = 12;
+    PivotResult result = PivotDenoise(Ctx(), in, o);
+    ASSERT_LT(result.meanRadius, 11.5)
+        << "the radii no longer differ: the test needs a quiet region";
+    ref::PivotParams p = RefParams(o);
+    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, nullptr);
+    ref::PivotGuides none{nullptr, nullptr};
+    Image expected =
+        ref::PivotGather(f.color, f.pivot, ratio, ref::PivotFit(ratio, none, p), none);
+    Image magnitude = expected;
+    for (size_t i = 0; i < magnitude.Size(); ++i)
+        magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(f.color.data[i]);
+    CompareStats stats;
+    (void)ImagesMatch(expected, result.image, magnitude, {64 * kUnitRoundoff, 0, 1}, &stats);
+    std::printf("[tiles] mismatches %zu of %zu, nmse %g, mean radius %.2f\n", stats.mismatches,
+                expected.Size(), stats.nmse, result.meanRadius);
+    EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
+    EXPECT_LT(stats.nmse, 1e-8);
+}
+
 class PivotProperties : public GpuTest {};
 
 // z exactly a plane: every fit is that plane whatever its weights, so the output is the
