@@ -88,11 +88,11 @@ void Remodulate(const Demodulation &d, const Image &input, DenoiseResult *result
 // layers for. The order is measured, not guessed: `bench quality` at 128x128 on the seven
 // built-in scenes (README, "Error against run time"), ranked by the geometric mean over
 // the scenes of the error at equal time (MC's error over the method's at the time MC
-// takes to 64 spp), measured on loaded lavapipe: awr 2.43x, bayes 1.27x, rhf 0.97x, pivot
-// 0.67x (pivot is the most accurate per sample on several scenes but the slowest here).
-// Timing noise moves rhf most: an earlier run, before bayes estimated its noise from the
-// variance layer, gave awr 2.26x, rhf 1.84x, bayes 1.72x.
-constexpr const char *kAutoOrder[] = {"awr", "bayes", "rhf", "pivot"};
+// takes to 64 spp), measured on quiet lavapipe after rhf became 2.3x faster and bayes took
+// the undecimated transform: awr 2.39x, rhf 1.96x, bayes 1.26x, pivot 0.78x (pivot is the
+// most accurate per sample on several scenes but the slowest here). Before, on loaded
+// lavapipe: awr 2.43x, bayes 1.27x, rhf 0.97x, pivot 0.67x; timing moves rhf most.
+constexpr const char *kAutoOrder[] = {"awr", "rhf", "bayes", "pivot"};
 
 std::string AutoOrderText() {
     std::string text;
