@@ -172,7 +172,13 @@ void main() {
     q2 = sq;
     q3 = sq;
     int radius = 2;
+    // The sum and count of z over the fitted pixels of the squares of radius r and r - 1:
+    // the chosen square's mean below, without another pass over it.
+    float sumZ = 0.0, sumZBefore = 0.0;
+    int fitted = 0, fittedBefore = 0;
     for (int r = 0;; ++r) {
+        sumZBefore = sumZ;
+        fittedBefore = fitted;
         for (int y = max(0, y0 - r); y <= min(h - 1, y0 + r); ++y) {
             bool edge = abs(y - y0) == r;
             int step = edge ? 1 : 2 * r;
@@ -181,6 +187,10 @@ void main() {
                 float z, s;
                 float wt = weightAt(x, y, zc, 0.0, z, s);
                 addToFits(x, y, wt, z, s);
+                if (wt > 0.0) {
+                    sumZ += z;
+                    ++fitted;
+                }
             }
         }
         if (r < 2) continue;
@@ -189,6 +199,10 @@ void main() {
             (disagrees(square, solve(q0)) || disagrees(square, solve(q1)) ||
              disagrees(square, solve(q2)) || disagrees(square, solve(q3)))) {
             radius = max(2, r - 1);
+            if (radius < r) {
+                sumZ = sumZBefore;
+                fitted = fittedBefore;
+            }
             break;
         }
         bool quiet = square.valid && sqrt(square.var0) <= push.targetNoise * abs(square.c);
@@ -202,17 +216,7 @@ void main() {
     // The chosen square, fitted with eq. 10 in full: <z> is the mean z of its fitted pixels.
     int y0r = max(0, y0 - radius), y1r = min(h - 1, y0 + radius);
     int x0r = max(0, x0 - radius), x1r = min(w - 1, x0 + radius);
-    float mean = 0.0;
-    int count = 0;
-    for (int y = y0r; y <= y1r; ++y)
-        for (int x = x0r; x <= x1r; ++x) {
-            float z, s;
-            if (weightAt(x, y, zc, 0.0, z, s) > 0.0) {
-                mean += z;
-                ++count;
-            }
-        }
-    mean /= float(max(count, 1));
+    float mean = sumZ / float(max(fitted, 1));
     sq = zeroMoments();
     q0 = sq;
     q1 = sq;
