@@ -27,7 +27,7 @@ void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGui
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
                     const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
                     const PivotFitSettings &settings, const vk::GpuImage &fitLo,
-                    const vk::GpuImage &fitHi) {
+                    const vk::GpuImage &fitHi, int rowBase, int rows) {
     CheckPivotShapes("pivot fit", z, {&s, &nu});
     CheckPivotGuides("pivot fit", z.width, z.height, guides);
     for (const vk::GpuImage *fit : {&fitLo, &fitHi})
@@ -36,6 +36,9 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
             throw Error(fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x{}",
                                     fit->buffer.Name(), fit->width, fit->height, fit->channels,
                                     z.width, z.height, PIVOT_PLANES_PER_BUFFER * z.channels));
+    if (rowBase < 0 || rows < 1 || rowBase + rows > z.height)
+        throw Error(fmt::format("pivot fit: rows {}..{} of a {}-row image", rowBase,
+                                rowBase + rows - 1, z.height));
     if (settings.maxRadius < 2 || settings.maxRadius > 64)
         throw Error(fmt::format("pivot fit: the maximum radius is {}; 2..64 allowed",
                                 settings.maxRadius));
@@ -56,7 +59,8 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                               settings.goodNoise * settings.goodNoise,
                               settings.disagreement,
                               settings.k,
-                              settings.sigmaWeight};
+                              settings.sigmaWeight,
+                              rowBase};
     // Absent guides are compiled out; z stands in for their binding.
     recorder.Dispatch(kernel, "pivot.fit",
                       {{&z.buffer, vk::Access::Read},
@@ -66,7 +70,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                        {&fitLo.buffer, vk::Access::Write},
                        {&fitHi.buffer, vk::Access::Write}},
                       &push, uint32_t((z.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
-                      uint32_t(z.height), uint32_t(z.channels));
+                      uint32_t(rows), uint32_t(z.channels));
 }
 
 }  // namespace mcd

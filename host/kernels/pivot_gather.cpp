@@ -32,7 +32,10 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                        const vk::GpuImage &pivot, const vk::GpuImage &nu,
                        const vk::GpuImage &fitLo, const vk::GpuImage &fitHi,
                        const PivotGpuGuides &guides, const vk::GpuImage &tiles, int reach,
-                       const vk::GpuImage &out) {
+                       const vk::GpuImage &out, int rowBase, int rows) {
+    if (rowBase < 0 || rows < 1 || rowBase + rows > color.height)
+        throw Error(fmt::format("pivot gather: rows {}..{} of a {}-row image", rowBase,
+                                rowBase + rows - 1, color.height));
     const int t = PIVOT_GATHER_TILE;
     int tilesX = (color.width + t - 1) / t, tilesY = (color.height + t - 1) / t;
     if (tiles.width != tilesX || tiles.height != tilesY || tiles.channels != color.channels)
@@ -56,8 +59,9 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
          (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_NU) |
              (1u << PIVOT_GATHER_FIT_LO) | (1u << PIVOT_GATHER_FIT_HI) |
              (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES)});
-    shader::PivotGatherPush push{color.width,           color.height, color.channels,
-                                 reach < 0 ? 0 : reach, tilesX,       tilesY};
+    shader::PivotGatherPush push{
+        color.width, color.height, color.channels, reach < 0 ? 0 : reach,
+        tilesX,      tilesY,       rowBase};
     recorder.Dispatch(kernel, "pivot.gather",
                       {{&color.buffer, vk::Access::Read},
                        {&pivot.buffer, vk::Access::Read},
@@ -68,7 +72,7 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                        {&out.buffer, vk::Access::Write},
                        {&tiles.buffer, vk::Access::Read}},
                       &push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
-                      uint32_t(color.height), uint32_t(color.channels));
+                      uint32_t(rows), uint32_t(color.channels));
 }
 
 }  // namespace mcd

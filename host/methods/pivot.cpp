@@ -176,9 +176,23 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     vk::GpuImage fitHi(context, w, h, PIVOT_PLANES_PER_BUFFER * channels, "pivot.fitHi");
     PivotFitSettings settings{options.maxRadius,    options.targetNoise, options.goodNoise,
                               options.disagreement, options.k,           options.sigmaWeight};
-    RecordPivotFit(context, recorder, z, s, nu, guides, settings, fitLo, fitHi);
-    recorder.Submit();
-    result.timings = recorder.Timings();
+    // Row strips, one submission each: progress on long frames, and no dispatch long enough
+    // to trip a GPU watchdog. The ratio stage recorded above runs with the first strip.
+    const int stripRows =
+        options.stripPixels > 0 ? std::clamp(options.stripPixels / w, 1, h) : h;
+    auto inStrips = [&](const char *stage, const std::function<void(int, int)> &record) {
+        for (int rowBase = 0; rowBase < h; rowBase += stripRows) {
+            int rows = std::min(stripRows, h - rowBase);
+            record(rowBase, rows);
+            recorder.Submit();
+            Append(result.timings, recorder.Timings());
+            if (options.progress) options.progress(stage, rowBase + rows, h);
+        }
+    };
+    inStrips("fit", [&](int rowBase, int rows) {
+        RecordPivotFit(context, recorder, z, s, nu, guides, settings, fitLo, fitHi, rowBase,
+                       rows);
+    });
     // The radii decide how far the gather looks, tile by tile.
     Image radii(w, h, channels);
     fitHi.buffer.Download(
@@ -203,14 +217,25 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     result.plan.push_back(
         "eqs. 11-13: combined square/quadrant fits averaged over every square holding the "
         "pixel (a gather), times the pivot");
-    RecordPivotGather(context, recorder, colorGpu, pivotGpu, nu, fitLo, fitHi, guides, tiles,
-                      result.largestRadius, out);
-    recorder.Submit();
-    Append(result.timings, recorder.Timings());
+    inStrips("gather", [&](int rowBase, int rows) {
+        RecordPivotGather(context, recorder, colorGpu, pivotGpu, nu, fitLo, fitHi, guides,
+                          tiles, result.largestRadius, out, rowBase, rows);
+    });
+    // Per kernel, summed over the strips.
+    std::vector<std::pair<std::string, double>> perKernel;
+    for (const vk::DispatchTiming &t : result.timings) {
+        auto it = std::find_if(perKernel.begin(), perKernel.end(),
+                               [&](const auto &p) { return p.first == t.label; });
+        if (it == perKernel.end())
+            perKernel.push_back({t.label, t.gpuMs});
+        else
+            it->second += t.gpuMs;
+    }
     std::string times;
-    for (const vk::DispatchTiming &t : result.timings)
-        times += fmt::format("{}{} {:.1f} ms", times.empty() ? "" : ", ", t.label, t.gpuMs);
-    result.plan.push_back("GPU time: " + times);
+    for (const auto &[label, ms] : perKernel)
+        times += fmt::format("{}{} {:.1f} ms", times.empty() ? "" : ", ", label, ms);
+    result.plan.push_back(fmt::format("GPU time: {} ({} row strip(s) of up to {} rows)", times,
+                                      (h + stripRows - 1) / stripRows, stripRows));
     result.image = out.Download();
     if (options.keepStages) {
         Image fits(w, h, PIVOT_PLANES * channels);

@@ -8,6 +8,7 @@
 // paper are listed in cpu_reference/pivot_filter.h, the CPU twin.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,11 @@ struct PivotOptions {
     float sigmaRange = 0.2f;
     // Keep every stage's output in PivotResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
+    // Planefit runs its fit and gather in row strips of about stripPixels centres, one
+    // submission each, and calls progress(stage, rowsDone, rows) after each ("fit",
+    // "gather"; with partials, per partial). 0: one strip.
+    int stripPixels = 1 << 16;
+    std::function<void(const std::string &stage, int done, int total)> progress;
 };
 
 // One partial image of section 8 and its own pivot (the same camera ray path before the

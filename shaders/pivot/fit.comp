@@ -136,7 +136,7 @@ void storeNone(int c, int at) {
 
 void main() {
     x0 = int(gl_GlobalInvocationID.x);
-    y0 = int(gl_WorkGroupID.y);
+    y0 = push.rowBase + int(gl_WorkGroupID.y);
     int c = int(gl_WorkGroupID.z);
     w = push.width;
     h = push.height;

@@ -32,10 +32,11 @@ layout(push_constant) uniform PivotFitPush {
     float disagreement;  // relative square-vs-quadrant limit at the centre
     float k;             // eq. 10's robustness constant
     float sigmaWeight;   // multiplies sigma (nu) in eq. 10's exponent (1: the paper)
+    int rowBase;         // first centre row of this dispatch (row strips)
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotFitPush) == 36);
-static_assert(offsetof(PivotFitPush, sigmaWeight) == 32);
+static_assert(sizeof(PivotFitPush) == 40);
+static_assert(offsetof(PivotFitPush, rowBase) == 36);
 }  // namespace mcd::shader
 #else
 }

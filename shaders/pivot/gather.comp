@@ -38,7 +38,8 @@ float combine(float z, float zm) {
 }
 
 void main() {
-    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y), c = int(gl_WorkGroupID.z);
+    int x = int(gl_GlobalInvocationID.x), y = push.rowBase + int(gl_WorkGroupID.y),
+        c = int(gl_WorkGroupID.z);
     int w = push.width, h = push.height;
     if (x >= w) return;
     planeSize = w * h;

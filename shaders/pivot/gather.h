@@ -34,9 +34,10 @@ layout(push_constant) uniform PivotGatherPush {
     int reach;   // the largest radius of any fit: no centre further away holds the pixel
     int tilesX;  // ceil(width / PIVOT_GATHER_TILE)
     int tilesY;
+    int rowBase;  // first row of this dispatch (row strips)
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotGatherPush) == 24);
+static_assert(sizeof(PivotGatherPush) == 28);
 }  // namespace mcd::shader
 #else
 }

@@ -182,10 +182,14 @@ TEST_F(PivotKernel, FitMatchesReference) {
             guide.Upload(GuideOf(f));
             PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
             vk::Recorder recorder(Ctx());
-            RecordPivotFit(
-                Ctx(), recorder, z, s, nu, gpuGuides,
-                {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k, o.sigmaWeight},
-                lo, hi);
+            // In two row strips where there are two rows (as large frames run).
+            for (auto [rowBase, rows] :
+                 h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
+                       : std::vector<std::pair<int, int>>{{0, h}})
+                RecordPivotFit(Ctx(), recorder, z, s, nu, gpuGuides,
+                               {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k,
+                                o.sigmaWeight},
+                               lo, hi, rowBase, rows);
             recorder.Submit();
             Image actualLo = lo.Download(), actualHi = hi.Download();
             double zScale = 0;
@@ -264,8 +268,11 @@ TEST_F(PivotKernel, GatherMatchesReference) {
             tiles.Upload(tileRadii);
             PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
             vk::Recorder recorder(Ctx());
-            RecordPivotGather(Ctx(), recorder, color, pivot, nu, lo, hi, gpuGuides, tiles,
-                              reach, out);
+            for (auto [rowBase, rows] :
+                 h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
+                       : std::vector<std::pair<int, int>>{{0, h}})
+                RecordPivotGather(Ctx(), recorder, color, pivot, nu, lo, hi, gpuGuides, tiles,
+                                  reach, out, rowBase, rows);
             recorder.Submit();
             double zScale = 0;
             for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
@@ -377,6 +384,36 @@ TEST_F(PivotMethod, MatchesReferenceAndRerunsBitIdentically) {
             EXPECT_EQ(stats.parityMismatches, 0u);
             EXPECT_LT(stats.nmse, 1e-4);
         }
+}
+
+// Row strips (one submission each, with progress after each) give the same bits as one
+// strip, and progress reaches every row of both stages in order.
+TEST_F(PivotMethod, RowStripsAreBitIdenticalAndReportProgress) {
+    const int w = 30, h = 23;
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName("strips"));
+    Image objectId, partId;
+    PivotInputs in = InputsOf(f, true, &objectId, &partId);
+    PivotOptions o;
+    o.maxRadius = 8;
+    o.stripPixels = 0;
+    Image whole = PivotDenoise(Ctx(), in, o).image;
+    std::vector<std::tuple<std::string, int, int>> calls;
+    o.stripPixels = 5 * w;  // strips of 5 rows: 5 of them
+    o.progress = [&](const std::string &stage, int done, int total) {
+        calls.push_back({stage, done, total});
+    };
+    PivotResult stripped = PivotDenoise(Ctx(), in, o);
+    EXPECT_TRUE(BitIdentical(whole, stripped.image));
+    ASSERT_EQ(calls.size(), 10u);
+    for (size_t i = 0; i < calls.size(); ++i) {
+        auto [stage, done, total] = calls[i];
+        EXPECT_EQ(stage, i < 5 ? "fit" : "gather") << i;
+        EXPECT_EQ(done, std::min(h, 5 * int(i % 5 + 1))) << i;
+        EXPECT_EQ(total, h);
+    }
+    std::string plan;
+    for (const std::string &line : stripped.plan) plan += line + "\n";
+    EXPECT_NE(plan.find("5 row strip(s) of up to 5 rows"), std::string::npos) << plan;
 }
 
 // The gather skips tiles of centres whose squares cannot reach the pixel, by each tile's

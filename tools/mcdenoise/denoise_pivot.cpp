@@ -1,7 +1,9 @@
 // `mcdenoise denoise --method pivot`: Ershov et al.'s pivot-image filter
 // (host/methods/pivot.h), planefit or the bilateral baseline.
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <cstdio>
 #include <memory>
 
 #include "cpu_reference/pivot_filter.h"
@@ -144,7 +146,15 @@ DenoiseMethod PivotMethod() {
     method.run = [opt](vk::Context &context, const io::Frame &frame) {
         PivotOptions options;
         PivotInputs in = PivotInputsOf(*opt, frame, &options);
+        // Planefit takes seconds to minutes on a CPU device: show how far it is on a
+        // terminal (the line is overwritten, then ended).
+        bool terminal = isatty(fileno(stderr)) && options.filter == PivotFilter::PlaneFit;
+        if (terminal)
+            options.progress = [](const std::string &stage, int done, int total) {
+                std::fprintf(stderr, "\rpivot: %-6s %3d%%", stage.c_str(), 100 * done / total);
+            };
         PivotResult pivot = PivotDenoise(context, in, options);
+        if (terminal) std::fprintf(stderr, "\n");
         DenoiseResult result;
         result.image = std::move(pivot.image);
         result.plan = std::move(pivot.plan);
