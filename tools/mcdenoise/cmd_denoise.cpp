@@ -149,7 +149,8 @@ void AddDenoiseCommand(CLI::App &app) {
     cmd->add_option("--demodulate", opt->demodulate,
                     "divide the frame by its pivot or albedo layer before the method and "
                     "multiply back after (Ershov et al. 4.1: filter z = color / pivot with "
-                    "any method)");
+                    "any method but pivot; rhf then needs the frame's zhist layer, from "
+                    "render --layers zhist, and the pivot)");
     opt->device.Add(cmd);
     for (const DenoiseMethod &m : *methods) m.addOptions(cmd);
 
