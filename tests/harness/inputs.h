@@ -23,4 +23,8 @@ Image MakeInput(InputKind kind, int width, int height, int channels, uint64_t se
 // Non-negative inputs (variances): the same kinds, made positive.
 Image MakeVarianceInput(InputKind kind, int width, int height, int channels, uint64_t seed);
 
+// An RGB picture (a step and smooth stripes) times multiplicative log-normal noise of
+// log-std `noise`: the case method bayes's model is for.
+Image NoisyPicture(int w, int h, uint64_t seed, double noise);
+
 }  // namespace mcd::test

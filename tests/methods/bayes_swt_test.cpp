@@ -312,20 +312,6 @@ TEST_F(BayesSwtKernel, RefusesCoefficientsAboveOneBinding) {
 
 class BayesSwtMethod : public GpuTest {};
 
-// A smooth picture times multiplicative log-normal noise (as bayes_test.cpp's).
-Image NoisyPicture(int w, int h, uint64_t seed, double noise) {
-    Image image(w, h, 3);
-    std::mt19937_64 rng(seed);
-    std::normal_distribution<double> normal(0, 1);
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                double clean = 0.4 + 0.5 * (x > w / 2) + 0.3 * std::sin(0.3 * y + c);
-                image.At(c, y, x) = float(clean * std::exp(noise * normal(rng)));
-            }
-    return image;
-}
-
 Image Log(Image image) {
     for (float &v : image.data) v = std::log(v);
     return image;

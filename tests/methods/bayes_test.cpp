@@ -499,20 +499,6 @@ bool AllFinite(const Image &image) {
     return true;
 }
 
-// A smooth picture times multiplicative log-normal noise: the case the model is for.
-Image NoisyPicture(int w, int h, uint64_t seed, double noise) {
-    Image image(w, h, 3);
-    std::mt19937_64 rng(seed);
-    std::normal_distribution<double> normal(0, 1);
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                double clean = 0.4 + 0.5 * (x > w / 2) + 0.3 * std::sin(0.3 * y + c);
-                image.At(c, y, x) = float(clean * std::exp(noise * normal(rng)));
-            }
-    return image;
-}
-
 // GPU against the reference end to end. The GPU's per-coefficient error is the table's
 // (bounded above) plus float analysis error; the fits may move within their bound. In the
 // log domain the output's error is then a few times the shrink error, summed over levels:

@@ -17,19 +17,6 @@ namespace {
 
 class BayesSwtLarge : public GpuTest {};
 
-Image NoisyPicture(int w, int h, uint64_t seed, double noise) {
-    Image image(w, h, 3);
-    std::mt19937_64 rng(seed);
-    std::normal_distribution<double> normal(0, 1);
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                double clean = 0.4 + 0.5 * (x > w / 2) + 0.3 * std::sin(0.3 * y + c);
-                image.At(c, y, x) = float(clean * std::exp(noise * normal(rng)));
-            }
-    return image;
-}
-
 // Above one binding the channels run in groups: 1200 x 1024 x 3 at 3 levels is 30 planes,
 // 141 MiB, so groups of 2 and 1 channels. Bands, fits and (fixed or variance) noise are per
 // channel, so each channel must come out bit-identical to that channel denoised alone.
