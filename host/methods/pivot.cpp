@@ -53,9 +53,9 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
     const Image &color = *in.color;
     int w = color.width, h = color.height, channels = color.channels;
-    if (channels < 1 || channels > 4)
-        throw Error(
-            fmt::format("pivot: color has {} channels; 1 to 4 are supported", channels));
+    if (channels < 1 || channels > PIVOT_MAX_CHANNELS)
+        throw Error(fmt::format("pivot: color has {} channels; 1 to {} are supported", channels,
+                                PIVOT_MAX_CHANNELS));
     if (w < 1 || h < 1) throw Error("pivot: the image is empty");
     // Each of the two fit buffers holds PIVOT_PLANES_PER_BUFFER planes per channel in one
     // binding (written by the fit, read by the gather as a texel view): refuse, before any
@@ -257,9 +257,9 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
     if (in.partials.empty()) return PivotDenoiseOne(context, in, options);
     if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
     int w = in.color->width, h = in.color->height, channels = in.color->channels;
-    if (channels < 1 || channels > 4 || w < 1 || h < 1)
-        throw Error(fmt::format("pivot: color is {}x{}x{}; 1 to 4 channels are supported", w, h,
-                                channels));
+    if (channels < 1 || channels > PIVOT_MAX_CHANNELS || w < 1 || h < 1)
+        throw Error(fmt::format("pivot: color is {}x{}x{}; 1 to {} channels are supported", w,
+                                h, channels, PIVOT_MAX_CHANNELS));
     CheckLayer(*in.pivot, "pivot", w, h, channels, false);
     if (!in.remainder) throw Error("pivot: partial images need the remainder layer");
     CheckLayer(*in.remainder, "remainder", w, h, channels, false);

@@ -18,6 +18,7 @@
 #define PIVOT_SPEC_VARIANCE 2
 
 #define PIVOT_LOCAL_SIZE 64
+#define PIVOT_MAX_CHANNELS 4  // colour channels a frame may have
 
 // The guide buffer's planes: normal x, y, z, object id, part id (what is absent is zero and
 // compiled out).
