@@ -94,4 +94,12 @@ Image NoisyPicture(int w, int h, uint64_t seed, double noise) {
     return image;
 }
 
+Image LogNormalNoise(int w, int h, uint64_t seed, double sigma) {
+    Image noise(w, h, 3);
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<float> normal(0.f, float(sigma));
+    for (float &v : noise.data) v = std::exp(normal(rng));
+    return noise;
+}
+
 }  // namespace mcd::test

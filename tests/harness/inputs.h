@@ -27,4 +27,7 @@ Image MakeVarianceInput(InputKind kind, int width, int height, int channels, uin
 // log-std `noise`: the case method bayes's model is for.
 Image NoisyPicture(int w, int h, uint64_t seed, double noise);
 
+// Pure multiplicative noise: RGB exp(N(0, sigma^2)) per value, nothing else.
+Image LogNormalNoise(int w, int h, uint64_t seed, double sigma);
+
 }  // namespace mcd::test

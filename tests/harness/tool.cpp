@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -47,6 +48,26 @@ ToolResult ToolDir::Run(const std::string &args, const std::string &env) const {
     std::ifstream in(errFile, std::ios::binary);
     result.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     return result;
+}
+
+std::vector<DiffRow> ParseDiffTable(const std::string &out) {
+    std::vector<DiffRow> rows;
+    std::istringstream lines(out);
+    std::string line;
+    std::getline(lines, line);  // title
+    std::getline(lines, line);  // header
+    while (std::getline(lines, line)) {
+        // The last three fields are numbers (NMSE, max rel, parity); the rest is the name.
+        std::istringstream fields(line);
+        std::vector<std::string> words{std::istream_iterator<std::string>(fields), {}};
+        if (words.size() < 4) continue;
+        DiffRow row;
+        for (size_t i = 0; i + 3 < words.size(); ++i) row.stage += (i ? " " : "") + words[i];
+        row.nmse = std::stod(words[words.size() - 3]);
+        row.maxRel = std::stod(words[words.size() - 2]);
+        rows.push_back(row);
+    }
+    return rows;
 }
 
 }  // namespace mcd::test

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace mcd::test {
 
@@ -30,5 +31,13 @@ class ToolDir {
   private:
     std::filesystem::path dir, errFile;
 };
+
+// One row of `mcdenoise diff`'s table: the stage (its name may hold spaces), its NMSE and
+// its largest relative error; ParseDiffTable gives them in the table's order.
+struct DiffRow {
+    std::string stage;
+    double nmse = 0, maxRel = 0;
+};
+std::vector<DiffRow> ParseDiffTable(const std::string &out);
 
 }  // namespace mcd::test

@@ -348,7 +348,9 @@ TEST_F(BayesSwtMethod, MomentsMatchReference) {
                 EXPECT_EQ(got[b * 4 + 3], float(m.count)) << "band " << b;
             }
             // 1x9 and 2x3 at their deepest level leave an axis untransformed.
-            if (w <= 2 && levels > 1) EXPECT_GT(empty, 0);
+            if (w <= 2 && levels > 1) {
+                EXPECT_GT(empty, 0);
+            }
         }
 }
 
@@ -426,10 +428,7 @@ TEST_F(BayesSwtMethod, VarianceNoiseMatchesReference) {
 // sqrt 2 as the DWT's estimate does (BayesProperties.NoiseAutoEstimatesTheNoise, 5%).
 TEST_F(BayesSwtMethod, NoiseAutoEstimatesTheNoise) {
     const double sigma = 0.3;
-    Image noise(96, 96, 3);
-    std::mt19937_64 rng(SeedFromName("swt noise auto"));
-    std::normal_distribution<float> normal(0.f, float(sigma));
-    for (float &v : noise.data) v = std::exp(normal(rng));
+    Image noise = LogNormalNoise(96, 96, SeedFromName("swt noise auto"), sigma);
     BayesOptions options;
     options.noiseAuto = true;
     options.pn = 2;

@@ -751,10 +751,7 @@ TEST_F(BayesProperties, BadOptionsAreRefused) {
 // p = 2 generalised Laplacian is sigma sqrt(2).
 TEST_F(BayesProperties, NoiseAutoEstimatesTheNoise) {
     const double sigma = 0.3;
-    Image noise(96, 96, 3);
-    std::mt19937_64 rng(SeedFromName("noise auto"));
-    std::normal_distribution<float> normal(0.f, float(sigma));
-    for (float &v : noise.data) v = std::exp(normal(rng));
+    Image noise = LogNormalNoise(96, 96, SeedFromName("noise auto"), sigma);
     BayesOptions options;
     options.noiseAuto = true;
     options.pn = 2;

@@ -26,25 +26,6 @@ class BayesSwtCli : public GpuTest {
     ToolDir tool{"mcd_bayes_swt_cli"};
 };
 
-// Stage name -> NMSE, in the order `diff` prints them (the name may hold spaces; the last
-// three fields are numbers).
-std::vector<std::pair<std::string, double>> DiffStages(const std::string &out) {
-    std::vector<std::pair<std::string, double>> stages;
-    std::istringstream lines(out);
-    std::string line;
-    std::getline(lines, line);  // title
-    std::getline(lines, line);  // header
-    while (std::getline(lines, line)) {
-        std::istringstream fields(line);
-        std::vector<std::string> words{std::istream_iterator<std::string>(fields), {}};
-        if (words.size() < 4) continue;
-        std::string name;
-        for (size_t i = 0; i + 3 < words.size(); ++i) name += (i ? " " : "") + words[i];
-        stages.push_back({name, std::stod(words[words.size() - 3])});
-    }
-    return stages;
-}
-
 TEST_F(BayesSwtCli, DenoiseDiffAndErrors) {
     const int w = 23, h = 14;
     Image color = MakeInput(InputKind::LogNormalFireflies, w, h, 3, SeedFromName("swt cli"));
@@ -72,16 +53,17 @@ TEST_F(BayesSwtCli, DenoiseDiffAndErrors) {
     // BayesSwtMethod.WholeMethodMatchesReference (2e-3 in log), squared.
     r = Run("diff c.exr --method bayes --bayes-transform swt --noise mad");
     ASSERT_EQ(r.code, 0) << r.All();
-    auto stages = DiffStages(r.out);
+    std::vector<DiffRow> stages = ParseDiffTable(r.out);
     std::vector<std::string> names;
-    for (auto &[name, nmse] : stages) names.push_back(name);
+    for (const DiffRow &row : stages) names.push_back(row.stage);
     ASSERT_EQ(names, (std::vector<std::string>{"log", "analysis", "moments", "fits",
                                                "shrinkage", "synthesis", "exp"}))
         << r.out;
     std::map<std::string, double> bound = {
         {"log", 4e-11},      {"analysis", 4e-11}, {"moments", 4e-11}, {"fits", 1e-9},
         {"shrinkage", 4e-6}, {"synthesis", 4e-6}, {"exp", 4e-6}};
-    for (auto &[name, nmse] : stages) EXPECT_LT(nmse, bound[name]) << name << "\n" << r.out;
+    for (const DiffRow &row : stages)
+        EXPECT_LT(row.nmse, bound[row.stage]) << row.stage << "\n" << r.out;
 
     r = Run("denoise c.exr -o o.exr --method bayes --bayes-transform fft");
     EXPECT_EQ(r.code, 1);

@@ -327,19 +327,9 @@ struct DiffRows {
 };
 DiffRows ParseDiff(const std::string &out) {
     DiffRows d;
-    std::istringstream lines(out);
-    std::string line;
-    std::getline(lines, line);  // title
-    std::getline(lines, line);  // header
-    while (std::getline(lines, line)) {
-        // The name may hold spaces; the last three fields are numbers.
-        std::istringstream fields(line);
-        std::vector<std::string> words{std::istream_iterator<std::string>(fields), {}};
-        if (words.size() < 4) continue;
-        std::string name;
-        for (size_t i = 0; i + 3 < words.size(); ++i) name += (i ? " " : "") + words[i];
-        d.order.push_back(name);
-        d.rows[name] = {std::stod(words[words.size() - 3]), std::stod(words[words.size() - 2])};
+    for (const DiffRow &row : ParseDiffTable(out)) {
+        d.order.push_back(row.stage);
+        d.rows[row.stage] = {row.nmse, row.maxRel};
     }
     return d;
 }
