@@ -27,6 +27,7 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
     options.averageSpp = base.spp;
     options.seed = base.seed;
     options.lowSum = opt.samplerRenorm;
+    options.contrastFloor = opt.contrastFloor;
     options.threads = base.threads;
     if (isatty(fileno(stderr)))
         options.progress = [](uint64_t done, uint64_t total) {
@@ -65,6 +66,7 @@ void AddRenderCommand(CLI::App &app) {
         bool reference = false;
         std::string adaptive, denoised, density;
         float samplerRenorm = render::AdaptiveOptions().lowSum;
+        float contrastFloor = render::AdaptiveOptions().contrastFloor;
         DeviceOptions device;
     };
     auto opt = std::make_shared<Options>();
@@ -110,6 +112,13 @@ void AddRenderCommand(CLI::App &app) {
                     "priorities' variance DWT (eq. 9); above 1 favours coarse levels")
         ->capture_default_str()
         ->check(CLI::Range(0.5f, 4.f));
+    cmd->add_option("--contrast-floor", opt->contrastFloor,
+                    "with --adaptive awr: luminance f under the mean in the sampler's "
+                    "Mitchell contrast, (Imax - Imin)^2 / ((Imax + Imin)^2 + 4 f^2); 0 is "
+                    "the paper's contrast, which spends samples on near-black pixels; 0.1 "
+                    "matches relMSE's 0.01")
+        ->capture_default_str()
+        ->check(CLI::Range(0.f, 1e6f));
     opt->device.Add(cmd);
     cmd->callback([opt, sppOption] {
         if (opt->reference && !sppOption->count()) opt->spp = 4096;

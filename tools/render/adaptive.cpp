@@ -143,6 +143,10 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
             fmt::format("the adaptive sampler starts with {} samples per pixel: the "
                         "average must be at least that, not {}",
                         o.initialSpp, o.averageSpp));
+    if (!(o.contrastFloor >= 0 && o.contrastFloor < 1e18f))
+        throw Error(fmt::format("the contrast floor must be finite and at least 0, not {}",
+                                o.contrastFloor));
+    const double floor2 = 4.0 * double(o.contrastFloor) * o.contrastFloor;
     Clock::time_point start = Clock::now();
     const uint64_t budget = uint64_t(o.averageSpp) * w * h;
     std::vector<PixelStats> pixels(size_t(w) * h);
@@ -244,9 +248,10 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
             }
             lum.data[p] =
                 float((0.2126 * s.sum[0] + 0.7152 * s.sum[1] + 0.0722 * s.sum[2]) / s.n);
-            double range = s.lumHi + s.lumLo;
-            double contrast = range > 0 ? (s.lumHi - s.lumLo) / range : 0;
-            var.data[p] = float(contrast * contrast / s.n);
+            // Eq. 5 with a floor under the mean (AdaptiveOptions::contrastFloor).
+            double sum = s.lumHi + s.lumLo, spread = s.lumHi - s.lumLo;
+            double scale = sum * sum + floor2;
+            var.data[p] = float(scale > 0 ? spread * spread / scale / s.n : 0);
         }
         transforms(lum, var, o.basis, levels, o.lowSum, &details, &scaleVariances);
         candidates.clear();
@@ -351,8 +356,9 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
     result.metadata = {
         {"mcd:scene", scene.name},
         {"mcd:spp", std::to_string(o.averageSpp)},
-        {"mcd:sampler", fmt::format("awr adaptive, {} levels of {}, {} rounds", levels,
-                                    WaveletName(o.basis), result.rounds)},
+        {"mcd:sampler",
+         fmt::format("awr adaptive, {} levels of {}, renorm {}, contrast floor {}, {} rounds",
+                     levels, WaveletName(o.basis), o.lowSum, o.contrastFloor, result.rounds)},
         {"mcd:seed", std::to_string(o.seed)},
         {"mcd:size", fmt::format("{}x{}", o.width, o.height)},
         {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
