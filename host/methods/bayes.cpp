@@ -15,6 +15,7 @@
 #include "host/kernels/bayes_moments.h"
 #include "host/kernels/bayes_shrink.h"
 #include "host/kernels/bayes_swt.h"
+#include "host/methods/cycle_spin.h"
 #include "host/methods/wavelet_swt.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/buffer.h"
@@ -593,57 +594,41 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
     once.spins = 1;
     once.keepMean = false;  // applied once to the average below
     BayesResult result;
-    std::vector<double> sum(color.Size(), 0.0);
-    int w = color.width, h = color.height;
-    // Mirror -k-1 -> k, clamped for images narrower than the shift.
-    auto mirror = [](int i, int n) { return i < 0 ? std::min(-i - 1, n - 1) : i; };
-    for (int dy = 0; dy < options.spins; ++dy)
-        for (int dx = 0; dx < options.spins; ++dx) {
-            Image padded(w + dx, h + dy, color.channels);
-            for (int c = 0; c < color.channels; ++c)
-                for (int y = 0; y < h + dy; ++y)
-                    for (int x = 0; x < w + dx; ++x)
-                        padded.At(c, y, x) = color.At(c, mirror(y - dy, h), mirror(x - dx, w));
-            // --noise variance: the variance layer shifted like the image, estimated per shift.
-            Image paddedVariance;
-            if (options.variance) {
-                paddedVariance = Image(w + dx, h + dy, color.channels);
-                for (int c = 0; c < color.channels; ++c)
-                    for (int y = 0; y < h + dy; ++y)
-                        for (int x = 0; x < w + dx; ++x)
-                            paddedVariance.At(c, y, x) =
-                                options.variance->At(c, mirror(y - dy, h), mirror(x - dx, w));
-                once.variance = &paddedVariance;
-            }
-            BayesResult one = BayesDenoiseOnce(context, padded, once);
-            if (once.noiseAuto && !options.variance) {
-                // One noise estimate for every shift, the unshifted image's: the shifts
-                // must differ only in where the transform's grid falls.
-                once.noiseAuto = false;
-                once.sn = one.sn;
-            }
-            for (int c = 0; c < color.channels; ++c)
-                for (int y = 0; y < h; ++y)
-                    for (int x = 0; x < w; ++x)
-                        sum[(size_t(c) * h + y) * w + x] += one.image.At(c, y + dy, x + dx);
-            for (const vk::DispatchTiming &t : one.timings) result.timings.push_back(t);
-            if (dx == 0 && dy == 0) {
-                result.plan = std::move(one.plan);
-                result.warnings = std::move(one.warnings);
-                result.fits = std::move(one.fits);
-                result.sn = one.sn;
-                result.levels = one.levels;
-                result.stages = std::move(one.stages);
-            }
-        }
+    result.image = CycleSpin(color.width, color.height, color.channels, options.spins,
+                             [&](int dx, int dy) {
+                                 Image padded = MirrorPad(color, dx, dy);
+                                 // --noise variance: the variance layer shifted like the image,
+                                 // estimated per shift.
+                                 Image paddedVariance;
+                                 if (options.variance) {
+                                     paddedVariance = MirrorPad(*options.variance, dx, dy);
+                                     once.variance = &paddedVariance;
+                                 }
+                                 BayesResult one = BayesDenoiseOnce(context, padded, once);
+                                 if (once.noiseAuto && !options.variance) {
+                                     // One noise estimate for every shift, the unshifted
+                                     // image's: the shifts must differ only in where the
+                                     // transform's grid falls.
+                                     once.noiseAuto = false;
+                                     once.sn = one.sn;
+                                 }
+                                 for (const vk::DispatchTiming &t : one.timings)
+                                     result.timings.push_back(t);
+                                 if (dx == 0 && dy == 0) {
+                                     result.plan = std::move(one.plan);
+                                     result.warnings = std::move(one.warnings);
+                                     result.fits = std::move(one.fits);
+                                     result.sn = one.sn;
+                                     result.levels = one.levels;
+                                     result.stages = std::move(one.stages);
+                                 }
+                                 return std::move(one.image);
+                             });
     result.plan.insert(result.plan.begin(),
                        fmt::format("cycle spinning: the average over {} x {} shifts (mirrored "
                                    "padding); the bands below (and --noise auto's estimate, "
                                    "used by every shift) are the unshifted run's",
                                    options.spins, options.spins));
-    result.image = Image(w, h, color.channels);
-    double count = double(options.spins) * options.spins;
-    for (size_t i = 0; i < sum.size(); ++i) result.image.data[i] = float(sum[i] / count);
     if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
     if (options.keepMean) {
         KeepMean(color, &result);
