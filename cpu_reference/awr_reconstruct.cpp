@@ -1,6 +1,8 @@
 #include "cpu_reference/awr_reconstruct.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "cpu_reference/wavelet_analyze.h"
 #include "cpu_reference/wavelet_sqanalyze.h"
@@ -31,6 +33,36 @@ Image AwrReconstruct(const Image &color, const Image &variance, WaveletBasis bas
         AwrShrink(coefficients, coefficientVariance, LevelExtent(color.width, levels),
                   LevelExtent(color.height, levels), cs);
     return WaveletSynthesize(shrunk, basis, levels);
+}
+
+Image AwrReconstructSpun(const Image &color, const Image &variance, WaveletBasis basis,
+                         int levels, double cs, double lowSum, double highSum, int spins) {
+    int w = color.width, h = color.height, channels = color.channels;
+    std::vector<double> mean(color.Size(), 0.0);
+    for (int dy = 0; dy < spins; ++dy)
+        for (int dx = 0; dx < spins; ++dx) {
+            Image shiftedColor(w + dx, h + dy, channels),
+                shiftedVariance(w + dx, h + dy, channels);
+            for (int c = 0; c < channels; ++c)
+                for (int y = 0; y < h + dy; ++y)
+                    for (int x = 0; x < w + dx; ++x) {
+                        // Source pixel: mirrored across the top and left edges.
+                        int sy = y - dy, sx = x - dx;
+                        if (sy < 0) sy = std::min(-sy - 1, h - 1);
+                        if (sx < 0) sx = std::min(-sx - 1, w - 1);
+                        shiftedColor.At(c, y, x) = color.At(c, sy, sx);
+                        shiftedVariance.At(c, y, x) = variance.At(c, sy, sx);
+                    }
+            Image out = AwrReconstruct(shiftedColor, shiftedVariance, basis, levels, cs, lowSum,
+                                       highSum);
+            for (int c = 0; c < channels; ++c)
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x)
+                        mean[(size_t(c) * h + y) * w + x] += out.At(c, y + dy, x + dx);
+        }
+    Image result(w, h, channels);
+    for (size_t i = 0; i < mean.size(); ++i) result.data[i] = float(mean[i] / (spins * spins));
+    return result;
 }
 
 }  // namespace mcd::ref

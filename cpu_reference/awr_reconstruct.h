@@ -18,4 +18,10 @@ Image AwrShrink(const Image &coefficients, const Image &variance, int lowWidth, 
 Image AwrReconstruct(const Image &color, const Image &variance, WaveletBasis basis, int levels,
                      double cs, double lowSum, double highSum);
 
+// Cycle spinning: the mean of AwrReconstruct over the shifts (dx, dy) in [0, spins)^2, each
+// of the image and variance padded on the left by dx and on top by dy with their mirror
+// image (-k-1 -> k), reconstructed with the same `levels`, and cropped back.
+Image AwrReconstructSpun(const Image &color, const Image &variance, WaveletBasis basis,
+                         int levels, double cs, double lowSum, double highSum, int spins);
+
 }  // namespace mcd::ref

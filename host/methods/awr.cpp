@@ -7,6 +7,7 @@
 #include "host/error.h"
 #include "host/kernels/awr_shrink.h"
 #include "host/methods/checks.h"
+#include "host/methods/cycle_spin.h"
 #include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
 
@@ -28,8 +29,10 @@ Image AwrVarianceFromRange(const Image &min, const Image &max, const Image &spp)
     return variance;
 }
 
-AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &variance,
-                         const AwrOptions &options) {
+namespace {
+
+AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Image &variance,
+                             const AwrOptions &options) {
     if (!color.SameShape(variance))
         throw Error(fmt::format("awr: color is {}x{}x{} but variance is {}x{}x{}", color.width,
                                 color.height, color.channels, variance.width, variance.height,
@@ -102,6 +105,37 @@ AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &
     for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
     result.image = colorGpu.Download();
     if (options.keepStages) result.stages.push_back({"synthesis", result.image});
+    return result;
+}
+
+}  // namespace
+
+AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &variance,
+                         const AwrOptions &options) {
+    if (options.spins < 1 || options.spins > 8)
+        throw Error(fmt::format("awr: spins must be in [1, 8], not {}", options.spins));
+    if (options.spins == 1) return AwrReconstructOnce(context, color, variance, options);
+    // The unshifted run checks the inputs and decides the levels; every shift uses them.
+    AwrOptions once = options;
+    once.spins = 1;
+    AwrResult result = AwrReconstructOnce(context, color, variance, once);
+    if (result.timings.empty()) return result;  // nothing ran: the output is the input
+    if (once.levels < 0) once.levels = MaxWaveletLevels(color.width, color.height);
+    once.keepStages = false;
+    Image unshifted = std::move(result.image);
+    result.image = CycleSpin(
+        color.width, color.height, color.channels, options.spins, [&](int dx, int dy) {
+            if (dx == 0 && dy == 0) return unshifted;
+            AwrResult one = AwrReconstructOnce(context, MirrorPad(color, dx, dy),
+                                               MirrorPad(variance, dx, dy), once);
+            for (const vk::DispatchTiming &t : one.timings) result.timings.push_back(t);
+            return std::move(one.image);
+        });
+    result.plan.insert(result.plan.begin(),
+                       fmt::format("cycle spinning: the average over {} x {} shifts (mirrored "
+                                   "padding), each with the levels of the unshifted frame",
+                                   options.spins, options.spins));
+    if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
     return result;
 }
 

@@ -21,6 +21,10 @@ struct AwrOptions {
     // The squared 1D filters are renormalised to sum to these (the paper: 2^-1/2 for the
     // reconstruction, to damp coarse-scale smoothing).
     float lowSum = 0.70710678f, highSum = 0.70710678f;
+    // Cycle spinning over spins x spins shifts (host/methods/cycle_spin.h), 1 to 8; 1 is
+    // the paper's reconstruction. Beyond the paper: the decimated DWT's soft shrinkage
+    // depends on where its grid falls, and the mean over shifts removes that (README).
+    int spins = 1;
     // Download every stage's buffer (for `mcdenoise diff`): one submission per stage.
     bool keepStages = false;
 };
@@ -30,7 +34,8 @@ struct AwrResult {
     std::vector<std::string> plan;            // what ran and what was left out, and why
     std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
     // With keepStages: "analysis", "variance analysis", "shrinkage", "synthesis" (the
-    // output), each the full-size buffer after its stage; empty when nothing ran.
+    // output), each the full-size buffer after its stage; empty when nothing ran. With
+    // spins > 1 these are the unshifted run's, then "cycle spinning" (the output).
     std::vector<std::pair<std::string, Image>> stages;
 };
 

@@ -16,6 +16,7 @@
 #include "harness/inputs.h"
 #include "host/kernels/awr_shrink.h"
 #include "host/methods/awr.h"
+#include "host/methods/cycle_spin.h"
 #include "host/metrics.h"
 #include "tools/render/renderer.h"
 
@@ -83,6 +84,55 @@ TEST_F(AwrKernel, ReconstructionMatchesReference) {
         }
 }
 
+// Cycle spinning against ref::AwrReconstructSpun. The mean of the shifts' errors is at most
+// the largest of their bounds, each the bound above on the mirror-padded frame, cropped.
+TEST_F(AwrKernel, CycleSpinningMatchesReference) {
+    for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::Cdf97})
+        for (auto [w, h, spins] :
+             {std::tuple{23, 14, 2}, std::tuple{1, 9, 3}, std::tuple{8, 8, 4}}) {
+            SCOPED_TRACE(fmt::format("{} {}x{} spins {}", WaveletName(basis), w, h, spins));
+            uint64_t seed = SeedFromName(fmt::format("awrspin{}{}x{}", int(basis), w, h));
+            Image color = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+            Image variance =
+                MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 1);
+            for (float &v : variance.data) v *= 0.01f;
+            int levels = MaxWaveletLevels(w, h);
+            const double cs = 1, sum = 0.70710678;
+            Image expected =
+                ref::AwrReconstructSpun(color, variance, basis, levels, cs, sum, sum, spins);
+            AwrOptions options;
+            options.basis = basis;
+            options.spins = spins;
+            AwrResult result = AwrReconstruct(Ctx(), color, variance, options);
+            AwrResult again = AwrReconstruct(Ctx(), color, variance, options);
+            EXPECT_TRUE(BitIdentical(result.image, again.image));
+            ASSERT_FALSE(result.plan.empty());
+            EXPECT_TRUE(Contains(result.plan[0], "cycle spinning"));
+            Image magnitude(w, h, 3, 0.f);
+            for (int dy = 0; dy < spins; ++dy)
+                for (int dx = 0; dx < spins; ++dx) {
+                    Image padded = MirrorPad(color, dx, dy);
+                    Image bound = ref::WaveletAnalyzeMagnitude(padded, basis, levels);
+                    Image deltas = ref::WaveletSqAnalyze(MirrorPad(variance, dx, dy), basis,
+                                                         levels, sum, sum);
+                    for (size_t i = 0; i < bound.Size(); ++i)
+                        bound.data[i] += cs * std::sqrt(deltas.data[i]);
+                    Image shifted = ref::WaveletSynthesizeMagnitude(bound, basis, levels);
+                    for (int c = 0; c < 3; ++c)
+                        for (int y = 0; y < h; ++y)
+                            for (int x = 0; x < w; ++x)
+                                magnitude.At(c, y, x) = std::max(magnitude.At(c, y, x),
+                                                                 shifted.At(c, y + dy, x + dx));
+                }
+            Tolerance tol{2 * 96 * kUnitRoundoff * levels, 0, 1e-9};
+            EXPECT_TRUE(ImagesMatch(expected, result.image, magnitude, tol));
+        }
+    Image color(5, 5, 3, 1.f);
+    AwrOptions bad;
+    bad.spins = 9;
+    EXPECT_TRUE(Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, color, bad); }), "spins"));
+}
+
 class AwrProperties : public GpuTest {};
 
 TEST_F(AwrProperties, ZeroVarianceOrZeroCsLeaveTheImage) {
@@ -97,6 +147,11 @@ TEST_F(AwrProperties, ZeroVarianceOrZeroCsLeaveTheImage) {
     EXPECT_TRUE(BitIdentical(color, cs0.image));
     EXPECT_TRUE(Contains(cs0.plan[0], "cs is 0"));
     EXPECT_TRUE(cs0.timings.empty()) << "nothing should have been dispatched";
+    AwrOptions spun;
+    spun.spins = 3;
+    AwrResult zeroSpun = AwrReconstruct(Ctx(), color, Image(33, 20, 3, 0.f), spun);
+    EXPECT_TRUE(BitIdentical(color, zeroSpun.image));
+    EXPECT_TRUE(zeroSpun.timings.empty());
 }
 
 TEST_F(AwrProperties, ConstantStaysConstant) {
@@ -105,6 +160,10 @@ TEST_F(AwrProperties, ConstantStaysConstant) {
         MakeVarianceInput(InputKind::LogNormalFireflies, 29, 17, 3, SeedFromName("awrc"));
     AwrResult r = AwrReconstruct(Ctx(), color, variance, {});
     for (float v : r.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
+    AwrOptions spun;
+    spun.spins = 2;
+    AwrResult s = AwrReconstruct(Ctx(), color, variance, spun);
+    for (float v : s.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
 }
 
 TEST_F(AwrProperties, BadInputsAreRefusedWithTheirPlace) {

@@ -466,6 +466,16 @@ TEST_F(CliTest, DenoiseAwr) {
     EXPECT_TRUE(Contains(r.out, "awr.color")) << r.out;
     EXPECT_FALSE(Contains(r.out, "hist")) << r.out;
     EXPECT_EQ(io::ReadImage(Path("d.exr").string()).width, 24);
+    // --awr-spins: the plan says so, the diff compares the average with the reference's.
+    r = Run("denoise n.exr --method awr --awr-spins 2 --explain -o s.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "cycle spinning: the average over 2 x 2 shifts")) << r.out;
+    r = Run("diff n.exr --method awr --awr-spins 3 --max-nmse 1e-9");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "  cycle spinning ")) << r.out;
+    r = Run("denoise n.exr --method awr --awr-spins 9 -o s.exr");  // refused by CLI11's range
+    EXPECT_NE(r.code, 0);
+    EXPECT_TRUE(Contains(r.All(), "--awr-spins: Value 9 not in range 1 to 8")) << r.All();
     r = Run("denoise n.exr --variance layer --cs 0 --explain -o e.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "cs is 0"));

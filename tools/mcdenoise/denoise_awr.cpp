@@ -42,7 +42,7 @@ Image AwrVariance(const io::Frame &frame, const std::string &source, std::string
 
 struct AwrCliOptions {
     std::string basis = "cdf97", variance = "auto";
-    int levels = -1;
+    int levels = -1, spins = 1;
     float cs = 1.f, renorm = 0.70710678f;
 
     AwrOptions Options() const {
@@ -53,6 +53,7 @@ struct AwrCliOptions {
         options.levels = levels;
         options.cs = cs;
         options.lowSum = options.highSum = renorm;
+        options.spins = spins;
         return options;
     }
 };
@@ -84,6 +85,11 @@ DenoiseMethod AwrMethod() {
                         "layer if present, else min/max/spp), range (the paper's "
                         "(max-min)^2/spp), layer")
             ->capture_default_str();
+        cmd->add_option("--awr-spins", opt->spins,
+                        "awr: cycle spinning over N x N shifts of the DWT's grid (1: the "
+                        "paper's reconstruction; beyond the paper; cost x N^2)")
+            ->capture_default_str()
+            ->check(CLI::Range(1, 8));
     };
     method.run = [opt](vk::Context &context, const io::Frame &frame) {
         std::string why;
@@ -121,7 +127,11 @@ DenoiseMethod AwrMethod() {
         Image shrunk = ref::AwrShrink(coef, coefVariance, LevelExtent(color.width, levels),
                                       LevelExtent(color.height, levels), options.cs);
         Image out = ref::WaveletSynthesize(shrunk, options.basis, levels);
-        const Image *cpu[] = {&coef, &coefVariance, &shrunk, &out};
+        Image spun;
+        if (options.spins > 1)
+            spun = ref::AwrReconstructSpun(color, variance, options.basis, levels, options.cs,
+                                           options.lowSum, options.highSum, options.spins);
+        const Image *cpu[] = {&coef, &coefVariance, &shrunk, &out, &spun};
         std::vector<StagePair> pairs;
         for (size_t i = 0; i < gpu.stages.size(); ++i)
             pairs.push_back({gpu.stages[i].first, std::move(gpu.stages[i].second), *cpu[i]});
