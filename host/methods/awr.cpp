@@ -68,10 +68,10 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
         "squared-filter DWT of the variance (eq. 10), squared 1D filters summing to {:.4g} "
         "(low) and {:.4g} (high)",
         options.lowSum, options.highSum));
-    result.plan.push_back(
-        fmt::format("soft shrinkage of the details by cs = {} standard "
-                    "deviations (eq. 11); the coarsest low band is kept",
-                    options.cs));
+    result.plan.push_back(fmt::format(
+        "soft shrinkage of the details by cs = {} standard "
+        "deviations (eq. 11); the coarsest low band is kept{}",
+        options.cs, options.keepStages ? "" : "; fused into the synthesis's columns passes"));
     result.plan.push_back("synthesis");
 
     vk::GpuImage colorGpu(context, color.width, color.height, color.channels, "awr.color");
@@ -96,6 +96,17 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
     };
     stage("analysis", coef);
     stage("variance analysis", coefVariance);
+    if (!options.keepStages) {
+        // Shrink each detail coefficient as the synthesis reads it: no pass over the
+        // coefficients of its own, the same result (tests/methods/awr_test.cpp).
+        transform.RecordShrinkSynthesis(recorder, options.basis, levels, coef, coefVariance,
+                                        options.cs, coef);
+        recorder.Submit();
+        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+        result.image = coef.Download();
+        return result;
+    }
+    // The shrunk coefficients are a stage of their own: shrink, then synthesise.
     RecordAwrShrink(context, recorder, coef, coefVariance, LevelExtent(color.width, levels),
                     LevelExtent(color.height, levels), options.cs);
     stage("shrinkage", coef);
@@ -104,7 +115,7 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
     recorder.Submit();
     for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
     result.image = colorGpu.Download();
-    if (options.keepStages) result.stages.push_back({"synthesis", result.image});
+    result.stages.push_back({"synthesis", result.image});
     return result;
 }
 

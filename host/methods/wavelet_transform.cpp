@@ -66,6 +66,23 @@ void WaveletTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basi
                                 out.View(), fmt::format("wavelet.synthesize.L{}", level));
 }
 
+void WaveletTransform::RecordShrinkSynthesis(vk::Recorder &recorder, WaveletBasis basis,
+                                             int levels, const vk::GpuImage &coef,
+                                             const vk::GpuImage &variance, float cs,
+                                             const vk::GpuImage &out) {
+    Check(levels, coef, out);
+    Check(levels, variance, out);
+    if (&variance.buffer == &out.buffer)
+        throw Error("shrink synthesis: the variances must not be the output image");
+    // In place in `out`, as RecordSynthesis (with 0 levels nothing is a detail).
+    CopyUnlessSame(recorder, coef, out);
+    for (int level = levels - 1; level >= 0; --level)
+        RecordWaveletSynthesizeShrink(context, recorder, basis, LevelExtent(width, level),
+                                      LevelExtent(height, level), channels, out.View(),
+                                      variance.View(), cs, Temporary(), out.View(),
+                                      fmt::format("wavelet.synthesize_shrink.L{}", level));
+}
+
 void WaveletTransform::RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                                         const vk::GpuImage &variance, const vk::GpuImage &coef,
                                         float lowSum, float highSum) {

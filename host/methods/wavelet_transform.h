@@ -20,6 +20,13 @@ class WaveletTransform {
                         const vk::GpuImage &in, const vk::GpuImage &coef);
     void RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                          const vk::GpuImage &coef, const vk::GpuImage &out);
+    // Synthesis of AWR's soft-shrunk coefficients (eq. 11) without a pass of its own:
+    // every detail coefficient w of `coef` is read as sign(w) max(0, |w| - cs sqrt(var)),
+    // var from `variance` (same size, not `out`), the coarsest low-low band as it is.
+    // `coef` itself is left unchanged unless it is `out`.
+    void RecordShrinkSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
+                               const vk::GpuImage &coef, const vk::GpuImage &variance, float cs,
+                               const vk::GpuImage &out);
     // Per-coefficient variance from per-pixel variance (AWR eqs. 9-10).
     void RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                           const vk::GpuImage &variance, const vk::GpuImage &coef, float lowSum,
