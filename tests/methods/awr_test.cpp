@@ -17,6 +17,7 @@
 #include "host/kernels/awr_shrink.h"
 #include "host/methods/awr.h"
 #include "host/methods/cycle_spin.h"
+#include "host/methods/wavelet_transform.h"
 #include "host/metrics.h"
 #include "tools/render/renderer.h"
 
@@ -165,6 +166,15 @@ TEST_F(AwrKernel, FusedShrinkMatchesShrinkThenSynthesis) {
             // Something was shrunk: the output is not the input.
             EXPECT_FALSE(BitIdentical(color, fused.image));
         }
+    // The fused synthesis reads the variances while it writes its output: never the same.
+    vk::GpuImage coef(Ctx(), 8, 6, 3, "coef"), variance(Ctx(), 8, 6, 3, "variance");
+    WaveletTransform transform(Ctx(), 8, 6, 3);
+    vk::Recorder recorder(Ctx());
+    std::string message = ErrorOf([&] {
+        transform.RecordShrinkSynthesis(recorder, WaveletBasis::Cdf97, 2, coef, variance, 1.f,
+                                        variance);
+    });
+    EXPECT_TRUE(Contains(message, "variances")) << message;
 }
 
 class AwrProperties : public GpuTest {};
