@@ -21,19 +21,22 @@ void RecordWaveletLinePass(vk::Context &context, vk::Recorder &recorder, const c
                            int axis, int width, int height, int channels,
                            const vk::ImageView &src, const vk::ImageView &dst,
                            const std::string &label, std::initializer_list<float> extra,
-                           std::initializer_list<const vk::Buffer *> reads) {
+                           std::initializer_list<const vk::Buffer *> reads,
+                           std::initializer_list<std::pair<uint32_t, int32_t>> spec) {
     bool rows = axis == WAVELET_AXIS_ROWS;
     bool vec4 = rows && src.stride % 4 == 0 && src.plane % 4 == 0 && dst.stride % 4 == 0 &&
                 dst.plane % 4 == 0;
-    const vk::Kernel &k = context.GetKernel(
-        {kernel,
-         spirv,
-         spirvBytes,
-         uint32_t(WAVELET_LINES_BINDINGS + reads.size()),
-         uint32_t(sizeof(shader::WaveletLinesPush) + extra.size() * sizeof(float)),
-         {{WAVELET_SPEC_BASIS, int32_t(basis)},
-          {WAVELET_SPEC_AXIS, axis},
-          {WAVELET_SPEC_VEC4, vec4 ? 1 : 0}}});
+    vk::KernelDesc desc{
+        kernel,
+        spirv,
+        spirvBytes,
+        uint32_t(WAVELET_LINES_BINDINGS + reads.size()),
+        uint32_t(sizeof(shader::WaveletLinesPush) + extra.size() * sizeof(float)),
+        {{WAVELET_SPEC_BASIS, int32_t(basis)},
+         {WAVELET_SPEC_AXIS, axis},
+         {WAVELET_SPEC_VEC4, vec4 ? 1 : 0}}};
+    desc.specialization.insert(desc.specialization.end(), spec.begin(), spec.end());
+    const vk::Kernel &k = context.GetKernel(desc);
     shader::WaveletLinesPush lines{width, height, src.stride, src.plane, dst.stride, dst.plane};
     std::vector<char> push(sizeof(lines) + extra.size() * sizeof(float));
     std::memcpy(push.data(), &lines, sizeof(lines));

@@ -30,6 +30,7 @@ void RecordWaveletLinePass(vk::Context &context, vk::Recorder &recorder, const c
                            int axis, int width, int height, int channels,
                            const vk::ImageView &src, const vk::ImageView &dst,
                            const std::string &label, std::initializer_list<float> extra = {},
-                           std::initializer_list<const vk::Buffer *> reads = {});
+                           std::initializer_list<const vk::Buffer *> reads = {},
+                           std::initializer_list<std::pair<uint32_t, int32_t>> spec = {});
 
 }  // namespace mcd

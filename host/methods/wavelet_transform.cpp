@@ -49,10 +49,10 @@ void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis
     }
     // Level 0 reads the image; deeper levels transform their low-low band in place.
     for (int level = 0; level < levels; ++level)
-        RecordWaveletAnalyze(context, recorder, basis, LevelExtent(width, level),
-                             LevelExtent(height, level), channels,
-                             level == 0 ? in.View() : coef.View(), Temporary(), coef.View(),
-                             fmt::format("wavelet.analyze.L{}", level));
+        RecordWaveletConvAnalyze(context, recorder, basis, LevelExtent(width, level),
+                                 LevelExtent(height, level), channels,
+                                 level == 0 ? in.View() : coef.View(), Temporary(), coef.View(),
+                                 fmt::format("wavelet.analyze.L{}", level));
 }
 
 void WaveletTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
