@@ -3,8 +3,9 @@
 // place in the output image, through one interleaved temporary (rows padded to a multiple
 // of 4 floats for the vec4 path), allocated on first use: a 0-level transform is a copy.
 // The analysis runs as direct convolutions with the filter bank (the squared-filter
-// kernel with plain taps, RecordWaveletConvAnalyze): on lavapipe about a quarter faster
-// than the lifting kernel (RecordWaveletAnalyze), the same coefficients up to round-off.
+// kernel with plain taps, RecordWaveletConvAnalyze) and so does the synthesis
+// (synthesize.glsl): on lavapipe about a quarter faster than the lifting wavefront (still
+// RecordWaveletAnalyze), the same results up to round-off.
 #pragma once
 
 #include "host/vk/gpu_image.h"

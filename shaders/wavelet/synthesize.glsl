@@ -24,6 +24,40 @@ float Unscale(int p, int n) {
     return (p & 1) == 0 ? 1.0 / LowScale() : 1.0 / HighScale();
 }
 
+// The inverse lifting as direct convolutions: sample p of the interleaved line of
+// unscaled coefficients (low at even, high at odd positions) is a symmetric combination of
+// its neighbours, the impulse responses of the inverse lifting steps (measured faster than
+// the lifting wavefront on lavapipe, like the analysis). Only the filters' own taps: a zero
+// tap times a NaN neighbour would leak the NaN. Taps centre first.
+const float kEven97[4] = float[4](0.9064465330579812, -0.3282893280391283,
+                                  -0.046776733471009406, 0.020745801810627237);
+const float kOdd97[5] = float[5](0.7417322688176877, 0.48064071642573425,
+                                 -0.09622823688575127, -0.07419418336775194,
+                                 0.03290562870540482);
+const float kEven53[2] = float[2](1.0, -0.25);
+const float kOdd53[3] = float[3](0.75, 0.5, -0.125);
+
+float Synth(int p, bool lift) {
+    if (!lift) return line[p];
+    if (WAVELET == MCD_WAVELET_HAAR)
+        return (p & 1) == 0 ? line[p] - 0.5 * line[p + 1] : line[p - 1] + 0.5 * line[p];
+    float sum = 0.0;
+    if (WAVELET == MCD_WAVELET_CDF97) {
+        if ((p & 1) == 0) {
+            [[unroll]] for (int j = -3; j <= 3; ++j) sum += kEven97[abs(j)] * line[p + j];
+        } else {
+            [[unroll]] for (int j = -4; j <= 4; ++j) sum += kOdd97[abs(j)] * line[p + j];
+        }
+    } else {
+        if ((p & 1) == 0) {
+            [[unroll]] for (int j = -1; j <= 1; ++j) sum += kEven53[abs(j)] * line[p + j];
+        } else {
+            [[unroll]] for (int j = -2; j <= 2; ++j) sum += kOdd53[abs(j)] * line[p + j];
+        }
+    }
+    return sum;
+}
+
 // The coefficient at `at` of the bands; with WAVELET_SYNTHESIZE_SHRINK a `detail`
 // coefficient is soft-thresholded first (AWR eq. 11, the same arithmetic as
 // shaders/awr/shrink.comp), the low-low band passes through.
@@ -39,7 +73,7 @@ float Coefficient(int at, bool detail) {
 }
 
 // Gather one segment of interleaved column x from the bands, undo both scalings and the
-// column lifting; `interior` when no position of the apron needs folding.
+// column transform; `interior` when no position of the apron needs folding.
 void ColumnSegment(bool interior, int x, int srcBase, int dstBase, int y0) {
     int origin = y0 - WAVELET_HALO;
     bool lift = push.height > 1;
@@ -63,14 +97,13 @@ void ColumnSegment(bool interior, int x, int srcBase, int dstBase, int y0) {
                                       (scaleX * Unscale(y, push.height));
             }
         }
-        if (lift) InverseAt(k);
         int p = k - kDelay, y = y0 + p - WAVELET_HALO;
         if (p < WAVELET_HALO || p >= WAVELET_HALO + WAVELET_TILE || y >= push.height) continue;
-        dst[dstBase + y * push.dstStride] = line[p];
+        dst[dstBase + y * push.dstStride] = Synth(p, lift);
     }
 }
 
-// Invocation `lane` undoes the column lifting of a segment of interleaved column x.
+// Invocation `lane` undoes the column transform of a segment of interleaved column x.
 void Columns(int lane, int channel) {
     int x = int(gl_WorkGroupID.x) * WAVELET_LOCAL_SIZE + lane;
     if (x >= push.width) return;
@@ -83,7 +116,7 @@ void Columns(int lane, int channel) {
         ColumnSegment(false, x, srcBase, dstBase, y0);
 }
 
-// Undo the row lifting of one row segment; `fast` as in the analysis rows pass.
+// Undo the row transform of one row segment; `fast` as in the analysis rows pass.
 void RowSegment(bool fast, int srcRow, int dstRow, int x0) {
     int origin = x0 - WAVELET_HALO;
     bool lift = push.width > 1;
@@ -97,18 +130,18 @@ void RowSegment(bool fast, int srcRow, int dstRow, int x0) {
                 line[k] = v.x, line[k + 1] = v.y, line[k + 2] = v.z, line[k + 3] = v.w;
             }
         }
-        if (lift) InverseAt(k);
         int p = k - kDelay, j = p - WAVELET_HALO;
         if (j < 0 || j >= WAVELET_TILE) continue;
         if (!fast) {
-            if (x0 + j < push.width) dst[dstRow + x0 + j] = line[p];
+            if (x0 + j < push.width) dst[dstRow + x0 + j] = Synth(p, lift);
         } else if ((j & 3) == 3) {
-            dst4[(dstRow + x0 + j - 3) >> 2] = vec4(line[p - 3], line[p - 2], line[p - 1], line[p]);
+            dst4[(dstRow + x0 + j - 3) >> 2] =
+                vec4(Synth(p - 3, lift), Synth(p - 2, lift), Synth(p - 1, lift), Synth(p, lift));
         }
     }
 }
 
-// Invocation `lane` undoes the row lifting of a segment of row y.
+// Invocation `lane` undoes the row transform of a segment of row y.
 void Rows(int lane, int channel) {
     int y = int(gl_WorkGroupID.y) * WAVELET_LOCAL_SIZE + lane;
     if (y >= push.height) return;
