@@ -23,11 +23,14 @@ void CheckWaveletTemporary(const vk::ImageView &tmp, const vk::ImageView &src,
 // Record one pass (WAVELET_AXIS_ROWS or _COLUMNS) of the kernel in `spirv` over the
 // width x height x channels region, from `src` into `dst`. The rows pass moves vec4s
 // when both views keep rows and planes 16-byte aligned. `extra` follows WaveletLinesPush
-// in the push constants (WAVELET_LINES_EXTRA_PUSH in the kernel).
+// in the push constants (WAVELET_LINES_EXTRA_PUSH in the kernel); `reads` are bound, read
+// only, at the bindings after WAVELET_LINES_DST.
 void RecordWaveletLinePass(vk::Context &context, vk::Recorder &recorder, const char *kernel,
                            const uint32_t *spirv, size_t spirvBytes, WaveletBasis basis,
                            int axis, int width, int height, int channels,
                            const vk::ImageView &src, const vk::ImageView &dst,
-                           const std::string &label, std::initializer_list<float> extra = {});
+                           const std::string &label, std::initializer_list<float> extra = {},
+                           std::initializer_list<const vk::Buffer *> reads = {},
+                           std::initializer_list<std::pair<uint32_t, int32_t>> spec = {});
 
 }  // namespace mcd

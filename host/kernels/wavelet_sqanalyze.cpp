@@ -20,7 +20,24 @@ void RecordWaveletSqAnalyze(vk::Context &context, vk::Recorder &recorder, Wavele
         RecordWaveletLinePass(context, recorder, "wavelet_sqanalyze", k_wavelet_sqanalyze_spv,
                               sizeof(k_wavelet_sqanalyze_spv), basis, axis, width, height,
                               channels, axis == WAVELET_AXIS_ROWS ? src : tmp,
-                              axis == WAVELET_AXIS_ROWS ? tmp : dst, label, {lowSum, highSum});
+                              axis == WAVELET_AXIS_ROWS ? tmp : dst, label, {lowSum, highSum},
+                              {}, {{WAVELET_SPEC_SQUARED, 1}});
+}
+
+void RecordWaveletConvAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
+                              int width, int height, int channels, const vk::ImageView &src,
+                              const vk::ImageView &tmp, const vk::ImageView &dst,
+                              const std::string &label) {
+    vk::CheckView(src, width, height, channels, "wavelet analyze source");
+    vk::CheckView(tmp, width, height, channels, "wavelet analyze temporary");
+    vk::CheckView(dst, width, height, channels, "wavelet analyze destination");
+    CheckWaveletTemporary(tmp, src, dst, width, "wavelet analyze");
+    for (int axis : {WAVELET_AXIS_ROWS, WAVELET_AXIS_COLUMNS})
+        RecordWaveletLinePass(context, recorder, "wavelet_sqanalyze", k_wavelet_sqanalyze_spv,
+                              sizeof(k_wavelet_sqanalyze_spv), basis, axis, width, height,
+                              channels, axis == WAVELET_AXIS_ROWS ? src : tmp,
+                              axis == WAVELET_AXIS_ROWS ? tmp : dst, label, {0.f, 0.f}, {},
+                              {{WAVELET_SPEC_SQUARED, 0}});
 }
 
 }  // namespace mcd

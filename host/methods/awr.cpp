@@ -68,24 +68,25 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
         "squared-filter DWT of the variance (eq. 10), squared 1D filters summing to {:.4g} "
         "(low) and {:.4g} (high)",
         options.lowSum, options.highSum));
-    result.plan.push_back(
-        fmt::format("soft shrinkage of the details by cs = {} standard "
-                    "deviations (eq. 11); the coarsest low band is kept",
-                    options.cs));
+    result.plan.push_back(fmt::format(
+        "soft shrinkage of the details by cs = {} standard "
+        "deviations (eq. 11); the coarsest low band is kept{}",
+        options.cs, options.keepStages ? "" : "; fused into the synthesis's columns passes"));
     result.plan.push_back("synthesis");
 
-    vk::GpuImage colorGpu(context, color.width, color.height, color.channels, "awr.color");
-    vk::GpuImage varianceGpu(context, color.width, color.height, color.channels,
-                             "awr.variance");
-    vk::GpuImage coef(context, color.width, color.height, color.channels, "awr.coef");
+    // Two images and the transform's temporary: every transform runs in place, the color's
+    // buffer holding its coefficients and then the output, the variance's buffer the
+    // coefficient variances. Fresh memory is paid for on first touch (page faults on a
+    // CPU device), so fewer buffers are faster as well as smaller.
+    vk::GpuImage coef(context, color.width, color.height, color.channels, "awr.color");
     vk::GpuImage coefVariance(context, color.width, color.height, color.channels,
-                              "awr.coefVariance");
-    colorGpu.Upload(color);
-    varianceGpu.Upload(variance);
+                              "awr.variance");
+    coef.Upload(color);
+    coefVariance.Upload(variance);
     WaveletTransform transform(context, color.width, color.height, color.channels);
     vk::Recorder recorder(context);
-    transform.RecordAnalysis(recorder, options.basis, levels, colorGpu, coef);
-    transform.RecordSqAnalysis(recorder, options.basis, levels, varianceGpu, coefVariance,
+    transform.RecordAnalysis(recorder, options.basis, levels, coef, coef);
+    transform.RecordSqAnalysis(recorder, options.basis, levels, coefVariance, coefVariance,
                                options.lowSum, options.highSum);
     // With keepStages, submit and download after every stage; else one submission.
     auto stage = [&](const char *name, const vk::GpuImage &buffer) {
@@ -96,14 +97,21 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
     };
     stage("analysis", coef);
     stage("variance analysis", coefVariance);
-    RecordAwrShrink(context, recorder, coef, coefVariance, LevelExtent(color.width, levels),
-                    LevelExtent(color.height, levels), options.cs);
-    stage("shrinkage", coef);
-    // The input image's buffer takes the result: no fifth image.
-    transform.RecordSynthesis(recorder, options.basis, levels, coef, colorGpu);
+    if (options.keepStages) {
+        // The shrunk coefficients are a stage of their own: shrink, then synthesise.
+        RecordAwrShrink(context, recorder, coef, coefVariance, LevelExtent(color.width, levels),
+                        LevelExtent(color.height, levels), options.cs);
+        stage("shrinkage", coef);
+        transform.RecordSynthesis(recorder, options.basis, levels, coef, coef);
+    } else {
+        // Shrink each detail coefficient as the synthesis reads it: no pass over the
+        // coefficients of its own, the same result (tests/methods/awr_test.cpp).
+        transform.RecordShrinkSynthesis(recorder, options.basis, levels, coef, coefVariance,
+                                        options.cs, coef);
+    }
     recorder.Submit();
     for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
-    result.image = colorGpu.Download();
+    result.image = coef.Download();
     if (options.keepStages) result.stages.push_back({"synthesis", result.image});
     return result;
 }

@@ -25,7 +25,8 @@ struct AwrOptions {
     // the paper's reconstruction. Beyond the paper: the decimated DWT's soft shrinkage
     // depends on where its grid falls, and the mean over shifts removes that (README).
     int spins = 1;
-    // Download every stage's buffer (for `mcdenoise diff`): one submission per stage.
+    // Download every stage's buffer (for `mcdenoise diff`): one submission per stage, and
+    // the shrinkage as a pass of its own (else it is fused into the synthesis).
     bool keepStages = false;
 };
 

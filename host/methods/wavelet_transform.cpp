@@ -49,10 +49,10 @@ void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis
     }
     // Level 0 reads the image; deeper levels transform their low-low band in place.
     for (int level = 0; level < levels; ++level)
-        RecordWaveletAnalyze(context, recorder, basis, LevelExtent(width, level),
-                             LevelExtent(height, level), channels,
-                             level == 0 ? in.View() : coef.View(), Temporary(), coef.View(),
-                             fmt::format("wavelet.analyze.L{}", level));
+        RecordWaveletConvAnalyze(context, recorder, basis, LevelExtent(width, level),
+                                 LevelExtent(height, level), channels,
+                                 level == 0 ? in.View() : coef.View(), Temporary(), coef.View(),
+                                 fmt::format("wavelet.analyze.L{}", level));
 }
 
 void WaveletTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
@@ -64,6 +64,23 @@ void WaveletTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basi
         RecordWaveletSynthesize(context, recorder, basis, LevelExtent(width, level),
                                 LevelExtent(height, level), channels, out.View(), Temporary(),
                                 out.View(), fmt::format("wavelet.synthesize.L{}", level));
+}
+
+void WaveletTransform::RecordShrinkSynthesis(vk::Recorder &recorder, WaveletBasis basis,
+                                             int levels, const vk::GpuImage &coef,
+                                             const vk::GpuImage &variance, float cs,
+                                             const vk::GpuImage &out) {
+    Check(levels, coef, out);
+    Check(levels, variance, out);
+    if (&variance.buffer == &out.buffer)
+        throw Error("shrink synthesis: the variances must not be the output image");
+    // In place in `out`, as RecordSynthesis (with 0 levels nothing is a detail).
+    CopyUnlessSame(recorder, coef, out);
+    for (int level = levels - 1; level >= 0; --level)
+        RecordWaveletSynthesizeShrink(context, recorder, basis, LevelExtent(width, level),
+                                      LevelExtent(height, level), channels, out.View(),
+                                      variance.View(), cs, Temporary(), out.View(),
+                                      fmt::format("wavelet.synthesize_shrink.L{}", level));
 }
 
 void WaveletTransform::RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,

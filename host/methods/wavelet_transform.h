@@ -2,6 +2,10 @@
 // analysis, synthesis and the squared-filter variance analysis. Every level runs in
 // place in the output image, through one interleaved temporary (rows padded to a multiple
 // of 4 floats for the vec4 path), allocated on first use: a 0-level transform is a copy.
+// The analysis runs as direct convolutions with the filter bank (the squared-filter
+// kernel with plain taps, RecordWaveletConvAnalyze) and so does the synthesis
+// (synthesize.glsl): on lavapipe about a quarter faster than the lifting wavefront (still
+// RecordWaveletAnalyze), the same results up to round-off.
 #pragma once
 
 #include "host/vk/gpu_image.h"
@@ -20,6 +24,13 @@ class WaveletTransform {
                         const vk::GpuImage &in, const vk::GpuImage &coef);
     void RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                          const vk::GpuImage &coef, const vk::GpuImage &out);
+    // Synthesis of AWR's soft-shrunk coefficients (eq. 11) without a pass of its own:
+    // every detail coefficient w of `coef` is read as sign(w) max(0, |w| - cs sqrt(var)),
+    // var from `variance` (same size, not `out`), the coarsest low-low band as it is.
+    // `coef` itself is left unchanged unless it is `out`.
+    void RecordShrinkSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
+                               const vk::GpuImage &coef, const vk::GpuImage &variance, float cs,
+                               const vk::GpuImage &out);
     // Per-coefficient variance from per-pixel variance (AWR eqs. 9-10).
     void RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
                           const vk::GpuImage &variance, const vk::GpuImage &coef, float lowSum,

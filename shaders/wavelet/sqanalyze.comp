@@ -9,6 +9,7 @@
 layout(local_size_x = WAVELET_LOCAL_SIZE) in;
 layout(constant_id = WAVELET_SPEC_AXIS) const int AXIS = WAVELET_AXIS_ROWS;
 layout(constant_id = WAVELET_SPEC_VEC4) const int VEC4 = 0;
+layout(constant_id = WAVELET_SPEC_SQUARED) const int SQUARED = 1;
 layout(std430, binding = WAVELET_LINES_SRC) readonly buffer Src { float src[]; };
 layout(std430, binding = WAVELET_LINES_SRC) readonly buffer Src4 { vec4 src4[]; };
 layout(std430, binding = WAVELET_LINES_DST) writeonly buffer Dst { float dst[]; };
@@ -25,14 +26,17 @@ const float kHigh97[4] = float[4](1.115087052456994 / kSqrt2, -0.591271763114247
 const float kLow53[3] = float[3](0.75 * kSqrt2, 0.25 * kSqrt2, -0.125 * kSqrt2);
 const float kHigh53[2] = float[2](-1.0 / kSqrt2, 0.5 / kSqrt2);
 
+float Tap(float t) {
+    return SQUARED != 0 ? t * t : t;
+}
 float LowTapSq(int k) {
-    if (WAVELET == MCD_WAVELET_CDF97) return kLow97[k] * kLow97[k];
-    if (WAVELET == MCD_WAVELET_LEGALL53) return kLow53[k] * kLow53[k];
+    if (WAVELET == MCD_WAVELET_CDF97) return Tap(kLow97[k]);
+    if (WAVELET == MCD_WAVELET_LEGALL53) return Tap(kLow53[k]);
     return 0.5;
 }
 float HighTapSq(int k) {
-    if (WAVELET == MCD_WAVELET_CDF97) return kHigh97[k] * kHigh97[k];
-    if (WAVELET == MCD_WAVELET_LEGALL53) return kHigh53[k] * kHigh53[k];
+    if (WAVELET == MCD_WAVELET_CDF97) return Tap(kHigh97[k]);
+    if (WAVELET == MCD_WAVELET_LEGALL53) return Tap(kHigh53[k]);
     return 0.5;
 }
 // Half-lengths of the filters: taps at offsets -reach..reach.
@@ -41,7 +45,7 @@ const int kHighReach = WAVELET == MCD_WAVELET_CDF97 ? 3 : (WAVELET == MCD_WAVELE
 
 // Factor that makes the squared taps sum to `target` (<= 0: leave them as they are).
 float Renormalise(float target, bool lowPass) {
-    if (target <= 0.0) return 1.0;
+    if (SQUARED == 0 || target <= 0.0) return 1.0;
     // Haar: two taps of 1/2.
     if (WAVELET == MCD_WAVELET_HAAR) return target;
     int reach = lowPass ? kLowReach : kHighReach;
@@ -55,6 +59,11 @@ float Renormalise(float target, bool lowPass) {
 // zero tap times a NaN neighbour would leak the NaN.
 float Convolve(int k, bool transform) {
     if (!transform) return line[k];
+    if (WAVELET == MCD_WAVELET_HAAR && SQUARED == 0) {
+        // Pairs (2n, 2n+1): (a + b) / sqrt 2 and (b - a) / sqrt 2.
+        if ((k & 1) == 0) return (line[k] + line[k + 1]) * (1.0 / kSqrt2);
+        return (line[k] - line[k - 1]) * (1.0 / kSqrt2);
+    }
     if (WAVELET == MCD_WAVELET_HAAR) {
         // Pairs (2n, 2n+1); each sample of the pair weighs 1/2.
         int pair = (k & 1) == 0 ? k + 1 : k - 1;

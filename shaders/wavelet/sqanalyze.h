@@ -9,6 +9,11 @@
 
 #include "wavelet/lines.h"
 
+// Specialization constant: 1 squares the taps (the variance analysis above), 0 keeps them:
+// the forward DWT itself as direct convolutions, the same filter bank as analyze.comp's
+// lifting (measured faster on lavapipe), lowSum and highSum ignored.
+#define WAVELET_SPEC_SQUARED 3
+
 #ifdef __cplusplus
 namespace mcd::shader {
 struct WaveletSqAnalyzePush {

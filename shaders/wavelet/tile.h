@@ -1,10 +1,12 @@
 // Line geometry of the wavelet kernels, shared by GLSL and C++. Measured on lavapipe,
 // shared memory and barriers cost more than a second pass over global memory, so a 2D
-// level runs as two dispatches that each lift whole lines in registers: a rows pass (one
+// level runs as two dispatches that each filter whole lines in registers: a rows pass (one
 // invocation per row segment, contiguous and vec4-wide when aligned) into an interleaved
 // temporary, then a columns pass (one invocation per column segment, neighbouring
 // invocations on neighbouring columns). A segment is WAVELET_TILE positions read with a
-// WAVELET_HALO-wide apron on each side, the reach of the four CDF 9/7 lifting steps.
+// WAVELET_HALO-wide apron on each side, the reach of the four CDF 9/7 lifting steps and of
+// the 9-tap filters. Measured too: one lane owning four columns as vec4s makes the columns
+// passes slower (lifting and convolution alike).
 #ifndef MCD_SHADERS_WAVELET_TILE_H
 #define MCD_SHADERS_WAVELET_TILE_H
 

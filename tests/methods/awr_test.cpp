@@ -17,6 +17,7 @@
 #include "host/kernels/awr_shrink.h"
 #include "host/methods/awr.h"
 #include "host/methods/cycle_spin.h"
+#include "host/methods/wavelet_transform.h"
 #include "host/metrics.h"
 #include "tools/render/renderer.h"
 
@@ -131,6 +132,49 @@ TEST_F(AwrKernel, CycleSpinningMatchesReference) {
     AwrOptions bad;
     bad.spins = 9;
     EXPECT_TRUE(Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, color, bad); }), "spins"));
+}
+
+// The default path shrinks inside the synthesis's columns passes; keepStages runs the
+// shrink kernel, then the plain synthesis. Same float operations on the same operands in
+// the same order (the shrink kernel's expression, then the synthesis's scaling), so the
+// two must agree bit for bit, at every level count and with Haar's phantom details at odd
+// ends; and the fused path must rerun bit-identically.
+TEST_F(AwrKernel, FusedShrinkMatchesShrinkThenSynthesis) {
+    for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97})
+        for (auto [w, h, levels, scale] :
+             {std::tuple{45, 31, -1, 0.01f}, std::tuple{45, 31, 2, 1.f},
+              std::tuple{1, 9, -1, 1.f}, std::tuple{70, 3, -1, 0.01f},
+              std::tuple{17, 1, -1, 1.f}, std::tuple{130, 67, 1, 0.01f}}) {
+            SCOPED_TRACE(fmt::format("{} {}x{} levels {} variance x{}", WaveletName(basis), w,
+                                     h, levels, scale));
+            uint64_t seed = SeedFromName(fmt::format("fused{}{}x{}", int(basis), w, h));
+            Image color = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+            Image variance =
+                MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 1);
+            for (float &v : variance.data) v *= scale;
+            AwrOptions options;
+            options.basis = basis;
+            options.levels = levels;
+            options.cs = scale == 1.f ? 0.5f : 1.f;
+            AwrResult fused = AwrReconstruct(Ctx(), color, variance, options);
+            AwrResult again = AwrReconstruct(Ctx(), color, variance, options);
+            options.keepStages = true;
+            AwrResult staged = AwrReconstruct(Ctx(), color, variance, options);
+            ASSERT_EQ(staged.stages.size(), 4u);
+            EXPECT_TRUE(BitIdentical(staged.image, fused.image));
+            EXPECT_TRUE(BitIdentical(fused.image, again.image));
+            // Something was shrunk: the output is not the input.
+            EXPECT_FALSE(BitIdentical(color, fused.image));
+        }
+    // The fused synthesis reads the variances while it writes its output: never the same.
+    vk::GpuImage coef(Ctx(), 8, 6, 3, "coef"), variance(Ctx(), 8, 6, 3, "variance");
+    WaveletTransform transform(Ctx(), 8, 6, 3);
+    vk::Recorder recorder(Ctx());
+    std::string message = ErrorOf([&] {
+        transform.RecordShrinkSynthesis(recorder, WaveletBasis::Cdf97, 2, coef, variance, 1.f,
+                                        variance);
+    });
+    EXPECT_TRUE(Contains(message, "variances")) << message;
 }
 
 class AwrProperties : public GpuTest {};
