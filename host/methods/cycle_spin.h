@@ -16,7 +16,7 @@ Image MirrorPad(const Image &image, int dx, int dy);
 
 // The mean over (dx, dy) in [0, spins)^2, row-major, of run(dx, dy) cropped back to
 // width x height; run returns a (width + dx) x (height + dy) image with `channels`
-// channels. Sums in double, so the result does not depend on the shifts' order of size.
+// channels. Sums in double and divides once at the end.
 Image CycleSpin(int width, int height, int channels, int spins,
                 const std::function<Image(int dx, int dy)> &run);
 
