@@ -57,29 +57,39 @@ TEST_F(AwrKernel, ShrinkMatchesReference) {
     }
 }
 
-// The whole reconstruction against ref::AwrReconstruct. Shrinkage is 1-Lipschitz in the
-// coefficient and in its threshold, so the GPU's error is bounded by the synthesis of the
-// analysis error plus cs times the threshold error: the magnitude twins of both, composed.
+// A fireflies frame and a variance layer of 1% of a log-normal's scale, seeded.
+std::pair<Image, Image> FireflyFrame(int w, int h, uint64_t seed) {
+    Image color = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+    Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 1);
+    for (float &v : variance.data) v *= 0.01f;
+    return {std::move(color), std::move(variance)};
+}
+
+// Shrinkage is 1-Lipschitz in the coefficient and in its threshold, so the GPU's error is
+// bounded by the synthesis of the analysis error plus cs times the threshold error: the
+// magnitude twins of both, composed.
+Image ErrorScale(const Image &color, const Image &variance, WaveletBasis basis, int levels,
+                 double cs, double sum) {
+    Image bound = ref::WaveletAnalyzeMagnitude(color, basis, levels);
+    Image deltas = ref::WaveletSqAnalyze(variance, basis, levels, sum, sum);
+    for (size_t i = 0; i < bound.Size(); ++i) bound.data[i] += cs * std::sqrt(deltas.data[i]);
+    return ref::WaveletSynthesizeMagnitude(bound, basis, levels);
+}
+
+// The whole reconstruction against ref::AwrReconstruct, within ErrorScale's bound.
 TEST_F(AwrKernel, ReconstructionMatchesReference) {
     for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97})
         for (auto [w, h] : {std::pair{45, 31}, std::pair{16, 16}, std::pair{3, 70}}) {
             SCOPED_TRACE(fmt::format("{} {}x{}", WaveletName(basis), w, h));
-            uint64_t seed = SeedFromName(fmt::format("awr{}{}x{}", int(basis), w, h));
-            Image color = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
-            Image variance =
-                MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 1);
-            for (float &v : variance.data) v *= 0.01f;
+            auto [color, variance] =
+                FireflyFrame(w, h, SeedFromName(fmt::format("awr{}{}x{}", int(basis), w, h)));
             int levels = MaxWaveletLevels(w, h);
             const double cs = 1, sum = 0.70710678;
             Image expected = ref::AwrReconstruct(color, variance, basis, levels, cs, sum, sum);
             AwrOptions options;
             options.basis = basis;
             AwrResult result = AwrReconstruct(Ctx(), color, variance, options);
-            Image bound = ref::WaveletAnalyzeMagnitude(color, basis, levels);
-            Image deltas = ref::WaveletSqAnalyze(variance, basis, levels, sum, sum);
-            for (size_t i = 0; i < bound.Size(); ++i)
-                bound.data[i] += cs * std::sqrt(deltas.data[i]);
-            Image magnitude = ref::WaveletSynthesizeMagnitude(bound, basis, levels);
+            Image magnitude = ErrorScale(color, variance, basis, levels, cs, sum);
             Tolerance tol{2 * 96 * kUnitRoundoff * levels, 0, 1e-9};
             EXPECT_TRUE(ImagesMatch(expected, result.image, magnitude, tol));
         }
@@ -92,11 +102,8 @@ TEST_F(AwrKernel, CycleSpinningMatchesReference) {
         for (auto [w, h, spins] :
              {std::tuple{23, 14, 2}, std::tuple{1, 9, 3}, std::tuple{8, 8, 4}}) {
             SCOPED_TRACE(fmt::format("{} {}x{} spins {}", WaveletName(basis), w, h, spins));
-            uint64_t seed = SeedFromName(fmt::format("awrspin{}{}x{}", int(basis), w, h));
-            Image color = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
-            Image variance =
-                MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 1);
-            for (float &v : variance.data) v *= 0.01f;
+            auto [color, variance] = FireflyFrame(
+                w, h, SeedFromName(fmt::format("awrspin{}{}x{}", int(basis), w, h)));
             int levels = MaxWaveletLevels(w, h);
             const double cs = 1, sum = 0.70710678;
             Image expected =
@@ -112,13 +119,9 @@ TEST_F(AwrKernel, CycleSpinningMatchesReference) {
             Image magnitude(w, h, 3, 0.f);
             for (int dy = 0; dy < spins; ++dy)
                 for (int dx = 0; dx < spins; ++dx) {
-                    Image padded = MirrorPad(color, dx, dy);
-                    Image bound = ref::WaveletAnalyzeMagnitude(padded, basis, levels);
-                    Image deltas = ref::WaveletSqAnalyze(MirrorPad(variance, dx, dy), basis,
-                                                         levels, sum, sum);
-                    for (size_t i = 0; i < bound.Size(); ++i)
-                        bound.data[i] += cs * std::sqrt(deltas.data[i]);
-                    Image shifted = ref::WaveletSynthesizeMagnitude(bound, basis, levels);
+                    Image shifted =
+                        ErrorScale(MirrorPad(color, dx, dy), MirrorPad(variance, dx, dy), basis,
+                                   levels, cs, sum);
                     for (int c = 0; c < 3; ++c)
                         for (int y = 0; y < h; ++y)
                             for (int x = 0; x < w; ++x)
