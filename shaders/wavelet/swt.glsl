@@ -41,18 +41,7 @@ float SynthesisHigh(int k) {
     return kSqrt2 * (k == 0 ? -0.75 : (k == 1 ? 0.25 : 0.125));
 }
 
-// Fold a position into [0, n): whole-sample symmetric for 5/3 and 9/7, half-sample for
-// Haar. A loop of reflections, not a modulo (vector integer division is scalarised on
-// lavapipe); it runs zero times inside the line.
-int Fold(int p, int n) {
-    if (n == 1) return 0;
-    while (p < 0 || p >= n) {
-        if (WAVELET == MCD_WAVELET_HAAR)
-            p = p < 0 ? -1 - p : 2 * n - 1 - p;
-        else
-            p = p < 0 ? -p : 2 * (n - 1) - p;
-    }
-    return p;
-}
+// Fold: MirrorAnalysis, whole-sample symmetric for 5/3 and 9/7, half-sample for Haar.
+#include "wavelet/fold.glsl"
 
 #endif

@@ -34,14 +34,14 @@ vec2 Analyze(int base, int i, int n, int stride, bool transform, bool edge) {
     if (!transform) return vec2(Load(base + i * stride), 0.0);
     int s = push.step;
     if (WAVELET == MCD_WAVELET_HAAR) {
-        float a = Load(base + i * stride), b = Load(base + Fold(i + s, n) * stride);
+        float a = Load(base + i * stride), b = Load(base + MirrorAnalysis(i + s, n) * stride);
         if (SQUARED != 0) return vec2(0.5 * a + 0.5 * b);
         return vec2(kHaar * a + kHaar * b, -kHaar * a + kHaar * b);
     }
     float lo = 0.0, hi = 0.0;
     [[unroll]] for (int k = -kLowReach; k <= kLowReach; ++k) {
         int p = i + k * s;
-        if (edge) p = Fold(p, n);
+        if (edge) p = MirrorAnalysis(p, n);
         float v = Load(base + p * stride);
         lo += Tap(AnalysisLow(abs(k))) * v;
         if (abs(k) <= kHighReach) hi += Tap(AnalysisHigh(abs(k))) * v;
@@ -80,11 +80,11 @@ void FusedHaar(int x0, int y, int c) {
     bool tx = (push.flags & WAVELET_SWT_TRANSFORM_X) != 0;
     bool ty = (push.flags & WAVELET_SWT_TRANSFORM_Y) != 0;
     int src = c * push.srcChannel + push.srcBase, dst0 = c * push.dstChannel;
-    int row0 = src + y * w, row1 = src + (ty ? Fold(y + s, h) : y) * w;
+    int row0 = src + y * w, row1 = src + (ty ? MirrorAnalysis(y + s, h) : y) * w;
     vec4 ll = vec4(0.0), lh = vec4(0.0), hl = vec4(0.0), hh = vec4(0.0);
     [[unroll]] for (int k = 0; k < 4; ++k) {
         if (k < n) {
-            int x = x0 + k, x1 = tx ? Fold(x + s, w) : x;
+            int x = x0 + k, x1 = tx ? MirrorAnalysis(x + s, w) : x;
             vec2 r0 = HaarPair(Load(row0 + x), Load(row0 + x1), tx).xy;
             vec2 r1 = HaarPair(Load(row1 + x), Load(row1 + x1), tx).xy;
             vec2 l = HaarPair(r0.x, r1.x, ty).xy, hi = HaarPair(r0.y, r1.y, ty).xy;

@@ -39,7 +39,7 @@ float Synthesize(int low, int high, int i, int n, int stride, bool transform, bo
     float sum = 0.0;
     [[unroll]] for (int k = -reach; k <= reach; ++k) {
         int p = i - k * s;
-        if (edge) p = Fold(p, n);
+        if (edge) p = MirrorAnalysis(p, n);
         if (abs(k) <= kSynthLowReach) sum += SynthesisLow(abs(k)) * Load(low + p * stride);
         if (abs(k) <= kSynthHighReach) sum += SynthesisHigh(abs(k)) * Load(high + p * stride);
     }
