@@ -36,27 +36,39 @@ int RhfScalesUsed(int width, int height, const RhfParams &params) {
     return used;
 }
 
-double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w0) {
-    int n3 = hist.channels - 1;
+double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w0,
+                        double brightVeto) {
+    int n3 = hist.channels - 1, perColour = n3 / 3;
     double sum = 0;
     long counted = 0;
     for (int ty = -w0; ty <= w0; ++ty)
         for (int tx = -w0; tx <= w0; ++tx) {
             double nx = hist.At(n3, y0 + ty, x0 + tx), ny = hist.At(n3, y1 + ty, x1 + tx);
             if (nx == 0 || ny == 0) continue;
+            double saturated = 0;
+            long saturatedCounted = 0;
             for (int i = 0; i < n3; ++i) {
                 double hx = hist.At(i, y0 + ty, x0 + tx), hy = hist.At(i, y1 + ty, x1 + tx);
                 if (hx + hy <= 1) continue;
-                double d = ny * hx - nx * hy;
-                sum += d * d / (nx * ny * (hx + hy));
+                double d = ny * hx - nx * hy, term = d * d / (nx * ny * (hx + hy));
+                sum += term;
                 ++counted;
+                // The last two bins of a colour hold the samples above the range M.
+                if (i % perColour >= perColour - 2) {
+                    saturated += term;
+                    ++saturatedCounted;
+                }
             }
+            // The veto: this pair's bright samples alone tell the patches apart.
+            if (brightVeto > 0 && saturatedCounted > 0 &&
+                saturated > brightVeto * 2 * nx * ny / (nx + ny))
+                return -1;
         }
     return sum / (double(counted) + 1e-4);
 }
 
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
-                     double threshold, int knn) {
+                     double threshold, int knn, double brightVeto) {
     const int W = color.width, H = color.height, C = color.channels;
     std::vector<double> sum(size_t(C) * W * H, 0.0), count(size_t(W) * H, 0.0);
     for (int y = 0; y < H; ++y)
@@ -75,8 +87,8 @@ Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int s
                                     ? -1
                                     : (qy - y + searchHalf) * (2 * searchHalf + 1) +
                                           (qx - x + searchHalf);
-                    candidates.emplace_back(RhfPatchDistance(hist, x, y, qx, qy, w0), order, qx,
-                                            qy);
+                    double d = RhfPatchDistance(hist, x, y, qx, qy, w0, brightVeto);
+                    if (d >= 0) candidates.emplace_back(d, order, qx, qy);
                 }
             std::sort(candidates.begin(), candidates.end());
             // Eq. 6: the average of the selected patches.
@@ -166,17 +178,20 @@ Image Rhf(const Image &color, const Image &hist, const RhfParams &params) {
     Image previous;
     for (int s = scales - 1; s >= 0; --s) {
         Image u = color, h = hist;
+        double factor = 1;
         if (s > 0) {
             u = RhfGaussianDownsample(color, s, SigmaOfScale(s));
             h = RhfGaussianDownsample(hist, s, SigmaOfScale(s));
             double totalS = 0;
             for (int i = 0; i < n3; ++i)
                 for (size_t p = 0; p < h.PixelCount(); ++p) totalS += h.Plane(i)[p];
-            double factor = totalS > 0 ? total / totalS : 1.0;
+            factor = totalS > 0 ? total / totalS : 1.0;
             for (float &v : h.data) v = float(v * factor);
         }
-        Image filtered = RhfSingleScale(u, h, params.patchHalf, params.searchHalf,
-                                        params.threshold, s == 0 ? params.knn : 0);
+        // The veto's bound stays in the frame's sample counts: over the rescaled ones.
+        Image filtered =
+            RhfSingleScale(u, h, params.patchHalf, params.searchHalf, params.threshold,
+                           s == 0 ? params.knn : 0, params.brightVeto / factor);
         if (s < scales - 1) {
             // u_s - U(D(u_s)) + U(u_{s+1}).
             Image low = RhfBicubicUpsample(RhfGaussianDownsample(filtered, 1, SigmaOfScale(1)),

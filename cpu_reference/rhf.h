@@ -17,6 +17,9 @@ struct RhfParams {
     double threshold = 0.8;  // kappa
     int knn = 2;             // k_NN, at the finest scale only
     int scales = 2;          // n_scal requested
+    // Beyond the authors' tool: the bright veto of RhfPatchDistance, in the frame's sample
+    // counts (at scale s it is divided by the histograms' rescale factor); 0 turns it off.
+    double brightVeto = 0.5;
 };
 
 // Scales actually filtered: scale s >= 1 is used only while its image is at least as big
@@ -25,14 +28,19 @@ int RhfScalesUsed(int width, int height, const RhfParams &params);
 
 // Chi-square patch distance between the patches of half-size w0 centred at (x0, y0) and
 // (x1, y1): the sum of the counted pixel terms over the patch and the bins, divided by the
-// number of counted terms + 1e-4.
-double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w0);
+// number of counted terms + 1e-4. With brightVeto > 0 it is -1 (not a candidate) when a
+// pixel pair's counted terms in the saturated bins (the last two of each colour: samples
+// above the histogram's range M) sum to more than brightVeto times the harmonic mean
+// 2 n_x n_y / (n_x + n_y) of the pair's sample counts.
+double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w0,
+                        double brightVeto = 0);
 
 // Algorithm 2 on one scale: kNN (knn nearest, ties to the patch itself first, then in scan
 // order) plus every patch closer than the threshold, binary weights, aggregation over the
-// patches covering each pixel. A pixel no selected patch covers keeps its value.
+// patches covering each pixel. Vetoed patches are no candidates. A pixel no selected patch
+// covers keeps its value.
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
-                     double threshold, int knn);
+                     double threshold, int knn, double brightVeto = 0);
 
 // D_s: Gaussian blur of standard deviation sigma (truncated at ceil(3 sigma), normalised,
 // edges clamped) sampled at 2^s x; the result is ceil(W / 2^s) x ceil(H / 2^s).

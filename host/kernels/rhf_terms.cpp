@@ -14,7 +14,7 @@ namespace mcd {
 constexpr int kPixelsPerGroup = RHF_TERMS_LOCAL_SIZE * RHF_TERMS_PIXELS_PER_LANE;
 
 void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
-                    int searchHalf, int rowBase, int rows, float histScale,
+                    int searchHalf, int rowBase, int rows, float histScale, float brightVeto,
                     const vk::Buffer &termSum, const vk::Buffer &termCount) {
     int side = 2 * searchHalf + 1;
     size_t need = size_t(searchHalf + 1) * side * rows * hist.width * sizeof(float);
@@ -33,7 +33,7 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
                                                   sizeof(shader::RhfTermsPush),
                                                   {{RHF_TERMS_SPEC_SEARCH_HALF, searchHalf}},
                                                   (1u << RHF_HIST_SLOTS) - 1});
-    shader::RhfTermsPush push{hist.width, hist.height, hist.planes - 1,    searchHalf,
+    shader::RhfTermsPush push{hist.width, hist.height, hist.planes - 1,    brightVeto,
                               rowBase,    rows,        hist.planesPerSlot, histScale};
     std::vector<vk::Binding> bindings;
     // Unused slots repeat the first buffer: the shader never reads them.

@@ -126,6 +126,9 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     if (!std::isfinite(o.threshold) || o.threshold < 0)
         throw Error(fmt::format("rhf: the threshold must be a finite number >= 0, not {}",
                                 o.threshold));
+    if (!std::isfinite(o.brightVeto) || o.brightVeto < 0)
+        throw Error(fmt::format("rhf: the bright veto must be a finite number >= 0, not {}",
+                                o.brightVeto));
     if (o.scales < 1 || o.scales > kMaxScales)
         throw Error(fmt::format("rhf: scales must be in 1..{}, not {}", kMaxScales, o.scales));
 
@@ -275,7 +278,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             int termBase = std::max(0, y0 - o.patchHalf - o.searchHalf);
             int termRows = std::min(Hs, y0 + rows + o.patchHalf) - termBase;
             RecordRhfTerms(context, recorder, *h, o.searchHalf, termBase, termRows, histScale,
-                           termSum, termCount);
+                           o.brightVeto / histScale, termSum, termCount);
             RecordRhfDistance(context, recorder, Ws, Hs, o.patchHalf, o.searchHalf, termBase,
                               termRows, y0, rows, termSum, termCount, dist);
             RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, knn, o.threshold,
@@ -287,9 +290,13 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
         kept.push_back({fmt::format("filtered s{}", s), &filtered});
         result.plan.push_back(fmt::format(
             "scale {} ({}x{}): chi-square pixel terms for {} offsets x {} bins, {}x{} patch "
-            "distances, selection of {} nearest + distance < {} in {} strip(s), aggregation",
-            s, Ws, Hs, offsets, n3, 2 * o.patchHalf + 1, 2 * o.patchHalf + 1, knn, o.threshold,
-            strips));
+            "distances{}, selection of {} nearest + distance < {} in {} strip(s), aggregation",
+            s, Ws, Hs, offsets, n3, 2 * o.patchHalf + 1, 2 * o.patchHalf + 1,
+            o.brightVeto > 0
+                ? fmt::format(" with bright veto {} (in the frame's sample counts)",
+                              o.brightVeto)
+                : std::string(" (no bright veto)"),
+            knn, o.threshold, strips));
         if (previous) {
             double sigma = SigmaOfScale(1);
             const vk::GpuImage &low =

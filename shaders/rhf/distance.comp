@@ -27,21 +27,26 @@ void main() {
         int sx = x + (mirrored ? ox : 0), sy = y + (mirrored ? oy : 0) - push.termBase;
         int centre = (plane * push.termRows + sy) * push.width + sx;
         float sum = 0.0, count = 0.0;
+        bool vetoed = false;  // a pixel pair marked by terms.comp (count -1)
         if (w0 == PW) {
             [[unroll]] for (int ty = -PW; ty <= PW; ++ty)
                 [[unroll]] for (int tx = -PW; tx <= PW; ++tx) {
+                float c = texelFetch(termCount, centre + ty * push.width + tx).r;
                 sum += texelFetch(termSum, centre + ty * push.width + tx).r;
-                count += texelFetch(termCount, centre + ty * push.width + tx).r;
+                count += c;
+                vetoed = vetoed || c < 0.0;
             }
         } else {
             // Near the border: the shrunk patch.
             for (int ty = -w0; ty <= w0; ++ty)
                 for (int tx = -w0; tx <= w0; ++tx) {
+                    float c = texelFetch(termCount, centre + ty * push.width + tx).r;
                     sum += texelFetch(termSum, centre + ty * push.width + tx).r;
-                    count += texelFetch(termCount, centre + ty * push.width + tx).r;
+                    count += c;
+                    vetoed = vetoed || c < 0.0;
                 }
         }
-        d = sum / (count + 1e-4);
+        d = vetoed ? -1.0 : sum / (count + 1e-4);
     }
     dist[(o * push.rows + r) * push.width + x] = d;
 }

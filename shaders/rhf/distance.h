@@ -3,7 +3,8 @@
 // terms of -o at the candidate's pixels) box-summed over the centre's patch, shrunk
 // near the border to w0 = min(w, distance to the edge), divided by the number of counted
 // terms + 1e-4. Offsets whose patch would leave the image (the window is clamped so every
-// compared patch fits) get -1. Distances are planar [offset][strip row][x].
+// compared patch fits) get -1, as do vetoed pairs (a term count of -1 in the patch). Distances
+// are planar [offset][strip row][x].
 #ifndef MCD_SHADERS_RHF_DISTANCE_H
 #define MCD_SHADERS_RHF_DISTANCE_H
 

@@ -42,6 +42,21 @@ const int PIX = RHF_TERMS_PIXELS_PER_LANE;
 const int SPAN = PIX + 2 * B;
 float sum[PIX * SIDE], count[PIX * SIDE], np[PIX], nq[SPAN], hp[PIX], hq[SPAN];
 
+int x0Lane;  // the lane's first pixel
+
+// Add one bin's terms, from hp and hq, for every (pixel, candidate) of the lane.
+void AddTerms() {
+    [[unroll]] for (int j = 0; j < PIX; ++j)
+        [[unroll]] for (int k = 0; k < SIDE; ++k) {
+            float both = hp[j] + hq[j + k];
+            if (both > 1.0 && np[j] != 0.0 && nq[j + k] != 0.0) {
+                float d = nq[j + k] * hp[j] - np[j] * hq[j + k];
+                sum[j * SIDE + k] += d * d / (np[j] * nq[j + k] * both);
+                count[j * SIDE + k] += 1.0;
+            }
+        }
+}
+
 // Add the terms of the bin planes buffer `h` (slot `slot`) holds.
 #define ACCUMULATE(h, slot)                                                              \
     {                                                                                    \
@@ -56,27 +71,50 @@ float sum[PIX * SIDE], count[PIX * SIDE], np[PIX], nq[SPAN], hp[PIX], hq[SPAN];
                 hq[m] = texelFetch(h, base + qRow + clamp(x0 + m - B, 0, push.width - 1))  \
                             .r *                                                         \
                         push.histScale;                                                  \
-            [[unroll]] for (int j = 0; j < PIX; ++j)                                     \
-                [[unroll]] for (int k = 0; k < SIDE; ++k) {                              \
-                    float both = hp[j] + hq[j + k];                                      \
-                    if (both > 1.0 && np[j] != 0.0 && nq[j + k] != 0.0) {                \
-                        float d = nq[j + k] * hp[j] - np[j] * hq[j + k];                 \
-                        sum[j * SIDE + k] += d * d / (np[j] * nq[j + k] * both);         \
-                        count[j * SIDE + k] += 1.0;                                      \
-                    }                                                                    \
-                }                                                                        \
+            AddTerms();                                                                  \
         }                                                                                \
     }
+
+// The veto's mark for each (pixel, candidate) of the lane, a bit each.
+const int VETO_WORDS = (PIX * SIDE + 31) / 32;
+uint vetoed[VETO_WORDS];
+
+// Mark the pairs whose terms in the saturated bins (the last two of each colour: samples
+// above the histogram's range M) exceed brightVeto x the harmonic mean of their counts,
+// then clear the sums for the pass over every bin.
+void MarkVetoedPairs(int pRow, int qRow) {
+    int perColour = push.binPlanes / 3;
+    for (int c = 0; c < 3; ++c)
+        for (int b = max(perColour - 2, 0); b < perColour; ++b) {
+            int plane = c * perColour + b;
+            [[unroll]] for (int j = 0; j < PIX; ++j)
+                hp[j] = Hist(plane, pRow + min(x0Lane + j, push.width - 1)) * push.histScale;
+            [[unroll]] for (int m = 0; m < SPAN; ++m)
+                hq[m] = Hist(plane, qRow + clamp(x0Lane + m - B, 0, push.width - 1)) *
+                        push.histScale;
+            AddTerms();
+        }
+    [[unroll]] for (int i = 0; i < PIX * SIDE; ++i) {
+        int j = i / SIDE, k = i % SIDE;
+        float harmonic = 2.0 * np[j] * nq[j + k] / (np[j] + nq[j + k]);
+        if (count[i] > 0.0 && sum[i] > push.brightVeto * harmonic)
+            vetoed[i / 32] |= 1u << (i % 32);
+        sum[i] = 0.0;
+        count[i] = 0.0;
+    }
+}
 
 void main() {
     int x0 = int(gl_GlobalInvocationID.x) * PIX, r = int(gl_WorkGroupID.y),
         dy = int(gl_WorkGroupID.z);
     if (x0 >= push.width) return;
     int y = push.rowBase + r, qy = y + dy, pixels = push.width * push.height;
+    x0Lane = x0;
     [[unroll]] for (int i = 0; i < PIX * SIDE; ++i) {
         sum[i] = 0.0;
         count[i] = 0.0;
     }
+    [[unroll]] for (int i = 0; i < VETO_WORDS; ++i) vetoed[i] = 0u;
     if (qy >= 0 && qy < push.height) {
         int pRow = y * push.width, qRow = qy * push.width;
         // Counts; 0 marks a pixel or candidate outside the image (never counted).
@@ -88,6 +126,7 @@ void main() {
             nq[m] = qx >= 0 && qx < push.width ? Hist(push.binPlanes, qRow + qx) * push.histScale
                                                : 0.0;
         }
+        if (push.brightVeto > 0.0) MarkVetoedPairs(pRow, qRow);
         int slots = (push.binPlanes + push.planesPerSlot - 1) / push.planesPerSlot;
         ACCUMULATE(hist0, 0)
         if (slots > 1) ACCUMULATE(hist1, 1)
@@ -100,7 +139,8 @@ void main() {
         [[unroll]] for (int k = 0; k < SIDE; ++k) {
             if (x0 + j >= push.width) continue;
             int at = ((dy * SIDE + k) * push.rows + r) * push.width + x0 + j;
-            termSum[at] = sum[j * SIDE + k];
-            termCount[at] = count[j * SIDE + k];
+            int i = j * SIDE + k;
+            termSum[at] = sum[i];
+            termCount[at] = (vetoed[i / 32] & (1u << (i % 32))) != 0u ? -1.0 : count[i];
         }
 }

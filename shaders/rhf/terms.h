@@ -4,7 +4,10 @@
 // counted where h_p[i] + h_q[i] > 1 and both counts are non-zero, and how many were
 // counted; planes [dy][dx + b]. The term is symmetric in p and q, bit for bit, so the
 // offsets with dy < 0 are read at q with -o and never computed. Box-summed over a patch
-// later (distance.comp), so no term is computed twice.
+// later (distance.comp), so no term is computed twice. With brightVeto > 0, a pair whose
+// terms in the saturated bins (the last two of each colour) sum to more than
+// brightVeto x 2 n_p n_q / (n_p + n_q) gets count -1: the mark that vetoes every patch
+// pair holding it (cpu_reference/rhf.h, RhfPatchDistance).
 // Histograms are planar [plane][y][x], split over up to RHF_HIST_SLOTS buffers of
 // planesPerSlot planes each (one binding holds at most 128 MiB on lavapipe).
 #ifndef MCD_SHADERS_RHF_TERMS_H
@@ -28,8 +31,8 @@ layout(push_constant) uniform RhfTermsPush {
 #endif
     int width;  // of the scale's image
     int height;
-    int binPlanes;  // 3n; plane 3n is the sample count
-    int unused;
+    int binPlanes;      // 3n; plane 3n is the sample count
+    float brightVeto;   // 0: no veto
     int rowBase;        // first image row of the strip
     int rows;           // rows in the strip
     int planesPerSlot;  // histogram planes per buffer

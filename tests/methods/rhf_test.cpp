@@ -63,7 +63,7 @@ Frame MakeFrame(int w, int h, uint64_t seed, int bins = kBins,
 }
 
 ref::RhfParams Params(const RhfOptions &o) {
-    return {o.patchHalf, o.searchHalf, double(o.threshold), o.knn, o.scales};
+    return {o.patchHalf, o.searchHalf, double(o.threshold), o.knn, o.scales, o.brightVeto};
 }
 
 // The method's default output: the reference's with negatives clamped to 0.
@@ -141,6 +141,33 @@ TEST_F(RhfKernel, MultiScaleMatchesReference) {
                                 RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
                                 ToleranceFor(f.color, o)));
     }
+}
+
+// The bright veto (beyond the authors' tool): GPU against CPU with it off, at the default
+// and strong, at one and two scales. About 2% of the brightest band's samples (2.5 with
+// lognormal noise) lie above the histogram's range (7.5); they must trigger the veto, or
+// the test would compare nothing new.
+TEST_F(RhfKernel, BrightVetoMatchesReference) {
+    Frame f = MakeFrame(31, 27, SeedFromName("rhf veto"));
+    for (int scales : {1, 2})
+        for (float veto : {0.f, 0.5f, 0.1f}) {
+            SCOPED_TRACE(fmt::format("{} scale(s), veto {}", scales, veto));
+            RhfOptions o;
+            o.searchHalf = 4;
+            o.scales = scales;
+            o.brightVeto = veto;
+            o.clampNegative = false;
+            Image expected = ref::Rhf(f.color, f.hist, Params(o));
+            EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
+                                    ToleranceFor(f.color, o)));
+            if (veto > 0) {
+                RhfOptions off = o;
+                off.brightVeto = 0;
+                EXPECT_FALSE(ImagesMatch(expected, ref::Rhf(f.color, f.hist, Params(off)), {},
+                                         ToleranceFor(f.color, o)))
+                    << "the veto changed nothing on this frame";
+            }
+        }
 }
 
 // Histograms split over several buffers and distances computed in thin strips (the
@@ -267,6 +294,42 @@ TEST_F(RhfProperties, RecombinationUndershootIsClampedAndCounted) {
         << plan;
 }
 
+// A one-pixel light (4 samples of 12) in a flat region (4 samples of 0.1, identical
+// histograms). The authors' distance averages the light pixel's large terms with the zero
+// terms of eight alike pixels, so every patch holding it is "similar" and the light
+// spreads. With the veto (the light's saturated bins give terms of 3.05 per colour, 9.15
+// against 0.5 x 4 samples) every patch pair holding it is left out, and the rest are
+// identical: the frame comes back as it was.
+TEST_F(RhfProperties, BrightVetoKeepsAOnePixelLightInPlace) {
+    const int w = 15, h = 13, lx = 7, ly = 6;
+    Frame f{Image(w, h, 3), Image(w, h, 3 * kBins + 1)};
+    std::vector<float> flat(3 * kBins, 0.f), light(3 * kBins, 0.f);
+    const double dim[3] = {0.1, 0.1, 0.1}, bright[3] = {12, 12, 12};
+    for (int k = 0; k < 4; ++k) {
+        render::AddToHistogram(dim, kBins, flat.data());
+        render::AddToHistogram(bright, kBins, light.data());
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            bool isLight = x == lx && y == ly;
+            for (int c = 0; c < 3; ++c) f.color.At(c, y, x) = isLight ? 12.f : 0.1f;
+            for (int i = 0; i < 3 * kBins; ++i)
+                f.hist.At(i, y, x) = (isLight ? light : flat)[i];
+            f.hist.At(3 * kBins, y, x) = 4;
+        }
+    RhfOptions o;
+    o.scales = 1;
+    Image kept = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    // Means of equal values: a few round-offs of the light's 12.
+    EXPECT_TRUE(ImagesMatch(f.color, kept, {}, {0, 16 * kUnitRoundoff * 12, 1e-12}));
+    EXPECT_TRUE(
+        ImagesMatch(ref::Rhf(f.color, f.hist, Params(o)), kept, {}, ToleranceFor(f.color, o)));
+    o.brightVeto = 0;
+    Image spread = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    EXPECT_LT(spread.At(1, ly, lx), 6.f) << "the authors' distance no longer spreads the light";
+    EXPECT_GT(spread.At(1, ly, lx + 1), 0.15f);  // 0.19 when written: half again the 0.1
+}
+
 TEST_F(RhfProperties, BadPixelsGiveFiniteOutputAndCountedWarnings) {
     const int w = 24, h = 20, n3 = 3 * kBins;
     Frame f = MakeFrame(w, h, SeedFromName("rhf bad"));
@@ -305,6 +368,11 @@ TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
     o = {};
     o.threshold = -1;
+    EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
+    o = {};
+    o.brightVeto = -0.1f;
+    EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
+    o.brightVeto = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
 }
 

@@ -43,6 +43,7 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
     Ran r = Run("denoise n.exr --method rhf --explain -o d.exr --reference r.exr");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_TRUE(Has(r.out, "chi-square pixel terms")) << r.out;
+    EXPECT_TRUE(Has(r.out, "with bright veto 0.5")) << r.out;
     EXPECT_TRUE(Has(r.out, "u_0 - U(D(u_0)) + U(u_1)")) << r.out;
     EXPECT_TRUE(Has(r.out, "PSNR")) << r.out;
     Image out = io::ReadImage(Path("d.exr"));
@@ -51,9 +52,10 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
     // Options reach the method: one scale requested, none left out.
     r =
         Run("denoise n.exr --method rhf --nscales 1 --kappa 0.5 --knn 3 --patch-half 2 "
-            "--search-half 4 --explain -o e.exr");
+            "--search-half 4 --bright-veto 0 --explain -o e.exr");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_FALSE(Has(r.out, "scale 1")) << r.out;
+    EXPECT_TRUE(Has(r.out, "(no bright veto)")) << r.out;
     EXPECT_TRUE(Has(r.out, "5x5 patch distances")) << r.out;
     EXPECT_TRUE(Has(r.out, "81 offsets")) << r.out;
     // Every stage against the CPU reference: float32 against double gives NMSE ~1e-14

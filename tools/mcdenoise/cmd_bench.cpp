@@ -428,10 +428,10 @@ void BenchRhf(const std::string &size, const std::string &sceneName, int spp, in
     vk::Context context(device.ContextOptions());
     RhfOptions rhf;
     fmt::print(
-        "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, {} "
-        "scales, on {} ({})\n",
+        "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, pixel "
+        "veto {}, {} scales, on {} ({})\n",
         sceneName, color->width, color->height, spp, rhf.patchHalf, rhf.searchHalf,
-        rhf.threshold, rhf.knn, rhf.scales, context.Info().name,
+        rhf.threshold, rhf.knn, rhf.brightVeto, rhf.scales, context.Info().name,
         vk::DeviceTypeName(context.Info().type));
     TimeMethodRuns(repeats, [&] { return RhfDenoise(context, *color, *hist, rhf).timings; });
 }

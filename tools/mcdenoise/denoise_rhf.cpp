@@ -35,17 +35,19 @@ std::vector<Image> ReferenceStages(const Image &color, const Image &hist,
     Image previous;
     for (int s = scales - 1; s >= 0; --s) {
         Image u = color, h = hist;
+        double factor = 1;
         if (s > 0) {
             u = ref::RhfGaussianDownsample(color, s, sigma(s));
             h = ref::RhfGaussianDownsample(hist, s, sigma(s));
             double coarse = 0;
             for (int i = 0; i < n3; ++i)
                 for (size_t q = 0; q < h.PixelCount(); ++q) coarse += h.Plane(i)[q];
-            for (float &v : h.data) v = float(v * (coarse > 0 ? total / coarse : 1.0));
+            factor = coarse > 0 ? total / coarse : 1.0;
+            for (float &v : h.data) v = float(v * factor);
             stages.push_back(u);
         }
         Image filtered = ref::RhfSingleScale(u, h, p.patchHalf, p.searchHalf, p.threshold,
-                                             s == 0 ? p.knn : 0);
+                                             s == 0 ? p.knn : 0, p.brightVeto / factor);
         stages.push_back(filtered);
         if (s < scales - 1) {
             Image low = ref::RhfBicubicUpsample(
@@ -79,6 +81,15 @@ DenoiseMethod RhfMethod() {
             ->check(CLI::Range(0, 20));
         cmd->add_option("--kappa", opt->threshold,
                         "rhf: threshold on the normalised chi-square patch distance")
+            ->capture_default_str()
+            ->check(CLI::Range(0.f, 1e30f));
+        cmd->add_option("--bright-veto", opt->brightVeto,
+                        "rhf: leave a candidate patch out when one of its pixels differs from "
+                        "its counterpart in the saturated bins (samples brighter than the "
+                        "histogram's range) by more than this: those bins' terms over the "
+                        "harmonic mean of the two sample counts. Beyond the authors' tool, "
+                        "whose distance lets a visible light into dark patches at few samples; "
+                        "0 is the authors' tool")
             ->capture_default_str()
             ->check(CLI::Range(0.f, 1e30f));
         cmd->add_option("--knn", opt->knn,
@@ -120,7 +131,7 @@ DenoiseMethod RhfMethod() {
         std::vector<Image> cpu =
             ReferenceStages(color, hist,
                             {options.patchHalf, options.searchHalf, double(options.threshold),
-                             options.knn, options.scales});
+                             options.knn, options.scales, double(options.brightVeto)});
         if (cpu.size() != gpu.stages.size())
             throw Error(fmt::format("rhf diff: {} stages on the GPU, {} on the CPU",
                                     gpu.stages.size(), cpu.size()));
