@@ -19,7 +19,7 @@ struct RhfParams {
     int scales = 2;          // n_scal requested
     // Beyond the authors' tool: the bright veto of RhfPatchDistance, in the frame's sample
     // counts (at scale s it is divided by the histograms' rescale factor); 0 turns it off.
-    double brightVeto = 0.5;
+    double brightVeto = 0.3;
 };
 
 // Scales actually filtered: scale s >= 1 is used only while its image is at least as big

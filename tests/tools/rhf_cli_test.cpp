@@ -43,7 +43,7 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
     Ran r = Run("denoise n.exr --method rhf --explain -o d.exr --reference r.exr");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_TRUE(Has(r.out, "chi-square pixel terms")) << r.out;
-    EXPECT_TRUE(Has(r.out, "with bright veto 0.5")) << r.out;
+    EXPECT_TRUE(Has(r.out, "with bright veto 0.3")) << r.out;
     EXPECT_TRUE(Has(r.out, "u_0 - U(D(u_0)) + U(u_1)")) << r.out;
     EXPECT_TRUE(Has(r.out, "PSNR")) << r.out;
     Image out = io::ReadImage(Path("d.exr"));
