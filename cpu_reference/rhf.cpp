@@ -188,7 +188,7 @@ Image Rhf(const Image &color, const Image &hist, const RhfParams &params) {
             factor = totalS > 0 ? total / totalS : 1.0;
             for (float &v : h.data) v = float(v * factor);
         }
-        // The veto's bound stays in the frame's sample counts: over the rescaled ones.
+        // The veto's bound is in the frame's sample counts: divide it by the rescale.
         Image filtered =
             RhfSingleScale(u, h, params.patchHalf, params.searchHalf, params.threshold,
                            s == 0 ? params.knn : 0, params.brightVeto / factor);

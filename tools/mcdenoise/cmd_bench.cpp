@@ -428,7 +428,8 @@ void BenchRhf(const std::string &size, const std::string &sceneName, int spp, in
     vk::Context context(device.ContextOptions());
     RhfOptions rhf;
     fmt::print(
-        "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, pixel "
+        "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, "
+        "bright "
         "veto {}, {} scales, on {} ({})\n",
         sceneName, color->width, color->height, spp, rhf.patchHalf, rhf.searchHalf,
         rhf.threshold, rhf.knn, rhf.brightVeto, rhf.scales, context.Info().name,
