@@ -44,6 +44,13 @@ float sum[PIX * SIDE], count[PIX * SIDE], np[PIX], nq[SPAN], hp[PIX], hq[SPAN];
 
 int x0Lane;  // the lane's first pixel
 
+// With the veto on, the saturated bins (the last two of each colour: samples above the
+// histogram's range M) are added first, by MarkVetoedPairs, and skipped by ACCUMULATE.
+bool Saturated(int plane) {
+    int perColour = push.binPlanes / 3;
+    return push.brightVeto > 0.0 && plane % perColour >= perColour - 2;
+}
+
 // Add one bin's terms, from hp and hq, for every (pixel, candidate) of the lane.
 void AddTerms() {
     [[unroll]] for (int j = 0; j < PIX; ++j)
@@ -63,6 +70,7 @@ void AddTerms() {
         int first = slot * push.planesPerSlot;                                           \
         int last = min(first + push.planesPerSlot, push.binPlanes);                      \
         for (int plane = first; plane < last; ++plane) {                                 \
+            if (Saturated(plane)) continue; /* added first, by MarkVetoedPairs */        \
             int base = (plane - first) * pixels;                                         \
             [[unroll]] for (int j = 0; j < PIX; ++j)                                     \
                 hp[j] = texelFetch(h, base + pRow + min(x0 + j, push.width - 1)).r *     \
@@ -79,9 +87,8 @@ void AddTerms() {
 const int VETO_WORDS = (PIX * SIDE + 31) / 32;
 uint vetoed[VETO_WORDS];
 
-// Mark the pairs whose terms in the saturated bins (the last two of each colour: samples
-// above the histogram's range M) exceed brightVeto x the harmonic mean of their counts,
-// then clear the sums for the pass over every bin.
+// Add the saturated bins' terms and mark the pairs whose sum exceeds brightVeto x the
+// harmonic mean of their counts; the other bins are added after.
 void MarkVetoedPairs(int pRow, int qRow) {
     int perColour = push.binPlanes / 3;
     for (int c = 0; c < 3; ++c)
@@ -99,8 +106,6 @@ void MarkVetoedPairs(int pRow, int qRow) {
         float harmonic = 2.0 * np[j] * nq[j + k] / (np[j] + nq[j + k]);
         if (count[i] > 0.0 && sum[i] > push.brightVeto * harmonic)
             vetoed[i / 32] |= 1u << (i % 32);
-        sum[i] = 0.0;
-        count[i] = 0.0;
     }
 }
 
