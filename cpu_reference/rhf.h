@@ -7,6 +7,8 @@
 // the last channel is the pixel's sample count.
 #pragma once
 
+#include <vector>
+
 #include "host/image.h"
 
 namespace mcd::ref {
@@ -50,7 +52,10 @@ Image RhfGaussianDownsample(const Image &image, int s, double sigma);
 // fine pixel x sits at coarse position x / 2; edges clamped.
 Image RhfBicubicUpsample(const Image &coarse, int width, int height);
 
-// Algorithm 3: the whole filter.
-Image Rhf(const Image &color, const Image &hist, const RhfParams &params);
+// Algorithm 3: the whole filter. With `stages`, also the images the GPU run keeps
+// (RhfResult::stages), coarse to fine: D_s of the colour (s >= 1), each scale's filtered
+// image and, below the coarsest, its recombination.
+Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
+          std::vector<Image> *stages = nullptr);
 
 }  // namespace mcd::ref

@@ -3,7 +3,6 @@
 // renderer writing the authors' layout).
 #include <fmt/format.h>
 
-#include <cmath>
 #include <memory>
 
 #include "cpu_reference/rhf.h"
@@ -21,45 +20,6 @@ const Image &Histograms(const io::Frame &frame) {
                         "(render with --layers hist); the frame has none",
                         frame.path));
     return frame.Get("hist");
-}
-
-// Algorithm 3 on the CPU reference, keeping the images the GPU run keeps (RhfResult).
-std::vector<Image> ReferenceStages(const Image &color, const Image &hist,
-                                   const ref::RhfParams &p) {
-    auto sigma = [](int s) { return 0.55 * std::sqrt(std::pow(4.0, s) - 1); };
-    int scales = ref::RhfScalesUsed(color.width, color.height, p), n3 = hist.channels - 1;
-    double total = 0;
-    for (int i = 0; i < n3; ++i)
-        for (size_t q = 0; q < hist.PixelCount(); ++q) total += hist.Plane(i)[q];
-    std::vector<Image> stages;
-    Image previous;
-    for (int s = scales - 1; s >= 0; --s) {
-        Image u = color, h = hist;
-        double factor = 1;
-        if (s > 0) {
-            u = ref::RhfGaussianDownsample(color, s, sigma(s));
-            h = ref::RhfGaussianDownsample(hist, s, sigma(s));
-            double coarse = 0;
-            for (int i = 0; i < n3; ++i)
-                for (size_t q = 0; q < h.PixelCount(); ++q) coarse += h.Plane(i)[q];
-            factor = coarse > 0 ? total / coarse : 1.0;
-            for (float &v : h.data) v = float(v * factor);
-            stages.push_back(u);
-        }
-        Image filtered = ref::RhfSingleScale(u, h, p.patchHalf, p.searchHalf, p.threshold,
-                                             s == 0 ? p.knn : 0, p.brightVeto / factor);
-        stages.push_back(filtered);
-        if (s < scales - 1) {
-            Image low = ref::RhfBicubicUpsample(
-                ref::RhfGaussianDownsample(filtered, 1, sigma(1)), u.width, u.height);
-            Image up = ref::RhfBicubicUpsample(previous, u.width, u.height);
-            for (size_t i = 0; i < filtered.Size(); ++i)
-                filtered.data[i] = float(double(filtered.data[i]) - low.data[i] + up.data[i]);
-            stages.push_back(filtered);
-        }
-        previous = filtered;
-    }
-    return stages;
 }
 
 }  // namespace
@@ -110,12 +70,7 @@ DenoiseMethod RhfMethod() {
         return frame.Has("hist") ? "" : "no histogram channels (Bin_0000..)";
     };
     method.run = [opt](vk::Context &context, const io::Frame &frame) {
-        if (!frame.Has("hist"))
-            throw Error(
-                fmt::format("{}: rhf needs the histogram channels Bin_0000..Bin_{{3n}} "
-                            "(render with --layers hist); the frame has none",
-                            frame.path));
-        RhfResult rhf = RhfDenoise(context, frame.Get("color"), frame.Get("hist"), *opt);
+        RhfResult rhf = RhfDenoise(context, frame.Get("color"), Histograms(frame), *opt);
         DenoiseResult result;
         result.image = std::move(rhf.image);
         result.plan = std::move(rhf.plan);
@@ -128,10 +83,11 @@ DenoiseMethod RhfMethod() {
         RhfOptions options = *opt;
         options.keepStages = true;
         RhfResult gpu = RhfDenoise(context, color, hist, options);
-        std::vector<Image> cpu =
-            ReferenceStages(color, hist,
-                            {options.patchHalf, options.searchHalf, double(options.threshold),
-                             options.knn, options.scales, double(options.brightVeto)});
+        std::vector<Image> cpu;
+        ref::Rhf(color, hist,
+                 {options.patchHalf, options.searchHalf, double(options.threshold), options.knn,
+                  options.scales, double(options.brightVeto)},
+                 &cpu);
         if (cpu.size() != gpu.stages.size())
             throw Error(fmt::format("rhf diff: {} stages on the GPU, {} on the CPU",
                                     gpu.stages.size(), cpu.size()));
