@@ -1,5 +1,7 @@
 #include "cpu_reference/rhf.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <tuple>
@@ -169,7 +171,7 @@ Image RhfBicubicUpsample(const Image &coarse, int width, int height) {
 }
 
 Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
-          std::vector<Image> *stages) {
+          std::vector<std::pair<std::string, Image>> *stages) {
     int scales = RhfScalesUsed(color.width, color.height, params);
     int n3 = hist.channels - 1;
     // n_T: the total of the bins over the image, kept at every scale.
@@ -188,13 +190,13 @@ Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
                 for (size_t p = 0; p < h.PixelCount(); ++p) totalS += h.Plane(i)[p];
             factor = totalS > 0 ? total / totalS : 1.0;
             for (float &v : h.data) v = float(v * factor);
-            if (stages) stages->push_back(u);
+            if (stages) stages->push_back({fmt::format("color s{}", s), u});
         }
         // The veto's bound is in the frame's sample counts: divide it by the rescale.
         Image filtered =
             RhfSingleScale(u, h, params.patchHalf, params.searchHalf, params.threshold,
                            s == 0 ? params.knn : 0, params.brightVeto / factor);
-        if (stages) stages->push_back(filtered);
+        if (stages) stages->push_back({fmt::format("filtered s{}", s), filtered});
         if (s < scales - 1) {
             // u_s - U(D(u_s)) + U(u_{s+1}).
             Image low = RhfBicubicUpsample(RhfGaussianDownsample(filtered, 1, SigmaOfScale(1)),
@@ -203,7 +205,7 @@ Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
             for (size_t i = 0; i < filtered.Size(); ++i)
                 filtered.data[i] =
                     float(double(filtered.data[i]) - low.data[i] + coarse.data[i]);
-            if (stages) stages->push_back(filtered);
+            if (stages) stages->push_back({fmt::format("combined s{}", s), filtered});
         }
         previous = std::move(filtered);
     }

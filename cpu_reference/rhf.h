@@ -7,6 +7,8 @@
 // the last channel is the pixel's sample count.
 #pragma once
 
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "host/image.h"
@@ -53,9 +55,10 @@ Image RhfGaussianDownsample(const Image &image, int s, double sigma);
 Image RhfBicubicUpsample(const Image &coarse, int width, int height);
 
 // Algorithm 3: the whole filter. With `stages`, also the images the GPU run keeps
-// (RhfResult::stages), coarse to fine: D_s of the colour (s >= 1), each scale's filtered
-// image and, below the coarsest, its recombination.
+// (RhfResult::stages), by the same names, coarse to fine: D_s of the colour ("color s<k>",
+// s >= 1), each scale's filtered image ("filtered s<k>") and, below the coarsest, its
+// recombination ("combined s<k>").
 Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
-          std::vector<Image> *stages = nullptr);
+          std::vector<std::pair<std::string, Image>> *stages = nullptr);
 
 }  // namespace mcd::ref

@@ -1,15 +1,4 @@
-// The project's exception: every user-facing failure (bad input, missing layer, Vulkan
-// error) is an mcd::Error whose message says what and where.
+// The project's exception lives in the public header; internal code includes it from here.
 #pragma once
 
-#include <stdexcept>
-#include <string>
-
-namespace mcd {
-
-class Error : public std::runtime_error {
-  public:
-    using std::runtime_error::runtime_error;
-};
-
-}  // namespace mcd
+#include "mcdenoise/error.h"

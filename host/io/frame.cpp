@@ -14,7 +14,8 @@
 #include "host/error.h"
 #include "host/io/layer_names.h"
 
-namespace mcd::io {
+namespace mcd {
+using namespace io;
 
 namespace {
 
@@ -166,4 +167,4 @@ Image ReadImage(const std::string &path, const std::string &layer) {
     return std::move(frame.layers[layer]);
 }
 
-}  // namespace mcd::io
+}  // namespace mcd

@@ -1,46 +1,16 @@
-// Frames on disk: reading a multi-layer image (EXR, PFM, HDR, PNG, ... through
-// OpenImageIO) into named planar layers, and writing EXR frames and PNG previews.
-// Layer names follow DESIGN.md, "Frames and layer names"; see layer_names.h.
+// Frames on disk: the public frame type and its readers and writers
+// (include/mcdenoise/frame.h), under the names the internal code has always used.
+// Layer names follow the README's layer table; see layer_names.h.
 #pragma once
 
-#include <map>
-#include <string>
-#include <utility>
-#include <vector>
-
-#include "host/image.h"
+#include "mcdenoise/frame.h"
 
 namespace mcd::io {
 
-// One frame: its layers by name, all width x height, and the file's string metadata.
-struct Frame {
-    std::string path;
-    int width = 0, height = 0;
-    std::map<std::string, Image> layers;
-    std::map<std::string, std::string> metadata;
-
-    bool Has(const std::string &layer) const { return layers.count(layer) > 0; }
-    // Throws mcd::Error naming the file, the layer and the layers the file has.
-    const Image &Get(const std::string &layer) const;
-};
-
-// Read part 0 of an image file, all channels as float, grouped into layers. 8- and 16-bit
-// data (PNG, ...) is sRGB-decoded to linear; 32-bit unsigned EXR channels (ids) keep
-// their integer values. Throws mcd::Error naming the path on any failure.
-Frame ReadFrame(const std::string &path);
-
-// ReadFrame(path).Get(layer).
-Image ReadImage(const std::string &path, const std::string &layer = "color");
-
-// Write float32 EXR (zip) with the layers in the given order, channels named by
-// ChannelNamesOf(); ReadFrame gives back the same layers bit for bit. All layers must
-// have the same size. Atomic: the file at path is either the old one or the new one.
-void WriteExr(const std::string &path,
-              const std::vector<std::pair<std::string, const Image *>> &layers,
-              const std::map<std::string, std::string> &metadata = {});
-
-// Write an 8-bit sRGB preview of a 1- or 3-channel image: values times exposure, clamped
-// to [0,1]; pixels with NaN or Inf in any channel are magenta. Atomic, as WriteExr.
-void WritePng(const std::string &path, const Image &image, float exposure = 1.f);
+using mcd::Frame;
+using mcd::ReadFrame;
+using mcd::ReadImage;
+using mcd::WriteExr;
+using mcd::WritePng;
 
 }  // namespace mcd::io

@@ -18,7 +18,8 @@
 #include "host/io/frame.h"
 #include "host/io/layer_names.h"
 
-namespace mcd::io {
+namespace mcd {
+using namespace io;
 
 namespace {
 
@@ -202,4 +203,4 @@ void WritePng(const std::string &path, const Image &image, float exposure) {
     });
 }
 
-}  // namespace mcd::io
+}  // namespace mcd

@@ -67,7 +67,7 @@ TEST_F(BayesSwtCli, DenoiseDiffAndErrors) {
 
     r = Run("denoise c.exr -o o.exr --method bayes --bayes-transform fft");
     EXPECT_EQ(r.code, 1);
-    EXPECT_TRUE(Contains(r.err, "--bayes-transform takes dwt or swt, not 'fft'")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "bayes-transform takes swt or dwt, not 'fft'")) << r.err;
     r = Run("denoise --help");
     EXPECT_TRUE(
         Contains(r.out, "bayes: swt (stationary, undecimated: shift-invariant; the default"))

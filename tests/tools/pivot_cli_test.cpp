@@ -178,7 +178,7 @@ TEST_F(PivotCli, RefusesBadOptionsAndMissingPivot) {
     ASSERT_EQ(Run("render --size 12x8 --spp 2 --layers pivot -o p.exr").code, 0);
     r = Run("denoise p.exr --method pivot --filter median -o f.exr");
     EXPECT_EQ(r.code, 1);
-    EXPECT_TRUE(Contains(r.err, "planefit or bilateral")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "filter takes planefit or bilateral")) << r.err;
     r = Run("denoise p.exr --method pivot --max-radius 1 -o f.exr");
     EXPECT_NE(r.code, 0);
     EXPECT_FALSE(fs::exists(Path("f.exr")));

@@ -73,7 +73,8 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
 }
 
 // Another renderer's file in the authors' layout: Bin_NNNN channels only next to the RGB
-// colour, here with 8 bins and a NaN colour, reads as histograms and gives a warning.
+// colour, here with 8 bins and a NaN colour, reads as histograms; the NaN is refused, or
+// replaced with a warning.
 TEST_F(RhfCli, ReadsOtherRenderersLayoutAndWarns) {
     const int w = 16, h = 12, n = 8;
     Image color(w, h, 3), hist(w, h, 3 * n + 1);
@@ -88,9 +89,15 @@ TEST_F(RhfCli, ReadsOtherRenderersLayoutAndWarns) {
         }
     color.At(1, 3, 3) = std::nanf("");
     io::WriteExr(Path("other.exr"), {{"color", &color}, {"hist", &hist}});
-    Ran r = Run("denoise other.exr --method rhf -o d.exr");
+    Ran r = Run("denoise other.exr --method rhf -o d.exr");  // refused by default
+    EXPECT_NE(r.code, 0) << r.out;
+    EXPECT_TRUE(Has(r.out,
+                    "layer 'color' of other.exr has 1 NaN/Inf value, the first at pixel "
+                    "(3, 3), channel 1"))
+        << r.out;
+    r = Run("denoise other.exr --method rhf --non-finite zero -o d.exr");
     ASSERT_EQ(r.code, 0) << r.out;
-    EXPECT_TRUE(Has(r.out, "1 pixel(s) have a NaN/Inf colour")) << r.out;
+    EXPECT_TRUE(Has(r.out, "replaced by 0 (--non-finite zero)")) << r.out;
     for (float v : io::ReadImage(Path("d.exr")).data) ASSERT_TRUE(std::isfinite(v));
 }
 

@@ -16,7 +16,7 @@
 #include "host/error.h"
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
-#include "tools/mcdenoise/denoise_method.h"
+#include "tools/mcdenoise/method_options.h"
 #include "tools/mcdenoise/reference_cache.h"
 #include "tools/render/renderer.h"
 
@@ -35,6 +35,7 @@ struct QualityOptions {
                 out = "out/bench-quality";
     int referenceSpp = 2048, cropSpp = 8, threads = 0;
     DeviceOptions device;
+    MethodOptions methodOptions;
 };
 
 // One measured point: `method` is "mc" for the plain render.
@@ -180,25 +181,22 @@ void BenchQuality(const QualityOptions &opt) {
     std::sort(ladder.begin(), ladder.end());
     ladder.erase(std::unique(ladder.begin(), ladder.end()), ladder.end());
     if (ladder.empty()) throw Error("--spp: no sample counts");
-    std::vector<DenoiseMethod> methods;
-    std::string known;
-    for (DenoiseMethod &m : DenoiseMethods()) {
-        known += (known.empty() ? "" : ", ") + m.name;
-        if (opt.methods == "all" || Listed(SplitList(opt.methods), m.name))
-            methods.push_back(std::move(m));
-    }
+    std::vector<Method> methods;
+    for (const std::string &name : MethodNames())
+        if (opt.methods == "all" || Listed(SplitList(opt.methods), name))
+            methods.push_back(opt.methodOptions.Make(name));
     if (opt.methods != "all")
         for (const std::string &name : SplitList(opt.methods))
             if (std::none_of(methods.begin(), methods.end(),
-                             [&](const DenoiseMethod &m) { return m.name == name; }))
-                throw Error(
-                    fmt::format("--methods: unknown method '{}' (methods: {})", name, known));
+                             [&](const Method &m) { return m.Name() == name; }))
+                throw Error(fmt::format("--methods: unknown method '{}' (methods: {})", name,
+                                        MethodOptions::Names()));
     PrepareDirectory(opt.out);
 
-    vk::Context context(opt.device.ContextOptions());
+    Device device(opt.device.Options());
     fmt::print("bench quality: {} scene(s) at {}x{}, spp {}, methods {}, on {}\n",
                scenes.size(), width, height, opt.spp, methods.empty() ? "none" : opt.methods,
-               context.Info().name);
+               device.Name());
     std::vector<Point> points;
     std::string html = fmt::format(
         "<!doctype html><html><head><meta charset='utf-8'><title>mcdenoise bench "
@@ -209,7 +207,7 @@ void BenchQuality(const QualityOptions &opt) {
         "an untimed warm-up that compiles its pipelines). A method runs on the plain frame "
         "(color, variance, spp, min, max) when that is all it needs, else on a frame with "
         "every layer group, and is charged that frame's render time.</p>\n",
-        width, height, opt.referenceSpp, context.Info().name);
+        width, height, opt.referenceSpp, device.Name());
     std::string headline;
 
     for (const std::string &sceneName : scenes) {
@@ -219,7 +217,7 @@ void BenchQuality(const QualityOptions &opt) {
         const Image &reference = referenceFrame.Get("color");
         render::Scene scene = render::BuildScene(sceneName);
         std::vector<std::pair<std::string, std::vector<Point>>> curves = {{"mc", {}}};
-        for (const DenoiseMethod &m : methods) curves.push_back({m.name, {}});
+        for (const Method &m : methods) curves.push_back({m.Name(), {}});
         std::map<std::string, std::string> skipped;
         std::map<std::string, Image> crops;
         std::set<std::string> warm;
@@ -246,32 +244,31 @@ void BenchQuality(const QualityOptions &opt) {
             std::string line = fmt::format("  {:<15} {:3} spp: mc relMSE {:.4g} ({:.2f} s)",
                                            sceneName, spp, mc.error.relMse, mc.renderSeconds);
             for (size_t m = 0; m < methods.size(); ++m) {
-                if (skipped.count(methods[m].name)) continue;
+                if (skipped.count(methods[m].Name())) continue;
                 // The plain frame when it has what the method needs, and its render time.
-                bool needsMore = methods[m].missing && !methods[m].missing(plainFrame).empty();
+                bool needsMore = !methods[m].Missing(plainFrame).empty();
                 const io::Frame &frame = needsMore ? fullFrame : plainFrame;
                 double renderSeconds = needsMore ? full.seconds : plain.seconds;
                 try {
                     // Untimed until a run has dispatched (and so compiled) its kernels: a
                     // frame with nothing to do (1 spp: no variance) dispatches nothing.
-                    if (!warm.count(methods[m].name) &&
-                        !methods[m].run(context, frame).timings.empty())
-                        warm.insert(methods[m].name);
+                    if (!warm.count(methods[m].Name()) &&
+                        !methods[m].Run(device, frame).timings.empty())
+                        warm.insert(methods[m].Name());
                     Clock::time_point start = Clock::now();
-                    DenoiseResult result = methods[m].run(context, frame);
-                    Point p{sceneName, methods[m].name, spp, renderSeconds,
+                    Result result = methods[m].Run(device, frame);
+                    Point p{sceneName, methods[m].Name(), spp, renderSeconds,
                             Seconds(Clock::now() - start)};
-                    for (const vk::DispatchTiming &t : result.timings)
-                        p.gpuSeconds += std::max(t.gpuMs, 0.0) * 1e-3;
+                    p.gpuSeconds = result.GpuMs() * 1e-3;
                     p.error = CompareImages(result.image, reference);
                     curves[m + 1].second.push_back(p);
-                    if (spp == opt.cropSpp) crops[methods[m].name] = std::move(result.image);
-                    line += fmt::format(", {} {:.4g} ({:.2f} s)", methods[m].name,
+                    if (spp == opt.cropSpp) crops[methods[m].Name()] = std::move(result.image);
+                    line += fmt::format(", {} {:.4g} ({:.2f} s)", methods[m].Name(),
                                         p.error.relMse, p.Total());
                 } catch (const Error &e) {
                     // A frame that lacks a method's layers fails the same way at every spp.
-                    skipped[methods[m].name] = e.what();
-                    line += fmt::format(", {} skipped", methods[m].name);
+                    skipped[methods[m].Name()] = e.what();
+                    line += fmt::format(", {} skipped", methods[m].Name());
                 }
             }
             fmt::print("{}\n", line);
@@ -320,7 +317,7 @@ void BenchQuality(const QualityOptions &opt) {
             crops["reference"] = reference;
             html += fmt::format("<p>Crops at {} spp:</p><table><tr>", opt.cropSpp);
             std::vector<std::string> order = {"input"};
-            for (const DenoiseMethod &m : methods) order.push_back(m.name);
+            for (const Method &m : methods) order.push_back(m.Name());
             order.push_back("reference");
             for (const std::string &name : order) {
                 if (!crops.count(name)) continue;
@@ -371,6 +368,7 @@ void AddBenchQualityCommand(CLI::App *bench) {
     quality->add_option("--threads", opt->threads, "render threads (default: all cores)");
     quality->add_option("-o,--out", opt->out, "output directory")->capture_default_str();
     opt->device.Add(quality);
+    opt->methodOptions.Add(quality);
     quality->callback([opt] { BenchQuality(*opt); });
 }
 

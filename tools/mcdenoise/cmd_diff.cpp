@@ -10,7 +10,7 @@
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "tools/mcdenoise/commands.h"
-#include "tools/mcdenoise/denoise_method.h"
+#include "tools/mcdenoise/method_options.h"
 
 namespace mcd::tool {
 namespace {
@@ -55,62 +55,78 @@ void AddDiffCommand(CLI::App &app) {
         std::string input, method = "awr", dump;
         double maxNmse = -1;
         DeviceOptions device;
+        MethodOptions methods;
     };
     auto opt = std::make_shared<Options>();
-    auto methods = std::make_shared<std::vector<DenoiseMethod>>(DenoiseMethods());
-    std::string names;
-    for (const DenoiseMethod &m : *methods)
-        if (m.stages) names += (names.empty() ? "" : ", ") + m.name;
     CLI::App *cmd = app.add_subcommand(
         "diff",
         "Run a method on the GPU and on the CPU reference and compare every stage (NMSE, max "
         "|gpu - cpu| / max |cpu|, non-finite parity); the method's options apply to both");
     cmd->add_option("input", opt->input, "frame (EXR with the layers the method needs)")
         ->required();
-    cmd->add_option("--method", opt->method, names)->capture_default_str();
+    cmd->add_option("--method", opt->method, MethodOptions::Names())->capture_default_str();
     cmd->add_option("--dump", opt->dump, "directory: write <stage>.gpu.exr and .cpu.exr here");
     cmd->add_option("--max-nmse", opt->maxNmse,
                     "fail (exit 1) when a stage's NMSE exceeds this or its non-finite "
                     "elements differ");
     opt->device.Add(cmd);
-    for (const DenoiseMethod &m : *methods) m.addOptions(cmd);
-    cmd->callback([opt, methods, names] {
-        auto method = std::find_if(
-            methods->begin(), methods->end(),
-            [&](const DenoiseMethod &m) { return m.name == opt->method && m.stages; });
-        if (method == methods->end())
-            throw Error(fmt::format("diff: unknown method '{}' (methods with stages: {})",
-                                    opt->method, names));
+    opt->methods.Add(cmd);
+    cmd->callback([opt] {
+        if (opt->method == "auto")
+            throw Error(fmt::format("diff: unknown method 'auto' (methods with stages: {})",
+                                    MethodOptions::Names()));
+        Method method = opt->methods.Make(opt->method);
         if (!opt->dump.empty()) PrepareDirectory(opt->dump);
         io::Frame frame = io::ReadFrame(opt->input);
-        vk::Context context(opt->device.ContextOptions());
-        std::vector<StagePair> stages = method->stages(context, frame);
-        fmt::print("{} on {} ({}), GPU against the CPU reference:\n", method->name, opt->input,
-                   context.Info().name);
+        Device device(opt->device.Options());
+        RunOptions run;
+        run.keepStages = true;
+        Result gpu = method.Run(device, frame, run);
+        std::vector<Stage> cpu = method.Reference(device, frame);
+        if (gpu.stages.empty())
+            throw Error(
+                fmt::format("{}: nothing to compare: {}", method.Name(),
+                            gpu.plan.empty() ? std::string("no stage ran") : gpu.plan.back()));
+        // Pair the stages by name; a stage on one side only is an error of the method.
+        std::string unpaired;
+        for (const Stage &s : gpu.stages)
+            if (std::none_of(cpu.begin(), cpu.end(),
+                             [&](const Stage &c) { return c.name == s.name; }))
+                unpaired += fmt::format(" '{}' (GPU only)", s.name);
+        for (const Stage &c : cpu)
+            if (std::none_of(gpu.stages.begin(), gpu.stages.end(),
+                             [&](const Stage &s) { return c.name == s.name; }))
+                unpaired += fmt::format(" '{}' (CPU only)", c.name);
+        if (!unpaired.empty())
+            throw Error(fmt::format("{}: stages without a twin:{}", method.Name(), unpaired));
+        fmt::print("{} on {} ({}), GPU against the CPU reference:\n", method.Name(), opt->input,
+                   device.Name());
         fmt::print("  {:<24} {:>12} {:>16} {:>10}\n", "stage", "NMSE", "max rel error",
                    "parity");
         std::string worst;
-        for (const StagePair &s : stages) {
-            if (!s.gpu.SameShape(s.cpu))
+        for (const Stage &g : gpu.stages) {
+            const Image &c = std::find_if(cpu.begin(), cpu.end(), [&](const Stage &s) {
+                                 return s.name == g.name;
+                             })->image;
+            if (!g.image.SameShape(c))
                 throw Error(
                     fmt::format("diff: stage {} is {}x{}x{} on the GPU, {}x{}x{} on the "
                                 "CPU",
-                                s.name, s.gpu.width, s.gpu.height, s.gpu.channels, s.cpu.width,
-                                s.cpu.height, s.cpu.channels));
-            StageError e = Measure(s.gpu, s.cpu);
-            fmt::print("  {:<24} {:>12.3g} {:>16.3g} {:>10}\n", s.name, e.nmse, e.maxRel,
+                                g.name, g.image.width, g.image.height, g.image.channels,
+                                c.width, c.height, c.channels));
+            StageError e = Measure(g.image, c);
+            fmt::print("  {:<24} {:>12.3g} {:>16.3g} {:>10}\n", g.name, e.nmse, e.maxRel,
                        e.parity);
             if (opt->maxNmse >= 0 && worst.empty() && (e.nmse > opt->maxNmse || e.parity))
                 worst = fmt::format(
                     "diff: stage {} is off: NMSE {:.3g} (--max-nmse {:.3g}), "
                     "{} elements finite on one side only",
-                    s.name, e.nmse, opt->maxNmse, e.parity);
+                    g.name, e.nmse, opt->maxNmse, e.parity);
             if (!opt->dump.empty()) {
                 std::filesystem::path dir(opt->dump);
-                io::WriteExr((dir / (FileName(s.name) + ".gpu.exr")).string(),
-                             {{"color", &s.gpu}});
-                io::WriteExr((dir / (FileName(s.name) + ".cpu.exr")).string(),
-                             {{"color", &s.cpu}});
+                io::WriteExr((dir / (FileName(g.name) + ".gpu.exr")).string(),
+                             {{"color", &g.image}});
+                io::WriteExr((dir / (FileName(g.name) + ".cpu.exr")).string(), {{"color", &c}});
             }
         }
         if (!worst.empty()) throw Error(worst);

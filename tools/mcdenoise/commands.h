@@ -10,6 +10,7 @@
 
 #include "host/image.h"
 #include "host/vk/context.h"
+#include "mcdenoise/mcdenoise.h"
 
 namespace mcd::tool {
 
@@ -19,6 +20,7 @@ struct DeviceOptions {
     bool validation = false;
     void Add(CLI::App *command);
     vk::ContextOptions ContextOptions() const { return {device, validation}; }
+    mcd::DeviceOptions Options() const { return {device, validation}; }
 };
 
 void AddInfoCommand(CLI::App &app);

@@ -1,0 +1,164 @@
+// The layer between a frame and a method's GPU pipeline (host/methods/): which layer feeds
+// which input, the method's typed parameters with their defaults, and its CPU reference's
+// stages. One front end a method (method_<name>.cpp); mcd::Method wraps them.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/vk/context.h"
+#include "host/vk/recorder.h"
+#include "mcdenoise/mcdenoise.h"
+
+namespace mcd::api {
+
+// The frame's layers as a method reads them. A layer is checked for NaN/Inf on its first
+// read: refused (naming the layer and the first pixel) or replaced by 0 with a warning,
+// by the non-finite policy. Demodulation overrides layers with its own images.
+class Inputs {
+  public:
+    Inputs(const Frame &frame, bool refuseNonFinite, std::string method);
+
+    const std::string &Path() const { return frame.path; }
+    int Width() const { return frame.width; }
+    int Height() const { return frame.height; }
+    bool Has(const std::string &layer) const;
+    const Image &Get(const std::string &layer);
+    // Replace a layer for the rest of the run (checked like the frame's own on read).
+    void Override(const std::string &layer, Image image);
+    // The names of the frame's layers and the overrides, sorted.
+    std::vector<std::string> Names() const;
+
+    std::vector<std::string> warnings;
+
+  private:
+    const Frame &frame;
+    bool refuseNonFinite;
+    std::string method;
+    std::map<std::string, Image> overrides;  // demodulated or repaired layers
+    std::map<std::string, bool> checked;
+};
+
+// A parameter bound to a field of the options struct O: O's initializers are the defaults.
+template <class O>
+struct ParamDef {
+    ParamInfo info;
+    std::function<ParamValue(const O &)> get;
+    std::function<void(O &, const ParamValue &)> set;
+};
+
+template <class O>
+ParamDef<O> FloatParam(std::string name, std::string help, float O::*field, double min,
+                       double max) {
+    ParamInfo info{std::move(name), ParamType::Float, std::move(help), ParamValue(), min, max};
+    return {info, [field](const O &o) { return ParamValue(o.*field); },
+            [field](O &o, const ParamValue &v) { o.*field = std::get<float>(v); }};
+}
+
+template <class O>
+ParamDef<O> IntParam(std::string name, std::string help, int O::*field, double min,
+                     double max) {
+    ParamInfo info{std::move(name), ParamType::Int, std::move(help), ParamValue(), min, max};
+    return {info, [field](const O &o) { return ParamValue(o.*field); },
+            [field](O &o, const ParamValue &v) { o.*field = std::get<int>(v); }};
+}
+
+template <class O>
+ParamDef<O> BoolParam(std::string name, std::string help, bool O::*field) {
+    ParamInfo info{std::move(name), ParamType::Bool, std::move(help)};
+    return {info, [field](const O &o) { return ParamValue(o.*field); },
+            [field](O &o, const ParamValue &v) { o.*field = std::get<bool>(v); }};
+}
+
+template <class O>
+ParamDef<O> ChoiceParam(std::string name, std::string help, std::string O::*field,
+                        std::vector<std::string> choices) {
+    ParamInfo info{std::move(name), ParamType::String, std::move(help)};
+    info.choices = std::move(choices);
+    return {info, [field](const O &o) { return ParamValue(o.*field); },
+            [field](O &o, const ParamValue &v) { o.*field = std::get<std::string>(v); }};
+}
+
+class FrontEnd {
+  public:
+    virtual ~FrontEnd() = default;
+    virtual std::unique_ptr<FrontEnd> Clone() const = 0;
+
+    virtual const std::string &Name() const = 0;
+    virtual std::string Summary() const = 0;
+    virtual const std::vector<ParamInfo> &Params() const = 0;
+    // The value has the parameter's type and lies in its range (mcd::Method checked it).
+    virtual void Set(const std::string &name, const ParamValue &value) = 0;
+    virtual ParamValue Get(const std::string &name) const = 0;
+
+    // Why the frame lacks what the method needs with its parameters ("" when it has it).
+    virtual std::string Missing(const Frame &frame) const { return ""; }
+    // Why the method cannot run on color divided by `layer` ("" when it can).
+    virtual std::string Undemodulable(const Frame &frame, const std::string &layer) const {
+        return "";
+    }
+
+    virtual Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const = 0;
+    virtual std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const = 0;
+};
+
+// A front end whose parameters are the fields of O, by the table `defs`.
+template <class O>
+class FrontEndOf : public FrontEnd {
+  public:
+    FrontEndOf(std::string name, std::vector<ParamDef<O>> defs) : name(std::move(name)) {
+        auto built = std::make_shared<Table>();
+        built->defs = std::move(defs);
+        for (ParamDef<O> &def : built->defs) {
+            def.info.defaultValue = def.get(O());
+            def.info.method = this->name;
+            built->infos.push_back(def.info);
+        }
+        table = std::move(built);
+    }
+    const std::string &Name() const override { return name; }
+    const std::vector<ParamInfo> &Params() const override { return table->infos; }
+    void Set(const std::string &param, const ParamValue &value) override {
+        Def(param).set(options, value);
+    }
+    ParamValue Get(const std::string &param) const override { return Def(param).get(options); }
+
+    O options;
+
+  private:
+    const ParamDef<O> &Def(const std::string &param) const {
+        for (const ParamDef<O> &def : table->defs)
+            if (def.info.name == param) return def;
+        throw Error(name + " has no parameter '" + param + "'");
+    }
+    struct Table {
+        std::vector<ParamDef<O>> defs;
+        std::vector<ParamInfo> infos;
+    };
+    std::string name;
+    std::shared_ptr<const Table> table;  // shared by copies: the table never changes
+};
+
+// The front ends, one per method (method_<name>.cpp).
+std::unique_ptr<FrontEnd> AwrFrontEnd();
+std::unique_ptr<FrontEnd> BayesFrontEnd();
+std::unique_ptr<FrontEnd> PivotFrontEnd();
+std::unique_ptr<FrontEnd> RhfFrontEnd();
+
+// Result fields from a pipeline's own result (image, plan, warnings, timings, stages).
+template <class R>
+Result ResultOf(R &&run) {
+    Result result;
+    result.image = std::move(run.image);
+    result.plan = std::move(run.plan);
+    if constexpr (requires { run.warnings; }) result.warnings = std::move(run.warnings);
+    for (const vk::DispatchTiming &t : run.timings)
+        result.timings.push_back({t.label, t.gpuMs});
+    for (auto &[name, image] : run.stages) result.stages.push_back({name, std::move(image)});
+    return result;
+}
+
+}  // namespace mcd::api

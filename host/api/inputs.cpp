@@ -1,0 +1,60 @@
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "host/api/front_end.h"
+
+namespace mcd::api {
+
+Inputs::Inputs(const Frame &frame, bool refuseNonFinite, std::string method)
+    : frame(frame), refuseNonFinite(refuseNonFinite), method(std::move(method)) {}
+
+bool Inputs::Has(const std::string &layer) const {
+    return overrides.count(layer) > 0 || frame.Has(layer);
+}
+
+void Inputs::Override(const std::string &layer, Image image) {
+    overrides[layer] = std::move(image);
+    checked.erase(layer);
+}
+
+std::vector<std::string> Inputs::Names() const {
+    std::vector<std::string> names;
+    for (const auto &[name, image] : frame.layers) names.push_back(name);
+    for (const auto &[name, image] : overrides)
+        if (!frame.Has(name)) names.push_back(name);
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+const Image &Inputs::Get(const std::string &layer) {
+    auto it = overrides.find(layer);
+    const Image &image = it != overrides.end() ? it->second : frame.Get(layer);
+    if (checked[layer]) return image;
+    checked[layer] = true;
+    // Count the non-finite values and find the first, in storage order.
+    size_t bad = 0, first = 0;
+    for (size_t i = 0; i < image.data.size(); ++i)
+        if (!std::isfinite(image.data[i]) && bad++ == 0) first = i;
+    if (bad == 0) return image;
+    size_t pixels = std::max<size_t>(image.PixelCount(), 1);
+    int channel = int(first / pixels);
+    int y = int(first % pixels) / std::max(image.width, 1);
+    int x = int(first % pixels) % std::max(image.width, 1);
+    std::string where = fmt::format(
+        "layer '{}' of {} has {} NaN/Inf value{}, the first at "
+        "pixel ({}, {}), channel {}",
+        layer, frame.path.empty() ? "the frame" : frame.path, bad, bad == 1 ? "" : "s", x, y,
+        channel);
+    if (refuseNonFinite)
+        throw Error(
+            fmt::format("{}: {} (--non-finite zero replaces them with 0)", method, where));
+    Image repaired = image;
+    for (float &v : repaired.data)
+        if (!std::isfinite(v)) v = 0.f;
+    warnings.push_back(fmt::format("{}: replaced by 0 (--non-finite zero)", where));
+    overrides[layer] = std::move(repaired);
+    return overrides[layer];
+}
+
+}  // namespace mcd::api

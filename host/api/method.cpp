@@ -1,0 +1,431 @@
+// mcd::Method: a front end by name, the parameters every method shares (demodulation, the
+// non-finite policy), `auto`, and the run around the front end: inputs, ledger, wall time.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "host/api/front_end.h"
+#include "host/methods/pivot.h"
+
+namespace mcd {
+
+namespace {
+
+// The parameters of mcd::Method itself, shared by every method.
+struct CommonParams {
+    std::string demodulate, nonFinite = "refuse";
+};
+
+std::vector<api::ParamDef<CommonParams>> CommonDefs() {
+    return {
+        api::ChoiceParam("demodulate",
+                         "divide the frame by its pivot or albedo layer before the method "
+                         "and multiply back after (Ershov et al. 4.1: filter z = color / "
+                         "pivot with any method but pivot; rhf then needs the frame's zhist "
+                         "layer, from render --layers zhist, and the pivot)",
+                         &CommonParams::demodulate, {"", "pivot", "albedo"}),
+        api::ChoiceParam("non-finite",
+                         "NaN/Inf input values: zero (replace them with 0 and warn, naming "
+                         "the layer and the first pixel) or refuse (stop with that message)",
+                         &CommonParams::nonFinite, {"zero", "refuse"})};
+}
+
+// `auto` tries the methods in this order and takes the first the frame has the layers for.
+// The order is measured (README, "Error against run time"): the geometric mean over the
+// seven built-in scenes of the error at equal time, render time included.
+constexpr const char *kAutoOrder[] = {"awr", "rhf", "bayes", "pivot"};
+
+std::string AutoOrderText() {
+    std::string text;
+    for (const char *name : kAutoOrder) text += (text.empty() ? "" : " > ") + std::string(name);
+    return text;
+}
+
+std::unique_ptr<api::FrontEnd> FrontEndByName(const std::string &name) {
+    if (name == "awr") return api::AwrFrontEnd();
+    if (name == "bayes") return api::BayesFrontEnd();
+    if (name == "pivot") return api::PivotFrontEnd();
+    if (name == "rhf") return api::RhfFrontEnd();
+    return nullptr;
+}
+
+// `auto`: every method's parameters; runs the first method in kAutoOrder that the frame
+// allows.
+class Auto : public api::FrontEnd {
+  public:
+    Auto() {
+        for (const char *name : kAutoOrder) {
+            candidates.push_back(FrontEndByName(name));
+            for (const ParamInfo &info : candidates.back()->Params()) infos.push_back(info);
+        }
+    }
+    Auto(const Auto &other) : infos(other.infos) {
+        for (const auto &c : other.candidates) candidates.push_back(c->Clone());
+    }
+    std::unique_ptr<api::FrontEnd> Clone() const override {
+        return std::make_unique<Auto>(*this);
+    }
+    const std::string &Name() const override { return name; }
+    std::string Summary() const override {
+        return "the best method the frame's layers allow, by the measured order " +
+               AutoOrderText();
+    }
+    const std::vector<ParamInfo> &Params() const override { return infos; }
+    void Set(const std::string &param, const ParamValue &value) override {
+        Owner(param).Set(param, value);
+    }
+    ParamValue Get(const std::string &param) const override {
+        return const_cast<Auto *>(this)->Owner(param).Get(param);
+    }
+    std::string Missing(const Frame &frame) const override {
+        for (const auto &c : candidates)
+            if (c->Missing(frame).empty()) return "";
+        return "no method has the layers it needs";
+    }
+    // The method that runs, with the plan lines that say why.
+    const api::FrontEnd &Pick(const Frame &frame, const std::string &demodulate,
+                              std::vector<std::string> *plan) const {
+        for (const auto &c : candidates) {
+            std::string lacks = c->Missing(frame);
+            if (lacks.empty() && !demodulate.empty() &&
+                !c->Undemodulable(frame, demodulate).empty())
+                lacks = "it cannot run on a demodulated frame";
+            if (lacks.empty()) {
+                plan->insert(plan->begin(), fmt::format("auto: {} (order by bench quality: {})",
+                                                        c->Name(), AutoOrderText()));
+                return *c;
+            }
+            plan->push_back(fmt::format("auto: left out {}: {}", c->Name(), lacks));
+        }
+        throw Error(
+            fmt::format("{}: --method auto found no method for this frame", frame.path));
+    }
+    Result Run(vk::Context &, api::Inputs &, const RunOptions &) const override {
+        throw Error("auto: pick a method first");
+    }
+    std::vector<Stage> Reference(vk::Context &, api::Inputs &) const override {
+        throw Error("auto: pick a method first");
+    }
+
+  private:
+    api::FrontEnd &Owner(const std::string &param) {
+        for (auto &c : candidates)
+            for (const ParamInfo &info : c->Params())
+                if (info.name == param) return *c;
+        throw Error("auto has no parameter '" + param + "'");
+    }
+    std::string name = "auto";
+    std::vector<std::unique_ptr<api::FrontEnd>> candidates;
+    std::vector<ParamInfo> infos;
+};
+
+// --demodulate: the color-like layers divided by a guide layer, and what multiplies back.
+// Pixels whose guide is at or below 1e-3 x the channel mean are left as they are and keep
+// their input in the output (as in the pivot method).
+struct Demodulation {
+    Image guide, color;
+    std::vector<float> thresholds;
+    std::string layer;
+};
+
+Demodulation Demodulate(api::Inputs &inputs, const api::FrontEnd &method, const Frame &frame,
+                        const std::string &layer) {
+    if (std::string why = method.Undemodulable(frame, layer); !why.empty())
+        throw Error(fmt::format("--demodulate {}: {}", layer, why));
+    Demodulation d;
+    d.layer = layer;
+    d.guide = inputs.Get(layer);
+    d.color = inputs.Get("color");
+    if (!d.guide.SameShape(d.color))
+        throw Error(fmt::format("--demodulate: {} is {}x{}x{}, color {}x{}x{}", layer,
+                                d.guide.width, d.guide.height, d.guide.channels, d.color.width,
+                                d.color.height, d.color.channels));
+    if (method.Name() == "rhf") inputs.Override("hist", inputs.Get("zhist"));
+    d.thresholds = PivotThresholds(d.guide, 1e-3f);
+    for (const std::string &name : inputs.Names()) {
+        int power = name == "variance" ? 2
+                    : (name == "color" || name == "min" || name == "max" || name == "direct" ||
+                       name == "indirect")
+                        ? 1
+                        : 0;
+        if (power == 0 || !inputs.Get(name).SameShape(d.color)) continue;
+        Image image = inputs.Get(name);
+        for (int c = 0; c < image.channels; ++c)
+            for (size_t i = 0; i < image.PixelCount(); ++i) {
+                float g = d.guide.Plane(c)[i];
+                if (g > d.thresholds[c]) image.Plane(c)[i] /= power == 2 ? g * g : g;
+            }
+        inputs.Override(name, std::move(image));
+    }
+    return d;
+}
+
+void Remodulate(const Demodulation &d, const std::string &method, Result *result) {
+    Image &image = result->image;
+    for (int c = 0; c < image.channels; ++c)
+        for (size_t i = 0; i < image.PixelCount(); ++i) {
+            float g = d.guide.Plane(c)[i];
+            image.Plane(c)[i] =
+                g > d.thresholds[c] ? image.Plane(c)[i] * g : d.color.Plane(c)[i];
+        }
+    std::vector<std::string> lines = {
+        fmt::format("demodulated: the method ran on color / {} (pixels with {} <= 1e-3 x the "
+                    "channel mean keep their input), then multiplied back",
+                    d.layer, d.layer)};
+    if (method == "rhf")
+        lines.push_back(
+            "demodulated: rhf compared the frame's zhist (histograms of the samples of color / "
+            "pivot)");
+    result->plan.insert(result->plan.begin(), lines.begin(), lines.end());
+}
+
+bool SameType(const ParamValue &value, ParamType type) {
+    switch (type) {
+        case ParamType::Bool:
+            return std::holds_alternative<bool>(value);
+        case ParamType::Int:
+            return std::holds_alternative<int>(value);
+        case ParamType::Float:
+            return std::holds_alternative<float>(value);
+        case ParamType::String:
+            return std::holds_alternative<std::string>(value);
+    }
+    return false;
+}
+
+const char *TypeName(ParamType type) {
+    switch (type) {
+        case ParamType::Bool:
+            return "a bool";
+        case ParamType::Int:
+            return "an integer";
+        case ParamType::Float:
+            return "a number";
+        case ParamType::String:
+            return "a string";
+    }
+    return "?";
+}
+
+std::string ValueText(const ParamValue &value) {
+    return std::visit(
+        [](const auto &v) -> std::string {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, bool>)
+                return v ? "true" : "false";
+            else if constexpr (std::is_same_v<T, std::string>)
+                return "'" + v + "'";
+            else
+                return fmt::format("{}", v);
+        },
+        value);
+}
+
+}  // namespace
+
+struct Method::Impl {
+    std::unique_ptr<api::FrontEnd> frontEnd;
+    CommonParams common;
+    std::vector<ParamInfo> infos;  // the front end's, then the common ones
+
+    Impl(std::unique_ptr<api::FrontEnd> frontEnd) : frontEnd(std::move(frontEnd)) {
+        infos = this->frontEnd->Params();
+        for (const api::ParamDef<CommonParams> &def : CommonDefs()) {
+            ParamInfo info = def.info;
+            info.defaultValue = def.get(CommonParams());
+            infos.push_back(info);
+        }
+    }
+    Impl(const Impl &other)
+        : frontEnd(other.frontEnd->Clone()), common(other.common), infos(other.infos) {}
+
+    const ParamInfo &Info(const std::string &name) const {
+        for (const ParamInfo &info : infos)
+            if (info.name == name) return info;
+        throw Error(fmt::format("{} has no parameter '{}'", frontEnd->Name(), name));
+    }
+    bool IsCommon(const std::string &name) const {
+        return name == "demodulate" || name == "non-finite";
+    }
+};
+
+Method::Method(const std::string &name) {
+    std::unique_ptr<api::FrontEnd> frontEnd =
+        name == "auto" ? std::make_unique<Auto>() : FrontEndByName(name);
+    if (!frontEnd) {
+        std::string known = "auto";
+        for (const std::string &m : MethodNames()) known += ", " + m;
+        throw Error(fmt::format("unknown method '{}' (methods: {})", name, known));
+    }
+    impl = std::make_unique<Impl>(std::move(frontEnd));
+}
+
+Method::~Method() = default;
+Method::Method(const Method &other) : impl(std::make_unique<Impl>(*other.impl)) {}
+Method &Method::operator=(const Method &other) {
+    if (this != &other) impl = std::make_unique<Impl>(*other.impl);
+    return *this;
+}
+Method::Method(Method &&) noexcept = default;
+Method &Method::operator=(Method &&) noexcept = default;
+
+const std::string &Method::Name() const {
+    return impl->frontEnd->Name();
+}
+std::string Method::Summary() const {
+    return impl->frontEnd->Summary();
+}
+const std::vector<ParamInfo> &Method::Params() const {
+    return impl->infos;
+}
+
+bool Method::HasParam(const std::string &name) const {
+    for (const ParamInfo &info : impl->infos)
+        if (info.name == name) return true;
+    return false;
+}
+
+void Method::Set(const std::string &name, double value) {
+    const ParamInfo &info = impl->Info(name);
+    if (info.type == ParamType::Int && value == std::floor(value) && std::abs(value) < 2e9)
+        return Set(name, ParamValue(int(value)));
+    Set(name, ParamValue(float(value)));
+}
+
+void Method::Set(const std::string &name, ParamValue value) {
+    const ParamInfo &info = impl->Info(name);
+    // An integer where a number is asked for is a number.
+    if (info.type == ParamType::Float && std::holds_alternative<int>(value))
+        value = float(std::get<int>(value));
+    if (!SameType(value, info.type))
+        throw Error(fmt::format("{}: parameter '{}' takes {}, not {}", Name(), name,
+                                TypeName(info.type), ValueText(value)));
+    // Compare in the parameter's own type: 1e-6f is below the double 1e-6.
+    bool outside = info.type == ParamType::Int
+                       ? !(std::get<int>(value) >= info.min && std::get<int>(value) <= info.max)
+                   : info.type == ParamType::Float
+                       ? !(std::get<float>(value) >= float(info.min) &&
+                           std::get<float>(value) <= float(info.max))
+                       : false;
+    if (outside)
+        throw Error(fmt::format("{}: parameter '{}' is {}, outside [{}, {}]", Name(), name,
+                                ValueText(value), info.min, info.max));
+    if (info.type == ParamType::String && !info.choices.empty() &&
+        std::find(info.choices.begin(), info.choices.end(), std::get<std::string>(value)) ==
+            info.choices.end()) {
+        std::string choices;
+        for (size_t i = 0; i < info.choices.size(); ++i) {
+            const std::string &c = info.choices[i];
+            choices += (i == 0                         ? ""
+                        : i + 1 == info.choices.size() ? " or "
+                                                       : ", ") +
+                       (c.empty() ? "''" : c);
+        }
+        throw Error(
+            fmt::format("{}: {} takes {}, not {}", Name(), name, choices, ValueText(value)));
+    }
+    if (impl->IsCommon(name)) {
+        for (const api::ParamDef<CommonParams> &def : CommonDefs())
+            if (def.info.name == name) def.set(impl->common, value);
+        return;
+    }
+    impl->frontEnd->Set(name, value);
+}
+
+void Method::SetText(const std::string &name, const std::string &text) {
+    const ParamInfo &info = impl->Info(name);
+    try {
+        size_t used = 0;
+        switch (info.type) {
+            case ParamType::Bool:
+                if (text != "true" && text != "false" && text != "1" && text != "0")
+                    throw std::invalid_argument(text);
+                return Set(name, text == "true" || text == "1");
+            case ParamType::Int: {
+                int v = std::stoi(text, &used);
+                if (used != text.size()) throw std::invalid_argument(text);
+                return Set(name, v);
+            }
+            case ParamType::Float: {
+                float v = std::stof(text, &used);
+                if (used != text.size()) throw std::invalid_argument(text);
+                return Set(name, v);
+            }
+            case ParamType::String:
+                return Set(name, text);
+        }
+    } catch (const std::logic_error &) {
+        throw Error(fmt::format("{}: parameter '{}' takes {}, not '{}'", Name(), name,
+                                TypeName(info.type), text));
+    }
+}
+
+ParamValue Method::Get(const std::string &name) const {
+    impl->Info(name);
+    if (impl->IsCommon(name)) {
+        for (const api::ParamDef<CommonParams> &def : CommonDefs())
+            if (def.info.name == name) return def.get(impl->common);
+    }
+    return impl->frontEnd->Get(name);
+}
+
+std::string Method::Missing(const Frame &frame) const {
+    return impl->frontEnd->Missing(frame);
+}
+
+Result Method::Run(Device &device, const Frame &frame, const RunOptions &options) const {
+    vk::Context &context = device.Context();
+    context.ResetLedger();
+    auto start = std::chrono::steady_clock::now();
+    const api::FrontEnd *method = impl->frontEnd.get();
+    const std::string &demodulate = impl->common.demodulate;
+    std::vector<std::string> autoPlan;
+    if (const Auto *automatic = dynamic_cast<const Auto *>(method))
+        method = &automatic->Pick(frame, demodulate, &autoPlan);
+    api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
+    Demodulation demodulation;
+    if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
+    Result result = method->Run(context, inputs, options);
+    if (!demodulate.empty()) Remodulate(demodulation, method->Name(), &result);
+    result.method = method->Name();
+    result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());
+    result.warnings.insert(result.warnings.begin(), inputs.warnings.begin(),
+                           inputs.warnings.end());
+    result.wallMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count();
+    const vk::Context::MemoryLedger &ledger = context.Ledger();
+    result.peakBytes = ledger.peak;
+    for (const auto &[name, bytes] : ledger.allocations)
+        result.allocations.push_back({name, bytes});
+    return result;
+}
+
+std::vector<Stage> Method::Reference(Device &device, const Frame &frame) const {
+    const api::FrontEnd *method = impl->frontEnd.get();
+    const std::string &demodulate = impl->common.demodulate;
+    std::vector<std::string> ignored;
+    if (const Auto *automatic = dynamic_cast<const Auto *>(method))
+        method = &automatic->Pick(frame, demodulate, &ignored);
+    api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
+    if (!demodulate.empty()) Demodulate(inputs, *method, frame, demodulate);
+    return method->Reference(device.Context(), inputs);
+}
+
+double Result::GpuMs() const {
+    double ms = 0;
+    for (const Timing &t : timings) ms += std::max(t.gpuMs, 0.0);
+    return ms;
+}
+
+std::vector<std::string> MethodNames() {
+    return {"awr", "bayes", "pivot", "rhf"};
+}
+
+const char *Version() {
+    return MCD_VERSION;
+}
+
+}  // namespace mcd

@@ -1,0 +1,201 @@
+// Method `pivot`: Ershov et al.'s pivot-image filter (host/methods/pivot.h), planefit or the
+// bilateral baseline, with the frame's guides and section 8's partial images when present.
+#include <fmt/format.h>
+
+#include "cpu_reference/pivot_filter.h"
+#include "host/api/front_end.h"
+#include "host/methods/pivot.h"
+
+namespace mcd::api {
+namespace {
+
+struct PivotParams {
+    PivotOptions options;
+    std::string filter = "planefit", guides = "auto", noise = "auto";
+    bool noPartials = false;
+};
+
+// A parameter of the pipeline's own options struct.
+template <class T>
+ParamDef<PivotParams> Field(ParamDef<PivotOptions> def) {
+    return {def.info, [get = def.get](const PivotParams &p) { return get(p.options); },
+            [set = def.set](PivotParams &p, const ParamValue &v) { set(p.options, v); }};
+}
+
+class Pivot : public FrontEndOf<PivotParams> {
+  public:
+    Pivot()
+        : FrontEndOf(
+              "pivot",
+              {ChoiceParam("filter",
+                           "planefit (the paper's plane fits, eqs. 10-13) or bilateral "
+                           "(cross-bilateral baseline of z = color / pivot)",
+                           &PivotParams::filter, {"planefit", "bilateral"}),
+               Field<int>(IntParam("max-radius",
+                                   "largest half-size of a planefit square (paper: 30-40)",
+                                   &PivotOptions::maxRadius, 2, 64)),
+               Field<float>(FloatParam("target-noise",
+                                       "relative std of a centre's fit that stops the growth",
+                                       &PivotOptions::targetNoise, 0, 1e6)),
+               Field<float>(FloatParam(
+                   "good-noise", "pixels whose relative std exceeds this are left out of fits",
+                   &PivotOptions::goodNoise, 1e-6, 1e6)),
+               Field<float>(
+                   FloatParam("disagreement",
+                              "relative square-vs-quadrant difference that stops the growth",
+                              &PivotOptions::disagreement, 0, 1e6)),
+               Field<float>(FloatParam("robust-k",
+                                       "k of eq. 10; above 0 the fits down-weight outliers, "
+                                       "which lowers the error but darkens heavy-tailed frames "
+                                       "(relief-abc 16 spp: mean 0.65 of the reference with "
+                                       "0.3, 1.04 with 0)",
+                                       &PivotOptions::k, 0, 1e6)),
+               Field<float>(
+                   FloatParam("sigma-weight",
+                              "weight of the noise term sigma in eq. 10 (1: the paper; "
+                              "0 keeps fireflies' energy in heavy-tailed noise)",
+                              &PivotOptions::sigmaWeight, 0, 1e6)),
+               Field<int>(IntParam("bilateral-radius",
+                                   "window half-size of the bilateral filter",
+                                   &PivotOptions::bilateralRadius, 0, 64)),
+               Field<float>(FloatParam(
+                   "sigma-range", "bilateral range sigma on the pivot's relative difference",
+                   &PivotOptions::sigmaRange, 1e-6, 1e6)),
+               Field<float>(
+                   FloatParam("pivot-floor",
+                              "pixels with pivot <= this x the channel mean keep their input",
+                              &PivotOptions::floor, 1e-12, 1e6)),
+               ChoiceParam("guides", "auto (normals and ids when the frame has them) or none",
+                           &PivotParams::guides, {"auto", "none"}),
+               ChoiceParam("pivot-noise",
+                           "auto (the variance layer when present) or estimate (from the 3x3 "
+                           "neighbours of z)",
+                           &PivotParams::noise, {"auto", "estimate"}),
+               BoolParam(
+                   "no-partials",
+                   "filter color as one image even when the frame has section 8's "
+                   "partial<k>.color/.pivot and remainder layers (by default each partial "
+                   "is filtered against its own pivot and the remainder added)",
+                   &PivotParams::noPartials)}) {}
+
+    std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
+    std::string Summary() const override {
+        return "Ershov et al.'s pivot-image filter (needs a pivot layer; normals, objectId, "
+               "partId, variance refine it)";
+    }
+    std::string Missing(const Frame &frame) const override {
+        return frame.Has("pivot") ? "" : "no pivot layer";
+    }
+    std::string Undemodulable(const Frame &, const std::string &) const override {
+        return "the pivot method divides by itself";
+    }
+
+    Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
+        PivotOptions pivotOptions;
+        PivotInputs in = InputsOf(inputs, &pivotOptions);
+        pivotOptions.keepStages = run.keepStages;
+        pivotOptions.progress = run.progress;
+        return ResultOf(PivotDenoise(context, in, pivotOptions));
+    }
+
+    std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
+        PivotOptions o;
+        PivotInputs in = InputsOf(inputs, &o);
+        ref::PivotParams p;
+        p.floor = o.floor;
+        p.maxRadius = o.maxRadius;
+        p.targetNoise = o.targetNoise;
+        p.goodNoise = o.goodNoise;
+        p.disagreement = o.disagreement;
+        p.k = o.k;
+        p.sigmaWeight = o.sigmaWeight;
+        p.bilateralRadius = o.bilateralRadius;
+        p.sigmaRange = o.sigmaRange;
+        Image ids;
+        if (in.objectId || in.partId) {
+            ids = Image(inputs.Width(), inputs.Height(), 2);
+            for (size_t i = 0; i < ids.PixelCount(); ++i) {
+                if (in.objectId) ids.data[i] = in.objectId->data[i];
+                if (in.partId) ids.data[ids.PixelCount() + i] = in.partId->data[i];
+            }
+        }
+        ref::PivotGuides guides{in.normal, ids.Empty() ? nullptr : &ids};
+        // The single-image pipeline's stages; with partials, each partial's, prefixed as
+        // the GPU run names them.
+        std::vector<Stage> stages;
+        auto one = [&](const Image &color, const Image &pivot, const Image *variance,
+                       const std::string &prefix) {
+            ref::PivotRatio ratio =
+                ref::PivotRatioOf(color, pivot, variance, p.floor, guides.ids);
+            stages.push_back({prefix + "z", ratio.z});
+            stages.push_back({prefix + "nu", ratio.nu});
+            if (o.filter == PivotFilter::PlaneFit) {
+                Image fits = ref::PivotFit(ratio, guides, p);
+                Image out = ref::PivotGather(color, pivot, ratio, fits, guides);
+                stages.push_back({prefix + "fits", std::move(fits)});
+                stages.push_back({prefix + "output", std::move(out)});
+            } else {
+                stages.push_back(
+                    {prefix + "output", ref::PivotBilateral(color, pivot, ratio, guides, p)});
+            }
+        };
+        if (in.partials.empty()) one(*in.color, *in.pivot, in.variance, "");
+        for (size_t k = 0; k < in.partials.size(); ++k)
+            one(*in.partials[k].color, *in.partials[k].pivot, in.partials[k].variance,
+                fmt::format("partial{}.", k));
+        return stages;
+    }
+
+  private:
+    // The pipeline's inputs and options from the frame and the parameters.
+    PivotInputs InputsOf(Inputs &inputs, PivotOptions *o) const {
+        *o = options.options;
+        o->filter =
+            options.filter == "bilateral" ? PivotFilter::Bilateral : PivotFilter::PlaneFit;
+        if (!inputs.Has("pivot"))
+            throw Error(
+                fmt::format("{}: the pivot method needs a pivot layer (render it with "
+                            "`mcdenoise render --layers pivot`)",
+                            inputs.Path()));
+        PivotInputs in;
+        in.color = &inputs.Get("color");
+        in.pivot = &inputs.Get("pivot");
+        bool noise = options.noise == "auto";
+        if (noise && inputs.Has("variance")) in.variance = &inputs.Get("variance");
+        if (options.guides == "auto") {
+            if (inputs.Has("normal")) in.normal = &inputs.Get("normal");
+            if (inputs.Has("objectId")) in.objectId = &inputs.Get("objectId");
+            if (inputs.Has("partId")) in.partId = &inputs.Get("partId");
+        }
+        if (options.noPartials) return in;
+        // Section 8: partial0, partial1, ... while the frame has them, and the remainder.
+        for (int k = 0; inputs.Has(fmt::format("partial{}.color", k)); ++k) {
+            std::string name = fmt::format("partial{}", k);
+            if (!inputs.Has(name + ".pivot"))
+                throw Error(
+                    fmt::format("{}: layer {}.color has no {}.pivot (or pass "
+                                "--no-partials)",
+                                inputs.Path(), name, name));
+            PivotPartial partial{&inputs.Get(name + ".color"), &inputs.Get(name + ".pivot")};
+            if (noise && inputs.Has(name + ".variance"))
+                partial.variance = &inputs.Get(name + ".variance");
+            in.partials.push_back(partial);
+        }
+        if (!in.partials.empty()) {
+            if (!inputs.Has("remainder"))
+                throw Error(fmt::format(
+                    "{}: the partial images need a remainder layer (or pass --no-partials)",
+                    inputs.Path()));
+            in.remainder = &inputs.Get("remainder");
+        }
+        return in;
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<FrontEnd> PivotFrontEnd() {
+    return std::make_unique<Pivot>();
+}
+
+}  // namespace mcd::api

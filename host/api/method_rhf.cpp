@@ -1,0 +1,115 @@
+// Method `rhf`: Ray Histogram Fusion (host/methods/rhf.h) on the color and the histograms
+// (Bin_0000..Bin_{3n}, the renderer's `--layers hist` or any renderer writing the authors'
+// layout).
+#include <fmt/format.h>
+
+#include "cpu_reference/rhf.h"
+#include "host/api/front_end.h"
+#include "host/methods/rhf.h"
+
+namespace mcd::api {
+namespace {
+
+struct RhfParams {
+    RhfOptions options;
+    bool keepNegative = !RhfOptions().clampNegative;
+};
+
+template <class T>
+ParamDef<RhfParams> Field(ParamDef<RhfOptions> def) {
+    return {def.info, [get = def.get](const RhfParams &p) { return get(p.options); },
+            [set = def.set](RhfParams &p, const ParamValue &v) { set(p.options, v); }};
+}
+
+class Rhf : public FrontEndOf<RhfParams> {
+  public:
+    Rhf()
+        : FrontEndOf(
+              "rhf",
+              {Field<int>(IntParam("patch-half", "patch half-size w (patches are (2w+1)^2)",
+                                   &RhfOptions::patchHalf, 0, 20)),
+               Field<int>(IntParam("search-half",
+                                   "search half-window b (the window is (2b+1)^2)",
+                                   &RhfOptions::searchHalf, 0, 20)),
+               Field<float>(FloatParam("kappa",
+                                       "threshold on the normalised chi-square patch distance",
+                                       &RhfOptions::threshold, 0, 1e30)),
+               Field<float>(FloatParam(
+                   "bright-veto",
+                   "leave a candidate patch out when one of its pixels differs from its "
+                   "counterpart in the saturated bins (samples brighter than the histogram's "
+                   "range) by more than this: those bins' terms over the harmonic mean of the "
+                   "two sample counts. Beyond the authors' tool, whose distance lets a visible "
+                   "light into dark patches at few samples; 0 is the authors' tool",
+                   &RhfOptions::brightVeto, 0, 1e30)),
+               Field<int>(IntParam("knn", "nearest patches always averaged (finest scale)",
+                                   &RhfOptions::knn, 0, 1681)),
+               Field<int>(IntParam("nscales",
+                                   "scales (fewer when a scale would be smaller than the "
+                                   "search window)",
+                                   &RhfOptions::scales, 1, 8)),
+               BoolParam("keep-negative",
+                         "keep negative output values, as the authors' tool does (by default "
+                         "the scale recombination's bicubic overshoot below 0 is clamped to 0)",
+                         &RhfParams::keepNegative)}) {}
+
+    std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Rhf>(*this); }
+    std::string Summary() const override {
+        return "Ray Histogram Fusion (needs the Bin_* histogram channels)";
+    }
+    std::string Missing(const Frame &frame) const override {
+        return frame.Has("hist") ? "" : "no histogram channels (Bin_0000..)";
+    }
+    std::string Undemodulable(const Frame &frame, const std::string &layer) const override {
+        // The histograms must be of the samples of color / guide: the renderer's zhist.
+        if (layer == "pivot" && frame.Has("zhist")) return "";
+        return fmt::format(
+            "rhf needs histograms of the samples of color / {}, a 'zhist' layer ({}; "
+            "mcdenoise render --layers zhist writes it for the pivot)",
+            layer,
+            layer == "pivot" ? fmt::format("{} has none", frame.path)
+                             : "only the pivot has them");
+    }
+
+    Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
+        RhfOptions rhfOptions = Options();
+        rhfOptions.keepStages = run.keepStages;
+        return ResultOf(
+            RhfDenoise(context, inputs.Get("color"), Histograms(inputs), rhfOptions));
+    }
+
+    std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
+        RhfOptions o = Options();
+        std::vector<std::pair<std::string, Image>> named;
+        ref::Rhf(inputs.Get("color"), Histograms(inputs),
+                 {o.patchHalf, o.searchHalf, double(o.threshold), o.knn, o.scales,
+                  double(o.brightVeto)},
+                 &named);
+        std::vector<Stage> stages;
+        for (auto &[name, image] : named) stages.push_back({name, std::move(image)});
+        return stages;
+    }
+
+  private:
+    RhfOptions Options() const {
+        RhfOptions o = options.options;
+        o.clampNegative = !options.keepNegative;
+        return o;
+    }
+    const Image &Histograms(Inputs &inputs) const {
+        if (!inputs.Has("hist"))
+            throw Error(
+                fmt::format("{}: rhf needs the histogram channels Bin_0000..Bin_{{3n}} "
+                            "(render with --layers hist); the frame has none",
+                            inputs.Path()));
+        return inputs.Get("hist");
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<FrontEnd> RhfFrontEnd() {
+    return std::make_unique<Rhf>();
+}
+
+}  // namespace mcd::api
