@@ -26,8 +26,9 @@ void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
     shader::AwrShrinkPush push{coef.width, coef.height, lowWidth, lowHeight, cs};
     recorder.Dispatch(
         kernel, "awr.shrink",
-        {{&coef.buffer, vk::Access::ReadWrite}, {&variance.buffer, vk::Access::Read}}, &push,
-        uint32_t((coef.width + AWR_SHRINK_LOCAL_SIZE - 1) / AWR_SHRINK_LOCAL_SIZE),
+        {{AWR_SHRINK_COEF, &coef.buffer, vk::Access::ReadWrite},
+         {AWR_SHRINK_VARIANCE, &variance.buffer, vk::Access::Read}},
+        push, uint32_t((coef.width + AWR_SHRINK_LOCAL_SIZE - 1) / AWR_SHRINK_LOCAL_SIZE),
         uint32_t(coef.height), uint32_t(coef.channels));
 }
 

@@ -28,10 +28,10 @@ void RecordBayesExp(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
     shader::BayesExpPush push{logImage.width, logImage.height, restoreZeros ? 1 : 0};
     recorder.Dispatch(
         kernel, "bayes.exp",
-        {{&logImage.buffer, vk::Access::Read},
-         {&original.buffer, vk::Access::Read},
-         {&out.buffer, vk::Access::Write}},
-        &push, uint32_t((logImage.width + BAYES_EXP_LOCAL_SIZE - 1) / BAYES_EXP_LOCAL_SIZE),
+        {{BAYES_EXP_LOG, &logImage.buffer, vk::Access::Read},
+         {BAYES_EXP_ORIGINAL, &original.buffer, vk::Access::Read},
+         {BAYES_EXP_OUT, &out.buffer, vk::Access::Write}},
+        push, uint32_t((logImage.width + BAYES_EXP_LOCAL_SIZE - 1) / BAYES_EXP_LOCAL_SIZE),
         uint32_t(logImage.height), uint32_t(logImage.channels));
 }
 

@@ -38,7 +38,8 @@ void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                                                   {}});
     shader::BayesMixPush push{image.width, image.height, {}};
     std::copy(m.begin(), m.end(), push.m);
-    recorder.Dispatch(kernel, "bayes.mix", {{&image.buffer, vk::Access::ReadWrite}}, &push,
+    recorder.Dispatch(kernel, "bayes.mix",
+                      {{BAYES_MIX_IMAGE, &image.buffer, vk::Access::ReadWrite}}, push,
                       uint32_t((image.width + BAYES_MIX_LOCAL_SIZE - 1) / BAYES_MIX_LOCAL_SIZE),
                       uint32_t(image.height));
 }

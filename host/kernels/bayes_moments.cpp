@@ -27,8 +27,9 @@ void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::
                                                   {}});
     shader::BayesMomentsPush push{coef.width, coef.height, levels};
     recorder.Dispatch(kernel, "bayes.moments",
-                      {{&coef.buffer, vk::Access::Read}, {&moments, vk::Access::Write}}, &push,
-                      uint32_t(bands));
+                      {{BAYES_MOMENTS_COEF, &coef.buffer, vk::Access::Read},
+                       {BAYES_MOMENTS_OUT, &moments, vk::Access::Write}},
+                      push, uint32_t(bands));
 }
 
 void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &moments,
@@ -46,10 +47,10 @@ void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Bu
                                                   {}});
     shader::BayesSolvePush push{bands, levels, pn};
     recorder.Dispatch(kernel, "bayes.solve",
-                      {{&moments, vk::Access::Read},
-                       {&params, vk::Access::Write},
-                       {&noise, vk::Access::Read}},
-                      &push,
+                      {{BAYES_SOLVE_MOMENTS, &moments, vk::Access::Read},
+                       {BAYES_SOLVE_PARAMS, &params, vk::Access::Write},
+                       {BAYES_SOLVE_NOISE, &noise, vk::Access::Read}},
+                      push,
                       uint32_t((bands + BAYES_SOLVE_LOCAL_SIZE - 1) / BAYES_SOLVE_LOCAL_SIZE));
 }
 

@@ -27,8 +27,10 @@ void RecordBayesTable(vk::Context &context, vk::Recorder &recorder, const vk::Bu
                                                   {}});
     shader::BayesTablePush push{bands};
     recorder.Dispatch(
-        kernel, "bayes.table", {{&params, vk::Access::Read}, {&table, vk::Access::Write}},
-        &push,
+        kernel, "bayes.table",
+        {{BAYES_TABLE_PARAMS, &params, vk::Access::Read},
+         {BAYES_TABLE_OUT, &table, vk::Access::Write}},
+        push,
         uint32_t((BAYES_TABLE_SIZE + BAYES_TABLE_LOCAL_SIZE - 1) / BAYES_TABLE_LOCAL_SIZE),
         uint32_t(bands));
 }
@@ -48,10 +50,10 @@ void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, const vk::G
     shader::BayesShrinkPush push{coef.width, coef.height, levels};
     recorder.Dispatch(
         kernel, "bayes.shrink",
-        {{&coef.buffer, vk::Access::ReadWrite},
-         {&params, vk::Access::Read},
-         {&table, vk::Access::Read}},
-        &push, uint32_t((coef.width + BAYES_SHRINK_LOCAL_SIZE - 1) / BAYES_SHRINK_LOCAL_SIZE),
+        {{BAYES_SHRINK_COEF, &coef.buffer, vk::Access::ReadWrite},
+         {BAYES_SHRINK_PARAMS, &params, vk::Access::Read},
+         {BAYES_SHRINK_TABLE, &table, vk::Access::Read}},
+        push, uint32_t((coef.width + BAYES_SHRINK_LOCAL_SIZE - 1) / BAYES_SHRINK_LOCAL_SIZE),
         uint32_t(coef.height), uint32_t(coef.channels));
 }
 

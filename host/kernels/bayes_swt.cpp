@@ -39,8 +39,9 @@ void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
                                                   1u << BAYES_SWT_COEF});
     shader::BayesSwtPush push{coef.width, coef.height, levels};
     recorder.Dispatch(kernel, "bayes.swt.moments",
-                      {{&coef.buffer, vk::Access::Read}, {&moments, vk::Access::Write}}, &push,
-                      uint32_t(bands));
+                      {{BAYES_SWT_COEF, &coef.buffer, vk::Access::Read},
+                       {BAYES_SWT_MOMENTS, &moments, vk::Access::Write}},
+                      push, uint32_t(bands));
 }
 
 void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder,
@@ -60,10 +61,10 @@ void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder,
                                                   1u << BAYES_SWT_TABLE});
     shader::BayesSwtPush push{coef.width, coef.height, levels};
     recorder.Dispatch(kernel, "bayes.swt.shrink",
-                      {{&coef.buffer, vk::Access::ReadWrite},
-                       {&params, vk::Access::Read},
-                       {&table, vk::Access::Read}},
-                      &push,
+                      {{BAYES_SWT_COEF, &coef.buffer, vk::Access::ReadWrite},
+                       {BAYES_SWT_PARAMS, &params, vk::Access::Read},
+                       {BAYES_SWT_TABLE, &table, vk::Access::Read}},
+                      push,
                       uint32_t((coef.width + 4 * BAYES_SWT_SHRINK_LOCAL_SIZE - 1) /
                                (4 * BAYES_SWT_SHRINK_LOCAL_SIZE)),
                       uint32_t(coef.height), uint32_t(bands));

@@ -62,15 +62,16 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                               settings.sigmaWeight,
                               rowBase};
     // Absent guides are compiled out; z stands in for their binding.
-    recorder.Dispatch(kernel, "pivot.fit",
-                      {{&z.buffer, vk::Access::Read},
-                       {&s.buffer, vk::Access::Read},
-                       {&nu.buffer, vk::Access::Read},
-                       {guides.image ? &guides.image->buffer : &z.buffer, vk::Access::Read},
-                       {&fitLo.buffer, vk::Access::Write},
-                       {&fitHi.buffer, vk::Access::Write}},
-                      &push, uint32_t((z.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
-                      uint32_t(rows), uint32_t(z.channels));
+    recorder.Dispatch(
+        kernel, "pivot.fit",
+        {{PIVOT_FIT_Z, &z.buffer, vk::Access::Read},
+         {PIVOT_FIT_S, &s.buffer, vk::Access::Read},
+         {PIVOT_FIT_NU, &nu.buffer, vk::Access::Read},
+         {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &z.buffer, vk::Access::Read},
+         {PIVOT_FIT_LO, &fitLo.buffer, vk::Access::Write},
+         {PIVOT_FIT_HI, &fitHi.buffer, vk::Access::Write}},
+        push, uint32_t((z.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE), uint32_t(rows),
+        uint32_t(z.channels));
 }
 
 }  // namespace mcd

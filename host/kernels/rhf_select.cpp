@@ -34,9 +34,12 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
                                                   {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}},
                                                   1u << RHF_SELECT_DISTANCE});
     shader::RhfSelectPush push{width, height, searchHalf, rowBase, rows, knn, 0, threshold};
-    recorder.Dispatch(
-        kernel, "rhf.select", {{&dist, vk::Access::Read}, {&mask, vk::Access::Write}}, &push,
-        uint32_t((width + RHF_SELECT_LOCAL_SIZE - 1) / RHF_SELECT_LOCAL_SIZE), uint32_t(rows));
+    recorder.Dispatch(kernel, "rhf.select",
+                      {{RHF_SELECT_DISTANCE, &dist, vk::Access::Read},
+                       {RHF_SELECT_MASK, &mask, vk::Access::Write}},
+                      push,
+                      uint32_t((width + RHF_SELECT_LOCAL_SIZE - 1) / RHF_SELECT_LOCAL_SIZE),
+                      uint32_t(rows));
 }
 
 }  // namespace mcd

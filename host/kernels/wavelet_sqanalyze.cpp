@@ -24,8 +24,9 @@ void RecordLinePasses(vk::Context &context, vk::Recorder &recorder, WaveletBasis
         RecordWaveletLinePass(context, recorder, "wavelet_sqanalyze", k_wavelet_sqanalyze_spv,
                               sizeof(k_wavelet_sqanalyze_spv), basis, axis, width, height,
                               channels, axis == WAVELET_AXIS_ROWS ? src : tmp,
-                              axis == WAVELET_AXIS_ROWS ? tmp : dst, label, {lowSum, highSum},
-                              {}, {{WAVELET_SPEC_SQUARED, squared ? 1 : 0}});
+                              axis == WAVELET_AXIS_ROWS ? tmp : dst, label,
+                              shader::WaveletSqAnalyzePush{{}, lowSum, highSum}, {},
+                              {{WAVELET_SPEC_SQUARED, squared ? 1 : 0}});
 }
 
 }  // namespace

@@ -46,10 +46,11 @@ void RecordWaveletSynthesizeShrink(vk::Context &context, vk::Recorder &recorder,
         throw Error("wavelet synthesize-shrink: the variances must not be overwritten");
     static_assert(sizeof(shader::WaveletSynthesizeShrinkPush) ==
                   sizeof(shader::WaveletLinesPush) + sizeof(float));
-    RecordWaveletLinePass(context, recorder, "wavelet_synthesize_shrink",
-                          k_wavelet_synthesize_shrink_spv,
-                          sizeof(k_wavelet_synthesize_shrink_spv), basis, WAVELET_AXIS_COLUMNS,
-                          width, height, channels, src, tmp, label, {cs}, {variance.buffer});
+    RecordWaveletLinePass(
+        context, recorder, "wavelet_synthesize_shrink", k_wavelet_synthesize_shrink_spv,
+        sizeof(k_wavelet_synthesize_shrink_spv), basis, WAVELET_AXIS_COLUMNS, width, height,
+        channels, src, tmp, label, shader::WaveletSynthesizeShrinkPush{{}, cs},
+        {{WAVELET_SYNTHESIZE_SHRINK_VARIANCE, variance.buffer}});
     RecordWaveletLinePass(context, recorder, "wavelet_synthesize", k_wavelet_synthesize_spv,
                           sizeof(k_wavelet_synthesize_spv), basis, WAVELET_AXIS_ROWS, width,
                           height, channels, tmp, dst, label);
