@@ -10,7 +10,7 @@
 
 namespace mcd {
 
-void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
+void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
                      const vk::GpuImage &variance, int lowWidth, int lowHeight, float cs) {
     if (coef.width != variance.width || coef.height != variance.height ||
         coef.channels != variance.channels)

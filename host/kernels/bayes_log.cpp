@@ -11,7 +11,7 @@
 namespace mcd {
 
 void RecordBayesLog(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                    const vk::Buffer &floors, const vk::GpuImage &out) {
+                    const vk::Buffer &floors, vk::GpuImage &out) {
     if (!color.buffer.Valid() || color.width != out.width || color.height != out.height ||
         color.channels != out.channels)
         throw Error(fmt::format("bayes log: input {}x{}x{} and output {}x{}x{} differ",

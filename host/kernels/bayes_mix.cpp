@@ -25,7 +25,7 @@ std::array<float, 9> BayesOpponentInverse() {
     return t;
 }
 
-void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
+void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &image,
                     const std::array<float, 9> &m) {
     if (image.channels != 3)
         throw Error(fmt::format("bayes mix: needs 3 channels, '{}' has {}", image.buffer.Name(),

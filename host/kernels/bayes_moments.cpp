@@ -14,7 +14,7 @@
 namespace mcd {
 
 void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
-                        int levels, const vk::Buffer &moments) {
+                        int levels, vk::Buffer &moments) {
     int bands = BayesBandCount(coef.channels, levels);
     if (levels < 1) throw Error("bayes moments: needs at least one level");
     if (moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
@@ -34,7 +34,7 @@ void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::
 
 void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &moments,
                       int bands, int levels, const vk::Buffer &noise, float pn,
-                      const vk::Buffer &params) {
+                      vk::Buffer &params) {
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
         noise.Bytes() < VkDeviceSize(bands) * sizeof(float) ||
         moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))

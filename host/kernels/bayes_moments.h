@@ -14,11 +14,11 @@ inline int BayesBandCount(int channels, int levels) {
 
 // moments[band] = E[y^2], E[y^4], max |y|, count (layout in shaders/bayes/bayes.h).
 void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
-                        int levels, const vk::Buffer &moments);
+                        int levels, vk::Buffer &moments);
 
 // params[band] from moments[band]: noise s noise[band] (one float per band), shape `pn`.
 void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &moments,
                       int bands, int levels, const vk::Buffer &noise, float pn,
-                      const vk::Buffer &params);
+                      vk::Buffer &params);
 
 }  // namespace mcd

@@ -15,7 +15,7 @@
 namespace mcd {
 
 void RecordBayesTable(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &params,
-                      int bands, const vk::Buffer &table) {
+                      int bands, vk::Buffer &table) {
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
         table.Bytes() < VkDeviceSize(bands) * BAYES_TABLE_SIZE * sizeof(float))
         throw Error(fmt::format("bayes table: buffers too small for {} bands", bands));
@@ -35,7 +35,7 @@ void RecordBayesTable(vk::Context &context, vk::Recorder &recorder, const vk::Bu
         uint32_t(bands));
 }
 
-void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
+void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
                        int levels, const vk::Buffer &params, const vk::Buffer &table) {
     int bands = BayesBandCount(coef.channels, levels);
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||

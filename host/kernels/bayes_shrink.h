@@ -9,10 +9,10 @@ namespace mcd {
 
 // table[band][i] = posterior mean at the band's node i (shaders/bayes/bayes.h).
 void RecordBayesTable(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &params,
-                      int bands, const vk::Buffer &table);
+                      int bands, vk::Buffer &table);
 
 // In place on `coef`, a `levels`-level Mallat decomposition.
-void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
+void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
                        int levels, const vk::Buffer &params, const vk::Buffer &table);
 
 }  // namespace mcd

@@ -25,7 +25,7 @@ void CheckCoefficients(const vk::GpuImage &coef, int channels, int levels, const
 
 void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
                            const vk::GpuImage &coef, int channels, int levels,
-                           const vk::Buffer &moments) {
+                           vk::Buffer &moments) {
     CheckCoefficients(coef, channels, levels, "bayes swt moments");
     int bands = BayesBandCount(channels, levels);
     if (moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
@@ -44,9 +44,9 @@ void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
                       push, uint32_t(bands));
 }
 
-void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder,
-                          const vk::GpuImage &coef, int channels, int levels,
-                          const vk::Buffer &params, const vk::Buffer &table) {
+void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
+                          int channels, int levels, const vk::Buffer &params,
+                          const vk::Buffer &table) {
     CheckCoefficients(coef, channels, levels, "bayes swt shrink");
     int bands = BayesBandCount(channels, levels);
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||

@@ -17,7 +17,7 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
                           const vk::GpuImage &color, const vk::GpuImage &pivot,
                           const vk::GpuImage &z, const vk::GpuImage &nu,
                           const PivotGpuGuides &guides, const PivotBilateralSettings &settings,
-                          const vk::GpuImage &out) {
+                          vk::GpuImage &out) {
     CheckPivotShapes("pivot bilateral", color, {&pivot, &z, &nu, &out});
     CheckPivotGuides("pivot bilateral", color.width, color.height, guides);
     if (settings.radius < 0 || settings.radius > 64)

@@ -32,7 +32,7 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                        const vk::GpuImage &pivot, const vk::GpuImage &nu,
                        const vk::GpuImage &fitLo, const vk::GpuImage &fitHi,
                        const PivotGpuGuides &guides, const vk::GpuImage &tiles, int reach,
-                       const vk::GpuImage &out, int rowBase, int rows) {
+                       vk::GpuImage &out, int rowBase, int rows) {
     if (rowBase < 0 || rows < 1 || rowBase + rows > color.height)
         throw Error(fmt::format("pivot gather: rows {}..{} of a {}-row image", rowBase,
                                 rowBase + rows - 1, color.height));

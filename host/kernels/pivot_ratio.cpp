@@ -24,7 +24,7 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
-                      const vk::GpuImage &z, const vk::GpuImage &s, const vk::GpuImage &nu) {
+                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu) {
     CheckPivotShapes("pivot ratio", color, {&pivot, &z, &s, &nu});
     if (variance) CheckPivotShapes("pivot ratio", color, {variance});
     CheckPivotGuides("pivot ratio", color.width, color.height, guides);

@@ -13,7 +13,7 @@ namespace mcd {
 
 void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::Buffer &mask, int patchHalf, int searchHalf,
-                        const vk::GpuImage &out) {
+                        vk::GpuImage &out) {
     int words = RhfMaskWords(searchHalf);
     if (color.channels != 3 || out.channels != 3 || color.width != out.width ||
         color.height != out.height ||

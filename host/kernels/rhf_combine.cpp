@@ -12,7 +12,7 @@ namespace mcd {
 
 void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
                       const vk::GpuImage &filtered, const vk::GpuImage &low,
-                      const vk::GpuImage &coarse, const vk::GpuImage &out) {
+                      const vk::GpuImage &coarse, vk::GpuImage &out) {
     if (!(filtered.width == out.width && filtered.height == out.height &&
           low.width == coarse.width && low.height == coarse.height &&
           low.width == (filtered.width + 1) / 2 && low.height == (filtered.height + 1) / 2 &&

@@ -15,7 +15,7 @@ namespace mcd {
 void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, int height,
                        int patchHalf, int searchHalf, int termBase, int termRows, int rowBase,
                        int rows, const vk::Buffer &termSum, const vk::Buffer &termCount,
-                       const vk::Buffer &dist) {
+                       vk::Buffer &dist) {
     size_t side = 2 * searchHalf + 1;
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
         termBase > std::max(0, rowBase - patchHalf - searchHalf) ||

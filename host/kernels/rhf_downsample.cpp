@@ -25,8 +25,8 @@ std::vector<float> RhfGaussianTaps(double sigma) {
 
 void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &src,
                          int srcWidth, int srcHeight, int planes, int step,
-                         const vk::Buffer &weights, int radius, const vk::Buffer &scratch,
-                         const vk::Buffer &dst) {
+                         const vk::Buffer &weights, int radius, vk::Buffer &scratch,
+                         vk::Buffer &dst) {
     int dstWidth = (srcWidth + step - 1) / step, dstHeight = (srcHeight + step - 1) / step;
     if (planes <= 0 || step <= 0 || radius < 0 ||
         src.Bytes() < size_t(planes) * srcWidth * srcHeight * sizeof(float) ||

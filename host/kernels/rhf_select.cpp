@@ -17,7 +17,7 @@ int RhfMaskWords(int searchHalf) {
 
 void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
                      int searchHalf, int rowBase, int rows, int knn, float threshold,
-                     const vk::Buffer &dist, const vk::Buffer &mask) {
+                     const vk::Buffer &dist, vk::Buffer &mask) {
     size_t side = 2 * searchHalf + 1, words = RhfMaskWords(searchHalf);
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
         dist.Bytes() < side * side * rows * width * sizeof(float) ||

@@ -15,7 +15,7 @@ constexpr int kPixelsPerGroup = RHF_TERMS_LOCAL_SIZE * RHF_TERMS_PIXELS_PER_LANE
 
 void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
                     int searchHalf, int rowBase, int rows, float histScale, float brightVeto,
-                    const vk::Buffer &termSum, const vk::Buffer &termCount) {
+                    vk::Buffer &termSum, vk::Buffer &termCount) {
     int side = 2 * searchHalf + 1;
     size_t need = size_t(searchHalf + 1) * side * rows * hist.width * sizeof(float);
     if (hist.slots.empty() || hist.slots.size() > RHF_HIST_SLOTS || hist.planesPerSlot <= 0 ||

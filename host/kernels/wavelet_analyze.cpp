@@ -7,7 +7,7 @@ namespace mcd {
 
 void RecordWaveletAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                           int width, int height, int channels, const vk::ImageView &src,
-                          const vk::ImageView &tmp, const vk::ImageView &dst,
+                          const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
                           const std::string &label) {
     vk::CheckView(src, width, height, channels, "wavelet analyze source");
     vk::CheckView(tmp, width, height, channels, "wavelet analyze temporary");

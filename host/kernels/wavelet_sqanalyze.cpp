@@ -14,8 +14,9 @@ namespace {
 // renormalised to lowSum / highSum (squared 1).
 void RecordLinePasses(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                       int width, int height, int channels, const vk::ImageView &src,
-                      const vk::ImageView &tmp, const vk::ImageView &dst, bool squared,
-                      float lowSum, float highSum, const char *what, const std::string &label) {
+                      const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
+                      bool squared, float lowSum, float highSum, const char *what,
+                      const std::string &label) {
     vk::CheckView(src, width, height, channels, fmt::format("{} source", what).c_str());
     vk::CheckView(tmp, width, height, channels, fmt::format("{} temporary", what).c_str());
     vk::CheckView(dst, width, height, channels, fmt::format("{} destination", what).c_str());
@@ -33,8 +34,8 @@ void RecordLinePasses(vk::Context &context, vk::Recorder &recorder, WaveletBasis
 
 void RecordWaveletSqAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                             int width, int height, int channels, const vk::ImageView &src,
-                            const vk::ImageView &tmp, const vk::ImageView &dst, float lowSum,
-                            float highSum, const std::string &label) {
+                            const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
+                            float lowSum, float highSum, const std::string &label) {
     static_assert(sizeof(shader::WaveletSqAnalyzePush) ==
                   sizeof(shader::WaveletLinesPush) + 2 * sizeof(float));
     RecordLinePasses(context, recorder, basis, width, height, channels, src, tmp, dst, true,
@@ -43,7 +44,7 @@ void RecordWaveletSqAnalyze(vk::Context &context, vk::Recorder &recorder, Wavele
 
 void RecordWaveletConvAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                               int width, int height, int channels, const vk::ImageView &src,
-                              const vk::ImageView &tmp, const vk::ImageView &dst,
+                              const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
                               const std::string &label) {
     RecordLinePasses(context, recorder, basis, width, height, channels, src, tmp, dst, false,
                      0.f, 0.f, "wavelet analyze", label);

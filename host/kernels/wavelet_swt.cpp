@@ -10,7 +10,7 @@ namespace mcd {
 
 void RecordWaveletSwtPass(vk::Context &context, vk::Recorder &recorder, SwtPass pass,
                           WaveletBasis basis, bool squared, const shader::WaveletSwtPush &push,
-                          int channels, const vk::Buffer &src, const vk::Buffer &dst,
+                          int channels, const vk::Buffer &src, vk::Buffer &dst,
                           const std::string &label) {
     if (push.width < 1 || push.height < 1 || channels < 1 || push.step < 1)
         throw Error("wavelet swt: empty pass");

@@ -12,7 +12,7 @@ namespace mcd {
 
 void RecordWaveletSynthesize(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                              int width, int height, int channels, const vk::ImageView &src,
-                             const vk::ImageView &tmp, const vk::ImageView &dst,
+                             const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
                              const std::string &label) {
     vk::CheckView(src, width, height, channels, "wavelet synthesize source");
     vk::CheckView(tmp, width, height, channels, "wavelet synthesize temporary");
@@ -29,8 +29,8 @@ void RecordWaveletSynthesize(vk::Context &context, vk::Recorder &recorder, Wavel
 void RecordWaveletSynthesizeShrink(vk::Context &context, vk::Recorder &recorder,
                                    WaveletBasis basis, int width, int height, int channels,
                                    const vk::ImageView &src, const vk::ImageView &variance,
-                                   float cs, const vk::ImageView &tmp, const vk::ImageView &dst,
-                                   const std::string &label) {
+                                   float cs, const vk::MutableImageView &tmp,
+                                   const vk::MutableImageView &dst, const std::string &label) {
     vk::CheckView(src, width, height, channels, "wavelet synthesize-shrink source");
     vk::CheckView(variance, width, height, channels, "wavelet synthesize-shrink variance");
     vk::CheckView(tmp, width, height, channels, "wavelet synthesize-shrink temporary");

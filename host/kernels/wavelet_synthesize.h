@@ -14,7 +14,7 @@ namespace mcd {
 // layout). `tmp` must be a buffer of its own; `src` and `dst` may be the same view.
 void RecordWaveletSynthesize(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                              int width, int height, int channels, const vk::ImageView &src,
-                             const vk::ImageView &tmp, const vk::ImageView &dst,
+                             const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
                              const std::string &label = "wavelet.synthesize");
 
 // The same level with AWR's soft shrinkage fused into the columns pass
@@ -25,7 +25,8 @@ void RecordWaveletSynthesize(vk::Context &context, vk::Recorder &recorder, Wavel
 void RecordWaveletSynthesizeShrink(vk::Context &context, vk::Recorder &recorder,
                                    WaveletBasis basis, int width, int height, int channels,
                                    const vk::ImageView &src, const vk::ImageView &variance,
-                                   float cs, const vk::ImageView &tmp, const vk::ImageView &dst,
+                                   float cs, const vk::MutableImageView &tmp,
+                                   const vk::MutableImageView &dst,
                                    const std::string &label = "wavelet.synthesize_shrink");
 
 }  // namespace mcd

@@ -445,10 +445,10 @@ TEST_F(VkRecorder, IndependentDispatchesNeedNoBarrier) {
     // Each analysis is a rows pass into its temporary and a columns pass out of it: one
     // barrier inside each, none between the two.
     RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src1.View(),
-                         tmp1.View(), coef1.View(), "first");
+                         tmp1.MutableView(), coef1.MutableView(), "first");
     EXPECT_EQ(recorder.BarrierCount(), 1u);
     RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src2.View(),
-                         tmp2.View(), coef2.View(), "second");
+                         tmp2.MutableView(), coef2.MutableView(), "second");
     EXPECT_EQ(recorder.DispatchCount(), 4u);
     EXPECT_EQ(recorder.BarrierCount(), 2u);
     recorder.Submit();
@@ -485,12 +485,12 @@ TEST_F(VkRecorder, ReadAfterWriteGetsOneBarrier) {
     src.Upload(in);
     vk::Recorder recorder(Ctx());
     RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::LeGall53, kW, kH, kC, src.View(),
-                         tmp.View(), coef.View(), "analyze");
+                         tmp.MutableView(), coef.MutableView(), "analyze");
     EXPECT_EQ(recorder.BarrierCount(), 1u);  // rows -> tmp -> columns
     // Synthesis reads coef (just written) and rewrites tmp (just read): one barrier before
     // its columns pass, one between its passes.
     RecordWaveletSynthesize(Ctx(), recorder, WaveletBasis::LeGall53, kW, kH, kC, coef.View(),
-                            tmp.View(), out.View(), "synthesize");
+                            tmp.MutableView(), out.MutableView(), "synthesize");
     EXPECT_EQ(recorder.BarrierCount(), 3u);
     recorder.Submit();
     EXPECT_EQ(recorder.BarrierCount(), 3u);
@@ -512,8 +512,8 @@ TEST_F(VkRecorder, WriteAfterReadAndCopiesAreOrdered) {
     // columns pass reads its rows pass's output: barrier).
     recorder.Copy(a.buffer, b.buffer, a.buffer.Bytes());
     EXPECT_EQ(recorder.BarrierCount(), 0u);
-    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(), t.View(),
-                         c.View(), "analyze");
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(),
+                         t.MutableView(), c.MutableView(), "analyze");
     EXPECT_EQ(recorder.BarrierCount(), 2u);
     // Overwrite b: its reader (the rows pass) is already behind the analysis's own
     // rows -> columns barrier, so the copy needs none.
@@ -521,13 +521,13 @@ TEST_F(VkRecorder, WriteAfterReadAndCopiesAreOrdered) {
     EXPECT_EQ(recorder.BarrierCount(), 2u);
     // Write c again through another temporary: the rows pass (reads a, writes u) needs no
     // barrier, the columns pass reads u and rewrites c: one.
-    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, a.View(), u.View(),
-                         d.View(), "again");
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, a.View(),
+                         u.MutableView(), d.MutableView(), "again");
     EXPECT_EQ(recorder.BarrierCount(), 3u);
     // Reading b (its copy is behind the barrier inside "again") through t (last read before
     // barrier 2): only the analysis's own barrier.
-    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(), t.View(),
-                         c.View(), "third");
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(),
+                         t.MutableView(), c.MutableView(), "third");
     EXPECT_EQ(recorder.BarrierCount(), 4u);
     recorder.Submit();
     EXPECT_EQ(recorder.DispatchCount(), 6u);
@@ -548,7 +548,7 @@ TEST_F(VkRecorder, ReusableAfterSubmit) {
     for (int run = 0; run < 3; ++run) {
         coef.Upload(Image(kW, kH, kC, float(run) + 7.f));
         RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src.View(),
-                             tmp.View(), coef.View(), "run");
+                             tmp.MutableView(), coef.MutableView(), "run");
         EXPECT_EQ(recorder.DispatchCount(), 2u) << "run " << run;
         EXPECT_EQ(recorder.BarrierCount(), 1u) << "run " << run;
         recorder.Submit();

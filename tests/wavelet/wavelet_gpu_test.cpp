@@ -249,8 +249,9 @@ TEST_F(WaveletProperties, GuardBandsUntouched) {
         tmpBuffer.UploadFloats(fill);
         vk::Recorder recorder(ctx);
         // Single level straight into the padded coefficient view, through a padded temporary.
-        vk::ImageView srcView{&srcBuffer, stride, plane}, coefView{&coefBuffer, stride, plane};
-        vk::ImageView tmpView{&tmpBuffer, stride, plane};
+        vk::ImageView srcView{&srcBuffer, stride, plane};
+        vk::MutableImageView coefView{&coefBuffer, stride, plane},
+            tmpView{&tmpBuffer, stride, plane};
         RecordWaveletAnalyze(ctx, recorder, basis, w, h, channels, srcView, tmpView, coefView);
         recorder.Submit();
         std::vector<float> out = coefBuffer.DownloadFloats(src.size());
