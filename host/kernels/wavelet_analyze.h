@@ -1,6 +1,6 @@
-// Record one level of the forward 2D DWT (shaders/wavelet/analyze.comp): a rows pass
-// from `src` into `tmp`, then a columns pass from `tmp` into `dst`. WaveletTransform uses
-// the direct-convolution form instead (RecordWaveletConvAnalyze, measured faster).
+// Record one level of the forward 2D DWT (shaders/wavelet/analyze.comp, direct
+// convolutions with the filter bank): a rows pass from `src` into `tmp`, then a columns
+// pass from `tmp` into `dst`.
 #pragma once
 
 #include <string>

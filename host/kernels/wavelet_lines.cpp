@@ -19,7 +19,7 @@ WaveletLinePass MakeWaveletLinePass(vk::Context &context, const char *kernel,
                                     const uint32_t *spirv, size_t spirvBytes,
                                     uint32_t pushBytes, WaveletBasis basis, int axis, int width,
                                     int height, int channels, const vk::ImageView &src,
-                                    const vk::ImageView &dst,
+                                    const vk::MutableImageView &dst,
                                     std::initializer_list<vk::Binding> reads,
                                     std::initializer_list<std::pair<uint32_t, int32_t>> spec) {
     bool rows = axis == WAVELET_AXIS_ROWS;

@@ -1,6 +1,6 @@
-// What the two line-lifting wavelet kernels (analyze, synthesize) share on the host: the
-// checks on the temporary and the recording of one pass. Layout only; their arithmetic
-// lives in their GLSL.
+// What the line wavelet kernels (analyze, sqanalyze, synthesize, synthesize_shrink) share
+// on the host: the checks on the temporary and the recording of one pass. Layout only;
+// their arithmetic lives in their GLSL.
 #pragma once
 
 #include <initializer_list>
@@ -40,7 +40,7 @@ WaveletLinePass MakeWaveletLinePass(vk::Context &context, const char *kernel,
                                     const uint32_t *spirv, size_t spirvBytes,
                                     uint32_t pushBytes, WaveletBasis basis, int axis, int width,
                                     int height, int channels, const vk::ImageView &src,
-                                    const vk::ImageView &dst,
+                                    const vk::MutableImageView &dst,
                                     std::initializer_list<vk::Binding> reads,
                                     std::initializer_list<std::pair<uint32_t, int32_t>> spec);
 
@@ -51,7 +51,7 @@ template <typename Push = shader::WaveletLinesPush>
 void RecordWaveletLinePass(vk::Context &context, vk::Recorder &recorder, const char *kernel,
                            const uint32_t *spirv, size_t spirvBytes, WaveletBasis basis,
                            int axis, int width, int height, int channels,
-                           const vk::ImageView &src, const vk::ImageView &dst,
+                           const vk::ImageView &src, const vk::MutableImageView &dst,
                            const std::string &label, Push push = {},
                            std::initializer_list<vk::Binding> reads = {},
                            std::initializer_list<std::pair<uint32_t, int32_t>> spec = {}) {

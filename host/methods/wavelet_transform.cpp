@@ -6,6 +6,7 @@
 #include "host/kernels/wavelet_analyze.h"
 #include "host/kernels/wavelet_sqanalyze.h"
 #include "host/kernels/wavelet_synthesize.h"
+#include "host/kernels/wavelet_synthesize_shrink.h"
 
 namespace mcd {
 
@@ -49,10 +50,10 @@ void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis
     }
     // Level 0 reads the image; deeper levels transform their low-low band in place.
     for (int level = 0; level < levels; ++level)
-        RecordWaveletConvAnalyze(context, recorder, basis, LevelExtent(width, level),
-                                 LevelExtent(height, level), channels,
-                                 level == 0 ? in.View() : coef.View(), Temporary(),
-                                 coef.MutableView(), fmt::format("wavelet.analyze.L{}", level));
+        RecordWaveletAnalyze(context, recorder, basis, LevelExtent(width, level),
+                             LevelExtent(height, level), channels,
+                             level == 0 ? in.View() : coef.View(), Temporary(),
+                             coef.MutableView(), fmt::format("wavelet.analyze.L{}", level));
 }
 
 void WaveletTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,

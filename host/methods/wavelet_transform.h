@@ -2,10 +2,10 @@
 // analysis, synthesis and the squared-filter variance analysis. Every level runs in
 // place in the output image, through one interleaved temporary (rows padded to a multiple
 // of 4 floats for the vec4 path), allocated on first use: a 0-level transform is a copy.
-// The analysis runs as direct convolutions with the filter bank (the squared-filter
-// kernel with plain taps, RecordWaveletConvAnalyze) and so does the synthesis
-// (synthesize.glsl): on lavapipe about a quarter faster than the lifting wavefront (still
-// RecordWaveletAnalyze), the same results up to round-off.
+// The analysis runs as direct convolutions with the filter bank (analyze.comp, sharing
+// convolve.glsl with the squared-filter kernel) and so does the synthesis
+// (synthesize.glsl): on lavapipe about a quarter faster than the lifting wavefront, the
+// same results up to round-off.
 #pragma once
 
 #include "host/vk/gpu_image.h"

@@ -1,19 +1,9 @@
-#version 450
-#extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_control_flow_attributes : require
-
-#define WAVELET_LINES_EXTRA_PUSH float lowSum; float highSum;
-#include "wavelet/wavelet.h"
-#include "wavelet/sqanalyze.h"
-
-layout(local_size_x = WAVELET_LOCAL_SIZE) in;
-layout(constant_id = WAVELET_SPEC_AXIS) const int AXIS = WAVELET_AXIS_ROWS;
-layout(constant_id = WAVELET_SPEC_VEC4) const int VEC4 = 0;
-layout(constant_id = WAVELET_SPEC_SQUARED) const int SQUARED = 1;
-layout(std430, binding = WAVELET_LINES_SRC) readonly buffer Src { float src[]; };
-layout(std430, binding = WAVELET_LINES_SRC) readonly buffer Src4 { vec4 src4[]; };
-layout(std430, binding = WAVELET_LINES_DST) writeonly buffer Dst { float dst[]; };
-layout(std430, binding = WAVELET_LINES_DST) writeonly buffer Dst4 { vec4 dst4[]; };
+// One level of the forward DWT as direct separable convolutions with the filter bank of
+// AWR appendix A (measured faster than the lifting steps on lavapipe), shared by analyze.comp
+// (plain taps) and sqanalyze.comp (squared taps, renormalised to lowSum / highSum). The
+// including kernel defines WAVELET_SQUARED (0 or 1) and its bindings, then includes this.
+// Laid out like the line kernels: a rows pass from `src` into an interleaved temporary, a
+// columns pass from it into the four bands of `dst` (Mallat layout).
 
 #include "wavelet/lifting.glsl"
 
@@ -27,7 +17,7 @@ const float kLow53[3] = float[3](0.75 * kSqrt2, 0.25 * kSqrt2, -0.125 * kSqrt2);
 const float kHigh53[2] = float[2](-1.0 / kSqrt2, 0.5 / kSqrt2);
 
 float Tap(float t) {
-    return SQUARED != 0 ? t * t : t;
+    return WAVELET_SQUARED != 0 ? t * t : t;
 }
 float LowTapSq(int k) {
     if (WAVELET == MCD_WAVELET_CDF97) return Tap(kLow97[k]);
@@ -45,7 +35,7 @@ const int kHighReach = WAVELET == MCD_WAVELET_CDF97 ? 3 : (WAVELET == MCD_WAVELE
 
 // Factor that makes the squared taps sum to `target` (<= 0: leave them as they are).
 float Renormalise(float target, bool lowPass) {
-    if (SQUARED == 0 || target <= 0.0) return 1.0;
+    if (WAVELET_SQUARED == 0 || target <= 0.0) return 1.0;
     // Haar: two taps of 1/2.
     if (WAVELET == MCD_WAVELET_HAAR) return target;
     int reach = lowPass ? kLowReach : kHighReach;
@@ -59,7 +49,7 @@ float Renormalise(float target, bool lowPass) {
 // zero tap times a NaN neighbour would leak the NaN.
 float Convolve(int k, bool transform) {
     if (!transform) return line[k];
-    if (WAVELET == MCD_WAVELET_HAAR && SQUARED == 0) {
+    if (WAVELET == MCD_WAVELET_HAAR && WAVELET_SQUARED == 0) {
         // Pairs (2n, 2n+1): (a + b) / sqrt 2 and (b - a) / sqrt 2.
         if ((k & 1) == 0) return (line[k] + line[k + 1]) * (1.0 / kSqrt2);
         return (line[k] - line[k - 1]) * (1.0 / kSqrt2);
@@ -68,20 +58,21 @@ float Convolve(int k, bool transform) {
         // Pairs (2n, 2n+1); each sample of the pair weighs 1/2.
         int pair = (k & 1) == 0 ? k + 1 : k - 1;
         return 0.5 * (line[k] + line[pair]) *
-               Renormalise((k & 1) == 0 ? push.lowSum : push.highSum, (k & 1) == 0);
+               Renormalise((k & 1) == 0 ? WAVELET_LOW_SUM : WAVELET_HIGH_SUM, (k & 1) == 0);
     }
     float sum = 0.0;
     if ((k & 1) == 0) {
         [[unroll]] for (int j = -kLowReach; j <= kLowReach; ++j)
             sum += LowTapSq(abs(j)) * line[k + j];
-        return sum * Renormalise(push.lowSum, true);
+        return sum * Renormalise(WAVELET_LOW_SUM, true);
     }
     [[unroll]] for (int j = -kHighReach; j <= kHighReach; ++j)
         sum += HighTapSq(abs(j)) * line[k + j];
-    return sum * Renormalise(push.highSum, false);
+    return sum * Renormalise(WAVELET_HIGH_SUM, false);
 }
 
-// Convolve one row segment into the temporary; `fast` as in analyze.comp. Position p is
+// Convolve one row segment into the temporary; `fast` when the whole apron lies inside
+// the row and the views are vec4-aligned (a constant after inlining). Position p is
 // ready once line[p + kDelay] is loaded.
 void RowSegment(bool fast, int srcRow, int dstRow, int x0) {
     int origin = x0 - WAVELET_HALO;
@@ -119,7 +110,8 @@ void Rows(int lane, int channel) {
         RowSegment(false, srcRow, dstRow, x0);
 }
 
-// Convolve one column segment and write it into the bands; `interior` as in analyze.comp.
+// Convolve one column segment and write it into the bands; `interior` when no position
+// of the apron needs folding (a constant after inlining).
 void ColumnSegment(bool interior, int srcBase, int dstBase, int y0) {
     int origin = y0 - WAVELET_HALO;
     bool transform = push.height > 1;
