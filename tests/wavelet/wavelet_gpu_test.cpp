@@ -27,8 +27,8 @@
 #include "harness/inputs.h"
 #include "host/error.h"
 #include "host/kernels/wavelet_analyze.h"
-#include "host/methods/wavelet_transform.h"
 #include "host/vk/context.h"
+#include "host/wavelet/transform.h"
 
 namespace mcd::test {
 namespace {

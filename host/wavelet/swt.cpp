@@ -1,4 +1,4 @@
-#include "host/methods/wavelet_swt.h"
+#include "host/wavelet/swt.h"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "host/methods/wavelet_transform.h"
+#include "host/wavelet/transform.h"
 
 #include <fmt/format.h>
 
