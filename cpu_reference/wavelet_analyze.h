@@ -1,6 +1,6 @@
 // Wavelet analysis of the CPU reference: the DWT written as plain convolutions (filter taps
 // times samples) in double precision, from AWR section 3 and appendix A. It is the oracle
-// for the GPU lifting kernels and shares no code with them.
+// for the GPU wavelet kernels and shares no code with them.
 //
 // Layout (host/wavelet.h): along an axis of length N > 1, the ceil(N/2) low-pass
 // coefficients come first, then the floor(N/2) high-pass ones; N == 1 is passed through.

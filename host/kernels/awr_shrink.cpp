@@ -10,7 +10,7 @@
 
 namespace mcd {
 
-void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
+void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
                      const vk::GpuImage &variance, int lowWidth, int lowHeight, float cs) {
     if (coef.width != variance.width || coef.height != variance.height ||
         coef.channels != variance.channels)
@@ -26,8 +26,9 @@ void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
     shader::AwrShrinkPush push{coef.width, coef.height, lowWidth, lowHeight, cs};
     recorder.Dispatch(
         kernel, "awr.shrink",
-        {{&coef.buffer, vk::Access::ReadWrite}, {&variance.buffer, vk::Access::Read}}, &push,
-        uint32_t((coef.width + AWR_SHRINK_LOCAL_SIZE - 1) / AWR_SHRINK_LOCAL_SIZE),
+        {{AWR_SHRINK_COEF, &coef.buffer, vk::Access::ReadWrite},
+         {AWR_SHRINK_VARIANCE, &variance.buffer, vk::Access::Read}},
+        push, uint32_t((coef.width + AWR_SHRINK_LOCAL_SIZE - 1) / AWR_SHRINK_LOCAL_SIZE),
         uint32_t(coef.height), uint32_t(coef.channels));
 }
 

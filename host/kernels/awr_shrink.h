@@ -8,7 +8,7 @@ namespace mcd {
 
 // `coef` and `variance` are same-sized Mallat-layout images; the top-left lowWidth x
 // lowHeight (the coarsest low-low band) is kept.
-void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
+void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
                      const vk::GpuImage &variance, int lowWidth, int lowHeight, float cs);
 
 }  // namespace mcd

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <utility>
+
 #include "bayes/exp.h"
 #include "bayes/exp_spv.h"
 #include "host/error.h"
@@ -11,8 +13,8 @@
 namespace mcd {
 
 void RecordBayesExp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &logImage,
-                    const vk::GpuImage &original, const vk::GpuImage &out, bool restoreZeros) {
-    for (const vk::GpuImage *image : {&original, &out})
+                    const vk::GpuImage &original, vk::GpuImage &out, bool restoreZeros) {
+    for (const vk::GpuImage *image : {&original, &std::as_const(out)})
         if (image->width != logImage.width || image->height != logImage.height ||
             image->channels != logImage.channels)
             throw Error(fmt::format("bayes exp: '{}' is {}x{}x{}, the log image {}x{}x{}",
@@ -28,10 +30,10 @@ void RecordBayesExp(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
     shader::BayesExpPush push{logImage.width, logImage.height, restoreZeros ? 1 : 0};
     recorder.Dispatch(
         kernel, "bayes.exp",
-        {{&logImage.buffer, vk::Access::Read},
-         {&original.buffer, vk::Access::Read},
-         {&out.buffer, vk::Access::Write}},
-        &push, uint32_t((logImage.width + BAYES_EXP_LOCAL_SIZE - 1) / BAYES_EXP_LOCAL_SIZE),
+        {{BAYES_EXP_LOG, &logImage.buffer, vk::Access::Read},
+         {BAYES_EXP_ORIGINAL, &original.buffer, vk::Access::Read},
+         {BAYES_EXP_OUT, &out.buffer, vk::Access::Write}},
+        push, uint32_t((logImage.width + BAYES_EXP_LOCAL_SIZE - 1) / BAYES_EXP_LOCAL_SIZE),
         uint32_t(logImage.height), uint32_t(logImage.channels));
 }
 

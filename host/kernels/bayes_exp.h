@@ -9,6 +9,6 @@ namespace mcd {
 // out = exp(logImage), exactly 0 where `original` is NaN/Inf/negative, and where it is 0
 // when restoreZeros.
 void RecordBayesExp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &logImage,
-                    const vk::GpuImage &original, const vk::GpuImage &out, bool restoreZeros);
+                    const vk::GpuImage &original, vk::GpuImage &out, bool restoreZeros);
 
 }  // namespace mcd

@@ -11,7 +11,7 @@
 namespace mcd {
 
 void RecordBayesLog(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                    const vk::Buffer &floors, const vk::GpuImage &out) {
+                    const vk::Buffer &floors, vk::GpuImage &out) {
     if (!color.buffer.Valid() || color.width != out.width || color.height != out.height ||
         color.channels != out.channels)
         throw Error(fmt::format("bayes log: input {}x{}x{} and output {}x{}x{} differ",
@@ -27,10 +27,10 @@ void RecordBayesLog(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                                                   {}});
     shader::BayesLogPush push{color.width, color.height};
     recorder.Dispatch(kernel, "bayes.log",
-                      {{&color.buffer, vk::Access::Read},
-                       {&floors, vk::Access::Read},
-                       {&out.buffer, vk::Access::Write}},
-                      &push,
+                      {{BAYES_LOG_COLOR, &color.buffer, vk::Access::Read},
+                       {BAYES_LOG_FLOORS, &floors, vk::Access::Read},
+                       {BAYES_LOG_OUT, &out.buffer, vk::Access::Write}},
+                      push,
                       uint32_t((color.width + BAYES_LOG_LOCAL_SIZE - 1) / BAYES_LOG_LOCAL_SIZE),
                       uint32_t(color.height), uint32_t(color.channels));
 }

@@ -9,6 +9,6 @@ namespace mcd {
 // out = log(max(color, floor_c)) per shaders/bayes/log.h; `floors` holds one float per
 // channel.
 void RecordBayesLog(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                    const vk::Buffer &floors, const vk::GpuImage &out);
+                    const vk::Buffer &floors, vk::GpuImage &out);
 
 }  // namespace mcd

@@ -25,7 +25,7 @@ std::array<float, 9> BayesOpponentInverse() {
     return t;
 }
 
-void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
+void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &image,
                     const std::array<float, 9> &m) {
     if (image.channels != 3)
         throw Error(fmt::format("bayes mix: needs 3 channels, '{}' has {}", image.buffer.Name(),
@@ -38,7 +38,8 @@ void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                                                   {}});
     shader::BayesMixPush push{image.width, image.height, {}};
     std::copy(m.begin(), m.end(), push.m);
-    recorder.Dispatch(kernel, "bayes.mix", {{&image.buffer, vk::Access::ReadWrite}}, &push,
+    recorder.Dispatch(kernel, "bayes.mix",
+                      {{BAYES_MIX_IMAGE, &image.buffer, vk::Access::ReadWrite}}, push,
                       uint32_t((image.width + BAYES_MIX_LOCAL_SIZE - 1) / BAYES_MIX_LOCAL_SIZE),
                       uint32_t(image.height));
 }

@@ -9,7 +9,7 @@
 namespace mcd {
 
 // In place on a 3-channel image: every pixel's channels times the row-major matrix `m`.
-void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
+void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &image,
                     const std::array<float, 9> &m);
 
 // The orthonormal opponent matrix of shaders/bayes/mix.h and its inverse (transpose).

@@ -5,8 +5,6 @@
 #include "bayes/bayes.h"
 #include "bayes/moments.h"
 #include "bayes/moments_spv.h"
-#include "bayes/solve.h"
-#include "bayes/solve_spv.h"
 #include "host/error.h"
 #include "host/vk/context.h"
 #include "host/vk/kernel.h"
@@ -14,7 +12,7 @@
 namespace mcd {
 
 void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
-                        int levels, const vk::Buffer &moments) {
+                        int levels, vk::Buffer &moments) {
     int bands = BayesBandCount(coef.channels, levels);
     if (levels < 1) throw Error("bayes moments: needs at least one level");
     if (moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
@@ -27,30 +25,9 @@ void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::
                                                   {}});
     shader::BayesMomentsPush push{coef.width, coef.height, levels};
     recorder.Dispatch(kernel, "bayes.moments",
-                      {{&coef.buffer, vk::Access::Read}, {&moments, vk::Access::Write}}, &push,
-                      uint32_t(bands));
-}
-
-void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &moments,
-                      int bands, int levels, const vk::Buffer &noise, float pn,
-                      const vk::Buffer &params) {
-    if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
-        noise.Bytes() < VkDeviceSize(bands) * sizeof(float) ||
-        moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
-        throw Error(fmt::format("bayes solve: buffers too small for {} bands", bands));
-    const vk::Kernel &kernel = context.GetKernel({"bayes_solve",
-                                                  k_bayes_solve_spv,
-                                                  sizeof(k_bayes_solve_spv),
-                                                  BAYES_SOLVE_BINDINGS,
-                                                  sizeof(shader::BayesSolvePush),
-                                                  {}});
-    shader::BayesSolvePush push{bands, levels, pn};
-    recorder.Dispatch(kernel, "bayes.solve",
-                      {{&moments, vk::Access::Read},
-                       {&params, vk::Access::Write},
-                       {&noise, vk::Access::Read}},
-                      &push,
-                      uint32_t((bands + BAYES_SOLVE_LOCAL_SIZE - 1) / BAYES_SOLVE_LOCAL_SIZE));
+                      {{BAYES_MOMENTS_COEF, &coef.buffer, vk::Access::Read},
+                       {BAYES_MOMENTS_OUT, &moments, vk::Access::Write}},
+                      push, uint32_t(bands));
 }
 
 }  // namespace mcd

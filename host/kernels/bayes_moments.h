@@ -1,5 +1,4 @@
-// Record method bayes' per-band moments (shaders/bayes/moments.comp) and the moment
-// solver (shaders/bayes/solve.comp).
+// Record method bayes' per-band moments (shaders/bayes/moments.comp).
 #pragma once
 
 #include "host/vk/gpu_image.h"
@@ -14,11 +13,6 @@ inline int BayesBandCount(int channels, int levels) {
 
 // moments[band] = E[y^2], E[y^4], max |y|, count (layout in shaders/bayes/bayes.h).
 void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
-                        int levels, const vk::Buffer &moments);
-
-// params[band] from moments[band]: noise s noise[band] (one float per band), shape `pn`.
-void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &moments,
-                      int bands, int levels, const vk::Buffer &noise, float pn,
-                      const vk::Buffer &params);
+                        int levels, vk::Buffer &moments);
 
 }  // namespace mcd

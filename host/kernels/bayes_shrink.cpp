@@ -5,8 +5,6 @@
 #include "bayes/bayes.h"
 #include "bayes/shrink.h"
 #include "bayes/shrink_spv.h"
-#include "bayes/table.h"
-#include "bayes/table_spv.h"
 #include "host/error.h"
 #include "host/kernels/bayes_moments.h"
 #include "host/vk/context.h"
@@ -14,26 +12,7 @@
 
 namespace mcd {
 
-void RecordBayesTable(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &params,
-                      int bands, const vk::Buffer &table) {
-    if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
-        table.Bytes() < VkDeviceSize(bands) * BAYES_TABLE_SIZE * sizeof(float))
-        throw Error(fmt::format("bayes table: buffers too small for {} bands", bands));
-    const vk::Kernel &kernel = context.GetKernel({"bayes_table",
-                                                  k_bayes_table_spv,
-                                                  sizeof(k_bayes_table_spv),
-                                                  BAYES_TABLE_BINDINGS,
-                                                  sizeof(shader::BayesTablePush),
-                                                  {}});
-    shader::BayesTablePush push{bands};
-    recorder.Dispatch(
-        kernel, "bayes.table", {{&params, vk::Access::Read}, {&table, vk::Access::Write}},
-        &push,
-        uint32_t((BAYES_TABLE_SIZE + BAYES_TABLE_LOCAL_SIZE - 1) / BAYES_TABLE_LOCAL_SIZE),
-        uint32_t(bands));
-}
-
-void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
+void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
                        int levels, const vk::Buffer &params, const vk::Buffer &table) {
     int bands = BayesBandCount(coef.channels, levels);
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
@@ -48,10 +27,10 @@ void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, const vk::G
     shader::BayesShrinkPush push{coef.width, coef.height, levels};
     recorder.Dispatch(
         kernel, "bayes.shrink",
-        {{&coef.buffer, vk::Access::ReadWrite},
-         {&params, vk::Access::Read},
-         {&table, vk::Access::Read}},
-        &push, uint32_t((coef.width + BAYES_SHRINK_LOCAL_SIZE - 1) / BAYES_SHRINK_LOCAL_SIZE),
+        {{BAYES_SHRINK_COEF, &coef.buffer, vk::Access::ReadWrite},
+         {BAYES_SHRINK_PARAMS, &params, vk::Access::Read},
+         {BAYES_SHRINK_TABLE, &table, vk::Access::Read}},
+        push, uint32_t((coef.width + BAYES_SHRINK_LOCAL_SIZE - 1) / BAYES_SHRINK_LOCAL_SIZE),
         uint32_t(coef.height), uint32_t(coef.channels));
 }
 

@@ -1,5 +1,5 @@
-// Record method bayes' lookup table (shaders/bayes/table.comp) and its application to
-// the coefficients (shaders/bayes/shrink.comp).
+// Record method bayes' shrinkage of the coefficients through its lookup table
+// (shaders/bayes/shrink.comp).
 #pragma once
 
 #include "host/vk/gpu_image.h"
@@ -7,12 +7,8 @@
 
 namespace mcd {
 
-// table[band][i] = posterior mean at the band's node i (shaders/bayes/bayes.h).
-void RecordBayesTable(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &params,
-                      int bands, const vk::Buffer &table);
-
 // In place on `coef`, a `levels`-level Mallat decomposition.
-void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
+void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
                        int levels, const vk::Buffer &params, const vk::Buffer &table);
 
 }  // namespace mcd

@@ -25,7 +25,7 @@ void CheckCoefficients(const vk::GpuImage &coef, int channels, int levels, const
 
 void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
                            const vk::GpuImage &coef, int channels, int levels,
-                           const vk::Buffer &moments) {
+                           vk::Buffer &moments) {
     CheckCoefficients(coef, channels, levels, "bayes swt moments");
     int bands = BayesBandCount(channels, levels);
     if (moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
@@ -39,13 +39,14 @@ void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
                                                   1u << BAYES_SWT_COEF});
     shader::BayesSwtPush push{coef.width, coef.height, levels};
     recorder.Dispatch(kernel, "bayes.swt.moments",
-                      {{&coef.buffer, vk::Access::Read}, {&moments, vk::Access::Write}}, &push,
-                      uint32_t(bands));
+                      {{BAYES_SWT_COEF, &coef.buffer, vk::Access::Read},
+                       {BAYES_SWT_MOMENTS, &moments, vk::Access::Write}},
+                      push, uint32_t(bands));
 }
 
-void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder,
-                          const vk::GpuImage &coef, int channels, int levels,
-                          const vk::Buffer &params, const vk::Buffer &table) {
+void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
+                          int channels, int levels, const vk::Buffer &params,
+                          const vk::Buffer &table) {
     CheckCoefficients(coef, channels, levels, "bayes swt shrink");
     int bands = BayesBandCount(channels, levels);
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
@@ -60,10 +61,10 @@ void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder,
                                                   1u << BAYES_SWT_TABLE});
     shader::BayesSwtPush push{coef.width, coef.height, levels};
     recorder.Dispatch(kernel, "bayes.swt.shrink",
-                      {{&coef.buffer, vk::Access::ReadWrite},
-                       {&params, vk::Access::Read},
-                       {&table, vk::Access::Read}},
-                      &push,
+                      {{BAYES_SWT_COEF, &coef.buffer, vk::Access::ReadWrite},
+                       {BAYES_SWT_PARAMS, &params, vk::Access::Read},
+                       {BAYES_SWT_TABLE, &table, vk::Access::Read}},
+                      push,
                       uint32_t((coef.width + 4 * BAYES_SWT_SHRINK_LOCAL_SIZE - 1) /
                                (4 * BAYES_SWT_SHRINK_LOCAL_SIZE)),
                       uint32_t(coef.height), uint32_t(bands));

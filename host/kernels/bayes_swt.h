@@ -12,11 +12,11 @@ namespace mcd {
 // max |y|, count (shaders/bayes/bayes.h).
 void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
                            const vk::GpuImage &coef, int channels, int levels,
-                           const vk::Buffer &moments);
+                           vk::Buffer &moments);
 
 // In place on `coef`: every detail coefficient through its band's table.
-void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder,
-                          const vk::GpuImage &coef, int channels, int levels,
-                          const vk::Buffer &params, const vk::Buffer &table);
+void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
+                          int channels, int levels, const vk::Buffer &params,
+                          const vk::Buffer &table);
 
 }  // namespace mcd

@@ -17,7 +17,7 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
                           const vk::GpuImage &color, const vk::GpuImage &pivot,
                           const vk::GpuImage &z, const vk::GpuImage &nu,
                           const PivotGpuGuides &guides, const PivotBilateralSettings &settings,
-                          const vk::GpuImage &out) {
+                          vk::GpuImage &out) {
     CheckPivotShapes("pivot bilateral", color, {&pivot, &z, &nu, &out});
     CheckPivotGuides("pivot bilateral", color.width, color.height, guides);
     if (settings.radius < 0 || settings.radius > 64)
@@ -41,13 +41,14 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
                                     settings.sigmaRange,
                                     settings.goodNoise * settings.goodNoise};
     recorder.Dispatch(kernel, "pivot.bilateral",
-                      {{&color.buffer, vk::Access::Read},
-                       {&pivot.buffer, vk::Access::Read},
-                       {&z.buffer, vk::Access::Read},
-                       {&nu.buffer, vk::Access::Read},
-                       {guides.image ? &guides.image->buffer : &color.buffer, vk::Access::Read},
-                       {&out.buffer, vk::Access::Write}},
-                      &push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+                      {{PIVOT_BILATERAL_COLOR, &color.buffer, vk::Access::Read},
+                       {PIVOT_BILATERAL_PIVOT, &pivot.buffer, vk::Access::Read},
+                       {PIVOT_BILATERAL_Z, &z.buffer, vk::Access::Read},
+                       {PIVOT_BILATERAL_NU, &nu.buffer, vk::Access::Read},
+                       {PIVOT_BILATERAL_GUIDES,
+                        guides.image ? &guides.image->buffer : &color.buffer, vk::Access::Read},
+                       {PIVOT_BILATERAL_OUT, &out.buffer, vk::Access::Write}},
+                      push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
                       uint32_t(color.height), uint32_t(color.channels));
 }
 

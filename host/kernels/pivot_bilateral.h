@@ -15,6 +15,6 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
                           const vk::GpuImage &color, const vk::GpuImage &pivot,
                           const vk::GpuImage &z, const vk::GpuImage &nu,
                           const PivotGpuGuides &guides, const PivotBilateralSettings &settings,
-                          const vk::GpuImage &out);
+                          vk::GpuImage &out);
 
 }  // namespace mcd

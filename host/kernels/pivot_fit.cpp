@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <utility>
 
 #include "host/error.h"
 #include "host/kernels/pivot_ratio.h"
@@ -26,11 +27,11 @@ void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGui
 
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
                     const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
-                    const PivotFitSettings &settings, const vk::GpuImage &fitLo,
-                    const vk::GpuImage &fitHi, int rowBase, int rows) {
+                    const PivotFitSettings &settings, vk::GpuImage &fitLo, vk::GpuImage &fitHi,
+                    int rowBase, int rows) {
     CheckPivotShapes("pivot fit", z, {&s, &nu});
     CheckPivotGuides("pivot fit", z.width, z.height, guides);
-    for (const vk::GpuImage *fit : {&fitLo, &fitHi})
+    for (const vk::GpuImage *fit : {&std::as_const(fitLo), &std::as_const(fitHi)})
         if (fit->width != z.width || fit->height != z.height ||
             fit->channels != PIVOT_PLANES_PER_BUFFER * z.channels)
             throw Error(fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x{}",
@@ -62,15 +63,16 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                               settings.sigmaWeight,
                               rowBase};
     // Absent guides are compiled out; z stands in for their binding.
-    recorder.Dispatch(kernel, "pivot.fit",
-                      {{&z.buffer, vk::Access::Read},
-                       {&s.buffer, vk::Access::Read},
-                       {&nu.buffer, vk::Access::Read},
-                       {guides.image ? &guides.image->buffer : &z.buffer, vk::Access::Read},
-                       {&fitLo.buffer, vk::Access::Write},
-                       {&fitHi.buffer, vk::Access::Write}},
-                      &push, uint32_t((z.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
-                      uint32_t(rows), uint32_t(z.channels));
+    recorder.Dispatch(
+        kernel, "pivot.fit",
+        {{PIVOT_FIT_Z, &z.buffer, vk::Access::Read},
+         {PIVOT_FIT_S, &s.buffer, vk::Access::Read},
+         {PIVOT_FIT_NU, &nu.buffer, vk::Access::Read},
+         {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &z.buffer, vk::Access::Read},
+         {PIVOT_FIT_LO, &fitLo.buffer, vk::Access::Write},
+         {PIVOT_FIT_HI, &fitHi.buffer, vk::Access::Write}},
+        push, uint32_t((z.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE), uint32_t(rows),
+        uint32_t(z.channels));
 }
 
 }  // namespace mcd

@@ -25,8 +25,8 @@ struct PivotFitSettings {
 // `fitLo` and `fitHi` hold 8 x channels planes of z's size each.
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
                     const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
-                    const PivotFitSettings &settings, const vk::GpuImage &fitLo,
-                    const vk::GpuImage &fitHi, int rowBase, int rows);
+                    const PivotFitSettings &settings, vk::GpuImage &fitLo, vk::GpuImage &fitHi,
+                    int rowBase, int rows);
 
 // Throw unless the guide image matches width x height x PIVOT_GUIDE_PLANES when one is used.
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides);

@@ -32,7 +32,7 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                        const vk::GpuImage &pivot, const vk::GpuImage &nu,
                        const vk::GpuImage &fitLo, const vk::GpuImage &fitHi,
                        const PivotGpuGuides &guides, const vk::GpuImage &tiles, int reach,
-                       const vk::GpuImage &out, int rowBase, int rows) {
+                       vk::GpuImage &out, int rowBase, int rows) {
     if (rowBase < 0 || rows < 1 || rowBase + rows > color.height)
         throw Error(fmt::format("pivot gather: rows {}..{} of a {}-row image", rowBase,
                                 rowBase + rows - 1, color.height));
@@ -63,15 +63,16 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
         color.width, color.height, color.channels, reach < 0 ? 0 : reach,
         tilesX,      tilesY,       rowBase};
     recorder.Dispatch(kernel, "pivot.gather",
-                      {{&color.buffer, vk::Access::Read},
-                       {&pivot.buffer, vk::Access::Read},
-                       {&nu.buffer, vk::Access::Read},
-                       {&fitLo.buffer, vk::Access::Read},
-                       {&fitHi.buffer, vk::Access::Read},
-                       {guides.image ? &guides.image->buffer : &color.buffer, vk::Access::Read},
-                       {&out.buffer, vk::Access::Write},
-                       {&tiles.buffer, vk::Access::Read}},
-                      &push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+                      {{PIVOT_GATHER_COLOR, &color.buffer, vk::Access::Read},
+                       {PIVOT_GATHER_PIVOT, &pivot.buffer, vk::Access::Read},
+                       {PIVOT_GATHER_NU, &nu.buffer, vk::Access::Read},
+                       {PIVOT_GATHER_FIT_LO, &fitLo.buffer, vk::Access::Read},
+                       {PIVOT_GATHER_FIT_HI, &fitHi.buffer, vk::Access::Read},
+                       {PIVOT_GATHER_GUIDES,
+                        guides.image ? &guides.image->buffer : &color.buffer, vk::Access::Read},
+                       {PIVOT_GATHER_OUT, &out.buffer, vk::Access::Write},
+                       {PIVOT_GATHER_TILES, &tiles.buffer, vk::Access::Read}},
+                      push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
                       uint32_t(rows), uint32_t(color.channels));
 }
 

@@ -17,6 +17,6 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                        const vk::GpuImage &pivot, const vk::GpuImage &nu,
                        const vk::GpuImage &fitLo, const vk::GpuImage &fitHi,
                        const PivotGpuGuides &guides, const vk::GpuImage &tiles, int reach,
-                       const vk::GpuImage &out, int rowBase, int rows);
+                       vk::GpuImage &out, int rowBase, int rows);
 
 }  // namespace mcd

@@ -24,7 +24,7 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
-                      const vk::GpuImage &z, const vk::GpuImage &s, const vk::GpuImage &nu) {
+                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu) {
     CheckPivotShapes("pivot ratio", color, {&pivot, &z, &s, &nu});
     if (variance) CheckPivotShapes("pivot ratio", color, {variance});
     CheckPivotGuides("pivot ratio", color.width, color.height, guides);
@@ -46,14 +46,15 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
     // Without a variance layer the kernel reads none: the color stands in for the binding.
     recorder.Dispatch(
         kernel, "pivot.ratio",
-        {{&color.buffer, vk::Access::Read},
-         {&pivot.buffer, vk::Access::Read},
-         {variance ? &variance->buffer : &color.buffer, vk::Access::Read},
-         {&z.buffer, vk::Access::Write},
-         {&s.buffer, vk::Access::Write},
-         {&nu.buffer, vk::Access::Write},
-         {guides.image ? &guides.image->buffer : &color.buffer, vk::Access::Read}},
-        &push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+        {{PIVOT_RATIO_COLOR, &color.buffer, vk::Access::Read},
+         {PIVOT_RATIO_PIVOT, &pivot.buffer, vk::Access::Read},
+         {PIVOT_RATIO_VARIANCE, variance ? &variance->buffer : &color.buffer, vk::Access::Read},
+         {PIVOT_RATIO_Z, &z.buffer, vk::Access::Write},
+         {PIVOT_RATIO_S, &s.buffer, vk::Access::Write},
+         {PIVOT_RATIO_NU, &nu.buffer, vk::Access::Write},
+         {PIVOT_RATIO_GUIDES, guides.image ? &guides.image->buffer : &color.buffer,
+          vk::Access::Read}},
+        push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
         uint32_t(color.height), uint32_t(color.channels));
 }
 

@@ -16,7 +16,7 @@ namespace mcd {
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
-                      const vk::GpuImage &z, const vk::GpuImage &s, const vk::GpuImage &nu);
+                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu);
 
 // Throw unless the images have the same width, height and channel count.
 void CheckPivotShapes(const char *what, const vk::GpuImage &a,

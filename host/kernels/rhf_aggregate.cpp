@@ -13,7 +13,7 @@ namespace mcd {
 
 void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::Buffer &mask, int patchHalf, int searchHalf,
-                        const vk::GpuImage &out) {
+                        vk::GpuImage &out) {
     int words = RhfMaskWords(searchHalf);
     if (color.channels != 3 || out.channels != 3 || color.width != out.width ||
         color.height != out.height ||
@@ -34,11 +34,10 @@ void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::
     shader::RhfAggregatePush push{color.width, color.height, patchHalf, searchHalf, words};
     recorder.Dispatch(
         kernel, "rhf.aggregate",
-        {{&color.buffer, vk::Access::Read},
-         {&mask, vk::Access::Read},
-         {&out.buffer, vk::Access::Write}},
-        &push,
-        uint32_t((color.width + RHF_AGGREGATE_LOCAL_SIZE - 1) / RHF_AGGREGATE_LOCAL_SIZE),
+        {{RHF_AGGREGATE_COLOR, &color.buffer, vk::Access::Read},
+         {RHF_AGGREGATE_MASK, &mask, vk::Access::Read},
+         {RHF_AGGREGATE_OUT, &out.buffer, vk::Access::Write}},
+        push, uint32_t((color.width + RHF_AGGREGATE_LOCAL_SIZE - 1) / RHF_AGGREGATE_LOCAL_SIZE),
         uint32_t(color.height));
 }
 

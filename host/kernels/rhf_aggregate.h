@@ -10,6 +10,6 @@ namespace mcd {
 // color and out are 3-channel images of one size; mask is select's, for the whole image.
 void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::Buffer &mask, int patchHalf, int searchHalf,
-                        const vk::GpuImage &out);
+                        vk::GpuImage &out);
 
 }  // namespace mcd

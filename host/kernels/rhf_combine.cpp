@@ -12,7 +12,7 @@ namespace mcd {
 
 void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
                       const vk::GpuImage &filtered, const vk::GpuImage &low,
-                      const vk::GpuImage &coarse, const vk::GpuImage &out) {
+                      const vk::GpuImage &coarse, vk::GpuImage &out) {
     if (!(filtered.width == out.width && filtered.height == out.height &&
           low.width == coarse.width && low.height == coarse.height &&
           low.width == (filtered.width + 1) / 2 && low.height == (filtered.height + 1) / 2 &&
@@ -32,11 +32,11 @@ void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
     shader::RhfCombinePush push{filtered.width, filtered.height, low.width, low.height};
     recorder.Dispatch(
         kernel, "rhf.combine",
-        {{&filtered.buffer, vk::Access::Read},
-         {&low.buffer, vk::Access::Read},
-         {&coarse.buffer, vk::Access::Read},
-         {&out.buffer, vk::Access::Write}},
-        &push, uint32_t((filtered.width + RHF_COMBINE_LOCAL_SIZE - 1) / RHF_COMBINE_LOCAL_SIZE),
+        {{RHF_COMBINE_FILTERED, &filtered.buffer, vk::Access::Read},
+         {RHF_COMBINE_LOW, &low.buffer, vk::Access::Read},
+         {RHF_COMBINE_COARSE, &coarse.buffer, vk::Access::Read},
+         {RHF_COMBINE_OUT, &out.buffer, vk::Access::Write}},
+        push, uint32_t((filtered.width + RHF_COMBINE_LOCAL_SIZE - 1) / RHF_COMBINE_LOCAL_SIZE),
         uint32_t(filtered.height), 3u);
 }
 

@@ -10,6 +10,6 @@ namespace mcd {
 // (rounded up), all 3 channels.
 void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
                       const vk::GpuImage &filtered, const vk::GpuImage &low,
-                      const vk::GpuImage &coarse, const vk::GpuImage &out);
+                      const vk::GpuImage &coarse, vk::GpuImage &out);
 
 }  // namespace mcd

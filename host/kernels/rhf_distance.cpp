@@ -15,7 +15,7 @@ namespace mcd {
 void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, int height,
                        int patchHalf, int searchHalf, int termBase, int termRows, int rowBase,
                        int rows, const vk::Buffer &termSum, const vk::Buffer &termCount,
-                       const vk::Buffer &dist) {
+                       vk::Buffer &dist) {
     size_t side = 2 * searchHalf + 1;
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
         termBase > std::max(0, rowBase - patchHalf - searchHalf) ||
@@ -39,10 +39,10 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
     shader::RhfDistancePush push{width,    height,   patchHalf, 0,
                                  termBase, termRows, rowBase,   rows};
     recorder.Dispatch(kernel, "rhf.distance",
-                      {{&termSum, vk::Access::Read},
-                       {&termCount, vk::Access::Read},
-                       {&dist, vk::Access::Write}},
-                      &push,
+                      {{RHF_DISTANCE_SUM, &termSum, vk::Access::Read},
+                       {RHF_DISTANCE_COUNT, &termCount, vk::Access::Read},
+                       {RHF_DISTANCE_OUT, &dist, vk::Access::Write}},
+                      push,
                       uint32_t((width + RHF_DISTANCE_LOCAL_SIZE - 1) / RHF_DISTANCE_LOCAL_SIZE),
                       uint32_t(rows), uint32_t(side * side));
 }

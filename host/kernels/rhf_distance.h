@@ -12,6 +12,6 @@ namespace mcd {
 void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, int height,
                        int patchHalf, int searchHalf, int termBase, int termRows, int rowBase,
                        int rows, const vk::Buffer &termSum, const vk::Buffer &termCount,
-                       const vk::Buffer &dist);
+                       vk::Buffer &dist);
 
 }  // namespace mcd

@@ -25,8 +25,8 @@ std::vector<float> RhfGaussianTaps(double sigma) {
 
 void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &src,
                          int srcWidth, int srcHeight, int planes, int step,
-                         const vk::Buffer &weights, int radius, const vk::Buffer &scratch,
-                         const vk::Buffer &dst) {
+                         const vk::Buffer &weights, int radius, vk::Buffer &scratch,
+                         vk::Buffer &dst) {
     int dstWidth = (srcWidth + step - 1) / step, dstHeight = (srcHeight + step - 1) / step;
     if (planes <= 0 || step <= 0 || radius < 0 ||
         src.Bytes() < size_t(planes) * srcWidth * srcHeight * sizeof(float) ||
@@ -48,15 +48,17 @@ void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk:
         return uint32_t((n + RHF_DOWNSAMPLE_LOCAL_SIZE - 1) / RHF_DOWNSAMPLE_LOCAL_SIZE);
     };
     shader::RhfDownsamplePush alongX{srcWidth, srcHeight, dstWidth, srcHeight, step, radius, 0};
-    recorder.Dispatch(
-        kernel, "rhf.downsample",
-        {{&src, vk::Access::Read}, {&scratch, vk::Access::Write}, {&weights, vk::Access::Read}},
-        &alongX, groups(dstWidth), uint32_t(srcHeight), uint32_t(planes));
+    recorder.Dispatch(kernel, "rhf.downsample",
+                      {{RHF_DOWNSAMPLE_SRC, &src, vk::Access::Read},
+                       {RHF_DOWNSAMPLE_DST, &scratch, vk::Access::Write},
+                       {RHF_DOWNSAMPLE_WEIGHTS, &weights, vk::Access::Read}},
+                      alongX, groups(dstWidth), uint32_t(srcHeight), uint32_t(planes));
     shader::RhfDownsamplePush alongY{dstWidth, srcHeight, dstWidth, dstHeight, step, radius, 1};
-    recorder.Dispatch(
-        kernel, "rhf.downsample",
-        {{&scratch, vk::Access::Read}, {&dst, vk::Access::Write}, {&weights, vk::Access::Read}},
-        &alongY, groups(dstWidth), uint32_t(dstHeight), uint32_t(planes));
+    recorder.Dispatch(kernel, "rhf.downsample",
+                      {{RHF_DOWNSAMPLE_SRC, &scratch, vk::Access::Read},
+                       {RHF_DOWNSAMPLE_DST, &dst, vk::Access::Write},
+                       {RHF_DOWNSAMPLE_WEIGHTS, &weights, vk::Access::Read}},
+                      alongY, groups(dstWidth), uint32_t(dstHeight), uint32_t(planes));
 }
 
 }  // namespace mcd

@@ -18,7 +18,7 @@ std::vector<float> RhfGaussianTaps(double sigma);
 // planes x srcHeight x ceil(srcWidth / step).
 void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &src,
                          int srcWidth, int srcHeight, int planes, int step,
-                         const vk::Buffer &weights, int radius, const vk::Buffer &scratch,
-                         const vk::Buffer &dst);
+                         const vk::Buffer &weights, int radius, vk::Buffer &scratch,
+                         vk::Buffer &dst);
 
 }  // namespace mcd

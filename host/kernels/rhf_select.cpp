@@ -17,7 +17,7 @@ int RhfMaskWords(int searchHalf) {
 
 void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
                      int searchHalf, int rowBase, int rows, int knn, float threshold,
-                     const vk::Buffer &dist, const vk::Buffer &mask) {
+                     const vk::Buffer &dist, vk::Buffer &mask) {
     size_t side = 2 * searchHalf + 1, words = RhfMaskWords(searchHalf);
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
         dist.Bytes() < side * side * rows * width * sizeof(float) ||
@@ -34,9 +34,12 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
                                                   {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}},
                                                   1u << RHF_SELECT_DISTANCE});
     shader::RhfSelectPush push{width, height, searchHalf, rowBase, rows, knn, 0, threshold};
-    recorder.Dispatch(
-        kernel, "rhf.select", {{&dist, vk::Access::Read}, {&mask, vk::Access::Write}}, &push,
-        uint32_t((width + RHF_SELECT_LOCAL_SIZE - 1) / RHF_SELECT_LOCAL_SIZE), uint32_t(rows));
+    recorder.Dispatch(kernel, "rhf.select",
+                      {{RHF_SELECT_DISTANCE, &dist, vk::Access::Read},
+                       {RHF_SELECT_MASK, &mask, vk::Access::Write}},
+                      push,
+                      uint32_t((width + RHF_SELECT_LOCAL_SIZE - 1) / RHF_SELECT_LOCAL_SIZE),
+                      uint32_t(rows));
 }
 
 }  // namespace mcd

@@ -13,6 +13,6 @@ int RhfMaskWords(int searchHalf);
 // RhfMaskWords planes of height x width) gets the strip's rows.
 void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
                      int searchHalf, int rowBase, int rows, int knn, float threshold,
-                     const vk::Buffer &dist, const vk::Buffer &mask);
+                     const vk::Buffer &dist, vk::Buffer &mask);
 
 }  // namespace mcd

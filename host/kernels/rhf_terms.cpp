@@ -15,7 +15,7 @@ constexpr int kPixelsPerGroup = RHF_TERMS_LOCAL_SIZE * RHF_TERMS_PIXELS_PER_LANE
 
 void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
                     int searchHalf, int rowBase, int rows, float histScale, float brightVeto,
-                    const vk::Buffer &termSum, const vk::Buffer &termCount) {
+                    vk::Buffer &termSum, vk::Buffer &termCount) {
     int side = 2 * searchHalf + 1;
     size_t need = size_t(searchHalf + 1) * side * rows * hist.width * sizeof(float);
     if (hist.slots.empty() || hist.slots.size() > RHF_HIST_SLOTS || hist.planesPerSlot <= 0 ||
@@ -38,11 +38,12 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
     std::vector<vk::Binding> bindings;
     // Unused slots repeat the first buffer: the shader never reads them.
     for (int slot = 0; slot < RHF_HIST_SLOTS; ++slot)
-        bindings.push_back(
-            {&hist.slots[slot < int(hist.slots.size()) ? slot : 0], vk::Access::Read});
-    bindings.push_back({&termSum, vk::Access::Write});
-    bindings.push_back({&termCount, vk::Access::Write});
-    recorder.Dispatch(kernel, "rhf.terms", bindings, &push,
+        bindings.push_back({uint32_t(RHF_TERMS_HIST + slot),
+                            &hist.slots[slot < int(hist.slots.size()) ? slot : 0],
+                            vk::Access::Read});
+    bindings.push_back({RHF_TERMS_SUM, &termSum, vk::Access::Write});
+    bindings.push_back({RHF_TERMS_COUNT, &termCount, vk::Access::Write});
+    recorder.Dispatch(kernel, "rhf.terms", bindings, push,
                       uint32_t((hist.width + kPixelsPerGroup - 1) / kPixelsPerGroup),
                       uint32_t(rows), uint32_t(searchHalf + 1));
 }

@@ -23,6 +23,6 @@ struct RhfHistogram {
 // in the scale's rescaled counts.
 void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
                     int searchHalf, int rowBase, int rows, float histScale, float brightVeto,
-                    const vk::Buffer &termSum, const vk::Buffer &termCount);
+                    vk::Buffer &termSum, vk::Buffer &termCount);
 
 }  // namespace mcd

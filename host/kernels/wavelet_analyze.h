@@ -1,6 +1,6 @@
-// Record one level of the forward 2D DWT (shaders/wavelet/analyze.comp): a rows pass
-// from `src` into `tmp`, then a columns pass from `tmp` into `dst`. WaveletTransform uses
-// the direct-convolution form instead (RecordWaveletConvAnalyze, measured faster).
+// Record one level of the forward 2D DWT (shaders/wavelet/analyze.comp, direct
+// convolutions with the filter bank): a rows pass from `src` into `tmp`, then a columns
+// pass from `tmp` into `dst`.
 #pragma once
 
 #include <string>
@@ -16,7 +16,7 @@ namespace mcd {
 // be a buffer of its own; `src` and `dst` may be the same view (in-place levels).
 void RecordWaveletAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                           int width, int height, int channels, const vk::ImageView &src,
-                          const vk::ImageView &tmp, const vk::ImageView &dst,
+                          const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
                           const std::string &label = "wavelet.analyze");
 
 }  // namespace mcd

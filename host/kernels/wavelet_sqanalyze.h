@@ -15,14 +15,8 @@ namespace mcd {
 // sum to lowSum (highSum); values <= 0 keep the natural sums.
 void RecordWaveletSqAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                             int width, int height, int channels, const vk::ImageView &src,
-                            const vk::ImageView &tmp, const vk::ImageView &dst, float lowSum,
-                            float highSum, const std::string &label = "wavelet.sqanalyze");
-
-// The forward DWT level of RecordWaveletAnalyze by the same kernel with plain taps: direct
-// convolutions with the filter bank of the lifting (same views, same result up to round-off).
-void RecordWaveletConvAnalyze(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
-                              int width, int height, int channels, const vk::ImageView &src,
-                              const vk::ImageView &tmp, const vk::ImageView &dst,
-                              const std::string &label = "wavelet.analyze");
+                            const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
+                            float lowSum, float highSum,
+                            const std::string &label = "wavelet.sqanalyze");
 
 }  // namespace mcd

@@ -10,7 +10,7 @@ namespace mcd {
 
 void RecordWaveletSwtPass(vk::Context &context, vk::Recorder &recorder, SwtPass pass,
                           WaveletBasis basis, bool squared, const shader::WaveletSwtPush &push,
-                          int channels, const vk::Buffer &src, const vk::Buffer &dst,
+                          int channels, const vk::Buffer &src, vk::Buffer &dst,
                           const std::string &label) {
     if (push.width < 1 || push.height < 1 || channels < 1 || push.step < 1)
         throw Error("wavelet swt: empty pass");
@@ -41,7 +41,9 @@ void RecordWaveletSwtPass(vk::Context &context, vk::Recorder &recorder, SwtPass 
                                       {WAVELET_SWT_SPEC_AXIS, axis}},
                                      1u << WAVELET_SWT_SRC});
     recorder.Dispatch(
-        kernel, label, {{&src, vk::Access::Read}, {&dst, vk::Access::Write}}, &push,
+        kernel, label,
+        {{WAVELET_SWT_SRC, &src, vk::Access::Read}, {WAVELET_SWT_DST, &dst, vk::Access::Write}},
+        push,
         uint32_t((push.width + 4 * WAVELET_SWT_LOCAL_SIZE - 1) / (4 * WAVELET_SWT_LOCAL_SIZE)),
         uint32_t(push.height), uint32_t(channels));
 }

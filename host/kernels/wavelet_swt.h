@@ -26,7 +26,7 @@ enum class SwtPass {
 // for the analysis passes.
 void RecordWaveletSwtPass(vk::Context &context, vk::Recorder &recorder, SwtPass pass,
                           WaveletBasis basis, bool squared, const shader::WaveletSwtPush &push,
-                          int channels, const vk::Buffer &src, const vk::Buffer &dst,
+                          int channels, const vk::Buffer &src, vk::Buffer &dst,
                           const std::string &label);
 
 }  // namespace mcd

@@ -14,18 +14,14 @@ namespace mcd {
 // layout). `tmp` must be a buffer of its own; `src` and `dst` may be the same view.
 void RecordWaveletSynthesize(vk::Context &context, vk::Recorder &recorder, WaveletBasis basis,
                              int width, int height, int channels, const vk::ImageView &src,
-                             const vk::ImageView &tmp, const vk::ImageView &dst,
+                             const vk::MutableImageView &tmp, const vk::MutableImageView &dst,
                              const std::string &label = "wavelet.synthesize");
 
-// The same level with AWR's soft shrinkage fused into the columns pass
-// (shaders/wavelet/synthesize_shrink.h): every detail coefficient w of the level's bands
-// is read as sign(w) max(0, |w| - cs sqrt(var)), var from `variance` (the layout of
-// `src`: same stride and plane); the level's low-low band is read as it is. `src` is
-// left unchanged unless it is `dst`.
-void RecordWaveletSynthesizeShrink(vk::Context &context, vk::Recorder &recorder,
-                                   WaveletBasis basis, int width, int height, int channels,
-                                   const vk::ImageView &src, const vk::ImageView &variance,
-                                   float cs, const vk::ImageView &tmp, const vk::ImageView &dst,
-                                   const std::string &label = "wavelet.synthesize_shrink");
+// One pass of it (WAVELET_AXIS_COLUMNS: bands -> temporary, WAVELET_AXIS_ROWS: temporary
+// -> samples), for kernels that replace the other pass.
+void RecordWaveletSynthesizePass(vk::Context &context, vk::Recorder &recorder,
+                                 WaveletBasis basis, int axis, int width, int height,
+                                 int channels, const vk::ImageView &src,
+                                 const vk::MutableImageView &dst, const std::string &label);
 
 }  // namespace mcd

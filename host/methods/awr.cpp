@@ -4,12 +4,12 @@
 
 #include <cmath>
 
+#include "host/common/cycle_spin.h"
 #include "host/error.h"
 #include "host/kernels/awr_shrink.h"
 #include "host/methods/checks.h"
-#include "host/methods/cycle_spin.h"
-#include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
+#include "host/wavelet/transform.h"
 
 namespace mcd {
 

@@ -21,7 +21,7 @@ struct AwrOptions {
     // The squared 1D filters are renormalised to sum to these (the paper: 2^-1/2 for the
     // reconstruction, to damp coarse-scale smoothing).
     float lowSum = 0.70710678f, highSum = 0.70710678f;
-    // Cycle spinning over spins x spins shifts (host/methods/cycle_spin.h), 1 to 8; 1 is
+    // Cycle spinning over spins x spins shifts (host/common/cycle_spin.h), 1 to 8; 1 is
     // the paper's reconstruction. Beyond the paper: the decimated DWT's soft shrinkage
     // depends on where its grid falls, and the mean over shifts removes that (README).
     int spins = 1;

@@ -8,18 +8,20 @@
 #include <optional>
 
 #include "bayes/bayes.h"
+#include "host/common/cycle_spin.h"
 #include "host/error.h"
 #include "host/kernels/bayes_exp.h"
 #include "host/kernels/bayes_log.h"
 #include "host/kernels/bayes_mix.h"
 #include "host/kernels/bayes_moments.h"
 #include "host/kernels/bayes_shrink.h"
+#include "host/kernels/bayes_solve.h"
 #include "host/kernels/bayes_swt.h"
-#include "host/methods/cycle_spin.h"
-#include "host/methods/wavelet_swt.h"
-#include "host/methods/wavelet_transform.h"
+#include "host/kernels/bayes_table.h"
 #include "host/vk/buffer.h"
 #include "host/vk/gpu_image.h"
+#include "host/wavelet/swt.h"
+#include "host/wavelet/transform.h"
 #include "wavelet/swt.h"
 
 namespace mcd {

@@ -223,7 +223,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     };
     // D_s of `planes` planes of a W x H buffer into dst.
     auto downsample = [&](const vk::Buffer &src, int srcW, int srcH, int count, int s,
-                          double sigma, const vk::Buffer &dst, vk::Recorder &recorder) {
+                          double sigma, vk::Buffer &dst, vk::Recorder &recorder) {
         auto [weights, radius] = taps(sigma);
         buffers.emplace_back(context, size_t(count) * srcH * Shrunk(srcW, s) * sizeof(float),
                              "rhf.scratch");
@@ -241,8 +241,10 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
         float histScale = 1.f;
         if (s > 0) {
             double sigma = SigmaOfScale(s);
-            u = &images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.color{}", s));
-            downsample(colorGpu.buffer, W, H, 3, s, sigma, u->buffer, recorder);
+            vk::GpuImage &coarseColor =
+                images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.color{}", s));
+            u = &coarseColor;
+            downsample(colorGpu.buffer, W, H, 3, s, sigma, coarseColor.buffer, recorder);
             kept.push_back({fmt::format("color s{}", s), u});
             RhfHistogram &coarse = histograms.emplace_back();
             coarse.width = Ws;
@@ -284,7 +286,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, knn, o.threshold,
                             dist, mask);
         }
-        const vk::GpuImage &filtered =
+        vk::GpuImage &filtered =
             images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.filtered{}", s));
         RecordRhfAggregate(context, recorder, *u, mask, o.patchHalf, o.searchHalf, filtered);
         kept.push_back({fmt::format("filtered s{}", s), &filtered});
@@ -299,10 +301,10 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             knn, o.threshold, strips));
         if (previous) {
             double sigma = SigmaOfScale(1);
-            const vk::GpuImage &low =
+            vk::GpuImage &low =
                 images.emplace_back(context, previous->width, previous->height, 3, "rhf.low");
             downsample(filtered.buffer, Ws, Hs, 3, 1, sigma, low.buffer, recorder);
-            const vk::GpuImage &combined =
+            vk::GpuImage &combined =
                 images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.combined{}", s));
             RecordRhfCombine(context, recorder, filtered, low, *previous, combined);
             kept.push_back({fmt::format("combined s{}", s), &combined});

@@ -15,6 +15,16 @@ struct ImageView {
     int plane = 0;
 };
 
+// A view a kernel writes through: only a non-const buffer gives one, so a Record function
+// that writes says so in its signature. Reads through it as an ImageView.
+struct MutableImageView {
+    Buffer *buffer = nullptr;
+    int stride = 0;
+    int plane = 0;
+
+    operator ImageView() const { return {buffer, stride, plane}; }
+};
+
 struct GpuImage {
     Buffer buffer;
     int width = 0, height = 0, channels = 0;
@@ -23,6 +33,7 @@ struct GpuImage {
     GpuImage(Context &context, int width, int height, int channels, std::string name);
 
     ImageView View() const { return {&buffer, width, width * height}; }
+    MutableImageView MutableView() { return {&buffer, width, width * height}; }
     void Upload(const Image &image);
     Image Download() const;
 };

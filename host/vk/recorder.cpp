@@ -75,30 +75,57 @@ void Recorder::Touch(const Buffer *buffer, Access access) {
     if (access != Access::Read) writtenSinceBarrier.insert(buffer->Handle());
 }
 
-void Recorder::Dispatch(const Kernel &kernel, const std::string &label,
-                        const std::vector<Binding> &bindings, const void *push,
-                        uint32_t groupsX, uint32_t groupsY, uint32_t groupsZ) {
+void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
+                             const std::vector<Binding> &bindings, const void *push,
+                             uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
+                             uint32_t groupsZ) {
     const VkPhysicalDeviceLimits &limits = context.Limits();
-    if (bindings.size() != kernel.BindingCount() || bindings.size() > kMaxBindings)
-        throw Error(fmt::format("dispatch '{}': kernel {} takes {} buffers, got {}", label,
-                                kernel.Name(), kernel.BindingCount(), bindings.size()));
+    if (pushBytes != kernel.PushBytes())
+        throw Error(
+            fmt::format("dispatch '{}': kernel {} takes {} bytes of push constants, "
+                        "got a struct of {}",
+                        label, kernel.Name(), kernel.PushBytes(), pushBytes));
+    // Every declared slot once: a slot bound twice or left out would read a stale buffer.
+    std::vector<bool> bound(kernel.BindingCount(), false);
+    for (const Binding &b : bindings) {
+        if (b.slot >= kernel.BindingCount())
+            throw Error(
+                fmt::format("dispatch '{}': kernel {} has no binding slot {} (it "
+                            "declares {})",
+                            label, kernel.Name(), b.slot, kernel.BindingCount()));
+        if (bound[b.slot])
+            throw Error(fmt::format("dispatch '{}': kernel {}: slot {} is bound twice", label,
+                                    kernel.Name(), b.slot));
+        bound[b.slot] = true;
+    }
+    for (uint32_t slot = 0; slot < kernel.BindingCount(); ++slot)
+        if (!bound[slot])
+            throw Error(
+                fmt::format("dispatch '{}': kernel {} takes {} buffers: slot {} is not "
+                            "bound",
+                            label, kernel.Name(), kernel.BindingCount(), slot));
+    if (bindings.size() > kMaxBindings)
+        throw Error(
+            fmt::format("dispatch '{}': kernel {} takes {} buffers, more than the "
+                        "recorder's {}",
+                        label, kernel.Name(), bindings.size(), kMaxBindings));
     uint32_t groups[3] = {groupsX, groupsY, groupsZ};
     for (int i = 0; i < 3; ++i)
         if (groups[i] > limits.maxComputeWorkGroupCount[i])
             throw Error(fmt::format(
                 "dispatch '{}': {} workgroups along axis {} exceed the device limit {}", label,
                 groups[i], i, limits.maxComputeWorkGroupCount[i]));
-    for (uint32_t i = 0; i < bindings.size(); ++i) {
-        const Binding &b = bindings[i];
+    for (const Binding &b : bindings) {
         if (!b.buffer || !b.buffer->Valid())
-            throw Error(fmt::format("dispatch '{}': unbound buffer", label));
-        if (kernel.IsTexel(i) && b.access != Access::Read)
+            throw Error(fmt::format("dispatch '{}': kernel {}: slot {} has no buffer", label,
+                                    kernel.Name(), b.slot));
+        if (kernel.IsTexel(b.slot) && b.access != Access::Read)
             throw Error(
                 fmt::format("dispatch '{}': binding {} of kernel {} is a texel buffer, "
                             "which kernels only read",
-                            label, i, kernel.Name()));
+                            label, b.slot, kernel.Name()));
         // Texel views have their own limit, checked when the view is made.
-        if (!kernel.IsTexel(i) && b.buffer->Bytes() > limits.maxStorageBufferRange)
+        if (!kernel.IsTexel(b.slot) && b.buffer->Bytes() > limits.maxStorageBufferRange)
             throw Error(fmt::format(
                 "dispatch '{}': buffer '{}' of {} bytes exceeds the device's storage buffer "
                 "range of {} bytes; split the work",
@@ -116,9 +143,9 @@ void Recorder::Dispatch(const Kernel &kernel, const std::string &label,
     std::vector<VkBufferView> views(bindings.size(), VK_NULL_HANDLE);
     for (uint32_t i = 0; i < bindings.size(); ++i) {
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        writes[i].dstBinding = i;
+        writes[i].dstBinding = bindings[i].slot;
         writes[i].descriptorCount = 1;
-        if (kernel.IsTexel(i)) {
+        if (kernel.IsTexel(bindings[i].slot)) {
             views[i] = bindings[i].buffer->FloatView();
             writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
             writes[i].pTexelBufferView = &views[i];

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace mcd::vk {
@@ -18,10 +19,16 @@ class Kernel;
 
 enum class Access { Read, Write, ReadWrite };
 
+// A buffer bound at `slot`: the slot's named constant in the kernel's layout header
+// (shaders/<family>/<kernel>.h), never a bare position.
 struct Binding {
+    uint32_t slot = 0;
     const Buffer *buffer = nullptr;
     Access access = Access::Read;
 };
+
+// The push constants of a kernel that declares none.
+struct NoPush {};
 
 struct DispatchTiming {
     std::string label;
@@ -35,10 +42,18 @@ class Recorder {
     Recorder(const Recorder &) = delete;
     Recorder &operator=(const Recorder &) = delete;
 
-    // Bindings go to slots 0..n-1 in order; `push` is the kernel's push-constant struct.
+    // Every slot the kernel declares must be bound exactly once; `push` is the kernel's
+    // push-constant struct from its layout header, whose size must be the kernel's.
+    template <typename Push>
     void Dispatch(const Kernel &kernel, const std::string &label,
-                  const std::vector<Binding> &bindings, const void *push, uint32_t groupsX,
-                  uint32_t groupsY = 1, uint32_t groupsZ = 1);
+                  const std::vector<Binding> &bindings, const Push &push, uint32_t groupsX,
+                  uint32_t groupsY = 1, uint32_t groupsZ = 1) {
+        static_assert(std::is_trivially_copyable_v<Push> && !std::is_pointer_v<Push>,
+                      "push constants are the layout header's struct, passed by value");
+        DispatchBytes(kernel, label, bindings, &push,
+                      std::is_empty_v<Push> ? 0 : uint32_t(sizeof(Push)), groupsX, groupsY,
+                      groupsZ);
+    }
     void Copy(const Buffer &src, const Buffer &dst, VkDeviceSize bytes,
               VkDeviceSize srcOffset = 0, VkDeviceSize dstOffset = 0);
 
@@ -52,6 +67,10 @@ class Recorder {
     double TotalGpuMs() const;
 
   private:
+    void DispatchBytes(const Kernel &kernel, const std::string &label,
+                       const std::vector<Binding> &bindings, const void *push,
+                       uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
+                       uint32_t groupsZ);
     void Begin();
     void Touch(const Buffer *buffer, Access access);
     void BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Access>> &uses);

@@ -13,12 +13,12 @@
 layout(local_size_x = RHF_TERMS_LOCAL_SIZE) in;
 layout(constant_id = RHF_TERMS_SPEC_SEARCH_HALF) const int B = 6;
 const int SIDE = 2 * B + 1;
-layout(binding = 0) uniform samplerBuffer hist0;
-layout(binding = 1) uniform samplerBuffer hist1;
-layout(binding = 2) uniform samplerBuffer hist2;
-layout(binding = 3) uniform samplerBuffer hist3;
-layout(binding = 4) uniform samplerBuffer hist4;
-layout(binding = 5) uniform samplerBuffer hist5;
+layout(binding = RHF_TERMS_HIST + 0) uniform samplerBuffer hist0;
+layout(binding = RHF_TERMS_HIST + 1) uniform samplerBuffer hist1;
+layout(binding = RHF_TERMS_HIST + 2) uniform samplerBuffer hist2;
+layout(binding = RHF_TERMS_HIST + 3) uniform samplerBuffer hist3;
+layout(binding = RHF_TERMS_HIST + 4) uniform samplerBuffer hist4;
+layout(binding = RHF_TERMS_HIST + 5) uniform samplerBuffer hist5;
 layout(std430, binding = RHF_TERMS_SUM) writeonly buffer TermSum { float termSum[]; };
 layout(std430, binding = RHF_TERMS_COUNT) writeonly buffer TermCount { float termCount[]; };
 

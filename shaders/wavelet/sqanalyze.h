@@ -1,18 +1,14 @@
 // One level of the squared-filter analysis of AWR eqs. 9-10 (appendix B): the variance of
 // each coefficient as the sum of squared filter taps times per-pixel variances, as direct
-// separable convolutions (lifting has no squared form). Two dispatches of this kernel,
-// laid out like analyze: a rows pass from `src` into an interleaved temporary, a columns
-// pass from it into the four bands of `dst` (Mallat layout). The squared 1D low (high)
-// taps are renormalised to sum to lowSum (highSum); a value <= 0 keeps the natural sum.
+// separable convolutions (lifting has no squared form; convolve.glsl, shared with
+// analyze.comp). Two dispatches of this kernel, laid out like analyze: a rows pass from
+// `src` into an interleaved temporary, a columns pass from it into the four bands of `dst`
+// (Mallat layout). The squared 1D low (high) taps are renormalised to sum to lowSum
+// (highSum); a value <= 0 keeps the natural sum. Bindings: WAVELET_LINES_* in lines.h.
 #ifndef MCD_SHADERS_WAVELET_SQANALYZE_H
 #define MCD_SHADERS_WAVELET_SQANALYZE_H
 
 #include "wavelet/lines.h"
-
-// Specialization constant: 1 squares the taps (the variance analysis above), 0 keeps them:
-// the forward DWT itself as direct convolutions, the same filter bank as analyze.comp's
-// lifting (measured faster on lavapipe), lowSum and highSum ignored.
-#define WAVELET_SPEC_SQUARED 3
 
 #ifdef __cplusplus
 namespace mcd::shader {

@@ -1,8 +1,8 @@
 #include "harness/gpu_wavelet.h"
 
-#include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
 #include "host/vk/recorder.h"
+#include "host/wavelet/transform.h"
 
 namespace mcd::test {
 

@@ -14,9 +14,9 @@
 #include "harness/gpu_wavelet.h"
 #include "harness/inputs.h"
 #include "host/methods/awr.h"
-#include "host/methods/wavelet_transform.h"
 #include "host/metrics.h"
 #include "host/vk/gpu_image.h"
+#include "host/wavelet/transform.h"
 #include "tools/render/adaptive.h"
 
 namespace mcd::test {

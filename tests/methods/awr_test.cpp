@@ -14,11 +14,11 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/common/cycle_spin.h"
 #include "host/kernels/awr_shrink.h"
 #include "host/methods/awr.h"
-#include "host/methods/cycle_spin.h"
-#include "host/methods/wavelet_transform.h"
 #include "host/metrics.h"
+#include "host/wavelet/transform.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {

@@ -23,7 +23,7 @@
 #include "host/kernels/bayes_moments.h"
 #include "host/kernels/bayes_swt.h"
 #include "host/methods/bayes.h"
-#include "host/methods/wavelet_swt.h"
+#include "host/wavelet/swt.h"
 #include "wavelet/swt.h"
 
 namespace mcd::test {

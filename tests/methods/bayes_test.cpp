@@ -22,6 +22,8 @@
 #include "host/kernels/bayes_mix.h"
 #include "host/kernels/bayes_moments.h"
 #include "host/kernels/bayes_shrink.h"
+#include "host/kernels/bayes_solve.h"
+#include "host/kernels/bayes_table.h"
 #include "host/methods/bayes.h"
 #include "host/vk/buffer.h"
 

@@ -10,7 +10,7 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/methods/bayes.h"
-#include "host/methods/wavelet_swt.h"
+#include "host/wavelet/swt.h"
 
 namespace mcd::test {
 namespace {

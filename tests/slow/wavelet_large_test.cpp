@@ -23,9 +23,9 @@
 #include "harness/gpu_fixture.h"
 #include "harness/gpu_wavelet.h"
 #include "harness/inputs.h"
-#include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
 #include "host/wavelet.h"
+#include "host/wavelet/transform.h"
 
 namespace mcd::test {
 namespace {

@@ -445,10 +445,10 @@ TEST_F(VkRecorder, IndependentDispatchesNeedNoBarrier) {
     // Each analysis is a rows pass into its temporary and a columns pass out of it: one
     // barrier inside each, none between the two.
     RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src1.View(),
-                         tmp1.View(), coef1.View(), "first");
+                         tmp1.MutableView(), coef1.MutableView(), "first");
     EXPECT_EQ(recorder.BarrierCount(), 1u);
     RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src2.View(),
-                         tmp2.View(), coef2.View(), "second");
+                         tmp2.MutableView(), coef2.MutableView(), "second");
     EXPECT_EQ(recorder.DispatchCount(), 4u);
     EXPECT_EQ(recorder.BarrierCount(), 2u);
     recorder.Submit();
@@ -485,12 +485,12 @@ TEST_F(VkRecorder, ReadAfterWriteGetsOneBarrier) {
     src.Upload(in);
     vk::Recorder recorder(Ctx());
     RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::LeGall53, kW, kH, kC, src.View(),
-                         tmp.View(), coef.View(), "analyze");
+                         tmp.MutableView(), coef.MutableView(), "analyze");
     EXPECT_EQ(recorder.BarrierCount(), 1u);  // rows -> tmp -> columns
     // Synthesis reads coef (just written) and rewrites tmp (just read): one barrier before
     // its columns pass, one between its passes.
     RecordWaveletSynthesize(Ctx(), recorder, WaveletBasis::LeGall53, kW, kH, kC, coef.View(),
-                            tmp.View(), out.View(), "synthesize");
+                            tmp.MutableView(), out.MutableView(), "synthesize");
     EXPECT_EQ(recorder.BarrierCount(), 3u);
     recorder.Submit();
     EXPECT_EQ(recorder.BarrierCount(), 3u);
@@ -512,8 +512,8 @@ TEST_F(VkRecorder, WriteAfterReadAndCopiesAreOrdered) {
     // columns pass reads its rows pass's output: barrier).
     recorder.Copy(a.buffer, b.buffer, a.buffer.Bytes());
     EXPECT_EQ(recorder.BarrierCount(), 0u);
-    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(), t.View(),
-                         c.View(), "analyze");
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(),
+                         t.MutableView(), c.MutableView(), "analyze");
     EXPECT_EQ(recorder.BarrierCount(), 2u);
     // Overwrite b: its reader (the rows pass) is already behind the analysis's own
     // rows -> columns barrier, so the copy needs none.
@@ -521,13 +521,13 @@ TEST_F(VkRecorder, WriteAfterReadAndCopiesAreOrdered) {
     EXPECT_EQ(recorder.BarrierCount(), 2u);
     // Write c again through another temporary: the rows pass (reads a, writes u) needs no
     // barrier, the columns pass reads u and rewrites c: one.
-    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, a.View(), u.View(),
-                         d.View(), "again");
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, a.View(),
+                         u.MutableView(), d.MutableView(), "again");
     EXPECT_EQ(recorder.BarrierCount(), 3u);
     // Reading b (its copy is behind the barrier inside "again") through t (last read before
     // barrier 2): only the analysis's own barrier.
-    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(), t.View(),
-                         c.View(), "third");
+    RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Haar, kW, kH, kC, b.View(),
+                         t.MutableView(), c.MutableView(), "third");
     EXPECT_EQ(recorder.BarrierCount(), 4u);
     recorder.Submit();
     EXPECT_EQ(recorder.DispatchCount(), 6u);
@@ -548,7 +548,7 @@ TEST_F(VkRecorder, ReusableAfterSubmit) {
     for (int run = 0; run < 3; ++run) {
         coef.Upload(Image(kW, kH, kC, float(run) + 7.f));
         RecordWaveletAnalyze(Ctx(), recorder, WaveletBasis::Cdf97, kW, kH, kC, src.View(),
-                             tmp.View(), coef.View(), "run");
+                             tmp.MutableView(), coef.MutableView(), "run");
         EXPECT_EQ(recorder.DispatchCount(), 2u) << "run " << run;
         EXPECT_EQ(recorder.BarrierCount(), 1u) << "run " << run;
         recorder.Submit();
@@ -598,7 +598,8 @@ TEST_F(VkRecorder, DispatchLimitsThrow) {
     const vk::Kernel &kernel = Ctx().GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
     vk::Buffer a(Ctx(), 256, "a"), b(Ctx(), 256, "b");
     shader::WaveletLinesPush push{};
-    std::vector<vk::Binding> bindings = {{&a, vk::Access::Read}, {&b, vk::Access::Write}};
+    std::vector<vk::Binding> bindings = {{WAVELET_LINES_SRC, &a, vk::Access::Read},
+                                         {WAVELET_LINES_DST, &b, vk::Access::Write}};
     vk::Recorder recorder(Ctx());
     const VkPhysicalDeviceLimits &limits = Ctx().Limits();
     for (int axis = 0; axis < 3; ++axis) {
@@ -606,30 +607,64 @@ TEST_F(VkRecorder, DispatchLimitsThrow) {
         if (limits.maxComputeWorkGroupCount[axis] == UINT32_MAX) continue;
         groups[axis] = limits.maxComputeWorkGroupCount[axis] + 1;
         std::string message = ErrorOf([&] {
-            recorder.Dispatch(kernel, "huge", bindings, &push, groups[0], groups[1], groups[2]);
+            recorder.Dispatch(kernel, "huge", bindings, push, groups[0], groups[1], groups[2]);
         });
         EXPECT_TRUE(Contains(message, "workgroups")) << message;
         EXPECT_TRUE(Contains(message, "huge")) << message;
     }
     std::string message =
-        ErrorOf([&] { recorder.Dispatch(kernel, "short", {bindings[0]}, &push, 1); });
+        ErrorOf([&] { recorder.Dispatch(kernel, "short", {bindings[0]}, push, 1); });
     EXPECT_TRUE(Contains(message, "wavelet_analyze")) << message;
     EXPECT_TRUE(Contains(message, "short")) << message;
     EXPECT_THROW(
-        recorder.Dispatch(kernel, "long", {bindings[0], bindings[1], bindings[1]}, &push, 1),
+        recorder.Dispatch(kernel, "long", {bindings[0], bindings[1], bindings[1]}, push, 1),
         Error);
     vk::Buffer invalid;
-    EXPECT_THROW(recorder.Dispatch(kernel, "unbound",
-                                   {bindings[0], {&invalid, vk::Access::Write}}, &push, 1),
+    EXPECT_THROW(recorder.Dispatch(
+                     kernel, "unbound",
+                     {bindings[0], {WAVELET_LINES_DST, &invalid, vk::Access::Write}}, push, 1),
                  Error);
-    EXPECT_THROW(recorder.Dispatch(kernel, "null", {bindings[0], {}}, &push, 1), Error);
+    EXPECT_THROW(recorder.Dispatch(
+                     kernel, "null",
+                     {bindings[0], {WAVELET_LINES_DST, nullptr, vk::Access::Write}}, push, 1),
+                 Error);
+    // Slots are the layout header's names: one bound twice, one the kernel does not
+    // declare, or push constants of the wrong size are refused, naming the kernel and slot.
+    message = ErrorOf([&] {
+        recorder.Dispatch(kernel, "twice",
+                          {bindings[0], {WAVELET_LINES_SRC, &b, vk::Access::Write}}, push, 1);
+    });
+    EXPECT_TRUE(Contains(message, "wavelet_analyze")) << message;
+    EXPECT_TRUE(Contains(message, "slot 0")) << message;
+    message = ErrorOf([&] {
+        recorder.Dispatch(
+            kernel, "beyond",
+            {bindings[0], bindings[1], {WAVELET_LINES_BINDINGS, &b, vk::Access::Read}}, push,
+            1);
+    });
+    EXPECT_TRUE(Contains(message, "wavelet_analyze")) << message;
+    EXPECT_TRUE(Contains(message, "slot 2")) << message;
+    struct Longer {
+        shader::WaveletLinesPush lines;
+        float extra;
+    };
+    message = ErrorOf([&] {
+        recorder.Dispatch(kernel, "push", bindings, Longer{push, 0.f}, 1);
+    });
+    EXPECT_TRUE(Contains(message, "wavelet_analyze")) << message;
+    EXPECT_TRUE(Contains(message, "push constants")) << message;
     EXPECT_EQ(recorder.DispatchCount(), 0u);
     // The rejected dispatches left the recorder usable.
     push = {4, 4, 4, 16, 4, 16};
-    recorder.Dispatch(kernel, "fine", bindings, &push, 1);
+    recorder.Dispatch(kernel, "fine", bindings, push, 1);
     recorder.Submit();
     ASSERT_EQ(recorder.Timings().size(), 1u);
     EXPECT_EQ(recorder.Timings()[0].label, "fine");
+    // The order of the bindings does not matter, their slots do.
+    recorder.Dispatch(kernel, "swapped", {bindings[1], bindings[0]}, push, 1);
+    recorder.Submit();
+    ASSERT_EQ(recorder.Timings().size(), 1u);
+    EXPECT_EQ(recorder.Timings()[0].label, "swapped");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -744,10 +779,11 @@ TEST_F(VkTexelRecorder, WritingThroughATexelBindingThrows) {
     shader::RhfDownsamplePush push{4, 4, 4, 4, 1, 0, 0};
     vk::Recorder recorder(Ctx());
     try {
-        recorder.Dispatch(
-            kernel, "bad",
-            {{&a, vk::Access::Write}, {&b, vk::Access::Write}, {&c, vk::Access::Read}}, &push,
-            1);
+        recorder.Dispatch(kernel, "bad",
+                          {{RHF_DOWNSAMPLE_SRC, &a, vk::Access::Write},
+                           {RHF_DOWNSAMPLE_DST, &b, vk::Access::Write},
+                           {RHF_DOWNSAMPLE_WEIGHTS, &c, vk::Access::Read}},
+                          push, 1);
         FAIL() << "no error";
     } catch (const Error &e) {
         EXPECT_NE(std::string(e.what()).find("texel buffer"), std::string::npos) << e.what();

@@ -27,8 +27,8 @@
 #include "harness/inputs.h"
 #include "host/error.h"
 #include "host/kernels/wavelet_analyze.h"
-#include "host/methods/wavelet_transform.h"
 #include "host/vk/context.h"
+#include "host/wavelet/transform.h"
 
 namespace mcd::test {
 namespace {
@@ -249,8 +249,9 @@ TEST_F(WaveletProperties, GuardBandsUntouched) {
         tmpBuffer.UploadFloats(fill);
         vk::Recorder recorder(ctx);
         // Single level straight into the padded coefficient view, through a padded temporary.
-        vk::ImageView srcView{&srcBuffer, stride, plane}, coefView{&coefBuffer, stride, plane};
-        vk::ImageView tmpView{&tmpBuffer, stride, plane};
+        vk::ImageView srcView{&srcBuffer, stride, plane};
+        vk::MutableImageView coefView{&coefBuffer, stride, plane},
+            tmpView{&tmpBuffer, stride, plane};
         RecordWaveletAnalyze(ctx, recorder, basis, w, h, channels, srcView, tmpView, coefView);
         recorder.Submit();
         std::vector<float> out = coefBuffer.DownloadFloats(src.size());

@@ -8,8 +8,8 @@
 
 #include "host/error.h"
 #include "host/io/frame.h"
-#include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
+#include "host/wavelet/transform.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/gpu_wavelet.h"
 

@@ -13,8 +13,8 @@
 #include <thread>
 
 #include "host/error.h"
-#include "host/methods/wavelet_transform.h"
 #include "host/vk/gpu_image.h"
+#include "host/wavelet/transform.h"
 
 namespace mcd::render {
 namespace {

@@ -1,4 +1,4 @@
-#include "host/methods/wavelet_swt.h"
+#include "host/wavelet/swt.h"
 
 #include <fmt/format.h>
 
@@ -70,8 +70,8 @@ void SwtTransform::Check(const vk::GpuImage &image, int planes, const char *what
 }
 
 void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
-                                  const vk::GpuImage &in, const vk::GpuImage &coef,
-                                  bool squared, int firstChannel) {
+                                  const vk::GpuImage &in, vk::GpuImage &coef, bool squared,
+                                  int firstChannel) {
     int count = shader::SwtPlaneCount(levels), plane = width * height;
     Check(in, firstChannel + channels, "input", true);
     Check(coef, channels * count, "coefficients", true);
@@ -132,8 +132,7 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
 }
 
 void SwtTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis,
-                                   const vk::GpuImage &coef, const vk::GpuImage &out,
-                                   int firstChannel) {
+                                   vk::GpuImage &coef, vk::GpuImage &out, int firstChannel) {
     int count = shader::SwtPlaneCount(levels), plane = width * height;
     Check(coef, channels * count, "coefficients", true);
     Check(out, firstChannel + channels, "output", true);

@@ -1,4 +1,4 @@
-#include "host/methods/wavelet_transform.h"
+#include "host/wavelet/transform.h"
 
 #include <fmt/format.h>
 
@@ -6,6 +6,7 @@
 #include "host/kernels/wavelet_analyze.h"
 #include "host/kernels/wavelet_sqanalyze.h"
 #include "host/kernels/wavelet_synthesize.h"
+#include "host/kernels/wavelet_synthesize_shrink.h"
 
 namespace mcd {
 
@@ -31,7 +32,7 @@ void WaveletTransform::CopyUnlessSame(vk::Recorder &recorder, const vk::GpuImage
 }
 
 // The interleaved temporary between the two passes of a level, rows padded to 4 floats.
-vk::ImageView WaveletTransform::Temporary() {
+vk::MutableImageView WaveletTransform::Temporary() {
     int stride = (width + 3) / 4 * 4;
     if (!temporary.Valid())
         temporary =
@@ -41,7 +42,7 @@ vk::ImageView WaveletTransform::Temporary() {
 }
 
 void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
-                                      const vk::GpuImage &in, const vk::GpuImage &coef) {
+                                      const vk::GpuImage &in, vk::GpuImage &coef) {
     Check(levels, in, coef);
     if (levels == 0) {
         CopyUnlessSame(recorder, in, coef);
@@ -49,27 +50,28 @@ void WaveletTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis
     }
     // Level 0 reads the image; deeper levels transform their low-low band in place.
     for (int level = 0; level < levels; ++level)
-        RecordWaveletConvAnalyze(context, recorder, basis, LevelExtent(width, level),
-                                 LevelExtent(height, level), channels,
-                                 level == 0 ? in.View() : coef.View(), Temporary(), coef.View(),
-                                 fmt::format("wavelet.analyze.L{}", level));
+        RecordWaveletAnalyze(context, recorder, basis, LevelExtent(width, level),
+                             LevelExtent(height, level), channels,
+                             level == 0 ? in.View() : coef.View(), Temporary(),
+                             coef.MutableView(), fmt::format("wavelet.analyze.L{}", level));
 }
 
 void WaveletTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, int levels,
-                                       const vk::GpuImage &coef, const vk::GpuImage &out) {
+                                       const vk::GpuImage &coef, vk::GpuImage &out) {
     Check(levels, coef, out);
     // Work in place in `out` so the caller's coefficients survive (unless they are `out`).
     CopyUnlessSame(recorder, coef, out);
     for (int level = levels - 1; level >= 0; --level)
         RecordWaveletSynthesize(context, recorder, basis, LevelExtent(width, level),
                                 LevelExtent(height, level), channels, out.View(), Temporary(),
-                                out.View(), fmt::format("wavelet.synthesize.L{}", level));
+                                out.MutableView(),
+                                fmt::format("wavelet.synthesize.L{}", level));
 }
 
 void WaveletTransform::RecordShrinkSynthesis(vk::Recorder &recorder, WaveletBasis basis,
                                              int levels, const vk::GpuImage &coef,
                                              const vk::GpuImage &variance, float cs,
-                                             const vk::GpuImage &out) {
+                                             vk::GpuImage &out) {
     Check(levels, coef, out);
     Check(levels, variance, out);
     if (&variance.buffer == &out.buffer)
@@ -79,12 +81,12 @@ void WaveletTransform::RecordShrinkSynthesis(vk::Recorder &recorder, WaveletBasi
     for (int level = levels - 1; level >= 0; --level)
         RecordWaveletSynthesizeShrink(context, recorder, basis, LevelExtent(width, level),
                                       LevelExtent(height, level), channels, out.View(),
-                                      variance.View(), cs, Temporary(), out.View(),
+                                      variance.View(), cs, Temporary(), out.MutableView(),
                                       fmt::format("wavelet.synthesize_shrink.L{}", level));
 }
 
 void WaveletTransform::RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis basis, int levels,
-                                        const vk::GpuImage &variance, const vk::GpuImage &coef,
+                                        const vk::GpuImage &variance, vk::GpuImage &coef,
                                         float lowSum, float highSum) {
     Check(levels, variance, coef);
     if (levels == 0) {
@@ -94,18 +96,17 @@ void WaveletTransform::RecordSqAnalysis(vk::Recorder &recorder, WaveletBasis bas
     for (int level = 0; level < levels; ++level)
         RecordWaveletSqAnalyze(
             context, recorder, basis, LevelExtent(width, level), LevelExtent(height, level),
-            channels, level == 0 ? variance.View() : coef.View(), Temporary(), coef.View(),
-            lowSum, highSum, fmt::format("wavelet.sqanalyze.L{}", level));
+            channels, level == 0 ? variance.View() : coef.View(), Temporary(),
+            coef.MutableView(), lowSum, highSum, fmt::format("wavelet.sqanalyze.L{}", level));
 }
 
 void WaveletTransform::RecordSqAnalysisLevel(vk::Recorder &recorder, WaveletBasis basis,
                                              int level, const vk::GpuImage &from,
-                                             const vk::GpuImage &to, float lowSum,
-                                             float highSum) {
+                                             vk::GpuImage &to, float lowSum, float highSum) {
     Check(level + 1, from, to);
     RecordWaveletSqAnalyze(context, recorder, basis, LevelExtent(width, level),
                            LevelExtent(height, level), channels, from.View(), Temporary(),
-                           to.View(), lowSum, highSum,
+                           to.MutableView(), lowSum, highSum,
                            fmt::format("wavelet.sqanalyze.L{}", level));
 }
 

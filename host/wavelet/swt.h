@@ -25,11 +25,11 @@ class SwtTransform {
     // `squared` squares every tap (per-coefficient variance from per-pixel variance of
     // independent pixels).
     void RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis, const vk::GpuImage &in,
-                        const vk::GpuImage &coef, bool squared = false, int firstChannel = 0);
+                        vk::GpuImage &coef, bool squared = false, int firstChannel = 0);
     // The inverse into channels [firstChannel, firstChannel + channels) of `out`; it
     // overwrites the low plane of `coef` at levels > 1.
-    void RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, const vk::GpuImage &coef,
-                         const vk::GpuImage &out, int firstChannel = 0);
+    void RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis, vk::GpuImage &coef,
+                         vk::GpuImage &out, int firstChannel = 0);
 
     int Levels() const { return levels; }
 

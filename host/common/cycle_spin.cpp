@@ -1,4 +1,4 @@
-#include "host/methods/cycle_spin.h"
+#include "host/common/cycle_spin.h"
 
 #include <fmt/format.h>
 
