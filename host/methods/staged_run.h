@@ -26,7 +26,7 @@ struct MethodResult {
     std::vector<std::string> warnings;        // what the input held that was not taken as is
     std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU, in submission order
     // With keepStages: intermediate images by name, in order (each method's header lists
-    // its names; `mcdenoise diff` pairs them with the CPU reference's by name).
+    // its names; `mcdenoise diff` pairs them with the CPU reference's stages).
     std::vector<std::pair<std::string, Image>> stages;
 };
 
