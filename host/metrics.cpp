@@ -121,4 +121,27 @@ ErrorMetrics CompareImages(const Image &image, const Image &reference) {
     return m;
 }
 
+ElementDifference MeasureDifference(const Image &image, const Image &reference) {
+    if (image.Size() != reference.Size())
+        throw Error(fmt::format("difference: {} elements against a reference of {}",
+                                image.Size(), reference.Size()));
+    ElementDifference d;
+    double num = 0, den = 0, maxDiff = 0, maxRef = 0;
+    for (size_t i = 0; i < reference.data.size(); ++i) {
+        double x = image.data[i], r = reference.data[i];
+        if (std::isfinite(x) != std::isfinite(r)) {
+            ++d.parity;
+            continue;
+        }
+        if (!std::isfinite(r)) continue;
+        num += (x - r) * (x - r);
+        den += r * r;
+        maxDiff = std::max(maxDiff, std::fabs(x - r));
+        maxRef = std::max(maxRef, std::fabs(r));
+    }
+    d.nmse = den > 0 ? num / den : num;
+    d.maxRel = maxRef > 0 ? maxDiff / maxRef : maxDiff;
+    return d;
+}
+
 }  // namespace mcd

@@ -16,4 +16,17 @@ struct ErrorMetrics {
 // three) or the reference has non-finite values.
 ErrorMetrics CompareImages(const Image &image, const Image &reference);
 
+// Element-wise distance of a computed image from its reference (a GPU stage from the CPU
+// reference's), over every channel, for `mcdenoise diff` and the tests.
+struct ElementDifference {
+    // Normalised MSE: sum (x - r)^2 / sum r^2 over the elements finite on both sides (the
+    // numerator alone when the reference is all 0).
+    double nmse = 0;
+    double maxRel = 0;  // max |x - r| / max |r| over the same elements (or max |x - r|)
+    size_t parity = 0;  // elements finite on one side only
+};
+
+// Throws mcd::Error when the element counts differ.
+ElementDifference MeasureDifference(const Image &image, const Image &reference);
+
 }  // namespace mcd

@@ -8,6 +8,7 @@
 #include "host/error.h"
 #include "host/kernels/awr_shrink.h"
 #include "host/methods/checks.h"
+#include "host/methods/staged_run.h"
 #include "host/vk/gpu_image.h"
 #include "host/wavelet/transform.h"
 
@@ -31,8 +32,8 @@ Image AwrVarianceFromRange(const Image &min, const Image &max, const Image &spp)
 
 namespace {
 
-AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Image &variance,
-                             const AwrOptions &options) {
+// Throw on bad shapes, values or options; return the levels to run.
+int CheckAwrInputs(const Image &color, const Image &variance, const AwrOptions &options) {
     if (!color.SameShape(variance))
         throw Error(fmt::format("awr: color is {}x{}x{} but variance is {}x{}x{}", color.width,
                                 color.height, color.channels, variance.width, variance.height,
@@ -48,32 +49,72 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
     if (levels > maxLevels)
         throw Error(fmt::format("awr: {} levels requested; a {}x{} image allows 0..{}", levels,
                                 color.width, color.height, maxLevels));
+    return levels;
+}
 
-    AwrResult result;
+// Why the reconstruction would give the input back, or nullptr when it would not:
+// shrinking by zero keeps every coefficient, and the transform would undo itself.
+const char *IdleReason(const Image &variance, const AwrOptions &options, int levels) {
     bool anyVariance = false;
     for (float v : variance.data) anyVariance |= v > 0;
-    if (!anyVariance || options.cs == 0 || levels == 0) {
-        // Shrinking by zero keeps every coefficient: the transform would give the input back.
-        result.image = color;
-        result.plan.push_back(
-            fmt::format("left out: the whole reconstruction ({}): the output is the input",
-                        !anyVariance ? "the variance is zero everywhere"
-                                     : (options.cs == 0 ? "cs is 0" : "0 levels")));
-        return result;
-    }
-    result.plan.push_back(fmt::format("{}-level {} DWT of color ({}x{}x{})", levels,
-                                      WaveletName(options.basis), color.width, color.height,
-                                      color.channels));
-    result.plan.push_back(fmt::format(
+    if (!anyVariance) return "the variance is zero everywhere";
+    if (options.cs == 0) return "cs is 0";
+    if (levels == 0) return "0 levels";
+    return nullptr;
+}
+
+void PlanAwr(StagedRun &run, const Image &color, int levels, const AwrOptions &options) {
+    run.Plan(fmt::format("{}-level {} DWT of color ({}x{}x{})", levels,
+                         WaveletName(options.basis), color.width, color.height,
+                         color.channels));
+    run.Plan(fmt::format(
         "squared-filter DWT of the variance (eq. 10), squared 1D filters summing to {:.4g} "
         "(low) and {:.4g} (high)",
         options.lowSum, options.highSum));
-    result.plan.push_back(fmt::format(
+    run.Plan(fmt::format(
         "soft shrinkage of the details by cs = {} standard "
         "deviations (eq. 11); the coarsest low band is kept{}",
         options.cs, options.keepStages ? "" : "; fused into the synthesis's columns passes"));
-    result.plan.push_back("synthesis");
+    run.Plan("synthesis");
+}
 
+// Analysis of both images in place, shrinkage, synthesis into `coef`. With keepStages each
+// stage is submitted and downloaded; else it is all one submission.
+void RecordAwr(StagedRun &run, WaveletTransform &transform, vk::GpuImage &coef,
+               vk::GpuImage &coefVariance, int levels, const AwrOptions &options) {
+    vk::Recorder &recorder = run.Recorder();
+    transform.RecordAnalysis(recorder, options.basis, levels, coef, coef);
+    transform.RecordSqAnalysis(recorder, options.basis, levels, coefVariance, coefVariance,
+                               options.lowSum, options.highSum);
+    run.Stage("analysis", coef);
+    run.Stage("variance analysis", coefVariance);
+    if (options.keepStages) {
+        // The shrunk coefficients are a stage of their own: shrink, then synthesise.
+        RecordAwrShrink(run.Context(), recorder, coef, coefVariance,
+                        LevelExtent(coef.width, levels), LevelExtent(coef.height, levels),
+                        options.cs);
+        run.Stage("shrinkage", coef);
+        transform.RecordSynthesis(recorder, options.basis, levels, coef, coef);
+    } else {
+        // Shrink each detail coefficient as the synthesis reads it: no pass over the
+        // coefficients of its own, the same result (tests/methods/awr_test.cpp).
+        transform.RecordShrinkSynthesis(recorder, options.basis, levels, coef, coefVariance,
+                                        options.cs, coef);
+    }
+}
+
+AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Image &variance,
+                             const AwrOptions &options) {
+    int levels = CheckAwrInputs(color, variance, options);
+    AwrResult result;
+    if (const char *idle = IdleReason(variance, options, levels)) {
+        result.image = color;
+        result.plan.push_back(fmt::format(
+            "left out: the whole reconstruction ({}): the output is the input", idle));
+        return result;
+    }
+    StagedRun run(context, options.keepStages);
+    PlanAwr(run, color, levels, options);
     // Two images and the transform's temporary: every transform runs in place, the color's
     // buffer holding its coefficients and then the output, the variance's buffer the
     // coefficient variances. Fresh memory is paid for on first touch (page faults on a
@@ -84,35 +125,11 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
     coef.Upload(color);
     coefVariance.Upload(variance);
     WaveletTransform transform(context, color.width, color.height, color.channels);
-    vk::Recorder recorder(context);
-    transform.RecordAnalysis(recorder, options.basis, levels, coef, coef);
-    transform.RecordSqAnalysis(recorder, options.basis, levels, coefVariance, coefVariance,
-                               options.lowSum, options.highSum);
-    // With keepStages, submit and download after every stage; else one submission.
-    auto stage = [&](const char *name, const vk::GpuImage &buffer) {
-        if (!options.keepStages) return;
-        recorder.Submit();
-        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
-        result.stages.push_back({name, buffer.Download()});
-    };
-    stage("analysis", coef);
-    stage("variance analysis", coefVariance);
-    if (options.keepStages) {
-        // The shrunk coefficients are a stage of their own: shrink, then synthesise.
-        RecordAwrShrink(context, recorder, coef, coefVariance, LevelExtent(color.width, levels),
-                        LevelExtent(color.height, levels), options.cs);
-        stage("shrinkage", coef);
-        transform.RecordSynthesis(recorder, options.basis, levels, coef, coef);
-    } else {
-        // Shrink each detail coefficient as the synthesis reads it: no pass over the
-        // coefficients of its own, the same result (tests/methods/awr_test.cpp).
-        transform.RecordShrinkSynthesis(recorder, options.basis, levels, coef, coefVariance,
-                                        options.cs, coef);
-    }
-    recorder.Submit();
-    for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
+    RecordAwr(run, transform, coef, coefVariance, levels, options);
+    run.Submit();
     result.image = coef.Download();
-    if (options.keepStages) result.stages.push_back({"synthesis", result.image});
+    run.AddStage("synthesis", result.image);
+    run.Finish(result);
     return result;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
 #include "host/wavelet.h"
@@ -30,15 +31,10 @@ struct AwrOptions {
     bool keepStages = false;
 };
 
-struct AwrResult {
-    Image image;
-    std::vector<std::string> plan;            // what ran and what was left out, and why
-    std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
-    // With keepStages: "analysis", "variance analysis", "shrinkage", "synthesis" (the
-    // output), each the full-size buffer after its stage; empty when nothing ran. With
-    // spins > 1 these are the unshifted run's, then "cycle spinning" (the output).
-    std::vector<std::pair<std::string, Image>> stages;
-};
+// With keepStages, stages "analysis", "variance analysis", "shrinkage", "synthesis" (the
+// output), each the full-size buffer after its stage; empty when nothing ran. With spins >
+// 1 these are the unshifted run's, then "cycle spinning" (the output). No warnings.
+using AwrResult = MethodResult;
 
 // Per-pixel variance of the mean from the sample range (AWR section 4.2: the functional
 // variance (Imax - Imin)^2 over the pixel's N samples).

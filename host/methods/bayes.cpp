@@ -18,6 +18,7 @@
 #include "host/kernels/bayes_solve.h"
 #include "host/kernels/bayes_swt.h"
 #include "host/kernels/bayes_table.h"
+#include "host/methods/staged_run.h"
 #include "host/vk/buffer.h"
 #include "host/vk/gpu_image.h"
 #include "host/wavelet/swt.h"
@@ -32,8 +33,7 @@ bool Finite(float v) {
 }
 
 // Count what the log domain cannot take as is, with the first place of each.
-void CountSpecials(const Image &color, const std::vector<float> &floors,
-                   std::vector<std::string> *warnings) {
+void CountSpecials(const Image &color, const std::vector<float> &floors, StagedRun &run) {
     struct Count {
         size_t n = 0;
         int x = 0, y = 0, c = 0;
@@ -56,7 +56,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors,
             }
     auto say = [&](const Count &count, const char *what, const char *then) {
         if (count.n)
-            warnings->push_back(fmt::format(
+            run.Warn(fmt::format(
                 "bayes: {} {} value{} (first at pixel ({}, {}), channel {}): {}", count.n, what,
                 count.n == 1 ? "" : "s", count.x, count.y, count.c, then));
     };
@@ -235,8 +235,9 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
     varGpu.Upload(logVar);
     bool swt = kind == BayesTransform::Swt;
     WaveletTransform transform(context, w, h, channels);
-    vk::Recorder recorder(context);
-    if (!swt) transform.RecordSqAnalysis(recorder, basis, levels, varGpu, varGpu, 0.f, 0.f);
+    StagedRun run(context, false);
+    if (!swt)
+        transform.RecordSqAnalysis(run.Recorder(), basis, levels, varGpu, varGpu, 0.f, 0.f);
     // The stationary transform: full-size planes (shaders/wavelet/swt.h), in groups of as
     // many channels as one binding holds, gathered on the host.
     Image swtVar;
@@ -250,19 +251,14 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
             int n = std::min(groupSize, channels - first);
             SwtTransform swtTransform(context, w, h, n, levels);
             vk::GpuImage part = swtTransform.MakeCoefficients("bayes.swt.var");
-            vk::Recorder partRecorder(context);
-            swtTransform.RecordAnalysis(partRecorder, basis, varGpu, part, true, first);
-            partRecorder.Submit();
-            if (timings)
-                for (const vk::DispatchTiming &t : partRecorder.Timings())
-                    timings->push_back(t);
+            swtTransform.RecordAnalysis(run.Recorder(), basis, varGpu, part, true, first);
+            run.Submit();
             Image planes = part.Download();
             std::copy(planes.data.begin(), planes.data.end(), swtVar.Plane(first * count));
         }
     }
-    recorder.Submit();
-    if (timings)
-        for (const vk::DispatchTiming &t : recorder.Timings()) timings->push_back(t);
+    run.Submit();
+    if (timings) timings->insert(timings->end(), run.Timings().begin(), run.Timings().end());
     Image coef = swt ? std::move(swtVar) : varGpu.Download();
     double toS = std::exp(0.5 * (std::lgamma(1.0 / pn) - std::lgamma(3.0 / pn)));
     std::vector<double> bandVar;
@@ -306,8 +302,7 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
 
 namespace {
 
-BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
-                             const BayesOptions &options) {
+void CheckBayesOptions(const Image &color, const BayesOptions &options) {
     if (color.Empty() || color.width < 1 || color.height < 1)
         throw Error("bayes: the image is empty");
     if (!std::isfinite(options.sn) || options.sn < 0)
@@ -324,259 +319,337 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     if (options.opponent && color.channels != 3)
         throw Error(
             fmt::format("bayes: luminance + chroma needs 3 channels, not {}", color.channels));
+}
 
+// Channel groups of the transform: group g holds channels [g size, g size + Channels(g)).
+struct ChannelGroups {
+    int size = 0, count = 1, last = 0;
+    int Channels(int g) const { return g == count - 1 ? last : size; }
+};
+
+// --bayes-transform swt: the stationary transform's coefficients, channels (3 levels + 1)
+// full-size planes, in groups of as many channels as one binding holds (bands and fits are
+// per channel, so the groups change nothing); refused up front when not even one
+// channel's fit. The DWT has one group.
+ChannelGroups BayesChannelGroups(vk::Context &context, const Image &color, int levels, bool swt,
+                                 const BayesOptions &options) {
+    int w = color.width, h = color.height, channels = color.channels;
+    ChannelGroups groups;
+    groups.size = channels;
+    if (swt) {
+        groups.size = std::min(channels, SwtChannelsPerBinding(context, w, h, levels));
+        if (groups.size < 1)
+            CheckSwtFits(context, w, h, 1, levels, "bayes --bayes-transform swt");
+        if (options.swtGroupChannels > 0)
+            groups.size = std::min(groups.size, options.swtGroupChannels);
+    }
+    groups.count = (channels + groups.size - 1) / groups.size;
+    groups.last = channels - (groups.count - 1) * groups.size;
+    if (groups.count > 1 && options.keepStages)
+        throw Error(fmt::format(
+            "bayes: the SWT of this {}x{}x{} image runs in {} channel groups (one binding "
+            "holds {} channels' coefficients); the stages need one: use --bayes-transform "
+            "dwt or a smaller image",
+            w, h, channels, groups.count, groups.size));
+    return groups;
+}
+
+// The GPU side of a run: the input, the work image (log, then coefficients for the DWT,
+// then the synthesis), the output, the log floors, and the transforms.
+struct BayesGpu {
+    BayesGpu(vk::Context &context, const Image &image, const std::vector<float> &logFloors,
+             int levels, bool swt, const ChannelGroups &groups, WaveletBasis basis)
+        : color(context, image.width, image.height, image.channels, "bayes.color"),
+          work(context, image.width, image.height, image.channels, "bayes.work"),
+          out(context, image.width, image.height, image.channels, "bayes.out"),
+          floors(context, image.channels * sizeof(float), "bayes.floors"),
+          transform(context, image.width, image.height, image.channels),
+          levels(levels),
+          swt(swt),
+          groups(groups),
+          basis(basis) {
+        color.Upload(image);
+        floors.UploadFloats(logFloors);
+        // A smaller last group has a transform of its own, sharing the coefficient buffer.
+        if (swt) {
+            swtTransform.emplace(context, image.width, image.height, groups.size, levels);
+            if (groups.last != groups.size)
+                swtLast.emplace(context, image.width, image.height, groups.last, levels);
+            swtCoef = swtTransform->MakeCoefficients("bayes.swt");
+        }
+    }
+
+    // The coefficients the moments and the shrinkage read: the SWT's, or the DWT's in place.
+    vk::GpuImage &Coefficients() { return swt ? swtCoef : work; }
+
+    // Analysis of group g's channels of `work` into Coefficients() (the DWT: g = 0).
+    void RecordAnalysis(vk::Recorder &recorder, int g) {
+        if (!swt) return transform.RecordAnalysis(recorder, basis, levels, work, work);
+        SwtTransform &t = g == groups.count - 1 && swtLast ? *swtLast : *swtTransform;
+        t.RecordAnalysis(recorder, basis, work, swtCoef, false, g * groups.size);
+    }
+    // Its synthesis back into those channels of `work`.
+    void RecordSynthesis(vk::Recorder &recorder, int g) {
+        if (!swt) return transform.RecordSynthesis(recorder, basis, levels, work, work);
+        SwtTransform &t = g == groups.count - 1 && swtLast ? *swtLast : *swtTransform;
+        t.RecordSynthesis(recorder, basis, swtCoef, work, g * groups.size);
+    }
+
+    vk::GpuImage color, work, out;
+    vk::Buffer floors;
+    WaveletTransform transform;
+    std::optional<SwtTransform> swtTransform, swtLast;
+    vk::GpuImage swtCoef;
+    int levels;
+    bool swt;
+    ChannelGroups groups;
+    WaveletBasis basis;
+};
+
+// Every band's noise s from one s_n: the finest level's hpFactor times it.
+std::vector<float> FixedBandNoise(int bands, int levels, float sn, float hpFactor) {
+    std::vector<float> bandSn(bands);
+    for (int b = 0; b < bands; ++b)
+        bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * hpFactor : sn;
+    return bandSn;
+}
+
+// The noise s of every band (band order of shaders/bayes/bayes.h) and the s_n reported
+// (*sn): options.sn, or from the variance layer, or --noise auto's estimate from the
+// analysed coefficients (which submits, and leaves group 0's coefficients in place).
+std::vector<float> BandNoise(StagedRun &run, BayesGpu &gpu, const Image &color,
+                             const std::vector<float> &floors, const BayesOptions &options,
+                             float *sn) {
+    int levels = gpu.levels, channels = color.channels, groups = gpu.groups.count;
+    int bands = BayesBandCount(channels, levels);
+    *sn = options.sn;
+    if (options.variance) {
+        std::vector<float> bandSn = BayesVarianceNoise(
+            run.Context(), color, *options.variance, floors, options.basis, levels, options.pn,
+            options.opponent, &run.Timings(), options.transform, options.swtGroupChannels);
+        double mean = 0;
+        for (float v : bandSn) mean += v / bands;
+        *sn = float(mean);
+        std::string perLevel;
+        for (int level = 0; level < levels; ++level) {
+            double m = 0;
+            for (int c = 0; c < channels; ++c)
+                for (int o = 0; o < 3; ++o)
+                    m += bandSn[(c * levels + level) * 3 + o] / (3.0 * channels);
+            perLevel += fmt::format("{}{:.4g}", level ? ", " : "", m);
+        }
+        run.Plan(fmt::format(
+            "--noise variance: per band from the variance layer: log(1 + V / max(Y, "
+            "floor)^2) per pixel (the delta method's V / Y^2, exact for log-normal), "
+            "squared-filter {}, band mean -> s (p_n {}); mean s per level (finest "
+            "first) {}",
+            gpu.swt ? "SWT" : "DWT", options.pn, perLevel));
+        return bandSn;
+    }
+    if (options.noiseAuto) {
+        run.Submit();
+        double mad = 0;
+        if (gpu.swt) {
+            // Every group's finest HH planes, pooled; then group 0's coefficients again.
+            std::vector<float> values;
+            for (int g = 0; g < groups; ++g) {
+                if (g > 0) {
+                    gpu.RecordAnalysis(run.Recorder(), g);
+                    run.Submit();
+                }
+                CollectFinestHH(gpu.swtCoef, gpu.groups.Channels(g), levels, &values);
+            }
+            if (groups > 1) gpu.RecordAnalysis(run.Recorder(), 0);
+            mad = MedianOf(values);
+        } else {
+            mad = FinestMad(gpu.work.Download());
+        }
+        double finest = BayesScaleFromMad(mad, options.pn);
+        *sn = float(finest / options.hpFactor);
+        run.Plan(fmt::format(
+            "--noise auto: finest HH bands' median |y| {:.4g} -> finest-level s {:.4g} "
+            "(p_n {}) -> s_n {:.4g}",
+            mad, finest, options.pn, *sn));
+    }
+    return FixedBandNoise(bands, levels, *sn, options.hpFactor);
+}
+
+// Per group: its bands' noise, moments, (s_c, p_c) fits and posterior-mean tables.
+struct BandBuffers {
+    std::vector<vk::Buffer> noises, moments, params, tables;
+};
+
+// Per channel group (one unless the SWT is split): its bands' moments, fits, tables,
+// shrinkage and synthesis (group 0 analysed already). The buffers live in `buffers` until
+// the submission.
+void RecordShrinkage(StagedRun &run, BayesGpu &gpu, const std::vector<float> &bandSn,
+                     const BayesOptions &options, BandBuffers &buffers) {
+    vk::Context &context = run.Context();
+    vk::Recorder &recorder = run.Recorder();
+    int levels = gpu.levels, groups = gpu.groups.count;
+    int bands = BayesBandCount(gpu.work.channels, levels);
+    for (auto *v : {&buffers.noises, &buffers.moments, &buffers.params, &buffers.tables})
+        v->reserve(groups);
+    for (int g = 0; g < groups; ++g) {
+        int inGroup = gpu.groups.Channels(g);
+        int groupBands = BayesBandCount(inGroup, levels);
+        int firstBand = BayesBandCount(g * gpu.groups.size, levels);
+        if (g > 0) gpu.RecordAnalysis(recorder, g);
+        vk::Buffer &noise =
+            buffers.noises.emplace_back(context, groupBands * sizeof(float), "bayes.noise");
+        noise.UploadFloats(std::vector<float>(bandSn.begin() + firstBand,
+                                              bandSn.begin() + firstBand + groupBands));
+        vk::Buffer &moments = buffers.moments.emplace_back(
+            context, groupBands * BAYES_MOMENT_STRIDE * sizeof(float), "bayes.moments");
+        vk::Buffer &params = buffers.params.emplace_back(
+            context, groupBands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
+        vk::Buffer &table = buffers.tables.emplace_back(
+            context, groupBands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
+        if (gpu.swt)
+            RecordBayesSwtMoments(context, recorder, gpu.swtCoef, inGroup, levels, moments);
+        else
+            RecordBayesMoments(context, recorder, gpu.work, levels, moments);
+        run.Stage("moments", [&] {
+            std::vector<float> m = moments.DownloadFloats(size_t(bands) * BAYES_MOMENT_STRIDE);
+            Image rows(BAYES_MOMENT_STRIDE, bands, 1);
+            std::copy(m.begin(), m.end(), rows.data.begin());
+            return rows;
+        });
+        RecordBayesSolve(context, recorder, moments, groupBands, levels, noise, options.pn,
+                         params);
+        run.Stage("fits", [&] {
+            std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
+            Image fits(3, bands, 1);
+            for (int b = 0; b < bands; ++b)
+                for (int i = 0; i < 3; ++i)
+                    fits.At(0, b, i) = p[size_t(b) * BAYES_PARAM_STRIDE + 2 + i];
+            return fits;
+        });
+        RecordBayesTable(context, recorder, params, groupBands, table);
+        if (gpu.swt)
+            RecordBayesSwtShrink(context, recorder, gpu.swtCoef, inGroup, levels, params,
+                                 table);
+        else
+            RecordBayesShrink(context, recorder, gpu.work, levels, params, table);
+        run.Stage("shrinkage", gpu.Coefficients());
+        gpu.RecordSynthesis(recorder, g);
+    }
+}
+
+// Every band's fit, from the groups' parameter buffers (after the submission).
+std::vector<BayesBandFit> ReadFits(const BandBuffers &buffers, int bands, int levels) {
+    std::vector<float> p;
+    for (const vk::Buffer &params : buffers.params) {
+        std::vector<float> q = params.DownloadFloats(params.Bytes() / sizeof(float));
+        p.insert(p.end(), q.begin(), q.end());
+    }
+    std::vector<BayesBandFit> fits;
+    for (int b = 0; b < bands; ++b) {
+        BayesBandFit fit{b / (3 * levels), (b % (3 * levels)) / 3, b % 3, {}};
+        std::copy_n(p.begin() + b * BAYES_PARAM_STRIDE, BAYES_PARAM_STRIDE, fit.params.begin());
+        fits.push_back(fit);
+    }
+    return fits;
+}
+
+// The plan's lines on the transform, the noise and every band's fit.
+void PlanBands(StagedRun &run, const BayesGpu &gpu, float sn,
+               const std::vector<BayesBandFit> &fits, const BayesOptions &options) {
+    std::string transformName = gpu.swt ? "stationary (undecimated) wavelet transform "
+                                          "(--bayes-transform swt)"
+                                        : "DWT (--bayes-transform dwt)";
+    if (gpu.groups.count > 1)
+        transformName += fmt::format(
+            " in {} channel groups (one binding holds the coefficients of {} channel{})",
+            gpu.groups.count, gpu.groups.size, gpu.groups.size == 1 ? "" : "s");
+    if (options.variance)
+        run.Plan(fmt::format("{}-level {} {}; noise per band (mean s {:.4g}), p_n {}",
+                             gpu.levels, WaveletName(options.basis), transformName, sn,
+                             options.pn));
+    else
+        run.Plan(fmt::format(
+            "{}-level {} {}; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
+            gpu.levels, WaveletName(options.basis), transformName, sn, options.pn,
+            sn * options.hpFactor, options.hpFactor));
+    run.Plan(fmt::format(
+        "per band: E[y^2], E[y^4] -> (s_c, p_c) by eqs. 17-18; posterior-mean table of "
+        "{} entries (log-sum-exp quadrature), applied with interpolation",
+        BAYES_TABLE_SIZE));
+    static const char *kOrientation[3] = {"HL", "LH", "HH"};
+    for (const BayesBandFit &f : fits) {
+        int fit = int(f.params[4]);
+        run.Plan(fmt::format("  band L{} {} ch{}: y_max {:.3g}, s_c {:.4g}, p_c {:.3g}: {}",
+                             f.level, kOrientation[f.orientation], f.channel, f.params[5],
+                             f.params[2], f.params[3], BayesFitName(fit)));
+    }
+    run.Plan("synthesis, exp");
+}
+
+// Log, transform, shrink, synthesise, exp into gpu.out, with levels > 0; with keepStages
+// each stage is submitted and downloaded.
+void RecordBayes(StagedRun &run, BayesGpu &gpu, const Image &color,
+                 const std::vector<float> &floors, const BayesOptions &options,
+                 BayesResult &result) {
+    vk::Context &context = run.Context();
+    vk::Recorder &recorder = run.Recorder();
+    if (options.opponent) {
+        RecordBayesMix(context, recorder, gpu.work, BayesOpponent());
+        run.Plan("colour: log luminance + 2 log chroma (orthonormal opponent transform)");
+        run.Stage("opponent", gpu.work);
+    }
+    gpu.RecordAnalysis(recorder, 0);
+    run.Stage("analysis", gpu.Coefficients());
+    float sn = 0;
+    std::vector<float> bandSn = BandNoise(run, gpu, color, floors, options, &sn);
+    result.sn = sn;
+    BandBuffers buffers;
+    RecordShrinkage(run, gpu, bandSn, options, buffers);
+    run.Stage("synthesis", gpu.work);
+    if (options.opponent) {
+        RecordBayesMix(context, recorder, gpu.work, BayesOpponentInverse());
+        run.Stage("opponent inverse", gpu.work);
+    }
+    RecordBayesExp(context, recorder, gpu.work, gpu.color, gpu.out, options.restoreZeros);
+    run.Submit();
+    result.fits = ReadFits(buffers, BayesBandCount(color.channels, gpu.levels), gpu.levels);
+    PlanBands(run, gpu, sn, result.fits, options);
+}
+
+BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
+                             const BayesOptions &options) {
+    CheckBayesOptions(color, options);
     BayesResult result;
-    int maxLevels = MaxWaveletLevels(color.width, color.height);
-    int levels = std::min(options.levels, maxLevels);
+    StagedRun run(context, options.keepStages);
+    int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
     result.levels = levels;
     std::vector<float> floors = BayesFloors(color, options.floorRel);
-    CountSpecials(color, floors, &result.warnings);
-    result.plan.push_back(fmt::format(
+    CountSpecials(color, floors, run);
+    run.Plan(fmt::format(
         "log domain (eqs. 4-5), per channel; floor {} x the channel's median positive value; "
         "{}",
         options.floorRel,
         options.restoreZeros ? "zeros restored exactly after exp"
                              : "zeros denoised like other pixels (--zeros denoise)"));
     if (levels < options.levels)
-        result.plan.push_back(fmt::format("{} levels requested; a {}x{} image allows {}",
-                                          options.levels, color.width, color.height, levels));
+        run.Plan(fmt::format("{} levels requested; a {}x{} image allows {}", options.levels,
+                             color.width, color.height, levels));
 
-    int w = color.width, h = color.height, channels = color.channels;
-    // --bayes-transform swt: the stationary transform's coefficients, channels (3 levels +
-    // 1) full-size planes, in groups of as many channels as one binding holds (bands and
-    // fits are per channel, so the groups change nothing); refused up front when not even
-    // one channel's fit.
     bool swt = options.transform == BayesTransform::Swt && levels > 0;
-    int groupSize = channels;
-    if (swt) {
-        groupSize = std::min(channels, SwtChannelsPerBinding(context, w, h, levels));
-        if (groupSize < 1)
-            CheckSwtFits(context, w, h, 1, levels, "bayes --bayes-transform swt");
-        if (options.swtGroupChannels > 0)
-            groupSize = std::min(groupSize, options.swtGroupChannels);
-    }
-    int groups = (channels + groupSize - 1) / groupSize;
-    int lastSize = channels - (groups - 1) * groupSize;
-    if (groups > 1 && options.keepStages)
-        throw Error(fmt::format(
-            "bayes: the SWT of this {}x{}x{} image runs in {} channel groups (one binding "
-            "holds {} channels' coefficients); the stages need one: use --bayes-transform "
-            "dwt or a smaller image",
-            w, h, channels, groups, groupSize));
-    vk::GpuImage colorGpu(context, w, h, channels, "bayes.color");
-    vk::GpuImage work(context, w, h, channels, "bayes.work");
-    vk::GpuImage out(context, w, h, channels, "bayes.out");
-    vk::Buffer floorsGpu(context, channels * sizeof(float), "bayes.floors");
-    colorGpu.Upload(color);
-    floorsGpu.UploadFloats(floors);
-    WaveletTransform transform(context, w, h, channels);
-    // Group g holds channels [g groupSize, g groupSize + GroupChannels(g)); a smaller last
-    // group has a transform of its own, sharing the coefficient buffer.
-    std::optional<SwtTransform> swtTransform, swtLast;
-    vk::GpuImage swtCoef;
-    if (swt) {
-        swtTransform.emplace(context, w, h, groupSize, levels);
-        if (lastSize != groupSize) swtLast.emplace(context, w, h, lastSize, levels);
-        swtCoef = swtTransform->MakeCoefficients("bayes.swt");
-    }
-    auto groupChannels = [&](int g) { return g == groups - 1 ? lastSize : groupSize; };
-    auto analyzeGroup = [&](vk::Recorder &recorder, int g) {
-        SwtTransform &t = g == groups - 1 && swtLast ? *swtLast : *swtTransform;
-        t.RecordAnalysis(recorder, options.basis, work, swtCoef, false, g * groupSize);
-    };
-    auto synthesizeGroup = [&](vk::Recorder &recorder, int g) {
-        SwtTransform &t = g == groups - 1 && swtLast ? *swtLast : *swtTransform;
-        t.RecordSynthesis(recorder, options.basis, swtCoef, work, g * groupSize);
-    };
-    vk::Recorder recorder(context);
-    // With keepStages, submit and download after every stage; else one submission.
-    auto submit = [&] {
-        recorder.Submit();
-        for (const vk::DispatchTiming &t : recorder.Timings()) result.timings.push_back(t);
-    };
-    auto stage = [&](const char *name, const vk::GpuImage &buffer) {
-        if (!options.keepStages) return;
-        submit();
-        result.stages.push_back({name, buffer.Download()});
-    };
-    RecordBayesLog(context, recorder, colorGpu, floorsGpu, work);
-    stage("log", work);
-
+    ChannelGroups groups = BayesChannelGroups(context, color, levels, swt, options);
+    BayesGpu gpu(context, color, floors, levels, swt, groups, options.basis);
+    RecordBayesLog(context, run.Recorder(), gpu.color, gpu.floors, gpu.work);
+    run.Stage("log", gpu.work);
     if (levels == 0) {
-        result.plan.push_back("left out: the shrinkage (a 1x1 image has no detail band)");
-        RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
-        submit();
+        run.Plan("left out: the shrinkage (a 1x1 image has no detail band)");
+        RecordBayesExp(context, run.Recorder(), gpu.work, gpu.color, gpu.out,
+                       options.restoreZeros);
+        run.Submit();
     } else {
-        if (options.opponent) {
-            RecordBayesMix(context, recorder, work, BayesOpponent());
-            result.plan.push_back(
-                "colour: log luminance + 2 log chroma (orthonormal opponent transform)");
-            stage("opponent", work);
-        }
-        if (swt)
-            analyzeGroup(recorder, 0);
-        else
-            transform.RecordAnalysis(recorder, options.basis, levels, work, work);
-        stage("analysis", swt ? swtCoef : work);
-        float sn = options.sn;
-        int bands = BayesBandCount(channels, levels);
-        std::vector<float> bandSn(bands);
-        for (int b = 0; b < bands; ++b)
-            bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * options.hpFactor : sn;
-        if (options.variance) {
-            bandSn = BayesVarianceNoise(
-                context, color, *options.variance, floors, options.basis, levels, options.pn,
-                options.opponent, &result.timings, options.transform, options.swtGroupChannels);
-            double mean = 0;
-            for (float v : bandSn) mean += v / bands;
-            sn = float(mean);
-            std::string perLevel;
-            for (int level = 0; level < levels; ++level) {
-                double m = 0;
-                for (int c = 0; c < channels; ++c)
-                    for (int o = 0; o < 3; ++o)
-                        m += bandSn[(c * levels + level) * 3 + o] / (3.0 * channels);
-                perLevel += fmt::format("{}{:.4g}", level ? ", " : "", m);
-            }
-            result.plan.push_back(fmt::format(
-                "--noise variance: per band from the variance layer: log(1 + V / max(Y, "
-                "floor)^2) per pixel (the delta method's V / Y^2, exact for log-normal), "
-                "squared-filter {}, band mean -> s (p_n {}); mean s per level (finest "
-                "first) {}",
-                swt ? "SWT" : "DWT", options.pn, perLevel));
-        } else if (options.noiseAuto) {
-            submit();
-            double mad = 0;
-            if (swt) {
-                // Every group's finest HH planes, pooled; then group 0's coefficients again.
-                std::vector<float> values;
-                for (int g = 0; g < groups; ++g) {
-                    if (g > 0) {
-                        analyzeGroup(recorder, g);
-                        submit();
-                    }
-                    CollectFinestHH(swtCoef, groupChannels(g), levels, &values);
-                }
-                if (groups > 1) analyzeGroup(recorder, 0);
-                mad = MedianOf(values);
-            } else {
-                mad = FinestMad(work.Download());
-            }
-            double finest = BayesScaleFromMad(mad, options.pn);
-            sn = float(finest / options.hpFactor);
-            for (int b = 0; b < bands; ++b)
-                bandSn[b] = (b % (3 * levels)) / 3 == 0 ? sn * options.hpFactor : sn;
-            result.plan.push_back(fmt::format(
-                "--noise auto: finest HH bands' median |y| {:.4g} -> finest-level s {:.4g} "
-                "(p_n {}) -> s_n {:.4g}",
-                mad, finest, options.pn, sn));
-        }
-        result.sn = sn;
-        // Per channel group (one unless the SWT is split): its bands' noise, moments, fits,
-        // tables, shrinkage and synthesis. Buffers live until the submission.
-        std::vector<vk::Buffer> noises, momentBuffers, paramBuffers, tables;
-        for (auto *v : {&noises, &momentBuffers, &paramBuffers, &tables}) v->reserve(groups);
-        for (int g = 0; g < groups; ++g) {
-            int first = g * groupSize, inGroup = swt ? groupChannels(g) : channels;
-            int groupBands = BayesBandCount(inGroup, levels);
-            int firstBand = BayesBandCount(first, levels);
-            if (g > 0) analyzeGroup(recorder, g);
-            vk::Buffer &noiseGpu =
-                noises.emplace_back(context, groupBands * sizeof(float), "bayes.noise");
-            noiseGpu.UploadFloats(std::vector<float>(bandSn.begin() + firstBand,
-                                                     bandSn.begin() + firstBand + groupBands));
-            vk::Buffer &moments = momentBuffers.emplace_back(
-                context, groupBands * BAYES_MOMENT_STRIDE * sizeof(float), "bayes.moments");
-            vk::Buffer &params = paramBuffers.emplace_back(
-                context, groupBands * BAYES_PARAM_STRIDE * sizeof(float), "bayes.params");
-            vk::Buffer &table = tables.emplace_back(
-                context, groupBands * BAYES_TABLE_SIZE * sizeof(float), "bayes.table");
-            if (swt)
-                RecordBayesSwtMoments(context, recorder, swtCoef, inGroup, levels, moments);
-            else
-                RecordBayesMoments(context, recorder, work, levels, moments);
-            if (options.keepStages) {
-                submit();
-                std::vector<float> m =
-                    moments.DownloadFloats(size_t(bands) * BAYES_MOMENT_STRIDE);
-                Image rows(BAYES_MOMENT_STRIDE, bands, 1);
-                std::copy(m.begin(), m.end(), rows.data.begin());
-                result.stages.push_back({"moments", std::move(rows)});
-            }
-            RecordBayesSolve(context, recorder, moments, groupBands, levels, noiseGpu,
-                             options.pn, params);
-            if (options.keepStages) {
-                submit();
-                std::vector<float> p =
-                    params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
-                Image fits(3, bands, 1);
-                for (int b = 0; b < bands; ++b)
-                    for (int i = 0; i < 3; ++i)
-                        fits.At(0, b, i) = p[size_t(b) * BAYES_PARAM_STRIDE + 2 + i];
-                result.stages.push_back({"fits", std::move(fits)});
-            }
-            RecordBayesTable(context, recorder, params, groupBands, table);
-            if (swt)
-                RecordBayesSwtShrink(context, recorder, swtCoef, inGroup, levels, params,
-                                     table);
-            else
-                RecordBayesShrink(context, recorder, work, levels, params, table);
-            stage("shrinkage", swt ? swtCoef : work);
-            if (swt)
-                synthesizeGroup(recorder, g);
-            else
-                transform.RecordSynthesis(recorder, options.basis, levels, work, work);
-        }
-        stage("synthesis", work);
-        if (options.opponent) {
-            RecordBayesMix(context, recorder, work, BayesOpponentInverse());
-            stage("opponent inverse", work);
-        }
-        RecordBayesExp(context, recorder, work, colorGpu, out, options.restoreZeros);
-        submit();
-        std::vector<float> p;
-        for (const vk::Buffer &params : paramBuffers) {
-            std::vector<float> q = params.DownloadFloats(params.Bytes() / sizeof(float));
-            p.insert(p.end(), q.begin(), q.end());
-        }
-        for (int b = 0; b < bands; ++b) {
-            BayesBandFit fit{b / (3 * levels), (b % (3 * levels)) / 3, b % 3, {}};
-            std::copy_n(p.begin() + b * BAYES_PARAM_STRIDE, BAYES_PARAM_STRIDE,
-                        fit.params.begin());
-            result.fits.push_back(fit);
-        }
-        std::string transformName =
-            swt ? "stationary (undecimated) wavelet transform (--bayes-transform swt)"
-                : "DWT (--bayes-transform dwt)";
-        if (groups > 1)
-            transformName += fmt::format(
-                " in {} channel groups (one binding holds the coefficients of {} channel{})",
-                groups, groupSize, groupSize == 1 ? "" : "s");
-        if (options.variance)
-            result.plan.push_back(
-                fmt::format("{}-level {} {}; noise per band (mean s {:.4g}), p_n {}", levels,
-                            WaveletName(options.basis), transformName, sn, options.pn));
-        else
-            result.plan.push_back(fmt::format(
-                "{}-level {} {}; noise (s_n {:.4g}, p_n {}), finest level s {:.4g} ({} x s_n)",
-                levels, WaveletName(options.basis), transformName, sn, options.pn,
-                sn * options.hpFactor, options.hpFactor));
-        result.plan.push_back(fmt::format(
-            "per band: E[y^2], E[y^4] -> (s_c, p_c) by eqs. 17-18; posterior-mean table of "
-            "{} entries (log-sum-exp quadrature), applied with interpolation",
-            BAYES_TABLE_SIZE));
-        static const char *kOrientation[3] = {"HL", "LH", "HH"};
-        for (const BayesBandFit &f : result.fits) {
-            int fit = int(f.params[4]);
-            result.plan.push_back(
-                fmt::format("  band L{} {} ch{}: y_max {:.3g}, s_c {:.4g}, p_c {:.3g}: {}",
-                            f.level, kOrientation[f.orientation], f.channel, f.params[5],
-                            f.params[2], f.params[3], BayesFitName(fit)));
-        }
-        result.plan.push_back("synthesis, exp");
+        RecordBayes(run, gpu, color, floors, options, result);
     }
-    result.image = out.Download();
-    if (options.keepStages) result.stages.push_back({"exp", result.image});
+    result.image = gpu.out.Download();
+    run.AddStage("exp", result.image);
+    run.Finish(result);
     if (options.keepMean) {
         KeepMean(color, &result);
         if (options.keepStages) result.stages.push_back({"keep mean", result.image});

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
 #include "host/wavelet.h"
@@ -66,22 +67,18 @@ struct BayesBandFit {
     std::array<float, 8> params;  // s_n, p_n, s_c, p_c, fit, y_max, b, du (bayes.h)
 };
 
-struct BayesResult {
-    Image image;
-    std::vector<std::string> plan;
-    std::vector<std::string> warnings;  // counts of zeros, negatives, NaN/Inf, floored values
-    std::vector<vk::DispatchTiming> timings;
+// warnings: counts of zeros, negatives, NaN/Inf, floored values. With keepStages, stages in
+// order: "log", "opponent" (--colour opponent), "analysis" (the Mallat layout, or the SWT's
+// channels (3 levels + 1) planes), "moments" (1 channel, a row per band: E[y^2], E[y^4],
+// max |y|, count), "fits" (a row per band: s_c, p_c, fit), "shrinkage", "synthesis",
+// "opponent inverse", "exp"; with spins > 1 these are the unshifted run's, then "cycle
+// spinning" (the average); "keep mean" last when on. A 1x1 image (no level) has "log" and
+// "exp" only.
+struct BayesResult : MethodResult {
     std::vector<BayesBandFit> fits;
-    float sn =
-        0;  // the noise s used (estimated with noiseAuto; the mean over bands with variance)
+    // The noise s used (estimated with noiseAuto; the mean over bands with variance).
+    float sn = 0;
     int levels = 0;
-    // With keepStages, in order: "log", "opponent" (--colour opponent), "analysis" (the
-    // Mallat layout, or the SWT's channels (3 levels + 1) planes), "moments" (1 channel, a row
-    // per band: E[y^2], E[y^4], max |y|, count), "fits" (a row per band: s_c, p_c, fit),
-    // "shrinkage", "synthesis", "opponent inverse", "exp"; with spins > 1 these are the
-    // unshifted run's, then "cycle spinning" (the average); "keep mean" last when on. A 1x1
-    // image (no level) has "log" and "exp" only.
-    std::vector<std::pair<std::string, Image>> stages;
 };
 
 // Denoise one image (all channels). Throws mcd::Error on bad options or an empty image;

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
+#include <string>
 
 #include "host/error.h"
 #include "host/kernels/pivot_bilateral.h"
@@ -12,6 +14,7 @@
 #include "host/kernels/pivot_gather.h"
 #include "host/kernels/pivot_ratio.h"
 #include "host/methods/checks.h"
+#include "host/methods/staged_run.h"
 #include "host/vk/gpu_image.h"
 #include "pivot/pivot.h"
 
@@ -26,10 +29,6 @@ void CheckLayer(const Image &image, const char *what, int width, int height, int
                                 image.height, image.channels, width, height,
                                 channels > 0 ? channels : image.channels));
     CheckFinite("pivot", image, what, nonNegative);
-}
-
-void Append(std::vector<vk::DispatchTiming> &to, const std::vector<vk::DispatchTiming> &from) {
-    to.insert(to.end(), from.begin(), from.end());
 }
 
 }  // namespace
@@ -48,8 +47,10 @@ std::vector<float> PivotThresholds(const Image &pivot, float floor) {
 
 namespace {
 
-PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
-                            const PivotOptions &options) {
+// Throw on missing or misshapen layers, NaN/Inf, bad options, or a frame whose fits do not
+// fit one binding.
+void CheckPivotInputs(vk::Context &context, const PivotInputs &in,
+                      const PivotOptions &options) {
     if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
     const Image &color = *in.color;
     int w = color.width, h = color.height, channels = color.channels;
@@ -90,108 +91,145 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     if (options.bilateralRadius < 0 || options.bilateralRadius > 64)
         throw Error(
             fmt::format("pivot: bilateral radius {}; 0..64 allowed", options.bilateralRadius));
+}
 
-    PivotResult result;
-    std::vector<float> thresholds = PivotThresholds(*in.pivot, options.floor);
-    for (int c = 0; c < channels; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                float la = in.pivot->At(c, y, x);
+// Pixel-channels without z: pivot below the threshold, or |z| beyond PIVOT_Z_MAX.
+size_t CountWithoutZ(const Image &color, const Image &pivot,
+                     const std::vector<float> &thresholds) {
+    size_t count = 0;
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                float la = pivot.At(c, y, x);
                 if (!(la > thresholds[c]) ||
                     !(std::fabs(double(color.At(c, y, x)) / la) <= PIVOT_Z_MAX))
-                    ++result.pixelsWithoutZ;
+                    ++count;
             }
-    result.plan.push_back(fmt::format(
+    return count;
+}
+
+// One guide image: normal x, y, z, object id, part id (absent parts stay zero).
+Image GuideImage(const PivotInputs &in) {
+    int w = in.color->width, h = in.color->height;
+    Image guide(w, h, PIVOT_GUIDE_PLANES);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 3 && in.normal; ++c) guide.At(c, y, x) = in.normal->At(c, y, x);
+            if (in.objectId) guide.At(3, y, x) = in.objectId->At(0, y, x);
+            if (in.partId) guide.At(4, y, x) = in.partId->At(0, y, x);
+        }
+    return guide;
+}
+
+// The GPU side of a run: the inputs, z, its weights s and noise nu, the output, and the
+// guides when the frame has normals or ids.
+struct PivotGpu {
+    PivotGpu(vk::Context &context, const PivotInputs &in)
+        : color(context, in.color->width, in.color->height, in.color->channels, "pivot.color"),
+          pivot(context, in.color->width, in.color->height, in.color->channels, "pivot.pivot"),
+          z(context, in.color->width, in.color->height, in.color->channels, "pivot.z"),
+          s(context, in.color->width, in.color->height, in.color->channels, "pivot.s"),
+          nu(context, in.color->width, in.color->height, in.color->channels, "pivot.nu"),
+          out(context, in.color->width, in.color->height, in.color->channels, "pivot.out") {
+        int w = in.color->width, h = in.color->height, channels = in.color->channels;
+        color.Upload(*in.color);
+        pivot.Upload(*in.pivot);
+        if (in.variance) {
+            variance.emplace(context, w, h, channels, "pivot.variance");
+            variance->Upload(*in.variance);
+        }
+        guides.normals = in.normal != nullptr;
+        guides.ids = in.objectId || in.partId;
+        if (guides.normals || guides.ids) {
+            guide.emplace(context, w, h, PIVOT_GUIDE_PLANES, "pivot.guides");
+            guide->Upload(GuideImage(in));
+            guides.image = &*guide;
+        }
+    }
+
+    vk::GpuImage color, pivot, z, s, nu, out;
+    std::optional<vk::GpuImage> variance, guide;
+    PivotGpuGuides guides;
+};
+
+void PlanInputs(StagedRun &run, const PivotInputs &in, const PivotGpuGuides &guides,
+                size_t pixelsWithoutZ, const PivotOptions &options) {
+    const Image &color = *in.color;
+    run.Plan(fmt::format(
         "pseudo-brightness z = color / pivot ({}x{}x{}); {} pixel-channels with pivot <= {} x "
         "the channel mean keep their input",
-        w, h, channels, result.pixelsWithoutZ, options.floor));
-    result.plan.push_back(in.variance
-                              ? "noise of z: the variance layer / pivot^2"
-                              : "noise of z: estimated from the 3x3 neighbours (no variance "
-                                "layer)");
+        color.width, color.height, color.channels, pixelsWithoutZ, options.floor));
+    run.Plan(in.variance ? "noise of z: the variance layer / pivot^2"
+                         : "noise of z: estimated from the 3x3 neighbours (no variance "
+                           "layer)");
+    run.Plan(guides.normals ? "normal term (n.n0)^4, n.n0 > 1/2: on"
+                            : "left out: the normal term (the frame has no normals)");
+    run.Plan(guides.ids
+                 ? fmt::format("object/part and boundary terms: on ({}{}); pixels next to "
+                               "other ids keep their input",
+                               in.objectId ? "objectId" : "",
+                               in.partId ? (in.objectId ? ", partId" : "partId") : "")
+                 : "left out: the object, part and boundary terms (the frame has no ids)");
+}
 
-    vk::GpuImage colorGpu(context, w, h, channels, "pivot.color");
-    vk::GpuImage pivotGpu(context, w, h, channels, "pivot.pivot");
-    colorGpu.Upload(color);
-    pivotGpu.Upload(*in.pivot);
-    vk::GpuImage z(context, w, h, channels, "pivot.z");
-    vk::GpuImage s(context, w, h, channels, "pivot.s");
-    vk::GpuImage nu(context, w, h, channels, "pivot.nu");
-    vk::GpuImage out(context, w, h, channels, "pivot.out");
-    std::optional<vk::GpuImage> varianceGpu, guideGpu;
-    if (in.variance) {
-        varianceGpu.emplace(context, w, h, channels, "pivot.variance");
-        varianceGpu->Upload(*in.variance);
+// The cross-bilateral baseline of 4.1 into gpu.out, one submission with the ratio.
+void RecordBilateral(StagedRun &run, PivotGpu &gpu, const PivotOptions &options) {
+    PivotBilateralSettings settings{options.bilateralRadius, options.sigmaRange,
+                                    options.goodNoise};
+    run.Plan(fmt::format(
+        "bilateral: cross-bilateral filter of z, radius {}, spatial sigma {}, range sigma "
+        "{} on the pivot's relative difference; times the pivot",
+        settings.radius, std::max(0.5f, settings.radius / 2.f), settings.sigmaRange));
+    RecordPivotBilateral(run.Context(), run.Recorder(), gpu.color, gpu.pivot, gpu.z, gpu.nu,
+                         gpu.guides, settings, gpu.out);
+    run.Submit();
+}
+
+// Record rows [rowBase, rowBase + rows) in strips of stripRows, one submission each.
+void InStrips(StagedRun &run, int h, int stripRows, const char *stage,
+              const PivotOptions &options, const std::function<void(int, int)> &record) {
+    for (int rowBase = 0; rowBase < h; rowBase += stripRows) {
+        int rows = std::min(stripRows, h - rowBase);
+        record(rowBase, rows);
+        run.Submit();
+        if (options.progress) options.progress(stage, rowBase + rows, h);
     }
-    PivotGpuGuides guides;
-    guides.normals = in.normal != nullptr;
-    guides.ids = in.objectId || in.partId;
-    if (guides.normals || guides.ids) {
-        // One guide image: normal x, y, z, object id, part id (absent parts stay zero).
-        Image guide(w, h, PIVOT_GUIDE_PLANES);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                for (int c = 0; c < 3 && in.normal; ++c)
-                    guide.At(c, y, x) = in.normal->At(c, y, x);
-                if (in.objectId) guide.At(3, y, x) = in.objectId->At(0, y, x);
-                if (in.partId) guide.At(4, y, x) = in.partId->At(0, y, x);
-            }
-        guideGpu.emplace(context, w, h, PIVOT_GUIDE_PLANES, "pivot.guides");
-        guideGpu->Upload(guide);
-        guides.image = &*guideGpu;
+}
+
+// "GPU time: " per kernel, summed over the strips.
+std::string TimePerKernel(const std::vector<vk::DispatchTiming> &timings) {
+    std::vector<std::pair<std::string, double>> perKernel;
+    for (const vk::DispatchTiming &t : timings) {
+        auto it = std::find_if(perKernel.begin(), perKernel.end(),
+                               [&](const auto &p) { return p.first == t.label; });
+        if (it == perKernel.end())
+            perKernel.push_back({t.label, t.gpuMs});
+        else
+            it->second += t.gpuMs;
     }
-    result.plan.push_back(guides.normals
-                              ? "normal term (n.n0)^4, n.n0 > 1/2: on"
-                              : "left out: the normal term (the frame has no normals)");
-    result.plan.push_back(
-        guides.ids ? fmt::format("object/part and boundary terms: on ({}{}); pixels next to "
-                                 "other ids keep their input",
-                                 in.objectId ? "objectId" : "",
-                                 in.partId ? (in.objectId ? ", partId" : "partId") : "")
-                   : "left out: the object, part and boundary terms (the frame has no ids)");
+    std::string times;
+    for (const auto &[label, ms] : perKernel)
+        times += fmt::format("{}{} {:.1f} ms", times.empty() ? "" : ", ", label, ms);
+    return times;
+}
 
-    vk::Recorder recorder(context);
-    RecordPivotRatio(context, recorder, colorGpu, pivotGpu,
-                     varianceGpu ? &*varianceGpu : nullptr, thresholds, guides, z, s, nu);
-
-    if (options.filter == PivotFilter::Bilateral) {
-        PivotBilateralSettings settings{options.bilateralRadius, options.sigmaRange,
-                                        options.goodNoise};
-        result.plan.push_back(fmt::format(
-            "bilateral: cross-bilateral filter of z, radius {}, spatial sigma {}, range sigma "
-            "{} on the pivot's relative difference; times the pivot",
-            settings.radius, std::max(0.5f, settings.radius / 2.f), settings.sigmaRange));
-        RecordPivotBilateral(context, recorder, colorGpu, pivotGpu, z, nu, guides, settings,
-                             out);
-        recorder.Submit();
-        result.timings = recorder.Timings();
-        result.image = out.Download();
-        if (options.keepStages)
-            result.stages = {
-                {"z", z.Download()}, {"nu", nu.Download()}, {"output", result.image}};
-        return result;
-    }
-
+// The paper's filter into gpu.out: fits in row strips, the radii read back to size the
+// gather's reach per tile, the gather in row strips; the fits kept as a stage.
+void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
+                    PivotResult &result) {
+    vk::Context &context = run.Context();
+    int w = gpu.z.width, h = gpu.z.height, channels = gpu.z.channels;
     vk::GpuImage fitLo(context, w, h, PIVOT_PLANES_PER_BUFFER * channels, "pivot.fitLo");
     vk::GpuImage fitHi(context, w, h, PIVOT_PLANES_PER_BUFFER * channels, "pivot.fitHi");
     PivotFitSettings settings{options.maxRadius,    options.targetNoise, options.goodNoise,
                               options.disagreement, options.k,           options.sigmaWeight};
     // Row strips, one submission each: progress on long frames, and no dispatch long enough
-    // to trip a GPU watchdog. The ratio stage recorded above runs with the first strip.
+    // to trip a GPU watchdog. The ratio stage recorded before runs with the first strip.
     const int stripRows =
         options.stripPixels > 0 ? std::clamp(options.stripPixels / w, 1, h) : h;
-    auto inStrips = [&](const char *stage, const std::function<void(int, int)> &record) {
-        for (int rowBase = 0; rowBase < h; rowBase += stripRows) {
-            int rows = std::min(stripRows, h - rowBase);
-            record(rowBase, rows);
-            recorder.Submit();
-            Append(result.timings, recorder.Timings());
-            if (options.progress) options.progress(stage, rowBase + rows, h);
-        }
-    };
-    inStrips("fit", [&](int rowBase, int rows) {
-        RecordPivotFit(context, recorder, z, s, nu, guides, settings, fitLo, fitHi, rowBase,
-                       rows);
+    InStrips(run, h, stripRows, "fit", options, [&](int rowBase, int rows) {
+        RecordPivotFit(context, run.Recorder(), gpu.z, gpu.s, gpu.nu, gpu.guides, settings,
+                       fitLo, fitHi, rowBase, rows);
     });
     // The radii decide how far the gather looks, tile by tile.
     Image radii(w, h, channels);
@@ -206,7 +244,7 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     Image tileRadii = PivotTileRadii(radii, &result.largestRadius);
     vk::GpuImage tiles(context, tileRadii.width, tileRadii.height, channels, "pivot.tiles");
     tiles.Upload(tileRadii);
-    result.plan.push_back(fmt::format(
+    run.Plan(fmt::format(
         "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
         "square-vs-quadrant disagreement {}); mean radius {:.2f}, largest {}; fits of the "
         "square and 4 quadrants with eq. 10 (k = {}, pixels with relative noise > {} left "
@@ -214,39 +252,46 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
         2 * options.maxRadius + 1, 2 * options.maxRadius + 1, options.targetNoise,
         options.disagreement, result.meanRadius, result.largestRadius, options.k,
         options.goodNoise));
-    result.plan.push_back(
+    run.Plan(
         "eqs. 11-13: combined square/quadrant fits averaged over every square holding the "
         "pixel (a gather), times the pivot");
-    inStrips("gather", [&](int rowBase, int rows) {
-        RecordPivotGather(context, recorder, colorGpu, pivotGpu, nu, fitLo, fitHi, guides,
-                          tiles, result.largestRadius, out, rowBase, rows);
+    InStrips(run, h, stripRows, "gather", options, [&](int rowBase, int rows) {
+        RecordPivotGather(context, run.Recorder(), gpu.color, gpu.pivot, gpu.nu, fitLo, fitHi,
+                          gpu.guides, tiles, result.largestRadius, gpu.out, rowBase, rows);
     });
-    // Per kernel, summed over the strips.
-    std::vector<std::pair<std::string, double>> perKernel;
-    for (const vk::DispatchTiming &t : result.timings) {
-        auto it = std::find_if(perKernel.begin(), perKernel.end(),
-                               [&](const auto &p) { return p.first == t.label; });
-        if (it == perKernel.end())
-            perKernel.push_back({t.label, t.gpuMs});
-        else
-            it->second += t.gpuMs;
-    }
-    std::string times;
-    for (const auto &[label, ms] : perKernel)
-        times += fmt::format("{}{} {:.1f} ms", times.empty() ? "" : ", ", label, ms);
-    result.plan.push_back(fmt::format("GPU time: {} ({} row strip(s) of up to {} rows)", times,
-                                      (h + stripRows - 1) / stripRows, stripRows));
-    result.image = out.Download();
-    if (options.keepStages) {
+    run.Plan(fmt::format("GPU time: {} ({} row strip(s) of up to {} rows)",
+                         TimePerKernel(run.Timings()), (h + stripRows - 1) / stripRows,
+                         stripRows));
+    if (run.KeepsStages()) {
         Image fits(w, h, PIVOT_PLANES * channels);
         Image lo = fitLo.Download(), hi = fitHi.Download();
         std::copy(lo.data.begin(), lo.data.end(), fits.data.begin());
         std::copy(hi.data.begin(), hi.data.end(), fits.data.begin() + lo.data.size());
-        result.stages = {{"z", z.Download()},
-                         {"nu", nu.Download()},
-                         {"fits", std::move(fits)},
-                         {"output", result.image}};
+        run.AddStage("fits", std::move(fits));
     }
+}
+
+PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
+                            const PivotOptions &options) {
+    CheckPivotInputs(context, in, options);
+    PivotResult result;
+    StagedRun run(context, options.keepStages);
+    std::vector<float> thresholds = PivotThresholds(*in.pivot, options.floor);
+    result.pixelsWithoutZ = CountWithoutZ(*in.color, *in.pivot, thresholds);
+    PivotGpu gpu(context, in);
+    PlanInputs(run, in, gpu.guides, result.pixelsWithoutZ, options);
+    RecordPivotRatio(context, run.Recorder(), gpu.color, gpu.pivot,
+                     gpu.variance ? &*gpu.variance : nullptr, thresholds, gpu.guides, gpu.z,
+                     gpu.s, gpu.nu);
+    run.StageAtEnd("z", gpu.z);
+    run.StageAtEnd("nu", gpu.nu);
+    if (options.filter == PivotFilter::Bilateral)
+        RecordBilateral(run, gpu, options);
+    else
+        RecordPlaneFit(run, gpu, options, result);
+    result.image = gpu.out.Download();
+    run.AddStage("output", result.image);
+    run.Finish(result);
     return result;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
 
@@ -72,18 +73,14 @@ struct PivotInputs {
     const Image *remainder = nullptr;
 };
 
-struct PivotResult {
-    Image image;
-    std::vector<std::string> plan;            // what ran and what was left out, and why
-    std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
-    double meanRadius = 0;                    // planefit: over the centres with a fit
-    int largestRadius = 0;                    // (with partials: of all partials)
-    size_t pixelsWithoutZ =
-        0;  // pixel-channels (with partials: summed over them) whose pivot is below the floor
-    // With keepStages: z, nu, the fits (planefit; 16 x channels planes as in
-    // cpu_reference/pivot_filter.h) and the output, by name (with partials, each partial's
-    // prefixed "partial<k>.").
-    std::vector<std::pair<std::string, Image>> stages;
+// With keepStages, stages z, nu, the fits (planefit; 16 x channels planes as in
+// cpu_reference/pivot_filter.h) and the output, by name (with partials, each partial's
+// prefixed "partial<k>."). No warnings: bad inputs are refused.
+struct PivotResult : MethodResult {
+    double meanRadius = 0;  // planefit: over the centres with a fit
+    int largestRadius = 0;  // (with partials: of all partials)
+    // Pixel-channels (with partials: summed over them) whose pivot is below the floor.
+    size_t pixelsWithoutZ = 0;
 };
 
 // Per-channel pivot threshold: floor x the mean of max(L_a, 0).

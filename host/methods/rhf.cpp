@@ -14,6 +14,7 @@
 #include "host/kernels/rhf_downsample.h"
 #include "host/kernels/rhf_select.h"
 #include "host/kernels/rhf_terms.h"
+#include "host/methods/staged_run.h"
 #include "host/vk/gpu_image.h"
 #include "rhf/terms.h"
 
@@ -90,29 +91,19 @@ std::vector<std::string> Sanitize(Image &color, Image &hist) {
     return warnings;
 }
 
-}  // namespace
-
-int RhfScalesUsed(int width, int height, const RhfOptions &options) {
-    int side = 2 * options.searchHalf + 1, used = 1;
-    while (used < options.scales && Shrunk(width, used) >= side && Shrunk(height, used) >= side)
-        ++used;
-    return used;
-}
-
-RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &histIn,
-                     const RhfOptions &o) {
-    if (colorIn.channels != 3)
+void CheckRhfInputs(const Image &color, const Image &hist, const RhfOptions &o) {
+    if (color.channels != 3)
         throw Error(fmt::format("rhf: the color layer has {} channels; expected 3 (R, G, B)",
-                                colorIn.channels));
-    if (histIn.channels < 4 || (histIn.channels - 1) % 3 != 0)
+                                color.channels));
+    if (hist.channels < 4 || (hist.channels - 1) % 3 != 0)
         throw Error(
             fmt::format("rhf: the histogram layer has {} channels; expected 3n+1 (n "
                         "bins for each of R, G, B, then the sample count)",
-                        histIn.channels));
-    if (histIn.width != colorIn.width || histIn.height != colorIn.height)
+                        hist.channels));
+    if (hist.width != color.width || hist.height != color.height)
         throw Error(fmt::format("rhf: the color layer is {}x{} but the histograms are {}x{}",
-                                colorIn.width, colorIn.height, histIn.width, histIn.height));
-    if (colorIn.width <= 0 || colorIn.height <= 0) throw Error("rhf: the image is empty");
+                                color.width, color.height, hist.width, hist.height));
+    if (color.width <= 0 || color.height <= 0) throw Error("rhf: the image is empty");
     if (o.patchHalf < 0 || o.patchHalf > kMaxSearchHalf)
         throw Error(fmt::format("rhf: patch half-size must be in 0..{}, not {}", kMaxSearchHalf,
                                 o.patchHalf));
@@ -131,14 +122,21 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
                                 o.brightVeto));
     if (o.scales < 1 || o.scales > kMaxScales)
         throw Error(fmt::format("rhf: scales must be in 1..{}, not {}", kMaxScales, o.scales));
+}
 
-    RhfResult result;
-    Image color = colorIn, hist = histIn;
-    result.warnings = Sanitize(color, hist);
-    const int W = color.width, H = color.height, planes = hist.channels, n3 = planes - 1;
-    const size_t pixels = color.PixelCount();
+// How the frame is split to fit the device's bindings.
+struct RhfLayout {
+    int perSlot = 0;           // histogram planes per buffer
+    int stripRows = 0;         // centre rows per distance strip
+    int termRowsMax = 0;       // rows of terms a strip needs, at most
+    size_t rowFloats = 0;      // distances per centre row
+    size_t termRowFloats = 0;  // terms per row
+};
+
+RhfLayout RhfLayoutFor(vk::Context &context, int W, int H, int planes, const RhfOptions &o) {
+    const size_t pixels = size_t(W) * H;
     const size_t maxFloats = std::min<size_t>(context.BindingBytes() / sizeof(float), 1u << 25);
-
+    int side = 2 * o.searchHalf + 1, offsets = side * side;
     // The selection mask is one binding: refuse, before any work, a frame it cannot hold.
     size_t maskBytes = size_t(RhfMaskWords(o.searchHalf)) * pixels * sizeof(uint32_t);
     if (maskBytes > context.Limits().maxStorageBufferRange)
@@ -147,193 +145,268 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             "above this device's {:.0f} MB per binding; crop the frame or shrink the window",
             W, H, o.searchHalf, maskBytes / 1e6, context.Limits().maxStorageBufferRange / 1e6));
 
-    // Histogram planes per buffer, and centre rows per distance strip.
-    int perSlot = o.planesPerSlot > 0 ? o.planesPerSlot
-                                      : int(std::min<size_t>(planes, maxFloats / pixels));
-    if (perSlot < 1 || (planes + perSlot - 1) / perSlot > RHF_HIST_SLOTS)
+    RhfLayout layout;
+    layout.perSlot = o.planesPerSlot > 0 ? o.planesPerSlot
+                                         : int(std::min<size_t>(planes, maxFloats / pixels));
+    if (layout.perSlot < 1 || (planes + layout.perSlot - 1) / layout.perSlot > RHF_HIST_SLOTS)
         throw Error(
             fmt::format("rhf: a {}x{} frame's {} histogram planes do not fit in {} "
                         "buffers of {} floats",
                         W, H, planes, RHF_HIST_SLOTS, maxFloats));
     // A strip's distances take offsets x rows x W floats, its terms (b+1)(2b+1) x (rows +
     // 2w + b) x W: both within one binding.
-    size_t rowFloats = size_t(offsets) * W, termRowFloats = size_t(o.searchHalf + 1) * side * W;
+    layout.rowFloats = size_t(offsets) * W;
+    layout.termRowFloats = size_t(o.searchHalf + 1) * side * W;
     int apron = 2 * o.patchHalf + o.searchHalf;
-    int stripRows =
-        o.stripRows > 0
-            ? o.stripRows
-            : int(std::min<size_t>(maxFloats / rowFloats, maxFloats / termRowFloats - apron));
+    int stripRows = o.stripRows > 0
+                        ? o.stripRows
+                        : int(std::min<size_t>(maxFloats / layout.rowFloats,
+                                               maxFloats / layout.termRowFloats - apron));
     stripRows = std::min(stripRows, H);
-    if (stripRows < 1 || maxFloats / termRowFloats <= size_t(apron))
+    if (stripRows < 1 || maxFloats / layout.termRowFloats <= size_t(apron))
         throw Error(
             fmt::format("rhf: a {}-pixel-wide image needs more than {} floats per "
                         "distance strip; reduce the search window",
                         W, maxFloats));
-    int termRowsMax = std::min(H, stripRows + apron);
+    layout.stripRows = stripRows;
+    layout.termRowsMax = std::min(H, stripRows + apron);
+    return layout;
+}
 
+// The total of the bins, kept at every scale (Algorithm 3, line 4), and per pixel.
+struct HistogramTotals {
+    double total = 0;
+    std::vector<double> pixel;
+};
+
+HistogramTotals TotalsOf(const Image &hist) {
+    HistogramTotals totals;
+    totals.pixel.assign(hist.PixelCount(), 0.0);
+    for (int i = 0; i < hist.channels - 1; ++i)
+        for (size_t p = 0; p < hist.PixelCount(); ++p) totals.pixel[p] += hist.Plane(i)[p];
+    for (double v : totals.pixel) totals.total += v;
+    return totals;
+}
+
+RhfHistogram UploadHistogram(vk::Context &context, const Image &hist, int perSlot) {
+    RhfHistogram full;
+    full.width = hist.width;
+    full.height = hist.height;
+    full.planes = hist.channels;
+    full.planesPerSlot = perSlot;
+    size_t pixels = hist.PixelCount();
+    for (int first = 0; first < full.planes; first += perSlot) {
+        int count = std::min(perSlot, full.planes - first);
+        vk::Buffer &slot =
+            full.slots.emplace_back(context, size_t(count) * pixels * sizeof(float),
+                                    fmt::format("rhf.hist{}", first / perSlot));
+        slot.Upload(hist.Plane(first), size_t(count) * pixels * sizeof(float));
+    }
+    return full;
+}
+
+// Work buffers, sized for the finest scale and reused by every scale.
+struct RhfWork {
+    RhfWork(vk::Context &context, const RhfLayout &layout, int searchHalf, size_t pixels)
+        : termSum(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
+                  "rhf.termSum"),
+          termCount(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
+                    "rhf.termCount"),
+          dist(context, layout.rowFloats * layout.stripRows * sizeof(float), "rhf.distance"),
+          mask(context, size_t(RhfMaskWords(searchHalf)) * pixels * sizeof(uint32_t),
+               "rhf.mask") {}
+    vk::Buffer termSum, termCount, dist, mask;
+};
+
+// What the scales make while recording, kept until the submission (deques: references
+// stay valid).
+struct RhfScratch {
+    std::deque<vk::GpuImage> images;
+    std::deque<vk::Buffer> buffers;
+    std::deque<RhfHistogram> histograms;
+};
+
+// D_s of `count` planes of a srcW x srcH buffer into dst.
+void RecordDownsample(StagedRun &run, RhfScratch &scratch, const vk::Buffer &src, int srcW,
+                      int srcH, int count, int s, double sigma, vk::Buffer &dst) {
+    std::vector<float> g = RhfGaussianTaps(sigma);
+    vk::Buffer &weights =
+        scratch.buffers.emplace_back(run.Context(), g.size() * sizeof(float), "rhf.taps");
+    weights.UploadFloats(g);
+    vk::Buffer &temporary = scratch.buffers.emplace_back(
+        run.Context(), size_t(count) * srcH * Shrunk(srcW, s) * sizeof(float), "rhf.scratch");
+    RecordRhfDownsample(run.Context(), run.Recorder(), src, srcW, srcH, count, 1 << s, weights,
+                        int(g.size() / 2), temporary, dst);
+}
+
+// What one scale filters: its colour, its histograms and their count-preserving scale.
+struct ScaleInputs {
+    const vk::GpuImage *color = nullptr;
+    const RhfHistogram *hist = nullptr;
+    float histScale = 1.f;
+};
+
+// Scale s >= 1: D_s of the colour and of the histograms, rescaled to keep the sample total.
+ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::GpuImage &color,
+                               const RhfHistogram &full, const HistogramTotals &totals, int s) {
+    const int W = color.width, H = color.height, Ws = Shrunk(W, s), Hs = Shrunk(H, s);
+    const int planes = full.planes, perSlot = full.planesPerSlot;
+    double sigma = SigmaOfScale(s);
+    ScaleInputs in;
+    vk::GpuImage &u =
+        scratch.images.emplace_back(run.Context(), Ws, Hs, 3, fmt::format("rhf.color{}", s));
+    RecordDownsample(run, scratch, color.buffer, W, H, 3, s, sigma, u.buffer);
+    run.StageAtEnd(fmt::format("color s{}", s), u);
+    in.color = &u;
+    RhfHistogram &coarse = scratch.histograms.emplace_back();
+    coarse.width = Ws;
+    coarse.height = Hs;
+    coarse.planes = planes;
+    coarse.planesPerSlot = perSlot;
+    for (size_t slot = 0; slot < full.slots.size(); ++slot) {
+        int count = std::min(perSlot, planes - int(slot) * perSlot);
+        vk::Buffer &to =
+            coarse.slots.emplace_back(run.Context(), size_t(count) * Ws * Hs * sizeof(float),
+                                      fmt::format("rhf.hist{}.{}", slot, s));
+        RecordDownsample(run, scratch, full.slots[slot], W, H, count, s, sigma, to);
+    }
+    in.hist = &coarse;
+    // Count-preserving rescale: the coarse bins' total, from the tap weights.
+    std::vector<float> g = RhfGaussianTaps(sigma);
+    std::vector<double> wx = ColumnWeights(W, s, g), wy = ColumnWeights(H, s, g);
+    double coarseTotal = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            coarseTotal += totals.pixel[size_t(y) * W + x] * wx[x] * wy[y];
+    in.histScale = coarseTotal > 0 ? float(totals.total / coarseTotal) : 1.f;
+    run.Plan(fmt::format(
+        "scale {}: Gaussian downsampling by {} (sigma {:.4g}) of color and {} "
+        "histogram planes to {}x{}; histograms rescaled by {:.9g} to keep the sample "
+        "total",
+        s, 1 << s, sigma, planes, Ws, Hs, in.histScale));
+    return in;
+}
+
+// RHF at scale s: per strip, the chi-square terms, patch distances and selection; then the
+// aggregation into a new image.
+vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
+                           const RhfLayout &layout, const ScaleInputs &in, int s,
+                           const RhfOptions &o) {
+    vk::Context &context = run.Context();
+    vk::Recorder &recorder = run.Recorder();
+    const int Ws = in.color->width, Hs = in.color->height, n3 = in.hist->planes - 1;
+    const int side = 2 * o.searchHalf + 1, offsets = side * side;
+    int knn = s == 0 ? o.knn : 0;
+    int strips = 0;
+    for (int y0 = 0; y0 < Hs; y0 += layout.stripRows, ++strips) {
+        int rows = std::min(layout.stripRows, Hs - y0);
+        int termBase = std::max(0, y0 - o.patchHalf - o.searchHalf);
+        int termRows = std::min(Hs, y0 + rows + o.patchHalf) - termBase;
+        RecordRhfTerms(context, recorder, *in.hist, o.searchHalf, termBase, termRows,
+                       in.histScale, o.brightVeto / in.histScale, work.termSum, work.termCount);
+        RecordRhfDistance(context, recorder, Ws, Hs, o.patchHalf, o.searchHalf, termBase,
+                          termRows, y0, rows, work.termSum, work.termCount, work.dist);
+        RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, knn, o.threshold,
+                        work.dist, work.mask);
+    }
+    vk::GpuImage &filtered =
+        scratch.images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.filtered{}", s));
+    RecordRhfAggregate(context, recorder, *in.color, work.mask, o.patchHalf, o.searchHalf,
+                       filtered);
+    run.StageAtEnd(fmt::format("filtered s{}", s), filtered);
+    run.Plan(fmt::format(
+        "scale {} ({}x{}): chi-square pixel terms for {} offsets x {} bins, {}x{} patch "
+        "distances{}, selection of {} nearest + distance < {} in {} strip(s), aggregation",
+        s, Ws, Hs, offsets, n3, 2 * o.patchHalf + 1, 2 * o.patchHalf + 1,
+        o.brightVeto > 0
+            ? fmt::format(" with bright veto {} (in the frame's sample counts)", o.brightVeto)
+            : std::string(" (no bright veto)"),
+        knn, o.threshold, strips));
+    return filtered;
+}
+
+// Scale s below the coarsest: u_s - U(D(u_s)) + U(u_{s+1}) into a new image.
+const vk::GpuImage &RecordCombine(StagedRun &run, RhfScratch &scratch,
+                                  const vk::GpuImage &filtered, const vk::GpuImage &previous,
+                                  int s) {
+    double sigma = SigmaOfScale(1);
+    vk::GpuImage &low = scratch.images.emplace_back(run.Context(), previous.width,
+                                                    previous.height, 3, "rhf.low");
+    RecordDownsample(run, scratch, filtered.buffer, filtered.width, filtered.height, 3, 1,
+                     sigma, low.buffer);
+    vk::GpuImage &combined = scratch.images.emplace_back(
+        run.Context(), filtered.width, filtered.height, 3, fmt::format("rhf.combined{}", s));
+    RecordRhfCombine(run.Context(), run.Recorder(), filtered, low, previous, combined);
+    run.StageAtEnd(fmt::format("combined s{}", s), combined);
+    run.Plan(
+        fmt::format("scale {}: u_{} - U(D(u_{})) + U(u_{}) with bicubic U (Keys, a = -0.5)", s,
+                    s, s, s + 1));
+    return combined;
+}
+
+void ClampNegative(StagedRun &run, Image &image) {
+    size_t negative = 0;
+    for (float &v : image.data)
+        if (v < 0) {
+            v = 0;
+            ++negative;
+        }
+    run.Plan(fmt::format(
+        "clamped {} negative value(s) to 0 (the bicubic recombination overshoots at strong "
+        "edges; --keep-negative keeps them)",
+        negative));
+}
+
+}  // namespace
+
+int RhfScalesUsed(int width, int height, const RhfOptions &options) {
+    int side = 2 * options.searchHalf + 1, used = 1;
+    while (used < options.scales && Shrunk(width, used) >= side && Shrunk(height, used) >= side)
+        ++used;
+    return used;
+}
+
+RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &histIn,
+                     const RhfOptions &o) {
+    CheckRhfInputs(colorIn, histIn, o);
+    RhfResult result;
+    StagedRun run(context, o.keepStages);
+    Image color = colorIn, hist = histIn;
+    for (std::string &warning : Sanitize(color, hist)) run.Warn(std::move(warning));
+    const int W = color.width, H = color.height, planes = hist.channels;
+    RhfLayout layout = RhfLayoutFor(context, W, H, planes, o);
     int scales = RhfScalesUsed(W, H, o);
     result.scalesUsed = scales;
+    int side = 2 * o.searchHalf + 1;
     for (int s = scales; s < o.scales; ++s)
-        result.plan.push_back(
-            fmt::format("left out: scale {} ({}x{} is smaller than the "
-                        "{}x{} search window)",
-                        s, Shrunk(W, s), Shrunk(H, s), side, side));
-
-    // The total of the bins, kept at every scale (Algorithm 3, line 4).
-    double total = 0;
-    std::vector<double> pixelTotal(pixels, 0.0);
-    for (int i = 0; i < n3; ++i)
-        for (size_t p = 0; p < pixels; ++p) pixelTotal[p] += hist.Plane(i)[p];
-    for (double v : pixelTotal) total += v;
+        run.Plan(
+            fmt::format("left out: scale {} ({}x{} is smaller than the {}x{} search window)", s,
+                        Shrunk(W, s), Shrunk(H, s), side, side));
+    HistogramTotals totals = TotalsOf(hist);
 
     // Uploads: colour and histograms at full resolution.
     vk::GpuImage colorGpu(context, W, H, 3, "rhf.color");
     colorGpu.Upload(color);
-    RhfHistogram full;
-    full.width = W;
-    full.height = H;
-    full.planes = planes;
-    full.planesPerSlot = perSlot;
-    for (int first = 0; first < planes; first += perSlot) {
-        int count = std::min(perSlot, planes - first);
-        full.slots.emplace_back(context, size_t(count) * pixels * sizeof(float),
-                                fmt::format("rhf.hist{}", first / perSlot));
-        full.slots.back().Upload(hist.Plane(first), size_t(count) * pixels * sizeof(float));
-    }
-
-    result.plan.push_back(fmt::format(
+    RhfHistogram full = UploadHistogram(context, hist, layout.perSlot);
+    run.Plan(fmt::format(
         "histograms: {} planes ({} bins per colour + the count) in {} buffer(s) of up to {} "
         "planes; distances in strips of up to {} rows",
-        planes, n3 / 3, full.slots.size(), perSlot, stripRows));
+        planes, (planes - 1) / 3, full.slots.size(), layout.perSlot, layout.stripRows));
+    RhfWork work(context, layout, o.searchHalf, color.PixelCount());
 
-    // Work buffers, sized for the finest scale and reused by every scale.
-    vk::Buffer termSum(context, termRowFloats * termRowsMax * sizeof(float), "rhf.termSum");
-    vk::Buffer termCount(context, termRowFloats * termRowsMax * sizeof(float), "rhf.termCount");
-    vk::Buffer dist(context, rowFloats * stripRows * sizeof(float), "rhf.distance");
-    vk::Buffer mask(context, size_t(RhfMaskWords(o.searchHalf)) * pixels * sizeof(uint32_t),
-                    "rhf.mask");
-    std::deque<vk::GpuImage> images;
-    std::deque<vk::Buffer> buffers;
-    std::deque<RhfHistogram> histograms;
-    auto taps = [&](double sigma) -> std::pair<const vk::Buffer *, int> {
-        std::vector<float> g = RhfGaussianTaps(sigma);
-        buffers.emplace_back(context, g.size() * sizeof(float), "rhf.taps");
-        buffers.back().UploadFloats(g);
-        return {&buffers.back(), int(g.size() / 2)};
-    };
-    // D_s of `planes` planes of a W x H buffer into dst.
-    auto downsample = [&](const vk::Buffer &src, int srcW, int srcH, int count, int s,
-                          double sigma, vk::Buffer &dst, vk::Recorder &recorder) {
-        auto [weights, radius] = taps(sigma);
-        buffers.emplace_back(context, size_t(count) * srcH * Shrunk(srcW, s) * sizeof(float),
-                             "rhf.scratch");
-        RecordRhfDownsample(context, recorder, src, srcW, srcH, count, 1 << s, *weights, radius,
-                            buffers.back(), dst);
-    };
-
-    vk::Recorder recorder(context);
+    // Coarse to fine: each scale filtered, then recombined with the coarser result.
+    RhfScratch scratch;
     const vk::GpuImage *previous = nullptr;
-    std::vector<std::pair<std::string, const vk::GpuImage *>> kept;
     for (int s = scales - 1; s >= 0; --s) {
-        const int Ws = Shrunk(W, s), Hs = Shrunk(H, s);
-        const vk::GpuImage *u = &colorGpu;
-        const RhfHistogram *h = &full;
-        float histScale = 1.f;
-        if (s > 0) {
-            double sigma = SigmaOfScale(s);
-            vk::GpuImage &coarseColor =
-                images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.color{}", s));
-            u = &coarseColor;
-            downsample(colorGpu.buffer, W, H, 3, s, sigma, coarseColor.buffer, recorder);
-            kept.push_back({fmt::format("color s{}", s), u});
-            RhfHistogram &coarse = histograms.emplace_back();
-            coarse.width = Ws;
-            coarse.height = Hs;
-            coarse.planes = planes;
-            coarse.planesPerSlot = perSlot;
-            for (size_t slot = 0; slot < full.slots.size(); ++slot) {
-                int count = std::min(perSlot, planes - int(slot) * perSlot);
-                coarse.slots.emplace_back(context, size_t(count) * Ws * Hs * sizeof(float),
-                                          fmt::format("rhf.hist{}.{}", slot, s));
-                downsample(full.slots[slot], W, H, count, s, sigma, coarse.slots.back(),
-                           recorder);
-            }
-            h = &coarse;
-            // Count-preserving rescale: the coarse bins' total, from the tap weights.
-            std::vector<float> g = RhfGaussianTaps(sigma);
-            std::vector<double> wx = ColumnWeights(W, s, g), wy = ColumnWeights(H, s, g);
-            double coarseTotal = 0;
-            for (int y = 0; y < H; ++y)
-                for (int x = 0; x < W; ++x)
-                    coarseTotal += pixelTotal[size_t(y) * W + x] * wx[x] * wy[y];
-            histScale = coarseTotal > 0 ? float(total / coarseTotal) : 1.f;
-            result.plan.push_back(fmt::format(
-                "scale {}: Gaussian downsampling by {} (sigma {:.4g}) of color and {} "
-                "histogram planes to {}x{}; histograms rescaled by {:.9g} to keep the sample "
-                "total",
-                s, 1 << s, sigma, planes, Ws, Hs, histScale));
-        }
-        int knn = s == 0 ? o.knn : 0;
-        int strips = 0;
-        for (int y0 = 0; y0 < Hs; y0 += stripRows, ++strips) {
-            int rows = std::min(stripRows, Hs - y0);
-            int termBase = std::max(0, y0 - o.patchHalf - o.searchHalf);
-            int termRows = std::min(Hs, y0 + rows + o.patchHalf) - termBase;
-            RecordRhfTerms(context, recorder, *h, o.searchHalf, termBase, termRows, histScale,
-                           o.brightVeto / histScale, termSum, termCount);
-            RecordRhfDistance(context, recorder, Ws, Hs, o.patchHalf, o.searchHalf, termBase,
-                              termRows, y0, rows, termSum, termCount, dist);
-            RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, knn, o.threshold,
-                            dist, mask);
-        }
-        vk::GpuImage &filtered =
-            images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.filtered{}", s));
-        RecordRhfAggregate(context, recorder, *u, mask, o.patchHalf, o.searchHalf, filtered);
-        kept.push_back({fmt::format("filtered s{}", s), &filtered});
-        result.plan.push_back(fmt::format(
-            "scale {} ({}x{}): chi-square pixel terms for {} offsets x {} bins, {}x{} patch "
-            "distances{}, selection of {} nearest + distance < {} in {} strip(s), aggregation",
-            s, Ws, Hs, offsets, n3, 2 * o.patchHalf + 1, 2 * o.patchHalf + 1,
-            o.brightVeto > 0
-                ? fmt::format(" with bright veto {} (in the frame's sample counts)",
-                              o.brightVeto)
-                : std::string(" (no bright veto)"),
-            knn, o.threshold, strips));
-        if (previous) {
-            double sigma = SigmaOfScale(1);
-            vk::GpuImage &low =
-                images.emplace_back(context, previous->width, previous->height, 3, "rhf.low");
-            downsample(filtered.buffer, Ws, Hs, 3, 1, sigma, low.buffer, recorder);
-            vk::GpuImage &combined =
-                images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.combined{}", s));
-            RecordRhfCombine(context, recorder, filtered, low, *previous, combined);
-            kept.push_back({fmt::format("combined s{}", s), &combined});
-            result.plan.push_back(fmt::format(
-                "scale {}: u_{} - U(D(u_{})) + U(u_{}) with bicubic U (Keys, a = -0.5)", s, s,
-                s, s + 1));
-            previous = &combined;
-        } else {
-            previous = &filtered;
-        }
+        ScaleInputs in{&colorGpu, &full, 1.f};
+        if (s > 0) in = RecordCoarseInputs(run, scratch, colorGpu, full, totals, s);
+        const vk::GpuImage &filtered = RecordFilter(run, scratch, work, layout, in, s, o);
+        previous = previous ? &RecordCombine(run, scratch, filtered, *previous, s) : &filtered;
     }
-    recorder.Submit();
-    result.timings = recorder.Timings();
+    run.Submit();
     result.image = previous->Download();
-    if (o.clampNegative) {
-        size_t negative = 0;
-        for (float &v : result.image.data)
-            if (v < 0) {
-                v = 0;
-                ++negative;
-            }
-        result.plan.push_back(fmt::format(
-            "clamped {} negative value(s) to 0 (the bicubic recombination overshoots at strong "
-            "edges; --keep-negative keeps them)",
-            negative));
-    }
-    if (o.keepStages)
-        for (const auto &[name, image] : kept)
-            result.stages.push_back({name, image->Download()});
+    if (o.clampNegative) ClampNegative(run, result.image);
+    run.Finish(result);
     return result;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
 
@@ -47,16 +48,11 @@ struct RhfOptions {
     bool keepStages = false;
 };
 
-struct RhfResult {
-    Image image;
-    std::vector<std::string> plan;            // what ran and what was left out, and why
-    std::vector<std::string> warnings;        // bad pixels found in the input, with counts
-    std::vector<vk::DispatchTiming> timings;  // per dispatch, GPU
+// warnings: bad pixels found in the input, with counts. With keepStages, stages coarse to
+// fine: "color s<k>" (D_k of the colour, k >= 1), "filtered s<k>" (that scale's RHF),
+// "combined s<k>" (the recombination, k below the coarsest); the last one is the output.
+struct RhfResult : MethodResult {
     int scalesUsed = 0;
-    // With keepStages, coarse to fine: "color s<k>" (D_k of the colour, k >= 1),
-    // "filtered s<k>" (that scale's RHF), "combined s<k>" (the recombination, k below the
-    // coarsest); the last one is the output.
-    std::vector<std::pair<std::string, Image>> stages;
 };
 
 // Scales filtered: scale s >= 1 only while its image is at least the search window's size

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "host/metrics.h"
+
 namespace mcd::test {
 
 ::testing::AssertionResult ImagesMatch(const Image &expected, const Image &actual,
@@ -19,7 +21,6 @@ namespace mcd::test {
     CompareStats stats;
     std::string report;
     int reported = 0;
-    double errSq = 0, refSq = 0;
     for (int c = 0; c < expected.channels; ++c)
         for (int y = 0; y < expected.height; ++y)
             for (int x = 0; x < expected.width; ++x) {
@@ -37,8 +38,6 @@ namespace mcd::test {
                     double ratio = bound > 0 ? err / bound : (err > 0 ? INFINITY : 0);
                     stats.maxErrorRatio = std::max(stats.maxErrorRatio, ratio);
                     bad = err > bound;
-                    errSq += err * err;
-                    refSq += e * e;
                 }
                 if (bad) {
                     ++stats.mismatches;
@@ -48,7 +47,7 @@ namespace mcd::test {
                             e, a, why);
                 }
             }
-    stats.nmse = refSq > 0 ? errSq / refSq : errSq;
+    stats.nmse = MeasureDifference(actual, expected).nmse;
     if (statsOut) *statsOut = stats;
     if (stats.mismatches > 0)
         return ::testing::AssertionFailure()

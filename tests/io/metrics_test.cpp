@@ -58,5 +58,24 @@ TEST(Metrics, NonFiniteAndMismatchedInputs) {
     EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(r, x); }), "non-finite"));
 }
 
+// MeasureDifference (`mcdenoise diff`'s and ImagesMatch's NMSE): known sums, elements
+// finite on one side counted apart, both-non-finite ones skipped, an all-zero reference.
+TEST(Metrics, MeasureDifference) {
+    Image r(2, 2, 1), x(2, 2, 1);
+    r.data = {1.f, 2.f, -2.f, std::numeric_limits<float>::infinity()};
+    x.data = {1.5f, 2.f, -1.f, std::numeric_limits<float>::quiet_NaN()};
+    ElementDifference d = MeasureDifference(x, r);
+    EXPECT_EQ(d.parity, 0u);
+    EXPECT_DOUBLE_EQ(d.nmse, (0.25 + 1.0) / (1 + 4 + 4));
+    EXPECT_DOUBLE_EQ(d.maxRel, 1.0 / 2);
+    x.data[1] = std::numeric_limits<float>::infinity();
+    EXPECT_EQ(MeasureDifference(x, r).parity, 1u);
+    Image zero(2, 2, 1), ones(2, 2, 1, 1.f);
+    EXPECT_DOUBLE_EQ(MeasureDifference(ones, zero).nmse, 4.0);
+    EXPECT_DOUBLE_EQ(MeasureDifference(ones, zero).maxRel, 1.0);
+    EXPECT_DOUBLE_EQ(MeasureDifference(zero, zero).nmse, 0.0);
+    EXPECT_TRUE(Contains(ErrorOf([&] { MeasureDifference(Image(3, 2, 1), r); }), "elements"));
+}
+
 }  // namespace
 }  // namespace mcd::test

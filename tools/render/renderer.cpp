@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <mutex>
 #include <sstream>
 #include <system_error>
@@ -61,15 +62,9 @@ void AddToHistogram(const double color[3], int bins, float *histogram) {
     }
 }
 
-namespace {}  // namespace
+namespace {
 
-PathSample SampleSource::Trace(double x, double y, uint64_t key) const {
-    Rng rng(Mix(seed ^ Mix(key)), key);
-    double lu = Uniform(rng), lv = Uniform(rng);
-    return TracePath(scene, scene.camera.Generate(x, y, width, height, lu, lv), rng);
-}
-
-RenderResult Render(const Scene &scene, const RenderOptions &o) {
+void CheckRenderOptions(const RenderOptions &o) {
     if (o.width <= 0 || o.height <= 0)
         throw Error(fmt::format("image size {}x{} must be positive", o.width, o.height));
     if (o.spp <= 0)
@@ -78,216 +73,288 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     if (o.spp >= (1 << 24))
         throw Error(fmt::format("at most {} samples per pixel, not {}", (1 << 24) - 1, o.spp));
     if (o.histBins < 3) throw Error("a histogram needs at least 3 bins per channel");
-    const int w = o.width, h = o.height, bins = o.histBins;
-    auto start = std::chrono::steady_clock::now();
+}
 
-    Image color(w, h, 3), variance(w, h, 3), spp(w, h, 1), mn(w, h, 3), mx(w, h, 3);
-    Image hist, direct, indirect, pivot, albedo, normal, depth, objectId, partId;
-    if (o.layers & kLayersHist) hist = Image(w, h, 3 * bins + 1);
-    Image zhist;
-    if (o.layers & kLayersZHist) zhist = Image(w, h, 3 * bins + 1);
-    if (o.layers & kLayersSplit) direct = Image(w, h, 3), indirect = Image(w, h, 3);
-    if (o.layers & (kLayersPivot | kLayersZHist)) pivot = Image(w, h, 3);
-    // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
-    std::vector<Image> partialColors, partialPivots, partialVariances;
-    if (o.layers & kLayersPartials)
-        for (int k = 0; k <= kPartialTypes; ++k) {
-            partialColors.emplace_back(w, h, 3);
-            if (k < kPartialTypes)
-                partialPivots.emplace_back(w, h, 3), partialVariances.emplace_back(w, h, 3);
+// Every layer the options ask for; the others stay empty.
+struct FrameLayers {
+    explicit FrameLayers(const RenderOptions &o) {
+        const int w = o.width, h = o.height, bins = o.histBins;
+        color = Image(w, h, 3), variance = Image(w, h, 3), spp = Image(w, h, 1);
+        mn = Image(w, h, 3), mx = Image(w, h, 3);
+        if (o.layers & kLayersHist) hist = Image(w, h, 3 * bins + 1);
+        if (o.layers & kLayersZHist) zhist = Image(w, h, 3 * bins + 1);
+        if (o.layers & kLayersSplit) direct = Image(w, h, 3), indirect = Image(w, h, 3);
+        if (o.layers & (kLayersPivot | kLayersZHist)) pivot = Image(w, h, 3);
+        if (o.layers & kLayersPartials)
+            for (int k = 0; k <= kPartialTypes; ++k) {
+                partialColors.emplace_back(w, h, 3);
+                if (k < kPartialTypes)
+                    partialPivots.emplace_back(w, h, 3), partialVariances.emplace_back(w, h, 3);
+            }
+        if (o.layers & kLayersGbuffer) {
+            albedo = Image(w, h, 3), normal = Image(w, h, 3), depth = Image(w, h, 1);
+            objectId = Image(w, h, 1), partId = Image(w, h, 1);
         }
-    if (o.layers & kLayersGbuffer) {
-        albedo = Image(w, h, 3), normal = Image(w, h, 3), depth = Image(w, h, 1);
-        objectId = Image(w, h, 1), partId = Image(w, h, 1);
     }
 
-    SampleSource source(scene, w, h, o.seed);
-    std::atomic<int> nextRow{0}, rowsDone{0};
-    std::atomic<uint64_t> nonFinite{0};
-    std::mutex progressMutex;
-    auto renderRows = [&] {
-        std::vector<float> bucket(3 * bins), zbucket(3 * bins);
-        for (int y = nextRow++; y < h; y = nextRow++) {
-            for (int x = 0; x < w; ++x) {
-                double sum[3] = {}, sumSq[3] = {}, lo[3], hi[3], sumDirect[3] = {},
-                       sumIndirect[3] = {}, sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0;
-                for (int c = 0; c < 3; ++c) lo[c] = INFINITY, hi[c] = -INFINITY;
-                std::fill(bucket.begin(), bucket.end(), 0.f);
-                std::fill(zbucket.begin(), zbucket.end(), 0.f);
-                Vec3 sumPartial[kPartialTypes + 1], sumSqPartial[kPartialTypes + 1];
-                int firstObject = 0, firstPart = 0;
-                uint64_t pixel = uint64_t(y) * w + x;
-                if (!pivot.Empty()) {
-                    // Deterministic: a fixed 4x4 grid of pinhole rays per pixel.
-                    Vec3 sumPivot(0);
-                    for (int j = 0; j < 16; ++j) {
-                        double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
-                        sumPivot +=
-                            PivotRadiance(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0));
-                    }
-                    for (int c = 0; c < 3; ++c) pivot.At(c, y, x) = float(sumPivot[c] / 16);
-                }
-                for (int s = 0; s < o.spp; ++s) {
-                    // Box reconstruction filter: uniform positions inside the pixel.
-                    Rng jitter(Mix(o.seed ^ Mix(~(pixel << 24 | uint64_t(s)))), pixel);
-                    double px = x + Uniform(jitter), py = y + Uniform(jitter);
-                    PathSample p = source.Trace(px, py, pixel << 24 | uint64_t(s));
-                    double c3[3] = {p.color.x, p.color.y, p.color.z};
-                    if (!std::isfinite(c3[0]) || !std::isfinite(c3[1]) ||
-                        !std::isfinite(c3[2])) {
-                        ++nonFinite;
-                        p.color = p.direct = p.indirect = Vec3(0);
-                        for (Vec3 &part : p.partial) part = Vec3(0);
-                        c3[0] = c3[1] = c3[2] = 0;
-                    }
-                    for (int c = 0; c < 3; ++c) {
-                        sum[c] += c3[c];
-                        sumSq[c] += c3[c] * c3[c];
-                        lo[c] = std::min(lo[c], c3[c]);
-                        hi[c] = std::max(hi[c], c3[c]);
-                        sumDirect[c] += p.direct[c];
-                        sumIndirect[c] += p.indirect[c];
-                        sumAlbedo[c] += p.albedo[c];
-                        sumNormal[c] += p.normal[c];
-                    }
-                    for (int k = 0; k <= kPartialTypes; ++k) {
-                        sumPartial[k] += p.partial[k];
-                        sumSqPartial[k] += p.partial[k] * p.partial[k];
-                    }
-                    sumDepth += p.depth;
-                    if (s == 0) firstObject = p.objectId, firstPart = p.partId;
-                    if (!hist.Empty()) AddToHistogram(c3, bins, bucket.data());
-                    if (!zhist.Empty()) {
-                        // Divided by the layer's float pivot, as the denoiser will.
-                        double z3[3];
-                        for (int c = 0; c < 3; ++c) {
-                            float a = pivot.At(c, y, x);
-                            z3[c] = a > 0 ? c3[c] / a : c3[c];
-                        }
-                        AddToHistogram(z3, bins, zbucket.data());
-                    }
-                }
-                double n = o.spp;
-                for (int c = 0; c < 3; ++c) {
-                    double mean = sum[c] / n;
-                    color.At(c, y, x) = float(mean);
-                    // Variance of the mean: the unbiased sample variance over n.
-                    double var =
-                        n > 1 ? std::max(0.0, (sumSq[c] - n * mean * mean) / (n - 1)) : 0;
-                    variance.At(c, y, x) = float(var / n);
-                    mn.At(c, y, x) = float(lo[c]);
-                    mx.At(c, y, x) = float(hi[c]);
-                    if (!direct.Empty()) {
-                        direct.At(c, y, x) = float(sumDirect[c] / n);
-                        indirect.At(c, y, x) = float(sumIndirect[c] / n);
-                    }
-                    if (!albedo.Empty()) {
-                        albedo.At(c, y, x) = float(sumAlbedo[c] / n);
-                        normal.At(c, y, x) = float(sumNormal[c] / n);
-                    }
-                }
-                spp.At(0, y, x) = float(n);
-                if (!depth.Empty()) {
-                    depth.At(0, y, x) = float(sumDepth / n);
-                    objectId.At(0, y, x) = float(firstObject);
-                    partId.At(0, y, x) = float(firstPart);
-                }
-                if (!hist.Empty()) {
-                    for (int b = 0; b < 3 * bins; ++b) hist.At(b, y, x) = bucket[b];
-                    hist.At(3 * bins, y, x) = float(n);
-                }
-                if (!zhist.Empty()) {
-                    for (int b = 0; b < 3 * bins; ++b) zhist.At(b, y, x) = zbucket[b];
-                    zhist.At(3 * bins, y, x) = float(n);
-                }
-                if (!partialColors.empty()) {
-                    // The pivot's grid of rays, its terms split by mirror prefix.
-                    Vec3 sumPivot[kPartialTypes + 1];
-                    for (int j = 0; j < 16; ++j) {
-                        double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
-                        Vec3 terms[kPartialTypes + 1];
-                        PivotPartials(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0),
-                                      terms);
-                        for (int k = 0; k <= kPartialTypes; ++k) sumPivot[k] += terms[k];
-                    }
-                    for (int k = 0; k <= kPartialTypes; ++k)
-                        for (int c = 0; c < 3; ++c) {
-                            double mean = sumPartial[k][c] / n;
-                            partialColors[k].At(c, y, x) = float(mean);
-                            if (k == kPartialTypes) continue;
-                            partialPivots[k].At(c, y, x) = float(sumPivot[k][c] / 16);
-                            // As the variance layer: of the mean, unbiased.
-                            double var =
-                                n > 1 ? std::max(0.0, (sumSqPartial[k][c] - n * mean * mean) /
-                                                          (n - 1))
-                                      : 0;
-                            partialVariances[k].At(c, y, x) = float(var / n);
-                        }
-                }
-            }
-            int done = ++rowsDone;
-            if (o.progress) {
-                std::lock_guard<std::mutex> lock(progressMutex);
-                o.progress(done, h);
-            }
+    // Into result.layers, in DESIGN.md order.
+    void MoveInto(RenderResult &result) {
+        auto add = [&](const char *name, Image &image) {
+            if (!image.Empty()) result.layers.emplace_back(name, std::move(image));
+        };
+        add("color", color);
+        add("variance", variance);
+        add("spp", spp);
+        add("min", mn);
+        add("max", mx);
+        add("hist", hist);
+        add("zhist", zhist);
+        add("direct", direct);
+        add("indirect", indirect);
+        add("pivot", pivot);
+        add("albedo", albedo);
+        add("normal", normal);
+        add("depth", depth);
+        add("objectId", objectId);
+        add("partId", partId);
+        for (int k = 0; k < int(partialPivots.size()); ++k) {
+            result.layers.emplace_back(fmt::format("partial{}.color", k),
+                                       std::move(partialColors[k]));
+            result.layers.emplace_back(fmt::format("partial{}.pivot", k),
+                                       std::move(partialPivots[k]));
+            result.layers.emplace_back(fmt::format("partial{}.variance", k),
+                                       std::move(partialVariances[k]));
         }
-    };
-    // Rows are handed out one at a time, so any number of threads gives the same frame; more
-    // threads than rows would idle. A thread that cannot start leaves its rows to the rest.
-    int threads =
-        o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-    threads = std::clamp(threads, 1, std::min(h, 1024));
+        if (!partialColors.empty())
+            result.layers.emplace_back("remainder", std::move(partialColors.back()));
+    }
+
+    Image color, variance, spp, mn, mx;
+    Image hist, zhist, direct, indirect, pivot, albedo, normal, depth, objectId, partId;
+    // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
+    std::vector<Image> partialColors, partialPivots, partialVariances;
+};
+
+// Sums over one pixel's samples, and its histograms' buckets.
+struct PixelSums {
+    PixelSums() = default;
+    explicit PixelSums(int bins) : bucket(3 * bins), zbucket(3 * bins) {}
+    // Zero for the next pixel, keeping the buckets' memory.
+    void Reset() {
+        std::vector<float> keep = std::move(bucket), zkeep = std::move(zbucket);
+        *this = PixelSums();
+        bucket = std::move(keep), zbucket = std::move(zkeep);
+        std::fill(bucket.begin(), bucket.end(), 0.f);
+        std::fill(zbucket.begin(), zbucket.end(), 0.f);
+    }
+
+    double sum[3] = {}, sumSq[3] = {}, lo[3] = {INFINITY, INFINITY, INFINITY},
+           hi[3] = {-INFINITY, -INFINITY, -INFINITY}, sumDirect[3] = {}, sumIndirect[3] = {},
+           sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0;
+    Vec3 sumPartial[kPartialTypes + 1], sumSqPartial[kPartialTypes + 1];
+    int firstObject = 0, firstPart = 0;
+    uint64_t nonFinite = 0;  // paths that produced NaN/Inf (counted as 0)
+    std::vector<float> bucket, zbucket;
+};
+
+// Deterministic: a fixed 4x4 grid of pinhole rays per pixel.
+void RenderPivot(const Scene &scene, int x, int y, int w, int h, Image &pivot) {
+    Vec3 sumPivot(0);
+    for (int j = 0; j < 16; ++j) {
+        double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
+        sumPivot += PivotRadiance(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0));
+    }
+    for (int c = 0; c < 3; ++c) pivot.At(c, y, x) = float(sumPivot[c] / 16);
+}
+
+// Trace the pixel's samples into `sums` (the pivot layer, when there is one, is written).
+void SamplePixel(const SampleSource &source, const RenderOptions &o, const FrameLayers &layers,
+                 int x, int y, PixelSums &sums) {
+    const int bins = o.histBins;
+    uint64_t pixel = uint64_t(y) * o.width + x;
+    for (int s = 0; s < o.spp; ++s) {
+        // Box reconstruction filter: uniform positions inside the pixel.
+        Rng jitter(Mix(o.seed ^ Mix(~(pixel << 24 | uint64_t(s)))), pixel);
+        double px = x + Uniform(jitter), py = y + Uniform(jitter);
+        PathSample p = source.Trace(px, py, pixel << 24 | uint64_t(s));
+        double c3[3] = {p.color.x, p.color.y, p.color.z};
+        if (!std::isfinite(c3[0]) || !std::isfinite(c3[1]) || !std::isfinite(c3[2])) {
+            ++sums.nonFinite;
+            p.color = p.direct = p.indirect = Vec3(0);
+            for (Vec3 &part : p.partial) part = Vec3(0);
+            c3[0] = c3[1] = c3[2] = 0;
+        }
+        for (int c = 0; c < 3; ++c) {
+            sums.sum[c] += c3[c];
+            sums.sumSq[c] += c3[c] * c3[c];
+            sums.lo[c] = std::min(sums.lo[c], c3[c]);
+            sums.hi[c] = std::max(sums.hi[c], c3[c]);
+            sums.sumDirect[c] += p.direct[c];
+            sums.sumIndirect[c] += p.indirect[c];
+            sums.sumAlbedo[c] += p.albedo[c];
+            sums.sumNormal[c] += p.normal[c];
+        }
+        for (int k = 0; k <= kPartialTypes; ++k) {
+            sums.sumPartial[k] += p.partial[k];
+            sums.sumSqPartial[k] += p.partial[k] * p.partial[k];
+        }
+        sums.sumDepth += p.depth;
+        if (s == 0) sums.firstObject = p.objectId, sums.firstPart = p.partId;
+        if (!layers.hist.Empty()) AddToHistogram(c3, bins, sums.bucket.data());
+        if (!layers.zhist.Empty()) {
+            // Divided by the layer's float pivot, as the denoiser will.
+            double z3[3];
+            for (int c = 0; c < 3; ++c) {
+                float a = layers.pivot.At(c, y, x);
+                z3[c] = a > 0 ? c3[c] / a : c3[c];
+            }
+            AddToHistogram(z3, bins, sums.zbucket.data());
+        }
+    }
+}
+
+// The pixel's means, variances of the mean, ranges, G-buffer and histograms.
+void WritePixel(const PixelSums &sums, const RenderOptions &o, int x, int y,
+                FrameLayers &layers) {
+    const int bins = o.histBins;
+    double n = o.spp;
+    for (int c = 0; c < 3; ++c) {
+        double mean = sums.sum[c] / n;
+        layers.color.At(c, y, x) = float(mean);
+        // Variance of the mean: the unbiased sample variance over n.
+        double var = n > 1 ? std::max(0.0, (sums.sumSq[c] - n * mean * mean) / (n - 1)) : 0;
+        layers.variance.At(c, y, x) = float(var / n);
+        layers.mn.At(c, y, x) = float(sums.lo[c]);
+        layers.mx.At(c, y, x) = float(sums.hi[c]);
+        if (!layers.direct.Empty()) {
+            layers.direct.At(c, y, x) = float(sums.sumDirect[c] / n);
+            layers.indirect.At(c, y, x) = float(sums.sumIndirect[c] / n);
+        }
+        if (!layers.albedo.Empty()) {
+            layers.albedo.At(c, y, x) = float(sums.sumAlbedo[c] / n);
+            layers.normal.At(c, y, x) = float(sums.sumNormal[c] / n);
+        }
+    }
+    layers.spp.At(0, y, x) = float(n);
+    if (!layers.depth.Empty()) {
+        layers.depth.At(0, y, x) = float(sums.sumDepth / n);
+        layers.objectId.At(0, y, x) = float(sums.firstObject);
+        layers.partId.At(0, y, x) = float(sums.firstPart);
+    }
+    if (!layers.hist.Empty()) {
+        for (int b = 0; b < 3 * bins; ++b) layers.hist.At(b, y, x) = sums.bucket[b];
+        layers.hist.At(3 * bins, y, x) = float(n);
+    }
+    if (!layers.zhist.Empty()) {
+        for (int b = 0; b < 3 * bins; ++b) layers.zhist.At(b, y, x) = sums.zbucket[b];
+        layers.zhist.At(3 * bins, y, x) = float(n);
+    }
+}
+
+// Ershov section 8: the partials' means and variances, and their pivots: the pivot's grid
+// of rays, its terms split by mirror prefix.
+void WritePartials(const Scene &scene, const PixelSums &sums, const RenderOptions &o, int x,
+                   int y, FrameLayers &layers) {
+    const int w = o.width, h = o.height;
+    double n = o.spp;
+    Vec3 sumPivot[kPartialTypes + 1];
+    for (int j = 0; j < 16; ++j) {
+        double sx = x + (j % 4 + 0.5) / 4, sy = y + (j / 4 + 0.5) / 4;
+        Vec3 terms[kPartialTypes + 1];
+        PivotPartials(scene, scene.camera.Generate(sx, sy, w, h, 0.0, 0.0), terms);
+        for (int k = 0; k <= kPartialTypes; ++k) sumPivot[k] += terms[k];
+    }
+    for (int k = 0; k <= kPartialTypes; ++k)
+        for (int c = 0; c < 3; ++c) {
+            double mean = sums.sumPartial[k][c] / n;
+            layers.partialColors[k].At(c, y, x) = float(mean);
+            if (k == kPartialTypes) continue;
+            layers.partialPivots[k].At(c, y, x) = float(sumPivot[k][c] / 16);
+            // As the variance layer: of the mean, unbiased.
+            double var =
+                n > 1 ? std::max(0.0, (sums.sumSqPartial[k][c] - n * mean * mean) / (n - 1))
+                      : 0;
+            layers.partialVariances[k].At(c, y, x) = float(var / n);
+        }
+}
+
+// Every layer's value at pixel (x, y); returns its non-finite paths.
+uint64_t RenderPixel(const Scene &scene, const SampleSource &source, const RenderOptions &o,
+                     int x, int y, PixelSums &sums, FrameLayers &layers) {
+    sums.Reset();
+    if (!layers.pivot.Empty()) RenderPivot(scene, x, y, o.width, o.height, layers.pivot);
+    SamplePixel(source, o, layers, x, y, sums);
+    WritePixel(sums, o, x, y, layers);
+    if (!layers.partialColors.empty()) WritePartials(scene, sums, o, x, y, layers);
+    return sums.nonFinite;
+}
+
+// Call `work` on `threads` threads, this one included. A thread that cannot start leaves
+// its share to the rest.
+void RunOnThreads(int threads, const std::function<void()> &work) {
     std::vector<std::thread> pool;
     for (int t = 1; t < threads; ++t) {
         try {
-            pool.emplace_back(renderRows);
+            pool.emplace_back(work);
         } catch (const std::system_error &) {
             break;
         }
     }
-    renderRows();
+    work();
     for (std::thread &t : pool) t.join();
+}
+
+std::map<std::string, std::string> RenderMetadata(const Scene &scene, const RenderOptions &o,
+                                                  const RenderResult &result) {
+    return {{"mcd:scene", scene.name},
+            {"mcd:spp", std::to_string(o.spp)},
+            {"mcd:seed", std::to_string(o.seed)},
+            {"mcd:size", fmt::format("{}x{}", o.width, o.height)},
+            {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
+            {"mcd:renderer", fmt::format("mcdenoise path tracer {}", kRendererVersion)},
+            {"mcd:nonFiniteSamples", std::to_string(result.nonFiniteSamples)}};
+}
+
+}  // namespace
+
+PathSample SampleSource::Trace(double x, double y, uint64_t key) const {
+    Rng rng(Mix(seed ^ Mix(key)), key);
+    double lu = Uniform(rng), lv = Uniform(rng);
+    return TracePath(scene, scene.camera.Generate(x, y, width, height, lu, lv), rng);
+}
+
+RenderResult Render(const Scene &scene, const RenderOptions &o) {
+    CheckRenderOptions(o);
+    auto start = std::chrono::steady_clock::now();
+    FrameLayers layers(o);
+    SampleSource source(scene, o.width, o.height, o.seed);
+    std::atomic<int> nextRow{0}, rowsDone{0};
+    std::atomic<uint64_t> nonFinite{0};
+    std::mutex progressMutex;
+    auto renderRows = [&] {
+        PixelSums sums(o.histBins);
+        for (int y = nextRow++; y < o.height; y = nextRow++) {
+            for (int x = 0; x < o.width; ++x)
+                nonFinite += RenderPixel(scene, source, o, x, y, sums, layers);
+            int done = ++rowsDone;
+            if (o.progress) {
+                std::lock_guard<std::mutex> lock(progressMutex);
+                o.progress(done, o.height);
+            }
+        }
+    };
+    // Rows are handed out one at a time, so any number of threads gives the same frame; more
+    // threads than rows would idle.
+    int threads =
+        o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    RunOnThreads(std::clamp(threads, 1, std::min(o.height, 1024)), renderRows);
 
     RenderResult result;
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.nonFiniteSamples = nonFinite;
-    auto add = [&](const char *name, Image &image) {
-        if (!image.Empty()) result.layers.emplace_back(name, std::move(image));
-    };
-    add("color", color);
-    add("variance", variance);
-    add("spp", spp);
-    add("min", mn);
-    add("max", mx);
-    add("hist", hist);
-    add("zhist", zhist);
-    add("direct", direct);
-    add("indirect", indirect);
-    add("pivot", pivot);
-    add("albedo", albedo);
-    add("normal", normal);
-    add("depth", depth);
-    add("objectId", objectId);
-    add("partId", partId);
-    for (int k = 0; k < int(partialPivots.size()); ++k) {
-        result.layers.emplace_back(fmt::format("partial{}.color", k),
-                                   std::move(partialColors[k]));
-        result.layers.emplace_back(fmt::format("partial{}.pivot", k),
-                                   std::move(partialPivots[k]));
-        result.layers.emplace_back(fmt::format("partial{}.variance", k),
-                                   std::move(partialVariances[k]));
-    }
-    if (!partialColors.empty())
-        result.layers.emplace_back("remainder", std::move(partialColors.back()));
-    result.metadata = {
-        {"mcd:scene", scene.name},
-        {"mcd:spp", std::to_string(o.spp)},
-        {"mcd:seed", std::to_string(o.seed)},
-        {"mcd:size", fmt::format("{}x{}", w, h)},
-        {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
-        {"mcd:renderer", fmt::format("mcdenoise path tracer {}", kRendererVersion)},
-        {"mcd:nonFiniteSamples", std::to_string(result.nonFiniteSamples)}};
+    layers.MoveInto(result);
+    result.metadata = RenderMetadata(scene, o, result);
     return result;
 }
 
