@@ -82,6 +82,13 @@ ParamDef<O> ChoiceParam(std::string name, std::string help, std::string O::*fiel
             [field](O &o, const ParamValue &v) { o.*field = std::get<std::string>(v); }};
 }
 
+// A parameter of an options struct I held as O::*inner (the pipeline's own options).
+template <class O, class I>
+ParamDef<O> Nested(I O::*inner, ParamDef<I> def) {
+    return {def.info, [inner, get = def.get](const O &o) { return get(o.*inner); },
+            [inner, set = def.set](O &o, const ParamValue &v) { set(o.*inner, v); }};
+}
+
 class FrontEnd {
   public:
     virtual ~FrontEnd() = default;

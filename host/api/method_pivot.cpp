@@ -15,13 +15,6 @@ struct PivotParams {
     bool noPartials = false;
 };
 
-// A parameter of the pipeline's own options struct.
-template <class T>
-ParamDef<PivotParams> Field(ParamDef<PivotOptions> def) {
-    return {def.info, [get = def.get](const PivotParams &p) { return get(p.options); },
-            [set = def.set](PivotParams &p, const ParamValue &v) { set(p.options, v); }};
-}
-
 class Pivot : public FrontEndOf<PivotParams> {
   public:
     Pivot()
@@ -31,37 +24,43 @@ class Pivot : public FrontEndOf<PivotParams> {
                            "planefit (the paper's plane fits, eqs. 10-13) or bilateral "
                            "(cross-bilateral baseline of z = color / pivot)",
                            &PivotParams::filter, {"planefit", "bilateral"}),
-               Field<int>(IntParam("max-radius",
-                                   "largest half-size of a planefit square (paper: 30-40)",
-                                   &PivotOptions::maxRadius, 2, 64)),
-               Field<float>(FloatParam("target-noise",
-                                       "relative std of a centre's fit that stops the growth",
-                                       &PivotOptions::targetNoise, 0, 1e6)),
-               Field<float>(FloatParam(
-                   "good-noise", "pixels whose relative std exceeds this are left out of fits",
-                   &PivotOptions::goodNoise, 1e-6, 1e6)),
-               Field<float>(
-                   FloatParam("disagreement",
-                              "relative square-vs-quadrant difference that stops the growth",
-                              &PivotOptions::disagreement, 0, 1e6)),
-               Field<float>(FloatParam("robust-k",
-                                       "k of eq. 10; above 0 the fits down-weight outliers, "
-                                       "which lowers the error but darkens heavy-tailed frames "
-                                       "(relief-abc 16 spp: mean 0.65 of the reference with "
-                                       "0.3, 1.04 with 0)",
-                                       &PivotOptions::k, 0, 1e6)),
-               Field<float>(
-                   FloatParam("sigma-weight",
-                              "weight of the noise term sigma in eq. 10 (1: the paper; "
-                              "0 keeps fireflies' energy in heavy-tailed noise)",
-                              &PivotOptions::sigmaWeight, 0, 1e6)),
-               Field<int>(IntParam("bilateral-radius",
-                                   "window half-size of the bilateral filter",
-                                   &PivotOptions::bilateralRadius, 0, 64)),
-               Field<float>(FloatParam(
-                   "sigma-range", "bilateral range sigma on the pivot's relative difference",
-                   &PivotOptions::sigmaRange, 1e-6, 1e6)),
-               Field<float>(
+               Nested(&PivotParams::options,
+                      IntParam("max-radius",
+                               "largest half-size of a planefit square (paper: 30-40)",
+                               &PivotOptions::maxRadius, 2, 64)),
+               Nested(&PivotParams::options,
+                      FloatParam("target-noise",
+                                 "relative std of a centre's fit that stops the growth",
+                                 &PivotOptions::targetNoise, 0, 1e6)),
+               Nested(&PivotParams::options,
+                      FloatParam("good-noise",
+                                 "pixels whose relative std exceeds this are left out of fits",
+                                 &PivotOptions::goodNoise, 1e-6, 1e6)),
+               Nested(&PivotParams::options,
+                      FloatParam("disagreement",
+                                 "relative square-vs-quadrant difference that stops the growth",
+                                 &PivotOptions::disagreement, 0, 1e6)),
+               Nested(&PivotParams::options,
+                      FloatParam("robust-k",
+                                 "k of eq. 10; above 0 the fits down-weight outliers, "
+                                 "which lowers the error but darkens heavy-tailed frames "
+                                 "(relief-abc 16 spp: mean 0.65 of the reference with "
+                                 "0.3, 1.04 with 0)",
+                                 &PivotOptions::k, 0, 1e6)),
+               Nested(&PivotParams::options,
+                      FloatParam("sigma-weight",
+                                 "weight of the noise term sigma in eq. 10 (1: the paper; "
+                                 "0 keeps fireflies' energy in heavy-tailed noise)",
+                                 &PivotOptions::sigmaWeight, 0, 1e6)),
+               Nested(&PivotParams::options,
+                      IntParam("bilateral-radius", "window half-size of the bilateral filter",
+                               &PivotOptions::bilateralRadius, 0, 64)),
+               Nested(&PivotParams::options,
+                      FloatParam("sigma-range",
+                                 "bilateral range sigma on the pivot's relative difference",
+                                 &PivotOptions::sigmaRange, 1e-6, 1e6)),
+               Nested(
+                   &PivotParams::options,
                    FloatParam("pivot-floor",
                               "pixels with pivot <= this x the channel mean keep their input",
                               &PivotOptions::floor, 1e-12, 1e6)),

@@ -15,39 +15,41 @@ struct RhfParams {
     bool keepNegative = !RhfOptions().clampNegative;
 };
 
-template <class T>
-ParamDef<RhfParams> Field(ParamDef<RhfOptions> def) {
-    return {def.info, [get = def.get](const RhfParams &p) { return get(p.options); },
-            [set = def.set](RhfParams &p, const ParamValue &v) { set(p.options, v); }};
-}
-
 class Rhf : public FrontEndOf<RhfParams> {
   public:
     Rhf()
         : FrontEndOf(
               "rhf",
-              {Field<int>(IntParam("patch-half", "patch half-size w (patches are (2w+1)^2)",
-                                   &RhfOptions::patchHalf, 0, 20)),
-               Field<int>(IntParam("search-half",
-                                   "search half-window b (the window is (2b+1)^2)",
-                                   &RhfOptions::searchHalf, 0, 20)),
-               Field<float>(FloatParam("kappa",
-                                       "threshold on the normalised chi-square patch distance",
-                                       &RhfOptions::threshold, 0, 1e30)),
-               Field<float>(FloatParam(
-                   "bright-veto",
-                   "leave a candidate patch out when one of its pixels differs from its "
-                   "counterpart in the saturated bins (samples brighter than the histogram's "
-                   "range) by more than this: those bins' terms over the harmonic mean of the "
-                   "two sample counts. Beyond the authors' tool, whose distance lets a visible "
-                   "light into dark patches at few samples; 0 is the authors' tool",
-                   &RhfOptions::brightVeto, 0, 1e30)),
-               Field<int>(IntParam("knn", "nearest patches always averaged (finest scale)",
-                                   &RhfOptions::knn, 0, 1681)),
-               Field<int>(IntParam("nscales",
-                                   "scales (fewer when a scale would be smaller than the "
-                                   "search window)",
-                                   &RhfOptions::scales, 1, 8)),
+              {Nested(&RhfParams::options,
+                      IntParam("patch-half", "patch half-size w (patches are (2w+1)^2)",
+                               &RhfOptions::patchHalf, 0, 20)),
+               Nested(&RhfParams::options,
+                      IntParam("search-half", "search half-window b (the window is (2b+1)^2)",
+                               &RhfOptions::searchHalf, 0, 20)),
+               Nested(
+                   &RhfParams::options,
+                   FloatParam("kappa", "threshold on the normalised chi-square patch distance",
+                              &RhfOptions::threshold, 0, 1e30)),
+               Nested(&RhfParams::options,
+                      FloatParam(
+                          "bright-veto",
+                          "leave a candidate patch out when one of its pixels differs from its "
+                          "counterpart in the saturated bins (samples brighter than the "
+                          "histogram's "
+                          "range) by more than this: those bins' terms over the harmonic mean "
+                          "of the "
+                          "two sample counts. Beyond the authors' tool, whose distance lets a "
+                          "visible "
+                          "light into dark patches at few samples; 0 is the authors' tool",
+                          &RhfOptions::brightVeto, 0, 1e30)),
+               Nested(&RhfParams::options,
+                      IntParam("knn", "nearest patches always averaged (finest scale)",
+                               &RhfOptions::knn, 0, 1681)),
+               Nested(&RhfParams::options,
+                      IntParam("nscales",
+                               "scales (fewer when a scale would be smaller than the "
+                               "search window)",
+                               &RhfOptions::scales, 1, 8)),
                BoolParam("keep-negative",
                          "keep negative output values, as the authors' tool does (by default "
                          "the scale recombination's bicubic overshoot below 0 is clamped to 0)",

@@ -9,37 +9,12 @@
 
 #include "host/error.h"
 #include "host/io/frame.h"
+#include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
 
 namespace mcd::tool {
 namespace {
-
-struct StageError {
-    double nmse = 0;    // sum (gpu - cpu)^2 / sum cpu^2, over elements finite on both
-    double maxRel = 0;  // max |gpu - cpu| / max |cpu|
-    size_t parity = 0;  // elements finite on one side only
-};
-
-StageError Measure(const Image &gpu, const Image &cpu) {
-    StageError e;
-    double num = 0, den = 0, maxDiff = 0, maxRef = 0;
-    for (size_t i = 0; i < cpu.data.size(); ++i) {
-        double g = gpu.data[i], c = cpu.data[i];
-        if (std::isfinite(g) != std::isfinite(c)) {
-            ++e.parity;
-            continue;
-        }
-        if (!std::isfinite(c)) continue;
-        num += (g - c) * (g - c);
-        den += c * c;
-        maxDiff = std::max(maxDiff, std::fabs(g - c));
-        maxRef = std::max(maxRef, std::fabs(c));
-    }
-    e.nmse = den > 0 ? num / den : num;
-    e.maxRel = maxRef > 0 ? maxDiff / maxRef : maxDiff;
-    return e;
-}
 
 std::string FileName(const std::string &stage) {
     std::string name = stage;
@@ -114,7 +89,7 @@ void AddDiffCommand(CLI::App &app) {
                                 "CPU",
                                 g.name, g.image.width, g.image.height, g.image.channels,
                                 c.width, c.height, c.channels));
-            StageError e = Measure(g.image, c);
+            ElementDifference e = MeasureDifference(g.image, c);
             fmt::print("  {:<24} {:>12.3g} {:>16.3g} {:>10}\n", g.name, e.nmse, e.maxRel,
                        e.parity);
             if (opt->maxNmse >= 0 && worst.empty() && (e.nmse > opt->maxNmse || e.parity))
