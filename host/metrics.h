@@ -1,4 +1,4 @@
-// Error metrics of DESIGN.md ("Error and time"), over the first three channels (or one).
+// Error metrics of ARCHITECTURE.md ("Frames, layers and error"), over the first three channels (or one).
 #pragma once
 
 #include "host/image.h"

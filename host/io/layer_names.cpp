@@ -23,7 +23,7 @@ namespace {
 constexpr int kOwnPriority = 3;
 constexpr int kUnknownPriority = 0;
 
-// Our layer names (DESIGN.md), plus "hist" for the Bin_NNNN channels and "zhist" for the
+// Our layer names (ARCHITECTURE.md), plus "hist" for the Bin_NNNN channels and "zhist" for the
 // histograms of color / pivot (zhist.0 .. zhist.3n, laid out as hist).
 constexpr std::array<std::string_view, 17> kOwnNames = {
     "color",    "variance", "spp",       "min",       "max",    "hist",

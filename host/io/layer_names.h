@@ -1,4 +1,4 @@
-// Layer-name conventions (DESIGN.md, "Frames and layer names"): how a file's channel
+// Layer-name conventions (ARCHITECTURE.md, "Frames, layers and error"): how a file's channel
 // names group into our layers, and the channel names each layer is written under. Pure
 // string work, kept apart from the file I/O so the rules can be read in one place.
 #pragma once

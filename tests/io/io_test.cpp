@@ -150,7 +150,7 @@ TEST_F(IoTest, ExrRoundTripIsBitExact) {
     }
     for (const auto &[key, value] : metadata) EXPECT_EQ(frame.metadata[key], value) << key;
 
-    // The file holds float32 channels under the DESIGN.md names.
+    // The file holds float32 channels under the ARCHITECTURE.md names.
     auto in = OIIO::ImageInput::open(path);
     ASSERT_TRUE(in);
     const OIIO::ImageSpec &spec = in->spec();

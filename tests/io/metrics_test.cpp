@@ -1,4 +1,4 @@
-// Error metrics (DESIGN.md): known values, edge cases, refusals.
+// Error metrics (ARCHITECTURE.md): known values, edge cases, refusals.
 #include <gtest/gtest.h>
 
 #include <cmath>

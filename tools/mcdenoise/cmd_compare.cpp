@@ -1,4 +1,4 @@
-// `mcdenoise compare`: the error of an image against a reference (DESIGN.md metrics).
+// `mcdenoise compare`: the error of an image against a reference (ARCHITECTURE.md metrics).
 #include <fmt/format.h>
 
 #include "host/io/frame.h"

@@ -1,7 +1,7 @@
 // AWR's adaptive sampler (Overbeck et al., section 4.1) driving the renderer's sample
 // source. Start with 4 samples per pixel; then, in rounds, compute the priority of every
 // scale coefficient of levels 0..5, P = var(S~) - mean over the three wavelets of W~^2
-// (eq. 8), with var(S~) from the squared low-pass DWT (renormalised to 1.05) of the
+// (eq. 8), with var(S~) from the squared low-pass DWT (renormalised to lowSum) of the
 // per-pixel variance of the mean under Mitchell's contrast (eqs. 5, 6, 9), and give the
 // highest ones 64 x 2^k samples each, placed by importance sampling |phi_k| along each
 // axis. The wavelet transforms run on the GPU; a round pops as many coefficients as fit
@@ -35,12 +35,8 @@ struct AdaptiveOptions {
     WaveletBasis basis = WaveletBasis::Cdf97;
     // Sum of the squared 1D low-pass filter in the priorities' variance DWT (eq. 9); each
     // level multiplies a smooth variance by its square, tilting pops toward coarse levels.
-    // The paper's 1.05 here sends every sample to level 0 on the test's smooth noisy
-    // region (the spread of the 4-sample pixel variances outweighs a 1.1x tilt per level);
-    // 1.2 sends it to levels 3-4 and edges to level 0, as the paper's figure 3 describes,
-    // and on dof-arealight 128x128 (relMSE after reconstruction, 1.05 -> 1.2) gives 8 spp
-    // 0.0047 -> 0.0036, 16 spp 0.0026 -> 0.0016, 32 spp 0.0015 -> 0.0009 (3 seeds), 64 spp
-    // 0.00061 both.
+    // Not the paper's 1.05, which sends every sample to level 0 on smooth noise; 1.2 serves
+    // edges from fine levels and smooth noise from coarse ones (README, the sampler).
     float lowSum = 1.2f;
     // Luminance floor f of the sampler's contrast (eq. 5): (Imax - Imin)^2 / ((Imax + Imin)^2
     // + (2f)^2). Mitchell's contrast (f = 0) is scale-free, so a shadow pixel with samples

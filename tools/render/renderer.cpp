@@ -97,7 +97,7 @@ struct FrameLayers {
         }
     }
 
-    // Into result.layers, in DESIGN.md order.
+    // Into result.layers, in ARCHITECTURE.md order.
     void MoveInto(RenderResult &result) {
         auto add = [&](const char *name, Image &image) {
             if (!image.Empty()) result.layers.emplace_back(name, std::move(image));

@@ -1,4 +1,4 @@
-// The built-in renderer: every layer of DESIGN.md for a built-in scene, on all cores,
+// The built-in renderer: every layer of ARCHITECTURE.md for a built-in scene, on all cores,
 // bit-identical for any thread count (each pixel's samples come from their own PCG
 // streams, keyed by seed, pixel and sample index).
 #pragma once
@@ -51,7 +51,7 @@ struct RenderOptions {
 };
 
 struct RenderResult {
-    std::vector<std::pair<std::string, Image>> layers;  // in DESIGN.md order
+    std::vector<std::pair<std::string, Image>> layers;  // in ARCHITECTURE.md order
     std::map<std::string, std::string> metadata;
     double seconds = 0;
     uint64_t nonFiniteSamples = 0;  // paths that produced NaN/Inf (counted as 0)
@@ -63,7 +63,7 @@ RenderResult Render(const Scene &scene, const RenderOptions &options);
 // 3 x bins histogram of a pixel (channel c's bins start at c * bins).
 void AddToHistogram(const double color[3], int bins, float *histogram);
 
-// The sample source of DESIGN.md: one sample at a continuous image position, for the
+// The sample source of ARCHITECTURE.md: one sample at a continuous image position, for the
 // renderer's own per-pixel loop and for AWR's adaptive sampler. `key` picks the random
 // stream, so the same (x, y, key) always gives the same sample.
 class SampleSource {
