@@ -15,12 +15,10 @@ namespace {
 
 struct BayesParams {
     std::string basis = WaveletName(BayesOptions().basis);
-    // swt beat the decimated DWT on all six cornell/interior 4/16/64-spp frames (README,
-    // Method bayes), at about 3x its GPU time; the paper's transform is the DWT.
-    std::string transform = "swt";
+    std::string transform = BayesTransformName(BayesOptions().transform);
     // auto: the variance layer when present, else the finest band's MAD; it beat the
-    // paper's fixed s_n in every row of the same frames.
-    std::string noise = "auto";
+    // paper's fixed s_n in every row of cornell/interior at 4/16/64 spp (README).
+    std::string noise = BayesOptions().noiseAuto ? "auto" : "fixed";
     std::string zeros = "restore", colour = "rgb";
     int levels = BayesOptions().levels, spins = BayesOptions().spins;
     float sn = BayesOptions().sn, pn = BayesOptions().pn, hpFactor = BayesOptions().hpFactor;

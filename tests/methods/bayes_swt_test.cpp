@@ -365,7 +365,7 @@ TEST_F(BayesSwtMethod, WholeMethodMatchesReference) {
             SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
             Image color =
                 NoisyPicture(w, h, SeedFromName(fmt::format("swtwhole{}x{}", w, h)), 0.3);
-            BayesOptions options;
+            BayesOptions options = PaperBayesOptions();
             options.basis = basis;
             options.transform = BayesTransform::Swt;
             BayesResult gpu = BayesDenoise(Ctx(), color, options);
@@ -409,7 +409,7 @@ TEST_F(BayesSwtMethod, VarianceNoiseMatchesReference) {
             for (size_t b = 0; b < cpu.size(); ++b)
                 EXPECT_NEAR(gpu[b], cpu[b], 1e-5 * cpu[b]) << "band " << b;
             // And the whole method with it, against the reference.
-            BayesOptions options;
+            BayesOptions options = PaperBayesOptions();
             options.basis = basis;
             options.transform = BayesTransform::Swt;
             options.variance = &variance;
@@ -429,7 +429,7 @@ TEST_F(BayesSwtMethod, VarianceNoiseMatchesReference) {
 TEST_F(BayesSwtMethod, NoiseAutoEstimatesTheNoise) {
     const double sigma = 0.3;
     Image noise = LogNormalNoise(96, 96, SeedFromName("swt noise auto"), sigma);
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.noiseAuto = true;
     options.pn = 2;
     options.hpFactor = 1;
@@ -468,7 +468,7 @@ TEST_F(BayesSwtMethod, ShiftingTheInputShiftsTheOutput) {
                 a.At(c, y, x) = big.At(c, y, x), b.At(c, y, x) = big.At(c, y, x + 1);
     double change[2] = {0, 0};
     for (BayesTransform transform : {BayesTransform::Dwt, BayesTransform::Swt}) {
-        BayesOptions options;
+        BayesOptions options = PaperBayesOptions();
         options.transform = transform;
         Image outA = Log(BayesDenoise(Ctx(), a, options).image);
         Image outB = Log(BayesDenoise(Ctx(), b, options).image);
@@ -490,7 +490,7 @@ TEST_F(BayesSwtMethod, RerunsAreBitIdentical) {
     Image color = NoisyPicture(45, 31, SeedFromName("swt method rerun"), 0.3);
     color.At(0, 3, 3) = 0;
     color.At(1, 4, 4) = std::numeric_limits<float>::quiet_NaN();
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.basis = WaveletBasis::Cdf97;
     options.noiseAuto = true;
     options.transform = BayesTransform::Swt;
@@ -511,7 +511,7 @@ TEST_F(BayesSwtMethod, ChannelGroupsChangeNothing) {
         variance.data[i] = 0.05f * color.data[i] * color.data[i];
     for (int noise = 0; noise < 3; ++noise) {
         SCOPED_TRACE(noise == 0 ? "fixed" : (noise == 1 ? "mad" : "variance"));
-        BayesOptions options;
+        BayesOptions options = PaperBayesOptions();
         options.transform = BayesTransform::Swt;
         options.basis = WaveletBasis::Cdf97;
         options.noiseAuto = noise == 1;
@@ -535,7 +535,7 @@ TEST_F(BayesSwtMethod, RefusesAboveOneBinding) {
     if (SwtChannelsPerBinding(Ctx(), 4096, 4096, 3) >= 1)
         GTEST_SKIP() << "this device binds one 4096x4096 channel's coefficients: nothing to "
                         "refuse";
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.transform = BayesTransform::Swt;
     std::string message =
         ErrorOf([&] { BayesDenoise(Ctx(), Image(4096, 4096, 1, 0.5f), options); });

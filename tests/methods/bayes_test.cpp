@@ -511,7 +511,7 @@ TEST_F(BayesKernel, WholeMethodMatchesReference) {
             SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
             Image color =
                 NoisyPicture(w, h, SeedFromName(fmt::format("whole{}x{}", w, h)), 0.3);
-            BayesOptions options;
+            BayesOptions options = PaperBayesOptions();
             options.basis = basis;
             BayesResult gpu = BayesDenoise(Ctx(), color, options);
             ref::BayesRefOptions refOptions;
@@ -535,7 +535,7 @@ TEST_F(BayesKernel, CycleSpinningMatchesReference) {
          {std::tuple{19, 11, 2}, std::tuple{1, 6, 2}, std::tuple{2, 3, 4}}) {
         SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
         Image color = NoisyPicture(w, h, SeedFromName(fmt::format("spin{}x{}", w, h)), 0.3);
-        BayesOptions options;
+        BayesOptions options = PaperBayesOptions();
         options.spins = spins;
         BayesResult gpu = BayesDenoise(Ctx(), color, options);
         ref::BayesRefOptions refOptions;
@@ -559,7 +559,7 @@ TEST_F(BayesKernel, ExtremeNoiseModelsMatchReference) {
     for (auto [sn, pn] :
          {std::pair{0.01f, 10.f}, std::pair{1e-30f, 1.5f}, std::pair{0.19f, 0.1f}}) {
         SCOPED_TRACE(fmt::format("s_n {} p_n {}", sn, pn));
-        BayesOptions options;
+        BayesOptions options = PaperBayesOptions();
         options.sn = sn;
         options.pn = pn;
         BayesResult gpu = BayesDenoise(Ctx(), color, options);
@@ -592,7 +592,7 @@ TEST_F(BayesKernel, ExtremeNoiseModelsMatchReference) {
 // so the reference given that s_n agrees within the usual tolerance.
 TEST_F(BayesKernel, NoiseAutoSpinsShareOneEstimate) {
     Image color = NoisyPicture(21, 13, SeedFromName("auto spins"), 0.3);
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.noiseAuto = true;
     options.spins = 2;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
@@ -638,7 +638,7 @@ TEST_F(BayesKernel, OpponentColourMatchesReference) {
     for (auto [w, h] : {std::pair{23, 17}, std::pair{1, 1}, std::pair{4, 9}}) {
         SCOPED_TRACE(fmt::format("{}x{}", w, h));
         Image color = NoisyPicture(w, h, SeedFromName(fmt::format("opp{}x{}", w, h)), 0.3);
-        BayesOptions options;
+        BayesOptions options = PaperBayesOptions();
         options.opponent = true;
         BayesResult gpu = BayesDenoise(Ctx(), color, options);
         ref::BayesRefOptions refOptions;
@@ -651,7 +651,7 @@ TEST_F(BayesKernel, OpponentColourMatchesReference) {
         for (float &v : logCpu.data) v = std::log(v);
         EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
     }
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.opponent = true;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(4, 4, 2, 1.f), options); }),
                          "3 channels"));
@@ -659,7 +659,7 @@ TEST_F(BayesKernel, OpponentColourMatchesReference) {
 
 TEST_F(BayesKernel, RerunsAreBitIdentical) {
     Image color = AwkwardInput(45, 31, 3, SeedFromName("bayes rerun"));
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.basis = WaveletBasis::Cdf97;
     options.noiseAuto = true;
     options.spins = 2;
@@ -685,7 +685,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     for (int x = 0; x < w; ++x) mixed.At(0, 3, x) = 0;
     mixed.At(1, 10, 10) = 1e-8f;
     mixed.At(2, 11, 11) = 1e8f;
-    BayesResult r = BayesDenoise(Ctx(), mixed, {});
+    BayesResult r = BayesDenoise(Ctx(), mixed, PaperBayesOptions());
     EXPECT_TRUE(AllFinite(r.image));
     EXPECT_TRUE(AnyWarning(r, "33 zero values")) << ::testing::PrintToString(r.warnings);
     EXPECT_TRUE(AnyWarning(r, "1 tiny positive value")) << ::testing::PrintToString(r.warnings);
@@ -696,7 +696,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     bad.At(1, 4, 5) = std::numeric_limits<float>::infinity();
     bad.At(2, 6, 7) = -std::numeric_limits<float>::infinity();
     bad.At(2, 8, 9) = -3.f;
-    r = BayesDenoise(Ctx(), bad, {});
+    r = BayesDenoise(Ctx(), bad, PaperBayesOptions());
     EXPECT_TRUE(AllFinite(r.image));
     EXPECT_TRUE(AnyWarning(r, "3 NaN/Inf values (first at pixel (2, 1), channel 0)"))
         << ::testing::PrintToString(r.warnings);
@@ -704,7 +704,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     EXPECT_EQ(r.image.At(0, 1, 2), 0.f);
     // All zeros, all NaN, pure noise (no signal at all), constant.
     for (float fill : {0.f, std::numeric_limits<float>::quiet_NaN()}) {
-        BayesResult z = BayesDenoise(Ctx(), Image(w, h, 3, fill), {});
+        BayesResult z = BayesDenoise(Ctx(), Image(w, h, 3, fill), PaperBayesOptions());
         EXPECT_TRUE(AllFinite(z.image));
         for (float v : z.image.data) EXPECT_EQ(v, 0.f);
         EXPECT_FALSE(z.warnings.empty());
@@ -713,7 +713,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     std::mt19937_64 rng(SeedFromName("pure noise"));
     std::normal_distribution<float> normal(0.f, 0.19f);
     for (float &v : noise.data) v = std::exp(normal(rng));
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.noiseAuto = true;
     BayesResult pure = BayesDenoise(Ctx(), noise, options);
     EXPECT_TRUE(AllFinite(pure.image));
@@ -727,25 +727,29 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
             varOut += std::pow(pure.image.data[i] - meanOut, 2);
     EXPECT_LT(varOut, 0.25 * varIn) << varIn << " -> " << varOut;
     Image constant(w, h, 3, 0.37f);
-    BayesResult k = BayesDenoise(Ctx(), constant, {});
+    BayesResult k = BayesDenoise(Ctx(), constant, PaperBayesOptions());
     for (float v : k.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
     for (const BayesBandFit &f : k.fits) EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_SIGNAL);
 }
 
 TEST_F(BayesProperties, BadOptionsAreRefused) {
     Image color(8, 6, 3, 0.5f);
-    BayesOptions o;
+    BayesOptions o = PaperBayesOptions();
     o.sn = -1;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "s_n"));
-    o = {};
+    o = PaperBayesOptions();
     o.pn = std::numeric_limits<float>::quiet_NaN();
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "p_n"));
-    o = {};
+    o = PaperBayesOptions();
     o.floorRel = 0;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "floor"));
-    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(), {}); }), "empty"));
-    EXPECT_TRUE(Contains(
-        ErrorOf([&] { BayesDenoiseSplit(Ctx(), color, Image(8, 5, 3, 0.1f), {}); }), "8x5x3"));
+    EXPECT_TRUE(
+        Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(), PaperBayesOptions()); }), "empty"));
+    EXPECT_TRUE(Contains(ErrorOf([&] {
+                             BayesDenoiseSplit(Ctx(), color, Image(8, 5, 3, 0.1f),
+                                               PaperBayesOptions());
+                         }),
+                         "8x5x3"));
 }
 
 // --noise auto on log-normal noise of known sigma recovers the finest level's s: for
@@ -754,7 +758,7 @@ TEST_F(BayesProperties, BadOptionsAreRefused) {
 TEST_F(BayesProperties, NoiseAutoEstimatesTheNoise) {
     const double sigma = 0.3;
     Image noise = LogNormalNoise(96, 96, SeedFromName("noise auto"), sigma);
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.noiseAuto = true;
     options.pn = 2;
     options.hpFactor = 1;
@@ -767,8 +771,8 @@ TEST_F(BayesProperties, SplitAddsTheDirectPartBack) {
     Image indirect = NoisyPicture(20, 12, SeedFromName("split"), 0.2);
     Image direct(20, 12, 3, 0.25f);
     direct.At(0, 0, 0) = std::numeric_limits<float>::quiet_NaN();
-    BayesResult whole = BayesDenoise(Ctx(), indirect, {});
-    BayesResult split = BayesDenoiseSplit(Ctx(), direct, indirect, {});
+    BayesResult whole = BayesDenoise(Ctx(), indirect, PaperBayesOptions());
+    BayesResult split = BayesDenoiseSplit(Ctx(), direct, indirect, PaperBayesOptions());
     for (size_t i = 1; i < whole.image.Size(); ++i)
         EXPECT_EQ(split.image.data[i], whole.image.data[i] + 0.25f);
     EXPECT_TRUE(AnyWarning(split, "1 NaN/Inf values in the direct layer"));
@@ -919,7 +923,7 @@ TEST_F(BayesVariance, ZeroAndHugeVarianceAreStable) {
           std::numeric_limits<float>::quiet_NaN()}) {
         SCOPED_TRACE(fmt::format("variance {}", fill));
         Image variance(color.width, color.height, 3, fill);
-        BayesOptions options;
+        BayesOptions options = PaperBayesOptions();
         options.variance = &variance;
         BayesResult r = BayesDenoise(Ctx(), color, options);
         EXPECT_TRUE(AllFinite(r.image));
@@ -931,7 +935,7 @@ TEST_F(BayesVariance, ZeroAndHugeVarianceAreStable) {
     }
     Image awkward = AwkwardInput(37, 23, 3, SeedFromName("variance awkward"));
     Image awkwardVariance = AwkwardVariance(awkward, 5);
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.variance = &awkwardVariance;
     EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), awkward, options).image));
     for (auto [w, h, spins] :
@@ -940,7 +944,7 @@ TEST_F(BayesVariance, ZeroAndHugeVarianceAreStable) {
         Image c = NoisyPicture(w, h, SeedFromName(fmt::format("var whole{}x{}", w, h)), 0.3);
         Image v = c;
         for (float &x : v.data) x = 0.05f * x * x;
-        BayesOptions o;
+        BayesOptions o = PaperBayesOptions();
         o.variance = &v;
         o.spins = spins;
         o.basis = WaveletBasis::Cdf97;

@@ -30,7 +30,7 @@ TEST_F(BayesSwtLarge, ChannelGroupsAboveOneBinding) {
         GTEST_SKIP() << "this device binds all three channels' coefficients: no groups";
     for (bool useVariance : {false, true}) {
         SCOPED_TRACE(useVariance ? "--noise variance" : "fixed noise");
-        BayesOptions options;
+        BayesOptions options = PaperBayesOptions();
         options.transform = BayesTransform::Swt;
         if (useVariance) options.variance = &variance;
         BayesResult all = BayesDenoise(Ctx(), color, options);

@@ -62,7 +62,7 @@ TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
                          "at pixel (6, 5), channel 2: replaced by 0"))
         << r.err;
     EXPECT_TRUE(Contains(r.err, "2 zero values")) << r.err;  // the NaN is a zero now
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.sn = 0.3f;
     options.transform = BayesTransform::Swt;  // the CLI's default
     Image expected = BayesDenoiseSplit(Ctx(), direct, indirect, options).image;
@@ -95,7 +95,7 @@ TEST_F(BayesCli, NoiseAutoUsesTheVarianceLayer) {
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_TRUE(Contains(r.out, "the frame has a variance layer")) << r.out;
     EXPECT_TRUE(Contains(r.out, "--noise variance: per band")) << r.out;
-    BayesOptions options;
+    BayesOptions options = PaperBayesOptions();
     options.variance = &variance;
     options.transform = BayesTransform::Swt;  // the CLI's default
     Image expected = BayesDenoise(Ctx(), color, options).image;
