@@ -6,9 +6,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 prefix=build/install
 rm -rf "$prefix" build/example
-cmake --install build --prefix "$prefix" >/dev/null
-cmake -S examples -B build/example -G Ninja -DCMAKE_PREFIX_PATH="$PWD/$prefix" >/dev/null
-cmake --build build/example >/dev/null
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+# Quiet when it works, the whole log when a step fails.
+step() { "$@" >"$log" 2>&1 || { cat "$log" >&2; echo "example: failed: $*" >&2; exit 1; }; }
+step cmake --install build --prefix "$prefix"
+step cmake -S examples -B build/example -G Ninja -DCMAKE_PREFIX_PATH="$PWD/$prefix"
+step cmake --build build/example
 frame=build/example/frame.exr
 build/mcdenoise render --scene cornell --size 48x40 --spp 4 --layers all -o "$frame" >/dev/null
 passed=0 failed=0
