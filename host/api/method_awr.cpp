@@ -15,8 +15,8 @@ namespace {
 
 struct AwrParams {
     std::string basis = WaveletName(AwrOptions().basis);
-    // auto prefers the variance layer: on dof-arealight (128x128, 32 spp) it halves plain
-    // Monte Carlo's relMSE (0.0027 -> 0.0014) where the paper's range bound doubles it.
+    // auto prefers the variance layer: the paper's range bound, (max - min)^2 / spp,
+    // over-smooths (README, Method awr).
     std::string variance = "auto";
     int levels = AwrOptions().levels;
     int spins = AwrOptions().spins;

@@ -26,19 +26,14 @@ struct RhfOptions {
     // out when one pixel pair's counted terms in the saturated bins (the last two of each
     // colour: samples above the histogram's range M) sum to more than brightVeto x the
     // harmonic mean of the pair's sample counts (in the frame's counts at every scale).
-    // The tool's distance is a mean over a patch's counted terms, so a light pixel's large
-    // terms are diluted by the zero terms of eight alike pixels: at 4 spp cornell's area
-    // light (12 against 0.14) went into ceiling patches, and relMSE rose 0.044 -> 0.075.
-    // With 0.3 it falls to 0.0120 (128x128, seed 1). For a grey light the bound is a
-    // difference of 10% in the share of samples above M: fireflies scene's 380-bright point
-    // seen by 7 of 64 samples stays put (0.5 let it spread), while a lone firefly sample,
-    // at most 1 in its bins, stays below the tool's "more than 1" and is averaged away.
+    // The tool's distance is a mean over a patch's counted terms, so a visible light's large
+    // terms are diluted by the zero terms of its alike neighbours and the light leaks into
+    // dark patches at few samples; a lone firefly sample, at most 1 in its bins, stays below
+    // the tool's "more than 1" and is still averaged away (README, "The bright veto").
     float brightVeto = 0.3f;
-    // Clamp negative output to 0 (beyond the authors' tool). The recombination's bicubic
-    // U overshoots at strong edges: next to cornell's area light (12 against 0.1) it gave
-    // -0.8, and 2-3% of the values came out negative at 4-64 spp; clamping took cornell's
-    // relMSE at 16 spp from 0.0144 to 0.0100 (the input's: 0.0112; 128x128 against 4096
-    // spp). The clamp follows the last stage, so `diff --method rhf` compares raw stages.
+    // Clamp negative output to 0 (beyond the authors' tool): the recombination's bicubic U
+    // overshoots below 0 at strong edges (README). The clamp follows the last stage, so
+    // `diff --method rhf` compares raw stages.
     bool clampNegative = true;
     // Splitting knobs (0: automatic, from the device's binding limit). Tests use them to
     // exercise the split paths on small frames.

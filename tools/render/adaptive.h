@@ -40,12 +40,9 @@ struct AdaptiveOptions {
     float lowSum = 1.2f;
     // Luminance floor f of the sampler's contrast (eq. 5): (Imax - Imin)^2 / ((Imax + Imin)^2
     // + (2f)^2). Mitchell's contrast (f = 0) is scale-free, so a shadow pixel with samples
-    // 0 and 0.001 ranks with the brightest edge; with (Imax + Imin) / 2 standing in for the
-    // mean, the floor makes it the range relative to sqrt(mean^2 + f^2), the denominator of
-    // relMSE (f = 0.1: eps 0.01). On dof-arealight at 128x128 and 32 spp, f 0 -> 0.1 halves
-    // the samples of the non-black pixels darker than 0.02 (72 -> 36 spp), gives the edges
-    // 95 instead of 66, and lowers the final relMSE 0.00096 -> 0.00063 (256x256: 0.00067 ->
-    // 0.00044; README, issue #5).
+    // 0 and 0.001 ranks with the brightest edge; the floor makes it the range relative to
+    // sqrt(mean^2 + f^2), the denominator of relMSE (f = 0.1: eps 0.01). Measured in the
+    // README (the adaptive sampler).
     float contrastFloor = 0.1f;
     uint64_t seed = 1;
     int threads = 0;  // tracing threads, 0: all cores; the frame is the same for any number
