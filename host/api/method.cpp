@@ -27,9 +27,9 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
                          "layer, from render --layers zhist, and the pivot)",
                          &CommonParams::demodulate, {"", "pivot", "albedo"}),
         api::ChoiceParam("non-finite",
-                         "NaN/Inf input values: zero (replace them with 0 and warn, naming "
-                         "the layer and the first pixel) or refuse (stop with that message)",
-                         &CommonParams::nonFinite, {"zero", "refuse"})};
+                         "NaN/Inf input values: refuse (stop, naming the layer, the count "
+                         "and the first pixel) or zero (replace them with 0 and warn so)",
+                         &CommonParams::nonFinite, {"refuse", "zero"})};
 }
 
 // `auto` tries the methods in this order and takes the first the frame has the layers for.
@@ -74,10 +74,10 @@ class Auto : public api::FrontEnd {
     }
     const std::vector<ParamInfo> &Params() const override { return infos; }
     void Set(const std::string &param, const ParamValue &value) override {
-        Owner(param).Set(param, value);
+        candidates[Owner(param)]->Set(param, value);
     }
     ParamValue Get(const std::string &param) const override {
-        return const_cast<Auto *>(this)->Owner(param).Get(param);
+        return candidates[Owner(param)]->Get(param);
     }
     std::string Missing(const Frame &frame) const override {
         for (const auto &c : candidates)
@@ -110,10 +110,11 @@ class Auto : public api::FrontEnd {
     }
 
   private:
-    api::FrontEnd &Owner(const std::string &param) {
-        for (auto &c : candidates)
-            for (const ParamInfo &info : c->Params())
-                if (info.name == param) return *c;
+    // The candidate that has the parameter (names are unique across methods).
+    size_t Owner(const std::string &param) const {
+        for (size_t i = 0; i < candidates.size(); ++i)
+            for (const ParamInfo &info : candidates[i]->Params())
+                if (info.name == param) return i;
         throw Error("auto has no parameter '" + param + "'");
     }
     std::string name = "auto";
