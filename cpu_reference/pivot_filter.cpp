@@ -384,4 +384,47 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
     return out;
 }
 
+namespace {
+
+// One image through ratio, fits (or the bilateral filter) and gather; its stages prefixed.
+Image PivotFilterOne(const Image &color, const Image &pivot, const Image *variance,
+                     const PivotGuides &guides, const PivotParams &params,
+                     const std::string &prefix,
+                     std::vector<std::pair<std::string, Image>> *stages) {
+    PivotRatio ratio = PivotRatioOf(color, pivot, variance, params.floor, guides.ids);
+    Image out, fits;
+    if (params.bilateral) {
+        out = PivotBilateral(color, pivot, ratio, guides, params);
+    } else {
+        fits = PivotFit(ratio, guides, params);
+        out = PivotGather(color, pivot, ratio, fits, guides);
+    }
+    if (stages) {
+        stages->emplace_back(prefix + "z", std::move(ratio.z));
+        stages->emplace_back(prefix + "nu", std::move(ratio.nu));
+        if (!params.bilateral) stages->emplace_back(prefix + "fits", std::move(fits));
+        stages->emplace_back(prefix + "output", out);
+    }
+    return out;
+}
+
+}  // namespace
+
+Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
+                  std::vector<std::pair<std::string, Image>> *stages) {
+    if (in.partials.empty())
+        return PivotFilterOne(*in.color, *in.pivot, in.variance, in.guides, params, "", stages);
+    Image out(in.remainder->width, in.remainder->height, in.remainder->channels);
+    for (size_t k = 0; k < in.partials.size(); ++k) {
+        const PivotPartialImage &partial = in.partials[k];
+        Image filtered =
+            PivotFilterOne(*partial.color, *partial.pivot, partial.variance, in.guides, params,
+                           "partial" + std::to_string(k) + ".", stages);
+        for (size_t i = 0; i < out.Size(); ++i) out.data[i] += filtered.data[i];
+    }
+    // The remainder is left unfiltered (section 8).
+    for (size_t i = 0; i < out.Size(); ++i) out.data[i] += in.remainder->data[i];
+    return out;
+}
+
 }  // namespace mcd::ref

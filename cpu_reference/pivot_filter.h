@@ -35,6 +35,10 @@
 //   normalised by the sum of the weights.
 #pragma once
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "host/image.h"
 
 namespace mcd::ref {
@@ -58,6 +62,7 @@ struct PivotParams {
     // the relative difference of the pivot's channel mean.
     int bilateralRadius = 8;
     double sigmaRange = 0.2;
+    bool bilateral = false;  // PivotFilter: the bilateral baseline instead of the plane fits
 };
 
 // Optional guides: normals (3 channels) and ids (2 channels: object, part); nullptr when
@@ -91,6 +96,26 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
 // over fitted pixels, then back-multiplied.
 Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &ratio,
                      const PivotGuides &guides, const PivotParams &params);
+
+// Section 8: one partial image with its own pivot and, optionally, variance.
+struct PivotPartialImage {
+    const Image *color = nullptr, *pivot = nullptr, *variance = nullptr;
+};
+// What PivotFilter reads; variance is optional. With partials, color, pivot and variance
+// are unused: each partial is filtered against its own pivot, and the sum plus the
+// remainder is the output.
+struct PivotFilterInputs {
+    const Image *color = nullptr, *pivot = nullptr, *variance = nullptr;
+    PivotGuides guides;
+    std::vector<PivotPartialImage> partials;
+    const Image *remainder = nullptr;
+};
+
+// The whole method as `mcdenoise diff` compares it. With `stages`, also the images the GPU
+// run keeps (host/methods/pivot.h), by the same names: "z", "nu", "fits" (plane fits only)
+// and "output"; with partials, each partial's as "partial<k>.<stage>".
+Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
+                  std::vector<std::pair<std::string, Image>> *stages = nullptr);
 
 // The normal and id terms, exposed for the tests.
 double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0);

@@ -3,9 +3,6 @@
 #include <fmt/format.h>
 
 #include "cpu_reference/awr_reconstruct.h"
-#include "cpu_reference/wavelet_analyze.h"
-#include "cpu_reference/wavelet_sqanalyze.h"
-#include "cpu_reference/wavelet_synthesize.h"
 #include "host/api/front_end.h"
 #include "host/methods/awr.h"
 #include "host/wavelet.h"
@@ -90,27 +87,18 @@ class Awr : public FrontEndOf<AwrParams> {
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         std::string why;
         Image variance = Variance(inputs, &why);
-        const Image &color = inputs.Get("color");
         AwrOptions o = options.Options();
-        int levels = o.levels < 0 ? MaxWaveletLevels(color.width, color.height) : o.levels;
-        bool anyVariance = false;
-        for (float v : variance.data) anyVariance |= v > 0;
-        // Shrinking by zero keeps every coefficient: no stage runs, the output is the input.
-        if (!anyVariance || o.cs == 0 || levels == 0) return {};
+        ref::AwrRefParams p;
+        p.basis = o.basis;
+        p.levels = o.levels;
+        p.cs = o.cs;
+        p.lowSum = o.lowSum;
+        p.highSum = o.highSum;
+        p.spins = o.spins;
+        std::vector<std::pair<std::string, Image>> cpu;
+        ref::AwrReconstruct(inputs.Get("color"), variance, p, &cpu);
         std::vector<Stage> stages;
-        stages.push_back({"analysis", ref::WaveletAnalyze(color, o.basis, levels)});
-        stages.push_back({"variance analysis", ref::WaveletSqAnalyze(variance, o.basis, levels,
-                                                                     o.lowSum, o.highSum)});
-        stages.push_back(
-            {"shrinkage",
-             ref::AwrShrink(stages[0].image, stages[1].image, LevelExtent(color.width, levels),
-                            LevelExtent(color.height, levels), o.cs)});
-        stages.push_back(
-            {"synthesis", ref::WaveletSynthesize(stages[2].image, o.basis, levels)});
-        if (o.spins > 1)
-            stages.push_back({"cycle spinning",
-                              ref::AwrReconstructSpun(color, variance, o.basis, levels, o.cs,
-                                                      o.lowSum, o.highSum, o.spins)});
+        for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;
     }
 

@@ -110,6 +110,7 @@ class Pivot : public FrontEndOf<PivotParams> {
         p.sigmaWeight = o.sigmaWeight;
         p.bilateralRadius = o.bilateralRadius;
         p.sigmaRange = o.sigmaRange;
+        p.bilateral = o.filter == PivotFilter::Bilateral;
         Image ids;
         if (in.objectId || in.partId) {
             ids = Image(inputs.Width(), inputs.Height(), 2);
@@ -118,30 +119,18 @@ class Pivot : public FrontEndOf<PivotParams> {
                 if (in.partId) ids.data[ids.PixelCount() + i] = in.partId->data[i];
             }
         }
-        ref::PivotGuides guides{in.normal, ids.Empty() ? nullptr : &ids};
-        // The single-image pipeline's stages; with partials, each partial's, prefixed as
-        // the GPU run names them.
+        ref::PivotFilterInputs cpuIn;
+        cpuIn.color = in.color;
+        cpuIn.pivot = in.pivot;
+        cpuIn.variance = in.variance;
+        cpuIn.guides = {in.normal, ids.Empty() ? nullptr : &ids};
+        for (const PivotPartial &partial : in.partials)
+            cpuIn.partials.push_back({partial.color, partial.pivot, partial.variance});
+        cpuIn.remainder = in.remainder;
+        std::vector<std::pair<std::string, Image>> cpu;
+        ref::PivotFilter(cpuIn, p, &cpu);
         std::vector<Stage> stages;
-        auto one = [&](const Image &color, const Image &pivot, const Image *variance,
-                       const std::string &prefix) {
-            ref::PivotRatio ratio =
-                ref::PivotRatioOf(color, pivot, variance, p.floor, guides.ids);
-            stages.push_back({prefix + "z", ratio.z});
-            stages.push_back({prefix + "nu", ratio.nu});
-            if (o.filter == PivotFilter::PlaneFit) {
-                Image fits = ref::PivotFit(ratio, guides, p);
-                Image out = ref::PivotGather(color, pivot, ratio, fits, guides);
-                stages.push_back({prefix + "fits", std::move(fits)});
-                stages.push_back({prefix + "output", std::move(out)});
-            } else {
-                stages.push_back(
-                    {prefix + "output", ref::PivotBilateral(color, pivot, ratio, guides, p)});
-            }
-        };
-        if (in.partials.empty()) one(*in.color, *in.pivot, in.variance, "");
-        for (size_t k = 0; k < in.partials.size(); ++k)
-            one(*in.partials[k].color, *in.partials[k].pivot, in.partials[k].variance,
-                fmt::format("partial{}.", k));
+        for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;
     }
 

@@ -19,8 +19,8 @@
 namespace mcd {
 
 // The wavelet transform the shrinkage runs in: the foundation's decimated DWT (Mallat
-// layout), or the stationary (undecimated, "a trous") transform of host/methods/
-// wavelet_swt.h: shift-invariant, 3 levels + 1 full-size planes per channel.
+// layout), or the stationary (undecimated, "a trous") transform of host/wavelet/swt.h:
+// shift-invariant, 3 levels + 1 full-size planes per channel.
 enum class BayesTransform { Dwt, Swt };
 
 const char *BayesTransformName(BayesTransform transform);

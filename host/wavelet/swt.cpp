@@ -5,7 +5,8 @@
 #include <algorithm>
 
 #include "host/error.h"
-#include "host/kernels/wavelet_swt.h"
+#include "host/kernels/wavelet_swt_analyze.h"
+#include "host/kernels/wavelet_swt_synthesize.h"
 #include "host/vk/context.h"
 #include "wavelet/swt.h"
 
@@ -84,8 +85,8 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
         int flags = (shader::SwtTransformsAxis(width, level) ? WAVELET_SWT_TRANSFORM_X : 0) |
                     (shader::SwtTransformsAxis(height, level) ? WAVELET_SWT_TRANSFORM_Y : 0);
         // Level 0 reads the image, deeper levels the previous level's low plane.
-        shader::WaveletSwtPush rows{width, height, 1 << level, flags,     firstChannel * plane,
-                                    plane, 0,      0,          2 * plane, 0};
+        shader::WaveletSwtAnalyzePush rows{
+            width, height, 1 << level, flags, firstChannel * plane, plane, 0, 0, 2 * plane, 0};
         if (level > 0) {
             rows.srcBase = shader::SwtLowPlane(levels) * plane;
             rows.srcChannel = count * plane;
@@ -94,7 +95,7 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
             // One pass, reading the level's input as the rows pass does and writing as the
             // columns pass. Never in place (invocations read their neighbours' inputs):
             // deeper levels first copy the low planes into the temporary.
-            shader::WaveletSwtPush fused = rows;
+            shader::WaveletSwtAnalyzePush fused = rows;
             if (level > 0) {
                 for (int c = 0; c < channels; ++c)
                     recorder.Copy(coef.buffer, temporary, VkDeviceSize(plane) * sizeof(float),
@@ -107,27 +108,27 @@ void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,
             fused.dstBase = shader::SwtDetailPlane(level, 0) * plane;
             fused.dstChannel = count * plane;
             fused.dstLow = shader::SwtLowPlane(levels) * plane;
-            RecordWaveletSwtPass(context, recorder, SwtPass::AnalyzeFused, basis, squared,
-                                 fused, channels, level == 0 ? in.buffer : temporary,
-                                 coef.buffer, fmt::format("swt.analyze.L{}", level));
+            RecordWaveletSwtAnalyze(context, recorder, SwtAnalyzePass::Fused, basis, squared,
+                                    fused, channels, level == 0 ? in.buffer : temporary,
+                                    coef.buffer, fmt::format("swt.analyze.L{}", level));
             continue;
         }
-        RecordWaveletSwtPass(context, recorder, SwtPass::AnalyzeRows, basis, squared, rows,
-                             channels, level == 0 ? in.buffer : coef.buffer, temporary,
-                             fmt::format("swt.analyze.L{}.rows", level));
-        shader::WaveletSwtPush columns{width,
-                                       height,
-                                       1 << level,
-                                       flags,
-                                       0,
-                                       2 * plane,
-                                       0,
-                                       shader::SwtDetailPlane(level, 0) * plane,
-                                       count * plane,
-                                       shader::SwtLowPlane(levels) * plane};
-        RecordWaveletSwtPass(context, recorder, SwtPass::AnalyzeColumns, basis, squared,
-                             columns, channels, temporary, coef.buffer,
-                             fmt::format("swt.analyze.L{}.columns", level));
+        RecordWaveletSwtAnalyze(context, recorder, SwtAnalyzePass::Rows, basis, squared, rows,
+                                channels, level == 0 ? in.buffer : coef.buffer, temporary,
+                                fmt::format("swt.analyze.L{}.rows", level));
+        shader::WaveletSwtAnalyzePush columns{width,
+                                              height,
+                                              1 << level,
+                                              flags,
+                                              0,
+                                              2 * plane,
+                                              0,
+                                              shader::SwtDetailPlane(level, 0) * plane,
+                                              count * plane,
+                                              shader::SwtLowPlane(levels) * plane};
+        RecordWaveletSwtAnalyze(context, recorder, SwtAnalyzePass::Columns, basis, squared,
+                                columns, channels, temporary, coef.buffer,
+                                fmt::format("swt.analyze.L{}.columns", level));
     }
 }
 
@@ -144,29 +145,29 @@ void SwtTransform::RecordSynthesis(vk::Recorder &recorder, WaveletBasis basis,
     for (int level = levels - 1; level >= 0; --level) {
         int flags = (shader::SwtTransformsAxis(width, level) ? WAVELET_SWT_TRANSFORM_X : 0) |
                     (shader::SwtTransformsAxis(height, level) ? WAVELET_SWT_TRANSFORM_Y : 0);
-        shader::WaveletSwtPush columns{width,
-                                       height,
-                                       1 << level,
-                                       flags,
-                                       shader::SwtDetailPlane(level, 0) * plane,
-                                       count * plane,
-                                       shader::SwtLowPlane(levels) * plane,
-                                       0,
-                                       2 * plane,
-                                       0};
-        RecordWaveletSwtPass(context, recorder, SwtPass::SynthesizeColumns, basis, false,
-                             columns, channels, coef.buffer, temporary,
-                             fmt::format("swt.synthesize.L{}.columns", level));
+        shader::WaveletSwtSynthesizePush columns{width,
+                                                 height,
+                                                 1 << level,
+                                                 flags,
+                                                 shader::SwtDetailPlane(level, 0) * plane,
+                                                 count * plane,
+                                                 shader::SwtLowPlane(levels) * plane,
+                                                 0,
+                                                 2 * plane,
+                                                 0};
+        RecordWaveletSwtSynthesize(context, recorder, SwtSynthesizePass::Columns, basis,
+                                   columns, channels, coef.buffer, temporary,
+                                   fmt::format("swt.synthesize.L{}.columns", level));
         // Level 0 writes the image, deeper levels the next finer level's low plane.
-        shader::WaveletSwtPush rows{width,     height, 1 << level,           flags, 0,
-                                    2 * plane, 0,      firstChannel * plane, plane, 0};
+        shader::WaveletSwtSynthesizePush rows{
+            width, height, 1 << level, flags, 0, 2 * plane, 0, firstChannel * plane, plane, 0};
         if (level > 0) {
             rows.dstBase = shader::SwtLowPlane(levels) * plane;
             rows.dstChannel = count * plane;
         }
-        RecordWaveletSwtPass(context, recorder, SwtPass::SynthesizeRows, basis, false, rows,
-                             channels, temporary, level == 0 ? out.buffer : coef.buffer,
-                             fmt::format("swt.synthesize.L{}.rows", level));
+        RecordWaveletSwtSynthesize(context, recorder, SwtSynthesizePass::Rows, basis, rows,
+                                   channels, temporary, level == 0 ? out.buffer : coef.buffer,
+                                   fmt::format("swt.synthesize.L{}.rows", level));
     }
 }
 

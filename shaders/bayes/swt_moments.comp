@@ -6,11 +6,11 @@
 // memory (deterministic, no atomics). Writes E[y^2], E[y^4], max |y|, count (bayes.h).
 
 #include "bayes/bayes.h"
-#include "bayes/swt.h"
+#include "bayes/swt_moments.h"
 
 layout(local_size_x = BAYES_SWT_MOMENTS_LOCAL_SIZE) in;
-layout(binding = BAYES_SWT_COEF) uniform samplerBuffer coef;
-layout(std430, binding = BAYES_SWT_MOMENTS) writeonly buffer Moments { float moments[]; };
+layout(binding = BAYES_SWT_MOMENTS_COEF) uniform samplerBuffer coef;
+layout(std430, binding = BAYES_SWT_MOMENTS_OUT) writeonly buffer Moments { float moments[]; };
 
 shared float sum2[BAYES_SWT_MOMENTS_LOCAL_SIZE], sum4[BAYES_SWT_MOMENTS_LOCAL_SIZE],
     maxAbs[BAYES_SWT_MOMENTS_LOCAL_SIZE];

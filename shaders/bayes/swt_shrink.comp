@@ -10,13 +10,13 @@
 // view (gathered as vectors).
 
 #include "bayes/bayes.h"
-#include "bayes/swt.h"
+#include "bayes/swt_shrink.h"
 
 layout(local_size_x = BAYES_SWT_SHRINK_LOCAL_SIZE) in;
-layout(std430, binding = BAYES_SWT_COEF) buffer Coef { float coef[]; };
-layout(std430, binding = BAYES_SWT_COEF) buffer Coef4 { vec4 coef4[]; };
-layout(std430, binding = BAYES_SWT_PARAMS) readonly buffer Params { float params[]; };
-layout(binding = BAYES_SWT_TABLE) uniform samplerBuffer table;
+layout(std430, binding = BAYES_SWT_SHRINK_COEF) buffer Coef { float coef[]; };
+layout(std430, binding = BAYES_SWT_SHRINK_COEF) buffer Coef4 { vec4 coef4[]; };
+layout(std430, binding = BAYES_SWT_SHRINK_PARAMS) readonly buffer Params { float params[]; };
+layout(binding = BAYES_SWT_SHRINK_TABLE) uniform samplerBuffer table;
 
 float Shrink(float v, float b, float du, int base) {
     float a = abs(v), value = 0.0;

@@ -1,6 +1,7 @@
-// The stationary (undecimated, "a trous") 2D wavelet transform: layout, bindings, push
-// constants and specialization constants, shared by GLSL, the host and the CPU reference
-// (layout only, never arithmetic).
+// The stationary (undecimated, "a trous") 2D wavelet transform: the coefficient layout and
+// the constants its two kernels share (swt_analyze.h and swt_synthesize.h hold each one's
+// bindings and push constants), read by GLSL, the host and the CPU reference (layout only,
+// never arithmetic).
 //
 // Level j (0-based) filters with the DWT's analysis taps spread 2^j samples apart (holes)
 // and does not decimate: along an axis of length n it maps a signal x to a low band L and
@@ -22,15 +23,9 @@
 #ifndef MCD_SHADERS_WAVELET_SWT_H
 #define MCD_SHADERS_WAVELET_SWT_H
 
-#define WAVELET_SWT_SRC 0  // read as a float texel buffer
-#define WAVELET_SWT_DST 1
-#define WAVELET_SWT_BINDINGS 2
-#define WAVELET_SWT_LOCAL_SIZE 64  // invocations along x per workgroup, 4 positions each
-
-// Specialization constants.
-#define WAVELET_SWT_SPEC_BASIS 0    // MCD_WAVELET_*
-#define WAVELET_SWT_SPEC_AXIS 1     // WAVELET_SWT_ROWS or WAVELET_SWT_COLUMNS
-#define WAVELET_SWT_SPEC_SQUARED 2  // analysis only: 1 squares every tap (variance analysis)
+// Specialization constants of both kernels (swt.glsl).
+#define WAVELET_SWT_SPEC_BASIS 0  // MCD_WAVELET_*
+#define WAVELET_SWT_SPEC_AXIS 1   // WAVELET_SWT_ROWS or WAVELET_SWT_COLUMNS
 #define WAVELET_SWT_ROWS 0
 #define WAVELET_SWT_COLUMNS 1
 #define WAVELET_SWT_FUSED 2  // analysis, Haar only: a whole level (both axes) in one pass
@@ -41,26 +36,6 @@
 
 #ifdef __cplusplus
 namespace mcd::shader {
-struct WaveletSwtPush {
-#else
-layout(push_constant) uniform WaveletSwtPush {
-#endif
-    int width;
-    int height;
-    int step;   // 2^level
-    int flags;  // WAVELET_SWT_TRANSFORM_*
-    // Float offsets: a pass reads channel c's planes at srcBase + c srcChannel (+ k planes)
-    // and srcLow, and writes them at dstBase + c dstChannel (+ k planes) and dstLow.
-    int srcBase;
-    int srcChannel;
-    int srcLow;  // offset of the low plane from the channel's start (columns passes)
-    int dstBase;
-    int dstChannel;
-    int dstLow;
-#ifdef __cplusplus
-};
-static_assert(sizeof(WaveletSwtPush) == 40);
-
 inline int SwtPlaneCount(int levels) {
     return 3 * levels + 1;
 }
@@ -75,9 +50,6 @@ inline bool SwtTransformsAxis(int n, int level) {
     return level < 31 && n > (1 << level);
 }
 }  // namespace mcd::shader
-#else
-}
-push;
 #endif
 
 #endif

@@ -10,12 +10,13 @@
 
 #include "wavelet/wavelet.h"
 #include "wavelet/swt.h"
+#include "wavelet/swt_analyze.h"
 
-layout(local_size_x = WAVELET_SWT_LOCAL_SIZE) in;
-layout(constant_id = WAVELET_SWT_SPEC_SQUARED) const int SQUARED = 0;
-layout(binding = WAVELET_SWT_SRC) uniform samplerBuffer src;
-layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst { float dst[]; };
-layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst4 { vec4 dst4[]; };
+layout(local_size_x = WAVELET_SWT_ANALYZE_LOCAL_SIZE) in;
+layout(constant_id = WAVELET_SWT_ANALYZE_SPEC_SQUARED) const int SQUARED = 0;
+layout(binding = WAVELET_SWT_ANALYZE_SRC) uniform samplerBuffer src;
+layout(std430, binding = WAVELET_SWT_ANALYZE_DST) writeonly buffer Dst { float dst[]; };
+layout(std430, binding = WAVELET_SWT_ANALYZE_DST) writeonly buffer Dst4 { vec4 dst4[]; };
 
 #include "wavelet/swt.glsl"
 

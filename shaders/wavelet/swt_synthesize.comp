@@ -10,11 +10,12 @@
 
 #include "wavelet/wavelet.h"
 #include "wavelet/swt.h"
+#include "wavelet/swt_synthesize.h"
 
-layout(local_size_x = WAVELET_SWT_LOCAL_SIZE) in;
-layout(binding = WAVELET_SWT_SRC) uniform samplerBuffer src;
-layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst { float dst[]; };
-layout(std430, binding = WAVELET_SWT_DST) writeonly buffer Dst4 { vec4 dst4[]; };
+layout(local_size_x = WAVELET_SWT_SYNTHESIZE_LOCAL_SIZE) in;
+layout(binding = WAVELET_SWT_SYNTHESIZE_SRC) uniform samplerBuffer src;
+layout(std430, binding = WAVELET_SWT_SYNTHESIZE_DST) writeonly buffer Dst { float dst[]; };
+layout(std430, binding = WAVELET_SWT_SYNTHESIZE_DST) writeonly buffer Dst4 { vec4 dst4[]; };
 
 #include "wavelet/swt.glsl"
 

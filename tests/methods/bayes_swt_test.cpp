@@ -21,7 +21,7 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/kernels/bayes_moments.h"
-#include "host/kernels/bayes_swt.h"
+#include "host/kernels/bayes_swt_moments.h"
 #include "host/methods/bayes.h"
 #include "host/wavelet/swt.h"
 #include "wavelet/swt.h"

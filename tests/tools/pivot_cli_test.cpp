@@ -109,6 +109,26 @@ TEST_F(PivotCli, RoundTripsAndDenoisesPartials) {
     EXPECT_NE(d.data, whole.data);
 }
 
+// `diff` on a frame with partial images: every partial's stages, named as the GPU run names
+// them ("partial<k>.<stage>"), against the reference's (ref::PivotFilter). The bound is
+// DenoisesWithBothFilters's: float and double may take a window's growth decision apart.
+TEST_F(PivotCli, DiffsEveryPartialsStages) {
+    ASSERT_EQ(Run("render --scene glossy-cornell --size 20x14 --spp 4 --seed 3 --threads 2 "
+                  "--layers pivot,gbuffer,partials -o n.exr")
+                  .code,
+              0);
+    RunResult r = Run("diff n.exr --method pivot --max-radius 5 --max-nmse 1e-3");
+    ASSERT_EQ(r.code, 0) << r.All();
+    for (const char *partial : {"partial0.", "partial1."})
+        for (const char *stage : {"z", "nu", "fits", "output"})
+            EXPECT_TRUE(Contains(r.out, std::string("\n  ") + partial + stage + " "))
+                << partial << stage << r.out;
+    r = Run("diff n.exr --method pivot --filter bilateral --max-nmse 1e-3");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "\n  partial1.output ")) << r.out;
+    EXPECT_FALSE(Contains(r.out, "fits")) << r.out;
+}
+
 // --demodulate runs another method on z = color / pivot: with AWR's cs = 0 (the identity)
 // the output is the input to round-off; with the default AWR it is finite and multiplied
 // back (the plan says so); pixels without a pivot keep their input.

@@ -1,5 +1,5 @@
-// Record method bayes' per-band moments and shrinkage over stationary wavelet bands
-// (shaders/bayes/swt_moments.comp, swt_shrink.comp; layout in shaders/wavelet/swt.h).
+// Record method bayes' per-band moments over stationary wavelet bands
+// (shaders/bayes/swt_moments.comp; layout in swt_moments.h).
 #pragma once
 
 #include "host/vk/gpu_image.h"
@@ -13,10 +13,5 @@ namespace mcd {
 void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
                            const vk::GpuImage &coef, int channels, int levels,
                            vk::Buffer &moments);
-
-// In place on `coef`: every detail coefficient through its band's table.
-void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &coef,
-                          int channels, int levels, const vk::Buffer &params,
-                          const vk::Buffer &table);
 
 }  // namespace mcd
