@@ -127,5 +127,19 @@ TEST_F(BayesCli, OptionErrors) {
     EXPECT_TRUE(Contains(r.out, "bayes: noise s_n")) << r.out;
 }
 
+// `bench bayes` takes the method's own parameters, not flags of its own.
+TEST_F(BayesCli, BenchTakesTheMethodsParameters) {
+    Output r =
+        Run("bench bayes --size 32x24 --repeat 1 --no-skimage --bayes-transform dwt "
+            "--bayes-levels 2 --noise fixed");
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_TRUE(Contains(r.out, "32x24 RGB float32, 2 levels of haar dwt, noise fixed"))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out, "bayes.shrink")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "GPU total")) << r.out;
+    r = Run("bench bayes --size 32x24 --levels 2");
+    EXPECT_NE(r.code, 0);
+}
+
 }  // namespace
 }  // namespace mcd::test

@@ -75,6 +75,17 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
 // Another renderer's file in the authors' layout: Bin_NNNN channels only next to the RGB
 // colour, here with 8 bins and a NaN colour, reads as histograms; the NaN is refused, or
 // replaced with a warning.
+// `bench rhf` takes the method's own parameters and times every kernel.
+TEST_F(RhfCli, BenchTakesTheMethodsParameters) {
+    Ran r = Run("bench rhf --size 24x20 --spp 2 --kappa 0.6 --nscales 1");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_TRUE(Has(r.out, "24x20 at 2 spp, patch half 1, search half 6, kappa 0.6")) << r.out;
+    EXPECT_TRUE(Has(r.out, "1 scales")) << r.out;
+    EXPECT_TRUE(Has(r.out, "rhf.terms")) << r.out;
+    EXPECT_FALSE(Has(r.out, "rhf.combine")) << r.out;
+    EXPECT_NE(Run("bench rhf --size 24x20 --kappa -1").code, 0);
+}
+
 TEST_F(RhfCli, ReadsOtherRenderersLayoutAndWarns) {
     const int w = 16, h = 12, n = 8;
     Image color(w, h, 3), hist(w, h, 3 * n + 1);

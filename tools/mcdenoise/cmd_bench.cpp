@@ -1,5 +1,6 @@
 // `mcdenoise bench`: speed figures, printed, never asserted. Compare ratios taken in one
-// run: these machines are shared and noisy.
+// run: these machines are shared and noisy. The method benches run mcd::Method (the
+// library API) with the method's own parameters and time it from Result::timings.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,13 +14,10 @@
 #include <thread>
 
 #include "host/error.h"
-#include "host/methods/awr.h"
-#include "host/methods/bayes.h"
-#include "host/methods/pivot.h"
-#include "host/methods/rhf.h"
 #include "host/vk/gpu_image.h"
 #include "host/wavelet/transform.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/method_options.h"
 #include "tools/render/adaptive.h"
 #include "tools/render/renderer.h"
 
@@ -174,11 +172,34 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     }
 }
 
+// A frame of named layers (rendered or synthetic) for Method::Run.
+Frame MakeFrame(const std::string &path, std::vector<std::pair<std::string, Image>> layers) {
+    Frame frame;
+    frame.path = path;
+    for (auto &[name, image] : layers) {
+        frame.width = image.width, frame.height = image.height;
+        frame.layers[name] = std::move(image);
+    }
+    return frame;
+}
+
+// The method's device and its name and type, for the headers.
+std::string DeviceText(Device &device) {
+    const vk::DeviceInfo &info = device.Context().Info();
+    return fmt::format("{} ({})", info.name, vk::DeviceTypeName(info.type));
+}
+
+template <typename T>
+T Param(const Method &method, const std::string &name) {
+    return std::get<T>(method.Get(name));
+}
+
 struct AwrBenchOptions {
     std::string size = "1024x1024", samplerScene = "dof-arealight", samplerSize = "256x256";
     int repeats = 5, samplerSpp = 16;
     bool dispatches = false, noSampler = false;
     DeviceOptions device;
+    MethodOptions methods;
 };
 
 // AWR: the reconstruction's stages against one forward + inverse DWT of the same frame,
@@ -187,16 +208,25 @@ void BenchAwr(const AwrBenchOptions &opt) {
     int width = 0, height = 0;
     ParseSize(opt.size, &width, &height);
     int repeats = std::max(opt.repeats, 1);
-    vk::Context context(opt.device.ContextOptions());
-    int levels = MaxWaveletLevels(width, height);
-    fmt::print(
-        "bench awr: reconstruction of a {}x{} RGB frame, {} levels of CDF 9/7, on {} ({})\n",
-        width, height, levels, context.Info().name, vk::DeviceTypeName(context.Info().type));
+    Method method = opt.methods.Make("awr");
+    Device device(opt.device.Options());
+    vk::Context &context = device.Context();
+    // The yardstick DWT runs the method's basis and levels (the method refuses too many).
+    WaveletBasis basis = *ParseWavelet(Param<std::string>(method, "basis"));
+    int levels = Param<int>(method, "levels");
+    if (levels < 0) levels = MaxWaveletLevels(width, height);
+    const char *basisText = basis == WaveletBasis::Cdf97      ? "CDF 9/7"
+                            : basis == WaveletBasis::LeGall53 ? "LeGall 5/3"
+                                                              : "Haar";
+    fmt::print("bench awr: reconstruction of a {}x{} RGB frame, {} levels of {}, on {}\n",
+               width, height, levels, basisText, DeviceText(device));
     Image color(width, height, 3), variance(width, height, 3);
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> uniform(0.f, 1.f);
     for (size_t i = 0; i < color.Size(); ++i)
         color.data[i] = uniform(rng), variance.data[i] = 0.01f * uniform(rng);
+    Frame frame =
+        MakeFrame("bench awr (synthetic)", {{"color", color}, {"variance", variance}});
 
     // One forward + inverse DWT of the same frame, the yardstick the issue names, run right
     // after each reconstruction so both see the same load on a shared machine.
@@ -214,15 +244,13 @@ void BenchAwr(const AwrBenchOptions &opt) {
     std::map<std::string, std::vector<double>> labelMs;
     bool fused = false;  // the shrinkage runs inside the synthesis's dispatches
     for (int r = 0; r <= repeats; ++r) {
-        Clock::time_point start = Clock::now();
-        AwrResult result = AwrReconstruct(context, color, variance, {});
-        double wall = Ms(Clock::now() - start);
-        transform.RecordAnalysis(recorder, WaveletBasis::Cdf97, levels, in, coef);
-        transform.RecordSynthesis(recorder, WaveletBasis::Cdf97, levels, coef, in);
+        Result result = method.Run(device, frame);
+        transform.RecordAnalysis(recorder, basis, levels, in, coef);
+        transform.RecordSynthesis(recorder, basis, levels, coef, in);
         recorder.Submit();
         if (r == 0) continue;
         double stage[4] = {}, total = 0;
-        for (const vk::DispatchTiming &t : result.timings) {
+        for (const Timing &t : result.timings) {
             if (r == 1) labels.push_back(t.label);
             labelMs[t.label].push_back(std::max(t.gpuMs, 0.0));
             // Synthesis first: with the shrinkage fused into it, its label names both.
@@ -234,7 +262,7 @@ void BenchAwr(const AwrBenchOptions &opt) {
         }
         for (int s = 0; s < 4; ++s) stageMs[s].push_back(stage[s]);
         totalMs.push_back(total);
-        wallMs.push_back(wall);
+        wallMs.push_back(result.wallMs);
         dwtMs.push_back(recorder.TotalGpuMs());
         ratios.push_back(total / dwtMs.back());
     }
@@ -284,21 +312,27 @@ void BenchAwr(const AwrBenchOptions &opt) {
         100 * adaptive.prioritySeconds / adaptive.traceSeconds);
 }
 
+struct BayesBenchOptions {
+    std::string size = "1024x1024";
+    int repeats = 3;
+    bool noSkimage = false;
+    DeviceOptions device;
+    MethodOptions methods;
+};
+
 // Method bayes on a synthetic frame (smooth picture times log-normal noise, RGB): GPU time
 // per stage, median over repeats, and scikit-image's BayesShrink on the same work.
-void BenchBayes(const std::string &size, int levels, const std::string &basisName, int repeats,
-                bool skimage, const DeviceOptions &device, const std::string &transform) {
+void BenchBayes(const BayesBenchOptions &opt) {
     int width = 0, height = 0;
-    ParseSize(size, &width, &height);
-    std::optional<WaveletBasis> basis = ParseWavelet(basisName);
-    if (!basis) throw Error("unknown wavelet basis '" + basisName + "'");
-    if (transform != "dwt" && transform != "swt")
-        throw Error("--transform takes dwt or swt, not '" + transform + "'");
-    repeats = std::max(repeats, 1);
-    vk::Context context(device.ContextOptions());
-    fmt::print("bench bayes: {}x{} RGB float32, {} levels of {} {}, on {} ({})\n", width,
-               height, levels, WaveletName(*basis), transform, context.Info().name,
-               vk::DeviceTypeName(context.Info().type));
+    ParseSize(opt.size, &width, &height);
+    int repeats = std::max(opt.repeats, 1);
+    Method method = opt.methods.Make("bayes");
+    int levels = Param<int>(method, "bayes-levels");
+    Device device(opt.device.Options());
+    fmt::print("bench bayes: {}x{} RGB float32, {} levels of {} {}, noise {}, on {}\n", width,
+               height, levels, Param<std::string>(method, "bayes-wavelet"),
+               Param<std::string>(method, "bayes-transform"),
+               Param<std::string>(method, "noise"), DeviceText(device));
     Image image(width, height, 3);
     std::mt19937 rng(1);
     std::normal_distribution<float> normal(0.f, 0.4f);
@@ -308,34 +342,29 @@ void BenchBayes(const std::string &size, int levels, const std::string &basisNam
                 image.At(c, y, x) = (0.3f + 0.5f * (x > width / 2) +
                                      0.2f * std::sin(0.05f * float(y) + float(c))) *
                                     std::exp(normal(rng));
-    BayesOptions options;
-    options.basis = *basis;
-    options.levels = levels;
-    options.transform = transform == "swt" ? BayesTransform::Swt : BayesTransform::Dwt;
+    Frame frame = MakeFrame("bench bayes (synthetic)", {{"color", std::move(image)}});
     std::map<std::string, std::vector<double>> stages;
     std::vector<double> wall, gpu;
     for (int r = 0; r <= repeats; ++r) {  // run 0 warms up
-        Clock::time_point start = Clock::now();
-        BayesResult result = BayesDenoise(context, image, options);
-        double wallMs = Ms(Clock::now() - start);
+        Result result = method.Run(device, frame);
         if (r == 0) continue;
         std::map<std::string, double> perStage;
         double total = 0;
-        for (const vk::DispatchTiming &t : result.timings) {
+        for (const Timing &t : result.timings) {
             std::string stage = t.label.substr(0, t.label.find(".L"));
             perStage[stage] += std::max(t.gpuMs, 0.0);
             total += std::max(t.gpuMs, 0.0);
         }
         for (const auto &[stage, ms] : perStage) stages[stage].push_back(ms);
         gpu.push_back(total);
-        wall.push_back(wallMs);
+        wall.push_back(result.wallMs);
     }
     for (const auto &[stage, ms] : stages)
         fmt::print("    {:<28} {:8.2f} ms\n", stage, Median(ms));
     fmt::print(
         "  GPU total {:.2f} ms, wall (upload, run, download) {:.2f} ms (medians of {})\n",
         Median(gpu), Median(wall), repeats);
-    if (!skimage) return;
+    if (opt.noSkimage) return;
     const char *python =
         std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     std::string script = fmt::format(
@@ -363,24 +392,23 @@ void BenchBayes(const std::string &size, int levels, const std::string &basisNam
         fmt::print("  scikit-image: not available (python3-skimage)\n");
 }
 
-// Time `run` (one method call returning its dispatch timings) `repeats` times after one
-// untimed warm-up (pipelines, first touch; `warmUp` when given, else `run`); print each
-// run, then the last run's GPU time per kernel (summed over its dispatches) so the
-// expensive stage is visible.
-void TimeMethodRuns(int repeats, const std::function<std::vector<vk::DispatchTiming>()> &run,
-                    const std::function<void()> &warmUp = nullptr) {
+// Time `run` (one Method::Run) `repeats` times after one untimed warm-up (pipelines, first
+// touch; `warmUp` when given, else `run`); print each run, then the last run's GPU time
+// per kernel (summed over its dispatches) so the expensive stage is visible. Returns the
+// last run's result.
+Result TimeMethodRuns(int repeats, const std::function<Result()> &run,
+                      const std::function<void()> &warmUp = nullptr) {
     repeats = std::max(repeats, 1);
     if (warmUp) warmUp();
     std::vector<double> gpu, wall;
     std::vector<std::pair<std::string, double>> perKernel;
+    Result last;
     for (int r = warmUp ? 1 : 0; r <= repeats; ++r) {
-        Clock::time_point start = Clock::now();
-        std::vector<vk::DispatchTiming> timings = run();
-        double wallMs = Ms(Clock::now() - start);
+        Result result = run();
         if (r == 0) continue;
         double total = 0;
         perKernel.clear();
-        for (const vk::DispatchTiming &t : timings) {
+        for (const Timing &t : result.timings) {
             total += std::max(t.gpuMs, 0.0);
             auto it = std::find_if(perKernel.begin(), perKernel.end(),
                                    [&](const auto &p) { return p.first == t.label; });
@@ -390,108 +418,103 @@ void TimeMethodRuns(int repeats, const std::function<std::vector<vk::DispatchTim
                 it->second += std::max(t.gpuMs, 0.0);
         }
         gpu.push_back(total);
-        wall.push_back(wallMs);
+        wall.push_back(result.wallMs);
         fmt::print("  run {}/{}: {:.1f} ms GPU, {:.1f} ms wall with upload/download\n", r,
-                   repeats, total, wallMs);
+                   repeats, total, result.wallMs);
         std::fflush(stdout);
+        last = std::move(result);
     }
     for (const auto &[label, ms] : perKernel) fmt::print("    {:<20} {:10.2f} ms\n", label, ms);
     fmt::print("  GPU time (timestamps, median of {}): {:.2f} ms; wall {:.2f} ms\n", repeats,
                Median(gpu), Median(wall));
+    return last;
 }
 
-// A rendered frame's layers by name.
-struct RenderedFrame {
-    render::RenderResult result;
-    const Image *Layer(const std::string &name) const {
-        for (const auto &[layerName, layer] : result.layers)
-            if (layerName == name) return &layer;
-        return nullptr;
-    }
-};
-
-RenderedFrame RenderFrame(const std::string &size, const std::string &sceneName, int spp,
-                          int layers) {
+// A rendered frame with the given layer groups.
+Frame RenderFrame(const std::string &size, const std::string &sceneName, int spp, int layers) {
     render::RenderOptions options;
     ParseSize(size, &options.width, &options.height);
     options.spp = spp;
     options.layers = layers;
-    return {render::Render(render::BuildScene(sceneName), options)};
+    render::RenderResult result = render::Render(render::BuildScene(sceneName), options);
+    return MakeFrame(fmt::format("{} at {} spp", sceneName, spp), std::move(result.layers));
 }
 
-// RHF with default parameters on a rendered frame with histograms.
-void BenchRhf(const std::string &size, const std::string &sceneName, int spp, int repeats,
-              const DeviceOptions &device) {
-    RenderedFrame frame = RenderFrame(size, sceneName, spp, render::kLayersHist);
-    const Image *color = frame.Layer("color"), *hist = frame.Layer("hist");
-    if (!color || !hist) throw Error("bench rhf: the renderer gave no color or hist layer");
-    vk::Context context(device.ContextOptions());
-    RhfOptions rhf;
+struct MethodBenchOptions {
+    std::string size, scene = "cornell";
+    int spp = 0, repeats = 1;
+    DeviceOptions device;
+    MethodOptions methods;
+};
+
+// RHF on a rendered frame with histograms.
+void BenchRhf(const MethodBenchOptions &opt) {
+    Method method = opt.methods.Make("rhf");
+    Frame frame = RenderFrame(opt.size, opt.scene, opt.spp, render::kLayersHist);
+    if (std::string missing = method.Missing(frame); !missing.empty())
+        throw Error("bench rhf: the rendered frame has " + missing);
+    Device device(opt.device.Options());
     fmt::print(
         "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, "
-        "bright "
-        "veto {}, {} scales, on {} ({})\n",
-        sceneName, color->width, color->height, spp, rhf.patchHalf, rhf.searchHalf,
-        rhf.threshold, rhf.knn, rhf.brightVeto, rhf.scales, context.Info().name,
-        vk::DeviceTypeName(context.Info().type));
-    TimeMethodRuns(repeats, [&] { return RhfDenoise(context, *color, *hist, rhf).timings; });
+        "bright veto {}, {} scales, on {}\n",
+        opt.scene, frame.width, frame.height, opt.spp, Param<int>(method, "patch-half"),
+        Param<int>(method, "search-half"), Param<float>(method, "kappa"),
+        Param<int>(method, "knn"), Param<float>(method, "bright-veto"),
+        Param<int>(method, "nscales"), DeviceText(device));
+    TimeMethodRuns(opt.repeats, [&] { return method.Run(device, frame); });
 }
 
-// The pivot filter with its defaults (max radius 30) on a rendered frame with every layer
-// it uses (pivot, variance, normals, ids), and the radius the squares grew to.
-void BenchPivot(const std::string &size, const std::string &sceneName, int spp,
-                const std::string &filter, int maxRadius, int repeats,
-                const DeviceOptions &device) {
-    RenderedFrame frame = RenderFrame(size, sceneName, spp, render::kLayersAll);
-    PivotInputs in;
-    in.color = frame.Layer("color");
-    in.pivot = frame.Layer("pivot");
-    in.variance = frame.Layer("variance");
-    in.normal = frame.Layer("normal");
-    in.objectId = frame.Layer("objectId");
-    in.partId = frame.Layer("partId");
-    if (!in.color || !in.pivot) throw Error("bench pivot: the renderer gave no color or pivot");
-    PivotOptions pivot;
-    if (filter == "bilateral")
-        pivot.filter = PivotFilter::Bilateral;
-    else if (filter != "planefit")
-        throw Error(
-            fmt::format("bench pivot: --filter is planefit or bilateral, not '{}'", filter));
-    pivot.maxRadius = maxRadius;
-    vk::Context context(device.ContextOptions());
-    fmt::print("bench pivot: {} {}x{} at {} spp, {} filter, max radius {}, on {} ({})\n",
-               sceneName, in.color->width, in.color->height, spp, filter, maxRadius,
-               context.Info().name, vk::DeviceTypeName(context.Info().type));
+// The grown radius from the planefit plan line ("mean radius M, largest L"; with partial
+// images one line each, combined as PivotDenoise combines them): the Result has no field
+// for it. False when no line has it (the bilateral filter).
+bool PlannedRadius(const Result &result, double *mean, int *largest) {
+    double sum = 0;
+    int lines = 0;
+    *largest = 0;
+    for (const std::string &line : result.plan) {
+        size_t at = line.find("mean radius ");
+        double m = 0;
+        int l = 0;
+        if (at == std::string::npos ||
+            std::sscanf(line.c_str() + at, "mean radius %lf, largest %d", &m, &l) != 2)
+            continue;
+        sum += m, ++lines;
+        *largest = std::max(*largest, l);
+    }
+    *mean = lines ? sum / lines : 0;
+    return lines > 0;
+}
+
+// The pivot filter on a rendered frame with every layer it uses (pivot, variance,
+// normals, ids), and the radius the squares grew to.
+void BenchPivot(const MethodBenchOptions &opt) {
+    Method method = opt.methods.Make("pivot");
+    Frame frame = RenderFrame(opt.size, opt.scene, opt.spp, render::kLayersAll);
+    if (std::string missing = method.Missing(frame); !missing.empty())
+        throw Error("bench pivot: the rendered frame has " + missing);
+    Device device(opt.device.Options());
+    int maxRadius = Param<int>(method, "max-radius");
+    fmt::print("bench pivot: {} {}x{} at {} spp, {} filter, max radius {}, on {}\n", opt.scene,
+               frame.width, frame.height, opt.spp, Param<std::string>(method, "filter"),
+               maxRadius, DeviceText(device));
     std::fflush(stdout);
     // Above 256x256, warm up on a 16x16 crop: a full-size warm-up would double minutes of
     // work. (lavapipe may then compile a kernel variant for the full size's buffers in the
     // timed run: tens of ms, negligible there.)
-    PivotInputs small = in;
-    std::vector<Image> crops;
-    crops.reserve(6);
-    for (const Image **layer : {&small.color, &small.pivot, &small.variance, &small.normal,
-                                &small.objectId, &small.partId}) {
-        if (!*layer) continue;
-        Image &crop = crops.emplace_back(std::min(16, (*layer)->width),
-                                         std::min(16, (*layer)->height), (*layer)->channels);
-        for (int c = 0; c < crop.channels; ++c)
-            for (int y = 0; y < crop.height; ++y)
-                for (int x = 0; x < crop.width; ++x) crop.At(c, y, x) = (*layer)->At(c, y, x);
-        *layer = &crop;
-    }
-    PivotResult last;
-    TimeMethodRuns(
-        repeats,
-        [&] {
-            last = PivotDenoise(context, in, pivot);
-            return last.timings;
-        },
-        in.color->PixelCount() > 256 * 256
-            ? std::function<void()>([&] { PivotDenoise(context, small, pivot); })
+    Frame small = frame;
+    small.width = std::min(16, frame.width), small.height = std::min(16, frame.height);
+    for (auto &[name, layer] : small.layers)
+        layer = layer.Crop(0, 0, small.width, small.height);
+    Result last = TimeMethodRuns(
+        opt.repeats, [&] { return method.Run(device, frame); },
+        frame.width * frame.height > 256 * 256
+            ? std::function<void()>([&] { method.Run(device, small); })
             : nullptr);
-    if (pivot.filter == PivotFilter::PlaneFit)
-        fmt::print("  grown radius: mean {:.2f}, largest {} (of at most {})\n", last.meanRadius,
-                   last.largestRadius, maxRadius);
+    double meanRadius = 0;
+    int largestRadius = 0;
+    if (PlannedRadius(last, &meanRadius, &largestRadius))
+        fmt::print("  grown radius: mean {:.2f}, largest {} (of at most {})\n", meanRadius,
+                   largestRadius, maxRadius);
 }
 
 }  // namespace
@@ -560,6 +583,8 @@ void AddBenchCommand(CLI::App &app) {
         }
     });
 
+    // The method benches take the method's own parameters (--<name>, the library's
+    // defaults) beside their bench-only options.
     auto aopt = std::make_shared<AwrBenchOptions>();
     CLI::App *awr = bench->add_subcommand(
         "awr",
@@ -579,56 +604,36 @@ void AddBenchCommand(CLI::App &app) {
                   "also print the reconstruction's GPU time per dispatch");
     awr->add_flag("--no-sampler", aopt->noSampler, "time the reconstruction only");
     aopt->device.Add(awr);
+    aopt->methods.Add(awr, "awr");
     awr->callback([aopt] { BenchAwr(*aopt); });
 
-    struct BayesBenchOptions {
-        std::string size = "1024x1024", basis = "haar", transform = "swt";
-        int levels = 3, repeats = 3;
-        bool noSkimage = false;
-        DeviceOptions device;
-    };
     auto bopt = std::make_shared<BayesBenchOptions>();
     CLI::App *bayes = bench->add_subcommand(
         "bayes",
         "Time method bayes per stage on an RGB frame, scikit-image's BayesShrink beside it");
     bayes->add_option("--size", bopt->size, "image size WxH")->capture_default_str();
-    bayes->add_option("--levels", bopt->levels, "decomposition levels")->capture_default_str();
-    bayes->add_option("--basis", bopt->basis, "haar, legall53 or cdf97")->capture_default_str();
     bayes->add_option("--repeat", bopt->repeats, "timed runs (after one warm-up)")
-        ->capture_default_str();
-    bayes->add_option("--transform", bopt->transform, "dwt or swt (--bayes-transform)")
         ->capture_default_str();
     bayes->add_flag("--no-skimage", bopt->noSkimage, "skip the scikit-image comparison");
     bopt->device.Add(bayes);
-    bayes->callback([bopt] {
-        BenchBayes(bopt->size, bopt->levels, bopt->basis, bopt->repeats, !bopt->noSkimage,
-                   bopt->device, bopt->transform);
-    });
+    bopt->methods.Add(bayes, "bayes");
+    bayes->callback([bopt] { BenchBayes(*bopt); });
 
-    struct RhfBenchOptions {
-        std::string size = "512x512", scene = "cornell";
-        int spp = 8, repeats = 1;
-        DeviceOptions device;
-    };
-    auto hopt = std::make_shared<RhfBenchOptions>();
+    auto hopt = std::make_shared<MethodBenchOptions>();
+    hopt->size = "512x512", hopt->spp = 8;
     CLI::App *rhfBench = bench->add_subcommand(
-        "rhf",
-        "Time Ray Histogram Fusion (default parameters) on a rendered frame, per kernel");
+        "rhf", "Time Ray Histogram Fusion on a rendered frame, per kernel");
     rhfBench->add_option("--size", hopt->size, "image size WxH")->capture_default_str();
     rhfBench->add_option("--scene", hopt->scene, "scene to render")->capture_default_str();
     rhfBench->add_option("--spp", hopt->spp, "samples per pixel")->capture_default_str();
     rhfBench->add_option("--repeat", hopt->repeats, "timed runs (after one warm-up)")
         ->capture_default_str();
     hopt->device.Add(rhfBench);
-    rhfBench->callback(
-        [hopt] { BenchRhf(hopt->size, hopt->scene, hopt->spp, hopt->repeats, hopt->device); });
+    hopt->methods.Add(rhfBench, "rhf");
+    rhfBench->callback([hopt] { BenchRhf(*hopt); });
 
-    struct PivotBenchOptions {
-        std::string size = "256x256", scene = "cornell", filter = "planefit";
-        int spp = 16, maxRadius = 30, repeats = 1;
-        DeviceOptions device;
-    };
-    auto popt = std::make_shared<PivotBenchOptions>();
+    auto popt = std::make_shared<MethodBenchOptions>();
+    popt->size = "256x256", popt->spp = 16;
     CLI::App *pivotBench = bench->add_subcommand(
         "pivot",
         "Time the pivot filter on a rendered frame with all its layers, per stage, with the "
@@ -638,17 +643,11 @@ void AddBenchCommand(CLI::App &app) {
         ->capture_default_str();
     pivotBench->add_option("--scene", popt->scene, "scene to render")->capture_default_str();
     pivotBench->add_option("--spp", popt->spp, "samples per pixel")->capture_default_str();
-    pivotBench->add_option("--filter", popt->filter, "planefit or bilateral")
-        ->capture_default_str();
-    pivotBench->add_option("--max-radius", popt->maxRadius, "planefit: largest square radius")
-        ->capture_default_str();
     pivotBench->add_option("--repeat", popt->repeats, "timed runs (after one warm-up)")
         ->capture_default_str();
     popt->device.Add(pivotBench);
-    pivotBench->callback([popt] {
-        BenchPivot(popt->size, popt->scene, popt->spp, popt->filter, popt->maxRadius,
-                   popt->repeats, popt->device);
-    });
+    popt->methods.Add(pivotBench, "pivot");
+    pivotBench->callback([popt] { BenchPivot(*popt); });
 
     AddBenchQualityCommand(bench);
 }

@@ -9,7 +9,6 @@
 
 #include "host/error.h"
 #include "host/io/frame.h"
-#include "host/methods/awr.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/reference_cache.h"
 #include "tools/render/adaptive.h"
@@ -40,9 +39,15 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
     for (const auto &[name, image] : result.layers) layers.push_back({name, &image});
     const Image &color = result.layers[0].second, &spp = result.layers[2].second;
     Image denoised;
-    // The frame's sample variance, as `denoise --variance auto` uses (see cmd_denoise.cpp).
-    if (!opt.denoised.empty())
-        denoised = AwrReconstruct(context, color, result.layers[1].second, {}).image;
+    // Method awr with the library's defaults, as `denoise --method awr` runs it on the file.
+    if (!opt.denoised.empty()) {
+        Frame frame;
+        frame.path = opt.output;
+        frame.width = options.width, frame.height = options.height;
+        for (const auto &[name, image] : result.layers) frame.layers[name] = image;
+        Device device = Device::Borrow(context);
+        denoised = Method("awr").Run(device, frame).image;
+    }
     io::WriteExr(opt.output, layers, result.metadata);
     if (!opt.preview.empty()) io::WritePng(opt.preview, color);
     if (!denoised.Empty()) WriteImage(opt.denoised, denoised, {{"mcd:method", "awr"}});

@@ -4,9 +4,9 @@
 
 namespace mcd::tool {
 
-void MethodOptions::Add(CLI::App *command) {
-    Method every("auto");  // every method's parameters and the shared ones
-    for (const ParamInfo &info : every.Params()) {
+void MethodOptions::Add(CLI::App *command, const std::string &method) {
+    Method params(method);  // named: a temporary's Params() would dangle in the loop
+    for (const ParamInfo &info : params.Params()) {
         auto b = std::make_shared<Bound>();
         b->info = info;
         std::string flag = "--" + info.name;

@@ -14,8 +14,9 @@ namespace mcd::tool {
 
 class MethodOptions {
   public:
-    // Add the options of every method (and those all methods share) to `command`.
-    void Add(CLI::App *command);
+    // Add the options of `method` ("auto": every method) and those all methods share to
+    // `command`.
+    void Add(CLI::App *command, const std::string &method = "auto");
     // The method `name` with the parameters given on the command line set; given options
     // of other methods are ignored, as they always were.
     Method Make(const std::string &name) const;
