@@ -13,4 +13,9 @@ using mcd::ReadImage;
 using mcd::WriteExr;
 using mcd::WritePng;
 
+// WritePng with an alpha channel (1 channel, the image's size; null: none) stored as the
+// PNG's straight alpha: the color is written as it is, alpha linear and clamped to [0,1].
+void WritePngWithAlpha(const std::string &path, const Image &image, const Image *alpha,
+                       float exposure = 1.f);
+
 }  // namespace mcd::io

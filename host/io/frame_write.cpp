@@ -176,14 +176,27 @@ void WriteExr(const std::string &path,
 }
 
 void WritePng(const std::string &path, const Image &image, float exposure) {
+    io::WritePngWithAlpha(path, image, nullptr, exposure);
+}
+
+namespace io {
+
+void WritePngWithAlpha(const std::string &path, const Image &image, const Image *alpha,
+                       float exposure) {
     if (std::string why = Malformed(image); !why.empty())
         throw Error(fmt::format("cannot write '{}': the image {}", path, why));
     if (image.channels != 1 && image.channels != 3)
         throw Error(fmt::format("cannot write '{}': a preview needs 1 or 3 channels, not {}",
                                 path, image.channels));
+    if (alpha && (alpha->width != image.width || alpha->height != image.height ||
+                  alpha->channels != 1 || !Malformed(*alpha).empty()))
+        throw Error(fmt::format("cannot write '{}': alpha is {}x{}x{}, not {}x{}x1", path,
+                                alpha->width, alpha->height, alpha->channels, image.width,
+                                image.height));
 
     // Always RGB, so that non-finite pixels can be magenta in a grey image too.
-    std::vector<uint8_t> pixels(image.PixelCount() * 3);
+    int channels = alpha ? 4 : 3;
+    std::vector<uint8_t> pixels(image.PixelCount() * channels);
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) {
             float v[3];
@@ -192,15 +205,25 @@ void WritePng(const std::string &path, const Image &image, float exposure) {
                 v[c] = image.At(image.channels == 1 ? 0 : c, y, x) * exposure;
                 finite = finite && std::isfinite(v[c]);
             }
-            uint8_t *p = pixels.data() + (size_t(y) * image.width + x) * 3;
+            uint8_t *p = pixels.data() + (size_t(y) * image.width + x) * channels;
             for (int c = 0; c < 3; ++c) p[c] = finite ? EncodeSrgb8(v[c]) : (c == 1 ? 0 : 255);
+            // Alpha is coverage, not light: linear, not sRGB-encoded, and not exposed.
+            if (alpha) {
+                float a = alpha->At(0, y, x);
+                p[3] = std::isfinite(a) ? uint8_t(std::lround(std::clamp(a, 0.f, 1.f) * 255.f))
+                                        : 255;
+            }
         }
 
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeUInt8);
+    OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeUInt8);
     spec.attribute("oiio:ColorSpace", "sRGB");
+    // The color is stored as it is, not divided by alpha (ReadFrame reads it so too).
+    if (alpha) spec.attribute("oiio:UnassociatedAlpha", 1);
     WriteAtomically(path, "png", spec, [&](OIIO::ImageOutput &out) {
         return out.write_image(OIIO::TypeUInt8, pixels.data());
     });
 }
+
+}  // namespace io
 
 }  // namespace mcd

@@ -24,11 +24,12 @@ constexpr int kOwnPriority = 3;
 constexpr int kUnknownPriority = 0;
 
 // Our layer names (ARCHITECTURE.md), plus "hist" for the Bin_NNNN channels and "zhist" for the
-// histograms of color / pivot (zhist.0 .. zhist.3n, laid out as hist).
-constexpr std::array<std::string_view, 17> kOwnNames = {
+// histograms of color / pivot (zhist.0 .. zhist.3n, laid out as hist), and "alpha" for the
+// A channel beside an unprefixed color.
+constexpr std::array<std::string_view, 18> kOwnNames = {
     "color",    "variance", "spp",       "min",       "max",    "hist",
     "direct",   "indirect", "pivot",     "albedo",    "normal", "depth",
-    "objectId", "partId",   "reference", "remainder", "zhist"};
+    "objectId", "partId",   "reference", "remainder", "zhist",  "alpha"};
 
 struct Alias {
     std::string_view from, to;  // to == "" drops the channels
@@ -239,7 +240,8 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
                               "the Bin_* channels",
                               OrderBins(bins, channelNames)});
 
-    // Unprefixed R,G,B make color (alpha ignored); a lone Y is a grey color.
+    // Unprefixed R,G,B make color; a lone Y is a grey color. Their A is the frame's alpha,
+    // kept so that a denoised image can carry it on (compositors and OIDN expect it).
     std::vector<int> rgb;
     for (const char *c : {"R", "G", "B"})
         if (auto it = plain.find(c); it != plain.end()) rgb.push_back(it->second);
@@ -250,6 +252,8 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
                               "",
                               grey ? "channel Y" : "channels R,G,B",
                               grey ? std::vector<int>{plain["Y"]} : rgb});
+        if (auto it = plain.find("A"); it != plain.end())
+            candidates.push_back({{"alpha", kOwnPriority}, "A", "channel A", {it->second}});
         for (const char *c : {"R", "G", "B", "A"}) plain.erase(c);
         if (grey) plain.erase("Y");
     }
@@ -312,6 +316,8 @@ std::vector<std::string> ChannelNamesOf(const std::string &layer, int channelCou
     } else if (channelCount == 1) {
         if (layer == "color")
             names.push_back("Y");
+        else if (layer == "alpha")
+            names.push_back("A");
         else if (layer == "depth")
             names.push_back("depth.Z");
         else

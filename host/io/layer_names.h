@@ -15,16 +15,18 @@ struct LayerChannels {
     std::vector<int> channels;
 };
 
-// Groups a file's channel names into layers. Unprefixed R,G,B (or a lone Y) make "color";
-// "<layer>.<suffix>" channels make "<layer>"; Bin_NNNN channels make "hist"; names of
-// other renderers (pbrt-v4, Blender) are mapped where the mapping is plain. Alpha next to
-// a known RGB layer and pbrt-v4's P.* are left out; every other channel lands in a layer.
+// Groups a file's channel names into layers. Unprefixed R,G,B (or a lone Y) make "color"
+// and an unprefixed A beside them "alpha"; "<layer>.<suffix>" channels make "<layer>";
+// Bin_NNNN channels make "hist"; names of other renderers (pbrt-v4, Blender) are mapped
+// where the mapping is plain. Alpha inside a known prefixed RGB layer (albedo.A) and
+// pbrt-v4's P.* are left out; every other channel lands in a layer.
 // Throws mcd::Error (without a path: the caller adds it) on a malformed histogram, a
 // repeated channel name or two sets of channels that both claim one layer name.
 std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channelNames);
 
 // The channel names a layer of channelCount channels is written under: "color" -> R,G,B
-// (Y when grey); "normal" -> normal.X/Y/Z; other 3-channel layers -> x.R/G/B; "depth"
+// (Y when grey); "alpha" -> A; "normal" -> normal.X/Y/Z; other 3-channel layers -> x.R/G/B;
+// "depth"
 // -> depth.Z; other 1-channel layers -> x.Y; "hist" -> Bin_0000..; any other count ->
 // x.0, x.1, ... GroupChannels maps these names back to the same layer.
 std::vector<std::string> ChannelNamesOf(const std::string &layer, int channelCount);

@@ -129,10 +129,12 @@ TEST_F(IoTest, ExrRoundTripIsBitExact) {
     Image variance = Ramp(w, h, 3, 1.f), spp = Ramp(w, h, 1, 2.f), normal = Ramp(w, h, 3, 3.f);
     Image depth = Ramp(w, h, 1, 4.f), hist = Ramp(w, h, 3 * 20 + 1, 5.f);
     Image diffInd = Ramp(w, h, 3, 6.f), feature = Ramp(w, h, 12, 7.f);
+    Image alpha = Ramp(w, h, 1, 8.f), noisy = Ramp(w, h, 3, 9.f);
     std::vector<std::pair<std::string, const Image *>> layers = {
-        {"color", &color},     {"variance", &variance}, {"spp", &spp},
-        {"normal", &normal},   {"depth", &depth},       {"hist", &hist},
-        {"DiffInd", &diffInd}, {"feature", &feature}};
+        {"color", &color},      {"variance", &variance}, {"spp", &spp},
+        {"normal", &normal},    {"depth", &depth},       {"hist", &hist},
+        {"DiffInd", &diffInd},  {"feature", &feature},   {"alpha", &alpha},
+        {"color.noisy", &noisy}};
     std::map<std::string, std::string> metadata = {{"mcd:spp", "64"},
                                                    {"mcd:scene", "cornell box"}};
     std::string path = Path("frame.exr");
@@ -156,12 +158,13 @@ TEST_F(IoTest, ExrRoundTripIsBitExact) {
     const OIIO::ImageSpec &spec = in->spec();
     for (int c = 0; c < spec.nchannels; ++c)
         EXPECT_EQ(spec.channelformat(c), OIIO::TypeFloat) << spec.channelnames[c];
-    for (const char *name : {"R", "G", "B", "variance.R", "spp.Y", "normal.X", "normal.Z",
-                             "depth.Z", "Bin_0000", "Bin_0060", "DiffInd.B", "feature.11"})
+    for (const char *name :
+         {"R", "G", "B", "variance.R", "spp.Y", "normal.X", "normal.Z", "depth.Z", "Bin_0000",
+          "Bin_0060", "DiffInd.B", "feature.11", "A", "color.noisy.R"})
         EXPECT_NE(std::find(spec.channelnames.begin(), spec.channelnames.end(), name),
                   spec.channelnames.end())
             << name;
-    EXPECT_EQ(spec.nchannels, 3 + 3 + 1 + 3 + 1 + 61 + 3 + 12);
+    EXPECT_EQ(spec.nchannels, 3 + 3 + 1 + 3 + 1 + 61 + 3 + 12 + 1 + 3);
 }
 
 TEST_F(IoTest, ReadsPfm) {
@@ -212,7 +215,7 @@ TEST_F(IoTest, ReadsPngAsLinear) {
     auto srgbToLinear = [](double v) {
         return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
     };
-    {  // 8-bit RGBA: alpha is ignored, values are sRGB-decoded.
+    {  // 8-bit RGBA: values are sRGB-decoded, alpha is kept linear as layer "alpha".
         OIIO::ImageSpec spec(2, 1, 4, OIIO::TypeUInt8);
         spec.attribute("oiio:UnassociatedAlpha", 1);  // store these bytes as they are
         uint8_t pixels[8] = {0, 128, 255, 7, 64, 200, 1, 255};
@@ -223,12 +226,16 @@ TEST_F(IoTest, ReadsPngAsLinear) {
         out->close();
 
         Frame frame = ReadFrame(path);
-        EXPECT_EQ(frame.layers.size(), 1u);
+        EXPECT_EQ(frame.layers.size(), 2u);
         const Image &color = frame.Get("color");
         ASSERT_EQ(color.channels, 3);
         for (int x = 0; x < 2; ++x)
             for (int c = 0; c < 3; ++c)
                 EXPECT_NEAR(color.At(c, 0, x), srgbToLinear(pixels[x * 4 + c] / 255.0), 1e-6);
+        const Image &alpha = frame.Get("alpha");
+        ASSERT_EQ(alpha.channels, 1);
+        for (int x = 0; x < 2; ++x)
+            EXPECT_NEAR(alpha.At(0, 0, x), pixels[x * 4 + 3] / 255.0, 1e-6);
     }
     {  // 16-bit grey: one color channel.
         OIIO::ImageSpec spec(3, 1, 1, OIIO::TypeUInt16);
@@ -367,8 +374,9 @@ TEST_F(IoTest, OrdersChannelsWithinLayers) {
     std::vector<std::string> feature;
     for (int i = 0; i <= 10; ++i) feature.push_back("feature." + std::to_string(i));
     ExpectLayer(frame, "feature", feature, channels);
+    ExpectLayer(frame, "alpha", {"A"}, channels);
     EXPECT_FALSE(frame.Has("A"));
-    EXPECT_EQ(frame.layers.size(), 9u);
+    EXPECT_EQ(frame.layers.size(), 10u);
 }
 
 TEST_F(IoTest, ReadsHistogramBinsInNumericOrder) {
@@ -594,6 +602,25 @@ TEST_F(IoTest, WritePngShowsNonFiniteAsMagenta) {
     EXPECT_EQ(back.channels, 3);
     EXPECT_NEAR(back.At(0, 0, 0), 0.25f, 0.01f);
     EXPECT_EQ(back.At(1, 1, 2), 0.f);  // magenta: no green
+
+    // With alpha: RGBA, the color as without it (not divided by alpha), alpha linear.
+    Image alpha(5, 1, 1);
+    for (int x = 0; x < 5; ++x) alpha.At(0, 0, x) = float(x) / 4.f;
+    alpha.At(0, 0, 4) = 7.f;  // clamped
+    WritePngWithAlpha(Path("rgba.png"), rgb, &alpha, 0.5f);
+    auto rgba = OIIO::ImageInput::open(Path("rgba.png"));
+    ASSERT_TRUE(rgba) << OIIO::geterror();
+    ASSERT_EQ(rgba->spec().nchannels, 4);
+    uint8_t pixels4[20];
+    ASSERT_TRUE(rgba->read_image(0, 0, 0, 4, OIIO::TypeUInt8, pixels4));
+    const uint8_t alphas[5] = {0, 64, 128, 191, 255};
+    for (int x = 0; x < 5; ++x) EXPECT_EQ(int(pixels4[x * 4 + 3]), int(alphas[x])) << x;
+    Frame back4 = ReadFrame(Path("rgba.png"));
+    ASSERT_TRUE(back4.Has("alpha"));
+    EXPECT_NEAR(back4.Get("alpha").At(0, 0, 1), 0.25f, 0.5f / 255);
+    for (int c = 0; c < 3; ++c)  // half covered, the same color as without alpha
+        EXPECT_EQ(back4.Get("color").At(c, 0, 2), ReadImage(path).At(c, 0, 2)) << c;
+    EXPECT_THROW(WritePngWithAlpha(Path("bad.png"), rgb, &grey), Error);
     EXPECT_EQ(back.At(0, 1, 2), 1.f);
 }
 

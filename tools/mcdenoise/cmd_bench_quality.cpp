@@ -17,6 +17,7 @@
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
+#include "tools/mcdenoise/path_guard.h"
 #include "tools/mcdenoise/reference_cache.h"
 #include "tools/render/renderer.h"
 
@@ -191,6 +192,21 @@ void BenchQuality(const QualityOptions &opt) {
                              [&](const Method &m) { return m.Name() == name; }))
                 throw Error(fmt::format("--methods: unknown method '{}' (methods: {})", name,
                                         MethodOptions::Names()));
+    // The report's files must spare the cached references it reads.
+    std::vector<RolePath> references,
+        reports = {{"-o", (fs::path(opt.out) / "quality.csv").string()},
+                   {"-o", (fs::path(opt.out) / "index.html").string()}};
+    for (const std::string &scene : scenes) {
+        references.push_back({"the cached reference",
+                              ReferenceCachePath(scene, width, height, opt.referenceSpp)});
+        reports.push_back({"-o", (fs::path(opt.out) / (scene + ".svg")).string()});
+        std::vector<std::string> crops = {"input", "reference"};
+        for (const Method &m : methods) crops.push_back(m.Name());
+        for (const std::string &crop : crops)
+            reports.push_back(
+                {"-o", (fs::path(opt.out) / fmt::format("{}-{}.png", scene, crop)).string()});
+    }
+    RefuseOverwritingInputs(references, reports);
     PrepareDirectory(opt.out);
 
     Device device(opt.device.Options());

@@ -5,16 +5,37 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <map>
+#include <type_traits>
+#include <variant>
 
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
+#include "tools/mcdenoise/path_guard.h"
 
 namespace mcd::tool {
 namespace {
+
+// The result written over its own input frame (--overwrite-input): every layer kept, the
+// noisy color under kNoisyColorLayer (a second run keeps the first's, the render's own),
+// the file's metadata with the provenance on top. A link to the frame stays one: the
+// file it names is replaced.
+void WriteOverInput(const io::Frame &frame, const Image &denoised,
+                    const std::map<std::string, std::string> &provenance) {
+    const Image &noisy =
+        frame.Has(kNoisyColorLayer) ? frame.Get(kNoisyColorLayer) : frame.Get("color");
+    std::vector<std::pair<std::string, const Image *>> layers = {{"color", &denoised},
+                                                                 {kNoisyColorLayer, &noisy}};
+    for (const auto &[name, image] : frame.layers)
+        if (name != "color" && name != kNoisyColorLayer) layers.push_back({name, &image});
+    std::map<std::string, std::string> metadata = frame.metadata;
+    for (const auto &[key, value] : provenance) metadata[key] = value;
+    io::WriteExr(std::filesystem::canonical(frame.path).string(), layers, metadata);
+}
 
 // The GPU buffers a run allocated, by name with their sizes, and its peak.
 std::string LedgerText(const Result &result) {
@@ -34,12 +55,35 @@ std::string LedgerText(const Result &result) {
     return text + "\n";
 }
 
+// Every parameter of the method that ran, and those all methods share, as
+// "name=value ..." with the values the run used (defaults included), so the output says
+// how it was made.
+std::string OptionsText(const Method &method, const std::string &ran) {
+    std::string text;
+    for (const ParamInfo &info : method.Params()) {
+        if (!info.method.empty() && info.method != ran) continue;
+        std::string value = std::visit(
+            [](const auto &v) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(v)>, bool>)
+                    return std::string(v ? "true" : "false");
+                else
+                    return fmt::format("{}", v);
+            },
+            method.Get(info.name));
+        // Quoted when empty or spaced, so the string splits back into its parameters.
+        if (value.empty() || value.find(' ') != std::string::npos)
+            value = "\"" + value + "\"";
+        text += fmt::format("{}{}={}", text.empty() ? "" : " ", info.name, value);
+    }
+    return text;
+}
+
 }  // namespace
 
 void AddDenoiseCommand(CLI::App &app) {
     struct Options {
         std::string input, output, method = "auto", reference, preview;
-        bool explain = false;
+        bool explain = false, overwriteInput = false;
         DeviceOptions device;
         MethodOptions methods;
     };
@@ -56,6 +100,10 @@ void AddDenoiseCommand(CLI::App &app) {
                     "converged image to measure the error against, before and after");
     cmd->add_option("--preview", opt->preview, "also write a tonemapped PNG");
     cmd->add_flag("--explain", opt->explain, "print what runs and what is left out, and why");
+    cmd->add_flag("--overwrite-input", opt->overwriteInput,
+                  "let -o be the input frame (.exr): the result becomes its color, the noisy "
+                  "color is kept as layer " +
+                      std::string(kNoisyColorLayer) + " and every other layer as it was");
     opt->device.Add(cmd);
     opt->methods.Add(cmd);
 
@@ -63,6 +111,21 @@ void AddDenoiseCommand(CLI::App &app) {
         Method method = opt->methods.Make(opt->method);
         CheckOutputPath(opt->output, {".exr", ".png"});
         if (!opt->preview.empty()) CheckOutputPath(opt->preview, {".png"});
+        // No output may be a file this run reads, unless the user says so for -o.
+        bool inPlace = opt->overwriteInput && SameFile(opt->output, opt->input);
+        if (inPlace && std::filesystem::path(opt->output).extension() != ".exr")
+            throw Error(fmt::format(
+                "--overwrite-input: '{}' would lose the frame's other layers; it needs an .exr "
+                "output",
+                opt->output));
+        RefuseOverwritingInputs(
+            {{"input", inPlace ? "" : opt->input,
+              "write elsewhere, or pass --overwrite-input to replace the frame's color and "
+              "keep its other layers"},
+             {"--reference", opt->reference}},
+            {{"-o", opt->output}, {"--preview", opt->preview}});
+        if (inPlace)
+            RefuseOverwritingInputs({{"input", opt->input}}, {{"--preview", opt->preview}});
         io::Frame frame = io::ReadFrame(opt->input);
         const Image &color = frame.Get("color");
         Image reference;
@@ -109,9 +172,17 @@ void AddDenoiseCommand(CLI::App &app) {
                 after.nonFinite ? fmt::format(" ({} non-finite output values)", after.nonFinite)
                                 : "");
         }
-        WriteImage(opt->output, result.image,
-                   {{"mcd:method", result.method}, {"mcd:source", opt->input}});
-        if (!opt->preview.empty()) io::WritePng(opt->preview, result.image);
+        std::map<std::string, std::string> provenance = {
+            {"mcd:method", result.method},
+            {"mcd:source", opt->input},
+            {"mcd:options", OptionsText(method, result.method)},
+            {"mcd:version", Version()}};
+        const Image *alpha = frame.Has("alpha") ? &frame.Get("alpha") : nullptr;
+        if (inPlace)
+            WriteOverInput(frame, result.image, provenance);
+        else
+            WriteImage(opt->output, result.image, provenance, alpha);
+        if (!opt->preview.empty()) io::WritePngWithAlpha(opt->preview, result.image, alpha);
         fmt::print("{}: {} in {:.1f} ms ({:.1f} ms GPU, {} dispatches)\n", opt->output,
                    result.method, result.wallMs, result.GpuMs(), result.timings.size());
         fmt::print("{}", errorLine);

@@ -12,6 +12,7 @@
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
+#include "tools/mcdenoise/path_guard.h"
 
 namespace mcd::tool {
 namespace {
@@ -51,6 +52,11 @@ void AddDiffCommand(CLI::App &app) {
             throw Error(fmt::format("diff: unknown method 'auto' (methods with stages: {})",
                                     MethodOptions::Names()));
         Method method = opt->methods.Make(opt->method);
+        // The stages' names come with the run; refuse an input a stage's file could be.
+        RefuseInputsInDirectory(
+            {{"input", opt->input}}, {"--dump", opt->dump}, [](const std::string &name) {
+                return name.ends_with(".gpu.exr") || name.ends_with(".cpu.exr");
+            });
         if (!opt->dump.empty()) PrepareDirectory(opt->dump);
         io::Frame frame = io::ReadFrame(opt->input);
         Device device(opt->device.Options());

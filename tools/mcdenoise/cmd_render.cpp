@@ -10,6 +10,7 @@
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/path_guard.h"
 #include "tools/mcdenoise/reference_cache.h"
 #include "tools/render/adaptive.h"
 #include "tools/render/renderer.h"
@@ -135,6 +136,16 @@ void AddRenderCommand(CLI::App &app) {
         options.layers = render::ParseLayerGroups(opt->layers);
         CheckOutputPath(opt->output, {".exr"});
         if (!opt->preview.empty()) CheckOutputPath(opt->preview, {".png"});
+        // The outputs apart from each other and from the cached reference this run reads.
+        RefuseOverwritingInputs(
+            {{"the cached reference",
+              opt->reference
+                  ? ReferenceCachePath(opt->scene, options.width, options.height, options.spp)
+                  : ""}},
+            {{"-o", opt->output},
+             {"--preview", opt->preview},
+             {"--denoised", opt->denoised},
+             {"--density", opt->density}});
         render::Scene scene = render::BuildScene(opt->scene);
         if (!opt->adaptive.empty()) {
             if (opt->adaptive != "awr")

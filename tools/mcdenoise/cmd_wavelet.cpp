@@ -12,6 +12,7 @@
 #include "host/wavelet/transform.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/gpu_wavelet.h"
+#include "tools/mcdenoise/path_guard.h"
 
 namespace mcd::tool {
 
@@ -82,18 +83,32 @@ void DumpBand(const std::filesystem::path &dir, const std::string &name, const I
                  mean > 0 ? float(0.25 / mean) : 1.f);
 }
 
-void DumpBands(const std::filesystem::path &dir, const Image &coef, int levels) {
+// One coefficient band: its file name (without extension) and its region.
+struct Band {
+    std::string name;
+    int x0, y0, x1, y1;
+};
+
+// The bands of a `levels`-level DWT of a width x height image, as --dump writes them.
+std::vector<Band> Bands(int width, int height, int levels) {
+    std::vector<Band> bands;
     for (int level = 0; level < levels; ++level) {
-        int lw = LevelExtent(coef.width, level), lh = LevelExtent(coef.height, level);
+        int lw = LevelExtent(width, level), lh = LevelExtent(height, level);
         int hw = lw > 1 ? (lw + 1) / 2 : lw, hh = lh > 1 ? (lh + 1) / 2 : lh;
         // Paper numbering: level 1 is the finest.
         std::string prefix = fmt::format("L{}_", level + 1);
-        if (lw > 1) DumpBand(dir, prefix + "HL", coef.Crop(hw, 0, lw, hh));
-        if (lh > 1) DumpBand(dir, prefix + "LH", coef.Crop(0, hh, hw, lh));
-        if (lw > 1 && lh > 1) DumpBand(dir, prefix + "HH", coef.Crop(hw, hh, lw, lh));
+        if (lw > 1) bands.push_back({prefix + "HL", hw, 0, lw, hh});
+        if (lh > 1) bands.push_back({prefix + "LH", 0, hh, hw, lh});
+        if (lw > 1 && lh > 1) bands.push_back({prefix + "HH", hw, hh, lw, lh});
     }
-    int lw = LevelExtent(coef.width, levels), lh = LevelExtent(coef.height, levels);
-    DumpBand(dir, fmt::format("L{}_LL", levels), coef.Crop(0, 0, lw, lh));
+    bands.push_back({fmt::format("L{}_LL", levels), 0, 0, LevelExtent(width, levels),
+                     LevelExtent(height, levels)});
+    return bands;
+}
+
+void DumpBands(const std::filesystem::path &dir, const Image &coef, int levels) {
+    for (const Band &b : Bands(coef.width, coef.height, levels))
+        DumpBand(dir, b.name, coef.Crop(b.x0, b.y0, b.x1, b.y1));
 }
 
 }  // namespace
@@ -127,15 +142,26 @@ void AddWaveletCommand(CLI::App &app) {
             throw Error("unknown wavelet basis '" + opt->basis + "' (haar, legall53, cdf97)");
         // Refuse bad destinations before any work.
         if (!opt->output.empty()) CheckOutputPath(opt->output, {".exr", ".png"});
+        bool builtin = opt->input.rfind("builtin:", 0) == 0;
+        std::vector<RolePath> inputs = {{"input", builtin ? "" : opt->input}};
+        RefuseOverwritingInputs(inputs, {{"-o", opt->output}});
         if (!opt->dump.empty()) PrepareDirectory(opt->dump);
-        Image image = opt->input.rfind("builtin:", 0) == 0
-                          ? BuiltinImage(opt->input)
-                          : io::ReadImage(opt->input, opt->layer);
+        Image image =
+            builtin ? BuiltinImage(opt->input) : io::ReadImage(opt->input, opt->layer);
         int maxLevels = MaxWaveletLevels(image.width, image.height);
         int levels = opt->levels < 0 ? maxLevels : opt->levels;
         if (levels > maxLevels)
             throw Error(fmt::format("{} levels requested; a {}x{} image allows 0..{}", levels,
                                     image.width, image.height, maxLevels));
+        // The band files --dump will write, known once the size is.
+        std::vector<RolePath> outputs = {{"-o", opt->output}};
+        if (!opt->dump.empty())
+            for (const Band &b : Bands(image.width, image.height, levels))
+                for (const char *ext : {".exr", ".png"})
+                    outputs.push_back(
+                        {"--dump",
+                         (std::filesystem::path(opt->dump) / (b.name + ext)).string()});
+        RefuseOverwritingInputs(inputs, outputs);
         vk::Context context(opt->device.ContextOptions());
         WaveletRoundTrip trip = RunWaveletRoundTrip(context, image, *basis, levels);
         double maxError = 0, maxValue = 0;

@@ -43,9 +43,14 @@ void ParseSize(const std::string &text, int *width, int *height);
 void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions);
 
 // Write one image as a tonemapped PNG if `path` ends in .png, else as a float EXR (layer
-// color) with `metadata`.
+// color) with `metadata`; with `alpha` (the input's), as RGBA.
 void WriteImage(const std::string &path, const Image &image,
-                const std::map<std::string, std::string> &metadata = {});
+                const std::map<std::string, std::string> &metadata = {},
+                const Image *alpha = nullptr);
+
+// The layer that keeps a frame's noisy color when denoise writes over the frame
+// (--overwrite-input); the README's layer table lists it.
+inline constexpr const char *kNoisyColorLayer = "color.noisy";
 
 // Create `path` as a directory (with parents) or throw if it cannot be one.
 void PrepareDirectory(const std::string &path);

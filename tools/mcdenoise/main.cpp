@@ -53,9 +53,11 @@ void CheckOutputPath(const std::string &path, std::initializer_list<const char *
 }
 
 void WriteImage(const std::string &path, const Image &image,
-                const std::map<std::string, std::string> &metadata) {
+                const std::map<std::string, std::string> &metadata, const Image *alpha) {
     if (std::filesystem::path(path).extension() == ".png")
-        io::WritePng(path, image);
+        io::WritePngWithAlpha(path, image, alpha);
+    else if (alpha)
+        io::WriteExr(path, {{"color", &image}, {"alpha", alpha}}, metadata);
     else
         io::WriteExr(path, {{"color", &image}}, metadata);
 }

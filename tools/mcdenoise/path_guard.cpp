@@ -1,0 +1,80 @@
+#include "tools/mcdenoise/path_guard.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <system_error>
+
+#include "host/error.h"
+
+namespace mcd::tool {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The path with every existing part resolved (links, "..", "."), absolute.
+fs::path Canonical(const std::string &path) {
+    std::error_code ec;
+    fs::path canonical = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    if (ec) canonical = fs::absolute(path, ec).lexically_normal();
+    return canonical;
+}
+
+std::string Describe(const RolePath &p) {
+    return fmt::format("{} '{}'", p.role, p.path);
+}
+
+}  // namespace
+
+bool SameFile(const std::string &a, const std::string &b) {
+    std::error_code ec;
+    // Hard links and symbolic links to one file: only the file system knows.
+    if (fs::exists(a, ec) && fs::exists(b, ec)) {
+        bool same = fs::equivalent(a, b, ec);
+        if (!ec) return same;
+    }
+    return Canonical(a) == Canonical(b);
+}
+
+void RefuseOverwritingInputs(const std::vector<RolePath> &inputs,
+                             const std::vector<RolePath> &outputs) {
+    for (size_t o = 0; o < outputs.size(); ++o) {
+        const RolePath &out = outputs[o];
+        if (out.path.empty()) continue;
+        for (const RolePath &in : inputs)
+            if (!in.path.empty() && SameFile(out.path, in.path))
+                throw Error(fmt::format(
+                    "{} would overwrite {}: they are the same file{}; nothing was written{}",
+                    Describe(out), Describe(in),
+                    out.path == in.path ? ""
+                                        : fmt::format(" ({})", Canonical(in.path).string()),
+                    in.hint.empty() ? "" : "; " + in.hint));
+        // Two outputs on one file: the second would silently replace the first.
+        for (size_t p = 0; p < o; ++p)
+            if (!outputs[p].path.empty() && SameFile(out.path, outputs[p].path))
+                throw Error(fmt::format("{} and {} are the same file; nothing was written",
+                                        Describe(outputs[p]), Describe(out)));
+    }
+}
+
+void RefuseInputsInDirectory(const std::vector<RolePath> &inputs, const RolePath &dir,
+                             const std::function<bool(const std::string &name)> &writes) {
+    if (dir.path.empty()) return;
+    fs::path canonicalDir = Canonical(dir.path);
+    for (const RolePath &in : inputs) {
+        if (in.path.empty()) continue;
+        // The input's own entry (a link in dir is replaced) and the file it leads to.
+        fs::path given = Canonical(fs::path(in.path).parent_path().empty()
+                                       ? "."
+                                       : fs::path(in.path).parent_path().string()) /
+                         fs::path(in.path).filename();
+        for (const fs::path &p : {given, Canonical(in.path)})
+            if (p.parent_path() == canonicalDir && writes(p.filename().string()))
+                throw Error(fmt::format(
+                    "{} '{}' would write over {} ({}); nothing was written{}", dir.role,
+                    dir.path, Describe(in), p.string(), in.hint.empty() ? "" : "; " + in.hint));
+    }
+}
+
+}  // namespace mcd::tool
