@@ -63,15 +63,6 @@ struct BayesOptions {
     bool keepStages = false;
 };
 
-// The paper's pipeline (section 4): the decimated DWT and the fixed noise s_n, where the
-// defaults above are the measured choices.
-inline BayesOptions PaperBayesOptions() {
-    BayesOptions options;
-    options.transform = BayesTransform::Dwt;
-    options.noiseAuto = false;
-    return options;
-}
-
 struct BayesBandFit {
     int channel, level, orientation;
     std::array<float, 8> params;  // s_n, p_n, s_c, p_c, fit, y_max, b, du (bayes.h)

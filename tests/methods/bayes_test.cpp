@@ -13,6 +13,7 @@
 #include "cpu_reference/bayes_denoise.h"
 #include "cpu_reference/bayes_model.h"
 #include "cpu_reference/wavelet_analyze.h"
+#include "harness/bayes_paper.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"

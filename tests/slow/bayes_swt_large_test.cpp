@@ -7,6 +7,7 @@
 #include <cstring>
 #include <random>
 
+#include "harness/bayes_paper.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/methods/bayes.h"

@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 
+#include "harness/bayes_paper.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"

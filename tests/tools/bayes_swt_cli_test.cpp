@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/bayes_paper.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"

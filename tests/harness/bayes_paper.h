@@ -1,0 +1,17 @@
+// The paper's bayes pipeline (Xu & Pattanaik, section 4): the decimated DWT and the fixed
+// noise s_n, where BayesOptions' defaults are the measured choices. The tests that check
+// the paper's pipeline start from it.
+#pragma once
+
+#include "host/methods/bayes.h"
+
+namespace mcd::test {
+
+inline BayesOptions PaperBayesOptions() {
+    BayesOptions options;
+    options.transform = BayesTransform::Dwt;
+    options.noiseAuto = false;
+    return options;
+}
+
+}  // namespace mcd::test
