@@ -7,6 +7,9 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "cpu_reference/pivot_filter.h"
 #include "harness/compare.h"
@@ -105,49 +108,83 @@ Image Planes(const Image &fits, int first, int count, int channels) {
     return part;
 }
 
-class PivotKernel : public GpuTest {};
-
 // Stage 1: z is one division (1 rounding); s two more; nu one more; the estimated s sums
 // at most 9 squares of differences (about 20 roundings of the neighbourhood's mean z^2).
 // Positive data, as rendered frames have, so zl is bounded away from 0.
-TEST_F(PivotKernel, RatioMatchesReference) {
+struct RatioCase {
+    int w, h;
+    bool withVariance, withIds;
+};
+
+class PivotKernelRatio : public GpuTestWithParam<RatioCase> {};
+
+TEST_P(PivotKernelRatio, MatchesReference) {
+    const auto [w, h, withVariance, withIds] = GetParam();
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h)));
+    // Black and near-black pivots: excluded, never divided by.
+    for (int i = 0; i < int(f.pivot.Size()); i += 7) f.pivot.data[i] = 0;
+    if (f.pivot.Size() > 3) f.pivot.data[3] = 1e-6f;
+    const Image *variance = withVariance ? &f.variance : nullptr;
+    ref::PivotRatio expected =
+        ref::PivotRatioOf(f.color, f.pivot, variance, 1e-3, withIds ? &f.ids : nullptr);
+    Image guide = GuideOf(f);
+    ref::PivotRatio actual =
+        GpuRatio(Ctx(), f.color, f.pivot, variance, 1e-3f, withIds ? &guide : nullptr);
+    for (size_t i = 0; i < expected.nu.Size(); ++i)
+        ASSERT_EQ(expected.nu.data[i] < 0, actual.nu.data[i] < 0) << "validity at " << i;
+    EXPECT_TRUE(ImagesMatch(expected.z, actual.z, {}, {2 * kUnitRoundoff, 0, 1e-12}));
+    // The scale of s and nu: the neighbourhood's squared values.
+    Image sScale = expected.s, nuScale = expected.nu;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double big = 0;
+                for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                    for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                        if (expected.nu.At(c, v, u) >= 0)
+                            big = std::max(big, std::fabs(double(expected.z.At(c, v, u))));
+                double s = expected.s.At(c, y, x), nu = expected.nu.At(c, y, x);
+                sScale.At(c, y, x) = float(s + big * big);
+                nuScale.At(c, y, x) =
+                    nu < 0 ? 0.f : float(nu * (1 + big * big / std::max(s, 1e-30)));
+            }
+    Tolerance tol{40 * kUnitRoundoff, 0, 1e-9};
+    EXPECT_TRUE(ImagesMatch(expected.s, actual.s, sScale, tol));
+    EXPECT_TRUE(ImagesMatch(expected.nu, actual.nu, nuScale, tol));
+}
+
+std::vector<RatioCase> RatioCases() {
+    std::vector<RatioCase> cases;
     for (auto [w, h] : {std::pair{37, 23}, std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 1}})
-        for (auto [withVariance, withIds] : {std::pair{true, false}, std::pair{false, true}}) {
-            SCOPED_TRACE(fmt::format("{}x{} variance {} ids {}", w, h, withVariance, withIds));
-            Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h)));
-            // Black and near-black pivots: excluded, never divided by.
-            for (int i = 0; i < int(f.pivot.Size()); i += 7) f.pivot.data[i] = 0;
-            if (f.pivot.Size() > 3) f.pivot.data[3] = 1e-6f;
-            const Image *variance = withVariance ? &f.variance : nullptr;
-            ref::PivotRatio expected =
-                ref::PivotRatioOf(f.color, f.pivot, variance, 1e-3, withIds ? &f.ids : nullptr);
-            Image guide = GuideOf(f);
-            ref::PivotRatio actual =
-                GpuRatio(Ctx(), f.color, f.pivot, variance, 1e-3f, withIds ? &guide : nullptr);
-            for (size_t i = 0; i < expected.nu.Size(); ++i)
-                ASSERT_EQ(expected.nu.data[i] < 0, actual.nu.data[i] < 0)
-                    << "validity at " << i;
-            EXPECT_TRUE(ImagesMatch(expected.z, actual.z, {}, {2 * kUnitRoundoff, 0, 1e-12}));
-            // The scale of s and nu: the neighbourhood's squared values.
-            Image sScale = expected.s, nuScale = expected.nu;
-            for (int c = 0; c < 3; ++c)
-                for (int y = 0; y < h; ++y)
-                    for (int x = 0; x < w; ++x) {
-                        double big = 0;
-                        for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
-                            for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
-                                if (expected.nu.At(c, v, u) >= 0)
-                                    big = std::max(big,
-                                                   std::fabs(double(expected.z.At(c, v, u))));
-                        double s = expected.s.At(c, y, x), nu = expected.nu.At(c, y, x);
-                        sScale.At(c, y, x) = float(s + big * big);
-                        nuScale.At(c, y, x) =
-                            nu < 0 ? 0.f : float(nu * (1 + big * big / std::max(s, 1e-30)));
-                    }
-            Tolerance tol{40 * kUnitRoundoff, 0, 1e-9};
-            EXPECT_TRUE(ImagesMatch(expected.s, actual.s, sScale, tol));
-            EXPECT_TRUE(ImagesMatch(expected.nu, actual.nu, nuScale, tol));
-        }
+        for (auto [withVariance, withIds] : {std::pair{true, false}, std::pair{false, true}})
+            cases.push_back({w, h, withVariance, withIds});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelRatio, testing::ValuesIn(RatioCases()),
+                         [](const testing::TestParamInfo<RatioCase> &info) {
+                             const RatioCase &c = info.param;
+                             return fmt::format("{}x{}{}{}", c.w, c.h,
+                                                c.withVariance ? "_variance" : "",
+                                                c.withIds ? "_ids" : "");
+                         });
+
+// Stages 2 and 3 and the bilateral baseline: a frame size, with or without guides.
+struct StageCase {
+    int w, h;
+    bool guides;
+};
+
+std::vector<StageCase> StageCases(std::initializer_list<std::pair<int, int>> sizes) {
+    std::vector<StageCase> cases;
+    for (auto [w, h] : sizes)
+        for (bool guides : {false, true}) cases.push_back({w, h, guides});
+    return cases;
+}
+
+std::string StageCaseName(const testing::TestParamInfo<StageCase> &info) {
+    return fmt::format("{}x{}_{}", info.param.w, info.param.h,
+                       info.param.guides ? "guides" : "noguides");
 }
 
 // Stage 2 on the same z, s, nu. The growth decisions compare float sums with thresholds:
@@ -156,171 +193,173 @@ TEST_F(PivotKernel, RatioMatchesReference) {
 // planes agree to the sums' round-off: at most (2R+1)^2 = 169 terms (169 u relative) times
 // the normal matrix's condition in centred coordinates (below ~100 for these windows), of
 // the window's |z| scale.
-TEST_F(PivotKernel, FitMatchesReference) {
-    for (auto [w, h] : {std::pair{29, 21}, std::pair{1, 1}, std::pair{1, 12}, std::pair{9, 1},
-                        std::pair{6, 5}})
-        for (bool guides : {false, true}) {
-            SCOPED_TRACE(fmt::format("{}x{} guides {}", w, h, guides));
-            Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("fit{}x{}", w, h)));
-            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3,
-                                                      guides ? &f.ids : nullptr);
-            PivotOptions o;
-            o.maxRadius = 6;
-            o.targetNoise = 0.05f;
-            o.sigmaWeight = guides ? 0.5f : 1.f;
-            ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
-            Image margin;
-            Image expected = ref::PivotFit(ratio, refGuides, RefParams(o), &margin);
+class PivotKernelFit : public GpuTestWithParam<StageCase> {};
 
-            vk::GpuImage z(Ctx(), w, h, 3, "z"), s(Ctx(), w, h, 3, "s"),
-                nu(Ctx(), w, h, 3, "nu");
-            vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
-            vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
-            z.Upload(ratio.z);
-            s.Upload(ratio.s);
-            nu.Upload(ratio.nu);
-            guide.Upload(GuideOf(f));
-            PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
-            vk::Recorder recorder(Ctx());
-            // In two row strips where there are two rows (as large frames run).
-            for (auto [rowBase, rows] :
-                 h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
-                       : std::vector<std::pair<int, int>>{{0, h}})
-                RecordPivotFit(Ctx(), recorder, z, s, nu, gpuGuides,
-                               {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k,
-                                o.sigmaWeight},
-                               lo, hi, rowBase, rows);
-            recorder.Submit();
-            Image actualLo = lo.Download(), actualHi = hi.Download();
-            double zScale = 0;
-            for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
-            int compared = 0, skipped = 0, radiusMismatches = 0, planeMismatches = 0;
-            for (int c = 0; c < 3; ++c)
-                for (int y = 0; y < h; ++y)
-                    for (int x = 0; x < w; ++x) {
-                        auto plane = [&](const Image &fits, int p) {
-                            return double(fits.At(p * 3 + c, y, x));
-                        };
-                        auto gpuPlane = [&](int p) {
-                            return p < 8 ? double(actualLo.At(p * 3 + c, y, x))
-                                         : double(actualHi.At((p - 8) * 3 + c, y, x));
-                        };
-                        if (margin.At(c, y, x) < 1e-3) {
-                            ++skipped;
-                            continue;
-                        }
-                        ++compared;
-                        if (plane(expected, 15) != gpuPlane(15)) {
-                            if (radiusMismatches++ < 5)
-                                ADD_FAILURE()
-                                    << fmt::format("radius at ({}, {}, {}): {} vs {}", x, y, c,
-                                                   plane(expected, 15), gpuPlane(15));
-                            continue;
-                        }
-                        double radius = std::max(1.0, plane(expected, 15));
-                        for (int p = 0; p < 15; ++p) {
-                            // a and b times the radius: their effect at the window's edge.
-                            double scale = p % 3 == 2 ? 1 : radius;
-                            double err = std::fabs(plane(expected, p) - gpuPlane(p)) * scale;
-                            if (err > 169 * 100 * kUnitRoundoff * zScale &&
-                                planeMismatches++ < 5)
-                                ADD_FAILURE()
-                                    << fmt::format("plane {} at ({}, {}, {}): {} vs {}", p, x,
-                                                   y, c, plane(expected, p), gpuPlane(p));
-                        }
-                    }
-            EXPECT_EQ(radiusMismatches, 0);
-            EXPECT_EQ(planeMismatches, 0);
-            EXPECT_LE(skipped, compared / 50 + 1) << "too many centres near a threshold";
-        }
+TEST_P(PivotKernelFit, MatchesReference) {
+    const auto [w, h, guides] = GetParam();
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("fit{}x{}", w, h)));
+    ref::PivotRatio ratio =
+        ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
+    PivotOptions o;
+    o.maxRadius = 6;
+    o.targetNoise = 0.05f;
+    o.sigmaWeight = guides ? 0.5f : 1.f;
+    ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
+    Image margin;
+    Image expected = ref::PivotFit(ratio, refGuides, RefParams(o), &margin);
+
+    vk::GpuImage z(Ctx(), w, h, 3, "z"), s(Ctx(), w, h, 3, "s"), nu(Ctx(), w, h, 3, "nu");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
+    z.Upload(ratio.z);
+    s.Upload(ratio.s);
+    nu.Upload(ratio.nu);
+    guide.Upload(GuideOf(f));
+    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
+    vk::Recorder recorder(Ctx());
+    // In two row strips where there are two rows (as large frames run).
+    for (auto [rowBase, rows] :
+         h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
+               : std::vector<std::pair<int, int>>{{0, h}})
+        RecordPivotFit(
+            Ctx(), recorder, z, s, nu, gpuGuides,
+            {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k, o.sigmaWeight}, lo,
+            hi, rowBase, rows);
+    recorder.Submit();
+    Image actualLo = lo.Download(), actualHi = hi.Download();
+    double zScale = 0;
+    for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
+    int compared = 0, skipped = 0, radiusMismatches = 0, planeMismatches = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                auto plane = [&](const Image &fits, int p) {
+                    return double(fits.At(p * 3 + c, y, x));
+                };
+                auto gpuPlane = [&](int p) {
+                    return p < 8 ? double(actualLo.At(p * 3 + c, y, x))
+                                 : double(actualHi.At((p - 8) * 3 + c, y, x));
+                };
+                if (margin.At(c, y, x) < 1e-3) {
+                    ++skipped;
+                    continue;
+                }
+                ++compared;
+                if (plane(expected, 15) != gpuPlane(15)) {
+                    if (radiusMismatches++ < 5)
+                        ADD_FAILURE() << fmt::format("radius at ({}, {}, {}): {} vs {}", x, y,
+                                                     c, plane(expected, 15), gpuPlane(15));
+                    continue;
+                }
+                double radius = std::max(1.0, plane(expected, 15));
+                for (int p = 0; p < 15; ++p) {
+                    // a and b times the radius: their effect at the window's edge.
+                    double scale = p % 3 == 2 ? 1 : radius;
+                    double err = std::fabs(plane(expected, p) - gpuPlane(p)) * scale;
+                    if (err > 169 * 100 * kUnitRoundoff * zScale && planeMismatches++ < 5)
+                        ADD_FAILURE() << fmt::format("plane {} at ({}, {}, {}): {} vs {}", p, x,
+                                                     y, c, plane(expected, p), gpuPlane(p));
+                }
+            }
+    EXPECT_EQ(radiusMismatches, 0);
+    EXPECT_EQ(planeMismatches, 0);
+    EXPECT_LE(skipped, compared / 50 + 1) << "too many centres near a threshold";
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, PivotKernelFit,
+    testing::ValuesIn(StageCases({{29, 21}, {1, 1}, {1, 12}, {9, 1}, {6, 5}})), StageCaseName);
 
 // Stage 3 on the reference's fits: per term a plane evaluation, eq. 12's 8th power by
 // three squarings and a weighted mean; relative error a few tens of u of the pivot times
 // the largest |z|.
-TEST_F(PivotKernel, GatherMatchesReference) {
-    for (auto [w, h] : {std::pair{27, 19}, std::pair{1, 1}, std::pair{1, 10}, std::pair{7, 1}})
-        for (bool guides : {false, true}) {
-            SCOPED_TRACE(fmt::format("{}x{} guides {}", w, h, guides));
-            Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("gather{}x{}", w, h)));
-            for (int i = 0; i < int(f.pivot.Size()); i += 11) f.pivot.data[i] = 0;
-            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3,
-                                                      guides ? &f.ids : nullptr);
-            PivotOptions o;
-            o.maxRadius = 5;
-            ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
-            Image fits = ref::PivotFit(ratio, refGuides, RefParams(o));
-            Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides);
+class PivotKernelGather : public GpuTestWithParam<StageCase> {};
 
-            vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
-            vk::GpuImage nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "out");
-            vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
-            vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
-            color.Upload(f.color);
-            pivot.Upload(f.pivot);
-            nu.Upload(ratio.nu);
-            guide.Upload(GuideOf(f));
-            lo.Upload(Planes(fits, 0, 8, 3));
-            hi.Upload(Planes(fits, 8, 8, 3));
-            int reach = 0;
-            Image tileRadii = PivotTileRadii(Planes(fits, 15, 1, 3), &reach);
-            vk::GpuImage tiles(Ctx(), tileRadii.width, tileRadii.height, 3, "tiles");
-            tiles.Upload(tileRadii);
-            PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
-            vk::Recorder recorder(Ctx());
-            for (auto [rowBase, rows] :
-                 h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
-                       : std::vector<std::pair<int, int>>{{0, h}})
-                RecordPivotGather(Ctx(), recorder, color, pivot, nu, lo, hi, gpuGuides, tiles,
-                                  reach, out, rowBase, rows);
-            recorder.Submit();
-            double zScale = 0;
-            for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
-            Image magnitude = f.pivot;
-            for (size_t i = 0; i < magnitude.Size(); ++i)
-                magnitude.data[i] =
-                    float(std::fabs(f.pivot.data[i]) * zScale + std::fabs(f.color.data[i]));
-            EXPECT_TRUE(ImagesMatch(expected, out.Download(), magnitude,
-                                    {64 * kUnitRoundoff, 0, 1e-9}));
-        }
+TEST_P(PivotKernelGather, MatchesReference) {
+    const auto [w, h, guides] = GetParam();
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("gather{}x{}", w, h)));
+    for (int i = 0; i < int(f.pivot.Size()); i += 11) f.pivot.data[i] = 0;
+    ref::PivotRatio ratio =
+        ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
+    PivotOptions o;
+    o.maxRadius = 5;
+    ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
+    Image fits = ref::PivotFit(ratio, refGuides, RefParams(o));
+    Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides);
+
+    vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
+    vk::GpuImage nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "out");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
+    color.Upload(f.color);
+    pivot.Upload(f.pivot);
+    nu.Upload(ratio.nu);
+    guide.Upload(GuideOf(f));
+    lo.Upload(Planes(fits, 0, 8, 3));
+    hi.Upload(Planes(fits, 8, 8, 3));
+    int reach = 0;
+    Image tileRadii = PivotTileRadii(Planes(fits, 15, 1, 3), &reach);
+    vk::GpuImage tiles(Ctx(), tileRadii.width, tileRadii.height, 3, "tiles");
+    tiles.Upload(tileRadii);
+    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
+    vk::Recorder recorder(Ctx());
+    for (auto [rowBase, rows] :
+         h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
+               : std::vector<std::pair<int, int>>{{0, h}})
+        RecordPivotGather(Ctx(), recorder, color, pivot, nu, lo, hi, gpuGuides, tiles, reach,
+                          out, rowBase, rows);
+    recorder.Submit();
+    double zScale = 0;
+    for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
+    Image magnitude = f.pivot;
+    for (size_t i = 0; i < magnitude.Size(); ++i)
+        magnitude.data[i] =
+            float(std::fabs(f.pivot.data[i]) * zScale + std::fabs(f.color.data[i]));
+    EXPECT_TRUE(
+        ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelGather,
+                         testing::ValuesIn(StageCases({{27, 19}, {1, 1}, {1, 10}, {7, 1}})),
+                         StageCaseName);
 
 // The bilateral baseline: each weight is an exp of a few roundings (exp's own error is a
 // few u on lavapipe), the result a weighted mean.
-TEST_F(PivotKernel, BilateralMatchesReference) {
-    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{1, 8}, std::pair{10, 1}})
-        for (bool guides : {false, true}) {
-            SCOPED_TRACE(fmt::format("{}x{} guides {}", w, h, guides));
-            Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("bilateral{}x{}", w, h)));
-            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3,
-                                                      guides ? &f.ids : nullptr);
-            PivotOptions o;
-            o.bilateralRadius = 4;
-            ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
-            Image expected =
-                ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, RefParams(o));
-            vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
-            vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"),
-                out(Ctx(), w, h, 3, "o");
-            vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
-            color.Upload(f.color);
-            pivot.Upload(f.pivot);
-            z.Upload(ratio.z);
-            nu.Upload(ratio.nu);
-            guide.Upload(GuideOf(f));
-            PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
-            vk::Recorder recorder(Ctx());
-            RecordPivotBilateral(Ctx(), recorder, color, pivot, z, nu, gpuGuides,
-                                 {o.bilateralRadius, o.sigmaRange, o.goodNoise}, out);
-            recorder.Submit();
-            double zScale = 0;
-            for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
-            Image magnitude = f.pivot;
-            for (float &v : magnitude.data) v = float(std::fabs(v) * zScale);
-            EXPECT_TRUE(ImagesMatch(expected, out.Download(), magnitude,
-                                    {64 * kUnitRoundoff, 0, 1e-9}));
-        }
+class PivotKernelBilateral : public GpuTestWithParam<StageCase> {};
+
+TEST_P(PivotKernelBilateral, MatchesReference) {
+    const auto [w, h, guides] = GetParam();
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("bilateral{}x{}", w, h)));
+    ref::PivotRatio ratio =
+        ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
+    PivotOptions o;
+    o.bilateralRadius = 4;
+    ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
+    Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, RefParams(o));
+    vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
+    vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "o");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    color.Upload(f.color);
+    pivot.Upload(f.pivot);
+    z.Upload(ratio.z);
+    nu.Upload(ratio.nu);
+    guide.Upload(GuideOf(f));
+    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
+    vk::Recorder recorder(Ctx());
+    RecordPivotBilateral(Ctx(), recorder, color, pivot, z, nu, gpuGuides,
+                         {o.bilateralRadius, o.sigmaRange, o.goodNoise}, out);
+    recorder.Submit();
+    double zScale = 0;
+    for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
+    Image magnitude = f.pivot;
+    for (float &v : magnitude.data) v = float(std::fabs(v) * zScale);
+    EXPECT_TRUE(
+        ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelBilateral,
+                         testing::ValuesIn(StageCases({{31, 17}, {1, 1}, {1, 8}, {10, 1}})),
+                         StageCaseName);
 
 PivotInputs InputsOf(const Frame &f, bool guides, Image *objectId, Image *partId) {
     PivotInputs in;
@@ -343,48 +382,71 @@ PivotInputs InputsOf(const Frame &f, bool guides, Image *objectId, Image *partId
 
 class PivotMethod : public GpuTest {};
 
+// Guides or none, and a filter: the method's variants.
+struct VariantCase {
+    bool guides;
+    PivotFilter filter;
+};
+
+std::vector<VariantCase> VariantCases(std::initializer_list<PivotFilter> filters) {
+    std::vector<VariantCase> cases;
+    for (bool guides : {false, true})
+        for (PivotFilter filter : filters) cases.push_back({guides, filter});
+    return cases;
+}
+
+const char *FilterName(PivotFilter filter) {
+    return filter == PivotFilter::PlaneFit ? "planefit" : "bilateral";
+}
+
+std::string VariantCaseName(const testing::TestParamInfo<VariantCase> &info) {
+    return fmt::format("{}_{}", info.param.guides ? "guides" : "noguides",
+                       FilterName(info.param.filter));
+}
+
 // The whole method against the reference pipeline. A growth decision that float and double
 // take differently changes one centre's square and so the pixels it reaches: nearly all
 // pixels must match to the gather's tolerance, and all must be close.
-TEST_F(PivotMethod, MatchesReferenceAndRerunsBitIdentically) {
-    for (bool guides : {false, true})
-        for (PivotFilter filter : {PivotFilter::PlaneFit, PivotFilter::Bilateral}) {
-            SCOPED_TRACE(fmt::format("guides {} filter {}", guides, int(filter)));
-            int w = 33, h = 25;
-            Frame f = MakeFrame(w, h, 0.3, SeedFromName("method"));
-            f.pivot.At(1, 4, 7) = 0;
-            Image objectId, partId;
-            PivotInputs in = InputsOf(f, guides, &objectId, &partId);
-            PivotOptions o;
-            o.filter = filter;
-            o.maxRadius = 6;
-            o.bilateralRadius = 4;
-            PivotResult first = PivotDenoise(Ctx(), in, o);
-            PivotResult second = PivotDenoise(Ctx(), in, o);
-            EXPECT_TRUE(BitIdentical(first.image, second.image));
+class PivotMethodVariant : public GpuTestWithParam<VariantCase> {};
 
-            ref::PivotParams p = RefParams(o);
-            ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor,
-                                                      guides ? &f.ids : nullptr);
-            ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
-            Image expected =
-                filter == PivotFilter::PlaneFit
-                    ? ref::PivotGather(f.color, f.pivot, ratio,
-                                       ref::PivotFit(ratio, refGuides, p), refGuides)
-                    : ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, p);
-            EXPECT_EQ(first.image.At(1, 4, 7), f.color.At(1, 4, 7))
-                << "black pivot keeps input";
-            Image magnitude = expected;
-            for (size_t i = 0; i < magnitude.Size(); ++i)
-                magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(f.color.data[i]);
-            CompareStats stats;
-            (void)ImagesMatch(expected, first.image, magnitude, {64 * kUnitRoundoff, 0, 1},
-                              &stats);
-            EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
-            EXPECT_EQ(stats.parityMismatches, 0u);
-            EXPECT_LT(stats.nmse, 1e-4);
-        }
+TEST_P(PivotMethodVariant, MatchesReferenceAndRerunsBitIdentically) {
+    const auto [guides, filter] = GetParam();
+    int w = 33, h = 25;
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName("method"));
+    f.pivot.At(1, 4, 7) = 0;
+    Image objectId, partId;
+    PivotInputs in = InputsOf(f, guides, &objectId, &partId);
+    PivotOptions o;
+    o.filter = filter;
+    o.maxRadius = 6;
+    o.bilateralRadius = 4;
+    PivotResult first = PivotDenoise(Ctx(), in, o);
+    PivotResult second = PivotDenoise(Ctx(), in, o);
+    EXPECT_TRUE(BitIdentical(first.image, second.image));
+
+    ref::PivotParams p = RefParams(o);
+    ref::PivotRatio ratio =
+        ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, guides ? &f.ids : nullptr);
+    ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
+    Image expected = filter == PivotFilter::PlaneFit
+                         ? ref::PivotGather(f.color, f.pivot, ratio,
+                                            ref::PivotFit(ratio, refGuides, p), refGuides)
+                         : ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, p);
+    EXPECT_EQ(first.image.At(1, 4, 7), f.color.At(1, 4, 7)) << "black pivot keeps input";
+    Image magnitude = expected;
+    for (size_t i = 0; i < magnitude.Size(); ++i)
+        magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(f.color.data[i]);
+    CompareStats stats;
+    (void)ImagesMatch(expected, first.image, magnitude, {64 * kUnitRoundoff, 0, 1}, &stats);
+    EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
+    EXPECT_EQ(stats.parityMismatches, 0u);
+    EXPECT_LT(stats.nmse, 1e-4);
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotMethodVariant,
+                         testing::ValuesIn(VariantCases({PivotFilter::PlaneFit,
+                                                         PivotFilter::Bilateral})),
+                         VariantCaseName);
 
 // Row strips (one submission each, with progress after each) give the same bits as one
 // strip, and progress reaches every row of both stages in order.
@@ -456,31 +518,34 @@ class PivotProperties : public GpuTest {};
 
 // z exactly a plane: every fit is that plane whatever its weights, so the output is the
 // input to round-off (a division, a fit in float, a multiplication).
-TEST_F(PivotProperties, PlaneRatioReturnsTheInput) {
+class PivotPropertiesPlaneRatio : public GpuTestWithParam<VariantCase> {};
+
+TEST_P(PivotPropertiesPlaneRatio, ReturnsTheInput) {
+    const auto [guides, filter] = GetParam();
     int w = 30, h = 22;
-    for (bool guides : {false, true}) {
-        Frame f = MakeFrame(w, h, 0, SeedFromName("plane"));
-        for (int c = 0; c < 3; ++c)
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x)
-                    f.color.At(c, y, x) =
-                        float(f.pivot.At(c, y, x) * (1.0 + 0.02 * x - 0.015 * y + 0.1 * c));
-        f.variance = Image(w, h, 3, 0.f);
-        Image objectId, partId;
-        PivotInputs in = InputsOf(f, guides, &objectId, &partId);
-        for (PivotFilter filter : {PivotFilter::PlaneFit}) {
-            PivotOptions o;
-            o.filter = filter;
-            PivotResult r = PivotDenoise(Ctx(), in, o);
-            EXPECT_TRUE(ImagesMatch(f.color, r.image, {}, {2e-5, 0, 1e-9}))
-                << "guides " << guides;
-        }
-    }
+    Frame f = MakeFrame(w, h, 0, SeedFromName("plane"));
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                f.color.At(c, y, x) =
+                    float(f.pivot.At(c, y, x) * (1.0 + 0.02 * x - 0.015 * y + 0.1 * c));
+    f.variance = Image(w, h, 3, 0.f);
+    Image objectId, partId;
+    PivotInputs in = InputsOf(f, guides, &objectId, &partId);
+    PivotOptions o;
+    o.filter = filter;
+    PivotResult r = PivotDenoise(Ctx(), in, o);
+    EXPECT_TRUE(ImagesMatch(f.color, r.image, {}, {2e-5, 0, 1e-9})) << "guides " << guides;
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotPropertiesPlaneRatio,
+                         testing::ValuesIn(VariantCases({PivotFilter::PlaneFit})),
+                         VariantCaseName);
 
 // A constant ratio under noise: the output keeps the pivot's texture (it is c x pivot up to
 // the remaining noise) and is much closer to it than the input.
-TEST_F(PivotProperties, ConstantRatioReproducesThePivotTexture) {
+// A constant ratio, 0.7, under 20% noise, and its truth, 0.7 x the pivot.
+std::pair<Frame, Image> ConstantRatioFrame() {
     int w = 40, h = 32;
     Frame f = MakeFrame(w, h, 0, SeedFromName("constant"));
     std::mt19937_64 rng(SeedFromName("constant noise"));
@@ -491,51 +556,90 @@ TEST_F(PivotProperties, ConstantRatioReproducesThePivotTexture) {
         f.color.data[i] = float(truth.data[i] * (1 + 0.2 * normal(rng)));
         f.variance.data[i] = float(truth.data[i] * truth.data[i] * 0.04);
     }
+    return {std::move(f), std::move(truth)};
+}
+
+class PivotPropertiesConstantRatio : public GpuTestWithParam<PivotFilter> {};
+
+TEST_P(PivotPropertiesConstantRatio, ReproducesThePivotTexture) {
+    PivotFilter filter = GetParam();
+    auto [f, truth] = ConstantRatioFrame();
     Image objectId, partId;
-    for (PivotFilter filter : {PivotFilter::PlaneFit, PivotFilter::Bilateral}) {
-        PivotOptions o;
-        o.filter = filter;
-        PivotResult r = PivotDenoise(Ctx(), InputsOf(f, false, &objectId, &partId), o);
-        double before = CompareImages(f.color, truth).relMse;
-        double after = CompareImages(r.image, truth).relMse;
-        EXPECT_LT(after, 0.1 * before)
-            << "filter " << int(filter) << ": " << before << " -> " << after;
-    }
-    // Noise-free: exactly the texture, to round-off.
+    PivotOptions o;
+    o.filter = filter;
+    PivotResult r = PivotDenoise(Ctx(), InputsOf(f, false, &objectId, &partId), o);
+    double before = CompareImages(f.color, truth).relMse;
+    double after = CompareImages(r.image, truth).relMse;
+    EXPECT_LT(after, 0.1 * before)
+        << "filter " << int(filter) << ": " << before << " -> " << after;
+}
+
+std::string FilterCaseName(const testing::TestParamInfo<PivotFilter> &info) {
+    return FilterName(info.param);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotPropertiesConstantRatio,
+                         testing::Values(PivotFilter::PlaneFit, PivotFilter::Bilateral),
+                         FilterCaseName);
+
+// Noise-free: exactly the texture, to round-off.
+TEST_F(PivotProperties, NoiseFreeConstantRatioIsThePivotTexture) {
+    auto [f, truth] = ConstantRatioFrame();
+    Image objectId, partId;
     f.color = truth;
-    f.variance = Image(w, h, 3, 0.f);
+    f.variance = Image(f.color.width, f.color.height, 3, 0.f);
     PivotResult r = PivotDenoise(Ctx(), InputsOf(f, true, &objectId, &partId), {});
     EXPECT_TRUE(ImagesMatch(truth, r.image, {}, {2e-5, 0, 1e-9}));
 }
 
 // Black pivots, no guides, no variance, 1-pixel-wide and 1x1 frames: finite output, and
 // the pixels without z keep their input exactly.
-TEST_F(PivotProperties, EdgeFramesGiveFiniteOutput) {
+struct EdgeCase {
+    int w, h;
+    PivotFilter filter;
+};
+
+class PivotPropertiesEdgeFrame : public GpuTestWithParam<EdgeCase> {};
+
+TEST_P(PivotPropertiesEdgeFrame, GivesFiniteOutput) {
+    const auto [w, h, filter] = GetParam();
+    Frame f = MakeFrame(w, h, 0.5, SeedFromName(fmt::format("edge{}x{}", w, h)));
+    for (size_t i = 0; i < f.pivot.Size(); i += 3) f.pivot.data[i] = 0;
+    f.color.data[0] = 5;  // light seen directly: color without pivot
+    PivotInputs in;
+    in.color = &f.color;
+    in.pivot = &f.pivot;
+    PivotOptions o;
+    o.filter = filter;
+    PivotResult r = PivotDenoise(Ctx(), in, o);
+    for (size_t i = 0; i < r.image.Size(); ++i) {
+        ASSERT_TRUE(std::isfinite(r.image.data[i])) << i;
+        if (f.pivot.data[i] == 0) {
+            EXPECT_EQ(r.image.data[i], f.color.data[i]) << i;
+        }
+    }
+    bool left = false;
+    for (const std::string &line : r.plan) left |= Contains(line, "left out: the normal");
+    EXPECT_TRUE(left);
+}
+
+std::vector<EdgeCase> EdgeCases() {
+    std::vector<EdgeCase> cases;
     for (auto [w, h] : {std::pair{1, 1}, std::pair{1, 17}, std::pair{23, 1}, std::pair{9, 7},
                         std::pair{2, 3}})
-        for (PivotFilter filter : {PivotFilter::PlaneFit, PivotFilter::Bilateral}) {
-            SCOPED_TRACE(fmt::format("{}x{} filter {}", w, h, int(filter)));
-            Frame f = MakeFrame(w, h, 0.5, SeedFromName(fmt::format("edge{}x{}", w, h)));
-            for (size_t i = 0; i < f.pivot.Size(); i += 3) f.pivot.data[i] = 0;
-            f.color.data[0] = 5;  // light seen directly: color without pivot
-            PivotInputs in;
-            in.color = &f.color;
-            in.pivot = &f.pivot;
-            PivotOptions o;
-            o.filter = filter;
-            PivotResult r = PivotDenoise(Ctx(), in, o);
-            for (size_t i = 0; i < r.image.Size(); ++i) {
-                ASSERT_TRUE(std::isfinite(r.image.data[i])) << i;
-                if (f.pivot.data[i] == 0) {
-                    EXPECT_EQ(r.image.data[i], f.color.data[i]) << i;
-                }
-            }
-            bool left = false;
-            for (const std::string &line : r.plan)
-                left |= Contains(line, "left out: the normal");
-            EXPECT_TRUE(left);
-        }
-    // An all-black pivot: nothing to filter, the input comes back.
+        for (PivotFilter filter : {PivotFilter::PlaneFit, PivotFilter::Bilateral})
+            cases.push_back({w, h, filter});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotPropertiesEdgeFrame, testing::ValuesIn(EdgeCases()),
+                         [](const testing::TestParamInfo<EdgeCase> &info) {
+                             return fmt::format("{}x{}_{}", info.param.w, info.param.h,
+                                                FilterName(info.param.filter));
+                         });
+
+// An all-black pivot: nothing to filter, the input comes back.
+TEST_F(PivotProperties, AllBlackPivotReturnsTheInput) {
     Frame f = MakeFrame(8, 6, 0.5, SeedFromName("black"));
     f.pivot = Image(8, 6, 3, 0.f);
     PivotInputs in;
@@ -573,17 +677,30 @@ TEST_F(PivotProperties, BadInputsAreRefusedWithTheirPlace) {
     EXPECT_TRUE(Contains(ErrorOf([&] { PivotDenoise(Ctx(), in, {}); }), "pivot layers"));
 }
 
+// The noisy frame (4 spp, pivot and G-buffer layers) and the converged one (256 spp),
+// rendered once for every case.
+const std::pair<render::RenderResult, render::RenderResult> &CornellFrames() {
+    static const auto frames = [] {
+        render::Scene scene = render::BuildScene("cornell");
+        render::RenderOptions o;
+        o.width = 48, o.height = 48, o.spp = 4, o.seed = 3;
+        o.layers = render::kLayersPivot | render::kLayersGbuffer;
+        render::RenderResult noisy = render::Render(scene, o);
+        o.spp = 256, o.seed = 99, o.layers = 0;
+        render::RenderResult converged = render::Render(scene, o);
+        return std::pair{std::move(noisy), std::move(converged)};
+    }();
+    return frames;
+}
+
 // What the method is for: on a rendered frame with a pivot, closer to the converged image.
 // Measured with the CLI on cornell at 48x48 and 4 spp: planefit and bilateral (radius 4)
 // both 23.3 -> 25.5 dB, relMSE 0.059 -> 0.031 / 0.032.
-TEST_F(PivotProperties, DenoisesARenderedFrame) {
-    render::Scene scene = render::BuildScene("cornell");
-    render::RenderOptions o;
-    o.width = 48, o.height = 48, o.spp = 4, o.seed = 3;
-    o.layers = render::kLayersPivot | render::kLayersGbuffer;
-    render::RenderResult noisy = render::Render(scene, o);
-    o.spp = 256, o.seed = 99, o.layers = 0;
-    render::RenderResult converged = render::Render(scene, o);
+class PivotPropertiesRenderedFrame : public GpuTestWithParam<PivotFilter> {};
+
+TEST_P(PivotPropertiesRenderedFrame, IsDenoised) {
+    PivotFilter filter = GetParam();
+    const auto &[noisy, converged] = CornellFrames();
     auto layer = [](const render::RenderResult &r, const char *name) -> const Image & {
         for (const auto &[n, image] : r.layers)
             if (n == name) return image;
@@ -598,17 +715,19 @@ TEST_F(PivotProperties, DenoisesARenderedFrame) {
     in.objectId = &layer(noisy, "objectId");
     in.partId = &layer(noisy, "partId");
     ErrorMetrics before = CompareImages(color, reference);
-    for (PivotFilter filter : {PivotFilter::PlaneFit, PivotFilter::Bilateral}) {
-        PivotOptions options;
-        options.filter = filter;
-        options.bilateralRadius = 4;
-        ErrorMetrics after = CompareImages(PivotDenoise(Ctx(), in, options).image, reference);
-        EXPECT_GT(after.psnr, before.psnr + 1.0)
-            << "filter " << int(filter) << ": " << before.psnr << " -> " << after.psnr;
-        EXPECT_LT(after.relMse, before.relMse)
-            << "filter " << int(filter) << ": " << before.relMse << " -> " << after.relMse;
-    }
+    PivotOptions options;
+    options.filter = filter;
+    options.bilateralRadius = 4;
+    ErrorMetrics after = CompareImages(PivotDenoise(Ctx(), in, options).image, reference);
+    EXPECT_GT(after.psnr, before.psnr + 1.0)
+        << "filter " << int(filter) << ": " << before.psnr << " -> " << after.psnr;
+    EXPECT_LT(after.relMse, before.relMse)
+        << "filter " << int(filter) << ": " << before.relMse << " -> " << after.relMse;
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotPropertiesRenderedFrame,
+                         testing::Values(PivotFilter::PlaneFit, PivotFilter::Bilateral),
+                         FilterCaseName);
 
 }  // namespace
 }  // namespace mcd::test

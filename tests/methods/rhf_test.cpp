@@ -9,6 +9,8 @@
 #include <functional>
 #include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "cpu_reference/rhf.h"
 #include "harness/compare.h"
@@ -94,96 +96,152 @@ Tolerance ToleranceFor(const Image &color, const RhfOptions &o) {
 
 class RhfKernel : public GpuTest {};
 
-TEST_F(RhfKernel, SingleScaleMatchesReference) {
-    struct Case {
-        int w, h, patchHalf, searchHalf, knn;
-        float threshold;
-    };
-    for (Case c :
-         {Case{37, 23, 1, 6, 2, 0.8f}, Case{1, 1, 1, 6, 2, 0.8f}, Case{2, 2, 1, 6, 2, 0.8f},
-          Case{5, 4, 1, 6, 2, 0.8f}, Case{13, 9, 2, 3, 3, 0.5f}, Case{16, 16, 0, 2, 1, 1.5f},
-          Case{11, 3, 1, 6, 0, 0.8f}}) {
-        SCOPED_TRACE(fmt::format("{}x{} w {} b {} knn {} kappa {}", c.w, c.h, c.patchHalf,
-                                 c.searchHalf, c.knn, c.threshold));
-        Frame f = MakeFrame(c.w, c.h, SeedFromName(fmt::format("rhf1 {}x{}", c.w, c.h)));
-        RhfOptions o;
-        o.patchHalf = c.patchHalf;
-        o.searchHalf = c.searchHalf;
-        o.knn = c.knn;
-        o.threshold = c.threshold;
-        o.scales = 1;
-        Image expected = NonNegative(ref::Rhf(f.color, f.hist, Params(o)));
-        RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
-        EXPECT_TRUE(result.warnings.empty());
-        EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
-    }
+// A float in a case's name: gtest names take [A-Za-z0-9_] only, so 0.8 is "0p8".
+std::string NameOf(float v) {
+    std::string name = fmt::format("{}", v);
+    std::replace(name.begin(), name.end(), '.', 'p');
+    return name;
 }
 
-TEST_F(RhfKernel, MultiScaleMatchesReference) {
-    struct Case {
-        int w, h, searchHalf, scales, expectedScales;
-    };
-    for (Case c : {Case{40, 30, 6, 2, 2}, Case{29, 33, 3, 3, 3}, Case{27, 26, 6, 2, 2},
-                   Case{23, 40, 6, 2, 1}}) {
-        SCOPED_TRACE(fmt::format("{}x{} b {} scales {}", c.w, c.h, c.searchHalf, c.scales));
-        Frame f = MakeFrame(c.w, c.h, SeedFromName(fmt::format("rhfms {}x{}", c.w, c.h)));
-        RhfOptions o;
-        o.searchHalf = c.searchHalf;
-        o.scales = c.scales;
-        ASSERT_EQ(ref::RhfScalesUsed(c.w, c.h, Params(o)), c.expectedScales);
-        Image expected = ref::Rhf(f.color, f.hist, Params(o));
-        o.clampNegative = false;
-        RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
-        EXPECT_EQ(result.scalesUsed, c.expectedScales);
-        EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
-        o.clampNegative = true;
-        EXPECT_TRUE(ImagesMatch(NonNegative(expected),
-                                RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
-                                ToleranceFor(f.color, o)));
-    }
+// Each case is a test of its own, named by its parameters, so a failing one re-runs alone.
+struct SingleScaleCase {
+    int w, h, patchHalf, searchHalf, knn;
+    float threshold;
+};
+
+class RhfKernelSingleScale : public GpuTestWithParam<SingleScaleCase> {};
+
+TEST_P(RhfKernelSingleScale, MatchesReference) {
+    const SingleScaleCase &c = GetParam();
+    Frame f = MakeFrame(c.w, c.h, SeedFromName(fmt::format("rhf1 {}x{}", c.w, c.h)));
+    RhfOptions o;
+    o.patchHalf = c.patchHalf;
+    o.searchHalf = c.searchHalf;
+    o.knn = c.knn;
+    o.threshold = c.threshold;
+    o.scales = 1;
+    Image expected = NonNegative(ref::Rhf(f.color, f.hist, Params(o)));
+    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    EXPECT_TRUE(result.warnings.empty());
+    EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelSingleScale,
+                         testing::Values(SingleScaleCase{37, 23, 1, 6, 2, 0.8f},
+                                         SingleScaleCase{1, 1, 1, 6, 2, 0.8f},
+                                         SingleScaleCase{2, 2, 1, 6, 2, 0.8f},
+                                         SingleScaleCase{5, 4, 1, 6, 2, 0.8f},
+                                         SingleScaleCase{13, 9, 2, 3, 3, 0.5f},
+                                         SingleScaleCase{16, 16, 0, 2, 1, 1.5f},
+                                         SingleScaleCase{11, 3, 1, 6, 0, 0.8f}),
+                         [](const testing::TestParamInfo<SingleScaleCase> &info) {
+                             const SingleScaleCase &c = info.param;
+                             return fmt::format("{}x{}_w{}_b{}_k{}_t{}", c.w, c.h, c.patchHalf,
+                                                c.searchHalf, c.knn, NameOf(c.threshold));
+                         });
+
+struct MultiScaleCase {
+    int w, h, searchHalf, scales, expectedScales;
+};
+
+class RhfKernelMultiScale : public GpuTestWithParam<MultiScaleCase> {};
+
+TEST_P(RhfKernelMultiScale, MatchesReference) {
+    const MultiScaleCase &c = GetParam();
+    Frame f = MakeFrame(c.w, c.h, SeedFromName(fmt::format("rhfms {}x{}", c.w, c.h)));
+    RhfOptions o;
+    o.searchHalf = c.searchHalf;
+    o.scales = c.scales;
+    ASSERT_EQ(ref::RhfScalesUsed(c.w, c.h, Params(o)), c.expectedScales);
+    Image expected = ref::Rhf(f.color, f.hist, Params(o));
+    o.clampNegative = false;
+    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    EXPECT_EQ(result.scalesUsed, c.expectedScales);
+    EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
+    o.clampNegative = true;
+    EXPECT_TRUE(ImagesMatch(NonNegative(expected), RhfDenoise(Ctx(), f.color, f.hist, o).image,
+                            {}, ToleranceFor(f.color, o)));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, RhfKernelMultiScale,
+    testing::Values(MultiScaleCase{40, 30, 6, 2, 2}, MultiScaleCase{29, 33, 3, 3, 3},
+                    MultiScaleCase{27, 26, 6, 2, 2}, MultiScaleCase{23, 40, 6, 2, 1}),
+    [](const testing::TestParamInfo<MultiScaleCase> &info) {
+        const MultiScaleCase &c = info.param;
+        return fmt::format("{}x{}_b{}_s{}", c.w, c.h, c.searchHalf, c.scales);
+    });
 
 // The bright veto (beyond the authors' tool): GPU against CPU with it off, at the default
 // and strong, at one and two scales. About 2% of the brightest band's samples (2.5 with
 // lognormal noise) lie above the histogram's range (7.5); they must trigger the veto, or
 // the test would compare nothing new.
-TEST_F(RhfKernel, BrightVetoMatchesReference) {
+struct BrightVetoCase {
+    int scales;
+    float veto;
+};
+
+class RhfKernelBrightVeto : public GpuTestWithParam<BrightVetoCase> {};
+
+TEST_P(RhfKernelBrightVeto, MatchesReference) {
+    const auto [scales, veto] = GetParam();
+    // The same frame for every case.
     Frame f = MakeFrame(31, 27, SeedFromName("rhf veto"));
-    for (int scales : {1, 2})
-        for (float veto : {0.f, 0.3f, 0.1f}) {
-            SCOPED_TRACE(fmt::format("{} scale(s), veto {}", scales, veto));
-            RhfOptions o;
-            o.searchHalf = 4;
-            o.scales = scales;
-            o.brightVeto = veto;
-            o.clampNegative = false;
-            Image expected = ref::Rhf(f.color, f.hist, Params(o));
-            EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
-                                    ToleranceFor(f.color, o)));
-            if (veto > 0) {
-                RhfOptions off = o;
-                off.brightVeto = 0;
-                EXPECT_FALSE(ImagesMatch(expected, ref::Rhf(f.color, f.hist, Params(off)), {},
-                                         ToleranceFor(f.color, o)))
-                    << "the veto changed nothing on this frame";
-            }
-        }
+    RhfOptions o;
+    o.searchHalf = 4;
+    o.scales = scales;
+    o.brightVeto = veto;
+    o.clampNegative = false;
+    Image expected = ref::Rhf(f.color, f.hist, Params(o));
+    EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
+                            ToleranceFor(f.color, o)));
+    if (veto > 0) {
+        RhfOptions off = o;
+        off.brightVeto = 0;
+        EXPECT_FALSE(ImagesMatch(expected, ref::Rhf(f.color, f.hist, Params(off)), {},
+                                 ToleranceFor(f.color, o)))
+            << "the veto changed nothing on this frame";
+    }
 }
+
+std::vector<BrightVetoCase> BrightVetoCases() {
+    std::vector<BrightVetoCase> cases;
+    for (int scales : {1, 2})
+        for (float veto : {0.f, 0.3f, 0.1f}) cases.push_back({scales, veto});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelBrightVeto, testing::ValuesIn(BrightVetoCases()),
+                         [](const testing::TestParamInfo<BrightVetoCase> &info) {
+                             return fmt::format("s{}_veto{}", info.param.scales,
+                                                NameOf(info.param.veto));
+                         });
 
 // Histograms split over several buffers and distances computed in thin strips (the
 // paths big frames take) give the same bits as the one-buffer, one-strip run.
-TEST_F(RhfKernel, SplitsAreBitIdentical) {
+struct SplitCase {
+    int planesPerSlot, stripRows;
+};
+
+class RhfKernelSplit : public GpuTestWithParam<SplitCase> {};
+
+TEST_P(RhfKernelSplit, IsBitIdentical) {
+    const auto [perSlot, strip] = GetParam();
     Frame f = MakeFrame(33, 31, SeedFromName("rhf split"));
     RhfOptions o;
     o.searchHalf = 4;
     Image whole = RhfDenoise(Ctx(), f.color, f.hist, o).image;
-    for (auto [perSlot, strip] : {std::pair{11, 0}, std::pair{0, 3}, std::pair{13, 1}}) {
-        SCOPED_TRACE(fmt::format("{} planes per buffer, {} rows per strip", perSlot, strip));
-        o.planesPerSlot = perSlot;
-        o.stripRows = strip;
-        EXPECT_TRUE(BitIdentical(whole, RhfDenoise(Ctx(), f.color, f.hist, o).image));
-    }
+    o.planesPerSlot = perSlot;
+    o.stripRows = strip;
+    EXPECT_TRUE(BitIdentical(whole, RhfDenoise(Ctx(), f.color, f.hist, o).image));
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelSplit,
+                         testing::Values(SplitCase{11, 0}, SplitCase{0, 3}, SplitCase{13, 1}),
+                         [](const testing::TestParamInfo<SplitCase> &info) {
+                             return fmt::format("planes{}_rows{}", info.param.planesPerSlot,
+                                                info.param.stripRows);
+                         });
 
 TEST_F(RhfKernel, RerunsAreBitIdentical) {
     Frame f = MakeFrame(45, 38, SeedFromName("rhf rerun"));
@@ -325,30 +383,40 @@ Frame OneLightFrame(int w, int h, int lx, int ly, int spp, int brightSamples, do
 // fireflies' partly seen point, 7 of 64 samples of 3800 against 1.42 (7 per colour, 21
 // against 0.3 x 64 = 19.2: the default's bound is a 10% difference in the share of such
 // samples).
-TEST_F(RhfProperties, BrightVetoKeepsAOnePixelLightInPlace) {
+struct OneLightCase {
+    int spp, brightSamples;
+    double dim, bright;
+};
+
+class RhfPropertiesOneLight : public GpuTestWithParam<OneLightCase> {};
+
+TEST_P(RhfPropertiesOneLight, BrightVetoKeepsItInPlace) {
     const int w = 15, h = 13, lx = 7, ly = 6;
-    struct Case {
-        int spp, brightSamples;
-        double dim, bright;
-    };
-    for (Case c : {Case{4, 4, 0.1, 12}, Case{64, 7, 1.42, 3800}}) {
-        SCOPED_TRACE(fmt::format("{} of {} samples at {}", c.brightSamples, c.spp, c.bright));
-        Frame f = OneLightFrame(w, h, lx, ly, c.spp, c.brightSamples, c.dim, c.bright);
-        float lightMean = f.color.At(1, ly, lx);
-        RhfOptions o;
-        o.scales = 1;
-        Image kept = RhfDenoise(Ctx(), f.color, f.hist, o).image;
-        // Means of equal values: a few round-offs of the light's value.
-        EXPECT_TRUE(ImagesMatch(f.color, kept, {}, {0, 16 * kUnitRoundoff * lightMean, 1e-12}));
-        EXPECT_TRUE(ImagesMatch(ref::Rhf(f.color, f.hist, Params(o)), kept, {},
-                                ToleranceFor(f.color, o)));
-        o.brightVeto = 0;
-        Image spread = RhfDenoise(Ctx(), f.color, f.hist, o).image;
-        EXPECT_LT(spread.At(1, ly, lx), 0.5f * lightMean)
-            << "the authors' distance no longer spreads the light";
-        EXPECT_GT(spread.At(1, ly, lx + 1), 1.5f * c.dim);
-    }
+    const OneLightCase &c = GetParam();
+    Frame f = OneLightFrame(w, h, lx, ly, c.spp, c.brightSamples, c.dim, c.bright);
+    float lightMean = f.color.At(1, ly, lx);
+    RhfOptions o;
+    o.scales = 1;
+    Image kept = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    // Means of equal values: a few round-offs of the light's value.
+    EXPECT_TRUE(ImagesMatch(f.color, kept, {}, {0, 16 * kUnitRoundoff * lightMean, 1e-12}));
+    EXPECT_TRUE(
+        ImagesMatch(ref::Rhf(f.color, f.hist, Params(o)), kept, {}, ToleranceFor(f.color, o)));
+    o.brightVeto = 0;
+    Image spread = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+    EXPECT_LT(spread.At(1, ly, lx), 0.5f * lightMean)
+        << "the authors' distance no longer spreads the light";
+    EXPECT_GT(spread.At(1, ly, lx + 1), 1.5f * c.dim);
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, RhfPropertiesOneLight,
+                         testing::Values(OneLightCase{4, 4, 0.1, 12},
+                                         OneLightCase{64, 7, 1.42, 3800}),
+                         [](const testing::TestParamInfo<OneLightCase> &info) {
+                             const OneLightCase &c = info.param;
+                             return fmt::format("{}of{}_at{}", c.brightSamples, c.spp,
+                                                c.bright);
+                         });
 
 TEST_F(RhfProperties, BadPixelsGiveFiniteOutputAndCountedWarnings) {
     const int w = 24, h = 20, n3 = 3 * kBins;

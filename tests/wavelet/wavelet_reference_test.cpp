@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "cpu_reference/wavelet_analyze.h"
@@ -69,6 +70,35 @@ double SumOfSquares(const std::vector<double> &v) {
     return sum;
 }
 
+// Each case is a test of its own, named by its parameters, so a failing one re-runs alone.
+class WaveletReferenceBasis : public testing::TestWithParam<WaveletBasis> {};
+
+std::string BasisName(const testing::TestParamInfo<WaveletBasis> &info) {
+    return WaveletName(info.param);
+}
+
+// A basis, an image size and a level count.
+struct LevelsCase {
+    WaveletBasis basis;
+    int width, height, levels;
+};
+
+// Every level count from `firstLevel` up to the most each size allows.
+std::vector<LevelsCase> LevelsCases(const std::vector<std::pair<int, int>> &sizes,
+                                    int firstLevel) {
+    std::vector<LevelsCase> cases;
+    for (WaveletBasis basis : kBases)
+        for (auto [width, height] : sizes)
+            for (int levels = firstLevel; levels <= MaxWaveletLevels(width, height); ++levels)
+                cases.push_back({basis, width, height, levels});
+    return cases;
+}
+
+std::string LevelsCaseName(const testing::TestParamInfo<LevelsCase> &info) {
+    const LevelsCase &c = info.param;
+    return fmt::format("{}_{}x{}_L{}", WaveletName(c.basis), c.width, c.height, c.levels);
+}
+
 TEST(WaveletReferenceFilters, Cdf97MatchesPaperDigits) {
     // AWR appendix A, printed to 6 digits, before the sqrt2 factors.
     const double low[] = {0.602949, 0.266864, -0.078223, -0.016864, 0.026749};
@@ -119,16 +149,14 @@ TEST(WaveletReferenceFilters, LeGall53MatchesPaper) {
     expectNear(bank.synthesisHigh, synthesisHigh);
 }
 
-TEST(WaveletReferenceFilters, DcGains) {
-    for (WaveletBasis basis : kBases) {
-        const FilterBank &bank = GetFilterBank(basis);
-        SCOPED_TRACE(WaveletName(basis));
-        EXPECT_NEAR(Sum(FullTaps(bank.analysisLow, basis)), kSqrt2, 1e-15);
-        EXPECT_NEAR(Sum(FullTaps(bank.analysisHigh, basis)), 0, 1e-15);
-        EXPECT_NEAR(Sum(FullTaps(bank.synthesisLow, basis)), kSqrt2, 1e-15);
-        EXPECT_NEAR(Sum(FullTaps(bank.synthesisHigh, basis)), 0, 1e-15);
-        EXPECT_NEAR(FullFilterSum(bank.analysisLow, basis), kSqrt2, 1e-15);
-    }
+TEST_P(WaveletReferenceBasis, DcGains) {
+    WaveletBasis basis = GetParam();
+    const FilterBank &bank = GetFilterBank(basis);
+    EXPECT_NEAR(Sum(FullTaps(bank.analysisLow, basis)), kSqrt2, 1e-15);
+    EXPECT_NEAR(Sum(FullTaps(bank.analysisHigh, basis)), 0, 1e-15);
+    EXPECT_NEAR(Sum(FullTaps(bank.synthesisLow, basis)), kSqrt2, 1e-15);
+    EXPECT_NEAR(Sum(FullTaps(bank.synthesisHigh, basis)), 0, 1e-15);
+    EXPECT_NEAR(FullFilterSum(bank.analysisLow, basis), kSqrt2, 1e-15);
 }
 
 TEST(WaveletReferenceFilters, MirrorIndex) {
@@ -162,46 +190,43 @@ TEST(WaveletReferenceAnalyze, HandComputedHaarOddLength) {
     for (size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(back[i], x[i], 1e-14) << i;
 }
 
-TEST(WaveletReferenceAnalyze, PerfectReconstructionInDouble) {
-    for (WaveletBasis basis : kBases) {
-        for (auto [width, height] : kSizes) {
-            std::vector<double> x = RandomValues(size_t(width) * height, width * 131 + height);
-            double scale = 0;
-            for (double v : x) scale = std::max(scale, std::abs(v));
-            for (int levels = 0; levels <= MaxWaveletLevels(width, height); ++levels) {
-                SCOPED_TRACE(testing::Message() << WaveletName(basis) << " " << width << "x"
-                                                << height << " levels " << levels);
-                std::vector<double> c = AnalyzePlane(x, width, height, basis, levels);
-                std::vector<double> back = SynthesizePlane(c, width, height, basis, levels);
-                double error = 0;
-                for (size_t i = 0; i < x.size(); ++i)
-                    error = std::max(error, std::abs(back[i] - x[i]));
-                EXPECT_LE(error, 1e-12 * scale);
-                if (levels == 0) {
-                    EXPECT_EQ(c, x);
-                }
-            }
-        }
+class WaveletReferenceRoundTrip : public testing::TestWithParam<LevelsCase> {};
+
+TEST_P(WaveletReferenceRoundTrip, PerfectReconstructionInDouble) {
+    const auto [basis, width, height, levels] = GetParam();
+    std::vector<double> x = RandomValues(size_t(width) * height, width * 131 + height);
+    double scale = 0;
+    for (double v : x) scale = std::max(scale, std::abs(v));
+    std::vector<double> c = AnalyzePlane(x, width, height, basis, levels);
+    std::vector<double> back = SynthesizePlane(c, width, height, basis, levels);
+    double error = 0;
+    for (size_t i = 0; i < x.size(); ++i) error = std::max(error, std::abs(back[i] - x[i]));
+    EXPECT_LE(error, 1e-12 * scale);
+    if (levels == 0) {
+        EXPECT_EQ(c, x);
     }
 }
 
-TEST(WaveletReferenceAnalyze, ImageRoundTripAndChannelsIndependent) {
-    for (WaveletBasis basis : kBases) {
-        SCOPED_TRACE(WaveletName(basis));
-        const int width = 13, height = 10, levels = MaxWaveletLevels(width, height);
-        Image image = RandomImage(width, height, 3, 7);
-        Image c = WaveletAnalyze(image, basis, levels);
-        ASSERT_TRUE(c.SameShape(image));
-        Image back = WaveletSynthesize(c, basis, levels);
-        ASSERT_TRUE(back.SameShape(image));
-        for (size_t i = 0; i < image.Size(); ++i)
-            EXPECT_NEAR(back.data[i], image.data[i], 1e-5) << i;
-        // Channel 1 alone gives the same coefficients as channel 1 of the three.
-        Image one(width, height, 1);
-        std::copy(image.Plane(1), image.Plane(1) + image.PixelCount(), one.Plane(0));
-        Image cOne = WaveletAnalyze(one, basis, levels);
-        EXPECT_TRUE(std::equal(cOne.data.begin(), cOne.data.end(), c.Plane(1)));
-    }
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletReferenceRoundTrip,
+                         testing::ValuesIn(LevelsCases({std::begin(kSizes), std::end(kSizes)},
+                                                       0)),
+                         LevelsCaseName);
+
+TEST_P(WaveletReferenceBasis, ImageRoundTripAndChannelsIndependent) {
+    WaveletBasis basis = GetParam();
+    const int width = 13, height = 10, levels = MaxWaveletLevels(width, height);
+    Image image = RandomImage(width, height, 3, 7);
+    Image c = WaveletAnalyze(image, basis, levels);
+    ASSERT_TRUE(c.SameShape(image));
+    Image back = WaveletSynthesize(c, basis, levels);
+    ASSERT_TRUE(back.SameShape(image));
+    for (size_t i = 0; i < image.Size(); ++i)
+        EXPECT_NEAR(back.data[i], image.data[i], 1e-5) << i;
+    // Channel 1 alone gives the same coefficients as channel 1 of the three.
+    Image one(width, height, 1);
+    std::copy(image.Plane(1), image.Plane(1) + image.PixelCount(), one.Plane(0));
+    Image cOne = WaveletAnalyze(one, basis, levels);
+    EXPECT_TRUE(std::equal(cOne.data.begin(), cOne.data.end(), c.Plane(1)));
 }
 
 TEST(WaveletReferenceAnalyze, LevelsOutOfRangeThrow) {
@@ -244,50 +269,40 @@ double ConstantImageGain(int width, int height, int levels, int x, int y, double
     return gain;
 }
 
-TEST(WaveletReferenceAnalyze, ConstantImageHasNoDetail) {
-    const std::pair<int, int> sizes[] = {{1, 7}, {7, 1},   {2, 2},   {3, 3},
-                                         {5, 9}, {17, 13}, {16, 16}, {64, 64}};
+class WaveletReferenceConstantImage : public testing::TestWithParam<LevelsCase> {};
+
+TEST_P(WaveletReferenceConstantImage, HasNoDetail) {
+    const auto [basis, width, height, levels] = GetParam();
     const float constants[] = {1.f, -2.5f};
-    for (WaveletBasis basis : kBases) {
-        for (auto [width, height] : sizes) {
-            Image image(width, height, 2);
-            for (int ch = 0; ch < 2; ++ch)
-                std::fill(image.Plane(ch), image.Plane(ch) + image.PixelCount(), constants[ch]);
-            for (int levels = 1; levels <= MaxWaveletLevels(width, height); ++levels) {
-                SCOPED_TRACE(testing::Message() << WaveletName(basis) << " " << width << "x"
-                                                << height << " levels " << levels);
-                Image c = WaveletAnalyze(image, basis, levels);
-                for (int ch = 0; ch < 2; ++ch) {
-                    for (int y = 0; y < height; ++y) {
-                        for (int x = 0; x < width; ++x) {
-                            double expected =
-                                constants[ch] *
-                                ConstantImageGain(width, height, levels, x, y, kSqrt2, 0.0);
-                            double tolerance = 1e-6 * std::abs(expected) + 1e-12;
-                            EXPECT_NEAR(c.At(ch, y, x), expected, tolerance)
-                                << "c " << ch << " x " << x << " y " << y;
-                        }
-                    }
-                }
-                // Square images: LL = c (sum h0)^(2 levels), the rest is zero.
-                if (width == height) {
-                    EXPECT_NEAR(c.At(0, 0, 0), std::pow(2.0, levels),
-                                1e-6 * std::pow(2.0, levels));
-                }
+    Image image(width, height, 2);
+    for (int ch = 0; ch < 2; ++ch)
+        std::fill(image.Plane(ch), image.Plane(ch) + image.PixelCount(), constants[ch]);
+    Image c = WaveletAnalyze(image, basis, levels);
+    for (int ch = 0; ch < 2; ++ch) {
+        for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                double expected =
+                    constants[ch] * ConstantImageGain(width, height, levels, x, y, kSqrt2, 0.0);
+                double tolerance = 1e-6 * std::abs(expected) + 1e-12;
+                EXPECT_NEAR(c.At(ch, y, x), expected, tolerance)
+                    << "c " << ch << " x " << x << " y " << y;
             }
         }
     }
+    // Square images: LL = c (sum h0)^(2 levels), the rest is zero.
+    if (width == height) {
+        EXPECT_NEAR(c.At(0, 0, 0), std::pow(2.0, levels), 1e-6 * std::pow(2.0, levels));
+    }
 }
 
-TEST(WaveletReferenceSqAnalyze, ConstantVarianceClosedForm) {
-    const std::pair<int, int> sizes[] = {{1, 7}, {7, 1},   {2, 2},  {3, 3},
-                                         {5, 9}, {17, 13}, {16, 16}};
-    const std::pair<double, double> sums[] = {{0, 0},
-                                              {1.05, 0},
-                                              {1.05, 1.05},
-                                              {std::sqrt(0.5), std::sqrt(0.5)},
-                                              {1.05, std::sqrt(0.5)}};
-    const float variances[] = {1.f, 0.375f};
+INSTANTIATE_TEST_SUITE_P(
+    Cases, WaveletReferenceConstantImage,
+    testing::ValuesIn(
+        LevelsCases({{1, 7}, {7, 1}, {2, 2}, {3, 3}, {5, 9}, {17, 13}, {16, 16}, {64, 64}}, 1)),
+    LevelsCaseName);
+
+// The natural gains (the sums of the squared taps) where they are simple fractions.
+TEST(WaveletReferenceSqAnalyze, NaturalGains) {
     for (WaveletBasis basis : kBases) {
         const FilterBank &bank = GetFilterBank(basis);
         double naturalLow = SumOfSquares(FullTaps(bank.analysisLow, basis));
@@ -300,57 +315,102 @@ TEST(WaveletReferenceSqAnalyze, ConstantVarianceClosedForm) {
             EXPECT_NEAR(naturalLow, 2.0 / 64 * (36 + 2 * 4 + 2 * 1), 1e-15);
             EXPECT_NEAR(naturalHigh, 1.0 / 8 * (4 + 2 * 1), 1e-15);
         }
-        for (auto [lowSum, highSum] : sums) {
-            double lowGain = lowSum > 0 ? lowSum : naturalLow;
-            double highGain = highSum > 0 ? highSum : naturalHigh;
-            for (auto [width, height] : sizes) {
-                Image variance(width, height, 2);
-                for (int ch = 0; ch < 2; ++ch)
-                    std::fill(variance.Plane(ch), variance.Plane(ch) + variance.PixelCount(),
-                              variances[ch]);
-                for (int levels = 1; levels <= MaxWaveletLevels(width, height); ++levels) {
-                    SCOPED_TRACE(testing::Message() << WaveletName(basis) << " " << width << "x"
-                                                    << height << " levels " << levels
-                                                    << " sums " << lowSum << " " << highSum);
-                    Image c = WaveletSqAnalyze(variance, basis, levels, lowSum, highSum);
-                    for (int ch = 0; ch < 2; ++ch) {
-                        for (int y = 0; y < height; ++y) {
-                            for (int x = 0; x < width; ++x) {
-                                double expected =
-                                    variances[ch] * ConstantImageGain(width, height, levels, x,
-                                                                      y, lowGain, highGain);
-                                EXPECT_NEAR(c.At(ch, y, x), expected, 1e-6 * expected)
-                                    << "c " << ch << " x " << x << " y " << y;
-                            }
-                        }
-                    }
-                }
+    }
+}
+
+// A level case with the low and high sums the squared analysis renormalises to (0: the
+// natural ones).
+struct SumsCase {
+    LevelsCase level;
+    double lowSum, highSum;
+};
+
+class WaveletReferenceConstantVariance : public testing::TestWithParam<SumsCase> {};
+
+TEST_P(WaveletReferenceConstantVariance, MatchesClosedForm) {
+    const auto [level, lowSum, highSum] = GetParam();
+    const auto [basis, width, height, levels] = level;
+    const float variances[] = {1.f, 0.375f};
+    const FilterBank &bank = GetFilterBank(basis);
+    double naturalLow = SumOfSquares(FullTaps(bank.analysisLow, basis));
+    double naturalHigh = SumOfSquares(FullTaps(bank.analysisHigh, basis));
+    double lowGain = lowSum > 0 ? lowSum : naturalLow;
+    double highGain = highSum > 0 ? highSum : naturalHigh;
+    Image variance(width, height, 2);
+    for (int ch = 0; ch < 2; ++ch)
+        std::fill(variance.Plane(ch), variance.Plane(ch) + variance.PixelCount(),
+                  variances[ch]);
+    Image c = WaveletSqAnalyze(variance, basis, levels, lowSum, highSum);
+    for (int ch = 0; ch < 2; ++ch) {
+        for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                double expected = variances[ch] * ConstantImageGain(width, height, levels, x, y,
+                                                                    lowGain, highGain);
+                EXPECT_NEAR(c.At(ch, y, x), expected, 1e-6 * expected)
+                    << "c " << ch << " x " << x << " y " << y;
             }
         }
     }
 }
 
-TEST(WaveletReferenceSqAnalyze, SquaredTapsOnImpulse) {
-    // One level along a row of 17 with an impulse v at sample 8: s[n] = h0[|2n-8|]^2 v and
-    // d[n] = h1[|2n+1-8|]^2 v (no reflection reaches sample 8 again).
-    for (WaveletBasis basis : {WaveletBasis::LeGall53, WaveletBasis::Cdf97}) {
-        SCOPED_TRACE(WaveletName(basis));
-        const FilterBank &bank = GetFilterBank(basis);
-        Image variance(17, 1, 1);
-        variance.At(0, 0, 8) = 2.f;
-        Image c = WaveletSqAnalyze(variance, basis, 1);
-        auto squaredTap = [](const std::vector<double> &taps, int k) {
-            k = std::abs(k);
-            return k < int(taps.size()) ? taps[k] * taps[k] : 0.0;
-        };
-        for (int n = 0; n < 9; ++n)
-            EXPECT_NEAR(c.At(0, 0, n), 2 * squaredTap(bank.analysisLow, 2 * n - 8), 1e-6) << n;
-        for (int n = 0; n < 8; ++n)
-            EXPECT_NEAR(c.At(0, 0, 9 + n), 2 * squaredTap(bank.analysisHigh, 2 * n + 1 - 8),
-                        1e-6)
-                << n;
-    }
+std::vector<SumsCase> SumsCases() {
+    const std::pair<int, int> sizes[] = {{1, 7}, {7, 1},   {2, 2},  {3, 3},
+                                         {5, 9}, {17, 13}, {16, 16}};
+    const std::pair<double, double> sums[] = {{0, 0},
+                                              {1.05, 0},
+                                              {1.05, 1.05},
+                                              {std::sqrt(0.5), std::sqrt(0.5)},
+                                              {1.05, std::sqrt(0.5)}};
+    std::vector<SumsCase> cases;
+    for (WaveletBasis basis : kBases)
+        for (auto [lowSum, highSum] : sums)
+            for (auto [width, height] : sizes)
+                for (int levels = 1; levels <= MaxWaveletLevels(width, height); ++levels)
+                    cases.push_back({{basis, width, height, levels}, lowSum, highSum});
+    return cases;
 }
+
+// A sum in a name: 3 digits, the point as "p" (gtest names take [A-Za-z0-9_] only).
+std::string SumName(double sum) {
+    std::string name = fmt::format("{:.3g}", sum);
+    std::replace(name.begin(), name.end(), '.', 'p');
+    return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletReferenceConstantVariance,
+                         testing::ValuesIn(SumsCases()),
+                         [](const testing::TestParamInfo<SumsCase> &info) {
+                             const SumsCase &c = info.param;
+                             return fmt::format("{}_{}x{}_L{}_sums{}_{}",
+                                                WaveletName(c.level.basis), c.level.width,
+                                                c.level.height, c.level.levels,
+                                                SumName(c.lowSum), SumName(c.highSum));
+                         });
+
+// One level along a row of 17 with an impulse v at sample 8: s[n] = h0[|2n-8|]^2 v and
+// d[n] = h1[|2n+1-8|]^2 v (no reflection reaches sample 8 again).
+class WaveletReferenceImpulse : public testing::TestWithParam<WaveletBasis> {};
+
+TEST_P(WaveletReferenceImpulse, SqAnalyzeGivesSquaredTaps) {
+    WaveletBasis basis = GetParam();
+    const FilterBank &bank = GetFilterBank(basis);
+    Image variance(17, 1, 1);
+    variance.At(0, 0, 8) = 2.f;
+    Image c = WaveletSqAnalyze(variance, basis, 1);
+    auto squaredTap = [](const std::vector<double> &taps, int k) {
+        k = std::abs(k);
+        return k < int(taps.size()) ? taps[k] * taps[k] : 0.0;
+    };
+    for (int n = 0; n < 9; ++n)
+        EXPECT_NEAR(c.At(0, 0, n), 2 * squaredTap(bank.analysisLow, 2 * n - 8), 1e-6) << n;
+    for (int n = 0; n < 8; ++n)
+        EXPECT_NEAR(c.At(0, 0, 9 + n), 2 * squaredTap(bank.analysisHigh, 2 * n + 1 - 8), 1e-6)
+            << n;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletReferenceImpulse,
+                         testing::Values(WaveletBasis::LeGall53, WaveletBasis::Cdf97),
+                         BasisName);
 
 std::set<int> NonFiniteIndices(const std::vector<double> &c) {
     std::set<int> result;
@@ -398,27 +458,30 @@ TEST(WaveletReferenceAnalyze, NaNStaysInsideSupport2D) {
     }
 }
 
-TEST(WaveletReferenceMagnitude, BoundsAndHandValues) {
+TEST(WaveletReferenceMagnitude, HandValues) {
     // A constant -1 row, LeGall: every s is sum |h0| = 1.5 sqrt2, every d sum |h1| = sqrt2.
     Image row(16, 1, 1, -1.f);
     Image m = WaveletAnalyzeMagnitude(row, WaveletBasis::LeGall53, 1);
     for (int x = 0; x < 16; ++x)
         EXPECT_NEAR(m.At(0, 0, x), x < 8 ? 1.5 * kSqrt2 : kSqrt2, 1e-6) << x;
-    // The magnitude bounds the coefficient, level after level.
-    for (WaveletBasis basis : kBases) {
-        SCOPED_TRACE(WaveletName(basis));
-        Image image = RandomImage(17, 13, 2, 3);
-        int levels = MaxWaveletLevels(17, 13);
-        Image c = WaveletAnalyze(image, basis, levels);
-        Image cm = WaveletAnalyzeMagnitude(image, basis, levels);
-        Image x = WaveletSynthesize(c, basis, levels);
-        Image xm = WaveletSynthesizeMagnitude(c, basis, levels);
-        for (size_t i = 0; i < c.Size(); ++i) {
-            EXPECT_GE(cm.data[i] * (1 + 1e-6f), std::abs(c.data[i])) << i;
-            EXPECT_GE(xm.data[i] * (1 + 1e-6f), std::abs(x.data[i])) << i;
-        }
+}
+
+// The magnitude bounds the coefficient, level after level.
+TEST_P(WaveletReferenceBasis, MagnitudeBoundsTheTransform) {
+    WaveletBasis basis = GetParam();
+    Image image = RandomImage(17, 13, 2, 3);
+    int levels = MaxWaveletLevels(17, 13);
+    Image c = WaveletAnalyze(image, basis, levels);
+    Image cm = WaveletAnalyzeMagnitude(image, basis, levels);
+    Image x = WaveletSynthesize(c, basis, levels);
+    Image xm = WaveletSynthesizeMagnitude(c, basis, levels);
+    for (size_t i = 0; i < c.Size(); ++i) {
+        EXPECT_GE(cm.data[i] * (1 + 1e-6f), std::abs(c.data[i])) << i;
+        EXPECT_GE(xm.data[i] * (1 + 1e-6f), std::abs(x.data[i])) << i;
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletReferenceBasis, testing::ValuesIn(kBases), BasisName);
 
 // Runs pywt.dwt on each signal; returns false when python3-pywt is missing. pywt's result
 // per signal: cA then cD, each of length floor((N + F - 1) / 2) for filter length F.
@@ -467,50 +530,85 @@ bool RunPywt(const std::vector<std::pair<std::string, std::vector<double>>> &cas
     return true;
 }
 
-TEST(WaveletReferencePywt, SingleLevelMatchesPywt) {
-    // pywt computes out[i] = sum_j f[j] x[2i+1-j] over the extended signal, and its filters
-    // are zero-padded to even length F: bior4.4 F = 10, centres of dec_lo / dec_hi at 5 / 4,
-    // so out[i] is centred on 2i-4 / 2i-3: our s[i-2], d[i-2]. bior2.2 F = 6, centres 3 / 2:
-    // s[i-1], d[i-1]. haar F = 2: s[i], d[i]. Offsets: 2, 1, 0 (= F / 4 rounded down).
-    // pywt's bior4.4 dec_hi is the negative of the paper's 9/7 high-pass, its bior2.2 dec_hi
-    // equals the paper's LeGall high-pass, and its haar cD = (x[2i] - x[2i+1]) / sqrt2 is
-    // the negative of ours. Its 'reflect' mode is our whole-sample symmetric extension (even
-    // with several reflections, N = 2), 'symmetric' the half-sample one Haar uses; for odd
-    // N pywt's haar gives one more (zero) cD.
-    struct Basis {
-        WaveletBasis basis;
-        const char *spec;
-        int offset;
-        double highSign;
-        double tolerance;
-    };
-    // pywt tabulates bior4.4 to about 12 digits (its taps are off by up to 6e-13).
-    const Basis bases[] = {{WaveletBasis::Cdf97, "bior4.4:reflect", 2, -1.0, 1e-11},
-                           {WaveletBasis::LeGall53, "bior2.2:reflect", 1, 1.0, 1e-14},
-                           {WaveletBasis::Haar, "haar:symmetric", 0, -1.0, 1e-14}};
-    const int lengths[] = {2, 3, 4, 5, 8, 9, 16, 17, 31};
+// pywt computes out[i] = sum_j f[j] x[2i+1-j] over the extended signal, and its filters
+// are zero-padded to even length F: bior4.4 F = 10, centres of dec_lo / dec_hi at 5 / 4,
+// so out[i] is centred on 2i-4 / 2i-3: our s[i-2], d[i-2]. bior2.2 F = 6, centres 3 / 2:
+// s[i-1], d[i-1]. haar F = 2: s[i], d[i]. Offsets: 2, 1, 0 (= F / 4 rounded down).
+// pywt's bior4.4 dec_hi is the negative of the paper's 9/7 high-pass, its bior2.2 dec_hi
+// equals the paper's LeGall high-pass, and its haar cD = (x[2i] - x[2i+1]) / sqrt2 is
+// the negative of ours. Its 'reflect' mode is our whole-sample symmetric extension (even
+// with several reflections, N = 2), 'symmetric' the half-sample one Haar uses; for odd
+// N pywt's haar gives one more (zero) cD.
+struct PywtBasis {
+    WaveletBasis basis;
+    const char *spec;
+    int offset;
+    double highSign;
+    double tolerance;
+};
+// pywt tabulates bior4.4 to about 12 digits (its taps are off by up to 6e-13).
+const PywtBasis kPywtBases[] = {{WaveletBasis::Cdf97, "bior4.4:reflect", 2, -1.0, 1e-11},
+                                {WaveletBasis::LeGall53, "bior2.2:reflect", 1, 1.0, 1e-14},
+                                {WaveletBasis::Haar, "haar:symmetric", 0, -1.0, 1e-14}};
+const int kPywtLengths[] = {2, 3, 4, 5, 8, 9, 16, 17, 31};
+
+// Every case's signal and pywt's result, from one python3 run for all cases (started
+// once per process, not once per case).
+struct PywtRun {
     std::vector<std::pair<std::string, std::vector<double>>> cases;
-    for (const Basis &b : bases)
-        for (int n : lengths) cases.emplace_back(b.spec, RandomValues(n, 1000 + n));
     std::vector<std::pair<std::vector<double>, std::vector<double>>> results;
-    if (!RunPywt(cases, &results)) GTEST_SKIP() << "python3-pywt not installed";
-    ASSERT_EQ(results.size(), cases.size());
-    size_t index = 0;
-    for (const Basis &b : bases) {
-        for (int n : lengths) {
-            SCOPED_TRACE(testing::Message() << b.spec << " N " << n);
-            const std::vector<double> &x = cases[index].second;
-            const auto &[a, d] = results[index++];
-            std::vector<double> c = Analyze1D(x, b.basis);
-            int nLow = (n + 1) / 2, nHigh = n / 2;
-            ASSERT_GE(int(a.size()), b.offset + nLow);
-            ASSERT_GE(int(d.size()), b.offset + nHigh);
-            for (int i = 0; i < nLow; ++i) EXPECT_NEAR(c[i], a[b.offset + i], b.tolerance) << i;
-            for (int i = 0; i < nHigh; ++i)
-                EXPECT_NEAR(c[nLow + i], b.highSign * d[b.offset + i], b.tolerance) << i;
-        }
-    }
+    bool ran = false;
+};
+
+const PywtRun &Pywt() {
+    static const PywtRun run = [] {
+        PywtRun r;
+        for (const PywtBasis &b : kPywtBases)
+            for (int n : kPywtLengths) r.cases.emplace_back(b.spec, RandomValues(n, 1000 + n));
+        r.ran = RunPywt(r.cases, &r.results);
+        return r;
+    }();
+    return run;
 }
+
+// A basis and a signal length; `index` is the case's place in the python3 run.
+struct PywtCase {
+    const PywtBasis *basis;
+    int n;
+    size_t index;
+};
+
+std::vector<PywtCase> PywtCases() {
+    std::vector<PywtCase> cases;
+    for (const PywtBasis &b : kPywtBases)
+        for (int n : kPywtLengths) cases.push_back({&b, n, cases.size()});
+    return cases;
+}
+
+class WaveletReferencePywt : public testing::TestWithParam<PywtCase> {};
+
+TEST_P(WaveletReferencePywt, SingleLevelMatchesPywt) {
+    const PywtBasis &b = *GetParam().basis;
+    const int n = GetParam().n;
+    const PywtRun &run = Pywt();
+    if (!run.ran) GTEST_SKIP() << "python3-pywt not installed";
+    ASSERT_EQ(run.results.size(), run.cases.size());
+    const std::vector<double> &x = run.cases[GetParam().index].second;
+    const auto &[a, d] = run.results[GetParam().index];
+    std::vector<double> c = Analyze1D(x, b.basis);
+    int nLow = (n + 1) / 2, nHigh = n / 2;
+    ASSERT_GE(int(a.size()), b.offset + nLow);
+    ASSERT_GE(int(d.size()), b.offset + nHigh);
+    for (int i = 0; i < nLow; ++i) EXPECT_NEAR(c[i], a[b.offset + i], b.tolerance) << i;
+    for (int i = 0; i < nHigh; ++i)
+        EXPECT_NEAR(c[nLow + i], b.highSign * d[b.offset + i], b.tolerance) << i;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletReferencePywt, testing::ValuesIn(PywtCases()),
+                         [](const testing::TestParamInfo<PywtCase> &info) {
+                             return fmt::format("{}_N{}", WaveletName(info.param.basis->basis),
+                                                info.param.n);
+                         });
 
 }  // namespace
 }  // namespace mcd::ref
