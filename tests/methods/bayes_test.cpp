@@ -5,9 +5,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include "bayes/bayes.h"
 #include "cpu_reference/bayes_denoise.h"
@@ -43,6 +47,26 @@ std::vector<double> SampleGl(double s, double p, size_t n, std::mt19937_64 &rng)
     return x;
 }
 
+// A number in a case's name: gtest names take [A-Za-z0-9_] only, so 0.8 is "0p8" and
+// 1e-30 is "1em30". Floats print as floats (0.01f is "0p01").
+template <typename Float>
+std::string NameOf(Float v) {
+    std::string name;
+    for (char ch : fmt::format("{}", v)) {
+        if (ch == '.')
+            name += 'p';
+        else if (ch == '-')
+            name += 'm';
+        else if (ch != '+')
+            name += ch;
+    }
+    return name;
+}
+
+std::string SizeName(const testing::TestParamInfo<std::pair<int, int>> &info) {
+    return fmt::format("{}x{}", info.param.first, info.param.second);
+}
+
 // ---------------------------------------------------------------- the reference's model
 
 TEST(BayesModel, KurtosisIsMonotoneOverTheBracket) {
@@ -56,34 +80,62 @@ TEST(BayesModel, KurtosisIsMonotoneOverTheBracket) {
     EXPECT_NEAR(ref::GlKurtosis(1), 6, 1e-12);
 }
 
-// Exact moments of c + n (eqs. 17-18) give back (s_c, p_c) to the bisection's precision.
-TEST(BayesModel, SolverInvertsExactMoments) {
-    const double sn = 0.19, pn = 1.5;
-    for (double p : {0.5, 0.7, 1.0, 1.5, 2.0})
-        for (double s : {1e-3, 1e-1, 1.0, 30.0}) {
-            double sN = s * 0.05;  // noise well below the signal, scaled with it
-            double var = ref::GlSecondMoment(s, p), varN = ref::GlSecondMoment(sN, pn);
-            double m2 = var + varN;
-            double m4 =
-                ref::GlFourthMoment(s, p) + ref::GlFourthMoment(sN, pn) + 6 * var * varN;
-            ref::BandFit fit = ref::SolveBand(m2, m4, 1000, sN, pn);
-            EXPECT_EQ(fit.fit, BAYES_FIT_SOLVED) << s << " " << p;
-            EXPECT_NEAR(fit.pc, p, 1e-9 * p) << s << " " << p;
-            EXPECT_NEAR(fit.sc, s, 1e-8 * s) << s << " " << p;
-            (void)sn;
-        }
+// Each case is a test of its own, named by its parameters, so a failing one re-runs alone.
+struct ShapeCase {
+    double p, s;
+};
+
+std::string ShapeCaseName(const testing::TestParamInfo<ShapeCase> &info) {
+    return fmt::format("p{}_s{}", NameOf(info.param.p), NameOf(info.param.s));
 }
+
+// Exact moments of c + n (eqs. 17-18) give back (s_c, p_c) to the bisection's precision.
+class BayesModelExactMoments : public testing::TestWithParam<ShapeCase> {};
+
+TEST_P(BayesModelExactMoments, SolverInvertsThem) {
+    const auto [p, s] = GetParam();
+    const double sn = 0.19, pn = 1.5;
+    double sN = s * 0.05;  // noise well below the signal, scaled with it
+    double var = ref::GlSecondMoment(s, p), varN = ref::GlSecondMoment(sN, pn);
+    double m2 = var + varN;
+    double m4 = ref::GlFourthMoment(s, p) + ref::GlFourthMoment(sN, pn) + 6 * var * varN;
+    ref::BandFit fit = ref::SolveBand(m2, m4, 1000, sN, pn);
+    EXPECT_EQ(fit.fit, BAYES_FIT_SOLVED) << s << " " << p;
+    EXPECT_NEAR(fit.pc, p, 1e-9 * p) << s << " " << p;
+    EXPECT_NEAR(fit.sc, s, 1e-8 * s) << s << " " << p;
+    (void)sn;
+}
+
+std::vector<ShapeCase> ExactMomentCases() {
+    std::vector<ShapeCase> cases;
+    for (double p : {0.5, 0.7, 1.0, 1.5, 2.0})
+        for (double s : {1e-3, 1e-1, 1.0, 30.0}) cases.push_back({p, s});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesModelExactMoments, testing::ValuesIn(ExactMomentCases()),
+                         ShapeCaseName);
 
 // Sampled moments of synthetic c + n: (s, p) recovered for p in [0.5, 2] and s over four
 // decades. The tolerance is the sampling error: E[x^4] of 400k samples of p = 0.5 has a
 // relative standard deviation of sqrt((Gamma(18) Gamma(2) / Gamma(10)^2 - 1) / 4e5) = 8%,
 // which moves p by about 0.03; tighter shapes do much better.
-TEST(BayesModel, SolverRecoversSampledParameters) {
-    std::mt19937_64 rng(SeedFromName("bayes solver samples"));
-    const size_t n = 400000;
-    const double pn = 1.5;
+std::vector<ShapeCase> SampledCases() {
+    std::vector<ShapeCase> cases;
     for (double p : {0.5, 0.8, 1.2, 2.0})
-        for (double s : {1e-3, 1e-1, 10.0}) {
+        for (double s : {1e-3, 1e-1, 10.0}) cases.push_back({p, s});
+    return cases;
+}
+
+// The fits of every case, in the cases' order, computed once: the cases draw from one
+// generator, so each case's samples depend on the cases before it.
+const std::vector<ref::BandFit> &SampledFits() {
+    static const std::vector<ref::BandFit> fits = [] {
+        std::mt19937_64 rng(SeedFromName("bayes solver samples"));
+        const size_t n = 400000;
+        const double pn = 1.5;
+        std::vector<ref::BandFit> all;
+        for (auto [p, s] : SampledCases()) {
             double sN = 0.2 * s;
             std::vector<double> c = SampleGl(s, p, n, rng), noise = SampleGl(sN, pn, n, rng);
             double m2 = 0, m4 = 0;
@@ -92,14 +144,32 @@ TEST(BayesModel, SolverRecoversSampledParameters) {
                 m2 += y * y;
                 m4 += y * y * y * y;
             }
-            ref::BandFit fit = ref::SolveBand(m2 / n, m4 / n, int64_t(n), sN, pn);
-            SCOPED_TRACE(
-                fmt::format("s {} p {}: got s_c {:.4g} p_c {:.4g}", s, p, fit.sc, fit.pc));
-            EXPECT_EQ(fit.fit, BAYES_FIT_SOLVED);
-            EXPECT_NEAR(fit.pc, p, 0.12 * p);
-            EXPECT_NEAR(fit.sc, s, 0.25 * s);
+            all.push_back(ref::SolveBand(m2 / n, m4 / n, int64_t(n), sN, pn));
         }
+        return all;
+    }();
+    return fits;
 }
+
+class BayesModelSampled : public testing::TestWithParam<ShapeCase> {};
+
+TEST_P(BayesModelSampled, SolverRecoversTheParameters) {
+    const ShapeCase k = GetParam();
+    const double p = k.p, s = k.s;
+    std::vector<ShapeCase> cases = SampledCases();
+    size_t index = std::find_if(cases.begin(), cases.end(),
+                                [&](const ShapeCase &c) { return c.p == k.p && c.s == k.s; }) -
+                   cases.begin();
+    ASSERT_LT(index, cases.size());
+    const ref::BandFit &fit = SampledFits()[index];
+    SCOPED_TRACE(fmt::format("s {} p {}: got s_c {:.4g} p_c {:.4g}", s, p, fit.sc, fit.pc));
+    EXPECT_EQ(fit.fit, BAYES_FIT_SOLVED);
+    EXPECT_NEAR(fit.pc, p, 0.12 * p);
+    EXPECT_NEAR(fit.sc, s, 0.25 * s);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesModelSampled, testing::ValuesIn(SampledCases()),
+                         ShapeCaseName);
 
 TEST(BayesModel, SolverFallbacksAreDocumentedAndFinite) {
     const double sn = 0.2, pn = 1.5;
@@ -133,38 +203,53 @@ TEST(BayesModel, SolverFallbacksAreDocumentedAndFinite) {
 // coefficients (relative to y) more than large ones; finite at extreme scales. Monotone
 // needs a prior whose tails are at least as heavy as the noise's (p_c < p_n, or p_c = p_n
 // and s_c >= s_n): otherwise a very large y is better explained by noise and c^ falls
-// back toward 0 (true of eq. 11 itself; checked in the last case).
-TEST(BayesModel, PosteriorMeanProperties) {
-    struct Case {
-        double sc, pc, sn, pn;
-    };
-    for (Case k :
-         {Case{1, 0.7, 0.2, 1.5}, Case{0.1, 1.0, 0.3, 1.5}, Case{2, 2.0, 0.5, 2.0},
-          Case{1e-4, 0.5, 1, 1.5}, Case{1e3, 0.6, 1e-3, 0.8}, Case{0.5, 0.6, 0.19, 0.6}}) {
-        SCOPED_TRACE(fmt::format("s_c {} p_c {} s_n {} p_n {}", k.sc, k.pc, k.sn, k.pn));
-        ref::BandFit fit{BAYES_FIT_SOLVED, k.sc, k.pc};
-        // "Small" is y < s_n, "large" y > 4 s_n: every small y keeps a smaller fraction of
-        // itself than any large one (near 0 the fraction may dip slightly: the cubic term).
-        double previous = 0, maxSmallRatio = 0, minLargeRatio = INFINITY;
-        for (int i = 1; i <= 120; ++i) {
-            double y = k.sn * 0.05 * i * (1 + i / 10.0);
-            double c = ref::PosteriorMean(y, fit, k.sn, k.pn);
-            ASSERT_TRUE(std::isfinite(c)) << y;
-            EXPECT_EQ(ref::PosteriorMean(-y, fit, k.sn, k.pn), -c) << y;
-            EXPECT_GE(c, previous - 1e-12 * y) << "monotone at y " << y;
-            EXPECT_GE(c, -1e-12 * y);
-            EXPECT_LE(c, y * (1 + 1e-9)) << y;
-            if (y < k.sn) maxSmallRatio = std::max(maxSmallRatio, c / y);
-            if (y > 4 * k.sn) minLargeRatio = std::min(minLargeRatio, c / y);
-            previous = c;
-        }
-        // (Equal for Gaussian prior and noise: the Wiener gain. A prior far narrower than
-        // the noise, s_c = 1e-4 s_n, only lets go beyond y ~ 100 s_n: not "large" here.)
-        if (k.sc >= 0.1 * k.sn) {
-            EXPECT_LE(maxSmallRatio, minLargeRatio * (1 + 1e-9));
-        }
-        EXPECT_EQ(ref::PosteriorMean(0, fit, k.sn, k.pn), 0);
+// back toward 0 (true of eq. 11 itself; checked in PosteriorMeanTakesLargeYForNoise).
+struct ModelCase {
+    double sc, pc, sn, pn;
+};
+
+std::string ModelName(const ModelCase &k) {
+    return fmt::format("sc{}_pc{}_sn{}_pn{}", NameOf(k.sc), NameOf(k.pc), NameOf(k.sn),
+                       NameOf(k.pn));
+}
+
+class BayesModelPosteriorMean : public testing::TestWithParam<ModelCase> {};
+
+TEST_P(BayesModelPosteriorMean, Properties) {
+    const ModelCase &k = GetParam();
+    SCOPED_TRACE(fmt::format("s_c {} p_c {} s_n {} p_n {}", k.sc, k.pc, k.sn, k.pn));
+    ref::BandFit fit{BAYES_FIT_SOLVED, k.sc, k.pc};
+    // "Small" is y < s_n, "large" y > 4 s_n: every small y keeps a smaller fraction of
+    // itself than any large one (near 0 the fraction may dip slightly: the cubic term).
+    double previous = 0, maxSmallRatio = 0, minLargeRatio = INFINITY;
+    for (int i = 1; i <= 120; ++i) {
+        double y = k.sn * 0.05 * i * (1 + i / 10.0);
+        double c = ref::PosteriorMean(y, fit, k.sn, k.pn);
+        ASSERT_TRUE(std::isfinite(c)) << y;
+        EXPECT_EQ(ref::PosteriorMean(-y, fit, k.sn, k.pn), -c) << y;
+        EXPECT_GE(c, previous - 1e-12 * y) << "monotone at y " << y;
+        EXPECT_GE(c, -1e-12 * y);
+        EXPECT_LE(c, y * (1 + 1e-9)) << y;
+        if (y < k.sn) maxSmallRatio = std::max(maxSmallRatio, c / y);
+        if (y > 4 * k.sn) minLargeRatio = std::min(minLargeRatio, c / y);
+        previous = c;
     }
+    // (Equal for Gaussian prior and noise: the Wiener gain. A prior far narrower than
+    // the noise, s_c = 1e-4 s_n, only lets go beyond y ~ 100 s_n: not "large" here.)
+    if (k.sc >= 0.1 * k.sn) {
+        EXPECT_LE(maxSmallRatio, minLargeRatio * (1 + 1e-9));
+    }
+    EXPECT_EQ(ref::PosteriorMean(0, fit, k.sn, k.pn), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, BayesModelPosteriorMean,
+    testing::Values(ModelCase{1, 0.7, 0.2, 1.5}, ModelCase{0.1, 1.0, 0.3, 1.5},
+                    ModelCase{2, 2.0, 0.5, 2.0}, ModelCase{1e-4, 0.5, 1, 1.5},
+                    ModelCase{1e3, 0.6, 1e-3, 0.8}, ModelCase{0.5, 0.6, 0.19, 0.6}),
+    [](const testing::TestParamInfo<ModelCase> &info) { return ModelName(info.param); });
+
+TEST(BayesModel, PosteriorMeanTakesLargeYForNoise) {
     ref::BandFit light{BAYES_FIT_SOLVED, 0.05, 1.3};
     double mid = ref::PosteriorMean(1.0, light, 0.19, 0.6);
     double far = ref::PosteriorMean(15.0, light, 0.19, 0.6);
@@ -174,32 +259,48 @@ TEST(BayesModel, PosteriorMeanProperties) {
 
 // The sinh-grid quadrature against a plain composite Simpson rule on a uniform grid fine
 // enough to resolve both densities (step min(s_n, s_c) / 200 over the same range).
-TEST(BayesModel, QuadratureMatchesAFineUniformIntegral) {
-    struct Case {
-        double sc, pc, sn, pn;
-    };
-    for (Case k : {Case{1, 0.8, 0.2, 1.5}, Case{0.3, 1.6, 0.4, 1.2}, Case{0.05, 0.6, 0.1, 2.0}})
-        for (double y : {0.05, 0.3, 1.0, 3.0}) {
-            ref::BandFit fit{BAYES_FIT_SOLVED, k.sc, k.pc};
-            double reach =
-                std::max(k.sn * std::pow(40.0, 1 / k.pn), k.sc * std::pow(40.0, 1 / k.pc));
-            double lo = -reach, hi = y + reach, h = std::min(k.sn, k.sc) / 200;
-            int n = int(std::ceil((hi - lo) / h / 2)) * 2;
-            h = (hi - lo) / n;
-            double num = 0, den = 0;
-            for (int i = 0; i <= n; ++i) {
-                double c = lo + i * h;
-                double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
-                double f = std::exp(-std::pow(std::fabs(y - c) / k.sn, k.pn) -
-                                    std::pow(std::fabs(c) / k.sc, k.pc));
-                num += w * f * c;
-                den += w * f;
-            }
-            double expected = num / den;
-            EXPECT_NEAR(ref::PosteriorMean(y, fit, k.sn, k.pn), expected, 2e-4 * k.sn)
-                << fmt::format("s_c {} p_c {} s_n {} p_n {} y {}", k.sc, k.pc, k.sn, k.pn, y);
-        }
+struct QuadratureCase {
+    ModelCase model;
+    double y;
+};
+
+class BayesModelQuadrature : public testing::TestWithParam<QuadratureCase> {};
+
+TEST_P(BayesModelQuadrature, MatchesAFineUniformIntegral) {
+    const ModelCase &k = GetParam().model;
+    const double y = GetParam().y;
+    ref::BandFit fit{BAYES_FIT_SOLVED, k.sc, k.pc};
+    double reach = std::max(k.sn * std::pow(40.0, 1 / k.pn), k.sc * std::pow(40.0, 1 / k.pc));
+    double lo = -reach, hi = y + reach, h = std::min(k.sn, k.sc) / 200;
+    int n = int(std::ceil((hi - lo) / h / 2)) * 2;
+    h = (hi - lo) / n;
+    double num = 0, den = 0;
+    for (int i = 0; i <= n; ++i) {
+        double c = lo + i * h;
+        double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+        double f = std::exp(-std::pow(std::fabs(y - c) / k.sn, k.pn) -
+                            std::pow(std::fabs(c) / k.sc, k.pc));
+        num += w * f * c;
+        den += w * f;
+    }
+    double expected = num / den;
+    EXPECT_NEAR(ref::PosteriorMean(y, fit, k.sn, k.pn), expected, 2e-4 * k.sn)
+        << fmt::format("s_c {} p_c {} s_n {} p_n {} y {}", k.sc, k.pc, k.sn, k.pn, y);
 }
+
+std::vector<QuadratureCase> QuadratureCases() {
+    std::vector<QuadratureCase> cases;
+    for (ModelCase k : {ModelCase{1, 0.8, 0.2, 1.5}, ModelCase{0.3, 1.6, 0.4, 1.2},
+                        ModelCase{0.05, 0.6, 0.1, 2.0}})
+        for (double y : {0.05, 0.3, 1.0, 3.0}) cases.push_back({k, y});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesModelQuadrature, testing::ValuesIn(QuadratureCases()),
+                         [](const testing::TestParamInfo<QuadratureCase> &info) {
+                             return fmt::format("{}_y{}", ModelName(info.param.model),
+                                                NameOf(info.param.y));
+                         });
 
 // ---------------------------------------------------------------- GPU stages vs reference
 
@@ -211,6 +312,9 @@ class BayesKernel : public GpuTest {
         return b;
     }
 };
+
+template <typename Param>
+class BayesKernelWithParam : public BayesKernel, public testing::WithParamInterface<Param> {};
 
 // An image with zeros, negatives, tiny values, NaN/Inf and fireflies.
 Image AwkwardInput(int w, int h, int channels, uint64_t seed) {
@@ -241,87 +345,106 @@ const std::vector<std::pair<int, int>> kSizes = {{1, 1},   {2, 1},  {1, 5}, {3, 
 
 // GLSL log: within 3 ulp of |log v| outside [0.5, 2], 2^-21 absolute inside; the reference
 // rounds once more (0.5 ulp). exp: (3 + 2 |z|) ulp, plus the reference's rounding.
-TEST_F(BayesKernel, LogAndExpMatchReference) {
-    for (auto [w, h] : kSizes) {
-        SCOPED_TRACE(fmt::format("{}x{}", w, h));
-        Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayeslog{}x{}", w, h)));
-        std::vector<float> floors = BayesFloors(color, 1e-3f);
-        std::vector<double> refFloors = ref::BayesFloors(color, 1e-3);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(floors[c], refFloors[c], 1e-6 * refFloors[c]);
-        std::vector<double> floorsAsGpu(floors.begin(), floors.end());
-        Image expected = ref::BayesLog(color, floorsAsGpu);
-        vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log"),
-            back(Ctx(), w, h, 3, "exp");
-        in.Upload(color);
-        vk::Buffer floorsGpu = Floats(floors, "floors");
-        vk::Recorder recorder(Ctx());
-        RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
-        RecordBayesExp(Ctx(), recorder, out, in, back, true);
-        recorder.Submit();
-        Image logGpu = out.Download();
-        EXPECT_TRUE(ImagesMatch(expected, logGpu, {}, {4 * kUnitRoundoff, 0x1p-21, 1e-9}));
-        Image expExpected = ref::BayesExp(logGpu, color);
-        Image scale(w, h, 3);
-        for (size_t i = 0; i < scale.Size(); ++i)
-            scale.data[i] =
-                std::fabs(expExpected.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
-        Image expGpu = back.Download();
-        EXPECT_TRUE(ImagesMatch(expExpected, expGpu, scale, {kUnitRoundoff, 0, 1e-9}));
-        for (size_t i = 0; i < color.Size(); ++i)
-            if (!(std::isfinite(color.data[i]) && color.data[i] > 0)) {
-                EXPECT_EQ(expGpu.data[i], 0.f) << "exact zero at " << i;
-            }
-        // Zeros denoised: they take exp of their log like any pixel; NaN/Inf/negatives 0.
-        vk::Recorder again(Ctx());
-        RecordBayesExp(Ctx(), again, out, in, back, false);
-        again.Submit();
-        Image expNoRestore = back.Download();
-        Image expectedNoRestore = ref::BayesExp(logGpu, color, false);
-        for (size_t i = 0; i < scale.Size(); ++i)
-            scale.data[i] =
-                std::fabs(expectedNoRestore.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
-        EXPECT_TRUE(
-            ImagesMatch(expectedNoRestore, expNoRestore, scale, {kUnitRoundoff, 0, 1e-9}));
-        for (size_t i = 0; i < color.Size(); ++i) {
-            if (color.data[i] == 0) {
-                EXPECT_GT(expNoRestore.data[i], 0.f) << i;
-            }
-            if (!(std::isfinite(color.data[i]) && color.data[i] >= 0)) {
-                EXPECT_EQ(expNoRestore.data[i], 0.f) << i;
-            }
+class BayesKernelLogExp : public BayesKernelWithParam<std::pair<int, int>> {};
+
+TEST_P(BayesKernelLogExp, MatchesReference) {
+    const auto [w, h] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{}", w, h));
+    Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayeslog{}x{}", w, h)));
+    std::vector<float> floors = BayesFloors(color, 1e-3f);
+    std::vector<double> refFloors = ref::BayesFloors(color, 1e-3);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(floors[c], refFloors[c], 1e-6 * refFloors[c]);
+    std::vector<double> floorsAsGpu(floors.begin(), floors.end());
+    Image expected = ref::BayesLog(color, floorsAsGpu);
+    vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log"),
+        back(Ctx(), w, h, 3, "exp");
+    in.Upload(color);
+    vk::Buffer floorsGpu = Floats(floors, "floors");
+    vk::Recorder recorder(Ctx());
+    RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
+    RecordBayesExp(Ctx(), recorder, out, in, back, true);
+    recorder.Submit();
+    Image logGpu = out.Download();
+    EXPECT_TRUE(ImagesMatch(expected, logGpu, {}, {4 * kUnitRoundoff, 0x1p-21, 1e-9}));
+    Image expExpected = ref::BayesExp(logGpu, color);
+    Image scale(w, h, 3);
+    for (size_t i = 0; i < scale.Size(); ++i)
+        scale.data[i] = std::fabs(expExpected.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
+    Image expGpu = back.Download();
+    EXPECT_TRUE(ImagesMatch(expExpected, expGpu, scale, {kUnitRoundoff, 0, 1e-9}));
+    for (size_t i = 0; i < color.Size(); ++i)
+        if (!(std::isfinite(color.data[i]) && color.data[i] > 0)) {
+            EXPECT_EQ(expGpu.data[i], 0.f) << "exact zero at " << i;
+        }
+    // Zeros denoised: they take exp of their log like any pixel; NaN/Inf/negatives 0.
+    vk::Recorder again(Ctx());
+    RecordBayesExp(Ctx(), again, out, in, back, false);
+    again.Submit();
+    Image expNoRestore = back.Download();
+    Image expectedNoRestore = ref::BayesExp(logGpu, color, false);
+    for (size_t i = 0; i < scale.Size(); ++i)
+        scale.data[i] =
+            std::fabs(expectedNoRestore.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
+    EXPECT_TRUE(ImagesMatch(expectedNoRestore, expNoRestore, scale, {kUnitRoundoff, 0, 1e-9}));
+    for (size_t i = 0; i < color.Size(); ++i) {
+        if (color.data[i] == 0) {
+            EXPECT_GT(expNoRestore.data[i], 0.f) << i;
+        }
+        if (!(std::isfinite(color.data[i]) && color.data[i] >= 0)) {
+            EXPECT_EQ(expNoRestore.data[i], 0.f) << i;
         }
     }
 }
 
+INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelLogExp, testing::ValuesIn(kSizes), SizeName);
+
 // Sums of positive terms in float: lane l adds count/256 terms, then 8 tree levels, then
 // one division; v^2 and v^4 round twice. Relative error <= (count/256 + 8 + 4) u.
-TEST_F(BayesKernel, MomentsMatchReference) {
+struct LevelsCase {
+    int w, h, levels;
+};
+
+// The sizes' cases at each level count the size allows.
+std::vector<LevelsCase> MomentCases() {
+    std::vector<LevelsCase> cases;
     for (auto [w, h] : kSizes)
-        for (int levels : {1, 3}) {
-            if (levels > MaxWaveletLevels(w, h)) continue;
-            SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
-            Image coef = MakeInput(InputKind::Uniform, w, h, 2,
-                                   SeedFromName(fmt::format("bayesmom{}x{}", w, h)));
-            int bands = BayesBandCount(2, levels);
-            vk::GpuImage c(Ctx(), w, h, 2, "coef");
-            c.Upload(coef);
-            vk::Buffer moments(Ctx(), bands * BAYES_MOMENT_STRIDE * sizeof(float), "moments");
-            vk::Recorder recorder(Ctx());
-            RecordBayesMoments(Ctx(), recorder, c, levels, moments);
-            recorder.Submit();
-            std::vector<float> got = moments.DownloadFloats(bands * BAYES_MOMENT_STRIDE);
-            std::vector<ref::BayesBand> refBands = ref::BayesBands(w, h, 2, levels);
-            ASSERT_EQ(int(refBands.size()), bands);
-            for (int b = 0; b < bands; ++b) {
-                ref::BandMoments m = ref::MeasureBand(coef, refBands[b]);
-                double tol = (double(m.count) / 256 + 12) * kUnitRoundoff;
-                EXPECT_NEAR(got[b * 4 + 0], m.m2, tol * m.m2) << "band " << b;
-                EXPECT_NEAR(got[b * 4 + 1], m.m4, tol * m.m4) << "band " << b;
-                EXPECT_EQ(got[b * 4 + 2], float(m.maxAbs)) << "band " << b;
-                EXPECT_EQ(got[b * 4 + 3], float(m.count)) << "band " << b;
-            }
-        }
+        for (int levels : {1, 3})
+            if (levels <= MaxWaveletLevels(w, h)) cases.push_back({w, h, levels});
+    return cases;
 }
+
+class BayesKernelMoments : public BayesKernelWithParam<LevelsCase> {};
+
+TEST_P(BayesKernelMoments, MatchReference) {
+    const auto [w, h, levels] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
+    Image coef = MakeInput(InputKind::Uniform, w, h, 2,
+                           SeedFromName(fmt::format("bayesmom{}x{}", w, h)));
+    int bands = BayesBandCount(2, levels);
+    vk::GpuImage c(Ctx(), w, h, 2, "coef");
+    c.Upload(coef);
+    vk::Buffer moments(Ctx(), bands * BAYES_MOMENT_STRIDE * sizeof(float), "moments");
+    vk::Recorder recorder(Ctx());
+    RecordBayesMoments(Ctx(), recorder, c, levels, moments);
+    recorder.Submit();
+    std::vector<float> got = moments.DownloadFloats(bands * BAYES_MOMENT_STRIDE);
+    std::vector<ref::BayesBand> refBands = ref::BayesBands(w, h, 2, levels);
+    ASSERT_EQ(int(refBands.size()), bands);
+    for (int b = 0; b < bands; ++b) {
+        ref::BandMoments m = ref::MeasureBand(coef, refBands[b]);
+        double tol = (double(m.count) / 256 + 12) * kUnitRoundoff;
+        EXPECT_NEAR(got[b * 4 + 0], m.m2, tol * m.m2) << "band " << b;
+        EXPECT_NEAR(got[b * 4 + 1], m.m4, tol * m.m4) << "band " << b;
+        EXPECT_EQ(got[b * 4 + 2], float(m.maxAbs)) << "band " << b;
+        EXPECT_EQ(got[b * 4 + 3], float(m.count)) << "band " << b;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelMoments, testing::ValuesIn(MomentCases()),
+                         [](const testing::TestParamInfo<LevelsCase> &info) {
+                             return fmt::format("{}x{}_L{}", info.param.w, info.param.h,
+                                                info.param.levels);
+                         });
 
 struct SolveCase {
     double m2, m4, count;
@@ -506,48 +629,80 @@ bool AllFinite(const Image &image) {
 // (bounded above) plus float analysis error; the fits may move within their bound. In the
 // log domain the output's error is then a few times the shrink error, summed over levels:
 // 2e-3 absolute in log (0.2% in value) covers it with room, and the mean stays at 1e-4.
-TEST_F(BayesKernel, WholeMethodMatchesReference) {
-    for (auto [w, h] : kSizes)
-        for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::Cdf97}) {
-            SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
-            Image color =
-                NoisyPicture(w, h, SeedFromName(fmt::format("whole{}x{}", w, h)), 0.3);
-            BayesOptions options = PaperBayesOptions();
-            options.basis = basis;
-            BayesResult gpu = BayesDenoise(Ctx(), color, options);
-            ref::BayesRefOptions refOptions;
-            refOptions.basis = basis;
-            refOptions.levels = gpu.levels;
-            ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
-            ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
-            for (size_t b = 0; b < cpu.fits.size(); ++b)
-                EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
-            Image logGpu = gpu.image, logCpu = cpu.image;
-            for (float &v : logGpu.data) v = std::log(v);
-            for (float &v : logCpu.data) v = std::log(v);
-            EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
-        }
+struct SizeBasisCase {
+    int w, h;
+    WaveletBasis basis;
+};
+
+std::string SizeBasisName(const testing::TestParamInfo<SizeBasisCase> &info) {
+    return fmt::format("{}x{}_{}", info.param.w, info.param.h, WaveletName(info.param.basis));
 }
+
+std::vector<SizeBasisCase> WholeMethodCases() {
+    std::vector<SizeBasisCase> cases;
+    for (auto [w, h] : kSizes)
+        for (WaveletBasis basis : {WaveletBasis::Haar, WaveletBasis::Cdf97})
+            cases.push_back({w, h, basis});
+    return cases;
+}
+
+class BayesKernelWholeMethod : public BayesKernelWithParam<SizeBasisCase> {};
+
+TEST_P(BayesKernelWholeMethod, MatchesReference) {
+    const auto [w, h, basis] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
+    Image color = NoisyPicture(w, h, SeedFromName(fmt::format("whole{}x{}", w, h)), 0.3);
+    BayesOptions options = PaperBayesOptions();
+    options.basis = basis;
+    BayesResult gpu = BayesDenoise(Ctx(), color, options);
+    ref::BayesRefOptions refOptions;
+    refOptions.basis = basis;
+    refOptions.levels = gpu.levels;
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
+    for (size_t b = 0; b < cpu.fits.size(); ++b)
+        EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+    Image logGpu = gpu.image, logCpu = cpu.image;
+    for (float &v : logGpu.data) v = std::log(v);
+    for (float &v : logCpu.data) v = std::log(v);
+    EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelWholeMethod, testing::ValuesIn(WholeMethodCases()),
+                         SizeBasisName);
 
 // Cycle spinning on both sides: the same tolerance as one run (an average of results
 // each within it).
-TEST_F(BayesKernel, CycleSpinningMatchesReference) {
-    for (auto [w, h, spins] :
-         {std::tuple{19, 11, 2}, std::tuple{1, 6, 2}, std::tuple{2, 3, 4}}) {
-        SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
-        Image color = NoisyPicture(w, h, SeedFromName(fmt::format("spin{}x{}", w, h)), 0.3);
-        BayesOptions options = PaperBayesOptions();
-        options.spins = spins;
-        BayesResult gpu = BayesDenoise(Ctx(), color, options);
-        ref::BayesRefOptions refOptions;
-        refOptions.spins = spins;  // levels clamped per shifted image on both sides
-        Image cpu = ref::BayesDenoise(color, refOptions).image;
-        for (float &v : gpu.image.data) v = std::log(v);
-        for (float &v : cpu.data) v = std::log(v);
-        EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
-        EXPECT_TRUE(Contains(gpu.plan[0], "cycle spinning"));
-    }
+struct SpinCase {
+    int w, h, spins;
+};
+
+std::string SpinCaseName(const testing::TestParamInfo<SpinCase> &info) {
+    return fmt::format("{}x{}_spins{}", info.param.w, info.param.h, info.param.spins);
 }
+
+class BayesKernelCycleSpinning : public BayesKernelWithParam<SpinCase> {};
+
+TEST_P(BayesKernelCycleSpinning, MatchesReference) {
+    const auto [w, h, spins] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
+    Image color = NoisyPicture(w, h, SeedFromName(fmt::format("spin{}x{}", w, h)), 0.3);
+    BayesOptions options = PaperBayesOptions();
+    options.spins = spins;
+    BayesResult gpu = BayesDenoise(Ctx(), color, options);
+    ref::BayesRefOptions refOptions;
+    refOptions.spins = spins;  // levels clamped per shifted image on both sides
+    Image cpu = ref::BayesDenoise(color, refOptions).image;
+    for (float &v : gpu.image.data) v = std::log(v);
+    for (float &v : cpu.data) v = std::log(v);
+    EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
+    EXPECT_TRUE(Contains(gpu.plan[0], "cycle spinning"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelCycleSpinning,
+                         testing::Values(SpinCase{19, 11, 2}, SpinCase{1, 6, 2},
+                                         SpinCase{2, 3, 4}),
+                         SpinCaseName);
 
 // Noise models at the ends of the options' ranges, against the reference with the whole
 // method's tolerance. p_n 10 with s_n 0.01: (|y - c| / s_n)^10 overflowed float before
@@ -555,39 +710,47 @@ TEST_F(BayesKernel, CycleSpinningMatchesReference) {
 // left out here for time: its tables need the full 65536 points). s_n 1e-30: below
 // BAYES_MIN_NOISE_S every band is NO_NOISE and the input comes back through the transforms
 // (before: NaN bands, a black image). p_n 0.1: every band NO_SIGNAL.
-TEST_F(BayesKernel, ExtremeNoiseModelsMatchReference) {
+class BayesKernelExtremeNoiseModel : public BayesKernelWithParam<std::pair<float, float>> {};
+
+TEST_P(BayesKernelExtremeNoiseModel, MatchesReference) {
+    const auto [sn, pn] = GetParam();
+    // The same frame for every case.
     Image color = NoisyPicture(23, 14, SeedFromName("extreme noise models"), 0.3);
-    for (auto [sn, pn] :
-         {std::pair{0.01f, 10.f}, std::pair{1e-30f, 1.5f}, std::pair{0.19f, 0.1f}}) {
-        SCOPED_TRACE(fmt::format("s_n {} p_n {}", sn, pn));
-        BayesOptions options = PaperBayesOptions();
-        options.sn = sn;
-        options.pn = pn;
-        BayesResult gpu = BayesDenoise(Ctx(), color, options);
-        EXPECT_TRUE(AllFinite(gpu.image));
-        ref::BayesRefOptions refOptions;
-        refOptions.sn = sn;
-        refOptions.pn = pn;
-        ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
-        for (size_t b = 0; b < cpu.fits.size(); ++b)
-            EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
-        for (float &v : gpu.image.data) v = std::log(v);
-        for (float &v : cpu.image.data) v = std::log(v);
-        EXPECT_TRUE(ImagesMatch(cpu.image, gpu.image, {}, {0, 2e-3, 1e-4}));
-        if (pn < 0.2f) {
-            for (const BayesBandFit &f : gpu.fits) {
-                EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_SIGNAL);
-            }
-        }
-        if (sn < BAYES_MIN_NOISE_S) {
-            for (const BayesBandFit &f : gpu.fits)
-                EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_NOISE);
-            Image logIn = color;
-            for (float &v : logIn.data) v = std::log(v);
-            EXPECT_TRUE(ImagesMatch(logIn, gpu.image, {}, {0, 1e-5, 1e-6}));
+    SCOPED_TRACE(fmt::format("s_n {} p_n {}", sn, pn));
+    BayesOptions options = PaperBayesOptions();
+    options.sn = sn;
+    options.pn = pn;
+    BayesResult gpu = BayesDenoise(Ctx(), color, options);
+    EXPECT_TRUE(AllFinite(gpu.image));
+    ref::BayesRefOptions refOptions;
+    refOptions.sn = sn;
+    refOptions.pn = pn;
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    for (size_t b = 0; b < cpu.fits.size(); ++b)
+        EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+    for (float &v : gpu.image.data) v = std::log(v);
+    for (float &v : cpu.image.data) v = std::log(v);
+    EXPECT_TRUE(ImagesMatch(cpu.image, gpu.image, {}, {0, 2e-3, 1e-4}));
+    if (pn < 0.2f) {
+        for (const BayesBandFit &f : gpu.fits) {
+            EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_SIGNAL);
         }
     }
+    if (sn < BAYES_MIN_NOISE_S) {
+        for (const BayesBandFit &f : gpu.fits) EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_NOISE);
+        Image logIn = color;
+        for (float &v : logIn.data) v = std::log(v);
+        EXPECT_TRUE(ImagesMatch(logIn, gpu.image, {}, {0, 1e-5, 1e-6}));
+    }
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelExtremeNoiseModel,
+                         testing::Values(std::pair{0.01f, 10.f}, std::pair{1e-30f, 1.5f},
+                                         std::pair{0.19f, 0.1f}),
+                         [](const testing::TestParamInfo<std::pair<float, float>> &info) {
+                             return fmt::format("sn{}_pn{}", NameOf(info.param.first),
+                                                NameOf(info.param.second));
+                         });
 
 // --noise auto with cycle spinning: one estimate (the unshifted image's) for every shift,
 // so the reference given that s_n agrees within the usual tolerance.
@@ -635,23 +798,31 @@ TEST_F(BayesKernel, MixMatchesReference) {
 }
 
 // Luminance + chroma: the same pipeline with the opponent mix around the transform.
-TEST_F(BayesKernel, OpponentColourMatchesReference) {
-    for (auto [w, h] : {std::pair{23, 17}, std::pair{1, 1}, std::pair{4, 9}}) {
-        SCOPED_TRACE(fmt::format("{}x{}", w, h));
-        Image color = NoisyPicture(w, h, SeedFromName(fmt::format("opp{}x{}", w, h)), 0.3);
-        BayesOptions options = PaperBayesOptions();
-        options.opponent = true;
-        BayesResult gpu = BayesDenoise(Ctx(), color, options);
-        ref::BayesRefOptions refOptions;
-        refOptions.opponent = true;
-        ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
-        for (size_t b = 0; b < cpu.fits.size(); ++b)
-            EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
-        Image logGpu = gpu.image, logCpu = cpu.image;
-        for (float &v : logGpu.data) v = std::log(v);
-        for (float &v : logCpu.data) v = std::log(v);
-        EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
-    }
+class BayesKernelOpponentColour : public BayesKernelWithParam<std::pair<int, int>> {};
+
+TEST_P(BayesKernelOpponentColour, MatchesReference) {
+    const auto [w, h] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{}", w, h));
+    Image color = NoisyPicture(w, h, SeedFromName(fmt::format("opp{}x{}", w, h)), 0.3);
+    BayesOptions options = PaperBayesOptions();
+    options.opponent = true;
+    BayesResult gpu = BayesDenoise(Ctx(), color, options);
+    ref::BayesRefOptions refOptions;
+    refOptions.opponent = true;
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    for (size_t b = 0; b < cpu.fits.size(); ++b)
+        EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+    Image logGpu = gpu.image, logCpu = cpu.image;
+    for (float &v : logGpu.data) v = std::log(v);
+    for (float &v : logCpu.data) v = std::log(v);
+    EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelOpponentColour,
+                         testing::Values(std::pair{23, 17}, std::pair{1, 1}, std::pair{4, 9}),
+                         SizeName);
+
+TEST_F(BayesKernel, OpponentColourRefusesOtherThanThreeChannels) {
     BayesOptions options = PaperBayesOptions();
     options.opponent = true;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(4, 4, 2, 1.f), options); }),
@@ -821,33 +992,52 @@ Image AwkwardVariance(const Image &color, uint64_t seed) {
 // float operations per output per axis pass, 2 passes per level, 3 levels, each within u
 // relatively, and the reference rounds to float after every level too: 2 x 60 u = 7e-6 on
 // a band's variance, half that on s. 1e-5 relative leaves room.
-TEST_F(BayesVariance, EstimateMatchesReference) {
+struct VarianceCase {
+    int w, h;
+    WaveletBasis basis;
+    bool opponent;
+};
+
+std::vector<VarianceCase> VarianceCases() {
     std::vector<std::pair<int, int>> sizes = kSizes;
     sizes.push_back({64, 48});
+    std::vector<VarianceCase> cases;
     for (auto [w, h] : sizes)
         for (WaveletBasis basis :
              {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97})
-            for (bool opponent : {false, true}) {
-                SCOPED_TRACE(
-                    fmt::format("{}x{} {} opponent {}", w, h, WaveletName(basis), opponent));
-                uint64_t seed = SeedFromName(fmt::format("variance{}x{}", w, h));
-                Image color = AwkwardInput(w, h, 3, seed);
-                Image variance = AwkwardVariance(color, seed + 7);
-                int levels = std::min(3, MaxWaveletLevels(w, h));
-                std::vector<float> floors = BayesFloors(color, 1e-3f);
-                std::vector<double> refFloors(floors.begin(), floors.end());
-                std::vector<float> gpu = BayesVarianceNoise(Ctx(), color, variance, floors,
-                                                            basis, levels, 1.5f, opponent);
-                std::vector<double> cpu = ref::BayesVarianceNoise(color, variance, refFloors,
-                                                                  basis, levels, 1.5, opponent);
-                ASSERT_EQ(gpu.size(), cpu.size());
-                ASSERT_EQ(gpu.size(), size_t(3 * 3 * levels));
-                for (size_t b = 0; b < cpu.size(); ++b) {
-                    EXPECT_TRUE(std::isfinite(gpu[b]) && gpu[b] >= 0) << "band " << b;
-                    EXPECT_NEAR(gpu[b], cpu[b], 1e-5 * cpu[b]) << "band " << b;
-                }
-            }
+            for (bool opponent : {false, true}) cases.push_back({w, h, basis, opponent});
+    return cases;
 }
+
+class BayesVarianceEstimate : public GpuTestWithParam<VarianceCase> {};
+
+TEST_P(BayesVarianceEstimate, MatchesReference) {
+    const auto [w, h, basis, opponent] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{} {} opponent {}", w, h, WaveletName(basis), opponent));
+    uint64_t seed = SeedFromName(fmt::format("variance{}x{}", w, h));
+    Image color = AwkwardInput(w, h, 3, seed);
+    Image variance = AwkwardVariance(color, seed + 7);
+    int levels = std::min(3, MaxWaveletLevels(w, h));
+    std::vector<float> floors = BayesFloors(color, 1e-3f);
+    std::vector<double> refFloors(floors.begin(), floors.end());
+    std::vector<float> gpu =
+        BayesVarianceNoise(Ctx(), color, variance, floors, basis, levels, 1.5f, opponent);
+    std::vector<double> cpu =
+        ref::BayesVarianceNoise(color, variance, refFloors, basis, levels, 1.5, opponent);
+    ASSERT_EQ(gpu.size(), cpu.size());
+    ASSERT_EQ(gpu.size(), size_t(3 * 3 * levels));
+    for (size_t b = 0; b < cpu.size(); ++b) {
+        EXPECT_TRUE(std::isfinite(gpu[b]) && gpu[b] >= 0) << "band " << b;
+        EXPECT_NEAR(gpu[b], cpu[b], 1e-5 * cpu[b]) << "band " << b;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesVarianceEstimate, testing::ValuesIn(VarianceCases()),
+                         [](const testing::TestParamInfo<VarianceCase> &info) {
+                             const VarianceCase &c = info.param;
+                             return fmt::format("{}x{}_{}_{}", c.w, c.h, WaveletName(c.basis),
+                                                c.opponent ? "opponent" : "rgb");
+                         });
 
 // Synthetic log-normal noise of known, per-pixel sigma in [0.2, 0.4] on a smooth picture,
 // with the variance layer a renderer would write for it (V = Y^2 (e^sigma^2 - 1), the
@@ -865,104 +1055,145 @@ TEST_F(BayesVariance, EstimateMatchesReference) {
 // correlation their overlapping low-pass puts between the next level's inputs: measured
 // here 0.88 (5/3) and 0.95 (9/7) at level 1, 1.18 and 1.12 at level 2 (with the level's
 // sampling tolerance on top); those levels get 0.25 plus the sampling tolerance.
-TEST_F(BayesVariance, RecoversKnownLogNormalSigma) {
+struct LogNormalFrame {
+    Image clean, noisy, variance, noise;
+};
+
+// The frame, made once for every basis.
+const LogNormalFrame &KnownSigmaFrame() {
+    static const LogNormalFrame frame = [] {
+        const int w = 256, h = 256;
+        LogNormalFrame f{Image(w, h, 1), Image(w, h, 1), Image(w, h, 1), Image(w, h, 1)};
+        std::mt19937_64 rng(SeedFromName("variance lognormal"));
+        std::normal_distribution<double> normal(0, 1);
+        std::uniform_real_distribution<double> sigmaDist(0.2, 0.4);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double c = 0.5 + 0.4 * std::sin(0.05 * x) * std::cos(0.03 * y);
+                double sigma = sigmaDist(rng), z = sigma * normal(rng);
+                float yv = float(c * std::exp(z));
+                f.clean.At(0, y, x) = float(c);
+                f.noisy.At(0, y, x) = yv;
+                f.noise.At(0, y, x) = float(std::log(double(yv)) - std::log(c));
+                f.variance.At(0, y, x) = float(double(yv) * yv * std::expm1(sigma * sigma));
+            }
+        return f;
+    }();
+    return frame;
+}
+
+std::string BasisName(const testing::TestParamInfo<WaveletBasis> &info) {
+    return WaveletName(info.param);
+}
+
+class BayesVarianceKnownSigma : public GpuTestWithParam<WaveletBasis> {};
+
+TEST_P(BayesVarianceKnownSigma, IsRecovered) {
+    const WaveletBasis basis = GetParam();
     const int w = 256, h = 256, levels = 3;
     const double pn = 1.5;
-    Image clean(w, h, 1), noisy(w, h, 1), variance(w, h, 1), noise(w, h, 1);
-    std::mt19937_64 rng(SeedFromName("variance lognormal"));
-    std::normal_distribution<double> normal(0, 1);
-    std::uniform_real_distribution<double> sigmaDist(0.2, 0.4);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double c = 0.5 + 0.4 * std::sin(0.05 * x) * std::cos(0.03 * y);
-            double sigma = sigmaDist(rng), z = sigma * normal(rng);
-            float yv = float(c * std::exp(z));
-            clean.At(0, y, x) = float(c);
-            noisy.At(0, y, x) = yv;
-            noise.At(0, y, x) = float(std::log(double(yv)) - std::log(c));
-            variance.At(0, y, x) = float(double(yv) * yv * std::expm1(sigma * sigma));
-        }
+    const auto &[clean, noisy, variance, noise] = KnownSigmaFrame();
     std::vector<float> floors = BayesFloors(noisy, 1e-3f);
     double toVariance = std::exp(std::lgamma(3 / pn) - std::lgamma(1 / pn));
-    for (WaveletBasis basis :
-         {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97}) {
-        std::vector<float> s =
-            BayesVarianceNoise(Ctx(), noisy, variance, floors, basis, levels, float(pn), false);
-        Image coef = ref::WaveletAnalyze(noise, basis, levels);
-        std::vector<ref::BayesBand> bands = ref::BayesBands(w, h, 1, levels);
-        for (int level = 0; level < levels; ++level) {
-            double estimated = 0, measured = 0;
-            int64_t n = 0;
-            for (size_t b = 0; b < bands.size(); ++b) {
-                if (bands[b].level != level) continue;
-                estimated += double(s[b]) * s[b] * toVariance / 3;
-                for (int y = bands[b].y0; y < bands[b].y1; ++y)
-                    for (int x = bands[b].x0; x < bands[b].x1; ++x, ++n)
-                        measured += double(coef.At(0, y, x)) * coef.At(0, y, x);
-            }
-            measured /= double(n);
-            double tolerance = 6 * std::sqrt(2 * 1.14 * 2 / double(n));
-            std::printf(
-                "[ variance ] %s level %d: estimated / measured %.4f (sampling tol %.3f)\n",
-                WaveletName(basis), level, estimated / measured, tolerance);
-            if (basis != WaveletBasis::Haar && level > 0) tolerance += 0.25;
-            EXPECT_NEAR(estimated / measured, 1.0, tolerance)
-                << WaveletName(basis) << " level " << level << ": estimated " << estimated
-                << ", measured " << measured;
+    std::vector<float> s =
+        BayesVarianceNoise(Ctx(), noisy, variance, floors, basis, levels, float(pn), false);
+    Image coef = ref::WaveletAnalyze(noise, basis, levels);
+    std::vector<ref::BayesBand> bands = ref::BayesBands(w, h, 1, levels);
+    for (int level = 0; level < levels; ++level) {
+        double estimated = 0, measured = 0;
+        int64_t n = 0;
+        for (size_t b = 0; b < bands.size(); ++b) {
+            if (bands[b].level != level) continue;
+            estimated += double(s[b]) * s[b] * toVariance / 3;
+            for (int y = bands[b].y0; y < bands[b].y1; ++y)
+                for (int x = bands[b].x0; x < bands[b].x1; ++x, ++n)
+                    measured += double(coef.At(0, y, x)) * coef.At(0, y, x);
         }
+        measured /= double(n);
+        double tolerance = 6 * std::sqrt(2 * 1.14 * 2 / double(n));
+        std::printf("[ variance ] %s level %d: estimated / measured %.4f (sampling tol %.3f)\n",
+                    WaveletName(basis), level, estimated / measured, tolerance);
+        if (basis != WaveletBasis::Haar && level > 0) tolerance += 0.25;
+        EXPECT_NEAR(estimated / measured, 1.0, tolerance)
+            << WaveletName(basis) << " level " << level << ": estimated " << estimated
+            << ", measured " << measured;
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesVarianceKnownSigma,
+                         testing::Values(WaveletBasis::Haar, WaveletBasis::LeGall53,
+                                         WaveletBasis::Cdf97),
+                         BasisName);
 
 // Zero and huge variances: finite, non-negative noise s, finite output; zero variance is
 // no noise (every band NO_NOISE, the input back), a huge one zeroes the detail
 // (NO_SIGNAL). The whole method with the layer against the reference (the whole method's
 // tolerance), with cycle spinning too, and bit-identical reruns.
-TEST_F(BayesVariance, ZeroAndHugeVarianceAreStable) {
+class BayesVarianceFilled : public GpuTestWithParam<float> {};
+
+TEST_P(BayesVarianceFilled, IsStable) {
+    const float fill = GetParam();
+    // The same frame for every case.
     Image color = NoisyPicture(33, 21, SeedFromName("variance extremes"), 0.3);
-    for (float fill :
-         {0.f, 1e30f, std::numeric_limits<float>::max(), std::numeric_limits<float>::infinity(),
-          std::numeric_limits<float>::quiet_NaN()}) {
-        SCOPED_TRACE(fmt::format("variance {}", fill));
-        Image variance(color.width, color.height, 3, fill);
-        BayesOptions options = PaperBayesOptions();
-        options.variance = &variance;
-        BayesResult r = BayesDenoise(Ctx(), color, options);
-        EXPECT_TRUE(AllFinite(r.image));
-        for (const BayesBandFit &f : r.fits) {
-            EXPECT_TRUE(std::isfinite(f.params[0]) && f.params[0] >= 0);
-            int expect = fill > 1e29f ? BAYES_FIT_NO_SIGNAL : BAYES_FIT_NO_NOISE;
-            EXPECT_EQ(int(f.params[4]), expect);
-        }
+    SCOPED_TRACE(fmt::format("variance {}", fill));
+    Image variance(color.width, color.height, 3, fill);
+    BayesOptions options = PaperBayesOptions();
+    options.variance = &variance;
+    BayesResult r = BayesDenoise(Ctx(), color, options);
+    EXPECT_TRUE(AllFinite(r.image));
+    for (const BayesBandFit &f : r.fits) {
+        EXPECT_TRUE(std::isfinite(f.params[0]) && f.params[0] >= 0);
+        int expect = fill > 1e29f ? BAYES_FIT_NO_SIGNAL : BAYES_FIT_NO_NOISE;
+        EXPECT_EQ(int(f.params[4]), expect);
     }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesVarianceFilled,
+                         testing::Values(0.f, 1e30f, std::numeric_limits<float>::max(),
+                                         std::numeric_limits<float>::infinity(),
+                                         std::numeric_limits<float>::quiet_NaN()),
+                         [](const testing::TestParamInfo<float> &info) {
+                             return NameOf(info.param);
+                         });
+
+TEST_F(BayesVariance, AwkwardVarianceGivesFiniteOutput) {
     Image awkward = AwkwardInput(37, 23, 3, SeedFromName("variance awkward"));
     Image awkwardVariance = AwkwardVariance(awkward, 5);
     BayesOptions options = PaperBayesOptions();
     options.variance = &awkwardVariance;
     EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), awkward, options).image));
-    for (auto [w, h, spins] :
-         {std::tuple{37, 23, 1}, std::tuple{1, 1, 1}, std::tuple{19, 11, 2}}) {
-        SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
-        Image c = NoisyPicture(w, h, SeedFromName(fmt::format("var whole{}x{}", w, h)), 0.3);
-        Image v = c;
-        for (float &x : v.data) x = 0.05f * x * x;
-        BayesOptions o = PaperBayesOptions();
-        o.variance = &v;
-        o.spins = spins;
-        o.basis = WaveletBasis::Cdf97;
-        BayesResult gpu = BayesDenoise(Ctx(), c, o);
-        EXPECT_TRUE(BitIdentical(gpu.image, BayesDenoise(Ctx(), c, o).image));
-        ref::BayesRefOptions refOptions;
-        refOptions.variance = &v;
-        refOptions.spins = spins;
-        refOptions.basis = WaveletBasis::Cdf97;
-        ref::BayesRefResult cpu = ref::BayesDenoise(c, refOptions);
-        for (size_t b = 0; b < cpu.fits.size() && b < gpu.fits.size(); ++b)
-            EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
-        for (float &x : gpu.image.data) x = std::log(x);
-        for (float &x : cpu.image.data) x = std::log(x);
-        EXPECT_TRUE(ImagesMatch(cpu.image, gpu.image, {}, {0, 2e-3, 1e-4}));
-    }
 }
+
+class BayesVarianceWholeMethod : public GpuTestWithParam<SpinCase> {};
+
+TEST_P(BayesVarianceWholeMethod, MatchesReference) {
+    const auto [w, h, spins] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
+    Image c = NoisyPicture(w, h, SeedFromName(fmt::format("var whole{}x{}", w, h)), 0.3);
+    Image v = c;
+    for (float &x : v.data) x = 0.05f * x * x;
+    BayesOptions o = PaperBayesOptions();
+    o.variance = &v;
+    o.spins = spins;
+    o.basis = WaveletBasis::Cdf97;
+    BayesResult gpu = BayesDenoise(Ctx(), c, o);
+    EXPECT_TRUE(BitIdentical(gpu.image, BayesDenoise(Ctx(), c, o).image));
+    ref::BayesRefOptions refOptions;
+    refOptions.variance = &v;
+    refOptions.spins = spins;
+    refOptions.basis = WaveletBasis::Cdf97;
+    ref::BayesRefResult cpu = ref::BayesDenoise(c, refOptions);
+    for (size_t b = 0; b < cpu.fits.size() && b < gpu.fits.size(); ++b)
+        EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
+    for (float &x : gpu.image.data) x = std::log(x);
+    for (float &x : cpu.image.data) x = std::log(x);
+    EXPECT_TRUE(ImagesMatch(cpu.image, gpu.image, {}, {0, 2e-3, 1e-4}));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesVarianceWholeMethod,
+                         testing::Values(SpinCase{37, 23, 1}, SpinCase{1, 1, 1},
+                                         SpinCase{19, 11, 2}),
+                         SpinCaseName);
 
 }  // namespace
 }  // namespace mcd::test

@@ -51,7 +51,7 @@ TEST_F(BayesSwtCli, DenoiseDiffAndErrors) {
     // float analysis and moments are within tens of u per element (per pass 11 u, 2 passes
     // per level: BayesSwtKernel), NMSE under (100 u)^2 ~ 4e-11; the fits as the DWT's
     // (CliTest.DiffBayesStages, 1e-9); from the shrinkage on, the whole-method tolerance of
-    // BayesSwtMethod.WholeMethodMatchesReference (2e-3 in log), squared.
+    // BayesSwtMethodWhole.MatchesReference (2e-3 in log), squared.
     r = Run("diff c.exr --method bayes --bayes-transform swt --noise mad");
     ASSERT_EQ(r.code, 0) << r.All();
     std::vector<DiffRow> stages = ParseDiffTable(r.out);
