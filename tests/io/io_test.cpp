@@ -841,5 +841,34 @@ TEST_F(IoTest, MitsubaMomentsMakeVarianceWhenTheSampleCountIsKnown) {
                          "NO variance: the file does not say how many samples per pixel"));
 }
 
+// A frame Blender 3.4 rendered (scripts/blender/glossy_box.py --spp 16 --seed 1 --size 32),
+// so the names and the split are checked against Cycles itself without Blender in CI.
+TEST_F(IoTest, ReadsARealCyclesFrame) {
+    Frame frame =
+        ReadFrame(std::string(MCD_SOURCE_DIR) + "/tests/data/cycles_glossy_box_32_16spp.exr");
+    ASSERT_EQ(frame.width, 32);
+    for (const char *layer :
+         {"color", "direct", "indirect", "albedo", "normal", "depth", "objectId", "partId"})
+        EXPECT_TRUE(frame.Has(layer)) << layer;
+    EXPECT_FALSE(frame.Has("variance"));
+    // Cycles' light passes add up to its Combined: the split leaves nothing over.
+    const Image &color = frame.Get("color"), &direct = frame.Get("direct"),
+                &indirect = frame.Get("indirect");
+    double gap = 0, total = 0;
+    for (size_t i = 0; i < color.Size(); ++i) {
+        gap += std::abs(color.data[i] - direct.data[i] - indirect.data[i]);
+        total += std::abs(color.data[i]);
+    }
+    EXPECT_LT(gap, 1e-5 * total);
+    ExpectValues(frame, "spp", {"spp"}, [](const std::string &, int, int) { return 16.f; });
+    const std::string &line = frame.metadata[kConventionKey];
+    EXPECT_TRUE(Contains(line, "read as Blender Cycles multilayer (view layer 'ViewLayer')"));
+    EXPECT_TRUE(Contains(line, "normal from Denoising Normal (camera space)"));
+    EXPECT_TRUE(Contains(line,
+                         "direct/indirect composed from the light passes (Diff, Gloss, "
+                         "Trans, Emit, Env, VolumeDir, VolumeInd)"));
+    EXPECT_FALSE(Contains(line, "the rest goes to indirect"));
+}
+
 }  // namespace
 }  // namespace mcd::io
