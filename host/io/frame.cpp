@@ -169,11 +169,7 @@ Frame ReadFrame(const std::string &path) {
         else if (type == OIIO::TypeFloat)
             numbers[attribute.name().string()] = attribute.get_float();
     }
-    try {
-        ApplyConventions(frame, spec.channelnames, numbers);
-    } catch (const Error &e) {
-        throw Error(fmt::format("cannot read '{}': {}", path, e.what()));
-    }
+    ApplyConventions(frame, spec.channelnames, numbers);
     return frame;
 }
 
