@@ -7,11 +7,13 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <system_error>
 #include <utility>
 
 #include "host/error.h"
+#include "host/io/conventions.h"
 #include "host/io/layer_names.h"
 
 namespace mcd {
@@ -158,6 +160,16 @@ Frame ReadFrame(const std::string &path) {
         if (attribute.type() == OIIO::TypeString && !name.starts_with("oiio:"))
             frame.metadata[name] = attribute.get_string();
     }
+    // Numbers only for the conventions (pbrt-v4's samplesPerPixel is an int).
+    std::map<std::string, double> numbers;
+    for (const OIIO::ParamValue &attribute : spec.extra_attribs) {
+        OIIO::TypeDesc type = attribute.type();
+        if (type == OIIO::TypeInt)
+            numbers[attribute.name().string()] = attribute.get_int();
+        else if (type == OIIO::TypeFloat)
+            numbers[attribute.name().string()] = attribute.get_float();
+    }
+    ApplyConventions(frame, spec.channelnames, numbers);
     return frame;
 }
 

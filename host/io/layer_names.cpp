@@ -55,6 +55,7 @@ constexpr Alias kAliases[] = {
     {"Denoising Depth", "depth", 2},
     {"Depth", "depth", 1},
     {"IndexOB", "objectId", 2},
+    {"IndexMA", "partId", 2},
     {"DiffDir", "DiffDir", 1},
     {"DiffInd", "DiffInd", 1},
     {"DiffCol", "DiffCol", 1},
@@ -66,7 +67,15 @@ constexpr Alias kAliases[] = {
     {"TransCol", "TransCol", 1},
     {"Emit", "Emit", 1},
     {"Env", "Env", 1},
+    {"VolumeDir", "VolumeDir", 1},
+    {"VolumeInd", "VolumeInd", 1},
     {"AO", "AO", 1},
+    {"Debug Sample Count", "Debug Sample Count", 1},
+    // Mitsuba 3 (aov integrator), AOVs named after their type; both normals are world
+    // space, the shading one is what a denoiser wants.
+    {"sh_normal", "normal", 2},
+    {"geo_normal", "normal", 1},
+    {"shape_index", "objectId", 2},
 };
 
 struct Target {

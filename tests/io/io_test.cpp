@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <random>
@@ -19,6 +20,7 @@
 #include "harness/errors.h"
 #include "host/error.h"
 #include "host/image.h"
+#include "host/io/conventions.h"
 #include "host/io/frame.h"
 
 namespace mcd::io {
@@ -113,6 +115,45 @@ class IoTest : public ::testing::Test {
                     ASSERT_EQ(image.At(int(k), y, x), RawValue(c, x, y))
                         << layer << " channel " << k << " should be " << fileChannels[k];
         }
+    }
+
+    // Write a file whose channel values come from value(channel name, x, y), with header
+    // attributes (another renderer's metadata).
+    void WriteValues(const std::string &path, int width, int height,
+                     const std::vector<std::string> &channels,
+                     const std::function<float(const std::string &, int, int)> &value,
+                     const std::vector<OIIO::ParamValue> &attributes = {},
+                     OIIO::TypeDesc format = OIIO::TypeFloat) {
+        int n = int(channels.size());
+        OIIO::ImageSpec spec(width, height, n, format);
+        spec.channelnames = channels;
+        for (const OIIO::ParamValue &attribute : attributes)
+            spec.extra_attribs.push_back(attribute);
+        std::vector<float> pixels(size_t(width) * height * n);
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                for (int c = 0; c < n; ++c)
+                    pixels[(size_t(y) * width + x) * n + c] = value(channels[c], x, y);
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out) << OIIO::geterror();
+        ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+        ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data())) << out->geterror();
+        ASSERT_TRUE(out->close());
+    }
+
+    // Check a layer holds value(channel name, x, y) for the named channels, in order.
+    void ExpectValues(const Frame &frame, const std::string &layer,
+                      const std::vector<std::string> &fileChannels,
+                      const std::function<float(const std::string &, int, int)> &value,
+                      float tolerance = 0.f) {
+        ASSERT_TRUE(frame.Has(layer)) << layer;
+        const Image &image = frame.Get(layer);
+        ASSERT_EQ(image.channels, int(fileChannels.size())) << layer;
+        for (size_t k = 0; k < fileChannels.size(); ++k)
+            for (int y = 0; y < image.height; ++y)
+                for (int x = 0; x < image.width; ++x)
+                    ASSERT_NEAR(image.At(int(k), y, x), value(fileChannels[k], x, y), tolerance)
+                        << layer << " channel " << k << " at " << x << "," << y;
     }
 
     fs::path dir;
@@ -287,7 +328,10 @@ TEST_F(IoTest, GroupsPbrtV4Channels) {
     ExpectLayer(frame, "albedo", {"Albedo.R", "Albedo.G", "Albedo.B"}, channels);
     ExpectLayer(frame, "normal", {"N.X", "N.Y", "N.Z"}, channels);  // N preferred to Ns
     ExpectLayer(frame, "Ns", {"Ns.X", "Ns.Y", "Ns.Z"}, channels);
-    ExpectLayer(frame, "variance", {"Variance.R", "Variance.G", "Variance.B"}, channels);
+    // No samplesPerPixel in the header: the samples' variance is no variance of the mean.
+    ExpectLayer(frame, "Variance", {"Variance.R", "Variance.G", "Variance.B"}, channels);
+    EXPECT_FALSE(frame.Has("variance"));
+    EXPECT_TRUE(Contains(frame.metadata[kConventionKey], "NO variance layer"));
     ExpectLayer(frame, "RelativeVariance",
                 {"RelativeVariance.R", "RelativeVariance.G", "RelativeVariance.B"}, channels);
     for (const char *single : {"dzdx", "dzdy", "u", "v"})
@@ -622,6 +666,208 @@ TEST_F(IoTest, WritePngShowsNonFiniteAsMagenta) {
         EXPECT_EQ(back4.Get("color").At(c, 0, 2), ReadImage(path).At(c, 0, 2)) << c;
     EXPECT_THROW(WritePngWithAlpha(Path("bad.png"), rgb, &grey), Error);
     EXPECT_EQ(back.At(0, 1, 2), 1.f);
+}
+
+// Blender light passes: a pass's value from its name, so Combined can be made from them.
+float BlenderValue(const std::string &channel, int x, int y) {
+    std::string pass = channel.substr(channel.find('.') + 1);
+    pass = pass.substr(0, pass.rfind('.'));
+    int c = int(std::string("RGBA").find(channel.back()));
+    auto value = [&](const std::string &p) -> float {
+        if (p.ends_with("Col")) return 0.5f + 0.1f * c + 0.01f * x;
+        if (p.ends_with("Dir")) return (p[0] == 'D' ? 1.f : 0.5f) + 0.1f * x + 0.02f * c;
+        if (p.ends_with("Ind")) return (p[0] == 'D' ? 0.25f : 0.125f) * (y + 1) + 0.03f * c;
+        if (p == "Emit") return 0.1f * c;
+        if (p == "Env") return 0.2f;
+        return 0.f;
+    };
+    if (pass == "Combined") {
+        if (c == 3) return 1.f;
+        float sum = value("Emit") + value("Env");
+        for (std::string x : {"Diff", "Gloss"})
+            sum += (value(x + "Dir") + value(x + "Ind")) * value(x + "Col");
+        return sum;
+    }
+    if (pass == "Debug Sample Count") return 0.25f * float(x + 1);
+    return value(pass);
+}
+
+std::vector<std::string> BlenderChannels(const std::vector<std::string> &rgbPasses) {
+    std::vector<std::string> channels = {"ViewLayer.Combined.R", "ViewLayer.Combined.G",
+                                         "ViewLayer.Combined.B", "ViewLayer.Combined.A"};
+    for (const std::string &pass : rgbPasses)
+        for (const char *c : {"R", "G", "B"}) channels.push_back("ViewLayer." + pass + "." + c);
+    return channels;
+}
+
+TEST_F(IoTest, BlenderComposesDirectAndIndirectFromTheLightPasses) {
+    std::vector<std::string> channels = BlenderChannels(
+        {"DiffDir", "DiffInd", "DiffCol", "GlossDir", "GlossInd", "GlossCol", "Emit", "Env"});
+    for (const char *single :
+         {"ViewLayer.IndexOB.X", "ViewLayer.IndexMA.X", "ViewLayer.Debug Sample Count.X"})
+        channels.push_back(single);
+    std::string path = Path("cycles.exr");
+    WriteValues(path, 4, 3, channels, BlenderValue, {{"cycles.ViewLayer.samples", "16"}});
+    Frame frame = ReadFrame(path);
+
+    auto part = [](bool direct) {
+        return [direct](const std::string &channel, int x, int y) {
+            float sum = direct ? BlenderValue("V.Emit." + channel, x, y) +
+                                     BlenderValue("V.Env." + channel, x, y)
+                               : 0.f;
+            for (std::string p : {"Diff", "Gloss"})
+                sum += BlenderValue("V." + p + (direct ? "Dir." : "Ind.") + channel, x, y) *
+                       BlenderValue("V." + p + "Col." + channel, x, y);
+            return sum;
+        };
+    };
+    ExpectValues(frame, "direct", {"R", "G", "B"}, part(true), 1e-5f);
+    ExpectValues(frame, "indirect", {"R", "G", "B"}, part(false), 1e-5f);
+    // Debug Sample Count is a share of cycles.ViewLayer.samples.
+    ExpectValues(frame, "spp", {"x"},
+                 [](const std::string &, int x, int) { return 4.f * (x + 1); });
+    EXPECT_TRUE(frame.Has("objectId"));
+    EXPECT_TRUE(frame.Has("partId"));  // IndexMA
+    const std::string &line = frame.metadata[kConventionKey];
+    EXPECT_TRUE(Contains(line, "read as Blender Cycles multilayer (view layer 'ViewLayer')"));
+    EXPECT_TRUE(Contains(line,
+                         "direct/indirect composed from the light passes (Diff, Gloss, "
+                         "Emit, Env)"));
+    EXPECT_TRUE(Contains(line, "spp = Debug Sample Count x 16"));
+    EXPECT_TRUE(Contains(line, "no variance (Cycles writes none)"));
+    EXPECT_FALSE(Contains(line, "the rest goes to indirect"));
+}
+
+TEST_F(IoTest, BlenderSplitKeepsWhatThePassesMissAndSaysSo) {
+    // Gloss is in Combined but its passes were not written; no sample total either.
+    std::vector<std::string> channels =
+        BlenderChannels({"DiffDir", "DiffInd", "DiffCol", "Emit", "Env"});
+    channels.push_back("ViewLayer.Debug Sample Count.X");
+    std::string path = Path("partial.exr");
+    WriteValues(path, 3, 2, channels, BlenderValue);
+    Frame frame = ReadFrame(path);
+
+    ASSERT_TRUE(frame.Has("direct") && frame.Has("indirect"));
+    const Image &color = frame.Get("color"), &direct = frame.Get("direct"),
+                &indirect = frame.Get("indirect");
+    for (size_t i = 0; i < color.Size(); ++i)
+        EXPECT_NEAR(direct.data[i] + indirect.data[i], color.data[i], 1e-5f);
+    EXPECT_FALSE(frame.Has("spp"));
+    EXPECT_TRUE(frame.Has("Debug Sample Count"));
+    const std::string &line = frame.metadata[kConventionKey];
+    EXPECT_TRUE(Contains(line,
+                         "the rest goes to indirect (passes not written: VolumeDir "
+                         "VolumeInd Gloss* Trans*)"));
+    EXPECT_TRUE(Contains(line, "Debug Sample Count kept as a fraction"));
+
+    // Light passes without their colour pass are not composed.
+    std::string noCol = Path("nocol.exr");
+    WriteValues(noCol, 3, 2, BlenderChannels({"DiffDir", "DiffInd"}), BlenderValue);
+    Frame bare = ReadFrame(noCol);
+    EXPECT_FALSE(bare.Has("direct"));
+    EXPECT_TRUE(Contains(bare.metadata[kConventionKey],
+                         "no direct/indirect: the light passes of "
+                         "Diff lack Dir, Ind or Col"));
+}
+
+TEST_F(IoTest, PbrtVarianceOfTheSamplesBecomesVarianceOfTheMean) {
+    std::vector<std::string> channels = {"R",          "G",   "B",   "Variance.R", "Variance.G",
+                                         "Variance.B", "N.X", "N.Y", "N.Z"};
+    auto value = [](const std::string &channel, int x, int y) {
+        return 0.5f * float(channel.size()) + float(x) + 4.f * float(y);
+    };
+    std::string path = Path("pbrt.exr");
+    // pbrt-v4 writes half floats by default, and the sample count only in the header.
+    WriteValues(path, 4, 3, channels, value, {{"samplesPerPixel", 16}}, OIIO::TypeHalf);
+    Frame frame = ReadFrame(path);
+    ExpectValues(frame, "variance", {"Variance.R", "Variance.G", "Variance.B"},
+                 [&](const std::string &c, int x, int y) { return value(c, x, y) / 16.f; });
+    EXPECT_FALSE(frame.Has("Variance"));
+    EXPECT_TRUE(Contains(frame.metadata[kConventionKey],
+                         "read as pbrt-v4 GBufferFilm: variance = Variance.* / "
+                         "samplesPerPixel (16)"));
+
+    // A file's own variance layer is ours already: left alone.
+    std::vector<std::string> own = {"R", "G", "B", "variance.R", "variance.G", "variance.B"};
+    std::string ownPath = Path("own.exr");
+    WriteValues(ownPath, 2, 2, own, value, {{"samplesPerPixel", 16}});
+    Frame ours = ReadFrame(ownPath);
+    ExpectValues(ours, "variance", {"variance.R", "variance.G", "variance.B"}, value);
+    EXPECT_EQ(ours.metadata.count(kConventionKey), 0u);
+}
+
+TEST_F(IoTest, ReadsMitsubaAovs) {
+    std::vector<std::string> channels = {
+        "R",        "G",           "B",           "A",           "albedo.R", "albedo.G",
+        "albedo.B", "sh_normal.X", "sh_normal.Y", "sh_normal.Z", "depth.T",  "shape_index.I"};
+    std::string path = Path("mitsuba_aov.exr");
+    WriteRaw(path, 3, 2, channels);
+    Frame frame = ReadFrame(path);
+    ExpectLayer(frame, "albedo", {"albedo.R", "albedo.G", "albedo.B"}, channels);
+    ExpectLayer(frame, "normal", {"sh_normal.X", "sh_normal.Y", "sh_normal.Z"}, channels);
+    ExpectLayer(frame, "depth", {"depth.T"}, channels);
+    ExpectLayer(frame, "objectId", {"shape_index.I"}, channels);
+    const std::string &line = frame.metadata[kConventionKey];
+    EXPECT_TRUE(Contains(line,
+                         "read as Mitsuba 3 aov: normal from sh_normal (world space); "
+                         "depth from depth.T (distance along the ray); objectId from "
+                         "shape_index"));
+}
+
+TEST_F(IoTest, MitsubaMomentsMakeVarianceWhenTheSampleCountIsKnown) {
+    std::vector<std::string> channels = {
+        "R", "G", "B", "path.X", "path.Y", "path.Z", "m2_path.X", "m2_path.Y", "m2_path.Z"};
+    // Grey pixels: color = Y, so the variance is (m2 - m1^2) / spp in every channel.
+    auto value = [](const std::string &channel, int x, int y) {
+        float mean = 0.5f + 0.25f * float(x + y);
+        if (channel.starts_with("m2_")) return mean * mean + 0.125f * float(x + 1);
+        return mean;
+    };
+    std::string path = Path("moment.exr");
+    WriteValues(path, 3, 2, channels, value, {{"spp", 4}});
+    Frame frame = ReadFrame(path);
+    ExpectValues(
+        frame, "variance", {"R", "G", "B"},
+        [](const std::string &, int x, int) { return 0.125f * float(x + 1) / 4.f; }, 1e-6f);
+    EXPECT_TRUE(Contains(frame.metadata[kConventionKey],
+                         "read as Mitsuba 3 moment (path, m2_path): variance = (m2_path.Y - "
+                         "path.Y^2) / spp (4)"));
+
+    std::string noSpp = Path("moment_nospp.exr");
+    WriteValues(noSpp, 3, 2, channels, value);
+    Frame bare = ReadFrame(noSpp);
+    EXPECT_FALSE(bare.Has("variance"));
+    EXPECT_TRUE(Contains(bare.metadata[kConventionKey],
+                         "NO variance: the file does not say how many samples per pixel"));
+}
+
+// A frame Blender 3.4 rendered (scripts/blender/glossy_box.py --spp 16 --seed 1 --size 32),
+// so the names and the split are checked against Cycles itself without Blender in CI.
+TEST_F(IoTest, ReadsARealCyclesFrame) {
+    Frame frame =
+        ReadFrame(std::string(MCD_SOURCE_DIR) + "/tests/data/cycles_glossy_box_32_16spp.exr");
+    ASSERT_EQ(frame.width, 32);
+    for (const char *layer :
+         {"color", "direct", "indirect", "albedo", "normal", "depth", "objectId", "partId"})
+        EXPECT_TRUE(frame.Has(layer)) << layer;
+    EXPECT_FALSE(frame.Has("variance"));
+    // Cycles' light passes add up to its Combined: the split leaves nothing over.
+    const Image &color = frame.Get("color"), &direct = frame.Get("direct"),
+                &indirect = frame.Get("indirect");
+    double gap = 0, total = 0;
+    for (size_t i = 0; i < color.Size(); ++i) {
+        gap += std::abs(color.data[i] - direct.data[i] - indirect.data[i]);
+        total += std::abs(color.data[i]);
+    }
+    EXPECT_LT(gap, 1e-5 * total);
+    ExpectValues(frame, "spp", {"spp"}, [](const std::string &, int, int) { return 16.f; });
+    const std::string &line = frame.metadata[kConventionKey];
+    EXPECT_TRUE(Contains(line, "read as Blender Cycles multilayer (view layer 'ViewLayer')"));
+    EXPECT_TRUE(Contains(line, "normal from Denoising Normal (camera space)"));
+    EXPECT_TRUE(Contains(line,
+                         "direct/indirect composed from the light passes (Diff, Gloss, "
+                         "Trans, Emit, Env, VolumeDir, VolumeInd)"));
+    EXPECT_FALSE(Contains(line, "the rest goes to indirect"));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <variant>
 
 #include "host/error.h"
+#include "host/io/conventions.h"
 #include "host/io/frame.h"
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
@@ -71,8 +72,7 @@ std::string OptionsText(const Method &method, const std::string &ran) {
             },
             method.Get(info.name));
         // Quoted when empty or spaced, so the string splits back into its parameters.
-        if (value.empty() || value.find(' ') != std::string::npos)
-            value = "\"" + value + "\"";
+        if (value.empty() || value.find(' ') != std::string::npos) value = "\"" + value + "\"";
         text += fmt::format("{}{}={}", text.empty() ? "" : " ", info.name, value);
     }
     return text;
@@ -154,6 +154,9 @@ void AddDenoiseCommand(CLI::App &app) {
         if (progressShown) std::fprintf(stderr, "\n");
         if (opt->explain) {
             fmt::print("{} on {} ({}):\n", result.method, opt->input, device.Name());
+            // How another renderer's layers were converted: the split and noise depend on it.
+            if (auto it = frame.metadata.find(io::kConventionKey); it != frame.metadata.end())
+                fmt::print("  frame {}\n", it->second);
             for (const std::string &step : result.plan) fmt::print("  {}\n", step);
             fmt::print("{}", LedgerText(result));
         }
