@@ -28,9 +28,10 @@ bool IsFirstLayer(const std::string &name) {
     return name == "objectId" || name == "partId";
 }
 
-// Read by the statistics of color, not carried as they are.
-bool IsStatisticsInput(const std::string &name) {
-    return name == "color" || name == "spp" || name == "min" || name == "max";
+// Made anew from the frames (an input's own variance and hist describe one frame only).
+bool IsRecomputed(const std::string &name) {
+    return name == "color" || name == "variance" || name == "spp" || name == "min" ||
+           name == "max" || name == "hist";
 }
 
 bool AllFinite(const Image &image, size_t i) {
@@ -148,7 +149,7 @@ void Accumulator::Start(const Frame &frame) {
                            std::vector<uint32_t>(n), image.channels};
         else if (IsFirstLayer(name))
             firstOf[name] = image;
-        else if (!IsStatisticsInput(name))
+        else if (!IsRecomputed(name))
             dropped.push_back(name);
     }
 }

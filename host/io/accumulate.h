@@ -56,8 +56,8 @@ class Accumulator {
     int Frames() const { return frames; }
     // Per layer, the pixels whose value was left out of its statistics for being NaN/Inf.
     const std::map<std::string, uint64_t> &NonFinite() const { return nonFinite; }
-    // Layers of the inputs that the result does not carry (recomputed or not meaningful
-    // as a mean, e.g. an input's variance or partials).
+    // Layers of the inputs that the result neither carries nor makes anew (partials,
+    // zhist, a reference, ...).
     const std::vector<std::string> &Dropped() const { return dropped; }
 
   private:

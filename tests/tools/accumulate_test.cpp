@@ -56,6 +56,8 @@ TEST_F(CliAccumulate, OneSppFramesGiveTheirSamplesStatistics) {
     ToolResult r = Run("accumulate" + inputs + " -o acc.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "5 frames 14x10")) << r.out;
+    // Every layer of --layers all is carried or made anew.
+    EXPECT_FALSE(Contains(r.out, "not carried")) << r.out;
 
     std::vector<io::Frame> in;
     for (int k = 1; k <= frames; ++k)
