@@ -11,7 +11,7 @@ namespace {
 
 struct PivotParams {
     PivotOptions options;
-    std::string filter = "planefit", guides = "auto", noise = "auto";
+    std::string filter = "planefit", guides = "auto", noise = "auto", layer = "auto";
     bool noPartials = false;
 };
 
@@ -20,7 +20,12 @@ class Pivot : public FrontEndOf<PivotParams> {
     Pivot()
         : FrontEndOf(
               "pivot",
-              {ChoiceParam("filter",
+              {ChoiceParam("pivot-layer",
+                           "the layer filtered against: auto (pivot when the frame has one, "
+                           "else albedo), pivot, or albedo (a cheap deterministic image of "
+                           "the same structure that every renderer writes)",
+                           &PivotParams::layer, {"auto", "pivot", "albedo"}),
+               ChoiceParam("filter",
                            "planefit (the paper's plane fits, eqs. 10-13) or bilateral "
                            "(cross-bilateral baseline of z = color / pivot)",
                            &PivotParams::filter, {"planefit", "bilateral"}),
@@ -79,11 +84,14 @@ class Pivot : public FrontEndOf<PivotParams> {
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
     std::string Summary() const override {
-        return "Ershov et al.'s pivot-image filter (needs a pivot layer; normals, objectId, "
-               "partId, variance refine it)";
+        return "Ershov et al.'s pivot-image filter (needs a pivot or an albedo layer; "
+               "normals, objectId, partId, variance refine it)";
     }
     std::string Missing(const Frame &frame) const override {
-        return frame.Has("pivot") ? "" : "no pivot layer";
+        std::string layer = PivotLayer([&](const std::string &l) { return frame.Has(l); });
+        if (frame.Has(layer)) return "";
+        return options.layer == "auto" ? "no pivot or albedo layer"
+                                       : fmt::format("no {} layer", layer);
     }
     std::string Undemodulable(const Frame &, const std::string &) const override {
         return "the pivot method divides by itself";
@@ -94,7 +102,15 @@ class Pivot : public FrontEndOf<PivotParams> {
         PivotInputs in = InputsOf(inputs, &pivotOptions);
         pivotOptions.keepStages = run.keepStages;
         pivotOptions.progress = run.progress;
-        return ResultOf(PivotDenoise(context, in, pivotOptions));
+        Result result = ResultOf(PivotDenoise(context, in, pivotOptions));
+        if (UsesAlbedo(inputs))
+            result.plan.insert(result.plan.begin(),
+                               options.layer == "auto"
+                                   ? "pivot: the albedo layer stands in for the pivot (the "
+                                     "frame has no pivot layer)"
+                                   : "pivot: the albedo layer stands in for the pivot "
+                                     "(--pivot-layer albedo)");
+        return result;
     }
 
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
@@ -135,19 +151,35 @@ class Pivot : public FrontEndOf<PivotParams> {
     }
 
   private:
+    // The layer that serves as the pivot: auto takes the real one when there is one, as
+    // the albedo lacks its shading.
+    template <typename HasLayer>
+    std::string PivotLayer(HasLayer has) const {
+        if (options.layer == "auto") return has("pivot") ? "pivot" : "albedo";
+        return options.layer;
+    }
+    bool UsesAlbedo(Inputs &inputs) const {
+        return PivotLayer([&](const std::string &l) { return inputs.Has(l); }) == "albedo";
+    }
+
     // The pipeline's inputs and options from the frame and the parameters.
     PivotInputs InputsOf(Inputs &inputs, PivotOptions *o) const {
         *o = options.options;
         o->filter =
             options.filter == "bilateral" ? PivotFilter::Bilateral : PivotFilter::PlaneFit;
-        if (!inputs.Has("pivot"))
-            throw Error(
-                fmt::format("{}: the pivot method needs a pivot layer (render it with "
-                            "`mcdenoise render --layers pivot`)",
-                            inputs.Path()));
+        std::string layer = PivotLayer([&](const std::string &l) { return inputs.Has(l); });
+        if (!inputs.Has(layer)) {
+            if (options.layer == "auto")
+                throw Error(
+                    fmt::format("{}: the pivot method needs a pivot layer or an albedo layer "
+                                "(render them with `mcdenoise render --layers pivot,gbuffer`)",
+                                inputs.Path()));
+            throw Error(fmt::format("{}: --pivot-layer {} names a layer the frame lacks",
+                                    inputs.Path(), layer));
+        }
         PivotInputs in;
         in.color = &inputs.Get("color");
-        in.pivot = &inputs.Get("pivot");
+        in.pivot = &inputs.Get(layer);
         bool noise = options.noise == "auto";
         if (noise && inputs.Has("variance")) in.variance = &inputs.Get("variance");
         if (options.guides == "auto") {

@@ -9,10 +9,13 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "harness/tool.h"
 #include "host/image.h"
 #include "host/io/frame.h"
+#include "mcdenoise/mcdenoise.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
@@ -202,6 +205,50 @@ TEST_F(PivotCli, RefusesBadOptionsAndMissingPivot) {
     r = Run("denoise p.exr --method pivot --max-radius 1 -o f.exr");
     EXPECT_NE(r.code, 0);
     EXPECT_FALSE(fs::exists(Path("f.exr")));
+}
+
+// Issue #16: a frame whose pivot layer was removed is filtered against its albedo with
+// --pivot-layer auto (the default) or albedo, and the plan says so; --pivot-layer pivot
+// then names the missing layer. With the pivot present, auto uses it.
+TEST_F(PivotCli, AlbedoStandsInForAMissingPivot) {
+    ASSERT_EQ(Run("render --scene relief-abc --size 24x20 --spp 4 --layers pivot,gbuffer -o "
+                  "n.exr")
+                  .code,
+              0);
+    io::Frame frame = io::ReadFrame(Path("n.exr").string());
+    ASSERT_EQ(frame.layers.erase("pivot"), 1u);
+    std::vector<std::pair<std::string, const Image *>> layers;
+    for (const auto &[name, image] : frame.layers) layers.push_back({name, &image});
+    io::WriteExr(Path("nopivot.exr").string(), layers, frame.metadata);
+
+    RunResult r = Run("denoise nopivot.exr --method pivot --explain -o a.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "pivot: the albedo layer stands in for the pivot")) << r.out;
+    Image a = io::ReadImage(Path("a.exr").string());
+    for (float v : a.data) ASSERT_TRUE(std::isfinite(v));
+
+    // The library: the parameter, and Missing() through the same choice.
+    Frame noPivot = io::ReadFrame(Path("nopivot.exr").string());
+    Method method("pivot");
+    EXPECT_EQ(method.Missing(noPivot), "");
+    method.Set("pivot-layer", std::string("pivot"));
+    EXPECT_EQ(method.Missing(noPivot), "no pivot layer");
+    method.Set("pivot-layer", std::string("albedo"));
+    EXPECT_EQ(method.Missing(noPivot), "");
+
+    r = Run("denoise nopivot.exr --method pivot --pivot-layer albedo --explain -o b.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "(--pivot-layer albedo)")) << r.out;
+    // Filtering against the albedo on purpose is the same as auto on a frame without pivot.
+    EXPECT_EQ(io::ReadImage(Path("b.exr").string()).data, a.data);
+
+    r = Run("denoise nopivot.exr --method pivot --pivot-layer pivot -o c.exr");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(Contains(r.err, "--pivot-layer pivot names a layer the frame lacks")) << r.err;
+
+    r = Run("denoise n.exr --method pivot --explain -o d.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Contains(r.out, "stands in")) << r.out;
 }
 
 // `bench pivot` prints each stage's GPU time and the grown radius, for both filters, and

@@ -31,6 +31,7 @@ void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);
 void AddDiffCommand(CLI::App &app);
+void AddAccumulateCommand(CLI::App &app);
 
 // Largest image side the tool accepts for sizes it makes up itself.
 constexpr int kMaxImageSide = 32768;

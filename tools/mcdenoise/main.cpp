@@ -79,6 +79,7 @@ int main(int argc, char **argv) {
     app.set_version_flag("--version", "mcdenoise 0.1.0");
     mcd::tool::AddInfoCommand(app);
     mcd::tool::AddRenderCommand(app);
+    mcd::tool::AddAccumulateCommand(app);
     mcd::tool::AddDenoiseCommand(app);
     mcd::tool::AddCompareCommand(app);
     mcd::tool::AddWaveletCommand(app);

@@ -1,0 +1,291 @@
+#include "host/io/accumulate.h"
+
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+
+#include "host/error.h"
+#include "host/io/layer_names.h"
+
+namespace mcd::io {
+
+namespace {
+
+// Averaged over the frames; the light passes and guides are linear in the samples, so
+// their mean over frames is their mean over all samples.
+bool IsMeanLayer(const std::string &name) {
+    return name == "albedo" || name == "normal" || name == "depth" || name == "pivot" ||
+           name == "direct" || name == "indirect" || name == "alpha";
+}
+
+// Ids are not averaged: a mean of two ids is a third id.
+bool IsFirstLayer(const std::string &name) {
+    return name == "objectId" || name == "partId";
+}
+
+// Made anew from the frames (an input's own variance and hist describe one frame only).
+bool IsRecomputed(const std::string &name) {
+    return name == "color" || name == "variance" || name == "spp" || name == "min" ||
+           name == "max" || name == "hist";
+}
+
+bool AllFinite(const Image &image, size_t i) {
+    for (int c = 0; c < image.channels; ++c)
+        if (!std::isfinite(image.Plane(c)[i])) return false;
+    return true;
+}
+
+int PositiveInt(const std::string &text) {
+    char *end = nullptr;
+    long v = std::strtol(text.c_str(), &end, 10);
+    return end != text.c_str() && *end == 0 && v > 0 && v < (1l << 30) ? int(v) : 0;
+}
+
+}  // namespace
+
+FrameHeader ReadFrameHeader(const std::string &path) {
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    if (!in) throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
+    const OIIO::ImageSpec &spec = in->spec();
+    FrameHeader header;
+    header.path = path;
+    header.width = spec.width;
+    header.height = spec.height;
+    try {
+        for (const LayerChannels &layer : GroupChannels(spec.channelnames))
+            header.layers[layer.name] = int(layer.channels.size());
+    } catch (const Error &e) {
+        throw Error(fmt::format("cannot read '{}': {}", path, e.what()));
+    }
+    for (const OIIO::ParamValue &attribute : spec.extra_attribs) {
+        std::string name = attribute.name().string();
+        if (attribute.type() == OIIO::TypeString && !name.starts_with("oiio:"))
+            header.metadata[name] = attribute.get_string();
+        else if (attribute.type() == OIIO::TypeInt)
+            header.metadata[name] = std::to_string(attribute.get_int());
+    }
+    return header;
+}
+
+void CheckSameLayout(const FrameHeader &first, const FrameHeader &other) {
+    if (other.width != first.width || other.height != first.height)
+        throw Error(fmt::format("'{}' is {}x{} but '{}' is {}x{}: accumulate needs one size",
+                                other.path, other.width, other.height, first.path, first.width,
+                                first.height));
+    auto list = [](const std::map<std::string, int> &layers) {
+        std::string text;
+        for (const auto &[name, channels] : layers)
+            text += fmt::format("{}{} ({})", text.empty() ? "" : ", ", name, channels);
+        return text;
+    };
+    if (other.layers != first.layers)
+        throw Error(
+            fmt::format("'{}' has layers {} but '{}' has {}: accumulate needs the "
+                        "same layers in every frame",
+                        other.path, list(other.layers), first.path, list(first.layers)));
+}
+
+int SppFromMetadata(const std::map<std::string, std::string> &metadata) {
+    for (const auto &[key, value] : metadata)
+        if (key == "mcd:spp" || key == "samplesPerPixel" || key == "pbrt:samplesPerPixel" ||
+            (key.starts_with("cycles.") && key.ends_with(".samples")))
+            if (int spp = PositiveInt(value)) return spp;
+    return 0;
+}
+
+namespace {
+
+// Where one channel's value falls: bins `low` and `low + 1` get 1 - high and high.
+void RhfBin(double value, int bins, int *low, double *high) {
+    const double gamma = 2.2, scale = 2.5, saturation = 2.0;
+    double v = std::max(value, 0.0);
+    v = std::min(std::pow(v, 1 / gamma) / scale, saturation);
+    double fbin = v * (bins - 2);
+    *low = int(std::floor(fbin));
+    if (*low < bins - 2) {
+        *high = fbin - *low;
+    } else {
+        // The last bin stands for the saturation value: split [1, saturation] linearly.
+        *low = bins - 2;
+        *high = (v - 1) / (saturation - 1);
+    }
+}
+
+}  // namespace
+
+void AddToRhfHistogram(const double color[3], int bins, float *histogram) {
+    for (int c = 0; c < 3; ++c) {
+        int low;
+        double high;
+        RhfBin(color[c], bins, &low, &high);
+        histogram[c * bins + low] += float(1 - high);
+        histogram[c * bins + low + 1] += float(high);
+    }
+}
+
+Accumulator::Accumulator(AccumulateOptions options) : options(options) {
+    if (options.histBins < 3) throw Error("a histogram needs at least 3 bins per channel");
+}
+
+void Accumulator::Start(const Frame &frame) {
+    firstPath = frame.path;
+    width = frame.width, height = frame.height;
+    size_t n = size_t(width) * height;
+    for (const auto &[name, image] : frame.layers) layout[name] = image.channels;
+    mean.assign(3 * n, 0), m2.assign(3 * n, 0), spp.assign(n, 0), count.assign(n, 0);
+    lo.assign(3 * n, std::numeric_limits<float>::infinity());
+    hi.assign(3 * n, -std::numeric_limits<float>::infinity());
+    hist = Image(width, height, 3 * options.histBins + 1);
+    for (MeanLayer &half : halves) half = {std::vector<double>(3 * n), {}, 3};
+    for (MeanLayer &half : halves) half.count.assign(n, 0);
+    for (const auto &[name, image] : frame.layers) {
+        if (IsMeanLayer(name))
+            means[name] = {std::vector<double>(size_t(image.channels) * n),
+                           std::vector<uint32_t>(n), image.channels};
+        else if (IsFirstLayer(name))
+            firstOf[name] = image;
+        else if (!IsRecomputed(name))
+            dropped.push_back(name);
+    }
+}
+
+void Accumulator::AddMean(MeanLayer &layer, const std::string &name, const Image &image) {
+    size_t n = image.PixelCount();
+    for (size_t i = 0; i < n; ++i) {
+        if (!AllFinite(image, i)) {
+            ++nonFinite[name];
+            continue;
+        }
+        ++layer.count[i];
+        for (int c = 0; c < layer.channels; ++c) layer.sum[c * n + i] += image.Plane(c)[i];
+    }
+}
+
+void Accumulator::Add(const Frame &frame) {
+    const Image &color = frame.Get("color");
+    if (color.channels != 3)
+        throw Error(fmt::format("'{}': color has {} channels; accumulate needs R, G, B",
+                                frame.path, color.channels));
+    if (frames == 0) {
+        Start(frame);
+    } else {
+        FrameHeader a{firstPath, width, height, layout, {}},
+            b{frame.path, frame.width, frame.height, {}, {}};
+        for (const auto &[name, image] : frame.layers) b.layers[name] = image.channels;
+        CheckSameLayout(a, b);
+    }
+    size_t n = size_t(width) * height;
+    const Image *sppLayer = frame.Has("spp") ? &frame.Get("spp") : nullptr;
+    const Image *minLayer = frame.Has("min") ? &frame.Get("min") : nullptr;
+    const Image *maxLayer = frame.Has("max") ? &frame.Get("max") : nullptr;
+    int metadataSpp = SppFromMetadata(frame.metadata);
+    MeanLayer &half = halves[frames % 2];
+    const int bins = options.histBins;
+    for (size_t i = 0; i < n; ++i) {
+        // A pixel with a NaN/Inf channel is left out whole, so that its count stays one
+        // for all three channels and the histogram.
+        if (!AllFinite(color, i)) {
+            ++nonFinite["color"];
+            continue;
+        }
+        double value[3];
+        uint32_t k = ++count[i];
+        for (int c = 0; c < 3; ++c) {
+            value[c] = color.Plane(c)[i];
+            size_t j = c * n + i;
+            double delta = value[c] - mean[j];
+            mean[j] += delta / k;
+            m2[j] += delta * (value[c] - mean[j]);
+            half.sum[j] += value[c];
+        }
+        ++half.count[i];
+        float frameSpp = metadataSpp > 0 ? float(metadataSpp) : 1.f;
+        if (sppLayer) {
+            float v = sppLayer->Plane(0)[i];
+            if (std::isfinite(v) && v > 0)
+                frameSpp = v;
+            else
+                ++nonFinite["spp"];
+        }
+        spp[i] += frameSpp;
+        for (int c = 0; c < 3; ++c) {
+            int low;
+            double high;
+            RhfBin(value[c], bins, &low, &high);
+            hist.Plane(c * bins + low)[i] += float(1 - high);
+            hist.Plane(c * bins + low + 1)[i] += float(high);
+        }
+    }
+    // min and max: the frames' own sample ranges when they have them, else their means.
+    for (int c = 0; c < 3; ++c) {
+        const float *low = (minLayer ? *minLayer : color).Plane(c);
+        const float *high = (maxLayer ? *maxLayer : color).Plane(c);
+        for (size_t i = 0; i < n; ++i) {
+            size_t j = c * n + i;
+            if (std::isfinite(low[i]))
+                lo[j] = std::min(lo[j], low[i]);
+            else if (minLayer)
+                ++nonFinite["min"];
+            if (std::isfinite(high[i]))
+                hi[j] = std::max(hi[j], high[i]);
+            else if (maxLayer)
+                ++nonFinite["max"];
+        }
+    }
+    for (auto &[name, layer] : means) AddMean(layer, name, frame.Get(name));
+    for (const auto &[name, image] : firstOf)
+        if (frames == 0)
+            for (size_t i = 0; i < n; ++i)
+                if (!AllFinite(image, i)) ++nonFinite[name];
+    ++frames;
+}
+
+Frame Accumulator::Finish() {
+    if (frames == 0) throw Error("accumulate: no frames were added");
+    size_t n = size_t(width) * height;
+    Frame out;
+    out.width = width, out.height = height;
+    Image color(width, height, 3), variance(width, height, 3), sppImage(width, height, 1);
+    Image mn(width, height, 3), mx(width, height, 3);
+    for (size_t i = 0; i < n; ++i) {
+        double k = count[i];
+        sppImage.data[i] = float(spp[i]);
+        hist.Plane(3 * options.histBins)[i] = float(k);
+        for (int c = 0; c < 3; ++c) {
+            size_t j = c * n + i;
+            color.data[j] = k > 0 ? float(mean[j]) : 0.f;
+            // Variance of the mean: the unbiased variance of the frame means over their
+            // count, as the renderer's over its samples; 0 with one frame, as there.
+            variance.data[j] = k > 1 ? float(m2[j] / (k - 1) / k) : 0.f;
+            mn.data[j] = std::isfinite(lo[j]) ? lo[j] : 0.f;
+            mx.data[j] = std::isfinite(hi[j]) ? hi[j] : 0.f;
+        }
+    }
+    out.layers["color"] = std::move(color);
+    out.layers["variance"] = std::move(variance);
+    out.layers["spp"] = std::move(sppImage);
+    out.layers["min"] = std::move(mn);
+    out.layers["max"] = std::move(mx);
+    out.layers["hist"] = std::move(hist);
+    auto meanOf = [&](const MeanLayer &layer) {
+        Image image(width, height, layer.channels);
+        for (int c = 0; c < layer.channels; ++c)
+            for (size_t i = 0; i < n; ++i)
+                image.Plane(c)[i] =
+                    layer.count[i] ? float(layer.sum[c * n + i] / layer.count[i]) : 0.f;
+        return image;
+    };
+    out.layers["half0.color"] = meanOf(halves[0]);
+    out.layers["half1.color"] = meanOf(halves[1]);
+    for (const auto &[name, layer] : means) out.layers[name] = meanOf(layer);
+    for (auto &[name, image] : firstOf) out.layers[name] = std::move(image);
+    out.metadata["mcd:accumulatedFrames"] = std::to_string(frames);
+    return out;
+}
+
+}  // namespace mcd::io

@@ -1,0 +1,89 @@
+// Accumulation (issue #16): N renders of one view, independent seeds and equal spp each,
+// become one frame with the layers the methods read (ARCHITECTURE.md's layer table): the
+// mean, the variance of the mean from the spread of the frames, spp, min/max, RHF
+// histograms of the frame means, the auxiliary layers and the half-buffers half0/half1.
+// One frame at a time: memory does not grow with the number of frames.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "host/io/frame.h"
+
+namespace mcd::io {
+
+// A file's size, layers (our names, channel counts) and string metadata, read without its
+// pixels: enough to refuse a mismatched input before any heavy work.
+struct FrameHeader {
+    std::string path;
+    int width = 0, height = 0;
+    std::map<std::string, int> layers;
+    std::map<std::string, std::string> metadata;
+};
+FrameHeader ReadFrameHeader(const std::string &path);
+
+// Throws mcd::Error naming `other`'s file when its size or layers differ from `first`'s.
+void CheckSameLayout(const FrameHeader &first, const FrameHeader &other);
+
+// The samples per pixel a frame's metadata states (our renderer's mcd:spp, Cycles'
+// cycles.<view layer>.samples, pbrt's samplesPerPixel), or 0 when it states none.
+int SppFromMetadata(const std::map<std::string, std::string> &metadata);
+
+// RHF Algorithm 1 with the authors' constants, the rule tools/render uses for each sample:
+// add a value of weight 1 to a pixel's 3 x bins histogram (colour c's bins at c * bins).
+void AddToRhfHistogram(const double color[3], int bins, float *histogram);
+
+struct AccumulateOptions {
+    int histBins = 20;  // per channel: the hist layer has 3 * histBins + 1 channels
+};
+
+class Accumulator {
+  public:
+    explicit Accumulator(AccumulateOptions options = {});
+
+    // Adds one frame. The first fixes the size and the layers; a later frame whose size or
+    // layers differ is refused (mcd::Error naming its path) and leaves the sums as they
+    // were. Non-finite values are left out of the statistics and counted per layer.
+    void Add(const Frame &frame);
+
+    // The accumulated frame: color, variance, spp, min, max, hist, half0.color,
+    // half1.color, and the carried layers (means over frames; objectId and partId from the
+    // first frame). Throws when no frame was added.
+    Frame Finish();
+
+    int Frames() const { return frames; }
+    // Per layer, the pixels whose value was left out of its statistics for being NaN/Inf.
+    const std::map<std::string, uint64_t> &NonFinite() const { return nonFinite; }
+    // Layers of the inputs that the result neither carries nor makes anew (partials,
+    // zhist, a reference, ...).
+    const std::vector<std::string> &Dropped() const { return dropped; }
+
+  private:
+    // A layer averaged over the frames, with its own per-pixel count of finite values.
+    struct MeanLayer {
+        std::vector<double> sum;
+        std::vector<uint32_t> count;
+        int channels = 0;
+    };
+    void Start(const Frame &frame);
+    void AddMean(MeanLayer &layer, const std::string &name, const Image &image);
+
+    AccumulateOptions options;
+    std::string firstPath;
+    int width = 0, height = 0, frames = 0;
+    std::map<std::string, int> layout;  // the first frame's layers and channel counts
+    // color: running mean and sum of squared deviations (Welford), per channel.
+    std::vector<double> mean, m2, spp;
+    std::vector<uint32_t> count;
+    std::vector<float> lo, hi;
+    Image hist;
+    MeanLayer halves[2];
+    std::map<std::string, MeanLayer> means;
+    std::map<std::string, Image> firstOf;  // ids: the first frame's
+    std::map<std::string, uint64_t> nonFinite;
+    std::vector<std::string> dropped;
+};
+
+}  // namespace mcd::io

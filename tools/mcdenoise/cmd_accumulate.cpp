@@ -1,0 +1,135 @@
+// `mcdenoise accumulate`: N renders of one view become one frame (host/io/accumulate.h).
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "host/error.h"
+#include "host/io/accumulate.h"
+#include "host/io/frame.h"
+#include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/path_guard.h"
+
+namespace mcd::tool {
+namespace {
+
+// ARCHITECTURE.md's order, then the half-buffers.
+constexpr const char *kOutputOrder[] = {
+    "color",    "variance", "spp",   "min",         "max",        "hist",
+    "direct",   "indirect", "pivot", "albedo",      "normal",     "depth",
+    "objectId", "partId",   "alpha", "half0.color", "half1.color"};
+
+}  // namespace
+
+void AddAccumulateCommand(CLI::App &app) {
+    struct Options {
+        std::vector<std::string> inputs;
+        std::string output;
+        int histBins = io::AccumulateOptions().histBins;
+    };
+    auto opt = std::make_shared<Options>();
+    CLI::App *cmd = app.add_subcommand(
+        "accumulate",
+        "Combine N renders of one view (independent seeds, equal spp each, any renderer) into "
+        "one frame: color = their mean; variance = the unbiased variance of the N frame "
+        "means / N; spp = N x the inputs' spp (from an spp layer or the metadata, else N); "
+        "min/max over the frames (of their min/max layers when present); hist = RHF "
+        "histograms of the frame means binned as the renderer bins samples (with 1-spp "
+        "inputs exactly the per-sample histograms; otherwise histograms of the frame "
+        "means, which are narrower); albedo, normal, depth, pivot, direct, indirect and "
+        "alpha averaged over the frames, objectId and partId from the first frame; "
+        "half0.color and half1.color the means of the even and odd frames; other layers are "
+        "not carried (it lists them). NaN/Inf values "
+        "are left out and counted per layer. It cannot check that the seeds differ (frames "
+        "from one seed give variance 0). Blender Cycles frames made with sample_offset "
+        "are pieces of one stratified sequence, not independent: the variance across them "
+        "over-estimates.");
+    cmd->add_option("inputs", opt->inputs, "input frames (EXR), two or more")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd->add_option("-o,--output", opt->output, "output EXR")->required();
+    cmd->add_option("--hist-bins", opt->histBins, "histogram bins per channel")
+        ->capture_default_str()
+        ->check(CLI::Range(3, 1000));
+    cmd->callback([opt] {
+        CheckOutputPath(opt->output, {".exr"});
+        std::vector<RolePath> inputs;
+        for (const std::string &path : opt->inputs) inputs.push_back({"input", path, ""});
+        RefuseOverwritingInputs(inputs, {{"-o", opt->output}});
+        if (opt->inputs.size() < 2)
+            throw Error("accumulate needs two or more frames (the variance is their spread)");
+
+        // Every header before any pixels: a mismatched file is refused at once.
+        std::vector<io::FrameHeader> headers;
+        std::map<std::string, std::string> seeds;
+        for (const std::string &path : opt->inputs) {
+            headers.push_back(io::ReadFrameHeader(path));
+            io::CheckSameLayout(headers.front(), headers.back());
+            if (auto it = headers.back().metadata.find("mcd:seed");
+                it != headers.back().metadata.end()) {
+                if (!seeds.emplace(it->second, path).second)
+                    fmt::print(stderr,
+                               "warning: '{}' and '{}' were rendered with the same seed {}: "
+                               "they are one frame twice, not independent\n",
+                               seeds[it->second], path, it->second);
+            }
+        }
+        if (!headers.front().layers.count("color") || headers.front().layers.at("color") != 3)
+            throw Error(fmt::format("'{}' has no R, G, B color layer", opt->inputs.front()));
+        int spp = io::SppFromMetadata(headers.front().metadata);
+        bool sameSpp = true;
+        for (const io::FrameHeader &header : headers) {
+            if (io::SppFromMetadata(header.metadata) == spp) continue;
+            sameSpp = false;
+            fmt::print(stderr,
+                       "warning: '{}' states {} spp but '{}' states {}: accumulate "
+                       "weights frames equally\n",
+                       header.path, io::SppFromMetadata(header.metadata), headers.front().path,
+                       spp);
+        }
+
+        auto start = std::chrono::steady_clock::now();
+        io::Accumulator accumulator({opt->histBins});
+        bool terminal = isatty(fileno(stderr));
+        double bytes = 0;
+        int total = int(opt->inputs.size());
+        for (int i = 0; i < total; ++i) {
+            if (terminal)
+                std::fprintf(stderr, "\raccumulate %d frames: %3d%%", total, 100 * i / total);
+            std::error_code ec;
+            bytes += double(std::filesystem::file_size(opt->inputs[i], ec));
+            accumulator.Add(io::ReadFrame(opt->inputs[i]));
+        }
+        if (terminal) std::fprintf(stderr, "\raccumulate %d frames: 100%%\n", total);
+        io::Frame frame = accumulator.Finish();
+        // The total the metadata states; an spp layer may vary per pixel (adaptive inputs).
+        if (spp > 0 && sameSpp) frame.metadata["mcd:spp"] = std::to_string(spp * total);
+        for (const char *key : {"mcd:scene", "mcd:size"})
+            if (auto it = headers.front().metadata.find(key);
+                it != headers.front().metadata.end())
+                frame.metadata[key] = it->second;
+        std::vector<std::pair<std::string, const Image *>> layers;
+        for (const char *name : kOutputOrder)
+            if (frame.Has(name)) layers.push_back({name, &frame.Get(name)});
+        io::WriteExr(opt->output, layers, frame.metadata);
+        double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+        fmt::print(
+            "{}: {} frames {}x{}, {} layers, {:.2f} s ({:.2f} frames/s, {:.0f} MB/s read)\n",
+            opt->output, total, frame.width, frame.height, layers.size(), seconds,
+            total / seconds, bytes / seconds * 1e-6);
+        for (const auto &[layer, count] : accumulator.NonFinite())
+            fmt::print("  warning: {} NaN/Inf pixel values in layer {} were left out\n", count,
+                       layer);
+        std::string dropped;
+        for (const std::string &name : accumulator.Dropped())
+            dropped += (dropped.empty() ? "" : ", ") + name;
+        if (!dropped.empty()) fmt::print("  not carried: {}\n", dropped);
+    });
+}
+
+}  // namespace mcd::tool
