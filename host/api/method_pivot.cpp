@@ -4,6 +4,7 @@
 
 #include "cpu_reference/pivot_filter.h"
 #include "host/api/front_end.h"
+#include "host/api/pivot_params.h"
 #include "host/methods/pivot.h"
 
 namespace mcd::api {
@@ -116,17 +117,7 @@ class Pivot : public FrontEndOf<PivotParams> {
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         PivotOptions o;
         PivotInputs in = InputsOf(inputs, &o);
-        ref::PivotParams p;
-        p.floor = o.floor;
-        p.maxRadius = o.maxRadius;
-        p.targetNoise = o.targetNoise;
-        p.goodNoise = o.goodNoise;
-        p.disagreement = o.disagreement;
-        p.k = o.k;
-        p.sigmaWeight = o.sigmaWeight;
-        p.bilateralRadius = o.bilateralRadius;
-        p.sigmaRange = o.sigmaRange;
-        p.bilateral = o.filter == PivotFilter::Bilateral;
+        ref::PivotParams p = RefParams(o);
         Image ids;
         if (in.objectId || in.partId) {
             ids = Image(inputs.Width(), inputs.Height(), 2);

@@ -12,8 +12,8 @@
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
+#include "host/api/pivot_params.h"
 #include "host/methods/pivot.h"
-#include "methods/pivot_params.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
@@ -146,7 +146,7 @@ TEST_F(PivotPartialsMethod, MatchesTheReferencePerPartial) {
     o.maxRadius = 5;
     PivotResult gpu = PivotDenoise(Ctx(), in, o);
 
-    ref::PivotParams p = RefParams(o);
+    ref::PivotParams p = api::RefParams(o);
     Image ids(21, 17, 2);
     for (size_t i = 0; i < ids.PixelCount(); ++i) {
         ids.data[i] = in.objectId->data[i];

@@ -16,13 +16,13 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/pivot_params.h"
 #include "host/kernels/pivot_bilateral.h"
 #include "host/kernels/pivot_fit.h"
 #include "host/kernels/pivot_gather.h"
 #include "host/kernels/pivot_ratio.h"
 #include "host/methods/pivot.h"
 #include "host/metrics.h"
-#include "methods/pivot_params.h"
 #include "pivot/pivot.h"
 #include "tools/render/renderer.h"
 
@@ -206,7 +206,7 @@ TEST_P(PivotKernelFit, MatchesReference) {
     o.sigmaWeight = guides ? 0.5f : 1.f;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image margin;
-    Image expected = ref::PivotFit(ratio, refGuides, RefParams(o), &margin);
+    Image expected = ref::PivotFit(ratio, refGuides, api::RefParams(o), &margin);
 
     vk::GpuImage z(Ctx(), w, h, 3, "z"), s(Ctx(), w, h, 3, "s"), nu(Ctx(), w, h, 3, "nu");
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
@@ -284,7 +284,7 @@ TEST_P(PivotKernelGather, MatchesReference) {
     PivotOptions o;
     o.maxRadius = 5;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
-    Image fits = ref::PivotFit(ratio, refGuides, RefParams(o));
+    Image fits = ref::PivotFit(ratio, refGuides, api::RefParams(o));
     Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides);
 
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
@@ -335,7 +335,7 @@ TEST_P(PivotKernelBilateral, MatchesReference) {
     PivotOptions o;
     o.bilateralRadius = 4;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
-    Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, RefParams(o));
+    Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, api::RefParams(o));
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "o");
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
@@ -424,7 +424,7 @@ TEST_P(PivotMethodVariant, MatchesReferenceAndRerunsBitIdentically) {
     PivotResult second = PivotDenoise(Ctx(), in, o);
     EXPECT_TRUE(BitIdentical(first.image, second.image));
 
-    ref::PivotParams p = RefParams(o);
+    ref::PivotParams p = api::RefParams(o);
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, guides ? &f.ids : nullptr);
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
@@ -498,7 +498,7 @@ TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
     PivotResult result = PivotDenoise(Ctx(), in, o);
     ASSERT_LT(result.meanRadius, 11.5)
         << "the radii no longer differ: the test needs a quiet region";
-    ref::PivotParams p = RefParams(o);
+    ref::PivotParams p = api::RefParams(o);
     ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, nullptr);
     ref::PivotGuides none{nullptr, nullptr};
     Image expected =

@@ -1,10 +1,11 @@
-// The CPU reference's parameters for the GPU method's options, shared by the pivot tests.
+// The CPU reference's parameters for the GPU pipeline's options: the pivot front end's
+// Reference() and the pivot tests map them the same way (a mapping, not an algorithm).
 #pragma once
 
 #include "cpu_reference/pivot_filter.h"
 #include "host/methods/pivot.h"
 
-namespace mcd::test {
+namespace mcd::api {
 
 inline ref::PivotParams RefParams(const PivotOptions &o) {
     ref::PivotParams p;
@@ -17,7 +18,8 @@ inline ref::PivotParams RefParams(const PivotOptions &o) {
     p.sigmaWeight = o.sigmaWeight;
     p.bilateralRadius = o.bilateralRadius;
     p.sigmaRange = o.sigmaRange;
+    p.bilateral = o.filter == PivotFilter::Bilateral;
     return p;
 }
 
-}  // namespace mcd::test
+}  // namespace mcd::api
