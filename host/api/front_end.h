@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
 #include "mcdenoise/mcdenoise.h"
@@ -155,17 +156,7 @@ std::unique_ptr<FrontEnd> BayesFrontEnd();
 std::unique_ptr<FrontEnd> PivotFrontEnd();
 std::unique_ptr<FrontEnd> RhfFrontEnd();
 
-// Result fields from a pipeline's own result (image, plan, warnings, timings, stages).
-template <class R>
-Result ResultOf(R &&run) {
-    Result result;
-    result.image = std::move(run.image);
-    result.plan = std::move(run.plan);
-    if constexpr (requires { run.warnings; }) result.warnings = std::move(run.warnings);
-    for (const vk::DispatchTiming &t : run.timings)
-        result.timings.push_back({t.label, t.gpuMs});
-    for (auto &[name, image] : run.stages) result.stages.push_back({name, std::move(image)});
-    return result;
-}
+// The public result from a pipeline's (sliced from BayesResult, RhfResult, ...).
+Result ResultOf(MethodResult &&run);
 
 }  // namespace mcd::api

@@ -1,0 +1,16 @@
+#include "host/api/front_end.h"
+
+namespace mcd::api {
+
+Result ResultOf(MethodResult &&run) {
+    Result result;
+    result.image = std::move(run.image);
+    result.plan = std::move(run.plan);
+    result.warnings = std::move(run.warnings);
+    for (const vk::DispatchTiming &t : run.timings)
+        result.timings.push_back({t.label, t.gpuMs});
+    for (auto &[name, image] : run.stages) result.stages.push_back({name, std::move(image)});
+    return result;
+}
+
+}  // namespace mcd::api
