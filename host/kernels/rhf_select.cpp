@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "host/error.h"
 #include "host/vk/context.h"
 #include "host/vk/kernel.h"
@@ -16,7 +18,7 @@ int RhfMaskWords(int searchHalf) {
 }
 
 void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
-                     int searchHalf, int rowBase, int rows, int knn, float threshold,
+                     int searchHalf, int rowBase, int rows, int nearest, float threshold,
                      const vk::Buffer &dist, vk::Buffer &mask) {
     size_t side = 2 * searchHalf + 1, words = RhfMaskWords(searchHalf);
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
@@ -26,14 +28,16 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
             fmt::format("rhf select: rows {}..{} of a {}x{} image do not fit the "
                         "buffers",
                         rowBase, rowBase + rows - 1, width, height));
-    const vk::Kernel &kernel = context.GetKernel({"rhf_select",
-                                                  k_rhf_select_spv,
-                                                  sizeof(k_rhf_select_spv),
-                                                  RHF_SELECT_BINDINGS,
-                                                  sizeof(shader::RhfSelectPush),
-                                                  {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}},
-                                                  1u << RHF_SELECT_DISTANCE});
-    shader::RhfSelectPush push{width, height, searchHalf, rowBase, rows, knn, 0, threshold};
+    const vk::Kernel &kernel =
+        context.GetKernel({"rhf_select",
+                           k_rhf_select_spv,
+                           sizeof(k_rhf_select_spv),
+                           RHF_SELECT_BINDINGS,
+                           sizeof(shader::RhfSelectPush),
+                           {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf},
+                            {RHF_SELECT_SPEC_NEAREST, std::max(nearest, 1)}},
+                           1u << RHF_SELECT_DISTANCE});
+    shader::RhfSelectPush push{width, height, searchHalf, rowBase, rows, nearest, 0, threshold};
     recorder.Dispatch(kernel, "rhf.select",
                       {{RHF_SELECT_DISTANCE, &dist, vk::Access::Read},
                        {RHF_SELECT_MASK, &mask, vk::Access::Write}},
