@@ -35,13 +35,15 @@ void main() {
     float ty = (float(y) + 0.5) * float(ch) / float(push.height) - 0.5;
     int ix = int(floor(tx)), iy = int(floor(ty));
     float fx = tx - float(ix), fy = ty - float(iy);
+    // Mirror only near the edges: its integer division is slow on CPU devices.
+    bool insideX = ix >= 1 && ix + 2 < cw, insideY = iy >= 1 && iy + 2 < ch;
     float lowV = 0.0, coarseV = 0.0;
     for (int j = -1; j <= 2; ++j) {
         float wy = Keys(fy - float(j));
-        int row = plane + Mirror(iy + j, ch) * cw;
+        int row = plane + (insideY ? iy + j : Mirror(iy + j, ch)) * cw;
         for (int i = -1; i <= 2; ++i) {
             float w = wy * Keys(fx - float(i));
-            int at = row + Mirror(ix + i, cw);
+            int at = row + (insideX ? ix + i : Mirror(ix + i, cw));
             lowV += w * low[at];
             coarseV += w * coarse[at];
         }

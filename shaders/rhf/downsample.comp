@@ -25,11 +25,18 @@ void main() {
     int origin = (push.axis == 0 ? x : y) * push.step + push.step / 2 - push.radius;
     if (push.axis == 0) {
         int row = srcPlane + y * push.srcWidth;
-        for (int i = 0; i <= 2 * push.radius; ++i)
-            v += weights[i] * texelFetch(src, row + Mirror(origin + i, push.srcWidth)).r;
+        // Mirror only near the edges: its integer division is slow on CPU devices.
+        if (origin >= 0 && origin + 2 * push.radius < push.srcWidth) {
+            for (int i = 0; i <= 2 * push.radius; ++i)
+                v += weights[i] * texelFetch(src, row + origin + i).r;
+        } else {
+            for (int i = 0; i <= 2 * push.radius; ++i)
+                v += weights[i] * texelFetch(src, row + Mirror(origin + i, push.srcWidth)).r;
+        }
     } else {
+        bool inside = origin >= 0 && origin + 2 * push.radius < push.srcHeight;
         for (int i = 0; i <= 2 * push.radius; ++i) {
-            int row = Mirror(origin + i, push.srcHeight);
+            int row = inside ? origin + i : Mirror(origin + i, push.srcHeight);
             v += weights[i] * texelFetch(src, srcPlane + row * push.srcWidth + x).r;
         }
     }
