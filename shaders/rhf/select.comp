@@ -34,7 +34,11 @@ void main() {
     // The tool's selection sort: each pass takes the first smallest candidate in array
     // order and swaps it with the candidate at the front of what is left.
     int moves = 0;
-    for (int k = 0; k < push.nearest; ++k) {
+    // Nearest covering the window takes every candidate, in any order.
+    if (push.nearest >= OFFSETS) {
+        [[unroll]] for (int o = 0; o < OFFSETS; ++o) if (d[o] >= 0.0) d[o] = PICKED;
+    }
+    for (int k = 0; k < push.nearest && push.nearest < OFFSETS; ++k) {
         int best = -1, bestKey = 0, head = -1, headKey = 0;
         float bestD = 0.0;
         [[unroll]] for (int o = 0; o < OFFSETS; ++o) {
