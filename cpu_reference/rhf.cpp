@@ -72,6 +72,24 @@ double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w
     return sum / (double(counted) + 1e-4);
 }
 
+std::vector<bool> RhfSelect(const std::vector<double> &distances, int nearest,
+                            double threshold) {
+    int n = int(distances.size());
+    std::vector<int> order(n);
+    for (int i = 0; i < n; ++i) order[i] = i;
+    std::vector<bool> picked(n, false);
+    for (int k = 0; k < std::min(nearest, n); ++k) {
+        int best = k;
+        for (int j = k + 1; j < n; ++j)
+            if (distances[order[j]] < distances[order[best]]) best = j;
+        std::swap(order[k], order[best]);
+        picked[order[k]] = true;
+    }
+    for (int i = 0; i < n; ++i)
+        if (distances[i] < threshold) picked[i] = true;
+    return picked;
+}
+
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
                      double threshold, int knn, double brightVeto) {
     const int W = color.width, H = color.height, C = color.channels;
@@ -85,28 +103,24 @@ Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int s
             int ymin = std::max(y - searchHalf, w0),
                 ymax = std::min(y + searchHalf, H - 1 - w0);
             // Candidates in the tool's order: column by column of the clamped window.
-            std::vector<std::tuple<double, int, int>> candidates;  // (distance, qx, qy)
+            std::vector<double> distances;
+            std::vector<std::pair<int, int>> where;
             for (int qx = xmin; qx <= xmax; ++qx)
                 for (int qy = ymin; qy <= ymax; ++qy) {
                     double d = RhfPatchDistance(hist, x, y, qx, qy, w0, brightVeto);
-                    if (d >= 0) candidates.emplace_back(d, qx, qy);
+                    if (d < 0) continue;
+                    distances.push_back(d);
+                    where.emplace_back(qx, qy);
                 }
-            // The k_NN nearest besides the patch itself, picked as the tool's selection sort
-            // picks them: k_NN + 1 passes, each swapping the first smallest to the front.
-            int nearest = knn > 0 ? std::min(knn + 1, int(candidates.size())) : 0;
-            for (int k = 0; k < nearest; ++k) {
-                int best = k;
-                for (int j = k + 1; j < int(candidates.size()); ++j)
-                    if (std::get<0>(candidates[j]) < std::get<0>(candidates[best])) best = j;
-                std::swap(candidates[k], candidates[best]);
-            }
+            // The k_NN nearest besides the patch itself, and every one under the threshold.
+            std::vector<bool> picked = RhfSelect(distances, knn > 0 ? knn + 1 : 0, threshold);
             // Eq. 6: the average of the selected patches.
             int side = 2 * w0 + 1;
             std::vector<double> patch(size_t(C) * side * side, 0.0);
             int selected = 0;
-            for (size_t k = 0; k < candidates.size(); ++k) {
-                auto [d, qx, qy] = candidates[k];
-                if (int(k) >= nearest && !(d < threshold)) continue;
+            for (size_t k = 0; k < where.size(); ++k) {
+                if (!picked[k]) continue;
+                auto [qx, qy] = where[k];
                 ++selected;
                 for (int c = 0; c < C; ++c)
                     for (int ty = -w0; ty <= w0; ++ty)

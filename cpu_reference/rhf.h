@@ -39,6 +39,13 @@ int RhfScalesUsed(int width, int height, const RhfParams &params);
 double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w0,
                         double brightVeto = 0);
 
+// Algorithm 2, lines 10-17, as the tool selects: distances are one window's candidates in
+// its order (column by column), vetoed ones left out. `nearest` passes of a selection sort
+// (each takes the first smallest of the rest and swaps it to the front) pick the nearest;
+// every candidate closer than the threshold is taken too. Returns one flag per candidate.
+std::vector<bool> RhfSelect(const std::vector<double> &distances, int nearest,
+                            double threshold);
+
 // Algorithm 2 on one scale: kNN (with knn > 0, the knn + 1 nearest, the patch itself among
 // them, ties resolved as the tool's selection sort over the window column by column does)
 // plus every patch closer than the threshold, binary weights, aggregation over the

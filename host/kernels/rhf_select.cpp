@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-
 #include "host/error.h"
 #include "host/vk/context.h"
 #include "host/vk/kernel.h"
@@ -28,15 +26,13 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
             fmt::format("rhf select: rows {}..{} of a {}x{} image do not fit the "
                         "buffers",
                         rowBase, rowBase + rows - 1, width, height));
-    const vk::Kernel &kernel = context.GetKernel(
-        {"rhf_select",
-         k_rhf_select_spv,
-         sizeof(k_rhf_select_spv),
-         RHF_SELECT_BINDINGS,
-         sizeof(shader::RhfSelectPush),
-         {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf},
-          {RHF_SELECT_SPEC_NEAREST, std::clamp(nearest, 1, int(side * side))}},
-         1u << RHF_SELECT_DISTANCE});
+    const vk::Kernel &kernel = context.GetKernel({"rhf_select",
+                                                  k_rhf_select_spv,
+                                                  sizeof(k_rhf_select_spv),
+                                                  RHF_SELECT_BINDINGS,
+                                                  sizeof(shader::RhfSelectPush),
+                                                  {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}},
+                                                  1u << RHF_SELECT_DISTANCE});
     shader::RhfSelectPush push{width, height, searchHalf, rowBase, rows, nearest, 0, threshold};
     recorder.Dispatch(kernel, "rhf.select",
                       {{RHF_SELECT_DISTANCE, &dist, vk::Access::Read},

@@ -11,7 +11,6 @@
 #define RHF_SELECT_BINDINGS 2
 #define RHF_SELECT_LOCAL_SIZE 64
 #define RHF_SELECT_SPEC_SEARCH_HALF 0  // b
-#define RHF_SELECT_SPEC_NEAREST 1      // nearest, clamped to [1, (2b+1)^2]
 
 #ifdef __cplusplus
 #include <cstddef>

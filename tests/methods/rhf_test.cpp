@@ -16,7 +16,10 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/error.h"
+#include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
+#include "host/vk/buffer.h"
+#include "host/vk/recorder.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
@@ -395,6 +398,53 @@ TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
     o.brightVeto = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
+}
+
+// The selection kernel against the reference's selection sort on distances drawn from a
+// few values, so that ties at the cut are the rule: every nearest from 0 past the window,
+// thresholds below, at and between the values, vetoed and out-of-window candidates (-1).
+TEST_F(RhfProperties, SelectionMatchesTheToolsSortOnTies) {
+    std::mt19937_64 rng(SeedFromName("rhf select ties"));
+    const float values[] = {-1.f, 0.f, 0.5f, 1.f, 1.f, 2.f};
+    for (int b : {0, 1, 2, 3}) {
+        const int side = 2 * b + 1, offsets = side * side, w = 9, rows = 3;
+        for (int nearest : {0, 1, 2, 3, 5, offsets - 1, offsets, offsets + 3})
+            for (float threshold : {0.f, 0.5f, 1.f, 1.5f, 3.f}) {
+                SCOPED_TRACE(
+                    fmt::format("b {} nearest {} threshold {}", b, nearest, threshold));
+                std::vector<float> d(size_t(offsets) * rows * w);
+                for (float &v : d) v = values[rng() % 6];
+                vk::Buffer dist(Ctx(), d.size() * sizeof(float), "dist"),
+                    mask(Ctx(), size_t(RhfMaskWords(b)) * rows * w * sizeof(uint32_t), "mask");
+                dist.UploadFloats(d);
+                vk::Recorder recorder(Ctx());
+                RecordRhfSelect(Ctx(), recorder, w, rows, b, 0, rows, nearest, threshold, dist,
+                                mask);
+                recorder.Submit();
+                std::vector<uint32_t> bits(size_t(RhfMaskWords(b)) * rows * w);
+                mask.Download(bits.data(), bits.size() * sizeof(uint32_t));
+                for (int y = 0; y < rows; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        // The window column by column (offset o = dy * side + dx).
+                        std::vector<double> valid;
+                        std::vector<int> offsetOf;
+                        for (int dx = 0; dx < side; ++dx)
+                            for (int dy = 0; dy < side; ++dy) {
+                                int o = dy * side + dx;
+                                float v = d[(size_t(o) * rows + y) * w + x];
+                                if (v < 0) continue;
+                                valid.push_back(v);
+                                offsetOf.push_back(o);
+                            }
+                        std::vector<bool> picked = ref::RhfSelect(valid, nearest, threshold);
+                        std::vector<bool> gpu(offsets, false), cpu(offsets, false);
+                        for (size_t i = 0; i < valid.size(); ++i) cpu[offsetOf[i]] = picked[i];
+                        for (int o = 0; o < offsets; ++o)
+                            gpu[o] = bits[(size_t(o / 32) * rows + y) * w + x] >> (o % 32) & 1u;
+                        ASSERT_EQ(cpu, gpu) << fmt::format("centre ({}, {})", x, y);
+                    }
+            }
+    }
 }
 
 }  // namespace
