@@ -3,16 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <tuple>
 #include <vector>
 
 namespace mcd::ref {
 namespace {
-
-int Clamp(int v, int lo, int hi) {
-    return std::min(std::max(v, lo), hi);
-}
 
 double Keys(double x) {
     const double a = -0.5;
@@ -27,6 +24,12 @@ double SigmaOfScale(int s) {
 }
 
 }  // namespace
+
+int RhfMirror(int i, int n) {
+    i %= 2 * n;
+    if (i < 0) i += 2 * n;
+    return i < n ? i : 2 * n - 1 - i;
+}
 
 int RhfScalesUsed(int width, int height, const RhfParams &params) {
     int side = 2 * params.searchHalf + 1, used = 1;
@@ -69,6 +72,24 @@ double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w
     return sum / (double(counted) + 1e-4);
 }
 
+std::vector<bool> RhfSelect(const std::vector<double> &distances, int nearest,
+                            double threshold) {
+    int n = int(distances.size());
+    std::vector<int> order(n);
+    for (int i = 0; i < n; ++i) order[i] = i;
+    std::vector<bool> picked(n, false);
+    for (int k = 0; k < std::min(nearest, n); ++k) {
+        int best = k;
+        for (int j = k + 1; j < n; ++j)
+            if (distances[order[j]] < distances[order[best]]) best = j;
+        std::swap(order[k], order[best]);
+        picked[order[k]] = true;
+    }
+    for (int i = 0; i < n; ++i)
+        if (distances[i] < threshold) picked[i] = true;
+    return picked;
+}
+
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
                      double threshold, int knn, double brightVeto) {
     const int W = color.width, H = color.height, C = color.channels;
@@ -81,25 +102,25 @@ Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int s
                 xmax = std::min(x + searchHalf, W - 1 - w0);
             int ymin = std::max(y - searchHalf, w0),
                 ymax = std::min(y + searchHalf, H - 1 - w0);
-            // (distance, order, qx, qy): order -1 for the patch itself, else its scan index.
-            std::vector<std::tuple<double, int, int, int>> candidates;
-            for (int qy = ymin; qy <= ymax; ++qy)
-                for (int qx = xmin; qx <= xmax; ++qx) {
-                    int order = (qx == x && qy == y)
-                                    ? -1
-                                    : (qy - y + searchHalf) * (2 * searchHalf + 1) +
-                                          (qx - x + searchHalf);
+            // Candidates in the tool's order: column by column of the clamped window.
+            std::vector<double> distances;
+            std::vector<std::pair<int, int>> where;
+            for (int qx = xmin; qx <= xmax; ++qx)
+                for (int qy = ymin; qy <= ymax; ++qy) {
                     double d = RhfPatchDistance(hist, x, y, qx, qy, w0, brightVeto);
-                    if (d >= 0) candidates.emplace_back(d, order, qx, qy);
+                    if (d < 0) continue;
+                    distances.push_back(d);
+                    where.emplace_back(qx, qy);
                 }
-            std::sort(candidates.begin(), candidates.end());
+            // The k_NN nearest besides the patch itself, and every one under the threshold.
+            std::vector<bool> picked = RhfSelect(distances, knn > 0 ? knn + 1 : 0, threshold);
             // Eq. 6: the average of the selected patches.
             int side = 2 * w0 + 1;
             std::vector<double> patch(size_t(C) * side * side, 0.0);
             int selected = 0;
-            for (size_t k = 0; k < candidates.size(); ++k) {
-                auto [d, order, qx, qy] = candidates[k];
-                if (int(k) >= knn && !(d < threshold)) continue;
+            for (size_t k = 0; k < where.size(); ++k) {
+                if (!picked[k]) continue;
+                auto [qx, qy] = where[k];
                 ++selected;
                 for (int c = 0; c < C; ++c)
                     for (int ty = -w0; ty <= w0; ++ty)
@@ -130,41 +151,59 @@ Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int s
 }
 
 Image RhfGaussianDownsample(const Image &image, int s, double sigma) {
-    int step = 1 << s, radius = int(std::ceil(3 * sigma));
-    std::vector<double> g(2 * radius + 1);
-    double total = 0;
-    for (int i = -radius; i <= radius; ++i)
-        total += g[i + radius] = std::exp(-i * i / (2 * sigma * sigma));
-    for (double &v : g) v /= total;
-    int W = (image.width + step - 1) / step, H = (image.height + step - 1) / step;
+    double scale = std::ldexp(1.0, -s);
+    int radius = int(std::ceil(sigma * std::sqrt(4 * std::log(10.0))));
+    int W = int(std::ceil(image.width * scale)), H = int(std::ceil(image.height * scale));
+    // One axis: dst(x) = sum_j g_x(j) src(mirror(j)), the kernel centred on (x + 0.5) /
+    // scale in the source's pixel-edge coordinates and normalised per x.
+    auto axis = [&](int n, int out) {
+        std::vector<std::vector<std::pair<int, double>>> taps(out);
+        for (int x = 0; x < out; ++x) {
+            double xx = (x + 0.5) / scale;
+            int xc = int(std::floor(xx));
+            double total = 0;
+            for (int j = xc - radius; j <= xc + radius; ++j) {
+                double t = (j + 0.5 - xx) / sigma;
+                taps[x].emplace_back(RhfMirror(j, n), std::exp(-0.5 * t * t));
+                total += taps[x].back().second;
+            }
+            for (auto &tap : taps[x]) tap.second /= total;
+        }
+        return taps;
+    };
+    auto tx = axis(image.width, W), ty = axis(image.height, H);
     Image out(W, H, image.channels);
     for (int c = 0; c < image.channels; ++c)
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {
                 double v = 0;
-                for (int j = -radius; j <= radius; ++j)
-                    for (int i = -radius; i <= radius; ++i)
-                        v += g[j + radius] * g[i + radius] *
-                             image.At(c, Clamp(step * y + j, 0, image.height - 1),
-                                      Clamp(step * x + i, 0, image.width - 1));
+                for (auto [j, gy] : ty[y])
+                    for (auto [i, gx] : tx[x]) v += gy * gx * image.At(c, j, i);
                 out.At(c, y, x) = float(v);
             }
     return out;
 }
 
 Image RhfBicubicUpsample(const Image &coarse, int width, int height) {
+    // Pixel centres aligned: fine x sits at coarse (x + 0.5) n_coarse / n_fine - 0.5.
+    auto axis = [](int n, int out) {
+        std::vector<std::array<std::pair<int, double>, 4>> taps(out);
+        for (int x = 0; x < out; ++x) {
+            double t = (x + 0.5) * n / out - 0.5;
+            int i0 = int(std::floor(t));
+            for (int k = 0; k < 4; ++k)
+                taps[x][k] = {RhfMirror(i0 - 1 + k, n), Keys(t - (i0 - 1 + k))};
+        }
+        return taps;
+    };
+    auto tx = axis(coarse.width, width), ty = axis(coarse.height, height);
     Image out(width, height, coarse.channels);
     for (int c = 0; c < coarse.channels; ++c)
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
-                double tx = x / 2.0, ty = y / 2.0;
-                int ix = int(std::floor(tx)), iy = int(std::floor(ty));
                 double v = 0;
-                for (int j = iy - 1; j <= iy + 2; ++j)
-                    for (int i = ix - 1; i <= ix + 2; ++i)
-                        v += Keys(tx - i) * Keys(ty - j) *
-                             coarse.At(c, Clamp(j, 0, coarse.height - 1),
-                                       Clamp(i, 0, coarse.width - 1));
+                for (auto [j, wy] : ty[y])
+                    for (auto [i, wx] : tx[x]) v += wy * wx * coarse.At(c, j, i);
                 out.At(c, y, x) = float(v);
             }
     return out;
@@ -174,10 +213,9 @@ Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
           std::vector<std::pair<std::string, Image>> *stages) {
     int scales = RhfScalesUsed(color.width, color.height, params);
     int n3 = hist.channels - 1;
-    // n_T: the total of the bins over the image, kept at every scale.
+    // n_T: the total of the count channel over the image, kept at every scale.
     double total = 0;
-    for (int i = 0; i < n3; ++i)
-        for (size_t p = 0; p < hist.PixelCount(); ++p) total += hist.Plane(i)[p];
+    for (size_t p = 0; p < hist.PixelCount(); ++p) total += hist.Plane(n3)[p];
     Image previous;
     for (int s = scales - 1; s >= 0; --s) {
         Image u = color, h = hist;
@@ -186,8 +224,7 @@ Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
             u = RhfGaussianDownsample(color, s, SigmaOfScale(s));
             h = RhfGaussianDownsample(hist, s, SigmaOfScale(s));
             double totalS = 0;
-            for (int i = 0; i < n3; ++i)
-                for (size_t p = 0; p < h.PixelCount(); ++p) totalS += h.Plane(i)[p];
+            for (size_t p = 0; p < h.PixelCount(); ++p) totalS += h.Plane(n3)[p];
             factor = totalS > 0 ? total / totalS : 1.0;
             for (float &v : h.data) v = float(v * factor);
             if (stages) stages->push_back({fmt::format("color s{}", s), u});

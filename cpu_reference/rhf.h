@@ -39,19 +39,34 @@ int RhfScalesUsed(int width, int height, const RhfParams &params);
 double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w0,
                         double brightVeto = 0);
 
-// Algorithm 2 on one scale: kNN (knn nearest, ties to the patch itself first, then in scan
-// order) plus every patch closer than the threshold, binary weights, aggregation over the
+// Algorithm 2, lines 10-17, as the tool selects: distances are one window's candidates in
+// its order (column by column), vetoed ones left out. `nearest` passes of a selection sort
+// (each takes the first smallest of the rest and swaps it to the front) pick the nearest;
+// every candidate closer than the threshold is taken too. Returns one flag per candidate.
+std::vector<bool> RhfSelect(const std::vector<double> &distances, int nearest,
+                            double threshold);
+
+// Algorithm 2 on one scale: kNN (with knn > 0, the knn + 1 nearest, the patch itself among
+// them, ties resolved as the tool's selection sort over the window column by column does)
+// plus every patch closer than the threshold, binary weights, aggregation over the
 // patches covering each pixel. Vetoed patches are no candidates. A pixel no selected patch
 // covers keeps its value.
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
                      double threshold, int knn, double brightVeto = 0);
 
-// D_s: Gaussian blur of standard deviation sigma (truncated at ceil(3 sigma), normalised,
-// edges clamped) sampled at 2^s x; the result is ceil(W / 2^s) x ceil(H / 2^s).
+// The symmetric boundary of the tool's samplers: index i of a line of n, mirrored about the
+// edges (period 2n, the edge pixel repeated).
+int RhfMirror(int i, int n);
+
+// D_s as the tool's Gaussian sampler: output pixel x is the Gaussian of standard deviation
+// sigma centred on input position (x + 0.5) 2^s - 0.5 (pixel-centre coordinates), taps
+// j in [floor((x + 0.5) 2^s) - h, + h] with h = ceil(sigma sqrt(4 ln 10)), normalised,
+// mirrored edges; the result is ceil(W / 2^s) x ceil(H / 2^s).
 Image RhfGaussianDownsample(const Image &image, int s, double sigma);
 
-// U: bicubic (Keys, a = -0.5) interpolation of `coarse` onto a width x height grid where
-// fine pixel x sits at coarse position x / 2; edges clamped.
+// U: bicubic (Keys, a = -0.5) interpolation of `coarse` onto a width x height grid with the
+// pixel centres aligned: fine x sits at coarse (x + 0.5) coarse.width / width - 0.5;
+// mirrored edges.
 Image RhfBicubicUpsample(const Image &coarse, int width, int height);
 
 // Algorithm 3: the whole filter. With `stages`, also the images the GPU run keeps

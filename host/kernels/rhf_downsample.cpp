@@ -12,12 +12,17 @@
 
 namespace mcd {
 
-std::vector<float> RhfGaussianTaps(double sigma) {
-    int radius = int(std::ceil(3 * sigma));
+std::vector<float> RhfGaussianTaps(double sigma, int step) {
+    int radius = int(std::ceil(sigma * std::sqrt(4 * std::log(10.0))));
+    // Tap i sits at floor((x + 0.5) step) - radius + i, the sample point at
+    // (x + 0.5) step - 0.5: half a pixel before the middle tap when step is even.
+    double centre = radius - (step % 2 == 0 ? 0.5 : 0.0);
     std::vector<double> taps(2 * radius + 1);
     double total = 0;
-    for (int i = -radius; i <= radius; ++i)
-        total += taps[i + radius] = std::exp(-0.5 * i * i / (sigma * sigma));
+    for (int i = 0; i <= 2 * radius; ++i) {
+        double t = (i - centre) / sigma;
+        total += taps[i] = std::exp(-0.5 * t * t);
+    }
     std::vector<float> out;
     for (double t : taps) out.push_back(float(t / total));
     return out;

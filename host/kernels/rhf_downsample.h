@@ -9,12 +9,13 @@
 
 namespace mcd {
 
-// The normalised Gaussian taps of standard deviation sigma, truncated at ceil(3 sigma).
-std::vector<float> RhfGaussianTaps(double sigma);
+// The tool's normalised Gaussian taps of standard deviation sigma for sampling by `step`:
+// 2 h + 1 of them, h = ceil(sigma sqrt(4 ln 10)), centred on the sample point.
+std::vector<float> RhfGaussianTaps(double sigma, int step);
 
 // src holds `planes` planes of srcWidth x srcHeight; dst gets them at
-// ceil(srcWidth / step) x ceil(srcHeight / step), sampled at step * x after the blur by
-// the taps in `weights` (2 radius + 1 floats). scratch holds the x pass,
+// ceil(srcWidth / step) x ceil(srcHeight / step): tap i of `weights` (2 radius + 1 floats)
+// reads step x + step / 2 - radius + i, mirrored at the edges. scratch holds the x pass,
 // planes x srcHeight x ceil(srcWidth / step).
 void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &src,
                          int srcWidth, int srcHeight, int planes, int step,

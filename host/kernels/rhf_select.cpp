@@ -16,7 +16,7 @@ int RhfMaskWords(int searchHalf) {
 }
 
 void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
-                     int searchHalf, int rowBase, int rows, int knn, float threshold,
+                     int searchHalf, int rowBase, int rows, int nearest, float threshold,
                      const vk::Buffer &dist, vk::Buffer &mask) {
     size_t side = 2 * searchHalf + 1, words = RhfMaskWords(searchHalf);
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
@@ -33,7 +33,7 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
                                                   sizeof(shader::RhfSelectPush),
                                                   {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}},
                                                   1u << RHF_SELECT_DISTANCE});
-    shader::RhfSelectPush push{width, height, searchHalf, rowBase, rows, knn, 0, threshold};
+    shader::RhfSelectPush push{width, height, searchHalf, rowBase, rows, nearest, 0, threshold};
     recorder.Dispatch(kernel, "rhf.select",
                       {{RHF_SELECT_DISTANCE, &dist, vk::Access::Read},
                        {RHF_SELECT_MASK, &mask, vk::Access::Write}},

@@ -10,9 +10,10 @@ namespace mcd {
 int RhfMaskWords(int searchHalf);
 
 // dist holds the strip's (2b+1)^2 distance planes of rows x width; mask (whole image,
-// RhfMaskWords planes of height x width) gets the strip's rows.
+// RhfMaskWords planes of height x width) gets the strip's rows. `nearest` patches are always
+// taken (k_NN + 1 with the patch itself, 0 for none), ties as the tool breaks them.
 void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
-                     int searchHalf, int rowBase, int rows, int knn, float threshold,
+                     int searchHalf, int rowBase, int rows, int nearest, float threshold,
                      const vk::Buffer &dist, vk::Buffer &mask);
 
 }  // namespace mcd

@@ -33,15 +33,18 @@ int Shrunk(int extent, int s) {
 }
 
 // How much each full-resolution column (or row) weighs in the sum of D_s's output: the
-// taps that land on it, clamped edges included. The downsampled histograms' total is then
-// the full-resolution one weighted by column times row weights, known without reading
-// anything back from the GPU.
+// taps that land on it, mirrored edges included. The downsampled count channel's total is
+// then the full-resolution one weighted by column times row weights, known without
+// reading anything back from the GPU.
 std::vector<double> ColumnWeights(int extent, int s, const std::vector<float> &taps) {
     int radius = int(taps.size() / 2), step = 1 << s;
     std::vector<double> weights(extent, 0.0);
     for (int x = 0; x < Shrunk(extent, s); ++x)
-        for (int i = -radius; i <= radius; ++i)
-            weights[std::clamp(step * x + i, 0, extent - 1)] += taps[i + radius];
+        for (int i = 0; i <= 2 * radius; ++i) {
+            int j = (step * x + step / 2 - radius + i) % (2 * extent);
+            if (j < 0) j += 2 * extent;
+            weights[j < extent ? j : 2 * extent - 1 - j] += taps[i];
+        }
     return weights;
 }
 
@@ -173,7 +176,7 @@ RhfLayout RhfLayoutFor(vk::Context &context, int W, int H, int planes, const Rhf
     return layout;
 }
 
-// The total of the bins, kept at every scale (Algorithm 3, line 4), and per pixel.
+// The total of the count channel, kept at every scale as the tool keeps it, and per pixel.
 struct HistogramTotals {
     double total = 0;
     std::vector<double> pixel;
@@ -182,8 +185,8 @@ struct HistogramTotals {
 HistogramTotals TotalsOf(const Image &hist) {
     HistogramTotals totals;
     totals.pixel.assign(hist.PixelCount(), 0.0);
-    for (int i = 0; i < hist.channels - 1; ++i)
-        for (size_t p = 0; p < hist.PixelCount(); ++p) totals.pixel[p] += hist.Plane(i)[p];
+    const float *count = hist.Plane(hist.channels - 1);
+    for (size_t p = 0; p < hist.PixelCount(); ++p) totals.pixel[p] = count[p];
     for (double v : totals.pixel) totals.total += v;
     return totals;
 }
@@ -229,7 +232,7 @@ struct RhfScratch {
 // D_s of `count` planes of a srcW x srcH buffer into dst.
 void RecordDownsample(StagedRun &run, RhfScratch &scratch, const vk::Buffer &src, int srcW,
                       int srcH, int count, int s, double sigma, vk::Buffer &dst) {
-    std::vector<float> g = RhfGaussianTaps(sigma);
+    std::vector<float> g = RhfGaussianTaps(sigma, 1 << s);
     vk::Buffer &weights =
         scratch.buffers.emplace_back(run.Context(), g.size() * sizeof(float), "rhf.taps");
     weights.UploadFloats(g);
@@ -271,8 +274,8 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
         RecordDownsample(run, scratch, full.slots[slot], W, H, count, s, sigma, to);
     }
     in.hist = &coarse;
-    // Count-preserving rescale: the coarse bins' total, from the tap weights.
-    std::vector<float> g = RhfGaussianTaps(sigma);
+    // Count-preserving rescale: the coarse count channel's total, from the tap weights.
+    std::vector<float> g = RhfGaussianTaps(sigma, 1 << s);
     std::vector<double> wx = ColumnWeights(W, s, g), wy = ColumnWeights(H, s, g);
     double coarseTotal = 0;
     for (int y = 0; y < H; ++y)
@@ -297,6 +300,8 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
     const int Ws = in.color->width, Hs = in.color->height, n3 = in.hist->planes - 1;
     const int side = 2 * o.searchHalf + 1, offsets = side * side;
     int knn = s == 0 ? o.knn : 0;
+    // The tool counts the patch itself apart from its k_NN neighbours.
+    int nearest = knn > 0 ? knn + 1 : 0;
     int strips = 0;
     for (int y0 = 0; y0 < Hs; y0 += layout.stripRows, ++strips) {
         int rows = std::min(layout.stripRows, Hs - y0);
@@ -306,7 +311,7 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
                        in.histScale, o.brightVeto / in.histScale, work.termSum, work.termCount);
         RecordRhfDistance(context, recorder, Ws, Hs, o.patchHalf, o.searchHalf, termBase,
                           termRows, y0, rows, work.termSum, work.termCount, work.dist);
-        RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, knn, o.threshold,
+        RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, nearest, o.threshold,
                         work.dist, work.mask);
     }
     vk::GpuImage &filtered =
@@ -316,12 +321,13 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
     run.StageAtEnd(fmt::format("filtered s{}", s), filtered);
     run.Plan(fmt::format(
         "scale {} ({}x{}): chi-square pixel terms for {} offsets x {} bins, {}x{} patch "
-        "distances{}, selection of {} nearest + distance < {} in {} strip(s), aggregation",
+        "distances{}, selection of {} nearest (itself + k_NN) + distance < {} in {} strip(s), "
+        "aggregation",
         s, Ws, Hs, offsets, n3, 2 * o.patchHalf + 1, 2 * o.patchHalf + 1,
         o.brightVeto > 0
             ? fmt::format(" with bright veto {} (in the frame's sample counts)", o.brightVeto)
             : std::string(" (no bright veto)"),
-        knn, o.threshold, strips));
+        nearest, o.threshold, strips));
     return filtered;
 }
 

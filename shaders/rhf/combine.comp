@@ -19,19 +19,31 @@ float Keys(float t) {
     return 0.0;
 }
 
+// The tool's symmetric boundary: period 2n, the edge pixel repeated.
+int Mirror(int i, int n) {
+    int period = 2 * n;  // GLSL's % is undefined for negative operands
+    i = i < 0 ? period - 1 - (-i - 1) % period : i % period;
+    return i < n ? i : period - 1 - i;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y), c = int(gl_WorkGroupID.z);
     if (x >= push.width) return;
     int cw = push.coarseWidth, ch = push.coarseHeight, plane = c * cw * ch;
-    float fx = 0.5 * float(x & 1), fy = 0.5 * float(y & 1);
-    int ix = x >> 1, iy = y >> 1;
+    // Pixel centres aligned: fine x sits at coarse (x + 0.5) cw / width - 0.5.
+    float tx = (float(x) + 0.5) * float(cw) / float(push.width) - 0.5;
+    float ty = (float(y) + 0.5) * float(ch) / float(push.height) - 0.5;
+    int ix = int(floor(tx)), iy = int(floor(ty));
+    float fx = tx - float(ix), fy = ty - float(iy);
+    // Mirror only near the edges: its integer division is slow on CPU devices.
+    bool insideX = ix >= 1 && ix + 2 < cw, insideY = iy >= 1 && iy + 2 < ch;
     float lowV = 0.0, coarseV = 0.0;
     for (int j = -1; j <= 2; ++j) {
         float wy = Keys(fy - float(j));
-        int row = plane + clamp(iy + j, 0, ch - 1) * cw;
+        int row = plane + (insideY ? iy + j : Mirror(iy + j, ch)) * cw;
         for (int i = -1; i <= 2; ++i) {
             float w = wy * Keys(fx - float(i));
-            int at = row + clamp(ix + i, 0, cw - 1);
+            int at = row + (insideX ? ix + i : Mirror(ix + i, cw));
             lowV += w * low[at];
             coarseV += w * coarse[at];
         }

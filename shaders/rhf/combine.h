@@ -1,6 +1,7 @@
 // RHF multi-scale recombination (Algorithm 3, line 10): u_s - U(D(u_s)) + U(u_{s+1}),
-// U the bicubic (Keys, a = -0.5) interpolator by 2 with fine pixel x at coarse position
-// x / 2 and edges clamped. D(u_s) and u_{s+1} are both coarseWidth x coarseHeight.
+// U the bicubic (Keys, a = -0.5) interpolator as the tool's: fine pixel x at coarse
+// position (x + 0.5) coarseWidth / width - 0.5, edges mirrored. D(u_s) and u_{s+1} are both
+// coarseWidth x coarseHeight.
 #ifndef MCD_SHADERS_RHF_COMBINE_H
 #define MCD_SHADERS_RHF_COMBINE_H
 

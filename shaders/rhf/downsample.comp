@@ -9,21 +9,35 @@ layout(binding = RHF_DOWNSAMPLE_SRC) uniform samplerBuffer src;
 layout(std430, binding = RHF_DOWNSAMPLE_DST) writeonly buffer Dst { float dst[]; };
 layout(std430, binding = RHF_DOWNSAMPLE_WEIGHTS) readonly buffer Weights { float weights[]; };
 
+// The tool's symmetric boundary: period 2n, the edge pixel repeated.
+int Mirror(int i, int n) {
+    int period = 2 * n;  // GLSL's % is undefined for negative operands
+    i = i < 0 ? period - 1 - (-i - 1) % period : i % period;
+    return i < n ? i : period - 1 - i;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y), p = int(gl_WorkGroupID.z);
     if (x >= push.dstWidth) return;
     int srcPlane = p * push.srcWidth * push.srcHeight;
     float v = 0.0;
+    // Taps start at floor((x + 0.5) step) - radius, as in the tool's sampler.
+    int origin = (push.axis == 0 ? x : y) * push.step + push.step / 2 - push.radius;
     if (push.axis == 0) {
         int row = srcPlane + y * push.srcWidth;
-        for (int i = -push.radius; i <= push.radius; ++i)
-            v += weights[i + push.radius] *
-                 texelFetch(src, row + clamp(push.step * x + i, 0, push.srcWidth - 1)).r;
+        // Mirror only near the edges: its integer division is slow on CPU devices.
+        if (origin >= 0 && origin + 2 * push.radius < push.srcWidth) {
+            for (int i = 0; i <= 2 * push.radius; ++i)
+                v += weights[i] * texelFetch(src, row + origin + i).r;
+        } else {
+            for (int i = 0; i <= 2 * push.radius; ++i)
+                v += weights[i] * texelFetch(src, row + Mirror(origin + i, push.srcWidth)).r;
+        }
     } else {
-        for (int i = -push.radius; i <= push.radius; ++i) {
-            int row = clamp(push.step * y + i, 0, push.srcHeight - 1);
-            v += weights[i + push.radius] *
-                 texelFetch(src, srcPlane + row * push.srcWidth + x).r;
+        bool inside = origin >= 0 && origin + 2 * push.radius < push.srcHeight;
+        for (int i = 0; i <= 2 * push.radius; ++i) {
+            int row = inside ? origin + i : Mirror(origin + i, push.srcHeight);
+            v += weights[i] * texelFetch(src, srcPlane + row * push.srcWidth + x).r;
         }
     }
     dst[(p * push.dstHeight + y) * push.dstWidth + x] = v;

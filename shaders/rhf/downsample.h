@@ -1,5 +1,6 @@
-// RHF Gaussian downsampling D_s (paper eq. 8), one axis at a time: dst(x) = sum_i g(i)
-// src(clamp(step * x + i)), i in [-radius, radius], for every plane of a planar image.
+// RHF Gaussian downsampling D_s (paper eq. 8) as the tool samples, one axis at a time:
+// dst(x) = sum_i g(i) src(mirror(step * x + step / 2 - radius + i)), i in [0, 2 radius],
+// for every plane of a planar image (step / 2 = floor((x + 0.5) step) - step x).
 // The normalised weights g come in a buffer. The x pass makes dstWidth x srcHeight, the y
 // pass srcWidth x dstHeight.
 #ifndef MCD_SHADERS_RHF_DOWNSAMPLE_H

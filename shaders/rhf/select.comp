@@ -5,53 +5,84 @@
 #include "rhf/select.h"
 
 // One invocation per centre: x across, strip row from the grid. The centre's distances
-// are read once into registers; the k_NN passes and the mask then never touch memory.
+// are read once into registers and never written, so the unrolled loops stay straight
+// lines the compiler handles at any window size.
 layout(local_size_x = RHF_SELECT_LOCAL_SIZE) in;
 layout(constant_id = RHF_SELECT_SPEC_SEARCH_HALF) const int B = 6;
-const int SIDE = 2 * B + 1, OFFSETS = SIDE * SIDE, SELF = OFFSETS / 2;
+const int SIDE = 2 * B + 1, OFFSETS = SIDE * SIDE, WORDS = (OFFSETS + 31) / 32;
+const float NONE = 3.0e38;  // above every distance
 layout(binding = RHF_SELECT_DISTANCE) uniform samplerBuffer dist;
 layout(std430, binding = RHF_SELECT_MASK) writeonly buffer Mask { uint mask[]; };
 
 float d[OFFSETS];
-
-// Candidate order: by distance, then the patch itself, then scan order.
-bool Before(float d0, int rank0, float d1, int rank1) {
-    return d0 < d1 || (d0 == d1 && rank0 < rank1);
-}
-
-int Rank(int o) {
-    return o == SELF ? -1 : o;
-}
 
 void main() {
     int x = int(gl_GlobalInvocationID.x), r = int(gl_WorkGroupID.y);
     if (x >= push.width) return;
     int plane = push.rows * push.width, base = r * push.width + x;
     [[unroll]] for (int o = 0; o < OFFSETS; ++o) d[o] = texelFetch(dist, o * plane + base).r;
-    // The k-th nearest key, found by k passes of "smallest key after the previous one".
-    float lastD = -1.0;
-    int lastRank = -2;
-    for (int k = 0; k < push.knn; ++k) {
-        float bestD = 0.0;
-        int bestRank = OFFSETS;
+    // The cut: the distance t of the nearest-th nearest candidate, by passes of "smallest
+    // distance above the last" that count its copies. Vetoed candidates are negative.
+    // A nearest covering the window takes every candidate.
+    float t = push.nearest >= OFFSETS ? NONE : -1.0;
+    int upToT = 0;  // candidates at most t
+    for (int k = 0; k < push.nearest && upToT < push.nearest && t < NONE; ++k) {
+        float next = NONE;
+        int copies = 0;
         [[unroll]] for (int o = 0; o < OFFSETS; ++o) {
-            bool after = d[o] >= 0.0 && Before(lastD, lastRank, d[o], Rank(o));
-            if (after && (bestRank == OFFSETS || Before(d[o], Rank(o), bestD, bestRank))) {
-                bestD = d[o];
-                bestRank = Rank(o);
+            if (d[o] >= 0.0 && d[o] > t) {
+                if (d[o] < next) {
+                    next = d[o];
+                    copies = 1;
+                } else if (d[o] == next) {
+                    ++copies;
+                }
             }
         }
-        if (bestRank == OFFSETS) break;  // fewer candidates than k
-        lastD = bestD;
-        lastRank = bestRank;
+        if (copies == 0) break;  // fewer candidates than nearest: all are taken
+        t = next;
+        upToT += copies;
     }
+    uint picks[WORDS];  // the replay's picks, when it runs
+    [[unroll]] for (int w = 0; w < WORDS; ++w) picks[w] = 0u;
+    // More candidates at t than places left, and the threshold does not take them all:
+    // which ones go depends on the tool's selection sort (each pass swaps the first
+    // smallest of the rest, in the window's column-by-column order, to the front).
+    // Replay it on the valid candidates and take its picks instead of the cut; rare, so a
+    // loop over memory is fine here.
+    if (upToT > push.nearest && !(t < push.threshold)) {
+        int n = 0, order[OFFSETS];
+        for (int key = 0; key < OFFSETS; ++key) {
+            int o = (key % SIDE) * SIDE + key / SIDE;
+            if (texelFetch(dist, o * plane + base).r >= 0.0) order[n++] = o;
+        }
+        for (int k = 0; k < push.nearest; ++k) {
+            int best = k;
+            float bestD = texelFetch(dist, order[k] * plane + base).r;
+            // Every lane runs the same count: on lavapipe (Mesa 22.3) stores after a loop
+            // whose lanes leave at different counts were lost.
+            for (int j = 1; j < OFFSETS; ++j) {
+                if (j <= k || j >= n) continue;
+                float dj = texelFetch(dist, order[j] * plane + base).r;
+                if (dj < bestD) {
+                    best = j;
+                    bestD = dj;
+                }
+            }
+            int picked = order[best];
+            order[best] = order[k];
+            order[k] = picked;
+            picks[picked / 32] |= 1u << (picked % 32);
+        }
+        t = -1.0;
+    }
+    // The candidates up to the cut (or the replay's picks) and every one under the threshold.
     int y = push.rowBase + r;
-    [[unroll]] for (int word = 0; word * 32 < OFFSETS; ++word) {
-        uint bits = 0u;
+    [[unroll]] for (int word = 0; word < WORDS; ++word) {
+        uint bits = picks[word];
         [[unroll]] for (int bit = 0; bit < 32; ++bit) {
             int o = word * 32 + bit;
-            if (o < OFFSETS && d[o] >= 0.0 &&
-                (d[o] < push.threshold || !Before(lastD, lastRank, d[o], Rank(o))))
+            if (o < OFFSETS && d[o] >= 0.0 && (d[o] <= t || d[o] < push.threshold))
                 bits |= 1u << bit;
         }
         mask[(word * push.height + y) * push.width + x] = bits;

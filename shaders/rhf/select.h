@@ -1,6 +1,7 @@
-// RHF selection (Algorithm 2, lines 10-17): for every centre of a strip, the k_NN nearest
-// patches of its search window (ties: the patch itself first, then scan order) plus every
-// patch closer than the threshold, as a bit mask over the window's offsets, planar
+// RHF selection (Algorithm 2, lines 10-17): for every centre of a strip, the `nearest`
+// nearest patches of its search window (k_NN + 1 with the patch itself; ties as the tool's
+// selection sort over the window column by column) plus every patch closer than the
+// threshold, as a bit mask over the window's offsets, planar
 // [word][y][x] over the whole image.
 #ifndef MCD_SHADERS_RHF_SELECT_H
 #define MCD_SHADERS_RHF_SELECT_H
@@ -23,7 +24,7 @@ layout(push_constant) uniform RhfSelectPush {
     int searchHalf;  // b
     int rowBase;     // first centre row of the strip
     int rows;        // centre rows in the strip
-    int knn;         // nearest patches always taken
+    int nearest;     // nearest patches always taken
     int unused;
     float threshold;
 #ifdef __cplusplus

@@ -18,7 +18,10 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/error.h"
+#include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
+#include "host/vk/buffer.h"
+#include "host/vk/recorder.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
@@ -252,25 +255,26 @@ TEST_F(RhfKernel, RerunsAreBitIdentical) {
 
 class RhfProperties : public GpuTest {};
 
-// Threshold 0 and k_NN 1 select only the patch itself: every estimate of a pixel is its
-// own value, and a mean of equal values is that value up to the rounding of the sum.
+// No k_NN and a threshold just above 0 select only the patch itself (k_NN 1 now takes one
+// neighbour besides it, as the tool does): every estimate of a pixel is its own value,
+// and a mean of equal values is that value up to the rounding of the sum.
 TEST_F(RhfProperties, OnlyItselfLeavesTheImageUnchanged) {
     Frame f = MakeFrame(21, 17, SeedFromName("rhf identity"));
     RhfOptions o;
-    o.threshold = 0;
-    o.knn = 1;
+    o.threshold = 1e-30f;
+    o.knn = 0;
     o.scales = 1;
     Image out = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     EXPECT_TRUE(ImagesMatch(f.color, out, {}, {20 * kUnitRoundoff, 0, 1e-12}));
 }
 
-// At two scales too: the coarse scale then selects nothing (k_NN is 0 there), so u_1 is
-// D(u) and the recombination adds U(D(u)) - U(D(u)), the same bits computed twice.
+// At two scales too: the coarse scale then selects only itself as well, so u_1 is D(u)
+// and the recombination adds U(D(u)) - U(D(u)), the same bits computed twice.
 TEST_F(RhfProperties, OnlyItselfAtTwoScalesLeavesTheImageUnchanged) {
     Frame f = MakeFrame(30, 28, SeedFromName("rhf identity 2"));
     RhfOptions o;
-    o.threshold = 0;
-    o.knn = 1;
+    o.threshold = 1e-30f;
+    o.knn = 0;
     o.scales = 2;
     RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
     ASSERT_EQ(result.scalesUsed, 2);
@@ -464,11 +468,213 @@ TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
 }
 
+// The selection kernel against the reference's selection sort on distances drawn from a
+// few values, so that ties at the cut are the rule: every nearest from 0 past the window,
+// thresholds below, at and between the values, vetoed and out-of-window candidates (-1).
+TEST_F(RhfProperties, SelectionMatchesTheToolsSortOnTies) {
+    std::mt19937_64 rng(SeedFromName("rhf select ties"));
+    const float values[] = {-1.f, 0.f, 0.5f, 1.f, 1.f, 2.f};
+    for (int b : {0, 1, 2, 3}) {
+        const int side = 2 * b + 1, offsets = side * side, w = 9, rows = 3;
+        for (int nearest : {0, 1, 2, 3, 5, offsets - 1, offsets, offsets + 3})
+            for (float threshold : {0.f, 0.5f, 1.f, 1.5f, 3.f}) {
+                SCOPED_TRACE(
+                    fmt::format("b {} nearest {} threshold {}", b, nearest, threshold));
+                std::vector<float> d(size_t(offsets) * rows * w);
+                for (float &v : d) v = values[rng() % 6];
+                vk::Buffer dist(Ctx(), d.size() * sizeof(float), "dist"),
+                    mask(Ctx(), size_t(RhfMaskWords(b)) * rows * w * sizeof(uint32_t), "mask");
+                dist.UploadFloats(d);
+                vk::Recorder recorder(Ctx());
+                RecordRhfSelect(Ctx(), recorder, w, rows, b, 0, rows, nearest, threshold, dist,
+                                mask);
+                recorder.Submit();
+                std::vector<uint32_t> bits(size_t(RhfMaskWords(b)) * rows * w);
+                mask.Download(bits.data(), bits.size() * sizeof(uint32_t));
+                for (int y = 0; y < rows; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        // The window column by column (offset o = dy * side + dx).
+                        std::vector<double> valid;
+                        std::vector<int> offsetOf;
+                        for (int dx = 0; dx < side; ++dx)
+                            for (int dy = 0; dy < side; ++dy) {
+                                int o = dy * side + dx;
+                                float v = d[(size_t(o) * rows + y) * w + x];
+                                if (v < 0) continue;
+                                valid.push_back(v);
+                                offsetOf.push_back(o);
+                            }
+                        std::vector<bool> picked = ref::RhfSelect(valid, nearest, threshold);
+                        std::vector<bool> gpu(offsets, false), cpu(offsets, false);
+                        for (size_t i = 0; i < valid.size(); ++i) cpu[offsetOf[i]] = picked[i];
+                        for (int o = 0; o < offsets; ++o)
+                            gpu[o] = bits[(size_t(o / 32) * rows + y) * w + x] >> (o % 32) & 1u;
+                        ASSERT_EQ(cpu, gpu) << fmt::format("centre ({}, {})", x, y);
+                    }
+            }
+    }
+}
+
 }  // namespace
 }  // namespace mcd::test
 
 namespace mcd::test {
 namespace {
+
+// Issue #20: the sampling, interpolation, rescale and kNN count of the authors' tool.
+class RhfToolAlignment : public GpuTest {};
+
+const Image *StageOf(const RhfResult &result, const std::string &name) {
+    for (const auto &[stageName, image] : result.stages)
+        if (stageName == name) return &image;
+    return nullptr;
+}
+
+// A ramp along x through D_1 lands where the tool samples: output x is the Gaussian of the
+// input centred on 2x + 0.5 (between fine pixels 2x and 2x + 1), its taps running from
+// 2x + 1 - h to 2x + 1 + h, one further right than left, which moves the mean by
+// delta = sum_i g(i - h + 0.5) (i - h + 0.5) over the normalised taps. Mirrored edges
+// give the ramp's mirror image there. CPU and GPU (the "color s1" stage) alike.
+TEST_F(RhfToolAlignment, RampThroughTheDownsamplerLandsWhereTheToolSamples) {
+    const int w = 32, h = 30;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf ramp"));
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) f.color.At(c, y, x) = float(x);
+    double sigma = 0.55 * std::sqrt(3.0);
+    int radius = int(std::ceil(sigma * std::sqrt(4 * std::log(10.0))));
+    ASSERT_EQ(radius, 3);
+    std::vector<double> g;
+    double total = 0, delta = 0;
+    for (int i = -radius; i <= radius; ++i)
+        total += g.emplace_back(std::exp(-0.5 * std::pow((i + 0.5) / sigma, 2)));
+    for (int i = -radius; i <= radius; ++i) delta += g[i + radius] / total * (i + 0.5);
+    Image cpu = ref::RhfGaussianDownsample(f.color, 1, sigma);
+    RhfOptions o;
+    o.searchHalf = 4;
+    o.keepStages = true;
+    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    const Image *gpu = StageOf(result, "color s1");
+    ASSERT_NE(gpu, nullptr);
+    ASSERT_EQ(cpu.width, w / 2);
+    for (int x = 0; x < w / 2; ++x) {
+        SCOPED_TRACE(fmt::format("x = {}", x));
+        double expected = 0;
+        if (x >= 2 && x <= w / 2 - 3) {
+            expected = 2 * x + 0.5 + delta;  // taps inside the image
+        } else {
+            for (int i = -radius; i <= radius; ++i)
+                expected += g[i + radius] / total * ref::RhfMirror(2 * x + 1 + i, w);
+        }
+        // 7 products of values below w: a few round-offs of w.
+        EXPECT_NEAR(cpu.At(1, 5, x), expected, 8 * kUnitRoundoff * w);
+        EXPECT_NEAR(gpu->At(1, 5, x), expected, 8 * kUnitRoundoff * w);
+    }
+    EXPECT_GT(delta, 1e-3);  // the asymmetry is there, and small
+    EXPECT_LT(delta, 3e-3);
+    EXPECT_EQ(ref::RhfMirror(-1, 5), 0);
+    EXPECT_EQ(ref::RhfMirror(5, 5), 4);
+    EXPECT_EQ(ref::RhfMirror(-11, 5), 0);
+    EXPECT_EQ(ref::RhfMirror(12, 5), 2);
+}
+
+// The upsampler aligns pixel centres: fine x reads coarse (x + 0.5) / 2 - 0.5, and Keys'
+// kernel (a = -0.5) reproduces a ramp exactly, so a coarse ramp i comes back as
+// x / 2 - 0.25 away from the edges.
+TEST(RhfReference, RampThroughTheUpsamplerKeepsPixelCentres) {
+    const int cw = 12, w = 24;
+    Image coarse(cw, 3, 1);
+    for (int y = 0; y < 3; ++y)
+        for (int i = 0; i < cw; ++i) coarse.At(0, y, i) = float(i);
+    Image fine = ref::RhfBicubicUpsample(coarse, w, 6);
+    for (int x = 3; x < w - 3; ++x) EXPECT_NEAR(fine.At(0, 2, x), x / 2.0 - 0.25, 1e-5) << x;
+    // At the edge the mirror repeats pixel 0: x = 0 reads -0.25, between i = -1 (0) and 0.
+    EXPECT_LT(fine.At(0, 2, 0), 0.0f + 1e-6f);
+    EXPECT_GT(fine.At(0, 2, 0), -0.25f);
+}
+
+// Distances for 1x1 patches built to tie: 2 bins a colour, 8 samples a pixel, pixel
+// histograms (8,0), (4,4) or (0,8) per colour. (8,0) against (4,4) gives 16/3 per colour,
+// against (0,8) 16: ties are bitwise, the same terms in the same order.
+Frame TieFrame(int w, int h, const std::vector<int> &kind) {
+    Frame f{Image(w, h, 3), Image(w, h, 7)};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int k = kind[size_t(y) * w + x];
+            for (int c = 0; c < 3; ++c) {
+                f.color.At(c, y, x) = float(y * w + x + 1);
+                f.hist.At(2 * c, y, x) = float(8 - 4 * k);
+                f.hist.At(2 * c + 1, y, x) = float(4 * k);
+            }
+            f.hist.At(6, y, x) = 8;
+        }
+    return f;
+}
+
+// k_NN 1 takes two patches, the centre and its nearest, as the tool's selection sort picks
+// them. In a row (kinds 1 1 0 2 2) centre 2's first pass finds itself and swaps it with
+// candidate 0, which lands behind candidate 1: the tie between 0 and 1 (16/3 each, above
+// the threshold 1) goes to 1, so pixel 2 is (3 + 2) / 2. In a 3x3 (centre kind 0, corners
+// (0,2) and (2,0) kind 1, the rest kind 2) the tie goes to the column first in the tool's
+// column-by-column order, (0,2): pixel (1,1) is (5 + 7) / 2.
+TEST_F(RhfToolAlignment, KnnTiesResolveAsTheToolsSelectionSort) {
+    struct Case {
+        int w, h, x, y;
+        std::vector<int> kind;
+        float expected;
+    };
+    for (const Case &c : {Case{5, 1, 2, 0, {1, 1, 0, 2, 2}, 2.5f},
+                          Case{3, 3, 1, 1, {2, 2, 1, 2, 0, 2, 1, 2, 2}, 6.f}}) {
+        SCOPED_TRACE(fmt::format("{}x{}", c.w, c.h));
+        Frame f = TieFrame(c.w, c.h, c.kind);
+        ASSERT_EQ(ref::RhfPatchDistance(f.hist, c.x, c.y, 0, c.h - 1, 0),
+                  ref::RhfPatchDistance(f.hist, c.x, c.y, c.w - 1 - (c.h == 1 ? 3 : 0), 0, 0));
+        RhfOptions o;
+        o.patchHalf = 0;
+        o.searchHalf = 2;
+        o.knn = 1;
+        o.threshold = 1;
+        o.scales = 1;
+        o.brightVeto = 0;
+        Image cpu = ref::RhfSingleScale(f.color, f.hist, 0, 2, 1.0, 1);
+        Image gpu = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+        EXPECT_FLOAT_EQ(cpu.At(0, c.y, c.x), c.expected);
+        EXPECT_FLOAT_EQ(gpu.At(0, c.y, c.x), c.expected);
+        EXPECT_TRUE(ImagesMatch(cpu, gpu, {}, ToleranceFor(f.color, o)));
+    }
+}
+
+// The coarse histograms are rescaled to keep the count channel's total, not the bins'.
+// A frame whose bins hold a varying part of its count (samples outside every bin) and
+// whose count is constant: D_1 of a constant is that constant, so the factor is the
+// pixel ratio W H / (W_1 H_1), whatever the bins hold. Then GPU against CPU.
+TEST_F(RhfToolAlignment, CoarseHistogramsKeepTheCountChannelsTotal) {
+    const int w = 27, h = 30, n3 = 3 * kBins;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf count rescale"));
+    std::mt19937_64 rng(SeedFromName("rhf count rescale drop"));
+    std::uniform_real_distribution<float> keep(0.3f, 1.f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float part = keep(rng);
+            for (int i = 0; i < n3; ++i) f.hist.At(i, y, x) *= part;
+            f.hist.At(n3, y, x) = 24;
+        }
+    RhfOptions o;
+    o.searchHalf = 4;
+    o.clampNegative = false;
+    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    ASSERT_EQ(result.scalesUsed, 2);
+    double expected = double(w * h) / (14 * 15);
+    std::string plan;
+    for (const std::string &line : result.plan) plan += line + "\n";
+    size_t at = plan.find("histograms rescaled by ");
+    ASSERT_NE(at, std::string::npos) << plan;
+    double factor = std::stod(plan.substr(at + 23));
+    // The factor is a float; the taps sum to 1 up to a few round-offs per axis.
+    EXPECT_NEAR(factor, expected, 16 * kUnitRoundoff * expected) << plan;
+    EXPECT_TRUE(ImagesMatch(ref::Rhf(f.color, f.hist, Params(o)), result.image, {},
+                            ToleranceFor(f.color, o)));
+}
 
 class RhfLimits : public GpuTest {};
 
