@@ -104,6 +104,8 @@ class FrontEnd {
 
     // Why the frame lacks what the method needs with its parameters ("" when it has it).
     virtual std::string Missing(const Frame &frame) const { return ""; }
+    // The layers the method may read (ReadOptions::layers); empty: it may read any.
+    virtual std::vector<std::string> Uses() const { return {}; }
     // Why the method cannot run on color divided by `layer` ("" when it can).
     virtual std::string Undemodulable(const Frame &frame, const std::string &layer) const {
         return "";

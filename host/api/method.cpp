@@ -79,6 +79,15 @@ class Auto : public api::FrontEnd {
     ParamValue Get(const std::string &param) const override {
         return candidates[Owner(param)]->Get(param);
     }
+    std::vector<std::string> Uses() const override {
+        std::vector<std::string> layers;
+        for (const auto &c : candidates) {
+            std::vector<std::string> uses = c->Uses();
+            if (uses.empty()) return {};
+            layers.insert(layers.end(), uses.begin(), uses.end());
+        }
+        return layers;
+    }
     std::string Missing(const Frame &frame) const override {
         for (const auto &c : candidates)
             if (c->Missing(frame).empty()) return "";
@@ -370,6 +379,18 @@ ParamValue Method::Get(const std::string &name) const {
             if (def.info.name == name) return def.get(impl->common);
     }
     return impl->frontEnd->Get(name);
+}
+
+std::vector<std::string> Method::Uses() const {
+    std::vector<std::string> layers = impl->frontEnd->Uses();
+    if (layers.empty()) return {};
+    layers.insert(layers.end(), {"color", "alpha"});
+    // Demodulation divides by the guide; rhf then reads the histograms of color / pivot.
+    if (!impl->common.demodulate.empty())
+        layers.insert(layers.end(), {"pivot", "albedo", "zhist"});
+    std::sort(layers.begin(), layers.end());
+    layers.erase(std::unique(layers.begin(), layers.end()), layers.end());
+    return layers;
 }
 
 std::string Method::Missing(const Frame &frame) const {

@@ -64,6 +64,10 @@ class Awr : public FrontEndOf<AwrParams> {
         return "Adaptive Wavelet Rendering's reconstruction (needs variance or min/max/spp)";
     }
 
+    std::vector<std::string> Uses() const override {
+        return {"color", "variance", "min", "max", "spp"};
+    }
+
     std::string Missing(const Frame &frame) const override {
         const std::string &source = options.variance;
         if (source == "layer" && !frame.Has("variance")) return "no variance layer";

@@ -96,6 +96,9 @@ class Bayes : public FrontEndOf<BayesParams> {
         return "Bayesian wavelet shrinkage in the log domain, Xu & Pattanaik (color; uses "
                "direct/indirect when present)";
     }
+    std::vector<std::string> Uses() const override {
+        return {"color", "variance", "direct", "indirect"};
+    }
     std::string Missing(const Frame &frame) const override {
         return options.noise == "variance" && !frame.Has("variance") ? "no variance layer" : "";
     }

@@ -88,6 +88,10 @@ class Pivot : public FrontEndOf<PivotParams> {
         return "Ershov et al.'s pivot-image filter (needs a pivot or an albedo layer; "
                "normals, objectId, partId, variance refine it)";
     }
+    std::vector<std::string> Uses() const override {
+        return {"color",    "pivot",  "albedo",    "variance", "normal",
+                "objectId", "partId", "remainder", "partial*"};
+    }
     std::string Missing(const Frame &frame) const override {
         std::string layer = PivotLayer([&](const std::string &l) { return frame.Has(l); });
         if (frame.Has(layer)) return "";

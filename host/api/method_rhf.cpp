@@ -59,6 +59,7 @@ class Rhf : public FrontEndOf<RhfParams> {
     std::string Summary() const override {
         return "Ray Histogram Fusion (needs the Bin_* histogram channels)";
     }
+    std::vector<std::string> Uses() const override { return {"color", "hist", "zhist"}; }
     std::string Missing(const Frame &frame) const override {
         return frame.Has("hist") ? "" : "no histogram channels (Bin_0000..)";
     }

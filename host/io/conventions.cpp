@@ -266,6 +266,13 @@ std::string ReadMitsubaMoment(Frame &frame, const std::map<std::string, double> 
 
 }  // namespace
 
+bool IsLightPass(const std::string &layer) {
+    for (const char *x : {"Diff", "Gloss", "Trans"})
+        for (const char *part : {"Dir", "Ind", "Col"})
+            if (layer == std::string(x) + part) return true;
+    return layer == "Emit" || layer == "Env" || layer == "VolumeDir" || layer == "VolumeInd";
+}
+
 void ApplyConventions(Frame &frame, const std::vector<std::string> &channelNames,
                       const std::map<std::string, double> &numbers) {
     frame.metadata.erase(kConventionKey);

@@ -24,6 +24,10 @@ inline constexpr const char *kConventionKey = "mcd:convention";
 // - Mitsuba 3 moment integrator: m2_<name>.* and <name>.* (XYZ moments) make variance
 //   when the sample count is known.
 // A file's own mcd:convention is dropped: the layers it describes are ours by now.
+// Whether a layer kept under a renderer's name is one that the conventions compose into
+// `direct` and `indirect` (Cycles' light passes: DiffDir, GlossCol, Emit, ...).
+bool IsLightPass(const std::string &layer);
+
 void ApplyConventions(Frame &frame, const std::vector<std::string> &channelNames,
                       const std::map<std::string, double> &numbers);
 

@@ -213,6 +213,10 @@ struct Candidate {
 
 }  // namespace
 
+bool IsOwnLayerName(std::string_view name) {
+    return IsOwnName(name);
+}
+
 std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channelNames) {
     std::set<std::string> seen;
     for (const std::string &name : channelNames)

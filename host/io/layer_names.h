@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace mcd::io {
@@ -23,6 +24,10 @@ struct LayerChannels {
 // Throws mcd::Error (without a path: the caller adds it) on a malformed histogram, a
 // repeated channel name or two sets of channels that both claim one layer name.
 std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channelNames);
+
+// Whether a layer name is one of ours (ARCHITECTURE.md's table, partial images included)
+// rather than a renderer's pass kept under its own name.
+bool IsOwnLayerName(std::string_view name);
 
 // The channel names a layer of channelCount channels is written under: "color" -> R,G,B
 // (Y when grey); "alpha" -> A; "normal" -> normal.X/Y/Z; other 3-channel layers -> x.R/G/B;

@@ -23,10 +23,18 @@ struct Frame {
     const Image &Get(const std::string &layer) const;
 };
 
+// What ReadFrame reads. `layers` lists our layer names (partial images by their full names,
+// or "partial*" for all of them); empty reads every layer. A layer a renderer's convention
+// composes (Cycles' direct and indirect from its light passes, pbrt-v4's and Mitsuba's
+// variance) brings the passes it is made of. Other layers are neither read nor stored.
+struct ReadOptions {
+    std::vector<std::string> layers;
+};
+
 // Read part 0 of an image file, all channels as float, grouped into layers. 8- and 16-bit
 // data (PNG, ...) is sRGB-decoded to linear; 32-bit unsigned EXR channels (ids) keep
 // their integer values. Throws mcd::Error naming the path on any failure.
-Frame ReadFrame(const std::string &path);
+Frame ReadFrame(const std::string &path, const ReadOptions &options = {});
 
 // ReadFrame(path).Get(layer).
 Image ReadImage(const std::string &path, const std::string &layer = "color");

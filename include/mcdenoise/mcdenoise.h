@@ -143,6 +143,10 @@ class Method {
     ParamValue Get(const std::string &name) const;
     bool HasParam(const std::string &name) const;
 
+    // The layers a run may read, for ReadOptions::layers (empty: any): the method's own,
+    // color, alpha and what --demodulate divides by. Changes with the parameters.
+    std::vector<std::string> Uses() const;
+
     // Why this method cannot run on the frame with its parameters ("" when it can).
     std::string Missing(const Frame &frame) const;
 

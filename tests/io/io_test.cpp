@@ -870,5 +870,40 @@ TEST_F(IoTest, ReadsARealCyclesFrame) {
     EXPECT_FALSE(Contains(line, "the rest goes to indirect"));
 }
 
+// ReadOptions::layers: the layers asked for come back bit for bit as in a full read, the
+// others are not there; Cycles' light passes come only with direct or indirect; renderer
+// passes that are not ours stay.
+TEST_F(IoTest, ReadsOnlyTheLayersAskedFor) {
+    std::string ours = Path("ours.exr");
+    Image color = Ramp(7, 5, 3, 0.f), variance = Ramp(7, 5, 3, 9.f), hist = Ramp(7, 5, 7, 2.f),
+          partial = Ramp(7, 5, 3, 5.f);
+    WriteExr(ours, {{"color", &color},
+                    {"variance", &variance},
+                    {"hist", &hist},
+                    {"partial0.color", &partial}});
+    Frame all = ReadFrame(ours);
+    Frame some = ReadFrame(ours, {{"color", "variance", "alpha"}});
+    EXPECT_TRUE(BitEqual(some.Get("color"), all.Get("color")));
+    EXPECT_TRUE(BitEqual(some.Get("variance"), all.Get("variance")));
+    EXPECT_FALSE(some.Has("hist"));
+    EXPECT_FALSE(some.Has("partial0.color"));
+    Frame partials = ReadFrame(ours, {{"color", "partial*"}});
+    EXPECT_TRUE(BitEqual(partials.Get("partial0.color"), all.Get("partial0.color")));
+    EXPECT_FALSE(partials.Has("variance"));
+
+    std::string cycles =
+        std::string(MCD_SOURCE_DIR) + "/tests/data/cycles_glossy_box_32_16spp.exr";
+    Frame full = ReadFrame(cycles);
+    Frame plain = ReadFrame(cycles, {{"color", "albedo"}});
+    EXPECT_FALSE(plain.Has("direct"));
+    EXPECT_FALSE(plain.Has("DiffDir"));
+    EXPECT_FALSE(plain.Has("normal"));
+    EXPECT_TRUE(BitEqual(plain.Get("albedo"), full.Get("albedo")));
+    Frame split = ReadFrame(cycles, {{"color", "direct", "indirect"}});
+    EXPECT_TRUE(BitEqual(split.Get("direct"), full.Get("direct")));
+    EXPECT_TRUE(BitEqual(split.Get("indirect"), full.Get("indirect")));
+    EXPECT_FALSE(split.Has("albedo"));
+}
+
 }  // namespace
 }  // namespace mcd::io

@@ -126,7 +126,9 @@ void AddDenoiseCommand(CLI::App &app) {
             {{"-o", opt->output}, {"--preview", opt->preview}});
         if (inPlace)
             RefuseOverwritingInputs({{"input", opt->input}}, {{"--preview", opt->preview}});
-        io::Frame frame = io::ReadFrame(opt->input);
+        // Only the layers the method reads; an in-place write keeps every layer.
+        io::Frame frame = io::ReadFrame(
+            opt->input, inPlace ? mcd::ReadOptions{} : mcd::ReadOptions{method.Uses()});
         const Image &color = frame.Get("color");
         Image reference;
         if (!opt->reference.empty()) {
