@@ -341,6 +341,7 @@ TEST_F(RhfProperties, RecombinationUndershootIsClampedAndCounted) {
     Frame f = MakeFrame(w, h, SeedFromName("rhf overshoot"), kBins,
                         [](int x, int) { return x < 17 ? light : ceiling; });
     RhfOptions o;
+    o.scales = 2;
     o.clampNegative = false;
     Image raw = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     size_t negative = 0;
@@ -551,6 +552,7 @@ TEST_F(RhfToolAlignment, RampThroughTheDownsamplerLandsWhereTheToolSamples) {
     for (int i = -radius; i <= radius; ++i) delta += g[i + radius] / total * (i + 0.5);
     Image cpu = ref::RhfGaussianDownsample(f.color, 1, sigma);
     RhfOptions o;
+    o.scales = 2;
     o.searchHalf = 4;
     o.keepStages = true;
     RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
@@ -661,6 +663,7 @@ TEST_F(RhfToolAlignment, CoarseHistogramsKeepTheCountChannelsTotal) {
         }
     RhfOptions o;
     o.searchHalf = 4;
+    o.scales = 2;
     o.clampNegative = false;
     RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
     ASSERT_EQ(result.scalesUsed, 2);

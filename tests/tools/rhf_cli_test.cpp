@@ -40,7 +40,7 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
     ASSERT_EQ(Run("render --scene cornell --size 32x28 --spp 4 --layers hist -o n.exr").code,
               0);
     ASSERT_EQ(Run("render --scene cornell --size 32x28 --spp 64 --seed 7 -o r.exr").code, 0);
-    Ran r = Run("denoise n.exr --method rhf --explain -o d.exr --reference r.exr");
+    Ran r = Run("denoise n.exr --method rhf --nscales 2 --explain -o d.exr --reference r.exr");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_TRUE(Has(r.out, "chi-square pixel terms")) << r.out;
     EXPECT_TRUE(Has(r.out, "with bright veto 0.3")) << r.out;
@@ -60,7 +60,7 @@ TEST_F(RhfCli, DenoisesARenderedFrame) {
     EXPECT_TRUE(Has(r.out, "81 offsets")) << r.out;
     // Every stage against the CPU reference: float32 against double gives NMSE ~1e-14
     // here (max relative error ~3e-7); a stage off by 1% would be ~1e-4.
-    r = Run("diff n.exr --method rhf --max-nmse 1e-9");
+    r = Run("diff n.exr --method rhf --nscales 2 --max-nmse 1e-9");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_TRUE(Has(r.out, "filtered s1")) << r.out;
     EXPECT_TRUE(Has(r.out, "combined s0")) << r.out;
