@@ -64,6 +64,14 @@ std::string LedgerText(const Result &result) {
     return text + "\n";
 }
 
+// The pipelines the device built so far and what the pipeline cache gave (--explain).
+std::string PipelinesText(Device &device) {
+    const vk::Context::PipelineStats &p = device.Context().Pipelines();
+    return fmt::format(
+        "  pipelines: {} built in {:.3f} s{}\n", p.built, p.seconds,
+        p.loadedBytes ? fmt::format(" (pipeline cache: {} bytes read)", p.loadedBytes) : "");
+}
+
 // Every parameter of the method that ran, and those all methods share, as
 // "name=value ..." with the values the run used (defaults included), so the output says
 // how it was made.
@@ -276,6 +284,7 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
                     fmt::format("{} on {} ({}):\n", result.method, f.input, device.Name());
                 for (const std::string &step : result.plan) current.out += "  " + step + "\n";
                 current.out += LedgerText(result);
+                current.out += PipelinesText(device);
             }
             for (const std::string &warning : result.warnings)
                 current.warnings += fmt::format("warning: {}: {}\n", f.input, warning);
@@ -421,6 +430,7 @@ void AddDenoiseCommand(CLI::App &app) {
                 fmt::print("  frame {}\n", it->second);
             for (const std::string &step : result.plan) fmt::print("  {}\n", step);
             fmt::print("{}", LedgerText(result));
+            fmt::print("{}", PipelinesText(device));
         }
         for (const std::string &warning : result.warnings)
             fmt::print(stderr, "warning: {}\n", warning);
