@@ -139,7 +139,9 @@ std::string Seconds(double s) {
 // terminal, one line per frame otherwise (a log file or a farm's job output).
 class SequenceProgress {
   public:
-    explicit SequenceProgress(int total) : total(total), terminal(isatty(fileno(stderr))) {}
+    explicit SequenceProgress(int total) : total(total), terminal(isatty(fileno(stderr))) {
+        if (terminal) Draw();
+    }
 
     // A long stage of the frame being denoised (terminal only).
     void Stage(const std::string &input, const std::string &stage, int done, int count) {
@@ -152,11 +154,13 @@ class SequenceProgress {
         if (terminal && drawn) std::fprintf(stderr, "\r\033[K");
         drawn = false;
     }
-    void FrameDone(const SequenceFrame &frame, bool failed) {
+    // `setupSeconds`: what the frames so far spent building pipelines, which the next
+    // frames will not.
+    void FrameDone(const SequenceFrame &frame, bool failed, double setupSeconds) {
         ++done;
         failures += failed;
         current.clear();
-        if (done == 1) firstDone = std::chrono::steady_clock::now();
+        if (done == 1) firstDone = std::chrono::steady_clock::now(), setup = setupSeconds;
         if (terminal) {
             Draw();
             if (done == total) std::fprintf(stderr, "\n"), drawn = false;
@@ -167,12 +171,14 @@ class SequenceProgress {
     }
 
   private:
-    // From the frames after the first: the first also builds the pipelines.
+    // From the frames after the first, which also built the pipelines; after the first
+    // alone, from its time less the pipelines'.
     std::string Left() const {
         auto now = std::chrono::steady_clock::now();
         double perFrame =
-            done >= 2 ? std::chrono::duration<double>(now - firstDone).count() / (done - 1)
-                      : std::chrono::duration<double>(now - start).count() / std::max(done, 1);
+            done >= 2
+                ? std::chrono::duration<double>(now - firstDone).count() / (done - 1)
+                : std::max(0.0, std::chrono::duration<double>(now - start).count() - setup);
         return Seconds(perFrame * (total - done));
     }
     void Draw() {
@@ -184,6 +190,7 @@ class SequenceProgress {
     }
 
     int total, done = 0, failures = 0;
+    double setup = 0;
     bool terminal, drawn = false;
     std::string current;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), firstDone;
@@ -260,7 +267,7 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
             fmt::print(stderr, "{}", p.error);
             failed.push_back(p.frame->input);
         }
-        progress.FrameDone(*p.frame, !p.error.empty());
+        progress.FrameDone(*p.frame, !p.error.empty(), device.Context().Pipelines().seconds);
     };
 
     // Three frames in flight: the next one read, this one denoised, the last one written.
