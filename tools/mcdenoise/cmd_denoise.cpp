@@ -347,7 +347,8 @@ void AddDenoiseCommand(CLI::App &app) {
     };
     auto opt = std::make_shared<Options>();
     CLI::App *cmd = app.add_subcommand(
-        "denoise", "Denoise a frame with one method:" + MethodOptions::Summaries());
+        "denoise", "Denoise a frame, or a sequence of frames, with one method:" +
+                       MethodOptions::Summaries());
     cmd->add_option("input", opt->inputs,
                     "noisy frame (EXR with the layers the method needs); for a sequence, "
                     "several frames or one pattern (frame.####.exr or frame.%04d.exr)")
