@@ -10,8 +10,8 @@ struct Device::Impl {
 };
 
 Device::Device(const DeviceOptions &options) : impl(std::make_unique<Impl>()) {
-    impl->owned =
-        std::make_unique<vk::Context>(vk::ContextOptions{options.device, options.validation});
+    impl->owned = std::make_unique<vk::Context>(
+        vk::ContextOptions{options.device, options.validation, options.pipelineCache});
     impl->context = impl->owned.get();
 }
 

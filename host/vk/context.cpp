@@ -1,11 +1,15 @@
 #include "host/vk/context.h"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <mutex>
 
 #include "host/vk/check.h"
@@ -288,6 +292,8 @@ Context::Context(const ContextOptions &options) {
         MCD_VK(vkCreateCommandPool(device, &pi, nullptr, &commandPool));
         VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
         MCD_VK(vkCreateFence(device, &fi, nullptr, &fence));
+        pipelineCachePath = options.pipelineCache;
+        LoadPipelineCache();
     } catch (...) {
         Destroy();
         throw;
@@ -302,6 +308,9 @@ void Context::Destroy() {
     if (device) {
         vkDeviceWaitIdle(device);
         kernels.clear();
+        SavePipelineCache();
+        if (pipelineCache) vkDestroyPipelineCache(device, pipelineCache, nullptr);
+        pipelineCache = VK_NULL_HANDLE;
         if (fence) vkDestroyFence(device, fence, nullptr);
         if (commandPool) vkDestroyCommandPool(device, commandPool, nullptr);
         vkDestroyDevice(device, nullptr);
@@ -315,6 +324,71 @@ void Context::Destroy() {
         vkDestroyInstance(instance, nullptr);
         instance = VK_NULL_HANDLE;
     }
+}
+
+void Context::LoadPipelineCache() {
+    std::vector<char> data;
+    if (!pipelineCachePath.empty()) {
+        std::ifstream in(pipelineCachePath, std::ios::binary);
+        data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    // The header (Vulkan spec, "Pipeline Cache Header"): a file from another device or
+    // driver version is left unread rather than handed to the driver.
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(physicalDevice, &props);
+    auto word = [&](size_t at) {
+        uint32_t v;
+        std::memcpy(&v, data.data() + at, 4);
+        return v;
+    };
+    bool isCache = data.size() >= 16 + VK_UUID_SIZE && word(0) >= 16 + VK_UUID_SIZE &&
+                   word(4) == VK_PIPELINE_CACHE_HEADER_VERSION_ONE;
+    bool fits = isCache && word(8) == props.vendorID && word(12) == props.deviceID &&
+                std::memcmp(data.data() + 16, props.pipelineCacheUUID, VK_UUID_SIZE) == 0;
+    // Only a pipeline cache (any device's) or no file is replaced at the end: a path given
+    // by mistake (a frame) is left as it was.
+    std::error_code ec;
+    pipelineCacheWritable = !pipelineCachePath.empty() &&
+                            (isCache || !std::filesystem::exists(pipelineCachePath, ec));
+    if (!fits) data.clear();
+    VkPipelineCacheCreateInfo ci{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
+    ci.initialDataSize = data.size();
+    ci.pInitialData = data.empty() ? nullptr : data.data();
+    if (vkCreatePipelineCache(device, &ci, nullptr, &pipelineCache) != VK_SUCCESS) {
+        // A cache the driver refuses is no reason to fail: start an empty one.
+        ci.initialDataSize = 0;
+        ci.pInitialData = nullptr;
+        data.clear();
+        MCD_VK(vkCreatePipelineCache(device, &ci, nullptr, &pipelineCache));
+    }
+    pipelineStats.loadedBytes = data.size();
+}
+
+void Context::SavePipelineCache() {
+    if (!pipelineCacheWritable || !pipelineCache || pipelineStats.built == 0) return;
+    size_t size = 0;
+    if (vkGetPipelineCacheData(device, pipelineCache, &size, nullptr) != VK_SUCCESS || !size)
+        return;
+    std::vector<char> data(size);
+    if (vkGetPipelineCacheData(device, pipelineCache, &size, data.data()) != VK_SUCCESS) return;
+    // Atomic: another process reading the cache sees the old file or the new one. A cache
+    // that cannot be written costs time next run, never this run's result.
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::path path(pipelineCachePath);
+    if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
+    std::string temp = fmt::format("{}.{}.tmp", pipelineCachePath, ::getpid());
+    {
+        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+        out.write(data.data(), std::streamsize(size));
+        if (!out) {
+            out.close();
+            fs::remove(temp, ec);
+            return;
+        }
+    }
+    fs::rename(temp, path, ec);
+    if (ec) fs::remove(temp, ec);
 }
 
 uint32_t Context::FindMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required,

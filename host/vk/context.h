@@ -42,6 +42,10 @@ struct ContextOptions {
     std::string device;
     // Khronos validation layer; its messages are collected (see TakeValidationMessages).
     bool validation = false;
+    // A VkPipelineCache file: read when the context starts (ignored when absent, damaged or
+    // from another device or driver), written back atomically when it ends if pipelines
+    // were built and the file was absent or a pipeline cache. Empty: no file.
+    std::string pipelineCache;
 };
 
 class Context {
@@ -81,6 +85,19 @@ class Context {
 
     // A kernel is built once per SPIR-V blob and specialization, then reused.
     const Kernel &GetKernel(const KernelDesc &desc);
+    VkPipelineCache PipelineCache() const { return pipelineCache; }
+    // Pipelines built so far and the seconds vkCreateComputePipelines took for them (what a
+    // pipeline cache saves), and the bytes the cache file gave at the start (0: none).
+    struct PipelineStats {
+        int built = 0;
+        double seconds = 0;
+        size_t loadedBytes = 0;
+    };
+    const PipelineStats &Pipelines() const { return pipelineStats; }
+    void NotePipelineBuilt(double seconds) {
+        ++pipelineStats.built;
+        pipelineStats.seconds += seconds;
+    }
     // Keys (name, code, specialization constants; see KernelKey) of the kernels built so
     // far: which variants a run compiled.
     std::vector<std::string> KernelKeys() const {
@@ -114,6 +131,8 @@ class Context {
 
   private:
     void Destroy();
+    void LoadPipelineCache();
+    void SavePipelineCache();
 
     VkInstance instance = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
@@ -124,6 +143,10 @@ class Context {
     uint32_t queueFamily = 0;
     VkCommandPool commandPool = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
+    VkPipelineCache pipelineCache = VK_NULL_HANDLE;
+    std::string pipelineCachePath;
+    bool pipelineCacheWritable = false;
+    PipelineStats pipelineStats;
     DeviceInfo info;
     VkPhysicalDeviceMemoryProperties memoryProperties{};
 

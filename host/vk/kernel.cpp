@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
+
 #include "host/vk/check.h"
 #include "host/vk/context.h"
 
@@ -69,8 +71,11 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
         ci.stage.pName = "main";
         ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
         ci.layout = layout;
-        VkResult result =
-            vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline);
+        auto start = std::chrono::steady_clock::now();
+        VkResult result = vkCreateComputePipelines(device, context.PipelineCache(), 1, &ci,
+                                                   nullptr, &pipeline);
+        context.NotePipelineBuilt(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         vkDestroyShaderModule(device, module, nullptr);
         if (result != VK_SUCCESS)
             ThrowVkError(result, fmt::format("vkCreateComputePipelines({})", name).c_str(),

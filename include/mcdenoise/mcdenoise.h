@@ -37,6 +37,10 @@ struct DeviceOptions {
     std::string device;
     // Khronos validation layer; its messages are collected (TakeValidationMessages).
     bool validation = false;
+    // A file for the driver's pipeline cache (VkPipelineCache): read at the start, written
+    // back at the end when pipelines were built, so a later process builds them faster
+    // where the driver honours it. Empty: none.
+    std::string pipelineCache;
 };
 
 // A Vulkan device with its queue and the kernels built on it so far. Pipelines are built on

@@ -825,5 +825,71 @@ TEST_F(VkLedger, CountsAllocationsAndReleases) {
     EXPECT_EQ(ctx.Ledger().peak, before);
 }
 
+// The pipeline cache file (ContextOptions::pipelineCache): written when pipelines were
+// built, read back by the next context, and a file from another device or a damaged one
+// ignored, never an error. Whether the driver puts pipelines in it is its own affair
+// (lavapipe writes the header only; README).
+TEST(VkPipelineCache, WrittenReadBackAndForeignFilesIgnored) {
+    const std::vector<uint32_t> *code = AnalyzeSpirv();
+    ASSERT_NE(code, nullptr) << "analyze.spv not found next to the test binary's build tree";
+    fs::path dir =
+        fs::temp_directory_path() / ("mcd_pipeline_cache_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    std::string path = (dir / "sub" / "pipelines.bin").string();
+    auto bytes = [&] {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    VkPhysicalDeviceProperties props{};
+    {
+        vk::Context context(vk::ContextOptions{.pipelineCache = path});
+        vkGetPhysicalDeviceProperties(context.PhysicalDevice(), &props);
+        EXPECT_EQ(context.Pipelines().loadedBytes, 0u);
+        context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+        EXPECT_EQ(context.Pipelines().built, 1);
+        EXPECT_GT(context.Pipelines().seconds, 0);
+    }
+    std::string file = bytes();
+    ASSERT_GE(file.size(), 16u + VK_UUID_SIZE) << "the cache file was not written";
+    uint32_t header[4];
+    std::memcpy(header, file.data(), sizeof header);
+    EXPECT_EQ(header[1], uint32_t(VK_PIPELINE_CACHE_HEADER_VERSION_ONE));
+    EXPECT_EQ(header[2], props.vendorID);
+    EXPECT_EQ(header[3], props.deviceID);
+    EXPECT_EQ(std::memcmp(file.data() + 16, props.pipelineCacheUUID, VK_UUID_SIZE), 0);
+    {
+        vk::Context context(vk::ContextOptions{.pipelineCache = path});
+        EXPECT_EQ(context.Pipelines().loadedBytes, file.size());
+        context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+    }
+    // Another device's cache (its device ID changed): read as none; left as it was by a
+    // context that built nothing, replaced by this device's after a build.
+    std::string foreign = file;
+    foreign[12] ^= 1;
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << foreign;
+    for (bool build : {false, true}) {
+        {
+            vk::Context context(vk::ContextOptions{.pipelineCache = path});
+            EXPECT_EQ(context.Pipelines().loadedBytes, 0u);
+            if (build) context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+        }
+        if (!build) EXPECT_EQ(bytes(), foreign);
+    }
+    EXPECT_EQ(bytes().substr(0, 16 + VK_UUID_SIZE), file.substr(0, 16 + VK_UUID_SIZE));
+    // A file that is no pipeline cache (a frame given by mistake) is read as none and never
+    // written over; no temporary file is left.
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << "not a pipeline cache";
+    {
+        vk::Context context(vk::ContextOptions{.pipelineCache = path});
+        EXPECT_EQ(context.Pipelines().loadedBytes, 0u);
+        context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+    }
+    EXPECT_EQ(bytes(), "not a pipeline cache");
+    int files = 0;
+    for ([[maybe_unused]] const auto &e : fs::directory_iterator(dir / "sub")) ++files;
+    EXPECT_EQ(files, 1);
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace mcd::test

@@ -1,12 +1,19 @@
 // `mcdenoise denoise`: run a method of the library (include/mcdenoise/mcdenoise.h) on a
-// frame, measure it against a reference when given one, and write the result.
+// frame, measure it against a reference when given one, and write the result; or the
+// same for every frame of a sequence (tools/mcdenoise/sequence.h) on one device.
 #include <fmt/format.h>
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <map>
+#include <new>
+#include <optional>
+#include <set>
 #include <type_traits>
 #include <variant>
 
@@ -17,6 +24,7 @@
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
 #include "tools/mcdenoise/path_guard.h"
+#include "tools/mcdenoise/sequence.h"
 
 namespace mcd::tool {
 namespace {
@@ -56,6 +64,14 @@ std::string LedgerText(const Result &result) {
     return text + "\n";
 }
 
+// The pipelines the device built so far and what the pipeline cache gave (--explain).
+std::string PipelinesText(Device &device) {
+    const vk::Context::PipelineStats &p = device.Context().Pipelines();
+    return fmt::format(
+        "  pipelines: {} built in {:.3f} s{}\n", p.built, p.seconds,
+        p.loadedBytes ? fmt::format(" (pipeline cache: {} bytes read)", p.loadedBytes) : "");
+}
+
 // Every parameter of the method that ran, and those all methods share, as
 // "name=value ..." with the values the run used (defaults included), so the output says
 // how it was made.
@@ -78,27 +94,280 @@ std::string OptionsText(const Method &method, const std::string &ran) {
     return text;
 }
 
+// The error before and after against a reference, as the line printed under a frame's.
+std::string ErrorLine(const Image &noisy, const Image &denoised, const Image &reference,
+                      const std::string &referencePath) {
+    ErrorMetrics before = CompareImages(noisy, reference);
+    ErrorMetrics after = CompareImages(denoised, reference);
+    return fmt::format(
+        "  error vs {}: relMSE {:.5g} -> {:.5g}, PSNR {:.2f} -> {:.2f} dB, SSIM {:.4f} -> "
+        "{:.4f}{}\n",
+        referencePath, before.relMse, after.relMse, before.psnr, after.psnr, before.ssim,
+        after.ssim,
+        after.nonFinite ? fmt::format(" ({} non-finite output values)", after.nonFinite) : "");
+}
+
+// The reference image at `path`, refused unless it has the frame's size.
+Image ReadReference(const std::string &path, const Image &color) {
+    Image reference = io::ReadImage(path);
+    if (reference.width != color.width || reference.height != color.height)
+        throw Error(fmt::format("reference {} is {}x{}, the frame {}x{}", path, reference.width,
+                                reference.height, color.width, color.height));
+    return reference;
+}
+
+std::map<std::string, std::string> Provenance(const Method &method, const Result &result,
+                                              const std::string &input) {
+    return {{"mcd:method", result.method},
+            {"mcd:source", input},
+            {"mcd:options", OptionsText(method, result.method)},
+            {"mcd:version", Version()}};
+}
+
+std::string FrameLine(const std::string &output, const Result &result) {
+    return fmt::format("{}: {} in {:.1f} ms ({:.1f} ms GPU, {} dispatches)\n", output,
+                       result.method, result.wallMs, result.GpuMs(), result.timings.size());
+}
+
+std::string Seconds(double s) {
+    if (s < 60) return fmt::format("{:.1f} s", s);
+    if (s < 3600) return fmt::format("{}m{:02d}s", int(s) / 60, int(s) % 60);
+    return fmt::format("{}h{:02d}m", int(s) / 3600, int(s) / 60 % 60);
+}
+
+// Frames done out of the total and the time left, on stderr: one line redrawn on a
+// terminal, one line per frame otherwise (a log file or a farm's job output).
+class SequenceProgress {
+  public:
+    explicit SequenceProgress(int total) : total(total), terminal(isatty(fileno(stderr))) {
+        if (terminal) Draw();
+    }
+
+    // A long stage of the frame being denoised (terminal only).
+    void Stage(const std::string &input, const std::string &stage, int done, int count) {
+        if (!terminal) return;
+        current = fmt::format(" [{}: {} {}%]", input, stage, 100 * done / std::max(count, 1));
+        Draw();
+    }
+    // Before a line on stdout or stderr: the redrawn line would run into it.
+    void Clear() {
+        if (terminal && drawn) std::fprintf(stderr, "\r\033[K");
+        drawn = false;
+    }
+    // `setupSeconds`: what the frames so far spent building pipelines, which the next
+    // frames will not.
+    void FrameDone(const SequenceFrame &frame, bool failed, double setupSeconds) {
+        ++done;
+        failures += failed;
+        current.clear();
+        if (done == 1) firstDone = std::chrono::steady_clock::now(), setup = setupSeconds;
+        if (terminal) {
+            Draw();
+            if (done == total) std::fprintf(stderr, "\n"), drawn = false;
+        } else {
+            std::fprintf(stderr, "denoise: frame %d/%d (%s) %s, %s left\n", done, total,
+                         frame.input.c_str(), failed ? "FAILED" : "written", Left().c_str());
+        }
+    }
+
+  private:
+    // From the frames after the first, which also built the pipelines; after the first
+    // alone, from its time less the pipelines'.
+    std::string Left() const {
+        auto now = std::chrono::steady_clock::now();
+        double perFrame =
+            done >= 2
+                ? std::chrono::duration<double>(now - firstDone).count() / (done - 1)
+                : std::max(0.0, std::chrono::duration<double>(now - start).count() - setup);
+        return Seconds(perFrame * (total - done));
+    }
+    void Draw() {
+        std::fprintf(stderr, "\r\033[Kdenoise: %d/%d frames%s, %s left%s", done, total,
+                     failures ? fmt::format(", {} failed", failures).c_str() : "",
+                     done ? Left().c_str() : "?", current.c_str());
+        std::fflush(stderr);
+        drawn = true;
+    }
+
+    int total, done = 0, failures = 0;
+    double setup = 0;
+    bool terminal, drawn = false;
+    std::string current;
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), firstDone;
+};
+
+// A frame and its reference, read on the loader thread.
+struct LoadedFrame {
+    io::Frame frame;
+    Image reference;
+};
+
+LoadedFrame LoadFrame(const SequenceFrame &f) {
+    LoadedFrame loaded;
+    loaded.frame = io::ReadFrame(f.input);
+    if (!f.reference.empty())
+        loaded.reference = ReadReference(f.reference, loaded.frame.Get("color"));
+    return loaded;
+}
+
+// Denoise every frame of a sequence on one device, the pipelines built by the first frame
+// and kept, the next frame read while this one runs. A frame that fails is reported and
+// the others go on; the command fails at the end when any did.
+void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
+                 const mcd::DeviceOptions &deviceOptions, bool explain) {
+    std::vector<RolePath> inputs, outputs;
+    for (const SequenceFrame &f : frames) {
+        inputs.push_back({"input", f.input, "write the sequence elsewhere"});
+        inputs.push_back({"--reference", f.reference});
+        outputs.push_back({"-o", f.output});
+        outputs.push_back({"--preview", f.preview});
+    }
+    RefuseOverwritingInputs(inputs, outputs);
+    // The output directories are made (a farm task may be the first to write there), once
+    // nothing is refused.
+    std::set<std::string> dirs;
+    for (const RolePath &out : outputs)
+        if (!out.path.empty()) dirs.insert(std::filesystem::path(out.path).parent_path());
+    for (const std::string &dir : dirs)
+        if (!dir.empty()) PrepareDirectory(dir);
+    for (const SequenceFrame &f : frames) {
+        CheckOutputPath(f.output, {".exr", ".png"});
+        if (!f.preview.empty()) CheckOutputPath(f.preview, {".png"});
+    }
+
+    auto start = std::chrono::steady_clock::now();
+    Device device(deviceOptions);
+    SequenceProgress progress(int(frames.size()));
+    std::vector<std::string> failed;
+    // A frame between its run and the end of its write: what it prints once written.
+    struct Pending {
+        const SequenceFrame *frame = nullptr;
+        std::string out, warnings, error;
+        std::future<void> written;
+    };
+    auto failure = [](const SequenceFrame &f, const std::exception &e) {
+        bool known = dynamic_cast<const Error *>(&e) ||
+                     dynamic_cast<const std::bad_alloc *>(&e) ||
+                     dynamic_cast<const std::filesystem::filesystem_error *>(&e);
+        return fmt::format("mcdenoise: error: frame {} ({}): {}{}\n", f.number, f.input,
+                           known ? "" : "internal error: ", e.what());
+    };
+    auto finish = [&](Pending &p) {
+        if (p.written.valid()) try {
+                p.written.get();
+            } catch (const std::exception &e) {
+                p.error = failure(*p.frame, e);
+            }
+        progress.Clear();
+        fmt::print(stderr, "{}", p.warnings);
+        if (p.error.empty()) {
+            fmt::print("{}", p.out);
+            std::fflush(stdout);
+        } else {
+            fmt::print(stderr, "{}", p.error);
+            failed.push_back(p.frame->input);
+        }
+        progress.FrameDone(*p.frame, !p.error.empty(), device.Context().Pipelines().seconds);
+    };
+
+    // Three frames in flight: the next one read, this one denoised, the last one written.
+    std::future<LoadedFrame> next = std::async(std::launch::async, LoadFrame, frames.front());
+    Pending previous;
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const SequenceFrame &f = frames[i];
+        Pending current;
+        current.frame = &f;
+        try {
+            LoadedFrame loaded = next.get();
+            if (i + 1 < frames.size())
+                next = std::async(std::launch::async, LoadFrame, frames[i + 1]);
+            RunOptions run;
+            run.progress = [&](const std::string &stage, int done, int total) {
+                progress.Stage(f.input, stage, done, total);
+            };
+            Result result = method.Run(device, loaded.frame, run);
+            if (explain) {
+                current.out +=
+                    fmt::format("{} on {} ({}):\n", result.method, f.input, device.Name());
+                for (const std::string &step : result.plan) current.out += "  " + step + "\n";
+                current.out += LedgerText(result);
+                current.out += PipelinesText(device);
+            }
+            for (const std::string &warning : result.warnings)
+                current.warnings += fmt::format("warning: {}: {}\n", f.input, warning);
+            current.out += FrameLine(f.output, result);
+            if (!loaded.reference.Empty())
+                current.out += ErrorLine(loaded.frame.Get("color"), result.image,
+                                         loaded.reference, f.reference);
+            std::optional<Image> alpha;
+            if (loaded.frame.Has("alpha")) alpha = std::move(loaded.frame.layers.at("alpha"));
+            current.written =
+                std::async(std::launch::async,
+                           [&f, image = std::move(result.image), alpha = std::move(alpha),
+                            provenance = Provenance(method, result, f.input)] {
+                               const Image *a = alpha ? &*alpha : nullptr;
+                               WriteImage(f.output, image, provenance, a);
+                               if (!f.preview.empty())
+                                   io::WritePngWithAlpha(f.preview, image, a);
+                           });
+        } catch (const std::exception &e) {
+            // The next frame is read even when this one could not be.
+            if (i + 1 < frames.size() && !next.valid())
+                next = std::async(std::launch::async, LoadFrame, frames[i + 1]);
+            current.error = failure(f, e);
+        }
+        if (previous.frame) finish(previous);
+        previous = std::move(current);
+    }
+    finish(previous);
+    double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    fmt::print("{} frames in {:.2f} s ({:.2f} frames/s): {} written, {} failed\n",
+               frames.size(), seconds, double(frames.size()) / seconds,
+               frames.size() - failed.size(), failed.size());
+    if (!failed.empty()) {
+        std::string names;
+        for (size_t i = 0; i < failed.size() && i < 10; ++i)
+            names += (i ? ", " : "") + failed[i];
+        if (failed.size() > 10) names += fmt::format(" and {} more", failed.size() - 10);
+        throw Error(
+            fmt::format("{} of {} frames failed: {}", failed.size(), frames.size(), names));
+    }
+}
+
 }  // namespace
 
 void AddDenoiseCommand(CLI::App &app) {
     struct Options {
-        std::string input, output, method = "auto", reference, preview;
+        std::vector<std::string> inputs;
+        std::string input, output, method = "auto", reference, preview, frames;
         bool explain = false, overwriteInput = false;
         DeviceOptions device;
         MethodOptions methods;
     };
     auto opt = std::make_shared<Options>();
     CLI::App *cmd = app.add_subcommand(
-        "denoise", "Denoise a frame with one method:" + MethodOptions::Summaries());
-    cmd->add_option("input", opt->input, "noisy frame (EXR with the layers the method needs)")
+        "denoise", "Denoise a frame, or a sequence of frames, with one method:" +
+                       MethodOptions::Summaries());
+    cmd->add_option("input", opt->inputs,
+                    "noisy frame (EXR with the layers the method needs); for a sequence, "
+                    "several frames or one pattern (frame.####.exr or frame.%04d.exr)")
         ->required();
-    cmd->add_option("-o,--output", opt->output, "denoised image (.exr or .png)")->required();
+    cmd->add_option("-o,--output", opt->output,
+                    "denoised image (.exr or .png); for a sequence, a pattern "
+                    "(out.####.exr) or a directory (out/)")
+        ->required();
+    cmd->add_option("--frames", opt->frames,
+                    "the frames of a sequence to denoise: N, FIRST-LAST or a list of those "
+                    "(1-50,60); a pattern's frame missing on disk fails that frame");
     cmd->add_option("--method", opt->method,
                     "auto (" + Method("auto").Summary() + "), " + MethodOptions::Names())
         ->capture_default_str();
     cmd->add_option("--reference", opt->reference,
-                    "converged image to measure the error against, before and after");
-    cmd->add_option("--preview", opt->preview, "also write a tonemapped PNG");
+                    "converged image to measure the error against, before and after (for a "
+                    "sequence, a pattern or one image for every frame)");
+    cmd->add_option("--preview", opt->preview,
+                    "also write a tonemapped PNG (for a sequence, a pattern or a directory)");
     cmd->add_flag("--explain", opt->explain, "print what runs and what is left out, and why");
     cmd->add_flag("--overwrite-input", opt->overwriteInput,
                   "let -o be the input frame (.exr): the result becomes its color, the noisy "
@@ -109,6 +378,22 @@ void AddDenoiseCommand(CLI::App &app) {
 
     cmd->callback([opt] {
         Method method = opt->methods.Make(opt->method);
+        if (IsSequence(opt->inputs)) {
+            if (opt->overwriteInput)
+                throw Error(
+                    "--overwrite-input is for one frame; a sequence is written to an "
+                    "output pattern or directory");
+            RunSequence(PlanSequence({opt->inputs, opt->output, opt->preview, opt->reference,
+                                      opt->frames}),
+                        method, opt->device.Options(), opt->explain);
+            return;
+        }
+        if (!opt->frames.empty())
+            throw Error(
+                fmt::format("--frames selects frames of a sequence; '{}' is one frame "
+                            "(give a pattern such as frame.####.exr, or several files)",
+                            opt->inputs.front()));
+        opt->input = opt->inputs.front();
         CheckOutputPath(opt->output, {".exr", ".png"});
         if (!opt->preview.empty()) CheckOutputPath(opt->preview, {".png"});
         // No output may be a file this run reads, unless the user says so for -o.
@@ -131,13 +416,7 @@ void AddDenoiseCommand(CLI::App &app) {
             opt->input, inPlace ? mcd::ReadOptions{} : mcd::ReadOptions{method.Uses()});
         const Image &color = frame.Get("color");
         Image reference;
-        if (!opt->reference.empty()) {
-            reference = io::ReadImage(opt->reference);
-            if (reference.width != color.width || reference.height != color.height)
-                throw Error(fmt::format("reference {} is {}x{}, the frame {}x{}",
-                                        opt->reference, reference.width, reference.height,
-                                        color.width, color.height));
-        }
+        if (!opt->reference.empty()) reference = ReadReference(opt->reference, color);
 
         Device device(opt->device.Options());
         RunOptions run;
@@ -161,36 +440,22 @@ void AddDenoiseCommand(CLI::App &app) {
                 fmt::print("  frame {}\n", it->second);
             for (const std::string &step : result.plan) fmt::print("  {}\n", step);
             fmt::print("{}", LedgerText(result));
+            fmt::print("{}", PipelinesText(device));
         }
         for (const std::string &warning : result.warnings)
             fmt::print(stderr, "warning: {}\n", warning);
         // Measure before writing: a failure here must not leave a file behind.
         std::string errorLine;
-        if (!reference.Empty()) {
-            ErrorMetrics before = CompareImages(color, reference);
-            ErrorMetrics after = CompareImages(result.image, reference);
-            errorLine = fmt::format(
-                "  error vs {}: relMSE {:.5g} -> {:.5g}, PSNR {:.2f} -> {:.2f} dB, SSIM {:.4f} "
-                "-> {:.4f}{}\n",
-                opt->reference, before.relMse, after.relMse, before.psnr, after.psnr,
-                before.ssim, after.ssim,
-                after.nonFinite ? fmt::format(" ({} non-finite output values)", after.nonFinite)
-                                : "");
-        }
-        std::map<std::string, std::string> provenance = {
-            {"mcd:method", result.method},
-            {"mcd:source", opt->input},
-            {"mcd:options", OptionsText(method, result.method)},
-            {"mcd:version", Version()}};
+        if (!reference.Empty())
+            errorLine = ErrorLine(color, result.image, reference, opt->reference);
+        std::map<std::string, std::string> provenance = Provenance(method, result, opt->input);
         const Image *alpha = frame.Has("alpha") ? &frame.Get("alpha") : nullptr;
         if (inPlace)
             WriteOverInput(frame, result.image, provenance);
         else
             WriteImage(opt->output, result.image, provenance, alpha);
         if (!opt->preview.empty()) io::WritePngWithAlpha(opt->preview, result.image, alpha);
-        fmt::print("{}: {} in {:.1f} ms ({:.1f} ms GPU, {} dispatches)\n", opt->output,
-                   result.method, result.wallMs, result.GpuMs(), result.timings.size());
-        fmt::print("{}", errorLine);
+        fmt::print("{}{}", FrameLine(opt->output, result), errorLine);
     });
 }
 

@@ -16,11 +16,11 @@ namespace mcd::tool {
 
 // Options every GPU subcommand takes.
 struct DeviceOptions {
-    std::string device;
+    std::string device, pipelineCache;
     bool validation = false;
     void Add(CLI::App *command);
-    vk::ContextOptions ContextOptions() const { return {device, validation}; }
-    mcd::DeviceOptions Options() const { return {device, validation}; }
+    vk::ContextOptions ContextOptions() const { return {device, validation, pipelineCache}; }
+    mcd::DeviceOptions Options() const { return {device, validation, pipelineCache}; }
 };
 
 void AddInfoCommand(CLI::App &app);

@@ -18,6 +18,10 @@ void DeviceOptions::Add(CLI::App *command) {
                         "the first discrete GPU, then integrated, then CPU)");
     command->add_flag("--validation", validation,
                       "enable the Khronos validation layer and print its messages");
+    command->add_option("--pipeline-cache", pipelineCache,
+                        "file for the Vulkan driver's pipeline cache: read at the start, "
+                        "written at the end, so the next run builds its pipelines faster where "
+                        "the driver keeps them (lavapipe does not; README)");
 }
 
 void ParseSize(const std::string &text, int *width, int *height) {

@@ -2,7 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <sys/stat.h>
+
+#include <cstdint>
 #include <filesystem>
+#include <map>
 #include <system_error>
 
 #include "host/error.h"
@@ -19,6 +23,15 @@ fs::path Canonical(const std::string &path) {
     fs::path canonical = fs::weakly_canonical(fs::absolute(path, ec), ec);
     if (ec) canonical = fs::absolute(path, ec).lexically_normal();
     return canonical;
+}
+
+// What SameFile compares: an existing file by its device and inode (links and hard links
+// alike), any other path by its canonical spelling.
+std::string FileKey(const std::string &path) {
+    struct stat info;
+    if (::stat(path.c_str(), &info) == 0)
+        return fmt::format("inode {}:{}", uint64_t(info.st_dev), uint64_t(info.st_ino));
+    return "path " + Canonical(path).string();
 }
 
 std::string Describe(const RolePath &p) {
@@ -39,22 +52,27 @@ bool SameFile(const std::string &a, const std::string &b) {
 
 void RefuseOverwritingInputs(const std::vector<RolePath> &inputs,
                              const std::vector<RolePath> &outputs) {
+    // One key per path, so a sequence's thousands of frames are checked in one pass:
+    // SameFile(a, b) exactly when FileKey(a) == FileKey(b).
+    std::map<std::string, size_t> inputByKey, outputByKey;
+    for (size_t i = 0; i < inputs.size(); ++i)
+        if (!inputs[i].path.empty()) inputByKey.emplace(FileKey(inputs[i].path), i);
     for (size_t o = 0; o < outputs.size(); ++o) {
         const RolePath &out = outputs[o];
         if (out.path.empty()) continue;
-        for (const RolePath &in : inputs)
-            if (!in.path.empty() && SameFile(out.path, in.path))
-                throw Error(fmt::format(
-                    "{} would overwrite {}: they are the same file{}; nothing was written{}",
-                    Describe(out), Describe(in),
-                    out.path == in.path ? ""
-                                        : fmt::format(" ({})", Canonical(in.path).string()),
-                    in.hint.empty() ? "" : "; " + in.hint));
+        std::string key = FileKey(out.path);
+        if (auto it = inputByKey.find(key); it != inputByKey.end()) {
+            const RolePath &in = inputs[it->second];
+            throw Error(fmt::format(
+                "{} would overwrite {}: they are the same file{}; nothing was written{}",
+                Describe(out), Describe(in),
+                out.path == in.path ? "" : fmt::format(" ({})", Canonical(in.path).string()),
+                in.hint.empty() ? "" : "; " + in.hint));
+        }
         // Two outputs on one file: the second would silently replace the first.
-        for (size_t p = 0; p < o; ++p)
-            if (!outputs[p].path.empty() && SameFile(out.path, outputs[p].path))
-                throw Error(fmt::format("{} and {} are the same file; nothing was written",
-                                        Describe(outputs[p]), Describe(out)));
+        if (auto [it, added] = outputByKey.emplace(key, o); !added)
+            throw Error(fmt::format("{} and {} are the same file; nothing was written",
+                                    Describe(outputs[it->second]), Describe(out)));
     }
 }
 
