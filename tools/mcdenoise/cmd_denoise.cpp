@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <map>
 #include <new>
@@ -202,9 +203,9 @@ struct LoadedFrame {
     Image reference;
 };
 
-LoadedFrame LoadFrame(const SequenceFrame &f) {
+LoadedFrame LoadFrame(const SequenceFrame &f, const mcd::ReadOptions &read) {
     LoadedFrame loaded;
-    loaded.frame = io::ReadFrame(f.input);
+    loaded.frame = io::ReadFrame(f.input, read);
     if (!f.reference.empty())
         loaded.reference = ReadReference(f.reference, loaded.frame.Get("color"));
     return loaded;
@@ -271,7 +272,10 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
     };
 
     // Three frames in flight: the next one read, this one denoised, the last one written.
-    std::future<LoadedFrame> next = std::async(std::launch::async, LoadFrame, frames.front());
+    // Only the layers the method reads.
+    const mcd::ReadOptions read{method.Uses()};
+    std::future<LoadedFrame> next =
+        std::async(std::launch::async, LoadFrame, frames.front(), std::cref(read));
     Pending previous;
     for (size_t i = 0; i < frames.size(); ++i) {
         const SequenceFrame &f = frames[i];
@@ -280,7 +284,8 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
         try {
             LoadedFrame loaded = next.get();
             if (i + 1 < frames.size())
-                next = std::async(std::launch::async, LoadFrame, frames[i + 1]);
+                next =
+                    std::async(std::launch::async, LoadFrame, frames[i + 1], std::cref(read));
             RunOptions run;
             run.progress = [&](const std::string &stage, int done, int total) {
                 progress.Stage(f.input, stage, done, total);
@@ -313,7 +318,8 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
         } catch (const std::exception &e) {
             // The next frame is read even when this one could not be.
             if (i + 1 < frames.size() && !next.valid())
-                next = std::async(std::launch::async, LoadFrame, frames[i + 1]);
+                next =
+                    std::async(std::launch::async, LoadFrame, frames[i + 1], std::cref(read));
             current.error = failure(f, e);
         }
         if (previous.frame) finish(previous);
