@@ -33,7 +33,7 @@ std::vector<Variant> Variants() {
     return {{"rhf", "rhf", {}},
             {"pivot", "pivot", {}},
             {"pivot k0", "pivot", {{"robust-k", 0.f}}},
-            {"bayes", "bayes", {{"no-split", true}}},
+            {"bayes", "bayes", {}},
             {"awr", "awr", {}},
             {"rhf 1 scale", "rhf", {{"nscales", 1}}}};
 }
@@ -209,7 +209,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     if (options.combine != "mean" && !estimate)
         plan.push_back(
             "auto: no variance layer nor half-buffers: no error estimate, the candidates "
-            "are averaged with equal weights");
+            "are averaged, each method with the same weight (shared by its variants)");
 
     // The probe b (+-1 per value, seeded: runs repeat) and the perturbed color.
     Image probe, perturbed;
@@ -233,8 +233,6 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     };
     std::vector<Ran> ran;
     Result result;
-    // bayes runs on the whole color (no-split): its split output, direct + g(indirect), is
-    // no function of the color alone, which SURE needs.
     std::vector<Variant> variants = Variants();
     for (size_t v = 0; v < variants.size(); ++v) {
         const Variant &variant = variants[v];
@@ -243,8 +241,20 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             if (m->Name() == variant.method) base = m.get();
         std::unique_ptr<FrontEnd> method = base->Clone();
         for (const auto &[param, value] : variant.overrides) method->Set(param, value);
+        // SURE needs an output that is a function of the color alone: bayes's split output,
+        // direct + g(indirect), is not, so with an estimate bayes runs on the whole color.
+        if (estimate && variant.method == "bayes") method->Set("no-split", true);
         if (variant.label == "rhf 1 scale" && std::get<int>(base->Get("nscales")) == 1)
             continue;
+        // Without an estimate a variant cannot show where it is better: the methods' own
+        // defaults only (on Cycles frames pivot k0 kept fireflies that k 0.3 removes).
+        if (!estimate && !variant.overrides.empty()) {
+            plan.push_back(
+                fmt::format("auto: left out {}: a variant, and no error estimate to "
+                            "weigh it by",
+                            variant.label));
+            continue;
+        }
         if (std::string lacks = method->Missing(frame); !lacks.empty()) {
             plan.push_back(fmt::format("auto: left out {}: {}", variant.label, lacks));
             continue;
@@ -306,6 +316,20 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     // Zero estimates weigh the candidates equally: the mean.
     vk::GpuImage gZeros(context, w, h, count, "auto.zeros");
     gZeros.Upload(Image(w, h, count));
+    // Without an estimate every method gets the same weight, shared by its variants: a
+    // constant "error" of the number of its variants that ran, weighed at power 1.
+    vk::GpuImage gShares(context, w, h, count, "auto.shares");
+    if (!estimate) {
+        Image shares(w, h, count);
+        for (int k = 0; k < count; ++k) {
+            int siblings = 0;
+            for (const Ran &other : ran)
+                siblings += variants[other.variant].method == variants[ran[k].variant].method;
+            std::fill(shares.data.begin() + size_t(k) * w * h,
+                      shares.data.begin() + size_t(k + 1) * w * h, float(siblings));
+        }
+        gShares.Upload(shares);
+    }
     if (estimate) {
         // relMSE's denominator needs the reference: the candidates' mean stands in for it.
         vk::GpuImage gGuide(context, w, h, channels, "auto.guide");
@@ -330,9 +354,13 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         }
         RecordAutoSmooth(context, recorder, gErrors, options.radius, gSmooth);
     }
-    RecordAutoCombine(context, recorder, gColor, gCandidates, estimate ? gSmooth : gZeros,
-                      options.combine == "select" ? AutoMode::Select : AutoMode::Weights,
-                      options.power, options.floorError, gOutput, gWeights);
+    if (estimate)
+        RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth,
+                          options.combine == "select" ? AutoMode::Select : AutoMode::Weights,
+                          options.power, options.floorError, gOutput, gWeights);
+    else
+        RecordAutoCombine(context, recorder, gColor, gCandidates, gShares, AutoMode::Weights,
+                          1.f, 1e-3f, gOutput, gWeights);
     recorder.Submit();
     for (const auto &t : recorder.Timings()) result.timings.push_back({t.label, t.gpuMs});
     result.image = gOutput.Download();

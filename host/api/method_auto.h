@@ -36,8 +36,10 @@ class AutoFrontEnd : public FrontEnd {
     struct Options {
         float budget = 3600;  // seconds
         std::string combine = "weights", noise = "auto", map;
-        int radius = 4;
-        float power = 1, epsilon = 0.5f, floorError = 1e-5f;
+        // Measured (README): a wide window and power 2 keep heavy-tailed frames
+        // (double-textured) from mixing in their worse candidates.
+        int radius = 16;
+        float power = 2, epsilon = 0.5f, floorError = 1e-5f;
     };
 
   private:
