@@ -56,8 +56,10 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "weights, no estimate)",
                     &O::combine, {"weights", "select", "mean"}),
         ChoiceParam("auto-noise",
-                    "the noise for the error estimate: auto (the variance layer, else the "
-                    "half-buffers half0/half1.color), variance, or halves ((h0 - h1)^2 / 4)",
+                    "the error estimate: auto (variance when the frame has a variance "
+                    "layer, else halves), halves (each candidate also runs on half0 and is "
+                    "compared with half1; Rousselle et al. 2013) or variance (SURE from the "
+                    "variance layer, with a second run on a perturbed color)",
                     &O::noise, {"auto", "variance", "halves"}),
         IntParam("auto-radius", "half-size of the window the error estimates are averaged over",
                  &O::radius, 0, 64),
@@ -181,39 +183,39 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                                 inputs.Path(), channels));
     std::vector<std::string> plan;
 
-    // The noise of the pixel mean, for the estimate: the variance layer, or from the halves.
-    Image variance;
+    // The estimate. Half-buffers (Rousselle, Manzi and Zwicker 2013): each candidate also
+    // runs on half0 and is compared with the independent half1, E[(F(h0) - h1)^2] =
+    // E[(F(h0) - r)^2] + Var(h1), whatever the noise's distribution. Else SURE from the
+    // variance layer: a second run on a perturbed color gives the divergence.
+    Image variance, half0, half1, probe, perturbed;
     std::string noiseFrom;
     bool halves = inputs.Has("half0.color") && inputs.Has("half1.color");
-    bool useVariance = options.noise != "halves" && inputs.Has("variance");
-    if (options.combine != "mean" && useVariance) {
-        variance = inputs.Get("variance");
-        noiseFrom = "the variance layer";
-    } else if (options.combine != "mean" && options.noise != "variance" && halves) {
-        const Image &h0 = inputs.Get("half0.color"), &h1 = inputs.Get("half1.color");
-        if (!h0.SameShape(color) || !h1.SameShape(color))
+    // Measured (README): SURE did as well or better than the halves on every frame with
+    // both, so auto takes the halves only where there is no variance layer.
+    bool useVariance =
+        options.combine != "mean" && options.noise != "halves" && inputs.Has("variance");
+    bool useHalves =
+        options.combine != "mean" && halves && !useVariance && options.noise != "variance";
+    if (useHalves) {
+        half0 = inputs.Get("half0.color");
+        half1 = inputs.Get("half1.color");
+        if (!half0.SameShape(color) || !half1.SameShape(color))
             throw Error(fmt::format("{}: half0.color and half1.color must have color's shape",
                                     inputs.Path()));
-        // E[(h0 - h1)^2] = 2 Var(h) = 4 Var((h0 + h1) / 2).
+        // Var(h1) = 2 Var(mean), and E[(h0 - h1)^2] = 4 Var(mean).
         variance = Image(w, h, channels);
         for (size_t i = 0; i < variance.data.size(); ++i) {
-            double d = double(h0.data[i]) - h1.data[i];
-            variance.data[i] = float(d * d / 4);
+            double d = double(half0.data[i]) - half1.data[i];
+            variance.data[i] = float(d * d / 2);
         }
-        noiseFrom = "the half-buffers ((half0 - half1)^2 / 4)";
-    }
-    if (!variance.Empty() && !variance.SameShape(color))
-        throw Error(
-            fmt::format("{}: the variance layer must have color's shape", inputs.Path()));
-    bool estimate = !variance.Empty();
-    if (options.combine != "mean" && !estimate)
-        plan.push_back(
-            "auto: no variance layer nor half-buffers: no error estimate, the candidates "
-            "are averaged, each method with the same weight (shared by its variants)");
-
-    // The probe b (+-1 per value, seeded: runs repeat) and the perturbed color.
-    Image probe, perturbed;
-    if (estimate) {
+        probe = Image(w, h, channels);  // no divergence term: h1 is independent of F(h0)
+        noiseFrom = "the half-buffers (each candidate run on half0, compared with half1)";
+    } else if (useVariance) {
+        variance = inputs.Get("variance");
+        if (!variance.SameShape(color))
+            throw Error(
+                fmt::format("{}: the variance layer must have color's shape", inputs.Path()));
+        // The probe b (+-1 per value, seeded: runs repeat) and the perturbed color.
         probe = Image(w, h, channels);
         perturbed = color;
         std::mt19937 rng(0x17a0u);
@@ -222,7 +224,20 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             perturbed.data[i] +=
                 options.epsilon * std::sqrt(std::max(variance.data[i], 0.f)) * probe.data[i];
         }
+        noiseFrom = fmt::format(
+            "SURE on the variance layer, Monte Carlo divergence with "
+            "epsilon {}",
+            options.epsilon);
+    } else if (options.noise != "auto" && options.combine != "mean") {
+        throw Error(fmt::format(
+            "{}: --auto-noise {}: the frame has no {}", inputs.Path(), options.noise,
+            options.noise == "halves" ? "half0.color and half1.color" : "variance layer"));
     }
+    bool estimate = useHalves || useVariance;
+    if (options.combine != "mean" && !estimate)
+        plan.push_back(
+            "auto: no variance layer nor half-buffers: no error estimate, the candidates "
+            "are averaged, each method with the same weight (shared by its variants)");
 
     // The candidates, while the budget lasts.
     struct Ran {
@@ -233,6 +248,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     };
     std::vector<Ran> ran;
     Result result;
+    Image frameVariance =
+        useHalves && inputs.Has("variance") ? inputs.Get("variance") : Image();
     std::vector<Variant> variants = Variants();
     for (size_t v = 0; v < variants.size(); ++v) {
         const Variant &variant = variants[v];
@@ -241,8 +258,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             if (m->Name() == variant.method) base = m.get();
         std::unique_ptr<FrontEnd> method = base->Clone();
         for (const auto &[param, value] : variant.overrides) method->Set(param, value);
-        // SURE needs an output that is a function of the color alone: bayes's split output,
-        // direct + g(indirect), is not, so with an estimate bayes runs on the whole color.
+        // The estimates need an output that is a function of the color alone: bayes's split
+        // output, direct + g(indirect), is not, so with an estimate bayes runs on the whole
+        // color.
         if (estimate && variant.method == "bayes") method->Set("no-split", true);
         if (variant.label == "rhf 1 scale" && std::get<int>(base->Get("nscales")) == 1)
             continue;
@@ -276,9 +294,16 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                 result.timings.push_back({variant.label + ": " + t.label, t.gpuMs});
             Ran r{variant.label, v, std::move(one.image), {}, 0};
             if (estimate) {
-                inputs.Override("color", perturbed);
+                // The half run sees half the samples: the variance of its mean doubles.
+                if (!frameVariance.Empty()) {
+                    Image doubled = frameVariance;
+                    for (float &x : doubled.data) x *= 2;
+                    inputs.Override("variance", std::move(doubled));
+                }
+                inputs.Override("color", useHalves ? half0 : perturbed);
                 Result probeRun = method->Run(context, inputs, quiet);
                 inputs.Override("color", color);
+                if (!frameVariance.Empty()) inputs.Override("variance", frameVariance);
                 for (const Timing &t : probeRun.timings)
                     result.timings.push_back({variant.label + " (probe): " + t.label, t.gpuMs});
                 r.perturbed = std::move(probeRun.image);
@@ -290,6 +315,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             ran.push_back(std::move(r));
         } catch (const Error &e) {
             inputs.Override("color", color);
+            if (!frameVariance.Empty()) inputs.Override("variance", frameVariance);
             plan.push_back(fmt::format("auto: left out {}: {}", variant.label, e.what()));
         }
     }
@@ -342,11 +368,15 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         vk::GpuImage gError(context, w, h, 1, "auto.error");
         gVariance.Upload(variance);
         gProbe.Upload(probe);
+        // With halves: F(h0) against h1 (zero probe, no divergence term).
+        vk::GpuImage gHalf1(context, w, h, channels, "auto.half1");
+        if (useHalves) gHalf1.Upload(half1);
         for (int k = 0; k < count; ++k) {
-            gOut.Upload(ran[k].output);
+            gOut.Upload(useHalves ? ran[k].perturbed : ran[k].output);
             gPerturbed.Upload(ran[k].perturbed);
-            RecordAutoEstimate(context, recorder, gColor, gVariance, gProbe, gGuide, gOut,
-                               gPerturbed, options.epsilon, gError);
+            RecordAutoEstimate(context, recorder, useHalves ? gHalf1 : gColor, gVariance,
+                               gProbe, gGuide, gOut, gPerturbed,
+                               useHalves ? 1.f : options.epsilon, gError);
             recorder.Copy(gError.buffer, gErrors.buffer, planeBytes, 0, size_t(k) * planeBytes);
             recorder.Submit();
             for (const auto &t : recorder.Timings())
@@ -392,20 +422,21 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                       : estimate
                           ? fmt::format("weighted per pixel by 1 / error^{}", options.power)
                           : "averaged";
-    plan.insert(
-        plan.begin(),
-        fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
-                    estimate ? fmt::format(" (SURE estimates from {}, Monte Carlo "
-                                           "divergence with epsilon {}, averaged over "
-                                           "{}x{} windows)",
-                                           noiseFrom, options.epsilon, 2 * options.radius + 1,
-                                           2 * options.radius + 1)
-                             : ""));
+    plan.insert(plan.begin(),
+                fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
+                            estimate ? fmt::format(" (error estimates from {}, averaged over "
+                                                   "{}x{} windows)",
+                                                   noiseFrom, 2 * options.radius + 1,
+                                                   2 * options.radius + 1)
+                                     : ""));
     for (int k = 0; k < count; ++k)
         plan.insert(plan.begin() + 1 + k,
                     fmt::format("auto: ran {} ({}{:.2f} s): share {:.1f}%, largest weight in "
                                 "{:.1f}% of the pixels (map: {})",
-                                ran[k].label, estimate ? "twice, with the probe, " : "",
+                                ran[k].label,
+                                useHalves  ? "twice, on the frame and on half0, "
+                                : estimate ? "twice, with the probe, "
+                                           : "",
                                 ran[k].seconds, 100 * share[k] / pixels,
                                 100.0 * won[k] / pixels, kPaletteName[ran[k].variant]));
     if (!options.map.empty()) {

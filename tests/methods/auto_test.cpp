@@ -13,6 +13,7 @@
 
 #include "cpu_reference/auto_combine.h"
 #include "harness/compare.h"
+#include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/kernels/auto_combine.h"
@@ -366,6 +367,55 @@ TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     EXPECT_EQ(ran, 1);
     EXPECT_NE(fmt::format("{}", fmt::join(result.plan, "\n")).find("the budget"),
               std::string::npos);
+}
+
+bool PlanHas(const Result &result, const std::string &text) {
+    for (const std::string &line : result.plan)
+        if (line.find(text) != std::string::npos) return true;
+    return false;
+}
+
+// The half-buffers' estimate (render --layers halves), and a frame with no statistics (no
+// variance, no halves): the methods' defaults averaged with equal weights, the variants
+// left out with the reason.
+TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
+    render::RenderOptions options;
+    options.width = 24, options.height = 20, options.spp = 8;
+    options.layers = render::kLayersGbuffer | render::kLayersHalves;
+    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
+    Frame frame;
+    frame.width = options.width, frame.height = options.height;
+    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    Device device = Device::Borrow(Ctx());
+    Method automatic("auto");
+    automatic.Set("auto-noise", "halves");
+    Result result = automatic.Run(device, frame);
+    EXPECT_TRUE(PlanHas(result, "from the half-buffers"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_TRUE(PlanHas(result, "on the frame and on half0"));
+    for (float v : result.image.data) ASSERT_TRUE(std::isfinite(v));
+    frame.layers.erase("variance");
+    frame.layers.erase("half0.color");
+    frame.layers.erase("half1.color");
+    EXPECT_NE(ErrorOf([&] { automatic.Run(device, frame); }).find("--auto-noise halves"),
+              std::string::npos);
+    automatic.Set("auto-noise", "auto");
+    result = automatic.Run(device, frame);
+    EXPECT_TRUE(PlanHas(result, "no error estimate"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant"));
+    // awr (from min, max and spp), bayes and pivot: their plain mean, to the float sums'
+    // rounding.
+    std::vector<Image> outputs;
+    for (const char *name : {"awr", "bayes", "pivot", "rhf"})
+        if (Method(name).Missing(frame).empty())
+            outputs.push_back(Method(name).Run(device, frame).image);
+    ASSERT_EQ(outputs.size(), 3u);
+    for (size_t i = 0; i < result.image.data.size(); ++i) {
+        double mean = 0, scale = 0;
+        for (const Image &o : outputs) mean += o.data[i] / 3.0, scale += std::fabs(o.data[i]);
+        ASSERT_NEAR(result.image.data[i], mean, 1e-6 * (1 + scale)) << i;
+    }
 }
 
 }  // namespace
