@@ -36,9 +36,9 @@ class AutoFrontEnd : public FrontEnd {
     struct Options {
         float budget = 3600;  // seconds
         std::string combine = "weights", noise = "auto", map;
-        // Measured (README): a wide window and power 2 keep heavy-tailed frames
-        // (double-textured) from mixing in their worse candidates.
-        int radius = 16;
+        // Measured (README): power 2 and a 17x17 window; 33x33 helped double-textured but
+        // let one firefly's estimate spoil a wide area of `fireflies`.
+        int radius = 8;
         float power = 2, epsilon = 0.5f, floorError = 1e-5f;
     };
 
