@@ -247,6 +247,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         double seconds;
     };
     std::vector<Ran> ran;
+    std::vector<std::string> candidatePlans;  // what each candidate's own run did
     Result result;
     Image frameVariance =
         useHalves && inputs.Has("variance") ? inputs.Get("variance") : Image();
@@ -290,6 +291,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         try {
             RunOptions quiet;
             Result one = method->Run(context, inputs, quiet);
+            for (const std::string &line : one.plan)
+                candidatePlans.push_back(variant.label + ": " + line);
             for (const Timing &t : one.timings)
                 result.timings.push_back({variant.label + ": " + t.label, t.gpuMs});
             Ran r{variant.label, v, std::move(one.image), {}, 0};
@@ -445,6 +448,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     }
     result.method = "auto";
     result.plan = std::move(plan);
+    result.plan.insert(result.plan.end(), candidatePlans.begin(), candidatePlans.end());
     return result;
 }
 
