@@ -190,8 +190,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     Image variance, half0, half1, probe, perturbed;
     std::string noiseFrom;
     bool halves = inputs.Has("half0.color") && inputs.Has("half1.color");
-    // Measured (README): SURE did as well or better than the halves on every frame with
-    // both, so auto takes the halves only where there is no variance layer.
+    // Measured (README): SURE beat the halves on 3 of 4 frames with both (not on
+    // relief-abc), so auto takes the halves only where there is no variance layer.
     bool useVariance =
         options.combine != "mean" && options.noise != "halves" && inputs.Has("variance");
     bool useHalves =
