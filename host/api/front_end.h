@@ -24,6 +24,8 @@ class Inputs {
     Inputs(const Frame &frame, bool refuseNonFinite, std::string method);
 
     const std::string &Path() const { return frame.path; }
+    // The frame itself (what a front end's Missing reads).
+    const mcd::Frame &Source() const { return frame; }
     int Width() const { return frame.width; }
     int Height() const { return frame.height; }
     bool Has(const std::string &layer) const;

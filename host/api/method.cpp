@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "host/api/front_end.h"
+#include "host/api/method_auto.h"
 #include "host/methods/pivot.h"
 
 namespace mcd {
@@ -32,17 +33,6 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
                          &CommonParams::nonFinite, {"refuse", "zero"})};
 }
 
-// `auto` tries the methods in this order and takes the first the frame has the layers for.
-// The order is measured (README, "Error against run time"): the geometric mean over the
-// seven built-in scenes of the error at equal time, render time included.
-constexpr const char *kAutoOrder[] = {"awr", "rhf", "bayes", "pivot"};
-
-std::string AutoOrderText() {
-    std::string text;
-    for (const char *name : kAutoOrder) text += (text.empty() ? "" : " > ") + std::string(name);
-    return text;
-}
-
 std::unique_ptr<api::FrontEnd> FrontEndByName(const std::string &name) {
     if (name == "awr") return api::AwrFrontEnd();
     if (name == "bayes") return api::BayesFrontEnd();
@@ -50,86 +40,6 @@ std::unique_ptr<api::FrontEnd> FrontEndByName(const std::string &name) {
     if (name == "rhf") return api::RhfFrontEnd();
     return nullptr;
 }
-
-// `auto`: every method's parameters; runs the first method in kAutoOrder that the frame
-// allows.
-class Auto : public api::FrontEnd {
-  public:
-    Auto() {
-        for (const char *name : kAutoOrder) {
-            candidates.push_back(FrontEndByName(name));
-            for (const ParamInfo &info : candidates.back()->Params()) infos.push_back(info);
-        }
-    }
-    Auto(const Auto &other) : infos(other.infos) {
-        for (const auto &c : other.candidates) candidates.push_back(c->Clone());
-    }
-    std::unique_ptr<api::FrontEnd> Clone() const override {
-        return std::make_unique<Auto>(*this);
-    }
-    const std::string &Name() const override { return name; }
-    std::string Summary() const override {
-        return "the best method the frame's layers allow, by the measured order " +
-               AutoOrderText();
-    }
-    const std::vector<ParamInfo> &Params() const override { return infos; }
-    void Set(const std::string &param, const ParamValue &value) override {
-        candidates[Owner(param)]->Set(param, value);
-    }
-    ParamValue Get(const std::string &param) const override {
-        return candidates[Owner(param)]->Get(param);
-    }
-    std::vector<std::string> Uses() const override {
-        std::vector<std::string> layers;
-        for (const auto &c : candidates) {
-            std::vector<std::string> uses = c->Uses();
-            if (uses.empty()) return {};
-            layers.insert(layers.end(), uses.begin(), uses.end());
-        }
-        return layers;
-    }
-    std::string Missing(const Frame &frame) const override {
-        for (const auto &c : candidates)
-            if (c->Missing(frame).empty()) return "";
-        return "no method has the layers it needs";
-    }
-    // The method that runs, with the plan lines that say why.
-    const api::FrontEnd &Pick(const Frame &frame, const std::string &demodulate,
-                              std::vector<std::string> *plan) const {
-        for (const auto &c : candidates) {
-            std::string lacks = c->Missing(frame);
-            if (lacks.empty() && !demodulate.empty() &&
-                !c->Undemodulable(frame, demodulate).empty())
-                lacks = "it cannot run on a demodulated frame";
-            if (lacks.empty()) {
-                plan->insert(plan->begin(), fmt::format("auto: {} (order by bench quality: {})",
-                                                        c->Name(), AutoOrderText()));
-                return *c;
-            }
-            plan->push_back(fmt::format("auto: left out {}: {}", c->Name(), lacks));
-        }
-        throw Error(
-            fmt::format("{}: --method auto found no method for this frame", frame.path));
-    }
-    Result Run(vk::Context &, api::Inputs &, const RunOptions &) const override {
-        throw Error("auto: pick a method first");
-    }
-    std::vector<Stage> Reference(vk::Context &, api::Inputs &) const override {
-        throw Error("auto: pick a method first");
-    }
-
-  private:
-    // The candidate that has the parameter (names are unique across methods).
-    size_t Owner(const std::string &param) const {
-        for (size_t i = 0; i < candidates.size(); ++i)
-            for (const ParamInfo &info : candidates[i]->Params())
-                if (info.name == param) return i;
-        throw Error("auto has no parameter '" + param + "'");
-    }
-    std::string name = "auto";
-    std::vector<std::unique_ptr<api::FrontEnd>> candidates;
-    std::vector<ParamInfo> infos;
-};
 
 // --demodulate: the color-like layers divided by a guide layer, and what multiplies back.
 // Pixels whose guide is at or below 1e-3 x the channel mean are left as they are and keep
@@ -263,7 +173,7 @@ struct Method::Impl {
 
 Method::Method(const std::string &name) {
     std::unique_ptr<api::FrontEnd> frontEnd =
-        name == "auto" ? std::make_unique<Auto>() : FrontEndByName(name);
+        name == "auto" ? std::make_unique<api::AutoFrontEnd>() : FrontEndByName(name);
     if (!frontEnd) {
         std::string known = "auto";
         for (const std::string &m : MethodNames()) known += ", " + m;
@@ -404,8 +314,9 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     const api::FrontEnd *method = impl->frontEnd.get();
     const std::string &demodulate = impl->common.demodulate;
     std::vector<std::string> autoPlan;
-    if (const Auto *automatic = dynamic_cast<const Auto *>(method))
-        method = &automatic->Pick(frame, demodulate, &autoPlan);
+    // auto combines the methods on the frame itself; with --demodulate it picks one.
+    if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
+        if (!demodulate.empty()) method = &automatic->Pick(frame, demodulate, &autoPlan);
     api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
     Demodulation demodulation;
     if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
@@ -429,7 +340,9 @@ std::vector<Stage> Method::Reference(Device &device, const Frame &frame) const {
     const api::FrontEnd *method = impl->frontEnd.get();
     const std::string &demodulate = impl->common.demodulate;
     std::vector<std::string> ignored;
-    if (const Auto *automatic = dynamic_cast<const Auto *>(method))
+    // The reference of auto's combination is its kernels' (tests/methods/auto_test.cpp):
+    // here, the one method auto picks without a combination.
+    if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
         method = &automatic->Pick(frame, demodulate, &ignored);
     api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
     if (!demodulate.empty()) Demodulate(inputs, *method, frame, demodulate);

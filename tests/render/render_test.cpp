@@ -89,6 +89,29 @@ TEST(RenderLayers, ZHistogramsBinColorOverPivot) {
     EXPECT_EQ(render::ParseLayerGroups("all") & render::kLayersZHist, 0u);
 }
 
+// The half-buffers split the samples by parity: their mean weighted by ceil(n/2) and
+// floor(n/2) is color, and the same seed gives the same color with or without them; at
+// 1 spp half0 is the sample and half1 is 0. Not in "all".
+TEST(RenderLayers, HalvesSplitTheSamples) {
+    for (int spp : {7, 1}) {
+        RenderOptions o;
+        o.width = 24, o.height = 18, o.spp = spp, o.seed = 5;
+        render::RenderResult plain = render::Render(render::BuildScene("cornell"), o);
+        o.layers = render::ParseLayerGroups("halves");
+        render::RenderResult r = render::Render(render::BuildScene("cornell"), o);
+        const Image &color = Layer(r, "color"), &h0 = Layer(r, "half0.color"),
+                    &h1 = Layer(r, "half1.color");
+        EXPECT_EQ(color.data, Layer(plain, "color").data);
+        int even = (spp + 1) / 2, odd = spp / 2;
+        for (size_t i = 0; i < color.data.size(); ++i) {
+            double mean = (double(even) * h0.data[i] + double(odd) * h1.data[i]) / spp;
+            ASSERT_NEAR(mean, color.data[i], 1e-5 * (1 + std::fabs(color.data[i]))) << i;
+            if (spp == 1) ASSERT_EQ(h1.data[i], 0.f);
+        }
+    }
+    EXPECT_EQ(render::ParseLayerGroups("all") & render::kLayersHalves, 0u);
+}
+
 TEST(RenderLayers, AgreeWithEachOther) {
     render::RenderResult r = RenderCornell(24, 18, 8, 7, render::kLayersAll);
     const Image &color = Layer(r, "color"), &mn = Layer(r, "min"), &mx = Layer(r, "max");

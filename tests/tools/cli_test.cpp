@@ -490,17 +490,22 @@ TEST_F(CliTest, DenoiseAwr) {
     io::WriteExr(Path("bare.exr").string(), {{"color", &color}});
     EXPECT_TRUE(IsError(Run("denoise bare.exr --method awr -o f.exr"), "variance layer"));
     EXPECT_FALSE(fs::exists(Path("f.exr")));
-    // auto (the default) takes the first method in its measured order that the frame
-    // has the layers for, and says what it left out and why.
+    // auto (the default) runs every method the frame has the layers for, says what it
+    // left out and why, and with no statistics (no variance, no halves) averages them.
     r = Run("denoise bare.exr -o g.exr --explain");
     ASSERT_EQ(r.code, 0) << r.All();
-    EXPECT_TRUE(Contains(r.out, "auto: bayes")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "auto: ran bayes")) << r.out;
     EXPECT_TRUE(Contains(r.out, "left out awr: no variance layer")) << r.out;
     EXPECT_TRUE(Contains(r.out, "left out rhf: no histogram")) << r.out;
-    EXPECT_TRUE(Contains(r.out, "awr > rhf > bayes > pivot")) << r.out;
-    r = Run("denoise n.exr -o g.exr --explain");
+    EXPECT_TRUE(Contains(r.out, "no error estimate")) << r.out;
+    // With a variance layer each candidate's error is estimated (SURE), and the map of the
+    // largest weights is written on request.
+    r = Run("denoise n.exr -o g.exr --explain --auto-map map.png");
     ASSERT_EQ(r.code, 0) << r.All();
-    EXPECT_TRUE(Contains(r.out, "auto: awr")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "auto: ran awr")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "auto: ran bayes")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "SURE on the variance layer")) << r.out;
+    EXPECT_TRUE(fs::exists(Path("map.png")));
     // A refused frame (NaN color) leaves the good file at the output path alone.
     io::Frame noisy = io::ReadFrame(Path("n.exr").string());
     noisy.layers["color"].At(0, 3, 4) = NAN;

@@ -318,15 +318,18 @@ TEST_F(CliInputSafety, DenoiseKeepsAlphaAndSaysHowItWasMade) {
     ASSERT_TRUE(preview.Has("alpha"));
     for (int x = 0; x < 16; ++x)
         EXPECT_NEAR(preview.Get("alpha").At(0, 5, x), alpha.At(0, 5, x), 0.5 / 255) << x;
-    // auto names the method it chose; a frame without alpha gets none.
+    // auto, which combines its candidates, records every candidate's options and its own;
+    // a frame without alpha gets none.
     Image plain(16, 12, 3, 0.5f);
     io::WriteExr(Path("plain.exr").string(), {{"color", &plain}, {"variance", &variance}});
     r = Run("denoise plain.exr -o e.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     io::Frame e = io::ReadFrame(Path("e.exr").string());
     EXPECT_FALSE(e.Has("alpha"));
-    EXPECT_EQ(e.metadata["mcd:method"], "awr");
+    EXPECT_EQ(e.metadata["mcd:method"], "auto");
     EXPECT_TRUE(Contains(e.metadata["mcd:options"], "cs=1"));
+    EXPECT_TRUE(Contains(e.metadata["mcd:options"], "auto-radius="));
+    EXPECT_TRUE(Contains(e.metadata["mcd:options"], "kappa="));
 }
 
 TEST_F(CliInputSafety, RenderWaveletAndDiffRefuseTheirInputs) {

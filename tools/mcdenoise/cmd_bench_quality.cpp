@@ -183,7 +183,9 @@ void BenchQuality(const QualityOptions &opt) {
     ladder.erase(std::unique(ladder.begin(), ladder.end()), ladder.end());
     if (ladder.empty()) throw Error("--spp: no sample counts");
     std::vector<Method> methods;
-    for (const std::string &name : MethodNames())
+    std::vector<std::string> names = MethodNames();
+    names.push_back("auto");
+    for (const std::string &name : names)
         if (opt.methods == "all" || Listed(SplitList(opt.methods), name))
             methods.push_back(opt.methodOptions.Make(name));
     if (opt.methods != "all")
@@ -261,8 +263,11 @@ void BenchQuality(const QualityOptions &opt) {
                                            sceneName, spp, mc.error.relMse, mc.renderSeconds);
             for (size_t m = 0; m < methods.size(); ++m) {
                 if (skipped.count(methods[m].Name())) continue;
-                // The plain frame when it has what the method needs, and its render time.
-                bool needsMore = !methods[m].Missing(plainFrame).empty();
+                // The plain frame when it has what the method needs, and its render time;
+                // auto takes every layer group (its candidates need them), and its time is
+                // that of every candidate it ran.
+                bool needsMore =
+                    methods[m].Name() == "auto" || !methods[m].Missing(plainFrame).empty();
                 const io::Frame &frame = needsMore ? fullFrame : plainFrame;
                 double renderSeconds = needsMore ? full.seconds : plain.seconds;
                 try {

@@ -79,7 +79,8 @@ std::string PipelinesText(Device &device) {
 std::string OptionsText(const Method &method, const std::string &ran) {
     std::string text;
     for (const ParamInfo &info : method.Params()) {
-        if (!info.method.empty() && info.method != ran) continue;
+        // auto ran every candidate: all their options count.
+        if (!info.method.empty() && info.method != ran && ran != "auto") continue;
         std::string value = std::visit(
             [](const auto &v) {
                 if constexpr (std::is_same_v<std::decay_t<decltype(v)>, bool>)

@@ -94,8 +94,9 @@ void AddRenderCommand(CLI::App &app) {
                     "partial<k>.color, .pivot and .variance per number k < 2 of mirror bounces "
                     "before the first diffuse/glossy hit, and the remainder) and zhist "
                     "(histograms of color / pivot, with the pivot, for denoise --method rhf "
-                    "--demodulate pivot); color, variance, spp, min and max are always "
-                    "written");
+                    "--demodulate pivot) and halves (half0.color, half1.color: the means of "
+                    "the even and of the odd samples, for auto's error estimate); color, "
+                    "variance, spp, min and max are always written");
     cmd->add_option("--threads", opt->threads,
                     "threads (default: all cores; the frame is the same)");
     cmd->add_option("-o,--output", opt->output, "output EXR")->required();

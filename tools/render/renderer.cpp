@@ -32,12 +32,16 @@ unsigned ParseLayerGroups(const std::string &text) {
             groups |= kLayersPartials;
         else if (item == "zhist")
             groups |= kLayersZHist | kLayersPivot;
+        else if (item == "halves")
+            groups |= kLayersHalves;
         else if (item == "all")
             groups |= kLayersAll;
         else if (!item.empty())
-            throw Error(fmt::format(
-                "unknown layer group '{}' (hist, split, pivot, gbuffer, partials, zhist, all)",
-                item));
+            throw Error(
+                fmt::format("unknown layer group '{}' (hist, split, pivot, gbuffer, partials, "
+                            "zhist, halves, "
+                            "all)",
+                            item));
     }
     return groups;
 }
@@ -91,6 +95,7 @@ struct FrameLayers {
                 if (k < kPartialTypes)
                     partialPivots.emplace_back(w, h, 3), partialVariances.emplace_back(w, h, 3);
             }
+        if (o.layers & kLayersHalves) half0 = Image(w, h, 3), half1 = Image(w, h, 3);
         if (o.layers & kLayersGbuffer) {
             albedo = Image(w, h, 3), normal = Image(w, h, 3), depth = Image(w, h, 1);
             objectId = Image(w, h, 1), partId = Image(w, h, 1);
@@ -127,10 +132,13 @@ struct FrameLayers {
         }
         if (!partialColors.empty())
             result.layers.emplace_back("remainder", std::move(partialColors.back()));
+        add("half0.color", half0);
+        add("half1.color", half1);
     }
 
     Image color, variance, spp, mn, mx;
     Image hist, zhist, direct, indirect, pivot, albedo, normal, depth, objectId, partId;
+    Image half0, half1;  // means of the even and of the odd samples
     // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
     std::vector<Image> partialColors, partialPivots, partialVariances;
 };
@@ -150,7 +158,7 @@ struct PixelSums {
 
     double sum[3] = {}, sumSq[3] = {}, lo[3] = {INFINITY, INFINITY, INFINITY},
            hi[3] = {-INFINITY, -INFINITY, -INFINITY}, sumDirect[3] = {}, sumIndirect[3] = {},
-           sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0;
+           sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0, sumHalf[2][3] = {};
     Vec3 sumPartial[kPartialTypes + 1], sumSqPartial[kPartialTypes + 1];
     int firstObject = 0, firstPart = 0;
     uint64_t nonFinite = 0;  // paths that produced NaN/Inf (counted as 0)
@@ -186,6 +194,7 @@ void SamplePixel(const SampleSource &source, const RenderOptions &o, const Frame
         }
         for (int c = 0; c < 3; ++c) {
             sums.sum[c] += c3[c];
+            sums.sumHalf[s % 2][c] += c3[c];
             sums.sumSq[c] += c3[c] * c3[c];
             sums.lo[c] = std::min(sums.lo[c], c3[c]);
             sums.hi[c] = std::max(sums.hi[c], c3[c]);
@@ -229,6 +238,12 @@ void WritePixel(const PixelSums &sums, const RenderOptions &o, int x, int y,
         if (!layers.direct.Empty()) {
             layers.direct.At(c, y, x) = float(sums.sumDirect[c] / n);
             layers.indirect.At(c, y, x) = float(sums.sumIndirect[c] / n);
+        }
+        if (!layers.half0.Empty()) {
+            // Sample s goes to half s % 2: ceil(n / 2) and floor(n / 2) samples.
+            int even = (o.spp + 1) / 2, odd = o.spp / 2;
+            layers.half0.At(c, y, x) = float(sums.sumHalf[0][c] / even);
+            layers.half1.At(c, y, x) = odd > 0 ? float(sums.sumHalf[1][c] / odd) : 0.f;
         }
         if (!layers.albedo.Empty()) {
             layers.albedo.At(c, y, x) = float(sums.sumAlbedo[c] / n);

@@ -35,9 +35,14 @@ enum LayerGroup : unsigned {
     // `denoise --method rhf --demodulate pivot`). Where a channel's pivot is 0, z is the
     // sample itself, as --demodulate leaves such pixels undivided.
     kLayersZHist = 32,
+    // Half-buffers (not in "all"): half0.color and half1.color, the means of the even and
+    // of the odd samples, two independent estimates of color (as `accumulate` writes from
+    // N frames); with 1 spp half1 has no sample and is 0.
+    kLayersHalves = 64,
 };
 
-// Parse "hist,split,pivot,gbuffer,partials,zhist", "all" or "" (none); throws mcd::Error.
+// Parse "hist,split,pivot,gbuffer,partials,zhist,halves", "all" or "" (none); throws
+// mcd::Error.
 unsigned ParseLayerGroups(const std::string &text);
 
 struct RenderOptions {

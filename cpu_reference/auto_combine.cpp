@@ -1,0 +1,99 @@
+#include "cpu_reference/auto_combine.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mcd::ref {
+
+Image AutoEstimate(const Image &color, const Image &variance, const Image &probe,
+                   const Image &guide, const Image &output, const Image &perturbed,
+                   double epsilon) {
+    int w = color.width, h = color.height, channels = color.channels;
+    Image error(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum = 0;
+            for (int c = 0; c < channels; ++c) {
+                double f = output.At(c, y, x), noisy = color.At(c, y, x);
+                double v = variance.At(c, y, x);
+                // SURE: the residual, less the noise, plus twice the noise times the
+                // divergence (its Monte Carlo estimate from the perturbed run).
+                double divergence = probe.At(c, y, x) * (perturbed.At(c, y, x) - f) /
+                                    (epsilon * std::sqrt(std::max(v, 0.0)));
+                double term = (f - noisy) * (f - noisy) - v;
+                if (v > 0) term += 2 * v * divergence;
+                double g = guide.At(c, y, x);
+                sum += term / (g * g + kAutoRelOffset);
+            }
+            error.At(0, y, x) = float(sum / channels);
+        }
+    return error;
+}
+
+Image AutoSmooth(const Image &errors, int radius) {
+    int w = errors.width, h = errors.height;
+    Image smooth(w, h, errors.channels);
+    for (int p = 0; p < errors.channels; ++p)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                int n = 0;
+                for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                    for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius);
+                         ++u) {
+                        double e = errors.At(p, v, u);
+                        if (!std::isfinite(e)) continue;
+                        sum += e;
+                        ++n;
+                    }
+                smooth.At(p, y, x) =
+                    n > 0 ? float(sum / n) : std::numeric_limits<float>::quiet_NaN();
+            }
+    return smooth;
+}
+
+AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidates,
+                         const Image &errors, bool select, double power, double floorError) {
+    int w = color.width, h = color.height, channels = color.channels;
+    int count = int(candidates.size());
+    AutoCombined out{Image(w, h, channels), Image(w, h, count)};
+    std::vector<double> weight(count);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            // The candidates with a finite estimate and output here, and the best of them.
+            int best = -1;
+            std::vector<bool> usable(count);
+            for (int k = 0; k < count; ++k) {
+                usable[k] = std::isfinite(errors.At(k, y, x));
+                for (int c = 0; c < channels; ++c)
+                    usable[k] = usable[k] && std::isfinite(candidates[k].At(c, y, x));
+                if (usable[k] && (best < 0 || errors.At(k, y, x) < errors.At(best, y, x)))
+                    best = k;
+            }
+            double total = 0;
+            for (int k = 0; k < count; ++k) {
+                if (select)
+                    weight[k] = k == best ? 1 : 0;
+                else
+                    weight[k] =
+                        usable[k]
+                            ? std::pow(std::max(double(errors.At(k, y, x)), floorError), -power)
+                            : 0;
+                total += weight[k];
+            }
+            bool none = !(total > 0) || !std::isfinite(total);
+            for (int k = 0; k < count; ++k)
+                out.weights.At(k, y, x) = none ? 0.f : float(weight[k] / total);
+            for (int c = 0; c < channels; ++c) {
+                double sum = 0;
+                for (int k = 0; k < count; ++k)
+                    if (!none && weight[k] > 0)
+                        sum += weight[k] / total * candidates[k].At(c, y, x);
+                out.color.At(c, y, x) = none ? color.At(c, y, x) : float(sum);
+            }
+        }
+    return out;
+}
+
+}  // namespace mcd::ref

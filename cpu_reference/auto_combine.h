@@ -1,0 +1,42 @@
+// The auto method's combination of candidate denoisers, the CPU reference: Stein's unbiased
+// risk estimate of each candidate's per-pixel error with a Monte Carlo divergence (Stein
+// 1981; Ramani, Blu and Unser 2008, eq. 8: div f ~ b . (f(y + eps b) - f(y)) / eps), its
+// box mean, and the per-pixel weights (or selection) by the estimates. Plain loops in
+// double; nothing is shared with the GPU path.
+#pragma once
+
+#include <vector>
+
+#include "host/image.h"
+
+namespace mcd::ref {
+
+// relMSE's offset (the metric's "+ 0.01").
+constexpr double kAutoRelOffset = 0.01;
+
+// One plane: the mean over channels of
+//   [(f - y)^2 - v + 2 sqrt(max(v, 0)) b (fp - f) / epsilon] / (g^2 + 0.01),
+// an unbiased estimate (over the noise and b) of (f - r)^2 / (g^2 + 0.01) for y = r +
+// noise of variance v, f = F(y), fp = F(y + epsilon sqrt(v) b), b = +-1, to first order in
+// epsilon; g (the guide) stands in for the unknown r in relMSE's denominator, the same for
+// every candidate.
+Image AutoEstimate(const Image &color, const Image &variance, const Image &probe,
+                   const Image &guide, const Image &output, const Image &perturbed,
+                   double epsilon);
+
+// Per plane, the mean of the finite values over the (2 radius + 1)^2 window clipped to the
+// image; NaN where the window has none.
+Image AutoSmooth(const Image &errors, int radius);
+
+struct AutoCombined {
+    Image color;    // C planes
+    Image weights;  // K planes, summing to 1 (or all 0 where the input is kept)
+};
+
+// candidates[k] (C planes each), errors (K planes). Weights: max(e_k, floorError)^-power,
+// select: 1 for the smallest e_k (the first on ties); 0 for a candidate whose estimate or
+// output is not finite at the pixel; where every weight is 0 the input color is kept.
+AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidates,
+                         const Image &errors, bool select, double power, double floorError);
+
+}  // namespace mcd::ref

@@ -1,0 +1,466 @@
+// Method `auto` (issue #17): run the candidates the frame allows, estimate each one's
+// per-pixel error without the reference and combine them per pixel (GPU kernels
+// shaders/auto/; CPU reference cpu_reference/auto_combine.cpp).
+#include "host/api/method_auto.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "host/kernels/auto_combine.h"
+#include "host/kernels/auto_estimate.h"
+#include "host/kernels/auto_smooth.h"
+#include "host/vk/gpu_image.h"
+#include "shaders/auto/auto.h"
+
+namespace mcd::api {
+namespace {
+
+// The order the single-method paths pick in (--demodulate, the reference), as before:
+// the geometric mean over the built-in scenes of the error at equal time.
+constexpr const char *kPickOrder[] = {"awr", "rhf", "bayes", "pivot"};
+
+// A candidate: a method with some parameters set over the user's.
+struct Variant {
+    std::string label, method;
+    std::vector<std::pair<std::string, ParamValue>> overrides;
+};
+
+// In the order they run while the budget lasts: the measured strongest first.
+std::vector<Variant> Variants() {
+    return {{"rhf", "rhf", {}},
+            {"pivot", "pivot", {}},
+            {"pivot k0", "pivot", {{"robust-k", 0.f}}},
+            {"bayes", "bayes", {}},
+            {"awr", "awr", {}},
+            {"rhf 1 scale", "rhf", {{"nscales", 1}}}};
+}
+
+// The map's colour of variant v (linear RGB).
+constexpr float kPalette[][3] = {{0.9f, 0.1f, 0.1f}, {0.1f, 0.7f, 0.1f}, {0.1f, 0.3f, 1.f},
+                                 {1.f, 0.8f, 0.05f}, {0.8f, 0.1f, 0.9f}, {0.1f, 0.9f, 0.9f}};
+constexpr const char *kPaletteName[] = {"red", "green", "blue", "yellow", "magenta", "cyan"};
+
+std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
+    using O = AutoFrontEnd::Options;
+    return {
+        FloatParam("budget",
+                   "seconds auto may spend: a candidate that would start after this is left "
+                   "out (--explain names it); the first always runs",
+                   &O::budget, 0, 1e9),
+        ChoiceParam("auto-combine",
+                    "weights (per pixel, each candidate by 1 / its smoothed error estimate), "
+                    "select (the candidate with the smallest estimate) or mean (equal "
+                    "weights, no estimate)",
+                    &O::combine, {"weights", "select", "mean"}),
+        ChoiceParam("auto-noise",
+                    "the error estimate: auto (variance when the frame has a variance "
+                    "layer, else halves), halves (each candidate also runs on half0 and is "
+                    "compared with half1; Rousselle et al. 2013) or variance (SURE from the "
+                    "variance layer, with a second run on a perturbed color)",
+                    &O::noise, {"auto", "variance", "halves"}),
+        IntParam("auto-radius", "half-size of the window the error estimates are averaged over",
+                 &O::radius, 0, 64),
+        FloatParam("auto-power", "weights are 1 / error^power", &O::power, 1e-3, 64),
+        FloatParam("auto-epsilon",
+                   "size of the perturbation that measures each candidate's divergence, in "
+                   "standard deviations of the pixel mean",
+                   &O::epsilon, 1e-3, 10),
+        FloatParam("auto-floor", "smallest relative error estimate a weight takes",
+                   &O::floorError, 1e-12, 1),
+        ChoiceParam("auto-map",
+                    "write a PNG here: each pixel coloured by the candidate with the largest "
+                    "weight (--explain gives the colours)",
+                    &O::map, {})};
+}
+
+const ParamDef<AutoFrontEnd::Options> *OwnDef(const std::string &param) {
+    static const std::vector<ParamDef<AutoFrontEnd::Options>> defs = OwnDefs();
+    for (const auto &def : defs)
+        if (def.info.name == param) return &def;
+    return nullptr;
+}
+
+std::unique_ptr<FrontEnd> MethodByName(const std::string &name) {
+    if (name == "awr") return AwrFrontEnd();
+    if (name == "bayes") return BayesFrontEnd();
+    if (name == "pivot") return PivotFrontEnd();
+    return RhfFrontEnd();
+}
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+AutoFrontEnd::AutoFrontEnd() {
+    for (const char *m : {"awr", "bayes", "pivot", "rhf"}) {
+        methods.push_back(MethodByName(m));
+        for (const ParamInfo &info : methods.back()->Params()) infos.push_back(info);
+    }
+    for (ParamDef<Options> def : OwnDefs()) {
+        def.info.defaultValue = def.get(Options());
+        def.info.method = name;
+        infos.push_back(def.info);
+    }
+}
+
+AutoFrontEnd::AutoFrontEnd(const AutoFrontEnd &other)
+    : infos(other.infos), options(other.options) {
+    for (const auto &m : other.methods) methods.push_back(m->Clone());
+}
+
+std::unique_ptr<FrontEnd> AutoFrontEnd::Clone() const {
+    return std::make_unique<AutoFrontEnd>(*this);
+}
+
+std::string AutoFrontEnd::Summary() const {
+    return "every method the frame's layers allow, combined per pixel by error estimates "
+           "that need no reference (SURE from the variance layer or the half-buffers)";
+}
+
+void AutoFrontEnd::Set(const std::string &param, const ParamValue &value) {
+    if (const auto *def = OwnDef(param)) return def->set(options, value);
+    for (auto &m : methods)
+        for (const ParamInfo &info : m->Params())
+            if (info.name == param) return m->Set(param, value);
+    throw Error("auto has no parameter '" + param + "'");
+}
+
+ParamValue AutoFrontEnd::Get(const std::string &param) const {
+    if (const auto *def = OwnDef(param)) return def->get(options);
+    for (const auto &m : methods)
+        for (const ParamInfo &info : m->Params())
+            if (info.name == param) return m->Get(param);
+    throw Error("auto has no parameter '" + param + "'");
+}
+
+// Every candidate's layers, and the half-buffers for the error estimate.
+std::vector<std::string> AutoFrontEnd::Uses() const {
+    std::vector<std::string> layers = {"half0.color", "half1.color"};
+    for (const auto &m : methods) {
+        std::vector<std::string> uses = m->Uses();
+        if (uses.empty()) return {};
+        layers.insert(layers.end(), uses.begin(), uses.end());
+    }
+    return layers;
+}
+
+std::string AutoFrontEnd::Missing(const Frame &frame) const {
+    for (const auto &m : methods)
+        if (m->Missing(frame).empty()) return "";
+    return "no method has the layers it needs";
+}
+
+const FrontEnd &AutoFrontEnd::Pick(const Frame &frame, const std::string &demodulate,
+                                   std::vector<std::string> *plan) const {
+    std::string order;
+    for (const char *m : kPickOrder) order += (order.empty() ? "" : " > ") + std::string(m);
+    for (const char *m : kPickOrder) {
+        const FrontEnd *c = nullptr;
+        for (const auto &candidate : methods)
+            if (candidate->Name() == m) c = candidate.get();
+        std::string lacks = c->Missing(frame);
+        if (lacks.empty() && !demodulate.empty() &&
+            !c->Undemodulable(frame, demodulate).empty())
+            lacks = "it cannot run on a demodulated frame";
+        if (lacks.empty()) {
+            plan->insert(
+                plan->begin(),
+                fmt::format("auto: {} (one method{}: the first of {} the frame "
+                            "allows)",
+                            c->Name(), demodulate.empty() ? "" : " with --demodulate", order));
+            return *c;
+        }
+        plan->push_back(fmt::format("auto: left out {}: {}", c->Name(), lacks));
+    }
+    throw Error(fmt::format("{}: --method auto found no method for this frame", frame.path));
+}
+
+std::vector<Stage> AutoFrontEnd::Reference(vk::Context &, Inputs &) const {
+    throw Error("auto: pick a method first");
+}
+
+Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const {
+    auto start = std::chrono::steady_clock::now();
+    const Frame &frame = inputs.Source();
+    const Image color = inputs.Get("color");
+    int w = color.width, h = color.height, channels = color.channels;
+    if (channels < 1 || channels > 4)
+        throw Error(fmt::format("{}: auto combines 1 to 4 colour channels, the color has {}",
+                                inputs.Path(), channels));
+    std::vector<std::string> plan;
+
+    // The estimate. Half-buffers (Rousselle, Manzi and Zwicker 2013): each candidate also
+    // runs on half0 and is compared with the independent half1, E[(F(h0) - h1)^2] =
+    // E[(F(h0) - r)^2] + Var(h1), whatever the noise's distribution. Else SURE from the
+    // variance layer: a second run on a perturbed color gives the divergence.
+    Image variance, half0, half1, probe, perturbed;
+    std::string noiseFrom;
+    bool halves = inputs.Has("half0.color") && inputs.Has("half1.color");
+    // Measured (README): SURE beat the halves on 3 of 4 frames with both (not on
+    // relief-abc), so auto takes the halves only where there is no variance layer.
+    bool useVariance =
+        options.combine != "mean" && options.noise != "halves" && inputs.Has("variance");
+    bool useHalves =
+        options.combine != "mean" && halves && !useVariance && options.noise != "variance";
+    if (useHalves) {
+        half0 = inputs.Get("half0.color");
+        half1 = inputs.Get("half1.color");
+        if (!half0.SameShape(color) || !half1.SameShape(color))
+            throw Error(fmt::format("{}: half0.color and half1.color must have color's shape",
+                                    inputs.Path()));
+        // Var(h1) = 2 Var(mean), and E[(h0 - h1)^2] = 4 Var(mean).
+        variance = Image(w, h, channels);
+        for (size_t i = 0; i < variance.data.size(); ++i) {
+            double d = double(half0.data[i]) - half1.data[i];
+            variance.data[i] = float(d * d / 2);
+        }
+        probe = Image(w, h, channels);  // no divergence term: h1 is independent of F(h0)
+        noiseFrom = "the half-buffers (each candidate run on half0, compared with half1)";
+    } else if (useVariance) {
+        variance = inputs.Get("variance");
+        if (!variance.SameShape(color))
+            throw Error(
+                fmt::format("{}: the variance layer must have color's shape", inputs.Path()));
+        // The probe b (+-1 per value, seeded: runs repeat) and the perturbed color.
+        probe = Image(w, h, channels);
+        perturbed = color;
+        std::mt19937 rng(0x17a0u);
+        for (size_t i = 0; i < probe.data.size(); ++i) {
+            probe.data[i] = (rng() & 1u) ? 1.f : -1.f;
+            perturbed.data[i] +=
+                options.epsilon * std::sqrt(std::max(variance.data[i], 0.f)) * probe.data[i];
+        }
+        noiseFrom = fmt::format(
+            "SURE on the variance layer, Monte Carlo divergence with "
+            "epsilon {}",
+            options.epsilon);
+    } else if (options.noise != "auto" && options.combine != "mean") {
+        throw Error(fmt::format(
+            "{}: --auto-noise {}: the frame has no {}", inputs.Path(), options.noise,
+            options.noise == "halves" ? "half0.color and half1.color" : "variance layer"));
+    }
+    bool estimate = useHalves || useVariance;
+    if (options.combine != "mean" && !estimate)
+        plan.push_back(
+            "auto: no variance layer nor half-buffers: no error estimate, the candidates "
+            "are averaged, each method with the same weight (shared by its variants)");
+
+    // The candidates, while the budget lasts.
+    struct Ran {
+        std::string label;
+        size_t variant;
+        Image output, perturbed;
+        double seconds;
+    };
+    std::vector<Ran> ran;
+    std::vector<std::string> candidatePlans;  // what each candidate's own run did
+    Result result;
+    Image frameVariance =
+        useHalves && inputs.Has("variance") ? inputs.Get("variance") : Image();
+    std::vector<Variant> variants = Variants();
+    for (size_t v = 0; v < variants.size(); ++v) {
+        const Variant &variant = variants[v];
+        const FrontEnd *base = nullptr;
+        for (const auto &m : methods)
+            if (m->Name() == variant.method) base = m.get();
+        std::unique_ptr<FrontEnd> method = base->Clone();
+        for (const auto &[param, value] : variant.overrides) method->Set(param, value);
+        // The estimates need an output that is a function of the color alone: bayes's split
+        // output, direct + g(indirect), is not, so with an estimate bayes runs on the whole
+        // color.
+        if (estimate && variant.method == "bayes") method->Set("no-split", true);
+        if (variant.label == "rhf 1 scale" && std::get<int>(base->Get("nscales")) == 1)
+            continue;
+        // Without an estimate a variant cannot show where it is better: the methods' own
+        // defaults only (on Cycles frames pivot k0 kept fireflies that k 0.3 removes).
+        if (!estimate && !variant.overrides.empty()) {
+            plan.push_back(
+                fmt::format("auto: left out {}: a variant, and no error estimate to "
+                            "weigh it by",
+                            variant.label));
+            continue;
+        }
+        if (std::string lacks = method->Missing(frame); !lacks.empty()) {
+            plan.push_back(fmt::format("auto: left out {}: {}", variant.label, lacks));
+            continue;
+        }
+        double elapsed = SecondsSince(start);
+        if (!ran.empty() && elapsed > options.budget) {
+            plan.push_back(
+                fmt::format("auto: left out {}: the budget ({} s) was spent after "
+                            "{:.2f} s",
+                            variant.label, options.budget, elapsed));
+            continue;
+        }
+        if (ran.size() == AUTO_MAX_CANDIDATES) break;
+        auto begin = std::chrono::steady_clock::now();
+        try {
+            RunOptions quiet;
+            Result one = method->Run(context, inputs, quiet);
+            for (const std::string &line : one.plan)
+                candidatePlans.push_back(variant.label + ": " + line);
+            for (const Timing &t : one.timings)
+                result.timings.push_back({variant.label + ": " + t.label, t.gpuMs});
+            Ran r{variant.label, v, std::move(one.image), {}, 0};
+            if (estimate) {
+                // The half run sees half the samples: the variance of its mean doubles.
+                if (!frameVariance.Empty()) {
+                    Image doubled = frameVariance;
+                    for (float &x : doubled.data) x *= 2;
+                    inputs.Override("variance", std::move(doubled));
+                }
+                inputs.Override("color", useHalves ? half0 : perturbed);
+                Result probeRun = method->Run(context, inputs, quiet);
+                inputs.Override("color", color);
+                if (!frameVariance.Empty()) inputs.Override("variance", frameVariance);
+                for (const Timing &t : probeRun.timings)
+                    result.timings.push_back({variant.label + " (probe): " + t.label, t.gpuMs});
+                r.perturbed = std::move(probeRun.image);
+            }
+            if (!r.output.SameShape(color))
+                throw Error(fmt::format("its output is {}x{}x{}", r.output.width,
+                                        r.output.height, r.output.channels));
+            r.seconds = SecondsSince(begin);
+            ran.push_back(std::move(r));
+        } catch (const Error &e) {
+            inputs.Override("color", color);
+            if (!frameVariance.Empty()) inputs.Override("variance", frameVariance);
+            plan.push_back(fmt::format("auto: left out {}: {}", variant.label, e.what()));
+        }
+    }
+    if (ran.empty())
+        throw Error(
+            fmt::format("{}: --method auto found no method for this frame", inputs.Path()));
+
+    // On the GPU: each candidate's estimate, their box means, the combination.
+    int count = int(ran.size());
+    vk::GpuImage gColor(context, w, h, channels, "auto.color");
+    vk::GpuImage gCandidates(context, w, h, count * channels, "auto.candidates");
+    vk::GpuImage gErrors(context, w, h, count, "auto.errors");
+    vk::GpuImage gSmooth(context, w, h, count, "auto.smooth");
+    vk::GpuImage gOutput(context, w, h, channels, "auto.output");
+    vk::GpuImage gWeights(context, w, h, count, "auto.weights");
+    gColor.Upload(color);
+    Image packed(w, h, count * channels);
+    size_t planeBytes = size_t(w) * h * sizeof(float);
+    for (int k = 0; k < count; ++k)
+        std::copy(ran[k].output.data.begin(), ran[k].output.data.end(),
+                  packed.data.begin() + size_t(k) * channels * w * h);
+    gCandidates.Upload(packed);
+    vk::Recorder recorder(context);
+    // Zero estimates weigh the candidates equally: the mean.
+    vk::GpuImage gZeros(context, w, h, count, "auto.zeros");
+    gZeros.Upload(Image(w, h, count));
+    // Without an estimate every method gets the same weight, shared by its variants: a
+    // constant "error" of the number of its variants that ran, weighed at power 1.
+    vk::GpuImage gShares(context, w, h, count, "auto.shares");
+    if (!estimate) {
+        Image shares(w, h, count);
+        for (int k = 0; k < count; ++k) {
+            int siblings = 0;
+            for (const Ran &other : ran)
+                siblings += variants[other.variant].method == variants[ran[k].variant].method;
+            std::fill(shares.data.begin() + size_t(k) * w * h,
+                      shares.data.begin() + size_t(k + 1) * w * h, float(siblings));
+        }
+        gShares.Upload(shares);
+    }
+    if (estimate) {
+        // relMSE's denominator needs the reference: the candidates' mean stands in for it.
+        vk::GpuImage gGuide(context, w, h, channels, "auto.guide");
+        RecordAutoCombine(context, recorder, gColor, gCandidates, gZeros, AutoMode::Weights,
+                          1.f, 1.f, gGuide, gWeights);
+        vk::GpuImage gVariance(context, w, h, channels, "auto.variance");
+        vk::GpuImage gProbe(context, w, h, channels, "auto.probe");
+        vk::GpuImage gOut(context, w, h, channels, "auto.candidate");
+        vk::GpuImage gPerturbed(context, w, h, channels, "auto.perturbed");
+        vk::GpuImage gError(context, w, h, 1, "auto.error");
+        gVariance.Upload(variance);
+        gProbe.Upload(probe);
+        // With halves: F(h0) against h1 (zero probe, no divergence term).
+        vk::GpuImage gHalf1(context, w, h, channels, "auto.half1");
+        if (useHalves) gHalf1.Upload(half1);
+        for (int k = 0; k < count; ++k) {
+            gOut.Upload(useHalves ? ran[k].perturbed : ran[k].output);
+            gPerturbed.Upload(ran[k].perturbed);
+            RecordAutoEstimate(context, recorder, useHalves ? gHalf1 : gColor, gVariance,
+                               gProbe, gGuide, gOut, gPerturbed,
+                               useHalves ? 1.f : options.epsilon, gError);
+            recorder.Copy(gError.buffer, gErrors.buffer, planeBytes, 0, size_t(k) * planeBytes);
+            recorder.Submit();
+            for (const auto &t : recorder.Timings())
+                result.timings.push_back({t.label, t.gpuMs});
+        }
+        RecordAutoSmooth(context, recorder, gErrors, options.radius, gSmooth);
+    }
+    if (estimate)
+        RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth,
+                          options.combine == "select" ? AutoMode::Select : AutoMode::Weights,
+                          options.power, options.floorError, gOutput, gWeights);
+    else
+        RecordAutoCombine(context, recorder, gColor, gCandidates, gShares, AutoMode::Weights,
+                          1.f, 1e-3f, gOutput, gWeights);
+    recorder.Submit();
+    for (const auto &t : recorder.Timings()) result.timings.push_back({t.label, t.gpuMs});
+    result.image = gOutput.Download();
+    Image weights = gWeights.Download();
+    if (run.keepStages) {
+        for (int k = 0; k < count; ++k)
+            result.stages.push_back({"auto." + ran[k].label, ran[k].output});
+        if (estimate) result.stages.push_back({"auto.errors", gSmooth.Download()});
+        result.stages.push_back({"auto.weights", weights});
+    }
+
+    // Each candidate's share (mean weight) and where it won (largest weight).
+    size_t pixels = size_t(w) * h;
+    std::vector<double> share(count, 0);
+    std::vector<size_t> won(count, 0);
+    Image map(w, h, 3);
+    for (size_t i = 0; i < pixels; ++i) {
+        int best = -1;
+        for (int k = 0; k < count; ++k) {
+            float wk = weights.data[k * pixels + i];
+            share[k] += wk;
+            if (wk > 0 && (best < 0 || wk > weights.data[best * pixels + i])) best = k;
+        }
+        if (best < 0) continue;
+        ++won[best];
+        for (int c = 0; c < 3; ++c) map.data[c * pixels + i] = kPalette[ran[best].variant][c];
+    }
+    std::string how = options.combine == "select" ? "selected per pixel by"
+                      : estimate
+                          ? fmt::format("weighted per pixel by 1 / error^{}", options.power)
+                          : "averaged";
+    plan.insert(plan.begin(),
+                fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
+                            estimate ? fmt::format(" (error estimates from {}, averaged over "
+                                                   "{}x{} windows)",
+                                                   noiseFrom, 2 * options.radius + 1,
+                                                   2 * options.radius + 1)
+                                     : ""));
+    for (int k = 0; k < count; ++k)
+        plan.insert(plan.begin() + 1 + k,
+                    fmt::format("auto: ran {} ({}{:.2f} s): share {:.1f}%, largest weight in "
+                                "{:.1f}% of the pixels (map: {})",
+                                ran[k].label,
+                                useHalves  ? "twice, on the frame and on half0, "
+                                : estimate ? "twice, with the probe, "
+                                           : "",
+                                ran[k].seconds, 100 * share[k] / pixels,
+                                100.0 * won[k] / pixels, kPaletteName[ran[k].variant]));
+    if (!options.map.empty()) {
+        WritePng(options.map, map);
+        plan.push_back("auto: wrote the map of the largest weights to " + options.map);
+    }
+    result.method = "auto";
+    result.plan = std::move(plan);
+    result.plan.insert(result.plan.end(), candidatePlans.begin(), candidatePlans.end());
+    return result;
+}
+
+}  // namespace mcd::api

@@ -1,0 +1,53 @@
+// Method `auto`: every candidate method (and variant) the frame's layers allow, within a
+// time budget, each with a per-pixel error estimate that needs no reference (SURE from the
+// variance of the mean, or from the half-buffers), combined per pixel by those estimates.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/api/front_end.h"
+
+namespace mcd::api {
+
+class AutoFrontEnd : public FrontEnd {
+  public:
+    AutoFrontEnd();
+    AutoFrontEnd(const AutoFrontEnd &other);
+    std::unique_ptr<FrontEnd> Clone() const override;
+    const std::string &Name() const override { return name; }
+    std::string Summary() const override;
+    const std::vector<ParamInfo> &Params() const override { return infos; }
+    void Set(const std::string &param, const ParamValue &value) override;
+    ParamValue Get(const std::string &param) const override;
+    std::vector<std::string> Uses() const override;
+    std::string Missing(const Frame &frame) const override;
+
+    // One method for the paths that run one (--demodulate, the CPU reference): the first
+    // by the order of the candidates that the frame allows, with the plan lines that say
+    // why.
+    const FrontEnd &Pick(const Frame &frame, const std::string &demodulate,
+                         std::vector<std::string> *plan) const;
+
+    Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override;
+    std::vector<Stage> Reference(vk::Context &, Inputs &) const override;
+
+    // auto's own parameters (the candidates' are the methods').
+    struct Options {
+        float budget = 3600;  // seconds
+        std::string combine = "weights", noise = "auto", map;
+        // Measured (README): power 2 and a 17x17 window; 33x33 helped double-textured but
+        // let one firefly's estimate spoil a wide area of `fireflies`.
+        int radius = 8;
+        float power = 2, epsilon = 0.5f, floorError = 1e-5f;
+    };
+
+  private:
+    std::string name = "auto";
+    std::vector<std::unique_ptr<FrontEnd>> methods;  // awr, bayes, pivot, rhf
+    std::vector<ParamInfo> infos;
+    Options options;
+};
+
+}  // namespace mcd::api

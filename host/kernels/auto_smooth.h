@@ -1,0 +1,14 @@
+// Record the auto method's smoothing of its error maps (shaders/auto/smooth.comp): the
+// box mean of the finite values over a (2r+1)^2 window, per plane.
+#pragma once
+
+#include "host/vk/gpu_image.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+// `input` and `output`: same size and planes; radius 0..64.
+void RecordAutoSmooth(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
+                      int radius, vk::GpuImage &output);
+
+}  // namespace mcd

@@ -1,0 +1,15 @@
+// Constants shared by the auto kernels (per-pixel combination of candidate denoisers) and
+// their host code. The CPU reference (cpu_reference/auto_combine.cpp) keeps its own copies.
+#ifndef MCD_SHADERS_AUTO_AUTO_H
+#define MCD_SHADERS_AUTO_AUTO_H
+
+#define AUTO_LOCAL_SIZE 64
+// Candidates one combination takes at most.
+#define AUTO_MAX_CANDIDATES 8
+// relMSE's offset: the error of a value is (x - r)^2 / (r^2 + AUTO_REL_OFFSET).
+#define AUTO_REL_OFFSET 0.01
+// Combination modes.
+#define AUTO_MODE_WEIGHTS 0
+#define AUTO_MODE_SELECT 1
+
+#endif

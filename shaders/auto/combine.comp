@@ -1,0 +1,58 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "auto/combine.h"
+
+layout(local_size_x = AUTO_LOCAL_SIZE) in;
+layout(std430, binding = AUTO_COMBINE_COLOR) readonly buffer Color { float color[]; };
+layout(std430, binding = AUTO_COMBINE_CANDIDATES) readonly buffer Candidates { float candidates[]; };
+layout(std430, binding = AUTO_COMBINE_ERRORS) readonly buffer Errors { float errors[]; };
+layout(std430, binding = AUTO_COMBINE_OUTPUT) writeonly buffer Output { float outputs[]; };
+layout(std430, binding = AUTO_COMBINE_WEIGHTS) writeonly buffer Weights { float weights[]; };
+
+bool finite(float v) {
+    return !(isnan(v) || isinf(v));
+}
+
+int plane, at, channels;
+
+// Whether candidate k has a finite estimate and output at the pixel.
+bool usable(int k) {
+    if (!finite(errors[k * plane + at])) return false;
+    for (int c = 0; c < channels; ++c)
+        if (!finite(candidates[(k * channels + c) * plane + at])) return false;
+    return true;
+}
+
+// Candidate k's weight before normalisation.
+float weightOf(int k, int best) {
+    if (push.mode == AUTO_MODE_SELECT) return k == best ? 1.0 : 0.0;
+    if (!usable(k)) return 0.0;
+    return pow(max(errors[k * plane + at], push.floorError), -push.power);
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
+    int w = push.width, h = push.height, count = push.count;
+    if (x >= w) return;
+    plane = w * h;
+    at = y * w + x;
+    channels = push.channels;
+    int best = -1;
+    for (int k = 0; k < count; ++k)
+        if (usable(k) && (best < 0 || errors[k * plane + at] < errors[best * plane + at]))
+            best = k;
+    float total = 0.0;
+    for (int k = 0; k < count; ++k) total += weightOf(k, best);
+    bool none = !(total > 0.0) || isinf(total);
+    for (int k = 0; k < count; ++k)
+        weights[k * plane + at] = none ? 0.0 : weightOf(k, best) / total;
+    for (int c = 0; c < channels; ++c) {
+        float sum = 0.0;
+        for (int k = 0; k < count; ++k) {
+            float wk = none ? 0.0 : weightOf(k, best) / total;
+            if (wk > 0.0) sum += wk * candidates[(k * channels + c) * plane + at];
+        }
+        outputs[c * plane + at] = none ? color[c * plane + at] : sum;
+    }
+}

@@ -1,0 +1,45 @@
+// Auto stage 1: a per-pixel estimate of a candidate's relative squared error, without the
+// reference, by Stein's unbiased risk estimate (SURE) with a Monte Carlo divergence
+// (Ramani, Blu and Unser 2008): with y the noisy color, v the variance of its mean, f the
+// candidate's output on y and fp its output on y + eps sqrt(v) b (b = +-1 per value),
+//   e = (1/C) sum_c [(f - y)^2 - v + 2 sqrt(v) b (fp - f) / eps] / (g^2 + 0.01),
+// g a guide for the unknown reference in relMSE's denominator (the same for every
+// candidate).
+// One invocation per pixel; the output has one plane.
+#ifndef MCD_SHADERS_AUTO_ESTIMATE_H
+#define MCD_SHADERS_AUTO_ESTIMATE_H
+
+#include "auto/auto.h"
+
+#define AUTO_ESTIMATE_COLOR 0
+#define AUTO_ESTIMATE_VARIANCE 1
+#define AUTO_ESTIMATE_PROBE 2
+#define AUTO_ESTIMATE_OUTPUT 3
+#define AUTO_ESTIMATE_PERTURBED 4
+#define AUTO_ESTIMATE_ERROR 5
+#define AUTO_ESTIMATE_GUIDE 6
+#define AUTO_ESTIMATE_BINDINGS 7
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct AutoEstimatePush {
+#else
+layout(push_constant) uniform AutoEstimatePush {
+#endif
+    int width;
+    int height;
+    int channels;
+    // The perturbation's size in standard deviations of the mean (> 0).
+    float epsilon;
+#ifdef __cplusplus
+};
+static_assert(sizeof(AutoEstimatePush) == 16);
+static_assert(offsetof(AutoEstimatePush, epsilon) == 12);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif

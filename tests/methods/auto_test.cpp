@@ -1,0 +1,422 @@
+// Method auto (issue #17): each kernel (estimate, smooth, combine) against the CPU reference
+// on random and edge inputs, bit-identical reruns, the estimate's unbiasedness on a case
+// with a known answer, the combination's gain over its candidates, and the method's run.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cpu_reference/auto_combine.h"
+#include "harness/compare.h"
+#include "harness/errors.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/kernels/auto_combine.h"
+#include "host/kernels/auto_estimate.h"
+#include "host/kernels/auto_smooth.h"
+#include "host/metrics.h"
+#include "mcdenoise/mcdenoise.h"
+#include "tools/render/renderer.h"
+
+namespace mcd::test {
+namespace {
+
+constexpr double kUnitRoundoff = 0x1p-24;
+
+// A +-1 probe.
+Image Probe(int w, int h, int channels, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    Image probe(w, h, channels);
+    for (float &v : probe.data) v = (rng() & 1u) ? 1.f : -1.f;
+    return probe;
+}
+
+Image GpuEstimate(vk::Context &ctx, const Image &color, const Image &variance,
+                  const Image &probe, const Image &guide, const Image &output,
+                  const Image &perturbed, float epsilon) {
+    int w = color.width, h = color.height, c = color.channels;
+    vk::GpuImage y(ctx, w, h, c, "y"), v(ctx, w, h, c, "v"), b(ctx, w, h, c, "b");
+    vk::GpuImage f(ctx, w, h, c, "f"), fp(ctx, w, h, c, "fp"), e(ctx, w, h, 1, "e");
+    vk::GpuImage g(ctx, w, h, c, "g");
+    g.Upload(guide);
+    y.Upload(color);
+    v.Upload(variance);
+    b.Upload(probe);
+    f.Upload(output);
+    fp.Upload(perturbed);
+    vk::Recorder recorder(ctx);
+    RecordAutoEstimate(ctx, recorder, y, v, b, g, f, fp, epsilon, e);
+    recorder.Submit();
+    return e.Download();
+}
+
+Image GpuSmooth(vk::Context &ctx, const Image &errors, int radius) {
+    vk::GpuImage in(ctx, errors.width, errors.height, errors.channels, "e");
+    vk::GpuImage out(ctx, errors.width, errors.height, errors.channels, "s");
+    in.Upload(errors);
+    vk::Recorder recorder(ctx);
+    RecordAutoSmooth(ctx, recorder, in, radius, out);
+    recorder.Submit();
+    return out.Download();
+}
+
+ref::AutoCombined GpuCombine(vk::Context &ctx, const Image &color,
+                             const std::vector<Image> &candidates, const Image &errors,
+                             bool select, float power, float floorError) {
+    int w = color.width, h = color.height, c = color.channels, k = int(candidates.size());
+    Image packed(w, h, k * c);
+    for (int i = 0; i < k; ++i)
+        std::copy(candidates[i].data.begin(), candidates[i].data.end(),
+                  packed.data.begin() + size_t(i) * c * w * h);
+    vk::GpuImage y(ctx, w, h, c, "y"), cand(ctx, w, h, k * c, "candidates");
+    vk::GpuImage e(ctx, w, h, k, "e"), out(ctx, w, h, c, "out"), weights(ctx, w, h, k, "w");
+    y.Upload(color);
+    cand.Upload(packed);
+    e.Upload(errors);
+    vk::Recorder recorder(ctx);
+    RecordAutoCombine(ctx, recorder, y, cand, e, select ? AutoMode::Select : AutoMode::Weights,
+                      power, floorError, out, weights);
+    recorder.Submit();
+    return {out.Download(), weights.Download()};
+}
+
+struct KernelCase {
+    int w, h, channels;
+    InputKind kind;
+};
+
+std::vector<KernelCase> KernelCases() {
+    std::vector<KernelCase> cases;
+    for (auto [w, h] : {std::pair{37, 23}, std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 1}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::NonFinite})
+            cases.push_back({w, h, w == 37 ? 3 : 1, kind});
+    return cases;
+}
+
+std::string KernelCaseName(const testing::TestParamInfo<KernelCase> &info) {
+    const KernelCase &c = info.param;
+    return fmt::format("{}x{}x{}_{}", c.w, c.h, c.channels, InputKindName(c.kind));
+}
+
+// Stage 1: per channel a handful of float operations on values of the size of
+// |f - y|^2 + |v| + 2 sqrt|v| |fp - f| / eps, divided by f^2 + 0.01: a few ulps of that
+// sum's magnitude over the denominator, and the sum over C <= 3 channels adds C more.
+class AutoKernelEstimate : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(AutoKernelEstimate, MatchesReferenceAndRepeats) {
+    const auto [w, h, channels, kind] = GetParam();
+    std::string name = fmt::format("estimate{}x{}{}", w, h, InputKindName(kind));
+    Image color = MakeInput(kind, w, h, channels, SeedFromName(name + "y"));
+    Image variance = MakeVarianceInput(kind, w, h, channels, SeedFromName(name + "v"));
+    Image output = MakeInput(kind, w, h, channels, SeedFromName(name + "f"));
+    Image perturbed = MakeInput(kind, w, h, channels, SeedFromName(name + "fp"));
+    Image probe = Probe(w, h, channels, SeedFromName(name + "b"));
+    Image guide = MakeInput(kind, w, h, channels, SeedFromName(name + "g"));
+    const double epsilon = 0.5;
+    Image expected =
+        ref::AutoEstimate(color, variance, probe, guide, output, perturbed, epsilon);
+    Image actual = GpuEstimate(Ctx(), color, variance, probe, guide, output, perturbed, 0.5f);
+    Image scale(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum = 0;
+            for (int c = 0; c < channels; ++c) {
+                double f = output.At(c, y, x), d = std::fabs(f - color.At(c, y, x));
+                double g = guide.At(c, y, x);
+                double v = std::fabs(variance.At(c, y, x));
+                sum += (d * d + v +
+                        2 * std::sqrt(v) * std::fabs(perturbed.At(c, y, x) - f) / epsilon) /
+                       (g * g + ref::kAutoRelOffset);
+            }
+            scale.At(0, y, x) = float(sum / channels);
+        }
+    EXPECT_TRUE(ImagesMatch(expected, actual, scale, {12 * kUnitRoundoff, 0, 1e-10}));
+    EXPECT_TRUE(BitIdentical(
+        actual, GpuEstimate(Ctx(), color, variance, probe, guide, output, perturbed, 0.5f)));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelEstimate, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
+// Stage 2: a sum of at most (2r+1)^2 finite terms and one division: (n + 1) ulps of the
+// window's mean absolute value.
+class AutoKernelSmooth : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(AutoKernelSmooth, MatchesReferenceAndRepeats) {
+    const auto [w, h, channels, kind] = GetParam();
+    std::string name = fmt::format("smooth{}x{}{}", w, h, InputKindName(kind));
+    // Error maps: one plane per candidate (1 to 3 here).
+    Image errors = MakeInput(kind, w, h, channels, SeedFromName(name));
+    for (int radius : {0, 1, 3}) {
+        SCOPED_TRACE(fmt::format("radius {}", radius));
+        Image expected = ref::AutoSmooth(errors, radius);
+        Image magnitude = errors;
+        for (float &v : magnitude.data) v = std::fabs(v);
+        magnitude = ref::AutoSmooth(magnitude, radius);
+        int n = (2 * radius + 1) * (2 * radius + 1);
+        Image actual = GpuSmooth(Ctx(), errors, radius);
+        EXPECT_TRUE(
+            ImagesMatch(expected, actual, magnitude, {(n + 1) * kUnitRoundoff, 0, 1e-10}));
+        EXPECT_TRUE(BitIdentical(actual, GpuSmooth(Ctx(), errors, radius)));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelSmooth, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
+// Stage 3: a weight is one pow (a few ulps), the normalisation a sum of K of them and a
+// division, the output a sum of K products: ~(K + 8) ulps of max_k |f_k| for the colour and
+// of 1 for the weights. The selection compares the same floats on both sides: exact.
+class AutoKernelCombine : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
+    const auto [w, h, channels, kind] = GetParam();
+    std::string name = fmt::format("combine{}x{}{}", w, h, InputKindName(kind));
+    Image color = MakeInput(kind, w, h, channels, SeedFromName(name + "y"));
+    for (int count : {1, 3, 8}) {
+        std::vector<Image> candidates;
+        for (int k = 0; k < count; ++k)
+            candidates.push_back(
+                MakeInput(kind, w, h, channels, SeedFromName(fmt::format("{}c{}", name, k))));
+        // Errors: positive with some below the floor, and the kind's specials.
+        Image errors = MakeVarianceInput(kind, w, h, count, SeedFromName(name + "e"));
+        for (size_t i = 0; i < errors.data.size(); i += 5)
+            if (std::isfinite(errors.data[i])) errors.data[i] *= 1e-4f;
+        for (bool select : {false, true})
+            for (float power : {1.f, 2.f}) {
+                SCOPED_TRACE(fmt::format("{} candidates, {}, power {}", count,
+                                         select ? "select" : "weights", power));
+                ref::AutoCombined expected =
+                    ref::AutoCombine(color, candidates, errors, select, power, 1e-3);
+                ref::AutoCombined actual =
+                    GpuCombine(Ctx(), color, candidates, errors, select, power, 1e-3f);
+                Image scale = color;
+                for (int c = 0; c < channels; ++c)
+                    for (size_t i = 0; i < color.PixelCount(); ++i) {
+                        double big = std::fabs(color.data[c * color.PixelCount() + i]);
+                        for (const Image &f : candidates)
+                            if (std::isfinite(f.data[c * color.PixelCount() + i]))
+                                big = std::max(
+                                    big, double(std::fabs(f.data[c * color.PixelCount() + i])));
+                        scale.data[c * color.PixelCount() + i] = float(big);
+                    }
+                Image ones = actual.weights;
+                for (float &v : ones.data) v = 1.f;
+                double ulps = (count + 8) * kUnitRoundoff;
+                EXPECT_TRUE(ImagesMatch(expected.color, actual.color, scale, {ulps, 0, 1e-10}));
+                EXPECT_TRUE(
+                    ImagesMatch(expected.weights, actual.weights, ones, {ulps, 0, 1e-10}));
+                ref::AutoCombined again =
+                    GpuCombine(Ctx(), color, candidates, errors, select, power, 1e-3f);
+                EXPECT_TRUE(BitIdentical(actual.color, again.color));
+                EXPECT_TRUE(BitIdentical(actual.weights, again.weights));
+            }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelCombine, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
+// A picture with a flat left half and fine stripes on the right, Gaussian noise of known
+// variance: the identity is best on the stripes, a wide box blur on the flat half.
+struct Scene {
+    Image truth, color, variance;
+};
+
+Scene StripesScene(int w, int h, double sigma, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal(0, 1);
+    Scene s{Image(w, h, 3), Image(w, h, 3), Image(w, h, 3)};
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double r = x < w / 2 ? 0.5 : 0.5 + 0.4 * ((x / 2) % 2 ? 1 : -1);
+                s.truth.At(c, y, x) = float(r);
+                s.color.At(c, y, x) = float(r + sigma * normal(rng));
+                s.variance.At(c, y, x) = float(sigma * sigma);
+            }
+    return s;
+}
+
+Image BoxBlur(const Image &in, int radius) {
+    Image out(in.width, in.height, in.channels);
+    for (int c = 0; c < in.channels; ++c)
+        for (int y = 0; y < in.height; ++y)
+            for (int x = 0; x < in.width; ++x) {
+                double sum = 0;
+                int n = 0;
+                for (int v = std::max(0, y - radius); v <= std::min(in.height - 1, y + radius);
+                     ++v)
+                    for (int u = std::max(0, x - radius);
+                         u <= std::min(in.width - 1, x + radius); ++u, ++n)
+                        sum += in.At(c, v, u);
+                out.At(c, y, x) = float(sum / n);
+            }
+    return out;
+}
+
+// SURE is unbiased: over a frame, the mean estimate of a linear filter's relative error
+// (the truth as the guide) matches the true relMSE within the estimate's spread.
+class AutoEstimateProperty : public GpuTest {};
+
+TEST_F(AutoEstimateProperty, SureMatchesTheTrueErrorOfLinearFilters) {
+    const int w = 96, h = 64;
+    const double sigma = 0.1;
+    Scene s = StripesScene(w, h, sigma, SeedFromName("sure"));
+    Image probe = Probe(w, h, 3, SeedFromName("sureprobe"));
+    const float epsilon = 0.5f;
+    Image perturbedInput = s.color;
+    for (size_t i = 0; i < perturbedInput.data.size(); ++i)
+        perturbedInput.data[i] += epsilon * float(sigma) * probe.data[i];
+    for (int radius : {0, 1, 3}) {
+        Image f = BoxBlur(s.color, radius), fp = BoxBlur(perturbedInput, radius);
+        Image e = GpuEstimate(Ctx(), s.color, s.variance, probe, s.truth, f, fp, epsilon);
+        double estimate = 0, truth = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                estimate += e.At(0, y, x);
+                for (int c = 0; c < 3; ++c) {
+                    double d = f.At(c, y, x) - s.truth.At(c, y, x), r = s.truth.At(c, y, x);
+                    truth += d * d / (r * r + 0.01) / 3;
+                }
+            }
+        // The estimate's noise: ~sigma^2 sqrt(2 / (3 w h)) relative to ~0.25 + 0.01.
+        double spread = 4 * sigma * sigma * std::sqrt(2.0 / (3 * w * h)) / 0.26;
+        EXPECT_NEAR(estimate / (w * h), truth / (w * h), 3 * spread + 0.02 * truth / (w * h))
+            << "box radius " << radius;
+    }
+}
+
+// The combination by the smoothed estimates beats both candidates (identity and a wide
+// blur) by 10% and comes within 15% of the choice that knows the truth (blur the flat half,
+// keep the striped one); select does too.
+TEST_F(AutoEstimateProperty, CombinationBeatsEachCandidate) {
+    const int w = 96, h = 64;
+    const double sigma = 0.1;
+    Scene s = StripesScene(w, h, sigma, SeedFromName("combine"));
+    Image probe = Probe(w, h, 3, SeedFromName("combineprobe"));
+    const float epsilon = 0.5f;
+    Image perturbedInput = s.color;
+    for (size_t i = 0; i < perturbedInput.data.size(); ++i)
+        perturbedInput.data[i] += epsilon * float(sigma) * probe.data[i];
+    std::vector<Image> candidates = {s.color, BoxBlur(s.color, 4)};
+    std::vector<Image> perturbed = {perturbedInput, BoxBlur(perturbedInput, 4)};
+    Image errors(w, h, 2);
+    for (int k = 0; k < 2; ++k) {
+        Image e = GpuEstimate(Ctx(), s.color, s.variance, probe, BoxBlur(s.color, 1),
+                              candidates[k], perturbed[k], epsilon);
+        std::copy(e.data.begin(), e.data.end(), errors.data.begin() + k * w * h);
+    }
+    Image smooth = GpuSmooth(Ctx(), errors, 4);
+    double best = std::min(CompareImages(candidates[0], s.truth).relMse,
+                           CompareImages(candidates[1], s.truth).relMse);
+    // What knowing the truth would pick: the blur on the flat half, the input on the other.
+    Image halves = candidates[0];
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w / 2; ++x) halves.At(c, y, x) = candidates[1].At(c, y, x);
+    double ideal = CompareImages(halves, s.truth).relMse;
+    for (bool select : {false, true}) {
+        ref::AutoCombined combined =
+            GpuCombine(Ctx(), s.color, candidates, smooth, select, 1.f, 1e-5f);
+        double error = CompareImages(combined.color, s.truth).relMse;
+        EXPECT_LT(error, 0.9 * best) << (select ? "select" : "weights");
+        EXPECT_LT(error, 1.15 * ideal) << (select ? "select" : "weights");
+    }
+}
+
+// The method on a small rendered frame: every candidate the layers allow runs, the plan
+// gives each one's share, and the result is no worse than the best candidate by 5%.
+class AutoMethod : public GpuTest {};
+
+TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
+    render::RenderOptions options;
+    options.width = 40, options.height = 32, options.spp = 8;
+    options.layers = render::kLayersAll;
+    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
+    Frame frame;
+    frame.width = options.width, frame.height = options.height;
+    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    options.layers = 0;
+    options.spp = 1024;
+    options.seed = 99;
+    Image reference = render::Render(render::BuildScene("cornell"), options).layers[0].second;
+    Device device = Device::Borrow(Ctx());
+    Method automatic("auto");
+    Result result = automatic.Run(device, frame);
+    EXPECT_EQ(result.method, "auto");
+    int ran = 0;
+    for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
+    EXPECT_EQ(ran, 6) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    double best = INFINITY;
+    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
+        best = std::min(best,
+                        CompareImages(Method(name).Run(device, frame).image, reference).relMse);
+    EXPECT_LE(CompareImages(result.image, reference).relMse, 1.05 * best);
+    // A budget of 0 runs the first candidate only, and says what it left out.
+    automatic.Set("budget", 0.f);
+    result = automatic.Run(device, frame);
+    ran = 0;
+    for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
+    EXPECT_EQ(ran, 1);
+    EXPECT_NE(fmt::format("{}", fmt::join(result.plan, "\n")).find("the budget"),
+              std::string::npos);
+}
+
+bool PlanHas(const Result &result, const std::string &text) {
+    for (const std::string &line : result.plan)
+        if (line.find(text) != std::string::npos) return true;
+    return false;
+}
+
+// The half-buffers' estimate (render --layers halves), and a frame with no statistics (no
+// variance, no halves): the methods' defaults averaged with equal weights, the variants
+// left out with the reason.
+TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
+    render::RenderOptions options;
+    options.width = 24, options.height = 20, options.spp = 8;
+    options.layers = render::kLayersGbuffer | render::kLayersHalves;
+    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
+    Frame frame;
+    frame.width = options.width, frame.height = options.height;
+    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    Device device = Device::Borrow(Ctx());
+    Method automatic("auto");
+    automatic.Set("auto-noise", "halves");
+    Result result = automatic.Run(device, frame);
+    EXPECT_TRUE(PlanHas(result, "from the half-buffers"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_TRUE(PlanHas(result, "on the frame and on half0"));
+    for (float v : result.image.data) ASSERT_TRUE(std::isfinite(v));
+    frame.layers.erase("variance");
+    frame.layers.erase("half0.color");
+    frame.layers.erase("half1.color");
+    EXPECT_NE(ErrorOf([&] { automatic.Run(device, frame); }).find("--auto-noise halves"),
+              std::string::npos);
+    automatic.Set("auto-noise", "auto");
+    result = automatic.Run(device, frame);
+    EXPECT_TRUE(PlanHas(result, "no error estimate"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant"));
+    // awr (from min, max and spp), bayes and pivot: their plain mean, to the float sums'
+    // rounding.
+    std::vector<Image> outputs;
+    for (const char *name : {"awr", "bayes", "pivot", "rhf"})
+        if (Method(name).Missing(frame).empty())
+            outputs.push_back(Method(name).Run(device, frame).image);
+    ASSERT_EQ(outputs.size(), 3u);
+    for (size_t i = 0; i < result.image.data.size(); ++i) {
+        double mean = 0, scale = 0;
+        for (const Image &o : outputs) mean += o.data[i] / 3.0, scale += std::fabs(o.data[i]);
+        ASSERT_NEAR(result.image.data[i], mean, 1e-6 * (1 + scale)) << i;
+    }
+}
+
+}  // namespace
+}  // namespace mcd::test
