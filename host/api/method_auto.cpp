@@ -35,7 +35,7 @@ std::vector<Variant> Variants() {
             {"pivot k0", "pivot", {{"robust-k", 0.f}}},
             {"bayes", "bayes", {}},
             {"awr", "awr", {}},
-            {"rhf 1 scale", "rhf", {{"nscales", 1}}}};
+            {"rhf 2 scales", "rhf", {{"nscales", 2}}}};
 }
 
 // The map's colour of variant v (linear RGB).
@@ -274,7 +274,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         // output, direct + g(indirect), is not, so with an estimate bayes runs on the whole
         // color.
         if (estimate && variant.method == "bayes") method->Set("no-split", true);
-        if (variant.label == "rhf 1 scale" && std::get<int>(base->Get("nscales")) == 1)
+        if (variant.label == "rhf 2 scales" && std::get<int>(base->Get("nscales")) == 2)
             continue;
         // Without an estimate a variant cannot show where it is better: the methods' own
         // defaults only (on Cycles frames pivot k0 kept fireflies that k 0.3 removes).
