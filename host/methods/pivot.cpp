@@ -241,9 +241,10 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
     for (float r : radii.data)
         if (r >= 0) sum += r, ++fitted;
     result.meanRadius = fitted ? sum / fitted : 0;
-    Image tileRadii = PivotTileRadii(radii, &result.largestRadius);
-    vk::GpuImage tiles(context, tileRadii.width, tileRadii.height, channels, "pivot.tiles");
-    tiles.Upload(tileRadii);
+    Image tileOrder = PivotTileOrder(radii, &result.largestRadius);
+    vk::GpuImage tiles(context, tileOrder.width, tileOrder.height, tileOrder.channels,
+                       "pivot.tiles");
+    tiles.Upload(tileOrder);
     run.Plan(fmt::format(
         "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
         "square-vs-quadrant disagreement {}); mean radius {:.2f}, largest {}; fits of the "

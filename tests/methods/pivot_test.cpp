@@ -298,9 +298,9 @@ TEST_P(PivotKernelGather, MatchesReference) {
     lo.Upload(Planes(fits, 0, 8, 3));
     hi.Upload(Planes(fits, 8, 8, 3));
     int reach = 0;
-    Image tileRadii = PivotTileRadii(Planes(fits, 15, 1, 3), &reach);
-    vk::GpuImage tiles(Ctx(), tileRadii.width, tileRadii.height, 3, "tiles");
-    tiles.Upload(tileRadii);
+    Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
+    vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, 6, "tiles");
+    tiles.Upload(tileOrder);
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
     vk::Recorder recorder(Ctx());
     for (auto [rowBase, rows] :
