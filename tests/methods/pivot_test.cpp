@@ -23,6 +23,7 @@
 #include "host/kernels/pivot_ratio.h"
 #include "host/methods/pivot.h"
 #include "host/metrics.h"
+#include "pivot/gather.h"
 #include "pivot/pivot.h"
 #include "tools/render/renderer.h"
 
@@ -478,11 +479,12 @@ TEST_F(PivotMethod, RowStripsAreBitIdenticalAndReportProgress) {
     EXPECT_NE(plan.find("5 row strip(s) of up to 5 rows"), std::string::npos) << plan;
 }
 
-// The gather skips tiles of centres whose squares cannot reach the pixel, by each tile's
-// largest radius per channel. Radii that differ between tiles and channels (channel 0's
-// top tile row noise-free, so its squares stop at 5x5; elsewhere up to 12, mean 4.1) must
-// be read for the right tile and channel: the result is the full gather's, pixel for
-// pixel. (Reading tile row 0 of channel 0 for every tile mismatched 3014 of 5760 values.)
+// The gather walks each tile's centres by radius, largest first, and stops at the first
+// radius below the pixel's distance to the tile. Radii that differ between tiles and
+// channels (channel 0's top tile row noise-free, so its squares stop at 5x5; elsewhere up
+// to 12, mean 4.1) must be read for the right tile and channel: the result is the full
+// gather's, pixel for pixel. (Reading tile row 0 of channel 0 for every tile mismatched
+// 3014 of 5760 values.)
 TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
     const int w = 48, h = 40;
     Frame f = MakeFrame(w, h, 0.3, SeedFromName("tile radii"));
@@ -512,6 +514,57 @@ TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
                 expected.Size(), stats.nmse, result.meanRadius);
     EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
     EXPECT_LT(stats.nmse, 1e-8);
+}
+
+// The gather's tile lists (host code): per channel and tile, every centre of the tile once,
+// by radius, largest first, ties in raster order; slots past a partial tile's centres have
+// radius -1; `reach` is the largest radius. Radii drawn from -1..12 (many ties), on a frame
+// whose last tile column and row are partial, and on 1x1.
+TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
+    const int t = PIVOT_GATHER_TILE;
+    for (auto [w, h] : {std::pair{19, 10}, std::pair{1, 1}, std::pair{16, 8}}) {
+        Image radii(w, h, 2);
+        std::mt19937 rng(SeedFromName(fmt::format("tile order {}x{}", w, h)));
+        int largest = 0;
+        for (float &r : radii.data) {
+            r = float(int(rng() % 14) - 1);
+            largest = std::max(largest, int(r));
+        }
+        int reach = -7;
+        Image order = PivotTileOrder(radii, &reach);
+        EXPECT_EQ(reach, largest);
+        int tilesX = (w + t - 1) / t, tilesY = (h + t - 1) / t;
+        ASSERT_EQ(order.width, t * t);
+        ASSERT_EQ(order.height, tilesX * tilesY);
+        ASSERT_EQ(order.channels, 4);
+        for (int c = 0; c < 2; ++c)
+            for (int ty = 0; ty < tilesY; ++ty)
+                for (int tx = 0; tx < tilesX; ++tx) {
+                    int row = ty * tilesX + tx;
+                    int inTile = std::min(t, w - tx * t) * std::min(t, h - ty * t);
+                    std::vector<int> seen(t * t, 0);
+                    for (int j = 0; j < t * t; ++j) {
+                        float radius = order.At(2 + c, row, j);
+                        if (j >= inTile) {
+                            EXPECT_EQ(radius, -1.f) << "padding slot " << j;
+                            continue;
+                        }
+                        int k = int(order.At(c, row, j));
+                        ASSERT_TRUE(k >= 0 && k < t * t) << k;
+                        int x = tx * t + k % t, y = ty * t + k / t;
+                        ASSERT_TRUE(x < w && y < h) << "slot outside the image: " << k;
+                        EXPECT_EQ(seen[k]++, 0) << "centre listed twice: " << k;
+                        EXPECT_EQ(radius, radii.At(c, y, x));
+                        if (j > 0) {
+                            float before = order.At(2 + c, row, j - 1);
+                            EXPECT_GE(before, radius) << "not largest first at slot " << j;
+                            if (before == radius)
+                                EXPECT_LT(order.At(c, row, j - 1), k)
+                                    << "tie not in raster order";
+                        }
+                    }
+                }
+    }
 }
 
 class PivotProperties : public GpuTest {};
