@@ -217,26 +217,9 @@ void storeNone(int c, int at) {
     storePlane(15, c, at, -1.0);
 }
 
-void main() {
-    x0 = int(gl_GlobalInvocationID.x);
-    y0 = push.rowBase + int(gl_WorkGroupID.y);
-    int c = int(gl_WorkGroupID.z);
-    w = push.width;
-    h = push.height;
-    if (x0 >= w) return;
-    planeSize = w * h;
-    gw = w;
-    gh = h;
-    base = c * planeSize;
-    goodNu = push.goodNu;
-    k = push.k;
-    int at = y0 * w + x0;
-    centre = surfaceAt(at);
-    if (texelFetch(nuIn, base + at).r < 0.0) {
-        storeNone(c, at);
-        return;
-    }
-
+// Section 4.3 for the centre (x0, y0): the radius the square grows to from 5x5, and the
+// mean z of the fitted pixels of that square (<z> of the final fit).
+int grow(out float mean) {
     // <z> during growth: the centre's mean z over its valid 3x3 neighbours.
     float zc = 0.0;
     int n = 0;
@@ -248,11 +231,11 @@ void main() {
             }
     zc /= float(n);
 
-    // Section 4.3: add ring r to the sums; from r = 2 (5x5) check the stop criteria.
+    // Add ring r to the sums; from r = 2 (5x5) check the stop criteria.
     clearParts();
     int radius = 2;
     // The sum and count of z over the fitted pixels of the squares of radius r and r - 1:
-    // the chosen square's mean below, without another pass over it.
+    // the chosen square's mean, without another pass over it.
     sumZ = 0.0;
     fitted = 0;
     float sumZBefore = 0.0;
@@ -281,10 +264,14 @@ void main() {
             break;
         }
     }
+    mean = sumZ / float(max(fitted, 1));
+    return radius;
+}
 
-    // The chosen square, fitted with eq. 10 in full: <z> is the mean z of its fitted pixels.
-    // Row by row; a row's three segments go to the parts its sign of dy selects.
-    float mean = sumZ / float(max(fitted, 1));
+// The chosen square of the centre (x0, y0) fitted with eq. 10 in full, row by row (a row's
+// three segments go to the parts its sign of dy selects), and stored.
+void fitAndStore(int c, int radius, float mean) {
+    int at = y0 * w + x0;
     clearParts();
     float fr = float(radius);
     for (int y = max(0, y0 - radius); y <= min(h - 1, y0 + radius); ++y) {
@@ -313,4 +300,58 @@ void main() {
     storeFit(0, c, at, square, square);
     for (int m = 0; m < 4; ++m) storeFit(1 + m, c, at, solve(quadrantSums(m)), square);
     storePlane(15, c, at, fr);
+}
+
+// The workgroup's centres (one row segment) after growth: radius (-1: no fit to make) and
+// <z>; then, by rank of radius, which centre each invocation fits.
+shared int grownRadius[PIVOT_LOCAL_SIZE];
+shared float grownMean[PIVOT_LOCAL_SIZE];
+shared int fitOrder[PIVOT_LOCAL_SIZE];
+
+void main() {
+    int local = int(gl_LocalInvocationID.x);
+    int groupX = int(gl_WorkGroupID.x) * PIVOT_LOCAL_SIZE;
+    x0 = groupX + local;
+    y0 = push.rowBase + int(gl_WorkGroupID.y);
+    int c = int(gl_WorkGroupID.z);
+    w = push.width;
+    h = push.height;
+    planeSize = w * h;
+    gw = w;
+    gh = h;
+    base = c * planeSize;
+    goodNu = push.goodNu;
+    k = push.k;
+    // Growth, one centre per invocation. Every invocation reaches the barriers below.
+    int radius = -1;
+    float mean = 0.0;
+    if (x0 < w) {
+        int at = y0 * w + x0;
+        centre = surfaceAt(at);
+        if (texelFetch(nuIn, base + at).r < 0.0)
+            storeNone(c, at);
+        else
+            radius = grow(mean);
+    }
+    grownRadius[local] = radius;
+    grownMean[local] = mean;
+    memoryBarrierShared();
+    barrier();
+    // The final fits cost (2R + 1)^2 each and invocations run in SIMD groups that take as
+    // long as their largest square: invocation i fits the centre of rank i by radius (ties
+    // by position), so that each group's squares are alike.
+    int rank = 0;
+    for (int j = 0; j < PIVOT_LOCAL_SIZE; ++j) {
+        int other = grownRadius[j];
+        if (other > radius || (other == radius && j < local)) ++rank;
+    }
+    fitOrder[rank] = local;
+    memoryBarrierShared();
+    barrier();
+    int mine = fitOrder[local];
+    radius = grownRadius[mine];
+    if (radius < 0) return;
+    x0 = groupX + mine;
+    centre = surfaceAt(y0 * w + x0);
+    fitAndStore(c, radius, grownMean[mine]);
 }
