@@ -233,9 +233,10 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
     });
     // The radii decide how far the gather looks, tile by tile.
     Image radii(w, h, channels);
-    fitHi.buffer.Download(
-        radii.data.data(), radii.Size() * sizeof(float),
-        size_t(PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER) * radii.Size() * sizeof(float));
+    Image hi = fitHi.Download();
+    for (size_t i = 0; i < radii.Size(); ++i)
+        radii.data[i] =
+            hi.data[i * PIVOT_PLANES_PER_BUFFER + PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER];
     double sum = 0;
     size_t fitted = 0;
     for (float r : radii.data)
@@ -264,11 +265,7 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
                          TimePerKernel(run.Timings()), (h + stripRows - 1) / stripRows,
                          stripRows));
     if (run.KeepsStages()) {
-        Image fits(w, h, PIVOT_PLANES * channels);
-        Image lo = fitLo.Download(), hi = fitHi.Download();
-        std::copy(lo.data.begin(), lo.data.end(), fits.data.begin());
-        std::copy(hi.data.begin(), hi.data.end(), fits.data.begin() + lo.data.size());
-        run.AddStage("fits", std::move(fits));
+        run.AddStage("fits", PivotFitsOfBuffers(fitLo.Download(), hi, channels));
     }
 }
 

@@ -197,7 +197,7 @@ bool disagrees(Plane square, Plane quadrant) {
 
 void storePlane(int index, int c, int at, float value) {
     int plane = index < PIVOT_PLANES_PER_BUFFER ? index : index - PIVOT_PLANES_PER_BUFFER;
-    int offset = (plane * push.channels + c) * planeSize + at;
+    int offset = (c * planeSize + at) * PIVOT_PLANES_PER_BUFFER + plane;
     if (index < PIVOT_PLANES_PER_BUFFER)
         fitLo[offset] = value;
     else

@@ -50,8 +50,7 @@ void main() {
         outImage[at] = texelFetch(color, at).r;
         return;
     }
-    int stride = push.channels * planeSize;
-    int lo = c * planeSize;  // channel c's offset inside a plane group
+    int lo = c * planeSize;  // channel c's first centre in the fit buffers
     float sumW = 0.0, sumWz = 0.0;
     Surface here = surfaceAt(i);
     const int T = PIVOT_GATHER_TILE;
@@ -83,18 +82,17 @@ void main() {
                                geometricTerm(here, surfaceAt(i0));
                 if (weight == 0.0) continue;
                 int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
-                float zs = texelFetch(fitLo, lo + i0).r * fdx +
-                           texelFetch(fitLo, stride + lo + i0).r * fdy +
-                           texelFetch(fitLo, 2 * stride + lo + i0).r;
+                int planes = (lo + i0) * PIVOT_PLANES_PER_BUFFER;  // the centre's planes
+                float zs = texelFetch(fitLo, planes).r * fdx +
+                           texelFetch(fitLo, planes + 1).r * fdy +
+                           texelFetch(fitLo, planes + 2).r;
                 // Quadrant m's planes are 3 + 3m .. 5 + 3m, across the two buffers.
                 float coef[3];
                 for (int q = 0; q < 3; ++q) {
                     int p = 3 + 3 * m + q;
                     coef[q] = p < PIVOT_PLANES_PER_BUFFER
-                                  ? texelFetch(fitLo, p * stride + lo + i0).r
-                                  : texelFetch(fitHi, (p - PIVOT_PLANES_PER_BUFFER) * stride +
-                                                          lo + i0)
-                                        .r;
+                                  ? texelFetch(fitLo, planes + p).r
+                                  : texelFetch(fitHi, planes + p - PIVOT_PLANES_PER_BUFFER).r;
                 }
                 float zm = coef[0] * fdx + coef[1] * fdy + coef[2];
                 sumW += weight;

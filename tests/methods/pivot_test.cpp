@@ -99,7 +99,7 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     return {z.Download(), s.Download(), nu.Download()};
 }
 
-// Split CPU fits (16 x channels planes) into the GPU's two buffers' images and back.
+// Planes first .. first + count - 1 of CPU fits (16 x channels planes).
 Image Planes(const Image &fits, int first, int count, int channels) {
     Image part(fits.width, fits.height, count * channels);
     for (int p = 0; p < count * channels; ++p)
@@ -227,7 +227,7 @@ TEST_P(PivotKernelFit, MatchesReference) {
             {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k, o.sigmaWeight}, lo,
             hi, rowBase, rows);
     recorder.Submit();
-    Image actualLo = lo.Download(), actualHi = hi.Download();
+    Image actual = PivotFitsOfBuffers(lo.Download(), hi.Download(), 3);
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     int compared = 0, skipped = 0, radiusMismatches = 0, planeMismatches = 0;
@@ -237,10 +237,7 @@ TEST_P(PivotKernelFit, MatchesReference) {
                 auto plane = [&](const Image &fits, int p) {
                     return double(fits.At(p * 3 + c, y, x));
                 };
-                auto gpuPlane = [&](int p) {
-                    return p < 8 ? double(actualLo.At(p * 3 + c, y, x))
-                                 : double(actualHi.At((p - 8) * 3 + c, y, x));
-                };
+                auto gpuPlane = [&](int p) { return plane(actual, p); };
                 if (margin.At(c, y, x) < 1e-3) {
                     ++skipped;
                     continue;
@@ -296,8 +293,10 @@ TEST_P(PivotKernelGather, MatchesReference) {
     pivot.Upload(f.pivot);
     nu.Upload(ratio.nu);
     guide.Upload(GuideOf(f));
-    lo.Upload(Planes(fits, 0, 8, 3));
-    hi.Upload(Planes(fits, 8, 8, 3));
+    Image fitLo, fitHi;
+    PivotBuffersOfFits(fits, 3, &fitLo, &fitHi);
+    lo.Upload(fitLo);
+    hi.Upload(fitHi);
     int reach = 0;
     Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
     vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, 6, "tiles");
@@ -565,6 +564,21 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
                     }
                 }
     }
+}
+
+// The fit buffers' layout (a centre's 8 planes adjacent) to the reference's and back: plane
+// p of channel c at centre i sits at float (c * centres + i) * 8 + p % 8 of buffer p / 8.
+TEST(PivotFitLayout, BuffersAndReferencePlanesRoundTrip) {
+    const int w = 5, h = 3, channels = 3;
+    Image fits(w, h, PIVOT_PLANES * channels);
+    for (size_t i = 0; i < fits.Size(); ++i) fits.data[i] = float(i);
+    Image lo, hi;
+    PivotBuffersOfFits(fits, channels, &lo, &hi);
+    ASSERT_EQ(lo.Size(), size_t(w) * h * 8 * channels);
+    // Plane 13 of channel 2 at (x, y) = (4, 1): buffer hi, slot 5 of centre 2 * 15 + 9.
+    EXPECT_EQ(hi.data[(2 * 15 + 9) * 8 + 5], fits.At(13 * channels + 2, 1, 4));
+    EXPECT_EQ(lo.data[(1 * 15 + 0) * 8 + 2], fits.At(2 * channels + 1, 0, 0));
+    EXPECT_TRUE(BitIdentical(PivotFitsOfBuffers(lo, hi, channels), fits));
 }
 
 class PivotProperties : public GpuTest {};
