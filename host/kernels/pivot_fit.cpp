@@ -26,6 +26,15 @@ void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGui
                                 PIVOT_GUIDE_PLANES));
 }
 
+Image PivotGuideBuffer(const Image &planes) {
+    Image buffer(planes.width, planes.height, planes.channels);
+    size_t pixels = planes.PixelCount();
+    for (int k = 0; k < planes.channels; ++k)
+        for (size_t i = 0; i < pixels; ++i)
+            buffer.data[i * planes.channels + k] = planes.data[k * pixels + i];
+    return buffer;
+}
+
 Image PivotFitsOfBuffers(const Image &lo, const Image &hi, int channels) {
     int w = lo.width, h = lo.height;
     size_t centres = size_t(w) * h;

@@ -30,6 +30,10 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                     const PivotFitSettings &settings, vk::GpuImage &fitLo, vk::GpuImage &fitHi,
                     int rowBase, int rows);
 
+// The guide buffer's layout (values of a pixel adjacent, shaders/pivot/pivot.h) from an
+// image of PIVOT_GUIDE_PLANES planes: normal x, y, z, object id, part id.
+Image PivotGuideBuffer(const Image &planes);
+
 // The fits in the reference's layout (cpu_reference/pivot_filter.h: plane p of channel c at
 // channel p * channels + c) from the two fit buffers' contents, and back.
 Image PivotFitsOfBuffers(const Image &lo, const Image &hi, int channels);

@@ -142,7 +142,7 @@ struct PivotGpu {
         guides.ids = in.objectId || in.partId;
         if (guides.normals || guides.ids) {
             guide.emplace(context, w, h, PIVOT_GUIDE_PLANES, "pivot.guides");
-            guide->Upload(GuideImage(in));
+            guide->Upload(PivotGuideBuffer(GuideImage(in)));
             guides.image = &*guide;
         }
     }

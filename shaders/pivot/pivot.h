@@ -23,8 +23,8 @@
 #define PIVOT_LOCAL_SIZE 64
 #define PIVOT_MAX_CHANNELS 4  // colour channels a frame may have
 
-// The guide buffer's planes: normal x, y, z, object id, part id (what is absent is zero and
-// compiled out).
+// The guide buffer's values per pixel, adjacent (float i * PIVOT_GUIDE_PLANES + k for pixel
+// i): normal x, y, z, object id, part id (what is absent is zero and compiled out).
 #define PIVOT_GUIDE_PLANES 5
 
 // |z| above this makes a pixel invalid (z^2 and the fit sums stay finite in float); the

@@ -68,7 +68,7 @@ Frame MakeFrame(int w, int h, double noise, uint64_t seed) {
     return f;
 }
 
-// The GPU's guide image: normal x, y, z, object id, part id.
+// The GPU's guide buffer: normal x, y, z, object id, part id, a pixel's values adjacent.
 Image GuideOf(const Frame &f) {
     Image guide(f.normal.width, f.normal.height, PIVOT_GUIDE_PLANES);
     for (int c = 0; c < 3; ++c)
@@ -77,7 +77,7 @@ Image GuideOf(const Frame &f) {
                 f.normal.data[c * f.normal.PixelCount() + i];
     for (size_t i = 0; i < f.ids.Size(); ++i)
         guide.data[3 * f.normal.PixelCount() + i] = f.ids.data[i];
-    return guide;
+    return PivotGuideBuffer(guide);
 }
 
 // The GPU ratio stage's z, s and nu.
