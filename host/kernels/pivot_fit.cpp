@@ -11,6 +11,7 @@
 #include "host/vk/kernel.h"
 #include "pivot/fit.h"
 #include "pivot/fit_spv.h"
+#include "pivot/pivot.h"
 
 namespace mcd {
 
@@ -23,6 +24,45 @@ void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGui
         throw Error(fmt::format("{}: the guide image is {}x{}x{}, expected {}x{}x{}", what,
                                 image->width, image->height, image->channels, width, height,
                                 PIVOT_GUIDE_PLANES));
+}
+
+Image PivotGuideBuffer(const Image &planes) {
+    Image buffer(planes.width, planes.height, planes.channels);
+    size_t pixels = planes.PixelCount();
+    for (int k = 0; k < planes.channels; ++k)
+        for (size_t i = 0; i < pixels; ++i)
+            buffer.data[i * planes.channels + k] = planes.data[k * pixels + i];
+    return buffer;
+}
+
+Image PivotFitsOfBuffers(const Image &lo, const Image &hi, int channels) {
+    int w = lo.width, h = lo.height;
+    size_t centres = size_t(w) * h;
+    Image fits(w, h, PIVOT_PLANES * channels);
+    for (int c = 0; c < channels; ++c)
+        for (size_t i = 0; i < centres; ++i)
+            for (int p = 0; p < PIVOT_PLANES; ++p) {
+                const Image &part = p < PIVOT_PLANES_PER_BUFFER ? lo : hi;
+                fits.data[(size_t(p) * channels + c) * centres + i] =
+                    part.data[(c * centres + i) * PIVOT_PLANES_PER_BUFFER +
+                              p % PIVOT_PLANES_PER_BUFFER];
+            }
+    return fits;
+}
+
+void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi) {
+    int w = fits.width, h = fits.height;
+    size_t centres = size_t(w) * h;
+    *lo = Image(w, h, PIVOT_PLANES_PER_BUFFER * channels);
+    *hi = Image(w, h, PIVOT_PLANES_PER_BUFFER * channels);
+    for (int c = 0; c < channels; ++c)
+        for (size_t i = 0; i < centres; ++i)
+            for (int p = 0; p < PIVOT_PLANES; ++p) {
+                Image &part = p < PIVOT_PLANES_PER_BUFFER ? *lo : *hi;
+                part.data[(c * centres + i) * PIVOT_PLANES_PER_BUFFER +
+                          p % PIVOT_PLANES_PER_BUFFER] =
+                    fits.data[(size_t(p) * channels + c) * centres + i];
+            }
 }
 
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,

@@ -3,6 +3,7 @@
 // planes each ([plane][channel][y][x]; planes in shaders/pivot/pivot.h).
 #pragma once
 
+#include "host/image.h"
 #include "host/vk/gpu_image.h"
 #include "host/vk/recorder.h"
 
@@ -22,11 +23,21 @@ struct PivotFitSettings {
           sigmaWeight = 0.f;
 };
 
-// `fitLo` and `fitHi` hold 8 x channels planes of z's size each.
+// `fitLo` and `fitHi` hold 8 x channels planes of z's size each, a centre's 8 planes
+// adjacent (shaders/pivot/pivot.h).
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
                     const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
                     const PivotFitSettings &settings, vk::GpuImage &fitLo, vk::GpuImage &fitHi,
                     int rowBase, int rows);
+
+// The guide buffer's layout (values of a pixel adjacent, shaders/pivot/pivot.h) from an
+// image of PIVOT_GUIDE_PLANES planes: normal x, y, z, object id, part id.
+Image PivotGuideBuffer(const Image &planes);
+
+// The fits in the reference's layout (cpu_reference/pivot_filter.h: plane p of channel c at
+// channel p * channels + c) from the two fit buffers' contents, and back.
+Image PivotFitsOfBuffers(const Image &lo, const Image &hi, int channels);
+void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi);
 
 // Throw unless the guide image matches width x height x PIVOT_GUIDE_PLANES when one is used.
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides);

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 #include "host/error.h"
 #include "host/kernels/pivot_ratio.h"
@@ -13,19 +15,34 @@
 
 namespace mcd {
 
-Image PivotTileRadii(const Image &radii, int *reach) {
+Image PivotTileOrder(const Image &radii, int *reach) {
     const int t = PIVOT_GATHER_TILE;
-    Image tiles((radii.width + t - 1) / t, (radii.height + t - 1) / t, radii.channels, -1.f);
+    int tilesX = (radii.width + t - 1) / t, tilesY = (radii.height + t - 1) / t;
+    int channels = radii.channels;
+    Image order(t * t, tilesX * tilesY, 2 * channels, -1.f);
     *reach = 0;
-    for (int c = 0; c < radii.channels; ++c)
-        for (int y = 0; y < radii.height; ++y)
-            for (int x = 0; x < radii.width; ++x) {
-                float r = radii.At(c, y, x);
-                float &tile = tiles.At(c, y / t, x / t);
-                tile = std::max(tile, r);
-                if (r >= 0) *reach = std::max(*reach, int(r));
+    std::vector<std::pair<float, int>> tile;
+    for (int c = 0; c < channels; ++c)
+        for (int ty = 0; ty < tilesY; ++ty)
+            for (int tx = 0; tx < tilesX; ++tx) {
+                tile.clear();
+                for (int v = 0; v < t && ty * t + v < radii.height; ++v)
+                    for (int u = 0; u < t && tx * t + u < radii.width; ++u) {
+                        float r = radii.At(c, ty * t + v, tx * t + u);
+                        if (r >= 0) *reach = std::max(*reach, int(r));
+                        tile.push_back({r, v * t + u});
+                    }
+                // Largest radius first; stable: ties keep raster order.
+                std::stable_sort(tile.begin(), tile.end(), [](const auto &a, const auto &b) {
+                    return a.first > b.first;
+                });
+                int row = ty * tilesX + tx;
+                for (size_t j = 0; j < tile.size(); ++j) {
+                    order.At(c, row, int(j)) = float(tile[j].second);
+                    order.At(channels + c, row, int(j)) = std::max(tile[j].first, -1.f);
+                }
             }
-    return tiles;
+    return order;
 }
 
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
@@ -38,10 +55,11 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                                 rowBase + rows - 1, color.height));
     const int t = PIVOT_GATHER_TILE;
     int tilesX = (color.width + t - 1) / t, tilesY = (color.height + t - 1) / t;
-    if (tiles.width != tilesX || tiles.height != tilesY || tiles.channels != color.channels)
-        throw Error(fmt::format("pivot gather: the tile radii are {}x{}x{}, expected {}x{}x{}",
-                                tiles.width, tiles.height, tiles.channels, tilesX, tilesY,
-                                color.channels));
+    if (tiles.width != t * t || tiles.height != tilesX * tilesY ||
+        tiles.channels != 2 * color.channels)
+        throw Error(fmt::format("pivot gather: the tile order is {}x{}x{}, expected {}x{}x{}",
+                                tiles.width, tiles.height, tiles.channels, t * t,
+                                tilesX * tilesY, 2 * color.channels));
     CheckPivotShapes("pivot gather", color, {&pivot, &nu, &out});
     CheckPivotGuides("pivot gather", color.width, color.height, guides);
     for (const vk::GpuImage *fit : {&fitLo, &fitHi})

@@ -7,12 +7,16 @@
 
 namespace mcd {
 
-// Per channel and PIVOT_GATHER_TILE-square tile of centres, the largest radius of their fits
-// (-1: none), from the radius planes (width x height x channels); `reach` receives the
-// largest overall (0 if none).
-Image PivotTileRadii(const Image &radii, int *reach);
+// Per channel and PIVOT_GATHER_TILE-square tile of centres, the tile's centres by radius,
+// largest first (ties in raster order), from the radius planes (width x height x channels):
+// an image PIVOT_GATHER_TILE^2 wide, one row per tile (raster order of the tiles) and
+// 2 x channels planes. Plane c holds the centres' positions in the tile (y * TILE + x), plane
+// channels + c their radii; slots past the tile's centres, and centres without a fit, have
+// radius -1. A pixel at Chebyshev distance g from a tile needs only the prefix with radius
+// >= g. `reach` receives the largest radius overall (0 if none).
+Image PivotTileOrder(const Image &radii, int *reach);
 
-// `tiles` from PivotTileRadii of the fits' radii; `reach` its largest radius.
+// `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius.
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                        const vk::GpuImage &pivot, const vk::GpuImage &nu,
                        const vk::GpuImage &fitLo, const vk::GpuImage &fitHi,

@@ -142,7 +142,7 @@ struct PivotGpu {
         guides.ids = in.objectId || in.partId;
         if (guides.normals || guides.ids) {
             guide.emplace(context, w, h, PIVOT_GUIDE_PLANES, "pivot.guides");
-            guide->Upload(GuideImage(in));
+            guide->Upload(PivotGuideBuffer(GuideImage(in)));
             guides.image = &*guide;
         }
     }
@@ -233,17 +233,19 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
     });
     // The radii decide how far the gather looks, tile by tile.
     Image radii(w, h, channels);
-    fitHi.buffer.Download(
-        radii.data.data(), radii.Size() * sizeof(float),
-        size_t(PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER) * radii.Size() * sizeof(float));
+    Image hi = fitHi.Download();
+    for (size_t i = 0; i < radii.Size(); ++i)
+        radii.data[i] =
+            hi.data[i * PIVOT_PLANES_PER_BUFFER + PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER];
     double sum = 0;
     size_t fitted = 0;
     for (float r : radii.data)
         if (r >= 0) sum += r, ++fitted;
     result.meanRadius = fitted ? sum / fitted : 0;
-    Image tileRadii = PivotTileRadii(radii, &result.largestRadius);
-    vk::GpuImage tiles(context, tileRadii.width, tileRadii.height, channels, "pivot.tiles");
-    tiles.Upload(tileRadii);
+    Image tileOrder = PivotTileOrder(radii, &result.largestRadius);
+    vk::GpuImage tiles(context, tileOrder.width, tileOrder.height, tileOrder.channels,
+                       "pivot.tiles");
+    tiles.Upload(tileOrder);
     run.Plan(fmt::format(
         "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
         "square-vs-quadrant disagreement {}); mean radius {:.2f}, largest {}; fits of the "
@@ -263,11 +265,7 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
                          TimePerKernel(run.Timings()), (h + stripRows - 1) / stripRows,
                          stripRows));
     if (run.KeepsStages()) {
-        Image fits(w, h, PIVOT_PLANES * channels);
-        Image lo = fitLo.Download(), hi = fitHi.Download();
-        std::copy(lo.data.begin(), lo.data.end(), fits.data.begin());
-        std::copy(hi.data.begin(), hi.data.end(), fits.data.begin() + lo.data.size());
-        run.AddStage("fits", std::move(fits));
+        run.AddStage("fits", PivotFitsOfBuffers(fitLo.Download(), hi, channels));
     }
 }
 

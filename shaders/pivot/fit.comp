@@ -92,17 +92,100 @@ float weightAt(int x, int y, float mean, float radius, out float z, out float s)
     return geo * exp(-e);
 }
 
-Moments sq, q0, q1, q2, q3;
+// The window as nine disjoint parts, so that each pixel is added to one set of sums: the
+// open quadrants (dx, dy != 0), the four half-axes and the centre. A quadrant of eq. 11
+// (axes included) and the square are sums of parts (quadrantSums, squareSums). The window
+// is walked in segments of one part each: no per-pixel test of which fits a pixel joins.
+Moments open0, open1, open2, open3;     // dx > 0, dy > 0; dx < 0, dy > 0; ...; dx > 0, dy < 0
+Moments axisXp, axisXm, axisYp, axisYm;  // dy = 0 and dx > 0, dx < 0; dx = 0 and dy > 0, < 0
+Moments middle;                          // dx = dy = 0
+// The sum and count of z over the fitted pixels added so far (<z> of the final fit).
+float sumZ;
+int fitted;
 
-void addToFits(int x, int y, float wt, float z, float s) {
-    if (wt == 0.0) return;
-    int dxi = x - x0, dyi = y - y0;
-    float dx = float(dxi), dy = float(dyi);
-    addSample(sq, dx, dy, wt, z, s);
-    if (dxi >= 0 && dyi >= 0) addSample(q0, dx, dy, wt, z, s);
-    if (dxi <= 0 && dyi >= 0) addSample(q1, dx, dy, wt, z, s);
-    if (dxi <= 0 && dyi <= 0) addSample(q2, dx, dy, wt, z, s);
-    if (dxi >= 0 && dyi <= 0) addSample(q3, dx, dy, wt, z, s);
+Moments plus(Moments a, Moments b) {
+    return Moments(a.s0 + b.s0, a.sx + b.sx, a.sy + b.sy, a.sxx + b.sxx, a.sxy + b.sxy,
+                   a.syy + b.syy, a.sz + b.sz, a.sxz + b.sxz, a.syz + b.syz, a.sws + b.sws);
+}
+
+void clearParts() {
+    open0 = zeroMoments();
+    open1 = open0;
+    open2 = open0;
+    open3 = open0;
+    axisXp = open0;
+    axisXm = open0;
+    axisYp = open0;
+    axisYm = open0;
+    middle = open0;
+}
+
+// Quadrant m of eq. 11 (0: dx >= 0, dy >= 0; 1: dx <= 0, dy >= 0; 2: dx <= 0, dy <= 0; 3:
+// dx >= 0, dy <= 0), its half-axes and the centre included.
+Moments quadrantSums(int m) {
+    if (m == 0) return plus(plus(open0, axisXp), plus(axisYp, middle));
+    if (m == 1) return plus(plus(open1, axisXm), plus(axisYp, middle));
+    if (m == 2) return plus(plus(open2, axisXm), plus(axisYm, middle));
+    return plus(plus(open3, axisXp), plus(axisYm, middle));
+}
+
+Moments squareSums() {
+    return plus(plus(plus(plus(open0, open1), plus(open2, open3)),
+                     plus(plus(axisXp, axisXm), plus(axisYp, axisYm))),
+                middle);
+}
+
+// The sums of row y's pixels xa..xb (clipped to the image) with eq. 10's weight.
+Moments rowSums(int y, int xa, int xb, float mean, float radius) {
+    Moments m = zeroMoments();
+    if (y < 0 || y >= h) return m;
+    float dy = float(y - y0);
+    for (int x = max(xa, 0); x <= min(xb, w - 1); ++x) {
+        float z, s;
+        float wt = weightAt(x, y, mean, radius, z, s);
+        if (wt == 0.0) continue;
+        addSample(m, float(x - x0), dy, wt, z, s);
+        sumZ += z;
+        ++fitted;
+    }
+    return m;
+}
+
+// The same for column x's pixels ya..yb.
+Moments columnSums(int x, int ya, int yb, float mean, float radius) {
+    Moments m = zeroMoments();
+    if (x < 0 || x >= w) return m;
+    float dx = float(x - x0);
+    for (int y = max(ya, 0); y <= min(yb, h - 1); ++y) {
+        float z, s;
+        float wt = weightAt(x, y, mean, radius, z, s);
+        if (wt == 0.0) continue;
+        addSample(m, dx, float(y - y0), wt, z, s);
+        sumZ += z;
+        ++fitted;
+    }
+    return m;
+}
+
+// Ring r of the square (r = 0: the centre) into the parts, growth's weight (<z> = mean, no
+// distance term).
+void addRing(int r, float mean) {
+    if (r == 0) {
+        middle = plus(middle, rowSums(y0, x0, x0, mean, 0.0));
+        return;
+    }
+    open2 = plus(open2, rowSums(y0 - r, x0 - r, x0 - 1, mean, 0.0));
+    axisYm = plus(axisYm, rowSums(y0 - r, x0, x0, mean, 0.0));
+    open3 = plus(open3, rowSums(y0 - r, x0 + 1, x0 + r, mean, 0.0));
+    open1 = plus(open1, rowSums(y0 + r, x0 - r, x0 - 1, mean, 0.0));
+    axisYp = plus(axisYp, rowSums(y0 + r, x0, x0, mean, 0.0));
+    open0 = plus(open0, rowSums(y0 + r, x0 + 1, x0 + r, mean, 0.0));
+    open2 = plus(open2, columnSums(x0 - r, y0 - r + 1, y0 - 1, mean, 0.0));
+    axisXm = plus(axisXm, columnSums(x0 - r, y0, y0, mean, 0.0));
+    open1 = plus(open1, columnSums(x0 - r, y0 + 1, y0 + r - 1, mean, 0.0));
+    open3 = plus(open3, columnSums(x0 + r, y0 - r + 1, y0 - 1, mean, 0.0));
+    axisXp = plus(axisXp, columnSums(x0 + r, y0, y0, mean, 0.0));
+    open0 = plus(open0, columnSums(x0 + r, y0 + 1, y0 + r - 1, mean, 0.0));
 }
 
 // |Z(centre) - Zm(centre)| beyond the limit plus twice the quadrant's predicted std.
@@ -114,7 +197,7 @@ bool disagrees(Plane square, Plane quadrant) {
 
 void storePlane(int index, int c, int at, float value) {
     int plane = index < PIVOT_PLANES_PER_BUFFER ? index : index - PIVOT_PLANES_PER_BUFFER;
-    int offset = (plane * push.channels + c) * planeSize + at;
+    int offset = (c * planeSize + at) * PIVOT_PLANES_PER_BUFFER + plane;
     if (index < PIVOT_PLANES_PER_BUFFER)
         fitLo[offset] = value;
     else
@@ -134,26 +217,9 @@ void storeNone(int c, int at) {
     storePlane(15, c, at, -1.0);
 }
 
-void main() {
-    x0 = int(gl_GlobalInvocationID.x);
-    y0 = push.rowBase + int(gl_WorkGroupID.y);
-    int c = int(gl_WorkGroupID.z);
-    w = push.width;
-    h = push.height;
-    if (x0 >= w) return;
-    planeSize = w * h;
-    gw = w;
-    gh = h;
-    base = c * planeSize;
-    goodNu = push.goodNu;
-    k = push.k;
-    int at = y0 * w + x0;
-    centre = surfaceAt(at);
-    if (texelFetch(nuIn, base + at).r < 0.0) {
-        storeNone(c, at);
-        return;
-    }
-
+// Section 4.3 for the centre (x0, y0): the radius the square grows to from 5x5, and the
+// mean z of the fitted pixels of that square (<z> of the final fit).
+int grow(out float mean) {
     // <z> during growth: the centre's mean z over its valid 3x3 neighbours.
     float zc = 0.0;
     int n = 0;
@@ -165,39 +231,25 @@ void main() {
             }
     zc /= float(n);
 
-    // Section 4.3: add ring r to the sums; from r = 2 (5x5) check the stop criteria.
-    sq = zeroMoments();
-    q0 = sq;
-    q1 = sq;
-    q2 = sq;
-    q3 = sq;
+    // Add ring r to the sums; from r = 2 (5x5) check the stop criteria.
+    clearParts();
     int radius = 2;
     // The sum and count of z over the fitted pixels of the squares of radius r and r - 1:
-    // the chosen square's mean below, without another pass over it.
-    float sumZ = 0.0, sumZBefore = 0.0;
-    int fitted = 0, fittedBefore = 0;
+    // the chosen square's mean, without another pass over it.
+    sumZ = 0.0;
+    fitted = 0;
+    float sumZBefore = 0.0;
+    int fittedBefore = 0;
     for (int r = 0;; ++r) {
         sumZBefore = sumZ;
         fittedBefore = fitted;
-        for (int y = max(0, y0 - r); y <= min(h - 1, y0 + r); ++y) {
-            bool edge = abs(y - y0) == r;
-            int step = edge ? 1 : 2 * r;
-            for (int x = x0 - r; x <= x0 + r; x += step) {
-                if (x < 0 || x >= w) continue;
-                float z, s;
-                float wt = weightAt(x, y, zc, 0.0, z, s);
-                addToFits(x, y, wt, z, s);
-                if (wt > 0.0) {
-                    sumZ += z;
-                    ++fitted;
-                }
-            }
-        }
+        addRing(r, zc);
         if (r < 2) continue;
-        Plane square = solve(sq);
-        if (square.valid &&
-            (disagrees(square, solve(q0)) || disagrees(square, solve(q1)) ||
-             disagrees(square, solve(q2)) || disagrees(square, solve(q3)))) {
+        Plane square = solve(squareSums());
+        if (square.valid && (disagrees(square, solve(quadrantSums(0))) ||
+                             disagrees(square, solve(quadrantSums(1))) ||
+                             disagrees(square, solve(quadrantSums(2))) ||
+                             disagrees(square, solve(quadrantSums(3))))) {
             radius = max(2, r - 1);
             if (radius < r) {
                 sumZ = sumZBefore;
@@ -212,32 +264,94 @@ void main() {
             break;
         }
     }
+    mean = sumZ / float(max(fitted, 1));
+    return radius;
+}
 
-    // The chosen square, fitted with eq. 10 in full: <z> is the mean z of its fitted pixels.
-    int y0r = max(0, y0 - radius), y1r = min(h - 1, y0 + radius);
-    int x0r = max(0, x0 - radius), x1r = min(w - 1, x0 + radius);
-    float mean = sumZ / float(max(fitted, 1));
-    sq = zeroMoments();
-    q0 = sq;
-    q1 = sq;
-    q2 = sq;
-    q3 = sq;
+// The chosen square of the centre (x0, y0) fitted with eq. 10 in full, row by row (a row's
+// three segments go to the parts its sign of dy selects), and stored.
+void fitAndStore(int c, int radius, float mean) {
+    int at = y0 * w + x0;
+    clearParts();
     float fr = float(radius);
-    for (int y = y0r; y <= y1r; ++y)
-        for (int x = x0r; x <= x1r; ++x) {
-            float z, s;
-            float wt = weightAt(x, y, mean, fr, z, s);
-            addToFits(x, y, wt, z, s);
+    for (int y = max(0, y0 - radius); y <= min(h - 1, y0 + radius); ++y) {
+        Moments left = rowSums(y, x0 - radius, x0 - 1, mean, fr);
+        Moments mid = rowSums(y, x0, x0, mean, fr);
+        Moments right = rowSums(y, x0 + 1, x0 + radius, mean, fr);
+        if (y < y0) {
+            open2 = plus(open2, left);
+            axisYm = plus(axisYm, mid);
+            open3 = plus(open3, right);
+        } else if (y > y0) {
+            open1 = plus(open1, left);
+            axisYp = plus(axisYp, mid);
+            open0 = plus(open0, right);
+        } else {
+            axisXm = left;
+            middle = mid;
+            axisXp = right;
         }
-    Plane square = solve(sq);
+    }
+    Plane square = solve(squareSums());
     if (!square.valid) {
         storeNone(c, at);
         return;
     }
     storeFit(0, c, at, square, square);
-    storeFit(1, c, at, solve(q0), square);
-    storeFit(2, c, at, solve(q1), square);
-    storeFit(3, c, at, solve(q2), square);
-    storeFit(4, c, at, solve(q3), square);
+    for (int m = 0; m < 4; ++m) storeFit(1 + m, c, at, solve(quadrantSums(m)), square);
     storePlane(15, c, at, fr);
+}
+
+// The workgroup's centres (one row segment) after growth: radius (-1: no fit to make) and
+// <z>; then, by rank of radius, which centre each invocation fits.
+shared int grownRadius[PIVOT_LOCAL_SIZE];
+shared float grownMean[PIVOT_LOCAL_SIZE];
+shared int fitOrder[PIVOT_LOCAL_SIZE];
+
+void main() {
+    int local = int(gl_LocalInvocationID.x);
+    int groupX = int(gl_WorkGroupID.x) * PIVOT_LOCAL_SIZE;
+    x0 = groupX + local;
+    y0 = push.rowBase + int(gl_WorkGroupID.y);
+    int c = int(gl_WorkGroupID.z);
+    w = push.width;
+    h = push.height;
+    planeSize = w * h;
+    gw = w;
+    gh = h;
+    base = c * planeSize;
+    goodNu = push.goodNu;
+    k = push.k;
+    // Growth, one centre per invocation. Every invocation reaches the barriers below.
+    int radius = -1;
+    float mean = 0.0;
+    if (x0 < w) {
+        int at = y0 * w + x0;
+        centre = surfaceAt(at);
+        if (texelFetch(nuIn, base + at).r < 0.0)
+            storeNone(c, at);
+        else
+            radius = grow(mean);
+    }
+    grownRadius[local] = radius;
+    grownMean[local] = mean;
+    memoryBarrierShared();
+    barrier();
+    // The final fits cost (2R + 1)^2 each and invocations run in SIMD groups that take as
+    // long as their largest square: invocation i fits the centre of rank i by radius (ties
+    // by position), so that each group's squares are alike.
+    int rank = 0;
+    for (int j = 0; j < PIVOT_LOCAL_SIZE; ++j) {
+        int other = grownRadius[j];
+        if (other > radius || (other == radius && j < local)) ++rank;
+    }
+    fitOrder[rank] = local;
+    memoryBarrierShared();
+    barrier();
+    int mine = fitOrder[local];
+    radius = grownRadius[mine];
+    if (radius < 0) return;
+    x0 = groupX + mine;
+    centre = surfaceAt(y0 * w + x0);
+    fitAndStore(c, radius, grownMean[mine]);
 }

@@ -50,48 +50,54 @@ void main() {
         outImage[at] = texelFetch(color, at).r;
         return;
     }
-    int stride = push.channels * planeSize;
-    int lo = c * planeSize;  // channel c's offset inside a plane group
+    int lo = c * planeSize;  // channel c's first centre in the fit buffers
     float sumW = 0.0, sumWz = 0.0;
     Surface here = surfaceAt(i);
     const int T = PIVOT_GATHER_TILE;
-    int tileBase = c * push.tilesX * push.tilesY;
-    for (int ty = max(0, y - push.reach) / T; ty <= min(h - 1, y + push.reach) / T; ++ty)
-        for (int tx = max(0, x - push.reach) / T; tx <= min(w - 1, x + push.reach) / T; ++tx) {
+    int tileCount = push.tilesX * push.tilesY;
+    int orderBase = c * tileCount * T * T, radiusBase = (push.channels + c) * tileCount * T * T;
+    // The tile range from the pixel's tile, not the pixel: the same for the invocations of
+    // one tile row, which then walk the same centres in step.
+    int xt = x / T * T, yt = y / T * T;
+    for (int ty = max(0, yt - push.reach) / T; ty <= min(h - 1, yt + T - 1 + push.reach) / T;
+         ++ty)
+        for (int tx = max(0, xt - push.reach) / T;
+             tx <= min(w - 1, xt + T - 1 + push.reach) / T; ++tx) {
             // Chebyshev distance from the pixel to the tile: no square of a smaller radius
-            // holds the pixel.
+            // holds the pixel, and the tile lists its centres by radius, largest first.
             int gapX = max(0, max(tx * T - x, x - (tx * T + T - 1)));
             int gapY = max(0, max(ty * T - y, y - (ty * T + T - 1)));
-            float reach = texelFetch(tiles, tileBase + ty * push.tilesX + tx).r;
-            if (float(max(gapX, gapY)) > reach) continue;
-            for (int y0 = ty * T; y0 < min(h, ty * T + T); ++y0)
-                for (int x0 = tx * T; x0 < min(w, tx * T + T); ++x0) {
-                    int i0 = y0 * w + x0;
-                    float radius = texelFetch(fitHi, 7 * stride + lo + i0).r;
-                    int dx = x - x0, dy = y - y0;
-                    if (radius < 0.0 || float(abs(dx)) > radius || float(abs(dy)) > radius) continue;
-                    float fdx = float(dx), fdy = float(dy);
-                    float weight = exp(-(fdx * fdx + fdy * fdy) / (radius * radius)) *
-                                   geometricTerm(here, surfaceAt(i0));
-                    if (weight == 0.0) continue;
-                    int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
-                    float zs = texelFetch(fitLo, lo + i0).r * fdx +
-                               texelFetch(fitLo, stride + lo + i0).r * fdy +
-                               texelFetch(fitLo, 2 * stride + lo + i0).r;
-                    // Quadrant m's planes are 3 + 3m .. 5 + 3m, across the two buffers.
-                    float coef[3];
-                    for (int j = 0; j < 3; ++j) {
-                        int p = 3 + 3 * m + j;
-                        coef[j] = p < PIVOT_PLANES_PER_BUFFER
-                                      ? texelFetch(fitLo, p * stride + lo + i0).r
-                                      : texelFetch(fitHi,
-                                                   (p - PIVOT_PLANES_PER_BUFFER) * stride + lo + i0)
-                                            .r;
-                    }
-                    float zm = coef[0] * fdx + coef[1] * fdy + coef[2];
-                    sumW += weight;
-                    sumWz += weight * combine(zs, zm);
+            float gap = float(max(gapX, gapY));
+            int entry = (ty * push.tilesX + tx) * T * T;
+            for (int j = 0; j < T * T; ++j) {
+                float radius = texelFetch(tiles, radiusBase + entry + j).r;
+                if (radius < gap) break;
+                int k = int(texelFetch(tiles, orderBase + entry + j).r);
+                int x0 = tx * T + k % T, y0 = ty * T + k / T;
+                int i0 = y0 * w + x0;
+                int dx = x - x0, dy = y - y0;
+                if (float(abs(dx)) > radius || float(abs(dy)) > radius) continue;
+                float fdx = float(dx), fdy = float(dy);
+                float weight = exp(-(fdx * fdx + fdy * fdy) / (radius * radius)) *
+                               geometricTerm(here, surfaceAt(i0));
+                if (weight == 0.0) continue;
+                int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
+                int planes = (lo + i0) * PIVOT_PLANES_PER_BUFFER;  // the centre's planes
+                float zs = texelFetch(fitLo, planes).r * fdx +
+                           texelFetch(fitLo, planes + 1).r * fdy +
+                           texelFetch(fitLo, planes + 2).r;
+                // Quadrant m's planes are 3 + 3m .. 5 + 3m, across the two buffers.
+                float coef[3];
+                for (int q = 0; q < 3; ++q) {
+                    int p = 3 + 3 * m + q;
+                    coef[q] = p < PIVOT_PLANES_PER_BUFFER
+                                  ? texelFetch(fitLo, planes + p).r
+                                  : texelFetch(fitHi, planes + p - PIVOT_PLANES_PER_BUFFER).r;
                 }
+                float zm = coef[0] * fdx + coef[1] * fdy + coef[2];
+                sumW += weight;
+                sumWz += weight * combine(zs, zm);
+            }
         }
     outImage[at] =
         sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;

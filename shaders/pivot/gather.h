@@ -15,10 +15,10 @@
 #define PIVOT_GATHER_FIT_HI 4
 #define PIVOT_GATHER_GUIDES 5
 #define PIVOT_GATHER_OUT 6
-#define PIVOT_GATHER_TILES 7  // per channel, the largest radius among a tile's centres
+#define PIVOT_GATHER_TILES 7  // per channel and tile, its centres by radius (PivotTileOrder)
 #define PIVOT_GATHER_BINDINGS 8
-// Centres are visited tile by tile; a tile none of whose squares can reach the pixel is
-// skipped whole.
+// Centres are visited tile by tile, each tile's by radius, largest first: the walk stops at
+// the first radius below the pixel's distance to the tile.
 #define PIVOT_GATHER_TILE 8
 
 #ifdef __cplusplus

@@ -1,18 +1,19 @@
 // The geometric terms of the pivot filter (section 4.4), for kernels that declare the
-// texel buffer `guides` (5 planes: normal x, y, z, object id, part id), the specialization
-// constants useNormals / useIds and the ints `planeSize` (width x height) and `gw`, `gh`
-// (width, height).
+// texel buffer `guides` (per pixel PIVOT_GUIDE_PLANES adjacent values: normal x, y, z,
+// object id, part id), the specialization constants useNormals / useIds and the ints
+// `planeSize` (width x height) and `gw`, `gh` (width, height).
 
-float Guide(int at) {
-    return texelFetch(guides, at).r;
+// Guide value k (0..4) of pixel i.
+float Guide(int i, int k) {
+    return texelFetch(guides, i * PIVOT_GUIDE_PLANES + k).r;
 }
 
 // (n.n0)^4 when n.n0 > 1/2 for the unit normals at pixels i and i0, else 0; two zero
 // normals (no surface) give 1, one gives 0.
 float normalTerm(int i, int i0) {
     if (useNormals == 0) return 1.0;
-    vec3 n = vec3(Guide(i), Guide(planeSize + i), Guide(2 * planeSize + i));
-    vec3 n0 = vec3(Guide(i0), Guide(planeSize + i0), Guide(2 * planeSize + i0));
+    vec3 n = vec3(Guide(i, 0), Guide(i, 1), Guide(i, 2));
+    vec3 n0 = vec3(Guide(i0, 0), Guide(i0, 1), Guide(i0, 2));
     float len = dot(n, n), len0 = dot(n0, n0);
     if (len == 0.0 && len0 == 0.0) return 1.0;
     if (len == 0.0 || len0 == 0.0) return 0.0;
@@ -23,8 +24,7 @@ float normalTerm(int i, int i0) {
 // 0 across object boundaries and between parts: the ids differ.
 float idTerm(int i, int i0) {
     if (useIds == 0) return 1.0;
-    int objects = 3 * planeSize, parts = 4 * planeSize;
-    return Guide(objects + i) == Guide(objects + i0) && Guide(parts + i) == Guide(parts + i0)
+    return Guide(i, 3) == Guide(i0, 3) && Guide(i, 4) == Guide(i0, 4)
                ? 1.0
                : 0.0;
 }
@@ -39,12 +39,12 @@ struct Surface {
 Surface surfaceAt(int i) {
     Surface s = Surface(vec3(0.0), 0.0, 0.0, 0.0);
     if (useNormals != 0) {
-        s.n = vec3(Guide(i), Guide(planeSize + i), Guide(2 * planeSize + i));
+        s.n = vec3(Guide(i, 0), Guide(i, 1), Guide(i, 2));
         s.len = dot(s.n, s.n);
     }
     if (useIds != 0) {
-        s.object = Guide(3 * planeSize + i);
-        s.part = Guide(4 * planeSize + i);
+        s.object = Guide(i, 3);
+        s.part = Guide(i, 4);
     }
     return s;
 }

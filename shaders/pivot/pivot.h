@@ -6,7 +6,10 @@
 
 // Fit planes per channel: (a, b, c) of the square, then of quadrants 0..3, then the radius
 // (-1: no fit). Planes 0..7 live in one buffer and 8..15 in another, so that a 1024x1024
-// RGB frame stays under lavapipe's 128 MiB per binding.
+// RGB frame stays under lavapipe's 128 MiB per binding. In each buffer a centre's 8 planes
+// are adjacent: plane p of channel c at centre i = y * width + x is float
+// (c * width * height + i) * PIVOT_PLANES_PER_BUFFER + p (the gather reads 6 planes of a
+// centre: one or two cache lines, not 6 pages apart).
 #define PIVOT_PLANES 16
 #define PIVOT_PLANES_PER_BUFFER 8
 
@@ -20,8 +23,8 @@
 #define PIVOT_LOCAL_SIZE 64
 #define PIVOT_MAX_CHANNELS 4  // colour channels a frame may have
 
-// The guide buffer's planes: normal x, y, z, object id, part id (what is absent is zero and
-// compiled out).
+// The guide buffer's values per pixel, adjacent (float i * PIVOT_GUIDE_PLANES + k for pixel
+// i): normal x, y, z, object id, part id (what is absent is zero and compiled out).
 #define PIVOT_GUIDE_PLANES 5
 
 // |z| above this makes a pixel invalid (z^2 and the fit sums stay finite in float); the

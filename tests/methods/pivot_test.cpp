@@ -23,6 +23,7 @@
 #include "host/kernels/pivot_ratio.h"
 #include "host/methods/pivot.h"
 #include "host/metrics.h"
+#include "pivot/gather.h"
 #include "pivot/pivot.h"
 #include "tools/render/renderer.h"
 
@@ -67,7 +68,7 @@ Frame MakeFrame(int w, int h, double noise, uint64_t seed) {
     return f;
 }
 
-// The GPU's guide image: normal x, y, z, object id, part id.
+// The GPU's guide buffer: normal x, y, z, object id, part id, a pixel's values adjacent.
 Image GuideOf(const Frame &f) {
     Image guide(f.normal.width, f.normal.height, PIVOT_GUIDE_PLANES);
     for (int c = 0; c < 3; ++c)
@@ -76,7 +77,7 @@ Image GuideOf(const Frame &f) {
                 f.normal.data[c * f.normal.PixelCount() + i];
     for (size_t i = 0; i < f.ids.Size(); ++i)
         guide.data[3 * f.normal.PixelCount() + i] = f.ids.data[i];
-    return guide;
+    return PivotGuideBuffer(guide);
 }
 
 // The GPU ratio stage's z, s and nu.
@@ -98,7 +99,7 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     return {z.Download(), s.Download(), nu.Download()};
 }
 
-// Split CPU fits (16 x channels planes) into the GPU's two buffers' images and back.
+// Planes first .. first + count - 1 of CPU fits (16 x channels planes).
 Image Planes(const Image &fits, int first, int count, int channels) {
     Image part(fits.width, fits.height, count * channels);
     for (int p = 0; p < count * channels; ++p)
@@ -226,7 +227,7 @@ TEST_P(PivotKernelFit, MatchesReference) {
             {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k, o.sigmaWeight}, lo,
             hi, rowBase, rows);
     recorder.Submit();
-    Image actualLo = lo.Download(), actualHi = hi.Download();
+    Image actual = PivotFitsOfBuffers(lo.Download(), hi.Download(), 3);
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     int compared = 0, skipped = 0, radiusMismatches = 0, planeMismatches = 0;
@@ -236,10 +237,7 @@ TEST_P(PivotKernelFit, MatchesReference) {
                 auto plane = [&](const Image &fits, int p) {
                     return double(fits.At(p * 3 + c, y, x));
                 };
-                auto gpuPlane = [&](int p) {
-                    return p < 8 ? double(actualLo.At(p * 3 + c, y, x))
-                                 : double(actualHi.At((p - 8) * 3 + c, y, x));
-                };
+                auto gpuPlane = [&](int p) { return plane(actual, p); };
                 if (margin.At(c, y, x) < 1e-3) {
                     ++skipped;
                     continue;
@@ -295,12 +293,14 @@ TEST_P(PivotKernelGather, MatchesReference) {
     pivot.Upload(f.pivot);
     nu.Upload(ratio.nu);
     guide.Upload(GuideOf(f));
-    lo.Upload(Planes(fits, 0, 8, 3));
-    hi.Upload(Planes(fits, 8, 8, 3));
+    Image fitLo, fitHi;
+    PivotBuffersOfFits(fits, 3, &fitLo, &fitHi);
+    lo.Upload(fitLo);
+    hi.Upload(fitHi);
     int reach = 0;
-    Image tileRadii = PivotTileRadii(Planes(fits, 15, 1, 3), &reach);
-    vk::GpuImage tiles(Ctx(), tileRadii.width, tileRadii.height, 3, "tiles");
-    tiles.Upload(tileRadii);
+    Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
+    vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, 6, "tiles");
+    tiles.Upload(tileOrder);
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
     vk::Recorder recorder(Ctx());
     for (auto [rowBase, rows] :
@@ -478,11 +478,12 @@ TEST_F(PivotMethod, RowStripsAreBitIdenticalAndReportProgress) {
     EXPECT_NE(plan.find("5 row strip(s) of up to 5 rows"), std::string::npos) << plan;
 }
 
-// The gather skips tiles of centres whose squares cannot reach the pixel, by each tile's
-// largest radius per channel. Radii that differ between tiles and channels (channel 0's
-// top tile row noise-free, so its squares stop at 5x5; elsewhere up to 12, mean 4.1) must
-// be read for the right tile and channel: the result is the full gather's, pixel for
-// pixel. (Reading tile row 0 of channel 0 for every tile mismatched 3014 of 5760 values.)
+// The gather walks each tile's centres by radius, largest first, and stops at the first
+// radius below the pixel's distance to the tile. Radii that differ between tiles and
+// channels (channel 0's top tile row noise-free, so its squares stop at 5x5; elsewhere up
+// to 12, mean 4.1) must be read for the right tile and channel: the result is the full
+// gather's, pixel for pixel. (Reading tile row 0 of channel 0 for every tile mismatched
+// 3014 of 5760 values.)
 TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
     const int w = 48, h = 40;
     Frame f = MakeFrame(w, h, 0.3, SeedFromName("tile radii"));
@@ -512,6 +513,72 @@ TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
                 expected.Size(), stats.nmse, result.meanRadius);
     EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
     EXPECT_LT(stats.nmse, 1e-8);
+}
+
+// The gather's tile lists (host code): per channel and tile, every centre of the tile once,
+// by radius, largest first, ties in raster order; slots past a partial tile's centres have
+// radius -1; `reach` is the largest radius. Radii drawn from -1..12 (many ties), on a frame
+// whose last tile column and row are partial, and on 1x1.
+TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
+    const int t = PIVOT_GATHER_TILE;
+    for (auto [w, h] : {std::pair{19, 10}, std::pair{1, 1}, std::pair{16, 8}}) {
+        Image radii(w, h, 2);
+        std::mt19937 rng(SeedFromName(fmt::format("tile order {}x{}", w, h)));
+        int largest = 0;
+        for (float &r : radii.data) {
+            r = float(int(rng() % 14) - 1);
+            largest = std::max(largest, int(r));
+        }
+        int reach = -7;
+        Image order = PivotTileOrder(radii, &reach);
+        EXPECT_EQ(reach, largest);
+        int tilesX = (w + t - 1) / t, tilesY = (h + t - 1) / t;
+        ASSERT_EQ(order.width, t * t);
+        ASSERT_EQ(order.height, tilesX * tilesY);
+        ASSERT_EQ(order.channels, 4);
+        for (int c = 0; c < 2; ++c)
+            for (int ty = 0; ty < tilesY; ++ty)
+                for (int tx = 0; tx < tilesX; ++tx) {
+                    int row = ty * tilesX + tx;
+                    int inTile = std::min(t, w - tx * t) * std::min(t, h - ty * t);
+                    std::vector<int> seen(t * t, 0);
+                    for (int j = 0; j < t * t; ++j) {
+                        float radius = order.At(2 + c, row, j);
+                        if (j >= inTile) {
+                            EXPECT_EQ(radius, -1.f) << "padding slot " << j;
+                            continue;
+                        }
+                        int k = int(order.At(c, row, j));
+                        ASSERT_TRUE(k >= 0 && k < t * t) << k;
+                        int x = tx * t + k % t, y = ty * t + k / t;
+                        ASSERT_TRUE(x < w && y < h) << "slot outside the image: " << k;
+                        EXPECT_EQ(seen[k]++, 0) << "centre listed twice: " << k;
+                        EXPECT_EQ(radius, radii.At(c, y, x));
+                        if (j > 0) {
+                            float before = order.At(2 + c, row, j - 1);
+                            EXPECT_GE(before, radius) << "not largest first at slot " << j;
+                            if (before == radius)
+                                EXPECT_LT(order.At(c, row, j - 1), k)
+                                    << "tie not in raster order";
+                        }
+                    }
+                }
+    }
+}
+
+// The fit buffers' layout (a centre's 8 planes adjacent) to the reference's and back: plane
+// p of channel c at centre i sits at float (c * centres + i) * 8 + p % 8 of buffer p / 8.
+TEST(PivotFitLayout, BuffersAndReferencePlanesRoundTrip) {
+    const int w = 5, h = 3, channels = 3;
+    Image fits(w, h, PIVOT_PLANES * channels);
+    for (size_t i = 0; i < fits.Size(); ++i) fits.data[i] = float(i);
+    Image lo, hi;
+    PivotBuffersOfFits(fits, channels, &lo, &hi);
+    ASSERT_EQ(lo.Size(), size_t(w) * h * 8 * channels);
+    // Plane 13 of channel 2 at (x, y) = (4, 1): buffer hi, slot 5 of centre 2 * 15 + 9.
+    EXPECT_EQ(hi.data[(2 * 15 + 9) * 8 + 5], fits.At(13 * channels + 2, 1, 4));
+    EXPECT_EQ(lo.data[(1 * 15 + 0) * 8 + 2], fits.At(2 * channels + 1, 0, 0));
+    EXPECT_TRUE(BitIdentical(PivotFitsOfBuffers(lo, hi, channels), fits));
 }
 
 class PivotProperties : public GpuTest {};
