@@ -251,8 +251,11 @@ TEST_F(CliInputSafety, OverwriteInputKeepsEveryLayerAndTheNoisyColor) {
 
     io::Frame after = io::ReadFrame(Path("f.exr").string());
     EXPECT_EQ(after.layers.size(), before.layers.size() + 1);
-    for (const auto &[name, image] : before.layers)
-        if (name != "color") EXPECT_TRUE(BitIdentical(after.Get(name), image)) << name;
+    for (const auto &[name, image] : before.layers) {
+        if (name != "color") {
+            EXPECT_TRUE(BitIdentical(after.Get(name), image)) << name;
+        }
+    }
     EXPECT_TRUE(BitIdentical(after.Get("color.noisy"), before.Get("color")));
     EXPECT_TRUE(BitIdentical(after.Get("color"), io::ReadImage(Path("d.exr").string())));
     EXPECT_FALSE(BitIdentical(after.Get("color"), before.Get("color")));
