@@ -8,7 +8,7 @@
 // offset from the grid. The lane's patches overlap, so each term row is fetched once for
 // all of them (PIX + 2w texels, not PIX (2w + 1)) and summed per centre in the same order
 // as one centre alone (the distances are the same bits). On lavapipe the texel fetches
-// dominate: 8 centres per lane, 512x512: 330 -> 130 ms.
+// dominate: 8 centres per lane, 512x512: 330 -> 240 ms (4 and 16 per lane were slower).
 layout(local_size_x = RHF_DISTANCE_LOCAL_SIZE) in;
 layout(constant_id = RHF_DISTANCE_SPEC_SEARCH_HALF) const int B = 6;
 layout(constant_id = RHF_DISTANCE_SPEC_PATCH_HALF) const int PW = 1;
