@@ -12,6 +12,9 @@
 
 namespace mcd {
 
+// Each lane owns RHF_DISTANCE_PIXELS_PER_LANE centres of a row.
+constexpr int kCentresPerGroup = RHF_DISTANCE_LOCAL_SIZE * RHF_DISTANCE_PIXELS_PER_LANE;
+
 void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, int height,
                        int patchHalf, int searchHalf, int termBase, int termRows, int rowBase,
                        int rows, const vk::Buffer &termSum, const vk::Buffer &termCount,
@@ -42,8 +45,7 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
                       {{RHF_DISTANCE_SUM, &termSum, vk::Access::Read},
                        {RHF_DISTANCE_COUNT, &termCount, vk::Access::Read},
                        {RHF_DISTANCE_OUT, &dist, vk::Access::Write}},
-                      push,
-                      uint32_t((width + RHF_DISTANCE_LOCAL_SIZE - 1) / RHF_DISTANCE_LOCAL_SIZE),
+                      push, uint32_t((width + kCentresPerGroup - 1) / kCentresPerGroup),
                       uint32_t(rows), uint32_t(side * side));
 }
 

@@ -13,6 +13,7 @@
 #define RHF_DISTANCE_OUT 2
 #define RHF_DISTANCE_BINDINGS 3
 #define RHF_DISTANCE_LOCAL_SIZE 64
+#define RHF_DISTANCE_PIXELS_PER_LANE 8  // consecutive centres of a row per lane
 #define RHF_DISTANCE_SPEC_SEARCH_HALF 0  // b
 #define RHF_DISTANCE_SPEC_PATCH_HALF 1   // w
 

@@ -51,12 +51,19 @@ bool Saturated(int plane) {
     return push.brightVeto > 0.0 && plane % perColour >= perColour - 2;
 }
 
+// A bin, scaled; -FLT_MAX where the count n is 0, so that h_p + h_q > 1 fails for every
+// pair with an empty pixel or candidate (bins are finite and >= 0) and AddTerms needs no
+// test of the counts: 104 fewer compares per bin, the same terms.
+float Bin(float n, float h) {
+    return n != 0.0 ? h * push.histScale : -3.40282347e38;
+}
+
 // Add one bin's terms, from hp and hq, for every (pixel, candidate) of the lane.
 void AddTerms() {
     [[unroll]] for (int j = 0; j < PIX; ++j)
         [[unroll]] for (int k = 0; k < SIDE; ++k) {
             float both = hp[j] + hq[j + k];
-            if (both > 1.0 && np[j] != 0.0 && nq[j + k] != 0.0) {
+            if (both > 1.0) {  // never with an empty pixel or candidate (Bin)
                 float d = nq[j + k] * hp[j] - np[j] * hq[j + k];
                 sum[j * SIDE + k] += d * d / (np[j] * nq[j + k] * both);
                 count[j * SIDE + k] += 1.0;
@@ -73,12 +80,10 @@ void AddTerms() {
             if (Saturated(plane)) continue; /* added first, by MarkVetoedPairs */        \
             int base = (plane - first) * pixels;                                         \
             [[unroll]] for (int j = 0; j < PIX; ++j)                                     \
-                hp[j] = texelFetch(h, base + pRow + min(x0 + j, push.width - 1)).r *     \
-                        push.histScale;                                                  \
+                hp[j] = Bin(np[j], texelFetch(h, base + pRow + min(x0 + j, push.width - 1)).r); \
             [[unroll]] for (int m = 0; m < SPAN; ++m)                                    \
-                hq[m] = texelFetch(h, base + qRow + clamp(x0 + m - B, 0, push.width - 1))  \
-                            .r *                                                         \
-                        push.histScale;                                                  \
+                hq[m] = Bin(nq[m],                                                       \
+                            texelFetch(h, base + qRow + clamp(x0 + m - B, 0, push.width - 1)).r); \
             AddTerms();                                                                  \
         }                                                                                \
     }
@@ -95,10 +100,9 @@ void MarkVetoedPairs(int pRow, int qRow) {
         for (int b = max(perColour - 2, 0); b < perColour; ++b) {
             int plane = c * perColour + b;
             [[unroll]] for (int j = 0; j < PIX; ++j)
-                hp[j] = Hist(plane, pRow + min(x0Lane + j, push.width - 1)) * push.histScale;
+                hp[j] = Bin(np[j], Hist(plane, pRow + min(x0Lane + j, push.width - 1)));
             [[unroll]] for (int m = 0; m < SPAN; ++m)
-                hq[m] = Hist(plane, qRow + clamp(x0Lane + m - B, 0, push.width - 1)) *
-                        push.histScale;
+                hq[m] = Bin(nq[m], Hist(plane, qRow + clamp(x0Lane + m - B, 0, push.width - 1)));
             AddTerms();
         }
     [[unroll]] for (int i = 0; i < PIX * SIDE; ++i) {
