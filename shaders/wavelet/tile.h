@@ -19,8 +19,19 @@
 #define WAVELET_SPEC_BASIS 0  // MCD_WAVELET_*
 #define WAVELET_SPEC_AXIS 1   // WAVELET_AXIS_*
 #define WAVELET_SPEC_VEC4 2   // 1: rows pass may use vec4 access (strides are multiples of 4)
+#define WAVELET_SPEC_PART 3   // WAVELET_PART_*: which segments along the filtered axis
 #define WAVELET_AXIS_ROWS 0
 #define WAVELET_AXIS_COLUMNS 1
+
+// Segments a pass's dispatch covers along its filtered axis of length n. A segment is
+// interior when its apron lies inside the axis (segment s >= 1 with s * TILE + TILE +
+// HALO <= n, the first InteriorSegments(n) after segment 0); the others fold their loads.
+// Lavapipe runs both sides of a branch under a mask, so a dispatch whose segments take
+// both paths pays both everywhere: large passes run as one dispatch of the interior
+// segments (no folding code at all) and one of the edge segments (folding only).
+#define WAVELET_PART_ALL 0       // every segment, either path (short axes)
+#define WAVELET_PART_INTERIOR 1  // group g: segment g + 1, all interior
+#define WAVELET_PART_EDGES 2     // group 0: segment 0; group g > 0: InteriorSegments(n) + g
 
 
 #endif
