@@ -54,7 +54,8 @@ WaveletLinePass MakeWaveletLinePass(vk::Context &context, const char *kernel,
     // run apart only with vec4 access.
     int length = rows ? width : height, lines = rows ? height : width;
     int segments = (length + WAVELET_TILE - 1) / WAVELET_TILE;
-    int interior = rows && !vec4 ? 0 : WaveletInteriorSegments(length);
+    int interior =
+        (rows && !vec4) || length < WAVELET_SPLIT_LENGTH ? 0 : WaveletInteriorSegments(length);
     auto variant = [&](int part) {
         vk::KernelDesc d = desc;
         d.specialization.push_back({WAVELET_SPEC_PART, part});
