@@ -2,6 +2,7 @@
 
 #include "host/error.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace mcd {
@@ -13,6 +14,10 @@ void CheckWaveletTemporary(const vk::ImageView &tmp, const vk::ImageView &src,
     if (tmp.stride % 4 != 0 || tmp.plane % 4 != 0 || tmp.stride < (width + 3) / 4 * 4)
         throw Error(std::string(kernel) +
                     ": the temporary's rows must be padded to a multiple of 4 floats");
+}
+
+int WaveletInteriorSegments(int n) {
+    return std::max(n - WAVELET_TILE - WAVELET_HALO, 0) / WAVELET_TILE;
 }
 
 WaveletLinePass MakeWaveletLinePass(vk::Context &context, const char *kernel,
@@ -35,7 +40,6 @@ WaveletLinePass MakeWaveletLinePass(vk::Context &context, const char *kernel,
                          {WAVELET_SPEC_VEC4, vec4 ? 1 : 0}}};
     desc.specialization.insert(desc.specialization.end(), spec.begin(), spec.end());
     WaveletLinePass pass;
-    pass.kernel = &context.GetKernel(desc);
     pass.lines = {width, height, src.stride, src.plane, dst.stride, dst.plane};
     pass.bindings = {{WAVELET_LINES_SRC, src.buffer, vk::Access::Read},
                      {WAVELET_LINES_DST, dst.buffer, vk::Access::Write}};
@@ -45,13 +49,31 @@ WaveletLinePass MakeWaveletLinePass(vk::Context &context, const char *kernel,
                         ": the extra bindings of a line pass are read only");
         pass.bindings.push_back(read);
     }
-    pass.suffix = rows ? ".rows" : ".columns";
     // Rows: one invocation per row, a segment of WAVELET_TILE positions per group along x;
-    // columns the other way round.
-    auto divUp = [](int a, int b) { return uint32_t((a + b - 1) / b); };
-    pass.groupsX = rows ? divUp(width, WAVELET_TILE) : divUp(width, WAVELET_LOCAL_SIZE);
-    pass.groupsY = rows ? divUp(height, WAVELET_LOCAL_SIZE) : divUp(height, WAVELET_TILE);
-    pass.groupsZ = uint32_t(channels);
+    // columns the other way round. The rows pass's interior segments move vec4s, so they
+    // run apart only with vec4 access.
+    int length = rows ? width : height, lines = rows ? height : width;
+    int segments = (length + WAVELET_TILE - 1) / WAVELET_TILE;
+    int interior =
+        (rows && !vec4) || length < WAVELET_SPLIT_LENGTH ? 0 : WaveletInteriorSegments(length);
+    auto variant = [&](int part) {
+        vk::KernelDesc d = desc;
+        d.specialization.push_back({WAVELET_SPEC_PART, part});
+        return &context.GetKernel(d);
+    };
+    auto add = [&](int part, const char *suffix, int count) {
+        uint32_t across = uint32_t((lines + WAVELET_LOCAL_SIZE - 1) / WAVELET_LOCAL_SIZE);
+        WaveletLineDispatch d{variant(part), suffix, 0, 0, uint32_t(channels)};
+        (rows ? d.groupsX : d.groupsY) = uint32_t(count);
+        (rows ? d.groupsY : d.groupsX) = across;
+        pass.dispatches.push_back(d);
+    };
+    if (interior == 0) {
+        add(WAVELET_PART_ALL, rows ? ".rows" : ".columns", segments);
+    } else {
+        add(WAVELET_PART_INTERIOR, rows ? ".rows" : ".columns", interior);
+        add(WAVELET_PART_EDGES, rows ? ".rows.edges" : ".columns.edges", segments - interior);
+    }
     return pass;
 }
 

@@ -22,15 +22,24 @@ namespace mcd {
 void CheckWaveletTemporary(const vk::ImageView &tmp, const vk::ImageView &src,
                            const vk::ImageView &dst, int width, const char *kernel);
 
-// One pass of a line kernel, all but its push constants' extra fields: the kernel, the
-// line part of the push constants, the bindings and the groups.
-struct WaveletLinePass {
+// One dispatch of a pass: its kernel variant (WAVELET_SPEC_PART), label suffix and groups.
+struct WaveletLineDispatch {
     const vk::Kernel *kernel = nullptr;
-    shader::WaveletLinesPush lines{};
-    std::vector<vk::Binding> bindings;
     const char *suffix = "";
     uint32_t groupsX = 0, groupsY = 0, groupsZ = 0;
 };
+
+// One pass of a line kernel, all but its push constants' extra fields: the line part of
+// the push constants, the bindings and its dispatches (the interior segments and the
+// edge segments apart where the axis has interior ones, tile.h; else one of all).
+struct WaveletLinePass {
+    shader::WaveletLinesPush lines{};
+    std::vector<vk::Binding> bindings;
+    std::vector<WaveletLineDispatch> dispatches;
+};
+
+// Interior segments along an axis of length n (tile.h; the GLSL twin is in lifting.glsl).
+int WaveletInteriorSegments(int n);
 
 // The pass (WAVELET_AXIS_ROWS or _COLUMNS) of the kernel in `spirv`, whose push constants
 // take pushBytes, over the width x height x channels region, from `src` into `dst`. The
@@ -62,8 +71,9 @@ void RecordWaveletLinePass(vk::Context &context, vk::Recorder &recorder, const c
         push = pass.lines;
     else
         push.lines = pass.lines;
-    recorder.Dispatch(*pass.kernel, label + pass.suffix, pass.bindings, push, pass.groupsX,
-                      pass.groupsY, pass.groupsZ);
+    for (const WaveletLineDispatch &d : pass.dispatches)
+        recorder.Dispatch(*d.kernel, label + d.suffix, pass.bindings, push, d.groupsX,
+                          d.groupsY, d.groupsZ);
 }
 
 }  // namespace mcd

@@ -101,10 +101,15 @@ void RowSegment(bool fast, int srcRow, int dstRow, int x0) {
 void Rows(int lane, int channel) {
     int y = int(gl_WorkGroupID.y) * WAVELET_LOCAL_SIZE + lane;
     if (y >= push.height) return;
-    int x0 = int(gl_WorkGroupID.x) * WAVELET_TILE;
+    int x0 = SegmentOfGroup(int(gl_WorkGroupID.x), push.width) * WAVELET_TILE;
     int srcRow = channel * push.srcPlane + y * push.srcStride;
     int dstRow = channel * push.dstPlane + y * push.dstStride;
-    if (VEC4 != 0 && x0 >= WAVELET_HALO && x0 + WAVELET_TILE + WAVELET_HALO <= push.width)
+    // The parts run one path only (constants); all segments test which they need.
+    if (PART == WAVELET_PART_INTERIOR)
+        RowSegment(true, srcRow, dstRow, x0);
+    else if (PART == WAVELET_PART_EDGES)
+        RowSegment(false, srcRow, dstRow, x0);
+    else if (VEC4 != 0 && x0 >= WAVELET_HALO && x0 + WAVELET_TILE + WAVELET_HALO <= push.width)
         RowSegment(true, srcRow, dstRow, x0);
     else
         RowSegment(false, srcRow, dstRow, x0);
@@ -129,10 +134,14 @@ void ColumnSegment(bool interior, int srcBase, int dstBase, int y0) {
 void Columns(int lane, int channel) {
     int x = int(gl_WorkGroupID.x) * WAVELET_LOCAL_SIZE + lane;
     if (x >= push.width) return;
-    int y0 = int(gl_WorkGroupID.y) * WAVELET_TILE;
+    int y0 = SegmentOfGroup(int(gl_WorkGroupID.y), push.height) * WAVELET_TILE;
     int srcBase = channel * push.srcPlane + x;
     int dstBase = channel * push.dstPlane + BandIndex(x, push.width);
-    if (y0 >= WAVELET_HALO && y0 + WAVELET_TILE + WAVELET_HALO <= push.height)
+    if (PART == WAVELET_PART_INTERIOR)
+        ColumnSegment(true, srcBase, dstBase, y0);
+    else if (PART == WAVELET_PART_EDGES)
+        ColumnSegment(false, srcBase, dstBase, y0);
+    else if (y0 >= WAVELET_HALO && y0 + WAVELET_TILE + WAVELET_HALO <= push.height)
         ColumnSegment(true, srcBase, dstBase, y0);
     else
         ColumnSegment(false, srcBase, dstBase, y0);

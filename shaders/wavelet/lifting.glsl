@@ -8,6 +8,20 @@ layout(constant_id = WAVELET_SPEC_BASIS) const int WAVELET = MCD_WAVELET_CDF97;
 
 const int kExt = WAVELET_TILE_EXT;
 
+layout(constant_id = WAVELET_SPEC_PART) const int PART = WAVELET_PART_ALL;
+
+// Interior segments along an axis of length n (tile.h), as the host counts them.
+int InteriorSegments(int n) {
+    return max(n - WAVELET_TILE - WAVELET_HALO, 0) / WAVELET_TILE;
+}
+
+// The segment that workgroup `group` of this part filters along an axis of length n.
+int SegmentOfGroup(int group, int n) {
+    if (PART == WAVELET_PART_INTERIOR) return group + 1;
+    if (PART == WAVELET_PART_EDGES && group > 0) return InteriorSegments(n) + group;
+    return group;
+}
+
 // CDF 9/7 lifting factorisation (Daubechies and Sweldens) and the scaling that gives the
 // filter bank of AWR appendix A (low-pass sums to sqrt 2).
 const float kAlpha = -1.586134342059924;

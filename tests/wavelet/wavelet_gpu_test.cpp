@@ -68,8 +68,9 @@ struct WaveletCase {
 };
 
 std::vector<WaveletCase> AllCases() {
-    const int sizes[][2] = {{1, 1},   {1, 7},   {7, 1},   {2, 2},   {3, 3},  {5, 9},
-                            {17, 13}, {31, 33}, {64, 64}, {67, 41}, {97, 3}, {33, 70}};
+    const int sizes[][2] = {{1, 1},     {1, 7},    {7, 1},     {2, 2},    {3, 3},  {5, 9},
+                            {17, 13},   {31, 33},  {64, 64},   {67, 41},  {97, 3}, {33, 70},
+                            {128, 124}, {132, 67}, {256, 256}, {258, 257}};
     std::vector<WaveletCase> cases;
     for (auto [w, h] : sizes)
         for (WaveletBasis basis :
