@@ -2,6 +2,7 @@
 // frame, measure it against a reference when given one, and write the result.
 #include <fmt/format.h>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -159,6 +160,12 @@ void AddDenoiseCommand(CLI::App &app) {
                 fmt::print("  frame {}\n", it->second);
             for (const std::string &step : result.plan) fmt::print("  {}\n", step);
             fmt::print("{}", LedgerText(result));
+            // The process's own peak: the frame's layers, the copies and, on a CPU device,
+            // the GPU buffers too.
+            rusage usage{};
+            getrusage(RUSAGE_SELF, &usage);
+            fmt::print("  peak memory of the process (RSS): {:.0f} MB\n",
+                       double(usage.ru_maxrss) * 1024 / 1e6);
         }
         for (const std::string &warning : result.warnings)
             fmt::print(stderr, "warning: {}\n", warning);
