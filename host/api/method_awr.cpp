@@ -6,6 +6,7 @@
 
 #include "cpu_reference/awr_reconstruct.h"
 #include "host/api/front_end.h"
+#include "host/api/tiled_run.h"
 #include "host/methods/awr.h"
 #include "host/wavelet.h"
 
@@ -99,12 +100,13 @@ class Awr : public FrontEndOf<AwrParams> {
             options.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
                                : options.levels,
             levels);
-        // CDF 9/7 taps reach 4 each way: analysis and synthesis at 2^l per level l.
-        needs.reach = 2 * 4 * ((1 << levels) - 1) * options.spins;
+        // Analysis and synthesis at 2^l per level l, and the spins' shifts.
+        int half = WaveletHalfSupport(*ParseWavelet(options.basis));
+        needs.reach = 2 * half * ((1 << levels) - 1) + options.spins;
         needs.reachText = fmt::format(
-            "analysis and synthesis filters of half-length 4 at 2^l for l < {} (times the "
-            "spins)",
-            levels);
+            "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
+            "{}, and the spins' shift",
+            options.basis, half, levels);
         needs.align = 1 << levels;
         needs.bytesPerPixel = 4.0 * channels * 4;
         needs.bindingBytesPerPixel = 4.0 * channels;

@@ -7,6 +7,7 @@
 
 #include "cpu_reference/bayes_denoise.h"
 #include "host/api/front_end.h"
+#include "host/api/tiled_run.h"
 #include "host/methods/bayes.h"
 #include "host/wavelet.h"
 
@@ -132,11 +133,12 @@ class Bayes : public FrontEndOf<BayesParams> {
             "bayes estimates its noise (the finest bands' median absolute deviation, or the "
             "variance layer's band means) and its log floor (a median) per tile, not over the "
             "frame";
-        needs.reach = 2 * 4 * ((1 << levels) - 1) + o.spins;
+        int half = WaveletHalfSupport(o.basis);
+        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins;
         needs.reachText = fmt::format(
-            "analysis and synthesis filters of half-length 4 at 2^l for l < {}, and the "
-            "spins' shift",
-            levels);
+            "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
+            "{}, and the spins' shift",
+            options.basis, half, levels);
         needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
         // Measured: 144 bytes a pixel at 1920x1080 (3 channels, swt, 3 levels). One binding
         // holds a channel's stationary coefficients (3 bands a level and the low band), or

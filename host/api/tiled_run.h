@@ -6,6 +6,7 @@
 #pragma once
 
 #include "host/api/front_end.h"
+#include "host/wavelet.h"
 
 namespace mcd::api {
 
@@ -22,6 +23,12 @@ struct TilePlan {
 // forces square tiles of that size.
 TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width, int height,
                    int forced);
+
+// How far one level's analysis or synthesis filter reads, in that level's samples: the
+// half-length of the longest tap set (Haar 2 taps, LeGall 5/3 five, CDF 9/7 nine).
+inline int WaveletHalfSupport(WaveletBasis basis) {
+    return basis == WaveletBasis::Haar ? 1 : basis == WaveletBasis::LeGall53 ? 2 : 4;
+}
 
 // Run `method` on `inputs`, whole or in tiles by PlanTiles (run.tileSize forces a size).
 // Tiled, the result has no stages (keepStages runs whole) and the plan is the first tile's,
