@@ -102,12 +102,14 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
             if (done == 0)
                 for (const std::string &line : part.plan)
                     result.plan.push_back("first tile: " + line);
-            // A warning each tile repeats is said once; counts are the window's.
+            // A warning each tile repeats is said once; counts and pixels are the window's.
             for (std::string &warning : part.warnings)
                 if (std::find(seen.begin(), seen.end(), warning) == seen.end()) {
                     seen.push_back(warning);
-                    result.warnings.push_back(fmt::format(
-                        "tile [{}, {}) x [{}, {}) with its halo: {}", x0, x1, y0, y1, warning));
+                    result.warnings.push_back(
+                        fmt::format("window [{}, {}) x [{}, {}) (a tile and its halo; pixels "
+                                    "counted from the window's corner): {}",
+                                    wx0, wx1, wy0, wy1, warning));
                 }
             for (Timing &t : part.timings) result.timings.push_back(std::move(t));
             ++done;
