@@ -22,12 +22,15 @@ namespace mcd::api {
 class Inputs {
   public:
     Inputs(const Frame &frame, bool refuseNonFinite, std::string method);
+    // The window [x0, x1) x [y0, y1) of `parent` (a tile with its halo): each layer is
+    // read (and checked, once, whole) from the parent and cropped on first use.
+    Inputs(Inputs &parent, int x0, int y0, int x1, int y1);
 
     const std::string &Path() const { return frame.path; }
-    // The frame itself (what a front end's Missing reads).
+    // The frame itself (what a front end's Missing reads; a tile's is the whole frame).
     const mcd::Frame &Source() const { return frame; }
-    int Width() const { return frame.width; }
-    int Height() const { return frame.height; }
+    int Width() const { return width; }
+    int Height() const { return height; }
     bool Has(const std::string &layer) const;
     const Image &Get(const std::string &layer);
     // Replace a layer for the rest of the run (checked like the frame's own on read).
@@ -41,7 +44,10 @@ class Inputs {
     const Frame &frame;
     bool refuseNonFinite;
     std::string method;
-    std::map<std::string, Image> overrides;  // demodulated or repaired layers
+    int width, height;
+    Inputs *parent = nullptr;  // a window's parent, and the window's origin in it
+    int x0 = 0, y0 = 0;
+    std::map<std::string, Image> overrides;  // demodulated or repaired layers, or crops
     std::map<std::string, bool> checked;
 };
 
@@ -92,6 +98,20 @@ ParamDef<O> Nested(I O::*inner, ParamDef<I> def) {
             [inner, set = def.set](O &o, const ParamValue &v) { set(o.*inner, v); }};
 }
 
+// What a method needs to run in tiles (host/api/tiled_run.h), with its current parameters.
+struct TileNeeds {
+    // "" when an output pixel depends only on input pixels within `reach` (each axis) and
+    // on frame-wide quantities ForTiles fixes, so that tiles with that halo reproduce the
+    // untiled run bit for bit; else why not (the method then runs whole when it fits).
+    std::string notLocal;
+    int reach = 0;
+    std::string reachText;  // what the reach is made of, for the plan
+    int align = 1;          // windows start at multiples of this (a coarser grid's step)
+    // GPU memory per pixel of a window, in all and in the largest single binding, and what
+    // a run holds whatever its size (buffers bounded by the binding), about.
+    double bytesPerPixel = 0, bindingBytesPerPixel = 0, fixedBytes = 0;
+};
+
 class FrontEnd {
   public:
     virtual ~FrontEnd() = default;
@@ -114,6 +134,16 @@ class FrontEnd {
     }
 
     virtual Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const = 0;
+
+    // Tiling: the reach and memory per pixel on these inputs (default: not tile-local).
+    virtual TileNeeds Tiling(vk::Context &context, Inputs &inputs) const {
+        TileNeeds needs;
+        needs.notLocal = Name() + " declares no reach";
+        return needs;
+    }
+    // A copy that computes, on any window of `whole`, what the run on `whole` computes
+    // there: frame-wide quantities (means, totals, scale counts) fixed from `whole`.
+    virtual std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const { return Clone(); }
     virtual std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const = 0;
 };
 

@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "host/api/front_end.h"
@@ -7,10 +8,25 @@
 namespace mcd::api {
 
 Inputs::Inputs(const Frame &frame, bool refuseNonFinite, std::string method)
-    : frame(frame), refuseNonFinite(refuseNonFinite), method(std::move(method)) {}
+    : frame(frame),
+      refuseNonFinite(refuseNonFinite),
+      method(std::move(method)),
+      width(frame.width),
+      height(frame.height) {}
+
+Inputs::Inputs(Inputs &parent, int x0, int y0, int x1, int y1)
+    : frame(parent.frame),
+      refuseNonFinite(parent.refuseNonFinite),
+      method(parent.method),
+      width(x1 - x0),
+      height(y1 - y0),
+      parent(&parent),
+      x0(x0),
+      y0(y0) {}
 
 bool Inputs::Has(const std::string &layer) const {
-    return overrides.count(layer) > 0 || frame.Has(layer);
+    if (overrides.count(layer) > 0) return true;
+    return parent ? parent->Has(layer) : frame.Has(layer);
 }
 
 void Inputs::Override(const std::string &layer, Image image) {
@@ -19,6 +35,13 @@ void Inputs::Override(const std::string &layer, Image image) {
 }
 
 std::vector<std::string> Inputs::Names() const {
+    if (parent) {
+        std::vector<std::string> names = parent->Names();
+        for (const auto &[name, image] : overrides)
+            if (!parent->Has(name)) names.push_back(name);
+        std::sort(names.begin(), names.end());
+        return names;
+    }
     std::vector<std::string> names;
     for (const auto &[name, image] : frame.layers) names.push_back(name);
     for (const auto &[name, image] : overrides)
@@ -29,6 +52,17 @@ std::vector<std::string> Inputs::Names() const {
 
 const Image &Inputs::Get(const std::string &layer) {
     auto it = overrides.find(layer);
+    if (parent) {
+        // The parent checks the whole layer (warnings in frame coordinates); crop once.
+        if (it != overrides.end()) return it->second;
+        const Image &whole = parent->Get(layer);
+        Image crop(width, height, whole.channels);
+        for (int c = 0; c < whole.channels; ++c)
+            for (int y = 0; y < height; ++y)
+                std::copy_n(whole.Plane(c) + size_t(y0 + y) * whole.width + x0, width,
+                            crop.Plane(c) + size_t(y) * width);
+        return overrides[layer] = std::move(crop);
+    }
     const Image &image = it != overrides.end() ? it->second : frame.Get(layer);
     if (checked[layer]) return image;
     checked[layer] = true;

@@ -8,6 +8,7 @@
 
 #include "host/api/front_end.h"
 #include "host/api/method_auto.h"
+#include "host/api/tiled_run.h"
 #include "host/methods/pivot.h"
 
 namespace mcd {
@@ -320,7 +321,7 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
     Demodulation demodulation;
     if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
-    Result result = method->Run(context, inputs, options);
+    Result result = api::RunTiled(context, *method, inputs, options);
     if (!demodulate.empty()) Remodulate(demodulation, method->Name(), &result);
     result.method = method->Name();
     result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());

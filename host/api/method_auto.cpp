@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <random>
 
 #include "host/kernels/auto_combine.h"
@@ -136,6 +137,40 @@ ParamValue AutoFrontEnd::Get(const std::string &param) const {
         for (const ParamInfo &info : m->Params())
             if (info.name == param) return m->Get(param);
     throw Error("auto has no parameter '" + param + "'");
+}
+
+TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
+    TileNeeds needs;
+    needs.notLocal =
+        "auto: each tile fixes its candidates' frame-wide quantities and its own estimates";
+    int count = 0;
+    for (const Variant &variant : Variants()) {
+        const FrontEnd *base = nullptr;
+        for (const auto &m : methods)
+            if (m->Name() == variant.method) base = m.get();
+        if (!base || !base->Missing(inputs.Source()).empty()) continue;
+        std::unique_ptr<FrontEnd> method = base->Clone();
+        for (const auto &[param, value] : variant.overrides) method->Set(param, value);
+        TileNeeds one = method->Tiling(context, inputs);
+        needs.reach = std::max(needs.reach, one.reach);
+        needs.align = std::lcm(needs.align, std::max(one.align, 1));
+        needs.bytesPerPixel = std::max(needs.bytesPerPixel, one.bytesPerPixel);
+        needs.bindingBytesPerPixel =
+            std::max(needs.bindingBytesPerPixel, one.bindingBytesPerPixel);
+        needs.fixedBytes = std::max(needs.fixedBytes, one.fixedBytes);
+        ++count;
+    }
+    // The combination holds every candidate's output (and its probe's) on the host and its
+    // outputs, estimates and their means on the GPU; the estimates' box mean reaches
+    // options.radius further.
+    double channels = 3, candidates = std::max(count, 1);
+    needs.reach += options.radius;
+    needs.reachText = fmt::format("the widest candidate's reach + the estimates' box radius {}",
+                                  options.radius);
+    needs.bytesPerPixel += 4 * (candidates * channels + 2 * candidates + 2 * channels);
+    needs.bindingBytesPerPixel =
+        std::max(needs.bindingBytesPerPixel, 4 * candidates * channels);
+    return needs;
 }
 
 // Every candidate's layers, and the half-buffers for the error estimate.

@@ -31,6 +31,10 @@ class AutoFrontEnd : public FrontEnd {
                          std::vector<std::string> *plan) const;
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override;
+    // The widest reach and the largest memory of the candidates the frame allows, plus the
+    // combination's: a frame too large for them runs in tiles (not bit for bit: each tile
+    // fixes its candidates' frame-wide quantities and its own guide for the estimates).
+    TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override;
     std::vector<Stage> Reference(vk::Context &, Inputs &) const override;
 
     // auto's own parameters (the candidates' are the methods').

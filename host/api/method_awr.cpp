@@ -2,8 +2,11 @@
 // per-pixel variance of the mean, from the variance layer or the sample range.
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "cpu_reference/awr_reconstruct.h"
 #include "host/api/front_end.h"
+#include "host/api/tiled_run.h"
 #include "host/methods/awr.h"
 #include "host/wavelet.h"
 
@@ -88,6 +91,38 @@ class Awr : public FrontEndOf<AwrParams> {
         return result;
     }
 
+    // The decimated DWT's coarse bands span the frame (levels -1: as many as it allows), so
+    // tiles cannot give the untiled result; beyond the device's memory the tiles run at
+    // most kTileLevels levels with a halo of the filters' support at those levels.
+    TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
+        int levels = TileLevels(inputs.Width(), inputs.Height());
+        int channels = inputs.Get("color").channels;
+        TileNeeds needs;
+        needs.notLocal = fmt::format(
+            "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
+            "spans it, and its grid depends on the frame's size; a tile runs {} level(s)",
+            options.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
+                               : options.levels,
+            levels);
+        // Analysis and synthesis at 2^l per level l, and the spins' shifts.
+        int half = WaveletHalfSupport(*ParseWavelet(options.basis));
+        needs.reach = 2 * half * ((1 << levels) - 1) + options.spins;
+        needs.reachText = fmt::format(
+            "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
+            "{}, and the spins' shift",
+            options.basis, half, levels);
+        needs.align = 1 << levels;
+        needs.bytesPerPixel = 4.0 * channels * 4;
+        needs.bindingBytesPerPixel = 4.0 * channels;
+        return needs;
+    }
+
+    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
+        auto copy = std::make_unique<Awr>(*this);
+        copy->options.levels = TileLevels(whole.Width(), whole.Height());
+        return copy;
+    }
+
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         std::string why;
         Image variance = Variance(inputs, &why);
@@ -107,6 +142,12 @@ class Awr : public FrontEndOf<AwrParams> {
     }
 
   private:
+    static constexpr int kTileLevels = 5;
+    int TileLevels(int width, int height) const {
+        int levels = options.levels < 0 ? MaxWaveletLevels(width, height) : options.levels;
+        return std::min(levels, kTileLevels);
+    }
+
     // The per-pixel variance of the mean from the layers the frame has.
     Image Variance(Inputs &inputs, std::string *why) const {
         const std::string &source = options.variance;

@@ -7,6 +7,7 @@
 
 #include "cpu_reference/bayes_denoise.h"
 #include "host/api/front_end.h"
+#include "host/api/tiled_run.h"
 #include "host/methods/bayes.h"
 #include "host/wavelet.h"
 
@@ -122,6 +123,34 @@ class Bayes : public FrontEndOf<BayesParams> {
         }
         result.plan.insert(result.plan.begin(), plan.begin(), plan.end());
         return result;
+    }
+
+    // Bayes's noise estimate (the MAD of the finest bands) and log floor (the channel's
+    // median) are frame-wide: tiles estimate their own. Beyond the device's memory the tiles
+    // run with a halo of the filters' support at every level.
+    TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
+        BayesOptions o = options.Options();
+        int levels = std::min(o.levels, MaxWaveletLevels(inputs.Width(), inputs.Height()));
+        TileNeeds needs;
+        needs.notLocal =
+            "bayes estimates its noise (the finest bands' median absolute deviation, or the "
+            "variance layer's band means) and its log floor (a median) per tile, not over the "
+            "frame";
+        int half = WaveletHalfSupport(o.basis);
+        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins;
+        needs.reachText = fmt::format(
+            "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
+            "{}, and the spins' shift",
+            options.basis, half, levels);
+        needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
+        // Measured: 144 bytes a pixel at 1920x1080 (3 channels, swt, 3 levels). One binding
+        // holds a channel's stationary coefficients (3 bands a level and the low band), or
+        // the decimated transform of every channel.
+        needs.bytesPerPixel = 160;
+        needs.bindingBytesPerPixel = o.transform == BayesTransform::Swt
+                                         ? 4.0 * (3 * levels + 1)
+                                         : 4.0 * inputs.Get("color").channels;
+        return needs;
     }
 
     std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const override {

@@ -6,6 +6,7 @@
 #include "host/api/front_end.h"
 #include "host/api/pivot_params.h"
 #include "host/methods/pivot.h"
+#include "pivot/gather.h"
 
 namespace mcd::api {
 namespace {
@@ -14,6 +15,9 @@ struct PivotParams {
     PivotOptions options;
     std::string filter = "planefit", guides = "auto", noise = "auto", layer = "auto";
     bool noPartials = false;
+    // Set by ForTiles: the whole frame's thresholds (of the pivot, of each partial's).
+    std::vector<float> thresholds;
+    std::vector<std::vector<float>> partialThresholds;
 };
 
 class Pivot : public FrontEndOf<PivotParams> {
@@ -118,6 +122,43 @@ class Pivot : public FrontEndOf<PivotParams> {
         return result;
     }
 
+    TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
+        int channels = inputs.Get("color").channels;
+        TileNeeds needs;
+        if (options.filter == "bilateral") {
+            needs.reach = options.options.bilateralRadius + 2;
+            needs.reachText = fmt::format(
+                "the bilateral radius {}, 1 for the noise estimated from 3x3 neighbours, 1 "
+                "for the id boundary",
+                options.options.bilateralRadius);
+        } else {
+            needs.reach = 2 * options.options.maxRadius + 2;
+            needs.reachText = fmt::format(
+                "a pixel gathers the fits of centres up to the largest square half-size {} "
+                "away, each fit reads up to {} further; 1 for the noise estimated from 3x3 "
+                "neighbours, 1 for the id boundary",
+                options.options.maxRadius, options.options.maxRadius);
+        }
+        // The gather sums the centres tile by tile of its own grid: windows on that grid
+        // keep the order of the sums.
+        needs.align = PIVOT_GATHER_TILE;
+        // Two fit buffers of PIVOT_PLANES / 2 planes per channel (one binding each), six
+        // images of the colour's channels, the variance and the guides.
+        needs.bindingBytesPerPixel = 8.0 * channels * 4;
+        needs.bytesPerPixel = (16.0 + 7) * channels * 4 + 5 * 4;
+        return needs;
+    }
+
+    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
+        auto copy = std::make_unique<Pivot>(*this);
+        PivotOptions o;
+        PivotInputs in = InputsOf(whole, &o);
+        copy->options.thresholds = PivotThresholds(*in.pivot, o.floor);
+        for (const PivotPartial &partial : in.partials)
+            copy->options.partialThresholds.push_back(PivotThresholds(*partial.pivot, o.floor));
+        return copy;
+    }
+
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         PivotOptions o;
         PivotInputs in = InputsOf(inputs, &o);
@@ -175,6 +216,7 @@ class Pivot : public FrontEndOf<PivotParams> {
         PivotInputs in;
         in.color = &inputs.Get("color");
         in.pivot = &inputs.Get(layer);
+        in.thresholds = options.thresholds;
         bool noise = options.noise == "auto";
         if (noise && inputs.Has("variance")) in.variance = &inputs.Get("variance");
         if (options.guides == "auto") {
@@ -194,6 +236,8 @@ class Pivot : public FrontEndOf<PivotParams> {
             PivotPartial partial{&inputs.Get(name + ".color"), &inputs.Get(name + ".pivot")};
             if (noise && inputs.Has(name + ".variance"))
                 partial.variance = &inputs.Get(name + ".variance");
+            if (size_t(k) < options.partialThresholds.size())
+                partial.thresholds = options.partialThresholds[k];
             in.partials.push_back(partial);
         }
         if (!in.partials.empty()) {

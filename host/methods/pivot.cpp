@@ -274,7 +274,11 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     CheckPivotInputs(context, in, options);
     PivotResult result;
     StagedRun run(context, options.keepStages);
-    std::vector<float> thresholds = PivotThresholds(*in.pivot, options.floor);
+    std::vector<float> thresholds =
+        in.thresholds.empty() ? PivotThresholds(*in.pivot, options.floor) : in.thresholds;
+    if (int(thresholds.size()) != in.pivot->channels)
+        throw Error(fmt::format("pivot: {} thresholds for {} channels", thresholds.size(),
+                                in.pivot->channels));
     result.pixelsWithoutZ = CountWithoutZ(*in.color, *in.pivot, thresholds);
     PivotGpu gpu(context, in);
     PlanInputs(run, in, gpu.guides, result.pixelsWithoutZ, options);
@@ -322,6 +326,7 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
         one.color = partial.color;
         one.pivot = partial.pivot;
         one.variance = partial.variance;
+        one.thresholds = partial.thresholds;
         one.partials.clear();
         one.remainder = nullptr;
         PivotResult r = PivotDenoiseOne(context, one, options);

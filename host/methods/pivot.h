@@ -56,6 +56,7 @@ struct PivotOptions {
 struct PivotPartial {
     const Image *color = nullptr, *pivot = nullptr;
     const Image *variance = nullptr;  // of the partial's pixel mean; absent: estimated
+    std::vector<float> thresholds;    // as PivotInputs::thresholds, for this pivot
 };
 
 // The frame's layers the method reads; all but color and pivot may be absent (nullptr).
@@ -71,6 +72,9 @@ struct PivotInputs {
     // and pivot are then only checked for shape.
     std::vector<PivotPartial> partials;
     const Image *remainder = nullptr;
+    // Per channel, the pivot below which a pixel keeps its input (PivotThresholds); a tile
+    // of a larger frame (host/api/tiled_run.h) passes the whole frame's. Empty: this pivot's.
+    std::vector<float> thresholds;
 };
 
 // With keepStages, stages z, nu, the fits (planefit; 16 x channels planes as in

@@ -191,6 +191,18 @@ HistogramTotals TotalsOf(const Image &hist) {
     return totals;
 }
 
+// The count-preserving rescale of scale s: the full-resolution total over D_s's, whose
+// total is known from the tap weights.
+float HistScaleOf(const HistogramTotals &totals, int W, int H, int s) {
+    std::vector<float> g = RhfGaussianTaps(SigmaOfScale(s), 1 << s);
+    std::vector<double> wx = ColumnWeights(W, s, g), wy = ColumnWeights(H, s, g);
+    double coarseTotal = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            coarseTotal += totals.pixel[size_t(y) * W + x] * wx[x] * wy[y];
+    return coarseTotal > 0 ? float(totals.total / coarseTotal) : 1.f;
+}
+
 RhfHistogram UploadHistogram(vk::Context &context, const Image &hist, int perSlot) {
     RhfHistogram full;
     full.width = hist.width;
@@ -251,7 +263,8 @@ struct ScaleInputs {
 
 // Scale s >= 1: D_s of the colour and of the histograms, rescaled to keep the sample total.
 ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::GpuImage &color,
-                               const RhfHistogram &full, const HistogramTotals &totals, int s) {
+                               const RhfHistogram &full, const HistogramTotals &totals, int s,
+                               float histScale) {
     const int W = color.width, H = color.height, Ws = Shrunk(W, s), Hs = Shrunk(H, s);
     const int planes = full.planes, perSlot = full.planesPerSlot;
     double sigma = SigmaOfScale(s);
@@ -274,14 +287,9 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
         RecordDownsample(run, scratch, full.slots[slot], W, H, count, s, sigma, to);
     }
     in.hist = &coarse;
-    // Count-preserving rescale: the coarse count channel's total, from the tap weights.
-    std::vector<float> g = RhfGaussianTaps(sigma, 1 << s);
-    std::vector<double> wx = ColumnWeights(W, s, g), wy = ColumnWeights(H, s, g);
-    double coarseTotal = 0;
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x)
-            coarseTotal += totals.pixel[size_t(y) * W + x] * wx[x] * wy[y];
-    in.histScale = coarseTotal > 0 ? float(totals.total / coarseTotal) : 1.f;
+    // Count-preserving rescale: the coarse count channel's total, from the tap weights (a
+    // tile's is the whole frame's).
+    in.histScale = histScale > 0 ? histScale : HistScaleOf(totals, W, H, s);
     run.Plan(fmt::format(
         "scale {}: Gaussian downsampling by {} (sigma {:.4g}) of color and {} "
         "histogram planes to {}x{}; histograms rescaled by {:.9g} to keep the sample "
@@ -372,6 +380,41 @@ int RhfScalesUsed(int width, int height, const RhfOptions &options) {
     return used;
 }
 
+std::vector<float> RhfHistScales(const Image &color, const Image &hist, int scales) {
+    // The count channel's totals as Sanitize would leave them: 0 for a pixel with a NaN/Inf
+    // colour, a NaN/Inf/negative count as 0.
+    HistogramTotals totals;
+    totals.pixel.assign(hist.PixelCount(), 0.0);
+    std::vector<char> dark(hist.PixelCount(), 0);
+    for (int c = 0; c < 3; ++c)
+        for (size_t p = 0; p < color.PixelCount(); ++p)
+            if (!std::isfinite(color.Plane(c)[p])) dark[p] = 1;
+    const float *count = hist.Plane(hist.channels - 1);
+    for (size_t p = 0; p < hist.PixelCount(); ++p)
+        if (!dark[p] && std::isfinite(count[p]) && count[p] >= 0) totals.pixel[p] = count[p];
+    for (double v : totals.pixel) totals.total += v;
+    std::vector<float> out(std::max(scales, 1), 1.f);
+    for (int s = 1; s < scales; ++s) out[s] = HistScaleOf(totals, hist.width, hist.height, s);
+    return out;
+}
+
+int RhfReach(const RhfOptions &o, int scales) {
+    // In full-resolution pixels. filtered_s reads its scale's colour and histograms 2w + b
+    // away (a patch around each centre of a patch, b apart), D_s's taps and one pixel of its
+    // grid more. combined_s reads filtered_s through U(D(.)) (bicubic U: coarse pixels x/2 - 1
+    // .. x/2 + 2; D: r1 taps) and combined_{s+1} through U; the coarsest is its filtered.
+    const int r1 = int(RhfGaussianTaps(SigmaOfScale(1), 2).size() / 2);
+    int combined = 0;
+    for (int s = scales - 1; s >= 0; --s) {
+        int taps = s == 0 ? 0 : int(RhfGaussianTaps(SigmaOfScale(s), 1 << s).size() / 2);
+        int filtered = (2 * o.patchHalf + o.searchHalf + 2) * (1 << s) + taps;
+        combined = s == scales - 1
+                       ? filtered
+                       : std::max(filtered + (r1 + 6) * (1 << s), 6 * (1 << s) + combined);
+    }
+    return combined;
+}
+
 RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &histIn,
                      const RhfOptions &o) {
     CheckRhfInputs(colorIn, histIn, o);
@@ -381,7 +424,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     for (std::string &warning : Sanitize(color, hist)) run.Warn(std::move(warning));
     const int W = color.width, H = color.height, planes = hist.channels;
     RhfLayout layout = RhfLayoutFor(context, W, H, planes, o);
-    int scales = RhfScalesUsed(W, H, o);
+    int scales = o.scalesUsed > 0 ? o.scalesUsed : RhfScalesUsed(W, H, o);
     result.scalesUsed = scales;
     int side = 2 * o.searchHalf + 1;
     for (int s = scales; s < o.scales; ++s)
@@ -405,7 +448,9 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     const vk::GpuImage *previous = nullptr;
     for (int s = scales - 1; s >= 0; --s) {
         ScaleInputs in{&colorGpu, &full, 1.f};
-        if (s > 0) in = RecordCoarseInputs(run, scratch, colorGpu, full, totals, s);
+        if (s > 0)
+            in = RecordCoarseInputs(run, scratch, colorGpu, full, totals, s,
+                                    size_t(s) < o.histScales.size() ? o.histScales[s] : 0.f);
         const vk::GpuImage &filtered = RecordFilter(run, scratch, work, layout, in, s, o);
         previous = previous ? &RecordCombine(run, scratch, filtered, *previous, s) : &filtered;
     }

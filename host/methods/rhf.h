@@ -44,6 +44,12 @@ struct RhfOptions {
     int stripRows = 0;      // centre rows per distance strip
     // Download every scale's images after the run (for `mcdenoise diff`).
     bool keepStages = false;
+    // For a tile of a larger frame (host/api/tiled_run.h): the scales filtered and the
+    // histograms' count-preserving rescale of each scale s >= 1 (histScales[s]), taken from
+    // the whole frame, so that the tile filters as the untiled run does. 0 and empty: from
+    // the image itself.
+    int scalesUsed = 0;
+    std::vector<float> histScales;
 };
 
 // warnings: bad pixels found in the input, with counts. With keepStages, stages coarse to
@@ -56,6 +62,17 @@ struct RhfResult : MethodResult {
 // Scales filtered: scale s >= 1 only while its image is at least the search window's size
 // both ways; coarser scales would compare clamped windows of a handful of pixels.
 int RhfScalesUsed(int width, int height, const RhfOptions &options);
+
+// The count-preserving rescale of the histograms at scales 1..scales-1 (index s; index 0
+// holds 1) that RhfDenoise computes on this frame, NaN/Inf/negative bins taken as 0 as it
+// does, without copying the histograms.
+std::vector<float> RhfHistScales(const Image &color, const Image &hist, int scales);
+
+// How far, in full-resolution pixels, an output pixel reads the input (both ways, each
+// axis) with these options and scales: the farthest of the scales' chains, each the patch
+// and search reach 2w + b at 2^s plus the downsampler's taps, then the recombinations'
+// bicubic U and D up to the finest scale.
+int RhfReach(const RhfOptions &options, int scales);
 
 // Denoise `color` (3 channels) with its histograms `hist` (3n+1 channels: channel c*n+b is
 // bin b of colour c, the last is the sample count; ReadFrame's "hist" layer). NaN/Inf

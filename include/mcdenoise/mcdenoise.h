@@ -118,6 +118,9 @@ struct RunOptions {
     bool keepStages = false;
     // Called as long stages advance: (stage, done, total).
     std::function<void(const std::string &stage, int done, int total)> progress;
+    // Internal (tests): run in tiles of this many pixels a side, with the method's halo,
+    // even where the frame fits the device. 0: tiles only where it does not fit.
+    int tileSize = 0;
 };
 
 // A denoising method created by name. Parameters start at their measured defaults; Set

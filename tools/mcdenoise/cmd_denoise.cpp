@@ -3,6 +3,7 @@
 // same for every frame of a sequence (tools/mcdenoise/sequence.h) on one device.
 #include <fmt/format.h>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -448,6 +449,12 @@ void AddDenoiseCommand(CLI::App &app) {
             for (const std::string &step : result.plan) fmt::print("  {}\n", step);
             fmt::print("{}", LedgerText(result));
             fmt::print("{}", PipelinesText(device));
+            // The process's own peak: the frame's layers, the copies and, on a CPU device,
+            // the GPU buffers too.
+            rusage usage{};
+            getrusage(RUSAGE_SELF, &usage);
+            fmt::print("  peak memory of the process (RSS): {:.0f} MB\n",
+                       double(usage.ru_maxrss) * 1024 / 1e6);
         }
         for (const std::string &warning : result.warnings)
             fmt::print(stderr, "warning: {}\n", warning);

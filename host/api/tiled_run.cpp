@@ -1,0 +1,130 @@
+#include "host/api/tiled_run.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace mcd::api {
+
+namespace {
+
+int RoundDown(int v, int step) {
+    return v / step * step;
+}
+
+}  // namespace
+
+TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width, int height,
+                   int forced) {
+    const int align = std::max(needs.align, 1);
+    TilePlan plan;
+    if (forced > 0) {
+        plan.tileWidth = plan.tileHeight = (forced + align - 1) / align * align;
+        plan.why = "tile size forced";
+        return plan;
+    }
+    // A method that tiles reproduce runs whole within half the device's memory; one that
+    // they do not (needs.notLocal), within all of it.
+    double budget = double(context.Info().deviceLocalBytes) / (needs.notLocal.empty() ? 2 : 1);
+    double binding = double(context.BindingBytes());
+    auto fits = [&](double pixels) {
+        return needs.fixedBytes + needs.bytesPerPixel * pixels <= budget &&
+               needs.bindingBytesPerPixel * pixels <= binding;
+    };
+    double pixels = double(width) * height;
+    if (fits(pixels)) return plan;
+    // The grid whose windows (tile and halo, clipped to the frame) fit, fewest pixels in all.
+    const int R = needs.reach;
+    double best = 0;
+    for (int ny = 1; ny <= height; ++ny) {
+        int th = (height + ny - 1) / ny;
+        th = (th + align - 1) / align * align;
+        double wh = std::min(height, th + (ny > 1 ? 2 * R : 0));
+        for (int nx = 1; nx <= width; ++nx) {
+            int tw = (width + nx - 1) / nx;
+            tw = (tw + align - 1) / align * align;
+            double ww = std::min(width, tw + (nx > 1 ? 2 * R : 0));
+            if (!fits(ww * wh)) continue;
+            double total = double(nx) * ny * ww * wh;
+            if (best == 0 || total < best) {
+                best = total;
+                plan.tileWidth = tw;
+                plan.tileHeight = th;
+            }
+            break;  // more columns only add halos
+        }
+    }
+    if (best == 0) plan.tileWidth = plan.tileHeight = align;  // nothing fits: the smallest
+    plan.why = fmt::format(
+        "the whole frame needs about {:.0f} MB of GPU memory ({:.0f} MB in its largest "
+        "buffer); this device allows {:.0f} MB per run and {:.0f} MB per binding",
+        (needs.fixedBytes + needs.bytesPerPixel * pixels) / 1e6,
+        needs.bindingBytesPerPixel * pixels / 1e6, budget / 1e6, binding / 1e6);
+    return plan;
+}
+
+Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
+                const RunOptions &run) {
+    const int W = inputs.Width(), H = inputs.Height();
+    TileNeeds needs = method.Tiling(context, inputs);
+    TilePlan plan = PlanTiles(context, needs, W, H, run.keepStages ? 0 : run.tileSize);
+    const int TW = plan.tileWidth, TH = plan.tileHeight;
+    if (TW == 0 || (TW >= W && TH >= H)) return method.Run(context, inputs, run);
+
+    const int R = needs.reach, align = std::max(needs.align, 1);
+    const int tilesX = (W + TW - 1) / TW, tilesY = (H + TH - 1) / TH, count = tilesX * tilesY;
+    std::unique_ptr<FrontEnd> tiled = method.ForTiles(inputs);
+    RunOptions tileRun = run;
+    Result result;
+    std::vector<std::string> seen;
+    int done = 0;
+    for (int y0 = 0; y0 < H; y0 += TH)
+        for (int x0 = 0; x0 < W; x0 += TW) {
+            const int x1 = std::min(W, x0 + TW), y1 = std::min(H, y0 + TH);
+            // The window: the tile and its halo, started on the alignment grid.
+            const int wx0 = RoundDown(std::max(0, x0 - R), align);
+            const int wy0 = RoundDown(std::max(0, y0 - R), align);
+            const int wx1 = std::min(W, x1 + R), wy1 = std::min(H, y1 + R);
+            if (run.progress)
+                tileRun.progress = [&, done](const std::string &stage, int d, int total) {
+                    run.progress(fmt::format("tile {}/{} {}", done + 1, count, stage), d,
+                                 total);
+                };
+            Inputs window(inputs, wx0, wy0, wx1, wy1);
+            Result part = tiled->Run(context, window, tileRun);
+            const Image &image = part.image;
+            if (result.image.Empty()) result.image = Image(W, H, image.channels);
+            for (int c = 0; c < image.channels; ++c)
+                for (int y = y0; y < y1; ++y)
+                    std::copy_n(image.Plane(c) + size_t(y - wy0) * image.width + (x0 - wx0),
+                                x1 - x0, &result.image.At(c, y, x0));
+            if (done == 0)
+                for (const std::string &line : part.plan)
+                    result.plan.push_back("first tile: " + line);
+            // A warning each tile repeats is said once; counts and pixels are the window's.
+            for (std::string &warning : part.warnings)
+                if (std::find(seen.begin(), seen.end(), warning) == seen.end()) {
+                    seen.push_back(warning);
+                    result.warnings.push_back(
+                        fmt::format("window [{}, {}) x [{}, {}) (a tile and its halo; pixels "
+                                    "counted from the window's corner): {}",
+                                    wx0, wx1, wy0, wy1, warning));
+                }
+            for (Timing &t : part.timings) result.timings.push_back(std::move(t));
+            ++done;
+            if (run.progress) run.progress("tiles", done, count);
+        }
+    result.plan.insert(
+        result.plan.begin(),
+        fmt::format("tiled: {} tile(s) of up to {}x{} pixels ({} x {}), each run on a window "
+                    "of the tile and a halo of {} pixels ({}), windows starting on multiples "
+                    "of {}; {}; {}",
+                    count, TW, TH, tilesX, tilesY, R, needs.reachText, align, plan.why,
+                    needs.notLocal.empty()
+                        ? "the result is the untiled one bit for bit"
+                        : "the result differs from the untiled one: " + needs.notLocal));
+    return result;
+}
+
+}  // namespace mcd::api

@@ -1,0 +1,198 @@
+// Tiled runs (host/api/tiled_run.h): a method that declares itself tile-local gives, in
+// tiles of a forced small size with its halo, the untiled result bit for bit, on rendered
+// and on random frames of odd sizes; the wavelet methods, which are not tile-local, still
+// complete in tiles; the tile planner cuts only what does not fit.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/api/tiled_run.h"
+#include "mcdenoise/mcdenoise.h"
+#include "tools/render/renderer.h"
+
+namespace mcd::test {
+namespace {
+
+using Params = std::vector<std::pair<std::string, ParamValue>>;
+
+Frame RenderedFrame(int width, int height, int layers) {
+    render::RenderOptions o;
+    o.width = width, o.height = height, o.spp = 4;
+    o.layers = layers;
+    render::RenderResult r = render::Render(render::BuildScene("cornell"), o);
+    Frame frame;
+    frame.path = fmt::format("cornell {}x{}", width, height);
+    frame.width = width, frame.height = height;
+    for (auto &[name, image] : r.layers) frame.layers[name] = std::move(image);
+    return frame;
+}
+
+// Seeded random layers: colour, variance and pivot positive with fireflies, histograms of
+// 4 bins per colour with counts, normals and ids.
+Frame RandomFrame(int width, int height, uint64_t seed) {
+    Frame frame;
+    frame.path = fmt::format("random {}x{}", width, height);
+    frame.width = width, frame.height = height;
+    frame.layers["color"] =
+        MakeVarianceInput(InputKind::LogNormalFireflies, width, height, 3, seed);
+    frame.layers["variance"] =
+        MakeVarianceInput(InputKind::Uniform, width, height, 3, seed + 1);
+    Image pivot = MakeVarianceInput(InputKind::Uniform, width, height, 3, seed + 2);
+    for (float &v : pivot.data) v += 0.05f;
+    frame.layers["pivot"] = pivot;
+    Image hist = MakeVarianceInput(InputKind::Uniform, width, height, 13, seed + 3);
+    for (float &v : hist.data) v = std::floor(v * 4);
+    frame.layers["hist"] = hist;
+    frame.layers["normal"] = MakeInput(InputKind::Uniform, width, height, 3, seed + 4);
+    Image ids = MakeVarianceInput(InputKind::Uniform, width, height, 1, seed + 5);
+    for (float &v : ids.data) v = std::floor(v * 3);
+    frame.layers["objectId"] = ids;
+    return frame;
+}
+
+Result RunWith(Device &device, const std::string &name, const Params &params,
+               const Frame &frame, int tile) {
+    Method method(name);
+    for (const auto &[param, value] : params) method.Set(param, value);
+    RunOptions run;
+    run.tileSize = tile;
+    return method.Run(device, frame, run);
+}
+
+// Bit for bit, NaN included.
+void ExpectSameBits(const Image &a, const Image &b, const std::string &what) {
+    ASSERT_TRUE(a.SameShape(b)) << what;
+    for (size_t i = 0; i < a.data.size(); ++i) {
+        uint32_t x, y;
+        std::memcpy(&x, &a.data[i], 4);
+        std::memcpy(&y, &b.data[i], 4);
+        if (x != y) {
+            size_t pixel = i % a.PixelCount();
+            FAIL() << what << ": first difference at pixel (" << pixel % a.width << ", "
+                   << pixel / a.width << "), channel " << i / a.PixelCount() << ": "
+                   << a.data[i] << " untiled, " << b.data[i] << " tiled";
+        }
+    }
+}
+
+struct LocalCase {
+    std::string name, method;
+    Params params;
+    int tile, width, height;
+};
+
+class TiledRunLocal : public GpuTestWithParam<LocalCase> {};
+
+TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
+    const LocalCase &c = GetParam();
+    Device device = Device::Borrow(Ctx());
+    // Frames several halos wide, so that tiles inside have halos on every side.
+    std::vector<std::pair<std::string, Frame>> frames = {
+        {"rendered", RenderedFrame(c.width, c.height, render::kLayersAll)},
+        {"random", RandomFrame(c.width - 8, c.height - 6, SeedFromName(c.name))}};
+    if (c.method == "pivot")
+        frames.push_back(
+            {"partials", RenderedFrame(45, 39, render::kLayersAll | render::kLayersPartials)});
+    for (const auto &[kind, frame] : frames) {
+        Result whole = RunWith(device, c.method, c.params, frame, 0);
+        Result tiled = RunWith(device, c.method, c.params, frame, c.tile);
+        ASSERT_FALSE(tiled.plan.empty());
+        EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
+        EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
+        ExpectSameBits(whole.image, tiled.image, c.name + " on the " + kind + " frame");
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, TiledRunLocal,
+    ::testing::Values(
+        LocalCase{"rhf_defaults", "rhf", {}, 40, 133, 101},
+        LocalCase{"rhf_patch_2_one_scale",
+                  "rhf",
+                  {{"nscales", 1}, {"patch-half", 2}, {"search-half", 4}},
+                  7,
+                  61,
+                  47},
+        LocalCase{"pivot_planefit", "pivot", {{"max-radius", 5}}, 13, 61, 47},
+        LocalCase{
+            "pivot_bilateral", "pivot", {{"filter", std::string("bilateral")}}, 9, 61, 47}),
+    [](const auto &info) { return info.param.name; });
+
+// The wavelet methods' statistics are frame-wide: in tiles they complete with a finite
+// image of the frame's size, the plan says the result differs and why, and the difference
+// from the untiled result stays within the bound measured on this frame (relative RMS over
+// the pixels, and the largest relative difference of one value; measured 0.0084 and 0.12
+// for awr (5 levels in a tile, 8 whole), 0.021 and 0.44 for bayes (haar, halo 15: each
+// tile takes its own band noise from the variance layer and its own log floor). rhf at
+// three scales (search half 2, 44-pixel tiles) is not bit for bit either since its
+// samplers follow the tool's (issue #20): measured 0.031 and 2.5, a defect not yet found
+// (a wider halo does not remove it); this bound only keeps it from growing.
+TEST_F(GpuTest, TiledRunWaveletsDifferWithinBound) {
+    Device device = Device::Borrow(Ctx());
+    Frame frame = RenderedFrame(203, 151, render::kLayersAll);
+    struct Bound {
+        const char *method;
+        double rms, largest;
+        Params params;
+        int tile;
+    };
+    for (const Bound &bound :
+         {Bound{"awr", 0.02, 0.3, {}, 64}, Bound{"bayes", 0.04, 0.8, {}, 64},
+          Bound{"rhf", 0.06, 5.0, {{"nscales", 3}, {"search-half", 2}}, 44}}) {
+        const char *name = bound.method;
+        Result whole = RunWith(device, name, bound.params, frame, 0);
+        Result tiled = RunWith(device, name, bound.params, frame, bound.tile);
+        ASSERT_TRUE(whole.image.SameShape(tiled.image)) << name;
+        ASSERT_FALSE(tiled.plan.empty()) << name;
+        EXPECT_NE(tiled.plan[0].find("differs from the untiled one"), std::string::npos)
+            << name << ": " << tiled.plan[0];
+        double sum = 0, largest = 0;
+        for (size_t i = 0; i < whole.image.data.size(); ++i) {
+            double a = whole.image.data[i], b = tiled.image.data[i];
+            ASSERT_TRUE(std::isfinite(b)) << name;
+            double rel = std::abs(a - b) / (std::abs(a) + 0.01);
+            sum += rel * rel;
+            largest = std::max(largest, rel);
+        }
+        double rms = std::sqrt(sum / double(whole.image.data.size()));
+        std::printf("%s tiled vs untiled: relative RMS %.4g, largest %.4g\n", name, rms,
+                    largest);
+        EXPECT_LE(rms, bound.rms) << name;
+        EXPECT_LE(largest, bound.largest) << name;
+    }
+}
+
+// The planner: a frame that fits runs whole; one whose largest buffer exceeds a binding is
+// cut into tiles whose windows fit it, aligned, covering the frame.
+TEST_F(GpuTest, TiledRunPlanCutsOnlyWhatDoesNotFit) {
+    api::TileNeeds needs;
+    needs.reach = 10;
+    needs.align = 4;
+    needs.bindingBytesPerPixel = 4;
+    double bindingPixels = double(Ctx().BindingBytes()) / 4;
+    int side = int(std::sqrt(bindingPixels) / 2);
+    EXPECT_EQ(api::PlanTiles(Ctx(), needs, side, side, 0).tileWidth, 0);
+    int big = int(std::sqrt(bindingPixels) * 1.5);
+    api::TilePlan plan = api::PlanTiles(Ctx(), needs, big, big, 0);
+    ASSERT_GT(plan.tileWidth, 0);
+    ASSERT_GT(plan.tileHeight, 0);
+    EXPECT_EQ(plan.tileWidth % 4, 0);
+    EXPECT_EQ(plan.tileHeight % 4, 0);
+    double windowPixels =
+        double(std::min(big, plan.tileWidth + 20)) * std::min(big, plan.tileHeight + 20);
+    EXPECT_LE(windowPixels, bindingPixels);
+    EXPECT_FALSE(plan.why.empty());
+    EXPECT_EQ(api::PlanTiles(Ctx(), needs, 9, 9, 5).tileWidth, 8);  // forced, aligned up
+}
+
+}  // namespace
+}  // namespace mcd::test
