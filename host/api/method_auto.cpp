@@ -173,6 +173,15 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     return needs;
 }
 
+std::unique_ptr<FrontEnd> AutoFrontEnd::ForTiles(Inputs &whole) const {
+    if (!options.map.empty())
+        throw Error(
+            fmt::format("--auto-map: {} runs auto in tiles, and the map of a tiled "
+                        "run is not assembled from its tiles; leave --auto-map out",
+                        whole.Path()));
+    return Clone();
+}
+
 // Every candidate's layers, and the half-buffers for the error estimate.
 std::vector<std::string> AutoFrontEnd::Uses() const {
     std::vector<std::string> layers = {"half0.color", "half1.color"};

@@ -35,6 +35,8 @@ class AutoFrontEnd : public FrontEnd {
     // combination's: a frame too large for them runs in tiles (not bit for bit: each tile
     // fixes its candidates' frame-wide quantities and its own guide for the estimates).
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override;
+    // Refuses --auto-map: the map of a tiled run is not assembled from its tiles.
+    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override;
     std::vector<Stage> Reference(vk::Context &, Inputs &) const override;
 
     // auto's own parameters (the candidates' are the methods').

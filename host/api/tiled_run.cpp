@@ -40,11 +40,12 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
     for (int ny = 1; ny <= height; ++ny) {
         int th = (height + ny - 1) / ny;
         th = (th + align - 1) / align * align;
-        double wh = std::min(height, th + (ny > 1 ? 2 * R : 0));
+        // A window starts on the alignment grid: up to align - 1 more pixels.
+        double wh = std::min(height, th + (ny > 1 ? 2 * R + align - 1 : 0));
         for (int nx = 1; nx <= width; ++nx) {
             int tw = (width + nx - 1) / nx;
             tw = (tw + align - 1) / align * align;
-            double ww = std::min(width, tw + (nx > 1 ? 2 * R : 0));
+            double ww = std::min(width, tw + (nx > 1 ? 2 * R + align - 1 : 0));
             if (!fits(ww * wh)) continue;
             double total = double(nx) * ny * ww * wh;
             if (best == 0 || total < best) {
@@ -55,12 +56,16 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
             break;  // more columns only add halos
         }
     }
-    if (best == 0) plan.tileWidth = plan.tileHeight = align;  // nothing fits: the smallest
     plan.why = fmt::format(
         "the whole frame needs about {:.0f} MB of GPU memory ({:.0f} MB in its largest "
         "buffer); this device allows {:.0f} MB per run and {:.0f} MB per binding",
         (needs.fixedBytes + needs.bytesPerPixel * pixels) / 1e6,
         needs.bindingBytesPerPixel * pixels / 1e6, budget / 1e6, binding / 1e6);
+    // Nothing fits, not even a tile of a few pixels with its halo: say so rather than run
+    // a tile per pixel.
+    if (best == 0)
+        throw Error(
+            fmt::format("the frame does not fit this device even in tiles: {}", plan.why));
     return plan;
 }
 
@@ -71,6 +76,12 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
     TilePlan plan = PlanTiles(context, needs, W, H, run.keepStages ? 0 : run.tileSize);
     const int TW = plan.tileWidth, TH = plan.tileHeight;
     if (TW == 0 || (TW >= W && TH >= H)) return method.Run(context, inputs, run);
+    // A tiled run has no whole-frame stages to keep (what `diff` compares).
+    if (run.keepStages)
+        throw Error(
+            fmt::format("{}: the frame runs in tiles ({}), so its stages cannot be "
+                        "kept; diff a crop of it",
+                        method.Name(), plan.why));
 
     const int R = needs.reach, align = std::max(needs.align, 1);
     const int tilesX = (W + TW - 1) / TW, tilesY = (H + TH - 1) / TH, count = tilesX * tilesY;
