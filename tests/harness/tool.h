@@ -2,7 +2,10 @@
 // its own, for the command-line tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -30,6 +33,22 @@ class ToolDir {
 
   private:
     std::filesystem::path dir, errFile;
+};
+
+// A test that runs inside its own fresh directory (the working directory while it runs),
+// with Touch to make placeholder files there.
+class InToolDir : public ::testing::Test {
+  protected:
+    explicit InToolDir(const std::string &prefix) : dir(prefix) {}
+    void SetUp() override {
+        old = std::filesystem::current_path();
+        std::filesystem::current_path(dir.Dir());
+    }
+    void TearDown() override { std::filesystem::current_path(old); }
+    void Touch(const std::string &name) { std::ofstream(dir.Path(name)) << "frame"; }
+
+    ToolDir dir;
+    std::filesystem::path old;
 };
 
 // One row of `mcdenoise diff`'s table: the stage (its name may hold spaces), its NMSE and

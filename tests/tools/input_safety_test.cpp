@@ -70,17 +70,9 @@ bool BitIdentical(const Image &a, const Image &b) {
                       [](float x, float y) { return std::memcmp(&x, &y, sizeof x) == 0; });
 }
 
-class PathGuard : public ::testing::Test {
+class PathGuard : public InToolDir {
   protected:
-    void SetUp() override {
-        old = fs::current_path();
-        fs::current_path(dir.Dir());
-    }
-    void TearDown() override { fs::current_path(old); }
-    void Touch(const std::string &name) { std::ofstream(dir.Path(name)) << "frame"; }
-
-    ToolDir dir{"mcd_path_guard"};
-    fs::path old;
+    PathGuard() : InToolDir("mcd_path_guard") {}
 };
 
 TEST_F(PathGuard, SameFileThroughLinksAndSpellings) {

@@ -71,17 +71,9 @@ TEST(CliSequencePattern, NumbersListsByTheirFileNames) {
               (std::vector<int>{1, 2, 3}));
 }
 
-class CliSequencePlan : public ::testing::Test {
+class CliSequencePlan : public InToolDir {
   protected:
-    void SetUp() override {
-        old = fs::current_path();
-        fs::current_path(dir.Dir());
-    }
-    void TearDown() override { fs::current_path(old); }
-    void Touch(const std::string &name) { std::ofstream(dir.Path(name)) << "frame"; }
-
-    ToolDir dir{"mcd_sequence_plan"};
-    fs::path old;
+    CliSequencePlan() : InToolDir("mcd_sequence_plan") {}
 };
 
 TEST_F(CliSequencePlan, FindsTheFilesOfAPattern) {
