@@ -844,7 +844,8 @@ namespace {
 
 class PivotLimits : public GpuTest {};
 
-// A frame whose fit buffers cannot be one binding each is refused before any work.
+// A frame whose fit buffers cannot be one binding each is refused by the pipeline before
+// any work; mcd::Method runs such a frame in tiles (tests/methods/tiled_run_test.cpp).
 TEST_F(PivotLimits, RefusesFitsAboveTheBindingLimit) {
     const int w = 1500, h = 1000;
     if (double(PIVOT_PLANES_PER_BUFFER) * 3 * w * h * 4 <= Ctx().BindingBytes())

@@ -681,8 +681,9 @@ TEST_F(RhfToolAlignment, CoarseHistogramsKeepTheCountChannelsTotal) {
 
 class RhfLimits : public GpuTest {};
 
-// A frame whose selection mask cannot be one binding is refused up front, naming the
-// window and the limit: 640x1024 with search half-window 20 needs 53 words a pixel.
+// A frame whose selection mask cannot be one binding is refused by the pipeline up front
+// (mcd::Method runs it in tiles: tests/methods/tiled_run_test.cpp), naming the window and
+// the limit: 640x1024 with search half-window 20 needs 53 words a pixel.
 TEST_F(RhfLimits, RefusesAMaskAboveTheBindingLimit) {
     const int w = 640, h = 1024;
     size_t maskBytes = size_t(53) * w * h * 4;
