@@ -1,0 +1,37 @@
+// Ershov's tracing filter (section 5), the CPU reference: the gather of eq. 15 with the
+// self weight of eq. 16, the re-weighting C of eq. 14 and the inter-pixel weight of
+// eq. 17, written loop by loop in double from the paper.
+//
+// Readings of the paper (the GPU kernel, shaders/tracing/, follows them):
+// - Eq. 16's step function is the neighbour's horizon, Theta(u . n_{A(v')}): the text
+//   under it says the self weight is 1 for directions that "could not be emitted for p'".
+// - A neighbour's sample u' lands in p with w(p <- p', u') f_p(u') cos_p(u') L(u') /
+//   pdf_{p'}(u'), i.e. eq. 14's C times the neighbour's own estimate when the neighbour
+//   samples u' in proportion to f cos (eq. 2); with the pdf the renderer really used it is
+//   unbiased for any sampler whose density covers p's lobes.
+// - f_p is the pixel's mean textured BSDF (TracingSurface); F of eq. 17 compares the two
+//   geometries under p's material (scalar: the channel means of its lobe weights), and is
+//   infinite (weight 0) where either side is 0, which is also Theta of eq. 14.
+// - The neighbourhood is the disk |p - p'| <= radius minus p; neighbours without a smooth
+//   surface, or outside the records' rows, take no part. C_p = min(1, selfFloor / sum of
+//   eq. 17's fixed parts over the neighbourhood).
+// - A neighbour sample with pdf <= 0 or a non-finite pdf or radiance gives nothing; a
+//   pixel's own samples always give their `own` (a NaN stays in its pixel).
+#pragma once
+
+#include <vector>
+
+#include "host/tracing.h"
+
+namespace mcd::ref {
+
+// The filtered part of rows [outY0, outY0 + outRows) (frame rows; they must lie inside the
+// records), 3 floats per pixel, row-major. A pixel without a smooth surface gets the mean
+// of its samples' `own`. Throws std::invalid_argument for inconsistent records.
+std::vector<float> TracingFilter(const TracingRecords &records, const TracingParams &params,
+                                 int outY0, int outRows);
+
+// f cos of a surface's smooth lobes towards u (0 below its horizon), per channel.
+void TracingBsdfCos(const TracingSurface &surface, const double u[3], double out[3]);
+
+}  // namespace mcd::ref
