@@ -31,6 +31,11 @@ class Inputs {
     const mcd::Frame &Source() const { return frame; }
     int Width() const { return width; }
     int Height() const { return height; }
+    // A window's origin in its whole frame and that frame's size (a frame: 0, 0 and its own).
+    int OriginX() const { return parent ? parent->OriginX() + x0 : 0; }
+    int OriginY() const { return parent ? parent->OriginY() + y0 : 0; }
+    int FrameWidth() const { return parent ? parent->FrameWidth() : width; }
+    int FrameHeight() const { return parent ? parent->FrameHeight() : height; }
     bool Has(const std::string &layer) const;
     const Image &Get(const std::string &layer);
     // Replace a layer for the rest of the run (checked like the frame's own on read).

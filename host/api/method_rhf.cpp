@@ -78,6 +78,10 @@ class Rhf : public FrontEndOf<RhfParams> {
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
         RhfOptions rhfOptions = Options();
         rhfOptions.keepStages = run.keepStages;
+        rhfOptions.frameX0 = inputs.OriginX();
+        rhfOptions.frameY0 = inputs.OriginY();
+        rhfOptions.frameWidth = inputs.FrameWidth();
+        rhfOptions.frameHeight = inputs.FrameHeight();
         return ResultOf(
             RhfDenoise(context, inputs.Get("color"), Histograms(inputs), rhfOptions));
     }
@@ -86,15 +90,6 @@ class Rhf : public FrontEndOf<RhfParams> {
         RhfOptions o = Options();
         int scales = RhfScalesUsed(inputs.Width(), inputs.Height(), o);
         TileNeeds needs;
-        // Since the scales follow the tool's samplers (issue #20), tiles of a multi-scale
-        // run differ from the whole run (relative RMS 0.03 at three scales in
-        // tests/methods/tiled_run_test.cpp, whatever the halo): a defect not yet found.
-        // One scale, the default, is bit for bit.
-        if (scales > 1)
-            needs.notLocal = fmt::format(
-                "rhf at {} scales: tiles differ from the whole run (a known defect; one "
-                "scale, the default, tiles bit for bit)",
-                scales);
         needs.reach = RhfReach(o, scales);
         needs.reachText = fmt::format(
             "the farthest over scales s < {} of (2 x patch half {} + search half {} + 2) x 2^s "

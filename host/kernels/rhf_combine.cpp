@@ -12,7 +12,8 @@ namespace mcd {
 
 void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
                       const vk::GpuImage &filtered, const vk::GpuImage &low,
-                      const vk::GpuImage &coarse, vk::GpuImage &out) {
+                      const vk::GpuImage &coarse, vk::GpuImage &out,
+                      const RhfCombineWindow &window) {
     if (!(filtered.width == out.width && filtered.height == out.height &&
           low.width == coarse.width && low.height == coarse.height &&
           low.width == (filtered.width + 1) / 2 && low.height == (filtered.height + 1) / 2 &&
@@ -29,7 +30,26 @@ void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
                                                   RHF_COMBINE_BINDINGS,
                                                   sizeof(shader::RhfCombinePush),
                                                   {}});
-    shader::RhfCombinePush push{filtered.width, filtered.height, low.width, low.height};
+    RhfCombineWindow w = window;
+    if (w.frameWidth <= 0 || w.frameHeight <= 0) w = {0, 0, filtered.width, filtered.height};
+    if (w.originX < 0 || w.originY < 0 || w.originX % 2 || w.originY % 2 ||
+        w.originX + filtered.width > w.frameWidth ||
+        w.originY + filtered.height > w.frameHeight)
+        throw Error(
+            fmt::format("rhf combine: a {}x{} window at ({}, {}) does not lie on the "
+                        "even grid of its {}x{} frame",
+                        filtered.width, filtered.height, w.originX, w.originY, w.frameWidth,
+                        w.frameHeight));
+    shader::RhfCombinePush push{filtered.width,
+                                filtered.height,
+                                low.width,
+                                low.height,
+                                w.originX,
+                                w.originY,
+                                w.frameWidth,
+                                w.frameHeight,
+                                (w.frameWidth + 1) / 2,
+                                (w.frameHeight + 1) / 2};
     recorder.Dispatch(
         kernel, "rhf.combine",
         {{RHF_COMBINE_FILTERED, &filtered.buffer, vk::Access::Read},

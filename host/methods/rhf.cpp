@@ -342,7 +342,7 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
 // Scale s below the coarsest: u_s - U(D(u_s)) + U(u_{s+1}) into a new image.
 const vk::GpuImage &RecordCombine(StagedRun &run, RhfScratch &scratch,
                                   const vk::GpuImage &filtered, const vk::GpuImage &previous,
-                                  int s) {
+                                  int s, const RhfOptions &o) {
     double sigma = SigmaOfScale(1);
     vk::GpuImage &low = scratch.images.emplace_back(run.Context(), previous.width,
                                                     previous.height, 3, "rhf.low");
@@ -350,7 +350,12 @@ const vk::GpuImage &RecordCombine(StagedRun &run, RhfScratch &scratch,
                      sigma, low.buffer);
     vk::GpuImage &combined = scratch.images.emplace_back(
         run.Context(), filtered.width, filtered.height, 3, fmt::format("rhf.combined{}", s));
-    RecordRhfCombine(run.Context(), run.Recorder(), filtered, low, previous, combined);
+    // Scale s of the whole frame: origin / 2^s, size ceil(size / 2^s).
+    RhfCombineWindow window;
+    if (o.frameWidth > 0 && o.frameHeight > 0)
+        window = {o.frameX0 >> s, o.frameY0 >> s, (o.frameWidth + (1 << s) - 1) >> s,
+                  (o.frameHeight + (1 << s) - 1) >> s};
+    RecordRhfCombine(run.Context(), run.Recorder(), filtered, low, previous, combined, window);
     run.StageAtEnd(fmt::format("combined s{}", s), combined);
     run.Plan(
         fmt::format("scale {}: u_{} - U(D(u_{})) + U(u_{}) with bicubic U (Keys, a = -0.5)", s,
@@ -452,7 +457,8 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             in = RecordCoarseInputs(run, scratch, colorGpu, full, totals, s,
                                     size_t(s) < o.histScales.size() ? o.histScales[s] : 0.f);
         const vk::GpuImage &filtered = RecordFilter(run, scratch, work, layout, in, s, o);
-        previous = previous ? &RecordCombine(run, scratch, filtered, *previous, s) : &filtered;
+        previous =
+            previous ? &RecordCombine(run, scratch, filtered, *previous, s, o) : &filtered;
     }
     run.Submit();
     result.image = previous->Download();

@@ -50,6 +50,10 @@ struct RhfOptions {
     // the image itself.
     int scalesUsed = 0;
     std::vector<float> histScales;
+    // The window's origin in its whole frame (a multiple of 2^(scales - 1)) and the frame's
+    // size (0: the image is the frame): the recombination's upsampler maps through the
+    // frame's sizes, which differ from the window's by more than a factor 2^s.
+    int frameX0 = 0, frameY0 = 0, frameWidth = 0, frameHeight = 0;
 };
 
 // warnings: bad pixels found in the input, with counts. With keepStages, stages coarse to

@@ -30,20 +30,25 @@ void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y), c = int(gl_WorkGroupID.z);
     if (x >= push.width) return;
     int cw = push.coarseWidth, ch = push.coarseHeight, plane = c * cw * ch;
-    // Pixel centres aligned: fine x sits at coarse (x + 0.5) cw / width - 0.5.
-    float tx = (float(x) + 0.5) * float(cw) / float(push.width) - 0.5;
-    float ty = (float(y) + 0.5) * float(ch) / float(push.height) - 0.5;
+    int fcw = push.frameCoarseWidth, fch = push.frameCoarseHeight;
+    // Pixel centres aligned: fine x sits at coarse (x + 0.5) cw / width - 0.5, in the whole
+    // frame's coordinates; the window's coarse origin is half its fine one.
+    int cx0 = push.originX / 2, cy0 = push.originY / 2;
+    float tx = (float(x + push.originX) + 0.5) * float(fcw) / float(push.frameWidth) - 0.5;
+    float ty = (float(y + push.originY) + 0.5) * float(fch) / float(push.frameHeight) - 0.5;
     int ix = int(floor(tx)), iy = int(floor(ty));
     float fx = tx - float(ix), fy = ty - float(iy);
-    // Mirror only near the edges: its integer division is slow on CPU devices.
-    bool insideX = ix >= 1 && ix + 2 < cw, insideY = iy >= 1 && iy + 2 < ch;
+    // Mirror only near the frame's edges: its integer division is slow on CPU devices. A
+    // tap outside the window (only in a halo's outer pixels, which no tile keeps) clamps.
+    bool insideX = ix >= 1 && ix + 2 < fcw, insideY = iy >= 1 && iy + 2 < fch;
     float lowV = 0.0, coarseV = 0.0;
     for (int j = -1; j <= 2; ++j) {
         float wy = Keys(fy - float(j));
-        int row = plane + (insideY ? iy + j : Mirror(iy + j, ch)) * cw;
+        int cy = clamp((insideY ? iy + j : Mirror(iy + j, fch)) - cy0, 0, ch - 1);
+        int row = plane + cy * cw;
         for (int i = -1; i <= 2; ++i) {
             float w = wy * Keys(fx - float(i));
-            int at = row + (insideX ? ix + i : Mirror(ix + i, cw));
+            int at = row + clamp((insideX ? ix + i : Mirror(ix + i, fcw)) - cx0, 0, cw - 1);
             lowV += w * low[at];
             coarseV += w * coarse[at];
         }
