@@ -42,7 +42,7 @@ class AutoFrontEnd : public FrontEnd {
     // auto's own parameters (the candidates' are the methods').
     struct Options {
         float budget = 3600;  // seconds
-        std::string combine = "weights", noise = "auto", map;
+        std::string combine = "weights", noise = "auto", guide = "combined", map;
         // Measured (README): power 2 and a 17x17 window; 33x33 helped double-textured but
         // let one firefly's estimate spoil a wide area of `fireflies`.
         int radius = 8;
