@@ -75,6 +75,11 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "size of the perturbation that measures each candidate's divergence, in "
                    "standard deviations of the pixel mean",
                    &O::epsilon, 1e-3, 10),
+        FloatParam("auto-noise-cap",
+                   "largest variance of the mean over relMSE's denominator in the final "
+                   "estimates: a pixel whose mean is mostly noise (a light seen by one "
+                   "sample) weighs at most this over its variance in the window (0: no bound)",
+                   &O::noiseCap, 0, 1e9),
         FloatParam("auto-floor", "smallest relative error estimate a weight takes",
                    &O::floorError, 1e-12, 1),
         ChoiceParam("auto-map",
@@ -433,13 +438,13 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         if (useHalves) gHalf1.Upload(half1);
         // Every candidate's estimate with the guide g in the denominator, g^2 + 0.01, then
         // their box means.
-        auto estimateAll = [&](vk::GpuImage &gGuide) {
+        auto estimateAll = [&](vk::GpuImage &gGuide, float noiseCap) {
             for (int k = 0; k < count; ++k) {
                 gOut.Upload(useHalves ? ran[k].perturbed : ran[k].output);
                 gPerturbed.Upload(ran[k].perturbed);
                 RecordAutoEstimate(context, recorder, useHalves ? gHalf1 : gColor, gVariance,
                                    gProbe, gGuide, gOut, gPerturbed,
-                                   useHalves ? 1.f : options.epsilon, gError);
+                                   useHalves ? 1.f : options.epsilon, noiseCap, gError);
                 recorder.Copy(gError.buffer, gErrors.buffer, planeBytes, 0,
                               size_t(k) * planeBytes);
                 recorder.Submit();
@@ -466,12 +471,16 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         } else {
             vk::GpuImage gFlat(context, w, h, channels, "auto.flat");
             gFlat.Upload(Image(w, h, channels));
-            estimateAll(gFlat);
+            estimateAll(gFlat, 0.f);
             RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth,
                               AutoMode::Weights, options.power, options.floorError, gGuide,
                               gWeights);
         }
-        estimateAll(gGuide);
+        // The second pass bounds each pixel's weight by its noise: with a guide that can be
+        // dark where a candidate is right to be bright (fireflies 4 spp: rhf darkens a light
+        // seen by one sample, and so does the first pass), that pixel's estimate, of the
+        // order of v / (g^2 + 0.01), would swamp every window around it.
+        estimateAll(gGuide, options.noiseCap);
     }
     if (estimate)
         RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth,

@@ -38,7 +38,7 @@ Image Probe(int w, int h, int channels, uint64_t seed) {
 
 Image GpuEstimate(vk::Context &ctx, const Image &color, const Image &variance,
                   const Image &probe, const Image &guide, const Image &output,
-                  const Image &perturbed, float epsilon) {
+                  const Image &perturbed, float epsilon, float noiseCap = 0) {
     int w = color.width, h = color.height, c = color.channels;
     vk::GpuImage y(ctx, w, h, c, "y"), v(ctx, w, h, c, "v"), b(ctx, w, h, c, "b");
     vk::GpuImage f(ctx, w, h, c, "f"), fp(ctx, w, h, c, "fp"), e(ctx, w, h, 1, "e");
@@ -50,7 +50,7 @@ Image GpuEstimate(vk::Context &ctx, const Image &color, const Image &variance,
     f.Upload(output);
     fp.Upload(perturbed);
     vk::Recorder recorder(ctx);
-    RecordAutoEstimate(ctx, recorder, y, v, b, g, f, fp, epsilon, e);
+    RecordAutoEstimate(ctx, recorder, y, v, b, g, f, fp, epsilon, noiseCap, e);
     recorder.Submit();
     return e.Download();
 }
@@ -119,26 +119,32 @@ TEST_P(AutoKernelEstimate, MatchesReferenceAndRepeats) {
     Image probe = Probe(w, h, channels, SeedFromName(name + "b"));
     Image guide = MakeInput(kind, w, h, channels, SeedFromName(name + "g"));
     const double epsilon = 0.5;
-    Image expected =
-        ref::AutoEstimate(color, variance, probe, guide, output, perturbed, epsilon);
-    Image actual = GpuEstimate(Ctx(), color, variance, probe, guide, output, perturbed, 0.5f);
-    Image scale(w, h, 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double sum = 0;
-            for (int c = 0; c < channels; ++c) {
-                double f = output.At(c, y, x), d = std::fabs(f - color.At(c, y, x));
-                double g = guide.At(c, y, x);
-                double v = std::fabs(variance.At(c, y, x));
-                sum += (d * d + v +
-                        2 * std::sqrt(v) * std::fabs(perturbed.At(c, y, x) - f) / epsilon) /
-                       (g * g + ref::kAutoRelOffset);
+    // Without the denominator's floor, and with one low enough to bind on most pixels.
+    for (float noiseCap : {0.f, 2.f}) {
+        Image expected = ref::AutoEstimate(color, variance, probe, guide, output, perturbed,
+                                           epsilon, noiseCap);
+        Image actual = GpuEstimate(Ctx(), color, variance, probe, guide, output, perturbed,
+                                   0.5f, noiseCap);
+        // The floor only raises the denominator: g^2 + 0.01 bounds the scale.
+        Image scale(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                for (int c = 0; c < channels; ++c) {
+                    double f = output.At(c, y, x), d = std::fabs(f - color.At(c, y, x));
+                    double g = guide.At(c, y, x);
+                    double v = std::fabs(variance.At(c, y, x));
+                    sum += (d * d + v +
+                            2 * std::sqrt(v) * std::fabs(perturbed.At(c, y, x) - f) / epsilon) /
+                           (g * g + ref::kAutoRelOffset);
+                }
+                scale.At(0, y, x) = float(sum / channels);
             }
-            scale.At(0, y, x) = float(sum / channels);
-        }
-    EXPECT_TRUE(ImagesMatch(expected, actual, scale, {12 * kUnitRoundoff, 0, 1e-10}));
-    EXPECT_TRUE(BitIdentical(
-        actual, GpuEstimate(Ctx(), color, variance, probe, guide, output, perturbed, 0.5f)));
+        EXPECT_TRUE(ImagesMatch(expected, actual, scale, {12 * kUnitRoundoff, 0, 1e-10}))
+            << "noise cap " << noiseCap;
+        EXPECT_TRUE(BitIdentical(actual, GpuEstimate(Ctx(), color, variance, probe, guide,
+                                                     output, perturbed, 0.5f, noiseCap)));
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelEstimate, testing::ValuesIn(KernelCases()),
