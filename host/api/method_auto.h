@@ -47,8 +47,8 @@ class AutoFrontEnd : public FrontEnd {
         // let one firefly's estimate spoil a wide area of `fireflies`.
         int radius = 8;
         float power = 2, epsilon = 0.5f, floorError = 1e-5f;
-        // Measured (README): 50 to 200 keep every bench row within 5% of the best method;
-        // 30 lets relief-abc's overshoots hide again, 300 a light's pixel swamp fireflies.
+        // Measured (README): 50 to 300 keep every bench row within 5% of the best method;
+        // 30 lets relief-abc's overshoots hide again, 1000 a light's pixel swamp fireflies.
         float noiseCap = 100;
     };
 
