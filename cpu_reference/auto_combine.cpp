@@ -8,7 +8,7 @@ namespace mcd::ref {
 
 Image AutoEstimate(const Image &color, const Image &variance, const Image &probe,
                    const Image &guide, const Image &output, const Image &perturbed,
-                   double epsilon) {
+                   double epsilon, double noiseCap) {
     int w = color.width, h = color.height, channels = color.channels;
     Image error(w, h, 1);
     for (int y = 0; y < h; ++y)
@@ -24,7 +24,12 @@ Image AutoEstimate(const Image &color, const Image &variance, const Image &probe
                 double term = (f - noisy) * (f - noisy) - v;
                 if (v > 0) term += 2 * v * divergence;
                 double g = guide.At(c, y, x);
-                sum += term / (g * g + kAutoRelOffset);
+                double d = g * g + kAutoRelOffset;
+                // A pixel whose mean is mostly noise weighs at most noiseCap / v (a NaN
+                // guide stays NaN).
+                double floorD = (v > 0 ? v : 0.0) / noiseCap;
+                if (noiseCap > 0 && floorD > d) d = floorD;
+                sum += term / d;
             }
             error.At(0, y, x) = float(sum / channels);
         }

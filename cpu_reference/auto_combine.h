@@ -15,14 +15,17 @@ namespace mcd::ref {
 constexpr double kAutoRelOffset = 0.01;
 
 // One plane: the mean over channels of
-//   [(f - y)^2 - v + 2 sqrt(max(v, 0)) b (fp - f) / epsilon] / (g^2 + 0.01),
+//   [(f - y)^2 - v + 2 sqrt(max(v, 0)) b (fp - f) / epsilon] / d,
+//   d = max(g^2 + 0.01, max(v, 0) / noiseCap)  (g^2 + 0.01 when noiseCap is 0),
 // an unbiased estimate (over the noise and b) of (f - r)^2 / (g^2 + 0.01) for y = r +
 // noise of variance v, f = F(y), fp = F(y + epsilon sqrt(v) b), b = +-1, to first order in
 // epsilon; g (the guide) stands in for the unknown r in relMSE's denominator, the same for
-// every candidate.
+// every candidate. The denominator's floor v / noiseCap bounds the estimate's own noise,
+// which is of the order of v / d, at noiseCap; it weighs the pixels the same for every
+// candidate.
 Image AutoEstimate(const Image &color, const Image &variance, const Image &probe,
                    const Image &guide, const Image &output, const Image &perturbed,
-                   double epsilon);
+                   double epsilon, double noiseCap);
 
 // Per plane, the mean of the finite values over the (2 radius + 1)^2 window clipped to the
 // image; NaN where the window has none.

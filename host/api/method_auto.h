@@ -42,11 +42,14 @@ class AutoFrontEnd : public FrontEnd {
     // auto's own parameters (the candidates' are the methods').
     struct Options {
         float budget = 3600;  // seconds
-        std::string combine = "weights", noise = "auto", map;
+        std::string combine = "weights", noise = "auto", guide = "combined", map;
         // Measured (README): power 2 and a 17x17 window; 33x33 helped double-textured but
         // let one firefly's estimate spoil a wide area of `fireflies`.
         int radius = 8;
         float power = 2, epsilon = 0.5f, floorError = 1e-5f;
+        // Measured (README): 50 to 300 keep every bench row within 5% of the best method;
+        // 30 lets relief-abc's overshoots hide again, 1000 a light's pixel swamp fireflies.
+        float noiseCap = 100;
     };
 
   private:

@@ -24,7 +24,8 @@ void CheckAutoShapes(const char *what, const vk::GpuImage &a, int channels,
 void RecordAutoEstimate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage &probe,
                         const vk::GpuImage &guide, const vk::GpuImage &output,
-                        const vk::GpuImage &perturbed, float epsilon, vk::GpuImage &error) {
+                        const vk::GpuImage &perturbed, float epsilon, float noiseCap,
+                        vk::GpuImage &error) {
     if (color.channels < 1 || color.channels > 4)
         throw Error(
             fmt::format("auto estimate: {} channels; 1 to 4 are supported", color.channels));
@@ -33,6 +34,8 @@ void RecordAutoEstimate(vk::Context &context, vk::Recorder &recorder, const vk::
     CheckAutoShapes("auto estimate", color, 1, {&error});
     if (!(epsilon > 0) || !std::isfinite(epsilon))
         throw Error(fmt::format("auto estimate: epsilon {} is not a positive number", epsilon));
+    if (!(noiseCap >= 0) || !std::isfinite(noiseCap))
+        throw Error(fmt::format("auto estimate: noise cap {} is not a number >= 0", noiseCap));
     const vk::Kernel &kernel = context.GetKernel({"auto_estimate",
                                                   k_auto_estimate_spv,
                                                   sizeof(k_auto_estimate_spv),
@@ -40,7 +43,7 @@ void RecordAutoEstimate(vk::Context &context, vk::Recorder &recorder, const vk::
                                                   sizeof(shader::AutoEstimatePush),
                                                   {},
                                                   0});
-    shader::AutoEstimatePush push{color.width, color.height, color.channels, epsilon};
+    shader::AutoEstimatePush push{color.width, color.height, color.channels, epsilon, noiseCap};
     recorder.Dispatch(kernel, "auto.estimate",
                       {{AUTO_ESTIMATE_COLOR, &color.buffer, vk::Access::Read},
                        {AUTO_ESTIMATE_VARIANCE, &variance.buffer, vk::Access::Read},

@@ -23,8 +23,11 @@ void main() {
         float f = outputs[i], residual = f - color[i], v = variance[i];
         // The divergence term: the output's response to this value's own perturbation.
         float divergence = 2.0 * sqrt(max(v, 0.0)) * probe[i] * (perturbed[i] - f) / push.epsilon;
-        float g = guide[i];
-        sum += (residual * residual - v + divergence) / (g * g + AUTO_REL_OFFSET);
+        float g = guide[i], d = g * g + AUTO_REL_OFFSET;
+        // Comparisons, not max(): a NaN guide stays NaN (GLSL leaves max(NaN, x) open).
+        float floorD = (v > 0.0 ? v : 0.0) / push.noiseCap;
+        if (push.noiseCap > 0.0 && floorD > d) d = floorD;
+        sum += (residual * residual - v + divergence) / d;
     }
     error[at] = sum / float(push.channels);
 }

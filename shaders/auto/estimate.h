@@ -2,9 +2,11 @@
 // reference, by Stein's unbiased risk estimate (SURE) with a Monte Carlo divergence
 // (Ramani, Blu and Unser 2008): with y the noisy color, v the variance of its mean, f the
 // candidate's output on y and fp its output on y + eps sqrt(v) b (b = +-1 per value),
-//   e = (1/C) sum_c [(f - y)^2 - v + 2 sqrt(v) b (fp - f) / eps] / (g^2 + 0.01),
+//   e = (1/C) sum_c [(f - y)^2 - v + 2 sqrt(v) b (fp - f) / eps] / d,
+//   d = max(g^2 + 0.01, v / cap)  (d = g^2 + 0.01 when cap is 0),
 // g a guide for the unknown reference in relMSE's denominator (the same for every
-// candidate).
+// candidate); cap bounds v / d, the size of the estimate's own noise at the pixel, so that
+// one pixel whose mean is pure noise (a light seen by one sample) cannot swamp a window.
 // One invocation per pixel; the output has one plane.
 #ifndef MCD_SHADERS_AUTO_ESTIMATE_H
 #define MCD_SHADERS_AUTO_ESTIMATE_H
@@ -32,10 +34,13 @@ layout(push_constant) uniform AutoEstimatePush {
     int channels;
     // The perturbation's size in standard deviations of the mean (> 0).
     float epsilon;
+    // The largest v / d (>= 0; 0: no bound).
+    float noiseCap;
 #ifdef __cplusplus
 };
-static_assert(sizeof(AutoEstimatePush) == 16);
+static_assert(sizeof(AutoEstimatePush) == 20);
 static_assert(offsetof(AutoEstimatePush, epsilon) == 12);
+static_assert(offsetof(AutoEstimatePush, noiseCap) == 16);
 }  // namespace mcd::shader
 #else
 }
