@@ -30,8 +30,8 @@ class TracingGather {
                            int outY0, int outRows);
 
     // The most rows of records one band `width` pixels wide with `spp` samples per pixel may
-    // hold on this device (each per-sample field is one binding of spp x rows x width
-    // floats). A band for output rows [y0, y0 + n) needs the records of n + 2 radius rows
+    // hold on this device (each per-sample vector field is one binding of 3 x spp x rows x
+    // width floats). A band for output rows [y0, y0 + n) needs the records of n + 2 radius rows
     // (fewer at the frame's edges). 0 when not even one row fits.
     int MaxRecordRows(int width, int spp) const;
 
