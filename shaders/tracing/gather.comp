@@ -118,8 +118,10 @@ void main() {
     vec3 ownSum = vec3(0.0);
     for (int s = 0; s < spp; ++s) {
         int at = s * planeSize + i;
+        vec3 own = Field3(owns, at);
         float self = 1.0;
-        if (texelFetch(pdfs, at).r > 0.0) {
+        // A zero own value needs no self weight (it is finite: 0 either way).
+        if (texelFetch(pdfs, at).r > 0.0 && any(notEqual(own, vec3(0.0)))) {
             vec3 u = Field3(directions, at);
             float here = ScalarLobe(pNormal, pAxis, u);
             for (int dy = -radius; dy <= radius; ++dy) {
@@ -137,7 +139,7 @@ void main() {
                 }
             }
         }
-        ownSum += self * Field3(owns, at);
+        ownSum += self * own;
     }
 
     // Eq. 15's sum over the neighbours: their samples re-weighted for p (eq. 14).
