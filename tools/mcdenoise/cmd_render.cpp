@@ -10,7 +10,7 @@
 
 #include "host/error.h"
 #include "host/io/frame.h"
-// TMP#include "host/kernels/tracing_gather.h"
+#include "host/kernels/tracing_gather.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/path_guard.h"
 #include "tools/mcdenoise/reference_cache.h"
@@ -225,18 +225,17 @@ void AddRenderCommand(CLI::App &app) {
             options.tracing.params = opt->tf;
             options.tracing.memoryBudget = size_t(opt->tfMemoryMb * (1 << 20));
         }
-        if (opt->tracingFilter && !opt->tfCpu)  // TMP
-            throw Error("the GPU gather is not merged yet; use --tf-cpu");
         std::unique_ptr<vk::Context> context;
-        // TMP         std::unique_ptr<TracingGather> gather;
-        // TMP         if (opt->tracingFilter && !opt->tfCpu) {
-        // TMP             context =
-        // std::make_unique<vk::Context>(opt->device.ContextOptions()); TMP             gather =
-        // std::make_unique<TracingGather>(*context); TMP options.tracing.maxWindowRows =
-        // gather->MaxRecordRows(options.width, options.spp); TMP options.tracing.gather =
-        // [&gather](const TracingRecords &records, TMP const TracingParams &params, int y0, int
-        // rows) { TMP                 return gather->Run(records, params, y0, rows); TMP }; TMP
-        // }
+        std::unique_ptr<TracingGather> gather;
+        if (opt->tracingFilter && !opt->tfCpu) {
+            context = std::make_unique<vk::Context>(opt->device.ContextOptions());
+            gather = std::make_unique<TracingGather>(*context);
+            options.tracing.maxWindowRows = gather->MaxRecordRows(options.width, options.spp);
+            options.tracing.gather = [&gather](const TracingRecords &records,
+                                               const TracingParams &params, int y0, int rows) {
+                return gather->Run(records, params, y0, rows);
+            };
+        }
         render::RenderResult result = render::Render(scene, options);
         if (terminal) std::fprintf(stderr, "\n");
         std::vector<std::pair<std::string, const Image *>> layers;
