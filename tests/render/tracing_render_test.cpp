@@ -9,6 +9,8 @@
 #include "cpu_reference/tracing_filter.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
+#include "harness/gpu_fixture.h"
+#include "host/kernels/tracing_gather.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
@@ -279,6 +281,30 @@ TEST(RenderTracing, BadParametersAreRefused) {
     o = Traced(8, 8, 1, 1, 4);
     o.tracing.maxWindowRows = 8;  // fewer than 1 + 2 * 4
     EXPECT_THROW(render::Render(scene, o), Error);
+}
+
+// The renderer with the GPU gather: the reference's frame to the kernel's round-off, the
+// same frame in bands and twice.
+class RenderTracingGpu : public GpuTest {};
+
+TEST_F(RenderTracingGpu, MatchesTheReferenceInBands) {
+    render::Scene scene = render::BuildScene("relief-abc");
+    RenderOptions o = Traced(23, 17, 3, 6, 3, render::kLayersPartials);
+    render::RenderResult cpu = render::Render(scene, o);
+    TracingGather gather(Ctx());
+    o.tracing.gather = [&](const TracingRecords &r, const TracingParams &p, int y0, int rows) {
+        return gather.Run(r, p, y0, rows);
+    };
+    render::RenderResult gpu = render::Render(scene, o);
+    o.tracing.bandRows = 4;
+    render::RenderResult banded = render::Render(scene, o);
+    EXPECT_EQ(banded.tracing.bands, 5);
+    const Image &a = Layer(cpu, "color"), &b = Layer(gpu, "color");
+    for (size_t i = 0; i < a.Size(); ++i)
+        EXPECT_NEAR(b.data[i], a.data[i], 1e-4f * (1 + std::fabs(a.data[i]))) << i;
+    EXPECT_TRUE(BitIdentical(Layer(gpu, "color"), Layer(banded, "color")));
+    EXPECT_TRUE(BitIdentical(Layer(gpu, "partial0.color"), Layer(banded, "partial0.color")));
+    EXPECT_TRUE(BitIdentical(Layer(gpu, "color"), Layer(render::Render(scene, o), "color")));
 }
 
 }  // namespace
