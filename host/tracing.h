@@ -51,7 +51,7 @@ struct TracingRecords {
 // smooth surface. C_p = min(1, selfFloor / sum of the fixed parts) keeps the self weight
 // of eq. 16 at least 1 - selfFloor.
 struct TracingParams {
-    int radius = 8;
+    int radius = 3;  // measured: 2-4 give most of 8's gain at a fraction of the gather (notes)
     float alpha = 0.02f, beta = 20.f, gamma = 0.f;
     float selfFloor = 0.5f;
 };
