@@ -154,7 +154,7 @@ void AddRenderCommand(CLI::App &app) {
         ->check(CLI::Range(0.f, 1e6f));
     cmd->add_option("--tf-self-floor", opt->tf.selfFloor,
                     "tracing filter: the neighbours' fixed weights sum to at most this, so "
-                    "a pixel's own samples keep at least 1 - it (the paper: 1/2)")
+                    "a pixel's own samples keep at least 1 - it (the paper: 0.5)")
         ->capture_default_str()
         ->check(CLI::Range(0.f, 1.f));
     cmd->add_option("--tf-memory", opt->tfMemoryMb,
