@@ -73,7 +73,8 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
         throw std::invalid_argument(
             "tracing filter: radius, alpha, beta, gamma must be finite and >= 0, selfFloor "
             "in [0, 1]");
-    const int radius = params.radius;
+    // A disk past the records' diagonal holds the same neighbours (and radius^2 fits an int).
+    const int radius = std::min(params.radius, width + records.rows);
     std::vector<float> out(size_t(width) * outRows * 3, 0.f);
     if (magnitude) magnitude->assign(out.size(), 0.f);
     auto surfaceAt = [&](int x, int y) -> const TracingSurface & {

@@ -25,9 +25,11 @@ constexpr uint32_t kSampleSlots[kSampleBuffers] = {TRACING_GATHER_DIRECTION, TRA
 constexpr const char *kSampleNames[kSampleBuffers] = {"tracing.direction", "tracing.pdf",
                                                       "tracing.radiance", "tracing.own"};
 constexpr int kSampleFields[kSampleBuffers] = {3, 1, 3, 3};
-// Weight evaluations per dispatch: a band is split into dispatches of about this much work
-// so that none runs for long (drivers with a watchdog) and timings come per part.
-constexpr double kWorkPerDispatch = 4e7;
+// A band is split into dispatches of about this many weight evaluations (seconds on
+// lavapipe, milliseconds on a discrete GPU), so that none runs long enough for a driver's
+// watchdog, but of at least kMinGroups workgroups, so that a device is kept busy.
+constexpr double kWorkPerDispatch = 2e9;
+constexpr int64_t kMinGroups = 256;
 
 }  // namespace
 
@@ -135,13 +137,14 @@ std::vector<float> TracingGather::Run(const TracingRecords &records,
     for (int k = 0; k < kSampleBuffers; ++k)
         bindings.push_back({kSampleSlots[k], &buffers->samples[k], vk::Access::Read});
 
-    // Weight evaluations per pixel: the disk's area times the own and the lent samples.
     // A disk past the band's diagonal holds the same neighbours (and keeps radius^2 an int).
     const int radius = std::min(params.radius, width + rows);
+    // Weight evaluations per pixel: the disk's area times the own and the lent samples.
     double work = (3.14159 * radius * radius + 1) * (2.0 * spp + 1);
-    int64_t chunk =
-        std::max<int64_t>(TRACING_LOCAL_SIZE, int64_t(kWorkPerDispatch / work) /
-                                                  TRACING_LOCAL_SIZE * TRACING_LOCAL_SIZE);
+    int64_t groups =
+        std::clamp<int64_t>(int64_t(kWorkPerDispatch / work / TRACING_LOCAL_SIZE), kMinGroups,
+                            context.Limits().maxComputeWorkGroupCount[0]);
+    int64_t chunk = groups * TRACING_LOCAL_SIZE;
     vk::Recorder recorder(context);
     for (int64_t base = 0; base < int64_t(outPixels); base += chunk) {
         int count = int(std::min<int64_t>(chunk, int64_t(outPixels) - base));

@@ -114,33 +114,49 @@ void main() {
     }
     scale = fixedSum > 0.0 ? min(1.0, push.selfFloor / fixedSum) : 1.0;
 
-    // Eq. 16: the pixel's own samples, each with its self weight 1 - sum of w(p <- p', u).
-    vec3 ownSum = vec3(0.0);
-    for (int s = 0; s < spp; ++s) {
-        int at = s * planeSize + i;
-        vec3 own = Field3(owns, at);
-        float self = 1.0;
-        // A zero own value needs no self weight (it is finite: 0 either way).
-        if (texelFetch(pdfs, at).r > 0.0 && any(notEqual(own, vec3(0.0)))) {
-            vec3 u = Field3(directions, at);
+    // Eq. 16 as sum_s own_s - sum_p' sum_s w(p <- p', u_s) own_s: the disk is walked once
+    // per chunk of own samples held in private arrays, not once per sample. A sample with no
+    // record, below p's horizon or with a zero own value takes no weight (its self weight
+    // is 1 or does not matter); a non-finite channel of own passes through ownSum alone
+    // (self x inf = inf for self in (0, 1]; NaN stays NaN).
+    vec3 ownSum = vec3(0.0), taken = vec3(0.0);
+    vec3 chunkU[TRACING_OWN_CHUNK], chunkOwn[TRACING_OWN_CHUNK];
+    float chunkHere[TRACING_OWN_CHUNK];
+    for (int s0 = 0; s0 < spp; s0 += TRACING_OWN_CHUNK) {
+        int count = min(TRACING_OWN_CHUNK, spp - s0);  // the same in every lane
+        for (int c = 0; c < count; ++c) {
+            int at = (s0 + c) * planeSize + i;
+            vec3 own = Field3(owns, at), u = Field3(directions, at);
+            ownSum += own;
             float here = ScalarLobe(pNormal, pAxis, u);
-            for (int dy = -radius; dy <= radius; ++dy) {
-                int ny = y + dy;
-                for (int dx = -radius; dx <= radius; ++dx) {
-                    int nx = x + dx, d2 = dx * dx + dy * dy;
-                    if (d2 == 0 || d2 > radius * radius || nx < 0 || nx >= w || ny < 0 ||
-                        ny >= rows)
-                        continue;
-                    int j = ny * w + nx;
-                    if (!(Surf(TRACING_SURF_VALID, j) > 0.0)) continue;
-                    vec3 n = Surf3(TRACING_SURF_NORMAL, j);
-                    float fixedExponent = push.alpha * float(d2) + push.beta * (1.0 - dot(pNormal, n));
-                    self -= Weight(here, fixedExponent, n, MirrorAxis(n, Surf3(TRACING_SURF_WO, j)), u);
+            vec3 finiteOwn = mix(own, vec3(0.0), bvec3(uvec3(isnan(own)) | uvec3(isinf(own))));
+            bool weighed = texelFetch(pdfs, at).r > 0.0 && here > 0.0 &&
+                          any(notEqual(finiteOwn, vec3(0.0)));
+            chunkU[c] = u;
+            chunkOwn[c] = finiteOwn;
+            chunkHere[c] = weighed ? here : 0.0;
+        }
+        for (int dy = -radius; dy <= radius; ++dy) {
+            int ny = y + dy;
+            for (int dx = -radius; dx <= radius; ++dx) {
+                int nx = x + dx, d2 = dx * dx + dy * dy;
+                if (d2 == 0 || d2 > radius * radius || nx < 0 || nx >= w || ny < 0 ||
+                    ny >= rows)
+                    continue;
+                int j = ny * w + nx;
+                if (!(Surf(TRACING_SURF_VALID, j) > 0.0)) continue;
+                vec3 n = Surf3(TRACING_SURF_NORMAL, j);
+                vec3 axis = MirrorAxis(n, Surf3(TRACING_SURF_WO, j));
+                float fixedExponent =
+                    push.alpha * float(d2) + push.beta * (1.0 - dot(pNormal, n));
+                for (int c = 0; c < count; ++c) {
+                    if (!(chunkHere[c] > 0.0)) continue;
+                    taken += Weight(chunkHere[c], fixedExponent, n, axis, chunkU[c]) * chunkOwn[c];
                 }
             }
         }
-        ownSum += self * own;
     }
+    ownSum -= taken;
 
     // Eq. 15's sum over the neighbours: their samples re-weighted for p (eq. 14).
     vec3 lent = vec3(0.0);

@@ -1,8 +1,8 @@
 // Ershov's tracing filter (section 5): the gather of eq. 15 with the self weight of eq. 16,
 // the re-weighting of eq. 14 and the inter-pixel weight of eq. 17. One invocation per output
-// pixel walks the disk of neighbours three times with loop bounds the same for every lane:
-// the sum of the fixed parts (C_p), the pixel's own samples with their self weights, the
-// neighbours' samples re-weighted for the pixel.
+// pixel walks the disk of neighbours, with loop bounds the same for every lane, for the sum
+// of the fixed parts (C_p), then once per TRACING_OWN_CHUNK own samples for their self
+// weights, then for the neighbours' samples re-weighted for the pixel.
 #ifndef MCD_SHADERS_TRACING_GATHER_H
 #define MCD_SHADERS_TRACING_GATHER_H
 
@@ -30,6 +30,8 @@
 #define TRACING_SURFACE_PLANES 14
 
 #define TRACING_LOCAL_SIZE 64
+// Own samples held in private arrays while the disk is walked for their self weights.
+#define TRACING_OWN_CHUNK 16
 
 #ifdef __cplusplus
 namespace mcd::shader {

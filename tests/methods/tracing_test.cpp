@@ -18,6 +18,7 @@
 #include "host/error.h"
 #include "host/kernels/tracing_gather.h"
 #include "host/tracing.h"
+#include "tracing/gather.h"
 
 namespace mcd::test {
 namespace {
@@ -182,6 +183,14 @@ std::vector<Case> Cases() {
         {.radius = 3});
     add("sharp_lobes", {.width = 8, .rows = 6, .spp = 3, .maxKappa = 400},
         {.radius = 2, .gamma = 0.05f, .selfFloor = 1.f});
+    // More own samples than one chunk of the kernel's (TRACING_OWN_CHUNK), with zeros.
+    add("chunks_of_own",
+        {.width = 6,
+         .rows = 5,
+         .spp = 2 * TRACING_OWN_CHUNK + 3,
+         .zeroPdf = 0.3,
+         .nonFinite = 0.02},
+        {.radius = 2, .gamma = 0.2f});
     add("band", {.width = 9, .rows = 10, .y0 = 20, .spp = 3}, {.radius = 3, .beta = 2.f}, 23,
         4);
     return cases;
