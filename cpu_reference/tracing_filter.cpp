@@ -56,7 +56,7 @@ void TracingBsdfCos(const TracingSurface &s, const double u[3], double out[3]) {
 }
 
 std::vector<float> TracingFilter(const TracingRecords &records, const TracingParams &params,
-                                 int outY0, int outRows) {
+                                 int outY0, int outRows, std::vector<float> *magnitude) {
     const int width = records.width, spp = records.spp;
     if (width <= 0 || records.rows <= 0 || spp <= 0 ||
         records.surfaces.size() != size_t(width) * records.rows ||
@@ -66,8 +66,17 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
         throw std::invalid_argument("tracing filter: output rows " + std::to_string(outY0) +
                                     ".." + std::to_string(outY0 + outRows) +
                                     " are not inside the records' rows");
-    const int radius = std::max(0, params.radius);
+    auto finiteNonNegative = [](float v) { return std::isfinite(v) && v >= 0; };
+    if (params.radius < 0 || !finiteNonNegative(params.alpha) ||
+        !finiteNonNegative(params.beta) || !finiteNonNegative(params.gamma) ||
+        !finiteNonNegative(params.selfFloor) || params.selfFloor > 1)
+        throw std::invalid_argument(
+            "tracing filter: radius, alpha, beta, gamma must be finite and >= 0, selfFloor "
+            "in [0, 1]");
+    // A disk past the records' diagonal holds the same neighbours (and radius^2 fits an int).
+    const int radius = std::min(params.radius, width + records.rows);
     std::vector<float> out(size_t(width) * outRows * 3, 0.f);
+    if (magnitude) magnitude->assign(out.size(), 0.f);
     auto surfaceAt = [&](int x, int y) -> const TracingSurface & {
         return records.surfaces[size_t(y - records.y0) * width + x];
     };
@@ -86,10 +95,18 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
             double sum[3] = {0, 0, 0};
             if (!(p.valid > 0)) {
                 // Nothing to filter: the plain mean of the pixel's own values.
+                double size[3] = {0, 0, 0};
                 for (int s = 0; s < spp; ++s)
-                    for (int c = 0; c < 3; ++c) sum[c] += sampleAt(x, y, s).own[c];
-                for (int c = 0; c < 3; ++c)
+                    for (int c = 0; c < 3; ++c) {
+                        sum[c] += sampleAt(x, y, s).own[c];
+                        size[c] += std::abs(double(sampleAt(x, y, s).own[c]));
+                    }
+                for (int c = 0; c < 3; ++c) {
                     out[(size_t(y - outY0) * width + x) * 3 + c] = float(sum[c] / spp);
+                    if (magnitude)
+                        (*magnitude)[(size_t(y - outY0) * width + x) * 3 + c] =
+                            float(size[c] / spp);
+                }
                 continue;
             }
             // The fixed part of eq. 17 for every neighbour, and C_p from its sum.
@@ -120,9 +137,15 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
                 const TracingSurface &q = surfaceAt(n.x, n.y);
                 double here = ScalarLobe(p, p, u), there = ScalarLobe(p, q, u);
                 if (!(here > 0) || !(there > 0)) return 0.0;
+                // gamma 0 leaves the variable part 1 (0 x an infinite F would be NaN).
+                if (params.gamma == 0) return scale * n.fixed;
                 double ratio = there / here, f = std::max(ratio, 1 / ratio);
                 return scale * n.fixed * std::exp(-double(params.gamma) * f * f);
             };
+            // The sum of the terms' sizes (for the error bound of a float twin): |own|, not
+            // |self own|, since self's error is absolute; a lent term at its weight's bound
+            // C_p x fixed part, since exp(-gamma F^2)'s error is at most that times F's.
+            double size[3] = {0, 0, 0};
             // Eq. 16: the pixel's own samples, each with its self weight.
             for (int s = 0; s < spp; ++s) {
                 const TracingSample &own = sampleAt(x, y, s);
@@ -131,7 +154,10 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
                     double u[3] = {own.direction[0], own.direction[1], own.direction[2]};
                     for (const Neighbour &n : neighbours) self -= weight(n, u);
                 }
-                for (int c = 0; c < 3; ++c) sum[c] += self * own.own[c] / spp;
+                for (int c = 0; c < 3; ++c) {
+                    sum[c] += self * own.own[c] / spp;
+                    size[c] += std::abs(double(own.own[c])) / spp;
+                }
             }
             // Eq. 15's sum over the neighbours: their samples re-weighted for p (eq. 14).
             for (const Neighbour &n : neighbours) {
@@ -146,12 +172,18 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
                     if (w == 0) continue;
                     double fcos[3];
                     TracingBsdfCos(p, u, fcos);
-                    for (int c = 0; c < 3; ++c)
+                    for (int c = 0; c < 3; ++c) {
                         sum[c] += w * fcos[c] * t.radiance[c] / (double(t.pdf) * spp);
+                        size[c] += scale * n.fixed * std::abs(fcos[c] * t.radiance[c]) /
+                                   (double(t.pdf) * spp);
+                    }
                 }
             }
-            for (int c = 0; c < 3; ++c)
+            for (int c = 0; c < 3; ++c) {
                 out[(size_t(y - outY0) * width + x) * 3 + c] = float(sum[c]);
+                if (magnitude)
+                    (*magnitude)[(size_t(y - outY0) * width + x) * 3 + c] = float(size[c]);
+            }
         }
     }
     return out;

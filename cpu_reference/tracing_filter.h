@@ -17,6 +17,8 @@
 //   eq. 17's fixed parts over the neighbourhood).
 // - A neighbour sample with pdf <= 0 or a non-finite pdf or radiance gives nothing; a
 //   pixel's own samples always give their `own` (a NaN stays in its pixel).
+// - gamma = 0 switches the variable part off (weight C_p x fixed part wherever both lobes
+//   are positive), rather than 0 x F^2 being NaN for an infinite F.
 #pragma once
 
 #include <vector>
@@ -27,9 +29,14 @@ namespace mcd::ref {
 
 // The filtered part of rows [outY0, outY0 + outRows) (frame rows; they must lie inside the
 // records), 3 floats per pixel, row-major. A pixel without a smooth surface gets the mean
-// of its samples' `own`. Throws std::invalid_argument for inconsistent records.
+// of its samples' `own`. Throws std::invalid_argument for inconsistent records or
+// parameters (radius, alpha, beta, gamma finite and >= 0, selfFloor in [0, 1]).
+// `magnitude`, when given, receives per pixel and channel the sum of the sizes of the terms
+// (|own| / spp for the own samples, C_p x fixed part x |f cos L / pdf| / spp for the lent
+// ones): what a float twin's rounding error is proportional to.
 std::vector<float> TracingFilter(const TracingRecords &records, const TracingParams &params,
-                                 int outY0, int outRows);
+                                 int outY0, int outRows,
+                                 std::vector<float> *magnitude = nullptr);
 
 // f cos of a surface's smooth lobes towards u (0 below its horizon), per channel.
 void TracingBsdfCos(const TracingSurface &surface, const double u[3], double out[3]);

@@ -650,6 +650,7 @@ void AddBenchCommand(CLI::App &app) {
     pivotBench->callback([popt] { BenchPivot(*popt); });
 
     AddBenchQualityCommand(bench);
+    AddBenchTracingCommand(bench);
 }
 
 }  // namespace mcd::tool

@@ -1,5 +1,6 @@
 // `mcdenoise render`: a built-in scene with the layers the methods use, as one EXR frame.
 #include <fmt/format.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 
 #include "host/error.h"
 #include "host/io/frame.h"
+#include "host/kernels/tracing_gather.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/path_guard.h"
 #include "tools/mcdenoise/reference_cache.h"
@@ -73,6 +75,9 @@ void AddRenderCommand(CLI::App &app) {
         std::string adaptive, denoised, density;
         float samplerRenorm = render::AdaptiveOptions().lowSum;
         float contrastFloor = render::AdaptiveOptions().contrastFloor;
+        bool tracingFilter = false, tfCpu = false;
+        TracingParams tf;
+        double tfMemoryMb = double(render::TracingFilterOptions().memoryBudget) / (1 << 20);
         DeviceOptions device;
     };
     auto opt = std::make_shared<Options>();
@@ -126,9 +131,45 @@ void AddRenderCommand(CLI::App &app) {
                     "matches relMSE's 0.01")
         ->capture_default_str()
         ->check(CLI::Range(0.f, 1e6f));
+    cmd->add_flag("--tracing-filter", opt->tracingFilter,
+                  "Ershov's tracing filter (section 5): the light after each pixel's first "
+                  "diffuse/glossy hit gathered from its neighbours' samples, re-weighted for "
+                  "its surface; color is the filtered frame, color.unfiltered the plain one");
+    cmd->add_option("--tf-radius", opt->tf.radius,
+                    "tracing filter: neighbourhood radius in pixels (a disk)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 1000));
+    cmd->add_option("--tf-alpha", opt->tf.alpha,
+                    "tracing filter: eq. 17's exp(-alpha |p - p'|^2), per squared pixel")
+        ->capture_default_str()
+        ->check(CLI::Range(0.f, 1e6f));
+    cmd->add_option("--tf-beta", opt->tf.beta,
+                    "tracing filter: eq. 17's exp(-beta (1 - n.n')) on the normals")
+        ->capture_default_str()
+        ->check(CLI::Range(0.f, 1e6f));
+    cmd->add_option("--tf-gamma", opt->tf.gamma,
+                    "tracing filter: eq. 17's exp(-gamma F^2), F the larger ratio of the two "
+                    "surfaces' BSDF x cosine along the neighbour's direction")
+        ->capture_default_str()
+        ->check(CLI::Range(0.f, 1e6f));
+    cmd->add_option("--tf-self-floor", opt->tf.selfFloor,
+                    "tracing filter: the neighbours' fixed weights sum to at most this, so "
+                    "a pixel's own samples keep at least 1 - it (the paper: 0.5)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.f, 1.f));
+    cmd->add_option("--tf-memory", opt->tfMemoryMb,
+                    "tracing filter: MB for the records of a band and its halo (40 B per "
+                    "sample); the band height follows")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 1e7));
+    cmd->add_flag("--tf-cpu", opt->tfCpu,
+                  "tracing filter: gather with the CPU reference instead of the GPU kernel");
     opt->device.Add(cmd);
     cmd->callback([opt, sppOption] {
         if (opt->reference && !sppOption->count()) opt->spp = 4096;
+        if (opt->tracingFilter && (opt->reference || !opt->adaptive.empty()))
+            throw Error(
+                "--tracing-filter renders its own frame; drop --reference and --adaptive");
         render::RenderOptions options;
         ParseSize(opt->size, &options.width, &options.height);
         options.spp = opt->spp;
@@ -179,6 +220,22 @@ void AddRenderCommand(CLI::App &app) {
                 std::fprintf(stderr, "\rrender %s %dx%d %d spp: %3d%%", opt->scene.c_str(),
                              options.width, options.height, options.spp, 100 * done / total);
             };
+        if (opt->tracingFilter) {
+            options.tracing.enabled = true;
+            options.tracing.params = opt->tf;
+            options.tracing.memoryBudget = size_t(opt->tfMemoryMb * (1 << 20));
+        }
+        std::unique_ptr<vk::Context> context;
+        std::unique_ptr<TracingGather> gather;
+        if (opt->tracingFilter && !opt->tfCpu) {
+            context = std::make_unique<vk::Context>(opt->device.ContextOptions());
+            gather = std::make_unique<TracingGather>(*context);
+            options.tracing.maxWindowRows = gather->MaxRecordRows(options.width, options.spp);
+            options.tracing.gather = [&gather](const TracingRecords &records,
+                                               const TracingParams &params, int y0, int rows) {
+                return gather->Run(records, params, y0, rows);
+            };
+        }
         render::RenderResult result = render::Render(scene, options);
         if (terminal) std::fprintf(stderr, "\n");
         std::vector<std::pair<std::string, const Image *>> layers;
@@ -192,6 +249,23 @@ void AddRenderCommand(CLI::App &app) {
         if (result.nonFiniteSamples)
             fmt::print("  warning: {} samples were NaN/Inf and counted as 0\n",
                        result.nonFiniteSamples);
+        if (opt->tracingFilter) {
+            const render::TracingStats &t = result.tracing;
+            rusage usage{};
+            getrusage(RUSAGE_SELF, &usage);
+            fmt::print(
+                "  tracing filter ({} gather): render {:.2f} s, gather {:.2f} s ({:.0f}%); {} "
+                "bands of {} rows; records peak {:.1f} MB, process peak (RSS) {:.0f} MB\n",
+                opt->tfCpu ? "CPU reference" : "GPU", t.renderSeconds, t.gatherSeconds,
+                100 * t.gatherSeconds / std::max(1e-9, t.renderSeconds + t.gatherSeconds),
+                t.bands, t.bandRows, double(t.peakRecordBytes) / 1e6,
+                double(usage.ru_maxrss) * 1024 / 1e6);
+            if (t.overBudget)
+                fmt::print(
+                    "  warning: one row and {} rows above and below take more than "
+                    "--tf-memory {} MB; the band is one row\n",
+                    2 * opt->tf.radius, opt->tfMemoryMb);
+        }
     });
 }
 

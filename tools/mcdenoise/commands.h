@@ -27,6 +27,7 @@ void AddInfoCommand(CLI::App &app);
 void AddWaveletCommand(CLI::App &app);
 void AddBenchCommand(CLI::App &app);
 void AddBenchQualityCommand(CLI::App *bench);  // the `bench quality` subcommand
+void AddBenchTracingCommand(CLI::App *bench);  // the `bench tracing` subcommand
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);

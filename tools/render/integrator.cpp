@@ -98,8 +98,13 @@ Vec3 DirectLight(const Scene &scene, const Material &m, const Hit &hit, const Ve
 
 }  // namespace
 
-PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
+PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, TracingPath *tracing) {
     PathSample out;
+    if (tracing) *tracing = TracingPath();
+    // After u was drawn at a partial-0 A: light is the filter's, and `fromA` carries it
+    // back to A (the throughput since A, Russian roulette included).
+    bool afterA = false;
+    Vec3 fromA(1);
     Ray ray = cameraRay;
     Vec3 throughput(1);
     int smoothVertices = 0;     // diffuse or glossy vertices so far
@@ -109,6 +114,15 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
     auto addLight = [&](const Vec3 &light) {
         (smoothVertices == 0 ? out.direct : out.indirect) += light;
         out.partial[std::min(mirrorPrefix, kPartialTypes)] += light;
+        if (!tracing) return;
+        if (afterA)
+            tracing->own += light;
+        else
+            tracing->rest += light;
+    };
+    // The same light carried back to A only: the radiance arriving there along u.
+    auto addFromA = [&](const Vec3 &light) {
+        if (tracing && afterA) tracing->radiance += fromA * light;
     };
     for (int depth = 0; depth < kMaxDepth; ++depth) {
         Hit hit;
@@ -124,8 +138,10 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
         }
         // Emission counts when no light sample could have found it: right after the camera
         // or a mirror (mirror chains after a smooth vertex carry caustics: indirect).
-        if (!m.emission.IsBlack() && hit.frontFace && afterSpecular)
+        if (!m.emission.IsBlack() && hit.frontFace && afterSpecular) {
             addLight(throughput * m.emission);
+            addFromA(m.emission);
+        }
 
         Vec3 diffuse = scene.Diffuse(m, hit), glossy = scene.Glossy(m, hit);
         double wd = diffuse.MaxComponent(), wg = glossy.MaxComponent(),
@@ -133,25 +149,54 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
         double total = wd + wg + wm;
         if (total <= 0) break;
         if (wd + wg > 0) {
-            addLight(throughput * DirectLight(scene, m, hit, wo, rng));
+            Vec3 direct = DirectLight(scene, m, hit, wo, rng);
+            addLight(throughput * direct);
+            addFromA(direct);
+        }
+        // A: the first hit, diffuse or glossy (a partial-0 path).
+        bool atA = tracing && depth == 0 && wd + wg > 0;
+        if (atA) {
+            tracing->hasSurface = true;
+            tracing->position = hit.position;
+            tracing->normal = hit.normal;
+            tracing->wo = wo;
+            tracing->diffuse = diffuse;
+            tracing->glossy = glossy;
+            tracing->kappa = m.glossyKappa;
         }
         // Pick one lobe in proportion to its weight and continue the path through it.
         double pick = Uniform(rng) * total, u1 = Uniform(rng), u2 = Uniform(rng);
-        Vec3 wi;
+        Vec3 wi, factor;
+        bool smooth = pick < wd + wg;
         if (pick < wd) {
             wi = SampleCosine(hit.normal, u1, u2);
-            throughput *= diffuse * (total / wd);
-            ++smoothVertices;
-            afterSpecular = false;
-        } else if (pick < wd + wg) {
+            factor = diffuse * (total / wd);
+        } else if (smooth) {
             wi = SampleVmf(Reflect(ray.direction, hit.normal), m.glossyKappa, u1, u2);
-            if (Dot(wi, hit.normal) <= 0) break;  // the lobe's mass below the surface is lost
-            throughput *= glossy * (total / wg);
+            factor = glossy * (total / wg);
+        } else {
+            wi = Reflect(ray.direction, hit.normal);
+            factor = m.mirror * (total / wm);
+        }
+        if (atA && smooth) {
+            // The density of u among all of A's samples: each lobe's, times its odds.
+            tracing->record = true;
+            tracing->direction = wi;
+            double cosI = Dot(wi, hit.normal);
+            tracing->pdf = (wd / total) * std::max(cosI, 0.0) / kPi;
+            if (wg > 0)
+                tracing->pdf += (wg / total) *
+                                VmfPdf(wi, Reflect(ray.direction, hit.normal), m.glossyKappa);
+        }
+        // The glossy lobe's mass below the surface is lost.
+        if (pick >= wd && smooth && Dot(wi, hit.normal) <= 0) break;
+        throughput *= factor;
+        if (afterA) fromA *= factor;
+        if (atA && smooth) afterA = true;
+        if (smooth) {
             ++smoothVertices;
             afterSpecular = false;
         } else {
-            wi = Reflect(ray.direction, hit.normal);
-            throughput *= m.mirror * (total / wm);
             afterSpecular = true;
             if (smoothVertices == 0) ++mirrorPrefix;
         }
@@ -162,6 +207,7 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng) {
             double survive = std::min(0.95, throughput.MaxComponent());
             if (Uniform(rng) >= survive) break;
             throughput = throughput / survive;
+            fromA = fromA / survive;
         }
         ray = {Offset(hit, wi), wi};
     }

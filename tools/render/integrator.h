@@ -42,7 +42,26 @@ struct PathSample {
     int objectId = 0, partId = 0;
 };
 
-PathSample TracePath(const Scene &scene, const Ray &ray, Rng &rng);
+// Ershov section 5: what one camera sample hands the tracing filter (host/tracing.h). Set
+// for partial-0 paths (the first hit A is diffuse or glossy, no mirror before it); `record`
+// when the lobe picked at A was diffuse or glossy (then `pdf` > 0 unless u fell where no
+// smooth lobe samples). color == rest + own, sample by sample: `own` is everything added
+// after the direction u was drawn at A (`radiance` times A's lobe weight), `rest` the rest
+// (light before A, next-event estimation at A, the mirror lobe at A, other paths).
+struct TracingPath {
+    bool hasSurface = false;    // A exists: the first hit is diffuse or glossy
+    Vec3 position, normal, wo;  // of A: shading normal, direction towards the camera
+    Vec3 diffuse, glossy;       // A's textured lobe weights
+    double kappa = 0;
+    bool record = false;  // u was drawn from A's diffuse or glossy lobe
+    Vec3 direction;       // u
+    double pdf = 0;       // mixture density of u among all of A's lobes
+    Vec3 radiance, own, rest;
+};
+
+// `tracing`, when given, is filled for the tracing filter.
+PathSample TracePath(const Scene &scene, const Ray &ray, Rng &rng,
+                     TracingPath *tracing = nullptr);
 
 // Ershov eq. 9: what the camera would see under unit ambient light with no shadowing:
 // texture times the directional albedo of the surface's BSDF (Lambert: its albedo;

@@ -11,6 +11,7 @@
 #include <system_error>
 #include <thread>
 
+#include "cpu_reference/tracing_filter.h"
 #include "host/error.h"
 
 namespace mcd::render {
@@ -77,6 +78,20 @@ void CheckRenderOptions(const RenderOptions &o) {
     if (o.spp >= (1 << 24))
         throw Error(fmt::format("at most {} samples per pixel, not {}", (1 << 24) - 1, o.spp));
     if (o.histBins < 3) throw Error("a histogram needs at least 3 bins per channel");
+    if (o.tracing.enabled) {
+        const TracingParams &p = o.tracing.params;
+        if (p.radius < 0 || p.radius > 1000)
+            throw Error(fmt::format("tracing filter radius {} is not in 0..1000", p.radius));
+        for (auto [name, v] : {std::pair{"alpha", p.alpha},
+                               {"beta", p.beta},
+                               {"gamma", p.gamma},
+                               {"self floor", p.selfFloor}})
+            if (!std::isfinite(v) || v < 0)
+                throw Error(
+                    fmt::format("tracing filter {} {} must be finite and >= 0", name, v));
+        if (p.selfFloor > 1)
+            throw Error(fmt::format("tracing filter self floor {} is above 1", p.selfFloor));
+    }
 }
 
 // Every layer the options ask for; the others stay empty.
@@ -96,6 +111,7 @@ struct FrameLayers {
                     partialPivots.emplace_back(w, h, 3), partialVariances.emplace_back(w, h, 3);
             }
         if (o.layers & kLayersHalves) half0 = Image(w, h, 3), half1 = Image(w, h, 3);
+        if (o.tracing.enabled) unfiltered = Image(w, h, 3);
         if (o.layers & kLayersGbuffer) {
             albedo = Image(w, h, 3), normal = Image(w, h, 3), depth = Image(w, h, 1);
             objectId = Image(w, h, 1), partId = Image(w, h, 1);
@@ -108,6 +124,7 @@ struct FrameLayers {
             if (!image.Empty()) result.layers.emplace_back(name, std::move(image));
         };
         add("color", color);
+        add("color.unfiltered", unfiltered);
         add("variance", variance);
         add("spp", spp);
         add("min", mn);
@@ -139,6 +156,7 @@ struct FrameLayers {
     Image color, variance, spp, mn, mx;
     Image hist, zhist, direct, indirect, pivot, albedo, normal, depth, objectId, partId;
     Image half0, half1;  // means of the even and of the odd samples
+    Image unfiltered;    // color before the tracing filter
     // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
     std::vector<Image> partialColors, partialPivots, partialVariances;
 };
@@ -175,22 +193,72 @@ void RenderPivot(const Scene &scene, int x, int y, int w, int h, Image &pivot) {
     for (int c = 0; c < 3; ++c) pivot.At(c, y, x) = float(sumPivot[c] / 16);
 }
 
-// Trace the pixel's samples into `sums` (the pivot layer, when there is one, is written).
+// The pixel's surface for the tracing filter from its samples' first hits: the mean
+// position, normal and view direction over the samples that have an A (the geometry the
+// pixel's own filtered light comes from, jitter included, without the noise of one
+// sample), and lobe weights summed over those samples and divided by all of them, so that
+// a pixel partly covered by the sky gets that share of the BSDF, as its own samples do.
+TracingSurface MakeSurface(const TracingPath *paths, int spp) {
+    TracingSurface surface{};
+    Vec3 position(0), normal(0), wo(0), diffuse(0), glossy(0);
+    double kappa = 0;
+    int count = 0;
+    for (int s = 0; s < spp; ++s) {
+        const TracingPath &p = paths[s];
+        if (!p.hasSurface) continue;
+        position += p.position, normal += p.normal, wo += p.wo;
+        diffuse += p.diffuse, glossy += p.glossy, kappa += p.kappa;
+        ++count;
+    }
+    if (count == 0 || Length(normal) <= 0 || Length(wo) <= 0) return surface;
+    position = position / count, normal = Normalize(normal), wo = Normalize(wo);
+    diffuse = diffuse / spp, glossy = glossy / spp;
+    for (int c = 0; c < 3; ++c) {
+        surface.position[c] = float(position[c]);
+        surface.normal[c] = float(normal[c]);
+        surface.wo[c] = float(wo[c]);
+        surface.diffuse[c] = float(diffuse[c]);
+        surface.glossy[c] = float(glossy[c]);
+    }
+    surface.kappa = float(kappa / count);
+    surface.valid = 1;
+    return surface;
+}
+
+// Trace the pixel's samples into `sums` (the pivot layer, when there is one, is written),
+// and with `surface` the tracing filter's records of the pixel (`samples`: spp of them,
+// `paths` spp of scratch).
 void SamplePixel(const SampleSource &source, const RenderOptions &o, const FrameLayers &layers,
-                 int x, int y, PixelSums &sums) {
+                 int x, int y, PixelSums &sums, TracingSurface *surface = nullptr,
+                 TracingSample *samples = nullptr, TracingPath *paths = nullptr) {
     const int bins = o.histBins;
     uint64_t pixel = uint64_t(y) * o.width + x;
     for (int s = 0; s < o.spp; ++s) {
         // Box reconstruction filter: uniform positions inside the pixel.
         Rng jitter(Mix(o.seed ^ Mix(~(pixel << 24 | uint64_t(s)))), pixel);
         double px = x + Uniform(jitter), py = y + Uniform(jitter);
-        PathSample p = source.Trace(px, py, pixel << 24 | uint64_t(s));
+        TracingPath *path = surface ? &paths[s] : nullptr;
+        PathSample p = source.Trace(px, py, pixel << 24 | uint64_t(s), path);
         double c3[3] = {p.color.x, p.color.y, p.color.z};
-        if (!std::isfinite(c3[0]) || !std::isfinite(c3[1]) || !std::isfinite(c3[2])) {
+        bool finite = std::isfinite(c3[0]) && std::isfinite(c3[1]) && std::isfinite(c3[2]);
+        if (!finite) {
             ++sums.nonFinite;
             p.color = p.direct = p.indirect = Vec3(0);
             for (Vec3 &part : p.partial) part = Vec3(0);
             c3[0] = c3[1] = c3[2] = 0;
+        }
+        if (surface) {
+            // A sample counted as 0 hands the filter nothing either.
+            TracingSample &record = samples[s];
+            record = TracingSample{};
+            if (finite && path->record) {
+                for (int c = 0; c < 3; ++c) {
+                    record.direction[c] = float(path->direction[c]);
+                    record.radiance[c] = float(path->radiance[c]);
+                    record.own[c] = float(path->own[c]);
+                }
+                record.pdf = float(path->pdf);
+            }
         }
         for (int c = 0; c < 3; ++c) {
             sums.sum[c] += c3[c];
@@ -220,6 +288,7 @@ void SamplePixel(const SampleSource &source, const RenderOptions &o, const Frame
             AddToHistogram(z3, bins, sums.zbucket.data());
         }
     }
+    if (surface) *surface = MakeSurface(paths, o.spp);
 }
 
 // The pixel's means, variances of the mean, ranges, G-buffer and histograms.
@@ -295,10 +364,12 @@ void WritePartials(const Scene &scene, const PixelSums &sums, const RenderOption
 
 // Every layer's value at pixel (x, y); returns its non-finite paths.
 uint64_t RenderPixel(const Scene &scene, const SampleSource &source, const RenderOptions &o,
-                     int x, int y, PixelSums &sums, FrameLayers &layers) {
+                     int x, int y, PixelSums &sums, FrameLayers &layers,
+                     TracingSurface *surface = nullptr, TracingSample *samples = nullptr,
+                     TracingPath *paths = nullptr) {
     sums.Reset();
     if (!layers.pivot.Empty()) RenderPivot(scene, x, y, o.width, o.height, layers.pivot);
-    SamplePixel(source, o, layers, x, y, sums);
+    SamplePixel(source, o, layers, x, y, sums, surface, samples, paths);
     WritePixel(sums, o, x, y, layers);
     if (!layers.partialColors.empty()) WritePartials(scene, sums, o, x, y, layers);
     return sums.nonFinite;
@@ -319,6 +390,149 @@ void RunOnThreads(int threads, const std::function<void()> &work) {
     for (std::thread &t : pool) t.join();
 }
 
+// The tracing filter's own mean of a pixel, in the reference's arithmetic (eq. 16 with
+// self weight 1): a pixel the gather leaves to itself keeps its color bit for bit.
+float OwnMean(const TracingSurface &surface, const TracingSample *samples, int spp, int c) {
+    double sum = 0;
+    if (surface.valid > 0) {
+        for (int s = 0; s < spp; ++s) sum += 1.0 * samples[s].own[c] / spp;
+        return float(sum);
+    }
+    for (int s = 0; s < spp; ++s) sum += samples[s].own[c];
+    return float(sum / spp);
+}
+
+// Rows [y0, y0 + rows) of the frame take the filtered part in place of their own mean:
+// color (from its unfiltered copy), and the layers that split color (partial0, indirect:
+// the light after A is indirect and partial 0), so that their sums still equal color.
+void ApplyFiltered(const TracingRecords &window, const std::vector<float> &filtered, int y0,
+                   int rows, FrameLayers &layers) {
+    const int w = window.width, spp = window.spp;
+    for (int y = y0; y < y0 + rows; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t pixel = size_t(y - window.y0) * w + x;
+            const TracingSample *samples = &window.samples[pixel * spp];
+            for (int c = 0; c < 3; ++c) {
+                double delta = double(filtered[(size_t(y - y0) * w + x) * 3 + c]) -
+                               double(OwnMean(window.surfaces[pixel], samples, spp, c));
+                auto shift = [&](Image &image) {
+                    if (!image.Empty()) image.At(c, y, x) = float(image.At(c, y, x) + delta);
+                };
+                layers.color.At(c, y, x) = float(layers.unfiltered.At(c, y, x) + delta);
+                shift(layers.indirect);
+                if (!layers.partialColors.empty()) shift(layers.partialColors[0]);
+            }
+        }
+}
+
+// The reference gather on `threads` threads, a row at a time (each pixel is computed on
+// its own, so the result does not depend on the split).
+std::vector<float> ReferenceGather(const TracingRecords &records, const TracingParams &params,
+                                   int outY0, int outRows, int threads) {
+    std::vector<float> out(size_t(records.width) * outRows * 3);
+    std::atomic<int> next{0};
+    RunOnThreads(std::clamp(threads, 1, outRows), [&] {
+        for (int r = next++; r < outRows; r = next++) {
+            std::vector<float> row = ref::TracingFilter(records, params, outY0 + r, 1);
+            std::copy(row.begin(), row.end(), out.begin() + size_t(r) * records.width * 3);
+        }
+    });
+    return out;
+}
+
+// Render with the tracing filter: bands of rows, each filtered once its records and
+// `radius` rows below it are traced; a sliding window keeps `radius` rows above.
+void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, FrameLayers &layers,
+                  RenderResult &result, std::atomic<uint64_t> &nonFinite) {
+    using Clock = std::chrono::steady_clock;
+    const int w = o.width, h = o.height, spp = o.spp;
+    const TracingFilterOptions &t = o.tracing;
+    const int radius = std::max(0, t.params.radius);
+    const size_t rowBytes =
+        size_t(w) * (sizeof(TracingSurface) + size_t(spp) * sizeof(TracingSample));
+    TracingStats &stats = result.tracing;
+    int band = t.bandRows;
+    if (band <= 0) {
+        long fit = long(t.memoryBudget / rowBytes) - 2L * radius;
+        stats.overBudget = fit < 1;
+        band = int(std::clamp(fit, 1L, long(h)));
+    }
+    if (t.maxWindowRows > 0) {
+        if (t.maxWindowRows - 2 * radius < 1)
+            throw Error(fmt::format(
+                "tracing filter: the gather takes at most {} rows of records, fewer than one "
+                "band row and a radius of {} above and below",
+                t.maxWindowRows, radius));
+        band = std::min(band, t.maxWindowRows - 2 * radius);
+    }
+    band = std::min(band, h);
+    stats.bandRows = band;
+    const int windowRows = std::min(h, band + 2 * radius);
+    TracingRecords window;
+    window.width = w, window.spp = spp, window.y0 = 0, window.rows = 0;
+    window.surfaces.reserve(size_t(windowRows) * w);
+    window.samples.reserve(size_t(windowRows) * w * spp);
+    stats.peakRecordBytes = window.surfaces.capacity() * sizeof(TracingSurface) +
+                            window.samples.capacity() * sizeof(TracingSample);
+
+    SampleSource source(scene, w, h, o.seed);
+    std::atomic<int> rowsDone{0};
+    std::mutex progressMutex;
+    int traced = 0;  // rows [0, traced) are rendered
+    for (int y0 = 0; y0 < h; y0 += band) {
+        const int rows = std::min(band, h - y0);
+        const int keepFrom = std::max(0, y0 - radius), need = std::min(h, y0 + rows + radius);
+        // Slide: drop the rows no later band reads, trace the new ones.
+        if (int drop = keepFrom - window.y0; drop > 0) {
+            window.surfaces.erase(window.surfaces.begin(),
+                                  window.surfaces.begin() + size_t(drop) * w);
+            window.samples.erase(window.samples.begin(),
+                                 window.samples.begin() + size_t(drop) * w * spp);
+            window.y0 = keepFrom;
+        }
+        window.rows = need - window.y0;
+        window.surfaces.resize(size_t(window.rows) * w);
+        window.samples.resize(size_t(window.rows) * w * spp);
+        auto start = Clock::now();
+        std::atomic<int> nextRow{traced};
+        RunOnThreads(std::clamp(threads, 1, std::max(1, need - traced)), [&] {
+            PixelSums sums(o.histBins);
+            std::vector<TracingPath> paths(spp);
+            for (int y = nextRow++; y < need; y = nextRow++) {
+                for (int x = 0; x < w; ++x) {
+                    size_t pixel = size_t(y - window.y0) * w + x;
+                    nonFinite += RenderPixel(scene, source, o, x, y, sums, layers,
+                                             &window.surfaces[pixel],
+                                             &window.samples[pixel * spp], paths.data());
+                    for (int c = 0; c < 3; ++c)
+                        layers.unfiltered.At(c, y, x) = layers.color.At(c, y, x);
+                }
+                int done = ++rowsDone;
+                if (o.progress) {
+                    std::lock_guard<std::mutex> lock(progressMutex);
+                    o.progress(done, h);
+                }
+            }
+        });
+        traced = need;
+        auto gathered = Clock::now();
+        std::vector<float> filtered =
+            t.gather ? t.gather(window, t.params, y0, rows)
+                     : ReferenceGather(window, t.params, y0, rows, threads);
+        if (filtered.size() != size_t(w) * rows * 3)
+            throw Error(fmt::format("tracing gather returned {} values for {} rows of {}",
+                                    filtered.size(), rows, w));
+        ApplyFiltered(window, filtered, y0, rows, layers);
+        auto end = Clock::now();
+        stats.renderSeconds += std::chrono::duration<double>(gathered - start).count();
+        stats.gatherSeconds += std::chrono::duration<double>(end - gathered).count();
+        ++stats.bands;
+        stats.peakRecordBytes = std::max(stats.peakRecordBytes,
+                                         window.surfaces.capacity() * sizeof(TracingSurface) +
+                                             window.samples.capacity() * sizeof(TracingSample));
+    }
+}
+
 std::map<std::string, std::string> RenderMetadata(const Scene &scene, const RenderOptions &o,
                                                   const RenderResult &result) {
     return {{"mcd:scene", scene.name},
@@ -332,16 +546,36 @@ std::map<std::string, std::string> RenderMetadata(const Scene &scene, const Rend
 
 }  // namespace
 
-PathSample SampleSource::Trace(double x, double y, uint64_t key) const {
+PathSample SampleSource::Trace(double x, double y, uint64_t key, TracingPath *tracing) const {
     Rng rng(Mix(seed ^ Mix(key)), key);
     double lu = Uniform(rng), lv = Uniform(rng);
-    return TracePath(scene, scene.camera.Generate(x, y, width, height, lu, lv), rng);
+    return TracePath(scene, scene.camera.Generate(x, y, width, height, lu, lv), rng, tracing);
 }
 
 RenderResult Render(const Scene &scene, const RenderOptions &o) {
     CheckRenderOptions(o);
     auto start = std::chrono::steady_clock::now();
     FrameLayers layers(o);
+    int threads =
+        o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    RenderResult result;
+    if (o.tracing.enabled) {
+        std::atomic<uint64_t> nonFinite{0};
+        RenderTraced(scene, o, std::min(threads, 1024), layers, result, nonFinite);
+        result.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        result.nonFiniteSamples = nonFinite;
+        layers.MoveInto(result);
+        result.metadata = RenderMetadata(scene, o, result);
+        const TracingParams &p = o.tracing.params;
+        result.metadata["mcd:tracingFilter"] =
+            fmt::format("radius {} alpha {} beta {} gamma {} selfFloor {}", p.radius, p.alpha,
+                        p.beta, p.gamma, p.selfFloor);
+        result.metadata["mcd:tracingSeconds"] =
+            fmt::format("render {:.3f} gather {:.3f}", result.tracing.renderSeconds,
+                        result.tracing.gatherSeconds);
+        return result;
+    }
     SampleSource source(scene, o.width, o.height, o.seed);
     std::atomic<int> nextRow{0}, rowsDone{0};
     std::atomic<uint64_t> nonFinite{0};
@@ -360,11 +594,8 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
     };
     // Rows are handed out one at a time, so any number of threads gives the same frame; more
     // threads than rows would idle.
-    int threads =
-        o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     RunOnThreads(std::clamp(threads, 1, std::min(o.height, 1024)), renderRows);
 
-    RenderResult result;
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result.nonFiniteSamples = nonFinite;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/tracing.h"
 #include "tools/render/integrator.h"
 #include "tools/render/scene.h"
 
@@ -45,12 +46,41 @@ enum LayerGroup : unsigned {
 // mcd::Error.
 unsigned ParseLayerGroups(const std::string &text);
 
+// Ershov section 5's tracing filter, run while rendering: the frame is rendered in bands of
+// rows, each band's records (and `radius` rows above and below it, kept in a sliding
+// window, so every row is traced once) handed to `gather`.
+using TracingGatherFn = std::function<std::vector<float>(
+    const TracingRecords &records, const TracingParams &params, int outY0, int outRows)>;
+
+struct TracingFilterOptions {
+    bool enabled = false;
+    TracingParams params;
+    // Bound on the window's records (40 B per sample): the band height follows from it.
+    size_t memoryBudget = size_t(256) << 20;
+    int bandRows = 0;       // > 0: this band height whatever the budget (tests)
+    int maxWindowRows = 0;  // > 0: the gather takes at most this many rows of records
+    // The gather; empty: ref::TracingFilter on the render's threads.
+    TracingGatherFn gather;
+};
+
+struct TracingStats {
+    double renderSeconds = 0, gatherSeconds = 0;
+    size_t peakRecordBytes = 0;  // the window's capacity at its largest
+    int bands = 0, bandRows = 0;
+    bool overBudget = false;  // one band and its halo did not fit in memoryBudget
+};
+
 struct RenderOptions {
     int width = 256, height = 256, spp = 16;
     uint64_t seed = 1;
     unsigned layers = 0;
     int threads = 0;    // 0: all cores
     int histBins = 20;  // per channel
+    // With tracing.enabled, color is the filtered frame (rest + the filtered part), its
+    // unfiltered mean is kept as "color.unfiltered", and partial0.color and indirect take
+    // the same change, so the partials and direct + indirect still sum to color. The
+    // other statistics (variance, min, max, histograms, halves) are the plain samples'.
+    TracingFilterOptions tracing;
     // Called with (rows done, rows total) from the rendering threads, serialised.
     std::function<void(int, int)> progress;
 };
@@ -60,6 +90,7 @@ struct RenderResult {
     std::map<std::string, std::string> metadata;
     double seconds = 0;
     uint64_t nonFiniteSamples = 0;  // paths that produced NaN/Inf (counted as 0)
+    TracingStats tracing;           // with options.tracing.enabled
 };
 
 RenderResult Render(const Scene &scene, const RenderOptions &options);
@@ -75,7 +106,7 @@ class SampleSource {
   public:
     SampleSource(const Scene &scene, int width, int height, uint64_t seed)
         : scene(scene), width(width), height(height), seed(seed) {}
-    PathSample Trace(double x, double y, uint64_t key) const;
+    PathSample Trace(double x, double y, uint64_t key, TracingPath *tracing = nullptr) const;
 
   private:
     const Scene &scene;

@@ -1,0 +1,55 @@
+// `render --tracing-filter`: the frame keeps the plain color as color.unfiltered beside the
+// usual layers, the CPU and GPU gathers agree, denoise takes the frame, bad use is refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "harness/tool.h"
+#include "host/io/frame.h"
+
+namespace mcd::test {
+namespace {
+
+TEST(CliTracingFilter, WritesFilteredAndUnfilteredColor) {
+    ToolDir dir("mcd-tf-cli");
+    const std::string render =
+        "render --scene relief-abc --size 20x14 --spp 2 --layers split,partials";
+    ToolResult gpu = dir.Run(render + " --tracing-filter --tf-radius 2 -o gpu.exr");
+    ASSERT_EQ(gpu.code, 0) << gpu.All();
+    EXPECT_NE(gpu.out.find("tracing filter (GPU gather)"), std::string::npos) << gpu.out;
+    EXPECT_NE(gpu.out.find("records peak"), std::string::npos) << gpu.out;
+    ToolResult cpu = dir.Run(render + " --tracing-filter --tf-radius 2 --tf-cpu -o cpu.exr");
+    ASSERT_EQ(cpu.code, 0) << cpu.All();
+    ASSERT_EQ(dir.Run(render + " -o plain.exr").code, 0);
+    io::Frame g = io::ReadFrame(dir.Path("gpu.exr").string()),
+              c = io::ReadFrame(dir.Path("cpu.exr").string()),
+              p = io::ReadFrame(dir.Path("plain.exr").string());
+    for (const auto &[name, image] : p.layers) ASSERT_TRUE(g.layers.count(name)) << name;
+    const Image &unfiltered = g.Get("color.unfiltered"), &plain = p.Get("color");
+    ASSERT_EQ(unfiltered.data, plain.data);
+    const Image &a = g.Get("color"), &b = c.Get("color");
+    double moved = 0;
+    for (size_t i = 0; i < a.Size(); ++i) {
+        EXPECT_NEAR(a.data[i], b.data[i], 1e-4f * (1 + std::fabs(b.data[i])));
+        moved += std::fabs(a.data[i] - plain.data[i]);
+    }
+    EXPECT_GT(moved, 0);
+    EXPECT_EQ(g.metadata.count("mcd:tracingFilter"), 1u);
+    // The image methods take the filtered frame as any other.
+    ToolResult denoised = dir.Run("denoise --method awr gpu.exr -o d.exr");
+    EXPECT_EQ(denoised.code, 0) << denoised.All();
+}
+
+TEST(CliTracingFilter, BadUseIsRefused) {
+    ToolDir dir("mcd-tf-cli");
+    ToolResult r = dir.Run("render --size 8x8 --tracing-filter --reference -o r.exr");
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.All().find("--tracing-filter"), std::string::npos) << r.All();
+    r = dir.Run("render --size 8x8 --tracing-filter --tf-radius -2 -o r.exr");
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.All().find("--tf-radius"), std::string::npos) << r.All();
+    EXPECT_FALSE(std::filesystem::exists(dir.Path("r.exr")));
+}
+
+}  // namespace
+}  // namespace mcd::test
