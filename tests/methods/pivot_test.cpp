@@ -557,9 +557,10 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
                         if (j > 0) {
                             float before = order.At(2 + c, row, j - 1);
                             EXPECT_GE(before, radius) << "not largest first at slot " << j;
-                            if (before == radius)
+                            if (before == radius) {
                                 EXPECT_LT(order.At(c, row, j - 1), k)
                                     << "tie not in raster order";
+                            }
                         }
                     }
                 }

@@ -106,7 +106,9 @@ TEST(RenderLayers, HalvesSplitTheSamples) {
         for (size_t i = 0; i < color.data.size(); ++i) {
             double mean = (double(even) * h0.data[i] + double(odd) * h1.data[i]) / spp;
             ASSERT_NEAR(mean, color.data[i], 1e-5 * (1 + std::fabs(color.data[i]))) << i;
-            if (spp == 1) ASSERT_EQ(h1.data[i], 0.f);
+            if (spp == 1) {
+                ASSERT_EQ(h1.data[i], 0.f);
+            }
         }
     }
     EXPECT_EQ(render::ParseLayerGroups("all") & render::kLayersHalves, 0u);

@@ -102,8 +102,9 @@ TEST(RenderTracing, RadiusZeroIsThePlainFrame) {
     render::RenderResult four = render::Render(scene, Traced(21, 17, 3, 4, 4, layers));
     for (const auto &[name, image] : plain.layers) {
         EXPECT_TRUE(BitIdentical(image, Layer(zero, name))) << name;
-        if (name != "color" && name != "indirect" && name != "partial0.color")
+        if (name != "color" && name != "indirect" && name != "partial0.color") {
             EXPECT_TRUE(BitIdentical(image, Layer(four, name))) << name;
+        }
     }
     EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(zero, "color.unfiltered")));
     EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(four, "color.unfiltered")));
