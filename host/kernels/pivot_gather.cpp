@@ -15,6 +15,12 @@
 
 namespace mcd {
 
+int PivotLatticeStepOf(float radius) {
+    int step = 1;
+    while (step < PIVOT_LATTICE_MAX_STEP && float(2 * step) <= radius / 3.f) step *= 2;
+    return step;
+}
+
 Image PivotTileOrder(const Image &radii, int *reach) {
     const int t = PIVOT_GATHER_TILE;
     int tilesX = (radii.width + t - 1) / t, tilesY = (radii.height + t - 1) / t;
@@ -28,9 +34,12 @@ Image PivotTileOrder(const Image &radii, int *reach) {
                 tile.clear();
                 for (int v = 0; v < t && ty * t + v < radii.height; ++v)
                     for (int u = 0; u < t && tx * t + u < radii.width; ++u) {
-                        float r = radii.At(c, ty * t + v, tx * t + u);
+                        int x = tx * t + u, y = ty * t + v;
+                        float r = radii.At(c, y, x);
                         if (r >= 0) *reach = std::max(*reach, int(r));
-                        tile.push_back({r, v * t + u});
+                        // Off its lattice a centre takes no part: listed as without fit.
+                        int step = PivotLatticeStepOf(r);
+                        tile.push_back({x % step == 0 && y % step == 0 ? r : -1.f, v * t + u});
                     }
                 // Largest radius first; stable: ties keep raster order.
                 std::stable_sort(tile.begin(), tile.end(), [](const auto &a, const auto &b) {

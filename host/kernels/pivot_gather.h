@@ -11,10 +11,16 @@ namespace mcd {
 // largest first (ties in raster order), from the radius planes (width x height x channels):
 // an image PIVOT_GATHER_TILE^2 wide, one row per tile (raster order of the tiles) and
 // 2 x channels planes. Plane c holds the centres' positions in the tile (y * TILE + x), plane
-// channels + c their radii; slots past the tile's centres, and centres without a fit, have
-// radius -1. A pixel at Chebyshev distance g from a tile needs only the prefix with radius
-// >= g. `reach` receives the largest radius overall (0 if none).
+// channels + c their radii; slots past the tile's centres, centres without a fit and centres
+// off their lattice (PivotLatticeStepOf) have radius -1. A pixel at Chebyshev distance g
+// from a tile needs only the prefix with radius >= g. `reach` receives the largest radius
+// overall (0 if none).
 Image PivotTileOrder(const Image &radii, int *reach);
+
+// Eq. 13's lattice step of a centre of radius R0: the largest power of two <= R0 / 3, at
+// most PIVOT_LATTICE_MAX_STEP (cpu_reference/pivot_filter.h). Only centres with x0 and y0
+// multiples of it take part in the gather, with weight times step^2.
+int PivotLatticeStepOf(float radius);
 
 // `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius.
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,

@@ -16,6 +16,7 @@ layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { float fitHi[]; }
 int planeSize, gw, gh;
 
 #include "pivot/guides.glsl"
+#include "pivot/lattice.glsl"
 
 // Weighted sums of one fit, coordinates relative to the centre.
 struct Moments {
@@ -218,7 +219,9 @@ void storeNone(int c, int at) {
 }
 
 // Section 4.3 for the centre (x0, y0): the radius the square grows to from 5x5, and the
-// mean z of the fitted pixels of that square (<z> of the final fit).
+// mean z of the fitted pixels of that square (<z> of the final fit). A centre whose radius
+// leaves its lattice (eq. 13's quadrature) stops there, stores that square's growth fits
+// and returns -1: it needs no final fit.
 int grow(out float mean) {
     // <z> during growth: the centre's mean z over its valid 3x3 neighbours.
     float zc = 0.0;
@@ -256,6 +259,18 @@ int grow(out float mean) {
                 fitted = fittedBefore;
             }
             break;
+        }
+        if (!onLattice(x0, y0, float(r))) {
+            int at = y0 * w + x0;
+            int c = int(gl_WorkGroupID.z);
+            if (!square.valid) {
+                storeNone(c, at);
+                return -1;
+            }
+            storeFit(0, c, at, square, square);
+            for (int m = 0; m < 4; ++m) storeFit(1 + m, c, at, solve(quadrantSums(m)), square);
+            storePlane(15, c, at, float(r));
+            return -1;
         }
         bool quiet = square.valid && sqrt(square.var0) <= push.targetNoise * abs(square.c);
         bool covers = x0 - r <= 0 && y0 - r <= 0 && x0 + r >= w - 1 && y0 + r >= h - 1;

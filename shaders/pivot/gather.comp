@@ -18,6 +18,7 @@ layout(binding = PIVOT_GATHER_TILES) uniform samplerBuffer tiles;
 int planeSize, gw, gh;
 
 #include "pivot/guides.glsl"
+#include "pivot/lattice.glsl"
 
 // Eqs. 11-12 with t = 1 / w_m = (min(|Z|, |Zm|) / max(|Z|, |Zm|))^8 in [0, 1], which cannot
 // overflow: (t Z + Zm) / (t + 1); opposite signs or one zero give t = 0 (Zm).
@@ -78,8 +79,10 @@ void main() {
                 int dx = x - x0, dy = y - y0;
                 if (float(abs(dx)) > radius || float(abs(dy)) > radius) continue;
                 float fdx = float(dx), fdy = float(dy);
+                // The tile lists only centres on their lattice; each stands for step^2.
+                int step = latticeStep(radius);
                 float weight = exp(-(fdx * fdx + fdy * fdy) / (radius * radius)) *
-                               geometricTerm(here, surfaceAt(i0));
+                               geometricTerm(here, surfaceAt(i0)) * float(step * step);
                 if (weight == 0.0) continue;
                 int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
                 int planes = (lo + i0) * PIVOT_PLANES_PER_BUFFER;  // the centre's planes
@@ -99,6 +102,13 @@ void main() {
                 sumWz += weight * combine(zs, zm);
             }
         }
+    // No lattice centre reaches the pixel: its own fit (square and quadrant 0) at its place.
+    int own = (lo + i) * PIVOT_PLANES_PER_BUFFER;
+    float ownRadius = texelFetch(fitHi, own + PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER).r;
+    if (sumW == 0.0 && ownRadius >= 0.0) {
+        sumW = 1.0;
+        sumWz = combine(texelFetch(fitLo, own + 2).r, texelFetch(fitLo, own + 5).r);
+    }
     outImage[at] =
         sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;
 }
