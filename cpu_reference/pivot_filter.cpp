@@ -321,7 +321,7 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
 
 int PivotLatticeStep(double radius) {
     int step = 1;
-    while (step < 8 && 2 * step <= radius / 3) step *= 2;
+    while (step < 8 && 2 * step <= radius / 2) step *= 2;
     return step;
 }
 

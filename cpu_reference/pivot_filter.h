@@ -34,20 +34,21 @@
 // - Eq. 13's base weight is exp(-d^2 / R0^2) of the centre's window (d^2 = dx^2 + dy^2),
 //   normalised by the sum of the weights.
 // - Eq. 13's sum over centres is taken as a quadrature: a centre of radius R0 takes part
-//   only on its lattice, x0 and y0 multiples of step = the largest power of two <= R0 / 3
-//   (1 below R0 = 6, at most 8), and then stands for the step^2 centres around it (weight
-//   times step^2). Neighbouring squares of one radius overlap in all but a step/(2R0+1) <=
-//   1/6 slice per axis, so their fits are nearly the same: the lattice keeps at least ~6
-//   centres per axis of each square and does 6.4x less work (cornell 1024x1024, 16 spp).
+//   only on its lattice, x0 and y0 multiples of step = the largest power of two <= R0 / 2
+//   (1 below R0 = 4, at most 8), and then stands for the step^2 centres around it (weight
+//   times step^2). Neighbouring squares of one radius overlap in all but a step/(2R0+1) <
+//   1/4 slice per axis, so their fits are nearly the same: the lattice keeps more than 4
+//   centres per axis of each square and sums 11x fewer terms (cornell 1024x1024, 16 spp;
+//   step <= R0 / 3 measured no better at 128x128, 4/16/64 spp, four scenes).
 //   Powers of two up to 8 keep the lattice the same in tiles starting on multiples of 8.
 //   A pixel that no lattice centre reaches (a thin part between other ids) takes its own
 //   fit at its place: eq. 11 of the square and quadrant 0 at (0, 0).
 // - So only lattice centres need their square: a centre's growth stops at the first radius
-//   r whose step does not divide x0 and y0 (r = 6, 12 or 24), which leaves it off its
+//   r whose step does not divide x0 and y0 (r = 4, 8 or 16), which leaves it off its
 //   lattice whatever it would have grown to (a disagreement at r gives r - 1, on the
 //   lattice). Such a centre keeps r and the growth fits of that square (no distance term,
 //   <z> the centre's local mean) for the fallback above; lattice centres are fitted with
-//   eq. 10 in full. Radii of off-lattice centres are thus at most 6, 12 or 24.
+//   eq. 10 in full. Radii of off-lattice centres are thus at most 4, 8 or 16.
 #pragma once
 
 #include <string>

@@ -17,7 +17,7 @@ namespace mcd {
 
 int PivotLatticeStepOf(float radius) {
     int step = 1;
-    while (step < PIVOT_LATTICE_MAX_STEP && float(2 * step) <= radius / 3.f) step *= 2;
+    while (step < PIVOT_LATTICE_MAX_STEP && float(2 * step) <= radius / 2.f) step *= 2;
     return step;
 }
 

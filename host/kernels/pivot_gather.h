@@ -17,7 +17,7 @@ namespace mcd {
 // overall (0 if none).
 Image PivotTileOrder(const Image &radii, int *reach);
 
-// Eq. 13's lattice step of a centre of radius R0: the largest power of two <= R0 / 3, at
+// Eq. 13's lattice step of a centre of radius R0: the largest power of two <= R0 / 2, at
 // most PIVOT_LATTICE_MAX_STEP (cpu_reference/pivot_filter.h). Only centres with x0 and y0
 // multiples of it take part in the gather, with weight times step^2.
 int PivotLatticeStepOf(float radius);

@@ -1,9 +1,9 @@
 // Eq. 13's lattice (cpu_reference/pivot_filter.h): the step of a centre of radius
-// `radius`, the largest power of two <= radius / 3, at most PIVOT_LATTICE_MAX_STEP. A
+// `radius`, the largest power of two <= radius / 2, at most PIVOT_LATTICE_MAX_STEP. A
 // centre takes part in the gather only when x0 and y0 are multiples of its step.
 int latticeStep(float radius) {
     int step = 1;
-    while (step < PIVOT_LATTICE_MAX_STEP && float(2 * step) <= radius / 3.0) step *= 2;
+    while (step < PIVOT_LATTICE_MAX_STEP && float(2 * step) <= radius / 2.0) step *= 2;
     return step;
 }
 

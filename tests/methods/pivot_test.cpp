@@ -517,7 +517,7 @@ TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
 
 // Eq. 13's lattice leaves a thin part without centres of its own id on the lattice: a
 // 3-row part (rows 4..6; its rows 4 and 6 have no z, by the boundary term) whose noisy row 5
-// grows squares of radius >= 6 (step >= 2, 5 is odd). Each such pixel takes its own fit at
+// grows squares of radius >= 4 (step >= 2, 5 is odd). Each such pixel takes its own fit at
 // its place (not its input), and the method matches the reference there and elsewhere.
 TEST_F(PivotMethod, PixelsNoLatticeCentreReachesTakeTheirOwnFit) {
     const int w = 40, h = 16;
@@ -551,7 +551,7 @@ TEST_F(PivotMethod, PixelsNoLatticeCentreReachesTakeTheirOwnFit) {
             ++orphans;
             EXPECT_NE(expected.At(c, 5, x), f.color.At(c, 5, x)) << "kept its input at " << x;
         }
-    EXPECT_GE(orphans, w) << "the thin part's squares no longer grow past radius 5";
+    EXPECT_GE(orphans, w) << "the thin part's squares no longer grow past radius 3";
     Image magnitude = expected;
     for (size_t i = 0; i < magnitude.Size(); ++i)
         magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(f.color.data[i]);
