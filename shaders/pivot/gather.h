@@ -22,6 +22,10 @@
 // Centres are visited tile by tile, each tile's by radius, largest first: the walk stops at
 // the first radius below the pixel's distance to the tile.
 #define PIVOT_GATHER_TILE 8
+// Centres of lattice step 1 (radius <= this, pivot/lattice.glsl) are dense and reach only
+// this far: the gather reads them from the pixel's neighbourhood, and the tiles list only
+// centres of step 2 and above.
+#define PIVOT_GATHER_NEAR 3
 
 #ifdef __cplusplus
 #include <cstddef>

@@ -299,7 +299,7 @@ TEST_P(PivotKernelGather, MatchesReference) {
     hi.Upload(fitHi);
     int reach = 0;
     Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
-    vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, 6, "tiles");
+    vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, tileOrder.channels, "tiles");
     tiles.Upload(tileOrder);
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
     vk::Recorder recorder(Ctx());
@@ -563,17 +563,24 @@ TEST_F(PivotMethod, PixelsNoLatticeCentreReachesTakeTheirOwnFit) {
 
 // The gather's tile lists (host code): per channel and tile, every centre of the tile once,
 // by radius, largest first, ties in raster order; slots past a partial tile's centres and
-// centres off their lattice (the reference's step) have radius -1; `reach` is the largest
+// centres off their lattice (the reference's step) or of step 1 (read directly by the
+// gather, radius <= PIVOT_GATHER_NEAR) have radius -1; `reach` is the largest
 // radius. Radii drawn from -1..25 (ties; steps 1, 2, 4 and 8), on a frame whose last tile
 // column and row are partial, and on 1x1.
 TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
     const int t = PIVOT_GATHER_TILE;
-    for (auto [w, h] : {std::pair{19, 10}, std::pair{1, 1}, std::pair{16, 8}}) {
+    // The gather's direct walk covers exactly the radii of step 1.
+    EXPECT_EQ(ref::PivotLatticeStep(PIVOT_GATHER_NEAR), 1);
+    EXPECT_GT(ref::PivotLatticeStep(PIVOT_GATHER_NEAR + 1), 1);
+    for (auto [w, h] :
+         {std::pair{19, 10}, std::pair{1, 1}, std::pair{16, 8}, std::pair{70, 41}}) {
         Image radii(w, h, 2);
         std::mt19937 rng(SeedFromName(fmt::format("tile order {}x{}", w, h)));
         int largest = 0;
         for (float &r : radii.data) {
-            r = float(int(rng() % 27) - 1);
+            // On the large frame mostly small radii, so that the local reach varies.
+            bool sparse = w > 64 && rng() % 40 != 0;
+            r = float(sparse ? int(rng() % 6) - 1 : int(rng() % 27) - 1);
             largest = std::max(largest, int(r));
         }
         int reach = -7;
@@ -582,7 +589,7 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
         int tilesX = (w + t - 1) / t, tilesY = (h + t - 1) / t;
         ASSERT_EQ(order.width, t * t);
         ASSERT_EQ(order.height, tilesX * tilesY);
-        ASSERT_EQ(order.channels, 4);
+        ASSERT_EQ(order.channels, 6);
         for (int c = 0; c < 2; ++c)
             for (int ty = 0; ty < tilesY; ++ty)
                 for (int tx = 0; tx < tilesX; ++tx) {
@@ -602,7 +609,8 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
                         EXPECT_EQ(seen[k]++, 0) << "centre listed twice: " << k;
                         float r = radii.At(c, y, x);
                         int step = ref::PivotLatticeStep(r);
-                        EXPECT_EQ(radius, x % step == 0 && y % step == 0 ? r : -1.f)
+                        bool listed = x % step == 0 && y % step == 0 && step > 1;
+                        EXPECT_EQ(radius, listed ? r : -1.f)
                             << "centre (" << x << ", " << y << ") of radius " << r;
                         if (j > 0) {
                             float before = order.At(2 + c, row, j - 1);
@@ -612,6 +620,30 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
                                     << "tie not in raster order";
                         }
                     }
+                }
+        // The local reach covers every listed square that meets the tile, and is -1 or
+        // one of the listed radii.
+        for (int c = 0; c < 2; ++c)
+            for (int ty = 0; ty < tilesY; ++ty)
+                for (int tx = 0; tx < tilesX; ++tx) {
+                    float local = order.At(4 + c, ty * tilesX + tx, 0);
+                    bool seen = local == -1.f;
+                    for (int row = 0; row < tilesX * tilesY; ++row)
+                        for (int j = 0; j < t * t; ++j) {
+                            float r = order.At(2 + c, row, j);
+                            if (r < 0) continue;
+                            int k = int(order.At(c, row, j));
+                            int x0 = row % tilesX * t + k % t, y0 = row / tilesX * t + k / t;
+                            seen |= r == local;
+                            bool meets = x0 + r >= tx * t && x0 - r <= tx * t + t - 1 &&
+                                         y0 + r >= ty * t && y0 - r <= ty * t + t - 1;
+                            if (meets)
+                                EXPECT_GE(local, r) << fmt::format(
+                                    "tile ({}, {}) misses the square of ({}, {})", tx, ty, x0,
+                                    y0);
+                        }
+                    EXPECT_TRUE(seen) << "local reach " << local << " of no listed centre";
+                    EXPECT_LE(local, float(largest));
                 }
     }
 }
