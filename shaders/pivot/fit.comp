@@ -323,10 +323,25 @@ shared int grownRadius[PIVOT_LOCAL_SIZE];
 shared float grownMean[PIVOT_LOCAL_SIZE];
 shared int fitOrder[PIVOT_LOCAL_SIZE];
 
+// The column (offset in the workgroup's row segment) of invocation i's centre during growth.
+// Growth stops where a centre leaves its lattice, at a radius set by the largest power of
+// two dividing x0 (and y0): columns are grouped by it (0 mod 8, 4 mod 8, 2 mod 4, odd) so
+// that a SIMD group's centres grow alike, instead of one lane in eight growing to the
+// largest square while the others wait.
+#if PIVOT_LOCAL_SIZE != 64
+#error "the column order below is written for 64 invocations"
+#endif
+int columnOf(int i) {
+    if (i < 8) return i * 8;
+    if (i < 16) return (i - 8) * 8 + 4;
+    if (i < 32) return (i - 16) * 4 + 2;
+    return (i - 32) * 2 + 1;
+}
+
 void main() {
     int local = int(gl_LocalInvocationID.x);
     int groupX = int(gl_WorkGroupID.x) * PIVOT_LOCAL_SIZE;
-    x0 = groupX + local;
+    x0 = groupX + columnOf(local);
     y0 = push.rowBase + int(gl_WorkGroupID.y);
     int c = int(gl_WorkGroupID.z);
     w = push.width;
@@ -354,7 +369,7 @@ void main() {
     barrier();
     // The final fits cost (2R + 1)^2 each and invocations run in SIMD groups that take as
     // long as their largest square: invocation i fits the centre of rank i by radius (ties
-    // by position), so that each group's squares are alike.
+    // by invocation), so that each group's squares are alike.
     int rank = 0;
     for (int j = 0; j < PIVOT_LOCAL_SIZE; ++j) {
         int other = grownRadius[j];
@@ -366,7 +381,7 @@ void main() {
     int mine = fitOrder[local];
     radius = grownRadius[mine];
     if (radius < 0) return;
-    x0 = groupX + mine;
+    x0 = groupX + columnOf(mine);
     centre = surfaceAt(y0 * w + x0);
     fitAndStore(c, radius, grownMean[mine]);
 }
