@@ -252,10 +252,12 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                     }
                     for (int i = 0; i < 5; ++i) closest = std::min(closest, planes[i].margin);
                 };
-                // Section 4.3: grow from 5x5.
+                // Section 4.3: grow from 5x5. A centre whose radius leaves its lattice (eq.
+                // 13's quadrature) stops there and keeps that square's growth fits.
                 int radius = 2;
+                Plane planes[5];
+                bool offLattice = false;
                 for (int r = 2;; ++r) {
-                    Plane planes[5];
                     fitAll(window(r, zc, 0), planes);
                     bool disagree = false;
                     if (planes[0].valid) {
@@ -275,6 +277,12 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                         radius = std::max(2, r - 1);
                         break;
                     }
+                    int step = PivotLatticeStep(r);
+                    if (x0 % step != 0 || y0 % step != 0) {
+                        radius = r;
+                        offLattice = true;
+                        break;
+                    }
                     bool quiet = false;
                     if (planes[0].valid) {
                         double target = params.targetNoise * std::fabs(planes[0].c);
@@ -290,13 +298,14 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                         break;
                     }
                 }
-                // The chosen square, fitted with eq. 10 in full.
-                double mean = 0;
-                int count = 0;
-                for (const Sample &p : window(radius, zc, 0)) mean += p.z, ++count;
-                mean /= std::max(count, 1);
-                Plane planes[5];
-                fitAll(window(radius, mean, radius), planes);
+                // The chosen square of a lattice centre, fitted with eq. 10 in full.
+                if (!offLattice) {
+                    double mean = 0;
+                    int count = 0;
+                    for (const Sample &p : window(radius, zc, 0)) mean += p.z, ++count;
+                    mean /= std::max(count, 1);
+                    fitAll(window(radius, mean, radius), planes);
+                }
                 if (margin) margin->At(c, y0, x0) = float(closest);
                 if (!planes[0].valid) continue;
                 for (int m = 0; m < 5; ++m) {
@@ -308,6 +317,12 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                 plane(15) = float(radius);
             }
     return fits;
+}
+
+int PivotLatticeStep(double radius) {
+    int step = 1;
+    while (step < 8 && 2 * step <= radius / 2) step *= 2;
+    return step;
 }
 
 Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &ratio,
@@ -324,8 +339,9 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
             for (int x = 0; x < w; ++x) {
                 if (ratio.nu.At(c, y, x) < 0) continue;
                 double sumW = 0, sumWz = 0;
-                // Every centre whose square holds (x, y) (eq. 13); none reaches further
-                // than the largest radius.
+                // Every centre whose square holds (x, y) (eq. 13) and that lies on its
+                // lattice, standing for step^2 centres; none reaches further than the
+                // largest radius.
                 for (int y0 = std::max(0, y - reach); y0 <= std::min(h - 1, y + reach); ++y0)
                     for (int x0 = std::max(0, x - reach); x0 <= std::min(w - 1, x + reach);
                          ++x0) {
@@ -336,10 +352,12 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                         int dx = x - x0, dy = y - y0;
                         if (radius < 0 || std::abs(dx) > radius || std::abs(dy) > radius)
                             continue;
+                        int step = PivotLatticeStep(radius);
+                        if (x0 % step != 0 || y0 % step != 0) continue;
                         double weight =
                             std::exp(-(double(dx) * dx + double(dy) * dy) / (radius * radius)) *
                             PivotNormalTerm(guides.normal, x, y, x0, y0) *
-                            PivotIdTerm(guides.ids, x, y, x0, y0);
+                            PivotIdTerm(guides.ids, x, y, x0, y0) * step * step;
                         if (weight == 0) continue;
                         int m = 1 + Quadrant(dx, dy);
                         double zs = plane(0) * dx + plane(1) * dy + plane(2);
@@ -348,6 +366,13 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                         sumW += weight;
                         sumWz += weight * Combine(zs, zm);
                     }
+                // No lattice centre reaches the pixel (a thin part between other ids): its
+                // own fit at its own place, square and quadrant 0.
+                if (sumW == 0 && fits.At(15 * channels + c, y, x) >= 0) {
+                    sumW = 1;
+                    sumWz = Combine(fits.At(2 * channels + c, y, x),
+                                    fits.At(5 * channels + c, y, x));
+                }
                 if (sumW > 0) out.At(c, y, x) = float(pivot.At(c, y, x) * (sumWz / sumW));
             }
     return out;

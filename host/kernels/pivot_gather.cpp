@@ -15,11 +15,19 @@
 
 namespace mcd {
 
+static_assert(PIVOT_GATHER_NEAR >= 2, "radii start at 2");
+
+int PivotLatticeStepOf(float radius) {
+    int step = 1;
+    while (step < PIVOT_LATTICE_MAX_STEP && float(2 * step) <= radius / 2.f) step *= 2;
+    return step;
+}
+
 Image PivotTileOrder(const Image &radii, int *reach) {
     const int t = PIVOT_GATHER_TILE;
     int tilesX = (radii.width + t - 1) / t, tilesY = (radii.height + t - 1) / t;
     int channels = radii.channels;
-    Image order(t * t, tilesX * tilesY, 2 * channels, -1.f);
+    Image order(t * t, tilesX * tilesY, 3 * channels, -1.f);
     *reach = 0;
     std::vector<std::pair<float, int>> tile;
     for (int c = 0; c < channels; ++c)
@@ -28,9 +36,14 @@ Image PivotTileOrder(const Image &radii, int *reach) {
                 tile.clear();
                 for (int v = 0; v < t && ty * t + v < radii.height; ++v)
                     for (int u = 0; u < t && tx * t + u < radii.width; ++u) {
-                        float r = radii.At(c, ty * t + v, tx * t + u);
+                        int x = tx * t + u, y = ty * t + v;
+                        float r = radii.At(c, y, x);
                         if (r >= 0) *reach = std::max(*reach, int(r));
-                        tile.push_back({r, v * t + u});
+                        // Off its lattice a centre takes no part, and the gather reads the
+                        // centres of step 1 directly: both listed as without fit.
+                        int step = PivotLatticeStepOf(r);
+                        bool listed = x % step == 0 && y % step == 0 && r > PIVOT_GATHER_NEAR;
+                        tile.push_back({listed ? r : -1.f, v * t + u});
                     }
                 // Largest radius first; stable: ties keep raster order.
                 std::stable_sort(tile.begin(), tile.end(), [](const auto &a, const auto &b) {
@@ -41,6 +54,24 @@ Image PivotTileOrder(const Image &radii, int *reach) {
                     order.At(c, row, int(j)) = float(tile[j].second);
                     order.At(channels + c, row, int(j)) = std::max(tile[j].first, -1.f);
                 }
+            }
+    // Each tile's local reach: the largest radius listed in a tile that may hold one of its
+    // pixels (Chebyshev gap between the tiles <= that tile's largest radius).
+    auto gap = [t](int a, int b) { return a == b ? 0 : (std::abs(a - b) - 1) * t + 1; };
+    for (int c = 0; c < channels; ++c)
+        for (int sy = 0; sy < tilesY; ++sy)
+            for (int sx = 0; sx < tilesX; ++sx) {
+                int largest = int(order.At(channels + c, sy * tilesX + sx, 0));
+                if (largest < 0) continue;
+                int span = largest / t + 1;
+                for (int ty = std::max(0, sy - span); ty <= std::min(tilesY - 1, sy + span);
+                     ++ty)
+                    for (int tx = std::max(0, sx - span); tx <= std::min(tilesX - 1, sx + span);
+                         ++tx) {
+                        if (std::max(gap(sx, tx), gap(sy, ty)) > largest) continue;
+                        float &local = order.At(2 * channels + c, ty * tilesX + tx, 0);
+                        local = std::max(local, float(largest));
+                    }
             }
     return order;
 }
@@ -56,10 +87,10 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
     const int t = PIVOT_GATHER_TILE;
     int tilesX = (color.width + t - 1) / t, tilesY = (color.height + t - 1) / t;
     if (tiles.width != t * t || tiles.height != tilesX * tilesY ||
-        tiles.channels != 2 * color.channels)
+        tiles.channels != 3 * color.channels)
         throw Error(fmt::format("pivot gather: the tile order is {}x{}x{}, expected {}x{}x{}",
                                 tiles.width, tiles.height, tiles.channels, t * t,
-                                tilesX * tilesY, 2 * color.channels));
+                                tilesX * tilesY, 3 * color.channels));
     CheckPivotShapes("pivot gather", color, {&pivot, &nu, &out});
     CheckPivotGuides("pivot gather", color.width, color.height, guides);
     for (const vk::GpuImage *fit : {&fitLo, &fitHi})

@@ -10,11 +10,20 @@ namespace mcd {
 // Per channel and PIVOT_GATHER_TILE-square tile of centres, the tile's centres by radius,
 // largest first (ties in raster order), from the radius planes (width x height x channels):
 // an image PIVOT_GATHER_TILE^2 wide, one row per tile (raster order of the tiles) and
-// 2 x channels planes. Plane c holds the centres' positions in the tile (y * TILE + x), plane
-// channels + c their radii; slots past the tile's centres, and centres without a fit, have
-// radius -1. A pixel at Chebyshev distance g from a tile needs only the prefix with radius
-// >= g. `reach` receives the largest radius overall (0 if none).
+// 3 x channels planes. Plane c holds the centres' positions in the tile (y * TILE + x), plane
+// channels + c their radii; slots past the tile's centres, centres without a fit, centres
+// off their lattice (PivotLatticeStepOf) and those of step 1 (radius <= PIVOT_GATHER_NEAR,
+// which the gather reads directly) have radius -1. A pixel at Chebyshev distance g
+// from a tile needs only the prefix with radius >= g. Plane 2 x channels + c holds in slot
+// 0 the tile's local reach: the largest listed radius of any tile whose Chebyshev gap to it
+// is at most that radius (-1: none); the gather looks no further. `reach` receives the
+// largest radius overall (0 if none).
 Image PivotTileOrder(const Image &radii, int *reach);
+
+// Eq. 13's lattice step of a centre of radius R0: the largest power of two <= R0 / 2, at
+// most PIVOT_LATTICE_MAX_STEP (cpu_reference/pivot_filter.h). Only centres with x0 and y0
+// multiples of it take part in the gather, with weight times step^2.
+int PivotLatticeStepOf(float radius);
 
 // `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius.
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,

@@ -248,15 +248,16 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
     tiles.Upload(tileOrder);
     run.Plan(fmt::format(
         "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
-        "square-vs-quadrant disagreement {}); mean radius {:.2f}, largest {}; fits of the "
-        "square and 4 quadrants with eq. 10 (k = {}, pixels with relative noise > {} left "
-        "out)",
+        "square-vs-quadrant disagreement {}; a centre off eq. 13's lattice stops at 4, 8 or "
+        "16); mean radius {:.2f}, largest {}; fits of the square and 4 quadrants with eq. 10 "
+        "(k = {}, pixels with relative noise > {} left out)",
         2 * options.maxRadius + 1, 2 * options.maxRadius + 1, options.targetNoise,
         options.disagreement, result.meanRadius, result.largestRadius, options.k,
         options.goodNoise));
     run.Plan(
-        "eqs. 11-13: combined square/quadrant fits averaged over every square holding the "
-        "pixel (a gather), times the pivot");
+        "eqs. 11-13: combined square/quadrant fits averaged over the squares holding the "
+        "pixel whose centres lie on their lattice (step: largest power of two <= radius / 2, "
+        "at most 8; weight x step^2; a gather), times the pivot");
     InStrips(run, h, stripRows, "gather", options, [&](int rowBase, int rows) {
         RecordPivotGather(context, run.Recorder(), gpu.color, gpu.pivot, gpu.nu, fitLo, fitHi,
                           gpu.guides, tiles, result.largestRadius, gpu.out, rowBase, rows);

@@ -16,6 +16,7 @@ layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { float fitHi[]; }
 int planeSize, gw, gh;
 
 #include "pivot/guides.glsl"
+#include "pivot/lattice.glsl"
 
 // Weighted sums of one fit, coordinates relative to the centre.
 struct Moments {
@@ -218,7 +219,9 @@ void storeNone(int c, int at) {
 }
 
 // Section 4.3 for the centre (x0, y0): the radius the square grows to from 5x5, and the
-// mean z of the fitted pixels of that square (<z> of the final fit).
+// mean z of the fitted pixels of that square (<z> of the final fit). A centre whose radius
+// leaves its lattice (eq. 13's quadrature) stops there, stores that square's growth fits
+// and returns -1: it needs no final fit.
 int grow(out float mean) {
     // <z> during growth: the centre's mean z over its valid 3x3 neighbours.
     float zc = 0.0;
@@ -256,6 +259,18 @@ int grow(out float mean) {
                 fitted = fittedBefore;
             }
             break;
+        }
+        if (!onLattice(x0, y0, float(r))) {
+            int at = y0 * w + x0;
+            int c = int(gl_WorkGroupID.z);
+            if (!square.valid) {
+                storeNone(c, at);
+                return -1;
+            }
+            storeFit(0, c, at, square, square);
+            for (int m = 0; m < 4; ++m) storeFit(1 + m, c, at, solve(quadrantSums(m)), square);
+            storePlane(15, c, at, float(r));
+            return -1;
         }
         bool quiet = square.valid && sqrt(square.var0) <= push.targetNoise * abs(square.c);
         bool covers = x0 - r <= 0 && y0 - r <= 0 && x0 + r >= w - 1 && y0 + r >= h - 1;
@@ -308,10 +323,25 @@ shared int grownRadius[PIVOT_LOCAL_SIZE];
 shared float grownMean[PIVOT_LOCAL_SIZE];
 shared int fitOrder[PIVOT_LOCAL_SIZE];
 
+// The column (offset in the workgroup's row segment) of invocation i's centre during growth.
+// Growth stops where a centre leaves its lattice, at a radius set by the largest power of
+// two dividing x0 (and y0): columns are grouped by it (0 mod 8, 4 mod 8, 2 mod 4, odd) so
+// that a SIMD group's centres grow alike, instead of one lane in eight growing to the
+// largest square while the others wait.
+#if PIVOT_LOCAL_SIZE != 64
+#error "the column order below is written for 64 invocations"
+#endif
+int columnOf(int i) {
+    if (i < 8) return i * 8;
+    if (i < 16) return (i - 8) * 8 + 4;
+    if (i < 32) return (i - 16) * 4 + 2;
+    return (i - 32) * 2 + 1;
+}
+
 void main() {
     int local = int(gl_LocalInvocationID.x);
     int groupX = int(gl_WorkGroupID.x) * PIVOT_LOCAL_SIZE;
-    x0 = groupX + local;
+    x0 = groupX + columnOf(local);
     y0 = push.rowBase + int(gl_WorkGroupID.y);
     int c = int(gl_WorkGroupID.z);
     w = push.width;
@@ -339,7 +369,7 @@ void main() {
     barrier();
     // The final fits cost (2R + 1)^2 each and invocations run in SIMD groups that take as
     // long as their largest square: invocation i fits the centre of rank i by radius (ties
-    // by position), so that each group's squares are alike.
+    // by invocation), so that each group's squares are alike.
     int rank = 0;
     for (int j = 0; j < PIVOT_LOCAL_SIZE; ++j) {
         int other = grownRadius[j];
@@ -351,7 +381,7 @@ void main() {
     int mine = fitOrder[local];
     radius = grownRadius[mine];
     if (radius < 0) return;
-    x0 = groupX + mine;
+    x0 = groupX + columnOf(mine);
     centre = surfaceAt(y0 * w + x0);
     fitAndStore(c, radius, grownMean[mine]);
 }

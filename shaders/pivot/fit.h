@@ -1,7 +1,8 @@
 // Pivot filter stage 2: for every centre and channel, the square window grown from 5x5
 // (section 4.3) and the weighted least-squares planes Z = a dx + b dy + c of the square and
 // its four quadrants (section 4.2, weight eq. 10) at the chosen radius. Growth adds one ring
-// of pixels per step to running sums; see cpu_reference/pivot_filter.h for the rules. One
+// of pixels per step to running sums; a centre whose radius leaves eq. 13's lattice stops
+// there and keeps its growth fits; see cpu_reference/pivot_filter.h for the rules. One
 // invocation per centre and channel.
 #ifndef MCD_SHADERS_PIVOT_FIT_H
 #define MCD_SHADERS_PIVOT_FIT_H

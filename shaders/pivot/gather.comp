@@ -18,6 +18,7 @@ layout(binding = PIVOT_GATHER_TILES) uniform samplerBuffer tiles;
 int planeSize, gw, gh;
 
 #include "pivot/guides.glsl"
+#include "pivot/lattice.glsl"
 
 // Eqs. 11-12 with t = 1 / w_m = (min(|Z|, |Zm|) / max(|Z|, |Zm|))^8 in [0, 1], which cannot
 // overflow: (t Z + Zm) / (t + 1); opposite signs or one zero give t = 0 (Zm).
@@ -37,10 +38,51 @@ float combine(float z, float zm) {
     return (t * z + zm) / (t + 1.0);
 }
 
+int x, y, w, lo;
+Surface here;
+float sumW, sumWz;
+
+// Centre (x0, y0) of radius `radius` on its lattice: its term of eq. 13 at the pixel, when
+// its square holds the pixel.
+void addCentre(int x0, int y0, float radius) {
+    int dx = x - x0, dy = y - y0;
+    if (float(abs(dx)) > radius || float(abs(dy)) > radius) return;
+    int i0 = y0 * w + x0;
+    float fdx = float(dx), fdy = float(dy);
+    // Each centre stands for step^2 centres of its lattice.
+    int step = latticeStep(radius);
+    float weight = exp(-(fdx * fdx + fdy * fdy) / (radius * radius)) *
+                   geometricTerm(here, surfaceAt(i0)) * float(step * step);
+    if (weight == 0.0) return;
+    int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
+    int planes = (lo + i0) * PIVOT_PLANES_PER_BUFFER;  // the centre's planes
+    float zs = texelFetch(fitLo, planes).r * fdx + texelFetch(fitLo, planes + 1).r * fdy +
+               texelFetch(fitLo, planes + 2).r;
+    // Quadrant m's planes are 3 + 3m .. 5 + 3m, across the two buffers.
+    float coef[3];
+    for (int q = 0; q < 3; ++q) {
+        int p = 3 + 3 * m + q;
+        coef[q] = p < PIVOT_PLANES_PER_BUFFER
+                      ? texelFetch(fitLo, planes + p).r
+                      : texelFetch(fitHi, planes + p - PIVOT_PLANES_PER_BUFFER).r;
+    }
+    float zm = coef[0] * fdx + coef[1] * fdy + coef[2];
+    sumW += weight;
+    sumWz += weight * combine(zs, zm);
+}
+
+// A centre's radius (-1: no fit), from its planes.
+float radiusOf(int i0) {
+    return texelFetch(fitHi, (lo + i0) * PIVOT_PLANES_PER_BUFFER + PIVOT_PLANES - 1 -
+                                 PIVOT_PLANES_PER_BUFFER).r;
+}
+
 void main() {
-    int x = int(gl_GlobalInvocationID.x), y = push.rowBase + int(gl_WorkGroupID.y),
-        c = int(gl_WorkGroupID.z);
-    int w = push.width, h = push.height;
+    x = int(gl_GlobalInvocationID.x);
+    y = push.rowBase + int(gl_WorkGroupID.y);
+    int c = int(gl_WorkGroupID.z);
+    w = push.width;
+    int h = push.height;
     if (x >= w) return;
     planeSize = w * h;
     gw = w;
@@ -50,19 +92,31 @@ void main() {
         outImage[at] = texelFetch(color, at).r;
         return;
     }
-    int lo = c * planeSize;  // channel c's first centre in the fit buffers
-    float sumW = 0.0, sumWz = 0.0;
-    Surface here = surfaceAt(i);
+    lo = c * planeSize;  // channel c's first centre in the fit buffers
+    sumW = 0.0;
+    sumWz = 0.0;
+    here = surfaceAt(i);
+    // Centres of step 1 (radius <= PIVOT_GATHER_NEAR, dense) directly from the pixel's
+    // neighbourhood; the tiles list only the sparser lattices.
+    const int N = PIVOT_GATHER_NEAR;
+    for (int y0 = max(0, y - N); y0 <= min(h - 1, y + N); ++y0)
+        for (int x0 = max(0, x - N); x0 <= min(w - 1, x + N); ++x0) {
+            float radius = radiusOf(y0 * w + x0);
+            if (radius >= 0.0 && radius <= float(N)) addCentre(x0, y0, radius);
+        }
     const int T = PIVOT_GATHER_TILE;
     int tileCount = push.tilesX * push.tilesY;
     int orderBase = c * tileCount * T * T, radiusBase = (push.channels + c) * tileCount * T * T;
     // The tile range from the pixel's tile, not the pixel: the same for the invocations of
-    // one tile row, which then walk the same centres in step.
+    // one tile row, which then walk the same centres in step. It spans the tile's local
+    // reach: no tile further away lists a square that holds one of its pixels.
     int xt = x / T * T, yt = y / T * T;
-    for (int ty = max(0, yt - push.reach) / T; ty <= min(h - 1, yt + T - 1 + push.reach) / T;
-         ++ty)
-        for (int tx = max(0, xt - push.reach) / T;
-             tx <= min(w - 1, xt + T - 1 + push.reach) / T; ++tx) {
+    int reach = int(texelFetch(tiles, (2 * push.channels + c) * tileCount * T * T +
+                                          (yt / T * push.tilesX + xt / T) * T * T).r);
+    if (reach < 0) reach = -2 * T;  // no tile: an empty range
+    for (int ty = max(0, yt - reach) / T; ty <= min(h - 1, yt + T - 1 + reach) / T; ++ty)
+        for (int tx = max(0, xt - reach) / T; tx <= min(w - 1, xt + T - 1 + reach) / T;
+             ++tx) {
             // Chebyshev distance from the pixel to the tile: no square of a smaller radius
             // holds the pixel, and the tile lists its centres by radius, largest first.
             int gapX = max(0, max(tx * T - x, x - (tx * T + T - 1)));
@@ -73,32 +127,15 @@ void main() {
                 float radius = texelFetch(tiles, radiusBase + entry + j).r;
                 if (radius < gap) break;
                 int k = int(texelFetch(tiles, orderBase + entry + j).r);
-                int x0 = tx * T + k % T, y0 = ty * T + k / T;
-                int i0 = y0 * w + x0;
-                int dx = x - x0, dy = y - y0;
-                if (float(abs(dx)) > radius || float(abs(dy)) > radius) continue;
-                float fdx = float(dx), fdy = float(dy);
-                float weight = exp(-(fdx * fdx + fdy * fdy) / (radius * radius)) *
-                               geometricTerm(here, surfaceAt(i0));
-                if (weight == 0.0) continue;
-                int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
-                int planes = (lo + i0) * PIVOT_PLANES_PER_BUFFER;  // the centre's planes
-                float zs = texelFetch(fitLo, planes).r * fdx +
-                           texelFetch(fitLo, planes + 1).r * fdy +
-                           texelFetch(fitLo, planes + 2).r;
-                // Quadrant m's planes are 3 + 3m .. 5 + 3m, across the two buffers.
-                float coef[3];
-                for (int q = 0; q < 3; ++q) {
-                    int p = 3 + 3 * m + q;
-                    coef[q] = p < PIVOT_PLANES_PER_BUFFER
-                                  ? texelFetch(fitLo, planes + p).r
-                                  : texelFetch(fitHi, planes + p - PIVOT_PLANES_PER_BUFFER).r;
-                }
-                float zm = coef[0] * fdx + coef[1] * fdy + coef[2];
-                sumW += weight;
-                sumWz += weight * combine(zs, zm);
+                addCentre(tx * T + k % T, ty * T + k / T, radius);
             }
         }
+    // No lattice centre reaches the pixel: its own fit (square and quadrant 0) at its place.
+    int own = (lo + i) * PIVOT_PLANES_PER_BUFFER;
+    if (sumW == 0.0 && radiusOf(i) >= 0.0) {
+        sumW = 1.0;
+        sumWz = combine(texelFetch(fitLo, own + 2).r, texelFetch(fitLo, own + 5).r);
+    }
     outImage[at] =
         sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;
 }

@@ -1,7 +1,9 @@
 // Pivot filter stage 3: the two-stage averaging (eq. 13) written as a gather. Every pixel
 // with z sums, over the centres whose squares hold it, the centre's combined approximation
-// (eqs. 11-12) at the pixel with weight exp(-d^2 / R0^2) x normal term x id terms,
-// normalises, and multiplies back by the pivot; other pixels keep their color. One
+// (eqs. 11-12) at the pixel with weight exp(-d^2 / R0^2) x normal term x id terms x step^2,
+// over the centres on their lattice (pivot/lattice.glsl), normalises, and multiplies
+// back by the pivot; a pixel no such centre reaches takes its own fit at its place; other
+// pixels keep their color. One
 // invocation per pixel and channel.
 #ifndef MCD_SHADERS_PIVOT_GATHER_H
 #define MCD_SHADERS_PIVOT_GATHER_H
@@ -20,6 +22,10 @@
 // Centres are visited tile by tile, each tile's by radius, largest first: the walk stops at
 // the first radius below the pixel's distance to the tile.
 #define PIVOT_GATHER_TILE 8
+// Centres of lattice step 1 (radius <= this, pivot/lattice.glsl) are dense and reach only
+// this far: the gather reads them from the pixel's neighbourhood, and the tiles list only
+// centres of step 2 and above.
+#define PIVOT_GATHER_NEAR 3
 
 #ifdef __cplusplus
 #include <cstddef>

@@ -20,6 +20,12 @@
 #define PIVOT_SPEC_IDS 1
 #define PIVOT_SPEC_VARIANCE 2
 
+// Eq. 13 as a quadrature over the centres: a centre of radius R0 takes part when x0 and y0
+// are multiples of its step (the largest power of two <= R0 / 2, at most this), with weight
+// times step^2 (pivot/lattice.glsl). A step dividing the tiled run's window alignment (8)
+// keeps tiles bit-exact.
+#define PIVOT_LATTICE_MAX_STEP 8
+
 #define PIVOT_LOCAL_SIZE 64
 #define PIVOT_MAX_CHANNELS 4  // colour channels a frame may have
 

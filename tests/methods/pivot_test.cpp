@@ -280,7 +280,7 @@ TEST_P(PivotKernelGather, MatchesReference) {
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
     PivotOptions o;
-    o.maxRadius = 5;
+    o.maxRadius = 12;  // lattice steps 1, 2 and 4 (eq. 13's quadrature)
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image fits = ref::PivotFit(ratio, refGuides, api::RefParams(o));
     Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides);
@@ -299,7 +299,7 @@ TEST_P(PivotKernelGather, MatchesReference) {
     hi.Upload(fitHi);
     int reach = 0;
     Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
-    vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, 6, "tiles");
+    vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, tileOrder.channels, "tiles");
     tiles.Upload(tileOrder);
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
     vk::Recorder recorder(Ctx());
@@ -515,18 +515,72 @@ TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
     EXPECT_LT(stats.nmse, 1e-8);
 }
 
+// Eq. 13's lattice leaves a thin part without centres of its own id on the lattice: a
+// 3-row part (rows 4..6; its rows 4 and 6 have no z, by the boundary term) whose noisy row 5
+// grows squares of radius >= 4 (step >= 2, 5 is odd). Each such pixel takes its own fit at
+// its place (not its input), and the method matches the reference there and elsewhere.
+TEST_F(PivotMethod, PixelsNoLatticeCentreReachesTakeTheirOwnFit) {
+    const int w = 40, h = 16;
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName("thin part"));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            f.ids.At(0, y, x) = 0;
+            f.ids.At(1, y, x) = float(y >= 4 && y <= 6);
+        }
+    Image objectId, partId;
+    PivotInputs in = InputsOf(f, true, &objectId, &partId);
+    PivotOptions o;
+    o.maxRadius = 12;
+    PivotResult result = PivotDenoise(Ctx(), in, o);
+    ref::PivotParams p = api::RefParams(o);
+    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, &f.ids);
+    ref::PivotGuides refGuides{&f.normal, &f.ids};
+    Image fits = ref::PivotFit(ratio, refGuides, p);
+    Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides);
+    // Row 5's pixels that no lattice centre of row 5 reaches.
+    int orphans = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int x = 0; x < w; ++x) {
+            bool reached = false;
+            for (int x0 = 0; x0 < w; ++x0) {
+                float r = fits.At(15 * 3 + c, 5, x0);
+                int step = ref::PivotLatticeStep(r);
+                reached |= r >= 0 && std::abs(x - x0) <= r && x0 % step == 0 && 5 % step == 0;
+            }
+            if (reached || fits.At(15 * 3 + c, 5, x) < 0) continue;
+            ++orphans;
+            EXPECT_NE(expected.At(c, 5, x), f.color.At(c, 5, x)) << "kept its input at " << x;
+        }
+    EXPECT_GE(orphans, w) << "the thin part's squares no longer grow past radius 3";
+    Image magnitude = expected;
+    for (size_t i = 0; i < magnitude.Size(); ++i)
+        magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(f.color.data[i]);
+    CompareStats stats;
+    (void)ImagesMatch(expected, result.image, magnitude, {64 * kUnitRoundoff, 0, 1}, &stats);
+    EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
+    EXPECT_LT(stats.nmse, 1e-8);
+}
+
 // The gather's tile lists (host code): per channel and tile, every centre of the tile once,
-// by radius, largest first, ties in raster order; slots past a partial tile's centres have
-// radius -1; `reach` is the largest radius. Radii drawn from -1..12 (many ties), on a frame
-// whose last tile column and row are partial, and on 1x1.
+// by radius, largest first, ties in raster order; slots past a partial tile's centres and
+// centres off their lattice (the reference's step) or of step 1 (read directly by the
+// gather, radius <= PIVOT_GATHER_NEAR) have radius -1; `reach` is the largest
+// radius. Radii drawn from -1..25 (ties; steps 1, 2, 4 and 8), on a frame whose last tile
+// column and row are partial, and on 1x1.
 TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
     const int t = PIVOT_GATHER_TILE;
-    for (auto [w, h] : {std::pair{19, 10}, std::pair{1, 1}, std::pair{16, 8}}) {
+    // The gather's direct walk covers exactly the radii of step 1.
+    EXPECT_EQ(ref::PivotLatticeStep(PIVOT_GATHER_NEAR), 1);
+    EXPECT_GT(ref::PivotLatticeStep(PIVOT_GATHER_NEAR + 1), 1);
+    for (auto [w, h] :
+         {std::pair{19, 10}, std::pair{1, 1}, std::pair{16, 8}, std::pair{70, 41}}) {
         Image radii(w, h, 2);
         std::mt19937 rng(SeedFromName(fmt::format("tile order {}x{}", w, h)));
         int largest = 0;
         for (float &r : radii.data) {
-            r = float(int(rng() % 14) - 1);
+            // On the large frame mostly small radii, so that the local reach varies.
+            bool sparse = w > 64 && rng() % 40 != 0;
+            r = float(sparse ? int(rng() % 6) - 1 : int(rng() % 27) - 1);
             largest = std::max(largest, int(r));
         }
         int reach = -7;
@@ -535,7 +589,7 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
         int tilesX = (w + t - 1) / t, tilesY = (h + t - 1) / t;
         ASSERT_EQ(order.width, t * t);
         ASSERT_EQ(order.height, tilesX * tilesY);
-        ASSERT_EQ(order.channels, 4);
+        ASSERT_EQ(order.channels, 6);
         for (int c = 0; c < 2; ++c)
             for (int ty = 0; ty < tilesY; ++ty)
                 for (int tx = 0; tx < tilesX; ++tx) {
@@ -553,7 +607,11 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
                         int x = tx * t + k % t, y = ty * t + k / t;
                         ASSERT_TRUE(x < w && y < h) << "slot outside the image: " << k;
                         EXPECT_EQ(seen[k]++, 0) << "centre listed twice: " << k;
-                        EXPECT_EQ(radius, radii.At(c, y, x));
+                        float r = radii.At(c, y, x);
+                        int step = ref::PivotLatticeStep(r);
+                        bool listed = x % step == 0 && y % step == 0 && step > 1;
+                        EXPECT_EQ(radius, listed ? r : -1.f)
+                            << "centre (" << x << ", " << y << ") of radius " << r;
                         if (j > 0) {
                             float before = order.At(2 + c, row, j - 1);
                             EXPECT_GE(before, radius) << "not largest first at slot " << j;
@@ -563,6 +621,30 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
                             }
                         }
                     }
+                }
+        // The local reach covers every listed square that meets the tile, and is -1 or
+        // one of the listed radii.
+        for (int c = 0; c < 2; ++c)
+            for (int ty = 0; ty < tilesY; ++ty)
+                for (int tx = 0; tx < tilesX; ++tx) {
+                    float local = order.At(4 + c, ty * tilesX + tx, 0);
+                    bool seen = local == -1.f;
+                    for (int row = 0; row < tilesX * tilesY; ++row)
+                        for (int j = 0; j < t * t; ++j) {
+                            float r = order.At(2 + c, row, j);
+                            if (r < 0) continue;
+                            int k = int(order.At(c, row, j));
+                            int x0 = row % tilesX * t + k % t, y0 = row / tilesX * t + k / t;
+                            seen |= r == local;
+                            bool meets = x0 + r >= tx * t && x0 - r <= tx * t + t - 1 &&
+                                         y0 + r >= ty * t && y0 - r <= ty * t + t - 1;
+                            if (meets)
+                                EXPECT_GE(local, r) << fmt::format(
+                                    "tile ({}, {}) misses the square of ({}, {})", tx, ty, x0,
+                                    y0);
+                        }
+                    EXPECT_TRUE(seen) << "local reach " << local << " of no listed centre";
+                    EXPECT_LE(local, float(largest));
                 }
     }
 }
