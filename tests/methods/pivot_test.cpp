@@ -638,10 +638,11 @@ TEST(PivotTileOrder, ListsEachTilesCentresByRadius) {
                             seen |= r == local;
                             bool meets = x0 + r >= tx * t && x0 - r <= tx * t + t - 1 &&
                                          y0 + r >= ty * t && y0 - r <= ty * t + t - 1;
-                            if (meets)
+                            if (meets) {
                                 EXPECT_GE(local, r) << fmt::format(
                                     "tile ({}, {}) misses the square of ({}, {})", tx, ty, x0,
                                     y0);
+                            }
                         }
                     EXPECT_TRUE(seen) << "local reach " << local << " of no listed centre";
                     EXPECT_LE(local, float(largest));
