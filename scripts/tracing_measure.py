@@ -11,7 +11,7 @@
 # Times are the figures mcdenoise prints (not process wall time); they vary with load.
 # Usage: /usr/bin/python3 scripts/tracing_measure.py [-h] [--mcdenoise PATH] [--size WxH]
 #   [--scenes A,B] [--spp 4,16] [--seeds 1,2] [--variant "RADIUS FLOOR"]... [--reference-spp S]
-#   [--out DIR]
+#   [--repeat R] [--out DIR]
 # Needs numpy and python3-openimageio (Debian). Not part of CI.
 import argparse
 import os
@@ -53,6 +53,20 @@ def RenderSeconds(out):
     if rate > 0 and (seconds <= 0 or 0.005 / rate < 0.005 / seconds):
         return w * h * spp / (rate * 1e6)
     return seconds
+
+
+def Timed(args, repeat, seconds):
+    """Run a command repeat times (the same seed gives the same frame) and keep the fastest
+    time, seconds(output), the least disturbed by the other jobs on the machine."""
+    runs = [Run(args) for _ in range(repeat)]
+    times = [seconds(out) for out in runs]
+    best = times.index(min(times))
+    return runs[best], times[best]
+
+
+def DenoiseSeconds(out):
+    # "OUT.exr: pivot in T ms (...)".
+    return Find(r"in ([0-9.]+) ms", out, "denoise time") / 1e3
 
 
 def ReadColor(path):
@@ -120,6 +134,17 @@ def Figure(x):
     return f"{x:#.3g}".rstrip(".") if x < 1000 else f"{x:.0f}"
 
 
+def IntList(text, name, least):
+    """A comma-separated list of integers, each at least least; exits naming the option."""
+    try:
+        values = [int(v) for v in text.split(",")]
+    except ValueError:
+        sys.exit(f"{name} {text}: expected integers separated by commas")
+    if min(values) < least:
+        sys.exit(f"{name} {text}: each must be at least {least}")
+    return values
+
+
 def Seconds(x):
     """A time with three decimals below a second (small frames take hundredths)."""
     return f"{x:.3f} s" if x < 1 else f"{x:.2f} s"
@@ -140,6 +165,9 @@ def main():
                         'and "3 0.9")')
     parser.add_argument("--reference-spp", type=int, default=2048,
                         help="spp of the cached references (render --reference)")
+    parser.add_argument("--repeat", type=int, default=1,
+                        help="run each timed command this many times, keep the fastest "
+                        "(the equal-time spp follow these times)")
     parser.add_argument("--out", default="out/tracing-measure",
                         help="folder for the frames and the references' copies")
     opt = parser.parse_args()
@@ -149,14 +177,18 @@ def main():
     if not re.fullmatch(r"[0-9]+x[0-9]+", opt.size):
         sys.exit(f"--size {opt.size}: expected WxH")
     scenes = opt.scenes.split(",")
-    spps = [int(n) for n in opt.spp.split(",")]
-    seeds = [int(s) for s in opt.seeds.split(",")]
+    spps, seeds = IntList(opt.spp, "--spp", 1), IntList(opt.seeds, "--seeds", 0)
     variants = []
     for v in opt.variant or ["3 0.5", "3 0.9"]:
         parts = v.split()
         if len(parts) != 2:
             sys.exit(f'--variant "{v}": expected "RADIUS SELF_FLOOR"')
-        variants.append((int(parts[0]), float(parts[1])))
+        try:
+            variants.append((int(parts[0]), float(parts[1])))
+        except ValueError:
+            sys.exit(f'--variant "{v}": expected an integer radius and a number floor')
+    if opt.repeat < 1:
+        sys.exit(f"--repeat {opt.repeat}: expected at least 1")
     os.makedirs(opt.out, exist_ok=True)
 
     def Frame(name):
@@ -181,13 +213,15 @@ def main():
                 tag = f"{scene}-{n}spp-seed{seed}"
                 # Plain MC at N: the baseline and the time the equal-time spp scale from.
                 path = Frame(f"{tag}-plain")
-                plainSeconds = RenderSeconds(Run(base + ["--spp", str(n), "-o", path]))
+                _, plainSeconds = Timed(base + ["--spp", str(n), "-o", path], opt.repeat,
+                                        RenderSeconds)
                 Get("plain").Add(plainSeconds, ref.Measure(binary, path))
                 for radius, floor in variants:
                     path = Frame(f"{tag}-tf-r{radius}-f{floor}")
-                    out = Run(base + ["--spp", str(n), "--tracing-filter", "--tf-radius",
-                                      str(radius), "--tf-self-floor", str(floor), "-o", path])
-                    seconds = RenderSeconds(out)
+                    out, seconds = Timed(base + ["--spp", str(n), "--tracing-filter",
+                                                 "--tf-radius", str(radius), "--tf-self-floor",
+                                                 str(floor), "-o", path],
+                                         opt.repeat, RenderSeconds)
                     # The gather's share of render + gather, as mcdenoise prints it.
                     share = Find(r"gather [0-9.]+ s \(([0-9.]+)%\)", out, "gather share")
                     Get(("tf", radius, floor)).Add(seconds, ref.Measure(binary, path),
@@ -200,11 +234,11 @@ def main():
                                                       ref.Measure(binary, path), spp=m)
                 # The pivot filter on a plain N-spp frame with the pivot layer.
                 path = Frame(f"{tag}-pivot-in")
-                seconds = RenderSeconds(Run(base + ["--spp", str(n), "--layers", "pivot",
-                                                    "-o", path]))
-                out = Run([binary, "denoise", "--method", "pivot", path, "-o",
-                           Frame(f"{tag}-pivot")])
-                seconds += Find(r"in ([0-9.]+) ms", out, "denoise time") / 1e3
+                _, seconds = Timed(base + ["--spp", str(n), "--layers", "pivot", "-o", path],
+                                   opt.repeat, RenderSeconds)
+                _, denoise = Timed([binary, "denoise", "--method", "pivot", path, "-o",
+                                    Frame(f"{tag}-pivot")], opt.repeat, DenoiseSeconds)
+                seconds += denoise
                 Get("pivot").Add(seconds, ref.Measure(binary, Frame(f"{tag}-pivot")))
             rows.append((scene, n, cells))
             print(f"done {scene} N={n}", file=sys.stderr)
@@ -215,7 +249,8 @@ def main():
         head += [f"tf r{radius} floor {floor}", "plain at its time"]
     head += ["pivot"]
     print(f"relMSE against the {opt.reference_spp}-spp references, {opt.size}, "
-          f"seeds {opt.seeds} (mean); time of render (+ gather, + denoise)\n")
+          f"seeds {opt.seeds} (mean); time of render (+ gather, + denoise)"
+          f"{f', fastest of {opt.repeat}' if opt.repeat > 1 else ''}\n")
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for scene, n, cells in rows:
@@ -223,8 +258,13 @@ def main():
         line = [scene, str(n), f"{Figure(c.relMse)} ({Seconds(c.seconds)})"]
         for radius, floor in variants:
             t, e = cells[("tf", radius, floor)], cells[("equal", radius, floor)]
+            # The ratio of the means over the seeds; with several, the per-seed range too.
+            ratio = f"{t.relMse / e.relMse:.2f} of plain's"
+            if len(seeds) > 1:
+                each = [a["relMse"] / b["relMse"] for a, b in zip(t.runs, e.runs)]
+                ratio += f", seeds {min(each):.2f}-{max(each):.2f}"
             line.append(f"**{Figure(t.relMse)}** ({Seconds(t.seconds)}, gather "
-                        f"{100 * t.share:.0f}%; {t.relMse / e.relMse:.2f} of plain's)")
+                        f"{100 * t.share:.0f}%; {ratio})")
             line.append(f"{Figure(e.relMse)} ({e.spp:.0f} spp, {Seconds(e.seconds)})")
         c = cells["pivot"]
         line.append(f"{Figure(c.relMse)} ({Seconds(c.seconds)})")
