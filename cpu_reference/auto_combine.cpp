@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace mcd::ref {
 
@@ -34,6 +35,54 @@ Image AutoEstimate(const Image &color, const Image &variance, const Image &probe
             error.At(0, y, x) = float(sum / channels);
         }
     return error;
+}
+
+Image AutoNoise(const Image &color, const Image *albedo, int radius) {
+    int w = color.width, h = color.height, channels = color.channels;
+    constexpr float kAlbedoFloor = 0.02f;
+    constexpr double kChi2Median = 0.45493642;
+    Image out(w, h, channels);
+    for (int c = 0; c < channels; ++c) {
+        // The demodulation's divisor and z at every pixel of this channel.
+        Image divisor(w, h, 1), z(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float a = albedo ? albedo->At(albedo->channels == 1 ? 0 : c, y, x) : 1.f;
+                divisor.At(0, y, x) = std::isfinite(a) && a > kAlbedoFloor ? a : 1.f;
+                z.At(0, y, x) = float(double(color.At(c, y, x)) / divisor.At(0, y, x));
+            }
+        // Each pixel's squared residual against its neighbours' mean, scaled to v_z.
+        Image squared(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                int n = 0;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if ((u != x || v != y) && u >= 0 && v >= 0 && u < w && v < h) {
+                            sum += z.At(0, v, u);
+                            ++n;
+                        }
+                double r =
+                    n > 0 ? z.At(0, y, x) - sum / n : std::numeric_limits<double>::quiet_NaN();
+                squared.At(0, y, x) = float(r * r / (1 + 1.0 / n));
+            }
+        std::vector<float> window;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                window.clear();
+                for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                    for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u)
+                        if (std::isfinite(squared.At(0, v, u)))
+                            window.push_back(squared.At(0, v, u));
+                if (window.empty()) continue;
+                std::nth_element(window.begin(), window.begin() + window.size() / 2,
+                                 window.end());
+                double a = divisor.At(0, y, x);
+                out.At(c, y, x) = float(window[window.size() / 2] / kChi2Median * a * a);
+            }
+    }
+    return out;
 }
 
 Image AutoSmooth(const Image &errors, int radius) {
