@@ -26,6 +26,26 @@ float zAt(int x, int y) {
     return color[(c * h + y) * w + x] / scaleAt(x, y);
 }
 
+// The smallest squared second difference over the 4 directions at (u, v), over 1.5 and
+// over its mean for unit Gaussian noise: all 4 fit inside the frame, or 1 on its border
+// rows and columns (its mean 1); NaN where none fits (corners, 1x1).
+float minSquared(int u, int v) {
+    const ivec2 dirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
+    float best = uintBitsToFloat(0x7fc00000u);
+    float z = zAt(u, v);
+    int fits = 0;
+    for (int d = 0; d < 4; ++d) {
+        int u0 = u - dirs[d].x, v0 = v - dirs[d].y, u1 = u + dirs[d].x, v1 = v + dirs[d].y;
+        if (u0 < 0 || u1 >= w || min(v0, v1) < 0 || max(v0, v1) >= h) continue;
+        ++fits;
+        float r = z - 0.5 * (zAt(u0, v0) + zAt(u1, v1));
+        float q = r * r / 1.5;
+        // NaN never wins, and the first finite one replaces the NaN start.
+        if (isnan(best) || q < best) best = q;
+    }
+    return fits == 4 ? best / float(AUTO_NOISE_MIN_MEAN) : best;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
@@ -33,34 +53,17 @@ void main() {
     c = int(gl_WorkGroupID.z);
     if (x >= w) return;
     int r = push.radius;
-    float values[AUTO_NOISE_MAX_WINDOW];
+    float sum = 0.0;
     int count = 0;
+    // Rows, then columns within a row: the reference sums in the same order.
     for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
         for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
-            float sum = 0.0;
-            int n = 0;
-            for (int dv = -1; dv <= 1; ++dv)
-                for (int du = -1; du <= 1; ++du) {
-                    int uu = u + du, vv = v + dv;
-                    if ((du == 0 && dv == 0) || uu < 0 || vv < 0 || uu >= w || vv >= h)
-                        continue;
-                    sum += zAt(uu, vv);
-                    ++n;
-                }
-            if (n == 0) continue;
-            float residual = zAt(u, v) - sum / float(n);
-            float r2 = residual * residual / (1.0 + 1.0 / float(n));
-            if (!finite(r2)) continue;
-            // Insertion into the sorted prefix.
-            int i = count;
-            while (i > 0 && values[i - 1] > r2) {
-                values[i] = values[i - 1];
-                --i;
-            }
-            values[i] = r2;
+            float q = minSquared(u, v);
+            if (!finite(q)) continue;
+            sum += q;
             ++count;
         }
     float s = scaleAt(x, y);
     outputs[(c * h + y) * w + x] =
-        count > 0 ? values[count / 2] / float(AUTO_NOISE_MEDIAN_CHI2) * s * s : 0.0;
+        count > 0 ? sum / float(count) * s * s : 0.0;
 }
