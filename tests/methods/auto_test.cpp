@@ -573,12 +573,12 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     frame.layers.erase("half1.color");
     EXPECT_NE(ErrorOf([&] { automatic.Run(device, frame); }).find("--auto-noise halves"),
               std::string::npos);
-    // No statistics: SURE from the frame's own estimate, and the variants run.
+    // No statistics: SURE from the frame's own estimate, the variants left out.
     automatic.Set("auto-noise", "auto");
     result = automatic.Run(device, frame);
     EXPECT_TRUE(PlanHas(result, "the frame's own noise estimate"))
         << fmt::format("{}", fmt::join(result.plan, "\n"));
-    EXPECT_TRUE(PlanHas(result, "auto: ran pivot k0"));
+    EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant, and the noise is the frame's"));
     for (float v : result.image.data) ASSERT_TRUE(std::isfinite(v));
     // --auto-combine mean: no estimate, the methods' defaults averaged.
     automatic.Set("auto-combine", "mean");
@@ -598,6 +598,45 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
         for (const Image &o : outputs) mean += o.data[i] / 3.0, scale += std::fabs(o.data[i]);
         ASSERT_NEAR(result.image.data[i], mean, 1e-6 * (1 + scale)) << i;
     }
+}
+
+// A frame with only the ordinary passes (color, albedo, normal, depth, ids, direct and
+// indirect; no variance, no min/max, no halves, as Blender Cycles writes them) of a
+// heavy-tailed scene: SURE from the frame's own noise estimate keeps auto within 5% of
+// the best method that can run and below the plain average of the methods that auto took
+// before (measured here: best method 0.0402, auto 0.0135, the average 0.0268; on the
+// 128x128 frame 0.0249, 0.0098 and 0.0647).
+TEST_F(AutoMethod, FrameWithoutStatisticsUsesItsOwnNoiseEstimate) {
+    render::RenderOptions options;
+    options.width = 64, options.height = 48, options.spp = 16;
+    options.layers = render::kLayersGbuffer | render::kLayersSplit;
+    render::RenderResult rendered = render::Render(render::BuildScene("fireflies"), options);
+    Frame frame;
+    frame.width = options.width, frame.height = options.height;
+    for (auto &[name, image] : rendered.layers)
+        if (name != "variance" && name != "min" && name != "max")
+            frame.layers[name] = std::move(image);
+    options.layers = 0;
+    options.spp = 512;
+    options.seed = 99;
+    Image reference = render::Render(render::BuildScene("fireflies"), options).layers[0].second;
+    Device device = Device::Borrow(Ctx());
+    double best = INFINITY;
+    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
+        if (Method(name).Missing(frame).empty())
+            best = std::min(
+                best, CompareImages(Method(name).Run(device, frame).image, reference).relMse);
+    Method automatic("auto");
+    Result result = automatic.Run(device, frame);
+    EXPECT_TRUE(PlanHas(result, "the frame's own noise estimate"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    double own = CompareImages(result.image, reference).relMse;
+    automatic.Set("auto-combine", "mean");
+    double mean = CompareImages(automatic.Run(device, frame).image, reference).relMse;
+    fmt::print("best method {:.4g}, auto {:.4g}, the methods' average {:.4g}\n", best, own,
+               mean);
+    EXPECT_LE(own, 1.05 * best);
+    EXPECT_LT(own, mean);
 }
 
 }  // namespace
