@@ -60,10 +60,16 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::combine, {"weights", "select", "mean"}),
         ChoiceParam("auto-noise",
                     "the error estimate: auto (variance when the frame has a variance "
-                    "layer, else halves), halves (each candidate also runs on half0 and is "
-                    "compared with half1; Rousselle et al. 2013) or variance (SURE from the "
-                    "variance layer, with a second run on a perturbed color)",
+                    "layer, else halves, else frame), halves (each candidate also runs on "
+                    "half0 and is compared with half1; Rousselle et al. 2013), variance (SURE "
+                    "from the variance layer, with a second run on a perturbed color) or "
+                    "frame (SURE from a variance estimated from the frame itself, which the "
+                    "candidates then read as the variance layer; the variants are left out)",
                     &O::noise, {"auto", "variance", "halves", "frame"}),
+        IntParam("auto-noise-radius",
+                 "with --auto-noise frame: half-size of the window over which the smallest "
+                 "squared second differences are averaged into the noise estimate",
+                 &O::noiseRadius, 1, AUTO_NOISE_MAX_RADIUS),
         ChoiceParam("auto-guide",
                     "what stands in for the reference in relMSE's denominator of the "
                     "estimates: combined (a first combination weighed by the plain squared "
