@@ -78,6 +78,13 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::guide, {"combined", "mean"}),
         IntParam("auto-radius", "half-size of the window the error estimates are averaged over",
                  &O::radius, 0, 64),
+        IntParam("auto-frame-radius",
+                 "--auto-radius where the noise is the frame's own estimate (--auto-noise "
+                 "frame, or auto on a frame without variance nor half-buffers)",
+                 &O::frameRadius, 0, 64),
+        FloatParam("auto-frame-power",
+                   "--auto-power where the noise is the frame's own estimate", &O::framePower,
+                   1e-3, 64),
         FloatParam("auto-power", "weights are 1 / error^power", &O::power, 1e-3, 64),
         FloatParam("auto-epsilon",
                    "size of the perturbation that measures each candidate's divergence, in "
@@ -183,9 +190,9 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // outputs, estimates and their means on the GPU; the estimates' box mean reaches
     // options.radius further.
     double channels = 3, candidates = std::max(count, 1);
-    needs.reach += options.radius;
+    needs.reach += std::max(options.radius, options.frameRadius);
     needs.reachText = fmt::format("the widest candidate's reach + the estimates' box radius {}",
-                                  options.radius);
+                                  std::max(options.radius, options.frameRadius));
     needs.bytesPerPixel += 4 * (candidates * channels + 2 * candidates + 2 * channels);
     needs.bindingBytesPerPixel =
         std::max(needs.bindingBytesPerPixel, 4 * candidates * channels);
@@ -352,6 +359,12 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             options.noise == "halves" ? "half0.color and half1.color" : "variance layer"));
     }
     bool estimate = useHalves || useVariance;
+    // The frame's own estimate is rougher than a variance layer: milder weights over
+    // smaller windows (measured on 10 frames without statistics, README: power 2 over 17x17
+    // left double-textured x1.06 the best method and the Cycles cornell box at 4.3e-3; power
+    // 1 over 9x9 keeps all 10 within 5%, 3.6e-3).
+    int radius = ownNoise ? options.frameRadius : options.radius;
+    float power = ownNoise ? options.framePower : options.power;
     if (!estimate)
         plan.push_back(
             "auto: no error estimate (--auto-combine mean): the candidates are averaged, each "
@@ -508,7 +521,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                 for (const auto &t : recorder.Timings())
                     result.timings.push_back({t.label, t.gpuMs});
             }
-            RecordAutoSmooth(context, recorder, gErrors, options.radius, gSmooth);
+            RecordAutoSmooth(context, recorder, gErrors, radius, gSmooth);
         };
         // relMSE's denominator needs the reference. The candidates' mean stood in for it,
         // but where one candidate overshoots (a firefly kept, a blotch) it inflates the
@@ -530,8 +543,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             gFlat.Upload(Image(w, h, channels));
             estimateAll(gFlat, 0.f);
             RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth,
-                              AutoMode::Weights, options.power, options.floorError, gGuide,
-                              gWeights);
+                              AutoMode::Weights, power, options.floorError, gGuide, gWeights);
         }
         // The second pass bounds each pixel's weight by its noise: with a guide that can be
         // dark where a candidate is right to be bright (fireflies 4 spp: rhf darkens a light
@@ -542,7 +554,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     if (estimate)
         RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth,
                           options.combine == "select" ? AutoMode::Select : AutoMode::Weights,
-                          options.power, options.floorError, gOutput, gWeights);
+                          power, options.floorError, gOutput, gWeights);
     else
         RecordAutoCombine(context, recorder, gColor, gCandidates, gShares, AutoMode::Weights,
                           1.f, 1e-3f, gOutput, gWeights);
@@ -574,21 +586,19 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         for (int c = 0; c < 3; ++c) map.data[c * pixels + i] = kPalette[ran[best].variant][c];
     }
     std::string how = options.combine == "select" ? "selected per pixel by"
-                      : estimate
-                          ? fmt::format("weighted per pixel by 1 / error^{}", options.power)
-                          : "averaged";
-    plan.insert(
-        plan.begin(),
-        fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
-                    estimate
-                        ? fmt::format(" (error estimates from {}, averaged over "
-                                      "{}x{} windows; relMSE's denominator from "
-                                      "{})",
-                                      noiseFrom, 2 * options.radius + 1, 2 * options.radius + 1,
-                                      options.guide == "mean" ? "the candidates' mean"
-                                                              : "a first combination by their "
-                                                                "plain squared error")
-                        : ""));
+                      : estimate ? fmt::format("weighted per pixel by 1 / error^{}", power)
+                                 : "averaged";
+    plan.insert(plan.begin(),
+                fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
+                            estimate ? fmt::format(" (error estimates from {}, averaged over "
+                                                   "{}x{} windows; relMSE's denominator from "
+                                                   "{})",
+                                                   noiseFrom, 2 * radius + 1, 2 * radius + 1,
+                                                   options.guide == "mean"
+                                                       ? "the candidates' mean"
+                                                       : "a first combination by their "
+                                                         "plain squared error")
+                                     : ""));
     for (int k = 0; k < count; ++k)
         plan.insert(plan.begin() + 1 + k,
                     fmt::format("auto: ran {} ({}{:.2f} s): share {:.1f}%, largest weight in "
