@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace mcd::ref {
 
@@ -34,6 +35,59 @@ Image AutoEstimate(const Image &color, const Image &variance, const Image &probe
             error.At(0, y, x) = float(sum / channels);
         }
     return error;
+}
+
+Image AutoNoise(const Image &color, const Image *albedo, int radius) {
+    int w = color.width, h = color.height, channels = color.channels;
+    constexpr float kAlbedoFloor = 0.02f;
+    // E[min over the 4 directions of r^2 / 1.5] for unit Gaussian noise (simulated).
+    constexpr double kMinMean = 0.27848;
+    const int directions[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    Image out(w, h, channels);
+    for (int c = 0; c < channels; ++c) {
+        // The demodulation's divisor and z at every pixel of this channel.
+        Image divisor(w, h, 1), z(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float a = albedo ? albedo->At(albedo->channels == 1 ? 0 : c, y, x) : 1.f;
+                divisor.At(0, y, x) = std::isfinite(a) && a > kAlbedoFloor ? a : 1.f;
+                z.At(0, y, x) = float(double(color.At(c, y, x)) / divisor.At(0, y, x));
+            }
+        // Each pixel's smallest squared second difference, scaled to v_z's units.
+        Image smallest(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double best = std::numeric_limits<double>::quiet_NaN();
+                int fit = 0;
+                for (const auto &d : directions) {
+                    int x0 = x - d[0], y0 = y - d[1], x1 = x + d[0], y1 = y + d[1];
+                    if (x0 < 0 || x1 >= w || std::min(y0, y1) < 0 || std::max(y0, y1) >= h)
+                        continue;
+                    ++fit;
+                    double r =
+                        double(z.At(0, y, x)) - (double(z.At(0, y0, x0)) + z.At(0, y1, x1)) / 2;
+                    double q = r * r / 1.5;
+                    if (std::isnan(best) || q < best) best = q;
+                }
+                // Over its mean for unit Gaussian noise: the minimum of 4 (inside), or one
+                // value (the border rows and columns have one direction).
+                smallest.At(0, y, x) = float(fit == 4 ? best / kMinMean : best);
+            }
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                int n = 0;
+                for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                    for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u)
+                        if (std::isfinite(smallest.At(0, v, u))) {
+                            sum += smallest.At(0, v, u);
+                            ++n;
+                        }
+                double a = divisor.At(0, y, x);
+                out.At(c, y, x) = n > 0 ? float(sum / n * a * a) : 0.f;
+            }
+    }
+    return out;
 }
 
 Image AutoSmooth(const Image &errors, int radius) {

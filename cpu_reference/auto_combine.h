@@ -27,6 +27,18 @@ Image AutoEstimate(const Image &color, const Image &variance, const Image &probe
                    const Image &guide, const Image &output, const Image &perturbed,
                    double epsilon, double noiseCap);
 
+// The variance of the pixel mean estimated from a frame without sample statistics, per
+// channel: z = y / a with a the albedo (its one channel, or channel c) where a > 0.02, else
+// 1 (and 1 everywhere without an albedo); at each pixel the smallest over the directions
+// (1,0), (0,1), (1,1), (1,-1) whose two neighbours are in the image of r^2 / 1.5, r = z -
+// (z_-d + z_+d) / 2 (the variance of r is 1.5 v_z for noise of locally constant variance
+// v_z; along an edge the step cancels, a firefly is large in every direction), over its
+// mean for unit Gaussian noise (0.27848 for the minimum of 4 directions inside the image,
+// 1 for the one direction of the border rows and columns); the mean of those over the
+// (2 radius + 1)^2 window clipped to the image (finite values only), times a^2 at the
+// pixel; 0 where the window has no finite value.
+Image AutoNoise(const Image &color, const Image *albedo, int radius);
+
 // Per plane, the mean of the finite values over the (2 radius + 1)^2 window clipped to the
 // image; NaN where the window has none.
 Image AutoSmooth(const Image &errors, int radius);

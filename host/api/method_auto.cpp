@@ -12,9 +12,11 @@
 
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
+#include "host/kernels/auto_noise.h"
 #include "host/kernels/auto_smooth.h"
 #include "host/vk/gpu_image.h"
 #include "shaders/auto/auto.h"
+#include "shaders/auto/noise.h"
 
 namespace mcd::api {
 namespace {
@@ -58,10 +60,16 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::combine, {"weights", "select", "mean"}),
         ChoiceParam("auto-noise",
                     "the error estimate: auto (variance when the frame has a variance "
-                    "layer, else halves), halves (each candidate also runs on half0 and is "
-                    "compared with half1; Rousselle et al. 2013) or variance (SURE from the "
-                    "variance layer, with a second run on a perturbed color)",
-                    &O::noise, {"auto", "variance", "halves"}),
+                    "layer, else halves, else frame), halves (each candidate also runs on "
+                    "half0 and is compared with half1; Rousselle et al. 2013), variance (SURE "
+                    "from the variance layer, with a second run on a perturbed color) or "
+                    "frame (SURE from a variance estimated from the frame itself, which the "
+                    "candidates then read as the variance layer)",
+                    &O::noise, {"auto", "variance", "halves", "frame"}),
+        IntParam("auto-noise-radius",
+                 "with --auto-noise frame: half-size of the window over which the smallest "
+                 "squared second differences are averaged into the noise estimate",
+                 &O::noiseRadius, 1, AUTO_NOISE_MAX_RADIUS),
         ChoiceParam("auto-guide",
                     "what stands in for the reference in relMSE's denominator of the "
                     "estimates: combined (a first combination weighed by the plain squared "
@@ -70,6 +78,13 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::guide, {"combined", "mean"}),
         IntParam("auto-radius", "half-size of the window the error estimates are averaged over",
                  &O::radius, 0, 64),
+        IntParam("auto-frame-radius",
+                 "--auto-radius where the noise is the frame's own estimate (--auto-noise "
+                 "frame, or auto on a frame without variance nor half-buffers)",
+                 &O::frameRadius, 0, 64),
+        FloatParam("auto-frame-power",
+                   "--auto-power where the noise is the frame's own estimate", &O::framePower,
+                   1e-3, 64),
         FloatParam("auto-power", "weights are 1 / error^power", &O::power, 1e-3, 64),
         FloatParam("auto-epsilon",
                    "size of the perturbation that measures each candidate's divergence, in "
@@ -175,9 +190,9 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // outputs, estimates and their means on the GPU; the estimates' box mean reaches
     // options.radius further.
     double channels = 3, candidates = std::max(count, 1);
-    needs.reach += options.radius;
+    needs.reach += std::max(options.radius, options.frameRadius);
     needs.reachText = fmt::format("the widest candidate's reach + the estimates' box radius {}",
-                                  options.radius);
+                                  std::max(options.radius, options.frameRadius));
     needs.bytesPerPixel += 4 * (candidates * channels + 2 * candidates + 2 * channels);
     needs.bindingBytesPerPixel =
         std::max(needs.bindingBytesPerPixel, 4 * candidates * channels);
@@ -255,13 +270,15 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     // variance layer: a second run on a perturbed color gives the divergence.
     Image variance, half0, half1, probe, perturbed;
     std::string noiseFrom;
+    bool ownNoise = false;  // the variance is auto's own estimate
+    std::vector<Timing> noiseTimings;
     bool halves = inputs.Has("half0.color") && inputs.Has("half1.color");
     // Measured (README): SURE beat the halves on 3 of 4 frames with both (not on
     // relief-abc), so auto takes the halves only where there is no variance layer.
-    bool useVariance =
-        options.combine != "mean" && options.noise != "halves" && inputs.Has("variance");
-    bool useHalves =
-        options.combine != "mean" && halves && !useVariance && options.noise != "variance";
+    bool useVariance = options.combine != "mean" && options.noise != "halves" &&
+                       options.noise != "frame" && inputs.Has("variance");
+    bool useHalves = options.combine != "mean" && halves && !useVariance &&
+                     options.noise != "variance" && options.noise != "frame";
     if (useHalves) {
         half0 = inputs.Get("half0.color");
         half1 = inputs.Get("half1.color");
@@ -294,16 +311,64 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             "SURE on the variance layer, Monte Carlo divergence with "
             "epsilon {}",
             options.epsilon);
+    } else if (options.combine != "mean" &&
+               (options.noise == "frame" || (options.noise == "auto" && !halves))) {
+        // No statistics (a plain Cycles frame): the variance of the mean from the frame
+        // itself, the local mean of the albedo-demodulated colour's smallest squared
+        // second difference over 4 directions (kernel auto_noise; README gives its ratio
+        // to real variance layers). The candidates read it as the frame's variance too:
+        // bayes's noise per band from it beat its own (MAD of the finest band) by 2-5x on
+        // the Cycles frames.
+        useVariance = ownNoise = true;
+        vk::GpuImage gColor(context, w, h, channels, "auto.noise.color");
+        vk::GpuImage gNoise(context, w, h, channels, "auto.noise");
+        gColor.Upload(color);
+        std::unique_ptr<vk::GpuImage> gAlbedo;
+        if (inputs.Has("albedo")) {
+            const Image &albedo = inputs.Get("albedo");
+            if (albedo.width == w && albedo.height == h &&
+                (albedo.channels == 1 || albedo.channels >= channels)) {
+                gAlbedo = std::make_unique<vk::GpuImage>(context, w, h, albedo.channels,
+                                                         "auto.noise.albedo");
+                gAlbedo->Upload(albedo);
+            }
+        }
+        vk::Recorder recorder(context);
+        RecordAutoNoise(context, recorder, gColor, gAlbedo.get(), options.noiseRadius, gNoise);
+        recorder.Submit();
+        for (const auto &t : recorder.Timings()) noiseTimings.push_back({t.label, t.gpuMs});
+        variance = gNoise.Download();
+        probe = Image(w, h, channels);
+        perturbed = color;
+        std::mt19937 rng(0x17a0u);
+        for (size_t i = 0; i < probe.data.size(); ++i) {
+            probe.data[i] = (rng() & 1u) ? 1.f : -1.f;
+            perturbed.data[i] +=
+                options.epsilon * std::sqrt(std::max(variance.data[i], 0.f)) * probe.data[i];
+        }
+        noiseFrom = fmt::format(
+            "SURE on the frame's own noise estimate (no variance layer nor half-buffers: the "
+            "{}colour's smallest squared second difference over 4 directions, averaged over "
+            "{}x{} windows), Monte Carlo divergence with epsilon {}",
+            gAlbedo ? "albedo-demodulated " : "", 2 * options.noiseRadius + 1,
+            2 * options.noiseRadius + 1, options.epsilon);
+        inputs.Override("variance", variance);
     } else if (options.noise != "auto" && options.combine != "mean") {
         throw Error(fmt::format(
             "{}: --auto-noise {}: the frame has no {}", inputs.Path(), options.noise,
             options.noise == "halves" ? "half0.color and half1.color" : "variance layer"));
     }
     bool estimate = useHalves || useVariance;
-    if (options.combine != "mean" && !estimate)
+    // The frame's own estimate is rougher than a variance layer: milder weights over
+    // smaller windows (measured on 10 frames without statistics, README: power 2 over 17x17
+    // left double-textured x1.06 the best method and the Cycles cornell box at 4.3e-3; power
+    // 1 over 9x9 keeps all 10 within 5%, 3.6e-3).
+    int radius = ownNoise ? options.frameRadius : options.radius;
+    float power = ownNoise ? options.framePower : options.power;
+    if (!estimate)
         plan.push_back(
-            "auto: no variance layer nor half-buffers: no error estimate, the candidates "
-            "are averaged, each method with the same weight (shared by its variants)");
+            "auto: no error estimate (--auto-combine mean): the candidates are averaged, each "
+            "method with the same weight (shared by its variants)");
 
     // The candidates, while the budget lasts.
     struct Ran {
@@ -315,6 +380,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     std::vector<Ran> ran;
     std::vector<std::string> candidatePlans;  // what each candidate's own run did
     Result result;
+    result.timings = noiseTimings;
     Image frameVariance =
         useHalves && inputs.Has("variance") ? inputs.Get("variance") : Image();
     std::vector<Variant> variants = Variants();
@@ -340,6 +406,10 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                             variant.label));
             continue;
         }
+        // With the frame's own estimate the variants run: without pivot k0, auto was x1.29
+        // the best method on interior 16 spp with the ordinary passes only (pivot k0 is that
+        // best method, 7x better than pivot); with it, at worst x1.06 over 10 such frames
+        // (README).
         if (std::string lacks = method->Missing(frame); !lacks.empty()) {
             plan.push_back(fmt::format("auto: left out {}: {}", variant.label, lacks));
             continue;
@@ -451,7 +521,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                 for (const auto &t : recorder.Timings())
                     result.timings.push_back({t.label, t.gpuMs});
             }
-            RecordAutoSmooth(context, recorder, gErrors, options.radius, gSmooth);
+            RecordAutoSmooth(context, recorder, gErrors, radius, gSmooth);
         };
         // relMSE's denominator needs the reference. The candidates' mean stood in for it,
         // but where one candidate overshoots (a firefly kept, a blotch) it inflates the
@@ -473,8 +543,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             gFlat.Upload(Image(w, h, channels));
             estimateAll(gFlat, 0.f);
             RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth,
-                              AutoMode::Weights, options.power, options.floorError, gGuide,
-                              gWeights);
+                              AutoMode::Weights, power, options.floorError, gGuide, gWeights);
         }
         // The second pass bounds each pixel's weight by its noise: with a guide that can be
         // dark where a candidate is right to be bright (fireflies 4 spp: rhf darkens a light
@@ -485,7 +554,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     if (estimate)
         RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth,
                           options.combine == "select" ? AutoMode::Select : AutoMode::Weights,
-                          options.power, options.floorError, gOutput, gWeights);
+                          power, options.floorError, gOutput, gWeights);
     else
         RecordAutoCombine(context, recorder, gColor, gCandidates, gShares, AutoMode::Weights,
                           1.f, 1e-3f, gOutput, gWeights);
@@ -517,21 +586,19 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         for (int c = 0; c < 3; ++c) map.data[c * pixels + i] = kPalette[ran[best].variant][c];
     }
     std::string how = options.combine == "select" ? "selected per pixel by"
-                      : estimate
-                          ? fmt::format("weighted per pixel by 1 / error^{}", options.power)
-                          : "averaged";
-    plan.insert(
-        plan.begin(),
-        fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
-                    estimate
-                        ? fmt::format(" (error estimates from {}, averaged over "
-                                      "{}x{} windows; relMSE's denominator from "
-                                      "{})",
-                                      noiseFrom, 2 * options.radius + 1, 2 * options.radius + 1,
-                                      options.guide == "mean" ? "the candidates' mean"
-                                                              : "a first combination by their "
-                                                                "plain squared error")
-                        : ""));
+                      : estimate ? fmt::format("weighted per pixel by 1 / error^{}", power)
+                                 : "averaged";
+    plan.insert(plan.begin(),
+                fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
+                            estimate ? fmt::format(" (error estimates from {}, averaged over "
+                                                   "{}x{} windows; relMSE's denominator from "
+                                                   "{})",
+                                                   noiseFrom, 2 * radius + 1, 2 * radius + 1,
+                                                   options.guide == "mean"
+                                                       ? "the candidates' mean"
+                                                       : "a first combination by their "
+                                                         "plain squared error")
+                                     : ""));
     for (int k = 0; k < count; ++k)
         plan.insert(plan.begin() + 1 + k,
                     fmt::format("auto: ran {} ({}{:.2f} s): share {:.1f}%, largest weight in "

@@ -46,7 +46,14 @@ class AutoFrontEnd : public FrontEnd {
         // Measured (README): power 2 and a 17x17 window; 33x33 helped double-textured but
         // let one firefly's estimate spoil a wide area of `fireflies`.
         int radius = 8;
+        // The frame's own noise estimate's window, 3x3 (README: its ratio to the real
+        // variance layers; 5x5 and 9x9 follow them less closely).
+        int noiseRadius = 1;
         float power = 2, epsilon = 0.5f, floorError = 1e-5f;
+        // Where the noise is the frame's own estimate (README: measured on 10 frames
+        // without statistics; 17x17 and power 2 left one x1.06 the best method).
+        int frameRadius = 4;
+        float framePower = 1;
         // Measured (README): 50 to 300 keep every bench row within 5% of the best method;
         // 30 lets relief-abc's overshoots hide again, 1000 a light's pixel swamp fireflies.
         float noiseCap = 100;

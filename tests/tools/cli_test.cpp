@@ -491,13 +491,14 @@ TEST_F(CliTest, DenoiseAwr) {
     EXPECT_TRUE(IsError(Run("denoise bare.exr --method awr -o f.exr"), "variance layer"));
     EXPECT_FALSE(fs::exists(Path("f.exr")));
     // auto (the default) runs every method the frame has the layers for, says what it
-    // left out and why, and with no statistics (no variance, no halves) averages them.
+    // left out and why, and with no statistics (no variance, no halves) estimates the
+    // noise from the frame itself.
     r = Run("denoise bare.exr -o g.exr --explain");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "auto: ran bayes")) << r.out;
     EXPECT_TRUE(Contains(r.out, "left out awr: no variance layer")) << r.out;
     EXPECT_TRUE(Contains(r.out, "left out rhf: no histogram")) << r.out;
-    EXPECT_TRUE(Contains(r.out, "no error estimate")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "the frame's own noise estimate")) << r.out;
     // With a variance layer each candidate's error is estimated (SURE), and the map of the
     // largest weights is written on request.
     r = Run("denoise n.exr -o g.exr --explain --auto-map map.png");
