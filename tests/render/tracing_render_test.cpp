@@ -42,52 +42,85 @@ double RelMse(const Image &x, const Image &r) {
     return sum / x.Size();
 }
 
-// color == rest + own sample by sample, and own is the picked lobe's weight f cos / p
-// times the radiance the record carries; a sample without a record owns nothing.
+// color == rest + the partials' own, sample by sample, and own is the picked lobe's weight
+// f cos / p times the radiance the record carries (times the mirror prefix's throughput
+// for partial 1); a sample without a record owns nothing; partial 1's pdf carries the
+// prefix's lobe odds.
 TEST(RenderTracing, EachSampleIsRestPlusOwn) {
-    int records = 0, absorbed = 0;
-    for (const char *name : {"relief-abc", "double-textured", "glossy-cornell", "cornell"}) {
-        render::Scene scene = render::BuildScene(name);
-        render::SampleSource source(scene, 16, 16, 5);
-        for (int i = 0; i < 2000; ++i) {
-            render::TracingPath t;
-            render::PathSample p = source.Trace((i % 37) * 0.43, (i % 41) * 0.39, i, &t);
-            for (int c = 0; c < 3; ++c)
-                ASSERT_NEAR(p.color[c], t.rest[c] + t.own[c], 1e-12 * (1 + p.color[c]))
-                    << name << " sample " << i;
-            if (!t.record) {
-                EXPECT_TRUE(t.own.IsBlack()) << name << " sample " << i;
-                continue;
-            }
-            ++records;
-            ASSERT_TRUE(t.hasSurface);
-            EXPECT_GT(t.pdf, 0) << name << " sample " << i;
-            EXPECT_NEAR(Length(t.direction), 1, 1e-12);
-            if (t.radiance.IsBlack()) ++absorbed;
-            // own = w * radiance for the diffuse or the glossy lobe's weight
-            // w = weight * total / (its max channel), total counting the mirror's weight
-            // too: one of the two matches. The material is found again from the camera.
-            render::Hit hit;
-            Vec3 eye = scene.camera.eye;
-            ASSERT_TRUE(
-                scene.Intersect({eye, render::Normalize(t.position - eye)}, 1e30, &hit));
-            double total = t.diffuse.MaxComponent() + t.glossy.MaxComponent() +
-                           scene.materials[hit.material].mirror.MaxComponent();
-            bool matched = false;
-            for (const Vec3 &lobe : {t.diffuse, t.glossy}) {
-                if (lobe.MaxComponent() <= 0) continue;
-                bool all = true;
-                for (int c = 0; c < 3; ++c) {
-                    double expected = t.radiance[c] * lobe[c] * total / lobe.MaxComponent();
-                    all = all && std::fabs(t.own[c] - expected) <= 1e-9 * (1 + expected);
+    int records[2] = {}, absorbed = 0;
+    for (int partials : {1, 2})
+        for (const char *name :
+             {"relief-abc", "double-textured", "glossy-cornell", "cornell"}) {
+            render::Scene scene = render::BuildScene(name);
+            render::SampleSource source(scene, 16, 16, 5);
+            for (int i = 0; i < 2000; ++i) {
+                render::TracingPath t;
+                t.partials = partials;
+                render::PathSample p = source.Trace((i % 37) * 0.43, (i % 41) * 0.39, i, &t);
+                ASSERT_EQ(t.partials, partials);
+                Vec3 own = t.partial[0].own + t.partial[1].own;
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_NEAR(p.color[c], t.rest[c] + own[c], 1e-12 * (1 + p.color[c]))
+                        << name << " sample " << i;
+                if (partials == 1) {
+                    EXPECT_FALSE(t.partial[1].hasSurface || t.partial[1].record);
+                    EXPECT_TRUE(t.partial[1].own.IsBlack());
                 }
-                matched = matched || all;
+                EXPECT_FALSE(t.partial[0].record && t.partial[1].record);
+                for (int k = 0; k < partials; ++k) {
+                    const render::TracingPartial &a = t.partial[k];
+                    if (!a.record) {
+                        EXPECT_TRUE(a.own.IsBlack()) << name << " sample " << i;
+                        continue;
+                    }
+                    ++records[k];
+                    ASSERT_TRUE(a.hasSurface);
+                    EXPECT_GT(a.pdf, 0) << name << " sample " << i;
+                    EXPECT_NEAR(Length(a.direction), 1, 1e-12);
+                    if (a.radiance.IsBlack()) ++absorbed;
+                    // Partial 1: the mirror vertex H before A_1 (back along wo), its weight
+                    // and its lobe odds; then A_k's own lobes, found again along -wo.
+                    render::Hit hit;
+                    Vec3 weight(1);
+                    double odds = 1;
+                    if (k == 1) {
+                        ASSERT_TRUE(
+                            scene.Intersect({a.position + a.wo * 1e-5, a.wo}, 1e30, &hit));
+                        const render::Material &h = scene.materials[hit.material];
+                        weight = h.mirror;
+                        odds = h.mirror.MaxComponent() /
+                               (scene.Diffuse(h, hit).MaxComponent() +
+                                scene.Glossy(h, hit).MaxComponent() + h.mirror.MaxComponent());
+                    }
+                    ASSERT_TRUE(scene.Intersect({a.position + a.wo * 1e-3, -a.wo}, 1e30, &hit));
+                    const render::Material &m = scene.materials[hit.material];
+                    Vec3 d = scene.Diffuse(m, hit), g = scene.Glossy(m, hit);
+                    double total =
+                        d.MaxComponent() + g.MaxComponent() + m.mirror.MaxComponent();
+                    for (int c = 0; c < 3; ++c)
+                        EXPECT_NEAR(a.diffuse[c], weight[c] * d[c], 1e-9) << name << " " << i;
+                    // own = radiance x lobe x total / its max channel x the prefix's throughput
+                    // (weight / odds): the diffuse or the glossy lobe matches.
+                    bool matched = false;
+                    for (const Vec3 &lobe : {d, g}) {
+                        if (lobe.MaxComponent() <= 0) continue;
+                        bool all = true;
+                        for (int c = 0; c < 3; ++c) {
+                            double expected = a.radiance[c] * lobe[c] * total /
+                                              lobe.MaxComponent() * weight[c] / odds;
+                            all =
+                                all && std::fabs(a.own[c] - expected) <= 1e-9 * (1 + expected);
+                        }
+                        matched = matched || all;
+                    }
+                    EXPECT_TRUE(matched) << name << " partial " << k << " sample " << i;
+                }
             }
-            EXPECT_TRUE(matched) << name << " sample " << i;
         }
-    }
-    std::fprintf(stderr, "[mcd] %d records, %d with no light back\n", records, absorbed);
-    EXPECT_GT(records, 1000);
+    std::fprintf(stderr, "[mcd] %d partial-0 records, %d partial-1, %d with no light back\n",
+                 records[0], records[1], absorbed);
+    EXPECT_GT(records[0], 2000);
+    EXPECT_GT(records[1], 50);
 }
 
 // Radius 0 leaves every pixel to its own samples: the frame is the plain one bit for bit,
