@@ -193,10 +193,14 @@ TEST(RenderTracing, BandsDoNotChangeTheFrame) {
 // follows) does not vary over the view, the case of eq. 16's derivation, and has no heavy
 // tail (no area light sampled over 1600 m^2). The filter re-weights it for each pixel's
 // checker colour and lobes.
-render::Scene UniformlyLit() {
+// `mirrorView`: the ceiling is lower, partly diffuse (0.2, mirror 0.6: the mirror lobe's
+// odds 3/4), and the camera looks up at it, so the checker is seen in the mirror (partial
+// 1) and the ceiling's diffuse light is partial 0.
+render::Scene UniformlyLit(bool mirrorView = false) {
     render::Scene scene;
     scene.name = "uniformly-lit";
     scene.camera = {{0, 0.6, -0.2}, {0, 0, 0}, {0, 1, 0}, 40};
+    if (mirrorView) scene.camera = {{0, 0.3, -0.1}, {0, 0.5, 0}, {0, 1, 0}, 40};
     render::Texture checker{render::Texture::Kind::Checker, Vec3(0.9, 0.7, 0.5),
                             Vec3(0.1, 0.2, 0.3), 400};
     scene.textures.push_back(checker);
@@ -205,12 +209,16 @@ render::Scene UniformlyLit() {
     floor.glossy = Vec3(0.3);
     floor.glossyKappa = 20;
     floor.emission = Vec3(1);
-    render::Material ceiling{Vec3(0)};
+    render::Material ceiling{Vec3(mirrorView ? 0.2 : 0)};
     ceiling.mirror = Vec3(0.6);
     scene.materials = {floor, ceiling};
+    double height = mirrorView ? 0.5 : 1;
     scene.quads.push_back({{-20, 0, -20}, {0, 0, 40}, {40, 0, 0}, 0, 1});  // faces up
-    scene.quads.push_back({{-20, 1, -20}, {40, 0, 0}, {0, 0, 40}, 1, 2});
-    scene.lightQuads = {0};
+    scene.quads.push_back({{-20, height, -20}, {40, 0, 0}, {0, 0, 40}, 1, 2});
+    // Seen in the mirror, the floor is not sampled as a light: the ceiling's diffuse part
+    // would take heavy-tailed next-event samples of 1600 m^2. Emission then counts where a
+    // path sees it after the camera or a mirror only: the same estimator in every pixel.
+    if (!mirrorView) scene.lightQuads = {0};
     return scene;
 }
 
@@ -218,24 +226,30 @@ render::Scene UniformlyLit() {
 // inside dark squares (per channel); over seeds, those means against their standard
 // errors. (Per-pixel z scores are no test here: each pixel's difference is skewed, so its
 // mean and its standard error are correlated.) `gather` replaces the reference's.
-std::vector<double> CheckerBias(render::TracingGatherFn gather, int seeds) {
-    render::Scene scene = UniformlyLit();
+// `mirrorView`: the checker seen in the mirror, partials 0 and 1 filtered, the squares
+// told apart by partial 1's pivot (the chain's 0.6 times the albedo).
+std::vector<double> CheckerBias(render::TracingGatherFn gather, int seeds,
+                                bool mirrorView = false) {
+    render::Scene scene = UniformlyLit(mirrorView);
     const int w = 16, h = 12;
     std::vector<double> sum(6), sumSq(6);
     for (int seed = 1; seed <= seeds; ++seed) {
-        RenderOptions o = Traced(w, h, 4, seed, 4, render::kLayersGbuffer);
+        RenderOptions o = Traced(w, h, 4, seed, 4,
+                                 mirrorView ? render::kLayersPartials : render::kLayersGbuffer);
         o.tracing.params.alpha = 0.01f, o.tracing.params.beta = 0;
         o.tracing.gather = gather;
+        if (mirrorView) o.tracing.partials = 2;
         render::RenderResult r = render::Render(scene, o);
         const Image &f = Layer(r, "color"), &u = Layer(r, "color.unfiltered"),
-                    &albedo = Layer(r, "albedo");
+                    &albedo = Layer(r, mirrorView ? "partial1.pivot" : "albedo");
+        const float bright = mirrorView ? 0.66f : 1.1f, dark = mirrorView ? 0.3f : 0.5f;
         double classSum[6] = {};
         int count[2] = {};
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 // Albedo: diffuse texture + glossy 0.3, red 1.2 or 0.4; mixed pixels left out.
                 float a = albedo.At(0, y, x);
-                int k = a > 1.1f ? 0 : (a < 0.5f ? 1 : -1);
+                int k = a > bright ? 0 : (a < dark ? 1 : -1);
                 if (k < 0) continue;
                 ++count[k];
                 for (int c = 0; c < 3; ++c)
@@ -279,6 +293,26 @@ TEST(RenderTracing, BiasCheckCatchesAFilterWithoutReweighting) {
     std::vector<double> z = CheckerBias(flat, 12);
     EXPECT_GT(z[3], 4.0);   // dark squares brighter
     EXPECT_LT(z[0], -4.0);  // bright squares darker
+}
+
+// Section 8: partial 1 (the checker seen in a mirror that is also a diffuse surface, so
+// that the prefix's lobe odds count) filtered on its own records, partial 0 too: unbiased.
+TEST(RenderTracing, UnbiasedSeenInAMirror) {
+    for (double z : CheckerBias(nullptr, 64, true)) EXPECT_LT(std::fabs(z), 4.0);
+}
+
+// And the check sees a partial-1 filter that re-weights with a flat BSDF.
+TEST(RenderTracing, MirrorBiasCheckCatchesAFilterWithoutReweighting) {
+    auto flat = [](const TracingRecords &records, const TracingParams &params, int y0,
+                   int rows) {
+        TracingRecords copy = records;
+        for (TracingSurface &s : copy.surfaces)
+            for (int c = 0; c < 3; ++c) s.diffuse[c] = 0.24f, s.glossy[c] = 0.18f;
+        return ref::TracingFilter(copy, params, y0, rows);
+    };
+    std::vector<double> z = CheckerBias(flat, 12, true);
+    EXPECT_GT(z[3], 4.0);  // dark squares brighter (red and green; measured z 26 and 23)
+    EXPECT_GT(z[4], 4.0);
 }
 
 // Error against a converged render keeps falling as the samples grow (cornell: the other
