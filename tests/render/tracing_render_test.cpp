@@ -25,11 +25,13 @@ const Image &Layer(const render::RenderResult &r, const std::string &name) {
     throw Error("no layer " + name);
 }
 
-RenderOptions Traced(int w, int h, int spp, uint64_t seed, int radius, unsigned layers = 0) {
+RenderOptions Traced(int w, int h, int spp, uint64_t seed, int radius, unsigned layers = 0,
+                     int partials = 1) {
     RenderOptions o;
     o.width = w, o.height = h, o.spp = spp, o.seed = seed, o.layers = layers;
     o.tracing.enabled = true;
     o.tracing.params.radius = radius;
+    o.tracing.partials = partials;
     return o;
 }
 
@@ -124,68 +126,88 @@ TEST(RenderTracing, EachSampleIsRestPlusOwn) {
 }
 
 // Radius 0 leaves every pixel to its own samples: the frame is the plain one bit for bit,
-// and so is color.unfiltered with any radius.
+// and so is color.unfiltered with any radius; with partial 1 filtered too (glossy-cornell's
+// mirror) and without.
 TEST(RenderTracing, RadiusZeroIsThePlainFrame) {
-    render::Scene scene = render::BuildScene("relief-abc");
-    const unsigned layers = render::kLayersAll | render::kLayersPartials;
-    RenderOptions plainOptions = Traced(21, 17, 3, 4, 0, layers);
-    plainOptions.tracing.enabled = false;
-    render::RenderResult plain = render::Render(scene, plainOptions);
-    render::RenderResult zero = render::Render(scene, Traced(21, 17, 3, 4, 0, layers));
-    render::RenderResult four = render::Render(scene, Traced(21, 17, 3, 4, 4, layers));
-    for (const auto &[name, image] : plain.layers) {
-        EXPECT_TRUE(BitIdentical(image, Layer(zero, name))) << name;
-        if (name != "color" && name != "indirect" && name != "partial0.color") {
-            EXPECT_TRUE(BitIdentical(image, Layer(four, name))) << name;
+    for (auto [sceneName, partials] : {std::pair{"relief-abc", 1}, {"glossy-cornell", 2}}) {
+        render::Scene scene = render::BuildScene(sceneName);
+        const unsigned layers = render::kLayersAll | render::kLayersPartials;
+        RenderOptions plainOptions = Traced(21, 17, 3, 4, 0, layers);
+        plainOptions.tracing.enabled = false;
+        render::RenderResult plain = render::Render(scene, plainOptions);
+        render::RenderResult zero =
+            render::Render(scene, Traced(21, 17, 3, 4, 0, layers, partials));
+        render::RenderResult four =
+            render::Render(scene, Traced(21, 17, 3, 4, 4, layers, partials));
+        for (const auto &[name, image] : plain.layers) {
+            EXPECT_TRUE(BitIdentical(image, Layer(zero, name))) << sceneName << " " << name;
+            bool filtered = name == "color" || name == "indirect" || name == "partial0.color" ||
+                            (partials > 1 && name == "partial1.color");
+            if (!filtered) {
+                EXPECT_TRUE(BitIdentical(image, Layer(four, name))) << sceneName << " " << name;
+            }
+        }
+        EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(zero, "color.unfiltered")));
+        EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(four, "color.unfiltered")));
+        EXPECT_FALSE(BitIdentical(Layer(plain, "color"), Layer(four, "color")));
+        if (partials > 1) {
+            EXPECT_FALSE(
+                BitIdentical(Layer(plain, "partial1.color"), Layer(four, "partial1.color")));
         }
     }
-    EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(zero, "color.unfiltered")));
-    EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(four, "color.unfiltered")));
-    EXPECT_FALSE(BitIdentical(Layer(plain, "color"), Layer(four, "color")));
 }
 
 // The filtered part is partial 0's and indirect light: the partials and direct + indirect
 // still sum to color.
 TEST(RenderTracing, SplitsStillSumToColor) {
     render::Scene scene = render::BuildScene("glossy-cornell");
-    render::RenderResult r = render::Render(
-        scene, Traced(19, 15, 4, 2, 3, render::kLayersSplit | render::kLayersPartials));
-    const Image &color = Layer(r, "color"), &direct = Layer(r, "direct"),
-                &indirect = Layer(r, "indirect"), &p0 = Layer(r, "partial0.color"),
-                &p1 = Layer(r, "partial1.color"), &rem = Layer(r, "remainder");
-    for (size_t i = 0; i < color.Size(); ++i) {
-        float v = color.data[i];
-        EXPECT_NEAR(direct.data[i] + indirect.data[i], v, 1e-5f * (1 + std::fabs(v)));
-        EXPECT_NEAR(p0.data[i] + p1.data[i] + rem.data[i], v, 1e-5f * (1 + std::fabs(v)));
+    for (int partials : {1, 2}) {
+        render::RenderResult r = render::Render(
+            scene,
+            Traced(19, 15, 4, 2, 3, render::kLayersSplit | render::kLayersPartials, partials));
+        const Image &color = Layer(r, "color"), &direct = Layer(r, "direct"),
+                    &indirect = Layer(r, "indirect"), &p0 = Layer(r, "partial0.color"),
+                    &p1 = Layer(r, "partial1.color"), &rem = Layer(r, "remainder");
+        for (size_t i = 0; i < color.Size(); ++i) {
+            float v = color.data[i];
+            EXPECT_NEAR(direct.data[i] + indirect.data[i], v, 1e-5f * (1 + std::fabs(v)));
+            EXPECT_NEAR(p0.data[i] + p1.data[i] + rem.data[i], v, 1e-5f * (1 + std::fabs(v)));
+        }
     }
 }
 
 // Bands of 1, 4 and all rows (odd sizes, radius larger than a band) give the same frame
-// bit for bit, and a small budget makes more bands.
+// bit for bit, and a small budget makes more bands; with partial 1's records too (their
+// window slides with partial 0's and counts in the budget).
 TEST(RenderTracing, BandsDoNotChangeTheFrame) {
-    render::Scene scene = render::BuildScene("double-textured");
-    RenderOptions o = Traced(23, 13, 3, 9, 5, render::kLayersPartials);
-    o.tracing.bandRows = 13;
-    render::RenderResult whole = render::Render(scene, o);
-    EXPECT_EQ(whole.tracing.bands, 1);
-    for (int band : {1, 4}) {
-        o.tracing.bandRows = band;
-        render::RenderResult banded = render::Render(scene, o);
-        EXPECT_EQ(banded.tracing.bands, (13 + band - 1) / band);
-        ASSERT_EQ(banded.layers.size(), whole.layers.size());
-        for (size_t i = 0; i < whole.layers.size(); ++i)
-            EXPECT_TRUE(BitIdentical(whole.layers[i].second, banded.layers[i].second))
-                << whole.layers[i].first << " in bands of " << band;
-        // The window holds a band and the radius above and below it, no more.
-        size_t rowBytes = 23 * (sizeof(TracingSurface) + 3 * sizeof(TracingSample));
-        EXPECT_LE(banded.tracing.peakRecordBytes, rowBytes * size_t(std::min(13, band + 10)));
+    for (auto [sceneName, partials] :
+         {std::pair{"double-textured", 1}, {"glossy-cornell", 2}}) {
+        render::Scene scene = render::BuildScene(sceneName);
+        RenderOptions o = Traced(23, 13, 3, 9, 5, render::kLayersPartials, partials);
+        o.tracing.bandRows = 13;
+        render::RenderResult whole = render::Render(scene, o);
+        EXPECT_EQ(whole.tracing.bands, 1);
+        const size_t rowBytes =
+            partials * 23 * (sizeof(TracingSurface) + 3 * sizeof(TracingSample));
+        for (int band : {1, 4}) {
+            o.tracing.bandRows = band;
+            render::RenderResult banded = render::Render(scene, o);
+            EXPECT_EQ(banded.tracing.bands, (13 + band - 1) / band);
+            ASSERT_EQ(banded.layers.size(), whole.layers.size());
+            for (size_t i = 0; i < whole.layers.size(); ++i)
+                EXPECT_TRUE(BitIdentical(whole.layers[i].second, banded.layers[i].second))
+                    << sceneName << " " << whole.layers[i].first << " in bands of " << band;
+            // The window holds a band and the radius above and below it, no more.
+            EXPECT_LE(banded.tracing.peakRecordBytes,
+                      rowBytes * size_t(std::min(13, band + 10)));
+        }
+        o.tracing.bandRows = 0;
+        o.tracing.memoryBudget = rowBytes * 13;
+        render::RenderResult budget = render::Render(scene, o);
+        EXPECT_EQ(budget.tracing.bandRows, 3);
+        EXPECT_LE(budget.tracing.peakRecordBytes, o.tracing.memoryBudget);
+        EXPECT_TRUE(BitIdentical(Layer(whole, "color"), Layer(budget, "color"))) << sceneName;
     }
-    o.tracing.bandRows = 0;
-    o.tracing.memoryBudget = 23 * (sizeof(TracingSurface) + 3 * sizeof(TracingSample)) * 13;
-    render::RenderResult budget = render::Render(scene, o);
-    EXPECT_EQ(budget.tracing.bandRows, 3);
-    EXPECT_LE(budget.tracing.peakRecordBytes, o.tracing.memoryBudget);
-    EXPECT_TRUE(BitIdentical(Layer(whole, "color"), Layer(budget, "color")));
 }
 
 // A checkered plane that emits, under a mirror ceiling, both far wider than the view: the
@@ -349,6 +371,10 @@ TEST(RenderTracing, BadParametersAreRefused) {
     o = Traced(8, 8, 1, 1, 4);
     o.tracing.maxWindowRows = 8;  // fewer than 1 + 2 * 4
     EXPECT_THROW(render::Render(scene, o), Error);
+    for (int partials : {0, render::kPartialTypes + 1}) {
+        o = Traced(8, 8, 1, 1, 2, 0, partials);
+        EXPECT_THROW(render::Render(scene, o), Error) << partials;
+    }
 }
 
 // The renderer with the GPU gather: the reference's frame to the kernel's round-off, the
@@ -373,6 +399,27 @@ TEST_F(RenderTracingGpu, MatchesTheReferenceInBands) {
     EXPECT_TRUE(BitIdentical(Layer(gpu, "color"), Layer(banded, "color")));
     EXPECT_TRUE(BitIdentical(Layer(gpu, "partial0.color"), Layer(banded, "partial0.color")));
     EXPECT_TRUE(BitIdentical(Layer(gpu, "color"), Layer(render::Render(scene, o), "color")));
+}
+
+// The same with partial 1 filtered too (glossy-cornell's mirror), each partial's gather on
+// the GPU.
+TEST_F(RenderTracingGpu, PartialsMatchTheReferenceInBands) {
+    render::Scene scene = render::BuildScene("glossy-cornell");
+    RenderOptions o = Traced(23, 17, 3, 6, 3, render::kLayersPartials, 2);
+    render::RenderResult cpu = render::Render(scene, o);
+    TracingGather gather(Ctx());
+    o.tracing.gather = [&](const TracingRecords &r, const TracingParams &p, int y0, int rows) {
+        return gather.Run(r, p, y0, rows);
+    };
+    render::RenderResult gpu = render::Render(scene, o);
+    o.tracing.bandRows = 4;
+    render::RenderResult banded = render::Render(scene, o);
+    for (const char *name : {"color", "partial0.color", "partial1.color"}) {
+        const Image &a = Layer(cpu, name), &b = Layer(gpu, name);
+        for (size_t i = 0; i < a.Size(); ++i)
+            EXPECT_NEAR(b.data[i], a.data[i], 1e-4f * (1 + std::fabs(a.data[i]))) << name << i;
+        EXPECT_TRUE(BitIdentical(b, Layer(banded, name))) << name;
+    }
 }
 
 }  // namespace
