@@ -96,17 +96,19 @@ Vec3 DirectLight(const Scene &scene, const Material &m, const Hit &hit, const Ve
     return sum;
 }
 
-// Section 8's A_k for k = 1..partials-1: follow the camera ray's mirror chain (the mirror
-// direction at each vertex, as a path that picks the mirror lobes takes it) and give
-// partial k the surface of its k-th vertex where that is smooth, its lobe weights times the
-// chain's mirror weights (the expectation of a sample's prefix throughput: lobe odds
-// wm / total times factor mirror * total / wm).
-void MirrorChainSurfaces(const Scene &scene, const Ray &cameraRay, TracingPath *tracing) {
+// Section 8's A_k for k = 1..partials-1: follow the camera ray's mirror chain from its
+// first hit (the mirror direction at each vertex, as a path that picks the mirror lobes
+// takes it) and give partial k the surface of its k-th vertex where that is smooth, its
+// lobe weights times the chain's mirror weights (the expectation of a sample's prefix
+// throughput: lobe odds wm / total times factor mirror * total / wm).
+void MirrorChainSurfaces(const Scene &scene, const Ray &cameraRay, const Hit &firstHit,
+                         TracingPath *tracing) {
     Ray ray = cameraRay;
     Vec3 weight(1);
+    Hit hit = firstHit;
     for (int k = 0; k < tracing->partials; ++k) {
-        Hit hit;
-        if (!scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit)) return;
+        if (k > 0 && !scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit))
+            return;
         const Material &m = scene.materials[hit.material];
         Vec3 diffuse = scene.Diffuse(m, hit), glossy = scene.Glossy(m, hit);
         if (k > 0 && diffuse.MaxComponent() + glossy.MaxComponent() > 0) {
@@ -136,7 +138,6 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, Tracing
         partials = std::clamp(tracing->partials, 1, kPartialTypes);
         *tracing = TracingPath();
         tracing->partials = partials;
-        if (partials > 1) MirrorChainSurfaces(scene, cameraRay, tracing);
     }
     // After u was drawn at A_k: light is partial k's filtered part, and `fromA` carries it
     // back to A_k (the throughput since A_k, Russian roulette included).
@@ -195,6 +196,8 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, Tracing
         TracingPartial *atA = tracing && smoothVertices == 0 && depth < partials && wd + wg > 0
                                   ? &tracing->partial[depth]
                                   : nullptr;
+        if (tracing && depth == 0 && partials > 1 && !m.mirror.IsBlack())
+            MirrorChainSurfaces(scene, ray, hit, tracing);
         if (atA && depth == 0) {
             atA->hasSurface = true;
             atA->position = hit.position;

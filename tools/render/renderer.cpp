@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -550,6 +551,12 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
         auto gathered = Clock::now();
         // Section 8: each partial image filtered on its own, with the same gather.
         for (int k = 0; k < partials; ++k) {
+            // No surface in the band's rows (no mirror seen there): the gather would hand
+            // every pixel its own mean, a change of 0.
+            auto first = windows[k].surfaces.begin() + size_t(y0 - windows[k].y0) * w;
+            if (k > 0 && std::none_of(first, first + size_t(rows) * w,
+                                      [](const TracingSurface &s) { return s.valid > 0; }))
+                continue;
             std::vector<float> filtered =
                 t.gather ? t.gather(windows[k], t.params, y0, rows)
                          : ReferenceGather(windows[k], t.params, y0, rows, threads);
