@@ -3,7 +3,9 @@
 // 0), the light that reaches A along the sampled second segment u may be re-used by the
 // neighbouring pixels, re-weighted for their surfaces (eqs. 14-17). Everything else (light
 // before A, next-event estimation at A, the mirror lobe at A, paths with a mirror prefix)
-// stays the pixel's own.
+// stays the pixel's own. Section 8: partial k (A reached after k mirror bounces) takes the
+// same records of its own, filtered on their own: its surface's lobe weights carry the
+// mirror chain's weights, a sample's pdf the odds of its mirror prefix, `radiance` no prefix.
 #pragma once
 
 #include <vector>

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 # Equal-time table of the tracing filter (issue #18): for each scene, N and seed it renders
 #   - plain MC at N spp,
-#   - the tracing filter at N spp for each variant "radius floor" (time: render + gather),
+#   - the tracing filter at N spp for each variant "radius floor [partials]" (time: render +
+#     gather; partials: --tf-partials, left to mcdenoise's default when not given),
 #   - plain MC at the spp the filter's time buys (N x filter's time / plain's time at N),
 #   - the pivot filter on a plain N-spp frame (render --layers pivot, denoise --method pivot;
 #     time: render + denoise),
@@ -10,7 +11,7 @@
 # and, on relief-abc, its letters (the mask of scripts/pivot_letters.py, scaled to the size).
 # Times are the figures mcdenoise prints (not process wall time); they vary with load.
 # Usage: /usr/bin/python3 scripts/tracing_measure.py [-h] [--mcdenoise PATH] [--size WxH]
-#   [--scenes A,B] [--spp 4,16] [--seeds 1,2] [--variant "RADIUS FLOOR"]... [--reference-spp S]
+#   [--scenes A,B] [--spp 4,16] [--seeds 1,2] [--variant "RADIUS FLOOR [PARTIALS]"]... [--reference-spp S]
 #   [--repeat R] [--out DIR]
 # Needs numpy and python3-openimageio (Debian). Not part of CI.
 import argparse
@@ -161,8 +162,9 @@ def main():
     parser.add_argument("--spp", default="4,16", help="N: spp of plain MC and the filter")
     parser.add_argument("--seeds", default="1", help="seeds to average, comma-separated")
     parser.add_argument("--variant", action="append",
-                        help='tracing filter "RADIUS SELF_FLOOR" (repeat; default "3 0.5" '
-                        'and "3 0.9")')
+                        help='tracing filter "RADIUS SELF_FLOOR [PARTIALS]" (repeat; '
+                        'PARTIALS: --tf-partials, mcdenoise\'s default when left out; default '
+                        '"3 0.5" and "3 0.9")')
     parser.add_argument("--reference-spp", type=int, default=2048,
                         help="spp of the cached references (render --reference)")
     parser.add_argument("--repeat", type=int, default=1,
@@ -181,12 +183,14 @@ def main():
     variants = []
     for v in opt.variant or ["3 0.5", "3 0.9"]:
         parts = v.split()
-        if len(parts) != 2:
-            sys.exit(f'--variant "{v}": expected "RADIUS SELF_FLOOR"')
+        if len(parts) not in (2, 3):
+            sys.exit(f'--variant "{v}": expected "RADIUS SELF_FLOOR [PARTIALS]"')
         try:
-            variants.append((int(parts[0]), float(parts[1])))
+            variants.append((int(parts[0]), float(parts[1]),
+                             int(parts[2]) if len(parts) == 3 else None))
         except ValueError:
-            sys.exit(f'--variant "{v}": expected an integer radius and a number floor')
+            sys.exit(f'--variant "{v}": expected an integer radius, a number floor and an '
+                     'integer partials')
     if opt.repeat < 1:
         sys.exit(f"--repeat {opt.repeat}: expected at least 1")
     os.makedirs(opt.out, exist_ok=True)
@@ -216,22 +220,24 @@ def main():
                 _, plainSeconds = Timed(base + ["--spp", str(n), "-o", path], opt.repeat,
                                         RenderSeconds)
                 Get("plain").Add(plainSeconds, ref.Measure(binary, path))
-                for radius, floor in variants:
-                    path = Frame(f"{tag}-tf-r{radius}-f{floor}")
+                for radius, floor, partials in variants:
+                    name = f"r{radius}-f{floor}" + (f"-p{partials}" if partials else "")
+                    path = Frame(f"{tag}-tf-{name}")
+                    extra = ["--tf-partials", str(partials)] if partials else []
                     out, seconds = Timed(base + ["--spp", str(n), "--tracing-filter",
                                                  "--tf-radius", str(radius), "--tf-self-floor",
-                                                 str(floor), "-o", path],
+                                                 str(floor)] + extra + ["-o", path],
                                          opt.repeat, RenderSeconds)
                     # The gather's share of render + gather, as mcdenoise prints it.
                     share = Find(r"gather [0-9.]+ s \(([0-9.]+)%\)", out, "gather share")
-                    Get(("tf", radius, floor)).Add(seconds, ref.Measure(binary, path),
-                                                   share=share / 100)
+                    Get(("tf", radius, floor, partials)).Add(seconds, ref.Measure(binary, path),
+                                                             share=share / 100)
                     # Plain MC at the spp the filter's time buys (time linear in spp).
                     m = max(n, round(n * seconds / plainSeconds))
-                    path = Frame(f"{tag}-plain-equal-r{radius}-f{floor}")
+                    path = Frame(f"{tag}-plain-equal-{name}")
                     out = Run(base + ["--spp", str(m), "-o", path])
-                    Get(("equal", radius, floor)).Add(RenderSeconds(out),
-                                                      ref.Measure(binary, path), spp=m)
+                    Get(("equal", radius, floor, partials)).Add(RenderSeconds(out),
+                                                                ref.Measure(binary, path), spp=m)
                 # The pivot filter on a plain N-spp frame with the pivot layer.
                 path = Frame(f"{tag}-pivot-in")
                 _, seconds = Timed(base + ["--spp", str(n), "--layers", "pivot", "-o", path],
@@ -245,8 +251,9 @@ def main():
 
     # The relMSE table: each tracing filter cell gives its ratio to plain MC at equal time.
     head = ["scene", "N", "plain N"]
-    for radius, floor in variants:
-        head += [f"tf r{radius} floor {floor}", "plain at its time"]
+    for radius, floor, partials in variants:
+        head += [f"tf r{radius} floor {floor}" + (f" partials {partials}" if partials else ""),
+                 "plain at its time"]
     head += ["pivot"]
     print(f"relMSE against the {opt.reference_spp}-spp references, {opt.size}, "
           f"seeds {opt.seeds} (mean); time of render (+ gather, + denoise)"
@@ -256,8 +263,9 @@ def main():
     for scene, n, cells in rows:
         c = cells["plain"]
         line = [scene, str(n), f"{Figure(c.relMse)} ({Seconds(c.seconds)})"]
-        for radius, floor in variants:
-            t, e = cells[("tf", radius, floor)], cells[("equal", radius, floor)]
+        for radius, floor, partials in variants:
+            t = cells[("tf", radius, floor, partials)]
+            e = cells[("equal", radius, floor, partials)]
             # The ratio of the means over the seeds; with several, the per-seed range too.
             ratio = f"{t.relMse / e.relMse:.2f} of plain's"
             if len(seeds) > 1:
@@ -276,8 +284,8 @@ def main():
     print("|" + "---|" * len(head))
     for scene, n, cells in rows:
         keys = ["plain"]
-        for radius, floor in variants:
-            keys += [("tf", radius, floor), ("equal", radius, floor)]
+        for radius, floor, partials in variants:
+            keys += [("tf", radius, floor, partials), ("equal", radius, floor, partials)]
         keys.append("pivot")
         line = [scene, str(n)]
         for key in keys:

@@ -25,11 +25,13 @@ const Image &Layer(const render::RenderResult &r, const std::string &name) {
     throw Error("no layer " + name);
 }
 
-RenderOptions Traced(int w, int h, int spp, uint64_t seed, int radius, unsigned layers = 0) {
+RenderOptions Traced(int w, int h, int spp, uint64_t seed, int radius, unsigned layers = 0,
+                     int partials = 1) {
     RenderOptions o;
     o.width = w, o.height = h, o.spp = spp, o.seed = seed, o.layers = layers;
     o.tracing.enabled = true;
     o.tracing.params.radius = radius;
+    o.tracing.partials = partials;
     return o;
 }
 
@@ -42,117 +44,170 @@ double RelMse(const Image &x, const Image &r) {
     return sum / x.Size();
 }
 
-// color == rest + own sample by sample, and own is the picked lobe's weight f cos / p
-// times the radiance the record carries; a sample without a record owns nothing.
+// color == rest + the partials' own, sample by sample, and own is the picked lobe's weight
+// f cos / p times the radiance the record carries (times the mirror prefix's throughput
+// for partial 1); a sample without a record owns nothing; partial 1's pdf carries the
+// prefix's lobe odds.
 TEST(RenderTracing, EachSampleIsRestPlusOwn) {
-    int records = 0, absorbed = 0;
-    for (const char *name : {"relief-abc", "double-textured", "glossy-cornell", "cornell"}) {
-        render::Scene scene = render::BuildScene(name);
-        render::SampleSource source(scene, 16, 16, 5);
-        for (int i = 0; i < 2000; ++i) {
-            render::TracingPath t;
-            render::PathSample p = source.Trace((i % 37) * 0.43, (i % 41) * 0.39, i, &t);
-            for (int c = 0; c < 3; ++c)
-                ASSERT_NEAR(p.color[c], t.rest[c] + t.own[c], 1e-12 * (1 + p.color[c]))
-                    << name << " sample " << i;
-            if (!t.record) {
-                EXPECT_TRUE(t.own.IsBlack()) << name << " sample " << i;
-                continue;
-            }
-            ++records;
-            ASSERT_TRUE(t.hasSurface);
-            EXPECT_GT(t.pdf, 0) << name << " sample " << i;
-            EXPECT_NEAR(Length(t.direction), 1, 1e-12);
-            if (t.radiance.IsBlack()) ++absorbed;
-            // own = w * radiance for the diffuse or the glossy lobe's weight
-            // w = weight * total / (its max channel), total counting the mirror's weight
-            // too: one of the two matches. The material is found again from the camera.
-            render::Hit hit;
-            Vec3 eye = scene.camera.eye;
-            ASSERT_TRUE(
-                scene.Intersect({eye, render::Normalize(t.position - eye)}, 1e30, &hit));
-            double total = t.diffuse.MaxComponent() + t.glossy.MaxComponent() +
-                           scene.materials[hit.material].mirror.MaxComponent();
-            bool matched = false;
-            for (const Vec3 &lobe : {t.diffuse, t.glossy}) {
-                if (lobe.MaxComponent() <= 0) continue;
-                bool all = true;
-                for (int c = 0; c < 3; ++c) {
-                    double expected = t.radiance[c] * lobe[c] * total / lobe.MaxComponent();
-                    all = all && std::fabs(t.own[c] - expected) <= 1e-9 * (1 + expected);
+    int records[2] = {}, absorbed = 0;
+    for (int partials : {1, 2})
+        for (const char *name :
+             {"relief-abc", "double-textured", "glossy-cornell", "cornell"}) {
+            render::Scene scene = render::BuildScene(name);
+            render::SampleSource source(scene, 16, 16, 5);
+            for (int i = 0; i < 2000; ++i) {
+                render::TracingPath t;
+                t.partials = partials;
+                render::PathSample p = source.Trace((i % 37) * 0.43, (i % 41) * 0.39, i, &t);
+                ASSERT_EQ(t.partials, partials);
+                Vec3 own = t.partial[0].own + t.partial[1].own;
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_NEAR(p.color[c], t.rest[c] + own[c], 1e-12 * (1 + p.color[c]))
+                        << name << " sample " << i;
+                if (partials == 1) {
+                    EXPECT_FALSE(t.partial[1].hasSurface || t.partial[1].record);
+                    EXPECT_TRUE(t.partial[1].own.IsBlack());
                 }
-                matched = matched || all;
+                EXPECT_FALSE(t.partial[0].record && t.partial[1].record);
+                for (int k = 0; k < partials; ++k) {
+                    const render::TracingPartial &a = t.partial[k];
+                    if (!a.record) {
+                        EXPECT_TRUE(a.own.IsBlack()) << name << " sample " << i;
+                        continue;
+                    }
+                    ++records[k];
+                    ASSERT_TRUE(a.hasSurface);
+                    EXPECT_GT(a.pdf, 0) << name << " sample " << i;
+                    EXPECT_NEAR(Length(a.direction), 1, 1e-12);
+                    if (a.radiance.IsBlack()) ++absorbed;
+                    // Partial 1: the mirror vertex H before A_1 (back along wo), its weight
+                    // and its lobe odds; then A_k's own lobes, found again along -wo.
+                    render::Hit hit;
+                    Vec3 weight(1);
+                    double odds = 1;
+                    if (k == 1) {
+                        ASSERT_TRUE(
+                            scene.Intersect({a.position + a.wo * 1e-5, a.wo}, 1e30, &hit));
+                        const render::Material &h = scene.materials[hit.material];
+                        weight = h.mirror;
+                        odds = h.mirror.MaxComponent() /
+                               (scene.Diffuse(h, hit).MaxComponent() +
+                                scene.Glossy(h, hit).MaxComponent() + h.mirror.MaxComponent());
+                    }
+                    ASSERT_TRUE(scene.Intersect({a.position + a.wo * 1e-3, -a.wo}, 1e30, &hit));
+                    const render::Material &m = scene.materials[hit.material];
+                    Vec3 d = scene.Diffuse(m, hit), g = scene.Glossy(m, hit);
+                    double total =
+                        d.MaxComponent() + g.MaxComponent() + m.mirror.MaxComponent();
+                    for (int c = 0; c < 3; ++c)
+                        EXPECT_NEAR(a.diffuse[c], weight[c] * d[c], 1e-9) << name << " " << i;
+                    // own = radiance x lobe x total / its max channel x the prefix's throughput
+                    // (weight / odds): the diffuse or the glossy lobe matches.
+                    bool matched = false;
+                    for (const Vec3 &lobe : {d, g}) {
+                        if (lobe.MaxComponent() <= 0) continue;
+                        bool all = true;
+                        for (int c = 0; c < 3; ++c) {
+                            double expected = a.radiance[c] * lobe[c] * total /
+                                              lobe.MaxComponent() * weight[c] / odds;
+                            all =
+                                all && std::fabs(a.own[c] - expected) <= 1e-9 * (1 + expected);
+                        }
+                        matched = matched || all;
+                    }
+                    EXPECT_TRUE(matched) << name << " partial " << k << " sample " << i;
+                }
             }
-            EXPECT_TRUE(matched) << name << " sample " << i;
         }
-    }
-    std::fprintf(stderr, "[mcd] %d records, %d with no light back\n", records, absorbed);
-    EXPECT_GT(records, 1000);
+    std::fprintf(stderr, "[mcd] %d partial-0 records, %d partial-1, %d with no light back\n",
+                 records[0], records[1], absorbed);
+    EXPECT_GT(records[0], 2000);
+    EXPECT_GT(records[1], 50);
 }
 
 // Radius 0 leaves every pixel to its own samples: the frame is the plain one bit for bit,
-// and so is color.unfiltered with any radius.
+// and so is color.unfiltered with any radius; with partial 1 filtered too (glossy-cornell's
+// mirror) and without.
 TEST(RenderTracing, RadiusZeroIsThePlainFrame) {
-    render::Scene scene = render::BuildScene("relief-abc");
-    const unsigned layers = render::kLayersAll | render::kLayersPartials;
-    RenderOptions plainOptions = Traced(21, 17, 3, 4, 0, layers);
-    plainOptions.tracing.enabled = false;
-    render::RenderResult plain = render::Render(scene, plainOptions);
-    render::RenderResult zero = render::Render(scene, Traced(21, 17, 3, 4, 0, layers));
-    render::RenderResult four = render::Render(scene, Traced(21, 17, 3, 4, 4, layers));
-    for (const auto &[name, image] : plain.layers) {
-        EXPECT_TRUE(BitIdentical(image, Layer(zero, name))) << name;
-        if (name != "color" && name != "indirect" && name != "partial0.color") {
-            EXPECT_TRUE(BitIdentical(image, Layer(four, name))) << name;
+    for (auto [sceneName, partials] : {std::pair{"relief-abc", 1}, {"glossy-cornell", 2}}) {
+        render::Scene scene = render::BuildScene(sceneName);
+        const unsigned layers = render::kLayersAll | render::kLayersPartials;
+        RenderOptions plainOptions = Traced(21, 17, 3, 4, 0, layers);
+        plainOptions.tracing.enabled = false;
+        render::RenderResult plain = render::Render(scene, plainOptions);
+        render::RenderResult zero =
+            render::Render(scene, Traced(21, 17, 3, 4, 0, layers, partials));
+        render::RenderResult four =
+            render::Render(scene, Traced(21, 17, 3, 4, 4, layers, partials));
+        for (const auto &[name, image] : plain.layers) {
+            EXPECT_TRUE(BitIdentical(image, Layer(zero, name))) << sceneName << " " << name;
+            bool filtered = name == "color" || name == "indirect" || name == "partial0.color" ||
+                            (partials > 1 && name == "partial1.color");
+            if (!filtered) {
+                EXPECT_TRUE(BitIdentical(image, Layer(four, name))) << sceneName << " " << name;
+            }
+        }
+        EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(zero, "color.unfiltered")));
+        EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(four, "color.unfiltered")));
+        EXPECT_FALSE(BitIdentical(Layer(plain, "color"), Layer(four, "color")));
+        if (partials > 1) {
+            EXPECT_FALSE(
+                BitIdentical(Layer(plain, "partial1.color"), Layer(four, "partial1.color")));
         }
     }
-    EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(zero, "color.unfiltered")));
-    EXPECT_TRUE(BitIdentical(Layer(plain, "color"), Layer(four, "color.unfiltered")));
-    EXPECT_FALSE(BitIdentical(Layer(plain, "color"), Layer(four, "color")));
 }
 
 // The filtered part is partial 0's and indirect light: the partials and direct + indirect
 // still sum to color.
 TEST(RenderTracing, SplitsStillSumToColor) {
     render::Scene scene = render::BuildScene("glossy-cornell");
-    render::RenderResult r = render::Render(
-        scene, Traced(19, 15, 4, 2, 3, render::kLayersSplit | render::kLayersPartials));
-    const Image &color = Layer(r, "color"), &direct = Layer(r, "direct"),
-                &indirect = Layer(r, "indirect"), &p0 = Layer(r, "partial0.color"),
-                &p1 = Layer(r, "partial1.color"), &rem = Layer(r, "remainder");
-    for (size_t i = 0; i < color.Size(); ++i) {
-        float v = color.data[i];
-        EXPECT_NEAR(direct.data[i] + indirect.data[i], v, 1e-5f * (1 + std::fabs(v)));
-        EXPECT_NEAR(p0.data[i] + p1.data[i] + rem.data[i], v, 1e-5f * (1 + std::fabs(v)));
+    for (int partials : {1, 2}) {
+        render::RenderResult r = render::Render(
+            scene,
+            Traced(19, 15, 4, 2, 3, render::kLayersSplit | render::kLayersPartials, partials));
+        const Image &color = Layer(r, "color"), &direct = Layer(r, "direct"),
+                    &indirect = Layer(r, "indirect"), &p0 = Layer(r, "partial0.color"),
+                    &p1 = Layer(r, "partial1.color"), &rem = Layer(r, "remainder");
+        for (size_t i = 0; i < color.Size(); ++i) {
+            float v = color.data[i];
+            EXPECT_NEAR(direct.data[i] + indirect.data[i], v, 1e-5f * (1 + std::fabs(v)));
+            EXPECT_NEAR(p0.data[i] + p1.data[i] + rem.data[i], v, 1e-5f * (1 + std::fabs(v)));
+        }
     }
 }
 
 // Bands of 1, 4 and all rows (odd sizes, radius larger than a band) give the same frame
-// bit for bit, and a small budget makes more bands.
+// bit for bit, and a small budget makes more bands; with partial 1's records too (their
+// window slides with partial 0's and counts in the budget).
 TEST(RenderTracing, BandsDoNotChangeTheFrame) {
-    render::Scene scene = render::BuildScene("double-textured");
-    RenderOptions o = Traced(23, 13, 3, 9, 5, render::kLayersPartials);
-    o.tracing.bandRows = 13;
-    render::RenderResult whole = render::Render(scene, o);
-    EXPECT_EQ(whole.tracing.bands, 1);
-    for (int band : {1, 4}) {
-        o.tracing.bandRows = band;
-        render::RenderResult banded = render::Render(scene, o);
-        EXPECT_EQ(banded.tracing.bands, (13 + band - 1) / band);
-        ASSERT_EQ(banded.layers.size(), whole.layers.size());
-        for (size_t i = 0; i < whole.layers.size(); ++i)
-            EXPECT_TRUE(BitIdentical(whole.layers[i].second, banded.layers[i].second))
-                << whole.layers[i].first << " in bands of " << band;
-        // The window holds a band and the radius above and below it, no more.
-        size_t rowBytes = 23 * (sizeof(TracingSurface) + 3 * sizeof(TracingSample));
-        EXPECT_LE(banded.tracing.peakRecordBytes, rowBytes * size_t(std::min(13, band + 10)));
+    for (auto [sceneName, partials] :
+         {std::pair{"double-textured", 1}, {"glossy-cornell", 2}}) {
+        render::Scene scene = render::BuildScene(sceneName);
+        RenderOptions o = Traced(23, 13, 3, 9, 5, render::kLayersPartials, partials);
+        o.tracing.bandRows = 13;
+        render::RenderResult whole = render::Render(scene, o);
+        EXPECT_EQ(whole.tracing.bands, 1);
+        const size_t rowBytes =
+            partials * 23 * (sizeof(TracingSurface) + 3 * sizeof(TracingSample));
+        for (int band : {1, 4}) {
+            o.tracing.bandRows = band;
+            render::RenderResult banded = render::Render(scene, o);
+            EXPECT_EQ(banded.tracing.bands, (13 + band - 1) / band);
+            ASSERT_EQ(banded.layers.size(), whole.layers.size());
+            for (size_t i = 0; i < whole.layers.size(); ++i)
+                EXPECT_TRUE(BitIdentical(whole.layers[i].second, banded.layers[i].second))
+                    << sceneName << " " << whole.layers[i].first << " in bands of " << band;
+            // The window holds a band and the radius above and below it, no more.
+            EXPECT_LE(banded.tracing.peakRecordBytes,
+                      rowBytes * size_t(std::min(13, band + 10)));
+        }
+        o.tracing.bandRows = 0;
+        o.tracing.memoryBudget = rowBytes * 13;
+        render::RenderResult budget = render::Render(scene, o);
+        EXPECT_EQ(budget.tracing.bandRows, 3);
+        EXPECT_LE(budget.tracing.peakRecordBytes, o.tracing.memoryBudget);
+        EXPECT_TRUE(BitIdentical(Layer(whole, "color"), Layer(budget, "color"))) << sceneName;
     }
-    o.tracing.bandRows = 0;
-    o.tracing.memoryBudget = 23 * (sizeof(TracingSurface) + 3 * sizeof(TracingSample)) * 13;
-    render::RenderResult budget = render::Render(scene, o);
-    EXPECT_EQ(budget.tracing.bandRows, 3);
-    EXPECT_LE(budget.tracing.peakRecordBytes, o.tracing.memoryBudget);
-    EXPECT_TRUE(BitIdentical(Layer(whole, "color"), Layer(budget, "color")));
 }
 
 // A checkered plane that emits, under a mirror ceiling, both far wider than the view: the
@@ -160,10 +215,14 @@ TEST(RenderTracing, BandsDoNotChangeTheFrame) {
 // follows) does not vary over the view, the case of eq. 16's derivation, and has no heavy
 // tail (no area light sampled over 1600 m^2). The filter re-weights it for each pixel's
 // checker colour and lobes.
-render::Scene UniformlyLit() {
+// `mirrorView`: the ceiling is lower, partly diffuse (0.2, mirror 0.6: the mirror lobe's
+// odds 3/4), and the camera looks up at it, so the checker is seen in the mirror (partial
+// 1) and the ceiling's diffuse light is partial 0.
+render::Scene UniformlyLit(bool mirrorView = false) {
     render::Scene scene;
     scene.name = "uniformly-lit";
     scene.camera = {{0, 0.6, -0.2}, {0, 0, 0}, {0, 1, 0}, 40};
+    if (mirrorView) scene.camera = {{0, 0.3, -0.1}, {0, 0.5, 0}, {0, 1, 0}, 40};
     render::Texture checker{render::Texture::Kind::Checker, Vec3(0.9, 0.7, 0.5),
                             Vec3(0.1, 0.2, 0.3), 400};
     scene.textures.push_back(checker);
@@ -172,12 +231,16 @@ render::Scene UniformlyLit() {
     floor.glossy = Vec3(0.3);
     floor.glossyKappa = 20;
     floor.emission = Vec3(1);
-    render::Material ceiling{Vec3(0)};
+    render::Material ceiling{Vec3(mirrorView ? 0.2 : 0)};
     ceiling.mirror = Vec3(0.6);
     scene.materials = {floor, ceiling};
+    double height = mirrorView ? 0.5 : 1;
     scene.quads.push_back({{-20, 0, -20}, {0, 0, 40}, {40, 0, 0}, 0, 1});  // faces up
-    scene.quads.push_back({{-20, 1, -20}, {40, 0, 0}, {0, 0, 40}, 1, 2});
-    scene.lightQuads = {0};
+    scene.quads.push_back({{-20, height, -20}, {40, 0, 0}, {0, 0, 40}, 1, 2});
+    // Seen in the mirror, the floor is not sampled as a light: the ceiling's diffuse part
+    // would take heavy-tailed next-event samples of 1600 m^2. Emission then counts where a
+    // path sees it after the camera or a mirror only: the same estimator in every pixel.
+    if (!mirrorView) scene.lightQuads = {0};
     return scene;
 }
 
@@ -185,24 +248,30 @@ render::Scene UniformlyLit() {
 // inside dark squares (per channel); over seeds, those means against their standard
 // errors. (Per-pixel z scores are no test here: each pixel's difference is skewed, so its
 // mean and its standard error are correlated.) `gather` replaces the reference's.
-std::vector<double> CheckerBias(render::TracingGatherFn gather, int seeds) {
-    render::Scene scene = UniformlyLit();
+// `mirrorView`: the checker seen in the mirror, partials 0 and 1 filtered, the squares
+// told apart by partial 1's pivot (the chain's 0.6 times the albedo).
+std::vector<double> CheckerBias(render::TracingGatherFn gather, int seeds,
+                                bool mirrorView = false) {
+    render::Scene scene = UniformlyLit(mirrorView);
     const int w = 16, h = 12;
     std::vector<double> sum(6), sumSq(6);
     for (int seed = 1; seed <= seeds; ++seed) {
-        RenderOptions o = Traced(w, h, 4, seed, 4, render::kLayersGbuffer);
+        RenderOptions o = Traced(w, h, 4, seed, 4,
+                                 mirrorView ? render::kLayersPartials : render::kLayersGbuffer);
         o.tracing.params.alpha = 0.01f, o.tracing.params.beta = 0;
         o.tracing.gather = gather;
+        if (mirrorView) o.tracing.partials = 2;
         render::RenderResult r = render::Render(scene, o);
         const Image &f = Layer(r, "color"), &u = Layer(r, "color.unfiltered"),
-                    &albedo = Layer(r, "albedo");
+                    &albedo = Layer(r, mirrorView ? "partial1.pivot" : "albedo");
+        const float bright = mirrorView ? 0.66f : 1.1f, dark = mirrorView ? 0.3f : 0.5f;
         double classSum[6] = {};
         int count[2] = {};
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 // Albedo: diffuse texture + glossy 0.3, red 1.2 or 0.4; mixed pixels left out.
                 float a = albedo.At(0, y, x);
-                int k = a > 1.1f ? 0 : (a < 0.5f ? 1 : -1);
+                int k = a > bright ? 0 : (a < dark ? 1 : -1);
                 if (k < 0) continue;
                 ++count[k];
                 for (int c = 0; c < 3; ++c)
@@ -248,6 +317,26 @@ TEST(RenderTracing, BiasCheckCatchesAFilterWithoutReweighting) {
     EXPECT_LT(z[0], -4.0);  // bright squares darker
 }
 
+// Section 8: partial 1 (the checker seen in a mirror that is also a diffuse surface, so
+// that the prefix's lobe odds count) filtered on its own records, partial 0 too: unbiased.
+TEST(RenderTracing, UnbiasedSeenInAMirror) {
+    for (double z : CheckerBias(nullptr, 64, true)) EXPECT_LT(std::fabs(z), 4.0);
+}
+
+// And the check sees a partial-1 filter that re-weights with a flat BSDF.
+TEST(RenderTracing, MirrorBiasCheckCatchesAFilterWithoutReweighting) {
+    auto flat = [](const TracingRecords &records, const TracingParams &params, int y0,
+                   int rows) {
+        TracingRecords copy = records;
+        for (TracingSurface &s : copy.surfaces)
+            for (int c = 0; c < 3; ++c) s.diffuse[c] = 0.24f, s.glossy[c] = 0.18f;
+        return ref::TracingFilter(copy, params, y0, rows);
+    };
+    std::vector<double> z = CheckerBias(flat, 12, true);
+    EXPECT_GT(z[3], 4.0);  // dark squares brighter (red and green; measured z 26 and 23)
+    EXPECT_GT(z[4], 4.0);
+}
+
 // Error against a converged render keeps falling as the samples grow (cornell: the other
 // scenes' relMSE at this size is ruled by a few fireflies): 4x the samples, relMSE at
 // least 2x lower (plain MC: 4x; the filter's bias is small against its noise here), and
@@ -282,6 +371,10 @@ TEST(RenderTracing, BadParametersAreRefused) {
     o = Traced(8, 8, 1, 1, 4);
     o.tracing.maxWindowRows = 8;  // fewer than 1 + 2 * 4
     EXPECT_THROW(render::Render(scene, o), Error);
+    for (int partials : {0, render::kPartialTypes + 1}) {
+        o = Traced(8, 8, 1, 1, 2, 0, partials);
+        EXPECT_THROW(render::Render(scene, o), Error) << partials;
+    }
 }
 
 // The renderer with the GPU gather: the reference's frame to the kernel's round-off, the
@@ -306,6 +399,27 @@ TEST_F(RenderTracingGpu, MatchesTheReferenceInBands) {
     EXPECT_TRUE(BitIdentical(Layer(gpu, "color"), Layer(banded, "color")));
     EXPECT_TRUE(BitIdentical(Layer(gpu, "partial0.color"), Layer(banded, "partial0.color")));
     EXPECT_TRUE(BitIdentical(Layer(gpu, "color"), Layer(render::Render(scene, o), "color")));
+}
+
+// The same with partial 1 filtered too (glossy-cornell's mirror), each partial's gather on
+// the GPU.
+TEST_F(RenderTracingGpu, PartialsMatchTheReferenceInBands) {
+    render::Scene scene = render::BuildScene("glossy-cornell");
+    RenderOptions o = Traced(23, 17, 3, 6, 3, render::kLayersPartials, 2);
+    render::RenderResult cpu = render::Render(scene, o);
+    TracingGather gather(Ctx());
+    o.tracing.gather = [&](const TracingRecords &r, const TracingParams &p, int y0, int rows) {
+        return gather.Run(r, p, y0, rows);
+    };
+    render::RenderResult gpu = render::Render(scene, o);
+    o.tracing.bandRows = 4;
+    render::RenderResult banded = render::Render(scene, o);
+    for (const char *name : {"color", "partial0.color", "partial1.color"}) {
+        const Image &a = Layer(cpu, name), &b = Layer(gpu, name);
+        for (size_t i = 0; i < a.Size(); ++i)
+            EXPECT_NEAR(b.data[i], a.data[i], 1e-4f * (1 + std::fabs(a.data[i]))) << name << i;
+        EXPECT_TRUE(BitIdentical(b, Layer(banded, name))) << name;
+    }
 }
 
 }  // namespace

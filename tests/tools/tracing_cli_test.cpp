@@ -48,7 +48,33 @@ TEST(CliTracingFilter, BadUseIsRefused) {
     r = dir.Run("render --size 8x8 --tracing-filter --tf-radius -2 -o r.exr");
     EXPECT_NE(r.code, 0);
     EXPECT_NE(r.All().find("--tf-radius"), std::string::npos) << r.All();
+    r = dir.Run("render --size 8x8 --tracing-filter --tf-partials 3 -o r.exr");
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.All().find("--tf-partials"), std::string::npos) << r.All();
     EXPECT_FALSE(std::filesystem::exists(dir.Path("r.exr")));
+}
+
+// --tf-partials: 1 leaves the light seen in a mirror (partial 1) as rendered, the default
+// (2) filters it too; partial 0 and the unfiltered colour are the same either way.
+TEST(CliTracingFilter, PartialsOption) {
+    ToolDir dir("mcd-tf-cli");
+    const std::string render =
+        "render --scene glossy-cornell --size 16x12 --spp 2 --layers partials --tracing-filter";
+    ASSERT_EQ(dir.Run(render + " --tf-partials 1 -o one.exr").code, 0);
+    ToolResult two = dir.Run(render + " -o two.exr");
+    ASSERT_EQ(two.code, 0) << two.All();
+    ASSERT_EQ(dir.Run("render --scene glossy-cornell --size 16x12 --spp 2 --layers partials "
+                      "-o plain.exr")
+                  .code,
+              0);
+    io::Frame a = io::ReadFrame(dir.Path("one.exr").string()),
+              b = io::ReadFrame(dir.Path("two.exr").string()),
+              p = io::ReadFrame(dir.Path("plain.exr").string());
+    EXPECT_EQ(a.Get("partial1.color").data, p.Get("partial1.color").data);
+    EXPECT_NE(b.Get("partial1.color").data, p.Get("partial1.color").data);
+    EXPECT_EQ(a.Get("partial0.color").data, b.Get("partial0.color").data);
+    EXPECT_EQ(a.Get("color.unfiltered").data, b.Get("color.unfiltered").data);
+    EXPECT_NE(b.metadata.at("mcd:tracingFilter").find("partials 2"), std::string::npos);
 }
 
 }  // namespace

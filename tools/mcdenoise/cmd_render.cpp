@@ -78,6 +78,7 @@ void AddRenderCommand(CLI::App &app) {
         bool tracingFilter = false, tfCpu = false;
         TracingParams tf;
         double tfMemoryMb = double(render::TracingFilterOptions().memoryBudget) / (1 << 20);
+        int tfPartials = render::TracingFilterOptions().partials;
         DeviceOptions device;
     };
     auto opt = std::make_shared<Options>();
@@ -162,6 +163,12 @@ void AddRenderCommand(CLI::App &app) {
                     "sample); the band height follows")
         ->capture_default_str()
         ->check(CLI::Range(1.0, 1e7));
+    cmd->add_option("--tf-partials", opt->tfPartials,
+                    "tracing filter: how many partial images are filtered, each on its own "
+                    "(Ershov section 8; 1: the first hit only, 2: also the light seen after "
+                    "one mirror bounce); each takes its own records")
+        ->capture_default_str()
+        ->check(CLI::Range(1, render::kPartialTypes));
     cmd->add_flag("--tf-cpu", opt->tfCpu,
                   "tracing filter: gather with the CPU reference instead of the GPU kernel");
     opt->device.Add(cmd);
@@ -224,6 +231,7 @@ void AddRenderCommand(CLI::App &app) {
             options.tracing.enabled = true;
             options.tracing.params = opt->tf;
             options.tracing.memoryBudget = size_t(opt->tfMemoryMb * (1 << 20));
+            options.tracing.partials = opt->tfPartials;
         }
         std::unique_ptr<vk::Context> context;
         std::unique_ptr<TracingGather> gather;

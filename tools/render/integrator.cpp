@@ -96,15 +96,54 @@ Vec3 DirectLight(const Scene &scene, const Material &m, const Hit &hit, const Ve
     return sum;
 }
 
+// Section 8's A_k for k = 1..partials-1: follow the camera ray's mirror chain from its
+// first hit (the mirror direction at each vertex, as a path that picks the mirror lobes
+// takes it) and give partial k the surface of its k-th vertex where that is smooth, its
+// lobe weights times the chain's mirror weights (the expectation of a sample's prefix
+// throughput: lobe odds wm / total times factor mirror * total / wm).
+void MirrorChainSurfaces(const Scene &scene, const Ray &cameraRay, const Hit &firstHit,
+                         TracingPath *tracing) {
+    Ray ray = cameraRay;
+    Vec3 weight(1);
+    Hit hit = firstHit;
+    for (int k = 0; k < tracing->partials; ++k) {
+        if (k > 0 && !scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit))
+            return;
+        const Material &m = scene.materials[hit.material];
+        Vec3 diffuse = scene.Diffuse(m, hit), glossy = scene.Glossy(m, hit);
+        if (k > 0 && diffuse.MaxComponent() + glossy.MaxComponent() > 0) {
+            TracingPartial &a = tracing->partial[k];
+            a.hasSurface = true;
+            a.position = hit.position;
+            a.normal = hit.normal;
+            a.wo = -ray.direction;
+            a.diffuse = weight * diffuse;
+            a.glossy = weight * glossy;
+            a.kappa = m.glossyKappa;
+        }
+        if (m.mirror.MaxComponent() <= 0) return;
+        Vec3 wi = Reflect(ray.direction, hit.normal);
+        if (Dot(wi, hit.geometricNormal) <= 0) return;  // the path is absorbed there too
+        weight *= m.mirror;
+        ray = {Offset(hit, wi), wi};
+    }
+}
+
 }  // namespace
 
 PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, TracingPath *tracing) {
     PathSample out;
-    if (tracing) *tracing = TracingPath();
-    // After u was drawn at a partial-0 A: light is the filter's, and `fromA` carries it
-    // back to A (the throughput since A, Russian roulette included).
-    bool afterA = false;
+    int partials = 0;
+    if (tracing) {
+        partials = std::clamp(tracing->partials, 1, kPartialTypes);
+        *tracing = TracingPath();
+        tracing->partials = partials;
+    }
+    // After u was drawn at A_k: light is partial k's filtered part, and `fromA` carries it
+    // back to A_k (the throughput since A_k, Russian roulette included).
+    TracingPartial *afterA = nullptr;
     Vec3 fromA(1);
+    double prefixOdds = 1;  // probability of the mirror lobes picked before A_k
     Ray ray = cameraRay;
     Vec3 throughput(1);
     int smoothVertices = 0;     // diffuse or glossy vertices so far
@@ -116,13 +155,13 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, Tracing
         out.partial[std::min(mirrorPrefix, kPartialTypes)] += light;
         if (!tracing) return;
         if (afterA)
-            tracing->own += light;
+            afterA->own += light;
         else
             tracing->rest += light;
     };
     // The same light carried back to A only: the radiance arriving there along u.
     auto addFromA = [&](const Vec3 &light) {
-        if (tracing && afterA) tracing->radiance += fromA * light;
+        if (afterA) afterA->radiance += fromA * light;
     };
     for (int depth = 0; depth < kMaxDepth; ++depth) {
         Hit hit;
@@ -153,16 +192,20 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, Tracing
             addLight(throughput * direct);
             addFromA(direct);
         }
-        // A: the first hit, diffuse or glossy (a partial-0 path).
-        bool atA = tracing && depth == 0 && wd + wg > 0;
-        if (atA) {
-            tracing->hasSurface = true;
-            tracing->position = hit.position;
-            tracing->normal = hit.normal;
-            tracing->wo = wo;
-            tracing->diffuse = diffuse;
-            tracing->glossy = glossy;
-            tracing->kappa = m.glossyKappa;
+        // A_k: the first diffuse or glossy vertex, after k < partials mirror bounces.
+        TracingPartial *atA = tracing && smoothVertices == 0 && depth < partials && wd + wg > 0
+                                  ? &tracing->partial[depth]
+                                  : nullptr;
+        if (tracing && depth == 0 && partials > 1 && !m.mirror.IsBlack())
+            MirrorChainSurfaces(scene, ray, hit, tracing);
+        if (atA && depth == 0) {
+            atA->hasSurface = true;
+            atA->position = hit.position;
+            atA->normal = hit.normal;
+            atA->wo = wo;
+            atA->diffuse = diffuse;
+            atA->glossy = glossy;
+            atA->kappa = m.glossyKappa;
         }
         // Pick one lobe in proportion to its weight and continue the path through it.
         double pick = Uniform(rng) * total, u1 = Uniform(rng), u2 = Uniform(rng);
@@ -179,26 +222,28 @@ PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, Tracing
             factor = m.mirror * (total / wm);
         }
         if (atA && smooth) {
-            // The density of u among all of A's samples: each lobe's, times its odds.
-            tracing->record = true;
-            tracing->direction = wi;
+            // The density of u among all of A's samples: each lobe's, times its odds, times
+            // the odds of the mirror prefix.
+            atA->record = true;
+            atA->direction = wi;
             double cosI = Dot(wi, hit.normal);
-            tracing->pdf = (wd / total) * std::max(cosI, 0.0) / kPi;
+            double pdf = (wd / total) * std::max(cosI, 0.0) / kPi;
             if (wg > 0)
-                tracing->pdf += (wg / total) *
-                                VmfPdf(wi, Reflect(ray.direction, hit.normal), m.glossyKappa);
+                pdf += (wg / total) *
+                       VmfPdf(wi, Reflect(ray.direction, hit.normal), m.glossyKappa);
+            atA->pdf = prefixOdds * pdf;
         }
         // The glossy lobe's mass below the surface is lost.
         if (pick >= wd && smooth && Dot(wi, hit.normal) <= 0) break;
         throughput *= factor;
         if (afterA) fromA *= factor;
-        if (atA && smooth) afterA = true;
+        if (atA && smooth) afterA = atA;
         if (smooth) {
             ++smoothVertices;
             afterSpecular = false;
         } else {
             afterSpecular = true;
-            if (smoothVertices == 0) ++mirrorPrefix;
+            if (smoothVertices == 0) ++mirrorPrefix, prefixOdds *= wm / total;
         }
         // A bent shading normal can send a direction under the surface: absorb it.
         if (Dot(wi, hit.geometricNormal) <= 0) break;

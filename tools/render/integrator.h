@@ -42,21 +42,36 @@ struct PathSample {
     int objectId = 0, partId = 0;
 };
 
-// Ershov section 5: what one camera sample hands the tracing filter (host/tracing.h). Set
-// for partial-0 paths (the first hit A is diffuse or glossy, no mirror before it); `record`
-// when the lobe picked at A was diffuse or glossy (then `pdf` > 0 unless u fell where no
-// smooth lobe samples). color == rest + own, sample by sample: `own` is everything added
-// after the direction u was drawn at A (`radiance` times A's lobe weight), `rest` the rest
-// (light before A, next-event estimation at A, the mirror lobe at A, other paths).
-struct TracingPath {
-    bool hasSurface = false;    // A exists: the first hit is diffuse or glossy
-    Vec3 position, normal, wo;  // of A: shading normal, direction towards the camera
-    Vec3 diffuse, glossy;       // A's textured lobe weights
+// Ershov section 5: what one camera sample hands the tracing filter (host/tracing.h) for
+// one partial image k (section 8): A_k is the smooth vertex the camera path reaches after
+// exactly k mirror bounces. `hasSurface` and the surface fields come from the camera ray's
+// deterministic mirror chain (the same for every sample of that ray, whatever lobes it
+// picked): A_k's textured lobe weights times the chain's mirror weights, the expectation of
+// the prefix throughput, so the pixel's mean of them is the BSDF its partial-k light has.
+// `record` when this sample took the k mirror lobes and then a diffuse or glossy lobe at A_k
+// (then `pdf` > 0 unless u fell where no smooth lobe samples): `pdf` is u's density among
+// all the pixel's samples (the prefix's lobe odds times A_k's mixture density), `radiance`
+// the light arriving at A_k along u (no prefix), `own` everything the sample added after u
+// was drawn (prefix throughput included).
+struct TracingPartial {
+    bool hasSurface = false;    // A_k exists: k mirrors, then a diffuse or glossy surface
+    Vec3 position, normal, wo;  // of A_k: shading normal, direction towards the camera
+    Vec3 diffuse, glossy;       // A_k's textured lobe weights times the mirror chain's
     double kappa = 0;
-    bool record = false;  // u was drawn from A's diffuse or glossy lobe
+    bool record = false;  // the sample drew u from A_k's diffuse or glossy lobe
     Vec3 direction;       // u
-    double pdf = 0;       // mixture density of u among all of A's lobes
-    Vec3 radiance, own, rest;
+    double pdf = 0;       // density of u among all the pixel's samples
+    Vec3 radiance, own;
+};
+
+// color == rest + sum of partial[k].own, sample by sample: `rest` is the light before A_k
+// (emission, next-event estimation at A_k), the mirror lobe at the last filtered A_k, and
+// the paths of the partials not filtered. `partials` (1..kPartialTypes, set by the caller;
+// TracePath keeps it) is how many partial images get records: 1, partial 0 only.
+struct TracingPath {
+    int partials = 1;
+    TracingPartial partial[kPartialTypes];
+    Vec3 rest;
 };
 
 // `tracing`, when given, is filled for the tracing filter.

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -91,6 +92,9 @@ void CheckRenderOptions(const RenderOptions &o) {
                     fmt::format("tracing filter {} {} must be finite and >= 0", name, v));
         if (p.selfFloor > 1)
             throw Error(fmt::format("tracing filter self floor {} is above 1", p.selfFloor));
+        if (o.tracing.partials < 1 || o.tracing.partials > kPartialTypes)
+            throw Error(fmt::format("tracing filter partials {} is not in 1..{}",
+                                    o.tracing.partials, kPartialTypes));
     }
 }
 
@@ -198,13 +202,14 @@ void RenderPivot(const Scene &scene, int x, int y, int w, int h, Image &pivot) {
 // pixel's own filtered light comes from, jitter included, without the noise of one
 // sample), and lobe weights summed over those samples and divided by all of them, so that
 // a pixel partly covered by the sky gets that share of the BSDF, as its own samples do.
-TracingSurface MakeSurface(const TracingPath *paths, int spp) {
+// Partial k's surface is the same from its A_k (lobe weights times the mirror chain's).
+TracingSurface MakeSurface(const TracingPath *paths, int spp, int k) {
     TracingSurface surface{};
     Vec3 position(0), normal(0), wo(0), diffuse(0), glossy(0);
     double kappa = 0;
     int count = 0;
     for (int s = 0; s < spp; ++s) {
-        const TracingPath &p = paths[s];
+        const TracingPartial &p = paths[s].partial[k];
         if (!p.hasSurface) continue;
         position += p.position, normal += p.normal, wo += p.wo;
         diffuse += p.diffuse, glossy += p.glossy, kappa += p.kappa;
@@ -225,19 +230,27 @@ TracingSurface MakeSurface(const TracingPath *paths, int spp) {
     return surface;
 }
 
+// Where a pixel's tracing-filter records go: per filtered partial k, its surface and spp
+// samples; `paths`, spp of scratch.
+struct PixelRecords {
+    int partials = 0;
+    TracingSurface *surface[kPartialTypes] = {};
+    TracingSample *samples[kPartialTypes] = {};
+    TracingPath *paths = nullptr;
+};
+
 // Trace the pixel's samples into `sums` (the pivot layer, when there is one, is written),
-// and with `surface` the tracing filter's records of the pixel (`samples`: spp of them,
-// `paths` spp of scratch).
+// and with `records` the tracing filter's records of the pixel.
 void SamplePixel(const SampleSource &source, const RenderOptions &o, const FrameLayers &layers,
-                 int x, int y, PixelSums &sums, TracingSurface *surface = nullptr,
-                 TracingSample *samples = nullptr, TracingPath *paths = nullptr) {
+                 int x, int y, PixelSums &sums, const PixelRecords *records = nullptr) {
     const int bins = o.histBins;
     uint64_t pixel = uint64_t(y) * o.width + x;
     for (int s = 0; s < o.spp; ++s) {
         // Box reconstruction filter: uniform positions inside the pixel.
         Rng jitter(Mix(o.seed ^ Mix(~(pixel << 24 | uint64_t(s)))), pixel);
         double px = x + Uniform(jitter), py = y + Uniform(jitter);
-        TracingPath *path = surface ? &paths[s] : nullptr;
+        TracingPath *path = records ? &records->paths[s] : nullptr;
+        if (path) path->partials = records->partials;
         PathSample p = source.Trace(px, py, pixel << 24 | uint64_t(s), path);
         double c3[3] = {p.color.x, p.color.y, p.color.z};
         bool finite = std::isfinite(c3[0]) && std::isfinite(c3[1]) && std::isfinite(c3[2]);
@@ -247,17 +260,18 @@ void SamplePixel(const SampleSource &source, const RenderOptions &o, const Frame
             for (Vec3 &part : p.partial) part = Vec3(0);
             c3[0] = c3[1] = c3[2] = 0;
         }
-        if (surface) {
+        for (int k = 0; records && k < records->partials; ++k) {
             // A sample counted as 0 hands the filter nothing either.
-            TracingSample &record = samples[s];
+            TracingSample &record = records->samples[k][s];
             record = TracingSample{};
-            if (finite && path->record) {
+            const TracingPartial &a = path->partial[k];
+            if (finite && a.record) {
                 for (int c = 0; c < 3; ++c) {
-                    record.direction[c] = float(path->direction[c]);
-                    record.radiance[c] = float(path->radiance[c]);
-                    record.own[c] = float(path->own[c]);
+                    record.direction[c] = float(a.direction[c]);
+                    record.radiance[c] = float(a.radiance[c]);
+                    record.own[c] = float(a.own[c]);
                 }
-                record.pdf = float(path->pdf);
+                record.pdf = float(a.pdf);
             }
         }
         for (int c = 0; c < 3; ++c) {
@@ -288,7 +302,8 @@ void SamplePixel(const SampleSource &source, const RenderOptions &o, const Frame
             AddToHistogram(z3, bins, sums.zbucket.data());
         }
     }
-    if (surface) *surface = MakeSurface(paths, o.spp);
+    for (int k = 0; records && k < records->partials; ++k)
+        *records->surface[k] = MakeSurface(records->paths, o.spp, k);
 }
 
 // The pixel's means, variances of the mean, ranges, G-buffer and histograms.
@@ -365,11 +380,10 @@ void WritePartials(const Scene &scene, const PixelSums &sums, const RenderOption
 // Every layer's value at pixel (x, y); returns its non-finite paths.
 uint64_t RenderPixel(const Scene &scene, const SampleSource &source, const RenderOptions &o,
                      int x, int y, PixelSums &sums, FrameLayers &layers,
-                     TracingSurface *surface = nullptr, TracingSample *samples = nullptr,
-                     TracingPath *paths = nullptr) {
+                     const PixelRecords *records = nullptr) {
     sums.Reset();
     if (!layers.pivot.Empty()) RenderPivot(scene, x, y, o.width, o.height, layers.pivot);
-    SamplePixel(source, o, layers, x, y, sums, surface, samples, paths);
+    SamplePixel(source, o, layers, x, y, sums, records);
     WritePixel(sums, o, x, y, layers);
     if (!layers.partialColors.empty()) WritePartials(scene, sums, o, x, y, layers);
     return sums.nonFinite;
@@ -402,11 +416,12 @@ float OwnMean(const TracingSurface &surface, const TracingSample *samples, int s
     return float(sum / spp);
 }
 
-// Rows [y0, y0 + rows) of the frame take the filtered part in place of their own mean:
-// color (from its unfiltered copy), and the layers that split color (partial0, indirect:
-// the light after A is indirect and partial 0), so that their sums still equal color.
+// Rows [y0, y0 + rows) of the frame take partial k's filtered part in place of its own
+// mean: color (which starts as its unfiltered copy), and the layers that split color
+// (partial k, indirect: the light after A_k is indirect), so that their sums still equal
+// color.
 void ApplyFiltered(const TracingRecords &window, const std::vector<float> &filtered, int y0,
-                   int rows, FrameLayers &layers) {
+                   int rows, int k, FrameLayers &layers) {
     const int w = window.width, spp = window.spp;
     for (int y = y0; y < y0 + rows; ++y)
         for (int x = 0; x < w; ++x) {
@@ -418,9 +433,9 @@ void ApplyFiltered(const TracingRecords &window, const std::vector<float> &filte
                 auto shift = [&](Image &image) {
                     if (!image.Empty()) image.At(c, y, x) = float(image.At(c, y, x) + delta);
                 };
-                layers.color.At(c, y, x) = float(layers.unfiltered.At(c, y, x) + delta);
+                shift(layers.color);
                 shift(layers.indirect);
-                if (!layers.partialColors.empty()) shift(layers.partialColors[0]);
+                if (!layers.partialColors.empty()) shift(layers.partialColors[k]);
             }
         }
 }
@@ -448,8 +463,10 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
     const int w = o.width, h = o.height, spp = o.spp;
     const TracingFilterOptions &t = o.tracing;
     const int radius = std::max(0, t.params.radius);
-    const size_t rowBytes =
-        size_t(w) * (sizeof(TracingSurface) + size_t(spp) * sizeof(TracingSample));
+    const int partials = std::clamp(t.partials, 1, kPartialTypes);
+    // A row's records for every filtered partial image.
+    const size_t rowBytes = size_t(partials) * size_t(w) *
+                            (sizeof(TracingSurface) + size_t(spp) * sizeof(TracingSample));
     TracingStats &stats = result.tracing;
     int band = t.bandRows;
     if (band <= 0) {
@@ -468,12 +485,21 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
     band = std::min(band, h);
     stats.bandRows = band;
     const int windowRows = std::min(h, band + 2 * radius);
-    TracingRecords window;
-    window.width = w, window.spp = spp, window.y0 = 0, window.rows = 0;
-    window.surfaces.reserve(size_t(windowRows) * w);
-    window.samples.reserve(size_t(windowRows) * w * spp);
-    stats.peakRecordBytes = window.surfaces.capacity() * sizeof(TracingSurface) +
-                            window.samples.capacity() * sizeof(TracingSample);
+    // One window of records per filtered partial image, all over the same rows.
+    std::vector<TracingRecords> windows(partials);
+    auto recordBytes = [&] {
+        size_t bytes = 0;
+        for (const TracingRecords &window : windows)
+            bytes += window.surfaces.capacity() * sizeof(TracingSurface) +
+                     window.samples.capacity() * sizeof(TracingSample);
+        return bytes;
+    };
+    for (TracingRecords &window : windows) {
+        window.width = w, window.spp = spp, window.y0 = 0, window.rows = 0;
+        window.surfaces.reserve(size_t(windowRows) * w);
+        window.samples.reserve(size_t(windowRows) * w * spp);
+    }
+    stats.peakRecordBytes = recordBytes();
 
     SampleSource source(scene, w, h, o.seed);
     std::atomic<int> rowsDone{0};
@@ -483,16 +509,18 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
         const int rows = std::min(band, h - y0);
         const int keepFrom = std::max(0, y0 - radius), need = std::min(h, y0 + rows + radius);
         // Slide: drop the rows no later band reads, trace the new ones.
-        if (int drop = keepFrom - window.y0; drop > 0) {
-            window.surfaces.erase(window.surfaces.begin(),
-                                  window.surfaces.begin() + size_t(drop) * w);
-            window.samples.erase(window.samples.begin(),
-                                 window.samples.begin() + size_t(drop) * w * spp);
-            window.y0 = keepFrom;
+        for (TracingRecords &window : windows) {
+            if (int drop = keepFrom - window.y0; drop > 0) {
+                window.surfaces.erase(window.surfaces.begin(),
+                                      window.surfaces.begin() + size_t(drop) * w);
+                window.samples.erase(window.samples.begin(),
+                                     window.samples.begin() + size_t(drop) * w * spp);
+                window.y0 = keepFrom;
+            }
+            window.rows = need - window.y0;
+            window.surfaces.resize(size_t(window.rows) * w);
+            window.samples.resize(size_t(window.rows) * w * spp);
         }
-        window.rows = need - window.y0;
-        window.surfaces.resize(size_t(window.rows) * w);
-        window.samples.resize(size_t(window.rows) * w * spp);
         auto start = Clock::now();
         std::atomic<int> nextRow{traced};
         RunOnThreads(std::clamp(threads, 1, std::max(1, need - traced)), [&] {
@@ -500,10 +528,15 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
             std::vector<TracingPath> paths(spp);
             for (int y = nextRow++; y < need; y = nextRow++) {
                 for (int x = 0; x < w; ++x) {
-                    size_t pixel = size_t(y - window.y0) * w + x;
-                    nonFinite += RenderPixel(scene, source, o, x, y, sums, layers,
-                                             &window.surfaces[pixel],
-                                             &window.samples[pixel * spp], paths.data());
+                    PixelRecords records;
+                    records.partials = partials;
+                    records.paths = paths.data();
+                    for (int k = 0; k < partials; ++k) {
+                        size_t pixel = size_t(y - windows[k].y0) * w + x;
+                        records.surface[k] = &windows[k].surfaces[pixel];
+                        records.samples[k] = &windows[k].samples[pixel * spp];
+                    }
+                    nonFinite += RenderPixel(scene, source, o, x, y, sums, layers, &records);
                     for (int c = 0; c < 3; ++c)
                         layers.unfiltered.At(c, y, x) = layers.color.At(c, y, x);
                 }
@@ -516,20 +549,27 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
         });
         traced = need;
         auto gathered = Clock::now();
-        std::vector<float> filtered =
-            t.gather ? t.gather(window, t.params, y0, rows)
-                     : ReferenceGather(window, t.params, y0, rows, threads);
-        if (filtered.size() != size_t(w) * rows * 3)
-            throw Error(fmt::format("tracing gather returned {} values for {} rows of {}",
-                                    filtered.size(), rows, w));
-        ApplyFiltered(window, filtered, y0, rows, layers);
+        // Section 8: each partial image filtered on its own, with the same gather.
+        for (int k = 0; k < partials; ++k) {
+            // No surface in the band's rows (no mirror seen there): the gather would hand
+            // every pixel its own mean, a change of 0.
+            auto first = windows[k].surfaces.begin() + size_t(y0 - windows[k].y0) * w;
+            if (k > 0 && std::none_of(first, first + size_t(rows) * w,
+                                      [](const TracingSurface &s) { return s.valid > 0; }))
+                continue;
+            std::vector<float> filtered =
+                t.gather ? t.gather(windows[k], t.params, y0, rows)
+                         : ReferenceGather(windows[k], t.params, y0, rows, threads);
+            if (filtered.size() != size_t(w) * rows * 3)
+                throw Error(fmt::format("tracing gather returned {} values for {} rows of {}",
+                                        filtered.size(), rows, w));
+            ApplyFiltered(windows[k], filtered, y0, rows, k, layers);
+        }
         auto end = Clock::now();
         stats.renderSeconds += std::chrono::duration<double>(gathered - start).count();
         stats.gatherSeconds += std::chrono::duration<double>(end - gathered).count();
         ++stats.bands;
-        stats.peakRecordBytes = std::max(stats.peakRecordBytes,
-                                         window.surfaces.capacity() * sizeof(TracingSurface) +
-                                             window.samples.capacity() * sizeof(TracingSample));
+        stats.peakRecordBytes = std::max(stats.peakRecordBytes, recordBytes());
     }
 }
 
@@ -569,8 +609,8 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
         result.metadata = RenderMetadata(scene, o, result);
         const TracingParams &p = o.tracing.params;
         result.metadata["mcd:tracingFilter"] =
-            fmt::format("radius {} alpha {} beta {} gamma {} selfFloor {}", p.radius, p.alpha,
-                        p.beta, p.gamma, p.selfFloor);
+            fmt::format("radius {} alpha {} beta {} gamma {} selfFloor {} partials {}",
+                        p.radius, p.alpha, p.beta, p.gamma, p.selfFloor, o.tracing.partials);
         result.metadata["mcd:tracingSeconds"] =
             fmt::format("render {:.3f} gather {:.3f}", result.tracing.renderSeconds,
                         result.tracing.gatherSeconds);
