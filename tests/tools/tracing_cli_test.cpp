@@ -16,7 +16,7 @@ TEST(CliTracingFilter, WritesFilteredAndUnfilteredColor) {
         "render --scene relief-abc --size 20x14 --spp 2 --layers split,partials";
     ToolResult gpu = dir.Run(render + " --tracing-filter --tf-radius 2 -o gpu.exr");
     ASSERT_EQ(gpu.code, 0) << gpu.All();
-    EXPECT_NE(gpu.out.find("tracing filter (GPU gather)"), std::string::npos) << gpu.out;
+    EXPECT_NE(gpu.out.find("tracing filter (GPU gather,"), std::string::npos) << gpu.out;
     EXPECT_NE(gpu.out.find("records peak"), std::string::npos) << gpu.out;
     ToolResult cpu = dir.Run(render + " --tracing-filter --tf-radius 2 --tf-cpu -o cpu.exr");
     ASSERT_EQ(cpu.code, 0) << cpu.All();
@@ -74,7 +74,17 @@ TEST(CliTracingFilter, PartialsOption) {
     EXPECT_NE(b.Get("partial1.color").data, p.Get("partial1.color").data);
     EXPECT_EQ(a.Get("partial0.color").data, b.Get("partial0.color").data);
     EXPECT_EQ(a.Get("color.unfiltered").data, b.Get("color.unfiltered").data);
-    EXPECT_NE(b.metadata.at("mcd:tracingFilter").find("partials 2"), std::string::npos);
+    EXPECT_NE(b.metadata.at("mcd:tracingFilter").find("partials 2 of 2"), std::string::npos);
+    // A scene without a mirror filters partial 0 only: no records, no gather for the rest.
+    ToolResult relief =
+        dir.Run("render --scene relief-abc --size 16x12 --spp 2 --tracing-filter -o r.exr");
+    ASSERT_EQ(relief.code, 0) << relief.All();
+    EXPECT_NE(relief.out.find("1 partial image(s), the scene has no mirror"), std::string::npos)
+        << relief.out;
+    EXPECT_NE(io::ReadFrame(dir.Path("r.exr").string())
+                  .metadata.at("mcd:tracingFilter")
+                  .find("partials 1 of 2"),
+              std::string::npos);
 }
 
 }  // namespace

@@ -262,9 +262,12 @@ void AddRenderCommand(CLI::App &app) {
             rusage usage{};
             getrusage(RUSAGE_SELF, &usage);
             fmt::print(
-                "  tracing filter ({} gather): render {:.2f} s, gather {:.2f} s ({:.0f}%); {} "
-                "bands of {} rows; records peak {:.1f} MB, process peak (RSS) {:.0f} MB\n",
-                opt->tfCpu ? "CPU reference" : "GPU", t.renderSeconds, t.gatherSeconds,
+                "  tracing filter ({} gather, {} partial image(s){}): render {:.2f} s, gather "
+                "{:.2f} s ({:.0f}%); {} bands of {} rows; records peak {:.1f} MB, process peak "
+                "(RSS) {:.0f} MB\n",
+                opt->tfCpu ? "CPU reference" : "GPU", t.partials,
+                t.partials < opt->tfPartials ? ", the scene has no mirror" : "",
+                t.renderSeconds, t.gatherSeconds,
                 100 * t.gatherSeconds / std::max(1e-9, t.renderSeconds + t.gatherSeconds),
                 t.bands, t.bandRows, double(t.peakRecordBytes) / 1e6,
                 double(usage.ru_maxrss) * 1024 / 1e6);

@@ -463,7 +463,11 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
     const int w = o.width, h = o.height, spp = o.spp;
     const TracingFilterOptions &t = o.tracing;
     const int radius = std::max(0, t.params.radius);
-    const int partials = std::clamp(t.partials, 1, kPartialTypes);
+    // Partial images past 0 need a mirror in the scene: without one their records would
+    // all be empty, so they get no memory and no gather (the frame is the same).
+    const bool anyMirror = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                       [](const Material &m) { return !m.mirror.IsBlack(); });
+    const int partials = anyMirror ? std::clamp(t.partials, 1, kPartialTypes) : 1;
     // A row's records for every filtered partial image.
     const size_t rowBytes = size_t(partials) * size_t(w) *
                             (sizeof(TracingSurface) + size_t(spp) * sizeof(TracingSample));
@@ -484,6 +488,7 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
     }
     band = std::min(band, h);
     stats.bandRows = band;
+    stats.partials = partials;
     const int windowRows = std::min(h, band + 2 * radius);
     // One window of records per filtered partial image, all over the same rows.
     std::vector<TracingRecords> windows(partials);
@@ -608,9 +613,9 @@ RenderResult Render(const Scene &scene, const RenderOptions &o) {
         layers.MoveInto(result);
         result.metadata = RenderMetadata(scene, o, result);
         const TracingParams &p = o.tracing.params;
-        result.metadata["mcd:tracingFilter"] =
-            fmt::format("radius {} alpha {} beta {} gamma {} selfFloor {} partials {}",
-                        p.radius, p.alpha, p.beta, p.gamma, p.selfFloor, o.tracing.partials);
+        result.metadata["mcd:tracingFilter"] = fmt::format(
+            "radius {} alpha {} beta {} gamma {} selfFloor {} partials {} of {}", p.radius,
+            p.alpha, p.beta, p.gamma, p.selfFloor, result.tracing.partials, o.tracing.partials);
         result.metadata["mcd:tracingSeconds"] =
             fmt::format("render {:.3f} gather {:.3f}", result.tracing.renderSeconds,
                         result.tracing.gatherSeconds);

@@ -72,6 +72,7 @@ struct TracingStats {
     double renderSeconds = 0, gatherSeconds = 0;
     size_t peakRecordBytes = 0;  // the window's capacity at its largest
     int bands = 0, bandRows = 0;
+    int partials = 0;         // partial images filtered (1 when the scene has no mirror)
     bool overBudget = false;  // one band and its halo did not fit in memoryBudget
 };
 
