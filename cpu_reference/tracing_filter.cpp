@@ -152,7 +152,10 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
                 double self = 1;
                 if (own.pdf > 0) {
                     double u[3] = {own.direction[0], own.direction[1], own.direction[2]};
-                    for (const Neighbour &n : neighbours) self -= weight(n, u);
+                    // A neighbour lends from the share of its samples that reach a
+                    // surface (`valid`): the self weight gives up that share of w.
+                    for (const Neighbour &n : neighbours)
+                        self -= double(surfaceAt(n.x, n.y).valid) * weight(n, u);
                 }
                 for (int c = 0; c < 3; ++c) {
                     sum[c] += self * own.own[c] / spp;

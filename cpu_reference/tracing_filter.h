@@ -17,6 +17,10 @@
 //   eq. 17's fixed parts over the neighbourhood).
 // - A neighbour sample with pdf <= 0 or a non-finite pdf or radiance gives nothing; a
 //   pixel's own samples always give their `own` (a NaN stays in its pixel).
+// - A neighbour whose samples reach its surface only in part (`valid` = that share: the
+//   rest saw the sky, an emitter or a mirror) lends from that share only, so its weight in
+//   eq. 16's self term is scaled by it; otherwise the pixel would give up more light than
+//   it gets back (measured 22% dark beside three half-covered neighbours).
 // - gamma = 0 switches the variable part off (weight C_p x fixed part wherever both lobes
 //   are positive), rather than 0 x F^2 being NaN for an infinite F.
 #pragma once

@@ -22,7 +22,8 @@ struct TracingSurface {
     float diffuse[3];   // Lambert weight: f cos = diffuse cos / pi
     float glossy[3];    // glossy weight: f cos = glossy vMF(u; reflect(-wo, n), kappa)
     float kappa;        // vMF concentration
-    float valid;        // 1: the pixel sees a smooth surface directly; 0: nothing to filter
+    float valid;        // the share of the pixel's samples that reach this surface (their
+                        // records are the only ones it lends); 0: nothing to filter
 };
 
 // One camera sample of a pixel. A sample whose path did not continue from A through a

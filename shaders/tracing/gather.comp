@@ -144,14 +144,18 @@ void main() {
                     ny >= rows)
                     continue;
                 int j = ny * w + nx;
-                if (!(Surf(TRACING_SURF_VALID, j) > 0.0)) continue;
+                // The neighbour lends from the share of its samples that see a surface: its
+                // weight in the self term is scaled by that share.
+                float coverage = Surf(TRACING_SURF_VALID, j);
+                if (!(coverage > 0.0)) continue;
                 vec3 n = Surf3(TRACING_SURF_NORMAL, j);
                 vec3 axis = MirrorAxis(n, Surf3(TRACING_SURF_WO, j));
                 float fixedExponent =
                     push.alpha * float(d2) + push.beta * (1.0 - dot(pNormal, n));
                 for (int c = 0; c < count; ++c) {
                     if (!(chunkHere[c] > 0.0)) continue;
-                    taken += Weight(chunkHere[c], fixedExponent, n, axis, chunkU[c]) * chunkOwn[c];
+                    taken += coverage * Weight(chunkHere[c], fixedExponent, n, axis, chunkU[c]) *
+                             chunkOwn[c];
                 }
             }
         }

@@ -226,7 +226,8 @@ TracingSurface MakeSurface(const TracingPath *paths, int spp, int k) {
         surface.glossy[c] = float(glossy[c]);
     }
     surface.kappa = float(kappa / count);
-    surface.valid = 1;
+    // Neighbours lend from this share only (the rest hit the sky, an emitter, a mirror).
+    surface.valid = float(count) / float(spp);
     return surface;
 }
 
