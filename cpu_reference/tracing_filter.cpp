@@ -158,7 +158,10 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
                         self -= double(surfaceAt(n.x, n.y).valid) * weight(n, u);
                 }
                 for (int c = 0; c < 3; ++c) {
-                    sum[c] += self * own.own[c] / spp;
+                    // A non-finite own value passes alone (self x inf would be NaN or -inf
+                    // for a self weight rounded to 0 or below).
+                    double kept = std::isfinite(own.own[c]) ? self * own.own[c] : own.own[c];
+                    sum[c] += kept / spp;
                     size[c] += std::abs(double(own.own[c])) / spp;
                 }
             }

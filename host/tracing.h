@@ -16,7 +16,8 @@ namespace mcd {
 // weights averaged over the pixel's partial-0 samples: f is linear in them, so the
 // neighbours' light re-weighted with the mean BSDF has the expectation of the pixel's own.
 struct TracingSurface {
-    float position[3];  // A, world space
+    float position[3];  // A, world space (eq. 17 has no term for it: kept for a depth term
+                        // and for inspection; the gathers do not read it)
     float normal[3];    // shading normal at A, unit
     float wo[3];        // direction from A towards the camera, unit
     float diffuse[3];   // Lambert weight: f cos = diffuse cos / pi

@@ -187,12 +187,17 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         ++count;
     }
     // The combination holds every candidate's output (and its probe's) on the host and its
-    // outputs, estimates and their means on the GPU; the estimates' box mean reaches
-    // options.radius further.
+    // outputs, estimates and their means on the GPU. The estimates' box mean runs twice (the
+    // guide's pass, then the final one), and on a frame without statistics the candidates
+    // read a noise estimate that reaches noiseRadius + 1 further.
     double channels = 3, candidates = std::max(count, 1);
-    needs.reach += std::max(options.radius, options.frameRadius);
-    needs.reachText = fmt::format("the widest candidate's reach + the estimates' box radius {}",
-                                  std::max(options.radius, options.frameRadius));
+    const int box = std::max(options.radius, options.frameRadius);
+    const int noise = options.noiseRadius + 1;
+    needs.reach += 2 * box + noise;
+    needs.reachText = fmt::format(
+        "the widest candidate's reach + twice the estimates' box radius {} + the noise "
+        "estimate's {}",
+        box, noise);
     needs.bytesPerPixel += 4 * (candidates * channels + 2 * candidates + 2 * channels);
     needs.bindingBytesPerPixel =
         std::max(needs.bindingBytesPerPixel, 4 * candidates * channels);
@@ -397,8 +402,12 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         if (estimate && variant.method == "bayes") method->Set("no-split", true);
         if (variant.label == "rhf 2 scales" && std::get<int>(base->Get("nscales")) == 2)
             continue;
-        // Without an estimate a variant cannot show where it is better: the methods' own
-        // defaults only (on Cycles frames pivot k0 kept fireflies that k 0.3 removes).
+        // With the frame's own estimate the variants run: without pivot k0, auto was x1.29
+        // the best method on interior 16 spp with the ordinary passes only (pivot k0 is that
+        // best method, 7x better than pivot); with it, at worst x1.06 over 10 such frames
+        // (README). Without an estimate a variant cannot show where it is better: the
+        // methods' own defaults only (on Cycles frames pivot k0 kept fireflies that k 0.3
+        // removes).
         if (!estimate && !variant.overrides.empty()) {
             plan.push_back(
                 fmt::format("auto: left out {}: a variant, and no error estimate to "
@@ -406,10 +415,6 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                             variant.label));
             continue;
         }
-        // With the frame's own estimate the variants run: without pivot k0, auto was x1.29
-        // the best method on interior 16 spp with the ordinary passes only (pivot k0 is that
-        // best method, 7x better than pivot); with it, at worst x1.06 over 10 such frames
-        // (README).
         if (std::string lacks = method->Missing(frame); !lacks.empty()) {
             plan.push_back(fmt::format("auto: left out {}: {}", variant.label, lacks));
             continue;

@@ -40,13 +40,13 @@ struct TracingGatherPush {
 layout(push_constant) uniform TracingGatherPush {
 #endif
     int width;
-    int rows;       // rows of records
+    int rows;  // rows of records
     int spp;
-    int radius;     // the disk's radius in pixels, >= 0
-    int outRow0;    // first output row, relative to the records' first row
+    int radius;   // the disk's radius in pixels, >= 0
+    int outRow0;  // first output row, relative to the records' first row
     int outRows;
-    int pixelBase;  // first output pixel (outRow * width + x) of this dispatch
-    int pixelCount; // output pixels of this dispatch
+    int pixelBase;   // first output pixel (outRow * width + x) of this dispatch
+    int pixelCount;  // output pixels of this dispatch
     float alpha;
     float beta;
     float gamma;

@@ -97,12 +97,23 @@ TracingRecords SyntheticRecords(int width, int y0, int rows, int spp) {
     return r;
 }
 
-std::vector<int> ParseList(const std::string &text) {
+// A comma-separated list of integers >= 0; an error names the option and the item.
+std::vector<int> ParseList(const std::string &text, const char *option) {
     std::vector<int> values;
     std::stringstream stream(text);
     std::string item;
-    while (std::getline(stream, item, ','))
-        if (!item.empty()) values.push_back(std::stoi(item));
+    while (std::getline(stream, item, ',')) {
+        if (item.empty()) continue;
+        size_t used = 0;
+        int value = -1;
+        try {
+            value = std::stoi(item, &used);
+        } catch (const std::exception &) {
+        }
+        if (value < 0 || used != item.size())
+            throw Error(fmt::format("{}: '{}' is not an integer >= 0", option, item));
+        values.push_back(value);
+    }
     return values;
 }
 
@@ -116,7 +127,8 @@ struct TracingBenchOptions {
 void BenchTracing(const TracingBenchOptions &opt) {
     vk::Context context(opt.device.ContextOptions());
     TracingGather gather(context);
-    std::vector<int> radii = ParseList(opt.radii), cpuRadii = ParseList(opt.cpuRadii);
+    std::vector<int> radii = ParseList(opt.radii, "--radii"),
+                     cpuRadii = ParseList(opt.cpuRadii, "--cpu-radii");
     fmt::print(
         "bench tracing: gather of eqs. 14-17 on synthetic records, {} spp, bands of "
         "up to {} output rows, on {}\n",
@@ -190,9 +202,12 @@ void AddBenchTracingCommand(CLI::App *bench) {
         ->capture_default_str();
     tracing->add_option("--radii", opt->radii, "filter radii, comma-separated")
         ->capture_default_str();
-    tracing->add_option("--spp", opt->spp, "samples per pixel")->capture_default_str();
+    tracing->add_option("--spp", opt->spp, "samples per pixel")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 16));
     tracing->add_option("--band-rows", opt->bandRows, "output rows per band (per Run)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 20));
     tracing
         ->add_option("--max-rows", opt->maxOutRows,
                      "time only this many output rows from the middle of each frame (0: all)")

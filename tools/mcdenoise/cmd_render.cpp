@@ -132,10 +132,11 @@ void AddRenderCommand(CLI::App &app) {
                     "matches relMSE's 0.01")
         ->capture_default_str()
         ->check(CLI::Range(0.f, 1e6f));
-    cmd->add_flag("--tracing-filter", opt->tracingFilter,
-                  "Ershov's tracing filter (section 5): the light after each pixel's first "
-                  "diffuse/glossy hit gathered from its neighbours' samples, re-weighted for "
-                  "its surface; color is the filtered frame, color.unfiltered the plain one");
+    CLI::Option *tracingFlag = cmd->add_flag(
+        "--tracing-filter", opt->tracingFilter,
+        "Ershov's tracing filter (section 5): the light after each pixel's first "
+        "diffuse/glossy hit gathered from its neighbours' samples, re-weighted for "
+        "its surface; color is the filtered frame, color.unfiltered the plain one");
     cmd->add_option("--tf-radius", opt->tf.radius,
                     "tracing filter: neighbourhood radius in pixels (a disk)")
         ->capture_default_str()
@@ -159,8 +160,8 @@ void AddRenderCommand(CLI::App &app) {
         ->capture_default_str()
         ->check(CLI::Range(0.f, 1.f));
     cmd->add_option("--tf-memory", opt->tfMemoryMb,
-                    "tracing filter: MB for the records of a band and its halo (40 B per "
-                    "sample); the band height follows")
+                    "tracing filter: MiB for the records of a band and its halo (40 B per "
+                    "sample and filtered partial image); the band height follows")
         ->capture_default_str()
         ->check(CLI::Range(1.0, 1e7));
     cmd->add_option("--tf-partials", opt->tfPartials,
@@ -171,6 +172,10 @@ void AddRenderCommand(CLI::App &app) {
         ->check(CLI::Range(1, render::kPartialTypes));
     cmd->add_flag("--tf-cpu", opt->tfCpu,
                   "tracing filter: gather with the CPU reference instead of the GPU kernel");
+    // The --tf-* options mean nothing without the filter: say so rather than ignore them.
+    for (const char *name : {"--tf-radius", "--tf-alpha", "--tf-beta", "--tf-gamma",
+                             "--tf-self-floor", "--tf-memory", "--tf-partials", "--tf-cpu"})
+        cmd->get_option(name)->needs(tracingFlag);
     opt->device.Add(cmd);
     cmd->callback([opt, sppOption] {
         if (opt->reference && !sppOption->count()) opt->spp = 4096;
@@ -263,18 +268,19 @@ void AddRenderCommand(CLI::App &app) {
             getrusage(RUSAGE_SELF, &usage);
             fmt::print(
                 "  tracing filter ({} gather, {} partial image(s){}): render {:.2f} s, gather "
-                "{:.2f} s ({:.0f}%); {} bands of {} rows; records peak {:.1f} MB, process peak "
+                "{:.2f} s ({:.0f}%); {} bands of {} rows; records peak {:.1f} MiB, process "
+                "peak "
                 "(RSS) {:.0f} MB\n",
                 opt->tfCpu ? "CPU reference" : "GPU", t.partials,
                 t.partials < opt->tfPartials ? ", the scene has no mirror" : "",
                 t.renderSeconds, t.gatherSeconds,
                 100 * t.gatherSeconds / std::max(1e-9, t.renderSeconds + t.gatherSeconds),
-                t.bands, t.bandRows, double(t.peakRecordBytes) / 1e6,
+                t.bands, t.bandRows, double(t.peakRecordBytes) / (1 << 20),
                 double(usage.ru_maxrss) * 1024 / 1e6);
             if (t.overBudget)
                 fmt::print(
                     "  warning: one row and {} rows above and below take more than "
-                    "--tf-memory {} MB; the band is one row\n",
+                    "--tf-memory {} MiB; the band is one row\n",
                     2 * opt->tf.radius, opt->tfMemoryMb);
         }
     });

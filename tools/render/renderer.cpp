@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <sstream>
@@ -393,16 +394,29 @@ uint64_t RenderPixel(const Scene &scene, const SampleSource &source, const Rende
 // Call `work` on `threads` threads, this one included. A thread that cannot start leaves
 // its share to the rest.
 void RunOnThreads(int threads, const std::function<void()> &work) {
+    // An exception (an allocation failing in the CPU gather) is kept, every thread joined,
+    // and the first one rethrown here: escaping a thread would end the process.
+    std::mutex mutex;
+    std::exception_ptr failure;
+    auto guarded = [&] {
+        try {
+            work();
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (!failure) failure = std::current_exception();
+        }
+    };
     std::vector<std::thread> pool;
     for (int t = 1; t < threads; ++t) {
         try {
-            pool.emplace_back(work);
+            pool.emplace_back(guarded);
         } catch (const std::system_error &) {
             break;
         }
     }
-    work();
+    guarded();
     for (std::thread &t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
 }
 
 // The tracing filter's own mean of a pixel, in the reference's arithmetic (eq. 16 with

@@ -60,7 +60,8 @@ struct TracingFilterOptions {
     // the light stays unfiltered. Each takes its own records (memoryBudget covers them all).
     // 2 measured: glossy-cornell's relMSE halved, scenes without mirrors unchanged (notes).
     int partials = 2;
-    // Bound on the window's records (40 B per sample): the band height follows from it.
+    // Bound on the window's records (40 B per sample and filtered partial image): the band
+    // height follows from it.
     size_t memoryBudget = size_t(256) << 20;
     int bandRows = 0;       // > 0: this band height whatever the budget (tests)
     int maxWindowRows = 0;  // > 0: the gather takes at most this many rows of records
