@@ -165,6 +165,24 @@ ParamValue AutoFrontEnd::Get(const std::string &param) const {
     throw Error("auto has no parameter '" + param + "'");
 }
 
+namespace {
+
+// SURE's Monte Carlo divergence: the probe b (+-1 per value, seeded: runs repeat) and the
+// color perturbed by epsilon sqrt(v) b.
+void MakeProbe(const Image &color, const Image &variance, float epsilon, Image &probe,
+               Image &perturbed) {
+    probe = Image(color.width, color.height, color.channels);
+    perturbed = color;
+    std::mt19937 rng(0x17a0u);
+    for (size_t i = 0; i < probe.data.size(); ++i) {
+        probe.data[i] = (rng() & 1u) ? 1.f : -1.f;
+        perturbed.data[i] +=
+            epsilon * std::sqrt(std::max(variance.data[i], 0.f)) * probe.data[i];
+    }
+}
+
+}  // namespace
+
 TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     TileNeeds needs;
     needs.notLocal =
@@ -303,15 +321,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         if (!variance.SameShape(color))
             throw Error(
                 fmt::format("{}: the variance layer must have color's shape", inputs.Path()));
-        // The probe b (+-1 per value, seeded: runs repeat) and the perturbed color.
-        probe = Image(w, h, channels);
-        perturbed = color;
-        std::mt19937 rng(0x17a0u);
-        for (size_t i = 0; i < probe.data.size(); ++i) {
-            probe.data[i] = (rng() & 1u) ? 1.f : -1.f;
-            perturbed.data[i] +=
-                options.epsilon * std::sqrt(std::max(variance.data[i], 0.f)) * probe.data[i];
-        }
+        MakeProbe(color, variance, options.epsilon, probe, perturbed);
         noiseFrom = fmt::format(
             "SURE on the variance layer, Monte Carlo divergence with "
             "epsilon {}",
@@ -343,14 +353,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         recorder.Submit();
         for (const auto &t : recorder.Timings()) noiseTimings.push_back({t.label, t.gpuMs});
         variance = gNoise.Download();
-        probe = Image(w, h, channels);
-        perturbed = color;
-        std::mt19937 rng(0x17a0u);
-        for (size_t i = 0; i < probe.data.size(); ++i) {
-            probe.data[i] = (rng() & 1u) ? 1.f : -1.f;
-            perturbed.data[i] +=
-                options.epsilon * std::sqrt(std::max(variance.data[i], 0.f)) * probe.data[i];
-        }
+        MakeProbe(color, variance, options.epsilon, probe, perturbed);
         noiseFrom = fmt::format(
             "SURE on the frame's own noise estimate (no variance layer nor half-buffers: the "
             "{}colour's smallest squared second difference over 4 directions, averaged over "
