@@ -378,48 +378,41 @@ TEST(RenderTracing, BadParametersAreRefused) {
 }
 
 // The renderer with the GPU gather: the reference's frame to the kernel's round-off, the
-// same frame in bands and twice.
-class RenderTracingGpu : public GpuTest {};
+// same frame in bands (4 rows: 5 bands of 17) and twice, for each filtered partial's layer.
+class RenderTracingGpu : public GpuTest {
+  protected:
+    void ExpectMatchesTheReferenceInBands(const char *sceneName, int partials,
+                                          std::initializer_list<const char *> names) {
+        render::Scene scene = render::BuildScene(sceneName);
+        RenderOptions o = Traced(23, 17, 3, 6, 3, render::kLayersPartials, partials);
+        render::RenderResult cpu = render::Render(scene, o);
+        TracingGather gather(Ctx());
+        o.tracing.gather = [&](const TracingRecords &r, const TracingParams &p, int y0,
+                               int rows) { return gather.Run(r, p, y0, rows); };
+        render::RenderResult gpu = render::Render(scene, o);
+        o.tracing.bandRows = 4;
+        render::RenderResult banded = render::Render(scene, o);
+        EXPECT_EQ(banded.tracing.bands, 5);
+        for (const char *name : names) {
+            const Image &a = Layer(cpu, name), &b = Layer(gpu, name);
+            for (size_t i = 0; i < a.Size(); ++i)
+                EXPECT_NEAR(b.data[i], a.data[i], 1e-4f * (1 + std::fabs(a.data[i])))
+                    << name << i;
+            EXPECT_TRUE(BitIdentical(b, Layer(banded, name))) << name;
+        }
+        EXPECT_TRUE(
+            BitIdentical(Layer(gpu, "color"), Layer(render::Render(scene, o), "color")));
+    }
+};
 
 TEST_F(RenderTracingGpu, MatchesTheReferenceInBands) {
-    render::Scene scene = render::BuildScene("relief-abc");
-    RenderOptions o = Traced(23, 17, 3, 6, 3, render::kLayersPartials);
-    render::RenderResult cpu = render::Render(scene, o);
-    TracingGather gather(Ctx());
-    o.tracing.gather = [&](const TracingRecords &r, const TracingParams &p, int y0, int rows) {
-        return gather.Run(r, p, y0, rows);
-    };
-    render::RenderResult gpu = render::Render(scene, o);
-    o.tracing.bandRows = 4;
-    render::RenderResult banded = render::Render(scene, o);
-    EXPECT_EQ(banded.tracing.bands, 5);
-    const Image &a = Layer(cpu, "color"), &b = Layer(gpu, "color");
-    for (size_t i = 0; i < a.Size(); ++i)
-        EXPECT_NEAR(b.data[i], a.data[i], 1e-4f * (1 + std::fabs(a.data[i]))) << i;
-    EXPECT_TRUE(BitIdentical(Layer(gpu, "color"), Layer(banded, "color")));
-    EXPECT_TRUE(BitIdentical(Layer(gpu, "partial0.color"), Layer(banded, "partial0.color")));
-    EXPECT_TRUE(BitIdentical(Layer(gpu, "color"), Layer(render::Render(scene, o), "color")));
+    ExpectMatchesTheReferenceInBands("relief-abc", 1, {"color", "partial0.color"});
 }
 
-// The same with partial 1 filtered too (glossy-cornell's mirror), each partial's gather on
-// the GPU.
+// Partial 1 filtered too (glossy-cornell's mirror), each partial's gather on the GPU.
 TEST_F(RenderTracingGpu, PartialsMatchTheReferenceInBands) {
-    render::Scene scene = render::BuildScene("glossy-cornell");
-    RenderOptions o = Traced(23, 17, 3, 6, 3, render::kLayersPartials, 2);
-    render::RenderResult cpu = render::Render(scene, o);
-    TracingGather gather(Ctx());
-    o.tracing.gather = [&](const TracingRecords &r, const TracingParams &p, int y0, int rows) {
-        return gather.Run(r, p, y0, rows);
-    };
-    render::RenderResult gpu = render::Render(scene, o);
-    o.tracing.bandRows = 4;
-    render::RenderResult banded = render::Render(scene, o);
-    for (const char *name : {"color", "partial0.color", "partial1.color"}) {
-        const Image &a = Layer(cpu, name), &b = Layer(gpu, name);
-        for (size_t i = 0; i < a.Size(); ++i)
-            EXPECT_NEAR(b.data[i], a.data[i], 1e-4f * (1 + std::fabs(a.data[i]))) << name << i;
-        EXPECT_TRUE(BitIdentical(b, Layer(banded, name))) << name;
-    }
+    ExpectMatchesTheReferenceInBands("glossy-cornell", 2,
+                                     {"color", "partial0.color", "partial1.color"});
 }
 
 }  // namespace
