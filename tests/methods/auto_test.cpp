@@ -250,6 +250,35 @@ TEST(AutoNoiseReference, RecoversAKnownVarianceUnderATexture) {
     EXPECT_GT(ratio(ref::AutoNoise(color, nullptr, 1)), 2 * demodulated);
 }
 
+// A black background (albedo 0: left undivided) beside a wall of albedo 0.3 with noise of
+// known variance, split by a vertical edge. Each pixel averages only the neighbours
+// demodulated like itself: the background, flat along the edge, estimates exactly 0 (before,
+// its window took the wall's values in z's units across the edge, about 11 times the wall's
+// variance in colour), and the wall off the edge stays near its variance. (The first and last
+// two rows are left out: there only the horizontal difference fits, and it crosses the edge.)
+TEST(AutoNoiseReference, KeepsEachSideOfAnAlbedoEdgeApart) {
+    const int w = 16, h = 400, edge = 8;
+    const double sigma = 0.05, a = 0.3;
+    std::mt19937_64 rng(1718);
+    std::normal_distribution<double> normal;
+    Image color(w, h, 1), albedo(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = edge; x < w; ++x) {
+            albedo.At(0, y, x) = float(a);
+            color.At(0, y, x) = float(0.5 * a + sigma * normal(rng));
+        }
+    Image estimate = ref::AutoNoise(color, &albedo, 1);
+    double background = 0, wall = 0;
+    for (int y = 2; y < h - 2; ++y) {
+        for (int x = 0; x < edge; ++x)
+            background = std::max(background, double(estimate.At(0, y, x)));
+        for (int x = edge + 2; x < w - 1; ++x) wall += estimate.At(0, y, x);
+    }
+    EXPECT_EQ(background, 0.0);
+    // The wall's mean over 396 x 5 pixels: its sampling error is about 5%.
+    EXPECT_NEAR(wall / ((h - 4) * (w - edge - 3)) / (sigma * sigma), 1.0, 0.15);
+}
+
 // Stage 2: a sum of at most (2r+1)^2 finite terms and one division: (n + 1) ulps of the
 // window's mean absolute value.
 class AutoKernelSmooth : public GpuTestWithParam<KernelCase> {};
@@ -459,7 +488,7 @@ TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     EXPECT_EQ(result.method, "auto");
     int ran = 0;
     for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
-    EXPECT_EQ(ran, 6) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(ran, 8) << fmt::format("{}", fmt::join(result.plan, "\n"));
     double best = INFINITY;
     for (const char *name : {"rhf", "pivot", "bayes", "awr"})
         best = std::min(best,
@@ -483,8 +512,10 @@ bool PlanHas(const Result &result, const std::string &text) {
 
 // relMSE's denominator: on a heavy-tailed frame (relief-abc, 4 spp) most candidates
 // overshoot a few dark pixels. The candidates' mean as the guide hides those errors (the
-// mean is as far off as they are) and auto was x8 the best method here; the default guide,
-// a first combination by the plain squared error, keeps auto within 5% of it.
+// mean is as far off as they are) and auto was x8 the best method here (x2.2 since the
+// pivot variants without ids, measured: best 0.0975, auto 0.0873, mean guide 0.214); the
+// default guide, a first combination by the plain squared error, keeps auto within 5% of
+// it and under half the mean guide's error.
 TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
     render::RenderOptions options;
     options.width = 48, options.height = 40, options.spp = 4;
@@ -507,9 +538,13 @@ TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
     Result result = automatic.Run(device, frame);
     EXPECT_TRUE(PlanHas(result, "denominator from a first combination"))
         << fmt::format("{}", fmt::join(result.plan, "\n"));
-    EXPECT_LE(CompareImages(result.image, reference).relMse, 1.05 * best);
+    double combined = CompareImages(result.image, reference).relMse;
+    EXPECT_LE(combined, 1.05 * best);
     automatic.Set("auto-guide", "mean");
-    EXPECT_GT(CompareImages(automatic.Run(device, frame).image, reference).relMse, 3 * best);
+    double mean = CompareImages(automatic.Run(device, frame).image, reference).relMse;
+    fmt::print("best method {:.4g}, auto {:.4g}, with the mean as the guide {:.4g}\n", best,
+               combined, mean);
+    EXPECT_GT(mean, 2 * combined);
 }
 
 // The denominator's floor (--auto-noise-cap): on fireflies at 4 spp one pixel sees a
@@ -637,6 +672,56 @@ TEST_F(AutoMethod, FrameWithoutStatisticsUsesItsOwnNoiseEstimate) {
                mean);
     EXPECT_LE(own, 1.05 * best);
     EXPECT_LT(own, mean);
+}
+
+// A candidate's share (mean weight, %) from auto's plan; -1 if it did not run.
+double ShareOf(const Result &result, const std::string &label) {
+    for (const std::string &line : result.plan) {
+        if (!line.starts_with("auto: ran " + label + " (")) continue;
+        size_t at = line.find("share ");
+        if (at != std::string::npos) return std::stod(line.substr(at + 6));
+    }
+    return -1;
+}
+
+// A frame whose object id alternates pixel by pixel (as where many small objects meet):
+// pivot keeps the input of every pixel next to another id, here all of them. auto's
+// variants without the ids (pivot no ids, pivot k0 no ids) filter them; they take most of
+// the weight (62% here, pivot and pivot k0 12%) and auto comes within 5% of the best single
+// method. (On the Cycles cornell box, whose walls are objects of their own, the pixels that
+// pivot kept at id edges carried 83% of its error.)
+TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
+    render::RenderOptions options;
+    options.width = 48, options.height = 40, options.spp = 8;
+    options.layers = render::kLayersGbuffer;
+    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
+    Frame frame;
+    frame.width = options.width, frame.height = options.height;
+    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    Image &ids = frame.layers.at("objectId");
+    for (int y = 0; y < ids.height; ++y)
+        for (int x = 0; x < ids.width; ++x) ids.At(0, y, x) = float((x + y) % 2);
+    options.layers = 0;
+    options.spp = 1024;
+    options.seed = 99;
+    Image reference = render::Render(render::BuildScene("cornell"), options).layers[0].second;
+    Device device = Device::Borrow(Ctx());
+    Method pivot("pivot");
+    double withIds = CompareImages(pivot.Run(device, frame).image, reference).relMse;
+    pivot.Set("guides", std::string("none"));
+    double withoutIds = CompareImages(pivot.Run(device, frame).image, reference).relMse;
+    double bayes = CompareImages(Method("bayes").Run(device, frame).image, reference).relMse;
+    Result result = Method("auto").Run(device, frame);
+    double automatic = CompareImages(result.image, reference).relMse;
+    fmt::print("pivot {:.4g}, pivot without ids {:.4g}, bayes {:.4g}, auto {:.4g}\n", withIds,
+               withoutIds, bayes, automatic);
+    double without = ShareOf(result, "pivot no ids") + ShareOf(result, "pivot k0 no ids");
+    double with = ShareOf(result, "pivot") + ShareOf(result, "pivot k0");
+    EXPECT_GT(ShareOf(result, "pivot no ids"), 0)
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_GT(without, 50) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_LT(with, 0.5 * without);
+    EXPECT_LE(automatic, 1.05 * std::min({withIds, withoutIds, bayes}));
 }
 
 }  // namespace
