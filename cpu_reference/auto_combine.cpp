@@ -128,7 +128,8 @@ Image AutoSmooth(const Image &errors, int radius) {
 }
 
 AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidates,
-                         const Image &errors, bool select, double power, double floorError) {
+                         const Image &errors, bool select, double power, double floorError,
+                         bool medianUnderFloor) {
     int w = color.width, h = color.height, channels = color.channels;
     int count = int(candidates.size());
     AutoCombined out{Image(w, h, channels), Image(w, h, count)};
@@ -157,9 +158,28 @@ AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidate
                 total += weight[k];
             }
             bool none = !(total > 0) || !std::isfinite(total);
+            // The estimates tell nothing where all are under the floor: the median.
+            bool allUnder = medianUnderFloor && !select;
+            int usableCount = 0;
+            for (int k = 0; k < count; ++k)
+                if (usable[k]) {
+                    ++usableCount;
+                    allUnder = allUnder && errors.At(k, y, x) < float(floorError);
+                }
+            bool median = !none && allUnder && usableCount > 0;
             for (int k = 0; k < count; ++k)
                 out.weights.At(k, y, x) = none ? 0.f : float(weight[k] / total);
             for (int c = 0; c < channels; ++c) {
+                if (median) {
+                    std::vector<float> values;
+                    for (int k = 0; k < count; ++k)
+                        if (usable[k]) values.push_back(candidates[k].At(c, y, x));
+                    std::sort(values.begin(), values.end());
+                    size_t n = values.size();
+                    out.color.At(c, y, x) =
+                        n % 2 ? values[n / 2] : 0.5f * (values[n / 2 - 1] + values[n / 2]);
+                    continue;
+                }
                 double sum = 0;
                 for (int k = 0; k < count; ++k)
                     if (!none && weight[k] > 0)
