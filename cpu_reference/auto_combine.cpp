@@ -42,6 +42,8 @@ Image AutoNoise(const Image &color, const Image *albedo, int radius) {
     constexpr float kAlbedoFloor = 0.02f;
     // E[min over the 4 directions of r^2 / 1.5] for unit Gaussian noise (simulated).
     constexpr double kMinMean = 0.27848;
+    // Neighbours whose albedos differ by more than this factor are not averaged together.
+    constexpr float kDivisorRatio = 1.25f;
     const int directions[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
     Image out(w, h, channels);
     for (int c = 0; c < channels; ++c) {
@@ -53,6 +55,11 @@ Image AutoNoise(const Image &color, const Image *albedo, int radius) {
                 divisor.At(0, y, x) = std::isfinite(a) && a > kAlbedoFloor ? a : 1.f;
                 z.At(0, y, x) = float(double(color.At(c, y, x)) / divisor.At(0, y, x));
             }
+        // Whether each pixel is divided by its albedo.
+        auto divided = [&](int x, int y) {
+            float a = albedo ? albedo->At(albedo->channels == 1 ? 0 : c, y, x) : 1.f;
+            return albedo && std::isfinite(a) && a > kAlbedoFloor;
+        };
         // Each pixel's smallest squared second difference, scaled to v_z's units.
         Image smallest(w, h, 1);
         for (int y = 0; y < h; ++y)
@@ -73,17 +80,25 @@ Image AutoNoise(const Image &color, const Image *albedo, int radius) {
                 // value (the border rows and columns have one direction).
                 smallest.At(0, y, x) = float(fit == 4 ? best / kMinMean : best);
             }
+        // Its mean over the window's pixels demodulated alike (both divided, by albedos
+        // within a factor kDivisorRatio, or both not): each is in its own z's units.
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 double sum = 0;
                 int n = 0;
+                float a = divisor.At(0, y, x);
                 for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
-                    for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u)
+                    for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius);
+                         ++u) {
+                        float b = divisor.At(0, v, u);
+                        if (divided(u, v) != divided(x, y) || b > a * kDivisorRatio ||
+                            b * kDivisorRatio < a)
+                            continue;
                         if (std::isfinite(smallest.At(0, v, u))) {
                             sum += smallest.At(0, v, u);
                             ++n;
                         }
-                double a = divisor.At(0, y, x);
+                    }
                 out.At(c, y, x) = n > 0 ? float(sum / n * a * a) : 0.f;
             }
     }
@@ -113,7 +128,8 @@ Image AutoSmooth(const Image &errors, int radius) {
 }
 
 AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidates,
-                         const Image &errors, bool select, double power, double floorError) {
+                         const Image &errors, bool select, double power, double floorError,
+                         bool medianUnderFloor) {
     int w = color.width, h = color.height, channels = color.channels;
     int count = int(candidates.size());
     AutoCombined out{Image(w, h, channels), Image(w, h, count)};
@@ -142,9 +158,28 @@ AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidate
                 total += weight[k];
             }
             bool none = !(total > 0) || !std::isfinite(total);
+            // The estimates tell nothing where all are under the floor: the median.
+            bool allUnder = medianUnderFloor && !select;
+            int usableCount = 0;
+            for (int k = 0; k < count; ++k)
+                if (usable[k]) {
+                    ++usableCount;
+                    allUnder = allUnder && errors.At(k, y, x) < float(floorError);
+                }
+            bool median = !none && allUnder && usableCount > 0;
             for (int k = 0; k < count; ++k)
                 out.weights.At(k, y, x) = none ? 0.f : float(weight[k] / total);
             for (int c = 0; c < channels; ++c) {
+                if (median) {
+                    std::vector<float> values;
+                    for (int k = 0; k < count; ++k)
+                        if (usable[k]) values.push_back(candidates[k].At(c, y, x));
+                    std::sort(values.begin(), values.end());
+                    size_t n = values.size();
+                    out.color.At(c, y, x) =
+                        n % 2 ? values[n / 2] : 0.5f * (values[n / 2 - 1] + values[n / 2]);
+                    continue;
+                }
                 double sum = 0;
                 for (int k = 0; k < count; ++k)
                     if (!none && weight[k] > 0)

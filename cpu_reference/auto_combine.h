@@ -50,8 +50,11 @@ struct AutoCombined {
 
 // candidates[k] (C planes each), errors (K planes). Weights: max(e_k, floorError)^-power,
 // select: 1 for the smallest e_k (the first on ties); 0 for a candidate whose estimate or
-// output is not finite at the pixel; where every weight is 0 the input color is kept.
+// output is not finite at the pixel; where every weight is 0 the input color is kept. With
+// medianUnderFloor, where every usable estimate is under floorError (all weigh the same)
+// the output is the per-channel median of the usable candidates instead of their mean.
 AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidates,
-                         const Image &errors, bool select, double power, double floorError);
+                         const Image &errors, bool select, double power, double floorError,
+                         bool medianUnderFloor = false);
 
 }  // namespace mcd::ref

@@ -37,14 +37,15 @@ void RecordAutoCombine(vk::Context &context, vk::Recorder &recorder, const vk::G
                                                   sizeof(shader::AutoCombinePush),
                                                   {},
                                                   0});
-    shader::AutoCombinePush push{
-        color.width,
-        color.height,
-        channels,
-        count,
-        mode == AutoMode::Select ? AUTO_MODE_SELECT : AUTO_MODE_WEIGHTS,
-        power,
-        floorError};
+    shader::AutoCombinePush push{color.width,
+                                 color.height,
+                                 channels,
+                                 count,
+                                 mode == AutoMode::Select          ? AUTO_MODE_SELECT
+                                 : mode == AutoMode::WeightsMedian ? AUTO_MODE_WEIGHTS_MEDIAN
+                                                                   : AUTO_MODE_WEIGHTS,
+                                 power,
+                                 floorError};
     recorder.Dispatch(kernel, "auto.combine",
                       {{AUTO_COMBINE_COLOR, &color.buffer, vk::Access::Read},
                        {AUTO_COMBINE_CANDIDATES, &candidates.buffer, vk::Access::Read},

@@ -7,7 +7,9 @@
 
 namespace mcd {
 
-enum class AutoMode { Weights, Select };
+// WeightsMedian: weights, and the candidates' median where every estimate is under the
+// floor (shaders/auto/combine.h).
+enum class AutoMode { Weights, Select, WeightsMedian };
 
 // `candidates`: K x C planes (candidate k's channel c is plane k C + c), `errors`: K
 // planes, `color` and `output`: C planes, `weights`: K planes; K in 1..8. Weights mode

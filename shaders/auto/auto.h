@@ -11,5 +11,8 @@
 // Combination modes.
 #define AUTO_MODE_WEIGHTS 0
 #define AUTO_MODE_SELECT 1
+// Weights, and where every usable estimate is under the floor (all weights equal: the
+// estimates tell nothing there) the per-channel median of the usable candidates.
+#define AUTO_MODE_WEIGHTS_MEDIAN 2
 
 #endif

@@ -45,9 +45,32 @@ void main() {
     float total = 0.0;
     for (int k = 0; k < count; ++k) total += weightOf(k, best);
     bool none = !(total > 0.0) || isinf(total);
+    // Every usable estimate under the floor: the median of the usable candidates.
+    int usableCount = 0;
+    bool allUnder = push.mode == AUTO_MODE_WEIGHTS_MEDIAN;
+    for (int k = 0; k < count; ++k)
+        if (usable(k)) {
+            ++usableCount;
+            allUnder = allUnder && errors[k * plane + at] < push.floorError;
+        }
+    bool median = !none && allUnder && usableCount > 0;
     for (int k = 0; k < count; ++k)
         weights[k * plane + at] = none ? 0.0 : weightOf(k, best) / total;
     for (int c = 0; c < channels; ++c) {
+        if (median) {
+            // Insertion sort of the usable candidates' values (at most AUTO_MAX_CANDIDATES).
+            float v[AUTO_MAX_CANDIDATES];
+            int n = 0;
+            for (int k = 0; k < count; ++k) {
+                if (!usable(k)) continue;
+                float value = candidates[(k * channels + c) * plane + at];
+                int i = n++;
+                for (; i > 0 && v[i - 1] > value; --i) v[i] = v[i - 1];
+                v[i] = value;
+            }
+            outputs[c * plane + at] = n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+            continue;
+        }
         float sum = 0.0;
         for (int k = 0; k < count; ++k) {
             float wk = none ? 0.0 : weightOf(k, best) / total;

@@ -14,12 +14,18 @@ bool finite(float v) {
     return !(isnan(v) || isinf(v));
 }
 
-// The divisor at (x, y): the albedo where it is above the floor, else 1.
-float scaleAt(int x, int y) {
-    if (push.albedoChannels == 0) return 1.0;
+// Whether (x, y) is divided by its albedo (above the floor and finite).
+bool dividedAt(int x, int y) {
+    if (push.albedoChannels == 0) return false;
     int ac = min(c, push.albedoChannels - 1);
     float a = albedo[(ac * h + y) * w + x];
-    return a > float(AUTO_NOISE_ALBEDO_FLOOR) && finite(a) ? a : 1.0;
+    return a > float(AUTO_NOISE_ALBEDO_FLOOR) && finite(a);
+}
+
+// The divisor at (x, y): the albedo where it is above the floor, else 1.
+float scaleAt(int x, int y) {
+    if (!dividedAt(x, y)) return 1.0;
+    return albedo[(min(c, push.albedoChannels - 1) * h + y) * w + x];
 }
 
 float zAt(int x, int y) {
@@ -53,17 +59,23 @@ void main() {
     c = int(gl_WorkGroupID.z);
     if (x >= w) return;
     int r = push.radius;
+    float s = scaleAt(x, y);
+    bool divided = dividedAt(x, y);
+    float ratio = float(AUTO_NOISE_DIVISOR_RATIO);
     float sum = 0.0;
     int count = 0;
-    // Rows, then columns within a row: the reference sums in the same order.
+    // Rows, then columns within a row: the reference sums in the same order. Only the
+    // neighbours demodulated like this pixel: their values are in their own z's units.
     for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
         for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
+            if (dividedAt(u, v) != divided) continue;
+            float su = scaleAt(u, v);
+            if (su > s * ratio || su * ratio < s) continue;
             float q = minSquared(u, v);
             if (!finite(q)) continue;
             sum += q;
             ++count;
         }
-    float s = scaleAt(x, y);
     outputs[(c * h + y) * w + x] =
         count > 0 ? sum / float(count) * s * s : 0.0;
 }

@@ -8,9 +8,13 @@
 // direction along an edge, if any (an edge's step is not noise), and a firefly is large
 // in every direction (it is noise). That smallest value over its mean for Gaussian noise
 // (AUTO_NOISE_MIN_MEAN where all 4 directions fit, 1 on the border rows and columns where
-// one does), its mean over the (2R+1)^2 window clipped to the frame (finite values only),
-// times a^2 at the pixel, is the estimate; 0 where the window has no finite value. One
-// invocation per pixel and channel.
+// one does), its mean over the (2R+1)^2 window clipped to the frame (finite values only,
+// and only the neighbours demodulated like the pixel: both divided by albedos within a
+// factor AUTO_NOISE_DIVISOR_RATIO of each other, or both undivided), times a^2 at the
+// pixel, is the estimate; 0 where the window has no finite value. The neighbours' values
+// are in their own z's units: a black background pixel (undivided) next to a wall of
+// albedo 0.3 took 11 times the wall's noise, which SURE then saw as error of every
+// candidate that keeps the black. One invocation per pixel and channel.
 #ifndef MCD_SHADERS_AUTO_NOISE_H
 #define MCD_SHADERS_AUTO_NOISE_H
 
@@ -25,6 +29,9 @@
 #define AUTO_NOISE_MAX_RADIUS 8
 // An albedo at or under this (or not finite) leaves the colour undivided there.
 #define AUTO_NOISE_ALBEDO_FLOOR 0.02
+// A neighbour's value enters the pixel's mean only if its divisor is within this factor of
+// the pixel's (measured, README: 1.1-1.5 alike on the 256x256 Cycles cornell box, 2 worse).
+#define AUTO_NOISE_DIVISOR_RATIO 1.25
 // E[min_d r_d^2 / 1.5] = 0.27848 v for Gaussian noise (Monte Carlo, 2e6 draws of 3x3 iid
 // normal values).
 #define AUTO_NOISE_MIN_MEAN 0.27848

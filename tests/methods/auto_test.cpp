@@ -69,7 +69,7 @@ Image GpuSmooth(vk::Context &ctx, const Image &errors, int radius) {
 
 ref::AutoCombined GpuCombine(vk::Context &ctx, const Image &color,
                              const std::vector<Image> &candidates, const Image &errors,
-                             bool select, float power, float floorError) {
+                             AutoMode mode, float power, float floorError) {
     int w = color.width, h = color.height, c = color.channels, k = int(candidates.size());
     Image packed(w, h, k * c);
     for (int i = 0; i < k; ++i)
@@ -81,8 +81,7 @@ ref::AutoCombined GpuCombine(vk::Context &ctx, const Image &color,
     cand.Upload(packed);
     e.Upload(errors);
     vk::Recorder recorder(ctx);
-    RecordAutoCombine(ctx, recorder, y, cand, e, select ? AutoMode::Select : AutoMode::Weights,
-                      power, floorError, out, weights);
+    RecordAutoCombine(ctx, recorder, y, cand, e, mode, power, floorError, out, weights);
     recorder.Submit();
     return {out.Download(), weights.Download()};
 }
@@ -250,6 +249,35 @@ TEST(AutoNoiseReference, RecoversAKnownVarianceUnderATexture) {
     EXPECT_GT(ratio(ref::AutoNoise(color, nullptr, 1)), 2 * demodulated);
 }
 
+// A black background (albedo 0: left undivided) beside a wall of albedo 0.3 with noise of
+// known variance, split by a vertical edge. Each pixel averages only the neighbours
+// demodulated like itself: the background, flat along the edge, estimates exactly 0 (before,
+// its window took the wall's values in z's units across the edge, about 11 times the wall's
+// variance in colour), and the wall off the edge stays near its variance. (The first and last
+// two rows are left out: there only the horizontal difference fits, and it crosses the edge.)
+TEST(AutoNoiseReference, KeepsEachSideOfAnAlbedoEdgeApart) {
+    const int w = 16, h = 400, edge = 8;
+    const double sigma = 0.05, a = 0.3;
+    std::mt19937_64 rng(1718);
+    std::normal_distribution<double> normal;
+    Image color(w, h, 1), albedo(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = edge; x < w; ++x) {
+            albedo.At(0, y, x) = float(a);
+            color.At(0, y, x) = float(0.5 * a + sigma * normal(rng));
+        }
+    Image estimate = ref::AutoNoise(color, &albedo, 1);
+    double background = 0, wall = 0;
+    for (int y = 2; y < h - 2; ++y) {
+        for (int x = 0; x < edge; ++x)
+            background = std::max(background, double(estimate.At(0, y, x)));
+        for (int x = edge + 2; x < w - 1; ++x) wall += estimate.At(0, y, x);
+    }
+    EXPECT_EQ(background, 0.0);
+    // The wall's mean over 396 x 5 pixels: its sampling error is about 5%.
+    EXPECT_NEAR(wall / ((h - 4) * (w - edge - 3)) / (sigma * sigma), 1.0, 0.15);
+}
+
 // Stage 2: a sum of at most (2r+1)^2 finite terms and one division: (n + 1) ulps of the
 // window's mean absolute value.
 class AutoKernelSmooth : public GpuTestWithParam<KernelCase> {};
@@ -294,14 +322,21 @@ TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
         Image errors = MakeVarianceInput(kind, w, h, count, SeedFromName(name + "e"));
         for (size_t i = 0; i < errors.data.size(); i += 5)
             if (std::isfinite(errors.data[i])) errors.data[i] *= 1e-4f;
-        for (bool select : {false, true})
+        // Weights with the median: a floor over most estimates too (every usable one under
+        // it at most pixels: the median of 1, 3 or 8 values).
+        for (auto [mode, floor] :
+             {std::pair{AutoMode::Weights, 1e-3f}, std::pair{AutoMode::Select, 1e-3f},
+              std::pair{AutoMode::WeightsMedian, 1e-3f},
+              std::pair{AutoMode::WeightsMedian, 1e3f}})
             for (float power : {1.f, 2.f}) {
-                SCOPED_TRACE(fmt::format("{} candidates, {}, power {}", count,
-                                         select ? "select" : "weights", power));
+                bool select = mode == AutoMode::Select;
+                bool median = mode == AutoMode::WeightsMedian;
+                SCOPED_TRACE(fmt::format("{} candidates, mode {}, floor {}, power {}", count,
+                                         int(mode), floor, power));
                 ref::AutoCombined expected =
-                    ref::AutoCombine(color, candidates, errors, select, power, 1e-3);
+                    ref::AutoCombine(color, candidates, errors, select, power, floor, median);
                 ref::AutoCombined actual =
-                    GpuCombine(Ctx(), color, candidates, errors, select, power, 1e-3f);
+                    GpuCombine(Ctx(), color, candidates, errors, mode, power, floor);
                 Image scale = color;
                 for (int c = 0; c < channels; ++c)
                     for (size_t i = 0; i < color.PixelCount(); ++i) {
@@ -319,7 +354,7 @@ TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
                 EXPECT_TRUE(
                     ImagesMatch(expected.weights, actual.weights, ones, {ulps, 0, 1e-10}));
                 ref::AutoCombined again =
-                    GpuCombine(Ctx(), color, candidates, errors, select, power, 1e-3f);
+                    GpuCombine(Ctx(), color, candidates, errors, mode, power, floor);
                 EXPECT_TRUE(BitIdentical(actual.color, again.color));
                 EXPECT_TRUE(BitIdentical(actual.weights, again.weights));
             }
@@ -430,7 +465,8 @@ TEST_F(AutoEstimateProperty, CombinationBeatsEachCandidate) {
     double ideal = CompareImages(halves, s.truth).relMse;
     for (bool select : {false, true}) {
         ref::AutoCombined combined =
-            GpuCombine(Ctx(), s.color, candidates, smooth, select, 1.f, 1e-5f);
+            GpuCombine(Ctx(), s.color, candidates, smooth,
+                       select ? AutoMode::Select : AutoMode::Weights, 1.f, 1e-5f);
         double error = CompareImages(combined.color, s.truth).relMse;
         EXPECT_LT(error, 0.9 * best) << (select ? "select" : "weights");
         EXPECT_LT(error, 1.15 * ideal) << (select ? "select" : "weights");
@@ -459,7 +495,7 @@ TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     EXPECT_EQ(result.method, "auto");
     int ran = 0;
     for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
-    EXPECT_EQ(ran, 6) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(ran, 8) << fmt::format("{}", fmt::join(result.plan, "\n"));
     double best = INFINITY;
     for (const char *name : {"rhf", "pivot", "bayes", "awr"})
         best = std::min(best,
@@ -483,8 +519,10 @@ bool PlanHas(const Result &result, const std::string &text) {
 
 // relMSE's denominator: on a heavy-tailed frame (relief-abc, 4 spp) most candidates
 // overshoot a few dark pixels. The candidates' mean as the guide hides those errors (the
-// mean is as far off as they are) and auto was x8 the best method here; the default guide,
-// a first combination by the plain squared error, keeps auto within 5% of it.
+// mean is as far off as they are) and auto was x8 the best method here (x2.2 since the
+// pivot variants without ids, measured: best 0.0975, auto 0.0873, mean guide 0.214); the
+// default guide, a first combination by the plain squared error, keeps auto within 5% of
+// it and under half the mean guide's error.
 TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
     render::RenderOptions options;
     options.width = 48, options.height = 40, options.spp = 4;
@@ -507,9 +545,13 @@ TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
     Result result = automatic.Run(device, frame);
     EXPECT_TRUE(PlanHas(result, "denominator from a first combination"))
         << fmt::format("{}", fmt::join(result.plan, "\n"));
-    EXPECT_LE(CompareImages(result.image, reference).relMse, 1.05 * best);
+    double combined = CompareImages(result.image, reference).relMse;
+    EXPECT_LE(combined, 1.05 * best);
     automatic.Set("auto-guide", "mean");
-    EXPECT_GT(CompareImages(automatic.Run(device, frame).image, reference).relMse, 3 * best);
+    double mean = CompareImages(automatic.Run(device, frame).image, reference).relMse;
+    fmt::print("best method {:.4g}, auto {:.4g}, with the mean as the guide {:.4g}\n", best,
+               combined, mean);
+    EXPECT_GT(mean, 2 * combined);
 }
 
 // The denominator's floor (--auto-noise-cap): on fireflies at 4 spp one pixel sees a
@@ -637,6 +679,86 @@ TEST_F(AutoMethod, FrameWithoutStatisticsUsesItsOwnNoiseEstimate) {
                mean);
     EXPECT_LE(own, 1.05 * best);
     EXPECT_LT(own, mean);
+}
+
+// A candidate's share (mean weight, %) from auto's plan; -1 if it did not run.
+double ShareOf(const Result &result, const std::string &label) {
+    for (const std::string &line : result.plan) {
+        if (!line.starts_with("auto: ran " + label + " (")) continue;
+        size_t at = line.find("share ");
+        if (at != std::string::npos) return std::stod(line.substr(at + 6));
+    }
+    return -1;
+}
+
+// A frame whose object id alternates pixel by pixel (as where many small objects meet):
+// pivot keeps the input of every pixel next to another id, here all of them. auto's
+// variants without the ids (pivot no ids, pivot k0 no ids) filter them; they take most of
+// the weight (62% here, pivot and pivot k0 12%) and auto comes within 5% of the best single
+// method. (On the Cycles cornell box, whose walls are objects of their own, the pixels that
+// pivot kept at id edges carried 83% of its error.)
+TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
+    render::RenderOptions options;
+    options.width = 48, options.height = 40, options.spp = 8;
+    options.layers = render::kLayersGbuffer;
+    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
+    Frame frame;
+    frame.width = options.width, frame.height = options.height;
+    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    Image &ids = frame.layers.at("objectId");
+    for (int y = 0; y < ids.height; ++y)
+        for (int x = 0; x < ids.width; ++x) ids.At(0, y, x) = float((x + y) % 2);
+    options.layers = 0;
+    options.spp = 1024;
+    options.seed = 99;
+    Image reference = render::Render(render::BuildScene("cornell"), options).layers[0].second;
+    Device device = Device::Borrow(Ctx());
+    Method pivot("pivot");
+    double withIds = CompareImages(pivot.Run(device, frame).image, reference).relMse;
+    pivot.Set("guides", std::string("none"));
+    double withoutIds = CompareImages(pivot.Run(device, frame).image, reference).relMse;
+    double bayes = CompareImages(Method("bayes").Run(device, frame).image, reference).relMse;
+    Result result = Method("auto").Run(device, frame);
+    double automatic = CompareImages(result.image, reference).relMse;
+    fmt::print("pivot {:.4g}, pivot without ids {:.4g}, bayes {:.4g}, auto {:.4g}\n", withIds,
+               withoutIds, bayes, automatic);
+    double without = ShareOf(result, "pivot no ids") + ShareOf(result, "pivot k0 no ids");
+    double with = ShareOf(result, "pivot") + ShareOf(result, "pivot k0");
+    EXPECT_GT(ShareOf(result, "pivot no ids"), 0)
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_GT(without, 50) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_LT(with, 0.5 * without);
+    EXPECT_LE(automatic, 1.05 * std::min({withIds, withoutIds, bayes}));
+}
+
+// At a firefly of a frame without statistics every candidate's SURE estimate is negative
+// (the noise estimate calls the firefly noise), so all weigh the same; their mean kept the
+// firefly of the candidates that keep it (pivot k0 and pivot k0 no ids: 47 where the
+// reference is 0.56). The median of the candidates there keeps auto within 5% of the best
+// method on fireflies at 128x128, 16 spp, with the ordinary passes (measured: best 0.0273,
+// auto 0.0157; with the candidates' mean there auto was 0.093).
+TEST_F(AutoMethod, MedianWhereNoEstimateTellsTheCandidatesApart) {
+    render::RenderOptions options;
+    options.width = 128, options.height = 128, options.spp = 16;
+    options.layers = render::kLayersGbuffer | render::kLayersSplit;
+    render::RenderResult rendered = render::Render(render::BuildScene("fireflies"), options);
+    Frame frame;
+    frame.width = options.width, frame.height = options.height;
+    for (auto &[name, image] : rendered.layers)
+        if (name != "variance" && name != "min" && name != "max")
+            frame.layers[name] = std::move(image);
+    options.layers = 0;
+    options.spp = 256;
+    options.seed = 99;
+    Image reference = render::Render(render::BuildScene("fireflies"), options).layers[0].second;
+    Device device = Device::Borrow(Ctx());
+    double best = INFINITY;
+    for (const char *name : {"pivot", "bayes"})
+        best = std::min(best,
+                        CompareImages(Method(name).Run(device, frame).image, reference).relMse);
+    double automatic = CompareImages(Method("auto").Run(device, frame).image, reference).relMse;
+    fmt::print("best method {:.4g}, auto {:.4g}\n", best, automatic);
+    EXPECT_LE(automatic, 1.05 * best);
 }
 
 }  // namespace
