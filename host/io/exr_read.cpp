@@ -18,6 +18,7 @@
 #include <exception>
 #include <mutex>
 #include <new>
+#include <system_error>
 #include <thread>
 
 #ifdef MCD_HAVE_LIBDEFLATE
@@ -256,7 +257,11 @@ bool ReadChunks(Imf::InputFile &file, const std::vector<ExrTarget> &targets) {
         }
     };
     std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+    try {
+        for (int t = 1; t < threads; ++t) pool.emplace_back(work);
+    } catch (const std::system_error &) {
+        // Fewer threads than asked for: those started and this one do the work.
+    }
     work();
     for (std::thread &thread : pool) thread.join();
     if (error) std::rethrow_exception(error);
