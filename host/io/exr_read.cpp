@@ -91,6 +91,50 @@ uint8_t ByteSum(const unsigned char *p, size_t n) {
     return uint8_t(sum);
 }
 
+// Restore t[i] = t[i-1] + d[i] - 128 over n bytes in place, t[-1] being `value`; returns
+// the last t. Sixteen bytes at a time: a prefix sum within the block in four shifted adds.
+uint8_t RestoreRun(unsigned char *d, size_t n, uint8_t value) {
+    size_t i = 0;
+#ifdef __SSE2__
+    const __m128i bias = _mm_set1_epi8(char(-128));
+    for (; i + 16 <= n; i += 16) {
+        __m128i *block = reinterpret_cast<__m128i *>(d + i);
+        __m128i x = _mm_sub_epi8(_mm_loadu_si128(block), bias);
+        x = _mm_add_epi8(x, _mm_slli_si128(x, 1));
+        x = _mm_add_epi8(x, _mm_slli_si128(x, 2));
+        x = _mm_add_epi8(x, _mm_slli_si128(x, 4));
+        x = _mm_add_epi8(x, _mm_slli_si128(x, 8));
+        x = _mm_add_epi8(x, _mm_set1_epi8(char(value)));
+        _mm_storeu_si128(block, x);
+        value = uint8_t(_mm_extract_epi16(x, 7) >> 8);
+    }
+#endif
+    for (; i < n; ++i) {
+        value = uint8_t(value + d[i] - 128);
+        d[i] = value;
+    }
+    return value;
+}
+
+// out[2k] = even[k], out[2k+1] = odd[k] for k < n.
+void Interleave(const unsigned char *even, const unsigned char *odd, size_t n,
+                unsigned char *out) {
+    size_t k = 0;
+#ifdef __SSE2__
+    for (; k + 16 <= n; k += 16) {
+        __m128i e = _mm_loadu_si128(reinterpret_cast<const __m128i *>(even + k));
+        __m128i o = _mm_loadu_si128(reinterpret_cast<const __m128i *>(odd + k));
+        _mm_storeu_si128(reinterpret_cast<__m128i *>(out + 2 * k), _mm_unpacklo_epi8(e, o));
+        _mm_storeu_si128(reinterpret_cast<__m128i *>(out + 2 * k + 16),
+                         _mm_unpackhi_epi8(e, o));
+    }
+#endif
+    for (; k < n; ++k) {
+        out[2 * k] = even[k];
+        out[2 * k + 1] = odd[k];
+    }
+}
+
 // One wanted channel within a scanline of a chunk: its bytes and where they go.
 struct Piece {
     size_t offset = 0, bytes = 0;  // within the line
@@ -155,10 +199,7 @@ class ChunkDecoder {
         auto restore = [&](size_t begin, size_t end) {
             size_t skipped = begin - cursor;
             value = uint8_t(value + ByteSum(d + cursor, skipped) - (skipped & 1) * 128);
-            for (size_t i = begin; i < end; ++i) {
-                value = uint8_t(value + d[i] - 128);
-                d[i] = value;
-            }
+            value = RestoreRun(d + begin, end - begin, value);
             cursor = end;
         };
         for (size_t base : {size_t(0), half})
@@ -178,10 +219,7 @@ class ChunkDecoder {
                 unsigned char *bytes = piece.type == Imf::FLOAT
                                            ? reinterpret_cast<unsigned char *>(planeRow)
                                            : row_.data();
-                for (size_t k = 0; k < piece.bytes / 2; ++k) {
-                    bytes[2 * k] = even[k];
-                    bytes[2 * k + 1] = odd[k];
-                }
+                Interleave(even, odd, piece.bytes / 2, bytes);
                 if (piece.type != Imf::FLOAT) StoreRow(bytes, piece.type, width, planeRow);
             }
     }
