@@ -18,6 +18,7 @@
 #include <exception>
 #include <mutex>
 #include <new>
+#include <stdexcept>
 #include <system_error>
 #include <thread>
 
@@ -209,7 +210,7 @@ class ChunkDecoder {
                     restore(begin, begin + piece.bytes / 2);
                 }
 
-        row_.resize(lineBytes);
+        widened.resize(lineBytes);
         for (int line = 0; line < lines; ++line)
             for (const Piece &piece : pieces) {
                 size_t at = (size_t(line) * lineBytes + piece.offset) / 2;
@@ -218,7 +219,7 @@ class ChunkDecoder {
                 // Float rows are put together in place; others widened from a copy.
                 unsigned char *bytes = piece.type == Imf::FLOAT
                                            ? reinterpret_cast<unsigned char *>(planeRow)
-                                           : row_.data();
+                                           : widened.data();
                 Interleave(even, odd, piece.bytes / 2, bytes);
                 if (piece.type != Imf::FLOAT) StoreRow(bytes, piece.type, width, planeRow);
             }
@@ -229,7 +230,7 @@ class ChunkDecoder {
     size_t lineBytes;
     int width;
     Inflater inflater;
-    std::vector<unsigned char> buffer, row_;
+    std::vector<unsigned char> buffer, widened;
 };
 
 // Our decoder, when the file is one it reads: scanline, uncompressed or ZIP/ZIPS, every
