@@ -534,6 +534,20 @@ TEST_F(IoTest, TruncatedFilesAreErrorsNotCrashes) {
     }
 }
 
+// Bytes overwritten inside a ZIP chunk: an error naming the file, for every layer and for
+// a few, not a crash and not silently wrong values.
+TEST_F(IoTest, DamagedExrChunksAreErrorsNamingTheFile) {
+    Image color = Ramp(64, 64, 3, 0.f), hist = Ramp(64, 64, 61, 0.f);
+    WriteExr(Path("full.exr"), {{"color", &color}, {"hist", &hist}});
+    std::string bytes = ReadBytes(dir / "full.exr");
+    for (size_t i = bytes.size() * 6 / 10; i < bytes.size() * 6 / 10 + 200; ++i)
+        bytes[i] = char(0xff);
+    std::string damaged = Path("damaged.exr");
+    std::ofstream(damaged, std::ios::binary) << bytes;
+    EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(damaged); }), damaged));
+    EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(damaged, {{"color"}}); }), damaged));
+}
+
 TEST_F(IoTest, RefusesUnsupportedChannelFormat) {
     OIIO::ImageSpec spec(2, 2, 1, OIIO::TypeDesc::INT16);
     int16_t pixels[4] = {-5, 0, 5, 100};
