@@ -48,6 +48,15 @@ int PositiveInt(const std::string &text) {
 
 }  // namespace
 
+std::vector<std::string> AccumulatorReads() {
+    return {"color", "spp",    "min",      "max",   "albedo",   "normal", "depth",
+            "pivot", "direct", "indirect", "alpha", "objectId", "partId"};
+}
+
+bool AccumulatorKeeps(const std::string &layer) {
+    return IsMeanLayer(layer) || IsFirstLayer(layer) || IsRecomputed(layer);
+}
+
 FrameHeader ReadFrameHeader(const std::string &path) {
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
     if (!in) throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));

@@ -35,6 +35,14 @@ int SppFromMetadata(const std::map<std::string, std::string> &metadata);
 // add a value of weight 1 to a pixel's 3 x bins histogram (colour c's bins at c * bins).
 void AddToRhfHistogram(const double color[3], int bins, float *histogram);
 
+// The layers Accumulator::Add reads (for ReadOptions::layers); the others are made anew
+// (variance, hist) or not carried.
+std::vector<std::string> AccumulatorReads();
+
+// Whether the accumulated frame holds a layer of the inputs by this name: averaged, taken
+// from the first frame or made anew. The others are "not carried".
+bool AccumulatorKeeps(const std::string &layer);
+
 struct AccumulateOptions {
     int histBins = 20;  // per channel: the hist layer has 3 * histBins + 1 channels
 };

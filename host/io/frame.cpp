@@ -1,11 +1,5 @@
 #include "host/io/frame.h"
 
-#include <Imath/ImathBox.h>
-#include <OpenEXR/ImfChannelList.h>
-#include <OpenEXR/ImfFrameBuffer.h>
-#include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfInputFile.h>
-#include <OpenEXR/ImfThreading.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
@@ -15,13 +9,12 @@
 #include <filesystem>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <system_error>
-#include <thread>
 #include <utility>
 
 #include "host/error.h"
 #include "host/io/conventions.h"
+#include "host/io/exr_read.h"
 #include "host/io/layer_names.h"
 
 namespace mcd {
@@ -65,46 +58,6 @@ bool Wanted(const std::string &layer, const ReadOptions &options) {
     if (asked(layer)) return true;
     if (IsLightPass(layer)) return asked("direct") || asked("indirect");
     return !IsOwnLayerName(layer);
-}
-
-// Read an EXR's channels with OpenEXR itself, straight into the planes, only those with a
-// destination, decompressing on every core: OIIO's scanline reads convert every channel
-// of a band and then copy it (twice the time on a 92-channel 1080p frame). False when the
-// file has subsampled channels, which the caller reads through OIIO instead.
-bool ReadExrChannels(const std::string &path, const OIIO::ImageSpec &spec,
-                     const std::vector<float *> &destination) {
-    static std::once_flag threads;
-    std::call_once(threads, [] {
-        Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
-    });
-    try {
-        Imf::InputFile file(path.c_str());
-        const Imath::Box2i window = file.header().dataWindow();
-        if (window.min.x != spec.x || window.min.y != spec.y ||
-            window.max.x - window.min.x + 1 != spec.width ||
-            window.max.y - window.min.y + 1 != spec.height)
-            return false;
-        for (auto it = file.header().channels().begin(); it != file.header().channels().end();
-             ++it)
-            if (it.channel().xSampling != 1 || it.channel().ySampling != 1) return false;
-        Imf::FrameBuffer buffer;
-        size_t row = size_t(spec.width) * sizeof(float);
-        for (size_t c = 0; c < destination.size(); ++c) {
-            if (!destination[c]) continue;
-            // OpenEXR addresses pixel (x, y) of the data window at base + x xStride + y
-            // yStride.
-            char *base = reinterpret_cast<char *>(destination[c]) -
-                         std::ptrdiff_t(window.min.x) * std::ptrdiff_t(sizeof(float)) -
-                         std::ptrdiff_t(window.min.y) * std::ptrdiff_t(row);
-            buffer.insert(spec.channelnames[c],
-                          Imf::Slice(Imf::FLOAT, base, sizeof(float), row));
-        }
-        file.setFrameBuffer(buffer);
-        file.readPixels(window.min.y, window.max.y);
-    } catch (const std::exception &e) {
-        throw Error(fmt::format("cannot read '{}': {}", path, e.what()));
-    }
-    return true;
 }
 
 // Read a band of rows at a time through OIIO, interleaved, and scatter it into the planes;
@@ -224,10 +177,13 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
             destination[layer.channels[c]] = image.Plane(int(c));
     }
 
-    // OpenEXR files straight into the planes (EXR data is float, half or 32-bit ids, none
-    // of which needs decoding beyond a float conversion).
+    // EXR files straight into the planes, only the wanted channels (EXR data is float, half
+    // or 32-bit ids, none of which needs decoding beyond a float conversion).
     bool exr = std::string(in->format_name()) == "openexr";
-    if (!exr || !ReadExrChannels(path, spec, destination))
+    std::vector<ExrTarget> targets;
+    for (int c = 0; c < channelCount; ++c)
+        if (destination[c]) targets.push_back({spec.channelnames[c], destination[c]});
+    if (!exr || !ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets))
         ReadBands(*in, path, spec, decode, destination);
 
     // The file's string attributes; "oiio:*" are OIIO's own hints, not the file's.

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -21,6 +22,7 @@
 #include "host/error.h"
 #include "host/image.h"
 #include "host/io/conventions.h"
+#include "host/io/exr_read.h"
 #include "host/io/frame.h"
 
 namespace mcd::io {
@@ -532,6 +534,20 @@ TEST_F(IoTest, TruncatedFilesAreErrorsNotCrashes) {
     }
 }
 
+// Bytes overwritten inside a ZIP chunk: an error naming the file, for every layer and for
+// a few, not a crash and not silently wrong values.
+TEST_F(IoTest, DamagedExrChunksAreErrorsNamingTheFile) {
+    Image color = Ramp(64, 64, 3, 0.f), hist = Ramp(64, 64, 61, 0.f);
+    WriteExr(Path("full.exr"), {{"color", &color}, {"hist", &hist}});
+    std::string bytes = ReadBytes(dir / "full.exr");
+    for (size_t i = bytes.size() * 6 / 10; i < bytes.size() * 6 / 10 + 200; ++i)
+        bytes[i] = char(0xff);
+    std::string damaged = Path("damaged.exr");
+    std::ofstream(damaged, std::ios::binary) << bytes;
+    EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(damaged); }), damaged));
+    EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(damaged, {{"color"}}); }), damaged));
+}
+
 TEST_F(IoTest, RefusesUnsupportedChannelFormat) {
     OIIO::ImageSpec spec(2, 2, 1, OIIO::TypeDesc::INT16);
     int16_t pixels[4] = {-5, 0, 5, 100};
@@ -868,6 +884,102 @@ TEST_F(IoTest, ReadsARealCyclesFrame) {
                          "direct/indirect composed from the light passes (Diff, Gloss, "
                          "Trans, Emit, Env, VolumeDir, VolumeInd)"));
     EXPECT_FALSE(Contains(line, "the rest goes to indirect"));
+}
+
+// The EXR chunk decoder (ZIP, ZIPS, none) gives the bytes OpenEXR's own reader gives, for
+// every channel or a few, float, half and 32-bit unsigned, with a data window off the
+// origin, a last chunk of fewer rows, chunks that compress and chunks stored raw (random
+// bits), NaN and Inf; files it leaves to OpenEXR (PIZ, RLE, tiled) read the same too.
+TEST_F(IoTest, ExrChunkDecoderMatchesOpenExr) {
+    const int width = 13, height = 37;
+    std::vector<std::string> names = {"B",          "G",         "R",          "depth.Y",
+                                      "hist.0",     "hist.1",    "objectId.Y", "variance.B",
+                                      "variance.G", "variance.R"};
+    std::vector<OIIO::TypeDesc> formats = {
+        OIIO::TypeFloat, OIIO::TypeFloat, OIIO::TypeFloat, OIIO::TypeHalf, OIIO::TypeFloat,
+        OIIO::TypeFloat, OIIO::TypeUInt,  OIIO::TypeFloat, OIIO::TypeHalf, OIIO::TypeFloat};
+    int n = int(names.size());
+    // The pixels in the channels' own formats, and the floats they stand for: smooth rows
+    // at the top (they compress), random bits below (stored raw), a few NaN and Inf.
+    std::mt19937 random(7);
+    std::vector<unsigned char> native;
+    std::vector<float> expected(size_t(width) * height * n);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < n; ++c) {
+                bool smooth = y < 20;
+                float &value = expected[(size_t(y) * width + x) * n + c];
+                if (formats[c] == OIIO::TypeFloat) {
+                    float f = smooth ? 0.25f * float(x) + float(c)
+                                     : std::bit_cast<float>(uint32_t(random()));
+                    if ((x * 7 + y * 3 + c) % 29 == 0)
+                        f = std::numeric_limits<float>::quiet_NaN();
+                    if ((x * 5 + y + c) % 31 == 0) f = -std::numeric_limits<float>::infinity();
+                    uint32_t bits = std::bit_cast<uint32_t>(f);
+                    for (int k = 0; k < 4; ++k) native.push_back(uint8_t(bits >> (8 * k)));
+                    value = f;
+                } else if (formats[c] == OIIO::TypeHalf) {
+                    // 1 + x/1024, or any half (NaN and Inf among them).
+                    uint16_t bits = smooth ? uint16_t(0x3c00 + x) : uint16_t(random());
+                    native.push_back(uint8_t(bits)), native.push_back(uint8_t(bits >> 8));
+                    int exponent = (bits >> 10) & 31, mantissa = bits & 1023;
+                    float magnitude =
+                        exponent == 31  ? (mantissa ? std::numeric_limits<float>::quiet_NaN()
+                                                    : std::numeric_limits<float>::infinity())
+                        : exponent == 0 ? std::ldexp(float(mantissa), -24)
+                                        : std::ldexp(float(1024 + mantissa), exponent - 25);
+                    value = bits & 0x8000 ? -magnitude : magnitude;
+                } else {
+                    uint32_t id = smooth ? uint32_t(x + c) : uint32_t(random());
+                    for (int k = 0; k < 4; ++k) native.push_back(uint8_t(id >> (8 * k)));
+                    value = float(id);
+                }
+            }
+
+    for (const char *compression : {"zip", "zips", "none", "piz", "rle", "tiled"}) {
+        SCOPED_TRACE(compression);
+        std::string path = Path(std::string(compression) + ".exr");
+        OIIO::ImageSpec spec(width, height, n, OIIO::TypeFloat);
+        spec.x = -3, spec.y = 5;
+        spec.channelnames = names;
+        spec.channelformats = formats;
+        bool tiled = std::string(compression) == "tiled";
+        spec.attribute("compression", tiled ? "zip" : compression);
+        if (tiled) spec.tile_width = spec.tile_height = 16;
+        {
+            auto out = OIIO::ImageOutput::create(path);
+            ASSERT_TRUE(out && out->open(path, spec)) << OIIO::geterror();
+            ASSERT_TRUE(out->write_image(OIIO::TypeUnknown, native.data())) << out->geterror();
+            ASSERT_TRUE(out->close());
+        }
+        for (const std::vector<int> &wanted :
+             {std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, std::vector<int>{2, 6, 8},
+              std::vector<int>{9}}) {
+            Image ours(width, height, int(wanted.size())), theirs = ours;
+            std::vector<ExrTarget> a, b;
+            for (size_t k = 0; k < wanted.size(); ++k) {
+                a.push_back({names[wanted[k]], ours.Plane(int(k))});
+                b.push_back({names[wanted[k]], theirs.Plane(int(k))});
+            }
+            ASSERT_TRUE(ReadExrChannels(path, -3, 5, width, height, a, ExrDecoder::Auto));
+            ASSERT_TRUE(ReadExrChannels(path, -3, 5, width, height, b, ExrDecoder::OpenExr));
+            EXPECT_TRUE(BitEqual(ours, theirs)) << wanted.size() << " channels";
+            // And they are the values written.
+            for (size_t k = 0; k < wanted.size(); ++k)
+                for (int y = 0; y < height; ++y)
+                    for (int x = 0; x < width; ++x) {
+                        float value = expected[(size_t(y) * width + x) * n + wanted[k]];
+                        float read = ours.At(int(k), y, x);
+                        ASSERT_TRUE(std::isnan(value) ? std::isnan(read) : read == value)
+                            << names[wanted[k]] << " at " << x << "," << y << ": " << read
+                            << " for " << value;
+                    }
+        }
+    }
+    // A data window other than the one given: not read.
+    Image plane(width, height, 1);
+    EXPECT_FALSE(
+        ReadExrChannels(Path("zip.exr"), 0, 0, width, height, {{"R", plane.Plane(0)}}));
 }
 
 // ReadOptions::layers: the layers asked for come back bit for bit as in a full read, the

@@ -183,6 +183,25 @@ TEST_F(CliAccumulate, CountsNonFiniteAndLeavesThemOut) {
     EXPECT_EQ(acc.Get("hist").At(60, 2, 3), 2.f);
 }
 
+// Layers the frames have that the result does not carry are named, whether accumulate
+// read them (a renderer's pass) or not (partials); those made anew (variance) are not.
+TEST_F(CliAccumulate, NamesTheLayersItDoesNotCarry) {
+    for (int k = 0; k < 2; ++k) {
+        Image color(3, 2, 3), variance(3, 2, 3), partial(3, 2, 3), emission(3, 2, 3);
+        for (size_t i = 0; i < color.data.size(); ++i) color.data[i] = float(k + i);
+        io::WriteExr(Path(fmt::format("p{}.exr", k)), {{"color", &color},
+                                                       {"variance", &variance},
+                                                       {"partial0.color", &partial},
+                                                       {"Emission", &emission}});
+    }
+    ToolResult r = Run("accumulate p0.exr p1.exr -o acc.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "not carried: Emission, partial0.color\n")) << r.out;
+    io::Frame acc = io::ReadFrame(Path("acc.exr"));
+    EXPECT_FALSE(acc.Has("partial0.color"));
+    EXPECT_EQ(acc.Get("color").At(0, 0, 0), 0.5f);
+}
+
 // The accumulator's binning is the renderer's, value for value.
 TEST(IoAccumulate, BinsAsTheRenderer) {
     for (int bins : {3, 20}) {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 
 #include "host/error.h"
 #include "host/io/accumulate.h"
@@ -101,7 +102,8 @@ void AddAccumulateCommand(CLI::App &app) {
                 std::fprintf(stderr, "\raccumulate %d frames: %3d%%", total, 100 * i / total);
             std::error_code ec;
             bytes += double(std::filesystem::file_size(opt->inputs[i], ec));
-            accumulator.Add(io::ReadFrame(opt->inputs[i]));
+            // Only the layers it reads: a frame's histograms and partials are most of it.
+            accumulator.Add(io::ReadFrame(opt->inputs[i], {io::AccumulatorReads()}));
         }
         if (terminal) std::fprintf(stderr, "\raccumulate %d frames: 100%%\n", total);
         io::Frame frame = accumulator.Finish();
@@ -125,8 +127,13 @@ void AddAccumulateCommand(CLI::App &app) {
         for (const auto &[layer, count] : accumulator.NonFinite())
             fmt::print("  warning: {} NaN/Inf pixel values in layer {} were left out\n", count,
                        layer);
+        // The layers not read, and the renderer passes read but not kept.
+        std::set<std::string> notCarried(accumulator.Dropped().begin(),
+                                         accumulator.Dropped().end());
+        for (const auto &[name, channels] : headers.front().layers)
+            if (!io::AccumulatorKeeps(name)) notCarried.insert(name);
         std::string dropped;
-        for (const std::string &name : accumulator.Dropped())
+        for (const std::string &name : notCarried)
             dropped += (dropped.empty() ? "" : ", ") + name;
         if (!dropped.empty()) fmt::print("  not carried: {}\n", dropped);
     });

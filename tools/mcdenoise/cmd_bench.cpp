@@ -651,6 +651,7 @@ void AddBenchCommand(CLI::App &app) {
 
     AddBenchQualityCommand(bench);
     AddBenchTracingCommand(bench);
+    AddBenchReadCommand(bench);
 }
 
 }  // namespace mcd::tool

@@ -420,8 +420,12 @@ void AddDenoiseCommand(CLI::App &app) {
         if (inPlace)
             RefuseOverwritingInputs({{"input", opt->input}}, {{"--preview", opt->preview}});
         // Only the layers the method reads; an in-place write keeps every layer.
+        auto readStart = std::chrono::steady_clock::now();
         io::Frame frame = io::ReadFrame(
             opt->input, inPlace ? mcd::ReadOptions{} : mcd::ReadOptions{method.Uses()});
+        double readMs = std::chrono::duration<double, std::milli>(
+                            std::chrono::steady_clock::now() - readStart)
+                            .count();
         const Image &color = frame.Get("color");
         Image reference;
         if (!opt->reference.empty()) reference = ReadReference(opt->reference, color);
@@ -446,6 +450,10 @@ void AddDenoiseCommand(CLI::App &app) {
             // How another renderer's layers were converted: the split and noise depend on it.
             if (auto it = frame.metadata.find(io::kConventionKey); it != frame.metadata.end())
                 fmt::print("  frame {}\n", it->second);
+            std::string read;
+            for (const auto &[name, image] : frame.layers)
+                read += (read.empty() ? "" : ", ") + name;
+            fmt::print("  frame read in {:.0f} ms (layers {})\n", readMs, read);
             for (const std::string &step : result.plan) fmt::print("  {}\n", step);
             fmt::print("{}", LedgerText(result));
             fmt::print("{}", PipelinesText(device));
