@@ -31,7 +31,8 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
                                                   sizeof(k_rhf_terms_spv),
                                                   RHF_TERMS_BINDINGS,
                                                   sizeof(shader::RhfTermsPush),
-                                                  {{RHF_TERMS_SPEC_SEARCH_HALF, searchHalf}},
+                                                  {{RHF_TERMS_SPEC_SEARCH_HALF, searchHalf},
+                                                   {RHF_TERMS_SPEC_SLOTS, int(hist.slots.size())}},
                                                   (1u << RHF_HIST_SLOTS) - 1});
     shader::RhfTermsPush push{hist.width, hist.height, hist.planes - 1,    brightVeto,
                               rowBase,    rows,        hist.planesPerSlot, histScale};

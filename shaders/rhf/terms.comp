@@ -12,6 +12,10 @@
 // against 1.30 s with 4 and 1.81 s with 2, 512x512).
 layout(local_size_x = RHF_TERMS_LOCAL_SIZE) in;
 layout(constant_id = RHF_TERMS_SPEC_SEARCH_HALF) const int B = 6;
+// The histogram buffers in use: lavapipe runs every side of a branch, so a plane read
+// through a switch over 6 buffers cost 6 fetches, and each unused buffer's ACCUMULATE one
+// masked plane; with the count known when the pipeline is built they compile away.
+layout(constant_id = RHF_TERMS_SPEC_SLOTS) const int SLOTS = RHF_HIST_SLOTS;
 const int SIDE = 2 * B + 1;
 layout(binding = RHF_TERMS_HIST + 0) uniform samplerBuffer hist0;
 layout(binding = RHF_TERMS_HIST + 1) uniform samplerBuffer hist1;
@@ -24,16 +28,14 @@ layout(std430, binding = RHF_TERMS_COUNT) writeonly buffer TermCount { float ter
 
 // Plane `plane` of pixel `pixel`, from the buffer that holds that plane.
 float Hist(int plane, int pixel) {
-    int slot = plane / push.planesPerSlot;
+    int slot = SLOTS == 1 ? 0 : plane / push.planesPerSlot;
     int at = (plane - slot * push.planesPerSlot) * (push.width * push.height) + pixel;
-    switch (slot) {
-    case 0: return texelFetch(hist0, at).r;
-    case 1: return texelFetch(hist1, at).r;
-    case 2: return texelFetch(hist2, at).r;
-    case 3: return texelFetch(hist3, at).r;
-    case 4: return texelFetch(hist4, at).r;
-    default: return texelFetch(hist5, at).r;
-    }
+    if (SLOTS == 1 || slot == 0) return texelFetch(hist0, at).r;
+    if (SLOTS == 2 || slot == 1) return texelFetch(hist1, at).r;
+    if (SLOTS == 3 || slot == 2) return texelFetch(hist2, at).r;
+    if (SLOTS == 4 || slot == 3) return texelFetch(hist3, at).r;
+    if (SLOTS == 5 || slot == 4) return texelFetch(hist4, at).r;
+    return texelFetch(hist5, at).r;
 }
 
 // A lane owns PIX consecutive pixels of a row: the candidates of its window row then share
@@ -136,13 +138,14 @@ void main() {
                                                : 0.0;
         }
         if (push.brightVeto > 0.0) MarkVetoedPairs(pRow, qRow);
+        // The count plane is last, so the bin planes may use one buffer fewer than SLOTS.
         int slots = (push.binPlanes + push.planesPerSlot - 1) / push.planesPerSlot;
         ACCUMULATE(hist0, 0)
-        if (slots > 1) ACCUMULATE(hist1, 1)
-        if (slots > 2) ACCUMULATE(hist2, 2)
-        if (slots > 3) ACCUMULATE(hist3, 3)
-        if (slots > 4) ACCUMULATE(hist4, 4)
-        if (slots > 5) ACCUMULATE(hist5, 5)
+        if (SLOTS > 1 && slots > 1) ACCUMULATE(hist1, 1)
+        if (SLOTS > 2 && slots > 2) ACCUMULATE(hist2, 2)
+        if (SLOTS > 3 && slots > 3) ACCUMULATE(hist3, 3)
+        if (SLOTS > 4 && slots > 4) ACCUMULATE(hist4, 4)
+        if (SLOTS > 5 && slots > 5) ACCUMULATE(hist5, 5)
     }
     [[unroll]] for (int j = 0; j < PIX; ++j)
         [[unroll]] for (int k = 0; k < SIDE; ++k) {

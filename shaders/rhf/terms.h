@@ -21,6 +21,7 @@
 #define RHF_TERMS_LOCAL_SIZE 64
 #define RHF_TERMS_PIXELS_PER_LANE 8   // consecutive pixels of a row per lane
 #define RHF_TERMS_SPEC_SEARCH_HALF 0  // b, so a lane keeps one window row in registers
+#define RHF_TERMS_SPEC_SLOTS 1        // histogram buffers bound (1..RHF_HIST_SLOTS)
 
 #ifdef __cplusplus
 #include <cstddef>
