@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <tuple>
 #include <vector>
 
@@ -70,6 +71,22 @@ double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w
                 return -1;
         }
     return sum / (double(counted) + 1e-4);
+}
+
+Image RhfBlockMax(const Image &hist, float histScale, int block) {
+    const int n3 = hist.channels - 1, blocks = (hist.width + block - 1) / block;
+    Image out(blocks, hist.height, n3);
+    for (int i = 0; i < n3; ++i)
+        for (int y = 0; y < hist.height; ++y)
+            for (int b = 0; b < blocks; ++b) {
+                float largest = -std::numeric_limits<float>::max();
+                for (int x = b * block; x < std::min(hist.width, (b + 1) * block); ++x) {
+                    float n = hist.At(n3, y, x) * histScale;
+                    if (n != 0) largest = std::max(largest, hist.At(i, y, x) * histScale);
+                }
+                out.At(i, y, b) = largest;
+            }
+    return out;
 }
 
 std::vector<bool> RhfSelect(const std::vector<double> &distances, int nearest,

@@ -54,6 +54,13 @@ std::vector<bool> RhfSelect(const std::vector<double> &distances, int nearest,
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
                      double threshold, int knn, double brightVeto = 0);
 
+// Not in the paper (issue #19, a bound the GPU's pixel terms use to leave bins out): for
+// every bin plane i < 3n, row y and block of `block` pixels of the row (the last block cut
+// at the edge), the largest h_i histScale over the block's pixels whose count times
+// histScale is non-zero, -FLT_MAX when none has one. In float, as the GPU reads the bins.
+// An Image of 3n channels, ceil(width / block) x height.
+Image RhfBlockMax(const Image &hist, float histScale, int block);
+
 // The symmetric boundary of the tool's samplers: index i of a line of n, mirrored about the
 // edges (period 2n, the edge pixel repeated).
 int RhfMirror(int i, int n);

@@ -20,9 +20,10 @@ struct RhfHistogram {
 // termSum / termCount get (b+1)(2b+1) planes (offsets with dy >= 0) of rows x width, for image
 // rows rowBase..rowBase+rows-1; bins and counts are multiplied by histScale as they are read.
 // brightVeto > 0 marks vetoed pixel pairs with count -1 (shaders/rhf/terms.h); the bound is
-// in the scale's rescaled counts.
+// in the scale's rescaled counts. blockMax holds RecordRhfBlockMax's maxima of these
+// histograms with this histScale (rhf_blockmax.h); bins they show no pair counts are skipped.
 void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
                     int searchHalf, int rowBase, int rows, float histScale, float brightVeto,
-                    vk::Buffer &termSum, vk::Buffer &termCount);
+                    const vk::Buffer &blockMax, vk::Buffer &termSum, vk::Buffer &termCount);
 
 }  // namespace mcd

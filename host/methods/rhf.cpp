@@ -9,6 +9,7 @@
 
 #include "host/error.h"
 #include "host/kernels/rhf_aggregate.h"
+#include "host/kernels/rhf_blockmax.h"
 #include "host/kernels/rhf_combine.h"
 #include "host/kernels/rhf_distance.h"
 #include "host/kernels/rhf_downsample.h"
@@ -222,15 +223,18 @@ RhfHistogram UploadHistogram(vk::Context &context, const Image &hist, int perSlo
 
 // Work buffers, sized for the finest scale and reused by every scale.
 struct RhfWork {
-    RhfWork(vk::Context &context, const RhfLayout &layout, int searchHalf, size_t pixels)
+    RhfWork(vk::Context &context, const RhfLayout &layout, int searchHalf, int width,
+            int height, int planes)
         : termSum(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
                   "rhf.termSum"),
           termCount(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
                     "rhf.termCount"),
           dist(context, layout.rowFloats * layout.stripRows * sizeof(float), "rhf.distance"),
-          mask(context, size_t(RhfMaskWords(searchHalf)) * pixels * sizeof(uint32_t),
-               "rhf.mask") {}
-    vk::Buffer termSum, termCount, dist, mask;
+          mask(context, size_t(RhfMaskWords(searchHalf)) * width * height * sizeof(uint32_t),
+               "rhf.mask"),
+          blockMax(context, size_t(planes - 1) * height * RhfBlocks(width) * sizeof(float),
+                   "rhf.blockMax") {}
+    vk::Buffer termSum, termCount, dist, mask, blockMax;
 };
 
 // What the scales make while recording, kept until the submission (deques: references
@@ -311,12 +315,14 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
     // The tool counts the patch itself apart from its k_NN neighbours.
     int nearest = knn > 0 ? knn + 1 : 0;
     int strips = 0;
+    RecordRhfBlockMax(context, recorder, *in.hist, in.histScale, work.blockMax);
     for (int y0 = 0; y0 < Hs; y0 += layout.stripRows, ++strips) {
         int rows = std::min(layout.stripRows, Hs - y0);
         int termBase = std::max(0, y0 - o.patchHalf - o.searchHalf);
         int termRows = std::min(Hs, y0 + rows + o.patchHalf) - termBase;
         RecordRhfTerms(context, recorder, *in.hist, o.searchHalf, termBase, termRows,
-                       in.histScale, o.brightVeto / in.histScale, work.termSum, work.termCount);
+                       in.histScale, o.brightVeto / in.histScale, work.blockMax, work.termSum,
+                       work.termCount);
         RecordRhfDistance(context, recorder, Ws, Hs, o.patchHalf, o.searchHalf, termBase,
                           termRows, y0, rows, work.termSum, work.termCount, work.dist);
         RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, nearest, o.threshold,
@@ -446,7 +452,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
         "histograms: {} planes ({} bins per colour + the count) in {} buffer(s) of up to {} "
         "planes; distances in strips of up to {} rows",
         planes, (planes - 1) / 3, full.slots.size(), layout.perSlot, layout.stripRows));
-    RhfWork work(context, layout, o.searchHalf, color.PixelCount());
+    RhfWork work(context, layout, o.searchHalf, W, H, planes);
 
     // Coarse to fine: each scale filtered, then recombined with the coarser result.
     RhfScratch scratch;

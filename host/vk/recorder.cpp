@@ -12,7 +12,7 @@ namespace {
 
 constexpr uint32_t kMaxTimedDispatches = 4096;
 constexpr uint32_t kSetsPerPool = 256;
-constexpr uint32_t kMaxBindings = 8;
+constexpr uint32_t kMaxBindings = 9;  // rhf.terms: 6 histogram buffers and 3 more
 
 }  // namespace
 

@@ -13,14 +13,16 @@
 #ifndef MCD_SHADERS_RHF_TERMS_H
 #define MCD_SHADERS_RHF_TERMS_H
 
-#define RHF_HIST_SLOTS 6  // with the two outputs, the recorder's 8 bindings
+#define RHF_HIST_SLOTS 6  // with the two outputs and the bin maxima, 9 bindings
 #define RHF_TERMS_HIST 0  // slots 0..RHF_HIST_SLOTS-1
 #define RHF_TERMS_SUM 6
 #define RHF_TERMS_COUNT 7
-#define RHF_TERMS_BINDINGS 8
+#define RHF_TERMS_BLOCKMAX 8  // blockmax.comp's maxima of the bins, to leave bins out
+#define RHF_TERMS_BINDINGS 9
 #define RHF_TERMS_LOCAL_SIZE 64
 #define RHF_TERMS_PIXELS_PER_LANE 8   // consecutive pixels of a row per lane
 #define RHF_TERMS_SPEC_SEARCH_HALF 0  // b, so a lane keeps one window row in registers
+#define RHF_TERMS_SPEC_SLOTS 1        // histogram buffers bound (1..RHF_HIST_SLOTS)
 
 #ifdef __cplusplus
 #include <cstddef>

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -18,6 +19,7 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/error.h"
+#include "host/kernels/rhf_blockmax.h"
 #include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
 #include "host/vk/buffer.h"
@@ -467,6 +469,57 @@ TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
     o.brightVeto = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, f.hist, o), Error);
+}
+
+// The bin maxima per block (blockmax.comp) against ref::RhfBlockMax, bit for bit (a max
+// of products in float): widths below, at and past a block, empty pixels (count 0, whose
+// bins are left out even when non-zero), whole empty blocks, histograms split over several
+// buffers (the count plane in a buffer of its own or sharing one), a histScale below 1.
+TEST_F(RhfKernel, BlockMaximaMatchReference) {
+    std::mt19937_64 rng(SeedFromName("rhf block maxima"));
+    std::uniform_real_distribution<float> bin(0.f, 3.f);
+    struct Case {
+        int w, h, bins, perSlot;
+        float scale;
+    };
+    for (Case c : {Case{1, 1, 1, 0, 1.f}, Case{8, 3, 2, 0, 1.f}, Case{37, 5, 3, 4, 0.37f},
+                   Case{17, 4, 3, 3, 1.f}, Case{9, 2, 20, 7, 2.5f}}) {
+        SCOPED_TRACE(fmt::format("{}x{}, {} bins, {} planes per buffer, scale {}", c.w, c.h,
+                                 c.bins, c.perSlot, c.scale));
+        const int planes = 3 * c.bins + 1, perSlot = c.perSlot > 0 ? c.perSlot : planes;
+        Image hist(c.w, c.h, planes);
+        for (int y = 0; y < c.h; ++y)
+            for (int x = 0; x < c.w; ++x) {
+                // Every third pixel empty, and the second block of row 1 wholly.
+                bool empty = (x + y) % 3 == 2 || (y == 1 && x / 8 == 1);
+                for (int i = 0; i < planes - 1; ++i)
+                    hist.At(i, y, x) = rng() % 4 ? bin(rng) : 0.f;
+                hist.At(planes - 1, y, x) = empty ? 0.f : float(1 + rng() % 16);
+            }
+        RhfHistogram gpu;
+        gpu.width = c.w;
+        gpu.height = c.h;
+        gpu.planes = planes;
+        gpu.planesPerSlot = perSlot;
+        for (int first = 0; first < planes; first += perSlot) {
+            int count = std::min(perSlot, planes - first);
+            vk::Buffer &slot = gpu.slots.emplace_back(
+                Ctx(), size_t(count) * hist.PixelCount() * sizeof(float), "hist");
+            slot.Upload(hist.Plane(first), size_t(count) * hist.PixelCount() * sizeof(float));
+        }
+        Image expected = ref::RhfBlockMax(hist, c.scale, 8);
+        vk::Buffer out(Ctx(), expected.data.size() * sizeof(float), "blockMax");
+        vk::Recorder recorder(Ctx());
+        RecordRhfBlockMax(Ctx(), recorder, gpu, c.scale, out);
+        recorder.Submit();
+        std::vector<float> got(expected.data.size());
+        out.Download(got.data(), got.size() * sizeof(float));
+        ASSERT_EQ(expected.width, RhfBlocks(c.w));
+        for (size_t i = 0; i < got.size(); ++i)
+            ASSERT_EQ(std::bit_cast<uint32_t>(expected.data[i]),
+                      std::bit_cast<uint32_t>(got[i]))
+                << "at " << i << ": " << expected.data[i] << " against " << got[i];
+    }
 }
 
 // The selection kernel against the reference's selection sort on distances drawn from a
