@@ -20,18 +20,23 @@ void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGui
     if ((guides.normals || guides.ids) && !image)
         throw Error(fmt::format("{}: guides are switched on without a guide image", what));
     if (image && (image->width != width || image->height != height ||
-                  image->channels != PIVOT_GUIDE_PLANES))
+                  image->channels != PIVOT_GUIDE_STRIDE))
         throw Error(fmt::format("{}: the guide image is {}x{}x{}, expected {}x{}x{}", what,
                                 image->width, image->height, image->channels, width, height,
-                                PIVOT_GUIDE_PLANES));
+                                PIVOT_GUIDE_STRIDE));
 }
 
 Image PivotGuideBuffer(const Image &planes) {
-    Image buffer(planes.width, planes.height, planes.channels);
+    if (planes.channels != PIVOT_GUIDE_PLANES)
+        throw Error(fmt::format("pivot guides: {} planes, expected {}", planes.channels,
+                                PIVOT_GUIDE_PLANES));
+    Image buffer(planes.width, planes.height, PIVOT_GUIDE_STRIDE);
     size_t pixels = planes.PixelCount();
-    for (int k = 0; k < planes.channels; ++k)
+    // Normal x, y, z in floats 0..2, object and part ids in 4 and 5 (two vec4 texels).
+    const int slot[PIVOT_GUIDE_PLANES] = {0, 1, 2, 4, 5};
+    for (int k = 0; k < PIVOT_GUIDE_PLANES; ++k)
         for (size_t i = 0; i < pixels; ++i)
-            buffer.data[i * planes.channels + k] = planes.data[k * pixels + i];
+            buffer.data[i * PIVOT_GUIDE_STRIDE + slot[k]] = planes.data[k * pixels + i];
     return buffer;
 }
 
@@ -91,7 +96,8 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
          sizeof(shader::PivotFitPush),
          {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
          (1u << PIVOT_FIT_Z) | (1u << PIVOT_FIT_S) | (1u << PIVOT_FIT_NU) |
-             (1u << PIVOT_FIT_GUIDES)});
+             (1u << PIVOT_FIT_GUIDES),
+         1u << PIVOT_FIT_GUIDES});
     shader::PivotFitPush push{z.width,
                               z.height,
                               z.channels,

@@ -9,8 +9,8 @@
 
 namespace mcd {
 
-// The optional guides on the GPU: one image of PIVOT_GUIDE_PLANES channels (normal x, y, z,
-// object id, part id); `normals` and `ids` say which parts the kernels use (the others are
+// The optional guides on the GPU: one buffer of PIVOT_GUIDE_STRIDE floats per pixel
+// (PivotGuideBuffer); `normals` and `ids` say which parts the kernels use (the others are
 // compiled out). No image: neither.
 struct PivotGpuGuides {
     const vk::GpuImage *image = nullptr;
@@ -30,8 +30,9 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                     const PivotFitSettings &settings, vk::GpuImage &fitLo, vk::GpuImage &fitHi,
                     int rowBase, int rows);
 
-// The guide buffer's layout (values of a pixel adjacent, shaders/pivot/pivot.h) from an
-// image of PIVOT_GUIDE_PLANES planes: normal x, y, z, object id, part id.
+// The guide buffer's layout (values of a pixel adjacent in PIVOT_GUIDE_STRIDE floats,
+// shaders/pivot/pivot.h) from an image of PIVOT_GUIDE_PLANES planes: normal x, y, z,
+// object id, part id.
 Image PivotGuideBuffer(const Image &planes);
 
 // The fits in the reference's layout (cpu_reference/pivot_filter.h: plane p of channel c at
@@ -39,7 +40,7 @@ Image PivotGuideBuffer(const Image &planes);
 Image PivotFitsOfBuffers(const Image &lo, const Image &hi, int channels);
 void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi);
 
-// Throw unless the guide image matches width x height x PIVOT_GUIDE_PLANES when one is used.
+// Throw unless the guide buffer matches width x height x PIVOT_GUIDE_STRIDE when one is used.
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides);
 
 }  // namespace mcd

@@ -107,7 +107,8 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
          {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
          (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_NU) |
              (1u << PIVOT_GATHER_FIT_LO) | (1u << PIVOT_GATHER_FIT_HI) |
-             (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES)});
+             (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES),
+         1u << PIVOT_GATHER_GUIDES});
     shader::PivotGatherPush push{
         color.width, color.height, color.channels, reach < 0 ? 0 : reach,
         tilesX,      tilesY,       rowBase};

@@ -39,7 +39,8 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
          sizeof(shader::PivotRatioPush),
          {{PIVOT_SPEC_VARIANCE, variance ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
          (1u << PIVOT_RATIO_COLOR) | (1u << PIVOT_RATIO_PIVOT) | (1u << PIVOT_RATIO_VARIANCE) |
-             (1u << PIVOT_RATIO_GUIDES)});
+             (1u << PIVOT_RATIO_GUIDES),
+         1u << PIVOT_RATIO_GUIDES});
     float t[4] = {};
     for (size_t c = 0; c < thresholds.size(); ++c) t[c] = thresholds[c];
     shader::PivotRatioPush push{color.width, color.height, t[0], t[1], t[2], t[3]};

@@ -141,7 +141,7 @@ struct PivotGpu {
         guides.normals = in.normal != nullptr;
         guides.ids = in.objectId || in.partId;
         if (guides.normals || guides.ids) {
-            guide.emplace(context, w, h, PIVOT_GUIDE_PLANES, "pivot.guides");
+            guide.emplace(context, w, h, PIVOT_GUIDE_STRIDE, "pivot.guides");
             guide->Upload(PivotGuideBuffer(GuideImage(in)));
             guides.image = &*guide;
         }

@@ -1,19 +1,23 @@
 // The geometric terms of the pivot filter (section 4.4), for kernels that declare the
-// texel buffer `guides` (per pixel PIVOT_GUIDE_PLANES adjacent values: normal x, y, z,
-// object id, part id), the specialization constants useNormals / useIds and the ints
-// `planeSize` (width x height) and `gw`, `gh` (width, height).
+// vec4 texel buffer `guides` (per pixel two texels, PIVOT_GUIDE_STRIDE floats: normal x, y,
+// z, 0, then object id, part id, 0, 0), the specialization constants useNormals / useIds
+// and the ints `planeSize` (width x height) and `gw`, `gh` (width, height).
 
-// Guide value k (0..4) of pixel i.
-float Guide(int i, int k) {
-    return texelFetch(guides, i * PIVOT_GUIDE_PLANES + k).r;
+// Pixel i's normal and its object and part ids: one fetch each.
+vec3 NormalAt(int i) {
+    return texelFetch(guides, 2 * i).xyz;
+}
+
+vec2 IdsAt(int i) {
+    return texelFetch(guides, 2 * i + 1).xy;
 }
 
 // (n.n0)^4 when n.n0 > 1/2 for the unit normals at pixels i and i0, else 0; two zero
 // normals (no surface) give 1, one gives 0.
 float normalTerm(int i, int i0) {
     if (useNormals == 0) return 1.0;
-    vec3 n = vec3(Guide(i, 0), Guide(i, 1), Guide(i, 2));
-    vec3 n0 = vec3(Guide(i0, 0), Guide(i0, 1), Guide(i0, 2));
+    vec3 n = NormalAt(i);
+    vec3 n0 = NormalAt(i0);
     float len = dot(n, n), len0 = dot(n0, n0);
     if (len == 0.0 && len0 == 0.0) return 1.0;
     if (len == 0.0 || len0 == 0.0) return 0.0;
@@ -24,9 +28,8 @@ float normalTerm(int i, int i0) {
 // 0 across object boundaries and between parts: the ids differ.
 float idTerm(int i, int i0) {
     if (useIds == 0) return 1.0;
-    return Guide(i, 3) == Guide(i0, 3) && Guide(i, 4) == Guide(i0, 4)
-               ? 1.0
-               : 0.0;
+    vec2 ids = IdsAt(i), ids0 = IdsAt(i0);
+    return ids.x == ids0.x && ids.y == ids0.y ? 1.0 : 0.0;
 }
 
 // A pixel's guides, read once where one side of many comparisons stays the same.
@@ -39,12 +42,13 @@ struct Surface {
 Surface surfaceAt(int i) {
     Surface s = Surface(vec3(0.0), 0.0, 0.0, 0.0);
     if (useNormals != 0) {
-        s.n = vec3(Guide(i, 0), Guide(i, 1), Guide(i, 2));
+        s.n = NormalAt(i);
         s.len = dot(s.n, s.n);
     }
     if (useIds != 0) {
-        s.object = Guide(i, 3);
-        s.part = Guide(i, 4);
+        vec2 ids = IdsAt(i);
+        s.object = ids.x;
+        s.part = ids.y;
     }
     return s;
 }

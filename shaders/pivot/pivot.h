@@ -29,9 +29,12 @@
 #define PIVOT_LOCAL_SIZE 64
 #define PIVOT_MAX_CHANNELS 4  // colour channels a frame may have
 
-// The guide buffer's values per pixel, adjacent (float i * PIVOT_GUIDE_PLANES + k for pixel
-// i): normal x, y, z, object id, part id (what is absent is zero and compiled out).
+// The guide image's planes: normal x, y, z, object id, part id (what is absent is zero and
+// compiled out). The GPU buffer holds a pixel's values adjacent in PIVOT_GUIDE_STRIDE floats,
+// two vec4 texels (one fetch for the normal, one for the ids): float i * PIVOT_GUIDE_STRIDE
+// + k holds normal k for k < 3 and id k - 4 for k = 4, 5; floats 3, 6 and 7 are zero.
 #define PIVOT_GUIDE_PLANES 5
+#define PIVOT_GUIDE_STRIDE 8
 
 // |z| above this makes a pixel invalid (z^2 and the fit sums stay finite in float); the
 // variance of z is clamped to its square.

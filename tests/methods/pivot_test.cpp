@@ -89,7 +89,7 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     c.Upload(color);
     p.Upload(pivot);
     if (variance) v.Upload(*variance);
-    vk::GpuImage g(ctx, w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage g(ctx, w, h, PIVOT_GUIDE_STRIDE, "guides");
     if (guide) g.Upload(*guide);
     PivotGpuGuides guides{guide ? &g : nullptr, false, guide != nullptr};
     vk::Recorder recorder(ctx);
@@ -210,7 +210,7 @@ TEST_P(PivotKernelFit, MatchesReference) {
     Image expected = ref::PivotFit(ratio, refGuides, api::RefParams(o), &margin);
 
     vk::GpuImage z(Ctx(), w, h, 3, "z"), s(Ctx(), w, h, 3, "s"), nu(Ctx(), w, h, 3, "nu");
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
     z.Upload(ratio.z);
     s.Upload(ratio.s);
@@ -287,7 +287,7 @@ TEST_P(PivotKernelGather, MatchesReference) {
 
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "out");
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
     color.Upload(f.color);
     pivot.Upload(f.pivot);
@@ -338,7 +338,7 @@ TEST_P(PivotKernelBilateral, MatchesReference) {
     Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, api::RefParams(o));
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "o");
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     color.Upload(f.color);
     pivot.Upload(f.pivot);
     z.Upload(ratio.z);
