@@ -23,12 +23,16 @@ struct PivotFitSettings {
           sigmaWeight = 0.f;
 };
 
-// `fitLo` and `fitHi` hold 8 x channels planes of z's size each, a centre's 8 planes
-// adjacent (shaders/pivot/pivot.h).
-void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
-                    const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
-                    const PivotFitSettings &settings, vk::GpuImage &fitLo, vk::GpuImage &fitHi,
-                    int rowBase, int rows);
+// `zsn`: z, s, nu and 0 of each pixel and channel adjacent (4 x channels floats per pixel,
+// channel-major: PivotZsnOf), as the ratio stage writes them. `fitLo` and `fitHi` hold 8 x
+// channels planes of z's size each, a centre's 8 planes adjacent (shaders/pivot/pivot.h).
+void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &zsn,
+                    const PivotGpuGuides &guides, const PivotFitSettings &settings,
+                    vk::GpuImage &fitLo, vk::GpuImage &fitHi, int rowBase, int rows);
+
+// The fit's packed input from z, s and nu (same shape): float (c * width * height + i) * 4 +
+// k holds z, s, nu (k = 0, 1, 2) of pixel i in channel c, and 0 (k = 3).
+Image PivotZsnOf(const Image &z, const Image &s, const Image &nu);
 
 // The guide buffer's layout (values of a pixel adjacent in PIVOT_GUIDE_STRIDE floats,
 // shaders/pivot/pivot.h) from an image of PIVOT_GUIDE_PLANES planes: normal x, y, z,

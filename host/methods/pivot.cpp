@@ -130,6 +130,7 @@ struct PivotGpu {
           z(context, in.color->width, in.color->height, in.color->channels, "pivot.z"),
           s(context, in.color->width, in.color->height, in.color->channels, "pivot.s"),
           nu(context, in.color->width, in.color->height, in.color->channels, "pivot.nu"),
+          zsn(context, in.color->width, in.color->height, 4 * in.color->channels, "pivot.zsn"),
           out(context, in.color->width, in.color->height, in.color->channels, "pivot.out") {
         int w = in.color->width, h = in.color->height, channels = in.color->channels;
         color.Upload(*in.color);
@@ -147,7 +148,7 @@ struct PivotGpu {
         }
     }
 
-    vk::GpuImage color, pivot, z, s, nu, out;
+    vk::GpuImage color, pivot, z, s, nu, zsn, out;
     std::optional<vk::GpuImage> variance, guide;
     PivotGpuGuides guides;
 };
@@ -228,8 +229,8 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
     const int stripRows =
         options.stripPixels > 0 ? std::clamp(options.stripPixels / w, 1, h) : h;
     InStrips(run, h, stripRows, "fit", options, [&](int rowBase, int rows) {
-        RecordPivotFit(context, run.Recorder(), gpu.z, gpu.s, gpu.nu, gpu.guides, settings,
-                       fitLo, fitHi, rowBase, rows);
+        RecordPivotFit(context, run.Recorder(), gpu.zsn, gpu.guides, settings, fitLo, fitHi,
+                       rowBase, rows);
     });
     // The radii decide how far the gather looks, tile by tile.
     Image radii(w, h, channels);
@@ -285,7 +286,7 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     PlanInputs(run, in, gpu.guides, result.pixelsWithoutZ, options);
     RecordPivotRatio(context, run.Recorder(), gpu.color, gpu.pivot,
                      gpu.variance ? &*gpu.variance : nullptr, thresholds, gpu.guides, gpu.z,
-                     gpu.s, gpu.nu);
+                     gpu.s, gpu.nu, gpu.zsn);
     run.StageAtEnd("z", gpu.z);
     run.StageAtEnd("nu", gpu.nu);
     if (options.filter == PivotFilter::Bilateral)

@@ -6,9 +6,7 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
-layout(binding = PIVOT_FIT_Z) uniform samplerBuffer zIn;
-layout(binding = PIVOT_FIT_S) uniform samplerBuffer sIn;
-layout(binding = PIVOT_FIT_NU) uniform samplerBuffer nuIn;
+layout(binding = PIVOT_FIT_ZSN) uniform samplerBuffer zsn;
 layout(binding = PIVOT_FIT_GUIDES) uniform samplerBuffer guides;
 layout(std430, binding = PIVOT_FIT_LO) writeonly buffer FitLo { float fitLo[]; };
 layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { float fitHi[]; };
@@ -80,9 +78,10 @@ float goodNu, k;
 // 0 for pixels not fitted.
 float weightAt(int x, int y, float mean, float radius, out float z, out float s) {
     int i = y * w + x;
-    float nu = texelFetch(nuIn, base + i).r;
-    z = texelFetch(zIn, base + i).r;
-    s = texelFetch(sIn, base + i).r;
+    vec4 pixel = texelFetch(zsn, base + i);
+    float nu = pixel.z;
+    z = pixel.x;
+    s = pixel.y;
     if (nu < 0.0 || nu > goodNu) return 0.0;
     float geo = geometricTerm(surfaceAt(i), centre);
     if (geo == 0.0) return 0.0;
@@ -228,8 +227,8 @@ int grow(out float mean) {
     int n = 0;
     for (int v = max(0, y0 - 1); v <= min(h - 1, y0 + 1); ++v)
         for (int u = max(0, x0 - 1); u <= min(w - 1, x0 + 1); ++u)
-            if (texelFetch(nuIn, base + v * w + u).r >= 0.0) {
-                zc += texelFetch(zIn, base + v * w + u).r;
+            if (texelFetch(zsn, base + v * w + u).z >= 0.0) {
+                zc += texelFetch(zsn, base + v * w + u).x;
                 ++n;
             }
     zc /= float(n);
@@ -358,7 +357,7 @@ void main() {
     if (x0 < w) {
         int at = y0 * w + x0;
         centre = surfaceAt(at);
-        if (texelFetch(nuIn, base + at).r < 0.0)
+        if (texelFetch(zsn, base + at).z < 0.0)
             storeNone(c, at);
         else
             radius = grow(mean);

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -93,10 +94,17 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     if (guide) g.Upload(*guide);
     PivotGpuGuides guides{guide ? &g : nullptr, false, guide != nullptr};
     vk::Recorder recorder(ctx);
+    vk::GpuImage zsn(ctx, w, h, 4 * ch, "zsn");
     RecordPivotRatio(ctx, recorder, c, p, variance ? &v : nullptr,
-                     PivotThresholds(pivot, floor), guides, z, s, nu);
+                     PivotThresholds(pivot, floor), guides, z, s, nu, zsn);
     recorder.Submit();
-    return {z.Download(), s.Download(), nu.Download()};
+    ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download()};
+    // The fit's packed copy holds the same values.
+    Image packed = zsn.Download(), expected = PivotZsnOf(ratio.z, ratio.s, ratio.nu);
+    EXPECT_EQ(0, std::memcmp(packed.data.data(), expected.data.data(),
+                             expected.data.size() * sizeof(float)))
+        << "zsn differs from z, s, nu";
+    return ratio;
 }
 
 // Planes first .. first + count - 1 of CPU fits (16 x channels planes).
@@ -209,12 +217,10 @@ TEST_P(PivotKernelFit, MatchesReference) {
     Image margin;
     Image expected = ref::PivotFit(ratio, refGuides, api::RefParams(o), &margin);
 
-    vk::GpuImage z(Ctx(), w, h, 3, "z"), s(Ctx(), w, h, 3, "s"), nu(Ctx(), w, h, 3, "nu");
+    vk::GpuImage zsn(Ctx(), w, h, 12, "zsn");
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
-    z.Upload(ratio.z);
-    s.Upload(ratio.s);
-    nu.Upload(ratio.nu);
+    zsn.Upload(PivotZsnOf(ratio.z, ratio.s, ratio.nu));
     guide.Upload(GuideOf(f));
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
     vk::Recorder recorder(Ctx());
@@ -223,7 +229,7 @@ TEST_P(PivotKernelFit, MatchesReference) {
          h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
                : std::vector<std::pair<int, int>>{{0, h}})
         RecordPivotFit(
-            Ctx(), recorder, z, s, nu, gpuGuides,
+            Ctx(), recorder, zsn, gpuGuides,
             {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k, o.sigmaWeight}, lo,
             hi, rowBase, rows);
     recorder.Submit();
