@@ -32,11 +32,22 @@ Image PivotGuideBuffer(const Image &planes) {
                                 PIVOT_GUIDE_PLANES));
     Image buffer(planes.width, planes.height, PIVOT_GUIDE_STRIDE);
     size_t pixels = planes.PixelCount();
-    // Normal x, y, z in floats 0..2, object and part ids in 4 and 5 (two vec4 texels).
-    const int slot[PIVOT_GUIDE_PLANES] = {0, 1, 2, 4, 5};
-    for (int k = 0; k < PIVOT_GUIDE_PLANES; ++k)
-        for (size_t i = 0; i < pixels; ++i)
-            buffer.data[i * PIVOT_GUIDE_STRIDE + slot[k]] = planes.data[k * pixels + i];
+    for (size_t i = 0; i < pixels; ++i) {
+        float *out = &buffer.data[i * PIVOT_GUIDE_STRIDE];
+        // The normal as a 4-vector: unit length with 0, or (0, 0, 0, 1) when it is zero, so
+        // that one dot product gives the normal term's n.n0 and its zero cases.
+        double n[3], len = 0;
+        for (int k = 0; k < 3; ++k) {
+            n[k] = planes.data[k * pixels + i];
+            len += n[k] * n[k];
+        }
+        if (len > 0)
+            for (int k = 0; k < 3; ++k) out[k] = float(n[k] / std::sqrt(len));
+        else
+            out[3] = 1;
+        out[4] = planes.data[3 * pixels + i];
+        out[5] = planes.data[4 * pixels + i];
+    }
     return buffer;
 }
 

@@ -1,28 +1,20 @@
 // The geometric terms of the pivot filter (section 4.4), for kernels that declare the
-// vec4 texel buffer `guides` (per pixel two texels, PIVOT_GUIDE_STRIDE floats: normal x, y,
-// z, 0, then object id, part id, 0, 0), the specialization constants useNormals / useIds
-// and the ints `planeSize` (width x height) and `gw`, `gh` (width, height).
+// vec4 texel buffer `guides` (per pixel two texels, PIVOT_GUIDE_STRIDE floats: the normal as
+// a 4-vector, then object id, part id, 0, 0; PivotGuideBuffer), the specialization
+// constants useNormals / useIds and the ints `planeSize` (width x height) and `gw`, `gh`
+// (width, height).
 
-// Pixel i's normal and its object and part ids: one fetch each.
-vec3 NormalAt(int i) {
-    return texelFetch(guides, 2 * i).xyz;
+// Pixel i's normal as a 4-vector, (unit normal, 0), or (0, 0, 0, 1) where the normal is
+// zero (no surface): the dot product of two is n.n0 for unit normals, 1 for two zero
+// normals and 0 for one, which is what the normal term needs (no sqrt, no division, no
+// branch). One fetch.
+vec4 NormalAt(int i) {
+    return texelFetch(guides, 2 * i);
 }
 
+// Pixel i's object and part ids: one fetch.
 vec2 IdsAt(int i) {
     return texelFetch(guides, 2 * i + 1).xy;
-}
-
-// (n.n0)^4 when n.n0 > 1/2 for the unit normals at pixels i and i0, else 0; two zero
-// normals (no surface) give 1, one gives 0.
-float normalTerm(int i, int i0) {
-    if (useNormals == 0) return 1.0;
-    vec3 n = NormalAt(i);
-    vec3 n0 = NormalAt(i0);
-    float len = dot(n, n), len0 = dot(n0, n0);
-    if (len == 0.0 && len0 == 0.0) return 1.0;
-    if (len == 0.0 || len0 == 0.0) return 0.0;
-    float d = dot(n, n0) / sqrt(len * len0);
-    return d > 0.5 ? d * d * d * d : 0.0;
 }
 
 // 0 across object boundaries and between parts: the ids differ.
@@ -34,39 +26,26 @@ float idTerm(int i, int i0) {
 
 // A pixel's guides, read once where one side of many comparisons stays the same.
 struct Surface {
-    vec3 n;
-    float len;  // dot(n, n)
-    float object, part;
+    vec4 n;  // NormalAt
+    vec2 ids;
 };
 
 Surface surfaceAt(int i) {
-    Surface s = Surface(vec3(0.0), 0.0, 0.0, 0.0);
-    if (useNormals != 0) {
-        s.n = NormalAt(i);
-        s.len = dot(s.n, s.n);
-    }
-    if (useIds != 0) {
-        vec2 ids = IdsAt(i);
-        s.object = ids.x;
-        s.part = ids.y;
-    }
+    Surface s = Surface(vec4(0.0), vec2(0.0));
+    if (useNormals != 0) s.n = NormalAt(i);
+    if (useIds != 0) s.ids = IdsAt(i);
     return s;
 }
 
-// normalTerm(i, i0) * idTerm(i, i0) from the two pixels' surfaces, bit for bit.
+// The normal term (n.n0)^4 for n.n0 > 1/2 of unit normals, else 0; two zero normals give
+// 1, one gives 0 (NormalAt); times the id terms.
 float geometricTerm(Surface s, Surface s0) {
     float normal = 1.0;
     if (useNormals != 0) {
-        if (s.len == 0.0 && s0.len == 0.0)
-            normal = 1.0;
-        else if (s.len == 0.0 || s0.len == 0.0)
-            normal = 0.0;
-        else {
-            float d = dot(s.n, s0.n) / sqrt(s.len * s0.len);
-            normal = d > 0.5 ? d * d * d * d : 0.0;
-        }
+        float d = dot(s.n, s0.n);
+        normal = d > 0.5 ? d * d * d * d : 0.0;
     }
-    float ids = useIds == 0 || (s.object == s0.object && s.part == s0.part) ? 1.0 : 0.0;
+    float ids = useIds == 0 || (s.ids.x == s0.ids.x && s.ids.y == s0.ids.y) ? 1.0 : 0.0;
     return normal * ids;
 }
 

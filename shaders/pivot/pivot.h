@@ -31,8 +31,9 @@
 
 // The guide image's planes: normal x, y, z, object id, part id (what is absent is zero and
 // compiled out). The GPU buffer holds a pixel's values adjacent in PIVOT_GUIDE_STRIDE floats,
-// two vec4 texels (one fetch for the normal, one for the ids): float i * PIVOT_GUIDE_STRIDE
-// + k holds normal k for k < 3 and id k - 4 for k = 4, 5; floats 3, 6 and 7 are zero.
+// two vec4 texels (one fetch for the normal, one for the ids): floats 0..3 the normal as a
+// 4-vector (unit normal, 0), or (0, 0, 0, 1) for a zero normal (pivot/guides.glsl), floats
+// 4 and 5 the object and part ids, 6 and 7 zero.
 #define PIVOT_GUIDE_PLANES 5
 #define PIVOT_GUIDE_STRIDE 8
 
