@@ -15,6 +15,9 @@
 
 namespace mcd {
 
+// The fit writes and the gather reads a centre's planes as two vec4s per buffer.
+static_assert(PIVOT_PLANES_PER_BUFFER == 8 && PIVOT_PLANES == 16);
+
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides) {
     const vk::GpuImage *image = guides.image;
     if ((guides.normals || guides.ids) && !image)

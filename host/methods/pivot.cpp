@@ -249,7 +249,8 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
     tiles.Upload(tileOrder);
     run.Plan(fmt::format(
         "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
-        "square-vs-quadrant disagreement {}; a centre off eq. 13's lattice stops at 4, 8 or "
+        "square-vs-quadrant disagreement {}; a centre about to leave eq. 13's lattice stops at "
+        "3, 7 or "
         "16); mean radius {:.2f}, largest {}; fits of the square and 4 quadrants with eq. 10 "
         "(k = {}, pixels with relative noise > {} left out)",
         2 * options.maxRadius + 1, 2 * options.maxRadius + 1, options.targetNoise,
