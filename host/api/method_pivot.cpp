@@ -144,9 +144,9 @@ class Pivot : public FrontEndOf<PivotParams> {
         needs.align = PIVOT_GATHER_TILE;
         // Two fit buffers of PIVOT_PLANES / 2 planes per channel (one binding each), six
         // images of the colour's channels, the variance, the fit's packed z, s, nu (four
-        // per channel) and the guides (8 floats a pixel).
+        // per channel) and the guides (4 floats a pixel).
         needs.bindingBytesPerPixel = 8.0 * channels * 4;
-        needs.bytesPerPixel = (16.0 + 7 + 4) * channels * 4 + 8 * 4;
+        needs.bytesPerPixel = (16.0 + 7 + 4) * channels * 4 + 4 * 4;
         return needs;
     }
 

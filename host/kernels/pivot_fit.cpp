@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
 #include <utility>
 
 #include "host/error.h"
@@ -35,10 +38,11 @@ Image PivotGuideBuffer(const Image &planes) {
                                 PIVOT_GUIDE_PLANES));
     Image buffer(planes.width, planes.height, PIVOT_GUIDE_STRIDE);
     size_t pixels = planes.PixelCount();
+    // The frame's distinct (object id, part id) pairs, by their bits (+0 makes -0 and 0 one
+    // pair, as == does).
+    std::unordered_map<uint64_t, int> labels;
     for (size_t i = 0; i < pixels; ++i) {
         float *out = &buffer.data[i * PIVOT_GUIDE_STRIDE];
-        // The normal as a 4-vector: unit length with 0, or (0, 0, 0, 1) when it is zero, so
-        // that one dot product gives the normal term's n.n0 and its zero cases.
         double n[3], len = 0;
         for (int k = 0; k < 3; ++k) {
             n[k] = planes.data[k * pixels + i];
@@ -46,10 +50,19 @@ Image PivotGuideBuffer(const Image &planes) {
         }
         if (len > 0)
             for (int k = 0; k < 3; ++k) out[k] = float(n[k] / std::sqrt(len));
-        else
-            out[3] = 1;
-        out[4] = planes.data[3 * pixels + i];
-        out[5] = planes.data[4 * pixels + i];
+        float object = planes.data[3 * pixels + i] + 0.f,
+              part = planes.data[4 * pixels + i] + 0.f;
+        uint32_t objectBits, partBits;
+        std::memcpy(&objectBits, &object, sizeof(float));
+        std::memcpy(&partBits, &part, sizeof(float));
+        auto [it, added] =
+            labels.try_emplace(uint64_t(objectBits) << 32 | partBits, int(labels.size()) + 1);
+        // Labels are exact in float up to 2^24.
+        if (it->second > (1 << 24))
+            throw Error(
+                "pivot guides: more distinct (object, part) id pairs than float "
+                "labels can tell apart (2^24); tile the frame");
+        out[3] = len > 0 ? float(it->second) : -float(it->second);
     }
     return buffer;
 }

@@ -34,9 +34,10 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
 // k holds z, s, nu (k = 0, 1, 2) of pixel i in channel c, and 0 (k = 3).
 Image PivotZsnOf(const Image &z, const Image &s, const Image &nu);
 
-// The guide buffer (values of a pixel adjacent in PIVOT_GUIDE_STRIDE floats: the normal
-// normalised, as a 4-vector, then the ids; shaders/pivot/pivot.h) from an image of
-// PIVOT_GUIDE_PLANES planes: normal x, y, z, object id, part id.
+// The guide buffer (a pixel's guides in one vec4 texel: the normal normalised, zero where
+// it is zero, and the label of its (object id, part id) pair, 1 + the pair's index among the
+// frame's distinct pairs, negated where the normal is zero; shaders/pivot/pivot.h) from an
+// image of PIVOT_GUIDE_PLANES planes: normal x, y, z, object id, part id.
 Image PivotGuideBuffer(const Image &planes);
 
 // The fits in the reference's layout (cpu_reference/pivot_filter.h: plane p of channel c at

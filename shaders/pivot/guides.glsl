@@ -1,51 +1,42 @@
 // The geometric terms of the pivot filter (section 4.4), for kernels that declare the
-// vec4 texel buffer `guides` (per pixel two texels, PIVOT_GUIDE_STRIDE floats: the normal as
-// a 4-vector, then object id, part id, 0, 0; PivotGuideBuffer), the specialization
-// constants useNormals / useIds and the ints `planeSize` (width x height) and `gw`, `gh`
-// (width, height).
+// vec4 texel buffer `guides` (per pixel one texel, PivotGuideBuffer: the unit normal, zero
+// where the normal is zero, and a label of the pixel's object and part ids, 1 + the index of
+// the pair among the frame's distinct pairs, negated where the normal is zero), the
+// specialization constants useNormals / useIds and the ints `planeSize` (width x height) and
+// `gw`, `gh` (width, height).
 
-// Pixel i's normal as a 4-vector, (unit normal, 0), or (0, 0, 0, 1) where the normal is
-// zero (no surface): the dot product of two is n.n0 for unit normals, 1 for two zero
-// normals and 0 for one, which is what the normal term needs (no sqrt, no division, no
-// branch). One fetch.
-vec4 NormalAt(int i) {
-    return texelFetch(guides, 2 * i);
+// Pixel i's guides: one fetch.
+vec4 GuideAt(int i) {
+    return texelFetch(guides, i);
 }
 
-// Pixel i's object and part ids: one fetch.
-vec2 IdsAt(int i) {
-    return texelFetch(guides, 2 * i + 1).xy;
-}
-
-// 0 across object boundaries and between parts: the ids differ.
+// 0 across object boundaries and between parts: the ids differ (so do the labels' sizes).
 float idTerm(int i, int i0) {
     if (useIds == 0) return 1.0;
-    vec2 ids = IdsAt(i), ids0 = IdsAt(i0);
-    return ids.x == ids0.x && ids.y == ids0.y ? 1.0 : 0.0;
+    return abs(GuideAt(i).w) == abs(GuideAt(i0).w) ? 1.0 : 0.0;
 }
 
 // A pixel's guides, read once where one side of many comparisons stays the same.
 struct Surface {
-    vec4 n;  // NormalAt
-    vec2 ids;
+    vec4 g;  // GuideAt
 };
 
 Surface surfaceAt(int i) {
-    Surface s = Surface(vec4(0.0), vec2(0.0));
-    if (useNormals != 0) s.n = NormalAt(i);
-    if (useIds != 0) s.ids = IdsAt(i);
+    Surface s = Surface(vec4(0.0));
+    if (useNormals != 0 || useIds != 0) s.g = GuideAt(i);
     return s;
 }
 
-// The normal term (n.n0)^4 for n.n0 > 1/2 of unit normals, else 0; two zero normals give
-// 1, one gives 0 (NormalAt); times the id terms.
+// The normal term (n.n0)^4 for n.n0 > 1/2 of unit normals, else 0; two zero normals (both
+// labels negative) give 1, one gives 0 (its stored normal is zero, so n.n0 = 0); times the
+// id terms.
 float geometricTerm(Surface s, Surface s0) {
     float normal = 1.0;
     if (useNormals != 0) {
-        float d = dot(s.n, s0.n);
-        normal = d > 0.5 ? d * d * d * d : 0.0;
+        float d = dot(s.g.xyz, s0.g.xyz);
+        normal = s.g.w < 0.0 && s0.g.w < 0.0 ? 1.0 : (d > 0.5 ? d * d * d * d : 0.0);
     }
-    float ids = useIds == 0 || (s.ids.x == s0.ids.x && s.ids.y == s0.ids.y) ? 1.0 : 0.0;
+    float ids = useIds == 0 || abs(s.g.w) == abs(s0.g.w) ? 1.0 : 0.0;
     return normal * ids;
 }
 

@@ -30,12 +30,13 @@
 #define PIVOT_MAX_CHANNELS 4  // colour channels a frame may have
 
 // The guide image's planes: normal x, y, z, object id, part id (what is absent is zero and
-// compiled out). The GPU buffer holds a pixel's values adjacent in PIVOT_GUIDE_STRIDE floats,
-// two vec4 texels (one fetch for the normal, one for the ids): floats 0..3 the normal as a
-// 4-vector (unit normal, 0), or (0, 0, 0, 1) for a zero normal (pivot/guides.glsl), floats
-// 4 and 5 the object and part ids, 6 and 7 zero.
+// compiled out). The GPU buffer holds a pixel's guides in one vec4 texel of
+// PIVOT_GUIDE_STRIDE floats (one fetch): the normal normalised (zero where it is zero) and a
+// label of the (object id, part id) pair, 1 + its index among the frame's distinct pairs,
+// negated where the normal is zero (PivotGuideBuffer, pivot/guides.glsl). Labels only
+// compare for equality, so a tile's own labels give the untiled result bit for bit.
 #define PIVOT_GUIDE_PLANES 5
-#define PIVOT_GUIDE_STRIDE 8
+#define PIVOT_GUIDE_STRIDE 4
 
 // |z| above this makes a pixel invalid (z^2 and the fit sums stay finite in float); the
 // variance of z is clamped to its square.

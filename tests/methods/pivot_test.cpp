@@ -671,37 +671,25 @@ TEST(PivotFitLayout, BuffersAndReferencePlanesRoundTrip) {
     EXPECT_TRUE(BitIdentical(PivotFitsOfBuffers(lo, hi, channels), fits));
 }
 
-// The guide buffer: per pixel the normal normalised as a 4-vector ((0, 0, 0, 1) when it is
-// zero), then the object and part ids, so that the dot product of two normals gives the
-// normal term's cases: n.n0 of unit normals, 1 for two zero normals, 0 for one.
-TEST(PivotGuideLayout, NormalsAsFourVectorsThenIds) {
-    Image planes(3, 1, PIVOT_GUIDE_PLANES);
-    const float normals[3][3] = {{0, 3, 4}, {0, 0, 0}, {-2, 0, 0}};
-    for (int x = 0; x < 3; ++x) {
+// The guide buffer: per pixel the normal normalised (zero where it is zero) and a label of
+// its (object, part) pair, 1 + the pair's index in order of first appearance, negated where
+// the normal is zero; -0 and 0 are one id, as == says.
+TEST(PivotGuideLayout, UnitNormalsAndPairLabels) {
+    Image planes(4, 1, PIVOT_GUIDE_PLANES);
+    const float normals[4][3] = {{0, 3, 4}, {0, 0, 0}, {-2, 0, 0}, {0, 0, 1}};
+    const float ids[4][2] = {{7, 1}, {7, 2}, {-0.f, 1}, {0, 1}};
+    for (int x = 0; x < 4; ++x) {
         for (int k = 0; k < 3; ++k) planes.At(k, 0, x) = normals[x][k];
-        planes.At(3, 0, x) = float(7 + x);
-        planes.At(4, 0, x) = float(-x);
+        planes.At(3, 0, x) = ids[x][0];
+        planes.At(4, 0, x) = ids[x][1];
     }
     Image buffer = PivotGuideBuffer(planes);
     ASSERT_EQ(buffer.channels, PIVOT_GUIDE_STRIDE);
-    auto texel = [&](int x, int k) { return buffer.data[x * PIVOT_GUIDE_STRIDE + k]; };
-    const float expected[3][4] = {{0, 0.6f, 0.8f, 0}, {0, 0, 0, 1}, {-1, 0, 0, 0}};
-    for (int x = 0; x < 3; ++x) {
-        for (int k = 0; k < 4; ++k) EXPECT_EQ(texel(x, k), expected[x][k]) << x << " " << k;
-        EXPECT_EQ(texel(x, 4), float(7 + x));
-        EXPECT_EQ(texel(x, 5), float(-x));
-        EXPECT_EQ(texel(x, 6), 0.f);
-        EXPECT_EQ(texel(x, 7), 0.f);
-    }
-    auto dot = [&](int a, int b) {
-        double d = 0;
-        for (int k = 0; k < 4; ++k) d += double(texel(a, k)) * texel(b, k);
-        return d;
-    };
-    EXPECT_EQ(dot(1, 1), 1.0);  // two zero normals
-    EXPECT_EQ(dot(0, 1), 0.0);  // one zero normal
-    EXPECT_NEAR(dot(0, 2), 0.0, 1e-7);
-    EXPECT_NEAR(dot(0, 0), 1.0, 1e-7);
+    const float expected[4][4] = {
+        {0, 0.6f, 0.8f, 1}, {0, 0, 0, -2}, {-1, 0, 0, 3}, {0, 0, 1, 3}};
+    for (int x = 0; x < 4; ++x)
+        for (int k = 0; k < 4; ++k)
+            EXPECT_EQ(buffer.data[x * PIVOT_GUIDE_STRIDE + k], expected[x][k]) << x << " " << k;
 }
 
 class PivotProperties : public GpuTest {};
