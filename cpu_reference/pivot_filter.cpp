@@ -252,8 +252,8 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                     }
                     for (int i = 0; i < 5; ++i) closest = std::min(closest, planes[i].margin);
                 };
-                // Section 4.3: grow from 5x5. A centre whose radius leaves its lattice (eq.
-                // 13's quadrature) stops there and keeps that square's growth fits.
+                // Section 4.3: grow from 5x5. A centre that would grow off its lattice (eq.
+                // 13's quadrature) stops before and keeps that square's growth fits.
                 int radius = 2;
                 Plane planes[5];
                 bool offLattice = false;
@@ -277,12 +277,6 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                         radius = std::max(2, r - 1);
                         break;
                     }
-                    int step = PivotLatticeStep(r);
-                    if (x0 % step != 0 || y0 % step != 0) {
-                        radius = r;
-                        offLattice = true;
-                        break;
-                    }
                     bool quiet = false;
                     if (planes[0].valid) {
                         double target = params.targetNoise * std::fabs(planes[0].c);
@@ -295,6 +289,14 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                         x0 - r <= 0 && y0 - r <= 0 && x0 + r >= w - 1 && y0 + r >= h - 1;
                     if (quiet || covers || r >= params.maxRadius) {
                         radius = r;
+                        break;
+                    }
+                    // Growing to r + 1 would leave the lattice: stop at r, off it, with the
+                    // radius r + 1 (how the gather tells it is off its lattice).
+                    int step = PivotLatticeStep(r + 1);
+                    if (x0 % step != 0 || y0 % step != 0) {
+                        radius = r + 1;
+                        offLattice = true;
                         break;
                     }
                 }

@@ -43,12 +43,16 @@
 //   Powers of two up to 8 keep the lattice the same in tiles starting on multiples of 8.
 //   A pixel that no lattice centre reaches (a thin part between other ids) takes its own
 //   fit at its place: eq. 11 of the square and quadrant 0 at (0, 0).
-// - So only lattice centres need their square: a centre's growth stops at the first radius
-//   r whose step does not divide x0 and y0 (r = 4, 8 or 16), which leaves it off its
-//   lattice whatever it would have grown to (a disagreement at r gives r - 1, on the
-//   lattice). Such a centre keeps r and the growth fits of that square (no distance term,
-//   <z> the centre's local mean) for the fallback above; lattice centres are fitted with
-//   eq. 10 in full. Radii of off-lattice centres are thus at most 4, 8 or 16.
+// - So only lattice centres need their square: a centre's growth stops at radius r when
+//   r + 1's step does not divide x0 and y0 (r + 1 = 4, 8 or 16), as no radius from r + 1 on
+//   would leave it on its lattice. The tests at r come first: a disagreement gives r - 1, a
+//   quiet fit, the image's cover or the largest radius give r, all on the lattice. Otherwise
+//   the centre is off its lattice: it keeps the growth fits of the square of radius r (no
+//   distance term, <z> the centre's local mean) for the fallback above and is given the
+//   radius r + 1, which marks it off its lattice for the gather. (Until issue #19's third
+//   round the square of r + 1 was grown too, and a disagreement there kept the centre on
+//   the lattice with radius r; the test at r + 1 cost a ring of 8 (r + 1) pixels of each of
+//   most centres.) Radii of off-lattice centres are thus 4, 8 or 16, their squares 3, 7 or 15.
 #pragma once
 
 #include <string>

@@ -143,9 +143,10 @@ class Pivot : public FrontEndOf<PivotParams> {
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
         // Two fit buffers of PIVOT_PLANES / 2 planes per channel (one binding each), six
-        // images of the colour's channels, the variance and the guides.
+        // images of the colour's channels, the variance, the fit's packed z, s, nu (four
+        // per channel) and the guides (4 floats a pixel).
         needs.bindingBytesPerPixel = 8.0 * channels * 4;
-        needs.bytesPerPixel = (16.0 + 7) * channels * 4 + 5 * 4;
+        needs.bytesPerPixel = (16.0 + 7 + 4) * channels * 4 + 4 * 4;
         return needs;
     }
 

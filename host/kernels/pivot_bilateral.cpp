@@ -32,7 +32,8 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
          {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
          (1u << PIVOT_BILATERAL_COLOR) | (1u << PIVOT_BILATERAL_PIVOT) |
              (1u << PIVOT_BILATERAL_Z) | (1u << PIVOT_BILATERAL_NU) |
-             (1u << PIVOT_BILATERAL_GUIDES)});
+             (1u << PIVOT_BILATERAL_GUIDES),
+         1u << PIVOT_BILATERAL_GUIDES});
     shader::PivotBilateralPush push{color.width,
                                     color.height,
                                     color.channels,

@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
 #include <utility>
 
 #include "host/error.h"
@@ -15,23 +18,52 @@
 
 namespace mcd {
 
+// The fit writes and the gather reads a centre's planes as two vec4s per buffer.
+static_assert(PIVOT_PLANES_PER_BUFFER == 8 && PIVOT_PLANES == 16);
+
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides) {
     const vk::GpuImage *image = guides.image;
     if ((guides.normals || guides.ids) && !image)
         throw Error(fmt::format("{}: guides are switched on without a guide image", what));
     if (image && (image->width != width || image->height != height ||
-                  image->channels != PIVOT_GUIDE_PLANES))
+                  image->channels != PIVOT_GUIDE_STRIDE))
         throw Error(fmt::format("{}: the guide image is {}x{}x{}, expected {}x{}x{}", what,
                                 image->width, image->height, image->channels, width, height,
-                                PIVOT_GUIDE_PLANES));
+                                PIVOT_GUIDE_STRIDE));
 }
 
 Image PivotGuideBuffer(const Image &planes) {
-    Image buffer(planes.width, planes.height, planes.channels);
+    if (planes.channels != PIVOT_GUIDE_PLANES)
+        throw Error(fmt::format("pivot guides: {} planes, expected {}", planes.channels,
+                                PIVOT_GUIDE_PLANES));
+    Image buffer(planes.width, planes.height, PIVOT_GUIDE_STRIDE);
     size_t pixels = planes.PixelCount();
-    for (int k = 0; k < planes.channels; ++k)
-        for (size_t i = 0; i < pixels; ++i)
-            buffer.data[i * planes.channels + k] = planes.data[k * pixels + i];
+    // The frame's distinct (object id, part id) pairs, by their bits (+0 makes -0 and 0 one
+    // pair, as == does).
+    std::unordered_map<uint64_t, int> labels;
+    for (size_t i = 0; i < pixels; ++i) {
+        float *out = &buffer.data[i * PIVOT_GUIDE_STRIDE];
+        double n[3], len = 0;
+        for (int k = 0; k < 3; ++k) {
+            n[k] = planes.data[k * pixels + i];
+            len += n[k] * n[k];
+        }
+        if (len > 0)
+            for (int k = 0; k < 3; ++k) out[k] = float(n[k] / std::sqrt(len));
+        float object = planes.data[3 * pixels + i] + 0.f,
+              part = planes.data[4 * pixels + i] + 0.f;
+        uint32_t objectBits, partBits;
+        std::memcpy(&objectBits, &object, sizeof(float));
+        std::memcpy(&partBits, &part, sizeof(float));
+        auto [it, added] =
+            labels.try_emplace(uint64_t(objectBits) << 32 | partBits, int(labels.size()) + 1);
+        // Labels are exact in float up to 2^24.
+        if (it->second > (1 << 24))
+            throw Error(
+                "pivot guides: more distinct (object, part) id pairs than float "
+                "labels can tell apart (2^24); tile the frame");
+        out[3] = len > 0 ? float(it->second) : -float(it->second);
+    }
     return buffer;
 }
 
@@ -65,21 +97,38 @@ void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi) {
             }
 }
 
-void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
-                    const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
-                    const PivotFitSettings &settings, vk::GpuImage &fitLo, vk::GpuImage &fitHi,
-                    int rowBase, int rows) {
-    CheckPivotShapes("pivot fit", z, {&s, &nu});
-    CheckPivotGuides("pivot fit", z.width, z.height, guides);
+Image PivotZsnOf(const Image &z, const Image &s, const Image &nu) {
+    if (s.width != z.width || s.height != z.height || s.channels != z.channels ||
+        nu.width != z.width || nu.height != z.height || nu.channels != z.channels)
+        throw Error("pivot: z, s and nu differ in shape");
+    Image zsn(z.width, z.height, 4 * z.channels);
+    for (size_t i = 0; i < z.Size(); ++i) {
+        zsn.data[4 * i] = z.data[i];
+        zsn.data[4 * i + 1] = s.data[i];
+        zsn.data[4 * i + 2] = nu.data[i];
+    }
+    return zsn;
+}
+
+void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &zsn,
+                    const PivotGpuGuides &guides, const PivotFitSettings &settings,
+                    vk::GpuImage &fitLo, vk::GpuImage &fitHi, int rowBase, int rows) {
+    if (zsn.channels % 4 != 0 || zsn.channels < 4 || zsn.channels > 16)
+        throw Error(
+            fmt::format("pivot fit: {} has {} channels, expected 4 per colour channel "
+                        "(z, s, nu, 0; 1 to 4 colour channels)",
+                        zsn.buffer.Name(), zsn.channels));
+    int w = zsn.width, h = zsn.height, channels = zsn.channels / 4;
+    CheckPivotGuides("pivot fit", w, h, guides);
     for (const vk::GpuImage *fit : {&std::as_const(fitLo), &std::as_const(fitHi)})
-        if (fit->width != z.width || fit->height != z.height ||
-            fit->channels != PIVOT_PLANES_PER_BUFFER * z.channels)
+        if (fit->width != w || fit->height != h ||
+            fit->channels != PIVOT_PLANES_PER_BUFFER * channels)
             throw Error(fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x{}",
                                     fit->buffer.Name(), fit->width, fit->height, fit->channels,
-                                    z.width, z.height, PIVOT_PLANES_PER_BUFFER * z.channels));
-    if (rowBase < 0 || rows < 1 || rowBase + rows > z.height)
+                                    w, h, PIVOT_PLANES_PER_BUFFER * channels));
+    if (rowBase < 0 || rows < 1 || rowBase + rows > h)
         throw Error(fmt::format("pivot fit: rows {}..{} of a {}-row image", rowBase,
-                                rowBase + rows - 1, z.height));
+                                rowBase + rows - 1, h));
     if (settings.maxRadius < 2 || settings.maxRadius > 64)
         throw Error(fmt::format("pivot fit: the maximum radius is {}; 2..64 allowed",
                                 settings.maxRadius));
@@ -90,11 +139,11 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
          PIVOT_FIT_BINDINGS,
          sizeof(shader::PivotFitPush),
          {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
-         (1u << PIVOT_FIT_Z) | (1u << PIVOT_FIT_S) | (1u << PIVOT_FIT_NU) |
-             (1u << PIVOT_FIT_GUIDES)});
-    shader::PivotFitPush push{z.width,
-                              z.height,
-                              z.channels,
+         (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES),
+         (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES)});
+    shader::PivotFitPush push{w,
+                              h,
+                              channels,
                               settings.maxRadius,
                               settings.targetNoise,
                               settings.goodNoise * settings.goodNoise,
@@ -102,17 +151,15 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                               settings.k,
                               settings.sigmaWeight,
                               rowBase};
-    // Absent guides are compiled out; z stands in for their binding.
-    recorder.Dispatch(
-        kernel, "pivot.fit",
-        {{PIVOT_FIT_Z, &z.buffer, vk::Access::Read},
-         {PIVOT_FIT_S, &s.buffer, vk::Access::Read},
-         {PIVOT_FIT_NU, &nu.buffer, vk::Access::Read},
-         {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &z.buffer, vk::Access::Read},
-         {PIVOT_FIT_LO, &fitLo.buffer, vk::Access::Write},
-         {PIVOT_FIT_HI, &fitHi.buffer, vk::Access::Write}},
-        push, uint32_t((z.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE), uint32_t(rows),
-        uint32_t(z.channels));
+    // Absent guides are compiled out; zsn stands in for their binding.
+    recorder.Dispatch(kernel, "pivot.fit",
+                      {{PIVOT_FIT_ZSN, &zsn.buffer, vk::Access::Read},
+                       {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &zsn.buffer,
+                        vk::Access::Read},
+                       {PIVOT_FIT_LO, &fitLo.buffer, vk::Access::Write},
+                       {PIVOT_FIT_HI, &fitHi.buffer, vk::Access::Write}},
+                      push, uint32_t((w + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+                      uint32_t(rows), uint32_t(channels));
 }
 
 }  // namespace mcd

@@ -9,8 +9,8 @@
 
 namespace mcd {
 
-// The optional guides on the GPU: one image of PIVOT_GUIDE_PLANES channels (normal x, y, z,
-// object id, part id); `normals` and `ids` say which parts the kernels use (the others are
+// The optional guides on the GPU: one buffer of PIVOT_GUIDE_STRIDE floats per pixel
+// (PivotGuideBuffer); `normals` and `ids` say which parts the kernels use (the others are
 // compiled out). No image: neither.
 struct PivotGpuGuides {
     const vk::GpuImage *image = nullptr;
@@ -23,14 +23,20 @@ struct PivotFitSettings {
           sigmaWeight = 0.f;
 };
 
-// `fitLo` and `fitHi` hold 8 x channels planes of z's size each, a centre's 8 planes
-// adjacent (shaders/pivot/pivot.h).
-void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &z,
-                    const vk::GpuImage &s, const vk::GpuImage &nu, const PivotGpuGuides &guides,
-                    const PivotFitSettings &settings, vk::GpuImage &fitLo, vk::GpuImage &fitHi,
-                    int rowBase, int rows);
+// `zsn`: z, s, nu and 0 of each pixel and channel adjacent (4 x channels floats per pixel,
+// channel-major: PivotZsnOf), as the ratio stage writes them. `fitLo` and `fitHi` hold 8 x
+// channels planes of z's size each, a centre's 8 planes adjacent (shaders/pivot/pivot.h).
+void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &zsn,
+                    const PivotGpuGuides &guides, const PivotFitSettings &settings,
+                    vk::GpuImage &fitLo, vk::GpuImage &fitHi, int rowBase, int rows);
 
-// The guide buffer's layout (values of a pixel adjacent, shaders/pivot/pivot.h) from an
+// The fit's packed input from z, s and nu (same shape): float (c * width * height + i) * 4 +
+// k holds z, s, nu (k = 0, 1, 2) of pixel i in channel c, and 0 (k = 3).
+Image PivotZsnOf(const Image &z, const Image &s, const Image &nu);
+
+// The guide buffer (a pixel's guides in one vec4 texel: the normal normalised, zero where
+// it is zero, and the label of its (object id, part id) pair, 1 + the pair's index among the
+// frame's distinct pairs, negated where the normal is zero; shaders/pivot/pivot.h) from an
 // image of PIVOT_GUIDE_PLANES planes: normal x, y, z, object id, part id.
 Image PivotGuideBuffer(const Image &planes);
 
@@ -39,7 +45,7 @@ Image PivotGuideBuffer(const Image &planes);
 Image PivotFitsOfBuffers(const Image &lo, const Image &hi, int channels);
 void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi);
 
-// Throw unless the guide image matches width x height x PIVOT_GUIDE_PLANES when one is used.
+// Throw unless the guide buffer matches width x height x PIVOT_GUIDE_STRIDE when one is used.
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides);
 
 }  // namespace mcd

@@ -16,6 +16,8 @@
 namespace mcd {
 
 static_assert(PIVOT_GATHER_NEAR >= 2, "radii start at 2");
+// The gather reads a centre's planes as two vec4 texels per fit buffer.
+static_assert(PIVOT_PLANES_PER_BUFFER == 8 && PIVOT_PLANES == 16);
 
 int PivotLatticeStepOf(float radius) {
     int step = 1;
@@ -107,7 +109,9 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
          {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
          (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_NU) |
              (1u << PIVOT_GATHER_FIT_LO) | (1u << PIVOT_GATHER_FIT_HI) |
-             (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES)});
+             (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES),
+         (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_FIT_LO) |
+             (1u << PIVOT_GATHER_FIT_HI)});
     shader::PivotGatherPush push{
         color.width, color.height, color.channels, reach < 0 ? 0 : reach,
         tilesX,      tilesY,       rowBase};

@@ -21,11 +21,20 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
         throw Error(fmt::format("{}: {} channels; 1 to 4 are supported", what, a.channels));
 }
 
+void CheckPivotZsn(const char *what, const vk::GpuImage &a, const vk::GpuImage &zsn) {
+    if (zsn.width != a.width || zsn.height != a.height || zsn.channels != 4 * a.channels)
+        throw Error(
+            fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{} (z, s, nu, 0 per channel)", what,
+                        zsn.buffer.Name(), zsn.width, zsn.height, zsn.channels, a.width,
+                        a.height, 4 * a.channels));
+}
+
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
-                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu) {
+                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu, vk::GpuImage &zsn) {
     CheckPivotShapes("pivot ratio", color, {&pivot, &z, &s, &nu});
+    CheckPivotZsn("pivot ratio", color, zsn);
     if (variance) CheckPivotShapes("pivot ratio", color, {variance});
     CheckPivotGuides("pivot ratio", color.width, color.height, guides);
     if (int(thresholds.size()) != color.channels)
@@ -39,7 +48,8 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
          sizeof(shader::PivotRatioPush),
          {{PIVOT_SPEC_VARIANCE, variance ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
          (1u << PIVOT_RATIO_COLOR) | (1u << PIVOT_RATIO_PIVOT) | (1u << PIVOT_RATIO_VARIANCE) |
-             (1u << PIVOT_RATIO_GUIDES)});
+             (1u << PIVOT_RATIO_GUIDES),
+         1u << PIVOT_RATIO_GUIDES});
     float t[4] = {};
     for (size_t c = 0; c < thresholds.size(); ++c) t[c] = thresholds[c];
     shader::PivotRatioPush push{color.width, color.height, t[0], t[1], t[2], t[3]};
@@ -52,6 +62,7 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
          {PIVOT_RATIO_Z, &z.buffer, vk::Access::Write},
          {PIVOT_RATIO_S, &s.buffer, vk::Access::Write},
          {PIVOT_RATIO_NU, &nu.buffer, vk::Access::Write},
+         {PIVOT_RATIO_ZSN, &zsn.buffer, vk::Access::Write},
          {PIVOT_RATIO_GUIDES, guides.image ? &guides.image->buffer : &color.buffer,
           vk::Access::Read}},
         push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),

@@ -130,6 +130,7 @@ struct PivotGpu {
           z(context, in.color->width, in.color->height, in.color->channels, "pivot.z"),
           s(context, in.color->width, in.color->height, in.color->channels, "pivot.s"),
           nu(context, in.color->width, in.color->height, in.color->channels, "pivot.nu"),
+          zsn(context, in.color->width, in.color->height, 4 * in.color->channels, "pivot.zsn"),
           out(context, in.color->width, in.color->height, in.color->channels, "pivot.out") {
         int w = in.color->width, h = in.color->height, channels = in.color->channels;
         color.Upload(*in.color);
@@ -141,13 +142,13 @@ struct PivotGpu {
         guides.normals = in.normal != nullptr;
         guides.ids = in.objectId || in.partId;
         if (guides.normals || guides.ids) {
-            guide.emplace(context, w, h, PIVOT_GUIDE_PLANES, "pivot.guides");
+            guide.emplace(context, w, h, PIVOT_GUIDE_STRIDE, "pivot.guides");
             guide->Upload(PivotGuideBuffer(GuideImage(in)));
             guides.image = &*guide;
         }
     }
 
-    vk::GpuImage color, pivot, z, s, nu, out;
+    vk::GpuImage color, pivot, z, s, nu, zsn, out;
     std::optional<vk::GpuImage> variance, guide;
     PivotGpuGuides guides;
 };
@@ -228,8 +229,8 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
     const int stripRows =
         options.stripPixels > 0 ? std::clamp(options.stripPixels / w, 1, h) : h;
     InStrips(run, h, stripRows, "fit", options, [&](int rowBase, int rows) {
-        RecordPivotFit(context, run.Recorder(), gpu.z, gpu.s, gpu.nu, gpu.guides, settings,
-                       fitLo, fitHi, rowBase, rows);
+        RecordPivotFit(context, run.Recorder(), gpu.zsn, gpu.guides, settings, fitLo, fitHi,
+                       rowBase, rows);
     });
     // The radii decide how far the gather looks, tile by tile.
     Image radii(w, h, channels);
@@ -248,7 +249,8 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
     tiles.Upload(tileOrder);
     run.Plan(fmt::format(
         "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
-        "square-vs-quadrant disagreement {}; a centre off eq. 13's lattice stops at 4, 8 or "
+        "square-vs-quadrant disagreement {}; a centre about to leave eq. 13's lattice stops at "
+        "3, 7 or "
         "16); mean radius {:.2f}, largest {}; fits of the square and 4 quadrants with eq. 10 "
         "(k = {}, pixels with relative noise > {} left out)",
         2 * options.maxRadius + 1, 2 * options.maxRadius + 1, options.targetNoise,
@@ -285,7 +287,7 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     PlanInputs(run, in, gpu.guides, result.pixelsWithoutZ, options);
     RecordPivotRatio(context, run.Recorder(), gpu.color, gpu.pivot,
                      gpu.variance ? &*gpu.variance : nullptr, thresholds, gpu.guides, gpu.z,
-                     gpu.s, gpu.nu);
+                     gpu.s, gpu.nu, gpu.zsn);
     run.StageAtEnd("z", gpu.z);
     run.StageAtEnd("nu", gpu.nu);
     if (options.filter == PivotFilter::Bilateral)

@@ -59,7 +59,8 @@ void DestroyRaw(Context &context, RawBuffer &raw) {
 Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
     : context(&context), bytes(bytes), name(std::move(name)) {
     // Zero-sized buffers are invalid in Vulkan; keep one word so empty images still bind.
-    VkDeviceSize allocBytes = bytes > 0 ? bytes : 4;
+    // The buffer itself is whole vec4 texels, so that any buffer binds as a vec4 view.
+    VkDeviceSize noted = bytes > 0 ? bytes : 4, allocBytes = (noted + 15) / 16 * 16;
     // Unified memory (CPU devices, integrated GPUs): map device memory directly. Discrete
     // GPUs: plain VRAM, not the small host-visible BAR window, and stage transfers.
     VkPhysicalDeviceType type = context.Info().type;
@@ -75,7 +76,7 @@ Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
         0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
     buffer = raw.buffer;
     memory = raw.memory;
-    context.NoteAllocation(this->name, allocBytes);
+    context.NoteAllocation(this->name, noted);
     if (raw.hostVisible) {
         try {
             MCD_VK(vkMapMemory(context.Device(), memory, 0, VK_WHOLE_SIZE, 0, &mapped));
@@ -103,6 +104,7 @@ Buffer &Buffer::operator=(Buffer &&other) noexcept {
         bytes = std::exchange(other.bytes, 0);
         mapped = std::exchange(other.mapped, nullptr);
         floatView = std::exchange(other.floatView, VK_NULL_HANDLE);
+        vec4View = std::exchange(other.vec4View, VK_NULL_HANDLE);
         name = std::move(other.name);
     }
     return *this;
@@ -113,12 +115,14 @@ void Buffer::Release() {
     if (buffer) context->NoteRelease(bytes > 0 ? bytes : 4);
     if (mapped) vkUnmapMemory(context->Device(), memory);
     if (floatView) vkDestroyBufferView(context->Device(), floatView, nullptr);
+    if (vec4View) vkDestroyBufferView(context->Device(), vec4View, nullptr);
     if (buffer) vkDestroyBuffer(context->Device(), buffer, nullptr);
     if (memory) vkFreeMemory(context->Device(), memory, nullptr);
     buffer = VK_NULL_HANDLE;
     memory = VK_NULL_HANDLE;
     mapped = nullptr;
     floatView = VK_NULL_HANDLE;
+    vec4View = VK_NULL_HANDLE;
     context = nullptr;
 }
 
@@ -137,6 +141,24 @@ VkBufferView Buffer::FloatView() const {
     vi.range = elements * sizeof(float);
     MCD_VK(vkCreateBufferView(context->Device(), &vi, nullptr, &floatView));
     return floatView;
+}
+
+VkBufferView Buffer::Vec4View() const {
+    if (vec4View || !buffer) return vec4View;
+    // The allocation is rounded up to whole texels (the constructor).
+    VkDeviceSize elements = std::max<VkDeviceSize>((bytes + 15) / 16, 1);
+    if (elements > context->Limits().maxTexelBufferElements)
+        throw Error(
+            fmt::format("buffer '{}' of {} vec4 texels exceeds the device's {} texel buffer "
+                        "elements; split the work",
+                        name, elements, context->Limits().maxTexelBufferElements));
+    VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    vi.buffer = buffer;
+    vi.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    vi.offset = 0;
+    vi.range = elements * 4 * sizeof(float);
+    MCD_VK(vkCreateBufferView(context->Device(), &vi, nullptr, &vec4View));
+    return vec4View;
 }
 
 void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {

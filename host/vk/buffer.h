@@ -35,6 +35,9 @@ class Buffer {
     // in the adaptive sampler) 40x in recompiles, for no measured gain, so they keep
     // storage buffers.
     VkBufferView FloatView() const;
+    // The same as texels of four floats (RGBA32F; created on first use): one fetch reads
+    // floats 4i..4i+3 (a last partial texel reads past the floats, within the allocation).
+    VkBufferView Vec4View() const;
 
     void Upload(const void *data, size_t byteCount, size_t byteOffset = 0);
     void Download(void *data, size_t byteCount, size_t byteOffset = 0) const;
@@ -55,7 +58,7 @@ class Buffer {
     VkDeviceMemory memory = VK_NULL_HANDLE;
     VkDeviceSize bytes = 0;
     void *mapped = nullptr;
-    mutable VkBufferView floatView = VK_NULL_HANDLE;
+    mutable VkBufferView floatView = VK_NULL_HANDLE, vec4View = VK_NULL_HANDLE;
     std::string name;
 };
 

@@ -13,6 +13,7 @@ std::string KernelKey(const KernelDesc &desc) {
     std::string key = fmt::format("{}@{}", desc.name, static_cast<const void *>(desc.code));
     for (auto [id, value] : desc.specialization) key += fmt::format(":{}={}", id, value);
     if (desc.texelBindings) key += fmt::format(":texel={:x}", desc.texelBindings);
+    if (desc.vec4Bindings) key += fmt::format(":vec4={:x}", desc.vec4Bindings);
     return key;
 }
 
@@ -21,7 +22,8 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
       name(desc.name),
       bindingCount(desc.bindingCount),
       pushBytes(desc.pushBytes),
-      texelBindings(desc.texelBindings) {
+      texelBindings(desc.texelBindings),
+      vec4Bindings(desc.vec4Bindings) {
     VkDevice device = context.Device();
     if (pushBytes > context.Limits().maxPushConstantsSize)
         throw Error(fmt::format("kernel {}: {} bytes of push constants exceed the device's {}",

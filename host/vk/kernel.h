@@ -25,6 +25,9 @@ struct KernelDesc {
     // Bit i set: binding i is a read-only uniform texel buffer of floats (samplerBuffer in
     // GLSL), not a storage buffer.
     uint32_t texelBindings = 0;
+    // Bit i set (with its texel bit): binding i is read as vec4 texels (RGBA32F), one fetch
+    // for four adjacent floats.
+    uint32_t vec4Bindings = 0;
 };
 
 std::string KernelKey(const KernelDesc &desc);
@@ -43,13 +46,14 @@ class Kernel {
     uint32_t BindingCount() const { return bindingCount; }
     uint32_t PushBytes() const { return pushBytes; }
     bool IsTexel(uint32_t binding) const { return (texelBindings >> binding) & 1u; }
+    bool IsVec4(uint32_t binding) const { return (vec4Bindings >> binding) & 1u; }
 
   private:
     void Release();
 
     Context &context;
     std::string name;
-    uint32_t bindingCount = 0, pushBytes = 0, texelBindings = 0;
+    uint32_t bindingCount = 0, pushBytes = 0, texelBindings = 0, vec4Bindings = 0;
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;

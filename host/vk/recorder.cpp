@@ -146,7 +146,8 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
         writes[i].dstBinding = bindings[i].slot;
         writes[i].descriptorCount = 1;
         if (kernel.IsTexel(bindings[i].slot)) {
-            views[i] = bindings[i].buffer->FloatView();
+            views[i] = kernel.IsVec4(bindings[i].slot) ? bindings[i].buffer->Vec4View()
+                                                       : bindings[i].buffer->FloatView();
             writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
             writes[i].pTexelBufferView = &views[i];
         } else {

@@ -6,12 +6,11 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
-layout(binding = PIVOT_FIT_Z) uniform samplerBuffer zIn;
-layout(binding = PIVOT_FIT_S) uniform samplerBuffer sIn;
-layout(binding = PIVOT_FIT_NU) uniform samplerBuffer nuIn;
+layout(binding = PIVOT_FIT_ZSN) uniform samplerBuffer zsn;
 layout(binding = PIVOT_FIT_GUIDES) uniform samplerBuffer guides;
-layout(std430, binding = PIVOT_FIT_LO) writeonly buffer FitLo { float fitLo[]; };
-layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { float fitHi[]; };
+// A centre's 8 planes of each buffer as two vec4s (pivot/pivot.h): four writes a centre.
+layout(std430, binding = PIVOT_FIT_LO) writeonly buffer FitLo { vec4 fitLo[]; };
+layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { vec4 fitHi[]; };
 
 int planeSize, gw, gh;
 
@@ -80,9 +79,10 @@ float goodNu, k;
 // 0 for pixels not fitted.
 float weightAt(int x, int y, float mean, float radius, out float z, out float s) {
     int i = y * w + x;
-    float nu = texelFetch(nuIn, base + i).r;
-    z = texelFetch(zIn, base + i).r;
-    s = texelFetch(sIn, base + i).r;
+    vec4 pixel = texelFetch(zsn, base + i);
+    float nu = pixel.z;
+    z = pixel.x;
+    s = pixel.y;
     if (nu < 0.0 || nu > goodNu) return 0.0;
     float geo = geometricTerm(surfaceAt(i), centre);
     if (geo == 0.0) return 0.0;
@@ -196,26 +196,28 @@ bool disagrees(Plane square, Plane quadrant) {
     return abs(square.c - quadrant.c) > allowed;
 }
 
-void storePlane(int index, int c, int at, float value) {
-    int plane = index < PIVOT_PLANES_PER_BUFFER ? index : index - PIVOT_PLANES_PER_BUFFER;
-    int offset = (c * planeSize + at) * PIVOT_PLANES_PER_BUFFER + plane;
-    if (index < PIVOT_PLANES_PER_BUFFER)
-        fitLo[offset] = value;
-    else
-        fitHi[offset] = value;
-}
-
-void storeFit(int index, int c, int at, Plane p, Plane square) {
-    if (!p.valid) p = square;
-    storePlane(3 * index, c, at, p.a);
-    storePlane(3 * index + 1, c, at, p.b);
-    storePlane(3 * index + 2, c, at, p.c);
+// The planes of the centre `at` in channel c: the square's, quadrant m's (the square's
+// where a quadrant has no fit) and the radius, as four vec4 writes.
+void storeFits(int c, int at, Plane square, float radius) {
+    Plane q[4];
+    for (int m = 0; m < 4; ++m) {
+        q[m] = solve(quadrantSums(m));
+        if (!q[m].valid) q[m] = square;
+    }
+    int texel = 2 * (c * planeSize + at);
+    fitLo[texel] = vec4(square.a, square.b, square.c, q[0].a);
+    fitLo[texel + 1] = vec4(q[0].b, q[0].c, q[1].a, q[1].b);
+    fitHi[texel] = vec4(q[1].c, q[2].a, q[2].b, q[2].c);
+    fitHi[texel + 1] = vec4(q[3].a, q[3].b, q[3].c, radius);
 }
 
 // A centre without a fit: zero planes, radius -1.
 void storeNone(int c, int at) {
-    for (int i = 0; i < 15; ++i) storePlane(i, c, at, 0.0);
-    storePlane(15, c, at, -1.0);
+    int texel = 2 * (c * planeSize + at);
+    fitLo[texel] = vec4(0.0);
+    fitLo[texel + 1] = vec4(0.0);
+    fitHi[texel] = vec4(0.0);
+    fitHi[texel + 1] = vec4(0.0, 0.0, 0.0, -1.0);
 }
 
 // Section 4.3 for the centre (x0, y0): the radius the square grows to from 5x5, and the
@@ -228,8 +230,8 @@ int grow(out float mean) {
     int n = 0;
     for (int v = max(0, y0 - 1); v <= min(h - 1, y0 + 1); ++v)
         for (int u = max(0, x0 - 1); u <= min(w - 1, x0 + 1); ++u)
-            if (texelFetch(nuIn, base + v * w + u).r >= 0.0) {
-                zc += texelFetch(zIn, base + v * w + u).r;
+            if (texelFetch(zsn, base + v * w + u).z >= 0.0) {
+                zc += texelFetch(zsn, base + v * w + u).x;
                 ++n;
             }
     zc /= float(n);
@@ -260,23 +262,23 @@ int grow(out float mean) {
             }
             break;
         }
-        if (!onLattice(x0, y0, float(r))) {
+        bool quiet = square.valid && sqrt(square.var0) <= push.targetNoise * abs(square.c);
+        bool covers = x0 - r <= 0 && y0 - r <= 0 && x0 + r >= w - 1 && y0 + r >= h - 1;
+        if (quiet || covers || r >= push.maxRadius) {
+            radius = r;
+            break;
+        }
+        // Growing on would leave the lattice: stop here, off it, with this square's growth
+        // fits and the radius r + 1 (off the lattice, as the gather tests it).
+        if (!onLattice(x0, y0, float(r + 1))) {
             int at = y0 * w + x0;
             int c = int(gl_WorkGroupID.z);
             if (!square.valid) {
                 storeNone(c, at);
                 return -1;
             }
-            storeFit(0, c, at, square, square);
-            for (int m = 0; m < 4; ++m) storeFit(1 + m, c, at, solve(quadrantSums(m)), square);
-            storePlane(15, c, at, float(r));
+            storeFits(c, at, square, float(r + 1));
             return -1;
-        }
-        bool quiet = square.valid && sqrt(square.var0) <= push.targetNoise * abs(square.c);
-        bool covers = x0 - r <= 0 && y0 - r <= 0 && x0 + r >= w - 1 && y0 + r >= h - 1;
-        if (quiet || covers || r >= push.maxRadius) {
-            radius = r;
-            break;
         }
     }
     mean = sumZ / float(max(fitted, 1));
@@ -312,9 +314,7 @@ void fitAndStore(int c, int radius, float mean) {
         storeNone(c, at);
         return;
     }
-    storeFit(0, c, at, square, square);
-    for (int m = 0; m < 4; ++m) storeFit(1 + m, c, at, solve(quadrantSums(m)), square);
-    storePlane(15, c, at, fr);
+    storeFits(c, at, square, fr);
 }
 
 // The workgroup's centres (one row segment) after growth: radius (-1: no fit to make) and
@@ -358,7 +358,7 @@ void main() {
     if (x0 < w) {
         int at = y0 * w + x0;
         centre = surfaceAt(at);
-        if (texelFetch(nuIn, base + at).r < 0.0)
+        if (texelFetch(zsn, base + at).z < 0.0)
             storeNone(c, at);
         else
             radius = grow(mean);

@@ -9,13 +9,11 @@
 
 #include "pivot/pivot.h"
 
-#define PIVOT_FIT_Z 0
-#define PIVOT_FIT_S 1
-#define PIVOT_FIT_NU 2
-#define PIVOT_FIT_GUIDES 3
-#define PIVOT_FIT_LO 4  // planes 0..7
-#define PIVOT_FIT_HI 5  // planes 8..15
-#define PIVOT_FIT_BINDINGS 6
+#define PIVOT_FIT_ZSN 0  // (z, s, nu, 0) per pixel and channel, one vec4 texel (ratio stage)
+#define PIVOT_FIT_GUIDES 1
+#define PIVOT_FIT_LO 2  // planes 0..7
+#define PIVOT_FIT_HI 3  // planes 8..15
+#define PIVOT_FIT_BINDINGS 4
 
 #ifdef __cplusplus
 #include <cstddef>

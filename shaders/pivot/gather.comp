@@ -55,26 +55,22 @@ void addCentre(int x0, int y0, float radius) {
                    geometricTerm(here, surfaceAt(i0)) * float(step * step);
     if (weight == 0.0) return;
     int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
-    int planes = (lo + i0) * PIVOT_PLANES_PER_BUFFER;  // the centre's planes
-    float zs = texelFetch(fitLo, planes).r * fdx + texelFetch(fitLo, planes + 1).r * fdy +
-               texelFetch(fitLo, planes + 2).r;
-    // Quadrant m's planes are 3 + 3m .. 5 + 3m, across the two buffers.
-    float coef[3];
-    for (int q = 0; q < 3; ++q) {
-        int p = 3 + 3 * m + q;
-        coef[q] = p < PIVOT_PLANES_PER_BUFFER
-                      ? texelFetch(fitLo, planes + p).r
-                      : texelFetch(fitHi, planes + p - PIVOT_PLANES_PER_BUFFER).r;
-    }
-    float zm = coef[0] * fdx + coef[1] * fdy + coef[2];
+    // The centre's 16 planes as four vec4 texels: square (0..2), quadrant m (3 + 3m ..
+    // 5 + 3m), radius (15).
+    int texel = 2 * (lo + i0);
+    vec4 lo0 = texelFetch(fitLo, texel), lo1 = texelFetch(fitLo, texel + 1);
+    vec4 hi0 = texelFetch(fitHi, texel), hi1 = texelFetch(fitHi, texel + 1);
+    float zs = lo0.x * fdx + lo0.y * fdy + lo0.z;
+    vec3 coef = m == 0 ? vec3(lo0.w, lo1.xy)
+                       : (m == 1 ? vec3(lo1.zw, hi0.x) : (m == 2 ? hi0.yzw : hi1.xyz));
+    float zm = coef.x * fdx + coef.y * fdy + coef.z;
     sumW += weight;
     sumWz += weight * combine(zs, zm);
 }
 
 // A centre's radius (-1: no fit), from its planes.
 float radiusOf(int i0) {
-    return texelFetch(fitHi, (lo + i0) * PIVOT_PLANES_PER_BUFFER + PIVOT_PLANES - 1 -
-                                 PIVOT_PLANES_PER_BUFFER).r;
+    return texelFetch(fitHi, 2 * (lo + i0) + 1).w;
 }
 
 void main() {
@@ -131,10 +127,9 @@ void main() {
             }
         }
     // No lattice centre reaches the pixel: its own fit (square and quadrant 0) at its place.
-    int own = (lo + i) * PIVOT_PLANES_PER_BUFFER;
     if (sumW == 0.0 && radiusOf(i) >= 0.0) {
         sumW = 1.0;
-        sumWz = combine(texelFetch(fitLo, own + 2).r, texelFetch(fitLo, own + 5).r);
+        sumWz = combine(texelFetch(fitLo, 2 * (lo + i)).z, texelFetch(fitLo, 2 * (lo + i) + 1).y);
     }
     outImage[at] =
         sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;

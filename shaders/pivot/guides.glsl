@@ -1,68 +1,42 @@
 // The geometric terms of the pivot filter (section 4.4), for kernels that declare the
-// texel buffer `guides` (per pixel PIVOT_GUIDE_PLANES adjacent values: normal x, y, z,
-// object id, part id), the specialization constants useNormals / useIds and the ints
-// `planeSize` (width x height) and `gw`, `gh` (width, height).
+// vec4 texel buffer `guides` (per pixel one texel, PivotGuideBuffer: the unit normal, zero
+// where the normal is zero, and a label of the pixel's object and part ids, 1 + the index of
+// the pair among the frame's distinct pairs, negated where the normal is zero), the
+// specialization constants useNormals / useIds and the ints `planeSize` (width x height) and
+// `gw`, `gh` (width, height).
 
-// Guide value k (0..4) of pixel i.
-float Guide(int i, int k) {
-    return texelFetch(guides, i * PIVOT_GUIDE_PLANES + k).r;
+// Pixel i's guides: one fetch.
+vec4 GuideAt(int i) {
+    return texelFetch(guides, i);
 }
 
-// (n.n0)^4 when n.n0 > 1/2 for the unit normals at pixels i and i0, else 0; two zero
-// normals (no surface) give 1, one gives 0.
-float normalTerm(int i, int i0) {
-    if (useNormals == 0) return 1.0;
-    vec3 n = vec3(Guide(i, 0), Guide(i, 1), Guide(i, 2));
-    vec3 n0 = vec3(Guide(i0, 0), Guide(i0, 1), Guide(i0, 2));
-    float len = dot(n, n), len0 = dot(n0, n0);
-    if (len == 0.0 && len0 == 0.0) return 1.0;
-    if (len == 0.0 || len0 == 0.0) return 0.0;
-    float d = dot(n, n0) / sqrt(len * len0);
-    return d > 0.5 ? d * d * d * d : 0.0;
-}
-
-// 0 across object boundaries and between parts: the ids differ.
+// 0 across object boundaries and between parts: the ids differ (so do the labels' sizes).
 float idTerm(int i, int i0) {
     if (useIds == 0) return 1.0;
-    return Guide(i, 3) == Guide(i0, 3) && Guide(i, 4) == Guide(i0, 4)
-               ? 1.0
-               : 0.0;
+    return abs(GuideAt(i).w) == abs(GuideAt(i0).w) ? 1.0 : 0.0;
 }
 
 // A pixel's guides, read once where one side of many comparisons stays the same.
 struct Surface {
-    vec3 n;
-    float len;  // dot(n, n)
-    float object, part;
+    vec4 g;  // GuideAt
 };
 
 Surface surfaceAt(int i) {
-    Surface s = Surface(vec3(0.0), 0.0, 0.0, 0.0);
-    if (useNormals != 0) {
-        s.n = vec3(Guide(i, 0), Guide(i, 1), Guide(i, 2));
-        s.len = dot(s.n, s.n);
-    }
-    if (useIds != 0) {
-        s.object = Guide(i, 3);
-        s.part = Guide(i, 4);
-    }
+    Surface s = Surface(vec4(0.0));
+    if (useNormals != 0 || useIds != 0) s.g = GuideAt(i);
     return s;
 }
 
-// normalTerm(i, i0) * idTerm(i, i0) from the two pixels' surfaces, bit for bit.
+// The normal term (n.n0)^4 for n.n0 > 1/2 of unit normals, else 0; two zero normals (both
+// labels negative) give 1, one gives 0 (its stored normal is zero, so n.n0 = 0); times the
+// id terms.
 float geometricTerm(Surface s, Surface s0) {
     float normal = 1.0;
     if (useNormals != 0) {
-        if (s.len == 0.0 && s0.len == 0.0)
-            normal = 1.0;
-        else if (s.len == 0.0 || s0.len == 0.0)
-            normal = 0.0;
-        else {
-            float d = dot(s.n, s0.n) / sqrt(s.len * s0.len);
-            normal = d > 0.5 ? d * d * d * d : 0.0;
-        }
+        float d = dot(s.g.xyz, s0.g.xyz);
+        normal = s.g.w < 0.0 && s0.g.w < 0.0 ? 1.0 : (d > 0.5 ? d * d * d * d : 0.0);
     }
-    float ids = useIds == 0 || (s.object == s0.object && s.part == s0.part) ? 1.0 : 0.0;
+    float ids = useIds == 0 || abs(s.g.w) == abs(s0.g.w) ? 1.0 : 0.0;
     return normal * ids;
 }
 

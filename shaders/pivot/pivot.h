@@ -29,9 +29,14 @@
 #define PIVOT_LOCAL_SIZE 64
 #define PIVOT_MAX_CHANNELS 4  // colour channels a frame may have
 
-// The guide buffer's values per pixel, adjacent (float i * PIVOT_GUIDE_PLANES + k for pixel
-// i): normal x, y, z, object id, part id (what is absent is zero and compiled out).
+// The guide image's planes: normal x, y, z, object id, part id (what is absent is zero and
+// compiled out). The GPU buffer holds a pixel's guides in one vec4 texel of
+// PIVOT_GUIDE_STRIDE floats (one fetch): the normal normalised (zero where it is zero) and a
+// label of the (object id, part id) pair, 1 + its index among the frame's distinct pairs,
+// negated where the normal is zero (PivotGuideBuffer, pivot/guides.glsl). Labels only
+// compare for equality, so a tile's own labels give the untiled result bit for bit.
 #define PIVOT_GUIDE_PLANES 5
+#define PIVOT_GUIDE_STRIDE 4
 
 // |z| above this makes a pixel invalid (z^2 and the fit sums stay finite in float); the
 // variance of z is clamped to its square.

@@ -11,6 +11,7 @@ layout(binding = PIVOT_RATIO_VARIANCE) uniform samplerBuffer variance;
 layout(std430, binding = PIVOT_RATIO_Z) writeonly buffer Z { float zOut[]; };
 layout(std430, binding = PIVOT_RATIO_S) writeonly buffer S { float sOut[]; };
 layout(std430, binding = PIVOT_RATIO_NU) writeonly buffer Nu { float nuOut[]; };
+layout(std430, binding = PIVOT_RATIO_ZSN) writeonly buffer Zsn { vec4 zsnOut[]; };
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
 const int useNormals = 0;
 layout(binding = PIVOT_RATIO_GUIDES) uniform samplerBuffer guides;
@@ -45,6 +46,7 @@ void main() {
         zOut[at] = 0.0;
         sOut[at] = 0.0;
         nuOut[at] = -1.0;
+        zsnOut[at] = vec4(0.0, 0.0, -1.0, 0.0);
         return;
     }
     // Mean of z over the valid 3x3 neighbours (the pixel is one), then their sample
@@ -76,5 +78,7 @@ void main() {
     s = min(s, PIVOT_Z_MAX * PIVOT_Z_MAX);
     zOut[at] = z;
     sOut[at] = s;
-    nuOut[at] = s / max(zl * zl, PIVOT_TINY);
+    float nu = s / max(zl * zl, PIVOT_TINY);
+    nuOut[at] = nu;
+    zsnOut[at] = vec4(z, s, nu, 0.0);
 }

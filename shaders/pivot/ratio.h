@@ -15,7 +15,8 @@
 #define PIVOT_RATIO_S 4
 #define PIVOT_RATIO_NU 5
 #define PIVOT_RATIO_GUIDES 6
-#define PIVOT_RATIO_BINDINGS 7
+#define PIVOT_RATIO_ZSN 7  // (z, s, nu, 0) per pixel and channel adjacent: the fit's one fetch
+#define PIVOT_RATIO_BINDINGS 8
 
 #ifdef __cplusplus
 #include <cstddef>

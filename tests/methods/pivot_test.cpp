@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -89,14 +90,21 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     c.Upload(color);
     p.Upload(pivot);
     if (variance) v.Upload(*variance);
-    vk::GpuImage g(ctx, w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage g(ctx, w, h, PIVOT_GUIDE_STRIDE, "guides");
     if (guide) g.Upload(*guide);
     PivotGpuGuides guides{guide ? &g : nullptr, false, guide != nullptr};
     vk::Recorder recorder(ctx);
+    vk::GpuImage zsn(ctx, w, h, 4 * ch, "zsn");
     RecordPivotRatio(ctx, recorder, c, p, variance ? &v : nullptr,
-                     PivotThresholds(pivot, floor), guides, z, s, nu);
+                     PivotThresholds(pivot, floor), guides, z, s, nu, zsn);
     recorder.Submit();
-    return {z.Download(), s.Download(), nu.Download()};
+    ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download()};
+    // The fit's packed copy holds the same values.
+    Image packed = zsn.Download(), expected = PivotZsnOf(ratio.z, ratio.s, ratio.nu);
+    EXPECT_EQ(0, std::memcmp(packed.data.data(), expected.data.data(),
+                             expected.data.size() * sizeof(float)))
+        << "zsn differs from z, s, nu";
+    return ratio;
 }
 
 // Planes first .. first + count - 1 of CPU fits (16 x channels planes).
@@ -209,12 +217,10 @@ TEST_P(PivotKernelFit, MatchesReference) {
     Image margin;
     Image expected = ref::PivotFit(ratio, refGuides, api::RefParams(o), &margin);
 
-    vk::GpuImage z(Ctx(), w, h, 3, "z"), s(Ctx(), w, h, 3, "s"), nu(Ctx(), w, h, 3, "nu");
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage zsn(Ctx(), w, h, 12, "zsn");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
-    z.Upload(ratio.z);
-    s.Upload(ratio.s);
-    nu.Upload(ratio.nu);
+    zsn.Upload(PivotZsnOf(ratio.z, ratio.s, ratio.nu));
     guide.Upload(GuideOf(f));
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
     vk::Recorder recorder(Ctx());
@@ -223,7 +229,7 @@ TEST_P(PivotKernelFit, MatchesReference) {
          h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
                : std::vector<std::pair<int, int>>{{0, h}})
         RecordPivotFit(
-            Ctx(), recorder, z, s, nu, gpuGuides,
+            Ctx(), recorder, zsn, gpuGuides,
             {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k, o.sigmaWeight}, lo,
             hi, rowBase, rows);
     recorder.Submit();
@@ -287,7 +293,7 @@ TEST_P(PivotKernelGather, MatchesReference) {
 
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "out");
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
     color.Upload(f.color);
     pivot.Upload(f.pivot);
@@ -338,7 +344,7 @@ TEST_P(PivotKernelBilateral, MatchesReference) {
     Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, api::RefParams(o));
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "o");
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_PLANES, "guides");
+    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     color.Upload(f.color);
     pivot.Upload(f.pivot);
     z.Upload(ratio.z);
@@ -663,6 +669,27 @@ TEST(PivotFitLayout, BuffersAndReferencePlanesRoundTrip) {
     EXPECT_EQ(hi.data[(2 * 15 + 9) * 8 + 5], fits.At(13 * channels + 2, 1, 4));
     EXPECT_EQ(lo.data[(1 * 15 + 0) * 8 + 2], fits.At(2 * channels + 1, 0, 0));
     EXPECT_TRUE(BitIdentical(PivotFitsOfBuffers(lo, hi, channels), fits));
+}
+
+// The guide buffer: per pixel the normal normalised (zero where it is zero) and a label of
+// its (object, part) pair, 1 + the pair's index in order of first appearance, negated where
+// the normal is zero; -0 and 0 are one id, as == says.
+TEST(PivotGuideLayout, UnitNormalsAndPairLabels) {
+    Image planes(4, 1, PIVOT_GUIDE_PLANES);
+    const float normals[4][3] = {{0, 3, 4}, {0, 0, 0}, {-2, 0, 0}, {0, 0, 1}};
+    const float ids[4][2] = {{7, 1}, {7, 2}, {-0.f, 1}, {0, 1}};
+    for (int x = 0; x < 4; ++x) {
+        for (int k = 0; k < 3; ++k) planes.At(k, 0, x) = normals[x][k];
+        planes.At(3, 0, x) = ids[x][0];
+        planes.At(4, 0, x) = ids[x][1];
+    }
+    Image buffer = PivotGuideBuffer(planes);
+    ASSERT_EQ(buffer.channels, PIVOT_GUIDE_STRIDE);
+    const float expected[4][4] = {
+        {0, 0.6f, 0.8f, 1}, {0, 0, 0, -2}, {-1, 0, 0, 3}, {0, 0, 1, 3}};
+    for (int x = 0; x < 4; ++x)
+        for (int k = 0; k < 4; ++k)
+            EXPECT_EQ(buffer.data[x * PIVOT_GUIDE_STRIDE + k], expected[x][k]) << x << " " << k;
 }
 
 class PivotProperties : public GpuTest {};

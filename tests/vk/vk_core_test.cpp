@@ -792,6 +792,22 @@ TEST_F(VkTexelRecorder, WritingThroughATexelBindingThrows) {
     vk::KernelDesc storage = desc;
     storage.texelBindings = 0;
     EXPECT_NE(vk::KernelKey(desc), vk::KernelKey(storage));
+    // So are float and vec4 texels.
+    vk::KernelDesc vec4 = desc;
+    vec4.vec4Bindings = 1u << RHF_DOWNSAMPLE_SRC;
+    EXPECT_NE(vk::KernelKey(desc), vk::KernelKey(vec4));
+    EXPECT_FALSE(kernel.IsVec4(RHF_DOWNSAMPLE_SRC));
+}
+
+// A vec4 view covers a buffer whose size is not a whole number of texels (the allocation
+// is rounded up to one), and the ledger still counts the bytes asked for.
+TEST_F(VkTexelRecorder, Vec4ViewsCoverPartialTexels) {
+    size_t before = Ctx().Ledger().live;
+    vk::Buffer odd(Ctx(), 12, "odd");
+    EXPECT_EQ(Ctx().Ledger().live, before + 12);
+    EXPECT_NE(odd.Vec4View(), VK_NULL_HANDLE);
+    EXPECT_EQ(odd.Vec4View(), odd.Vec4View());  // made once
+    EXPECT_NE(odd.Vec4View(), odd.FloatView());
 }
 
 }  // namespace
