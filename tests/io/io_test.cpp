@@ -787,6 +787,32 @@ TEST_F(IoTest, BlenderSplitKeepsWhatThePassesMissAndSaysSo) {
                          "Diff lack Dir, Ind or Col"));
 }
 
+// A light pass of other than 3 channels (a damaged or hand-made file) is not composed:
+// it was summed as if it had 3, reading past its planes (found by fuzzing a Cycles frame
+// under AddressSanitizer with one channel renamed).
+TEST_F(IoTest, BlenderPassesOfTheWrongWidthAreNotComposed) {
+    std::vector<std::string> channels = BlenderChannels({"DiffDir", "DiffInd"});
+    for (const char *c : {"ViewLayer.DiffCol.R", "ViewLayer.DiffCol.G"}) channels.push_back(c);
+    std::string twoCol = Path("twocol.exr");
+    WriteValues(twoCol, 3, 2, channels, BlenderValue);
+    Frame frame = ReadFrame(twoCol);
+    EXPECT_FALSE(frame.Has("direct"));
+    EXPECT_TRUE(Contains(frame.metadata[kConventionKey],
+                         "no direct/indirect: the light passes of Diff lack Dir, Ind or Col"));
+
+    channels = BlenderChannels({"DiffDir", "DiffInd", "DiffCol"});
+    channels.push_back("ViewLayer.Emit.R");
+    std::string oneEmit = Path("oneemit.exr");
+    WriteValues(oneEmit, 3, 2, channels, BlenderValue);
+    frame = ReadFrame(oneEmit);
+    ASSERT_TRUE(frame.Has("direct") && frame.Has("indirect"));
+    const Image &color = frame.Get("color"), &direct = frame.Get("direct"),
+                &indirect = frame.Get("indirect");
+    for (size_t i = 0; i < color.Size(); ++i)
+        EXPECT_NEAR(direct.data[i] + indirect.data[i], color.data[i], 1e-5f);
+    EXPECT_TRUE(Contains(frame.metadata[kConventionKey], "from the light passes (Diff)"));
+}
+
 TEST_F(IoTest, PbrtVarianceOfTheSamplesBecomesVarianceOfTheMean) {
     std::vector<std::string> channels = {"R",          "G",   "B",   "Variance.R", "Variance.G",
                                          "Variance.B", "N.X", "N.Y", "N.Z"};
@@ -987,8 +1013,8 @@ TEST_F(IoTest, ExrChunkDecoderMatchesOpenExr) {
 // cut at many lengths, bytes overwritten at seeded places, and the offset table, chunk y
 // and packed sizes set to values a bad file could hold. Each read is an error naming the
 // file (a cut file always) or a read; where our decoder reads one, OpenEXR's reads the same
-// bits. (A wider run of this under AddressSanitizer found the duplicate-channel overflow
-// below.)
+// bits. (A wider run of this under AddressSanitizer, on these and the Cycles frame of
+// tests/data, found the overflow of BlenderPassesOfTheWrongWidthAreNotComposed.)
 TEST_F(IoTest, DamagedExrFilesAreErrorsOrReadsNeverCrashes) {
     const int width = 7, height = 37, x0 = -2, y0 = 3;
     std::vector<std::string> names = {"B", "G", "R", "depth.Y", "objectId.Y"};
