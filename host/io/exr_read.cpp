@@ -7,6 +7,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/format.h>
 
@@ -240,7 +241,9 @@ class ChunkDecoder {
 bool ReadChunks(Imf::InputFile &file, const std::vector<ExrTarget> &targets) {
     if constexpr (std::endian::native != std::endian::little) return false;
     const Imf::Header &header = file.header();
-    if (header.hasTileDescription()) return false;
+    // Tiled and deep parts are OpenEXR's (its InputFile composites deep samples).
+    if (header.hasTileDescription() || (header.hasType() && Imf::isDeepData(header.type())))
+        return false;
     Imf::Compression compression = header.compression();
     int chunkLines;
     if (compression == Imf::NO_COMPRESSION || compression == Imf::ZIPS_COMPRESSION)

@@ -1,4 +1,5 @@
 // host/io: frame reading and writing, layer-name grouping, errors and atomic writes.
+#include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -1123,6 +1124,39 @@ TEST_F(IoTest, DamagedExrFilesAreErrorsOrReadsNeverCrashes) {
                       fmt::format("chunk {} size {}", c, value), true);
         }
     }
+}
+
+// A deep scanline EXR (ZIPS, as OIIO writes it) is OpenEXR's to read, which composites
+// the samples: our decoder took its chunks for flat ones and failed. ReadFrame refuses
+// deep files before.
+TEST_F(IoTest, DeepExrIsLeftToOpenExr) {
+    const int width = 5, height = 7;
+    std::string path = Path("deep.exr");
+    OIIO::ImageSpec spec(width, height, 5, OIIO::TypeFloat);
+    spec.channelnames = {"R", "G", "B", "A", "Z"};
+    spec.deep = true;
+    spec.attribute("compression", "zips");
+    OIIO::DeepData deep(spec);
+    for (int i = 0; i < width * height; ++i) {
+        deep.set_samples(i, 1);
+        for (int c = 0; c < 5; ++c)
+            deep.set_deep_value(i, c, 0, c >= 3 ? 1.f : 0.25f * float(i + c));
+    }
+    {
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out && out->open(path, spec)) << OIIO::geterror();
+        ASSERT_TRUE(out->write_deep_image(deep)) << out->geterror();
+        ASSERT_TRUE(out->close());
+    }
+    Image ours(width, height, 3), theirs = ours;
+    for (auto [image, decoder] :
+         {std::pair{&ours, ExrDecoder::Auto}, std::pair{&theirs, ExrDecoder::OpenExr}})
+        ASSERT_TRUE(ReadExrChannels(
+            path, 0, 0, width, height,
+            {{"R", image->Plane(0)}, {"G", image->Plane(1)}, {"B", image->Plane(2)}}, decoder));
+    EXPECT_TRUE(BitEqual(ours, theirs));
+    EXPECT_EQ(ours.At(2, 1, 3), 0.25f * (8 + 2));
+    EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(path); }), "deep"));
 }
 
 // ReadExrChannels with a channel asked for twice fills both planes (our decoder restored
