@@ -339,7 +339,8 @@ void ReadWithOpenExr(Imf::InputFile &file, const std::vector<ExrTarget> &targets
         for (const ExrTarget &first : targets) {
             if (&first == &target) break;
             if (target.plane && first.plane && first.channel == target.channel) {
-                std::copy_n(first.plane, planeSize, target.plane);
+                if (first.plane != target.plane)
+                    std::copy_n(first.plane, planeSize, target.plane);
                 break;
             }
         }
