@@ -40,6 +40,12 @@ std::optional<double> SampleCount(const Frame &frame,
     return std::nullopt;
 }
 
+// Whether the frame has the layer with 3 channels (a damaged or hand-made file may not).
+bool HasRgb(const Frame &frame, const std::string &name) {
+    return frame.Has(name) && frame.Get(name).channels == 3;
+}
+
+// sum += a b, pixel by pixel; all of the same size (3 channels: HasRgb).
 void AddScaled(Image &sum, const Image &a, const Image *b) {
     for (size_t i = 0; i < sum.Size(); ++i) sum.data[i] += a.data[i] * (b ? b->data[i] : 1.f);
 }
@@ -110,7 +116,7 @@ std::string ReadBlender(Frame &frame, const std::set<std::string> &passes,
         for (const char *x : {"Diff", "Gloss", "Trans"}) {
             std::string dir = std::string(x) + "Dir", ind = std::string(x) + "Ind",
                         col = std::string(x) + "Col";
-            int have = frame.Has(dir) + frame.Has(ind) + frame.Has(col);
+            int have = HasRgb(frame, dir) + HasRgb(frame, ind) + HasRgb(frame, col);
             if (have == 3)
                 used.push_back(x);
             else if (frame.Has(dir) || frame.Has(ind))
@@ -126,11 +132,11 @@ std::string ReadBlender(Frame &frame, const std::set<std::string> &passes,
             }
             std::vector<std::string> missing;
             for (const char *pass : {"Emit", "Env", "VolumeDir"})
-                if (frame.Has(pass))
+                if (HasRgb(frame, pass))
                     AddScaled(direct, frame.Get(pass), nullptr), used.push_back(pass);
                 else
                     missing.push_back(pass);
-            if (frame.Has("VolumeInd"))
+            if (HasRgb(frame, "VolumeInd"))
                 AddScaled(indirect, frame.Get("VolumeInd"), nullptr),
                     used.push_back("VolumeInd");
             else

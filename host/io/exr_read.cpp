@@ -7,6 +7,7 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/format.h>
 
@@ -207,6 +208,8 @@ class ChunkDecoder {
             for (int line = 0; line < lines; ++line)
                 for (const Piece &piece : pieces) {
                     size_t begin = base + (size_t(line) * lineBytes + piece.offset) / 2;
+                    // A channel asked for twice (two planes) is restored once.
+                    if (begin < cursor) continue;
                     restore(begin, begin + piece.bytes / 2);
                 }
 
@@ -238,7 +241,9 @@ class ChunkDecoder {
 bool ReadChunks(Imf::InputFile &file, const std::vector<ExrTarget> &targets) {
     if constexpr (std::endian::native != std::endian::little) return false;
     const Imf::Header &header = file.header();
-    if (header.hasTileDescription()) return false;
+    // Tiled and deep parts are OpenEXR's (its InputFile composites deep samples).
+    if (header.hasTileDescription() || (header.hasType() && Imf::isDeepData(header.type())))
+        return false;
     Imf::Compression compression = header.compression();
     int chunkLines;
     if (compression == Imf::NO_COMPRESSION || compression == Imf::ZIPS_COMPRESSION)
@@ -255,14 +260,15 @@ bool ReadChunks(Imf::InputFile &file, const std::vector<ExrTarget> &targets) {
     size_t lineBytes = 0;
     for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
         const Imf::Channel &channel = it.channel();
+        if (channel.type != Imf::HALF && channel.type != Imf::FLOAT &&
+            channel.type != Imf::UINT)
+            return false;
         size_t bytes = size_t(width) * (channel.type == Imf::HALF ? 2 : 4);
         for (const ExrTarget &target : targets)
             if (target.plane && target.channel == it.name())
                 pieces.push_back({lineBytes, bytes, channel.type, target.plane});
         lineBytes += bytes;
     }
-    for (const ExrTarget &target : targets)
-        if (target.plane && !header.channels().findChannel(target.channel)) return false;
     std::sort(pieces.begin(), pieces.end(),
               [](const Piece &a, const Piece &b) { return a.offset < b.offset; });
 
@@ -297,8 +303,9 @@ bool ReadChunks(Imf::InputFile &file, const std::vector<ExrTarget> &targets) {
     };
     std::vector<std::thread> pool;
     try {
+        pool.reserve(size_t(threads));
         for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-    } catch (const std::system_error &) {
+    } catch (const std::exception &) {
         // Fewer threads than asked for: those started and this one do the work.
     }
     work();
@@ -317,7 +324,8 @@ void ReadWithOpenExr(Imf::InputFile &file, const std::vector<ExrTarget> &targets
     size_t row = size_t(window.max.x - window.min.x + 1) * sizeof(float);
     Imf::FrameBuffer buffer;
     for (const ExrTarget &target : targets) {
-        if (!target.plane) continue;
+        // A frame buffer holds one slice per name: a channel's other planes are copied.
+        if (!target.plane || buffer.findSlice(target.channel)) continue;
         // OpenEXR addresses pixel (x, y) of the data window at base + x xStride + y yStride.
         char *base = reinterpret_cast<char *>(target.plane) -
                      std::ptrdiff_t(window.min.x) * std::ptrdiff_t(sizeof(float)) -
@@ -326,6 +334,16 @@ void ReadWithOpenExr(Imf::InputFile &file, const std::vector<ExrTarget> &targets
     }
     file.setFrameBuffer(buffer);
     file.readPixels(window.min.y, window.max.y);
+    size_t planeSize = row / sizeof(float) * size_t(window.max.y - window.min.y + 1);
+    for (const ExrTarget &target : targets)
+        for (const ExrTarget &first : targets) {
+            if (&first == &target) break;
+            if (target.plane && first.plane && first.channel == target.channel) {
+                if (first.plane != target.plane)
+                    std::copy_n(first.plane, planeSize, target.plane);
+                break;
+            }
+        }
 }
 
 }  // namespace
@@ -342,6 +360,9 @@ bool ReadExrChannels(const std::string &path, int x, int y, int width, int heigh
         for (auto it = file.header().channels().begin(); it != file.header().channels().end();
              ++it)
             if (it.channel().xSampling != 1 || it.channel().ySampling != 1) return false;
+        for (const ExrTarget &target : targets)
+            if (target.plane && !file.header().channels().findChannel(target.channel))
+                throw std::runtime_error(fmt::format("it has no channel '{}'", target.channel));
         if (decoder == ExrDecoder::OpenExr || !ReadChunks(file, targets))
             ReadWithOpenExr(file, targets);
     } catch (const std::exception &e) {
