@@ -51,13 +51,13 @@ Image AutoNoise(const Image &color, const Image *albedo, int radius) {
         Image divisor(w, h, 1), z(w, h, 1);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                float a = albedo ? albedo->At(albedo->channels == 1 ? 0 : c, y, x) : 1.f;
+                float a = albedo ? albedo->At(std::min(c, albedo->channels - 1), y, x) : 1.f;
                 divisor.At(0, y, x) = std::isfinite(a) && a > kAlbedoFloor ? a : 1.f;
                 z.At(0, y, x) = float(double(color.At(c, y, x)) / divisor.At(0, y, x));
             }
         // Whether each pixel is divided by its albedo.
         auto divided = [&](int x, int y) {
-            float a = albedo ? albedo->At(albedo->channels == 1 ? 0 : c, y, x) : 1.f;
+            float a = albedo ? albedo->At(std::min(c, albedo->channels - 1), y, x) : 1.f;
             return albedo && std::isfinite(a) && a > kAlbedoFloor;
         };
         // Each pixel's smallest squared second difference, scaled to v_z's units.
@@ -157,7 +157,8 @@ AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidate
                             : 0;
                 total += weight[k];
             }
-            bool none = !(total > 0) || !std::isfinite(total);
+            // No weights where their total is 0 or beyond a float (the kernel sums floats).
+            bool none = !(total > 0) || !std::isfinite(float(total));
             // The estimates tell nothing where all are under the floor: the median.
             bool allUnder = medianUnderFloor && !select;
             int usableCount = 0;
@@ -166,7 +167,8 @@ AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidate
                     ++usableCount;
                     allUnder = allUnder && errors.At(k, y, x) < float(floorError);
                 }
-            bool median = !none && allUnder && usableCount > 0;
+            // The median needs no weights: it holds even where their total overflows.
+            bool median = allUnder && usableCount > 0;
             for (int k = 0; k < count; ++k)
                 out.weights.At(k, y, x) = none ? 0.f : float(weight[k] / total);
             for (int c = 0; c < channels; ++c) {

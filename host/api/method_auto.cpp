@@ -7,8 +7,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
@@ -401,6 +403,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     Image frameVariance =
         useHalves && inputs.Has("variance") ? inputs.Get("variance") : Image();
     std::vector<Variant> variants = Variants();
+    // Each variant has a colour in the map and a slot in the kernels.
+    if (variants.size() > std::size(kPalette) || variants.size() > AUTO_MAX_CANDIDATES)
+        throw std::logic_error("auto: more variants than map colours or kernel slots");
     for (size_t v = 0; v < variants.size(); ++v) {
         const Variant &variant = variants[v];
         const FrontEnd *base = nullptr;

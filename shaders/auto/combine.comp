@@ -53,7 +53,8 @@ void main() {
             ++usableCount;
             allUnder = allUnder && errors[k * plane + at] < push.floorError;
         }
-    bool median = !none && allUnder && usableCount > 0;
+    // The median needs no weights: it holds even where their total overflows.
+    bool median = allUnder && usableCount > 0;
     for (int k = 0; k < count; ++k)
         weights[k * plane + at] = none ? 0.0 : weightOf(k, best) / total;
     for (int c = 0; c < channels; ++c) {

@@ -327,7 +327,9 @@ TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
         for (auto [mode, floor] :
              {std::pair{AutoMode::Weights, 1e-3f}, std::pair{AutoMode::Select, 1e-3f},
               std::pair{AutoMode::WeightsMedian, 1e-3f},
-              std::pair{AutoMode::WeightsMedian, 1e3f}})
+              std::pair{AutoMode::WeightsMedian, 1e3f},
+              // A floor whose weight 1e-20^-2 overflows a float: no weights, still the median.
+              std::pair{AutoMode::WeightsMedian, 1e-20f}})
             for (float power : {1.f, 2.f}) {
                 bool select = mode == AutoMode::Select;
                 bool median = mode == AutoMode::WeightsMedian;
