@@ -12,6 +12,8 @@
 #include <system_error>
 #include <utility>
 
+#include <unistd.h>
+
 #include "host/error.h"
 #include "host/io/conventions.h"
 #include "host/io/exr_read.h"
@@ -115,6 +117,12 @@ const Image &Frame::Get(const std::string &layer) const {
                             have.empty() ? "no layers" : have));
 }
 
+// The machine's physical memory in bytes (0 if unknown).
+static uint64_t PhysicalMemory() {
+    long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);
+    return pages > 0 && pageSize > 0 ? uint64_t(pages) * uint64_t(pageSize) : 0;
+}
+
 Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec))
@@ -162,6 +170,18 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     } catch (const Error &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()));
     }
+
+    // Refuse before allocating a data window that cannot fit in memory.
+    uint64_t wantedChannels = 0;
+    for (const LayerChannels &layer : grouped)
+        if (Wanted(layer.name, options)) wantedChannels += layer.channels.size();
+    uint64_t bytes = uint64_t(spec.width) * uint64_t(spec.height) * wantedChannels * 4;
+    uint64_t limit = options.memoryLimit ? options.memoryLimit : PhysicalMemory();
+    if (limit && bytes > limit)
+        throw Error(fmt::format(
+            "cannot read '{}': its {}x{} data window with {} channel(s) "
+            "read needs {:.1f} GB, more than the {:.1f} GB allowed",
+            path, spec.width, spec.height, wantedChannels, bytes / 1e9, limit / 1e9));
 
     Frame frame;
     frame.path = path;

@@ -2,6 +2,7 @@
 // ...), read from any file OpenImageIO reads; the layer names are the README's table.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
@@ -29,6 +30,9 @@ struct Frame {
 // variance) brings the passes it is made of. Other layers are neither read nor stored.
 struct ReadOptions {
     std::vector<std::string> layers;
+    // Bytes the read layers may take; 0: the machine's physical memory. A header that
+    // claims more (a damaged or hostile file) is an error, not an allocation.
+    uint64_t memoryLimit = 0;
 };
 
 // Read part 0 of an image file, all channels as float, grouped into layers. 8- and 16-bit

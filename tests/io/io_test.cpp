@@ -550,6 +550,25 @@ TEST_F(IoTest, DamagedExrChunksAreErrorsNamingTheFile) {
     EXPECT_TRUE(Contains(ErrorOf([&] { ReadFrame(damaged, {{"color"}}); }), damaged));
 }
 
+// A data window larger than the memory allowed is an error before any allocation; the
+// limit counts only the layers read.
+TEST_F(IoTest, RefusesADataWindowBeyondTheMemoryLimit) {
+    Image color = Ramp(64, 64, 3, 0.f), hist = Ramp(64, 64, 61, 0.f);
+    std::string path = Path("limit.exr");
+    WriteExr(path, {{"color", &color}, {"hist", &hist}});
+    // Every layer: 64 x 64 x 64 channels x 4 bytes = 1 MiB.
+    std::string error = ErrorOf([&] { ReadFrame(path, {{}, (1 << 20) - 1}); });
+    EXPECT_TRUE(Contains(error, path));
+    EXPECT_TRUE(Contains(error, "64 channel(s)"));
+    EXPECT_NO_THROW(ReadFrame(path, {{}, 1 << 20}));
+    // color alone: 48 KiB.
+    EXPECT_NO_THROW(ReadFrame(path, {{"color"}, 64 * 64 * 3 * 4}));
+    EXPECT_TRUE(Contains(ErrorOf([&] {
+                             ReadFrame(path, {{"color"}, 64 * 64 * 3 * 4 - 1});
+                         }),
+                         "3 channel(s)"));
+}
+
 TEST_F(IoTest, RefusesUnsupportedChannelFormat) {
     OIIO::ImageSpec spec(2, 2, 1, OIIO::TypeDesc::INT16);
     int16_t pixels[4] = {-5, 0, 5, 100};
