@@ -127,38 +127,31 @@ void Buffer::Release() {
 }
 
 VkBufferView Buffer::FloatView() const {
-    if (floatView || !buffer) return floatView;
-    VkDeviceSize elements = std::max<VkDeviceSize>(bytes / sizeof(float), 1);
-    if (elements > context->Limits().maxTexelBufferElements)
-        throw Error(
-            fmt::format("buffer '{}' of {} floats exceeds the device's {} texel buffer "
-                        "elements; split the work",
-                        name, elements, context->Limits().maxTexelBufferElements));
-    VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
-    vi.buffer = buffer;
-    vi.format = VK_FORMAT_R32_SFLOAT;
-    vi.offset = 0;
-    vi.range = elements * sizeof(float);
-    MCD_VK(vkCreateBufferView(context->Device(), &vi, nullptr, &floatView));
-    return floatView;
+    return View(VK_FORMAT_R32_SFLOAT, 1, "floats", floatView);
 }
 
 VkBufferView Buffer::Vec4View() const {
-    if (vec4View || !buffer) return vec4View;
     // The allocation is rounded up to whole texels (the constructor).
-    VkDeviceSize elements = std::max<VkDeviceSize>((bytes + 15) / 16, 1);
+    return View(VK_FORMAT_R32G32B32A32_SFLOAT, 4, "vec4 texels", vec4View);
+}
+
+VkBufferView Buffer::View(VkFormat format, int floatsPerTexel, const char *unit,
+                          VkBufferView &view) const {
+    if (view || !buffer) return view;
+    VkDeviceSize texelBytes = floatsPerTexel * sizeof(float);
+    VkDeviceSize elements = std::max<VkDeviceSize>((bytes + texelBytes - 1) / texelBytes, 1);
     if (elements > context->Limits().maxTexelBufferElements)
         throw Error(
-            fmt::format("buffer '{}' of {} vec4 texels exceeds the device's {} texel buffer "
+            fmt::format("buffer '{}' of {} {} exceeds the device's {} texel buffer "
                         "elements; split the work",
-                        name, elements, context->Limits().maxTexelBufferElements));
+                        name, elements, unit, context->Limits().maxTexelBufferElements));
     VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
     vi.buffer = buffer;
-    vi.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+    vi.format = format;
     vi.offset = 0;
-    vi.range = elements * 4 * sizeof(float);
-    MCD_VK(vkCreateBufferView(context->Device(), &vi, nullptr, &vec4View));
-    return vec4View;
+    vi.range = elements * texelBytes;
+    MCD_VK(vkCreateBufferView(context->Device(), &vi, nullptr, &view));
+    return view;
 }
 
 void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {

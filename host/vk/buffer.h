@@ -52,6 +52,9 @@ class Buffer {
 
   private:
     void Release();
+    // The texel view of the given format, made once into `view`.
+    VkBufferView View(VkFormat format, int floatsPerTexel, const char *unit,
+                      VkBufferView &view) const;
 
     Context *context = nullptr;
     VkBuffer buffer = VK_NULL_HANDLE;

@@ -479,6 +479,26 @@ TEST_F(AutoEstimateProperty, CombinationBeatsEachCandidate) {
 // gives each one's share, and the result is no worse than the best candidate by 5%.
 class AutoMethod : public GpuTest {};
 
+// fireflies at 16 spp with only the ordinary passes (color, albedo, normal, depth, ids,
+// direct and indirect: no variance, min or max, as Blender Cycles writes them), and a
+// reference of refSpp samples.
+std::pair<Frame, Image> PlainFireflies(int width, int height, int refSpp) {
+    render::RenderOptions options;
+    options.width = width, options.height = height, options.spp = 16;
+    options.layers = render::kLayersGbuffer | render::kLayersSplit;
+    render::RenderResult rendered = render::Render(render::BuildScene("fireflies"), options);
+    Frame frame;
+    frame.width = width, frame.height = height;
+    for (auto &[name, image] : rendered.layers)
+        if (name != "variance" && name != "min" && name != "max")
+            frame.layers[name] = std::move(image);
+    options.layers = 0;
+    options.spp = refSpp;
+    options.seed = 99;
+    return {std::move(frame),
+            render::Render(render::BuildScene("fireflies"), options).layers[0].second};
+}
+
 TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     render::RenderOptions options;
     options.width = 40, options.height = 32, options.spp = 8;
@@ -651,19 +671,7 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
 // before (measured here: best method 0.0402, auto 0.0152, the average 0.0268; on the
 // 128x128 frame 0.0249, 0.0259 and 0.0647).
 TEST_F(AutoMethod, FrameWithoutStatisticsUsesItsOwnNoiseEstimate) {
-    render::RenderOptions options;
-    options.width = 64, options.height = 48, options.spp = 16;
-    options.layers = render::kLayersGbuffer | render::kLayersSplit;
-    render::RenderResult rendered = render::Render(render::BuildScene("fireflies"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers)
-        if (name != "variance" && name != "min" && name != "max")
-            frame.layers[name] = std::move(image);
-    options.layers = 0;
-    options.spp = 512;
-    options.seed = 99;
-    Image reference = render::Render(render::BuildScene("fireflies"), options).layers[0].second;
+    auto [frame, reference] = PlainFireflies(64, 48, 512);
     Device device = Device::Borrow(Ctx());
     double best = INFINITY;
     for (const char *name : {"rhf", "pivot", "bayes", "awr"})
@@ -740,19 +748,7 @@ TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
 // method on fireflies at 128x128, 16 spp, with the ordinary passes (measured: best 0.0273,
 // auto 0.0157; with the candidates' mean there auto was 0.093).
 TEST_F(AutoMethod, MedianWhereNoEstimateTellsTheCandidatesApart) {
-    render::RenderOptions options;
-    options.width = 128, options.height = 128, options.spp = 16;
-    options.layers = render::kLayersGbuffer | render::kLayersSplit;
-    render::RenderResult rendered = render::Render(render::BuildScene("fireflies"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers)
-        if (name != "variance" && name != "min" && name != "max")
-            frame.layers[name] = std::move(image);
-    options.layers = 0;
-    options.spp = 256;
-    options.seed = 99;
-    Image reference = render::Render(render::BuildScene("fireflies"), options).layers[0].second;
+    auto [frame, reference] = PlainFireflies(128, 128, 256);
     Device device = Device::Borrow(Ctx());
     double best = INFINITY;
     for (const char *name : {"pivot", "bayes"})
