@@ -123,6 +123,12 @@ class Rhf : public FrontEndOf<RhfParams> {
         const int side = 2 * o.searchHalf + 1, apron = 2 * o.patchHalf + o.searchHalf;
         needs.fixedBytes = binding * (1 + 2.0 * (o.searchHalf + 1) / side) +
                            2 * 4.0 * apron * (o.searchHalf + 1) * side * inputs.Width();
+        // A distance strip of one row and its terms with their apron must fit a binding
+        // (RhfLayoutFor): wider frames run in narrower tiles.
+        const double maxFloats = binding / 4;
+        needs.maxWidth =
+            int(std::min(maxFloats / (double(o.searchHalf + 1) * side * (apron + 1)),
+                         maxFloats / (double(side) * side)));
         return needs;
     }
 

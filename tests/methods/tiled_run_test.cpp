@@ -197,6 +197,21 @@ TEST_F(GpuTest, TiledRunAutoCompletesCloseToUntiled) {
     EXPECT_EQ(rel, 0.0);
 }
 
+// RHF's distance strips hold every offset of a whole row: a frame too wide for one row of
+// them (with the terms' apron) in a binding is cut into narrower tiles rather than refused,
+// even where its pixels would fit (3200 x 2 with a 33 x 33 search window: 3147 at most).
+TEST_F(GpuTest, TiledRunCutsFramesTooWideForRhfStrips) {
+    Device device = Device::Borrow(Ctx());
+    if (Ctx().BindingBytes() < (size_t(1) << 27)) GTEST_SKIP() << "a smaller binding";
+    Frame frame = RandomFrame(3200, 2, SeedFromName("rhf wide strips"));
+    Result result;
+    ASSERT_NO_THROW(result = RunWith(device, "rhf", {{"search-half", 16}}, frame, 0));
+    ASSERT_FALSE(result.plan.empty());
+    EXPECT_NE(result.plan[0].find("tiled:"), std::string::npos) << result.plan[0];
+    EXPECT_EQ(result.image.width, 3200);
+    EXPECT_EQ(result.image.height, 2);
+}
+
 // The planner: a frame that fits runs whole; one whose largest buffer exceeds a binding is
 // cut into tiles whose windows fit it, aligned, covering the frame.
 TEST_F(GpuTest, TiledRunPlanCutsOnlyWhatDoesNotFit) {
