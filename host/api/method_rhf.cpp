@@ -118,17 +118,18 @@ class Rhf : public FrontEndOf<RhfParams> {
                       (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH});
         // The distances of a strip fill at most a binding; the two term buffers hold (b + 1)
         // of every 2b + 1 rows of offsets for as many rows and the strip's apron of 2w + b
-        // rows more (rhf.cpp, RhfLayoutFor).
+        // rows more (rhf.cpp, RhfLayoutFor), for a window at most maxWidth wide: one row of
+        // distance strip with its terms and apron must fit a binding, so wider frames run in
+        // narrower tiles.
         const double binding = std::min<double>(context.BindingBytes(), 4.0 * (1 << 25));
         const int side = 2 * o.searchHalf + 1, apron = 2 * o.patchHalf + o.searchHalf;
-        needs.fixedBytes = binding * (1 + 2.0 * (o.searchHalf + 1) / side) +
-                           2 * 4.0 * apron * (o.searchHalf + 1) * side * inputs.Width();
-        // A distance strip of one row and its terms with their apron must fit a binding
-        // (RhfLayoutFor): wider frames run in narrower tiles.
         const double maxFloats = binding / 4;
         needs.maxWidth =
             int(std::min(maxFloats / (double(o.searchHalf + 1) * side * (apron + 1)),
                          maxFloats / (double(side) * side)));
+        needs.fixedBytes = binding * (1 + 2.0 * (o.searchHalf + 1) / side) +
+                           2 * 4.0 * apron * (o.searchHalf + 1) * side *
+                               std::min(inputs.Width(), std::max(needs.maxWidth, 1));
         return needs;
     }
 
