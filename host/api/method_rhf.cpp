@@ -113,15 +113,19 @@ class Rhf : public FrontEndOf<RhfParams> {
         needs.bytesPerPixel = planes * 4.0 * histScales + maskBytes + 3 * 4.0 * colourImages +
                               (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH;
         // One binding: the mask, a sixth of the histograms (their buffers at most), the maxima.
+        // A histogram buffer holds at most 2^25 floats (RhfLayoutFor), less than a binding on
+        // devices with larger ones: scaled so that PlanTiles' test against the binding is
+        // that one.
+        const double binding = std::min<double>(context.BindingBytes(), 4.0 * (1 << 25));
+        const double histBytes = 4.0 * ((planes + RHF_HIST_SLOTS - 1) / RHF_HIST_SLOTS) *
+                                 (double(context.BindingBytes()) / binding);
         needs.bindingBytesPerPixel =
-            std::max({maskBytes, 4.0 * ((planes + RHF_HIST_SLOTS - 1) / RHF_HIST_SLOTS),
-                      (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH});
+            std::max({maskBytes, histBytes, (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH});
         // The distances of a strip fill at most a binding; the two term buffers hold (b + 1)
         // of every 2b + 1 rows of offsets for as many rows and the strip's apron of 2w + b
         // rows more (rhf.cpp, RhfLayoutFor), for a window at most maxWidth wide: one row of
         // distance strip with its terms and apron must fit a binding, so wider frames run in
         // narrower tiles.
-        const double binding = std::min<double>(context.BindingBytes(), 4.0 * (1 << 25));
         const int side = 2 * o.searchHalf + 1, apron = 2 * o.patchHalf + o.searchHalf;
         const double maxFloats = binding / 4;
         needs.maxWidth =
