@@ -115,6 +115,8 @@ struct TileNeeds {
     // GPU memory per pixel of a window, in all and in the largest single binding, and what
     // a run holds whatever its size (buffers bounded by the binding), about.
     double bytesPerPixel = 0, bindingBytesPerPixel = 0, fixedBytes = 0;
+    // The widest window the method can run (0: any), for buffers that grow with a row.
+    int maxWidth = 0;
 };
 
 class FrontEnd {

@@ -213,6 +213,9 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         needs.bindingBytesPerPixel =
             std::max(needs.bindingBytesPerPixel, one.bindingBytesPerPixel);
         needs.fixedBytes = std::max(needs.fixedBytes, one.fixedBytes);
+        if (one.maxWidth > 0)
+            needs.maxWidth =
+                needs.maxWidth > 0 ? std::min(needs.maxWidth, one.maxWidth) : one.maxWidth;
         ++count;
     }
     // The combination holds every candidate's output (and its probe's) on the host and its

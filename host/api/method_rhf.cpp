@@ -113,16 +113,27 @@ class Rhf : public FrontEndOf<RhfParams> {
         needs.bytesPerPixel = planes * 4.0 * histScales + maskBytes + 3 * 4.0 * colourImages +
                               (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH;
         // One binding: the mask, a sixth of the histograms (their buffers at most), the maxima.
+        // A histogram buffer holds at most 2^25 floats (RhfLayoutFor), less than a binding on
+        // devices with larger ones: scaled so that PlanTiles' test against the binding is
+        // that one.
+        const double binding = std::min<double>(context.BindingBytes(), 4.0 * (1 << 25));
+        const double histBytes = 4.0 * ((planes + RHF_HIST_SLOTS - 1) / RHF_HIST_SLOTS) *
+                                 (double(context.BindingBytes()) / binding);
         needs.bindingBytesPerPixel =
-            std::max({maskBytes, 4.0 * ((planes + RHF_HIST_SLOTS - 1) / RHF_HIST_SLOTS),
-                      (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH});
+            std::max({maskBytes, histBytes, (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH});
         // The distances of a strip fill at most a binding; the two term buffers hold (b + 1)
         // of every 2b + 1 rows of offsets for as many rows and the strip's apron of 2w + b
-        // rows more (rhf.cpp, RhfLayoutFor).
-        const double binding = std::min<double>(context.BindingBytes(), 4.0 * (1 << 25));
+        // rows more (rhf.cpp, RhfLayoutFor), for a window at most maxWidth wide: one row of
+        // distance strip with its terms and apron must fit a binding, so wider frames run in
+        // narrower tiles.
         const int side = 2 * o.searchHalf + 1, apron = 2 * o.patchHalf + o.searchHalf;
+        const double maxFloats = binding / 4;
+        needs.maxWidth =
+            int(std::min(maxFloats / (double(o.searchHalf + 1) * side * (apron + 1)),
+                         maxFloats / (double(side) * side)));
         needs.fixedBytes = binding * (1 + 2.0 * (o.searchHalf + 1) / side) +
-                           2 * 4.0 * apron * (o.searchHalf + 1) * side * inputs.Width();
+                           2 * 4.0 * apron * (o.searchHalf + 1) * side *
+                               std::min(inputs.Width(), std::max(needs.maxWidth, 1));
         return needs;
     }
 

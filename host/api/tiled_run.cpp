@@ -28,12 +28,13 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
     // they do not (needs.notLocal), within all of it.
     double budget = double(context.Info().deviceLocalBytes) / (needs.notLocal.empty() ? 2 : 1);
     double binding = double(context.BindingBytes());
-    auto fits = [&](double pixels) {
+    auto fits = [&](double windowWidth, double pixels) {
         return needs.fixedBytes + needs.bytesPerPixel * pixels <= budget &&
-               needs.bindingBytesPerPixel * pixels <= binding;
+               needs.bindingBytesPerPixel * pixels <= binding &&
+               (needs.maxWidth <= 0 || windowWidth <= needs.maxWidth);
     };
     double pixels = double(width) * height;
-    if (fits(pixels)) return plan;
+    if (fits(width, pixels)) return plan;
     // The grid whose windows (tile and halo, clipped to the frame) fit, fewest pixels in all.
     const int R = needs.reach;
     double best = 0;
@@ -46,7 +47,7 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
             int tw = (width + nx - 1) / nx;
             tw = (tw + align - 1) / align * align;
             double ww = std::min(width, tw + (nx > 1 ? 2 * R + align - 1 : 0));
-            if (!fits(ww * wh)) continue;
+            if (!fits(ww, ww * wh)) continue;
             double total = double(nx) * ny * ww * wh;
             if (best == 0 || total < best) {
                 best = total;
@@ -61,6 +62,8 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
         "buffer); this device allows {:.0f} MB per run and {:.0f} MB per binding",
         (needs.fixedBytes + needs.bytesPerPixel * pixels) / 1e6,
         needs.bindingBytesPerPixel * pixels / 1e6, budget / 1e6, binding / 1e6);
+    if (needs.maxWidth > 0 && width > needs.maxWidth)
+        plan.why += fmt::format(", and windows of at most {} pixels across", needs.maxWidth);
     // Nothing fits, not even a tile of a few pixels with its halo: say so rather than run
     // a tile per pixel.
     if (best == 0)

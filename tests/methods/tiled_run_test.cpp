@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -195,6 +196,27 @@ TEST_F(GpuTest, TiledRunAutoCompletesCloseToUntiled) {
     double rel = std::sqrt(sum / norm);
     std::printf("auto tiled vs untiled: relative RMS %.4g\n", rel);
     EXPECT_EQ(rel, 0.0);
+}
+
+// RHF's distance strips hold every offset of a whole row: a frame too wide for one row of
+// them (with the terms' apron) in a binding is cut into narrower tiles rather than refused,
+// even where its pixels would fit (3200 x 2 with a 33 x 33 search window: 3147 at most), and
+// the memory a run needs whatever its size counts such a row for a window, not the frame
+// (8192 x 1 with a 41 x 41 window: 1.5 GB counted for the whole row).
+TEST_F(GpuTest, TiledRunCutsFramesTooWideForRhfStrips) {
+    Device device = Device::Borrow(Ctx());
+    for (auto [width, height, searchHalf] :
+         {std::tuple{3200, 2, 16}, std::tuple{8192, 1, 20}}) {
+        SCOPED_TRACE(fmt::format("{}x{}, search half-window {}", width, height, searchHalf));
+        Frame frame = RandomFrame(width, height, SeedFromName("rhf wide strips"));
+        Result result;
+        ASSERT_NO_THROW(result =
+                            RunWith(device, "rhf", {{"search-half", searchHalf}}, frame, 0));
+        ASSERT_FALSE(result.plan.empty());
+        EXPECT_NE(result.plan[0].find("tiled:"), std::string::npos) << result.plan[0];
+        EXPECT_EQ(result.image.width, width);
+        EXPECT_EQ(result.image.height, height);
+    }
 }
 
 // The planner: a frame that fits runs whole; one whose largest buffer exceeds a binding is
