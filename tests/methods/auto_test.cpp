@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -479,38 +480,38 @@ TEST_F(AutoEstimateProperty, CombinationBeatsEachCandidate) {
 // gives each one's share, and the result is no worse than the best candidate by 5%.
 class AutoMethod : public GpuTest {};
 
-// fireflies at 16 spp with only the ordinary passes (color, albedo, normal, depth, ids,
-// direct and indirect: no variance, min or max, as Blender Cycles writes them), and a
-// reference of refSpp samples.
-std::pair<Frame, Image> PlainFireflies(int width, int height, int refSpp) {
+// scene rendered with the given layer groups, less the layers named in drop, and a
+// reference of refSpp samples (seed 99).
+std::pair<Frame, Image> RenderWithReference(const char *scene, int width, int height, int spp,
+                                            unsigned layers, int refSpp,
+                                            std::vector<std::string> drop = {}) {
     render::RenderOptions options;
-    options.width = width, options.height = height, options.spp = 16;
-    options.layers = render::kLayersGbuffer | render::kLayersSplit;
-    render::RenderResult rendered = render::Render(render::BuildScene("fireflies"), options);
+    options.width = width, options.height = height, options.spp = spp;
+    options.layers = layers;
+    render::RenderResult rendered = render::Render(render::BuildScene(scene), options);
     Frame frame;
     frame.width = width, frame.height = height;
     for (auto &[name, image] : rendered.layers)
-        if (name != "variance" && name != "min" && name != "max")
+        if (std::find(drop.begin(), drop.end(), name) == drop.end())
             frame.layers[name] = std::move(image);
     options.layers = 0;
     options.spp = refSpp;
     options.seed = 99;
     return {std::move(frame),
-            render::Render(render::BuildScene("fireflies"), options).layers[0].second};
+            render::Render(render::BuildScene(scene), options).layers[0].second};
+}
+
+// fireflies at 16 spp with only the ordinary passes (color, albedo, normal, depth, ids,
+// direct and indirect: no variance, min or max, as Blender Cycles writes them).
+std::pair<Frame, Image> PlainFireflies(int width, int height, int refSpp) {
+    return RenderWithReference("fireflies", width, height, 16,
+                               render::kLayersGbuffer | render::kLayersSplit, refSpp,
+                               {"variance", "min", "max"});
 }
 
 TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
-    render::RenderOptions options;
-    options.width = 40, options.height = 32, options.spp = 8;
-    options.layers = render::kLayersAll;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
-    options.layers = 0;
-    options.spp = 1024;
-    options.seed = 99;
-    Image reference = render::Render(render::BuildScene("cornell"), options).layers[0].second;
+    auto [frame, reference] =
+        RenderWithReference("cornell", 40, 32, 8, render::kLayersAll, 1024);
     Device device = Device::Borrow(Ctx());
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
@@ -546,18 +547,8 @@ bool PlanHas(const Result &result, const std::string &text) {
 // default guide, a first combination by the plain squared error, keeps auto within 5% of
 // it and under half the mean guide's error.
 TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
-    render::RenderOptions options;
-    options.width = 48, options.height = 40, options.spp = 4;
-    options.layers = render::kLayersAll;
-    render::RenderResult rendered = render::Render(render::BuildScene("relief-abc"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
-    options.layers = 0;
-    options.spp = 1024;
-    options.seed = 99;
-    Image reference =
-        render::Render(render::BuildScene("relief-abc"), options).layers[0].second;
+    auto [frame, reference] =
+        RenderWithReference("relief-abc", 48, 40, 4, render::kLayersAll, 1024);
     Device device = Device::Borrow(Ctx());
     double best = INFINITY;
     for (const char *name : {"rhf", "pivot", "bayes", "awr"})
@@ -708,20 +699,11 @@ double ShareOf(const Result &result, const std::string &label) {
 // method. (On the Cycles cornell box, whose walls are objects of their own, the pixels that
 // pivot kept at id edges carried 83% of its error.)
 TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
-    render::RenderOptions options;
-    options.width = 48, options.height = 40, options.spp = 8;
-    options.layers = render::kLayersGbuffer;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    auto [frame, reference] =
+        RenderWithReference("cornell", 48, 40, 8, render::kLayersGbuffer, 1024);
     Image &ids = frame.layers.at("objectId");
     for (int y = 0; y < ids.height; ++y)
         for (int x = 0; x < ids.width; ++x) ids.At(0, y, x) = float((x + y) % 2);
-    options.layers = 0;
-    options.spp = 1024;
-    options.seed = 99;
-    Image reference = render::Render(render::BuildScene("cornell"), options).layers[0].second;
     Device device = Device::Borrow(Ctx());
     Method pivot("pivot");
     double withIds = CompareImages(pivot.Run(device, frame).image, reference).relMse;
