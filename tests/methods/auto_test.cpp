@@ -509,6 +509,16 @@ std::pair<Frame, Image> PlainFireflies(int width, int height, int refSpp) {
                                {"variance", "min", "max"});
 }
 
+// The lowest relMSE of the four methods that can run on the frame.
+double BestSingleMethod(Device &device, const Frame &frame, const Image &reference) {
+    double best = INFINITY;
+    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
+        if (Method(name).Missing(frame).empty())
+            best = std::min(
+                best, CompareImages(Method(name).Run(device, frame).image, reference).relMse);
+    return best;
+}
+
 TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     auto [frame, reference] =
         RenderWithReference("cornell", 40, 32, 8, render::kLayersAll, 1024);
@@ -519,10 +529,7 @@ TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     int ran = 0;
     for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
     EXPECT_EQ(ran, 8) << fmt::format("{}", fmt::join(result.plan, "\n"));
-    double best = INFINITY;
-    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
-        best = std::min(best,
-                        CompareImages(Method(name).Run(device, frame).image, reference).relMse);
+    double best = BestSingleMethod(device, frame, reference);
     EXPECT_LE(CompareImages(result.image, reference).relMse, 1.05 * best);
     // A budget of 0 runs the first candidate only, and says what it left out.
     automatic.Set("budget", 0.f);
@@ -550,10 +557,7 @@ TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
     auto [frame, reference] =
         RenderWithReference("relief-abc", 48, 40, 4, render::kLayersAll, 1024);
     Device device = Device::Borrow(Ctx());
-    double best = INFINITY;
-    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
-        best = std::min(best,
-                        CompareImages(Method(name).Run(device, frame).image, reference).relMse);
+    double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
     EXPECT_TRUE(PlanHas(result, "denominator from a first combination"))
@@ -590,10 +594,7 @@ TEST_F(AutoMethod, NoiseCapKeepsOneNoisyPixelFromSwampingItsWindow) {
                           .layers[0]
                           .second.Crop(x0, y0, x1, y1);
     Device device = Device::Borrow(Ctx());
-    double best = INFINITY;
-    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
-        best = std::min(best,
-                        CompareImages(Method(name).Run(device, frame).image, reference).relMse);
+    double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     double capped = CompareImages(automatic.Run(device, frame).image, reference).relMse;
     automatic.Set("auto-noise-cap", 0.f);
@@ -664,11 +665,7 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
 TEST_F(AutoMethod, FrameWithoutStatisticsUsesItsOwnNoiseEstimate) {
     auto [frame, reference] = PlainFireflies(64, 48, 512);
     Device device = Device::Borrow(Ctx());
-    double best = INFINITY;
-    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
-        if (Method(name).Missing(frame).empty())
-            best = std::min(
-                best, CompareImages(Method(name).Run(device, frame).image, reference).relMse);
+    double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
     EXPECT_TRUE(PlanHas(result, "the frame's own noise estimate"))

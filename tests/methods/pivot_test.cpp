@@ -386,6 +386,18 @@ PivotInputs InputsOf(const Frame &f, bool guides, Image *objectId, Image *partId
     return in;
 }
 
+// How the method's output matches the reference's: 64 ulps of |reference| + |input| per
+// value (the fit's and gather's float sums); the caller bounds the mismatches.
+CompareStats MatchWithinFloatSums(const Image &expected, const Image &actual,
+                                  const Image &color) {
+    Image magnitude = expected;
+    for (size_t i = 0; i < magnitude.Size(); ++i)
+        magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(color.data[i]);
+    CompareStats stats;
+    (void)ImagesMatch(expected, actual, magnitude, {64 * kUnitRoundoff, 0, 1}, &stats);
+    return stats;
+}
+
 class PivotMethod : public GpuTest {};
 
 // Guides or none, and a filter: the method's variants.
@@ -439,11 +451,7 @@ TEST_P(PivotMethodVariant, MatchesReferenceAndRerunsBitIdentically) {
                                             ref::PivotFit(ratio, refGuides, p), refGuides)
                          : ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, p);
     EXPECT_EQ(first.image.At(1, 4, 7), f.color.At(1, 4, 7)) << "black pivot keeps input";
-    Image magnitude = expected;
-    for (size_t i = 0; i < magnitude.Size(); ++i)
-        magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(f.color.data[i]);
-    CompareStats stats;
-    (void)ImagesMatch(expected, first.image, magnitude, {64 * kUnitRoundoff, 0, 1}, &stats);
+    CompareStats stats = MatchWithinFloatSums(expected, first.image, f.color);
     EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
     EXPECT_EQ(stats.parityMismatches, 0u);
     EXPECT_LT(stats.nmse, 1e-4);
@@ -510,11 +518,7 @@ TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
     ref::PivotGuides none{nullptr, nullptr};
     Image expected =
         ref::PivotGather(f.color, f.pivot, ratio, ref::PivotFit(ratio, none, p), none);
-    Image magnitude = expected;
-    for (size_t i = 0; i < magnitude.Size(); ++i)
-        magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(f.color.data[i]);
-    CompareStats stats;
-    (void)ImagesMatch(expected, result.image, magnitude, {64 * kUnitRoundoff, 0, 1}, &stats);
+    CompareStats stats = MatchWithinFloatSums(expected, result.image, f.color);
     std::printf("[tiles] mismatches %zu of %zu, nmse %g, mean radius %.2f\n", stats.mismatches,
                 expected.Size(), stats.nmse, result.meanRadius);
     EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
@@ -558,11 +562,7 @@ TEST_F(PivotMethod, PixelsNoLatticeCentreReachesTakeTheirOwnFit) {
             EXPECT_NE(expected.At(c, 5, x), f.color.At(c, 5, x)) << "kept its input at " << x;
         }
     EXPECT_GE(orphans, w) << "the thin part's squares no longer grow past radius 3";
-    Image magnitude = expected;
-    for (size_t i = 0; i < magnitude.Size(); ++i)
-        magnitude.data[i] = std::fabs(expected.data[i]) + std::fabs(f.color.data[i]);
-    CompareStats stats;
-    (void)ImagesMatch(expected, result.image, magnitude, {64 * kUnitRoundoff, 0, 1}, &stats);
+    CompareStats stats = MatchWithinFloatSums(expected, result.image, f.color);
     EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
     EXPECT_LT(stats.nmse, 1e-8);
 }
