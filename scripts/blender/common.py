@@ -3,6 +3,8 @@
 # passes, Denoising Albedo/Normal/Depth, IndexOB, IndexMA, Debug Sample Count. A scene
 # script builds its objects between Begin() and Render().
 import argparse
+import math
+import random
 import sys
 
 import bpy
@@ -16,6 +18,9 @@ def Begin(description):
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--size", type=int, default=64)
     parser.add_argument("--out", required=True)
+    parser.add_argument("--jitter", action="store_true",
+                        help="shift the camera by a sub-pixel offset drawn from the pixel filter "
+                        "(seeded by --seed); use it for independent 1-spp frames, see Render()")
     args = parser.parse_args(argv)
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return args, bpy.context.scene
@@ -65,6 +70,32 @@ def AreaLight(location, size, energy):
     return light
 
 
+def BlackmanHarrisOffset(rng, width):
+    """One offset in pixels drawn from Cycles' 1D Blackman-Harris pixel filter of this width."""
+    while True:
+        x = rng.uniform(-0.5 * width, 0.5 * width)
+        t = 2 * math.pi * (x / width + 0.5)
+        f = 0.35875 - 0.48829 * math.cos(t) + 0.14128 * math.cos(2 * t) - 0.01168 * math.cos(3 * t)
+        if rng.uniform(0, 1) <= f:
+            return x
+
+
+def JitterCamera(scene, seed):
+    """Cycles traces a pixel's sample 0 through the pixel's centre whatever the seed: N 1-spp
+    frames with different seeds then share every camera ray, and their mean converges to the
+    point-sampled (aliased) image, not to the filtered pixels of a many-spp reference (their
+    albedo, normal and depth are identical at every pixel). Shifting the whole camera by an
+    offset drawn from the pixel filter makes each frame's sample an independent draw of the
+    filter, so the mean converges to the reference. Cycles samples its filter per axis."""
+    rng = random.Random(seed)
+    width = scene.cycles.filter_width
+    size = max(scene.render.resolution_x, scene.render.resolution_y)
+    camera = scene.camera.data
+    # A shift of 1 moves the image by its larger dimension.
+    camera.shift_x += BlackmanHarrisOffset(rng, width) / size
+    camera.shift_y += BlackmanHarrisOffset(rng, width) / size
+
+
 def Render(scene, args):
     """Render with every pass mcdenoise reads and write the multilayer EXR."""
     scene.render.engine = "CYCLES"
@@ -79,6 +110,8 @@ def Render(scene, args):
     scene.render.resolution_x = scene.render.resolution_y = args.size
     scene.render.resolution_percentage = 100
     scene.render.threads_mode = "AUTO"
+    if args.jitter:
+        JitterCamera(scene, args.seed)
 
     layer = scene.view_layers[0]
     layer.use_pass_combined = True

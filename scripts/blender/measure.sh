@@ -13,12 +13,13 @@ n=${3:-16}
 refSpp=${4:-2048}
 T=${MCD_TOOL:-mcdenoise}
 here=$(cd "$(dirname "$0")" && pwd)
-render() {  # spp seed out
+render() {  # spp seed out [--jitter]
     [ -f "$3" ] || blender -b --factory-startup -P "$here/$scene.py" -- --spp "$1" --seed "$2" \
-        --size "$size" --out "$PWD/$3" > /dev/null 2>&1 || { echo "blender failed on $3" >&2; exit 1; }
+        --size "$size" --out "$PWD/$3" ${4:-} > /dev/null 2>&1 || { echo "blender failed on $3" >&2; exit 1; }
 }
 render "$refSpp" 99999 "${scene}_ref.exr"
-for s in $(seq 1 "$n"); do render 1 "$s" "${scene}_1spp_$s.exr"; done
+# --jitter: Cycles puts sample 0 at the pixel centre whatever the seed (common.py).
+for s in $(seq 1 "$n"); do render 1 "$s" "${scene}_1spp_$s.exr" --jitter; done
 render "$n" 1001 "${scene}_${n}spp.exr"
 $T accumulate $(for s in $(seq 1 "$n"); do echo "${scene}_1spp_$s.exr"; done) \
     -o "${scene}_acc.exr" > /dev/null
