@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <memory>
 
@@ -161,6 +162,34 @@ void Accumulator::Start(const Frame &frame) {
         else if (!IsRecomputed(name))
             dropped.push_back(name);
     }
+    firstRays["color"] = frame.Get("color");
+    for (const char *name : {"albedo", "normal", "depth"})
+        if (frame.Has(name)) {
+            rayLayers.push_back(name);
+            firstRays[name] = frame.Get(name);
+        }
+}
+
+void Accumulator::CompareWithFirst(const Frame &frame) {
+    for (auto it = firstRays.begin(); it != firstRays.end();) {
+        const std::vector<float> &first = it->second.data, &data = frame.Get(it->first).data;
+        // Bits, not float ==: the same ray gives the same bits, NaN included.
+        if (std::memcmp(first.data(), data.data(), first.size() * sizeof(float)) == 0) {
+            ++it;
+            continue;
+        }
+        (it->first == "color" ? colorDiffers : geometryDiffers) = true;
+        it = firstRays.erase(it);
+    }
+    // One geometry layer that differs settles it: the rays differ.
+    if (geometryDiffers) firstRays.clear();
+}
+
+CameraRays Accumulator::SharedCameraRays() const {
+    if (frames < 2) return CameraRays::Unknown;
+    if (geometryDiffers) return CameraRays::Distinct;
+    if (!colorDiffers) return CameraRays::Identical;
+    return rayLayers.empty() ? CameraRays::Unknown : CameraRays::Shared;
 }
 
 void Accumulator::AddMean(MeanLayer &layer, const std::string &name, const Image &image) {
@@ -187,6 +216,7 @@ void Accumulator::Add(const Frame &frame) {
             b{frame.path, frame.width, frame.height, {}, {}};
         for (const auto &[name, image] : frame.layers) b.layers[name] = image.channels;
         CheckSameLayout(a, b);
+        CompareWithFirst(frame);
     }
     size_t n = size_t(width) * height;
     const Image *sppLayer = frame.Has("spp") ? &frame.Get("spp") : nullptr;
@@ -294,6 +324,12 @@ Frame Accumulator::Finish() {
     for (const auto &[name, layer] : means) out.layers[name] = meanOf(layer);
     for (auto &[name, image] : firstOf) out.layers[name] = std::move(image);
     out.metadata["mcd:accumulatedFrames"] = std::to_string(frames);
+    // "1" when the frames share their camera rays (identical frames do too), "0" when
+    // they do not, absent when it cannot tell.
+    CameraRays rays = SharedCameraRays();
+    if (rays != CameraRays::Unknown)
+        out.metadata["mcd:sharedCameraRays"] =
+            std::to_string(rays == CameraRays::Distinct ? 0 : 1);
     return out;
 }
 

@@ -43,6 +43,19 @@ std::vector<std::string> AccumulatorReads();
 // from the first frame or made anew. The others are "not carried".
 bool AccumulatorKeeps(const std::string &layer);
 
+// Whether the frames traced the same camera rays. Blender Cycles sends a pixel's sample 0
+// through the pixel's centre whatever the seed, so N 1-spp frames with other seeds share
+// every camera ray: their first hits (albedo, normal, depth) are the same bits, and their
+// mean converges to the point-sampled (aliased) image, not the pixel-filtered one.
+enum class CameraRays {
+    Unknown,   // one frame, or colors that differ and no albedo, normal or depth to compare
+    Distinct,  // an albedo, normal or depth value differs between frames: the rays differ
+    Shared,    // albedo, normal and depth (those present) the same bits in every frame,
+               // the color not: the same rays with other seeds
+    Identical  // color (and albedo, normal, depth when present) the same bits in every
+               // frame: one render repeated, not other seeds
+};
+
 struct AccumulateOptions {
     int histBins = 20;  // per channel: the hist layer has 3 * histBins + 1 channels
 };
@@ -67,6 +80,12 @@ class Accumulator {
     // Layers of the inputs that the result neither carries nor makes anew (partials,
     // zhist, a reference, ...).
     const std::vector<std::string> &Dropped() const { return dropped; }
+    // Whether the frames share their camera rays, from bitwise comparison of every frame's
+    // color, albedo, normal and depth with the first frame's (a NaN equals a NaN of the
+    // same bits; +0 and -0 differ: one ray gives one bit pattern).
+    CameraRays SharedCameraRays() const;
+    // The layers of albedo, normal, depth that the frames have (those compared).
+    const std::vector<std::string> &RayLayers() const { return rayLayers; }
 
   private:
     // A layer averaged over the frames, with its own per-pixel count of finite values.
@@ -77,6 +96,7 @@ class Accumulator {
     };
     void Start(const Frame &frame);
     void AddMean(MeanLayer &layer, const std::string &name, const Image &image);
+    void CompareWithFirst(const Frame &frame);
 
     AccumulateOptions options;
     std::string firstPath;
@@ -92,6 +112,11 @@ class Accumulator {
     std::map<std::string, Image> firstOf;  // ids: the first frame's
     std::map<std::string, uint64_t> nonFinite;
     std::vector<std::string> dropped;
+    // The first frame's color and geometry layers while they may still equal every later
+    // frame's (constant memory; freed once a geometry layer differs, color once it does).
+    std::map<std::string, Image> firstRays;
+    std::vector<std::string> rayLayers;
+    bool geometryDiffers = false, colorDiffers = false;
 };
 
 }  // namespace mcd::io

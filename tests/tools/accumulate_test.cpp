@@ -1,7 +1,8 @@
 // `mcdenoise accumulate` (issue #16) and host/io/accumulate.h: 1-spp frames from the
 // renderer with different seeds accumulate to exactly the statistics of their samples
 // (computed here directly); mismatched frames are refused naming the file; NaN/Inf are
-// counted and left out; the output may not be an input.
+// counted and left out; the output may not be an input; frames that share their camera
+// rays (Cycles' unjittered 1-spp frames) are detected and warned about.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -200,6 +202,161 @@ TEST_F(CliAccumulate, NamesTheLayersItDoesNotCarry) {
     io::Frame acc = io::ReadFrame(Path("acc.exr"));
     EXPECT_FALSE(acc.Has("partial0.color"));
     EXPECT_EQ(acc.Get("color").At(0, 0, 0), 0.5f);
+}
+
+// Frames of one 7x5 view: albedo, normal and depth drawn from `geometrySeed`, color from
+// `colorSeed` (Cycles' unjittered 1-spp frames: the same first hits, other paths).
+io::Frame RayFrame(unsigned geometrySeed, unsigned colorSeed,
+                   const std::vector<std::string> &geometry = {"albedo", "normal", "depth"}) {
+    const int w = 7, h = 5;
+    std::mt19937 rng(geometrySeed);
+    std::uniform_real_distribution<float> u(-1.f, 4.f);
+    io::Frame frame;
+    frame.path = fmt::format("frame{}.exr", colorSeed);
+    frame.width = w, frame.height = h;
+    for (const std::string &name : geometry) {
+        Image image(w, h, name == "depth" ? 1 : 3);
+        for (float &v : image.data) v = u(rng);
+        frame.layers[name] = std::move(image);
+    }
+    rng.seed(1000 + colorSeed);
+    Image color(w, h, 3);
+    for (float &v : color.data) v = u(rng);
+    frame.layers["color"] = std::move(color);
+    return frame;
+}
+
+io::CameraRays Accumulate(const std::vector<io::Frame> &frames, io::Frame *out = nullptr) {
+    io::Accumulator accumulator;
+    for (const io::Frame &frame : frames) accumulator.Add(frame);
+    io::Frame result = accumulator.Finish();
+    if (out) *out = std::move(result);
+    return accumulator.SharedCameraRays();
+}
+
+// The same albedo, normal and depth bits in every frame and other colors: shared rays,
+// with the layers compared named and the output marked.
+TEST(IoTestAccumulateRays, SameGeometryOtherColorsShareRays) {
+    io::Accumulator accumulator;
+    for (unsigned k = 0; k < 4; ++k) accumulator.Add(RayFrame(7, k));
+    EXPECT_EQ(accumulator.SharedCameraRays(), io::CameraRays::Shared);
+    EXPECT_EQ(accumulator.RayLayers(), (std::vector<std::string>{"albedo", "normal", "depth"}));
+    EXPECT_EQ(accumulator.Finish().metadata["mcd:sharedCameraRays"], "1");
+
+    // Color that differs at one pixel of the last frame only is enough.
+    std::vector<io::Frame> frames = {RayFrame(7, 0), RayFrame(7, 0), RayFrame(7, 0)};
+    frames[2].layers["color"].At(1, 4, 6) += 1.f;
+    EXPECT_EQ(Accumulate(frames), io::CameraRays::Shared);
+    // One geometry layer is enough to tell; NaN depth at the same pixel (same bits) in every
+    // frame does not stop it.
+    frames = {RayFrame(7, 0, {"depth"}), RayFrame(7, 1, {"depth"})};
+    for (io::Frame &f : frames) f.layers["depth"].At(0, 2, 3) = std::nanf("");
+    io::Accumulator depthOnly;
+    for (const io::Frame &f : frames) depthOnly.Add(f);
+    EXPECT_EQ(depthOnly.SharedCameraRays(), io::CameraRays::Shared);
+    EXPECT_EQ(depthOnly.RayLayers(), std::vector<std::string>{"depth"});
+}
+
+// One depth value of one frame one ulp off (last frame, last pixel), or one normal, or
+// +0 against -0: the rays differ, and the output says so.
+TEST(IoTestAccumulateRays, OneValueDifferentIsDistinct) {
+    std::vector<io::Frame> frames = {RayFrame(7, 0), RayFrame(7, 1), RayFrame(7, 2)};
+    float &depth = frames[2].layers["depth"].At(0, 4, 6);
+    depth = std::nextafter(depth, INFINITY);
+    io::Frame out;
+    EXPECT_EQ(Accumulate(frames, &out), io::CameraRays::Distinct);
+    EXPECT_EQ(out.metadata["mcd:sharedCameraRays"], "0");
+
+    frames = {RayFrame(7, 0), RayFrame(7, 1), RayFrame(7, 2)};
+    frames[1].layers["normal"].At(2, 0, 0) += 0.5f;
+    EXPECT_EQ(Accumulate(frames), io::CameraRays::Distinct);
+
+    frames = {RayFrame(7, 0, {"depth"}), RayFrame(7, 1, {"depth"})};
+    frames[0].layers["depth"].At(0, 1, 1) = 0.f;
+    frames[1].layers["depth"].At(0, 1, 1) = -0.f;
+    EXPECT_EQ(Accumulate(frames), io::CameraRays::Distinct);
+    // Frames whose geometry differs everywhere (a jittered camera).
+    EXPECT_EQ(Accumulate({RayFrame(1, 0), RayFrame(2, 1)}), io::CameraRays::Distinct);
+}
+
+// No albedo, normal or depth and colors that differ, or a single frame: it cannot tell,
+// and writes no metadata.
+TEST(IoTestAccumulateRays, WithoutGeometryCannotTell) {
+    io::Accumulator accumulator;
+    accumulator.Add(RayFrame(7, 0, {}));
+    accumulator.Add(RayFrame(7, 1, {}));
+    EXPECT_EQ(accumulator.SharedCameraRays(), io::CameraRays::Unknown);
+    EXPECT_TRUE(accumulator.RayLayers().empty());
+    EXPECT_EQ(accumulator.Finish().metadata.count("mcd:sharedCameraRays"), 0u);
+
+    io::Accumulator one;
+    one.Add(RayFrame(7, 0));
+    EXPECT_EQ(one.SharedCameraRays(), io::CameraRays::Unknown);
+    EXPECT_EQ(one.Finish().metadata.count("mcd:sharedCameraRays"), 0u);
+}
+
+// Frames equal in color too are one render repeated: Identical (they share their rays, so
+// the output says 1), with or without geometry layers; a color that differs anywhere
+// makes them Shared.
+TEST(IoTestAccumulateRays, IdenticalFramesAreIdentical) {
+    io::Frame out;
+    EXPECT_EQ(Accumulate({RayFrame(7, 3), RayFrame(7, 3), RayFrame(7, 3)}, &out),
+              io::CameraRays::Identical);
+    EXPECT_EQ(out.metadata["mcd:sharedCameraRays"], "1");
+    EXPECT_EQ(Accumulate({RayFrame(7, 3, {}), RayFrame(7, 3, {})}), io::CameraRays::Identical);
+    std::vector<io::Frame> frames = {RayFrame(7, 3), RayFrame(7, 3)};
+    frames[1].layers["color"].At(0, 0, 0) =
+        std::nextafter(frames[1].layers["color"].At(0, 0, 0), 0.f);
+    EXPECT_EQ(Accumulate(frames), io::CameraRays::Shared);
+}
+
+// The tool warns about shared rays naming the frames, the layers, the cause and the cure,
+// and marks the output; our renderer's jittered frames get no such warning.
+TEST_F(CliAccumulate, WarnsAboutSharedCameraRays) {
+    std::string inputs;
+    for (unsigned k = 0; k < 3; ++k) {
+        io::Frame f = RayFrame(7, k);
+        std::string name = fmt::format("r{}.exr", k);
+        io::WriteExr(Path(name),
+                     {{"color", &f.Get("color")},
+                      {"albedo", &f.Get("albedo")},
+                      {"normal", &f.Get("normal")},
+                      {"depth", &f.Get("depth")}},
+                     {{"mcd:spp", "1"}});
+        inputs += " " + name;
+    }
+    ToolResult r = Run("accumulate" + inputs + " -o acc.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out,
+                         "warning: the 3 frames share their camera rays (albedo, "
+                         "normal, depth the same at every pixel"))
+        << r.out;
+    for (const char *part : {"point-sampled (aliased at edges)", "pixel-filtered",
+                             "sample 0 through the pixel centre whatever the seed",
+                             "scripts/blender/common.py --jitter", "one frame of 3 spp"})
+        EXPECT_TRUE(Contains(r.out, part)) << part << "\n" << r.out;
+    EXPECT_EQ(io::ReadFrame(Path("acc.exr")).metadata["mcd:sharedCameraRays"], "1");
+
+    // Without the geometry layers it says it cannot tell.
+    for (unsigned k = 0; k < 2; ++k) {
+        io::Frame f = RayFrame(7, k, {});
+        io::WriteExr(Path(fmt::format("c{}.exr", k)), {{"color", &f.Get("color")}});
+    }
+    r = Run("accumulate c0.exr c1.exr -o plain.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Contains(r.out, "share their camera rays (")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "cannot check whether the frames share their camera rays"))
+        << r.out;
+
+    for (int k = 1; k <= 2; ++k)
+        ASSERT_EQ(Run(fmt::format(
+                          "render --size 12x8 --spp 1 --seed {} --layers all -o g{}.exr", k, k))
+                      .code,
+                  0);
+    r = Run("accumulate g1.exr g2.exr -o jittered.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Contains(r.out, "camera rays")) << r.out;
+    EXPECT_EQ(io::ReadFrame(Path("jittered.exr")).metadata["mcd:sharedCameraRays"], "0");
 }
 
 // The accumulator's binning is the renderer's, value for value.

@@ -44,10 +44,15 @@ void AddAccumulateCommand(CLI::App &app) {
         "alpha averaged over the frames, objectId and partId from the first frame; "
         "half0.color and half1.color the means of the even and odd frames; other layers are "
         "not carried (it lists them). NaN/Inf values "
-        "are left out and counted per layer. It cannot check that the seeds differ (frames "
-        "from one seed give variance 0). Blender Cycles frames made with sample_offset "
-        "are pieces of one stratified sequence, not independent: the variance across them "
-        "over-estimates.");
+        "are left out and counted per layer. It cannot check the seeds themselves (frames "
+        "from one seed give variance 0; frames identical bit for bit are warned about). "
+        "When the frames have albedo, normal or depth it checks whether they share their "
+        "camera rays: those layers the same bits in every frame while the color differs, "
+        "as in Blender Cycles' unjittered 1-spp frames (sample 0 goes through the pixel "
+        "centre whatever the seed), whose mean is point-sampled, aliased at edges; it warns "
+        "and writes mcd:sharedCameraRays = 1 on the output (0 when the rays differ). Blender "
+        "Cycles frames made with sample_offset are pieces of one stratified sequence, not "
+        "independent: the variance across them over-estimates.");
     cmd->add_option("inputs", opt->inputs, "input frames (EXR), two or more")
         ->required()
         ->check(CLI::ExistingFile);
@@ -136,6 +141,37 @@ void AddAccumulateCommand(CLI::App &app) {
         for (const std::string &name : notCarried)
             dropped += (dropped.empty() ? "" : ", ") + name;
         if (!dropped.empty()) fmt::print("  not carried: {}\n", dropped);
+        std::string rayLayers;
+        for (const std::string &name : accumulator.RayLayers())
+            rayLayers += (rayLayers.empty() ? "" : ", ") + name;
+        switch (accumulator.SharedCameraRays()) {
+            case io::CameraRays::Shared:
+                fmt::print(
+                    "  warning: the {} frames share their camera rays ({} the same at every "
+                    "pixel, the color not): their mean is point-sampled (aliased at edges), "
+                    "not pixel-filtered like a many-spp render. Blender Cycles traces a "
+                    "pixel's sample 0 through the pixel centre whatever the seed; shift the "
+                    "camera per frame by a sub-pixel offset drawn from the pixel filter (as "
+                    "scripts/blender/common.py --jitter does), or render one frame of {} spp\n",
+                    total, rayLayers,
+                    spp > 0 && sameSpp ? std::to_string(spp * total)
+                                       : fmt::format("{} x the frames'", total));
+                break;
+            case io::CameraRays::Identical:
+                fmt::print(
+                    "  warning: the {} frames are identical (color{}{} the same at every "
+                    "pixel): one render repeated, not independent seeds; the variance is "
+                    "0\n",
+                    total, rayLayers.empty() ? "" : ", ", rayLayers);
+                break;
+            case io::CameraRays::Unknown:
+                fmt::print(
+                    "  note: no albedo, normal or depth layer: cannot check whether the "
+                    "frames share their camera rays\n");
+                break;
+            case io::CameraRays::Distinct:
+                break;
+        }
     });
 }
 
