@@ -38,6 +38,15 @@ void ExpectClose(float got, double want, const std::string &what) {
     EXPECT_LE(std::abs(got - want), 1e-5 * std::max(1.0, std::abs(want))) << what;
 }
 
+// A float result of a double computation on values of magnitude `scale` (the sum of their
+// absolute values or squares): its rounding to float (under eps |want|) and the double
+// roundings of those sums in another order (far under 1e-14 scale for a few frames).
+void ExpectFloatOf(float got, double want, double scale, const std::string &what) {
+    EXPECT_LE(std::abs(got - want),
+              std::numeric_limits<float>::epsilon() * std::abs(want) + 1e-14 * scale)
+        << what << ": " << got << " for " << want;
+}
+
 class CliAccumulate : public ::testing::Test {
   protected:
     ToolResult Run(const std::string &args) { return tool.Run(args); }
@@ -425,34 +434,41 @@ TEST_F(CliAccumulate, RealCyclesFramesGiveTheirSamplesStatistics) {
             // Each frame's Debug Sample Count (1) x its 1 sample.
             EXPECT_EQ(acc.Get("spp").At(0, y, x), float(frames)) << at;
             for (int c = 0; c < 3; ++c) {
-                double sum = 0, lo = INFINITY, hi = -INFINITY, halves[2] = {};
+                double sum = 0, magnitude = 0, lo = INFINITY, hi = -INFINITY, halves[2] = {};
                 for (int k = 0; k < frames; ++k) {
                     double v = in[k].Get("color").At(c, y, x);
-                    sum += v, halves[k % 2] += v;
+                    sum += v, magnitude += std::abs(v), halves[k % 2] += v;
                     lo = std::min(lo, v), hi = std::max(hi, v);
                 }
-                double mean = sum / frames, squares = 0;
-                for (const io::Frame &f : in)
-                    squares += (f.Get("color").At(c, y, x) - mean) *
-                               (f.Get("color").At(c, y, x) - mean);
-                ExpectClose(acc.Get("color").At(c, y, x), mean, "color" + at);
-                EXPECT_NEAR(acc.Get("variance").At(c, y, x), squares / (frames - 1) / frames,
-                            1e-5 * std::max(1.0, mean * mean))
-                    << "variance" << at;
+                // Two passes here, Welford's running sums in the accumulator.
+                double mean = sum / frames, squares = 0, sumSq = 0;
+                for (const io::Frame &f : in) {
+                    double v = f.Get("color").At(c, y, x);
+                    squares += (v - mean) * (v - mean), sumSq += v * v;
+                }
+                ExpectFloatOf(acc.Get("color").At(c, y, x), mean, magnitude, "color" + at);
+                ExpectFloatOf(acc.Get("variance").At(c, y, x), squares / (frames - 1) / frames,
+                              sumSq, "variance" + at);
                 EXPECT_EQ(acc.Get("min").At(c, y, x), float(lo)) << at;
                 EXPECT_EQ(acc.Get("max").At(c, y, x), float(hi)) << at;
-                ExpectClose(acc.Get("half0.color").At(c, y, x), halves[0] / 2, "half0" + at);
-                ExpectClose(acc.Get("half1.color").At(c, y, x), halves[1] / 2, "half1" + at);
+                ExpectFloatOf(acc.Get("half0.color").At(c, y, x), halves[0] / 2, magnitude,
+                              "half0" + at);
+                ExpectFloatOf(acc.Get("half1.color").At(c, y, x), halves[1] / 2, magnitude,
+                              "half1" + at);
                 // The guides and the composed light passes: means of what each frame reads.
                 for (const char *layer : {"albedo", "normal", "direct", "indirect"}) {
-                    double layerSum = 0;
-                    for (const io::Frame &f : in) layerSum += f.Get(layer).At(c, y, x);
-                    ExpectClose(acc.Get(layer).At(c, y, x), layerSum / frames, layer + at);
+                    double layerSum = 0, layerMagnitude = 0;
+                    for (const io::Frame &f : in) {
+                        layerSum += f.Get(layer).At(c, y, x);
+                        layerMagnitude += std::abs(f.Get(layer).At(c, y, x));
+                    }
+                    ExpectFloatOf(acc.Get(layer).At(c, y, x), layerSum / frames, layerMagnitude,
+                                  layer + at);
                 }
             }
             double depth = 0;
             for (const io::Frame &f : in) depth += f.Get("depth").At(0, y, x);
-            ExpectClose(acc.Get("depth").At(0, y, x), depth / frames, "depth" + at);
+            ExpectFloatOf(acc.Get("depth").At(0, y, x), depth / frames, depth, "depth" + at);
             for (const char *layer : {"objectId", "partId"}) {
                 EXPECT_EQ(acc.Get(layer).At(0, y, x), in[0].Get(layer).At(0, y, x))
                     << layer << at;
