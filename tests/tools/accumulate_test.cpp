@@ -2,12 +2,14 @@
 // renderer with different seeds accumulate to exactly the statistics of their samples
 // (computed here directly); mismatched frames are refused naming the file; NaN/Inf are
 // counted and left out; the output may not be an input; frames that share their camera
-// rays (Cycles' unjittered 1-spp frames) are detected and warned about.
+// rays (Cycles' unjittered 1-spp frames) are detected and warned about. Real Cycles
+// frames (tests/data/cycles_cornell_24_1spp_*.exr) are checked the same way.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <random>
@@ -18,6 +20,7 @@
 #include "host/error.h"
 #include "host/image.h"
 #include "host/io/accumulate.h"
+#include "host/io/conventions.h"
 #include "host/io/frame.h"
 #include "tools/render/renderer.h"
 
@@ -33,6 +36,15 @@ bool Contains(const std::string &text, const std::string &part) {
 // Relative closeness for float results of double sums.
 void ExpectClose(float got, double want, const std::string &what) {
     EXPECT_LE(std::abs(got - want), 1e-5 * std::max(1.0, std::abs(want))) << what;
+}
+
+// A float result of a double computation on values of magnitude `scale` (the sum of their
+// absolute values or squares): its rounding to float (under eps |want|) and the double
+// roundings of those sums in another order (far under 1e-14 scale for a few frames).
+void ExpectFloatOf(float got, double want, double scale, const std::string &what) {
+    EXPECT_LE(std::abs(got - want),
+              std::numeric_limits<float>::epsilon() * std::abs(want) + 1e-14 * scale)
+        << what << ": " << got << " for " << want;
 }
 
 class CliAccumulate : public ::testing::Test {
@@ -357,6 +369,174 @@ TEST_F(CliAccumulate, WarnsAboutSharedCameraRays) {
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_FALSE(Contains(r.out, "camera rays")) << r.out;
     EXPECT_EQ(io::ReadFrame(Path("jittered.exr")).metadata["mcd:sharedCameraRays"], "0");
+}
+
+// Real Cycles frames (tests/data/README.md says how they were made): copied into the
+// test's directory so that the tool's arguments are plain names.
+std::string CopyFixtures(const ToolDir &tool, const std::vector<std::string> &names) {
+    std::string inputs;
+    for (const std::string &name : names) {
+        fs::copy_file(fs::path(MCD_SOURCE_DIR) / "tests/data" / name, tool.Path(name),
+                      fs::copy_options::overwrite_existing);
+        inputs += " " + name;
+    }
+    return inputs;
+}
+
+// Four jittered 1-spp Cycles frames (independent camera rays) accumulate to the
+// statistics of their samples as ReadFrame reads them (color from Combined, direct and
+// indirect composed from the light passes, spp from Debug Sample Count), with no
+// shared-ray warning.
+TEST_F(CliAccumulate, RealCyclesFramesGiveTheirSamplesStatistics) {
+    const int frames = 4, bins = 20, w = 24, h = 24;
+    std::vector<std::string> names;
+    for (int k = 1; k <= frames; ++k)
+        names.push_back(fmt::format("cycles_cornell_24_1spp_j{}.exr", k));
+    std::string inputs = CopyFixtures(tool, names);
+    ToolResult r = Run("accumulate" + inputs + " -o acc.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "4 frames 24x24")) << r.out;
+    EXPECT_FALSE(Contains(r.out, "camera rays")) << r.out;
+    EXPECT_FALSE(Contains(r.out, "NaN/Inf")) << r.out;
+
+    std::vector<io::Frame> in;
+    for (const std::string &name : names) {
+        in.push_back(io::ReadFrame(Path(name)));
+        ASSERT_EQ(in.back().width, w);
+        ASSERT_EQ(in.back().height, h);
+        EXPECT_TRUE(Contains(in.back().metadata[io::kConventionKey],
+                             "read as Blender Cycles multilayer"))
+            << name;
+    }
+    io::Frame acc = io::ReadFrame(Path("acc.exr"));
+    for (const char *layer :
+         {"color", "variance", "spp", "min", "max", "hist", "albedo", "normal", "depth",
+          "direct", "indirect", "objectId", "partId", "half0.color", "half1.color"})
+        ASSERT_TRUE(acc.Has(layer)) << layer;
+    EXPECT_EQ(acc.metadata["mcd:sharedCameraRays"], "0");
+    EXPECT_EQ(acc.metadata["mcd:spp"], "4");  // cycles.ViewLayer.samples = 1 per frame
+    const Image &hist = acc.Get("hist");
+    ASSERT_EQ(hist.channels, 3 * bins + 1);
+
+    int idsDiffer = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::string at = fmt::format(" at ({}, {})", x, y);
+            std::vector<float> direct(3 * bins, 0.f);
+            for (const io::Frame &f : in) {
+                double v[3];
+                for (int c = 0; c < 3; ++c) v[c] = f.Get("color").At(c, y, x);
+                render::AddToHistogram(v, bins, direct.data());
+            }
+            for (int b = 0; b < 3 * bins; ++b)
+                EXPECT_EQ(hist.At(b, y, x), direct[b]) << "bin " << b << at;
+            EXPECT_EQ(hist.At(3 * bins, y, x), float(frames)) << at;
+            // Each frame's Debug Sample Count (1) x its 1 sample.
+            EXPECT_EQ(acc.Get("spp").At(0, y, x), float(frames)) << at;
+            for (int c = 0; c < 3; ++c) {
+                double sum = 0, magnitude = 0, lo = INFINITY, hi = -INFINITY, halves[2] = {};
+                for (int k = 0; k < frames; ++k) {
+                    double v = in[k].Get("color").At(c, y, x);
+                    sum += v, magnitude += std::abs(v), halves[k % 2] += v;
+                    lo = std::min(lo, v), hi = std::max(hi, v);
+                }
+                // Two passes here, Welford's running sums in the accumulator.
+                double mean = sum / frames, squares = 0, sumSq = 0;
+                for (const io::Frame &f : in) {
+                    double v = f.Get("color").At(c, y, x);
+                    squares += (v - mean) * (v - mean), sumSq += v * v;
+                }
+                ExpectFloatOf(acc.Get("color").At(c, y, x), mean, magnitude, "color" + at);
+                ExpectFloatOf(acc.Get("variance").At(c, y, x), squares / (frames - 1) / frames,
+                              sumSq, "variance" + at);
+                EXPECT_EQ(acc.Get("min").At(c, y, x), float(lo)) << at;
+                EXPECT_EQ(acc.Get("max").At(c, y, x), float(hi)) << at;
+                ExpectFloatOf(acc.Get("half0.color").At(c, y, x), halves[0] / 2, magnitude,
+                              "half0" + at);
+                ExpectFloatOf(acc.Get("half1.color").At(c, y, x), halves[1] / 2, magnitude,
+                              "half1" + at);
+                // The guides and the composed light passes: means of what each frame reads.
+                for (const char *layer : {"albedo", "normal", "direct", "indirect"}) {
+                    double layerSum = 0, layerMagnitude = 0;
+                    for (const io::Frame &f : in) {
+                        layerSum += f.Get(layer).At(c, y, x);
+                        layerMagnitude += std::abs(f.Get(layer).At(c, y, x));
+                    }
+                    ExpectFloatOf(acc.Get(layer).At(c, y, x), layerSum / frames, layerMagnitude,
+                                  layer + at);
+                }
+            }
+            double depth = 0;
+            for (const io::Frame &f : in) depth += f.Get("depth").At(0, y, x);
+            ExpectFloatOf(acc.Get("depth").At(0, y, x), depth / frames, depth, "depth" + at);
+            for (const char *layer : {"objectId", "partId"}) {
+                EXPECT_EQ(acc.Get(layer).At(0, y, x), in[0].Get(layer).At(0, y, x))
+                    << layer << at;
+                for (const io::Frame &f : in)
+                    idsDiffer += f.Get(layer).At(0, y, x) != in[0].Get(layer).At(0, y, x);
+            }
+        }
+    // The jitter moves edges across pixels: "from the first frame" is not "from any".
+    EXPECT_GT(idsDiffer, 0);
+}
+
+// Per frame, ReadFrame's direct is Cycles' direct light passes composed
+// (sum of XDir XCol + Emit + Env + VolumeDir) and direct + indirect is Combined.
+TEST(IoTestCyclesFixtures, DirectAndIndirectComposeTheLightPasses) {
+    const double eps = std::numeric_limits<float>::epsilon();
+    for (int k = 1; k <= 4; ++k) {
+        std::string name = fmt::format("cycles_cornell_24_1spp_j{}.exr", k);
+        io::Frame f = io::ReadFrame(std::string(MCD_SOURCE_DIR) + "/tests/data/" + name);
+        const Image &color = f.Get("color"), &direct = f.Get("direct"),
+                    &indirect = f.Get("indirect");
+        double directTotal = 0;
+        for (size_t i = 0; i < color.Size(); ++i) {
+            // Composed here in double: the reader's float sum of 6 products is within a
+            // few float roundings of its terms' magnitude.
+            double want = 0, magnitude = 0;
+            for (const char *x : {"Diff", "Gloss", "Trans"}) {
+                double term = double(f.Get(std::string(x) + "Dir").data[i]) *
+                              f.Get(std::string(x) + "Col").data[i];
+                want += term, magnitude += std::abs(term);
+            }
+            for (const char *pass : {"Emit", "Env", "VolumeDir"})
+                want += f.Get(pass).data[i], magnitude += std::abs(f.Get(pass).data[i]);
+            EXPECT_NEAR(direct.data[i], want, 8 * eps * magnitude) << name << " value " << i;
+            // indirect gets color - direct - (its passes) added: one rounding per term.
+            EXPECT_NEAR(double(direct.data[i]) + indirect.data[i], color.data[i],
+                        4 * eps * (std::abs(direct.data[i]) + std::abs(color.data[i])))
+                << name << " value " << i;
+            directTotal += direct.data[i];
+        }
+        EXPECT_GT(directTotal, 0) << name;  // the box is lit: the check is not 0 = 0
+    }
+}
+
+// Two unjittered 1-spp Cycles frames (seeds 1, 2) share every camera ray: the same
+// albedo, normal and depth bits, another colour. Accumulate warns and marks the output.
+TEST_F(CliAccumulate, WarnsAboutRealCyclesFramesSharingCameraRays) {
+    std::vector<std::string> names = {"cycles_cornell_24_1spp_s1.exr",
+                                      "cycles_cornell_24_1spp_s2.exr"};
+    std::string inputs = CopyFixtures(tool, names);
+    io::Frame a = io::ReadFrame(Path(names[0])), b = io::ReadFrame(Path(names[1]));
+    for (const char *layer : {"albedo", "normal", "depth"})
+        EXPECT_EQ(std::memcmp(a.Get(layer).data.data(), b.Get(layer).data.data(),
+                              a.Get(layer).data.size() * sizeof(float)),
+                  0)
+            << layer;
+    EXPECT_NE(a.Get("color").data, b.Get("color").data);
+
+    ToolResult r = Run("accumulate" + inputs + " -o acc.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out,
+                         "warning: the 2 frames share their camera rays (albedo, "
+                         "normal, depth the same at every pixel, the color not)"))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out, "or render one frame of 2 spp")) << r.out;
+    io::Frame acc = io::ReadFrame(Path("acc.exr"));
+    EXPECT_EQ(acc.metadata["mcd:sharedCameraRays"], "1");
+    // The mean of two equal values is that value: the guides come through unchanged.
+    EXPECT_EQ(acc.Get("albedo").data, a.Get("albedo").data);
 }
 
 // The accumulator's binning is the renderer's, value for value.
