@@ -29,10 +29,17 @@ bool IsFirstLayer(const std::string &name) {
     return name == "objectId" || name == "partId";
 }
 
+// Averaged, and the variance of their mean measured from the spread of the frames (auto's
+// estimate of bayes's split output reads it).
+bool HasSpread(const std::string &name) {
+    return name == "direct" || name == "indirect";
+}
+
 // Made anew from the frames (an input's own variance and hist describe one frame only).
 bool IsRecomputed(const std::string &name) {
     return name == "color" || name == "variance" || name == "spp" || name == "min" ||
-           name == "max" || name == "hist";
+           name == "max" || name == "hist" || name == "direct.variance" ||
+           name == "indirect.variance";
 }
 
 bool AllFinite(const Image &image, size_t i) {
@@ -156,7 +163,9 @@ void Accumulator::Start(const Frame &frame) {
     for (const auto &[name, image] : frame.layers) {
         if (IsMeanLayer(name))
             means[name] = {std::vector<double>(size_t(image.channels) * n),
-                           std::vector<uint32_t>(n), image.channels};
+                           std::vector<uint32_t>(n), image.channels,
+                           HasSpread(name) ? std::vector<double>(size_t(image.channels) * n)
+                                           : std::vector<double>()};
         else if (IsFirstLayer(name))
             firstOf[name] = image;
         else if (!IsRecomputed(name))
@@ -199,8 +208,17 @@ void Accumulator::AddMean(MeanLayer &layer, const std::string &name, const Image
             ++nonFinite[name];
             continue;
         }
-        ++layer.count[i];
-        for (int c = 0; c < layer.channels; ++c) layer.sum[c * n + i] += image.Plane(c)[i];
+        uint32_t k = ++layer.count[i];
+        for (int c = 0; c < layer.channels; ++c) {
+            size_t j = c * n + i;
+            double value = image.Plane(c)[i];
+            if (!layer.m2.empty() && k > 1) {
+                // Welford, with the running mean kept as the sum.
+                double before = layer.sum[j] / (k - 1), after = (layer.sum[j] + value) / k;
+                layer.m2[j] += (value - before) * (value - after);
+            }
+            layer.sum[j] += value;
+        }
     }
 }
 
@@ -321,7 +339,18 @@ Frame Accumulator::Finish() {
     };
     out.layers["half0.color"] = meanOf(halves[0]);
     out.layers["half1.color"] = meanOf(halves[1]);
-    for (const auto &[name, layer] : means) out.layers[name] = meanOf(layer);
+    for (const auto &[name, layer] : means) {
+        out.layers[name] = meanOf(layer);
+        if (layer.m2.empty()) continue;
+        // As color's variance: of the mean, unbiased, 0 with one frame.
+        Image spread(width, height, layer.channels);
+        for (int c = 0; c < layer.channels; ++c)
+            for (size_t i = 0; i < n; ++i) {
+                double k = layer.count[i];
+                spread.Plane(c)[i] = k > 1 ? float(layer.m2[c * n + i] / (k - 1) / k) : 0.f;
+            }
+        out.layers[name + ".variance"] = std::move(spread);
+    }
     for (auto &[name, image] : firstOf) out.layers[name] = std::move(image);
     out.metadata["mcd:accumulatedFrames"] = std::to_string(frames);
     // "1" when the frames share their camera rays (identical frames do too), "0" when

@@ -71,7 +71,8 @@ class Accumulator {
 
     // The accumulated frame: color, variance, spp, min, max, hist, half0.color,
     // half1.color, and the carried layers (means over frames; objectId and partId from the
-    // first frame). Throws when no frame was added.
+    // first frame; direct.variance and indirect.variance, the variances of the direct and
+    // indirect means, beside direct and indirect). Throws when no frame was added.
     Frame Finish();
 
     int Frames() const { return frames; }
@@ -88,11 +89,13 @@ class Accumulator {
     const std::vector<std::string> &RayLayers() const { return rayLayers; }
 
   private:
-    // A layer averaged over the frames, with its own per-pixel count of finite values.
+    // A layer averaged over the frames, with its own per-pixel count of finite values and,
+    // for direct and indirect, the sum of squared deviations from the running mean.
     struct MeanLayer {
         std::vector<double> sum;
         std::vector<uint32_t> count;
         int channels = 0;
+        std::vector<double> m2;  // empty: no variance
     };
     void Start(const Frame &frame);
     void AddMean(MeanLayer &layer, const std::string &name, const Image &image);

@@ -95,8 +95,15 @@ bool IsPartialName(std::string_view name) {
     return what == "color" || what == "pivot" || what == "variance";
 }
 
+// Own names with a dot, taken whole: "direct.variance" is not view layer "direct" of
+// variance (which it would take from the real one, whose channels sort after it).
+constexpr std::array<std::string_view, 4> kOwnDottedNames = {
+    "direct.variance", "indirect.variance", "half0.color", "half1.color"};
+
 bool IsOwnName(std::string_view name) {
     return std::find(kOwnNames.begin(), kOwnNames.end(), name) != kOwnNames.end() ||
+           std::find(kOwnDottedNames.begin(), kOwnDottedNames.end(), name) !=
+               kOwnDottedNames.end() ||
            IsPartialName(name);
 }
 

@@ -401,6 +401,32 @@ TEST_F(IoTest, BlenderNoisyImageWinsColorOverCombined) {
                 channels);
 }
 
+// Our own names with a dot are layers of their own, not a view-layer prefix in front of
+// another own name: direct.variance sorts before variance in an EXR's channel list, and
+// read as view layer "direct" of variance it took that name and clashed with the real one.
+TEST_F(IoTest, OwnDottedNamesAreTheirOwnLayers) {
+    std::vector<std::string> channels;
+    for (const char *layer :
+         {"direct.variance", "half0.color", "half1.color", "indirect.variance", "variance"})
+        for (const char *c : {"R", "G", "B"}) channels.push_back(std::string(layer) + "." + c);
+    for (const char *c : {"B", "G", "R"}) channels.push_back(c);
+    std::string path = Path("dotted.exr");
+    WriteRaw(path, 3, 2, channels);
+    Frame frame = ReadFrame(path);
+    for (const char *layer :
+         {"direct.variance", "half0.color", "half1.color", "indirect.variance", "variance"})
+        ExpectLayer(
+            frame, layer,
+            {std::string(layer) + ".R", std::string(layer) + ".G", std::string(layer) + ".B"},
+            channels);
+    ExpectLayer(frame, "color", {"R", "G", "B"}, channels);
+    EXPECT_EQ(frame.layers.size(), 6u);
+    // Only when asked for, as every own layer.
+    Frame some = ReadFrame(path, {{"color", "variance"}});
+    EXPECT_FALSE(some.Has("direct.variance"));
+    EXPECT_FALSE(some.Has("half0.color"));
+}
+
 TEST_F(IoTest, OrdersChannelsWithinLayers) {
     std::vector<std::string> channels = {
         "B",         "A",          "G",         "R",         "albedo.B",   "albedo.G",

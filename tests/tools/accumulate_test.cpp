@@ -79,7 +79,8 @@ TEST_F(CliAccumulate, OneSppFramesGiveTheirSamplesStatistics) {
     io::Frame acc = io::ReadFrame(Path("acc.exr"));
     for (const char *layer :
          {"color", "variance", "spp", "min", "max", "hist", "albedo", "normal", "depth",
-          "pivot", "direct", "indirect", "objectId", "partId", "half0.color", "half1.color"})
+          "pivot", "direct", "indirect", "direct.variance", "indirect.variance", "objectId",
+          "partId", "half0.color", "half1.color"})
         ASSERT_TRUE(acc.Has(layer)) << layer;
     EXPECT_EQ(acc.metadata["mcd:spp"], "5");
     const Image &hist = acc.Get("hist");
@@ -125,6 +126,21 @@ TEST_F(CliAccumulate, OneSppFramesGiveTheirSamplesStatistics) {
                 double albedo = 0;
                 for (const io::Frame &f : in) albedo += f.Get("albedo").At(c, y, x);
                 ExpectClose(acc.Get("albedo").At(c, y, x), albedo / frames, "albedo" + at);
+                // The split's parts: the variances of their means as color's.
+                for (const char *layer : {"direct", "indirect"}) {
+                    double partSum = 0, partSq = 0;
+                    for (const io::Frame &f : in) {
+                        double v = f.Get(layer).At(c, y, x);
+                        partSum += v, partSq += v * v;
+                    }
+                    double partMean = partSum / frames;
+                    double partVariance =
+                        (partSq - frames * partMean * partMean) / (frames - 1) / frames;
+                    EXPECT_NEAR(acc.Get(std::string(layer) + ".variance").At(c, y, x),
+                                std::max(0.0, partVariance),
+                                1e-5 * std::max(1.0, partMean * partMean))
+                        << layer << ".variance" << at;
+                }
             }
             EXPECT_EQ(acc.Get("objectId").At(0, y, x), in[0].Get("objectId").At(0, y, x));
         }
@@ -411,7 +427,8 @@ TEST_F(CliAccumulate, RealCyclesFramesGiveTheirSamplesStatistics) {
     io::Frame acc = io::ReadFrame(Path("acc.exr"));
     for (const char *layer :
          {"color", "variance", "spp", "min", "max", "hist", "albedo", "normal", "depth",
-          "direct", "indirect", "objectId", "partId", "half0.color", "half1.color"})
+          "direct", "indirect", "direct.variance", "indirect.variance", "objectId", "partId",
+          "half0.color", "half1.color"})
         ASSERT_TRUE(acc.Has(layer)) << layer;
     EXPECT_EQ(acc.metadata["mcd:sharedCameraRays"], "0");
     EXPECT_EQ(acc.metadata["mcd:spp"], "4");  // cycles.ViewLayer.samples = 1 per frame
@@ -464,6 +481,20 @@ TEST_F(CliAccumulate, RealCyclesFramesGiveTheirSamplesStatistics) {
                     }
                     ExpectFloatOf(acc.Get(layer).At(c, y, x), layerSum / frames, layerMagnitude,
                                   layer + at);
+                }
+                // The composed parts' variances of the mean, as color's.
+                for (const std::string layer : {"direct", "indirect"}) {
+                    double layerMean = 0;
+                    for (const io::Frame &f : in) layerMean += f.Get(layer).At(c, y, x);
+                    layerMean /= frames;
+                    double layerSquares = 0, layerSumSq = 0;
+                    for (const io::Frame &f : in) {
+                        double v = f.Get(layer).At(c, y, x);
+                        layerSquares += (v - layerMean) * (v - layerMean), layerSumSq += v * v;
+                    }
+                    ExpectFloatOf(acc.Get(layer + ".variance").At(c, y, x),
+                                  layerSquares / (frames - 1) / frames, layerSumSq,
+                                  layer + ".variance" + at);
                 }
             }
             double depth = 0;

@@ -18,10 +18,25 @@ namespace mcd::tool {
 namespace {
 
 // ARCHITECTURE.md's order, then the half-buffers.
-constexpr const char *kOutputOrder[] = {
-    "color",    "variance", "spp",   "min",         "max",        "hist",
-    "direct",   "indirect", "pivot", "albedo",      "normal",     "depth",
-    "objectId", "partId",   "alpha", "half0.color", "half1.color"};
+constexpr const char *kOutputOrder[] = {"color",
+                                        "variance",
+                                        "spp",
+                                        "min",
+                                        "max",
+                                        "hist",
+                                        "direct",
+                                        "indirect",
+                                        "pivot",
+                                        "albedo",
+                                        "normal",
+                                        "depth",
+                                        "objectId",
+                                        "partId",
+                                        "alpha",
+                                        "direct.variance",
+                                        "indirect.variance",
+                                        "half0.color",
+                                        "half1.color"};
 
 }  // namespace
 
@@ -42,6 +57,8 @@ void AddAccumulateCommand(CLI::App &app) {
         "inputs exactly the per-sample histograms; otherwise histograms of the frame "
         "means, which are narrower); albedo, normal, depth, pivot, direct, indirect and "
         "alpha averaged over the frames, objectId and partId from the first frame; "
+        "direct.variance and indirect.variance the variances of the direct and indirect means "
+        "(as variance: for auto's estimate of bayes's split output); "
         "half0.color and half1.color the means of the even and odd frames; other layers are "
         "not carried (it lists them). NaN/Inf values "
         "are left out and counted per layer. It cannot check the seeds themselves (frames "

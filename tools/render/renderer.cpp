@@ -107,7 +107,10 @@ struct FrameLayers {
         mn = Image(w, h, 3), mx = Image(w, h, 3);
         if (o.layers & kLayersHist) hist = Image(w, h, 3 * bins + 1);
         if (o.layers & kLayersZHist) zhist = Image(w, h, 3 * bins + 1);
-        if (o.layers & kLayersSplit) direct = Image(w, h, 3), indirect = Image(w, h, 3);
+        if (o.layers & kLayersSplit) {
+            direct = Image(w, h, 3), indirect = Image(w, h, 3);
+            directVariance = Image(w, h, 3), indirectVariance = Image(w, h, 3);
+        }
         if (o.layers & (kLayersPivot | kLayersZHist)) pivot = Image(w, h, 3);
         if (o.layers & kLayersPartials)
             for (int k = 0; k <= kPartialTypes; ++k) {
@@ -138,6 +141,8 @@ struct FrameLayers {
         add("zhist", zhist);
         add("direct", direct);
         add("indirect", indirect);
+        add("direct.variance", directVariance);
+        add("indirect.variance", indirectVariance);
         add("pivot", pivot);
         add("albedo", albedo);
         add("normal", normal);
@@ -160,6 +165,9 @@ struct FrameLayers {
 
     Image color, variance, spp, mn, mx;
     Image hist, zhist, direct, indirect, pivot, albedo, normal, depth, objectId, partId;
+    // Variances of the direct and indirect means: with the color's they give the
+    // covariance that auto's estimate of bayes's split output needs.
+    Image directVariance, indirectVariance;
     Image half0, half1;  // means of the even and of the odd samples
     Image unfiltered;    // color before the tracing filter
     // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
@@ -181,7 +189,8 @@ struct PixelSums {
 
     double sum[3] = {}, sumSq[3] = {}, lo[3] = {INFINITY, INFINITY, INFINITY},
            hi[3] = {-INFINITY, -INFINITY, -INFINITY}, sumDirect[3] = {}, sumIndirect[3] = {},
-           sumAlbedo[3] = {}, sumNormal[3] = {}, sumDepth = 0, sumHalf[2][3] = {};
+           sumSqDirect[3] = {}, sumSqIndirect[3] = {}, sumAlbedo[3] = {}, sumNormal[3] = {},
+           sumDepth = 0, sumHalf[2][3] = {};
     Vec3 sumPartial[kPartialTypes + 1], sumSqPartial[kPartialTypes + 1];
     int firstObject = 0, firstPart = 0;
     uint64_t nonFinite = 0;  // paths that produced NaN/Inf (counted as 0)
@@ -284,6 +293,8 @@ void SamplePixel(const SampleSource &source, const RenderOptions &o, const Frame
             sums.hi[c] = std::max(sums.hi[c], c3[c]);
             sums.sumDirect[c] += p.direct[c];
             sums.sumIndirect[c] += p.indirect[c];
+            sums.sumSqDirect[c] += p.direct[c] * p.direct[c];
+            sums.sumSqIndirect[c] += p.indirect[c] * p.indirect[c];
             sums.sumAlbedo[c] += p.albedo[c];
             sums.sumNormal[c] += p.normal[c];
         }
@@ -308,6 +319,12 @@ void SamplePixel(const SampleSource &source, const RenderOptions &o, const Frame
         *records->surface[k] = MakeSurface(records->paths, o.spp, k);
 }
 
+// The unbiased sample variance over n: the variance of the mean of n samples.
+double VarianceOfMean(double sum, double sumSq, double n) {
+    double mean = sum / n;
+    return n > 1 ? std::max(0.0, (sumSq - n * mean * mean) / (n - 1)) / n : 0;
+}
+
 // The pixel's means, variances of the mean, ranges, G-buffer and histograms.
 void WritePixel(const PixelSums &sums, const RenderOptions &o, int x, int y,
                 FrameLayers &layers) {
@@ -316,14 +333,16 @@ void WritePixel(const PixelSums &sums, const RenderOptions &o, int x, int y,
     for (int c = 0; c < 3; ++c) {
         double mean = sums.sum[c] / n;
         layers.color.At(c, y, x) = float(mean);
-        // Variance of the mean: the unbiased sample variance over n.
-        double var = n > 1 ? std::max(0.0, (sums.sumSq[c] - n * mean * mean) / (n - 1)) : 0;
-        layers.variance.At(c, y, x) = float(var / n);
+        layers.variance.At(c, y, x) = float(VarianceOfMean(sums.sum[c], sums.sumSq[c], n));
         layers.mn.At(c, y, x) = float(sums.lo[c]);
         layers.mx.At(c, y, x) = float(sums.hi[c]);
         if (!layers.direct.Empty()) {
             layers.direct.At(c, y, x) = float(sums.sumDirect[c] / n);
             layers.indirect.At(c, y, x) = float(sums.sumIndirect[c] / n);
+            layers.directVariance.At(c, y, x) =
+                float(VarianceOfMean(sums.sumDirect[c], sums.sumSqDirect[c], n));
+            layers.indirectVariance.At(c, y, x) =
+                float(VarianceOfMean(sums.sumIndirect[c], sums.sumSqIndirect[c], n));
         }
         if (!layers.half0.Empty()) {
             // Sample s goes to half s % 2: ceil(n / 2) and floor(n / 2) samples.
@@ -371,11 +390,8 @@ void WritePartials(const Scene &scene, const PixelSums &sums, const RenderOption
             layers.partialColors[k].At(c, y, x) = float(mean);
             if (k == kPartialTypes) continue;
             layers.partialPivots[k].At(c, y, x) = float(sumPivot[k][c] / 16);
-            // As the variance layer: of the mean, unbiased.
-            double var =
-                n > 1 ? std::max(0.0, (sums.sumSqPartial[k][c] - n * mean * mean) / (n - 1))
-                      : 0;
-            layers.partialVariances[k].At(c, y, x) = float(var / n);
+            layers.partialVariances[k].At(c, y, x) =
+                float(VarianceOfMean(sums.sumPartial[k][c], sums.sumSqPartial[k][c], n));
         }
 }
 
