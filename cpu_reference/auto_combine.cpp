@@ -9,7 +9,7 @@ namespace mcd::ref {
 
 Image AutoEstimate(const Image &color, const Image &variance, const Image &probe,
                    const Image &guide, const Image &output, const Image &perturbed,
-                   double epsilon, double noiseCap) {
+                   double epsilon, double noiseCap, const Image *offset) {
     int w = color.width, h = color.height, channels = color.channels;
     Image error(w, h, 1);
     for (int y = 0; y < h; ++y)
@@ -23,6 +23,7 @@ Image AutoEstimate(const Image &color, const Image &variance, const Image &probe
                 double divergence = probe.At(c, y, x) * (perturbed.At(c, y, x) - f) /
                                     (epsilon * std::sqrt(std::max(v, 0.0)));
                 double term = (f - noisy) * (f - noisy) - v;
+                if (offset) term += offset->At(c, y, x);
                 if (v > 0) term += 2 * v * divergence;
                 double g = guide.At(c, y, x);
                 double d = g * g + kAutoRelOffset;
@@ -188,6 +189,67 @@ AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidate
                         sum += weight[k] / total * candidates[k].At(c, y, x);
                 out.color.At(c, y, x) = none ? color.At(c, y, x) : float(sum);
             }
+        }
+    return out;
+}
+
+AutoCombined AutoCombineRelative(const Image &color, const std::vector<Image> &candidates,
+                                 const Image &errors, const Image &variance, double power,
+                                 double floorError, double noiseLimit) {
+    int w = color.width, h = color.height, channels = color.channels;
+    int count = int(candidates.size());
+    AutoCombined out{Image(w, h, channels), Image(w, h, count)};
+    std::vector<double> weight(count);
+    std::vector<bool> usable(count);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int usableCount = 0;
+            bool allUnder = true;
+            double total = 0;
+            for (int k = 0; k < count; ++k) {
+                double e = errors.At(k, y, x);
+                usable[k] = std::isfinite(e);
+                for (int c = 0; c < channels; ++c)
+                    usable[k] = usable[k] && std::isfinite(candidates[k].At(c, y, x));
+                weight[k] = usable[k] ? std::pow(std::max(e, floorError), -power) : 0;
+                total += weight[k];
+                if (usable[k]) {
+                    ++usableCount;
+                    allUnder = allUnder && e < float(floorError);
+                }
+            }
+            bool none = !(total > 0) || !std::isfinite(float(total));
+            // Channel c's value of least weighted relative squared error.
+            auto value = [&](int c, bool equal) {
+                double num = 0, den = 0, mean = 0;
+                for (int k = 0; k < count; ++k) {
+                    double wk = equal ? (usable[k] ? 1.0 : 0.0) : weight[k];
+                    if (!(wk > 0)) continue;
+                    double v = candidates[k].At(c, y, x);
+                    mean += wk / (equal ? usableCount : total) * v;
+                    if (!std::isfinite(float(v * v))) continue;
+                    double a = wk / (v * v + kAutoRelOffset);
+                    num += a * v;
+                    den += a;
+                }
+                return den > 0 && std::isfinite(float(den)) ? num / den : mean;
+            };
+            bool equal = usableCount > 0 && allUnder;
+            if (usableCount > 0 && !equal) {
+                double ratio = 0;
+                for (int c = 0; c < channels; ++c) {
+                    double u = value(c, true);
+                    ratio += variance.At(c, y, x) / (u * u + kAutoRelOffset);
+                }
+                equal = ratio / channels > noiseLimit;
+            }
+            for (int k = 0; k < count; ++k)
+                out.weights.At(k, y, x) = equal  ? (usable[k] ? 1.f / usableCount : 0.f)
+                                          : none ? 0.f
+                                                 : float(weight[k] / total);
+            for (int c = 0; c < channels; ++c)
+                out.color.At(c, y, x) =
+                    equal || !none ? float(value(c, equal)) : color.At(c, y, x);
         }
     return out;
 }

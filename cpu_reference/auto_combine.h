@@ -15,17 +15,22 @@ namespace mcd::ref {
 constexpr double kAutoRelOffset = 0.01;
 
 // One plane: the mean over channels of
-//   [(f - y)^2 - v + 2 sqrt(max(v, 0)) b (fp - f) / epsilon] / d,
+//   [(f - y)^2 - v + o + 2 sqrt(max(v, 0)) b (fp - f) / epsilon] / d,
 //   d = max(g^2 + 0.01, max(v, 0) / noiseCap)  (g^2 + 0.01 when noiseCap is 0),
 // an unbiased estimate (over the noise and b) of (f - r)^2 / (g^2 + 0.01) for y = r +
 // noise of variance v, f = F(y), fp = F(y + epsilon sqrt(v) b), b = +-1, to first order in
 // epsilon; g (the guide) stands in for the unknown r in relMSE's denominator, the same for
 // every candidate. The denominator's floor v / noiseCap bounds the estimate's own noise,
 // which is of the order of v / d, at noiseCap; it weighs the pixels the same for every
-// candidate.
+// candidate. The offset o (0 without `offset`) makes it the estimate for an f that is not
+// a function of y alone: for f = D + G(I), y = D + I (Xu and Pattanaik's split, the
+// direct part kept), E[(f - r)^2] = E[(f - y)^2] - v + 2 Cov(f, y), and Cov(f, y) =
+// Cov(D, y) + Cov(G(I), y) = (v - c) + c E[G'(I)] with c = Cov(I, y) (Stein's lemma for
+// jointly Gaussian I, y): so o = 2 (v - c), and fp = D + G(I + epsilon (c / sqrt(v)) b)
+// makes the divergence term 2 c G'.
 Image AutoEstimate(const Image &color, const Image &variance, const Image &probe,
                    const Image &guide, const Image &output, const Image &perturbed,
-                   double epsilon, double noiseCap);
+                   double epsilon, double noiseCap, const Image *offset = nullptr);
 
 // The variance of the pixel mean estimated from a frame without sample statistics, per
 // channel: z = y / a with a the albedo (its one channel, or channel c) where a > 0.02, else
@@ -56,5 +61,19 @@ struct AutoCombined {
 AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidates,
                          const Image &errors, bool select, double power, double floorError,
                          bool medianUnderFloor = false);
+
+// The relative combination: weights w_k = max(e_k, floorError)^-power over the usable
+// candidates (as AutoCombine), equal instead where every usable e_k is under the floor or
+// the mean over channels of variance / (u^2 + 0.01) exceeds noiseLimit, u the value below
+// with equal weights. Per channel the output minimises sum_k w_k (f - c_k)^2 / (c_k^2 +
+// 0.01), relMSE's term with candidate k standing for the reference:
+// f = sum_k w_k c_k / (c_k^2 + 0.01) / sum_k w_k / (c_k^2 + 0.01), the weighted mean
+// where that sum is 0 or beyond a float (a value whose square is beyond a float weighs
+// nothing there, as in the kernel's float arithmetic). The weights returned are the ones
+// used; where they are 0 (not equal, and their total 0 or beyond a float) the input is
+// kept.
+AutoCombined AutoCombineRelative(const Image &color, const std::vector<Image> &candidates,
+                                 const Image &errors, const Image &variance, double power,
+                                 double floorError, double noiseLimit);
 
 }  // namespace mcd::ref

@@ -47,15 +47,16 @@ std::vector<Variant> Variants() {
             {"awr", "awr", {}},
             {"rhf 2 scales", "rhf", {{"nscales", 2}}},
             {"pivot no ids", "pivot", {{"guides", std::string("none")}}},
-            {"pivot k0 no ids", "pivot", {{"robust-k", 0.f}, {"guides", std::string("none")}}}};
+            {"pivot k0 no ids", "pivot", {{"robust-k", 0.f}, {"guides", std::string("none")}}},
+            {"bayes no split", "bayes", {{"no-split", true}}}};
 }
 
 // The map's colour of variant v (linear RGB).
 constexpr float kPalette[][3] = {{0.9f, 0.1f, 0.1f}, {0.1f, 0.7f, 0.1f}, {0.1f, 0.3f, 1.f},
                                  {1.f, 0.8f, 0.05f}, {0.8f, 0.1f, 0.9f}, {0.1f, 0.9f, 0.9f},
-                                 {1.f, 0.5f, 0.f},   {0.5f, 0.5f, 0.5f}};
-constexpr const char *kPaletteName[] = {"red",     "green", "blue",   "yellow",
-                                        "magenta", "cyan",  "orange", "grey"};
+                                 {1.f, 0.5f, 0.f},   {0.5f, 0.5f, 0.5f}, {0.5f, 0.25f, 0.1f}};
+constexpr const char *kPaletteName[] = {"red",  "green",  "blue", "yellow", "magenta",
+                                        "cyan", "orange", "grey", "brown"};
 
 std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
     using O = AutoFrontEnd::Options;
@@ -65,10 +66,14 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "out (--explain names it); the first always runs",
                    &O::budget, 0, 1e9),
         ChoiceParam("auto-combine",
-                    "weights (per pixel, each candidate by 1 / its smoothed error estimate), "
+                    "relative (per pixel, each candidate weighed by 1 / its smoothed error "
+                    "estimate standing for the reference, and the value of least expected "
+                    "relative squared error under those weights; equal weights where the "
+                    "pixel's noise outweighs the estimates; on a frame without statistics, "
+                    "weights), weights (the weighted mean), "
                     "select (the candidate with the smallest estimate) or mean (equal "
                     "weights, no estimate)",
-                    &O::combine, {"weights", "select", "mean"}),
+                    &O::combine, {"relative", "weights", "select", "mean"}),
         ChoiceParam("auto-noise",
                     "the error estimate: auto (variance when the frame has a variance "
                     "layer, else halves, else frame), halves (each candidate also runs on "
@@ -101,6 +106,15 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "size of the perturbation that measures each candidate's divergence, in "
                    "standard deviations of the pixel mean",
                    &O::epsilon, 1e-3, 10),
+        FloatParam("auto-bayes-epsilon",
+                   "--auto-epsilon for the bayes candidates: their log-domain shrinkage "
+                   "bends within a fraction of a standard deviation",
+                   &O::bayesEpsilon, 1e-3, 10),
+        FloatParam("auto-noise-limit",
+                   "with --auto-combine relative: a pixel whose variance of the mean is over "
+                   "this times relMSE's denominator (of the candidates' equal-weight value) "
+                   "weighs every candidate the same",
+                   &O::noiseLimit, 1e-6, 1e9),
         FloatParam("auto-noise-cap",
                    "largest variance of the mean over relMSE's denominator in the final "
                    "estimates: a pixel whose mean is mostly noise (a light seen by one "
@@ -192,6 +206,73 @@ void MakeProbe(const Image &color, const Image &variance, float epsilon, Image &
     }
 }
 
+// What scoring bayes's split output takes: the offset 2 (v - c) of its estimate, and the
+// indirect layer as read and perturbed by eps (c / sqrt(v)) b. Empty when the frame cannot
+// score it.
+struct SplitScore {
+    Image offset, indirect, perturbedIndirect;
+};
+
+SplitScore ScoreSplit(Inputs &inputs, const Image &color, const Image &variance,
+                      const Image &probe, float epsilon, std::vector<std::string> *plan) {
+    SplitScore score;
+    if (!inputs.Has("direct") || !inputs.Has("indirect")) return score;
+    const char *lacks = !inputs.Has("direct.variance")     ? "direct.variance"
+                        : !inputs.Has("indirect.variance") ? "indirect.variance"
+                                                           : nullptr;
+    if (lacks) {
+        plan->push_back(fmt::format(
+            "auto: bayes runs on the whole colour: its split output is scored with the "
+            "variances of the direct and indirect means, and the frame has no {} layer",
+            lacks));
+        return score;
+    }
+    const Image direct = inputs.Get("direct"), indirect = inputs.Get("indirect");
+    const Image vD = inputs.Get("direct.variance"), vI = inputs.Get("indirect.variance");
+    for (const Image *image : {&direct, &indirect, &vD, &vI})
+        if (!image->SameShape(color)) {
+            plan->push_back(
+                "auto: bayes runs on the whole colour: the split layers are not of the "
+                "colour's shape");
+            return score;
+        }
+    // The estimate holds for y = D + I: a frame whose split does not sum to its colour
+    // (beyond float rounding) is not scored.
+    size_t apart = 0;
+    for (size_t i = 0; i < color.data.size(); ++i) {
+        float d = direct.data[i], ind = indirect.data[i], y = color.data[i];
+        if (std::isfinite(d) && std::isfinite(ind) && std::isfinite(y) &&
+            std::fabs(d + ind - y) > 1e-4f * (std::fabs(d) + std::fabs(ind)) + 1e-6f)
+            ++apart;
+    }
+    if (apart > 0) {
+        plan->push_back(fmt::format(
+            "auto: bayes runs on the whole colour: direct + indirect differs from color at "
+            "{} values, and its split output is scored only where they sum to it",
+            apart));
+        return score;
+    }
+    score.offset = Image(color.width, color.height, color.channels);
+    score.indirect = indirect;
+    score.perturbedIndirect = indirect;
+    for (size_t i = 0; i < color.data.size(); ++i) {
+        double v = std::max(variance.data[i], 0.f), vi = std::max(vI.data[i], 0.f);
+        double c = (v + vi - std::max(vD.data[i], 0.f)) / 2;
+        // |Cov(I, y)| <= sqrt(v_I v): the layers' rounding (or a renderer's) cannot push it
+        // past what a covariance can be.
+        double bound = std::sqrt(v * vi);
+        c = std::clamp(c, -bound, bound);
+        if (!std::isfinite(c)) c = 0;
+        score.offset.data[i] = float(2 * (v - c));
+        double size = v > 0 ? c / std::sqrt(v) : 0;
+        score.perturbedIndirect.data[i] += float(epsilon * size) * probe.data[i];
+    }
+    plan->push_back(
+        "auto: bayes runs split (the indirect part denoised, direct added back), scored by "
+        "SURE with c = Cov(indirect, color) from the direct, indirect and color variances");
+    return score;
+}
+
 }  // namespace
 
 TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
@@ -247,7 +328,8 @@ std::unique_ptr<FrontEnd> AutoFrontEnd::ForTiles(Inputs &whole) const {
 
 // Every candidate's layers, and the half-buffers for the error estimate.
 std::vector<std::string> AutoFrontEnd::Uses() const {
-    std::vector<std::string> layers = {"half0.color", "half1.color"};
+    std::vector<std::string> layers = {"half0.color", "half1.color", "direct.variance",
+                                       "indirect.variance"};
     for (const auto &m : methods) {
         std::vector<std::string> uses = m->Uses();
         if (uses.empty()) return {};
@@ -338,8 +420,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         MakeProbe(color, variance, options.epsilon, probe, perturbed);
         noiseFrom = fmt::format(
             "SURE on the variance layer, Monte Carlo divergence with "
-            "epsilon {}",
-            options.epsilon);
+            "epsilon {} (bayes {})",
+            options.epsilon, options.bayesEpsilon);
     } else if (options.combine != "mean" &&
                (options.noise == "frame" || (options.noise == "auto" && !halves))) {
         // No statistics (a plain Cycles frame): the variance of the mean from the frame
@@ -371,9 +453,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         noiseFrom = fmt::format(
             "SURE on the frame's own noise estimate (no variance layer nor half-buffers: the "
             "{}colour's smallest squared second difference over 4 directions, averaged over "
-            "{}x{} windows), Monte Carlo divergence with epsilon {}",
+            "{}x{} windows), Monte Carlo divergence with epsilon {} (bayes {})",
             gAlbedo ? "albedo-demodulated " : "", 2 * options.noiseRadius + 1,
-            2 * options.noiseRadius + 1, options.epsilon);
+            2 * options.noiseRadius + 1, options.epsilon, options.bayesEpsilon);
         inputs.Override("variance", variance);
     } else if (options.noise != "auto" && options.combine != "mean") {
         throw Error(fmt::format(
@@ -381,6 +463,23 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             options.noise == "halves" ? "half0.color and half1.color" : "variance layer"));
     }
     bool estimate = useHalves || useVariance;
+    // bayes's split output D + G(I) is no function of the colour alone, but SURE extends to
+    // it given c = Cov(I, y) (cpu_reference/auto_combine.h): the frame's variances of the
+    // direct and indirect means beside the colour's give it, c = (v + v_I - v_D) / 2, where
+    // y = D + I. Else bayes runs on the whole colour.
+    SplitScore split;
+    if (useVariance && !ownNoise)
+        split = ScoreSplit(inputs, color, variance, probe, options.bayesEpsilon, &plan);
+    // bayes's own perturbation: its log-domain shrinkage bends within a fraction of a
+    // standard deviation, so its divergence takes a smaller step (--auto-bayes-epsilon).
+    Image bayesPerturbed;
+    if (useVariance) {
+        bayesPerturbed = color;
+        for (size_t i = 0; i < color.data.size(); ++i)
+            bayesPerturbed.data[i] += options.bayesEpsilon *
+                                      std::sqrt(std::max(variance.data[i], 0.f)) *
+                                      probe.data[i];
+    }
     // The frame's own estimate is rougher than a variance layer: milder weights over
     // smaller windows (measured on 10 frames without statistics, README: power 2 over 17x17
     // left double-textured x1.06 the best method and the Cycles cornell box at 4.3e-3; power
@@ -398,6 +497,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         size_t variant;
         Image output, perturbed;
         double seconds;
+        bool split = false;  // bayes's split output: the estimate takes split.offset
+        float epsilon = 1;   // the probe's step (the halves: none)
     };
     std::vector<Ran> ran;
     std::vector<std::string> candidatePlans;  // what each candidate's own run did
@@ -416,10 +517,16 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             if (m->Name() == variant.method) base = m.get();
         std::unique_ptr<FrontEnd> method = base->Clone();
         for (const auto &[param, value] : variant.overrides) method->Set(param, value);
-        // The estimates need an output that is a function of the color alone: bayes's split
-        // output, direct + g(indirect), is not, so with an estimate bayes runs on the whole
-        // color.
-        if (estimate && variant.method == "bayes") method->Set("no-split", true);
+        // With an estimate bayes runs split only where the split can be scored; "bayes no
+        // split" is then a variant of its own, else it is bayes again.
+        bool runsSplit = false;
+        if (variant.label == "bayes no split" &&
+            (split.offset.Empty() || std::get<bool>(base->Get("no-split"))))
+            continue;
+        if (estimate && variant.method == "bayes") {
+            runsSplit = !split.offset.Empty() && !std::get<bool>(method->Get("no-split"));
+            if (!runsSplit) method->Set("no-split", true);
+        }
         if (variant.label == "rhf 2 scales" && std::get<int>(base->Get("nscales")) == 2)
             continue;
         // Without guides to leave out (the user's --guides none, or a frame without normals
@@ -464,15 +571,34 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                 candidatePlans.push_back(variant.label + ": " + line);
             for (const Timing &t : one.timings)
                 result.timings.push_back({variant.label + ": " + t.label, t.gpuMs});
-            Ran r{variant.label, v, std::move(one.image), {}, 0};
-            if (estimate) {
+            bool isBayes = variant.method == "bayes";
+            Ran r{variant.label,
+                  v,
+                  std::move(one.image),
+                  {},
+                  0,
+                  runsSplit,
+                  useHalves ? 1.f
+                  : isBayes ? options.bayesEpsilon
+                            : options.epsilon};
+            if (runsSplit) {
+                // The probe perturbs I, the part bayes filters, by eps (c / sqrt(v)) b.
+                inputs.Override("indirect", split.perturbedIndirect);
+                Result probeRun = method->Run(context, inputs, quiet);
+                inputs.Override("indirect", split.indirect);
+                for (const Timing &t : probeRun.timings)
+                    result.timings.push_back({variant.label + " (probe): " + t.label, t.gpuMs});
+                r.perturbed = std::move(probeRun.image);
+            } else if (estimate) {
                 // The half run sees half the samples: the variance of its mean doubles.
                 if (!frameVariance.Empty()) {
                     Image doubled = frameVariance;
                     for (float &x : doubled.data) x *= 2;
                     inputs.Override("variance", std::move(doubled));
                 }
-                inputs.Override("color", useHalves ? half0 : perturbed);
+                inputs.Override("color", useHalves ? half0
+                                         : isBayes ? bayesPerturbed
+                                                   : perturbed);
                 Result probeRun = method->Run(context, inputs, quiet);
                 inputs.Override("color", color);
                 if (!frameVariance.Empty()) inputs.Override("variance", frameVariance);
@@ -487,6 +613,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             ran.push_back(std::move(r));
         } catch (const Error &e) {
             inputs.Override("color", color);
+            if (runsSplit) inputs.Override("indirect", split.indirect);
             if (!frameVariance.Empty()) inputs.Override("variance", frameVariance);
             plan.push_back(fmt::format("auto: left out {}: {}", variant.label, e.what()));
         }
@@ -511,6 +638,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                   packed.data.begin() + size_t(k) * channels * w * h);
     gCandidates.Upload(packed);
     vk::Recorder recorder(context);
+    Image guideStage, rawErrors;  // kept with keepStages
     // Zero estimates weigh the candidates equally: the mean.
     vk::GpuImage gZeros(context, w, h, count, "auto.zeros");
     gZeros.Upload(Image(w, h, count));
@@ -534,8 +662,12 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         vk::GpuImage gOut(context, w, h, channels, "auto.candidate");
         vk::GpuImage gPerturbed(context, w, h, channels, "auto.perturbed");
         vk::GpuImage gError(context, w, h, 1, "auto.error");
+        vk::GpuImage gOffset(context, w, h, channels, "auto.offset");
+        vk::GpuImage gNoOffset(context, w, h, channels, "auto.nooffset");
         gVariance.Upload(variance);
         gProbe.Upload(probe);
+        gNoOffset.Upload(Image(w, h, channels));
+        if (!split.offset.Empty()) gOffset.Upload(split.offset);
         // With halves: F(h0) against h1 (zero probe, no divergence term).
         vk::GpuImage gHalf1(context, w, h, channels, "auto.half1");
         if (useHalves) gHalf1.Upload(half1);
@@ -547,7 +679,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                 gPerturbed.Upload(ran[k].perturbed);
                 RecordAutoEstimate(context, recorder, useHalves ? gHalf1 : gColor, gVariance,
                                    gProbe, gGuide, gOut, gPerturbed,
-                                   useHalves ? 1.f : options.epsilon, noiseCap, gError);
+                                   ran[k].split ? gOffset : gNoOffset, ran[k].epsilon, noiseCap,
+                                   gError);
                 recorder.Copy(gError.buffer, gErrors.buffer, planeBytes, 0,
                               size_t(k) * planeBytes);
                 recorder.Submit();
@@ -584,12 +717,43 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         // seen by one sample, and so does the first pass), that pixel's estimate, of the
         // order of v / (g^2 + 0.01), would swamp every window around it.
         estimateAll(gGuide, options.noiseCap);
+        if (run.keepStages) {
+            recorder.Submit();
+            for (const auto &t : recorder.Timings())
+                result.timings.push_back({t.label, t.gpuMs});
+            guideStage = gGuide.Download();
+            rawErrors = gErrors.Download();
+            for (int k = 0; k < count; ++k)
+                result.stages.push_back({"auto." + ran[k].label + ".probe", ran[k].perturbed});
+        }
     }
     // Where every estimate is under the floor they all weigh the same and tell nothing: the
     // candidates' median there, not their mean (at a firefly of a frame without statistics
     // every SURE estimate is negative, and the mean kept the firefly of the candidates that
-    // keep it: fireflies 128x128 16 spp, ordinary passes, 0.088 -> 0.0146; README).
-    if (estimate)
+    // keep it: fireflies 128x128 16 spp, ordinary passes, 0.088 -> 0.0146; README). The
+    // relative combination (the default) takes the value of least expected relMSE under
+    // the weights, and equal weights there and where the pixel's noise outweighs what the
+    // windows' estimates resolve: a firefly that the candidates that remove it cannot win
+    // by their window's estimates (README: double-textured 4 spp x2.45 -> x1.01).
+    // On a frame without statistics the estimates are rougher and their weights milder
+    // (power 1): there the relative value leaned to the dark candidates over whole areas
+    // (our plain cornell 0.0019 -> 0.0079, README), so that path keeps the weighted mean.
+    bool relative = estimate && options.combine == "relative" && !ownNoise;
+    vk::GpuImage gMeanVariance(context, w, h, channels, "auto.meanvariance");
+    if (relative) {
+        // The variance of the pixel mean: the halves' estimate of it is (h0 - h1)^2 / 4.
+        Image meanVariance = variance;
+        if (useHalves) {
+            if (!frameVariance.Empty())
+                meanVariance = frameVariance;
+            else
+                for (float &x : meanVariance.data) x /= 2;
+        }
+        gMeanVariance.Upload(meanVariance);
+        RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth, AutoMode::Relative,
+                          power, options.floorError, gOutput, gWeights, &gMeanVariance,
+                          options.noiseLimit);
+    } else if (estimate)
         RecordAutoCombine(
             context, recorder, gColor, gCandidates, gSmooth,
             options.combine == "select" ? AutoMode::Select : AutoMode::WeightsMedian, power,
@@ -604,7 +768,11 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     if (run.keepStages) {
         for (int k = 0; k < count; ++k)
             result.stages.push_back({"auto." + ran[k].label, ran[k].output});
-        if (estimate) result.stages.push_back({"auto.errors", gSmooth.Download()});
+        if (estimate) {
+            result.stages.push_back({"auto.guide", std::move(guideStage)});
+            result.stages.push_back({"auto.estimates", std::move(rawErrors)});
+            result.stages.push_back({"auto.errors", gSmooth.Download()});
+        }
         result.stages.push_back({"auto.weights", weights});
     }
 
@@ -624,9 +792,15 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         ++won[best];
         for (int c = 0; c < 3; ++c) map.data[c * pixels + i] = kPalette[ran[best].variant][c];
     }
-    std::string how = options.combine == "select" ? "selected per pixel by"
-                      : estimate ? fmt::format("weighted per pixel by 1 / error^{}", power)
-                                 : "averaged";
+    std::string how =
+        options.combine == "select" ? "selected per pixel by"
+        : !estimate                 ? "averaged"
+        : relative                  ? fmt::format(
+                                          "weighted per pixel by 1 / error^{}, the value of least expected "
+                                                           "relative squared error under those weights (equal where the "
+                                                           "pixel's variance is over {} x relMSE's denominator)",
+                                          power, options.noiseLimit)
+                   : fmt::format("weighted per pixel by 1 / error^{}", power);
     plan.insert(plan.begin(),
                 fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
                             estimate ? fmt::format(" (error estimates from {}, averaged over "

@@ -16,7 +16,7 @@ namespace mcd {
 void RecordAutoCombine(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                        const vk::GpuImage &candidates, const vk::GpuImage &errors,
                        AutoMode mode, float power, float floorError, vk::GpuImage &output,
-                       vk::GpuImage &weights) {
+                       vk::GpuImage &weights, const vk::GpuImage *variance, float noiseLimit) {
     int channels = color.channels, count = errors.channels;
     if (channels < 1 || channels > 4)
         throw Error(fmt::format("auto combine: {} channels; 1 to 4 are supported", channels));
@@ -30,6 +30,13 @@ void RecordAutoCombine(vk::Context &context, vk::Recorder &recorder, const vk::G
         !std::isfinite(power))
         throw Error(fmt::format("auto combine: floor {} and power {} must be positive",
                                 floorError, power));
+    if (mode == AutoMode::Relative) {
+        if (!variance) throw Error("auto combine: the relative mode needs the variance");
+        CheckAutoShapes("auto combine", color, channels, {variance});
+        if (!(noiseLimit > 0) || !std::isfinite(noiseLimit))
+            throw Error(
+                fmt::format("auto combine: noise limit {} must be positive", noiseLimit));
+    }
     const vk::Kernel &kernel = context.GetKernel({"auto_combine",
                                                   k_auto_combine_spv,
                                                   sizeof(k_auto_combine_spv),
@@ -43,15 +50,20 @@ void RecordAutoCombine(vk::Context &context, vk::Recorder &recorder, const vk::G
                                  count,
                                  mode == AutoMode::Select          ? AUTO_MODE_SELECT
                                  : mode == AutoMode::WeightsMedian ? AUTO_MODE_WEIGHTS_MEDIAN
+                                 : mode == AutoMode::Relative      ? AUTO_MODE_RELATIVE
                                                                    : AUTO_MODE_WEIGHTS,
                                  power,
-                                 floorError};
+                                 floorError,
+                                 noiseLimit};
     recorder.Dispatch(kernel, "auto.combine",
                       {{AUTO_COMBINE_COLOR, &color.buffer, vk::Access::Read},
                        {AUTO_COMBINE_CANDIDATES, &candidates.buffer, vk::Access::Read},
                        {AUTO_COMBINE_ERRORS, &errors.buffer, vk::Access::Read},
                        {AUTO_COMBINE_OUTPUT, &output.buffer, vk::Access::Write},
-                       {AUTO_COMBINE_WEIGHTS, &weights.buffer, vk::Access::Write}},
+                       {AUTO_COMBINE_WEIGHTS, &weights.buffer, vk::Access::Write},
+                       // Not read outside the relative mode.
+                       {AUTO_COMBINE_VARIANCE, variance ? &variance->buffer : &color.buffer,
+                        vk::Access::Read}},
                       push, uint32_t((color.width + AUTO_LOCAL_SIZE - 1) / AUTO_LOCAL_SIZE),
                       uint32_t(color.height));
 }

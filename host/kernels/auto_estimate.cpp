@@ -24,13 +24,13 @@ void CheckAutoShapes(const char *what, const vk::GpuImage &a, int channels,
 void RecordAutoEstimate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage &probe,
                         const vk::GpuImage &guide, const vk::GpuImage &output,
-                        const vk::GpuImage &perturbed, float epsilon, float noiseCap,
-                        vk::GpuImage &error) {
+                        const vk::GpuImage &perturbed, const vk::GpuImage &offset,
+                        float epsilon, float noiseCap, vk::GpuImage &error) {
     if (color.channels < 1 || color.channels > 4)
         throw Error(
             fmt::format("auto estimate: {} channels; 1 to 4 are supported", color.channels));
     CheckAutoShapes("auto estimate", color, color.channels,
-                    {&variance, &probe, &guide, &output, &perturbed});
+                    {&variance, &probe, &guide, &output, &perturbed, &offset});
     CheckAutoShapes("auto estimate", color, 1, {&error});
     if (!(epsilon > 0) || !std::isfinite(epsilon))
         throw Error(fmt::format("auto estimate: epsilon {} is not a positive number", epsilon));
@@ -51,7 +51,8 @@ void RecordAutoEstimate(vk::Context &context, vk::Recorder &recorder, const vk::
                        {AUTO_ESTIMATE_OUTPUT, &output.buffer, vk::Access::Read},
                        {AUTO_ESTIMATE_PERTURBED, &perturbed.buffer, vk::Access::Read},
                        {AUTO_ESTIMATE_ERROR, &error.buffer, vk::Access::Write},
-                       {AUTO_ESTIMATE_GUIDE, &guide.buffer, vk::Access::Read}},
+                       {AUTO_ESTIMATE_GUIDE, &guide.buffer, vk::Access::Read},
+                       {AUTO_ESTIMATE_OFFSET, &offset.buffer, vk::Access::Read}},
                       push, uint32_t((color.width + AUTO_LOCAL_SIZE - 1) / AUTO_LOCAL_SIZE),
                       uint32_t(color.height));
 }

@@ -9,12 +9,13 @@ layout(std430, binding = AUTO_COMBINE_CANDIDATES) readonly buffer Candidates { f
 layout(std430, binding = AUTO_COMBINE_ERRORS) readonly buffer Errors { float errors[]; };
 layout(std430, binding = AUTO_COMBINE_OUTPUT) writeonly buffer Output { float outputs[]; };
 layout(std430, binding = AUTO_COMBINE_WEIGHTS) writeonly buffer Weights { float weights[]; };
+layout(std430, binding = AUTO_COMBINE_VARIANCE) readonly buffer Variance { float variance[]; };
 
 bool finite(float v) {
     return !(isnan(v) || isinf(v));
 }
 
-int plane, at, channels;
+int plane, at, channels, count;
 
 // Whether candidate k has a finite estimate and output at the pixel.
 bool usable(int k) {
@@ -31,9 +32,29 @@ float weightOf(int k, int best) {
     return pow(max(errors[k * plane + at], push.floorError), -push.power);
 }
 
+// Relative mode: channel c's value minimising the weighted relative squared error over the
+// candidates, with equal weights or the estimates'; their weighted mean where the sum of
+// weights over c_k^2 + 0.01 is 0 or beyond a float.
+float relativeValue(int c, bool equal, int best, float total, int usableCount) {
+    float num = 0.0, den = 0.0, mean = 0.0;
+    for (int k = 0; k < count; ++k) {
+        float wk = equal ? (usable(k) ? 1.0 : 0.0) : weightOf(k, best);
+        if (!(wk > 0.0)) continue;
+        float v = candidates[(k * channels + c) * plane + at];
+        // Beyond a float's square, a value weighs nothing here.
+        float a = wk / (v * v + AUTO_REL_OFFSET);
+        num += a * v;
+        den += a;
+        mean += wk / (equal ? float(usableCount) : total) * v;
+    }
+    float f = num / den;
+    return den > 0.0 && !isinf(den) && finite(f) ? f : mean;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
-    int w = push.width, h = push.height, count = push.count;
+    int w = push.width, h = push.height;
+    count = push.count;
     if (x >= w) return;
     plane = w * h;
     at = y * w + x;
@@ -45,19 +66,38 @@ void main() {
     float total = 0.0;
     for (int k = 0; k < count; ++k) total += weightOf(k, best);
     bool none = !(total > 0.0) || isinf(total);
-    // Every usable estimate under the floor: the median of the usable candidates.
+    // Every usable estimate under the floor: the median of the usable candidates (relative
+    // mode: equal weights).
+    bool relative = push.mode == AUTO_MODE_RELATIVE;
     int usableCount = 0;
-    bool allUnder = push.mode == AUTO_MODE_WEIGHTS_MEDIAN;
+    bool allUnder = push.mode == AUTO_MODE_WEIGHTS_MEDIAN || relative;
     for (int k = 0; k < count; ++k)
         if (usable(k)) {
             ++usableCount;
             allUnder = allUnder && errors[k * plane + at] < push.floorError;
         }
     // The median needs no weights: it holds even where their total overflows.
-    bool median = allUnder && usableCount > 0;
+    bool median = allUnder && usableCount > 0 && !relative;
+    bool equal = relative && usableCount > 0 && allUnder;
+    if (relative && usableCount > 0 && !equal) {
+        // Noise beyond what the estimates resolve: v over the equal-weight value's
+        // denominator, averaged over channels (a NaN variance is not noise).
+        float ratio = 0.0;
+        for (int c = 0; c < channels; ++c) {
+            float u = relativeValue(c, true, best, total, usableCount);
+            ratio += variance[c * plane + at] / (u * u + AUTO_REL_OFFSET);
+        }
+        equal = ratio / float(channels) > push.noiseLimit;
+    }
     for (int k = 0; k < count; ++k)
-        weights[k * plane + at] = none ? 0.0 : weightOf(k, best) / total;
+        weights[k * plane + at] = equal  ? (usable(k) ? 1.0 / float(usableCount) : 0.0)
+                                  : none ? 0.0
+                                         : weightOf(k, best) / total;
     for (int c = 0; c < channels; ++c) {
+        if (relative && (equal || !none)) {
+            outputs[c * plane + at] = relativeValue(c, equal, best, total, usableCount);
+            continue;
+        }
         if (median) {
             // Insertion sort of the usable candidates' values (at most AUTO_MAX_CANDIDATES).
             float v[AUTO_MAX_CANDIDATES];

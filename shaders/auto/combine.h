@@ -6,8 +6,20 @@
 // floor, so that all weigh the same, the output is the per-channel median of the usable
 // candidates (the mean of the middle two for an even count) instead of their mean: at a
 // firefly of a frame without statistics every SURE estimate goes negative, and the mean
-// kept the firefly of the candidates that keep it. Writes the combined color and the
-// normalised weights (K planes).
+// kept the firefly of the candidates that keep it. Relative (AUTO_MODE_RELATIVE): each
+// candidate c_k stands for the unknown reference r with probability w_k, and the output
+// is the value f that minimises sum_k w_k (f - c_k)^2 / (c_k^2 + 0.01), the expected
+// relative squared error (relMSE's per-value term):
+//   f = sum_k w_k c_k / (c_k^2 + 0.01) / sum_k w_k / (c_k^2 + 0.01),
+// per channel; where the candidates agree it is their weighted mean, where they disagree
+// it leans to the dark ones, which relMSE charges at most 1 for being too dark and without
+// bound for being too bright. The weights are equal where every usable estimate is under
+// the floor, and where the pixel's noise outweighs what the estimates resolve: the mean
+// over channels of v / (u^2 + 0.01) above noiseLimit, v the variance of the pixel mean and
+// u the equal-weight f (a firefly: the window's estimates say how candidates do around
+// it, not which of them removes it). A sum of weights over 1/(c^2 + 0.01) that is 0 or
+// beyond a float falls back to the weighted mean. Writes the combined color and the
+// normalised weights (K planes; the equal ones where they were taken).
 #ifndef MCD_SHADERS_AUTO_COMBINE_H
 #define MCD_SHADERS_AUTO_COMBINE_H
 
@@ -18,7 +30,8 @@
 #define AUTO_COMBINE_ERRORS 2
 #define AUTO_COMBINE_OUTPUT 3
 #define AUTO_COMBINE_WEIGHTS 4
-#define AUTO_COMBINE_BINDINGS 5
+#define AUTO_COMBINE_VARIANCE 5
+#define AUTO_COMBINE_BINDINGS 6
 
 #ifdef __cplusplus
 #include <cstddef>
@@ -31,13 +44,16 @@ layout(push_constant) uniform AutoCombinePush {
     int height;
     int channels;
     int count;  // K, 1..AUTO_MAX_CANDIDATES
-    int mode;   // AUTO_MODE_WEIGHTS, AUTO_MODE_SELECT or AUTO_MODE_WEIGHTS_MEDIAN
+    int mode;   // AUTO_MODE_WEIGHTS, _SELECT, _WEIGHTS_MEDIAN or _RELATIVE
     float power;
     float floorError;  // > 0
+    // Relative mode: the mean of v / (u^2 + 0.01) above which the weights are equal (> 0).
+    float noiseLimit;
 #ifdef __cplusplus
 };
-static_assert(sizeof(AutoCombinePush) == 28);
+static_assert(sizeof(AutoCombinePush) == 32);
 static_assert(offsetof(AutoCombinePush, floorError) == 24);
+static_assert(offsetof(AutoCombinePush, noiseLimit) == 28);
 }  // namespace mcd::shader
 #else
 }

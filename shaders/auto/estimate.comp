@@ -11,6 +11,7 @@ layout(std430, binding = AUTO_ESTIMATE_OUTPUT) readonly buffer Output { float ou
 layout(std430, binding = AUTO_ESTIMATE_PERTURBED) readonly buffer Perturbed { float perturbed[]; };
 layout(std430, binding = AUTO_ESTIMATE_ERROR) writeonly buffer Error { float error[]; };
 layout(std430, binding = AUTO_ESTIMATE_GUIDE) readonly buffer Guide { float guide[]; };
+layout(std430, binding = AUTO_ESTIMATE_OFFSET) readonly buffer Offset { float offsets[]; };
 
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
@@ -27,7 +28,7 @@ void main() {
         // Comparisons, not max(): a NaN guide stays NaN (GLSL leaves max(NaN, x) open).
         float floorD = (v > 0.0 ? v : 0.0) / push.noiseCap;
         if (push.noiseCap > 0.0 && floorD > d) d = floorD;
-        sum += (residual * residual - v + divergence) / d;
+        sum += (residual * residual - v + offsets[i] + divergence) / d;
     }
     error[at] = sum / float(push.channels);
 }
