@@ -195,7 +195,7 @@ AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidate
 
 AutoCombined AutoCombineRelative(const Image &color, const std::vector<Image> &candidates,
                                  const Image &errors, const Image &variance, double power,
-                                 double floorError, double noiseLimit) {
+                                 double floorError, double noiseLimit, double darkLimit) {
     int w = color.width, h = color.height, channels = color.channels;
     int count = int(candidates.size());
     AutoCombined out{Image(w, h, channels), Image(w, h, count)};
@@ -220,36 +220,43 @@ AutoCombined AutoCombineRelative(const Image &color, const std::vector<Image> &c
             }
             bool none = !(total > 0) || !std::isfinite(float(total));
             // Channel c's value of least weighted relative squared error.
-            auto value = [&](int c, bool equal) {
+            auto value = [&](int c, bool equal, double limit) {
                 double num = 0, den = 0, mean = 0;
+                for (int k = 0; k < count; ++k) {
+                    double wk = equal ? (usable[k] ? 1.0 : 0.0) : weight[k];
+                    if (wk > 0)
+                        mean += wk / (equal ? usableCount : total) * candidates[k].At(c, y, x);
+                }
+                double floorSquare = limit > 0 ? mean * mean / limit : 0;
                 for (int k = 0; k < count; ++k) {
                     double wk = equal ? (usable[k] ? 1.0 : 0.0) : weight[k];
                     if (!(wk > 0)) continue;
                     double v = candidates[k].At(c, y, x);
-                    mean += wk / (equal ? usableCount : total) * v;
-                    if (!std::isfinite(float(v * v))) continue;
-                    double a = wk / (v * v + kAutoRelOffset);
+                    double square = std::max(v * v, floorSquare);
+                    if (!std::isfinite(float(square))) continue;
+                    double a = wk / (square + kAutoRelOffset);
                     num += a * v;
                     den += a;
                 }
                 return den > 0 && std::isfinite(float(den)) ? num / den : mean;
             };
-            bool equal = usableCount > 0 && allUnder;
+            bool equal = usableCount > 0 && allUnder, noisy = false;
             if (usableCount > 0 && !equal) {
                 double ratio = 0;
                 for (int c = 0; c < channels; ++c) {
-                    double u = value(c, true);
+                    double u = value(c, true, 0);
                     ratio += variance.At(c, y, x) / (u * u + kAutoRelOffset);
                 }
-                equal = ratio / channels > noiseLimit;
+                noisy = equal = ratio / channels > noiseLimit;
             }
             for (int k = 0; k < count; ++k)
                 out.weights.At(k, y, x) = equal  ? (usable[k] ? 1.f / usableCount : 0.f)
                                           : none ? 0.f
                                                  : float(weight[k] / total);
             for (int c = 0; c < channels; ++c)
-                out.color.At(c, y, x) =
-                    equal || !none ? float(value(c, equal)) : color.At(c, y, x);
+                out.color.At(c, y, x) = equal || !none
+                                            ? float(value(c, equal, noisy ? 0 : darkLimit))
+                                            : color.At(c, y, x);
         }
     return out;
 }

@@ -67,13 +67,14 @@ AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidate
 // the mean over channels of variance / (u^2 + 0.01) exceeds noiseLimit, u the value below
 // with equal weights. Per channel the output minimises sum_k w_k (f - c_k)^2 / (c_k^2 +
 // 0.01), relMSE's term with candidate k standing for the reference:
-// f = sum_k w_k c_k / (c_k^2 + 0.01) / sum_k w_k / (c_k^2 + 0.01), the weighted mean
-// where that sum is 0 or beyond a float (a value whose square is beyond a float weighs
-// nothing there, as in the kernel's float arithmetic). The weights returned are the ones
-// used; where they are 0 (not equal, and their total 0 or beyond a float) the input is
-// kept.
+// f = sum_k w_k c_k / (s_k + 0.01) / sum_k w_k / (s_k + 0.01), s_k = max(c_k^2, m^2 /
+// darkLimit) with m the weighted mean (s_k = c_k^2 for u, and where the noise ratio made
+// the weights equal), the weighted mean where that sum is 0 or beyond a float (a value
+// whose square is beyond a float weighs nothing there, as in the kernel's float
+// arithmetic). The weights returned are the ones used; where they are 0 (not equal, and
+// their total 0 or beyond a float) the input is kept.
 AutoCombined AutoCombineRelative(const Image &color, const std::vector<Image> &candidates,
                                  const Image &errors, const Image &variance, double power,
-                                 double floorError, double noiseLimit);
+                                 double floorError, double noiseLimit, double darkLimit);
 
 }  // namespace mcd::ref

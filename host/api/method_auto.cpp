@@ -115,6 +115,12 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "this times relMSE's denominator (of the candidates' equal-weight value) "
                    "weighs every candidate the same",
                    &O::noiseLimit, 1e-6, 1e9),
+        FloatParam("auto-dark-limit",
+                   "with --auto-combine relative: a candidate darker than the weighted mean "
+                   "over sqrt(this) counts in the relative value as if it were there, so "
+                   "that a small weight on it cannot pull a bright edge down (not at the "
+                   "noisy pixels of --auto-noise-limit)",
+                   &O::darkLimit, 1, 1e9),
         FloatParam("auto-noise-cap",
                    "largest variance of the mean over relMSE's denominator in the final "
                    "estimates: a pixel whose mean is mostly noise (a light seen by one "
@@ -752,7 +758,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         gMeanVariance.Upload(meanVariance);
         RecordAutoCombine(context, recorder, gColor, gCandidates, gSmooth, AutoMode::Relative,
                           power, options.floorError, gOutput, gWeights, &gMeanVariance,
-                          options.noiseLimit);
+                          options.noiseLimit, options.darkLimit);
     } else if (estimate)
         RecordAutoCombine(
             context, recorder, gColor, gCandidates, gSmooth,

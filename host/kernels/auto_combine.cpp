@@ -16,7 +16,8 @@ namespace mcd {
 void RecordAutoCombine(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                        const vk::GpuImage &candidates, const vk::GpuImage &errors,
                        AutoMode mode, float power, float floorError, vk::GpuImage &output,
-                       vk::GpuImage &weights, const vk::GpuImage *variance, float noiseLimit) {
+                       vk::GpuImage &weights, const vk::GpuImage *variance, float noiseLimit,
+                       float darkLimit) {
     int channels = color.channels, count = errors.channels;
     if (channels < 1 || channels > 4)
         throw Error(fmt::format("auto combine: {} channels; 1 to 4 are supported", channels));
@@ -33,9 +34,12 @@ void RecordAutoCombine(vk::Context &context, vk::Recorder &recorder, const vk::G
     if (mode == AutoMode::Relative) {
         if (!variance) throw Error("auto combine: the relative mode needs the variance");
         CheckAutoShapes("auto combine", color, channels, {variance});
-        if (!(noiseLimit > 0) || !std::isfinite(noiseLimit))
+        if (!(noiseLimit > 0) || !std::isfinite(noiseLimit) || !(darkLimit > 0) ||
+            !std::isfinite(darkLimit))
             throw Error(
-                fmt::format("auto combine: noise limit {} must be positive", noiseLimit));
+                fmt::format("auto combine: noise limit {} and dark limit {} must be "
+                            "positive",
+                            noiseLimit, darkLimit));
     }
     const vk::Kernel &kernel = context.GetKernel({"auto_combine",
                                                   k_auto_combine_spv,
@@ -54,7 +58,8 @@ void RecordAutoCombine(vk::Context &context, vk::Recorder &recorder, const vk::G
                                                                    : AUTO_MODE_WEIGHTS,
                                  power,
                                  floorError,
-                                 noiseLimit};
+                                 noiseLimit,
+                                 darkLimit};
     recorder.Dispatch(kernel, "auto.combine",
                       {{AUTO_COMBINE_COLOR, &color.buffer, vk::Access::Read},
                        {AUTO_COMBINE_CANDIDATES, &candidates.buffer, vk::Access::Read},

@@ -34,18 +34,27 @@ float weightOf(int k, int best) {
 
 // Relative mode: channel c's value minimising the weighted relative squared error over the
 // candidates, with equal weights or the estimates'; their weighted mean where the sum of
-// weights over c_k^2 + 0.01 is 0 or beyond a float.
-float relativeValue(int c, bool equal, int best, float total, int usableCount) {
-    float num = 0.0, den = 0.0, mean = 0.0;
+// weights over c_k^2 + 0.01 is 0 or beyond a float. With darkLimit a candidate darker than
+// the weighted mean m counts as if its square were m^2 / darkLimit.
+float relativeValue(int c, bool equal, int best, float total, int usableCount, float darkLimit) {
+    float mean = 0.0;
+    for (int k = 0; k < count; ++k) {
+        float wk = equal ? (usable(k) ? 1.0 : 0.0) : weightOf(k, best);
+        if (wk > 0.0)
+            mean += wk / (equal ? float(usableCount) : total) * candidates[(k * channels + c) * plane + at];
+    }
+    float floorSquare = darkLimit > 0.0 ? mean * mean / darkLimit : 0.0;
+    float num = 0.0, den = 0.0;
     for (int k = 0; k < count; ++k) {
         float wk = equal ? (usable(k) ? 1.0 : 0.0) : weightOf(k, best);
         if (!(wk > 0.0)) continue;
         float v = candidates[(k * channels + c) * plane + at];
         // Beyond a float's square, a value weighs nothing here.
-        float a = wk / (v * v + AUTO_REL_OFFSET);
+        float square = v * v;
+        if (floorSquare > square) square = floorSquare;
+        float a = wk / (square + AUTO_REL_OFFSET);
         num += a * v;
         den += a;
-        mean += wk / (equal ? float(usableCount) : total) * v;
     }
     float f = num / den;
     return den > 0.0 && !isinf(den) && finite(f) ? f : mean;
@@ -78,16 +87,16 @@ void main() {
         }
     // The median needs no weights: it holds even where their total overflows.
     bool median = allUnder && usableCount > 0 && !relative;
-    bool equal = relative && usableCount > 0 && allUnder;
+    bool equal = relative && usableCount > 0 && allUnder, noisy = false;
     if (relative && usableCount > 0 && !equal) {
         // Noise beyond what the estimates resolve: v over the equal-weight value's
         // denominator, averaged over channels (a NaN variance is not noise).
         float ratio = 0.0;
         for (int c = 0; c < channels; ++c) {
-            float u = relativeValue(c, true, best, total, usableCount);
+            float u = relativeValue(c, true, best, total, usableCount, 0.0);
             ratio += variance[c * plane + at] / (u * u + AUTO_REL_OFFSET);
         }
-        equal = ratio / float(channels) > push.noiseLimit;
+        noisy = equal = ratio / float(channels) > push.noiseLimit;
     }
     for (int k = 0; k < count; ++k)
         weights[k * plane + at] = equal  ? (usable(k) ? 1.0 / float(usableCount) : 0.0)
@@ -95,7 +104,9 @@ void main() {
                                          : weightOf(k, best) / total;
     for (int c = 0; c < channels; ++c) {
         if (relative && (equal || !none)) {
-            outputs[c * plane + at] = relativeValue(c, equal, best, total, usableCount);
+            // At a noisy pixel the dark candidates weigh in full: there they remove the noise.
+            outputs[c * plane + at] =
+                relativeValue(c, equal, best, total, usableCount, noisy ? 0.0 : push.darkLimit);
             continue;
         }
         if (median) {

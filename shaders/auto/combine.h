@@ -13,7 +13,10 @@
 //   f = sum_k w_k c_k / (c_k^2 + 0.01) / sum_k w_k / (c_k^2 + 0.01),
 // per channel; where the candidates agree it is their weighted mean, where they disagree
 // it leans to the dark ones, which relMSE charges at most 1 for being too dark and without
-// bound for being too bright. The weights are equal where every usable estimate is under
+// bound for being too bright. A candidate darker than the weighted mean m counts as if its
+// square were m^2 / darkLimit, so that a small weight on one dark candidate cannot pull a
+// bright edge down (the weights are the estimates' trust, not probabilities), except at
+// a noisy pixel (below). The weights are equal where every usable estimate is under
 // the floor, and where the pixel's noise outweighs what the estimates resolve: the mean
 // over channels of v / (u^2 + 0.01) above noiseLimit, v the variance of the pixel mean and
 // u the equal-weight f (a firefly: the window's estimates say how candidates do around
@@ -47,13 +50,16 @@ layout(push_constant) uniform AutoCombinePush {
     int mode;   // AUTO_MODE_WEIGHTS, _SELECT, _WEIGHTS_MEDIAN or _RELATIVE
     float power;
     float floorError;  // > 0
-    // Relative mode: the mean of v / (u^2 + 0.01) above which the weights are equal (> 0).
+    // Relative mode: the mean of v / (u^2 + 0.01) above which the weights are equal (> 0),
+    // and the darkLimit (> 0) of candidates darker than the weighted mean.
     float noiseLimit;
+    float darkLimit;
 #ifdef __cplusplus
 };
-static_assert(sizeof(AutoCombinePush) == 32);
+static_assert(sizeof(AutoCombinePush) == 36);
 static_assert(offsetof(AutoCombinePush, floorError) == 24);
 static_assert(offsetof(AutoCombinePush, noiseLimit) == 28);
+static_assert(offsetof(AutoCombinePush, darkLimit) == 32);
 }  // namespace mcd::shader
 #else
 }

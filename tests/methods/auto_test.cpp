@@ -74,7 +74,8 @@ Image GpuSmooth(vk::Context &ctx, const Image &errors, int radius) {
 ref::AutoCombined GpuCombine(vk::Context &ctx, const Image &color,
                              const std::vector<Image> &candidates, const Image &errors,
                              AutoMode mode, float power, float floorError,
-                             const Image *variance = nullptr, float noiseLimit = 0) {
+                             const Image *variance = nullptr, float noiseLimit = 0,
+                             float darkLimit = 0) {
     int w = color.width, h = color.height, c = color.channels, k = int(candidates.size());
     Image packed(w, h, k * c);
     for (int i = 0; i < k; ++i)
@@ -89,7 +90,7 @@ ref::AutoCombined GpuCombine(vk::Context &ctx, const Image &color,
     if (variance) v.Upload(*variance);
     vk::Recorder recorder(ctx);
     RecordAutoCombine(ctx, recorder, y, cand, e, mode, power, floorError, out, weights,
-                      variance ? &v : nullptr, noiseLimit);
+                      variance ? &v : nullptr, noiseLimit, darkLimit);
     recorder.Submit();
     return {out.Download(), weights.Download()};
 }
@@ -379,17 +380,19 @@ TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
                 EXPECT_TRUE(BitIdentical(actual.weights, again.weights));
             }
         // Relative: the variance of the mean against a limit that binds at some pixels
-        // (1) and at few (1e3), with the floors above.
+        // (1) and at few (1e3), with the floors above; the dark limit at its strongest (1:
+        // nothing counts darker than the mean) and its default (4).
         Image variance = MakeVarianceInput(kind, w, h, channels, SeedFromName(name + "v"));
         for (float floor : {1e-3f, 1e3f})
-            for (float limit : {1.f, 1e3f}) {
-                SCOPED_TRACE(fmt::format("{} candidates, relative, floor {}, limit {}", count,
-                                         floor, limit));
+            for (auto [limit, dark] :
+                 {std::pair{1.f, 4.f}, std::pair{1e3f, 4.f}, std::pair{1e3f, 1.f}}) {
+                SCOPED_TRACE(fmt::format("{} candidates, relative, floor {}, limit {}, dark {}",
+                                         count, floor, limit, dark));
                 ref::AutoCombined expected = ref::AutoCombineRelative(
-                    color, candidates, errors, variance, 2.0, floor, limit);
+                    color, candidates, errors, variance, 2.0, floor, limit, dark);
                 ref::AutoCombined actual =
                     GpuCombine(Ctx(), color, candidates, errors, AutoMode::Relative, 2.f, floor,
-                               &variance, limit);
+                               &variance, limit, dark);
                 Image scale = color;
                 for (size_t i = 0; i < scale.data.size(); ++i) {
                     double big = std::fabs(color.data[i]);
@@ -406,7 +409,7 @@ TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
                     ImagesMatch(expected.weights, actual.weights, ones, {ulps, 0, 1e-10}));
                 ref::AutoCombined again =
                     GpuCombine(Ctx(), color, candidates, errors, AutoMode::Relative, 2.f, floor,
-                               &variance, limit);
+                               &variance, limit, dark);
                 EXPECT_TRUE(BitIdentical(actual.color, again.color));
                 EXPECT_TRUE(BitIdentical(actual.weights, again.weights));
             }
@@ -600,9 +603,11 @@ TEST_F(AutoEstimateProperty, CombinationBeatsEachCandidate) {
 }
 
 // The relative combination's value minimises sum_k w_k (f - c_k)^2 / (c_k^2 + 0.01) under
-// the weights it returns (a step either way raises it), lies between the candidates, is
-// their common value where they agree, and weighs them equally where the pixel's noise is
-// over the limit: there a kept firefly no longer wins by its window's estimate.
+// the weights it returns (a step either way raises it; no dark limit), lies between the
+// candidates, is their common value where they agree, and weighs them equally where the
+// pixel's noise is over the limit: there a kept firefly no longer wins by its window's
+// estimate. With the dark limit (4) a small weight on a dark candidate at a bright edge
+// moves the value little; without it, far.
 TEST_F(AutoEstimateProperty, RelativeCombinationMinimisesTheRelativeError) {
     const int w = 61, h = 3, count = 3;
     std::mt19937_64 rng(SeedFromName("relative"));
@@ -620,6 +625,15 @@ TEST_F(AutoEstimateProperty, RelativeCombinationMinimisesTheRelativeError) {
         for (int x = 0; x < w; ++x)
             for (int k = 1; k < count; ++k)
                 candidates[k].At(c, 1, x) = candidates[0].At(c, 1, x);
+    // Row 2, x 2: a light's edge, 17 by two candidates (errors 0.01) and 1 by the third
+    // (error 0.2: a weight 1/400 of each of theirs), no noise.
+    for (int c = 0; c < 3; ++c) {
+        candidates[0].At(c, 2, 2) = candidates[1].At(c, 2, 2) = 17.f;
+        candidates[2].At(c, 2, 2) = 1.f;
+        variance.At(c, 2, 2) = 0.f;
+    }
+    errors.At(0, 2, 2) = errors.At(1, 2, 2) = 0.01f;
+    errors.At(2, 2, 2) = 0.2f;
     // Row 2, x 0 and 1: a firefly kept (100, error 1e-3) and removed (0.3, error 1), the
     // third candidate unusable; noise over the limit at x 0, none at x 1.
     for (int x : {0, 1}) {
@@ -634,7 +648,7 @@ TEST_F(AutoEstimateProperty, RelativeCombinationMinimisesTheRelativeError) {
     }
     const float limit = 30;
     ref::AutoCombined out = GpuCombine(Ctx(), color, candidates, errors, AutoMode::Relative,
-                                       2.f, 1e-5f, &variance, limit);
+                                       2.f, 1e-5f, &variance, limit, 1e30f);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int c = 0; c < 3; ++c) {
@@ -667,6 +681,14 @@ TEST_F(AutoEstimateProperty, RelativeCombinationMinimisesTheRelativeError) {
     EXPECT_LT(out.color.At(0, 2, 0), 0.4f);
     EXPECT_GT(out.weights.At(0, 2, 1), 0.99f);
     EXPECT_GT(out.color.At(0, 2, 1), 50.f);
+    // The edge: 1/800 of the weight at 1 pulls 17 to 12.8 without the limit (its
+    // 1/(c^2 + 0.01) is 286 times the others'); with it, it stays above 16.
+    EXPECT_LT(out.color.At(0, 2, 2), 13.f);
+    ref::AutoCombined limited = GpuCombine(Ctx(), color, candidates, errors, AutoMode::Relative,
+                                           2.f, 1e-5f, &variance, limit, 4.f);
+    EXPECT_GT(limited.color.At(0, 2, 2), 16.f);
+    // The firefly's noisy pixel still takes the dark candidate in full.
+    EXPECT_LT(limited.color.At(0, 2, 0), 0.4f);
 }
 
 // The method on a small rendered frame: every candidate the layers allow runs, the plan
