@@ -56,18 +56,21 @@ class Inflater {
     Inflater(const Inflater &) = delete;
     Inflater &operator=(const Inflater &) = delete;
 
-    // False when the stream is damaged or does not inflate to exactly outSize bytes.
+    // False when the stream is damaged, is not exactly the inSize bytes given (a chunk's
+    // packed size that is too large is damage: OpenEXR's reader, which reads the next chunk
+    // from where this one ended, fails on it, so ours must too, whatever the order in which
+    // the threads fetch chunks) or does not inflate to exactly outSize bytes.
     bool Inflate(const char *in, size_t inSize, unsigned char *out, size_t outSize) {
 #ifdef MCD_HAVE_LIBDEFLATE
-        size_t got = 0;
-        return libdeflate_zlib_decompress(decompressor, in, inSize, out, outSize, &got) ==
-                   LIBDEFLATE_SUCCESS &&
-               got == outSize;
+        size_t used = 0, got = 0;
+        return libdeflate_zlib_decompress_ex(decompressor, in, inSize, out, outSize, &used,
+                                             &got) == LIBDEFLATE_SUCCESS &&
+               used == inSize && got == outSize;
 #else
         uLongf got = uLongf(outSize);
-        return uncompress(out, &got, reinterpret_cast<const Bytef *>(in), uLong(inSize)) ==
-                   Z_OK &&
-               got == outSize;
+        uLong used = uLong(inSize);
+        return uncompress2(out, &got, reinterpret_cast<const Bytef *>(in), &used) == Z_OK &&
+               used == inSize && got == outSize;
 #endif
     }
 
