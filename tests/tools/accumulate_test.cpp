@@ -47,6 +47,32 @@ void ExpectFloatOf(float got, double want, double scale, const std::string &what
         << what << ": " << got << " for " << want;
 }
 
+// The samples' histograms at a pixel, binned directly by the renderer's rule.
+std::vector<float> BinnedSamples(const std::vector<io::Frame> &in, int x, int y, int bins) {
+    std::vector<float> direct(3 * bins, 0.f);
+    for (const io::Frame &f : in) {
+        double v[3];
+        for (int c = 0; c < 3; ++c) v[c] = f.Get("color").At(c, y, x);
+        render::AddToHistogram(v, bins, direct.data());
+    }
+    return direct;
+}
+
+// A channel's statistics over the frames at a pixel, computed directly.
+struct SampleStats {
+    double sum = 0, sumSq = 0, magnitude = 0, lo = INFINITY, hi = -INFINITY, halves[2] = {};
+};
+
+SampleStats StatsOf(const std::vector<io::Frame> &in, int c, int x, int y) {
+    SampleStats s;
+    for (size_t k = 0; k < in.size(); ++k) {
+        double v = in[k].Get("color").At(c, y, x);
+        s.sum += v, s.sumSq += v * v, s.magnitude += std::abs(v), s.halves[k % 2] += v;
+        s.lo = std::min(s.lo, v), s.hi = std::max(s.hi, v);
+    }
+    return s;
+}
+
 class CliAccumulate : public ::testing::Test {
   protected:
     ToolResult Run(const std::string &args) { return tool.Run(args); }
@@ -90,12 +116,7 @@ TEST_F(CliAccumulate, OneSppFramesGiveTheirSamplesStatistics) {
         for (int x = 0; x < 14; ++x) {
             std::string at = fmt::format(" at ({}, {})", x, y);
             // The histogram of the samples, binned by the renderer's own rule.
-            std::vector<float> direct(3 * bins, 0.f);
-            for (const io::Frame &f : in) {
-                double v[3];
-                for (int c = 0; c < 3; ++c) v[c] = f.Get("color").At(c, y, x);
-                render::AddToHistogram(v, bins, direct.data());
-            }
+            std::vector<float> direct = BinnedSamples(in, x, y, bins);
             for (int b = 0; b < 3 * bins; ++b) {
                 EXPECT_EQ(hist.At(b, y, x), direct[b]) << "bin " << b << at;
                 // And the renderer's 1-spp histograms, summed: the same up to float rounding
@@ -107,12 +128,7 @@ TEST_F(CliAccumulate, OneSppFramesGiveTheirSamplesStatistics) {
             EXPECT_EQ(hist.At(3 * bins, y, x), float(frames)) << at;
             EXPECT_EQ(acc.Get("spp").At(0, y, x), float(frames)) << at;
             for (int c = 0; c < 3; ++c) {
-                double sum = 0, sumSq = 0, lo = INFINITY, hi = -INFINITY, halves[2] = {};
-                for (int k = 0; k < frames; ++k) {
-                    double v = in[k].Get("color").At(c, y, x);
-                    sum += v, sumSq += v * v, halves[k % 2] += v;
-                    lo = std::min(lo, v), hi = std::max(hi, v);
-                }
+                auto [sum, sumSq, magnitude, lo, hi, halves] = StatsOf(in, c, x, y);
                 double mean = sum / frames;
                 double variance = (sumSq - frames * mean * mean) / (frames - 1) / frames;
                 ExpectClose(acc.Get("color").At(c, y, x), mean, "color" + at);
@@ -439,29 +455,19 @@ TEST_F(CliAccumulate, RealCyclesFramesGiveTheirSamplesStatistics) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             std::string at = fmt::format(" at ({}, {})", x, y);
-            std::vector<float> direct(3 * bins, 0.f);
-            for (const io::Frame &f : in) {
-                double v[3];
-                for (int c = 0; c < 3; ++c) v[c] = f.Get("color").At(c, y, x);
-                render::AddToHistogram(v, bins, direct.data());
-            }
+            std::vector<float> direct = BinnedSamples(in, x, y, bins);
             for (int b = 0; b < 3 * bins; ++b)
                 EXPECT_EQ(hist.At(b, y, x), direct[b]) << "bin " << b << at;
             EXPECT_EQ(hist.At(3 * bins, y, x), float(frames)) << at;
             // Each frame's Debug Sample Count (1) x its 1 sample.
             EXPECT_EQ(acc.Get("spp").At(0, y, x), float(frames)) << at;
             for (int c = 0; c < 3; ++c) {
-                double sum = 0, magnitude = 0, lo = INFINITY, hi = -INFINITY, halves[2] = {};
-                for (int k = 0; k < frames; ++k) {
-                    double v = in[k].Get("color").At(c, y, x);
-                    sum += v, magnitude += std::abs(v), halves[k % 2] += v;
-                    lo = std::min(lo, v), hi = std::max(hi, v);
-                }
+                auto [sum, sumSq, magnitude, lo, hi, halves] = StatsOf(in, c, x, y);
                 // Two passes here, Welford's running sums in the accumulator.
-                double mean = sum / frames, squares = 0, sumSq = 0;
+                double mean = sum / frames, squares = 0;
                 for (const io::Frame &f : in) {
                     double v = f.Get("color").At(c, y, x);
-                    squares += (v - mean) * (v - mean), sumSq += v * v;
+                    squares += (v - mean) * (v - mean);
                 }
                 ExpectFloatOf(acc.Get("color").At(c, y, x), mean, magnitude, "color" + at);
                 ExpectFloatOf(acc.Get("variance").At(c, y, x), squares / (frames - 1) / frames,

@@ -95,7 +95,8 @@ void AddRenderCommand(CLI::App &app) {
         ->capture_default_str();
     cmd->add_option("--layers", opt->layers,
                     "extra layer groups, comma-separated: hist (RHF histograms), split "
-                    "(direct, indirect), pivot, gbuffer (albedo, normal, depth, objectId, "
+                    "(direct, indirect and the variances of their means), pivot, gbuffer "
+                    "(albedo, normal, depth, objectId, "
                     "partId), or all; not in all: partials (Ershov section 8: "
                     "partial<k>.color, .pivot and .variance per number k < 2 of mirror bounces "
                     "before the first diffuse/glossy hit, and the remainder) and zhist "

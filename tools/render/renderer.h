@@ -23,7 +23,7 @@ constexpr const char *kRendererVersion = "r3";
 // Opt-in layer groups; color, variance, spp, min and max are always written.
 enum LayerGroup : unsigned {
     kLayersHist = 1,     // RHF histograms (layer "hist", Bin_NNNN in files)
-    kLayersSplit = 2,    // direct, indirect
+    kLayersSplit = 2,    // direct, indirect, direct.variance, indirect.variance
     kLayersPivot = 4,    // pivot (Ershov eq. 9)
     kLayersGbuffer = 8,  // albedo, normal, depth, objectId, partId
     kLayersAll = 15,
