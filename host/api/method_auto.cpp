@@ -317,7 +317,9 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         "the widest candidate's reach + twice the estimates' box radius {} + the noise "
         "estimate's {}",
         box, noise);
-    needs.bytesPerPixel += 4 * (candidates * channels + 2 * candidates + 2 * channels);
+    // Colour-sized: the colour, the output, the split's offset (and its zeros for the
+    // others) and the relative combination's variance of the mean.
+    needs.bytesPerPixel += 4 * (candidates * channels + 2 * candidates + 5 * channels);
     needs.bindingBytesPerPixel =
         std::max(needs.bindingBytesPerPixel, 4 * candidates * channels);
     return needs;
