@@ -800,15 +800,16 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         ++won[best];
         for (int c = 0; c < 3; ++c) map.data[c * pixels + i] = kPalette[ran[best].variant][c];
     }
-    std::string how =
-        options.combine == "select" ? "selected per pixel by"
-        : !estimate                 ? "averaged"
-        : relative                  ? fmt::format(
-                                          "weighted per pixel by 1 / error^{}, the value of least expected "
-                                                           "relative squared error under those weights (equal where the "
-                                                           "pixel's variance is over {} x relMSE's denominator)",
-                                          power, options.noiseLimit)
-                   : fmt::format("weighted per pixel by 1 / error^{}", power);
+    std::string how = fmt::format("weighted per pixel by 1 / error^{}", power);
+    if (options.combine == "select")
+        how = "selected per pixel by";
+    else if (!estimate)
+        how = "averaged";
+    else if (relative)
+        how += fmt::format(
+            ", the value of least expected relative squared error under those weights "
+            "(equal where the pixel's variance is over {} x relMSE's denominator)",
+            options.noiseLimit);
     plan.insert(plan.begin(),
                 fmt::format("auto: {} candidate{} {}{}", count, count == 1 ? "" : "s", how,
                             estimate ? fmt::format(" (error estimates from {}, averaged over "

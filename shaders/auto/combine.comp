@@ -36,12 +36,14 @@ float weightOf(int k, int best) {
 // candidates, with equal weights or the estimates'; their weighted mean where the sum of
 // weights over c_k^2 + 0.01 is 0 or beyond a float. With darkLimit a candidate darker than
 // the weighted mean m counts as if its square were m^2 / darkLimit.
-float relativeValue(int c, bool equal, int best, float total, int usableCount, float darkLimit) {
+float relativeValue(int c, bool equal, int best, float total, int usableCount,
+                    float darkLimit) {
     float mean = 0.0;
     for (int k = 0; k < count; ++k) {
         float wk = equal ? (usable(k) ? 1.0 : 0.0) : weightOf(k, best);
         if (wk > 0.0)
-            mean += wk / (equal ? float(usableCount) : total) * candidates[(k * channels + c) * plane + at];
+            mean += wk / (equal ? float(usableCount) : total) *
+                    candidates[(k * channels + c) * plane + at];
     }
     float floorSquare = darkLimit > 0.0 ? mean * mean / darkLimit : 0.0;
     float num = 0.0, den = 0.0;
