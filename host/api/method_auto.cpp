@@ -198,18 +198,22 @@ ParamValue AutoFrontEnd::Get(const std::string &param) const {
 
 namespace {
 
-// SURE's Monte Carlo divergence: the probe b (+-1 per value, seeded: runs repeat) and the
-// color perturbed by epsilon sqrt(v) b.
-void MakeProbe(const Image &color, const Image &variance, float epsilon, Image &probe,
-               Image &perturbed) {
-    probe = Image(color.width, color.height, color.channels);
-    perturbed = color;
+// SURE's Monte Carlo divergence: the probe b, +-1 per value of the color (seeded: runs
+// repeat).
+Image MakeProbe(const Image &color) {
+    Image probe(color.width, color.height, color.channels);
     std::mt19937 rng(0x17a0u);
-    for (size_t i = 0; i < probe.data.size(); ++i) {
-        probe.data[i] = (rng() & 1u) ? 1.f : -1.f;
+    for (float &b : probe.data) b = (rng() & 1u) ? 1.f : -1.f;
+    return probe;
+}
+
+// The color perturbed by epsilon sqrt(v) b.
+Image Perturb(const Image &color, const Image &variance, const Image &probe, float epsilon) {
+    Image perturbed = color;
+    for (size_t i = 0; i < perturbed.data.size(); ++i)
         perturbed.data[i] +=
             epsilon * std::sqrt(std::max(variance.data[i], 0.f)) * probe.data[i];
-    }
+    return perturbed;
 }
 
 // What scoring bayes's split output takes: the offset 2 (v - c) of its estimate, and the
@@ -425,7 +429,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         if (!variance.SameShape(color))
             throw Error(
                 fmt::format("{}: the variance layer must have color's shape", inputs.Path()));
-        MakeProbe(color, variance, options.epsilon, probe, perturbed);
+        probe = MakeProbe(color);
+        perturbed = Perturb(color, variance, probe, options.epsilon);
         noiseFrom = fmt::format(
             "SURE on the variance layer, Monte Carlo divergence with "
             "epsilon {} (bayes {})",
@@ -457,7 +462,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         recorder.Submit();
         for (const auto &t : recorder.Timings()) noiseTimings.push_back({t.label, t.gpuMs});
         variance = gNoise.Download();
-        MakeProbe(color, variance, options.epsilon, probe, perturbed);
+        probe = MakeProbe(color);
+        perturbed = Perturb(color, variance, probe, options.epsilon);
         noiseFrom = fmt::format(
             "SURE on the frame's own noise estimate (no variance layer nor half-buffers: the "
             "{}colour's smallest squared second difference over 4 directions, averaged over "
@@ -481,13 +487,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     // bayes's own perturbation: its log-domain shrinkage bends within a fraction of a
     // standard deviation, so its divergence takes a smaller step (--auto-bayes-epsilon).
     Image bayesPerturbed;
-    if (useVariance) {
-        bayesPerturbed = color;
-        for (size_t i = 0; i < color.data.size(); ++i)
-            bayesPerturbed.data[i] += options.bayesEpsilon *
-                                      std::sqrt(std::max(variance.data[i], 0.f)) *
-                                      probe.data[i];
-    }
+    if (useVariance) bayesPerturbed = Perturb(color, variance, probe, options.bayesEpsilon);
     // The frame's own estimate is rougher than a variance layer: milder weights over
     // smaller windows (measured on 10 frames without statistics, README: power 2 over 17x17
     // left double-textured x1.06 the best method and the Cycles cornell box at 4.3e-3; power
