@@ -16,6 +16,9 @@ bool finite(float v) {
 }
 
 int plane, at, channels, count;
+// Per candidate at this pixel, found once: usable, and its weight before normalisation.
+bool usableAt[AUTO_MAX_CANDIDATES];
+float weightAt[AUTO_MAX_CANDIDATES];
 
 // Whether candidate k has a finite estimate and output at the pixel.
 bool usable(int k) {
@@ -28,7 +31,7 @@ bool usable(int k) {
 // Candidate k's weight before normalisation.
 float weightOf(int k, int best) {
     if (push.mode == AUTO_MODE_SELECT) return k == best ? 1.0 : 0.0;
-    if (!usable(k)) return 0.0;
+    if (!usableAt[k]) return 0.0;
     return pow(max(errors[k * plane + at], push.floorError), -push.power);
 }
 
@@ -36,11 +39,10 @@ float weightOf(int k, int best) {
 // candidates, with equal weights or the estimates'; their weighted mean where the sum of
 // weights over c_k^2 + 0.01 is 0 or beyond a float. With darkLimit a candidate darker than
 // the weighted mean m counts as if its square were m^2 / darkLimit.
-float relativeValue(int c, bool equal, int best, float total, int usableCount,
-                    float darkLimit) {
+float relativeValue(int c, bool equal, float total, int usableCount, float darkLimit) {
     float mean = 0.0;
     for (int k = 0; k < count; ++k) {
-        float wk = equal ? (usable(k) ? 1.0 : 0.0) : weightOf(k, best);
+        float wk = equal ? (usableAt[k] ? 1.0 : 0.0) : weightAt[k];
         if (wk > 0.0)
             mean += wk / (equal ? float(usableCount) : total) *
                     candidates[(k * channels + c) * plane + at];
@@ -48,7 +50,7 @@ float relativeValue(int c, bool equal, int best, float total, int usableCount,
     float floorSquare = darkLimit > 0.0 ? mean * mean / darkLimit : 0.0;
     float num = 0.0, den = 0.0;
     for (int k = 0; k < count; ++k) {
-        float wk = equal ? (usable(k) ? 1.0 : 0.0) : weightOf(k, best);
+        float wk = equal ? (usableAt[k] ? 1.0 : 0.0) : weightAt[k];
         if (!(wk > 0.0)) continue;
         float v = candidates[(k * channels + c) * plane + at];
         // Beyond a float's square, a value weighs nothing here.
@@ -71,11 +73,16 @@ void main() {
     at = y * w + x;
     channels = push.channels;
     int best = -1;
-    for (int k = 0; k < count; ++k)
-        if (usable(k) && (best < 0 || errors[k * plane + at] < errors[best * plane + at]))
+    for (int k = 0; k < count; ++k) {
+        usableAt[k] = usable(k);
+        if (usableAt[k] && (best < 0 || errors[k * plane + at] < errors[best * plane + at]))
             best = k;
+    }
     float total = 0.0;
-    for (int k = 0; k < count; ++k) total += weightOf(k, best);
+    for (int k = 0; k < count; ++k) {
+        weightAt[k] = weightOf(k, best);
+        total += weightAt[k];
+    }
     bool none = !(total > 0.0) || isinf(total);
     // Every usable estimate under the floor: the median of the usable candidates (relative
     // mode: equal weights).
@@ -83,7 +90,7 @@ void main() {
     int usableCount = 0;
     bool allUnder = push.mode == AUTO_MODE_WEIGHTS_MEDIAN || relative;
     for (int k = 0; k < count; ++k)
-        if (usable(k)) {
+        if (usableAt[k]) {
             ++usableCount;
             allUnder = allUnder && errors[k * plane + at] < push.floorError;
         }
@@ -95,20 +102,20 @@ void main() {
         // denominator, averaged over channels (a NaN variance is not noise).
         float ratio = 0.0;
         for (int c = 0; c < channels; ++c) {
-            float u = relativeValue(c, true, best, total, usableCount, 0.0);
+            float u = relativeValue(c, true, total, usableCount, 0.0);
             ratio += variance[c * plane + at] / (u * u + AUTO_REL_OFFSET);
         }
         noisy = equal = ratio / float(channels) > push.noiseLimit;
     }
     for (int k = 0; k < count; ++k)
-        weights[k * plane + at] = equal  ? (usable(k) ? 1.0 / float(usableCount) : 0.0)
+        weights[k * plane + at] = equal  ? (usableAt[k] ? 1.0 / float(usableCount) : 0.0)
                                   : none ? 0.0
-                                         : weightOf(k, best) / total;
+                                         : weightAt[k] / total;
     for (int c = 0; c < channels; ++c) {
         if (relative && (equal || !none)) {
             // At a noisy pixel the dark candidates weigh in full: there they remove the noise.
             outputs[c * plane + at] =
-                relativeValue(c, equal, best, total, usableCount, noisy ? 0.0 : push.darkLimit);
+                relativeValue(c, equal, total, usableCount, noisy ? 0.0 : push.darkLimit);
             continue;
         }
         if (median) {
@@ -116,7 +123,7 @@ void main() {
             float v[AUTO_MAX_CANDIDATES];
             int n = 0;
             for (int k = 0; k < count; ++k) {
-                if (!usable(k)) continue;
+                if (!usableAt[k]) continue;
                 float value = candidates[(k * channels + c) * plane + at];
                 int i = n++;
                 for (; i > 0 && v[i - 1] > value; --i) v[i] = v[i - 1];
@@ -127,7 +134,7 @@ void main() {
         }
         float sum = 0.0;
         for (int k = 0; k < count; ++k) {
-            float wk = none ? 0.0 : weightOf(k, best) / total;
+            float wk = none ? 0.0 : weightAt[k] / total;
             if (wk > 0.0) sum += wk * candidates[(k * channels + c) * plane + at];
         }
         outputs[c * plane + at] = none ? color[c * plane + at] : sum;
