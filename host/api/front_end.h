@@ -7,8 +7,10 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "host/methods/run_setup.h"
 #include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
@@ -96,7 +98,29 @@ ParamDef<O> ChoiceParam(std::string name, std::string help, std::string O::*fiel
             [field](O &o, const ParamValue &v) { o.*field = std::get<std::string>(v); }};
 }
 
-// A parameter of an options struct I held as O::*inner (the pipeline's own options).
+// A choice bound to a field of another type (an enum, a bool): each name stands for one
+// value, and the parameter reads as the name of the field's value.
+template <class O, class T>
+ParamDef<O> EnumParam(std::string name, std::string help, T O::*field,
+                      std::vector<std::pair<std::string, T>> choices) {
+    ParamInfo info{std::move(name), ParamType::String, std::move(help)};
+    for (const auto &choice : choices) info.choices.push_back(choice.first);
+    auto named =
+        std::make_shared<const std::vector<std::pair<std::string, T>>>(std::move(choices));
+    std::string param = info.name;
+    return {info,
+            [field, named, param](const O &o) {
+                for (const auto &[choice, value] : *named)
+                    if (o.*field == value) return ParamValue(choice);
+                throw Error(param + " holds a value none of its choices names");
+            },
+            [field, named](O &o, const ParamValue &v) {
+                for (const auto &[choice, value] : *named)
+                    if (choice == std::get<std::string>(v)) o.*field = value;
+            }};
+}
+
+// A parameter of a struct I held as O::*inner (the method's parameters, host/params/).
 template <class O, class I>
 ParamDef<O> Nested(I O::*inner, ParamDef<I> def) {
     return {def.info, [inner, get = def.get](const O &o) { return get(o.*inner); },
@@ -196,6 +220,10 @@ std::unique_ptr<FrontEnd> AwrFrontEnd();
 std::unique_ptr<FrontEnd> BayesFrontEnd();
 std::unique_ptr<FrontEnd> PivotFrontEnd();
 std::unique_ptr<FrontEnd> RhfFrontEnd();
+
+// What every pipeline is told besides the method's parameters: the stages and progress the
+// caller asked for, and where a tile's window lies in its frame.
+RunSetup SetupFor(const Inputs &inputs, const RunOptions &run);
 
 // The public result from a pipeline's (sliced from BayesResult, RhfResult, ...).
 Result ResultOf(MethodResult &&run);

@@ -505,15 +505,13 @@ TEST_P(BayesSwtMethodWhole, MatchesReference) {
     const auto [w, h, basis] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
     Image color = NoisyPicture(w, h, SeedFromName(fmt::format("swtwhole{}x{}", w, h)), 0.3);
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = basis;
     options.transform = BayesTransform::Swt;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.basis = basis;
-    refOptions.swt = true;
-    refOptions.levels = gpu.levels;
-    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    BayesParams refParams = options;
+    refParams.levels = gpu.levels;
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, refParams);
     ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
     for (size_t b = 0; b < cpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
@@ -559,16 +557,14 @@ TEST_P(BayesSwtMethodVarianceNoise, MatchesReference) {
     for (size_t b = 0; b < cpu.size(); ++b)
         EXPECT_NEAR(gpu[b], cpu[b], 1e-5 * cpu[b]) << "band " << b;
     // And the whole method with it, against the reference.
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = basis;
     options.transform = BayesTransform::Swt;
-    options.variance = &variance;
-    Image got = BayesDenoise(Ctx(), color, options).image;
-    ref::BayesRefOptions refOptions;
-    refOptions.basis = basis;
-    refOptions.swt = true;
-    refOptions.variance = &variance;
-    Image expected = ref::BayesDenoise(color, refOptions).image;
+    options.noise = BayesNoise::Variance;
+    Image got = BayesDenoise(Ctx(), color, options, {}, &variance).image;
+    ref::BayesRefRun run;
+    run.variance = &variance;
+    Image expected = ref::BayesDenoise(color, options, run).image;
     EXPECT_TRUE(ImagesMatch(Log(expected), Log(got), {}, {0, 2e-3, 1e-4}));
 }
 
@@ -588,8 +584,8 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtMethodVarianceNoise,
 TEST_F(BayesSwtMethod, NoiseAutoEstimatesTheNoise) {
     const double sigma = 0.3;
     Image noise = LogNormalNoise(96, 96, SeedFromName("swt noise auto"), sigma);
-    BayesOptions options = PaperBayesOptions();
-    options.noiseAuto = true;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Mad;
     options.pn = 2;
     options.hpFactor = 1;
     options.transform = BayesTransform::Swt;
@@ -602,12 +598,9 @@ TEST_F(BayesSwtMethod, NoiseAutoEstimatesTheNoise) {
         for (int y = 0; y < 19; ++y)
             for (int x = 0; x < 29; ++x) crop.At(c, y, x) = noise.At(c, y, x);
     r = BayesDenoise(Ctx(), crop, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.swt = true;
-    refOptions.pn = 2;
-    refOptions.hpFactor = 1;
-    refOptions.snOverride = r.sn;
-    Image expected = ref::BayesDenoise(crop, refOptions).image;
+    ref::BayesRefRun run;
+    run.madSn = r.sn;
+    Image expected = ref::BayesDenoise(crop, options, run).image;
     EXPECT_TRUE(ImagesMatch(Log(expected), Log(r.image), {}, {0, 2e-3, 1e-4}));
 }
 
@@ -627,7 +620,7 @@ TEST_F(BayesSwtMethod, ShiftingTheInputShiftsTheOutput) {
                 a.At(c, y, x) = big.At(c, y, x), b.At(c, y, x) = big.At(c, y, x + 1);
     double change[2] = {0, 0};
     for (BayesTransform transform : {BayesTransform::Dwt, BayesTransform::Swt}) {
-        BayesOptions options = PaperBayesOptions();
+        BayesParams options = PaperBayesParams();
         options.transform = transform;
         Image outA = Log(BayesDenoise(Ctx(), a, options).image);
         Image outB = Log(BayesDenoise(Ctx(), b, options).image);
@@ -649,9 +642,9 @@ TEST_F(BayesSwtMethod, RerunsAreBitIdentical) {
     Image color = NoisyPicture(45, 31, SeedFromName("swt method rerun"), 0.3);
     color.At(0, 3, 3) = 0;
     color.At(1, 4, 4) = std::numeric_limits<float>::quiet_NaN();
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = WaveletBasis::Cdf97;
-    options.noiseAuto = true;
+    options.noise = BayesNoise::Mad;
     options.transform = BayesTransform::Swt;
     Image first = BayesDenoise(Ctx(), color, options).image;
     Image second = BayesDenoise(Ctx(), color, options).image;
@@ -675,15 +668,16 @@ TEST_P(BayesSwtMethodChannelGroups, ChangeNothing) {
     for (size_t i = 0; i < color.Size(); ++i)
         variance.data[i] = 0.05f * color.data[i] * color.data[i];
     SCOPED_TRACE(noise == 0 ? "fixed" : (noise == 1 ? "mad" : "variance"));
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.transform = BayesTransform::Swt;
     options.basis = WaveletBasis::Cdf97;
-    options.noiseAuto = noise == 1;
-    if (noise == 2) options.variance = &variance;
-    BayesResult all = BayesDenoise(Ctx(), color, options);
+    const BayesNoise noises[] = {BayesNoise::Fixed, BayesNoise::Mad, BayesNoise::Variance};
+    options.noise = noises[noise];
+    BayesResult all = BayesDenoise(Ctx(), color, options, {}, &variance);
     for (int group : {1, 2}) {
-        options.swtGroupChannels = group;
-        BayesResult grouped = BayesDenoise(Ctx(), color, options);
+        RunSetup setup;
+        setup.swtGroupChannels = group;
+        BayesResult grouped = BayesDenoise(Ctx(), color, options, setup, &variance);
         EXPECT_TRUE(BitIdentical(all.image, grouped.image)) << group;
         ASSERT_EQ(all.fits.size(), grouped.fits.size());
         for (size_t b = 0; b < all.fits.size(); ++b)
@@ -703,7 +697,7 @@ TEST_F(BayesSwtMethod, RefusesAboveOneBinding) {
     if (SwtChannelsPerBinding(Ctx(), 4096, 4096, 3) >= 1)
         GTEST_SKIP() << "this device binds one 4096x4096 channel's coefficients: nothing to "
                         "refuse";
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.transform = BayesTransform::Swt;
     std::string message =
         ErrorOf([&] { BayesDenoise(Ctx(), Image(4096, 4096, 1, 0.5f), options); });

@@ -652,13 +652,12 @@ TEST_P(BayesKernelWholeMethod, MatchesReference) {
     const auto [w, h, basis] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
     Image color = NoisyPicture(w, h, SeedFromName(fmt::format("whole{}x{}", w, h)), 0.3);
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = basis;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.basis = basis;
-    refOptions.levels = gpu.levels;
-    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    BayesParams refParams = options;
+    refParams.levels = gpu.levels;
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, refParams);
     ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
     for (size_t b = 0; b < cpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
@@ -687,12 +686,11 @@ TEST_P(BayesKernelCycleSpinning, MatchesReference) {
     const auto [w, h, spins] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
     Image color = NoisyPicture(w, h, SeedFromName(fmt::format("spin{}x{}", w, h)), 0.3);
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.spins = spins;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.spins = spins;  // levels clamped per shifted image on both sides
-    Image cpu = ref::BayesDenoise(color, refOptions).image;
+    // Levels clamped per shifted image on both sides.
+    Image cpu = ref::BayesDenoise(color, options).image;
     for (float &v : gpu.image.data) v = std::log(v);
     for (float &v : cpu.data) v = std::log(v);
     EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
@@ -717,15 +715,12 @@ TEST_P(BayesKernelExtremeNoiseModel, MatchesReference) {
     // The same frame for every case.
     Image color = NoisyPicture(23, 14, SeedFromName("extreme noise models"), 0.3);
     SCOPED_TRACE(fmt::format("s_n {} p_n {}", sn, pn));
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.sn = sn;
     options.pn = pn;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
     EXPECT_TRUE(AllFinite(gpu.image));
-    ref::BayesRefOptions refOptions;
-    refOptions.sn = sn;
-    refOptions.pn = pn;
-    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, options);
     for (size_t b = 0; b < cpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
     for (float &v : gpu.image.data) v = std::log(v);
@@ -756,16 +751,16 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelExtremeNoiseModel,
 // so the reference given that s_n agrees within the usual tolerance.
 TEST_F(BayesKernel, NoiseAutoSpinsShareOneEstimate) {
     Image color = NoisyPicture(21, 13, SeedFromName("auto spins"), 0.3);
-    BayesOptions options = PaperBayesOptions();
-    options.noiseAuto = true;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Mad;
     options.spins = 2;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    options.spins = 1;
-    EXPECT_EQ(BayesDenoise(Ctx(), color, options).sn, gpu.sn);
-    ref::BayesRefOptions refOptions;
-    refOptions.spins = 2;
-    refOptions.snOverride = gpu.sn;
-    Image cpu = ref::BayesDenoise(color, refOptions).image;
+    BayesParams once = options;
+    once.spins = 1;
+    EXPECT_EQ(BayesDenoise(Ctx(), color, once).sn, gpu.sn);
+    ref::BayesRefRun run;
+    run.madSn = gpu.sn;
+    Image cpu = ref::BayesDenoise(color, options, run).image;
     for (float &v : gpu.image.data) v = std::log(v);
     for (float &v : cpu.data) v = std::log(v);
     EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
@@ -804,12 +799,10 @@ TEST_P(BayesKernelOpponentColour, MatchesReference) {
     const auto [w, h] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{}", w, h));
     Image color = NoisyPicture(w, h, SeedFromName(fmt::format("opp{}x{}", w, h)), 0.3);
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.opponent = true;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.opponent = true;
-    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, options);
     for (size_t b = 0; b < cpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
     Image logGpu = gpu.image, logCpu = cpu.image;
@@ -823,7 +816,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelOpponentColour,
                          SizeName);
 
 TEST_F(BayesKernel, OpponentColourRefusesOtherThanThreeChannels) {
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.opponent = true;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(4, 4, 2, 1.f), options); }),
                          "3 channels"));
@@ -831,9 +824,9 @@ TEST_F(BayesKernel, OpponentColourRefusesOtherThanThreeChannels) {
 
 TEST_F(BayesKernel, RerunsAreBitIdentical) {
     Image color = AwkwardInput(45, 31, 3, SeedFromName("bayes rerun"));
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = WaveletBasis::Cdf97;
-    options.noiseAuto = true;
+    options.noise = BayesNoise::Mad;
     options.spins = 2;
     Image first = BayesDenoise(Ctx(), color, options).image;
     Image second = BayesDenoise(Ctx(), color, options).image;
@@ -857,7 +850,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     for (int x = 0; x < w; ++x) mixed.At(0, 3, x) = 0;
     mixed.At(1, 10, 10) = 1e-8f;
     mixed.At(2, 11, 11) = 1e8f;
-    BayesResult r = BayesDenoise(Ctx(), mixed, PaperBayesOptions());
+    BayesResult r = BayesDenoise(Ctx(), mixed, PaperBayesParams());
     EXPECT_TRUE(AllFinite(r.image));
     EXPECT_TRUE(AnyWarning(r, "33 zero values")) << ::testing::PrintToString(r.warnings);
     EXPECT_TRUE(AnyWarning(r, "1 tiny positive value")) << ::testing::PrintToString(r.warnings);
@@ -868,7 +861,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     bad.At(1, 4, 5) = std::numeric_limits<float>::infinity();
     bad.At(2, 6, 7) = -std::numeric_limits<float>::infinity();
     bad.At(2, 8, 9) = -3.f;
-    r = BayesDenoise(Ctx(), bad, PaperBayesOptions());
+    r = BayesDenoise(Ctx(), bad, PaperBayesParams());
     EXPECT_TRUE(AllFinite(r.image));
     EXPECT_TRUE(AnyWarning(r, "3 NaN/Inf values (first at pixel (2, 1), channel 0)"))
         << ::testing::PrintToString(r.warnings);
@@ -876,7 +869,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     EXPECT_EQ(r.image.At(0, 1, 2), 0.f);
     // All zeros, all NaN, pure noise (no signal at all), constant.
     for (float fill : {0.f, std::numeric_limits<float>::quiet_NaN()}) {
-        BayesResult z = BayesDenoise(Ctx(), Image(w, h, 3, fill), PaperBayesOptions());
+        BayesResult z = BayesDenoise(Ctx(), Image(w, h, 3, fill), PaperBayesParams());
         EXPECT_TRUE(AllFinite(z.image));
         for (float v : z.image.data) EXPECT_EQ(v, 0.f);
         EXPECT_FALSE(z.warnings.empty());
@@ -885,8 +878,8 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     std::mt19937_64 rng(SeedFromName("pure noise"));
     std::normal_distribution<float> normal(0.f, 0.19f);
     for (float &v : noise.data) v = std::exp(normal(rng));
-    BayesOptions options = PaperBayesOptions();
-    options.noiseAuto = true;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Mad;
     BayesResult pure = BayesDenoise(Ctx(), noise, options);
     EXPECT_TRUE(AllFinite(pure.image));
     // Pure noise: the output varies far less than the input.
@@ -899,27 +892,27 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
             varOut += std::pow(pure.image.data[i] - meanOut, 2);
     EXPECT_LT(varOut, 0.25 * varIn) << varIn << " -> " << varOut;
     Image constant(w, h, 3, 0.37f);
-    BayesResult k = BayesDenoise(Ctx(), constant, PaperBayesOptions());
+    BayesResult k = BayesDenoise(Ctx(), constant, PaperBayesParams());
     for (float v : k.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
     for (const BayesBandFit &f : k.fits) EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_SIGNAL);
 }
 
 TEST_F(BayesProperties, BadOptionsAreRefused) {
     Image color(8, 6, 3, 0.5f);
-    BayesOptions o = PaperBayesOptions();
+    BayesParams o = PaperBayesParams();
     o.sn = -1;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "s_n"));
-    o = PaperBayesOptions();
+    o = PaperBayesParams();
     o.pn = std::numeric_limits<float>::quiet_NaN();
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "p_n"));
-    o = PaperBayesOptions();
+    o = PaperBayesParams();
     o.floorRel = 0;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "floor"));
     EXPECT_TRUE(
-        Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(), PaperBayesOptions()); }), "empty"));
+        Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(), PaperBayesParams()); }), "empty"));
     EXPECT_TRUE(Contains(ErrorOf([&] {
                              BayesDenoiseSplit(Ctx(), color, Image(8, 5, 3, 0.1f),
-                                               PaperBayesOptions());
+                                               PaperBayesParams());
                          }),
                          "8x5x3"));
 }
@@ -930,8 +923,8 @@ TEST_F(BayesProperties, BadOptionsAreRefused) {
 TEST_F(BayesProperties, NoiseAutoEstimatesTheNoise) {
     const double sigma = 0.3;
     Image noise = LogNormalNoise(96, 96, SeedFromName("noise auto"), sigma);
-    BayesOptions options = PaperBayesOptions();
-    options.noiseAuto = true;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Mad;
     options.pn = 2;
     options.hpFactor = 1;
     BayesResult r = BayesDenoise(Ctx(), noise, options);
@@ -943,8 +936,8 @@ TEST_F(BayesProperties, SplitAddsTheDirectPartBack) {
     Image indirect = NoisyPicture(20, 12, SeedFromName("split"), 0.2);
     Image direct(20, 12, 3, 0.25f);
     direct.At(0, 0, 0) = std::numeric_limits<float>::quiet_NaN();
-    BayesResult whole = BayesDenoise(Ctx(), indirect, PaperBayesOptions());
-    BayesResult split = BayesDenoiseSplit(Ctx(), direct, indirect, PaperBayesOptions());
+    BayesResult whole = BayesDenoise(Ctx(), indirect, PaperBayesParams());
+    BayesResult split = BayesDenoiseSplit(Ctx(), direct, indirect, PaperBayesParams());
     for (size_t i = 1; i < whole.image.Size(); ++i)
         EXPECT_EQ(split.image.data[i], whole.image.data[i] + 0.25f);
     EXPECT_TRUE(AnyWarning(split, "1 NaN/Inf values in the direct layer"));
@@ -1137,9 +1130,9 @@ TEST_P(BayesVarianceFilled, IsStable) {
     Image color = NoisyPicture(33, 21, SeedFromName("variance extremes"), 0.3);
     SCOPED_TRACE(fmt::format("variance {}", fill));
     Image variance(color.width, color.height, 3, fill);
-    BayesOptions options = PaperBayesOptions();
-    options.variance = &variance;
-    BayesResult r = BayesDenoise(Ctx(), color, options);
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Variance;
+    BayesResult r = BayesDenoise(Ctx(), color, options, {}, &variance);
     EXPECT_TRUE(AllFinite(r.image));
     for (const BayesBandFit &f : r.fits) {
         EXPECT_TRUE(std::isfinite(f.params[0]) && f.params[0] >= 0);
@@ -1159,9 +1152,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesVarianceFilled,
 TEST_F(BayesVariance, AwkwardVarianceGivesFiniteOutput) {
     Image awkward = AwkwardInput(37, 23, 3, SeedFromName("variance awkward"));
     Image awkwardVariance = AwkwardVariance(awkward, 5);
-    BayesOptions options = PaperBayesOptions();
-    options.variance = &awkwardVariance;
-    EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), awkward, options).image));
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Variance;
+    EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), awkward, options, {}, &awkwardVariance).image));
 }
 
 class BayesVarianceWholeMethod : public GpuTestWithParam<SpinCase> {};
@@ -1172,17 +1165,15 @@ TEST_P(BayesVarianceWholeMethod, MatchesReference) {
     Image c = NoisyPicture(w, h, SeedFromName(fmt::format("var whole{}x{}", w, h)), 0.3);
     Image v = c;
     for (float &x : v.data) x = 0.05f * x * x;
-    BayesOptions o = PaperBayesOptions();
-    o.variance = &v;
+    BayesParams o = PaperBayesParams();
+    o.noise = BayesNoise::Variance;
     o.spins = spins;
     o.basis = WaveletBasis::Cdf97;
-    BayesResult gpu = BayesDenoise(Ctx(), c, o);
-    EXPECT_TRUE(BitIdentical(gpu.image, BayesDenoise(Ctx(), c, o).image));
-    ref::BayesRefOptions refOptions;
-    refOptions.variance = &v;
-    refOptions.spins = spins;
-    refOptions.basis = WaveletBasis::Cdf97;
-    ref::BayesRefResult cpu = ref::BayesDenoise(c, refOptions);
+    BayesResult gpu = BayesDenoise(Ctx(), c, o, {}, &v);
+    EXPECT_TRUE(BitIdentical(gpu.image, BayesDenoise(Ctx(), c, o, {}, &v).image));
+    ref::BayesRefRun run;
+    run.variance = &v;
+    ref::BayesRefResult cpu = ref::BayesDenoise(c, o, run);
     for (size_t b = 0; b < cpu.fits.size() && b < gpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
     for (float &x : gpu.image.data) x = std::log(x);
