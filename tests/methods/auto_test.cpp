@@ -725,10 +725,10 @@ std::pair<Frame, Image> PlainFireflies(int width, int height, int refSpp) {
         {"variance", "direct.variance", "indirect.variance", "min", "max"});
 }
 
-// The lowest relMSE of the four methods that can run on the frame.
+// The lowest relMSE of the methods that can run on the frame.
 double BestSingleMethod(Device &device, const Frame &frame, const Image &reference) {
     double best = INFINITY;
-    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
+    for (const std::string &name : MethodNames())
         if (Method(name).Missing(frame).empty())
             best = std::min(
                 best, CompareImages(Method(name).Run(device, frame).image, reference).relMse);
@@ -778,7 +778,7 @@ TEST_F(AutoMethod, ReturnsTheMapOfTheLargestWeightsWhenAsked) {
     Result result = automatic.Run(device, frame, run);
     ASSERT_EQ(result.stages.size(), 1u);
     ASSERT_EQ(result.stages[0].name, "auto.map");
-    const Image &map = result.stages[0].image;
+    const Image map = result.stages[0].image;  // a copy: result is run again below
     ASSERT_EQ(map.width, frame.width);
     ASSERT_EQ(map.height, frame.height);
     ASSERT_EQ(map.channels, 3);
