@@ -58,6 +58,27 @@ class Inputs {
     std::map<std::string, bool> checked;
 };
 
+// Layers of `inputs` replaced for a scope, each put back as it was when the scope ends,
+// however it ends.
+class ScopedOverrides {
+  public:
+    explicit ScopedOverrides(Inputs &inputs) : inputs(inputs) {}
+    ScopedOverrides(const ScopedOverrides &) = delete;
+    ScopedOverrides &operator=(const ScopedOverrides &) = delete;
+    ~ScopedOverrides() {
+        for (auto it = saved.rbegin(); it != saved.rend(); ++it)
+            inputs.Override(it->first, std::move(it->second));
+    }
+    void Override(const std::string &layer, Image image) {
+        saved.emplace_back(layer, inputs.Get(layer));
+        inputs.Override(layer, std::move(image));
+    }
+
+  private:
+    Inputs &inputs;
+    std::vector<std::pair<std::string, Image>> saved;
+};
+
 // A parameter bound to a field of the options struct O: O's initializers are the defaults.
 template <class O>
 struct ParamDef {
@@ -215,11 +236,8 @@ class FrontEndOf : public FrontEnd {
     std::shared_ptr<const Table> table;  // shared by copies: the table never changes
 };
 
-// The front ends, one per method (method_<name>.cpp).
-std::unique_ptr<FrontEnd> AwrFrontEnd();
-std::unique_ptr<FrontEnd> BayesFrontEnd();
-std::unique_ptr<FrontEnd> PivotFrontEnd();
-std::unique_ptr<FrontEnd> RhfFrontEnd();
+// Each method's front end is made by its factory (method_<name>.cpp), listed in the
+// registry (registry.h).
 
 // What every pipeline is told besides the method's parameters: the stages and progress the
 // caller asked for, and where a tile's window lies in its frame.

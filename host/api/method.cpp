@@ -8,6 +8,7 @@
 
 #include "host/api/front_end.h"
 #include "host/api/method_auto.h"
+#include "host/api/registry.h"
 #include "host/api/tiled_run.h"
 #include "host/methods/pivot.h"
 
@@ -34,12 +35,11 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
                          &CommonParams::nonFinite, {"refuse", "zero"})};
 }
 
+// "auto", or a method of the registry; null for another name.
 std::unique_ptr<api::FrontEnd> FrontEndByName(const std::string &name) {
-    if (name == "awr") return api::AwrFrontEnd();
-    if (name == "bayes") return api::BayesFrontEnd();
-    if (name == "pivot") return api::PivotFrontEnd();
-    if (name == "rhf") return api::RhfFrontEnd();
-    return nullptr;
+    if (name == "auto") return std::make_unique<api::AutoFrontEnd>();
+    const api::MethodEntry *entry = api::FindMethod(name);
+    return entry ? entry->make() : nullptr;
 }
 
 // --demodulate: the color-like layers divided by a guide layer, and what multiplies back.
@@ -173,8 +173,7 @@ struct Method::Impl {
 };
 
 Method::Method(const std::string &name) {
-    std::unique_ptr<api::FrontEnd> frontEnd =
-        name == "auto" ? std::make_unique<api::AutoFrontEnd>() : FrontEndByName(name);
+    std::unique_ptr<api::FrontEnd> frontEnd = FrontEndByName(name);
     if (!frontEnd) {
         std::string known = "auto";
         for (const std::string &m : MethodNames()) known += ", " + m;
@@ -357,7 +356,9 @@ double Result::GpuMs() const {
 }
 
 std::vector<std::string> MethodNames() {
-    return {"awr", "bayes", "pivot", "rhf"};
+    std::vector<std::string> names;
+    for (const api::MethodEntry &entry : api::Registry()) names.push_back(entry.name);
+    return names;
 }
 
 const char *Version() {

@@ -116,6 +116,11 @@ struct Result {
 struct RunOptions {
     // Download every stage's image into Result::stages (slower: a submission per stage).
     bool keepStages = false;
+    // Stages to return by name without keepStages, of those a method makes on request:
+    // auto's "auto.map" (each pixel coloured by the candidate of the largest weight; the
+    // plan names the colours). Another name, or another method, returns none. A run in
+    // tiles assembles them from its tiles.
+    std::vector<std::string> stages;
     // Called as long stages advance: (stage, done, total).
     std::function<void(const std::string &stage, int done, int total)> progress;
     // Internal (tests): run in tiles of this many pixels a side, with the method's halo,

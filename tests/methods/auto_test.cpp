@@ -18,6 +18,7 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/registry.h"
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
 #include "host/kernels/auto_noise.h"
@@ -724,10 +725,10 @@ std::pair<Frame, Image> PlainFireflies(int width, int height, int refSpp) {
         {"variance", "direct.variance", "indirect.variance", "min", "max"});
 }
 
-// The lowest relMSE of the four methods that can run on the frame.
+// The lowest relMSE of the methods that can run on the frame.
 double BestSingleMethod(Device &device, const Frame &frame, const Image &reference) {
     double best = INFINITY;
-    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
+    for (const std::string &name : MethodNames())
         if (Method(name).Missing(frame).empty())
             best = std::min(
                 best, CompareImages(Method(name).Run(device, frame).image, reference).relMse);
@@ -761,6 +762,52 @@ bool PlanHas(const Result &result, const std::string &text) {
     for (const std::string &line : result.plan)
         if (line.find(text) != std::string::npos) return true;
     return false;
+}
+
+// The map of the largest weights is data: returned as stage "auto.map" when asked for (and
+// with keepStages), each pixel the registry's colour of the candidate whose weight is the
+// largest there, in the proportions the plan gives; asking for it changes nothing else.
+TEST_F(AutoMethod, ReturnsTheMapOfTheLargestWeightsWhenAsked) {
+    auto [frame, reference] = RenderWithReference("cornell", 24, 20, 8, render::kLayersAll, 8);
+    Device device = Device::Borrow(Ctx());
+    Method automatic("auto");
+    Result plain = automatic.Run(device, frame);
+    EXPECT_TRUE(plain.stages.empty());
+    RunOptions run;
+    run.stages = {"auto.map"};
+    Result result = automatic.Run(device, frame, run);
+    ASSERT_EQ(result.stages.size(), 1u);
+    ASSERT_EQ(result.stages[0].name, "auto.map");
+    const Image map = result.stages[0].image;  // a copy: result is run again below
+    ASSERT_EQ(map.width, frame.width);
+    ASSERT_EQ(map.height, frame.height);
+    ASSERT_EQ(map.channels, 3);
+    EXPECT_TRUE(BitIdentical(plain.image, result.image));
+    // Each candidate that ran: its share of the pixels by the plan, and by the map.
+    int checked = 0;
+    for (const api::RegisteredVariant &v : api::AutoVariants()) {
+        double planned = -1;
+        for (const std::string &line : result.plan)
+            if (line.starts_with("auto: ran " + v.variant->label + " (")) {
+                EXPECT_TRUE(line.ends_with("(map: " + v.variant->colourName + ")")) << line;
+                planned = std::stod(line.substr(line.find("largest weight in ") + 18));
+            }
+        if (planned < 0) continue;
+        size_t pixels = 0;
+        for (size_t i = 0; i < map.PixelCount(); ++i)
+            pixels += map.Plane(0)[i] == v.variant->colour[0] &&
+                      map.Plane(1)[i] == v.variant->colour[1] &&
+                      map.Plane(2)[i] == v.variant->colour[2];
+        EXPECT_NEAR(100.0 * pixels / map.PixelCount(), planned, 0.05) << v.variant->label;
+        ++checked;
+    }
+    EXPECT_GE(checked, 2) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    run = RunOptions();
+    run.keepStages = true;
+    result = automatic.Run(device, frame, run);
+    ASSERT_FALSE(result.stages.empty());
+    EXPECT_EQ(result.stages.back().name, "auto.map");
+    EXPECT_TRUE(BitIdentical(result.stages.back().image, map));
 }
 
 // relMSE's denominator: on a heavy-tailed frame (relief-abc, 4 spp) most candidates

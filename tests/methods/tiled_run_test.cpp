@@ -61,11 +61,12 @@ Frame RandomFrame(int width, int height, uint64_t seed) {
 }
 
 Result RunWith(Device &device, const std::string &name, const Params &params,
-               const Frame &frame, int tile) {
+               const Frame &frame, int tile, std::vector<std::string> stages = {}) {
     Method method(name);
     for (const auto &[param, value] : params) method.Set(param, value);
     RunOptions run;
     run.tileSize = tile;
+    run.stages = std::move(stages);
     return method.Run(device, frame, run);
 }
 
@@ -180,8 +181,8 @@ TEST_F(GpuTest, TiledRunWaveletsDifferWithinBound) {
 TEST_F(GpuTest, TiledRunAutoCompletesCloseToUntiled) {
     Device device = Device::Borrow(Ctx());
     Frame frame = RenderedFrame(70, 54, render::kLayersAll);
-    Result whole = RunWith(device, "auto", {}, frame, 0);
-    Result tiled = RunWith(device, "auto", {}, frame, 32);
+    Result whole = RunWith(device, "auto", {}, frame, 0, {"auto.map"});
+    Result tiled = RunWith(device, "auto", {}, frame, 32, {"auto.map"});
     ASSERT_TRUE(whole.image.SameShape(tiled.image));
     ASSERT_FALSE(tiled.plan.empty());
     EXPECT_NE(tiled.plan[0].find("differs from the untiled one"), std::string::npos)
@@ -196,6 +197,11 @@ TEST_F(GpuTest, TiledRunAutoCompletesCloseToUntiled) {
     double rel = std::sqrt(sum / norm);
     std::printf("auto tiled vs untiled: relative RMS %.4g\n", rel);
     EXPECT_EQ(rel, 0.0);
+    // The map asked for is put together from the tiles' maps.
+    ASSERT_EQ(whole.stages.size(), 1u);
+    ASSERT_EQ(tiled.stages.size(), 1u);
+    EXPECT_EQ(tiled.stages[0].name, "auto.map");
+    ExpectSameBits(whole.stages[0].image, tiled.stages[0].image, "auto's map");
 }
 
 // RHF's distance strips hold every offset of a whole row: a frame too wide for one row of
