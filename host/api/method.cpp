@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "host/api/device.h"
 #include "host/api/front_end.h"
 #include "host/api/method_auto.h"
 #include "host/api/tiled_run.h"
@@ -309,7 +310,7 @@ std::string Method::Missing(const Frame &frame) const {
 }
 
 Result Method::Run(Device &device, const Frame &frame, const RunOptions &options) const {
-    vk::Context &context = device.Context();
+    vk::Context &context = api::ContextOf(device);
     context.ResetLedger();
     auto start = std::chrono::steady_clock::now();
     const api::FrontEnd *method = impl->frontEnd.get();
@@ -347,7 +348,7 @@ std::vector<Stage> Method::Reference(Device &device, const Frame &frame) const {
         method = &automatic->Pick(frame, demodulate, &ignored);
     api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
     if (!demodulate.empty()) Demodulate(inputs, *method, frame, demodulate);
-    return method->Reference(device.Context(), inputs);
+    return method->Reference(api::ContextOf(device), inputs);
 }
 
 double Result::GpuMs() const {

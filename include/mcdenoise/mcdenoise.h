@@ -27,10 +27,6 @@
 
 namespace mcd {
 
-namespace vk {
-class Context;
-}
-
 struct DeviceOptions {
     // Device index or case-insensitive name substring; empty: $MCD_DEVICE, then the best
     // device (discrete, integrated, virtual, CPU).
@@ -56,13 +52,9 @@ class Device {
     // Validation messages since the last call.
     std::vector<std::string> TakeValidationMessages();
 
-    // For the project's own tools: the Vulkan context underneath.
-    vk::Context &Context();
-    // A device over a context someone else owns (the tests' shared one).
-    static Device Borrow(vk::Context &context);
-
   private:
     struct Impl;
+    friend struct DeviceAccess;  // the library's own tools and tests (internal)
     explicit Device(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl;
 };
