@@ -12,6 +12,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "host/api/png_sink.h"
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
 #include "host/kernels/auto_noise.h"
@@ -832,7 +833,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                                 ran[k].seconds, 100 * share[k] / pixels,
                                 100.0 * won[k] / pixels, kPaletteName[ran[k].variant]));
     if (!options.map.empty()) {
-        WritePng(options.map, map);
+        WritePngThroughIo(options.map, map);
         plan.push_back("auto: wrote the map of the largest weights to " + options.map);
     }
     result.method = "auto";

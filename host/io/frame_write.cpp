@@ -14,6 +14,7 @@
 #include <set>
 #include <system_error>
 
+#include "host/api/png_sink.h"
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "host/io/layer_names.h"
@@ -178,6 +179,11 @@ void WriteExr(const std::string &path,
 void WritePng(const std::string &path, const Image &image, float exposure) {
     io::WritePngWithAlpha(path, image, nullptr, exposure);
 }
+
+namespace {
+// The core library writes auto's map through this (host/api/png_sink.h).
+[[maybe_unused]] const bool kPngWriterInstalled = (api::SetPngWriter(&WritePng), true);
+}  // namespace
 
 namespace io {
 
