@@ -837,6 +837,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         plan.push_back("auto: wrote the map of the largest weights to " + options.map);
     }
     result.method = "auto";
+    for (const Ran &r : ran) result.candidates.push_back(r.label);
     result.plan = std::move(plan);
     result.plan.insert(result.plan.end(), candidatePlans.begin(), candidatePlans.end());
     return result;
