@@ -19,6 +19,7 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/registry.h"
+#include "host/api/device.h"
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
 #include "host/kernels/auto_noise.h"
@@ -738,7 +739,7 @@ double BestSingleMethod(Device &device, const Frame &frame, const Image &referen
 TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     auto [frame, reference] =
         RenderWithReference("cornell", 40, 32, 8, render::kLayersAll, 1024);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
     EXPECT_EQ(result.method, "auto");
@@ -769,7 +770,7 @@ bool PlanHas(const Result &result, const std::string &text) {
 // largest there, in the proportions the plan gives; asking for it changes nothing else.
 TEST_F(AutoMethod, ReturnsTheMapOfTheLargestWeightsWhenAsked) {
     auto [frame, reference] = RenderWithReference("cornell", 24, 20, 8, render::kLayersAll, 8);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Method automatic("auto");
     Result plain = automatic.Run(device, frame);
     EXPECT_TRUE(plain.stages.empty());
@@ -822,7 +823,7 @@ TEST_F(AutoMethod, ReturnsTheMapOfTheLargestWeightsWhenAsked) {
 TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
     auto [frame, reference] =
         RenderWithReference("relief-abc", 48, 40, 4, render::kLayersAll, 1024);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
@@ -864,7 +865,7 @@ TEST_F(AutoMethod, NoiseCapKeepsOneNoisyPixelFromSwampingItsWindow) {
     Image reference = render::Render(render::BuildScene("fireflies"), options)
                           .layers[0]
                           .second.Crop(x0, y0, x1, y1);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     double capped = CompareImages(automatic.Run(device, frame).image, reference).relMse;
@@ -887,7 +888,7 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     Frame frame;
     frame.width = options.width, frame.height = options.height;
     for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Method automatic("auto");
     automatic.Set("auto-noise", "halves");
     Result result = automatic.Run(device, frame);
@@ -935,7 +936,7 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
 // 128x128 frame 0.0249, 0.0259 and 0.0647).
 TEST_F(AutoMethod, FrameWithoutStatisticsUsesItsOwnNoiseEstimate) {
     auto [frame, reference] = PlainFireflies(64, 48, 512);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
@@ -972,7 +973,7 @@ TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
     Image &ids = frame.layers.at("objectId");
     for (int y = 0; y < ids.height; ++y)
         for (int x = 0; x < ids.width; ++x) ids.At(0, y, x) = float((x + y) % 2);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Method pivot("pivot");
     double withIds = CompareImages(pivot.Run(device, frame).image, reference).relMse;
     pivot.Set("guides", std::string("none"));
@@ -999,7 +1000,7 @@ TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
 // auto 0.0157; with the candidates' mean there auto was 0.093).
 TEST_F(AutoMethod, MedianWhereNoEstimateTellsTheCandidatesApart) {
     auto [frame, reference] = PlainFireflies(128, 128, 256);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     double best = INFINITY;
     for (const char *name : {"pivot", "bayes"})
         best = std::min(best,
