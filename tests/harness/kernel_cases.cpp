@@ -102,8 +102,11 @@ class KernelCaseCheck : public ::testing::EmptyTestEventListener {
 // mcd_tests has it.
 struct KernelCaseCheckInstaller : ::testing::Environment {
     void SetUp() override {
+        if (appended) return;  // SetUp runs again with every --gtest_repeat
         ::testing::UnitTest::GetInstance()->listeners().Append(new KernelCaseCheck);
+        appended = true;
     }
+    bool appended = false;
 };
 const bool installed =
     ::testing::AddGlobalTestEnvironment(new KernelCaseCheckInstaller) != nullptr;

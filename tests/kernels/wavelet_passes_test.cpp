@@ -1,10 +1,11 @@
-// One level of the line wavelet synthesis from its passes, against the reference:
+// One level of the line wavelet kernels called directly, against the reference:
 // RecordWaveletSynthesizePass's columns and rows passes (through RecordWaveletLinePass:
 // vec4 and scalar rows, interior and edge segments of long axes) against one level of
-// ref::WaveletSynthesize, and kernel wavelet/synthesize_shrink
-// (RecordWaveletSynthesizeShrink: its fused columns pass, then the plain rows pass) against
-// ref::AwrShrink then one level of ref::WaveletSynthesize. Each runs on a region at the
-// top left of a larger buffer, which must stay as it was outside the region.
+// ref::WaveletSynthesize, RecordWaveletSqAnalyze against ref::WaveletSqAnalyze, and kernel
+// wavelet/synthesize_shrink (RecordWaveletSynthesizeShrink: its fused columns pass, then
+// the plain rows pass) against ref::AwrShrink then one level of ref::WaveletSynthesize.
+// Each runs on a region at the top left of a larger buffer, which must stay as it was
+// outside the region.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -15,10 +16,12 @@
 #include <vector>
 
 #include "cpu_reference/awr_reconstruct.h"
+#include "cpu_reference/wavelet_sqanalyze.h"
 #include "cpu_reference/wavelet_synthesize.h"
 #include "harness/compare.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/kernels/wavelet_sqanalyze.h"
 #include "host/kernels/wavelet_synthesize.h"
 #include "host/kernels/wavelet_synthesize_shrink.h"
 #include "host/vk/buffer.h"
@@ -56,13 +59,23 @@ Image Embed(const Image &region, int padX, int padY) {
     return buffer;
 }
 
-class WaveletSynthesizePasses : public GpuTestWithParam<PassCase> {};
+// The buffer outside the region is as it was.
+void ExpectOutsideUntouched(const Image &got, const PassCase &c) {
+    for (int ch = 0; ch < got.channels; ++ch)
+        for (int y = 0; y < got.height; ++y)
+            for (int x = 0; x < got.width; ++x)
+                if (x >= c.w || y >= c.h) {
+                    ASSERT_EQ(got.At(ch, y, x), kUntouched) << "outside at " << x << ", " << y;
+                }
+}
+
+class WaveletOneLevel : public GpuTestWithParam<PassCase> {};
 
 // The columns pass then the rows pass (each RecordWaveletSynthesizePass: the temporary
 // between them holds the kernel's own interleaved, rescaled layout, which has no reference
 // of its own) make one level: the synthesis's budget of wavelet_gpu_test.cpp, 96 u per
 // level of the magnitude twin.
-TEST_P(WaveletSynthesizePasses, MakeOneLevel) {
+TEST_P(WaveletOneLevel, SynthesizePassesMatchReference) {
     const PassCase &c = GetParam();
     Image in = MakeInput(c.kind, c.w, c.h, 3, SeedFromName(c.Name()));
     Image expected = ref::WaveletSynthesize(in, c.basis, 1);
@@ -87,13 +100,41 @@ TEST_P(WaveletSynthesizePasses, MakeOneLevel) {
     Image got = run();
     EXPECT_TRUE(ImagesMatch(expected, got.Crop(0, 0, c.w, c.h), magnitude,
                             {96 * kUnitRoundoff, 0, 1e-9}));
-    for (int ch = 0; ch < 3; ++ch)
-        for (int y = 0; y < got.height; ++y)
-            for (int x = 0; x < got.width; ++x)
-                if (x >= c.w || y >= c.h) {
-                    ASSERT_EQ(got.At(ch, y, x), kUntouched) << "outside at " << x << ", " << y;
-                }
+    ExpectOutsideUntouched(got, c);
     EXPECT_TRUE(BitIdentical(got, run()));
+}
+
+// RecordWaveletSqAnalyze's one level (its rows then columns pass) on the region of a
+// padded buffer against ref::WaveletSqAnalyze: squared taps on non-negative values, so
+// |expected| is the round-off scale; wavelet_gpu_test.cpp's 24 u per level (9 taps and a
+// renormalisation per axis), at the natural sums and at AWR's renormalised ones.
+TEST_P(WaveletOneLevel, SqAnalyzeMatchesReference) {
+    const PassCase &c = GetParam();
+    Image in = MakeVarianceInput(c.kind, c.w, c.h, 3, SeedFromName("sq" + c.Name()));
+    Image src = Embed(in, c.padX, c.padY);
+    vk::GpuImage srcGpu(Ctx(), src.width, src.height, 3, "variance"),
+        dstGpu(Ctx(), src.width, src.height, 3, "coefvar");
+    srcGpu.Upload(src);
+    const int tmpStride = (c.w + 3) / 4 * 4;
+    vk::Buffer tmp(Ctx(), size_t(tmpStride) * c.h * 3 * sizeof(float), "tmp");
+    vk::MutableImageView tmpView{&tmp, tmpStride, tmpStride * c.h};
+    for (auto [lowSum, highSum] : {std::pair{0.f, 0.f}, std::pair{1.05f, 0.70710678f}}) {
+        SCOPED_TRACE(fmt::format("sums {} {}", lowSum, highSum));
+        Image expected = ref::WaveletSqAnalyze(in, c.basis, 1, lowSum, highSum);
+        auto run = [&] {
+            dstGpu.Upload(Image(src.width, src.height, 3, kUntouched));
+            vk::Recorder recorder(Ctx());
+            RecordWaveletSqAnalyze(Ctx(), recorder, c.basis, c.w, c.h, 3, srcGpu.View(),
+                                   tmpView, dstGpu.MutableView(), lowSum, highSum);
+            recorder.Submit();
+            return dstGpu.Download();
+        };
+        Image got = run();
+        EXPECT_TRUE(
+            ImagesMatch(expected, got.Crop(0, 0, c.w, c.h), {}, {24 * kUnitRoundoff, 0, 1e-9}));
+        ExpectOutsideUntouched(got, c);
+        EXPECT_TRUE(BitIdentical(got, run()));
+    }
 }
 
 // Buffers whose rows are whole vec4s (the rows pass moves vec4s) and others; axes of 256 and
@@ -113,7 +154,7 @@ std::vector<PassCase> PassCases() {
     return cases;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, WaveletSynthesizePasses, testing::ValuesIn(PassCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletOneLevel, testing::ValuesIn(PassCases()),
                          [](const testing::TestParamInfo<PassCase> &info) {
                              return info.param.Name();
                          });
@@ -165,12 +206,7 @@ TEST_P(WaveletSynthesizeShrinkKernel, MatchesReference) {
     Image got = run();
     EXPECT_TRUE(ImagesMatch(expected, got.Crop(0, 0, c.w, c.h), magnitude,
                             {104 * kUnitRoundoff, 0, 1e-9}));
-    for (int ch = 0; ch < 3; ++ch)
-        for (int y = 0; y < got.height; ++y)
-            for (int x = 0; x < got.width; ++x)
-                if (x >= c.w || y >= c.h) {
-                    ASSERT_EQ(got.At(ch, y, x), kUntouched) << "outside at " << x << ", " << y;
-                }
+    ExpectOutsideUntouched(got, c);
     EXPECT_TRUE(BitIdentical(got, run()));
     // The coefficients are read, not shrunk in place.
     EXPECT_TRUE(BitIdentical(srcGpu.Download(), src));
