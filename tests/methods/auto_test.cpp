@@ -134,9 +134,9 @@ std::string KernelCaseName(const testing::TestParamInfo<KernelCase> &info) {
 // Stage 1: per channel a handful of float operations on values of the size of
 // |f - y|^2 + |v| + 2 sqrt|v| |fp - f| / eps, divided by f^2 + 0.01: a few ulps of that
 // sum's magnitude over the denominator, and the sum over C <= 3 channels adds C more.
-class AutoKernelEstimate : public GpuTestWithParam<KernelCase> {};
+class AutoEstimateKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(AutoKernelEstimate, MatchesReferenceAndRepeats) {
+TEST_P(AutoEstimateKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
     std::string name = fmt::format("estimate{}x{}{}", w, h, InputKindName(kind));
     Image color = MakeInput(kind, w, h, channels, SeedFromName(name + "y"));
@@ -180,7 +180,7 @@ TEST_P(AutoKernelEstimate, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelEstimate, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AutoEstimateKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Stage 0 (frames without statistics): z = y / a is one division (1 ulp), a second
@@ -188,9 +188,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelEstimate, testing::ValuesIn(KernelCase
 // ~2 |r| 4 ulp M <= 16 ulps of M^2, the minimum a selection (it moves no more than its
 // values), the window's mean adds n ulps of M^2 (n <= 49 here), times a^2 / 0.278 a few:
 // 128 ulps of a^2 M^2 / 0.278.
-class AutoKernelNoise : public GpuTestWithParam<KernelCase> {};
+class AutoNoiseKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(AutoKernelNoise, MatchesReferenceAndRepeats) {
+TEST_P(AutoNoiseKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
     std::string name = fmt::format("noise{}x{}{}", w, h, InputKindName(kind));
     Image color = MakeInput(kind, w, h, channels, SeedFromName(name + "y"));
@@ -230,7 +230,7 @@ TEST_P(AutoKernelNoise, MatchesReferenceAndRepeats) {
         }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelNoise, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AutoNoiseKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // The estimate on a case with a known answer: a smooth illumination (a plane) times a
@@ -297,9 +297,9 @@ TEST(AutoNoiseReference, KeepsEachSideOfAnAlbedoEdgeApart) {
 
 // Stage 2: a sum of at most (2r+1)^2 finite terms and one division: (n + 1) ulps of the
 // window's mean absolute value.
-class AutoKernelSmooth : public GpuTestWithParam<KernelCase> {};
+class AutoSmoothKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(AutoKernelSmooth, MatchesReferenceAndRepeats) {
+TEST_P(AutoSmoothKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
     std::string name = fmt::format("smooth{}x{}{}", w, h, InputKindName(kind));
     // Error maps: one plane per candidate (1 to 3 here).
@@ -318,7 +318,7 @@ TEST_P(AutoKernelSmooth, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelSmooth, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AutoSmoothKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Stage 3: a weight is one pow (a few ulps), the normalisation a sum of K of them and a
@@ -328,9 +328,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelSmooth, testing::ValuesIn(KernelCases(
 // and their products with f: ~(2K + 12) ulps of max_k |f_k|; its equal weights follow a
 // comparison of the noise ratio with the limit, which the two sides make alike but for a
 // ratio within a few ulps of the limit (none in these inputs).
-class AutoKernelCombine : public GpuTestWithParam<KernelCase> {};
+class AutoCombineKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
+TEST_P(AutoCombineKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
     std::string name = fmt::format("combine{}x{}{}", w, h, InputKindName(kind));
     Image color = MakeInput(kind, w, h, channels, SeedFromName(name + "y"));
@@ -418,7 +418,7 @@ TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelCombine, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AutoCombineKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // A picture with a flat left half and fine stripes on the right, Gaussian noise of known
