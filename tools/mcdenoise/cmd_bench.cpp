@@ -224,7 +224,7 @@ Frame MakeFrame(const std::string &path, std::vector<std::pair<std::string, Imag
 
 // The method's device and its name and type, for the headers.
 std::string DeviceText(Device &device) {
-    const vk::DeviceInfo &info = device.Context().Info();
+    const vk::DeviceInfo &info = api::ContextOf(device).Info();
     return fmt::format("{} ({})", info.name, vk::DeviceTypeName(info.type));
 }
 
@@ -276,7 +276,7 @@ void AddAwrRun(const Result &result, bool first, AwrTimes &times) {
 // on a shared machine.
 AwrTimes TimeAwr(Method &method, Device &device, const Frame &frame, WaveletBasis basis,
                  int levels, int repeats) {
-    vk::Context &context = device.Context();
+    vk::Context &context = api::ContextOf(device);
     const Image &color = frame.layers.at("color");
     vk::GpuImage in(context, color.width, color.height, 3, "bench.in"),
         coef(context, color.width, color.height, 3, "bench.coef");
@@ -370,7 +370,7 @@ void RunBenchAwr(const AwrBenchOptions &opt) {
         MakeFrame("bench awr (synthetic)", {{"color", color}, {"variance", variance}});
     PrintAwrTimes(TimeAwr(method, device, frame, basis, levels, repeats), repeats,
                   opt.dispatches);
-    if (!opt.noSampler) BenchAdaptiveSampler(opt, device.Context());
+    if (!opt.noSampler) BenchAdaptiveSampler(opt, api::ContextOf(device));
 }
 
 struct BayesBenchOptions {

@@ -19,7 +19,7 @@ namespace {
 
 struct DenoiseOptions {
     std::vector<std::string> inputs;
-    std::string output, method = "auto", reference, preview, frames;
+    std::string output, method = "auto", reference, preview, frames, autoMap;
     bool explain = false, overwriteInput = false;
     DeviceOptions device;
     MethodOptions methods;
@@ -28,7 +28,7 @@ struct DenoiseOptions {
 // One frame given as a file: its paths checked and refused before any work, as the frame
 // of a sequence of one; `inPlace` set when -o is the input itself (--overwrite-input).
 SequenceFrame PlanOneFrame(const DenoiseOptions &opt, bool *inPlace) {
-    SequenceFrame f{0, opt.inputs.front(), opt.reference, opt.output, opt.preview};
+    SequenceFrame f{0, opt.inputs.front(), opt.reference, opt.output, opt.preview, opt.autoMap};
     if (!opt.frames.empty())
         throw Error(
             fmt::format("--frames selects frames of a sequence; '{}' is one frame "
@@ -42,6 +42,7 @@ SequenceFrame PlanOneFrame(const DenoiseOptions &opt, bool *inPlace) {
             f.output));
     CheckOutputPath(f.output, {".exr", ".png"});
     if (!f.preview.empty()) CheckOutputPath(f.preview, {".png"}, "--preview");
+    if (!f.map.empty()) CheckOutputPath(f.map, {".png"}, "--auto-map");
     // No output may be a file this run reads, unless the user says so for -o.
     *inPlace = opt.overwriteInput && SameFile(f.output, f.input);
     if (*inPlace && std::filesystem::path(f.output).extension() != ".exr")
@@ -54,8 +55,10 @@ SequenceFrame PlanOneFrame(const DenoiseOptions &opt, bool *inPlace) {
           "write elsewhere, or pass --overwrite-input to replace the frame's color and "
           "keep its other layers"},
          {"--reference", f.reference}},
-        {{"-o", f.output}, {"--preview", f.preview}});
-    if (*inPlace) RefuseOverwritingInputs({{"input", f.input}}, {{"--preview", f.preview}});
+        {{"-o", f.output}, {"--preview", f.preview}, {"--auto-map", f.map}});
+    if (*inPlace)
+        RefuseOverwritingInputs({{"input", f.input}},
+                                {{"--preview", f.preview}, {"--auto-map", f.map}});
     return f;
 }
 
@@ -68,6 +71,7 @@ void PrepareSequence(const std::vector<SequenceFrame> &frames) {
         inputs.push_back({"--reference", f.reference});
         outputs.push_back({"-o", f.output});
         outputs.push_back({"--preview", f.preview});
+        outputs.push_back({"--auto-map", f.map});
     }
     RefuseOverwritingInputs(inputs, outputs);
     std::set<std::string> dirs;
@@ -78,6 +82,7 @@ void PrepareSequence(const std::vector<SequenceFrame> &frames) {
     for (const SequenceFrame &f : frames) {
         CheckOutputPath(f.output, {".exr", ".png"});
         if (!f.preview.empty()) CheckOutputPath(f.preview, {".png"}, "--preview");
+        if (!f.map.empty()) CheckOutputPath(f.map, {".png"}, "--auto-map");
     }
 }
 
@@ -96,8 +101,8 @@ void RunDenoise(const DenoiseOptions &opt) {
         throw Error(
             "--overwrite-input is for one frame; a sequence is written to an output pattern "
             "or directory");
-    std::vector<SequenceFrame> frames =
-        PlanSequence({opt.inputs, opt.output, opt.preview, opt.reference, opt.frames});
+    std::vector<SequenceFrame> frames = PlanSequence(
+        {opt.inputs, opt.output, opt.preview, opt.reference, opt.frames, opt.autoMap});
     PrepareSequence(frames);
     DenoiseFrames(frames, method, settings);
 }
@@ -130,6 +135,10 @@ void AddDenoiseCommand(CLI::App &app) {
                     "sequence, a pattern or one image for every frame)");
     cmd->add_option("--preview", opt->preview,
                     "also write a tonemapped PNG (for a sequence, a pattern or a directory)");
+    cmd->add_option("--auto-map", opt->autoMap,
+                    "auto: write the map of the largest weights as a PNG here, each pixel "
+                    "coloured by the candidate with the largest weight (--explain gives the "
+                    "colours); for a sequence, a pattern (map.####.png) or a directory");
     cmd->add_option("--frames", opt->frames,
                     "the frames of a sequence to denoise: N, FIRST-LAST or a list of those "
                     "(1-50,60); a pattern's frame missing on disk fails that frame");

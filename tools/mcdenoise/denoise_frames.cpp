@@ -63,7 +63,7 @@ std::string LedgerText(const Result &result) {
 
 // The pipelines the device built so far and what the pipeline cache gave (--explain).
 std::string PipelinesText(Device &device) {
-    const vk::Context::PipelineStats &p = device.Context().Pipelines();
+    const vk::Context::PipelineStats &p = api::ContextOf(device).Pipelines();
     return fmt::format(
         "  pipelines: {} built in {:.3f} s{}\n", p.built, p.seconds,
         p.loadedBytes ? fmt::format(" (pipeline cache: {} bytes read)", p.loadedBytes) : "");
@@ -116,6 +116,22 @@ std::string ErrorLine(const Image &noisy, const Image &denoised, const Image &re
 std::string FrameLine(const std::string &output, const Result &result) {
     return fmt::format("{}: {} in {:.1f} ms ({:.1f} ms GPU, {} dispatches)\n", output,
                        result.method, result.wallMs, result.GpuMs(), result.timings.size());
+}
+
+// --auto-map: write the map of auto's largest weights, which the run returned as stage
+// "auto.map" (RunOptions::stages), and say so in the plan. A run that combined nothing
+// (another method, or auto picking one for --demodulate) has no map: a warning says so.
+void WriteAutoMap(const std::string &path, Result &result) {
+    if (path.empty()) return;
+    for (const Stage &stage : result.stages)
+        if (stage.name == "auto.map") {
+            io::WritePng(path, stage.image);
+            result.plan.push_back("auto: wrote the map of the largest weights to " + path);
+            return;
+        }
+    result.warnings.push_back(fmt::format(
+        "--auto-map: {} ran alone, not auto's combination, so no map was written to {}",
+        result.method, path));
 }
 
 // A frame and its reference, read on the loader thread.
@@ -350,9 +366,12 @@ Pending DenoiseRun::Denoise(const SequenceFrame &f, LoadedFrame loaded) {
     run.progress = [&](const std::string &stage, int done, int total) {
         progress.Stage(f.input, stage, done, total);
     };
+    if (!f.map.empty()) run.stages = {"auto.map"};
     progress.RunStarts();
     Result result = method.Run(*device, loaded.frame, run);
     progress.RunDone();
+    // Before the lines: the map's own goes into the plan, or a warning that there is none.
+    WriteAutoMap(f.map, result);
     Pending p;
     if (settings.explain) p.out += ExplainText(f.input, loaded, result, *device);
     p.warnings = WarningsText(result.warnings, settings.single ? "" : f.input + ": ");
@@ -389,7 +408,7 @@ void DenoiseRun::Finish(Pending &p) {
         fmt::print(stderr, "{}", p.error);
         failed.push_back(p.frame->input);
     }
-    progress.FrameDone(*p.frame, !p.error.empty(), device->Context().Pipelines().seconds);
+    progress.FrameDone(*p.frame, !p.error.empty(), api::ContextOf(*device).Pipelines().seconds);
 }
 
 void DenoiseRun::Summarize(double seconds) const {
