@@ -31,21 +31,13 @@
 namespace mcd::tool {
 namespace {
 
-// The result written over its own input frame (--overwrite-input): every layer kept, the
-// noisy color under kNoisyColorLayer (a second run keeps the first's, the render's own),
-// the file's metadata with the provenance on top. A link to the frame stays one: the
-// file it names is replaced.
+// The result written over its own input frame (--overwrite-input): every channel kept under
+// the renderer's name, the noisy colour added (io::WriteDenoisedOver), the provenance added
+// to the header. A link to the frame stays one: the file it names is replaced.
 void WriteOverInput(const io::Frame &frame, const Image &denoised,
                     const std::map<std::string, std::string> &provenance) {
-    const Image &noisy =
-        frame.Has(kNoisyColorLayer) ? frame.Get(kNoisyColorLayer) : frame.Get("color");
-    std::vector<std::pair<std::string, const Image *>> layers = {{"color", &denoised},
-                                                                 {kNoisyColorLayer, &noisy}};
-    for (const auto &[name, image] : frame.layers)
-        if (name != "color" && name != kNoisyColorLayer) layers.push_back({name, &image});
-    std::map<std::string, std::string> metadata = frame.metadata;
-    for (const auto &[key, value] : provenance) metadata[key] = value;
-    io::WriteExr(std::filesystem::canonical(frame.path).string(), layers, metadata);
+    io::WriteDenoisedOver(std::filesystem::canonical(frame.path).string(), denoised,
+                          provenance);
 }
 
 // The GPU buffers a run allocated, by name with their sizes, and its peak.
@@ -402,9 +394,11 @@ void AddDenoiseCommand(CLI::App &app) {
                     "colours); for a sequence, a pattern (map.####.png) or a directory");
     cmd->add_flag("--explain", opt->explain, "print what runs and what is left out, and why");
     cmd->add_flag("--overwrite-input", opt->overwriteInput,
-                  "let -o be the input frame (.exr): the result becomes its color, the noisy "
-                  "color is kept as layer " +
-                      std::string(kNoisyColorLayer) + " and every other layer as it was");
+                  "let -o be the input frame (.exr): the result replaces the renderer's "
+                  "colour (Blender: Combined), the noisy colour is kept (Blender: as Noisy "
+                  "Image; else as " +
+                      std::string(io::kNoisyColorLayer) +
+                      ") and every other channel as it was, under its own name");
     opt->device.Add(cmd);
     opt->methods.Add(cmd);
 
@@ -445,10 +439,9 @@ void AddDenoiseCommand(CLI::App &app) {
         if (inPlace)
             RefuseOverwritingInputs({{"input", opt->input}}, {{"--preview", opt->preview},
                                                               {"--auto-map", opt->autoMap}});
-        // Only the layers the method reads; an in-place write keeps every layer.
+        // Only the layers the method reads; an in-place write copies the others from the file.
         auto readStart = std::chrono::steady_clock::now();
-        io::Frame frame = io::ReadFrame(
-            opt->input, inPlace ? mcd::ReadOptions{} : mcd::ReadOptions{method.Uses()});
+        io::Frame frame = io::ReadFrame(opt->input, mcd::ReadOptions{method.Uses()});
         double readMs = std::chrono::duration<double, std::milli>(
                             std::chrono::steady_clock::now() - readStart)
                             .count();
