@@ -101,7 +101,7 @@ class Bayes : public FrontEndOf<BayesSettings> {
     }
     std::string Missing(const Frame &frame) const override {
         return options.method.noise == BayesNoise::Variance && !frame.Has("variance")
-                   ? io::Lacks(frame, "no variance layer", {"variance"})
+                   ? io::Lacks(frame, "--noise variance needs a variance layer", {"variance"})
                    : "";
     }
 
