@@ -24,9 +24,9 @@ inline constexpr const char *kNoisyColorLayer = "color.noisy";
 // <view layer>.Noisy Image.R,G,B(,A), the pass Cycles writes when its own denoiser has
 // replaced Combined, other frames kNoisyColorLayer. A file that has its noisy colour
 // already (a second run, or Cycles' denoiser) keeps it. The header's attributes stay,
-// `metadata` set over them. Read and written a band of rows at a time; atomic, as
-// WriteExr. Throws mcd::Error for a file that is not a one-part EXR with a colour of
-// `denoised`'s size.
+// `metadata` set over them (a lossy compression becomes zip). Read and written a band of rows
+// at a time; atomic, as WriteExr. Throws mcd::Error for a file that is not a one-part EXR with
+// a colour of `denoised`'s size.
 void WriteDenoisedOver(const std::string &path, const Image &denoised,
                        const std::map<std::string, std::string> &metadata);
 

@@ -172,7 +172,7 @@ OverwriteTargets FindTargets(const std::vector<std::string> &names, const std::s
 }
 
 // The file's spec as written back: its channels, their types and its attributes, scanlines,
-// the added channels (each of the type of the one it copies) and `metadata` on top.
+// the added channels (each of the type of the one it copies), lossless, `metadata` on top.
 OIIO::ImageSpec OverwriteSpec(const OIIO::ImageSpec &in, const OverwriteTargets &t,
                               const std::map<std::string, std::string> &metadata) {
     OIIO::ImageSpec spec = in;
@@ -185,6 +185,10 @@ OIIO::ImageSpec OverwriteSpec(const OIIO::ImageSpec &in, const OverwriteTargets 
     }
     spec.nchannels = int(spec.channelnames.size());
     spec.erase_attribute("oiio:subimages");
+    // Lossy compression (DWA, B44) would change the kept channels' bits once more.
+    std::string compression = spec.get_string_attribute("compression");
+    if (compression.starts_with("dwa") || compression.starts_with("b44"))
+        spec.attribute("compression", "zip");
     for (const auto &[key, value] : metadata) spec.attribute(key, value);
     return spec;
 }
