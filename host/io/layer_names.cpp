@@ -45,8 +45,9 @@ constexpr Alias kAliases[] = {
     {"Ns", "normal", 1},
     {"Variance", "variance", 2},
     {"P", "", 2},
-    // Blender (Cycles). With denoising data on, Combined is the denoised image, so the
-    // noisy one wins "color" when both are there.
+    // Blender (Cycles). Denoising Data alone leaves Combined noisy and adds no Noisy Image
+    // (the fixtures in tests/data); with the render denoiser on, Combined is its output and
+    // Noisy Image the noisy colour, which wins "color" when both are there.
     {"Noisy Image", "color", 2},
     {"Combined", "color", 1},
     {"Denoising Albedo", "albedo", 2},
