@@ -28,7 +28,8 @@ class Inputs {
     // read (and checked, once, whole) from the parent and cropped on first use.
     Inputs(Inputs &parent, int x0, int y0, int x1, int y1);
 
-    const std::string &Path() const { return frame.path; }
+    // The frame's file, or "the frame" for one built in memory (what messages start with).
+    const std::string &Path() const { return frame.path.empty() ? kInMemory : frame.path; }
     // The frame itself (what a front end's Missing reads; a tile's is the whole frame).
     const mcd::Frame &Source() const { return frame; }
     int Width() const { return width; }
@@ -48,6 +49,7 @@ class Inputs {
     std::vector<std::string> warnings;
 
   private:
+    static inline const std::string kInMemory = "the frame";
     const Frame &frame;
     bool refuseNonFinite;
     std::string method;

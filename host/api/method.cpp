@@ -6,10 +6,13 @@
 #include <chrono>
 #include <cmath>
 
+#include "host/api/cancel.h"
+#include "host/api/device.h"
 #include "host/api/front_end.h"
 #include "host/api/method_auto.h"
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
+#include "host/api/views.h"
 #include "host/methods/pivot.h"
 
 namespace mcd {
@@ -115,30 +118,31 @@ void RefuseMissing(const api::FrontEnd &method, const Frame &frame,
 
 // Pixels the renderer left fully transparent (alpha 0: the background on Blender's Film >
 // Transparent) keep the frame's colour, as the renderer wrote it: light a method spread
-// into them would be added over whatever a compositor puts behind. The result's alpha is
-// the frame's; whoever writes the result writes it beside.
+// into them would be added over whatever a compositor puts behind. The result's alpha
+// (Result::alpha, the frame's) is written beside the colour.
 void KeepTransparent(const Frame &frame, Result *result) {
-    if (!frame.Has("alpha") || !frame.Has("color")) return;
-    const Image &alpha = frame.Get("alpha"), &color = frame.Get("color");
+    const Image &alpha = result->alpha;
     Image &image = result->image;
     if (alpha.channels != 1 || alpha.width != image.width || alpha.height != image.height ||
-        !color.SameShape(image))
+        !frame.Has("color"))
         return;
-    size_t kept = 0;
-    for (size_t i = 0; i < alpha.PixelCount(); ++i) {
-        if (!(alpha.data[i] <= 0.f)) continue;
-        ++kept;
+    std::vector<size_t> clear;
+    for (size_t i = 0; i < alpha.PixelCount(); ++i)
+        if (alpha.data[i] <= 0.f) clear.push_back(i);
+    if (clear.empty()) return;
+    Image color = frame.Copy("color");  // the caller's memory when the layer is borrowed
+    if (!color.SameShape(image)) return;
+    for (size_t i : clear) {
         // As the non-finite policy would have it: a refused frame never gets here.
         for (int c = 0; c < image.channels; ++c) {
             float v = color.Plane(c)[i];
             image.Plane(c)[i] = std::isfinite(v) ? v : 0.f;
         }
     }
-    if (kept)
-        result->plan.push_back(fmt::format(
-            "alpha: {} fully transparent pixel(s) (alpha 0) keep the frame's colour; the "
-            "result's alpha is the frame's",
-            kept));
+    result->plan.push_back(fmt::format(
+        "alpha: {} fully transparent pixel(s) (alpha 0) keep the frame's colour; the "
+        "result's alpha is the frame's",
+        clear.size()));
 }
 
 bool SameType(const ParamValue &value, ParamType type) {
@@ -204,7 +208,8 @@ struct Method::Impl {
     const ParamInfo &Info(const std::string &name) const {
         for (const ParamInfo &info : infos)
             if (info.name == name) return info;
-        throw Error(fmt::format("{} has no parameter '{}'", frontEnd->Name(), name));
+        throw Error(fmt::format("{} has no parameter '{}'", frontEnd->Name(), name),
+                    ErrorKind::InvalidArgument);
     }
     bool IsCommon(const std::string &name) const {
         return name == "demodulate" || name == "non-finite";
@@ -216,7 +221,8 @@ Method::Method(const std::string &name) {
     if (!frontEnd) {
         std::string known = "auto";
         for (const std::string &m : MethodNames()) known += ", " + m;
-        throw Error(fmt::format("unknown method '{}' (methods: {})", name, known));
+        throw Error(fmt::format("unknown method '{}' (methods: {})", name, known),
+                    ErrorKind::InvalidArgument);
     }
     impl = std::make_unique<Impl>(std::move(frontEnd));
 }
@@ -260,7 +266,8 @@ void Method::Set(const std::string &name, ParamValue value) {
         value = float(std::get<int>(value));
     if (!SameType(value, info.type))
         throw Error(fmt::format("{}: parameter '{}' takes {}, not {}", Name(), name,
-                                TypeName(info.type), ValueText(value)));
+                                TypeName(info.type), ValueText(value)),
+                    ErrorKind::InvalidArgument);
     // Compare in the parameter's own type: 1e-6f is below the double 1e-6.
     bool outside = info.type == ParamType::Int
                        ? !(std::get<int>(value) >= info.min && std::get<int>(value) <= info.max)
@@ -270,7 +277,8 @@ void Method::Set(const std::string &name, ParamValue value) {
                        : false;
     if (outside)
         throw Error(fmt::format("{}: parameter '{}' is {}, outside [{}, {}]", Name(), name,
-                                ValueText(value), info.min, info.max));
+                                ValueText(value), info.min, info.max),
+                    ErrorKind::InvalidArgument);
     if (info.type == ParamType::String && !info.choices.empty() &&
         std::find(info.choices.begin(), info.choices.end(), std::get<std::string>(value)) ==
             info.choices.end()) {
@@ -283,7 +291,8 @@ void Method::Set(const std::string &name, ParamValue value) {
                        (c.empty() ? "''" : c);
         }
         throw Error(
-            fmt::format("{}: {} takes {}, not {}", Name(), name, choices, ValueText(value)));
+            fmt::format("{}: {} takes {}, not {}", Name(), name, choices, ValueText(value)),
+            ErrorKind::InvalidArgument);
     }
     if (impl->IsCommon(name)) {
         for (const api::ParamDef<CommonParams> &def : CommonDefs())
@@ -317,7 +326,8 @@ void Method::SetText(const std::string &name, const std::string &text) {
         }
     } catch (const std::logic_error &) {
         throw Error(fmt::format("{}: parameter '{}' takes {}, not '{}'", Name(), name,
-                                TypeName(info.type), text));
+                                TypeName(info.type), text),
+                    ErrorKind::InvalidArgument);
     }
 }
 
@@ -347,26 +357,41 @@ std::string Method::Missing(const Frame &frame) const {
 }
 
 Result Method::Run(Device &device, const Frame &frame, const RunOptions &options) const {
-    vk::Context &context = device.Context();
+    if (options.output.data) api::CheckOutput(frame, options.output);
+    vk::Context &context = api::ContextOf(device);
+    api::CancelScope cancel(context, options.cancel);
     context.ResetLedger();
     auto start = std::chrono::steady_clock::now();
     const api::FrontEnd *method = impl->frontEnd.get();
     const std::string &demodulate = impl->common.demodulate;
     std::vector<std::string> autoPlan;
-    // auto combines the methods on the frame itself; with --demodulate it picks one.
-    if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
-        if (!demodulate.empty()) method = &automatic->Pick(frame, demodulate, &autoPlan);
-    RefuseMissing(*method, frame, demodulate);
-    api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
-    Demodulation demodulation;
-    if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
-    Result result = api::RunTiled(context, *method, inputs, options);
-    if (!demodulate.empty()) Remodulate(demodulation, method->Name(), &result);
-    KeepTransparent(frame, &result);
+    Result result;
+    try {
+        // auto combines the methods on the frame itself; with --demodulate it picks one.
+        if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
+            if (!demodulate.empty()) method = &automatic->Pick(frame, demodulate, &autoPlan);
+        RefuseMissing(*method, frame, demodulate);
+        api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
+        Demodulation demodulation;
+        if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
+        result = api::RunTiled(context, *method, inputs, options);
+        if (!demodulate.empty()) Remodulate(demodulation, method->Name(), &result);
+        result.warnings.insert(result.warnings.begin(), inputs.warnings.begin(),
+                               inputs.warnings.end());
+    } catch (const Error &) {
+        cancel.ThrowIfCancelled();
+        throw;
+    }
+    // auto leaves out a candidate that fails, a cancelled one too.
+    cancel.ThrowIfCancelled();
     result.method = method->Name();
     result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());
-    result.warnings.insert(result.warnings.begin(), inputs.warnings.begin(),
-                           inputs.warnings.end());
+    if (frame.Has("alpha")) result.alpha = frame.Copy("alpha");
+    KeepTransparent(frame, &result);
+    if (options.output.data) {
+        api::WriteOutput(result.image, result.alpha, options.output);
+        result.image = Image();
+    }
     result.wallMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
             .count();
@@ -388,7 +413,7 @@ std::vector<Stage> Method::Reference(Device &device, const Frame &frame) const {
     RefuseMissing(*method, frame, demodulate);
     api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
     if (!demodulate.empty()) Demodulate(inputs, *method, frame, demodulate);
-    return method->Reference(device.Context(), inputs);
+    return method->Reference(api::ContextOf(device), inputs);
 }
 
 double Result::GpuMs() const {

@@ -440,6 +440,7 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
             out.ran.push_back(
                 RunCandidate(context, inputs, *method, v, runsSplit, noise, o, out));
         } catch (const Error &e) {
+            if (e.Kind() == ErrorKind::Cancelled) throw;
             plan->push_back(fmt::format("auto: left out {}: {}", label, e.what()));
         }
     }
@@ -686,8 +687,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     AutoResult combined =
         AutoCombine(context, color, list, EstimateInputs(noise, combine), combine);
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
-    list.clear();
     Result result = ResultOf(std::move(combined));
+    for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
+    list.clear();
     result.method = "auto";
     plan.insert(plan.end(), result.plan.begin(), result.plan.end());
     plan.insert(plan.end(), candidates.plans.begin(), candidates.plans.end());

@@ -140,6 +140,10 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
                                     "counted from the window's corner): {}",
                                     wx0, wx1, wy0, wy1, warning));
                 }
+            for (std::string &name : part.candidates)
+                if (std::find(result.candidates.begin(), result.candidates.end(), name) ==
+                    result.candidates.end())
+                    result.candidates.push_back(std::move(name));
             for (Timing &t : part.timings) result.timings.push_back(std::move(t));
             ++done;
             if (run.progress) run.progress("tiles", done, count);

@@ -45,9 +45,9 @@ struct ShrinkCase {
     float cs;
 };
 
-class AwrKernelShrink : public GpuTestWithParam<ShrinkCase> {};
+class AwrShrinkKernel : public GpuTestWithParam<ShrinkCase> {};
 
-TEST_P(AwrKernelShrink, MatchesReference) {
+TEST_P(AwrShrinkKernel, MatchesReference) {
     const auto [w, h, lw, lh, cs] = GetParam();
     uint64_t seed = SeedFromName(fmt::format("shrink{}x{}", w, h));
     Image coef = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
@@ -78,7 +78,7 @@ std::vector<ShrinkCase> ShrinkCases() {
     return cases;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AwrKernelShrink, testing::ValuesIn(ShrinkCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AwrShrinkKernel, testing::ValuesIn(ShrinkCases()),
                          [](const testing::TestParamInfo<ShrinkCase> &info) {
                              const ShrinkCase &c = info.param;
                              return fmt::format("{}x{}_low{}x{}_cs{}", c.w, c.h, c.lw, c.lh,

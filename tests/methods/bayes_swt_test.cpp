@@ -253,7 +253,8 @@ const std::vector<std::pair<int, int>> kSizes = {{1, 1},   {2, 3},  {3, 2},  {1,
                                                  {17, 13}, {64, 7}, {3, 70}, {33, 33}};
 
 // Every basis and size at the given level counts, those the size allows, each once (the
-// lists name the deepest level too, which may repeat another).
+// lists name the deepest level too, which may repeat another). The kernels' suites ask for
+// 1 level at least: at 0 (1x1) the transform is a copy and no kernel runs.
 std::vector<SizeCase> KernelCases(std::vector<int> (*levelCounts)(int w, int h)) {
     std::vector<SizeCase> cases;
     for (WaveletBasis basis : kBases)
@@ -281,9 +282,9 @@ std::vector<int> UpToThreeLevels(int w, int h) {
 // pass scaled by at most the same |tap| sums. Composed over the 2 passes of L levels, the
 // error of a coefficient is at most 11 (2 L) u times the reference's magnitude twin (|taps|
 // on |x|, levels composed), plus the reference's own rounding to float (u / 2).
-class BayesSwtKernelAnalysis : public BayesSwtKernelWithParam<SizeCase> {};
+class WaveletSwtAnalyzeKernel : public BayesSwtKernelWithParam<SizeCase> {};
 
-TEST_P(BayesSwtKernelAnalysis, MatchesReference) {
+TEST_P(WaveletSwtAnalyzeKernel, MatchesReference) {
     const auto [basis, w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
     Image in =
@@ -295,19 +296,11 @@ TEST_P(BayesSwtKernelAnalysis, MatchesReference) {
     EXPECT_TRUE(ImagesMatch(expected, got, magnitude, {rel, 1e-30, 1}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtKernelAnalysis,
-                         testing::ValuesIn(KernelCases([](int w, int h) {
-                             return std::vector<int>{1, 3, MaxWaveletLevels(w, h)};
-                         })),
-                         SizeCaseName);
-
 // Squared taps on a non-negative variance: all terms are positive, so the value is its own
 // magnitude twin. Per pass a dot product of at most 9 products of a squared tap (one more
 // rounding for the square than the analysis's taps, within the "+ 2" of its budget) and a
 // value: the analysis's 11 u per pass, 22 L u over L levels, plus the reference's rounding.
-class BayesSwtKernelSquaredAnalysis : public BayesSwtKernelWithParam<SizeCase> {};
-
-TEST_P(BayesSwtKernelSquaredAnalysis, MatchesReference) {
+TEST_P(WaveletSwtAnalyzeKernel, SquaredMatchesReference) {
     const auto [basis, w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
     Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 2,
@@ -318,15 +311,18 @@ TEST_P(BayesSwtKernelSquaredAnalysis, MatchesReference) {
     EXPECT_TRUE(ImagesMatch(expected, got, {}, {rel, 1e-30, 1}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtKernelSquaredAnalysis,
-                         testing::ValuesIn(KernelCases(UpToThreeLevels)), SizeCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletSwtAnalyzeKernel,
+                         testing::ValuesIn(KernelCases([](int w, int h) {
+                             return std::vector<int>{1, 3, std::max(1, MaxWaveletLevels(w, h))};
+                         })),
+                         SizeCaseName);
 
 // Synthesis of the same float coefficients: each output sums at most 9 + 7 products (the
 // 1/2 is exact), so (16 + 2) u per pass, composed over 2 L passes against the synthesis's
 // magnitude twin.
-class BayesSwtKernelSynthesis : public BayesSwtKernelWithParam<SizeCase> {};
+class WaveletSwtSynthesizeKernel : public BayesSwtKernelWithParam<SizeCase> {};
 
-TEST_P(BayesSwtKernelSynthesis, MatchesReference) {
+TEST_P(WaveletSwtSynthesizeKernel, MatchesReference) {
     const auto [basis, w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
     Image coef = MakeInput(InputKind::Uniform, w, h, 2 * shader::SwtPlaneCount(levels),
@@ -338,9 +334,9 @@ TEST_P(BayesSwtKernelSynthesis, MatchesReference) {
     EXPECT_TRUE(ImagesMatch(expected, got, magnitude, {rel, 1e-30, 1}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtKernelSynthesis,
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletSwtSynthesizeKernel,
                          testing::ValuesIn(KernelCases([](int w, int h) {
-                             return std::vector<int>{1, MaxWaveletLevels(w, h)};
+                             return std::vector<int>{1, std::max(1, MaxWaveletLevels(w, h))};
                          })),
                          SizeCaseName);
 
@@ -439,7 +435,7 @@ Image Log(Image image) {
 }
 
 // Moments of full-size SWT bands, empty bands included (count 0): the sum bound of
-// BayesKernelMoments.MatchReference, (count / 256 + 12) u relative.
+// BayesMomentsKernel.MatchReference, (count / 256 + 12) u relative.
 struct MomentCase {
     int w, h, levels;
 };
@@ -455,9 +451,9 @@ std::vector<MomentCase> MomentCases() {
     return cases;
 }
 
-class BayesSwtMethodMoments : public GpuTestWithParam<MomentCase> {};
+class BayesSwtMomentsKernel : public GpuTestWithParam<MomentCase> {};
 
-TEST_P(BayesSwtMethodMoments, MatchReference) {
+TEST_P(BayesSwtMomentsKernel, MatchReference) {
     const auto [w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
     const int channels = 2;
@@ -489,7 +485,7 @@ TEST_P(BayesSwtMethodMoments, MatchReference) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtMethodMoments, testing::ValuesIn(MomentCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtMomentsKernel, testing::ValuesIn(MomentCases()),
                          [](const testing::TestParamInfo<MomentCase> &info) {
                              return fmt::format("{}x{}_L{}", info.param.w, info.param.h,
                                                 info.param.levels);

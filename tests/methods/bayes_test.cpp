@@ -344,10 +344,10 @@ const std::vector<std::pair<int, int>> kSizes = {{1, 1},   {2, 1},  {1, 5}, {3, 
                                                  {37, 23}, {64, 7}, {3, 70}};
 
 // GLSL log: within 3 ulp of |log v| outside [0.5, 2], 2^-21 absolute inside; the reference
-// rounds once more (0.5 ulp). exp: (3 + 2 |z|) ulp, plus the reference's rounding.
-class BayesKernelLogExp : public BayesKernelWithParam<std::pair<int, int>> {};
+// rounds once more (0.5 ulp).
+class BayesLogKernel : public BayesKernelWithParam<std::pair<int, int>> {};
 
-TEST_P(BayesKernelLogExp, MatchesReference) {
+TEST_P(BayesLogKernel, MatchesReference) {
     const auto [w, h] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{}", w, h));
     Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayeslog{}x{}", w, h)));
@@ -356,47 +356,64 @@ TEST_P(BayesKernelLogExp, MatchesReference) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(floors[c], refFloors[c], 1e-6 * refFloors[c]);
     std::vector<double> floorsAsGpu(floors.begin(), floors.end());
     Image expected = ref::BayesLog(color, floorsAsGpu);
-    vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log"),
-        back(Ctx(), w, h, 3, "exp");
+    vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log");
     in.Upload(color);
     vk::Buffer floorsGpu = Floats(floors, "floors");
-    vk::Recorder recorder(Ctx());
-    RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
-    RecordBayesExp(Ctx(), recorder, out, in, back, true);
-    recorder.Submit();
-    Image logGpu = out.Download();
+    auto run = [&] {
+        vk::Recorder recorder(Ctx());
+        RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
+        recorder.Submit();
+        return out.Download();
+    };
+    Image logGpu = run();
     EXPECT_TRUE(ImagesMatch(expected, logGpu, {}, {4 * kUnitRoundoff, 0x1p-21, 1e-9}));
-    Image expExpected = ref::BayesExp(logGpu, color);
-    Image scale(w, h, 3);
-    for (size_t i = 0; i < scale.Size(); ++i)
-        scale.data[i] = std::fabs(expExpected.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
-    Image expGpu = back.Download();
-    EXPECT_TRUE(ImagesMatch(expExpected, expGpu, scale, {kUnitRoundoff, 0, 1e-9}));
-    for (size_t i = 0; i < color.Size(); ++i)
-        if (!(std::isfinite(color.data[i]) && color.data[i] > 0)) {
-            EXPECT_EQ(expGpu.data[i], 0.f) << "exact zero at " << i;
-        }
-    // Zeros denoised: they take exp of their log like any pixel; NaN/Inf/negatives 0.
-    vk::Recorder again(Ctx());
-    RecordBayesExp(Ctx(), again, out, in, back, false);
-    again.Submit();
-    Image expNoRestore = back.Download();
-    Image expectedNoRestore = ref::BayesExp(logGpu, color, false);
-    for (size_t i = 0; i < scale.Size(); ++i)
-        scale.data[i] =
-            std::fabs(expectedNoRestore.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
-    EXPECT_TRUE(ImagesMatch(expectedNoRestore, expNoRestore, scale, {kUnitRoundoff, 0, 1e-9}));
-    for (size_t i = 0; i < color.Size(); ++i) {
-        if (color.data[i] == 0) {
-            EXPECT_GT(expNoRestore.data[i], 0.f) << i;
-        }
-        if (!(std::isfinite(color.data[i]) && color.data[i] >= 0)) {
-            EXPECT_EQ(expNoRestore.data[i], 0.f) << i;
+    EXPECT_TRUE(BitIdentical(logGpu, run()));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesLogKernel, testing::ValuesIn(kSizes), SizeName);
+
+// exp: (3 + 2 |z|) ulp, plus the reference's rounding, on the reference's log of an awkward
+// image (zeros, negatives, NaN/Inf: exact zeros where restored).
+class BayesExpKernel : public BayesKernelWithParam<std::pair<int, int>> {};
+
+TEST_P(BayesExpKernel, MatchesReference) {
+    const auto [w, h] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{}", w, h));
+    Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayesexp{}x{}", w, h)));
+    Image logImage = ref::BayesLog(color, ref::BayesFloors(color, 1e-3));
+    vk::GpuImage in(Ctx(), w, h, 3, "color"), log(Ctx(), w, h, 3, "log"),
+        back(Ctx(), w, h, 3, "exp");
+    in.Upload(color);
+    log.Upload(logImage);
+    auto run = [&](bool restoreZeros) {
+        vk::Recorder recorder(Ctx());
+        RecordBayesExp(Ctx(), recorder, log, in, back, restoreZeros);
+        recorder.Submit();
+        return back.Download();
+    };
+    for (bool restoreZeros : {true, false}) {
+        SCOPED_TRACE(restoreZeros ? "zeros restored" : "zeros denoised");
+        Image expected = ref::BayesExp(logImage, color, restoreZeros);
+        Image scale(w, h, 3);
+        for (size_t i = 0; i < scale.Size(); ++i)
+            scale.data[i] = std::fabs(expected.data[i]) * (4 + 2 * std::fabs(logImage.data[i]));
+        Image got = run(restoreZeros);
+        EXPECT_TRUE(ImagesMatch(expected, got, scale, {kUnitRoundoff, 0, 1e-9}));
+        EXPECT_TRUE(BitIdentical(got, run(restoreZeros)));
+        // Zeros take exp of their log like any pixel unless restored; NaN/Inf/negatives 0.
+        for (size_t i = 0; i < color.Size(); ++i) {
+            bool restored = !(std::isfinite(color.data[i]) && color.data[i] > 0) &&
+                            (restoreZeros || color.data[i] != 0);
+            if (restored) {
+                EXPECT_EQ(got.data[i], 0.f) << "exact zero at " << i;
+            } else if (color.data[i] == 0) {
+                EXPECT_GT(got.data[i], 0.f) << i;
+            }
         }
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelLogExp, testing::ValuesIn(kSizes), SizeName);
+INSTANTIATE_TEST_SUITE_P(Cases, BayesExpKernel, testing::ValuesIn(kSizes), SizeName);
 
 // Sums of positive terms in float: lane l adds count/256 terms, then 8 tree levels, then
 // one division; v^2 and v^4 round twice. Relative error <= (count/256 + 8 + 4) u.
@@ -413,9 +430,9 @@ std::vector<LevelsCase> MomentCases() {
     return cases;
 }
 
-class BayesKernelMoments : public BayesKernelWithParam<LevelsCase> {};
+class BayesMomentsKernel : public BayesKernelWithParam<LevelsCase> {};
 
-TEST_P(BayesKernelMoments, MatchReference) {
+TEST_P(BayesMomentsKernel, MatchReference) {
     const auto [w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
     Image coef = MakeInput(InputKind::Uniform, w, h, 2,
@@ -440,7 +457,7 @@ TEST_P(BayesKernelMoments, MatchReference) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelMoments, testing::ValuesIn(MomentCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, BayesMomentsKernel, testing::ValuesIn(MomentCases()),
                          [](const testing::TestParamInfo<LevelsCase> &info) {
                              return fmt::format("{}x{}_L{}", info.param.w, info.param.h,
                                                 info.param.levels);
@@ -455,7 +472,9 @@ struct SolveCase {
 // budget: the float subtractions of eq. 17-18 (4 u of each term over the difference),
 // float lgamma (about 2^-20 absolute per call, 6 calls per log kurtosis), propagated to
 // p_c through the slope of log kurtosis(p) and to s_c through sigma_c^2 and p_c.
-TEST_F(BayesKernel, SolveMatchesReference) {
+class BayesSolveKernel : public BayesKernel {};
+
+TEST_F(BayesSolveKernel, MatchesReference) {
     const float sn = 0.19f, pn = 1.5f, snFinest = 0.38f;
     const int levels = 2;
     std::vector<SolveCase> cases;
@@ -768,7 +787,9 @@ TEST_F(BayesKernel, NoiseAutoSpinsShareOneEstimate) {
 
 // The mix kernel: three products and two sums in float per output, so within 4 u of
 // sum |m_ij| |v_j|; forward then inverse gives the input back within twice that.
-TEST_F(BayesKernel, MixMatchesReference) {
+class BayesMixKernel : public BayesKernel {};
+
+TEST_F(BayesMixKernel, MatchesReference) {
     Image v = MakeInput(InputKind::Uniform, 37, 5, 3, SeedFromName("bayes mix"));
     vk::GpuImage image(Ctx(), 37, 5, 3, "mix");
     image.Upload(v);

@@ -124,9 +124,9 @@ struct RatioCase {
     bool withVariance, withIds;
 };
 
-class PivotKernelRatio : public GpuTestWithParam<RatioCase> {};
+class PivotRatioKernel : public GpuTestWithParam<RatioCase> {};
 
-TEST_P(PivotKernelRatio, MatchesReference) {
+TEST_P(PivotRatioKernel, MatchesReference) {
     const auto [w, h, withVariance, withIds] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h)));
     // Black and near-black pivots: excluded, never divided by.
@@ -169,7 +169,7 @@ std::vector<RatioCase> RatioCases() {
     return cases;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelRatio, testing::ValuesIn(RatioCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, PivotRatioKernel, testing::ValuesIn(RatioCases()),
                          [](const testing::TestParamInfo<RatioCase> &info) {
                              const RatioCase &c = info.param;
                              return fmt::format("{}x{}{}{}", c.w, c.h,
@@ -201,9 +201,9 @@ std::string StageCaseName(const testing::TestParamInfo<StageCase> &info) {
 // planes agree to the sums' round-off: at most (2R+1)^2 = 169 terms (169 u relative) times
 // the normal matrix's condition in centred coordinates (below ~100 for these windows), of
 // the window's |z| scale.
-class PivotKernelFit : public GpuTestWithParam<StageCase> {};
+class PivotFitKernel : public GpuTestWithParam<StageCase> {};
 
-TEST_P(PivotKernelFit, MatchesReference) {
+TEST_P(PivotFitKernel, MatchesReference) {
     const auto [w, h, guides] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("fit{}x{}", w, h)));
     ref::PivotRatio ratio =
@@ -270,15 +270,15 @@ TEST_P(PivotKernelFit, MatchesReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Cases, PivotKernelFit,
+    Cases, PivotFitKernel,
     testing::ValuesIn(StageCases({{29, 21}, {1, 1}, {1, 12}, {9, 1}, {6, 5}})), StageCaseName);
 
 // Stage 3 on the reference's fits: per term a plane evaluation, eq. 12's 8th power by
 // three squarings and a weighted mean; relative error a few tens of u of the pivot times
 // the largest |z|.
-class PivotKernelGather : public GpuTestWithParam<StageCase> {};
+class PivotGatherKernel : public GpuTestWithParam<StageCase> {};
 
-TEST_P(PivotKernelGather, MatchesReference) {
+TEST_P(PivotGatherKernel, MatchesReference) {
     const auto [w, h, guides] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("gather{}x{}", w, h)));
     for (int i = 0; i < int(f.pivot.Size()); i += 11) f.pivot.data[i] = 0;
@@ -324,15 +324,15 @@ TEST_P(PivotKernelGather, MatchesReference) {
         ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelGather,
+INSTANTIATE_TEST_SUITE_P(Cases, PivotGatherKernel,
                          testing::ValuesIn(StageCases({{27, 19}, {1, 1}, {1, 10}, {7, 1}})),
                          StageCaseName);
 
 // The bilateral baseline: each weight is an exp of a few roundings (exp's own error is a
 // few u on lavapipe), the result a weighted mean.
-class PivotKernelBilateral : public GpuTestWithParam<StageCase> {};
+class PivotBilateralKernel : public GpuTestWithParam<StageCase> {};
 
-TEST_P(PivotKernelBilateral, MatchesReference) {
+TEST_P(PivotBilateralKernel, MatchesReference) {
     const auto [w, h, guides] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("bilateral{}x{}", w, h)));
     ref::PivotRatio ratio =
@@ -362,7 +362,7 @@ TEST_P(PivotKernelBilateral, MatchesReference) {
         ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelBilateral,
+INSTANTIATE_TEST_SUITE_P(Cases, PivotBilateralKernel,
                          testing::ValuesIn(StageCases({{31, 17}, {1, 1}, {1, 8}, {10, 1}})),
                          StageCaseName);
 

@@ -471,7 +471,9 @@ TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
 // of products in float): widths below, at and past a block, empty pixels (count 0, whose
 // bins are left out even when non-zero), whole empty blocks, histograms split over several
 // buffers (the count plane in a buffer of its own or sharing one), a histScale below 1.
-TEST_F(RhfKernel, BlockMaximaMatchReference) {
+class RhfBlockmaxKernel : public GpuTest {};
+
+TEST_F(RhfBlockmaxKernel, MatchesReference) {
     std::mt19937_64 rng(SeedFromName("rhf block maxima"));
     std::uniform_real_distribution<float> bin(0.f, 3.f);
     struct Case {
@@ -521,7 +523,9 @@ TEST_F(RhfKernel, BlockMaximaMatchReference) {
 // The selection kernel against the reference's selection sort on distances drawn from a
 // few values, so that ties at the cut are the rule: every nearest from 0 past the window,
 // thresholds below, at and between the values, vetoed and out-of-window candidates (-1).
-TEST_F(RhfProperties, SelectionMatchesTheToolsSortOnTies) {
+class RhfSelectKernel : public GpuTest {};
+
+TEST_F(RhfSelectKernel, MatchesTheToolsSortOnTies) {
     std::mt19937_64 rng(SeedFromName("rhf select ties"));
     const float values[] = {-1.f, 0.f, 0.5f, 1.f, 1.f, 2.f};
     for (int b : {0, 1, 2, 3}) {

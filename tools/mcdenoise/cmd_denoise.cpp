@@ -60,7 +60,7 @@ std::string LedgerText(const Result &result) {
 
 // The pipelines the device built so far and what the pipeline cache gave (--explain).
 std::string PipelinesText(Device &device) {
-    const vk::Context::PipelineStats &p = device.Context().Pipelines();
+    const vk::Context::PipelineStats &p = api::ContextOf(device).Pipelines();
     return fmt::format(
         "  pipelines: {} built in {:.3f} s{}\n", p.built, p.seconds,
         p.loadedBytes ? fmt::format(" (pipeline cache: {} bytes read)", p.loadedBytes) : "");
@@ -280,7 +280,8 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
             fmt::print(stderr, "{}", p.error);
             failed.push_back(p.frame->input);
         }
-        progress.FrameDone(*p.frame, !p.error.empty(), device.Context().Pipelines().seconds);
+        progress.FrameDone(*p.frame, !p.error.empty(),
+                           api::ContextOf(device).Pipelines().seconds);
     };
 
     // Three frames in flight: the next one read, this one denoised, the last one written.

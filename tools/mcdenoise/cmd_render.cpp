@@ -47,7 +47,7 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
         frame.path = opt.output;
         frame.width = options.width, frame.height = options.height;
         for (const auto &[name, image] : result.layers) frame.layers[name] = image;
-        Device device = Device::Borrow(context);
+        Device device = api::BorrowDevice(context);
         denoised = Method("awr").Run(device, frame).image;
     }
     io::WriteExr(opt.output, layers, result.metadata);
