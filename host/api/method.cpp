@@ -106,6 +106,47 @@ void Remodulate(const Demodulation &d, const std::string &method, Result *result
     result->plan.insert(result->plan.begin(), lines.begin(), lines.end());
 }
 
+// Refuse a frame that lacks what the method needs, saying what and how the renderer that
+// wrote it makes it (the front end's Missing, io::Lacks). With --demodulate, Demodulate
+// checks the guide's layers (rhf then reads zhist, not hist); auto explains its own.
+void RefuseMissing(const api::FrontEnd &method, const Frame &frame,
+                   const std::string &demodulate) {
+    if (!demodulate.empty() || dynamic_cast<const api::AutoFrontEnd *>(&method)) return;
+    if (std::string lacks = method.Missing(frame); !lacks.empty())
+        throw Error(ErrorKind::MissingLayer,
+                    fmt::format("{}: {} needs layers the frame lacks: {}", frame.path,
+                                method.Name(), lacks));
+}
+
+// Pixels the renderer left fully transparent (alpha 0: the background on Blender's Film >
+// Transparent) keep the frame's colour, as the renderer wrote it: light a method spread
+// into them would be added over whatever a compositor puts behind. The result's alpha
+// (Result::alpha, the frame's) is written beside the colour.
+void KeepTransparent(const Frame &frame, Result *result) {
+    const Image &alpha = result->alpha;
+    Image &image = result->image;
+    if (alpha.channels != 1 || alpha.width != image.width || alpha.height != image.height ||
+        !frame.Has("color"))
+        return;
+    std::vector<size_t> clear;
+    for (size_t i = 0; i < alpha.PixelCount(); ++i)
+        if (alpha.data[i] <= 0.f) clear.push_back(i);
+    if (clear.empty()) return;
+    Image color = frame.Copy("color");  // the caller's memory when the layer is borrowed
+    if (!color.SameShape(image)) return;
+    for (size_t i : clear) {
+        // As the non-finite policy would have it: a refused frame never gets here.
+        for (int c = 0; c < image.channels; ++c) {
+            float v = color.Plane(c)[i];
+            image.Plane(c)[i] = std::isfinite(v) ? v : 0.f;
+        }
+    }
+    result->plan.push_back(fmt::format(
+        "alpha: {} fully transparent pixel(s) (alpha 0) keep the frame's colour; the "
+        "result's alpha is the frame's",
+        clear.size()));
+}
+
 bool SameType(const ParamValue &value, ParamType type) {
     switch (type) {
         case ParamType::Bool:
@@ -331,6 +372,7 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
         // auto combines the methods on the frame itself; with --demodulate it picks one.
         if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
             if (!demodulate.empty()) method = &automatic->Pick(frame, demodulate, &autoPlan);
+        RefuseMissing(*method, frame, demodulate);
         api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
         Demodulation demodulation;
         if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
@@ -347,6 +389,7 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     result.method = method->Name();
     result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());
     if (frame.Has("alpha")) result.alpha = frame.Copy("alpha");
+    KeepTransparent(frame, &result);
     if (options.output.data) {
         api::WriteOutput(result.image, result.alpha, options.output);
         result.image = Image();
@@ -369,6 +412,7 @@ std::vector<Stage> Method::Reference(Device &device, const Frame &frame) const {
     // here, the one method auto picks without a combination.
     if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
         method = &automatic->Pick(frame, demodulate, &ignored);
+    RefuseMissing(*method, frame, demodulate);
     api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
     if (!demodulate.empty()) Demodulate(inputs, *method, frame, demodulate);
     return method->Reference(api::ContextOf(device), inputs);

@@ -7,6 +7,7 @@
 #include "cpu_reference/awr_reconstruct.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
+#include "host/io/hints.h"
 #include "host/methods/awr.h"
 #include "host/wavelet.h"
 
@@ -67,10 +68,12 @@ class Awr : public FrontEndOf<AwrSettings> {
 
     std::string Missing(const Frame &frame) const override {
         const std::string &source = options.variance;
-        if (source == "layer" && !frame.Has("variance")) return "no variance layer";
-        if (source == "range" && !HasRange(frame)) return "no min, max and spp layers";
+        if (source == "layer" && !frame.Has("variance"))
+            return io::Lacks(frame, "no variance layer", {"variance"});
+        if (source == "range" && !HasRange(frame))
+            return io::Lacks(frame, "no min, max and spp layers", {"min", "max", "spp"});
         if (!HasRange(frame) && !frame.Has("variance"))
-            return "no variance layer nor min, max and spp";
+            return io::Lacks(frame, "no variance layer nor min, max and spp", {"variance"});
         return "";
     }
 

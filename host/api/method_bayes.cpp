@@ -8,6 +8,7 @@
 #include "cpu_reference/bayes_denoise.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
+#include "host/io/hints.h"
 #include "host/methods/bayes.h"
 #include "host/wavelet.h"
 
@@ -100,7 +101,7 @@ class Bayes : public FrontEndOf<BayesSettings> {
     }
     std::string Missing(const Frame &frame) const override {
         return options.method.noise == BayesNoise::Variance && !frame.Has("variance")
-                   ? "no variance layer"
+                   ? io::Lacks(frame, "--noise variance needs a variance layer", {"variance"})
                    : "";
     }
 

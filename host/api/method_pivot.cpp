@@ -4,6 +4,7 @@
 
 #include "cpu_reference/pivot_filter.h"
 #include "host/api/front_end.h"
+#include "host/io/hints.h"
 #include "host/methods/pivot.h"
 #include "pivot/gather.h"
 
@@ -102,8 +103,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
     std::string Missing(const Frame &frame) const override {
         std::string layer = PivotLayer([&](const std::string &l) { return frame.Has(l); });
         if (frame.Has(layer)) return "";
-        return options.layer == "auto" ? "no pivot or albedo layer"
-                                       : fmt::format("no {} layer", layer);
+        return options.layer == "auto"
+                   ? io::Lacks(frame, "no pivot or albedo layer", {"pivot", "albedo"})
+                   : io::Lacks(frame, fmt::format("no {} layer", layer), {layer});
     }
     std::string Undemodulable(const Frame &, const std::string &) const override {
         return "the pivot method divides by itself";

@@ -8,6 +8,7 @@
 
 #include "cpu_reference/rhf.h"
 #include "host/api/front_end.h"
+#include "host/io/hints.h"
 #include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
 #include "rhf/blockmax.h"
@@ -51,7 +52,9 @@ class Rhf : public FrontEndOf<RhfParams> {
     }
     std::vector<std::string> Uses() const override { return {"color", "hist", "zhist"}; }
     std::string Missing(const Frame &frame) const override {
-        return frame.Has("hist") ? "" : "no histogram channels (Bin_0000..)";
+        return frame.Has("hist")
+                   ? ""
+                   : io::Lacks(frame, "no histogram channels (Bin_0000..)", {"hist"});
     }
     std::string Undemodulable(const Frame &frame, const std::string &layer) const override {
         // The histograms must be of the samples of color / guide: the renderer's zhist.

@@ -94,13 +94,107 @@ std::set<std::string> BlenderPasses(const std::vector<std::string> &channelNames
     return passes;
 }
 
-std::string ReadBlender(Frame &frame, const std::set<std::string> &passes,
-                        const std::string &viewLayer) {
+// Whether Film > Transparent left the background out of Combined: alpha below 1 at a pixel
+// whose Env pass (the world the camera sees there) is not zero. On opaque film the world
+// counts as covered, alpha 1.
+bool TransparentFilm(const Frame &frame) {
+    if (!frame.Has("alpha") || !HasRgb(frame, "Env")) return false;
+    const Image &alpha = frame.Get("alpha"), &env = frame.Get("Env");
+    if (alpha.channels != 1 || !alpha.SameShape(Image(env.width, env.height, 1))) return false;
+    for (size_t i = 0; i < alpha.PixelCount(); ++i)
+        if (alpha.data[i] < 1.f)
+            for (int c = 0; c < 3; ++c)
+                if (env.Plane(c)[i] != 0.f) return true;
+    return false;
+}
+
+// Cycles' Combined = sum over X of (XDir + XInd) XCol + VolumeDir + VolumeInd + Emit, + Env
+// unless the film is transparent: direct and indirect from those passes, what they miss
+// of color added to indirect. Returns the convention's text.
+std::string ComposeSplit(Frame &frame) {
+    std::vector<std::string> used, incomplete;
+    for (const char *x : {"Diff", "Gloss", "Trans"}) {
+        std::string dir = std::string(x) + "Dir", ind = std::string(x) + "Ind",
+                    col = std::string(x) + "Col";
+        int have = HasRgb(frame, dir) + HasRgb(frame, ind) + HasRgb(frame, col);
+        if (have == 3)
+            used.push_back(x);
+        else if (frame.Has(dir) || frame.Has(ind))
+            incomplete.push_back(x);
+    }
+    if (!incomplete.empty()) {
+        std::string text = "no direct/indirect: the light passes of";
+        for (const std::string &x : incomplete) text += " " + x;
+        return text + " lack Dir, Ind or Col";
+    }
+    if (used.empty())
+        return "no direct/indirect: no light passes (Diff/Gloss/Trans Dir, Ind, Col)";
+
+    const Image &color = frame.Get("color");
+    Image direct(color.width, color.height, 3), indirect = direct;
+    for (const std::string &x : used) {
+        const Image &col = frame.Get(x + "Col");
+        AddScaled(direct, frame.Get(x + "Dir"), &col);
+        AddScaled(indirect, frame.Get(x + "Ind"), &col);
+    }
+    bool transparent = TransparentFilm(frame);
+    std::vector<std::string> missing;
+    for (const char *pass : {"Emit", "Env", "VolumeDir"})
+        if (transparent && std::string(pass) == "Env")
+            continue;
+        else if (HasRgb(frame, pass))
+            AddScaled(direct, frame.Get(pass), nullptr), used.push_back(pass);
+        else
+            missing.push_back(pass);
+    if (HasRgb(frame, "VolumeInd"))
+        AddScaled(indirect, frame.Get("VolumeInd"), nullptr), used.push_back("VolumeInd");
+    else
+        missing.push_back("VolumeInd");
+    for (const char *x : {"Diff", "Gloss", "Trans"})
+        if (std::find(used.begin(), used.end(), x) == used.end())
+            missing.push_back(std::string(x) + "*");
+
+    // What the passes miss goes to indirect, so that direct + indirect = color and the
+    // bayes split (direct added back) keeps all of it.
+    double gap = 0, total = 0;
+    for (size_t i = 0; i < color.Size(); ++i) {
+        float rest = color.data[i] - direct.data[i] - indirect.data[i];
+        if (!std::isfinite(rest)) continue;
+        gap += std::abs(rest), total += std::abs(color.data[i]);
+        indirect.data[i] += rest;
+    }
+    double percent = total > 0 ? 100 * gap / total : 0;
+    std::string text = "direct/indirect composed from the light passes (";
+    for (size_t i = 0; i < used.size(); ++i) text += (i ? ", " : "") + used[i];
+    if (transparent)
+        text +=
+            "; not Env: the film is transparent, alpha below 1 where the world shows, "
+            "and Combined holds no background";
+    text += fmt::format("): they sum to color within {:.2g}% of |color|", percent);
+    if (percent > 0.1) {
+        text += "; the rest goes to indirect";
+        if (!missing.empty()) {
+            text += " (passes not written:";
+            for (const std::string &m : missing) text += " " + m;
+            text += ")";
+        }
+    }
+    frame.layers["direct"] = std::move(direct);
+    frame.layers["indirect"] = std::move(indirect);
+    return text;
+}
+
+std::string ReadBlender(Frame &frame, const std::set<std::string> &names,
+                        const std::set<std::string> &passes, const std::string &viewLayer) {
     std::vector<std::string> parts;
     bool noisy = passes.count("Noisy Image") > 0;
     if (frame.Has("color"))
         parts.push_back(noisy ? "color from Noisy Image (Combined is denoised)"
                               : "color from Combined");
+    if (frame.Has("alpha") && !names.count("A"))
+        parts.push_back(noisy && names.count(viewLayer + ".Noisy Image.A")
+                            ? "alpha from Noisy Image.A"
+                            : "alpha from Combined.A");
     if (frame.Has("normal"))
         parts.push_back(passes.count("Denoising Normal")
                             ? "normal from Denoising Normal (camera space)"
@@ -109,75 +203,9 @@ std::string ReadBlender(Frame &frame, const std::set<std::string> &passes,
         parts.push_back(passes.count("Denoising Depth") ? "depth from Denoising Depth"
                                                         : "depth from Depth");
 
-    // Combined = sum over X of (XDir + XInd) XCol + VolumeDir + VolumeInd + Emit + Env.
     if (!frame.Has("direct") && !frame.Has("indirect") && frame.Has("color") &&
-        frame.Get("color").channels == 3) {
-        std::vector<std::string> used, incomplete;
-        for (const char *x : {"Diff", "Gloss", "Trans"}) {
-            std::string dir = std::string(x) + "Dir", ind = std::string(x) + "Ind",
-                        col = std::string(x) + "Col";
-            int have = HasRgb(frame, dir) + HasRgb(frame, ind) + HasRgb(frame, col);
-            if (have == 3)
-                used.push_back(x);
-            else if (frame.Has(dir) || frame.Has(ind))
-                incomplete.push_back(x);
-        }
-        if (!used.empty() && incomplete.empty()) {
-            const Image &color = frame.Get("color");
-            Image direct(color.width, color.height, 3), indirect = direct;
-            for (const std::string &x : used) {
-                const Image &col = frame.Get(x + "Col");
-                AddScaled(direct, frame.Get(x + "Dir"), &col);
-                AddScaled(indirect, frame.Get(x + "Ind"), &col);
-            }
-            std::vector<std::string> missing;
-            for (const char *pass : {"Emit", "Env", "VolumeDir"})
-                if (HasRgb(frame, pass))
-                    AddScaled(direct, frame.Get(pass), nullptr), used.push_back(pass);
-                else
-                    missing.push_back(pass);
-            if (HasRgb(frame, "VolumeInd"))
-                AddScaled(indirect, frame.Get("VolumeInd"), nullptr),
-                    used.push_back("VolumeInd");
-            else
-                missing.push_back("VolumeInd");
-            for (const char *x : {"Diff", "Gloss", "Trans"})
-                if (std::find(used.begin(), used.end(), x) == used.end())
-                    missing.push_back(std::string(x) + "*");
-
-            // What the passes miss goes to indirect, so that direct + indirect = color
-            // and the bayes split (direct added back) keeps all of it.
-            double gap = 0, total = 0;
-            for (size_t i = 0; i < color.Size(); ++i) {
-                float rest = color.data[i] - direct.data[i] - indirect.data[i];
-                if (!std::isfinite(rest)) continue;
-                gap += std::abs(rest), total += std::abs(color.data[i]);
-                indirect.data[i] += rest;
-            }
-            double percent = total > 0 ? 100 * gap / total : 0;
-            std::string text = "direct/indirect composed from the light passes (";
-            for (size_t i = 0; i < used.size(); ++i) text += (i ? ", " : "") + used[i];
-            text += fmt::format("): they sum to color within {:.2g}% of |color|", percent);
-            if (percent > 0.1) {
-                text += "; the rest goes to indirect";
-                if (!missing.empty()) {
-                    text += " (passes not written:";
-                    for (const std::string &m : missing) text += " " + m;
-                    text += ")";
-                }
-            }
-            parts.push_back(text);
-            frame.layers["direct"] = std::move(direct);
-            frame.layers["indirect"] = std::move(indirect);
-        } else if (!incomplete.empty()) {
-            std::string text = "no direct/indirect: the light passes of";
-            for (const std::string &x : incomplete) text += " " + x;
-            parts.push_back(text + " lack Dir, Ind or Col");
-        } else {
-            parts.push_back(
-                "no direct/indirect: no light passes (Diff/Gloss/Trans Dir, Ind, Col)");
-        }
-    }
+        frame.Get("color").channels == 3)
+        parts.push_back(ComposeSplit(frame));
 
     // Debug Sample Count is the pixel's share of the samples, in (0, 1].
     if (frame.Has("Debug Sample Count") && !frame.Has("spp")) {
@@ -272,11 +300,12 @@ std::string ReadMitsubaMoment(Frame &frame, const std::map<std::string, double> 
 
 }  // namespace
 
-bool IsLightPass(const std::string &layer) {
+bool IsSplitSource(const std::string &layer) {
     for (const char *x : {"Diff", "Gloss", "Trans"})
         for (const char *part : {"Dir", "Ind", "Col"})
             if (layer == std::string(x) + part) return true;
-    return layer == "Emit" || layer == "Env" || layer == "VolumeDir" || layer == "VolumeInd";
+    return layer == "Emit" || layer == "Env" || layer == "VolumeDir" || layer == "VolumeInd" ||
+           layer == "alpha";
 }
 
 void ApplyConventions(Frame &frame, const std::vector<std::string> &channelNames,
@@ -288,7 +317,7 @@ void ApplyConventions(Frame &frame, const std::vector<std::string> &channelNames
     std::vector<std::string> lines;
     std::string viewLayer;
     if (std::set<std::string> passes = BlenderPasses(channelNames, &viewLayer); !passes.empty())
-        lines.push_back(ReadBlender(frame, passes, viewLayer));
+        lines.push_back(ReadBlender(frame, names, passes, viewLayer));
 
     // pbrt-v4's Variance won our "variance" unless the file had its own.
     if (names.count("Variance.R") && !names.count("variance.R") && frame.Has("variance"))

@@ -17,16 +17,18 @@ inline constexpr const char *kConventionKey = "mcd:convention";
 
 // Convert the layers of a frame just read: channelNames are the file's channel names,
 // numbers its numeric header attributes (pbrt-v4's samplesPerPixel is an int).
-// - Blender Cycles: direct/indirect composed from the light passes, Debug Sample Count
-//   (a fraction of the samples) made spp when the total is in the metadata.
+// - Blender Cycles: direct/indirect composed from the light passes (Env left out where
+//   Film > Transparent leaves the background out of Combined), Debug Sample Count (a
+//   fraction of the samples) made spp when the total is in the metadata.
 // - pbrt-v4 GBufferFilm: Variance.* (of the samples) divided by samplesPerPixel into
 //   variance (of the mean); without samplesPerPixel it keeps its own name.
 // - Mitsuba 3 moment integrator: m2_<name>.* and <name>.* (XYZ moments) make variance
 //   when the sample count is known.
 // A file's own mcd:convention is dropped: the layers it describes are ours by now.
-// Whether a layer kept under a renderer's name is one that the conventions compose into
-// `direct` and `indirect` (Cycles' light passes: DiffDir, GlossCol, Emit, ...).
-bool IsLightPass(const std::string &layer);
+// Whether a layer is one that the conventions compose `direct` and `indirect` from:
+// Cycles' light passes kept under their names (DiffDir, GlossCol, Emit, Env, ...), and
+// `alpha`, which says whether Env is part of Combined (not on Film > Transparent).
+bool IsSplitSource(const std::string &layer);
 
 void ApplyConventions(Frame &frame, const std::vector<std::string> &channelNames,
                       const std::map<std::string, double> &numbers);

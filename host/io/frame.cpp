@@ -45,8 +45,8 @@ bool IsAlpha(const std::string &channelName) {
     return channelName == "A" || channelName.ends_with(".A");
 }
 
-// Whether ReadFrame keeps a layer of the file: the ones asked for, the renderer passes
-// a convention composes them from, and other renderer passes (small, and kept so that
+// Whether ReadFrame keeps a layer of the file: the ones asked for, the layers a
+// convention composes them from, and other renderer passes (small, and kept so that
 // `info` and the conventions see them).
 bool Wanted(const std::string &layer, const ReadOptions &options) {
     if (options.layers.empty()) return true;
@@ -58,7 +58,7 @@ bool Wanted(const std::string &layer, const ReadOptions &options) {
         return false;
     };
     if (asked(layer)) return true;
-    if (IsLightPass(layer)) return asked("direct") || asked("indirect");
+    if (IsSplitSource(layer)) return asked("direct") || asked("indirect");
     return !IsOwnLayerName(layer);
 }
 

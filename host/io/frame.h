@@ -13,6 +13,23 @@ using mcd::ReadImage;
 using mcd::WriteExr;
 using mcd::WritePng;
 
+// The layer that keeps the noisy colour of a frame whose colour WriteDenoisedOver
+// replaced, in our names (ARCHITECTURE.md's layer table); Blender frames use Cycles' own.
+inline constexpr const char *kNoisyColorLayer = "color.noisy";
+
+// Write a denoised colour into the EXR frame at `path` in place of the renderer's colour
+// (denoise --overwrite-input). Every channel of the file stays under its own name, in its
+// own pixel type, alpha included; the denoised colour goes where the renderer's colour was
+// (Blender: <view layer>.Combined) and only the noisy colour is added: Blender frames get
+// <view layer>.Noisy Image.R,G,B(,A), the pass Cycles writes when its own denoiser has
+// replaced Combined, other frames kNoisyColorLayer. A file that has its noisy colour
+// already (a second run, or Cycles' denoiser) keeps it. The header's attributes stay,
+// `metadata` set over them (a lossy compression becomes zip). Read and written a band of rows
+// at a time; atomic, as WriteExr. Throws mcd::Error for a file that is not a one-part EXR with
+// a colour of `denoised`'s size.
+void WriteDenoisedOver(const std::string &path, const Image &denoised,
+                       const std::map<std::string, std::string> &metadata);
+
 // WritePng with an alpha channel (1 channel, the image's size; null: none) stored as the
 // PNG's straight alpha: the color is written as it is, alpha linear and clamped to [0,1].
 void WritePngWithAlpha(const std::string &path, const Image &image, const Image *alpha,

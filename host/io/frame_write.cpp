@@ -1,4 +1,5 @@
-// WriteExr and WritePng, both written to a temporary file that is renamed over the target.
+// WriteExr, WritePng and WriteDenoisedOver, all written to a temporary file that is renamed
+// over the target.
 #include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -8,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -116,7 +118,162 @@ std::string Malformed(const Image &image) {
     return "";
 }
 
+// Where WriteDenoisedOver puts the colours among a file's channels.
+struct OverwriteTargets {
+    std::vector<int> denoised;            // the channels the result replaces, layer order
+    std::vector<std::string> noisyNames;  // the channels added, each a copy of
+    std::vector<int> noisyFrom;           // this channel of the file
+};
+
+// The channel named `name`, or -1.
+int ChannelIndex(const std::vector<std::string> &names, const std::string &name) {
+    auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? -1 : int(it - names.begin());
+}
+
+// The colour a method reads (GroupChannels' "color") and, on a Blender frame, Cycles'
+// layout: the denoised image in Combined, the noisy one in Noisy Image, as Cycles' own
+// denoiser leaves them. Other frames: the colour's channels, the noisy one beside it under
+// kNoisyColorLayer.
+OverwriteTargets FindTargets(const std::vector<std::string> &names, const std::string &path) {
+    std::vector<int> color;
+    for (const LayerChannels &layer : GroupChannels(names))
+        if (layer.name == "color") color = layer.channels;
+    if (color.empty())
+        throw Error(ErrorKind::MissingLayer, fmt::format("'{}' has no colour channels", path));
+
+    OverwriteTargets t;
+    const std::string &first = names[color.front()];
+    std::string prefix = first.substr(0, first.rfind('.') + 1);  // "" when unprefixed
+    auto endsWith = [&](const std::string &pass) {
+        return prefix == pass + "." || prefix.ends_with("." + pass + ".");
+    };
+    if (endsWith("Noisy Image") || endsWith("Combined")) {
+        bool noisy = endsWith("Noisy Image");
+        std::string viewLayer =
+            prefix.substr(0, prefix.size() - (noisy ? 12 : 9));  // "<view layer>."
+        for (const char *c : {"R", "G", "B"}) {
+            int combined = ChannelIndex(names, viewLayer + "Combined." + c);
+            if (combined < 0)
+                throw Error(ErrorKind::MissingLayer,
+                            fmt::format("'{}' has no channel {}Combined.{} for the denoised "
+                                        "colour",
+                                        path, viewLayer, c));
+            t.denoised.push_back(combined);
+            if (!noisy) {
+                t.noisyNames.push_back(viewLayer + "Noisy Image." + c);
+                t.noisyFrom.push_back(combined);
+            }
+        }
+        if (int alpha = ChannelIndex(names, viewLayer + "Combined.A"); !noisy && alpha >= 0)
+            t.noisyNames.push_back(viewLayer + "Noisy Image.A"), t.noisyFrom.push_back(alpha);
+        return t;
+    }
+    t.denoised = color;
+    std::vector<std::string> noisy = ChannelNamesOf(kNoisyColorLayer, int(color.size()));
+    bool present = std::all_of(noisy.begin(), noisy.end(), [&](const std::string &n) {
+        return ChannelIndex(names, n) >= 0;
+    });
+    if (!present) t.noisyNames = noisy, t.noisyFrom = color;
+    return t;
+}
+
+// The file's spec as written back: its channels, their types and its attributes, scanlines,
+// the added channels (each of the type of the one it copies), lossless, `metadata` on top.
+OIIO::ImageSpec OverwriteSpec(const OIIO::ImageSpec &in, const OverwriteTargets &t,
+                              const std::map<std::string, std::string> &metadata) {
+    OIIO::ImageSpec spec = in;
+    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
+    spec.channelformats.clear();
+    for (int c = 0; c < in.nchannels; ++c) spec.channelformats.push_back(in.channelformat(c));
+    for (size_t k = 0; k < t.noisyNames.size(); ++k) {
+        spec.channelnames.push_back(t.noisyNames[k]);
+        spec.channelformats.push_back(in.channelformat(t.noisyFrom[k]));
+    }
+    spec.nchannels = int(spec.channelnames.size());
+    spec.erase_attribute("oiio:subimages");
+    // Lossy compression (DWA, B44) would change the kept channels' bits once more.
+    std::string compression = spec.get_string_attribute("compression");
+    if (compression.starts_with("dwa") || compression.starts_with("b44"))
+        spec.attribute("compression", "zip");
+    for (const auto &[key, value] : metadata) spec.attribute(key, value);
+    return spec;
+}
+
 }  // namespace
+
+void io::WriteDenoisedOver(const std::string &path, const Image &denoised,
+                           const std::map<std::string, std::string> &metadata) {
+    auto fail = [&](const std::string &why) {
+        return Error(ErrorKind::Io,
+                     fmt::format("cannot write the denoised colour into '{}': {}", path, why));
+    };
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    if (!in) throw fail(OIIO::geterror());
+    if (std::string(in->format_name()) != "openexr") throw fail("it is not an OpenEXR file");
+    const OIIO::ImageSpec &inSpec = in->spec();
+    if (int parts = inSpec.get_int_attribute("oiio:subimages", 1); parts > 1)
+        throw fail(fmt::format("it has {} parts and only the first is read", parts));
+    if (inSpec.deep || inSpec.depth > 1) throw fail("deep and volume images are unsupported");
+    OverwriteTargets t;
+    try {
+        t = FindTargets(inSpec.channelnames, path);
+    } catch (const Error &e) {
+        throw fail(e.what());
+    }
+    if (denoised.width != inSpec.width || denoised.height != inSpec.height ||
+        denoised.channels != int(t.denoised.size()) || !Malformed(denoised).empty())
+        throw fail(fmt::format("the image is {}x{}x{}, the frame's colour {}x{}x{}",
+                               denoised.width, denoised.height, denoised.channels, inSpec.width,
+                               inSpec.height, t.denoised.size()));
+    OIIO::ImageSpec spec = OverwriteSpec(inSpec, t, metadata);
+
+    // Native bytes in and out: every channel kept bit for bit but those the result replaces.
+    const int width = inSpec.width, inCount = inSpec.nchannels;
+    std::vector<size_t> inOffset(inCount + 1, 0);
+    for (int c = 0; c < inCount; ++c)
+        inOffset[c + 1] = inOffset[c] + inSpec.channelformat(c).size();
+    const size_t inPixel = inOffset[inCount], outPixel = spec.pixel_bytes(true);
+    const bool tiled = inSpec.tile_width > 0;
+    const int bandRows =
+        tiled ? inSpec.tile_height * std::max(1, kBandRows / std::max(1, inSpec.tile_height))
+              : kBandRows;
+    auto writePixels = [&](OIIO::ImageOutput &out) {
+        std::vector<unsigned char> band(size_t(bandRows) * width * inPixel),
+            written(size_t(bandRows) * width * outPixel);
+        for (int y0 = 0; y0 < inSpec.height; y0 += bandRows) {
+            int y1 = std::min(inSpec.height, y0 + bandRows), z = inSpec.z;
+            int top = inSpec.y + y0, bottom = inSpec.y + y1;
+            bool ok = tiled ? in->read_tiles(0, 0, inSpec.x, inSpec.x + width, top, bottom, z,
+                                             z + 1, 0, inCount, OIIO::TypeUnknown, band.data())
+                            : in->read_scanlines(0, 0, top, bottom, z, 0, inCount,
+                                                 OIIO::TypeUnknown, band.data());
+            if (!ok) throw fail(in->geterror());
+            for (size_t p = 0; p < size_t(y1 - y0) * width; ++p) {
+                const unsigned char *src = band.data() + p * inPixel;
+                unsigned char *dst = written.data() + p * outPixel;
+                std::memcpy(dst, src, inPixel);
+                size_t at = inPixel;
+                for (int c : t.noisyFrom) {
+                    size_t bytes = inOffset[c + 1] - inOffset[c];
+                    std::memcpy(dst + at, src + inOffset[c], bytes);
+                    at += bytes;
+                }
+                size_t pixel = size_t(y0) * width + p;
+                for (size_t k = 0; k < t.denoised.size(); ++k) {
+                    int c = t.denoised[k];
+                    float v = denoised.Plane(int(k))[pixel];
+                    OIIO::convert_pixel_values(OIIO::TypeFloat, &v, inSpec.channelformat(c),
+                                               dst + inOffset[c]);
+                }
+            }
+            if (!out.write_scanlines(top, bottom, z, OIIO::TypeUnknown, written.data()))
+                return false;
+        }
+        return true;
+    };
+    WriteAtomically(path, "openexr", spec, writePixels);
+}
 
 void WriteExr(const std::string &path,
               const std::vector<std::pair<std::string, const Image *>> &layers,

@@ -45,8 +45,9 @@ constexpr Alias kAliases[] = {
     {"Ns", "normal", 1},
     {"Variance", "variance", 2},
     {"P", "", 2},
-    // Blender (Cycles). With denoising data on, Combined is the denoised image, so the
-    // noisy one wins "color" when both are there.
+    // Blender (Cycles). Denoising Data alone leaves Combined noisy and adds no Noisy Image
+    // (the fixtures in tests/data); with the render denoiser on, Combined is its output and
+    // Noisy Image the noisy colour, which wins "color" when both are there.
     {"Noisy Image", "color", 2},
     {"Combined", "color", 1},
     {"Denoising Albedo", "albedo", 2},
@@ -221,7 +222,15 @@ struct Candidate {
     std::string ownName;  // the name as found in the file, used when target is taken
     std::string what;     // the channels, for messages
     std::vector<int> channels;
+    bool optional = false;  // left out, not an error, when its target is taken
 };
+
+// The index of a group's alpha channel (suffix A, any case), if it has one.
+std::optional<int> AlphaOf(const std::vector<Channel> &group) {
+    for (const Channel &ch : group)
+        if (Upper(ch.suffix) == "A") return ch.index;
+    return std::nullopt;
+}
 
 }  // namespace
 
@@ -297,6 +306,15 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
         bool known = target.priority > kUnknownPriority;
         candidates.push_back({target, prefix, fmt::format("channels {}.*", prefix),
                               OrderChannels(groups[prefix], known)});
+        // A renderer's colour pass with alpha (Blender's Combined.A: film transparency)
+        // gives the frame's alpha, by the colour's priorities (an unprefixed A first).
+        if (target.name == "color")
+            if (std::optional<int> a = AlphaOf(groups[prefix]))
+                candidates.push_back({{"alpha", target.priority},
+                                      "",
+                                      fmt::format("channel {}.A", prefix),
+                                      {*a},
+                                      true});
     }
 
     // Hand out names by priority, ties to the set that came first in the file.
@@ -309,6 +327,7 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
     for (Candidate &candidate : candidates) {
         std::string name = candidate.target.name;
         if (owner.count(name)) {
+            if (candidate.optional) continue;
             if (candidate.ownName.empty() || owner.count(candidate.ownName))
                 throw Error(fmt::format("{} and {} both make layer '{}'", owner[name],
                                         candidate.what, name),

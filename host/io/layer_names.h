@@ -19,8 +19,10 @@ struct LayerChannels {
 // Groups a file's channel names into layers. Unprefixed R,G,B (or a lone Y) make "color"
 // and an unprefixed A beside them "alpha"; "<layer>.<suffix>" channels make "<layer>";
 // Bin_NNNN channels make "hist"; names of other renderers (pbrt-v4, Blender, Mitsuba 3) are
-// mapped where the mapping is plain. Alpha inside a known prefixed RGB layer (albedo.A) and
-// pbrt-v4's P.* are left out; every other channel lands in a layer.
+// mapped where the mapping is plain. A renderer's colour pass with A (Blender's
+// <view layer>.Combined.A) gives "alpha" when no unprefixed A does. Alpha inside another
+// known prefixed RGB layer (albedo.A) and pbrt-v4's P.* are left out; every other channel
+// lands in a layer.
 // Throws mcd::Error (without a path: the caller adds it) on a malformed histogram, a
 // repeated channel name or two sets of channels that both claim one layer name.
 std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channelNames);

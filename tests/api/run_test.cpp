@@ -106,6 +106,45 @@ TEST_P(LibraryRun, BorrowedLayersGiveTheOwnedBitsAndAlphaPassesThrough) {
     }
 }
 
+// Pixels of alpha 0 (a transparent film's background) keep the frame's colour bits, read
+// from borrowed layers as from owned ones; the rest is the owned run's.
+TEST_P(LibraryRun, TransparentPixelsKeepTheBorrowedColour) {
+    Device device = api::BorrowDevice(Ctx());
+    Method method(GetParam());
+    const int width = 29, height = 23, edge = 10;
+    Frame owned = OwnedFrame(width, height);
+    Image &alpha = owned.layers["alpha"];
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) alpha.At(0, y, x) = x < edge ? 0.f : 1.f;
+    alpha.At(0, 11, 20) = 0.f;
+    Buffers buffers;
+    auto [views, rounded] = Borrowed(owned, buffers);
+    Result expected = method.Run(device, owned);
+    Result result = method.Run(device, views);
+    const Image &color = owned.layers["color"];
+    ASSERT_TRUE(result.image.SameShape(color));
+    EXPECT_EQ(result.image.data, expected.image.data);
+    size_t transparent = 0, changed = 0;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                bool clear = alpha.At(0, y, x) == 0.f;
+                transparent += clear;
+                if (clear)
+                    ASSERT_EQ(result.image.At(c, y, x), color.At(c, y, x))
+                        << "pixel (" << x << ", " << y << "), channel " << c;
+                else
+                    changed += result.image.At(c, y, x) != color.At(c, y, x);
+            }
+    EXPECT_EQ(transparent, size_t(3) * (edge * height + 1));
+    EXPECT_GT(changed, 0u);
+    EXPECT_EQ(result.alpha.data, alpha.data);
+    std::string plan = fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_NE(plan.find(fmt::format("alpha: {} fully transparent", edge * height + 1)),
+              std::string::npos)
+        << plan;
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, LibraryRun,
                          ::testing::Values("awr", "bayes", "pivot", "rhf", "auto"));
 

@@ -383,7 +383,9 @@ TEST_F(IoTest, GroupsBlenderChannels) {
                 {"ViewLayer.CryptoObject00.R", "ViewLayer.CryptoObject00.G",
                  "ViewLayer.CryptoObject00.B", "ViewLayer.CryptoObject00.A"},
                 channels);
-    EXPECT_EQ(frame.layers.size(), 7u);
+    // Combined's alpha is the frame's (film transparency).
+    ExpectLayer(frame, "alpha", {"ViewLayer.Combined.A"}, channels);
+    EXPECT_EQ(frame.layers.size(), 8u);
 }
 
 TEST_F(IoTest, BlenderNoisyImageWinsColorOverCombined) {

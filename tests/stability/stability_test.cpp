@@ -139,7 +139,7 @@ std::vector<Case> Cases() {
              for (auto it = f.layers.begin(); it != f.layers.end();)
                  it = it->first == "color" ? std::next(it) : f.layers.erase(it);
          },
-         Expect::FiniteOrRefused, "needs a variance layer|Bin_0000|needs a pivot layer"});
+         Expect::FiniteOrRefused, "needs layers the frame lacks"});
     add({"awr cs 0", 13, 11, nullptr, Expect::Finite, "", {{"awr", Params{{"cs", 0.f}}}}});
     add({"awr cs 100", 13, 11, nullptr, Expect::Finite, "", {{"awr", Params{{"cs", 100.f}}}}});
     add({"awr 0 levels",

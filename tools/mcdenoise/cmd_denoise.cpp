@@ -8,6 +8,7 @@
 #include <set>
 
 #include "host/error.h"
+#include "host/io/frame.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/denoise_frames.h"
 #include "tools/mcdenoise/method_options.h"
@@ -148,9 +149,11 @@ void AddDenoiseCommand(CLI::App &app) {
                     "the frames of a sequence to denoise: N, FIRST-LAST or a list of those "
                     "(1-50,60); a pattern's frame missing on disk fails that frame");
     cmd->add_flag("--overwrite-input", opt->overwriteInput,
-                  "let -o be the input frame (.exr): the result becomes its color, the noisy "
-                  "color is kept as layer " +
-                      std::string(kNoisyColorLayer) + " and every other layer as it was");
+                  "let -o be the input frame (.exr): the result replaces the renderer's "
+                  "colour (Blender: Combined), the noisy colour is kept (Blender: as Noisy "
+                  "Image; else as " +
+                      std::string(io::kNoisyColorLayer) +
+                      ") and every other channel as it was, under its own name");
     opt->device.Add(cmd);
     opt->methods.Add(cmd);
     cmd->footer(

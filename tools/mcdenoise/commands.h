@@ -61,10 +61,6 @@ void WriteImage(const std::string &path, const Image &image,
                 const std::map<std::string, std::string> &metadata = {},
                 const Image *alpha = nullptr);
 
-// The layer that keeps a frame's noisy color when denoise writes over the frame
-// (--overwrite-input); the README's layer table lists it.
-inline constexpr const char *kNoisyColorLayer = "color.noisy";
-
 // Create `path` as a directory (with parents) or throw if it cannot be one.
 void PrepareDirectory(const std::string &path);
 

@@ -26,21 +26,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The result written over its own input frame (--overwrite-input): every layer kept, the
-// noisy color under kNoisyColorLayer (a second run keeps the first's, the render's own),
-// the file's metadata with the provenance on top. A link to the frame stays one: the
-// file it names is replaced.
-void WriteOverInput(const io::Frame &frame, const Image &denoised,
+// The result written over its own input frame (--overwrite-input): every channel kept under
+// the renderer's name, the noisy colour added (io::WriteDenoisedOver), the provenance added
+// to the header. A link to the frame stays one: the file it names is replaced.
+void WriteOverInput(const std::string &path, const Image &denoised,
                     const std::map<std::string, std::string> &provenance) {
-    const Image &noisy =
-        frame.Has(kNoisyColorLayer) ? frame.Get(kNoisyColorLayer) : frame.Get("color");
-    std::vector<std::pair<std::string, const Image *>> layers = {{"color", &denoised},
-                                                                 {kNoisyColorLayer, &noisy}};
-    for (const auto &[name, image] : frame.layers)
-        if (name != "color" && name != kNoisyColorLayer) layers.push_back({name, &image});
-    std::map<std::string, std::string> metadata = frame.metadata;
-    for (const auto &[key, value] : provenance) metadata[key] = value;
-    io::WriteExr(std::filesystem::canonical(frame.path).string(), layers, metadata);
+    io::WriteDenoisedOver(std::filesystem::canonical(path).string(), denoised, provenance);
 }
 
 // The GPU buffers a run allocated, by name with their sizes, and its peak.
@@ -194,24 +185,22 @@ std::string WarningsText(const std::vector<std::string> &warnings, const std::st
     return text;
 }
 
-// What a frame writes, handed to the writer thread: the denoised color, and the frame's
-// alpha, or with --overwrite-input the whole frame.
+// What a frame writes, handed to the writer thread: the denoised color and the frame's
+// alpha, into the input itself with --overwrite-input.
 struct FrameOutput {
     Image image;
     std::optional<Image> alpha;
-    std::optional<io::Frame> whole;
+    bool overInput = false;
     std::map<std::string, std::string> provenance;
 };
 
 std::future<void> StartWrite(const SequenceFrame &f, FrameOutput output) {
     return std::async(std::launch::async, [&f, output = std::move(output)] {
         const Image *alpha = output.alpha ? &*output.alpha : nullptr;
-        if (output.whole) {
-            alpha = output.whole->Has("alpha") ? &output.whole->Get("alpha") : nullptr;
-            WriteOverInput(*output.whole, output.image, output.provenance);
-        } else {
+        if (output.overInput)
+            WriteOverInput(f.input, output.image, output.provenance);
+        else
             WriteImage(f.output, output.image, output.provenance, alpha);
-        }
         if (!f.preview.empty()) io::WritePngWithAlpha(f.preview, output.image, alpha);
     });
 }
@@ -305,8 +294,9 @@ class DenoiseRun {
         : frames(frames),
           method(method),
           settings(settings),
-          // Only the layers the method reads; an in-place write keeps every layer.
-          read(settings.inPlace ? mcd::ReadOptions{} : mcd::ReadOptions{method.Uses()}),
+          // Only the layers the method reads; an in-place write copies the others from the
+          // file.
+          read(mcd::ReadOptions{method.Uses()}),
           progress(int(frames.size()), settings.single, method.Name()) {}
 
     void Run();
@@ -386,10 +376,8 @@ Pending DenoiseRun::Denoise(const SequenceFrame &f, LoadedFrame loaded) {
     FrameOutput output;
     output.provenance = Provenance(method, result, f.input);
     output.image = std::move(result.image);
-    if (settings.inPlace)
-        output.whole = std::move(loaded.frame);
-    else if (loaded.frame.Has("alpha"))
-        output.alpha = std::move(loaded.frame.layers.at("alpha"));
+    output.overInput = settings.inPlace;
+    if (loaded.frame.Has("alpha")) output.alpha = std::move(loaded.frame.layers.at("alpha"));
     p.written = StartWrite(f, std::move(output));
     return p;
 }

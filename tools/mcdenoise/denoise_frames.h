@@ -16,8 +16,9 @@ struct DenoiseSettings {
     // One frame named as a file: a failure ends the command at once, naming no frame
     // number, and no summary follows; its warnings do not repeat the file name.
     bool single = false;
-    // --overwrite-input onto the input itself: every layer is read and written back, the
-    // noisy color kept as kNoisyColorLayer.
+    // --overwrite-input onto the input itself: the result replaces the renderer's colour,
+    // every other channel is copied from the file, the noisy one added
+    // (io::WriteDenoisedOver).
     bool inPlace = false;
     mcd::DeviceOptions device;
 };

@@ -1,0 +1,196 @@
+// Issue #29's checks on Blender frames, as a user runs the tool: a Cycles frame rendered on
+// transparent film keeps its background (colour and alpha) through `denoise` with every
+// method and auto; `--overwrite-input` keeps the frame's channel names and adds only
+// Cycles' Noisy Image; a method the frame cannot feed says what to enable in Blender.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "harness/tool.h"
+#include "host/image.h"
+#include "host/io/frame.h"
+#include "mcdenoise/mcdenoise.h"
+#include "tools/mcdenoise/exit_status.h"
+
+namespace mcd::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kData = std::string(MCD_SOURCE_DIR) + "/tests/data/";
+const std::string kFrame = kData + "cycles_transparent_24_16spp_s1.exr";
+
+bool Contains(const std::string &text, const std::string &part) {
+    return text.find(part) != std::string::npos;
+}
+
+bool SameBits(float a, float b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+// A file's channels by name, as floats (the Cycles frames are float32 throughout).
+std::map<std::string, std::vector<float>> Channels(const std::string &path) {
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    EXPECT_TRUE(in) << OIIO::geterror();
+    if (!in) return {};
+    const OIIO::ImageSpec &spec = in->spec();
+    std::vector<float> pixels(size_t(spec.width) * spec.height * spec.nchannels);
+    EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, pixels.data()));
+    std::map<std::string, std::vector<float>> channels;
+    for (int c = 0; c < spec.nchannels; ++c)
+        for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
+            channels[spec.channelnames[c]].push_back(pixels[p * spec.nchannels + c]);
+    return channels;
+}
+
+class CliBlender : public ::testing::Test {
+  protected:
+    ToolResult Run(const std::string &args) { return tool.Run(args); }
+    std::string Path(const std::string &name) const { return tool.Path(name).string(); }
+
+    // The background the renderer left fully transparent (alpha 0) keeps the input's colour
+    // bits, and the output's alpha is the input's everywhere. Returns how many background
+    // pixels the method changed (0 when it kept them).
+    int ChangedBackground(const io::Frame &input, const std::string &output,
+                          const std::string &what) {
+        io::Frame out = io::ReadFrame(output);
+        const Image &color = input.Get("color"), &denoised = out.Get("color");
+        EXPECT_TRUE(denoised.SameShape(color)) << what;
+        if (!denoised.SameShape(color)) return -1;
+        int changed = 0;
+        const Image &alpha = input.Get("alpha");
+        for (size_t i = 0; i < alpha.PixelCount(); ++i)
+            if (alpha.data[i] == 0.f)
+                for (int c = 0; c < 3; ++c)
+                    changed += !SameBits(denoised.Plane(c)[i], color.Plane(c)[i]);
+        return changed;
+    }
+    void ExpectAlphaKept(const io::Frame &input, const std::string &output,
+                         const std::string &what) {
+        io::Frame out = io::ReadFrame(output);
+        ASSERT_TRUE(out.Has("alpha")) << what;
+        const Image &a = input.Get("alpha"), &b = out.Get("alpha");
+        ASSERT_TRUE(a.SameShape(b)) << what;
+        for (size_t i = 0; i < a.Size(); ++i)
+            ASSERT_TRUE(SameBits(a.data[i], b.data[i])) << what << " pixel " << i;
+    }
+
+    ToolDir tool{"mcd_blender_cli"};
+};
+
+// The plain Cycles frame runs bayes, pivot and auto (awr and rhf need statistics, and say
+// so); two of them accumulated run every method. None touches the transparent background.
+// Without alpha the same frame's background is denoised like any pixel: the check above
+// would see it.
+TEST_F(CliBlender, TransparentBackgroundIsKeptByEveryMethod) {
+    ToolResult r = Run("accumulate " + kFrame + " " + kData +
+                       "cycles_transparent_24_16spp_s2.exr -o acc.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    io::Frame plain = io::ReadFrame(kFrame), accumulated = io::ReadFrame(Path("acc.exr"));
+    ASSERT_TRUE(accumulated.Has("alpha") && accumulated.Has("hist"));
+    io::Frame bare = accumulated;
+    bare.layers.erase("alpha");
+    std::vector<std::pair<std::string, const Image *>> layers;
+    for (const auto &[name, image] : bare.layers) layers.push_back({name, &image});
+    io::WriteExr(Path("noalpha.exr"), layers);
+
+    std::vector<std::string> methods = MethodNames();
+    methods.push_back("auto");
+    int changedWithoutAlpha = 0;
+    std::string counts;
+    for (const std::string &m : methods) {
+        r = Run("denoise " + kFrame + " --method " + m + " -o plain_" + m + ".exr");
+        if (Method(m).Missing(plain).empty()) {
+            ASSERT_EQ(r.code, 0) << m << ": " << r.All();
+            EXPECT_EQ(ChangedBackground(plain, Path("plain_" + m + ".exr"), m), 0) << m;
+            ExpectAlphaKept(plain, Path("plain_" + m + ".exr"), m);
+        } else {
+            EXPECT_EQ(r.code, int(tool::ExitStatus::MissingLayer)) << m;
+            EXPECT_TRUE(Contains(r.err, "Blender Cycles writes no sample statistics")) << r.err;
+        }
+        r = Run("denoise acc.exr --method " + m + " -o acc_" + m + ".exr --explain");
+        ASSERT_EQ(r.code, 0) << m << ": " << r.All();
+        EXPECT_TRUE(Contains(r.out, "fully transparent pixel(s) (alpha 0) keep")) << r.out;
+        EXPECT_EQ(ChangedBackground(accumulated, Path("acc_" + m + ".exr"), m), 0) << m;
+        ExpectAlphaKept(accumulated, Path("acc_" + m + ".exr"), m);
+
+        r = Run("denoise noalpha.exr --method " + m + " -o bare_" + m + ".exr");
+        ASSERT_EQ(r.code, 0) << m << ": " << r.All();
+        int changed = ChangedBackground(accumulated, Path("bare_" + m + ".exr"), m);
+        changedWithoutAlpha += changed;
+        counts += " " + m + " " + std::to_string(changed);
+    }
+    EXPECT_GT(changedWithoutAlpha, 0) << "background values changed without alpha:" << counts;
+}
+
+// The Cycles frame written over keeps every channel under its name and bits, the denoised
+// colour in Combined (as written to another file), Combined's alpha; Noisy Image (R, G, B,
+// A) is the one channel set added. A second run reads Noisy Image, Cycles' noisy colour,
+// so it writes the same Combined and keeps the channel names.
+TEST_F(CliBlender, OverwriteInputKeepsTheChannelNamesAndAddsNoisyImage) {
+    fs::copy_file(kFrame, Path("f.exr"));
+    std::map<std::string, std::vector<float>> before = Channels(Path("f.exr"));
+    ToolResult r = Run("denoise f.exr --method bayes -o d.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    r = Run("denoise f.exr --method bayes -o f.exr --overwrite-input");
+    ASSERT_EQ(r.code, 0) << r.All();
+
+    std::map<std::string, std::vector<float>> after = Channels(Path("f.exr"));
+    std::vector<std::string> added;
+    for (const auto &[name, values] : after)
+        if (!before.count(name)) added.push_back(name);
+    EXPECT_EQ(added,
+              (std::vector<std::string>{"ViewLayer.Noisy Image.A", "ViewLayer.Noisy Image.B",
+                                        "ViewLayer.Noisy Image.G", "ViewLayer.Noisy Image.R"}));
+    const Image denoised = io::ReadImage(Path("d.exr"));
+    for (const auto &[name, values] : before) {
+        ASSERT_TRUE(after.count(name)) << name << " was lost";
+        std::string pass = name.substr(0, name.rfind('.'));
+        char c = name.back();
+        if (pass == "ViewLayer.Combined" && c != 'A') {
+            int k = c == 'R' ? 0 : c == 'G' ? 1 : 2;
+            std::vector<float> want(denoised.Plane(k),
+                                    denoised.Plane(k) + denoised.PixelCount());
+            EXPECT_EQ(after[name], want) << name;
+            EXPECT_EQ(after["ViewLayer.Noisy Image." + std::string(1, c)], values) << name;
+        } else {
+            EXPECT_EQ(after[name], values) << name;
+        }
+    }
+    EXPECT_EQ(after["ViewLayer.Noisy Image.A"], before["ViewLayer.Combined.A"]);
+    EXPECT_NE(after["ViewLayer.Combined.R"], before["ViewLayer.Combined.R"]);
+
+    r = Run("denoise f.exr --method bayes -o f.exr --overwrite-input");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_EQ(Channels(Path("f.exr")), after);
+}
+
+// A method the Cycles frame cannot feed is refused with what to do in Blender or with
+// accumulate, not with our renderer's options, and nothing is written.
+TEST_F(CliBlender, MissingLayersSayWhatToEnableInBlender) {
+    ToolResult r = Run("denoise " + kFrame + " --method rhf -o r.exr");
+    EXPECT_EQ(r.code, int(tool::ExitStatus::MissingLayer));
+    EXPECT_TRUE(Contains(r.err, "rhf needs layers the frame lacks: no histogram channels"))
+        << r.err;
+    EXPECT_TRUE(Contains(r.err, "`mcdenoise accumulate`")) << r.err;
+    EXPECT_FALSE(Contains(r.err, "--layers")) << r.err;
+    EXPECT_FALSE(fs::exists(Path("r.exr")));
+    r = Run("denoise " + kFrame + " --method awr -o a.exr");
+    EXPECT_TRUE(Contains(r.err, "Blender Cycles writes no sample statistics")) << r.err;
+    // auto says why it left them out.
+    r = Run("denoise " + kFrame + " --explain -o auto.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out,
+                         "left out rhf: no histogram channels (Bin_0000..) (Blender "
+                         "Cycles writes no sample statistics"))
+        << r.out;
+}
+
+}  // namespace
+}  // namespace mcd::test
