@@ -9,18 +9,26 @@
 #   cornell_camera/ref.NNNN.exr    a reference per frame (2048 spp).
 # Everything is cached: a file that exists is not rendered again, so a stopped run resumes.
 # Renders run one at a time under `nice -n 10`; DIR/sequences.log has each render's time.
-# Usage: sequences.sh [--out DIR] [--ref-spp-static N] [--ref-spp-camera N]
-#   --out  cache directory (default ~/.cache/mcdenoise/sequences)
+# Usage: sequences.sh [--out DIR] [--size N] [--frames N] [--ref-spp-static N]
+#                     [--ref-spp-camera N]
+#   --out     cache directory (default ~/.cache/mcdenoise/sequences)
+#   --size    both sequences' width and height in pixels (default: 256 static, 128 camera)
+#   --frames  frames 1 to N of each (default 8)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 out=${HOME}/.cache/mcdenoise/sequences
 refStatic=4096
 refCamera=2048
+sizeStatic=256
+sizeCamera=128
+frames=8
 while [ $# -gt 0 ]; do
     case $1 in
         --out) out=$2; shift 2 ;;
         --ref-spp-static) refStatic=$2; shift 2 ;;
         --ref-spp-camera) refCamera=$2; shift 2 ;;
+        --size) sizeStatic=$2; sizeCamera=$2; shift 2 ;;
+        --frames) frames=$2; shift 2 ;;
         *) echo "sequences.sh: unknown argument $1" >&2; exit 2 ;;
     esac
 done
@@ -37,17 +45,17 @@ render() {  # what; then cornell_sequence.py's arguments
 }
 
 # The noisy frames first, so the benchmark can start before the references are done.
-render "cornell_static frames" --move none --frames 1-8 --spp 16 --seed 1 --size 256 \
+render "cornell_static frames" --move none --frames 1-$frames --spp 16 --seed 1 --size $sizeStatic \
     --out "$out/cornell_static/frame.{frame:04d}.exr"
-render "cornell_camera frames" --move camera --frames 1-8 --spp 16 --seed 1 --size 128 \
+render "cornell_camera frames" --move camera --frames 1-$frames --spp 16 --seed 1 --size $sizeCamera \
     --out "$out/cornell_camera/frame.{frame:04d}.exr"
-for f in 1 2 3 4 5 6 7 8; do
+for f in $(seq 1 "$frames"); do
     render "cornell_camera reference $f" --move camera --frames $f --spp "$refCamera" \
-        --seed $((100000 + f - 1)) --size 128 --out "$out/cornell_camera/ref.{frame:04d}.exr"
+        --seed $((100000 + f - 1)) --size $sizeCamera --out "$out/cornell_camera/ref.{frame:04d}.exr"
 done
 # The static view's reference: frame 1's pose (every frame's), one render.
 [ -f "$out/cornell_static/ref.exr" ] ||
     render "cornell_static reference" --move none --frames 1 --spp "$refStatic" --seed 99999 \
-        --size 256 --out "$out/cornell_static/ref.{frame:04d}.exr"
+        --size $sizeStatic --out "$out/cornell_static/ref.{frame:04d}.exr"
 [ -f "$out/cornell_static/ref.0001.exr" ] && mv "$out/cornell_static/ref.0001.exr" "$out/cornell_static/ref.exr"
 echo "done: $out"

@@ -20,9 +20,9 @@ namespace {
 struct DenoiseOptions {
     std::vector<std::string> inputs;
     std::string output, method = "auto", reference, preview, frames, autoMap;
-    bool explain = false, overwriteInput = false;
+    bool explain = false, overwriteInput = false, noTemporal = false;
     DeviceOptions device;
-    MethodOptions methods;
+    MethodOptions methods;  // and the temporal mode's parameters
 };
 
 // One frame given as a file: its paths checked and refused before any work, as the frame
@@ -104,6 +104,10 @@ void RunDenoise(const DenoiseOptions &opt) {
     std::vector<SequenceFrame> frames = PlanSequence(
         {opt.inputs, opt.output, opt.preview, opt.reference, opt.frames, opt.autoMap});
     PrepareSequence(frames);
+    // The frames of one shot: each gathered with its neighbours unless told otherwise.
+    Temporal temporal;
+    opt.methods.Apply(temporal);
+    if (!opt.noTemporal) settings.temporal = &temporal;
     DenoiseFrames(frames, method, settings);
 }
 
@@ -146,8 +150,13 @@ void AddDenoiseCommand(CLI::App &app) {
                   "let -o be the input frame (.exr): the result becomes its color, the noisy "
                   "color is kept as layer " +
                       std::string(kNoisyColorLayer) + " and every other layer as it was");
+    cmd->add_flag("--no-temporal", opt->noTemporal,
+                  "a sequence: denoise each frame alone (by default each frame is gathered "
+                  "with its neighbours, --temporal-radius frames before and after, through "
+                  "the frames' motion vectors where they have them)");
     opt->device.Add(cmd);
     opt->methods.Add(cmd);
+    opt->methods.AddParams(cmd, Temporal().Params());
     cmd->footer(
         "Progress goes to stderr: redrawn on a terminal, else a line every "
         "$MCD_PROGRESS_SECONDS (5) seconds.");
