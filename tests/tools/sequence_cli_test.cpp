@@ -13,6 +13,7 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "harness/errors.h"
@@ -241,6 +242,35 @@ TEST_F(CliSequence, GathersEachFrameWithItsNeighbours) {
     for (int i = 1; i <= 3; ++i)
         EXPECT_TRUE(BitIdentical(Color(fmt::format("zero/f.{:04d}.exr", i)),
                                  Color(fmt::format("a/f.{:04d}.exr", i))));
+}
+
+// A moving camera (the renderer's camera path and motion vectors): each frame gathered
+// through the vectors, nearer its own reference than the frame alone on every frame.
+TEST_F(CliSequence, FollowsAMovingCameraThroughItsMotionVectors) {
+    for (int i = 1; i <= 3; ++i) {
+        for (auto [name, spp, seed] :
+             {std::tuple{"m", 4, i}, std::tuple{"mref", 1024, 90 + i}}) {
+            ToolResult r = tool.Run(fmt::format(
+                "render --size 24x24 --spp {} --seed {} --layers gbuffer --camera-move "
+                "0.6,0,0 --frame {} -o {}.{:04d}.exr",
+                spp, seed, i, name, i));
+            ASSERT_EQ(r.code, 0) << r.All();
+        }
+    }
+    ToolResult r = tool.Run("denoise 'm.####.exr' -o t/ --method bayes --explain");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "positions through the motion vectors")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "features compared: normal, depth, albedo, object id"))
+        << r.out;
+    ToolResult alone = tool.Run("denoise 'm.####.exr' -o a/ --method bayes --no-temporal");
+    ASSERT_EQ(alone.code, 0) << alone.All();
+    for (int i = 1; i <= 3; ++i) {
+        std::string name = fmt::format("m.{:04d}.exr", i);
+        Image reference = Color(fmt::format("mref.{:04d}.exr", i));
+        double gathered = CompareImages(Color("t/" + name), reference).relMse;
+        double single = CompareImages(Color("a/" + name), reference).relMse;
+        EXPECT_LT(gathered, single) << name;
+    }
 }
 
 TEST_F(CliSequence, ListAndFramesSelectWhatIsDenoised) {
