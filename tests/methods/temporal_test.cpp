@@ -21,6 +21,7 @@
 #include "harness/inputs.h"
 #include "host/api/device.h"
 #include "host/io/accumulate.h"
+#include "host/io/layer_names.h"
 #include "host/methods/temporal.h"
 #include "mcdenoise/temporal.h"
 #include "temporal/temporal.h"
@@ -312,6 +313,27 @@ TEST_F(TemporalGather, OneFrameIsItself) {
     TemporalGathered g = mcd::TemporalGather(Ctx(), GpuFrames(shot, 0, {}), TemporalParams());
     EXPECT_TRUE(BitIdentical(LayerOf(g, "color"), shot.color[0]));
     EXPECT_TRUE(g.offsets.empty());
+}
+
+// Blender's Vector pass, whose channels an EXR lists W, X, Y, Z, is layer motion in X, Y,
+// Z, W order; ours round-trips.
+TEST(TemporalIo, ReadsBlendersVectorPassAsMotion) {
+    std::vector<io::LayerChannels> layers =
+        io::GroupChannels({"ViewLayer.Combined.B", "ViewLayer.Combined.G",
+                           "ViewLayer.Combined.R", "ViewLayer.Vector.W", "ViewLayer.Vector.X",
+                           "ViewLayer.Vector.Y", "ViewLayer.Vector.Z"});
+    bool found = false;
+    for (const io::LayerChannels &l : layers)
+        if (l.name == "motion") {
+            found = true;
+            EXPECT_EQ(l.channels, (std::vector<int>{4, 5, 6, 3}));
+        }
+    EXPECT_TRUE(found);
+    std::vector<std::string> names = io::ChannelNamesOf("motion", 4);
+    std::vector<io::LayerChannels> back = io::GroupChannels(names);
+    ASSERT_EQ(back.size(), 1u);
+    EXPECT_EQ(back[0].name, "motion");
+    EXPECT_EQ(back[0].channels, (std::vector<int>{0, 1, 2, 3}));
 }
 
 TEST(TemporalApi, ParamsAreCheckedAndTyped) {

@@ -41,7 +41,7 @@ std::string CacheRoot() {
 struct FlickerOptions {
     std::string size = "96x96", scene = "cornell", method = "auto", out = "out/bench-flicker";
     std::string blender = CacheRoot() + "/sequences96";
-    std::string oidn = "/work/shared/peers/oidn";
+    std::string oidn = "../shared/peers/oidn";  // beside the repository, run from its root
     std::string cache = CacheRoot() + "/flicker";
     int frames = 6, spp = 16, referenceSpp = 2048, cameraReferenceSpp = 1024;
     std::string cameraMove = "0.15,0,0";
@@ -363,7 +363,8 @@ void AddBenchFlickerCommand(CLI::App *bench) {
                     "left out where absent")
         ->capture_default_str();
     cmd->add_option("--oidn", opt->oidn,
-                    "Open Image Denoise's peer directory; left out where absent")
+                    "Open Image Denoise's peer directory (its denoise_exr.py); its row is left "
+                    "out where absent or failing")
         ->capture_default_str();
     cmd->add_option("--cache", opt->cache, "where the built-in renderer's frames are cached")
         ->capture_default_str();
