@@ -86,21 +86,25 @@ Window PlanWindow(const std::vector<TemporalFrameLayers> &frames,
     std::map<int, const TemporalFrameLayers *> byOffset;
     for (const TemporalFrameLayers &f : frames) {
         if (!byOffset.emplace(f.offset, &f).second)
-            throw Error(fmt::format("temporal: two frames at offset {}", f.offset));
+            throw Error(fmt::format("temporal: two frames at offset {}", f.offset),
+                        ErrorKind::InvalidArgument);
     }
     auto it = byOffset.find(0);
     if (it == byOffset.end() || !it->second->color)
-        throw Error("temporal: the window has no current frame (offset 0) with a color");
+        throw Error("temporal: the window has no current frame (offset 0) with a color",
+                    ErrorKind::InvalidArgument);
     w.current = it->second;
     const Image &color = *w.current->color;
     if (color.channels < 1 || color.channels > 4 || color.Empty())
         throw Error(fmt::format("temporal: the color has {} channels; 1 to 4 are gathered",
-                                color.channels));
+                                color.channels),
+                    ErrorKind::InvalidArgument);
     for (const auto &[name, image] : w.current->layers)
         if (image && TemporalGathers(name)) {
             if (image->width != color.width || image->height != color.height)
                 throw Error(
-                    fmt::format("temporal: the current frame's {} is not of its size", name));
+                    fmt::format("temporal: the current frame's {} is not of its size", name),
+                    ErrorKind::InvalidArgument);
             w.gathered.push_back(name);
         }
     for (int side = 0; side < 2; ++side)
@@ -332,15 +336,19 @@ Image Planes(const Image &image, int first, int count) {
 
 void CheckParams(const TemporalParams &p) {
     if (p.radius < 0 || p.radius > 16)
-        throw Error(fmt::format("temporal: radius {} outside [0, 16]", p.radius));
+        throw Error(fmt::format("temporal: radius {} outside [0, 16]", p.radius),
+                    ErrorKind::InvalidArgument);
     if (!(p.normalAngle >= 0 && p.normalAngle <= 180))
-        throw Error(fmt::format("temporal: normal angle {} outside [0, 180]", p.normalAngle));
+        throw Error(fmt::format("temporal: normal angle {} outside [0, 180]", p.normalAngle),
+                    ErrorKind::InvalidArgument);
     for (float t : {p.depthTolerance, p.albedoTolerance, p.motionTolerance})
         if (!(t >= 0) || !std::isfinite(t))
-            throw Error(fmt::format("temporal: tolerance {} is not a number >= 0", t));
+            throw Error(fmt::format("temporal: tolerance {} is not a number >= 0", t),
+                        ErrorKind::InvalidArgument);
     if (p.fillRadius < 0 || p.fillRadius > TEMPORAL_FINISH_MAX_RADIUS)
         throw Error(fmt::format("temporal: fill radius {} outside [0, {}]", p.fillRadius,
-                                TEMPORAL_FINISH_MAX_RADIUS));
+                                TEMPORAL_FINISH_MAX_RADIUS),
+                    ErrorKind::InvalidArgument);
 }
 
 std::string PlanLine(const Window &w, const TemporalGathered &r, int mask) {

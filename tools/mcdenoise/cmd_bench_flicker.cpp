@@ -88,7 +88,8 @@ render::Vec3 Step(const std::string &text) {
     double v[3];
     char tail = 0;
     if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3)
-        throw Error(fmt::format("--camera-move takes X,Y,Z, not '{}'", text));
+        throw Error(fmt::format("--camera-move takes X,Y,Z, not '{}'", text),
+                    ErrorKind::InvalidArgument);
     return {v[0], v[1], v[2]};
 }
 
@@ -318,7 +319,8 @@ void PrintRows(const std::vector<Row> &rows, const std::string &csvPath) {
 }
 
 void RunBenchFlicker(const FlickerOptions &opt) {
-    if (opt.frames < 2) throw Error("--frames: a sequence needs at least 2");
+    if (opt.frames < 2)
+        throw Error("--frames: a sequence needs at least 2", ErrorKind::InvalidArgument);
     fs::create_directories(opt.out);
     Method method = opt.methods.Make(opt.method);
     Temporal temporal;

@@ -46,7 +46,8 @@ render::Vec3 ParseStep(const std::string &text) {
     char tail = 0;
     if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3 ||
         !std::isfinite(v[0] + v[1] + v[2]))
-        throw Error(fmt::format("--camera-move takes X,Y,Z (three numbers), not '{}'", text));
+        throw Error(fmt::format("--camera-move takes X,Y,Z (three numbers), not '{}'", text),
+                    ErrorKind::InvalidArgument);
     return {v[0], v[1], v[2]};
 }
 
@@ -183,7 +184,8 @@ void RenderFrame(const render::Scene &scene, const RenderCommandOptions &opt,
 
 void RunRender(const RenderCommandOptions &opt) {
     if (opt.tracingFilter && (opt.reference || !opt.adaptive.empty()))
-        throw Error("--tracing-filter renders its own frame; drop --reference and --adaptive");
+        throw Error("--tracing-filter renders its own frame; drop --reference and --adaptive",
+                    ErrorKind::InvalidArgument);
     render::RenderOptions options;
     ParseSize(opt.size, &options.width, &options.height);
     options.spp = opt.reference && !opt.sppGiven ? 4096 : opt.spp;
@@ -206,16 +208,19 @@ void RunRender(const RenderCommandOptions &opt) {
         if (opt.reference || !opt.adaptive.empty())
             throw Error(
                 "--camera-move renders a frame of a move: drop --reference and --adaptive "
-                "(a moving frame's reference is a render at many --spp)");
+                "(a moving frame's reference is a render at many --spp)",
+                ErrorKind::InvalidArgument);
         scene.camera = render::CameraAt(scene.camera, ParseStep(opt.cameraMove), opt.frame);
     } else if (opt.frame != 0) {
-        throw Error("--frame numbers a frame of a --camera-move");
+        throw Error("--frame numbers a frame of a --camera-move", ErrorKind::InvalidArgument);
     }
     if (!opt.adaptive.empty()) {
         if (opt.adaptive != "awr")
-            throw Error("--adaptive takes awr, not '" + opt.adaptive + "'");
+            throw Error("--adaptive takes awr, not '" + opt.adaptive + "'",
+                        ErrorKind::InvalidArgument);
         if (opt.reference || !opt.layers.empty())
-            throw Error("--adaptive writes its own layers; drop --reference and --layers");
+            throw Error("--adaptive writes its own layers; drop --reference and --layers",
+                        ErrorKind::InvalidArgument);
         if (!opt.denoised.empty())
             CheckOutputPath(opt.denoised, {".exr", ".png"}, "--denoised");
         if (!opt.density.empty()) CheckOutputPath(opt.density, {".png"}, "--density");

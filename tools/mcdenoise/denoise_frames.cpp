@@ -161,7 +161,8 @@ LoadedFrame LoadFrame(const SequenceFrame &f, const mcd::ReadOptions &read) {
     if (loaded.reference.width != color.width || loaded.reference.height != color.height)
         throw Error(fmt::format("reference {} is {}x{}, the frame {}x{}", f.reference,
                                 loaded.reference.width, loaded.reference.height, color.width,
-                                color.height));
+                                color.height),
+                    ErrorKind::InvalidArgument);
     return loaded;
 }
 
@@ -356,6 +357,7 @@ class FramesProgress {
 struct Pending {
     const SequenceFrame *frame = nullptr;
     std::string out, warnings, error;
+    ErrorKind errorKind = ErrorKind::Internal;  // the kind of `error`
     std::future<void> written;
 };
 
@@ -405,6 +407,7 @@ class DenoiseRun {
     std::optional<Device> device;
     FramesProgress progress;
     std::vector<std::string> failed;
+    ErrorKind firstFailure = ErrorKind::Internal;  // the run's kind when frames failed
 };
 
 // Frames in flight: the next ones read (a window's), this one denoised, the last one
@@ -422,11 +425,12 @@ void DenoiseRun::Run() {
             // The next frames are read even when this one could not be.
             cache.Keep(i);
             current = Denoise(i, cache.Get(i));
-        } catch (const std::exception &e) {
+        } catch (...) {
             if (settings.single) throw;
             current.error =
                 fmt::format("mcdenoise: error: frame {} ({}): {}\n", frames[i].number,
-                            frames[i].input, DescribeFailure(e).message);
+                            frames[i].input, DescribeFailure(std::current_exception()).message);
+            current.errorKind = KindOf(std::current_exception());
         }
         current.frame = &frames[i];
         if (previous.frame) Finish(previous);
@@ -466,10 +470,10 @@ Gathered DenoiseRun::Gather(size_t i, LoadedFrame &loaded) {
             const SequenceFrame &f = frames[it->second];
             try {
                 frameAt[offset] = &cache.Get(it->second).frame;
-            } catch (const std::exception &e) {
-                g.warnings.push_back(
-                    fmt::format("temporal: neighbour {} ({}) left out, and those beyond it: {}",
-                                f.number, f.input, DescribeFailure(e).message));
+            } catch (...) {
+                g.warnings.push_back(fmt::format(
+                    "temporal: neighbour {} ({}) left out, and those beyond it: {}", f.number,
+                    f.input, DescribeFailure(std::current_exception()).message));
                 break;
             }
         }
@@ -536,10 +540,12 @@ Pending DenoiseRun::Denoise(size_t i, LoadedFrame &loaded) {
 void DenoiseRun::Finish(Pending &p) {
     if (p.written.valid()) try {
             p.written.get();
-        } catch (const std::exception &e) {
+        } catch (...) {
             if (settings.single) throw;
-            p.error = fmt::format("mcdenoise: error: frame {} ({}): {}\n", p.frame->number,
-                                  p.frame->input, DescribeFailure(e).message);
+            p.error =
+                fmt::format("mcdenoise: error: frame {} ({}): {}\n", p.frame->number,
+                            p.frame->input, DescribeFailure(std::current_exception()).message);
+            p.errorKind = KindOf(std::current_exception());
         }
     progress.Clear();
     fmt::print(stderr, "{}", p.warnings);
@@ -548,6 +554,7 @@ void DenoiseRun::Finish(Pending &p) {
         std::fflush(stdout);
     } else {
         fmt::print(stderr, "{}", p.error);
+        if (failed.empty()) firstFailure = p.errorKind;
         failed.push_back(p.frame->input);
     }
     progress.FrameDone(*p.frame, !p.error.empty(), api::ContextOf(*device).Pipelines().seconds);
@@ -561,7 +568,9 @@ void DenoiseRun::Summarize(double seconds) const {
     std::string names;
     for (size_t i = 0; i < failed.size() && i < 10; ++i) names += (i ? ", " : "") + failed[i];
     if (failed.size() > 10) names += fmt::format(" and {} more", failed.size() - 10);
-    throw Error(fmt::format("{} of {} frames failed: {}", failed.size(), frames.size(), names));
+    // The first failed frame's kind is the run's: its exit status.
+    throw Error(fmt::format("{} of {} frames failed: {}", failed.size(), frames.size(), names),
+                firstFailure);
 }
 
 }  // namespace
