@@ -25,11 +25,12 @@ constexpr int kUnknownPriority = 0;
 
 // Our layer names (ARCHITECTURE.md), plus "hist" for the Bin_NNNN channels and "zhist" for the
 // histograms of color / pivot (zhist.0 .. zhist.3n, laid out as hist), and "alpha" for the
-// A channel beside an unprefixed color.
-constexpr std::array<std::string_view, 18> kOwnNames = {
-    "color",    "variance", "spp",       "min",       "max",    "hist",
-    "direct",   "indirect", "pivot",     "albedo",    "normal", "depth",
-    "objectId", "partId",   "reference", "remainder", "zhist",  "alpha"};
+// A channel beside an unprefixed color, and "motion" for motion vectors (Blender's Vector
+// pass: shaders/temporal/temporal.h).
+constexpr std::array<std::string_view, 19> kOwnNames = {
+    "color",     "variance",  "spp",    "min",    "max",   "hist",     "direct",
+    "indirect",  "pivot",     "albedo", "normal", "depth", "objectId", "partId",
+    "reference", "remainder", "zhist",  "alpha",  "motion"};
 
 struct Alias {
     std::string_view from, to;  // to == "" drops the channels
@@ -57,6 +58,7 @@ constexpr Alias kAliases[] = {
     {"Depth", "depth", 1},
     {"IndexOB", "objectId", 2},
     {"IndexMA", "partId", 2},
+    {"Vector", "motion", 2},
     {"DiffDir", "DiffDir", 1},
     {"DiffInd", "DiffInd", 1},
     {"DiffCol", "DiffCol", 1},
@@ -171,6 +173,7 @@ std::vector<int> OrderChannels(const std::vector<Channel> &group, bool dropAlpha
     });
     if (anyRgb && allIn("RGBA")) return inOrder(dropAlpha ? "RGB" : "RGBA");
     if (allIn("XYZ")) return inOrder("XYZ");
+    if (group.size() == 4 && allIn("XYZW")) return inOrder("XYZW");  // Blender's Vector
 
     std::vector<std::pair<long, int>> numbered;
     for (const Channel &ch : group)

@@ -13,11 +13,13 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "harness/errors.h"
 #include "harness/tool.h"
 #include "host/io/frame.h"
+#include "host/metrics.h"
 #include "tools/mcdenoise/exit_status.h"
 #include "tools/mcdenoise/sequence.h"
 
@@ -183,7 +185,7 @@ class CliSequence : public ::testing::Test {
 TEST_F(CliSequence, DenoisesAPatternAsSingleCallsWould) {
     ToolResult r = tool.Run(
         "denoise 'f.####.exr' -o 'out/d.####.exr' --preview prev/ --auto-map 'maps/m.%02d.png' "
-        "--explain");
+        "--explain --no-temporal");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_EQ(Listing("out"),
               (std::set<std::string>{"d.0001.exr", "d.0002.exr", "d.0003.exr"}));
@@ -211,6 +213,77 @@ TEST_F(CliSequence, DenoisesAPatternAsSingleCallsWould) {
     EXPECT_FALSE(BitIdentical(Color("out/d.0001.exr"), Color("out/d.0002.exr")));
 }
 
+// The temporal mode, a sequence's default: each frame gathered with its neighbours (a still
+// camera here), nearer the reference than the frame alone; one frame, or a sequence of one,
+// as it always was.
+TEST_F(CliSequence, GathersEachFrameWithItsNeighbours) {
+    ToolResult ref = tool.Run("render --size 16x16 --spp 2048 --seed 99 -o ref.exr");
+    ASSERT_EQ(ref.code, 0) << ref.All();
+    ToolResult r = tool.Run("denoise 'f.####.exr' -o t/ --method bayes --explain");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "t/f.0002.exr: bayes in ")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "gathered with 2 neighbours (-1,+1)")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "temporal: gathered with 2 neighbours (accepted: -1 "))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out, "a still camera (no motion vectors)")) << r.out;
+    ToolResult alone = tool.Run("denoise 'f.####.exr' -o a/ --method bayes --no-temporal");
+    ASSERT_EQ(alone.code, 0) << alone.All();
+    EXPECT_FALSE(Contains(alone.out, "gathered")) << alone.out;
+    Image reference = Color("ref.exr");
+    for (int i = 1; i <= 3; ++i) {
+        std::string name = fmt::format("f.{:04d}.exr", i);
+        double gathered = CompareImages(Color("t/" + name), reference).relMse;
+        double single = CompareImages(Color("a/" + name), reference).relMse;
+        EXPECT_LT(gathered, single) << name;
+        EXPECT_EQ(io::ReadFrame(tool.Path("t/" + name).string()).metadata.at("mcd:temporal"),
+                  i == 1   ? "+1,+2"
+                  : i == 2 ? "-1,+1"
+                           : "-1,-2");
+    }
+    // One frame, and a sequence of one frame (no neighbour): the frame alone, bit for bit.
+    r = tool.Run("denoise f.0002.exr -o single.exr --method bayes");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(BitIdentical(Color("single.exr"), Color("a/f.0002.exr")));
+    r = tool.Run("denoise 'f.####.exr' --frames 2 -o one/ --method bayes");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(BitIdentical(Color("one/f.0002.exr"), Color("a/f.0002.exr")));
+    // --temporal-radius 0 is each frame alone too.
+    r = tool.Run("denoise 'f.####.exr' -o zero/ --method bayes --temporal-radius 0");
+    ASSERT_EQ(r.code, 0) << r.All();
+    for (int i = 1; i <= 3; ++i)
+        EXPECT_TRUE(BitIdentical(Color(fmt::format("zero/f.{:04d}.exr", i)),
+                                 Color(fmt::format("a/f.{:04d}.exr", i))));
+}
+
+// A moving camera (the renderer's camera path and motion vectors): each frame gathered
+// through the vectors, nearer its own reference than the frame alone on every frame.
+TEST_F(CliSequence, FollowsAMovingCameraThroughItsMotionVectors) {
+    for (int i = 1; i <= 3; ++i) {
+        for (auto [name, spp, seed] :
+             {std::tuple{"m", 4, i}, std::tuple{"mref", 1024, 90 + i}}) {
+            ToolResult r = tool.Run(fmt::format(
+                "render --size 24x24 --spp {} --seed {} --layers gbuffer --camera-move "
+                "0.6,0,0 --frame {} -o {}.{:04d}.exr",
+                spp, seed, i, name, i));
+            ASSERT_EQ(r.code, 0) << r.All();
+        }
+    }
+    ToolResult r = tool.Run("denoise 'm.####.exr' -o t/ --method bayes --explain");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "positions through the motion vectors")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "features compared: normal, depth, albedo, object id"))
+        << r.out;
+    ToolResult alone = tool.Run("denoise 'm.####.exr' -o a/ --method bayes --no-temporal");
+    ASSERT_EQ(alone.code, 0) << alone.All();
+    for (int i = 1; i <= 3; ++i) {
+        std::string name = fmt::format("m.{:04d}.exr", i);
+        Image reference = Color(fmt::format("mref.{:04d}.exr", i));
+        double gathered = CompareImages(Color("t/" + name), reference).relMse;
+        double single = CompareImages(Color("a/" + name), reference).relMse;
+        EXPECT_LT(gathered, single) << name;
+    }
+}
+
 TEST_F(CliSequence, ListAndFramesSelectWhatIsDenoised) {
     // bayes: its pipelines build in a tenth of auto's time; its warnings name the frame.
     ToolResult r = tool.Run("denoise f.0003.exr f.0001.exr -o 'o.%02d.exr' --method bayes");
@@ -233,7 +306,8 @@ TEST_F(CliSequence, ListAndFramesSelectWhatIsDenoised) {
 }
 
 TEST_F(CliSequence, AFailingFrameIsReportedAndTheOthersGoOn) {
-    // Frame 2 is not an image, frame 4 has a NaN (refused by default), frame 5 is missing.
+    // Frame 2 is not an image, frame 4 has a NaN (refused by default, not filled from its
+    // neighbours), frame 5 is missing; the neighbours of each are gathered up to them.
     std::ofstream(tool.Path("f.0002.exr")) << "not an image";
     io::Frame frame = io::ReadFrame(tool.Path("f.0003.exr").string());
     Image color = frame.Get("color");
@@ -256,6 +330,18 @@ TEST_F(CliSequence, AFailingFrameIsReportedAndTheOthersGoOn) {
         << r.err;
     EXPECT_TRUE(Contains(r.out, "6 frames in")) << r.out;
     EXPECT_TRUE(Contains(r.out, "3 written, 3 failed")) << r.out;
+    EXPECT_TRUE(
+        Contains(r.err,
+                 "warning: f.0003.exr: temporal: neighbour 2 (f.0002.exr) left out, and "
+                 "those beyond it: "))
+        << r.err;
+    // Frame 4 lacks the layers frame 3 gathers: frame 3 is denoised alone.
+    EXPECT_TRUE(
+        Contains(r.err,
+                 "warning: f.0003.exr: temporal: the frame at offset 1 is left out, and "
+                 "those beyond it: it has no "))
+        << r.err;
+    EXPECT_FALSE(Contains(r.out, "gathered")) << r.out;
     // From frame 4 on, the first failure is frame 4's NaN.
     r = tool.Run("denoise 'f.####.exr' --frames 4-6 -o out4/ --method bayes");
     EXPECT_EQ(r.code, int(tool::ExitStatus::NonFiniteInput)) << r.All();

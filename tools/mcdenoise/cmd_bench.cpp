@@ -717,6 +717,7 @@ void AddBenchCommand(CLI::App &app) {
     AddBenchQualityCommand(bench);
     AddBenchTracingCommand(bench);
     AddBenchReadCommand(bench);
+    AddBenchFlickerCommand(bench);
 }
 
 }  // namespace mcd::tool

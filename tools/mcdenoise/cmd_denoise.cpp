@@ -21,9 +21,9 @@ namespace {
 struct DenoiseOptions {
     std::vector<std::string> inputs;
     std::string output, method = "auto", reference, preview, frames, autoMap;
-    bool explain = false, overwriteInput = false;
+    bool explain = false, overwriteInput = false, noTemporal = false;
     DeviceOptions device;
-    MethodOptions methods;
+    MethodOptions methods;  // and the temporal mode's parameters
 };
 
 // One frame given as a file: its paths checked and refused before any work, as the frame
@@ -110,6 +110,10 @@ void RunDenoise(const DenoiseOptions &opt) {
     std::vector<SequenceFrame> frames = PlanSequence(
         {opt.inputs, opt.output, opt.preview, opt.reference, opt.frames, opt.autoMap});
     PrepareSequence(frames);
+    // The frames of one shot: each gathered with its neighbours unless told otherwise.
+    Temporal temporal;
+    opt.methods.Apply(temporal);
+    if (!opt.noTemporal) settings.temporal = &temporal;
     DenoiseFrames(frames, method, settings);
 }
 
@@ -154,8 +158,13 @@ void AddDenoiseCommand(CLI::App &app) {
                   "Image; else as " +
                       std::string(io::kNoisyColorLayer) +
                       ") and every other channel as it was, under its own name");
+    cmd->add_flag("--no-temporal", opt->noTemporal,
+                  "a sequence: denoise each frame alone (by default each frame is gathered "
+                  "with its neighbours, --temporal-radius frames before and after, through "
+                  "the frames' motion vectors where they have them)");
     opt->device.Add(cmd);
     opt->methods.Add(cmd);
+    opt->methods.AddParams(cmd, Temporal().Params());
     cmd->footer(
         "Progress goes to stderr: redrawn on a terminal, else a line every "
         "$MCD_PROGRESS_SECONDS (5) seconds.");

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "tools/mcdenoise/reference_cache.h"
 #include "tools/mcdenoise/usage.h"
 #include "tools/render/adaptive.h"
+#include "tools/render/motion.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::tool {
@@ -34,7 +36,20 @@ struct RenderCommandOptions {
     double tfMemoryMb = double(render::TracingFilterOptions().memoryBudget) / (1 << 20);
     int tfPartials = render::TracingFilterOptions().partials;
     DeviceOptions device;
+    std::string cameraMove;  // "X,Y,Z": the camera's step a frame (world units)
+    int frame = 0;
 };
+
+// --camera-move's step; throws naming the text when it is not three numbers.
+render::Vec3 ParseStep(const std::string &text) {
+    double v[3];
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v[0], &v[1], &v[2], &tail) != 3 ||
+        !std::isfinite(v[0] + v[1] + v[2]))
+        throw Error(fmt::format("--camera-move takes X,Y,Z (three numbers), not '{}'", text),
+                    ErrorKind::InvalidArgument);
+    return {v[0], v[1], v[2]};
+}
 
 void RenderAdaptiveFrame(const render::Scene &scene, const RenderCommandOptions &opt,
                          const render::RenderOptions &base) {
@@ -142,6 +157,17 @@ void RenderFrame(const render::Scene &scene, const RenderCommandOptions &opt,
     }
     render::RenderResult result = render::Render(scene, options);
     progress.Done();
+    // A frame of a camera move: its motion vectors, as Blender's Vector pass.
+    if (!opt.cameraMove.empty()) {
+        render::Vec3 step = ParseStep(opt.cameraMove);
+        result.layers.push_back(
+            {"motion", render::MotionVectors(scene, scene.camera,
+                                             render::CameraAt(scene.camera, step, -1),
+                                             render::CameraAt(scene.camera, step, 1),
+                                             options.width, options.height)});
+        result.metadata["mcd:cameraMove"] =
+            fmt::format("{} x frame {}", opt.cameraMove, opt.frame);
+    }
     std::vector<std::pair<std::string, const Image *>> layers;
     for (const auto &[name, image] : result.layers) layers.push_back({name, &image});
     io::WriteExr(opt.output, layers, result.metadata);
@@ -178,6 +204,16 @@ void RunRender(const RenderCommandOptions &opt) {
                              {"--denoised", opt.denoised},
                              {"--density", opt.density}});
     render::Scene scene = render::BuildScene(opt.scene);
+    if (!opt.cameraMove.empty()) {
+        if (opt.reference || !opt.adaptive.empty())
+            throw Error(
+                "--camera-move renders a frame of a move: drop --reference and --adaptive "
+                "(a moving frame's reference is a render at many --spp)",
+                ErrorKind::InvalidArgument);
+        scene.camera = render::CameraAt(scene.camera, ParseStep(opt.cameraMove), opt.frame);
+    } else if (opt.frame != 0) {
+        throw Error("--frame numbers a frame of a --camera-move", ErrorKind::InvalidArgument);
+    }
     if (!opt.adaptive.empty()) {
         if (opt.adaptive != "awr")
             throw Error("--adaptive takes awr, not '" + opt.adaptive + "'",
@@ -219,6 +255,14 @@ void AddFrameOptions(CLI::App *cmd, RenderCommandOptions &opt) {
     cmd->add_option("--threads", opt.threads,
                     "threads (default: all cores; the frame is the same)");
     cmd->add_option("--preview", opt.preview, "also write a tonemapped PNG of the color");
+    cmd->add_option("--camera-move", opt.cameraMove,
+                    "a frame of a camera move: X,Y,Z, the camera's step a frame in world units "
+                    "(eye and target move together); writes the layer motion (motion vectors "
+                    "as Blender's Vector pass) for denoise's temporal mode");
+    cmd->add_option("--frame", opt.frame,
+                    "with --camera-move: the frame's number (the camera moved by it x the "
+                    "step)")
+        ->capture_default_str();
     cmd->add_flag(
         "--reference", opt.reference,
         "a converged reference (the always-written layers, its own fixed seed), cached under "

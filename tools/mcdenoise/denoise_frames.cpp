@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <future>
@@ -104,9 +105,15 @@ std::string ErrorLine(const Image &noisy, const Image &denoised, const Image &re
         after.nonFinite ? fmt::format(" ({} non-finite output values)", after.nonFinite) : "");
 }
 
-std::string FrameLine(const std::string &output, const Result &result) {
-    return fmt::format("{}: {} in {:.1f} ms ({:.1f} ms GPU, {} dispatches)\n", output,
-                       result.method, result.wallMs, result.GpuMs(), result.timings.size());
+std::string FrameLine(const std::string &output, const Result &result,
+                      const TemporalResult *temporal) {
+    std::string gathered;
+    if (temporal)
+        gathered = fmt::format(", gathered with {} neighbours ({})", temporal->offsets.size(),
+                               temporal->frame.metadata.at("mcd:temporalOffsets"));
+    return fmt::format("{}: {} in {:.1f} ms ({:.1f} ms GPU, {} dispatches){}\n", output,
+                       result.method, result.wallMs, result.GpuMs(), result.timings.size(),
+                       gathered);
 }
 
 // --auto-map: write the map of auto's largest weights, which the run returned as stage
@@ -149,6 +156,62 @@ LoadedFrame LoadFrame(const SequenceFrame &f, const mcd::ReadOptions &read) {
                     ErrorKind::InvalidArgument);
     return loaded;
 }
+
+// The frames read ahead and kept: each frame's window (itself and, in the temporal mode,
+// the frames whose numbers lie within the radius of its own) and the next frame's, read on
+// loader threads; the others dropped.
+class FrameCache {
+  public:
+    FrameCache(const std::vector<SequenceFrame> &frames, const mcd::ReadOptions &read,
+               int radius)
+        : frames(frames), read(read), radius(radius) {}
+
+    // Frame i's window: i first, then its neighbours by number.
+    std::vector<size_t> Window(size_t i) const {
+        std::vector<size_t> window = {i};
+        for (size_t j = 0; j < frames.size() && radius > 0; ++j)
+            if (j != i && std::abs(frames[j].number - frames[i].number) <= radius)
+                window.push_back(j);
+        return window;
+    }
+
+    // Start reading frame i's window and the next frame's; drop every other frame.
+    void Keep(size_t i) {
+        std::vector<size_t> keep = Window(i);
+        if (i + 1 < frames.size())
+            for (size_t j : Window(i + 1)) keep.push_back(j);
+        for (auto it = slots.begin(); it != slots.end();)
+            it = std::count(keep.begin(), keep.end(), it->first) ? std::next(it)
+                                                                 : slots.erase(it);
+        for (size_t j : keep)
+            if (!slots.count(j))
+                slots[j].pending = std::async(std::launch::async, LoadFrame,
+                                              std::cref(frames[j]), std::cref(read));
+    }
+
+    // Frame j, once read (Keep started it); throws what its read threw.
+    LoadedFrame &Get(size_t j) {
+        Slot &slot = slots.at(j);
+        if (slot.pending.valid()) try {
+                slot.frame = slot.pending.get();
+            } catch (...) {
+                slot.error = std::current_exception();
+            }
+        if (slot.error) std::rethrow_exception(slot.error);
+        return *slot.frame;
+    }
+
+  private:
+    struct Slot {
+        std::future<LoadedFrame> pending;
+        std::optional<LoadedFrame> frame;
+        std::exception_ptr error;
+    };
+    const std::vector<SequenceFrame> &frames;
+    const mcd::ReadOptions &read;
+    int radius;
+    std::map<size_t, Slot> slots;
+};
 
 // --explain: what was read, what ran and was left out, the GPU buffers, the pipelines and
 // the process's peak memory.
@@ -287,6 +350,26 @@ struct Pending {
     std::future<void> written;
 };
 
+// The layers a run reads: the method's, and the temporal mode's too; every layer for an
+// in-place write, which keeps them all.
+// Only the layers the method and the temporal gather read; an in-place write copies the
+// others from the file.
+mcd::ReadOptions ReadLayers(const Method &method, const DenoiseSettings &settings) {
+    mcd::ReadOptions read{method.Uses()};
+    if (settings.temporal)
+        for (const std::string &layer : settings.temporal->Uses())
+            if (std::find(read.layers.begin(), read.layers.end(), layer) == read.layers.end())
+                read.layers.push_back(layer);
+    return read;
+}
+
+// The temporal mode's gather of a frame: with neighbours in its window, the frame gathered
+// with them, which the method runs on (else none: the frame itself).
+struct Gathered {
+    std::optional<TemporalResult> temporal;
+    std::vector<std::string> warnings;  // neighbours that could not be read
+};
+
 class DenoiseRun {
   public:
     DenoiseRun(const std::vector<SequenceFrame> &frames, const Method &method,
@@ -294,18 +377,15 @@ class DenoiseRun {
         : frames(frames),
           method(method),
           settings(settings),
-          // Only the layers the method reads; an in-place write copies the others from the
-          // file.
-          read(mcd::ReadOptions{method.Uses()}),
+          read(ReadLayers(method, settings)),
+          cache(frames, read, settings.temporal ? settings.temporal->Radius() : 0),
           progress(int(frames.size()), settings.single, method.Name()) {}
 
     void Run();
 
   private:
-    std::future<LoadedFrame> Load(size_t i) {
-        return std::async(std::launch::async, LoadFrame, std::cref(frames[i]), std::cref(read));
-    }
-    Pending Denoise(const SequenceFrame &f, LoadedFrame loaded);
+    Gathered Gather(size_t i, LoadedFrame &loaded);
+    Pending Denoise(size_t i, LoadedFrame &loaded);
     void Finish(Pending &p);
     void Summarize(double seconds) const;
 
@@ -313,32 +393,30 @@ class DenoiseRun {
     const Method &method;
     const DenoiseSettings &settings;
     const mcd::ReadOptions read;
+    FrameCache cache;
     std::optional<Device> device;
     FramesProgress progress;
     std::vector<std::string> failed;
     ErrorKind firstFailure = ErrorKind::Internal;  // the run's kind when frames failed
 };
 
-// Three frames in flight: the next one read, this one denoised, the last one written.
+// Frames in flight: the next ones read (a window's), this one denoised, the last one
+// written.
 void DenoiseRun::Run() {
     Clock::time_point start = Clock::now();
-    std::future<LoadedFrame> next = Load(0);
+    cache.Keep(0);
     // One frame is read before the device starts: a bad input fails at once.
-    std::optional<LoadedFrame> first;
-    if (settings.single) first = next.get();
+    if (settings.single) cache.Get(0);
     device.emplace(settings.device);
     Pending previous;
     for (size_t i = 0; i < frames.size(); ++i) {
         Pending current;
         try {
-            LoadedFrame loaded = first ? std::move(*first) : next.get();
-            first.reset();
-            if (i + 1 < frames.size()) next = Load(i + 1);
-            current = Denoise(frames[i], std::move(loaded));
+            // The next frames are read even when this one could not be.
+            cache.Keep(i);
+            current = Denoise(i, cache.Get(i));
         } catch (...) {
             if (settings.single) throw;
-            // The next frame is read even when this one could not be.
-            if (i + 1 < frames.size() && !next.valid()) next = Load(i + 1);
             current.error =
                 fmt::format("mcdenoise: error: frame {} ({}): {}\n", frames[i].number,
                             frames[i].input, DescribeFailure(std::current_exception()).message);
@@ -353,31 +431,95 @@ void DenoiseRun::Run() {
         Summarize(std::chrono::duration<double>(Clock::now() - start).count());
 }
 
+// Whether the frame's color has a NaN or an infinity.
+bool HasNonFinite(const Frame &frame) {
+    const Image &color = frame.Get("color");
+    return std::any_of(color.data.begin(), color.data.end(),
+                       [](float v) { return !std::isfinite(v); });
+}
+
+// Frame i gathered with the neighbours of its window that could be read, each side up to
+// its first missing frame (the gather follows the frames in turn). A frame with a
+// non-finite value that the method refuses runs alone, so that it is refused: the gather
+// would fill the value from the neighbours without a word.
+Gathered DenoiseRun::Gather(size_t i, LoadedFrame &loaded) {
+    Gathered g;
+    std::vector<size_t> window = cache.Window(i);
+    if (!settings.temporal || window.size() < 2) return g;
+    if (std::get<std::string>(method.Get("non-finite")) == "refuse" &&
+        HasNonFinite(loaded.frame))
+        return g;
+    std::map<int, size_t> byOffset;
+    for (size_t k = 1; k < window.size(); ++k)
+        byOffset[frames[window[k]].number - frames[i].number] = window[k];
+    std::map<int, const Frame *> frameAt = {{0, &loaded.frame}};
+    for (int direction : {-1, 1})
+        for (int offset = direction;; offset += direction) {
+            auto it = byOffset.find(offset);
+            if (it == byOffset.end()) break;
+            const SequenceFrame &f = frames[it->second];
+            try {
+                frameAt[offset] = &cache.Get(it->second).frame;
+            } catch (...) {
+                g.warnings.push_back(fmt::format(
+                    "temporal: neighbour {} ({}) left out, and those beyond it: {}", f.number,
+                    f.input, DescribeFailure(std::current_exception()).message));
+                break;
+            }
+        }
+    if (frameAt.size() < 2) return g;
+    g.temporal = settings.temporal->Gather(*device, frameAt);
+    // No neighbour could be folded (their warnings say why): the frame alone.
+    if (g.temporal->offsets.empty()) {
+        g.warnings.insert(g.warnings.end(), g.temporal->warnings.begin(),
+                          g.temporal->warnings.end());
+        g.temporal.reset();
+    }
+    return g;
+}
+
 // Run the method, put its lines together and start the write. Measured before writing: a
 // failure here must not leave a file behind.
-Pending DenoiseRun::Denoise(const SequenceFrame &f, LoadedFrame loaded) {
+Pending DenoiseRun::Denoise(size_t i, LoadedFrame &loaded) {
+    const SequenceFrame &f = frames[i];
     RunOptions run;
     run.progress = [&](const std::string &stage, int done, int total) {
         progress.Stage(f.input, stage, done, total);
     };
     if (!f.map.empty()) run.stages = {"auto.map"};
     progress.RunStarts();
-    Result result = method.Run(*device, loaded.frame, run);
+    Gathered g = Gather(i, loaded);
+    Result result = method.Run(*device, g.temporal ? g.temporal->frame : loaded.frame, run);
     progress.RunDone();
+    if (g.temporal) {
+        result.plan.insert(result.plan.begin(), g.temporal->plan.begin(),
+                           g.temporal->plan.end());
+        g.warnings.insert(g.warnings.end(), g.temporal->warnings.begin(),
+                          g.temporal->warnings.end());
+        result.timings.insert(result.timings.begin(), g.temporal->timings.begin(),
+                              g.temporal->timings.end());
+        result.wallMs += g.temporal->wallMs;
+    }
+    result.warnings.insert(result.warnings.begin(), g.warnings.begin(), g.warnings.end());
     // Before the lines: the map's own goes into the plan, or a warning that there is none.
     WriteAutoMap(f.map, result);
     Pending p;
     if (settings.explain) p.out += ExplainText(f.input, loaded, result, *device);
     p.warnings = WarningsText(result.warnings, settings.single ? "" : f.input + ": ");
-    p.out += FrameLine(f.output, result);
+    p.out += FrameLine(f.output, result, g.temporal ? &*g.temporal : nullptr);
     if (!loaded.reference.Empty())
         p.out +=
             ErrorLine(loaded.frame.Get("color"), result.image, loaded.reference, f.reference);
     FrameOutput output;
     output.provenance = Provenance(method, result, f.input);
+    if (g.temporal)
+        output.provenance["mcd:temporal"] = g.temporal->frame.metadata["mcd:temporalOffsets"];
     output.image = std::move(result.image);
     output.overInput = settings.inPlace;
-    if (loaded.frame.Has("alpha")) output.alpha = std::move(loaded.frame.layers.at("alpha"));
+    // A frame of a window stays for the next frames' windows: its alpha is copied.
+    if (loaded.frame.Has("alpha"))
+        output.alpha = settings.temporal ? loaded.frame.layers.at("alpha")
+                                         : std::move(loaded.frame.layers.at("alpha"));
     p.written = StartWrite(f, std::move(output));
     return p;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mcdenoise/mcdenoise.h"
+#include "mcdenoise/temporal.h"
 #include "tools/mcdenoise/sequence.h"
 
 namespace mcd::tool {
@@ -21,6 +22,10 @@ struct DenoiseSettings {
     // (io::WriteDenoisedOver).
     bool inPlace = false;
     mcd::DeviceOptions device;
+    // A sequence's temporal mode (docs/sequences.md): each frame gathered with the frames
+    // whose numbers lie within the radius of its own before the method runs; null, or a
+    // frame with no such neighbour, runs the frame alone.
+    const Temporal *temporal = nullptr;
 };
 
 // Denoise `frames` with `method`. A sequence's frame that fails is reported and the others

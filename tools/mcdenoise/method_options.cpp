@@ -23,6 +23,10 @@ void MethodOptions::Add(CLI::App *command, const std::string &method) {
     std::stable_sort(infos.begin(), infos.end(), [](const ParamInfo &a, const ParamInfo &b) {
         return GroupRank(a) < GroupRank(b);
     });
+    AddParams(command, std::move(infos));
+}
+
+void MethodOptions::AddParams(CLI::App *command, std::vector<ParamInfo> infos) {
     for (const ParamInfo &info : infos) {
         auto b = std::make_shared<Bound>();
         b->info = info;
@@ -49,30 +53,16 @@ void MethodOptions::Add(CLI::App *command, const std::string &method) {
                 if (!b->text.empty()) b->option->capture_default_str();
                 break;
         }
-        b->option->group(info.method.empty() ? "Every method" : "Method " + info.method);
+        b->option->group(info.method.empty()         ? "Every method"
+                         : info.method == "temporal" ? "Sequences (temporal mode)"
+                                                     : "Method " + info.method);
         bound.push_back(b);
     }
 }
 
 Method MethodOptions::Make(const std::string &name) const {
     Method method(name);
-    for (const auto &b : bound) {
-        if (b->option->count() == 0 || !method.HasParam(b->info.name)) continue;
-        switch (b->info.type) {
-            case ParamType::Bool:
-                method.Set(b->info.name, b->flag);
-                break;
-            case ParamType::Int:
-                method.Set(b->info.name, b->integer);
-                break;
-            case ParamType::Float:
-                method.Set(b->info.name, b->number);
-                break;
-            case ParamType::String:
-                method.Set(b->info.name, b->text);
-                break;
-        }
-    }
+    Apply(method);
     return method;
 }
 

@@ -17,9 +17,14 @@ class MethodOptions {
     // Add the options of `method` ("auto": every method) and those all methods share to
     // `command`.
     void Add(CLI::App *command, const std::string &method = "auto");
+    // Add these parameters (another object's, such as mcd::Temporal's) to `command`.
+    void AddParams(CLI::App *command, std::vector<ParamInfo> infos);
     // The method `name` with the parameters given on the command line set; given options
     // of other methods are ignored, as they always were.
     Method Make(const std::string &name) const;
+    // Set on `target` (a Method or a Temporal) the given options it has.
+    template <class Target>
+    void Apply(Target &target) const;
     // "awr, bayes, pivot, rhf"; auto (the default) and each method with its summary, one a
     // line.
     static std::string Names();
@@ -36,5 +41,26 @@ class MethodOptions {
     };
     std::vector<std::shared_ptr<Bound>> bound;
 };
+
+template <class Target>
+void MethodOptions::Apply(Target &target) const {
+    for (const auto &b : bound) {
+        if (b->option->count() == 0 || !target.HasParam(b->info.name)) continue;
+        switch (b->info.type) {
+            case ParamType::Bool:
+                target.Set(b->info.name, b->flag);
+                break;
+            case ParamType::Int:
+                target.Set(b->info.name, b->integer);
+                break;
+            case ParamType::Float:
+                target.Set(b->info.name, b->number);
+                break;
+            case ParamType::String:
+                target.Set(b->info.name, b->text);
+                break;
+        }
+    }
+}
 
 }  // namespace mcd::tool
