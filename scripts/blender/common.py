@@ -22,10 +22,15 @@ def Begin(description, size=64):
     parser.add_argument("--jitter", action="store_true",
                         help="shift the camera by a sub-pixel offset drawn from the pixel filter "
                         "(seeded by --seed); use it for independent 1-spp frames, see Render()")
+    parser.add_argument("--count", type=int, default=1,
+                        help="render this many frames, seeds --seed, --seed + 1, ..., in one "
+                        "Blender process (saves its start per frame); --out then holds {seed}")
     parser.add_argument("--passes", choices=("all", "default"), default="all",
                         help="all: every pass mcdenoise reads; default: what a user has, "
                         "Blender's default passes (Combined, Z) plus the Denoising Data passes")
     args = parser.parse_args(argv)
+    if args.count > 1 and "{seed}" not in args.out:
+        parser.error("--count needs {seed} in --out")
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return args, bpy.context.scene
 
@@ -197,11 +202,11 @@ def AllPasses(layer):
 
 
 def Render(scene, args):
-    """Render with the passes --passes names and write the multilayer EXR."""
+    """Render with the passes --passes names and write the multilayer EXR, or --count of them
+    with consecutive seeds (each jittered anew with --jitter)."""
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
     scene.cycles.samples = args.spp
-    scene.cycles.seed = args.seed
     scene.cycles.use_adaptive_sampling = False
     scene.cycles.use_denoising = False
     # No clamping: a clamped frame is biased against its reference.
@@ -210,8 +215,6 @@ def Render(scene, args):
     scene.render.resolution_x = scene.render.resolution_y = args.size
     scene.render.resolution_percentage = 100
     scene.render.threads_mode = "AUTO"
-    if args.jitter:
-        JitterCamera(scene, args.seed)
 
     layer = scene.view_layers[0]
     if args.passes == "default":
@@ -223,6 +226,13 @@ def Render(scene, args):
     settings.file_format = "OPEN_EXR_MULTILAYER"
     settings.color_depth = "32"
     settings.exr_codec = "ZIP"
-    scene.render.filepath = args.out
     scene.render.use_file_extension = False
-    bpy.ops.render.render(write_still=True)
+    camera = scene.camera.data
+    shift = camera.shift_x, camera.shift_y
+    for seed in range(args.seed, args.seed + args.count):
+        scene.cycles.seed = seed
+        camera.shift_x, camera.shift_y = shift
+        if args.jitter:
+            JitterCamera(scene, seed)
+        scene.render.filepath = args.out.replace("{seed}", str(seed))
+        bpy.ops.render.render(write_still=True)

@@ -84,23 +84,49 @@ CheckStamp() {
     echo "$stamp" > "$dir/stamp"
 }
 
-# Render one file unless it exists: scene, output, spp, seed, then extra script arguments.
-# Blender writes to a temporary name that is renamed when it succeeds.
-Render() {
-    local scene=$1 file=$2 spp=$3 seed=$4
-    shift 4
-    [ -f "$file" ] && return 0
-    local start=$SECONDS tmp=$file.partial.exr
-    if ! nice -n 10 blender -b --factory-startup -P "$here/$scene.py" -- --spp "$spp" \
-        --seed "$seed" --size "$size" --out "$tmp" "$@" > "$file.blender.log" 2>&1 ||
-        [ ! -f "$tmp" ]; then
-        echo "realset.sh: blender failed on $file (see $file.blender.log)" | tee -a "$log" >&2
+# Run Blender on a scene: log label, then the script's arguments; its output goes to
+# LOGFILE ($blenderLog) and the time to realset.log.
+blenderLog=
+Blender() {
+    local label=$1 start=$SECONDS
+    shift
+    if ! nice -n 10 blender -b --factory-startup -P "$here/$scene.py" -- --size "$size" "$@" \
+        > "$blenderLog" 2>&1; then
+        echo "realset.sh: blender failed on $label (see $blenderLog)" | tee -a "$log" >&2
         exit 1
     fi
-    mv "$tmp" "$file"
-    rm -f "$file.blender.log"
-    echo "$(date -Is) $scene $(basename "$(dirname "$file")")/$(basename "$file") ${spp} spp" \
-        "seed $seed: $((SECONDS - start)) s" | tee -a "$log"
+    echo "$(date -Is) $scene $label: $((SECONDS - start)) s" | tee -a "$log"
+}
+
+# Render one file unless it exists: output, spp, seed, then extra script arguments. Blender
+# writes to a temporary name that is renamed when it succeeds.
+Render() {
+    local file=$1 spp=$2 seed=$3
+    shift 3
+    [ -f "$file" ] && return 0
+    blenderLog=$file.blender.log
+    Blender "$(basename "$(dirname "$file")")/$(basename "$file") $spp spp seed $seed" \
+        --spp "$spp" --seed "$seed" --out "$file.partial.exr" "$@"
+    [ -f "$file.partial.exr" ] || { echo "realset.sh: blender wrote no $file" >&2; exit 1; }
+    mv "$file.partial.exr" "$file"
+    rm -f "$blenderLog"
+}
+
+# The jittered 1-spp frames NN.exr, seeds 1..N, in one Blender process unless all exist.
+RenderFrames() {
+    local dir=$1 s missing=0
+    for s in $(seq 1 "$frames"); do [ -f "$(printf '%s/%02d.exr' "$dir" "$s")" ] || missing=1; done
+    [ $missing = 1 ] || return 0
+    rm -rf "$dir/partial"
+    mkdir -p "$dir/partial"
+    blenderLog=$dir/partial/blender.log
+    Blender "frames: $frames x 1 spp, seeds 1-$frames" --spp 1 --seed 1 --count "$frames" \
+        --jitter --passes all --out "$dir/partial/{seed}.exr"
+    for s in $(seq 1 "$frames"); do
+        [ -f "$dir/partial/$s.exr" ] || { echo "realset.sh: blender wrote no frame $s" >&2; exit 1; }
+    done
+    for s in $(seq 1 "$frames"); do mv "$dir/partial/$s.exr" "$(printf '%s/%02d.exr' "$dir" "$s")"; done
+    rm -rf "$dir/partial"
 }
 
 # Accumulate inputs into output when it is missing, older than an input or made from
@@ -122,13 +148,10 @@ echo "$(date -Is) realset.sh: scenes $scenes, ${size}x$size, out $out" >> "$log"
 for scene in "${list[@]}"; do
     CheckStamp "$scene"
     dir=$out/$scene
-    Render "$scene" "$dir/plain.exr" "$frames" 1001 --passes default
+    Render "$dir/plain.exr" "$frames" 1001 --passes default
+    RenderFrames "$dir/frames"
     inputs=()
-    for s in $(seq 1 "$frames"); do
-        f=$(printf '%s/frames/%02d.exr' "$dir" "$s")
-        Render "$scene" "$f" 1 "$s" --jitter --passes all
-        inputs+=("$f")
-    done
+    for s in $(seq 1 "$frames"); do inputs+=("$(printf '%s/frames/%02d.exr' "$dir" "$s")"); done
     Accumulate "$dir/acc.exr" "${inputs[@]}"
 done
 
@@ -141,8 +164,8 @@ done
 for k in $(seq 1 $most); do
     for scene in "${list[@]}"; do
         [ "$k" -le $(($(SceneRefSpp "$scene") / chunkSpp)) ] || continue
-        Render "$scene" "$(printf '%s/%s/ref/chunk%02d.exr' "$out" "$scene" "$k")" \
-            $chunkSpp $((100000 + k)) --passes default
+        Render "$(printf '%s/%s/ref/chunk%02d.exr' "$out" "$scene" "$k")" $chunkSpp \
+            $((100000 + k)) --passes default
     done
 done
 for scene in "${list[@]}"; do
