@@ -1,0 +1,52 @@
+// `mcdenoise bench real`: the measurements on a set of real renders (the scenes
+// scripts/blender/realset.sh writes) and the report written from them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/metrics.h"
+#include "mcdenoise/image.h"
+
+namespace mcd::tool {
+
+// One output measured against its scene's reference: the input itself ("input"), a
+// method, auto, or a peer ("oidn", "oidn color").
+struct RealRow {
+    std::string scene, frame, method;  // frame: "plain" or "accumulated"
+    std::string refused;               // why the method did not run on the frame
+    ErrorMetrics error;
+    double brightness = 0;  // mean luminance of the output over the reference's
+    double worst = 0;       // mean relMSE term of the worst 1% of pixels
+    double seconds = -1;    // denoise wall time; negative for the input
+    std::string note;       // e.g. what auto ran
+    std::string png;        // the output's preview, relative to the report directory
+
+    bool Ran() const { return refused.empty(); }
+};
+
+// A scene's reference and its own noise: relMSE of the mean of two halves against the
+// truth, estimated as mean((a - b)^2 / 4 / (r^2 + 0.01)).
+struct RealScene {
+    std::string name;
+    Image reference;
+    double referenceNoise = -1;  // negative when the reference has no halves
+    int referenceSpp = 0;
+    std::string referencePng;
+};
+
+// The error figures beyond CompareImages': brightness ratio and worst 1%.
+void MeasureRow(const Image &output, const Image &reference, RealRow *row);
+
+// relMSE the reference carries: from its two halves, each the mean of half the samples.
+double ReferenceNoise(const Image &half0, const Image &half1, const Image &reference);
+
+// The images side by side, `gap` black pixels apart (all of one height).
+Image MakeStrip(const std::vector<Image> &images, int gap);
+
+// Write <out>/real.csv, real.md, index.html and the strips (<scene>-<frame>.png); print the
+// Markdown summary. `header` describes the run (device, set, peer).
+void WriteRealReport(const std::string &out, const std::string &header,
+                     const std::vector<RealScene> &scenes, const std::vector<RealRow> &rows);
+
+}  // namespace mcd::tool
