@@ -359,8 +359,10 @@ std::string HtmlStrips(const std::vector<RealScene> &scenes, const std::vector<R
     for (const RealScene &scene : scenes) {
         html += fmt::format(
             "<h2 id='{0}'>{0}</h2><p>reference: {1} spp, its own relMSE noise "
-            "{2:.3g}</p>\n",
-            scene.name, scene.referenceSpp, scene.referenceNoise);
+            "{2}</p>\n",
+            scene.name, scene.referenceSpp,
+            scene.referenceNoise >= 0 ? fmt::format("{:.3g}", scene.referenceNoise)
+                                      : "unknown (no halves)");
         for (const std::string &frame : Ordered(rows, true)) {
             std::string strip, refused;
             for (const RealRow &r : rows) {

@@ -292,8 +292,9 @@ void RunBenchReal(const BenchRealOptions &opt) {
         const RealScene &scene = scenes.back();
         scenes.back().referencePng = PngName(name, "reference", "color");
         WritePng((fs::path(opt.out) / scene.referencePng).string(), scene.reference);
-        fmt::print("{}: reference {} spp, its own relMSE noise {:.3g}\n", name,
-                   scene.referenceSpp, scene.referenceNoise);
+        fmt::print("{}: reference {} spp, its own relMSE noise {}\n", name, scene.referenceSpp,
+                   scene.referenceNoise >= 0 ? fmt::format("{:.3g}", scene.referenceNoise)
+                                             : "unknown (no half0.color, half1.color)");
         for (const FrameFile &f : kFrames) {
             FrameRun run{scene, f.kind, (fs::path(set) / name / f.file).string(), opt.out};
             if (!fs::exists(run.path)) {
