@@ -12,10 +12,10 @@
 #                    own noise; the bench reports it).
 # Everything is cached: a file that exists is not rendered again, so a stopped run resumes
 # and a larger --ref-spp only adds chunks. The frames first, then the reference chunks round
-# by round over the scenes, so every scene has a usable (smaller) reference early.
+# by round over the scenes, so a stopped run has chunks of every scene.
 #
 # Usage: realset.sh [--out DIR] [--scenes a,b,...] [--ref-spp N] [--size N] [--frames N]
-#                   [--spp N] [--tool PATH]
+#                   [--tool PATH]
 #   --out      cache directory (default ~/.cache/mcdenoise/realset); one folder per scene
 #   --scenes   scenes to render (default all: scripts/blender/<scene>.py)
 #   --ref-spp  reference samples per pixel for every scene, a multiple of 2048 (default
