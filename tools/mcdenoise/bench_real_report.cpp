@@ -62,23 +62,6 @@ void MeasureRow(const Image &output, const Image &reference, RealRow *row) {
     row->worst = sum / double(count);
 }
 
-double ReferenceNoise(const Image &half0, const Image &half1, const Image &reference) {
-    if (!half0.SameShape(reference) || !half1.SameShape(reference))
-        throw Error("the reference's halves and its color differ in size");
-    int channels = std::min(reference.channels, 3);
-    double sum = 0;
-    size_t count = 0;
-    for (int c = 0; c < channels; ++c)
-        for (int y = 0; y < reference.height; ++y)
-            for (int x = 0; x < reference.width; ++x) {
-                double a = half0.At(c, y, x), b = half1.At(c, y, x), r = reference.At(c, y, x);
-                if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(r)) continue;
-                sum += (a - b) * (a - b) / 4 / (r * r + 0.01);
-                ++count;
-            }
-    return count ? sum / double(count) : NAN;
-}
-
 Image MakeStrip(const std::vector<Image> &images, int gap) {
     int width = 0, height = 0;
     for (const Image &image : images) {
@@ -234,18 +217,21 @@ std::string ReferenceTable(const std::vector<RealScene> &scenes,
     return md;
 }
 
-// Per frame kind: a scene a row, a method a column, "relMSE (brightness)"; the geometric
-// means at the bottom.
+// Per frame kind: a scene a row with its reference's own noise, a method a column,
+// "relMSE (brightness)"; the geometric means at the bottom.
 std::string Matrix(const std::vector<RealScene> &scenes, const std::vector<RealRow> &rows,
                    const std::vector<Summary> &summaries, const std::string &frame) {
     std::vector<std::string> methods = Ordered(rows, false);
-    std::string md = fmt::format("| {} |", frame);
+    std::string md = fmt::format("| {} | reference noise |", frame);
     for (const std::string &m : methods) md += " " + m + " |";
-    md += "\n|---|";
+    md += "\n|---|---|";
     for (size_t i = 0; i < methods.size(); ++i) md += "---|";
     md += "\n";
     for (const RealScene &scene : scenes) {
-        md += "| " + scene.name + " |";
+        md +=
+            fmt::format("| {} | {} |", scene.name,
+                        scene.referenceNoise >= 0 ? fmt::format("{:.2g}", scene.referenceNoise)
+                                                  : "unknown");
         for (const std::string &m : methods) {
             std::string cell = " ";
             for (const RealRow &row : rows)
@@ -257,7 +243,7 @@ std::string Matrix(const std::vector<RealScene> &scenes, const std::vector<RealR
         }
         md += "\n";
     }
-    md += "| geometric mean |";
+    md += "| geometric mean | |";
     for (const std::string &m : methods) {
         std::string cell = " ";
         for (const Summary &s : summaries)
