@@ -15,12 +15,11 @@ namespace mcd::tool {
 struct RealRow {
     std::string scene, frame, method;  // frame: "plain" or "accumulated"
     std::string refused;               // why the method did not run on the frame
-    ErrorMetrics error;
-    double brightness = 0;  // mean luminance of the output over the reference's
-    double worst = 0;       // mean relMSE term of the worst 1% of pixels
-    double seconds = -1;    // denoise wall time; negative for the input
-    std::string note;       // e.g. what auto ran
-    std::string png;        // the output's preview, relative to the report directory
+    ErrorMetrics error;   // with the mean brightness of the output over the reference's
+    double worst = 0;     // mean relMSE term of the worst 1% of pixels
+    double seconds = -1;  // denoise wall time; negative for the input
+    std::string note;     // e.g. what auto ran
+    std::string png;      // the output's preview, relative to the report directory
 
     bool Ran() const { return refused.empty(); }
 };
@@ -36,7 +35,7 @@ struct RealScene {
     std::string referencePng;
 };
 
-// The error figures beyond CompareImages': brightness ratio and worst 1%.
+// The error figure beyond CompareImages': the mean relMSE term of the worst 1% of pixels.
 void MeasureRow(const Image &output, const Image &reference, RealRow *row);
 
 // relMSE the reference carries: from its two halves, the means of count0 and count1

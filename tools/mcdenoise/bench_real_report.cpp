@@ -19,29 +19,9 @@ namespace fs = std::filesystem;
 
 const char *kFloorMark = "†";
 
-double Luminance(const Image &image, int y, int x) {
-    if (image.channels < 3) return image.At(0, y, x);
-    return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) + 0.0722 * image.At(2, y, x);
-}
-
-// Mean luminance over the pixels finite in both images.
-void MeanLuminance(const Image &output, const Image &reference, double *out, double *ref) {
-    double sumOut = 0, sumRef = 0;
-    for (int y = 0; y < output.height; ++y)
-        for (int x = 0; x < output.width; ++x) {
-            double o = Luminance(output, y, x), r = Luminance(reference, y, x);
-            if (!std::isfinite(o) || !std::isfinite(r)) continue;
-            sumOut += o, sumRef += r;
-        }
-    *out = sumOut, *ref = sumRef;
-}
-
 }  // namespace
 
 void MeasureRow(const Image &output, const Image &reference, RealRow *row) {
-    double out = 0, ref = 0;
-    MeanLuminance(output, reference, &out, &ref);
-    row->brightness = ref > 0 ? out / ref : NAN;
     // Each pixel's relMSE term over its first three channels; a non-finite output is the
     // worst a pixel can be.
     int channels = std::min({output.channels, reference.channels, 3});
@@ -111,7 +91,7 @@ std::vector<Summary> Summarize(const std::vector<RealRow> &rows) {
                 if (!row.Ran()) continue;
                 ++s.ran;
                 s.relMse += std::log(row.error.relMse);
-                s.brightness += std::log(row.brightness);
+                s.brightness += std::log(row.error.brightness);
                 s.worst += std::log(row.worst);
                 s.psnr += row.error.psnr;
                 s.ssim += row.error.ssim;
@@ -183,8 +163,8 @@ std::string Csv(const std::vector<RealRow> &rows) {
     for (const RealRow &r : rows)
         csv += r.Ran() ? fmt::format("{},{},{},{:.6g},{:.4f},{:.5f},{:.5f},{:.6g},{},,{}\n",
                                      r.scene, r.frame, r.method, r.error.relMse, r.error.psnr,
-                                     r.error.ssim, r.brightness, r.worst, Seconds(r.seconds),
-                                     CsvField(r.note))
+                                     r.error.ssim, r.error.brightness, r.worst,
+                                     Seconds(r.seconds), CsvField(r.note))
                        : fmt::format("{},{},{},,,,,,,{},\n", r.scene, r.frame,
                                      CsvField(r.method), CsvField(r.refused));
     return csv;
@@ -236,9 +216,9 @@ std::string Matrix(const std::vector<RealScene> &scenes, const std::vector<RealR
             std::string cell = " ";
             for (const RealRow &row : rows)
                 if (row.scene == scene.name && row.frame == frame && row.method == m)
-                    cell = row.Ran()
-                               ? fmt::format("{} ({:.3f})", RelMse(row, scenes), row.brightness)
-                               : "refused";
+                    cell = row.Ran() ? fmt::format("{} ({:.3f})", RelMse(row, scenes),
+                                                   row.error.brightness)
+                                     : "refused";
             md += " " + cell + " |";
         }
         md += "\n";
@@ -280,7 +260,7 @@ std::string RowTable(const std::vector<RealScene> &scenes, const std::vector<Rea
                             "| {} | {} | {} | {} | {:.2f} | {:.4f} | {:.3f} | {:.4g} | "
                             "{} | {} |\n",
                             r.scene, r.frame, r.method, RelMse(r, scenes), r.error.psnr,
-                            r.error.ssim, r.brightness, r.worst, Seconds(r.seconds),
+                            r.error.ssim, r.error.brightness, r.worst, Seconds(r.seconds),
                             Escape(Shortened(r.note, 200), false))
                       : fmt::format("| {} | {} | {} | refused | | | | | | {} |\n", r.scene,
                                     r.frame, r.method, Escape(r.refused, false));
@@ -361,7 +341,7 @@ std::string HtmlStrips(const std::vector<RealScene> &scenes, const std::vector<R
                 strip += fmt::format(
                     "<figure><img src='{}'><figcaption><b>{}</b><br>relMSE {} &middot; "
                     "mean {:.3f}<br>SSIM {:.3f}{}</figcaption></figure>",
-                    r.png, r.method, RelMse(r, scenes), r.brightness, r.error.ssim,
+                    r.png, r.method, RelMse(r, scenes), r.error.brightness, r.error.ssim,
                     r.seconds >= 0 ? fmt::format(" &middot; {:.2f} s", r.seconds) : "");
             }
             strip += fmt::format(

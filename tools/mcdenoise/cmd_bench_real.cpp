@@ -155,7 +155,7 @@ void AddMeasured(FrameRun &run, const std::string &method, Image output, double 
         "  {:<20} {:<11} {:<10} relMSE {:<10.4g} PSNR {:6.2f} SSIM {:.4f} mean {:.3f} "
         "worst1% {:<9.4g} {}\n",
         run.scene.name, run.kind, method, row.error.relMse, row.error.psnr, row.error.ssim,
-        row.brightness, row.worst, seconds >= 0 ? fmt::format("{:.3f} s", seconds) : "");
+        row.error.brightness, row.worst, seconds >= 0 ? fmt::format("{:.3f} s", seconds) : "");
     std::fflush(stdout);
     run.rows.push_back(std::move(row));
     run.strip.push_back(std::move(output));
