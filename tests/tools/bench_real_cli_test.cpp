@@ -183,7 +183,7 @@ TEST_F(CliBenchReal, InputRowsAndReferenceNoiseFollowTheirDefinitions) {
     EXPECT_EQ(images, 5);  // plain: input, reference; accumulated: input, awr, reference
     EXPECT_TRUE(fs::exists(tool.Path("report/scene_a-plain.png")));
     EXPECT_TRUE(fs::exists(tool.Path("report/scene_a-accumulated.png")));
-    EXPECT_NE(Read("report/real.md").find("| geometric mean |"), std::string::npos);
+    EXPECT_NE(Read("report/real.md").find("| mean over the scenes |"), std::string::npos);
 }
 
 // A scene with reference chunks (realset.sh while it renders): the reference is the mean

@@ -198,7 +198,8 @@ std::string ReferenceTable(const std::vector<RealScene> &scenes,
 }
 
 // Per frame kind: a scene a row with its reference's own noise, a method a column,
-// "relMSE (brightness)"; the geometric means at the bottom.
+// "relMSE / PSNR / SSIM (brightness)"; the geometric means (PSNR, SSIM: arithmetic) at
+// the bottom.
 std::string Matrix(const std::vector<RealScene> &scenes, const std::vector<RealRow> &rows,
                    const std::vector<Summary> &summaries, const std::string &frame) {
     std::vector<std::string> methods = Ordered(rows, false);
@@ -216,20 +217,22 @@ std::string Matrix(const std::vector<RealScene> &scenes, const std::vector<RealR
             std::string cell = " ";
             for (const RealRow &row : rows)
                 if (row.scene == scene.name && row.frame == frame && row.method == m)
-                    cell = row.Ran() ? fmt::format("{} ({:.3f})", RelMse(row, scenes),
-                                                   row.error.brightness)
+                    cell = row.Ran() ? fmt::format("{} / {:.2f} / {:.3f} ({:.3f})",
+                                                   RelMse(row, scenes), row.error.psnr,
+                                                   row.error.ssim, row.error.brightness)
                                      : "refused";
             md += " " + cell + " |";
         }
         md += "\n";
     }
-    md += "| geometric mean | |";
+    md += "| mean over the scenes | |";
     for (const std::string &m : methods) {
         std::string cell = " ";
         for (const Summary &s : summaries)
             if (s.frame == frame && s.method == m && s.ran)
                 cell = fmt::format(
-                    "{:.4g} ({:.3f}){}", s.relMse, s.brightness,
+                    "{:.4g} / {:.2f} / {:.3f} ({:.3f}){}", s.relMse, s.psnr, s.ssim,
+                    s.brightness,
                     s.ran < s.scenes ? fmt::format(", {} of {}", s.ran, s.scenes) : "");
         md += " " + cell + " |";
     }
@@ -275,12 +278,13 @@ std::string Markdown(const std::string &header, const std::vector<RealScene> &sc
         "relMSE term of the worst 1% of pixels; time = denoise wall time (the methods: one "
         "run after an untimed warm-up, uploads and downloads included; the peer: its filter's "
         "own time, median over runs). {} marks a relMSE within 3x of the reference's own "
-        "noise.\n\n## References\n\n{}",
+        "noise. Means over the scenes: geometric for relMSE, brightness, worst 1% and time, "
+        "arithmetic for PSNR and SSIM.\n\n## References\n\n{}",
         header, kFloorMark, ReferenceTable(scenes, rows));
     for (const std::string &frame : Ordered(rows, true))
-        md += fmt::format("\n## {} frames: relMSE (mean brightness)\n\n{}", frame,
-                          Matrix(scenes, rows, summaries, frame));
-    md += "\n## Geometric means over the scenes\n\n" + SummaryTable(summaries);
+        md += fmt::format("\n## {} frames: relMSE / PSNR dB / SSIM (mean brightness)\n\n{}",
+                          frame, Matrix(scenes, rows, summaries, frame));
+    md += "\n## Means over the scenes\n\n" + SummaryTable(summaries);
     md += "\n## Every row\n\n" + RowTable(scenes, rows);
     return md;
 }
@@ -375,9 +379,9 @@ void WriteRealReport(const std::string &out, const std::string &header,
     std::ofstream(dir / "index.html") << html;
     fmt::print("\n## References\n\n{}", ReferenceTable(scenes, rows));
     for (const std::string &frame : Ordered(rows, true))
-        fmt::print("\n## {} frames: relMSE (mean brightness)\n\n{}", frame,
+        fmt::print("\n## {} frames: relMSE / PSNR dB / SSIM (mean brightness)\n\n{}", frame,
                    Matrix(scenes, rows, summaries, frame));
-    fmt::print("\n## Geometric means over the scenes\n\n{}", SummaryTable(summaries));
+    fmt::print("\n## Means over the scenes\n\n{}", SummaryTable(summaries));
     fmt::print("\nwrote {0}/real.csv, {0}/real.md, {0}/index.html and the strips\n", out);
 }
 
