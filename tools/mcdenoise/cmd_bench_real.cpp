@@ -17,10 +17,12 @@
 #include <sstream>
 
 #include "host/error.h"
+#include "mcdenoise/io.h"
 #include "tools/mcdenoise/bench_real.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
 #include "tools/mcdenoise/path_guard.h"
+#include "tools/mcdenoise/usage.h"
 
 namespace mcd::tool {
 namespace {
@@ -313,11 +315,12 @@ void AddBenchRealCommand(CLI::App *bench) {
     auto opt = std::make_shared<BenchRealOptions>();
     CLI::App *real = bench->add_subcommand(
         "real",
-        "Every method, auto and Open Image Denoise (where present, as a peer) on a set of real "
-        "renders (scripts/blender/realset.sh): per scene its plain frame (what a user has) "
-        "and its accumulated frame against the scene's reference; relMSE, PSNR, SSIM, mean "
-        "brightness over the reference's, the worst 1% of pixels, time; CSV, Markdown and an "
-        "HTML page with a strip per scene");
+        "Every method, auto and Open Image Denoise on a set of real renders\n\n"
+        "Per scene of the set (scripts/blender/realset.sh renders one), its plain frame (what "
+        "a user has) and its accumulated frame against the scene's reference; relMSE, PSNR, "
+        "SSIM, mean brightness over the reference's, the worst 1% of pixels, time; CSV, "
+        "Markdown and an HTML page with a strip per scene. Open Image Denoise, where present, "
+        "is a peer to measure against.");
     real->add_option("set", opt->set,
                      "the set's directory, one folder per scene with plain.exr, acc.exr and "
                      "ref.exr or ref/chunkNN.exr, the mean of those chunks where ref.exr is "
@@ -331,9 +334,9 @@ void AddBenchRealCommand(CLI::App *bench) {
                                  "(default: {} when present)",
                                  kDefaultOidn));
     real->add_flag("--no-oidn", opt->noOidn, "leave the peer out");
-    real->add_option("--oidn-runs", opt->oidnRuns, "peer runs to time (median)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 100));
+    CheckRange(real->add_option("--oidn-runs", opt->oidnRuns, "peer runs to time (median)")
+                   ->capture_default_str(),
+               1, 100, true);
     real->add_option("-o,--out", opt->out, "output directory")->capture_default_str();
     opt->device.Add(real);
     opt->methodOptions.Add(real);
