@@ -52,8 +52,9 @@ void AddCompareCommand(CLI::App &app) {
     auto opt = std::make_shared<CompareOptions>();
     CLI::App *cmd = app.add_subcommand(
         "compare",
-        "Error of an image against a reference: relMSE, PSNR (clamped sRGB), SSIM, mean "
-        "brightness");
+        "Error of an image against a reference: relMSE, PSNR, SSIM, mean brightness\n\n"
+        "PSNR on [0, 1]-clamped sRGB values, SSIM on their luminance, the mean brightness as "
+        "the image's mean linear luminance over the reference's.");
     cmd->add_option("image", opt->image, "image or frame to measure")->required();
     cmd->add_option("reference", opt->reference, "reference image or frame")->required();
     cmd->add_option("--layer", opt->layer, "layer of both files")->capture_default_str();
