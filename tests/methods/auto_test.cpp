@@ -18,8 +18,8 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
-#include "host/api/registry.h"
 #include "host/api/device.h"
+#include "host/api/registry.h"
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
 #include "host/kernels/auto_noise.h"
@@ -899,8 +899,8 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     frame.layers.erase("variance");
     frame.layers.erase("half0.color");
     frame.layers.erase("half1.color");
-    EXPECT_NE(ErrorOf([&] { automatic.Run(device, frame); }).find("--auto-noise halves"),
-              std::string::npos);
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::MissingLayer, [&] { automatic.Run(device, frame); }, "--auto-noise halves"));
     // No statistics: SURE from the frame's own estimate, and the variants run.
     automatic.Set("auto-noise", "auto");
     result = automatic.Run(device, frame);
