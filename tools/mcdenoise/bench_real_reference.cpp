@@ -47,8 +47,9 @@ void AssembleFromChunks(const std::vector<std::string> &chunks, RealScene *scene
         Image &half = sum[i % 2];
         if (half.Size() == 0) half = Image(color.width, color.height, 3);
         if (color.channels < 3 || !color.SameShape(sum[0]))
-            throw Error(fmt::format("'{}' is not an RGB image of {}'s size", chunks[i],
-                                    chunks.front()));
+            throw Error(
+                fmt::format("'{}' is not an RGB image of {}'s size", chunks[i], chunks.front()),
+                ErrorKind::InvalidArgument);
         for (size_t j = 0; j < half.Size(); ++j) half.data[j] += color.data[j];
         ++counts[i % 2];
         int chunkSpp = io::SppFromMetadata(io::ReadFrameHeader(chunks[i]).metadata);
@@ -71,7 +72,8 @@ void AssembleFromChunks(const std::vector<std::string> &chunks, RealScene *scene
 double ReferenceNoise(const Image &half0, const Image &half1, const Image &reference,
                       int count0, int count1) {
     if (!half0.SameShape(reference) || !half1.SameShape(reference))
-        throw Error("the reference's halves and its color differ in size");
+        throw Error("the reference's halves and its color differ in size",
+                    ErrorKind::InvalidArgument);
     // The reference, (n0 a + n1 b) / (n0 + n1), has the variance of a - b times
     // n0 n1 / (n0 + n1)^2 (a quarter for equal halves).
     double share = double(count0) * count1 / (double(count0 + count1) * (count0 + count1));
@@ -115,10 +117,10 @@ RealScene LoadScene(const std::string &set, const std::string &name) {
     scene.name = name;
     if (!ReferenceFileCurrent(file, chunks)) {
         if (chunks.size() < 2)
-            throw Error(
-                fmt::format("{}: {} is older than its chunks and there are fewer than "
-                            "two chunks to make a reference of",
-                            name, file.string()));
+            throw Error(fmt::format("{}: {} is older than its chunks and there are fewer than "
+                                    "two chunks to make a reference of",
+                                    name, file.string()),
+                        ErrorKind::InvalidArgument);
         AssembleFromChunks(chunks, &scene);
         return scene;
     }

@@ -64,18 +64,19 @@ std::vector<std::string> SplitList(const std::string &text) {
 std::vector<std::string> SetScenes(const std::string &set, const std::string &scenes) {
     std::error_code ec;
     if (!fs::is_directory(set, ec))
-        throw Error(
-            fmt::format("'{}' is not a directory of scenes (render one with "
-                        "scripts/blender/realset.sh --out DIR)",
-                        set));
+        throw Error(fmt::format("'{}' is not a directory of scenes (render one with "
+                                "scripts/blender/realset.sh --out DIR)",
+                                set),
+                    ErrorKind::InvalidArgument);
     std::vector<std::string> names;
     if (scenes != "all") {
         for (const std::string &name : SplitList(scenes)) {
             fs::path dir = fs::path(set) / name;
             if (!HasReference(dir.string()))
-                throw Error(fmt::format("--scenes: '{}' has neither {} nor two chunks {}", name,
-                                        (dir / "ref.exr").string(),
-                                        (dir / "ref/chunkNN.exr").string()));
+                throw Error(
+                    fmt::format("--scenes: '{}' has neither {} nor two chunks {}", name,
+                                (dir / "ref.exr").string(), (dir / "ref/chunkNN.exr").string()),
+                    ErrorKind::InvalidArgument);
             names.push_back(name);
         }
         return names;
@@ -85,10 +86,10 @@ std::vector<std::string> SetScenes(const std::string &set, const std::string &sc
             names.push_back(entry.path().filename().string());
     std::sort(names.begin(), names.end());
     if (names.empty())
-        throw Error(
-            fmt::format("'{}' has no scene folder with a reference (realset.sh writes "
-                        "<scene>/ref/chunkNN.exr and <scene>/ref.exr)",
-                        set));
+        throw Error(fmt::format("'{}' has no scene folder with a reference (realset.sh writes "
+                                "<scene>/ref/chunkNN.exr and <scene>/ref.exr)",
+                                set),
+                    ErrorKind::InvalidArgument);
     return names;
 }
 
@@ -114,7 +115,7 @@ Image RunOidn(const std::string &oidn, const std::string &input, const std::stri
                     ShellQuote((fs::path(oidn) / "denoise_exr.py").string()), ShellQuote(input),
                     ShellQuote(output), aux ? "--aux" : "", runs);
     FILE *pipe = popen(command.c_str(), "r");
-    if (!pipe) throw Error("cannot start " + command);
+    if (!pipe) throw Error("cannot start " + command, ErrorKind::Io);
     std::string log;
     char buffer[4096];
     while (std::fgets(buffer, sizeof buffer, pipe)) log += buffer;
@@ -122,9 +123,10 @@ Image RunOidn(const std::string &oidn, const std::string &input, const std::stri
     if (status != 0 || !fs::exists(output)) {
         std::string tail = log.size() > 300 ? log.substr(log.size() - 300) : log;
         std::replace(tail.begin(), tail.end(), '\n', ' ');
-        throw Error(fmt::format("{}{} on {} failed: {}",
-                                (fs::path(oidn) / "denoise_exr.py").string(),
-                                aux ? " --aux" : "", input, tail));
+        throw Error(
+            fmt::format("{}{} on {} failed: {}", (fs::path(oidn) / "denoise_exr.py").string(),
+                        aux ? " --aux" : "", input, tail),
+            ErrorKind::Io);
     }
     std::smatch match;
     static const std::regex median("median ([0-9.eE+-]+) ms");
@@ -231,7 +233,8 @@ std::vector<Method> ChosenMethods(const BenchRealOptions &opt) {
     for (const std::string &name : listed)
         if (opt.methods != "all" && std::find(names.begin(), names.end(), name) == names.end())
             throw Error(fmt::format("--methods: unknown method '{}' (methods: {}, auto)", name,
-                                    MethodOptions::Names()));
+                                    MethodOptions::Names()),
+                        ErrorKind::InvalidArgument);
     std::vector<Method> methods;
     for (const std::string &name : names)
         if (opt.methods == "all" ||
@@ -245,10 +248,10 @@ std::vector<Method> ChosenMethods(const BenchRealOptions &opt) {
 std::string PeerDirectory(const BenchRealOptions &opt) {
     if (!opt.oidn.empty()) {
         if (!fs::exists(fs::path(opt.oidn) / "denoise_exr.py"))
-            throw Error(
-                fmt::format("--oidn '{}': no denoise_exr.py there (the Open Image "
-                            "Denoise peer's README)",
-                            opt.oidn));
+            throw Error(fmt::format("--oidn '{}': no denoise_exr.py there (the Open Image "
+                                    "Denoise peer's README)",
+                                    opt.oidn),
+                        ErrorKind::InvalidArgument);
         return opt.oidn;
     }
     if (opt.noOidn || !fs::exists(fs::path(kDefaultOidn) / "denoise_exr.py")) return "";
