@@ -13,7 +13,8 @@ size=${1:-256x256}
 refSpp=${2:-4096}
 shift $(($# < 2 ? $# : 2))
 scene=dof-arealight
-m() { sed -n 's/.*relMSE \([0-9.e-]*\),.*/\1/p'; }
+# Each cell: relMSE / PSNR dB / SSIM (mean brightness over the reference's).
+m() { sed -n 's/.*relMSE \([0-9.e+-]*\), PSNR \([0-9.inf]*\) dB, SSIM \([0-9.]*\), mean brightness \([0-9.a-z]*\) .*/\1 \/ \2 \/ \3 (\4)/p'; }
 r=ref_${size}_$refSpp.exr
 [ -f $r ] || $T render --scene $scene --size $size --reference --spp $refSpp -o $r \
   > /dev/null || exit 1

@@ -3,7 +3,8 @@
 # (mcdenoise render --scene S --size 128x128 --spp N --layers split) and S_ref.exr
 # references; needs scripts/bayes_skimage.py beside this file.
 T=${MCD_TOOL:-mcdenoise}
-m() { sed -n 's/.*relMSE \([0-9.e-]*\), PSNR \([0-9.]*\) dB, SSIM \([0-9.]*\).*/\1 \/ \2 \/ \3/p'; }
+# Each cell: relMSE / PSNR dB / SSIM (mean brightness over the reference's).
+m() { sed -n 's/.*relMSE \([0-9.e+-]*\), PSNR \([0-9.inf]*\) dB, SSIM \([0-9.]*\), mean brightness \([0-9.a-z]*\) .*/\1 \/ \2 \/ \3 (\4)/p'; }
 for s in cornell interior; do for n in 4 16 64; do
   f=${s}_$n.exr; r=${s}_ref.exr
   row="| $s | $n | $($T compare $f $r | m)"

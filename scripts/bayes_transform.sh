@@ -5,7 +5,8 @@
 # Renders the frames (--layers all) and references (--reference) into the current
 # directory unless they are there. Prints relMSE / PSNR per cell.
 T=${MCD_TOOL:-mcdenoise}
-m() { sed -n 's/.*relMSE \([0-9.e-]*\), PSNR \([0-9.]*\) dB.*/\1 \/ \2/p'; }
+# Each cell: relMSE / PSNR dB / SSIM (mean brightness over the reference's).
+m() { sed -n 's/.*relMSE \([0-9.e+-]*\), PSNR \([0-9.inf]*\) dB, SSIM \([0-9.]*\), mean brightness \([0-9.a-z]*\) .*/\1 \/ \2 \/ \3 (\4)/p'; }
 echo "| scene | spp | input | dwt | dwt --spins 2 | swt |"
 echo "|---|---|---|---|---|---|"
 for s in cornell interior; do

@@ -8,20 +8,29 @@ import random
 import sys
 
 import bpy
+import mathutils
 
 
-def Begin(description):
+def Begin(description, size=64):
     """Parse the arguments after "--" and start from an empty scene."""
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--spp", type=int, default=16)
     parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--size", type=int, default=64)
+    parser.add_argument("--size", type=int, default=size)
     parser.add_argument("--out", required=True)
     parser.add_argument("--jitter", action="store_true",
                         help="shift the camera by a sub-pixel offset drawn from the pixel filter "
                         "(seeded by --seed); use it for independent 1-spp frames, see Render()")
+    parser.add_argument("--count", type=int, default=1,
+                        help="render this many frames, seeds --seed, --seed + 1, ..., in one "
+                        "Blender process (saves its start per frame); --out then holds {seed}")
+    parser.add_argument("--passes", choices=("all", "default"), default="all",
+                        help="all: every pass mcdenoise reads; default: what a user has, "
+                        "Blender's default passes (Combined, Z) plus the Denoising Data passes")
     args = parser.parse_args(argv)
+    if args.count > 1 and "{seed}" not in args.out:
+        parser.error("--count needs {seed} in --out")
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return args, bpy.context.scene
 
@@ -70,6 +79,73 @@ def AreaLight(location, size, energy):
     return light
 
 
+def Principled(name, index, color, **inputs):
+    """A Principled BSDF material; `inputs` sets its sockets by name with spaces as
+    underscores (Roughness=0.2, Transmission=1.0, Emission_Strength=50.0, ...)."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    mat.pass_index = index
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = color
+    for key, value in inputs.items():
+        bsdf.inputs[key.replace("_", " ")].default_value = value
+    return mat
+
+
+def Texture(mat, kind, socket="Base Color", **inputs):
+    """Add a texture node of this kind ("Checker", "Brick", "Noise", "Wave", ...) and link its
+    Color output into the material's Principled BSDF socket; returns the node."""
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    tex = nodes.new(f"ShaderNodeTex{kind}")
+    for key, value in inputs.items():
+        tex.inputs[key.replace("_", " ")].default_value = value
+    links.new(tex.outputs["Color"], nodes["Principled BSDF"].inputs[socket])
+    return tex
+
+
+def World(scene, color, strength, horizon=None):
+    """A world of one colour, or a vertical gradient from `horizon` to `color` at the zenith."""
+    world = bpy.data.worlds.new("world")
+    world.use_nodes = True
+    scene.world = world
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    background = nodes["Background"]
+    background.inputs["Strength"].default_value = strength
+    if horizon is None:
+        background.inputs["Color"].default_value = color
+        return world
+    coords = nodes.new("ShaderNodeTexCoord")
+    split = nodes.new("ShaderNodeSeparateXYZ")
+    ramp = nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = horizon
+    ramp.color_ramp.elements[1].color = color
+    links.new(coords.outputs["Generated"], split.inputs["Vector"])
+    links.new(split.outputs["Z"], ramp.inputs["Fac"])
+    links.new(ramp.outputs["Color"], background.inputs["Color"])
+    return world
+
+
+def Camera(scene, location, target, lens=35.0):
+    """Add the scene camera at `location` looking at `target`."""
+    bpy.ops.object.camera_add(location=location)
+    camera = bpy.context.object
+    direction = mathutils.Vector(target) - mathutils.Vector(location)
+    camera.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
+    camera.data.lens = lens
+    scene.camera = camera
+    return camera
+
+
+def Keyframes(obj, path, values):
+    """Key `obj.<path>` to values[i] at frame i with linear interpolation (motion blur)."""
+    for frame, value in enumerate(values):
+        setattr(obj, path, value)
+        obj.keyframe_insert(data_path=path, frame=frame)
+    for curve in obj.animation_data.action.fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR"
+
+
 def BlackmanHarrisOffset(rng, width):
     """One offset in pixels drawn from Cycles' 1D Blackman-Harris pixel filter of this width."""
     while True:
@@ -96,24 +172,16 @@ def JitterCamera(scene, seed):
     camera.shift_y += BlackmanHarrisOffset(rng, width) / size
 
 
-def Render(scene, args):
-    """Render with every pass mcdenoise reads and write the multilayer EXR."""
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = args.spp
-    scene.cycles.seed = args.seed
-    scene.cycles.use_adaptive_sampling = False
-    scene.cycles.use_denoising = False
-    # No clamping: a clamped frame is biased against its reference.
-    scene.cycles.sample_clamp_direct = 0.0
-    scene.cycles.sample_clamp_indirect = 0.0
-    scene.render.resolution_x = scene.render.resolution_y = args.size
-    scene.render.resolution_percentage = 100
-    scene.render.threads_mode = "AUTO"
-    if args.jitter:
-        JitterCamera(scene, args.seed)
+def DefaultPasses(layer):
+    """What a user has: a new view layer's passes (Combined with alpha, Z) and the Denoising
+    Data passes (Denoising Normal, Albedo, Depth) that Blender's denoisers read."""
+    layer.use_pass_combined = True
+    layer.use_pass_z = True
+    layer.cycles.denoising_store_passes = True
 
-    layer = scene.view_layers[0]
+
+def AllPasses(layer):
+    """Every pass mcdenoise reads."""
     layer.use_pass_combined = True
     layer.use_pass_z = True
     layer.use_pass_normal = True
@@ -132,10 +200,39 @@ def Render(scene, args):
         layer.cycles.use_pass_volume_direct = True
         layer.cycles.use_pass_volume_indirect = True
 
+
+def Render(scene, args):
+    """Render with the passes --passes names and write the multilayer EXR, or --count of them
+    with consecutive seeds (each jittered anew with --jitter)."""
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = args.spp
+    scene.cycles.use_adaptive_sampling = False
+    scene.cycles.use_denoising = False
+    # No clamping: a clamped frame is biased against its reference.
+    scene.cycles.sample_clamp_direct = 0.0
+    scene.cycles.sample_clamp_indirect = 0.0
+    scene.render.resolution_x = scene.render.resolution_y = args.size
+    scene.render.resolution_percentage = 100
+    scene.render.threads_mode = "AUTO"
+
+    layer = scene.view_layers[0]
+    if args.passes == "default":
+        DefaultPasses(layer)
+    else:
+        AllPasses(layer)
+
     settings = scene.render.image_settings
     settings.file_format = "OPEN_EXR_MULTILAYER"
     settings.color_depth = "32"
     settings.exr_codec = "ZIP"
-    scene.render.filepath = args.out
     scene.render.use_file_extension = False
-    bpy.ops.render.render(write_still=True)
+    camera = scene.camera.data
+    shift = camera.shift_x, camera.shift_y
+    for seed in range(args.seed, args.seed + args.count):
+        scene.cycles.seed = seed
+        camera.shift_x, camera.shift_y = shift
+        if args.jitter:
+            JitterCamera(scene, seed)
+        scene.render.filepath = args.out.replace("{seed}", str(seed))
+        bpy.ops.render.render(write_still=True)

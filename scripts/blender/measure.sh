@@ -23,15 +23,23 @@ for s in $(seq 1 "$n"); do render 1 "$s" "${scene}_1spp_$s.exr" --jitter; done
 render "$n" 1001 "${scene}_${n}spp.exr"
 $T accumulate $(for s in $(seq 1 "$n"); do echo "${scene}_1spp_$s.exr"; done) \
     -o "${scene}_acc.exr" > /dev/null
-err() { sed -n 's/.*relMSE \([0-9.e+-]*\) -> \([0-9.e+-]*\),.*/\1 \2/p'; }
-echo "| $scene ${size}x$size | frame | method | input relMSE | output relMSE |"
+# Input and output: relMSE / PSNR dB / SSIM (mean brightness over the reference's).
+err() {
+    sed -n 's/.*relMSE \([0-9.e+-]*\) -> \([0-9.e+-]*\), PSNR \([0-9.inf]*\) -> \([0-9.inf]*\) dB, SSIM \([0-9.]*\) -> \([0-9.]*\), mean brightness \([0-9.a-z]*\) -> \([0-9.a-z]*\) .*/\1_\/_\3_\/_\5_(\7) \2_\/_\4_\/_\6_(\8)/p'
+}
+echo "| $scene ${size}x$size | frame | method | input | output |"
 echo "|---|---|---|---|---|"
 for frame in acc "${n}spp"; do
     for method in auto awr bayes pivot rhf; do
         out=$($T denoise "${scene}_$frame.exr" --method $method -o "${scene}_${frame}_$method.exr" \
             --reference "${scene}_ref.exr" 2>&1 || true)
         figures=$(echo "$out" | err)
-        [ -n "$figures" ] || figures="- refused: $(echo "$out" | tail -1 | cut -c1-60)"
-        echo "| | $frame | $method | ${figures// / | } |"
+        if [ -n "$figures" ]; then
+            figures=${figures// / | }
+            figures=${figures//_/ }
+        else
+            figures="- | refused: $(echo "$out" | tail -1 | cut -c1-60)"
+        fi
+        echo "| | $frame | $method | $figures |"
     done
 done

@@ -469,6 +469,8 @@ TEST_F(CliTest, DenoiseAwr) {
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "soft shrinkage"));
     EXPECT_TRUE(Contains(r.out, "PSNR"));
+    EXPECT_TRUE(Contains(r.out, "mean brightness "))
+        << r.out;  // beside the error, before -> after
     // The plan lists the GPU buffers: awr's own, and nothing for layers it does not use.
     EXPECT_TRUE(Contains(r.out, "GPU buffers:")) << r.out;
     EXPECT_TRUE(Contains(r.out, "awr.color")) << r.out;
@@ -574,15 +576,18 @@ TEST_F(CliTest, BenchQuality) {
         0);
     io::Frame mc = io::ReadFrame(Path("mc2.exr").string()),
               ref = io::ReadFrame(Path("ref.exr").string());
-    double relMse = CompareImages(mc.Get("color"), ref.Get("color")).relMse;
+    ErrorMetrics error = CompareImages(mc.Get("color"), ref.Get("color"));
+    double relMse = error.relMse;
     std::string row = *std::find_if(lines.begin(), lines.end(), [](const std::string &l) {
         return l.rfind("dof-arealight,2,mc,", 0) == 0;
     });
     std::vector<std::string> fields;
     std::stringstream stream(row);
     for (std::string f; std::getline(stream, f, ',');) fields.push_back(f);
-    ASSERT_EQ(fields.size(), 10u) << row;
+    ASSERT_EQ(fields.size(), 11u) << row;
     EXPECT_NEAR(std::stod(fields[7]), relMse, 1e-5 * relMse) << row;
+    EXPECT_EQ(lines[0].substr(lines[0].rfind(',') + 1), "brightness");
+    EXPECT_NEAR(std::stod(fields[10]), error.brightness, 1e-5) << row;
     for (const char *file :
          {"bq/index.html", "bq/dof-arealight.svg", "bq/dof-arealight-input.png",
           "bq/dof-arealight-awr.png", "bq/dof-arealight-reference.png"})

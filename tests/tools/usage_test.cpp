@@ -235,7 +235,7 @@ TEST_F(CliUsage, BlackPixelsWarnOnceInWords) {
 }
 
 // compare leaves nothing out silently: an image with NaN/Inf is refused, naming the count
-// and the first pixel.
+// and the first pixel; the line it prints has the brightness beside the error.
 TEST_F(CliUsage, CompareRefusesNonFiniteValues) {
     Image color(8, 6, 3, 0.5f), reference(8, 6, 3, 0.5f);
     color.At(1, 2, 3) = NAN;
@@ -251,7 +251,15 @@ TEST_F(CliUsage, CompareRefusesNonFiniteValues) {
     EXPECT_FALSE(Contains(r.out, "relMSE")) << r.out;
     r = Run("compare ref.exr ref.exr");
     ASSERT_EQ(r.code, 0) << r.All();
-    EXPECT_TRUE(Contains(r.out, "relMSE 0, PSNR inf dB, SSIM 1.0000")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "relMSE 0, PSNR inf dB, SSIM 1.0000, mean brightness 1.0000"))
+        << r.out;
+    // The brightness beside the error: an image at 0.4 of the reference's values.
+    Image dark = reference;
+    for (float &v : dark.data) v *= 0.4f;
+    io::WriteExr(Path("dark.exr").string(), {{"color", &dark}});
+    r = Run("compare dark.exr ref.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "mean brightness 0.4000 of the reference's")) << r.out;
 }
 
 TEST(CliUsageText, EditDistanceCountsTypos) {

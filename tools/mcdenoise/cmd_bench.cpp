@@ -718,6 +718,7 @@ void AddBenchCommand(CLI::App &app) {
     AddBenchTracingCommand(bench);
     AddBenchReadCommand(bench);
     AddBenchFlickerCommand(bench);
+    AddBenchRealCommand(bench);
 }
 
 }  // namespace mcd::tool

@@ -49,6 +49,12 @@ struct Point {
     double Total() const { return renderSeconds + denoiseSeconds; }
 };
 
+// The four figures no table shows apart: relMSE / PSNR / SSIM (mean brightness).
+std::string Figures(const ErrorMetrics &e) {
+    return fmt::format("{:.4g} / {:.2f} / {:.3f} ({:.3f})", e.relMse, e.psnr, e.ssim,
+                       e.brightness);
+}
+
 std::vector<std::string> SplitList(const std::string &text) {
     std::vector<std::string> items;
     std::stringstream stream(text);
@@ -277,11 +283,12 @@ std::string MeasureMethod(const QualityOptions &opt, Device &device, const Metho
         p.error = CompareImages(result.image, reference);
         s.curves[m + 1].second.push_back(p);
         if (rung.spp == opt.cropSpp) s.crops[method.Name()] = std::move(result.image);
-        return fmt::format(", {} {:.4g} ({:.2f} s)", method.Name(), p.error.relMse, p.Total());
+        return fmt::format("\n    {:<6} {} in {:.2f} s", method.Name(), Figures(p.error),
+                           p.Total());
     } catch (const Error &e) {
         // A frame that lacks a method's layers fails the same way at every spp.
         s.skipped[method.Name()] = e.what();
-        return fmt::format(", {} skipped", method.Name());
+        return fmt::format("\n    {:<6} skipped", method.Name());
     }
 }
 
@@ -308,8 +315,10 @@ SceneCurves MeasureScene(const QualityOptions &opt, const QualityPlan &plan, Dev
         Rung rung{spp, FrameOf(plain, sceneName, spp, plan.width, plan.height),
                   FrameOf(full, sceneName, spp, plan.width, plan.height), plain.seconds,
                   full.seconds};
-        std::string line = fmt::format("  {:<15} {:3} spp: mc relMSE {:.4g} ({:.2f} s)",
-                                       sceneName, spp, mc.error.relMse, mc.renderSeconds);
+        std::string line = fmt::format(
+            "  {} {} spp, relMSE / PSNR dB / SSIM (mean brightness):\n    {:<6} {} in "
+            "{:.2f} s",
+            sceneName, spp, "mc", Figures(mc.error), mc.renderSeconds);
         for (size_t m = 0; m < plan.methods.size(); ++m)
             if (!s.skipped.count(plan.methods[m].Name()))
                 line += MeasureMethod(opt, device, plan.methods[m], rung, reference, sceneName,
@@ -327,7 +336,10 @@ std::string HeadlineTable(const std::string &sceneName, const SceneCurves &s,
     const Point &top = s.curves[0].second.back();
     std::string table = fmt::format(
         "<table><tr><th>method</th><th>speedup at equal error</th><th>error at equal "
-        "time (MC / method)</th></tr>\n");
+        "time (MC / method)</th><th>at {} spp: relMSE / PSNR / SSIM (mean "
+        "brightness)</th></tr>\n<tr><td>mc</td><td></td><td></td><td>{}</td></tr>\n",
+        top.spp, Figures(top.error));
+    headline += fmt::format("| {} | mc | | | {} |\n", sceneName, Figures(top.error));
     for (size_t m = 1; m < s.curves.size(); ++m) {
         const std::vector<Point> &curve = s.curves[m].second;
         if (curve.empty()) continue;
@@ -338,10 +350,12 @@ std::string HeadlineTable(const std::string &sceneName, const SceneCurves &s,
             t > 0 ? fmt::format("{}{:.2f}x", atFirst ? ">= " : "", top.Total() / t)
                   : "not reached";
         std::string ratio = fmt::format("{}{:.2f}x", clamped ? "~" : "", top.error.relMse / e);
-        headline += fmt::format("| {} | {} | {} | {} |\n", sceneName, s.curves[m].first,
-                                speedup, ratio);
-        table += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n", s.curves[m].first,
-                             speedup, ratio);
+        // The method's own figures at the top of the ladder, where it ran there.
+        std::string own = curve.back().spp == top.spp ? Figures(curve.back().error) : "";
+        headline += fmt::format("| {} | {} | {} | {} | {} |\n", sceneName, s.curves[m].first,
+                                speedup, ratio, own);
+        table += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                             s.curves[m].first, speedup, ratio, own);
     }
     return table + "</table>\n";
 }
@@ -376,9 +390,9 @@ std::string SceneHtml(const QualityOptions &opt, const QualityPlan &plan,
     std::string svgName = sceneName + ".svg";
     std::ofstream(fs::path(opt.out) / svgName) << PlotSvg(sceneName, s.curves);
     std::string html = fmt::format(
-        "<h2>{}</h2><img src='{}'>\n<p>Monte Carlo at {} spp: relMSE "
-        "{:.4g} in {:.3f} s.</p>{}",
-        sceneName, svgName, top.spp, top.error.relMse, top.Total(), table);
+        "<h2>{}</h2><img src='{}'>\n<p>Monte Carlo at {} spp: relMSE / PSNR / SSIM (mean "
+        "brightness) {} in {:.3f} s.</p>{}",
+        sceneName, svgName, top.spp, Figures(top.error), top.Total(), table);
     for (const auto &[name, why] : s.skipped)
         html += fmt::format("<p>{} left out: {}</p>\n", name, why);
     return html + CropsHtml(opt, plan, sceneName, s, reference);
@@ -399,11 +413,13 @@ std::string HtmlHeader(const QualityOptions &opt, const QualityPlan &plan, Devic
 
 void WriteCsv(const QualityOptions &opt, const std::vector<Point> &points) {
     std::string csv =
-        "scene,spp,method,render_s,denoise_wall_s,denoise_gpu_s,total_s,relmse,psnr,ssim\n";
+        "scene,spp,method,render_s,denoise_wall_s,denoise_gpu_s,total_s,relmse,psnr,ssim,"
+        "brightness\n";
     for (const Point &p : points)
-        csv += fmt::format("{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},{:.5f}\n",
+        csv += fmt::format("{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},{:.5f},{:.5f}\n",
                            p.scene, p.spp, p.method, p.renderSeconds, p.denoiseSeconds,
-                           p.gpuSeconds, p.Total(), p.error.relMse, p.error.psnr, p.error.ssim);
+                           p.gpuSeconds, p.Total(), p.error.relMse, p.error.psnr, p.error.ssim,
+                           p.error.brightness);
     std::ofstream(fs::path(opt.out) / "quality.csv") << csv;
 }
 
@@ -429,8 +445,8 @@ void RunBenchQuality(const QualityOptions &opt) {
     WriteCsv(opt, points);
     std::ofstream(fs::path(opt.out) / "index.html") << html << "</body></html>\n";
     fmt::print(
-        "\n| scene | method | speedup at equal error | error at equal time |\n"
-        "|---|---|---|---|\n{}",
+        "\n| scene | method | speedup at equal error | error at equal time | at the top spp: "
+        "relMSE / PSNR / SSIM (mean brightness) |\n|---|---|---|---|---|\n{}",
         headline);
     fmt::print("wrote {}/quality.csv, {}/index.html and a plot per scene\n", opt.out, opt.out);
 }

@@ -43,8 +43,10 @@ void RunCompare(const CompareOptions &opt) {
     Image reference = io::ReadImage(opt.reference, opt.layer);
     RefuseNonFinite(image, opt.image, opt.layer);
     ErrorMetrics m = CompareImages(image, reference);
-    fmt::print("{} vs {}: relMSE {:.6g}, PSNR {:.2f} dB, SSIM {:.4f}\n", opt.image,
-               opt.reference, m.relMse, m.psnr, m.ssim);
+    fmt::print(
+        "{} vs {}: relMSE {:.6g}, PSNR {:.2f} dB, SSIM {:.4f}, mean brightness {:.4f} of the "
+        "reference's\n",
+        opt.image, opt.reference, m.relMse, m.psnr, m.ssim, m.brightness);
 }
 
 }  // namespace
@@ -52,7 +54,10 @@ void RunCompare(const CompareOptions &opt) {
 void AddCompareCommand(CLI::App &app) {
     auto opt = std::make_shared<CompareOptions>();
     CLI::App *cmd = app.add_subcommand(
-        "compare", "Error of an image against a reference: relMSE, PSNR (clamped sRGB), SSIM");
+        "compare",
+        "Error of an image against a reference: relMSE, PSNR, SSIM, mean brightness\n\n"
+        "PSNR on [0, 1]-clamped sRGB values, SSIM on their luminance, the mean brightness as "
+        "the image's mean linear luminance over the reference's.");
     cmd->add_option("image", opt->image, "image or frame to measure")->required();
     cmd->add_option("reference", opt->reference, "reference image or frame")->required();
     cmd->add_option("--layer", opt->layer, "layer of both files")->capture_default_str();

@@ -35,6 +35,7 @@ void AddBenchQualityCommand(CLI::App *bench);  // the `bench quality` subcommand
 void AddBenchTracingCommand(CLI::App *bench);  // the `bench tracing` subcommand
 void AddBenchReadCommand(CLI::App *bench);     // the `bench read` subcommand
 void AddBenchFlickerCommand(CLI::App *bench);  // the `bench flicker` subcommand
+void AddBenchRealCommand(CLI::App *bench);     // the `bench real` subcommand
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);

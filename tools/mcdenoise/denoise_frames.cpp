@@ -99,9 +99,9 @@ std::string ErrorLine(const Image &noisy, const Image &denoised, const Image &re
     ErrorMetrics after = CompareImages(denoised, reference);
     return fmt::format(
         "  error vs {}: relMSE {:.5g} -> {:.5g}, PSNR {:.2f} -> {:.2f} dB, SSIM {:.4f} -> "
-        "{:.4f}{}\n",
+        "{:.4f}, mean brightness {:.4f} -> {:.4f} of the reference's{}\n",
         referencePath, before.relMse, after.relMse, before.psnr, after.psnr, before.ssim,
-        after.ssim,
+        after.ssim, before.brightness, after.brightness,
         after.nonFinite ? fmt::format(" ({} non-finite output values)", after.nonFinite) : "");
 }
 
