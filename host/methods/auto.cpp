@@ -73,7 +73,7 @@ void CheckAutoInputs(const Image &color, const std::vector<AutoCandidate> &candi
 // The buffers of a combination: K candidates of C channels, W x H.
 struct AutoGpu {
     int width, height, channels, count;
-    vk::GpuImage color, candidates, errors, smooth, output, weights;
+    vk::GpuImage color, candidates, errors, smooth, smoothScratch, output, weights;
 
     AutoGpu(vk::Context &context, const Image &image,
             const std::vector<AutoCandidate> &candidates)
@@ -85,6 +85,7 @@ struct AutoGpu {
           candidates(context, width, height, count * channels, "auto.candidates"),
           errors(context, width, height, count, "auto.errors"),
           smooth(context, width, height, count, "auto.smooth"),
+          smoothScratch(context, width, height, 2 * count, "auto.smooth.rows"),
           output(context, width, height, channels, "auto.output"),
           weights(context, width, height, count, "auto.weights") {
         color.Upload(image);
@@ -142,7 +143,8 @@ void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
         // The next candidate's upload reuses the scratch.
         run.Submit();
     }
-    RecordAutoSmooth(context, run.Recorder(), gpu.errors, radius, gpu.smooth);
+    RecordAutoSmooth(context, run.Recorder(), gpu.errors, radius, gpu.smoothScratch,
+                     gpu.smooth);
 }
 
 // The estimates of the final combination, whose denominator's guide stands in for the

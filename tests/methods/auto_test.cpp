@@ -66,9 +66,10 @@ Image GpuEstimate(vk::Context &ctx, const Image &color, const Image &variance,
 Image GpuSmooth(vk::Context &ctx, const Image &errors, int radius) {
     vk::GpuImage in(ctx, errors.width, errors.height, errors.channels, "e");
     vk::GpuImage out(ctx, errors.width, errors.height, errors.channels, "s");
+    vk::GpuImage rows(ctx, errors.width, errors.height, 2 * errors.channels, "rows");
     in.Upload(errors);
     vk::Recorder recorder(ctx);
-    RecordAutoSmooth(ctx, recorder, in, radius, out);
+    RecordAutoSmooth(ctx, recorder, in, radius, rows, out);
     recorder.Submit();
     return out.Download();
 }
