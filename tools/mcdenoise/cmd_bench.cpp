@@ -652,6 +652,7 @@ void AddBenchCommand(CLI::App &app) {
     AddBenchQualityCommand(bench);
     AddBenchTracingCommand(bench);
     AddBenchReadCommand(bench);
+    AddBenchAutoCommand(bench);
 }
 
 }  // namespace mcd::tool

@@ -30,6 +30,7 @@ void AddBenchCommand(CLI::App &app);
 void AddBenchQualityCommand(CLI::App *bench);  // the `bench quality` subcommand
 void AddBenchTracingCommand(CLI::App *bench);  // the `bench tracing` subcommand
 void AddBenchReadCommand(CLI::App *bench);     // the `bench read` subcommand
+void AddBenchAutoCommand(CLI::App *bench);     // the `bench auto` subcommand
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);
