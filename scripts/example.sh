@@ -18,16 +18,19 @@ step cmake --install build --prefix "$prefix"
 
 core=$(find "$prefix" -name 'libmcdenoise.so' | head -n 1)
 [[ -n "$core" ]] || fail "no libmcdenoise.so under $prefix"
-if ldd "$core" | grep -qiE 'OpenImageIO|OpenEXR|libdeflate'; then
-    ldd "$core" >&2
+libs=$(ldd "$core")
+if grep -qiE 'OpenImageIO|OpenEXR|libdeflate' <<<"$libs"; then
+    echo "$libs" >&2
     fail "$core links an image-file library"
 fi
-echo "example: $(basename "$core") needs $(ldd "$core" | wc -l) shared libraries, no image-file library"
+echo "example: $(basename "$core") needs $(wc -l <<<"$libs") shared libraries, no image-file library"
 
 step cmake -S examples -B build/example -G Ninja -DCMAKE_PREFIX_PATH="$PWD/$prefix" \
     -DCMAKE_CXX_STANDARD=17 -DCMAKE_CXX_STANDARD_REQUIRED=ON
-ninja -C build/example -t commands denoise_buffers | grep -q -- '-std=[a-z]*++17' ||
-    fail "the examples did not build as C++17"
+# Whole output first: grep -q would close the pipe early, and pipefail reads ninja's SIGPIPE
+# as a failure.
+commands=$(ninja -C build/example -t commands denoise_buffers)
+grep -q -- '-std=[a-z]*++17' <<<"$commands" || fail "the examples did not build as C++17"
 step cmake --build build/example
 
 frame=build/example/frame.exr
