@@ -102,6 +102,7 @@ fi
 name=$("$tool" info 2>/dev/null | sed -n 's/^\* [0-9]*: \(.*\) (.*), Vulkan.*/\1/p' | head -1)
 [[ -n "$name" ]] || { say "no Vulkan device (mcdenoise info):"; "$tool" info >&2; exit 1; }
 say "device: $name"
+csvName=${name//,/;}  # the CSV's device column
 
 # 3. The kernel-vs-reference tests on that device.
 if ((tests)); then
@@ -134,10 +135,10 @@ for size in ${sizes//,/ }; do
             grep -E ": $method in [0-9.]+ ms"); then
             wall=$(echo "$(date +%s.%N) - $start" | bc)
             gpu=$(echo "$line" | sed -n 's/.* in [0-9.]* ms (\([0-9.]*\) ms GPU.*/\1/p')
-            printf '%s,%s,%s,%s,%.2f\n' "$name" "$method" "$size" "$gpu" "$wall" >>"$csv"
+            printf '%s,%s,%s,%s,%.2f\n' "$csvName" "$method" "$size" "$gpu" "$wall" >>"$csv"
         else
             say "$method at $size failed"
-            printf '%s,%s,%s,failed,failed\n' "$name" "$method" "$size" >>"$csv"
+            printf '%s,%s,%s,failed,failed\n' "$csvName" "$method" "$size" >>"$csv"
         fi
     done
 done
