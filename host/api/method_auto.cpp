@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "host/api/registry.h"
+#include "host/api/tiled_run.h"
 #include "host/methods/auto.h"
 
 namespace mcd::api {
@@ -357,7 +358,9 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                  const AutoFrontEnd::Options &o, Candidates &out) {
     const std::string &label = v.variant->label;
     auto begin = Clock::now();
-    Result one = method.Run(context, inputs, RunOptions());
+    // Each candidate in its own tiles where the frame does not fit it whole (host/api/
+    // tiled_run.h), with its own halo: auto's windows are then the combination's alone.
+    Result one = RunTiled(context, method, inputs, RunOptions());
     for (const std::string &line : one.plan) out.plans.push_back(label + ": " + line);
     for (const Timing &t : one.timings)
         out.timings.push_back({label + ": " + t.label, t.gpuMs});
@@ -386,7 +389,7 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                                     : isBayes    ? noise.bayesPerturbed
                                                  : noise.perturbed);
         }
-        Result probeRun = method.Run(context, inputs, RunOptions());
+        Result probeRun = RunTiled(context, method, inputs, RunOptions());
         for (const Timing &t : probeRun.timings)
             out.timings.push_back({label + " (probe): " + t.label, t.gpuMs});
         r.candidate.probe = std::move(probeRun.image);
@@ -597,7 +600,6 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     TileNeeds needs;
     needs.notLocal =
         "auto: each tile fixes its candidates' frame-wide quantities and its own estimates";
-    int count = 0;
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty()) continue;
@@ -606,20 +608,12 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         TileNeeds one = method->Tiling(context, inputs);
         needs.reach = std::max(needs.reach, one.reach);
         needs.align = std::lcm(needs.align, std::max(one.align, 1));
-        needs.bytesPerPixel = std::max(needs.bytesPerPixel, one.bytesPerPixel);
-        needs.bindingBytesPerPixel =
-            std::max(needs.bindingBytesPerPixel, one.bindingBytesPerPixel);
-        needs.fixedBytes = std::max(needs.fixedBytes, one.fixedBytes);
-        if (one.maxWidth > 0)
-            needs.maxWidth =
-                needs.maxWidth > 0 ? std::min(needs.maxWidth, one.maxWidth) : one.maxWidth;
-        ++count;
     }
-    // The combination holds every candidate's output (and its probe's) on the host and its
-    // outputs, estimates and their means on the GPU. The estimates' box mean runs twice (the
-    // guide's pass, then the final one), and on a frame without statistics the candidates
-    // read a noise estimate that reaches noiseRadius + 1 further.
-    double channels = 3, candidates = std::max(count, 1);
+    // Tiles only where asked for (RunOptions::tileSize): each candidate runs in tiles of its
+    // own where the frame does not fit it, and the combination in strips (host/methods/
+    // auto.h), so what auto holds whole on the device is the frame's own noise estimate.
+    // A forced tile's halo: the widest candidate's reach, twice the estimates' box radius
+    // and the noise estimate's reach.
     const int box = std::max(options.radius, options.frameRadius);
     const int noise = options.noiseRadius + 1;
     needs.reach += 2 * box + noise;
@@ -627,11 +621,9 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         "the widest candidate's reach + twice the estimates' box radius {} + the noise "
         "estimate's {}",
         box, noise);
-    // Colour-sized: the colour, the output, the split's offset (and its zeros for the
-    // others) and the relative combination's variance of the mean.
-    needs.bytesPerPixel += 4 * (candidates * channels + 2 * candidates + 5 * channels);
-    needs.bindingBytesPerPixel =
-        std::max(needs.bindingBytesPerPixel, 4 * candidates * channels);
+    // The noise estimate: the colour, the albedo, their second differences and the result.
+    needs.bytesPerPixel = 4 * 4 * 4;
+    needs.bindingBytesPerPixel = 4 * 4;
     return needs;
 }
 

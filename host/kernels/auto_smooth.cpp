@@ -12,24 +12,30 @@
 namespace mcd {
 
 void RecordAutoSmooth(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
-                      int radius, vk::GpuImage &output) {
+                      int radius, vk::GpuImage &scratch, vk::GpuImage &output) {
     CheckAutoShapes("auto smooth", input, input.channels, {&output});
+    CheckAutoShapes("auto smooth", input, 2 * input.channels, {&scratch});
     if (radius < 0 || radius > 64)
         throw Error(fmt::format("auto smooth: radius {} outside [0, 64]", radius),
                     ErrorKind::InvalidArgument);
-    const vk::Kernel &kernel = context.GetKernel({"auto_smooth",
-                                                  k_auto_smooth_spv,
-                                                  sizeof(k_auto_smooth_spv),
-                                                  AUTO_SMOOTH_BINDINGS,
-                                                  sizeof(shader::AutoSmoothPush),
-                                                  {},
-                                                  0});
     shader::AutoSmoothPush push{input.width, input.height, radius};
-    recorder.Dispatch(kernel, "auto.smooth",
-                      {{AUTO_SMOOTH_INPUT, &input.buffer, vk::Access::Read},
-                       {AUTO_SMOOTH_OUTPUT, &output.buffer, vk::Access::Write}},
-                      push, uint32_t((input.width + AUTO_LOCAL_SIZE - 1) / AUTO_LOCAL_SIZE),
-                      uint32_t(input.height), uint32_t(input.channels));
+    for (int pass : {AUTO_SMOOTH_PASS_ROWS, AUTO_SMOOTH_PASS_COLUMNS}) {
+        const vk::Kernel &kernel = context.GetKernel({"auto_smooth",
+                                                      k_auto_smooth_spv,
+                                                      sizeof(k_auto_smooth_spv),
+                                                      AUTO_SMOOTH_BINDINGS,
+                                                      sizeof(shader::AutoSmoothPush),
+                                                      {{AUTO_SMOOTH_SPEC_PASS, pass}},
+                                                      0});
+        vk::Access scratchAccess =
+            pass == AUTO_SMOOTH_PASS_ROWS ? vk::Access::Write : vk::Access::Read;
+        recorder.Dispatch(kernel, "auto.smooth",
+                          {{AUTO_SMOOTH_INPUT, &input.buffer, vk::Access::Read},
+                           {AUTO_SMOOTH_SCRATCH, &scratch.buffer, scratchAccess},
+                           {AUTO_SMOOTH_OUTPUT, &output.buffer, vk::Access::Write}},
+                          push, uint32_t((input.width + AUTO_LOCAL_SIZE - 1) / AUTO_LOCAL_SIZE),
+                          uint32_t(input.height), uint32_t(input.channels));
+    }
 }
 
 }  // namespace mcd

@@ -1,5 +1,6 @@
 // Record the auto method's smoothing of its error maps (shaders/auto/smooth.comp): the
-// box mean of the finite values over a (2r+1)^2 window, per plane.
+// box mean of the finite values over a (2r+1)^2 window, per plane, as a rows pass and a
+// columns pass.
 #pragma once
 
 #include "host/vk/gpu_image.h"
@@ -7,8 +8,9 @@
 
 namespace mcd {
 
-// `input` and `output`: same size and planes; radius 0..64.
+// `input` and `output`: same size and planes; `scratch`: the same size and twice the planes
+// (the row pass's sums and counts); radius 0..64.
 void RecordAutoSmooth(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
-                      int radius, vk::GpuImage &output);
+                      int radius, vk::GpuImage &scratch, vk::GpuImage &output);
 
 }  // namespace mcd

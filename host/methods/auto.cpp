@@ -80,7 +80,7 @@ void CheckAutoInputs(const Image &color, const std::vector<AutoCandidate> &candi
 // The buffers of a combination: K candidates of C channels, W x H.
 struct AutoGpu {
     int width, height, channels, count;
-    vk::GpuImage color, candidates, errors, smooth, output, weights;
+    vk::GpuImage color, candidates, errors, smooth, smoothScratch, output, weights;
 
     AutoGpu(vk::Context &context, const Image &image,
             const std::vector<AutoCandidate> &candidates)
@@ -92,6 +92,7 @@ struct AutoGpu {
           candidates(context, width, height, count * channels, "auto.candidates"),
           errors(context, width, height, count, "auto.errors"),
           smooth(context, width, height, count, "auto.smooth"),
+          smoothScratch(context, width, height, 2 * count, "auto.smooth.rows"),
           output(context, width, height, channels, "auto.output"),
           weights(context, width, height, count, "auto.weights") {
         color.Upload(image);
@@ -149,7 +150,8 @@ void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
         // The next candidate's upload reuses the scratch.
         run.Submit();
     }
-    RecordAutoSmooth(context, run.Recorder(), gpu.errors, radius, gpu.smooth);
+    RecordAutoSmooth(context, run.Recorder(), gpu.errors, radius, gpu.smoothScratch,
+                     gpu.smooth);
 }
 
 // The estimates of the final combination, whose denominator's guide stands in for the
@@ -269,10 +271,13 @@ Image Tally(const Image &weights, const std::vector<AutoCandidate> &candidates, 
 
 }  // namespace
 
-AutoResult AutoCombine(vk::Context &context, const Image &color,
-                       const std::vector<AutoCandidate> &candidates,
-                       const AutoEstimateInputs &estimate, const AutoOptions &options) {
-    CheckAutoInputs(color, candidates, estimate, options);
+namespace {
+
+// One window's combination: its output, and the weights in `weights` for the tally.
+AutoResult CombineWindow(vk::Context &context, const Image &color,
+                         const std::vector<AutoCandidate> &candidates,
+                         const AutoEstimateInputs &estimate, const AutoOptions &options,
+                         Image &weights) {
     StagedRun run(context, options.keepStages);
     AutoGpu gpu(context, color, candidates);
     bool scored = options.combination != AutoCombination::Mean;
@@ -292,11 +297,110 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
     RecordCombination(run, gpu, estimate, candidates, options);
     AutoResult result;
     result.image = gpu.output.Download();
-    Image weights = gpu.weights.Download();
+    weights = gpu.weights.Download();
+    if (options.keepStages) run.AddStage("auto.weights", weights);
+    run.Finish(result);
+    return result;
+}
+
+// Rows [y0, y1) of an image (an empty one stays empty).
+Image Rows(const Image &image, int y0, int y1) {
+    if (image.Empty()) return image;
+    Image rows(image.width, y1 - y0, image.channels);
+    for (int c = 0; c < image.channels; ++c)
+        std::copy_n(image.Plane(c) + size_t(y0) * image.width, rows.PixelCount(),
+                    rows.Plane(c));
+    return rows;
+}
+
+// Rows [from, from + count) of `part` into rows [to, to + count) of `whole`.
+void PasteRows(const Image &part, int from, int to, int count, Image &whole) {
+    for (int c = 0; c < whole.channels; ++c)
+        std::copy_n(part.Plane(c) + size_t(from) * part.width, size_t(count) * part.width,
+                    whole.Plane(c) + size_t(to) * whole.width);
+}
+
+// The interior rows of a strip of the combination: all of them where the whole frame fits
+// the device (half its memory, its largest buffer, the candidates' outputs, one binding).
+// The strip's GPU buffers are, per pixel, the candidates' outputs and a probe's planes, the
+// estimates' planes (raw, box means and their row sums, weights) and the colour-sized ones.
+int StripRows(vk::Context &context, int width, int height, int count, int channels, int halo) {
+    double perPixel = 4.0 * (2 * count * channels + 6 * count + 8 * channels);
+    double budget = double(context.Info().deviceLocalBytes) / 2;
+    double binding = double(context.BindingBytes());
+    double pixels = std::min(budget / perPixel, binding / (4.0 * count * channels));
+    if (pixels >= double(width) * height) return height;
+    int rows = int(pixels / width) - 2 * halo;
+    if (rows < 1)
+        throw Error(fmt::format("auto: a strip of {} rows of {} pixels with a halo of {} does "
+                                "not fit the device",
+                                1, width, halo),
+                    ErrorKind::OutOfMemory);
+    return rows;
+}
+
+// The candidates' outputs and probes, rows [y0, y1).
+std::vector<AutoCandidate> CandidateRows(const std::vector<AutoCandidate> &candidates, int y0,
+                                         int y1) {
+    std::vector<AutoCandidate> rows;
+    for (const AutoCandidate &c : candidates) {
+        AutoCandidate r;
+        r.label = c.label, r.method = c.method, r.epsilon = c.epsilon, r.split = c.split;
+        std::copy_n(c.colour, 3, r.colour);
+        r.output = Rows(c.output, y0, y1);
+        r.probe = Rows(c.probe, y0, y1);
+        rows.push_back(std::move(r));
+    }
+    return rows;
+}
+
+}  // namespace
+
+// A frame too large for one combination runs in strips of whole rows with a halo of twice
+// the estimates' box radius (the guide's box mean, then the final one): every kernel of the
+// combination is per pixel but the box means, so the strips give the whole frame's bits.
+AutoResult AutoCombine(vk::Context &context, const Image &color,
+                       const std::vector<AutoCandidate> &candidates,
+                       const AutoEstimateInputs &estimate, const AutoOptions &options) {
+    CheckAutoInputs(color, candidates, estimate, options);
+    const int W = color.width, H = color.height, K = int(candidates.size());
+    const int halo = 2 * options.radius;
+    const int rows = options.keepStages ? H
+                     : options.stripRows > 0
+                         ? options.stripRows
+                         : StripRows(context, W, H, K, color.channels, halo);
+    AutoResult result;
+    Image weights;
+    if (rows >= H) {
+        result = CombineWindow(context, color, candidates, estimate, options, weights);
+    } else {
+        result.image = Image(W, H, color.channels);
+        weights = Image(W, H, K);
+        int strips = 0;
+        for (int y0 = 0; y0 < H; y0 += rows, ++strips) {
+            const int y1 = std::min(H, y0 + rows);
+            const int wy0 = std::max(0, y0 - halo), wy1 = std::min(H, y1 + halo);
+            AutoEstimateInputs in{
+                Rows(estimate.variance, wy0, wy1), Rows(estimate.probe, wy0, wy1),
+                Rows(estimate.half1, wy0, wy1), Rows(estimate.offset, wy0, wy1),
+                Rows(estimate.meanVariance, wy0, wy1)};
+            Image stripWeights;
+            AutoResult part =
+                CombineWindow(context, Rows(color, wy0, wy1),
+                              CandidateRows(candidates, wy0, wy1), in, options, stripWeights);
+            PasteRows(part.image, y0 - wy0, y0, y1 - y0, result.image);
+            PasteRows(stripWeights, y0 - wy0, y0, y1 - y0, weights);
+            result.timings.insert(result.timings.end(), part.timings.begin(),
+                                  part.timings.end());
+            if (y0 == 0) result.plan = part.plan;
+        }
+        result.plan.push_back(fmt::format(
+            "auto: the combination ran in {} strips of up to {} rows, each with {} rows above "
+            "and below (twice the estimates' box radius)",
+            strips, rows, halo));
+    }
     bool map = options.map || options.keepStages;
     Image mapImage = Tally(weights, candidates, map, result);
-    run.AddStage("auto.weights", std::move(weights));
-    run.Finish(result);
     if (map) result.stages.emplace_back("auto.map", std::move(mapImage));
     return result;
 }

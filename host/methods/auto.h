@@ -71,6 +71,9 @@ struct AutoOptions {
     float noiseCap = 100;                  // the final estimates' (0: none)
     bool keepStages = false;
     bool map = false;  // return stage "auto.map" even without keepStages
+    // Rows per strip of the combination (0: the whole frame, or strips where it does not
+    // fit the device; tests force strips).
+    int stripRows = 0;
 };
 
 // Each candidate's share (its mean weight, in %) and where its weight is the largest (in %

@@ -95,11 +95,14 @@ class Context {
         int built = 0;
         double seconds = 0;
         size_t loadedBytes = 0;
+        // Each build: the kernel's name and its seconds, in build order.
+        std::vector<std::pair<std::string, double>> each;
     };
     const PipelineStats &Pipelines() const { return pipelineStats; }
-    void NotePipelineBuilt(double seconds) {
+    void NotePipelineBuilt(const std::string &name, double seconds) {
         ++pipelineStats.built;
         pipelineStats.seconds += seconds;
+        pipelineStats.each.emplace_back(name, seconds);
     }
     // Keys (name, code, specialization constants; see KernelKey) of the kernels built so
     // far: which variants a run compiled.

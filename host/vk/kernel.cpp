@@ -78,6 +78,7 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
         VkResult result = vkCreateComputePipelines(device, context.PipelineCache(), 1, &ci,
                                                    nullptr, &pipeline);
         context.NotePipelineBuilt(
+            name,
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         vkDestroyShaderModule(device, module, nullptr);
         if (result != VK_SUCCESS)

@@ -4,23 +4,46 @@
 #include "auto/smooth.h"
 
 layout(local_size_x = AUTO_LOCAL_SIZE) in;
+layout(constant_id = AUTO_SMOOTH_SPEC_PASS) const int PASS = AUTO_SMOOTH_PASS_ROWS;
 layout(std430, binding = AUTO_SMOOTH_INPUT) readonly buffer Input { float inputs[]; };
+layout(std430, binding = AUTO_SMOOTH_SCRATCH) buffer Scratch { float scratch[]; };
 layout(std430, binding = AUTO_SMOOTH_OUTPUT) writeonly buffer Output { float outputs[]; };
+
+// Rows: the sum and the count of the finite values of row y over [x - r, x + r], into
+// planes 2p and 2p + 1 of the scratch.
+void rows(int x, int y, int p, int w, int h, int r) {
+    int base = p * w * h + y * w;
+    float sum = 0.0;
+    int n = 0;
+    for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
+        float e = inputs[base + u];
+        if (isnan(e) || isinf(e)) continue;
+        sum += e;
+        ++n;
+    }
+    int at = y * w + x;
+    scratch[2 * p * w * h + at] = sum;
+    scratch[(2 * p + 1) * w * h + at] = float(n);
+}
+
+// Columns: the row sums and counts over [y - r, y + r], and their quotient (NaN where the
+// window has no finite value).
+void columns(int x, int y, int p, int w, int h, int r) {
+    int sums = 2 * p * w * h, counts = (2 * p + 1) * w * h;
+    float sum = 0.0, n = 0.0;
+    for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v) {
+        sum += scratch[sums + v * w + x];
+        n += scratch[counts + v * w + x];
+    }
+    outputs[p * w * h + y * w + x] = n > 0.0 ? sum / n : uintBitsToFloat(0x7fc00000u);
+}
 
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y), p = int(gl_WorkGroupID.z);
     int w = push.width, h = push.height, r = push.radius;
     if (x >= w) return;
-    int base = p * w * h;
-    float sum = 0.0;
-    int n = 0;
-    // Rows, then columns within a row: the reference sums in the same order.
-    for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
-        for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
-            float e = inputs[base + v * w + u];
-            if (isnan(e) || isinf(e)) continue;
-            sum += e;
-            ++n;
-        }
-    outputs[base + y * w + x] = n > 0 ? sum / float(n) : uintBitsToFloat(0x7fc00000u);
+    if (PASS == AUTO_SMOOTH_PASS_ROWS)
+        rows(x, y, p, w, h, r);
+    else
+        columns(x, y, p, w, h, r);
 }

@@ -1,14 +1,21 @@
 // Auto stage 2: the error maps' box mean over a (2r+1)^2 window clipped to the frame, of
 // the finite values only (NaN where the window has none): SURE is unbiased per pixel but
-// noisy, the mean over a window is not. One invocation per pixel and plane.
+// noisy, the mean over a window is not. Two passes, one invocation per pixel and plane
+// each: the rows' sums and counts of finite values into a scratch of two planes per plane,
+// then the columns' sums of those and the quotient.
 #ifndef MCD_SHADERS_AUTO_SMOOTH_H
 #define MCD_SHADERS_AUTO_SMOOTH_H
 
 #include "auto/auto.h"
 
 #define AUTO_SMOOTH_INPUT 0
-#define AUTO_SMOOTH_OUTPUT 1
-#define AUTO_SMOOTH_BINDINGS 2
+#define AUTO_SMOOTH_SCRATCH 1  // 2 planes per input plane: the row sums, the row counts
+#define AUTO_SMOOTH_OUTPUT 2
+#define AUTO_SMOOTH_BINDINGS 3
+
+#define AUTO_SMOOTH_SPEC_PASS 0
+#define AUTO_SMOOTH_PASS_ROWS 0
+#define AUTO_SMOOTH_PASS_COLUMNS 1
 
 #ifdef __cplusplus
 #include <cstddef>

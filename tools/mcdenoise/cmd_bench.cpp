@@ -719,6 +719,7 @@ void AddBenchCommand(CLI::App &app) {
     AddBenchReadCommand(bench);
     AddBenchFlickerCommand(bench);
     AddBenchRealCommand(bench);
+    AddBenchAutoCommand(bench);
 }
 
 }  // namespace mcd::tool

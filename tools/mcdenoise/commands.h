@@ -36,6 +36,7 @@ void AddBenchTracingCommand(CLI::App *bench);  // the `bench tracing` subcommand
 void AddBenchReadCommand(CLI::App *bench);     // the `bench read` subcommand
 void AddBenchFlickerCommand(CLI::App *bench);  // the `bench flicker` subcommand
 void AddBenchRealCommand(CLI::App *bench);     // the `bench real` subcommand
+void AddBenchAutoCommand(CLI::App *bench);     // the `bench auto` subcommand
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);

@@ -1,0 +1,166 @@
+#!/usr/bin/env bash
+# Every method and auto on a GPU (issue #32), from a fresh clone: install what is missing,
+# build, run the kernel-vs-reference tests on the device, then denoise a frame of the
+# built-in renderer (every layer) at each size with each method and print one table: the
+# GPU time (the sum of the dispatches' timestamps) and the whole process's wall time, beside
+# a previous run's figures on another device (--beside: lavapipe's CSV from this script).
+#
+# Usage: scripts/gpu_bench.sh [options]
+#   --sizes LIST     frame sizes, comma-separated (default 1920x1080,3840x2160)
+#   --methods LIST   methods, comma-separated (default: every method the CLI lists, and auto)
+#   --device NAME    the Vulkan device (a name or index as `mcdenoise info` lists; default
+#                    the first NVIDIA device, else mcdenoise's own choice)
+#   --spp N          samples per pixel of the rendered frames (default 8)
+#   --beside CSV     a previous run's table.csv, printed beside this run's figures
+#   --out DIR        where frames, outputs and the table go (default gpu_bench.out)
+#   --debs DIR       a machine without network: install the .deb files in DIR instead of
+#                    apt-get (scripts/packages.txt and their dependencies, downloaded with
+#                    `apt-get download` on a machine of the same release)
+#   --no-install, --no-build, --no-tests   skip a step
+# Writes DIR/table.csv (device,method,size,gpu_ms,wall_s, one row per run) and DIR/table.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+
+sizes=1920x1080,3840x2160
+methods=""
+device=""
+spp=8
+beside=""
+out=gpu_bench.out
+debs=""
+install=1 build=1 tests=1
+while (($#)); do
+    case $1 in
+    --sizes) sizes=$2; shift ;;
+    --methods) methods=$2; shift ;;
+    --device) device=$2; shift ;;
+    --spp) spp=$2; shift ;;
+    --beside) beside=$(realpath "$2"); shift ;;
+    --out) out=$2; shift ;;
+    --debs) debs=$(realpath "$2"); shift ;;
+    --no-install) install=0 ;;
+    --no-build) build=0 ;;
+    --no-tests) tests=0 ;;
+    -h | --help) sed -n '2,21p' "$0"; exit 0 ;;
+    *) echo "gpu_bench: unknown argument $1 (--help lists them)" >&2; exit 2 ;;
+    esac
+    shift
+done
+mkdir -p "$out"
+out=$(realpath "$out")
+say() { echo "gpu_bench: $*" >&2; }
+
+# 1. Packages: scripts/packages.txt, from apt or from --debs.
+install_packages() {
+    local missing=()
+    while read -r package; do
+        [[ -z "$package" || "$package" == \#* ]] && continue
+        dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
+            missing+=("$package")
+    done <scripts/packages.txt
+    ((${#missing[@]})) || return 0
+    if [[ -n "$debs" ]]; then
+        say "installing the .deb files of $debs"
+        dpkg -i "$debs"/*.deb >"$out/install.log" 2>&1 || {
+            say "dpkg -i failed; see $out/install.log"; exit 1; }
+    elif [[ $(id -u) -eq 0 ]]; then
+        say "installing ${missing[*]}"
+        export DEBIAN_FRONTEND=noninteractive
+        { apt-get update -qq && apt-get install -y -qq --no-install-recommends "${missing[@]}"; } \
+            >"$out/install.log" 2>&1 || {
+            say "apt-get failed (no network? then --debs); see $out/install.log"; exit 1; }
+    else
+        say "missing packages: ${missing[*]} (run as root, or pass --debs)"; exit 1
+    fi
+}
+((install)) && install_packages
+
+# 2. Build (Release) into build/.
+if ((build)); then
+    say "building"
+    [[ -f build/build.ninja ]] || cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        >"$out/build.log"
+    cmake --build build --parallel "$(nproc)" >>"$out/build.log" 2>&1 || {
+        say "the build failed; see $out/build.log"; exit 1; }
+fi
+tool=$root/build/mcdenoise
+[[ -x "$tool" ]] || { say "no $tool (build first)"; exit 1; }
+
+# The device: the one named, else the first NVIDIA device. NVIDIA's driver sometimes ships
+# its ICD outside the loader's search path.
+if ! "$tool" info 2>/dev/null | grep -qi nvidia; then
+    for icd in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json \
+        /usr/share/vulkan/icd.d/nvidia_icd.json /etc/vulkan/icd.d/nvidia_icd.json; do
+        [[ -f "$icd" ]] && export VK_DRIVER_FILES=$icd && break
+    done
+fi
+if [[ -z "$device" ]]; then
+    device=$("$tool" info 2>/dev/null | sed -n 's/^[* ] \([0-9]*\): .*NVIDIA.*/\1/p' | head -1)
+fi
+[[ -n "$device" ]] && export MCD_DEVICE=$device
+name=$("$tool" info 2>/dev/null | sed -n 's/^\* [0-9]*: \(.*\) (.*), Vulkan.*/\1/p' | head -1)
+[[ -n "$name" ]] || { say "no Vulkan device (mcdenoise info):"; "$tool" info >&2; exit 1; }
+say "device: $name"
+csvName=${name//,/;}  # the CSV's device column
+
+# 3. The kernel-vs-reference tests on that device.
+if ((tests)); then
+    say "kernel-vs-reference tests on $name"
+    if build/tests/mcd_tests --gtest_filter='*Kernel*' >"$out/tests.log" 2>&1; then
+        say "$(grep -E '^\[  PASSED  \]' "$out/tests.log")"
+    else
+        say "kernel tests FAILED on $name; see $out/tests.log"
+        grep -E '^\[  FAILED  \]' "$out/tests.log" >&2 || true
+        exit 1
+    fi
+fi
+
+# 4. Each method at each size: one rendered frame per size, one process per run.
+if [[ -z "$methods" ]]; then
+    methods=$("$tool" denoise --help | grep -E '^ *--method TEXT' | sed 's/.*)//' |
+        tr -d ' ' | sed 's/^,//'),auto
+fi
+csv=$out/table.csv
+echo "device,method,size,gpu_ms,wall_s" >"$csv"
+for size in ${sizes//,/ }; do
+    frame=$out/frame_$size.exr
+    if [[ ! -f "$frame" ]]; then
+        say "rendering $size, $spp spp, every layer"
+        "$tool" render --size "$size" --spp "$spp" --layers all -o "$frame" >/dev/null
+    fi
+    for method in ${methods//,/ }; do
+        start=$(date +%s.%N)
+        if line=$("$tool" denoise "$frame" --method "$method" -o "$out/${method}_$size.exr" 2>&1 |
+            grep -E ": $method in [0-9.]+ ms"); then
+            wall=$(echo "$(date +%s.%N) - $start" | bc)
+            gpu=$(echo "$line" | sed -n 's/.* in [0-9.]* ms (\([0-9.]*\) ms GPU.*/\1/p')
+            printf '%s,%s,%s,%s,%.2f\n' "$csvName" "$method" "$size" "$gpu" "$wall" >>"$csv"
+        else
+            say "$method at $size failed"
+            printf '%s,%s,%s,failed,failed\n' "$csvName" "$method" "$size" >>"$csv"
+        fi
+    done
+done
+
+# The table, with the --beside run's figures for the same method and size.
+other=""
+[[ -n "$beside" ]] && other=$(sed -n '2p' "$beside" | cut -d, -f1)
+{
+    if [[ -n "$other" ]]; then
+        echo "| method | size | $name GPU ms | wall s | $other GPU ms | wall s |"
+        echo "|---|---|---|---|---|---|"
+    else
+        echo "| method | size | $name GPU ms | wall s |"
+        echo "|---|---|---|---|"
+    fi
+    tail -n +2 "$csv" | while IFS=, read -r _ method size gpu wall; do
+        row="| $method | $size | $gpu | $wall |"
+        if [[ -n "$other" ]]; then
+            theirs=$(awk -F, -v m="$method" -v s="$size" '$2 == m && $3 == s { print $4 " | " $5 }' \
+                "$beside" | head -1)
+            row="$row ${theirs:-- | -} |"
+        fi
+        echo "$row"
+    done
+} | tee "$out/table.md"
