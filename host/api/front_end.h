@@ -194,6 +194,7 @@ class FrontEndOf : public FrontEnd {
 // The front ends, one per method (method_<name>.cpp).
 std::unique_ptr<FrontEnd> AwrFrontEnd();
 std::unique_ptr<FrontEnd> BayesFrontEnd();
+std::unique_ptr<FrontEnd> NforFrontEnd();
 std::unique_ptr<FrontEnd> PivotFrontEnd();
 std::unique_ptr<FrontEnd> RhfFrontEnd();
 

@@ -37,6 +37,7 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
 std::unique_ptr<api::FrontEnd> FrontEndByName(const std::string &name) {
     if (name == "awr") return api::AwrFrontEnd();
     if (name == "bayes") return api::BayesFrontEnd();
+    if (name == "nfor") return api::NforFrontEnd();
     if (name == "pivot") return api::PivotFrontEnd();
     if (name == "rhf") return api::RhfFrontEnd();
     return nullptr;
@@ -357,7 +358,7 @@ double Result::GpuMs() const {
 }
 
 std::vector<std::string> MethodNames() {
-    return {"awr", "bayes", "pivot", "rhf"};
+    return {"awr", "bayes", "nfor", "pivot", "rhf"};
 }
 
 const char *Version() {

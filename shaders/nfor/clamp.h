@@ -1,0 +1,42 @@
+// nfor stage 2: emitters and fireflies. A pixel whose largest albedo channel exceeds
+// emitterAlbedo is an emitter (a reflectance is at most about 1; renderers write a light's
+// emission as its albedo): mask 0, left out of every window, its colour kept. Elsewhere,
+// per channel, z = colour / divisor (the albedo's channel above NFOR_NOISE_ALBEDO_FLOOR,
+// else 1) above the lower median of the z of the pixel's 8 neighbours (inside, not
+// emitters) + threshold sqrt(v) / divisor is clamped to that limit (threshold 0: none).
+// One invocation per pixel and channel; channel 0's writes the mask.
+#ifndef MCD_SHADERS_NFOR_CLAMP_H
+#define MCD_SHADERS_NFOR_CLAMP_H
+
+#include "nfor/nfor.h"
+
+#define NFOR_CLAMP_COLOR 0
+#define NFOR_CLAMP_VARIANCE 1
+#define NFOR_CLAMP_ALBEDO 2
+#define NFOR_CLAMP_OUT 3
+#define NFOR_CLAMP_MASK 4
+#define NFOR_CLAMP_BINDINGS 5
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct NforClampPush {
+#else
+layout(push_constant) uniform NforClampPush {
+#endif
+    int width;
+    int height;
+    int albedoChannels;  // 0: no albedo (no divisor, no emitters)
+    float threshold;
+    float emitterAlbedo;
+#ifdef __cplusplus
+};
+static_assert(sizeof(NforClampPush) == 20);
+static_assert(offsetof(NforClampPush, emitterAlbedo) == 16);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif

@@ -1,0 +1,46 @@
+// nfor stage 4: the colour's NL-means patch distance D(p, o) for every offset o of the
+// regression window with oy > 0, or oy = 0 and ox > 0 (raster order; the other half is
+// D(p, o) = D(p + o, -o)). Two kernels: `term` writes, per pixel u and stored offset j, the
+// mean over the channels of ((C_u - C_u+o)^2 - alpha (v_u + v_u+o)) / (v_u + v_u+o +
+// NFOR_REL_EPS (C_u^2 + C_u+o^2) + NFOR_TINY), each at most NFOR_TERM_MAX (0 where u + o
+// is outside); `box` sums those over the patch positions, along rows (vertical 0) and
+// then along columns (vertical 1), the second dividing by the number of patch positions
+// with both ends inside (0 where none). One invocation per pixel and stored offset.
+#ifndef MCD_SHADERS_NFOR_DISTANCE_H
+#define MCD_SHADERS_NFOR_DISTANCE_H
+
+#include "nfor/nfor.h"
+
+#define NFOR_TERM_COLOR 0
+#define NFOR_TERM_VARIANCE 1
+#define NFOR_TERM_OUT 2
+#define NFOR_TERM_BINDINGS 3
+
+#define NFOR_BOX_IN 0
+#define NFOR_BOX_OUT 1
+#define NFOR_BOX_BINDINGS 2
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct NforDistancePush {
+#else
+layout(push_constant) uniform NforDistancePush {
+#endif
+    int width;
+    int height;
+    int radius;       // the regression window's half-size (the offsets)
+    int patchRadius;  // box: the patch half-size
+    int vertical;     // box: 0 rows, 1 columns (and the division)
+    float alpha;      // term: the variance cancellation
+#ifdef __cplusplus
+};
+static_assert(sizeof(NforDistancePush) == 24);
+static_assert(offsetof(NforDistancePush, alpha) == 20);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif
