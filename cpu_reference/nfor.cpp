@@ -14,11 +14,22 @@ bool Inside(const Image &image, int x, int y) {
 }
 
 // The divisor of channel c at (x, y): the albedo's channel (its last one for fewer) where
-// above the floor, else 1.
+// above the floor, else 0: the pixel is not divided.
 double Divisor(const Image *divisor, int c, int x, int y) {
-    if (!divisor) return 1;
+    if (!divisor) return 0;
     double a = divisor->At(std::min(c, divisor->channels - 1), y, x);
-    return a > kNforNoiseAlbedoFloor ? a : 1;
+    return a > kNforNoiseAlbedoFloor ? a : 0;
+}
+
+// Whether two divisors divide alike: neither divides, or both within the ratio.
+bool Alike(double a, double b) {
+    if (a == 0 || b == 0) return a == b;
+    return a <= b * kNforNoiseDivisorRatio && b <= a * kNforNoiseDivisorRatio;
+}
+
+// z = value / divisor (the value where not divided).
+double Demodulated(double value, double divisor) {
+    return divisor > 0 ? value / divisor : value;
 }
 
 // The lower median (element (n - 1) / 2 of the sorted values).
@@ -35,7 +46,7 @@ Image NforNoise(const Image &image, const Image *divisor, int radius, double cal
     for (int c = 0; c < image.channels; ++c)
         for (int y = 0; y < image.height; ++y)
             for (int x = 0; x < image.width; ++x) {
-                double best = -1;
+                double a = Divisor(divisor, c, x, y), best = -1;
                 for (const auto &d : dirs) {
                     std::vector<double> halves;
                     for (int v = y - radius; v <= y + radius; ++v)
@@ -44,18 +55,17 @@ Image NforNoise(const Image &image, const Image *divisor, int radius, double cal
                             if (!Inside(image, u, v) || !Inside(image, u1, v1)) continue;
                             double a0 = Divisor(divisor, c, u, v);
                             double a1 = Divisor(divisor, c, u1, v1);
-                            if (a0 > a1 * kNforNoiseDivisorRatio ||
-                                a1 > a0 * kNforNoiseDivisorRatio)
-                                continue;
-                            double diff = image.At(c, v, u) / a0 - image.At(c, v1, u1) / a1;
+                            if (!Alike(a, a0) || !Alike(a, a1)) continue;
+                            double diff = Demodulated(image.At(c, v, u), a0) -
+                                          Demodulated(image.At(c, v1, u1), a1);
                             halves.push_back(0.5 * diff * diff);
                         }
                     if (halves.empty()) continue;
                     double estimate = LowerMedian(halves) / kNforChi2Median;
                     if (best < 0 || estimate < best) best = estimate;
                 }
-                double a = Divisor(divisor, c, x, y);
-                out.At(c, y, x) = best < 0 ? 0.f : float(best * calibration * a * a);
+                double scale = a > 0 ? a * a : 1;
+                out.At(c, y, x) = best < 0 ? 0.f : float(best * calibration * scale);
             }
     return out;
 }
@@ -74,23 +84,29 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 }
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold) {
+                const Image &mask, double threshold, double relative) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < color.height; ++y)
             for (int x = 0; x < color.width; ++x) {
                 if (mask.At(0, y, x) == 0) continue;
+                double a = Divisor(divisor, c, x, y);
                 std::vector<double> neighbours;
                 for (int v = y - 1; v <= y + 1; ++v)
-                    for (int u = x - 1; u <= x + 1; ++u)
-                        if ((u != x || v != y) && Inside(color, u, v) && mask.At(0, v, u) != 0)
-                            neighbours.push_back(color.At(c, v, u) / Divisor(divisor, c, u, v));
+                    for (int u = x - 1; u <= x + 1; ++u) {
+                        if ((u == x && v == y) || !Inside(color, u, v) || mask.At(0, v, u) == 0)
+                            continue;
+                        double aq = Divisor(divisor, c, u, v);
+                        if (Alike(a, aq))
+                            neighbours.push_back(Demodulated(color.At(c, v, u), aq));
+                    }
                 if (neighbours.empty()) continue;
-                double a = Divisor(divisor, c, x, y);
-                double limit = LowerMedian(neighbours) +
-                               threshold * std::sqrt(double(variance.At(c, y, x))) / a;
-                if (color.At(c, y, x) / a > limit) out.At(c, y, x) = float(limit * a);
+                double s = a > 0 ? a : 1, median = LowerMedian(neighbours);
+                double limit = median +
+                               threshold * std::sqrt(double(variance.At(c, y, x))) / s +
+                               relative * std::fabs(median);
+                if (color.At(c, y, x) / s > limit) out.At(c, y, x) = float(limit * s);
             }
     return out;
 }
@@ -145,8 +161,18 @@ void NforOffset(int radius, int j, int *ox, int *oy) {
     *oy = index / side - radius;
 }
 
-Image NforDistance(const Image &color, const Image &variance, int radius, int patch,
-                   double alpha) {
+Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
+                   int patch, double alpha) {
+    // The values compared and their variances: the colour, or colour / albedo.
+    Image z = color, vz = variance;
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double a = Divisor(divisor, c, x, y);
+                if (a == 0) continue;
+                z.At(c, y, x) = float(color.At(c, y, x) / a);
+                vz.At(c, y, x) = float(variance.At(c, y, x) / (a * a));
+            }
     int w = color.width, h = color.height;
     Image out(w, h, NforOffsetCount(radius));
     for (int j = 0; j < out.channels; ++j) {
@@ -163,9 +189,8 @@ Image NforDistance(const Image &color, const Image &variance, int radius, int pa
                             continue;
                         double term = 0;
                         for (int c = 0; c < color.channels; ++c) {
-                            double cp = color.At(c, uy, ux), cq = color.At(c, uy + oy, ux + ox);
-                            double vp = variance.At(c, uy, ux),
-                                   vq = variance.At(c, uy + oy, ux + ox);
+                            double cp = z.At(c, uy, ux), cq = z.At(c, uy + oy, ux + ox);
+                            double vp = vz.At(c, uy, ux), vq = vz.At(c, uy + oy, ux + ox);
                             double t =
                                 ((cp - cq) * (cp - cq) - alpha * (vp + vq)) /
                                 (vp + vq + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
@@ -311,9 +336,9 @@ Image NforGather(const Image &input, const Image &features, const Image &mask,
             }
             std::fill(sum.begin(), sum.end(), 0.0);
             double weights = 0;
-            // Every window p holding q, with q's weight in it.
-            for (int py = qy - k.radius; py <= qy + k.radius; ++py)
-                for (int px = qx - k.radius; px <= qx + k.radius; ++px) {
+            // The windows p holding q centred at most gatherRadius away, with q's weight.
+            for (int py = qy - k.gatherRadius; py <= qy + k.gatherRadius; ++py)
+                for (int px = qx - k.gatherRadius; px <= qx + k.gatherRadius; ++px) {
                     if (!Inside(input, px, py)) continue;
                     double wq = WeightOf(features, mask, distance, k, px, py, qx, qy);
                     if (wq == 0) continue;
@@ -382,7 +407,8 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     keep("variance", variance);
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
-    Image clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold);
+    Image clamped =
+        NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative);
     keep("color", clamped);
     Image features = *in.features;
     if (p.prefilterRadius > 0) {
@@ -392,11 +418,12 @@ Image Nfor(const NforInputs &in, const NforParams &p,
                                  p.prefilterBandwidth);
     }
     keep("features", features);
-    Image distance = NforDistance(clamped, variance, p.radius, p.patchRadius, p.alpha);
+    Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
+                                  p.radius, p.patchRadius, p.alpha);
     keep("distance", distance);
     std::vector<Image> outputs, hats;
     for (size_t i = 0; i < p.bandwidths.size(); ++i) {
-        NforCandidate k{p.bandwidths[i], &p.featureWeights, p.ridge, p.radius};
+        NforCandidate k{p.bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
         NforFit fit = NforRegress(clamped, features, mask, distance, k);
         Image out = NforGather(color, features, mask, distance, fit, k);
         keep(fmt::format("k{}.beta", i), fit.beta);

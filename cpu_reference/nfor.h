@@ -9,21 +9,26 @@
 //
 // Readings and departures, shared with the GPU path (host/methods/nfor.h states them too):
 // - Frame noise: without a variance layer, the variance of the pixel mean is estimated
-//   from the frame (NforNoise): per channel z = colour / albedo (albedo above
-//   kNoiseAlbedoFloor, else 1), per direction d of 4 the half squared differences
-//   (z_u - z_u+d)^2 / 2 over the (2r+1)^2 window (both pixels inside, their divisors
-//   within kNoiseDivisorRatio of each other), their median over the median of chi^2_1,
-//   the smallest over the directions (the one along an edge) times kNoiseMinCalibration,
-//   times the pixel's divisor squared. A median, not a mean: a firefly in the window
-//   does not raise its neighbours' estimate, so the colour distance keeps it apart.
-// - Fireflies (NforClamp): per channel z = colour / divisor above the median of the
-//   pixel's 8 neighbours' z (inside, not emitters) + t sqrt(v) / divisor is clamped to
-//   it. Emitters: max albedo channel > emitterAlbedo (a reflectance is at most about 1;
-//   renderers write a light's emission as its albedo); they are left out of every window
-//   and keep their input colour.
+//   from the frame (NforNoise): per channel z = colour / albedo where the albedo is above
+//   kNoiseAlbedoFloor (else z = colour: the pixel is not divided), per direction d of 4
+//   the half squared differences (z_u - z_u+d)^2 / 2 over the (2r+1)^2 window, both pixels
+//   divided alike to the pixel (both not, or both by albedos within kNoiseDivisorRatio of
+//   its), their median over the median of chi^2_1, the smallest over the directions (the
+//   one along an edge) times the calibration, times the pixel's albedo squared. A median,
+//   not a mean: a firefly in the window does not raise its neighbours' estimate, so the
+//   colour distance keeps it apart. Only pixels divided alike: a black background next to
+//   a wall has no noise to lend it.
+// - Fireflies (NforClamp): per channel z = colour / divisor above the median of the z of
+//   the pixel's 8 neighbours (inside, not emitters, divided alike) + t sqrt(v) / divisor + rho
+//   |median| is clamped to it (rho keeps the smooth peaks of noise-free regions, where v = 0).
+//   Emitters: max albedo channel > emitterAlbedo (a reflectance is at most about 1; renderers
+//   write a light's emission as its albedo); they are left out of every window and keep their
+//   input colour.
 // - Features are prefiltered (NFOR 5.1) plane by plane with NL-means on themselves, their
 //   variance estimated like the colour's (no divisor).
-// - Colour distance (Rousselle et al. 2012/2013, symmetric): per channel
+// - Colour distance (Rousselle et al. 2012/2013, symmetric), of the colour divided by the
+//   albedo where that is above the floor (the illumination: texture and the coverage of
+//   edge pixels divide out, so that an edge pixel finds its like along the edge): per channel
 //   ((C_u - C_u+o)^2 - alpha (v_u + v_u+o)) / (v_u + v_u+o + kRelEps (C_u^2 + C_u+o^2) +
 //   kTiny), clamped to at most kTermMax, averaged over the channels and over the patch
 //   positions t with both p+t and p+t+o inside. D(p, o) = D(p+o, -o): the weight of q in
@@ -54,20 +59,23 @@ constexpr double kNforNoiseDivisorRatio = 1.25;
 constexpr double kNforChi2Median = 0.454936423119572;
 constexpr double kNforRelEps = 1e-4;
 constexpr double kNforTiny = 1e-30;
-constexpr double kNforTermMax = 1e4;
+constexpr double kNforTermMax = 25;
 constexpr double kNforExpCut = 30;
 
 struct NforParams {
-    int radius = 7;                               // regression window half-size R
-    int patchRadius = 3;                          // colour patch half-size
+    int radius = 7;        // regression window half-size R
+    int gatherRadius = 7;  // a pixel averages the fits of windows centred this close
+    int patchRadius = 3;   // colour patch half-size
     std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
-    double alpha = 1;    // variance cancellation in the colour distance
-    double ridge = 0.1;  // lambda
+    double alpha = 1;                // variance cancellation in the colour distance
+    bool demodulateDistance = true;  // the distance of colour / albedo
+    double ridge = 0.1;              // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
     std::vector<double> featureWeights;
     int noiseRadius = 2;
     double noiseMinCalibration = 1;  // E-correction of the smallest of 4 medians
     double fireflyThreshold = 4;     // t; 0: no clamp
+    double fireflyRelative = 0.5;    // rho
     double emitterAlbedo = 1.5;
     int prefilterRadius = 3;  // 0: features as they are
     int prefilterPatch = 1;
@@ -91,15 +99,16 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 
 // The colour with fireflies clamped.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold);
+                const Image &mask, double threshold, double relative);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,
                     double bandwidth);
 
-// Patch distance D(p, o) for the stored offsets (NforOffset), one plane each.
-Image NforDistance(const Image &color, const Image &variance, int radius, int patch,
-                   double alpha);
+// Patch distance D(p, o) for the stored offsets (NforOffset), one plane each, of the colour
+// (divisor nullptr) or of colour / divisor where the divisor is above the floor.
+Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
+                   int patch, double alpha);
 
 // Stored offset j of the window of radius R: (ox, oy) with oy > 0, or oy = 0 and ox > 0,
 // in raster order; NforOffsetCount(R) of them.
@@ -117,6 +126,7 @@ struct NforCandidate {
     const std::vector<double> *featureWeights;
     double ridge;
     int radius;
+    int gatherRadius;  // NforGather: windows centred at most this far
 };
 
 NforFit NforRegress(const Image &color, const Image &features, const Image &mask,

@@ -52,8 +52,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                     "each pixel takes the one of smallest SURE)",
                     &NforParamsApi::bandwidths, {}),
         nested(IntParam("radius", "regression window half-size", &O::radius, 1, 10)),
+        nested(IntParam("gather-radius",
+                        "a pixel averages the fits of the windows centred at most this far "
+                        "(-1: all that hold it)",
+                        &O::gatherRadius, -1, 10)),
         nested(IntParam("patch-radius", "colour patch half-size of the NL-means distance",
                         &O::patchRadius, 0, 3)),
+        nested(BoolParam("no-demodulated-distance",
+                         "compare the colour itself in the NL-means distance (by default "
+                         "colour / albedo: texture and edge coverage divide out)",
+                         &O::noDemodulatedDistance)),
         nested(FloatParam("alpha", "variance cancellation in the colour distance", &O::alpha, 0,
                           10)),
         nested(FloatParam("ridge", "ridge lambda x sum(w) on the non-constant columns",
@@ -76,6 +84,9 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
         nested(FloatParam("firefly-threshold",
                           "clamp a value above its 8 neighbours' median + this x sigma; 0: off",
                           &O::fireflyThreshold, 0, 1e6)),
+        nested(FloatParam("firefly-relative",
+                          "and above the median + this x |median| (noise-free peaks stay)",
+                          &O::fireflyRelative, 0, 1e6)),
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: kept as they are",
                           &O::emitterAlbedo, 1, 1e30)),
@@ -153,14 +164,17 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         Image features = NforFeatures(in, o, &weights, &names);
         ref::NforParams p;
         p.radius = o.radius;
+        p.gatherRadius = o.gatherRadius < 0 ? o.radius : std::min(o.gatherRadius, o.radius);
         p.patchRadius = o.patchRadius;
         p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
         p.alpha = o.alpha;
+        p.demodulateDistance = !o.noDemodulatedDistance;
         p.ridge = o.ridge;
         p.featureWeights.assign(weights.begin(), weights.end());
         p.noiseRadius = o.noiseRadius;
         p.noiseMinCalibration = o.noiseCalibration;
         p.fireflyThreshold = o.fireflyThreshold;
+        p.fireflyRelative = o.fireflyRelative;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;

@@ -81,7 +81,8 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
-                     float emitterAlbedo, vk::GpuImage &out, vk::GpuImage &mask) {
+                     float relative, float emitterAlbedo, vk::GpuImage &out,
+                     vk::GpuImage &mask) {
     CheckColor("nfor clamp", color);
     CheckSize("nfor clamp", color, variance, color.channels);
     CheckSize("nfor clamp", color, out, color.channels);
@@ -100,7 +101,7 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                                   0,
                                                   0});
     shader::NforClampPush push{color.width, color.height, albedo ? albedo->channels : 0,
-                               threshold, emitterAlbedo};
+                               threshold,   relative,     emitterAlbedo};
     recorder.Dispatch(
         kernel, "nfor.clamp",
         {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},
@@ -140,13 +141,18 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
 }
 
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                        const vk::GpuImage &variance, int radius, int patch, float alpha,
-                        vk::GpuImage &scratch, vk::GpuImage &distance) {
+                        const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
+                        int patch, float alpha, vk::GpuImage &scratch, vk::GpuImage &distance) {
     CheckColor("nfor distance", color);
     CheckSize("nfor distance", color, variance, color.channels);
     int offsets = NforOffsetCount(radius);
     CheckSize("nfor distance", color, scratch, offsets);
     CheckSize("nfor distance", color, distance, offsets);
+    if (albedo) {
+        CheckSize("nfor distance", color, *albedo, 0);
+        if (albedo->channels != 1 && albedo->channels < color.channels)
+            throw Error("nfor distance: the albedo needs 1 channel or as many as the colour");
+    }
     if (radius < 1 || radius > NFOR_MAX_RADIUS || patch < 0 || patch > NFOR_MAX_PATCH)
         throw Error(fmt::format("nfor distance: radius {} (1..{}), patch {} (0..{})", radius,
                                 NFOR_MAX_RADIUS, patch, NFOR_MAX_PATCH));
@@ -166,13 +172,16 @@ void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::
                                                {},
                                                0,
                                                0});
-    shader::NforDistancePush push{color.width, color.height, radius, patch, 0, alpha};
+    shader::NforDistancePush push{
+        color.width, color.height, radius, patch, 0, alpha, albedo ? albedo->channels : 0};
     uint32_t gx = Groups(color.width), gy = uint32_t(color.height), gz = uint32_t(offsets);
-    recorder.Dispatch(term, "nfor.term",
-                      {{NFOR_TERM_COLOR, &color.buffer, vk::Access::Read},
-                       {NFOR_TERM_VARIANCE, &variance.buffer, vk::Access::Read},
-                       {NFOR_TERM_OUT, &distance.buffer, vk::Access::Write}},
-                      push, gx, gy, gz);
+    recorder.Dispatch(
+        term, "nfor.term",
+        {{NFOR_TERM_COLOR, &color.buffer, vk::Access::Read},
+         {NFOR_TERM_VARIANCE, &variance.buffer, vk::Access::Read},
+         {NFOR_TERM_OUT, &distance.buffer, vk::Access::Write},
+         {NFOR_TERM_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read}},
+        push, gx, gy, gz);
     recorder.Dispatch(box, "nfor.box",
                       {{NFOR_BOX_IN, &distance.buffer, vk::Access::Read},
                        {NFOR_BOX_OUT, &scratch.buffer, vk::Access::Write}},
@@ -201,6 +210,9 @@ void CheckFit(const char *what, const vk::GpuImage &color, const vk::GpuImage &f
         throw Error(fmt::format("{}: radius {}; 1..{} allowed", what, settings.radius,
                                 NFOR_MAX_RADIUS));
     CheckSize(what, color, distance, NforOffsetCount(settings.radius));
+    if (settings.gatherRadius < 0 || settings.gatherRadius > settings.radius)
+        throw Error(fmt::format("{}: gather radius {}; 0..{} allowed", what,
+                                settings.gatherRadius, settings.radius));
     if (!(settings.bandwidth > 0) || !(settings.ridge >= 0))
         throw Error(fmt::format("{}: bandwidth {} must be > 0 and ridge {} >= 0", what,
                                 settings.bandwidth, settings.ridge));
@@ -208,13 +220,10 @@ void CheckFit(const char *what, const vk::GpuImage &color, const vk::GpuImage &f
 
 shader::NforFitPush FitPush(const vk::GpuImage &color, const NforFitSettings &settings,
                             int plane) {
-    shader::NforFitPush push{color.width,
-                             color.height,
-                             settings.radius,
-                             plane,
-                             1.f / (settings.bandwidth * settings.bandwidth),
-                             settings.ridge,
-                             {}};
+    shader::NforFitPush push{color.width,     color.height,
+                             settings.radius, settings.gatherRadius,
+                             plane,           1.f / (settings.bandwidth * settings.bandwidth),
+                             settings.ridge,  {}};
     std::copy(settings.featureWeights.begin(), settings.featureWeights.end(),
               push.featureWeight);
     return push;

@@ -18,7 +18,8 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 // shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters.
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
-                     float emitterAlbedo, vk::GpuImage &out, vk::GpuImage &mask);
+                     float relative, float emitterAlbedo, vk::GpuImage &out,
+                     vk::GpuImage &mask);
 
 // shaders/nfor/prefilter.comp: each plane of `features` NL-means-filtered.
 void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
@@ -29,13 +30,14 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
 // window of half-size `radius` into `distance` (NforOffsetCount(radius) planes); `scratch`
 // is the same size.
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                        const vk::GpuImage &variance, int radius, int patch, float alpha,
-                        vk::GpuImage &scratch, vk::GpuImage &distance);
+                        const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
+                        int patch, float alpha, vk::GpuImage &scratch, vk::GpuImage &distance);
 
 // One candidate of the fit: the window, the bandwidth k, the ridge and the feature weights
 // s_j (one per feature plane).
 struct NforFitSettings {
     int radius = 7;
+    int gatherRadius = 7;  // gather: windows centred at most this far (<= radius)
     float bandwidth = 1;
     float ridge = 0.1f;
     std::vector<float> featureWeights;

@@ -234,7 +234,8 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                         o.noiseCalibration, gpu.variance);
     run.StageAtEnd("variance", gpu.variance);
     RecordNforClamp(context, run.Recorder(), gpu.color, gpu.variance, albedo,
-                    o.fireflyThreshold, o.emitterAlbedo, gpu.clamped, gpu.mask);
+                    o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, gpu.clamped,
+                    gpu.mask);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
     if (o.prefilterRadius > 0) {
@@ -252,9 +253,14 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                             gpu.features.buffer.Bytes());
     }
     run.StageAtEnd("features", gpu.filtered);
-    RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance, o.radius,
-                       o.patchRadius, o.alpha, gpu.scratch, gpu.distance);
+    RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
+                       o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
+                       o.alpha, gpu.scratch, gpu.distance);
     run.StageAtEnd("distance", gpu.distance);
+}
+
+int GatherRadius(const NforOptions &o) {
+    return o.gatherRadius < 0 ? o.radius : std::min(o.gatherRadius, o.radius);
 }
 
 // Each candidate's fits and their collaborative average, then the choice.
@@ -263,7 +269,7 @@ void RecordCandidates(StagedRun &run, NforGpu &gpu, const std::vector<float> &we
     vk::Context &context = run.Context();
     int ch = gpu.color.channels, count = int(o.bandwidths.size());
     for (int i = 0; i < count; ++i) {
-        NforFitSettings settings{o.radius, o.bandwidths[i], o.ridge, weights};
+        NforFitSettings settings{o.radius, GatherRadius(o), o.bandwidths[i], o.ridge, weights};
         RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
                           gpu.distance, settings, gpu.beta, gpu.hat, i);
         run.Stage(fmt::format("k{}.beta", i), gpu.beta);
@@ -271,8 +277,6 @@ void RecordCandidates(StagedRun &run, NforGpu &gpu, const std::vector<float> &we
                          gpu.distance, gpu.beta, settings, gpu.candidates, i * ch);
         // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
         run.Submit();
-    }
-    for (int i = 0; i < count && run.KeepsStages(); ++i) {
         run.Stage(fmt::format("k{}.hat", i),
                   [&, i] { return PlanesOf(gpu.hat.Download(), i, 1); });
         run.Stage(fmt::format("k{}.output", i),

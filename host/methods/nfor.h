@@ -18,17 +18,24 @@
 namespace mcd {
 
 struct NforOptions {
-    int radius = 7;                                // regression window half-size
+    int radius = 7;  // regression window half-size
+    // Each pixel averages the fits of the windows centred at most this far (NFOR: all
+    // that hold it, the radius); -1: the radius.
+    int gatherRadius = -1;
     int patchRadius = 3;                           // colour patch half-size
     std::vector<float> bandwidths = {0.5f, 1.0f};  // k of each candidate (at most 4)
-    float alpha = 1;     // variance cancellation of the colour distance
+    float alpha = 1;  // variance cancellation of the colour distance
+    // Compare the colour itself in the colour distance; by default colour / albedo where
+    // the frame has an albedo (the illumination: texture and edge coverage divide out).
+    bool noDemodulatedDistance = false;
     float ridge = 0.1f;  // lambda: ridge of lambda sum(w) on the non-constant columns
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
     float featureBandwidth = 3;
     float albedoSigma = 0.1f, normalSigma = 0.2f, depthSigma = 0.05f, pivotSigma = 0.1f;
     int noiseRadius = 2;
     float noiseCalibration = 1.479f;  // the smallest of 4 medians, unbiased on Gaussian noise
-    float fireflyThreshold = 4;       // clamp above the neighbours' median + t sigma; 0: off
+    // Clamp above the neighbours' median + t sigma + relative |median|; t = 0: off.
+    float fireflyThreshold = 4, fireflyRelative = 0.5f;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 3;  // 0: features unfiltered
     int prefilterPatch = 1;

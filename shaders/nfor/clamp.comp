@@ -18,10 +18,18 @@ bool emitterAt(int x, int y) {
     return most > push.emitterAlbedo;
 }
 
+// The divisor at (x, y): the albedo's channel above the floor, else 0 (not divided).
 float divisorAt(int x, int y) {
-    if (push.albedoChannels == 0) return 1.0;
+    if (push.albedoChannels == 0) return 0.0;
     float a = albedo[(min(c, push.albedoChannels - 1) * h + y) * w + x];
-    return a > float(NFOR_NOISE_ALBEDO_FLOOR) ? a : 1.0;
+    return a > float(NFOR_NOISE_ALBEDO_FLOOR) ? a : 0.0;
+}
+
+// Whether divisors a and b divide alike: both not, or both within the ratio.
+bool alike(float a, float b) {
+    float ratio = float(NFOR_NOISE_DIVISOR_RATIO);
+    if (a == 0.0 || b == 0.0) return a == b;
+    return a <= b * ratio && b <= a * ratio;
 }
 
 void main() {
@@ -36,14 +44,17 @@ void main() {
     if (c == 0) mask[y * w + x] = emitter ? 0.0 : 1.0;
     outColor[at] = value;
     if (emitter || push.threshold <= 0.0) return;
-    // The neighbours' z, sorted as they come.
+    // The z of the neighbours divided like this pixel, sorted as they come.
+    float a = divisorAt(x, y);
     float z[8];
     int n = 0;
     for (int v = y - 1; v <= y + 1; ++v)
         for (int u = x - 1; u <= x + 1; ++u) {
             if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h || emitterAt(u, v))
                 continue;
-            float zq = color[(c * h + v) * w + u] / divisorAt(u, v);
+            float aq = divisorAt(u, v);
+            if (!alike(a, aq)) continue;
+            float zq = color[(c * h + v) * w + u] / (aq > 0.0 ? aq : 1.0);
             int i = n++;
             while (i > 0 && z[i - 1] > zq) {
                 z[i] = z[i - 1];
@@ -52,7 +63,8 @@ void main() {
             z[i] = zq;
         }
     if (n == 0) return;
-    float a = divisorAt(x, y);
-    float limit = z[(n - 1) / 2] + push.threshold * sqrt(variance[at]) / a;
-    if (value / a > limit) outColor[at] = limit * a;
+    float median = z[(n - 1) / 2];
+    float s = a > 0.0 ? a : 1.0;
+    float limit = median + push.threshold * sqrt(variance[at]) / s + push.relative * abs(median);
+    if (value / s > limit) outColor[at] = limit * s;
 }

@@ -1,9 +1,11 @@
 // nfor stage 2: emitters and fireflies. A pixel whose largest albedo channel exceeds
 // emitterAlbedo is an emitter (a reflectance is at most about 1; renderers write a light's
 // emission as its albedo): mask 0, left out of every window, its colour kept. Elsewhere,
-// per channel, z = colour / divisor (the albedo's channel above NFOR_NOISE_ALBEDO_FLOOR,
-// else 1) above the lower median of the z of the pixel's 8 neighbours (inside, not
-// emitters) + threshold sqrt(v) / divisor is clamped to that limit (threshold 0: none).
+// per channel, z = colour / divisor (as in nfor/noise.h) above the lower median of the z
+// of the pixel's 8 neighbours (inside, not emitters, divided alike: z compares only like
+// albedos) + threshold sqrt(v) / divisor + relative |median| is clamped to that limit
+// (threshold 0: none; no such neighbour: kept). The relative term keeps the smooth peaks
+// of noise-free regions (v = 0): only values well above their neighbours are fireflies.
 // One invocation per pixel and channel; channel 0's writes the mask.
 #ifndef MCD_SHADERS_NFOR_CLAMP_H
 #define MCD_SHADERS_NFOR_CLAMP_H
@@ -28,11 +30,12 @@ layout(push_constant) uniform NforClampPush {
     int height;
     int albedoChannels;  // 0: no albedo (no divisor, no emitters)
     float threshold;
+    float relative;
     float emitterAlbedo;
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforClampPush) == 20);
-static_assert(offsetof(NforClampPush, emitterAlbedo) == 16);
+static_assert(sizeof(NforClampPush) == 24);
+static_assert(offsetof(NforClampPush, emitterAlbedo) == 20);
 }  // namespace mcd::shader
 #else
 }

@@ -3,9 +3,12 @@
 // D(p, o) = D(p + o, -o)). Two kernels: `term` writes, per pixel u and stored offset j, the
 // mean over the channels of ((C_u - C_u+o)^2 - alpha (v_u + v_u+o)) / (v_u + v_u+o +
 // NFOR_REL_EPS (C_u^2 + C_u+o^2) + NFOR_TINY), each at most NFOR_TERM_MAX (0 where u + o
-// is outside); `box` sums those over the patch positions, along rows (vertical 0) and
-// then along columns (vertical 1), the second dividing by the number of patch positions
-// with both ends inside (0 where none). One invocation per pixel and stored offset.
+// is outside); with an albedo, C is the colour divided by the albedo's channel where that
+// is above NFOR_NOISE_ALBEDO_FLOOR and v the variance divided by its square (the
+// illumination: texture and the coverage of edge pixels divide out); `box` sums those over the
+// patch positions, along rows (vertical 0) and then along columns (vertical 1), the second
+// dividing by the number of patch positions with both ends inside (0 where none). One
+// invocation per pixel and stored offset.
 #ifndef MCD_SHADERS_NFOR_DISTANCE_H
 #define MCD_SHADERS_NFOR_DISTANCE_H
 
@@ -14,7 +17,8 @@
 #define NFOR_TERM_COLOR 0
 #define NFOR_TERM_VARIANCE 1
 #define NFOR_TERM_OUT 2
-#define NFOR_TERM_BINDINGS 3
+#define NFOR_TERM_ALBEDO 3
+#define NFOR_TERM_BINDINGS 4
 
 #define NFOR_BOX_IN 0
 #define NFOR_BOX_OUT 1
@@ -29,14 +33,15 @@ layout(push_constant) uniform NforDistancePush {
 #endif
     int width;
     int height;
-    int radius;       // the regression window's half-size (the offsets)
-    int patchRadius;  // box: the patch half-size
-    int vertical;     // box: 0 rows, 1 columns (and the division)
-    float alpha;      // term: the variance cancellation
+    int radius;          // the regression window's half-size (the offsets)
+    int patchRadius;     // box: the patch half-size
+    int vertical;        // box: 0 rows, 1 columns (and the division)
+    float alpha;         // term: the variance cancellation
+    int albedoChannels;  // term: 0, or compare colour / albedo (where above the floor)
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforDistancePush) == 24);
-static_assert(offsetof(NforDistancePush, alpha) == 20);
+static_assert(sizeof(NforDistancePush) == 28);
+static_assert(offsetof(NforDistancePush, albedoChannels) == 24);
 }  // namespace mcd::shader
 #else
 }

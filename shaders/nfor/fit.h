@@ -6,9 +6,10 @@
 // Cholesky; writes the coefficients (column i, channel c at plane i * channels + c) and
 // the fit's influence on its centre, (A^-1)_00, at plane `hatPlane` of the hat buffer.
 // An emitter (mask 0) writes its colour as the constant, no slope, influence 1. `gather`:
-// per pixel q the average of the fits of every window p holding q, evaluated at q and
-// weighted by q's weight in p's window (NFOR's collaborative filtering), into planes
-// outPlane.. of the output; an emitter keeps its input. One invocation per pixel.
+// per pixel q the average of the fits of the windows p holding q whose centres are at most
+// gatherRadius away (all of them at the window's radius: NFOR's collaborative filtering),
+// evaluated at q and weighted by q's weight in p's window, into planes outPlane.. of the
+// output; an emitter keeps its input. One invocation per pixel.
 #ifndef MCD_SHADERS_NFOR_FIT_H
 #define MCD_SHADERS_NFOR_FIT_H
 
@@ -32,14 +33,15 @@ layout(push_constant) uniform NforFitPush {
     int width;
     int height;
     int radius;
+    int gatherRadius;     // gather: the windows averaged are those centred this close
     int outPlane;         // regress: the influence's plane; gather: the output's first
     float invBandwidth2;  // 1 / k^2
     float ridge;
     float featureWeight[NFOR_MAX_FEATURES];  // s_j
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforFitPush) == 64);
-static_assert(offsetof(NforFitPush, featureWeight) == 24);
+static_assert(sizeof(NforFitPush) == 68);
+static_assert(offsetof(NforFitPush, featureWeight) == 28);
 }  // namespace mcd::shader
 #else
 }

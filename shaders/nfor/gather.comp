@@ -31,7 +31,7 @@ void main() {
     }
     float sum[NFOR_MAX_CHANNELS] = float[NFOR_MAX_CHANNELS](0.0, 0.0, 0.0, 0.0);
     float weights = 0.0;
-    int r = push.radius;
+    int r = push.gatherRadius;
     for (int v = y - r; v <= y + r; ++v)
         for (int u = x - r; u <= x + r; ++u) {
             if (u < 0 || v < 0 || u >= w || v >= h) continue;

@@ -31,7 +31,7 @@
 // absolute floor; a term is at most NFOR_TERM_MAX.
 #define NFOR_REL_EPS 1e-4
 #define NFOR_TINY 1e-30
-#define NFOR_TERM_MAX 1e4
+#define NFOR_TERM_MAX 25.0
 // A weight exp(-e) with e above this is 0 (no denormals: float and double agree).
 #define NFOR_EXP_CUT 30.0
 

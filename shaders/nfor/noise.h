@@ -1,12 +1,13 @@
 // nfor stage 1, for frames without a variance layer: the variance of each pixel's mean
-// estimated from the image itself. Per channel z = value / divisor (the albedo's channel
-// above NFOR_NOISE_ALBEDO_FLOOR, else 1; no divisor: 1). For each of 4 directions d
-// (horizontal, vertical, both diagonals) the half squared differences (z_u - z_u+d)^2 / 2
-// over the (2r+1)^2 window, both pixels inside and their divisors within
-// NFOR_NOISE_DIVISOR_RATIO of each other; their lower median over the median of chi^2_1;
-// the smallest over the directions (the direction along an edge); times the calibration
-// and the pixel's divisor squared. 0 where no pair fits. A median: a firefly does not raise
-// its neighbours' estimate. One invocation per pixel and channel.
+// estimated from the image itself. Per channel z = value / divisor where the divisor (the
+// albedo's channel) is above NFOR_NOISE_ALBEDO_FLOOR, else z = value (not divided). For
+// each of 4 directions d (horizontal, vertical, both diagonals) the half squared
+// differences (z_u - z_u+d)^2 / 2 over the (2r+1)^2 window, both pixels inside and divided
+// alike to the pixel (both not, or both by divisors within NFOR_NOISE_DIVISOR_RATIO of
+// its); their lower median over the median of chi^2_1; the smallest over the directions
+// (the direction along an edge); times the calibration and the pixel's divisor squared. 0
+// where no pair fits. A median: a firefly does not raise its neighbours' estimate. One
+// invocation per pixel and channel.
 #ifndef MCD_SHADERS_NFOR_NOISE_H
 #define MCD_SHADERS_NFOR_NOISE_H
 
