@@ -19,6 +19,16 @@ int w, h;
 
 #include "nfor/weight.glsl"
 
+// The fit of window (u, v) at this pixel, per channel, column by column.
+#define BETA(i, c) beta[(((i) * channels + (c)) * h + v) * w + u]
+#define PREDICT(i)                                                     \
+    if ((i) < columnCount) {                                           \
+        value0 += col[i] * BETA(i, 0);                                 \
+        if (channels > 1) value1 += col[i] * BETA(i, 1);               \
+        if (channels > 2) value2 += col[i] * BETA(i, 2);               \
+        if (channels > 3) value3 += col[i] * BETA(i, 3);               \
+    }
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
@@ -29,23 +39,23 @@ void main() {
             outputs[((push.outPlane + c) * h + y) * w + x] = color[(c * h + y) * w + x];
         return;
     }
-    float sum[NFOR_MAX_CHANNELS] = float[NFOR_MAX_CHANNELS](0.0, 0.0, 0.0, 0.0);
-    float weights = 0.0;
+    loadFixed(x, y);
+    float sum0 = 0.0, sum1 = 0.0, sum2 = 0.0, sum3 = 0.0, weights = 0.0;
     int r = push.gatherRadius;
     for (int v = y - r; v <= y + r; ++v)
         for (int u = x - r; u <= x + r; ++u) {
             if (u < 0 || v < 0 || u >= w || v >= h) continue;
-            float wq = weightOf(u, v, x, y);
+            float wq = weightOf(u, v, x, y, u, v, -1.0);
             if (wq == 0.0) continue;
-            columnsOf(u, v, x, y);
-            for (int c = 0; c < channels; ++c) {
-                float value = 0.0;
-                for (int i = 0; i < columnCount; ++i)
-                    value += col[i] * beta[((i * channels + c) * h + v) * w + u];
-                sum[c] += wq * value;
-            }
+            float value0 = 0.0, value1 = 0.0, value2 = 0.0, value3 = 0.0;
+            SEQ13(PREDICT)
+            sum0 += wq * value0;
+            sum1 += wq * value1;
+            sum2 += wq * value2;
+            sum3 += wq * value3;
             weights += wq;
         }
+    float sums[NFOR_MAX_CHANNELS] = float[NFOR_MAX_CHANNELS](sum0, sum1, sum2, sum3);
     for (int c = 0; c < channels; ++c)
-        outputs[((push.outPlane + c) * h + y) * w + x] = sum[c] / weights;
+        outputs[((push.outPlane + c) * h + y) * w + x] = sums[c] / weights;
 }
