@@ -84,25 +84,25 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 }
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold, double relative) {
+                double threshold, double relative) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < color.height; ++y)
             for (int x = 0; x < color.width; ++x) {
-                if (mask.At(0, y, x) == 0) continue;
                 double a = Divisor(divisor, c, x, y);
-                std::vector<double> neighbours;
+                // The z of the neighbours divided alike; without any, their colours.
+                std::vector<double> alike, all;
                 for (int v = y - 1; v <= y + 1; ++v)
                     for (int u = x - 1; u <= x + 1; ++u) {
-                        if ((u == x && v == y) || !Inside(color, u, v) || mask.At(0, v, u) == 0)
-                            continue;
+                        if ((u == x && v == y) || !Inside(color, u, v)) continue;
                         double aq = Divisor(divisor, c, u, v);
-                        if (Alike(a, aq))
-                            neighbours.push_back(Demodulated(color.At(c, v, u), aq));
+                        all.push_back(color.At(c, v, u));
+                        if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
                     }
-                if (neighbours.empty()) continue;
-                double s = a > 0 ? a : 1, median = LowerMedian(neighbours);
+                if (all.empty()) continue;
+                double s = !alike.empty() && a > 0 ? a : 1;
+                double median = LowerMedian(alike.empty() ? all : alike);
                 double limit = median +
                                threshold * std::sqrt(double(variance.At(c, y, x))) / s +
                                relative * std::fabs(median);
@@ -408,7 +408,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
     Image clamped =
-        NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative);
+        NforClamp(color, variance, in.albedo, p.fireflyThreshold, p.fireflyRelative);
     keep("color", clamped);
     Image features = *in.features;
     if (p.prefilterRadius > 0) {
@@ -425,7 +425,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     for (size_t i = 0; i < p.bandwidths.size(); ++i) {
         NforCandidate k{p.bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
         NforFit fit = NforRegress(clamped, features, mask, distance, k);
-        Image out = NforGather(color, features, mask, distance, fit, k);
+        Image out = NforGather(clamped, features, mask, distance, fit, k);
         keep(fmt::format("k{}.beta", i), fit.beta);
         keep(fmt::format("k{}.hat", i), fit.hat);
         keep(fmt::format("k{}.output", i), out);

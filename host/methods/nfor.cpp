@@ -273,7 +273,7 @@ void RecordCandidates(StagedRun &run, NforGpu &gpu, const std::vector<float> &we
         RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
                           gpu.distance, settings, gpu.beta, gpu.hat, i);
         run.Stage(fmt::format("k{}.beta", i), gpu.beta);
-        RecordNforGather(context, run.Recorder(), gpu.color, gpu.filtered, gpu.mask,
+        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
                          gpu.distance, gpu.beta, settings, gpu.candidates, i * ch);
         // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
         run.Submit();
@@ -332,12 +332,14 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
         result.clamped += clamped.data[i] != in.color->data[i];
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
-                    "window and kept as they are",
+                    "window and kept as they are (a lone one far above its neighbours: "
+                    "clamped like a firefly)",
                     o.emitterAlbedo, result.emitters));
     run.Plan(o.fireflyThreshold > 0
                  ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
-                               "neighbours (over albedo) + {} sigma",
-                               result.clamped, o.fireflyThreshold)
+                               "neighbours (colour / albedo, of the neighbours divided alike; "
+                               "colour where none is) + {} sigma + {} x the median",
+                               result.clamped, o.fireflyThreshold, o.fireflyRelative)
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
     std::string ks;
     for (float k : o.bandwidths) ks += fmt::format("{}{}", ks.empty() ? "" : ", ", k);

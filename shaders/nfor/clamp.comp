@@ -43,28 +43,34 @@ void main() {
     bool emitter = emitterAt(x, y);
     if (c == 0) mask[y * w + x] = emitter ? 0.0 : 1.0;
     outColor[at] = value;
-    if (emitter || push.threshold <= 0.0) return;
-    // The z of the neighbours divided like this pixel, sorted as they come.
+    if (push.threshold <= 0.0) return;
+    // The z of the neighbours divided like this pixel, sorted as they come; with none, the
+    // neighbours' colours (a lone pixel whose albedo is unlike all around it).
     float a = divisorAt(x, y);
-    float z[8];
-    int n = 0;
+    float z[8], raw[8];
+    int n = 0, m = 0;
     for (int v = y - 1; v <= y + 1; ++v)
         for (int u = x - 1; u <= x + 1; ++u) {
-            if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h || emitterAt(u, v))
-                continue;
-            float aq = divisorAt(u, v);
+            if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h) continue;
+            float cq = color[(c * h + v) * w + u], aq = divisorAt(u, v);
+            int i = m++;
+            while (i > 0 && raw[i - 1] > cq) {
+                raw[i] = raw[i - 1];
+                --i;
+            }
+            raw[i] = cq;
             if (!alike(a, aq)) continue;
-            float zq = color[(c * h + v) * w + u] / (aq > 0.0 ? aq : 1.0);
-            int i = n++;
+            float zq = aq > 0.0 ? cq / aq : cq;
+            i = n++;
             while (i > 0 && z[i - 1] > zq) {
                 z[i] = z[i - 1];
                 --i;
             }
             z[i] = zq;
         }
-    if (n == 0) return;
-    float median = z[(n - 1) / 2];
-    float s = a > 0.0 ? a : 1.0;
+    if (m == 0) return;
+    float s = n > 0 && a > 0.0 ? a : 1.0;
+    float median = n > 0 ? z[(n - 1) / 2] : raw[(m - 1) / 2];
     float limit = median + push.threshold * sqrt(variance[at]) / s + push.relative * abs(median);
     if (value / s > limit) outColor[at] = limit * s;
 }

@@ -1,12 +1,15 @@
 // nfor stage 2: emitters and fireflies. A pixel whose largest albedo channel exceeds
 // emitterAlbedo is an emitter (a reflectance is at most about 1; renderers write a light's
-// emission as its albedo): mask 0, left out of every window, its colour kept. Elsewhere,
-// per channel, z = colour / divisor (as in nfor/noise.h) above the lower median of the z
-// of the pixel's 8 neighbours (inside, not emitters, divided alike: z compares only like
-// albedos) + threshold sqrt(v) / divisor + relative |median| is clamped to that limit
-// (threshold 0: none; no such neighbour: kept). The relative term keeps the smooth peaks
-// of noise-free regions (v = 0): only values well above their neighbours are fireflies.
-// One invocation per pixel and channel; channel 0's writes the mask.
+// emission as its albedo): mask 0, left out of every window, its colour kept as clamped
+// here. Per channel, z = colour / divisor (as in nfor/noise.h) above the lower median of
+// the z of the pixel's 8 neighbours divided alike (z compares only like albedos) +
+// threshold sqrt(v) / divisor + relative |median| is clamped to that limit; a pixel with
+// no neighbour divided alike (an albedo unlike all around it: a sample that hit a small
+// bright object or a sub-pixel light) compares its colour with its neighbours' colours
+// the same way. Threshold 0: nothing clamped; no neighbour (1x1): kept. The relative term
+// keeps the smooth peaks of noise-free regions (v = 0): only values well above their
+// neighbours are fireflies. One invocation per pixel and channel; channel 0's writes the
+// mask.
 #ifndef MCD_SHADERS_NFOR_CLAMP_H
 #define MCD_SHADERS_NFOR_CLAMP_H
 
