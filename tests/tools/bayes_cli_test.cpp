@@ -63,7 +63,7 @@ TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
                          "at pixel (6, 5), channel 2: replaced by 0"))
         << r.err;
     EXPECT_TRUE(Contains(r.err, "2 zero values")) << r.err;  // the NaN is a zero now
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.sn = 0.3f;
     options.transform = BayesTransform::Swt;  // the CLI's default
     Image expected = BayesDenoiseSplit(Ctx(), direct, indirect, options).image;
@@ -96,10 +96,10 @@ TEST_F(BayesCli, NoiseAutoUsesTheVarianceLayer) {
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_TRUE(Contains(r.out, "the frame has a variance layer")) << r.out;
     EXPECT_TRUE(Contains(r.out, "--noise variance: per band")) << r.out;
-    BayesOptions options = PaperBayesOptions();
-    options.variance = &variance;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Variance;
     options.transform = BayesTransform::Swt;  // the CLI's default
-    Image expected = BayesDenoise(Ctx(), color, options).image;
+    Image expected = BayesDenoise(Ctx(), color, options, {}, &variance).image;
     EXPECT_TRUE(BitIdentical(expected, io::ReadImage((dir / "out.exr").string())));
     io::WriteExr((dir / "c.exr").string(), {{"color", &color}});
     r = Run("denoise c.exr -o out2.exr --method bayes --explain --noise auto");

@@ -38,7 +38,7 @@ TEST_F(BayesSwtCli, DenoiseDiffAndErrors) {
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "3-level cdf97 stationary (undecimated) wavelet transform"))
         << r.out;
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = WaveletBasis::Cdf97;
     options.transform = BayesTransform::Swt;
     Image expected = BayesDenoise(Ctx(), color, options).image;

@@ -185,7 +185,7 @@ Frame MakeFrame(const std::string &path, std::vector<std::pair<std::string, Imag
 
 // The method's device and its name and type, for the headers.
 std::string DeviceText(Device &device) {
-    const vk::DeviceInfo &info = device.Context().Info();
+    const vk::DeviceInfo &info = api::ContextOf(device).Info();
     return fmt::format("{} ({})", info.name, vk::DeviceTypeName(info.type));
 }
 
@@ -210,7 +210,7 @@ void BenchAwr(const AwrBenchOptions &opt) {
     int repeats = std::max(opt.repeats, 1);
     Method method = opt.methods.Make("awr");
     Device device(opt.device.Options());
-    vk::Context &context = device.Context();
+    vk::Context &context = api::ContextOf(device);
     // The yardstick DWT runs the method's basis and levels (the method refuses too many).
     WaveletBasis basis = *ParseWavelet(Param<std::string>(method, "basis"));
     int levels = Param<int>(method, "levels");

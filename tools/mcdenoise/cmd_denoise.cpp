@@ -68,7 +68,7 @@ std::string LedgerText(const Result &result) {
 
 // The pipelines the device built so far and what the pipeline cache gave (--explain).
 std::string PipelinesText(Device &device) {
-    const vk::Context::PipelineStats &p = device.Context().Pipelines();
+    const vk::Context::PipelineStats &p = api::ContextOf(device).Pipelines();
     return fmt::format(
         "  pipelines: {} built in {:.3f} s{}\n", p.built, p.seconds,
         p.loadedBytes ? fmt::format(" (pipeline cache: {} bytes read)", p.loadedBytes) : "");
@@ -199,6 +199,22 @@ class SequenceProgress {
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now(), firstDone;
 };
 
+// --auto-map: write the map of auto's largest weights, which the run returned as stage
+// "auto.map" (RunOptions::stages), and say so in the plan. A run that combined nothing
+// (another method, or auto picking one for --demodulate) has no map: a warning says so.
+void WriteAutoMap(const std::string &path, Result &result) {
+    if (path.empty()) return;
+    for (const Stage &stage : result.stages)
+        if (stage.name == "auto.map") {
+            io::WritePng(path, stage.image);
+            result.plan.push_back("auto: wrote the map of the largest weights to " + path);
+            return;
+        }
+    result.warnings.push_back(fmt::format(
+        "--auto-map: {} ran alone, not auto's combination, so no map was written to {}",
+        result.method, path));
+}
+
 // A frame and its reference, read on the loader thread.
 struct LoadedFrame {
     io::Frame frame;
@@ -224,6 +240,7 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
         inputs.push_back({"--reference", f.reference});
         outputs.push_back({"-o", f.output});
         outputs.push_back({"--preview", f.preview});
+        outputs.push_back({"--auto-map", f.map});
     }
     RefuseOverwritingInputs(inputs, outputs);
     // The output directories are made (a farm task may be the first to write there), once
@@ -236,6 +253,7 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
     for (const SequenceFrame &f : frames) {
         CheckOutputPath(f.output, {".exr", ".png"});
         if (!f.preview.empty()) CheckOutputPath(f.preview, {".png"});
+        if (!f.map.empty()) CheckOutputPath(f.map, {".png"});
     }
 
     auto start = std::chrono::steady_clock::now();
@@ -270,7 +288,8 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
             fmt::print(stderr, "{}", p.error);
             failed.push_back(p.frame->input);
         }
-        progress.FrameDone(*p.frame, !p.error.empty(), device.Context().Pipelines().seconds);
+        progress.FrameDone(*p.frame, !p.error.empty(),
+                           api::ContextOf(device).Pipelines().seconds);
     };
 
     // Three frames in flight: the next one read, this one denoised, the last one written.
@@ -292,7 +311,9 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
             run.progress = [&](const std::string &stage, int done, int total) {
                 progress.Stage(f.input, stage, done, total);
             };
+            if (!f.map.empty()) run.stages = {"auto.map"};
             Result result = method.Run(device, loaded.frame, run);
+            WriteAutoMap(f.map, result);
             if (explain) {
                 current.out +=
                     fmt::format("{} on {} ({}):\n", result.method, f.input, device.Name());
@@ -348,7 +369,7 @@ void RunSequence(const std::vector<SequenceFrame> &frames, const Method &method,
 void AddDenoiseCommand(CLI::App &app) {
     struct Options {
         std::vector<std::string> inputs;
-        std::string input, output, method = "auto", reference, preview, frames;
+        std::string input, output, method = "auto", reference, preview, frames, autoMap;
         bool explain = false, overwriteInput = false;
         DeviceOptions device;
         MethodOptions methods;
@@ -376,6 +397,10 @@ void AddDenoiseCommand(CLI::App &app) {
                     "sequence, a pattern or one image for every frame)");
     cmd->add_option("--preview", opt->preview,
                     "also write a tonemapped PNG (for a sequence, a pattern or a directory)");
+    cmd->add_option("--auto-map", opt->autoMap,
+                    "auto: write the map of the largest weights as a PNG here, each pixel "
+                    "coloured by the candidate with the largest weight (--explain gives the "
+                    "colours); for a sequence, a pattern (map.####.png) or a directory");
     cmd->add_flag("--explain", opt->explain, "print what runs and what is left out, and why");
     cmd->add_flag("--overwrite-input", opt->overwriteInput,
                   "let -o be the input frame (.exr): the result becomes its color, the noisy "
@@ -392,7 +417,7 @@ void AddDenoiseCommand(CLI::App &app) {
                     "--overwrite-input is for one frame; a sequence is written to an "
                     "output pattern or directory");
             RunSequence(PlanSequence({opt->inputs, opt->output, opt->preview, opt->reference,
-                                      opt->frames}),
+                                      opt->frames, opt->autoMap}),
                         method, opt->device.Options(), opt->explain);
             return;
         }
@@ -404,6 +429,7 @@ void AddDenoiseCommand(CLI::App &app) {
         opt->input = opt->inputs.front();
         CheckOutputPath(opt->output, {".exr", ".png"});
         if (!opt->preview.empty()) CheckOutputPath(opt->preview, {".png"});
+        if (!opt->autoMap.empty()) CheckOutputPath(opt->autoMap, {".png"});
         // No output may be a file this run reads, unless the user says so for -o.
         bool inPlace = opt->overwriteInput && SameFile(opt->output, opt->input);
         if (inPlace && std::filesystem::path(opt->output).extension() != ".exr")
@@ -416,9 +442,10 @@ void AddDenoiseCommand(CLI::App &app) {
               "write elsewhere, or pass --overwrite-input to replace the frame's color and "
               "keep its other layers"},
              {"--reference", opt->reference}},
-            {{"-o", opt->output}, {"--preview", opt->preview}});
+            {{"-o", opt->output}, {"--preview", opt->preview}, {"--auto-map", opt->autoMap}});
         if (inPlace)
-            RefuseOverwritingInputs({{"input", opt->input}}, {{"--preview", opt->preview}});
+            RefuseOverwritingInputs({{"input", opt->input}}, {{"--preview", opt->preview},
+                                                              {"--auto-map", opt->autoMap}});
         // Only the layers the method reads; an in-place write keeps every layer.
         auto readStart = std::chrono::steady_clock::now();
         io::Frame frame = io::ReadFrame(
@@ -443,8 +470,10 @@ void AddDenoiseCommand(CLI::App &app) {
                              stage.c_str(), 100 * done / total);
                 progressShown = true;
             };
+        if (!opt->autoMap.empty()) run.stages = {"auto.map"};
         Result result = method.Run(device, frame, run);
         if (progressShown) std::fprintf(stderr, "\n");
+        WriteAutoMap(opt->autoMap, result);
         if (opt->explain) {
             fmt::print("{} on {} ({}):\n", result.method, opt->input, device.Name());
             // How another renderer's layers were converted: the split and noise depend on it.

@@ -28,8 +28,7 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
     options.height = base.height;
     options.averageSpp = base.spp;
     options.seed = base.seed;
-    options.lowSum = opt.samplerRenorm;
-    options.contrastFloor = opt.contrastFloor;
+    options.sampler = opt.sampler;
     options.threads = base.threads;
     if (isatty(fileno(stderr)))
         options.progress = [](uint64_t done, uint64_t total) {
@@ -48,7 +47,7 @@ void RenderAdaptiveFrame(const render::Scene &scene, const Options &opt,
         frame.path = opt.output;
         frame.width = options.width, frame.height = options.height;
         for (const auto &[name, image] : result.layers) frame.layers[name] = image;
-        Device device = Device::Borrow(context);
+        Device device = api::BorrowDevice(context);
         denoised = Method("awr").Run(device, frame).image;
     }
     io::WriteExr(opt.output, layers, result.metadata);
@@ -73,8 +72,7 @@ void AddRenderCommand(CLI::App &app) {
         uint64_t seed = 1;
         bool reference = false;
         std::string adaptive, denoised, density;
-        float samplerRenorm = render::AdaptiveOptions().lowSum;
-        float contrastFloor = render::AdaptiveOptions().contrastFloor;
+        AwrSamplerParams sampler;
         bool tracingFilter = false, tfCpu = false;
         TracingParams tf;
         double tfMemoryMb = double(render::TracingFilterOptions().memoryBudget) / (1 << 20);
@@ -121,12 +119,12 @@ void AddRenderCommand(CLI::App &app) {
     cmd->add_option(
         "--density", opt->density,
         "with --adaptive: also write the sample density as a PNG (brightest = most)");
-    cmd->add_option("--sampler-renorm", opt->samplerRenorm,
+    cmd->add_option("--sampler-renorm", opt->sampler.lowSum,
                     "with --adaptive awr: sum of the squared 1D low-pass filter in the "
                     "priorities' variance DWT (eq. 9); above 1 favours coarse levels")
         ->capture_default_str()
         ->check(CLI::Range(0.5f, 4.f));
-    cmd->add_option("--contrast-floor", opt->contrastFloor,
+    cmd->add_option("--contrast-floor", opt->sampler.contrastFloor,
                     "with --adaptive awr: luminance f under the mean in the sampler's "
                     "Mitchell contrast, (Imax - Imin)^2 / ((Imax + Imin)^2 + 4 f^2); 0 is "
                     "the paper's contrast, which spends samples on near-black pixels; 0.1 "

@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 
+#include "host/api/device.h"
 #include "host/image.h"
 #include "host/vk/context.h"
 #include "mcdenoise/mcdenoise.h"

@@ -138,15 +138,15 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
                               const AdaptiveOptions &o) {
     const int w = o.width, h = o.height;
     if (w <= 0 || h <= 0) throw Error(fmt::format("image size {}x{} must be positive", w, h));
-    if (o.initialSpp < 1 || o.averageSpp < o.initialSpp)
+    if (o.sampler.initialSpp < 1 || o.averageSpp < o.sampler.initialSpp)
         throw Error(
             fmt::format("the adaptive sampler starts with {} samples per pixel: the "
                         "average must be at least that, not {}",
-                        o.initialSpp, o.averageSpp));
-    if (!(o.contrastFloor >= 0 && o.contrastFloor < 1e18f))
+                        o.sampler.initialSpp, o.averageSpp));
+    if (!(o.sampler.contrastFloor >= 0 && o.sampler.contrastFloor < 1e18f))
         throw Error(fmt::format("the contrast floor must be finite and at least 0, not {}",
-                                o.contrastFloor));
-    const double floor2 = 4.0 * double(o.contrastFloor) * o.contrastFloor;
+                                o.sampler.contrastFloor));
+    const double floor2 = 4.0 * double(o.sampler.contrastFloor) * o.sampler.contrastFloor;
     Clock::time_point start = Clock::now();
     const uint64_t budget = uint64_t(o.averageSpp) * w * h;
     std::vector<PixelStats> pixels(size_t(w) * h);
@@ -206,7 +206,7 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
     // Step 1: coarse uniform sampling.
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            for (int s = 0; s < o.initialSpp; ++s) {
+            for (int s = 0; s < o.sampler.initialSpp; ++s) {
                 uint64_t key = (uint64_t(y) * w + x) << 24 | uint64_t(s);
                 Rng jitter(Mix(o.seed ^ Mix(~key)), key);
                 batch.push_back({x + Uniform(jitter), y + Uniform(jitter), key, -1});
@@ -214,11 +214,12 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
     traceBatch();
     AdaptiveResult result;
     result.traceSeconds = Seconds(Clock::now() - start);
-    uint64_t samples = uint64_t(o.initialSpp) * w * h, counter = 0;
+    uint64_t samples = uint64_t(o.sampler.initialSpp) * w * h, counter = 0;
 
-    const int levels = std::min(o.maxLevel, MaxWaveletLevels(w, h));
+    const int levels = std::min(o.sampler.maxLevel, MaxWaveletLevels(w, h));
     std::vector<ScaleProfile> profiles;
-    for (int k = 0; k <= levels; ++k) profiles.push_back(ScaleFunctionProfile(o.basis, k));
+    for (int k = 0; k <= levels; ++k)
+        profiles.push_back(ScaleFunctionProfile(o.sampler.basis, k));
     PriorityTransforms transforms = o.transforms;
     std::optional<GpuPriorityTransforms> gpu;
     if (!transforms) {
@@ -248,12 +249,13 @@ AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
             }
             lum.data[p] =
                 float((0.2126 * s.sum[0] + 0.7152 * s.sum[1] + 0.0722 * s.sum[2]) / s.n);
-            // Eq. 5 with a floor under the mean (AdaptiveOptions::contrastFloor).
+            // Eq. 5 with a floor under the mean (AwrSamplerParams::contrastFloor).
             double sum = s.lumHi + s.lumLo, spread = s.lumHi - s.lumLo;
             double scale = sum * sum + floor2;
             var.data[p] = float(scale > 0 ? spread * spread / scale / s.n : 0);
         }
-        transforms(lum, var, o.basis, levels, o.lowSum, &details, &scaleVariances);
+        transforms(lum, var, o.sampler.basis, levels, o.sampler.lowSum, &details,
+                   &scaleVariances);
         candidates.clear();
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i)
@@ -352,13 +354,14 @@ AdaptiveResult RenderAdaptive(vk::Context &context, const Scene &scene,
     AdaptiveResult result = SampleAdaptive(
         context,
         [&](double x, double y, uint64_t key) { return source.Trace(x, y, key).color; }, o);
-    int levels = std::min(o.maxLevel, MaxWaveletLevels(o.width, o.height));
+    int levels = std::min(o.sampler.maxLevel, MaxWaveletLevels(o.width, o.height));
     result.metadata = {
         {"mcd:scene", scene.name},
         {"mcd:spp", std::to_string(o.averageSpp)},
         {"mcd:sampler",
          fmt::format("awr adaptive, {} levels of {}, renorm {}, contrast floor {}, {} rounds",
-                     levels, WaveletName(o.basis), o.lowSum, o.contrastFloor, result.rounds)},
+                     levels, WaveletName(o.sampler.basis), o.sampler.lowSum,
+                     o.sampler.contrastFloor, result.rounds)},
         {"mcd:seed", std::to_string(o.seed)},
         {"mcd:size", fmt::format("{}x{}", o.width, o.height)},
         {"mcd:renderSeconds", fmt::format("{:.3f}", result.seconds)},
