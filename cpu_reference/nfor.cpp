@@ -205,6 +205,64 @@ Image NforDistance(const Image &color, const Image &variance, const Image *divis
     return out;
 }
 
+Image NforTerms(const Image &color, const Image &variance, const Image *divisor, int radius,
+                double alpha) {
+    int w = color.width, h = color.height;
+    Image out(w, h, NforOffsetCount(radius));
+    for (int j = 0; j < out.channels; ++j) {
+        int ox, oy;
+        NforOffset(radius, j, &ox, &oy);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (!Inside(color, x + ox, y + oy)) continue;
+                double term = 0;
+                for (int c = 0; c < color.channels; ++c) {
+                    // Colour and variance, divided by the albedo where it is above the floor.
+                    double ap = Divisor(divisor, c, x, y),
+                           aq = Divisor(divisor, c, x + ox, y + oy);
+                    double sp = ap > 0 ? ap : 1, sq = aq > 0 ? aq : 1;
+                    double cp = color.At(c, y, x) / sp, cq = color.At(c, y + oy, x + ox) / sq;
+                    double vp = variance.At(c, y, x) / (sp * sp),
+                           vq = variance.At(c, y + oy, x + ox) / (sq * sq);
+                    double t = ((cp - cq) * (cp - cq) - alpha * (vp + vq)) /
+                               (vp + vq + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
+                    term += std::min(t, kNforTermMax);
+                }
+                out.At(j, y, x) = float(term / color.channels);
+            }
+    }
+    return out;
+}
+
+Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical) {
+    int w = terms.width, h = terms.height;
+    Image out(w, h, terms.channels);
+    for (int j = 0; j < terms.channels; ++j) {
+        int ox, oy;
+        NforOffset(radius, j, &ox, &oy);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                for (int t = -patch; t <= patch; ++t) {
+                    int u = vertical ? x : x + t, v = vertical ? y + t : y;
+                    if (Inside(terms, u, v)) sum += terms.At(j, v, u);
+                }
+                if (!vertical) {
+                    out.At(j, y, x) = float(sum);
+                    continue;
+                }
+                // Patch positions (tx, ty) with both (x, y) + t and (x, y) + t + o inside.
+                int count = 0;
+                for (int ty = -patch; ty <= patch; ++ty)
+                    for (int tx = -patch; tx <= patch; ++tx)
+                        count += Inside(terms, x + tx, y + ty) &&
+                                 Inside(terms, x + tx + ox, y + ty + oy);
+                out.At(j, y, x) = count > 0 ? float(sum / count) : 0.f;
+            }
+    }
+    return out;
+}
+
 namespace {
 
 // D(p, q - p) from the stored half of the offsets.

@@ -113,6 +113,14 @@ Image NforPrefilter(const Image &features, const Image &variance, int radius, in
 Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
                    int patch, double alpha);
 
+// The distance's two steps as the GPU takes them (for the kernels' own tests): per pixel u
+// and stored offset o, the channels' mean term of u and u + o (0 where u + o is outside);
+// and one pass of the patch sum over those, along rows, or along columns divided by the
+// number of patch positions with both ends inside (`vertical`).
+Image NforTerms(const Image &color, const Image &variance, const Image *divisor, int radius,
+                double alpha);
+Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical);
+
 // Stored offset j of the window of radius R: (ox, oy) with oy > 0, or oy = 0 and ox > 0,
 // in raster order; NforOffsetCount(R) of them.
 int NforOffsetCount(int radius);

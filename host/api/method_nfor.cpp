@@ -100,7 +100,7 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           &O::prefilterBandwidth, 1e-3, 1e3)),
         nested(IntParam("sure-radius", "window half-size of the SURE average", &O::sureRadius,
                         0, 8)),
-        ChoiceParam("noise",
+        ChoiceParam("nfor-noise",
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
         ChoiceParam("pivot-feature", "auto (the pivot layer as features when present) or off",

@@ -140,57 +140,81 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
                       uint32_t(features.channels));
 }
 
+namespace {
+
+const vk::Kernel &TermKernel(vk::Context &context, int channels) {
+    return context.GetKernel({"nfor_term",
+                              k_nfor_term_spv,
+                              sizeof(k_nfor_term_spv),
+                              NFOR_TERM_BINDINGS,
+                              sizeof(shader::NforDistancePush),
+                              {{NFOR_SPEC_CHANNELS, channels}},
+                              0,
+                              0});
+}
+
+const vk::Kernel &BoxKernel(vk::Context &context) {
+    return context.GetKernel({"nfor_box",
+                              k_nfor_box_spv,
+                              sizeof(k_nfor_box_spv),
+                              NFOR_BOX_BINDINGS,
+                              sizeof(shader::NforDistancePush),
+                              {},
+                              0,
+                              0});
+}
+
+void CheckOffsets(const char *what, int radius, int patch) {
+    if (radius < 1 || radius > NFOR_MAX_RADIUS || patch < 0 || patch > NFOR_MAX_PATCH)
+        throw Error(fmt::format("{}: radius {} (1..{}), patch {} (0..{})", what, radius,
+                                NFOR_MAX_RADIUS, patch, NFOR_MAX_PATCH));
+}
+
+}  // namespace
+
+void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                    const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
+                    float alpha, vk::GpuImage &terms) {
+    CheckColor("nfor term", color);
+    CheckSize("nfor term", color, variance, color.channels);
+    CheckSize("nfor term", color, terms, NforOffsetCount(radius));
+    if (albedo) {
+        CheckSize("nfor term", color, *albedo, 0);
+        if (albedo->channels != 1 && albedo->channels < color.channels)
+            throw Error("nfor term: the albedo needs 1 channel or as many as the colour");
+    }
+    CheckOffsets("nfor term", radius, 0);
+    shader::NforDistancePush push{
+        color.width, color.height, radius, 0, 0, alpha, albedo ? albedo->channels : 0};
+    recorder.Dispatch(
+        TermKernel(context, color.channels), "nfor.term",
+        {{NFOR_TERM_COLOR, &color.buffer, vk::Access::Read},
+         {NFOR_TERM_VARIANCE, &variance.buffer, vk::Access::Read},
+         {NFOR_TERM_OUT, &terms.buffer, vk::Access::Write},
+         {NFOR_TERM_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read}},
+        push, Groups(color.width), uint32_t(color.height), uint32_t(terms.channels));
+}
+
+void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,
+                   int radius, int patch, bool vertical, vk::GpuImage &out) {
+    CheckSize("nfor box", in, in, NforOffsetCount(radius));
+    CheckSize("nfor box", in, out, in.channels);
+    CheckOffsets("nfor box", radius, patch);
+    shader::NforDistancePush push{in.width, in.height, radius, patch, vertical ? 1 : 0, 0, 0};
+    recorder.Dispatch(BoxKernel(context), "nfor.box",
+                      {{NFOR_BOX_IN, &in.buffer, vk::Access::Read},
+                       {NFOR_BOX_OUT, &out.buffer, vk::Access::Write}},
+                      push, Groups(in.width), uint32_t(in.height), uint32_t(in.channels));
+}
+
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
                         int patch, float alpha, vk::GpuImage &scratch, vk::GpuImage &distance) {
-    CheckColor("nfor distance", color);
-    CheckSize("nfor distance", color, variance, color.channels);
-    int offsets = NforOffsetCount(radius);
-    CheckSize("nfor distance", color, scratch, offsets);
-    CheckSize("nfor distance", color, distance, offsets);
-    if (albedo) {
-        CheckSize("nfor distance", color, *albedo, 0);
-        if (albedo->channels != 1 && albedo->channels < color.channels)
-            throw Error("nfor distance: the albedo needs 1 channel or as many as the colour");
-    }
-    if (radius < 1 || radius > NFOR_MAX_RADIUS || patch < 0 || patch > NFOR_MAX_PATCH)
-        throw Error(fmt::format("nfor distance: radius {} (1..{}), patch {} (0..{})", radius,
-                                NFOR_MAX_RADIUS, patch, NFOR_MAX_PATCH));
-    const vk::Kernel &term = context.GetKernel({"nfor_term",
-                                                k_nfor_term_spv,
-                                                sizeof(k_nfor_term_spv),
-                                                NFOR_TERM_BINDINGS,
-                                                sizeof(shader::NforDistancePush),
-                                                {{NFOR_SPEC_CHANNELS, color.channels}},
-                                                0,
-                                                0});
-    const vk::Kernel &box = context.GetKernel({"nfor_box",
-                                               k_nfor_box_spv,
-                                               sizeof(k_nfor_box_spv),
-                                               NFOR_BOX_BINDINGS,
-                                               sizeof(shader::NforDistancePush),
-                                               {},
-                                               0,
-                                               0});
-    shader::NforDistancePush push{
-        color.width, color.height, radius, patch, 0, alpha, albedo ? albedo->channels : 0};
-    uint32_t gx = Groups(color.width), gy = uint32_t(color.height), gz = uint32_t(offsets);
-    recorder.Dispatch(
-        term, "nfor.term",
-        {{NFOR_TERM_COLOR, &color.buffer, vk::Access::Read},
-         {NFOR_TERM_VARIANCE, &variance.buffer, vk::Access::Read},
-         {NFOR_TERM_OUT, &distance.buffer, vk::Access::Write},
-         {NFOR_TERM_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read}},
-        push, gx, gy, gz);
-    recorder.Dispatch(box, "nfor.box",
-                      {{NFOR_BOX_IN, &distance.buffer, vk::Access::Read},
-                       {NFOR_BOX_OUT, &scratch.buffer, vk::Access::Write}},
-                      push, gx, gy, gz);
-    push.vertical = 1;
-    recorder.Dispatch(box, "nfor.box",
-                      {{NFOR_BOX_IN, &scratch.buffer, vk::Access::Read},
-                       {NFOR_BOX_OUT, &distance.buffer, vk::Access::Write}},
-                      push, gx, gy, gz);
+    CheckSize("nfor distance", color, scratch, NforOffsetCount(radius));
+    CheckOffsets("nfor distance", radius, patch);
+    RecordNforTerm(context, recorder, color, variance, albedo, radius, alpha, distance);
+    RecordNforBox(context, recorder, distance, radius, patch, false, scratch);
+    RecordNforBox(context, recorder, scratch, radius, patch, true, distance);
 }
 
 namespace {

@@ -26,7 +26,19 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
                          const vk::GpuImage &features, const vk::GpuImage &variance, int radius,
                          int patch, float bandwidth, vk::GpuImage &out);
 
-// shaders/nfor/term.comp and box.comp: the patch distance of every stored offset of the
+// shaders/nfor/term.comp: per pixel and stored offset of the window of half-size
+// `radius`, the channels' mean distance term (nfor/distance.h) into `terms`
+// (NforOffsetCount(radius) planes).
+void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                    const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
+                    float alpha, vk::GpuImage &terms);
+
+// shaders/nfor/box.comp: one pass of the patch sum of every plane of `in`, along rows, or
+// along columns and divided by the patch positions with both ends inside (`vertical`).
+void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,
+                   int radius, int patch, bool vertical, vk::GpuImage &out);
+
+// Both: the patch distance of every stored offset of the
 // window of half-size `radius` into `distance` (NforOffsetCount(radius) planes); `scratch`
 // is the same size.
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,

@@ -87,9 +87,9 @@ double WindowMax(const Image &image, int c, int x, int y, int r,
 // of rounding (two divisions, a subtraction, a square), the median selects one of them (a
 // tie swapped by rounding picks a value as close), and 4 more roundings scale it: 16u of
 // (2 max |z|)^2 x divisor^2 x calibration / median(chi^2_1) over the window.
-class NforKernelNoise : public GpuTestWithParam<KernelCase> {};
+class NforNoiseKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforKernelNoise, MatchesReferenceAndRepeats) {
+TEST_P(NforNoiseKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     std::string name = fmt::format("noise{}x{}{}", w, h, InputKindName(kind));
     Image image = Positive(kind, w, h, 3, name);
@@ -131,15 +131,15 @@ TEST_P(NforKernelNoise, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, NforKernelNoise, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Clamp: the mask is exact; a clamped value is (median z + t sqrt(v) / a) x a, about 5
 // roundings of |C| + t sqrt(v) + a max |z| of the neighbours. Where the value sits on the
 // limit either side's choice gives it to that accuracy.
-class NforKernelClamp : public GpuTestWithParam<KernelCase> {};
+class NforClampKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforKernelClamp, MatchesReferenceAndRepeats) {
+TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     std::string name = fmt::format("clamp{}x{}{}", w, h, InputKindName(kind));
     Image color = Positive(kind, w, h, 3, name);
@@ -179,7 +179,7 @@ TEST_P(NforKernelClamp, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(actual, run(&again)));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, NforKernelClamp, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, NforClampKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Weights exp(-e): e's terms T = (d^2 - s) / (s + eps) are each at least -1 and are averaged
@@ -193,9 +193,9 @@ double WeightError(int patchPositions, double bandwidth) {
     return ((patchPositions + 5) * std::exp(2 / (bandwidth * bandwidth) - 1) + 2) * kU;
 }
 
-class NforKernelPrefilter : public GpuTestWithParam<KernelCase> {};
+class NforPrefilterKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforKernelPrefilter, MatchesReferenceAndRepeats) {
+TEST_P(NforPrefilterKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     std::string name = fmt::format("prefilter{}x{}{}", w, h, InputKindName(kind));
     Image features = MakeInput(kind, w, h, 4, SeedFromName(name));
@@ -229,16 +229,114 @@ TEST_P(NforKernelPrefilter, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(actual, run()));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, NforKernelPrefilter, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, NforPrefilterKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
+// Term: with the albedo's divisions, cp and cq carry a rounding each, which moves d^2 by at
+// most 2u (|cp| + |cq|)^2; the variances' divisions, the sums, the square and the division
+// add about 6 roundings more: 12u of ((|cp| + |cq|)^2 + alpha s) / den per channel,
+// computed here in double from the inputs.
+class NforTermKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    std::string name = fmt::format("term{}x{}{}", w, h, InputKindName(kind));
+    Image color = Positive(kind, w, h, 3, name);
+    Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
+    for (size_t i = 0; i < variance.Size(); ++i) variance.data[i] *= i % 5 == 0 ? 0.f : 0.1f;
+    Image albedo = Albedo(w, h, name + "albedo", false);
+    const int radius = 3;
+    const float alpha = 1;
+    for (bool divided : {false, true}) {
+        Image expected =
+            ref::NforTerms(color, variance, divided ? &albedo : nullptr, radius, alpha);
+        auto run = [&] {
+            vk::GpuImage c = Upload(Ctx(), color, "color"),
+                         v = Upload(Ctx(), variance, "variance");
+            vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+            vk::GpuImage out(Ctx(), w, h, NforOffsetCount(radius), "terms");
+            vk::Recorder recorder(Ctx());
+            RecordNforTerm(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, alpha, out);
+            recorder.Submit();
+            return out.Download();
+        };
+        Image actual = run();
+        Image magnitude(w, h, expected.channels);
+        for (int j = 0; j < expected.channels; ++j) {
+            int ox, oy;
+            ref::NforOffset(radius, j, &ox, &oy);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    int qx = x + ox, qy = y + oy;
+                    if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+                    double sum = 0;
+                    for (int c = 0; c < 3; ++c) {
+                        auto scale = [&](int u, int v) {
+                            double a = albedo.At(c, v, u);
+                            return divided && a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
+                        };
+                        double sp = scale(x, y), sq = scale(qx, qy);
+                        double cp = color.At(c, y, x) / sp, cq = color.At(c, qy, qx) / sq;
+                        double s = variance.At(c, y, x) / (sp * sp) +
+                                   variance.At(c, qy, qx) / (sq * sq);
+                        double den = s + NFOR_REL_EPS * (cp * cp + cq * cq) + NFOR_TINY;
+                        sum +=
+                            ((std::fabs(cp) + std::fabs(cq)) * (std::fabs(cp) + std::fabs(cq)) +
+                             alpha * s) /
+                            den / 3;
+                    }
+                    magnitude.At(j, y, x) = float(sum);
+                }
+        }
+        EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {12 * kU, 0, 1e-9}))
+            << (divided ? "divided" : "colour");
+        EXPECT_TRUE(BitIdentical(actual, run()));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforTermKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
+// Box: a row pass sums at most 2f + 1 values (2f u of the sum of their |values|); a column
+// pass sums as many and divides once ((2f + 2) u of the mean |value|): (2f + 2) u of the
+// pass applied to |input|, computed here in double.
+class NforBoxKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforBoxKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    std::string name = fmt::format("box{}x{}{}", w, h, InputKindName(kind));
+    const int radius = 2, patch = 2;
+    Image input = MakeInput(kind, w, h, NforOffsetCount(radius), SeedFromName(name));
+    Image absolute = input;
+    for (float &v : absolute.data) v = std::fabs(v);
+    for (bool vertical : {false, true}) {
+        Image expected = ref::NforBoxPass(input, radius, patch, vertical);
+        Image magnitude = ref::NforBoxPass(absolute, radius, patch, vertical);
+        auto run = [&] {
+            vk::GpuImage in = Upload(Ctx(), input, "terms");
+            vk::GpuImage out(Ctx(), w, h, input.channels, "box");
+            vk::Recorder recorder(Ctx());
+            RecordNforBox(Ctx(), recorder, in, radius, patch, vertical, out);
+            recorder.Submit();
+            return out.Download();
+        };
+        Image actual = run();
+        EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {(2 * patch + 3) * kU, 0, 1e-10}))
+            << (vertical ? "columns" : "rows");
+        EXPECT_TRUE(BitIdentical(actual, run()));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforBoxKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Distance: a term is about 6 roundings of (d^2 + alpha s) / (s + eps) per channel, with 3
 // more where colour and variance are divided by the albedo; the box sums add at most n
 // terms (n u of their sum of |terms|): (n + 10) u of the mean |term|, computed here from
 // the inputs.
-class NforKernelDistance : public GpuTestWithParam<KernelCase> {};
+class NforDistanceKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforKernelDistance, MatchesReferenceAndRepeats) {
+TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     std::string name = fmt::format("distance{}x{}{}", w, h, InputKindName(kind));
     Image color = Positive(kind, w, h, 3, name);
@@ -308,7 +406,7 @@ TEST_P(NforKernelDistance, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, NforKernelDistance, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, NforDistanceKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // The inputs of the fit kernels, made by the reference's earlier stages.
@@ -349,9 +447,9 @@ NforFitSettings SettingsOf(const FitInputs &f) {
 // number is at most trace(A) / min(1, lambda sum w) (the centre's weight 1 and x = e_0 there
 // bound the smallest eigenvalue), with sum w in [1, m] and trace(A) at most
 // sum over the window of |x|^2 + (columns - 1) lambda m: bounds of the window's features.
-class NforKernelRegress : public GpuTestWithParam<KernelCase> {};
+class NforRegressKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforKernelRegress, MatchesReferenceAndRepeats) {
+TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     const int radius = 2;
     FitInputs f = MakeFitInputs(
@@ -408,15 +506,15 @@ TEST_P(NforKernelRegress, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(hat, hatAgain));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, NforKernelRegress, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, NforRegressKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Gather on the reference's coefficients: each prediction sums `columns` products (columns
 // u of sum |x_i beta_i|), the weighted mean over m windows adds 2 m weight errors and m u,
 // of the window's largest prediction magnitude.
-class NforKernelGather : public GpuTestWithParam<KernelCase> {};
+class NforGatherKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforKernelGather, MatchesReferenceAndRepeats) {
+TEST_P(NforGatherKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     const int radius = 2;
     FitInputs f = MakeFitInputs(
@@ -463,16 +561,16 @@ TEST_P(NforKernelGather, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(actual, run()));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, NforKernelGather, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, NforGatherKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Select on the same candidates: SURE of a pixel is a few roundings of sum |d^2| + v (1 +
 // 2 h); its window mean m u more. Where the reference's best and second best means are
 // closer than that the choice may go either way; elsewhere it must match, and the output is
 // the chosen candidate's value exactly.
-class NforKernelSelect : public GpuTestWithParam<KernelCase> {};
+class NforSelectKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforKernelSelect, MatchesReferenceAndRepeats) {
+TEST_P(NforSelectKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     std::string name = fmt::format("select{}x{}{}", w, h, InputKindName(kind));
     Image color = Positive(kind, w, h, 3, name);
@@ -545,7 +643,7 @@ TEST_P(NforKernelSelect, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(choice, choiceAgain));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, NforKernelSelect, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, NforSelectKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // A synthetic plain frame: an albedo texture with an edge, a smooth illumination, normals
