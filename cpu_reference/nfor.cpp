@@ -162,7 +162,7 @@ void NforOffset(int radius, int j, int *ox, int *oy) {
 }
 
 Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
-                   int patch, double alpha) {
+                   int patch, double alpha, bool minVariance) {
     // The values compared and their variances: the colour, or colour / albedo.
     Image z = color, vz = variance;
     for (int c = 0; c < color.channels; ++c)
@@ -191,9 +191,9 @@ Image NforDistance(const Image &color, const Image &variance, const Image *divis
                         for (int c = 0; c < color.channels; ++c) {
                             double cp = z.At(c, uy, ux), cq = z.At(c, uy + oy, ux + ox);
                             double vp = vz.At(c, uy, ux), vq = vz.At(c, uy + oy, ux + ox);
-                            double t =
-                                ((cp - cq) * (cp - cq) - alpha * (vp + vq)) /
-                                (vp + vq + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
+                            double s = minVariance ? 2 * std::min(vp, vq) : vp + vq;
+                            double t = ((cp - cq) * (cp - cq) - alpha * s) /
+                                       (s + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
                             term += std::min(t, kNforTermMax);
                         }
                         sum += term / color.channels;
@@ -206,7 +206,7 @@ Image NforDistance(const Image &color, const Image &variance, const Image *divis
 }
 
 Image NforTerms(const Image &color, const Image &variance, const Image *divisor, int radius,
-                double alpha) {
+                double alpha, bool minVariance) {
     int w = color.width, h = color.height;
     Image out(w, h, NforOffsetCount(radius));
     for (int j = 0; j < out.channels; ++j) {
@@ -224,8 +224,9 @@ Image NforTerms(const Image &color, const Image &variance, const Image *divisor,
                     double cp = color.At(c, y, x) / sp, cq = color.At(c, y + oy, x + ox) / sq;
                     double vp = variance.At(c, y, x) / (sp * sp),
                            vq = variance.At(c, y + oy, x + ox) / (sq * sq);
-                    double t = ((cp - cq) * (cp - cq) - alpha * (vp + vq)) /
-                               (vp + vq + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
+                    double s = minVariance ? 2 * std::min(vp, vq) : vp + vq;
+                    double t = ((cp - cq) * (cp - cq) - alpha * s) /
+                               (s + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
                     term += std::min(t, kNforTermMax);
                 }
                 out.At(j, y, x) = float(term / color.channels);
@@ -477,7 +478,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     }
     keep("features", features);
     Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
-                                  p.radius, p.patchRadius, p.alpha);
+                                  p.radius, p.patchRadius, p.alpha, p.minVariance);
     keep("distance", distance);
     std::vector<Image> outputs, hats;
     for (size_t i = 0; i < p.bandwidths.size(); ++i) {

@@ -71,6 +71,7 @@ struct NforParams {
     int patchRadius = 3;   // colour patch half-size
     std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
     double alpha = 1;                // variance cancellation in the colour distance
+    bool minVariance = true;         // the distance normalised by 2 min(v_p, v_q)
     bool demodulateDistance = true;  // the distance of colour / albedo
     double ridge = 0.1;              // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
@@ -111,14 +112,14 @@ Image NforPrefilter(const Image &features, const Image &variance, int radius, in
 // Patch distance D(p, o) for the stored offsets (NforOffset), one plane each, of the colour
 // (divisor nullptr) or of colour / divisor where the divisor is above the floor.
 Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
-                   int patch, double alpha);
+                   int patch, double alpha, bool minVariance);
 
 // The distance's two steps as the GPU takes them (for the kernels' own tests): per pixel u
 // and stored offset o, the channels' mean term of u and u + o (0 where u + o is outside);
 // and one pass of the patch sum over those, along rows, or along columns divided by the
 // number of patch positions with both ends inside (`vertical`).
 Image NforTerms(const Image &color, const Image &variance, const Image *divisor, int radius,
-                double alpha);
+                double alpha, bool minVariance);
 Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical);
 
 // Stored offset j of the window of radius R: (ox, oy) with oy > 0, or oy = 0 and ox > 0,

@@ -64,6 +64,11 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                          &O::noDemodulatedDistance)),
         nested(FloatParam("alpha", "variance cancellation in the colour distance", &O::alpha, 0,
                           10)),
+        nested(EnumParam("distance-variance",
+                         "the colour distance's variances: min (2 min(v_p, v_q) cancelled and "
+                         "normalised: a dark pixel "
+                         "does not borrow from a brighter, noisier one) or sum (v_p + v_q)",
+                         &O::minVariance, {{"min", true}, {"sum", false}})),
         nested(FloatParam("ridge", "ridge lambda x sum(w) on the non-constant columns",
                           &O::ridge, 1e-4, 1e3)),
         nested(FloatParam("feature-bandwidth",
@@ -168,6 +173,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.patchRadius = o.patchRadius;
         p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
         p.alpha = o.alpha;
+        p.minVariance = o.minVariance;
         p.demodulateDistance = !o.noDemodulatedDistance;
         p.ridge = o.ridge;
         p.featureWeights.assign(weights.begin(), weights.end());

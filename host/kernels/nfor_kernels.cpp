@@ -174,7 +174,7 @@ void CheckOffsets(const char *what, int radius, int patch) {
 
 void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                     const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
-                    float alpha, vk::GpuImage &terms) {
+                    float alpha, bool minVariance, vk::GpuImage &terms) {
     CheckColor("nfor term", color);
     CheckSize("nfor term", color, variance, color.channels);
     CheckSize("nfor term", color, terms, NforOffsetCount(radius));
@@ -185,7 +185,8 @@ void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
     }
     CheckOffsets("nfor term", radius, 0);
     shader::NforDistancePush push{
-        color.width, color.height, radius, 0, 0, alpha, albedo ? albedo->channels : 0};
+        color.width,        color.height, radius, 0, 0, alpha, albedo ? albedo->channels : 0,
+        minVariance ? 1 : 0};
     recorder.Dispatch(
         TermKernel(context, color.channels), "nfor.term",
         {{NFOR_TERM_COLOR, &color.buffer, vk::Access::Read},
@@ -200,7 +201,8 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
     CheckSize("nfor box", in, in, NforOffsetCount(radius));
     CheckSize("nfor box", in, out, in.channels);
     CheckOffsets("nfor box", radius, patch);
-    shader::NforDistancePush push{in.width, in.height, radius, patch, vertical ? 1 : 0, 0, 0};
+    shader::NforDistancePush push{in.width,         in.height, radius, patch,
+                                  vertical ? 1 : 0, 0,         0,      0};
     recorder.Dispatch(BoxKernel(context), "nfor.box",
                       {{NFOR_BOX_IN, &in.buffer, vk::Access::Read},
                        {NFOR_BOX_OUT, &out.buffer, vk::Access::Write}},
@@ -209,10 +211,12 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
 
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
-                        int patch, float alpha, vk::GpuImage &scratch, vk::GpuImage &distance) {
+                        int patch, float alpha, bool minVariance, vk::GpuImage &scratch,
+                        vk::GpuImage &distance) {
     CheckSize("nfor distance", color, scratch, NforOffsetCount(radius));
     CheckOffsets("nfor distance", radius, patch);
-    RecordNforTerm(context, recorder, color, variance, albedo, radius, alpha, distance);
+    RecordNforTerm(context, recorder, color, variance, albedo, radius, alpha, minVariance,
+                   distance);
     RecordNforBox(context, recorder, distance, radius, patch, false, scratch);
     RecordNforBox(context, recorder, scratch, radius, patch, true, distance);
 }

@@ -31,7 +31,7 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
 // (NforOffsetCount(radius) planes).
 void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                     const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
-                    float alpha, vk::GpuImage &terms);
+                    float alpha, bool minVariance, vk::GpuImage &terms);
 
 // shaders/nfor/box.comp: one pass of the patch sum of every plane of `in`, along rows, or
 // along columns and divided by the patch positions with both ends inside (`vertical`).
@@ -43,7 +43,8 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
 // is the same size.
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
-                        int patch, float alpha, vk::GpuImage &scratch, vk::GpuImage &distance);
+                        int patch, float alpha, bool minVariance, vk::GpuImage &scratch,
+                        vk::GpuImage &distance);
 
 // One candidate of the fit: the window, the bandwidth k, the ridge and the feature weights
 // s_j (one per feature plane).

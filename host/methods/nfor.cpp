@@ -255,7 +255,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     run.StageAtEnd("features", gpu.filtered);
     RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
                        o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
-                       o.alpha, gpu.scratch, gpu.distance);
+                       o.alpha, o.minVariance, gpu.scratch, gpu.distance);
     run.StageAtEnd("distance", gpu.distance);
 }
 

@@ -39,8 +39,9 @@ void main() {
             vec2 p = valueAt(c, x, y), q = valueAt(c, qx, qy);
             float cp = p.x, cq = q.x, vp = p.y, vq = q.y;
             float diff = cp - cq;
-            float t = (diff * diff - push.alpha * (vp + vq)) /
-                      (vp + vq + float(NFOR_REL_EPS) * (cp * cp + cq * cq) + float(NFOR_TINY));
+            float s = push.minVariance != 0 ? 2.0 * min(vp, vq) : vp + vq;
+            float t = (diff * diff - push.alpha * s) /
+                      (s + float(NFOR_REL_EPS) * (cp * cp + cq * cq) + float(NFOR_TINY));
             term += min(t, float(NFOR_TERM_MAX));
         }
         term /= float(channels);

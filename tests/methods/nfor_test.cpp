@@ -232,10 +232,10 @@ TEST_P(NforPrefilterKernel, MatchesReferenceAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, NforPrefilterKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
-// Term: with the albedo's divisions, cp and cq carry a rounding each, which moves d^2 by at
-// most 2u (|cp| + |cq|)^2; the variances' divisions, the sums, the square and the division
-// add about 6 roundings more: 12u of ((|cp| + |cq|)^2 + alpha s) / den per channel,
-// computed here in double from the inputs.
+// Term (divided: also the normaliser 2 min(v_p, v_q)): with the albedo's divisions, cp and cq
+// carry a rounding each, which moves d^2 by at most 2u (|cp| + |cq|)^2; the variances'
+// divisions, the sums, the square and the division add about 6 roundings more: 12u of ((|cp| +
+// |cq|)^2 + alpha s) / den per channel, computed here in double from the inputs.
 class NforTermKernel : public GpuTestWithParam<KernelCase> {};
 
 TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
@@ -248,15 +248,16 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
     const int radius = 3;
     const float alpha = 1;
     for (bool divided : {false, true}) {
-        Image expected =
-            ref::NforTerms(color, variance, divided ? &albedo : nullptr, radius, alpha);
+        Image expected = ref::NforTerms(color, variance, divided ? &albedo : nullptr, radius,
+                                        alpha, divided);
         auto run = [&] {
             vk::GpuImage c = Upload(Ctx(), color, "color"),
                          v = Upload(Ctx(), variance, "variance");
             vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
             vk::GpuImage out(Ctx(), w, h, NforOffsetCount(radius), "terms");
             vk::Recorder recorder(Ctx());
-            RecordNforTerm(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, alpha, out);
+            RecordNforTerm(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, alpha,
+                           divided, out);
             recorder.Submit();
             return out.Download();
         };
@@ -277,8 +278,9 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
                         };
                         double sp = scale(x, y), sq = scale(qx, qy);
                         double cp = color.At(c, y, x) / sp, cq = color.At(c, qy, qx) / sq;
-                        double s = variance.At(c, y, x) / (sp * sp) +
-                                   variance.At(c, qy, qx) / (sq * sq);
+                        double vp = variance.At(c, y, x) / (sp * sp),
+                               vq = variance.At(c, qy, qx) / (sq * sq);
+                        double s = divided ? 2 * std::min(vp, vq) : vp + vq;
                         double den = s + NFOR_REL_EPS * (cp * cp + cq * cq) + NFOR_TINY;
                         sum +=
                             ((std::fabs(cp) + std::fabs(cq)) * (std::fabs(cp) + std::fabs(cq)) +
@@ -346,8 +348,9 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
     const int radius = 3, patch = 2;
     const float alpha = 1;
     for (bool divided : {false, true}) {
+        // Divided: also the normaliser 2 min(v_p, v_q).
         Image expected = ref::NforDistance(color, variance, divided ? &albedo : nullptr, radius,
-                                           patch, alpha);
+                                           patch, alpha, divided);
         auto run = [&] {
             vk::GpuImage c = Upload(Ctx(), color, "color"),
                          v = Upload(Ctx(), variance, "variance");
@@ -357,7 +360,7 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
                 out(Ctx(), w, h, offsets, "D");
             vk::Recorder recorder(Ctx());
             RecordNforDistance(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, patch,
-                               alpha, scratch, out);
+                               alpha, divided, scratch, out);
             recorder.Submit();
             return out.Download();
         };
@@ -387,8 +390,8 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
                                 continue;
                             for (int c = 0; c < 3; ++c) {
                                 double cp = z.At(c, uy, ux), cq = z.At(c, uy + oy, ux + ox);
-                                double s =
-                                    double(vz.At(c, uy, ux)) + vz.At(c, uy + oy, ux + ox);
+                                double vp = vz.At(c, uy, ux), vq = vz.At(c, uy + oy, ux + ox);
+                                double s = divided ? 2 * std::min(vp, vq) : vp + vq;
                                 double den = s + NFOR_REL_EPS * (cp * cp + cq * cq) + NFOR_TINY;
                                 sum += std::min(((cp - cq) * (cp - cq) + alpha * s) / den,
                                                 NFOR_TERM_MAX) /
@@ -431,7 +434,7 @@ FitInputs MakeFitInputs(int w, int h, InputKind kind, const std::string &name, i
     Image variance = ref::NforNoise(f.input, &albedo, 2, 1.479);
     f.mask = ref::NforMask(&albedo, w, h, 1.5);
     f.color = ref::NforClamp(f.input, variance, &albedo, 4, 0.5);
-    f.distance = ref::NforDistance(f.color, variance, &albedo, radius, 2, 1);
+    f.distance = ref::NforDistance(f.color, variance, &albedo, radius, 2, 1, true);
     f.candidate = {0.7, &f.weights, 0.1, radius, radius};
     return f;
 }
