@@ -33,12 +33,14 @@ bool Finite(float v) {
     return std::isfinite(v);
 }
 
-// Count what the log domain cannot take as is, with the first place of each.
-void CountSpecials(const Image &color, const std::vector<float> &floors, StagedRun &run) {
+// Count what the log domain cannot take as is, with the first place of each. Black and
+// nearly black values are ordinary in a render: one line says what became of them.
+void CountSpecials(const Image &color, const std::vector<float> &floors, bool restoreZeros,
+                   StagedRun &run) {
     struct Count {
         size_t n = 0;
         int x = 0, y = 0, c = 0;
-    } nonFinite, negative, zero, floored;
+    } nonFinite, negative, zero, dark;
     auto add = [](Count &count, int c, int y, int x) {
         if (count.n++ == 0) count.x = x, count.y = y, count.c = c;
     };
@@ -50,12 +52,10 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, StagedR
                     add(nonFinite, c, y, x);
                 else if (v < 0)
                     add(negative, c, y, x);
-                else if (v == 0)
-                    add(zero, c, y, x);
                 else if (v <= floors[c])
-                    add(floored, c, y, x);
+                    add(dark, c, y, x), zero.n += v == 0;
             }
-    auto say = [&](const Count &count, const char *what, const char *then) {
+    auto say = [&](const Count &count, const char *what, const std::string &then) {
         if (count.n)
             run.Warn(fmt::format(
                 "bayes: {} {} value{} (first at pixel ({}, {}), channel {}): {}", count.n, what,
@@ -63,8 +63,16 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, StagedR
     };
     say(nonFinite, "NaN/Inf", "taken as the log floor, output 0");
     say(negative, "negative", "taken as the log floor, output 0");
-    say(zero, "zero", "taken as the log floor, output restored to exactly 0");
-    say(floored, "tiny positive", "raised to the log floor (floorRel x the channel's median)");
+    std::string black = zero.n == 0 ? ""
+                        : restoreZeros
+                            ? fmt::format("; the {} black one{} stay{} black", zero.n,
+                                          zero.n == 1 ? "" : "s", zero.n == 1 ? "s" : "")
+                            : fmt::format(", the {} black one{} too (--zeros denoise)", zero.n,
+                                          zero.n == 1 ? "" : "s");
+    say(dark, "black or nearly black",
+        "below the log domain's floor (--log-floor x the channel's median), denoised from "
+        "it" +
+            black);
 }
 
 // Median of |x| of the pooled finest-level HH bands.
@@ -641,7 +649,7 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
     result.levels = levels;
     std::vector<float> floors = BayesFloors(color, options.floorRel);
-    CountSpecials(color, floors, run);
+    CountSpecials(color, floors, options.restoreZeros, run);
     run.Plan(fmt::format(
         "log domain (eqs. 4-5), per channel; floor {} x the channel's median positive value; "
         "{}",
@@ -736,6 +744,9 @@ BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const I
                                 direct.width, direct.height, direct.channels, indirect.width,
                                 indirect.height, indirect.channels));
     BayesResult result = BayesDenoise(context, indirect, params, setup, variance);
+    // Its warnings are about the indirect layer, which the user may not know is what ran.
+    for (std::string &warning : result.warnings)
+        if (warning.rfind("bayes: ", 0) == 0) warning.insert(5, " (indirect layer)");
     size_t nonFinite = 0;
     for (size_t i = 0; i < direct.Size(); ++i) {
         float d = direct.data[i];
