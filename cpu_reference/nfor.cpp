@@ -84,7 +84,7 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 }
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                double threshold, double relative) {
+                const Image &mask, double threshold, double relative) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int c = 0; c < color.channels; ++c)
@@ -93,14 +93,17 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 double a = Divisor(divisor, c, x, y);
                 // The z of the neighbours divided alike; without any, their colours.
                 std::vector<double> alike, all;
+                bool emitterNear = false;
                 for (int v = y - 1; v <= y + 1; ++v)
                     for (int u = x - 1; u <= x + 1; ++u) {
                         if ((u == x && v == y) || !Inside(color, u, v)) continue;
+                        emitterNear |= mask.At(0, v, u) == 0;
                         double aq = Divisor(divisor, c, u, v);
                         all.push_back(color.At(c, v, u));
                         if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
                     }
-                if (all.empty()) continue;
+                // Unlike all around it next to a light: the light's edge, kept.
+                if (all.empty() || (alike.empty() && emitterNear)) continue;
                 double s = !alike.empty() && a > 0 ? a : 1;
                 double median = LowerMedian(alike.empty() ? all : alike);
                 double limit = median +
@@ -467,7 +470,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
     Image clamped =
-        NforClamp(color, variance, in.albedo, p.fireflyThreshold, p.fireflyRelative);
+        NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative);
     keep("color", clamped);
     Image features = *in.features;
     if (p.prefilterRadius > 0) {

@@ -22,7 +22,8 @@
 //   the pixel's 8 neighbours divided alike + t sqrt(v) / divisor + rho |median| is clamped
 //   to it (rho keeps the smooth peaks of noise-free regions, where v = 0). A pixel with no
 //   neighbour divided alike (its albedo unlike all around it: a sample that hit a small
-//   bright object, or a sub-pixel light) compares its colour with the neighbours' colours.
+//   bright object, or a sub-pixel light) compares its colour with the neighbours' colours,
+//   unless a neighbour is an emitter: then it is a light's edge, partly covered, and kept.
 // - Emitters: max albedo channel > emitterAlbedo (a reflectance is at most about 1;
 //   renderers write a light's emission as its albedo); they are left out of every window
 //   and keep their colour as clamped (the issue asks for the input: a lone light pixel hit
@@ -71,7 +72,7 @@ struct NforParams {
     int patchRadius = 3;   // colour patch half-size
     std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
     double alpha = 1;                // variance cancellation in the colour distance
-    bool minVariance = true;         // the distance normalised by 2 min(v_p, v_q)
+    bool minVariance = false;        // the distance normalised by 2 min(v_p, v_q)
     bool demodulateDistance = true;  // the distance of colour / albedo
     double ridge = 0.1;              // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
@@ -103,7 +104,7 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 
 // The colour with fireflies clamped.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                double threshold, double relative);
+                const Image &mask, double threshold, double relative);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,

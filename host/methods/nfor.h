@@ -27,7 +27,7 @@ struct NforOptions {
     float alpha = 1;  // variance cancellation of the colour distance
     // Normalise the colour distance by 2 min(v_p, v_q) (a dark pixel does not borrow from
     // a brighter, noisier one) instead of v_p + v_q (Rousselle et al.'s symmetric form).
-    bool minVariance = true;
+    bool minVariance = false;
     // Compare the colour itself in the colour distance; by default colour / albedo where
     // the frame has an albedo (the illumination: texture and edge coverage divide out).
     bool noDemodulatedDistance = false;

@@ -49,9 +49,11 @@ void main() {
     float a = divisorAt(x, y);
     float z[8], raw[8];
     int n = 0, m = 0;
+    bool emitterNear = false;
     for (int v = y - 1; v <= y + 1; ++v)
         for (int u = x - 1; u <= x + 1; ++u) {
             if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h) continue;
+            emitterNear = emitterNear || emitterAt(u, v);
             float cq = color[(c * h + v) * w + u], aq = divisorAt(u, v);
             int i = m++;
             while (i > 0 && raw[i - 1] > cq) {
@@ -68,7 +70,8 @@ void main() {
             }
             z[i] = zq;
         }
-    if (m == 0) return;
+    // Unlike all around it next to a light: the light's edge, kept.
+    if (m == 0 || (n == 0 && emitterNear)) return;
     float s = n > 0 && a > 0.0 ? a : 1.0;
     float median = n > 0 ? z[(n - 1) / 2] : raw[(m - 1) / 2];
     float limit = median + push.threshold * sqrt(variance[at]) / s + push.relative * abs(median);

@@ -6,10 +6,10 @@
 // threshold sqrt(v) / divisor + relative |median| is clamped to that limit; a pixel with
 // no neighbour divided alike (an albedo unlike all around it: a sample that hit a small
 // bright object or a sub-pixel light) compares its colour with its neighbours' colours
-// the same way. Threshold 0: nothing clamped; no neighbour (1x1): kept. The relative term
-// keeps the smooth peaks of noise-free regions (v = 0): only values well above their
-// neighbours are fireflies. One invocation per pixel and channel; channel 0's writes the
-// mask.
+// the same way, unless a neighbour is an emitter (a light's edge, partly covered: kept).
+// Threshold 0: nothing clamped; no neighbour (1x1): kept. The relative term keeps the
+// smooth peaks of noise-free regions (v = 0): only values well above their neighbours are
+// fireflies. One invocation per pixel and channel; channel 0's writes the mask.
 #ifndef MCD_SHADERS_NFOR_CLAMP_H
 #define MCD_SHADERS_NFOR_CLAMP_H
 
