@@ -31,14 +31,15 @@ std::vector<float> ParseBandwidths(const std::string &text) {
             used = 0;
         }
         if (used == 0 || used != item.size() || !(v > 0) || !std::isfinite(v))
-            throw Error(
-                fmt::format("nfor: --bandwidths takes numbers > 0 separated by commas, "
-                            "not '{}'",
-                            text));
+            throw Error(fmt::format("nfor: --bandwidths takes numbers > 0 separated by commas, "
+                                    "not '{}'",
+                                    text),
+                        ErrorKind::InvalidArgument);
         values.push_back(v);
     }
     if (values.empty() || values.size() > 4)
-        throw Error(fmt::format("nfor: --bandwidths takes 1 to 4 values, not '{}'", text));
+        throw Error(fmt::format("nfor: --bandwidths takes 1 to 4 values, not '{}'", text),
+                    ErrorKind::InvalidArgument);
     return values;
 }
 

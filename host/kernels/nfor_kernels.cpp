@@ -29,13 +29,15 @@ void CheckSize(const char *what, const vk::GpuImage &a, const vk::GpuImage &b, i
     if (b.width != a.width || b.height != a.height || (channels > 0 && b.channels != channels))
         throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{}", what, b.buffer.Name(),
                                 b.width, b.height, b.channels, a.width, a.height,
-                                channels > 0 ? channels : b.channels));
+                                channels > 0 ? channels : b.channels),
+                    ErrorKind::InvalidArgument);
 }
 
 void CheckColor(const char *what, const vk::GpuImage &color) {
     if (color.channels < 1 || color.channels > NFOR_MAX_CHANNELS)
         throw Error(fmt::format("{}: {} channels; 1 to {} are supported", what, color.channels,
-                                NFOR_MAX_CHANNELS));
+                                NFOR_MAX_CHANNELS),
+                    ErrorKind::InvalidArgument);
 }
 
 uint32_t Groups(int width) {
@@ -56,11 +58,13 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
     if (divisor) {
         CheckSize("nfor noise", image, *divisor, 0);
         if (divisor->channels != 1 && divisor->channels < image.channels)
-            throw Error("nfor noise: the divisor needs 1 channel or as many as the image");
+            throw Error("nfor noise: the divisor needs 1 channel or as many as the image",
+                        ErrorKind::InvalidArgument);
     }
     if (radius < 1 || radius > NFOR_NOISE_MAX_RADIUS)
         throw Error(
-            fmt::format("nfor noise: radius {}; 1..{} allowed", radius, NFOR_NOISE_MAX_RADIUS));
+            fmt::format("nfor noise: radius {}; 1..{} allowed", radius, NFOR_NOISE_MAX_RADIUS),
+            ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"nfor_noise",
                                                   k_nfor_noise_spv,
                                                   sizeof(k_nfor_noise_spv),
@@ -90,7 +94,8 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
     if (albedo) {
         CheckSize("nfor clamp", color, *albedo, 0);
         if (albedo->channels != 1 && albedo->channels < color.channels)
-            throw Error("nfor clamp: the albedo needs 1 channel or as many as the colour");
+            throw Error("nfor clamp: the albedo needs 1 channel or as many as the colour",
+                        ErrorKind::InvalidArgument);
     }
     const vk::Kernel &kernel = context.GetKernel({"nfor_clamp",
                                                   k_nfor_clamp_spv,
@@ -119,10 +124,11 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
     CheckSize("nfor prefilter", features, out, features.channels);
     if (radius < 1 || radius > NFOR_PREFILTER_MAX_RADIUS || patch < 0 ||
         patch > NFOR_PREFILTER_MAX_PATCH || !(bandwidth > 0))
-        throw Error(fmt::format(
-            "nfor prefilter: radius {} (1..{}), patch {} (0..{}), "
-            "bandwidth {} (> 0)",
-            radius, NFOR_PREFILTER_MAX_RADIUS, patch, NFOR_PREFILTER_MAX_PATCH, bandwidth));
+        throw Error(fmt::format("nfor prefilter: radius {} (1..{}), patch {} (0..{}), "
+                                "bandwidth {} (> 0)",
+                                radius, NFOR_PREFILTER_MAX_RADIUS, patch,
+                                NFOR_PREFILTER_MAX_PATCH, bandwidth),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"nfor_prefilter",
                                                   k_nfor_prefilter_spv,
                                                   sizeof(k_nfor_prefilter_spv),
@@ -167,7 +173,8 @@ const vk::Kernel &BoxKernel(vk::Context &context) {
 void CheckOffsets(const char *what, int radius, int patch) {
     if (radius < 1 || radius > NFOR_MAX_RADIUS || patch < 0 || patch > NFOR_MAX_PATCH)
         throw Error(fmt::format("{}: radius {} (1..{}), patch {} (0..{})", what, radius,
-                                NFOR_MAX_RADIUS, patch, NFOR_MAX_PATCH));
+                                NFOR_MAX_RADIUS, patch, NFOR_MAX_PATCH),
+                    ErrorKind::InvalidArgument);
 }
 
 }  // namespace
@@ -181,7 +188,8 @@ void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
     if (albedo) {
         CheckSize("nfor term", color, *albedo, 0);
         if (albedo->channels != 1 && albedo->channels < color.channels)
-            throw Error("nfor term: the albedo needs 1 channel or as many as the colour");
+            throw Error("nfor term: the albedo needs 1 channel or as many as the colour",
+                        ErrorKind::InvalidArgument);
     }
     CheckOffsets("nfor term", radius, 0);
     shader::NforDistancePush push{
@@ -231,19 +239,23 @@ void CheckFit(const char *what, const vk::GpuImage &color, const vk::GpuImage &f
     CheckSize(what, color, mask, 1);
     if (features.channels > NFOR_MAX_FEATURES ||
         size_t(features.channels) != settings.featureWeights.size())
-        throw Error(fmt::format("{}: {} feature planes and {} weights; at most {}", what,
-                                features.channels, settings.featureWeights.size(),
-                                NFOR_MAX_FEATURES));
+        throw Error(
+            fmt::format("{}: {} feature planes and {} weights; at most {}", what,
+                        features.channels, settings.featureWeights.size(), NFOR_MAX_FEATURES),
+            ErrorKind::InvalidArgument);
     if (settings.radius < 1 || settings.radius > NFOR_MAX_RADIUS)
-        throw Error(fmt::format("{}: radius {}; 1..{} allowed", what, settings.radius,
-                                NFOR_MAX_RADIUS));
+        throw Error(
+            fmt::format("{}: radius {}; 1..{} allowed", what, settings.radius, NFOR_MAX_RADIUS),
+            ErrorKind::InvalidArgument);
     CheckSize(what, color, distance, NforOffsetCount(settings.radius));
     if (settings.gatherRadius < 0 || settings.gatherRadius > settings.radius)
         throw Error(fmt::format("{}: gather radius {}; 0..{} allowed", what,
-                                settings.gatherRadius, settings.radius));
+                                settings.gatherRadius, settings.radius),
+                    ErrorKind::InvalidArgument);
     if (!(settings.bandwidth > 0) || !(settings.ridge >= 0))
         throw Error(fmt::format("{}: bandwidth {} must be > 0 and ridge {} >= 0", what,
-                                settings.bandwidth, settings.ridge));
+                                settings.bandwidth, settings.ridge),
+                    ErrorKind::InvalidArgument);
 }
 
 shader::NforFitPush FitPush(const vk::GpuImage &color, const NforFitSettings &settings,
@@ -279,7 +291,8 @@ void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::G
     CheckSize("nfor regress", color, beta, (features.channels + 3) * color.channels);
     CheckSize("nfor regress", color, hat, 0);
     if (hatPlane < 0 || hatPlane >= hat.channels)
-        throw Error(fmt::format("nfor regress: plane {} of {}", hatPlane, hat.channels));
+        throw Error(fmt::format("nfor regress: plane {} of {}", hatPlane, hat.channels),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_regress", k_nfor_regress_spv, sizeof(k_nfor_regress_spv),
                   color.channels, features.channels);
@@ -302,7 +315,8 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
     CheckSize("nfor gather", input, beta, (features.channels + 3) * input.channels);
     CheckSize("nfor gather", input, out, 0);
     if (outPlane < 0 || outPlane + input.channels > out.channels)
-        throw Error(fmt::format("nfor gather: planes {}.. of {}", outPlane, out.channels));
+        throw Error(fmt::format("nfor gather: planes {}.. of {}", outPlane, out.channels),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_gather", k_nfor_gather_spv, sizeof(k_nfor_gather_spv),
                   input.channels, features.channels);
@@ -327,7 +341,8 @@ void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::Gp
     CheckSize("nfor select", color, choice, 1);
     if (count < 1 || count > NFOR_MAX_CANDIDATES || radius < 0 || radius > NFOR_SURE_MAX_RADIUS)
         throw Error(fmt::format("nfor select: {} candidates (1..{}), radius {} (0..{})", count,
-                                NFOR_MAX_CANDIDATES, radius, NFOR_SURE_MAX_RADIUS));
+                                NFOR_MAX_CANDIDATES, radius, NFOR_SURE_MAX_RADIUS),
+                    ErrorKind::InvalidArgument);
     CheckSize("nfor select", color, candidates, count * color.channels);
     CheckSize("nfor select", color, hat, count);
     const vk::Kernel &kernel = context.GetKernel({"nfor_select",

@@ -84,7 +84,8 @@ void CheckLayer(const Image &image, const char *what, int width, int height, int
         (channels > 0 && image.channels != channels))
         throw Error(fmt::format("nfor: {} is {}x{}x{}, expected {}x{}x{}", what, image.width,
                                 image.height, image.channels, width, height,
-                                channels > 0 ? channels : image.channels));
+                                channels > 0 ? channels : image.channels),
+                    ErrorKind::InvalidArgument);
     CheckFinite("nfor", image, what, nonNegative);
 }
 
@@ -93,13 +94,16 @@ void CheckOptions(const NforOptions &o) {
     if (o.radius < 1 || o.radius > NFOR_MAX_RADIUS || o.patchRadius < 0 ||
         o.patchRadius > NFOR_MAX_PATCH)
         throw Error(fmt::format("nfor: radius {} (1..{}), patch radius {} (0..{})", o.radius,
-                                NFOR_MAX_RADIUS, o.patchRadius, NFOR_MAX_PATCH));
+                                NFOR_MAX_RADIUS, o.patchRadius, NFOR_MAX_PATCH),
+                    ErrorKind::InvalidArgument);
     if (o.bandwidths.empty() || o.bandwidths.size() > NFOR_MAX_CANDIDATES)
         throw Error(fmt::format("nfor: {} bandwidths; 1 to {} allowed", o.bandwidths.size(),
-                                NFOR_MAX_CANDIDATES));
+                                NFOR_MAX_CANDIDATES),
+                    ErrorKind::InvalidArgument);
     for (float k : o.bandwidths)
         if (!(finite(k) && k > 0))
-            throw Error(fmt::format("nfor: bandwidth {} must be > 0", k));
+            throw Error(fmt::format("nfor: bandwidth {} must be > 0", k),
+                        ErrorKind::InvalidArgument);
     if (!(finite(o.ridge) && o.ridge > 0) || !(finite(o.alpha) && o.alpha >= 0) ||
         !(finite(o.featureBandwidth) && o.featureBandwidth >= 0) ||
         !(finite(o.fireflyThreshold) && o.fireflyThreshold >= 0) ||
@@ -109,26 +113,30 @@ void CheckOptions(const NforOptions &o) {
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth and firefly threshold finite and >= "
-            "0");
+            "0",
+            ErrorKind::InvalidArgument);
     if (o.noiseRadius < 1 || o.noiseRadius > NFOR_NOISE_MAX_RADIUS || o.prefilterRadius < 0 ||
         o.prefilterRadius > NFOR_PREFILTER_MAX_RADIUS || o.prefilterPatch < 0 ||
         o.prefilterPatch > NFOR_PREFILTER_MAX_PATCH || o.sureRadius < 0 ||
         o.sureRadius > NFOR_SURE_MAX_RADIUS)
-        throw Error(fmt::format(
-            "nfor: noise radius {} (1..{}), prefilter radius {} (0..{}) and patch {} (0..{}), "
-            "SURE radius {} (0..{})",
-            o.noiseRadius, NFOR_NOISE_MAX_RADIUS, o.prefilterRadius, NFOR_PREFILTER_MAX_RADIUS,
-            o.prefilterPatch, NFOR_PREFILTER_MAX_PATCH, o.sureRadius, NFOR_SURE_MAX_RADIUS));
+        throw Error(fmt::format("nfor: noise radius {} (1..{}), prefilter radius {} (0..{}) "
+                                "and patch {} (0..{}), "
+                                "SURE radius {} (0..{})",
+                                o.noiseRadius, NFOR_NOISE_MAX_RADIUS, o.prefilterRadius,
+                                NFOR_PREFILTER_MAX_RADIUS, o.prefilterPatch,
+                                NFOR_PREFILTER_MAX_PATCH, o.sureRadius, NFOR_SURE_MAX_RADIUS),
+                    ErrorKind::InvalidArgument);
 }
 
 void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
-    if (!in.color) throw Error("nfor: needs the color layer");
+    if (!in.color) throw Error("nfor: needs the color layer", ErrorKind::MissingLayer);
     const Image &color = *in.color;
     int w = color.width, h = color.height, ch = color.channels;
-    if (w < 1 || h < 1) throw Error("nfor: the image is empty");
+    if (w < 1 || h < 1) throw Error("nfor: the image is empty", ErrorKind::InvalidArgument);
     if (ch < 1 || ch > NFOR_MAX_CHANNELS)
         throw Error(fmt::format("nfor: color has {} channels; 1 to {} are supported", ch,
-                                NFOR_MAX_CHANNELS));
+                                NFOR_MAX_CHANNELS),
+                    ErrorKind::InvalidArgument);
     CheckLayer(color, "color", w, h, ch, false);
     if (in.variance) CheckLayer(*in.variance, "variance", w, h, ch, true);
     if (in.albedo) CheckLayer(*in.albedo, "albedo", w, h, 3, false);
@@ -139,10 +147,12 @@ void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &
     // The distance buffers hold one plane per stored offset in one binding each.
     double bytes = double(NforOffsetCount(o.radius)) * w * h * sizeof(float);
     if (bytes > double(context.BindingBytes()))
-        throw Error(fmt::format(
-            "nfor: a {}x{} frame needs {:.0f} MB for the patch distances of radius {}, above "
-            "this device's {:.0f} MB per binding; crop or tile the frame",
-            w, h, bytes / 1e6, o.radius, double(context.BindingBytes()) / 1e6));
+        throw Error(
+            fmt::format("nfor: a {}x{} frame needs {:.0f} MB for the patch distances of radius "
+                        "{}, above "
+                        "this device's {:.0f} MB per binding; crop or tile the frame",
+                        w, h, bytes / 1e6, o.radius, double(context.BindingBytes()) / 1e6),
+            ErrorKind::OutOfMemory);
 }
 
 // The GPU images of a run.
