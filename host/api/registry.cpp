@@ -7,6 +7,7 @@ namespace mcd::api {
 // The front ends, one per method (method_<name>.cpp).
 std::unique_ptr<FrontEnd> AwrFrontEnd();
 std::unique_ptr<FrontEnd> BayesFrontEnd();
+std::unique_ptr<FrontEnd> NforFrontEnd();
 std::unique_ptr<FrontEnd> PivotFrontEnd();
 std::unique_ptr<FrontEnd> RhfFrontEnd();
 
@@ -33,6 +34,10 @@ std::vector<MethodEntry> Build() {
          2,
          {{"bayes", {}, 3, {1.f, 0.8f, 0.05f}, "yellow"},
           {"bayes no split", {{"no-split", true}}, 8, {0.5f, 0.25f, 0.1f}, "brown"}}},
+        // nfor last: the slowest on lavapipe, and the one candidate that regresses on every
+        // feature at once (the strongest on the plain frames whose pivots, histograms and
+        // variance are missing).
+        {"nfor", NforFrontEnd, -1, {{"nfor", {}, 9, {1.f, 1.f, 1.f}, "white"}}},
         {"pivot",
          PivotFrontEnd,
          3,

@@ -791,8 +791,10 @@ TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     EXPECT_EQ(result.method, "auto");
     int ran = 0;
     for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
-    // Eight, and bayes both split (scored with the direct and indirect variances) and not.
-    EXPECT_EQ(ran, 9) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    // Every variant of the registry (bayes both split, scored with the direct and indirect
+    // variances, and not).
+    EXPECT_EQ(ran, int(api::AutoVariants().size()))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
     double best = BestSingleMethod(device, frame, reference);
     EXPECT_LE(CompareImages(result.image, reference).relMse, 1.05 * best);
     // A budget of 0 runs the first candidate only, and says what it left out.
@@ -960,16 +962,17 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     EXPECT_TRUE(PlanHas(result, "no error estimate"))
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant"));
-    // awr (from min, max and spp), bayes and pivot: their plain mean, to the float sums'
-    // rounding.
+    // awr (from min, max and spp), bayes, nfor and pivot: their plain mean, to the float
+    // sums' rounding.
     std::vector<Image> outputs;
-    for (const char *name : {"awr", "bayes", "pivot", "rhf"})
+    for (const char *name : {"awr", "bayes", "nfor", "pivot", "rhf"})
         if (Method(name).Missing(frame).empty())
             outputs.push_back(Method(name).Run(device, frame).image);
-    ASSERT_EQ(outputs.size(), 3u);
+    ASSERT_EQ(outputs.size(), 4u);
     for (size_t i = 0; i < result.image.data.size(); ++i) {
         double mean = 0, scale = 0;
-        for (const Image &o : outputs) mean += o.data[i] / 3.0, scale += std::fabs(o.data[i]);
+        for (const Image &o : outputs)
+            mean += o.data[i] / double(outputs.size()), scale += std::fabs(o.data[i]);
         ASSERT_NEAR(result.image.data[i], mean, 1e-6 * (1 + scale)) << i;
     }
 }
@@ -1010,9 +1013,9 @@ double ShareOf(const Result &result, const std::string &label) {
 // A frame whose object id alternates pixel by pixel (as where many small objects meet):
 // pivot keeps the input of every pixel next to another id, here all of them. auto's
 // variants without the ids (pivot no ids, pivot k0 no ids) filter them; they take most of
-// the weight (62% here, pivot and pivot k0 12%) and auto comes within 5% of the best single
-// method. (On the Cycles cornell box, whose walls are objects of their own, the pixels that
-// pivot kept at id edges carried 83% of its error.)
+// the weight (48% here beside nfor's 8%, pivot and pivot k0 15%) and auto comes within 5% of
+// the best single method. (On the Cycles cornell box, whose walls are objects of their own, the
+// pixels that pivot kept at id edges carried 83% of its error.)
 TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
     auto [frame, reference] =
         RenderWithReference("cornell", 48, 40, 8, render::kLayersGbuffer, 1024);
@@ -1033,7 +1036,7 @@ TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
     double with = ShareOf(result, "pivot") + ShareOf(result, "pivot k0");
     EXPECT_GT(ShareOf(result, "pivot no ids"), 0)
         << fmt::format("{}", fmt::join(result.plan, "\n"));
-    EXPECT_GT(without, 50) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_GT(without, 40) << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_LT(with, 0.5 * without);
     EXPECT_LE(automatic, 1.05 * std::min({withIds, withoutIds, bayes}));
 }

@@ -1,0 +1,508 @@
+#include "cpu_reference/nfor.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace mcd::ref {
+namespace {
+
+bool Inside(const Image &image, int x, int y) {
+    return x >= 0 && y >= 0 && x < image.width && y < image.height;
+}
+
+// The divisor of channel c at (x, y): the albedo's channel (its last one for fewer) where
+// above the floor, else 0: the pixel is not divided.
+double Divisor(const Image *divisor, int c, int x, int y) {
+    if (!divisor) return 0;
+    double a = divisor->At(std::min(c, divisor->channels - 1), y, x);
+    return a > kNforNoiseAlbedoFloor ? a : 0;
+}
+
+// Whether two divisors divide alike: neither divides, or both within the ratio.
+bool Alike(double a, double b) {
+    if (a == 0 || b == 0) return a == b;
+    return a <= b * kNforNoiseDivisorRatio && b <= a * kNforNoiseDivisorRatio;
+}
+
+// z = value / divisor (the value where not divided).
+double Demodulated(double value, double divisor) {
+    return divisor > 0 ? value / divisor : value;
+}
+
+// The lower median (element (n - 1) / 2 of the sorted values).
+double LowerMedian(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values[(values.size() - 1) / 2];
+}
+
+}  // namespace
+
+Image NforNoise(const Image &image, const Image *divisor, int radius, double calibration) {
+    const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    Image out(image.width, image.height, image.channels);
+    for (int c = 0; c < image.channels; ++c)
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                double a = Divisor(divisor, c, x, y), best = -1;
+                for (const auto &d : dirs) {
+                    std::vector<double> halves;
+                    for (int v = y - radius; v <= y + radius; ++v)
+                        for (int u = x - radius; u <= x + radius; ++u) {
+                            int u1 = u + d[0], v1 = v + d[1];
+                            if (!Inside(image, u, v) || !Inside(image, u1, v1)) continue;
+                            double a0 = Divisor(divisor, c, u, v);
+                            double a1 = Divisor(divisor, c, u1, v1);
+                            if (!Alike(a, a0) || !Alike(a, a1)) continue;
+                            double diff = Demodulated(image.At(c, v, u), a0) -
+                                          Demodulated(image.At(c, v1, u1), a1);
+                            halves.push_back(0.5 * diff * diff);
+                        }
+                    if (halves.empty()) continue;
+                    double estimate = LowerMedian(halves) / kNforChi2Median;
+                    if (best < 0 || estimate < best) best = estimate;
+                }
+                double scale = a > 0 ? a * a : 1;
+                out.At(c, y, x) = best < 0 ? 0.f : float(best * calibration * scale);
+            }
+    return out;
+}
+
+Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo) {
+    Image mask(width, height, 1, 1.f);
+    if (!albedo) return mask;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            double most = 0;
+            for (int c = 0; c < albedo->channels; ++c)
+                most = std::max(most, double(albedo->At(c, y, x)));
+            if (most > emitterAlbedo) mask.At(0, y, x) = 0;
+        }
+    return mask;
+}
+
+Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
+                const Image &mask, double threshold, double relative) {
+    Image out = color;
+    if (threshold <= 0) return out;
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double a = Divisor(divisor, c, x, y);
+                // The z of the neighbours divided alike; without any, their colours.
+                std::vector<double> alike, all;
+                bool emitterNear = false;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u) {
+                        if ((u == x && v == y) || !Inside(color, u, v)) continue;
+                        emitterNear |= mask.At(0, v, u) == 0;
+                        double aq = Divisor(divisor, c, u, v);
+                        all.push_back(color.At(c, v, u));
+                        if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
+                    }
+                // Unlike all around it next to a light: the light's edge, kept.
+                if (all.empty() || (alike.empty() && emitterNear)) continue;
+                double s = !alike.empty() && a > 0 ? a : 1;
+                double median = LowerMedian(alike.empty() ? all : alike);
+                double limit = median +
+                               threshold * std::sqrt(double(variance.At(c, y, x))) / s +
+                               relative * std::fabs(median);
+                if (color.At(c, y, x) / s > limit) out.At(c, y, x) = float(limit * s);
+            }
+    return out;
+}
+
+Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,
+                    double bandwidth) {
+    Image out = features;
+    if (radius <= 0) return out;
+    for (int j = 0; j < features.channels; ++j)
+        for (int y = 0; y < features.height; ++y)
+            for (int x = 0; x < features.width; ++x) {
+                double sum = 0, weights = 0;
+                for (int v = y - radius; v <= y + radius; ++v)
+                    for (int u = x - radius; u <= x + radius; ++u) {
+                        if (!Inside(features, u, v)) continue;
+                        // NL-means distance of the patches around (x, y) and (u, v).
+                        double distance = 0;
+                        int count = 0;
+                        for (int ty = -patch; ty <= patch; ++ty)
+                            for (int tx = -patch; tx <= patch; ++tx) {
+                                int px = x + tx, py = y + ty, qx = u + tx, qy = v + ty;
+                                if (!Inside(features, px, py) || !Inside(features, qx, qy))
+                                    continue;
+                                double fp = features.At(j, py, px), fq = features.At(j, qy, qx);
+                                double vp = variance.At(j, py, px), vq = variance.At(j, qy, qx);
+                                double term =
+                                    ((fp - fq) * (fp - fq) - (vp + vq)) /
+                                    (vp + vq + kNforRelEps * (fp * fp + fq * fq) + kNforTiny);
+                                distance += std::min(term, kNforTermMax);
+                                ++count;
+                            }
+                        double e = std::max(0.0, distance / count) / (bandwidth * bandwidth);
+                        double w = u == x && v == y ? 1 : (e > kNforExpCut ? 0 : std::exp(-e));
+                        sum += w * features.At(j, v, u);
+                        weights += w;
+                    }
+                out.At(j, y, x) = float(sum / weights);
+            }
+    return out;
+}
+
+int NforOffsetCount(int radius) {
+    int side = 2 * radius + 1;
+    return (side * side - 1) / 2;
+}
+
+void NforOffset(int radius, int j, int *ox, int *oy) {
+    // Raster order over the window skips the centre and everything before it.
+    int side = 2 * radius + 1;
+    int index = (side * side + 1) / 2 + j;
+    *ox = index % side - radius;
+    *oy = index / side - radius;
+}
+
+Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
+                   int patch, double alpha, bool minVariance) {
+    // The values compared and their variances: the colour, or colour / albedo.
+    Image z = color, vz = variance;
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                double a = Divisor(divisor, c, x, y);
+                if (a == 0) continue;
+                z.At(c, y, x) = float(color.At(c, y, x) / a);
+                vz.At(c, y, x) = float(variance.At(c, y, x) / (a * a));
+            }
+    int w = color.width, h = color.height;
+    Image out(w, h, NforOffsetCount(radius));
+    for (int j = 0; j < out.channels; ++j) {
+        int ox, oy;
+        NforOffset(radius, j, &ox, &oy);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                int count = 0;
+                for (int ty = -patch; ty <= patch; ++ty)
+                    for (int tx = -patch; tx <= patch; ++tx) {
+                        int ux = x + tx, uy = y + ty;
+                        if (!Inside(color, ux, uy) || !Inside(color, ux + ox, uy + oy))
+                            continue;
+                        double term = 0;
+                        for (int c = 0; c < color.channels; ++c) {
+                            double cp = z.At(c, uy, ux), cq = z.At(c, uy + oy, ux + ox);
+                            double vp = vz.At(c, uy, ux), vq = vz.At(c, uy + oy, ux + ox);
+                            double s = minVariance ? 2 * std::min(vp, vq) : vp + vq;
+                            double t = ((cp - cq) * (cp - cq) - alpha * s) /
+                                       (s + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
+                            term += std::min(t, kNforTermMax);
+                        }
+                        sum += term / color.channels;
+                        ++count;
+                    }
+                out.At(j, y, x) = count > 0 ? float(sum / count) : 0.f;
+            }
+    }
+    return out;
+}
+
+Image NforTerms(const Image &color, const Image &variance, const Image *divisor, int radius,
+                double alpha, bool minVariance) {
+    int w = color.width, h = color.height;
+    Image out(w, h, NforOffsetCount(radius));
+    for (int j = 0; j < out.channels; ++j) {
+        int ox, oy;
+        NforOffset(radius, j, &ox, &oy);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (!Inside(color, x + ox, y + oy)) continue;
+                double term = 0;
+                for (int c = 0; c < color.channels; ++c) {
+                    // Colour and variance, divided by the albedo where it is above the floor.
+                    double ap = Divisor(divisor, c, x, y),
+                           aq = Divisor(divisor, c, x + ox, y + oy);
+                    double sp = ap > 0 ? ap : 1, sq = aq > 0 ? aq : 1;
+                    double cp = color.At(c, y, x) / sp, cq = color.At(c, y + oy, x + ox) / sq;
+                    double vp = variance.At(c, y, x) / (sp * sp),
+                           vq = variance.At(c, y + oy, x + ox) / (sq * sq);
+                    double s = minVariance ? 2 * std::min(vp, vq) : vp + vq;
+                    double t = ((cp - cq) * (cp - cq) - alpha * s) /
+                               (s + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
+                    term += std::min(t, kNforTermMax);
+                }
+                out.At(j, y, x) = float(term / color.channels);
+            }
+    }
+    return out;
+}
+
+Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical) {
+    int w = terms.width, h = terms.height;
+    Image out(w, h, terms.channels);
+    for (int j = 0; j < terms.channels; ++j) {
+        int ox, oy;
+        NforOffset(radius, j, &ox, &oy);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                for (int t = -patch; t <= patch; ++t) {
+                    int u = vertical ? x : x + t, v = vertical ? y + t : y;
+                    if (Inside(terms, u, v)) sum += terms.At(j, v, u);
+                }
+                if (!vertical) {
+                    out.At(j, y, x) = float(sum);
+                    continue;
+                }
+                // Patch positions (tx, ty) with both (x, y) + t and (x, y) + t + o inside.
+                int count = 0;
+                for (int ty = -patch; ty <= patch; ++ty)
+                    for (int tx = -patch; tx <= patch; ++tx)
+                        count += Inside(terms, x + tx, y + ty) &&
+                                 Inside(terms, x + tx + ox, y + ty + oy);
+                out.At(j, y, x) = count > 0 ? float(sum / count) : 0.f;
+            }
+    }
+    return out;
+}
+
+namespace {
+
+// D(p, q - p) from the stored half of the offsets.
+double DistanceOf(const Image &distance, int radius, int px, int py, int qx, int qy) {
+    int ox = qx - px, oy = qy - py;
+    if (ox == 0 && oy == 0) return 0;
+    int side = 2 * radius + 1, centre = (side * side - 1) / 2;
+    int index = (oy + radius) * side + ox + radius;
+    if (index > centre) return distance.At(index - centre - 1, py, px);
+    // The mirrored offset is stored at q.
+    int mirrored = (radius - oy) * side + radius - ox;
+    return distance.At(mirrored - centre - 1, qy, qx);
+}
+
+// Weight of q in p's window (0 outside the frame or for an emitter).
+double WeightOf(const Image &features, const Image &mask, const Image &distance,
+                const NforCandidate &k, int px, int py, int qx, int qy) {
+    if (!Inside(mask, qx, qy) || mask.At(0, qy, qx) == 0 || mask.At(0, py, px) == 0) return 0;
+    if (qx == px && qy == py) return 1;
+    double e = std::max(0.0, DistanceOf(distance, k.radius, px, py, qx, qy)) /
+               (k.bandwidth * k.bandwidth);
+    for (size_t j = 0; j < k.featureWeights->size(); ++j) {
+        double d = (*k.featureWeights)[j] *
+                   (double(features.At(int(j), qy, qx)) - features.At(int(j), py, px));
+        e += d * d;
+    }
+    return e > kNforExpCut ? 0 : std::exp(-e);
+}
+
+// The regression's columns for q in p's window.
+void Columns(const Image &features, int radius, int px, int py, int qx, int qy, double *x) {
+    x[0] = 1;
+    x[1] = double(qx - px) / radius;
+    x[2] = double(qy - py) / radius;
+    for (int j = 0; j < features.channels; ++j)
+        x[3 + j] = double(features.At(j, qy, qx)) - features.At(j, py, px);
+}
+
+// Cholesky factor of the n x n row-major matrix in place (lower triangle); false when not
+// positive definite.
+bool Cholesky(std::vector<double> &a, int n) {
+    for (int j = 0; j < n; ++j) {
+        double s = a[j * n + j];
+        for (int k = 0; k < j; ++k) s -= a[j * n + k] * a[j * n + k];
+        if (!(s > 0)) return false;
+        a[j * n + j] = std::sqrt(s);
+        for (int i = j + 1; i < n; ++i) {
+            double t = a[i * n + j];
+            for (int k = 0; k < j; ++k) t -= a[i * n + k] * a[j * n + k];
+            a[i * n + j] = t / a[j * n + j];
+        }
+    }
+    return true;
+}
+
+void CholeskySolve(const std::vector<double> &l, int n, double *b) {
+    for (int i = 0; i < n; ++i) {
+        double t = b[i];
+        for (int k = 0; k < i; ++k) t -= l[i * n + k] * b[k];
+        b[i] = t / l[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+        double t = b[i];
+        for (int k = i + 1; k < n; ++k) t -= l[k * n + i] * b[k];
+        b[i] = t / l[i * n + i];
+    }
+}
+
+}  // namespace
+
+NforFit NforRegress(const Image &color, const Image &features, const Image &mask,
+                    const Image &distance, const NforCandidate &k) {
+    int w = color.width, h = color.height, ch = color.channels, n = features.channels + 3;
+    NforFit fit{Image(w, h, n * ch), Image(w, h, 1)};
+    std::vector<double> a(n * n), b(n * ch), x(n);
+    for (int py = 0; py < h; ++py)
+        for (int px = 0; px < w; ++px) {
+            if (mask.At(0, py, px) == 0) {
+                // An emitter: its own value, no slope; it is never gathered.
+                for (int c = 0; c < ch; ++c) fit.beta.At(c, py, px) = color.At(c, py, px);
+                fit.hat.At(0, py, px) = 1;
+                continue;
+            }
+            std::fill(a.begin(), a.end(), 0.0);
+            std::fill(b.begin(), b.end(), 0.0);
+            double weights = 0;
+            for (int qy = py - k.radius; qy <= py + k.radius; ++qy)
+                for (int qx = px - k.radius; qx <= px + k.radius; ++qx) {
+                    double wq = WeightOf(features, mask, distance, k, px, py, qx, qy);
+                    if (wq == 0) continue;
+                    Columns(features, k.radius, px, py, qx, qy, x.data());
+                    for (int i = 0; i < n; ++i) {
+                        for (int jj = 0; jj < n; ++jj) a[i * n + jj] += wq * x[i] * x[jj];
+                        for (int c = 0; c < ch; ++c)
+                            b[c * n + i] += wq * x[i] * color.At(c, qy, qx);
+                    }
+                    weights += wq;
+                }
+            for (int i = 1; i < n; ++i) a[i * n + i] += k.ridge * weights;
+            if (!Cholesky(a, n)) {
+                // Only without a ridge: the pixel keeps its value.
+                for (int c = 0; c < ch; ++c) fit.beta.At(c, py, px) = color.At(c, py, px);
+                fit.hat.At(0, py, px) = 1;
+                continue;
+            }
+            for (int c = 0; c < ch; ++c) {
+                CholeskySolve(a, n, &b[c * n]);
+                for (int i = 0; i < n; ++i)
+                    fit.beta.At(i * ch + c, py, px) = float(b[c * n + i]);
+            }
+            std::vector<double> e0(n, 0.0);
+            e0[0] = 1;
+            CholeskySolve(a, n, e0.data());
+            fit.hat.At(0, py, px) = float(e0[0]);
+        }
+    return fit;
+}
+
+Image NforGather(const Image &input, const Image &features, const Image &mask,
+                 const Image &distance, const NforFit &fit, const NforCandidate &k) {
+    int w = input.width, h = input.height, ch = input.channels, n = features.channels + 3;
+    Image out(w, h, ch);
+    std::vector<double> x(n), sum(ch);
+    for (int qy = 0; qy < h; ++qy)
+        for (int qx = 0; qx < w; ++qx) {
+            if (mask.At(0, qy, qx) == 0) {
+                for (int c = 0; c < ch; ++c) out.At(c, qy, qx) = input.At(c, qy, qx);
+                continue;
+            }
+            std::fill(sum.begin(), sum.end(), 0.0);
+            double weights = 0;
+            // The windows p holding q centred at most gatherRadius away, with q's weight.
+            for (int py = qy - k.gatherRadius; py <= qy + k.gatherRadius; ++py)
+                for (int px = qx - k.gatherRadius; px <= qx + k.gatherRadius; ++px) {
+                    if (!Inside(input, px, py)) continue;
+                    double wq = WeightOf(features, mask, distance, k, px, py, qx, qy);
+                    if (wq == 0) continue;
+                    Columns(features, k.radius, px, py, qx, qy, x.data());
+                    for (int c = 0; c < ch; ++c) {
+                        double value = 0;
+                        for (int i = 0; i < n; ++i)
+                            value += x[i] * fit.beta.At(i * ch + c, py, px);
+                        sum[c] += wq * value;
+                    }
+                    weights += wq;
+                }
+            for (int c = 0; c < ch; ++c) out.At(c, qy, qx) = float(sum[c] / weights);
+        }
+    return out;
+}
+
+Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
+                 const Image &color, const Image &variance, int sureRadius, Image *choice) {
+    int w = color.width, h = color.height, ch = color.channels;
+    std::vector<Image> sure;
+    for (size_t k = 0; k < outputs.size(); ++k) {
+        Image s(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double e = 0;
+                for (int c = 0; c < ch; ++c) {
+                    double d = double(outputs[k].At(c, y, x)) - color.At(c, y, x);
+                    double v = variance.At(c, y, x);
+                    e += d * d - v + 2 * v * hats[k].At(0, y, x);
+                }
+                s.At(0, y, x) = float(e);
+            }
+        sure.push_back(std::move(s));
+    }
+    Image out(w, h, ch);
+    *choice = Image(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t best = 0;
+            double bestSure = 0;
+            for (size_t k = 0; k < outputs.size(); ++k) {
+                double sum = 0;
+                int count = 0;
+                for (int v = y - sureRadius; v <= y + sureRadius; ++v)
+                    for (int u = x - sureRadius; u <= x + sureRadius; ++u)
+                        if (Inside(color, u, v)) sum += sure[k].At(0, v, u), ++count;
+                double mean = sum / count;
+                if (k == 0 || mean < bestSure) best = k, bestSure = mean;
+            }
+            for (int c = 0; c < ch; ++c) out.At(c, y, x) = outputs[best].At(c, y, x);
+            choice->At(0, y, x) = float(best);
+        }
+    return out;
+}
+
+Image Nfor(const NforInputs &in, const NforParams &p,
+           std::vector<std::pair<std::string, Image>> *stages) {
+    auto keep = [&](const std::string &name, const Image &image) {
+        if (stages) stages->emplace_back(name, image);
+    };
+    const Image &color = *in.color;
+    Image variance = in.variance
+                         ? *in.variance
+                         : NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
+    keep("variance", variance);
+    Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
+    keep("mask", mask);
+    Image clamped =
+        NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative);
+    keep("color", clamped);
+    Image features = *in.features;
+    if (p.prefilterRadius > 0) {
+        Image featureVariance =
+            NforNoise(features, nullptr, p.noiseRadius, p.noiseMinCalibration);
+        features = NforPrefilter(features, featureVariance, p.prefilterRadius, p.prefilterPatch,
+                                 p.prefilterBandwidth);
+    }
+    keep("features", features);
+    Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
+                                  p.radius, p.patchRadius, p.alpha, p.minVariance);
+    keep("distance", distance);
+    std::vector<Image> outputs, hats;
+    for (size_t i = 0; i < p.bandwidths.size(); ++i) {
+        NforCandidate k{p.bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
+        NforFit fit = NforRegress(clamped, features, mask, distance, k);
+        Image out = NforGather(clamped, features, mask, distance, fit, k);
+        keep(fmt::format("k{}.beta", i), fit.beta);
+        keep(fmt::format("k{}.hat", i), fit.hat);
+        keep(fmt::format("k{}.output", i), out);
+        outputs.push_back(std::move(out));
+        hats.push_back(std::move(fit.hat));
+    }
+    if (outputs.size() == 1) {
+        keep("output", outputs[0]);
+        return outputs[0];
+    }
+    Image choice;
+    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice);
+    keep("choice", choice);
+    keep("output", out);
+    return out;
+}
+
+}  // namespace mcd::ref

@@ -1,0 +1,161 @@
+// Feature regression (method nfor), the CPU reference: per pixel a weighted first-order
+// regression of the colour on the features (Bitterli et al. 2016, "Nonlinearly Weighted
+// First-order Regression for Denoising Monte Carlo Renderings", NFOR; Moon, Carr and Yoon
+// 2014), weights from the colour's NL-means patch distance (Rousselle, Manzi and Zwicker
+// 2013) and the features' distances, the collaborative average of every window's fit at
+// a pixel (NFOR 4.3), several bandwidths chosen per pixel by SURE. Written loop by loop in
+// double, each stage from its definition (the GPU computes the patch distance with box
+// sums and the fits in float).
+//
+// Readings and departures, shared with the GPU path (host/methods/nfor.h states them too):
+// - Frame noise: without a variance layer, the variance of the pixel mean is estimated
+//   from the frame (NforNoise): per channel z = colour / albedo where the albedo is above
+//   kNoiseAlbedoFloor (else z = colour: the pixel is not divided), per direction d of 4
+//   the half squared differences (z_u - z_u+d)^2 / 2 over the (2r+1)^2 window, both pixels
+//   divided alike to the pixel (both not, or both by albedos within kNoiseDivisorRatio of
+//   its), their median over the median of chi^2_1, the smallest over the directions (the
+//   one along an edge) times the calibration, times the pixel's albedo squared. A median,
+//   not a mean: a firefly in the window does not raise its neighbours' estimate, so the
+//   colour distance keeps it apart. Only pixels divided alike: a black background next to
+//   a wall has no noise to lend it.
+// - Fireflies (NforClamp): per channel z = colour / divisor above the median of the z of
+//   the pixel's 8 neighbours divided alike + t sqrt(v) / divisor + rho |median| is clamped
+//   to it (rho keeps the smooth peaks of noise-free regions, where v = 0). A pixel with no
+//   neighbour divided alike (its albedo unlike all around it: a sample that hit a small
+//   bright object, or a sub-pixel light) compares its colour with the neighbours' colours,
+//   unless a neighbour is an emitter: then it is a light's edge, partly covered, and kept.
+// - Emitters: max albedo channel > emitterAlbedo (a reflectance is at most about 1;
+//   renderers write a light's emission as its albedo); they are left out of every window
+//   and keep their colour as clamped (the issue asks for the input: a lone light pixel hit
+//   by 2 of 16 samples, 47 where the reference has 0.5, made 70% of a frame's relMSE).
+// - Features are prefiltered (NFOR 5.1) plane by plane with NL-means on themselves, their
+//   variance estimated like the colour's (no divisor).
+// - Colour distance (Rousselle et al. 2012/2013, symmetric), of the colour divided by the
+//   albedo where that is above the floor (the illumination: texture and the coverage of
+//   edge pixels divide out, so that an edge pixel finds its like along the edge): per channel
+//   ((C_u - C_u+o)^2 - alpha (v_u + v_u+o)) / (v_u + v_u+o + kRelEps (C_u^2 + C_u+o^2) +
+//   kTiny), clamped to at most kTermMax, averaged over the channels and over the patch
+//   positions t with both p+t and p+t+o inside. D(p, o) = D(p+o, -o): the weight of q in
+//   p's window is that of p in q's, which the collaborative average needs.
+// - Weight of q in p's window: exp(-max(0, D) / k^2 - sum_j (s_j (F_q,j - F_p,j))^2), 1 at
+//   q = p, 0 for emitters and where the exponent exceeds kExpCut. NFOR weighs by the colour
+//   alone; the feature term with wide bandwidths (s_j small) is Rousselle et al.'s.
+// - Regression: columns (1, dx / R, dy / R, F_q - F_p) (prefiltered features), ridge
+//   lambda sum(w) on every column but the constant (NFOR uses a pivoted QR instead), the
+//   normal equations solved by Cholesky. The fit's value at q, weighted by q's weight in
+//   the window, is averaged over every window holding q (NFOR's collaborative filtering).
+// - Bandwidth choice: SURE of each candidate, (y - C)^2 - v + 2 v h per channel with h
+//   the fit's own influence at its centre ((A^-1)_00), box-averaged over (2 r_s + 1)^2;
+//   the candidate with the smallest is taken (ties: the first).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "host/image.h"
+
+namespace mcd::ref {
+
+// The reference's own copies of the numerical constants (shaders/nfor/nfor.h has the GPU's).
+constexpr double kNforNoiseAlbedoFloor = 0.02;
+constexpr double kNforNoiseDivisorRatio = 1.25;
+constexpr double kNforChi2Median = 0.454936423119572;
+constexpr double kNforRelEps = 1e-4;
+constexpr double kNforTiny = 1e-30;
+constexpr double kNforTermMax = 25;
+constexpr double kNforExpCut = 30;
+
+struct NforParams {
+    int radius = 7;        // regression window half-size R
+    int gatherRadius = 7;  // a pixel averages the fits of windows centred this close
+    int patchRadius = 3;   // colour patch half-size
+    std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
+    double alpha = 1;                // variance cancellation in the colour distance
+    bool minVariance = false;        // the distance normalised by 2 min(v_p, v_q)
+    bool demodulateDistance = true;  // the distance of colour / albedo
+    double ridge = 0.1;              // lambda
+    // Feature weight per feature plane (s_j); empty: no feature term.
+    std::vector<double> featureWeights;
+    int noiseRadius = 2;
+    double noiseMinCalibration = 1;  // E-correction of the smallest of 4 medians
+    double fireflyThreshold = 4;     // t; 0: no clamp
+    double fireflyRelative = 0.5;    // rho
+    double emitterAlbedo = 1.5;
+    int prefilterRadius = 3;  // 0: features as they are
+    int prefilterPatch = 1;
+    double prefilterBandwidth = 1;
+    int sureRadius = 3;
+};
+
+// The frame's layers; color and features are required, variance optional (estimated).
+struct NforInputs {
+    const Image *color = nullptr;
+    const Image *albedo = nullptr;    // divisor for the noise and clamp; emitter test
+    const Image *features = nullptr;  // the regression's feature planes, scaled
+    const Image *variance = nullptr;  // of the pixel mean, as color
+};
+
+// Variance of the pixel mean estimated from `image` (divisor: albedo or nullptr).
+Image NforNoise(const Image &image, const Image *divisor, int radius, double calibration);
+
+// 1 for pixels that take part, 0 for emitters.
+Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo);
+
+// The colour with fireflies clamped.
+Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
+                const Image &mask, double threshold, double relative);
+
+// Each feature plane NL-means-filtered with its own variance.
+Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,
+                    double bandwidth);
+
+// Patch distance D(p, o) for the stored offsets (NforOffset), one plane each, of the colour
+// (divisor nullptr) or of colour / divisor where the divisor is above the floor.
+Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
+                   int patch, double alpha, bool minVariance);
+
+// The distance's two steps as the GPU takes them (for the kernels' own tests): per pixel u
+// and stored offset o, the channels' mean term of u and u + o (0 where u + o is outside);
+// and one pass of the patch sum over those, along rows, or along columns divided by the
+// number of patch positions with both ends inside (`vertical`).
+Image NforTerms(const Image &color, const Image &variance, const Image *divisor, int radius,
+                double alpha, bool minVariance);
+Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical);
+
+// Stored offset j of the window of radius R: (ox, oy) with oy > 0, or oy = 0 and ox > 0,
+// in raster order; NforOffsetCount(R) of them.
+int NforOffsetCount(int radius);
+void NforOffset(int radius, int j, int *ox, int *oy);
+
+// One candidate's fits: beta planes (column i, channel c at plane i * channels + c) and
+// the centre's influence h.
+struct NforFit {
+    Image beta, hat;
+};
+
+struct NforCandidate {
+    double bandwidth;
+    const std::vector<double> *featureWeights;
+    double ridge;
+    int radius;
+    int gatherRadius;  // NforGather: windows centred at most this far
+};
+
+NforFit NforRegress(const Image &color, const Image &features, const Image &mask,
+                    const Image &distance, const NforCandidate &candidate);
+
+// The collaborative average of the fits; emitters take `input` (the clamped colour).
+Image NforGather(const Image &input, const Image &features, const Image &mask,
+                 const Image &distance, const NforFit &fit, const NforCandidate &candidate);
+
+// Per pixel the candidate of smallest box-averaged SURE; also the index chosen (1 plane).
+Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
+                 const Image &color, const Image &variance, int sureRadius, Image *choice);
+
+// The whole method with its named stages (variance, mask, color, features, distance,
+// k<i>.beta, k<i>.hat, k<i>.output, choice, output).
+Image Nfor(const NforInputs &inputs, const NforParams &params,
+           std::vector<std::pair<std::string, Image>> *stages);
+
+}  // namespace mcd::ref

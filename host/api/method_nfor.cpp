@@ -1,0 +1,229 @@
+// Method `nfor`: feature regression (host/methods/nfor.h), NFOR's first-order fits on the
+// frame's albedo, normal, depth (and pivot), with the colour's and the features' noise
+// estimated from the frame when it has no variance layer.
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "cpu_reference/nfor.h"
+#include "host/api/front_end.h"
+#include "host/methods/nfor.h"
+
+namespace mcd::api {
+namespace {
+
+struct NforParamsApi {
+    NforOptions options;
+    std::string bandwidths = "0.5,1";
+    std::string noise = "auto", pivot = "auto";
+};
+
+std::vector<float> ParseBandwidths(const std::string &text) {
+    std::vector<float> values;
+    std::stringstream stream(text);
+    std::string item;
+    while (std::getline(stream, item, ',')) {
+        size_t used = 0;
+        float v = 0;
+        try {
+            v = std::stof(item, &used);
+        } catch (const std::logic_error &) {
+            used = 0;
+        }
+        if (used == 0 || used != item.size() || !(v > 0) || !std::isfinite(v))
+            throw Error(fmt::format("nfor: --bandwidths takes numbers > 0 separated by commas, "
+                                    "not '{}'",
+                                    text),
+                        ErrorKind::InvalidArgument);
+        values.push_back(v);
+    }
+    if (values.empty() || values.size() > 4)
+        throw Error(fmt::format("nfor: --bandwidths takes 1 to 4 values, not '{}'", text),
+                    ErrorKind::InvalidArgument);
+    return values;
+}
+
+using O = NforOptions;
+
+std::vector<ParamDef<NforParamsApi>> Defs() {
+    auto nested = [](auto def) { return Nested(&NforParamsApi::options, def); };
+    return {
+        ChoiceParam("bandwidths",
+                    "colour bandwidths k, comma-separated (1 to 4 candidates; with several, "
+                    "each pixel takes the one of smallest SURE)",
+                    &NforParamsApi::bandwidths, {}),
+        nested(IntParam("radius", "regression window half-size", &O::radius, 1, 10)),
+        nested(IntParam("gather-radius",
+                        "a pixel averages the fits of the windows centred at most this far "
+                        "(-1: all that hold it)",
+                        &O::gatherRadius, -1, 10)),
+        nested(IntParam("patch-radius", "colour patch half-size of the NL-means distance",
+                        &O::patchRadius, 0, 3)),
+        nested(BoolParam("no-demodulated-distance",
+                         "compare the colour itself in the NL-means distance (by default "
+                         "colour / albedo: texture and edge coverage divide out)",
+                         &O::noDemodulatedDistance)),
+        nested(FloatParam("alpha", "variance cancellation in the colour distance", &O::alpha, 0,
+                          10)),
+        nested(EnumParam("distance-variance",
+                         "the colour distance's variances: min (2 min(v_p, v_q) cancelled and "
+                         "normalised: a dark pixel "
+                         "does not borrow from a brighter, noisier one) or sum (v_p + v_q)",
+                         &O::minVariance, {{"min", true}, {"sum", false}})),
+        nested(FloatParam("ridge", "ridge lambda x sum(w) on the non-constant columns",
+                          &O::ridge, 1e-4, 1e3)),
+        nested(FloatParam("feature-bandwidth",
+                          "feature weights exp(-|dF|^2 / (this x sigma)^2); 0: colour only",
+                          &O::featureBandwidth, 0, 1e3)),
+        nested(FloatParam("albedo-sigma", "albedo scale of the feature weight", &O::albedoSigma,
+                          1e-4, 1e3)),
+        nested(FloatParam("normal-sigma", "normal scale of the feature weight", &O::normalSigma,
+                          1e-4, 1e3)),
+        nested(FloatParam("depth-sigma", "depth / its mean: scale of the feature weight",
+                          &O::depthSigma, 1e-4, 1e3)),
+        nested(FloatParam("pivot-sigma", "pivot / its mean: scale of the feature weight",
+                          &O::pivotSigma, 1e-4, 1e3)),
+        nested(IntParam("noise-radius", "window half-size of the noise estimates",
+                        &O::noiseRadius, 1, 3)),
+        nested(FloatParam("noise-calibration", "factor on the estimated variance",
+                          &O::noiseCalibration, 1e-3, 1e3)),
+        nested(FloatParam("firefly-threshold",
+                          "clamp a value above its 8 neighbours' median + this x sigma; 0: off",
+                          &O::fireflyThreshold, 0, 1e6)),
+        nested(FloatParam("firefly-relative",
+                          "and above the median + this x |median| (noise-free peaks stay)",
+                          &O::fireflyRelative, 0, 1e6)),
+        nested(FloatParam("emitter-albedo",
+                          "pixels whose albedo exceeds this are emitters: kept as they are",
+                          &O::emitterAlbedo, 1, 1e30)),
+        nested(IntParam("prefilter-radius",
+                        "window half-size of the features' prefilter; 0: off",
+                        &O::prefilterRadius, 0, 5)),
+        nested(IntParam("prefilter-patch", "patch half-size of the features' prefilter",
+                        &O::prefilterPatch, 0, 2)),
+        nested(FloatParam("prefilter-bandwidth",
+                          "NL-means bandwidth of the features' prefilter",
+                          &O::prefilterBandwidth, 1e-3, 1e3)),
+        nested(IntParam("sure-radius", "window half-size of the SURE average", &O::sureRadius,
+                        0, 8)),
+        ChoiceParam("nfor-noise",
+                    "auto (the variance layer when present) or estimate (from the frame)",
+                    &NforParamsApi::noise, {"auto", "estimate"}),
+        ChoiceParam("pivot-feature", "auto (the pivot layer as features when present) or off",
+                    &NforParamsApi::pivot, {"auto", "off"})};
+}
+
+class Nfor : public FrontEndOf<NforParamsApi> {
+  public:
+    Nfor() : FrontEndOf("nfor", Defs()) {}
+
+    std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Nfor>(*this); }
+    std::string Summary() const override {
+        return "feature regression (NFOR): first-order fits of the colour on albedo, normal, "
+               "depth (and pivot), bandwidth per pixel by SURE; runs on plain frames";
+    }
+    std::vector<std::string> Uses() const override {
+        return {"color", "albedo", "normal", "depth", "pivot", "variance"};
+    }
+
+    Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
+        NforOptions o = Options();
+        o.keepStages = run.keepStages;
+        return ResultOf(NforDenoise(context, InputsOf(inputs), o));
+    }
+
+    TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
+        const NforOptions &o = options.options;
+        int channels = inputs.Get("color").channels;
+        int colourReach = o.patchRadius + o.noiseRadius + 1;
+        int featureReach = o.prefilterRadius > 0
+                               ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
+                               : 0;
+        TileNeeds needs;
+        needs.reach = 3 * o.radius + std::max(colourReach, featureReach) + o.sureRadius;
+        needs.reachText = fmt::format(
+            "a pixel averages the fits of windows up to {} away, each fit reads {} further "
+            "and the distances there {} more; {} for the noise, clamp and patches (or the "
+            "features' prefilter); {} for the SURE average",
+            o.radius, o.radius, o.radius, std::max(colourReach, featureReach), o.sureRadius);
+        int offsets = ref::NforOffsetCount(o.radius), features = 10, candidates = 4;
+        needs.bindingBytesPerPixel = 4.0 * offsets;
+        needs.bytesPerPixel =
+            4.0 * (2 * offsets + (features + 3) * channels + candidates * (channels + 1) +
+                   6 * channels + 3 * features + 3);
+        return needs;
+    }
+
+    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
+        auto copy = std::make_unique<Nfor>(*this);
+        NforInputs in = InputsOf(whole);
+        copy->depthScale = NforDepthScale(in.depth);
+        copy->pivotScale = NforPivotScale(in.pivot);
+        return copy;
+    }
+
+    std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
+        NforOptions o = Options();
+        NforInputs in = InputsOf(inputs);
+        std::vector<float> weights;
+        std::vector<std::string> names;
+        Image features = NforFeatures(in, o, &weights, &names);
+        ref::NforParams p;
+        p.radius = o.radius;
+        p.gatherRadius = o.gatherRadius < 0 ? o.radius : std::min(o.gatherRadius, o.radius);
+        p.patchRadius = o.patchRadius;
+        p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
+        p.alpha = o.alpha;
+        p.minVariance = o.minVariance;
+        p.demodulateDistance = !o.noDemodulatedDistance;
+        p.ridge = o.ridge;
+        p.featureWeights.assign(weights.begin(), weights.end());
+        p.noiseRadius = o.noiseRadius;
+        p.noiseMinCalibration = o.noiseCalibration;
+        p.fireflyThreshold = o.fireflyThreshold;
+        p.fireflyRelative = o.fireflyRelative;
+        p.emitterAlbedo = o.emitterAlbedo;
+        p.prefilterRadius = o.prefilterRadius;
+        p.prefilterPatch = o.prefilterPatch;
+        p.prefilterBandwidth = o.prefilterBandwidth;
+        p.sureRadius = o.sureRadius;
+        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
+        std::vector<std::pair<std::string, Image>> cpu;
+        ref::Nfor(cpuIn, p, &cpu);
+        std::vector<Stage> stages;
+        for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
+        return stages;
+    }
+
+  private:
+    NforOptions Options() const {
+        NforOptions o = options.options;
+        o.bandwidths = ParseBandwidths(options.bandwidths);
+        return o;
+    }
+
+    NforInputs InputsOf(Inputs &inputs) const {
+        NforInputs in;
+        in.color = &inputs.Get("color");
+        for (auto [layer, field] :
+             {std::pair{"albedo", &in.albedo}, {"normal", &in.normal}, {"depth", &in.depth}})
+            if (inputs.Has(layer)) *field = &inputs.Get(layer);
+        if (options.pivot == "auto" && inputs.Has("pivot")) in.pivot = &inputs.Get("pivot");
+        if (options.noise == "auto" && inputs.Has("variance"))
+            in.variance = &inputs.Get("variance");
+        in.depthScale = depthScale;
+        in.pivotScale = pivotScale;
+        return in;
+    }
+
+    // Set by ForTiles: the whole frame's divisors of depth and pivot.
+    float depthScale = 0, pivotScale = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<FrontEnd> NforFrontEnd() {
+    return std::make_unique<Nfor>();
+}
+
+}  // namespace mcd::api

@@ -1,0 +1,367 @@
+#include "host/kernels/nfor_kernels.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "host/error.h"
+#include "host/vk/context.h"
+#include "host/vk/kernel.h"
+#include "nfor/box_spv.h"
+#include "nfor/clamp.h"
+#include "nfor/clamp_spv.h"
+#include "nfor/distance.h"
+#include "nfor/fit.h"
+#include "nfor/gather_spv.h"
+#include "nfor/noise.h"
+#include "nfor/noise_spv.h"
+#include "nfor/prefilter.h"
+#include "nfor/prefilter_spv.h"
+#include "nfor/regress_spv.h"
+#include "nfor/select.h"
+#include "nfor/select_spv.h"
+#include "nfor/term_spv.h"
+
+namespace mcd {
+namespace {
+
+void CheckSize(const char *what, const vk::GpuImage &a, const vk::GpuImage &b, int channels) {
+    if (b.width != a.width || b.height != a.height || (channels > 0 && b.channels != channels))
+        throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{}", what, b.buffer.Name(),
+                                b.width, b.height, b.channels, a.width, a.height,
+                                channels > 0 ? channels : b.channels),
+                    ErrorKind::InvalidArgument);
+}
+
+void CheckColor(const char *what, const vk::GpuImage &color) {
+    if (color.channels < 1 || color.channels > NFOR_MAX_CHANNELS)
+        throw Error(fmt::format("{}: {} channels; 1 to {} are supported", what, color.channels,
+                                NFOR_MAX_CHANNELS),
+                    ErrorKind::InvalidArgument);
+}
+
+uint32_t Groups(int width) {
+    return uint32_t((width + NFOR_LOCAL_SIZE - 1) / NFOR_LOCAL_SIZE);
+}
+
+}  // namespace
+
+int NforOffsetCount(int radius) {
+    int side = 2 * radius + 1;
+    return (side * side - 1) / 2;
+}
+
+void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
+                     const vk::GpuImage *divisor, int radius, float calibration,
+                     vk::GpuImage &variance) {
+    CheckSize("nfor noise", image, variance, image.channels);
+    if (divisor) {
+        CheckSize("nfor noise", image, *divisor, 0);
+        if (divisor->channels != 1 && divisor->channels < image.channels)
+            throw Error("nfor noise: the divisor needs 1 channel or as many as the image",
+                        ErrorKind::InvalidArgument);
+    }
+    if (radius < 1 || radius > NFOR_NOISE_MAX_RADIUS)
+        throw Error(
+            fmt::format("nfor noise: radius {}; 1..{} allowed", radius, NFOR_NOISE_MAX_RADIUS),
+            ErrorKind::InvalidArgument);
+    const vk::Kernel &kernel = context.GetKernel({"nfor_noise",
+                                                  k_nfor_noise_spv,
+                                                  sizeof(k_nfor_noise_spv),
+                                                  NFOR_NOISE_BINDINGS,
+                                                  sizeof(shader::NforNoisePush),
+                                                  {},
+                                                  0,
+                                                  0});
+    shader::NforNoisePush push{image.width, image.height, divisor ? divisor->channels : 0,
+                               radius, calibration};
+    recorder.Dispatch(
+        kernel, "nfor.noise",
+        {{NFOR_NOISE_IMAGE, &image.buffer, vk::Access::Read},
+         {NFOR_NOISE_DIVISOR, divisor ? &divisor->buffer : &image.buffer, vk::Access::Read},
+         {NFOR_NOISE_OUTPUT, &variance.buffer, vk::Access::Write}},
+        push, Groups(image.width), uint32_t(image.height), uint32_t(image.channels));
+}
+
+void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                     const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
+                     float relative, float emitterAlbedo, vk::GpuImage &out,
+                     vk::GpuImage &mask) {
+    CheckColor("nfor clamp", color);
+    CheckSize("nfor clamp", color, variance, color.channels);
+    CheckSize("nfor clamp", color, out, color.channels);
+    CheckSize("nfor clamp", color, mask, 1);
+    if (albedo) {
+        CheckSize("nfor clamp", color, *albedo, 0);
+        if (albedo->channels != 1 && albedo->channels < color.channels)
+            throw Error("nfor clamp: the albedo needs 1 channel or as many as the colour",
+                        ErrorKind::InvalidArgument);
+    }
+    const vk::Kernel &kernel = context.GetKernel({"nfor_clamp",
+                                                  k_nfor_clamp_spv,
+                                                  sizeof(k_nfor_clamp_spv),
+                                                  NFOR_CLAMP_BINDINGS,
+                                                  sizeof(shader::NforClampPush),
+                                                  {},
+                                                  0,
+                                                  0});
+    shader::NforClampPush push{color.width, color.height, albedo ? albedo->channels : 0,
+                               threshold,   relative,     emitterAlbedo};
+    recorder.Dispatch(
+        kernel, "nfor.clamp",
+        {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},
+         {NFOR_CLAMP_VARIANCE, &variance.buffer, vk::Access::Read},
+         {NFOR_CLAMP_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read},
+         {NFOR_CLAMP_OUT, &out.buffer, vk::Access::Write},
+         {NFOR_CLAMP_MASK, &mask.buffer, vk::Access::Write}},
+        push, Groups(color.width), uint32_t(color.height), uint32_t(color.channels));
+}
+
+void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
+                         const vk::GpuImage &features, const vk::GpuImage &variance, int radius,
+                         int patch, float bandwidth, vk::GpuImage &out) {
+    CheckSize("nfor prefilter", features, variance, features.channels);
+    CheckSize("nfor prefilter", features, out, features.channels);
+    if (radius < 1 || radius > NFOR_PREFILTER_MAX_RADIUS || patch < 0 ||
+        patch > NFOR_PREFILTER_MAX_PATCH || !(bandwidth > 0))
+        throw Error(fmt::format("nfor prefilter: radius {} (1..{}), patch {} (0..{}), "
+                                "bandwidth {} (> 0)",
+                                radius, NFOR_PREFILTER_MAX_RADIUS, patch,
+                                NFOR_PREFILTER_MAX_PATCH, bandwidth),
+                    ErrorKind::InvalidArgument);
+    const vk::Kernel &kernel = context.GetKernel({"nfor_prefilter",
+                                                  k_nfor_prefilter_spv,
+                                                  sizeof(k_nfor_prefilter_spv),
+                                                  NFOR_PREFILTER_BINDINGS,
+                                                  sizeof(shader::NforPrefilterPush),
+                                                  {},
+                                                  0,
+                                                  0});
+    shader::NforPrefilterPush push{features.width, features.height, radius, patch, bandwidth};
+    recorder.Dispatch(kernel, "nfor.prefilter",
+                      {{NFOR_PREFILTER_FEATURES, &features.buffer, vk::Access::Read},
+                       {NFOR_PREFILTER_VARIANCE, &variance.buffer, vk::Access::Read},
+                       {NFOR_PREFILTER_OUT, &out.buffer, vk::Access::Write}},
+                      push, Groups(features.width), uint32_t(features.height),
+                      uint32_t(features.channels));
+}
+
+namespace {
+
+const vk::Kernel &TermKernel(vk::Context &context, int channels) {
+    return context.GetKernel({"nfor_term",
+                              k_nfor_term_spv,
+                              sizeof(k_nfor_term_spv),
+                              NFOR_TERM_BINDINGS,
+                              sizeof(shader::NforDistancePush),
+                              {{NFOR_SPEC_CHANNELS, channels}},
+                              0,
+                              0});
+}
+
+const vk::Kernel &BoxKernel(vk::Context &context) {
+    return context.GetKernel({"nfor_box",
+                              k_nfor_box_spv,
+                              sizeof(k_nfor_box_spv),
+                              NFOR_BOX_BINDINGS,
+                              sizeof(shader::NforDistancePush),
+                              {},
+                              0,
+                              0});
+}
+
+void CheckOffsets(const char *what, int radius, int patch) {
+    if (radius < 1 || radius > NFOR_MAX_RADIUS || patch < 0 || patch > NFOR_MAX_PATCH)
+        throw Error(fmt::format("{}: radius {} (1..{}), patch {} (0..{})", what, radius,
+                                NFOR_MAX_RADIUS, patch, NFOR_MAX_PATCH),
+                    ErrorKind::InvalidArgument);
+}
+
+}  // namespace
+
+void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                    const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
+                    float alpha, bool minVariance, vk::GpuImage &terms) {
+    CheckColor("nfor term", color);
+    CheckSize("nfor term", color, variance, color.channels);
+    CheckSize("nfor term", color, terms, NforOffsetCount(radius));
+    if (albedo) {
+        CheckSize("nfor term", color, *albedo, 0);
+        if (albedo->channels != 1 && albedo->channels < color.channels)
+            throw Error("nfor term: the albedo needs 1 channel or as many as the colour",
+                        ErrorKind::InvalidArgument);
+    }
+    CheckOffsets("nfor term", radius, 0);
+    shader::NforDistancePush push{
+        color.width,        color.height, radius, 0, 0, alpha, albedo ? albedo->channels : 0,
+        minVariance ? 1 : 0};
+    recorder.Dispatch(
+        TermKernel(context, color.channels), "nfor.term",
+        {{NFOR_TERM_COLOR, &color.buffer, vk::Access::Read},
+         {NFOR_TERM_VARIANCE, &variance.buffer, vk::Access::Read},
+         {NFOR_TERM_OUT, &terms.buffer, vk::Access::Write},
+         {NFOR_TERM_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read}},
+        push, Groups(color.width), uint32_t(color.height), uint32_t(terms.channels));
+}
+
+void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,
+                   int radius, int patch, bool vertical, vk::GpuImage &out) {
+    CheckSize("nfor box", in, in, NforOffsetCount(radius));
+    CheckSize("nfor box", in, out, in.channels);
+    CheckOffsets("nfor box", radius, patch);
+    shader::NforDistancePush push{in.width,         in.height, radius, patch,
+                                  vertical ? 1 : 0, 0,         0,      0};
+    recorder.Dispatch(BoxKernel(context), "nfor.box",
+                      {{NFOR_BOX_IN, &in.buffer, vk::Access::Read},
+                       {NFOR_BOX_OUT, &out.buffer, vk::Access::Write}},
+                      push, Groups(in.width), uint32_t(in.height), uint32_t(in.channels));
+}
+
+void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                        const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
+                        int patch, float alpha, bool minVariance, vk::GpuImage &scratch,
+                        vk::GpuImage &distance) {
+    CheckSize("nfor distance", color, scratch, NforOffsetCount(radius));
+    CheckOffsets("nfor distance", radius, patch);
+    RecordNforTerm(context, recorder, color, variance, albedo, radius, alpha, minVariance,
+                   distance);
+    RecordNforBox(context, recorder, distance, radius, patch, false, scratch);
+    RecordNforBox(context, recorder, scratch, radius, patch, true, distance);
+}
+
+namespace {
+
+void CheckFit(const char *what, const vk::GpuImage &color, const vk::GpuImage &features,
+              const vk::GpuImage &mask, const vk::GpuImage &distance,
+              const NforFitSettings &settings) {
+    CheckColor(what, color);
+    CheckSize(what, color, features, 0);
+    CheckSize(what, color, mask, 1);
+    if (features.channels > NFOR_MAX_FEATURES ||
+        size_t(features.channels) != settings.featureWeights.size())
+        throw Error(
+            fmt::format("{}: {} feature planes and {} weights; at most {}", what,
+                        features.channels, settings.featureWeights.size(), NFOR_MAX_FEATURES),
+            ErrorKind::InvalidArgument);
+    if (settings.radius < 1 || settings.radius > NFOR_MAX_RADIUS)
+        throw Error(
+            fmt::format("{}: radius {}; 1..{} allowed", what, settings.radius, NFOR_MAX_RADIUS),
+            ErrorKind::InvalidArgument);
+    CheckSize(what, color, distance, NforOffsetCount(settings.radius));
+    if (settings.gatherRadius < 0 || settings.gatherRadius > settings.radius)
+        throw Error(fmt::format("{}: gather radius {}; 0..{} allowed", what,
+                                settings.gatherRadius, settings.radius),
+                    ErrorKind::InvalidArgument);
+    if (!(settings.bandwidth > 0) || !(settings.ridge >= 0))
+        throw Error(fmt::format("{}: bandwidth {} must be > 0 and ridge {} >= 0", what,
+                                settings.bandwidth, settings.ridge),
+                    ErrorKind::InvalidArgument);
+}
+
+shader::NforFitPush FitPush(const vk::GpuImage &color, const NforFitSettings &settings,
+                            int plane) {
+    shader::NforFitPush push{color.width,     color.height,
+                             settings.radius, settings.gatherRadius,
+                             plane,           1.f / (settings.bandwidth * settings.bandwidth),
+                             settings.ridge,  {}};
+    std::copy(settings.featureWeights.begin(), settings.featureWeights.end(),
+              push.featureWeight);
+    return push;
+}
+
+const vk::Kernel &FitKernel(vk::Context &context, const char *name, const uint32_t *code,
+                            size_t bytes, int channels, int features) {
+    return context.GetKernel({name,
+                              code,
+                              bytes,
+                              NFOR_FIT_BINDINGS,
+                              sizeof(shader::NforFitPush),
+                              {{NFOR_SPEC_CHANNELS, channels}, {NFOR_SPEC_FEATURES, features}},
+                              0,
+                              0});
+}
+
+}  // namespace
+
+void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                       const vk::GpuImage &features, const vk::GpuImage &mask,
+                       const vk::GpuImage &distance, const NforFitSettings &settings,
+                       vk::GpuImage &beta, vk::GpuImage &hat, int hatPlane) {
+    CheckFit("nfor regress", color, features, mask, distance, settings);
+    CheckSize("nfor regress", color, beta, (features.channels + 3) * color.channels);
+    CheckSize("nfor regress", color, hat, 0);
+    if (hatPlane < 0 || hatPlane >= hat.channels)
+        throw Error(fmt::format("nfor regress: plane {} of {}", hatPlane, hat.channels),
+                    ErrorKind::InvalidArgument);
+    const vk::Kernel &kernel =
+        FitKernel(context, "nfor_regress", k_nfor_regress_spv, sizeof(k_nfor_regress_spv),
+                  color.channels, features.channels);
+    recorder.Dispatch(kernel, "nfor.regress",
+                      {{NFOR_FIT_COLOR, &color.buffer, vk::Access::Read},
+                       {NFOR_FIT_FEATURES, &features.buffer, vk::Access::Read},
+                       {NFOR_FIT_MASK, &mask.buffer, vk::Access::Read},
+                       {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},
+                       {NFOR_FIT_BETA, &beta.buffer, vk::Access::Write},
+                       {NFOR_FIT_OUT, &hat.buffer, vk::Access::Write}},
+                      FitPush(color, settings, hatPlane), Groups(color.width),
+                      uint32_t(color.height));
+}
+
+void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
+                      const vk::GpuImage &features, const vk::GpuImage &mask,
+                      const vk::GpuImage &distance, const vk::GpuImage &beta,
+                      const NforFitSettings &settings, vk::GpuImage &out, int outPlane) {
+    CheckFit("nfor gather", input, features, mask, distance, settings);
+    CheckSize("nfor gather", input, beta, (features.channels + 3) * input.channels);
+    CheckSize("nfor gather", input, out, 0);
+    if (outPlane < 0 || outPlane + input.channels > out.channels)
+        throw Error(fmt::format("nfor gather: planes {}.. of {}", outPlane, out.channels),
+                    ErrorKind::InvalidArgument);
+    const vk::Kernel &kernel =
+        FitKernel(context, "nfor_gather", k_nfor_gather_spv, sizeof(k_nfor_gather_spv),
+                  input.channels, features.channels);
+    recorder.Dispatch(kernel, "nfor.gather",
+                      {{NFOR_FIT_COLOR, &input.buffer, vk::Access::Read},
+                       {NFOR_FIT_FEATURES, &features.buffer, vk::Access::Read},
+                       {NFOR_FIT_MASK, &mask.buffer, vk::Access::Read},
+                       {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},
+                       {NFOR_FIT_BETA, &beta.buffer, vk::Access::Read},
+                       {NFOR_FIT_OUT, &out.buffer, vk::Access::Write}},
+                      FitPush(input, settings, outPlane), Groups(input.width),
+                      uint32_t(input.height));
+}
+
+void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                      const vk::GpuImage &variance, const vk::GpuImage &candidates,
+                      const vk::GpuImage &hat, int count, int radius, vk::GpuImage &out,
+                      vk::GpuImage &choice) {
+    CheckColor("nfor select", color);
+    CheckSize("nfor select", color, variance, color.channels);
+    CheckSize("nfor select", color, out, color.channels);
+    CheckSize("nfor select", color, choice, 1);
+    if (count < 1 || count > NFOR_MAX_CANDIDATES || radius < 0 || radius > NFOR_SURE_MAX_RADIUS)
+        throw Error(fmt::format("nfor select: {} candidates (1..{}), radius {} (0..{})", count,
+                                NFOR_MAX_CANDIDATES, radius, NFOR_SURE_MAX_RADIUS),
+                    ErrorKind::InvalidArgument);
+    CheckSize("nfor select", color, candidates, count * color.channels);
+    CheckSize("nfor select", color, hat, count);
+    const vk::Kernel &kernel = context.GetKernel({"nfor_select",
+                                                  k_nfor_select_spv,
+                                                  sizeof(k_nfor_select_spv),
+                                                  NFOR_SELECT_BINDINGS,
+                                                  sizeof(shader::NforSelectPush),
+                                                  {{NFOR_SPEC_CHANNELS, color.channels}},
+                                                  0,
+                                                  0});
+    shader::NforSelectPush push{color.width, color.height, count, radius};
+    recorder.Dispatch(kernel, "nfor.select",
+                      {{NFOR_SELECT_COLOR, &color.buffer, vk::Access::Read},
+                       {NFOR_SELECT_VARIANCE, &variance.buffer, vk::Access::Read},
+                       {NFOR_SELECT_CANDIDATES, &candidates.buffer, vk::Access::Read},
+                       {NFOR_SELECT_HAT, &hat.buffer, vk::Access::Read},
+                       {NFOR_SELECT_OUT, &out.buffer, vk::Access::Write},
+                       {NFOR_SELECT_CHOICE, &choice.buffer, vk::Access::Write}},
+                      push, Groups(color.width), uint32_t(color.height));
+}
+
+}  // namespace mcd

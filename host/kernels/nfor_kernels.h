@@ -1,0 +1,83 @@
+// Record the feature-regression kernels (shaders/nfor/): one Record function per kernel.
+// Images are planar float buffers; every function checks the shapes it is given.
+#pragma once
+
+#include <vector>
+
+#include "host/vk/gpu_image.h"
+#include "host/vk/recorder.h"
+
+namespace mcd {
+
+// shaders/nfor/noise.comp: the variance of each pixel's mean of `image` estimated from the
+// image, divided by `divisor`'s channel (nullptr: none; 1 or >= image's channels).
+void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
+                     const vk::GpuImage *divisor, int radius, float calibration,
+                     vk::GpuImage &variance);
+
+// shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters.
+void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                     const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
+                     float relative, float emitterAlbedo, vk::GpuImage &out,
+                     vk::GpuImage &mask);
+
+// shaders/nfor/prefilter.comp: each plane of `features` NL-means-filtered.
+void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
+                         const vk::GpuImage &features, const vk::GpuImage &variance, int radius,
+                         int patch, float bandwidth, vk::GpuImage &out);
+
+// shaders/nfor/term.comp: per pixel and stored offset of the window of half-size
+// `radius`, the channels' mean distance term (nfor/distance.h) into `terms`
+// (NforOffsetCount(radius) planes).
+void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                    const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
+                    float alpha, bool minVariance, vk::GpuImage &terms);
+
+// shaders/nfor/box.comp: one pass of the patch sum of every plane of `in`, along rows, or
+// along columns and divided by the patch positions with both ends inside (`vertical`).
+void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,
+                   int radius, int patch, bool vertical, vk::GpuImage &out);
+
+// Both: the patch distance of every stored offset of the
+// window of half-size `radius` into `distance` (NforOffsetCount(radius) planes); `scratch`
+// is the same size.
+void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                        const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
+                        int patch, float alpha, bool minVariance, vk::GpuImage &scratch,
+                        vk::GpuImage &distance);
+
+// One candidate of the fit: the window, the bandwidth k, the ridge and the feature weights
+// s_j (one per feature plane).
+struct NforFitSettings {
+    int radius = 7;
+    int gatherRadius = 7;  // gather: windows centred at most this far (<= radius)
+    float bandwidth = 1;
+    float ridge = 0.1f;
+    std::vector<float> featureWeights;
+};
+
+// shaders/nfor/regress.comp: the fits' coefficients into `beta` ((planes + 3) x channels
+// planes) and their influence into plane `hatPlane` of `hat`.
+void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                       const vk::GpuImage &features, const vk::GpuImage &mask,
+                       const vk::GpuImage &distance, const NforFitSettings &settings,
+                       vk::GpuImage &beta, vk::GpuImage &hat, int hatPlane);
+
+// shaders/nfor/gather.comp: the collaborative average into planes outPlane.. of `out`;
+// emitters take `input`.
+void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
+                      const vk::GpuImage &features, const vk::GpuImage &mask,
+                      const vk::GpuImage &distance, const vk::GpuImage &beta,
+                      const NforFitSettings &settings, vk::GpuImage &out, int outPlane);
+
+// shaders/nfor/select.comp: per pixel the candidate (planes k x channels.. of
+// `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE.
+void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                      const vk::GpuImage &variance, const vk::GpuImage &candidates,
+                      const vk::GpuImage &hat, int count, int radius, vk::GpuImage &out,
+                      vk::GpuImage &choice);
+
+// Stored offsets of a window of half-size `radius` (as ref::NforOffsetCount).
+int NforOffsetCount(int radius);
+
+}  // namespace mcd

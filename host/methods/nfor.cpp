@@ -1,0 +1,380 @@
+#include "host/methods/nfor.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "host/error.h"
+#include "host/kernels/nfor_kernels.h"
+#include "host/methods/checks.h"
+#include "host/vk/gpu_image.h"
+#include "nfor/nfor.h"
+
+namespace mcd {
+
+namespace {
+
+// The mean of the positive values of every channel (0 when none).
+float PositiveMean(const Image *image) {
+    if (!image) return 0;
+    double sum = 0;
+    size_t count = 0;
+    for (float v : image->data)
+        if (v > 0) sum += v, ++count;
+    return count ? float(sum / double(count)) : 0.f;
+}
+
+}  // namespace
+
+float NforDepthScale(const Image *depth) {
+    return PositiveMean(depth);
+}
+
+float NforPivotScale(const Image *pivot) {
+    return PositiveMean(pivot);
+}
+
+Image NforFeatures(const NforInputs &in, const NforOptions &o, std::vector<float> *weights,
+                   std::vector<std::string> *names) {
+    struct Group {
+        const Image *image;
+        const char *name;
+        float scale, sigma;
+        int planes;
+    };
+    float depthScale = in.depthScale > 0 ? in.depthScale : NforDepthScale(in.depth);
+    float pivotScale = in.pivotScale > 0 ? in.pivotScale : NforPivotScale(in.pivot);
+    std::vector<Group> groups;
+    if (in.albedo) groups.push_back({in.albedo, "albedo", 1, o.albedoSigma, 3});
+    if (in.normal) groups.push_back({in.normal, "normal", 1, o.normalSigma, 3});
+    if (in.depth && depthScale > 0)
+        groups.push_back({in.depth, "depth", 1 / depthScale, o.depthSigma, 1});
+    if (in.pivot && pivotScale > 0)
+        groups.push_back({in.pivot, "pivot", 1 / pivotScale, o.pivotSigma, 3});
+    int w = in.color->width, h = in.color->height, planes = 0;
+    for (const Group &g : groups) planes += g.planes;
+    weights->clear();
+    names->clear();
+    if (planes == 0) {
+        // No feature: one zero plane of weight 0 (the fit is then in screen position only).
+        weights->push_back(0);
+        return Image(w, h, 1);
+    }
+    Image features(w, h, planes);
+    int at = 0;
+    for (const Group &g : groups) {
+        for (int k = 0; k < g.planes; ++k, ++at) {
+            int c = std::min(k, g.image->channels - 1);
+            for (size_t i = 0; i < features.PixelCount(); ++i)
+                features.Plane(at)[i] = g.image->Plane(c)[i] * g.scale;
+            weights->push_back(o.featureBandwidth > 0 ? 1 / (o.featureBandwidth * g.sigma) : 0);
+        }
+        names->push_back(g.name);
+    }
+    return features;
+}
+
+namespace {
+
+void CheckLayer(const Image &image, const char *what, int width, int height, int channels,
+                bool nonNegative) {
+    if (image.width != width || image.height != height ||
+        (channels > 0 && image.channels != channels))
+        throw Error(fmt::format("nfor: {} is {}x{}x{}, expected {}x{}x{}", what, image.width,
+                                image.height, image.channels, width, height,
+                                channels > 0 ? channels : image.channels),
+                    ErrorKind::InvalidArgument);
+    CheckFinite("nfor", image, what, nonNegative);
+}
+
+void CheckOptions(const NforOptions &o) {
+    auto finite = [](float v) { return std::isfinite(v); };
+    if (o.radius < 1 || o.radius > NFOR_MAX_RADIUS || o.patchRadius < 0 ||
+        o.patchRadius > NFOR_MAX_PATCH)
+        throw Error(fmt::format("nfor: radius {} (1..{}), patch radius {} (0..{})", o.radius,
+                                NFOR_MAX_RADIUS, o.patchRadius, NFOR_MAX_PATCH),
+                    ErrorKind::InvalidArgument);
+    if (o.bandwidths.empty() || o.bandwidths.size() > NFOR_MAX_CANDIDATES)
+        throw Error(fmt::format("nfor: {} bandwidths; 1 to {} allowed", o.bandwidths.size(),
+                                NFOR_MAX_CANDIDATES),
+                    ErrorKind::InvalidArgument);
+    for (float k : o.bandwidths)
+        if (!(finite(k) && k > 0))
+            throw Error(fmt::format("nfor: bandwidth {} must be > 0", k),
+                        ErrorKind::InvalidArgument);
+    if (!(finite(o.ridge) && o.ridge > 0) || !(finite(o.alpha) && o.alpha >= 0) ||
+        !(finite(o.featureBandwidth) && o.featureBandwidth >= 0) ||
+        !(finite(o.fireflyThreshold) && o.fireflyThreshold >= 0) ||
+        !(finite(o.noiseCalibration) && o.noiseCalibration > 0) ||
+        !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
+        !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0))
+        throw Error(
+            "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
+            "be finite and > 0; alpha, feature bandwidth and firefly threshold finite and >= "
+            "0",
+            ErrorKind::InvalidArgument);
+    if (o.noiseRadius < 1 || o.noiseRadius > NFOR_NOISE_MAX_RADIUS || o.prefilterRadius < 0 ||
+        o.prefilterRadius > NFOR_PREFILTER_MAX_RADIUS || o.prefilterPatch < 0 ||
+        o.prefilterPatch > NFOR_PREFILTER_MAX_PATCH || o.sureRadius < 0 ||
+        o.sureRadius > NFOR_SURE_MAX_RADIUS)
+        throw Error(fmt::format("nfor: noise radius {} (1..{}), prefilter radius {} (0..{}) "
+                                "and patch {} (0..{}), "
+                                "SURE radius {} (0..{})",
+                                o.noiseRadius, NFOR_NOISE_MAX_RADIUS, o.prefilterRadius,
+                                NFOR_PREFILTER_MAX_RADIUS, o.prefilterPatch,
+                                NFOR_PREFILTER_MAX_PATCH, o.sureRadius, NFOR_SURE_MAX_RADIUS),
+                    ErrorKind::InvalidArgument);
+}
+
+void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
+    if (!in.color) throw Error("nfor: needs the color layer", ErrorKind::MissingLayer);
+    const Image &color = *in.color;
+    int w = color.width, h = color.height, ch = color.channels;
+    if (w < 1 || h < 1) throw Error("nfor: the image is empty", ErrorKind::InvalidArgument);
+    if (ch < 1 || ch > NFOR_MAX_CHANNELS)
+        throw Error(fmt::format("nfor: color has {} channels; 1 to {} are supported", ch,
+                                NFOR_MAX_CHANNELS),
+                    ErrorKind::InvalidArgument);
+    CheckLayer(color, "color", w, h, ch, false);
+    if (in.variance) CheckLayer(*in.variance, "variance", w, h, ch, true);
+    if (in.albedo) CheckLayer(*in.albedo, "albedo", w, h, 3, false);
+    if (in.normal) CheckLayer(*in.normal, "normal", w, h, 3, false);
+    if (in.depth) CheckLayer(*in.depth, "depth", w, h, 1, false);
+    if (in.pivot) CheckLayer(*in.pivot, "pivot", w, h, 3, false);
+    CheckOptions(o);
+    // The distance buffers hold one plane per stored offset in one binding each.
+    double bytes = double(NforOffsetCount(o.radius)) * w * h * sizeof(float);
+    if (bytes > double(context.BindingBytes()))
+        throw Error(
+            fmt::format("nfor: a {}x{} frame needs {:.0f} MB for the patch distances of radius "
+                        "{}, above "
+                        "this device's {:.0f} MB per binding; crop or tile the frame",
+                        w, h, bytes / 1e6, o.radius, double(context.BindingBytes()) / 1e6),
+            ErrorKind::OutOfMemory);
+}
+
+// The GPU images of a run.
+struct NforGpu {
+    NforGpu(vk::Context &context, const NforInputs &in, const Image &featureImage,
+            const NforOptions &o)
+        : color(context, in.color->width, in.color->height, in.color->channels, "nfor.color"),
+          variance(context, color.width, color.height, color.channels, "nfor.variance"),
+          clamped(context, color.width, color.height, color.channels, "nfor.clamped"),
+          mask(context, color.width, color.height, 1, "nfor.mask"),
+          features(context, color.width, color.height, featureImage.channels, "nfor.features"),
+          filtered(context, color.width, color.height, featureImage.channels, "nfor.filtered"),
+          distance(context, color.width, color.height, NforOffsetCount(o.radius),
+                   "nfor.distance"),
+          scratch(context, color.width, color.height, NforOffsetCount(o.radius),
+                  "nfor.scratch"),
+          beta(context, color.width, color.height, (featureImage.channels + 3) * color.channels,
+               "nfor.beta"),
+          hat(context, color.width, color.height, int(o.bandwidths.size()), "nfor.hat"),
+          candidates(context, color.width, color.height,
+                     int(o.bandwidths.size()) * color.channels, "nfor.candidates") {
+        color.Upload(*in.color);
+        features.Upload(featureImage);
+        if (in.variance) variance.Upload(*in.variance);
+        if (in.albedo) {
+            albedo.emplace(context, color.width, color.height, 3, "nfor.albedo");
+            albedo->Upload(*in.albedo);
+        }
+    }
+    vk::GpuImage color, variance, clamped, mask, features, filtered, distance, scratch, beta,
+        hat, candidates;
+    std::optional<vk::GpuImage> albedo;
+};
+
+// Planes [first, first + count) of a downloaded image.
+Image PlanesOf(const Image &image, int first, int count) {
+    Image part(image.width, image.height, count);
+    std::copy(image.Plane(first), image.Plane(first) + part.Size(), part.data.begin());
+    return part;
+}
+
+void PlanNoise(StagedRun &run, const NforInputs &in, const NforOptions &o) {
+    if (in.variance) {
+        run.Plan("noise of the colour: the frame's variance layer");
+        return;
+    }
+    run.Plan(fmt::format(
+        "noise of the colour estimated from the frame (no variance layer): per channel colour "
+        "/ albedo{}, the median of half squared neighbour differences over {}x{} windows along "
+        "4 directions, the smallest direction x {} (unbiased on Gaussian noise), x albedo^2",
+        in.albedo ? "" : " (no albedo: the colour itself)", 2 * o.noiseRadius + 1,
+        2 * o.noiseRadius + 1, o.noiseCalibration));
+}
+
+void PlanFeatures(StagedRun &run, const std::vector<std::string> &names, const NforOptions &o) {
+    std::string list;
+    for (const std::string &n : names) list += (list.empty() ? "" : ", ") + n;
+    if (names.empty()) {
+        run.Plan(
+            "features: none (no albedo, normal, depth or pivot layer): the fit is in the "
+            "screen position only");
+        return;
+    }
+    run.Plan(fmt::format(
+        "features: {} (depth and pivot divided by their means), screen "
+        "position; feature weights {}",
+        list,
+        o.featureBandwidth > 0 ? fmt::format("exp(-|dF|^2 / ({} sigma)^2), sigma albedo {}, "
+                                             "normal {}, depth {}, pivot {}",
+                                             o.featureBandwidth, o.albedoSigma, o.normalSigma,
+                                             o.depthSigma, o.pivotSigma)
+                               : std::string("off")));
+    if (o.prefilterRadius > 0)
+        run.Plan(fmt::format(
+            "features prefiltered plane by plane: NL-means over {}x{}, patches {}x{}, "
+            "bandwidth {}, with each plane's noise estimated from itself like the colour's",
+            2 * o.prefilterRadius + 1, 2 * o.prefilterRadius + 1, 2 * o.prefilterPatch + 1,
+            2 * o.prefilterPatch + 1, o.prefilterBandwidth));
+    else
+        run.Plan("left out: the features' prefilter (--prefilter-radius 0)");
+}
+
+// Noise, emitters and fireflies, features, the patch distances.
+void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o) {
+    vk::Context &context = run.Context();
+    const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
+    if (!in.variance)
+        RecordNforNoise(context, run.Recorder(), gpu.color, albedo, o.noiseRadius,
+                        o.noiseCalibration, gpu.variance);
+    run.StageAtEnd("variance", gpu.variance);
+    RecordNforClamp(context, run.Recorder(), gpu.color, gpu.variance, albedo,
+                    o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, gpu.clamped,
+                    gpu.mask);
+    run.StageAtEnd("mask", gpu.mask);
+    run.StageAtEnd("color", gpu.clamped);
+    if (o.prefilterRadius > 0) {
+        // The features' own noise, for this filter only (submitted before it is freed).
+        vk::GpuImage featureVariance(context, gpu.features.width, gpu.features.height,
+                                     gpu.features.channels, "nfor.featureVariance");
+        RecordNforNoise(context, run.Recorder(), gpu.features, nullptr, o.noiseRadius,
+                        o.noiseCalibration, featureVariance);
+        RecordNforPrefilter(context, run.Recorder(), gpu.features, featureVariance,
+                            o.prefilterRadius, o.prefilterPatch, o.prefilterBandwidth,
+                            gpu.filtered);
+        run.Submit();
+    } else {
+        run.Recorder().Copy(gpu.features.buffer, gpu.filtered.buffer,
+                            gpu.features.buffer.Bytes());
+    }
+    run.StageAtEnd("features", gpu.filtered);
+    RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
+                       o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
+                       o.alpha, o.minVariance, gpu.scratch, gpu.distance);
+    run.StageAtEnd("distance", gpu.distance);
+}
+
+int GatherRadius(const NforOptions &o) {
+    return o.gatherRadius < 0 ? o.radius : std::min(o.gatherRadius, o.radius);
+}
+
+// Each candidate's fits and their collaborative average, then the choice.
+void RecordCandidates(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
+                      const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
+    vk::Context &context = run.Context();
+    int ch = gpu.color.channels, count = int(o.bandwidths.size());
+    for (int i = 0; i < count; ++i) {
+        NforFitSettings settings{o.radius, GatherRadius(o), o.bandwidths[i], o.ridge, weights};
+        RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
+                          gpu.distance, settings, gpu.beta, gpu.hat, i);
+        run.Stage(fmt::format("k{}.beta", i), gpu.beta);
+        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
+                         gpu.distance, gpu.beta, settings, gpu.candidates, i * ch);
+        // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
+        run.Submit();
+        run.Stage(fmt::format("k{}.hat", i),
+                  [&, i] { return PlanesOf(gpu.hat.Download(), i, 1); });
+        run.Stage(fmt::format("k{}.output", i),
+                  [&, i] { return PlanesOf(gpu.candidates.Download(), i * ch, ch); });
+    }
+    if (count > 1)
+        RecordNforSelect(context, run.Recorder(), gpu.clamped, gpu.variance, gpu.candidates,
+                         gpu.hat, count, o.sureRadius, out, choice);
+    else
+        run.Recorder().Copy(gpu.candidates.buffer, out.buffer, out.buffer.Bytes());
+}
+
+std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
+    std::vector<std::pair<std::string, double>> perKernel;
+    double total = 0;
+    for (const vk::DispatchTiming &t : timings) {
+        auto it = std::find_if(perKernel.begin(), perKernel.end(),
+                               [&](const auto &p) { return p.first == t.label; });
+        if (it == perKernel.end())
+            perKernel.push_back({t.label, t.gpuMs});
+        else
+            it->second += t.gpuMs;
+        total += t.gpuMs;
+    }
+    std::string text = fmt::format("GPU time: {:.1f} ms (", total);
+    for (size_t i = 0; i < perKernel.size(); ++i)
+        text +=
+            fmt::format("{}{} {:.1f}", i ? ", " : "", perKernel[i].first, perKernel[i].second);
+    return text + ")";
+}
+
+}  // namespace
+
+NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o) {
+    CheckInputs(context, in, o);
+    std::vector<float> weights;
+    std::vector<std::string> names;
+    Image featureImage = NforFeatures(in, o, &weights, &names);
+    NforResult result;
+    StagedRun run(context, o.keepStages);
+    PlanNoise(run, in, o);
+    PlanFeatures(run, names, o);
+    NforGpu gpu(context, in, featureImage, o);
+    RecordPrepare(run, gpu, in, o);
+    int w = in.color->width, h = in.color->height, ch = in.color->channels;
+    vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
+    RecordCandidates(run, gpu, weights, o, out, choice);
+    run.Submit();
+    result.image = out.Download();
+    Image mask = gpu.mask.Download(), clamped = gpu.clamped.Download();
+    for (float m : mask.data) result.emitters += m == 0;
+    for (size_t i = 0; i < clamped.Size(); ++i)
+        result.clamped += clamped.data[i] != in.color->data[i];
+    run.Plan(
+        fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
+                    "window and kept as they are (a lone one far above its neighbours: "
+                    "clamped like a firefly)",
+                    o.emitterAlbedo, result.emitters));
+    run.Plan(o.fireflyThreshold > 0
+                 ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
+                               "neighbours (colour / albedo, of the neighbours divided alike; "
+                               "colour where none is) + {} sigma + {} x the median",
+                               result.clamped, o.fireflyThreshold, o.fireflyRelative)
+                 : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
+    std::string ks;
+    for (float k : o.bandwidths) ks += fmt::format("{}{}", ks.empty() ? "" : ", ", k);
+    run.Plan(
+        fmt::format("regression over {}x{} windows, colour patches {}x{} (alpha {}), "
+                    "ridge {}; bandwidths k = {}; each window's fit averaged at every "
+                    "pixel it holds",
+                    2 * o.radius + 1, 2 * o.radius + 1, 2 * o.patchRadius + 1,
+                    2 * o.patchRadius + 1, o.alpha, o.ridge, ks));
+    if (o.bandwidths.size() > 1) {
+        Image picked = choice.Download();
+        result.share.assign(o.bandwidths.size(), 0.0);
+        for (float c : picked.data) result.share[size_t(c)] += 1.0 / double(picked.Size());
+        std::string shares;
+        for (size_t i = 0; i < result.share.size(); ++i)
+            shares += fmt::format("{}k = {}: {:.1f}%", i ? ", " : "", o.bandwidths[i],
+                                  100 * result.share[i]);
+        run.Plan(fmt::format("per pixel the bandwidth of smallest SURE over {}x{} ({})",
+                             2 * o.sureRadius + 1, 2 * o.sureRadius + 1, shares));
+        run.StageAtEnd("choice", choice);
+    }
+    run.AddStage("output", result.image);
+    run.Plan(GpuTimes(run.Timings()));
+    run.Finish(result);
+    return result;
+}
+
+}  // namespace mcd

@@ -1,0 +1,83 @@
+// Method `nfor`: feature regression on the GPU. Per pixel a weighted first-order
+// regression of the colour on the features (albedo, normal, depth, screen position; the
+// pivot where the frame has one) over a window, weights from the colour's NL-means patch
+// distance and the features' distances, each window's fit averaged at every pixel it
+// holds (Bitterli et al. 2016, NFOR), several bandwidths chosen per pixel by SURE. On a
+// frame without a variance layer the colour's noise is estimated from the frame, and so
+// is the features' (which are prefiltered); emitters are left out and keep their input.
+// The readings of the papers are listed in cpu_reference/nfor.h, the CPU twin.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/image.h"
+#include "host/methods/staged_run.h"
+#include "host/vk/context.h"
+
+namespace mcd {
+
+struct NforOptions {
+    int radius = 7;  // regression window half-size
+    // Each pixel averages the fits of the windows centred at most this far (NFOR: all
+    // that hold it, the radius); -1: the radius.
+    int gatherRadius = -1;
+    int patchRadius = 3;                           // colour patch half-size
+    std::vector<float> bandwidths = {0.5f, 1.0f};  // k of each candidate (at most 4)
+    float alpha = 1;  // variance cancellation of the colour distance
+    // Normalise the colour distance by 2 min(v_p, v_q) (a dark pixel does not borrow from
+    // a brighter, noisier one) instead of v_p + v_q (Rousselle et al.'s symmetric form).
+    bool minVariance = false;
+    // Compare the colour itself in the colour distance; by default colour / albedo where
+    // the frame has an albedo (the illumination: texture and edge coverage divide out).
+    bool noDemodulatedDistance = false;
+    float ridge = 0.1f;  // lambda: ridge of lambda sum(w) on the non-constant columns
+    // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
+    float featureBandwidth = 3;
+    float albedoSigma = 0.1f, normalSigma = 0.2f, depthSigma = 0.05f, pivotSigma = 0.1f;
+    int noiseRadius = 2;
+    float noiseCalibration = 1.479f;  // the smallest of 4 medians, unbiased on Gaussian noise
+    // Clamp above the neighbours' median + t sigma + relative |median|; t = 0: off.
+    float fireflyThreshold = 4, fireflyRelative = 0.5f;
+    float emitterAlbedo = 1.5f;
+    int prefilterRadius = 3;  // 0: features unfiltered
+    int prefilterPatch = 1;
+    float prefilterBandwidth = 1;
+    int sureRadius = 3;
+    // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
+    bool keepStages = false;
+};
+
+// The frame's layers the method reads; color is required, the rest may be absent.
+struct NforInputs {
+    const Image *color = nullptr;
+    const Image *albedo = nullptr, *normal = nullptr, *depth = nullptr, *pivot = nullptr;
+    const Image *variance = nullptr;  // of the pixel mean, as color
+    // The divisors of depth and pivot (their means over the frame); 0: this frame's. A
+    // tile of a larger frame (host/api/tiled_run.h) passes the whole frame's.
+    float depthScale = 0, pivotScale = 0;
+};
+
+// With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
+// distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates, output).
+struct NforResult : MethodResult {
+    size_t emitters = 0;        // pixels left out as emitters
+    size_t clamped = 0;         // pixel-channels clamped as fireflies
+    std::vector<double> share;  // per candidate, the fraction of pixels that took it
+};
+
+// The feature planes the regression reads (albedo, normal, depth / its mean, pivot / its
+// mean, those the frame has) and each plane's weight s_j.
+Image NforFeatures(const NforInputs &inputs, const NforOptions &options,
+                   std::vector<float> *weights, std::vector<std::string> *names);
+
+// The means NforFeatures divides depth and pivot by (0 without the layer).
+float NforDepthScale(const Image *depth);
+float NforPivotScale(const Image *pivot);
+
+// Throws mcd::Error naming the layer and pixel when an input holds NaN/Inf (or a negative
+// variance), when shapes differ or options are out of range.
+NforResult NforDenoise(vk::Context &context, const NforInputs &inputs,
+                       const NforOptions &options);
+
+}  // namespace mcd

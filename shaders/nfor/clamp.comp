@@ -1,0 +1,79 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "nfor/clamp.h"
+
+layout(local_size_x = NFOR_LOCAL_SIZE) in;
+layout(std430, binding = NFOR_CLAMP_COLOR) readonly buffer Color { float color[]; };
+layout(std430, binding = NFOR_CLAMP_VARIANCE) readonly buffer Variance { float variance[]; };
+layout(std430, binding = NFOR_CLAMP_ALBEDO) readonly buffer Albedo { float albedo[]; };
+layout(std430, binding = NFOR_CLAMP_OUT) writeonly buffer Out { float outColor[]; };
+layout(std430, binding = NFOR_CLAMP_MASK) writeonly buffer Mask { float mask[]; };
+
+int w, h, c;
+
+bool emitterAt(int x, int y) {
+    float most = 0.0;
+    for (int k = 0; k < push.albedoChannels; ++k) most = max(most, albedo[(k * h + y) * w + x]);
+    return most > push.emitterAlbedo;
+}
+
+// The divisor at (x, y): the albedo's channel above the floor, else 0 (not divided).
+float divisorAt(int x, int y) {
+    if (push.albedoChannels == 0) return 0.0;
+    float a = albedo[(min(c, push.albedoChannels - 1) * h + y) * w + x];
+    return a > float(NFOR_NOISE_ALBEDO_FLOOR) ? a : 0.0;
+}
+
+// Whether divisors a and b divide alike: both not, or both within the ratio.
+bool alike(float a, float b) {
+    float ratio = float(NFOR_NOISE_DIVISOR_RATIO);
+    if (a == 0.0 || b == 0.0) return a == b;
+    return a <= b * ratio && b <= a * ratio;
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
+    w = push.width;
+    h = push.height;
+    c = int(gl_WorkGroupID.z);
+    if (x >= w) return;
+    int at = (c * h + y) * w + x;
+    float value = color[at];
+    bool emitter = emitterAt(x, y);
+    if (c == 0) mask[y * w + x] = emitter ? 0.0 : 1.0;
+    outColor[at] = value;
+    if (push.threshold <= 0.0) return;
+    // The z of the neighbours divided like this pixel, sorted as they come; with none, the
+    // neighbours' colours (a lone pixel whose albedo is unlike all around it).
+    float a = divisorAt(x, y);
+    float z[8], raw[8];
+    int n = 0, m = 0;
+    bool emitterNear = false;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u) {
+            if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h) continue;
+            emitterNear = emitterNear || emitterAt(u, v);
+            float cq = color[(c * h + v) * w + u], aq = divisorAt(u, v);
+            int i = m++;
+            while (i > 0 && raw[i - 1] > cq) {
+                raw[i] = raw[i - 1];
+                --i;
+            }
+            raw[i] = cq;
+            if (!alike(a, aq)) continue;
+            float zq = aq > 0.0 ? cq / aq : cq;
+            i = n++;
+            while (i > 0 && z[i - 1] > zq) {
+                z[i] = z[i - 1];
+                --i;
+            }
+            z[i] = zq;
+        }
+    // Unlike all around it next to a light: the light's edge, kept.
+    if (m == 0 || (n == 0 && emitterNear)) return;
+    float s = n > 0 && a > 0.0 ? a : 1.0;
+    float median = n > 0 ? z[(n - 1) / 2] : raw[(m - 1) / 2];
+    float limit = median + push.threshold * sqrt(variance[at]) / s + push.relative * abs(median);
+    if (value / s > limit) outColor[at] = limit * s;
+}

@@ -1,0 +1,48 @@
+// nfor stage 2: emitters and fireflies. A pixel whose largest albedo channel exceeds
+// emitterAlbedo is an emitter (a reflectance is at most about 1; renderers write a light's
+// emission as its albedo): mask 0, left out of every window, its colour kept as clamped
+// here. Per channel, z = colour / divisor (as in nfor/noise.h) above the lower median of
+// the z of the pixel's 8 neighbours divided alike (z compares only like albedos) +
+// threshold sqrt(v) / divisor + relative |median| is clamped to that limit; a pixel with
+// no neighbour divided alike (an albedo unlike all around it: a sample that hit a small
+// bright object or a sub-pixel light) compares its colour with its neighbours' colours
+// the same way, unless a neighbour is an emitter (a light's edge, partly covered: kept).
+// Threshold 0: nothing clamped; no neighbour (1x1): kept. The relative term keeps the
+// smooth peaks of noise-free regions (v = 0): only values well above their neighbours are
+// fireflies. One invocation per pixel and channel; channel 0's writes the mask.
+#ifndef MCD_SHADERS_NFOR_CLAMP_H
+#define MCD_SHADERS_NFOR_CLAMP_H
+
+#include "nfor/nfor.h"
+
+#define NFOR_CLAMP_COLOR 0
+#define NFOR_CLAMP_VARIANCE 1
+#define NFOR_CLAMP_ALBEDO 2
+#define NFOR_CLAMP_OUT 3
+#define NFOR_CLAMP_MASK 4
+#define NFOR_CLAMP_BINDINGS 5
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct NforClampPush {
+#else
+layout(push_constant) uniform NforClampPush {
+#endif
+    int width;
+    int height;
+    int albedoChannels;  // 0: no albedo (no divisor, no emitters)
+    float threshold;
+    float relative;
+    float emitterAlbedo;
+#ifdef __cplusplus
+};
+static_assert(sizeof(NforClampPush) == 24);
+static_assert(offsetof(NforClampPush, emitterAlbedo) == 20);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif

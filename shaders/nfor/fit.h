@@ -1,0 +1,51 @@
+// nfor stages 5 and 6, one candidate bandwidth k each. `regress`: per pixel p the weighted
+// least-squares fit of every colour channel on the columns (1, dx / R, dy / R, F_q - F_p)
+// over the (2R + 1)^2 window, weight of q exp(-max(0, D(p, q - p)) / k^2 - sum_j (s_j
+// (F_q,j - F_p,j))^2) (1 at q = p; 0 for emitters, outside the frame and where the
+// exponent exceeds NFOR_EXP_CUT), ridge lambda sum(w) on every column but the constant,
+// Cholesky; writes the coefficients (column i, channel c at plane i * channels + c) and
+// the fit's influence on its centre, (A^-1)_00, at plane `hatPlane` of the hat buffer.
+// An emitter (mask 0) writes its colour as the constant, no slope, influence 1. `gather`:
+// per pixel q the average of the fits of the windows p holding q whose centres are at most
+// gatherRadius away (all of them at the window's radius: NFOR's collaborative filtering),
+// evaluated at q and weighted by q's weight in p's window, into planes outPlane.. of the
+// output; an emitter keeps its input. One invocation per pixel.
+#ifndef MCD_SHADERS_NFOR_FIT_H
+#define MCD_SHADERS_NFOR_FIT_H
+
+#include "nfor/nfor.h"
+
+#define NFOR_FIT_COLOR 0  // regress: the clamped colour; gather: the input colour
+#define NFOR_FIT_FEATURES 1
+#define NFOR_FIT_MASK 2
+#define NFOR_FIT_DISTANCE 3
+#define NFOR_FIT_BETA 4  // regress writes, gather reads
+#define NFOR_FIT_OUT 5   // regress: the influence; gather: the output
+#define NFOR_FIT_BINDINGS 6
+
+#ifdef __cplusplus
+#include <cstddef>
+namespace mcd::shader {
+struct NforFitPush {
+#else
+layout(push_constant) uniform NforFitPush {
+#endif
+    int width;
+    int height;
+    int radius;
+    int gatherRadius;     // gather: the windows averaged are those centred this close
+    int outPlane;         // regress: the influence's plane; gather: the output's first
+    float invBandwidth2;  // 1 / k^2
+    float ridge;
+    float featureWeight[NFOR_MAX_FEATURES];  // s_j
+#ifdef __cplusplus
+};
+static_assert(sizeof(NforFitPush) == 68);
+static_assert(offsetof(NforFitPush, featureWeight) == 28);
+}  // namespace mcd::shader
+#else
+}
+push;
+#endif
+
+#endif

@@ -1,0 +1,72 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "nfor/noise.h"
+
+layout(local_size_x = NFOR_LOCAL_SIZE) in;
+layout(std430, binding = NFOR_NOISE_IMAGE) readonly buffer Values { float values[]; };
+layout(std430, binding = NFOR_NOISE_DIVISOR) readonly buffer Divisor { float divisor[]; };
+layout(std430, binding = NFOR_NOISE_OUTPUT) writeonly buffer Output { float outputs[]; };
+
+const int kMaxPairs = (2 * NFOR_NOISE_MAX_RADIUS + 1) * (2 * NFOR_NOISE_MAX_RADIUS + 1);
+int w, h, c;
+
+// The divisor at (x, y): the albedo's channel above the floor, else 0 (not divided).
+float divisorAt(int x, int y) {
+    if (push.divisorChannels == 0) return 0.0;
+    float a = divisor[(min(c, push.divisorChannels - 1) * h + y) * w + x];
+    return a > float(NFOR_NOISE_ALBEDO_FLOOR) ? a : 0.0;
+}
+
+// Whether divisors a and b divide alike: both not, or both within the ratio.
+bool alike(float a, float b) {
+    float ratio = float(NFOR_NOISE_DIVISOR_RATIO);
+    if (a == 0.0 || b == 0.0) return a == b;
+    return a <= b * ratio && b <= a * ratio;
+}
+
+float zAt(int x, int y, float a) {
+    float value = values[(c * h + y) * w + x];
+    return a > 0.0 ? value / a : value;
+}
+
+bool inside(int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h;
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
+    w = push.width;
+    h = push.height;
+    c = int(gl_WorkGroupID.z);
+    if (x >= w) return;
+    const ivec2 dirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
+    float a = divisorAt(x, y);
+    int r = push.radius;
+    float best = -1.0;
+    float halves[kMaxPairs];
+    for (int d = 0; d < 4; ++d) {
+        // Insertion into a sorted list as the pairs come.
+        int n = 0;
+        for (int v = y - r; v <= y + r; ++v)
+            for (int u = x - r; u <= x + r; ++u) {
+                int u1 = u + dirs[d].x, v1 = v + dirs[d].y;
+                if (!inside(u, v) || !inside(u1, v1)) continue;
+                float a0 = divisorAt(u, v), a1 = divisorAt(u1, v1);
+                if (!alike(a, a0) || !alike(a, a1)) continue;
+                float diff = zAt(u, v, a0) - zAt(u1, v1, a1);
+                float half_ = 0.5 * diff * diff;
+                int i = n++;
+                while (i > 0 && halves[i - 1] > half_) {
+                    halves[i] = halves[i - 1];
+                    --i;
+                }
+                halves[i] = half_;
+            }
+        if (n == 0) continue;
+        float estimate = halves[(n - 1) / 2] / float(NFOR_CHI2_MEDIAN);
+        if (best < 0.0 || estimate < best) best = estimate;
+    }
+    float scale = a > 0.0 ? a * a : 1.0;
+    outputs[(c * h + y) * w + x] = best < 0.0 ? 0.0 : best * push.calibration * scale;
+}

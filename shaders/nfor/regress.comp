@@ -1,0 +1,127 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+#extension GL_EXT_control_flow_attributes : require
+
+#include "nfor/fit.h"
+
+layout(local_size_x = NFOR_LOCAL_SIZE) in;
+layout(constant_id = NFOR_SPEC_CHANNELS) const int channels = 3;
+layout(constant_id = NFOR_SPEC_FEATURES) const int featureCount = 7;
+const int columnCount = featureCount + 3;
+const int packedCount = columnCount * (columnCount + 1) / 2;
+// Arrays at their largest size; the loops run to the specialised counts.
+const int kMaxColumns = NFOR_MAX_FEATURES + 3;
+layout(std430, binding = NFOR_FIT_COLOR) readonly buffer Color { float color[]; };
+layout(std430, binding = NFOR_FIT_FEATURES) readonly buffer Features { float features[]; };
+layout(std430, binding = NFOR_FIT_MASK) readonly buffer Mask { float mask[]; };
+layout(std430, binding = NFOR_FIT_DISTANCE) readonly buffer Distance { float distance[]; };
+layout(std430, binding = NFOR_FIT_BETA) writeonly buffer Beta { float beta[]; };
+layout(std430, binding = NFOR_FIT_OUT) writeonly buffer Hat { float hat[]; };
+
+int w, h;
+
+#define TRI(i, j) ((i) * ((i) + 1) / 2 + (j))
+#define ACC(i, j) if ((j) <= (i)) sa[TRI(i, j)] += wx * col[j];
+#define ROW(i) if ((i) < columnCount) { float wx = wq * col[i]; \
+    ACC(i, 0) ACC(i, 1) ACC(i, 2) ACC(i, 3) ACC(i, 4) ACC(i, 5) ACC(i, 6) \
+    ACC(i, 7) ACC(i, 8) ACC(i, 9) ACC(i, 10) ACC(i, 11) ACC(i, 12) \
+    sb[i] += wx * c0; \
+    if (channels > 1) sb[kMaxColumns + (i)] += wx * c1; \
+    if (channels > 2) sb[2 * kMaxColumns + (i)] += wx * c2; \
+    if (channels > 3) sb[3 * kMaxColumns + (i)] += wx * c3; }
+#define SEQ91(F) SEQ10(F, 0) SEQ10(F, 10) SEQ10(F, 20) SEQ10(F, 30) SEQ10(F, 40) SEQ10(F, 50) SEQ10(F, 60) SEQ10(F, 70) SEQ10(F, 80) F(90)
+#define SEQ52(F) SEQ10(F, 0) SEQ10(F, 10) SEQ10(F, 20) SEQ10(F, 30) SEQ10(F, 40) F(50) F(51)
+#define ZA(i) sa[i] = 0.0;
+#define ZB(i) sb[i] = 0.0;
+#define CA(i) a[i] = sa[i];
+#define CB(i) b[i] = sb[i];
+#define ACCUMULATE ROW(0) ROW(1) ROW(2) ROW(3) ROW(4) ROW(5) ROW(6) ROW(7) ROW(8) ROW(9) ROW(10) ROW(11) ROW(12)
+
+#include "nfor/weight.glsl"
+
+// Lower triangle packed by rows: element (i, j), j <= i.
+int tri(int i, int j) {
+    return i * (i + 1) / 2 + j;
+}
+
+void writeConstant(int x, int y) {
+    [[unroll]] for (int c = 0; c < channels; ++c) {
+        beta[(c * h + y) * w + x] = color[(c * h + y) * w + x];
+        [[unroll]] for (int i = 1; i < columnCount; ++i) beta[((i * channels + c) * h + y) * w + x] = 0.0;
+    }
+    hat[(push.outPlane * h + y) * w + x] = 1.0;
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
+    w = push.width;
+    h = push.height;
+    if (x >= w) return;
+    if (mask[y * w + x] == 0.0) {
+        writeConstant(x, y);
+        return;
+    }
+    loadFixed(x, y);
+    float sa[kMaxColumns * (kMaxColumns + 1) / 2], sb[kMaxColumns * NFOR_MAX_CHANNELS];
+    SEQ91(ZA)
+    SEQ52(ZB)
+    float weights = 0.0;
+    int r = push.radius;
+    for (int v = y - r; v <= y + r; ++v)
+        for (int u = x - r; u <= x + r; ++u) {
+            if (u < 0 || v < 0 || u >= w || v >= h) continue;
+            float wq = weightOf(x, y, u, v, u, v, 1.0);
+            if (wq == 0.0) continue;
+            float c0 = color[(0 * h + v) * w + u];
+            float c1 = channels > 1 ? color[(1 * h + v) * w + u] : 0.0;
+            float c2 = channels > 2 ? color[(2 * h + v) * w + u] : 0.0;
+            float c3 = channels > 3 ? color[(3 * h + v) * w + u] : 0.0;
+            ACCUMULATE
+            weights += wq;
+        }
+    float a[kMaxColumns * (kMaxColumns + 1) / 2], b[kMaxColumns * NFOR_MAX_CHANNELS];
+    SEQ91(CA)
+    SEQ52(CB)
+    [[unroll]] for (int i = 1; i < columnCount; ++i) a[tri(i, i)] += push.ridge * weights;
+    // Cholesky in place: A = L L^T.
+    [[unroll]] for (int j = 0; j < columnCount; ++j) {
+        float s = a[tri(j, j)];
+        [[unroll]] for (int k = 0; k < j; ++k) s -= a[tri(j, k)] * a[tri(j, k)];
+        if (!(s > 0.0)) {
+            writeConstant(x, y);
+            return;
+        }
+        float l = sqrt(s);
+        a[tri(j, j)] = l;
+        [[unroll]] for (int i = j + 1; i < columnCount; ++i) {
+            float t = a[tri(i, j)];
+            [[unroll]] for (int k = 0; k < j; ++k) t -= a[tri(i, k)] * a[tri(j, k)];
+            a[tri(i, j)] = t / l;
+        }
+    }
+    [[unroll]] for (int c = 0; c < channels; ++c) {
+        int o = c * kMaxColumns;
+        [[unroll]] for (int i = 0; i < columnCount; ++i) {
+            float t = b[o + i];
+            [[unroll]] for (int k = 0; k < i; ++k) t -= a[tri(i, k)] * b[o + k];
+            b[o + i] = t / a[tri(i, i)];
+        }
+        [[unroll]] for (int i = columnCount - 1; i >= 0; --i) {
+            float t = b[o + i];
+            [[unroll]] for (int k = i + 1; k < columnCount; ++k) t -= a[tri(k, i)] * b[o + k];
+            b[o + i] = t / a[tri(i, i)];
+        }
+        [[unroll]] for (int i = 0; i < columnCount; ++i) beta[((i * channels + c) * h + y) * w + x] = b[o + i];
+    }
+    // (A^-1)_00 = |L^-1 e_0|^2.
+    float z[kMaxColumns];
+    float influence = 0.0;
+    [[unroll]] for (int i = 0; i < columnCount; ++i) {
+        float t = i == 0 ? 1.0 : 0.0;
+        [[unroll]] for (int k = 0; k < i; ++k) t -= a[tri(i, k)] * z[k];
+        z[i] = t / a[tri(i, i)];
+        influence += z[i] * z[i];
+    }
+    hat[(push.outPlane * h + y) * w + x] = influence;
+}

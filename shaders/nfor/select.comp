@@ -1,0 +1,53 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "nfor/select.h"
+
+layout(local_size_x = NFOR_LOCAL_SIZE) in;
+layout(constant_id = NFOR_SPEC_CHANNELS) const int channels = 3;
+layout(std430, binding = NFOR_SELECT_COLOR) readonly buffer Color { float color[]; };
+layout(std430, binding = NFOR_SELECT_VARIANCE) readonly buffer Variance { float variance[]; };
+layout(std430, binding = NFOR_SELECT_CANDIDATES) readonly buffer Candidates { float candidates[]; };
+layout(std430, binding = NFOR_SELECT_HAT) readonly buffer Hat { float hat[]; };
+layout(std430, binding = NFOR_SELECT_OUT) writeonly buffer Out { float outputs[]; };
+layout(std430, binding = NFOR_SELECT_CHOICE) writeonly buffer Choice { float choice[]; };
+
+int w, h;
+
+float sureAt(int k, int x, int y) {
+    float e = 0.0;
+    float influence = hat[(k * h + y) * w + x];
+    for (int c = 0; c < channels; ++c) {
+        int at = (c * h + y) * w + x;
+        float d = candidates[((k * channels + c) * h + y) * w + x] - color[at];
+        float v = variance[at];
+        e += d * d - v + 2.0 * v * influence;
+    }
+    return e;
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
+    w = push.width;
+    h = push.height;
+    if (x >= w) return;
+    int r = push.radius, best = 0;
+    float bestSure = 0.0;
+    for (int k = 0; k < push.candidates; ++k) {
+        float sum = 0.0;
+        int count = 0;
+        for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
+            for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
+                sum += sureAt(k, u, v);
+                ++count;
+            }
+        float mean = sum / float(count);
+        if (k == 0 || mean < bestSure) {
+            best = k;
+            bestSure = mean;
+        }
+    }
+    for (int c = 0; c < channels; ++c)
+        outputs[(c * h + y) * w + x] = candidates[((best * channels + c) * h + y) * w + x];
+    choice[y * w + x] = float(best);
+}

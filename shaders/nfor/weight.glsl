@@ -1,0 +1,49 @@
+// The weight of q in p's window and the regression's columns of q there, shared by regress
+// and gather. Needs w, h, the mask, features and distance buffers and `featureCount`.
+// Arrays are indexed by constants only (the loops are unrolled by the preprocessor to the
+// largest counts, the spec constants fold the unused steps away), which keeps them in
+// registers.
+
+#define SEQ10(F, o) F(o + 0) F(o + 1) F(o + 2) F(o + 3) F(o + 4) F(o + 5) F(o + 6) F(o + 7) F(o + 8) F(o + 9)
+#define SEQ13(F) SEQ10(F, 0) F(10) F(11) F(12)
+
+float distanceOf(int px, int py, int qx, int qy) {
+    int r = push.radius, ox = qx - px, oy = qy - py;
+    int side = 2 * r + 1, centre = (side * side - 1) / 2;
+    int index = (oy + r) * side + ox + r;
+    if (index > centre) return distance[((index - centre - 1) * h + py) * w + px];
+    int mirrored = (r - oy) * side + r - ox;
+    return distance[((mirrored - centre - 1) * h + qy) * w + qx];
+}
+
+// The features of the pixel fixed over the loop (p in regress, q in gather).
+float fixedFeature[NFOR_MAX_FEATURES];
+#define LOAD_FIXED(j) \
+    if ((j) < featureCount) fixedFeature[j] = features[((j) * h + fy) * w + fx];
+void loadFixed(int fx, int fy) {
+    SEQ10(LOAD_FIXED, 0)
+}
+
+// The columns (1, dx / R, dy / R, F_q - F_p) into col, and q's weight in p's window: 0 for
+// an emitter at `moving` (the pixel not fixed; the fixed one's mask is the caller's), 1 at
+// q = p, else exp(-max(0, D) / k^2 - sum_j (s_j (F_q,j - F_p,j))^2), 0 beyond the cut.
+// sign: 1 when q moves, -1 when p does.
+float col[NFOR_MAX_FEATURES + 3];
+#define COLUMN(j)                                                                       \
+    if ((j) < featureCount) {                                                           \
+        float d = sign * (features[((j) * h + my) * w + mx] - fixedFeature[j]);         \
+        col[3 + (j)] = d;                                                               \
+        float s = push.featureWeight[j] * d;                                            \
+        e += s * s;                                                                     \
+    }
+float weightOf(int px, int py, int qx, int qy, int mx, int my, float sign) {
+    if (mask[my * w + mx] == 0.0) return 0.0;
+    col[0] = 1.0;
+    col[1] = float(qx - px) / float(push.radius);
+    col[2] = float(qy - py) / float(push.radius);
+    float e = 0.0;
+    SEQ10(COLUMN, 0)
+    if (qx == px && qy == py) return 1.0;
+    e += max(0.0, distanceOf(px, py, qx, qy)) * push.invBandwidth2;
+    return e > NFOR_EXP_CUT ? 0.0 : exp(-e);
+}
