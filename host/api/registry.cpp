@@ -34,10 +34,11 @@ std::vector<MethodEntry> Build() {
          2,
          {{"bayes", {}, 3, {1.f, 0.8f, 0.05f}, "yellow"},
           {"bayes no split", {{"no-split", true}}, 8, {0.5f, 0.25f, 0.1f}, "brown"}}},
-        // nfor last: the slowest on lavapipe, and the one candidate that regresses on every
-        // feature at once (the strongest on the plain frames whose pivots, histograms and
-        // variance are missing).
-        {"nfor", NforFrontEnd, -1, {{"nfor", {}, 9, {1.f, 1.f, 1.f}, "white"}}},
+        // nfor is not among auto's candidates yet: auto runs each candidate twice (the run
+        // and its error probe), and nfor is the slowest method on lavapipe, for a small gain
+        // in auto's error on the real-scene set (docs/methods/nfor.md). Its variant, to
+        // put back when it is cheaper: {"nfor", {}, 9, {1.f, 1.f, 1.f}, "white"}.
+        {"nfor", NforFrontEnd, -1, {}},
         {"pivot",
          PivotFrontEnd,
          3,

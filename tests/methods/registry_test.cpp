@@ -62,7 +62,7 @@ TEST(MethodRegistry, AutoRunOrderAndPickOrder) {
         labels.push_back(v.variant->label);
     EXPECT_EQ(labels, (std::vector<std::string>{"rhf", "pivot", "pivot k0", "bayes", "awr",
                                                 "rhf 2 scales", "pivot no ids",
-                                                "pivot k0 no ids", "bayes no split", "nfor"}));
+                                                "pivot k0 no ids", "bayes no split"}));
     std::vector<std::string> picks;
     for (const api::MethodEntry *m : api::PickOrder()) picks.push_back(m->name);
     EXPECT_EQ(picks, (std::vector<std::string>{"awr", "rhf", "bayes", "pivot"}));
