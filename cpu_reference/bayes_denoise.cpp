@@ -138,6 +138,51 @@ void KeepMean(const Image &color, BayesRefResult *result, bool keepStage) {
     if (keepStage) result->stages.push_back({"keep mean", out});
 }
 
+// The mean of each plane over the box of radius r around each pixel, clipped to the image.
+Image BoxMean(const Image &image, int r) {
+    Image out(image.width, image.height, image.channels);
+    for (int c = 0; c < image.channels; ++c)
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                double sum = 0;
+                int n = 0;
+                for (int v = std::max(0, y - r); v <= std::min(image.height - 1, y + r); ++v)
+                    for (int u = std::max(0, x - r); u <= std::min(image.width - 1, x + r);
+                         ++u) {
+                        sum += image.At(c, v, u);
+                        ++n;
+                    }
+                out.At(c, y, x) = float(sum / n);
+            }
+    return out;
+}
+
+// Restore the input's local means: each output value times m_in / m_out over the tent
+// window (two boxes) where both means are positive and finite.
+void LocalMean(const Image &color, int radius, BayesRefResult *result, bool keepStage) {
+    Image input(color.width, color.height, color.channels);
+    for (size_t i = 0; i < color.data.size(); ++i) {
+        float v = color.data[i];
+        input.data[i] = std::isfinite(v) && v > 0 ? v : 0.f;
+    }
+    Image &out = result->image;
+    Image mIn = BoxMean(BoxMean(input, radius), radius);
+    Image mOut = BoxMean(BoxMean(out, radius), radius);
+    for (size_t i = 0; i < out.data.size(); ++i) {
+        double a = mIn.data[i], b = mOut.data[i];
+        if (a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b))
+            out.data[i] = float(out.data[i] * (a / b));
+    }
+    if (keepStage) result->stages.push_back({"local mean", out});
+}
+
+// keepMean, then the local mean.
+void RestoreMeans(const Image &color, const BayesRefOptions &options, BayesRefResult *result) {
+    if (options.keepMean) KeepMean(color, result, options.keepStages);
+    if (options.meanRadius > 0)
+        LocalMean(color, options.meanRadius, result, options.keepStages);
+}
+
 }  // namespace
 
 std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance,
@@ -187,6 +232,7 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         BayesRefOptions once = options;
         once.spins = 1;
         once.keepMean = false;  // applied once, to the mean over the shifts
+        once.meanRadius = 0;
         int w = color.width, h = color.height, n = options.spins;
         BayesRefResult result = BayesDenoise(color, once);
         once.keepStages = false;
@@ -225,7 +271,7 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         for (size_t i = 0; i < acc.size(); ++i) sum.data[i] = float(acc[i] / (n * n));
         result.image = sum;
         if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
-        if (options.keepMean) KeepMean(color, &result, options.keepStages);
+        RestoreMeans(color, options, &result);
         return result;
     }
     BayesRefResult result;
@@ -254,7 +300,7 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         // A 1x1 image: no detail band, log then exp.
         result.image = BayesExp(logImage, color, options.restoreZeros);
         stage("exp", result.image);
-        if (options.keepMean) KeepMean(color, &result, options.keepStages);
+        RestoreMeans(color, options, &result);
         return result;
     }
     if (options.opponent) {
@@ -306,7 +352,7 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
     }
     result.image = BayesExp(back, color, options.restoreZeros);
     stage("exp", result.image);
-    if (options.keepMean) KeepMean(color, &result, options.keepStages);
+    RestoreMeans(color, options, &result);
     return result;
 }
 

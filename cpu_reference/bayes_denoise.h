@@ -79,6 +79,11 @@ struct BayesRefOptions {
     int spins = 1;  // cycle spinning over spins x spins shifts (mirrored top-left padding)
     // Scale each channel so its mean is the mean of the input's finite values >= 0.
     bool keepMean = false;
+    // Local mean (0: off): multiply each output value by m_in / m_out, the means of the
+    // input's finite values >= 0 and of the output over the tent window of radius 2 x
+    // meanRadius (a box of radius meanRadius twice, each clipped to the image), where both
+    // are positive and finite. After keepMean.
+    int meanRadius = 0;
     // Keep every stage, named and laid out as host/methods/bayes.h's BayesResult::stages.
     bool keepStages = false;
     // When set, used instead of sn (the GPU's --noise auto estimate, for `mcdenoise diff`).

@@ -190,7 +190,7 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 r.nu.At(c, y, x) = float(s / std::max(zl * zl, kTiny));
                 if (PivotBoundaryTerm(ids, x, y) == 0) {
                     r.z.At(c, y, x) = r.s.At(c, y, x) = 0;
-                    r.nu.At(c, y, x) = -1;
+                    r.nu.At(c, y, x) = kPivotBoundaryNu;
                 }
             }
     }
@@ -339,7 +339,10 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
     for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (ratio.nu.At(c, y, x) < 0) continue;
+                // Pixels without z keep their input; boundary pixels (no data to the fits)
+                // take the fits of the centres of their own ids that reach them.
+                double nuHere = ratio.nu.At(c, y, x);
+                if (nuHere < 0 && nuHere != kPivotBoundaryNu) continue;
                 double sumW = 0, sumWz = 0;
                 // Every centre whose square holds (x, y) (eq. 13) and that lies on its
                 // lattice, standing for step^2 centres; none reaches further than the
@@ -388,7 +391,8 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (ratio.nu.At(c, y, x) < 0) continue;
+                double nuHere = ratio.nu.At(c, y, x);
+                if (nuHere < 0 && nuHere != kPivotBoundaryNu) continue;
                 double g = Luma(pivot, x, y), sumW = 0, sumWz = 0;
                 for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
                     for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {

@@ -29,8 +29,10 @@
 //   weights ("effectively excluded from fitting", 4.3) and the averaging weight. The
 //   boundary term w_b ("0 near projections of the boundaries") is 0 for a pixel whose
 //   4-neighbours have other ids: such pixels may mix both sides (the ids are the first
-//   sample's), so the ratio stage gives them no z: no data to fits or averages, and they
-//   keep their input.
+//   sample's), so the ratio stage gives them no z: no data to fits or averages. The gather
+//   fills them from the fits of the centres of their own ids that reach them (the id term)
+//   and they keep their input only where none does: kept, they drew dotted outlines along
+//   every id edge, the input there often exactly 0 at low spp.
 // - Eq. 13's base weight is exp(-d^2 / R0^2) of the centre's window (d^2 = dx^2 + dy^2),
 //   normalised by the sum of the weights.
 // - Eq. 13's sum over centres is taken as a quadrature: a centre of radius R0 takes part
@@ -96,7 +98,11 @@ struct PivotGuides {
 struct PivotRatio {
     Image z, s, nu;
 };
-// With `ids`, pixels on an object/part boundary (the boundary term) have no z either.
+// nu of a pixel on an object/part boundary: no data to the fits, but filtered by them.
+constexpr float kPivotBoundaryNu = -2;
+// With `ids`, pixels on an object/part boundary (the boundary term) give no z to the fits
+// or averages (nu = kPivotBoundaryNu); the gather still fills them from the centres of
+// their own ids.
 PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *variance,
                         double floor, const Image *ids = nullptr);
 

@@ -22,6 +22,7 @@ struct BayesParams {
     std::string noise = BayesOptions().noiseAuto ? "auto" : "fixed";
     std::string zeros = "restore", colour = "rgb";
     int levels = BayesOptions().levels, spins = BayesOptions().spins;
+    int meanRadius = BayesOptions().meanRadius;
     float sn = BayesOptions().sn, pn = BayesOptions().pn, hpFactor = BayesOptions().hpFactor;
     float floorRel = BayesOptions().floorRel;
     bool noSplit = false, keepMean = BayesOptions().keepMean;
@@ -32,6 +33,7 @@ struct BayesParams {
         options.transform = transform == "swt" ? BayesTransform::Swt : BayesTransform::Dwt;
         options.restoreZeros = zeros == "restore";
         options.keepMean = keepMean;
+        options.meanRadius = meanRadius;
         options.spins = spins;
         options.opponent = colour == "opponent";
         options.levels = levels;
@@ -81,6 +83,11 @@ class Bayes : public FrontEndOf<BayesParams> {
                          "scale each channel to the input's mean (undoes the log domain's "
                          "geometric-mean bias)",
                          &BayesParams::keepMean),
+               IntParam("bayes-mean-radius",
+                        "restore the input's local means over tent windows of twice this "
+                        "radius (the log domain darkens where the noise is large relative to "
+                        "the signal; 0: off)",
+                        &BayesParams::meanRadius, 0, 256),
                IntParam("spins",
                         "shift invariance by cycle spinning over spins x spins shifts (1: off; "
                         "cost x spins^2)",
@@ -137,11 +144,11 @@ class Bayes : public FrontEndOf<BayesParams> {
             "variance layer's band means) and its log floor (a median) per tile, not over the "
             "frame";
         int half = WaveletHalfSupport(o.basis);
-        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins;
+        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins + 2 * o.meanRadius;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
-            "{}, and the spins' shift",
-            options.basis, half, levels);
+            "{}, the spins' shift and the local mean's tent window of radius {}",
+            options.basis, half, levels, 2 * o.meanRadius);
         needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
         // Measured: 144 bytes a pixel at 1920x1080 (3 channels, swt, 3 levels). One binding
         // holds a channel's stationary coefficients (3 bands a level and the low band), or
@@ -171,6 +178,7 @@ class Bayes : public FrontEndOf<BayesParams> {
         r.opponent = bayesOptions.opponent;
         r.spins = bayesOptions.spins;
         r.keepMean = bayesOptions.keepMean;
+        r.meanRadius = bayesOptions.meanRadius;
         r.keepStages = true;
         // --noise mad: the estimate is host code on the GPU's coefficients, not a kernel
         // (a median is not diffable); the reference takes the GPU run's s_n so that the

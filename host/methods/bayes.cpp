@@ -122,6 +122,67 @@ void KeepMean(const Image &color, BayesResult *result) {
         "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
 }
 
+// Box means of radius r along rows (dx = 1) or columns, clipped to the image: running sums.
+void BoxPass(const float *in, float *out, int w, int h, int r, bool rows) {
+    int length = rows ? w : h, lines = rows ? h : w;
+    size_t along = rows ? 1 : size_t(w), across = rows ? size_t(w) : 1;
+    for (int line = 0; line < lines; ++line) {
+        const float *src = in + line * across;
+        float *dst = out + line * across;
+        double sum = 0;
+        int lo = 0, hi = -1;  // the window [lo, hi] summed so far
+        for (int i = 0; i < length; ++i) {
+            int a = std::max(0, i - r), b = std::min(length - 1, i + r);
+            while (hi < b) sum += src[++hi * along];
+            while (lo < a) sum -= src[lo++ * along];
+            dst[i * along] = float(sum / (b - a + 1));
+        }
+    }
+}
+
+// Each plane's mean over the tent window of radius 2r (a box of radius r, twice).
+Image TentMean(const Image &image, int r) {
+    Image a(image.width, image.height, image.channels), b = a;
+    for (int c = 0; c < image.channels; ++c) {
+        BoxPass(image.Plane(c), a.Plane(c), image.width, image.height, r, true);
+        BoxPass(a.Plane(c), b.Plane(c), image.width, image.height, r, false);
+        BoxPass(b.Plane(c), a.Plane(c), image.width, image.height, r, true);
+        BoxPass(a.Plane(c), b.Plane(c), image.width, image.height, r, false);
+    }
+    return b;
+}
+
+// Restore the input's local means (BayesOptions::meanRadius).
+void LocalMean(const Image &color, int radius, BayesResult *result) {
+    Image input = color;
+    for (float &v : input.data) v = Finite(v) && v > 0 ? v : 0.f;
+    Image mIn = TentMean(input, radius), mOut = TentMean(result->image, radius);
+    double lo = 1e30, hi = 0;
+    for (size_t i = 0; i < mIn.data.size(); ++i) {
+        float a = mIn.data[i], b = mOut.data[i];
+        if (!(a > 0 && b > 0 && Finite(a) && Finite(b))) continue;
+        double ratio = double(a) / b;
+        result->image.data[i] = float(result->image.data[i] * ratio);
+        lo = std::min(lo, ratio), hi = std::max(hi, ratio);
+    }
+    result->plan.push_back(fmt::format(
+        "local mean: the input's means over tent windows of radius {} restored (log-domain "
+        "bias; factors {:.3g} to {:.3g})",
+        2 * radius, hi > 0 ? lo : 1.0, hi > 0 ? hi : 1.0));
+}
+
+// keepMean, then the local mean, each a stage when kept.
+void RestoreMeans(const Image &color, const BayesOptions &options, BayesResult *result) {
+    if (options.keepMean) {
+        KeepMean(color, result);
+        if (options.keepStages) result->stages.push_back({"keep mean", result->image});
+    }
+    if (options.meanRadius > 0) {
+        LocalMean(color, options.meanRadius, result);
+        if (options.keepStages) result->stages.push_back({"local mean", result->image});
+    }
+}
+
 }  // namespace
 
 const char *BayesTransformName(BayesTransform transform) {
@@ -651,10 +712,7 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     result.image = gpu.out.Download();
     run.AddStage("exp", result.image);
     run.Finish(result);
-    if (options.keepMean) {
-        KeepMean(color, &result);
-        if (options.keepStages) result.stages.push_back({"keep mean", result.image});
-    }
+    RestoreMeans(color, options, &result);
     return result;
 }
 
@@ -669,6 +727,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
     BayesOptions once = options;
     once.spins = 1;
     once.keepMean = false;  // applied once to the average below
+    once.meanRadius = 0;
     BayesResult result;
     result.image = CycleSpin(color.width, color.height, color.channels, options.spins,
                              [&](int dx, int dy) {
@@ -706,10 +765,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color,
                                    "used by every shift) are the unshifted run's",
                                    options.spins, options.spins));
     if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
-    if (options.keepMean) {
-        KeepMean(color, &result);
-        if (options.keepStages) result.stages.push_back({"keep mean", result.image});
-    }
+    RestoreMeans(color, options, &result);
     return result;
 }
 

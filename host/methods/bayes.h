@@ -52,6 +52,13 @@ struct BayesOptions {
     // finite, non-negative input values), undoing the log domain's pull toward the
     // geometric mean. Done on the host after download.
     bool keepMean = false;
+    // Beyond the paper: restore the input's local means (0: off). Each output value is
+    // multiplied by m_in / m_out, the means of the input's finite values >= 0 and of the
+    // output over a tent window of radius 2 x meanRadius (a box of radius meanRadius twice,
+    // each clipped to the image), where both are positive. The log domain estimates a
+    // geometric mean, which lies below the mean by as much as the local noise is relative:
+    // dark, noisy areas darkened most. Done on the host after download, after keepMean.
+    int meanRadius = 8;
     // Shift invariance by cycle spinning (Coifman & Donoho): the average of the method
     // over the spins x spins shifts (dx, dy) in [0, spins)^2, each made by padding the
     // image at the top left by mirroring (x -> -x-1) and cropping back. 1: off.
@@ -73,7 +80,7 @@ struct BayesBandFit {
 // channels (3 levels + 1) planes), "moments" (1 channel, a row per band: E[y^2], E[y^4],
 // max |y|, count), "fits" (a row per band: s_c, p_c, fit), "shrinkage", "synthesis",
 // "opponent inverse", "exp"; with spins > 1 these are the unshifted run's, then "cycle
-// spinning" (the average); "keep mean" last when on. A 1x1 image (no level) has "log" and
+// spinning" (the average); "keep mean" and "local mean" last when on. A 1x1 image (no level) has "log" and
 // "exp" only.
 struct BayesResult : MethodResult {
     std::vector<BayesBandFit> fits;
