@@ -65,20 +65,21 @@ Image AwrReconstructSpun(const Image &color, const Image &variance, WaveletBasis
     return result;
 }
 
-Image AwrReconstruct(const Image &color, const Image &variance, const AwrRefParams &params,
+Image AwrReconstruct(const Image &color, const Image &variance, const AwrParams &params,
                      std::vector<std::pair<std::string, Image>> *stages) {
     int levels =
         params.levels < 0 ? MaxWaveletLevels(color.width, color.height) : params.levels;
+    const double cs = params.cs, renorm = params.renorm;
     bool anyVariance = false;
     for (float v : variance.data) anyVariance |= v > 0;
     // Shrinking by zero keeps every coefficient: no stage runs, the output is the input.
-    if (!anyVariance || params.cs == 0 || levels == 0) return color;
+    if (!anyVariance || cs == 0 || levels == 0) return color;
     Image coefficients = WaveletAnalyze(color, params.basis, levels);
     Image coefficientVariance =
-        WaveletSqAnalyze(variance, params.basis, levels, params.lowSum, params.highSum);
+        WaveletSqAnalyze(variance, params.basis, levels, renorm, renorm);
     Image shrunk =
         AwrShrink(coefficients, coefficientVariance, LevelExtent(color.width, levels),
-                  LevelExtent(color.height, levels), params.cs);
+                  LevelExtent(color.height, levels), cs);
     Image out = WaveletSynthesize(shrunk, params.basis, levels);
     if (stages) {
         stages->emplace_back("analysis", std::move(coefficients));
@@ -87,8 +88,8 @@ Image AwrReconstruct(const Image &color, const Image &variance, const AwrRefPara
         stages->emplace_back("synthesis", out);
     }
     if (params.spins <= 1) return out;
-    Image spun = AwrReconstructSpun(color, variance, params.basis, levels, params.cs,
-                                    params.lowSum, params.highSum, params.spins);
+    Image spun = AwrReconstructSpun(color, variance, params.basis, levels, cs, renorm, renorm,
+                                    params.spins);
     if (stages) stages->emplace_back("cycle spinning", spun);
     return spun;
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/params/awr.h"
 #include "host/wavelet.h"
 
 namespace mcd::ref {
@@ -28,20 +29,13 @@ Image AwrReconstruct(const Image &color, const Image &variance, WaveletBasis bas
 Image AwrReconstructSpun(const Image &color, const Image &variance, WaveletBasis basis,
                          int levels, double cs, double lowSum, double highSum, int spins);
 
-struct AwrRefParams {
-    WaveletBasis basis = WaveletBasis::Cdf97;
-    int levels = -1;  // -1: as many as the image allows
-    double cs = 1;
-    double lowSum = 0.70710678, highSum = 0.70710678;  // the paper's 2^-1/2
-    int spins = 1;
-};
-
-// The whole method as `mcdenoise diff` compares it. With `stages`, also the images the GPU
+// The whole method as `mcdenoise diff` compares it (both squared filters renormalised to
+// params.renorm; the parameters taken as doubles). With `stages`, also the images the GPU
 // run keeps (host/methods/awr.h), by the same names: "analysis", "variance analysis",
 // "shrinkage", "synthesis" (of the unshifted image), and "cycle spinning" (the output) when
 // spins > 1. Where the GPU run is idle (no variance anywhere, cs 0, 0 levels) the output is
 // the input and there are no stages.
-Image AwrReconstruct(const Image &color, const Image &variance, const AwrRefParams &params,
+Image AwrReconstruct(const Image &color, const Image &variance, const AwrParams &params,
                      std::vector<std::pair<std::string, Image>> *stages = nullptr);
 
 }  // namespace mcd::ref

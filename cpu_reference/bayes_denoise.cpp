@@ -157,8 +157,8 @@ Image BoxMean(const Image &image, int r) {
     return out;
 }
 
-// Restore the input's local means: each output value times m_in / m_out over the tent
-// window (two boxes) where both means are positive and finite.
+// Restore the input's local means: each output value times m_in / m_out, their means over
+// the tent window (a box twice), where both are positive and finite.
 void LocalMean(const Image &color, int radius, BayesRefResult *result, bool keepStage) {
     Image input(color.width, color.height, color.channels);
     for (size_t i = 0; i < color.data.size(); ++i) {
@@ -177,10 +177,10 @@ void LocalMean(const Image &color, int radius, BayesRefResult *result, bool keep
 }
 
 // keepMean, then the local mean.
-void RestoreMeans(const Image &color, const BayesRefOptions &options, BayesRefResult *result) {
-    if (options.keepMean) KeepMean(color, result, options.keepStages);
-    if (options.meanRadius > 0)
-        LocalMean(color, options.meanRadius, result, options.keepStages);
+void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
+                  BayesRefResult *result) {
+    if (params.keepMean) KeepMean(color, result, keepStages);
+    if (params.meanRadius > 0) LocalMean(color, params.meanRadius, result, keepStages);
 }
 
 }  // namespace
@@ -227,59 +227,19 @@ std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance
     return s;
 }
 
-BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) {
-    if (options.spins > 1) {
-        BayesRefOptions once = options;
-        once.spins = 1;
-        once.keepMean = false;  // applied once, to the mean over the shifts
-        once.meanRadius = 0;
-        int w = color.width, h = color.height, n = options.spins;
-        BayesRefResult result = BayesDenoise(color, once);
-        once.keepStages = false;
-        Image sum(w, h, color.channels);
-        std::vector<double> acc(color.Size(), 0.0);
-        for (int dy = 0; dy < n; ++dy)
-            for (int dx = 0; dx < n; ++dx) {
-                // Pad dx columns and dy rows at the top left, mirrored: position -k-1 reads k
-                // (clamped to the image for images narrower than the shift).
-                Image padded(w + dx, h + dy, color.channels);
-                for (int c = 0; c < color.channels; ++c)
-                    for (int y = 0; y < h + dy; ++y)
-                        for (int x = 0; x < w + dx; ++x) {
-                            int sx = x - dx < 0 ? std::min(dx - x - 1, w - 1) : x - dx;
-                            int sy = y - dy < 0 ? std::min(dy - y - 1, h - 1) : y - dy;
-                            padded.At(c, y, x) = color.At(c, sy, sx);
-                        }
-                Image paddedVariance;
-                if (options.variance) {
-                    paddedVariance = Image(w + dx, h + dy, color.channels);
-                    for (int c = 0; c < color.channels; ++c)
-                        for (int y = 0; y < h + dy; ++y)
-                            for (int x = 0; x < w + dx; ++x) {
-                                int sx = x - dx < 0 ? std::min(dx - x - 1, w - 1) : x - dx;
-                                int sy = y - dy < 0 ? std::min(dy - y - 1, h - 1) : y - dy;
-                                paddedVariance.At(c, y, x) = options.variance->At(c, sy, sx);
-                            }
-                    once.variance = &paddedVariance;
-                }
-                Image one = BayesDenoise(padded, once).image;
-                size_t i = 0;
-                for (int c = 0; c < color.channels; ++c)
-                    for (int y = 0; y < h; ++y)
-                        for (int x = 0; x < w; ++x) acc[i++] += one.At(c, y + dy, x + dx);
-            }
-        for (size_t i = 0; i < acc.size(); ++i) sum.data[i] = float(acc[i] / (n * n));
-        result.image = sum;
-        if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
-        RestoreMeans(color, options, &result);
-        return result;
-    }
+namespace {
+
+// One run of the method without cycle spinning.
+BayesRefResult BayesDenoiseOnce(const Image &color, const BayesParams &options,
+                                const BayesRefRun &run) {
+    const bool swt = options.transform == BayesTransform::Swt;
+    const double pn = options.pn;
     BayesRefResult result;
     auto stage = [&](const char *name, const Image &image) {
-        if (options.keepStages) result.stages.push_back({name, image});
+        if (run.keepStages) result.stages.push_back({name, image});
     };
     int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
-    std::vector<double> floors = BayesFloors(color, options.floorRel);
+    std::vector<double> floors = BayesFloors(color, double(options.floorRel));
     Image logImage = BayesLog(color, floors);
     stage("log", logImage);
     // Opponent colour: L = (r+g+b)/sqrt3, C1 = (r-g)/sqrt2, C2 = (r+g-2b)/sqrt6 of the logs.
@@ -300,34 +260,35 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         // A 1x1 image: no detail band, log then exp.
         result.image = BayesExp(logImage, color, options.restoreZeros);
         stage("exp", result.image);
-        RestoreMeans(color, options, &result);
+        RestoreMeans(color, options, run.keepStages, &result);
         return result;
     }
     if (options.opponent) {
         mix(logImage, false);
         stage("opponent", logImage);
     }
-    Image coefficients = options.swt ? WaveletSwtAnalyze(logImage, options.basis, levels)
-                                     : WaveletAnalyze(logImage, options.basis, levels);
+    Image coefficients = swt ? WaveletSwtAnalyze(logImage, options.basis, levels)
+                             : WaveletAnalyze(logImage, options.basis, levels);
     stage("analysis", coefficients);
     std::vector<BayesBand> bands =
-        options.swt ? BayesSwtBands(color.width, color.height, color.channels, levels)
-                    : BayesBands(color.width, color.height, color.channels, levels);
+        swt ? BayesSwtBands(color.width, color.height, color.channels, levels)
+            : BayesBands(color.width, color.height, color.channels, levels);
     std::vector<double> bandSn;
-    double snBase = options.snOverride >= 0 ? options.snOverride : options.sn;
+    // run.variance and run.madSn as BayesDenoise resolved them.
+    double snBase = run.madSn >= 0 ? run.madSn : options.sn;
     std::vector<double> varianceSn;
-    if (options.variance)
-        varianceSn = BayesVarianceNoise(color, *options.variance, floors, options.basis, levels,
-                                        options.pn, options.opponent, options.swt);
+    if (run.variance)
+        varianceSn = BayesVarianceNoise(color, *run.variance, floors, options.basis, levels, pn,
+                                        options.opponent, swt);
     for (const BayesBand &band : bands) {
         BandMoments m = MeasureBand(coefficients, band);
-        double sn = options.variance ? varianceSn[bandSn.size()]
-                                     : BandNoiseS(band.level, snBase, options.hpFactor);
+        double sn = run.variance ? varianceSn[bandSn.size()]
+                                 : BandNoiseS(band.level, snBase, options.hpFactor);
         result.moments.push_back(m);
-        result.fits.push_back(SolveBand(m.m2, m.m4, m.count, sn, options.pn));
+        result.fits.push_back(SolveBand(m.m2, m.m4, m.count, sn, pn));
         bandSn.push_back(sn);
     }
-    if (options.keepStages) {
+    if (run.keepStages) {
         int n = int(bands.size());
         Image moments(4, n, 1), fits(3, n, 1);
         for (int b = 0; b < n; ++b) {
@@ -341,10 +302,10 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
         stage("moments", moments);
         stage("fits", fits);
     }
-    Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, options.pn);
+    Image shrunk = BayesShrinkDirect(coefficients, bands, result.fits, bandSn, pn);
     stage("shrinkage", shrunk);
-    Image back = options.swt ? WaveletSwtSynthesize(shrunk, options.basis, levels)
-                             : WaveletSynthesize(shrunk, options.basis, levels);
+    Image back = swt ? WaveletSwtSynthesize(shrunk, options.basis, levels)
+                     : WaveletSynthesize(shrunk, options.basis, levels);
     stage("synthesis", back);
     if (options.opponent) {
         mix(back, true);
@@ -352,8 +313,79 @@ BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options) 
     }
     result.image = BayesExp(back, color, options.restoreZeros);
     stage("exp", result.image);
-    RestoreMeans(color, options, &result);
+    RestoreMeans(color, options, run.keepStages, &result);
     return result;
+}
+
+// Cycle spinning: the mean over the shifts; moments, fits and stages of the unshifted run.
+BayesRefResult BayesDenoiseSpun(const Image &color, const BayesParams &params,
+                                const BayesRefRun &run) {
+    BayesParams once = params;
+    once.spins = 1;
+    once.keepMean = false;  // applied once, to the mean over the shifts
+    once.meanRadius = 0;
+    int w = color.width, h = color.height, n = params.spins;
+    BayesRefResult result = BayesDenoiseOnce(color, once, run);
+    BayesRefRun shifted = run;
+    shifted.keepStages = false;
+    Image sum(w, h, color.channels);
+    std::vector<double> acc(color.Size(), 0.0);
+    for (int dy = 0; dy < n; ++dy)
+        for (int dx = 0; dx < n; ++dx) {
+            // Pad dx columns and dy rows at the top left, mirrored: position -k-1 reads k
+            // (clamped to the image for images narrower than the shift).
+            Image padded(w + dx, h + dy, color.channels);
+            for (int c = 0; c < color.channels; ++c)
+                for (int y = 0; y < h + dy; ++y)
+                    for (int x = 0; x < w + dx; ++x) {
+                        int sx = x - dx < 0 ? std::min(dx - x - 1, w - 1) : x - dx;
+                        int sy = y - dy < 0 ? std::min(dy - y - 1, h - 1) : y - dy;
+                        padded.At(c, y, x) = color.At(c, sy, sx);
+                    }
+            Image paddedVariance;
+            if (run.variance) {
+                paddedVariance = Image(w + dx, h + dy, color.channels);
+                for (int c = 0; c < color.channels; ++c)
+                    for (int y = 0; y < h + dy; ++y)
+                        for (int x = 0; x < w + dx; ++x) {
+                            int sx = x - dx < 0 ? std::min(dx - x - 1, w - 1) : x - dx;
+                            int sy = y - dy < 0 ? std::min(dy - y - 1, h - 1) : y - dy;
+                            paddedVariance.At(c, y, x) = run.variance->At(c, sy, sx);
+                        }
+                shifted.variance = &paddedVariance;
+            }
+            Image one = BayesDenoiseOnce(padded, once, shifted).image;
+            size_t i = 0;
+            for (int c = 0; c < color.channels; ++c)
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) acc[i++] += one.At(c, y + dy, x + dx);
+        }
+    for (size_t i = 0; i < acc.size(); ++i) sum.data[i] = float(acc[i] / (n * n));
+    result.image = sum;
+    if (run.keepStages) result.stages.push_back({"cycle spinning", result.image});
+    RestoreMeans(color, params, run.keepStages, &result);
+    return result;
+}
+
+}  // namespace
+
+BayesRefResult BayesDenoise(const Image &color, const BayesParams &params,
+                            const BayesRefRun &run) {
+    // The noise source: the variance for --noise variance (and auto given one), the GPU's
+    // estimate for mad (and auto without), else sn.
+    BayesRefRun resolved = run;
+    bool readsVariance =
+        params.noise == BayesNoise::Variance || params.noise == BayesNoise::Auto;
+    if (params.noise == BayesNoise::Variance && !run.variance)
+        throw Error("bayes reference: --noise variance needs the variance");
+    if (!readsVariance) resolved.variance = nullptr;
+    bool mad = !resolved.variance &&
+               (params.noise == BayesNoise::Mad || params.noise == BayesNoise::Auto);
+    if (mad && run.madSn < 0)
+        throw Error("bayes reference: --noise mad needs the GPU run's estimate (madSn)");
+    if (!mad) resolved.madSn = -1;
+    return params.spins > 1 ? BayesDenoiseSpun(color, params, resolved)
+                            : BayesDenoiseOnce(color, params, resolved);
 }
 
 }  // namespace mcd::ref

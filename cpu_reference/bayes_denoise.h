@@ -11,6 +11,7 @@
 
 #include "cpu_reference/bayes_model.h"
 #include "host/image.h"
+#include "host/params/bayes.h"
 #include "host/wavelet.h"
 
 namespace mcd::ref {
@@ -68,29 +69,18 @@ std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance
                                        const std::vector<double> &floors, WaveletBasis basis,
                                        int levels, double pn, bool opponent, bool swt = false);
 
-struct BayesRefOptions {
-    WaveletBasis basis = WaveletBasis::Haar;
-    int levels = 3;
-    // The stationary (undecimated) wavelet transform instead of the decimated DWT.
-    bool swt = false;
-    double sn = 0.19, pn = 1.5, hpFactor = 2, floorRel = 1e-3;
-    bool restoreZeros = true;
-    bool opponent = false;  // log luminance + 2 log chroma (orthonormal) instead of RGB
-    int spins = 1;  // cycle spinning over spins x spins shifts (mirrored top-left padding)
-    // Scale each channel so its mean is the mean of the input's finite values >= 0.
-    bool keepMean = false;
-    // Local mean (0: off): multiply each output value by m_in / m_out, the means of the
-    // input's finite values >= 0 and of the output over the tent window of radius 2 x
-    // meanRadius (a box of radius meanRadius twice, each clipped to the image), where both
-    // are positive and finite. After keepMean.
-    int meanRadius = 0;
+// What a reference run is given besides the method's parameters (host/params/bayes.h,
+// taken as doubles; transform Swt runs the stationary transform, Dwt the decimated one).
+struct BayesRefRun {
+    // The per-pixel variance of the mean (not owned): with --noise variance, and auto when
+    // given, every band's noise s is BayesVarianceNoise of it (sn and hpFactor unused).
+    const Image *variance = nullptr;
+    // --noise mad, and auto without a variance: the s_n the GPU run estimated (the estimate
+    // is host code on the GPU's coefficients, a median, not a kernel), so that the stages
+    // after it compare the same model. Required then.
+    double madSn = -1;
     // Keep every stage, named and laid out as host/methods/bayes.h's BayesResult::stages.
     bool keepStages = false;
-    // When set, used instead of sn (the GPU's --noise auto estimate, for `mcdenoise diff`).
-    double snOverride = -1;
-    // When set, every band's noise s is BayesVarianceNoise of it (--noise variance); sn,
-    // hpFactor and snOverride are then unused. Not owned.
-    const Image *variance = nullptr;
 };
 struct BayesRefResult {
     Image image;
@@ -101,6 +91,7 @@ struct BayesRefResult {
 // The whole method on one image (no direct/indirect split); levels are clamped to what
 // the image allows. With spins > 1 the result is the mean over the shifts and the
 // moments/fits/stages are the unshifted run's (then "cycle spinning", the mean).
-BayesRefResult BayesDenoise(const Image &color, const BayesRefOptions &options);
+BayesRefResult BayesDenoise(const Image &color, const BayesParams &params,
+                            const BayesRefRun &run = {});
 
 }  // namespace mcd::ref

@@ -203,7 +203,10 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
     int w = z.width, h = z.height, channels = z.channels;
     Image fits(w, h, kPivotPlanes * channels);
     if (margin) *margin = Image(w, h, channels, 1.f);
-    double good = params.goodNoise * params.goodNoise;
+    // The parameters in double, as every sum below.
+    const double k = params.k, sigmaWeight = params.sigmaWeight;
+    const double disagreement = params.disagreement, targetNoise = params.targetNoise;
+    const double good = double(params.goodNoise) * params.goodNoise;
     for (int c = 0; c < channels; ++c)
         for (int y0 = 0; y0 < h; ++y0)
             for (int x0 = 0; x0 < w; ++x0) {
@@ -232,9 +235,9 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                                          PivotIdTerm(guides.ids, x, y, x0, y0);
                             if (geo == 0) continue;
                             double zq = z.At(c, y, x), dx = x - x0, dy = y - y0;
-                            double e = params.k * std::fabs(zq - mean) /
-                                           std::max(std::fabs(mean), kTiny) +
-                                       params.sigmaWeight * nu;
+                            double e =
+                                k * std::fabs(zq - mean) / std::max(std::fabs(mean), kTiny) +
+                                sigmaWeight * nu;
                             if (radius > 0) e += (dx * dx + dy * dy) / (radius * radius);
                             if (e > kExpCut) continue;
                             samples.push_back(
@@ -264,8 +267,8 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                         double zs = planes[0].c;
                         for (int m = 1; m < 5; ++m) {
                             if (!planes[m].valid) continue;
-                            double allowed = params.disagreement * std::fabs(zs) +
-                                             2 * std::sqrt(planes[m].var0);
+                            double allowed =
+                                disagreement * std::fabs(zs) + 2 * std::sqrt(planes[m].var0);
                             double diff = std::fabs(zs - planes[m].c);
                             if (allowed > 0)
                                 closest =
@@ -279,7 +282,7 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                     }
                     bool quiet = false;
                     if (planes[0].valid) {
-                        double target = params.targetNoise * std::fabs(planes[0].c);
+                        double target = targetNoise * std::fabs(planes[0].c);
                         double noise = std::sqrt(planes[0].var0);
                         if (target > 0)
                             closest = std::min(closest, std::fabs(noise - target) / target);
@@ -386,7 +389,8 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
 Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &ratio,
                      const PivotGuides &guides, const PivotParams &params) {
     int w = color.width, h = color.height, r = params.bilateralRadius;
-    double sigmaS = std::max(0.5, r / 2.0), good = params.goodNoise * params.goodNoise;
+    const double sigmaS = std::max(0.5, r / 2.0), sigmaRange = params.sigmaRange;
+    const double good = double(params.goodNoise) * params.goodNoise;
     Image out = color;
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < h; ++y)
@@ -402,7 +406,7 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
                         double rel = (gq - g) / std::max({std::fabs(g), std::fabs(gq), kTiny});
                         double d2 = double(u - x) * (u - x) + double(v - y) * (v - y);
                         double e = d2 / (2 * sigmaS * sigmaS) +
-                                   rel * rel / (2 * params.sigmaRange * params.sigmaRange);
+                                   rel * rel / (2 * sigmaRange * sigmaRange);
                         if (e > kExpCut) continue;
                         double weight = std::exp(-e) *
                                         PivotNormalTerm(guides.normal, u, v, x, y) *
@@ -422,9 +426,10 @@ Image PivotFilterOne(const Image &color, const Image &pivot, const Image *varian
                      const PivotGuides &guides, const PivotParams &params,
                      const std::string &prefix,
                      std::vector<std::pair<std::string, Image>> *stages) {
-    PivotRatio ratio = PivotRatioOf(color, pivot, variance, params.floor, guides.ids);
+    PivotRatio ratio = PivotRatioOf(color, pivot, variance, double(params.floor), guides.ids);
+    const bool bilateral = params.filter == mcd::PivotFilter::Bilateral;
     Image out, fits;
-    if (params.bilateral) {
+    if (bilateral) {
         out = PivotBilateral(color, pivot, ratio, guides, params);
     } else {
         fits = PivotFit(ratio, guides, params);
@@ -433,7 +438,7 @@ Image PivotFilterOne(const Image &color, const Image &pivot, const Image *varian
     if (stages) {
         stages->emplace_back(prefix + "z", std::move(ratio.z));
         stages->emplace_back(prefix + "nu", std::move(ratio.nu));
-        if (!params.bilateral) stages->emplace_back(prefix + "fits", std::move(fits));
+        if (!bilateral) stages->emplace_back(prefix + "fits", std::move(fits));
         stages->emplace_back(prefix + "output", out);
     }
     return out;

@@ -2,7 +2,8 @@
 // z = L / L_a, the adaptive-radius plane fits of the square and its four quadrants (4.2,
 // 4.3), the combined approximation (eqs. 11-12), the two-stage averaging (eq. 13) and the
 // back-multiplication; and the cross-bilateral baseline of z. Written loop by loop in
-// double, every window refitted from scratch (the GPU grows its sums ring by ring).
+// double, every window refitted from scratch (the GPU grows its sums ring by ring); the
+// parameters are the GPU path's layout (PivotParams, host/params/pivot.h), taken as doubles.
 //
 // Readings of the paper, shared with the GPU path (host/methods/pivot.h states them too):
 // - A pixel's pivot L_a is "far below the image's scale" when L_a <= floor x the mean of
@@ -62,6 +63,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/params/pivot.h"
 
 namespace mcd::ref {
 
@@ -71,21 +73,6 @@ namespace mcd::ref {
 // dy <= 0 (axes in both; eq. 11 assigns a pixel by dx >= 0 ? (dy >= 0 ? 0 : 3) :
 // (dy >= 0 ? 1 : 2)). A quadrant without a fit repeats the square's plane.
 constexpr int kPivotPlanes = 16;
-
-struct PivotParams {
-    double floor = 1e-3;        // pivot validity: L_a > floor x channel mean
-    int maxRadius = 30;         // largest half-size of the square
-    double targetNoise = 0.02;  // stop growing at this relative std of the centre value
-    double goodNoise = 100.0;   // pixels with relative std above this are not fitted
-    double disagreement = 0.1;  // relative square-vs-quadrant limit at the centre
-    double k = 0.3;             // eq. 10's robustness constant
-    double sigmaWeight = 0.0;   // multiplies sigma in eq. 10 (1: the paper)
-    // Bilateral baseline: window half-size, spatial sigma = radius / 2, range sigma on
-    // the relative difference of the pivot's channel mean.
-    int bilateralRadius = 8;
-    double sigmaRange = 0.2;
-    bool bilateral = false;  // PivotFilter: the bilateral baseline instead of the plane fits
-};
 
 // Optional guides: normals (3 channels) and ids (2 channels: object, part); nullptr when
 // absent.

@@ -248,8 +248,8 @@ Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
         }
         // The veto's bound is in the frame's sample counts: divide it by the rescale.
         Image filtered =
-            RhfSingleScale(u, h, params.patchHalf, params.searchHalf, params.threshold,
-                           s == 0 ? params.knn : 0, params.brightVeto / factor);
+            RhfSingleScale(u, h, params.patchHalf, params.searchHalf, double(params.threshold),
+                           s == 0 ? params.knn : 0, double(params.brightVeto) / factor);
         if (stages) stages->push_back({fmt::format("filtered s{}", s), filtered});
         if (s < scales - 1) {
             // u_s - U(D(u_s)) + U(u_{s+1}).

@@ -1,7 +1,8 @@
 // Ray Histogram Fusion (Delbracio et al., IPOL 2015), the CPU reference: Algorithm 2 (one
 // scale) and Algorithm 3 (multi-scale) written as plain loops, with the choices the
 // authors' tool makes where the paper leaves them open (issue #4). In double where it
-// matters; nothing is shared with the GPU path.
+// matters; nothing is shared with the GPU path but the parameters' layout (RhfParams,
+// host/params/rhf.h), whose floats are taken as doubles here.
 //
 // Histograms are an Image of 3n+1 channels: channel c*n+b is bin b of colour c (R, G, B),
 // the last channel is the pixel's sample count.
@@ -12,19 +13,9 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/params/rhf.h"
 
 namespace mcd::ref {
-
-struct RhfParams {
-    int patchHalf = 1;       // w
-    int searchHalf = 6;      // b
-    double threshold = 0.8;  // kappa
-    int knn = 2;             // k_NN, at the finest scale only
-    int scales = 2;          // n_scal requested
-    // Beyond the authors' tool: the bright veto of RhfPatchDistance, in the frame's sample
-    // counts (at scale s it is divided by the histograms' rescale factor); 0 turns it off.
-    double brightVeto = 0.3;
-};
 
 // Scales actually filtered: scale s >= 1 is used only while its image is at least as big
 // as the search window (2b+1) both ways ("leave out what the frame does not need").
@@ -79,7 +70,8 @@ Image RhfBicubicUpsample(const Image &coarse, int width, int height);
 // Algorithm 3: the whole filter. With `stages`, also the images the GPU run keeps
 // (RhfResult::stages), by the same names, coarse to fine: D_s of the colour ("color s<k>",
 // s >= 1), each scale's filtered image ("filtered s<k>") and, below the coarsest, its
-// recombination ("combined s<k>").
+// recombination ("combined s<k>"). The output is raw: params.keepNegative is the GPU
+// pipeline's clamp, left to the caller here.
 Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
           std::vector<std::pair<std::string, Image>> *stages = nullptr);
 

@@ -1,10 +1,15 @@
-// Denoise a frame with the mcdenoise library: denoise_frame IN.exr OUT.exr [METHOD [NAME=VALUE...]]
+// Denoise a frame file with the mcdenoise libraries:
+//     denoise_frame IN.exr OUT.exr [METHOD [NAME=VALUE...]]
 // METHOD is auto (the default), awr, bayes, pivot or rhf; NAME=VALUE sets a parameter of it
-// (e.g. kappa=0.6). Prints the plan, the time and where the output went.
+// (e.g. kappa=0.6). Prints the plan, the time and where the output went; the frame's
+// alpha, if it has one, is written beside the result.
+#include <mcdenoise/io.h>
 #include <mcdenoise/mcdenoise.h>
 
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
 
 int main(int argc, char **argv) {
     if (argc < 3) {
@@ -25,7 +30,10 @@ int main(int argc, char **argv) {
         for (const std::string &line : result.plan) std::printf("  %s\n", line.c_str());
         for (const std::string &line : result.warnings)
             std::fprintf(stderr, "warning: %s\n", line.c_str());
-        mcd::WriteExr(argv[2], {{"color", &result.image}}, {{"mcd:method", result.method}});
+        std::vector<std::pair<std::string, const mcd::Image *>> layers = {
+            {"color", &result.image}};
+        if (!result.alpha.Empty()) layers.push_back({"alpha", &result.alpha});
+        mcd::WriteExr(argv[2], layers, {{"mcd:method", result.method}});
         std::printf("%s: %s on %s, %dx%d, %.1f ms (%.1f ms GPU), library %s\n", argv[2],
                     result.method.c_str(), device.Name().c_str(), result.image.width,
                     result.image.height, result.wallMs, result.GpuMs(), mcd::Version());

@@ -10,6 +10,8 @@
 
 #include <vector>
 
+#include "host/params/tracing.h"
+
 namespace mcd {
 
 // The surface a pixel sees (its A(v)), one per pixel. The lobe weights are the textured
@@ -48,19 +50,6 @@ struct TracingRecords {
     int width = 0, rows = 0, y0 = 0, spp = 0;
     std::vector<TracingSurface> surfaces;
     std::vector<TracingSample> samples;
-};
-
-// Eq. 17: w(p <- p', u) = C_p exp(-alpha |p - p'|^2) exp(-beta (1 - n.n')) exp(-gamma F^2),
-// over the neighbours p' != p with |p - p'| <= radius (a disk, in pixels) that see a
-// smooth surface. C_p = min(1, selfFloor / sum of the fixed parts) keeps the self weight
-// of eq. 16 at least 1 - selfFloor.
-struct TracingParams {
-    int radius = 3;  // measured: 2-4 give most of 8's gain at a fraction of the gather (notes)
-    float alpha = 0.02f, beta = 20.f, gamma = 0.f;
-    // The paper keeps the self weight at least 1/2 (selfFloor 0.5); measured on relief-abc,
-    // double-textured and glossy-cornell, 0.9 gives 3-8x lower relMSE than 0.5 at the same
-    // time with the same mean brightness (notes), so it is the default.
-    float selfFloor = 0.9f;
 };
 
 }  // namespace mcd

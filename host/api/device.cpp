@@ -1,13 +1,7 @@
 // mcd::Device: a Vulkan context, owned or borrowed.
-#include "host/vk/context.h"
-#include "mcdenoise/mcdenoise.h"
+#include "host/api/device.h"
 
 namespace mcd {
-
-struct Device::Impl {
-    std::unique_ptr<vk::Context> owned;
-    vk::Context *context = nullptr;
-};
 
 Device::Device(const DeviceOptions &options) : impl(std::make_unique<Impl>()) {
     impl->owned = std::make_unique<vk::Context>(
@@ -21,22 +15,12 @@ Device &Device::operator=(Device &&) noexcept = default;
 
 Device::Device(std::unique_ptr<Impl> impl) : impl(std::move(impl)) {}
 
-Device Device::Borrow(vk::Context &context) {
-    auto impl = std::make_unique<Impl>();
-    impl->context = &context;
-    return Device(std::move(impl));
-}
-
 std::string Device::Name() const {
     return impl->context->Info().name;
 }
 
 std::vector<std::string> Device::TakeValidationMessages() {
     return impl->context->TakeValidationMessages();
-}
-
-vk::Context &Device::Context() {
-    return *impl->context;
 }
 
 }  // namespace mcd

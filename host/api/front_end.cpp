@@ -2,6 +2,17 @@
 
 namespace mcd::api {
 
+RunSetup SetupFor(const Inputs &inputs, const RunOptions &run) {
+    RunSetup setup;
+    setup.keepStages = run.keepStages;
+    setup.progress = run.progress;
+    setup.frameX0 = inputs.OriginX();
+    setup.frameY0 = inputs.OriginY();
+    setup.frameWidth = inputs.FrameWidth();
+    setup.frameHeight = inputs.FrameHeight();
+    return setup;
+}
+
 Result ResultOf(MethodResult &&run) {
     Result result;
     result.image = std::move(run.image);

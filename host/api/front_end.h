@@ -7,8 +7,10 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "host/methods/run_setup.h"
 #include "host/methods/staged_run.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
@@ -26,7 +28,8 @@ class Inputs {
     // read (and checked, once, whole) from the parent and cropped on first use.
     Inputs(Inputs &parent, int x0, int y0, int x1, int y1);
 
-    const std::string &Path() const { return frame.path; }
+    // The frame's file, or "the frame" for one built in memory (what messages start with).
+    const std::string &Path() const { return frame.path.empty() ? kInMemory : frame.path; }
     // The frame itself (what a front end's Missing reads; a tile's is the whole frame).
     const mcd::Frame &Source() const { return frame; }
     int Width() const { return width; }
@@ -46,6 +49,7 @@ class Inputs {
     std::vector<std::string> warnings;
 
   private:
+    static inline const std::string kInMemory = "the frame";
     const Frame &frame;
     bool refuseNonFinite;
     std::string method;
@@ -54,6 +58,27 @@ class Inputs {
     int x0 = 0, y0 = 0;
     std::map<std::string, Image> overrides;  // demodulated or repaired layers, or crops
     std::map<std::string, bool> checked;
+};
+
+// Layers of `inputs` replaced for a scope, each put back as it was when the scope ends,
+// however it ends.
+class ScopedOverrides {
+  public:
+    explicit ScopedOverrides(Inputs &inputs) : inputs(inputs) {}
+    ScopedOverrides(const ScopedOverrides &) = delete;
+    ScopedOverrides &operator=(const ScopedOverrides &) = delete;
+    ~ScopedOverrides() {
+        for (auto it = saved.rbegin(); it != saved.rend(); ++it)
+            inputs.Override(it->first, std::move(it->second));
+    }
+    void Override(const std::string &layer, Image image) {
+        saved.emplace_back(layer, inputs.Get(layer));
+        inputs.Override(layer, std::move(image));
+    }
+
+  private:
+    Inputs &inputs;
+    std::vector<std::pair<std::string, Image>> saved;
 };
 
 // A parameter bound to a field of the options struct O: O's initializers are the defaults.
@@ -96,7 +121,29 @@ ParamDef<O> ChoiceParam(std::string name, std::string help, std::string O::*fiel
             [field](O &o, const ParamValue &v) { o.*field = std::get<std::string>(v); }};
 }
 
-// A parameter of an options struct I held as O::*inner (the pipeline's own options).
+// A choice bound to a field of another type (an enum, a bool): each name stands for one
+// value, and the parameter reads as the name of the field's value.
+template <class O, class T>
+ParamDef<O> EnumParam(std::string name, std::string help, T O::*field,
+                      std::vector<std::pair<std::string, T>> choices) {
+    ParamInfo info{std::move(name), ParamType::String, std::move(help)};
+    for (const auto &choice : choices) info.choices.push_back(choice.first);
+    auto named =
+        std::make_shared<const std::vector<std::pair<std::string, T>>>(std::move(choices));
+    std::string param = info.name;
+    return {info,
+            [field, named, param](const O &o) {
+                for (const auto &[choice, value] : *named)
+                    if (o.*field == value) return ParamValue(choice);
+                throw Error(param + " holds a value none of its choices names");
+            },
+            [field, named](O &o, const ParamValue &v) {
+                for (const auto &[choice, value] : *named)
+                    if (choice == std::get<std::string>(v)) o.*field = value;
+            }};
+}
+
+// A parameter of a struct I held as O::*inner (the method's parameters, host/params/).
 template <class O, class I>
 ParamDef<O> Nested(I O::*inner, ParamDef<I> def) {
     return {def.info, [inner, get = def.get](const O &o) { return get(o.*inner); },
@@ -191,11 +238,12 @@ class FrontEndOf : public FrontEnd {
     std::shared_ptr<const Table> table;  // shared by copies: the table never changes
 };
 
-// The front ends, one per method (method_<name>.cpp).
-std::unique_ptr<FrontEnd> AwrFrontEnd();
-std::unique_ptr<FrontEnd> BayesFrontEnd();
-std::unique_ptr<FrontEnd> PivotFrontEnd();
-std::unique_ptr<FrontEnd> RhfFrontEnd();
+// Each method's front end is made by its factory (method_<name>.cpp), listed in the
+// registry (registry.h).
+
+// What every pipeline is told besides the method's parameters: the stages and progress the
+// caller asked for, and where a tile's window lies in its frame.
+RunSetup SetupFor(const Inputs &inputs, const RunOptions &run);
 
 // The public result from a pipeline's (sliced from BayesResult, RhfResult, ...).
 Result ResultOf(MethodResult &&run);

@@ -42,8 +42,7 @@ std::vector<std::string> Inputs::Names() const {
         std::sort(names.begin(), names.end());
         return names;
     }
-    std::vector<std::string> names;
-    for (const auto &[name, image] : frame.layers) names.push_back(name);
+    std::vector<std::string> names = frame.Names();
     for (const auto &[name, image] : overrides)
         if (!frame.Has(name)) names.push_back(name);
     std::sort(names.begin(), names.end());
@@ -67,6 +66,9 @@ const Image &Inputs::Get(const std::string &layer) {
                             crop.Plane(c) + size_t(y) * width);
         return overrides[layer] = std::move(crop);
     }
+    // A borrowed layer is read from the caller's memory once, as planar float32.
+    if (it == overrides.end() && !frame.layers.count(layer) && frame.views.count(layer))
+        it = overrides.emplace(layer, frame.Copy(layer)).first;
     const Image &image = it != overrides.end() ? it->second : frame.Get(layer);
     if (checked[layer]) return image;
     checked[layer] = true;
@@ -86,7 +88,8 @@ const Image &Inputs::Get(const std::string &layer) {
         channel);
     if (refuseNonFinite)
         throw Error(
-            fmt::format("{}: {} (--non-finite zero replaces them with 0)", method, where));
+            fmt::format("{}: {} (--non-finite zero replaces them with 0)", method, where),
+            ErrorKind::NonFiniteInput);
     Image repaired = image;
     for (float &v : repaired.data)
         if (!std::isfinite(v)) v = 0.f;

@@ -6,9 +6,13 @@
 #include <chrono>
 #include <cmath>
 
+#include "host/api/cancel.h"
+#include "host/api/device.h"
 #include "host/api/front_end.h"
 #include "host/api/method_auto.h"
+#include "host/api/registry.h"
 #include "host/api/tiled_run.h"
+#include "host/api/views.h"
 #include "host/methods/pivot.h"
 
 namespace mcd {
@@ -34,12 +38,11 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
                          &CommonParams::nonFinite, {"refuse", "zero"})};
 }
 
+// "auto", or a method of the registry; null for another name.
 std::unique_ptr<api::FrontEnd> FrontEndByName(const std::string &name) {
-    if (name == "awr") return api::AwrFrontEnd();
-    if (name == "bayes") return api::BayesFrontEnd();
-    if (name == "pivot") return api::PivotFrontEnd();
-    if (name == "rhf") return api::RhfFrontEnd();
-    return nullptr;
+    if (name == "auto") return std::make_unique<api::AutoFrontEnd>();
+    const api::MethodEntry *entry = api::FindMethod(name);
+    return entry ? entry->make() : nullptr;
 }
 
 // --demodulate: the color-like layers divided by a guide layer, and what multiplies back.
@@ -165,7 +168,8 @@ struct Method::Impl {
     const ParamInfo &Info(const std::string &name) const {
         for (const ParamInfo &info : infos)
             if (info.name == name) return info;
-        throw Error(fmt::format("{} has no parameter '{}'", frontEnd->Name(), name));
+        throw Error(fmt::format("{} has no parameter '{}'", frontEnd->Name(), name),
+                    ErrorKind::InvalidArgument);
     }
     bool IsCommon(const std::string &name) const {
         return name == "demodulate" || name == "non-finite";
@@ -173,12 +177,12 @@ struct Method::Impl {
 };
 
 Method::Method(const std::string &name) {
-    std::unique_ptr<api::FrontEnd> frontEnd =
-        name == "auto" ? std::make_unique<api::AutoFrontEnd>() : FrontEndByName(name);
+    std::unique_ptr<api::FrontEnd> frontEnd = FrontEndByName(name);
     if (!frontEnd) {
         std::string known = "auto";
         for (const std::string &m : MethodNames()) known += ", " + m;
-        throw Error(fmt::format("unknown method '{}' (methods: {})", name, known));
+        throw Error(fmt::format("unknown method '{}' (methods: {})", name, known),
+                    ErrorKind::InvalidArgument);
     }
     impl = std::make_unique<Impl>(std::move(frontEnd));
 }
@@ -222,7 +226,8 @@ void Method::Set(const std::string &name, ParamValue value) {
         value = float(std::get<int>(value));
     if (!SameType(value, info.type))
         throw Error(fmt::format("{}: parameter '{}' takes {}, not {}", Name(), name,
-                                TypeName(info.type), ValueText(value)));
+                                TypeName(info.type), ValueText(value)),
+                    ErrorKind::InvalidArgument);
     // Compare in the parameter's own type: 1e-6f is below the double 1e-6.
     bool outside = info.type == ParamType::Int
                        ? !(std::get<int>(value) >= info.min && std::get<int>(value) <= info.max)
@@ -232,7 +237,8 @@ void Method::Set(const std::string &name, ParamValue value) {
                        : false;
     if (outside)
         throw Error(fmt::format("{}: parameter '{}' is {}, outside [{}, {}]", Name(), name,
-                                ValueText(value), info.min, info.max));
+                                ValueText(value), info.min, info.max),
+                    ErrorKind::InvalidArgument);
     if (info.type == ParamType::String && !info.choices.empty() &&
         std::find(info.choices.begin(), info.choices.end(), std::get<std::string>(value)) ==
             info.choices.end()) {
@@ -245,7 +251,8 @@ void Method::Set(const std::string &name, ParamValue value) {
                        (c.empty() ? "''" : c);
         }
         throw Error(
-            fmt::format("{}: {} takes {}, not {}", Name(), name, choices, ValueText(value)));
+            fmt::format("{}: {} takes {}, not {}", Name(), name, choices, ValueText(value)),
+            ErrorKind::InvalidArgument);
     }
     if (impl->IsCommon(name)) {
         for (const api::ParamDef<CommonParams> &def : CommonDefs())
@@ -279,7 +286,8 @@ void Method::SetText(const std::string &name, const std::string &text) {
         }
     } catch (const std::logic_error &) {
         throw Error(fmt::format("{}: parameter '{}' takes {}, not '{}'", Name(), name,
-                                TypeName(info.type), text));
+                                TypeName(info.type), text),
+                    ErrorKind::InvalidArgument);
     }
 }
 
@@ -309,24 +317,39 @@ std::string Method::Missing(const Frame &frame) const {
 }
 
 Result Method::Run(Device &device, const Frame &frame, const RunOptions &options) const {
-    vk::Context &context = device.Context();
+    if (options.output.data) api::CheckOutput(frame, options.output);
+    vk::Context &context = api::ContextOf(device);
+    api::CancelScope cancel(context, options.cancel);
     context.ResetLedger();
     auto start = std::chrono::steady_clock::now();
     const api::FrontEnd *method = impl->frontEnd.get();
     const std::string &demodulate = impl->common.demodulate;
     std::vector<std::string> autoPlan;
-    // auto combines the methods on the frame itself; with --demodulate it picks one.
-    if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
-        if (!demodulate.empty()) method = &automatic->Pick(frame, demodulate, &autoPlan);
-    api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
-    Demodulation demodulation;
-    if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
-    Result result = api::RunTiled(context, *method, inputs, options);
-    if (!demodulate.empty()) Remodulate(demodulation, method->Name(), &result);
+    Result result;
+    try {
+        // auto combines the methods on the frame itself; with --demodulate it picks one.
+        if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
+            if (!demodulate.empty()) method = &automatic->Pick(frame, demodulate, &autoPlan);
+        api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
+        Demodulation demodulation;
+        if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
+        result = api::RunTiled(context, *method, inputs, options);
+        if (!demodulate.empty()) Remodulate(demodulation, method->Name(), &result);
+        result.warnings.insert(result.warnings.begin(), inputs.warnings.begin(),
+                               inputs.warnings.end());
+    } catch (const Error &) {
+        cancel.ThrowIfCancelled();
+        throw;
+    }
+    // auto leaves out a candidate that fails, a cancelled one too.
+    cancel.ThrowIfCancelled();
     result.method = method->Name();
     result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());
-    result.warnings.insert(result.warnings.begin(), inputs.warnings.begin(),
-                           inputs.warnings.end());
+    if (frame.Has("alpha")) result.alpha = frame.Copy("alpha");
+    if (options.output.data) {
+        api::WriteOutput(result.image, result.alpha, options.output);
+        result.image = Image();
+    }
     result.wallMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
             .count();
@@ -347,7 +370,7 @@ std::vector<Stage> Method::Reference(Device &device, const Frame &frame) const {
         method = &automatic->Pick(frame, demodulate, &ignored);
     api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
     if (!demodulate.empty()) Demodulate(inputs, *method, frame, demodulate);
-    return method->Reference(device.Context(), inputs);
+    return method->Reference(api::ContextOf(device), inputs);
 }
 
 double Result::GpuMs() const {
@@ -357,7 +380,9 @@ double Result::GpuMs() const {
 }
 
 std::vector<std::string> MethodNames() {
-    return {"awr", "bayes", "pivot", "rhf"};
+    std::vector<std::string> names;
+    for (const api::MethodEntry &entry : api::Registry()) names.push_back(entry.name);
+    return names;
 }
 
 const char *Version() {

@@ -1,6 +1,9 @@
-// Method `auto`: every candidate method (and variant) the frame's layers allow, within a
-// time budget, each with a per-pixel error estimate that needs no reference (SURE from the
-// variance of the mean, or from the half-buffers), combined per pixel by those estimates.
+// Method `auto`: every candidate method (and variant, host/api/registry.h) the frame's
+// layers allow, within a time budget, each with a per-pixel error estimate that needs no
+// reference (SURE from the variance of the mean, or from the half-buffers), combined per
+// pixel by those estimates (the pipeline host/methods/auto.h). With keepStages, or
+// RunOptions::stages naming it, the result has stage "auto.map": each pixel coloured by the
+// candidate of the largest weight (the plan names the colours).
 #pragma once
 
 #include <memory>
@@ -35,14 +38,12 @@ class AutoFrontEnd : public FrontEnd {
     // combination's: a frame too large for them runs in tiles (not bit for bit: each tile
     // fixes its candidates' frame-wide quantities and its own guide for the estimates).
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override;
-    // Refuses --auto-map: the map of a tiled run is not assembled from its tiles.
-    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override;
     std::vector<Stage> Reference(vk::Context &, Inputs &) const override;
 
     // auto's own parameters (the candidates' are the methods').
     struct Options {
         float budget = 3600;  // seconds
-        std::string combine = "relative", noise = "auto", guide = "combined", map;
+        std::string combine = "relative", noise = "auto", guide = "combined";
         // Measured (README): power 2 and a 25x25 window (17x17 before the relative
         // combination); 33x33 let one firefly's estimate spoil a wide area of `fireflies`.
         int radius = 12;
@@ -68,8 +69,11 @@ class AutoFrontEnd : public FrontEnd {
     };
 
   private:
+    // The front end of the registry's method `method`, with the user's parameters.
+    const FrontEnd &Base(const std::string &method) const;
+
     std::string name = "auto";
-    std::vector<std::unique_ptr<FrontEnd>> methods;  // awr, bayes, pivot, rhf
+    std::vector<std::unique_ptr<FrontEnd>> methods;  // the registry's, in its order
     std::vector<ParamInfo> infos;
     Options options;
 };

@@ -13,54 +13,48 @@
 namespace mcd::api {
 namespace {
 
-struct AwrParams {
-    std::string basis = WaveletName(AwrOptions().basis);
+// The method's parameters, and where the variance comes from.
+struct AwrSettings {
+    AwrParams method;
     // auto prefers the variance layer: the paper's range bound, (max - min)^2 / spp,
     // over-smooths (README, Method awr).
     std::string variance = "auto";
-    int levels = AwrOptions().levels;
-    int spins = AwrOptions().spins;
-    float cs = AwrOptions().cs;
-    float renorm = AwrOptions().lowSum;
-
-    AwrOptions Options() const {
-        AwrOptions options;
-        options.basis = *ParseWavelet(basis);
-        options.levels = levels;
-        options.cs = cs;
-        options.lowSum = options.highSum = renorm;
-        options.spins = spins;
-        return options;
-    }
 };
 
 bool HasRange(const Frame &frame) {
     return frame.Has("min") && frame.Has("max") && frame.Has("spp");
 }
 
-class Awr : public FrontEndOf<AwrParams> {
+class Awr : public FrontEndOf<AwrSettings> {
   public:
     Awr()
         : FrontEndOf(
               "awr",
-              {ChoiceParam("basis", "haar, legall53 or cdf97", &AwrParams::basis,
-                           {"haar", "legall53", "cdf97"}),
-               IntParam("levels", "wavelet levels (-1: as many as fit)", &AwrParams::levels, -1,
-                        64),
-               FloatParam("cs", "smoothing constant c_s (eq. 11)", &AwrParams::cs, 0, 1e6),
-               FloatParam("renorm",
-                          "sum of the squared 1D filters in the variance DWT (paper: "
-                          "2^-1/2)",
-                          &AwrParams::renorm, 1e-6, 1e6),
+              {Nested(&AwrSettings::method,
+                      EnumParam("basis", "haar, legall53 or cdf97", &AwrParams::basis,
+                                {{"haar", WaveletBasis::Haar},
+                                 {"legall53", WaveletBasis::LeGall53},
+                                 {"cdf97", WaveletBasis::Cdf97}})),
+               Nested(&AwrSettings::method,
+                      IntParam("levels", "wavelet levels (-1: as many as fit)",
+                               &AwrParams::levels, -1, 64)),
+               Nested(&AwrSettings::method, FloatParam("cs", "smoothing constant c_s (eq. 11)",
+                                                       &AwrParams::cs, 0, 1e6)),
+               Nested(&AwrSettings::method,
+                      FloatParam("renorm",
+                                 "sum of the squared 1D filters in the variance DWT (paper: "
+                                 "2^-1/2)",
+                                 &AwrParams::renorm, 1e-6, 1e6)),
                ChoiceParam("variance",
                            "where the per-pixel variance comes from: auto (the variance "
                            "layer if present, else min/max/spp), range (the paper's "
                            "(max-min)^2/spp), layer",
-                           &AwrParams::variance, {"auto", "range", "layer"}),
-               IntParam("awr-spins",
-                        "cycle spinning over N x N shifts of the DWT's grid (1: the "
-                        "paper's reconstruction; beyond the paper; cost x N^2)",
-                        &AwrParams::spins, 1, 8)}) {}
+                           &AwrSettings::variance, {"auto", "range", "layer"}),
+               Nested(&AwrSettings::method,
+                      IntParam("awr-spins",
+                               "cycle spinning over N x N shifts of the DWT's grid (1: the "
+                               "paper's reconstruction; beyond the paper; cost x N^2)",
+                               &AwrParams::spins, 1, 8))}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
     std::string Summary() const override {
@@ -83,10 +77,8 @@ class Awr : public FrontEndOf<AwrParams> {
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
         std::string why;
         Image variance = Variance(inputs, &why);
-        AwrOptions awrOptions = options.Options();
-        awrOptions.keepStages = run.keepStages;
-        Result result =
-            ResultOf(AwrReconstruct(context, inputs.Get("color"), variance, awrOptions));
+        Result result = ResultOf(AwrReconstruct(context, inputs.Get("color"), variance,
+                                                options.method, SetupFor(inputs, run)));
         result.plan.insert(result.plan.begin(), why);
         return result;
     }
@@ -101,16 +93,16 @@ class Awr : public FrontEndOf<AwrParams> {
         needs.notLocal = fmt::format(
             "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
             "spans it, and its grid depends on the frame's size; a tile runs {} level(s)",
-            options.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
-                               : options.levels,
+            options.method.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
+                                      : options.method.levels,
             levels);
         // Analysis and synthesis at 2^l per level l, and the spins' shifts.
-        int half = WaveletHalfSupport(*ParseWavelet(options.basis));
-        needs.reach = 2 * half * ((1 << levels) - 1) + options.spins;
+        int half = WaveletHalfSupport(options.method.basis);
+        needs.reach = 2 * half * ((1 << levels) - 1) + options.method.spins;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
             "{}, and the spins' shift",
-            options.basis, half, levels);
+            WaveletName(options.method.basis), half, levels);
         needs.align = 1 << levels;
         needs.bytesPerPixel = 4.0 * channels * 4;
         needs.bindingBytesPerPixel = 4.0 * channels;
@@ -119,23 +111,15 @@ class Awr : public FrontEndOf<AwrParams> {
 
     std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
         auto copy = std::make_unique<Awr>(*this);
-        copy->options.levels = TileLevels(whole.Width(), whole.Height());
+        copy->options.method.levels = TileLevels(whole.Width(), whole.Height());
         return copy;
     }
 
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         std::string why;
         Image variance = Variance(inputs, &why);
-        AwrOptions o = options.Options();
-        ref::AwrRefParams p;
-        p.basis = o.basis;
-        p.levels = o.levels;
-        p.cs = o.cs;
-        p.lowSum = o.lowSum;
-        p.highSum = o.highSum;
-        p.spins = o.spins;
         std::vector<std::pair<std::string, Image>> cpu;
-        ref::AwrReconstruct(inputs.Get("color"), variance, p, &cpu);
+        ref::AwrReconstruct(inputs.Get("color"), variance, options.method, &cpu);
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;
@@ -144,7 +128,8 @@ class Awr : public FrontEndOf<AwrParams> {
   private:
     static constexpr int kTileLevels = 5;
     int TileLevels(int width, int height) const {
-        int levels = options.levels < 0 ? MaxWaveletLevels(width, height) : options.levels;
+        int levels =
+            options.method.levels < 0 ? MaxWaveletLevels(width, height) : options.method.levels;
         return std::min(levels, kTileLevels);
     }
 

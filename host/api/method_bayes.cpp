@@ -14,90 +14,87 @@
 namespace mcd::api {
 namespace {
 
-struct BayesParams {
-    std::string basis = WaveletName(BayesOptions().basis);
-    std::string transform = BayesTransformName(BayesOptions().transform);
-    // auto: the variance layer when present, else the finest band's MAD; it beat the
-    // paper's fixed s_n in every row of cornell/interior at 4/16/64 spp (README).
-    std::string noise = BayesOptions().noiseAuto ? "auto" : "fixed";
-    std::string zeros = "restore", colour = "rgb";
-    int levels = BayesOptions().levels, spins = BayesOptions().spins;
-    int meanRadius = BayesOptions().meanRadius;
-    float sn = BayesOptions().sn, pn = BayesOptions().pn, hpFactor = BayesOptions().hpFactor;
-    float floorRel = BayesOptions().floorRel;
-    bool noSplit = false, keepMean = BayesOptions().keepMean;
-
-    BayesOptions Options() const {
-        BayesOptions options;
-        options.basis = *ParseWavelet(basis);
-        options.transform = transform == "swt" ? BayesTransform::Swt : BayesTransform::Dwt;
-        options.restoreZeros = zeros == "restore";
-        options.keepMean = keepMean;
-        options.meanRadius = meanRadius;
-        options.spins = spins;
-        options.opponent = colour == "opponent";
-        options.levels = levels;
-        options.sn = sn;
-        options.pn = pn;
-        options.hpFactor = hpFactor;
-        options.floorRel = floorRel;
-        options.noiseAuto = noise == "auto" || noise == "mad";
-        return options;
-    }
+// The method's parameters, and whether the direct/indirect split is used.
+struct BayesSettings {
+    BayesParams method;
+    bool noSplit = false;
 };
 
-class Bayes : public FrontEndOf<BayesParams> {
+class Bayes : public FrontEndOf<BayesSettings> {
   public:
     Bayes()
         : FrontEndOf(
               "bayes",
-              {ChoiceParam("bayes-wavelet", "haar, legall53 or cdf97", &BayesParams::basis,
-                           {"haar", "legall53", "cdf97"}),
-               ChoiceParam("bayes-transform",
-                           "swt (stationary, undecimated: shift-invariant; the default, "
-                           "measured better than dwt on all six cornell/interior 4/16/64 spp "
-                           "frames, at ~3x the GPU time and 3 levels + 1 image-sized planes "
-                           "per channel) or dwt (the decimated DWT)",
-                           &BayesParams::transform, {"swt", "dwt"}),
-               IntParam("bayes-levels", "wavelet levels (clamped to what the image allows)",
-                        &BayesParams::levels, 0, 64),
-               FloatParam("sn", "noise s_n in the log domain (paper: 0.19, 0.6)",
-                          &BayesParams::sn, 0, 1e3),
-               FloatParam("pn", "noise shape p_n (paper: 1.5)", &BayesParams::pn, 0.1, 10),
-               FloatParam("hp-factor",
-                          "the finest level's noise s is this times s_n (paper: 2)",
-                          &BayesParams::hpFactor, 1e-3, 1e3),
-               ChoiceParam("noise",
-                           "fixed (use --sn/--pn), mad (s from the median absolute finest HH "
-                           "coefficient), variance (s per band from the variance layer) or "
-                           "auto (variance when the frame has the layer, else mad); shape --pn",
-                           &BayesParams::noise, {"auto", "fixed", "mad", "variance"}),
-               FloatParam("log-floor",
-                          "log floor relative to the channel's median positive value",
-                          &BayesParams::floorRel, 1e-12, 0.5),
-               ChoiceParam("zeros",
-                           "restore (exact zeros stay 0, the paper's black) or denoise (zeros "
-                           "are noise, as in low-spp renders)",
-                           &BayesParams::zeros, {"restore", "denoise"}),
-               BoolParam("keep-mean",
-                         "scale each channel to the input's mean (undoes the log domain's "
-                         "geometric-mean bias)",
-                         &BayesParams::keepMean),
-               IntParam("bayes-mean-radius",
-                        "restore the input's local means over tent windows of twice this "
-                        "radius (the log domain darkens where the noise is large relative to "
-                        "the signal; 0: off)",
-                        &BayesParams::meanRadius, 0, 256),
-               IntParam("spins",
-                        "shift invariance by cycle spinning over spins x spins shifts (1: off; "
-                        "cost x spins^2)",
-                        &BayesParams::spins, 1, 8),
-               ChoiceParam("colour",
-                           "rgb (each log channel on its own) or opponent (log luminance + 2 "
-                           "log chroma)",
-                           &BayesParams::colour, {"rgb", "opponent"}),
+              {Nested(&BayesSettings::method,
+                      EnumParam("bayes-wavelet", "haar, legall53 or cdf97", &BayesParams::basis,
+                                {{"haar", WaveletBasis::Haar},
+                                 {"legall53", WaveletBasis::LeGall53},
+                                 {"cdf97", WaveletBasis::Cdf97}})),
+               Nested(&BayesSettings::method,
+                      EnumParam("bayes-transform",
+                                "swt (stationary, undecimated: shift-invariant; the default, "
+                                "measured better than dwt on all six cornell/interior 4/16/64 "
+                                "spp frames, at ~3x the GPU time and 3 levels + 1 image-sized "
+                                "planes per channel) or dwt (the decimated DWT)",
+                                &BayesParams::transform,
+                                {{"swt", BayesTransform::Swt}, {"dwt", BayesTransform::Dwt}})),
+               Nested(
+                   &BayesSettings::method,
+                   IntParam("bayes-levels", "wavelet levels (clamped to what the image allows)",
+                            &BayesParams::levels, 0, 64)),
+               Nested(&BayesSettings::method,
+                      FloatParam("sn", "noise s_n in the log domain (paper: 0.19, 0.6)",
+                                 &BayesParams::sn, 0, 1e3)),
+               Nested(&BayesSettings::method, FloatParam("pn", "noise shape p_n (paper: 1.5)",
+                                                         &BayesParams::pn, 0.1, 10)),
+               Nested(&BayesSettings::method,
+                      FloatParam("hp-factor",
+                                 "the finest level's noise s is this times s_n (paper: 2)",
+                                 &BayesParams::hpFactor, 1e-3, 1e3)),
+               Nested(&BayesSettings::method,
+                      EnumParam("noise",
+                                "fixed (use --sn/--pn), mad (s from the median absolute finest "
+                                "HH coefficient), variance (s per band from the variance "
+                                "layer) or auto (variance when the frame has the layer, else "
+                                "mad); shape --pn",
+                                &BayesParams::noise,
+                                {{"auto", BayesNoise::Auto},
+                                 {"fixed", BayesNoise::Fixed},
+                                 {"mad", BayesNoise::Mad},
+                                 {"variance", BayesNoise::Variance}})),
+               Nested(&BayesSettings::method,
+                      FloatParam("log-floor",
+                                 "log floor relative to the channel's median positive value",
+                                 &BayesParams::floorRel, 1e-12, 0.5)),
+               Nested(&BayesSettings::method,
+                      EnumParam("zeros",
+                                "restore (exact zeros stay 0, the paper's black) or denoise "
+                                "(zeros are noise, as in low-spp renders)",
+                                &BayesParams::restoreZeros,
+                                {{"restore", true}, {"denoise", false}})),
+               Nested(&BayesSettings::method,
+                      BoolParam("keep-mean",
+                                "scale each channel to the input's mean (undoes the log "
+                                "domain's geometric-mean bias)",
+                                &BayesParams::keepMean)),
+               Nested(&BayesSettings::method,
+                      IntParam("bayes-mean-radius",
+                               "restore the input's local means over tent windows of twice "
+                               "this radius (the log domain darkens where the noise is large "
+                               "relative to the signal; 0: off)",
+                               &BayesParams::meanRadius, 0, 256)),
+               Nested(&BayesSettings::method,
+                      IntParam("spins",
+                               "shift invariance by cycle spinning over spins x spins shifts "
+                               "(1: off; cost x spins^2)",
+                               &BayesParams::spins, 1, 8)),
+               Nested(&BayesSettings::method,
+                      EnumParam("colour",
+                                "rgb (each log channel on its own) or opponent (log luminance "
+                                "+ 2 log chroma)",
+                                &BayesParams::opponent, {{"rgb", false}, {"opponent", true}})),
                BoolParam("no-split", "denoise the whole color even when direct/indirect exist",
-                         &BayesParams::noSplit)}) {}
+                         &BayesSettings::noSplit)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Bayes>(*this); }
     std::string Summary() const override {
@@ -108,21 +105,24 @@ class Bayes : public FrontEndOf<BayesParams> {
         return {"color", "variance", "direct", "indirect"};
     }
     std::string Missing(const Frame &frame) const override {
-        return options.noise == "variance" && !frame.Has("variance") ? "no variance layer" : "";
+        return options.method.noise == BayesNoise::Variance && !frame.Has("variance")
+                   ? "no variance layer"
+                   : "";
     }
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
-        BayesOptions bayesOptions = options.Options();
-        bayesOptions.keepStages = run.keepStages;
         std::vector<std::string> plan;
-        UseVariance(inputs, &bayesOptions, &plan);
+        const Image *variance = Variance(inputs, &plan);
+        RunSetup setup = SetupFor(inputs, run);
         Result result;
         if (Split(inputs)) {
             result = ResultOf(BayesDenoiseSplit(context, inputs.Get("direct"),
-                                                inputs.Get("indirect"), bayesOptions));
+                                                inputs.Get("indirect"), options.method, setup,
+                                                variance));
             if (run.keepStages) result.stages.push_back({"split", result.image});
         } else {
-            result = ResultOf(BayesDenoise(context, inputs.Get("color"), bayesOptions));
+            result = ResultOf(
+                BayesDenoise(context, inputs.Get("color"), options.method, setup, variance));
             plan.push_back(options.noSplit && inputs.Has("direct") && inputs.Has("indirect")
                                ? "no split (--no-split): the whole color is denoised"
                                : "no split: the frame has no direct and indirect layers, so "
@@ -136,7 +136,7 @@ class Bayes : public FrontEndOf<BayesParams> {
     // median) are frame-wide: tiles estimate their own. Beyond the device's memory the tiles
     // run with a halo of the filters' support at every level.
     TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
-        BayesOptions o = options.Options();
+        const BayesParams &o = options.method;
         int levels = std::min(o.levels, MaxWaveletLevels(inputs.Width(), inputs.Height()));
         TileNeeds needs;
         needs.notLocal =
@@ -148,7 +148,7 @@ class Bayes : public FrontEndOf<BayesParams> {
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
             "{}, the spins' shift and the local mean's tent window of radius {}",
-            options.basis, half, levels, 2 * o.meanRadius);
+            WaveletName(o.basis), half, levels);
         needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
         // Measured: 144 bytes a pixel at 1920x1080 (3 channels, swt, 3 levels). One binding
         // holds a channel's stationary coefficients (3 bands a level and the low band), or
@@ -161,33 +161,21 @@ class Bayes : public FrontEndOf<BayesParams> {
     }
 
     std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const override {
-        BayesOptions bayesOptions = options.Options();
         std::vector<std::string> ignored;
-        UseVariance(inputs, &bayesOptions, &ignored);
+        const Image *variance = Variance(inputs, &ignored);
         bool split = Split(inputs);
         const Image &input = inputs.Get(split ? "indirect" : "color");
-        ref::BayesRefOptions r;
-        r.basis = bayesOptions.basis;
-        r.swt = bayesOptions.transform == BayesTransform::Swt;
-        r.levels = bayesOptions.levels;
-        r.sn = bayesOptions.sn;
-        r.pn = bayesOptions.pn;
-        r.hpFactor = bayesOptions.hpFactor;
-        r.floorRel = bayesOptions.floorRel;
-        r.restoreZeros = bayesOptions.restoreZeros;
-        r.opponent = bayesOptions.opponent;
-        r.spins = bayesOptions.spins;
-        r.keepMean = bayesOptions.keepMean;
-        r.meanRadius = bayesOptions.meanRadius;
+        ref::BayesRefRun r;
         r.keepStages = true;
+        // --noise variance: the reference makes its own estimate (ref::BayesVarianceNoise).
+        r.variance = variance;
         // --noise mad: the estimate is host code on the GPU's coefficients, not a kernel
         // (a median is not diffable); the reference takes the GPU run's s_n so that the
         // stages after it compare the same model.
-        if (bayesOptions.noiseAuto && !bayesOptions.variance)
-            r.snOverride = BayesDenoise(context, input, bayesOptions).sn;
-        // --noise variance: the reference makes its own estimate (ref::BayesVarianceNoise).
-        r.variance = bayesOptions.variance;
-        ref::BayesRefResult cpu = ref::BayesDenoise(input, r);
+        BayesNoise noise = options.method.noise;
+        if (!variance && (noise == BayesNoise::Auto || noise == BayesNoise::Mad))
+            r.madSn = BayesDenoise(context, input, options.method).sn;
+        ref::BayesRefResult cpu = ref::BayesDenoise(input, options.method, r);
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu.stages) stages.push_back({name, std::move(image)});
         if (split) {
@@ -206,24 +194,25 @@ class Bayes : public FrontEndOf<BayesParams> {
         return inputs.Has("direct") && inputs.Has("indirect") && !options.noSplit;
     }
 
-    // --noise variance, or auto on a frame with a variance layer: point `bayesOptions` at
-    // it; say which estimate --noise auto took.
-    void UseVariance(Inputs &inputs, BayesOptions *bayesOptions,
-                     std::vector<std::string> *plan) const {
+    // The variance layer when the noise reads it (--noise variance, or auto on a frame with
+    // one); say which estimate --noise auto took.
+    const Image *Variance(Inputs &inputs, std::vector<std::string> *plan) const {
+        BayesNoise noise = options.method.noise;
         bool has = inputs.Has("variance");
-        if (options.noise == "variance" && !has)
+        if (noise == BayesNoise::Variance && !has)
             throw Error("bayes: --noise variance needs a variance layer; the frame has none");
-        if (options.noise == "variance" || (options.noise == "auto" && has)) {
-            bayesOptions->variance = &inputs.Get("variance");
-            if (options.noise == "auto")
+        if (noise == BayesNoise::Variance || (noise == BayesNoise::Auto && has)) {
+            if (noise == BayesNoise::Auto)
                 plan->push_back(
                     "--noise auto: the frame has a variance layer: noise per band from it "
                     "(--noise variance)");
-        } else if (options.noise == "auto") {
+            return &inputs.Get("variance");
+        }
+        if (noise == BayesNoise::Auto)
             plan->push_back(
                 "--noise auto: no variance layer: noise from the finest band's median |y| "
                 "(--noise mad)");
-        }
+        return nullptr;
     }
 };
 

@@ -4,23 +4,23 @@
 
 #include "cpu_reference/pivot_filter.h"
 #include "host/api/front_end.h"
-#include "host/api/pivot_params.h"
 #include "host/methods/pivot.h"
 #include "pivot/gather.h"
 
 namespace mcd::api {
 namespace {
 
-struct PivotParams {
-    PivotOptions options;
-    std::string filter = "planefit", guides = "auto", noise = "auto", layer = "auto";
+// The method's parameters, and which layers feed it.
+struct PivotSettings {
+    PivotParams method;
+    std::string guides = "auto", noise = "auto", layer = "auto";
     bool noPartials = false;
     // Set by ForTiles: the whole frame's thresholds (of the pivot, of each partial's).
     std::vector<float> thresholds;
     std::vector<std::vector<float>> partialThresholds;
 };
 
-class Pivot : public FrontEndOf<PivotParams> {
+class Pivot : public FrontEndOf<PivotSettings> {
   public:
     Pivot()
         : FrontEndOf(
@@ -29,63 +29,66 @@ class Pivot : public FrontEndOf<PivotParams> {
                            "the layer filtered against: auto (pivot when the frame has one, "
                            "else albedo), pivot, or albedo (a cheap deterministic image of "
                            "the same structure that every renderer writes)",
-                           &PivotParams::layer, {"auto", "pivot", "albedo"}),
-               ChoiceParam("filter",
-                           "planefit (the paper's plane fits, eqs. 10-13) or bilateral "
-                           "(cross-bilateral baseline of z = color / pivot)",
-                           &PivotParams::filter, {"planefit", "bilateral"}),
-               Nested(&PivotParams::options,
+                           &PivotSettings::layer, {"auto", "pivot", "albedo"}),
+               Nested(&PivotSettings::method,
+                      EnumParam("filter",
+                                "planefit (the paper's plane fits, eqs. 10-13) or bilateral "
+                                "(cross-bilateral baseline of z = color / pivot)",
+                                &PivotParams::filter,
+                                {{"planefit", PivotFilter::PlaneFit},
+                                 {"bilateral", PivotFilter::Bilateral}})),
+               Nested(&PivotSettings::method,
                       IntParam("max-radius",
                                "largest half-size of a planefit square (paper: 30-40)",
-                               &PivotOptions::maxRadius, 2, 64)),
-               Nested(&PivotParams::options,
+                               &PivotParams::maxRadius, 2, 64)),
+               Nested(&PivotSettings::method,
                       FloatParam("target-noise",
                                  "relative std of a centre's fit that stops the growth",
-                                 &PivotOptions::targetNoise, 0, 1e6)),
-               Nested(&PivotParams::options,
+                                 &PivotParams::targetNoise, 0, 1e6)),
+               Nested(&PivotSettings::method,
                       FloatParam("good-noise",
                                  "pixels whose relative std exceeds this are left out of fits",
-                                 &PivotOptions::goodNoise, 1e-6, 1e6)),
-               Nested(&PivotParams::options,
+                                 &PivotParams::goodNoise, 1e-6, 1e6)),
+               Nested(&PivotSettings::method,
                       FloatParam("disagreement",
                                  "relative square-vs-quadrant difference that stops the growth",
-                                 &PivotOptions::disagreement, 0, 1e6)),
-               Nested(&PivotParams::options,
+                                 &PivotParams::disagreement, 0, 1e6)),
+               Nested(&PivotSettings::method,
                       FloatParam("robust-k",
                                  "k of eq. 10; above 0 the fits down-weight outliers, "
                                  "which lowers the error but darkens heavy-tailed frames "
                                  "(relief-abc 16 spp: mean 0.65 of the reference with "
                                  "0.3, 1.04 with 0)",
-                                 &PivotOptions::k, 0, 1e6)),
-               Nested(&PivotParams::options,
+                                 &PivotParams::k, 0, 1e6)),
+               Nested(&PivotSettings::method,
                       FloatParam("sigma-weight",
                                  "weight of the noise term sigma in eq. 10 (1: the paper; "
                                  "0 keeps fireflies' energy in heavy-tailed noise)",
-                                 &PivotOptions::sigmaWeight, 0, 1e6)),
-               Nested(&PivotParams::options,
+                                 &PivotParams::sigmaWeight, 0, 1e6)),
+               Nested(&PivotSettings::method,
                       IntParam("bilateral-radius", "window half-size of the bilateral filter",
-                               &PivotOptions::bilateralRadius, 0, 64)),
-               Nested(&PivotParams::options,
+                               &PivotParams::bilateralRadius, 0, 64)),
+               Nested(&PivotSettings::method,
                       FloatParam("sigma-range",
                                  "bilateral range sigma on the pivot's relative difference",
-                                 &PivotOptions::sigmaRange, 1e-6, 1e6)),
+                                 &PivotParams::sigmaRange, 1e-6, 1e6)),
                Nested(
-                   &PivotParams::options,
+                   &PivotSettings::method,
                    FloatParam("pivot-floor",
                               "pixels with pivot <= this x the channel mean keep their input",
-                              &PivotOptions::floor, 1e-12, 1e6)),
+                              &PivotParams::floor, 1e-12, 1e6)),
                ChoiceParam("guides", "auto (normals and ids when the frame has them) or none",
-                           &PivotParams::guides, {"auto", "none"}),
+                           &PivotSettings::guides, {"auto", "none"}),
                ChoiceParam("pivot-noise",
                            "auto (the variance layer when present) or estimate (from the 3x3 "
                            "neighbours of z)",
-                           &PivotParams::noise, {"auto", "estimate"}),
+                           &PivotSettings::noise, {"auto", "estimate"}),
                BoolParam(
                    "no-partials",
                    "filter color as one image even when the frame has section 8's "
                    "partial<k>.color/.pivot and remainder layers (by default each partial "
                    "is filtered against its own pivot and the remainder added)",
-                   &PivotParams::noPartials)}) {}
+                   &PivotSettings::noPartials)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
     std::string Summary() const override {
@@ -107,11 +110,9 @@ class Pivot : public FrontEndOf<PivotParams> {
     }
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
-        PivotOptions pivotOptions;
-        PivotInputs in = InputsOf(inputs, &pivotOptions);
-        pivotOptions.keepStages = run.keepStages;
-        pivotOptions.progress = run.progress;
-        Result result = ResultOf(PivotDenoise(context, in, pivotOptions));
+        PivotInputs in = InputsOf(inputs);
+        Result result =
+            ResultOf(PivotDenoise(context, in, options.method, SetupFor(inputs, run)));
         if (UsesAlbedo(inputs))
             result.plan.insert(result.plan.begin(),
                                options.layer == "auto"
@@ -125,19 +126,19 @@ class Pivot : public FrontEndOf<PivotParams> {
     TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
         int channels = inputs.Get("color").channels;
         TileNeeds needs;
-        if (options.filter == "bilateral") {
-            needs.reach = options.options.bilateralRadius + 2;
+        if (options.method.filter == PivotFilter::Bilateral) {
+            needs.reach = options.method.bilateralRadius + 2;
             needs.reachText = fmt::format(
                 "the bilateral radius {}, 1 for the noise estimated from 3x3 neighbours, 1 "
                 "for the id boundary",
-                options.options.bilateralRadius);
+                options.method.bilateralRadius);
         } else {
-            needs.reach = 2 * options.options.maxRadius + 2;
+            needs.reach = 2 * options.method.maxRadius + 2;
             needs.reachText = fmt::format(
                 "a pixel gathers the fits of centres up to the largest square half-size {} "
                 "away, each fit reads up to {} further; 1 for the noise estimated from 3x3 "
                 "neighbours, 1 for the id boundary",
-                options.options.maxRadius, options.options.maxRadius);
+                options.method.maxRadius, options.method.maxRadius);
         }
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
@@ -152,18 +153,16 @@ class Pivot : public FrontEndOf<PivotParams> {
 
     std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
         auto copy = std::make_unique<Pivot>(*this);
-        PivotOptions o;
-        PivotInputs in = InputsOf(whole, &o);
-        copy->options.thresholds = PivotThresholds(*in.pivot, o.floor);
+        PivotInputs in = InputsOf(whole);
+        const float floor = options.method.floor;
+        copy->options.thresholds = PivotThresholds(*in.pivot, floor);
         for (const PivotPartial &partial : in.partials)
-            copy->options.partialThresholds.push_back(PivotThresholds(*partial.pivot, o.floor));
+            copy->options.partialThresholds.push_back(PivotThresholds(*partial.pivot, floor));
         return copy;
     }
 
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
-        PivotOptions o;
-        PivotInputs in = InputsOf(inputs, &o);
-        ref::PivotParams p = RefParams(o);
+        PivotInputs in = InputsOf(inputs);
         Image ids;
         if (in.objectId || in.partId) {
             ids = Image(inputs.Width(), inputs.Height(), 2);
@@ -181,7 +180,7 @@ class Pivot : public FrontEndOf<PivotParams> {
             cpuIn.partials.push_back({partial.color, partial.pivot, partial.variance});
         cpuIn.remainder = in.remainder;
         std::vector<std::pair<std::string, Image>> cpu;
-        ref::PivotFilter(cpuIn, p, &cpu);
+        ref::PivotFilter(cpuIn, options.method, &cpu);
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;
@@ -199,11 +198,8 @@ class Pivot : public FrontEndOf<PivotParams> {
         return PivotLayer([&](const std::string &l) { return inputs.Has(l); }) == "albedo";
     }
 
-    // The pipeline's inputs and options from the frame and the parameters.
-    PivotInputs InputsOf(Inputs &inputs, PivotOptions *o) const {
-        *o = options.options;
-        o->filter =
-            options.filter == "bilateral" ? PivotFilter::Bilateral : PivotFilter::PlaneFit;
+    // The pipeline's inputs from the frame and the parameters.
+    PivotInputs InputsOf(Inputs &inputs) const {
         std::string layer = PivotLayer([&](const std::string &l) { return inputs.Has(l); });
         if (!inputs.Has(layer)) {
             if (options.layer == "auto")

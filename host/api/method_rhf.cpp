@@ -16,46 +16,30 @@
 namespace mcd::api {
 namespace {
 
-struct RhfParams {
-    RhfOptions options;
-    bool keepNegative = !RhfOptions().clampNegative;
-};
-
 class Rhf : public FrontEndOf<RhfParams> {
   public:
     Rhf()
         : FrontEndOf(
               "rhf",
-              {Nested(&RhfParams::options,
-                      IntParam("patch-half", "patch half-size w (patches are (2w+1)^2)",
-                               &RhfOptions::patchHalf, 0, 20)),
-               Nested(&RhfParams::options,
-                      IntParam("search-half", "search half-window b (the window is (2b+1)^2)",
-                               &RhfOptions::searchHalf, 0, 20)),
-               Nested(
-                   &RhfParams::options,
-                   FloatParam("kappa", "threshold on the normalised chi-square patch distance",
-                              &RhfOptions::threshold, 0, 1e30)),
-               Nested(&RhfParams::options,
-                      FloatParam(
-                          "bright-veto",
+              {IntParam("patch-half", "patch half-size w (patches are (2w+1)^2)",
+                        &RhfParams::patchHalf, 0, 20),
+               IntParam("search-half", "search half-window b (the window is (2b+1)^2)",
+                        &RhfParams::searchHalf, 0, 20),
+               FloatParam("kappa", "threshold on the normalised chi-square patch distance",
+                          &RhfParams::threshold, 0, 1e30),
+               FloatParam("bright-veto",
                           "leave a candidate patch out when one of its pixels differs from its "
                           "counterpart in the saturated bins (samples brighter than the "
-                          "histogram's "
-                          "range) by more than this: those bins' terms over the harmonic mean "
-                          "of the "
-                          "two sample counts. Beyond the authors' tool, whose distance lets a "
-                          "visible "
-                          "light into dark patches at few samples; 0 is the authors' tool",
-                          &RhfOptions::brightVeto, 0, 1e30)),
-               Nested(&RhfParams::options,
-                      IntParam("knn", "nearest patches always averaged (finest scale)",
-                               &RhfOptions::knn, 0, 1681)),
-               Nested(&RhfParams::options,
-                      IntParam("nscales",
-                               "scales (fewer when a scale would be smaller than the "
-                               "search window)",
-                               &RhfOptions::scales, 1, 8)),
+                          "histogram's range) by more than this: those bins' terms over the "
+                          "harmonic mean of the two sample counts. Beyond the authors' tool, "
+                          "whose distance lets a visible light into dark patches at few "
+                          "samples; 0 is the authors' tool",
+                          &RhfParams::brightVeto, 0, 1e30),
+               IntParam("knn", "nearest patches always averaged (finest scale)",
+                        &RhfParams::knn, 0, 1681),
+               IntParam("nscales",
+                        "scales (fewer when a scale would be smaller than the search window)",
+                        &RhfParams::scales, 1, 8),
                BoolParam("keep-negative",
                          "keep negative output values, as the authors' tool does (by default "
                          "the scale recombination's bicubic overshoot below 0 is clamped to 0)",
@@ -81,18 +65,15 @@ class Rhf : public FrontEndOf<RhfParams> {
     }
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
-        RhfOptions rhfOptions = Options();
-        rhfOptions.keepStages = run.keepStages;
-        rhfOptions.frameX0 = inputs.OriginX();
-        rhfOptions.frameY0 = inputs.OriginY();
-        rhfOptions.frameWidth = inputs.FrameWidth();
-        rhfOptions.frameHeight = inputs.FrameHeight();
+        RunSetup setup = SetupFor(inputs, run);
+        setup.scalesUsed = whole.scalesUsed;
+        setup.histScales = whole.histScales;
         return ResultOf(
-            RhfDenoise(context, inputs.Get("color"), Histograms(inputs), rhfOptions));
+            RhfDenoise(context, inputs.Get("color"), Histograms(inputs), options, setup));
     }
 
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
-        RhfOptions o = Options();
+        const RhfParams &o = options;
         int scales = RhfScalesUsed(inputs.Width(), inputs.Height(), o);
         TileNeeds needs;
         needs.reach = RhfReach(o, scales);
@@ -137,32 +118,29 @@ class Rhf : public FrontEndOf<RhfParams> {
         return needs;
     }
 
-    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
+    std::unique_ptr<FrontEnd> ForTiles(Inputs &frame) const override {
         auto copy = std::make_unique<Rhf>(*this);
-        RhfOptions &o = copy->options.options;
-        o.scalesUsed = RhfScalesUsed(whole.Width(), whole.Height(), Options());
-        o.histScales = RhfHistScales(whole.Get("color"), Histograms(whole), o.scalesUsed);
+        copy->whole.scalesUsed = RhfScalesUsed(frame.Width(), frame.Height(), options);
+        copy->whole.histScales =
+            RhfHistScales(frame.Get("color"), Histograms(frame), copy->whole.scalesUsed);
         return copy;
     }
 
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
-        RhfOptions o = Options();
         std::vector<std::pair<std::string, Image>> named;
-        ref::Rhf(inputs.Get("color"), Histograms(inputs),
-                 {o.patchHalf, o.searchHalf, double(o.threshold), o.knn, o.scales,
-                  double(o.brightVeto)},
-                 &named);
+        ref::Rhf(inputs.Get("color"), Histograms(inputs), options, &named);
         std::vector<Stage> stages;
         for (auto &[name, image] : named) stages.push_back({name, std::move(image)});
         return stages;
     }
 
   private:
-    RhfOptions Options() const {
-        RhfOptions o = options.options;
-        o.clampNegative = !options.keepNegative;
-        return o;
-    }
+    // Set by ForTiles: the whole frame's scales and histogram rescales.
+    struct {
+        int scalesUsed = 0;
+        std::vector<float> histScales;
+    } whole;
+
     static std::string HistogramLayer(Inputs &inputs) {
         if (!inputs.Has("hist"))
             throw Error(

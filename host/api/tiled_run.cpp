@@ -13,6 +13,17 @@ int RoundDown(int v, int step) {
     return v / step * step;
 }
 
+// The tile [x0, x1) x [y0, y1) of `part`, a window whose corner is (wx0, wy0), into the
+// W x H image `whole` (made on first use).
+void Paste(const Image &part, int wx0, int wy0, int x0, int y0, int x1, int y1, int W, int H,
+           Image &whole) {
+    if (whole.Empty()) whole = Image(W, H, part.channels);
+    for (int c = 0; c < part.channels; ++c)
+        for (int y = y0; y < y1; ++y)
+            std::copy_n(part.Plane(c) + size_t(y - wy0) * part.width + (x0 - wx0), x1 - x0,
+                        &whole.At(c, y, x0));
+}
+
 }  // namespace
 
 TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width, int height,
@@ -107,12 +118,16 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
                 };
             Inputs window(inputs, wx0, wy0, wx1, wy1);
             Result part = tiled->Run(context, window, tileRun);
-            const Image &image = part.image;
-            if (result.image.Empty()) result.image = Image(W, H, image.channels);
-            for (int c = 0; c < image.channels; ++c)
-                for (int y = y0; y < y1; ++y)
-                    std::copy_n(image.Plane(c) + size_t(y - wy0) * image.width + (x0 - wx0),
-                                x1 - x0, &result.image.At(c, y, x0));
+            Paste(part.image, wx0, wy0, x0, y0, x1, y1, W, H, result.image);
+            // The stages asked for by name (RunOptions::stages), each a window's image.
+            for (const Stage &stage : part.stages) {
+                if (stage.image.width != wx1 - wx0 || stage.image.height != wy1 - wy0) continue;
+                auto kept = std::find_if(result.stages.begin(), result.stages.end(),
+                                         [&](const Stage &s) { return s.name == stage.name; });
+                if (kept == result.stages.end())
+                    kept = result.stages.insert(kept, {stage.name, Image()});
+                Paste(stage.image, wx0, wy0, x0, y0, x1, y1, W, H, kept->image);
+            }
             if (done == 0)
                 for (const std::string &line : part.plan)
                     result.plan.push_back("first tile: " + line);
@@ -125,6 +140,10 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
                                     "counted from the window's corner): {}",
                                     wx0, wx1, wy0, wy1, warning));
                 }
+            for (std::string &name : part.candidates)
+                if (std::find(result.candidates.begin(), result.candidates.end(), name) ==
+                    result.candidates.end())
+                    result.candidates.push_back(std::move(name));
             for (Timing &t : part.timings) result.timings.push_back(std::move(t));
             ++done;
             if (run.progress) run.progress("tiles", done, count);

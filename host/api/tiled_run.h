@@ -31,8 +31,9 @@ inline int WaveletHalfSupport(WaveletBasis basis) {
 }
 
 // Run `method` on `inputs`, whole or in tiles by PlanTiles (run.tileSize forces a size).
-// Tiled, the result has no stages (keepStages runs whole) and the plan is the first tile's,
-// after a line that says how the frame was cut.
+// Tiled, the result has only the stages asked for by name (RunOptions::stages; keepStages
+// runs whole), put together from the tiles', and the plan is the first tile's, after a line
+// that says how the frame was cut.
 Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
                 const RunOptions &run);
 

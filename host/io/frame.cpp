@@ -109,14 +109,6 @@ void ReadBands(OIIO::ImageInput &in, const std::string &path, const OIIO::ImageS
 
 }  // namespace
 
-const Image &Frame::Get(const std::string &layer) const {
-    if (auto it = layers.find(layer); it != layers.end()) return it->second;
-    std::string have;
-    for (const auto &[name, image] : layers) have += (have.empty() ? "" : ", ") + name;
-    throw Error(fmt::format("'{}' has no layer '{}' (it has: {})", path, layer,
-                            have.empty() ? "no layers" : have));
-}
-
 // The machine's physical memory in bytes (0 if unknown).
 static uint64_t PhysicalMemory() {
     long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGE_SIZE);

@@ -1,9 +1,9 @@
 // Frames on disk: the public frame type and its readers and writers
-// (include/mcdenoise/frame.h), under the names the internal code has always used.
+// (include/mcdenoise/io.h), under the names the internal code has always used.
 // Layer names follow the README's layer table; see layer_names.h.
 #pragma once
 
-#include "mcdenoise/frame.h"
+#include "mcdenoise/io.h"
 
 namespace mcd::io {
 

@@ -33,15 +33,15 @@ Image AwrVarianceFromRange(const Image &min, const Image &max, const Image &spp)
 namespace {
 
 // Throw on bad shapes, values or options; return the levels to run.
-int CheckAwrInputs(const Image &color, const Image &variance, const AwrOptions &options) {
+int CheckAwrInputs(const Image &color, const Image &variance, const AwrParams &options) {
     if (!color.SameShape(variance))
         throw Error(fmt::format("awr: color is {}x{}x{} but variance is {}x{}x{}", color.width,
                                 color.height, color.channels, variance.width, variance.height,
                                 variance.channels));
     if (!std::isfinite(options.cs) || options.cs < 0)
         throw Error(fmt::format("awr: cs must be a finite number >= 0, not {}", options.cs));
-    if (!std::isfinite(options.lowSum) || !std::isfinite(options.highSum))
-        throw Error("awr: the renormalisation sums must be finite numbers");
+    if (!std::isfinite(options.renorm))
+        throw Error("awr: the renormalisation sum must be a finite number");
     CheckFinite("awr", color, "color", false);
     CheckFinite("awr", variance, "variance", true);
     int maxLevels = MaxWaveletLevels(color.width, color.height);
@@ -54,7 +54,7 @@ int CheckAwrInputs(const Image &color, const Image &variance, const AwrOptions &
 
 // Why the reconstruction would give the input back, or nullptr when it would not:
 // shrinking by zero keeps every coefficient, and the transform would undo itself.
-const char *IdleReason(const Image &variance, const AwrOptions &options, int levels) {
+const char *IdleReason(const Image &variance, const AwrParams &options, int levels) {
     bool anyVariance = false;
     for (float v : variance.data) anyVariance |= v > 0;
     if (!anyVariance) return "the variance is zero everywhere";
@@ -63,32 +63,32 @@ const char *IdleReason(const Image &variance, const AwrOptions &options, int lev
     return nullptr;
 }
 
-void PlanAwr(StagedRun &run, const Image &color, int levels, const AwrOptions &options) {
+void PlanAwr(StagedRun &run, const Image &color, int levels, const AwrParams &options) {
     run.Plan(fmt::format("{}-level {} DWT of color ({}x{}x{})", levels,
                          WaveletName(options.basis), color.width, color.height,
                          color.channels));
     run.Plan(fmt::format(
         "squared-filter DWT of the variance (eq. 10), squared 1D filters summing to {:.4g} "
         "(low) and {:.4g} (high)",
-        options.lowSum, options.highSum));
+        options.renorm, options.renorm));
     run.Plan(fmt::format(
         "soft shrinkage of the details by cs = {} standard "
         "deviations (eq. 11); the coarsest low band is kept{}",
-        options.cs, options.keepStages ? "" : "; fused into the synthesis's columns passes"));
+        options.cs, run.KeepsStages() ? "" : "; fused into the synthesis's columns passes"));
     run.Plan("synthesis");
 }
 
 // Analysis of both images in place, shrinkage, synthesis into `coef`. With keepStages each
 // stage is submitted and downloaded; else it is all one submission.
 void RecordAwr(StagedRun &run, WaveletTransform &transform, vk::GpuImage &coef,
-               vk::GpuImage &coefVariance, int levels, const AwrOptions &options) {
+               vk::GpuImage &coefVariance, int levels, const AwrParams &options) {
     vk::Recorder &recorder = run.Recorder();
     transform.RecordAnalysis(recorder, options.basis, levels, coef, coef);
     transform.RecordSqAnalysis(recorder, options.basis, levels, coefVariance, coefVariance,
-                               options.lowSum, options.highSum);
+                               options.renorm, options.renorm);
     run.Stage("analysis", coef);
     run.Stage("variance analysis", coefVariance);
-    if (options.keepStages) {
+    if (run.KeepsStages()) {
         // The shrunk coefficients are a stage of their own: shrink, then synthesise.
         RecordAwrShrink(run.Context(), recorder, coef, coefVariance,
                         LevelExtent(coef.width, levels), LevelExtent(coef.height, levels),
@@ -104,7 +104,7 @@ void RecordAwr(StagedRun &run, WaveletTransform &transform, vk::GpuImage &coef,
 }
 
 AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Image &variance,
-                             const AwrOptions &options) {
+                             const AwrParams &options, bool keepStages) {
     int levels = CheckAwrInputs(color, variance, options);
     AwrResult result;
     if (const char *idle = IdleReason(variance, options, levels)) {
@@ -113,7 +113,7 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
             "left out: the whole reconstruction ({}): the output is the input", idle));
         return result;
     }
-    StagedRun run(context, options.keepStages);
+    StagedRun run(context, keepStages);
     PlanAwr(run, color, levels, options);
     // Two images and the transform's temporary: every transform runs in place, the color's
     // buffer holding its coefficients and then the output, the variance's buffer the
@@ -136,23 +136,23 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
 }  // namespace
 
 AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &variance,
-                         const AwrOptions &options) {
+                         const AwrParams &options, const RunSetup &setup) {
     if (options.spins < 1 || options.spins > 8)
         throw Error(fmt::format("awr: spins must be in [1, 8], not {}", options.spins));
-    if (options.spins == 1) return AwrReconstructOnce(context, color, variance, options);
+    if (options.spins == 1)
+        return AwrReconstructOnce(context, color, variance, options, setup.keepStages);
     // The unshifted run checks the inputs and decides the levels; every shift uses them.
-    AwrOptions once = options;
+    AwrParams once = options;
     once.spins = 1;
-    AwrResult result = AwrReconstructOnce(context, color, variance, once);
+    AwrResult result = AwrReconstructOnce(context, color, variance, once, setup.keepStages);
     if (result.timings.empty()) return result;  // nothing ran: the output is the input
     if (once.levels < 0) once.levels = MaxWaveletLevels(color.width, color.height);
-    once.keepStages = false;
     Image unshifted = std::move(result.image);
     result.image = CycleSpin(
         color.width, color.height, color.channels, options.spins, [&](int dx, int dy) {
             if (dx == 0 && dy == 0) return unshifted;
             AwrResult one = AwrReconstructOnce(context, MirrorPad(color, dx, dy),
-                                               MirrorPad(variance, dx, dy), once);
+                                               MirrorPad(variance, dx, dy), once, false);
             for (const vk::DispatchTiming &t : one.timings) result.timings.push_back(t);
             return std::move(one.image);
         });
@@ -160,7 +160,7 @@ AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &
                        fmt::format("cycle spinning: the average over {} x {} shifts (mirrored "
                                    "padding), each with the levels of the unshifted frame",
                                    options.spins, options.spins));
-    if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
+    if (setup.keepStages) result.stages.push_back({"cycle spinning", result.image});
     return result;
 }
 

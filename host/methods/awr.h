@@ -8,28 +8,14 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/methods/run_setup.h"
 #include "host/methods/staged_run.h"
+#include "host/params/awr.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
 #include "host/wavelet.h"
 
 namespace mcd {
-
-struct AwrOptions {
-    WaveletBasis basis = WaveletBasis::Cdf97;
-    int levels = -1;  // -1: as many as the image allows
-    float cs = 1.f;   // smoothing constant
-    // The squared 1D filters are renormalised to sum to these (the paper: 2^-1/2 for the
-    // reconstruction, to damp coarse-scale smoothing).
-    float lowSum = 0.70710678f, highSum = 0.70710678f;
-    // Cycle spinning over spins x spins shifts (host/common/cycle_spin.h), 1 to 8; 1 is
-    // the paper's reconstruction. Beyond the paper: the decimated DWT's soft shrinkage
-    // depends on where its grid falls, and the mean over shifts removes that (README).
-    int spins = 1;
-    // Download every stage's buffer (for `mcdenoise diff`): one submission per stage, and
-    // the shrinkage as a pass of its own (else it is fused into the synthesis).
-    bool keepStages = false;
-};
 
 // With keepStages, stages "analysis", "variance analysis", "shrinkage", "synthesis" (the
 // output), each the full-size buffer after its stage; empty when nothing ran. With spins >
@@ -44,6 +30,6 @@ Image AwrVarianceFromRange(const Image &min, const Image &max, const Image &spp)
 // Throws mcd::Error naming the first offending pixel when either holds NaN/Inf or the
 // variance is negative.
 AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &variance,
-                         const AwrOptions &options);
+                         const AwrParams &params, const RunSetup &setup = {});
 
 }  // namespace mcd

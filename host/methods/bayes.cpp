@@ -33,12 +33,14 @@ bool Finite(float v) {
     return std::isfinite(v);
 }
 
-// Count what the log domain cannot take as is, with the first place of each.
-void CountSpecials(const Image &color, const std::vector<float> &floors, StagedRun &run) {
+// Count what the log domain cannot take as is, with the first place of each. Black and
+// nearly black values are ordinary in a render: one line says what became of them.
+void CountSpecials(const Image &color, const std::vector<float> &floors, bool restoreZeros,
+                   StagedRun &run) {
     struct Count {
         size_t n = 0;
         int x = 0, y = 0, c = 0;
-    } nonFinite, negative, zero, floored;
+    } nonFinite, negative, zero, dark;
     auto add = [](Count &count, int c, int y, int x) {
         if (count.n++ == 0) count.x = x, count.y = y, count.c = c;
     };
@@ -50,12 +52,10 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, StagedR
                     add(nonFinite, c, y, x);
                 else if (v < 0)
                     add(negative, c, y, x);
-                else if (v == 0)
-                    add(zero, c, y, x);
                 else if (v <= floors[c])
-                    add(floored, c, y, x);
+                    add(dark, c, y, x), zero.n += v == 0;
             }
-    auto say = [&](const Count &count, const char *what, const char *then) {
+    auto say = [&](const Count &count, const char *what, const std::string &then) {
         if (count.n)
             run.Warn(fmt::format(
                 "bayes: {} {} value{} (first at pixel ({}, {}), channel {}): {}", count.n, what,
@@ -63,8 +63,16 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, StagedR
     };
     say(nonFinite, "NaN/Inf", "taken as the log floor, output 0");
     say(negative, "negative", "taken as the log floor, output 0");
-    say(zero, "zero", "taken as the log floor, output restored to exactly 0");
-    say(floored, "tiny positive", "raised to the log floor (floorRel x the channel's median)");
+    std::string black = zero.n == 0 ? ""
+                        : restoreZeros
+                            ? fmt::format("; the {} black one{} stay{} black", zero.n,
+                                          zero.n == 1 ? "" : "s", zero.n == 1 ? "s" : "")
+                            : fmt::format(", the {} black one{} too (--zeros denoise)", zero.n,
+                                          zero.n == 1 ? "" : "s");
+    say(dark, "black or nearly black",
+        "below the log domain's floor (--log-floor x the channel's median), denoised from "
+        "it" +
+            black);
 }
 
 // Median of |x| of the pooled finest-level HH bands.
@@ -122,7 +130,7 @@ void KeepMean(const Image &color, BayesResult *result) {
         "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
 }
 
-// Box means of radius r along rows (dx = 1) or columns, clipped to the image: running sums.
+// Box means of radius r along rows or columns, clipped to the image: running sums.
 void BoxPass(const float *in, float *out, int w, int h, int r, bool rows) {
     int length = rows ? w : h, lines = rows ? h : w;
     size_t along = rows ? 1 : size_t(w), across = rows ? size_t(w) : 1;
@@ -152,34 +160,35 @@ Image TentMean(const Image &image, int r) {
     return b;
 }
 
-// Restore the input's local means (BayesOptions::meanRadius).
+// Restore the input's local means (BayesParams::meanRadius).
 void LocalMean(const Image &color, int radius, BayesResult *result) {
     Image input = color;
     for (float &v : input.data) v = Finite(v) && v > 0 ? v : 0.f;
     Image mIn = TentMean(input, radius), mOut = TentMean(result->image, radius);
-    double lo = 1e30, hi = 0;
+    double lo = 0, hi = 0;
     for (size_t i = 0; i < mIn.data.size(); ++i) {
         float a = mIn.data[i], b = mOut.data[i];
         if (!(a > 0 && b > 0 && Finite(a) && Finite(b))) continue;
         double ratio = double(a) / b;
         result->image.data[i] = float(result->image.data[i] * ratio);
-        lo = std::min(lo, ratio), hi = std::max(hi, ratio);
+        lo = hi > 0 ? std::min(lo, ratio) : ratio, hi = std::max(hi, ratio);
     }
-    result->plan.push_back(fmt::format(
-        "local mean: the input's means over tent windows of radius {} restored (log-domain "
-        "bias; factors {:.3g} to {:.3g})",
-        2 * radius, hi > 0 ? lo : 1.0, hi > 0 ? hi : 1.0));
+    result->plan.push_back(
+        fmt::format("local mean: the input's means over tent windows of radius {} restored "
+                    "(the log domain's bias; factors {:.3g} to {:.3g})",
+                    2 * radius, hi > 0 ? lo : 1.0, hi > 0 ? hi : 1.0));
 }
 
 // keepMean, then the local mean, each a stage when kept.
-void RestoreMeans(const Image &color, const BayesOptions &options, BayesResult *result) {
-    if (options.keepMean) {
+void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
+                  BayesResult *result) {
+    if (params.keepMean) {
         KeepMean(color, result);
-        if (options.keepStages) result->stages.push_back({"keep mean", result->image});
+        if (keepStages) result->stages.push_back({"keep mean", result->image});
     }
-    if (options.meanRadius > 0) {
-        LocalMean(color, options.meanRadius, result);
-        if (options.keepStages) result->stages.push_back({"local mean", result->image});
+    if (params.meanRadius > 0) {
+        LocalMean(color, params.meanRadius, result);
+        if (keepStages) result->stages.push_back({"local mean", result->image});
     }
 }
 
@@ -364,7 +373,21 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
 
 namespace {
 
-void CheckBayesOptions(const Image &color, const BayesOptions &options) {
+// The variance the noise is taken from (--noise variance, or auto given one); none else.
+const Image *NoiseVariance(const BayesParams &params, const Image *variance) {
+    if (params.noise == BayesNoise::Variance && !variance)
+        throw Error("bayes: --noise variance needs a variance layer; none was given");
+    bool reads = params.noise == BayesNoise::Variance || params.noise == BayesNoise::Auto;
+    return reads ? variance : nullptr;
+}
+
+// Whether the finest bands' median absolute deviation sets s_n (--noise mad, or auto
+// without the variance NoiseVariance gave).
+bool MadNoise(const BayesParams &params, const Image *variance) {
+    return !variance && (params.noise == BayesNoise::Mad || params.noise == BayesNoise::Auto);
+}
+
+void CheckBayesParams(const Image &color, const BayesParams &options) {
     if (color.Empty() || color.width < 1 || color.height < 1)
         throw Error("bayes: the image is empty");
     if (!std::isfinite(options.sn) || options.sn < 0)
@@ -394,7 +417,7 @@ struct ChannelGroups {
 // per channel, so the groups change nothing); refused up front when not even one
 // channel's fit. The DWT has one group.
 ChannelGroups BayesChannelGroups(vk::Context &context, const Image &color, int levels, bool swt,
-                                 const BayesOptions &options) {
+                                 const RunSetup &setup) {
     int w = color.width, h = color.height, channels = color.channels;
     ChannelGroups groups;
     groups.size = channels;
@@ -402,12 +425,12 @@ ChannelGroups BayesChannelGroups(vk::Context &context, const Image &color, int l
         groups.size = std::min(channels, SwtChannelsPerBinding(context, w, h, levels));
         if (groups.size < 1)
             CheckSwtFits(context, w, h, 1, levels, "bayes --bayes-transform swt");
-        if (options.swtGroupChannels > 0)
-            groups.size = std::min(groups.size, options.swtGroupChannels);
+        if (setup.swtGroupChannels > 0)
+            groups.size = std::min(groups.size, setup.swtGroupChannels);
     }
     groups.count = (channels + groups.size - 1) / groups.size;
     groups.last = channels - (groups.count - 1) * groups.size;
-    if (groups.count > 1 && options.keepStages)
+    if (groups.count > 1 && setup.keepStages)
         throw Error(fmt::format(
             "bayes: the SWT of this {}x{}x{} image runs in {} channel groups (one binding "
             "holds {} channels' coefficients); the stages need one: use --bayes-transform "
@@ -477,18 +500,19 @@ std::vector<float> FixedBandNoise(int bands, int levels, float sn, float hpFacto
 }
 
 // The noise s of every band (band order of shaders/bayes/bayes.h) and the s_n reported
-// (*sn): options.sn, or from the variance layer, or --noise auto's estimate from the
-// analysed coefficients (which submits, and leaves group 0's coefficients in place).
+// (*sn): options.sn, or from `variance` (the layer --noise variance or auto reads), or
+// --noise mad's estimate from the analysed coefficients (which submits, and leaves group
+// 0's coefficients in place).
 std::vector<float> BandNoise(StagedRun &run, BayesGpu &gpu, const Image &color,
-                             const std::vector<float> &floors, const BayesOptions &options,
-                             float *sn) {
+                             const std::vector<float> &floors, const BayesParams &options,
+                             const RunSetup &setup, const Image *variance, float *sn) {
     int levels = gpu.levels, channels = color.channels, groups = gpu.groups.count;
     int bands = BayesBandCount(channels, levels);
     *sn = options.sn;
-    if (options.variance) {
+    if (variance) {
         std::vector<float> bandSn = BayesVarianceNoise(
-            run.Context(), color, *options.variance, floors, options.basis, levels, options.pn,
-            options.opponent, &run.Timings(), options.transform, options.swtGroupChannels);
+            run.Context(), color, *variance, floors, options.basis, levels, options.pn,
+            options.opponent, &run.Timings(), options.transform, setup.swtGroupChannels);
         double mean = 0;
         for (float v : bandSn) mean += v / bands;
         *sn = float(mean);
@@ -508,7 +532,7 @@ std::vector<float> BandNoise(StagedRun &run, BayesGpu &gpu, const Image &color,
             gpu.swt ? "SWT" : "DWT", options.pn, perLevel));
         return bandSn;
     }
-    if (options.noiseAuto) {
+    if (MadNoise(options, variance)) {
         run.Submit();
         double mad = 0;
         if (gpu.swt) {
@@ -544,8 +568,8 @@ struct BandBuffers {
 // Per channel group (one unless the SWT is split): its bands' moments, fits, tables,
 // shrinkage and synthesis (group 0 analysed already). The buffers live in `buffers` until
 // the submission.
-void RecordShrinkage(StagedRun &run, BayesGpu &gpu, const std::vector<float> &bandSn,
-                     const BayesOptions &options, BandBuffers &buffers) {
+void RecordShrinkage(StagedRun &run, BayesGpu &gpu, const std::vector<float> &bandSn, float pn,
+                     BandBuffers &buffers) {
     vk::Context &context = run.Context();
     vk::Recorder &recorder = run.Recorder();
     int levels = gpu.levels, groups = gpu.groups.count;
@@ -577,8 +601,7 @@ void RecordShrinkage(StagedRun &run, BayesGpu &gpu, const std::vector<float> &ba
             std::copy(m.begin(), m.end(), rows.data.begin());
             return rows;
         });
-        RecordBayesSolve(context, recorder, moments, groupBands, levels, noise, options.pn,
-                         params);
+        RecordBayesSolve(context, recorder, moments, groupBands, levels, noise, pn, params);
         run.Stage("fits", [&] {
             std::vector<float> p = params.DownloadFloats(size_t(bands) * BAYES_PARAM_STRIDE);
             Image fits(3, bands, 1);
@@ -616,7 +639,8 @@ std::vector<BayesBandFit> ReadFits(const BandBuffers &buffers, int bands, int le
 
 // The plan's lines on the transform, the noise and every band's fit.
 void PlanBands(StagedRun &run, const BayesGpu &gpu, float sn,
-               const std::vector<BayesBandFit> &fits, const BayesOptions &options) {
+               const std::vector<BayesBandFit> &fits, const BayesParams &options,
+               bool noisePerBand) {
     std::string transformName = gpu.swt ? "stationary (undecimated) wavelet transform "
                                           "(--bayes-transform swt)"
                                         : "DWT (--bayes-transform dwt)";
@@ -624,7 +648,7 @@ void PlanBands(StagedRun &run, const BayesGpu &gpu, float sn,
         transformName += fmt::format(
             " in {} channel groups (one binding holds the coefficients of {} channel{})",
             gpu.groups.count, gpu.groups.size, gpu.groups.size == 1 ? "" : "s");
-    if (options.variance)
+    if (noisePerBand)
         run.Plan(fmt::format("{}-level {} {}; noise per band (mean s {:.4g}), p_n {}",
                              gpu.levels, WaveletName(options.basis), transformName, sn,
                              options.pn));
@@ -650,8 +674,8 @@ void PlanBands(StagedRun &run, const BayesGpu &gpu, float sn,
 // Log, transform, shrink, synthesise, exp into gpu.out, with levels > 0; with keepStages
 // each stage is submitted and downloaded.
 void RecordBayes(StagedRun &run, BayesGpu &gpu, const Image &color,
-                 const std::vector<float> &floors, const BayesOptions &options,
-                 BayesResult &result) {
+                 const std::vector<float> &floors, const BayesParams &options,
+                 const RunSetup &setup, const Image *variance, BayesResult &result) {
     vk::Context &context = run.Context();
     vk::Recorder &recorder = run.Recorder();
     if (options.opponent) {
@@ -662,10 +686,11 @@ void RecordBayes(StagedRun &run, BayesGpu &gpu, const Image &color,
     gpu.RecordAnalysis(recorder, 0);
     run.Stage("analysis", gpu.Coefficients());
     float sn = 0;
-    std::vector<float> bandSn = BandNoise(run, gpu, color, floors, options, &sn);
+    std::vector<float> bandSn =
+        BandNoise(run, gpu, color, floors, options, setup, variance, &sn);
     result.sn = sn;
     BandBuffers buffers;
-    RecordShrinkage(run, gpu, bandSn, options, buffers);
+    RecordShrinkage(run, gpu, bandSn, options.pn, buffers);
     run.Stage("synthesis", gpu.work);
     if (options.opponent) {
         RecordBayesMix(context, recorder, gpu.work, BayesOpponentInverse());
@@ -674,18 +699,19 @@ void RecordBayes(StagedRun &run, BayesGpu &gpu, const Image &color,
     RecordBayesExp(context, recorder, gpu.work, gpu.color, gpu.out, options.restoreZeros);
     run.Submit();
     result.fits = ReadFits(buffers, BayesBandCount(color.channels, gpu.levels), gpu.levels);
-    PlanBands(run, gpu, sn, result.fits, options);
+    PlanBands(run, gpu, sn, result.fits, options, variance != nullptr);
 }
 
 BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
-                             const BayesOptions &options) {
-    CheckBayesOptions(color, options);
+                             const BayesParams &options, const RunSetup &setup,
+                             const Image *variance) {
+    CheckBayesParams(color, options);
     BayesResult result;
-    StagedRun run(context, options.keepStages);
+    StagedRun run(context, setup.keepStages);
     int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
     result.levels = levels;
     std::vector<float> floors = BayesFloors(color, options.floorRel);
-    CountSpecials(color, floors, run);
+    CountSpecials(color, floors, options.restoreZeros, run);
     run.Plan(fmt::format(
         "log domain (eqs. 4-5), per channel; floor {} x the channel's median positive value; "
         "{}",
@@ -697,7 +723,7 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                              color.width, color.height, levels));
 
     bool swt = options.transform == BayesTransform::Swt && levels > 0;
-    ChannelGroups groups = BayesChannelGroups(context, color, levels, swt, options);
+    ChannelGroups groups = BayesChannelGroups(context, color, levels, swt, setup);
     BayesGpu gpu(context, color, floors, levels, swt, groups, options.basis);
     RecordBayesLog(context, run.Recorder(), gpu.color, gpu.floors, gpu.work);
     run.Stage("log", gpu.work);
@@ -707,75 +733,77 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
                        options.restoreZeros);
         run.Submit();
     } else {
-        RecordBayes(run, gpu, color, floors, options, result);
+        RecordBayes(run, gpu, color, floors, options, setup, variance, result);
     }
     result.image = gpu.out.Download();
     run.AddStage("exp", result.image);
     run.Finish(result);
-    RestoreMeans(color, options, &result);
+    RestoreMeans(color, options, setup.keepStages, &result);
     return result;
 }
 
 }  // namespace
 
-BayesResult BayesDenoise(vk::Context &context, const Image &color,
-                         const BayesOptions &options) {
-    if (options.spins < 1 || options.spins > 8)
-        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", options.spins));
-    if (options.spins == 1) return BayesDenoiseOnce(context, color, options);
+BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesParams &params,
+                         const RunSetup &setup, const Image *variance) {
+    if (params.spins < 1 || params.spins > 8)
+        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", params.spins));
+    variance = NoiseVariance(params, variance);
+    if (params.spins == 1) return BayesDenoiseOnce(context, color, params, setup, variance);
     // Cycle spinning: the first shift's result carries the plan, warnings and fits.
-    BayesOptions once = options;
+    BayesParams once = params;
     once.spins = 1;
     once.keepMean = false;  // applied once to the average below
     once.meanRadius = 0;
     BayesResult result;
-    result.image = CycleSpin(color.width, color.height, color.channels, options.spins,
-                             [&](int dx, int dy) {
-                                 Image padded = MirrorPad(color, dx, dy);
-                                 // --noise variance: the variance layer shifted like the image,
-                                 // estimated per shift.
-                                 Image paddedVariance;
-                                 if (options.variance) {
-                                     paddedVariance = MirrorPad(*options.variance, dx, dy);
-                                     once.variance = &paddedVariance;
-                                 }
-                                 BayesResult one = BayesDenoiseOnce(context, padded, once);
-                                 if (once.noiseAuto && !options.variance) {
-                                     // One noise estimate for every shift, the unshifted
-                                     // image's: the shifts must differ only in where the
-                                     // transform's grid falls.
-                                     once.noiseAuto = false;
-                                     once.sn = one.sn;
-                                 }
-                                 for (const vk::DispatchTiming &t : one.timings)
-                                     result.timings.push_back(t);
-                                 if (dx == 0 && dy == 0) {
-                                     result.plan = std::move(one.plan);
-                                     result.warnings = std::move(one.warnings);
-                                     result.fits = std::move(one.fits);
-                                     result.sn = one.sn;
-                                     result.levels = one.levels;
-                                     result.stages = std::move(one.stages);
-                                 }
-                                 return std::move(one.image);
-                             });
+    result.image =
+        CycleSpin(color.width, color.height, color.channels, params.spins, [&](int dx, int dy) {
+            Image padded = MirrorPad(color, dx, dy);
+            // --noise variance: the variance layer shifted like the image,
+            // estimated per shift.
+            Image paddedVariance;
+            if (variance) paddedVariance = MirrorPad(*variance, dx, dy);
+            BayesResult one = BayesDenoiseOnce(context, padded, once, setup,
+                                               variance ? &paddedVariance : nullptr);
+            if (MadNoise(once, variance)) {
+                // One noise estimate for every shift, the unshifted
+                // image's: the shifts must differ only in where the
+                // transform's grid falls.
+                once.noise = BayesNoise::Fixed;
+                once.sn = one.sn;
+            }
+            for (const vk::DispatchTiming &t : one.timings) result.timings.push_back(t);
+            if (dx == 0 && dy == 0) {
+                result.plan = std::move(one.plan);
+                result.warnings = std::move(one.warnings);
+                result.fits = std::move(one.fits);
+                result.sn = one.sn;
+                result.levels = one.levels;
+                result.stages = std::move(one.stages);
+            }
+            return std::move(one.image);
+        });
     result.plan.insert(result.plan.begin(),
                        fmt::format("cycle spinning: the average over {} x {} shifts (mirrored "
                                    "padding); the bands below (and --noise auto's estimate, "
                                    "used by every shift) are the unshifted run's",
-                                   options.spins, options.spins));
-    if (options.keepStages) result.stages.push_back({"cycle spinning", result.image});
-    RestoreMeans(color, options, &result);
+                                   params.spins, params.spins));
+    if (setup.keepStages) result.stages.push_back({"cycle spinning", result.image});
+    RestoreMeans(color, params, setup.keepStages, &result);
     return result;
 }
 
 BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const Image &indirect,
-                              const BayesOptions &options) {
+                              const BayesParams &params, const RunSetup &setup,
+                              const Image *variance) {
     if (!direct.SameShape(indirect))
         throw Error(fmt::format("bayes: direct is {}x{}x{} but indirect is {}x{}x{}",
                                 direct.width, direct.height, direct.channels, indirect.width,
                                 indirect.height, indirect.channels));
-    BayesResult result = BayesDenoise(context, indirect, options);
+    BayesResult result = BayesDenoise(context, indirect, params, setup, variance);
+    // Its warnings are about the indirect layer, which the user may not know is what ran.
+    for (std::string &warning : result.warnings)
+        if (warning.rfind("bayes: ", 0) == 0) warning.insert(5, " (indirect layer)");
     size_t nonFinite = 0;
     for (size_t i = 0; i < direct.Size(); ++i) {
         float d = direct.data[i];

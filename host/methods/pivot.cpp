@@ -49,8 +49,7 @@ namespace {
 
 // Throw on missing or misshapen layers, NaN/Inf, bad options, or a frame whose fits do not
 // fit one binding.
-void CheckPivotInputs(vk::Context &context, const PivotInputs &in,
-                      const PivotOptions &options) {
+void CheckPivotInputs(vk::Context &context, const PivotInputs &in, const PivotParams &options) {
     if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
     const Image &color = *in.color;
     int w = color.width, h = color.height, channels = color.channels;
@@ -154,7 +153,7 @@ struct PivotGpu {
 };
 
 void PlanInputs(StagedRun &run, const PivotInputs &in, const PivotGpuGuides &guides,
-                size_t pixelsWithoutZ, const PivotOptions &options) {
+                size_t pixelsWithoutZ, const PivotParams &options) {
     const Image &color = *in.color;
     run.Plan(fmt::format(
         "pseudo-brightness z = color / pivot ({}x{}x{}); {} pixel-channels with pivot <= {} x "
@@ -174,7 +173,7 @@ void PlanInputs(StagedRun &run, const PivotInputs &in, const PivotGpuGuides &gui
 }
 
 // The cross-bilateral baseline of 4.1 into gpu.out, one submission with the ratio.
-void RecordBilateral(StagedRun &run, PivotGpu &gpu, const PivotOptions &options) {
+void RecordBilateral(StagedRun &run, PivotGpu &gpu, const PivotParams &options) {
     PivotBilateralSettings settings{options.bilateralRadius, options.sigmaRange,
                                     options.goodNoise};
     run.Plan(fmt::format(
@@ -187,13 +186,13 @@ void RecordBilateral(StagedRun &run, PivotGpu &gpu, const PivotOptions &options)
 }
 
 // Record rows [rowBase, rowBase + rows) in strips of stripRows, one submission each.
-void InStrips(StagedRun &run, int h, int stripRows, const char *stage,
-              const PivotOptions &options, const std::function<void(int, int)> &record) {
+void InStrips(StagedRun &run, int h, int stripRows, const char *stage, const RunSetup &setup,
+              const std::function<void(int, int)> &record) {
     for (int rowBase = 0; rowBase < h; rowBase += stripRows) {
         int rows = std::min(stripRows, h - rowBase);
         record(rowBase, rows);
         run.Submit();
-        if (options.progress) options.progress(stage, rowBase + rows, h);
+        if (setup.progress) setup.progress(stage, rowBase + rows, h);
     }
 }
 
@@ -216,8 +215,8 @@ std::string TimePerKernel(const std::vector<vk::DispatchTiming> &timings) {
 
 // The paper's filter into gpu.out: fits in row strips, the radii read back to size the
 // gather's reach per tile, the gather in row strips; the fits kept as a stage.
-void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
-                    PivotResult &result) {
+void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotParams &options,
+                    const RunSetup &setup, PivotResult &result) {
     vk::Context &context = run.Context();
     int w = gpu.z.width, h = gpu.z.height, channels = gpu.z.channels;
     vk::GpuImage fitLo(context, w, h, PIVOT_PLANES_PER_BUFFER * channels, "pivot.fitLo");
@@ -226,9 +225,8 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
                               options.disagreement, options.k,           options.sigmaWeight};
     // Row strips, one submission each: progress on long frames, and no dispatch long enough
     // to trip a GPU watchdog. The ratio stage recorded before runs with the first strip.
-    const int stripRows =
-        options.stripPixels > 0 ? std::clamp(options.stripPixels / w, 1, h) : h;
-    InStrips(run, h, stripRows, "fit", options, [&](int rowBase, int rows) {
+    const int stripRows = setup.stripPixels > 0 ? std::clamp(setup.stripPixels / w, 1, h) : h;
+    InStrips(run, h, stripRows, "fit", setup, [&](int rowBase, int rows) {
         RecordPivotFit(context, run.Recorder(), gpu.zsn, gpu.guides, settings, fitLo, fitHi,
                        rowBase, rows);
     });
@@ -260,7 +258,7 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
         "eqs. 11-13: combined square/quadrant fits averaged over the squares holding the "
         "pixel whose centres lie on their lattice (step: largest power of two <= radius / 2, "
         "at most 8; weight x step^2; a gather), times the pivot");
-    InStrips(run, h, stripRows, "gather", options, [&](int rowBase, int rows) {
+    InStrips(run, h, stripRows, "gather", setup, [&](int rowBase, int rows) {
         RecordPivotGather(context, run.Recorder(), gpu.color, gpu.pivot, gpu.nu, fitLo, fitHi,
                           gpu.guides, tiles, result.largestRadius, gpu.out, rowBase, rows);
     });
@@ -273,10 +271,10 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotOptions &options,
 }
 
 PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
-                            const PivotOptions &options) {
+                            const PivotParams &options, const RunSetup &setup) {
     CheckPivotInputs(context, in, options);
     PivotResult result;
-    StagedRun run(context, options.keepStages);
+    StagedRun run(context, setup.keepStages);
     std::vector<float> thresholds =
         in.thresholds.empty() ? PivotThresholds(*in.pivot, options.floor) : in.thresholds;
     if (int(thresholds.size()) != in.pivot->channels)
@@ -293,7 +291,7 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     if (options.filter == PivotFilter::Bilateral)
         RecordBilateral(run, gpu, options);
     else
-        RecordPlaneFit(run, gpu, options, result);
+        RecordPlaneFit(run, gpu, options, setup, result);
     result.image = gpu.out.Download();
     run.AddStage("output", result.image);
     run.Finish(result);
@@ -302,9 +300,9 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
 
 }  // namespace
 
-PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
-                         const PivotOptions &options) {
-    if (in.partials.empty()) return PivotDenoiseOne(context, in, options);
+PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in, const PivotParams &params,
+                         const RunSetup &setup) {
+    if (in.partials.empty()) return PivotDenoiseOne(context, in, params, setup);
     if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
     int w = in.color->width, h = in.color->height, channels = in.color->channels;
     if (channels < 1 || channels > PIVOT_MAX_CHANNELS || w < 1 || h < 1)
@@ -332,7 +330,7 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in,
         one.thresholds = partial.thresholds;
         one.partials.clear();
         one.remainder = nullptr;
-        PivotResult r = PivotDenoiseOne(context, one, options);
+        PivotResult r = PivotDenoiseOne(context, one, params, setup);
         for (size_t i = 0; i < result.image.Size(); ++i)
             result.image.data[i] += r.image.data[i];
         for (const std::string &line : r.plan) result.plan.push_back(name + ": " + line);

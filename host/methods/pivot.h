@@ -8,48 +8,17 @@
 // paper are listed in cpu_reference/pivot_filter.h, the CPU twin.
 #pragma once
 
-#include <functional>
 #include <string>
 #include <vector>
 
 #include "host/image.h"
+#include "host/methods/run_setup.h"
 #include "host/methods/staged_run.h"
+#include "host/params/pivot.h"
 #include "host/vk/context.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
-
-enum class PivotFilter { PlaneFit, Bilateral };
-
-struct PivotOptions {
-    PivotFilter filter = PivotFilter::PlaneFit;
-    float floor = 1e-3f;  // pixels with pivot <= floor x channel mean have no z
-    // planefit
-    int maxRadius = 30;         // paper: 30-40
-    float targetNoise = 0.02f;  // relative std of a centre's fit that stops growth
-    // Relative std above which a pixel is not fitted (section 4.2's threshold). Measured at
-    // 16 spp (cornell, relief-abc, double-textured, glossy-cornell, 128x128): 100 beats 1 and
-    // 3 on PSNR in all four; 1 darkens heavy-tailed scenes (the fireflies carry the energy).
-    float goodNoise = 100.f;
-    float disagreement = 0.1f;  // square-vs-quadrant limit, relative
-    // eq. 10; k = 1 darkened cornell at 16 spp by 5% (it down-weights the bright tail of
-    // the noise), 0 and 0.3 measure the same.
-    float k = 0.3f;
-    // Multiplies sigma in eq. 10. With heavy-tailed noise the pixels that carry the energy
-    // (fireflies) have the largest sigma: 1 (the paper) halved relief-abc's plane at 16 spp;
-    // 0 measured better PSNR on all four scenes above (e.g. glossy-cornell 24.5 -> 25.9 dB).
-    float sigmaWeight = 0.f;
-    // bilateral
-    int bilateralRadius = 8;
-    float sigmaRange = 0.2f;
-    // Keep every stage's output in PivotResult::stages (for `mcdenoise diff`).
-    bool keepStages = false;
-    // Planefit runs its fit and gather in row strips of about stripPixels centres, one
-    // submission each, and calls progress(stage, rowsDone, rows) after each ("fit",
-    // "gather"; with partials, per partial). 0: one strip.
-    int stripPixels = 1 << 16;
-    std::function<void(const std::string &stage, int done, int total)> progress;
-};
 
 // One partial image of section 8 and its own pivot (the same camera ray path before the
 // first diffuse hit).
@@ -77,7 +46,7 @@ struct PivotInputs {
     std::vector<float> thresholds;
 };
 
-// With keepStages, stages z, nu, the fits (planefit; 16 x channels planes as in
+// With setup.keepStages, stages z, nu, the fits (planefit; 16 x channels planes as in
 // cpu_reference/pivot_filter.h) and the output, by name (with partials, each partial's
 // prefixed "partial<k>."). No warnings: bad inputs are refused.
 struct PivotResult : MethodResult {
@@ -93,6 +62,6 @@ std::vector<float> PivotThresholds(const Image &pivot, float floor);
 // Throws mcd::Error naming the layer and pixel when an input holds NaN/Inf (or a negative
 // variance), when shapes differ or options are out of range.
 PivotResult PivotDenoise(vk::Context &context, const PivotInputs &inputs,
-                         const PivotOptions &options);
+                         const PivotParams &params, const RunSetup &setup = {});
 
 }  // namespace mcd

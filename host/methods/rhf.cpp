@@ -95,7 +95,7 @@ std::vector<std::string> Sanitize(Image &color, Image &hist) {
     return warnings;
 }
 
-void CheckRhfInputs(const Image &color, const Image &hist, const RhfOptions &o) {
+void CheckRhfInputs(const Image &color, const Image &hist, const RhfParams &o) {
     if (color.channels != 3)
         throw Error(fmt::format("rhf: the color layer has {} channels; expected 3 (R, G, B)",
                                 color.channels));
@@ -137,7 +137,8 @@ struct RhfLayout {
     size_t termRowFloats = 0;  // terms per row
 };
 
-RhfLayout RhfLayoutFor(vk::Context &context, int W, int H, int planes, const RhfOptions &o) {
+RhfLayout RhfLayoutFor(vk::Context &context, int W, int H, int planes, const RhfParams &o,
+                       const RunSetup &setup) {
     const size_t pixels = size_t(W) * H;
     const size_t maxFloats = std::min<size_t>(context.BindingBytes() / sizeof(float), 1u << 25);
     int side = 2 * o.searchHalf + 1, offsets = side * side;
@@ -150,8 +151,9 @@ RhfLayout RhfLayoutFor(vk::Context &context, int W, int H, int planes, const Rhf
             W, H, o.searchHalf, maskBytes / 1e6, context.Limits().maxStorageBufferRange / 1e6));
 
     RhfLayout layout;
-    layout.perSlot = o.planesPerSlot > 0 ? o.planesPerSlot
-                                         : int(std::min<size_t>(planes, maxFloats / pixels));
+    layout.perSlot = setup.planesPerSlot > 0
+                         ? setup.planesPerSlot
+                         : int(std::min<size_t>(planes, maxFloats / pixels));
     if (layout.perSlot < 1 || (planes + layout.perSlot - 1) / layout.perSlot > RHF_HIST_SLOTS)
         throw Error(
             fmt::format("rhf: a {}x{} frame's {} histogram planes do not fit in {} "
@@ -162,8 +164,8 @@ RhfLayout RhfLayoutFor(vk::Context &context, int W, int H, int planes, const Rhf
     layout.rowFloats = size_t(offsets) * W;
     layout.termRowFloats = size_t(o.searchHalf + 1) * side * W;
     int apron = 2 * o.patchHalf + o.searchHalf;
-    int stripRows = o.stripRows > 0
-                        ? o.stripRows
+    int stripRows = setup.stripRows > 0
+                        ? setup.stripRows
                         : int(std::min<size_t>(maxFloats / layout.rowFloats,
                                                maxFloats / layout.termRowFloats - apron));
     stripRows = std::min(stripRows, H);
@@ -306,7 +308,7 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
 // aggregation into a new image.
 vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
                            const RhfLayout &layout, const ScaleInputs &in, int s,
-                           const RhfOptions &o) {
+                           const RhfParams &o) {
     vk::Context &context = run.Context();
     vk::Recorder &recorder = run.Recorder();
     const int Ws = in.color->width, Hs = in.color->height, n3 = in.hist->planes - 1;
@@ -348,7 +350,7 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
 // Scale s below the coarsest: u_s - U(D(u_s)) + U(u_{s+1}) into a new image.
 const vk::GpuImage &RecordCombine(StagedRun &run, RhfScratch &scratch,
                                   const vk::GpuImage &filtered, const vk::GpuImage &previous,
-                                  int s, const RhfOptions &o) {
+                                  int s, const RunSetup &setup) {
     double sigma = SigmaOfScale(1);
     vk::GpuImage &low = scratch.images.emplace_back(run.Context(), previous.width,
                                                     previous.height, 3, "rhf.low");
@@ -358,9 +360,10 @@ const vk::GpuImage &RecordCombine(StagedRun &run, RhfScratch &scratch,
         run.Context(), filtered.width, filtered.height, 3, fmt::format("rhf.combined{}", s));
     // Scale s of the whole frame: origin / 2^s, size ceil(size / 2^s).
     RhfCombineWindow window;
-    if (o.frameWidth > 0 && o.frameHeight > 0)
-        window = {o.frameX0 >> s, o.frameY0 >> s, (o.frameWidth + (1 << s) - 1) >> s,
-                  (o.frameHeight + (1 << s) - 1) >> s};
+    if (setup.frameWidth > 0 && setup.frameHeight > 0)
+        window = {setup.frameX0 >> s, setup.frameY0 >> s,
+                  (setup.frameWidth + (1 << s) - 1) >> s,
+                  (setup.frameHeight + (1 << s) - 1) >> s};
     RecordRhfCombine(run.Context(), run.Recorder(), filtered, low, previous, combined, window);
     run.StageAtEnd(fmt::format("combined s{}", s), combined);
     run.Plan(
@@ -384,9 +387,9 @@ void ClampNegative(StagedRun &run, Image &image) {
 
 }  // namespace
 
-int RhfScalesUsed(int width, int height, const RhfOptions &options) {
-    int side = 2 * options.searchHalf + 1, used = 1;
-    while (used < options.scales && Shrunk(width, used) >= side && Shrunk(height, used) >= side)
+int RhfScalesUsed(int width, int height, const RhfParams &params) {
+    int side = 2 * params.searchHalf + 1, used = 1;
+    while (used < params.scales && Shrunk(width, used) >= side && Shrunk(height, used) >= side)
         ++used;
     return used;
 }
@@ -409,7 +412,7 @@ std::vector<float> RhfHistScales(const Image &color, const Image &hist, int scal
     return out;
 }
 
-int RhfReach(const RhfOptions &o, int scales) {
+int RhfReach(const RhfParams &o, int scales) {
     // In full-resolution pixels. filtered_s reads its scale's colour and histograms 2w + b
     // away (a patch around each centre of a patch, b apart), D_s's taps and one pixel of its
     // grid more. combined_s reads filtered_s through U(D(.)) (bicubic U: coarse pixels x/2 - 1
@@ -427,15 +430,15 @@ int RhfReach(const RhfOptions &o, int scales) {
 }
 
 RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &histIn,
-                     const RhfOptions &o) {
+                     const RhfParams &o, const RunSetup &setup) {
     CheckRhfInputs(colorIn, histIn, o);
     RhfResult result;
-    StagedRun run(context, o.keepStages);
+    StagedRun run(context, setup.keepStages);
     Image color = colorIn, hist = histIn;
     for (std::string &warning : Sanitize(color, hist)) run.Warn(std::move(warning));
     const int W = color.width, H = color.height, planes = hist.channels;
-    RhfLayout layout = RhfLayoutFor(context, W, H, planes, o);
-    int scales = o.scalesUsed > 0 ? o.scalesUsed : RhfScalesUsed(W, H, o);
+    RhfLayout layout = RhfLayoutFor(context, W, H, planes, o, setup);
+    int scales = setup.scalesUsed > 0 ? setup.scalesUsed : RhfScalesUsed(W, H, o);
     result.scalesUsed = scales;
     int side = 2 * o.searchHalf + 1;
     for (int s = scales; s < o.scales; ++s)
@@ -460,15 +463,16 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     for (int s = scales - 1; s >= 0; --s) {
         ScaleInputs in{&colorGpu, &full, 1.f};
         if (s > 0)
-            in = RecordCoarseInputs(run, scratch, colorGpu, full, totals, s,
-                                    size_t(s) < o.histScales.size() ? o.histScales[s] : 0.f);
+            in = RecordCoarseInputs(
+                run, scratch, colorGpu, full, totals, s,
+                size_t(s) < setup.histScales.size() ? setup.histScales[s] : 0.f);
         const vk::GpuImage &filtered = RecordFilter(run, scratch, work, layout, in, s, o);
         previous =
-            previous ? &RecordCombine(run, scratch, filtered, *previous, s, o) : &filtered;
+            previous ? &RecordCombine(run, scratch, filtered, *previous, s, setup) : &filtered;
     }
     run.Submit();
     result.image = previous->Download();
-    if (o.clampNegative) ClampNegative(run, result.image);
+    if (!o.keepNegative) ClampNegative(run, result.image);
     run.Finish(result);
     return result;
 }

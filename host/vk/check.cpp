@@ -39,8 +39,11 @@ const char *ResultName(VkResult result) {
 }
 
 void ThrowVkError(VkResult result, const char *call, const char *file, int line) {
+    bool memory =
+        result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_OUT_OF_DEVICE_MEMORY;
     throw Error(fmt::format("Vulkan call failed with {} ({}): {} at {}:{}", ResultName(result),
-                            int(result), call, file, line));
+                            int(result), call, file, line),
+                memory ? ErrorKind::OutOfMemory : ErrorKind::Device);
 }
 
 }  // namespace mcd::vk

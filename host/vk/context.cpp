@@ -424,6 +424,7 @@ void Context::FreeCommandBuffer(VkCommandBuffer commandBuffer) {
 }
 
 void Context::SubmitAndWait(VkCommandBuffer commandBuffer) {
+    if (cancel && cancel()) throw Error("the run was cancelled", ErrorKind::Cancelled);
     VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     si.commandBufferCount = 1;
     si.pCommandBuffers = &commandBuffer;

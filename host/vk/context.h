@@ -82,6 +82,9 @@ class Context {
     VkCommandBuffer AllocateCommandBuffer();
     void FreeCommandBuffer(VkCommandBuffer commandBuffer);
     void SubmitAndWait(VkCommandBuffer commandBuffer);
+    // A run's cancellation (RunOptions::cancel): polled before each submission, which
+    // throws mcd::Error of kind Cancelled once it returns true. Empty: never.
+    void SetCancel(std::function<bool()> poll) { cancel = std::move(poll); }
 
     // A kernel is built once per SPIR-V blob and specialization, then reused.
     const Kernel &GetKernel(const KernelDesc &desc);
@@ -154,6 +157,7 @@ class Context {
     std::vector<std::string> validationMessages;
     std::map<std::string, std::unique_ptr<Kernel>> kernels;
     MemoryLedger ledger;
+    std::function<bool()> cancel;
 };
 
 }  // namespace mcd::vk

@@ -5,6 +5,7 @@
 #include "host/vk/buffer.h"
 #include "host/vk/check.h"
 #include "host/vk/context.h"
+#include "host/vk/dispatch_count.h"
 #include "host/vk/kernel.h"
 
 namespace mcd::vk {
@@ -133,6 +134,7 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
     }
     Begin();
     if (groupsX == 0 || groupsY == 0 || groupsZ == 0) return;
+    CountDispatch(kernel.Name());
 
     std::vector<std::pair<const Buffer *, Access>> uses;
     for (const Binding &b : bindings) uses.push_back({b.buffer, b.access});

@@ -1,57 +1,51 @@
 // A frame: the named layers of one render (color, variance, histograms, pivot, G-buffer,
-// ...), read from any file OpenImageIO reads; the layer names are the README's table.
+// ...; the layer names are the README's table), each either an mcd::Image the frame owns
+// (what ReadFrame gives, mcdenoise/io.h) or a view of the caller's memory that it borrows.
 #pragma once
 
-#include <cstdint>
 #include <map>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "mcdenoise/image.h"
+#include "mcdenoise/view.h"
 
 namespace mcd {
 
 // One frame: its layers by name, all width x height, and the file's string metadata.
 struct Frame {
-    std::string path;
+    std::string path;  // where it was read from ("" for a frame built in memory)
     int width = 0, height = 0;
-    std::map<std::string, Image> layers;
+    std::map<std::string, Image> layers;     // owned, planar
+    std::map<std::string, LayerView> views;  // borrowed: the caller's memory
     std::map<std::string, std::string> metadata;
 
-    bool Has(const std::string &layer) const { return layers.count(layer) > 0; }
-    // Throws mcd::Error naming the file, the layer and the layers the file has.
+    Frame() = default;
+    Frame(int width, int height) : width(width), height(height) {}
+
+    // Borrow `view` as layer `name` (replacing an owned layer of that name): nothing is
+    // copied here; each Method::Run reads the layers its method uses from the view, so the
+    // memory must stay valid and unchanged while a run on this frame is under way. The
+    // first layer of an empty frame sets its size; throws mcd::Error (invalid argument)
+    // for a view of another size, a null pointer or a size or channel count below 1.
+    void SetLayer(const std::string &name, const LayerView &view);
+    // Own `image` as layer `name` (replacing a borrowed one), sized as above.
+    void SetLayer(const std::string &name, Image image);
+
+    // Whether the frame has the layer, owned or borrowed.
+    bool Has(const std::string &layer) const;
+    // Every layer's name, owned and borrowed, sorted.
+    std::vector<std::string> Names() const;
+    // The layer's channel count (owned or borrowed); throws as Get when it is missing.
+    int Channels(const std::string &layer) const;
+    // An owned layer. Throws mcd::Error naming the file, the layer and the layers the frame
+    // has (missing layer), or saying that the layer is borrowed (Copy reads those).
     const Image &Get(const std::string &layer) const;
+    // The layer, owned or borrowed, as a planar float image (a copy).
+    Image Copy(const std::string &layer) const;
 };
 
-// What ReadFrame reads. `layers` lists our layer names (partial images by their full names,
-// or "partial*" for all of them); empty reads every layer. A layer a renderer's convention
-// composes (Cycles' direct and indirect from its light passes, pbrt-v4's and Mitsuba's
-// variance) brings the passes it is made of. Other layers are neither read nor stored.
-struct ReadOptions {
-    std::vector<std::string> layers;
-    // Bytes the read layers may take; 0: the machine's physical memory. A header that
-    // claims more (a damaged or hostile file) is an error, not an allocation.
-    uint64_t memoryLimit = 0;
-};
-
-// Read part 0 of an image file, all channels as float, grouped into layers. 8- and 16-bit
-// data (PNG, ...) is sRGB-decoded to linear; 32-bit unsigned EXR channels (ids) keep
-// their integer values. Throws mcd::Error naming the path on any failure.
-Frame ReadFrame(const std::string &path, const ReadOptions &options = {});
-
-// ReadFrame(path).Get(layer).
-Image ReadImage(const std::string &path, const std::string &layer = "color");
-
-// Write float32 EXR (zip) with the layers in the given order; ReadFrame gives back the same
-// layers bit for bit. All layers must have the same size. Atomic: the file at path is
-// either the old one or the new one.
-void WriteExr(const std::string &path,
-              const std::vector<std::pair<std::string, const Image *>> &layers,
-              const std::map<std::string, std::string> &metadata = {});
-
-// Write an 8-bit sRGB preview of a 1- or 3-channel image: values times exposure, clamped
-// to [0,1]; pixels with NaN or Inf in any channel are magenta. Atomic, as WriteExr.
-void WritePng(const std::string &path, const Image &image, float exposure = 1.f);
+// The image a view shows, as planar float32 (half converted, strides followed).
+Image CopyView(const LayerView &view);
 
 }  // namespace mcd

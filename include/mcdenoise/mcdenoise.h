@@ -4,14 +4,18 @@
 // method created by name, typed parameters, a frame of named layers, a run.
 //
 //     mcd::Device device;                       // the best Vulkan device ($MCD_DEVICE)
-//     mcd::Frame frame = mcd::ReadFrame("frame.exr");
+//     mcd::Frame frame;                         // the renderer's buffers, borrowed
+//     frame.SetLayer("color", mcd::LayerView::Interleaved(rgb, width, height, 3));
+//     frame.SetLayer("albedo", mcd::LayerView::Interleaved(albedo, width, height, 3));
 //     mcd::Method method("auto");               // or awr, bayes, pivot, rhf
 //     method.Set("kappa", 0.6f);                // typed; checked against the table
-//     mcd::Result result = method.Run(device, frame);
-//     mcd::WriteExr("out.exr", {{"color", &result.image}});
+//     mcd::RunOptions run;
+//     run.output = mcd::OutputView::Interleaved(out, width, height, 3);
+//     mcd::Result result = method.Run(device, frame, run);   // the result is in `out`
 //
-// Every failure is an mcd::Error whose message says what and where. No Vulkan type appears
-// here.
+// Files: mcdenoise/io.h (ReadFrame, WriteExr; library mcdenoise::io). C: mcdenoise_c.h.
+// Every failure is an mcd::Error whose message says what and where and whose Kind() says
+// what sort of failure it is. No Vulkan type appears here; the header is C++17.
 #pragma once
 
 #include <cstdint>
@@ -24,12 +28,9 @@
 #include "mcdenoise/error.h"
 #include "mcdenoise/frame.h"
 #include "mcdenoise/image.h"
+#include "mcdenoise/view.h"
 
 namespace mcd {
-
-namespace vk {
-class Context;
-}
 
 struct DeviceOptions {
     // Device index or case-insensitive name substring; empty: $MCD_DEVICE, then the best
@@ -56,13 +57,9 @@ class Device {
     // Validation messages since the last call.
     std::vector<std::string> TakeValidationMessages();
 
-    // For the project's own tools: the Vulkan context underneath.
-    vk::Context &Context();
-    // A device over a context someone else owns (the tests' shared one).
-    static Device Borrow(vk::Context &context);
-
   private:
     struct Impl;
+    friend struct DeviceAccess;  // the library's own tools and tests (internal)
     explicit Device(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl;
 };
@@ -100,8 +97,15 @@ struct Allocation {
 };
 
 struct Result {
-    std::string method;                   // the method that ran ("auto" resolves to one)
-    Image image;                          // the denoised color, the frame's size and channels
+    // The method that ran: the Method's name, except that auto gives "auto" when it combined
+    // its candidates (listed in `candidates`) and the one method it picked when it picked
+    // one (with demodulate).
+    std::string method;
+    std::vector<std::string> candidates;  // auto: the candidates it combined, as it ran them
+    // The denoised color, the frame's size and channels; empty when RunOptions::output
+    // received it.
+    Image image;
+    Image alpha;                          // the frame's alpha layer as it is (empty: none)
     std::vector<std::string> plan;        // what ran, what was left out, and why
     std::vector<std::string> warnings;    // e.g. non-finite input values replaced
     std::vector<Stage> stages;            // with RunOptions::keepStages
@@ -116,8 +120,21 @@ struct Result {
 struct RunOptions {
     // Download every stage's image into Result::stages (slower: a submission per stage).
     bool keepStages = false;
-    // Called as long stages advance: (stage, done, total).
+    // Stages to return by name without keepStages, of those a method makes on request:
+    // auto's "auto.map" (each pixel coloured by the candidate of the largest weight; the
+    // plan names the colours). Another name, or another method, returns none. A run in
+    // tiles assembles them from its tiles.
+    std::vector<std::string> stages;
+    // Called as long stages advance: (stage, done, total): tiles, pivot's row strips.
     std::function<void(const std::string &stage, int done, int total)> progress;
+    // Polled before each GPU submission (so between dispatch batches, stages, tiles and
+    // auto's candidates); once it returns true the run stops: Run throws mcd::Error of kind
+    // Cancelled and writes nothing to `output`. A submission under way runs to its end.
+    std::function<bool()> cancel;
+    // Where the result goes (no data: Result::image). The frame's width and height, with
+    // the color's channels or one more, which receives the frame's alpha (1 where it has
+    // none). Written only when the run succeeds; Result::image is then left empty.
+    OutputView output;
     // Internal (tests): run in tiles of this many pixels a side, with the method's halo,
     // even where the frame fits the device. 0: tiles only where it does not fit.
     int tileSize = 0;

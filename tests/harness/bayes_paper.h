@@ -1,5 +1,5 @@
 // The paper's bayes pipeline (Xu & Pattanaik, section 4): the decimated DWT and the fixed
-// noise s_n, where BayesOptions' defaults are the measured choices. The tests that check
+// noise s_n, where BayesParams' defaults are the measured choices. The tests that check
 // the paper's pipeline start from it.
 #pragma once
 
@@ -7,10 +7,10 @@
 
 namespace mcd::test {
 
-inline BayesOptions PaperBayesOptions() {
-    BayesOptions options;
+inline BayesParams PaperBayesParams() {
+    BayesParams options;
     options.transform = BayesTransform::Dwt;
-    options.noiseAuto = false;
+    options.noise = BayesNoise::Fixed;
     return options;
 }
 

@@ -18,6 +18,8 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/registry.h"
+#include "host/api/device.h"
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
 #include "host/kernels/auto_noise.h"
@@ -132,9 +134,9 @@ std::string KernelCaseName(const testing::TestParamInfo<KernelCase> &info) {
 // Stage 1: per channel a handful of float operations on values of the size of
 // |f - y|^2 + |v| + 2 sqrt|v| |fp - f| / eps, divided by f^2 + 0.01: a few ulps of that
 // sum's magnitude over the denominator, and the sum over C <= 3 channels adds C more.
-class AutoKernelEstimate : public GpuTestWithParam<KernelCase> {};
+class AutoEstimateKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(AutoKernelEstimate, MatchesReferenceAndRepeats) {
+TEST_P(AutoEstimateKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
     std::string name = fmt::format("estimate{}x{}{}", w, h, InputKindName(kind));
     Image color = MakeInput(kind, w, h, channels, SeedFromName(name + "y"));
@@ -178,7 +180,7 @@ TEST_P(AutoKernelEstimate, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelEstimate, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AutoEstimateKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Stage 0 (frames without statistics): z = y / a is one division (1 ulp), a second
@@ -186,9 +188,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelEstimate, testing::ValuesIn(KernelCase
 // ~2 |r| 4 ulp M <= 16 ulps of M^2, the minimum a selection (it moves no more than its
 // values), the window's mean adds n ulps of M^2 (n <= 49 here), times a^2 / 0.278 a few:
 // 128 ulps of a^2 M^2 / 0.278.
-class AutoKernelNoise : public GpuTestWithParam<KernelCase> {};
+class AutoNoiseKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(AutoKernelNoise, MatchesReferenceAndRepeats) {
+TEST_P(AutoNoiseKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
     std::string name = fmt::format("noise{}x{}{}", w, h, InputKindName(kind));
     Image color = MakeInput(kind, w, h, channels, SeedFromName(name + "y"));
@@ -228,7 +230,7 @@ TEST_P(AutoKernelNoise, MatchesReferenceAndRepeats) {
         }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelNoise, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AutoNoiseKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // The estimate on a case with a known answer: a smooth illumination (a plane) times a
@@ -295,9 +297,9 @@ TEST(AutoNoiseReference, KeepsEachSideOfAnAlbedoEdgeApart) {
 
 // Stage 2: a sum of at most (2r+1)^2 finite terms and one division: (n + 1) ulps of the
 // window's mean absolute value.
-class AutoKernelSmooth : public GpuTestWithParam<KernelCase> {};
+class AutoSmoothKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(AutoKernelSmooth, MatchesReferenceAndRepeats) {
+TEST_P(AutoSmoothKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
     std::string name = fmt::format("smooth{}x{}{}", w, h, InputKindName(kind));
     // Error maps: one plane per candidate (1 to 3 here).
@@ -316,7 +318,7 @@ TEST_P(AutoKernelSmooth, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelSmooth, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AutoSmoothKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Stage 3: a weight is one pow (a few ulps), the normalisation a sum of K of them and a
@@ -326,9 +328,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelSmooth, testing::ValuesIn(KernelCases(
 // and their products with f: ~(2K + 12) ulps of max_k |f_k|; its equal weights follow a
 // comparison of the noise ratio with the limit, which the two sides make alike but for a
 // ratio within a few ulps of the limit (none in these inputs).
-class AutoKernelCombine : public GpuTestWithParam<KernelCase> {};
+class AutoCombineKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
+TEST_P(AutoCombineKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
     std::string name = fmt::format("combine{}x{}{}", w, h, InputKindName(kind));
     Image color = MakeInput(kind, w, h, channels, SeedFromName(name + "y"));
@@ -416,7 +418,7 @@ TEST_P(AutoKernelCombine, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoKernelCombine, testing::ValuesIn(KernelCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AutoCombineKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // A picture with a flat left half and fine stripes on the right, Gaussian noise of known
@@ -724,10 +726,10 @@ std::pair<Frame, Image> PlainFireflies(int width, int height, int refSpp) {
         {"variance", "direct.variance", "indirect.variance", "min", "max"});
 }
 
-// The lowest relMSE of the four methods that can run on the frame.
+// The lowest relMSE of the methods that can run on the frame.
 double BestSingleMethod(Device &device, const Frame &frame, const Image &reference) {
     double best = INFINITY;
-    for (const char *name : {"rhf", "pivot", "bayes", "awr"})
+    for (const std::string &name : MethodNames())
         if (Method(name).Missing(frame).empty())
             best = std::min(
                 best, CompareImages(Method(name).Run(device, frame).image, reference).relMse);
@@ -737,7 +739,7 @@ double BestSingleMethod(Device &device, const Frame &frame, const Image &referen
 TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     auto [frame, reference] =
         RenderWithReference("cornell", 40, 32, 8, render::kLayersAll, 1024);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
     EXPECT_EQ(result.method, "auto");
@@ -763,6 +765,52 @@ bool PlanHas(const Result &result, const std::string &text) {
     return false;
 }
 
+// The map of the largest weights is data: returned as stage "auto.map" when asked for (and
+// with keepStages), each pixel the registry's colour of the candidate whose weight is the
+// largest there, in the proportions the plan gives; asking for it changes nothing else.
+TEST_F(AutoMethod, ReturnsTheMapOfTheLargestWeightsWhenAsked) {
+    auto [frame, reference] = RenderWithReference("cornell", 24, 20, 8, render::kLayersAll, 8);
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    Result plain = automatic.Run(device, frame);
+    EXPECT_TRUE(plain.stages.empty());
+    RunOptions run;
+    run.stages = {"auto.map"};
+    Result result = automatic.Run(device, frame, run);
+    ASSERT_EQ(result.stages.size(), 1u);
+    ASSERT_EQ(result.stages[0].name, "auto.map");
+    const Image map = result.stages[0].image;  // a copy: result is run again below
+    ASSERT_EQ(map.width, frame.width);
+    ASSERT_EQ(map.height, frame.height);
+    ASSERT_EQ(map.channels, 3);
+    EXPECT_TRUE(BitIdentical(plain.image, result.image));
+    // Each candidate that ran: its share of the pixels by the plan, and by the map.
+    int checked = 0;
+    for (const api::RegisteredVariant &v : api::AutoVariants()) {
+        double planned = -1;
+        for (const std::string &line : result.plan)
+            if (line.starts_with("auto: ran " + v.variant->label + " (")) {
+                EXPECT_TRUE(line.ends_with("(map: " + v.variant->colourName + ")")) << line;
+                planned = std::stod(line.substr(line.find("largest weight in ") + 18));
+            }
+        if (planned < 0) continue;
+        size_t pixels = 0;
+        for (size_t i = 0; i < map.PixelCount(); ++i)
+            pixels += map.Plane(0)[i] == v.variant->colour[0] &&
+                      map.Plane(1)[i] == v.variant->colour[1] &&
+                      map.Plane(2)[i] == v.variant->colour[2];
+        EXPECT_NEAR(100.0 * pixels / map.PixelCount(), planned, 0.05) << v.variant->label;
+        ++checked;
+    }
+    EXPECT_GE(checked, 2) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    run = RunOptions();
+    run.keepStages = true;
+    result = automatic.Run(device, frame, run);
+    ASSERT_FALSE(result.stages.empty());
+    EXPECT_EQ(result.stages.back().name, "auto.map");
+    EXPECT_TRUE(BitIdentical(result.stages.back().image, map));
+}
+
 // relMSE's denominator: on a heavy-tailed frame (relief-abc, 4 spp) most candidates
 // overshoot a few dark pixels. The candidates' mean as the guide hides those errors (the
 // mean is as far off as they are) and auto's weighted mean was x8 the best method here
@@ -775,7 +823,7 @@ bool PlanHas(const Result &result, const std::string &text) {
 TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
     auto [frame, reference] =
         RenderWithReference("relief-abc", 48, 40, 4, render::kLayersAll, 1024);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
@@ -817,7 +865,7 @@ TEST_F(AutoMethod, NoiseCapKeepsOneNoisyPixelFromSwampingItsWindow) {
     Image reference = render::Render(render::BuildScene("fireflies"), options)
                           .layers[0]
                           .second.Crop(x0, y0, x1, y1);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     double capped = CompareImages(automatic.Run(device, frame).image, reference).relMse;
@@ -840,7 +888,7 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     Frame frame;
     frame.width = options.width, frame.height = options.height;
     for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Method automatic("auto");
     automatic.Set("auto-noise", "halves");
     Result result = automatic.Run(device, frame);
@@ -888,7 +936,7 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
 // 128x128 frame 0.0249, 0.0259 and 0.0647).
 TEST_F(AutoMethod, FrameWithoutStatisticsUsesItsOwnNoiseEstimate) {
     auto [frame, reference] = PlainFireflies(64, 48, 512);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
     Result result = automatic.Run(device, frame);
@@ -925,7 +973,7 @@ TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
     Image &ids = frame.layers.at("objectId");
     for (int y = 0; y < ids.height; ++y)
         for (int x = 0; x < ids.width; ++x) ids.At(0, y, x) = float((x + y) % 2);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Method pivot("pivot");
     double withIds = CompareImages(pivot.Run(device, frame).image, reference).relMse;
     pivot.Set("guides", std::string("none"));
@@ -952,7 +1000,7 @@ TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
 // auto 0.0157; with the candidates' mean there auto was 0.093).
 TEST_F(AutoMethod, MedianWhereNoEstimateTellsTheCandidatesApart) {
     auto [frame, reference] = PlainFireflies(128, 128, 256);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     double best = INFINITY;
     for (const char *name : {"pivot", "bayes"})
         best = std::min(best,

@@ -108,7 +108,7 @@ TEST_F(AwrSampler, EdgesFromFineLevelsSmoothNoiseFromCoarse) {
               r.samplesPerLevel[0]);
 }
 
-// The contrast floor (AdaptiveOptions::contrastFloor): two halves with the same relative
+// The contrast floor (AwrSamplerParams::contrastFloor): two halves with the same relative
 // noise, one at 0.5 and one near black (0.002). Mitchell's contrast (floor 0) is scale-free
 // and serves both alike; with the floor, the dark half's noise, small next to 0.1, gets
 // few samples beyond the initial 4.
@@ -120,7 +120,7 @@ TEST_F(AwrSampler, ContrastFloorSpendsLessOnNearBlack) {
     };
     auto darkShare = [&](float floor) {
         render::AdaptiveOptions o;
-        o.width = w, o.height = h, o.averageSpp = 24, o.contrastFloor = floor;
+        o.width = w, o.height = h, o.averageSpp = 24, o.sampler.contrastFloor = floor;
         render::AdaptiveResult r = render::SampleAdaptive(Ctx(), trace, o);
         const Image &spp = Layer(r, "spp");
         double dark = 0, bright = 0;

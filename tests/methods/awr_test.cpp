@@ -45,9 +45,9 @@ struct ShrinkCase {
     float cs;
 };
 
-class AwrKernelShrink : public GpuTestWithParam<ShrinkCase> {};
+class AwrShrinkKernel : public GpuTestWithParam<ShrinkCase> {};
 
-TEST_P(AwrKernelShrink, MatchesReference) {
+TEST_P(AwrShrinkKernel, MatchesReference) {
     const auto [w, h, lw, lh, cs] = GetParam();
     uint64_t seed = SeedFromName(fmt::format("shrink{}x{}", w, h));
     Image coef = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
@@ -78,7 +78,7 @@ std::vector<ShrinkCase> ShrinkCases() {
     return cases;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AwrKernelShrink, testing::ValuesIn(ShrinkCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, AwrShrinkKernel, testing::ValuesIn(ShrinkCases()),
                          [](const testing::TestParamInfo<ShrinkCase> &info) {
                              const ShrinkCase &c = info.param;
                              return fmt::format("{}x{}_low{}x{}_cs{}", c.w, c.h, c.lw, c.lh,
@@ -124,7 +124,7 @@ TEST_P(AwrKernelReconstruction, MatchesReference) {
     int levels = MaxWaveletLevels(w, h);
     const double cs = 1, sum = 0.70710678;
     Image expected = ref::AwrReconstruct(color, variance, basis, levels, cs, sum, sum);
-    AwrOptions options;
+    AwrParams options;
     options.basis = basis;
     AwrResult result = AwrReconstruct(Ctx(), color, variance, options);
     Image magnitude = ErrorScale(color, variance, basis, levels, cs, sum);
@@ -160,7 +160,7 @@ TEST_P(AwrKernelCycleSpinning, MatchesReference) {
     const double cs = 1, sum = 0.70710678;
     Image expected =
         ref::AwrReconstructSpun(color, variance, basis, levels, cs, sum, sum, spins);
-    AwrOptions options;
+    AwrParams options;
     options.basis = basis;
     options.spins = spins;
     AwrResult result = AwrReconstruct(Ctx(), color, variance, options);
@@ -201,7 +201,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, AwrKernelCycleSpinning, testing::ValuesIn(SpinCa
 
 TEST_F(AwrKernel, TooManySpinsAreRefused) {
     Image color(5, 5, 3, 1.f);
-    AwrOptions bad;
+    AwrParams bad;
     bad.spins = 9;
     EXPECT_TRUE(Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, color, bad); }), "spins"));
 }
@@ -225,14 +225,15 @@ TEST_P(AwrKernelFusedShrink, MatchesShrinkThenSynthesis) {
     Image color = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
     Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 1);
     for (float &v : variance.data) v *= scale;
-    AwrOptions options;
+    AwrParams options;
     options.basis = basis;
     options.levels = levels;
     options.cs = scale == 1.f ? 0.5f : 1.f;
     AwrResult fused = AwrReconstruct(Ctx(), color, variance, options);
     AwrResult again = AwrReconstruct(Ctx(), color, variance, options);
-    options.keepStages = true;
-    AwrResult staged = AwrReconstruct(Ctx(), color, variance, options);
+    RunSetup setup;
+    setup.keepStages = true;
+    AwrResult staged = AwrReconstruct(Ctx(), color, variance, options, setup);
     ASSERT_EQ(staged.stages.size(), 4u);
     EXPECT_TRUE(BitIdentical(staged.image, fused.image));
     EXPECT_TRUE(BitIdentical(fused.image, again.image));
@@ -281,13 +282,13 @@ TEST_F(AwrProperties, ZeroVarianceOrZeroCsLeaveTheImage) {
     EXPECT_TRUE(BitIdentical(color, zero.image));
     ASSERT_FALSE(zero.plan.empty());
     EXPECT_TRUE(Contains(zero.plan[0], "variance is zero"));
-    AwrOptions noSmoothing;
+    AwrParams noSmoothing;
     noSmoothing.cs = 0;
     AwrResult cs0 = AwrReconstruct(Ctx(), color, Image(33, 20, 3, 0.5f), noSmoothing);
     EXPECT_TRUE(BitIdentical(color, cs0.image));
     EXPECT_TRUE(Contains(cs0.plan[0], "cs is 0"));
     EXPECT_TRUE(cs0.timings.empty()) << "nothing should have been dispatched";
-    AwrOptions spun;
+    AwrParams spun;
     spun.spins = 3;
     AwrResult zeroSpun = AwrReconstruct(Ctx(), color, Image(33, 20, 3, 0.f), spun);
     EXPECT_TRUE(BitIdentical(color, zeroSpun.image));
@@ -300,7 +301,7 @@ TEST_F(AwrProperties, ConstantStaysConstant) {
         MakeVarianceInput(InputKind::LogNormalFireflies, 29, 17, 3, SeedFromName("awrc"));
     AwrResult r = AwrReconstruct(Ctx(), color, variance, {});
     for (float v : r.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
-    AwrOptions spun;
+    AwrParams spun;
     spun.spins = 2;
     AwrResult s = AwrReconstruct(Ctx(), color, variance, spun);
     for (float v : s.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
@@ -319,11 +320,11 @@ TEST_F(AwrProperties, BadInputsAreRefusedWithTheirPlace) {
     EXPECT_TRUE(Contains(message, "negative")) << message;
     EXPECT_TRUE(
         Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, Image(8, 5, 3), {}); }), "8x5x3"));
-    AwrOptions nanCs;
+    AwrParams nanCs;
     nanCs.cs = std::numeric_limits<float>::quiet_NaN();
     EXPECT_TRUE(
         Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, variance, nanCs); }), "cs"));
-    AwrOptions tooDeep;
+    AwrParams tooDeep;
     tooDeep.levels = 9;
     EXPECT_TRUE(
         Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, variance, tooDeep); }), "allows"));

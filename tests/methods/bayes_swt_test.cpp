@@ -253,7 +253,8 @@ const std::vector<std::pair<int, int>> kSizes = {{1, 1},   {2, 3},  {3, 2},  {1,
                                                  {17, 13}, {64, 7}, {3, 70}, {33, 33}};
 
 // Every basis and size at the given level counts, those the size allows, each once (the
-// lists name the deepest level too, which may repeat another).
+// lists name the deepest level too, which may repeat another). The kernels' suites ask for
+// 1 level at least: at 0 (1x1) the transform is a copy and no kernel runs.
 std::vector<SizeCase> KernelCases(std::vector<int> (*levelCounts)(int w, int h)) {
     std::vector<SizeCase> cases;
     for (WaveletBasis basis : kBases)
@@ -281,9 +282,9 @@ std::vector<int> UpToThreeLevels(int w, int h) {
 // pass scaled by at most the same |tap| sums. Composed over the 2 passes of L levels, the
 // error of a coefficient is at most 11 (2 L) u times the reference's magnitude twin (|taps|
 // on |x|, levels composed), plus the reference's own rounding to float (u / 2).
-class BayesSwtKernelAnalysis : public BayesSwtKernelWithParam<SizeCase> {};
+class WaveletSwtAnalyzeKernel : public BayesSwtKernelWithParam<SizeCase> {};
 
-TEST_P(BayesSwtKernelAnalysis, MatchesReference) {
+TEST_P(WaveletSwtAnalyzeKernel, MatchesReference) {
     const auto [basis, w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
     Image in =
@@ -295,19 +296,11 @@ TEST_P(BayesSwtKernelAnalysis, MatchesReference) {
     EXPECT_TRUE(ImagesMatch(expected, got, magnitude, {rel, 1e-30, 1}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtKernelAnalysis,
-                         testing::ValuesIn(KernelCases([](int w, int h) {
-                             return std::vector<int>{1, 3, MaxWaveletLevels(w, h)};
-                         })),
-                         SizeCaseName);
-
 // Squared taps on a non-negative variance: all terms are positive, so the value is its own
 // magnitude twin. Per pass a dot product of at most 9 products of a squared tap (one more
 // rounding for the square than the analysis's taps, within the "+ 2" of its budget) and a
 // value: the analysis's 11 u per pass, 22 L u over L levels, plus the reference's rounding.
-class BayesSwtKernelSquaredAnalysis : public BayesSwtKernelWithParam<SizeCase> {};
-
-TEST_P(BayesSwtKernelSquaredAnalysis, MatchesReference) {
+TEST_P(WaveletSwtAnalyzeKernel, SquaredMatchesReference) {
     const auto [basis, w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
     Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 2,
@@ -318,15 +311,18 @@ TEST_P(BayesSwtKernelSquaredAnalysis, MatchesReference) {
     EXPECT_TRUE(ImagesMatch(expected, got, {}, {rel, 1e-30, 1}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtKernelSquaredAnalysis,
-                         testing::ValuesIn(KernelCases(UpToThreeLevels)), SizeCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletSwtAnalyzeKernel,
+                         testing::ValuesIn(KernelCases([](int w, int h) {
+                             return std::vector<int>{1, 3, std::max(1, MaxWaveletLevels(w, h))};
+                         })),
+                         SizeCaseName);
 
 // Synthesis of the same float coefficients: each output sums at most 9 + 7 products (the
 // 1/2 is exact), so (16 + 2) u per pass, composed over 2 L passes against the synthesis's
 // magnitude twin.
-class BayesSwtKernelSynthesis : public BayesSwtKernelWithParam<SizeCase> {};
+class WaveletSwtSynthesizeKernel : public BayesSwtKernelWithParam<SizeCase> {};
 
-TEST_P(BayesSwtKernelSynthesis, MatchesReference) {
+TEST_P(WaveletSwtSynthesizeKernel, MatchesReference) {
     const auto [basis, w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{} {}x{} levels {}", WaveletName(basis), w, h, levels));
     Image coef = MakeInput(InputKind::Uniform, w, h, 2 * shader::SwtPlaneCount(levels),
@@ -338,9 +334,9 @@ TEST_P(BayesSwtKernelSynthesis, MatchesReference) {
     EXPECT_TRUE(ImagesMatch(expected, got, magnitude, {rel, 1e-30, 1}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtKernelSynthesis,
+INSTANTIATE_TEST_SUITE_P(Cases, WaveletSwtSynthesizeKernel,
                          testing::ValuesIn(KernelCases([](int w, int h) {
-                             return std::vector<int>{1, MaxWaveletLevels(w, h)};
+                             return std::vector<int>{1, std::max(1, MaxWaveletLevels(w, h))};
                          })),
                          SizeCaseName);
 
@@ -439,7 +435,7 @@ Image Log(Image image) {
 }
 
 // Moments of full-size SWT bands, empty bands included (count 0): the sum bound of
-// BayesKernelMoments.MatchReference, (count / 256 + 12) u relative.
+// BayesMomentsKernel.MatchReference, (count / 256 + 12) u relative.
 struct MomentCase {
     int w, h, levels;
 };
@@ -455,9 +451,9 @@ std::vector<MomentCase> MomentCases() {
     return cases;
 }
 
-class BayesSwtMethodMoments : public GpuTestWithParam<MomentCase> {};
+class BayesSwtMomentsKernel : public GpuTestWithParam<MomentCase> {};
 
-TEST_P(BayesSwtMethodMoments, MatchReference) {
+TEST_P(BayesSwtMomentsKernel, MatchReference) {
     const auto [w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
     const int channels = 2;
@@ -489,7 +485,7 @@ TEST_P(BayesSwtMethodMoments, MatchReference) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtMethodMoments, testing::ValuesIn(MomentCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtMomentsKernel, testing::ValuesIn(MomentCases()),
                          [](const testing::TestParamInfo<MomentCase> &info) {
                              return fmt::format("{}x{}_L{}", info.param.w, info.param.h,
                                                 info.param.levels);
@@ -505,15 +501,13 @@ TEST_P(BayesSwtMethodWhole, MatchesReference) {
     const auto [w, h, basis] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
     Image color = NoisyPicture(w, h, SeedFromName(fmt::format("swtwhole{}x{}", w, h)), 0.3);
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = basis;
     options.transform = BayesTransform::Swt;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.basis = basis;
-    refOptions.swt = true;
-    refOptions.levels = gpu.levels;
-    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    BayesParams refParams = options;
+    refParams.levels = gpu.levels;
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, refParams);
     ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
     for (size_t b = 0; b < cpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
@@ -559,16 +553,14 @@ TEST_P(BayesSwtMethodVarianceNoise, MatchesReference) {
     for (size_t b = 0; b < cpu.size(); ++b)
         EXPECT_NEAR(gpu[b], cpu[b], 1e-5 * cpu[b]) << "band " << b;
     // And the whole method with it, against the reference.
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = basis;
     options.transform = BayesTransform::Swt;
-    options.variance = &variance;
-    Image got = BayesDenoise(Ctx(), color, options).image;
-    ref::BayesRefOptions refOptions;
-    refOptions.basis = basis;
-    refOptions.swt = true;
-    refOptions.variance = &variance;
-    Image expected = ref::BayesDenoise(color, refOptions).image;
+    options.noise = BayesNoise::Variance;
+    Image got = BayesDenoise(Ctx(), color, options, {}, &variance).image;
+    ref::BayesRefRun run;
+    run.variance = &variance;
+    Image expected = ref::BayesDenoise(color, options, run).image;
     EXPECT_TRUE(ImagesMatch(Log(expected), Log(got), {}, {0, 2e-3, 1e-4}));
 }
 
@@ -588,8 +580,8 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesSwtMethodVarianceNoise,
 TEST_F(BayesSwtMethod, NoiseAutoEstimatesTheNoise) {
     const double sigma = 0.3;
     Image noise = LogNormalNoise(96, 96, SeedFromName("swt noise auto"), sigma);
-    BayesOptions options = PaperBayesOptions();
-    options.noiseAuto = true;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Mad;
     options.pn = 2;
     options.hpFactor = 1;
     options.transform = BayesTransform::Swt;
@@ -602,12 +594,9 @@ TEST_F(BayesSwtMethod, NoiseAutoEstimatesTheNoise) {
         for (int y = 0; y < 19; ++y)
             for (int x = 0; x < 29; ++x) crop.At(c, y, x) = noise.At(c, y, x);
     r = BayesDenoise(Ctx(), crop, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.swt = true;
-    refOptions.pn = 2;
-    refOptions.hpFactor = 1;
-    refOptions.snOverride = r.sn;
-    Image expected = ref::BayesDenoise(crop, refOptions).image;
+    ref::BayesRefRun run;
+    run.madSn = r.sn;
+    Image expected = ref::BayesDenoise(crop, options, run).image;
     EXPECT_TRUE(ImagesMatch(Log(expected), Log(r.image), {}, {0, 2e-3, 1e-4}));
 }
 
@@ -627,7 +616,7 @@ TEST_F(BayesSwtMethod, ShiftingTheInputShiftsTheOutput) {
                 a.At(c, y, x) = big.At(c, y, x), b.At(c, y, x) = big.At(c, y, x + 1);
     double change[2] = {0, 0};
     for (BayesTransform transform : {BayesTransform::Dwt, BayesTransform::Swt}) {
-        BayesOptions options = PaperBayesOptions();
+        BayesParams options = PaperBayesParams();
         options.transform = transform;
         Image outA = Log(BayesDenoise(Ctx(), a, options).image);
         Image outB = Log(BayesDenoise(Ctx(), b, options).image);
@@ -649,9 +638,9 @@ TEST_F(BayesSwtMethod, RerunsAreBitIdentical) {
     Image color = NoisyPicture(45, 31, SeedFromName("swt method rerun"), 0.3);
     color.At(0, 3, 3) = 0;
     color.At(1, 4, 4) = std::numeric_limits<float>::quiet_NaN();
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = WaveletBasis::Cdf97;
-    options.noiseAuto = true;
+    options.noise = BayesNoise::Mad;
     options.transform = BayesTransform::Swt;
     Image first = BayesDenoise(Ctx(), color, options).image;
     Image second = BayesDenoise(Ctx(), color, options).image;
@@ -675,15 +664,16 @@ TEST_P(BayesSwtMethodChannelGroups, ChangeNothing) {
     for (size_t i = 0; i < color.Size(); ++i)
         variance.data[i] = 0.05f * color.data[i] * color.data[i];
     SCOPED_TRACE(noise == 0 ? "fixed" : (noise == 1 ? "mad" : "variance"));
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.transform = BayesTransform::Swt;
     options.basis = WaveletBasis::Cdf97;
-    options.noiseAuto = noise == 1;
-    if (noise == 2) options.variance = &variance;
-    BayesResult all = BayesDenoise(Ctx(), color, options);
+    const BayesNoise noises[] = {BayesNoise::Fixed, BayesNoise::Mad, BayesNoise::Variance};
+    options.noise = noises[noise];
+    BayesResult all = BayesDenoise(Ctx(), color, options, {}, &variance);
     for (int group : {1, 2}) {
-        options.swtGroupChannels = group;
-        BayesResult grouped = BayesDenoise(Ctx(), color, options);
+        RunSetup setup;
+        setup.swtGroupChannels = group;
+        BayesResult grouped = BayesDenoise(Ctx(), color, options, setup, &variance);
         EXPECT_TRUE(BitIdentical(all.image, grouped.image)) << group;
         ASSERT_EQ(all.fits.size(), grouped.fits.size());
         for (size_t b = 0; b < all.fits.size(); ++b)
@@ -703,7 +693,7 @@ TEST_F(BayesSwtMethod, RefusesAboveOneBinding) {
     if (SwtChannelsPerBinding(Ctx(), 4096, 4096, 3) >= 1)
         GTEST_SKIP() << "this device binds one 4096x4096 channel's coefficients: nothing to "
                         "refuse";
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.transform = BayesTransform::Swt;
     std::string message =
         ErrorOf([&] { BayesDenoise(Ctx(), Image(4096, 4096, 1, 0.5f), options); });

@@ -344,10 +344,10 @@ const std::vector<std::pair<int, int>> kSizes = {{1, 1},   {2, 1},  {1, 5}, {3, 
                                                  {37, 23}, {64, 7}, {3, 70}};
 
 // GLSL log: within 3 ulp of |log v| outside [0.5, 2], 2^-21 absolute inside; the reference
-// rounds once more (0.5 ulp). exp: (3 + 2 |z|) ulp, plus the reference's rounding.
-class BayesKernelLogExp : public BayesKernelWithParam<std::pair<int, int>> {};
+// rounds once more (0.5 ulp).
+class BayesLogKernel : public BayesKernelWithParam<std::pair<int, int>> {};
 
-TEST_P(BayesKernelLogExp, MatchesReference) {
+TEST_P(BayesLogKernel, MatchesReference) {
     const auto [w, h] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{}", w, h));
     Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayeslog{}x{}", w, h)));
@@ -356,47 +356,64 @@ TEST_P(BayesKernelLogExp, MatchesReference) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(floors[c], refFloors[c], 1e-6 * refFloors[c]);
     std::vector<double> floorsAsGpu(floors.begin(), floors.end());
     Image expected = ref::BayesLog(color, floorsAsGpu);
-    vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log"),
-        back(Ctx(), w, h, 3, "exp");
+    vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log");
     in.Upload(color);
     vk::Buffer floorsGpu = Floats(floors, "floors");
-    vk::Recorder recorder(Ctx());
-    RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
-    RecordBayesExp(Ctx(), recorder, out, in, back, true);
-    recorder.Submit();
-    Image logGpu = out.Download();
+    auto run = [&] {
+        vk::Recorder recorder(Ctx());
+        RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
+        recorder.Submit();
+        return out.Download();
+    };
+    Image logGpu = run();
     EXPECT_TRUE(ImagesMatch(expected, logGpu, {}, {4 * kUnitRoundoff, 0x1p-21, 1e-9}));
-    Image expExpected = ref::BayesExp(logGpu, color);
-    Image scale(w, h, 3);
-    for (size_t i = 0; i < scale.Size(); ++i)
-        scale.data[i] = std::fabs(expExpected.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
-    Image expGpu = back.Download();
-    EXPECT_TRUE(ImagesMatch(expExpected, expGpu, scale, {kUnitRoundoff, 0, 1e-9}));
-    for (size_t i = 0; i < color.Size(); ++i)
-        if (!(std::isfinite(color.data[i]) && color.data[i] > 0)) {
-            EXPECT_EQ(expGpu.data[i], 0.f) << "exact zero at " << i;
-        }
-    // Zeros denoised: they take exp of their log like any pixel; NaN/Inf/negatives 0.
-    vk::Recorder again(Ctx());
-    RecordBayesExp(Ctx(), again, out, in, back, false);
-    again.Submit();
-    Image expNoRestore = back.Download();
-    Image expectedNoRestore = ref::BayesExp(logGpu, color, false);
-    for (size_t i = 0; i < scale.Size(); ++i)
-        scale.data[i] =
-            std::fabs(expectedNoRestore.data[i]) * (4 + 2 * std::fabs(logGpu.data[i]));
-    EXPECT_TRUE(ImagesMatch(expectedNoRestore, expNoRestore, scale, {kUnitRoundoff, 0, 1e-9}));
-    for (size_t i = 0; i < color.Size(); ++i) {
-        if (color.data[i] == 0) {
-            EXPECT_GT(expNoRestore.data[i], 0.f) << i;
-        }
-        if (!(std::isfinite(color.data[i]) && color.data[i] >= 0)) {
-            EXPECT_EQ(expNoRestore.data[i], 0.f) << i;
+    EXPECT_TRUE(BitIdentical(logGpu, run()));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BayesLogKernel, testing::ValuesIn(kSizes), SizeName);
+
+// exp: (3 + 2 |z|) ulp, plus the reference's rounding, on the reference's log of an awkward
+// image (zeros, negatives, NaN/Inf: exact zeros where restored).
+class BayesExpKernel : public BayesKernelWithParam<std::pair<int, int>> {};
+
+TEST_P(BayesExpKernel, MatchesReference) {
+    const auto [w, h] = GetParam();
+    SCOPED_TRACE(fmt::format("{}x{}", w, h));
+    Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayesexp{}x{}", w, h)));
+    Image logImage = ref::BayesLog(color, ref::BayesFloors(color, 1e-3));
+    vk::GpuImage in(Ctx(), w, h, 3, "color"), log(Ctx(), w, h, 3, "log"),
+        back(Ctx(), w, h, 3, "exp");
+    in.Upload(color);
+    log.Upload(logImage);
+    auto run = [&](bool restoreZeros) {
+        vk::Recorder recorder(Ctx());
+        RecordBayesExp(Ctx(), recorder, log, in, back, restoreZeros);
+        recorder.Submit();
+        return back.Download();
+    };
+    for (bool restoreZeros : {true, false}) {
+        SCOPED_TRACE(restoreZeros ? "zeros restored" : "zeros denoised");
+        Image expected = ref::BayesExp(logImage, color, restoreZeros);
+        Image scale(w, h, 3);
+        for (size_t i = 0; i < scale.Size(); ++i)
+            scale.data[i] = std::fabs(expected.data[i]) * (4 + 2 * std::fabs(logImage.data[i]));
+        Image got = run(restoreZeros);
+        EXPECT_TRUE(ImagesMatch(expected, got, scale, {kUnitRoundoff, 0, 1e-9}));
+        EXPECT_TRUE(BitIdentical(got, run(restoreZeros)));
+        // Zeros take exp of their log like any pixel unless restored; NaN/Inf/negatives 0.
+        for (size_t i = 0; i < color.Size(); ++i) {
+            bool restored = !(std::isfinite(color.data[i]) && color.data[i] > 0) &&
+                            (restoreZeros || color.data[i] != 0);
+            if (restored) {
+                EXPECT_EQ(got.data[i], 0.f) << "exact zero at " << i;
+            } else if (color.data[i] == 0) {
+                EXPECT_GT(got.data[i], 0.f) << i;
+            }
         }
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelLogExp, testing::ValuesIn(kSizes), SizeName);
+INSTANTIATE_TEST_SUITE_P(Cases, BayesExpKernel, testing::ValuesIn(kSizes), SizeName);
 
 // Sums of positive terms in float: lane l adds count/256 terms, then 8 tree levels, then
 // one division; v^2 and v^4 round twice. Relative error <= (count/256 + 8 + 4) u.
@@ -413,9 +430,9 @@ std::vector<LevelsCase> MomentCases() {
     return cases;
 }
 
-class BayesKernelMoments : public BayesKernelWithParam<LevelsCase> {};
+class BayesMomentsKernel : public BayesKernelWithParam<LevelsCase> {};
 
-TEST_P(BayesKernelMoments, MatchReference) {
+TEST_P(BayesMomentsKernel, MatchReference) {
     const auto [w, h, levels] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} levels {}", w, h, levels));
     Image coef = MakeInput(InputKind::Uniform, w, h, 2,
@@ -440,7 +457,7 @@ TEST_P(BayesKernelMoments, MatchReference) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelMoments, testing::ValuesIn(MomentCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, BayesMomentsKernel, testing::ValuesIn(MomentCases()),
                          [](const testing::TestParamInfo<LevelsCase> &info) {
                              return fmt::format("{}x{}_L{}", info.param.w, info.param.h,
                                                 info.param.levels);
@@ -455,7 +472,9 @@ struct SolveCase {
 // budget: the float subtractions of eq. 17-18 (4 u of each term over the difference),
 // float lgamma (about 2^-20 absolute per call, 6 calls per log kurtosis), propagated to
 // p_c through the slope of log kurtosis(p) and to s_c through sigma_c^2 and p_c.
-TEST_F(BayesKernel, SolveMatchesReference) {
+class BayesSolveKernel : public BayesKernel {};
+
+TEST_F(BayesSolveKernel, MatchesReference) {
     const float sn = 0.19f, pn = 1.5f, snFinest = 0.38f;
     const int levels = 2;
     std::vector<SolveCase> cases;
@@ -652,13 +671,12 @@ TEST_P(BayesKernelWholeMethod, MatchesReference) {
     const auto [w, h, basis] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} {}", w, h, WaveletName(basis)));
     Image color = NoisyPicture(w, h, SeedFromName(fmt::format("whole{}x{}", w, h)), 0.3);
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = basis;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.basis = basis;
-    refOptions.levels = gpu.levels;
-    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    BayesParams refParams = options;
+    refParams.levels = gpu.levels;
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, refParams);
     ASSERT_EQ(gpu.fits.size(), cpu.fits.size());
     for (size_t b = 0; b < cpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
@@ -687,12 +705,11 @@ TEST_P(BayesKernelCycleSpinning, MatchesReference) {
     const auto [w, h, spins] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{} spins {}", w, h, spins));
     Image color = NoisyPicture(w, h, SeedFromName(fmt::format("spin{}x{}", w, h)), 0.3);
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.spins = spins;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.spins = spins;  // levels clamped per shifted image on both sides
-    Image cpu = ref::BayesDenoise(color, refOptions).image;
+    // Levels clamped per shifted image on both sides.
+    Image cpu = ref::BayesDenoise(color, options).image;
     for (float &v : gpu.image.data) v = std::log(v);
     for (float &v : cpu.data) v = std::log(v);
     EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
@@ -717,15 +734,12 @@ TEST_P(BayesKernelExtremeNoiseModel, MatchesReference) {
     // The same frame for every case.
     Image color = NoisyPicture(23, 14, SeedFromName("extreme noise models"), 0.3);
     SCOPED_TRACE(fmt::format("s_n {} p_n {}", sn, pn));
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.sn = sn;
     options.pn = pn;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
     EXPECT_TRUE(AllFinite(gpu.image));
-    ref::BayesRefOptions refOptions;
-    refOptions.sn = sn;
-    refOptions.pn = pn;
-    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, options);
     for (size_t b = 0; b < cpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
     for (float &v : gpu.image.data) v = std::log(v);
@@ -756,16 +770,16 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelExtremeNoiseModel,
 // so the reference given that s_n agrees within the usual tolerance.
 TEST_F(BayesKernel, NoiseAutoSpinsShareOneEstimate) {
     Image color = NoisyPicture(21, 13, SeedFromName("auto spins"), 0.3);
-    BayesOptions options = PaperBayesOptions();
-    options.noiseAuto = true;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Mad;
     options.spins = 2;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    options.spins = 1;
-    EXPECT_EQ(BayesDenoise(Ctx(), color, options).sn, gpu.sn);
-    ref::BayesRefOptions refOptions;
-    refOptions.spins = 2;
-    refOptions.snOverride = gpu.sn;
-    Image cpu = ref::BayesDenoise(color, refOptions).image;
+    BayesParams once = options;
+    once.spins = 1;
+    EXPECT_EQ(BayesDenoise(Ctx(), color, once).sn, gpu.sn);
+    ref::BayesRefRun run;
+    run.madSn = gpu.sn;
+    Image cpu = ref::BayesDenoise(color, options, run).image;
     for (float &v : gpu.image.data) v = std::log(v);
     for (float &v : cpu.data) v = std::log(v);
     EXPECT_TRUE(ImagesMatch(cpu, gpu.image, {}, {0, 2e-3, 1e-4}));
@@ -773,7 +787,9 @@ TEST_F(BayesKernel, NoiseAutoSpinsShareOneEstimate) {
 
 // The mix kernel: three products and two sums in float per output, so within 4 u of
 // sum |m_ij| |v_j|; forward then inverse gives the input back within twice that.
-TEST_F(BayesKernel, MixMatchesReference) {
+class BayesMixKernel : public BayesKernel {};
+
+TEST_F(BayesMixKernel, MatchesReference) {
     Image v = MakeInput(InputKind::Uniform, 37, 5, 3, SeedFromName("bayes mix"));
     vk::GpuImage image(Ctx(), 37, 5, 3, "mix");
     image.Upload(v);
@@ -804,12 +820,10 @@ TEST_P(BayesKernelOpponentColour, MatchesReference) {
     const auto [w, h] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{}", w, h));
     Image color = NoisyPicture(w, h, SeedFromName(fmt::format("opp{}x{}", w, h)), 0.3);
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.opponent = true;
     BayesResult gpu = BayesDenoise(Ctx(), color, options);
-    ref::BayesRefOptions refOptions;
-    refOptions.opponent = true;
-    ref::BayesRefResult cpu = ref::BayesDenoise(color, refOptions);
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, options);
     for (size_t b = 0; b < cpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
     Image logGpu = gpu.image, logCpu = cpu.image;
@@ -823,7 +837,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelOpponentColour,
                          SizeName);
 
 TEST_F(BayesKernel, OpponentColourRefusesOtherThanThreeChannels) {
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.opponent = true;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(4, 4, 2, 1.f), options); }),
                          "3 channels"));
@@ -831,9 +845,9 @@ TEST_F(BayesKernel, OpponentColourRefusesOtherThanThreeChannels) {
 
 TEST_F(BayesKernel, RerunsAreBitIdentical) {
     Image color = AwkwardInput(45, 31, 3, SeedFromName("bayes rerun"));
-    BayesOptions options = PaperBayesOptions();
+    BayesParams options = PaperBayesParams();
     options.basis = WaveletBasis::Cdf97;
-    options.noiseAuto = true;
+    options.noise = BayesNoise::Mad;
     options.spins = 2;
     Image first = BayesDenoise(Ctx(), color, options).image;
     Image second = BayesDenoise(Ctx(), color, options).image;
@@ -857,10 +871,13 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     for (int x = 0; x < w; ++x) mixed.At(0, 3, x) = 0;
     mixed.At(1, 10, 10) = 1e-8f;
     mixed.At(2, 11, 11) = 1e8f;
-    BayesResult r = BayesDenoise(Ctx(), mixed, PaperBayesOptions());
+    BayesResult r = BayesDenoise(Ctx(), mixed, PaperBayesParams());
     EXPECT_TRUE(AllFinite(r.image));
-    EXPECT_TRUE(AnyWarning(r, "33 zero values")) << ::testing::PrintToString(r.warnings);
-    EXPECT_TRUE(AnyWarning(r, "1 tiny positive value")) << ::testing::PrintToString(r.warnings);
+    // One warning for the 33 zeros and the tiny value, saying what became of them.
+    EXPECT_TRUE(AnyWarning(r, "34 black or nearly black values"))
+        << ::testing::PrintToString(r.warnings);
+    EXPECT_TRUE(AnyWarning(r, "the 33 black ones stay black"))
+        << ::testing::PrintToString(r.warnings);
     for (int x = 0; x < w; ++x) EXPECT_EQ(r.image.At(0, 3, x), 0.f) << "black stays black";
     // NaN/Inf/negatives: 0 out, counted.
     Image bad = NoisyPicture(w, h, SeedFromName("bad"), 0.3);
@@ -868,7 +885,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     bad.At(1, 4, 5) = std::numeric_limits<float>::infinity();
     bad.At(2, 6, 7) = -std::numeric_limits<float>::infinity();
     bad.At(2, 8, 9) = -3.f;
-    r = BayesDenoise(Ctx(), bad, PaperBayesOptions());
+    r = BayesDenoise(Ctx(), bad, PaperBayesParams());
     EXPECT_TRUE(AllFinite(r.image));
     EXPECT_TRUE(AnyWarning(r, "3 NaN/Inf values (first at pixel (2, 1), channel 0)"))
         << ::testing::PrintToString(r.warnings);
@@ -876,7 +893,7 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     EXPECT_EQ(r.image.At(0, 1, 2), 0.f);
     // All zeros, all NaN, pure noise (no signal at all), constant.
     for (float fill : {0.f, std::numeric_limits<float>::quiet_NaN()}) {
-        BayesResult z = BayesDenoise(Ctx(), Image(w, h, 3, fill), PaperBayesOptions());
+        BayesResult z = BayesDenoise(Ctx(), Image(w, h, 3, fill), PaperBayesParams());
         EXPECT_TRUE(AllFinite(z.image));
         for (float v : z.image.data) EXPECT_EQ(v, 0.f);
         EXPECT_FALSE(z.warnings.empty());
@@ -885,8 +902,8 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     std::mt19937_64 rng(SeedFromName("pure noise"));
     std::normal_distribution<float> normal(0.f, 0.19f);
     for (float &v : noise.data) v = std::exp(normal(rng));
-    BayesOptions options = PaperBayesOptions();
-    options.noiseAuto = true;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Mad;
     BayesResult pure = BayesDenoise(Ctx(), noise, options);
     EXPECT_TRUE(AllFinite(pure.image));
     // Pure noise: the output varies far less than the input.
@@ -899,27 +916,27 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
             varOut += std::pow(pure.image.data[i] - meanOut, 2);
     EXPECT_LT(varOut, 0.25 * varIn) << varIn << " -> " << varOut;
     Image constant(w, h, 3, 0.37f);
-    BayesResult k = BayesDenoise(Ctx(), constant, PaperBayesOptions());
+    BayesResult k = BayesDenoise(Ctx(), constant, PaperBayesParams());
     for (float v : k.image.data) EXPECT_NEAR(v, 0.37f, 1e-5f);
     for (const BayesBandFit &f : k.fits) EXPECT_EQ(int(f.params[4]), BAYES_FIT_NO_SIGNAL);
 }
 
 TEST_F(BayesProperties, BadOptionsAreRefused) {
     Image color(8, 6, 3, 0.5f);
-    BayesOptions o = PaperBayesOptions();
+    BayesParams o = PaperBayesParams();
     o.sn = -1;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "s_n"));
-    o = PaperBayesOptions();
+    o = PaperBayesParams();
     o.pn = std::numeric_limits<float>::quiet_NaN();
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "p_n"));
-    o = PaperBayesOptions();
+    o = PaperBayesParams();
     o.floorRel = 0;
     EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "floor"));
     EXPECT_TRUE(
-        Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(), PaperBayesOptions()); }), "empty"));
+        Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(), PaperBayesParams()); }), "empty"));
     EXPECT_TRUE(Contains(ErrorOf([&] {
                              BayesDenoiseSplit(Ctx(), color, Image(8, 5, 3, 0.1f),
-                                               PaperBayesOptions());
+                                               PaperBayesParams());
                          }),
                          "8x5x3"));
 }
@@ -930,8 +947,8 @@ TEST_F(BayesProperties, BadOptionsAreRefused) {
 TEST_F(BayesProperties, NoiseAutoEstimatesTheNoise) {
     const double sigma = 0.3;
     Image noise = LogNormalNoise(96, 96, SeedFromName("noise auto"), sigma);
-    BayesOptions options = PaperBayesOptions();
-    options.noiseAuto = true;
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Mad;
     options.pn = 2;
     options.hpFactor = 1;
     BayesResult r = BayesDenoise(Ctx(), noise, options);
@@ -943,8 +960,8 @@ TEST_F(BayesProperties, SplitAddsTheDirectPartBack) {
     Image indirect = NoisyPicture(20, 12, SeedFromName("split"), 0.2);
     Image direct(20, 12, 3, 0.25f);
     direct.At(0, 0, 0) = std::numeric_limits<float>::quiet_NaN();
-    BayesResult whole = BayesDenoise(Ctx(), indirect, PaperBayesOptions());
-    BayesResult split = BayesDenoiseSplit(Ctx(), direct, indirect, PaperBayesOptions());
+    BayesResult whole = BayesDenoise(Ctx(), indirect, PaperBayesParams());
+    BayesResult split = BayesDenoiseSplit(Ctx(), direct, indirect, PaperBayesParams());
     for (size_t i = 1; i < whole.image.Size(); ++i)
         EXPECT_EQ(split.image.data[i], whole.image.data[i] + 0.25f);
     EXPECT_TRUE(AnyWarning(split, "1 NaN/Inf values in the direct layer"));
@@ -1137,9 +1154,9 @@ TEST_P(BayesVarianceFilled, IsStable) {
     Image color = NoisyPicture(33, 21, SeedFromName("variance extremes"), 0.3);
     SCOPED_TRACE(fmt::format("variance {}", fill));
     Image variance(color.width, color.height, 3, fill);
-    BayesOptions options = PaperBayesOptions();
-    options.variance = &variance;
-    BayesResult r = BayesDenoise(Ctx(), color, options);
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Variance;
+    BayesResult r = BayesDenoise(Ctx(), color, options, {}, &variance);
     EXPECT_TRUE(AllFinite(r.image));
     for (const BayesBandFit &f : r.fits) {
         EXPECT_TRUE(std::isfinite(f.params[0]) && f.params[0] >= 0);
@@ -1159,9 +1176,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesVarianceFilled,
 TEST_F(BayesVariance, AwkwardVarianceGivesFiniteOutput) {
     Image awkward = AwkwardInput(37, 23, 3, SeedFromName("variance awkward"));
     Image awkwardVariance = AwkwardVariance(awkward, 5);
-    BayesOptions options = PaperBayesOptions();
-    options.variance = &awkwardVariance;
-    EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), awkward, options).image));
+    BayesParams options = PaperBayesParams();
+    options.noise = BayesNoise::Variance;
+    EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), awkward, options, {}, &awkwardVariance).image));
 }
 
 class BayesVarianceWholeMethod : public GpuTestWithParam<SpinCase> {};
@@ -1172,17 +1189,15 @@ TEST_P(BayesVarianceWholeMethod, MatchesReference) {
     Image c = NoisyPicture(w, h, SeedFromName(fmt::format("var whole{}x{}", w, h)), 0.3);
     Image v = c;
     for (float &x : v.data) x = 0.05f * x * x;
-    BayesOptions o = PaperBayesOptions();
-    o.variance = &v;
+    BayesParams o = PaperBayesParams();
+    o.noise = BayesNoise::Variance;
     o.spins = spins;
     o.basis = WaveletBasis::Cdf97;
-    BayesResult gpu = BayesDenoise(Ctx(), c, o);
-    EXPECT_TRUE(BitIdentical(gpu.image, BayesDenoise(Ctx(), c, o).image));
-    ref::BayesRefOptions refOptions;
-    refOptions.variance = &v;
-    refOptions.spins = spins;
-    refOptions.basis = WaveletBasis::Cdf97;
-    ref::BayesRefResult cpu = ref::BayesDenoise(c, refOptions);
+    BayesResult gpu = BayesDenoise(Ctx(), c, o, {}, &v);
+    EXPECT_TRUE(BitIdentical(gpu.image, BayesDenoise(Ctx(), c, o, {}, &v).image));
+    ref::BayesRefRun run;
+    run.variance = &v;
+    ref::BayesRefResult cpu = ref::BayesDenoise(c, o, run);
     for (size_t b = 0; b < cpu.fits.size() && b < gpu.fits.size(); ++b)
         EXPECT_EQ(int(gpu.fits[b].params[4]), cpu.fits[b].fit) << "band " << b;
     for (float &x : gpu.image.data) x = std::log(x);

@@ -12,7 +12,6 @@
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
-#include "host/api/pivot_params.h"
 #include "host/methods/pivot.h"
 #include "tools/render/renderer.h"
 
@@ -102,7 +101,7 @@ TEST_F(PivotPartialsMethod, FiltersEachPartialAgainstItsOwnPivot) {
     PivotInputs in = PartialInputs(r);
     for (PivotFilter filter : {PivotFilter::PlaneFit, PivotFilter::Bilateral}) {
         SCOPED_TRACE(fmt::format("filter {}", int(filter)));
-        PivotOptions o;
+        PivotParams o;
         o.filter = filter;
         o.maxRadius = 6;
         o.bilateralRadius = 3;
@@ -142,11 +141,11 @@ TEST_F(PivotPartialsMethod, MatchesTheReferencePerPartial) {
     render::RenderResult r = RenderGlossy(
         21, 17, 4, render::kLayersPivot | render::kLayersPartials | render::kLayersGbuffer);
     PivotInputs in = PartialInputs(r);
-    PivotOptions o;
+    PivotParams o;
     o.maxRadius = 5;
     PivotResult gpu = PivotDenoise(Ctx(), in, o);
 
-    ref::PivotParams p = api::RefParams(o);
+    const PivotParams &p = o;
     Image ids(21, 17, 2);
     for (size_t i = 0; i < ids.PixelCount(); ++i) {
         ids.data[i] = in.objectId->data[i];

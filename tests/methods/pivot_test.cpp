@@ -17,7 +17,6 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
-#include "host/api/pivot_params.h"
 #include "host/kernels/pivot_bilateral.h"
 #include "host/kernels/pivot_fit.h"
 #include "host/kernels/pivot_gather.h"
@@ -125,9 +124,9 @@ struct RatioCase {
     bool withVariance, withIds;
 };
 
-class PivotKernelRatio : public GpuTestWithParam<RatioCase> {};
+class PivotRatioKernel : public GpuTestWithParam<RatioCase> {};
 
-TEST_P(PivotKernelRatio, MatchesReference) {
+TEST_P(PivotRatioKernel, MatchesReference) {
     const auto [w, h, withVariance, withIds] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h)));
     // Black and near-black pivots: excluded, never divided by.
@@ -170,7 +169,7 @@ std::vector<RatioCase> RatioCases() {
     return cases;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelRatio, testing::ValuesIn(RatioCases()),
+INSTANTIATE_TEST_SUITE_P(Cases, PivotRatioKernel, testing::ValuesIn(RatioCases()),
                          [](const testing::TestParamInfo<RatioCase> &info) {
                              const RatioCase &c = info.param;
                              return fmt::format("{}x{}{}{}", c.w, c.h,
@@ -202,20 +201,20 @@ std::string StageCaseName(const testing::TestParamInfo<StageCase> &info) {
 // planes agree to the sums' round-off: at most (2R+1)^2 = 169 terms (169 u relative) times
 // the normal matrix's condition in centred coordinates (below ~100 for these windows), of
 // the window's |z| scale.
-class PivotKernelFit : public GpuTestWithParam<StageCase> {};
+class PivotFitKernel : public GpuTestWithParam<StageCase> {};
 
-TEST_P(PivotKernelFit, MatchesReference) {
+TEST_P(PivotFitKernel, MatchesReference) {
     const auto [w, h, guides] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("fit{}x{}", w, h)));
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
-    PivotOptions o;
+    PivotParams o;
     o.maxRadius = 6;
     o.targetNoise = 0.05f;
     o.sigmaWeight = guides ? 0.5f : 1.f;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image margin;
-    Image expected = ref::PivotFit(ratio, refGuides, api::RefParams(o), &margin);
+    Image expected = ref::PivotFit(ratio, refGuides, o, &margin);
 
     vk::GpuImage zsn(Ctx(), w, h, 12, "zsn");
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
@@ -271,24 +270,24 @@ TEST_P(PivotKernelFit, MatchesReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Cases, PivotKernelFit,
+    Cases, PivotFitKernel,
     testing::ValuesIn(StageCases({{29, 21}, {1, 1}, {1, 12}, {9, 1}, {6, 5}})), StageCaseName);
 
 // Stage 3 on the reference's fits: per term a plane evaluation, eq. 12's 8th power by
 // three squarings and a weighted mean; relative error a few tens of u of the pivot times
 // the largest |z|.
-class PivotKernelGather : public GpuTestWithParam<StageCase> {};
+class PivotGatherKernel : public GpuTestWithParam<StageCase> {};
 
-TEST_P(PivotKernelGather, MatchesReference) {
+TEST_P(PivotGatherKernel, MatchesReference) {
     const auto [w, h, guides] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("gather{}x{}", w, h)));
     for (int i = 0; i < int(f.pivot.Size()); i += 11) f.pivot.data[i] = 0;
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
-    PivotOptions o;
+    PivotParams o;
     o.maxRadius = 12;  // lattice steps 1, 2 and 4 (eq. 13's quadrature)
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
-    Image fits = ref::PivotFit(ratio, refGuides, api::RefParams(o));
+    Image fits = ref::PivotFit(ratio, refGuides, o);
     Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides);
 
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
@@ -325,23 +324,23 @@ TEST_P(PivotKernelGather, MatchesReference) {
         ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelGather,
+INSTANTIATE_TEST_SUITE_P(Cases, PivotGatherKernel,
                          testing::ValuesIn(StageCases({{27, 19}, {1, 1}, {1, 10}, {7, 1}})),
                          StageCaseName);
 
 // The bilateral baseline: each weight is an exp of a few roundings (exp's own error is a
 // few u on lavapipe), the result a weighted mean.
-class PivotKernelBilateral : public GpuTestWithParam<StageCase> {};
+class PivotBilateralKernel : public GpuTestWithParam<StageCase> {};
 
-TEST_P(PivotKernelBilateral, MatchesReference) {
+TEST_P(PivotBilateralKernel, MatchesReference) {
     const auto [w, h, guides] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("bilateral{}x{}", w, h)));
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
-    PivotOptions o;
+    PivotParams o;
     o.bilateralRadius = 4;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
-    Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, api::RefParams(o));
+    Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, o);
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "o");
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
@@ -363,7 +362,7 @@ TEST_P(PivotKernelBilateral, MatchesReference) {
         ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PivotKernelBilateral,
+INSTANTIATE_TEST_SUITE_P(Cases, PivotBilateralKernel,
                          testing::ValuesIn(StageCases({{31, 17}, {1, 1}, {1, 8}, {10, 1}})),
                          StageCaseName);
 
@@ -434,7 +433,7 @@ TEST_P(PivotMethodVariant, MatchesReferenceAndRerunsBitIdentically) {
     f.pivot.At(1, 4, 7) = 0;
     Image objectId, partId;
     PivotInputs in = InputsOf(f, guides, &objectId, &partId);
-    PivotOptions o;
+    PivotParams o;
     o.filter = filter;
     o.maxRadius = 6;
     o.bilateralRadius = 4;
@@ -442,7 +441,7 @@ TEST_P(PivotMethodVariant, MatchesReferenceAndRerunsBitIdentically) {
     PivotResult second = PivotDenoise(Ctx(), in, o);
     EXPECT_TRUE(BitIdentical(first.image, second.image));
 
-    ref::PivotParams p = api::RefParams(o);
+    const PivotParams &p = o;
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, guides ? &f.ids : nullptr);
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
@@ -469,16 +468,17 @@ TEST_F(PivotMethod, RowStripsAreBitIdenticalAndReportProgress) {
     Frame f = MakeFrame(w, h, 0.3, SeedFromName("strips"));
     Image objectId, partId;
     PivotInputs in = InputsOf(f, true, &objectId, &partId);
-    PivotOptions o;
+    PivotParams o;
     o.maxRadius = 8;
-    o.stripPixels = 0;
-    Image whole = PivotDenoise(Ctx(), in, o).image;
+    RunSetup setup;
+    setup.stripPixels = 0;
+    Image whole = PivotDenoise(Ctx(), in, o, setup).image;
     std::vector<std::tuple<std::string, int, int>> calls;
-    o.stripPixels = 5 * w;  // strips of 5 rows: 5 of them
-    o.progress = [&](const std::string &stage, int done, int total) {
+    setup.stripPixels = 5 * w;  // strips of 5 rows: 5 of them
+    setup.progress = [&](const std::string &stage, int done, int total) {
         calls.push_back({stage, done, total});
     };
-    PivotResult stripped = PivotDenoise(Ctx(), in, o);
+    PivotResult stripped = PivotDenoise(Ctx(), in, o, setup);
     EXPECT_TRUE(BitIdentical(whole, stripped.image));
     ASSERT_EQ(calls.size(), 10u);
     for (size_t i = 0; i < calls.size(); ++i) {
@@ -508,12 +508,12 @@ TEST_F(PivotMethod, TileSkippingFollowsEachTilesRadius) {
         }
     Image objectId, partId;
     PivotInputs in = InputsOf(f, false, &objectId, &partId);
-    PivotOptions o;
+    PivotParams o;
     o.maxRadius = 12;
     PivotResult result = PivotDenoise(Ctx(), in, o);
     ASSERT_LT(result.meanRadius, 11.5)
         << "the radii no longer differ: the test needs a quiet region";
-    ref::PivotParams p = api::RefParams(o);
+    const PivotParams &p = o;
     ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, nullptr);
     ref::PivotGuides none{nullptr, nullptr};
     Image expected =
@@ -539,10 +539,10 @@ TEST_F(PivotMethod, PixelsNoLatticeCentreReachesTakeTheirOwnFit) {
         }
     Image objectId, partId;
     PivotInputs in = InputsOf(f, true, &objectId, &partId);
-    PivotOptions o;
+    PivotParams o;
     o.maxRadius = 12;
     PivotResult result = PivotDenoise(Ctx(), in, o);
-    ref::PivotParams p = api::RefParams(o);
+    const PivotParams &p = o;
     ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, &f.ids);
     ref::PivotGuides refGuides{&f.normal, &f.ids};
     Image fits = ref::PivotFit(ratio, refGuides, p);
@@ -748,7 +748,7 @@ TEST_P(PivotPropertiesPlaneRatio, ReturnsTheInput) {
     f.variance = Image(w, h, 3, 0.f);
     Image objectId, partId;
     PivotInputs in = InputsOf(f, guides, &objectId, &partId);
-    PivotOptions o;
+    PivotParams o;
     o.filter = filter;
     PivotResult r = PivotDenoise(Ctx(), in, o);
     EXPECT_TRUE(ImagesMatch(f.color, r.image, {}, {2e-5, 0, 1e-9})) << "guides " << guides;
@@ -781,7 +781,7 @@ TEST_P(PivotPropertiesConstantRatio, ReproducesThePivotTexture) {
     PivotFilter filter = GetParam();
     auto [f, truth] = ConstantRatioFrame();
     Image objectId, partId;
-    PivotOptions o;
+    PivotParams o;
     o.filter = filter;
     PivotResult r = PivotDenoise(Ctx(), InputsOf(f, false, &objectId, &partId), o);
     double before = CompareImages(f.color, truth).relMse;
@@ -825,7 +825,7 @@ TEST_P(PivotPropertiesEdgeFrame, GivesFiniteOutput) {
     PivotInputs in;
     in.color = &f.color;
     in.pivot = &f.pivot;
-    PivotOptions o;
+    PivotParams o;
     o.filter = filter;
     PivotResult r = PivotDenoise(Ctx(), in, o);
     for (size_t i = 0; i < r.image.Size(); ++i) {
@@ -886,7 +886,7 @@ TEST_F(PivotProperties, BadInputsAreRefusedWithTheirPlace) {
     message = ErrorOf([&] { PivotDenoise(Ctx(), in, {}); });
     EXPECT_TRUE(Contains(message, "normal is 8x5x3")) << message;
     in.normal = nullptr;
-    PivotOptions o;
+    PivotParams o;
     o.maxRadius = 1;
     EXPECT_TRUE(Contains(ErrorOf([&] { PivotDenoise(Ctx(), in, o); }), "2..64"));
     in.pivot = nullptr;
@@ -931,7 +931,7 @@ TEST_P(PivotPropertiesRenderedFrame, IsDenoised) {
     in.objectId = &layer(noisy, "objectId");
     in.partId = &layer(noisy, "partId");
     ErrorMetrics before = CompareImages(color, reference);
-    PivotOptions options;
+    PivotParams options;
     options.filter = filter;
     options.bilateralRadius = 4;
     ErrorMetrics after = CompareImages(PivotDenoise(Ctx(), in, options).image, reference);

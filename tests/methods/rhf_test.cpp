@@ -69,10 +69,6 @@ Frame MakeFrame(int w, int h, uint64_t seed, int bins = kBins,
     return f;
 }
 
-ref::RhfParams Params(const RhfOptions &o) {
-    return {o.patchHalf, o.searchHalf, double(o.threshold), o.knn, o.scales, o.brightVeto};
-}
-
 // The method's default output: the reference's with negatives clamped to 0.
 Image NonNegative(Image image) {
     for (float &v : image.data) v = std::max(v, 0.f);
@@ -92,7 +88,7 @@ double MaxAbs(const Image &image) {
 // what it carries by at most ~4 per scale; 2000 round-offs of the largest colour cover
 // three scales of the default window with room to spare. Selections are discrete: a
 // distance within round-off of the threshold could flip, which random data never hits.
-Tolerance ToleranceFor(const Image &color, const RhfOptions &o) {
+Tolerance ToleranceFor(const Image &color, const RhfParams &o) {
     int side = 2 * o.searchHalf + 1, patch = 2 * o.patchHalf + 1;
     double terms = side * side + patch * patch + 2;
     double perScale = 2 * terms * kUnitRoundoff * MaxAbs(color);
@@ -119,13 +115,13 @@ class RhfKernelSingleScale : public GpuTestWithParam<SingleScaleCase> {};
 TEST_P(RhfKernelSingleScale, MatchesReference) {
     const SingleScaleCase &c = GetParam();
     Frame f = MakeFrame(c.w, c.h, SeedFromName(fmt::format("rhf1 {}x{}", c.w, c.h)));
-    RhfOptions o;
+    RhfParams o;
     o.patchHalf = c.patchHalf;
     o.searchHalf = c.searchHalf;
     o.knn = c.knn;
     o.threshold = c.threshold;
     o.scales = 1;
-    Image expected = NonNegative(ref::Rhf(f.color, f.hist, Params(o)));
+    Image expected = NonNegative(ref::Rhf(f.color, f.hist, o));
     RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
     EXPECT_TRUE(result.warnings.empty());
     EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
@@ -154,16 +150,16 @@ class RhfKernelMultiScale : public GpuTestWithParam<MultiScaleCase> {};
 TEST_P(RhfKernelMultiScale, MatchesReference) {
     const MultiScaleCase &c = GetParam();
     Frame f = MakeFrame(c.w, c.h, SeedFromName(fmt::format("rhfms {}x{}", c.w, c.h)));
-    RhfOptions o;
+    RhfParams o;
     o.searchHalf = c.searchHalf;
     o.scales = c.scales;
-    ASSERT_EQ(ref::RhfScalesUsed(c.w, c.h, Params(o)), c.expectedScales);
-    Image expected = ref::Rhf(f.color, f.hist, Params(o));
-    o.clampNegative = false;
+    ASSERT_EQ(ref::RhfScalesUsed(c.w, c.h, o), c.expectedScales);
+    Image expected = ref::Rhf(f.color, f.hist, o);
+    o.keepNegative = true;
     RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
     EXPECT_EQ(result.scalesUsed, c.expectedScales);
     EXPECT_TRUE(ImagesMatch(expected, result.image, {}, ToleranceFor(f.color, o)));
-    o.clampNegative = true;
+    o.keepNegative = false;
     EXPECT_TRUE(ImagesMatch(NonNegative(expected), RhfDenoise(Ctx(), f.color, f.hist, o).image,
                             {}, ToleranceFor(f.color, o)));
 }
@@ -192,19 +188,19 @@ TEST_P(RhfKernelBrightVeto, MatchesReference) {
     const auto [scales, veto] = GetParam();
     // The same frame for every case.
     Frame f = MakeFrame(31, 27, SeedFromName("rhf veto"));
-    RhfOptions o;
+    RhfParams o;
     o.searchHalf = 4;
     o.scales = scales;
     o.brightVeto = veto;
-    o.clampNegative = false;
-    Image expected = ref::Rhf(f.color, f.hist, Params(o));
+    o.keepNegative = true;
+    Image expected = ref::Rhf(f.color, f.hist, o);
     EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
                             ToleranceFor(f.color, o)));
     if (veto > 0) {
-        RhfOptions off = o;
+        RhfParams off = o;
         off.brightVeto = 0;
-        EXPECT_FALSE(ImagesMatch(expected, ref::Rhf(f.color, f.hist, Params(off)), {},
-                                 ToleranceFor(f.color, o)))
+        EXPECT_FALSE(
+            ImagesMatch(expected, ref::Rhf(f.color, f.hist, off), {}, ToleranceFor(f.color, o)))
             << "the veto changed nothing on this frame";
     }
 }
@@ -233,12 +229,13 @@ class RhfKernelSplit : public GpuTestWithParam<SplitCase> {};
 TEST_P(RhfKernelSplit, IsBitIdentical) {
     const auto [perSlot, strip] = GetParam();
     Frame f = MakeFrame(33, 31, SeedFromName("rhf split"));
-    RhfOptions o;
+    RhfParams o;
     o.searchHalf = 4;
     Image whole = RhfDenoise(Ctx(), f.color, f.hist, o).image;
-    o.planesPerSlot = perSlot;
-    o.stripRows = strip;
-    EXPECT_TRUE(BitIdentical(whole, RhfDenoise(Ctx(), f.color, f.hist, o).image));
+    RunSetup split;
+    split.planesPerSlot = perSlot;
+    split.stripRows = strip;
+    EXPECT_TRUE(BitIdentical(whole, RhfDenoise(Ctx(), f.color, f.hist, o, split).image));
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelSplit,
@@ -250,7 +247,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelSplit,
 
 TEST_F(RhfKernel, RerunsAreBitIdentical) {
     Frame f = MakeFrame(45, 38, SeedFromName("rhf rerun"));
-    RhfOptions o;
+    RhfParams o;
     Image first = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     EXPECT_TRUE(BitIdentical(first, RhfDenoise(Ctx(), f.color, f.hist, o).image));
 }
@@ -262,7 +259,7 @@ class RhfProperties : public GpuTest {};
 // and a mean of equal values is that value up to the rounding of the sum.
 TEST_F(RhfProperties, OnlyItselfLeavesTheImageUnchanged) {
     Frame f = MakeFrame(21, 17, SeedFromName("rhf identity"));
-    RhfOptions o;
+    RhfParams o;
     o.threshold = 1e-30f;
     o.knn = 0;
     o.scales = 1;
@@ -274,7 +271,7 @@ TEST_F(RhfProperties, OnlyItselfLeavesTheImageUnchanged) {
 // and the recombination adds U(D(u)) - U(D(u)), the same bits computed twice.
 TEST_F(RhfProperties, OnlyItselfAtTwoScalesLeavesTheImageUnchanged) {
     Frame f = MakeFrame(30, 28, SeedFromName("rhf identity 2"));
-    RhfOptions o;
+    RhfParams o;
     o.threshold = 1e-30f;
     o.knn = 0;
     o.scales = 2;
@@ -289,7 +286,7 @@ TEST_F(RhfProperties, OnlyItselfAtTwoScalesLeavesTheImageUnchanged) {
 TEST_F(RhfProperties, ConstantStaysConstant) {
     Frame f = MakeFrame(40, 36, SeedFromName("rhf constant"));
     for (float &v : f.color.data) v = 0.7f;
-    RhfOptions o;
+    RhfParams o;
     Image out = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     EXPECT_TRUE(ImagesMatch(f.color, out, {}, {200 * kUnitRoundoff, 0, 1e-12}));
 }
@@ -302,7 +299,7 @@ TEST_F(RhfProperties, IdenticalHistogramsSelectTheWholeWindow) {
     for (int i = 0; i < f.hist.channels; ++i)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) f.hist.At(i, y, x) = f.hist.At(i, 0, 0);
-    RhfOptions o;
+    RhfParams o;
     o.scales = 1;
     o.searchHalf = 4;
     o.knn = 0;
@@ -342,14 +339,14 @@ TEST_F(RhfProperties, RecombinationUndershootIsClampedAndCounted) {
     static const double light[3] = {12, 12, 12}, ceiling[3] = {0.1, 0.1, 0.1};
     Frame f = MakeFrame(w, h, SeedFromName("rhf overshoot"), kBins,
                         [](int x, int) { return x < 17 ? light : ceiling; });
-    RhfOptions o;
+    RhfParams o;
     o.scales = 2;
-    o.clampNegative = false;
+    o.keepNegative = true;
     Image raw = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     size_t negative = 0;
     for (float v : raw.data) negative += v < 0;
     ASSERT_GT(negative, 0u) << "the edge no longer overshoots: the test needs a stronger one";
-    o.clampNegative = true;
+    o.keepNegative = false;
     RhfResult clamped = RhfDenoise(Ctx(), f.color, f.hist, o);
     EXPECT_TRUE(BitIdentical(NonNegative(raw), clamped.image));
     std::string plan;
@@ -402,13 +399,12 @@ TEST_P(RhfPropertiesOneLight, BrightVetoKeepsItInPlace) {
     const OneLightCase &c = GetParam();
     Frame f = OneLightFrame(w, h, lx, ly, c.spp, c.brightSamples, c.dim, c.bright);
     float lightMean = f.color.At(1, ly, lx);
-    RhfOptions o;
+    RhfParams o;
     o.scales = 1;
     Image kept = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     // Means of equal values: a few round-offs of the light's value.
     EXPECT_TRUE(ImagesMatch(f.color, kept, {}, {0, 16 * kUnitRoundoff * lightMean, 1e-12}));
-    EXPECT_TRUE(
-        ImagesMatch(ref::Rhf(f.color, f.hist, Params(o)), kept, {}, ToleranceFor(f.color, o)));
+    EXPECT_TRUE(ImagesMatch(ref::Rhf(f.color, f.hist, o), kept, {}, ToleranceFor(f.color, o)));
     o.brightVeto = 0;
     Image spread = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     EXPECT_LT(spread.At(1, ly, lx), 0.5f * lightMean)
@@ -437,7 +433,7 @@ TEST_F(RhfProperties, BadPixelsGiveFiniteOutputAndCountedWarnings) {
     for (int i = 0; i <= n3; ++i) f.hist.At(i, 7, 20) = 0;  // empty histogram
     f.hist.At(3, 12, 2) = nan;                              // a NaN bin
     f.hist.At(n3, 19, 23) = -2;                             // a negative count
-    RhfOptions o;
+    RhfParams o;
     RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
     for (float v : result.image.data) ASSERT_TRUE(std::isfinite(v));
     std::string all;
@@ -454,7 +450,7 @@ TEST_F(RhfProperties, BadPixelsGiveFiniteOutputAndCountedWarnings) {
 
 TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
     Frame f = MakeFrame(8, 8, 1);
-    RhfOptions o;
+    RhfParams o;
     Image wrong(8, 8, 60);
     EXPECT_THROW(RhfDenoise(Ctx(), f.color, wrong, o), Error);
     Image small(4, 8, f.hist.channels);
@@ -475,7 +471,9 @@ TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
 // of products in float): widths below, at and past a block, empty pixels (count 0, whose
 // bins are left out even when non-zero), whole empty blocks, histograms split over several
 // buffers (the count plane in a buffer of its own or sharing one), a histScale below 1.
-TEST_F(RhfKernel, BlockMaximaMatchReference) {
+class RhfBlockmaxKernel : public GpuTest {};
+
+TEST_F(RhfBlockmaxKernel, MatchesReference) {
     std::mt19937_64 rng(SeedFromName("rhf block maxima"));
     std::uniform_real_distribution<float> bin(0.f, 3.f);
     struct Case {
@@ -525,7 +523,9 @@ TEST_F(RhfKernel, BlockMaximaMatchReference) {
 // The selection kernel against the reference's selection sort on distances drawn from a
 // few values, so that ties at the cut are the rule: every nearest from 0 past the window,
 // thresholds below, at and between the values, vetoed and out-of-window candidates (-1).
-TEST_F(RhfProperties, SelectionMatchesTheToolsSortOnTies) {
+class RhfSelectKernel : public GpuTest {};
+
+TEST_F(RhfSelectKernel, MatchesTheToolsSortOnTies) {
     std::mt19937_64 rng(SeedFromName("rhf select ties"));
     const float values[] = {-1.f, 0.f, 0.5f, 1.f, 1.f, 2.f};
     for (int b : {0, 1, 2, 3}) {
@@ -604,11 +604,12 @@ TEST_F(RhfToolAlignment, RampThroughTheDownsamplerLandsWhereTheToolSamples) {
         total += g.emplace_back(std::exp(-0.5 * std::pow((i + 0.5) / sigma, 2)));
     for (int i = -radius; i <= radius; ++i) delta += g[i + radius] / total * (i + 0.5);
     Image cpu = ref::RhfGaussianDownsample(f.color, 1, sigma);
-    RhfOptions o;
+    RhfParams o;
     o.scales = 2;
     o.searchHalf = 4;
-    o.keepStages = true;
-    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
+    RunSetup setup;
+    setup.keepStages = true;
+    RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o, setup);
     const Image *gpu = StageOf(result, "color s1");
     ASSERT_NE(gpu, nullptr);
     ASSERT_EQ(cpu.width, w / 2);
@@ -684,7 +685,7 @@ TEST_F(RhfToolAlignment, KnnTiesResolveAsTheToolsSelectionSort) {
         Frame f = TieFrame(c.w, c.h, c.kind);
         ASSERT_EQ(ref::RhfPatchDistance(f.hist, c.x, c.y, 0, c.h - 1, 0),
                   ref::RhfPatchDistance(f.hist, c.x, c.y, c.w - 1 - (c.h == 1 ? 3 : 0), 0, 0));
-        RhfOptions o;
+        RhfParams o;
         o.patchHalf = 0;
         o.searchHalf = 2;
         o.knn = 1;
@@ -714,10 +715,10 @@ TEST_F(RhfToolAlignment, CoarseHistogramsKeepTheCountChannelsTotal) {
             for (int i = 0; i < n3; ++i) f.hist.At(i, y, x) *= part;
             f.hist.At(n3, y, x) = 24;
         }
-    RhfOptions o;
+    RhfParams o;
     o.searchHalf = 4;
     o.scales = 2;
-    o.clampNegative = false;
+    o.keepNegative = true;
     RhfResult result = RhfDenoise(Ctx(), f.color, f.hist, o);
     ASSERT_EQ(result.scalesUsed, 2);
     double expected = double(w * h) / (14 * 15);
@@ -728,8 +729,8 @@ TEST_F(RhfToolAlignment, CoarseHistogramsKeepTheCountChannelsTotal) {
     double factor = std::stod(plan.substr(at + 23));
     // The factor is a float; the taps sum to 1 up to a few round-offs per axis.
     EXPECT_NEAR(factor, expected, 16 * kUnitRoundoff * expected) << plan;
-    EXPECT_TRUE(ImagesMatch(ref::Rhf(f.color, f.hist, Params(o)), result.image, {},
-                            ToleranceFor(f.color, o)));
+    EXPECT_TRUE(
+        ImagesMatch(ref::Rhf(f.color, f.hist, o), result.image, {}, ToleranceFor(f.color, o)));
 }
 
 class RhfLimits : public GpuTest {};
@@ -744,7 +745,7 @@ TEST_F(RhfLimits, RefusesAMaskAboveTheBindingLimit) {
         GTEST_SKIP() << "this device binds " << Ctx().Limits().maxStorageBufferRange
                      << " bytes: the frame fits, nothing to refuse";
     Image color(w, h, 3, 0.5f), hist(w, h, 7, 1.f);  // 2 bins a channel and the count
-    RhfOptions o;
+    RhfParams o;
     o.searchHalf = 20;
     std::string error = ErrorOf([&] { RhfDenoise(Ctx(), color, hist, o); });
     EXPECT_TRUE(Contains(error, "selection mask")) << error;

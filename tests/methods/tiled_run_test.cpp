@@ -16,6 +16,7 @@
 
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/device.h"
 #include "host/api/tiled_run.h"
 #include "mcdenoise/mcdenoise.h"
 #include "tools/render/renderer.h"
@@ -61,11 +62,12 @@ Frame RandomFrame(int width, int height, uint64_t seed) {
 }
 
 Result RunWith(Device &device, const std::string &name, const Params &params,
-               const Frame &frame, int tile) {
+               const Frame &frame, int tile, std::vector<std::string> stages = {}) {
     Method method(name);
     for (const auto &[param, value] : params) method.Set(param, value);
     RunOptions run;
     run.tileSize = tile;
+    run.stages = std::move(stages);
     return method.Run(device, frame, run);
 }
 
@@ -95,7 +97,7 @@ class TiledRunLocal : public GpuTestWithParam<LocalCase> {};
 
 TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
     const LocalCase &c = GetParam();
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     // Frames several halos wide, so that tiles inside have halos on every side.
     std::vector<std::pair<std::string, Frame>> frames = {
         {"rendered", RenderedFrame(c.width, c.height, render::kLayersAll)},
@@ -139,7 +141,7 @@ INSTANTIATE_TEST_SUITE_P(
 // for awr (5 levels in a tile, 8 whole), 0.021 and 0.44 for bayes (haar, halo 15: each
 // tile takes its own band noise from the variance layer and its own log floor).
 TEST_F(GpuTest, TiledRunWaveletsDifferWithinBound) {
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Frame frame = RenderedFrame(203, 151, render::kLayersAll);
     struct Bound {
         const char *method;
@@ -178,10 +180,10 @@ TEST_F(GpuTest, TiledRunWaveletsDifferWithinBound) {
 // window is the whole frame and the result must be the untiled one; a frame wide enough
 // to differ is too slow for the suite (the difference is not measured).
 TEST_F(GpuTest, TiledRunAutoCompletesCloseToUntiled) {
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     Frame frame = RenderedFrame(70, 54, render::kLayersAll);
-    Result whole = RunWith(device, "auto", {}, frame, 0);
-    Result tiled = RunWith(device, "auto", {}, frame, 32);
+    Result whole = RunWith(device, "auto", {}, frame, 0, {"auto.map"});
+    Result tiled = RunWith(device, "auto", {}, frame, 32, {"auto.map"});
     ASSERT_TRUE(whole.image.SameShape(tiled.image));
     ASSERT_FALSE(tiled.plan.empty());
     EXPECT_NE(tiled.plan[0].find("differs from the untiled one"), std::string::npos)
@@ -196,6 +198,11 @@ TEST_F(GpuTest, TiledRunAutoCompletesCloseToUntiled) {
     double rel = std::sqrt(sum / norm);
     std::printf("auto tiled vs untiled: relative RMS %.4g\n", rel);
     EXPECT_EQ(rel, 0.0);
+    // The map asked for is put together from the tiles' maps.
+    ASSERT_EQ(whole.stages.size(), 1u);
+    ASSERT_EQ(tiled.stages.size(), 1u);
+    EXPECT_EQ(tiled.stages[0].name, "auto.map");
+    ExpectSameBits(whole.stages[0].image, tiled.stages[0].image, "auto's map");
 }
 
 // RHF's distance strips hold every offset of a whole row: a frame too wide for one row of
@@ -204,7 +211,7 @@ TEST_F(GpuTest, TiledRunAutoCompletesCloseToUntiled) {
 // the memory a run needs whatever its size counts such a row for a window, not the frame
 // (8192 x 1 with a 41 x 41 window: 1.5 GB counted for the whole row).
 TEST_F(GpuTest, TiledRunCutsFramesTooWideForRhfStrips) {
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     for (auto [width, height, searchHalf] :
          {std::tuple{3200, 2, 16}, std::tuple{8192, 1, 20}}) {
         SCOPED_TRACE(fmt::format("{}x{}, search half-window {}", width, height, searchHalf));

@@ -137,9 +137,9 @@ void PrintTo(const Case &c, std::ostream *os) {
     *os << c.name;
 }
 
-class TracingGatherCases : public GpuTestWithParam<Case> {};
+class TracingGatherKernel : public GpuTestWithParam<Case> {};
 
-TEST_P(TracingGatherCases, MatchesReference) {
+TEST_P(TracingGatherKernel, MatchesReference) {
     const Case &k = GetParam();
     TracingRecords records = RandomRecords(k.records);
     int outY0 = k.outRows < 0 ? records.y0 : k.outY0;
@@ -199,7 +199,7 @@ std::vector<Case> Cases() {
     return cases;
 }
 
-INSTANTIATE_TEST_SUITE_P(Tracing, TracingGatherCases, ::testing::ValuesIn(Cases()),
+INSTANTIATE_TEST_SUITE_P(Tracing, TracingGatherKernel, ::testing::ValuesIn(Cases()),
                          [](const auto &info) { return info.param.name; });
 
 class TracingGatherTest : public GpuTest {};

@@ -31,16 +31,15 @@ TEST_F(BayesSwtLarge, ChannelGroupsAboveOneBinding) {
         GTEST_SKIP() << "this device binds all three channels' coefficients: no groups";
     for (bool useVariance : {false, true}) {
         SCOPED_TRACE(useVariance ? "--noise variance" : "fixed noise");
-        BayesOptions options = PaperBayesOptions();
+        BayesParams options = PaperBayesParams();
         options.transform = BayesTransform::Swt;
-        if (useVariance) options.variance = &variance;
-        BayesResult all = BayesDenoise(Ctx(), color, options);
+        if (useVariance) options.noise = BayesNoise::Variance;
+        BayesResult all = BayesDenoise(Ctx(), color, options, {}, &variance);
         for (int c = 0; c < 3; ++c) {
             Image one(w, h, 1), oneVariance(w, h, 1);
             std::copy_n(color.Plane(c), color.PixelCount(), one.Plane(0));
             std::copy_n(variance.Plane(c), variance.PixelCount(), oneVariance.Plane(0));
-            if (useVariance) options.variance = &oneVariance;
-            BayesResult alone = BayesDenoise(Ctx(), one, options);
+            BayesResult alone = BayesDenoise(Ctx(), one, options, {}, &oneVariance);
             EXPECT_EQ(std::memcmp(alone.image.Plane(0), all.image.Plane(c),
                                   color.PixelCount() * sizeof(float)),
                       0)

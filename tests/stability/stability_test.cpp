@@ -18,6 +18,7 @@
 
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
+#include "host/api/device.h"
 #include "mcdenoise/mcdenoise.h"
 #include "tools/render/renderer.h"
 
@@ -301,7 +302,7 @@ TEST_P(StabilityCampaign, FiniteOrRefusedByName) {
         for (const auto &[name, value] : c.options.at(method.Name())) method.Set(name, value);
     Frame frame = RenderedFrame(c.width, c.height);
     if (c.damage) c.damage(frame);
-    Device device = Device::Borrow(Ctx());
+    Device device = api::BorrowDevice(Ctx());
     std::string outcome;
     try {
         Result result = method.Run(device, frame);

@@ -114,6 +114,11 @@ TEST_F(CliSequencePlan, PairsEachFrameWithItsOutputs) {
                                         "2 f.0002.exr d.02.exr p/f.0002.png ref.exr",
                                         "3 f.0003.exr d.03.exr p/f.0003.png ref.exr"}));
     // --frames on a pattern: every number, present or not; on a list: those it has.
+    std::vector<SequenceFrame> mapped =
+        PlanSequence({{"f.####.exr"}, "out/", "", "", "2-3", "maps/m.####.png"});
+    ASSERT_EQ(mapped.size(), 2u);
+    EXPECT_EQ(mapped[0].map, "maps/m.0002.png");
+    EXPECT_EQ(mapped[1].map, "maps/m.0003.png");
     EXPECT_EQ(outputs(PlanSequence({{"f.####.exr"}, "out/", "", "r.####.exr", "3-4"})),
               (std::vector<std::string>{"3 f.0003.exr out/f.0003.exr  r.0003.exr",
                                         "4 f.0004.exr out/f.0004.exr  r.0004.exr"}));
@@ -165,12 +170,18 @@ class CliSequence : public ::testing::Test {
 };
 
 TEST_F(CliSequence, DenoisesAPatternAsSingleCallsWould) {
-    ToolResult r = tool.Run("denoise 'f.####.exr' -o 'out/d.####.exr' --preview prev/");
+    ToolResult r = tool.Run(
+        "denoise 'f.####.exr' -o 'out/d.####.exr' --preview prev/ --auto-map 'maps/m.%02d.png' "
+        "--explain");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_EQ(Listing("out"),
               (std::set<std::string>{"d.0001.exr", "d.0002.exr", "d.0003.exr"}));
     EXPECT_EQ(Listing("prev"),
               (std::set<std::string>{"f.0001.png", "f.0002.png", "f.0003.png"}));
+    // auto's map, one per frame.
+    EXPECT_EQ(Listing("maps"), (std::set<std::string>{"m.01.png", "m.02.png", "m.03.png"}));
+    EXPECT_TRUE(Contains(r.out, "wrote the map of the largest weights to maps/m.03.png"))
+        << r.out;
     EXPECT_TRUE(Contains(r.out, "3 frames in")) << r.out;
     EXPECT_TRUE(Contains(r.out, "3 written, 0 failed")) << r.out;
     // stderr is not a terminal here: one progress line per frame, with the time left.
@@ -252,6 +263,12 @@ TEST_F(CliSequence, RefusesToWriteOverAnInput) {
     r = tool.Run("denoise 'f.####.exr' -o 'out.####.exr' --preview 'out.####.exr'");
     EXPECT_TRUE(Contains(r.err, "-o 'out.0001.exr' and --preview 'out.0001.exr' are the same"))
         << r.err;
+    // One map file for every frame would be written over frame after frame.
+    r = tool.Run("denoise 'f.####.exr' -o 'out.####.exr' --auto-map map.png");
+    EXPECT_TRUE(Contains(r.err, "--auto-map 'map.png': a sequence needs an output pattern"))
+        << r.err;
+    r = tool.Run("denoise 'f.####.exr' -o 'out.####.exr' --auto-map 'f.####.exr'");
+    EXPECT_TRUE(Contains(r.err, "would overwrite input 'f.0001.exr'")) << r.err;
     r = tool.Run("denoise 'f.####.exr' -o 'out.####.exr' --overwrite-input");
     EXPECT_TRUE(Contains(r.err, "--overwrite-input is for one frame")) << r.err;
     EXPECT_EQ(Listing(), before) << "a refusal writes nothing, not even a directory";

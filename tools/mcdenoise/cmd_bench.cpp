@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +19,7 @@
 #include "host/wavelet/transform.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
+#include "tools/mcdenoise/usage.h"
 #include "tools/render/adaptive.h"
 #include "tools/render/renderer.h"
 
@@ -61,18 +63,108 @@ double PyWaveletsSeconds(int width, int height, int channels, int levels, int re
     return seconds;
 }
 
-void BenchWavelet(const std::string &size, int levels, const std::string &basisName,
-                  int repeats, bool pywt, bool perDispatch, const DeviceOptions &device) {
+struct WaveletBenchOptions {
+    std::string size = "2048x2048", basis = "cdf97";
+    int levels = 5, repeats = 5;
+    bool noPywt = false, perDispatch = false;
+    DeviceOptions device;
+};
+
+// The buffers and transform of the wavelet bench, the image uploaded.
+struct WaveletBench {
+    WaveletBench(vk::Context &context, const Image &image)
+        : in(context, image.width, image.height, image.channels, "image"),
+          coef(context, image.width, image.height, image.channels, "coefficients"),
+          out(context, image.width, image.height, image.channels, "reconstruction"),
+          transform(context, image.width, image.height, image.channels),
+          recorder(context) {}
+    vk::GpuImage in, coef, out;
+    WaveletTransform transform;
+    vk::Recorder recorder;
+};
+
+// GPU time of the forward and inverse transforms and the submit's wall time, per run.
+struct RoundTripTimes {
+    std::vector<double> forward, inverse, wall;
+};
+
+RoundTripTimes TimeRoundTrips(WaveletBench &b, WaveletBasis basis, int levels, int repeats,
+                              bool perDispatch) {
+    RoundTripTimes times;
+    for (int r = 0; r <= repeats; ++r) {  // run 0 warms up (pipelines, first touch)
+        b.transform.RecordAnalysis(b.recorder, basis, levels, b.in, b.coef);
+        b.transform.RecordSynthesis(b.recorder, basis, levels, b.coef, b.out);
+        Clock::time_point start = Clock::now();
+        b.recorder.Submit();
+        double wallMs = Ms(Clock::now() - start);
+        double forward = 0, inverse = 0;
+        for (const vk::DispatchTiming &t : b.recorder.Timings())
+            (t.label.find("analyze") != std::string::npos ? forward : inverse) +=
+                std::max(t.gpuMs, 0.0);
+        if (r == 0) continue;
+        times.forward.push_back(forward);
+        times.inverse.push_back(inverse);
+        times.wall.push_back(wallMs);
+        fmt::print("  run {}/{}: {:.1f} ms wall\n", r, repeats, wallMs);
+        std::fflush(stdout);
+    }
+    if (perDispatch)
+        for (const vk::DispatchTiming &t : b.recorder.Timings())
+            fmt::print("    {:<36} {:8.2f} ms\n", t.label, t.gpuMs);
+    return times;
+}
+
+// The squared-filter (variance) analysis AWR runs on every frame, same size and levels:
+// its median GPU time.
+double SqAnalysisMs(WaveletBench &b, WaveletBasis basis, int levels, int repeats) {
+    std::vector<double> sqMs;
+    for (int r = 0; r <= std::min(repeats, 3); ++r) {
+        b.transform.RecordSqAnalysis(b.recorder, basis, levels, b.in, b.coef, 1.05f,
+                                     0.70710678f);
+        b.recorder.Submit();
+        if (r > 0) sqMs.push_back(b.recorder.TotalGpuMs());
+    }
+    return Median(sqMs);
+}
+
+// The device's own streaming rate, in GB/s: buffer copies of the same image.
+double CopyGBs(WaveletBench &b) {
+    std::vector<double> copyMs;
+    for (int r = 0; r < 3; ++r) {
+        for (int k = 0; k < 4; ++k)
+            b.recorder.Copy(b.in.buffer, k % 2 ? b.coef.buffer : b.out.buffer,
+                            b.in.buffer.Bytes());
+        Clock::time_point start = Clock::now();
+        b.recorder.Submit();
+        copyMs.push_back(Ms(Clock::now() - start) / 4);
+    }
+    return 2 * double(b.in.buffer.Bytes()) / (Median(copyMs) * 1e6);
+}
+
+void PrintPyWavelets(int width, int height, int channels, int levels, int repeats,
+                     double wallMs) {
+    double seconds = PyWaveletsSeconds(width, height, channels, levels, std::min(repeats, 3));
+    if (seconds > 0)
+        fmt::print(
+            "  PyWavelets (wavedec2+waverec2, bior4.4, same CPU): {:.1f} ms: mcdenoise is {} "
+            "(wall)\n",
+            seconds * 1e3, SpeedText(seconds * 1e3 / wallMs));
+    else
+        fmt::print("  PyWavelets: not available (install python3-pywt to compare)\n");
+}
+
+void RunBenchWavelet(const WaveletBenchOptions &opt) {
     int width = 0, height = 0, channels = 3;
-    ParseSize(size, &width, &height);
-    std::optional<WaveletBasis> basis = ParseWavelet(basisName);
-    if (!basis) throw Error("unknown wavelet basis '" + basisName + "'");
+    ParseSize(opt.size, &width, &height);
+    std::optional<WaveletBasis> basis = ParseWavelet(opt.basis);
+    if (!basis) throw Error("unknown wavelet basis '" + opt.basis + "'");
+    int levels = opt.levels;
     if (levels < 1 || levels > MaxWaveletLevels(width, height))
         throw Error(fmt::format("--levels {}: a {}x{} image takes 1..{}", levels, width, height,
                                 MaxWaveletLevels(width, height)));
-    repeats = std::max(repeats, 1);
+    int repeats = std::max(opt.repeats, 1);
 
-    vk::Context context(device.ContextOptions());
+    vk::Context context(opt.device.ContextOptions());
     fmt::print(
         "bench wavelet: {}x{} RGB float32, {} levels of {}, forward + inverse, on {} ({})\n",
         width, height, levels, WaveletName(*basis), context.Info().name,
@@ -82,94 +174,41 @@ void BenchWavelet(const std::string &size, int levels, const std::string &basisN
     std::uniform_real_distribution<float> uniform(0.f, 1.f);
     for (float &v : image.data) v = uniform(rng);
 
-    vk::GpuImage in(context, width, height, channels, "image");
-    vk::GpuImage coef(context, width, height, channels, "coefficients");
-    vk::GpuImage out(context, width, height, channels, "reconstruction");
+    WaveletBench b(context, image);
     Clock::time_point t0 = Clock::now();
-    in.Upload(image);
+    b.in.Upload(image);
     double uploadMs = Ms(Clock::now() - t0);
-    WaveletTransform transform(context, width, height, channels);
-
-    std::vector<double> gpuForward, gpuInverse, wall;
-    vk::Recorder recorder(context);
-    for (int r = 0; r <= repeats; ++r) {  // run 0 warms up (pipelines, first touch)
-        transform.RecordAnalysis(recorder, *basis, levels, in, coef);
-        transform.RecordSynthesis(recorder, *basis, levels, coef, out);
-        Clock::time_point start = Clock::now();
-        recorder.Submit();
-        double wallMs = Ms(Clock::now() - start);
-        double forward = 0, inverse = 0;
-        for (const vk::DispatchTiming &t : recorder.Timings())
-            (t.label.find("analyze") != std::string::npos ? forward : inverse) +=
-                std::max(t.gpuMs, 0.0);
-        if (r == 0) continue;
-        gpuForward.push_back(forward);
-        gpuInverse.push_back(inverse);
-        wall.push_back(wallMs);
-        fmt::print("  run {}/{}: {:.1f} ms wall\n", r, repeats, wallMs);
-        std::fflush(stdout);
-    }
-    if (perDispatch)
-        for (const vk::DispatchTiming &t : recorder.Timings())
-            fmt::print("    {:<36} {:8.2f} ms\n", t.label, t.gpuMs);
+    RoundTripTimes times = TimeRoundTrips(b, *basis, levels, repeats, opt.perDispatch);
     t0 = Clock::now();
-    Image back = out.Download();
+    Image back = b.out.Download();
     double downloadMs = Ms(Clock::now() - t0);
     double maxError = 0;
     for (size_t i = 0; i < image.Size(); ++i)
         maxError = std::max(maxError, double(std::fabs(back.data[i] - image.data[i])));
-
-    // The squared-filter (variance) analysis AWR runs on every frame, same size and levels.
-    std::vector<double> sqMs;
-    for (int r = 0; r <= std::min(repeats, 3); ++r) {
-        transform.RecordSqAnalysis(recorder, *basis, levels, in, coef, 1.05f, 0.70710678f);
-        recorder.Submit();
-        if (r > 0) sqMs.push_back(recorder.TotalGpuMs());
-    }
-
-    // The device's own streaming rate: buffer copies of the same image.
-    std::vector<double> copyMs;
-    for (int r = 0; r < 3; ++r) {
-        for (int k = 0; k < 4; ++k)
-            recorder.Copy(in.buffer, k % 2 ? coef.buffer : out.buffer, in.buffer.Bytes());
-        Clock::time_point start = Clock::now();
-        recorder.Submit();
-        copyMs.push_back(Ms(Clock::now() - start) / 4);
-    }
-    double imageBytes = double(in.buffer.Bytes());
-    double copyGBs = 2 * imageBytes / (Median(copyMs) * 1e6);
+    double sqMs = SqAnalysisMs(b, *basis, levels, repeats);
+    double copyGBs = CopyGBs(b);
 
     // Nominal traffic: every level reads and writes its region once, in each direction.
     double levelBytes = 0;
     for (int level = 0; level < levels; ++level)
         levelBytes +=
             2.0 * LevelExtent(width, level) * LevelExtent(height, level) * channels * 4;
-    double totalGpu = Median(gpuForward) + Median(gpuInverse);
+    double forward = Median(times.forward), inverse = Median(times.inverse);
+    double totalGpu = forward + inverse;
     double dwtGBs = 2 * levelBytes / (totalGpu * 1e6);
-
     fmt::print(
         "  GPU time (timestamps, median of {}): forward {:.2f} ms, inverse {:.2f} ms, total "
         "{:.2f} ms\n",
-        repeats, Median(gpuForward), Median(gpuInverse), totalGpu);
+        repeats, forward, inverse, totalGpu);
     fmt::print("  wall time of the submit: {:.2f} ms; upload {:.2f} ms, download {:.2f} ms\n",
-               Median(wall), uploadMs, downloadMs);
+               Median(times.wall), uploadMs, downloadMs);
     fmt::print(
         "  traffic {:.0f} MB at {:.2f} GB/s; buffer copy streams {:.2f} GB/s: {:.0f}% of it\n",
         2 * levelBytes / 1e6, dwtGBs, copyGBs, 100 * dwtGBs / copyGBs);
-    fmt::print("  squared-filter analysis (variance, AWR eq. 9-10): {:.2f} ms GPU\n",
-               Median(sqMs));
+    fmt::print("  squared-filter analysis (variance, AWR eq. 9-10): {:.2f} ms GPU\n", sqMs);
     fmt::print("  round-trip max |error| {:.3g}\n", maxError);
-    if (pywt) {
-        double seconds =
-            PyWaveletsSeconds(width, height, channels, levels, std::min(repeats, 3));
-        if (seconds > 0)
-            fmt::print(
-                "  PyWavelets (wavedec2+waverec2, bior4.4, same CPU): {:.1f} ms: mcdenoise is "
-                "{:.1f}x faster (wall)\n",
-                seconds * 1e3, seconds * 1e3 / Median(wall));
-        else
-            fmt::print("  PyWavelets: not available (install python3-pywt to compare)\n");
-    }
+    if (!opt.noPywt)
+        PrintPyWavelets(width, height, channels, levels, repeats, Median(times.wall));
 }
 
 // A frame of named layers (rendered or synthetic) for Method::Run.
@@ -185,7 +224,7 @@ Frame MakeFrame(const std::string &path, std::vector<std::pair<std::string, Imag
 
 // The method's device and its name and type, for the headers.
 std::string DeviceText(Device &device) {
-    const vk::DeviceInfo &info = device.Context().Info();
+    const vk::DeviceInfo &info = api::ContextOf(device).Info();
     return fmt::format("{} ({})", info.name, vk::DeviceTypeName(info.type));
 }
 
@@ -202,15 +241,117 @@ struct AwrBenchOptions {
     MethodOptions methods;
 };
 
+// The reconstruction's GPU time per stage and per dispatch over the timed runs, each beside
+// the yardstick DWT's.
+struct AwrTimes {
+    std::array<std::vector<double>, 4> stageMs;
+    std::vector<double> totalMs, wallMs, dwtMs, ratios;
+    std::vector<std::string> labels;  // in dispatch order
+    std::map<std::string, std::vector<double>> labelMs;
+    bool fused = false;  // the shrinkage runs inside the synthesis's dispatches
+};
+
+// Add one run's dispatches to `times`, by stage ("sqanalyze", "analyze", "shrink",
+// "synthesize").
+void AddAwrRun(const Result &result, bool first, AwrTimes &times) {
+    const char *stages[] = {"sqanalyze", "analyze", "shrink", "synthesize"};
+    double stage[4] = {}, total = 0;
+    for (const Timing &t : result.timings) {
+        if (first) times.labels.push_back(t.label);
+        times.labelMs[t.label].push_back(std::max(t.gpuMs, 0.0));
+        // Synthesis first: with the shrinkage fused into it, its label names both.
+        int s = t.label.find("synthesize") != std::string::npos ? 3 : 0;
+        while (s < 3 && t.label.find(stages[s]) == std::string::npos) ++s;
+        times.fused |= t.label.find("synthesize_shrink") != std::string::npos;
+        stage[s] += std::max(t.gpuMs, 0.0);
+        total += std::max(t.gpuMs, 0.0);
+    }
+    for (int s = 0; s < 4; ++s) times.stageMs[s].push_back(stage[s]);
+    times.totalMs.push_back(total);
+    times.wallMs.push_back(result.wallMs);
+}
+
+// The reconstruction `repeats` times after a warm-up, each run followed by one forward +
+// inverse DWT of the same frame, the yardstick the issue names, so both see the same load
+// on a shared machine.
+AwrTimes TimeAwr(Method &method, Device &device, const Frame &frame, WaveletBasis basis,
+                 int levels, int repeats) {
+    vk::Context &context = api::ContextOf(device);
+    const Image &color = frame.layers.at("color");
+    vk::GpuImage in(context, color.width, color.height, 3, "bench.in"),
+        coef(context, color.width, color.height, 3, "bench.coef");
+    in.Upload(color);
+    WaveletTransform transform(context, color.width, color.height, 3);
+    vk::Recorder recorder(context);
+    AwrTimes times;
+    for (int r = 0; r <= repeats; ++r) {  // the first run warms up pipelines and memory
+        Result result = method.Run(device, frame);
+        transform.RecordAnalysis(recorder, basis, levels, in, coef);
+        transform.RecordSynthesis(recorder, basis, levels, coef, in);
+        recorder.Submit();
+        if (r == 0) continue;
+        AddAwrRun(result, r == 1, times);
+        times.dwtMs.push_back(recorder.TotalGpuMs());
+        times.ratios.push_back(times.totalMs.back() / times.dwtMs.back());
+    }
+    return times;
+}
+
+void PrintAwrTimes(const AwrTimes &times, int repeats, bool dispatches) {
+    const char *names[] = {"squared-filter DWT of the variance", "DWT of the color",
+                           "soft shrinkage", "synthesis"};
+    fmt::print("  GPU time per stage (timestamps, median of {}):\n", repeats);
+    for (int s : {1, 0, 2, 3}) {
+        if (s == 2 && times.fused)
+            fmt::print("    {:<36} (fused into the synthesis)\n", names[s]);
+        else
+            fmt::print("    {:<36} {:8.2f} ms\n", names[s], Median(times.stageMs[s]));
+    }
+    double total = Median(times.totalMs), dwt = Median(times.dwtMs);
+    fmt::print("    {:<36} {:8.2f} ms (goal: under 100 ms)\n", "total", total);
+    fmt::print("  wall time with upload and download: {:.1f} ms\n", Median(times.wallMs));
+    fmt::print(
+        "  one forward + inverse DWT of the frame: {:.2f} ms; reconstruction / DWT = {:.2f} "
+        "(goal: at most 2; median of the runs' own ratios {:.2f})\n",
+        dwt, total / dwt, Median(times.ratios));
+    if (!dispatches) return;
+    // The fastest run is the least disturbed on a shared machine.
+    auto fastest = [](const std::vector<double> &v) {
+        return v.empty() ? 0 : *std::min_element(v.begin(), v.end());
+    };
+    fmt::print("  GPU time per dispatch (median and fastest of {}):\n", repeats);
+    for (const std::string &label : times.labels)
+        fmt::print("    {:<36} {:8.3f} {:8.3f} ms\n", label, Median(times.labelMs.at(label)),
+                   fastest(times.labelMs.at(label)));
+    fmt::print("    {:<36} {:8.3f} {:8.3f} ms; DWT fastest {:.3f} ms\n", "total",
+               Median(times.totalMs), fastest(times.totalMs), fastest(times.dwtMs));
+}
+
+// The adaptive sampler: its own work (transforms, priorities, sorting) against tracing.
+void BenchAdaptiveSampler(const AwrBenchOptions &opt, vk::Context &context) {
+    render::Scene scene = render::BuildScene(opt.samplerScene);
+    render::AdaptiveOptions sampler;
+    ParseSize(opt.samplerSize, &sampler.width, &sampler.height);
+    sampler.averageSpp = opt.samplerSpp;
+    render::AdaptiveResult adaptive = render::RenderAdaptive(context, scene, sampler);
+    double samples = double(adaptive.samples);
+    fmt::print(
+        "  adaptive sampler on {} {}x{} at {} spp: {} rounds, {:.2f} s; tracing {:.3f} us per "
+        "sample, the sampler's own work {:.3f} us per sample ({:.1f}% of tracing)\n",
+        opt.samplerScene, sampler.width, sampler.height, sampler.averageSpp, adaptive.rounds,
+        adaptive.seconds, adaptive.traceSeconds / samples * 1e6,
+        adaptive.prioritySeconds / samples * 1e6,
+        100 * adaptive.prioritySeconds / adaptive.traceSeconds);
+}
+
 // AWR: the reconstruction's stages against one forward + inverse DWT of the same frame,
 // then the adaptive sampler's own cost per sample against tracing.
-void BenchAwr(const AwrBenchOptions &opt) {
+void RunBenchAwr(const AwrBenchOptions &opt) {
     int width = 0, height = 0;
     ParseSize(opt.size, &width, &height);
     int repeats = std::max(opt.repeats, 1);
     Method method = opt.methods.Make("awr");
     Device device(opt.device.Options());
-    vk::Context &context = device.Context();
     // The yardstick DWT runs the method's basis and levels (the method refuses too many).
     WaveletBasis basis = *ParseWavelet(Param<std::string>(method, "basis"));
     int levels = Param<int>(method, "levels");
@@ -227,89 +368,9 @@ void BenchAwr(const AwrBenchOptions &opt) {
         color.data[i] = uniform(rng), variance.data[i] = 0.01f * uniform(rng);
     Frame frame =
         MakeFrame("bench awr (synthetic)", {{"color", color}, {"variance", variance}});
-
-    // One forward + inverse DWT of the same frame, the yardstick the issue names, run right
-    // after each reconstruction so both see the same load on a shared machine.
-    vk::GpuImage in(context, width, height, 3, "bench.in"),
-        coef(context, width, height, 3, "bench.coef");
-    in.Upload(color);
-    WaveletTransform transform(context, width, height, 3);
-    vk::Recorder recorder(context);
-
-    // Stages by dispatch label; the first run warms up pipelines and memory.
-    const char *stages[] = {"sqanalyze", "analyze", "shrink", "synthesize"};
-    std::vector<std::vector<double>> stageMs(4);
-    std::vector<double> totalMs, wallMs, dwtMs, ratios;
-    std::vector<std::string> labels;  // in dispatch order
-    std::map<std::string, std::vector<double>> labelMs;
-    bool fused = false;  // the shrinkage runs inside the synthesis's dispatches
-    for (int r = 0; r <= repeats; ++r) {
-        Result result = method.Run(device, frame);
-        transform.RecordAnalysis(recorder, basis, levels, in, coef);
-        transform.RecordSynthesis(recorder, basis, levels, coef, in);
-        recorder.Submit();
-        if (r == 0) continue;
-        double stage[4] = {}, total = 0;
-        for (const Timing &t : result.timings) {
-            if (r == 1) labels.push_back(t.label);
-            labelMs[t.label].push_back(std::max(t.gpuMs, 0.0));
-            // Synthesis first: with the shrinkage fused into it, its label names both.
-            int s = t.label.find("synthesize") != std::string::npos ? 3 : 0;
-            while (s < 3 && t.label.find(stages[s]) == std::string::npos) ++s;
-            fused |= t.label.find("synthesize_shrink") != std::string::npos;
-            stage[s] += std::max(t.gpuMs, 0.0);
-            total += std::max(t.gpuMs, 0.0);
-        }
-        for (int s = 0; s < 4; ++s) stageMs[s].push_back(stage[s]);
-        totalMs.push_back(total);
-        wallMs.push_back(result.wallMs);
-        dwtMs.push_back(recorder.TotalGpuMs());
-        ratios.push_back(total / dwtMs.back());
-    }
-    const char *names[] = {"squared-filter DWT of the variance", "DWT of the color",
-                           "soft shrinkage", "synthesis"};
-    fmt::print("  GPU time per stage (timestamps, median of {}):\n", repeats);
-    for (int s : {1, 0, 2, 3}) {
-        if (s == 2 && fused)
-            fmt::print("    {:<36} (fused into the synthesis)\n", names[s]);
-        else
-            fmt::print("    {:<36} {:8.2f} ms\n", names[s], Median(stageMs[s]));
-    }
-    double total = Median(totalMs), dwt = Median(dwtMs);
-    fmt::print("    {:<36} {:8.2f} ms (goal: under 100 ms)\n", "total", total);
-    fmt::print("  wall time with upload and download: {:.1f} ms\n", Median(wallMs));
-    fmt::print(
-        "  one forward + inverse DWT of the frame: {:.2f} ms; reconstruction / DWT = {:.2f} "
-        "(goal: at most 2; median of the runs' own ratios {:.2f})\n",
-        dwt, total / dwt, Median(ratios));
-    if (opt.dispatches) {
-        // The fastest run is the least disturbed on a shared machine.
-        auto fastest = [](const std::vector<double> &v) {
-            return v.empty() ? 0 : *std::min_element(v.begin(), v.end());
-        };
-        fmt::print("  GPU time per dispatch (median and fastest of {}):\n", repeats);
-        for (const std::string &label : labels)
-            fmt::print("    {:<36} {:8.3f} {:8.3f} ms\n", label, Median(labelMs[label]),
-                       fastest(labelMs[label]));
-        fmt::print("    {:<36} {:8.3f} {:8.3f} ms; DWT fastest {:.3f} ms\n", "total",
-                   Median(totalMs), fastest(totalMs), fastest(dwtMs));
-    }
-    if (opt.noSampler) return;
-
-    // The sampler: its own work (transforms, priorities, sorting) against tracing.
-    render::Scene scene = render::BuildScene(opt.samplerScene);
-    render::AdaptiveOptions sampler;
-    ParseSize(opt.samplerSize, &sampler.width, &sampler.height);
-    sampler.averageSpp = opt.samplerSpp;
-    render::AdaptiveResult adaptive = render::RenderAdaptive(context, scene, sampler);
-    double samples = double(adaptive.samples);
-    fmt::print(
-        "  adaptive sampler on {} {}x{} at {} spp: {} rounds, {:.2f} s; tracing {:.3f} us per "
-        "sample, the sampler's own work {:.3f} us per sample ({:.1f}% of tracing)\n",
-        opt.samplerScene, sampler.width, sampler.height, sampler.averageSpp, adaptive.rounds,
-        adaptive.seconds, adaptive.traceSeconds / samples * 1e6,
-        adaptive.prioritySeconds / samples * 1e6,
-        100 * adaptive.prioritySeconds / adaptive.traceSeconds);
+    PrintAwrTimes(TimeAwr(method, device, frame, basis, levels, repeats), repeats,
+                  opt.dispatches);
+    if (!opt.noSampler) BenchAdaptiveSampler(opt, api::ContextOf(device));
 }
 
 struct BayesBenchOptions {
@@ -322,7 +383,7 @@ struct BayesBenchOptions {
 
 // Method bayes on a synthetic frame (smooth picture times log-normal noise, RGB): GPU time
 // per stage, median over repeats, and scikit-image's BayesShrink on the same work.
-void BenchBayes(const BayesBenchOptions &opt) {
+void RunBenchBayes(const BayesBenchOptions &opt) {
     int width = 0, height = 0;
     ParseSize(opt.size, &width, &height);
     int repeats = std::max(opt.repeats, 1);
@@ -448,7 +509,7 @@ struct MethodBenchOptions {
 };
 
 // RHF on a rendered frame with histograms.
-void BenchRhf(const MethodBenchOptions &opt) {
+void RunBenchRhf(const MethodBenchOptions &opt) {
     Method method = opt.methods.Make("rhf");
     Frame frame = RenderFrame(opt.size, opt.scene, opt.spp, render::kLayersHist);
     if (std::string missing = method.Missing(frame); !missing.empty())
@@ -487,7 +548,7 @@ bool PlannedRadius(const Result &result, double *mean, int *largest) {
 
 // The pivot filter on a rendered frame with every layer it uses (pivot, variance,
 // normals, ids), and the radius the squares grew to.
-void BenchPivot(const MethodBenchOptions &opt) {
+void RunBenchPivot(const MethodBenchOptions &opt) {
     Method method = opt.methods.Make("pivot");
     Frame frame = RenderFrame(opt.size, opt.scene, opt.spp, render::kLayersAll);
     if (std::string missing = method.Missing(frame); !missing.empty())
@@ -517,24 +578,41 @@ void BenchPivot(const MethodBenchOptions &opt) {
                    largestRadius, maxRadius);
 }
 
-}  // namespace
+struct RenderBenchOptions {
+    std::string size = "256x256";
+    int spp = 4, threads = 0;
+};
 
-void AddBenchCommand(CLI::App &app) {
-    CLI::App *bench =
-        app.add_subcommand("bench", "Speed and quality benchmarks (print figures)");
-    bench->require_subcommand(1);
+// Samples per second of the path tracer per scene, plain and with every layer group.
+void RunBenchRender(const RenderBenchOptions &opt) {
+    render::RenderOptions options;
+    ParseSize(opt.size, &options.width, &options.height);
+    options.spp = opt.spp;
+    options.threads = opt.threads;
+    fmt::print(
+        "bench render: {}x{} at {} spp, {} threads; time without, then with, every layer "
+        "group\n",
+        options.width, options.height, options.spp,
+        options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
+    for (const std::string &name : render::SceneNames()) {
+        render::Scene scene = render::BuildScene(name);
+        options.layers = 0;
+        render::RenderResult plain = render::Render(scene, options);
+        options.layers = render::kLayersAll;
+        render::RenderResult all = render::Render(scene, options);
+        double samples = double(options.width) * options.height * options.spp;
+        fmt::print("  {:<16} {:7.2f} M samples/s ({:.2f} s); with every layer group {:.2f} s\n",
+                   name, samples / plain.seconds * 1e-6, plain.seconds, all.seconds);
+        std::fflush(stdout);
+    }
+}
 
-    struct WaveletOptions {
-        std::string size = "2048x2048", basis = "cdf97";
-        int levels = 5, repeats = 5;
-        bool noPywt = false, perDispatch = false;
-        DeviceOptions device;
-    };
-    auto opt = std::make_shared<WaveletOptions>();
+void AddBenchWaveletCommand(CLI::App *bench) {
+    auto opt = std::make_shared<WaveletBenchOptions>();
     CLI::App *wavelet = bench->add_subcommand(
         "wavelet",
-        "Time forward + inverse DWT of an RGB float image on the device, with "
-        "its fraction of the device's copy bandwidth and PyWavelets beside it");
+        "Time forward + inverse DWT of an RGB float image on the device\n\nWith its fraction "
+        "of the device's copy bandwidth and PyWavelets beside it.");
     wavelet->add_option("--size", opt->size, "image size WxH")->capture_default_str();
     wavelet->add_option("--levels", opt->levels, "decomposition levels")->capture_default_str();
     wavelet->add_option("--basis", opt->basis, "haar, legall53 or cdf97")
@@ -544,111 +622,96 @@ void AddBenchCommand(CLI::App &app) {
     wavelet->add_flag("--no-pywt", opt->noPywt, "skip the PyWavelets comparison");
     wavelet->add_flag("--per-dispatch", opt->perDispatch, "print each dispatch's GPU time");
     opt->device.Add(wavelet);
-    wavelet->callback([opt] {
-        BenchWavelet(opt->size, opt->levels, opt->basis, opt->repeats, !opt->noPywt,
-                     opt->perDispatch, opt->device);
-    });
+    wavelet->callback([opt] { RunBenchWavelet(*opt); });
+}
 
-    struct RenderBenchOptions {
-        std::string size = "256x256";
-        int spp = 4, threads = 0;
-    };
-    auto ropt = std::make_shared<RenderBenchOptions>();
-    CLI::App *renderBench = bench->add_subcommand(
+void AddBenchRenderCommand(CLI::App *bench) {
+    auto opt = std::make_shared<RenderBenchOptions>();
+    CLI::App *cmd = bench->add_subcommand(
         "render", "Samples per second of the built-in path tracer, per scene");
-    renderBench->add_option("--size", ropt->size, "image size WxH")->capture_default_str();
-    renderBench->add_option("--spp", ropt->spp, "samples per pixel")->capture_default_str();
-    renderBench->add_option("--threads", ropt->threads, "threads (default: all cores)");
-    renderBench->callback([ropt] {
-        render::RenderOptions options;
-        ParseSize(ropt->size, &options.width, &options.height);
-        options.spp = ropt->spp;
-        options.threads = ropt->threads;
-        fmt::print(
-            "bench render: {}x{} at {} spp, {} threads; time without, then with, every layer "
-            "group\n",
-            options.width, options.height, options.spp,
-            options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency()));
-        for (const std::string &name : render::SceneNames()) {
-            render::Scene scene = render::BuildScene(name);
-            options.layers = 0;
-            render::RenderResult plain = render::Render(scene, options);
-            options.layers = render::kLayersAll;
-            render::RenderResult all = render::Render(scene, options);
-            double samples = double(options.width) * options.height * options.spp;
-            fmt::print(
-                "  {:<16} {:7.2f} M samples/s ({:.2f} s); with every layer group {:.2f} s\n",
-                name, samples / plain.seconds * 1e-6, plain.seconds, all.seconds);
-            std::fflush(stdout);
-        }
-    });
+    cmd->add_option("--size", opt->size, "image size WxH")->capture_default_str();
+    cmd->add_option("--spp", opt->spp, "samples per pixel")->capture_default_str();
+    cmd->add_option("--threads", opt->threads, "threads (default: all cores)");
+    cmd->callback([opt] { RunBenchRender(*opt); });
+}
 
-    // The method benches take the method's own parameters (--<name>, the library's
-    // defaults) beside their bench-only options.
-    auto aopt = std::make_shared<AwrBenchOptions>();
+// The method benches take the method's own parameters (--<name>, the library's defaults)
+// beside their bench-only options.
+void AddBenchAwrCommand(CLI::App *bench) {
+    auto opt = std::make_shared<AwrBenchOptions>();
     CLI::App *awr = bench->add_subcommand(
         "awr",
-        "AWR: reconstruction time per stage against one DWT, and the adaptive "
-        "sampler's overhead per sample against tracing");
-    awr->add_option("--size", aopt->size, "frame size WxH for the reconstruction")
+        "AWR: reconstruction time per stage against one DWT, and the sampler's overhead\n\n"
+        "The adaptive sampler's overhead is per sample, against tracing.");
+    awr->add_option("--size", opt->size, "frame size WxH for the reconstruction")
         ->capture_default_str();
-    awr->add_option("--repeat", aopt->repeats, "timed runs (after one warm-up)")
+    awr->add_option("--repeat", opt->repeats, "timed runs (after one warm-up)")
         ->capture_default_str();
-    awr->add_option("--sampler-scene", aopt->samplerScene, "scene for the sampler run")
+    awr->add_option("--sampler-scene", opt->samplerScene, "scene for the sampler run")
         ->capture_default_str();
-    awr->add_option("--sampler-size", aopt->samplerSize, "image size of the sampler run")
+    awr->add_option("--sampler-size", opt->samplerSize, "image size of the sampler run")
         ->capture_default_str();
-    awr->add_option("--sampler-spp", aopt->samplerSpp, "average spp of the sampler run")
+    awr->add_option("--sampler-spp", opt->samplerSpp, "average spp of the sampler run")
         ->capture_default_str();
-    awr->add_flag("--dispatches", aopt->dispatches,
+    awr->add_flag("--dispatches", opt->dispatches,
                   "also print the reconstruction's GPU time per dispatch");
-    awr->add_flag("--no-sampler", aopt->noSampler, "time the reconstruction only");
-    aopt->device.Add(awr);
-    aopt->methods.Add(awr, "awr");
-    awr->callback([aopt] { BenchAwr(*aopt); });
+    awr->add_flag("--no-sampler", opt->noSampler, "time the reconstruction only");
+    opt->device.Add(awr);
+    opt->methods.Add(awr, "awr");
+    awr->callback([opt] { RunBenchAwr(*opt); });
+}
 
-    auto bopt = std::make_shared<BayesBenchOptions>();
+void AddBenchBayesCommand(CLI::App *bench) {
+    auto opt = std::make_shared<BayesBenchOptions>();
     CLI::App *bayes = bench->add_subcommand(
         "bayes",
         "Time method bayes per stage on an RGB frame, scikit-image's BayesShrink beside it");
-    bayes->add_option("--size", bopt->size, "image size WxH")->capture_default_str();
-    bayes->add_option("--repeat", bopt->repeats, "timed runs (after one warm-up)")
+    bayes->add_option("--size", opt->size, "image size WxH")->capture_default_str();
+    bayes->add_option("--repeat", opt->repeats, "timed runs (after one warm-up)")
         ->capture_default_str();
-    bayes->add_flag("--no-skimage", bopt->noSkimage, "skip the scikit-image comparison");
-    bopt->device.Add(bayes);
-    bopt->methods.Add(bayes, "bayes");
-    bayes->callback([bopt] { BenchBayes(*bopt); });
+    bayes->add_flag("--no-skimage", opt->noSkimage, "skip the scikit-image comparison");
+    opt->device.Add(bayes);
+    opt->methods.Add(bayes, "bayes");
+    bayes->callback([opt] { RunBenchBayes(*opt); });
+}
 
-    auto hopt = std::make_shared<MethodBenchOptions>();
-    hopt->size = "512x512", hopt->spp = 8;
-    CLI::App *rhfBench = bench->add_subcommand(
-        "rhf", "Time Ray Histogram Fusion on a rendered frame, per kernel");
-    rhfBench->add_option("--size", hopt->size, "image size WxH")->capture_default_str();
-    rhfBench->add_option("--scene", hopt->scene, "scene to render")->capture_default_str();
-    rhfBench->add_option("--spp", hopt->spp, "samples per pixel")->capture_default_str();
-    rhfBench->add_option("--repeat", hopt->repeats, "timed runs (after one warm-up)")
+// `bench rhf` and `bench pivot`: a rendered frame of `size` at `spp`, timed.
+void AddBenchRenderedCommand(CLI::App *bench, const char *name, const char *description,
+                             std::shared_ptr<MethodBenchOptions> opt, const char *sizeHelp,
+                             void (*run)(const MethodBenchOptions &)) {
+    CLI::App *cmd = bench->add_subcommand(name, description);
+    cmd->add_option("--size", opt->size, sizeHelp)->capture_default_str();
+    cmd->add_option("--scene", opt->scene, "scene to render")->capture_default_str();
+    cmd->add_option("--spp", opt->spp, "samples per pixel")->capture_default_str();
+    cmd->add_option("--repeat", opt->repeats, "timed runs (after one warm-up)")
         ->capture_default_str();
-    hopt->device.Add(rhfBench);
-    hopt->methods.Add(rhfBench, "rhf");
-    rhfBench->callback([hopt] { BenchRhf(*hopt); });
+    opt->device.Add(cmd);
+    opt->methods.Add(cmd, name);
+    cmd->callback([opt, run] { run(*opt); });
+}
 
-    auto popt = std::make_shared<MethodBenchOptions>();
-    popt->size = "256x256", popt->spp = 16;
-    CLI::App *pivotBench = bench->add_subcommand(
-        "pivot",
-        "Time the pivot filter on a rendered frame with all its layers, per stage, with the "
-        "mean grown radius");
-    pivotBench
-        ->add_option("--size", popt->size, "image size WxH (the issue's figure: 1024x1024)")
-        ->capture_default_str();
-    pivotBench->add_option("--scene", popt->scene, "scene to render")->capture_default_str();
-    pivotBench->add_option("--spp", popt->spp, "samples per pixel")->capture_default_str();
-    pivotBench->add_option("--repeat", popt->repeats, "timed runs (after one warm-up)")
-        ->capture_default_str();
-    popt->device.Add(pivotBench);
-    popt->methods.Add(pivotBench, "pivot");
-    pivotBench->callback([popt] { BenchPivot(*popt); });
+}  // namespace
 
+void AddBenchCommand(CLI::App &app) {
+    CLI::App *bench =
+        app.add_subcommand("bench", "Speed and quality benchmarks (print figures)");
+    bench->require_subcommand(1);
+    AddBenchWaveletCommand(bench);
+    AddBenchRenderCommand(bench);
+    AddBenchAwrCommand(bench);
+    AddBenchBayesCommand(bench);
+    auto rhf = std::make_shared<MethodBenchOptions>();
+    rhf->size = "512x512", rhf->spp = 8;
+    AddBenchRenderedCommand(bench, "rhf",
+                            "Time Ray Histogram Fusion on a rendered frame, per kernel", rhf,
+                            "image size WxH", RunBenchRhf);
+    auto pivot = std::make_shared<MethodBenchOptions>();
+    pivot->size = "256x256", pivot->spp = 16;
+    AddBenchRenderedCommand(bench, "pivot",
+                            "Time the pivot filter on a rendered frame with all its layers\n\n"
+                            "Per stage, with the mean grown radius.",
+                            pivot, "image size WxH (the issue's figure: 1024x1024)",
+                            RunBenchPivot);
     AddBenchQualityCommand(bench);
     AddBenchTracingCommand(bench);
     AddBenchReadCommand(bench);

@@ -19,6 +19,7 @@
 #include "tools/mcdenoise/method_options.h"
 #include "tools/mcdenoise/path_guard.h"
 #include "tools/mcdenoise/reference_cache.h"
+#include "tools/mcdenoise/usage.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::tool {
@@ -161,13 +162,20 @@ std::string PlotSvg(const std::string &scene,
     return svg + "</svg>\n";
 }
 
-void BenchQuality(const QualityOptions &opt) {
+// What a run measures: the size, the scenes, the ladder of sample counts and the methods.
+struct QualityPlan {
     int width = 0, height = 0;
-    ParseSize(opt.size, &width, &height);
-    std::vector<std::string> scenes =
-        opt.scenes == "all" ? render::SceneNames() : SplitList(opt.scenes);
-    for (const std::string &s : scenes) render::BuildScene(s);  // unknown names fail here
-    std::vector<int> ladder;
+    std::vector<std::string> scenes;
+    std::vector<int> ladder;  // sorted, without repeats
+    std::vector<Method> methods;
+};
+
+// The plan from the options, every name and count refused before any work.
+QualityPlan PlanQuality(const QualityOptions &opt) {
+    QualityPlan plan;
+    ParseSize(opt.size, &plan.width, &plan.height);
+    plan.scenes = opt.scenes == "all" ? render::SceneNames() : SplitList(opt.scenes);
+    for (const std::string &s : plan.scenes) render::BuildScene(s);  // unknown names fail here
     for (const std::string &s : SplitList(opt.spp)) {
         int n = 0;
         try {
@@ -177,46 +185,205 @@ void BenchQuality(const QualityOptions &opt) {
         if (n < 1 || n >= opt.referenceSpp)
             throw Error(fmt::format("--spp: '{}' is not a sample count in 1..{}", s,
                                     opt.referenceSpp - 1));
-        ladder.push_back(n);
+        plan.ladder.push_back(n);
     }
-    std::sort(ladder.begin(), ladder.end());
-    ladder.erase(std::unique(ladder.begin(), ladder.end()), ladder.end());
-    if (ladder.empty()) throw Error("--spp: no sample counts");
-    std::vector<Method> methods;
+    std::sort(plan.ladder.begin(), plan.ladder.end());
+    plan.ladder.erase(std::unique(plan.ladder.begin(), plan.ladder.end()), plan.ladder.end());
+    if (plan.ladder.empty()) throw Error("--spp: no sample counts");
     std::vector<std::string> names = MethodNames();
     names.push_back("auto");
     for (const std::string &name : names)
         if (opt.methods == "all" || Listed(SplitList(opt.methods), name))
-            methods.push_back(opt.methodOptions.Make(name));
+            plan.methods.push_back(opt.methodOptions.Make(name));
     if (opt.methods != "all")
         for (const std::string &name : SplitList(opt.methods))
-            if (std::none_of(methods.begin(), methods.end(),
+            if (std::none_of(plan.methods.begin(), plan.methods.end(),
                              [&](const Method &m) { return m.Name() == name; }))
                 throw Error(fmt::format("--methods: unknown method '{}' (methods: {})", name,
                                         MethodOptions::Names()));
-    // The report's files must spare the cached references it reads.
+    return plan;
+}
+
+// The report's files must spare the cached references it reads; then its directory is made.
+void PrepareReport(const QualityOptions &opt, const QualityPlan &plan) {
     std::vector<RolePath> references,
         reports = {{"-o", (fs::path(opt.out) / "quality.csv").string()},
                    {"-o", (fs::path(opt.out) / "index.html").string()}};
-    for (const std::string &scene : scenes) {
-        references.push_back({"the cached reference",
-                              ReferenceCachePath(scene, width, height, opt.referenceSpp)});
+    for (const std::string &scene : plan.scenes) {
+        references.push_back(
+            {"the cached reference",
+             ReferenceCachePath(scene, plan.width, plan.height, opt.referenceSpp)});
         reports.push_back({"-o", (fs::path(opt.out) / (scene + ".svg")).string()});
         std::vector<std::string> crops = {"input", "reference"};
-        for (const Method &m : methods) crops.push_back(m.Name());
+        for (const Method &m : plan.methods) crops.push_back(m.Name());
         for (const std::string &crop : crops)
             reports.push_back(
                 {"-o", (fs::path(opt.out) / fmt::format("{}-{}.png", scene, crop)).string()});
     }
     RefuseOverwritingInputs(references, reports);
     PrepareDirectory(opt.out);
+}
 
-    Device device(opt.device.Options());
-    fmt::print("bench quality: {} scene(s) at {}x{}, spp {}, methods {}, on {}\n",
-               scenes.size(), width, height, opt.spp, methods.empty() ? "none" : opt.methods,
-               device.Name());
-    std::vector<Point> points;
+// One scene's measurements: a curve per method ("mc" first), the methods left out and
+// why, the crops at --crop-spp.
+struct SceneCurves {
+    std::vector<std::pair<std::string, std::vector<Point>>> curves;
+    std::map<std::string, std::string> skipped;
+    std::map<std::string, Image> crops;
+};
+
+// A rendered frame's layers as a frame (moved out of `r`).
+io::Frame FrameOf(render::RenderResult &r, const std::string &scene, int spp, int width,
+                  int height) {
+    io::Frame frame;
+    frame.path = fmt::format("{} at {} spp", scene, spp);
+    frame.width = width, frame.height = height;
+    for (auto &[name, image] : r.layers) frame.layers[name] = std::move(image);
+    return frame;
+}
+
+// The renders of one rung of the ladder: the plain frame (color, variance, spp, min, max)
+// and the one with every layer group, with their times.
+struct Rung {
+    int spp = 0;
+    io::Frame plain, full;
+    double plainSeconds = 0, fullSeconds = 0;
+};
+
+// Method m on the rung: the plain frame when it holds every layer the method reads, and its
+// render time; else the frame with every layer group (bayes splits direct and indirect when
+// a frame has them: relief-abc 4 spp 11.4 without the split, 0.10 with it). auto takes
+// every layer group (its candidates need them), and its time is that of every candidate it
+// ran. Returns the line's part for it.
+std::string MeasureMethod(const QualityOptions &opt, Device &device, const Method &method,
+                          const Rung &rung, const Image &reference, const std::string &scene,
+                          std::set<std::string> &warm, SceneCurves &s, size_t m) {
+    bool needsMore = method.Name() == "auto" || !method.Missing(rung.plain).empty();
+    for (const std::string &layer : method.Uses())
+        needsMore |= !rung.plain.Has(layer) && rung.full.Has(layer);
+    const io::Frame &frame = needsMore ? rung.full : rung.plain;
+    double renderSeconds = needsMore ? rung.fullSeconds : rung.plainSeconds;
+    try {
+        // Untimed until a run has dispatched (and so compiled) its kernels: a frame with
+        // nothing to do (1 spp: no variance) dispatches nothing.
+        if (!warm.count(method.Name()) && !method.Run(device, frame).timings.empty())
+            warm.insert(method.Name());
+        Clock::time_point start = Clock::now();
+        Result result = method.Run(device, frame);
+        Point p{scene, method.Name(), rung.spp, renderSeconds, Seconds(Clock::now() - start)};
+        p.gpuSeconds = result.GpuMs() * 1e-3;
+        p.error = CompareImages(result.image, reference);
+        s.curves[m + 1].second.push_back(p);
+        if (rung.spp == opt.cropSpp) s.crops[method.Name()] = std::move(result.image);
+        return fmt::format(", {} {:.4g} ({:.2f} s)", method.Name(), p.error.relMse, p.Total());
+    } catch (const Error &e) {
+        // A frame that lacks a method's layers fails the same way at every spp.
+        s.skipped[method.Name()] = e.what();
+        return fmt::format(", {} skipped", method.Name());
+    }
+}
+
+// Every rung of the ladder for one scene: the render (timed) and each method on it.
+SceneCurves MeasureScene(const QualityOptions &opt, const QualityPlan &plan, Device &device,
+                         const std::string &sceneName, const Image &reference) {
+    render::Scene scene = render::BuildScene(sceneName);
+    SceneCurves s;
+    s.curves = {{"mc", {}}};
+    for (const Method &m : plan.methods) s.curves.push_back({m.Name(), {}});
+    std::set<std::string> warm;
+    for (int spp : plan.ladder) {
+        render::RenderOptions options;
+        options.width = plan.width, options.height = plan.height, options.spp = spp;
+        options.threads = opt.threads;
+        render::RenderResult plain = render::Render(scene, options);
+        Point mc{sceneName, "mc", spp, plain.seconds};
+        mc.error = CompareImages(plain.layers[0].second, reference);
+        s.curves[0].second.push_back(mc);
+        if (spp == opt.cropSpp) s.crops["input"] = plain.layers[0].second;
+        // Every layer group, for the methods that need more than the plain frame has.
+        options.layers = render::kLayersAll;
+        render::RenderResult full = render::Render(scene, options);
+        Rung rung{spp, FrameOf(plain, sceneName, spp, plan.width, plan.height),
+                  FrameOf(full, sceneName, spp, plan.width, plan.height), plain.seconds,
+                  full.seconds};
+        std::string line = fmt::format("  {:<15} {:3} spp: mc relMSE {:.4g} ({:.2f} s)",
+                                       sceneName, spp, mc.error.relMse, mc.renderSeconds);
+        for (size_t m = 0; m < plan.methods.size(); ++m)
+            if (!s.skipped.count(plan.methods[m].Name()))
+                line += MeasureMethod(opt, device, plan.methods[m], rung, reference, sceneName,
+                                      warm, s, m);
+        fmt::print("{}\n", line);
+        std::fflush(stdout);
+    }
+    return s;
+}
+
+// Headline: the speedup at the error MC reaches at the top of the ladder, and the error at
+// the time MC takes to get there; markdown rows into `headline`, an HTML table returned.
+std::string HeadlineTable(const std::string &sceneName, const SceneCurves &s,
+                          std::string &headline) {
+    const Point &top = s.curves[0].second.back();
+    std::string table = fmt::format(
+        "<table><tr><th>method</th><th>speedup at equal error</th><th>error at equal "
+        "time (MC / method)</th></tr>\n");
+    for (size_t m = 1; m < s.curves.size(); ++m) {
+        const std::vector<Point> &curve = s.curves[m].second;
+        if (curve.empty()) continue;
+        bool atFirst = false, clamped = false;
+        double t = TimeToReach(curve, top.error.relMse, &atFirst);
+        double e = ErrorAt(curve, top.Total(), &clamped);
+        std::string speedup =
+            t > 0 ? fmt::format("{}{:.2f}x", atFirst ? ">= " : "", top.Total() / t)
+                  : "not reached";
+        std::string ratio = fmt::format("{}{:.2f}x", clamped ? "~" : "", top.error.relMse / e);
+        headline += fmt::format("| {} | {} | {} | {} |\n", sceneName, s.curves[m].first,
+                                speedup, ratio);
+        table += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n", s.curves[m].first,
+                             speedup, ratio);
+    }
+    return table + "</table>\n";
+}
+
+// The centre half of the frame of each crop, side by side, written as PNGs; the HTML.
+std::string CropsHtml(const QualityOptions &opt, const QualityPlan &plan,
+                      const std::string &sceneName, SceneCurves &s, const Image &reference) {
+    if (s.crops.empty()) return "";
+    int x0 = plan.width / 4, y0 = plan.height / 4, x1 = std::max(x0 + 1, 3 * plan.width / 4),
+        y1 = std::max(y0 + 1, 3 * plan.height / 4);
+    s.crops["reference"] = reference;
+    std::string html = fmt::format("<p>Crops at {} spp:</p><table><tr>", opt.cropSpp);
+    std::vector<std::string> order = {"input"};
+    for (const Method &m : plan.methods) order.push_back(m.Name());
+    order.push_back("reference");
+    for (const std::string &name : order) {
+        if (!s.crops.count(name)) continue;
+        std::string file = fmt::format("{}-{}.png", sceneName, name);
+        io::WritePng((fs::path(opt.out) / file).string(), s.crops[name].Crop(x0, y0, x1, y1));
+        html += fmt::format("<td><img class='crop' src='{}'><br>{}</td>", file, name);
+    }
+    return html + "</tr></table>\n";
+}
+
+// One scene's section of the report: the plot (written), the headline table, what was
+// left out, the crops (written).
+std::string SceneHtml(const QualityOptions &opt, const QualityPlan &plan,
+                      const std::string &sceneName, SceneCurves &s, const Image &reference,
+                      std::string &headline) {
+    const Point &top = s.curves[0].second.back();
+    std::string table = HeadlineTable(sceneName, s, headline);
+    std::string svgName = sceneName + ".svg";
+    std::ofstream(fs::path(opt.out) / svgName) << PlotSvg(sceneName, s.curves);
     std::string html = fmt::format(
+        "<h2>{}</h2><img src='{}'>\n<p>Monte Carlo at {} spp: relMSE "
+        "{:.4g} in {:.3f} s.</p>{}",
+        sceneName, svgName, top.spp, top.error.relMse, top.Total(), table);
+    for (const auto &[name, why] : s.skipped)
+        html += fmt::format("<p>{} left out: {}</p>\n", name, why);
+    return html + CropsHtml(opt, plan, sceneName, s, reference);
+}
+
+std::string HtmlHeader(const QualityOptions &opt, const QualityPlan &plan, Device &device) {
+    return fmt::format(
         "<!doctype html><html><head><meta charset='utf-8'><title>mcdenoise bench "
         "quality</title><style>body{{font-family:sans-serif}} td,th{{padding:2px 8px;"
         "text-align:right}} img.crop{{image-rendering:pixelated;width:192px}}"
@@ -225,136 +392,10 @@ void BenchQuality(const QualityOptions &opt) {
         "an untimed warm-up that compiles its pipelines). A method runs on the plain frame "
         "(color, variance, spp, min, max) when that is all it reads, else on a frame with "
         "every layer group, and is charged that frame's render time.</p>\n",
-        width, height, opt.referenceSpp, device.Name());
-    std::string headline;
+        plan.width, plan.height, opt.referenceSpp, device.Name());
+}
 
-    for (const std::string &sceneName : scenes) {
-        bool rendered = false;
-        io::Frame referenceFrame =
-            CachedReference(sceneName, width, height, opt.referenceSpp, opt.threads, &rendered);
-        const Image &reference = referenceFrame.Get("color");
-        render::Scene scene = render::BuildScene(sceneName);
-        std::vector<std::pair<std::string, std::vector<Point>>> curves = {{"mc", {}}};
-        for (const Method &m : methods) curves.push_back({m.Name(), {}});
-        std::map<std::string, std::string> skipped;
-        std::map<std::string, Image> crops;
-        std::set<std::string> warm;
-        for (int spp : ladder) {
-            render::RenderOptions options;
-            options.width = width, options.height = height, options.spp = spp;
-            options.threads = opt.threads;
-            render::RenderResult plain = render::Render(scene, options);
-            Point mc{sceneName, "mc", spp, plain.seconds};
-            mc.error = CompareImages(plain.layers[0].second, reference);
-            curves[0].second.push_back(mc);
-            if (spp == opt.cropSpp) crops["input"] = plain.layers[0].second;
-            // Every layer group, for the methods that need more than the plain frame has.
-            options.layers = render::kLayersAll;
-            render::RenderResult full = render::Render(scene, options);
-            auto frameOf = [&](render::RenderResult &r) {
-                io::Frame frame;
-                frame.path = fmt::format("{} at {} spp", sceneName, spp);
-                frame.width = width, frame.height = height;
-                for (auto &[name, image] : r.layers) frame.layers[name] = std::move(image);
-                return frame;
-            };
-            io::Frame plainFrame = frameOf(plain), fullFrame = frameOf(full);
-            std::string line = fmt::format("  {:<15} {:3} spp: mc relMSE {:.4g} ({:.2f} s)",
-                                           sceneName, spp, mc.error.relMse, mc.renderSeconds);
-            for (size_t m = 0; m < methods.size(); ++m) {
-                if (skipped.count(methods[m].Name())) continue;
-                // The plain frame when it holds every layer the method reads, and its render
-                // time; else the frame with every layer group (bayes splits direct and
-                // indirect when a frame has them: relief-abc 4 spp 11.4 without the split,
-                // 0.10 with it). auto takes every layer group (its candidates need them),
-                // and its time is that of every candidate it ran.
-                bool needsMore =
-                    methods[m].Name() == "auto" || !methods[m].Missing(plainFrame).empty();
-                for (const std::string &layer : methods[m].Uses())
-                    needsMore |= !plainFrame.Has(layer) && fullFrame.Has(layer);
-                const io::Frame &frame = needsMore ? fullFrame : plainFrame;
-                double renderSeconds = needsMore ? full.seconds : plain.seconds;
-                try {
-                    // Untimed until a run has dispatched (and so compiled) its kernels: a
-                    // frame with nothing to do (1 spp: no variance) dispatches nothing.
-                    if (!warm.count(methods[m].Name()) &&
-                        !methods[m].Run(device, frame).timings.empty())
-                        warm.insert(methods[m].Name());
-                    Clock::time_point start = Clock::now();
-                    Result result = methods[m].Run(device, frame);
-                    Point p{sceneName, methods[m].Name(), spp, renderSeconds,
-                            Seconds(Clock::now() - start)};
-                    p.gpuSeconds = result.GpuMs() * 1e-3;
-                    p.error = CompareImages(result.image, reference);
-                    curves[m + 1].second.push_back(p);
-                    if (spp == opt.cropSpp) crops[methods[m].Name()] = std::move(result.image);
-                    line += fmt::format(", {} {:.4g} ({:.2f} s)", methods[m].Name(),
-                                        p.error.relMse, p.Total());
-                } catch (const Error &e) {
-                    // A frame that lacks a method's layers fails the same way at every spp.
-                    skipped[methods[m].Name()] = e.what();
-                    line += fmt::format(", {} skipped", methods[m].Name());
-                }
-            }
-            fmt::print("{}\n", line);
-            std::fflush(stdout);
-        }
-        for (auto &[name, curve] : curves)
-            points.insert(points.end(), curve.begin(), curve.end());
-
-        // Headline: speedup at the error MC reaches at the top of the ladder, and the error
-        // at the time MC takes to get there.
-        const Point &top = curves[0].second.back();
-        std::string table = fmt::format(
-            "<table><tr><th>method</th><th>speedup at equal error</th><th>error at equal "
-            "time (MC / method)</th></tr>\n");
-        for (size_t m = 1; m < curves.size(); ++m) {
-            const std::vector<Point> &curve = curves[m].second;
-            if (curve.empty()) continue;
-            bool atFirst = false, clamped = false;
-            double t = TimeToReach(curve, top.error.relMse, &atFirst);
-            double e = ErrorAt(curve, top.Total(), &clamped);
-            std::string speedup =
-                t > 0 ? fmt::format("{}{:.2f}x", atFirst ? ">= " : "", top.Total() / t)
-                      : "not reached";
-            std::string ratio =
-                fmt::format("{}{:.2f}x", clamped ? "~" : "", top.error.relMse / e);
-            headline += fmt::format("| {} | {} | {} | {} |\n", sceneName, curves[m].first,
-                                    speedup, ratio);
-            table += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-                                 curves[m].first, speedup, ratio);
-        }
-        table += "</table>\n";
-
-        std::string svg = PlotSvg(sceneName, curves);
-        std::string svgName = sceneName + ".svg";
-        std::ofstream(fs::path(opt.out) / svgName) << svg;
-        html += fmt::format(
-            "<h2>{}</h2><img src='{}'>\n<p>Monte Carlo at {} spp: relMSE "
-            "{:.4g} in {:.3f} s.</p>{}",
-            sceneName, svgName, top.spp, top.error.relMse, top.Total(), table);
-        for (const auto &[name, why] : skipped)
-            html += fmt::format("<p>{} left out: {}</p>\n", name, why);
-        if (!crops.empty()) {
-            // The centre half of the frame, side by side.
-            int x0 = width / 4, y0 = height / 4, x1 = std::max(x0 + 1, 3 * width / 4),
-                y1 = std::max(y0 + 1, 3 * height / 4);
-            crops["reference"] = reference;
-            html += fmt::format("<p>Crops at {} spp:</p><table><tr>", opt.cropSpp);
-            std::vector<std::string> order = {"input"};
-            for (const Method &m : methods) order.push_back(m.Name());
-            order.push_back("reference");
-            for (const std::string &name : order) {
-                if (!crops.count(name)) continue;
-                std::string file = fmt::format("{}-{}.png", sceneName, name);
-                io::WritePng((fs::path(opt.out) / file).string(),
-                             crops[name].Crop(x0, y0, x1, y1));
-                html += fmt::format("<td><img class='crop' src='{}'><br>{}</td>", file, name);
-            }
-            html += "</tr></table>\n";
-        }
-    }
-
+void WriteCsv(const QualityOptions &opt, const std::vector<Point> &points) {
     std::string csv =
         "scene,spp,method,render_s,denoise_wall_s,denoise_gpu_s,total_s,relmse,psnr,ssim\n";
     for (const Point &p : points)
@@ -362,6 +403,28 @@ void BenchQuality(const QualityOptions &opt) {
                            p.scene, p.spp, p.method, p.renderSeconds, p.denoiseSeconds,
                            p.gpuSeconds, p.Total(), p.error.relMse, p.error.psnr, p.error.ssim);
     std::ofstream(fs::path(opt.out) / "quality.csv") << csv;
+}
+
+void RunBenchQuality(const QualityOptions &opt) {
+    QualityPlan plan = PlanQuality(opt);
+    PrepareReport(opt, plan);
+    Device device(opt.device.Options());
+    fmt::print("bench quality: {} scene(s) at {}x{}, spp {}, methods {}, on {}\n",
+               plan.scenes.size(), plan.width, plan.height, opt.spp,
+               plan.methods.empty() ? "none" : opt.methods, device.Name());
+    std::vector<Point> points;
+    std::string html = HtmlHeader(opt, plan, device), headline;
+    for (const std::string &sceneName : plan.scenes) {
+        bool rendered = false;
+        io::Frame referenceFrame = CachedReference(sceneName, plan.width, plan.height,
+                                                   opt.referenceSpp, opt.threads, &rendered);
+        const Image &reference = referenceFrame.Get("color");
+        SceneCurves s = MeasureScene(opt, plan, device, sceneName, reference);
+        for (auto &[name, curve] : s.curves)
+            points.insert(points.end(), curve.begin(), curve.end());
+        html += SceneHtml(opt, plan, sceneName, s, reference, headline);
+    }
+    WriteCsv(opt, points);
     std::ofstream(fs::path(opt.out) / "index.html") << html << "</body></html>\n";
     fmt::print(
         "\n| scene | method | speedup at equal error | error at equal time |\n"
@@ -376,8 +439,9 @@ void AddBenchQualityCommand(CLI::App *bench) {
     auto opt = std::make_shared<QualityOptions>();
     CLI::App *quality = bench->add_subcommand(
         "quality",
-        "Error against run time: render each scene at a ladder of spp, run every method, "
-        "measure against cached references; CSV, SVG plots and an HTML report");
+        "Error against run time of every method over a ladder of spp per scene\n\n"
+        "Renders each scene at a ladder of spp, runs every method, measures against cached "
+        "references; writes a CSV, SVG plots and an HTML report.");
     quality->add_option("--scenes", opt->scenes, "comma-separated scene names, or all")
         ->capture_default_str();
     quality->add_option("--spp", opt->spp, "the ladder of sample counts")
@@ -385,16 +449,17 @@ void AddBenchQualityCommand(CLI::App *bench) {
     quality->add_option("--size", opt->size, "image size WxH")->capture_default_str();
     quality->add_option("--methods", opt->methods, "comma-separated methods, or all")
         ->capture_default_str();
-    quality->add_option("--reference-spp", opt->referenceSpp, "spp of the references")
-        ->capture_default_str()
-        ->check(CLI::Range(2, 1 << 20));
+    CheckRange(
+        quality->add_option("--reference-spp", opt->referenceSpp, "spp of the references")
+            ->capture_default_str(),
+        2, 1 << 20, true);
     quality->add_option("--crop-spp", opt->cropSpp, "spp of the crops in the report")
         ->capture_default_str();
     quality->add_option("--threads", opt->threads, "render threads (default: all cores)");
     quality->add_option("-o,--out", opt->out, "output directory")->capture_default_str();
     opt->device.Add(quality);
     opt->methodOptions.Add(quality);
-    quality->callback([opt] { BenchQuality(*opt); });
+    quality->callback([opt] { RunBenchQuality(*opt); });
 }
 
 }  // namespace mcd::tool

@@ -14,6 +14,7 @@
 #include "host/io/frame.h"
 #include "host/io/layer_names.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/usage.h"
 
 namespace mcd::tool {
 namespace {
@@ -43,7 +44,7 @@ struct ReadBenchOptions {
     int repeats = 3;
 };
 
-void BenchRead(const ReadBenchOptions &opt) {
+void RunBenchRead(const ReadBenchOptions &opt) {
     Method method(opt.method);
     ReadOptions subset{method.Uses()};
     std::string names;
@@ -99,17 +100,17 @@ void AddBenchReadCommand(CLI::App *bench) {
     auto opt = std::make_shared<ReadBenchOptions>();
     CLI::App *read = bench->add_subcommand(
         "read",
-        "Time reading frames: every layer, the layers a method reads, and the EXR pixels "
-        "alone with our decoder and OpenEXR's");
+        "Time reading frames: every layer, a method's layers, the EXR pixels alone\n\n"
+        "The pixels alone are read with our decoder and with OpenEXR's.");
     read->add_option("inputs", opt->inputs, "frames to read")
         ->required()
         ->check(CLI::ExistingFile);
     read->add_option("--method", opt->method, "the method whose layers are read")
         ->capture_default_str();
-    read->add_option("--repeat", opt->repeats, "timed reads of each kind")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 100));
-    read->callback([opt] { BenchRead(*opt); });
+    CheckRange(read->add_option("--repeat", opt->repeats, "timed reads of each kind")
+                   ->capture_default_str(),
+               1, 100, true);
+    read->callback([opt] { RunBenchRead(*opt); });
 }
 
 }  // namespace mcd::tool

@@ -18,6 +18,7 @@
 #include "host/tracing.h"
 #include "host/vk/context.h"
 #include "tools/mcdenoise/commands.h"
+#include "tools/mcdenoise/usage.h"
 
 namespace mcd::tool {
 namespace {
@@ -124,7 +125,7 @@ struct TracingBenchOptions {
     DeviceOptions device;
 };
 
-void BenchTracing(const TracingBenchOptions &opt) {
+void RunBenchTracing(const TracingBenchOptions &opt) {
     vk::Context context(opt.device.ContextOptions());
     TracingGather gather(context);
     std::vector<int> radii = ParseList(opt.radii, "--radii"),
@@ -196,18 +197,19 @@ void AddBenchTracingCommand(CLI::App *bench) {
     auto opt = std::make_shared<TracingBenchOptions>();
     CLI::App *tracing = bench->add_subcommand(
         "tracing",
-        "Time the tracing filter's gather (Ershov section 5) on synthetic records per size "
-        "and radius, and the CPU reference");
+        "Time the tracing filter's gather (Ershov section 5) on synthetic records\n\n"
+        "Per size and radius, and the CPU reference's time beside it.");
     tracing->add_option("--sizes", opt->sizes, "frame sizes WxH, comma-separated")
         ->capture_default_str();
     tracing->add_option("--radii", opt->radii, "filter radii, comma-separated")
         ->capture_default_str();
-    tracing->add_option("--spp", opt->spp, "samples per pixel")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 1 << 16));
-    tracing->add_option("--band-rows", opt->bandRows, "output rows per band (per Run)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 1 << 20));
+    CheckRange(
+        tracing->add_option("--spp", opt->spp, "samples per pixel")->capture_default_str(), 1,
+        1 << 16, true);
+    CheckRange(
+        tracing->add_option("--band-rows", opt->bandRows, "output rows per band (per Run)")
+            ->capture_default_str(),
+        1, 1 << 20, true);
     tracing
         ->add_option("--max-rows", opt->maxOutRows,
                      "time only this many output rows from the middle of each frame (0: all)")
@@ -217,7 +219,7 @@ void AddBenchTracingCommand(CLI::App *bench) {
     tracing->add_option("--cpu-radii", opt->cpuRadii, "radii of the CPU reference")
         ->capture_default_str();
     opt->device.Add(tracing);
-    tracing->callback([opt] { BenchTracing(*opt); });
+    tracing->callback([opt] { RunBenchTracing(*opt); });
 }
 
 }  // namespace mcd::tool

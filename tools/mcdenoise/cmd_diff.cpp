@@ -24,20 +24,99 @@ std::string FileName(const std::string &stage) {
     return name;
 }
 
+struct DiffOptions {
+    std::string input, method = "awr", dump;
+    double maxNmse = -1;
+    DeviceOptions device;
+    MethodOptions methods;
+};
+
+// Refuse a stage on one side only: an error of the method.
+void CheckStagesPaired(const std::string &method, const std::vector<Stage> &gpu,
+                       const std::vector<Stage> &cpu) {
+    std::string unpaired;
+    for (const Stage &s : gpu)
+        if (std::none_of(cpu.begin(), cpu.end(),
+                         [&](const Stage &c) { return c.name == s.name; }))
+            unpaired += fmt::format(" '{}' (GPU only)", s.name);
+    for (const Stage &c : cpu)
+        if (std::none_of(gpu.begin(), gpu.end(),
+                         [&](const Stage &s) { return c.name == s.name; }))
+            unpaired += fmt::format(" '{}' (CPU only)", c.name);
+    if (!unpaired.empty())
+        throw Error(fmt::format("{}: stages without a twin:{}", method, unpaired));
+}
+
+// One row per stage, the stages dumped on request; the first stage over --max-nmse, as
+// the error to end with ("" when none is).
+std::string PrintStages(const DiffOptions &opt, const std::vector<Stage> &gpu,
+                        const std::vector<Stage> &cpu) {
+    fmt::print("  {:<24} {:>12} {:>16} {:>10}\n", "stage", "NMSE", "max rel error", "parity");
+    std::string worst;
+    for (const Stage &g : gpu) {
+        const Image &c = std::find_if(cpu.begin(), cpu.end(), [&](const Stage &s) {
+                             return s.name == g.name;
+                         })->image;
+        if (!g.image.SameShape(c))
+            throw Error(
+                fmt::format("diff: stage {} is {}x{}x{} on the GPU, {}x{}x{} on the CPU",
+                            g.name, g.image.width, g.image.height, g.image.channels, c.width,
+                            c.height, c.channels));
+        ElementDifference e = MeasureDifference(g.image, c);
+        fmt::print("  {:<24} {:>12.3g} {:>16.3g} {:>10}\n", g.name, e.nmse, e.maxRel, e.parity);
+        if (opt.maxNmse >= 0 && worst.empty() && (e.nmse > opt.maxNmse || e.parity))
+            worst = fmt::format(
+                "diff: stage {} is off: NMSE {:.3g} (--max-nmse {:.3g}), "
+                "{} elements finite on one side only",
+                g.name, e.nmse, opt.maxNmse, e.parity);
+        if (!opt.dump.empty()) {
+            std::filesystem::path dir(opt.dump);
+            io::WriteExr((dir / (FileName(g.name) + ".gpu.exr")).string(),
+                         {{"color", &g.image}});
+            io::WriteExr((dir / (FileName(g.name) + ".cpu.exr")).string(), {{"color", &c}});
+        }
+    }
+    return worst;
+}
+
+void RunDiff(const DiffOptions &opt) {
+    if (opt.method == "auto")
+        throw Error(fmt::format("diff: unknown method 'auto' (methods with stages: {})",
+                                MethodOptions::Names()));
+    Method method = opt.methods.Make(opt.method);
+    // The stages' names come with the run; refuse an input a stage's file could be.
+    RefuseInputsInDirectory({{"input", opt.input}}, {"--dump", opt.dump},
+                            [](const std::string &name) {
+                                return name.ends_with(".gpu.exr") || name.ends_with(".cpu.exr");
+                            });
+    if (!opt.dump.empty()) PrepareDirectory(opt.dump);
+    CheckInputFile(opt.input);
+    io::Frame frame = io::ReadFrame(opt.input);
+    Device device(opt.device.Options());
+    RunOptions run;
+    run.keepStages = true;
+    Result gpu = method.Run(device, frame, run);
+    std::vector<Stage> cpu = method.Reference(device, frame);
+    if (gpu.stages.empty())
+        throw Error(
+            fmt::format("{}: nothing to compare: {}", method.Name(),
+                        gpu.plan.empty() ? std::string("no stage ran") : gpu.plan.back()));
+    CheckStagesPaired(method.Name(), gpu.stages, cpu);
+    fmt::print("{} on {} ({}), GPU against the CPU reference:\n", method.Name(), opt.input,
+               device.Name());
+    if (std::string worst = PrintStages(opt, gpu.stages, cpu); !worst.empty())
+        throw Error(worst);
+}
+
 }  // namespace
 
 void AddDiffCommand(CLI::App &app) {
-    struct Options {
-        std::string input, method = "awr", dump;
-        double maxNmse = -1;
-        DeviceOptions device;
-        MethodOptions methods;
-    };
-    auto opt = std::make_shared<Options>();
+    auto opt = std::make_shared<DiffOptions>();
     CLI::App *cmd = app.add_subcommand(
         "diff",
-        "Run a method on the GPU and on the CPU reference and compare every stage (NMSE, max "
-        "|gpu - cpu| / max |cpu|, non-finite parity); the method's options apply to both");
+        "Compare a method's GPU stages with its CPU reference on a frame\n\n"
+        "Runs the method on the GPU and on the CPU reference and compares every stage (NMSE, "
+        "max |gpu - cpu| / max |cpu|, non-finite parity); the method's options apply to both.");
     cmd->add_option("input", opt->input, "frame (EXR with the layers the method needs)")
         ->required();
     cmd->add_option("--method", opt->method, MethodOptions::Names())->capture_default_str();
@@ -47,71 +126,7 @@ void AddDiffCommand(CLI::App &app) {
                     "elements differ");
     opt->device.Add(cmd);
     opt->methods.Add(cmd);
-    cmd->callback([opt] {
-        if (opt->method == "auto")
-            throw Error(fmt::format("diff: unknown method 'auto' (methods with stages: {})",
-                                    MethodOptions::Names()));
-        Method method = opt->methods.Make(opt->method);
-        // The stages' names come with the run; refuse an input a stage's file could be.
-        RefuseInputsInDirectory(
-            {{"input", opt->input}}, {"--dump", opt->dump}, [](const std::string &name) {
-                return name.ends_with(".gpu.exr") || name.ends_with(".cpu.exr");
-            });
-        if (!opt->dump.empty()) PrepareDirectory(opt->dump);
-        io::Frame frame = io::ReadFrame(opt->input);
-        Device device(opt->device.Options());
-        RunOptions run;
-        run.keepStages = true;
-        Result gpu = method.Run(device, frame, run);
-        std::vector<Stage> cpu = method.Reference(device, frame);
-        if (gpu.stages.empty())
-            throw Error(
-                fmt::format("{}: nothing to compare: {}", method.Name(),
-                            gpu.plan.empty() ? std::string("no stage ran") : gpu.plan.back()));
-        // Pair the stages by name; a stage on one side only is an error of the method.
-        std::string unpaired;
-        for (const Stage &s : gpu.stages)
-            if (std::none_of(cpu.begin(), cpu.end(),
-                             [&](const Stage &c) { return c.name == s.name; }))
-                unpaired += fmt::format(" '{}' (GPU only)", s.name);
-        for (const Stage &c : cpu)
-            if (std::none_of(gpu.stages.begin(), gpu.stages.end(),
-                             [&](const Stage &s) { return c.name == s.name; }))
-                unpaired += fmt::format(" '{}' (CPU only)", c.name);
-        if (!unpaired.empty())
-            throw Error(fmt::format("{}: stages without a twin:{}", method.Name(), unpaired));
-        fmt::print("{} on {} ({}), GPU against the CPU reference:\n", method.Name(), opt->input,
-                   device.Name());
-        fmt::print("  {:<24} {:>12} {:>16} {:>10}\n", "stage", "NMSE", "max rel error",
-                   "parity");
-        std::string worst;
-        for (const Stage &g : gpu.stages) {
-            const Image &c = std::find_if(cpu.begin(), cpu.end(), [&](const Stage &s) {
-                                 return s.name == g.name;
-                             })->image;
-            if (!g.image.SameShape(c))
-                throw Error(
-                    fmt::format("diff: stage {} is {}x{}x{} on the GPU, {}x{}x{} on the "
-                                "CPU",
-                                g.name, g.image.width, g.image.height, g.image.channels,
-                                c.width, c.height, c.channels));
-            ElementDifference e = MeasureDifference(g.image, c);
-            fmt::print("  {:<24} {:>12.3g} {:>16.3g} {:>10}\n", g.name, e.nmse, e.maxRel,
-                       e.parity);
-            if (opt->maxNmse >= 0 && worst.empty() && (e.nmse > opt->maxNmse || e.parity))
-                worst = fmt::format(
-                    "diff: stage {} is off: NMSE {:.3g} (--max-nmse {:.3g}), "
-                    "{} elements finite on one side only",
-                    g.name, e.nmse, opt->maxNmse, e.parity);
-            if (!opt->dump.empty()) {
-                std::filesystem::path dir(opt->dump);
-                io::WriteExr((dir / (FileName(g.name) + ".gpu.exr")).string(),
-                             {{"color", &g.image}});
-                io::WriteExr((dir / (FileName(g.name) + ".cpu.exr")).string(), {{"color", &c}});
-            }
-        }
-        if (!worst.empty()) throw Error(worst);
-    });
+    cmd->callback([opt] { RunDiff(*opt); });
 }
 
 }  // namespace mcd::tool

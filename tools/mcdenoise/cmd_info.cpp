@@ -43,6 +43,7 @@ void PrintDevices(const std::string &selected) {
 }
 
 void PrintFrame(const std::string &path) {
+    CheckInputFile(path, "frame");
     io::Frame frame = io::ReadFrame(path);
     fmt::print("{}: {}x{}\n", path, frame.width, frame.height);
     for (const auto &[name, image] : frame.layers) {
@@ -63,19 +64,25 @@ void PrintFrame(const std::string &path) {
         if (key.rfind("mcd:", 0) == 0) fmt::print("  {} = {}\n", key, value);
 }
 
+struct InfoOptions {
+    std::vector<std::string> frames;
+    std::string device;
+};
+
+void RunInfo(const InfoOptions &opt) {
+    if (opt.frames.empty()) PrintDevices(opt.device);
+    for (const std::string &path : opt.frames) PrintFrame(path);
+}
+
 }  // namespace
 
 void AddInfoCommand(CLI::App &app) {
+    auto opt = std::make_shared<InfoOptions>();
     CLI::App *info = app.add_subcommand(
         "info", "List Vulkan devices and their limits, or the layers of a frame file");
-    auto files = std::make_shared<std::vector<std::string>>();
-    auto device = std::make_shared<std::string>();
-    info->add_option("frames", *files, "frame files (EXR, PFM, HDR, PNG) to describe");
-    info->add_option("--device", *device, "device to mark as selected (index or name)");
-    info->callback([files, device] {
-        if (files->empty()) PrintDevices(*device);
-        for (const std::string &path : *files) PrintFrame(path);
-    });
+    info->add_option("frames", opt->frames, "frame files (EXR, PFM, HDR, PNG) to describe");
+    info->add_option("--device", opt->device, "device to mark as selected (index or name)");
+    info->callback([opt] { RunInfo(*opt); });
 }
 
 }  // namespace mcd::tool

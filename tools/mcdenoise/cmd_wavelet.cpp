@@ -13,6 +13,7 @@
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/gpu_wavelet.h"
 #include "tools/mcdenoise/path_guard.h"
+#include "tools/mcdenoise/usage.h"
 
 namespace mcd::tool {
 
@@ -111,19 +112,76 @@ void DumpBands(const std::filesystem::path &dir, const Image &coef, int levels) 
         DumpBand(dir, b.name, coef.Crop(b.x0, b.y0, b.x1, b.y1));
 }
 
+struct WaveletCommandOptions {
+    std::string input, output, layer = "color", basis = "cdf97", dump;
+    int levels = -1;
+    DeviceOptions device;
+};
+
+// The round trip's error and times, printed.
+void PrintRoundTrip(const WaveletCommandOptions &opt, const Image &image, int levels,
+                    WaveletBasis basis, const WaveletRoundTrip &trip, vk::Context &context) {
+    double maxError = 0, maxValue = 0;
+    for (size_t i = 0; i < image.Size(); ++i) {
+        if (!std::isfinite(image.data[i])) continue;
+        maxError =
+            std::max(maxError, double(std::fabs(trip.reconstruction.data[i] - image.data[i])));
+        maxValue = std::max(maxValue, double(std::fabs(image.data[i])));
+    }
+    fmt::print("{}: {}x{}x{}, {} levels of {} on {}\n", opt.input, image.width, image.height,
+               image.channels, levels, WaveletName(basis), context.Info().name);
+    fmt::print("  analysis {:.3f} ms, synthesis {:.3f} ms (GPU)\n", trip.analysisMs,
+               trip.synthesisMs);
+    fmt::print("  round trip: max |error| {:.3g}, {:.3g} of the largest |value| {:.3g}\n",
+               maxError, maxValue > 0 ? maxError / maxValue : 0.0, maxValue);
+}
+
+void RunWavelet(const WaveletCommandOptions &opt) {
+    std::optional<WaveletBasis> basis = ParseWavelet(opt.basis);
+    if (!basis)
+        throw Error("unknown wavelet basis '" + opt.basis + "' (haar, legall53, cdf97)");
+    // Refuse bad destinations before any work.
+    if (!opt.output.empty()) CheckOutputPath(opt.output, {".exr", ".png"});
+    bool builtin = opt.input.rfind("builtin:", 0) == 0;
+    std::vector<RolePath> inputs = {{"input", builtin ? "" : opt.input}};
+    RefuseOverwritingInputs(inputs, {{"-o", opt.output}});
+    if (!opt.dump.empty()) PrepareDirectory(opt.dump);
+    if (!builtin) CheckInputFile(opt.input);
+    Image image = builtin ? BuiltinImage(opt.input) : io::ReadImage(opt.input, opt.layer);
+    int maxLevels = MaxWaveletLevels(image.width, image.height);
+    int levels = opt.levels < 0 ? maxLevels : opt.levels;
+    if (levels > maxLevels)
+        throw Error(fmt::format("{} levels requested; a {}x{} image allows 0..{}", levels,
+                                image.width, image.height, maxLevels));
+    // The band files --dump will write, known once the size is.
+    std::vector<RolePath> outputs = {{"-o", opt.output}};
+    if (!opt.dump.empty())
+        for (const Band &b : Bands(image.width, image.height, levels))
+            for (const char *ext : {".exr", ".png"})
+                outputs.push_back(
+                    {"--dump", (std::filesystem::path(opt.dump) / (b.name + ext)).string()});
+    RefuseOverwritingInputs(inputs, outputs);
+    vk::Context context(opt.device.ContextOptions());
+    WaveletRoundTrip trip = RunWaveletRoundTrip(context, image, *basis, levels);
+    PrintRoundTrip(opt, image, levels, *basis, trip, context);
+    if (!opt.dump.empty()) {
+        DumpBands(opt.dump, trip.coefficients, levels);
+        fmt::print("  bands written to {}\n", opt.dump);
+    }
+    if (!opt.output.empty()) {
+        WriteImage(opt.output, trip.reconstruction);
+        fmt::print("  wrote {}\n", opt.output);
+    }
+}
+
 }  // namespace
 
 void AddWaveletCommand(CLI::App &app) {
-    struct Options {
-        std::string input, output, layer = "color", basis = "cdf97", dump;
-        int levels = -1;
-        DeviceOptions device;
-    };
-    auto opt = std::make_shared<Options>();
+    auto opt = std::make_shared<WaveletCommandOptions>();
     CLI::App *cmd = app.add_subcommand(
         "wavelet",
-        "Round-trip an image through the GPU wavelet transform (analysis, then synthesis) "
-        "and report the error; --dump writes every band as EXR and PNG");
+        "Round-trip an image through the GPU wavelet transform and report the error\n\n"
+        "Analysis, then synthesis; --dump writes every band as EXR and PNG.");
     cmd->add_option("input", opt->input,
                     "input image (EXR, PFM, HDR, PNG), or builtin:rings[@WxH] for the "
                     "procedural test image")
@@ -132,61 +190,12 @@ void AddWaveletCommand(CLI::App &app) {
     cmd->add_option("--layer", opt->layer, "layer of the input to transform")
         ->capture_default_str();
     cmd->add_option("--basis", opt->basis, "haar, legall53 or cdf97")->capture_default_str();
-    cmd->add_option("--levels", opt->levels, "decomposition levels (default: as many as fit)")
-        ->check(CLI::Range(0, 64));
+    CheckRange(cmd->add_option("--levels", opt->levels,
+                               "decomposition levels (default: as many as fit)"),
+               0, 64, true);
     cmd->add_option("--dump", opt->dump, "directory for the coefficient bands");
     opt->device.Add(cmd);
-    cmd->callback([opt] {
-        std::optional<WaveletBasis> basis = ParseWavelet(opt->basis);
-        if (!basis)
-            throw Error("unknown wavelet basis '" + opt->basis + "' (haar, legall53, cdf97)");
-        // Refuse bad destinations before any work.
-        if (!opt->output.empty()) CheckOutputPath(opt->output, {".exr", ".png"});
-        bool builtin = opt->input.rfind("builtin:", 0) == 0;
-        std::vector<RolePath> inputs = {{"input", builtin ? "" : opt->input}};
-        RefuseOverwritingInputs(inputs, {{"-o", opt->output}});
-        if (!opt->dump.empty()) PrepareDirectory(opt->dump);
-        Image image =
-            builtin ? BuiltinImage(opt->input) : io::ReadImage(opt->input, opt->layer);
-        int maxLevels = MaxWaveletLevels(image.width, image.height);
-        int levels = opt->levels < 0 ? maxLevels : opt->levels;
-        if (levels > maxLevels)
-            throw Error(fmt::format("{} levels requested; a {}x{} image allows 0..{}", levels,
-                                    image.width, image.height, maxLevels));
-        // The band files --dump will write, known once the size is.
-        std::vector<RolePath> outputs = {{"-o", opt->output}};
-        if (!opt->dump.empty())
-            for (const Band &b : Bands(image.width, image.height, levels))
-                for (const char *ext : {".exr", ".png"})
-                    outputs.push_back(
-                        {"--dump",
-                         (std::filesystem::path(opt->dump) / (b.name + ext)).string()});
-        RefuseOverwritingInputs(inputs, outputs);
-        vk::Context context(opt->device.ContextOptions());
-        WaveletRoundTrip trip = RunWaveletRoundTrip(context, image, *basis, levels);
-        double maxError = 0, maxValue = 0;
-        for (size_t i = 0; i < image.Size(); ++i) {
-            if (!std::isfinite(image.data[i])) continue;
-            maxError = std::max(maxError,
-                                double(std::fabs(trip.reconstruction.data[i] - image.data[i])));
-            maxValue = std::max(maxValue, double(std::fabs(image.data[i])));
-        }
-        fmt::print("{}: {}x{}x{}, {} levels of {} on {}\n", opt->input, image.width,
-                   image.height, image.channels, levels, WaveletName(*basis),
-                   context.Info().name);
-        fmt::print("  analysis {:.3f} ms, synthesis {:.3f} ms (GPU)\n", trip.analysisMs,
-                   trip.synthesisMs);
-        fmt::print("  round trip: max |error| {:.3g}, {:.3g} of the largest |value| {:.3g}\n",
-                   maxError, maxValue > 0 ? maxError / maxValue : 0.0, maxValue);
-        if (!opt->dump.empty()) {
-            DumpBands(opt->dump, trip.coefficients, levels);
-            fmt::print("  bands written to {}\n", opt->dump);
-        }
-        if (!opt->output.empty()) {
-            WriteImage(opt->output, trip.reconstruction);
-            fmt::print("  wrote {}\n", opt->output);
-        }
-    });
+    cmd->callback([opt] { RunWavelet(*opt); });
 }
 
 }  // namespace mcd::tool

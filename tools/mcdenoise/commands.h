@@ -1,5 +1,6 @@
-// Subcommands of the mcdenoise tool. Each Add*Command registers its options and callback
-// on the app; callbacks throw mcd::Error on failure, which main() reports.
+// Subcommands of the mcdenoise tool. Each Add*Command declares the command's options in a
+// struct of its own and a callback that calls one Run* function with them; a failure is an
+// exception, which main() reports (exit_status.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -8,11 +9,15 @@
 #include <map>
 #include <string>
 
+#include "host/api/device.h"
 #include "host/image.h"
 #include "host/vk/context.h"
 #include "mcdenoise/mcdenoise.h"
 
 namespace mcd::tool {
+
+// The help's heading over the device's options (a command's own stay under "Options").
+inline constexpr const char *kDeviceGroup = "Device";
 
 // Options every GPU subcommand takes.
 struct DeviceOptions {
@@ -42,9 +47,14 @@ constexpr int kMaxImageSide = 32768;
 // Parse "WxH" (e.g. 2048x2048), the whole string; throws mcd::Error.
 void ParseSize(const std::string &text, int *width, int *height);
 
-// Refuse, before any work, an output whose extension is not listed or whose directory
-// does not exist.
-void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions);
+// Refuse, before any work, an output that is a directory, whose extension is not listed or
+// whose directory does not exist. `role` names it in the message ("output", "--preview").
+void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions,
+                     const std::string &role = "output");
+
+// Refuse an input that is a directory, saying so (the image readers would say they know no
+// such format). `role` names it ("input", "--reference").
+void CheckInputFile(const std::string &path, const std::string &role = "input");
 
 // Write one image as a tonemapped PNG if `path` ends in .png, else as a float EXR (layer
 // color) with `metadata`; with `alpha` (the input's), as RGBA.

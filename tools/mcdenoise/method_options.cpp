@@ -2,37 +2,54 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
+#include "tools/mcdenoise/usage.h"
+
 namespace mcd::tool {
+
+namespace {
+
+// The help's order: the options of every method, then auto's, then each method's.
+int GroupRank(const ParamInfo &info) {
+    return info.method.empty() ? 0 : info.method == "auto" ? 1 : 2;
+}
+
+}  // namespace
 
 void MethodOptions::Add(CLI::App *command, const std::string &method) {
     Method params(method);  // named: a temporary's Params() would dangle in the loop
-    for (const ParamInfo &info : params.Params()) {
+    std::vector<ParamInfo> infos = params.Params();
+    std::stable_sort(infos.begin(), infos.end(), [](const ParamInfo &a, const ParamInfo &b) {
+        return GroupRank(a) < GroupRank(b);
+    });
+    for (const ParamInfo &info : infos) {
         auto b = std::make_shared<Bound>();
         b->info = info;
         std::string flag = "--" + info.name;
-        std::string help = info.method.empty() ? info.help : info.method + ": " + info.help;
         switch (info.type) {
             case ParamType::Bool:
-                b->option = command->add_flag(flag, b->flag, help);
+                b->option = command->add_flag(flag, b->flag, info.help);
                 break;
             case ParamType::Int:
                 b->integer = std::get<int>(info.defaultValue);
-                b->option = command->add_option(flag, b->integer, help)
-                                ->capture_default_str()
-                                ->check(CLI::Range(int(info.min), int(info.max)));
+                b->option =
+                    command->add_option(flag, b->integer, info.help)->capture_default_str();
+                CheckRange(b->option, info.min, info.max, true);
                 break;
             case ParamType::Float:
                 b->number = std::get<float>(info.defaultValue);
-                b->option = command->add_option(flag, b->number, help)
-                                ->capture_default_str()
-                                ->check(CLI::Range(float(info.min), float(info.max)));
+                b->option =
+                    command->add_option(flag, b->number, info.help)->capture_default_str();
+                CheckRange(b->option, float(info.min), float(info.max), false);
                 break;
             case ParamType::String:
                 b->text = std::get<std::string>(info.defaultValue);
-                b->option = command->add_option(flag, b->text, help);
+                b->option = command->add_option(flag, b->text, info.help);
                 if (!b->text.empty()) b->option->capture_default_str();
                 break;
         }
+        b->option->group(info.method.empty() ? "Every method" : "Method " + info.method);
         bound.push_back(b);
     }
 }
@@ -66,7 +83,7 @@ std::string MethodOptions::Names() {
 }
 
 std::string MethodOptions::Summaries() {
-    std::string text;
+    std::string text = fmt::format("\n  auto (the default): {}", Method("auto").Summary());
     for (const std::string &m : MethodNames())
         text += fmt::format("\n  {}: {}", m, Method(m).Summary());
     return text;

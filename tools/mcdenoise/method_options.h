@@ -20,7 +20,8 @@ class MethodOptions {
     // The method `name` with the parameters given on the command line set; given options
     // of other methods are ignored, as they always were.
     Method Make(const std::string &name) const;
-    // "awr, bayes, pivot, rhf" and their summaries, one a line.
+    // "awr, bayes, pivot, rhf"; auto (the default) and each method with its summary, one a
+    // line.
     static std::string Names();
     static std::string Summaries();
 

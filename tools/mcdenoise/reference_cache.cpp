@@ -1,13 +1,13 @@
 #include "tools/mcdenoise/reference_cache.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
 #include "host/error.h"
+#include "tools/mcdenoise/progress.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::tool {
@@ -36,12 +36,10 @@ io::Frame CachedReference(const std::string &scene, int width, int height, int s
     options.width = width, options.height = height, options.spp = spp;
     options.seed = kReferenceSeed;
     options.threads = threads;
-    if (isatty(fileno(stderr)))
-        options.progress = [&](int done, int total) {
-            std::fprintf(stderr, "\rreference %s %dx%d %d spp: %3d%%%s", scene.c_str(), width,
-                         height, spp, 100 * done / total, done == total ? "\n" : "");
-        };
+    Progress progress(fmt::format("reference {} {}x{} at {} spp", scene, width, height, spp));
+    options.progress = [&](int done, int total) { progress.Update("", done, total); };
     render::RenderResult result = render::Render(render::BuildScene(scene), options);
+    progress.Done();
     if (rendered) *rendered = true;
     std::vector<std::pair<std::string, const Image *>> layers;
     for (const auto &[name, image] : result.layers) layers.push_back({name, &image});

@@ -236,6 +236,7 @@ std::vector<SequenceFrame> PlanSequence(const SequenceSpec &spec) {
         frame.output = OutputPath("-o", spec.output, frame, {".exr", ".png"});
         if (!spec.preview.empty())
             frame.preview = OutputPath("--preview", spec.preview, frame, {".png"});
+        if (!spec.map.empty()) frame.map = OutputPath("--auto-map", spec.map, frame, {".png"});
         if (!spec.reference.empty())
             frame.reference = HasFramePlaceholder(spec.reference)
                                   ? ExpandFramePattern(spec.reference, frame.number)

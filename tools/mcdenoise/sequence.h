@@ -35,6 +35,7 @@ std::vector<int> ListFrameNumbers(const std::vector<std::string> &inputs);
 struct SequenceFrame {
     int number = 0;
     std::string input, reference, output, preview;
+    std::string map;  // --auto-map
 };
 
 // What the command line gave.
@@ -44,6 +45,7 @@ struct SequenceSpec {
     std::string preview;              // "", a pattern or a directory
     std::string reference;            // "", a pattern or one file for every frame
     std::string frames;               // "" or ParseFrameRange's text
+    std::string map;                  // --auto-map: "", a pattern or a directory
 };
 
 // Whether the inputs make a sequence: more than one, or one pattern that is not the name

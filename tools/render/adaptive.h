@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "host/params/awr.h"
 #include "host/vk/context.h"
 #include "host/wavelet.h"
 #include "tools/render/renderer.h"
@@ -29,21 +30,8 @@ using PriorityTransforms = std::function<void(
 
 struct AdaptiveOptions {
     int width = 256, height = 256;
-    int averageSpp = 16;  // the budget: averageSpp x width x height samples in all
-    int initialSpp = 4;
-    int maxLevel = 5;
-    WaveletBasis basis = WaveletBasis::Cdf97;
-    // Sum of the squared 1D low-pass filter in the priorities' variance DWT (eq. 9); each
-    // level multiplies a smooth variance by its square, tilting pops toward coarse levels.
-    // Not the paper's 1.05, which sends every sample to level 0 on smooth noise; 1.2 serves
-    // edges from fine levels and smooth noise from coarse ones (README, the sampler).
-    float lowSum = 1.2f;
-    // Luminance floor f of the sampler's contrast (eq. 5): (Imax - Imin)^2 / ((Imax + Imin)^2
-    // + (2f)^2). Mitchell's contrast (f = 0) is scale-free, so a shadow pixel with samples
-    // 0 and 0.001 ranks with the brightest edge; the floor makes it the range relative to
-    // sqrt(mean^2 + f^2), the denominator of relMSE (f = 0.1: eps 0.01). Measured in the
-    // README (the adaptive sampler).
-    float contrastFloor = 0.1f;
+    int averageSpp = 16;       // the budget: averageSpp x width x height samples in all
+    AwrSamplerParams sampler;  // the paper's parameters and their defaults
     uint64_t seed = 1;
     int threads = 0;  // tracing threads, 0: all cores; the frame is the same for any number
     PriorityTransforms transforms;                     // empty: on the GPU of the context

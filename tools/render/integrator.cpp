@@ -1,5 +1,6 @@
 #include "tools/render/integrator.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace mcd::render {
@@ -129,135 +130,211 @@ void MirrorChainSurfaces(const Scene &scene, const Ray &cameraRay, const Hit &fi
     }
 }
 
-}  // namespace
-
-PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, TracingPath *tracing) {
-    PathSample out;
-    int partials = 0;
-    if (tracing) {
+// One camera path as it bounces (TracePath): what it has gathered and where it stands.
+class PathTracer {
+  public:
+    PathTracer(const Scene &scene, Rng &rng, TracingPath *tracing)
+        : scene(scene), rng(rng), tracing(tracing) {
+        if (!tracing) return;
         partials = std::clamp(tracing->partials, 1, kPartialTypes);
         *tracing = TracingPath();
         tracing->partials = partials;
     }
+
+    PathSample Trace(const Ray &cameraRay) {
+        ray = cameraRay;
+        for (int depth = 0; depth < kMaxDepth; ++depth)
+            if (!Bounce(depth)) break;
+        out.color = out.direct + out.indirect;
+        return out;
+    }
+
+  private:
+    // A vertex's textured lobe weights and the odds of picking each.
+    struct Lobes {
+        Vec3 diffuse, glossy;
+        double wd = 0, wg = 0, wm = 0, total = 0;
+    };
+    // The lobe a path continues through: the direction, its throughput factor.
+    struct Choice {
+        Vec3 wi, factor;
+        bool smooth = false;  // diffuse or glossy
+        bool glossy = false;
+    };
+
+    bool Bounce(int depth);
+    void AddLight(const Vec3 &light);
+    void AddFromA(const Vec3 &light);
+    void RecordFirstHit(const Hit &hit, const Material &m);
+    TracingPartial *StartPartial(int depth, const Hit &hit, const Material &m, const Lobes &l,
+                                 const Vec3 &wo);
+    Choice PickLobe(const Hit &hit, const Material &m, const Lobes &l);
+    void RecordDirection(TracingPartial &atA, const Choice &c, const Hit &hit,
+                         const Material &m, const Lobes &l) const;
+    bool Continue(int depth, const Hit &hit, const Choice &c, TracingPartial *atA,
+                  const Lobes &l);
+
+    const Scene &scene;
+    Rng &rng;
+    TracingPath *tracing;
+    PathSample out;
+    int partials = 0;
     // After u was drawn at A_k: light is partial k's filtered part, and `fromA` carries it
     // back to A_k (the throughput since A_k, Russian roulette included).
     TracingPartial *afterA = nullptr;
-    Vec3 fromA(1);
+    Vec3 fromA = Vec3(1);
     double prefixOdds = 1;  // probability of the mirror lobes picked before A_k
-    Ray ray = cameraRay;
-    Vec3 throughput(1);
+    Ray ray;
+    Vec3 throughput = Vec3(1);
     int smoothVertices = 0;     // diffuse or glossy vertices so far
     bool afterSpecular = true;  // the last vertex was the camera or a mirror
     int mirrorPrefix = 0;       // mirror bounces before the first smooth vertex
-    // Add to direct or indirect, and to the partial image of the path's mirror prefix.
-    auto addLight = [&](const Vec3 &light) {
-        (smoothVertices == 0 ? out.direct : out.indirect) += light;
-        out.partial[std::min(mirrorPrefix, kPartialTypes)] += light;
-        if (!tracing) return;
-        if (afterA)
-            afterA->own += light;
-        else
-            tracing->rest += light;
-    };
-    // The same light carried back to A only: the radiance arriving there along u.
-    auto addFromA = [&](const Vec3 &light) {
-        if (afterA) afterA->radiance += fromA * light;
-    };
-    for (int depth = 0; depth < kMaxDepth; ++depth) {
-        Hit hit;
-        if (!scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit)) break;
-        const Material &m = scene.materials[hit.material];
-        Vec3 wo = -ray.direction;
-        if (depth == 0) {
-            out.albedo = scene.Diffuse(m, hit) + scene.Glossy(m, hit) + m.mirror;
-            out.normal = hit.normal;
-            out.depth = hit.t;
-            out.objectId = hit.objectId;
-            out.partId = hit.partId;
-        }
-        // Emission counts when no light sample could have found it: right after the camera
-        // or a mirror (mirror chains after a smooth vertex carry caustics: indirect).
-        if (!m.emission.IsBlack() && hit.frontFace && afterSpecular) {
-            addLight(throughput * m.emission);
-            addFromA(m.emission);
-        }
+};
 
-        Vec3 diffuse = scene.Diffuse(m, hit), glossy = scene.Glossy(m, hit);
-        double wd = diffuse.MaxComponent(), wg = glossy.MaxComponent(),
-               wm = m.mirror.MaxComponent();
-        double total = wd + wg + wm;
-        if (total <= 0) break;
-        if (wd + wg > 0) {
-            Vec3 direct = DirectLight(scene, m, hit, wo, rng);
-            addLight(throughput * direct);
-            addFromA(direct);
-        }
-        // A_k: the first diffuse or glossy vertex, after k < partials mirror bounces.
-        TracingPartial *atA = tracing && smoothVertices == 0 && depth < partials && wd + wg > 0
-                                  ? &tracing->partial[depth]
-                                  : nullptr;
-        if (tracing && depth == 0 && partials > 1 && !m.mirror.IsBlack())
-            MirrorChainSurfaces(scene, ray, hit, tracing);
-        if (atA && depth == 0) {
-            atA->hasSurface = true;
-            atA->position = hit.position;
-            atA->normal = hit.normal;
-            atA->wo = wo;
-            atA->diffuse = diffuse;
-            atA->glossy = glossy;
-            atA->kappa = m.glossyKappa;
-        }
-        // Pick one lobe in proportion to its weight and continue the path through it.
-        double pick = Uniform(rng) * total, u1 = Uniform(rng), u2 = Uniform(rng);
-        Vec3 wi, factor;
-        bool smooth = pick < wd + wg;
-        if (pick < wd) {
-            wi = SampleCosine(hit.normal, u1, u2);
-            factor = diffuse * (total / wd);
-        } else if (smooth) {
-            wi = SampleVmf(Reflect(ray.direction, hit.normal), m.glossyKappa, u1, u2);
-            factor = glossy * (total / wg);
-        } else {
-            wi = Reflect(ray.direction, hit.normal);
-            factor = m.mirror * (total / wm);
-        }
-        if (atA && smooth) {
-            // The density of u among all of A's samples: each lobe's, times its odds, times
-            // the odds of the mirror prefix.
-            atA->record = true;
-            atA->direction = wi;
-            double cosI = Dot(wi, hit.normal);
-            double pdf = (wd / total) * std::max(cosI, 0.0) / kPi;
-            if (wg > 0)
-                pdf += (wg / total) *
-                       VmfPdf(wi, Reflect(ray.direction, hit.normal), m.glossyKappa);
-            atA->pdf = prefixOdds * pdf;
-        }
-        // The glossy lobe's mass below the surface is lost.
-        if (pick >= wd && smooth && Dot(wi, hit.normal) <= 0) break;
-        throughput *= factor;
-        if (afterA) fromA *= factor;
-        if (atA && smooth) afterA = atA;
-        if (smooth) {
-            ++smoothVertices;
-            afterSpecular = false;
-        } else {
-            afterSpecular = true;
-            if (smoothVertices == 0) ++mirrorPrefix, prefixOdds *= wm / total;
-        }
-        // A bent shading normal can send a direction under the surface: absorb it.
-        if (Dot(wi, hit.geometricNormal) <= 0) break;
-        // Russian roulette once the path has some length.
-        if (depth >= 3) {
-            double survive = std::min(0.95, throughput.MaxComponent());
-            if (Uniform(rng) >= survive) break;
-            throughput = throughput / survive;
-            fromA = fromA / survive;
-        }
-        ray = {Offset(hit, wi), wi};
+// Add to direct or indirect, and to the partial image of the path's mirror prefix.
+void PathTracer::AddLight(const Vec3 &light) {
+    (smoothVertices == 0 ? out.direct : out.indirect) += light;
+    out.partial[std::min(mirrorPrefix, kPartialTypes)] += light;
+    if (!tracing) return;
+    if (afterA)
+        afterA->own += light;
+    else
+        tracing->rest += light;
+}
+
+// The same light carried back to A only: the radiance arriving there along u.
+void PathTracer::AddFromA(const Vec3 &light) {
+    if (afterA) afterA->radiance += fromA * light;
+}
+
+// The G-buffer fields from the first hit.
+void PathTracer::RecordFirstHit(const Hit &hit, const Material &m) {
+    out.albedo = scene.Diffuse(m, hit) + scene.Glossy(m, hit) + m.mirror;
+    out.normal = hit.normal;
+    out.depth = hit.t;
+    out.objectId = hit.objectId;
+    out.partId = hit.partId;
+}
+
+// A_k: the first diffuse or glossy vertex, after k < partials mirror bounces; its surface
+// (and, at the first hit, the mirror chain's) for the tracing filter.
+TracingPartial *PathTracer::StartPartial(int depth, const Hit &hit, const Material &m,
+                                         const Lobes &l, const Vec3 &wo) {
+    TracingPartial *atA = tracing && smoothVertices == 0 && depth < partials && l.wd + l.wg > 0
+                              ? &tracing->partial[depth]
+                              : nullptr;
+    if (tracing && depth == 0 && partials > 1 && !m.mirror.IsBlack())
+        MirrorChainSurfaces(scene, ray, hit, tracing);
+    if (atA && depth == 0) {
+        atA->hasSurface = true;
+        atA->position = hit.position;
+        atA->normal = hit.normal;
+        atA->wo = wo;
+        atA->diffuse = l.diffuse;
+        atA->glossy = l.glossy;
+        atA->kappa = m.glossyKappa;
     }
-    out.color = out.direct + out.indirect;
-    return out;
+    return atA;
+}
+
+// Pick one lobe in proportion to its weight and the direction the path continues in.
+PathTracer::Choice PathTracer::PickLobe(const Hit &hit, const Material &m, const Lobes &l) {
+    double pick = Uniform(rng) * l.total, u1 = Uniform(rng), u2 = Uniform(rng);
+    Choice c;
+    c.smooth = pick < l.wd + l.wg;
+    c.glossy = pick >= l.wd && c.smooth;
+    if (pick < l.wd) {
+        c.wi = SampleCosine(hit.normal, u1, u2);
+        c.factor = l.diffuse * (l.total / l.wd);
+    } else if (c.smooth) {
+        c.wi = SampleVmf(Reflect(ray.direction, hit.normal), m.glossyKappa, u1, u2);
+        c.factor = l.glossy * (l.total / l.wg);
+    } else {
+        c.wi = Reflect(ray.direction, hit.normal);
+        c.factor = m.mirror * (l.total / l.wm);
+    }
+    return c;
+}
+
+// The density of u among all of A's samples: each lobe's, times its odds, times the odds
+// of the mirror prefix.
+void PathTracer::RecordDirection(TracingPartial &atA, const Choice &c, const Hit &hit,
+                                 const Material &m, const Lobes &l) const {
+    atA.record = true;
+    atA.direction = c.wi;
+    double cosI = Dot(c.wi, hit.normal);
+    double pdf = (l.wd / l.total) * std::max(cosI, 0.0) / kPi;
+    if (l.wg > 0)
+        pdf +=
+            (l.wg / l.total) * VmfPdf(c.wi, Reflect(ray.direction, hit.normal), m.glossyKappa);
+    atA.pdf = prefixOdds * pdf;
+}
+
+// Carry the path through the chosen lobe; false when it ends here.
+bool PathTracer::Continue(int depth, const Hit &hit, const Choice &c, TracingPartial *atA,
+                          const Lobes &l) {
+    // The glossy lobe's mass below the surface is lost.
+    if (c.glossy && Dot(c.wi, hit.normal) <= 0) return false;
+    throughput *= c.factor;
+    if (afterA) fromA *= c.factor;
+    if (atA && c.smooth) afterA = atA;
+    if (c.smooth) {
+        ++smoothVertices;
+        afterSpecular = false;
+    } else {
+        afterSpecular = true;
+        if (smoothVertices == 0) ++mirrorPrefix, prefixOdds *= l.wm / l.total;
+    }
+    // A bent shading normal can send a direction under the surface: absorb it.
+    if (Dot(c.wi, hit.geometricNormal) <= 0) return false;
+    // Russian roulette once the path has some length.
+    if (depth >= 3) {
+        double survive = std::min(0.95, throughput.MaxComponent());
+        if (Uniform(rng) >= survive) return false;
+        throughput = throughput / survive;
+        fromA = fromA / survive;
+    }
+    ray = {Offset(hit, c.wi), c.wi};
+    return true;
+}
+
+// One vertex: its emission, next-event estimation, the tracing filter's records and the
+// next direction; false when the path ends here.
+bool PathTracer::Bounce(int depth) {
+    Hit hit;
+    if (!scene.Intersect(ray, std::numeric_limits<double>::infinity(), &hit)) return false;
+    const Material &m = scene.materials[hit.material];
+    Vec3 wo = -ray.direction;
+    if (depth == 0) RecordFirstHit(hit, m);
+    // Emission counts when no light sample could have found it: right after the camera
+    // or a mirror (mirror chains after a smooth vertex carry caustics: indirect).
+    if (!m.emission.IsBlack() && hit.frontFace && afterSpecular) {
+        AddLight(throughput * m.emission);
+        AddFromA(m.emission);
+    }
+    Lobes l;
+    l.diffuse = scene.Diffuse(m, hit);
+    l.glossy = scene.Glossy(m, hit);
+    l.wd = l.diffuse.MaxComponent();
+    l.wg = l.glossy.MaxComponent();
+    l.wm = m.mirror.MaxComponent();
+    l.total = l.wd + l.wg + l.wm;
+    if (l.total <= 0) return false;
+    if (l.wd + l.wg > 0) {
+        Vec3 direct = DirectLight(scene, m, hit, wo, rng);
+        AddLight(throughput * direct);
+        AddFromA(direct);
+    }
+    TracingPartial *atA = StartPartial(depth, hit, m, l, wo);
+    Choice c = PickLobe(hit, m, l);
+    if (atA && c.smooth) RecordDirection(*atA, c, hit, m, l);
+    return Continue(depth, hit, c, atA, l);
+}
+
+}  // namespace
+
+PathSample TracePath(const Scene &scene, const Ray &cameraRay, Rng &rng, TracingPath *tracing) {
+    return PathTracer(scene, rng, tracing).Trace(cameraRay);
 }
 
 Vec3 PivotRadiance(const Scene &scene, const Ray &ray, int depth) {

@@ -486,28 +486,18 @@ std::vector<float> ReferenceGather(const TracingRecords &records, const TracingP
     return out;
 }
 
-// Render with the tracing filter: bands of rows, each filtered once its records and
-// `radius` rows below it are traced; a sliding window keeps `radius` rows above.
-void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, FrameLayers &layers,
-                  RenderResult &result, std::atomic<uint64_t> &nonFinite) {
-    using Clock = std::chrono::steady_clock;
-    const int w = o.width, h = o.height, spp = o.spp;
+// The band height of the tracing filter's render (rows filtered per gather), from the
+// memory budget and the gather's largest window; sets the stats' band and partials.
+int TracedBandRows(const RenderOptions &o, int partials, int radius, TracingStats &stats) {
     const TracingFilterOptions &t = o.tracing;
-    const int radius = std::max(0, t.params.radius);
-    // Partial images past 0 need a mirror in the scene: without one their records would
-    // all be empty, so they get no memory and no gather (the frame is the same).
-    const bool anyMirror = std::any_of(scene.materials.begin(), scene.materials.end(),
-                                       [](const Material &m) { return !m.mirror.IsBlack(); });
-    const int partials = anyMirror ? std::clamp(t.partials, 1, kPartialTypes) : 1;
     // A row's records for every filtered partial image.
-    const size_t rowBytes = size_t(partials) * size_t(w) *
-                            (sizeof(TracingSurface) + size_t(spp) * sizeof(TracingSample));
-    TracingStats &stats = result.tracing;
+    const size_t rowBytes = size_t(partials) * size_t(o.width) *
+                            (sizeof(TracingSurface) + size_t(o.spp) * sizeof(TracingSample));
     int band = t.bandRows;
     if (band <= 0) {
         long fit = long(t.memoryBudget / rowBytes) - 2L * radius;
         stats.overBudget = fit < 1;
-        band = int(std::clamp(fit, 1L, long(h)));
+        band = int(std::clamp(fit, 1L, long(o.height)));
     }
     if (t.maxWindowRows > 0) {
         if (t.maxWindowRows - 2 * radius < 1)
@@ -517,95 +507,149 @@ void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, Frame
                 t.maxWindowRows, radius));
         band = std::min(band, t.maxWindowRows - 2 * radius);
     }
-    band = std::min(band, h);
+    band = std::min(band, o.height);
     stats.bandRows = band;
     stats.partials = partials;
-    const int windowRows = std::min(h, band + 2 * radius);
-    // One window of records per filtered partial image, all over the same rows.
-    std::vector<TracingRecords> windows(partials);
-    auto recordBytes = [&] {
-        size_t bytes = 0;
-        for (const TracingRecords &window : windows)
-            bytes += window.surfaces.capacity() * sizeof(TracingSurface) +
-                     window.samples.capacity() * sizeof(TracingSample);
-        return bytes;
-    };
-    for (TracingRecords &window : windows) {
-        window.width = w, window.spp = spp, window.y0 = 0, window.rows = 0;
-        window.surfaces.reserve(size_t(windowRows) * w);
-        window.samples.reserve(size_t(windowRows) * w * spp);
-    }
-    stats.peakRecordBytes = recordBytes();
+    return band;
+}
 
-    SampleSource source(scene, w, h, o.seed);
+// The capacity of the windows' records, in bytes.
+size_t RecordBytes(const std::vector<TracingRecords> &windows) {
+    size_t bytes = 0;
+    for (const TracingRecords &window : windows)
+        bytes += window.surfaces.capacity() * sizeof(TracingSurface) +
+                 window.samples.capacity() * sizeof(TracingSample);
+    return bytes;
+}
+
+// Slide each window to rows [keepFrom, need): drop the rows no later band reads, make room
+// for the new ones.
+void SlideWindows(std::vector<TracingRecords> &windows, int keepFrom, int need) {
+    for (TracingRecords &window : windows) {
+        const int w = window.width, spp = window.spp;
+        if (int drop = keepFrom - window.y0; drop > 0) {
+            window.surfaces.erase(window.surfaces.begin(),
+                                  window.surfaces.begin() + size_t(drop) * w);
+            window.samples.erase(window.samples.begin(),
+                                 window.samples.begin() + size_t(drop) * w * spp);
+            window.y0 = keepFrom;
+        }
+        window.rows = need - window.y0;
+        window.surfaces.resize(size_t(window.rows) * w);
+        window.samples.resize(size_t(window.rows) * w * spp);
+    }
+}
+
+// The state of a render with the tracing filter, shared by its bands.
+struct TracedRender {
+    const Scene &scene;
+    const RenderOptions &o;
+    int threads;
+    FrameLayers &layers;
+    std::atomic<uint64_t> &nonFinite;
+    SampleSource source;
+    std::vector<TracingRecords> windows;
     std::atomic<int> rowsDone{0};
     std::mutex progressMutex;
+};
+
+// Trace rows [from, need) on the threads, each pixel's records into the windows.
+void TraceRows(TracedRender &r, int from, int need) {
+    const int w = r.o.width, spp = r.o.spp, partials = int(r.windows.size());
+    std::atomic<int> nextRow{from};
+    RunOnThreads(std::clamp(r.threads, 1, std::max(1, need - from)), [&] {
+        PixelSums sums(r.o.histBins);
+        std::vector<TracingPath> paths(spp);
+        for (int y = nextRow++; y < need; y = nextRow++) {
+            for (int x = 0; x < w; ++x) {
+                PixelRecords records;
+                records.partials = partials;
+                records.paths = paths.data();
+                for (int k = 0; k < partials; ++k) {
+                    size_t pixel = size_t(y - r.windows[k].y0) * w + x;
+                    records.surface[k] = &r.windows[k].surfaces[pixel];
+                    records.samples[k] = &r.windows[k].samples[pixel * spp];
+                }
+                r.nonFinite +=
+                    RenderPixel(r.scene, r.source, r.o, x, y, sums, r.layers, &records);
+                for (int c = 0; c < 3; ++c)
+                    r.layers.unfiltered.At(c, y, x) = r.layers.color.At(c, y, x);
+            }
+            int done = ++r.rowsDone;
+            if (r.o.progress) {
+                std::lock_guard<std::mutex> lock(r.progressMutex);
+                r.o.progress(done, r.o.height);
+            }
+        }
+    });
+}
+
+// Section 8: each partial image of rows [y0, y0 + rows) filtered on its own, with the same
+// gather.
+void FilterBand(TracedRender &r, int y0, int rows) {
+    const TracingFilterOptions &t = r.o.tracing;
+    const int w = r.o.width;
+    for (int k = 0; k < int(r.windows.size()); ++k) {
+        // No surface in the band's rows (no mirror seen there): the gather would hand
+        // every pixel its own mean, a change of 0.
+        auto first = r.windows[k].surfaces.begin() + size_t(y0 - r.windows[k].y0) * w;
+        if (k > 0 && std::none_of(first, first + size_t(rows) * w,
+                                  [](const TracingSurface &s) { return s.valid > 0; }))
+            continue;
+        std::vector<float> filtered =
+            t.gather ? t.gather(r.windows[k], t.params, y0, rows)
+                     : ReferenceGather(r.windows[k], t.params, y0, rows, r.threads);
+        if (filtered.size() != size_t(w) * rows * 3)
+            throw Error(fmt::format("tracing gather returned {} values for {} rows of {}",
+                                    filtered.size(), rows, w));
+        ApplyFiltered(r.windows[k], filtered, y0, rows, k, r.layers);
+    }
+}
+
+// Render with the tracing filter: bands of rows, each filtered once its records and
+// `radius` rows below it are traced; a sliding window keeps `radius` rows above.
+void RenderTraced(const Scene &scene, const RenderOptions &o, int threads, FrameLayers &layers,
+                  RenderResult &result, std::atomic<uint64_t> &nonFinite) {
+    using Clock = std::chrono::steady_clock;
+    const int h = o.height;
+    const int radius = std::max(0, o.tracing.params.radius);
+    // Partial images past 0 need a mirror in the scene: without one their records would
+    // all be empty, so they get no memory and no gather (the frame is the same).
+    const bool anyMirror = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                       [](const Material &m) { return !m.mirror.IsBlack(); });
+    const int partials = anyMirror ? std::clamp(o.tracing.partials, 1, kPartialTypes) : 1;
+    TracingStats &stats = result.tracing;
+    const int band = TracedBandRows(o, partials, radius, stats);
+    const int windowRows = std::min(h, band + 2 * radius);
+    // One window of records per filtered partial image, all over the same rows.
+    TracedRender r{scene,
+                   o,
+                   threads,
+                   layers,
+                   nonFinite,
+                   SampleSource(scene, o.width, h, o.seed),
+                   std::vector<TracingRecords>(partials)};
+    for (TracingRecords &window : r.windows) {
+        window.width = o.width, window.spp = o.spp, window.y0 = 0, window.rows = 0;
+        window.surfaces.reserve(size_t(windowRows) * o.width);
+        window.samples.reserve(size_t(windowRows) * o.width * o.spp);
+    }
+    stats.peakRecordBytes = RecordBytes(r.windows);
     int traced = 0;  // rows [0, traced) are rendered
     for (int y0 = 0; y0 < h; y0 += band) {
         const int rows = std::min(band, h - y0);
         const int keepFrom = std::max(0, y0 - radius), need = std::min(h, y0 + rows + radius);
-        // Slide: drop the rows no later band reads, trace the new ones.
-        for (TracingRecords &window : windows) {
-            if (int drop = keepFrom - window.y0; drop > 0) {
-                window.surfaces.erase(window.surfaces.begin(),
-                                      window.surfaces.begin() + size_t(drop) * w);
-                window.samples.erase(window.samples.begin(),
-                                     window.samples.begin() + size_t(drop) * w * spp);
-                window.y0 = keepFrom;
-            }
-            window.rows = need - window.y0;
-            window.surfaces.resize(size_t(window.rows) * w);
-            window.samples.resize(size_t(window.rows) * w * spp);
-        }
+        SlideWindows(r.windows, keepFrom, need);
         auto start = Clock::now();
-        std::atomic<int> nextRow{traced};
-        RunOnThreads(std::clamp(threads, 1, std::max(1, need - traced)), [&] {
-            PixelSums sums(o.histBins);
-            std::vector<TracingPath> paths(spp);
-            for (int y = nextRow++; y < need; y = nextRow++) {
-                for (int x = 0; x < w; ++x) {
-                    PixelRecords records;
-                    records.partials = partials;
-                    records.paths = paths.data();
-                    for (int k = 0; k < partials; ++k) {
-                        size_t pixel = size_t(y - windows[k].y0) * w + x;
-                        records.surface[k] = &windows[k].surfaces[pixel];
-                        records.samples[k] = &windows[k].samples[pixel * spp];
-                    }
-                    nonFinite += RenderPixel(scene, source, o, x, y, sums, layers, &records);
-                    for (int c = 0; c < 3; ++c)
-                        layers.unfiltered.At(c, y, x) = layers.color.At(c, y, x);
-                }
-                int done = ++rowsDone;
-                if (o.progress) {
-                    std::lock_guard<std::mutex> lock(progressMutex);
-                    o.progress(done, h);
-                }
-            }
-        });
+        TraceRows(r, traced, need);
         traced = need;
         auto gathered = Clock::now();
-        // Section 8: each partial image filtered on its own, with the same gather.
-        for (int k = 0; k < partials; ++k) {
-            // No surface in the band's rows (no mirror seen there): the gather would hand
-            // every pixel its own mean, a change of 0.
-            auto first = windows[k].surfaces.begin() + size_t(y0 - windows[k].y0) * w;
-            if (k > 0 && std::none_of(first, first + size_t(rows) * w,
-                                      [](const TracingSurface &s) { return s.valid > 0; }))
-                continue;
-            std::vector<float> filtered =
-                t.gather ? t.gather(windows[k], t.params, y0, rows)
-                         : ReferenceGather(windows[k], t.params, y0, rows, threads);
-            if (filtered.size() != size_t(w) * rows * 3)
-                throw Error(fmt::format("tracing gather returned {} values for {} rows of {}",
-                                        filtered.size(), rows, w));
-            ApplyFiltered(windows[k], filtered, y0, rows, k, layers);
-        }
+        FilterBand(r, y0, rows);
         auto end = Clock::now();
         stats.renderSeconds += std::chrono::duration<double>(gathered - start).count();
         stats.gatherSeconds += std::chrono::duration<double>(end - gathered).count();
         ++stats.bands;
-        stats.peakRecordBytes = std::max(stats.peakRecordBytes, recordBytes());
+        stats.peakRecordBytes = std::max(stats.peakRecordBytes, RecordBytes(r.windows));
     }
 }
 

@@ -1,0 +1,297 @@
+#include "host/methods/auto.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <memory>
+
+#include "host/error.h"
+#include "host/kernels/auto_combine.h"
+#include "host/kernels/auto_estimate.h"
+#include "host/kernels/auto_noise.h"
+#include "host/kernels/auto_smooth.h"
+#include "host/vk/gpu_image.h"
+#include "shaders/auto/auto.h"
+#include "shaders/auto/noise.h"
+
+namespace mcd {
+
+static_assert(kAutoMaxCandidates == AUTO_MAX_CANDIDATES);
+static_assert(kAutoNoiseMaxRadius == AUTO_NOISE_MAX_RADIUS);
+
+MethodResult AutoNoise(vk::Context &context, const Image &color, const Image *albedo,
+                       int radius) {
+    StagedRun run(context, false);
+    vk::GpuImage gColor(context, color.width, color.height, color.channels, "auto.noise.color");
+    vk::GpuImage gNoise(context, color.width, color.height, color.channels, "auto.noise");
+    gColor.Upload(color);
+    std::unique_ptr<vk::GpuImage> gAlbedo;
+    if (albedo) {
+        gAlbedo = std::make_unique<vk::GpuImage>(context, albedo->width, albedo->height,
+                                                 albedo->channels, "auto.noise.albedo");
+        gAlbedo->Upload(*albedo);
+    }
+    RecordAutoNoise(context, run.Recorder(), gColor, gAlbedo.get(), radius, gNoise);
+    run.Submit();
+    MethodResult result;
+    result.image = gNoise.Download();
+    run.Finish(result);
+    return result;
+}
+
+namespace {
+
+void CheckAutoInputs(const Image &color, const std::vector<AutoCandidate> &candidates,
+                     const AutoEstimateInputs &estimate, const AutoOptions &options) {
+    if (color.channels < 1 || color.channels > 4)
+        throw Error(
+            fmt::format("auto: {} colour channels; 1 to 4 are combined", color.channels));
+    if (candidates.empty() || candidates.size() > size_t(kAutoMaxCandidates))
+        throw Error(fmt::format("auto: {} candidates; 1 to {} are combined", candidates.size(),
+                                kAutoMaxCandidates));
+    bool scored = !estimate.variance.Empty(), halves = !estimate.half1.Empty();
+    for (const AutoCandidate &c : candidates)
+        if (!c.output.SameShape(color) || (scored && !c.probe.SameShape(color)))
+            throw Error(
+                fmt::format("auto: candidate {}'s output or probe is not of the colour's "
+                            "shape {}x{}x{}",
+                            c.label, color.width, color.height, color.channels));
+    if (scored != (options.combination != AutoCombination::Mean))
+        throw Error("auto: the mean takes no estimate, the other combinations need one");
+    if (!scored) return;
+    for (const Image *image : {&estimate.variance, &estimate.probe})
+        if (!image->SameShape(color))
+            throw Error("auto: the estimate's variance and probe must have the colour's shape");
+    if ((halves && !estimate.half1.SameShape(color)) ||
+        (!estimate.offset.Empty() && !estimate.offset.SameShape(color)))
+        throw Error("auto: half1 and the split's offset must have the colour's shape");
+    if (options.combination == AutoCombination::Relative &&
+        !estimate.meanVariance.SameShape(color))
+        throw Error("auto: the relative combination needs the variance of the pixel mean");
+}
+
+// The buffers of a combination: K candidates of C channels, W x H.
+struct AutoGpu {
+    int width, height, channels, count;
+    vk::GpuImage color, candidates, errors, smooth, output, weights;
+
+    AutoGpu(vk::Context &context, const Image &image,
+            const std::vector<AutoCandidate> &candidates)
+        : width(image.width),
+          height(image.height),
+          channels(image.channels),
+          count(int(candidates.size())),
+          color(context, width, height, channels, "auto.color"),
+          candidates(context, width, height, count * channels, "auto.candidates"),
+          errors(context, width, height, count, "auto.errors"),
+          smooth(context, width, height, count, "auto.smooth"),
+          output(context, width, height, channels, "auto.output"),
+          weights(context, width, height, count, "auto.weights") {
+        color.Upload(image);
+        Image packed(width, height, count * channels);
+        for (int k = 0; k < count; ++k)
+            std::copy(candidates[k].output.data.begin(), candidates[k].output.data.end(),
+                      packed.data.begin() + size_t(k) * channels * width * height);
+        this->candidates.Upload(packed);
+    }
+    vk::GpuImage Planes(vk::Context &context, int planes, const char *name,
+                        const Image &image) const {
+        vk::GpuImage gpu(context, width, height, planes, name);
+        gpu.Upload(image);
+        return gpu;
+    }
+};
+
+// The inputs every candidate's estimate reads, and its scratch.
+struct EstimateGpu {
+    vk::GpuImage variance, probe, scored, perturbed, error, offset, noOffset, half1;
+
+    EstimateGpu(vk::Context &context, const AutoGpu &gpu, const AutoEstimateInputs &in)
+        : variance(gpu.Planes(context, gpu.channels, "auto.variance", in.variance)),
+          probe(gpu.Planes(context, gpu.channels, "auto.probe", in.probe)),
+          scored(context, gpu.width, gpu.height, gpu.channels, "auto.candidate"),
+          perturbed(context, gpu.width, gpu.height, gpu.channels, "auto.perturbed"),
+          error(context, gpu.width, gpu.height, 1, "auto.error"),
+          noOffset(gpu.Planes(context, gpu.channels, "auto.nooffset",
+                              Image(gpu.width, gpu.height, gpu.channels))) {
+        if (!in.offset.Empty())
+            offset = gpu.Planes(context, gpu.channels, "auto.offset", in.offset);
+        if (!in.half1.Empty())
+            half1 = gpu.Planes(context, gpu.channels, "auto.half1", in.half1);
+    }
+};
+
+// Every candidate's estimate with the guide g in relMSE's denominator (g^2 + 0.01, or the
+// pixel's variance over noiseCap where that is larger), one plane each in gpu.errors, then
+// their box means in gpu.smooth. With the half-buffers F(half0) is compared with half1
+// (the zero probe drops the divergence term).
+void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
+                     const std::vector<AutoCandidate> &candidates, bool halves,
+                     const vk::GpuImage &guide, float noiseCap, int radius) {
+    vk::Context &context = run.Context();
+    size_t planeBytes = size_t(gpu.width) * gpu.height * sizeof(float);
+    for (int k = 0; k < gpu.count; ++k) {
+        const AutoCandidate &c = candidates[k];
+        est.scored.Upload(halves ? c.probe : c.output);
+        est.perturbed.Upload(c.probe);
+        RecordAutoEstimate(context, run.Recorder(), halves ? est.half1 : gpu.color,
+                           est.variance, est.probe, guide, est.scored, est.perturbed,
+                           c.split ? est.offset : est.noOffset, c.epsilon, noiseCap, est.error);
+        run.Recorder().Copy(est.error.buffer, gpu.errors.buffer, planeBytes, 0,
+                            size_t(k) * planeBytes);
+        // The next candidate's upload reuses the scratch.
+        run.Submit();
+    }
+    RecordAutoSmooth(context, run.Recorder(), gpu.errors, radius, gpu.smooth);
+}
+
+// The estimates of the final combination, whose denominator's guide stands in for the
+// reference. The candidates' mean stood in for it, but where one candidate overshoots (a
+// firefly kept, a blotch) it inflates the mean and so the denominator, which caps that
+// candidate's estimated error at about count^2 however far it is off: on relief-abc 16 spp
+// 4% of the pixels carry 71-99% of every candidate's error and the mean's denominator
+// there is over 4 times the reference's (README). So by default a first pass weighs the
+// candidates by their plain squared error (a zero guide: the same denominator everywhere)
+// and its combination, where the overshooting candidates already weigh little, is the
+// guide. Where the candidates disagree beyond what the estimates resolve it leans dark,
+// which suits relMSE: brightening a dark pixel costs without bound, darkening a bright one
+// at most 1.
+void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInputs &in,
+                           const std::vector<AutoCandidate> &candidates,
+                           const AutoOptions &options, vk::GpuImage &guide) {
+    vk::Context &context = run.Context();
+    EstimateGpu est(context, gpu, in);
+    bool halves = !in.half1.Empty();
+    if (options.meanGuide) {
+        // Zero estimates weigh the candidates equally: the mean.
+        vk::GpuImage zeros = gpu.Planes(context, gpu.count, "auto.zeros",
+                                        Image(gpu.width, gpu.height, gpu.count));
+        RecordAutoCombine(context, run.Recorder(), gpu.color, gpu.candidates, zeros,
+                          AutoMode::Weights, 1.f, 1.f, guide, gpu.weights);
+        run.Submit();
+    } else {
+        vk::GpuImage flat = gpu.Planes(context, gpu.channels, "auto.flat",
+                                       Image(gpu.width, gpu.height, gpu.channels));
+        RecordEstimates(run, gpu, est, candidates, halves, flat, 0.f, options.radius);
+        RecordAutoCombine(context, run.Recorder(), gpu.color, gpu.candidates, gpu.smooth,
+                          AutoMode::WeightsMedian, options.power, options.floorError, guide,
+                          gpu.weights);
+    }
+    // The second pass bounds each pixel's weight by its noise: with a guide that can be
+    // dark where a candidate is right to be bright (fireflies 4 spp: rhf darkens a light
+    // seen by one sample, and so does the first pass), that pixel's estimate, of the order
+    // of v / (g^2 + 0.01), would swamp every window around it.
+    RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius);
+}
+
+// Without an estimate every method gets the same weight, shared by its variants: a
+// constant "error" of the number of its variants among the candidates, weighed at power 1.
+Image Shares(const std::vector<AutoCandidate> &candidates, int width, int height) {
+    int count = int(candidates.size());
+    Image shares(width, height, count);
+    for (int k = 0; k < count; ++k) {
+        int siblings = 0;
+        for (const AutoCandidate &other : candidates)
+            siblings += other.method == candidates[k].method;
+        std::fill(shares.data.begin() + size_t(k) * width * height,
+                  shares.data.begin() + size_t(k + 1) * width * height, float(siblings));
+    }
+    return shares;
+}
+
+// The final combination. Where every estimate is under the floor they all weigh the same
+// and tell nothing: the candidates' median there, not their mean (at a firefly of a frame
+// without statistics every SURE estimate is negative, and the mean kept the firefly of the
+// candidates that keep it: fireflies 128x128 16 spp, ordinary passes, 0.088 -> 0.0146;
+// README). The relative combination takes the value of least expected relMSE under the
+// weights, and equal weights there and where the pixel's noise outweighs what the windows'
+// estimates resolve: a firefly that the candidates that remove it cannot win by their
+// window's estimates (README: double-textured 4 spp x2.45 -> x1.01).
+void RecordCombination(StagedRun &run, AutoGpu &gpu, const AutoEstimateInputs &in,
+                       const std::vector<AutoCandidate> &candidates,
+                       const AutoOptions &options) {
+    vk::Context &context = run.Context();
+    vk::GpuImage extra;  // the relative combination's variance, or the mean's shares
+    if (options.combination == AutoCombination::Relative) {
+        extra = gpu.Planes(context, gpu.channels, "auto.meanvariance", in.meanVariance);
+        RecordAutoCombine(context, run.Recorder(), gpu.color, gpu.candidates, gpu.smooth,
+                          AutoMode::Relative, options.power, options.floorError, gpu.output,
+                          gpu.weights, &extra, options.noiseLimit, options.darkLimit);
+    } else if (options.combination == AutoCombination::Mean) {
+        extra = gpu.Planes(context, gpu.count, "auto.shares",
+                           Shares(candidates, gpu.width, gpu.height));
+        RecordAutoCombine(context, run.Recorder(), gpu.color, gpu.candidates, extra,
+                          AutoMode::Weights, 1.f, 1e-3f, gpu.output, gpu.weights);
+    } else {
+        RecordAutoCombine(context, run.Recorder(), gpu.color, gpu.candidates, gpu.smooth,
+                          options.combination == AutoCombination::Select
+                              ? AutoMode::Select
+                              : AutoMode::WeightsMedian,
+                          options.power, options.floorError, gpu.output, gpu.weights);
+    }
+    run.Submit();
+}
+
+// Each candidate's share (mean weight, %) and where its weight is the largest (% of the
+// pixels); with `map`, the image of each pixel coloured by that candidate.
+Image Tally(const Image &weights, const std::vector<AutoCandidate> &candidates, bool map,
+            AutoResult &result) {
+    size_t pixels = weights.PixelCount();
+    int count = weights.channels;
+    std::vector<double> share(count, 0);
+    std::vector<size_t> won(count, 0);
+    Image image = map ? Image(weights.width, weights.height, 3) : Image();
+    for (size_t i = 0; i < pixels; ++i) {
+        int best = -1;
+        for (int k = 0; k < count; ++k) {
+            float wk = weights.data[k * pixels + i];
+            share[k] += wk;
+            if (wk > 0 && (best < 0 || wk > weights.data[best * pixels + i])) best = k;
+        }
+        if (best < 0) continue;
+        ++won[best];
+        if (map)
+            for (int c = 0; c < 3; ++c) image.data[c * pixels + i] = candidates[best].colour[c];
+    }
+    for (int k = 0; k < count; ++k) {
+        result.sharePercent.push_back(100 * share[k] / pixels);
+        result.wonPercent.push_back(100.0 * won[k] / pixels);
+    }
+    return image;
+}
+
+}  // namespace
+
+AutoResult AutoCombine(vk::Context &context, const Image &color,
+                       const std::vector<AutoCandidate> &candidates,
+                       const AutoEstimateInputs &estimate, const AutoOptions &options) {
+    CheckAutoInputs(color, candidates, estimate, options);
+    StagedRun run(context, options.keepStages);
+    AutoGpu gpu(context, color, candidates);
+    bool scored = options.combination != AutoCombination::Mean;
+    vk::GpuImage guide;
+    if (scored) {
+        guide = vk::GpuImage(context, gpu.width, gpu.height, gpu.channels, "auto.guide");
+        RecordGuidedEstimates(run, gpu, estimate, candidates, options, guide);
+        for (const AutoCandidate &c : candidates)
+            run.AddStage("auto." + c.label + ".probe", c.probe);
+    }
+    for (const AutoCandidate &c : candidates) run.AddStage("auto." + c.label, c.output);
+    if (scored) {
+        run.StageAtEnd("auto.guide", guide);
+        run.StageAtEnd("auto.estimates", gpu.errors);
+        run.StageAtEnd("auto.errors", gpu.smooth);
+    }
+    RecordCombination(run, gpu, estimate, candidates, options);
+    AutoResult result;
+    result.image = gpu.output.Download();
+    Image weights = gpu.weights.Download();
+    bool map = options.map || options.keepStages;
+    Image mapImage = Tally(weights, candidates, map, result);
+    run.AddStage("auto.weights", std::move(weights));
+    run.Finish(result);
+    if (map) result.stages.emplace_back("auto.map", std::move(mapImage));
+    return result;
+}
+
+}  // namespace mcd

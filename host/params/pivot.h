@@ -1,0 +1,37 @@
+// The pivot-image filter's parameters (Ershov et al., section 4), as the GPU pipeline
+// (host/methods/pivot.h), the front end (host/api/method_pivot.cpp) and the CPU reference
+// (cpu_reference/pivot_filter.h) read them: a layout, like a kernel's push-constant header.
+// The initializers are the defaults the command line shows.
+#pragma once
+
+namespace mcd {
+
+// planefit: the paper's plane fits (eqs. 10-13); bilateral: the cross-bilateral baseline
+// of section 4.1.
+enum class PivotFilter { PlaneFit, Bilateral };
+
+struct PivotParams {
+    PivotFilter filter = PivotFilter::PlaneFit;
+    float floor = 1e-3f;  // pixels with pivot <= floor x channel mean have no z
+    // planefit
+    int maxRadius = 30;         // largest half-size of the square (paper: 30-40)
+    float targetNoise = 0.02f;  // relative std of a centre's fit that stops growth
+    // Relative std above which a pixel is not fitted (section 4.2's threshold). Measured at
+    // 16 spp (cornell, relief-abc, double-textured, glossy-cornell, 128x128): 100 beats 1 and
+    // 3 on PSNR in all four; 1 darkens heavy-tailed scenes (the fireflies carry the energy).
+    float goodNoise = 100.f;
+    float disagreement = 0.1f;  // square-vs-quadrant limit at the centre, relative
+    // Eq. 10's robustness constant; k = 1 darkened cornell at 16 spp by 5% (it down-weights
+    // the bright tail of the noise), 0 and 0.3 measure the same.
+    float k = 0.3f;
+    // Multiplies sigma in eq. 10. With heavy-tailed noise the pixels that carry the energy
+    // (fireflies) have the largest sigma: 1 (the paper) halved relief-abc's plane at 16 spp;
+    // 0 measured better PSNR on all four scenes above (e.g. glossy-cornell 24.5 -> 25.9 dB).
+    float sigmaWeight = 0.f;
+    // bilateral: window half-size, spatial sigma = radius / 2, range sigma on the relative
+    // difference of the pivot's channel mean.
+    int bilateralRadius = 8;
+    float sigmaRange = 0.2f;
+};
+
+}  // namespace mcd

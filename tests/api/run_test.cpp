@@ -1,0 +1,190 @@
+// Runs on frames of borrowed layers (Frame::SetLayer with views) and into the caller's
+// buffer (RunOptions::output): the same bits as on owned planar layers for every method,
+// alpha through, half in and out, cancellation that leaves the output untouched.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/api/device.h"
+#include "host/common/half.h"
+#include "mcdenoise/mcdenoise.h"
+#include "tools/render/renderer.h"
+
+namespace mcd::test {
+namespace {
+
+// A rendered frame with every layer, and an alpha layer of seeded values.
+Frame OwnedFrame(int width, int height) {
+    render::RenderOptions o;
+    o.width = width, o.height = height, o.spp = 4;
+    o.layers = render::kLayersAll;
+    render::RenderResult r = render::Render(render::BuildScene("cornell"), o);
+    Frame frame;
+    frame.width = width, frame.height = height;
+    for (auto &[name, image] : r.layers) frame.layers[name] = std::move(image);
+    frame.layers["alpha"] = MakeVarianceInput(InputKind::Uniform, width, height, 1, 5);
+    return frame;
+}
+
+// A renderer's buffers: each layer interleaved, float32 or half.
+struct Buffers {
+    std::vector<std::vector<float>> floats;
+    std::vector<std::vector<uint16_t>> halves;
+
+    LayerView Add(const Image &image, DataType type) {
+        size_t n = image.data.size();
+        auto at = [&](size_t i) {
+            size_t pixel = i / size_t(image.channels), c = i % size_t(image.channels);
+            return image.data[c * image.PixelCount() + pixel];
+        };
+        if (type == DataType::Float16) {
+            halves.emplace_back(n);
+            for (size_t i = 0; i < n; ++i) halves.back()[i] = FloatToHalf(at(i));
+            return LayerView::Interleaved(halves.back().data(), image.width, image.height,
+                                          image.channels, type);
+        }
+        floats.emplace_back(n);
+        for (size_t i = 0; i < n; ++i) floats.back()[i] = at(i);
+        return LayerView::Interleaved(floats.back().data(), image.width, image.height,
+                                      image.channels);
+    }
+};
+
+// The frame as borrowed views (`halfLayers` in half), and the owned frame with those
+// layers rounded to half as the views hold them.
+std::pair<Frame, Frame> Borrowed(const Frame &owned, Buffers &buffers,
+                                 const std::vector<std::string> &halfLayers = {}) {
+    Frame views, rounded = owned;
+    buffers.floats.reserve(owned.layers.size());
+    buffers.halves.reserve(owned.layers.size());
+    for (const auto &[name, image] : owned.layers) {
+        bool half = std::find(halfLayers.begin(), halfLayers.end(), name) != halfLayers.end();
+        views.SetLayer(name, buffers.Add(image, half ? DataType::Float16 : DataType::Float32));
+        if (half)
+            for (float &v : rounded.layers[name].data) v = HalfToFloat(FloatToHalf(v));
+    }
+    return {std::move(views), std::move(rounded)};
+}
+
+class LibraryRun : public GpuTestWithParam<std::string> {};
+class LibraryRunning : public GpuTest {};
+
+// Every method on borrowed interleaved layers gives the owned run's bits, into an RGBA
+// buffer whose fourth channel is the frame's alpha.
+TEST_P(LibraryRun, BorrowedLayersGiveTheOwnedBitsAndAlphaPassesThrough) {
+    Device device = api::BorrowDevice(Ctx());
+    Method method(GetParam());
+    Frame owned = OwnedFrame(29, 23);
+    Buffers buffers;
+    auto [views, rounded] = Borrowed(owned, buffers);
+    Result expected = method.Run(device, owned);
+    std::vector<float> out(size_t(29) * 23 * 4, -1.f);
+    RunOptions run;
+    run.output = OutputView::Interleaved(out.data(), 29, 23, 4);
+    Result result = method.Run(device, views, run);
+    EXPECT_TRUE(result.image.Empty());
+    EXPECT_EQ(result.method, expected.method);
+    EXPECT_EQ(result.candidates, expected.candidates);
+    EXPECT_EQ(result.candidates.empty(), GetParam() != "auto");
+    ASSERT_EQ(result.alpha.data, owned.layers["alpha"].data);
+    const Image &image = expected.image;
+    for (size_t i = 0; i < image.PixelCount(); ++i) {
+        for (int c = 0; c < 3; ++c)
+            ASSERT_EQ(std::memcmp(&out[i * 4 + c], &image.data[c * image.PixelCount() + i], 4),
+                      0)
+                << "pixel " << i << " channel " << c;
+        ASSERT_EQ(out[i * 4 + 3], result.alpha.data[i]);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, LibraryRun,
+                         ::testing::Values("awr", "bayes", "pivot", "rhf", "auto"));
+
+// Half layers read as their float values; a half output holds the float result rounded.
+TEST_F(LibraryRunning, HalfInAndOut) {
+    Device device = api::BorrowDevice(Ctx());
+    Method method("bayes");
+    Frame owned = OwnedFrame(21, 17);
+    Buffers buffers;
+    auto [views, rounded] = Borrowed(owned, buffers, {"color", "variance"});
+    Result expected = method.Run(device, rounded);
+    std::vector<uint16_t> out(size_t(21) * 17 * 3);
+    RunOptions run;
+    run.output = OutputView::Planar(out.data(), 21, 17, 3, DataType::Float16);
+    method.Run(device, views, run);
+    for (size_t i = 0; i < out.size(); ++i)
+        ASSERT_EQ(out[i], FloatToHalf(expected.image.data[i])) << i;
+}
+
+TEST_F(LibraryRunning, RefusesAnOutputOfAnotherShape) {
+    Device device = api::BorrowDevice(Ctx());
+    Frame owned = OwnedFrame(12, 10);
+    std::vector<float> out(size_t(12) * 10 * 5);
+    RunOptions run;
+    run.output = OutputView::Interleaved(out.data(), 12, 10, 5);
+    try {
+        Method("rhf").Run(device, owned, run);
+        FAIL() << "ran";
+    } catch (const Error &e) {
+        EXPECT_EQ(e.Kind(), ErrorKind::InvalidArgument) << e.what();
+    }
+    run.output = OutputView::Interleaved(out.data(), 11, 10, 3);
+    EXPECT_THROW(Method("rhf").Run(device, owned, run), Error);
+}
+
+// NaN in a borrowed layer is refused by the non-finite policy, as in an owned one.
+TEST_F(LibraryRunning, RefusesNonFiniteBorrowedInput) {
+    Device device = api::BorrowDevice(Ctx());
+    Frame whole = OwnedFrame(12, 10), owned;
+    owned.SetLayer("color", whole.layers["color"]);
+    owned.layers["color"].At(1, 3, 4) = NAN;
+    Buffers buffers;
+    auto [views, rounded] = Borrowed(owned, buffers);
+    try {
+        Method("bayes").Run(device, views);
+        FAIL() << "ran";
+    } catch (const Error &e) {
+        EXPECT_EQ(e.Kind(), ErrorKind::NonFiniteInput) << e.what();
+        EXPECT_NE(std::string(e.what()).find("pixel (4, 3), channel 1"), std::string::npos)
+            << e.what();
+    }
+}
+
+// A cancel at the k-th poll stops the run with kind Cancelled, polls no more and leaves
+// the output as it was; the device runs normally afterwards.
+void ExpectCancelled(Device &device, const std::string &name, int cancelAt) {
+    Frame owned = OwnedFrame(24, 20);
+    std::vector<float> out(size_t(24) * 20 * 3, 42.f);
+    RunOptions run;
+    run.output = OutputView::Interleaved(out.data(), 24, 20, 3);
+    int polls = 0;
+    run.cancel = [&] { return ++polls >= cancelAt; };
+    try {
+        Method(name).Run(device, owned, run);
+        FAIL() << name << " ran";
+    } catch (const Error &e) {
+        EXPECT_EQ(e.Kind(), ErrorKind::Cancelled) << name << ": " << e.what();
+    }
+    EXPECT_EQ(polls, cancelAt) << name;
+    for (float v : out) ASSERT_EQ(v, 42.f) << name;
+    Method(name).Run(device, owned, {});
+}
+
+TEST_F(LibraryRunning, CancelsBetweenSubmissions) {
+    Device device = api::BorrowDevice(Ctx());
+    for (const char *name : {"awr", "bayes", "pivot", "rhf"}) ExpectCancelled(device, name, 1);
+    ExpectCancelled(device, "bayes", 2);
+    // auto leaves out a candidate that fails; a cancelled run is still cancelled.
+    ExpectCancelled(device, "auto", 3);
+}
+
+}  // namespace
+}  // namespace mcd::test

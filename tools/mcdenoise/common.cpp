@@ -1,0 +1,102 @@
+// The helpers every command shares (commands.h).
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "host/error.h"
+#include "host/io/frame.h"
+#include "tools/mcdenoise/commands.h"
+
+namespace mcd::tool {
+
+void DeviceOptions::Add(CLI::App *command) {
+    command
+        ->add_option("--device", device,
+                     "Vulkan device: index or name substring (default: $MCD_DEVICE, else the "
+                     "first discrete GPU, then integrated, then CPU)")
+        ->group(kDeviceGroup);
+    command
+        ->add_flag("--validation", validation,
+                   "enable the Khronos validation layer and print its messages")
+        ->group(kDeviceGroup);
+    command
+        ->add_option("--pipeline-cache", pipelineCache,
+                     "file for the Vulkan driver's pipeline cache: read at the start, written "
+                     "at the end, so the next run builds its pipelines faster where the driver "
+                     "keeps them (lavapipe does not; README)")
+        ->group(kDeviceGroup);
+}
+
+void ParseSize(const std::string &text, int *width, int *height) {
+    int w = 0, h = 0, used = 0;
+    char x = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%n", &w, &x, &h, &used) != 3 ||
+        used != int(text.size()) || (x != 'x' && x != 'X') || w <= 0 || h <= 0)
+        throw Error("size '" + text + "' is not WIDTHxHEIGHT with positive numbers");
+    if (w > kMaxImageSide || h > kMaxImageSide)
+        throw Error(
+            fmt::format("size '{}' is larger than {} pixels on a side", text, kMaxImageSide));
+    *width = w;
+    *height = h;
+}
+
+void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions,
+                     const std::string &role) {
+    namespace fs = std::filesystem;
+    // ".exr, .hdr or .png"
+    std::string list;
+    size_t i = 0;
+    for (const char *e : extensions) {
+        if (i > 0) list += i + 1 == extensions.size() ? " or " : ", ";
+        list += e;
+        ++i;
+    }
+    std::error_code ec;
+    if (!path.empty() && (path.back() == '/' || fs::is_directory(path, ec)))
+        throw Error(fmt::format("{} '{}' is a directory; give a file name ending in {}", role,
+                                path, list));
+    std::string ext = fs::path(path).extension().string();
+    bool known = false;
+    for (const char *e : extensions) known |= ext == e;
+    if (ext.empty())
+        throw Error(fmt::format("{} '{}' has no extension; give a file name ending in {}", role,
+                                path, list));
+    if (!known)
+        throw Error(
+            fmt::format("{} '{}': unsupported extension '{}' (use {})", role, path, ext, list));
+    fs::path dir = fs::path(path).parent_path();
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw Error(
+            fmt::format("{} '{}': directory '{}' does not exist", role, path, dir.string()));
+}
+
+void CheckInputFile(const std::string &path, const std::string &role) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        throw Error(
+            fmt::format("{} '{}' is a directory; give an image file (EXR, PFM, HDR or "
+                        "PNG)",
+                        role, path));
+}
+
+void WriteImage(const std::string &path, const Image &image,
+                const std::map<std::string, std::string> &metadata, const Image *alpha) {
+    if (std::filesystem::path(path).extension() == ".png")
+        io::WritePngWithAlpha(path, image, alpha);
+    else if (alpha)
+        io::WriteExr(path, {{"color", &image}, {"alpha", alpha}}, metadata);
+    else
+        io::WriteExr(path, {{"color", &image}}, metadata);
+}
+
+void PrepareDirectory(const std::string &path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(path, ec);
+    if (ec || !fs::is_directory(path))
+        throw Error(fmt::format("cannot use '{}' as a directory: {}", path,
+                                ec ? ec.message() : "it is a file"));
+}
+
+}  // namespace mcd::tool
