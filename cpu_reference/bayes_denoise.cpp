@@ -5,6 +5,7 @@
 
 #include <limits>
 
+#include "cpu_reference/local_mean.h"
 #include "cpu_reference/wavelet_analyze.h"
 #include "cpu_reference/wavelet_sqanalyze.h"
 #include "cpu_reference/wavelet_swt.h"
@@ -138,49 +139,13 @@ void KeepMean(const Image &color, BayesRefResult *result, bool keepStage) {
     if (keepStage) result->stages.push_back({"keep mean", out});
 }
 
-// The mean of each plane over the box of radius r around each pixel, clipped to the image.
-Image BoxMean(const Image &image, int r) {
-    Image out(image.width, image.height, image.channels);
-    for (int c = 0; c < image.channels; ++c)
-        for (int y = 0; y < image.height; ++y)
-            for (int x = 0; x < image.width; ++x) {
-                double sum = 0;
-                int n = 0;
-                for (int v = std::max(0, y - r); v <= std::min(image.height - 1, y + r); ++v)
-                    for (int u = std::max(0, x - r); u <= std::min(image.width - 1, x + r);
-                         ++u) {
-                        sum += image.At(c, v, u);
-                        ++n;
-                    }
-                out.At(c, y, x) = float(sum / n);
-            }
-    return out;
-}
-
-// Restore the input's local means: each output value times m_in / m_out, their means over
-// the tent window (a box twice), where both are positive and finite.
-void LocalMean(const Image &color, int radius, BayesRefResult *result, bool keepStage) {
-    Image input(color.width, color.height, color.channels);
-    for (size_t i = 0; i < color.data.size(); ++i) {
-        float v = color.data[i];
-        input.data[i] = std::isfinite(v) && v > 0 ? v : 0.f;
-    }
-    Image &out = result->image;
-    Image mIn = BoxMean(BoxMean(input, radius), radius);
-    Image mOut = BoxMean(BoxMean(out, radius), radius);
-    for (size_t i = 0; i < out.data.size(); ++i) {
-        double a = mIn.data[i], b = mOut.data[i];
-        if (a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b))
-            out.data[i] = float(out.data[i] * (a / b));
-    }
-    if (keepStage) result->stages.push_back({"local mean", out});
-}
-
 // keepMean, then the local mean.
 void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
                   BayesRefResult *result) {
     if (params.keepMean) KeepMean(color, result, keepStages);
-    if (params.meanRadius > 0) LocalMean(color, params.meanRadius, result, keepStages);
+    if (params.meanRadius <= 0) return;
+    RestoreLocalMeans(color, params.meanRadius, &result->image);
+    if (keepStages) result->stages.push_back({"local mean", result->image});
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "cpu_reference/local_mean.h"
+
 namespace mcd::ref {
 namespace {
 
@@ -444,12 +446,9 @@ Image PivotFilterOne(const Image &color, const Image &pivot, const Image *varian
     return out;
 }
 
-}  // namespace
-
-Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
-                  std::vector<std::pair<std::string, Image>> *stages) {
-    if (in.partials.empty())
-        return PivotFilterOne(*in.color, *in.pivot, in.variance, in.guides, params, "", stages);
+// Section 8: each partial against its own pivot, summed, plus the remainder.
+Image PivotFilterSum(const PivotFilterInputs &in, const PivotParams &params,
+                     std::vector<std::pair<std::string, Image>> *stages) {
     Image out(in.remainder->width, in.remainder->height, in.remainder->channels);
     for (size_t k = 0; k < in.partials.size(); ++k) {
         const PivotPartialImage &partial = in.partials[k];
@@ -460,6 +459,19 @@ Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
     }
     // The remainder is left unfiltered (section 8).
     for (size_t i = 0; i < out.Size(); ++i) out.data[i] += in.remainder->data[i];
+    return out;
+}
+
+}  // namespace
+
+Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
+                  std::vector<std::pair<std::string, Image>> *stages) {
+    Image out = in.partials.empty() ? PivotFilterOne(*in.color, *in.pivot, in.variance,
+                                                     in.guides, params, "", stages)
+                                    : PivotFilterSum(in, params, stages);
+    if (params.meanRadius <= 0) return out;
+    RestoreLocalMeans(*in.color, params.meanRadius, &out);
+    if (stages) stages->emplace_back("local mean", out);
     return out;
 }
 

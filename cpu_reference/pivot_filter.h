@@ -130,7 +130,9 @@ struct PivotFilterInputs {
 
 // The whole method as `mcdenoise diff` compares it. With `stages`, also the images the GPU
 // run keeps (host/methods/pivot.h), by the same names: "z", "nu", "fits" (plane fits only)
-// and "output"; with partials, each partial's as "partial<k>.<stage>".
+// and "output"; with partials, each partial's as "partial<k>.<stage>"; then, with
+// params.meanRadius > 0, "local mean": the input color's local means restored
+// (cpu_reference/local_mean.h).
 Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
                   std::vector<std::pair<std::string, Image>> *stages = nullptr);
 

@@ -148,7 +148,7 @@ class Bayes : public FrontEndOf<BayesSettings> {
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
             "{}, the spins' shift and the local mean's tent window of radius {}",
-            WaveletName(o.basis), half, levels);
+            WaveletName(o.basis), half, levels, 2 * o.meanRadius);
         needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
         // Measured: 144 bytes a pixel at 1920x1080 (3 channels, swt, 3 levels). One binding
         // holds a channel's stationary coefficients (3 bands a level and the low band), or

@@ -77,6 +77,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    FloatParam("pivot-floor",
                               "pixels with pivot <= this x the channel mean keep their input",
                               &PivotParams::floor, 1e-12, 1e6)),
+               Nested(&PivotSettings::method,
+                      IntParam("pivot-mean-radius",
+                               "restore the input's local means over tent windows of twice "
+                               "this radius (the fits leave out the bright tail of heavy-"
+                               "tailed noise and small highlights; 0: off)",
+                               &PivotParams::meanRadius, 0, 256)),
                ChoiceParam("guides", "auto (normals and ids when the frame has them) or none",
                            &PivotSettings::guides, {"auto", "none"}),
                ChoiceParam("pivot-noise",
@@ -140,6 +146,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 "neighbours, 1 for the id boundary",
                 options.method.maxRadius, options.method.maxRadius);
         }
+        needs.reach += 2 * options.method.meanRadius;
+        needs.reachText +=
+            fmt::format("; the local mean's tent radius {}", 2 * options.method.meanRadius);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;

@@ -9,6 +9,7 @@
 
 #include "bayes/bayes.h"
 #include "host/common/cycle_spin.h"
+#include "host/common/local_mean.h"
 #include "host/error.h"
 #include "host/kernels/bayes_exp.h"
 #include "host/kernels/bayes_log.h"
@@ -130,53 +131,13 @@ void KeepMean(const Image &color, BayesResult *result) {
         "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
 }
 
-// Box means of radius r along rows or columns, clipped to the image: running sums.
-void BoxPass(const float *in, float *out, int w, int h, int r, bool rows) {
-    int length = rows ? w : h, lines = rows ? h : w;
-    size_t along = rows ? 1 : size_t(w), across = rows ? size_t(w) : 1;
-    for (int line = 0; line < lines; ++line) {
-        const float *src = in + line * across;
-        float *dst = out + line * across;
-        double sum = 0;
-        int lo = 0, hi = -1;  // the window [lo, hi] summed so far
-        for (int i = 0; i < length; ++i) {
-            int a = std::max(0, i - r), b = std::min(length - 1, i + r);
-            while (hi < b) sum += src[++hi * along];
-            while (lo < a) sum -= src[lo++ * along];
-            dst[i * along] = float(sum / (b - a + 1));
-        }
-    }
-}
-
-// Each plane's mean over the tent window of radius 2r (a box of radius r, twice).
-Image TentMean(const Image &image, int r) {
-    Image a(image.width, image.height, image.channels), b = a;
-    for (int c = 0; c < image.channels; ++c) {
-        BoxPass(image.Plane(c), a.Plane(c), image.width, image.height, r, true);
-        BoxPass(a.Plane(c), b.Plane(c), image.width, image.height, r, false);
-        BoxPass(b.Plane(c), a.Plane(c), image.width, image.height, r, true);
-        BoxPass(a.Plane(c), b.Plane(c), image.width, image.height, r, false);
-    }
-    return b;
-}
-
 // Restore the input's local means (BayesParams::meanRadius).
 void LocalMean(const Image &color, int radius, BayesResult *result) {
-    Image input = color;
-    for (float &v : input.data) v = Finite(v) && v > 0 ? v : 0.f;
-    Image mIn = TentMean(input, radius), mOut = TentMean(result->image, radius);
-    double lo = 0, hi = 0;
-    for (size_t i = 0; i < mIn.data.size(); ++i) {
-        float a = mIn.data[i], b = mOut.data[i];
-        if (!(a > 0 && b > 0 && Finite(a) && Finite(b))) continue;
-        double ratio = double(a) / b;
-        result->image.data[i] = float(result->image.data[i] * ratio);
-        lo = hi > 0 ? std::min(lo, ratio) : ratio, hi = std::max(hi, ratio);
-    }
+    LocalMeanFactors f = RestoreLocalMeans(color, radius, &result->image);
     result->plan.push_back(
         fmt::format("local mean: the input's means over tent windows of radius {} restored "
                     "(the log domain's bias; factors {:.3g} to {:.3g})",
-                    2 * radius, hi > 0 ? lo : 1.0, hi > 0 ? hi : 1.0));
+                    2 * radius, f.lo, f.hi));
 }
 
 // keepMean, then the local mean, each a stage when kept.

@@ -588,12 +588,12 @@ TEST_F(PivotMethod, BoundaryPixelsTakeTheFitsOfTheirOwnIds) {
         }
     ASSERT_GT(boundary.size(), size_t(2 * h));
     Image objectId, partId;
-    PivotResult result = PivotDenoise(Ctx(), InputsOf(f, true, &objectId, &partId), {});
-    ref::PivotParams p = api::RefParams(PivotOptions());
+    const PivotParams p;
+    PivotResult result = PivotDenoise(Ctx(), InputsOf(f, true, &objectId, &partId), p);
     ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, &f.ids);
     ref::PivotGuides refGuides{&f.normal, &f.ids};
-    Image expected =
-        ref::PivotGather(f.color, f.pivot, ratio, ref::PivotFit(ratio, refGuides, p), refGuides);
+    Image expected = ref::PivotGather(f.color, f.pivot, ratio,
+                                      ref::PivotFit(ratio, refGuides, p), refGuides);
     for (auto [x, y] : boundary)
         for (int c = 0; c < 3; ++c) {
             EXPECT_EQ(ratio.nu.At(c, y, x), ref::kPivotBoundaryNu) << x << "," << y;
