@@ -300,8 +300,6 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     return result;
 }
 
-}  // namespace
-
 // The input's local means restored (PivotParams::meanRadius), a stage when kept.
 void RestoreMeans(const Image &color, const PivotParams &params, const RunSetup &setup,
                   PivotResult *result) {
