@@ -37,6 +37,26 @@ std::vector<double> DisplayLuminance(const Image &image) {
     return y;
 }
 
+// Linear luminance of a pixel (one channel: itself).
+double Luminance(const Image &image, int y, int x) {
+    if (image.channels < 3) return image.At(0, y, x);
+    return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) + 0.0722 * image.At(2, y, x);
+}
+
+// Mean luminance of the image over the reference's, over the pixels finite in the image.
+double BrightnessRatio(const Image &image, const Image &reference) {
+    double sumImage = 0, sumReference = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            double v = Luminance(image, y, x);
+            if (!std::isfinite(v)) continue;
+            sumImage += v;
+            sumReference += Luminance(reference, y, x);
+        }
+    return sumReference > 0 ? sumImage / sumReference
+                            : std::numeric_limits<double>::quiet_NaN();
+}
+
 // Separable Gaussian blur (sigma 1.5, radius 5), clamped at the borders.
 std::vector<double> Blur(const std::vector<double> &in, int w, int h) {
     double taps[11], sum = 0;
@@ -90,6 +110,7 @@ ErrorMetrics CompareImages(const Image &image, const Image &reference) {
                 sq += d * d;
                 ++count;
             }
+    m.brightness = BrightnessRatio(image, reference);
     m.relMse = count ? rel / count : 0;
     double mse = count ? sq / count : 0;
     m.psnr = mse > 0 ? 10 * std::log10(1 / mse) : std::numeric_limits<double>::infinity();

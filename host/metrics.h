@@ -1,4 +1,5 @@
-// Error metrics of ARCHITECTURE.md ("Frames, layers and error"), over the first three channels (or one).
+// Error metrics of ARCHITECTURE.md ("Frames, layers and error"), over the first three channels
+// (or one).
 #pragma once
 
 #include "host/image.h"
@@ -6,9 +7,12 @@
 namespace mcd {
 
 struct ErrorMetrics {
-    double relMse = 0;     // mean((x - r)^2 / (r^2 + 0.01)), every channel
-    double psnr = 0;       // dB, on [0,1]-clamped sRGB-encoded values; +inf when equal
-    double ssim = 0;       // mean SSIM of the luminance of those values (Gaussian window 1.5)
+    double relMse = 0;  // mean((x - r)^2 / (r^2 + 0.01)), every channel
+    double psnr = 0;    // dB, on [0,1]-clamped sRGB-encoded values; +inf when equal
+    double ssim = 0;    // mean SSIM of the luminance of those values (Gaussian window 1.5)
+    // Mean linear luminance (Rec. 709 weights; one channel: itself) of x over r's, over the
+    // pixels finite in x: relMSE alone can be bought by darkening. NaN when r's is not > 0.
+    double brightness = 0;
     size_t nonFinite = 0;  // elements of x that are NaN/Inf: then relMSE inf, PSNR 0, SSIM 0
 };
 

@@ -32,6 +32,21 @@ TEST(Metrics, KnownOffset) {
     EXPECT_NEAR(m.ssim, (2 * a * b + c1) / (a * a + b * b + c1), 1e-6);
 }
 
+TEST(Metrics, BrightnessIsTheMeanLuminanceOverTheReferences) {
+    // Two pixels: luminance (0.2126 + 0.0722) * 0.5 and 0.7152 * 0.25 in x against 0.4
+    // and 0.4 in r, a NaN pixel in x left out of both sums.
+    Image r(3, 1, 3, 0.4f), x(3, 1, 3, 0.f);
+    x.At(0, 0, 0) = x.At(2, 0, 0) = 0.5f;
+    x.At(1, 0, 1) = 0.25f;
+    x.At(1, 0, 2) = std::numeric_limits<float>::quiet_NaN();
+    double want = ((0.2126 + 0.0722) * 0.5 + 0.7152 * 0.25) / 0.8;
+    EXPECT_NEAR(CompareImages(x, r).brightness, want, 1e-6);
+    Image one(4, 4, 1, 0.3f), half(4, 4, 1, 0.15f);
+    EXPECT_NEAR(CompareImages(half, one).brightness, 0.5, 1e-6);
+    EXPECT_EQ(CompareImages(one, one).brightness, 1.0);
+    EXPECT_TRUE(std::isnan(CompareImages(one, Image(4, 4, 1, 0.f)).brightness));
+}
+
 TEST(Metrics, NoiseLowersSsimAndPsnr) {
     Image r(32, 32, 3, 0.5f), small = r, large = r;
     Image n = MakeInput(InputKind::Uniform, 32, 32, 3, SeedFromName("noise"));

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -182,7 +183,74 @@ TEST_F(CliBenchReal, InputRowsAndReferenceNoiseFollowTheirDefinitions) {
     EXPECT_EQ(images, 5);  // plain: input, reference; accumulated: input, awr, reference
     EXPECT_TRUE(fs::exists(tool.Path("report/scene_a-plain.png")));
     EXPECT_TRUE(fs::exists(tool.Path("report/scene_a-accumulated.png")));
-    EXPECT_NE(Read("report/real.md").find("| geometric mean |"), std::string::npos);
+    EXPECT_NE(Read("report/real.md").find("| mean over the scenes |"), std::string::npos);
+}
+
+// A scene with reference chunks (realset.sh while it renders): the reference is the mean
+// of the chunks present, whatever an older ref.exr holds, its noise from the odd and the
+// even chunks (two halves of 2 and 1 chunks), its spp their sum.
+TEST_F(CliBenchReal, ReferenceFromTheChunksPresent) {
+    std::mt19937 rng(291);
+    fs::create_directories(tool.Path("set/scene_b/ref"));
+    Image stale = Random(rng, 0.05f, 1.f);
+    io::WriteExr(Path("set/scene_b/ref.exr"), {{"color", &stale}},
+                 {{"mcd:spp", "2048"}, {"mcd:accumulatedFrames", "2"}});
+    std::vector<Image> chunks;
+    Image truth = Random(rng, 0.05f, 1.f);
+    for (int k = 0; k < 3; ++k) {
+        chunks.push_back(truth);
+        Image noise = Random(rng, -0.05f, 0.05f);
+        for (size_t i = 0; i < truth.Size(); ++i) chunks[k].data[i] += noise.data[i];
+        io::WriteExr(Path(fmt::format("set/scene_b/ref/chunk{:02d}.exr", k + 1)),
+                     {{"color", &chunks[k]}}, {{"mcd:spp", "1024"}});
+    }
+    // A file that is not a chunk: a render in progress.
+    io::WriteExr(Path("set/scene_b/ref/chunk04.exr.partial.exr"), {{"color", &stale}});
+    fs::last_write_time(
+        tool.Path("set/scene_b/ref.exr"),
+        fs::last_write_time(tool.Path("set/scene_b/ref/chunk03.exr")) - std::chrono::hours(1));
+    Image mean = truth;
+    double noise = 0;
+    for (size_t i = 0; i < mean.Size(); ++i) {
+        double a = (double(chunks[0].data[i]) + chunks[2].data[i]) / 2, b = chunks[1].data[i];
+        mean.data[i] =
+            float((double(chunks[0].data[i]) + chunks[1].data[i] + chunks[2].data[i]) / 3);
+        double r = mean.data[i];
+        noise += (a - b) * (a - b) * 2 / 9 / (r * r + 0.01) / double(mean.Size());
+    }
+    io::WriteExr(Path("set/scene_b/plain.exr"), {{"color", &plain}});
+
+    ToolResult r =
+        tool.Run("bench real set --scenes scene_b --no-oidn --methods awr -o report");
+    ASSERT_EQ(r.code, 0) << r.All();
+    std::vector<double> terms = Terms(plain, mean);
+    double relMse = 0;
+    for (double t : terms) relMse += t / double(terms.size());
+    auto input = CsvRow(Read("report/real.csv"), "scene_b,plain,input");
+    ExpectRelative(input["relmse"], relMse, 1e-5,
+                   "plain input relMSE against the chunks' mean");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        r.out, m,
+        std::regex("reference 3072 spp \\(the mean of 3 chunks in ref/\\), its own relMSE "
+                   "noise ([0-9.e+-]+)")))
+        << r.out;
+    ExpectRelative(m[1], noise, 5e-3, "reference noise from halves of 2 and 1 chunks");
+    EXPECT_NE(
+        CsvRow(Read("report/real.csv"), "scene_b,accumulated,input")["refused"].find("acc.exr"),
+        std::string::npos);
+
+    // Once ref.exr is newer and made from as many chunks, it is the reference.
+    io::WriteExr(Path("set/scene_b/ref.exr"), {{"color", &stale}},
+                 {{"mcd:spp", "3072"}, {"mcd:accumulatedFrames", "3"}});
+    r = tool.Run("bench real set --scenes scene_b --no-oidn --methods awr -o report");
+    ASSERT_EQ(r.code, 0) << r.All();
+    terms = Terms(plain, stale);
+    relMse = 0;
+    for (double t : terms) relMse += t / double(terms.size());
+    input = CsvRow(Read("report/real.csv"), "scene_b,plain,input");
+    ExpectRelative(input["relmse"], relMse, 1e-5, "plain input relMSE against ref.exr");
+    EXPECT_NE(r.out.find("its own relMSE noise unknown"), std::string::npos) << r.out;
 }
 
 TEST_F(CliBenchReal, RefusesWhatIsNotASet) {
@@ -192,6 +260,12 @@ TEST_F(CliBenchReal, RefusesWhatIsNotASet) {
     r = tool.Run("bench real set --scenes scene_b --no-oidn -o report");
     EXPECT_NE(r.code, 0);
     EXPECT_NE(r.err.find("scene_b"), std::string::npos) << r.err;
+    // One chunk is not a reference.
+    fs::create_directories(tool.Path("set/scene_b/ref"));
+    io::WriteExr(Path("set/scene_b/ref/chunk01.exr"), {{"color", &reference}});
+    r = tool.Run("bench real set --scenes scene_b --no-oidn -o report");
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.err.find("nor two chunks"), std::string::npos) << r.err;
     r = tool.Run("bench real set --oidn nowhere -o report");
     EXPECT_NE(r.code, 0);
     EXPECT_NE(r.err.find("no denoise_exr.py"), std::string::npos) << r.err;

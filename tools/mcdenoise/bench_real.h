@@ -15,12 +15,11 @@ namespace mcd::tool {
 struct RealRow {
     std::string scene, frame, method;  // frame: "plain" or "accumulated"
     std::string refused;               // why the method did not run on the frame
-    ErrorMetrics error;
-    double brightness = 0;  // mean luminance of the output over the reference's
-    double worst = 0;       // mean relMSE term of the worst 1% of pixels
-    double seconds = -1;    // denoise wall time; negative for the input
-    std::string note;       // e.g. what auto ran
-    std::string png;        // the output's preview, relative to the report directory
+    ErrorMetrics error;   // with the mean brightness of the output over the reference's
+    double worst = 0;     // mean relMSE term of the worst 1% of pixels
+    double seconds = -1;  // denoise wall time; negative for the input
+    std::string note;     // e.g. what auto ran
+    std::string png;      // the output's preview, relative to the report directory
 
     bool Ran() const { return refused.empty(); }
 };
@@ -32,14 +31,28 @@ struct RealScene {
     Image reference;
     double referenceNoise = -1;  // negative when the reference has no halves
     int referenceSpp = 0;
+    std::string referenceFrom;  // ref.exr, or the chunks it was assembled from
     std::string referencePng;
 };
 
-// The error figures beyond CompareImages': brightness ratio and worst 1%.
+// The error figure beyond CompareImages': the mean relMSE term of the worst 1% of pixels.
 void MeasureRow(const Image &output, const Image &reference, RealRow *row);
 
-// relMSE the reference carries: from its two halves, each the mean of half the samples.
-double ReferenceNoise(const Image &half0, const Image &half1, const Image &reference);
+// relMSE the reference carries: from its two halves, the means of count0 and count1
+// chunks (frames) of equal spp and different seeds.
+double ReferenceNoise(const Image &half0, const Image &half1, const Image &reference,
+                      int count0, int count1);
+
+// The reference chunks of a scene's folder, <dir>/ref/chunkNN.exr, sorted.
+std::vector<std::string> ReferenceChunks(const std::string &sceneDir);
+
+// Whether a scene's folder has a reference: ref.exr, or two chunks or more.
+bool HasReference(const std::string &sceneDir);
+
+// The scene's reference: <set>/<name>/ref.exr when it holds every chunk present (no older
+// than any, made from as many), else the mean of the chunks (two or more); its spp and
+// its own noise from its halves.
+RealScene LoadScene(const std::string &set, const std::string &name);
 
 // The images side by side, `gap` black pixels apart (all of one height).
 Image MakeStrip(const std::vector<Image> &images, int gap);

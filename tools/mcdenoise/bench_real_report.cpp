@@ -19,29 +19,9 @@ namespace fs = std::filesystem;
 
 const char *kFloorMark = "†";
 
-double Luminance(const Image &image, int y, int x) {
-    if (image.channels < 3) return image.At(0, y, x);
-    return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) + 0.0722 * image.At(2, y, x);
-}
-
-// Mean luminance over the pixels finite in both images.
-void MeanLuminance(const Image &output, const Image &reference, double *out, double *ref) {
-    double sumOut = 0, sumRef = 0;
-    for (int y = 0; y < output.height; ++y)
-        for (int x = 0; x < output.width; ++x) {
-            double o = Luminance(output, y, x), r = Luminance(reference, y, x);
-            if (!std::isfinite(o) || !std::isfinite(r)) continue;
-            sumOut += o, sumRef += r;
-        }
-    *out = sumOut, *ref = sumRef;
-}
-
 }  // namespace
 
 void MeasureRow(const Image &output, const Image &reference, RealRow *row) {
-    double out = 0, ref = 0;
-    MeanLuminance(output, reference, &out, &ref);
-    row->brightness = ref > 0 ? out / ref : NAN;
     // Each pixel's relMSE term over its first three channels; a non-finite output is the
     // worst a pixel can be.
     int channels = std::min({output.channels, reference.channels, 3});
@@ -60,23 +40,6 @@ void MeasureRow(const Image &output, const Image &reference, RealRow *row) {
     double sum = 0;
     for (size_t i = 0; i < count; ++i) sum += terms[i];
     row->worst = sum / double(count);
-}
-
-double ReferenceNoise(const Image &half0, const Image &half1, const Image &reference) {
-    if (!half0.SameShape(reference) || !half1.SameShape(reference))
-        throw Error("the reference's halves and its color differ in size");
-    int channels = std::min(reference.channels, 3);
-    double sum = 0;
-    size_t count = 0;
-    for (int c = 0; c < channels; ++c)
-        for (int y = 0; y < reference.height; ++y)
-            for (int x = 0; x < reference.width; ++x) {
-                double a = half0.At(c, y, x), b = half1.At(c, y, x), r = reference.At(c, y, x);
-                if (!std::isfinite(a) || !std::isfinite(b) || !std::isfinite(r)) continue;
-                sum += (a - b) * (a - b) / 4 / (r * r + 0.01);
-                ++count;
-            }
-    return count ? sum / double(count) : NAN;
 }
 
 Image MakeStrip(const std::vector<Image> &images, int gap) {
@@ -128,7 +91,7 @@ std::vector<Summary> Summarize(const std::vector<RealRow> &rows) {
                 if (!row.Ran()) continue;
                 ++s.ran;
                 s.relMse += std::log(row.error.relMse);
-                s.brightness += std::log(row.brightness);
+                s.brightness += std::log(row.error.brightness);
                 s.worst += std::log(row.worst);
                 s.psnr += row.error.psnr;
                 s.ssim += row.error.ssim;
@@ -200,8 +163,8 @@ std::string Csv(const std::vector<RealRow> &rows) {
     for (const RealRow &r : rows)
         csv += r.Ran() ? fmt::format("{},{},{},{:.6g},{:.4f},{:.5f},{:.5f},{:.6g},{},,{}\n",
                                      r.scene, r.frame, r.method, r.error.relMse, r.error.psnr,
-                                     r.error.ssim, r.brightness, r.worst, Seconds(r.seconds),
-                                     CsvField(r.note))
+                                     r.error.ssim, r.error.brightness, r.worst,
+                                     Seconds(r.seconds), CsvField(r.note))
                        : fmt::format("{},{},{},,,,,,,{},\n", r.scene, r.frame,
                                      CsvField(r.method), CsvField(r.refused));
     return csv;
@@ -234,36 +197,42 @@ std::string ReferenceTable(const std::vector<RealScene> &scenes,
     return md;
 }
 
-// Per frame kind: a scene a row, a method a column, "relMSE (brightness)"; the geometric
-// means at the bottom.
+// Per frame kind: a scene a row with its reference's own noise, a method a column,
+// "relMSE / PSNR / SSIM (brightness)"; the geometric means (PSNR, SSIM: arithmetic) at
+// the bottom.
 std::string Matrix(const std::vector<RealScene> &scenes, const std::vector<RealRow> &rows,
                    const std::vector<Summary> &summaries, const std::string &frame) {
     std::vector<std::string> methods = Ordered(rows, false);
-    std::string md = fmt::format("| {} |", frame);
+    std::string md = fmt::format("| {} | reference noise |", frame);
     for (const std::string &m : methods) md += " " + m + " |";
-    md += "\n|---|";
+    md += "\n|---|---|";
     for (size_t i = 0; i < methods.size(); ++i) md += "---|";
     md += "\n";
     for (const RealScene &scene : scenes) {
-        md += "| " + scene.name + " |";
+        md +=
+            fmt::format("| {} | {} |", scene.name,
+                        scene.referenceNoise >= 0 ? fmt::format("{:.2g}", scene.referenceNoise)
+                                                  : "unknown");
         for (const std::string &m : methods) {
             std::string cell = " ";
             for (const RealRow &row : rows)
                 if (row.scene == scene.name && row.frame == frame && row.method == m)
-                    cell = row.Ran()
-                               ? fmt::format("{} ({:.3f})", RelMse(row, scenes), row.brightness)
-                               : "refused";
+                    cell = row.Ran() ? fmt::format("{} / {:.2f} / {:.3f} ({:.3f})",
+                                                   RelMse(row, scenes), row.error.psnr,
+                                                   row.error.ssim, row.error.brightness)
+                                     : "refused";
             md += " " + cell + " |";
         }
         md += "\n";
     }
-    md += "| geometric mean |";
+    md += "| mean over the scenes | |";
     for (const std::string &m : methods) {
         std::string cell = " ";
         for (const Summary &s : summaries)
             if (s.frame == frame && s.method == m && s.ran)
                 cell = fmt::format(
-                    "{:.4g} ({:.3f}){}", s.relMse, s.brightness,
+                    "{:.4g} / {:.2f} / {:.3f} ({:.3f}){}", s.relMse, s.psnr, s.ssim,
+                    s.brightness,
                     s.ran < s.scenes ? fmt::format(", {} of {}", s.ran, s.scenes) : "");
         md += " " + cell + " |";
     }
@@ -294,7 +263,7 @@ std::string RowTable(const std::vector<RealScene> &scenes, const std::vector<Rea
                             "| {} | {} | {} | {} | {:.2f} | {:.4f} | {:.3f} | {:.4g} | "
                             "{} | {} |\n",
                             r.scene, r.frame, r.method, RelMse(r, scenes), r.error.psnr,
-                            r.error.ssim, r.brightness, r.worst, Seconds(r.seconds),
+                            r.error.ssim, r.error.brightness, r.worst, Seconds(r.seconds),
                             Escape(Shortened(r.note, 200), false))
                       : fmt::format("| {} | {} | {} | refused | | | | | | {} |\n", r.scene,
                                     r.frame, r.method, Escape(r.refused, false));
@@ -309,12 +278,13 @@ std::string Markdown(const std::string &header, const std::vector<RealScene> &sc
         "relMSE term of the worst 1% of pixels; time = denoise wall time (the methods: one "
         "run after an untimed warm-up, uploads and downloads included; the peer: its filter's "
         "own time, median over runs). {} marks a relMSE within 3x of the reference's own "
-        "noise.\n\n## References\n\n{}",
+        "noise. Means over the scenes: geometric for relMSE, brightness, worst 1% and time, "
+        "arithmetic for PSNR and SSIM.\n\n## References\n\n{}",
         header, kFloorMark, ReferenceTable(scenes, rows));
     for (const std::string &frame : Ordered(rows, true))
-        md += fmt::format("\n## {} frames: relMSE (mean brightness)\n\n{}", frame,
-                          Matrix(scenes, rows, summaries, frame));
-    md += "\n## Geometric means over the scenes\n\n" + SummaryTable(summaries);
+        md += fmt::format("\n## {} frames: relMSE / PSNR dB / SSIM (mean brightness)\n\n{}",
+                          frame, Matrix(scenes, rows, summaries, frame));
+    md += "\n## Means over the scenes\n\n" + SummaryTable(summaries);
     md += "\n## Every row\n\n" + RowTable(scenes, rows);
     return md;
 }
@@ -375,7 +345,7 @@ std::string HtmlStrips(const std::vector<RealScene> &scenes, const std::vector<R
                 strip += fmt::format(
                     "<figure><img src='{}'><figcaption><b>{}</b><br>relMSE {} &middot; "
                     "mean {:.3f}<br>SSIM {:.3f}{}</figcaption></figure>",
-                    r.png, r.method, RelMse(r, scenes), r.brightness, r.error.ssim,
+                    r.png, r.method, RelMse(r, scenes), r.error.brightness, r.error.ssim,
                     r.seconds >= 0 ? fmt::format(" &middot; {:.2f} s", r.seconds) : "");
             }
             strip += fmt::format(
@@ -409,9 +379,9 @@ void WriteRealReport(const std::string &out, const std::string &header,
     std::ofstream(dir / "index.html") << html;
     fmt::print("\n## References\n\n{}", ReferenceTable(scenes, rows));
     for (const std::string &frame : Ordered(rows, true))
-        fmt::print("\n## {} frames: relMSE (mean brightness)\n\n{}", frame,
+        fmt::print("\n## {} frames: relMSE / PSNR dB / SSIM (mean brightness)\n\n{}", frame,
                    Matrix(scenes, rows, summaries, frame));
-    fmt::print("\n## Geometric means over the scenes\n\n{}", SummaryTable(summaries));
+    fmt::print("\n## Means over the scenes\n\n{}", SummaryTable(summaries));
     fmt::print("\nwrote {0}/real.csv, {0}/real.md, {0}/index.html and the strips\n", out);
 }
 

@@ -57,8 +57,8 @@ std::vector<std::string> SplitList(const std::string &text) {
     return items;
 }
 
-// The scenes of the set: its folders with a reference, sorted; or those listed, each of
-// which must have one.
+// The scenes of the set: its folders with a reference (ref.exr or two chunks in ref/),
+// sorted; or those listed, each of which must have one.
 std::vector<std::string> SetScenes(const std::string &set, const std::string &scenes) {
     std::error_code ec;
     if (!fs::is_directory(set, ec))
@@ -69,37 +69,25 @@ std::vector<std::string> SetScenes(const std::string &set, const std::string &sc
     std::vector<std::string> names;
     if (scenes != "all") {
         for (const std::string &name : SplitList(scenes)) {
-            if (!fs::exists(fs::path(set) / name / "ref.exr"))
-                throw Error(fmt::format("--scenes: '{}' has no {}", name,
-                                        (fs::path(set) / name / "ref.exr").string()));
+            fs::path dir = fs::path(set) / name;
+            if (!HasReference(dir.string()))
+                throw Error(fmt::format("--scenes: '{}' has neither {} nor two chunks {}", name,
+                                        (dir / "ref.exr").string(),
+                                        (dir / "ref/chunkNN.exr").string()));
             names.push_back(name);
         }
         return names;
     }
     for (const fs::directory_entry &entry : fs::directory_iterator(set))
-        if (entry.is_directory() && fs::exists(entry.path() / "ref.exr"))
+        if (entry.is_directory() && HasReference(entry.path().string()))
             names.push_back(entry.path().filename().string());
     std::sort(names.begin(), names.end());
     if (names.empty())
         throw Error(
-            fmt::format("'{}' has no scene folder with a ref.exr (realset.sh writes "
-                        "<scene>/ref.exr)",
+            fmt::format("'{}' has no scene folder with a reference (realset.sh writes "
+                        "<scene>/ref/chunkNN.exr and <scene>/ref.exr)",
                         set));
     return names;
-}
-
-RealScene LoadScene(const std::string &set, const std::string &name) {
-    std::string path = (fs::path(set) / name / "ref.exr").string();
-    Frame frame = ReadFrame(path);
-    RealScene scene;
-    scene.name = name;
-    scene.reference = frame.Get("color");
-    if (frame.Has("half0.color") && frame.Has("half1.color"))
-        scene.referenceNoise =
-            ReferenceNoise(frame.Get("half0.color"), frame.Get("half1.color"), scene.reference);
-    if (auto it = frame.metadata.find("mcd:spp"); it != frame.metadata.end())
-        scene.referenceSpp = std::atoi(it->second.c_str());
-    return scene;
 }
 
 std::string PngName(const std::string &scene, const std::string &frame,
@@ -167,7 +155,7 @@ void AddMeasured(FrameRun &run, const std::string &method, Image output, double 
         "  {:<20} {:<11} {:<10} relMSE {:<10.4g} PSNR {:6.2f} SSIM {:.4f} mean {:.3f} "
         "worst1% {:<9.4g} {}\n",
         run.scene.name, run.kind, method, row.error.relMse, row.error.psnr, row.error.ssim,
-        row.brightness, row.worst, seconds >= 0 ? fmt::format("{:.3f} s", seconds) : "");
+        row.error.brightness, row.worst, seconds >= 0 ? fmt::format("{:.3f} s", seconds) : "");
     std::fflush(stdout);
     run.rows.push_back(std::move(row));
     run.strip.push_back(std::move(output));
@@ -274,6 +262,9 @@ void RunBenchReal(const BenchRealOptions &opt) {
     for (const std::string &name : names)
         for (const char *file : {"ref.exr", "plain.exr", "acc.exr"})
             inputs.push_back({"input", (fs::path(set) / name / file).string(), ""});
+    for (const std::string &name : names)
+        for (const std::string &chunk : ReferenceChunks((fs::path(set) / name).string()))
+            inputs.push_back({"input", chunk, ""});
     for (const char *file : {"real.csv", "real.md", "index.html"})
         outputs.push_back({"-o", (fs::path(opt.out) / file).string(), ""});
     RefuseOverwritingInputs(inputs, outputs);
@@ -292,7 +283,8 @@ void RunBenchReal(const BenchRealOptions &opt) {
         const RealScene &scene = scenes.back();
         scenes.back().referencePng = PngName(name, "reference", "color");
         WritePng((fs::path(opt.out) / scene.referencePng).string(), scene.reference);
-        fmt::print("{}: reference {} spp, its own relMSE noise {}\n", name, scene.referenceSpp,
+        fmt::print("{}: reference {} spp ({}), its own relMSE noise {}\n", name,
+                   scene.referenceSpp, scene.referenceFrom,
                    scene.referenceNoise >= 0 ? fmt::format("{:.3g}", scene.referenceNoise)
                                              : "unknown (no half0.color, half1.color)");
         for (const FrameFile &f : kFrames) {
@@ -328,7 +320,8 @@ void AddBenchRealCommand(CLI::App *bench) {
         "HTML page with a strip per scene");
     real->add_option("set", opt->set,
                      "the set's directory, one folder per scene with plain.exr, acc.exr and "
-                     "ref.exr (default: ~/.cache/mcdenoise/realset)");
+                     "ref.exr or ref/chunkNN.exr, the mean of those chunks where ref.exr is "
+                     "missing or older (default: ~/.cache/mcdenoise/realset)");
     real->add_option("--scenes", opt->scenes, "comma-separated scenes, or all")
         ->capture_default_str();
     real->add_option("--methods", opt->methods, "comma-separated methods (and auto), or all")
