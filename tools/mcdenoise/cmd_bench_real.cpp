@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "host/error.h"
+#include "mcdenoise/io.h"
 #include "tools/mcdenoise/bench_real.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
