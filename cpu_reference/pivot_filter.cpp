@@ -4,8 +4,6 @@
 #include <cmath>
 #include <vector>
 
-#include "cpu_reference/local_mean.h"
-
 namespace mcd::ref {
 namespace {
 
@@ -191,8 +189,9 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 r.s.At(c, y, x) = float(s);
                 r.nu.At(c, y, x) = float(s / std::max(zl * zl, kTiny));
                 if (PivotBoundaryTerm(ids, x, y) == 0) {
+                    // Kept as it is (it may mix both sides), unless it is 0.
+                    r.nu.At(c, y, x) = color.At(c, y, x) == 0 ? kPivotBoundaryNu : -1;
                     r.z.At(c, y, x) = r.s.At(c, y, x) = 0;
-                    r.nu.At(c, y, x) = kPivotBoundaryNu;
                 }
             }
     }
@@ -466,13 +465,9 @@ Image PivotFilterSum(const PivotFilterInputs &in, const PivotParams &params,
 
 Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
                   std::vector<std::pair<std::string, Image>> *stages) {
-    Image out = in.partials.empty() ? PivotFilterOne(*in.color, *in.pivot, in.variance,
-                                                     in.guides, params, "", stages)
-                                    : PivotFilterSum(in, params, stages);
-    if (params.meanRadius <= 0) return out;
-    RestoreLocalMeans(*in.color, params.meanRadius, &out);
-    if (stages) stages->emplace_back("local mean", out);
-    return out;
+    return in.partials.empty() ? PivotFilterOne(*in.color, *in.pivot, in.variance, in.guides,
+                                                params, "", stages)
+                               : PivotFilterSum(in, params, stages);
 }
 
 }  // namespace mcd::ref

@@ -2,8 +2,10 @@
 // bilateral baseline, with the frame's guides and section 8's partial images when present.
 #include <fmt/format.h>
 
+#include "cpu_reference/local_mean.h"
 #include "cpu_reference/pivot_filter.h"
 #include "host/api/front_end.h"
+#include "host/common/local_mean.h"
 #include "host/methods/pivot.h"
 #include "pivot/gather.h"
 
@@ -119,6 +121,14 @@ class Pivot : public FrontEndOf<PivotSettings> {
         PivotInputs in = InputsOf(inputs);
         Result result =
             ResultOf(PivotDenoise(context, in, options.method, SetupFor(inputs, run)));
+        if (int r = options.method.meanRadius; r > 0) {
+            LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image);
+            result.plan.push_back(
+                fmt::format("local mean: the input's means over tent windows of radius {} "
+                            "restored (factors {:.3g} to {:.3g})",
+                            2 * r, f.lo, f.hi));
+            if (run.keepStages) result.stages.push_back({"local mean", result.image});
+        }
         if (UsesAlbedo(inputs))
             result.plan.insert(result.plan.begin(),
                                options.layer == "auto"
@@ -189,7 +199,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
             cpuIn.partials.push_back({partial.color, partial.pivot, partial.variance});
         cpuIn.remainder = in.remainder;
         std::vector<std::pair<std::string, Image>> cpu;
-        ref::PivotFilter(cpuIn, options.method, &cpu);
+        Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
+        if (int r = options.method.meanRadius; r > 0) {
+            ref::RestoreLocalMeans(*in.color, r, &out);
+            cpu.emplace_back("local mean", std::move(out));
+        }
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;

@@ -8,7 +8,6 @@
 #include <optional>
 #include <string>
 
-#include "host/common/local_mean.h"
 #include "host/error.h"
 #include "host/kernels/pivot_bilateral.h"
 #include "host/kernels/pivot_fit.h"
@@ -165,13 +164,13 @@ void PlanInputs(StagedRun &run, const PivotInputs &in, const PivotGpuGuides &gui
                            "layer)");
     run.Plan(guides.normals ? "normal term (n.n0)^4, n.n0 > 1/2: on"
                             : "left out: the normal term (the frame has no normals)");
-    run.Plan(
-        guides.ids
-            ? fmt::format("object/part and boundary terms: on ({}{}); pixels next to "
-                          "other ids give the fits no data and take those of their own ids",
-                          in.objectId ? "objectId" : "",
-                          in.partId ? (in.objectId ? ", partId" : "partId") : "")
-            : "left out: the object, part and boundary terms (the frame has no ids)");
+    run.Plan(guides.ids
+                 ? fmt::format("object/part and boundary terms: on ({}{}); pixels next to "
+                               "other ids give the fits no data and keep their input, or where "
+                               "it is 0 take the fits of their own ids",
+                               in.objectId ? "objectId" : "",
+                               in.partId ? (in.objectId ? ", partId" : "partId") : "")
+                 : "left out: the object, part and boundary terms (the frame has no ids)");
 }
 
 // The cross-bilateral baseline of 4.1 into gpu.out, one submission with the ratio.
@@ -300,18 +299,6 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     return result;
 }
 
-// The input's local means restored (PivotParams::meanRadius), a stage when kept.
-void RestoreMeans(const Image &color, const PivotParams &params, const RunSetup &setup,
-                  PivotResult *result) {
-    if (params.meanRadius <= 0) return;
-    LocalMeanFactors f = RestoreLocalMeans(color, params.meanRadius, &result->image);
-    result->plan.push_back(
-        fmt::format("local mean: the input's means over tent windows of radius {} restored "
-                    "(factors {:.3g} to {:.3g})",
-                    2 * params.meanRadius, f.lo, f.hi));
-    if (setup.keepStages) result->stages.push_back({"local mean", result->image});
-}
-
 PivotResult PivotDenoiseSum(vk::Context &context, const PivotInputs &in,
                             const PivotParams &params, const RunSetup &setup);
 
@@ -319,10 +306,8 @@ PivotResult PivotDenoiseSum(vk::Context &context, const PivotInputs &in,
 
 PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in, const PivotParams &params,
                          const RunSetup &setup) {
-    PivotResult result = in.partials.empty() ? PivotDenoiseOne(context, in, params, setup)
-                                             : PivotDenoiseSum(context, in, params, setup);
-    RestoreMeans(*in.color, params, setup, &result);
-    return result;
+    return in.partials.empty() ? PivotDenoiseOne(context, in, params, setup)
+                               : PivotDenoiseSum(context, in, params, setup);
 }
 
 namespace {

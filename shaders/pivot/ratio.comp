@@ -44,8 +44,9 @@ void main() {
     float z;
     bool hasZ = ratioAt(at, z);
     if (!hasZ || boundaryTerm(x, y) == 0.0) {
-        // A boundary pixel gives no data, but the gather fills it.
-        float mark = hasZ ? PIVOT_BOUNDARY_NU : -1.0;
+        // A boundary pixel gives no data and keeps its input (it may mix both sides), but
+        // where that is 0 (no sample reached light) the gather fills it from its own ids.
+        float mark = hasZ && z == 0.0 ? PIVOT_BOUNDARY_NU : -1.0;
         zOut[at] = 0.0;
         sOut[at] = 0.0;
         nuOut[at] = mark;

@@ -1,6 +1,6 @@
 // The paper's bayes pipeline (Xu & Pattanaik, section 4): the decimated DWT, the fixed
-// noise s_n, exact zeros kept and no local mean restored, where BayesParams' defaults are the measured choices. The tests that check
-// the paper's pipeline start from it.
+// noise s_n, exact zeros kept and no local mean restored, where BayesParams' defaults are the
+// measured choices. The tests that check the paper's pipeline start from it.
 #pragma once
 
 #include "host/methods/bayes.h"
