@@ -153,7 +153,8 @@ void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages
 std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance,
                                        const std::vector<double> &floors, WaveletBasis basis,
                                        int levels, double pn, bool opponent, bool swt) {
-    if (!variance.SameShape(color)) throw Error("bayes reference: variance shape differs");
+    if (!variance.SameShape(color))
+        throw Error("bayes reference: variance shape differs", ErrorKind::InvalidArgument);
     Image perPixel(color.width, color.height, color.channels);
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < color.height; ++y)
@@ -342,12 +343,14 @@ BayesRefResult BayesDenoise(const Image &color, const BayesParams &params,
     bool readsVariance =
         params.noise == BayesNoise::Variance || params.noise == BayesNoise::Auto;
     if (params.noise == BayesNoise::Variance && !run.variance)
-        throw Error("bayes reference: --noise variance needs the variance");
+        throw Error("bayes reference: --noise variance needs the variance",
+                    ErrorKind::MissingLayer);
     if (!readsVariance) resolved.variance = nullptr;
     bool mad = !resolved.variance &&
                (params.noise == BayesNoise::Mad || params.noise == BayesNoise::Auto);
     if (mad && run.madSn < 0)
-        throw Error("bayes reference: --noise mad needs the GPU run's estimate (madSn)");
+        throw Error("bayes reference: --noise mad needs the GPU run's estimate (madSn)",
+                    ErrorKind::Internal);
     if (!mad) resolved.madSn = -1;
     return params.spins > 1 ? BayesDenoiseSpun(color, params, resolved)
                             : BayesDenoiseOnce(color, params, resolved);

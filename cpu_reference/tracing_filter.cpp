@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <string>
+
+#include "host/error.h"
 
 namespace mcd::ref {
 namespace {
@@ -61,18 +62,20 @@ std::vector<float> TracingFilter(const TracingRecords &records, const TracingPar
     if (width <= 0 || records.rows <= 0 || spp <= 0 ||
         records.surfaces.size() != size_t(width) * records.rows ||
         records.samples.size() != records.surfaces.size() * spp)
-        throw std::invalid_argument("tracing records: sizes do not match width x rows x spp");
+        throw Error("tracing records: sizes do not match width x rows x spp",
+                    ErrorKind::Internal);
     if (outRows <= 0 || outY0 < records.y0 || outY0 + outRows > records.y0 + records.rows)
-        throw std::invalid_argument("tracing filter: output rows " + std::to_string(outY0) +
-                                    ".." + std::to_string(outY0 + outRows) +
-                                    " are not inside the records' rows");
+        throw Error("tracing filter: output rows " + std::to_string(outY0) + ".." +
+                        std::to_string(outY0 + outRows) + " are not inside the records' rows",
+                    ErrorKind::Internal);
     auto finiteNonNegative = [](float v) { return std::isfinite(v) && v >= 0; };
     if (params.radius < 0 || !finiteNonNegative(params.alpha) ||
         !finiteNonNegative(params.beta) || !finiteNonNegative(params.gamma) ||
         !finiteNonNegative(params.selfFloor) || params.selfFloor > 1)
-        throw std::invalid_argument(
+        throw Error(
             "tracing filter: radius, alpha, beta, gamma must be finite and >= 0, selfFloor "
-            "in [0, 1]");
+            "in [0, 1]",
+            ErrorKind::InvalidArgument);
     // A disk past the records' diagonal holds the same neighbours (and radius^2 fits an int).
     const int radius = std::min(params.radius, width + records.rows);
     std::vector<float> out(size_t(width) * outRows * 3, 0.f);

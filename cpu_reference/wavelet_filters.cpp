@@ -74,7 +74,8 @@ const FilterBank &GetFilterBank(WaveletBasis basis) {
         case WaveletBasis::Cdf97:
             return cdf97;
     }
-    throw Error(fmt::format("GetFilterBank: unknown wavelet basis {}", int(basis)));
+    throw Error(fmt::format("GetFilterBank: unknown wavelet basis {}", int(basis)),
+                ErrorKind::InvalidArgument);
 }
 
 double FullFilterSum(const std::vector<double> &taps, WaveletBasis basis) {
@@ -118,7 +119,8 @@ void CheckWaveletLevels(int width, int height, int levels, const char *caller) {
     int maxLevels = MaxWaveletLevels(width, height);
     if (levels < 0 || levels > maxLevels)
         throw Error(fmt::format("{}: {} levels requested for a {}x{} image (0..{} allowed)",
-                                caller, levels, width, height, maxLevels));
+                                caller, levels, width, height, maxLevels),
+                    ErrorKind::InvalidArgument);
 }
 
 }  // namespace mcd::ref

@@ -145,7 +145,8 @@ std::vector<double> SwtSynthesizePlane(const std::vector<std::vector<double>> &p
     CheckWaveletLevels(width, height, levels, "SwtSynthesizePlane");
     if (int(planes.size()) != shader::SwtPlaneCount(levels))
         throw Error(
-            fmt::format("SwtSynthesizePlane: {} planes for {} levels", planes.size(), levels));
+            fmt::format("SwtSynthesizePlane: {} planes for {} levels", planes.size(), levels),
+            ErrorKind::Internal);
     size_t size = size_t(width) * height;
     std::vector<double> current = planes[shader::SwtLowPlane(levels)];
     for (int level = levels - 1; level >= 0; --level) {
@@ -213,7 +214,8 @@ Image SwtSynthesizeImage(const Image &coefficients, WaveletBasis basis, const Fi
     if (coefficients.channels % count != 0)
         throw Error(
             fmt::format("SwtSynthesizeImage: {} planes are not channels x {} ({} levels)",
-                        coefficients.channels, count, levels));
+                        coefficients.channels, count, levels),
+            ErrorKind::Internal);
     int channels = coefficients.channels / count;
     Image out(coefficients.width, coefficients.height, channels);
     for (int c = 0; c < channels; ++c) {

@@ -21,7 +21,9 @@ int main(int argc, char **argv) {
         for (int i = 4; i < argc; ++i) {
             std::string setting = argv[i];
             size_t eq = setting.find('=');
-            if (eq == std::string::npos) throw mcd::Error("expected NAME=VALUE, not " + setting);
+            if (eq == std::string::npos)
+                throw mcd::Error("expected NAME=VALUE, not " + setting,
+                                 mcd::ErrorKind::InvalidArgument);
             method.SetText(setting.substr(0, eq), setting.substr(eq + 1));
         }
         mcd::Frame frame = mcd::ReadFrame(argv[1]);

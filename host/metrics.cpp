@@ -85,12 +85,15 @@ std::vector<double> Blur(const std::vector<double> &in, int w, int h) {
 ErrorMetrics CompareImages(const Image &image, const Image &reference) {
     if (image.width != reference.width || image.height != reference.height)
         throw Error(fmt::format("cannot compare a {}x{} image with a {}x{} reference",
-                                image.width, image.height, reference.width, reference.height));
+                                image.width, image.height, reference.width, reference.height),
+                    ErrorKind::InvalidArgument);
     if (image.channels != reference.channels && (image.channels < 3 || reference.channels < 3))
         throw Error(fmt::format("cannot compare a {}-channel image with a {}-channel reference",
-                                image.channels, reference.channels));
+                                image.channels, reference.channels),
+                    ErrorKind::InvalidArgument);
     int channels = std::min(std::min(image.channels, reference.channels), 3);
-    if (channels < 1) throw Error("cannot compare images without channels");
+    if (channels < 1)
+        throw Error("cannot compare images without channels", ErrorKind::InvalidArgument);
     ErrorMetrics m;
     double rel = 0, sq = 0;
     size_t count = 0;
@@ -100,7 +103,8 @@ ErrorMetrics CompareImages(const Image &image, const Image &reference) {
                 double v = image.At(c, y, x), r = reference.At(c, y, x);
                 if (!std::isfinite(r))
                     throw Error(
-                        fmt::format("the reference has a non-finite value at ({}, {})", x, y));
+                        fmt::format("the reference has a non-finite value at ({}, {})", x, y),
+                        ErrorKind::NonFiniteInput);
                 if (!std::isfinite(v)) {
                     ++m.nonFinite;
                     continue;
@@ -145,7 +149,8 @@ ErrorMetrics CompareImages(const Image &image, const Image &reference) {
 ElementDifference MeasureDifference(const Image &image, const Image &reference) {
     if (image.Size() != reference.Size())
         throw Error(fmt::format("difference: {} elements against a reference of {}",
-                                image.Size(), reference.Size()));
+                                image.Size(), reference.Size()),
+                    ErrorKind::InvalidArgument);
     ElementDifference d;
     double num = 0, den = 0, maxDiff = 0, maxRef = 0;
     for (size_t i = 0; i < reference.data.size(); ++i) {

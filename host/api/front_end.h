@@ -135,7 +135,8 @@ ParamDef<O> EnumParam(std::string name, std::string help, T O::*field,
             [field, named, param](const O &o) {
                 for (const auto &[choice, value] : *named)
                     if (o.*field == value) return ParamValue(choice);
-                throw Error(param + " holds a value none of its choices names");
+                throw Error(param + " holds a value none of its choices names",
+                            ErrorKind::Internal);
             },
             [field, named](O &o, const ParamValue &v) {
                 for (const auto &[choice, value] : *named)
@@ -228,7 +229,7 @@ class FrontEndOf : public FrontEnd {
     const ParamDef<O> &Def(const std::string &param) const {
         for (const ParamDef<O> &def : table->defs)
             if (def.info.name == param) return def;
-        throw Error(name + " has no parameter '" + param + "'");
+        throw Error(name + " has no parameter '" + param + "'", ErrorKind::InvalidArgument);
     }
     struct Table {
         std::vector<ParamDef<O>> defs;

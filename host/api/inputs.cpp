@@ -56,9 +56,10 @@ const Image &Inputs::Get(const std::string &layer) {
         if (it != overrides.end()) return it->second;
         const Image &whole = parent->Get(layer);
         if (whole.width != parent->Width() || whole.height != parent->Height())
-            throw Error(fmt::format("{}: layer '{}' is {}x{}, the frame {}x{}", Path(), layer,
-                                    whole.width, whole.height, parent->Width(),
-                                    parent->Height()));
+            throw Error(
+                fmt::format("{}: layer '{}' is {}x{}, the frame {}x{}", Path(), layer,
+                            whole.width, whole.height, parent->Width(), parent->Height()),
+                ErrorKind::InvalidArgument);
         Image crop(width, height, whole.channels);
         for (int c = 0; c < whole.channels; ++c)
             for (int y = 0; y < height; ++y)

@@ -57,7 +57,7 @@ struct Demodulation {
 Demodulation Demodulate(api::Inputs &inputs, const api::FrontEnd &method, const Frame &frame,
                         const std::string &layer) {
     if (std::string why = method.Undemodulable(frame, layer); !why.empty())
-        throw Error(fmt::format("--demodulate {}: {}", layer, why));
+        throw Error(fmt::format("--demodulate {}: {}", layer, why), ErrorKind::InvalidArgument);
     Demodulation d;
     d.layer = layer;
     d.guide = inputs.Get(layer);
@@ -65,7 +65,8 @@ Demodulation Demodulate(api::Inputs &inputs, const api::FrontEnd &method, const 
     if (!d.guide.SameShape(d.color))
         throw Error(fmt::format("--demodulate: {} is {}x{}x{}, color {}x{}x{}", layer,
                                 d.guide.width, d.guide.height, d.guide.channels, d.color.width,
-                                d.color.height, d.color.channels));
+                                d.color.height, d.color.channels),
+                    ErrorKind::InvalidArgument);
     if (method.Name() == "rhf") inputs.Override("hist", inputs.Get("zhist"));
     d.thresholds = PivotThresholds(d.guide, 1e-3f);
     for (const std::string &name : inputs.Names()) {

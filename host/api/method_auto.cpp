@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -209,7 +210,8 @@ void HalvesNoise(Inputs &inputs, const Image &color, Noise &noise) {
     noise.half1 = inputs.Get("half1.color");
     if (!noise.half0.SameShape(color) || !noise.half1.SameShape(color))
         throw Error(fmt::format("{}: half0.color and half1.color must have color's shape",
-                                inputs.Path()));
+                                inputs.Path()),
+                    ErrorKind::InvalidArgument);
     // Var(h1) = 2 Var(mean), and E[(h0 - h1)^2] = 4 Var(mean).
     noise.variance = Image(color.width, color.height, color.channels);
     for (size_t i = 0; i < noise.variance.data.size(); ++i) {
@@ -275,7 +277,8 @@ Noise ChooseNoise(vk::Context &context, Inputs &inputs, const Image &color,
         noise.variance = inputs.Get("variance");
         if (!noise.variance.SameShape(color))
             throw Error(
-                fmt::format("{}: the variance layer must have color's shape", inputs.Path()));
+                fmt::format("{}: the variance layer must have color's shape", inputs.Path()),
+                ErrorKind::InvalidArgument);
         noise.probe = MakeProbe(color);
         noise.from = fmt::format(
             "SURE on the variance layer, Monte Carlo divergence with epsilon {} (bayes {})",
@@ -290,9 +293,10 @@ Noise ChooseNoise(vk::Context &context, Inputs &inputs, const Image &color,
         noise.own = true;
         OwnNoise(context, inputs, color, o, noise);
     } else {
-        throw Error(fmt::format(
-            "{}: --auto-noise {}: the frame has no {}", inputs.Path(), o.noise,
-            o.noise == "halves" ? "half0.color and half1.color" : "variance layer"));
+        throw Error(
+            fmt::format("{}: --auto-noise {}: the frame has no {}", inputs.Path(), o.noise,
+                        o.noise == "halves" ? "half0.color and half1.color" : "variance layer"),
+            ErrorKind::MissingLayer);
     }
     noise.perturbed = Perturb(color, noise.variance, noise.probe, o.epsilon);
     // bayes's own perturbation: its log-domain shrinkage bends within a fraction of a
@@ -395,8 +399,9 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
     }
     const Image &output = r.candidate.output;
     if (!output.SameShape(inputs.Get("color")))
-        throw Error(fmt::format("its output is {}x{}x{}", output.width, output.height,
-                                output.channels));
+        throw Error(
+            fmt::format("its output is {}x{}x{}", output.width, output.height, output.channels),
+            ErrorKind::Internal);
     r.seconds = std::chrono::duration<double>(Clock::now() - begin).count();
     return r;
 }
@@ -408,6 +413,8 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
                          const Noise &noise, const AutoFrontEnd::Options &o,
                          Clock::time_point start, std::vector<std::string> *plan) {
     Candidates out;
+    // Why none ran, if none does: the first failure's kind, else the layers each lacked.
+    std::optional<ErrorKind> failure;
     std::vector<RegisteredVariant> variants = AutoVariants();
     // Each variant has a slot in the kernels.
     if (variants.size() > size_t(kAutoMaxCandidates))
@@ -447,12 +454,14 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
                 RunCandidate(context, inputs, *method, v, runsSplit, noise, o, out));
         } catch (const Error &e) {
             if (e.Kind() == ErrorKind::Cancelled) throw;
+            if (!failure) failure = e.Kind();
             plan->push_back(fmt::format("auto: left out {}: {}", label, e.what()));
         }
     }
     if (out.ran.empty())
         throw Error(
-            fmt::format("{}: --method auto found no method for this frame", inputs.Path()));
+            fmt::format("{}: --method auto found no method for this frame", inputs.Path()),
+            failure.value_or(ErrorKind::MissingLayer));
     return out;
 }
 
@@ -573,7 +582,7 @@ void AutoFrontEnd::Set(const std::string &param, const ParamValue &value) {
     for (auto &m : methods)
         for (const ParamInfo &info : m->Params())
             if (info.name == param) return m->Set(param, value);
-    throw Error("auto has no parameter '" + param + "'");
+    throw Error("auto has no parameter '" + param + "'", ErrorKind::InvalidArgument);
 }
 
 ParamValue AutoFrontEnd::Get(const std::string &param) const {
@@ -581,7 +590,7 @@ ParamValue AutoFrontEnd::Get(const std::string &param) const {
     for (const auto &m : methods)
         for (const ParamInfo &info : m->Params())
             if (info.name == param) return m->Get(param);
-    throw Error("auto has no parameter '" + param + "'");
+    throw Error("auto has no parameter '" + param + "'", ErrorKind::InvalidArgument);
 }
 
 const FrontEnd &AutoFrontEnd::Base(const std::string &method) const {
@@ -669,11 +678,12 @@ const FrontEnd &AutoFrontEnd::Pick(const Frame &frame, const std::string &demodu
         }
         plan->push_back(fmt::format("auto: left out {}: {}", c.Name(), lacks));
     }
-    throw Error(fmt::format("{}: --method auto found no method for this frame", frame.path));
+    throw Error(fmt::format("{}: --method auto found no method for this frame", frame.path),
+                ErrorKind::MissingLayer);
 }
 
 std::vector<Stage> AutoFrontEnd::Reference(vk::Context &, Inputs &) const {
-    throw Error("auto: pick a method first");
+    throw Error("auto: pick a method first", ErrorKind::Internal);
 }
 
 // The noise source, the candidates, their combination (host/methods/auto.h), the plan.
@@ -682,7 +692,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     const Image color = inputs.Get("color");
     if (color.channels < 1 || color.channels > 4)
         throw Error(fmt::format("{}: auto combines 1 to 4 colour channels, the color has {}",
-                                inputs.Path(), color.channels));
+                                inputs.Path(), color.channels),
+                    ErrorKind::InvalidArgument);
     std::vector<std::string> plan;
     Noise noise = ChooseNoise(context, inputs, color, options, &plan);
     Candidates candidates =

@@ -141,7 +141,8 @@ class Awr : public FrontEndOf<AwrSettings> {
         if (source == "layer" || (source == "auto" && layer)) {
             if (!layer)
                 throw Error(
-                    fmt::format("{}: --variance layer needs a variance layer", inputs.Path()));
+                    fmt::format("{}: --variance layer needs a variance layer", inputs.Path()),
+                    ErrorKind::MissingLayer);
             *why = "variance of the mean from the frame's variance layer";
             return inputs.Get("variance");
         }
@@ -149,7 +150,8 @@ class Awr : public FrontEndOf<AwrSettings> {
             throw Error(
                 fmt::format("{}: awr needs a variance layer or min, max and spp layers; "
                             "the frame has neither",
-                            inputs.Path()));
+                            inputs.Path()),
+                ErrorKind::MissingLayer);
         *why = "variance of the mean from the sample range, (max - min)^2 / spp (AWR 4.2)";
         return AwrVarianceFromRange(inputs.Get("min"), inputs.Get("max"), inputs.Get("spp"));
     }

@@ -200,7 +200,8 @@ class Bayes : public FrontEndOf<BayesSettings> {
         BayesNoise noise = options.method.noise;
         bool has = inputs.Has("variance");
         if (noise == BayesNoise::Variance && !has)
-            throw Error("bayes: --noise variance needs a variance layer; the frame has none");
+            throw Error("bayes: --noise variance needs a variance layer; the frame has none",
+                        ErrorKind::MissingLayer);
         if (noise == BayesNoise::Variance || (noise == BayesNoise::Auto && has)) {
             if (noise == BayesNoise::Auto)
                 plan->push_back(

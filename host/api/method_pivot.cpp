@@ -229,9 +229,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 throw Error(
                     fmt::format("{}: the pivot method needs a pivot layer or an albedo layer "
                                 "(render them with `mcdenoise render --layers pivot,gbuffer`)",
-                                inputs.Path()));
+                                inputs.Path()),
+                    ErrorKind::MissingLayer);
             throw Error(fmt::format("{}: --pivot-layer {} names a layer the frame lacks",
-                                    inputs.Path(), layer));
+                                    inputs.Path(), layer),
+                        ErrorKind::MissingLayer);
         }
         PivotInputs in;
         in.color = &inputs.Get("color");
@@ -249,10 +251,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
         for (int k = 0; inputs.Has(fmt::format("partial{}.color", k)); ++k) {
             std::string name = fmt::format("partial{}", k);
             if (!inputs.Has(name + ".pivot"))
-                throw Error(
-                    fmt::format("{}: layer {}.color has no {}.pivot (or pass "
-                                "--no-partials)",
-                                inputs.Path(), name, name));
+                throw Error(fmt::format("{}: layer {}.color has no {}.pivot (or pass "
+                                        "--no-partials)",
+                                        inputs.Path(), name, name),
+                            ErrorKind::MissingLayer);
             PivotPartial partial{&inputs.Get(name + ".color"), &inputs.Get(name + ".pivot")};
             if (noise && inputs.Has(name + ".variance"))
                 partial.variance = &inputs.Get(name + ".variance");
@@ -262,9 +264,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
         }
         if (!in.partials.empty()) {
             if (!inputs.Has("remainder"))
-                throw Error(fmt::format(
-                    "{}: the partial images need a remainder layer (or pass --no-partials)",
-                    inputs.Path()));
+                throw Error(
+                    fmt::format(
+                        "{}: the partial images need a remainder layer (or pass --no-partials)",
+                        inputs.Path()),
+                    ErrorKind::MissingLayer);
             in.remainder = &inputs.Get("remainder");
         }
         return in;

@@ -143,18 +143,18 @@ class Rhf : public FrontEndOf<RhfParams> {
 
     static std::string HistogramLayer(Inputs &inputs) {
         if (!inputs.Has("hist"))
-            throw Error(
-                fmt::format("{}: rhf needs the histogram channels Bin_0000..Bin_{{3n}} "
-                            "(render with --layers hist); the frame has none",
-                            inputs.Path()));
+            throw Error(fmt::format("{}: rhf needs the histogram channels Bin_0000..Bin_{{3n}} "
+                                    "(render with --layers hist); the frame has none",
+                                    inputs.Path()),
+                        ErrorKind::MissingLayer);
         return "hist";
     }
     const Image &Histograms(Inputs &inputs) const {
         if (!inputs.Has("hist"))
-            throw Error(
-                fmt::format("{}: rhf needs the histogram channels Bin_0000..Bin_{{3n}} "
-                            "(render with --layers hist); the frame has none",
-                            inputs.Path()));
+            throw Error(fmt::format("{}: rhf needs the histogram channels Bin_0000..Bin_{{3n}} "
+                                    "(render with --layers hist); the frame has none",
+                                    inputs.Path()),
+                        ErrorKind::MissingLayer);
         return inputs.Get("hist");
     }
 };

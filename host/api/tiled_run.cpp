@@ -79,7 +79,8 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
     // a tile per pixel.
     if (best == 0)
         throw Error(
-            fmt::format("the frame does not fit this device even in tiles: {}", plan.why));
+            fmt::format("the frame does not fit this device even in tiles: {}", plan.why),
+            ErrorKind::OutOfMemory);
     return plan;
 }
 
@@ -92,10 +93,10 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
     if (TW == 0 || (TW >= W && TH >= H)) return method.Run(context, inputs, run);
     // A tiled run has no whole-frame stages to keep (what `diff` compares).
     if (run.keepStages)
-        throw Error(
-            fmt::format("{}: the frame runs in tiles ({}), so its stages cannot be "
-                        "kept; diff a crop of it",
-                        method.Name(), plan.why));
+        throw Error(fmt::format("{}: the frame runs in tiles ({}), so its stages cannot be "
+                                "kept; diff a crop of it",
+                                method.Name(), plan.why),
+                    ErrorKind::InvalidArgument);
 
     const int R = needs.reach, align = std::max(needs.align, 1);
     const int tilesX = (W + TW - 1) / TW, tilesY = (H + TH - 1) / TH, count = tilesX * tilesY;

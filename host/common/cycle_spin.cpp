@@ -28,9 +28,11 @@ Image CycleSpin(int width, int height, int channels, int spins,
             Image one = run(dx, dy);
             if (one.width != width + dx || one.height != height + dy ||
                 one.channels != channels)
-                throw Error(fmt::format(
-                    "cycle spinning: shift ({}, {}) gave {}x{}x{}, not {}x{}x{}", dx, dy,
-                    one.width, one.height, one.channels, width + dx, height + dy, channels));
+                throw Error(
+                    fmt::format("cycle spinning: shift ({}, {}) gave {}x{}x{}, not {}x{}x{}",
+                                dx, dy, one.width, one.height, one.channels, width + dx,
+                                height + dy, channels),
+                    ErrorKind::Internal);
             for (int c = 0; c < channels; ++c)
                 for (int y = 0; y < height; ++y)
                     for (int x = 0; x < width; ++x)

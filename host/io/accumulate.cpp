@@ -67,7 +67,8 @@ bool AccumulatorKeeps(const std::string &layer) {
 
 FrameHeader ReadFrameHeader(const std::string &path) {
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-    if (!in) throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
+    if (!in)
+        throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()), ErrorKind::Io);
     const OIIO::ImageSpec &spec = in->spec();
     FrameHeader header;
     header.path = path;
@@ -77,7 +78,7 @@ FrameHeader ReadFrameHeader(const std::string &path) {
         for (const LayerChannels &layer : GroupChannels(spec.channelnames))
             header.layers[layer.name] = int(layer.channels.size());
     } catch (const Error &e) {
-        throw Error(fmt::format("cannot read '{}': {}", path, e.what()));
+        throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
     for (const OIIO::ParamValue &attribute : spec.extra_attribs) {
         std::string name = attribute.name().string();
@@ -93,7 +94,8 @@ void CheckSameLayout(const FrameHeader &first, const FrameHeader &other) {
     if (other.width != first.width || other.height != first.height)
         throw Error(fmt::format("'{}' is {}x{} but '{}' is {}x{}: accumulate needs one size",
                                 other.path, other.width, other.height, first.path, first.width,
-                                first.height));
+                                first.height),
+                    ErrorKind::InvalidArgument);
     auto list = [](const std::map<std::string, int> &layers) {
         std::string text;
         for (const auto &[name, channels] : layers)
@@ -101,10 +103,10 @@ void CheckSameLayout(const FrameHeader &first, const FrameHeader &other) {
         return text;
     };
     if (other.layers != first.layers)
-        throw Error(
-            fmt::format("'{}' has layers {} but '{}' has {}: accumulate needs the "
-                        "same layers in every frame",
-                        other.path, list(other.layers), first.path, list(first.layers)));
+        throw Error(fmt::format("'{}' has layers {} but '{}' has {}: accumulate needs the "
+                                "same layers in every frame",
+                                other.path, list(other.layers), first.path, list(first.layers)),
+                    ErrorKind::InvalidArgument);
 }
 
 int SppFromMetadata(const std::map<std::string, std::string> &metadata) {
@@ -146,7 +148,9 @@ void AddToRhfHistogram(const double color[3], int bins, float *histogram) {
 }
 
 Accumulator::Accumulator(AccumulateOptions options) : options(options) {
-    if (options.histBins < 3) throw Error("a histogram needs at least 3 bins per channel");
+    if (options.histBins < 3)
+        throw Error("a histogram needs at least 3 bins per channel",
+                    ErrorKind::InvalidArgument);
 }
 
 void Accumulator::Start(const Frame &frame) {
@@ -226,7 +230,8 @@ void Accumulator::Add(const Frame &frame) {
     const Image &color = frame.Get("color");
     if (color.channels != 3)
         throw Error(fmt::format("'{}': color has {} channels; accumulate needs R, G, B",
-                                frame.path, color.channels));
+                                frame.path, color.channels),
+                    ErrorKind::InvalidArgument);
     if (frames == 0) {
         Start(frame);
     } else {
@@ -303,7 +308,8 @@ void Accumulator::Add(const Frame &frame) {
 }
 
 Frame Accumulator::Finish() {
-    if (frames == 0) throw Error("accumulate: no frames were added");
+    if (frames == 0)
+        throw Error("accumulate: no frames were added", ErrorKind::InvalidArgument);
     size_t n = size_t(width) * height;
     Frame out;
     out.width = width, out.height = height;

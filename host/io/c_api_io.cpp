@@ -23,13 +23,7 @@ MCDFrame mcdReadFrame(const char *path, const char *const *layers, int layerCoun
                 options.layers.push_back(layers[i]);
             }
         auto frame = std::make_unique<MCDFrameImpl>();
-        try {
-            frame->frame = ReadFrame(path, options);
-        } catch (const Error &e) {
-            // ReadFrame's own failures are the file's (until each of its throws names a
-            // kind, issue #28).
-            throw Error(e.what(), e.Kind() == ErrorKind::Internal ? ErrorKind::Io : e.Kind());
-        }
+        frame->frame = ReadFrame(path, options);
         return frame.release();
     });
 }
@@ -47,11 +41,7 @@ bool mcdWriteExr(const char *path, const char *const *names, const MCDView *view
             images.push_back(CopyView(LayerViewOf(views[i])));
             layers.push_back({names[i], &images.back()});
         }
-        try {
-            WriteExr(path, layers);
-        } catch (const Error &e) {
-            throw Error(e.what(), e.Kind() == ErrorKind::Internal ? ErrorKind::Io : e.Kind());
-        }
+        WriteExr(path, layers);
         return true;
     });
 }

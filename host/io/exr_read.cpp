@@ -369,7 +369,7 @@ bool ReadExrChannels(const std::string &path, int x, int y, int width, int heigh
         if (decoder == ExrDecoder::OpenExr || !ReadChunks(file, targets))
             ReadWithOpenExr(file, targets);
     } catch (const std::exception &e) {
-        throw Error(fmt::format("cannot read '{}': {}", path, e.what()));
+        throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
     return true;
 }

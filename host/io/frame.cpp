@@ -80,7 +80,9 @@ void ReadBands(OIIO::ImageInput &in, const std::string &path, const OIIO::ImageS
                                         OIIO::TypeFloat, band.data())
                         : in.read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0,
                                             channelCount, OIIO::TypeFloat, band.data());
-        if (!ok) throw Error(fmt::format("cannot read '{}': {}", path, in.geterror()));
+        if (!ok)
+            throw Error(fmt::format("cannot read '{}': {}", path, in.geterror()),
+                        ErrorKind::Io);
 
         for (int c = 0; c < channelCount; ++c) {
             if (!destination[c]) continue;
@@ -118,13 +120,14 @@ static uint64_t PhysicalMemory() {
 Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec))
-        throw Error(fmt::format("cannot read '{}': no such file", path));
+        throw Error(fmt::format("cannot read '{}': no such file", path), ErrorKind::Io);
     // Keep color as stored: OIIO would premultiply a PNG's unassociated alpha, and alpha
     // is not ours to apply.
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path, &config);
-    if (!in) throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()));
+    if (!in)
+        throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()), ErrorKind::Io);
 
     // Only subimage 0 is read: a multi-part EXR's other parts are ignored (renderers we
     // take frames from, pbrt-v4 and Blender, write all layers into one part). The data
@@ -132,11 +135,14 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     const OIIO::ImageSpec &spec = in->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
         throw Error(fmt::format("cannot read '{}': it has zero size ({}x{}, {} channels)", path,
-                                spec.width, spec.height, spec.nchannels));
+                                spec.width, spec.height, spec.nchannels),
+                    ErrorKind::Io);
     if (spec.deep)
-        throw Error(fmt::format("cannot read '{}': deep images are unsupported", path));
+        throw Error(fmt::format("cannot read '{}': deep images are unsupported", path),
+                    ErrorKind::Io);
     if (spec.depth > 1)
-        throw Error(fmt::format("cannot read '{}': volume images are unsupported", path));
+        throw Error(fmt::format("cannot read '{}': volume images are unsupported", path),
+                    ErrorKind::Io);
 
     // Decide per channel how its values are turned into floats.
     int channelCount = spec.nchannels;
@@ -153,14 +159,15 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
             decode[c] = Decode::Integer;
         else
             throw Error(fmt::format("cannot read '{}': channel '{}' has unsupported format {}",
-                                    path, spec.channelnames[c], format.c_str()));
+                                    path, spec.channelnames[c], format.c_str()),
+                        ErrorKind::Io);
     }
 
     std::vector<LayerChannels> grouped;
     try {
         grouped = GroupChannels(spec.channelnames);
     } catch (const Error &e) {
-        throw Error(fmt::format("cannot read '{}': {}", path, e.what()));
+        throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
 
     // Refuse before allocating a data window that cannot fit in memory.
@@ -170,10 +177,11 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     uint64_t bytes = uint64_t(spec.width) * uint64_t(spec.height) * wantedChannels * 4;
     uint64_t limit = options.memoryLimit ? options.memoryLimit : PhysicalMemory();
     if (limit && bytes > limit)
-        throw Error(fmt::format(
-            "cannot read '{}': its {}x{} data window with {} channel(s) "
-            "read needs {:.1f} GB, more than the {:.1f} GB allowed",
-            path, spec.width, spec.height, wantedChannels, bytes / 1e9, limit / 1e9));
+        throw Error(fmt::format("cannot read '{}': its {}x{} data window with {} channel(s) "
+                                "read needs {:.1f} GB, more than the {:.1f} GB allowed",
+                                path, spec.width, spec.height, wantedChannels, bytes / 1e9,
+                                limit / 1e9),
+                    ErrorKind::OutOfMemory);
 
     Frame frame;
     frame.path = path;

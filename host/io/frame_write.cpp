@@ -69,27 +69,33 @@ void WriteAtomically(const std::string &path, const char *format, const OIIO::Im
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         throw Error(fmt::format("cannot write '{}': '{}' is not an existing directory", path,
-                                dir.string()));
+                                dir.string()),
+                    ErrorKind::Io);
     if (!target.has_filename())
-        throw Error(fmt::format("cannot write '{}': it names no file", path));
+        throw Error(fmt::format("cannot write '{}': it names no file", path),
+                    ErrorKind::InvalidArgument);
 
     TempFile temp(dir / fmt::format(".{}.tmp{}-{}{}", target.stem().string(), ::getpid(),
                                     tempCount++, target.extension().string()));
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(format);
-    if (!out) throw Error(fmt::format("cannot write '{}': {}", path, OIIO::geterror()));
+    if (!out)
+        throw Error(fmt::format("cannot write '{}': {}", path, OIIO::geterror()),
+                    ErrorKind::Io);
     if (!out->open(temp.Path().string(), spec))
-        throw Error(fmt::format("cannot write '{}': {}", path, out->geterror()));
+        throw Error(fmt::format("cannot write '{}': {}", path, out->geterror()), ErrorKind::Io);
     if (!writePixels(*out) || !out->close())
-        throw Error(fmt::format("cannot write '{}': {}", path, out->geterror()));
+        throw Error(fmt::format("cannot write '{}': {}", path, out->geterror()), ErrorKind::Io);
     out.reset();
     if (!SyncFile(temp.Path()))
         throw Error(
-            fmt::format("cannot write '{}': flushing '{}' failed", path, temp.Path().string()));
+            fmt::format("cannot write '{}': flushing '{}' failed", path, temp.Path().string()),
+            ErrorKind::Io);
 
     fs::rename(temp.Path(), target, ec);
     if (ec)
         throw Error(fmt::format("cannot write '{}': renaming '{}' onto it failed: {}", path,
-                                temp.Path().string(), ec.message()));
+                                temp.Path().string(), ec.message()),
+                    ErrorKind::Io);
     temp.Commit();
 }
 
@@ -115,8 +121,10 @@ std::string Malformed(const Image &image) {
 void WriteExr(const std::string &path,
               const std::vector<std::pair<std::string, const Image *>> &layers,
               const std::map<std::string, std::string> &metadata) {
+    // The layers given cannot be written: the caller's to fix.
     auto fail = [&](const std::string &why) {
-        return Error(fmt::format("cannot write '{}': {}", path, why));
+        return Error(fmt::format("cannot write '{}': {}", path, why),
+                     ErrorKind::InvalidArgument);
     };
     if (layers.empty()) throw fail("no layers given");
 
@@ -184,15 +192,18 @@ namespace io {
 void WritePngWithAlpha(const std::string &path, const Image &image, const Image *alpha,
                        float exposure) {
     if (std::string why = Malformed(image); !why.empty())
-        throw Error(fmt::format("cannot write '{}': the image {}", path, why));
+        throw Error(fmt::format("cannot write '{}': the image {}", path, why),
+                    ErrorKind::InvalidArgument);
     if (image.channels != 1 && image.channels != 3)
         throw Error(fmt::format("cannot write '{}': a preview needs 1 or 3 channels, not {}",
-                                path, image.channels));
+                                path, image.channels),
+                    ErrorKind::InvalidArgument);
     if (alpha && (alpha->width != image.width || alpha->height != image.height ||
                   alpha->channels != 1 || !Malformed(*alpha).empty()))
-        throw Error(fmt::format("cannot write '{}': alpha is {}x{}x{}, not {}x{}x1", path,
-                                alpha->width, alpha->height, alpha->channels, image.width,
-                                image.height));
+        throw Error(
+            fmt::format("cannot write '{}': alpha is {}x{}x{}, not {}x{}x1", path, alpha->width,
+                        alpha->height, alpha->channels, image.width, image.height),
+            ErrorKind::InvalidArgument);
 
     // Always RGB, so that non-finite pixels can be magenta in a grey image too.
     int channels = alpha ? 4 : 3;

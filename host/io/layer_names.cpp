@@ -193,19 +193,24 @@ std::vector<int> OrderBins(std::vector<std::pair<long, int>> bins,
     for (size_t i = 0; i < bins.size(); ++i) {
         if (bins[i].first == long(i)) continue;
         if (i > 0 && bins[i].first == bins[i - 1].first)
-            throw Error(fmt::format("histogram channels '{}' and '{}' are both bin {}",
-                                    names[bins[i - 1].second], names[bins[i].second],
-                                    bins[i].first));
-        throw Error(fmt::format(
-            "histogram channels are not contiguous from Bin_0000: bin {} is missing "
-            "(found {} Bin_* channels, the highest is '{}')",
-            i, bins.size(), names[bins.back().second]));
+            throw Error(
+                fmt::format("histogram channels '{}' and '{}' are both bin {}",
+                            names[bins[i - 1].second], names[bins[i].second], bins[i].first),
+                ErrorKind::InvalidArgument);
+        throw Error(
+            fmt::format(
+                "histogram channels are not contiguous from Bin_0000: bin {} is missing "
+                "(found {} Bin_* channels, the highest is '{}')",
+                i, bins.size(), names[bins.back().second]),
+            ErrorKind::InvalidArgument);
     }
     if (bins.size() < 4 || (bins.size() - 1) % 3 != 0)
-        throw Error(fmt::format(
-            "histogram has {} Bin_* channels; expected 3n+1 (n bins for each of R,G,B, "
-            "then the sample count)",
-            bins.size()));
+        throw Error(
+            fmt::format(
+                "histogram has {} Bin_* channels; expected 3n+1 (n bins for each of R,G,B, "
+                "then the sample count)",
+                bins.size()),
+            ErrorKind::InvalidArgument);
     std::vector<int> channels;
     for (auto &[bin, index] : bins) channels.push_back(index);
     return channels;
@@ -228,7 +233,8 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
     std::set<std::string> seen;
     for (const std::string &name : channelNames)
         if (!seen.insert(name).second)
-            throw Error(fmt::format("channel name '{}' appears more than once", name));
+            throw Error(fmt::format("channel name '{}' appears more than once", name),
+                        ErrorKind::InvalidArgument);
 
     // Split the names: Bin_NNNN, unprefixed, and "<prefix>.<suffix>" grouped by prefix in
     // the order prefixes first appear.
@@ -305,7 +311,8 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
         if (owner.count(name)) {
             if (candidate.ownName.empty() || owner.count(candidate.ownName))
                 throw Error(fmt::format("{} and {} both make layer '{}'", owner[name],
-                                        candidate.what, name));
+                                        candidate.what, name),
+                            ErrorKind::InvalidArgument);
             name = candidate.ownName;
         }
         owner[name] = candidate.what;
@@ -315,17 +322,20 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
 }
 
 std::vector<std::string> ChannelNamesOf(const std::string &layer, int channelCount) {
-    if (layer.empty()) throw Error("a layer needs a name");
+    if (layer.empty()) throw Error("a layer needs a name", ErrorKind::InvalidArgument);
     if (channelCount < 1)
-        throw Error(fmt::format("layer '{}' has {} channels", layer, channelCount));
+        throw Error(fmt::format("layer '{}' has {} channels", layer, channelCount),
+                    ErrorKind::InvalidArgument);
 
     std::vector<std::string> names;
     if (layer == "hist") {
         if (channelCount < 4 || (channelCount - 1) % 3 != 0)
-            throw Error(fmt::format(
-                "layer 'hist' has {} channels; expected 3n+1 (n bins for each of R,G,B, "
-                "then the sample count)",
-                channelCount));
+            throw Error(
+                fmt::format(
+                    "layer 'hist' has {} channels; expected 3n+1 (n bins for each of R,G,B, "
+                    "then the sample count)",
+                    channelCount),
+                ErrorKind::InvalidArgument);
         for (int bin = 0; bin < channelCount; ++bin)
             names.push_back(fmt::format("Bin_{:04d}", bin));
     } else if (channelCount == 3) {

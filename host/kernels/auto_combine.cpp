@@ -20,26 +20,31 @@ void RecordAutoCombine(vk::Context &context, vk::Recorder &recorder, const vk::G
                        float darkLimit) {
     int channels = color.channels, count = errors.channels;
     if (channels < 1 || channels > 4)
-        throw Error(fmt::format("auto combine: {} channels; 1 to 4 are supported", channels));
+        throw Error(fmt::format("auto combine: {} channels; 1 to 4 are supported", channels),
+                    ErrorKind::InvalidArgument);
     if (count < 1 || count > AUTO_MAX_CANDIDATES)
         throw Error(fmt::format("auto combine: {} candidates; 1 to {} are supported", count,
-                                AUTO_MAX_CANDIDATES));
+                                AUTO_MAX_CANDIDATES),
+                    ErrorKind::Internal);
     CheckAutoShapes("auto combine", color, count * channels, {&candidates});
     CheckAutoShapes("auto combine", color, channels, {&output});
     CheckAutoShapes("auto combine", color, count, {&weights});
     if (!(floorError > 0) || !std::isfinite(floorError) || !(power > 0) ||
         !std::isfinite(power))
         throw Error(fmt::format("auto combine: floor {} and power {} must be positive",
-                                floorError, power));
+                                floorError, power),
+                    ErrorKind::InvalidArgument);
     if (mode == AutoMode::Relative) {
-        if (!variance) throw Error("auto combine: the relative mode needs the variance");
+        if (!variance)
+            throw Error("auto combine: the relative mode needs the variance",
+                        ErrorKind::Internal);
         CheckAutoShapes("auto combine", color, channels, {variance});
         if (!(noiseLimit > 0) || !std::isfinite(noiseLimit) || !(darkLimit > 0) ||
             !std::isfinite(darkLimit))
-            throw Error(
-                fmt::format("auto combine: noise limit {} and dark limit {} must be "
-                            "positive",
-                            noiseLimit, darkLimit));
+            throw Error(fmt::format("auto combine: noise limit {} and dark limit {} must be "
+                                    "positive",
+                                    noiseLimit, darkLimit),
+                        ErrorKind::InvalidArgument);
     }
     const vk::Kernel &kernel = context.GetKernel({"auto_combine",
                                                   k_auto_combine_spv,

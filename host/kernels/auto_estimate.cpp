@@ -16,9 +16,10 @@ void CheckAutoShapes(const char *what, const vk::GpuImage &a, int channels,
                      std::initializer_list<const vk::GpuImage *> others) {
     for (const vk::GpuImage *b : others)
         if (b->width != a.width || b->height != a.height || b->channels != channels)
-            throw Error(fmt::format("{}: {} is {}x{}x{}, {}x{}x{} expected", what,
-                                    b->buffer.Name(), b->width, b->height, b->channels, a.width,
-                                    a.height, channels));
+            throw Error(
+                fmt::format("{}: {} is {}x{}x{}, {}x{}x{} expected", what, b->buffer.Name(),
+                            b->width, b->height, b->channels, a.width, a.height, channels),
+                ErrorKind::Internal);
 }
 
 void RecordAutoEstimate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
@@ -28,14 +29,17 @@ void RecordAutoEstimate(vk::Context &context, vk::Recorder &recorder, const vk::
                         float epsilon, float noiseCap, vk::GpuImage &error) {
     if (color.channels < 1 || color.channels > 4)
         throw Error(
-            fmt::format("auto estimate: {} channels; 1 to 4 are supported", color.channels));
+            fmt::format("auto estimate: {} channels; 1 to 4 are supported", color.channels),
+            ErrorKind::InvalidArgument);
     CheckAutoShapes("auto estimate", color, color.channels,
                     {&variance, &probe, &guide, &output, &perturbed, &offset});
     CheckAutoShapes("auto estimate", color, 1, {&error});
     if (!(epsilon > 0) || !std::isfinite(epsilon))
-        throw Error(fmt::format("auto estimate: epsilon {} is not a positive number", epsilon));
+        throw Error(fmt::format("auto estimate: epsilon {} is not a positive number", epsilon),
+                    ErrorKind::InvalidArgument);
     if (!(noiseCap >= 0) || !std::isfinite(noiseCap))
-        throw Error(fmt::format("auto estimate: noise cap {} is not a number >= 0", noiseCap));
+        throw Error(fmt::format("auto estimate: noise cap {} is not a number >= 0", noiseCap),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"auto_estimate",
                                                   k_auto_estimate_spv,
                                                   sizeof(k_auto_estimate_spv),

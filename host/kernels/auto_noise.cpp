@@ -15,17 +15,20 @@ void RecordAutoNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                      const vk::GpuImage *albedo, int radius, vk::GpuImage &output) {
     if (color.channels < 1 || color.channels > 4)
         throw Error(
-            fmt::format("auto noise: {} channels; 1 to 4 are supported", color.channels));
+            fmt::format("auto noise: {} channels; 1 to 4 are supported", color.channels),
+            ErrorKind::InvalidArgument);
     CheckAutoShapes("auto noise", color, color.channels, {&output});
     if (albedo) {
         if (albedo->channels != 1 && albedo->channels < color.channels)
             throw Error(fmt::format("auto noise: {} has {} channels; 1 or {} expected",
-                                    albedo->buffer.Name(), albedo->channels, color.channels));
+                                    albedo->buffer.Name(), albedo->channels, color.channels),
+                        ErrorKind::InvalidArgument);
         CheckAutoShapes("auto noise", color, albedo->channels, {albedo});
     }
     if (radius < 1 || radius > AUTO_NOISE_MAX_RADIUS)
-        throw Error(fmt::format("auto noise: radius {} outside [1, {}]", radius,
-                                AUTO_NOISE_MAX_RADIUS));
+        throw Error(
+            fmt::format("auto noise: radius {} outside [1, {}]", radius, AUTO_NOISE_MAX_RADIUS),
+            ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"auto_noise",
                                                   k_auto_noise_spv,
                                                   sizeof(k_auto_noise_spv),

@@ -15,7 +15,8 @@ void RecordAutoSmooth(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                       int radius, vk::GpuImage &output) {
     CheckAutoShapes("auto smooth", input, input.channels, {&output});
     if (radius < 0 || radius > 64)
-        throw Error(fmt::format("auto smooth: radius {} outside [0, 64]", radius));
+        throw Error(fmt::format("auto smooth: radius {} outside [0, 64]", radius),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"auto_smooth",
                                                   k_auto_smooth_spv,
                                                   sizeof(k_auto_smooth_spv),

@@ -14,9 +14,11 @@ void RecordAwrShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImage 
                      const vk::GpuImage &variance, int lowWidth, int lowHeight, float cs) {
     if (coef.width != variance.width || coef.height != variance.height ||
         coef.channels != variance.channels)
-        throw Error(fmt::format(
-            "awr shrink: coefficients {}x{}x{} and variances {}x{}x{} differ", coef.width,
-            coef.height, coef.channels, variance.width, variance.height, variance.channels));
+        throw Error(
+            fmt::format("awr shrink: coefficients {}x{}x{} and variances {}x{}x{} differ",
+                        coef.width, coef.height, coef.channels, variance.width, variance.height,
+                        variance.channels),
+            ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"awr_shrink",
                                                   k_awr_shrink_spv,
                                                   sizeof(k_awr_shrink_spv),

@@ -17,10 +17,11 @@ void RecordBayesExp(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
     for (const vk::GpuImage *image : {&original, &std::as_const(out)})
         if (image->width != logImage.width || image->height != logImage.height ||
             image->channels != logImage.channels)
-            throw Error(fmt::format("bayes exp: '{}' is {}x{}x{}, the log image {}x{}x{}",
-                                    image->buffer.Name(), image->width, image->height,
-                                    image->channels, logImage.width, logImage.height,
-                                    logImage.channels));
+            throw Error(
+                fmt::format("bayes exp: '{}' is {}x{}x{}, the log image {}x{}x{}",
+                            image->buffer.Name(), image->width, image->height, image->channels,
+                            logImage.width, logImage.height, logImage.channels),
+                ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"bayes_exp",
                                                   k_bayes_exp_spv,
                                                   sizeof(k_bayes_exp_spv),

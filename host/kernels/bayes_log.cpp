@@ -14,11 +14,13 @@ void RecordBayesLog(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                     const vk::Buffer &floors, vk::GpuImage &out) {
     if (!color.buffer.Valid() || color.width != out.width || color.height != out.height ||
         color.channels != out.channels)
-        throw Error(fmt::format("bayes log: input {}x{}x{} and output {}x{}x{} differ",
-                                color.width, color.height, color.channels, out.width,
-                                out.height, out.channels));
+        throw Error(
+            fmt::format("bayes log: input {}x{}x{} and output {}x{}x{} differ", color.width,
+                        color.height, color.channels, out.width, out.height, out.channels),
+            ErrorKind::Internal);
     if (floors.Bytes() < VkDeviceSize(color.channels) * sizeof(float))
-        throw Error("bayes log: the floors buffer holds fewer floats than channels");
+        throw Error("bayes log: the floors buffer holds fewer floats than channels",
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"bayes_log",
                                                   k_bayes_log_spv,
                                                   sizeof(k_bayes_log_spv),

@@ -29,7 +29,8 @@ void RecordBayesMix(vk::Context &context, vk::Recorder &recorder, vk::GpuImage &
                     const std::array<float, 9> &m) {
     if (image.channels != 3)
         throw Error(fmt::format("bayes mix: needs 3 channels, '{}' has {}", image.buffer.Name(),
-                                image.channels));
+                                image.channels),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"bayes_mix",
                                                   k_bayes_mix_spv,
                                                   sizeof(k_bayes_mix_spv),

@@ -14,9 +14,11 @@ namespace mcd {
 void RecordBayesMoments(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &coef,
                         int levels, vk::Buffer &moments) {
     int bands = BayesBandCount(coef.channels, levels);
-    if (levels < 1) throw Error("bayes moments: needs at least one level");
+    if (levels < 1)
+        throw Error("bayes moments: needs at least one level", ErrorKind::InvalidArgument);
     if (moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
-        throw Error(fmt::format("bayes moments: buffer too small for {} bands", bands));
+        throw Error(fmt::format("bayes moments: buffer too small for {} bands", bands),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"bayes_moments",
                                                   k_bayes_moments_spv,
                                                   sizeof(k_bayes_moments_spv),

@@ -17,7 +17,8 @@ void RecordBayesShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuImag
     int bands = BayesBandCount(coef.channels, levels);
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
         table.Bytes() < VkDeviceSize(bands) * BAYES_TABLE_SIZE * sizeof(float))
-        throw Error(fmt::format("bayes shrink: buffers too small for {} bands", bands));
+        throw Error(fmt::format("bayes shrink: buffers too small for {} bands", bands),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"bayes_shrink",
                                                   k_bayes_shrink_spv,
                                                   sizeof(k_bayes_shrink_spv),

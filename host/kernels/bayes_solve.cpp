@@ -17,7 +17,8 @@ void RecordBayesSolve(vk::Context &context, vk::Recorder &recorder, const vk::Bu
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
         noise.Bytes() < VkDeviceSize(bands) * sizeof(float) ||
         moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
-        throw Error(fmt::format("bayes solve: buffers too small for {} bands", bands));
+        throw Error(fmt::format("bayes solve: buffers too small for {} bands", bands),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"bayes_solve",
                                                   k_bayes_solve_spv,
                                                   sizeof(k_bayes_solve_spv),

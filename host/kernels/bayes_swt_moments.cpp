@@ -20,10 +20,12 @@ void RecordBayesSwtMoments(vk::Context &context, vk::Recorder &recorder,
         throw Error(
             fmt::format("bayes swt moments: {} planes are not the SWT of {} channels at {} "
                         "levels",
-                        coef.channels, channels, levels));
+                        coef.channels, channels, levels),
+            ErrorKind::Internal);
     int bands = BayesBandCount(channels, levels);
     if (moments.Bytes() < VkDeviceSize(bands) * BAYES_MOMENT_STRIDE * sizeof(float))
-        throw Error(fmt::format("bayes swt moments: buffer too small for {} bands", bands));
+        throw Error(fmt::format("bayes swt moments: buffer too small for {} bands", bands),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"bayes_swt_moments",
                                                   k_bayes_swt_moments_spv,
                                                   sizeof(k_bayes_swt_moments_spv),

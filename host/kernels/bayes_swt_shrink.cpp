@@ -20,11 +20,13 @@ void RecordBayesSwtShrink(vk::Context &context, vk::Recorder &recorder, vk::GpuI
         throw Error(
             fmt::format("bayes swt shrink: {} planes are not the SWT of {} channels at {} "
                         "levels",
-                        coef.channels, channels, levels));
+                        coef.channels, channels, levels),
+            ErrorKind::Internal);
     int bands = BayesBandCount(channels, levels);
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
         table.Bytes() < VkDeviceSize(bands) * BAYES_TABLE_SIZE * sizeof(float))
-        throw Error(fmt::format("bayes swt shrink: buffers too small for {} bands", bands));
+        throw Error(fmt::format("bayes swt shrink: buffers too small for {} bands", bands),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"bayes_swt_shrink",
                                                   k_bayes_swt_shrink_spv,
                                                   sizeof(k_bayes_swt_shrink_spv),

@@ -15,7 +15,8 @@ void RecordBayesTable(vk::Context &context, vk::Recorder &recorder, const vk::Bu
                       int bands, vk::Buffer &table) {
     if (params.Bytes() < VkDeviceSize(bands) * BAYES_PARAM_STRIDE * sizeof(float) ||
         table.Bytes() < VkDeviceSize(bands) * BAYES_TABLE_SIZE * sizeof(float))
-        throw Error(fmt::format("bayes table: buffers too small for {} bands", bands));
+        throw Error(fmt::format("bayes table: buffers too small for {} bands", bands),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"bayes_table",
                                                   k_bayes_table_spv,
                                                   sizeof(k_bayes_table_spv),

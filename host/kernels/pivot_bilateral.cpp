@@ -21,8 +21,10 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
     CheckPivotShapes("pivot bilateral", color, {&pivot, &z, &nu, &out});
     CheckPivotGuides("pivot bilateral", color.width, color.height, guides);
     if (settings.radius < 0 || settings.radius > 64)
-        throw Error(fmt::format("pivot bilateral: radius {}; 0..64 allowed", settings.radius));
-    if (!(settings.sigmaRange > 0)) throw Error("pivot bilateral: the range sigma must be > 0");
+        throw Error(fmt::format("pivot bilateral: radius {}; 0..64 allowed", settings.radius),
+                    ErrorKind::InvalidArgument);
+    if (!(settings.sigmaRange > 0))
+        throw Error("pivot bilateral: the range sigma must be > 0", ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel(
         {"pivot_bilateral",
          k_pivot_bilateral_spv,

@@ -24,18 +24,21 @@ static_assert(PIVOT_PLANES_PER_BUFFER == 8 && PIVOT_PLANES == 16);
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides) {
     const vk::GpuImage *image = guides.image;
     if ((guides.normals || guides.ids) && !image)
-        throw Error(fmt::format("{}: guides are switched on without a guide image", what));
+        throw Error(fmt::format("{}: guides are switched on without a guide image", what),
+                    ErrorKind::Internal);
     if (image && (image->width != width || image->height != height ||
                   image->channels != PIVOT_GUIDE_STRIDE))
         throw Error(fmt::format("{}: the guide image is {}x{}x{}, expected {}x{}x{}", what,
                                 image->width, image->height, image->channels, width, height,
-                                PIVOT_GUIDE_STRIDE));
+                                PIVOT_GUIDE_STRIDE),
+                    ErrorKind::Internal);
 }
 
 Image PivotGuideBuffer(const Image &planes) {
     if (planes.channels != PIVOT_GUIDE_PLANES)
         throw Error(fmt::format("pivot guides: {} planes, expected {}", planes.channels,
-                                PIVOT_GUIDE_PLANES));
+                                PIVOT_GUIDE_PLANES),
+                    ErrorKind::Internal);
     Image buffer(planes.width, planes.height, PIVOT_GUIDE_STRIDE);
     size_t pixels = planes.PixelCount();
     // The frame's distinct (object id, part id) pairs, by their bits (+0 makes -0 and 0 one
@@ -61,7 +64,8 @@ Image PivotGuideBuffer(const Image &planes) {
         if (it->second > (1 << 24))
             throw Error(
                 "pivot guides: more distinct (object, part) id pairs than float "
-                "labels can tell apart (2^24); tile the frame");
+                "labels can tell apart (2^24); tile the frame",
+                ErrorKind::InvalidArgument);
         out[3] = len > 0 ? float(it->second) : -float(it->second);
     }
     return buffer;
@@ -100,7 +104,7 @@ void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi) {
 Image PivotZsnOf(const Image &z, const Image &s, const Image &nu) {
     if (s.width != z.width || s.height != z.height || s.channels != z.channels ||
         nu.width != z.width || nu.height != z.height || nu.channels != z.channels)
-        throw Error("pivot: z, s and nu differ in shape");
+        throw Error("pivot: z, s and nu differ in shape", ErrorKind::Internal);
     Image zsn(z.width, z.height, 4 * z.channels);
     for (size_t i = 0; i < z.Size(); ++i) {
         zsn.data[4 * i] = z.data[i];
@@ -114,10 +118,10 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                     const PivotGpuGuides &guides, const PivotFitSettings &settings,
                     vk::GpuImage &fitLo, vk::GpuImage &fitHi, int rowBase, int rows) {
     if (zsn.channels % 4 != 0 || zsn.channels < 4 || zsn.channels > 16)
-        throw Error(
-            fmt::format("pivot fit: {} has {} channels, expected 4 per colour channel "
-                        "(z, s, nu, 0; 1 to 4 colour channels)",
-                        zsn.buffer.Name(), zsn.channels));
+        throw Error(fmt::format("pivot fit: {} has {} channels, expected 4 per colour channel "
+                                "(z, s, nu, 0; 1 to 4 colour channels)",
+                                zsn.buffer.Name(), zsn.channels),
+                    ErrorKind::Internal);
     int w = zsn.width, h = zsn.height, channels = zsn.channels / 4;
     CheckPivotGuides("pivot fit", w, h, guides);
     for (const vk::GpuImage *fit : {&std::as_const(fitLo), &std::as_const(fitHi)})
@@ -125,13 +129,16 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
             fit->channels != PIVOT_PLANES_PER_BUFFER * channels)
             throw Error(fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x{}",
                                     fit->buffer.Name(), fit->width, fit->height, fit->channels,
-                                    w, h, PIVOT_PLANES_PER_BUFFER * channels));
+                                    w, h, PIVOT_PLANES_PER_BUFFER * channels),
+                        ErrorKind::Internal);
     if (rowBase < 0 || rows < 1 || rowBase + rows > h)
         throw Error(fmt::format("pivot fit: rows {}..{} of a {}-row image", rowBase,
-                                rowBase + rows - 1, h));
+                                rowBase + rows - 1, h),
+                    ErrorKind::Internal);
     if (settings.maxRadius < 2 || settings.maxRadius > 64)
         throw Error(fmt::format("pivot fit: the maximum radius is {}; 2..64 allowed",
-                                settings.maxRadius));
+                                settings.maxRadius),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel(
         {"pivot_fit",
          k_pivot_fit_spv,

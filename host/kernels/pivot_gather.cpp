@@ -85,21 +85,23 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                        vk::GpuImage &out, int rowBase, int rows) {
     if (rowBase < 0 || rows < 1 || rowBase + rows > color.height)
         throw Error(fmt::format("pivot gather: rows {}..{} of a {}-row image", rowBase,
-                                rowBase + rows - 1, color.height));
+                                rowBase + rows - 1, color.height),
+                    ErrorKind::Internal);
     const int t = PIVOT_GATHER_TILE;
     int tilesX = (color.width + t - 1) / t, tilesY = (color.height + t - 1) / t;
     if (tiles.width != t * t || tiles.height != tilesX * tilesY ||
         tiles.channels != 3 * color.channels)
         throw Error(fmt::format("pivot gather: the tile order is {}x{}x{}, expected {}x{}x{}",
                                 tiles.width, tiles.height, tiles.channels, t * t,
-                                tilesX * tilesY, 3 * color.channels));
+                                tilesX * tilesY, 3 * color.channels),
+                    ErrorKind::Internal);
     CheckPivotShapes("pivot gather", color, {&pivot, &nu, &out});
     CheckPivotGuides("pivot gather", color.width, color.height, guides);
     for (const vk::GpuImage *fit : {&fitLo, &fitHi})
         if (fit->width != color.width || fit->height != color.height ||
             fit->channels != PIVOT_PLANES_PER_BUFFER * color.channels)
-            throw Error(
-                fmt::format("pivot gather: {} has the wrong shape", fit->buffer.Name()));
+            throw Error(fmt::format("pivot gather: {} has the wrong shape", fit->buffer.Name()),
+                        ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel(
         {"pivot_gather",
          k_pivot_gather_spv,

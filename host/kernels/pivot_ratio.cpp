@@ -16,9 +16,11 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
         if (b->width != a.width || b->height != a.height || b->channels != a.channels)
             throw Error(fmt::format("{}: {} is {}x{}x{} but {} is {}x{}x{}", what,
                                     a.buffer.Name(), a.width, a.height, a.channels,
-                                    b->buffer.Name(), b->width, b->height, b->channels));
+                                    b->buffer.Name(), b->width, b->height, b->channels),
+                        ErrorKind::Internal);
     if (a.channels < 1 || a.channels > 4)
-        throw Error(fmt::format("{}: {} channels; 1 to 4 are supported", what, a.channels));
+        throw Error(fmt::format("{}: {} channels; 1 to 4 are supported", what, a.channels),
+                    ErrorKind::InvalidArgument);
 }
 
 void CheckPivotZsn(const char *what, const vk::GpuImage &a, const vk::GpuImage &zsn) {
@@ -26,7 +28,8 @@ void CheckPivotZsn(const char *what, const vk::GpuImage &a, const vk::GpuImage &
         throw Error(
             fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{} (z, s, nu, 0 per channel)", what,
                         zsn.buffer.Name(), zsn.width, zsn.height, zsn.channels, a.width,
-                        a.height, 4 * a.channels));
+                        a.height, 4 * a.channels),
+            ErrorKind::Internal);
 }
 
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
@@ -39,7 +42,8 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
     CheckPivotGuides("pivot ratio", color.width, color.height, guides);
     if (int(thresholds.size()) != color.channels)
         throw Error(fmt::format("pivot ratio: {} thresholds for {} channels", thresholds.size(),
-                                color.channels));
+                                color.channels),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel(
         {"pivot_ratio",
          k_pivot_ratio_spv,

@@ -18,11 +18,11 @@ void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::
     if (color.channels != 3 || out.channels != 3 || color.width != out.width ||
         color.height != out.height ||
         mask.Bytes() < size_t(words) * color.width * color.height * sizeof(uint32_t))
-        throw Error(
-            fmt::format("rhf aggregate: color {}x{}x{}, out {}x{}x{} and a {}-byte "
-                        "mask do not fit",
-                        color.width, color.height, color.channels, out.width, out.height,
-                        out.channels, mask.Bytes()));
+        throw Error(fmt::format("rhf aggregate: color {}x{}x{}, out {}x{}x{} and a {}-byte "
+                                "mask do not fit",
+                                color.width, color.height, color.channels, out.width,
+                                out.height, out.channels, mask.Bytes()),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"rhf_aggregate",
                                                   k_rhf_aggregate_spv,
                                                   sizeof(k_rhf_aggregate_spv),

@@ -23,10 +23,12 @@ void RecordRhfBlockMax(vk::Context &context, vk::Recorder &recorder, const RhfHi
         (hist.planes + hist.planesPerSlot - 1) / hist.planesPerSlot != int(hist.slots.size()))
         throw Error(
             fmt::format("rhf block maxima: {} histogram planes in {} buffers of {} planes",
-                        hist.planes, hist.slots.size(), hist.planesPerSlot));
+                        hist.planes, hist.slots.size(), hist.planesPerSlot),
+            ErrorKind::Internal);
     if (blockMax.Bytes() < size_t(n3) * hist.height * blocks * sizeof(float))
         throw Error(fmt::format("rhf block maxima: a {}x{} image's {} planes do not fit '{}'",
-                                hist.width, hist.height, n3, blockMax.Name()));
+                                hist.width, hist.height, n3, blockMax.Name()),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel =
         context.GetKernel({"rhf_blockmax",
                            k_rhf_blockmax_spv,

@@ -19,11 +19,11 @@ void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
           low.width == (filtered.width + 1) / 2 && low.height == (filtered.height + 1) / 2 &&
           filtered.channels == 3 && out.channels == 3 && low.channels == 3 &&
           coarse.channels == 3))
-        throw Error(
-            fmt::format("rhf combine: filtered {}x{}, low {}x{}, coarse {}x{} do not "
-                        "fit",
-                        filtered.width, filtered.height, low.width, low.height, coarse.width,
-                        coarse.height));
+        throw Error(fmt::format("rhf combine: filtered {}x{}, low {}x{}, coarse {}x{} do not "
+                                "fit",
+                                filtered.width, filtered.height, low.width, low.height,
+                                coarse.width, coarse.height),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"rhf_combine",
                                                   k_rhf_combine_spv,
                                                   sizeof(k_rhf_combine_spv),
@@ -35,11 +35,11 @@ void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
     if (w.originX < 0 || w.originY < 0 || w.originX % 2 || w.originY % 2 ||
         w.originX + filtered.width > w.frameWidth ||
         w.originY + filtered.height > w.frameHeight)
-        throw Error(
-            fmt::format("rhf combine: a {}x{} window at ({}, {}) does not lie on the "
-                        "even grid of its {}x{} frame",
-                        filtered.width, filtered.height, w.originX, w.originY, w.frameWidth,
-                        w.frameHeight));
+        throw Error(fmt::format("rhf combine: a {}x{} window at ({}, {}) does not lie on the "
+                                "even grid of its {}x{} frame",
+                                filtered.width, filtered.height, w.originX, w.originY,
+                                w.frameWidth, w.frameHeight),
+                    ErrorKind::Internal);
     shader::RhfCombinePush push{filtered.width,
                                 filtered.height,
                                 low.width,

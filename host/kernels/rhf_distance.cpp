@@ -26,10 +26,11 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
         termSum.Bytes() < (searchHalf + 1) * side * termRows * width * sizeof(float) ||
         termCount.Bytes() < termSum.Bytes() ||
         dist.Bytes() < side * side * rows * width * sizeof(float))
-        throw Error(fmt::format(
-            "rhf distance: centre rows {}..{} with term rows {}..{} of a "
-            "{}x{} image do not fit the buffers",
-            rowBase, rowBase + rows - 1, termBase, termBase + termRows - 1, width, height));
+        throw Error(fmt::format("rhf distance: centre rows {}..{} with term rows {}..{} of a "
+                                "{}x{} image do not fit the buffers",
+                                rowBase, rowBase + rows - 1, termBase, termBase + termRows - 1,
+                                width, height),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel =
         context.GetKernel({"rhf_distance",
                            k_rhf_distance_spv,

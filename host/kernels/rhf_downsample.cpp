@@ -38,10 +38,10 @@ void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk:
         scratch.Bytes() < size_t(planes) * dstWidth * srcHeight * sizeof(float) ||
         dst.Bytes() < size_t(planes) * dstWidth * dstHeight * sizeof(float) ||
         weights.Bytes() < size_t(2 * radius + 1) * sizeof(float))
-        throw Error(
-            fmt::format("rhf downsample: {} planes of {}x{} by {} do not fit the "
-                        "buffers",
-                        planes, srcWidth, srcHeight, step));
+        throw Error(fmt::format("rhf downsample: {} planes of {}x{} by {} do not fit the "
+                                "buffers",
+                                planes, srcWidth, srcHeight, step),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"rhf_downsample",
                                                   k_rhf_downsample_spv,
                                                   sizeof(k_rhf_downsample_spv),

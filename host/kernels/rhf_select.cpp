@@ -22,10 +22,10 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
         dist.Bytes() < side * side * rows * width * sizeof(float) ||
         mask.Bytes() < words * height * width * sizeof(uint32_t))
-        throw Error(
-            fmt::format("rhf select: rows {}..{} of a {}x{} image do not fit the "
-                        "buffers",
-                        rowBase, rowBase + rows - 1, width, height));
+        throw Error(fmt::format("rhf select: rows {}..{} of a {}x{} image do not fit the "
+                                "buffers",
+                                rowBase, rowBase + rows - 1, width, height),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel({"rhf_select",
                                                   k_rhf_select_spv,
                                                   sizeof(k_rhf_select_spv),

@@ -26,11 +26,13 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
     if (hist.slots.empty() || hist.slots.size() > RHF_HIST_SLOTS || hist.planesPerSlot <= 0 ||
         (hist.planes + hist.planesPerSlot - 1) / hist.planesPerSlot != int(hist.slots.size()))
         throw Error(fmt::format("rhf terms: {} histogram planes in {} buffers of {} planes",
-                                hist.planes, hist.slots.size(), hist.planesPerSlot));
+                                hist.planes, hist.slots.size(), hist.planesPerSlot),
+                    ErrorKind::Internal);
     if (rowBase < 0 || rows <= 0 || rowBase + rows > hist.height || termSum.Bytes() < need ||
         termCount.Bytes() < need)
         throw Error(fmt::format("rhf terms: rows {}..{} of {} need {} bytes per term buffer",
-                                rowBase, rowBase + rows - 1, hist.height, need));
+                                rowBase, rowBase + rows - 1, hist.height, need),
+                    ErrorKind::Internal);
     const vk::Kernel &kernel =
         context.GetKernel({"rhf_terms",
                            k_rhf_terms_spv,
@@ -51,7 +53,8 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
     if (blockMax.Bytes() <
         size_t(hist.planes - 1) * hist.height * RhfBlocks(hist.width) * sizeof(float))
         throw Error(fmt::format("rhf terms: '{}' is too small for a {}x{} image's bin maxima",
-                                blockMax.Name(), hist.width, hist.height));
+                                blockMax.Name(), hist.width, hist.height),
+                    ErrorKind::Internal);
     bindings.push_back({RHF_TERMS_BLOCKMAX, &blockMax, vk::Access::Read});
     bindings.push_back({RHF_TERMS_SUM, &termSum, vk::Access::Write});
     bindings.push_back({RHF_TERMS_COUNT, &termCount, vk::Access::Write});

@@ -56,35 +56,40 @@ std::vector<float> TracingGather::Run(const TracingRecords &records,
     const int width = records.width, rows = records.rows, spp = records.spp;
     if (width <= 0 || rows <= 0 || spp <= 0)
         throw Error(
-            fmt::format("tracing gather: records of {}x{} pixels at {} spp", width, rows, spp));
+            fmt::format("tracing gather: records of {}x{} pixels at {} spp", width, rows, spp),
+            ErrorKind::Internal);
     int maxRows = MaxRecordRows(width, spp);
     if (rows > maxRows)
-        throw Error(fmt::format(
-            "tracing gather: a band of {} rows x {} pixels at {} spp needs {:.1f} MiB for its "
-            "sample directions, over this device's {:.1f} MiB per binding: at most {} rows of "
-            "records fit (output rows plus 2 x radius)",
-            rows, width, spp, 3.0 * spp * width * rows * 4 / (1 << 20),
-            double(context.BindingBytes()) / (1 << 20), maxRows));
+        throw Error(fmt::format("tracing gather: a band of {} rows x {} pixels at {} spp needs "
+                                "{:.1f} MiB for its "
+                                "sample directions, over this device's {:.1f} MiB per binding: "
+                                "at most {} rows of "
+                                "records fit (output rows plus 2 x radius)",
+                                rows, width, spp, 3.0 * spp * width * rows * 4 / (1 << 20),
+                                double(context.BindingBytes()) / (1 << 20), maxRows),
+                    ErrorKind::OutOfMemory);
 
     size_t pixels = size_t(width) * rows;
     if (records.surfaces.size() != pixels || records.samples.size() != pixels * spp)
         throw Error(
             fmt::format("tracing gather: {} surfaces and {} samples for {}x{} pixels at {} spp",
-                        records.surfaces.size(), records.samples.size(), width, rows, spp));
+                        records.surfaces.size(), records.samples.size(), width, rows, spp),
+            ErrorKind::Internal);
     if (outRows <= 0 || outY0 < records.y0 || outY0 + outRows > records.y0 + rows)
-        throw Error(
-            fmt::format("tracing gather: output rows {}..{} are not inside the "
-                        "records' rows {}..{}",
-                        outY0, outY0 + outRows - 1, records.y0, records.y0 + rows - 1));
+        throw Error(fmt::format("tracing gather: output rows {}..{} are not inside the "
+                                "records' rows {}..{}",
+                                outY0, outY0 + outRows - 1, records.y0, records.y0 + rows - 1),
+                    ErrorKind::Internal);
     auto finiteNonNegative = [](float v) { return std::isfinite(v) && v >= 0; };
     if (params.radius < 0 || !finiteNonNegative(params.alpha) ||
         !finiteNonNegative(params.beta) || !finiteNonNegative(params.gamma) ||
         !finiteNonNegative(params.selfFloor) || params.selfFloor > 1)
-        throw Error(fmt::format(
-            "tracing gather: parameters radius {} alpha {} beta {} gamma "
-            "{} selfFloor {}; radius, alpha, beta, gamma must be finite "
-            "and >= 0, selfFloor in [0, 1]",
-            params.radius, params.alpha, params.beta, params.gamma, params.selfFloor));
+        throw Error(fmt::format("tracing gather: parameters radius {} alpha {} beta {} gamma "
+                                "{} selfFloor {}; radius, alpha, beta, gamma must be finite "
+                                "and >= 0, selfFloor in [0, 1]",
+                                params.radius, params.alpha, params.beta, params.gamma,
+                                params.selfFloor),
+                    ErrorKind::InvalidArgument);
     // Planar upload: a field's values of adjacent pixels adjacent.
     std::vector<float> plane(std::max(pixels * TRACING_SURFACE_PLANES, pixels * spp * 3));
     for (size_t i = 0; i < pixels; ++i) {

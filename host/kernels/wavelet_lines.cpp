@@ -10,10 +10,12 @@ namespace mcd {
 void CheckWaveletTemporary(const vk::ImageView &tmp, const vk::ImageView &src,
                            const vk::ImageView &dst, int width, const char *kernel) {
     if (tmp.buffer == src.buffer || tmp.buffer == dst.buffer)
-        throw Error(std::string(kernel) + ": the temporary must be a buffer of its own");
+        throw Error(std::string(kernel) + ": the temporary must be a buffer of its own",
+                    ErrorKind::Internal);
     if (tmp.stride % 4 != 0 || tmp.plane % 4 != 0 || tmp.stride < (width + 3) / 4 * 4)
         throw Error(std::string(kernel) +
-                    ": the temporary's rows must be padded to a multiple of 4 floats");
+                        ": the temporary's rows must be padded to a multiple of 4 floats",
+                    ErrorKind::Internal);
 }
 
 int WaveletInteriorSegments(int n) {
@@ -45,8 +47,9 @@ WaveletLinePass MakeWaveletLinePass(vk::Context &context, const char *kernel,
                      {WAVELET_LINES_DST, dst.buffer, vk::Access::Write}};
     for (const vk::Binding &read : reads) {
         if (read.access != vk::Access::Read)
-            throw Error(std::string(kernel) +
-                        ": the extra bindings of a line pass are read only");
+            throw Error(
+                std::string(kernel) + ": the extra bindings of a line pass are read only",
+                ErrorKind::Internal);
         pass.bindings.push_back(read);
     }
     // Rows: one invocation per row, a segment of WAVELET_TILE positions per group along x;

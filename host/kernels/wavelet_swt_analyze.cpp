@@ -13,10 +13,10 @@ void RecordWaveletSwtAnalyze(vk::Context &context, vk::Recorder &recorder, SwtAn
                              const shader::WaveletSwtAnalyzePush &push, int channels,
                              const vk::Buffer &src, vk::Buffer &dst, const std::string &label) {
     if (push.width < 1 || push.height < 1 || channels < 1 || push.step < 1)
-        throw Error("wavelet swt analyze: empty pass");
+        throw Error("wavelet swt analyze: empty pass", ErrorKind::Internal);
     bool fused = pass == SwtAnalyzePass::Fused;
     if (fused && basis != WaveletBasis::Haar)
-        throw Error("wavelet swt analyze: the fused passes are Haar only");
+        throw Error("wavelet swt analyze: the fused passes are Haar only", ErrorKind::Internal);
     int axis = fused                          ? WAVELET_SWT_FUSED
                : pass == SwtAnalyzePass::Rows ? WAVELET_SWT_ROWS
                                               : WAVELET_SWT_COLUMNS;

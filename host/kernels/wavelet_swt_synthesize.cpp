@@ -14,7 +14,7 @@ void RecordWaveletSwtSynthesize(vk::Context &context, vk::Recorder &recorder,
                                 const vk::Buffer &src, vk::Buffer &dst,
                                 const std::string &label) {
     if (push.width < 1 || push.height < 1 || channels < 1 || push.step < 1)
-        throw Error("wavelet swt synthesize: empty pass");
+        throw Error("wavelet swt synthesize: empty pass", ErrorKind::Internal);
     int axis = pass == SwtSynthesizePass::Rows ? WAVELET_SWT_ROWS : WAVELET_SWT_COLUMNS;
     const vk::Kernel &kernel = context.GetKernel(
         {"wavelet_swt_synthesize",

@@ -22,12 +22,14 @@ void RecordWaveletSynthesizeShrink(vk::Context &context, vk::Recorder &recorder,
     CheckWaveletTemporary(tmp, src, dst, width, "wavelet synthesize-shrink");
     // The kernel indexes the variances with the coefficients' strides.
     if (variance.stride != src.stride || variance.plane != src.plane)
-        throw Error(fmt::format(
-            "wavelet synthesize-shrink: the variance view (stride {}, plane {}) must be laid "
-            "out like the coefficients (stride {}, plane {})",
-            variance.stride, variance.plane, src.stride, src.plane));
+        throw Error(fmt::format("wavelet synthesize-shrink: the variance view (stride {}, "
+                                "plane {}) must be laid "
+                                "out like the coefficients (stride {}, plane {})",
+                                variance.stride, variance.plane, src.stride, src.plane),
+                    ErrorKind::Internal);
     if (variance.buffer == tmp.buffer || variance.buffer == dst.buffer)
-        throw Error("wavelet synthesize-shrink: the variances must not be overwritten");
+        throw Error("wavelet synthesize-shrink: the variances must not be overwritten",
+                    ErrorKind::Internal);
     static_assert(sizeof(shader::WaveletSynthesizeShrinkPush) ==
                   sizeof(shader::WaveletLinesPush) + sizeof(float));
     RecordWaveletLinePass(

@@ -45,29 +45,36 @@ void CheckAutoInputs(const Image &color, const std::vector<AutoCandidate> &candi
                      const AutoEstimateInputs &estimate, const AutoOptions &options) {
     if (color.channels < 1 || color.channels > 4)
         throw Error(
-            fmt::format("auto: {} colour channels; 1 to 4 are combined", color.channels));
+            fmt::format("auto: {} colour channels; 1 to 4 are combined", color.channels),
+            ErrorKind::InvalidArgument);
     if (candidates.empty() || candidates.size() > size_t(kAutoMaxCandidates))
         throw Error(fmt::format("auto: {} candidates; 1 to {} are combined", candidates.size(),
-                                kAutoMaxCandidates));
+                                kAutoMaxCandidates),
+                    ErrorKind::Internal);
     bool scored = !estimate.variance.Empty(), halves = !estimate.half1.Empty();
     for (const AutoCandidate &c : candidates)
         if (!c.output.SameShape(color) || (scored && !c.probe.SameShape(color)))
             throw Error(
                 fmt::format("auto: candidate {}'s output or probe is not of the colour's "
                             "shape {}x{}x{}",
-                            c.label, color.width, color.height, color.channels));
+                            c.label, color.width, color.height, color.channels),
+                ErrorKind::Internal);
     if (scored != (options.combination != AutoCombination::Mean))
-        throw Error("auto: the mean takes no estimate, the other combinations need one");
+        throw Error("auto: the mean takes no estimate, the other combinations need one",
+                    ErrorKind::Internal);
     if (!scored) return;
     for (const Image *image : {&estimate.variance, &estimate.probe})
         if (!image->SameShape(color))
-            throw Error("auto: the estimate's variance and probe must have the colour's shape");
+            throw Error("auto: the estimate's variance and probe must have the colour's shape",
+                        ErrorKind::Internal);
     if ((halves && !estimate.half1.SameShape(color)) ||
         (!estimate.offset.Empty() && !estimate.offset.SameShape(color)))
-        throw Error("auto: half1 and the split's offset must have the colour's shape");
+        throw Error("auto: half1 and the split's offset must have the colour's shape",
+                    ErrorKind::Internal);
     if (options.combination == AutoCombination::Relative &&
         !estimate.meanVariance.SameShape(color))
-        throw Error("auto: the relative combination needs the variance of the pixel mean");
+        throw Error("auto: the relative combination needs the variance of the pixel mean",
+                    ErrorKind::Internal);
 }
 
 // The buffers of a combination: K candidates of C channels, W x H.

@@ -16,7 +16,8 @@ namespace mcd {
 
 Image AwrVarianceFromRange(const Image &min, const Image &max, const Image &spp) {
     if (!min.SameShape(max) || spp.width != min.width || spp.height != min.height)
-        throw Error("awr: the min, max and spp layers differ in size");
+        throw Error("awr: the min, max and spp layers differ in size",
+                    ErrorKind::InvalidArgument);
     Image variance(min.width, min.height, min.channels);
     for (int c = 0; c < min.channels; ++c)
         for (int y = 0; y < min.height; ++y)
@@ -37,18 +38,22 @@ int CheckAwrInputs(const Image &color, const Image &variance, const AwrParams &o
     if (!color.SameShape(variance))
         throw Error(fmt::format("awr: color is {}x{}x{} but variance is {}x{}x{}", color.width,
                                 color.height, color.channels, variance.width, variance.height,
-                                variance.channels));
+                                variance.channels),
+                    ErrorKind::InvalidArgument);
     if (!std::isfinite(options.cs) || options.cs < 0)
-        throw Error(fmt::format("awr: cs must be a finite number >= 0, not {}", options.cs));
+        throw Error(fmt::format("awr: cs must be a finite number >= 0, not {}", options.cs),
+                    ErrorKind::InvalidArgument);
     if (!std::isfinite(options.renorm))
-        throw Error("awr: the renormalisation sum must be a finite number");
+        throw Error("awr: the renormalisation sum must be a finite number",
+                    ErrorKind::InvalidArgument);
     CheckFinite("awr", color, "color", false);
     CheckFinite("awr", variance, "variance", true);
     int maxLevels = MaxWaveletLevels(color.width, color.height);
     int levels = options.levels < 0 ? maxLevels : options.levels;
     if (levels > maxLevels)
         throw Error(fmt::format("awr: {} levels requested; a {}x{} image allows 0..{}", levels,
-                                color.width, color.height, maxLevels));
+                                color.width, color.height, maxLevels),
+                    ErrorKind::InvalidArgument);
     return levels;
 }
 
@@ -138,7 +143,8 @@ AwrResult AwrReconstructOnce(vk::Context &context, const Image &color, const Ima
 AwrResult AwrReconstruct(vk::Context &context, const Image &color, const Image &variance,
                          const AwrParams &options, const RunSetup &setup) {
     if (options.spins < 1 || options.spins > 8)
-        throw Error(fmt::format("awr: spins must be in [1, 8], not {}", options.spins));
+        throw Error(fmt::format("awr: spins must be in [1, 8], not {}", options.spins),
+                    ErrorKind::InvalidArgument);
     if (options.spins == 1)
         return AwrReconstructOnce(context, color, variance, options, setup.keepStages);
     // The unshifted run checks the inputs and decides the levels; every shift uses them.

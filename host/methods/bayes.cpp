@@ -250,9 +250,11 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
                                       std::vector<vk::DispatchTiming> *timings,
                                       BayesTransform kind, int swtGroupChannels) {
     if (!variance.SameShape(color))
-        throw Error(fmt::format(
-            "bayes: the variance layer is {}x{}x{} but the image is {}x{}x{}", variance.width,
-            variance.height, variance.channels, color.width, color.height, color.channels));
+        throw Error(
+            fmt::format("bayes: the variance layer is {}x{}x{} but the image is {}x{}x{}",
+                        variance.width, variance.height, variance.channels, color.width,
+                        color.height, color.channels),
+            ErrorKind::InvalidArgument);
     int w = color.width, h = color.height, channels = color.channels;
     Image logVar(w, h, channels);
     for (int c = 0; c < channels; ++c)
@@ -337,7 +339,8 @@ namespace {
 // The variance the noise is taken from (--noise variance, or auto given one); none else.
 const Image *NoiseVariance(const BayesParams &params, const Image *variance) {
     if (params.noise == BayesNoise::Variance && !variance)
-        throw Error("bayes: --noise variance needs a variance layer; none was given");
+        throw Error("bayes: --noise variance needs a variance layer; none was given",
+                    ErrorKind::MissingLayer);
     bool reads = params.noise == BayesNoise::Variance || params.noise == BayesNoise::Auto;
     return reads ? variance : nullptr;
 }
@@ -350,21 +353,27 @@ bool MadNoise(const BayesParams &params, const Image *variance) {
 
 void CheckBayesParams(const Image &color, const BayesParams &options) {
     if (color.Empty() || color.width < 1 || color.height < 1)
-        throw Error("bayes: the image is empty");
+        throw Error("bayes: the image is empty", ErrorKind::InvalidArgument);
     if (!std::isfinite(options.sn) || options.sn < 0)
-        throw Error(fmt::format("bayes: s_n must be a finite number >= 0, not {}", options.sn));
+        throw Error(fmt::format("bayes: s_n must be a finite number >= 0, not {}", options.sn),
+                    ErrorKind::InvalidArgument);
     if (!std::isfinite(options.pn) || options.pn < 0.1f || options.pn > 10.f)
-        throw Error(fmt::format("bayes: p_n must be in [0.1, 10], not {}", options.pn));
+        throw Error(fmt::format("bayes: p_n must be in [0.1, 10], not {}", options.pn),
+                    ErrorKind::InvalidArgument);
     if (!std::isfinite(options.hpFactor) || options.hpFactor <= 0)
         throw Error(
-            fmt::format("bayes: the high-pass factor must be > 0, not {}", options.hpFactor));
+            fmt::format("bayes: the high-pass factor must be > 0, not {}", options.hpFactor),
+            ErrorKind::InvalidArgument);
     if (!std::isfinite(options.floorRel) || options.floorRel <= 0 || options.floorRel >= 1)
         throw Error(
-            fmt::format("bayes: the log floor must be in (0, 1), not {}", options.floorRel));
-    if (options.levels < 0) throw Error("bayes: levels must be >= 0");
+            fmt::format("bayes: the log floor must be in (0, 1), not {}", options.floorRel),
+            ErrorKind::InvalidArgument);
+    if (options.levels < 0)
+        throw Error("bayes: levels must be >= 0", ErrorKind::InvalidArgument);
     if (options.opponent && color.channels != 3)
         throw Error(
-            fmt::format("bayes: luminance + chroma needs 3 channels, not {}", color.channels));
+            fmt::format("bayes: luminance + chroma needs 3 channels, not {}", color.channels),
+            ErrorKind::InvalidArgument);
 }
 
 // Channel groups of the transform: group g holds channels [g size, g size + Channels(g)).
@@ -392,11 +401,13 @@ ChannelGroups BayesChannelGroups(vk::Context &context, const Image &color, int l
     groups.count = (channels + groups.size - 1) / groups.size;
     groups.last = channels - (groups.count - 1) * groups.size;
     if (groups.count > 1 && setup.keepStages)
-        throw Error(fmt::format(
-            "bayes: the SWT of this {}x{}x{} image runs in {} channel groups (one binding "
-            "holds {} channels' coefficients); the stages need one: use --bayes-transform "
-            "dwt or a smaller image",
-            w, h, channels, groups.count, groups.size));
+        throw Error(
+            fmt::format(
+                "bayes: the SWT of this {}x{}x{} image runs in {} channel groups (one binding "
+                "holds {} channels' coefficients); the stages need one: use --bayes-transform "
+                "dwt or a smaller image",
+                w, h, channels, groups.count, groups.size),
+            ErrorKind::InvalidArgument);
     return groups;
 }
 
@@ -708,7 +719,8 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
 BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesParams &params,
                          const RunSetup &setup, const Image *variance) {
     if (params.spins < 1 || params.spins > 8)
-        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", params.spins));
+        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", params.spins),
+                    ErrorKind::InvalidArgument);
     variance = NoiseVariance(params, variance);
     if (params.spins == 1) return BayesDenoiseOnce(context, color, params, setup, variance);
     // Cycle spinning: the first shift's result carries the plan, warnings and fits.
@@ -760,7 +772,8 @@ BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const I
     if (!direct.SameShape(indirect))
         throw Error(fmt::format("bayes: direct is {}x{}x{} but indirect is {}x{}x{}",
                                 direct.width, direct.height, direct.channels, indirect.width,
-                                indirect.height, indirect.channels));
+                                indirect.height, indirect.channels),
+                    ErrorKind::InvalidArgument);
     BayesResult result = BayesDenoise(context, indirect, params, setup, variance);
     // Its warnings are about the indirect layer, which the user may not know is what ran.
     for (std::string &warning : result.warnings)

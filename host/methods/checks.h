@@ -18,12 +18,13 @@ inline void CheckFinite(const char *method, const Image &image, const char *what
         for (int y = 0; y < image.height; ++y)
             for (int x = 0; x < image.width; ++x) {
                 float v = image.At(c, y, x);
-                if (!std::isfinite(v) || (nonNegative && v < 0))
-                    throw Error(fmt::format(
-                        "{}: {} has {} at pixel ({}, {}), channel {}; fix or mask the input "
-                        "first",
-                        method, what, std::isfinite(v) ? "a negative value" : "NaN/Inf", x, y,
-                        c));
+                if (std::isfinite(v) && !(nonNegative && v < 0)) continue;
+                bool finite = std::isfinite(v);
+                throw Error(
+                    fmt::format("{}: {} has {} at pixel ({}, {}), channel {}; fix or "
+                                "mask the input first",
+                                method, what, finite ? "a negative value" : "NaN/Inf", x, y, c),
+                    finite ? ErrorKind::InvalidArgument : ErrorKind::NonFiniteInput);
             }
 }
 

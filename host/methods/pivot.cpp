@@ -27,7 +27,8 @@ void CheckLayer(const Image &image, const char *what, int width, int height, int
         (channels > 0 && image.channels != channels))
         throw Error(fmt::format("pivot: {} is {}x{}x{}, expected {}x{}x{}", what, image.width,
                                 image.height, image.channels, width, height,
-                                channels > 0 ? channels : image.channels));
+                                channels > 0 ? channels : image.channels),
+                    ErrorKind::InvalidArgument);
     CheckFinite("pivot", image, what, nonNegative);
 }
 
@@ -50,25 +51,30 @@ namespace {
 // Throw on missing or misshapen layers, NaN/Inf, bad options, or a frame whose fits do not
 // fit one binding.
 void CheckPivotInputs(vk::Context &context, const PivotInputs &in, const PivotParams &options) {
-    if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
+    if (!in.color || !in.pivot)
+        throw Error("pivot: needs the color and pivot layers", ErrorKind::MissingLayer);
     const Image &color = *in.color;
     int w = color.width, h = color.height, channels = color.channels;
     if (channels < 1 || channels > PIVOT_MAX_CHANNELS)
         throw Error(fmt::format("pivot: color has {} channels; 1 to {} are supported", channels,
-                                PIVOT_MAX_CHANNELS));
-    if (w < 1 || h < 1) throw Error("pivot: the image is empty");
+                                PIVOT_MAX_CHANNELS),
+                    ErrorKind::InvalidArgument);
+    if (w < 1 || h < 1) throw Error("pivot: the image is empty", ErrorKind::InvalidArgument);
     // Each of the two fit buffers holds PIVOT_PLANES_PER_BUFFER planes per channel in one
     // binding (written by the fit, read by the gather as a texel view): refuse, before any
     // work, a frame the device cannot hold.
     double fitBytes = double(PIVOT_PLANES_PER_BUFFER) * channels * w * h * sizeof(float);
     double binding = double(context.BindingBytes());
     if (fitBytes > binding)
-        throw Error(fmt::format(
-            "pivot: a {}x{}x{} frame needs {:.0f} MB per fit buffer, above this device's "
-            "{:.0f} MB per binding (at most {:.0f} pixels of {} channels); crop or tile the "
-            "frame",
-            w, h, channels, fitBytes / 1e6, binding / 1e6,
-            std::floor(binding / (PIVOT_PLANES_PER_BUFFER * channels * 4)), channels));
+        throw Error(
+            fmt::format(
+                "pivot: a {}x{}x{} frame needs {:.0f} MB per fit buffer, above this device's "
+                "{:.0f} MB per binding (at most {:.0f} pixels of {} channels); crop or tile "
+                "the "
+                "frame",
+                w, h, channels, fitBytes / 1e6, binding / 1e6,
+                std::floor(binding / (PIVOT_PLANES_PER_BUFFER * channels * 4)), channels),
+            ErrorKind::OutOfMemory);
     CheckLayer(color, "color", w, h, channels, false);
     CheckLayer(*in.pivot, "pivot", w, h, channels, false);
     if (in.variance) CheckLayer(*in.variance, "variance", w, h, channels, true);
@@ -84,12 +90,15 @@ void CheckPivotInputs(vk::Context &context, const PivotInputs &in, const PivotPa
         !finitePositive(options.sigmaRange))
         throw Error(
             "pivot: floor, noise threshold and range sigma must be finite and > 0; target "
-            "noise, disagreement and k finite and >= 0");
+            "noise, disagreement and k finite and >= 0",
+            ErrorKind::InvalidArgument);
     if (options.maxRadius < 2 || options.maxRadius > 64)
-        throw Error(fmt::format("pivot: maximum radius {}; 2..64 allowed", options.maxRadius));
+        throw Error(fmt::format("pivot: maximum radius {}; 2..64 allowed", options.maxRadius),
+                    ErrorKind::InvalidArgument);
     if (options.bilateralRadius < 0 || options.bilateralRadius > 64)
         throw Error(
-            fmt::format("pivot: bilateral radius {}; 0..64 allowed", options.bilateralRadius));
+            fmt::format("pivot: bilateral radius {}; 0..64 allowed", options.bilateralRadius),
+            ErrorKind::InvalidArgument);
 }
 
 // Pixel-channels without z: pivot below the threshold, or |z| beyond PIVOT_Z_MAX.
@@ -166,8 +175,8 @@ void PlanInputs(StagedRun &run, const PivotInputs &in, const PivotGpuGuides &gui
                             : "left out: the normal term (the frame has no normals)");
     run.Plan(guides.ids
                  ? fmt::format("object/part and boundary terms: on ({}{}); pixels next to "
-                               "other ids give the fits no data and keep their input, or where "
-                               "it is 0 take the fits of their own ids",
+                               "other ids give the fits no data and keep their input, or "
+                               "where it is 0 take the fits of their own ids",
                                in.objectId ? "objectId" : "",
                                in.partId ? (in.objectId ? ", partId" : "partId") : "")
                  : "left out: the object, part and boundary terms (the frame has no ids)");
@@ -280,7 +289,8 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
         in.thresholds.empty() ? PivotThresholds(*in.pivot, options.floor) : in.thresholds;
     if (int(thresholds.size()) != in.pivot->channels)
         throw Error(fmt::format("pivot: {} thresholds for {} channels", thresholds.size(),
-                                in.pivot->channels));
+                                in.pivot->channels),
+                    ErrorKind::Internal);
     result.pixelsWithoutZ = CountWithoutZ(*in.color, *in.pivot, thresholds);
     PivotGpu gpu(context, in);
     PlanInputs(run, in, gpu.guides, result.pixelsWithoutZ, options);
@@ -299,29 +309,21 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     return result;
 }
 
-PivotResult PivotDenoiseSum(vk::Context &context, const PivotInputs &in,
-                            const PivotParams &params, const RunSetup &setup);
-
 }  // namespace
 
 PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in, const PivotParams &params,
                          const RunSetup &setup) {
-    return in.partials.empty() ? PivotDenoiseOne(context, in, params, setup)
-                               : PivotDenoiseSum(context, in, params, setup);
-}
-
-namespace {
-
-// Section 8: each partial filtered against its own pivot, summed, and the remainder.
-PivotResult PivotDenoiseSum(vk::Context &context, const PivotInputs &in,
-                            const PivotParams &params, const RunSetup &setup) {
-    if (!in.color || !in.pivot) throw Error("pivot: needs the color and pivot layers");
+    if (in.partials.empty()) return PivotDenoiseOne(context, in, params, setup);
+    if (!in.color || !in.pivot)
+        throw Error("pivot: needs the color and pivot layers", ErrorKind::MissingLayer);
     int w = in.color->width, h = in.color->height, channels = in.color->channels;
     if (channels < 1 || channels > PIVOT_MAX_CHANNELS || w < 1 || h < 1)
         throw Error(fmt::format("pivot: color is {}x{}x{}; 1 to {} channels are supported", w,
-                                h, channels, PIVOT_MAX_CHANNELS));
+                                h, channels, PIVOT_MAX_CHANNELS),
+                    ErrorKind::InvalidArgument);
     CheckLayer(*in.pivot, "pivot", w, h, channels, false);
-    if (!in.remainder) throw Error("pivot: partial images need the remainder layer");
+    if (!in.remainder)
+        throw Error("pivot: partial images need the remainder layer", ErrorKind::MissingLayer);
     CheckLayer(*in.remainder, "remainder", w, h, channels, false);
     PivotResult result;
     result.image = Image(w, h, channels);
@@ -330,7 +332,8 @@ PivotResult PivotDenoiseSum(vk::Context &context, const PivotInputs &in,
         const PivotPartial &partial = in.partials[k];
         std::string name = fmt::format("partial{}", k);
         if (!partial.color || !partial.pivot)
-            throw Error(fmt::format("pivot: {} needs its color and pivot", name));
+            throw Error(fmt::format("pivot: {} needs its color and pivot", name),
+                        ErrorKind::MissingLayer);
         CheckLayer(*partial.color, (name + ".color").c_str(), w, h, channels, false);
         CheckLayer(*partial.pivot, (name + ".pivot").c_str(), w, h, channels, false);
         if (partial.variance)
@@ -367,7 +370,5 @@ PivotResult PivotDenoiseSum(vk::Context &context, const PivotInputs &in,
                     in.partials.size()));
     return result;
 }
-
-}  // namespace
 
 }  // namespace mcd

@@ -98,34 +98,43 @@ std::vector<std::string> Sanitize(Image &color, Image &hist) {
 void CheckRhfInputs(const Image &color, const Image &hist, const RhfParams &o) {
     if (color.channels != 3)
         throw Error(fmt::format("rhf: the color layer has {} channels; expected 3 (R, G, B)",
-                                color.channels));
+                                color.channels),
+                    ErrorKind::InvalidArgument);
     if (hist.channels < 4 || (hist.channels - 1) % 3 != 0)
-        throw Error(
-            fmt::format("rhf: the histogram layer has {} channels; expected 3n+1 (n "
-                        "bins for each of R, G, B, then the sample count)",
-                        hist.channels));
+        throw Error(fmt::format("rhf: the histogram layer has {} channels; expected 3n+1 (n "
+                                "bins for each of R, G, B, then the sample count)",
+                                hist.channels),
+                    ErrorKind::InvalidArgument);
     if (hist.width != color.width || hist.height != color.height)
         throw Error(fmt::format("rhf: the color layer is {}x{} but the histograms are {}x{}",
-                                color.width, color.height, hist.width, hist.height));
-    if (color.width <= 0 || color.height <= 0) throw Error("rhf: the image is empty");
+                                color.width, color.height, hist.width, hist.height),
+                    ErrorKind::InvalidArgument);
+    if (color.width <= 0 || color.height <= 0)
+        throw Error("rhf: the image is empty", ErrorKind::InvalidArgument);
     if (o.patchHalf < 0 || o.patchHalf > kMaxSearchHalf)
         throw Error(fmt::format("rhf: patch half-size must be in 0..{}, not {}", kMaxSearchHalf,
-                                o.patchHalf));
+                                o.patchHalf),
+                    ErrorKind::InvalidArgument);
     if (o.searchHalf < 0 || o.searchHalf > kMaxSearchHalf)
         throw Error(fmt::format("rhf: search half-window must be in 0..{}, not {}",
-                                kMaxSearchHalf, o.searchHalf));
+                                kMaxSearchHalf, o.searchHalf),
+                    ErrorKind::InvalidArgument);
     int side = 2 * o.searchHalf + 1, offsets = side * side;
     if (o.knn < 0 || o.knn > offsets)
         throw Error(fmt::format("rhf: kNN must be in 0..{} (the search window), not {}",
-                                offsets, o.knn));
+                                offsets, o.knn),
+                    ErrorKind::InvalidArgument);
     if (!std::isfinite(o.threshold) || o.threshold < 0)
-        throw Error(fmt::format("rhf: the threshold must be a finite number >= 0, not {}",
-                                o.threshold));
+        throw Error(
+            fmt::format("rhf: the threshold must be a finite number >= 0, not {}", o.threshold),
+            ErrorKind::InvalidArgument);
     if (!std::isfinite(o.brightVeto) || o.brightVeto < 0)
         throw Error(fmt::format("rhf: the bright veto must be a finite number >= 0, not {}",
-                                o.brightVeto));
+                                o.brightVeto),
+                    ErrorKind::InvalidArgument);
     if (o.scales < 1 || o.scales > kMaxScales)
-        throw Error(fmt::format("rhf: scales must be in 1..{}, not {}", kMaxScales, o.scales));
+        throw Error(fmt::format("rhf: scales must be in 1..{}, not {}", kMaxScales, o.scales),
+                    ErrorKind::InvalidArgument);
 }
 
 // How the frame is split to fit the device's bindings.
@@ -145,20 +154,23 @@ RhfLayout RhfLayoutFor(vk::Context &context, int W, int H, int planes, const Rhf
     // The selection mask is one binding: refuse, before any work, a frame it cannot hold.
     size_t maskBytes = size_t(RhfMaskWords(o.searchHalf)) * pixels * sizeof(uint32_t);
     if (maskBytes > context.Limits().maxStorageBufferRange)
-        throw Error(fmt::format(
-            "rhf: a {}x{} frame with search half-window {} needs a {:.0f} MB selection mask, "
-            "above this device's {:.0f} MB per binding; crop the frame or shrink the window",
-            W, H, o.searchHalf, maskBytes / 1e6, context.Limits().maxStorageBufferRange / 1e6));
+        throw Error(fmt::format("rhf: a {}x{} frame with search half-window {} needs a {:.0f} "
+                                "MB selection mask, "
+                                "above this device's {:.0f} MB per binding; crop the frame or "
+                                "shrink the window",
+                                W, H, o.searchHalf, maskBytes / 1e6,
+                                context.Limits().maxStorageBufferRange / 1e6),
+                    ErrorKind::OutOfMemory);
 
     RhfLayout layout;
     layout.perSlot = setup.planesPerSlot > 0
                          ? setup.planesPerSlot
                          : int(std::min<size_t>(planes, maxFloats / pixels));
     if (layout.perSlot < 1 || (planes + layout.perSlot - 1) / layout.perSlot > RHF_HIST_SLOTS)
-        throw Error(
-            fmt::format("rhf: a {}x{} frame's {} histogram planes do not fit in {} "
-                        "buffers of {} floats",
-                        W, H, planes, RHF_HIST_SLOTS, maxFloats));
+        throw Error(fmt::format("rhf: a {}x{} frame's {} histogram planes do not fit in {} "
+                                "buffers of {} floats",
+                                W, H, planes, RHF_HIST_SLOTS, maxFloats),
+                    ErrorKind::OutOfMemory);
     // A strip's distances take offsets x rows x W floats, its terms (b+1)(2b+1) x (rows +
     // 2w + b) x W: both within one binding.
     layout.rowFloats = size_t(offsets) * W;
@@ -170,10 +182,10 @@ RhfLayout RhfLayoutFor(vk::Context &context, int W, int H, int planes, const Rhf
                                                maxFloats / layout.termRowFloats - apron));
     stripRows = std::min(stripRows, H);
     if (stripRows < 1 || maxFloats / layout.termRowFloats <= size_t(apron))
-        throw Error(
-            fmt::format("rhf: a {}-pixel-wide image needs more than {} floats per "
-                        "distance strip; reduce the search window",
-                        W, maxFloats));
+        throw Error(fmt::format("rhf: a {}-pixel-wide image needs more than {} floats per "
+                                "distance strip; reduce the search window",
+                                W, maxFloats),
+                    ErrorKind::OutOfMemory);
     layout.stripRows = stripRows;
     layout.termRowsMax = std::min(H, stripRows + apron);
     return layout;

@@ -141,10 +141,10 @@ VkBufferView Buffer::View(VkFormat format, int floatsPerTexel, const char *unit,
     VkDeviceSize texelBytes = floatsPerTexel * sizeof(float);
     VkDeviceSize elements = std::max<VkDeviceSize>((bytes + texelBytes - 1) / texelBytes, 1);
     if (elements > context->Limits().maxTexelBufferElements)
-        throw Error(
-            fmt::format("buffer '{}' of {} {} exceeds the device's {} texel buffer "
-                        "elements; split the work",
-                        name, elements, unit, context->Limits().maxTexelBufferElements));
+        throw Error(fmt::format("buffer '{}' of {} {} exceeds the device's {} texel buffer "
+                                "elements; split the work",
+                                name, elements, unit, context->Limits().maxTexelBufferElements),
+                    ErrorKind::OutOfMemory);
     VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
     vi.buffer = buffer;
     vi.format = format;
@@ -157,7 +157,8 @@ VkBufferView Buffer::View(VkFormat format, int floatsPerTexel, const char *unit,
 void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {
     if (byteOffset > bytes || byteCount > bytes - byteOffset)
         throw Error(fmt::format("upload of {} bytes at {} overruns buffer '{}' of {} bytes",
-                                byteCount, byteOffset, name, bytes));
+                                byteCount, byteOffset, name, bytes),
+                    ErrorKind::Internal);
     if (byteCount == 0) return;
     if (mapped) {
         std::memcpy(static_cast<char *>(mapped) + byteOffset, data, byteCount);
@@ -185,7 +186,8 @@ void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {
 void Buffer::Download(void *data, size_t byteCount, size_t byteOffset) const {
     if (byteOffset > bytes || byteCount > bytes - byteOffset)
         throw Error(fmt::format("download of {} bytes at {} overruns buffer '{}' of {} bytes",
-                                byteCount, byteOffset, name, bytes));
+                                byteCount, byteOffset, name, bytes),
+                    ErrorKind::Internal);
     if (byteCount == 0) return;
     if (mapped) {
         std::memcpy(data, static_cast<const char *>(mapped) + byteOffset, byteCount);

@@ -25,7 +25,8 @@ void InitVolk() {
     if (result != VK_SUCCESS)
         throw Error(
             "no Vulkan loader found (libvulkan.so.1): install libvulkan1 and a driver, "
-            "e.g. mesa-vulkan-drivers for the lavapipe CPU device");
+            "e.g. mesa-vulkan-drivers for the lavapipe CPU device",
+            ErrorKind::Device);
 }
 
 bool HasLayer(const char *name) {
@@ -128,7 +129,8 @@ int SelectDevice(const std::vector<DeviceInfo> &devices, std::string selector) {
     };
     if (devices.empty())
         throw Error(
-            "no Vulkan device found (is a driver such as mesa-vulkan-drivers installed?)");
+            "no Vulkan device found (is a driver such as mesa-vulkan-drivers installed?)",
+            ErrorKind::Device);
     if (!selector.empty()) {
         bool numeric = std::all_of(selector.begin(), selector.end(),
                                    [](char c) { return std::isdigit((unsigned char)c); });
@@ -136,21 +138,24 @@ int SelectDevice(const std::vector<DeviceInfo> &devices, std::string selector) {
             int index = selector.size() > 6 ? -1 : std::atoi(selector.c_str());
             if (index < 0 || index >= int(devices.size()))
                 throw Error(
-                    fmt::format("device index {} out of range; devices:{}", index, listing()));
+                    fmt::format("device index {} out of range; devices:{}", index, listing()),
+                    ErrorKind::InvalidArgument);
             if (!devices[index].hasCompute)
-                throw Error(fmt::format("device {} has no compute queue", index));
+                throw Error(fmt::format("device {} has no compute queue", index),
+                            ErrorKind::Device);
             return index;
         }
         for (const DeviceInfo &d : devices)
             if (d.hasCompute && Lower(d.name).find(Lower(selector)) != std::string::npos)
                 return d.index;
-        throw Error(fmt::format("no device matches '{}'; devices:{}", selector, listing()));
+        throw Error(fmt::format("no device matches '{}'; devices:{}", selector, listing()),
+                    ErrorKind::InvalidArgument);
     }
     int best = -1;
     for (const DeviceInfo &d : devices)
         if (d.hasCompute && (best < 0 || TypeRank(d.type) > TypeRank(devices[best].type)))
             best = d.index;
-    if (best < 0) throw Error("no Vulkan device with a compute queue");
+    if (best < 0) throw Error("no Vulkan device with a compute queue", ErrorKind::Device);
     return best;
 }
 
@@ -228,10 +233,10 @@ std::vector<DeviceInfo> ListDevices() {
 Context::Context(const ContextOptions &options) {
     InitVolk();
     if (options.validation && !HasLayer(kValidationLayer))
-        throw Error(
-            fmt::format("the Vulkan validation layer {} is not installed "
-                        "(Debian package vulkan-validationlayers)",
-                        kValidationLayer));
+        throw Error(fmt::format("the Vulkan validation layer {} is not installed "
+                                "(Debian package vulkan-validationlayers)",
+                                kValidationLayer),
+                    ErrorKind::Device);
     bool debugUtils =
         options.validation && HasInstanceExtension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     instance = CreateInstance(options.validation, debugUtils);
@@ -251,7 +256,8 @@ Context::Context(const ContextOptions &options) {
             destroyMessenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
                 vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
             if (!create || !destroyMessenger)
-                throw Error("VK_EXT_debug_utils is advertised but its functions are missing");
+                throw Error("VK_EXT_debug_utils is advertised but its functions are missing",
+                            ErrorKind::Device);
             MCD_VK(create(instance, &mi, nullptr, &messenger));
         }
 
@@ -405,7 +411,7 @@ uint32_t Context::FindMemoryType(uint32_t typeBits, VkMemoryPropertyFlags requir
         if (fallback < 0) fallback = int(i);
     }
     if (partial >= 0) return uint32_t(partial);
-    if (fallback < 0) throw Error("no Vulkan memory type fits the request");
+    if (fallback < 0) throw Error("no Vulkan memory type fits the request", ErrorKind::Device);
     return uint32_t(fallback);
 }
 

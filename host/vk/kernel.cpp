@@ -27,7 +27,8 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
     VkDevice device = context.Device();
     if (pushBytes > context.Limits().maxPushConstantsSize)
         throw Error(fmt::format("kernel {}: {} bytes of push constants exceed the device's {}",
-                                name, pushBytes, context.Limits().maxPushConstantsSize));
+                                name, pushBytes, context.Limits().maxPushConstantsSize),
+                    ErrorKind::Device);
     try {
         std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
         for (uint32_t i = 0; i < bindingCount; ++i) {

@@ -82,55 +82,61 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
                              uint32_t groupsZ) {
     const VkPhysicalDeviceLimits &limits = context.Limits();
     if (pushBytes != kernel.PushBytes())
-        throw Error(
-            fmt::format("dispatch '{}': kernel {} takes {} bytes of push constants, "
-                        "got a struct of {}",
-                        label, kernel.Name(), kernel.PushBytes(), pushBytes));
+        throw Error(fmt::format("dispatch '{}': kernel {} takes {} bytes of push constants, "
+                                "got a struct of {}",
+                                label, kernel.Name(), kernel.PushBytes(), pushBytes),
+                    ErrorKind::Internal);
     // Every declared slot once: a slot bound twice or left out would read a stale buffer.
     std::vector<bool> bound(kernel.BindingCount(), false);
     for (const Binding &b : bindings) {
         if (b.slot >= kernel.BindingCount())
-            throw Error(
-                fmt::format("dispatch '{}': kernel {} has no binding slot {} (it "
-                            "declares {})",
-                            label, kernel.Name(), b.slot, kernel.BindingCount()));
+            throw Error(fmt::format("dispatch '{}': kernel {} has no binding slot {} (it "
+                                    "declares {})",
+                                    label, kernel.Name(), b.slot, kernel.BindingCount()),
+                        ErrorKind::Internal);
         if (bound[b.slot])
             throw Error(fmt::format("dispatch '{}': kernel {}: slot {} is bound twice", label,
-                                    kernel.Name(), b.slot));
+                                    kernel.Name(), b.slot),
+                        ErrorKind::Internal);
         bound[b.slot] = true;
     }
     for (uint32_t slot = 0; slot < kernel.BindingCount(); ++slot)
         if (!bound[slot])
-            throw Error(
-                fmt::format("dispatch '{}': kernel {} takes {} buffers: slot {} is not "
-                            "bound",
-                            label, kernel.Name(), kernel.BindingCount(), slot));
+            throw Error(fmt::format("dispatch '{}': kernel {} takes {} buffers: slot {} is not "
+                                    "bound",
+                                    label, kernel.Name(), kernel.BindingCount(), slot),
+                        ErrorKind::Internal);
     if (bindings.size() > kMaxBindings)
-        throw Error(
-            fmt::format("dispatch '{}': kernel {} takes {} buffers, more than the "
-                        "recorder's {}",
-                        label, kernel.Name(), bindings.size(), kMaxBindings));
+        throw Error(fmt::format("dispatch '{}': kernel {} takes {} buffers, more than the "
+                                "recorder's {}",
+                                label, kernel.Name(), bindings.size(), kMaxBindings),
+                    ErrorKind::Internal);
     uint32_t groups[3] = {groupsX, groupsY, groupsZ};
     for (int i = 0; i < 3; ++i)
         if (groups[i] > limits.maxComputeWorkGroupCount[i])
-            throw Error(fmt::format(
-                "dispatch '{}': {} workgroups along axis {} exceed the device limit {}", label,
-                groups[i], i, limits.maxComputeWorkGroupCount[i]));
+            throw Error(
+                fmt::format(
+                    "dispatch '{}': {} workgroups along axis {} exceed the device limit {}",
+                    label, groups[i], i, limits.maxComputeWorkGroupCount[i]),
+                ErrorKind::OutOfMemory);
     for (const Binding &b : bindings) {
         if (!b.buffer || !b.buffer->Valid())
             throw Error(fmt::format("dispatch '{}': kernel {}: slot {} has no buffer", label,
-                                    kernel.Name(), b.slot));
+                                    kernel.Name(), b.slot),
+                        ErrorKind::Internal);
         if (kernel.IsTexel(b.slot) && b.access != Access::Read)
-            throw Error(
-                fmt::format("dispatch '{}': binding {} of kernel {} is a texel buffer, "
-                            "which kernels only read",
-                            label, b.slot, kernel.Name()));
+            throw Error(fmt::format("dispatch '{}': binding {} of kernel {} is a texel buffer, "
+                                    "which kernels only read",
+                                    label, b.slot, kernel.Name()),
+                        ErrorKind::Internal);
         // Texel views have their own limit, checked when the view is made.
         if (!kernel.IsTexel(b.slot) && b.buffer->Bytes() > limits.maxStorageBufferRange)
-            throw Error(fmt::format(
-                "dispatch '{}': buffer '{}' of {} bytes exceeds the device's storage buffer "
-                "range of {} bytes; split the work",
-                label, b.buffer->Name(), b.buffer->Bytes(), limits.maxStorageBufferRange));
+            throw Error(fmt::format("dispatch '{}': buffer '{}' of {} bytes exceeds the "
+                                    "device's storage buffer "
+                                    "range of {} bytes; split the work",
+                                    label, b.buffer->Name(), b.buffer->Bytes(),
+                                    limits.maxStorageBufferRange),
+                        ErrorKind::OutOfMemory);
     }
     Begin();
     if (groupsX == 0 || groupsY == 0 || groupsZ == 0) return;
@@ -211,7 +217,8 @@ void Recorder::Copy(const Buffer &src, const Buffer &dst, VkDeviceSize bytes,
                     VkDeviceSize srcOffset, VkDeviceSize dstOffset) {
     if (srcOffset + bytes > src.Bytes() || dstOffset + bytes > dst.Bytes())
         throw Error(fmt::format("copy of {} bytes from '{}' to '{}' overruns a buffer", bytes,
-                                src.Name(), dst.Name()));
+                                src.Name(), dst.Name()),
+                    ErrorKind::Internal);
     Begin();
     if (bytes == 0) return;
     BarrierIfNeeded({{&src, Access::Read}, {&dst, Access::Write}});

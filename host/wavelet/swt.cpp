@@ -33,12 +33,15 @@ void CheckSwtFits(vk::Context &context, int width, int height, int channels, int
     size_t bytes = SwtCoefficientBytes(width, height, channels, levels);
     size_t limit = SwtBindingLimit(context);
     if (bytes > limit)
-        throw Error(fmt::format(
-            "{}: the stationary wavelet coefficients of a {}x{}x{} image at {} levels are {} "
-            "planes, {:.1f} MiB, over the {:.1f} MiB one buffer binding allows here; use "
-            "fewer levels, a smaller image or the decimated DWT",
-            caller, width, height, channels, levels, channels * shader::SwtPlaneCount(levels),
-            bytes / 1048576.0, limit / 1048576.0));
+        throw Error(
+            fmt::format(
+                "{}: the stationary wavelet coefficients of a {}x{}x{} image at {} levels are "
+                "{} "
+                "planes, {:.1f} MiB, over the {:.1f} MiB one buffer binding allows here; use "
+                "fewer levels, a smaller image or the decimated DWT",
+                caller, width, height, channels, levels,
+                channels * shader::SwtPlaneCount(levels), bytes / 1048576.0, limit / 1048576.0),
+            ErrorKind::OutOfMemory);
 }
 
 SwtTransform::SwtTransform(vk::Context &context, int width, int height, int channels,
@@ -46,11 +49,13 @@ SwtTransform::SwtTransform(vk::Context &context, int width, int height, int chan
     : context(context), width(width), height(height), channels(channels), levels(levels) {
     if (width < 1 || height < 1 || channels < 1)
         throw Error(
-            fmt::format("stationary wavelet: empty image {}x{}x{}", width, height, channels));
+            fmt::format("stationary wavelet: empty image {}x{}x{}", width, height, channels),
+            ErrorKind::InvalidArgument);
     int maxLevels = MaxWaveletLevels(width, height);
     if (levels < 0 || levels > maxLevels)
         throw Error(fmt::format("{} wavelet levels requested; a {}x{} image allows 0..{}",
-                                levels, width, height, maxLevels));
+                                levels, width, height, maxLevels),
+                    ErrorKind::InvalidArgument);
     CheckSwtFits(context, width, height, channels, levels, "stationary wavelet");
     if (levels > 0)
         temporary = vk::Buffer(context, size_t(width) * height * channels * 2 * sizeof(float),
@@ -65,9 +70,10 @@ void SwtTransform::Check(const vk::GpuImage &image, int planes, const char *what
                          bool atLeast) const {
     if (image.width != width || image.height != height ||
         (atLeast ? image.channels < planes : image.channels != planes))
-        throw Error(fmt::format("stationary wavelet set up for {}x{}x{} got {} {}x{}x{}", width,
-                                height, planes, what, image.width, image.height,
-                                image.channels));
+        throw Error(
+            fmt::format("stationary wavelet set up for {}x{}x{} got {} {}x{}x{}", width, height,
+                        planes, what, image.width, image.height, image.channels),
+            ErrorKind::Internal);
 }
 
 void SwtTransform::RecordAnalysis(vk::Recorder &recorder, WaveletBasis basis,

@@ -17,12 +17,14 @@ void WaveletTransform::Check(int levels, const vk::GpuImage &a, const vk::GpuIma
     int maxLevels = MaxWaveletLevels(width, height);
     if (levels < 0 || levels > maxLevels)
         throw Error(fmt::format("{} wavelet levels requested; a {}x{} image allows 0..{}",
-                                levels, width, height, maxLevels));
+                                levels, width, height, maxLevels),
+                    ErrorKind::InvalidArgument);
     for (const vk::GpuImage *image : {&a, &b})
         if (image->width != width || image->height != height || image->channels != channels)
             throw Error(fmt::format("wavelet transform set up for {}x{}x{} got {}x{}x{} ('{}')",
                                     width, height, channels, image->width, image->height,
-                                    image->channels, image->buffer.Name()));
+                                    image->channels, image->buffer.Name()),
+                        ErrorKind::Internal);
 }
 
 // A copy of a buffer onto itself is invalid in Vulkan, and in place is what it asks for.
@@ -75,7 +77,8 @@ void WaveletTransform::RecordShrinkSynthesis(vk::Recorder &recorder, WaveletBasi
     Check(levels, coef, out);
     Check(levels, variance, out);
     if (&variance.buffer == &out.buffer)
-        throw Error("shrink synthesis: the variances must not be the output image");
+        throw Error("shrink synthesis: the variances must not be the output image",
+                    ErrorKind::Internal);
     // In place in `out`, as RecordSynthesis (with 0 levels nothing is a detail).
     CopyUnlessSame(recorder, coef, out);
     for (int level = levels - 1; level >= 0; --level)

@@ -14,8 +14,9 @@ enum class ErrorKind {
     InvalidArgument = 1,  // a parameter, view or option the call cannot take
     MissingLayer,         // the frame lacks a layer the method or the caller asked for
     NonFiniteInput,       // NaN/Inf in an input layer under the refuse policy
-    OutOfMemory,          // host or device memory exhausted
-    Device,               // the Vulkan device or driver failed
+    OutOfMemory,          // host or device memory exhausted, or the work beyond the
+                          // device's memory or one buffer binding (split it, or tile)
+    Device,               // no usable Vulkan device, or the device or driver failed
     Io,                   // a file could not be read or written
     Internal,             // a failure of the library itself (a bug)
     Cancelled,            // RunOptions::cancel stopped the run

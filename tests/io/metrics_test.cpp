@@ -68,9 +68,11 @@ TEST(Metrics, NonFiniteAndMismatchedInputs) {
     EXPECT_TRUE(std::isinf(m.relMse));
     EXPECT_EQ(m.psnr, 0);
     EXPECT_EQ(m.ssim, 0);
-    EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(Image(8, 8, 1), r); }), "1-channel"));
-    EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(Image(8, 7, 3), r); }), "8x7"));
-    EXPECT_TRUE(Contains(ErrorOf([&] { CompareImages(r, x); }), "non-finite"));
+    EXPECT_TRUE(
+        ThrowsError(ErrorKind::InvalidArgument, [&] { CompareImages(Image(8, 8, 1), r); }));
+    EXPECT_TRUE(
+        ThrowsError(ErrorKind::InvalidArgument, [&] { CompareImages(Image(8, 7, 3), r); }));
+    EXPECT_TRUE(ThrowsError(ErrorKind::NonFiniteInput, [&] { CompareImages(r, x); }));
 }
 
 // MeasureDifference (`mcdenoise diff`'s and ImagesMatch's NMSE): known sums, elements
@@ -89,7 +91,8 @@ TEST(Metrics, MeasureDifference) {
     EXPECT_DOUBLE_EQ(MeasureDifference(ones, zero).nmse, 4.0);
     EXPECT_DOUBLE_EQ(MeasureDifference(ones, zero).maxRel, 1.0);
     EXPECT_DOUBLE_EQ(MeasureDifference(zero, zero).nmse, 0.0);
-    EXPECT_TRUE(Contains(ErrorOf([&] { MeasureDifference(Image(3, 2, 1), r); }), "elements"));
+    EXPECT_TRUE(
+        ThrowsError(ErrorKind::InvalidArgument, [&] { MeasureDifference(Image(3, 2, 1), r); }));
 }
 
 }  // namespace

@@ -908,8 +908,8 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     frame.layers.erase("variance");
     frame.layers.erase("half0.color");
     frame.layers.erase("half1.color");
-    EXPECT_NE(ErrorOf([&] { automatic.Run(device, frame); }).find("--auto-noise halves"),
-              std::string::npos);
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::MissingLayer, [&] { automatic.Run(device, frame); }, "--auto-noise halves"));
     // No statistics: SURE from the frame's own estimate, and the variants run.
     automatic.Set("auto-noise", "auto");
     result = automatic.Run(device, frame);

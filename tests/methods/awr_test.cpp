@@ -204,7 +204,8 @@ TEST_F(AwrKernel, TooManySpinsAreRefused) {
     Image color(5, 5, 3, 1.f);
     AwrParams bad;
     bad.spins = 9;
-    EXPECT_TRUE(Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, color, bad); }), "spins"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument,
+                            [&] { AwrReconstruct(Ctx(), color, color, bad); }));
 }
 
 // The default path shrinks inside the synthesis's columns passes; keepStages runs the
@@ -269,11 +270,10 @@ TEST_F(AwrKernel, FusedShrinkRefusesVariancesAsItsOutput) {
     vk::GpuImage coef(Ctx(), 8, 6, 3, "coef"), variance(Ctx(), 8, 6, 3, "variance");
     WaveletTransform transform(Ctx(), 8, 6, 3);
     vk::Recorder recorder(Ctx());
-    std::string message = ErrorOf([&] {
+    EXPECT_TRUE(ThrowsError(ErrorKind::Internal, [&] {
         transform.RecordShrinkSynthesis(recorder, WaveletBasis::Cdf97, 2, coef, variance, 1.f,
                                         variance);
-    });
-    EXPECT_TRUE(Contains(message, "variances")) << message;
+    }));
 }
 
 class AwrProperties : public GpuTest {};
@@ -315,23 +315,25 @@ TEST_F(AwrProperties, BadInputsAreRefusedWithTheirPlace) {
     Image color(8, 6, 3, 0.5f), variance(8, 6, 3, 0.1f);
     Image nan = color;
     nan.At(1, 4, 5) = std::numeric_limits<float>::quiet_NaN();
-    std::string message = ErrorOf([&] { AwrReconstruct(Ctx(), nan, variance, {}); });
-    EXPECT_TRUE(Contains(message, "(5, 4)")) << message;
-    EXPECT_TRUE(Contains(message, "NaN")) << message;
+    // The message names the pixel.
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::NonFiniteInput, [&] { AwrReconstruct(Ctx(), nan, variance, {}); },
+        "(5, 4)"));
     Image negative = variance;
     negative.At(0, 2, 3) = -1;
-    message = ErrorOf([&] { AwrReconstruct(Ctx(), color, negative, {}); });
-    EXPECT_TRUE(Contains(message, "negative")) << message;
-    EXPECT_TRUE(
-        Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, Image(8, 5, 3), {}); }), "8x5x3"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { AwrReconstruct(Ctx(), color, negative, {}); },
+        "(3, 2)"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument,
+                            [&] { AwrReconstruct(Ctx(), color, Image(8, 5, 3), {}); }));
     AwrParams nanCs;
     nanCs.cs = std::numeric_limits<float>::quiet_NaN();
-    EXPECT_TRUE(
-        Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, variance, nanCs); }), "cs"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument,
+                            [&] { AwrReconstruct(Ctx(), color, variance, nanCs); }));
     AwrParams tooDeep;
     tooDeep.levels = 9;
-    EXPECT_TRUE(
-        Contains(ErrorOf([&] { AwrReconstruct(Ctx(), color, variance, tooDeep); }), "allows"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument,
+                            [&] { AwrReconstruct(Ctx(), color, variance, tooDeep); }));
 }
 
 // The noisy frame (4 spp) and the converged one (256 spp), rendered once for every case.

@@ -839,8 +839,8 @@ INSTANTIATE_TEST_SUITE_P(Cases, BayesKernelOpponentColour,
 TEST_F(BayesKernel, OpponentColourRefusesOtherThanThreeChannels) {
     BayesParams options = PaperBayesParams();
     options.opponent = true;
-    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(4, 4, 2, 1.f), options); }),
-                         "3 channels"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument,
+                            [&] { BayesDenoise(Ctx(), Image(4, 4, 2, 1.f), options); }));
 }
 
 TEST_F(BayesKernel, RerunsAreBitIdentical) {
@@ -925,20 +925,21 @@ TEST_F(BayesProperties, BadOptionsAreRefused) {
     Image color(8, 6, 3, 0.5f);
     BayesParams o = PaperBayesParams();
     o.sn = -1;
-    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "s_n"));
+    EXPECT_TRUE(
+        ThrowsError(ErrorKind::InvalidArgument, [&] { BayesDenoise(Ctx(), color, o); }));
     o = PaperBayesParams();
     o.pn = std::numeric_limits<float>::quiet_NaN();
-    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "p_n"));
+    EXPECT_TRUE(
+        ThrowsError(ErrorKind::InvalidArgument, [&] { BayesDenoise(Ctx(), color, o); }));
     o = PaperBayesParams();
     o.floorRel = 0;
-    EXPECT_TRUE(Contains(ErrorOf([&] { BayesDenoise(Ctx(), color, o); }), "floor"));
     EXPECT_TRUE(
-        Contains(ErrorOf([&] { BayesDenoise(Ctx(), Image(), PaperBayesParams()); }), "empty"));
-    EXPECT_TRUE(Contains(ErrorOf([&] {
-                             BayesDenoiseSplit(Ctx(), color, Image(8, 5, 3, 0.1f),
-                                               PaperBayesParams());
-                         }),
-                         "8x5x3"));
+        ThrowsError(ErrorKind::InvalidArgument, [&] { BayesDenoise(Ctx(), color, o); }));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument,
+                            [&] { BayesDenoise(Ctx(), Image(), PaperBayesParams()); }));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument, [&] {
+        BayesDenoiseSplit(Ctx(), color, Image(8, 5, 3, 0.1f), PaperBayesParams());
+    }));
 }
 
 // --noise auto on log-normal noise of known sigma recovers the finest level's s: for

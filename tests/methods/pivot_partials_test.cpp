@@ -177,14 +177,16 @@ TEST_F(PivotPartialsMethod, BadPartialsAreRefusedByName) {
     in.color = &Layer(r, "color");
     in.pivot = &Layer(r, "pivot");
     in.partials.push_back({&Layer(r, "partial0.color"), &Layer(r, "partial0.pivot")});
-    EXPECT_TRUE(Contains(ErrorOf([&] { PivotDenoise(Ctx(), in, {}); }), "remainder"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::MissingLayer, [&] { PivotDenoise(Ctx(), in, {}); }));
     in.remainder = &Layer(r, "remainder");
     Image bad = Layer(r, "partial1.pivot");
     bad.At(2, 3, 5) = NAN;
     in.partials.push_back({&Layer(r, "partial1.color"), &bad});
+    // The message names the layer and the pixel.
     std::string message = ErrorOf([&] { PivotDenoise(Ctx(), in, {}); });
     EXPECT_TRUE(Contains(message, "partial1.pivot")) << message;
     EXPECT_TRUE(Contains(message, "(5, 3)")) << message;
+    EXPECT_TRUE(ThrowsError(ErrorKind::NonFiniteInput, [&] { PivotDenoise(Ctx(), in, {}); }));
 }
 
 }  // namespace

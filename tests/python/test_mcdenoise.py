@@ -99,8 +99,7 @@ def test_errors_are_exceptions_per_code(tmp_path):
         mcdenoise.denoise(color, method="rhf", no_such_parameter=1)
     with pytest.raises(mcdenoise.MissingLayerError, match="the frame has no layer 'albedo'"):
         mcdenoise.denoise(color, method="bayes", demodulate="albedo")
-    # rhf without histograms: the front end's error has no kind of its own yet (issue #28).
-    with pytest.raises(mcdenoise.Error, match="histogram"):
+    with pytest.raises(mcdenoise.MissingLayerError, match="histogram"):
         mcdenoise.denoise(color, method="rhf")
     with pytest.raises(mcdenoise.InvalidArgumentError):
         mcdenoise.denoise(color, albedo=np.ones((3, 3, 3), np.float32))

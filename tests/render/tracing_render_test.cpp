@@ -364,16 +364,17 @@ TEST(RenderTracing, ErrorFallsWithSamples) {
 TEST(RenderTracing, BadParametersAreRefused) {
     render::Scene scene = render::BuildScene("cornell");
     RenderOptions o = Traced(8, 8, 1, 1, -1);
-    EXPECT_THROW(render::Render(scene, o), Error);
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument, [&] { render::Render(scene, o); }));
     o = Traced(8, 8, 1, 1, 2);
     o.tracing.params.alpha = NAN;
-    EXPECT_THROW(render::Render(scene, o), Error);
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument, [&] { render::Render(scene, o); }));
     o = Traced(8, 8, 1, 1, 4);
     o.tracing.maxWindowRows = 8;  // fewer than 1 + 2 * 4
-    EXPECT_THROW(render::Render(scene, o), Error);
+    EXPECT_TRUE(ThrowsError(ErrorKind::OutOfMemory, [&] { render::Render(scene, o); }));
     for (int partials : {0, render::kPartialTypes + 1}) {
         o = Traced(8, 8, 1, 1, 2, 0, partials);
-        EXPECT_THROW(render::Render(scene, o), Error) << partials;
+        EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument, [&] { render::Render(scene, o); }))
+            << partials;
     }
 }
 

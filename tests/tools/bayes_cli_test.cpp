@@ -19,6 +19,7 @@
 #include "harness/tool.h"
 #include "host/io/frame.h"
 #include "host/methods/bayes.h"
+#include "tools/mcdenoise/exit_status.h"
 
 namespace mcd::test {
 namespace {
@@ -121,13 +122,13 @@ TEST_F(BayesCli, OptionErrors) {
     Image color = Positive(8, 8, 1);
     io::WriteExr((dir / "f.exr").string(), {{"color", &color}});
     Output r = Run("denoise f.exr -o o.exr --method bayes --noise maybe");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "noise takes auto, fixed, mad or variance")) << r.err;
     r = Run("denoise f.exr -o o.exr --method bayes --noise variance");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::MissingLayer));
     EXPECT_TRUE(Contains(r.err, "--noise variance needs a variance layer")) << r.err;
     r = Run("denoise f.exr -o o.exr --method bayes --bayes-wavelet db4");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "bayes-wavelet takes haar, legall53 or cdf97, not 'db4'"))
         << r.err;
     r = Run("denoise f.exr -o o.exr --method bayes --pn 0");

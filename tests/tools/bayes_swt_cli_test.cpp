@@ -18,6 +18,7 @@
 #include "harness/tool.h"
 #include "host/io/frame.h"
 #include "host/methods/bayes.h"
+#include "tools/mcdenoise/exit_status.h"
 
 namespace mcd::test {
 namespace {
@@ -71,7 +72,7 @@ TEST_F(BayesSwtCli, DenoiseDiffAndErrors) {
         EXPECT_LT(row.nmse, bound[row.stage]) << row.stage << "\n" << r.out;
 
     r = Run("denoise c.exr -o o.exr --method bayes --bayes-transform fft");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "bayes-transform takes swt or dwt, not 'fft'")) << r.err;
     // The help wraps its lines: compare with the spaces and line breaks squeezed.
     r = Run("denoise --help");

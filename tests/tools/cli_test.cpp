@@ -30,6 +30,7 @@
 #include "host/metrics.h"
 #include "host/vk/context.h"
 #include "host/wavelet.h"
+#include "tools/mcdenoise/exit_status.h"
 
 namespace mcd::test {
 namespace {
@@ -49,12 +50,15 @@ std::string ReadBytes(const fs::path &path) {
            << "'" << text << "' does not contain '" << part << "'";
 }
 
-// A failure reported by main(): exit code 1, stderr starting with "mcdenoise: error:" and
-// naming the problem.
-::testing::AssertionResult IsError(const RunResult &r, const std::string &part) {
-    if (r.code != 1)
+// A failure reported by main(): the exit status of its kind, stderr starting with
+// "mcdenoise: error:" and naming the problem.
+::testing::AssertionResult IsError(const RunResult &r, ErrorKind kind,
+                                   const std::string &part) {
+    int expected = int(tool::StatusOf(kind));
+    if (r.code != expected)
         return ::testing::AssertionFailure()
-               << "exit code " << r.code << ", expected 1; output:\n"
+               << "exit code " << r.code << ", expected " << expected << " ("
+               << ErrorKindName(kind) << "); output:\n"
                << r.All();
     if (r.err.rfind("mcdenoise: error:", 0) != 0)
         return ::testing::AssertionFailure()
@@ -238,30 +242,29 @@ TEST_F(CliTest, ErrorsNameTheProblem) {
     std::set<std::string> before = Listing(tool.Dir());
 
     RunResult r = Run("wavelet missing.exr -o out.exr");
-    EXPECT_TRUE(IsError(r, "missing.exr"));
+    EXPECT_TRUE(IsError(r, ErrorKind::Io, "missing.exr"));
     r = Run("wavelet in.exr --basis db4");
-    EXPECT_TRUE(IsError(r, "db4"));
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "db4"));
     r = Run("wavelet in.exr --levels 9");  // 37x23 allows 0..6
-    EXPECT_TRUE(IsError(r, "allows 0..6"));
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "allows 0..6"));
     r = Run("wavelet in.exr --layer nope");
-    EXPECT_TRUE(IsError(r, "'nope'"));
+    EXPECT_TRUE(IsError(r, ErrorKind::MissingLayer, "'nope'"));
     EXPECT_TRUE(Contains(r.err, "variance"));  // and the layers the file has
     r = Run("wavelet builtin:squares");
-    EXPECT_TRUE(IsError(r, "builtin:squares"));
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "builtin:squares"));
     r = Run("wavelet builtin:rings@0x5");
-    EXPECT_TRUE(IsError(r, "0x5"));
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "0x5"));
     r = Run("wavelet in.exr --device no-such-gpu");
-    EXPECT_TRUE(IsError(r, "no-such-gpu"));
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "no-such-gpu"));
     r = Run("wavelet in.exr --levels 1 -o nodir/out.exr");
-    EXPECT_TRUE(IsError(r, "nodir"));
+    EXPECT_TRUE(IsError(r, ErrorKind::Io, "nodir"));
 
     // Nothing was written: no output, no temporary files, no directory made.
     EXPECT_EQ(Listing(tool.Dir()), before);
 
     // Unknown options are CLI11 parse errors.
     r = Run("wavelet in.exr --bogus");
-    EXPECT_NE(r.code, 0);
-    EXPECT_NE(r.code, 1) << "a parse error, not a run-time one";
+    EXPECT_EQ(r.code, int(tool::ExitStatus::Usage)) << "a parse error, not a run-time one";
     EXPECT_TRUE(Contains(r.All(), "--bogus"));
     r = Run("no-such-command");
     EXPECT_NE(r.code, 0);
@@ -295,7 +298,7 @@ TEST_F(CliTest, FailedRunKeepsExistingOutput) {
 TEST_F(CliTest, DumpOntoFileIsAnError) {
     std::ofstream(Path("afile")) << "not a directory";
     RunResult r = Run("wavelet builtin:rings@8x8 --dump afile");
-    EXPECT_TRUE(IsError(r, "afile"));
+    EXPECT_TRUE(IsError(r, ErrorKind::Io, "afile"));
 }
 
 // `diff`: every awr stage on the GPU against the CPU reference, dumped on request. NMSE of
@@ -314,11 +317,13 @@ TEST_F(CliTest, DiffAwrStages) {
         EXPECT_TRUE(fs::exists(Path("dd/" + file + ".gpu.exr"))) << file;
         EXPECT_TRUE(fs::exists(Path("dd/" + file + ".cpu.exr"))) << file;
     }
-    EXPECT_TRUE(IsError(Run("diff f.exr --method nope"), "nope"));
+    EXPECT_TRUE(IsError(Run("diff f.exr --method nope"), ErrorKind::InvalidArgument, "nope"));
     // --max-nmse turns a mismatch into a failure: no float32 stage meets 0 exactly.
-    EXPECT_TRUE(IsError(Run("diff f.exr --method awr --max-nmse 0"), "--max-nmse"));
+    EXPECT_TRUE(IsError(Run("diff f.exr --method awr --max-nmse 0"), ErrorKind::Internal,
+                        "--max-nmse"));
     EXPECT_EQ(Run("diff f.exr --method awr --max-nmse 1e-9").code, 0);
-    EXPECT_TRUE(IsError(Run("diff f.exr --cs 0"), "nothing to compare"));
+    EXPECT_TRUE(
+        IsError(Run("diff f.exr --cs 0"), ErrorKind::InvalidArgument, "nothing to compare"));
 }
 
 // The rows of `mcdenoise diff`: stage -> (NMSE, max rel error), and the stage order.
@@ -449,12 +454,14 @@ TEST_F(CliTest, RenderAndCompare) {
     r = Run("compare g.exr f.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "relMSE"));
-    EXPECT_TRUE(IsError(Run("render --scene nope -o h.exr"), "cornell"));
-    EXPECT_TRUE(IsError(Run("render --spp 0 -o h.exr"), "samples"));
-    EXPECT_TRUE(IsError(Run("render --layers hist,nope -o h.exr"), "nope"));
-    EXPECT_TRUE(IsError(Run("render --size 4x4 -o h.png"), ".png"));
+    EXPECT_TRUE(
+        IsError(Run("render --scene nope -o h.exr"), ErrorKind::InvalidArgument, "cornell"));
+    EXPECT_TRUE(IsError(Run("render --spp 0 -o h.exr"), ErrorKind::InvalidArgument, "samples"));
+    EXPECT_TRUE(
+        IsError(Run("render --layers hist,nope -o h.exr"), ErrorKind::InvalidArgument, "nope"));
+    EXPECT_TRUE(IsError(Run("render --size 4x4 -o h.png"), ErrorKind::InvalidArgument, ".png"));
     EXPECT_FALSE(fs::exists(Path("h.exr")));
-    EXPECT_TRUE(IsError(Run("compare f.exr missing.exr"), "missing.exr"));
+    EXPECT_TRUE(IsError(Run("compare f.exr missing.exr"), ErrorKind::Io, "missing.exr"));
 }
 
 TEST_F(CliTest, DenoiseAwr) {
@@ -482,16 +489,19 @@ TEST_F(CliTest, DenoiseAwr) {
     r = Run("denoise n.exr --variance layer --cs 0 --explain -o e.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "cs is 0"));
-    EXPECT_TRUE(IsError(Run("denoise n.exr --method nope -o f.exr"), "unknown method 'nope'"));
+    EXPECT_TRUE(IsError(Run("denoise n.exr --method nope -o f.exr"), ErrorKind::InvalidArgument,
+                        "unknown method 'nope'"));
     // A reference of the wrong size is refused before anything is written over a good file.
     ASSERT_EQ(Run("render --size 12x8 --spp 2 -o small.exr").code, 0);
     std::ofstream(Path("keep.exr")) << "good";
-    EXPECT_TRUE(IsError(Run("denoise n.exr -o keep.exr --reference small.exr"), "12x8"));
+    EXPECT_TRUE(IsError(Run("denoise n.exr -o keep.exr --reference small.exr"),
+                        ErrorKind::InvalidArgument, "12x8"));
     std::ifstream kept(Path("keep.exr"));
     EXPECT_EQ(std::string((std::istreambuf_iterator<char>(kept)), {}), "good");
     Image color(8, 8, 3, 0.5f);
     io::WriteExr(Path("bare.exr").string(), {{"color", &color}});
-    EXPECT_TRUE(IsError(Run("denoise bare.exr --method awr -o f.exr"), "variance layer"));
+    EXPECT_TRUE(IsError(Run("denoise bare.exr --method awr -o f.exr"), ErrorKind::MissingLayer,
+                        "variance layer"));
     EXPECT_FALSE(fs::exists(Path("f.exr")));
     // auto (the default) runs every method the frame has the layers for, says what it
     // left out and why, and with no statistics (no variance, no halves) estimates the
@@ -516,7 +526,8 @@ TEST_F(CliTest, DenoiseAwr) {
     std::vector<std::pair<std::string, const Image *>> layers;
     for (const auto &[name, image] : noisy.layers) layers.push_back({name, &image});
     io::WriteExr(Path("nan.exr").string(), layers);
-    EXPECT_TRUE(IsError(Run("denoise nan.exr -o keep.exr"), "pixel (4, 3)"));
+    EXPECT_TRUE(
+        IsError(Run("denoise nan.exr -o keep.exr"), ErrorKind::NonFiniteInput, "pixel (4, 3)"));
     std::ifstream keptAgain(Path("keep.exr"));
     EXPECT_EQ(std::string((std::istreambuf_iterator<char>(keptAgain)), {}), "good");
 }
@@ -578,9 +589,12 @@ TEST_F(CliTest, BenchQuality) {
          {"bq/index.html", "bq/dof-arealight.svg", "bq/dof-arealight-input.png",
           "bq/dof-arealight-awr.png", "bq/dof-arealight-reference.png"})
         EXPECT_TRUE(fs::exists(Path(file))) << file;
-    EXPECT_TRUE(IsError(Run("bench quality --spp 0 -o bq2"), "--spp"));
-    EXPECT_TRUE(IsError(Run("bench quality --scenes nope -o bq2"), "nope"));
-    EXPECT_TRUE(IsError(Run("bench quality --methods awr,nope -o bq2"), "'nope'"));
+    EXPECT_TRUE(
+        IsError(Run("bench quality --spp 0 -o bq2"), ErrorKind::InvalidArgument, "--spp"));
+    EXPECT_TRUE(
+        IsError(Run("bench quality --scenes nope -o bq2"), ErrorKind::InvalidArgument, "nope"));
+    EXPECT_TRUE(IsError(Run("bench quality --methods awr,nope -o bq2"),
+                        ErrorKind::InvalidArgument, "'nope'"));
     EXPECT_FALSE(fs::exists(Path("bq2")));
 }
 
@@ -596,11 +610,11 @@ TEST_F(CliTest, BenchWavelet) {
     EXPECT_EQ(r.out.find("PyWavelets"), std::string::npos) << "--no-pywt ignored";
 
     r = Run("bench wavelet --size 0x5");
-    EXPECT_TRUE(IsError(r, "0x5"));
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "0x5"));
     r = Run("bench wavelet --size 64x64 --basis db4");
-    EXPECT_TRUE(IsError(r, "db4"));
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "db4"));
     r = Run("bench wavelet --size 8x8 --levels 4");
-    EXPECT_TRUE(IsError(r, "--levels 4"));
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "--levels 4"));
 }
 
 }  // namespace

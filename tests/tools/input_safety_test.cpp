@@ -23,6 +23,7 @@
 #include "host/image.h"
 #include "host/io/frame.h"
 #include "mcdenoise/mcdenoise.h"
+#include "tools/mcdenoise/exit_status.h"
 #include "tools/mcdenoise/path_guard.h"
 
 namespace mcd::test {
@@ -45,9 +46,10 @@ std::string ReadBytes(const fs::path &path) {
            << "'" << text << "' does not contain '" << part << "'";
 }
 
-// A failure reported by main(): exit code 1, "mcdenoise: error:", naming every part.
+// A refusal reported by main(): an invalid argument's exit status, "mcdenoise: error:",
+// naming every part.
 ::testing::AssertionResult IsError(const ToolResult &r, const std::vector<std::string> &parts) {
-    if (r.code != 1)
+    if (r.code != int(tool::ExitStatus::InvalidArgument))
         return ::testing::AssertionFailure() << "exit code " << r.code << ":\n" << r.All();
     if (r.err.rfind("mcdenoise: error:", 0) != 0)
         return ::testing::AssertionFailure() << "not a tool error:\n" << r.err;
@@ -114,6 +116,9 @@ TEST_F(PathGuard, RefusesAnOutputThatIsAnInput) {
     EXPECT_TRUE(Contains(error, "-o './a/../frame.exr' would overwrite input 'frame.exr'"));
     EXPECT_TRUE(Contains(error, "pass --overwrite-input"));
     EXPECT_TRUE(Contains(error, "nothing was written"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument, [&] {
+        RefuseOverwritingInputs(inputs, {{"-o", "./a/../frame.exr"}});
+    }));
     error = ErrorOf([&] { RefuseOverwritingInputs(inputs, {{"--preview", "ref.exr"}}); });
     EXPECT_TRUE(Contains(error, "--preview 'ref.exr' would overwrite --reference 'ref.exr'"));
     EXPECT_FALSE(Contains(error, "--overwrite-input")) << "the hint is the input's own";
@@ -158,6 +163,9 @@ TEST_F(PathGuard, RefusesAnOutputPatternThatMatchesTheInputs) {
     // A pattern without the frame number writes every frame onto one file.
     error = ErrorOf([&] { RefuseOverwritingInputs(inputs, expand("out/denoised.exr", 1, 4)); });
     EXPECT_TRUE(Contains(error, "are the same file"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument, [&] {
+        RefuseOverwritingInputs(inputs, expand("out/denoised.exr", 1, 4));
+    }));
 }
 
 TEST_F(PathGuard, RefusesAnInputInADumpDirectory) {
@@ -188,6 +196,9 @@ TEST_F(PathGuard, RefusesAnInputInADumpDirectory) {
         RefuseInputsInDirectory({{"input", "link.exr"}}, {"--dump", "dump"}, writes);
     });
     EXPECT_TRUE(Contains(error, "input 'link.exr'"));
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument, [&] {
+        RefuseInputsInDirectory({{"input", "link.exr"}}, {"--dump", "dump"}, writes);
+    }));
 }
 
 class CliInputSafety : public ::testing::Test {

@@ -16,6 +16,7 @@
 #include "host/image.h"
 #include "host/io/frame.h"
 #include "mcdenoise/mcdenoise.h"
+#include "tools/mcdenoise/exit_status.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
@@ -153,10 +154,10 @@ TEST_F(PivotCli, DemodulatesForOtherMethods) {
     ASSERT_EQ(r.code, 0) << r.All();
     for (float v : io::ReadImage(Path("a.exr").string()).data) ASSERT_TRUE(std::isfinite(v));
     r = Run("denoise n.exr --method pivot --demodulate pivot -o p.exr");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "divides by itself")) << r.err;
     r = Run("denoise n.exr --method awr --demodulate depth -o p.exr");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "pivot or albedo")) << r.err;
 }
 
@@ -183,13 +184,13 @@ TEST_F(PivotCli, RhfFiltersZWithItsHistograms) {
     for (size_t i = 0; i < input.Size(); ++i)
         ASSERT_NEAR(same.data[i], input.data[i], 1e-5 * (1 + std::fabs(input.data[i]))) << i;
     r = Run("denoise z.exr --method rhf --demodulate albedo -o a.exr");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "only the pivot has them")) << r.err;
     ASSERT_EQ(
         Run("render --scene cornell --size 24x20 --spp 4 --layers hist,pivot -o h.exr").code,
         0);
     r = Run("denoise h.exr --method rhf --demodulate pivot -o b.exr");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "'zhist' layer")) << r.err;
     EXPECT_TRUE(Contains(r.err, "--layers zhist")) << r.err;
     EXPECT_FALSE(fs::exists(Path("b.exr")));
@@ -198,11 +199,11 @@ TEST_F(PivotCli, RhfFiltersZWithItsHistograms) {
 TEST_F(PivotCli, RefusesBadOptionsAndMissingPivot) {
     ASSERT_EQ(Run("render --size 12x8 --spp 2 -o plain.exr").code, 0);
     RunResult r = Run("denoise plain.exr --method pivot -o f.exr");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::MissingLayer));
     EXPECT_TRUE(Contains(r.err, "needs a pivot layer")) << r.err;
     ASSERT_EQ(Run("render --size 12x8 --spp 2 --layers pivot -o p.exr").code, 0);
     r = Run("denoise p.exr --method pivot --filter median -o f.exr");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "filter takes planefit or bilateral")) << r.err;
     r = Run("denoise p.exr --method pivot --max-radius 1 -o f.exr");
     EXPECT_NE(r.code, 0);
@@ -245,7 +246,7 @@ TEST_F(PivotCli, AlbedoStandsInForAMissingPivot) {
     EXPECT_EQ(io::ReadImage(Path("b.exr").string()).data, a.data);
 
     r = Run("denoise nopivot.exr --method pivot --pivot-layer pivot -o c.exr");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::MissingLayer));
     EXPECT_TRUE(Contains(r.err, "--pivot-layer pivot names a layer the frame lacks")) << r.err;
 
     r = Run("denoise n.exr --method pivot --explain -o d.exr");

@@ -18,6 +18,7 @@
 #include "harness/errors.h"
 #include "harness/tool.h"
 #include "host/io/frame.h"
+#include "tools/mcdenoise/exit_status.h"
 #include "tools/mcdenoise/sequence.h"
 
 namespace mcd::test {
@@ -43,10 +44,12 @@ TEST(CliSequencePattern, ExpandsHashesAndPrintf) {
     EXPECT_TRUE(HasFramePlaceholder("a.%02d.png"));
     for (const char *plain : {"f.exr", "100%.exr", "a%b.exr", "%0xd.exr", "%5d.exr"})
         EXPECT_FALSE(HasFramePlaceholder(plain)) << plain;
-    EXPECT_TRUE(Contains(ErrorOf([] { ExpandFramePattern("f.exr", 1); }),
-                         "'f.exr' has no frame number placeholder"));
-    EXPECT_TRUE(Contains(ErrorOf([] { ExpandFramePattern("s##/f.####.exr", 1); }),
-                         "has 2 frame number placeholders"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [] { ExpandFramePattern("f.exr", 1); },
+        "'f.exr' has no frame number placeholder"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [] { ExpandFramePattern("s##/f.####.exr", 1); },
+        "has 2 frame number placeholders"));
 }
 
 TEST(CliSequencePattern, ParsesFrameRanges) {
@@ -55,11 +58,14 @@ TEST(CliSequencePattern, ParsesFrameRanges) {
     EXPECT_EQ(ParseFrameRange("7,1-3,2"), (std::vector<int>{1, 2, 3, 7}));
     EXPECT_EQ(ParseFrameRange("0-0"), std::vector<int>{0});
     for (const char *bad : {"", "a", "-2", "1-", "1--3", "2,", "1.5", "+3", "1-x"})
-        EXPECT_TRUE(Contains(ErrorOf([&] { ParseFrameRange(bad); }), "is not a frame number"))
+        EXPECT_TRUE(ThrowsError(
+            ErrorKind::InvalidArgument, [&] { ParseFrameRange(bad); }, "is not a frame number"))
             << "'" << bad << "'";
-    EXPECT_TRUE(
-        Contains(ErrorOf([] { ParseFrameRange("9-3"); }), "range '9-3' ends before it starts"));
-    EXPECT_TRUE(Contains(ErrorOf([] { ParseFrameRange("0-99999999"); }), "more than"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [] { ParseFrameRange("9-3"); },
+        "range '9-3' ends before it starts"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [] { ParseFrameRange("0-99999999"); }, "more than"));
 }
 
 TEST(CliSequencePattern, NumbersListsByTheirFileNames) {
@@ -90,8 +96,9 @@ TEST_F(CliSequencePlan, FindsTheFilesOfAPattern) {
     Touch("sub/f.0003.exr");
     EXPECT_EQ(FindPatternFiles("sub/f.####.exr"),
               (std::vector<std::pair<int, std::string>>{{3, "sub/f.0003.exr"}}));
-    EXPECT_TRUE(
-        Contains(ErrorOf([] { FindPatternFiles("s.##/f.exr"); }), "must be in the file name"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [] { FindPatternFiles("s.##/f.exr"); },
+        "must be in the file name"));
     // A file whose name holds '#' is one frame, as it always was.
     Touch("take#2.exr");
     EXPECT_FALSE(IsSequence({"take#2.exr"}));
@@ -124,20 +131,24 @@ TEST_F(CliSequencePlan, PairsEachFrameWithItsOutputs) {
                                         "4 f.0004.exr out/f.0004.exr  r.0004.exr"}));
     EXPECT_EQ(outputs(PlanSequence({{"f.0001.exr", "f.0003.exr"}, "o.#.png", "", "", "3-9"})),
               (std::vector<std::string>{"3 f.0003.exr o.3.png  "}));
-    EXPECT_TRUE(
-        Contains(ErrorOf([] {
-                     PlanSequence({{"f.0001.exr", "f.0003.exr"}, "o/", "", "", "2"});
-                 }),
-                 "--frames '2' selects none of the 2 input files (their numbers run 1 to 3)"));
-    EXPECT_TRUE(
-        Contains(ErrorOf([] {
-                     PlanSequence({{"f.0001.exr", "f.0002.exr"}, "out.exr", "", "", ""});
-                 }),
-                 "-o 'out.exr': a sequence needs an output pattern"));
-    EXPECT_TRUE(Contains(ErrorOf([] {
-                             PlanSequence({{"g.####.exr"}, "o/", "", "", ""});
-                         }),
-                         "input pattern 'g.####.exr': no file matches it"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument,
+        [] {
+            PlanSequence({{"f.0001.exr", "f.0003.exr"}, "o/", "", "", "2"});
+        },
+        "--frames '2' selects none of the 2 input files (their numbers run 1 to 3)"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument,
+        [] {
+            PlanSequence({{"f.0001.exr", "f.0002.exr"}, "out.exr", "", "", ""});
+        },
+        "-o 'out.exr': a sequence needs an output pattern"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::Io,
+        [] {
+            PlanSequence({{"g.####.exr"}, "o/", "", "", ""});
+        },
+        "input pattern 'g.####.exr': no file matches it"));
 }
 
 // The tool on a sequence of 16x16 frames rendered with different seeds.
@@ -217,7 +228,7 @@ TEST_F(CliSequence, ListAndFramesSelectWhatIsDenoised) {
     EXPECT_TRUE(fs::exists(tool.Path("one.0001.exr")));
     // --frames is for sequences; one frame stays the single-frame command.
     r = tool.Run("denoise f.0001.exr --frames 1 -o x.exr");
-    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
     EXPECT_TRUE(Contains(r.err, "--frames selects frames of a sequence")) << r.err;
 }
 
@@ -230,7 +241,8 @@ TEST_F(CliSequence, AFailingFrameIsReportedAndTheOthersGoOn) {
     io::WriteExr(tool.Path("f.0004.exr").string(), {{"color", &color}});
     fs::copy_file(tool.Path("f.0001.exr"), tool.Path("f.0006.exr"));
     ToolResult r = tool.Run("denoise 'f.####.exr' --frames 1-6 -o out/ --method bayes");
-    EXPECT_EQ(r.code, 1) << r.All();
+    // The run's exit status is its first failed frame's: frame 2 could not be read.
+    EXPECT_EQ(r.code, int(tool::ExitStatus::Io)) << r.All();
     EXPECT_EQ(Listing("out"), (std::set<std::string>{"f.0001.exr", "f.0003.exr", "f.0006.exr"}))
         << "no output and no temporary file for a failed frame";
     EXPECT_TRUE(Contains(r.err, "mcdenoise: error: frame 2 (f.0002.exr): ")) << r.err;
@@ -244,6 +256,10 @@ TEST_F(CliSequence, AFailingFrameIsReportedAndTheOthersGoOn) {
         << r.err;
     EXPECT_TRUE(Contains(r.out, "6 frames in")) << r.out;
     EXPECT_TRUE(Contains(r.out, "3 written, 3 failed")) << r.out;
+    // From frame 4 on, the first failure is frame 4's NaN.
+    r = tool.Run("denoise 'f.####.exr' --frames 4-6 -o out4/ --method bayes");
+    EXPECT_EQ(r.code, int(tool::ExitStatus::NonFiniteInput)) << r.All();
+    EXPECT_TRUE(Contains(r.err, "mcdenoise: error: 2 of 3 frames failed")) << r.err;
 }
 
 TEST_F(CliSequence, RefusesToWriteOverAnInput) {
@@ -251,7 +267,7 @@ TEST_F(CliSequence, RefusesToWriteOverAnInput) {
     std::set<std::string> before = Listing();
     for (const char *output : {"'f.####.exr'", "'./sub/../f.%04d.exr'", "./", "sub/.."}) {
         ToolResult r = tool.Run(std::string("denoise 'f.####.exr' -o ") + output);
-        EXPECT_EQ(r.code, 1) << output << "\n" << r.All();
+        EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument)) << output << "\n" << r.All();
         EXPECT_TRUE(Contains(r.err, "would overwrite input 'f.0001.exr'")) << r.err;
         EXPECT_TRUE(Contains(r.err, "nothing was written")) << r.err;
     }

@@ -17,6 +17,7 @@
 #include "harness/inputs.h"
 #include "harness/tool.h"
 #include "host/io/frame.h"
+#include "tools/mcdenoise/exit_status.h"
 #include "tools/mcdenoise/usage.h"
 
 namespace mcd::test {
@@ -167,7 +168,7 @@ TEST_F(CliUsage, DirectoryAsInputSaysSo) {
     for (const char *args : {"denoise d -o o.exr", "denoise d/ -o o.exr", "info d",
                              "compare d f.exr", "wavelet d", "diff d"}) {
         ToolResult r = Run(args);
-        EXPECT_EQ(r.code, 1) << args << "\n" << r.All();
+        EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument)) << args << "\n" << r.All();
         EXPECT_TRUE(Contains(r.err, "'d") && Contains(r.err, "is a directory")) << r.err;
         EXPECT_FALSE(Contains(r.err, "format reader")) << r.err;
     }
@@ -181,7 +182,7 @@ TEST_F(CliUsage, DirectoryAsOneFramesOutputSaysSo) {
     fs::create_directory(Path("out"));
     for (const char *out : {"out/", "out", "new/"}) {
         ToolResult r = Run(std::string("denoise f.exr -o ") + out);
-        EXPECT_EQ(r.code, 1) << out << "\n" << r.All();
+        EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument)) << out << "\n" << r.All();
         EXPECT_TRUE(Contains(r.err, "is a directory")) << r.err;
         EXPECT_TRUE(Contains(r.err, "file name ending in .exr or .png")) << r.err;
     }
@@ -243,7 +244,7 @@ TEST_F(CliUsage, CompareRefusesNonFiniteValues) {
     io::WriteExr(Path("nan.exr").string(), {{"color", &color}});
     io::WriteExr(Path("ref.exr").string(), {{"color", &reference}});
     ToolResult r = Run("compare nan.exr ref.exr");
-    EXPECT_EQ(r.code, 1) << r.All();
+    EXPECT_EQ(r.code, int(tool::ExitStatus::NonFiniteInput)) << r.All();
     EXPECT_TRUE(Contains(r.err,
                          "'nan.exr' has 2 NaN/Inf values in layer color (the first at "
                          "pixel (5, 4), channel 0)"))

@@ -70,7 +70,8 @@ Headers ReadHeaders(const std::vector<std::string> &inputs) {
     }
     const io::FrameHeader &first = h.headers.front();
     if (!first.layers.count("color") || first.layers.at("color") != 3)
-        throw Error(fmt::format("'{}' has no R, G, B color layer", inputs.front()));
+        throw Error(fmt::format("'{}' has no R, G, B color layer", inputs.front()),
+                    ErrorKind::MissingLayer);
     h.spp = io::SppFromMetadata(first.metadata);
     for (const io::FrameHeader &header : h.headers) {
         if (io::SppFromMetadata(header.metadata) == h.spp) continue;
@@ -157,7 +158,8 @@ void RunAccumulate(const AccumulateOptions &opt) {
     for (const std::string &path : opt.inputs) inputs.push_back({"input", path, ""});
     RefuseOverwritingInputs(inputs, {{"-o", opt.output}});
     if (opt.inputs.size() < 2)
-        throw Error("accumulate needs two or more frames (the variance is their spread)");
+        throw Error("accumulate needs two or more frames (the variance is their spread)",
+                    ErrorKind::InvalidArgument);
     Headers h = ReadHeaders(opt.inputs);
 
     auto start = std::chrono::steady_clock::now();

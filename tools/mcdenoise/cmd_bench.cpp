@@ -157,11 +157,13 @@ void RunBenchWavelet(const WaveletBenchOptions &opt) {
     int width = 0, height = 0, channels = 3;
     ParseSize(opt.size, &width, &height);
     std::optional<WaveletBasis> basis = ParseWavelet(opt.basis);
-    if (!basis) throw Error("unknown wavelet basis '" + opt.basis + "'");
+    if (!basis)
+        throw Error("unknown wavelet basis '" + opt.basis + "'", ErrorKind::InvalidArgument);
     int levels = opt.levels;
     if (levels < 1 || levels > MaxWaveletLevels(width, height))
         throw Error(fmt::format("--levels {}: a {}x{} image takes 1..{}", levels, width, height,
-                                MaxWaveletLevels(width, height)));
+                                MaxWaveletLevels(width, height)),
+                    ErrorKind::InvalidArgument);
     int repeats = std::max(opt.repeats, 1);
 
     vk::Context context(opt.device.ContextOptions());
@@ -513,7 +515,7 @@ void RunBenchRhf(const MethodBenchOptions &opt) {
     Method method = opt.methods.Make("rhf");
     Frame frame = RenderFrame(opt.size, opt.scene, opt.spp, render::kLayersHist);
     if (std::string missing = method.Missing(frame); !missing.empty())
-        throw Error("bench rhf: the rendered frame has " + missing);
+        throw Error("bench rhf: the rendered frame has " + missing, ErrorKind::MissingLayer);
     Device device(opt.device.Options());
     fmt::print(
         "bench rhf: {} {}x{} at {} spp, patch half {}, search half {}, kappa {}, kNN {}, "
@@ -552,7 +554,7 @@ void RunBenchPivot(const MethodBenchOptions &opt) {
     Method method = opt.methods.Make("pivot");
     Frame frame = RenderFrame(opt.size, opt.scene, opt.spp, render::kLayersAll);
     if (std::string missing = method.Missing(frame); !missing.empty())
-        throw Error("bench pivot: the rendered frame has " + missing);
+        throw Error("bench pivot: the rendered frame has " + missing, ErrorKind::MissingLayer);
     Device device(opt.device.Options());
     int maxRadius = Param<int>(method, "max-radius");
     fmt::print("bench pivot: {} {}x{} at {} spp, {} filter, max radius {}, on {}\n", opt.scene,

@@ -184,12 +184,13 @@ QualityPlan PlanQuality(const QualityOptions &opt) {
         }
         if (n < 1 || n >= opt.referenceSpp)
             throw Error(fmt::format("--spp: '{}' is not a sample count in 1..{}", s,
-                                    opt.referenceSpp - 1));
+                                    opt.referenceSpp - 1),
+                        ErrorKind::InvalidArgument);
         plan.ladder.push_back(n);
     }
     std::sort(plan.ladder.begin(), plan.ladder.end());
     plan.ladder.erase(std::unique(plan.ladder.begin(), plan.ladder.end()), plan.ladder.end());
-    if (plan.ladder.empty()) throw Error("--spp: no sample counts");
+    if (plan.ladder.empty()) throw Error("--spp: no sample counts", ErrorKind::InvalidArgument);
     std::vector<std::string> names = MethodNames();
     names.push_back("auto");
     for (const std::string &name : names)
@@ -200,7 +201,8 @@ QualityPlan PlanQuality(const QualityOptions &opt) {
             if (std::none_of(plan.methods.begin(), plan.methods.end(),
                              [&](const Method &m) { return m.Name() == name; }))
                 throw Error(fmt::format("--methods: unknown method '{}' (methods: {})", name,
-                                        MethodOptions::Names()));
+                                        MethodOptions::Names()),
+                            ErrorKind::InvalidArgument);
     return plan;
 }
 

@@ -112,7 +112,8 @@ std::vector<int> ParseList(const std::string &text, const char *option) {
         } catch (const std::exception &) {
         }
         if (value < 0 || used != item.size())
-            throw Error(fmt::format("{}: '{}' is not an integer >= 0", option, item));
+            throw Error(fmt::format("{}: '{}' is not an integer >= 0", option, item),
+                        ErrorKind::InvalidArgument);
         values.push_back(value);
     }
     return values;
@@ -146,10 +147,10 @@ void RunBenchTracing(const TracingBenchOptions &opt) {
             int fit = gather.MaxRecordRows(width, opt.spp) - 2 * radius;
             int band = std::min(opt.bandRows, fit);
             if (band < 1)
-                throw Error(
-                    fmt::format("bench tracing: a {}-wide band at {} spp and radius {} "
-                                "does not fit one binding",
-                                width, opt.spp, radius));
+                throw Error(fmt::format("bench tracing: a {}-wide band at {} spp and radius {} "
+                                        "does not fit one binding",
+                                        width, opt.spp, radius),
+                            ErrorKind::OutOfMemory);
             // The rows of the middle of the frame when only some are timed.
             int first = (height - timedRows) / 2;
             double gpuMs = 0, wallMs = 0;

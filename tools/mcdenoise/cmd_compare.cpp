@@ -26,11 +26,14 @@ void RefuseNonFinite(const Image &image, const std::string &path, const std::str
                 if (!std::isfinite(image.At(c, y, x)) && count++ == 0)
                     first[0] = x, first[1] = y, first[2] = c;
     if (count)
-        throw Error(fmt::format(
-            "'{}' has {} NaN/Inf value{} in layer {} (the first at pixel ({}, {}), channel "
-            "{}): its error against a reference is not defined; replace them first (denoise "
-            "--non-finite zero does)",
-            path, count, count == 1 ? "" : "s", layer, first[0], first[1], first[2]));
+        throw Error(
+            fmt::format(
+                "'{}' has {} NaN/Inf value{} in layer {} (the first at pixel ({}, {}), channel "
+                "{}): its error against a reference is not defined; replace them first "
+                "(denoise "
+                "--non-finite zero does)",
+                path, count, count == 1 ? "" : "s", layer, first[0], first[1], first[2]),
+            ErrorKind::NonFiniteInput);
 }
 
 void RunCompare(const CompareOptions &opt) {

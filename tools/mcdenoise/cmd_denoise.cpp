@@ -30,26 +30,30 @@ struct DenoiseOptions {
 SequenceFrame PlanOneFrame(const DenoiseOptions &opt, bool *inPlace) {
     SequenceFrame f{0, opt.inputs.front(), opt.reference, opt.output, opt.preview, opt.autoMap};
     if (!opt.frames.empty())
-        throw Error(
-            fmt::format("--frames selects frames of a sequence; '{}' is one frame "
-                        "(give a pattern such as frame.####.exr, or several files)",
-                        f.input));
+        throw Error(fmt::format("--frames selects frames of a sequence; '{}' is one frame "
+                                "(give a pattern such as frame.####.exr, or several files)",
+                                f.input),
+                    ErrorKind::InvalidArgument);
     if (!f.output.empty() &&
         (f.output.back() == '/' || std::filesystem::is_directory(f.output)))
-        throw Error(fmt::format(
-            "-o '{}' is a directory: one frame is written to a file, so give a file name "
-            "ending in .exr or .png (a directory is for a sequence: frame.####.exr)",
-            f.output));
+        throw Error(
+            fmt::format(
+                "-o '{}' is a directory: one frame is written to a file, so give a file name "
+                "ending in .exr or .png (a directory is for a sequence: frame.####.exr)",
+                f.output),
+            ErrorKind::InvalidArgument);
     CheckOutputPath(f.output, {".exr", ".png"});
     if (!f.preview.empty()) CheckOutputPath(f.preview, {".png"}, "--preview");
     if (!f.map.empty()) CheckOutputPath(f.map, {".png"}, "--auto-map");
     // No output may be a file this run reads, unless the user says so for -o.
     *inPlace = opt.overwriteInput && SameFile(f.output, f.input);
     if (*inPlace && std::filesystem::path(f.output).extension() != ".exr")
-        throw Error(fmt::format(
-            "--overwrite-input: '{}' would lose the frame's other layers; it needs an .exr "
-            "output",
-            f.output));
+        throw Error(
+            fmt::format(
+                "--overwrite-input: '{}' would lose the frame's other layers; it needs an .exr "
+                "output",
+                f.output),
+            ErrorKind::InvalidArgument);
     RefuseOverwritingInputs(
         {{"input", *inPlace ? "" : f.input,
           "write elsewhere, or pass --overwrite-input to replace the frame's color and "
@@ -100,7 +104,8 @@ void RunDenoise(const DenoiseOptions &opt) {
     if (opt.overwriteInput)
         throw Error(
             "--overwrite-input is for one frame; a sequence is written to an output pattern "
-            "or directory");
+            "or directory",
+            ErrorKind::InvalidArgument);
     std::vector<SequenceFrame> frames = PlanSequence(
         {opt.inputs, opt.output, opt.preview, opt.reference, opt.frames, opt.autoMap});
     PrepareSequence(frames);

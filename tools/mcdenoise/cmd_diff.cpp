@@ -44,7 +44,8 @@ void CheckStagesPaired(const std::string &method, const std::vector<Stage> &gpu,
                          [&](const Stage &s) { return c.name == s.name; }))
             unpaired += fmt::format(" '{}' (CPU only)", c.name);
     if (!unpaired.empty())
-        throw Error(fmt::format("{}: stages without a twin:{}", method, unpaired));
+        throw Error(fmt::format("{}: stages without a twin:{}", method, unpaired),
+                    ErrorKind::Internal);
 }
 
 // One row per stage, the stages dumped on request; the first stage over --max-nmse, as
@@ -61,7 +62,8 @@ std::string PrintStages(const DiffOptions &opt, const std::vector<Stage> &gpu,
             throw Error(
                 fmt::format("diff: stage {} is {}x{}x{} on the GPU, {}x{}x{} on the CPU",
                             g.name, g.image.width, g.image.height, g.image.channels, c.width,
-                            c.height, c.channels));
+                            c.height, c.channels),
+                ErrorKind::Internal);
         ElementDifference e = MeasureDifference(g.image, c);
         fmt::print("  {:<24} {:>12.3g} {:>16.3g} {:>10}\n", g.name, e.nmse, e.maxRel, e.parity);
         if (opt.maxNmse >= 0 && worst.empty() && (e.nmse > opt.maxNmse || e.parity))
@@ -82,7 +84,8 @@ std::string PrintStages(const DiffOptions &opt, const std::vector<Stage> &gpu,
 void RunDiff(const DiffOptions &opt) {
     if (opt.method == "auto")
         throw Error(fmt::format("diff: unknown method 'auto' (methods with stages: {})",
-                                MethodOptions::Names()));
+                                MethodOptions::Names()),
+                    ErrorKind::InvalidArgument);
     Method method = opt.methods.Make(opt.method);
     // The stages' names come with the run; refuse an input a stage's file could be.
     RefuseInputsInDirectory({{"input", opt.input}}, {"--dump", opt.dump},
@@ -100,12 +103,13 @@ void RunDiff(const DiffOptions &opt) {
     if (gpu.stages.empty())
         throw Error(
             fmt::format("{}: nothing to compare: {}", method.Name(),
-                        gpu.plan.empty() ? std::string("no stage ran") : gpu.plan.back()));
+                        gpu.plan.empty() ? std::string("no stage ran") : gpu.plan.back()),
+            ErrorKind::InvalidArgument);
     CheckStagesPaired(method.Name(), gpu.stages, cpu);
     fmt::print("{} on {} ({}), GPU against the CPU reference:\n", method.Name(), opt.input,
                device.Name());
     if (std::string worst = PrintStages(opt, gpu.stages, cpu); !worst.empty())
-        throw Error(worst);
+        throw Error(worst, ErrorKind::Internal);
 }
 
 }  // namespace

@@ -158,7 +158,8 @@ void RenderFrame(const render::Scene &scene, const RenderCommandOptions &opt,
 
 void RunRender(const RenderCommandOptions &opt) {
     if (opt.tracingFilter && (opt.reference || !opt.adaptive.empty()))
-        throw Error("--tracing-filter renders its own frame; drop --reference and --adaptive");
+        throw Error("--tracing-filter renders its own frame; drop --reference and --adaptive",
+                    ErrorKind::InvalidArgument);
     render::RenderOptions options;
     ParseSize(opt.size, &options.width, &options.height);
     options.spp = opt.reference && !opt.sppGiven ? 4096 : opt.spp;
@@ -179,9 +180,11 @@ void RunRender(const RenderCommandOptions &opt) {
     render::Scene scene = render::BuildScene(opt.scene);
     if (!opt.adaptive.empty()) {
         if (opt.adaptive != "awr")
-            throw Error("--adaptive takes awr, not '" + opt.adaptive + "'");
+            throw Error("--adaptive takes awr, not '" + opt.adaptive + "'",
+                        ErrorKind::InvalidArgument);
         if (opt.reference || !opt.layers.empty())
-            throw Error("--adaptive writes its own layers; drop --reference and --layers");
+            throw Error("--adaptive writes its own layers; drop --reference and --layers",
+                        ErrorKind::InvalidArgument);
         if (!opt.denoised.empty())
             CheckOutputPath(opt.denoised, {".exr", ".png"}, "--denoised");
         if (!opt.density.empty()) CheckOutputPath(opt.density, {".png"}, "--density");

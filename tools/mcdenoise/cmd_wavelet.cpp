@@ -50,10 +50,13 @@ Image BuiltinImage(const std::string &spec) {
         ParseSize(name.substr(at + 1), &width, &height);
         name = name.substr(0, at);
     }
-    if (name != "rings") throw Error("unknown built-in image '" + spec + "' (builtin:rings)");
+    if (name != "rings")
+        throw Error("unknown built-in image '" + spec + "' (builtin:rings)",
+                    ErrorKind::InvalidArgument);
     if (size_t(width) * size_t(height) > (size_t(1) << 26))
         throw Error(fmt::format("built-in image of {}x{} is too large (at most 64 Mpixels)",
-                                width, height));
+                                width, height),
+                    ErrorKind::InvalidArgument);
     Image image(width, height, 3);
     uint32_t state = 12345;
     for (int y = 0; y < height; ++y)
@@ -139,7 +142,8 @@ void PrintRoundTrip(const WaveletCommandOptions &opt, const Image &image, int le
 void RunWavelet(const WaveletCommandOptions &opt) {
     std::optional<WaveletBasis> basis = ParseWavelet(opt.basis);
     if (!basis)
-        throw Error("unknown wavelet basis '" + opt.basis + "' (haar, legall53, cdf97)");
+        throw Error("unknown wavelet basis '" + opt.basis + "' (haar, legall53, cdf97)",
+                    ErrorKind::InvalidArgument);
     // Refuse bad destinations before any work.
     if (!opt.output.empty()) CheckOutputPath(opt.output, {".exr", ".png"});
     bool builtin = opt.input.rfind("builtin:", 0) == 0;
@@ -152,7 +156,8 @@ void RunWavelet(const WaveletCommandOptions &opt) {
     int levels = opt.levels < 0 ? maxLevels : opt.levels;
     if (levels > maxLevels)
         throw Error(fmt::format("{} levels requested; a {}x{} image allows 0..{}", levels,
-                                image.width, image.height, maxLevels));
+                                image.width, image.height, maxLevels),
+                    ErrorKind::InvalidArgument);
     // The band files --dump will write, known once the size is.
     std::vector<RolePath> outputs = {{"-o", opt.output}};
     if (!opt.dump.empty())

@@ -33,10 +33,12 @@ void ParseSize(const std::string &text, int *width, int *height) {
     char x = 0;
     if (std::sscanf(text.c_str(), "%d%c%d%n", &w, &x, &h, &used) != 3 ||
         used != int(text.size()) || (x != 'x' && x != 'X') || w <= 0 || h <= 0)
-        throw Error("size '" + text + "' is not WIDTHxHEIGHT with positive numbers");
+        throw Error("size '" + text + "' is not WIDTHxHEIGHT with positive numbers",
+                    ErrorKind::InvalidArgument);
     if (w > kMaxImageSide || h > kMaxImageSide)
         throw Error(
-            fmt::format("size '{}' is larger than {} pixels on a side", text, kMaxImageSide));
+            fmt::format("size '{}' is larger than {} pixels on a side", text, kMaxImageSide),
+            ErrorKind::InvalidArgument);
     *width = w;
     *height = h;
 }
@@ -55,29 +57,33 @@ void CheckOutputPath(const std::string &path, std::initializer_list<const char *
     std::error_code ec;
     if (!path.empty() && (path.back() == '/' || fs::is_directory(path, ec)))
         throw Error(fmt::format("{} '{}' is a directory; give a file name ending in {}", role,
-                                path, list));
+                                path, list),
+                    ErrorKind::InvalidArgument);
     std::string ext = fs::path(path).extension().string();
     bool known = false;
     for (const char *e : extensions) known |= ext == e;
     if (ext.empty())
         throw Error(fmt::format("{} '{}' has no extension; give a file name ending in {}", role,
-                                path, list));
+                                path, list),
+                    ErrorKind::InvalidArgument);
     if (!known)
         throw Error(
-            fmt::format("{} '{}': unsupported extension '{}' (use {})", role, path, ext, list));
+            fmt::format("{} '{}': unsupported extension '{}' (use {})", role, path, ext, list),
+            ErrorKind::InvalidArgument);
     fs::path dir = fs::path(path).parent_path();
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw Error(
-            fmt::format("{} '{}': directory '{}' does not exist", role, path, dir.string()));
+            fmt::format("{} '{}': directory '{}' does not exist", role, path, dir.string()),
+            ErrorKind::Io);
 }
 
 void CheckInputFile(const std::string &path, const std::string &role) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec))
-        throw Error(
-            fmt::format("{} '{}' is a directory; give an image file (EXR, PFM, HDR or "
-                        "PNG)",
-                        role, path));
+        throw Error(fmt::format("{} '{}' is a directory; give an image file (EXR, PFM, HDR or "
+                                "PNG)",
+                                role, path),
+                    ErrorKind::InvalidArgument);
 }
 
 void WriteImage(const std::string &path, const Image &image,
@@ -96,7 +102,8 @@ void PrepareDirectory(const std::string &path) {
     fs::create_directories(path, ec);
     if (ec || !fs::is_directory(path))
         throw Error(fmt::format("cannot use '{}' as a directory: {}", path,
-                                ec ? ec.message() : "it is a file"));
+                                ec ? ec.message() : "it is a file"),
+                    ErrorKind::Io);
 }
 
 }  // namespace mcd::tool

@@ -154,7 +154,8 @@ LoadedFrame LoadFrame(const SequenceFrame &f, const mcd::ReadOptions &read) {
     if (loaded.reference.width != color.width || loaded.reference.height != color.height)
         throw Error(fmt::format("reference {} is {}x{}, the frame {}x{}", f.reference,
                                 loaded.reference.width, loaded.reference.height, color.width,
-                                color.height));
+                                color.height),
+                    ErrorKind::InvalidArgument);
     return loaded;
 }
 
@@ -293,6 +294,7 @@ class FramesProgress {
 struct Pending {
     const SequenceFrame *frame = nullptr;
     std::string out, warnings, error;
+    ErrorKind errorKind = ErrorKind::Internal;  // the kind of `error`
     std::future<void> written;
 };
 
@@ -324,6 +326,7 @@ class DenoiseRun {
     std::optional<Device> device;
     FramesProgress progress;
     std::vector<std::string> failed;
+    ErrorKind firstFailure = ErrorKind::Internal;  // the run's kind when frames failed
 };
 
 // Three frames in flight: the next one read, this one denoised, the last one written.
@@ -342,13 +345,14 @@ void DenoiseRun::Run() {
             first.reset();
             if (i + 1 < frames.size()) next = Load(i + 1);
             current = Denoise(frames[i], std::move(loaded));
-        } catch (const std::exception &e) {
+        } catch (...) {
             if (settings.single) throw;
             // The next frame is read even when this one could not be.
             if (i + 1 < frames.size() && !next.valid()) next = Load(i + 1);
             current.error =
                 fmt::format("mcdenoise: error: frame {} ({}): {}\n", frames[i].number,
-                            frames[i].input, DescribeFailure(e).message);
+                            frames[i].input, DescribeFailure(std::current_exception()).message);
+            current.errorKind = KindOf(std::current_exception());
         }
         current.frame = &frames[i];
         if (previous.frame) Finish(previous);
@@ -394,10 +398,12 @@ Pending DenoiseRun::Denoise(const SequenceFrame &f, LoadedFrame loaded) {
 void DenoiseRun::Finish(Pending &p) {
     if (p.written.valid()) try {
             p.written.get();
-        } catch (const std::exception &e) {
+        } catch (...) {
             if (settings.single) throw;
-            p.error = fmt::format("mcdenoise: error: frame {} ({}): {}\n", p.frame->number,
-                                  p.frame->input, DescribeFailure(e).message);
+            p.error =
+                fmt::format("mcdenoise: error: frame {} ({}): {}\n", p.frame->number,
+                            p.frame->input, DescribeFailure(std::current_exception()).message);
+            p.errorKind = KindOf(std::current_exception());
         }
     progress.Clear();
     fmt::print(stderr, "{}", p.warnings);
@@ -406,6 +412,7 @@ void DenoiseRun::Finish(Pending &p) {
         std::fflush(stdout);
     } else {
         fmt::print(stderr, "{}", p.error);
+        if (failed.empty()) firstFailure = p.errorKind;
         failed.push_back(p.frame->input);
     }
     progress.FrameDone(*p.frame, !p.error.empty(), api::ContextOf(*device).Pipelines().seconds);
@@ -419,7 +426,9 @@ void DenoiseRun::Summarize(double seconds) const {
     std::string names;
     for (size_t i = 0; i < failed.size() && i < 10; ++i) names += (i ? ", " : "") + failed[i];
     if (failed.size() > 10) names += fmt::format(" and {} more", failed.size() - 10);
-    throw Error(fmt::format("{} of {} frames failed: {}", failed.size(), frames.size(), names));
+    // The first failed frame's kind is the run's: its exit status.
+    throw Error(fmt::format("{} of {} frames failed: {}", failed.size(), frames.size(), names),
+                firstFailure);
 }
 
 }  // namespace

@@ -62,8 +62,8 @@ int RunCommandLine(CLI::App &app, int argc, char **argv) {
         return app.exit(e);
     } catch (const CLI::ParseError &e) {
         return UsageFailure(app, e);
-    } catch (const std::exception &e) {
-        return ReportFailure(DescribeFailure(e));
+    } catch (...) {
+        return ReportFailure(DescribeFailure(std::current_exception()));
     }
 }
 

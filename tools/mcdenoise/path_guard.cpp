@@ -63,16 +63,20 @@ void RefuseOverwritingInputs(const std::vector<RolePath> &inputs,
         std::string key = FileKey(out.path);
         if (auto it = inputByKey.find(key); it != inputByKey.end()) {
             const RolePath &in = inputs[it->second];
-            throw Error(fmt::format(
-                "{} would overwrite {}: they are the same file{}; nothing was written{}",
-                Describe(out), Describe(in),
-                out.path == in.path ? "" : fmt::format(" ({})", Canonical(in.path).string()),
-                in.hint.empty() ? "" : "; " + in.hint));
+            throw Error(
+                fmt::format(
+                    "{} would overwrite {}: they are the same file{}; nothing was written{}",
+                    Describe(out), Describe(in),
+                    out.path == in.path ? ""
+                                        : fmt::format(" ({})", Canonical(in.path).string()),
+                    in.hint.empty() ? "" : "; " + in.hint),
+                ErrorKind::InvalidArgument);
         }
         // Two outputs on one file: the second would silently replace the first.
         if (auto [it, added] = outputByKey.emplace(key, o); !added)
             throw Error(fmt::format("{} and {} are the same file; nothing was written",
-                                    Describe(outputs[it->second]), Describe(out)));
+                                    Describe(outputs[it->second]), Describe(out)),
+                        ErrorKind::InvalidArgument);
     }
 }
 
@@ -89,9 +93,11 @@ void RefuseInputsInDirectory(const std::vector<RolePath> &inputs, const RolePath
                          fs::path(in.path).filename();
         for (const fs::path &p : {given, Canonical(in.path)})
             if (p.parent_path() == canonicalDir && writes(p.filename().string()))
-                throw Error(fmt::format(
-                    "{} '{}' would write over {} ({}); nothing was written{}", dir.role,
-                    dir.path, Describe(in), p.string(), in.hint.empty() ? "" : "; " + in.hint));
+                throw Error(
+                    fmt::format("{} '{}' would write over {} ({}); nothing was written{}",
+                                dir.role, dir.path, Describe(in), p.string(),
+                                in.hint.empty() ? "" : "; " + in.hint),
+                    ErrorKind::InvalidArgument);
     }
 }
 

@@ -60,12 +60,14 @@ std::vector<Placeholder> FindPlaceholders(const std::string &text) {
 Placeholder OnePlaceholder(const std::string &pattern) {
     std::vector<Placeholder> found = FindPlaceholders(pattern);
     if (found.empty())
-        throw Error(fmt::format(
-            "'{}' has no frame number placeholder (#### or %04d) for the frames of a sequence",
-            pattern));
+        throw Error(fmt::format("'{}' has no frame number placeholder (#### or %04d) for the "
+                                "frames of a sequence",
+                                pattern),
+                    ErrorKind::InvalidArgument);
     if (found.size() > 1)
         throw Error(fmt::format("'{}' has {} frame number placeholders; a pattern takes one",
-                                pattern, found.size()));
+                                pattern, found.size()),
+                    ErrorKind::InvalidArgument);
     return found.front();
 }
 
@@ -93,10 +95,13 @@ std::string OutputPath(const std::string &role, const std::string &option,
                        const SequenceFrame &frame, const std::vector<std::string> &extensions) {
     if (HasFramePlaceholder(option)) return ExpandFramePattern(option, frame.number);
     if (!IsDirectory(option))
-        throw Error(fmt::format(
-            "{} '{}': a sequence needs an output pattern with the frame number (such as "
-            "out.####.exr) or a directory (out/), so that frames do not write over each other",
-            role, option));
+        throw Error(
+            fmt::format(
+                "{} '{}': a sequence needs an output pattern with the frame number (such as "
+                "out.####.exr) or a directory (out/), so that frames do not write over each "
+                "other",
+                role, option),
+            ErrorKind::InvalidArgument);
     fs::path name = fs::path(frame.input).filename();
     if (std::find(extensions.begin(), extensions.end(), name.extension().string()) ==
         extensions.end())
@@ -128,15 +133,19 @@ std::vector<int> ParseFrameRange(const std::string &text) {
         long first = ParseNumber(part.substr(0, dash));
         long last = dash == std::string::npos ? first : ParseNumber(part.substr(dash + 1));
         if (first < 0 || last < 0)
-            throw Error(fmt::format(
-                "--frames '{}': '{}' is not a frame number or a range FIRST-LAST of "
-                "non-negative numbers",
-                text, part));
+            throw Error(
+                fmt::format(
+                    "--frames '{}': '{}' is not a frame number or a range FIRST-LAST of "
+                    "non-negative numbers",
+                    text, part),
+                ErrorKind::InvalidArgument);
         if (last < first)
             throw Error(
-                fmt::format("--frames '{}': range '{}' ends before it starts", text, part));
+                fmt::format("--frames '{}': range '{}' ends before it starts", text, part),
+                ErrorKind::InvalidArgument);
         if (last - first + 1 + long(numbers.size()) > kMaxFrames)
-            throw Error(fmt::format("--frames '{}': more than {} frames", text, kMaxFrames));
+            throw Error(fmt::format("--frames '{}': more than {} frames", text, kMaxFrames),
+                        ErrorKind::InvalidArgument);
         for (long n = first; n <= last; ++n) numbers.insert(int(n));
         start = end + 1;
     }
@@ -147,9 +156,11 @@ std::vector<std::pair<int, std::string>> FindPatternFiles(const std::string &pat
     fs::path path(pattern);
     std::string name = path.filename().string();
     if (FindPlaceholders(path.parent_path().string()).size() > 0)
-        throw Error(fmt::format(
-            "'{}': the frame number placeholder must be in the file name, not a directory",
-            pattern));
+        throw Error(
+            fmt::format(
+                "'{}': the frame number placeholder must be in the file name, not a directory",
+                pattern),
+            ErrorKind::InvalidArgument);
     Placeholder p = OnePlaceholder(name);
     std::string prefix = name.substr(0, p.pos), suffix = name.substr(p.pos + p.length);
     fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
@@ -157,7 +168,8 @@ std::vector<std::pair<int, std::string>> FindPatternFiles(const std::string &pat
     fs::directory_iterator it(dir, ec);
     if (ec)
         throw Error(fmt::format("'{}': cannot list directory '{}': {}", pattern, dir.string(),
-                                ec.message()));
+                                ec.message()),
+                    ErrorKind::Io);
     std::vector<std::pair<int, std::string>> files;
     for (const fs::directory_entry &entry : it) {
         std::string file = entry.path().filename().string();
@@ -216,7 +228,8 @@ std::vector<SequenceFrame> PlanSequence(const SequenceSpec &spec) {
             for (const auto &[number, path] : FindPatternFiles(pattern))
                 frames.push_back({number, path});
             if (frames.empty())
-                throw Error(fmt::format("input pattern '{}': no file matches it", pattern));
+                throw Error(fmt::format("input pattern '{}': no file matches it", pattern),
+                            ErrorKind::Io);
         }
     } else {
         std::vector<int> numbers = ListFrameNumbers(spec.inputs);
@@ -225,12 +238,12 @@ std::vector<SequenceFrame> PlanSequence(const SequenceSpec &spec) {
             if (spec.frames.empty() || wanted.count(numbers[i]))
                 frames.push_back({numbers[i], spec.inputs[i]});
         if (frames.empty())
-            throw Error(
-                fmt::format("--frames '{}' selects none of the {} input files (their "
-                            "numbers run {} to {})",
-                            spec.frames, spec.inputs.size(),
-                            *std::min_element(numbers.begin(), numbers.end()),
-                            *std::max_element(numbers.begin(), numbers.end())));
+            throw Error(fmt::format("--frames '{}' selects none of the {} input files (their "
+                                    "numbers run {} to {})",
+                                    spec.frames, spec.inputs.size(),
+                                    *std::min_element(numbers.begin(), numbers.end()),
+                                    *std::max_element(numbers.begin(), numbers.end())),
+                        ErrorKind::InvalidArgument);
     }
     for (SequenceFrame &frame : frames) {
         frame.output = OutputPath("-o", spec.output, frame, {".exr", ".png"});

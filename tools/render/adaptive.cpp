@@ -400,15 +400,17 @@ ScaleProfile ScaleFunctionProfile(WaveletBasis basis, int level) {
 AdaptiveResult SampleAdaptive(vk::Context &context, const TraceFunction &trace,
                               const AdaptiveOptions &o) {
     if (o.width <= 0 || o.height <= 0)
-        throw Error(fmt::format("image size {}x{} must be positive", o.width, o.height));
+        throw Error(fmt::format("image size {}x{} must be positive", o.width, o.height),
+                    ErrorKind::InvalidArgument);
     if (o.sampler.initialSpp < 1 || o.averageSpp < o.sampler.initialSpp)
-        throw Error(
-            fmt::format("the adaptive sampler starts with {} samples per pixel: the "
-                        "average must be at least that, not {}",
-                        o.sampler.initialSpp, o.averageSpp));
+        throw Error(fmt::format("the adaptive sampler starts with {} samples per pixel: the "
+                                "average must be at least that, not {}",
+                                o.sampler.initialSpp, o.averageSpp),
+                    ErrorKind::InvalidArgument);
     if (!(o.sampler.contrastFloor >= 0 && o.sampler.contrastFloor < 1e18f))
         throw Error(fmt::format("the contrast floor must be finite and at least 0, not {}",
-                                o.sampler.contrastFloor));
+                                o.sampler.contrastFloor),
+                    ErrorKind::InvalidArgument);
     return AdaptiveSampler(context, trace, o).Run();
 }
 

@@ -44,7 +44,8 @@ unsigned ParseLayerGroups(const std::string &text) {
                 fmt::format("unknown layer group '{}' (hist, split, pivot, gbuffer, partials, "
                             "zhist, halves, "
                             "all)",
-                            item));
+                            item),
+                ErrorKind::InvalidArgument);
     }
     return groups;
 }
@@ -73,29 +74,38 @@ namespace {
 
 void CheckRenderOptions(const RenderOptions &o) {
     if (o.width <= 0 || o.height <= 0)
-        throw Error(fmt::format("image size {}x{} must be positive", o.width, o.height));
+        throw Error(fmt::format("image size {}x{} must be positive", o.width, o.height),
+                    ErrorKind::InvalidArgument);
     if (o.spp <= 0)
-        throw Error(fmt::format("samples per pixel must be positive, not {}", o.spp));
+        throw Error(fmt::format("samples per pixel must be positive, not {}", o.spp),
+                    ErrorKind::InvalidArgument);
     // Sample keys are pixel << 24 | sample: more would reuse another sample's random numbers.
     if (o.spp >= (1 << 24))
-        throw Error(fmt::format("at most {} samples per pixel, not {}", (1 << 24) - 1, o.spp));
-    if (o.histBins < 3) throw Error("a histogram needs at least 3 bins per channel");
+        throw Error(fmt::format("at most {} samples per pixel, not {}", (1 << 24) - 1, o.spp),
+                    ErrorKind::InvalidArgument);
+    if (o.histBins < 3)
+        throw Error("a histogram needs at least 3 bins per channel",
+                    ErrorKind::InvalidArgument);
     if (o.tracing.enabled) {
         const TracingParams &p = o.tracing.params;
         if (p.radius < 0 || p.radius > 1000)
-            throw Error(fmt::format("tracing filter radius {} is not in 0..1000", p.radius));
+            throw Error(fmt::format("tracing filter radius {} is not in 0..1000", p.radius),
+                        ErrorKind::InvalidArgument);
         for (auto [name, v] : {std::pair{"alpha", p.alpha},
                                {"beta", p.beta},
                                {"gamma", p.gamma},
                                {"self floor", p.selfFloor}})
             if (!std::isfinite(v) || v < 0)
                 throw Error(
-                    fmt::format("tracing filter {} {} must be finite and >= 0", name, v));
+                    fmt::format("tracing filter {} {} must be finite and >= 0", name, v),
+                    ErrorKind::InvalidArgument);
         if (p.selfFloor > 1)
-            throw Error(fmt::format("tracing filter self floor {} is above 1", p.selfFloor));
+            throw Error(fmt::format("tracing filter self floor {} is above 1", p.selfFloor),
+                        ErrorKind::InvalidArgument);
         if (o.tracing.partials < 1 || o.tracing.partials > kPartialTypes)
             throw Error(fmt::format("tracing filter partials {} is not in 1..{}",
-                                    o.tracing.partials, kPartialTypes));
+                                    o.tracing.partials, kPartialTypes),
+                        ErrorKind::InvalidArgument);
     }
 }
 
@@ -501,10 +511,11 @@ int TracedBandRows(const RenderOptions &o, int partials, int radius, TracingStat
     }
     if (t.maxWindowRows > 0) {
         if (t.maxWindowRows - 2 * radius < 1)
-            throw Error(fmt::format(
-                "tracing filter: the gather takes at most {} rows of records, fewer than one "
-                "band row and a radius of {} above and below",
-                t.maxWindowRows, radius));
+            throw Error(fmt::format("tracing filter: the gather takes at most {} rows of "
+                                    "records, fewer than one "
+                                    "band row and a radius of {} above and below",
+                                    t.maxWindowRows, radius),
+                        ErrorKind::OutOfMemory);
         band = std::min(band, t.maxWindowRows - 2 * radius);
     }
     band = std::min(band, o.height);
@@ -601,7 +612,8 @@ void FilterBand(TracedRender &r, int y0, int rows) {
                      : ReferenceGather(r.windows[k], t.params, y0, rows, r.threads);
         if (filtered.size() != size_t(w) * rows * 3)
             throw Error(fmt::format("tracing gather returned {} values for {} rows of {}",
-                                    filtered.size(), rows, w));
+                                    filtered.size(), rows, w),
+                        ErrorKind::Internal);
         ApplyFiltered(r.windows[k], filtered, y0, rows, k, r.layers);
     }
 }

@@ -406,7 +406,8 @@ Scene BuildScene(const std::string &name) {
     if (name == "fireflies") return Fireflies();
     std::string names;
     for (const std::string &n : SceneNames()) names += (names.empty() ? "" : ", ") + n;
-    throw Error(fmt::format("unknown scene '{}' (built-in scenes: {})", name, names));
+    throw Error(fmt::format("unknown scene '{}' (built-in scenes: {})", name, names),
+                ErrorKind::InvalidArgument);
 }
 
 }  // namespace mcd::render

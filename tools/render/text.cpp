@@ -22,11 +22,12 @@ Image TextBitmap(const std::string &text, int pixelHeight) {
     const char *path = "/usr/share/fonts/truetype/dejavu/DejaVuSans-Bold.ttf";
     std::ifstream file(path, std::ios::binary);
     if (!file)
-        throw Error(fmt::format("font {} not found (Debian package fonts-dejavu-core)", path));
+        throw Error(fmt::format("font {} not found (Debian package fonts-dejavu-core)", path),
+                    ErrorKind::Io);
     std::vector<unsigned char> data((std::istreambuf_iterator<char>(file)), {});
     stbtt_fontinfo font;
     if (!stbtt_InitFont(&font, data.data(), stbtt_GetFontOffsetForIndex(data.data(), 0)))
-        throw Error(fmt::format("cannot read font {}", path));
+        throw Error(fmt::format("cannot read font {}", path), ErrorKind::Io);
     float scale = stbtt_ScaleForPixelHeight(&font, float(pixelHeight));
     int ascent, descent, gap;
     stbtt_GetFontVMetrics(&font, &ascent, &descent, &gap);
