@@ -5,6 +5,7 @@
 
 #include <limits>
 
+#include "cpu_reference/local_mean.h"
 #include "cpu_reference/wavelet_analyze.h"
 #include "cpu_reference/wavelet_sqanalyze.h"
 #include "cpu_reference/wavelet_swt.h"
@@ -138,6 +139,15 @@ void KeepMean(const Image &color, BayesRefResult *result, bool keepStage) {
     if (keepStage) result->stages.push_back({"keep mean", out});
 }
 
+// keepMean, then the local mean.
+void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
+                  BayesRefResult *result) {
+    if (params.keepMean) KeepMean(color, result, keepStages);
+    if (params.meanRadius <= 0) return;
+    RestoreLocalMeans(color, params.meanRadius, &result->image);
+    if (keepStages) result->stages.push_back({"local mean", result->image});
+}
+
 }  // namespace
 
 std::vector<double> BayesVarianceNoise(const Image &color, const Image &variance,
@@ -216,7 +226,7 @@ BayesRefResult BayesDenoiseOnce(const Image &color, const BayesParams &options,
         // A 1x1 image: no detail band, log then exp.
         result.image = BayesExp(logImage, color, options.restoreZeros);
         stage("exp", result.image);
-        if (options.keepMean) KeepMean(color, &result, run.keepStages);
+        RestoreMeans(color, options, run.keepStages, &result);
         return result;
     }
     if (options.opponent) {
@@ -269,7 +279,7 @@ BayesRefResult BayesDenoiseOnce(const Image &color, const BayesParams &options,
     }
     result.image = BayesExp(back, color, options.restoreZeros);
     stage("exp", result.image);
-    if (options.keepMean) KeepMean(color, &result, run.keepStages);
+    RestoreMeans(color, options, run.keepStages, &result);
     return result;
 }
 
@@ -279,6 +289,7 @@ BayesRefResult BayesDenoiseSpun(const Image &color, const BayesParams &params,
     BayesParams once = params;
     once.spins = 1;
     once.keepMean = false;  // applied once, to the mean over the shifts
+    once.meanRadius = 0;
     int w = color.width, h = color.height, n = params.spins;
     BayesRefResult result = BayesDenoiseOnce(color, once, run);
     BayesRefRun shifted = run;
@@ -318,7 +329,7 @@ BayesRefResult BayesDenoiseSpun(const Image &color, const BayesParams &params,
     for (size_t i = 0; i < acc.size(); ++i) sum.data[i] = float(acc[i] / (n * n));
     result.image = sum;
     if (run.keepStages) result.stages.push_back({"cycle spinning", result.image});
-    if (params.keepMean) KeepMean(color, &result, run.keepStages);
+    RestoreMeans(color, params, run.keepStages, &result);
     return result;
 }
 

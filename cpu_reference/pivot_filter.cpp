@@ -189,8 +189,9 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 r.s.At(c, y, x) = float(s);
                 r.nu.At(c, y, x) = float(s / std::max(zl * zl, kTiny));
                 if (PivotBoundaryTerm(ids, x, y) == 0) {
+                    // Kept as it is (it may mix both sides), unless it is 0.
+                    r.nu.At(c, y, x) = color.At(c, y, x) == 0 ? kPivotBoundaryNu : -1;
                     r.z.At(c, y, x) = r.s.At(c, y, x) = 0;
-                    r.nu.At(c, y, x) = -1;
                 }
             }
     }
@@ -342,7 +343,10 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
     for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (ratio.nu.At(c, y, x) < 0) continue;
+                // Pixels without z keep their input; boundary pixels (no data to the fits)
+                // take the fits of the centres of their own ids that reach them.
+                double nuHere = ratio.nu.At(c, y, x);
+                if (nuHere < 0 && nuHere != kPivotBoundaryNu) continue;
                 double sumW = 0, sumWz = 0;
                 // Every centre whose square holds (x, y) (eq. 13) and that lies on its
                 // lattice, standing for step^2 centres; none reaches further than the
@@ -392,7 +396,8 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (ratio.nu.At(c, y, x) < 0) continue;
+                double nuHere = ratio.nu.At(c, y, x);
+                if (nuHere < 0 && nuHere != kPivotBoundaryNu) continue;
                 double g = Luma(pivot, x, y), sumW = 0, sumWz = 0;
                 for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
                     for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {
@@ -440,12 +445,9 @@ Image PivotFilterOne(const Image &color, const Image &pivot, const Image *varian
     return out;
 }
 
-}  // namespace
-
-Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
-                  std::vector<std::pair<std::string, Image>> *stages) {
-    if (in.partials.empty())
-        return PivotFilterOne(*in.color, *in.pivot, in.variance, in.guides, params, "", stages);
+// Section 8: each partial against its own pivot, summed, plus the remainder.
+Image PivotFilterSum(const PivotFilterInputs &in, const PivotParams &params,
+                     std::vector<std::pair<std::string, Image>> *stages) {
     Image out(in.remainder->width, in.remainder->height, in.remainder->channels);
     for (size_t k = 0; k < in.partials.size(); ++k) {
         const PivotPartialImage &partial = in.partials[k];
@@ -457,6 +459,15 @@ Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
     // The remainder is left unfiltered (section 8).
     for (size_t i = 0; i < out.Size(); ++i) out.data[i] += in.remainder->data[i];
     return out;
+}
+
+}  // namespace
+
+Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
+                  std::vector<std::pair<std::string, Image>> *stages) {
+    return in.partials.empty() ? PivotFilterOne(*in.color, *in.pivot, in.variance, in.guides,
+                                                params, "", stages)
+                               : PivotFilterSum(in, params, stages);
 }
 
 }  // namespace mcd::ref

@@ -31,7 +31,10 @@
 //   boundary term w_b ("0 near projections of the boundaries") is 0 for a pixel whose
 //   4-neighbours have other ids: such pixels may mix both sides (the ids are the first
 //   sample's), so the ratio stage gives them no z: no data to fits or averages, and they
-//   keep their input.
+//   keep their input. Where that input is exactly 0 (no sample reached light: at low spp
+//   often, and kept it drew dotted outlines along the id edges) the gather fills them from
+//   the fits of the centres of their own ids that reach them. Filling every boundary pixel
+//   lost the share of an emitter in the pixels around a light (our cornell at 16 spp).
 // - Eq. 13's base weight is exp(-d^2 / R0^2) of the centre's window (d^2 = dx^2 + dy^2),
 //   normalised by the sum of the weights.
 // - Eq. 13's sum over centres is taken as a quadrature: a centre of radius R0 takes part
@@ -83,7 +86,12 @@ struct PivotGuides {
 struct PivotRatio {
     Image z, s, nu;
 };
-// With `ids`, pixels on an object/part boundary (the boundary term) have no z either.
+// nu of a pixel on an object/part boundary whose input is 0: no data to the fits, but
+// filled by them.
+constexpr float kPivotBoundaryNu = -2;
+// With `ids`, pixels on an object/part boundary (the boundary term) give no z to the fits
+// or averages; they keep their input (nu = -1), except that an input of 0 is filled from
+// the centres of their own ids (nu = kPivotBoundaryNu).
 PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *variance,
                         double floor, const Image *ids = nullptr);
 
@@ -124,7 +132,8 @@ struct PivotFilterInputs {
 
 // The whole method as `mcdenoise diff` compares it. With `stages`, also the images the GPU
 // run keeps (host/methods/pivot.h), by the same names: "z", "nu", "fits" (plane fits only)
-// and "output"; with partials, each partial's as "partial<k>.<stage>".
+// and "output"; with partials, each partial's as "partial<k>.<stage>". params.meanRadius
+// is the front end's (host/api/method_pivot.cpp), not the filter's.
 Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
                   std::vector<std::pair<std::string, Image>> *stages = nullptr);
 

@@ -15,6 +15,7 @@
 
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
+#include "host/common/local_mean.h"
 #include "host/methods/auto.h"
 
 namespace mcd::api {
@@ -91,7 +92,12 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "sample) weighs at most this over its variance in the window (0: no bound)",
                    &O::noiseCap, 0, 1e9),
         FloatParam("auto-floor", "smallest relative error estimate a weight takes",
-                   &O::floorError, 1e-12, 1)};
+                   &O::floorError, 1e-12, 1),
+        IntParam("auto-mean-radius",
+                 "restore the input's local means over tent windows of twice this radius "
+                 "after the combination, which leans dark where the candidates disagree (0: "
+                 "off)",
+                 &O::meanRadius, 0, 256)};
 }
 
 const ParamDef<AutoFrontEnd::Options> *OwnDef(const std::string &param) {
@@ -616,11 +622,11 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // and the noise estimate's reach.
     const int box = std::max(options.radius, options.frameRadius);
     const int noise = options.noiseRadius + 1;
-    needs.reach += 2 * box + noise;
+    needs.reach += 2 * box + noise + 2 * options.meanRadius;
     needs.reachText = fmt::format(
         "the widest candidate's reach + twice the estimates' box radius {} + the noise "
-        "estimate's {}",
-        box, noise);
+        "estimate's {} + the local mean's tent radius {}",
+        box, noise, 2 * options.meanRadius);
     // The noise estimate: the colour, the albedo, their second differences and the result.
     needs.bytesPerPixel = 4 * 4 * 4;
     needs.bindingBytesPerPixel = 4 * 4;
@@ -691,6 +697,13 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         AutoCombine(context, color, list, EstimateInputs(noise, combine), combine);
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
     Result result = ResultOf(std::move(combined));
+    if (options.meanRadius > 0) {
+        LocalMeanFactors f = RestoreLocalMeans(color, options.meanRadius, &result.image);
+        plan.push_back(fmt::format(
+            "auto: the input's local means over tent windows of radius {} restored (factors "
+            "{:.3g} to {:.3g})",
+            2 * options.meanRadius, f.lo, f.hi));
+    }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();
     result.method = "auto";

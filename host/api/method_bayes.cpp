@@ -79,6 +79,12 @@ class Bayes : public FrontEndOf<BayesSettings> {
                                 "domain's geometric-mean bias)",
                                 &BayesParams::keepMean)),
                Nested(&BayesSettings::method,
+                      IntParam("bayes-mean-radius",
+                               "restore the input's local means over tent windows of twice "
+                               "this radius (the log domain darkens where the noise is large "
+                               "relative to the signal; 0: off)",
+                               &BayesParams::meanRadius, 0, 256)),
+               Nested(&BayesSettings::method,
                       IntParam("spins",
                                "shift invariance by cycle spinning over spins x spins shifts "
                                "(1: off; cost x spins^2)",
@@ -139,11 +145,11 @@ class Bayes : public FrontEndOf<BayesSettings> {
             "variance layer's band means) and its log floor (a median) per tile, not over the "
             "frame";
         int half = WaveletHalfSupport(o.basis);
-        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins;
+        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins + 2 * o.meanRadius;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
-            "{}, and the spins' shift",
-            WaveletName(o.basis), half, levels);
+            "{}, the spins' shift and the local mean's tent window of radius {}",
+            WaveletName(o.basis), half, levels, 2 * o.meanRadius);
         needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
         // Measured: 144 bytes a pixel at 1920x1080 (3 channels, swt, 3 levels). One binding
         // holds a channel's stationary coefficients (3 bands a level and the low band), or

@@ -2,8 +2,10 @@
 // bilateral baseline, with the frame's guides and section 8's partial images when present.
 #include <fmt/format.h>
 
+#include "cpu_reference/local_mean.h"
 #include "cpu_reference/pivot_filter.h"
 #include "host/api/front_end.h"
+#include "host/common/local_mean.h"
 #include "host/io/hints.h"
 #include "host/methods/pivot.h"
 #include "pivot/gather.h"
@@ -78,6 +80,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    FloatParam("pivot-floor",
                               "pixels with pivot <= this x the channel mean keep their input",
                               &PivotParams::floor, 1e-12, 1e6)),
+               Nested(&PivotSettings::method,
+                      IntParam("pivot-mean-radius",
+                               "restore the input's local means over tent windows of twice "
+                               "this radius (the fits leave out the bright tail of heavy-"
+                               "tailed noise and small highlights; 0: off)",
+                               &PivotParams::meanRadius, 0, 256)),
                ChoiceParam("guides", "auto (normals and ids when the frame has them) or none",
                            &PivotSettings::guides, {"auto", "none"}),
                ChoiceParam("pivot-noise",
@@ -115,6 +123,14 @@ class Pivot : public FrontEndOf<PivotSettings> {
         PivotInputs in = InputsOf(inputs);
         Result result =
             ResultOf(PivotDenoise(context, in, options.method, SetupFor(inputs, run)));
+        if (int r = options.method.meanRadius; r > 0) {
+            LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image);
+            result.plan.push_back(
+                fmt::format("local mean: the input's means over tent windows of radius {} "
+                            "restored (factors {:.3g} to {:.3g})",
+                            2 * r, f.lo, f.hi));
+            if (run.keepStages) result.stages.push_back({"local mean", result.image});
+        }
         if (UsesAlbedo(inputs))
             result.plan.insert(result.plan.begin(),
                                options.layer == "auto"
@@ -142,6 +158,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 "neighbours, 1 for the id boundary",
                 options.method.maxRadius, options.method.maxRadius);
         }
+        needs.reach += 2 * options.method.meanRadius;
+        needs.reachText +=
+            fmt::format("; the local mean's tent radius {}", 2 * options.method.meanRadius);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
@@ -182,7 +201,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
             cpuIn.partials.push_back({partial.color, partial.pivot, partial.variance});
         cpuIn.remainder = in.remainder;
         std::vector<std::pair<std::string, Image>> cpu;
-        ref::PivotFilter(cpuIn, options.method, &cpu);
+        Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
+        if (int r = options.method.meanRadius; r > 0) {
+            ref::RestoreLocalMeans(*in.color, r, &out);
+            cpu.emplace_back("local mean", std::move(out));
+        }
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;

@@ -36,7 +36,8 @@ void RecordTemporalFinish(vk::Context &context, vk::Recorder &recorder,
     check(&output, (halves ? 4 : 2) * channels, "the output");
     if (fillRadius < 0 || fillRadius > TEMPORAL_FINISH_MAX_RADIUS)
         throw Error(fmt::format("temporal finish: fill radius {} outside [0, {}]", fillRadius,
-                                TEMPORAL_FINISH_MAX_RADIUS));
+                                TEMPORAL_FINISH_MAX_RADIUS),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"temporal_finish",
                                                   k_temporal_finish_spv,
                                                   sizeof(k_temporal_finish_spv),

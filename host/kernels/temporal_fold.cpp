@@ -51,7 +51,8 @@ void RecordTemporalFold(vk::Context &context, vk::Recorder &recorder, const vk::
                                 value.buffer.Name(), value.width, value.height, w, h));
     if (channels < 1) throw Error("temporal fold: the value has no channel");
     if (step.mode == TemporalFoldMode::Sum && (step.power < 0 || step.power > 2))
-        throw Error(fmt::format("temporal fold: power {} is not 0, 1 or 2", step.power));
+        throw Error(fmt::format("temporal fold: power {} is not 0, 1 or 2", step.power),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"temporal_fold",
                                                   k_temporal_fold_spv,
                                                   sizeof(k_temporal_fold_spv),

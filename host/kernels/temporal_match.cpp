@@ -38,7 +38,8 @@ void RecordTemporalMatch(vk::Context &context, vk::Recorder &recorder,
     int channels = neighbour.color->channels;
     if (channels < 1 || channels > 4)
         throw Error(
-            fmt::format("temporal match: {} colour channels; 1 to 4 are supported", channels));
+            fmt::format("temporal match: {} colour channels; 1 to 4 are supported", channels),
+            ErrorKind::InvalidArgument);
     CheckShape(f, &f, TEMPORAL_FEATURE_PLANES, "the current frame's features");
     CheckShape(f, neighbour.features, TEMPORAL_FEATURE_PLANES, "the neighbour's features");
     CheckShape(f, neighbour.color, channels, "the neighbour's colour");
@@ -49,15 +50,17 @@ void RecordTemporalMatch(vk::Context &context, vk::Recorder &recorder,
     CheckShape(f, &weight, 1, "the weights");
     CheckShape(f, &next, 2, "the next positions");
     if (direction != -1 && direction != 1)
-        throw Error(
-            fmt::format("temporal match: direction {} is neither -1 nor +1", direction));
+        throw Error(fmt::format("temporal match: direction {} is neither -1 nor +1", direction),
+                    ErrorKind::InvalidArgument);
     if ((test.features & ~(TEMPORAL_HAS_NORMAL | TEMPORAL_HAS_DEPTH | TEMPORAL_HAS_ALBEDO |
                            TEMPORAL_HAS_ID)) != 0)
         throw Error(
-            fmt::format("temporal match: feature mask {} has unknown bits", test.features));
+            fmt::format("temporal match: feature mask {} has unknown bits", test.features),
+            ErrorKind::InvalidArgument);
     for (float t : {test.normalCos, test.depthRel, test.albedoRel, test.motionTol})
         if (!std::isfinite(t))
-            throw Error("temporal match: a tolerance is not a finite number");
+            throw Error("temporal match: a tolerance is not a finite number",
+                        ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"temporal_match",
                                                   k_temporal_match_spv,
                                                   sizeof(k_temporal_match_spv),

@@ -9,6 +9,7 @@
 
 #include "bayes/bayes.h"
 #include "host/common/cycle_spin.h"
+#include "host/common/local_mean.h"
 #include "host/error.h"
 #include "host/kernels/bayes_exp.h"
 #include "host/kernels/bayes_log.h"
@@ -128,6 +129,28 @@ void KeepMean(const Image &color, BayesResult *result) {
     }
     result->plan.push_back(fmt::format(
         "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
+}
+
+// Restore the input's local means (BayesParams::meanRadius).
+void LocalMean(const Image &color, int radius, BayesResult *result) {
+    LocalMeanFactors f = RestoreLocalMeans(color, radius, &result->image);
+    result->plan.push_back(
+        fmt::format("local mean: the input's means over tent windows of radius {} restored "
+                    "(the log domain's bias; factors {:.3g} to {:.3g})",
+                    2 * radius, f.lo, f.hi));
+}
+
+// keepMean, then the local mean, each a stage when kept.
+void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
+                  BayesResult *result) {
+    if (params.keepMean) {
+        KeepMean(color, result);
+        if (keepStages) result->stages.push_back({"keep mean", result->image});
+    }
+    if (params.meanRadius > 0) {
+        LocalMean(color, params.meanRadius, result);
+        if (keepStages) result->stages.push_back({"local mean", result->image});
+    }
 }
 
 }  // namespace
@@ -687,10 +710,7 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     result.image = gpu.out.Download();
     run.AddStage("exp", result.image);
     run.Finish(result);
-    if (options.keepMean) {
-        KeepMean(color, &result);
-        if (setup.keepStages) result.stages.push_back({"keep mean", result.image});
-    }
+    RestoreMeans(color, options, setup.keepStages, &result);
     return result;
 }
 
@@ -707,6 +727,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesPa
     BayesParams once = params;
     once.spins = 1;
     once.keepMean = false;  // applied once to the average below
+    once.meanRadius = 0;
     BayesResult result;
     result.image =
         CycleSpin(color.width, color.height, color.channels, params.spins, [&](int dx, int dy) {
@@ -741,10 +762,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesPa
                                    "used by every shift) are the unshifted run's",
                                    params.spins, params.spins));
     if (setup.keepStages) result.stages.push_back({"cycle spinning", result.image});
-    if (params.keepMean) {
-        KeepMean(color, &result);
-        if (setup.keepStages) result.stages.push_back({"keep mean", result.image});
-    }
+    RestoreMeans(color, params, setup.keepStages, &result);
     return result;
 }
 

@@ -175,7 +175,8 @@ void PlanInputs(StagedRun &run, const PivotInputs &in, const PivotGpuGuides &gui
                             : "left out: the normal term (the frame has no normals)");
     run.Plan(guides.ids
                  ? fmt::format("object/part and boundary terms: on ({}{}); pixels next to "
-                               "other ids keep their input",
+                               "other ids give the fits no data and keep their input, or "
+                               "where it is 0 take the fits of their own ids",
                                in.objectId ? "objectId" : "",
                                in.partId ? (in.objectId ? ", partId" : "partId") : "")
                  : "left out: the object, part and boundary terms (the frame has no ids)");

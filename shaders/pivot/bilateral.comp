@@ -32,7 +32,8 @@ void main() {
     gw = w;
     gh = h;
     int i = y * w + x, at = c * planeSize + i, base = c * planeSize;
-    if (texelFetch(nuIn, at).r < 0.0) {
+    float nuHere = texelFetch(nuIn, at).r;
+    if (nuHere < 0.0 && nuHere != PIVOT_BOUNDARY_NU) {
         outImage[at] = texelFetch(color, at).r;
         return;
     }

@@ -43,6 +43,9 @@
 #define PIVOT_Z_MAX 1e18
 // A weight exp(-e) with e above this is 0 (no denormals: float and double agree).
 #define PIVOT_EXP_CUT 30.0
+// nu of a pixel on an object/part boundary whose input is 0: no data to the fits, but
+// filled by them (-1: no z or another boundary pixel, the input kept).
+#define PIVOT_BOUNDARY_NU -2.0
 // Floor of denominators that may be zero.
 #define PIVOT_TINY 1e-30
 // An elimination pivot at or below this fraction of its raw second moment drops the unknown.

@@ -42,11 +42,15 @@ void main() {
     gh = h;
     int base = c * w * h, at = base + y * w + x;
     float z;
-    if (!ratioAt(at, z) || boundaryTerm(x, y) == 0.0) {
+    bool hasZ = ratioAt(at, z);
+    if (!hasZ || boundaryTerm(x, y) == 0.0) {
+        // A boundary pixel gives no data and keeps its input (it may mix both sides), but
+        // where that is 0 (no sample reached light) the gather fills it from its own ids.
+        float mark = hasZ && z == 0.0 ? PIVOT_BOUNDARY_NU : -1.0;
         zOut[at] = 0.0;
         sOut[at] = 0.0;
-        nuOut[at] = -1.0;
-        zsnOut[at] = vec4(0.0, 0.0, -1.0, 0.0);
+        nuOut[at] = mark;
+        zsnOut[at] = vec4(0.0, 0.0, mark, 0.0);
         return;
     }
     // Mean of z over the valid 3x3 neighbours (the pixel is one), then their sample

@@ -125,6 +125,7 @@ TEST_P(AwrKernelReconstruction, MatchesReference) {
     const double cs = 1, sum = 0.70710678;
     Image expected = ref::AwrReconstruct(color, variance, basis, levels, cs, sum, sum);
     AwrParams options;
+    options.spins = 1;  // the paper's reconstruction
     options.basis = basis;
     AwrResult result = AwrReconstruct(Ctx(), color, variance, options);
     Image magnitude = ErrorScale(color, variance, basis, levels, cs, sum);
@@ -227,6 +228,7 @@ TEST_P(AwrKernelFusedShrink, MatchesShrinkThenSynthesis) {
     Image variance = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed + 1);
     for (float &v : variance.data) v *= scale;
     AwrParams options;
+    options.spins = 1;  // the paper's reconstruction
     options.basis = basis;
     options.levels = levels;
     options.cs = scale == 1.f ? 0.5f : 1.f;
@@ -278,7 +280,9 @@ class AwrProperties : public GpuTest {};
 
 TEST_F(AwrProperties, ZeroVarianceOrZeroCsLeaveTheImage) {
     Image color = MakeInput(InputKind::LogNormalFireflies, 33, 20, 3, SeedFromName("awr0"));
-    AwrResult zero = AwrReconstruct(Ctx(), color, Image(33, 20, 3, 0.f), {});
+    AwrParams paper;
+    paper.spins = 1;
+    AwrResult zero = AwrReconstruct(Ctx(), color, Image(33, 20, 3, 0.f), paper);
     EXPECT_TRUE(BitIdentical(color, zero.image));
     ASSERT_FALSE(zero.plan.empty());
     EXPECT_TRUE(Contains(zero.plan[0], "variance is zero"));

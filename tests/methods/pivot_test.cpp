@@ -567,6 +567,54 @@ TEST_F(PivotMethod, PixelsNoLatticeCentreReachesTakeTheirOwnFit) {
     EXPECT_LT(stats.nmse, 1e-8);
 }
 
+// Pixels next to another id give the fits no data and keep their input (they may mix both
+// sides), but where that is 0 the fits of their own id fill them (issue 29: kept, the
+// zeros drew dotted outlines at low spp). A frame whose id edges hold zeros at every other
+// column: most of those are filled (a zero no centre of its ids reaches stays), the others
+// keep their input, and the method matches the reference.
+TEST_F(PivotMethod, BoundaryZerosTakeTheFitsOfTheirOwnIds) {
+    const int w = 32, h = 24;
+    Frame f = MakeFrame(w, h, 0.2, SeedFromName("boundary pixels"));
+    std::vector<std::pair<int, int>> boundary;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            auto id = [&](int u, int v) { return f.ids.At(0, v, u) + 2 * f.ids.At(1, v, u); };
+            bool edge = (x > 0 && id(x - 1, y) != id(x, y)) ||
+                        (x + 1 < w && id(x + 1, y) != id(x, y)) ||
+                        (y > 0 && id(x, y - 1) != id(x, y)) ||
+                        (y + 1 < h && id(x, y + 1) != id(x, y));
+            if (!edge) continue;
+            boundary.push_back({x, y});
+            if (x % 2 == 0)
+                for (int c = 0; c < 3; ++c) f.color.At(c, y, x) = 0;
+        }
+    ASSERT_GT(boundary.size(), size_t(2 * h));
+    Image objectId, partId;
+    const PivotParams p;
+    PivotResult result = PivotDenoise(Ctx(), InputsOf(f, true, &objectId, &partId), p);
+    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, &f.ids);
+    ref::PivotGuides refGuides{&f.normal, &f.ids};
+    Image expected = ref::PivotGather(f.color, f.pivot, ratio,
+                                      ref::PivotFit(ratio, refGuides, p), refGuides);
+    // A zero no centre of its ids reaches (a corner of two edges) stays 0.
+    int zeros = 0, filled = 0;
+    for (auto [x, y] : boundary)
+        for (int c = 0; c < 3; ++c) {
+            if (x % 2 == 0) {
+                EXPECT_EQ(ratio.nu.At(c, y, x), ref::kPivotBoundaryNu) << x << "," << y;
+                ++zeros;
+                filled += expected.At(c, y, x) > 0;
+            } else {
+                EXPECT_EQ(ratio.nu.At(c, y, x), -1.f) << x << "," << y;
+                EXPECT_EQ(result.image.At(c, y, x), f.color.At(c, y, x)) << x << "," << y;
+            }
+        }
+    EXPECT_GT(filled, zeros * 3 / 4) << filled << " of " << zeros << " zeros filled";
+    CompareStats stats = MatchWithinFloatSums(expected, result.image, f.color);
+    EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
+    EXPECT_LT(stats.nmse, 1e-8);
+}
+
 // The gather's tile lists (host code): per channel and tile, every centre of the tile once,
 // by radius, largest first, ties in raster order; slots past a partial tile's centres and
 // centres off their lattice (the reference's step) or of step 1 (read directly by the

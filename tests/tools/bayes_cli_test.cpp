@@ -47,7 +47,7 @@ TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
           indirect = Positive(w, h, SeedFromName("cli indirect"));
     Image color(w, h, 3);
     for (size_t i = 0; i < color.Size(); ++i) color.data[i] = direct.data[i] + indirect.data[i];
-    indirect.At(1, 2, 3) = 0;  // a zero pixel: counted, kept at 0
+    indirect.At(1, 2, 3) = 0;  // a zero pixel: counted, denoised (--zeros denoise)
     indirect.At(2, 5, 6) = std::numeric_limits<float>::quiet_NaN();
     io::WriteExr((dir / "split.exr").string(),
                  {{"color", &color}, {"direct", &direct}, {"indirect", &indirect}});
@@ -65,11 +65,16 @@ TEST_F(BayesCli, SplitAndWholePlansAndTheSameImageAsInProcess) {
         << r.err;
     // One line for the black values, the NaN among them now; the layer bayes ran on named.
     EXPECT_TRUE(Contains(r.err, "bayes (indirect layer): ")) << r.err;
-    EXPECT_TRUE(Contains(r.err, "the 2 black ones stay black")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "the 2 black ones too (--zeros denoise)")) << r.err;
     BayesParams options = PaperBayesParams();
     options.sn = 0.3f;
-    options.transform = BayesTransform::Swt;  // the CLI's default
-    Image expected = BayesDenoiseSplit(Ctx(), direct, indirect, options).image;
+    options.transform = BayesTransform::Swt;  // the CLI's defaults
+    options.restoreZeros = BayesParams().restoreZeros;
+    options.meanRadius = BayesParams().meanRadius;
+    // The CLI's --non-finite zero: the NaN read as 0, which --zeros denoise then denoises.
+    Image zeroed = indirect;
+    zeroed.At(2, 5, 6) = 0;
+    Image expected = BayesDenoiseSplit(Ctx(), direct, zeroed, options).image;
     EXPECT_TRUE(BitIdentical(expected, io::ReadImage((dir / "out.exr").string())));
 
     r = Run("denoise split.exr -o whole.exr --method bayes --explain --no-split");
@@ -101,7 +106,9 @@ TEST_F(BayesCli, NoiseAutoUsesTheVarianceLayer) {
     EXPECT_TRUE(Contains(r.out, "--noise variance: per band")) << r.out;
     BayesParams options = PaperBayesParams();
     options.noise = BayesNoise::Variance;
-    options.transform = BayesTransform::Swt;  // the CLI's default
+    options.transform = BayesTransform::Swt;  // the CLI's defaults
+    options.restoreZeros = BayesParams().restoreZeros;
+    options.meanRadius = BayesParams().meanRadius;
     Image expected = BayesDenoise(Ctx(), color, options, {}, &variance).image;
     EXPECT_TRUE(BitIdentical(expected, io::ReadImage((dir / "out.exr").string())));
     io::WriteExr((dir / "c.exr").string(), {{"color", &color}});

@@ -1,0 +1,93 @@
+// Restoring an input's local means (host/common/local_mean.h) against its CPU reference
+// (cpu_reference/local_mean.h), and its properties.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include "cpu_reference/local_mean.h"
+#include "harness/inputs.h"
+#include "host/common/local_mean.h"
+
+namespace mcd {
+namespace {
+
+using test::SeedFromName;
+
+struct LocalMeanCase {
+    int w, h, channels, r;
+};
+
+// Random input with zeros, negatives, NaN and Inf; an output of random positive values
+// with zeros.
+void MakeImages(const LocalMeanCase &c, Image *input, Image *output) {
+    std::mt19937_64 rng(SeedFromName("local mean " + std::to_string(c.w) + "x" +
+                                     std::to_string(c.h) + " r" + std::to_string(c.r)));
+    std::uniform_real_distribution<float> unit(0, 1);
+    *input = Image(c.w, c.h, c.channels);
+    *output = Image(c.w, c.h, c.channels);
+    for (size_t i = 0; i < input->data.size(); ++i) {
+        float u = unit(rng);
+        input->data[i] = u < 0.05f   ? 0.f
+                         : u < 0.08f ? -unit(rng)
+                         : u < 0.09f ? std::numeric_limits<float>::quiet_NaN()
+                         : u < 0.10f ? std::numeric_limits<float>::infinity()
+                         : u > 0.99f ? 100 * unit(rng)
+                                     : unit(rng);
+        output->data[i] = unit(rng) < 0.05f ? 0.f : 0.5f * unit(rng);
+    }
+}
+
+class LocalMeanMatches : public ::testing::TestWithParam<LocalMeanCase> {};
+
+TEST_P(LocalMeanMatches, Reference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    Image expected = output, got = output;
+    ref::RestoreLocalMeans(input, GetParam().r, &expected);
+    RestoreLocalMeans(input, GetParam().r, &got);
+    // Float running sums against double windows: a few float roundings per pass.
+    for (size_t i = 0; i < got.data.size(); ++i) {
+        ASSERT_TRUE(std::isfinite(got.data[i])) << i;
+        EXPECT_NEAR(got.data[i], expected.data[i], 2e-5 * std::fabs(expected.data[i]) + 1e-12)
+            << i;
+    }
+    // Bit-identical when repeated.
+    Image again = output;
+    RestoreLocalMeans(input, GetParam().r, &again);
+    EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, LocalMeanMatches,
+                         ::testing::Values(LocalMeanCase{1, 1, 3, 1}, LocalMeanCase{7, 5, 1, 1},
+                                           LocalMeanCase{33, 17, 3, 3},
+                                           LocalMeanCase{64, 48, 3, 8},
+                                           LocalMeanCase{5, 40, 4, 16}));
+
+// An output darkened by a constant factor gets the input back; a window whose input is all
+// zero leaves the output as it is; a value the method left (a light) stays and weighs in
+// neither mean.
+TEST(LocalMeanProperties, UndoesAUniformDarkeningAndLeavesBlackAlone) {
+    const int w = 40, h = 30;
+    Image input(w, h, 3), output(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float v = x < 20 ? 0.f : 0.2f + 0.01f * ((x * 7 + y * 3 + c) % 11);
+                input.At(c, y, x) = v;
+                output.At(c, y, x) = x < 20 ? 0.3f : 0.6f * v;
+            }
+    input.At(1, 15, 30) = output.At(1, 15, 30) = 1000;
+    RestoreLocalMeans(input, 2, &output);
+    EXPECT_EQ(output.At(1, 15, 30), 1000.f);
+    EXPECT_NEAR(output.At(1, 15, 31), input.At(1, 15, 31), 1e-5);
+    for (int y = 0; y < h; ++y) {
+        EXPECT_EQ(output.At(0, y, 5), 0.3f);  // no input brightness within reach: left
+        EXPECT_NEAR(output.At(1, y, 35), input.At(1, y, 35), 1e-5);
+    }
+}
+
+}  // namespace
+}  // namespace mcd
