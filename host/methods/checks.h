@@ -28,4 +28,17 @@ inline void CheckFinite(const char *method, const Image &image, const char *what
             }
 }
 
+// Refuse a layer not of the frame's size (and of `channels` channels where that is > 0),
+// then its non-finite values as CheckFinite does.
+inline void CheckLayer(const char *method, const Image &image, const char *what, int width,
+                       int height, int channels, bool nonNegative) {
+    if (image.width != width || image.height != height ||
+        (channels > 0 && image.channels != channels))
+        throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{}", method, what,
+                                image.width, image.height, image.channels, width, height,
+                                channels > 0 ? channels : image.channels),
+                    ErrorKind::InvalidArgument);
+    CheckFinite(method, image, what, nonNegative);
+}
+
 }  // namespace mcd

@@ -23,13 +23,7 @@ namespace {
 
 void CheckLayer(const Image &image, const char *what, int width, int height, int channels,
                 bool nonNegative) {
-    if (image.width != width || image.height != height ||
-        (channels > 0 && image.channels != channels))
-        throw Error(fmt::format("pivot: {} is {}x{}x{}, expected {}x{}x{}", what, image.width,
-                                image.height, image.channels, width, height,
-                                channels > 0 ? channels : image.channels),
-                    ErrorKind::InvalidArgument);
-    CheckFinite("pivot", image, what, nonNegative);
+    mcd::CheckLayer("pivot", image, what, width, height, channels, nonNegative);
 }
 
 }  // namespace

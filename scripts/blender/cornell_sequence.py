@@ -16,7 +16,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bpy  # noqa: E402
 
-from common import AreaLight, Box, add, material  # noqa: E402
+from common import CornellBox  # noqa: E402
 
 
 def Arguments():
@@ -37,19 +37,7 @@ def Arguments():
 
 
 def Build(scene):
-    white = material("white", (0.73, 0.73, 0.73, 1.0), index=1)
-    red = material("red", (0.65, 0.05, 0.05, 1.0), index=2)
-    green = material("green", (0.12, 0.45, 0.15, 1.0), index=3)
-    Box(scene, white, white, red, green)
-    bpy.ops.mesh.primitive_cube_add(size=1, location=(-0.35, 0.3, -0.4), rotation=(0, 0, 0.3))
-    tall = bpy.context.object
-    tall.scale = (0.55, 0.55, 1.2)
-    add(tall, white, 6)
-    bpy.ops.mesh.primitive_cube_add(size=1, location=(0.4, -0.2, -0.7), rotation=(0, 0, -0.3))
-    short = bpy.context.object
-    short.scale = (0.55, 0.55, 0.6)
-    add(short, white, 7)
-    AreaLight((0, 0, 0.98), 0.5, 40.0)
+    CornellBox(scene)
 
 
 def AnimateCamera(scene, first, last):
