@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <exception>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -31,6 +32,27 @@ std::string ErrorOf(F &&f) {
         return std::string("<not an mcd::Error: ") + e.what() + ">";
     }
     return "<no error>";
+}
+
+// What f throws, caught from one call (for reads whose outcome the test cannot foresee):
+// none, or an mcd::Error's kind and message; another exception is Internal, its message
+// marked.
+struct Thrown {
+    ErrorKind kind;
+    std::string message;
+};
+
+template <typename F>
+std::optional<Thrown> ThrownBy(F &&f) {
+    try {
+        f();
+    } catch (const Error &e) {
+        return Thrown{e.Kind(), e.what()};
+    } catch (const std::exception &e) {
+        return Thrown{ErrorKind::Internal,
+                      std::string("<not an mcd::Error: ") + e.what() + ">"};
+    }
+    return std::nullopt;
 }
 
 inline bool Contains(const std::string &text, const std::string &part) {
