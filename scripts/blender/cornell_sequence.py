@@ -16,7 +16,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bpy  # noqa: E402
 
-from common import CornellBox  # noqa: E402
+from common import AllPasses, CornellBox  # noqa: E402
 
 
 def Arguments():
@@ -71,20 +71,8 @@ def Settings(scene, args):
     scene.render.resolution_percentage = 100
     scene.render.threads_mode = "AUTO"
     layer = scene.view_layers[0]
-    layer.use_pass_combined = True
-    layer.use_pass_z = True
-    layer.use_pass_normal = True
+    AllPasses(layer)
     layer.use_pass_vector = True
-    layer.use_pass_object_index = True
-    layer.use_pass_material_index = True
-    for kind in ("diffuse", "glossy", "transmission"):
-        for part in ("direct", "indirect", "color"):
-            setattr(layer, f"use_pass_{kind}_{part}", True)
-    layer.use_pass_emit = True
-    layer.use_pass_environment = True
-    layer.cycles.denoising_store_passes = True
-    if hasattr(layer.cycles, "pass_debug_sample_count"):
-        layer.cycles.pass_debug_sample_count = True
     image = scene.render.image_settings
     image.file_format = "OPEN_EXR_MULTILAYER"
     image.color_depth = "32"
