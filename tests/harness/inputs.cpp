@@ -3,6 +3,9 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
+
+#include <fmt/format.h>
 
 namespace mcd::test {
 
@@ -100,6 +103,20 @@ Image LogNormalNoise(int w, int h, uint64_t seed, double sigma) {
     std::normal_distribution<float> normal(0.f, float(sigma));
     for (float &v : noise.data) v = std::exp(normal(rng));
     return noise;
+}
+
+std::vector<KernelShape> KernelShapes() {
+    std::vector<KernelShape> cases;
+    for (auto [w, h] : {std::pair{37, 23}, std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 1}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::NonFinite})
+            cases.push_back({w, h, w == 37 ? 3 : 1, kind});
+    return cases;
+}
+
+std::string KernelShapeName(const ::testing::TestParamInfo<KernelShape> &info) {
+    const KernelShape &c = info.param;
+    return fmt::format("{}x{}x{}_{}", c.w, c.h, c.channels, InputKindName(c.kind));
 }
 
 }  // namespace mcd::test

@@ -1,9 +1,12 @@
 // Seeded test inputs. A case's seed is a hash of its name, so a failure replays.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "host/image.h"
 
@@ -29,5 +32,17 @@ Image NoisyPicture(int w, int h, uint64_t seed, double noise);
 
 // Pure multiplicative noise: RGB exp(N(0, sigma^2)) per value, nothing else.
 Image LogNormalNoise(int w, int h, uint64_t seed, double sigma);
+
+// A kernel case's shape and values: odd sizes down to 1x1 and single rows and columns (the
+// 37x23 case with 3 channels), each with uniform, firefly, constant and non-finite values.
+struct KernelShape {
+    int w, h, channels;
+    InputKind kind;
+};
+
+std::vector<KernelShape> KernelShapes();
+
+// "37x23x3_uniform": a gtest parameter's name.
+std::string KernelShapeName(const ::testing::TestParamInfo<KernelShape> &info);
 
 }  // namespace mcd::test

@@ -29,25 +29,6 @@ constexpr double kUnitRoundoff = 0x1p-24;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-struct KernelCase {
-    int w, h, channels;
-    InputKind kind;
-};
-
-std::vector<KernelCase> KernelCases() {
-    std::vector<KernelCase> cases;
-    for (auto [w, h] : {std::pair{37, 23}, std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 1}})
-        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
-                               InputKind::Constant, InputKind::NonFinite})
-            cases.push_back({w, h, w == 37 ? 3 : 1, kind});
-    return cases;
-}
-
-std::string KernelCaseName(const testing::TestParamInfo<KernelCase> &info) {
-    const KernelCase &c = info.param;
-    return fmt::format("{}x{}x{}_{}", c.w, c.h, c.channels, InputKindName(c.kind));
-}
-
 // Features in regions (a region's normal, depth, albedo and id, each pixel's own small
 // noise), so that a neighbour's pixel in the same region mostly agrees and one in another
 // does not; a few background pixels (zero normal), dark albedos under the floor, and with
@@ -185,7 +166,7 @@ ref::TemporalMatched GpuMatch(vk::Context &ctx, const Image &cur, const Image &f
 
 // Decisions are comparisons and positions float sums the reference makes in float too:
 // both outputs match exactly (NaN where NaN).
-class TemporalMatchKernel : public GpuTestWithParam<KernelCase> {};
+class TemporalMatchKernel : public GpuTestWithParam<KernelShape> {};
 
 TEST_P(TemporalMatchKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
@@ -229,8 +210,8 @@ TEST_P(TemporalMatchKernel, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, TemporalMatchKernel, testing::ValuesIn(KernelCases()),
-                         KernelCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, TemporalMatchKernel, testing::ValuesIn(KernelShapes()),
+                         KernelShapeName);
 
 // Weights 0 (a third of the pixels) or 1..8, with positions inside the frame where the
 // weight is > 0 and anything (NaN, off the frame) where it is 0.
@@ -327,7 +308,7 @@ Image FoldScale(const Image &value, const Image &position, const Image &weight,
     return scale;
 }
 
-class TemporalFoldKernel : public GpuTestWithParam<KernelCase> {};
+class TemporalFoldKernel : public GpuTestWithParam<KernelShape> {};
 
 TEST_P(TemporalFoldKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
@@ -358,8 +339,8 @@ TEST_P(TemporalFoldKernel, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, TemporalFoldKernel, testing::ValuesIn(KernelCases()),
-                         KernelCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, TemporalFoldKernel, testing::ValuesIn(KernelShapes()),
+                         KernelShapeName);
 
 struct FinishInputs {
     Image moments, counts, pooled, raw, sum0, counts0, sum1, counts1;
@@ -414,7 +395,7 @@ Image GpuFinish(vk::Context &ctx, const FinishInputs &in, bool pooled, bool halv
 // The mean is a copy; a variance one division of a product (3u) or, filled, a sum over
 // up to (2r+1)^2 pixels then two divisions ((2r+1)^2 + 3)u of the result's own size,
 // taken from the reference; the halves one division (1u).
-class TemporalFinishKernel : public GpuTestWithParam<KernelCase> {};
+class TemporalFinishKernel : public GpuTestWithParam<KernelShape> {};
 
 TEST_P(TemporalFinishKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
@@ -437,8 +418,8 @@ TEST_P(TemporalFinishKernel, MatchesReferenceAndRepeats) {
             }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, TemporalFinishKernel, testing::ValuesIn(KernelCases()),
-                         KernelCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, TemporalFinishKernel, testing::ValuesIn(KernelShapes()),
+                         KernelShapeName);
 
 }  // namespace
 }  // namespace mcd::test

@@ -114,29 +114,10 @@ Image GpuNoise(vk::Context &ctx, const Image &color, const Image *albedo, int ra
     return out.Download();
 }
 
-struct KernelCase {
-    int w, h, channels;
-    InputKind kind;
-};
-
-std::vector<KernelCase> KernelCases() {
-    std::vector<KernelCase> cases;
-    for (auto [w, h] : {std::pair{37, 23}, std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 1}})
-        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
-                               InputKind::Constant, InputKind::NonFinite})
-            cases.push_back({w, h, w == 37 ? 3 : 1, kind});
-    return cases;
-}
-
-std::string KernelCaseName(const testing::TestParamInfo<KernelCase> &info) {
-    const KernelCase &c = info.param;
-    return fmt::format("{}x{}x{}_{}", c.w, c.h, c.channels, InputKindName(c.kind));
-}
-
 // Stage 1: per channel a handful of float operations on values of the size of
 // |f - y|^2 + |v| + 2 sqrt|v| |fp - f| / eps, divided by f^2 + 0.01: a few ulps of that
 // sum's magnitude over the denominator, and the sum over C <= 3 channels adds C more.
-class AutoEstimateKernel : public GpuTestWithParam<KernelCase> {};
+class AutoEstimateKernel : public GpuTestWithParam<KernelShape> {};
 
 TEST_P(AutoEstimateKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
@@ -182,15 +163,15 @@ TEST_P(AutoEstimateKernel, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoEstimateKernel, testing::ValuesIn(KernelCases()),
-                         KernelCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, AutoEstimateKernel, testing::ValuesIn(KernelShapes()),
+                         KernelShapeName);
 
 // Stage 0 (frames without statistics): z = y / a is one division (1 ulp), a second
 // difference a few operations (~4 ulps of the largest |z| near the pixel, M), its square
 // ~2 |r| 4 ulp M <= 16 ulps of M^2, the minimum a selection (it moves no more than its
 // values), the window's mean adds n ulps of M^2 (n <= 49 here), times a^2 / 0.278 a few:
 // 128 ulps of a^2 M^2 / 0.278.
-class AutoNoiseKernel : public GpuTestWithParam<KernelCase> {};
+class AutoNoiseKernel : public GpuTestWithParam<KernelShape> {};
 
 TEST_P(AutoNoiseKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
@@ -232,8 +213,8 @@ TEST_P(AutoNoiseKernel, MatchesReferenceAndRepeats) {
         }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoNoiseKernel, testing::ValuesIn(KernelCases()),
-                         KernelCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, AutoNoiseKernel, testing::ValuesIn(KernelShapes()),
+                         KernelShapeName);
 
 // The estimate on a case with a known answer: a smooth illumination (a plane) times a
 // texture (the albedo, random per pixel), plus Gaussian noise whose standard deviation is
@@ -299,7 +280,7 @@ TEST(AutoNoiseReference, KeepsEachSideOfAnAlbedoEdgeApart) {
 
 // Stage 2: a sum of at most (2r+1)^2 finite terms and one division: (n + 1) ulps of the
 // window's mean absolute value.
-class AutoSmoothKernel : public GpuTestWithParam<KernelCase> {};
+class AutoSmoothKernel : public GpuTestWithParam<KernelShape> {};
 
 TEST_P(AutoSmoothKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
@@ -320,8 +301,8 @@ TEST_P(AutoSmoothKernel, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoSmoothKernel, testing::ValuesIn(KernelCases()),
-                         KernelCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, AutoSmoothKernel, testing::ValuesIn(KernelShapes()),
+                         KernelShapeName);
 
 // Stage 3: a weight is one pow (a few ulps), the normalisation a sum of K of them and a
 // division, the output a sum of K products: ~(K + 8) ulps of max_k |f_k| for the colour and
@@ -330,7 +311,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, AutoSmoothKernel, testing::ValuesIn(KernelCases(
 // and their products with f: ~(2K + 12) ulps of max_k |f_k|; its equal weights follow a
 // comparison of the noise ratio with the limit, which the two sides make alike but for a
 // ratio within a few ulps of the limit (none in these inputs).
-class AutoCombineKernel : public GpuTestWithParam<KernelCase> {};
+class AutoCombineKernel : public GpuTestWithParam<KernelShape> {};
 
 TEST_P(AutoCombineKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, channels, kind] = GetParam();
@@ -420,8 +401,8 @@ TEST_P(AutoCombineKernel, MatchesReferenceAndRepeats) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, AutoCombineKernel, testing::ValuesIn(KernelCases()),
-                         KernelCaseName);
+INSTANTIATE_TEST_SUITE_P(Cases, AutoCombineKernel, testing::ValuesIn(KernelShapes()),
+                         KernelShapeName);
 
 // A picture with a flat left half and fine stripes on the right, Gaussian noise of known
 // variance: the identity is best on the stripes, a wide box blur on the flat half.
