@@ -1,15 +1,31 @@
 // Dispatches recorded in this process, by kernel name (KernelDesc::name), over all contexts:
 // the tests check with it that a kernel's cases run that kernel (tests/harness/
-// kernel_cases.h).
+// kernel_cases.h). And, while asked to, every submitted dispatch's record with its push
+// constants: `bench kernels` derives bytes and operations per pixel from them.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
+
+#include "host/vk/recorder.h"
 
 namespace mcd::vk {
 
 void CountDispatch(const std::string &kernel);
 std::map<std::string, uint64_t> DispatchCounts();
+
+// A submitted dispatch: its timing and traffic, and the push constants it was given.
+struct KeptDispatch {
+    DispatchTiming timing;
+    std::vector<uint8_t> push;
+};
+// On: forget the kept dispatches and keep each dispatch recorded from now on (its record
+// is kept when its submission completes). Off: stop keeping.
+void KeepDispatches(bool on);
+bool KeepingDispatches();
+void KeepDispatch(KeptDispatch dispatch);
+std::vector<KeptDispatch> KeptDispatches();
 
 }  // namespace mcd::vk

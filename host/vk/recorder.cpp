@@ -45,7 +45,8 @@ void Recorder::Begin() {
         vkCmdResetQueryPool(commandBuffer, queryPool, 0, 2 * queryCapacity);
     }
     recording = true;
-    labels.clear();
+    recorded.clear();
+    pushes.clear();
     barriers = 0;
     writtenSinceBarrier.clear();
     readSinceBarrier.clear();
@@ -200,7 +201,7 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
         vkCmdPushConstants(commandBuffer, kernel.Layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
                            kernel.PushBytes(), push);
 
-    uint32_t slot = uint32_t(labels.size());
+    uint32_t slot = uint32_t(recorded.size());
     bool timed = queryPool && slot < queryCapacity;
     if (timed)
         vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool,
@@ -209,7 +210,14 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
     if (timed)
         vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool,
                             2 * slot + 1);
-    labels.push_back(label);
+    DispatchTiming record{label, -1, kernel.Name(), 0, 0, {groupsX, groupsY, groupsZ}};
+    for (const Binding &b : bindings) {
+        if (b.access != Access::Write) record.bytesRead += b.buffer->Bytes();
+        if (b.access != Access::Read) record.bytesWritten += b.buffer->Bytes();
+    }
+    recorded.push_back(std::move(record));
+    const uint8_t *pushed = static_cast<const uint8_t *>(push);
+    pushes.emplace_back(pushed, pushed + pushBytes);
     for (auto [buffer, access] : uses) Touch(buffer, access);
 }
 
@@ -234,7 +242,7 @@ void Recorder::Submit() {
     MCD_VK(vkEndCommandBuffer(commandBuffer));
     recording = false;
     context.SubmitAndWait(commandBuffer);
-    uint32_t timed = queryPool ? uint32_t(std::min<size_t>(labels.size(), queryCapacity)) : 0;
+    uint32_t timed = queryPool ? uint32_t(std::min<size_t>(recorded.size(), queryCapacity)) : 0;
     std::vector<uint64_t> stamps(2 * size_t(timed));
     if (timed > 0)
         MCD_VK(vkGetQueryPoolResults(context.Device(), queryPool, 0, 2 * timed,
@@ -242,10 +250,12 @@ void Recorder::Submit() {
                                      sizeof(uint64_t),
                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     double period = context.Limits().timestampPeriod;
-    for (size_t i = 0; i < labels.size(); ++i) {
-        double ms = -1;
-        if (i < timed) ms = double(stamps[2 * i + 1] - stamps[2 * i]) * period * 1e-6;
-        timings.push_back({labels[i], ms});
+    bool keep = KeepingDispatches();
+    for (size_t i = 0; i < recorded.size(); ++i) {
+        if (i < timed)
+            recorded[i].gpuMs = double(stamps[2 * i + 1] - stamps[2 * i]) * period * 1e-6;
+        timings.push_back(recorded[i]);
+        if (keep) KeepDispatch({recorded[i], std::move(pushes[i])});
     }
     for (VkDescriptorPool pool : descriptorPools)
         vkResetDescriptorPool(context.Device(), pool, 0);

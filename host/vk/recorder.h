@@ -5,6 +5,7 @@
 
 #include <volk.h>
 
+#include <array>
 #include <cstdint>
 #include <set>
 #include <string>
@@ -32,7 +33,13 @@ struct NoPush {};
 
 struct DispatchTiming {
     std::string label;
-    double gpuMs = 0;  // negative when the device has no timestamps
+    double gpuMs = 0;    // negative when the device has no timestamps
+    std::string kernel;  // KernelDesc::name
+    // The buffers bound, each counted whole: a Read binding's bytes read once, a Write
+    // binding's written once, a ReadWrite binding's both. The traffic of a kernel that
+    // touches each bound element once; more than that of one that touches part of a buffer.
+    uint64_t bytesRead = 0, bytesWritten = 0;
+    std::array<uint32_t, 3> groups{};  // the workgroup grid
 };
 
 class Recorder {
@@ -60,7 +67,7 @@ class Recorder {
     // Submit everything recorded and wait; the recorder can then be reused.
     void Submit();
 
-    size_t DispatchCount() const { return labels.size(); }
+    size_t DispatchCount() const { return recorded.size(); }
     size_t BarrierCount() const { return barriers; }
     // Per-dispatch GPU times of the last Submit().
     const std::vector<DispatchTiming> &Timings() const { return timings; }
@@ -84,7 +91,8 @@ class Recorder {
     bool recording = false;
 
     std::set<VkBuffer> writtenSinceBarrier, readSinceBarrier;
-    std::vector<std::string> labels;
+    std::vector<DispatchTiming> recorded;      // since Begin, their times filled by Submit
+    std::vector<std::vector<uint8_t>> pushes;  // their push constants (KeepDispatches)
     size_t barriers = 0;
     std::vector<DispatchTiming> timings;
 };
