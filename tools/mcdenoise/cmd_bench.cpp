@@ -720,6 +720,7 @@ void AddBenchCommand(CLI::App &app) {
     AddBenchFlickerCommand(bench);
     AddBenchRealCommand(bench);
     AddBenchAutoCommand(bench);
+    AddBenchKernelsCommand(bench);
 }
 
 }  // namespace mcd::tool

@@ -37,6 +37,7 @@ void AddBenchReadCommand(CLI::App *bench);     // the `bench read` subcommand
 void AddBenchFlickerCommand(CLI::App *bench);  // the `bench flicker` subcommand
 void AddBenchRealCommand(CLI::App *bench);     // the `bench real` subcommand
 void AddBenchAutoCommand(CLI::App *bench);     // the `bench auto` subcommand
+void AddBenchKernelsCommand(CLI::App *bench);  // the `bench kernels` subcommand
 void AddRenderCommand(CLI::App &app);
 void AddCompareCommand(CLI::App &app);
 void AddDenoiseCommand(CLI::App &app);
