@@ -4,8 +4,10 @@
 #include <functional>
 #include <map>
 
+#include "awr/shrink.h"
 #include "bench/fma.h"
 #include "host/kernels/bench_calibrate.h"
+#include "rhf/distance.h"
 
 namespace mcd::tool {
 namespace {
@@ -32,6 +34,22 @@ const std::map<std::string, Formula> &Formulas() {
               return BenchFmaFlops(p.count, p.iterations);
           }}},
         {"bench_stream", {"none: a copy", [](const vk::KeptDispatch &) { return 0.0; }}},
+        // Per coefficient: sqrt, cs * sqrt, |w| - t, max, sign(w) * (...).
+        {"awr_shrink",
+         {"5 per coefficient of the grid (the kept low-low band counted too)",
+          [](const vk::KeptDispatch &d) {
+              auto p = PushOf<shader::AwrShrinkPush>(d);
+              return 5.0 * p.width * p.height * d.timing.groups[2];
+          }}},
+        // Per (centre, offset): the patch's (2w + 1)^2 term pairs each add to the sum and
+        // the count, then count + 1e-4 and one divide; every output as an interior one.
+        {"rhf_distance",
+         {"(2 (2w+1)^2 + 2) per centre and offset, border centres counted as interior ones",
+          [](const vk::KeptDispatch &d) {
+              auto p = PushOf<shader::RhfDistancePush>(d);
+              double side = 2.0 * p.patchHalf + 1;
+              return (2 * side * side + 2) * p.width * p.rows * d.timing.groups[2];
+          }}},
     };
     return formulas;
 }
