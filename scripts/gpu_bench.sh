@@ -3,7 +3,12 @@
 # build, run the kernel-vs-reference tests on the device, then denoise a frame of the
 # built-in renderer (every layer) at each size with each method and print one table: the
 # GPU time (the sum of the dispatches' timestamps) and the whole process's wall time, beside
-# a previous run's figures on another device (--beside: lavapipe's CSV from this script).
+# a previous run's figures on another device (--beside: lavapipe's CSV from this script);
+# then `mcdenoise bench kernels` at one size: each method's main kernels against the
+# device's streaming and FMA rates measured in the same run (docs/performance.md).
+#
+# Sized for a 15-minute slot on an NVIDIA H100/H200 with 16 cores (the defaults). On
+# lavapipe shrink it, e.g. --sizes 128x96 --kernels-size 64x64 --methods awr,auto.
 #
 # Usage: scripts/gpu_bench.sh [options]
 #   --sizes LIST     frame sizes, comma-separated (default 1920x1080,3840x2160)
@@ -11,13 +16,16 @@
 #   --device NAME    the Vulkan device (a name or index as `mcdenoise info` lists; default
 #                    the first NVIDIA device, else mcdenoise's own choice)
 #   --spp N          samples per pixel of the rendered frames (default 8)
+#   --kernels-size S the frame size of `bench kernels` (default 1920x1080; none: skip it)
+#   --run-timeout N  seconds one denoise (or the kernels bench) may take (default 300)
 #   --beside CSV     a previous run's table.csv, printed beside this run's figures
 #   --out DIR        where frames, outputs and the table go (default gpu_bench.out)
 #   --debs DIR       a machine without network: install the .deb files in DIR instead of
 #                    apt-get (scripts/packages.txt and their dependencies, downloaded with
 #                    `apt-get download` on a machine of the same release)
 #   --no-install, --no-build, --no-tests   skip a step
-# Writes DIR/table.csv (device,method,size,gpu_ms,wall_s, one row per run) and DIR/table.md.
+# Writes DIR/table.csv (device,method,size,gpu_ms,wall_s, one row per run), DIR/kernels.csv
+# (bench kernels' figures per kernel) and DIR/table.md (both tables).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -26,6 +34,8 @@ sizes=1920x1080,3840x2160
 methods=""
 device=""
 spp=8
+kernelsSize=1920x1080
+runTimeout=300
 beside=""
 out=gpu_bench.out
 debs=""
@@ -36,13 +46,15 @@ while (($#)); do
     --methods) methods=$2; shift ;;
     --device) device=$2; shift ;;
     --spp) spp=$2; shift ;;
+    --kernels-size) kernelsSize=$2; shift ;;
+    --run-timeout) runTimeout=$2; shift ;;
     --beside) beside=$(realpath "$2"); shift ;;
     --out) out=$2; shift ;;
     --debs) debs=$(realpath "$2"); shift ;;
     --no-install) install=0 ;;
     --no-build) build=0 ;;
     --no-tests) tests=0 ;;
-    -h | --help) sed -n '2,21p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,28p' "$0"; exit 0 ;;
     *) echo "gpu_bench: unknown argument $1 (--help lists them)" >&2; exit 2 ;;
     esac
     shift
@@ -76,13 +88,16 @@ install_packages() {
 }
 ((install)) && install_packages
 
-# 2. Build (Release) into build/.
+# 2. Build (Release) into build/: the tool and the fast tests only (ccache where installed).
 if ((build)); then
     say "building"
+    launcher=()
+    command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
     [[ -f build/build.ninja ]] || cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release \
-        >"$out/build.log"
-    cmake --build build --parallel "$(nproc)" >>"$out/build.log" 2>&1 || {
-        say "the build failed; see $out/build.log"; exit 1; }
+        "${launcher[@]}" >"$out/build.log" 2>&1 || {
+        say "cmake failed; see $out/build.log"; exit 1; }
+    cmake --build build --parallel "$(nproc)" --target mcdenoise mcd_tests >>"$out/build.log" \
+        2>&1 || { say "the build failed; see $out/build.log"; exit 1; }
 fi
 tool=$root/build/mcdenoise
 [[ -x "$tool" ]] || { say "no $tool (build first)"; exit 1; }
@@ -117,10 +132,12 @@ if ((tests)); then
 fi
 
 # 4. Each method at each size: one rendered frame per size, one process per run.
+# The methods the CLI lists under "Methods (--method):", one "  name: summary" a line.
 if [[ -z "$methods" ]]; then
-    methods=$("$tool" denoise --help | grep -E '^ *--method TEXT' | sed 's/.*)//' |
-        tr -d ' ' | sed 's/^,//'),auto
+    methods=$("$tool" denoise --help | sed -n '/^Methods/,/^Usage/p' |
+        sed -n 's/^  \([a-z0-9]*\): .*/\1/p' | paste -sd,),auto
 fi
+say "methods: $methods"
 csv=$out/table.csv
 echo "device,method,size,gpu_ms,wall_s" >"$csv"
 for size in ${sizes//,/ }; do
@@ -131,17 +148,28 @@ for size in ${sizes//,/ }; do
     fi
     for method in ${methods//,/ }; do
         start=$(date +%s.%N)
-        if line=$("$tool" denoise "$frame" --method "$method" -o "$out/${method}_$size.exr" 2>&1 |
-            grep -E ": $method in [0-9.]+ ms"); then
+        if line=$(timeout "$runTimeout" "$tool" denoise "$frame" --method "$method" \
+            -o "$out/${method}_$size.exr" 2>&1 | grep -E ": $method in [0-9.]+ ms"); then
             wall=$(echo "$(date +%s.%N) - $start" | bc)
             gpu=$(echo "$line" | sed -n 's/.* in [0-9.]* ms (\([0-9.]*\) ms GPU.*/\1/p')
             printf '%s,%s,%s,%s,%.2f\n' "$csvName" "$method" "$size" "$gpu" "$wall" >>"$csv"
+            say "$method at $size: $gpu ms GPU, $wall s wall"
         else
-            say "$method at $size failed"
+            say "$method at $size failed (or ran past $runTimeout s)"
             printf '%s,%s,%s,failed,failed\n' "$csvName" "$method" "$size" >>"$csv"
         fi
     done
 done
+
+# 5. Each method's main kernels against the device's limits, measured in one process.
+kernelsCsv=$out/kernels.csv
+rm -f "$kernelsCsv"
+if [[ "$kernelsSize" != none ]]; then
+    say "bench kernels at $kernelsSize"
+    timeout "$runTimeout" "$tool" bench kernels --size "$kernelsSize" --spp "$spp" \
+        --methods "$methods" --csv "$kernelsCsv" >"$out/kernels.txt" 2>&1 ||
+        say "bench kernels failed (or ran past $runTimeout s); see $out/kernels.txt"
+fi
 
 # The table, with the --beside run's figures for the same method and size.
 other=""
@@ -163,4 +191,18 @@ other=""
         fi
         echo "$row"
     done
+    # The kernels of at least 5% of their method's GPU time, from bench kernels.
+    if [[ -s "$kernelsCsv" ]]; then
+        echo
+        sed -n '1s/^# /bench kernels: /p' "$kernelsCsv"
+        echo
+        echo "| method | kernel | calls | bytes/px | flop/px | GPU ms | GB/s | GFLOP/s | of roofline |"
+        echo "|---|---|---|---|---|---|---|---|---|"
+        awk -F, 'NR > 2 { total[$1] += $6; row[NR] = $0 }
+            END { for (i = 3; i <= NR; ++i) { split(row[i], f, ",");
+                if (f[6] >= 0.05 * total[f[1]])
+                    printf "| %s | %s | %s | %s | %s | %s | %s | %s | %.1f%% |\n", f[1], f[2],
+                        f[3], f[4], f[5] == "" ? "-" : f[5], f[6], f[7],
+                        f[8] == "" ? "-" : f[8], 100 * f[9] } }' "$kernelsCsv"
+    fi
 } | tee "$out/table.md"
