@@ -150,9 +150,9 @@ for size in ${sizes//,/ }; do
         start=$(date +%s.%N)
         if line=$(timeout "$runTimeout" "$tool" denoise "$frame" --method "$method" \
             -o "$out/${method}_$size.exr" 2>&1 | grep -E ": $method in [0-9.]+ ms"); then
-            wall=$(echo "$(date +%s.%N) - $start" | bc)
+            wall=$(printf '%.2f' "$(echo "$(date +%s.%N) - $start" | bc)")
             gpu=$(echo "$line" | sed -n 's/.* in [0-9.]* ms (\([0-9.]*\) ms GPU.*/\1/p')
-            printf '%s,%s,%s,%s,%.2f\n' "$csvName" "$method" "$size" "$gpu" "$wall" >>"$csv"
+            printf '%s,%s,%s,%s,%s\n' "$csvName" "$method" "$size" "$gpu" "$wall" >>"$csv"
             say "$method at $size: $gpu ms GPU, $wall s wall"
         else
             say "$method at $size failed (or ran past $runTimeout s)"
@@ -191,7 +191,8 @@ other=""
         fi
         echo "$row"
     done
-    # The kernels of at least 5% of their method's GPU time, from bench kernels.
+    # The kernels of at least 5% of their method's GPU time, from bench kernels; a kernel
+    # without an operation formula has its bytes' bound only, a lower bound of the fraction.
     if [[ -s "$kernelsCsv" ]]; then
         echo
         sed -n '1s/^# /bench kernels: /p' "$kernelsCsv"
@@ -201,8 +202,9 @@ other=""
         awk -F, 'NR > 2 { total[$1] += $6; row[NR] = $0 }
             END { for (i = 3; i <= NR; ++i) { split(row[i], f, ",");
                 if (f[6] >= 0.05 * total[f[1]])
-                    printf "| %s | %s | %s | %s | %s | %s | %s | %s | %.1f%% |\n", f[1], f[2],
-                        f[3], f[4], f[5] == "" ? "-" : f[5], f[6], f[7],
-                        f[8] == "" ? "-" : f[8], 100 * f[9] } }' "$kernelsCsv"
+                    printf "| %s | %s | %s | %s | %s | %.2f | %s | %s | %s%.1f%% |\n", f[1],
+                        f[2], f[3], f[4], f[5] == "" ? "-" : f[5], f[6], f[7],
+                        f[8] == "" ? "-" : f[8], f[5] == "" ? ">=" : "", 100 * f[9] } }' \
+            "$kernelsCsv"
     fi
 } | tee "$out/table.md"

@@ -16,10 +16,19 @@ namespace mcd::vk {
 void CountDispatch(const std::string &kernel);
 std::map<std::string, uint64_t> DispatchCounts();
 
-// A submitted dispatch: its timing and traffic, and the push constants it was given.
+// A submitted dispatch: its timing and traffic, the push constants it was given and its
+// kernel's specialization constants.
 struct KeptDispatch {
     DispatchTiming timing;
     std::vector<uint8_t> push;
+    std::vector<std::pair<uint32_t, int32_t>> specialization;  // constant_id, value
+
+    // The value of constant `id`, or `otherwise` where the kernel does not set it.
+    int32_t Spec(uint32_t id, int32_t otherwise) const {
+        for (auto [at, value] : specialization)
+            if (at == id) return value;
+        return otherwise;
+    }
 };
 // On: forget the kept dispatches and keep each dispatch recorded from now on (its record
 // is kept when its submission completes). Off: stop keeping.

@@ -23,7 +23,8 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
       bindingCount(desc.bindingCount),
       pushBytes(desc.pushBytes),
       texelBindings(desc.texelBindings),
-      vec4Bindings(desc.vec4Bindings) {
+      vec4Bindings(desc.vec4Bindings),
+      specialization(desc.specialization) {
     VkDevice device = context.Device();
     if (pushBytes > context.Limits().maxPushConstantsSize)
         throw Error(fmt::format("kernel {}: {} bytes of push constants exceed the device's {}",

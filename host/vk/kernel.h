@@ -47,6 +47,9 @@ class Kernel {
     uint32_t PushBytes() const { return pushBytes; }
     bool IsTexel(uint32_t binding) const { return (texelBindings >> binding) & 1u; }
     bool IsVec4(uint32_t binding) const { return (vec4Bindings >> binding) & 1u; }
+    const std::vector<std::pair<uint32_t, int32_t>> &Specialization() const {
+        return specialization;
+    }
 
   private:
     void Release();
@@ -54,6 +57,7 @@ class Kernel {
     Context &context;
     std::string name;
     uint32_t bindingCount = 0, pushBytes = 0, texelBindings = 0, vec4Bindings = 0;
+    std::vector<std::pair<uint32_t, int32_t>> specialization;  // constant_id, value
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;

@@ -217,7 +217,7 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
     }
     recorded.push_back(std::move(record));
     const uint8_t *pushed = static_cast<const uint8_t *>(push);
-    pushes.emplace_back(pushed, pushed + pushBytes);
+    pushes.push_back({std::vector<uint8_t>(pushed, pushed + pushBytes), &kernel});
     for (auto [buffer, access] : uses) Touch(buffer, access);
 }
 
@@ -255,7 +255,9 @@ void Recorder::Submit() {
         if (i < timed)
             recorded[i].gpuMs = double(stamps[2 * i + 1] - stamps[2 * i]) * period * 1e-6;
         timings.push_back(recorded[i]);
-        if (keep) KeepDispatch({recorded[i], std::move(pushes[i])});
+        if (keep)
+            KeepDispatch(
+                {recorded[i], std::move(pushes[i].first), pushes[i].second->Specialization()});
     }
     for (VkDescriptorPool pool : descriptorPools)
         vkResetDescriptorPool(context.Device(), pool, 0);

@@ -91,8 +91,9 @@ class Recorder {
     bool recording = false;
 
     std::set<VkBuffer> writtenSinceBarrier, readSinceBarrier;
-    std::vector<DispatchTiming> recorded;      // since Begin, their times filled by Submit
-    std::vector<std::vector<uint8_t>> pushes;  // their push constants (KeepDispatches)
+    std::vector<DispatchTiming> recorded;  // since Begin, their times filled by Submit
+    // Their push constants and specialization (for KeepDispatches).
+    std::vector<std::pair<std::vector<uint8_t>, const Kernel *>> pushes;
     size_t barriers = 0;
     std::vector<DispatchTiming> timings;
 };

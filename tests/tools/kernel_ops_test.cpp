@@ -4,11 +4,18 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <map>
 #include <optional>
+#include <string>
 
 #include "awr/shrink.h"
+#include "harness/gpu_fixture.h"
+#include "host/vk/gpu_image.h"
+#include "host/wavelet.h"
+#include "host/wavelet/transform.h"
 #include "rhf/distance.h"
 #include "tools/mcdenoise/kernel_ops.h"
+#include "wavelet/tile.h"
 
 namespace mcd::tool {
 namespace {
@@ -57,6 +64,80 @@ TEST(KernelOps, AwrShrinkMatchesItsLoops) {
         for (int y = 0; y < 7; ++y)
             for (int x = 0; x < 13; ++x) walked += 5;
     EXPECT_EQ(KernelFlops(d).value_or(-1), walked);
+}
+
+// Taps of the filter at an even and an odd position: the analysis's, or the synthesis's.
+std::pair<int, int> Taps(WaveletBasis basis, bool analysis) {
+    if (basis == WaveletBasis::Cdf97) return analysis ? std::pair{9, 7} : std::pair{7, 9};
+    if (basis == WaveletBasis::LeGall53) return analysis ? std::pair{5, 3} : std::pair{3, 5};
+    return {1, 1};
+}
+
+// Every level's rows and columns passes walked position by position, a multiply and an
+// add per tap plus `extra`.
+double WalkedWaveletFlops(int width, int height, int channels, int levels, WaveletBasis basis,
+                          bool analysis, double extra) {
+    auto [evenTaps, oddTaps] = Taps(basis, analysis);
+    double flops = 0;
+    for (int level = 0; level < levels; ++level) {
+        int w = LevelExtent(width, level), h = LevelExtent(height, level);
+        for (int c = 0; c < channels; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    flops += 2 * (x % 2 == 0 ? evenTaps : oddTaps) + extra;  // rows pass
+                    flops += 2 * (y % 2 == 0 ? evenTaps : oddTaps) + extra;  // columns pass
+                }
+    }
+    return flops;
+}
+
+// The transforms' dispatches as the recorder keeps them (split into interior and edge
+// parts above WAVELET_SPLIT_LENGTH positions, whole below), their formulas summed per
+// kernel, against the walk: each position of each level filtered once per pass.
+TEST(KernelOps, WaveletPassesMatchTheirLoops) {
+    vk::Context &context = test::TestContext();
+    const int width = 300, height = 270, channels = 3, levels = 3;
+    vk::GpuImage in(context, width, height, channels, "in"),
+        coef(context, width, height, channels, "coef");
+    WaveletTransform transform(context, width, height, channels);
+    for (WaveletBasis basis :
+         {WaveletBasis::Haar, WaveletBasis::LeGall53, WaveletBasis::Cdf97}) {
+        vk::Recorder recorder(context);
+        transform.RecordAnalysis(recorder, basis, levels, in, coef);
+        transform.RecordSqAnalysis(recorder, basis, levels, in, coef, 1.f, 1.f);
+        transform.RecordSynthesis(recorder, basis, levels, coef, in);
+        vk::KeepDispatches(true);
+        recorder.Submit();
+        vk::KeepDispatches(false);
+        std::map<std::string, double> flops, bytes;
+        int split = 0;
+        for (const vk::KeptDispatch &d : vk::KeptDispatches()) {
+            std::optional<double> f = KernelFlops(d);
+            ASSERT_TRUE(f.has_value()) << d.timing.kernel;
+            flops[d.timing.kernel] += *f;
+            bytes[d.timing.kernel] += KernelTouchedBytes(d).value_or(-1e30);
+            split += d.Spec(WAVELET_SPEC_PART, WAVELET_PART_ALL) != WAVELET_PART_ALL;
+        }
+        EXPECT_GT(split, 0) << "no pass ran in parts: the test covers less than it means to";
+        int b = int(basis);
+        EXPECT_EQ(flops["wavelet_analyze"],
+                  WalkedWaveletFlops(width, height, channels, levels, basis, true, 0))
+            << "basis " << b;
+        EXPECT_EQ(flops["wavelet_sqanalyze"],
+                  WalkedWaveletFlops(width, height, channels, levels, basis, true, 1))
+            << "basis " << b;
+        EXPECT_EQ(flops["wavelet_synthesize"],
+                  WalkedWaveletFlops(width, height, channels, levels, basis, false, 0))
+            << "basis " << b;
+        // Each pass reads and writes each position of its level's region once.
+        double touched = 0;
+        for (int level = 0; level < levels; ++level)
+            touched +=
+                2.0 * LevelExtent(width, level) * LevelExtent(height, level) * channels * 8;
+        for (const char *kernel :
+             {"wavelet_analyze", "wavelet_sqanalyze", "wavelet_synthesize"})
+            EXPECT_EQ(bytes[kernel], touched) << kernel << ", basis " << b;
+    }
 }
 
 // A kernel without a formula says so instead of counting nothing.
