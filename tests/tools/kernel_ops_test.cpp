@@ -15,6 +15,8 @@
 #include "host/wavelet/transform.h"
 #include "rhf/distance.h"
 #include "tools/mcdenoise/kernel_ops.h"
+#include "wavelet/swt.h"
+#include "wavelet/swt_analyze.h"
 #include "wavelet/tile.h"
 
 namespace mcd::tool {
@@ -138,6 +140,21 @@ TEST(KernelOps, WaveletPassesMatchTheirLoops) {
              {"wavelet_analyze", "wavelet_sqanalyze", "wavelet_synthesize"})
             EXPECT_EQ(bytes[kernel], touched) << kernel << ", basis " << b;
     }
+}
+
+// An SWT pass touches its planes of the level, not every level's planes it binds: the rows
+// pass of the analysis reads one and writes two per position of each channel.
+TEST(KernelOps, SwtPassTouchesItsPlanes) {
+    shader::WaveletSwtAnalyzePush push{};
+    push.width = 11, push.height = 5;
+    vk::KeptDispatch d = Kept("wavelet_swt_analyze", push, 1, 5, 3);
+    d.specialization = {{WAVELET_SWT_SPEC_BASIS, MCD_WAVELET_CDF97},
+                        {WAVELET_SWT_SPEC_AXIS, WAVELET_SWT_ROWS}};
+    EXPECT_EQ(KernelTouchedBytes(d).value_or(-1), 3.0 * 4 * 11 * 5 * 3);
+    d.specialization[1].second = WAVELET_SWT_COLUMNS;
+    EXPECT_EQ(KernelTouchedBytes(d).value_or(-1), 6.0 * 4 * 11 * 5 * 3);
+    d.timing.kernel = "pivot_fit";
+    EXPECT_FALSE(KernelTouchedBytes(d).has_value());
 }
 
 // A kernel without a formula says so instead of counting nothing.

@@ -10,6 +10,8 @@
 #include "host/kernels/bench_calibrate.h"
 #include "rhf/distance.h"
 #include "wavelet/lines.h"
+#include "wavelet/swt.h"
+#include "wavelet/swt_analyze.h"
 #include "wavelet/tile.h"
 #include "wavelet/wavelet.h"
 
@@ -115,6 +117,16 @@ std::optional<double> KernelFlops(const vk::KeptDispatch &dispatch) {
 
 std::optional<double> KernelTouchedBytes(const vk::KeptDispatch &dispatch) {
     const std::string &kernel = dispatch.timing.kernel;
+    // The SWT's passes read and write whole planes of the level's (3 levels + 1)-plane
+    // coefficients per channel: analysis rows 1 in, 2 out; columns 2 in, 4 out; both axes at
+    // once (Haar) 1 in, 4 out; synthesis columns 4 in, 2 out; rows 2 in, 1 out. The two
+    // kernels' push constants begin alike (width, height).
+    if (kernel == "wavelet_swt_analyze" || kernel == "wavelet_swt_synthesize") {
+        auto p = PushOf<shader::WaveletSwtAnalyzePush>(dispatch);
+        int axis = dispatch.Spec(WAVELET_SWT_SPEC_AXIS, WAVELET_SWT_ROWS);
+        double planes = axis == WAVELET_SWT_ROWS ? 3 : axis == WAVELET_SWT_COLUMNS ? 6 : 5;
+        return planes * 4 * p.width * p.height * dispatch.timing.groups[2];
+    }
     int arrays = kernel == "wavelet_synthesize_shrink" ? 3 : 2;
     if (kernel != "wavelet_analyze" && kernel != "wavelet_sqanalyze" &&
         kernel != "wavelet_synthesize" && kernel != "wavelet_synthesize_shrink")

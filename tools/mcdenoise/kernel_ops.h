@@ -15,10 +15,11 @@ namespace mcd::tool {
 // The operations of `dispatch`, or nothing for a kernel without a formula.
 std::optional<double> KernelFlops(const vk::KeptDispatch &dispatch);
 
-// The bytes `dispatch` touches where it touches part of the buffers it binds (a wavelet
-// level's line pass filters the top-left region of whole-image buffers): each filtered
+// The bytes `dispatch` touches where it touches part of the buffers it binds: a wavelet
+// level's line pass filters the top-left region of whole-image buffers (each filtered
 // position's value read and written once, 4 bytes each, and the variance a
-// synthesize-shrink pass reads beside it. Nothing for other kernels: the recorder's count of
+// synthesize-shrink pass reads beside it); an SWT pass reads and writes a few planes of
+// all levels' coefficients. Nothing for other kernels: the recorder's count of
 // the bound buffers is theirs.
 std::optional<double> KernelTouchedBytes(const vk::KeptDispatch &dispatch);
 
