@@ -1,11 +1,11 @@
 // `mcdenoise bench kernels`: each method's main kernels against the device's limits. The
 // device's streaming bandwidth and arithmetic rate are measured first, in the same run, by
 // the calibration kernels (shaders/bench/); then each method runs on a rendered frame and
-// every dispatch's traffic (the recorder's count of its bound buffers; the bytes touched
-// for the wavelet line passes, which bind whole images to filter a level's region),
-// operations (the formulas of kernel_ops.h) and GPU time (timestamps) are summed per kernel and
-// printed per pixel, with the rates achieved and the fraction of the roofline bound max(bytes /
-// bandwidth, operations / rate) that the measured time reaches.
+// every dispatch's traffic (the recorder's count of its bound buffers, or the bytes touched
+// where kernel_ops.h knows a kernel touches part of them: the wavelet passes), operations
+// (kernel_ops.h's formulas) and GPU time (timestamps) are summed per kernel and printed per
+// pixel, with the rates reached and the fraction of the roofline bound
+// max(bytes / bandwidth, operations / rate) that the measured time reaches.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -41,12 +41,17 @@ struct Peaks {
     double gbs = 0, gflops = 0;
 };
 
-// The fastest of `dispatches` recorded dispatches of one submission, as (ms, dispatch).
+// Submit what `recorder` holds; its fastest dispatch, as (ms, dispatch).
 std::pair<double, vk::DispatchTiming> Fastest(vk::Recorder &recorder) {
     recorder.Submit();
     vk::DispatchTiming best = recorder.Timings().at(0);
     for (const vk::DispatchTiming &t : recorder.Timings())
         if (t.gpuMs > 0 && (best.gpuMs <= 0 || t.gpuMs < best.gpuMs)) best = t;
+    if (best.gpuMs <= 0)
+        throw Error(
+            "bench kernels: the device gave no GPU timestamps to time the calibration "
+            "with",
+            ErrorKind::Device);
     return {best.gpuMs, best};
 }
 
@@ -209,7 +214,7 @@ void BenchKernels(const KernelsBenchOptions &opt) {
         peaks.gbs, opt.calibMb, peaks.gflops, peaks.gflops / peaks.gbs);
     fmt::print(
         "  per kernel, the fastest of {} runs after a warm-up: bytes of the buffers "
-        "bound (of the region filtered: wavelet passes), operations by kernel_ops.h ('-': no "
+        "bound (touched: wavelet passes), operations by kernel_ops.h ('-': no "
         "formula, bound by the bytes alone); "
         "reached: the roofline's time over the measured one\n",
         std::max(opt.repeats, 1));
@@ -260,7 +265,11 @@ void AddBenchKernelsCommand(CLI::App *bench) {
         ->add_option("--share", opt->share,
                      "a kernel's row is printed from this share of its method's GPU time")
         ->capture_default_str();
-    command->add_option("--calibration-mb", opt->calibMb, "the streaming copy's buffer size")
+    command
+        ->add_option("--calibration-mb", opt->calibMb,
+                     "the streaming copy's buffer size in MiB (at most the device's storage "
+                     "buffer range)")
+        ->check(CLI::Range(1, 4095))
         ->capture_default_str();
     command->add_option("--csv", opt->csv, "also write every kernel's figures here");
     opt->device.Add(command);
