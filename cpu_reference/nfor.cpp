@@ -457,6 +457,34 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
     return out;
 }
 
+namespace {
+
+// One pass: each bandwidth's fits weighted by `distance` and their collaborative average,
+// then the per-pixel choice by SURE; stages named prefix + k<i>.beta, .hat, .output, choice.
+template <typename Keep>
+Image NforPass(const Image &clamped, const Image &variance, const Image &features,
+               const Image &mask, const Image &distance, const NforParams &p,
+               const std::vector<double> &bandwidths, const std::string &prefix, Keep &keep) {
+    std::vector<Image> outputs, hats;
+    for (size_t i = 0; i < bandwidths.size(); ++i) {
+        NforCandidate k{bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
+        NforFit fit = NforRegress(clamped, features, mask, distance, k);
+        Image out = NforGather(clamped, features, mask, distance, fit, k);
+        keep(fmt::format("{}k{}.beta", prefix, i), fit.beta);
+        keep(fmt::format("{}k{}.hat", prefix, i), fit.hat);
+        keep(fmt::format("{}k{}.output", prefix, i), out);
+        outputs.push_back(std::move(out));
+        hats.push_back(std::move(fit.hat));
+    }
+    if (outputs.size() == 1) return outputs[0];
+    Image choice;
+    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice);
+    keep(prefix + "choice", choice);
+    return out;
+}
+
+}  // namespace
+
 Image Nfor(const NforInputs &in, const NforParams &p,
            std::vector<std::pair<std::string, Image>> *stages) {
     auto keep = [&](const std::string &name, const Image &image) {
@@ -483,24 +511,17 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
                                   p.radius, p.patchRadius, p.alpha, p.minVariance);
     keep("distance", distance);
-    std::vector<Image> outputs, hats;
-    for (size_t i = 0; i < p.bandwidths.size(); ++i) {
-        NforCandidate k{p.bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
-        NforFit fit = NforRegress(clamped, features, mask, distance, k);
-        Image out = NforGather(clamped, features, mask, distance, fit, k);
-        keep(fmt::format("k{}.beta", i), fit.beta);
-        keep(fmt::format("k{}.hat", i), fit.hat);
-        keep(fmt::format("k{}.output", i), out);
-        outputs.push_back(std::move(out));
-        hats.push_back(std::move(fit.hat));
+    Image out =
+        NforPass(clamped, variance, features, mask, distance, p, p.bandwidths, "", keep);
+    if (!p.pilotBandwidths.empty()) {
+        keep("pilot", out);
+        Image pilotDistance =
+            NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr, p.radius,
+                         p.patchRadius, p.pilotAlpha, p.minVariance);
+        keep("pilot.distance", pilotDistance);
+        out = NforPass(clamped, variance, features, mask, pilotDistance, p, p.pilotBandwidths,
+                       "pilot.", keep);
     }
-    if (outputs.size() == 1) {
-        keep("output", outputs[0]);
-        return outputs[0];
-    }
-    Image choice;
-    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice);
-    keep("choice", choice);
     keep("output", out);
     return out;
 }

@@ -47,6 +47,11 @@
 // - Bandwidth choice: SURE of each candidate, (y - C)^2 - v + 2 v h per channel with h
 //   the fit's own influence at its centre ((A^-1)_00), box-averaged over (2 r_s + 1)^2;
 //   the candidate with the smallest is taken (ties: the first).
+// - Second pass (BM3D's second step; Rousselle et al. 2013 weigh by a prefiltered colour):
+//   the first pass's output is the pilot; the colour distance is computed on it as above,
+//   with the colour's variance (its own noise is far smaller: alpha pilotAlpha, 0 by
+//   default), and the fits run again on the clamped colour with the pilot bandwidths,
+//   chosen per pixel by SURE like the first pass's.
 #pragma once
 
 #include <string>
@@ -86,6 +91,11 @@ struct NforParams {
     int prefilterPatch = 1;
     double prefilterBandwidth = 1;
     int sureRadius = 3;
+    // Second pass: bandwidths k of the fits weighted by the distance of the first pass's
+    // output (the pilot) over the colour's variance, cancelled by pilotAlpha, chosen per
+    // pixel by SURE as the first's; empty: none.
+    std::vector<double> pilotBandwidths;
+    double pilotAlpha = 0;
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).
@@ -154,7 +164,8 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
                  const Image &color, const Image &variance, int sureRadius, Image *choice);
 
 // The whole method with its named stages (variance, mask, color, features, distance,
-// k<i>.beta, k<i>.hat, k<i>.output, choice, output).
+// k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
+// pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

@@ -44,6 +44,12 @@ struct NforOptions {
     int prefilterPatch = 1;
     float prefilterBandwidth = 1;
     int sureRadius = 3;
+    // A second pass whose colour distance compares the first pass's output (the pilot)
+    // instead of the noisy colour, normalised by the colour's variance and cancelled by
+    // pilotAlpha times it, with these bandwidths k (at most 4, chosen per pixel by SURE);
+    // empty: one pass.
+    std::vector<float> pilotBandwidths;
+    float pilotAlpha = 0;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
@@ -59,7 +65,9 @@ struct NforInputs {
 };
 
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
-// distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates, output).
+// distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates; with a
+// second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
+// output).
 struct NforResult : MethodResult {
     size_t emitters = 0;        // pixels left out as emitters
     size_t clamped = 0;         // pixel-channels clamped as fireflies

@@ -690,40 +690,59 @@ class NforMethod : public GpuTest {};
 
 // The whole method's stages against the reference's, by name: the stages before the
 // choices agree to their kernels' round-off; the fits and outputs may differ where a clamp
-// or a choice sat on its threshold, which the NMSE bounds allow for a few pixels.
-TEST_F(NforMethod, StagesMatchTheReference) {
-    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}}) {
-        Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
-        NforOptions o;
-        o.radius = 3;
-        o.keepStages = true;
-        NforResult gpu = NforDenoise(Ctx(), InputsOf(f), o);
-        std::vector<float> weights;
-        std::vector<std::string> names;
-        Image features = NforFeatures(InputsOf(f), o, &weights, &names);
-        ref::NforParams p;
-        p.radius = o.radius;
-        p.gatherRadius = o.radius;
-        p.patchRadius = o.patchRadius;
-        p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
-        p.featureWeights.assign(weights.begin(), weights.end());
-        p.noiseMinCalibration = o.noiseCalibration;
-        ref::NforInputs cpuIn{&f.color, &f.albedo, &features, nullptr};
-        std::vector<std::pair<std::string, Image>> cpu;
-        Image expected = ref::Nfor(cpuIn, p, &cpu);
-        ASSERT_EQ(gpu.stages.size(), cpu.size());
-        for (size_t i = 0; i < cpu.size(); ++i) {
-            ASSERT_EQ(gpu.stages[i].first, cpu[i].first);
-            ElementDifference d = MeasureDifference(gpu.stages[i].second, cpu[i].second);
-            EXPECT_EQ(d.parity, 0u) << cpu[i].first;
-            double limit = cpu[i].first == "choice"                         ? 1e-2
-                           : cpu[i].first.find("beta") != std::string::npos ? 1e-6
-                                                                            : 1e-8;
-            EXPECT_LE(d.nmse, limit) << cpu[i].first << " at " << w << "x" << h;
-        }
-        ElementDifference d = MeasureDifference(gpu.image, expected);
-        EXPECT_LE(d.nmse, 1e-8);
+// or a choice sat on its threshold, which the NMSE bounds allow for a few pixels. With one
+// pass and with a second pass over the pilot (two bandwidths each, and one).
+void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &options) {
+    Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
+    NforOptions o = options;
+    o.keepStages = true;
+    NforResult gpu = NforDenoise(context, InputsOf(f), o);
+    std::vector<float> weights;
+    std::vector<std::string> names;
+    Image features = NforFeatures(InputsOf(f), o, &weights, &names);
+    ref::NforParams p;
+    p.radius = o.radius;
+    p.gatherRadius = o.radius;
+    p.patchRadius = o.patchRadius;
+    p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
+    p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
+    p.featureWeights.assign(weights.begin(), weights.end());
+    p.noiseMinCalibration = o.noiseCalibration;
+    ref::NforInputs cpuIn{&f.color, &f.albedo, &features, nullptr};
+    std::vector<std::pair<std::string, Image>> cpu;
+    Image expected = ref::Nfor(cpuIn, p, &cpu);
+    ASSERT_EQ(gpu.stages.size(), cpu.size());
+    for (size_t i = 0; i < cpu.size(); ++i) {
+        ASSERT_EQ(gpu.stages[i].first, cpu[i].first);
+        ElementDifference d = MeasureDifference(gpu.stages[i].second, cpu[i].second);
+        EXPECT_EQ(d.parity, 0u) << cpu[i].first;
+        const std::string &name = cpu[i].first;
+        double limit = name.find("choice") != std::string::npos ? 1e-2
+                       : name.find("beta") != std::string::npos ? 1e-6
+                                                                : 1e-8;
+        EXPECT_LE(d.nmse, limit) << name << " at " << w << "x" << h;
     }
+    ElementDifference d = MeasureDifference(gpu.image, expected);
+    EXPECT_LE(d.nmse, 1e-8) << w << "x" << h;
+}
+
+TEST_F(NforMethod, StagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+        ExpectStagesMatch(Ctx(), w, h, o);
+}
+
+TEST_F(NforMethod, SecondPassStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.bandwidths = {0.5f};
+    o.pilotBandwidths = {0.5f, 1.f};
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+        ExpectStagesMatch(Ctx(), w, h, o);
+    o.bandwidths = {0.5f, 1.f};
+    o.pilotBandwidths = {1.f};
+    ExpectStagesMatch(Ctx(), 17, 13, o);
 }
 
 TEST_F(NforMethod, RerunsAreBitIdentical) {
