@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "cpu_reference/local_mean.h"
+
 namespace mcd::ref {
 namespace {
 
@@ -521,6 +523,10 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         keep("pilot.distance", pilotDistance);
         out = NforPass(clamped, variance, features, mask, pilotDistance, p, p.pilotBandwidths,
                        "pilot.", keep);
+    }
+    if (p.meanRadius > 0) {
+        keep("fit", out);
+        RestoreLocalMeans(clamped, p.meanRadius, &out);
     }
     keep("output", out);
     return out;

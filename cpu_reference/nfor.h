@@ -52,6 +52,9 @@
 //   with the colour's variance (its own noise is far smaller: alpha pilotAlpha, 0 by
 //   default), and the fits run again on the clamped colour with the pilot bandwidths,
 //   chosen per pixel by SURE like the first pass's.
+// - Local means (beyond the papers; cpu_reference/local_mean.h): the output scaled to the
+//   clamped colour's means over tent windows of radius 2 meanRadius: the fits' bias at
+//   scales above the window goes, the fireflies' energy stays out.
 #pragma once
 
 #include <string>
@@ -96,6 +99,7 @@ struct NforParams {
     // pixel by SURE as the first's; empty: none.
     std::vector<double> pilotBandwidths;
     double pilotAlpha = 0;
+    int meanRadius = 0;  // restore the clamped colour's local means (tent 2r); 0: off
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).
@@ -165,7 +169,8 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 
 // The whole method with its named stages (variance, mask, color, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
-// pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; output).
+// pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
+// fit; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

@@ -116,6 +116,10 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "variance cancellation of the second pass's distance (the pilot's "
                           "own noise is far below the colour's)",
                           &O::pilotAlpha, 0, 10)),
+        nested(IntParam("nfor-mean-radius",
+                        "restore the clamped colour's local means over tent windows of twice "
+                        "this radius after the fits; 0: off",
+                        &O::meanRadius, 0, 64)),
         ChoiceParam("nfor-noise",
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
@@ -154,15 +158,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // patches around it.
         int passReach = 3 * o.radius;
         int pilotReach = !o.pilotBandwidths.empty() ? passReach + o.patchRadius : 0;
-        needs.reach =
-            passReach + pilotReach + std::max(colourReach, featureReach) + o.sureRadius;
+        needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
+                      o.sureRadius + 2 * o.meanRadius;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
-            "average",
+            "average; {} for the local means",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
-            o.sureRadius);
+            o.sureRadius, 2 * o.meanRadius);
         int offsets = ref::NforOffsetCount(o.radius), features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =
@@ -206,6 +210,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.sureRadius = o.sureRadius;
         p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
         p.pilotAlpha = o.pilotAlpha;
+        p.meanRadius = o.meanRadius;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);

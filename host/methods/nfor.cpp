@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "host/common/local_mean.h"
 #include "host/error.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/checks.h"
@@ -110,11 +111,12 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.noiseCalibration) && o.noiseCalibration > 0) ||
         !(finite(o.pilotAlpha) && o.pilotAlpha >= 0) ||
         !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
-        !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0))
+        !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0) ||
+        o.meanRadius < 0)
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold and "
-            "pilot alpha finite and >= 0",
+            "pilot alpha finite and >= 0, mean radius >= 0",
             ErrorKind::InvalidArgument);
     if (o.noiseRadius < 1 || o.noiseRadius > NFOR_NOISE_MAX_RADIUS || o.prefilterRadius < 0 ||
         o.prefilterRadius > NFOR_PREFILTER_MAX_RADIUS || o.prefilterPatch < 0 ||
@@ -412,6 +414,14 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     for (float m : mask.data) result.emitters += m == 0;
     for (size_t i = 0; i < clamped.Size(); ++i)
         result.clamped += clamped.data[i] != in.color->data[i];
+    if (o.meanRadius > 0) {
+        run.AddStage("fit", result.image);
+        LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
+        run.Plan(
+            fmt::format("local mean: the clamped colour's means over tent windows of "
+                        "radius {} restored (factors {:.3g} to {:.3g})",
+                        2 * o.meanRadius, f.lo, f.hi));
+    }
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
                     "window and kept as they are (a lone one far above its neighbours: "

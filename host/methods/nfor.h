@@ -50,6 +50,9 @@ struct NforOptions {
     // empty: one pass.
     std::vector<float> pilotBandwidths;
     float pilotAlpha = 0;
+    // Restore the clamped colour's local means over tent windows of radius 2 x this (the
+    // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
+    int meanRadius = 0;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
@@ -67,7 +70,7 @@ struct NforInputs {
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
 // distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates; with a
 // second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
-// output).
+// with the local means restored, fit (before); output).
 struct NforResult : MethodResult {
     size_t emitters = 0;        // pixels left out as emitters
     size_t clamped = 0;         // pixel-channels clamped as fireflies

@@ -706,6 +706,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.patchRadius = o.patchRadius;
     p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
     p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
+    p.meanRadius = o.meanRadius;
     p.featureWeights.assign(weights.begin(), weights.end());
     p.noiseMinCalibration = o.noiseCalibration;
     ref::NforInputs cpuIn{&f.color, &f.albedo, &features, nullptr};
@@ -733,6 +734,7 @@ TEST_F(NforMethod, StagesMatchTheReference) {
         ExpectStagesMatch(Ctx(), w, h, o);
 }
 
+// With the local means restored too.
 TEST_F(NforMethod, SecondPassStagesMatchTheReference) {
     NforOptions o;
     o.radius = 3;
@@ -742,6 +744,8 @@ TEST_F(NforMethod, SecondPassStagesMatchTheReference) {
         ExpectStagesMatch(Ctx(), w, h, o);
     o.bandwidths = {0.5f, 1.f};
     o.pilotBandwidths = {1.f};
+    ExpectStagesMatch(Ctx(), 17, 13, o);
+    o.meanRadius = 2;
     ExpectStagesMatch(Ctx(), 17, 13, o);
 }
 
