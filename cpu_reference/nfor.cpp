@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include "cpu_reference/local_mean.h"
@@ -38,6 +39,12 @@ double Demodulated(double value, double divisor) {
 double LowerMedian(std::vector<double> values) {
     std::sort(values.begin(), values.end());
     return values[(values.size() - 1) / 2];
+}
+
+// The k-th largest of the values (the smallest where there are fewer).
+double KthLargest(std::vector<double> values, int k) {
+    std::sort(values.begin(), values.end(), std::greater<double>());
+    return values[std::min(size_t(k), values.size()) - 1];
 }
 
 }  // namespace
@@ -86,7 +93,7 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 }
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold, double relative) {
+                const Image &mask, double threshold, double relative, int rank) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int c = 0; c < color.channels; ++c)
@@ -107,7 +114,8 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 // Unlike all around it next to a light: the light's edge, kept.
                 if (all.empty() || (alike.empty() && emitterNear)) continue;
                 double s = !alike.empty() && a > 0 ? a : 1;
-                double median = LowerMedian(alike.empty() ? all : alike);
+                std::vector<double> &near = alike.empty() ? all : alike;
+                double median = rank == 0 ? LowerMedian(near) : KthLargest(near, rank);
                 double limit = median +
                                threshold * std::sqrt(double(variance.At(c, y, x))) / s +
                                relative * std::fabs(median);
@@ -499,8 +507,8 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     keep("variance", variance);
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
-    Image clamped =
-        NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative);
+    Image clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
+                              p.fireflyRelative, p.fireflyRank);
     keep("color", clamped);
     Image features = *in.features;
     if (p.prefilterRadius > 0) {

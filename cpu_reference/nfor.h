@@ -75,31 +75,32 @@ constexpr double kNforTermMax = 25;
 constexpr double kNforExpCut = 30;
 
 struct NforParams {
-    int radius = 7;        // regression window half-size R
-    int gatherRadius = 7;  // a pixel averages the fits of windows centred this close
-    int patchRadius = 3;   // colour patch half-size
-    std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
-    double alpha = 1;                // variance cancellation in the colour distance
-    bool minVariance = false;        // the distance normalised by 2 min(v_p, v_q)
-    bool demodulateDistance = true;  // the distance of colour / albedo
-    double ridge = 0.1;              // lambda
+    int radius = 4;        // regression window half-size R
+    int gatherRadius = 3;  // a pixel averages the fits of windows centred this close
+    int patchRadius = 2;   // colour patch half-size
+    std::vector<double> bandwidths = {0.5};  // k per candidate
+    double alpha = 1;                        // variance cancellation in the colour distance
+    bool minVariance = false;                // the distance normalised by 2 min(v_p, v_q)
+    bool demodulateDistance = true;          // the distance of colour / albedo
+    double ridge = 0.1;                      // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
     std::vector<double> featureWeights;
-    int noiseRadius = 2;
+    int noiseRadius = 1;
     double noiseMinCalibration = 1;  // E-correction of the smallest of 4 medians
     double fireflyThreshold = 4;     // t; 0: no clamp
     double fireflyRelative = 0.5;    // rho
+    int fireflyRank = 0;             // 0: the neighbours' lower median; k: their k-th largest
     double emitterAlbedo = 1.5;
-    int prefilterRadius = 3;  // 0: features as they are
+    int prefilterRadius = 0;  // 0: features as they are
     int prefilterPatch = 1;
     double prefilterBandwidth = 1;
     int sureRadius = 3;
     // Second pass: bandwidths k of the fits weighted by the distance of the first pass's
     // output (the pilot) over the colour's variance, cancelled by pilotAlpha, chosen per
     // pixel by SURE as the first's; empty: none.
-    std::vector<double> pilotBandwidths;
+    std::vector<double> pilotBandwidths = {1.0};
     double pilotAlpha = 0;
-    int meanRadius = 0;  // restore the clamped colour's local means (tent 2r); 0: off
+    int meanRadius = 2;  // restore the clamped colour's local means (tent 2r); 0: off
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).
@@ -118,7 +119,7 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 
 // The colour with fireflies clamped.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold, double relative);
+                const Image &mask, double threshold, double relative, int rank = 0);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,

@@ -14,8 +14,8 @@ namespace {
 
 struct NforParamsApi {
     NforOptions options;
-    std::string bandwidths = "0.5,1";
-    std::string pilotBandwidths = "none";
+    std::string bandwidths = "0.5";
+    std::string pilotBandwidths = "1";
     std::string noise = "auto", pivot = "auto";
 };
 
@@ -94,6 +94,10 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
         nested(FloatParam("firefly-relative",
                           "and above the median + this x |median| (noise-free peaks stay)",
                           &O::fireflyRelative, 0, 1e6)),
+        nested(IntParam("firefly-rank",
+                        "compare with the 8 neighbours' median (0) or their k-th largest (k: a "
+                        "pixel with k - 1 bright neighbours is a highlight, kept)",
+                        &O::fireflyRank, 0, 8)),
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: kept as they are",
                           &O::emitterAlbedo, 1, 1e30)),
@@ -203,6 +207,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.noiseMinCalibration = o.noiseCalibration;
         p.fireflyThreshold = o.fireflyThreshold;
         p.fireflyRelative = o.fireflyRelative;
+        p.fireflyRank = o.fireflyRank;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;
@@ -223,6 +228,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     NforOptions Options() const {
         NforOptions o = options.options;
         o.bandwidths = ParseBandwidths(options.bandwidths);
+        o.pilotBandwidths.clear();
         if (options.pilotBandwidths != "none")
             o.pilotBandwidths = ParseBandwidths(options.pilotBandwidths);
         return o;

@@ -257,8 +257,8 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                         o.noiseCalibration, gpu.variance);
     run.StageAtEnd("variance", gpu.variance);
     RecordNforClamp(context, run.Recorder(), gpu.color, gpu.variance, albedo,
-                    o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, gpu.clamped,
-                    gpu.mask);
+                    o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
+                    gpu.clamped, gpu.mask);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
     if (o.prefilterRadius > 0) {

@@ -18,13 +18,13 @@
 namespace mcd {
 
 struct NforOptions {
-    int radius = 7;  // regression window half-size
+    int radius = 4;  // regression window half-size
     // Each pixel averages the fits of the windows centred at most this far (NFOR: all
     // that hold it, the radius); -1: the radius.
-    int gatherRadius = -1;
-    int patchRadius = 3;                           // colour patch half-size
-    std::vector<float> bandwidths = {0.5f, 1.0f};  // k of each candidate (at most 4)
-    float alpha = 1;  // variance cancellation of the colour distance
+    int gatherRadius = 3;
+    int patchRadius = 2;                     // colour patch half-size
+    std::vector<float> bandwidths = {0.5f};  // k of each candidate (at most 4)
+    float alpha = 1;                         // variance cancellation of the colour distance
     // Normalise the colour distance by 2 min(v_p, v_q) (a dark pixel does not borrow from
     // a brighter, noisier one) instead of v_p + v_q (Rousselle et al.'s symmetric form).
     bool minVariance = false;
@@ -35,12 +35,15 @@ struct NforOptions {
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
     float featureBandwidth = 3;
     float albedoSigma = 0.1f, normalSigma = 0.2f, depthSigma = 0.05f, pivotSigma = 0.1f;
-    int noiseRadius = 2;
+    int noiseRadius = 1;
     float noiseCalibration = 1.479f;  // the smallest of 4 medians, unbiased on Gaussian noise
     // Clamp above the neighbours' median + t sigma + relative |median|; t = 0: off.
     float fireflyThreshold = 4, fireflyRelative = 0.5f;
+    // Compare with the neighbours' median (0) or their k-th largest (k): a pixel with k - 1
+    // bright neighbours is a highlight, kept.
+    int fireflyRank = 0;
     float emitterAlbedo = 1.5f;
-    int prefilterRadius = 3;  // 0: features unfiltered
+    int prefilterRadius = 0;  // 0: features unfiltered
     int prefilterPatch = 1;
     float prefilterBandwidth = 1;
     int sureRadius = 3;
@@ -48,11 +51,11 @@ struct NforOptions {
     // instead of the noisy colour, normalised by the colour's variance and cancelled by
     // pilotAlpha times it, with these bandwidths k (at most 4, chosen per pixel by SURE);
     // empty: one pass.
-    std::vector<float> pilotBandwidths;
+    std::vector<float> pilotBandwidths = {1.0f};
     float pilotAlpha = 0;
     // Restore the clamped colour's local means over tent windows of radius 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
-    int meanRadius = 0;
+    int meanRadius = 2;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
