@@ -89,7 +89,7 @@ struct NforParams {
     double noiseMinCalibration = 1;  // E-correction of the smallest of 4 medians
     double fireflyThreshold = 4;     // t; 0: no clamp
     double fireflyRelative = 0.5;    // rho
-    int fireflyRank = 0;             // 0: the neighbours' lower median; k: their k-th largest
+    int fireflyRank = 3;             // 0: the neighbours' lower median; k: their k-th largest
     double emitterAlbedo = 1.5;
     int prefilterRadius = 0;  // 0: features as they are
     int prefilterPatch = 1;

@@ -34,11 +34,9 @@ std::vector<MethodEntry> Build() {
          2,
          {{"bayes", {}, 3, {1.f, 0.8f, 0.05f}, "yellow"},
           {"bayes no split", {{"no-split", true}}, 8, {0.5f, 0.25f, 0.1f}, "brown"}}},
-        // nfor is not among auto's candidates yet: auto runs each candidate twice (the run
-        // and its error probe), and nfor is the slowest method on lavapipe, for a small gain
-        // in auto's error on the real-scene set (docs/methods/nfor.md). Its variant, to
-        // put back when it is cheaper: {"nfor", {}, 9, {1.f, 1.f, 1.f}, "white"}.
-        {"nfor", NforFrontEnd, -1, {}},
+        // nfor runs last: its second pass over the pilot and the local means (the defaults)
+        // cost about as much as a pivot variant on lavapipe.
+        {"nfor", NforFrontEnd, -1, {{"nfor", {}, 9, {1.f, 1.f, 1.f}, "white"}}},
         {"pivot",
          PivotFrontEnd,
          3,

@@ -41,7 +41,7 @@ struct NforOptions {
     float fireflyThreshold = 4, fireflyRelative = 0.5f;
     // Compare with the neighbours' median (0) or their k-th largest (k): a pixel with k - 1
     // bright neighbours is a highlight, kept.
-    int fireflyRank = 0;
+    int fireflyRank = 3;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 0;  // 0: features unfiltered
     int prefilterPatch = 1;
