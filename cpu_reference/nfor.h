@@ -78,11 +78,11 @@ struct NforParams {
     int radius = 4;        // regression window half-size R
     int gatherRadius = 3;  // a pixel averages the fits of windows centred this close
     int patchRadius = 2;   // colour patch half-size
-    std::vector<double> bandwidths = {0.5};  // k per candidate
-    double alpha = 1;                        // variance cancellation in the colour distance
-    bool minVariance = false;                // the distance normalised by 2 min(v_p, v_q)
-    bool demodulateDistance = true;          // the distance of colour / albedo
-    double ridge = 0.1;                      // lambda
+    std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
+    double alpha = 1;                // variance cancellation in the colour distance
+    bool minVariance = false;        // the distance normalised by 2 min(v_p, v_q)
+    bool demodulateDistance = true;  // the distance of colour / albedo
+    double ridge = 0.1;              // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
     std::vector<double> featureWeights;
     int noiseRadius = 1;

@@ -14,7 +14,7 @@ namespace {
 
 struct NforParamsApi {
     NforOptions options;
-    std::string bandwidths = "0.5";
+    std::string bandwidths = "0.5,1";
     std::string pilotBandwidths = "1";
     std::string noise = "auto", pivot = "auto";
 };

@@ -22,9 +22,9 @@ struct NforOptions {
     // Each pixel averages the fits of the windows centred at most this far (NFOR: all
     // that hold it, the radius); -1: the radius.
     int gatherRadius = 3;
-    int patchRadius = 2;                     // colour patch half-size
-    std::vector<float> bandwidths = {0.5f};  // k of each candidate (at most 4)
-    float alpha = 1;                         // variance cancellation of the colour distance
+    int patchRadius = 2;                           // colour patch half-size
+    std::vector<float> bandwidths = {0.5f, 1.0f};  // k of each candidate (at most 4)
+    float alpha = 1;  // variance cancellation of the colour distance
     // Normalise the colour distance by 2 min(v_p, v_q) (a dark pixel does not borrow from
     // a brighter, noisier one) instead of v_p + v_q (Rousselle et al.'s symmetric form).
     bool minVariance = false;
