@@ -75,7 +75,7 @@ constexpr double kNforTermMax = 25;
 constexpr double kNforExpCut = 30;
 
 struct NforParams {
-    int radius = 4;        // regression window half-size R
+    int radius = 7;        // regression window half-size R
     int gatherRadius = 3;  // a pixel averages the fits of windows centred this close
     int patchRadius = 2;   // colour patch half-size
     std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
@@ -100,7 +100,7 @@ struct NforParams {
     // pixel by SURE as the first's; empty: none.
     std::vector<double> pilotBandwidths = {1.0};
     double pilotAlpha = 0;
-    int meanRadius = 2;  // restore the clamped colour's local means (tent 2r); 0: off
+    int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).

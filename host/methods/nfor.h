@@ -18,7 +18,7 @@
 namespace mcd {
 
 struct NforOptions {
-    int radius = 4;  // regression window half-size
+    int radius = 7;  // regression window half-size
     // Each pixel averages the fits of the windows centred at most this far (NFOR: all
     // that hold it, the radius); -1: the radius.
     int gatherRadius = 3;
@@ -55,7 +55,7 @@ struct NforOptions {
     float pilotAlpha = 0;
     // Restore the clamped colour's local means over tent windows of radius 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
-    int meanRadius = 2;
+    int meanRadius = 4;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
