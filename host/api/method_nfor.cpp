@@ -138,7 +138,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Nfor>(*this); }
     std::string Summary() const override {
         return "feature regression (NFOR): first-order fits of the colour on albedo, normal, "
-               "depth (and pivot), bandwidth per pixel by SURE; runs on plain frames";
+               "depth (and pivot), bandwidth per pixel by SURE, a second pass over the first's "
+               "output; runs on plain frames";
     }
     std::vector<std::string> Uses() const override {
         return {"color", "albedo", "normal", "depth", "pivot", "variance"};

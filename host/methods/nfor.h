@@ -2,9 +2,11 @@
 // regression of the colour on the features (albedo, normal, depth, screen position; the
 // pivot where the frame has one) over a window, weights from the colour's NL-means patch
 // distance and the features' distances, each window's fit averaged at every pixel it
-// holds (Bitterli et al. 2016, NFOR), several bandwidths chosen per pixel by SURE. On a
-// frame without a variance layer the colour's noise is estimated from the frame, and so
-// is the features' (which are prefiltered); emitters are left out and keep their input.
+// holds (Bitterli et al. 2016, NFOR), several bandwidths chosen per pixel by SURE; then a
+// second pass weighted by the first's output (the pilot) and the clamped colour's local
+// means restored. On a frame without a variance layer the colour's noise is estimated from
+// the frame, and so is the features' where they are prefiltered; emitters are left out and
+// keep their input.
 // The readings of the papers are listed in cpu_reference/nfor.h, the CPU twin.
 #pragma once
 
