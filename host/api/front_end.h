@@ -45,10 +45,10 @@ class Inputs {
     void Override(const std::string &layer, Image image);
     // The names of the frame's layers and the overrides, sorted.
     std::vector<std::string> Names() const;
-    // Work shared between runs on this frame (auto's candidates and probes; RunSetup::memo).
-    // A window (a tile) shares none: its layers are crops.
+    // Work shared between runs on these inputs (auto's candidates and probes;
+    // RunSetup::memo). A window made of them (a tile) starts without: its layers are crops.
     void SetMemo(RunMemo *shared) { memo = shared; }
-    RunMemo *Memo() const { return parent ? nullptr : memo; }
+    RunMemo *Memo() const { return memo; }
 
     std::vector<std::string> warnings;
 
