@@ -46,7 +46,7 @@ class Inputs {
     // The names of the frame's layers and the overrides, sorted.
     std::vector<std::string> Names() const;
     // Work shared between runs on these inputs (auto's candidates and probes;
-    // RunSetup::memo). A window made of them (a tile) starts without: its layers are crops.
+    // RunSetup::memo), and on the windows made of them (a tile's: keys name their content).
     void SetMemo(RunMemo *shared) { memo = shared; }
     RunMemo *Memo() const { return memo; }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <deque>
 #include <memory>
 
@@ -322,15 +323,25 @@ struct RhfMaskMemo {
     vk::Buffer mask;
 };
 
+// The histograms' identity in the memo: their shape and a 64-bit hash of their values (a
+// tile's are a crop, made anew for each run).
+std::string HistogramId(const Image &hist) {
+    uint64_t hash = 0xcbf29ce484222325ull;
+    for (float v : hist.data) {
+        uint32_t word;
+        std::memcpy(&word, &v, sizeof(word));
+        hash = (hash ^ word) * 0x100000001b3ull;
+    }
+    return fmt::format("{}x{}x{} {:016x}", hist.width, hist.height, hist.channels, hash);
+}
+
 // The memo's key of scale s's selection: everything it depends on, the colour apart (the
-// histograms' identity, the scale, its histogram scale and the parameters that select).
-std::string MaskKey(const Image &hist, const ScaleInputs &in, int s, int nearest,
+// histograms, the scale, its histogram scale and the parameters that select).
+std::string MaskKey(const std::string &histId, const ScaleInputs &in, int s, int nearest,
                     const RhfParams &o) {
     return fmt::format(
-        "rhf.mask {} {}x{}x{} s{} scale {:a} patch {} search {} nearest {} "
-        "threshold {:a} veto {:a}",
-        static_cast<const void *>(hist.data.data()), hist.width, hist.height, hist.channels, s,
-        in.histScale, o.patchHalf, o.searchHalf, nearest, o.threshold, o.brightVeto);
+        "rhf.mask {} s{} scale {:a} patch {} search {} nearest {} threshold {:a} veto {:a}",
+        histId, s, in.histScale, o.patchHalf, o.searchHalf, nearest, o.threshold, o.brightVeto);
 }
 
 // Per strip, the chi-square terms, patch distances and selection into work.mask.
@@ -361,7 +372,7 @@ int RecordSelection(StagedRun &run, RhfWork &work, const RhfLayout &layout,
 // alone); then the aggregation of the colour into a new image.
 vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
                            const RhfLayout &layout, const ScaleInputs &in, int s,
-                           const RhfParams &o, RunMemo *memo, const Image &hist) {
+                           const RhfParams &o, RunMemo *memo, const std::string &histId) {
     vk::Context &context = run.Context();
     vk::Recorder &recorder = run.Recorder();
     const int Ws = in.color->width, Hs = in.color->height, n3 = in.hist->planes - 1;
@@ -370,7 +381,7 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
     // The tool counts the patch itself apart from its k_NN neighbours.
     int nearest = knn > 0 ? knn + 1 : 0;
     const size_t maskBytes = size_t(RhfMaskWords(o.searchHalf)) * Ws * Hs * sizeof(uint32_t);
-    const std::string key = memo ? MaskKey(hist, in, s, nearest, o) : std::string();
+    const std::string key = memo ? MaskKey(histId, in, s, nearest, o) : std::string();
     RhfMaskMemo *kept = memo ? memo->Find<RhfMaskMemo>(key) : nullptr;
     int strips = 0;
     if (kept) {
@@ -498,6 +509,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     if (memo && !std::all_of(colorIn.data.begin(), colorIn.data.end(),
                              [](float v) { return std::isfinite(v); }))
         memo = nullptr;
+    const std::string histId = memo ? HistogramId(histIn) : std::string();
     const int W = color.width, H = color.height, planes = hist.channels;
     RhfLayout layout = RhfLayoutFor(context, W, H, planes, o, setup);
     int scales = setup.scalesUsed > 0 ? setup.scalesUsed : RhfScalesUsed(W, H, o);
@@ -529,7 +541,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
                 run, scratch, colorGpu, full, totals, s,
                 size_t(s) < setup.histScales.size() ? setup.histScales[s] : 0.f);
         const vk::GpuImage &filtered =
-            RecordFilter(run, scratch, work, layout, in, s, o, memo, histIn);
+            RecordFilter(run, scratch, work, layout, in, s, o, memo, histId);
         previous =
             previous ? &RecordCombine(run, scratch, filtered, *previous, s, setup) : &filtered;
     }
