@@ -10,6 +10,7 @@ RunSetup SetupFor(const Inputs &inputs, const RunOptions &run) {
     setup.frameY0 = inputs.OriginY();
     setup.frameWidth = inputs.FrameWidth();
     setup.frameHeight = inputs.FrameHeight();
+    setup.memo = inputs.Memo();
     return setup;
 }
 

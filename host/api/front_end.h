@@ -45,6 +45,10 @@ class Inputs {
     void Override(const std::string &layer, Image image);
     // The names of the frame's layers and the overrides, sorted.
     std::vector<std::string> Names() const;
+    // Work shared between runs on these inputs (auto's candidates and probes;
+    // RunSetup::memo), and on the windows made of them (a tile's: keys name their content).
+    void SetMemo(RunMemo *shared) { memo = shared; }
+    RunMemo *Memo() const { return memo; }
 
     std::vector<std::string> warnings;
 
@@ -55,6 +59,7 @@ class Inputs {
     std::string method;
     int width, height;
     Inputs *parent = nullptr;  // a window's parent, and the window's origin in it
+    RunMemo *memo = nullptr;
     int x0 = 0, y0 = 0;
     std::map<std::string, Image> overrides;  // demodulated or repaired layers, or crops
     std::map<std::string, bool> checked;

@@ -21,6 +21,7 @@ Inputs::Inputs(Inputs &parent, int x0, int y0, int x1, int y1)
       width(x1 - x0),
       height(y1 - y0),
       parent(&parent),
+      memo(parent.memo),
       x0(x0),
       y0(y0) {}
 

@@ -17,6 +17,7 @@
 #include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
 #include "host/methods/auto.h"
+#include "host/methods/run_memo.h"
 
 namespace mcd::api {
 namespace {
@@ -468,6 +469,22 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
     return out;
 }
 
+// The candidates, sharing the work that depends on layers their runs and probes have in
+// common (host/methods/run_memo.h: rhf's selections, from the histograms alone): the output
+// is the same bit for bit, and the memo goes with the candidates' runs.
+Candidates RunCandidatesSharing(vk::Context &context, Inputs &inputs,
+                                const std::vector<std::unique_ptr<FrontEnd>> &methods,
+                                const Noise &noise, const AutoFrontEnd::Options &o,
+                                Clock::time_point start, std::vector<std::string> *plan) {
+    RunMemo memo;
+    struct Detach {
+        Inputs &inputs;
+        ~Detach() { inputs.SetMemo(nullptr); }
+    } detach{inputs};
+    inputs.SetMemo(&memo);
+    return RunCandidates(context, inputs, methods, noise, o, start, plan);
+}
+
 // The combination's options. The frame's own estimate is rougher than a variance layer:
 // milder weights over smaller windows (measured on 10 frames without statistics, README:
 // power 2 over 17x17 left double-textured x1.06 the best method and the Cycles cornell box
@@ -689,7 +706,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     std::vector<std::string> plan;
     Noise noise = ChooseNoise(context, inputs, color, options, &plan);
     Candidates candidates =
-        RunCandidates(context, inputs, methods, noise, options, start, &plan);
+        RunCandidatesSharing(context, inputs, methods, noise, options, start, &plan);
     std::vector<AutoCandidate> list;
     for (Ran &r : candidates.ran) list.push_back(std::move(r.candidate));
     AutoOptions combine = CombineOptions(options, noise, run);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <deque>
 #include <memory>
 
@@ -15,6 +16,7 @@
 #include "host/kernels/rhf_downsample.h"
 #include "host/kernels/rhf_select.h"
 #include "host/kernels/rhf_terms.h"
+#include "host/methods/run_memo.h"
 #include "host/methods/staged_run.h"
 #include "host/vk/gpu_image.h"
 #include "rhf/terms.h"
@@ -316,18 +318,38 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
     return in;
 }
 
-// RHF at scale s: per strip, the chi-square terms, patch distances and selection; then the
-// aggregation into a new image.
-vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
-                           const RhfLayout &layout, const ScaleInputs &in, int s,
-                           const RhfParams &o) {
+// A selection mask kept for later runs on the same histograms (RunSetup::memo).
+struct RhfMaskMemo {
+    vk::Buffer mask;
+};
+
+// The histograms' identity in the memo: their shape and a 64-bit hash of their values (a
+// tile's are a crop, made anew for each run).
+std::string HistogramId(const Image &hist) {
+    uint64_t hash = 0xcbf29ce484222325ull;
+    for (float v : hist.data) {
+        uint32_t word;
+        std::memcpy(&word, &v, sizeof(word));
+        hash = (hash ^ word) * 0x100000001b3ull;
+    }
+    return fmt::format("{}x{}x{} {:016x}", hist.width, hist.height, hist.channels, hash);
+}
+
+// The memo's key of scale s's selection: everything it depends on, the colour apart (the
+// histograms, the scale, its histogram scale and the parameters that select).
+std::string MaskKey(const std::string &histId, const ScaleInputs &in, int s, int nearest,
+                    const RhfParams &o) {
+    return fmt::format(
+        "rhf.mask {} s{} scale {:a} patch {} search {} nearest {} threshold {:a} veto {:a}",
+        histId, s, in.histScale, o.patchHalf, o.searchHalf, nearest, o.threshold, o.brightVeto);
+}
+
+// Per strip, the chi-square terms, patch distances and selection into work.mask.
+int RecordSelection(StagedRun &run, RhfWork &work, const RhfLayout &layout,
+                    const ScaleInputs &in, int nearest, const RhfParams &o) {
     vk::Context &context = run.Context();
     vk::Recorder &recorder = run.Recorder();
-    const int Ws = in.color->width, Hs = in.color->height, n3 = in.hist->planes - 1;
-    const int side = 2 * o.searchHalf + 1, offsets = side * side;
-    int knn = s == 0 ? o.knn : 0;
-    // The tool counts the patch itself apart from its k_NN neighbours.
-    int nearest = knn > 0 ? knn + 1 : 0;
+    const int Ws = in.color->width, Hs = in.color->height;
     int strips = 0;
     RecordRhfBlockMax(context, recorder, *in.hist, in.histScale, work.blockMax);
     for (int y0 = 0; y0 < Hs; y0 += layout.stripRows, ++strips) {
@@ -342,6 +364,37 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
         RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, nearest, o.threshold,
                         work.dist, work.mask);
     }
+    return strips;
+}
+
+// RHF at scale s: the selection (per strip: chi-square terms, patch distances, selection),
+// or with a memo the one an earlier run on the same histograms made (it depends on them
+// alone); then the aggregation of the colour into a new image.
+vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
+                           const RhfLayout &layout, const ScaleInputs &in, int s,
+                           const RhfParams &o, RunMemo *memo, const std::string &histId) {
+    vk::Context &context = run.Context();
+    vk::Recorder &recorder = run.Recorder();
+    const int Ws = in.color->width, Hs = in.color->height, n3 = in.hist->planes - 1;
+    const int side = 2 * o.searchHalf + 1, offsets = side * side;
+    int knn = s == 0 ? o.knn : 0;
+    // The tool counts the patch itself apart from its k_NN neighbours.
+    int nearest = knn > 0 ? knn + 1 : 0;
+    const size_t maskBytes = size_t(RhfMaskWords(o.searchHalf)) * Ws * Hs * sizeof(uint32_t);
+    const std::string key = memo ? MaskKey(histId, in, s, nearest, o) : std::string();
+    RhfMaskMemo *kept = memo ? memo->Find<RhfMaskMemo>(key) : nullptr;
+    int strips = 0;
+    if (kept) {
+        recorder.Copy(kept->mask, work.mask, maskBytes);
+    } else {
+        strips = RecordSelection(run, work, layout, in, nearest, o);
+        if (memo) {
+            auto entry = std::make_shared<RhfMaskMemo>();
+            entry->mask = vk::Buffer(context, maskBytes, "rhf.mask.memo");
+            recorder.Copy(work.mask, entry->mask, maskBytes);
+            memo->Add(key, std::move(entry));
+        }
+    }
     vk::GpuImage &filtered =
         scratch.images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.filtered{}", s));
     RecordRhfAggregate(context, recorder, *in.color, work.mask, o.patchHalf, o.searchHalf,
@@ -349,13 +402,15 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
     run.StageAtEnd(fmt::format("filtered s{}", s), filtered);
     run.Plan(fmt::format(
         "scale {} ({}x{}): chi-square pixel terms for {} offsets x {} bins, {}x{} patch "
-        "distances{}, selection of {} nearest (itself + k_NN) + distance < {} in {} strip(s), "
+        "distances{}, selection of {} nearest (itself + k_NN) + distance < {} {}, "
         "aggregation",
         s, Ws, Hs, offsets, n3, 2 * o.patchHalf + 1, 2 * o.patchHalf + 1,
         o.brightVeto > 0
             ? fmt::format(" with bright veto {} (in the frame's sample counts)", o.brightVeto)
             : std::string(" (no bright veto)"),
-        nearest, o.threshold, strips));
+        nearest, o.threshold,
+        kept ? std::string("(an earlier run's on these histograms)")
+             : fmt::format("in {} strip(s)", strips)));
     return filtered;
 }
 
@@ -448,6 +503,13 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     StagedRun run(context, setup.keepStages);
     Image color = colorIn, hist = histIn;
     for (std::string &warning : Sanitize(color, hist)) run.Warn(std::move(warning));
+    // A non-finite colour empties its pixel's histogram (Sanitize): the selection then
+    // depends on the colour too, and is neither taken from the memo nor left in it.
+    RunMemo *memo = setup.memo;
+    if (memo && !std::all_of(colorIn.data.begin(), colorIn.data.end(),
+                             [](float v) { return std::isfinite(v); }))
+        memo = nullptr;
+    const std::string histId = memo ? HistogramId(histIn) : std::string();
     const int W = color.width, H = color.height, planes = hist.channels;
     RhfLayout layout = RhfLayoutFor(context, W, H, planes, o, setup);
     int scales = setup.scalesUsed > 0 ? setup.scalesUsed : RhfScalesUsed(W, H, o);
@@ -478,7 +540,8 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             in = RecordCoarseInputs(
                 run, scratch, colorGpu, full, totals, s,
                 size_t(s) < setup.histScales.size() ? setup.histScales[s] : 0.f);
-        const vk::GpuImage &filtered = RecordFilter(run, scratch, work, layout, in, s, o);
+        const vk::GpuImage &filtered =
+            RecordFilter(run, scratch, work, layout, in, s, o, memo, histId);
         previous =
             previous ? &RecordCombine(run, scratch, filtered, *previous, s, setup) : &filtered;
     }

@@ -9,6 +9,8 @@
 
 namespace mcd {
 
+class RunMemo;
+
 struct RunSetup {
     // Download every stage's buffer (for `mcdenoise diff`): one submission per stage, and
     // stages a run fuses otherwise (awr's shrinkage) as passes of their own.
@@ -36,6 +38,10 @@ struct RunSetup {
     // pivot planefit: its fit and gather run in row strips of about this many centres, one
     // submission each (0: one strip).
     int stripPixels = 1 << 16;
+
+    // Work shared with other runs on the same frame (host/methods/run_memo.h): taken from
+    // it where an earlier run left it, left in it for later runs. nullptr: none.
+    RunMemo *memo = nullptr;
 };
 
 }  // namespace mcd

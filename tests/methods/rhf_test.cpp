@@ -22,6 +22,7 @@
 #include "host/kernels/rhf_blockmax.h"
 #include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
+#include "host/methods/run_memo.h"
 #include "host/vk/buffer.h"
 #include "host/vk/recorder.h"
 #include "tools/render/renderer.h"
@@ -250,6 +251,34 @@ TEST_F(RhfKernel, RerunsAreBitIdentical) {
     RhfParams o;
     Image first = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     EXPECT_TRUE(BitIdentical(first, RhfDenoise(Ctx(), f.color, f.hist, o).image));
+}
+
+// auto's runs share the selections (RunSetup::memo): a run on another colour over the same
+// histograms, and one at two scales after one at one scale, give what they give alone; a
+// colour with a NaN (which empties its pixel's histogram) neither takes nor leaves one.
+TEST_F(RhfKernel, SharedSelectionsAreBitIdentical) {
+    Frame f = MakeFrame(37, 34, SeedFromName("rhf memo"));
+    Image perturbed = f.color, broken = f.color;
+    std::mt19937 rng(SeedFromName("rhf memo probe"));
+    for (float &v : perturbed.data) v += (rng() & 1u) ? 0.05f : -0.05f;
+    broken.data[5] = std::numeric_limits<float>::quiet_NaN();
+    RhfParams one, two;
+    one.searchHalf = two.searchHalf = 4;
+    two.scales = 2;
+    RunMemo memo;
+    RunSetup shared;
+    shared.memo = &memo;
+    for (const RhfParams &o : {one, two})
+        for (const Image *color : {&f.color, &perturbed, &broken}) {
+            SCOPED_TRACE(fmt::format("{} scale(s), colour {}", o.scales,
+                                     color == &f.color     ? "as made"
+                                     : color == &perturbed ? "perturbed"
+                                                           : "with a NaN"));
+            EXPECT_TRUE(BitIdentical(RhfDenoise(Ctx(), *color, f.hist, o).image,
+                                     RhfDenoise(Ctx(), *color, f.hist, o, shared).image));
+        }
+    // The finest scale's selection and the coarse one's.
+    EXPECT_EQ(memo.Size(), 2u);
 }
 
 class RhfProperties : public GpuTest {};

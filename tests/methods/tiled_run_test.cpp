@@ -17,7 +17,10 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
+#include "host/api/front_end.h"
+#include "host/api/registry.h"
 #include "host/api/tiled_run.h"
+#include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
 #include "tools/render/renderer.h"
 
@@ -113,6 +116,31 @@ TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
         EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
         ExpectSameBits(whole.image, tiled.image, c.name + " on the " + kind + " frame");
     }
+}
+
+class TiledRunShared : public GpuTest {};
+
+// auto's runs share rhf's selections through the inputs' memo, tile by tile: a second run in
+// tiles on another colour takes the first's and gives what it gives alone.
+TEST_F(TiledRunShared, RhfSelectionsTakenFromAnEarlierRunAreBitIdentical) {
+    Frame frame = RenderedFrame(97, 83, render::kLayersAll), other = frame;
+    for (float &v : other.layers["color"].data) v *= 1.25f;
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    rhf->Set("nscales", 2);
+    RunOptions run;
+    run.tileSize = 40;
+    RunMemo memo;
+    api::Inputs shared(frame, false, "rhf");
+    shared.SetMemo(&memo);
+    api::RunTiled(Ctx(), *rhf, shared, run);
+    const size_t kept = memo.Size();
+    EXPECT_GT(kept, 0u);
+    shared.Override("color", other.layers["color"]);
+    Result second = api::RunTiled(Ctx(), *rhf, shared, run);
+    EXPECT_EQ(memo.Size(), kept) << "the second run made selections of its own";
+    api::Inputs alone(other, false, "rhf");
+    ExpectSameBits(api::RunTiled(Ctx(), *rhf, alone, run).image, second.image,
+                   "rhf at 2 scales in tiles, selections shared");
 }
 
 INSTANTIATE_TEST_SUITE_P(

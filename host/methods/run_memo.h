@@ -1,0 +1,36 @@
+// Work one run leaves for later runs on the same frame. auto runs several methods and
+// variants, each twice (the run and its SURE probe), on one frame whose layers differ between
+// those runs in the colour alone; some of their work depends on other layers only (rhf's
+// selection masks, from the histograms) and is computed once. The owner (auto) keeps the
+// memo for one frame; an entry's key names everything its work depends on.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+namespace mcd {
+
+class RunMemo {
+  public:
+    // The entry under `key`, or nullptr. The key's owner knows its type.
+    template <class T>
+    T *Find(const std::string &key) const {
+        auto it = entries.find(key);
+        return it == entries.end() ? nullptr : static_cast<T *>(it->second.get());
+    }
+    // Keep `entry` under `key` for the memo's life; returns it.
+    template <class T>
+    T &Add(const std::string &key, std::shared_ptr<T> entry) {
+        T &kept = *entry;
+        entries[key] = std::move(entry);
+        return kept;
+    }
+    size_t Size() const { return entries.size(); }
+    void Clear() { entries.clear(); }
+
+  private:
+    std::map<std::string, std::shared_ptr<void>> entries;
+};
+
+}  // namespace mcd
