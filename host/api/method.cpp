@@ -370,8 +370,14 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     Result result;
     try {
         // auto combines the methods on the frame itself; with --demodulate it picks one.
-        if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
-            if (!demodulate.empty()) method = &automatic->Pick(frame, demodulate, &autoPlan);
+        // Without statistics it runs nfor alone (--auto-plain).
+        if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method)) {
+            if (!demodulate.empty())
+                method = &automatic->Pick(frame, demodulate, &autoPlan);
+            else if (const api::FrontEnd *nfor =
+                         automatic->PickWithoutStatistics(frame, &autoPlan))
+                method = nfor;
+        }
         RefuseMissing(*method, frame, demodulate);
         api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
         Demodulation demodulation;
@@ -410,8 +416,11 @@ std::vector<Stage> Method::Reference(Device &device, const Frame &frame) const {
     std::vector<std::string> ignored;
     // The reference of auto's combination is its kernels' (tests/methods/auto_test.cpp):
     // here, the one method auto picks without a combination.
-    if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method))
-        method = &automatic->Pick(frame, demodulate, &ignored);
+    if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method)) {
+        const api::FrontEnd *nfor =
+            demodulate.empty() ? automatic->PickWithoutStatistics(frame, &ignored) : nullptr;
+        method = nfor ? nfor : &automatic->Pick(frame, demodulate, &ignored);
+    }
     RefuseMissing(*method, frame, demodulate);
     api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
     if (!demodulate.empty()) Demodulate(inputs, *method, frame, demodulate);

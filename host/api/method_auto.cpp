@@ -98,7 +98,13 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                  "restore the input's local means over tent windows of twice this radius "
                  "after the combination, which leans dark where the candidates disagree (0: "
                  "off)",
-                 &O::meanRadius, 0, 256)};
+                 &O::meanRadius, 0, 256),
+        ChoiceParam("auto-plain",
+                    "on a frame without statistics (no variance layer, half-buffers, "
+                    "histograms nor min/max/spp, as most renderers write): nfor (run nfor "
+                    "alone, which beat the combination on such frames) or combine (combine "
+                    "the candidates by SURE on the frame's own noise estimate)",
+                    &O::plain, {"nfor", "combine"})};
 }
 
 const ParamDef<AutoFrontEnd::Options> *OwnDef(const std::string &param) {
@@ -693,6 +699,22 @@ const FrontEnd &AutoFrontEnd::Pick(const Frame &frame, const std::string &demodu
 
 std::vector<Stage> AutoFrontEnd::Reference(vk::Context &, Inputs &) const {
     throw Error("auto: pick a method first", ErrorKind::Internal);
+}
+
+const FrontEnd *AutoFrontEnd::PickWithoutStatistics(const Frame &frame,
+                                                    std::vector<std::string> *plan) const {
+    if (options.plain != "nfor" || options.noise != "auto" || options.combine == "mean")
+        return nullptr;
+    for (const char *layer : {"variance", "half0.color", "half1.color"})
+        if (frame.Has(layer)) return nullptr;
+    for (const char *statistics : {"awr", "rhf"})
+        if (Base(statistics).Missing(frame).empty()) return nullptr;
+    const FrontEnd &nfor = Base("nfor");
+    if (!nfor.Missing(frame).empty()) return nullptr;
+    plan->push_back(
+        "auto: nfor alone (the frame has no statistics: no variance layer, half-buffers, "
+        "histograms nor min/max/spp; --auto-plain combine combines the candidates instead)");
+    return &nfor;
 }
 
 // The noise source, the candidates, their combination (host/methods/auto.h), the plan.

@@ -32,6 +32,10 @@ class AutoFrontEnd : public FrontEnd {
     // why.
     const FrontEnd &Pick(const Frame &frame, const std::string &demodulate,
                          std::vector<std::string> *plan) const;
+    // nfor alone on a frame without statistics (--auto-plain nfor, the default), with the
+    // plan line that says why; null where auto combines its candidates.
+    const FrontEnd *PickWithoutStatistics(const Frame &frame,
+                                          std::vector<std::string> *plan) const;
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override;
     // The widest reach and the largest memory of the candidates the frame allows, plus the
@@ -70,6 +74,9 @@ class AutoFrontEnd : public FrontEnd {
         // host/common/local_mean.h): the relative combination leans dark where the
         // candidates disagree, and relMSE rewards that (issue 29).
         int meanRadius = 8;
+        // On a frame without statistics, nfor alone or the combination (docs/methods/
+        // auto.md: nfor alone beat the combination on the real Cycles frames).
+        std::string plain = "nfor";
     };
 
   private:

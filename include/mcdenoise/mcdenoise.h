@@ -99,7 +99,7 @@ struct Allocation {
 struct Result {
     // The method that ran: the Method's name, except that auto gives "auto" when it combined
     // its candidates (listed in `candidates`) and the one method it picked when it picked
-    // one (with demodulate).
+    // one (with demodulate; nfor on a frame without statistics).
     std::string method;
     std::vector<std::string> candidates;  // auto: the candidates it combined, as it ran them
     // The denoised color, the frame's size and channels; empty when RunOptions::output

@@ -968,17 +968,36 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     }
 }
 
-// A frame with only the ordinary passes (color, albedo, normal, depth, ids, direct and
-// indirect; no variance, no min/max, no halves, as Blender Cycles writes them) of a
-// heavy-tailed scene: SURE from the frame's own noise estimate keeps auto within 5% of
-// the best method that can run and below the plain average of the methods that auto took
-// before (measured here: best method 0.0402, auto 0.0152, the average 0.0268; on the
+// A frame without statistics runs nfor alone by default, bit for bit nfor's own output,
+// and a frame with a variance layer combines the candidates.
+TEST_F(AutoMethod, FrameWithoutStatisticsRunsNforAlone) {
+    auto [frame, reference] = PlainFireflies(40, 32, 64);
+    Device device = api::BorrowDevice(Ctx());
+    Result result = Method("auto").Run(device, frame);
+    EXPECT_TRUE(PlanHas(result, "auto: nfor alone"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(result.method, "nfor");
+    EXPECT_TRUE(result.candidates.empty());
+    EXPECT_EQ(result.image.data, Method("nfor").Run(device, frame).image.data);
+    frame.layers.emplace("variance", Image(frame.layers.at("color").width,
+                                           frame.layers.at("color").height, 3, 0.01f));
+    Result withVariance = Method("auto").Run(device, frame);
+    EXPECT_FALSE(PlanHas(withVariance, "auto: nfor alone"));
+    EXPECT_GT(withVariance.candidates.size(), 1u);
+}
+
+// With --auto-plain combine, a frame with only the ordinary passes (color, albedo, normal,
+// depth, ids, direct and indirect; no variance, no min/max, no halves, as Blender Cycles
+// writes them) of a heavy-tailed scene: SURE from the frame's own noise estimate keeps auto
+// within 5% of the best method that can run and below the plain average of the methods that
+// auto took before (measured here: best method 0.0402, auto 0.0152, the average 0.0268; on the
 // 128x128 frame 0.0249, 0.0259 and 0.0647).
 TEST_F(AutoMethod, FrameWithoutStatisticsUsesItsOwnNoiseEstimate) {
     auto [frame, reference] = PlainFireflies(64, 48, 512);
     Device device = api::BorrowDevice(Ctx());
     double best = BestSingleMethod(device, frame, reference);
     Method automatic("auto");
+    automatic.Set("auto-plain", std::string("combine"));
     Result result = automatic.Run(device, frame);
     EXPECT_TRUE(PlanHas(result, "the frame's own noise estimate"))
         << fmt::format("{}", fmt::join(result.plan, "\n"));
