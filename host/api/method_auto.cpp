@@ -622,11 +622,12 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // and the noise estimate's reach.
     const int box = std::max(options.radius, options.frameRadius);
     const int noise = options.noiseRadius + 1;
-    needs.reach += 2 * box + noise + 2 * options.meanRadius;
+    const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius) : 0;
+    needs.reach += 2 * box + noise + mean;
     needs.reachText = fmt::format(
         "the widest candidate's reach + twice the estimates' box radius {} + the noise "
-        "estimate's {} + the local mean's tent radius {}",
-        box, noise, 2 * options.meanRadius);
+        "estimate's {} + the local mean's coarse and fine tents {}",
+        box, noise, mean);
     // The noise estimate: the colour, the albedo, their second differences and the result.
     needs.bytesPerPixel = 4 * 4 * 4;
     needs.bindingBytesPerPixel = 4 * 4;

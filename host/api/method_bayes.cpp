@@ -8,6 +8,7 @@
 #include "cpu_reference/bayes_denoise.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
+#include "host/common/local_mean.h"
 #include "host/io/hints.h"
 #include "host/methods/bayes.h"
 #include "host/wavelet.h"
@@ -145,11 +146,12 @@ class Bayes : public FrontEndOf<BayesSettings> {
             "variance layer's band means) and its log floor (a median) per tile, not over the "
             "frame";
         int half = WaveletHalfSupport(o.basis);
-        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins + 2 * o.meanRadius;
+        const int mean = o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0;
+        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins + mean;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
-            "{}, the spins' shift and the local mean's tent window of radius {}",
-            WaveletName(o.basis), half, levels, 2 * o.meanRadius);
+            "{}, the spins' shift and the local mean's coarse and fine tents {}",
+            WaveletName(o.basis), half, levels, mean);
         needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
         // Measured: 144 bytes a pixel at 1920x1080 (3 channels, swt, 3 levels). One binding
         // holds a channel's stationary coefficients (3 bands a level and the low band), or

@@ -158,9 +158,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 "neighbours, 1 for the id boundary",
                 options.method.maxRadius, options.method.maxRadius);
         }
-        needs.reach += 2 * options.method.meanRadius;
-        needs.reachText +=
-            fmt::format("; the local mean's tent radius {}", 2 * options.method.meanRadius);
+        const int mean =
+            options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius) : 0;
+        needs.reach += mean;
+        needs.reachText += fmt::format("; the local mean's coarse and fine tents {}", mean);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
