@@ -38,33 +38,37 @@ Image Moved(const Image &output, const std::vector<bool> &kept) {
     return moved;
 }
 
-bool OverAt(const Image &input, const Image &moved, const Image &level, int y, int x) {
-    double in = 0, out = 0, around = 0;
+bool OverAt(const Image &input, const Image *variance, const Image &moved, const Image &level,
+            int y, int x) {
+    double in = 0, out = 0, around = 0, v = 0;
     for (int c = 0; c < input.channels; ++c) {
         if (!std::isfinite(input.At(c, y, x))) return false;
         in += input.At(c, y, x);
         out += moved.At(c, y, x);
         around += level.At(c, y, x);
+        if (variance) v += variance->At(variance->channels == 1 ? 0 : c, y, x);
     }
-    return in > 0 && in > 16 * std::min(out, around);
+    if (!(in > 0 && in > 16 * std::min(out, around))) return false;
+    return !variance || (std::isfinite(v) && (in - out) * (in - out) > 16 * v);
 }
 
-void Highlights(const Image &input, int r, std::vector<bool> *kept, Image *output) {
+void Highlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
+                Image *output) {
     Image moved = Moved(*output, *kept), level = Tent(moved, r);
     const int w = input.width, h = input.height;
     std::vector<bool> take(size_t(w) * h);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (!OverAt(input, moved, level, y, x)) continue;
+            if (!OverAt(input, variance, moved, level, y, x)) continue;
             int neighbours = 0;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     int v = y + dy, u = x + dx;
                     if ((dx || dy) && v >= 0 && v < h && u >= 0 && u < w &&
-                        OverAt(input, moved, level, v, u))
+                        OverAt(input, variance, moved, level, v, u))
                         ++neighbours;
                 }
-            take[size_t(y) * w + x] = neighbours >= 2;
+            take[size_t(y) * w + x] = variance || neighbours >= 2;
         }
     for (int c = 0; c < input.channels; ++c)
         for (int y = 0; y < h; ++y)
@@ -112,10 +116,13 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, Image *outp
 
 }  // namespace
 
-void RestoreLocalMeans(const Image &input, int r, Image *output) {
+void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *variance) {
+    if (variance && (variance->width != input.width || variance->height != input.height ||
+                     (variance->channels != 1 && variance->channels != input.channels)))
+        variance = nullptr;
     std::vector<bool> kept(input.data.size());
     for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
-    Highlights(input, r, &kept, output);
+    Highlights(input, variance, r, &kept, output);
     Scale(input, kept, 4 * r, output);
     Scale(input, kept, r, output);
 }

@@ -14,6 +14,9 @@ namespace mcd::ref {
 // where m_in, m_out > 0 and all finite, d = m_in - m_out is shrunk to
 // d max(0, 1 - q / d^2), q = m_sq x the unclipped tent's sum of squared weights, and the
 // output multiplied by (m_out + d) / m_out.
-void RestoreLocalMeans(const Image &input, int r, Image *output);
+// With `variance` (of the pixel mean, 1 or the input's channels; else ignored) a highlight
+// needs (input - output)^2 > 16 x its variance (channels summed) instead of the neighbours.
+void RestoreLocalMeans(const Image &input, int r, Image *output,
+                       const Image *variance = nullptr);
 
 }  // namespace mcd::ref

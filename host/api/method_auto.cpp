@@ -699,7 +699,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
     Result result = ResultOf(std::move(combined));
     if (options.meanRadius > 0) {
-        LocalMeanFactors f = RestoreLocalMeans(color, options.meanRadius, &result.image);
+        LocalMeanFactors f =
+            RestoreLocalMeans(color, options.meanRadius, &result.image,
+                              inputs.Has("variance") ? &inputs.Get("variance") : nullptr);
         plan.push_back(fmt::format(
             "auto: the input's local means over tent windows of radius {} restored (factors "
             "{:.3g} to {:.3g})",

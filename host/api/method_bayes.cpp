@@ -3,6 +3,7 @@
 // (section 4.1); otherwise the whole color, and the plan says so.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "cpu_reference/bayes_denoise.h"
@@ -117,7 +118,8 @@ class Bayes : public FrontEndOf<BayesSettings> {
         const Image *variance = Variance(inputs, &plan);
         RunSetup setup = SetupFor(inputs, run);
         Result result;
-        if (Split(inputs)) {
+        std::string mismatch = Split(inputs) ? SplitMismatch(inputs) : "";
+        if (Split(inputs) && mismatch.empty()) {
             result = ResultOf(BayesDenoiseSplit(context, inputs.Get("direct"),
                                                 inputs.Get("indirect"), options.method, setup,
                                                 variance));
@@ -125,7 +127,8 @@ class Bayes : public FrontEndOf<BayesSettings> {
         } else {
             result = ResultOf(
                 BayesDenoise(context, inputs.Get("color"), options.method, setup, variance));
-            plan.push_back(options.noSplit && inputs.Has("direct") && inputs.Has("indirect")
+            plan.push_back(!mismatch.empty() ? "no split: " + mismatch
+                           : options.noSplit && inputs.Has("direct") && inputs.Has("indirect")
                                ? "no split (--no-split): the whole color is denoised"
                                : "no split: the frame has no direct and indirect layers, so "
                                  "the whole color is denoised");
@@ -166,7 +169,7 @@ class Bayes : public FrontEndOf<BayesSettings> {
     std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const override {
         std::vector<std::string> ignored;
         const Image *variance = Variance(inputs, &ignored);
-        bool split = Split(inputs);
+        bool split = Split(inputs) && SplitMismatch(inputs).empty();
         const Image &input = inputs.Get(split ? "indirect" : "color");
         ref::BayesRefRun r;
         r.keepStages = true;
@@ -195,6 +198,40 @@ class Bayes : public FrontEndOf<BayesSettings> {
   private:
     bool Split(const Inputs &inputs) const {
         return inputs.Has("direct") && inputs.Has("indirect") && !options.noSplit;
+    }
+
+    // Where direct + indirect do not add up to the colour, or indirect holds negative
+    // light (Blender's transparent film: the Env pass goes to direct while Combined leaves
+    // the background out, and accumulate's indirect = color - direct goes below 0),
+    // denoising the split would change the image: why, or empty when both stay within 1% of
+    // the colour's magnitude.
+    static std::string SplitMismatch(Inputs &inputs) {
+        const Image &color = inputs.Get("color"), &direct = inputs.Get("direct");
+        const Image &indirect = inputs.Get("indirect");
+        if (!color.SameShape(direct) || !color.SameShape(indirect))
+            return "direct and indirect do not have the color's shape; the whole color is "
+                   "denoised";
+        double off = 0, negative = 0, total = 0;
+        for (size_t i = 0; i < color.data.size(); ++i) {
+            double c = color.data[i], d = direct.data[i], n = indirect.data[i];
+            if (!std::isfinite(c) || !std::isfinite(d) || !std::isfinite(n)) continue;
+            off += std::fabs(d + n - c);
+            negative += std::max(-n, 0.0);
+            total += std::fabs(c);
+        }
+        auto percent = [&](double x) { return total > 0 ? 100 * x / total : 100.0; };
+        if (off > 0.01 * total)
+            return fmt::format(
+                "direct + indirect differ from the color by {:.3g}% of its magnitude; the "
+                "whole color is denoised",
+                percent(off));
+        if (negative > 0.01 * total)
+            return fmt::format(
+                "indirect is negative by {:.3g}% of the color's magnitude (direct holds light "
+                "the color leaves out: a transparent film's background?); the whole color is "
+                "denoised",
+                percent(negative));
+        return "";
     }
 
     // The variance layer when the noise reads it (--noise variance, or auto on a frame with

@@ -59,7 +59,13 @@ void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, Imag
 constexpr double kHighlight = 16;
 constexpr int kHighlightNeighbours = 2;
 
-void KeepHighlights(const Image &input, int r, std::vector<bool> *kept, Image *output) {
+// A variance of the pixel mean (`variance`, may be null) tells a light from a firefly
+// instead of the neighbours: the input must then also be over kHighlightSigmas^2 times the
+// pixel's variance away from the output.
+constexpr double kHighlightSigmas = 4;
+
+void KeepHighlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
+                    Image *output) {
     const int w = input.width, h = input.height;
     const size_t n = input.PixelCount();
     Image moved = *output;
@@ -78,6 +84,13 @@ void KeepHighlights(const Image &input, int r, std::vector<bool> *kept, Image *o
             out += moved.Plane(c)[p];
         }
         over[p] = finite && in > 0 && in > kHighlight * std::min(around, out);
+        if (over[p] && variance) {
+            double v = 0;
+            for (int c = 0; c < input.channels; ++c)
+                v += variance->Plane(variance->channels == 1 ? 0 : c)[p];
+            over[p] = std::isfinite(v) &&
+                      (in - out) * (in - out) > kHighlightSigmas * kHighlightSigmas * v;
+        }
     }
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -87,7 +100,7 @@ void KeepHighlights(const Image &input, int r, std::vector<bool> *kept, Image *o
             for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
                 for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
                     neighbours += (u != x || v != y) && over[size_t(v) * w + u];
-            if (neighbours < kHighlightNeighbours) continue;
+            if (!variance && neighbours < kHighlightNeighbours) continue;
             for (int c = 0; c < input.channels; ++c) {
                 size_t i = c * n + p;
                 output->data[i] = input.data[i];
@@ -119,7 +132,8 @@ double TentSquaredWeights(int r) {
     return sum * sum;
 }
 
-LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output) {
+LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
+                                   const Image *variance) {
     if (!input.SameShape(*output) || r <= 0)
         throw Error("RestoreLocalMeans: the output must have the input's shape, r > 0",
                     ErrorKind::Internal);
@@ -127,7 +141,10 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output) {
     // restored) are left out of the means and kept: mass balances without them.
     std::vector<bool> kept(input.data.size());
     for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
-    KeepHighlights(input, r, &kept, output);
+    if (variance && (variance->width != input.width || variance->height != input.height ||
+                     (variance->channels != 1 && variance->channels != input.channels)))
+        variance = nullptr;
+    KeepHighlights(input, variance, r, &kept, output);
     Image clean = input;
     for (size_t i = 0; i < clean.data.size(); ++i) {
         float v = input.data[i];

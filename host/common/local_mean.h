@@ -7,9 +7,10 @@
 // mean and stay. First the highlights: a pixel whose input (its channels summed) is over 16
 // times the output there or the output's tent mean of radius 2r there, with at least 2 of
 // its 8 neighbours so too (a small light or a light's edge the method cut; a firefly stands
-// alone), takes its input back and counts as left. Then at each value, over a tent window
-// of radius 2s (a box of radius s twice, each clipped to the image), m_in and m_out are
-// the means of the input's finite values >= 0 and of the output. Their difference
+// alone), takes its input back and counts as left; with a variance layer, instead of the
+// neighbours, its input must be over 4 standard deviations from the output. Then at each value,
+// over a tent window of radius 2s (a box of radius s twice, each clipped to the image), m_in
+// and m_out are the means of the input's finite values >= 0 and of the output. Their difference
 // d = m_in - m_out is shrunk by the noise of m_in, estimated as the mean of (input -
 // output)^2 over the same window times the tent's sum of squared weights, q:
 // d' = d max(0, 1 - q / d^2) (positive-part James-Stein), and the output multiplied by
@@ -41,7 +42,10 @@ struct LocalMeanFactors {
     double lo = 1, hi = 1;
 };
 
-// `output` (the shape of `input`) scaled to `input`'s local means; r > 0.
-LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output);
+// `output` (the shape of `input`) scaled to `input`'s local means; r > 0. `variance` (of
+// the pixel mean, one channel or the input's; may be null, ignored unless of the input's
+// size) tells highlights from fireflies in place of the neighbours.
+LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
+                                   const Image *variance = nullptr);
 
 }  // namespace mcd

@@ -35,7 +35,7 @@ void MakeImages(const LocalMeanCase &c, Image *input, Image *output) {
                          : u < 0.08f ? -unit(rng)
                          : u < 0.09f ? std::numeric_limits<float>::quiet_NaN()
                          : u < 0.10f ? std::numeric_limits<float>::infinity()
-                         : u > 0.99f ? 100 * unit(rng)
+                         : u > 0.97f ? 100 * unit(rng)
                                      : unit(rng);
         output->data[i] = unit(rng) < 0.05f ? 0.f : 0.5f * unit(rng);
     }
@@ -59,6 +59,26 @@ TEST_P(LocalMeanMatches, Reference) {
     Image again = output;
     RestoreLocalMeans(input, GetParam().r, &again);
     EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+}
+
+// With a variance layer (one channel, and the input's), the highlights' test reads it.
+TEST_P(LocalMeanMatches, ReferenceWithVariance) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    std::mt19937_64 rng(SeedFromName("local mean variance"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int channels : {1, GetParam().channels}) {
+        Image variance(input.width, input.height, channels);
+        for (float &v : variance.data)
+            v = unit(rng) < 0.5f ? 0.01f * unit(rng) : 50 * unit(rng);
+        Image expected = output, got = output;
+        ref::RestoreLocalMeans(input, GetParam().r, &expected, &variance);
+        RestoreLocalMeans(input, GetParam().r, &got, &variance);
+        for (size_t i = 0; i < got.data.size(); ++i)
+            ASSERT_NEAR(got.data[i], expected.data[i],
+                        2e-5 * std::fabs(expected.data[i]) + 1e-12)
+                << channels << " " << i;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, LocalMeanMatches,
