@@ -35,6 +35,10 @@ struct RealScene {
     std::string referencePng;
 };
 
+// Where the Open Image Denoise peer is looked for when no --oidn is given: $MCDENOISE_OIDN,
+// else ../shared/peers/oidn (beside the repository, for a run from its root).
+std::string DefaultOidnPeer();
+
 // The error figure beyond CompareImages': the mean relMSE term of the worst 1% of pixels.
 void MeasureRow(const Image &output, const Image &reference, RealRow *row);
 

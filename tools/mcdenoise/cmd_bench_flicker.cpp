@@ -20,6 +20,7 @@
 #include "host/io/frame.h"
 #include "host/metrics.h"
 #include "mcdenoise/temporal.h"
+#include "tools/mcdenoise/bench_real.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
 #include "tools/mcdenoise/reference_cache.h"
@@ -41,7 +42,7 @@ std::string CacheRoot() {
 struct FlickerOptions {
     std::string size = "96x96", scene = "cornell", method = "auto", out = "out/bench-flicker";
     std::string blender = CacheRoot() + "/sequences96";
-    std::string oidn = "../shared/peers/oidn";  // beside the repository, run from its root
+    std::string oidn = DefaultOidnPeer();
     std::string cache = CacheRoot() + "/flicker";
     int frames = 6, spp = 16, referenceSpp = 2048, cameraReferenceSpp = 1024;
     std::string cameraMove = "0.15,0,0";

@@ -30,8 +30,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr const char *kDefaultOidn = "/work/shared/peers/oidn";
-
 struct BenchRealOptions {
     std::string set, scenes = "all", methods = "all", out = "out/bench-real", oidn;
     bool noOidn = false;
@@ -243,6 +241,15 @@ std::vector<Method> ChosenMethods(const BenchRealOptions &opt) {
     return methods;
 }
 
+}  // namespace
+
+std::string DefaultOidnPeer() {
+    const char *peer = std::getenv("MCDENOISE_OIDN");
+    return peer && *peer ? peer : "../shared/peers/oidn";
+}
+
+namespace {
+
 // The peer's directory: --oidn (which must hold its script), else the shared copy when
 // present and not --no-oidn; "" for none.
 std::string PeerDirectory(const BenchRealOptions &opt) {
@@ -254,8 +261,9 @@ std::string PeerDirectory(const BenchRealOptions &opt) {
                         ErrorKind::InvalidArgument);
         return opt.oidn;
     }
-    if (opt.noOidn || !fs::exists(fs::path(kDefaultOidn) / "denoise_exr.py")) return "";
-    return kDefaultOidn;
+    std::string peer = DefaultOidnPeer();
+    if (opt.noOidn || !fs::exists(fs::path(peer) / "denoise_exr.py")) return "";
+    return peer;
 }
 
 void RunBenchReal(const BenchRealOptions &opt) {
@@ -334,8 +342,8 @@ void AddBenchRealCommand(CLI::App *bench) {
         ->capture_default_str();
     real->add_option("--oidn", opt->oidn,
                      fmt::format("Open Image Denoise peer directory with denoise_exr.py "
-                                 "(default: {} when present)",
-                                 kDefaultOidn));
+                                 "(default: {} when present; $MCDENOISE_OIDN sets it)",
+                                 DefaultOidnPeer()));
     real->add_flag("--no-oidn", opt->noOidn, "leave the peer out");
     CheckRange(real->add_option("--oidn-runs", opt->oidnRuns, "peer runs to time (median)")
                    ->capture_default_str(),
