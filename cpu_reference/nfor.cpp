@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
+
+#include "cpu_reference/local_mean.h"
 
 namespace mcd::ref {
 namespace {
@@ -36,6 +39,12 @@ double Demodulated(double value, double divisor) {
 double LowerMedian(std::vector<double> values) {
     std::sort(values.begin(), values.end());
     return values[(values.size() - 1) / 2];
+}
+
+// The k-th largest of the values (the smallest where there are fewer).
+double KthLargest(std::vector<double> values, int k) {
+    std::sort(values.begin(), values.end(), std::greater<double>());
+    return values[std::min(size_t(k), values.size()) - 1];
 }
 
 }  // namespace
@@ -84,7 +93,7 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 }
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold, double relative) {
+                const Image &mask, double threshold, double relative, int rank) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int c = 0; c < color.channels; ++c)
@@ -105,7 +114,8 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 // Unlike all around it next to a light: the light's edge, kept.
                 if (all.empty() || (alike.empty() && emitterNear)) continue;
                 double s = !alike.empty() && a > 0 ? a : 1;
-                double median = LowerMedian(alike.empty() ? all : alike);
+                std::vector<double> &near = alike.empty() ? all : alike;
+                double median = rank == 0 ? LowerMedian(near) : KthLargest(near, rank);
                 double limit = median +
                                threshold * std::sqrt(double(variance.At(c, y, x))) / s +
                                relative * std::fabs(median);
@@ -457,6 +467,34 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
     return out;
 }
 
+namespace {
+
+// One pass: each bandwidth's fits weighted by `distance` and their collaborative average,
+// then the per-pixel choice by SURE; stages named prefix + k<i>.beta, .hat, .output, choice.
+template <typename Keep>
+Image NforPass(const Image &clamped, const Image &variance, const Image &features,
+               const Image &mask, const Image &distance, const NforParams &p,
+               const std::vector<double> &bandwidths, const std::string &prefix, Keep &keep) {
+    std::vector<Image> outputs, hats;
+    for (size_t i = 0; i < bandwidths.size(); ++i) {
+        NforCandidate k{bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
+        NforFit fit = NforRegress(clamped, features, mask, distance, k);
+        Image out = NforGather(clamped, features, mask, distance, fit, k);
+        keep(fmt::format("{}k{}.beta", prefix, i), fit.beta);
+        keep(fmt::format("{}k{}.hat", prefix, i), fit.hat);
+        keep(fmt::format("{}k{}.output", prefix, i), out);
+        outputs.push_back(std::move(out));
+        hats.push_back(std::move(fit.hat));
+    }
+    if (outputs.size() == 1) return outputs[0];
+    Image choice;
+    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice);
+    keep(prefix + "choice", choice);
+    return out;
+}
+
+}  // namespace
+
 Image Nfor(const NforInputs &in, const NforParams &p,
            std::vector<std::pair<std::string, Image>> *stages) {
     auto keep = [&](const std::string &name, const Image &image) {
@@ -469,8 +507,8 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     keep("variance", variance);
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
-    Image clamped =
-        NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative);
+    Image clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
+                              p.fireflyRelative, p.fireflyRank);
     keep("color", clamped);
     Image features = *in.features;
     if (p.prefilterRadius > 0) {
@@ -483,24 +521,21 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
                                   p.radius, p.patchRadius, p.alpha, p.minVariance);
     keep("distance", distance);
-    std::vector<Image> outputs, hats;
-    for (size_t i = 0; i < p.bandwidths.size(); ++i) {
-        NforCandidate k{p.bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
-        NforFit fit = NforRegress(clamped, features, mask, distance, k);
-        Image out = NforGather(clamped, features, mask, distance, fit, k);
-        keep(fmt::format("k{}.beta", i), fit.beta);
-        keep(fmt::format("k{}.hat", i), fit.hat);
-        keep(fmt::format("k{}.output", i), out);
-        outputs.push_back(std::move(out));
-        hats.push_back(std::move(fit.hat));
+    Image out =
+        NforPass(clamped, variance, features, mask, distance, p, p.bandwidths, "", keep);
+    if (!p.pilotBandwidths.empty()) {
+        keep("pilot", out);
+        Image pilotDistance =
+            NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr, p.radius,
+                         p.patchRadius, p.pilotAlpha, p.minVariance);
+        keep("pilot.distance", pilotDistance);
+        out = NforPass(clamped, variance, features, mask, pilotDistance, p, p.pilotBandwidths,
+                       "pilot.", keep);
     }
-    if (outputs.size() == 1) {
-        keep("output", outputs[0]);
-        return outputs[0];
+    if (p.meanRadius > 0) {
+        keep("fit", out);
+        RestoreLocalMeans(clamped, p.meanRadius, &out);
     }
-    Image choice;
-    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice);
-    keep("choice", choice);
     keep("output", out);
     return out;
 }

@@ -47,6 +47,14 @@
 // - Bandwidth choice: SURE of each candidate, (y - C)^2 - v + 2 v h per channel with h
 //   the fit's own influence at its centre ((A^-1)_00), box-averaged over (2 r_s + 1)^2;
 //   the candidate with the smallest is taken (ties: the first).
+// - Second pass (BM3D's second step; Rousselle et al. 2013 weigh by a prefiltered colour):
+//   the first pass's output is the pilot; the colour distance is computed on it as above,
+//   with the colour's variance (its own noise is far smaller: alpha pilotAlpha, 0 by
+//   default), and the fits run again on the clamped colour with the pilot bandwidths,
+//   chosen per pixel by SURE like the first pass's.
+// - Local means (beyond the papers; cpu_reference/local_mean.h): the output scaled to the
+//   clamped colour's means over tent windows of radius 2 meanRadius: the fits' bias at
+//   scales above the window goes, the fireflies' energy stays out.
 #pragma once
 
 #include <string>
@@ -68,8 +76,8 @@ constexpr double kNforExpCut = 30;
 
 struct NforParams {
     int radius = 7;        // regression window half-size R
-    int gatherRadius = 7;  // a pixel averages the fits of windows centred this close
-    int patchRadius = 3;   // colour patch half-size
+    int gatherRadius = 3;  // a pixel averages the fits of windows centred this close
+    int patchRadius = 2;   // colour patch half-size
     std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
     double alpha = 1;                // variance cancellation in the colour distance
     bool minVariance = false;        // the distance normalised by 2 min(v_p, v_q)
@@ -77,15 +85,22 @@ struct NforParams {
     double ridge = 0.1;              // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
     std::vector<double> featureWeights;
-    int noiseRadius = 2;
+    int noiseRadius = 1;
     double noiseMinCalibration = 1;  // E-correction of the smallest of 4 medians
     double fireflyThreshold = 4;     // t; 0: no clamp
     double fireflyRelative = 0.5;    // rho
+    int fireflyRank = 3;             // 0: the neighbours' lower median; k: their k-th largest
     double emitterAlbedo = 1.5;
-    int prefilterRadius = 3;  // 0: features as they are
+    int prefilterRadius = 0;  // 0: features as they are
     int prefilterPatch = 1;
     double prefilterBandwidth = 1;
     int sureRadius = 3;
+    // Second pass: bandwidths k of the fits weighted by the distance of the first pass's
+    // output (the pilot) over the colour's variance, cancelled by pilotAlpha, chosen per
+    // pixel by SURE as the first's; empty: none.
+    std::vector<double> pilotBandwidths = {1.0};
+    double pilotAlpha = 0;
+    int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).
@@ -104,7 +119,7 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 
 // The colour with fireflies clamped.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold, double relative);
+                const Image &mask, double threshold, double relative, int rank = 0);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,
@@ -154,7 +169,9 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
                  const Image &color, const Image &variance, int sureRadius, Image *choice);
 
 // The whole method with its named stages (variance, mask, color, features, distance,
-// k<i>.beta, k<i>.hat, k<i>.output, choice, output).
+// k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
+// pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
+// fit; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

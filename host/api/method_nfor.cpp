@@ -15,6 +15,7 @@ namespace {
 struct NforParamsApi {
     NforOptions options;
     std::string bandwidths = "0.5,1";
+    std::string pilotBandwidths = "1";
     std::string noise = "auto", pivot = "auto";
 };
 
@@ -31,14 +32,14 @@ std::vector<float> ParseBandwidths(const std::string &text) {
             used = 0;
         }
         if (used == 0 || used != item.size() || !(v > 0) || !std::isfinite(v))
-            throw Error(fmt::format("nfor: --bandwidths takes numbers > 0 separated by commas, "
+            throw Error(fmt::format("nfor: bandwidths are numbers > 0 separated by commas, "
                                     "not '{}'",
                                     text),
                         ErrorKind::InvalidArgument);
         values.push_back(v);
     }
     if (values.empty() || values.size() > 4)
-        throw Error(fmt::format("nfor: --bandwidths takes 1 to 4 values, not '{}'", text),
+        throw Error(fmt::format("nfor: 1 to 4 bandwidths, not '{}'", text),
                     ErrorKind::InvalidArgument);
     return values;
 }
@@ -93,6 +94,10 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
         nested(FloatParam("firefly-relative",
                           "and above the median + this x |median| (noise-free peaks stay)",
                           &O::fireflyRelative, 0, 1e6)),
+        nested(IntParam("firefly-rank",
+                        "compare with the 8 neighbours' median (0) or their k-th largest (k: a "
+                        "pixel with k - 1 bright neighbours is a highlight, kept)",
+                        &O::fireflyRank, 0, 8)),
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: kept as they are",
                           &O::emitterAlbedo, 1, 1e30)),
@@ -106,6 +111,19 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           &O::prefilterBandwidth, 1e-3, 1e3)),
         nested(IntParam("sure-radius", "window half-size of the SURE average", &O::sureRadius,
                         0, 8)),
+        ChoiceParam("pilot-bandwidths",
+                    "a second pass weighted by the colour distance of the first pass's output "
+                    "(the pilot): its bandwidths k, comma-separated (1 to 4, chosen per pixel "
+                    "by SURE); none: one pass",
+                    &NforParamsApi::pilotBandwidths, {}),
+        nested(FloatParam("pilot-alpha",
+                          "variance cancellation of the second pass's distance (the pilot's "
+                          "own noise is far below the colour's)",
+                          &O::pilotAlpha, 0, 10)),
+        nested(IntParam("nfor-mean-radius",
+                        "restore the clamped colour's local means over tent windows of twice "
+                        "this radius after the fits; 0: off",
+                        &O::meanRadius, 0, 64)),
         ChoiceParam("nfor-noise",
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
@@ -120,7 +138,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Nfor>(*this); }
     std::string Summary() const override {
         return "feature regression (NFOR): first-order fits of the colour on albedo, normal, "
-               "depth (and pivot), bandwidth per pixel by SURE; runs on plain frames";
+               "depth (and pivot), bandwidth per pixel by SURE, a second pass over the first's "
+               "output; runs on plain frames";
     }
     std::vector<std::string> Uses() const override {
         return {"color", "albedo", "normal", "depth", "pivot", "variance"};
@@ -140,12 +159,19 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;
         TileNeeds needs;
-        needs.reach = 3 * o.radius + std::max(colourReach, featureReach) + o.sureRadius;
+        // A second pass reads the first's output as far as one pass reaches, and its own
+        // patches around it.
+        int passReach = 3 * o.radius;
+        int pilotReach = !o.pilotBandwidths.empty() ? passReach + o.patchRadius : 0;
+        needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
+                      o.sureRadius + 2 * o.meanRadius;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
-            "and the distances there {} more; {} for the noise, clamp and patches (or the "
-            "features' prefilter); {} for the SURE average",
-            o.radius, o.radius, o.radius, std::max(colourReach, featureReach), o.sureRadius);
+            "and the distances there {} more; {} for the second pass over the pilot; {} for "
+            "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
+            "average; {} for the local means",
+            o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
+            o.sureRadius, 2 * o.meanRadius);
         int offsets = ref::NforOffsetCount(o.radius), features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =
@@ -182,11 +208,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.noiseMinCalibration = o.noiseCalibration;
         p.fireflyThreshold = o.fireflyThreshold;
         p.fireflyRelative = o.fireflyRelative;
+        p.fireflyRank = o.fireflyRank;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;
         p.prefilterBandwidth = o.prefilterBandwidth;
         p.sureRadius = o.sureRadius;
+        p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
+        p.pilotAlpha = o.pilotAlpha;
+        p.meanRadius = o.meanRadius;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);
@@ -199,6 +229,9 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     NforOptions Options() const {
         NforOptions o = options.options;
         o.bandwidths = ParseBandwidths(options.bandwidths);
+        o.pilotBandwidths.clear();
+        if (options.pilotBandwidths != "none")
+            o.pilotBandwidths = ParseBandwidths(options.pilotBandwidths);
         return o;
     }
 

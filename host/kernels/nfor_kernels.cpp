@@ -85,7 +85,7 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
-                     float relative, float emitterAlbedo, vk::GpuImage &out,
+                     float relative, float emitterAlbedo, int rank, vk::GpuImage &out,
                      vk::GpuImage &mask) {
     CheckColor("nfor clamp", color);
     CheckSize("nfor clamp", color, variance, color.channels);
@@ -106,7 +106,8 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                                   0,
                                                   0});
     shader::NforClampPush push{color.width, color.height, albedo ? albedo->channels : 0,
-                               threshold,   relative,     emitterAlbedo};
+                               threshold,   relative,     emitterAlbedo,
+                               rank};
     recorder.Dispatch(
         kernel, "nfor.clamp",
         {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},

@@ -15,10 +15,11 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                      const vk::GpuImage *divisor, int radius, float calibration,
                      vk::GpuImage &variance);
 
-// shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters.
+// shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters;
+// rank 0 compares with the neighbours' median, k > 0 with their k-th largest.
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
-                     float relative, float emitterAlbedo, vk::GpuImage &out,
+                     float relative, float emitterAlbedo, int rank, vk::GpuImage &out,
                      vk::GpuImage &mask);
 
 // shaders/nfor/prefilter.comp: each plane of `features` NL-means-filtered.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "host/common/local_mean.h"
 #include "host/error.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/checks.h"
@@ -94,7 +95,13 @@ void CheckOptions(const NforOptions &o) {
         throw Error(fmt::format("nfor: {} bandwidths; 1 to {} allowed", o.bandwidths.size(),
                                 NFOR_MAX_CANDIDATES),
                     ErrorKind::InvalidArgument);
-    for (float k : o.bandwidths)
+    if (o.pilotBandwidths.size() > NFOR_MAX_CANDIDATES)
+        throw Error(fmt::format("nfor: {} pilot bandwidths; at most {} allowed",
+                                o.pilotBandwidths.size(), NFOR_MAX_CANDIDATES),
+                    ErrorKind::InvalidArgument);
+    std::vector<float> all = o.bandwidths;
+    all.insert(all.end(), o.pilotBandwidths.begin(), o.pilotBandwidths.end());
+    for (float k : all)
         if (!(finite(k) && k > 0))
             throw Error(fmt::format("nfor: bandwidth {} must be > 0", k),
                         ErrorKind::InvalidArgument);
@@ -102,12 +109,14 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.featureBandwidth) && o.featureBandwidth >= 0) ||
         !(finite(o.fireflyThreshold) && o.fireflyThreshold >= 0) ||
         !(finite(o.noiseCalibration) && o.noiseCalibration > 0) ||
+        !(finite(o.pilotAlpha) && o.pilotAlpha >= 0) ||
         !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
-        !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0))
+        !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0) ||
+        o.meanRadius < 0)
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
-            "be finite and > 0; alpha, feature bandwidth and firefly threshold finite and >= "
-            "0",
+            "be finite and > 0; alpha, feature bandwidth, firefly threshold and "
+            "pilot alpha finite and >= 0, mean radius >= 0",
             ErrorKind::InvalidArgument);
     if (o.noiseRadius < 1 || o.noiseRadius > NFOR_NOISE_MAX_RADIUS || o.prefilterRadius < 0 ||
         o.prefilterRadius > NFOR_PREFILTER_MAX_RADIUS || o.prefilterPatch < 0 ||
@@ -149,6 +158,11 @@ void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &
             ErrorKind::OutOfMemory);
 }
 
+// The most candidates of a pass.
+int CandidateCount(const NforOptions &o) {
+    return int(std::max(o.bandwidths.size(), o.pilotBandwidths.size()));
+}
+
 // The GPU images of a run.
 struct NforGpu {
     NforGpu(vk::Context &context, const NforInputs &in, const Image &featureImage,
@@ -165,9 +179,9 @@ struct NforGpu {
                   "nfor.scratch"),
           beta(context, color.width, color.height, (featureImage.channels + 3) * color.channels,
                "nfor.beta"),
-          hat(context, color.width, color.height, int(o.bandwidths.size()), "nfor.hat"),
-          candidates(context, color.width, color.height,
-                     int(o.bandwidths.size()) * color.channels, "nfor.candidates") {
+          hat(context, color.width, color.height, CandidateCount(o), "nfor.hat"),
+          candidates(context, color.width, color.height, CandidateCount(o) * color.channels,
+                     "nfor.candidates") {
         color.Upload(*in.color);
         features.Upload(featureImage);
         if (in.variance) variance.Upload(*in.variance);
@@ -175,10 +189,15 @@ struct NforGpu {
             albedo.emplace(context, color.width, color.height, 3, "nfor.albedo");
             albedo->Upload(*in.albedo);
         }
+        if (!o.pilotBandwidths.empty()) {
+            pilot.emplace(context, color.width, color.height, color.channels, "nfor.pilot");
+            pilotDistance.emplace(context, color.width, color.height, NforOffsetCount(o.radius),
+                                  "nfor.pilotDistance");
+        }
     }
     vk::GpuImage color, variance, clamped, mask, features, filtered, distance, scratch, beta,
         hat, candidates;
-    std::optional<vk::GpuImage> albedo;
+    std::optional<vk::GpuImage> albedo, pilot, pilotDistance;
 };
 
 // Planes [first, first + count) of a downloaded image.
@@ -238,8 +257,8 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                         o.noiseCalibration, gpu.variance);
     run.StageAtEnd("variance", gpu.variance);
     RecordNforClamp(context, run.Recorder(), gpu.color, gpu.variance, albedo,
-                    o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, gpu.clamped,
-                    gpu.mask);
+                    o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
+                    gpu.clamped, gpu.mask);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
     if (o.prefilterRadius > 0) {
@@ -267,30 +286,91 @@ int GatherRadius(const NforOptions &o) {
     return o.gatherRadius < 0 ? o.radius : std::min(o.gatherRadius, o.radius);
 }
 
-// Each candidate's fits and their collaborative average, then the choice.
-void RecordCandidates(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
-                      const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
+// One pass: per bandwidth the fits weighted by `distance` and their collaborative average,
+// then per pixel the one of smallest SURE; stages named `prefix` + k<i>.beta, .hat, .output
+// and choice.
+void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
+                const NforOptions &o, const std::vector<float> &bandwidths,
+                const vk::GpuImage &distance, const std::string &prefix, vk::GpuImage &out,
+                vk::GpuImage &choice) {
     vk::Context &context = run.Context();
-    int ch = gpu.color.channels, count = int(o.bandwidths.size());
+    int ch = gpu.color.channels, count = int(bandwidths.size());
     for (int i = 0; i < count; ++i) {
-        NforFitSettings settings{o.radius, GatherRadius(o), o.bandwidths[i], o.ridge, weights};
+        NforFitSettings settings{o.radius, GatherRadius(o), bandwidths[i], o.ridge, weights};
         RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
-                          gpu.distance, settings, gpu.beta, gpu.hat, i);
-        run.Stage(fmt::format("k{}.beta", i), gpu.beta);
-        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
-                         gpu.distance, gpu.beta, settings, gpu.candidates, i * ch);
+                          distance, settings, gpu.beta, gpu.hat, i);
+        run.Stage(fmt::format("{}k{}.beta", prefix, i), gpu.beta);
+        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask, distance,
+                         gpu.beta, settings, gpu.candidates, i * ch);
         // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
         run.Submit();
-        run.Stage(fmt::format("k{}.hat", i),
+        run.Stage(fmt::format("{}k{}.hat", prefix, i),
                   [&, i] { return PlanesOf(gpu.hat.Download(), i, 1); });
-        run.Stage(fmt::format("k{}.output", i),
+        run.Stage(fmt::format("{}k{}.output", prefix, i),
                   [&, i] { return PlanesOf(gpu.candidates.Download(), i * ch, ch); });
     }
-    if (count > 1)
+    if (count > 1) {
         RecordNforSelect(context, run.Recorder(), gpu.clamped, gpu.variance, gpu.candidates,
                          gpu.hat, count, o.sureRadius, out, choice);
-    else
+        run.Stage(prefix + "choice", choice);
+    } else {
         run.Recorder().Copy(gpu.candidates.buffer, out.buffer, out.buffer.Bytes());
+    }
+}
+
+// Both passes: the first weighted by the colour's distance; with pilot bandwidths a second
+// weighted by the distance of the first's output (the pilot) against the colour's variance.
+void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
+                  const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
+    if (!gpu.pilot) {
+        RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, "", out, choice);
+        return;
+    }
+    RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, "", *gpu.pilot, choice);
+    run.Stage("pilot", *gpu.pilot);
+    const vk::GpuImage *albedo =
+        gpu.albedo && !o.noDemodulatedDistance ? &*gpu.albedo : nullptr;
+    RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
+                       o.radius, o.patchRadius, o.pilotAlpha, o.minVariance, gpu.scratch,
+                       *gpu.pilotDistance);
+    run.Stage("pilot.distance", *gpu.pilotDistance);
+    RecordPass(run, gpu, weights, o, o.pilotBandwidths, *gpu.pilotDistance, "pilot.", out,
+               choice);
+}
+
+// The bandwidths of each pass and the shares of the last pass's choice.
+void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice,
+                NforResult &result) {
+    auto list = [](const std::vector<float> &ks) {
+        std::string text;
+        for (float k : ks) text += fmt::format("{}{}", text.empty() ? "" : ", ", k);
+        return text;
+    };
+    run.Plan(
+        fmt::format("regression over {}x{} windows, colour patches {}x{} (alpha {}), "
+                    "ridge {}; bandwidths k = {}; each window's fit averaged at every "
+                    "pixel it holds",
+                    2 * o.radius + 1, 2 * o.radius + 1, 2 * o.patchRadius + 1,
+                    2 * o.patchRadius + 1, o.alpha, o.ridge, list(o.bandwidths)));
+    if (!o.pilotBandwidths.empty())
+        run.Plan(
+            fmt::format("second pass: the colour distance of the first pass's output "
+                        "(the pilot) over the colour's variance (alpha {}), bandwidths "
+                        "k = {}",
+                        o.pilotAlpha, list(o.pilotBandwidths)));
+    const std::vector<float> &last =
+        o.pilotBandwidths.empty() ? o.bandwidths : o.pilotBandwidths;
+    if (last.size() < 2) return;
+    Image picked = choice.Download();
+    result.share.assign(last.size(), 0.0);
+    for (float c : picked.data) result.share[size_t(c)] += 1.0 / double(picked.Size());
+    std::string shares;
+    for (size_t i = 0; i < result.share.size(); ++i)
+        shares +=
+            fmt::format("{}k = {}: {:.1f}%", i ? ", " : "", last[i], 100 * result.share[i]);
+    run.Plan(fmt::format("per pixel the bandwidth of smallest SURE over {}x{} ({}{})",
+                         2 * o.sureRadius + 1, 2 * o.sureRadius + 1,
+                         o.pilotBandwidths.empty() ? "" : "second pass: ", shares));
 }
 
 std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
@@ -327,13 +407,21 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     RecordPrepare(run, gpu, in, o);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
-    RecordCandidates(run, gpu, weights, o, out, choice);
+    RecordPasses(run, gpu, weights, o, out, choice);
     run.Submit();
     result.image = out.Download();
     Image mask = gpu.mask.Download(), clamped = gpu.clamped.Download();
     for (float m : mask.data) result.emitters += m == 0;
     for (size_t i = 0; i < clamped.Size(); ++i)
         result.clamped += clamped.data[i] != in.color->data[i];
+    if (o.meanRadius > 0) {
+        run.AddStage("fit", result.image);
+        LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
+        run.Plan(
+            fmt::format("local mean: the clamped colour's means over tent windows of "
+                        "radius {} restored (factors {:.3g} to {:.3g})",
+                        2 * o.meanRadius, f.lo, f.hi));
+    }
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
                     "window and kept as they are (a lone one far above its neighbours: "
@@ -345,26 +433,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                                "colour where none is) + {} sigma + {} x the median",
                                result.clamped, o.fireflyThreshold, o.fireflyRelative)
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
-    std::string ks;
-    for (float k : o.bandwidths) ks += fmt::format("{}{}", ks.empty() ? "" : ", ", k);
-    run.Plan(
-        fmt::format("regression over {}x{} windows, colour patches {}x{} (alpha {}), "
-                    "ridge {}; bandwidths k = {}; each window's fit averaged at every "
-                    "pixel it holds",
-                    2 * o.radius + 1, 2 * o.radius + 1, 2 * o.patchRadius + 1,
-                    2 * o.patchRadius + 1, o.alpha, o.ridge, ks));
-    if (o.bandwidths.size() > 1) {
-        Image picked = choice.Download();
-        result.share.assign(o.bandwidths.size(), 0.0);
-        for (float c : picked.data) result.share[size_t(c)] += 1.0 / double(picked.Size());
-        std::string shares;
-        for (size_t i = 0; i < result.share.size(); ++i)
-            shares += fmt::format("{}k = {}: {:.1f}%", i ? ", " : "", o.bandwidths[i],
-                                  100 * result.share[i]);
-        run.Plan(fmt::format("per pixel the bandwidth of smallest SURE over {}x{} ({})",
-                             2 * o.sureRadius + 1, 2 * o.sureRadius + 1, shares));
-        run.StageAtEnd("choice", choice);
-    }
+    PlanPasses(run, o, choice, result);
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

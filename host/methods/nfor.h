@@ -2,9 +2,11 @@
 // regression of the colour on the features (albedo, normal, depth, screen position; the
 // pivot where the frame has one) over a window, weights from the colour's NL-means patch
 // distance and the features' distances, each window's fit averaged at every pixel it
-// holds (Bitterli et al. 2016, NFOR), several bandwidths chosen per pixel by SURE. On a
-// frame without a variance layer the colour's noise is estimated from the frame, and so
-// is the features' (which are prefiltered); emitters are left out and keep their input.
+// holds (Bitterli et al. 2016, NFOR), several bandwidths chosen per pixel by SURE; then a
+// second pass weighted by the first's output (the pilot) and the clamped colour's local
+// means restored. On a frame without a variance layer the colour's noise is estimated from
+// the frame, and so is the features' where they are prefiltered; emitters are left out and
+// keep their input.
 // The readings of the papers are listed in cpu_reference/nfor.h, the CPU twin.
 #pragma once
 
@@ -21,8 +23,8 @@ struct NforOptions {
     int radius = 7;  // regression window half-size
     // Each pixel averages the fits of the windows centred at most this far (NFOR: all
     // that hold it, the radius); -1: the radius.
-    int gatherRadius = -1;
-    int patchRadius = 3;                           // colour patch half-size
+    int gatherRadius = 3;
+    int patchRadius = 2;                           // colour patch half-size
     std::vector<float> bandwidths = {0.5f, 1.0f};  // k of each candidate (at most 4)
     float alpha = 1;  // variance cancellation of the colour distance
     // Normalise the colour distance by 2 min(v_p, v_q) (a dark pixel does not borrow from
@@ -35,15 +37,27 @@ struct NforOptions {
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
     float featureBandwidth = 3;
     float albedoSigma = 0.1f, normalSigma = 0.2f, depthSigma = 0.05f, pivotSigma = 0.1f;
-    int noiseRadius = 2;
+    int noiseRadius = 1;
     float noiseCalibration = 1.479f;  // the smallest of 4 medians, unbiased on Gaussian noise
     // Clamp above the neighbours' median + t sigma + relative |median|; t = 0: off.
     float fireflyThreshold = 4, fireflyRelative = 0.5f;
+    // Compare with the neighbours' median (0) or their k-th largest (k): a pixel with k - 1
+    // bright neighbours is a highlight, kept.
+    int fireflyRank = 3;
     float emitterAlbedo = 1.5f;
-    int prefilterRadius = 3;  // 0: features unfiltered
+    int prefilterRadius = 0;  // 0: features unfiltered
     int prefilterPatch = 1;
     float prefilterBandwidth = 1;
     int sureRadius = 3;
+    // A second pass whose colour distance compares the first pass's output (the pilot)
+    // instead of the noisy colour, normalised by the colour's variance and cancelled by
+    // pilotAlpha times it, with these bandwidths k (at most 4, chosen per pixel by SURE);
+    // empty: one pass.
+    std::vector<float> pilotBandwidths = {1.0f};
+    float pilotAlpha = 0;
+    // Restore the clamped colour's local means over tent windows of radius 2 x this (the
+    // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
+    int meanRadius = 4;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
@@ -59,7 +73,9 @@ struct NforInputs {
 };
 
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
-// distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates, output).
+// distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates; with a
+// second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
+// with the local means restored, fit (before); output).
 struct NforResult : MethodResult {
     size_t emitters = 0;        // pixels left out as emitters
     size_t clamped = 0;         // pixel-channels clamped as fireflies

@@ -26,6 +26,11 @@ float divisorAt(int x, int y) {
 }
 
 // Whether divisors a and b divide alike: both not, or both within the ratio.
+// Index of the neighbour compared with in `count` sorted ascending.
+int rankIndex(int count) {
+    return push.rank > 0 ? max(0, count - push.rank) : (count - 1) / 2;
+}
+
 bool alike(float a, float b) {
     float ratio = float(NFOR_NOISE_DIVISOR_RATIO);
     if (a == 0.0 || b == 0.0) return a == b;
@@ -73,7 +78,7 @@ void main() {
     // Unlike all around it next to a light: the light's edge, kept.
     if (m == 0 || (n == 0 && emitterNear)) return;
     float s = n > 0 && a > 0.0 ? a : 1.0;
-    float median = n > 0 ? z[(n - 1) / 2] : raw[(m - 1) / 2];
+    float median = n > 0 ? z[rankIndex(n)] : raw[rankIndex(m)];
     float limit = median + push.threshold * sqrt(variance[at]) / s + push.relative * abs(median);
     if (value / s > limit) outColor[at] = limit * s;
 }

@@ -1,8 +1,10 @@
 // nfor stage 2: emitters and fireflies. A pixel whose largest albedo channel exceeds
 // emitterAlbedo is an emitter (a reflectance is at most about 1; renderers write a light's
 // emission as its albedo): mask 0, left out of every window, its colour kept as clamped
-// here. Per channel, z = colour / divisor (as in nfor/noise.h) above the lower median of
-// the z of the pixel's 8 neighbours divided alike (z compares only like albedos) +
+// here. Per channel, z = colour / divisor (as in nfor/noise.h) above the lower median (rank
+// 0; rank k > 0: the k-th largest, so that a pixel with k - 1 bright neighbours, part of a
+// highlight, is kept) of the z of the pixel's 8 neighbours divided alike (z compares only
+// like albedos) +
 // threshold sqrt(v) / divisor + relative |median| is clamped to that limit; a pixel with
 // no neighbour divided alike (an albedo unlike all around it: a sample that hit a small
 // bright object or a sub-pixel light) compares its colour with its neighbours' colours
@@ -35,9 +37,10 @@ layout(push_constant) uniform NforClampPush {
     float threshold;
     float relative;
     float emitterAlbedo;
+    int rank;  // 0: the neighbours' lower median; k > 0: their k-th largest
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforClampPush) == 24);
+static_assert(sizeof(NforClampPush) == 28);
 static_assert(offsetof(NforClampPush, emitterAlbedo) == 20);
 }  // namespace mcd::shader
 #else
