@@ -141,10 +141,10 @@ void KeepMean(const Image &color, BayesRefResult *result, bool keepStage) {
 
 // keepMean, then the local mean.
 void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
-                  BayesRefResult *result) {
+                  const Image *variance, BayesRefResult *result) {
     if (params.keepMean) KeepMean(color, result, keepStages);
     if (params.meanRadius <= 0) return;
-    RestoreLocalMeans(color, params.meanRadius, &result->image);
+    RestoreLocalMeans(color, params.meanRadius, &result->image, variance);
     if (keepStages) result->stages.push_back({"local mean", result->image});
 }
 
@@ -226,7 +226,7 @@ BayesRefResult BayesDenoiseOnce(const Image &color, const BayesParams &options,
         // A 1x1 image: no detail band, log then exp.
         result.image = BayesExp(logImage, color, options.restoreZeros);
         stage("exp", result.image);
-        RestoreMeans(color, options, run.keepStages, &result);
+        RestoreMeans(color, options, run.keepStages, run.variance, &result);
         return result;
     }
     if (options.opponent) {
@@ -279,7 +279,7 @@ BayesRefResult BayesDenoiseOnce(const Image &color, const BayesParams &options,
     }
     result.image = BayesExp(back, color, options.restoreZeros);
     stage("exp", result.image);
-    RestoreMeans(color, options, run.keepStages, &result);
+    RestoreMeans(color, options, run.keepStages, run.variance, &result);
     return result;
 }
 
@@ -329,7 +329,7 @@ BayesRefResult BayesDenoiseSpun(const Image &color, const BayesParams &params,
     for (size_t i = 0; i < acc.size(); ++i) sum.data[i] = float(acc[i] / (n * n));
     result.image = sum;
     if (run.keepStages) result.stages.push_back({"cycle spinning", result.image});
-    RestoreMeans(color, params, run.keepStages, &result);
+    RestoreMeans(color, params, run.keepStages, run.variance, &result);
     return result;
 }
 

@@ -26,25 +26,105 @@ Image BoxMean(const Image &image, int r) {
     return out;
 }
 
-}  // namespace
+Image Tent(const Image &image, int r) {
+    return BoxMean(BoxMean(image, r), r);
+}
 
-void RestoreLocalMeans(const Image &input, int r, Image *output) {
-    Image clean(input.width, input.height, input.channels), moved = *output;
-    std::vector<bool> kept(input.data.size());
+// The output with the values kept (equal to the input's) as 0.
+Image Moved(const Image &output, const std::vector<bool> &kept) {
+    Image moved = output;
+    for (size_t i = 0; i < moved.data.size(); ++i)
+        if (kept[i]) moved.data[i] = 0;
+    return moved;
+}
+
+bool OverAt(const Image &input, const Image *variance, const Image &moved, const Image &level,
+            int y, int x) {
+    double in = 0, out = 0, around = 0, v = 0;
+    for (int c = 0; c < input.channels; ++c) {
+        if (!std::isfinite(input.At(c, y, x))) return false;
+        in += input.At(c, y, x);
+        out += moved.At(c, y, x);
+        around += level.At(c, y, x);
+        if (variance) v += variance->At(variance->channels == 1 ? 0 : c, y, x);
+    }
+    if (!(in > 0 && in > 16 * std::min(out, around))) return false;
+    return !variance || (std::isfinite(v) && (in - out) * (in - out) > 16 * v);
+}
+
+void Highlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
+                Image *output) {
+    Image moved = Moved(*output, *kept), level = Tent(moved, r);
+    const int w = input.width, h = input.height;
+    std::vector<bool> take(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!OverAt(input, variance, moved, level, y, x)) continue;
+            int neighbours = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int v = y + dy, u = x + dx;
+                    if ((dx || dy) && v >= 0 && v < h && u >= 0 && u < w &&
+                        OverAt(input, variance, moved, level, v, u))
+                        ++neighbours;
+                }
+            take[size_t(y) * w + x] = variance || neighbours >= 2;
+        }
+    for (int c = 0; c < input.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                if (take[size_t(y) * w + x]) {
+                    output->At(c, y, x) = input.At(c, y, x);
+                    (*kept)[(size_t(c) * h + y) * w + x] = true;
+                }
+}
+
+// The sum of the squared weights of the tent of radius 2s, from its 2D weights.
+double SquaredWeights(int s) {
+    int n = 2 * s + 1;
+    std::vector<double> tent(2 * n - 1, 0);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) tent[i + j] += 1.0 / (double(n) * n);
+    double sum = 0;
+    for (double a : tent)
+        for (double b : tent) sum += (a * b) * (a * b);
+    return sum;
+}
+
+void Scale(const Image &input, const std::vector<bool> &kept, int s, Image *output) {
+    Image clean(input.width, input.height, input.channels), moved = Moved(*output, kept);
+    Image squared = clean;
     for (size_t i = 0; i < input.data.size(); ++i) {
         float v = input.data[i];
-        kept[i] = output->data[i] == v;
-        clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
-        if (kept[i]) moved.data[i] = 0;
+        if (kept[i]) continue;
+        clean.data[i] = std::isfinite(v) && v > 0 ? v : 0.f;
+        float e = clean.data[i] - moved.data[i];
+        squared.data[i] = e * e;
     }
-    Image mIn = BoxMean(BoxMean(clean, r), r);
-    Image mOut = BoxMean(BoxMean(moved, r), r);
+    Image mIn = Tent(clean, s), mOut = Tent(moved, s), mSq = Tent(squared, s);
+    double weights = SquaredWeights(s);
     for (size_t i = 0; i < output->data.size(); ++i) {
         if (kept[i]) continue;
-        double a = mIn.data[i], b = mOut.data[i];
-        if (a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b))
-            output->data[i] = float(output->data[i] * (a / b));
+        double a = mIn.data[i], b = mOut.data[i], q = mSq.data[i] * weights;
+        if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) && std::isfinite(q)))
+            continue;
+        double d = a - b;
+        d *= d * d > q ? 1 - q / (d * d) : 0;
+        output->data[i] = float(output->data[i] * ((b + d) / b));
     }
+}
+
+}  // namespace
+
+void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *variance) {
+    if (variance && (variance->width != input.width || variance->height != input.height ||
+                     (variance->channels != 1 && variance->channels != input.channels)))
+        variance = nullptr;
+    std::vector<bool> kept(input.data.size());
+    for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
+    Highlights(input, variance, r, &kept, output);
+    Scale(input, kept, 4 * r, output);
+    Scale(input, kept, r, output);
 }
 
 }  // namespace mcd::ref

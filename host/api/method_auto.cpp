@@ -645,11 +645,12 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // and the noise estimate's reach.
     const int box = std::max(options.radius, options.frameRadius);
     const int noise = options.noiseRadius + 1;
-    needs.reach += 2 * box + noise + 2 * options.meanRadius;
+    const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius) : 0;
+    needs.reach += 2 * box + noise + mean;
     needs.reachText = fmt::format(
         "the widest candidate's reach + twice the estimates' box radius {} + the noise "
-        "estimate's {} + the local mean's tent radius {}",
-        box, noise, 2 * options.meanRadius);
+        "estimate's {} + the local mean's coarse and fine tents {}",
+        box, noise, mean);
     // The noise estimate: the colour, the albedo, their second differences and the result.
     needs.bytesPerPixel = 4 * 4 * 4;
     needs.bindingBytesPerPixel = 4 * 4;
@@ -737,7 +738,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
     Result result = ResultOf(std::move(combined));
     if (options.meanRadius > 0) {
-        LocalMeanFactors f = RestoreLocalMeans(color, options.meanRadius, &result.image);
+        LocalMeanFactors f =
+            RestoreLocalMeans(color, options.meanRadius, &result.image,
+                              inputs.Has("variance") ? &inputs.Get("variance") : nullptr);
         plan.push_back(fmt::format(
             "auto: the input's local means over tent windows of radius {} restored (factors "
             "{:.3g} to {:.3g})",

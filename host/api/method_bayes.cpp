@@ -3,11 +3,13 @@
 // (section 4.1); otherwise the whole color, and the plan says so.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "cpu_reference/bayes_denoise.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
+#include "host/common/local_mean.h"
 #include "host/io/hints.h"
 #include "host/methods/bayes.h"
 #include "host/wavelet.h"
@@ -116,7 +118,8 @@ class Bayes : public FrontEndOf<BayesSettings> {
         const Image *variance = Variance(inputs, &plan);
         RunSetup setup = SetupFor(inputs, run);
         Result result;
-        if (Split(inputs)) {
+        std::string mismatch = Split(inputs) ? SplitMismatch(inputs) : "";
+        if (Split(inputs) && mismatch.empty()) {
             result = ResultOf(BayesDenoiseSplit(context, inputs.Get("direct"),
                                                 inputs.Get("indirect"), options.method, setup,
                                                 variance));
@@ -124,7 +127,8 @@ class Bayes : public FrontEndOf<BayesSettings> {
         } else {
             result = ResultOf(
                 BayesDenoise(context, inputs.Get("color"), options.method, setup, variance));
-            plan.push_back(options.noSplit && inputs.Has("direct") && inputs.Has("indirect")
+            plan.push_back(!mismatch.empty() ? "no split: " + mismatch
+                           : options.noSplit && inputs.Has("direct") && inputs.Has("indirect")
                                ? "no split (--no-split): the whole color is denoised"
                                : "no split: the frame has no direct and indirect layers, so "
                                  "the whole color is denoised");
@@ -145,11 +149,12 @@ class Bayes : public FrontEndOf<BayesSettings> {
             "variance layer's band means) and its log floor (a median) per tile, not over the "
             "frame";
         int half = WaveletHalfSupport(o.basis);
-        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins + 2 * o.meanRadius;
+        const int mean = o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0;
+        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins + mean;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
-            "{}, the spins' shift and the local mean's tent window of radius {}",
-            WaveletName(o.basis), half, levels, 2 * o.meanRadius);
+            "{}, the spins' shift and the local mean's coarse and fine tents {}",
+            WaveletName(o.basis), half, levels, mean);
         needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
         // Measured: 144 bytes a pixel at 1920x1080 (3 channels, swt, 3 levels). One binding
         // holds a channel's stationary coefficients (3 bands a level and the low band), or
@@ -164,7 +169,7 @@ class Bayes : public FrontEndOf<BayesSettings> {
     std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const override {
         std::vector<std::string> ignored;
         const Image *variance = Variance(inputs, &ignored);
-        bool split = Split(inputs);
+        bool split = Split(inputs) && SplitMismatch(inputs).empty();
         const Image &input = inputs.Get(split ? "indirect" : "color");
         ref::BayesRefRun r;
         r.keepStages = true;
@@ -193,6 +198,28 @@ class Bayes : public FrontEndOf<BayesSettings> {
   private:
     bool Split(const Inputs &inputs) const {
         return inputs.Has("direct") && inputs.Has("indirect") && !options.noSplit;
+    }
+
+    // Where indirect holds negative light, denoising the split would change the image:
+    // Blender's transparent film puts the Env pass in direct while Combined leaves the
+    // background out, and accumulate's indirect = color - direct goes below 0 there. Why,
+    // or empty when indirect's negative values stay within 1% of the colour's magnitude.
+    // (direct + indirect may miss the colour by what neither holds: emitters seen directly.)
+    static std::string SplitMismatch(Inputs &inputs) {
+        const Image &color = inputs.Get("color"), &indirect = inputs.Get("indirect");
+        if (!color.SameShape(indirect)) return "";
+        double negative = 0, total = 0;
+        for (size_t i = 0; i < color.data.size(); ++i) {
+            double c = color.data[i], n = indirect.data[i];
+            if (!std::isfinite(c) || !std::isfinite(n)) continue;
+            negative += std::max(-n, 0.0);
+            total += std::fabs(c);
+        }
+        if (negative <= 0.01 * total) return "";
+        return fmt::format(
+            "indirect is negative by {:.3g}% of the color's magnitude (direct holds light the "
+            "color leaves out: a transparent film's background?); the whole color is denoised",
+            total > 0 ? 100 * negative / total : 100.0);
     }
 
     // The variance layer when the noise reads it (--noise variance, or auto on a frame with

@@ -7,6 +7,7 @@
 
 #include "cpu_reference/nfor.h"
 #include "host/api/front_end.h"
+#include "host/common/local_mean.h"
 #include "host/methods/nfor.h"
 
 namespace mcd::api {
@@ -164,14 +165,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         int passReach = 3 * o.radius;
         int pilotReach = !o.pilotBandwidths.empty() ? passReach + o.patchRadius : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
-                      o.sureRadius + 2 * o.meanRadius;
+                      o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
             "average; {} for the local means",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
-            o.sureRadius, 2 * o.meanRadius);
+            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
         int offsets = ref::NforOffsetCount(o.radius), features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =

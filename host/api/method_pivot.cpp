@@ -124,7 +124,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         Result result =
             ResultOf(PivotDenoise(context, in, options.method, SetupFor(inputs, run)));
         if (int r = options.method.meanRadius; r > 0) {
-            LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image);
+            LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image, in.variance);
             result.plan.push_back(
                 fmt::format("local mean: the input's means over tent windows of radius {} "
                             "restored (factors {:.3g} to {:.3g})",
@@ -158,9 +158,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 "neighbours, 1 for the id boundary",
                 options.method.maxRadius, options.method.maxRadius);
         }
-        needs.reach += 2 * options.method.meanRadius;
-        needs.reachText +=
-            fmt::format("; the local mean's tent radius {}", 2 * options.method.meanRadius);
+        const int mean =
+            options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius) : 0;
+        needs.reach += mean;
+        needs.reachText += fmt::format("; the local mean's coarse and fine tents {}", mean);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
@@ -203,7 +204,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
         if (int r = options.method.meanRadius; r > 0) {
-            ref::RestoreLocalMeans(*in.color, r, &out);
+            ref::RestoreLocalMeans(*in.color, r, &out, in.variance);
             cpu.emplace_back("local mean", std::move(out));
         }
         std::vector<Stage> stages;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "host/error.h"
 
@@ -26,6 +27,88 @@ void BoxPass(const float *in, float *out, int w, int h, int r, bool rows) {
     }
 }
 
+// One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
+// means over tents of radius 2s; `factors` (one per value) multiplied by the same.
+void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, Image *output,
+                  std::vector<double> *factors) {
+    Image moved = *output, squared = *output;
+    for (size_t i = 0; i < moved.data.size(); ++i) {
+        if (kept[i]) moved.data[i] = 0;
+        float e = clean.data[i] - moved.data[i];
+        squared.data[i] = kept[i] ? 0.f : e * e;
+    }
+    Image mIn = TentMean(clean, s), mOut = TentMean(moved, s), mSq = TentMean(squared, s);
+    const double weights = TentSquaredWeights(s);
+    for (size_t i = 0; i < mIn.data.size(); ++i) {
+        if (kept[i]) continue;
+        double a = mIn.data[i], b = mOut.data[i], q = mSq.data[i] * weights;
+        if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) && std::isfinite(q)))
+            continue;
+        double d = a - b, d2 = d * d;
+        double shrink = d2 > q ? 1 - q / d2 : 0;
+        double factor = 1 + shrink * d / b;
+        output->data[i] = float(output->data[i] * factor);
+        (*factors)[i] *= factor;
+    }
+}
+
+// Highlights (local_mean.h): pixels whose input (the sum of its channels) is over
+// kHighlight times the output there or the output's tent mean of radius 2r there, with at
+// least kHighlightNeighbours of their 8 neighbours so too (a firefly stands alone). They
+// take the input back and count as kept.
+constexpr double kHighlight = 16;
+constexpr int kHighlightNeighbours = 2;
+
+// A variance of the pixel mean (`variance`, may be null) tells a light from a firefly
+// instead of the neighbours: the input must then also be over kHighlightSigmas^2 times the
+// pixel's variance away from the output.
+constexpr double kHighlightSigmas = 4;
+
+void KeepHighlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
+                    Image *output) {
+    const int w = input.width, h = input.height;
+    const size_t n = input.PixelCount();
+    Image moved = *output;
+    for (size_t i = 0; i < moved.data.size(); ++i)
+        if ((*kept)[i]) moved.data[i] = 0;
+    Image level = TentMean(moved, r);
+    std::vector<char> over(n, 0);
+    for (size_t p = 0; p < n; ++p) {
+        double in = 0, around = 0, out = 0;
+        bool finite = true;
+        for (int c = 0; c < input.channels; ++c) {
+            float v = input.Plane(c)[p];
+            finite = finite && std::isfinite(v);
+            in += v;
+            around += level.Plane(c)[p];
+            out += moved.Plane(c)[p];
+        }
+        over[p] = finite && in > 0 && in > kHighlight * std::min(around, out);
+        if (over[p] && variance) {
+            double v = 0;
+            for (int c = 0; c < input.channels; ++c)
+                v += variance->Plane(variance->channels == 1 ? 0 : c)[p];
+            over[p] = std::isfinite(v) &&
+                      (in - out) * (in - out) > kHighlightSigmas * kHighlightSigmas * v;
+        }
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t p = size_t(y) * w + x;
+            if (!over[p]) continue;
+            int neighbours = 0;
+            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                    neighbours += (u != x || v != y) && over[size_t(v) * w + u];
+            if (!variance && neighbours < kHighlightNeighbours) continue;
+            for (int c = 0; c < input.channels; ++c) {
+                size_t i = c * n + p;
+                output->data[i] = input.data[i];
+                (*kept)[i] = true;
+            }
+        }
+}
+
 }  // namespace
 
 Image TentMean(const Image &image, int r) {
@@ -39,33 +122,46 @@ Image TentMean(const Image &image, int r) {
     return b;
 }
 
-LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output) {
+double TentSquaredWeights(int r) {
+    // The 1D tent is the box of 2r + 1 taps convolved with itself: (2r + 1 - |j|) / n^2.
+    double n = 2.0 * r + 1, sum = 0;
+    for (int j = -2 * r; j <= 2 * r; ++j) {
+        double t = (n - std::abs(j)) / (n * n);
+        sum += t * t;
+    }
+    return sum * sum;
+}
+
+LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
+                                   const Image *variance) {
     if (!input.SameShape(*output) || r <= 0)
         throw Error("RestoreLocalMeans: the output must have the input's shape, r > 0",
                     ErrorKind::Internal);
     // The values the method left as they were (an emitter without a pivot, an exact zero
-    // restored) are left out of both means and kept: mass balances without them.
-    Image clean = input, moved = *output;
+    // restored) are left out of the means and kept: mass balances without them.
+    std::vector<bool> kept(input.data.size());
+    for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
+    if (variance && (variance->width != input.width || variance->height != input.height ||
+                     (variance->channels != 1 && variance->channels != input.channels)))
+        variance = nullptr;
+    KeepHighlights(input, variance, r, &kept, output);
+    Image clean = input;
     for (size_t i = 0; i < clean.data.size(); ++i) {
         float v = input.data[i];
-        bool kept = output->data[i] == v;
-        clean.data[i] = !kept && std::isfinite(v) && v > 0 ? v : 0.f;
-        if (kept) moved.data[i] = 0;
+        clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
     }
-    Image mIn = TentMean(clean, r), mOut = TentMean(moved, r);
-    LocalMeanFactors factors;
+    std::vector<double> factors(input.data.size(), 1.0);
+    RestoreScale(clean, kept, 4 * r, output, &factors);
+    RestoreScale(clean, kept, r, output, &factors);
+    LocalMeanFactors range;
     bool any = false;
-    for (size_t i = 0; i < mIn.data.size(); ++i) {
-        if (output->data[i] == input.data[i]) continue;
-        float a = mIn.data[i], b = mOut.data[i];
-        if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b))) continue;
-        double ratio = double(a) / b;
-        output->data[i] = float(output->data[i] * ratio);
-        factors.lo = any ? std::min(factors.lo, ratio) : ratio;
-        factors.hi = any ? std::max(factors.hi, ratio) : ratio;
+    for (size_t i = 0; i < factors.size(); ++i) {
+        if (kept[i]) continue;
+        range.lo = any ? std::min(range.lo, factors[i]) : factors[i];
+        range.hi = any ? std::max(range.hi, factors[i]) : factors[i];
         any = true;
     }
-    return factors;
+    return range;
 }
 
 }  // namespace mcd

@@ -1,11 +1,24 @@
-// Restoring an input's local means after a method that biases them (beyond the papers):
-// each output value is multiplied by m_in / m_out, the means of the input's finite values
-// >= 0 and of the output over a tent window of radius 2r (a box of radius r twice, each
-// clipped to the image), where both are positive and finite; values equal to the input's
-// (the method left them: an emitter, a zero kept) count in neither mean and stay. A
+// Restoring an input's local means after a method that biases them (beyond the papers). A
 // method that darkens an area (bayes's log domain, pivot's robust fits, auto's relative
-// combination) gets its local brightness back at scales above the window; within it the
-// method's own shape stays.
+// combination) gets its local brightness back where the input's local mean says so with
+// confidence, and keeps its own shape within the windows.
+//
+// Values equal to the input's (the method left them: an emitter, a zero kept) count in no
+// mean and stay. First the highlights: a pixel whose input (its channels summed) is over 16
+// times the output there or the output's tent mean of radius 2r there, with at least 2 of
+// its 8 neighbours so too (a small light or a light's edge the method cut; a firefly stands
+// alone), takes its input back and counts as left; with a variance layer, instead of the
+// neighbours, its input must be over 4 standard deviations from the output. Then at each value,
+// over a tent window of radius 2s (a box of radius s twice, each clipped to the image), m_in
+// and m_out are the means of the input's finite values >= 0 and of the output. Their difference
+// d = m_in - m_out is shrunk by the noise of m_in, estimated as the mean of (input -
+// output)^2 over the same window times the tent's sum of squared weights, q:
+// d' = d max(0, 1 - q / d^2) (positive-part James-Stein), and the output multiplied by
+// (m_out + d') / m_out. A difference that comes from a few pixels (fireflies the method
+// removed) has q near d^2 and leaves the method's output, rather than spreading their
+// energy over a glowing square; a darkening shared by many pixels is restored. This runs
+// at s = 4r first and then at s = r on its result: what is uncertain at the fine scale is
+// restored at the coarse one.
 #pragma once
 
 #include "host/image.h"
@@ -15,12 +28,24 @@ namespace mcd {
 // Each plane's mean over the tent window of radius 2r around each pixel.
 Image TentMean(const Image &image, int r);
 
+// The sum of the squared weights of an unclipped tent window of radius 2r: the factor from
+// the mean of i.i.d. values' variance to the variance of their tent mean.
+double TentSquaredWeights(int r);
+
+// How far a pixel's restored value reads: the coarse windows, then the fine ones.
+inline int LocalMeanReach(int r) {
+    return 2 * 4 * r + 2 * r;
+}
+
 // The factors applied, smallest and largest (1 and 1 where none was).
 struct LocalMeanFactors {
     double lo = 1, hi = 1;
 };
 
-// `output` (the shape of `input`) scaled to `input`'s local means; r > 0.
-LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output);
+// `output` (the shape of `input`) scaled to `input`'s local means; r > 0. `variance` (of
+// the pixel mean, one channel or the input's; may be null, ignored unless of the input's
+// size) tells highlights from fireflies in place of the neighbours.
+LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
+                                   const Image *variance = nullptr);
 
 }  // namespace mcd

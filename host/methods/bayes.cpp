@@ -132,8 +132,8 @@ void KeepMean(const Image &color, BayesResult *result) {
 }
 
 // Restore the input's local means (BayesParams::meanRadius).
-void LocalMean(const Image &color, int radius, BayesResult *result) {
-    LocalMeanFactors f = RestoreLocalMeans(color, radius, &result->image);
+void LocalMean(const Image &color, int radius, const Image *variance, BayesResult *result) {
+    LocalMeanFactors f = RestoreLocalMeans(color, radius, &result->image, variance);
     result->plan.push_back(
         fmt::format("local mean: the input's means over tent windows of radius {} restored "
                     "(the log domain's bias; factors {:.3g} to {:.3g})",
@@ -142,13 +142,13 @@ void LocalMean(const Image &color, int radius, BayesResult *result) {
 
 // keepMean, then the local mean, each a stage when kept.
 void RestoreMeans(const Image &color, const BayesParams &params, bool keepStages,
-                  BayesResult *result) {
+                  const Image *variance, BayesResult *result) {
     if (params.keepMean) {
         KeepMean(color, result);
         if (keepStages) result->stages.push_back({"keep mean", result->image});
     }
     if (params.meanRadius > 0) {
-        LocalMean(color, params.meanRadius, result);
+        LocalMean(color, params.meanRadius, variance, result);
         if (keepStages) result->stages.push_back({"local mean", result->image});
     }
 }
@@ -710,7 +710,7 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     result.image = gpu.out.Download();
     run.AddStage("exp", result.image);
     run.Finish(result);
-    RestoreMeans(color, options, setup.keepStages, &result);
+    RestoreMeans(color, options, setup.keepStages, variance, &result);
     return result;
 }
 
@@ -762,7 +762,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesPa
                                    "used by every shift) are the unshifted run's",
                                    params.spins, params.spins));
     if (setup.keepStages) result.stages.push_back({"cycle spinning", result.image});
-    RestoreMeans(color, params, setup.keepStages, &result);
+    RestoreMeans(color, params, setup.keepStages, variance, &result);
     return result;
 }
 

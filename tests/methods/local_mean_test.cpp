@@ -2,6 +2,7 @@
 // (cpu_reference/local_mean.h), and its properties.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -34,7 +35,7 @@ void MakeImages(const LocalMeanCase &c, Image *input, Image *output) {
                          : u < 0.08f ? -unit(rng)
                          : u < 0.09f ? std::numeric_limits<float>::quiet_NaN()
                          : u < 0.10f ? std::numeric_limits<float>::infinity()
-                         : u > 0.99f ? 100 * unit(rng)
+                         : u > 0.97f ? 100 * unit(rng)
                                      : unit(rng);
         output->data[i] = unit(rng) < 0.05f ? 0.f : 0.5f * unit(rng);
     }
@@ -60,33 +61,82 @@ TEST_P(LocalMeanMatches, Reference) {
     EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
 }
 
+// With a variance layer (one channel, and the input's), the highlights' test reads it.
+TEST_P(LocalMeanMatches, ReferenceWithVariance) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    std::mt19937_64 rng(SeedFromName("local mean variance"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int channels : {1, GetParam().channels}) {
+        Image variance(input.width, input.height, channels);
+        for (float &v : variance.data)
+            v = unit(rng) < 0.5f ? 0.01f * unit(rng) : 50 * unit(rng);
+        Image expected = output, got = output;
+        ref::RestoreLocalMeans(input, GetParam().r, &expected, &variance);
+        RestoreLocalMeans(input, GetParam().r, &got, &variance);
+        for (size_t i = 0; i < got.data.size(); ++i)
+            ASSERT_NEAR(got.data[i], expected.data[i],
+                        2e-5 * std::fabs(expected.data[i]) + 1e-12)
+                << channels << " " << i;
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, LocalMeanMatches,
                          ::testing::Values(LocalMeanCase{1, 1, 3, 1}, LocalMeanCase{7, 5, 1, 1},
                                            LocalMeanCase{33, 17, 3, 3},
                                            LocalMeanCase{64, 48, 3, 8},
                                            LocalMeanCase{5, 40, 4, 16}));
 
-// An output darkened by a constant factor gets the input back; a window whose input is all
-// zero leaves the output as it is; a value the method left (a light) stays and weighs in
-// neither mean.
+// An output darkened by a constant factor gets the input back (to the shrinkage's share
+// of it); a window whose input is all zero within reach leaves the output as it is; a value
+// the method left (a light) stays and weighs in no mean.
 TEST(LocalMeanProperties, UndoesAUniformDarkeningAndLeavesBlackAlone) {
-    const int w = 40, h = 30;
+    const int w = 80, h = 30, r = 2;
     Image input(w, h, 3), output(w, h, 3);
     for (int c = 0; c < 3; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                float v = x < 20 ? 0.f : 0.2f + 0.01f * ((x * 7 + y * 3 + c) % 11);
+                float v = x < 40 ? 0.f : 0.2f + 0.01f * ((x * 7 + y * 3 + c) % 11);
                 input.At(c, y, x) = v;
-                output.At(c, y, x) = x < 20 ? 0.3f : 0.6f * v;
+                output.At(c, y, x) = x < 40 ? 0.3f : 0.6f * v;
             }
-    input.At(1, 15, 30) = output.At(1, 15, 30) = 1000;
-    RestoreLocalMeans(input, 2, &output);
-    EXPECT_EQ(output.At(1, 15, 30), 1000.f);
-    EXPECT_NEAR(output.At(1, 15, 31), input.At(1, 15, 31), 1e-5);
+    input.At(1, 15, 70) = output.At(1, 15, 70) = 1000;
+    ASSERT_LT(LocalMeanReach(r), 40 - 5);
+    RestoreLocalMeans(input, r, &output);
+    EXPECT_EQ(output.At(1, 15, 70), 1000.f);
+    EXPECT_NEAR(output.At(1, 15, 71), input.At(1, 15, 71), 0.02 * input.At(1, 15, 71));
     for (int y = 0; y < h; ++y) {
         EXPECT_EQ(output.At(0, y, 5), 0.3f);  // no input brightness within reach: left
-        EXPECT_NEAR(output.At(1, y, 35), input.At(1, y, 35), 1e-5);
+        EXPECT_NEAR(output.At(1, y, 65), input.At(1, y, 65), 0.02 * input.At(1, y, 65));
     }
+}
+
+// A wall of noisy values around 0.5 that the method darkened to 0.45, with a small bright
+// light (a disc of radius 2) that the method cut to the wall: the light takes its input
+// back, and the wall around it is restored to about 0.5 without the light's energy spread
+// over it (the glowing square of a plain ratio of local means).
+TEST(LocalMeanProperties, ASmallLightDoesNotRaiseItsSurroundings) {
+    const int w = 96, h = 96, r = 8, cx = 48, cy = 48;
+    std::mt19937_64 rng(SeedFromName("local mean light"));
+    std::normal_distribution<float> noise(0, 0.1f);
+    Image input(w, h, 3), output(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool light = (x - cx) * (x - cx) + (y - cy) * (y - cy) <= 4;
+                input.At(c, y, x) = light ? 200.f : std::max(0.f, 0.5f + noise(rng));
+                output.At(c, y, x) = 0.45f;
+            }
+    RestoreLocalMeans(input, r, &output);
+    EXPECT_EQ(output.At(0, cy, cx), 200.f);
+    EXPECT_EQ(output.At(2, cy + 2, cx), 200.f);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                int d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+                if (d2 <= 9) continue;
+                ASSERT_NEAR(output.At(c, y, x), 0.5f, 0.03f) << c << " " << y << " " << x;
+            }
 }
 
 }  // namespace
