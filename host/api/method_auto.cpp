@@ -100,10 +100,11 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                  "off)",
                  &O::meanRadius, 0, 256),
         ChoiceParam("auto-plain",
-                    "on a frame without statistics (no variance layer, half-buffers, "
-                    "histograms nor min/max/spp, as most renderers write): nfor (run nfor "
-                    "alone, which beat the combination on such frames) or combine (combine "
-                    "the candidates by SURE on the frame's own noise estimate)",
+                    "on a frame with albedo and normals and without statistics (no variance "
+                    "layer, half-buffers, histograms nor min/max/spp, as most renderers "
+                    "write): nfor (run nfor alone, which beat the combination on such "
+                    "frames) or combine (combine the candidates by SURE on the frame's own "
+                    "noise estimate)",
                     &O::plain, {"nfor", "combine"})};
 }
 
@@ -708,13 +709,21 @@ const FrontEnd *AutoFrontEnd::PickWithoutStatistics(const Frame &frame,
         return nullptr;
     for (const char *layer : {"variance", "half0.color", "half1.color"})
         if (frame.Has(layer)) return nullptr;
-    for (const char *statistics : {"awr", "rhf"})
-        if (Base(statistics).Missing(frame).empty()) return nullptr;
+    // Without the features nfor's fit is in the screen position alone.
+    if (!frame.Has("albedo") || !frame.Has("normal")) return nullptr;
+    std::vector<std::string> lines;
+    for (const char *statistics : {"awr", "rhf"}) {
+        std::string lacks = Base(statistics).Missing(frame);
+        if (lacks.empty()) return nullptr;
+        lines.push_back(fmt::format("auto: left out {}: {}", statistics, lacks));
+    }
     const FrontEnd &nfor = Base("nfor");
     if (!nfor.Missing(frame).empty()) return nullptr;
     plan->push_back(
-        "auto: nfor alone (the frame has no statistics: no variance layer, half-buffers, "
-        "histograms nor min/max/spp; --auto-plain combine combines the candidates instead)");
+        "auto: nfor alone (the frame has albedo and normals and no statistics: no variance "
+        "layer, half-buffers, histograms nor min/max/spp; --auto-plain combine combines the "
+        "candidates instead)");
+    plan->insert(plan->end(), lines.begin(), lines.end());
     return &nfor;
 }
 

@@ -32,8 +32,9 @@ class AutoFrontEnd : public FrontEnd {
     // why.
     const FrontEnd &Pick(const Frame &frame, const std::string &demodulate,
                          std::vector<std::string> *plan) const;
-    // nfor alone on a frame without statistics (--auto-plain nfor, the default), with the
-    // plan line that says why; null where auto combines its candidates.
+    // nfor alone on a frame with albedo and normals and without statistics (--auto-plain
+    // nfor, the default), with the plan lines that say why; null where auto combines its
+    // candidates.
     const FrontEnd *PickWithoutStatistics(const Frame &frame,
                                           std::vector<std::string> *plan) const;
 
@@ -74,8 +75,9 @@ class AutoFrontEnd : public FrontEnd {
         // host/common/local_mean.h): the relative combination leans dark where the
         // candidates disagree, and relMSE rewards that (issue 29).
         int meanRadius = 8;
-        // On a frame without statistics, nfor alone or the combination (docs/methods/
-        // auto.md: nfor alone beat the combination on the real Cycles frames).
+        // On a frame with albedo and normals and without statistics, nfor alone or the
+        // combination (docs/methods/auto.md: nfor alone beat the combination on the real
+        // Cycles frames).
         std::string plain = "nfor";
     };
 
