@@ -118,6 +118,44 @@ void RefuseMissing(const api::FrontEnd &method, const Frame &frame,
                                 method.Name(), lacks));
 }
 
+// Mean linear luminance (Rec. 709; one or two channels: the first), over finite pixels.
+double MeanLuminance(const Image &image) {
+    double sum = 0;
+    size_t count = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            double v = image.channels < 3
+                           ? image.At(0, y, x)
+                           : 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) +
+                                 0.0722 * image.At(2, y, x);
+            if (std::isfinite(v)) sum += v, ++count;
+        }
+    return count ? sum / count : 0;
+}
+
+// auto's nfor alone on a frame without statistics: where its output's mean luminance is
+// over 3% off the input's (nfor's firefly clamp took the light of a heavy-tailed frame),
+// run the combination instead, which restores the input's local means.
+void CombineWhereNforMovedTheMean(vk::Context &context, const api::FrontEnd &automatic,
+                                  const Frame &frame, bool refuseNonFinite,
+                                  const RunOptions &options, api::Inputs &inputs,
+                                  const api::FrontEnd **method, Result *result,
+                                  std::vector<std::string> *plan) {
+    double input = MeanLuminance(inputs.Get("color"));
+    double ratio = input > 0 ? MeanLuminance(result->image) / input : 1;
+    if (std::fabs(ratio - 1) <= 0.03) return;
+    plan->push_back(fmt::format(
+        "auto: nfor's output had {:.3f} of the frame's mean luminance (over 3% off: its "
+        "firefly clamp took the light of rare bright samples), so the candidates were "
+        "combined instead",
+        ratio));
+    *method = &automatic;
+    api::Inputs again(frame, refuseNonFinite, automatic.Name());
+    *result = api::RunTiled(context, automatic, again, options);
+    result->warnings.insert(result->warnings.begin(), again.warnings.begin(),
+                            again.warnings.end());
+}
+
 // Pixels the renderer left fully transparent (alpha 0: the background on Blender's Film >
 // Transparent) keep the frame's colour, as the renderer wrote it: light a method spread
 // into them would be added over whatever a compositor puts behind. The result's alpha
@@ -371,18 +409,25 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     try {
         // auto combines the methods on the frame itself; with --demodulate it picks one.
         // Without statistics it runs nfor alone (--auto-plain).
+        const api::AutoFrontEnd *plainAuto = nullptr;
         if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method)) {
-            if (!demodulate.empty())
+            if (!demodulate.empty()) {
                 method = &automatic->Pick(frame, demodulate, &autoPlan);
-            else if (const api::FrontEnd *nfor =
-                         automatic->PickWithoutStatistics(frame, &autoPlan))
+            } else if (const api::FrontEnd *nfor =
+                           automatic->PickWithoutStatistics(frame, &autoPlan)) {
                 method = nfor;
+                plainAuto = automatic;
+            }
         }
         RefuseMissing(*method, frame, demodulate);
-        api::Inputs inputs(frame, impl->common.nonFinite == "refuse", method->Name());
+        bool refuseNonFinite = impl->common.nonFinite == "refuse";
+        api::Inputs inputs(frame, refuseNonFinite, method->Name());
         Demodulation demodulation;
         if (!demodulate.empty()) demodulation = Demodulate(inputs, *method, frame, demodulate);
         result = api::RunTiled(context, *method, inputs, options);
+        if (plainAuto)
+            CombineWhereNforMovedTheMean(context, *plainAuto, frame, refuseNonFinite, options,
+                                         inputs, &method, &result, &autoPlan);
         if (!demodulate.empty()) Remodulate(demodulation, method->Name(), &result);
         result.warnings.insert(result.warnings.begin(), inputs.warnings.begin(),
                                inputs.warnings.end());

@@ -986,6 +986,35 @@ TEST_F(AutoMethod, FrameWithoutStatisticsRunsNforAlone) {
     EXPECT_GT(withVariance.candidates.size(), 1u);
 }
 
+// A heavy-tailed frame without statistics: nfor's firefly clamp takes much of its light, so
+// auto falls back to the combination, which keeps the input's mean luminance (within 3%,
+// the bound it checks nfor's output against; nfor alone keeps far less of it).
+TEST_F(AutoMethod, FrameWithoutStatisticsWhoseMeanNforMovesIsCombined) {
+    auto [frame, reference] = RenderWithReference(
+        "relief-abc", 48, 40, 16, render::kLayersGbuffer | render::kLayersSplit, 16,
+        {"variance", "direct.variance", "indirect.variance", "min", "max"});
+    Device device = api::BorrowDevice(Ctx());
+    auto meanOf = [](const Image &image) {
+        double sum = 0;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x)
+                sum += 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) +
+                       0.0722 * image.At(2, y, x);
+        return sum;
+    };
+    double input = meanOf(frame.layers.at("color"));
+    double nfor = meanOf(Method("nfor").Run(device, frame).image) / input;
+    Result result = Method("auto").Run(device, frame);
+    double automatic = meanOf(result.image) / input;
+    fmt::print("mean over the input's: nfor {:.3f}, auto {:.3f}\n", nfor, automatic);
+    ASSERT_LT(nfor, 0.97) << "the frame no longer shows what the fallback is for";
+    EXPECT_TRUE(PlanHas(result, "so the candidates were combined instead"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(result.method, "auto");
+    EXPECT_GT(result.candidates.size(), 1u);
+    EXPECT_NEAR(automatic, 1, 0.03);
+}
+
 // With --auto-plain combine, a frame with only the ordinary passes (color, albedo, normal,
 // depth, ids, direct and indirect; no variance, no min/max, no halves, as Blender Cycles
 // writes them) of a heavy-tailed scene: SURE from the frame's own noise estimate keeps auto
