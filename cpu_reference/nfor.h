@@ -53,7 +53,7 @@
 //   default), and the fits run again on the clamped colour with the pilot bandwidths,
 //   chosen per pixel by SURE like the first pass's.
 // - Local means (beyond the papers; cpu_reference/local_mean.h): the output scaled to the
-//   clamped colour's means over tent windows of radius 2 meanRadius: the fits' bias at
+//   clamped colour's means over tents of radius 8, then 2 meanRadius: the fits' bias at
 //   scales above the window goes, the fireflies' energy stays out.
 #pragma once
 

@@ -151,9 +151,8 @@ void CombineWhereNforMovedTheMean(vk::Context &context, const api::FrontEnd &aut
         ratio));
     *method = &automatic;
     api::Inputs again(frame, refuseNonFinite, automatic.Name());
+    // Its warnings are the first run's (the same frame read alike): Run adds those.
     *result = api::RunTiled(context, automatic, again, options);
-    result->warnings.insert(result->warnings.begin(), again.warnings.begin(),
-                            again.warnings.end());
 }
 
 // Pixels the renderer left fully transparent (alpha 0: the background on Blender's Film >
@@ -460,7 +459,8 @@ std::vector<Stage> Method::Reference(Device &device, const Frame &frame) const {
     const std::string &demodulate = impl->common.demodulate;
     std::vector<std::string> ignored;
     // The reference of auto's combination is its kernels' (tests/methods/auto_test.cpp):
-    // here, the one method auto picks without a combination.
+    // here, the one method auto picks first without a combination (nfor on a frame without
+    // statistics, even where Run's mean check then combines).
     if (const auto *automatic = dynamic_cast<const api::AutoFrontEnd *>(method)) {
         const api::FrontEnd *nfor =
             demodulate.empty() ? automatic->PickWithoutStatistics(frame, &ignored) : nullptr;

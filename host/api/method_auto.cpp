@@ -95,7 +95,7 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
         FloatParam("auto-floor", "smallest relative error estimate a weight takes",
                    &O::floorError, 1e-12, 1),
         IntParam("auto-mean-radius",
-                 "restore the input's local means over tent windows of twice this radius "
+                 "restore the input's local means over tents of 8x, then 2x this radius "
                  "after the combination, which leans dark where the candidates disagree (0: "
                  "off)",
                  &O::meanRadius, 0, 256),
@@ -103,8 +103,10 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "on a frame with albedo and normals and without statistics (no variance "
                     "layer, half-buffers, histograms nor min/max/spp, as most renderers "
                     "write): nfor (run nfor alone, which beat the combination on such "
-                    "frames) or combine (combine the candidates by SURE on the frame's own "
-                    "noise estimate)",
+                    "frames, and combine instead where nfor moves the mean luminance by "
+                    "over 3%) or combine (combine the candidates by SURE on the frame's own "
+                    "noise estimate); --auto-noise other than auto or --auto-combine mean "
+                    "combine too",
                     &O::plain, {"nfor", "combine"})};
 }
 
@@ -751,9 +753,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             RestoreLocalMeans(color, options.meanRadius, &result.image,
                               inputs.Has("variance") ? &inputs.Get("variance") : nullptr);
         plan.push_back(fmt::format(
-            "auto: the input's local means over tent windows of radius {} restored (factors "
-            "{:.3g} to {:.3g})",
-            2 * options.meanRadius, f.lo, f.hi));
+            "auto: the input's local means over tents of radius {}, then {} restored "
+            "(factors {:.3g} to {:.3g})",
+            8 * options.meanRadius, 2 * options.meanRadius, f.lo, f.hi));
     }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();

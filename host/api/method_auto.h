@@ -71,7 +71,7 @@ class AutoFrontEnd : public FrontEnd {
         // Measured (README): 50 to 300 keep every bench row within 5% of the best method;
         // 30 lets relief-abc's overshoots hide again, 1000 a light's pixel swamp fireflies.
         float noiseCap = 100;
-        // The input's local means restored over tent windows of twice this radius (0: off;
+        // The input's local means restored over tents of 8x, then 2x this radius (0: off;
         // host/common/local_mean.h): the relative combination leans dark where the
         // candidates disagree, and relMSE rewards that (issue 29).
         int meanRadius = 8;

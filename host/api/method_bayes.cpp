@@ -82,7 +82,7 @@ class Bayes : public FrontEndOf<BayesSettings> {
                                 &BayesParams::keepMean)),
                Nested(&BayesSettings::method,
                       IntParam("bayes-mean-radius",
-                               "restore the input's local means over tent windows of twice "
+                               "restore the input's local means over tents of 8x, then 2x "
                                "this radius (the log domain darkens where the noise is large "
                                "relative to the signal; 0: off)",
                                &BayesParams::meanRadius, 0, 256)),
@@ -205,8 +205,15 @@ class Bayes : public FrontEndOf<BayesSettings> {
     // background out, and accumulate's indirect = color - direct goes below 0 there. Why,
     // or empty when indirect's negative values stay within 1% of the colour's magnitude.
     // (direct + indirect may miss the colour by what neither holds: emitters seen directly.)
+    // A tile decides on its whole frame, so that every tile decides alike.
     static std::string SplitMismatch(Inputs &inputs) {
-        const Image &color = inputs.Get("color"), &indirect = inputs.Get("indirect");
+        if (inputs.Width() == inputs.FrameWidth() && inputs.Height() == inputs.FrameHeight())
+            return SplitMismatch(inputs.Get("color"), inputs.Get("indirect"));
+        const Frame &frame = inputs.Source();
+        return SplitMismatch(frame.Copy("color"), frame.Copy("indirect"));
+    }
+
+    static std::string SplitMismatch(const Image &color, const Image &indirect) {
         if (!color.SameShape(indirect)) return "";
         double negative = 0, total = 0;
         for (size_t i = 0; i < color.data.size(); ++i) {

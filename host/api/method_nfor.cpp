@@ -122,7 +122,7 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "own noise is far below the colour's)",
                           &O::pilotAlpha, 0, 10)),
         nested(IntParam("nfor-mean-radius",
-                        "restore the clamped colour's local means over tent windows of twice "
+                        "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
         ChoiceParam("nfor-noise",

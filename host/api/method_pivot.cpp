@@ -82,7 +82,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
                               &PivotParams::floor, 1e-12, 1e6)),
                Nested(&PivotSettings::method,
                       IntParam("pivot-mean-radius",
-                               "restore the input's local means over tent windows of twice "
+                               "restore the input's local means over tents of 8x, then 2x "
                                "this radius (the fits leave out the bright tail of heavy-"
                                "tailed noise and small highlights; 0: off)",
                                &PivotParams::meanRadius, 0, 256)),
@@ -126,9 +126,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
         if (int r = options.method.meanRadius; r > 0) {
             LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image, in.variance);
             result.plan.push_back(
-                fmt::format("local mean: the input's means over tent windows of radius {} "
+                fmt::format("local mean: the input's means over tents of radius {}, then {} "
                             "restored (factors {:.3g} to {:.3g})",
-                            2 * r, f.lo, f.hi));
+                            8 * r, 2 * r, f.lo, f.hi));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         if (UsesAlbedo(inputs))

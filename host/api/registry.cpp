@@ -34,10 +34,8 @@ std::vector<MethodEntry> Build() {
          2,
          {{"bayes", {}, 3, {1.f, 0.8f, 0.05f}, "yellow"},
           {"bayes no split", {{"no-split", true}}, 8, {0.5f, 0.25f, 0.1f}, "brown"}}},
-        // nfor is not among auto's candidates: with it auto's error on the real-scene set
-        // fell, but on the built-in firefly frames without statistics auto's combination came
-        // out far from its best candidate (docs/methods/nfor.md). Its variant, to put back:
-        // {"nfor", {}, 9, {1.f, 1.f, 1.f}, "white"}.
+        // nfor is not among the candidates auto combines (docs/methods/nfor.md): auto runs
+        // it alone on frames without statistics (AutoFrontEnd::PickWithoutStatistics).
         {"nfor", NforFrontEnd, -1, {}},
         {"pivot",
          PivotFrontEnd,

@@ -135,9 +135,9 @@ void KeepMean(const Image &color, BayesResult *result) {
 void LocalMean(const Image &color, int radius, const Image *variance, BayesResult *result) {
     LocalMeanFactors f = RestoreLocalMeans(color, radius, &result->image, variance);
     result->plan.push_back(
-        fmt::format("local mean: the input's means over tent windows of radius {} restored "
+        fmt::format("local mean: the input's means over tents of radius {}, then {} restored "
                     "(the log domain's bias; factors {:.3g} to {:.3g})",
-                    2 * radius, f.lo, f.hi));
+                    8 * radius, 2 * radius, f.lo, f.hi));
 }
 
 // keepMean, then the local mean, each a stage when kept.

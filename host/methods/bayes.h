@@ -32,8 +32,8 @@ struct BayesBandFit {
 // the SWT's channels (3 levels + 1) planes), "moments" (1 channel, a row per band: E[y^2],
 // E[y^4], max |y|, count), "fits" (a row per band: s_c, p_c, fit), "shrinkage",
 // "synthesis", "opponent inverse", "exp"; with spins > 1 these are the unshifted run's,
-// then "cycle spinning" (the average); "keep mean" and "local mean" last when on. A 1x1 image (no level) has
-// "log" and "exp" only.
+// then "cycle spinning" (the average); "keep mean" and "local mean" last when on. A 1x1 image
+// (no level) has "log" and "exp" only.
 struct BayesResult : MethodResult {
     std::vector<BayesBandFit> fits;
     // The noise s used (estimated with --noise mad; the mean over bands with variance).

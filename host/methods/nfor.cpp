@@ -418,9 +418,9 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
         run.AddStage("fit", result.image);
         LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
         run.Plan(
-            fmt::format("local mean: the clamped colour's means over tent windows of "
-                        "radius {} restored (factors {:.3g} to {:.3g})",
-                        2 * o.meanRadius, f.lo, f.hi));
+            fmt::format("local mean: the clamped colour's means over tents of radius {}, "
+                        "then {} restored (factors {:.3g} to {:.3g})",
+                        8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
     }
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "

@@ -55,7 +55,7 @@ struct NforOptions {
     // empty: one pass.
     std::vector<float> pilotBandwidths = {1.0f};
     float pilotAlpha = 0;
-    // Restore the clamped colour's local means over tent windows of radius 2 x this (the
+    // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).

@@ -27,7 +27,6 @@ class RunMemo {
         return kept;
     }
     size_t Size() const { return entries.size(); }
-    void Clear() { entries.clear(); }
 
   private:
     std::map<std::string, std::shared_ptr<void>> entries;

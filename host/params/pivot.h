@@ -33,7 +33,7 @@ struct PivotParams {
     int bilateralRadius = 8;
     float sigmaRange = 0.2f;
     // Beyond the paper, applied by the front end (host/api/method_pivot.cpp) after the
-    // filter: the input's local means restored over tent windows of radius 2 x meanRadius
+    // filter: the input's local means restored over tents of radius 8, then 2 x meanRadius
     // (host/common/local_mean.h; 0: off). The fits' robust weights (k) and the
     // noise threshold leave out the bright tail of heavy-tailed noise and the pixels of
     // small highlights, which darkened such frames by up to half (issue 29).

@@ -937,8 +937,8 @@ TEST_F(NforMethod, ApiRunsPlainFramesAndPairsStages) {
 // What the method is for: a rendered plain frame (colour, albedo, normal, depth only) comes
 // out closer to the converged image and about as bright. The built-in renderer writes its
 // light's reflectance as the albedo, the ceiling's too: no emitter is detected, and a
-// clamp against the neighbours' median took the light for fireflies (a quarter of the
-// frame's light lost); against the 3rd largest it keeps pixels with two bright neighbours.
+// clamp against the neighbours' median took the light for fireflies; against the 3rd largest it
+// keeps pixels with two bright neighbours.
 TEST_F(NforMethod, DenoisesARenderedPlainFrame) {
     render::Scene scene = render::BuildScene("cornell");
     render::RenderOptions o;

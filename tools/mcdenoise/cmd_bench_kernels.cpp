@@ -146,7 +146,7 @@ void PrintMethodKernels(const std::string &method, const std::vector<KernelFigur
     fmt::print(
         "  {}: {:.2f} ms GPU in {} kernels; roofline bound {:.2f} ms ({:.1f}% of it "
         "reached; bytes alone where a kernel has no operation formula)\n",
-        method, total, figures.size(), boundTotal, 100 * boundTotal / total);
+        method, total, figures.size(), boundTotal, total > 0 ? 100 * boundTotal / total : 0.0);
     fmt::print("    {:<26} {:>5} {:>9} {:>10} {:>9} {:>7} {:>8} {:>7} {:>8}\n", "kernel",
                "calls", "bytes/px", "flop/px", "GPU ms", "GB/s", "GFLOP/s", "bound", "reached");
     KernelFigures rest{"(other kernels)"};
