@@ -20,7 +20,7 @@ struct NforParamsApi {
     std::string noise = "auto", pivot = "auto";
 };
 
-std::vector<float> ParseBandwidths(const std::string &text) {
+std::vector<float> ParseBandwidths(const std::string &text, const char *option) {
     std::vector<float> values;
     std::stringstream stream(text);
     std::string item;
@@ -33,14 +33,14 @@ std::vector<float> ParseBandwidths(const std::string &text) {
             used = 0;
         }
         if (used == 0 || used != item.size() || !(v > 0) || !std::isfinite(v))
-            throw Error(fmt::format("nfor: bandwidths are numbers > 0 separated by commas, "
+            throw Error(fmt::format("nfor: --{} takes numbers > 0 separated by commas, "
                                     "not '{}'",
-                                    text),
+                                    option, text),
                         ErrorKind::InvalidArgument);
         values.push_back(v);
     }
     if (values.empty() || values.size() > 4)
-        throw Error(fmt::format("nfor: 1 to 4 bandwidths, not '{}'", text),
+        throw Error(fmt::format("nfor: --{} takes 1 to 4 bandwidths, not '{}'", option, text),
                     ErrorKind::InvalidArgument);
     return values;
 }
@@ -229,10 +229,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
   private:
     NforOptions Options() const {
         NforOptions o = options.options;
-        o.bandwidths = ParseBandwidths(options.bandwidths);
+        o.bandwidths = ParseBandwidths(options.bandwidths, "bandwidths");
         o.pilotBandwidths.clear();
         if (options.pilotBandwidths != "none")
-            o.pilotBandwidths = ParseBandwidths(options.pilotBandwidths);
+            o.pilotBandwidths = ParseBandwidths(options.pilotBandwidths, "pilot-bandwidths");
         return o;
     }
 
