@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cpu_reference/nfor.h"
@@ -65,6 +66,16 @@ Image Albedo(int w, int h, const std::string &name, bool emitters) {
         for (size_t i = 0; i < albedo.PixelCount(); i += 13)
             for (int c = 0; c < 3; ++c) albedo.Plane(c)[i] = 3.f;
     return albedo;
+}
+
+// The colour distance's inputs: a colour of `kind`, a variance with every fifth value 0 (the
+// normaliser's floor) and an albedo without emitters.
+std::tuple<Image, Image, Image> DistanceInputs(const std::string &name, InputKind kind, int w,
+                                               int h) {
+    Image color = Positive(kind, w, h, 3, name);
+    Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
+    for (size_t i = 0; i < variance.Size(); ++i) variance.data[i] *= i % 5 == 0 ? 0.f : 0.1f;
+    return {std::move(color), std::move(variance), Albedo(w, h, name + "albedo", false)};
 }
 
 vk::GpuImage Upload(vk::Context &ctx, const Image &image, const char *name) {
@@ -248,11 +259,8 @@ class NforTermKernel : public GpuTestWithParam<KernelCase> {};
 
 TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
-    std::string name = fmt::format("term{}x{}{}", w, h, InputKindName(kind));
-    Image color = Positive(kind, w, h, 3, name);
-    Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
-    for (size_t i = 0; i < variance.Size(); ++i) variance.data[i] *= i % 5 == 0 ? 0.f : 0.1f;
-    Image albedo = Albedo(w, h, name + "albedo", false);
+    auto [color, variance, albedo] =
+        DistanceInputs(fmt::format("term{}x{}{}", w, h, InputKindName(kind)), kind, w, h);
     const int radius = 3;
     const float alpha = 1;
     for (bool divided : {false, true}) {
@@ -348,11 +356,8 @@ class NforDistanceKernel : public GpuTestWithParam<KernelCase> {};
 
 TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
-    std::string name = fmt::format("distance{}x{}{}", w, h, InputKindName(kind));
-    Image color = Positive(kind, w, h, 3, name);
-    Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
-    for (size_t i = 0; i < variance.Size(); ++i) variance.data[i] *= i % 5 == 0 ? 0.f : 0.1f;
-    Image albedo = Albedo(w, h, name + "albedo", false);
+    auto [color, variance, albedo] =
+        DistanceInputs(fmt::format("distance{}x{}{}", w, h, InputKindName(kind)), kind, w, h);
     const int radius = 3, patch = 2;
     const float alpha = 1;
     for (bool divided : {false, true}) {
