@@ -1,30 +1,42 @@
 #include "tools/mcdenoise/kernel_ops.h"
 
 #include <cmath>
-#include <cstring>
-#include <functional>
-#include <map>
 
 #include "awr/shrink.h"
+#include "bayes/bayes.h"
+#include "bayes/shrink.h"
+#include "bayes/swt_shrink.h"
 #include "bench/fma.h"
 #include "host/kernels/bench_calibrate.h"
 #include "rhf/distance.h"
+#include "rhf/terms.h"
+#include "tools/mcdenoise/kernel_ops_formulas.h"
 #include "wavelet/lines.h"
 #include "wavelet/swt.h"
 #include "wavelet/swt_analyze.h"
+#include "wavelet/swt_synthesize.h"
 #include "wavelet/tile.h"
 #include "wavelet/wavelet.h"
 
 namespace mcd::tool {
-namespace {
 
-// The push constants as the kernel's struct (zeros where the dispatch gave fewer bytes).
-template <typename Push>
-Push PushOf(const vk::KeptDispatch &d) {
-    Push push{};
-    std::memcpy(&push, d.push.data(), std::min(d.push.size(), sizeof(Push)));
-    return push;
+double WindowPairs(int n, int r) {
+    double pairs = 0;
+    for (int x = 0; x < n; ++x) pairs += std::min(x + r, n - 1) - std::max(x - r, 0) + 1;
+    return pairs;
 }
+
+double PatchTriples(int n, int r, int f) {
+    double triples = 0;
+    for (int x = 0; x < n; ++x)
+        for (int u = std::max(x - r, 0); u <= std::min(x + r, n - 1); ++u) {
+            int lo = std::max(-f, -std::min(x, u)), hi = std::min(f, n - 1 - std::max(x, u));
+            triples += std::max(0, hi - lo + 1);
+        }
+    return triples;
+}
+
+namespace {
 
 // The even and odd positions a wavelet line pass filters along its axis, over every line
 // and channel: the region's, or the part its segments cover (shaders/wavelet/tile.h;
@@ -58,13 +70,86 @@ double WaveletFlops(const vk::KeptDispatch &d, bool analysis, double extra) {
     return even * (2 * evenTaps + extra) + odd * (2 * oddTaps + extra);
 }
 
-struct Formula {
-    std::string rule;
-    std::function<double(const vk::KeptDispatch &)> flops;
-};
+// swt_analyze.comp's Analyze at one position of an axis it transforms: a multiply-add per
+// tap of both filters (CDF 9/7: 9 + 7, LeGall 5/3: 5 + 3); Haar two products and a sum per
+// band (6), squared one pair for both (3).
+double SwtAnalyzeFlops(int basis, bool squared) {
+    if (basis == MCD_WAVELET_HAAR) return squared ? 3 : 6;
+    return basis == MCD_WAVELET_CDF97 ? 2 * (9 + 7) : 2 * (5 + 3);
+}
 
-const std::map<std::string, Formula> &Formulas() {
-    static const std::map<std::string, Formula> formulas = {
+// swt_analyze.comp: per position of every channel the rows pass analyses one line, the
+// columns pass two (the row-low and row-high planes), the fused Haar pass four pairs (two
+// per axis); an axis not transformed at this level copies.
+double SwtAnalyzePassFlops(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::WaveletSwtAnalyzePush>(d);
+    int basis = d.Spec(WAVELET_SWT_SPEC_BASIS, MCD_WAVELET_CDF97);
+    int axis = d.Spec(WAVELET_SWT_SPEC_AXIS, WAVELET_SWT_ROWS);
+    bool squared = d.Spec(WAVELET_SWT_ANALYZE_SPEC_SQUARED, 0) != 0;
+    bool tx = p.flags & WAVELET_SWT_TRANSFORM_X, ty = p.flags & WAVELET_SWT_TRANSFORM_Y;
+    double each = SwtAnalyzeFlops(basis, squared), perPosition = 0;
+    if (axis == WAVELET_SWT_ROWS) perPosition = tx ? each : 0;
+    if (axis == WAVELET_SWT_COLUMNS) perPosition = ty ? 2 * each : 0;
+    if (axis == WAVELET_SWT_FUSED) perPosition = (tx ? 2 * each : 0) + (ty ? 2 * each : 0);
+    return perPosition * p.width * p.height * d.timing.groups[2];
+}
+
+// swt_synthesize.comp's Synthesize summed along a line of n it transforms: a multiply-add
+// per tap of both filters and the half (CDF 9/7: 2 (7 + 9) + 1, LeGall 2 (3 + 5) + 1);
+// Haar the first pair (3) everywhere, the second, the sum and the half (5) from i = step.
+double SwtSynthesizeLineFlops(int basis, int n, int step) {
+    if (basis == MCD_WAVELET_HAAR) return 3.0 * n + 5.0 * std::max(0, n - step);
+    return (basis == MCD_WAVELET_CDF97 ? 33.0 : 17.0) * n;
+}
+
+// swt_synthesize.comp: the rows pass synthesises one line per row and channel, the columns
+// pass two per column (row-low and row-high).
+double SwtSynthesizePassFlops(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::WaveletSwtSynthesizePush>(d);
+    int basis = d.Spec(WAVELET_SWT_SPEC_BASIS, MCD_WAVELET_CDF97);
+    bool rows = d.Spec(WAVELET_SWT_SPEC_AXIS, WAVELET_SWT_ROWS) == WAVELET_SWT_ROWS;
+    bool transform = p.flags & (rows ? WAVELET_SWT_TRANSFORM_X : WAVELET_SWT_TRANSFORM_Y);
+    if (!transform) return 0;
+    double lines = rows ? double(p.height) : 2.0 * p.width;
+    return lines * d.timing.groups[2] *
+           SwtSynthesizeLineFlops(basis, rows ? p.width : p.height, p.step);
+}
+
+// bayes's Shrink of one coefficient, on its costlier path: |v| / b, asinh, / du (3), then
+// past the table's end sinh, two products, a difference and the sum (5; inside it the
+// interpolation's fraction and mix take 4).
+constexpr double kBayesShrinkFlops = 8;
+
+// rhf/terms.comp per lane (PIX pixels of a row, window row dy) whose candidate row is
+// inside: the counts' scaling (a multiply per pixel and candidate inside); per bin plane
+// MayCount's 2 QB + 1 maxima and sum, a multiply per in-frame bin loaded (Bin), and
+// AddTerms's sum per pair (1) and, for pairs with both ends in the frame, 9 more; with the
+// veto, the harmonic mean and its scale per pair (5).
+double RhfTermsFlops(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::RhfTermsPush>(d);
+    const int pix = RHF_TERMS_PIXELS_PER_LANE, b = d.Spec(RHF_TERMS_SPEC_SEARCH_HALF, 6);
+    const int side = 2 * b + 1, qb = (b + pix - 1) / pix;
+    double flops = 0;
+    for (int x0 = 0; x0 < p.width; x0 += pix) {
+        int validP = std::min(pix, p.width - x0);
+        int validQ = std::min(x0 + pix - 1 + b, p.width - 1) - std::max(x0 - b, 0) + 1;
+        double pairs = 0;
+        for (int j = 0; j < validP; ++j)
+            pairs += std::min(x0 + j + b, p.width - 1) - std::max(x0 + j - b, 0) + 1;
+        double perPlane = 2 * qb + 2 + validP + validQ + pix * side + 9 * pairs;
+        double lane = validP + validQ + p.binPlanes * perPlane;
+        if (p.brightVeto > 0) lane += 5.0 * pix * side;
+        for (uint32_t r = 0; r < d.timing.groups[1]; ++r)
+            for (uint32_t dy = 0; dy < d.timing.groups[2]; ++dy) {
+                int qy = p.rowBase + int(r) + int(dy);
+                if (qy >= 0 && qy < p.height) flops += lane;
+            }
+    }
+    return flops;
+}
+
+const FormulaMap &Formulas() {
+    static const FormulaMap formulas = {
         {"bench_fma",
          {"iterations x 4 chains x 4 lanes x 2 (FMA) + 28 per invocation (shaders/bench/fma.h)",
           [](const vk::KeptDispatch &d) {
@@ -74,10 +159,12 @@ const std::map<std::string, Formula> &Formulas() {
         {"bench_stream", {"none: a copy", [](const vk::KeptDispatch &) { return 0.0; }}},
         // Per coefficient: sqrt, cs * sqrt, |w| - t, max, sign(w) * (...).
         {"awr_shrink",
-         {"5 per coefficient of the grid (the kept low-low band counted too)",
+         {"5 per coefficient outside the kept low-low band",
           [](const vk::KeptDispatch &d) {
               auto p = PushOf<shader::AwrShrinkPush>(d);
-              return 5.0 * p.width * p.height * d.timing.groups[2];
+              double kept =
+                  double(std::min(p.lowWidth, p.width)) * std::min(p.lowHeight, p.height);
+              return 5.0 * (double(p.width) * p.height - kept) * d.timing.groups[2];
           }}},
         {"wavelet_analyze",
          {"per filtered position a multiply and an add per tap (CDF 9/7: 18 even, 14 odd; "
@@ -102,17 +189,55 @@ const std::map<std::string, Formula> &Formulas() {
               auto p = PushOf<shader::RhfDistancePush>(d);
               double side = 2.0 * p.patchHalf + 1;
               return (2 * side * side + 2) * p.width * p.rows * d.timing.groups[2];
-          }}},
+          },
+          OpsBound::AtMost}},
+        {"rhf_terms",
+         {"per lane and bin plane 2QB + 2 + the bins' scaling + 10 per in-frame pair (1 "
+          "outside); every plane marked, every pair counted",
+          RhfTermsFlops, OpsBound::AtMost}},
+        {"wavelet_swt_analyze",
+         {"per position and line analysed: CDF 9/7 32, LeGall 16, Haar 6 (squared 3); "
+          "columns two lines, fused Haar four pairs",
+          SwtAnalyzePassFlops}},
+        {"wavelet_swt_synthesize",
+         {"per position and line synthesised: CDF 9/7 33, LeGall 17, Haar 3 (+5 from "
+          "i = step); columns two lines",
+          SwtSynthesizePassFlops}},
+        {"bayes_shrink",
+         {"8 per detail coefficient (the costlier path, past the table's end); every band "
+          "shrunk",
+          [](const vk::KeptDispatch &d) {
+              auto p = PushOf<shader::BayesShrinkPush>(d);
+              int lowW = p.width, lowH = p.height;
+              for (int k = 0; k < p.levels; ++k) lowW = (lowW + 1) / 2, lowH = (lowH + 1) / 2;
+              double details = double(p.width) * p.height - double(lowW) * lowH;
+              return kBayesShrinkFlops * details * d.timing.groups[2];
+          },
+          OpsBound::AtMost}},
+        {"bayes_swt_shrink",
+         {"8 per coefficient of each detail band (the costlier path); every band shrunk",
+          [](const vk::KeptDispatch &d) {
+              auto p = PushOf<shader::BayesSwtShrinkPush>(d);
+              return kBayesShrinkFlops * p.width * p.height * d.timing.groups[2];
+          },
+          OpsBound::AtMost}},
     };
     return formulas;
+}
+
+const Formula *Find(const std::string &kernel) {
+    auto it = Formulas().find(kernel);
+    if (it != Formulas().end()) return &it->second;
+    auto nfor = NforFormulas().find(kernel);
+    return nfor == NforFormulas().end() ? nullptr : &nfor->second;
 }
 
 }  // namespace
 
 std::optional<double> KernelFlops(const vk::KeptDispatch &dispatch) {
-    auto it = Formulas().find(dispatch.timing.kernel);
-    if (it == Formulas().end()) return std::nullopt;
-    return it->second.flops(dispatch);
+    const Formula *formula = Find(dispatch.timing.kernel);
+    if (!formula) return std::nullopt;
+    return formula->flops(dispatch);
 }
 
 std::optional<double> KernelTouchedBytes(const vk::KeptDispatch &dispatch) {
@@ -136,8 +261,13 @@ std::optional<double> KernelTouchedBytes(const vk::KeptDispatch &dispatch) {
 }
 
 std::string KernelFlopsRule(const std::string &kernel) {
-    auto it = Formulas().find(kernel);
-    return it == Formulas().end() ? "" : it->second.rule;
+    const Formula *formula = Find(kernel);
+    return formula ? formula->rule : "";
+}
+
+OpsBound KernelFlopsBound(const std::string &kernel) {
+    const Formula *formula = Find(kernel);
+    return formula ? formula->bound : OpsBound::Exact;
 }
 
 }  // namespace mcd::tool
