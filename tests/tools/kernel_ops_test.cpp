@@ -20,6 +20,8 @@
 #include "host/wavelet.h"
 #include "host/wavelet/swt.h"
 #include "host/wavelet/transform.h"
+#include "pivot/fit.h"
+#include "pivot/pivot.h"
 #include "rhf/distance.h"
 #include "rhf/terms.h"
 #include "tests/tools/kernel_ops_walk.h"
@@ -359,6 +361,104 @@ TEST(KernelOps, RhfFormulasMatchTheirLoops) {
         ExpectFormulaMatchesWalk(run, "rhf_distance", WalkRhfDistance);
         ExpectFormulaMatchesWalk(run, "rhf_terms", WalkRhfTerms);
     }
+}
+
+// pivot/fit.comp's pieces: weightAt (geometric term, exponent, distance term where the
+// radius is positive, exp and product), addSample with sumZ, a Moments sum, solve.
+struct PivotWalk {
+    const shader::PivotFitPush &p;
+    bool normals;
+    double walked = 0;
+
+    double Weight(bool final) const {
+        double geometric = (normals ? 5 + 3 : 0) + 1;  // dot, d^4; normal * ids
+        return geometric + 6 + (final ? 6 : 0) + 2;
+    }
+    // rowSums / columnSums over a clipped segment, then the plus() into a part.
+    void Row(int y, int xa, int xb, bool final) {
+        if (y >= 0 && y < p.height)
+            for (int x = std::max(xa, 0); x <= std::min(xb, p.width - 1); ++x)
+                walked += Weight(final) + 20 + 1;
+    }
+    void Column(int x, int ya, int yb) {
+        if (x >= 0 && x < p.width)
+            for (int y = std::max(ya, 0); y <= std::min(yb, p.height - 1); ++y)
+                walked += Weight(false) + 20 + 1;
+    }
+    void Ring(int x0, int y0, int r) {
+        if (r == 0) {
+            Row(y0, x0, x0, false), walked += 10;
+            return;
+        }
+        for (int y : {y0 - r, y0 + r}) {
+            Row(y, x0 - r, x0 - 1, false), Row(y, x0, x0, false), Row(y, x0 + 1, x0 + r, false);
+            walked += 3 * 10;
+        }
+        for (int x : {x0 - r, x0 + r}) {
+            Column(x, y0 - r + 1, y0 - 1), Column(x, y0, y0), Column(x, y0 + 1, y0 + r - 1);
+            walked += 3 * 10;
+        }
+    }
+    static constexpr double kSolve = 39;
+    // The square's solve (its 8 sums), each quadrant's (3 sums) with disagrees (5).
+    void Solves() {
+        walked += 8 * 10 + kSolve;
+        for (int m = 0; m < 4; ++m) walked += 3 * 10 + kSolve + 5;
+    }
+    void Centre(int x0, int y0) {
+        for (int v = std::max(0, y0 - 1); v <= std::min(p.height - 1, y0 + 1); ++v)
+            for (int u = std::max(0, x0 - 1); u <= std::min(p.width - 1, x0 + 1); ++u)
+                walked += 1;
+        walked += 1;  // zc / n
+        int radius = 2;
+        for (int r = 0;; ++r) {
+            Ring(x0, y0, r);
+            if (r < 2) continue;
+            Solves();
+            walked += 2;  // quiet
+            bool covers =
+                x0 - r <= 0 && y0 - r <= 0 && x0 + r >= p.width - 1 && y0 + r >= p.height - 1;
+            int step = 1;  // lattice.glsl at radius r + 1
+            while (step < PIVOT_LATTICE_MAX_STEP && 2 * step <= (r + 1) / 2.0) step *= 2;
+            if (covers || r >= p.maxRadius || x0 % step != 0 || y0 % step != 0) {
+                radius = r;
+                break;
+            }
+        }
+        walked += 1;  // mean
+        // fitAndStore at the radius, for every centre (the bound).
+        for (int y = std::max(0, y0 - radius); y <= std::min(p.height - 1, y0 + radius); ++y) {
+            Row(y, x0 - radius, x0 - 1, true), Row(y, x0, x0, true);
+            Row(y, x0 + 1, x0 + radius, true);
+            if (y != y0) walked += 3 * 10;
+        }
+        walked += 8 * 10 + kSolve;                              // the square
+        for (int m = 0; m < 4; ++m) walked += 3 * 10 + kSolve;  // storeFits
+    }
+};
+
+// The column of invocation i in its workgroup's row segment (fit.comp's columnOf).
+int PivotColumnOf(int i) {
+    if (i < 8) return i * 8;
+    if (i < 16) return (i - 8) * 8 + 4;
+    if (i < 32) return (i - 16) * 4 + 2;
+    return (i - 32) * 2 + 1;
+}
+
+// pivot/fit.comp over pivot's recorded dispatches, every centre growing until the lattice,
+// the frame or maxRadius stops it, each weight non-zero and each solve of full rank.
+TEST(KernelOps, PivotFitMatchesItsLoops) {
+    ExpectFormulaMatchesWalk(MethodDispatches("pivot"), "pivot_fit",
+                             [](const vk::KeptDispatch &d) {
+                                 auto p = PushOf<shader::PivotFitPush>(d);
+                                 PivotWalk walk{p, d.Spec(PIVOT_SPEC_NORMALS, 0) != 0};
+                                 ForEachInvocation(d, PIVOT_LOCAL_SIZE, [&](int x, int y, int) {
+                                     int x0 = x / PIVOT_LOCAL_SIZE * PIVOT_LOCAL_SIZE +
+                                              PivotColumnOf(x % PIVOT_LOCAL_SIZE);
+                                     if (x0 < p.width) walk.Centre(x0, p.rowBase + y);
+                                 });
+                                 return walk.walked;
+                             });
 }
 
 // A kernel without a formula says so instead of counting nothing.

@@ -8,6 +8,8 @@
 #include "bayes/swt_shrink.h"
 #include "bench/fma.h"
 #include "host/kernels/bench_calibrate.h"
+#include "pivot/fit.h"
+#include "pivot/pivot.h"
 #include "rhf/distance.h"
 #include "rhf/terms.h"
 #include "tools/mcdenoise/kernel_ops_formulas.h"
@@ -148,6 +150,61 @@ double RhfTermsFlops(const vk::KeptDispatch &d) {
     return flops;
 }
 
+// pivot/lattice.glsl's latticeStep.
+int PivotLatticeStep(double radius) {
+    int step = 1;
+    while (step < PIVOT_LATTICE_MAX_STEP && 2.0 * step <= radius / 2.0) step *= 2;
+    return step;
+}
+
+// The radius pivot/fit.comp's growth reaches at most at centre (x0, y0): from 2 until the
+// square covers the frame, reaches maxRadius, or the next radius leaves the centre's
+// lattice (the data may stop it sooner: a quiet fit, a disagreeing quadrant).
+int PivotGrowthBound(int x0, int y0, int w, int h, int maxRadius) {
+    for (int r = 2;; ++r) {
+        bool covers = x0 - r <= 0 && y0 - r <= 0 && x0 + r >= w - 1 && y0 + r >= h - 1;
+        int step = PivotLatticeStep(r + 1);
+        if (covers || r >= maxRadius || x0 % step != 0 || y0 % step != 0) return r;
+    }
+}
+
+// pivot/fit.comp per centre (invocation), bounded: growth to PivotGrowthBound's radius R
+// and a final fit at R for every centre (one that leaves its lattice stores its growth
+// fits instead, fewer; one that disagrees fits a smaller square). Per pixel of a growth
+// ring weightAt (the geometric term 1, +8 with normals; the exponent 6; exp and the
+// product 2) and addSample with the mean's sum (21); the final fit's weightAt adds the
+// distance term (6). Moments sum in 10 adds; a solve takes 39; from r = 2 each ring solves
+// the square (8 sums) and the 4 quadrants (3 sums each, and the disagreement test's 5) and
+// tests the noise (2). The 3x3 mean (an add per pixel inside and a divide), the growth
+// rings' sums into the parts (1 + 12 per ring), <z> (1); the final fit's parts (3 sums
+// per row off the centre's), its square's solve and storeFits (4 quadrants summed and
+// solved).
+double PivotFitFlops(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::PivotFitPush>(d);
+    const double sum = 10, solve = 39;
+    double geometric = 1 + (d.Spec(PIVOT_SPEC_NORMALS, 0) != 0 ? 8 : 0);
+    double growthPixel = geometric + 6 + 2 + 21, finalPixel = growthPixel + 6;
+    double ring = 8 * sum + solve + 4 * (3 * sum + solve + 5) + 2;
+    double store = 4 * (3 * sum + solve);
+    auto inFrame = [&](int at, int r, int n) {
+        return std::min(at + r, n - 1) - std::max(at - r, 0) + 1;
+    };
+    double flops = 0;
+    for (uint32_t row = 0; row < d.timing.groups[1]; ++row) {
+        int y0 = p.rowBase + int(row);
+        for (int x0 = 0; x0 < p.width; ++x0) {
+            int r = PivotGrowthBound(x0, y0, p.width, p.height, p.maxRadius);
+            int rows = inFrame(y0, r, p.height);
+            double square = double(inFrame(x0, r, p.width)) * rows;
+            double mean = double(inFrame(x0, 1, p.width)) * inFrame(y0, 1, p.height) + 1;
+            double growth = square * growthPixel + sum * (1 + 12 * r) + (r - 1) * ring + 1;
+            double fit = square * finalPixel + 3 * sum * (rows - 1) + 8 * sum + solve + store;
+            flops += mean + growth + fit;
+        }
+    }
+    return flops * d.timing.groups[2];
+}
+
 const FormulaMap &Formulas() {
     static const FormulaMap formulas = {
         {"bench_fma",
@@ -203,6 +260,11 @@ const FormulaMap &Formulas() {
          {"per position and line synthesised: CDF 9/7 33, LeGall 17, Haar 3 (+5 from "
           "i = step); columns two lines",
           SwtSynthesizePassFlops}},
+        {"pivot_fit",
+         {"per centre growth to the lattice's or maxRadius's radius R (ring pixels 30, "
+          "+8 with normals; 417 per ring from 2) and a final fit at R (pixels 36, +8; 395, 30 "
+          "per row)",
+          PivotFitFlops, OpsBound::AtMost}},
         {"bayes_shrink",
          {"8 per detail coefficient (the costlier path, past the table's end); every band "
           "shrunk",
