@@ -3,9 +3,9 @@
 // the calibration kernels (shaders/bench/); then each method runs on a rendered frame and
 // every dispatch's traffic (the recorder's count of its bound buffers, or the bytes touched
 // where kernel_ops.h knows a kernel touches part of them: the wavelet passes), operations
-// (kernel_ops.h's formulas) and GPU time (timestamps) are summed per kernel and printed per
-// pixel, with the rates reached and the fraction of the roofline bound
-// max(bytes / bandwidth, operations / rate) that the measured time reaches.
+// (kernel_ops.h's formulas, some of them bounds: '<=') and GPU time (timestamps) are summed
+// per kernel and printed per pixel, with the rates reached and the fraction of the roofline
+// bound max(bytes / bandwidth, operations / rate) that the measured time reaches.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -159,7 +159,8 @@ void PrintMethodKernels(const std::string &method, const std::vector<KernelFigur
     for (const KernelFigures &f : figures) total += f.ms, boundTotal += BoundMs(f, peaks);
     fmt::print(
         "  {}: {:.2f} ms GPU in {} kernels; roofline bound {:.2f} ms ({:.1f}% of it "
-        "reached; bytes alone where a kernel has no operation formula)\n",
+        "reached; bytes alone where a kernel has no operation formula, a bounding count's "
+        "where one has)\n",
         method, total, figures.size(), boundTotal, total > 0 ? 100 * boundTotal / total : 0.0);
     fmt::print("    {:<26} {:>5} {:>9} {:>10} {:>9} {:>7} {:>8} {:>7} {:>8}\n", "kernel",
                "calls", "bytes/px", "flop/px", "GPU ms", "GB/s", "GFLOP/s", "bound", "reached");
