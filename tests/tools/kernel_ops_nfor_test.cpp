@@ -8,6 +8,7 @@
 #include "nfor/distance.h"
 #include "nfor/fit.h"
 #include "nfor/nfor.h"
+#include "nfor/noise.h"
 #include "nfor/prefilter.h"
 #include "tests/tools/kernel_ops_walk.h"
 
@@ -174,6 +175,37 @@ double WalkGather(const vk::KeptDispatch &d) {
     return walked;
 }
 
+// noise.comp, every pair alike and every divisor above the floor.
+double WalkNoise(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforNoisePush>(d);
+    const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    bool divisor = p.divisorChannels > 0;
+    int r = p.radius;
+    double walked = 0;
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int) {
+        if (x >= p.width) return;
+        bool best = false;
+        for (auto [dx, dy] : dirs) {
+            int n = 0;
+            for (int v = y - r; v <= y + r; ++v)
+                for (int u = x - r; u <= x + r; ++u) {
+                    if (!Inside(u, v, p.width, p.height) ||
+                        !Inside(u + dx, v + dy, p.width, p.height))
+                        continue;
+                    if (divisor) walked += 2 * 2 + 2;  // alike twice, zAt's divides
+                    walked += 1 + 2;                   // diff, 0.5 * diff * diff
+                    ++n;
+                }
+            if (n == 0) continue;
+            walked += 1;  // the estimate
+            best = true;
+        }
+        if (divisor) walked += 1;  // scale
+        if (best) walked += 2;     // best * calibration * scale
+    });
+    return walked;
+}
+
 TEST(KernelOps, NforFormulasMatchTheirLoops) {
     // The features' prefilter is off by default.
     const std::vector<vk::KeptDispatch> &run =
@@ -186,6 +218,17 @@ TEST(KernelOps, NforFormulasMatchTheirLoops) {
     ExpectFormulaMatchesWalk(run, "nfor_box", WalkBox);
     ExpectFormulaMatchesWalk(run, "nfor_regress", WalkRegress);
     ExpectFormulaMatchesWalk(run, "nfor_gather", WalkGather);
+    // The prefilter's noise estimate of the features has no divisor; a frame without a
+    // variance layer has its colour's estimated, divided by the albedo.
+    ExpectFormulaMatchesWalk(run, "nfor_noise", WalkNoise);
+    const std::vector<vk::KeptDispatch> &plain =
+        MethodDispatches("nfor", "no variance", nullptr, {"variance"});
+    ExpectFormulaMatchesWalk(plain, "nfor_noise", WalkNoise);
+    int divided = 0;
+    for (const vk::KeptDispatch &d : plain)
+        divided += d.timing.kernel == "nfor_noise" &&
+                   PushOf<shader::NforNoisePush>(d).divisorChannels > 0;
+    EXPECT_GT(divided, 0) << "no noise estimate was divided by the albedo";
 }
 
 }  // namespace

@@ -461,13 +461,16 @@ TEST(KernelOps, PivotFitMatchesItsLoops) {
                              });
 }
 
-// A kernel without a formula says so instead of counting nothing.
+// A kernel without a formula says so instead of counting nothing; a formula that takes no
+// data-dependent shortcut says it bounds the work.
 TEST(KernelOps, KernelWithoutFormulaHasNone) {
     vk::KeptDispatch d;
-    d.timing.kernel = "pivot_fit";
+    d.timing.kernel = "pivot_gather";
     EXPECT_FALSE(KernelFlops(d).has_value());
-    EXPECT_TRUE(KernelFlopsRule("pivot_fit").empty());
+    EXPECT_TRUE(KernelFlopsRule("pivot_gather").empty());
     EXPECT_FALSE(KernelFlopsRule("rhf_distance").empty());
+    EXPECT_EQ(KernelFlopsBound("nfor_regress"), OpsBound::AtMost);
+    EXPECT_EQ(KernelFlopsBound("wavelet_swt_analyze"), OpsBound::Exact);
 }
 
 }  // namespace

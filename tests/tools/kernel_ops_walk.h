@@ -29,7 +29,8 @@ namespace mcd::tool {
 // process.
 inline const std::vector<vk::KeptDispatch> &MethodDispatches(
     const std::string &method, const std::string &variant = "",
-    const std::function<void(Method &)> &configure = nullptr) {
+    const std::function<void(Method &)> &configure = nullptr,
+    const std::vector<std::string> &without = {}) {
     static std::map<std::string, std::vector<vk::KeptDispatch>> runs;
     std::string key = method + " " + variant;
     auto it = runs.find(key);
@@ -41,6 +42,7 @@ inline const std::vector<vk::KeptDispatch> &MethodDispatches(
     Frame frame;
     frame.width = options.width, frame.height = options.height;
     for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    for (const std::string &name : without) frame.layers.erase(name);
     Device device = api::BorrowDevice(test::TestContext());
     Method m(method);
     if (configure) configure(m);

@@ -6,6 +6,7 @@
 #include "nfor/distance.h"
 #include "nfor/fit.h"
 #include "nfor/nfor.h"
+#include "nfor/noise.h"
 #include "nfor/prefilter.h"
 #include "tools/mcdenoise/kernel_ops_formulas.h"
 
@@ -113,6 +114,42 @@ double GatherFlops(const vk::KeptDispatch &d) {
     return steps * perStep + 4 * (steps - pixels) + pixels * ch;
 }
 
+// noise.comp's directions d.
+constexpr int kNoiseDirections[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+
+// noise.comp's pairs along one axis at position x: window positions u in [0, n) whose
+// neighbour u + s is in [0, n) too.
+int NoisePairs(int x, int r, int s, int n) {
+    int lo = std::max(x - r, std::max(0, -s)), hi = std::min(x + r, std::min(n - 1, n - 1 - s));
+    return std::max(0, hi - lo + 1);
+}
+
+// noise.comp, per invocation (pixel, channel z): per direction and window pair with both
+// pixels inside the difference, half its square (3) and, with a divisor, alike's two
+// products twice and zAt's two divides (6); per direction with a pair the estimate's
+// divide (1); with a divisor the pixel's square (1); where some direction has a pair the
+// output's two products.
+double NoiseFlops(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforNoisePush>(d);
+    bool divisor = p.divisorChannels > 0;
+    double perPair = 3 + (divisor ? 6 : 0), flops = 0;
+    double outputs = 0;
+    for (int x = 0; x < p.width; ++x)
+        for (int y = 0; y < p.height; ++y) {
+            double estimates = 0;
+            for (auto [dx, dy] : kNoiseDirections) {
+                double pairs = double(NoisePairs(x, p.radius, dx, p.width)) *
+                               NoisePairs(y, p.radius, dy, p.height);
+                flops += perPair * pairs;
+                estimates += pairs > 0;
+            }
+            flops += estimates;
+            outputs += estimates > 0;
+        }
+    double pixels = double(p.width) * p.height;
+    return (flops + 2 * outputs + (divisor ? pixels : 0)) * d.timing.groups[2];
+}
+
 }  // namespace
 
 const FormulaMap &NforFormulas() {
@@ -125,6 +162,12 @@ const FormulaMap &NforFormulas() {
          {"per offset with q inside, per channel 14 (15 min-variance, +6 albedo-divided, "
           "every albedo above the floor) and 1",
           TermFlops, OpsBound::AtMost}},
+        {"nfor_noise",
+         {"per direction and window pair inside 3 (+6 with a divisor), per direction with a "
+          "pair 1, per pixel 2 where one has a pair (+1 with a divisor); every pair alike, "
+          "every "
+          "divisor above the floor",
+          NoiseFlops, OpsBound::AtMost}},
         {"nfor_box", {"an add per patch position inside; the columns pass a divide", BoxFlops}},
         {"nfor_regress",
          {"per window step 3 + 4F + C(C+2) + 2C channels (+4 off the centre), per pixel the "
