@@ -171,12 +171,12 @@ void PrintMethodKernels(const std::string &method, const std::vector<KernelFigur
             const char *bound = f.bound == OpsBound::AtMost    ? "at_most"
                                 : f.bound == OpsBound::AtLeast ? "at_least"
                                                                : "exact";
-            *csv << fmt::format("{},{},{},{:.1f},{},{},{:.4f},{:.3f},{},{:.4f}\n", method,
+            *csv << fmt::format("{},{},{},{:.1f},{},{:.4f},{:.3f},{},{:.4f},{}\n", method,
                                 f.kernel, f.dispatches, f.bytes / pixels,
-                                f.counted ? fmt::format("{:.1f}", f.flops / pixels) : "",
-                                f.counted ? bound : "", f.ms, f.bytes / (f.ms * 1e6),
+                                f.counted ? fmt::format("{:.1f}", f.flops / pixels) : "", f.ms,
+                                f.bytes / (f.ms * 1e6),
                                 f.counted ? fmt::format("{:.3f}", f.flops / (f.ms * 1e6)) : "",
-                                BoundMs(f, peaks) / f.ms);
+                                BoundMs(f, peaks) / f.ms, f.counted ? bound : "");
         }
         if (f.ms >= share * total && f.ms > 0) {
             PrintKernelRow(f, pixels, peaks, stdout);
@@ -246,9 +246,8 @@ void BenchKernels(const KernelsBenchOptions &opt) {
         if (!*csv) throw Error("bench kernels: cannot write " + opt.csv, ErrorKind::Io);
         *csv << fmt::format("# device {}, {:.3f} GB/s, {:.3f} GFLOP/s, {}x{}\n", device.Name(),
                             peaks.gbs, peaks.gflops, frame.width, frame.height);
-        *csv << "method,kernel,dispatches,bytes_per_px,flops_per_px,flops_bound,gpu_ms,gbs,"
-                "gflops,"
-                "roofline_fraction\n";
+        *csv << "method,kernel,dispatches,bytes_per_px,flops_per_px,gpu_ms,gbs,gflops,"
+                "roofline_fraction,flops_bound\n";
     }
     std::string list = opt.methods;
     for (size_t at = 0; at <= list.size();) {
