@@ -301,17 +301,47 @@ TEST(KernelOps, BayesShrinkMatchesItsLoops) {
         });
 }
 
-// rhf/distance.comp's interior path for every centre of the recorded strips: per patch
-// position a sum and a count, then count + 1e-4 and the divide.
+// rhf/distance.comp's CentreDistance, no pair vetoed.
+double WalkCentreDistance(int x, int y, int ox, int oy, int pw, int w, int h) {
+    int qx = x + ox, qy = y + oy;
+    int w0 = std::min(std::min(pw, std::min(x, y)), std::min(w - 1 - x, h - 1 - y));
+    if (qx < w0 || qx > w - 1 - w0 || qy < w0 || qy > h - 1 - w0) return 0;
+    double walked = 0;
+    for (int ty = -w0; ty <= w0; ++ty)
+        for (int tx = -w0; tx <= w0; ++tx) walked += 2;  // sum, count
+    return walked + 2;                                   // count + 1e-4, the divide
+}
+
+// rhf/distance.comp over the recorded grid, lane by lane as main() runs, no pair vetoed.
 double WalkRhfDistance(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::RhfDistancePush>(d);
     const int pix = RHF_DISTANCE_PIXELS_PER_LANE;
+    const int b = d.Spec(RHF_DISTANCE_SPEC_SEARCH_HALF, 6),
+              pw = d.Spec(RHF_DISTANCE_SPEC_PATCH_HALF, 1);
+    const int w = p.width, h = p.height, side = 2 * b + 1;
     double walked = 0;
-    ForEachInvocation(d, RHF_DISTANCE_LOCAL_SIZE, [&](int gx, int, int) {
-        for (int j = 0; j < pix && gx * pix + j < p.width; ++j) {
-            for (int ty = -p.patchHalf; ty <= p.patchHalf; ++ty)
-                for (int tx = -p.patchHalf; tx <= p.patchHalf; ++tx) walked += 2;
-            walked += 2;
+    ForEachInvocation(d, RHF_DISTANCE_LOCAL_SIZE, [&](int gx, int r, int o) {
+        int x0 = gx * pix, ox = o % side - b, oy = o / side - b, y = p.rowBase + r, qy = y + oy;
+        if (x0 >= w) return;
+        if (!(y >= pw && y <= h - 1 - pw && qy >= pw && qy <= h - 1 - pw)) {
+            for (int j = 0; j < pix && x0 + j < w; ++j)
+                walked += WalkCentreDistance(x0 + j, y, ox, oy, pw, w, h);
+            return;
+        }
+        for (int ty = -pw; ty <= pw; ++ty)
+            for (int j = 0; j < pix; ++j)
+                for (int tx = 0; tx <= 2 * pw; ++tx) walked += 2;  // sum, count
+        for (int j = 0; j < pix; ++j) {
+            int x = x0 + j, qx = x + ox;
+            bool fits = qx >= pw && qx <= w - 1 - pw;
+            if (x >= pw && x <= w - 1 - pw && fits) walked += 2;
+        }
+        int left = std::clamp(pw - x0, 0, pix), end = std::min(pix, w - x0);
+        int right = std::max(std::clamp(w - pw - x0, 0, pix), left);
+        int border = left + std::max(end - right, 0);
+        for (int i = 0; i < border; ++i) {
+            int j = i < left ? i : right + i - left;
+            walked += WalkCentreDistance(x0 + j, y, ox, oy, pw, w, h);
         }
     });
     return walked;

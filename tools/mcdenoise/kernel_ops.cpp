@@ -1,5 +1,6 @@
 #include "tools/mcdenoise/kernel_ops.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "awr/shrink.h"
@@ -122,6 +123,65 @@ double SwtSynthesizePassFlops(const vk::KeptDispatch &d) {
 // interpolation's fraction and mix take 4).
 constexpr double kBayesShrinkFlops = 8;
 
+// rhf/distance.comp's CentreDistance at centre (x, y) and offset (ox, oy): nothing where
+// the candidate's patch, shrunk to w0 at the border, leaves the frame; else a sum and a count
+// per position of the (2 w0 + 1)^2 patch and the divide's 2 (no pair vetoed).
+double RhfCentreFlops(int x, int y, int ox, int oy, int pw, int w, int h) {
+    int w0 = std::min(std::min(pw, std::min(x, y)), std::min(w - 1 - x, h - 1 - y));
+    int qx = x + ox, qy = y + oy;
+    if (qx < w0 || qx > w - 1 - w0 || qy < w0 || qy > h - 1 - w0) return 0;
+    double side = 2.0 * w0 + 1;
+    return 2 * side * side + 2;
+}
+
+// distance.comp's lane at x0 in a row whose centres and candidates have whole patches: the
+// PIX centres' sums (2 per patch position, centres past the frame too), the divide (2) of
+// each centre at least w from the sides whose candidate is too, and CentreDistance for
+// the centres within w of a side (`y` any such row: the same there).
+double RhfInsideLaneFlops(int x0, int ox, int oy, int y, int pw, int w, int h) {
+    const int pix = RHF_DISTANCE_PIXELS_PER_LANE;
+    double side = 2.0 * pw + 1, flops = pix * side * side * 2;
+    for (int j = 0; j < pix; ++j) {
+        int x = x0 + j, qx = x + ox;
+        if (x >= pw && x <= w - 1 - pw && qx >= pw && qx <= w - 1 - pw) flops += 2;
+    }
+    int left = std::clamp(pw - x0, 0, pix), end = std::min(pix, w - x0);
+    int right = std::max(std::clamp(w - pw - x0, 0, pix), left);
+    for (int j = 0; j < pix; ++j)
+        if (j < left || (j >= right && j < end))
+            flops += RhfCentreFlops(x0 + j, y, ox, oy, pw, w, h);
+    return flops;
+}
+
+// rhf/distance.comp per offset (grid layer): its rows with whole patches lane by lane, the
+// others centre by centre (CentreDistance).
+double RhfDistanceFlops(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::RhfDistancePush>(d);
+    const int pix = RHF_DISTANCE_PIXELS_PER_LANE;
+    int b = d.Spec(RHF_DISTANCE_SPEC_SEARCH_HALF, 6),
+        pw = d.Spec(RHF_DISTANCE_SPEC_PATCH_HALF, 1);
+    int w = p.width, h = p.height, side = 2 * b + 1;
+    double flops = 0;
+    for (uint32_t o = 0; o < d.timing.groups[2]; ++o) {
+        int ox = int(o) % side - b, oy = int(o) / side - b;
+        double lanes = -1;  // one inside row's lanes, the same in every inside row
+        for (uint32_t r = 0; r < d.timing.groups[1]; ++r) {
+            int y = p.rowBase + int(r), qy = y + oy;
+            if (y >= pw && y <= h - 1 - pw && qy >= pw && qy <= h - 1 - pw) {
+                if (lanes < 0) {
+                    lanes = 0;
+                    for (int x0 = 0; x0 < w; x0 += pix)
+                        lanes += RhfInsideLaneFlops(x0, ox, oy, y, pw, w, h);
+                }
+                flops += lanes;
+                continue;
+            }
+            for (int x = 0; x < w; ++x) flops += RhfCentreFlops(x, y, ox, oy, pw, w, h);
+        }
+    }
+    return flops;
+}
+
 // rhf/terms.comp per lane (PIX pixels of a row, window row dy) whose candidate row is
 // inside: the counts' scaling (a multiply per pixel and candidate inside); per bin plane
 // MayCount's 2 QB + 1 maxima and sum, a multiply per in-frame bin loaded (Bin), and
@@ -241,13 +301,9 @@ const FormulaMap &Formulas() {
         // Per (centre, offset): the patch's (2w + 1)^2 term pairs each add to the sum and
         // the count, then count + 1e-4 and one divide; every output as an interior one.
         {"rhf_distance",
-         {"(2 (2w+1)^2 + 2) per centre and offset, border centres counted as interior ones",
-          [](const vk::KeptDispatch &d) {
-              auto p = PushOf<shader::RhfDistancePush>(d);
-              double side = 2.0 * p.patchHalf + 1;
-              return (2 * side * side + 2) * p.width * p.rows * d.timing.groups[2];
-          },
-          OpsBound::AtMost}},
+         {"per lane of a whole-patch row 2 (2w+1)^2 per centre and 2 per divide, border "
+          "centres' shrunk patches 2 (2w0+1)^2 + 2; no pair vetoed",
+          RhfDistanceFlops, OpsBound::AtMost}},
         {"rhf_terms",
          {"per lane and bin plane 2QB + 2 + the bins' scaling + 10 per in-frame pair (1 "
           "outside); every plane marked, every pair counted",
