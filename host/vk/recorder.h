@@ -1,12 +1,15 @@
 // The command recorder: batches dispatches and copies into one command buffer, inserts a
 // barrier only where a dispatch touches a buffer an earlier unbarriered one wrote (or
-// writes one it read), and brackets each labelled dispatch with GPU timestamps.
+// writes one it read), and brackets each labelled dispatch with GPU timestamps. The
+// commands are kept and written into the command buffer at Submit, once the pipelines they
+// bind have built (on the build threads, side by side, while the run recorded).
 #pragma once
 
 #include <volk.h>
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -79,10 +82,13 @@ class Recorder {
                        uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
                        uint32_t groupsZ);
     void Begin();
+    VkDescriptorSet AllocateSet(const Kernel &kernel);
     void Touch(const Buffer *buffer, Access access);
     void BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Access>> &uses);
 
     Context &context;
+    // The commands since Begin, written into commandBuffer at Submit.
+    std::vector<std::function<void(VkCommandBuffer)>> commands;
     VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
     VkQueryPool queryPool = VK_NULL_HANDLE;
     uint32_t queryCapacity = 0;
