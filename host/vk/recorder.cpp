@@ -72,10 +72,13 @@ void Recorder::Touch(const Buffer *buffer, Access access) {
     if (access != Access::Read) writtenSinceBarrier.insert(buffer->Handle());
 }
 
-void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
-                             const std::vector<Binding> &bindings, const void *push,
-                             uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
-                             uint32_t groupsZ) {
+namespace {
+
+// Throw unless the dispatch binds each of the kernel's slots once, within the device's
+// limits, with its push-constant struct.
+void CheckDispatch(const Context &context, const Kernel &kernel, const std::string &label,
+                   const std::vector<Binding> &bindings, uint32_t pushBytes, uint32_t groupsX,
+                   uint32_t groupsY, uint32_t groupsZ) {
     const VkPhysicalDeviceLimits &limits = context.Limits();
     if (pushBytes != kernel.PushBytes())
         throw Error(fmt::format("dispatch '{}': kernel {} takes {} bytes of push constants, "
@@ -134,6 +137,15 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
                                     limits.maxStorageBufferRange),
                         ErrorKind::OutOfMemory);
     }
+}
+
+}  // namespace
+
+void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
+                             const std::vector<Binding> &bindings, const void *push,
+                             uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
+                             uint32_t groupsZ) {
+    CheckDispatch(context, kernel, label, bindings, pushBytes, groupsX, groupsY, groupsZ);
     Begin();
     if (groupsX == 0 || groupsY == 0 || groupsZ == 0) return;
     CountDispatch(kernel.Name());
