@@ -81,8 +81,14 @@ class Recorder {
                        const std::vector<Binding> &bindings, const void *push,
                        uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
                        uint32_t groupsZ);
-    void Begin();
+    // The command that binds the kernel's pipeline (waiting for its build), its buffers (a
+    // push descriptor set, or a set from the recorder's pools, written now) and its push
+    // constants.
+    std::function<void(VkCommandBuffer)> BindResources(const Kernel &kernel,
+                                                       const std::vector<Binding> &bindings,
+                                                       const void *push);
     VkDescriptorSet AllocateSet(const Kernel &kernel);
+    void Begin();
     void Touch(const Buffer *buffer, Access access);
     void BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Access>> &uses);
 
