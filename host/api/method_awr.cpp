@@ -5,8 +5,10 @@
 #include <algorithm>
 
 #include "cpu_reference/awr_reconstruct.h"
+#include "cpu_reference/exact_pixels.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
+#include "host/common/exact_pixels.h"
 #include "host/io/hints.h"
 #include "host/methods/awr.h"
 #include "host/wavelet.h"
@@ -80,9 +82,18 @@ class Awr : public FrontEndOf<AwrSettings> {
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
         std::string why;
         Image variance = Variance(inputs, &why);
-        Result result = ResultOf(AwrReconstruct(context, inputs.Get("color"), variance,
-                                                options.method, SetupFor(inputs, run)));
+        const Image &color = inputs.Get("color");
+        Result result = ResultOf(
+            AwrReconstruct(context, color, variance, options.method, SetupFor(inputs, run)));
         result.plan.insert(result.plan.begin(), why);
+        size_t exact = KeepExactPixels(color, variance, &result.image);
+        result.plan.push_back(fmt::format(
+            "exact pixels: {} values with zero variance (every sample equal, not black) keep "
+            "their input",
+            exact));
+        // An idle run (the output is the input) has no stages to add to.
+        if (run.keepStages && !result.stages.empty())
+            result.stages.push_back({"exact pixels", result.image});
         return result;
     }
 
@@ -122,7 +133,9 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string why;
         Image variance = Variance(inputs, &why);
         std::vector<std::pair<std::string, Image>> cpu;
-        ref::AwrReconstruct(inputs.Get("color"), variance, options.method, &cpu);
+        Image out = ref::AwrReconstruct(inputs.Get("color"), variance, options.method, &cpu);
+        ref::KeepExactPixels(inputs.Get("color"), variance, &out);
+        if (!cpu.empty()) cpu.emplace_back("exact pixels", std::move(out));
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;
