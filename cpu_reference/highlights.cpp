@@ -38,7 +38,14 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
     const double floor = 1e-3 * total / (double(w) * h);
     auto over = [&](int x, int y) {
         double s = sum.At(0, y, x);
-        return s > k * std::max(UpperMedian(sum, 0, x, y, r), floor);
+        if (!(s > k * std::max(UpperMedian(sum, 0, x, y, r), floor))) return false;
+        if (!variance) return true;
+        double excess = 0, v = 0;
+        for (int c = 0; c < color.channels; ++c) {
+            excess += color.At(c, y, x) - UpperMedian(color, c, x, y, r);
+            v += variance->At(c, y, x);
+        }
+        return excess > 0 && excess * excess > 4 * v;
     };
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {

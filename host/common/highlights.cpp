@@ -40,6 +40,30 @@ std::vector<char> OverTheirWindows(const Image &sum, double k, int r) {
     return over;
 }
 
+// With a variance, a highlight must stand kHighlightSigmas of its own standard deviation above
+// its window's median (channels summed): a light's rim seen by many samples does, a firefly
+// (one sample: a deviation about its mean) does not.
+constexpr double kHighlightSigmas = 2;
+
+void RequireConfidence(const Image &color, const Image &variance, int r,
+                       std::vector<char> *over) {
+    const int w = color.width, h = color.height;
+    std::vector<float> scratch;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t p = size_t(y) * w + x;
+            if (!(*over)[p]) continue;
+            double excess = 0, v = 0;
+            for (int c = 0; c < color.channels; ++c) {
+                excess +=
+                    color.Plane(c)[p] - WindowMedian(color.Plane(c), w, h, x, y, r, scratch);
+                v += variance.Plane(c)[p];
+            }
+            (*over)[p] =
+                excess > 0 && excess * excess > kHighlightSigmas * kHighlightSigmas * v;
+        }
+}
+
 }  // namespace
 
 HighlightSplit SplitHighlights(const Image &color, const Image *variance, double k, int r) {
@@ -57,6 +81,7 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
     for (int c = 0; c < color.channels; ++c)
         for (size_t p = 0; p < color.PixelCount(); ++p) sum.data[p] += color.Plane(c)[p];
     std::vector<char> over = OverTheirWindows(sum, k, r);
+    if (variance) RequireConfidence(color, *variance, r, &over);
     std::vector<float> scratch;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {

@@ -5,7 +5,9 @@
 // costs far more relative error than it saves at the light. A pixel whose input (its channels
 // summed) is over k times the median of the same sums over the window of radius r around it
 // (and over a floor of 1e-3 of the frame's mean sum), with at least 2 of its 8 neighbours so
-// too (a lone firefly is noise the filter should spread), is a highlight: the filter reads, at
+// too (a lone firefly is noise the filter should spread), and, given a variance, 2 standard
+// deviations above its window's median (a firefly, one sample's deviation about its mean, is
+// not), is a highlight: the filter reads, at
 // that pixel, each channel's median over the window (and the variance's), and the difference
 // is added back after, so the highlight keeps its input and the frame its energy.
 #pragma once
