@@ -67,10 +67,11 @@ class Awr : public FrontEndOf<AwrSettings> {
                                &AwrParams::spins, 1, 8)),
                FloatParam("awr-highlights",
                           "a pixel over this times the median of its 7x7 window (channels "
-                          "summed), with 2 of its 8 neighbours so too, is a highlight: "
-                          "reconstructed at that median and given its input back after, so a "
-                          "light's energy does not ring into the dim pixels around it "
-                          "(beyond the paper; 0: off)",
+                          "summed), with 2 of its 8 neighbours so too and 2 of its standard "
+                          "deviations above that median, is a highlight: reconstructed at "
+                          "the median and given its input back after, so a light's energy "
+                          "does not ring into the dim pixels around it (beyond the paper; 0: "
+                          "off)",
                           &AwrSettings::highlights, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
@@ -105,8 +106,9 @@ class Awr : public FrontEndOf<AwrSettings> {
         if (split.count) {
             AddHighlights(color, split, &result.image);
             result.plan.push_back(fmt::format(
-                "highlights: {} pixels over {} x their 7x7 median (with 2 of 8 neighbours) "
-                "reconstructed at that median and given their input back",
+                "highlights: {} pixels over {} x their 7x7 median (with 2 of 8 neighbours, 2 "
+                "standard deviations above it) reconstructed at that median and given their "
+                "input back",
                 split.count, options.highlights));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
