@@ -31,6 +31,9 @@ struct AwrSettings {
 // The window radius of the highlights' medians.
 constexpr int kHighlightRadius = 3;
 
+// How far the energy moved into exact pixels goes back: the finest levels' reach.
+constexpr int kExactReach = 8;
+
 bool HasRange(const Frame &frame) {
     return frame.Has("min") && frame.Has("max") && frame.Has("spp");
 }
@@ -113,11 +116,12 @@ class Awr : public FrontEndOf<AwrSettings> {
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
         }
-        size_t exact = KeepExactPixels(color, variance, &result.image);
+        size_t exact = KeepExactPixels(color, variance, &result.image, kExactReach);
         result.plan.push_back(fmt::format(
             "exact pixels: {} values with zero variance (every sample equal, not black) keep "
-            "their input",
-            exact));
+            "their input; the energy moved into them goes back to the values within {} that "
+            "lost it",
+            exact, kExactReach));
         // An idle run (the output is the input) has no stages to add to.
         if (run.keepStages && !result.stages.empty())
             result.stages.push_back({"exact pixels", result.image});
@@ -175,7 +179,7 @@ class Awr : public FrontEndOf<AwrSettings> {
             ref::AddHighlights(color, base, highlight, &out);
             if (!cpu.empty()) cpu.emplace_back("highlights", out);
         }
-        ref::KeepExactPixels(color, variance, &out);
+        ref::KeepExactPixels(color, variance, &out, kExactReach);
         if (!cpu.empty()) cpu.emplace_back("exact pixels", std::move(out));
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});

@@ -79,14 +79,15 @@ class Rhf : public FrontEndOf<RhfParams> {
         Result result =
             ResultOf(RhfDenoise(context, color, Histograms(inputs), options, setup));
         Image variance = ExactVariance(ExactLayersOf(inputs));
-        size_t exact = KeepExactPixels(color, variance, &result.image);
+        size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
         result.plan.push_back(
             variance.Empty()
                 ? std::string("exact pixels: none known (no variance layer nor min, max and "
                               "spp)")
                 : fmt::format("exact pixels: {} values with zero variance (every sample "
-                              "equal, not black) keep their input",
-                              exact));
+                              "equal, not black) keep their input; the energy moved into them "
+                              "goes back to the values within {} that lost it",
+                              exact, ExactReach()));
         if (run.keepStages) result.stages.push_back({"exact pixels", result.image});
         return result;
     }
@@ -95,7 +96,8 @@ class Rhf : public FrontEndOf<RhfParams> {
         const RhfParams &o = options;
         int scales = RhfScalesUsed(inputs.Width(), inputs.Height(), o);
         TileNeeds needs;
-        needs.reach = RhfReach(o, scales);
+        // The exact pixels' energy returns within ExactReach, by weights read as far again.
+        needs.reach = RhfReach(o, scales) + 2 * ExactReach();
         needs.reachText = fmt::format(
             "the farthest over scales s < {} of (2 x patch half {} + search half {} + 2) x 2^s "
             "and the downsampler's 3-sigma taps, then bicubic U and D per recombination",
@@ -152,7 +154,8 @@ class Rhf : public FrontEndOf<RhfParams> {
         // raw).
         if (!options.keepNegative)
             for (float &v : out.data) v = v < 0 ? 0.f : v;
-        ref::KeepExactPixels(inputs.Get("color"), ExactVariance(ExactLayersOf(inputs)), &out);
+        ref::KeepExactPixels(inputs.Get("color"), ExactVariance(ExactLayersOf(inputs)), &out,
+                             ExactReach());
         named.emplace_back("exact pixels", std::move(out));
         std::vector<Stage> stages;
         for (auto &[name, image] : named) stages.push_back({name, std::move(image)});
@@ -160,6 +163,10 @@ class Rhf : public FrontEndOf<RhfParams> {
     }
 
   private:
+    // How far rhf moves a value at the finest scale: a patch's pixels from the search
+    // window's far side.
+    int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
+
     // The layers that tell which pixels are exact.
     static ExactLayers ExactLayersOf(Inputs &inputs) {
         ExactLayers layers;

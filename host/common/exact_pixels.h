@@ -16,8 +16,12 @@ namespace mcd {
 
 // Set `output` to `input` where `variance` (one channel for all, or the input's channels) is
 // exactly 0 and the input finite and > 0; returns how many values were set. A variance of
-// another size keeps nothing.
-size_t KeepExactPixels(const Image &input, const Image &variance, Image *output);
+// another size keeps nothing. With reach > 0 the energy the method had moved into an exact
+// value (output - input there) goes back to where it came from: to the other values of its
+// channel within the square of radius `reach` around it that the method had lowered, in
+// proportion to how much (and energy it had taken out, to those it had raised); no value is
+// given back more than it lost (or took), so none passes its input.
+size_t KeepExactPixels(const Image &input, const Image &variance, Image *output, int reach = 0);
 
 // The variance of the pixel mean a frame's layers tell: `variance`, else (max - min)^2 / spp
 // from the sample range (zero exactly where every sample was equal), else empty.

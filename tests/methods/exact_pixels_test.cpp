@@ -18,7 +18,6 @@
 namespace mcd::test {
 namespace {
 
-
 // Random values with zeros, negatives, NaN and Inf; a variance that is often exactly 0.
 void MakeImages(int w, int h, int channels, int varianceChannels, Image *input, Image *variance,
                 Image *output) {
@@ -65,6 +64,34 @@ TEST(ExactPixels, MatchesReference) {
                 EXPECT_EQ(kept, exact);
                 if (w * h > 1) EXPECT_GT(changed, 0u);
             }
+}
+
+// The energy moved into exact values goes back: against the reference, and its sum.
+TEST(ExactPixels, EnergyReturnsToWhereItCameFrom) {
+    for (int reach : {1, 3, 8})
+        for (auto [w, h] : {std::pair{1, 1}, {7, 5}, {33, 17}}) {
+            Image input, variance, output;
+            MakeImages(w, h, 3, 3, &input, &variance, &output);
+            Image expected = output, got = output;
+            ref::KeepExactPixels(input, variance, &expected, reach);
+            KeepExactPixels(input, variance, &got, reach);
+            // Double sums in another order, then one float rounding.
+            for (size_t i = 0; i < got.data.size(); ++i)
+                ASSERT_NEAR(got.data[i], expected.data[i],
+                            1e-6 * (std::fabs(expected.data[i]) + 1))
+                    << i << " reach " << reach;
+            Image again = output;
+            KeepExactPixels(input, variance, &again, reach);
+            EXPECT_EQ(again.data, got.data);
+        }
+    // A bright value spread over an exact emitter around it comes back to it.
+    Image input(9, 9, 1, 1.f), variance(9, 9, 1, 0.f), output(9, 9, 1, 2.f);
+    input.At(0, 4, 4) = 100;
+    variance.At(0, 4, 4) = 1e4;
+    output.At(0, 4, 4) = 20;  // 80 spread as +1 over the 80 others
+    KeepExactPixels(input, variance, &output, 8);
+    EXPECT_NEAR(output.At(0, 4, 4), 100, 1e-3);
+    EXPECT_EQ(output.At(0, 0, 0), 1.f);
 }
 
 TEST(ExactPixels, VarianceOfAnotherSizeKeepsNothing) {
@@ -120,6 +147,12 @@ TEST_F(ExactPixelsMethods, AwrAndRhfKeepAnEmitterBesideAFirefly) {
             moved += variance.data[i] == 0 && color.data[i] > 0 &&
                      result.image.data[i] != color.data[i];
         EXPECT_EQ(moved, 0u) << name;
+        // The energy the filter had put into the emitter goes back: the frame's sum stays
+        // within 2% of the input's.
+        double in = 0, out = 0;
+        for (size_t i = 0; i < color.data.size(); ++i)
+            in += color.data[i], out += result.image.data[i];
+        EXPECT_NEAR(out, in, 0.02 * in) << name;
     }
 }
 
