@@ -192,7 +192,8 @@ other=""
         echo "$row"
     done
     # The kernels of at least 5% of their method's GPU time, from bench kernels; a kernel
-    # without an operation formula has its bytes' bound only, a lower bound of the fraction.
+    # without an operation formula has its bytes' bound only, a lower bound of the fraction;
+    # '<=' marks a count that takes no data-dependent shortcut (flops_bound at_most).
     if [[ -s "$kernelsCsv" ]]; then
         echo
         sed -n '1s/^# /bench kernels: /p' "$kernelsCsv"
@@ -203,8 +204,9 @@ other=""
             END { for (i = 3; i <= NR; ++i) { split(row[i], f, ",");
                 if (f[6] >= 0.05 * total[f[1]])
                     printf "| %s | %s | %s | %s | %s | %.2f | %s | %s | %s%.1f%% |\n", f[1],
-                        f[2], f[3], f[4], f[5] == "" ? "-" : f[5], f[6], f[7],
-                        f[8] == "" ? "-" : f[8], f[5] == "" ? ">=" : "", 100 * f[9] } }' \
+                        f[2], f[3], f[4], f[5] == "" ? "-" : (f[10] == "at_most" ? "<=" : "") f[5],
+                        f[6], f[7], f[8] == "" ? "-" : (f[10] == "at_most" ? "<=" : "") f[8],
+                        f[5] == "" ? ">=" : "", 100 * f[9] } }' \
             "$kernelsCsv"
     fi
 } | tee "$out/table.md"

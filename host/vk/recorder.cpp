@@ -77,17 +77,11 @@ void Recorder::Touch(const Buffer *buffer, Access access) {
     if (access != Access::Read) writtenSinceBarrier.insert(buffer->Handle());
 }
 
-void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
-                             const std::vector<Binding> &bindings, const void *push,
-                             uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
-                             uint32_t groupsZ) {
-    const VkPhysicalDeviceLimits &limits = context.Limits();
-    if (pushBytes != kernel.PushBytes())
-        throw Error(fmt::format("dispatch '{}': kernel {} takes {} bytes of push constants, "
-                                "got a struct of {}",
-                                label, kernel.Name(), kernel.PushBytes(), pushBytes),
-                    ErrorKind::Internal);
-    // Every declared slot once: a slot bound twice or left out would read a stale buffer.
+namespace {
+
+// Every declared slot bound once: a slot bound twice or left out would read a stale buffer.
+void CheckSlots(const Kernel &kernel, const std::string &label,
+                const std::vector<Binding> &bindings) {
     std::vector<bool> bound(kernel.BindingCount(), false);
     for (const Binding &b : bindings) {
         if (b.slot >= kernel.BindingCount())
@@ -112,14 +106,12 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
                                 "recorder's {}",
                                 label, kernel.Name(), bindings.size(), kMaxBindings),
                     ErrorKind::Internal);
-    uint32_t groups[3] = {groupsX, groupsY, groupsZ};
-    for (int i = 0; i < 3; ++i)
-        if (groups[i] > limits.maxComputeWorkGroupCount[i])
-            throw Error(
-                fmt::format(
-                    "dispatch '{}': {} workgroups along axis {} exceed the device limit {}",
-                    label, groups[i], i, limits.maxComputeWorkGroupCount[i]),
-                ErrorKind::OutOfMemory);
+}
+
+// Each bound buffer exists, a texel binding is read only, and a storage binding fits the
+// device's range.
+void CheckBuffers(const Kernel &kernel, const std::string &label,
+                  const std::vector<Binding> &bindings, const VkPhysicalDeviceLimits &limits) {
     for (const Binding &b : bindings) {
         if (!b.buffer || !b.buffer->Valid())
             throw Error(fmt::format("dispatch '{}': kernel {}: slot {} has no buffer", label,
@@ -139,14 +131,58 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
                                     limits.maxStorageBufferRange),
                         ErrorKind::OutOfMemory);
     }
-    Begin();
-    if (groupsX == 0 || groupsY == 0 || groupsZ == 0) return;
-    CountDispatch(kernel.Name());
+}
 
-    std::vector<std::pair<const Buffer *, Access>> uses;
-    for (const Binding &b : bindings) uses.push_back({b.buffer, b.access});
-    BarrierIfNeeded(uses);
+// The push constants' size, the slots, the grid and the buffers, before anything is
+// recorded.
+void CheckDispatch(const Kernel &kernel, const std::string &label,
+                   const std::vector<Binding> &bindings, uint32_t pushBytes,
+                   const uint32_t (&groups)[3], const VkPhysicalDeviceLimits &limits) {
+    if (pushBytes != kernel.PushBytes())
+        throw Error(fmt::format("dispatch '{}': kernel {} takes {} bytes of push constants, "
+                                "got a struct of {}",
+                                label, kernel.Name(), kernel.PushBytes(), pushBytes),
+                    ErrorKind::Internal);
+    CheckSlots(kernel, label, bindings);
+    for (int i = 0; i < 3; ++i)
+        if (groups[i] > limits.maxComputeWorkGroupCount[i])
+            throw Error(
+                fmt::format(
+                    "dispatch '{}': {} workgroups along axis {} exceed the device limit {}",
+                    label, groups[i], i, limits.maxComputeWorkGroupCount[i]),
+                ErrorKind::OutOfMemory);
+    CheckBuffers(kernel, label, bindings, limits);
+}
 
+}  // namespace
+
+VkDescriptorSet Recorder::AllocateSet(const Kernel &kernel) {
+    if (descriptorPools.empty() || setsInPool == kSetsPerPool) {
+        VkDescriptorPoolSize sizes[2] = {
+            {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kSetsPerPool * kMaxBindings},
+            {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, kSetsPerPool * kMaxBindings}};
+        VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        pi.maxSets = kSetsPerPool;
+        pi.poolSizeCount = 2;
+        pi.pPoolSizes = sizes;
+        VkDescriptorPool pool = VK_NULL_HANDLE;
+        MCD_VK(vkCreateDescriptorPool(context.Device(), &pi, nullptr, &pool));
+        descriptorPools.push_back(pool);
+        setsInPool = 0;
+    }
+    VkDescriptorSetLayout setLayout = kernel.SetLayout();
+    VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    ai.descriptorPool = descriptorPools.back();
+    ai.descriptorSetCount = 1;
+    ai.pSetLayouts = &setLayout;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    MCD_VK(vkAllocateDescriptorSets(context.Device(), &ai, &set));
+    ++setsInPool;
+    return set;
+}
+
+void Recorder::BindResources(const Kernel &kernel, const std::vector<Binding> &bindings,
+                             const void *push) {
     std::vector<VkDescriptorBufferInfo> infos(bindings.size());
     std::vector<VkWriteDescriptorSet> writes(bindings.size());
     std::vector<VkBufferView> views(bindings.size(), VK_NULL_HANDLE);
@@ -170,27 +206,7 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
         vkCmdPushDescriptorSetKHR(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE,
                                   kernel.Layout(), 0, uint32_t(writes.size()), writes.data());
     } else {
-        if (descriptorPools.empty() || setsInPool == kSetsPerPool) {
-            VkDescriptorPoolSize sizes[2] = {
-                {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kSetsPerPool * kMaxBindings},
-                {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, kSetsPerPool * kMaxBindings}};
-            VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-            pi.maxSets = kSetsPerPool;
-            pi.poolSizeCount = 2;
-            pi.pPoolSizes = sizes;
-            VkDescriptorPool pool = VK_NULL_HANDLE;
-            MCD_VK(vkCreateDescriptorPool(context.Device(), &pi, nullptr, &pool));
-            descriptorPools.push_back(pool);
-            setsInPool = 0;
-        }
-        VkDescriptorSetLayout setLayout = kernel.SetLayout();
-        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-        ai.descriptorPool = descriptorPools.back();
-        ai.descriptorSetCount = 1;
-        ai.pSetLayouts = &setLayout;
-        VkDescriptorSet set = VK_NULL_HANDLE;
-        MCD_VK(vkAllocateDescriptorSets(context.Device(), &ai, &set));
-        ++setsInPool;
+        VkDescriptorSet set = AllocateSet(kernel);
         for (VkWriteDescriptorSet &w : writes) w.dstSet = set;
         vkUpdateDescriptorSets(context.Device(), uint32_t(writes.size()), writes.data(), 0,
                                nullptr);
@@ -200,6 +216,22 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
     if (kernel.PushBytes() > 0)
         vkCmdPushConstants(commandBuffer, kernel.Layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
                            kernel.PushBytes(), push);
+}
+
+void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
+                             const std::vector<Binding> &bindings, const void *push,
+                             uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
+                             uint32_t groupsZ) {
+    CheckDispatch(kernel, label, bindings, pushBytes, {groupsX, groupsY, groupsZ},
+                  context.Limits());
+    Begin();
+    if (groupsX == 0 || groupsY == 0 || groupsZ == 0) return;
+    CountDispatch(kernel.Name());
+
+    std::vector<std::pair<const Buffer *, Access>> uses;
+    for (const Binding &b : bindings) uses.push_back({b.buffer, b.access});
+    BarrierIfNeeded(uses);
+    BindResources(kernel, bindings, push);
 
     uint32_t slot = uint32_t(recorded.size());
     bool timed = queryPool && slot < queryCapacity;
@@ -210,6 +242,7 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
     if (timed)
         vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool,
                             2 * slot + 1);
+    // The traffic of the buffers bound, each whole, and what KeepDispatches keeps.
     DispatchTiming record{label, -1, kernel.Name(), 0, 0, {groupsX, groupsY, groupsZ}};
     for (const Binding &b : bindings) {
         if (b.access != Access::Write) record.bytesRead += b.buffer->Bytes();

@@ -78,6 +78,11 @@ class Recorder {
                        const std::vector<Binding> &bindings, const void *push,
                        uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
                        uint32_t groupsZ);
+    // Bind the kernel's pipeline, its buffers (a push descriptor set, or a set from the
+    // recorder's pools) and its push constants.
+    void BindResources(const Kernel &kernel, const std::vector<Binding> &bindings,
+                       const void *push);
+    VkDescriptorSet AllocateSet(const Kernel &kernel);
     void Begin();
     void Touch(const Buffer *buffer, Access access);
     void BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Access>> &uses);

@@ -3,9 +3,9 @@
 // the calibration kernels (shaders/bench/); then each method runs on a rendered frame and
 // every dispatch's traffic (the recorder's count of its bound buffers, or the bytes touched
 // where kernel_ops.h knows a kernel touches part of them: the wavelet passes), operations
-// (kernel_ops.h's formulas) and GPU time (timestamps) are summed per kernel and printed per
-// pixel, with the rates reached and the fraction of the roofline bound
-// max(bytes / bandwidth, operations / rate) that the measured time reaches.
+// (kernel_ops.h's formulas, some of them bounds: '<=') and GPU time (timestamps) are summed
+// per kernel and printed per pixel, with the rates reached and the fraction of the roofline
+// bound max(bytes / bandwidth, operations / rate) that the measured time reaches.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -93,7 +93,13 @@ struct KernelFigures {
     int dispatches = 0;
     double bytes = 0, flops = 0, ms = 0;
     bool counted = true;  // every dispatch had an operation formula
+    OpsBound bound = OpsBound::Exact;
 };
+
+// "<=" or ">=" before a figure from an operation count that bounds the work, else "".
+const char *BoundMark(OpsBound bound) {
+    return bound == OpsBound::AtMost ? "<=" : bound == OpsBound::AtLeast ? ">=" : "";
+}
 
 // The kept dispatches summed per kernel, the most expensive first.
 std::vector<KernelFigures> ByKernel(const std::vector<vk::KeptDispatch> &kept) {
@@ -106,6 +112,7 @@ std::vector<KernelFigures> ByKernel(const std::vector<vk::KeptDispatch> &kept) {
         std::optional<double> touched = KernelTouchedBytes(d);
         f.bytes += touched ? *touched : double(d.timing.bytesRead + d.timing.bytesWritten);
         f.ms += std::max(d.timing.gpuMs, 0.0);
+        f.bound = KernelFlopsBound(d.timing.kernel);
         if (std::optional<double> flops = KernelFlops(d))
             f.flops += *flops;
         else
@@ -129,10 +136,17 @@ double BoundMs(const KernelFigures &f, const Peaks &peaks) {
 void PrintKernelRow(const KernelFigures &f, double pixels, const Peaks &peaks, FILE *out) {
     double bound = BoundMs(f, peaks);
     bool compute = f.counted && f.flops / peaks.gflops > f.bytes / peaks.gbs;
-    std::string flops = f.counted ? fmt::format("{:.0f}", f.flops / pixels) : "-";
-    std::string gflops = f.counted ? fmt::format("{:.2f}", f.flops / (f.ms * 1e6)) : "-";
-    // Without an operation count the bound is the bytes' alone: the fraction is at least it.
-    std::string fraction = fmt::format("{}{:.1f}%", f.counted ? "" : ">=", 100 * bound / f.ms);
+    const char *mark = BoundMark(f.bound);
+    std::string flops = f.counted ? fmt::format("{}{:.0f}", mark, f.flops / pixels) : "-";
+    std::string gflops =
+        f.counted ? fmt::format("{}{:.2f}", mark, f.flops / (f.ms * 1e6)) : "-";
+    // Without an operation count the bound is the bytes' alone: the fraction is at least it;
+    // where a bounding count sets it, the fraction is bounded the same way.
+    std::string fraction = fmt::format("{}{:.1f}%",
+                                       !f.counted ? ">="
+                                       : compute  ? mark
+                                                  : "",
+                                       100 * bound / f.ms);
     fmt::print(out, "    {:<26} {:5} {:9.0f} {:>10} {:9.2f} {:7.2f} {:>8} {:>7} {:>8}\n",
                f.kernel, f.dispatches, f.bytes / pixels, flops, f.ms, f.bytes / (f.ms * 1e6),
                gflops, f.counted ? (compute ? "compute" : "memory") : "bytes", fraction);
@@ -145,20 +159,25 @@ void PrintMethodKernels(const std::string &method, const std::vector<KernelFigur
     for (const KernelFigures &f : figures) total += f.ms, boundTotal += BoundMs(f, peaks);
     fmt::print(
         "  {}: {:.2f} ms GPU in {} kernels; roofline bound {:.2f} ms ({:.1f}% of it "
-        "reached; bytes alone where a kernel has no operation formula)\n",
+        "reached; bytes alone where a kernel has no operation formula, a bounding count's "
+        "where one has)\n",
         method, total, figures.size(), boundTotal, total > 0 ? 100 * boundTotal / total : 0.0);
     fmt::print("    {:<26} {:>5} {:>9} {:>10} {:>9} {:>7} {:>8} {:>7} {:>8}\n", "kernel",
                "calls", "bytes/px", "flop/px", "GPU ms", "GB/s", "GFLOP/s", "bound", "reached");
     KernelFigures rest{"(other kernels)"};
     int others = 0;
     for (const KernelFigures &f : figures) {
-        if (csv)
-            *csv << fmt::format("{},{},{},{:.1f},{},{:.4f},{:.3f},{},{:.4f}\n", method,
+        if (csv) {
+            const char *bound = f.bound == OpsBound::AtMost    ? "at_most"
+                                : f.bound == OpsBound::AtLeast ? "at_least"
+                                                               : "exact";
+            *csv << fmt::format("{},{},{},{:.1f},{},{:.4f},{:.3f},{},{:.4f},{}\n", method,
                                 f.kernel, f.dispatches, f.bytes / pixels,
                                 f.counted ? fmt::format("{:.1f}", f.flops / pixels) : "", f.ms,
                                 f.bytes / (f.ms * 1e6),
                                 f.counted ? fmt::format("{:.3f}", f.flops / (f.ms * 1e6)) : "",
-                                BoundMs(f, peaks) / f.ms);
+                                BoundMs(f, peaks) / f.ms, f.counted ? bound : "");
+        }
         if (f.ms >= share * total && f.ms > 0) {
             PrintKernelRow(f, pixels, peaks, stdout);
             continue;
@@ -166,6 +185,9 @@ void PrintMethodKernels(const std::string &method, const std::vector<KernelFigur
         ++others;
         rest.dispatches += f.dispatches, rest.bytes += f.bytes, rest.ms += f.ms;
         rest.flops += f.flops, rest.counted = rest.counted && f.counted;
+        // Counts bounded in different ways sum to no bound: bytes alone then.
+        if (others > 1 && f.bound != rest.bound) rest.counted = false;
+        rest.bound = f.bound;
     }
     if (others > 0 && rest.ms > 0) {
         rest.kernel = fmt::format("({} others)", others);
@@ -215,8 +237,8 @@ void BenchKernels(const KernelsBenchOptions &opt) {
     fmt::print(
         "  per kernel, the fastest of {} runs after a warm-up: bytes of the buffers "
         "bound (touched: wavelet passes), operations by kernel_ops.h ('-': no "
-        "formula, bound by the bytes alone); "
-        "reached: the roofline's time over the measured one\n",
+        "formula, bound by the bytes alone; '<=': a count that takes no data-dependent "
+        "shortcut); reached: the roofline's time over the measured one\n",
         std::max(opt.repeats, 1));
     std::unique_ptr<std::ofstream> csv;
     if (!opt.csv.empty()) {
@@ -225,7 +247,7 @@ void BenchKernels(const KernelsBenchOptions &opt) {
         *csv << fmt::format("# device {}, {:.3f} GB/s, {:.3f} GFLOP/s, {}x{}\n", device.Name(),
                             peaks.gbs, peaks.gflops, frame.width, frame.height);
         *csv << "method,kernel,dispatches,bytes_per_px,flops_per_px,gpu_ms,gbs,gflops,"
-                "roofline_fraction\n";
+                "roofline_fraction,flops_bound\n";
     }
     std::string list = opt.methods;
     for (size_t at = 0; at <= list.size();) {

@@ -1,0 +1,235 @@
+// nfor's operation formulas (tools/mcdenoise/kernel_ops_nfor.cpp) against walks of its
+// shaders' loops (shaders/nfor/) over the dispatches an nfor run records: each walk steps
+// through the invocations of the recorded grid and the loops as the shader writes them,
+// adding each statement's operators (rules in kernel_ops.h) where the shader runs it. A
+// change to those loops changes the walk here and the formula there.
+#include <gtest/gtest.h>
+
+#include "nfor/distance.h"
+#include "nfor/fit.h"
+#include "nfor/nfor.h"
+#include "nfor/noise.h"
+#include "nfor/prefilter.h"
+#include "tests/tools/kernel_ops_walk.h"
+
+namespace mcd::tool {
+namespace {
+
+bool Inside(int x, int y, int w, int h) {
+    return x >= 0 && y >= 0 && x < w && y < h;
+}
+
+// prefilter.comp.
+double WalkPrefilter(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforPrefilterPush>(d);
+    int w = p.width, h = p.height, r = p.radius, f = p.patchRadius;
+    double walked = 0;
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int) {
+        if (x >= w) return;
+        walked += 2;  // scale
+        for (int v = y - r; v <= y + r; ++v)
+            for (int u = x - r; u <= x + r; ++u) {
+                if (!Inside(u, v, w, h)) continue;
+                for (int ty = -f; ty <= f; ++ty)
+                    for (int tx = -f; tx <= f; ++tx)
+                        if (Inside(x + tx, y + ty, w, h) && Inside(u + tx, v + ty, w, h))
+                            walked += 14;           // the term (12), min, the distance's sum
+                walked += 3;                        // distance / count, max, * scale
+                if (u != x || v != y) walked += 1;  // exp
+                walked += 3;                        // the weighted sum, the weights' sum
+            }
+        walked += 1;  // sum / weights
+    });
+    return walked;
+}
+
+std::pair<int, int> Offset(int radius, int j) {
+    int side = 2 * radius + 1, index = (side * side + 1) / 2 + j;
+    return {index % side - radius, index / side - radius};
+}
+
+// term.comp.
+double WalkTerm(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforDistancePush>(d);
+    int channels = d.Spec(NFOR_SPEC_CHANNELS, 3);
+    double walked = 0;
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int j) {
+        if (x >= p.width) return;
+        auto [ox, oy] = Offset(p.radius, j);
+        if (!Inside(x + ox, y + oy, p.width, p.height)) return;
+        for (int c = 0; c < channels; ++c) {
+            if (p.albedoChannels > 0) walked += 2 * 3;  // valueAt at p and q
+            walked += 1;                                // diff
+            walked += p.minVariance != 0 ? 2 : 1;       // s
+            walked += 10;                               // t
+            walked += 2;                                // min, the sum
+        }
+        walked += 1;  // the mean
+    });
+    return walked;
+}
+
+// box.comp.
+int Along(int x, int o, int f, int n) {
+    int lo = std::max(-f, std::max(-x, -x - o)),
+        hi = std::min(f, std::min(n - 1 - x, n - 1 - x - o));
+    return std::max(0, hi - lo + 1);
+}
+
+double WalkBox(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforDistancePush>(d);
+    int w = p.width, h = p.height, f = p.patchRadius;
+    double walked = 0;
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int j) {
+        if (x >= w) return;
+        if (p.vertical == 0) {
+            for (int t = std::max(-f, -x); t <= std::min(f, w - 1 - x); ++t) walked += 1;
+            return;
+        }
+        for (int t = std::max(-f, -y); t <= std::min(f, h - 1 - y); ++t) walked += 1;
+        auto [ox, oy] = Offset(p.radius, j);
+        if (Along(x, ox, f, w) * Along(y, oy, f, h) > 0) walked += 1;
+    });
+    return walked;
+}
+
+// weight.glsl's weightOf, the weight not zero.
+double WalkWeightOf(int features, bool centre) {
+    double walked = 2;                               // col[1], col[2]
+    for (int j = 0; j < features; ++j) walked += 4;  // d, s, e += s * s
+    if (!centre) walked += 4;                        // max, * invBandwidth2, e +=, exp
+    return walked;
+}
+
+// regress.comp after the window: ridge, Cholesky, the solves and the influence.
+double WalkSolve(int columns, int channels) {
+    double walked = 0;
+    for (int i = 1; i < columns; ++i) walked += 2;
+    for (int j = 0; j < columns; ++j) {
+        for (int k = 0; k < j; ++k) walked += 2;
+        walked += 1;  // sqrt
+        for (int i = j + 1; i < columns; ++i) {
+            for (int k = 0; k < j; ++k) walked += 2;
+            walked += 1;  // t / l
+        }
+    }
+    for (int c = 0; c < channels; ++c) {
+        for (int i = 0; i < columns; ++i) {
+            for (int k = 0; k < i; ++k) walked += 2;
+            walked += 1;
+        }
+        for (int i = columns - 1; i >= 0; --i) {
+            for (int k = i + 1; k < columns; ++k) walked += 2;
+            walked += 1;
+        }
+    }
+    for (int i = 0; i < columns; ++i) {
+        for (int k = 0; k < i; ++k) walked += 2;
+        walked += 1 + 2;  // z, influence += z * z
+    }
+    return walked;
+}
+
+// regress.comp, every pixel unmasked and every weight non-zero.
+double WalkRegress(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforFitPush>(d);
+    int channels = d.Spec(NFOR_SPEC_CHANNELS, 3), features = d.Spec(NFOR_SPEC_FEATURES, 7);
+    int columns = features + 3, r = p.radius;
+    double walked = 0;
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int) {
+        if (x >= p.width) return;
+        for (int v = y - r; v <= y + r; ++v)
+            for (int u = x - r; u <= x + r; ++u) {
+                if (!Inside(u, v, p.width, p.height)) continue;
+                walked += WalkWeightOf(features, u == x && v == y);
+                for (int i = 0; i < columns; ++i) {  // ACCUMULATE
+                    walked += 1;                     // wx
+                    for (int j = 0; j <= i; ++j) walked += 2;
+                    for (int c = 0; c < channels; ++c) walked += 2;
+                }
+                walked += 1;  // weights
+            }
+        walked += WalkSolve(columns, channels);
+    });
+    return walked;
+}
+
+// gather.comp, every pixel unmasked and every weight non-zero.
+double WalkGather(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforFitPush>(d);
+    int channels = d.Spec(NFOR_SPEC_CHANNELS, 3), features = d.Spec(NFOR_SPEC_FEATURES, 7);
+    int columns = features + 3, r = p.gatherRadius;
+    double walked = 0;
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int) {
+        if (x >= p.width) return;
+        for (int v = y - r; v <= y + r; ++v)
+            for (int u = x - r; u <= x + r; ++u) {
+                if (!Inside(u, v, p.width, p.height)) continue;
+                walked += WalkWeightOf(features, u == x && v == y);
+                for (int i = 0; i < columns; ++i)  // PREDICT
+                    for (int c = 0; c < channels; ++c) walked += 2;
+                walked += 4 * 2 + 1;  // sum0..sum3, weights
+            }
+        for (int c = 0; c < channels; ++c) walked += 1;
+    });
+    return walked;
+}
+
+// noise.comp, every pair alike and every divisor above the floor.
+double WalkNoise(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforNoisePush>(d);
+    const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    bool divisor = p.divisorChannels > 0;
+    int r = p.radius;
+    double walked = 0;
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int) {
+        if (x >= p.width) return;
+        bool best = false;
+        for (auto [dx, dy] : dirs) {
+            int n = 0;
+            for (int v = y - r; v <= y + r; ++v)
+                for (int u = x - r; u <= x + r; ++u) {
+                    if (!Inside(u, v, p.width, p.height) ||
+                        !Inside(u + dx, v + dy, p.width, p.height))
+                        continue;
+                    if (divisor) walked += 2 * 2 + 2;  // alike twice, zAt's divides
+                    walked += 1 + 2;                   // diff, 0.5 * diff * diff
+                    ++n;
+                }
+            if (n == 0) continue;
+            walked += 1;  // the estimate
+            best = true;
+        }
+        if (divisor) walked += 1;  // scale
+        if (best) walked += 2;     // best * calibration * scale
+    });
+    return walked;
+}
+
+TEST(KernelOps, NforFormulasMatchTheirLoops) {
+    // The features' prefilter is off by default.
+    const std::vector<vk::KeptDispatch> &run =
+        MethodDispatches("nfor", "prefilter 3 1", [](Method &m) {
+            m.Set("prefilter-radius", 3);
+            m.Set("prefilter-patch", 1);
+        });
+    ExpectFormulaMatchesWalk(run, "nfor_prefilter", WalkPrefilter);
+    ExpectFormulaMatchesWalk(run, "nfor_term", WalkTerm);
+    ExpectFormulaMatchesWalk(run, "nfor_box", WalkBox);
+    ExpectFormulaMatchesWalk(run, "nfor_regress", WalkRegress);
+    ExpectFormulaMatchesWalk(run, "nfor_gather", WalkGather);
+    // The prefilter's noise estimate of the features has no divisor; a frame without a
+    // variance layer has its colour's estimated, divided by the albedo.
+    ExpectFormulaMatchesWalk(run, "nfor_noise", WalkNoise);
+    const std::vector<vk::KeptDispatch> &plain =
+        MethodDispatches("nfor", "no variance", nullptr, {"variance"});
+    ExpectFormulaMatchesWalk(plain, "nfor_noise", WalkNoise);
+    int divided = 0;
+    for (const vk::KeptDispatch &d : plain)
+        divided += d.timing.kernel == "nfor_noise" &&
+                   PushOf<shader::NforNoisePush>(d).divisorChannels > 0;
+    EXPECT_GT(divided, 0) << "no noise estimate was divided by the albedo";
+}
+
+}  // namespace
+}  // namespace mcd::tool
