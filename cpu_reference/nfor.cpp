@@ -49,30 +49,55 @@ double KthLargest(std::vector<double> values, int k) {
 
 }  // namespace
 
-Image NforNoise(const Image &image, const Image *divisor, int radius, double calibration) {
+namespace {
+
+// The noise estimate of channel c at (x, y) before calibration and scale: per direction the
+// lower median of the half squared differences of the pairs that count (both divided alike
+// to the pixel; relaxed: both divided where it is, both not where it is not, the pixel in
+// neither) over the median
+// of chi^2_1, the smallest over the directions with at least minPairs pairs; -1 for none.
+double SmallestMedian(const Image &image, const Image *divisor, int radius, int c, int x, int y,
+                      bool relaxed, size_t minPairs) {
     const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    double a = Divisor(divisor, c, x, y), best = -1;
+    for (const auto &d : dirs) {
+        std::vector<double> halves;
+        for (int v = y - radius; v <= y + radius; ++v)
+            for (int u = x - radius; u <= x + radius; ++u) {
+                int u1 = u + d[0], v1 = v + d[1];
+                if (!Inside(image, u, v) || !Inside(image, u1, v1)) continue;
+                double a0 = Divisor(divisor, c, u, v);
+                double a1 = Divisor(divisor, c, u1, v1);
+                bool centre = (u == x && v == y) || (u1 == x && v1 == y);
+                bool counts = relaxed ? !centre && (a0 > 0) == (a > 0) && (a1 > 0) == (a > 0)
+                                      : Alike(a, a0) && Alike(a, a1);
+                if (!counts) continue;
+                double diff =
+                    Demodulated(image.At(c, v, u), a0) - Demodulated(image.At(c, v1, u1), a1);
+                halves.push_back(0.5 * diff * diff);
+            }
+        if (halves.size() < minPairs || halves.empty()) continue;
+        double estimate = LowerMedian(halves) / kNforChi2Median;
+        if (best < 0 || estimate < best) best = estimate;
+    }
+    return best;
+}
+
+}  // namespace
+
+Image NforNoise(const Image &image, const Image *divisor, int radius, double calibration,
+                bool relaxed) {
     Image out(image.width, image.height, image.channels);
     for (int c = 0; c < image.channels; ++c)
         for (int y = 0; y < image.height; ++y)
             for (int x = 0; x < image.width; ++x) {
-                double a = Divisor(divisor, c, x, y), best = -1;
-                for (const auto &d : dirs) {
-                    std::vector<double> halves;
-                    for (int v = y - radius; v <= y + radius; ++v)
-                        for (int u = x - radius; u <= x + radius; ++u) {
-                            int u1 = u + d[0], v1 = v + d[1];
-                            if (!Inside(image, u, v) || !Inside(image, u1, v1)) continue;
-                            double a0 = Divisor(divisor, c, u, v);
-                            double a1 = Divisor(divisor, c, u1, v1);
-                            if (!Alike(a, a0) || !Alike(a, a1)) continue;
-                            double diff = Demodulated(image.At(c, v, u), a0) -
-                                          Demodulated(image.At(c, v1, u1), a1);
-                            halves.push_back(0.5 * diff * diff);
-                        }
-                    if (halves.empty()) continue;
-                    double estimate = LowerMedian(halves) / kNforChi2Median;
-                    if (best < 0 || estimate < best) best = estimate;
-                }
+                double a = Divisor(divisor, c, x, y);
+                double best =
+                    SmallestMedian(image, divisor, radius, c, x, y, false, kNforNoiseMinPairs);
+                // An edge pixel unlike its neighbours: their pairs divided as it is.
+                if (best < 0 && relaxed)
+                    best = SmallestMedian(image, divisor, radius, c, x, y, true,
+                                          kNforNoiseMinRelaxedPairs);
                 double scale = a > 0 ? a * a : 1;
                 out.At(c, y, x) = best < 0 ? 0.f : float(best * calibration * scale);
             }
@@ -504,12 +529,17 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image variance = in.variance
                          ? *in.variance
                          : NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
-    keep("variance", variance);
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
     Image clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
                               p.fireflyRelative, p.fireflyRank);
     keep("color", clamped);
+    if (!in.variance && p.edgeNoise) {
+        // The weights' noise estimated again on the clamped colour, edge pixels relaxed.
+        keep("clamp.variance", variance);
+        variance = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
+    }
+    keep("variance", variance);
     Image features = *in.features;
     if (p.prefilterRadius > 0) {
         Image featureVariance =

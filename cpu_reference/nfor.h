@@ -14,7 +14,12 @@
 //   the half squared differences (z_u - z_u+d)^2 / 2 over the (2r+1)^2 window, both pixels
 //   divided alike to the pixel (both not, or both by albedos within kNoiseDivisorRatio of
 //   its), their median over the median of chi^2_1, the smallest over the directions (the
-//   one along an edge) times the calibration, times the pixel's albedo squared. A median,
+//   one along an edge) with at least kNforNoiseMinPairs pairs, times the calibration, times
+//   the pixel's albedo squared. Where no direction has them (an edge pixel, its albedo a
+//   mix unlike all around it), the same over its neighbours' pairs (the pixel in neither:
+//   it may be a firefly) both divided where it is (both not where it is not), whatever
+//   their albedos, at least kNforNoiseMinRelaxedPairs: the coverage divides out of
+//   colour / albedo, so they share the illumination's noise. A median,
 //   not a mean: a firefly in the window does not raise its neighbours' estimate, so the
 //   colour distance keeps it apart. Only pixels divided alike: a black background next to
 //   a wall has no noise to lend it.
@@ -57,6 +62,7 @@
 //   scales above the window goes, the fireflies' energy stays out.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
@@ -69,6 +75,8 @@ namespace mcd::ref {
 constexpr double kNforNoiseAlbedoFloor = 0.02;
 constexpr double kNforNoiseDivisorRatio = 1.25;
 constexpr double kNforChi2Median = 0.454936423119572;
+constexpr size_t kNforNoiseMinPairs = 3;
+constexpr size_t kNforNoiseMinRelaxedPairs = 2;
 constexpr double kNforRelEps = 1e-4;
 constexpr double kNforTiny = 1e-30;
 constexpr double kNforTermMax = 25;
@@ -82,16 +90,19 @@ struct NforParams {
     double alpha = 1;                // variance cancellation in the colour distance
     bool minVariance = false;        // the distance normalised by 2 min(v_p, v_q)
     bool demodulateDistance = true;  // the distance of colour / albedo
-    double ridge = 0.1;              // lambda
+    double ridge = 0.001;            // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
     std::vector<double> featureWeights;
     int noiseRadius = 1;
     double noiseMinCalibration = 1;  // E-correction of the smallest of 4 medians
-    double fireflyThreshold = 4;     // t; 0: no clamp
-    double fireflyRelative = 0.5;    // rho
-    int fireflyRank = 3;             // 0: the neighbours' lower median; k: their k-th largest
+    // Without a variance layer: the clamp reads the estimate above, the rest the one of
+    // the clamped colour with edge pixels relaxed (NforNoise's relaxed).
+    bool edgeNoise = true;
+    double fireflyThreshold = 4;   // t; 0: no clamp
+    double fireflyRelative = 0.5;  // rho
+    int fireflyRank = 3;           // 0: the neighbours' lower median; k: their k-th largest
     double emitterAlbedo = 1.5;
-    int prefilterRadius = 0;  // 0: features as they are
+    int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;
     double prefilterBandwidth = 1;
     int sureRadius = 3;
@@ -112,7 +123,10 @@ struct NforInputs {
 };
 
 // Variance of the pixel mean estimated from `image` (divisor: albedo or nullptr).
-Image NforNoise(const Image &image, const Image *divisor, int radius, double calibration);
+// relaxed: a pixel with too few pairs divided alike takes its neighbours' pairs divided as
+// it is.
+Image NforNoise(const Image &image, const Image *divisor, int radius, double calibration,
+                bool relaxed = false);
 
 // 1 for pixels that take part, 0 for emitters.
 Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo);
@@ -168,7 +182,8 @@ Image NforGather(const Image &input, const Image &features, const Image &mask,
 Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
                  const Image &color, const Image &variance, int sureRadius, Image *choice);
 
-// The whole method with its named stages (variance, mask, color, features, distance,
+// The whole method with its named stages (mask, color, clamp.variance where estimated
+// with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
 // fit; output).

@@ -87,6 +87,12 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           &O::pivotSigma, 1e-4, 1e3)),
         nested(IntParam("noise-radius", "window half-size of the noise estimates",
                         &O::noiseRadius, 1, 3)),
+        nested(BoolParam("no-edge-noise",
+                         "on a frame without variance, weigh by the same noise estimate the "
+                         "firefly clamp reads (by default the weights' is estimated again on "
+                         "the clamped colour, and an edge pixel with too few neighbours of "
+                         "its albedo takes its neighbours' noise, so that it is smoothed)",
+                         &O::noEdgeNoise)),
         nested(FloatParam("noise-calibration", "factor on the estimated variance",
                           &O::noiseCalibration, 1e-3, 1e3)),
         nested(FloatParam("firefly-threshold",
@@ -206,6 +212,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.ridge = o.ridge;
         p.featureWeights.assign(weights.begin(), weights.end());
         p.noiseRadius = o.noiseRadius;
+        p.edgeNoise = !o.noEdgeNoise;
         p.noiseMinCalibration = o.noiseCalibration;
         p.fireflyThreshold = o.fireflyThreshold;
         p.fireflyRelative = o.fireflyRelative;

@@ -53,7 +53,7 @@ int NforOffsetCount(int radius) {
 
 void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
                      const vk::GpuImage *divisor, int radius, float calibration,
-                     vk::GpuImage &variance) {
+                     vk::GpuImage &variance, bool relaxed) {
     CheckSize("nfor noise", image, variance, image.channels);
     if (divisor) {
         CheckSize("nfor noise", image, *divisor, 0);
@@ -74,7 +74,7 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                                   0,
                                                   0});
     shader::NforNoisePush push{image.width, image.height, divisor ? divisor->channels : 0,
-                               radius, calibration};
+                               radius,      calibration,  relaxed ? 1 : 0};
     recorder.Dispatch(
         kernel, "nfor.noise",
         {{NFOR_NOISE_IMAGE, &image.buffer, vk::Access::Read},

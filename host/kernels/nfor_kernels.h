@@ -10,10 +10,12 @@
 namespace mcd {
 
 // shaders/nfor/noise.comp: the variance of each pixel's mean of `image` estimated from the
-// image, divided by `divisor`'s channel (nullptr: none; 1 or >= image's channels).
+// image, divided by `divisor`'s channel (nullptr: none; 1 or >= image's channels); with
+// `relaxed`, a pixel with too few pairs divided alike takes its neighbours' pairs divided
+// as it is.
 void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &image,
                      const vk::GpuImage *divisor, int radius, float calibration,
-                     vk::GpuImage &variance);
+                     vk::GpuImage &variance, bool relaxed = false);
 
 // shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters;
 // rank 0 compares with the neighbours' median, k > 0 with their k-th largest.

@@ -169,6 +169,8 @@ struct NforGpu {
             const NforOptions &o)
         : color(context, in.color->width, in.color->height, in.color->channels, "nfor.color"),
           variance(context, color.width, color.height, color.channels, "nfor.variance"),
+          clampVariance(context, color.width, color.height, color.channels,
+                        "nfor.clampVariance"),
           clamped(context, color.width, color.height, color.channels, "nfor.clamped"),
           mask(context, color.width, color.height, 1, "nfor.mask"),
           features(context, color.width, color.height, featureImage.channels, "nfor.features"),
@@ -195,8 +197,8 @@ struct NforGpu {
                                   "nfor.pilotDistance");
         }
     }
-    vk::GpuImage color, variance, clamped, mask, features, filtered, distance, scratch, beta,
-        hat, candidates;
+    vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
+        scratch, beta, hat, candidates;
     std::optional<vk::GpuImage> albedo, pilot, pilotDistance;
 };
 
@@ -218,6 +220,13 @@ void PlanNoise(StagedRun &run, const NforInputs &in, const NforOptions &o) {
         "4 directions, the smallest direction x {} (unbiased on Gaussian noise), x albedo^2",
         in.albedo ? "" : " (no albedo: the colour itself)", 2 * o.noiseRadius + 1,
         2 * o.noiseRadius + 1, o.noiseCalibration));
+    if (o.noEdgeNoise)
+        run.Plan("the same estimate for the firefly clamp and the weights (--no-edge-noise)");
+    else
+        run.Plan(
+            "the firefly clamp reads that estimate; the weights one of the clamped colour "
+            "in which a pixel with under 3 pairs divided alike along every direction (an edge "
+            "pixel, its albedo a mix) takes its neighbours' pairs divided as it is");
 }
 
 void PlanFeatures(StagedRun &run, const std::vector<std::string> &names, const NforOptions &o) {
@@ -252,15 +261,23 @@ void PlanFeatures(StagedRun &run, const std::vector<std::string> &names, const N
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o) {
     vk::Context &context = run.Context();
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
+    bool again = !in.variance && !o.noEdgeNoise;
+    // The clamp's estimate; with edge noise the weights' is estimated again below.
+    vk::GpuImage &clampVariance = again ? gpu.clampVariance : gpu.variance;
     if (!in.variance)
         RecordNforNoise(context, run.Recorder(), gpu.color, albedo, o.noiseRadius,
-                        o.noiseCalibration, gpu.variance);
-    run.StageAtEnd("variance", gpu.variance);
-    RecordNforClamp(context, run.Recorder(), gpu.color, gpu.variance, albedo,
+                        o.noiseCalibration, clampVariance);
+    RecordNforClamp(context, run.Recorder(), gpu.color, clampVariance, albedo,
                     o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
                     gpu.clamped, gpu.mask);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
+    if (again) {
+        run.StageAtEnd("clamp.variance", gpu.clampVariance);
+        RecordNforNoise(context, run.Recorder(), gpu.clamped, albedo, o.noiseRadius,
+                        o.noiseCalibration, gpu.variance, true);
+    }
+    run.StageAtEnd("variance", gpu.variance);
     if (o.prefilterRadius > 0) {
         // The features' own noise, for this filter only (submitted before it is freed).
         vk::GpuImage featureVariance(context, gpu.features.width, gpu.features.height,

@@ -33,11 +33,15 @@ struct NforOptions {
     // Compare the colour itself in the colour distance; by default colour / albedo where
     // the frame has an albedo (the illumination: texture and edge coverage divide out).
     bool noDemodulatedDistance = false;
-    float ridge = 0.1f;  // lambda: ridge of lambda sum(w) on the non-constant columns
+    float ridge = 0.001f;  // lambda: ridge of lambda sum(w) on the non-constant columns
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
     float featureBandwidth = 3;
     float albedoSigma = 0.1f, normalSigma = 0.2f, depthSigma = 0.05f, pivotSigma = 0.1f;
     int noiseRadius = 1;
+    // Without a variance layer the clamp reads the frame's estimate and the weights one of
+    // the clamped colour in which an edge pixel (too few neighbours divided alike) takes
+    // its neighbours' pairs; true: both read the first.
+    bool noEdgeNoise = false;
     float noiseCalibration = 1.479f;  // the smallest of 4 medians, unbiased on Gaussian noise
     // Clamp above the neighbours' median + t sigma + relative |median|; t = 0: off.
     float fireflyThreshold = 4, fireflyRelative = 0.5f;
@@ -45,7 +49,7 @@ struct NforOptions {
     // bright neighbours is a highlight, kept.
     int fireflyRank = 3;
     float emitterAlbedo = 1.5f;
-    int prefilterRadius = 0;  // 0: features unfiltered
+    int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;
     float prefilterBandwidth = 1;
     int sureRadius = 3;

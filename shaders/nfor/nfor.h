@@ -25,6 +25,11 @@
 #define NFOR_NOISE_ALBEDO_FLOOR 0.02
 #define NFOR_NOISE_DIVISOR_RATIO 1.25
 #define NFOR_CHI2_MEDIAN 0.454936423119572
+// A direction counts with at least this many pairs divided alike; a pixel with no such
+// direction takes the pairs of its neighbours divided as it is (divided or not), a
+// direction counting with at least the second many.
+#define NFOR_NOISE_MIN_PAIRS 3
+#define NFOR_NOISE_MIN_RELAXED_PAIRS 2
 
 // A distance term's denominator adds this times the two values' squares (a relative noise
 // floor of 1% std, so that noise-free pixels compare by relative difference) and a tiny

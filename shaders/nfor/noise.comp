@@ -34,14 +34,18 @@ bool inside(int x, int y) {
     return x >= 0 && y >= 0 && x < w && y < h;
 }
 
-void main() {
-    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
-    w = push.width;
-    h = push.height;
-    c = int(gl_WorkGroupID.z);
-    if (x >= w) return;
+// Whether the pair (a0, a1) counts for a pixel of divisor a: both divided alike to it, or
+// (relaxed) both divided where it is, both not where it is not, and the pixel itself in
+// neither (it may be a firefly, and a relaxed direction has few pairs).
+bool counts(float a, float a0, float a1, bool relaxed, bool centre) {
+    if (relaxed) return !centre && (a0 > 0.0) == (a > 0.0) && (a1 > 0.0) == (a > 0.0);
+    return alike(a, a0) && alike(a, a1);
+}
+
+// The smallest over the directions with at least minPairs pairs of the median half squared
+// difference over the median of chi^2_1; -1 where no direction has them.
+float smallestMedian(int x, int y, float a, bool relaxed, int minPairs) {
     const ivec2 dirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
-    float a = divisorAt(x, y);
     int r = push.radius;
     float best = -1.0;
     float halves[kMaxPairs];
@@ -53,7 +57,8 @@ void main() {
                 int u1 = u + dirs[d].x, v1 = v + dirs[d].y;
                 if (!inside(u, v) || !inside(u1, v1)) continue;
                 float a0 = divisorAt(u, v), a1 = divisorAt(u1, v1);
-                if (!alike(a, a0) || !alike(a, a1)) continue;
+                bool centre = (u == x && v == y) || (u1 == x && v1 == y);
+                if (!counts(a, a0, a1, relaxed, centre)) continue;
                 float diff = zAt(u, v, a0) - zAt(u1, v1, a1);
                 float half_ = 0.5 * diff * diff;
                 int i = n++;
@@ -63,10 +68,24 @@ void main() {
                 }
                 halves[i] = half_;
             }
-        if (n == 0) continue;
+        if (n < minPairs) continue;
         float estimate = halves[(n - 1) / 2] / float(NFOR_CHI2_MEDIAN);
         if (best < 0.0 || estimate < best) best = estimate;
     }
+    return best;
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
+    w = push.width;
+    h = push.height;
+    c = int(gl_WorkGroupID.z);
+    if (x >= w) return;
+    float a = divisorAt(x, y);
+    float best = smallestMedian(x, y, a, false, NFOR_NOISE_MIN_PAIRS);
+    // Too few neighbours divided alike (an edge pixel's albedo unlike all around it): the
+    // differences of its neighbours divided as it is (coverage divides out of colour / albedo).
+    if (best < 0.0 && push.relaxed != 0) best = smallestMedian(x, y, a, true, NFOR_NOISE_MIN_RELAXED_PAIRS);
     float scale = a > 0.0 ? a * a : 1.0;
     outputs[(c * h + y) * w + x] = best < 0.0 ? 0.0 : best * push.calibration * scale;
 }

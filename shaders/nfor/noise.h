@@ -5,9 +5,13 @@
 // differences (z_u - z_u+d)^2 / 2 over the (2r+1)^2 window, both pixels inside and divided
 // alike to the pixel (both not, or both by divisors within NFOR_NOISE_DIVISOR_RATIO of
 // its); their lower median over the median of chi^2_1; the smallest over the directions
-// (the direction along an edge); times the calibration and the pixel's divisor squared. 0
-// where no pair fits. A median: a firefly does not raise its neighbours' estimate. One
-// invocation per pixel and channel.
+// (the direction along an edge), a direction counting with at least NFOR_NOISE_MIN_PAIRS
+// pairs; where none has them and `relaxed` is set, the same over the pairs of its
+// neighbours (the pixel in
+// neither) both divided where the pixel is (both not where it is not), whatever their
+// divisors, with at least NFOR_NOISE_MIN_RELAXED_PAIRS; times the calibration and
+// the pixel's divisor squared. 0 where no pair fits. A median: a firefly does not raise its
+// neighbours' estimate. One invocation per pixel and channel.
 #ifndef MCD_SHADERS_NFOR_NOISE_H
 #define MCD_SHADERS_NFOR_NOISE_H
 
@@ -30,9 +34,10 @@ layout(push_constant) uniform NforNoisePush {
     int divisorChannels;  // 0: no divisor
     int radius;           // 1..NFOR_NOISE_MAX_RADIUS
     float calibration;
+    int relaxed;  // 1: the fallback for pixels with too few pairs divided alike
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforNoisePush) == 20);
+static_assert(sizeof(NforNoisePush) == 24);
 static_assert(offsetof(NforNoisePush, calibration) == 16);
 }  // namespace mcd::shader
 #else

@@ -107,16 +107,17 @@ TEST_P(NforNoiseKernel, MatchesReferenceAndRepeats) {
     Image albedo = Albedo(w, h, name + "albedo", false);
     const int radius = 2;
     const float calibration = 1.479f;
-    for (bool divided : {false, true}) {
+    // Relaxed: most pixels of the random albedo have too few neighbours divided alike.
+    for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}}) {
         const Image *divisor = divided ? &albedo : nullptr;
-        Image expected = ref::NforNoise(image, divisor, radius, calibration);
+        Image expected = ref::NforNoise(image, divisor, radius, calibration, relaxed);
         auto run = [&] {
             vk::GpuImage in = Upload(Ctx(), image, "image"),
                          a = Upload(Ctx(), albedo, "albedo");
             vk::GpuImage out(Ctx(), w, h, 3, "variance");
             vk::Recorder recorder(Ctx());
             RecordNforNoise(Ctx(), recorder, in, divided ? &a : nullptr, radius, calibration,
-                            out);
+                            out, relaxed);
             recorder.Submit();
             return out.Download();
         };
@@ -137,7 +138,7 @@ TEST_P(NforNoiseKernel, MatchesReferenceAndRepeats) {
                         float(4 * z * z * a * a * calibration / NFOR_CHI2_MEDIAN);
                 }
         EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {16 * kU, 0, 1e-10}))
-            << "divided " << divided;
+            << "divided " << divided << " relaxed " << relaxed;
         EXPECT_TRUE(BitIdentical(actual, run()));
     }
 }
