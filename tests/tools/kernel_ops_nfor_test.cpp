@@ -5,6 +5,10 @@
 // change to those loops changes the walk here and the formula there.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
+#include <functional>
+
 #include "nfor/distance.h"
 #include "nfor/fit.h"
 #include "nfor/nfor.h"
@@ -175,39 +179,91 @@ double WalkGather(const vk::KeptDispatch &d) {
     return walked;
 }
 
-// noise.comp, every pair alike and every divisor above the floor.
-double WalkNoise(const vk::KeptDispatch &d) {
-    auto p = PushOf<shader::NforNoisePush>(d);
+// noise.comp's smallestMedian at (x, y): the operators it runs where `counts(n, centre)`
+// says whether a pair counts (n: those counted so far in the direction; centre: the pixel
+// is in it) and each pair's alike tests cost `alike` (the relaxed scan's tests have none).
+// Whether a direction had minPairs.
+bool WalkSmallestMedian(const shader::NforNoisePush &p, int x, int y, bool relaxed,
+                        int minPairs, double alike,
+                        const std::function<bool(int, bool)> &counts, double &walked) {
     const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
     bool divisor = p.divisorChannels > 0;
     int r = p.radius;
+    bool best = false;
+    for (auto [dx, dy] : dirs) {
+        int n = 0;
+        for (int v = y - r; v <= y + r; ++v)
+            for (int u = x - r; u <= x + r; ++u) {
+                int u1 = u + dx, v1 = v + dy;
+                if (!Inside(u, v, p.width, p.height) || !Inside(u1, v1, p.width, p.height))
+                    continue;
+                bool centre = (u == x && v == y) || (u1 == x && v1 == y);
+                if (!relaxed) walked += alike;  // counts' alike(a, a0) && alike(a, a1)
+                if (!counts(n, centre)) continue;
+                if (divisor) walked += 2;  // zAt's divides
+                walked += 1 + 2;           // diff, 0.5 * diff * diff
+                ++n;
+            }
+        if (n < minPairs) continue;
+        walked += 1;  // the estimate
+        best = true;
+    }
+    return best;
+}
+
+// noise.comp's main after the scans: the scale with a divisor, the output's products.
+double WalkNoiseOutput(bool divisor, bool best) {
+    return (divisor ? 1 : 0) + (best ? 2 : 0);
+}
+
+// noise.comp, every divisor above the floor, the costlier of two paths: every pair alike
+// (each alike a product twice), the relaxed scan where no direction had enough; and, with
+// `relaxed` and a divisor, each pair's alike tests both run but too few pairs alike in
+// every direction, then the relaxed scan.
+double WalkNoise(const vk::KeptDispatch &d) {
+    auto p = PushOf<shader::NforNoisePush>(d);
+    bool divisor = p.divisorChannels > 0;
+    double alike = divisor ? 2 * 2 : 0;
+    auto everyPair = [](int, bool) { return true; };
+    auto offCentre = [](int, bool centre) { return !centre; };
+    auto tooFew = [](int n, bool) { return n + 1 < NFOR_NOISE_MIN_PAIRS; };
     double walked = 0;
     ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int) {
         if (x >= p.width) return;
-        bool best = false;
-        for (auto [dx, dy] : dirs) {
-            int n = 0;
-            for (int v = y - r; v <= y + r; ++v)
-                for (int u = x - r; u <= x + r; ++u) {
-                    if (!Inside(u, v, p.width, p.height) ||
-                        !Inside(u + dx, v + dy, p.width, p.height))
-                        continue;
-                    if (divisor) walked += 2 * 2 + 2;  // alike twice, zAt's divides
-                    walked += 1 + 2;                   // diff, 0.5 * diff * diff
-                    ++n;
-                }
-            if (n == 0) continue;
-            walked += 1;  // the estimate
-            best = true;
+        double strict = 0;
+        bool best =
+            WalkSmallestMedian(p, x, y, false, NFOR_NOISE_MIN_PAIRS, alike, everyPair, strict);
+        if (!best && p.relaxed != 0)
+            best = WalkSmallestMedian(p, x, y, true, NFOR_NOISE_MIN_RELAXED_PAIRS, 0, offCentre,
+                                      strict);
+        strict += WalkNoiseOutput(divisor, best);
+        double fallback = 0;
+        if (divisor && p.relaxed != 0) {
+            best = WalkSmallestMedian(p, x, y, false, NFOR_NOISE_MIN_PAIRS, alike, tooFew,
+                                      fallback);
+            EXPECT_FALSE(best);
+            best = WalkSmallestMedian(p, x, y, true, NFOR_NOISE_MIN_RELAXED_PAIRS, 0, offCentre,
+                                      fallback);
+            fallback += WalkNoiseOutput(divisor, best);
         }
-        if (divisor) walked += 1;  // scale
-        if (best) walked += 2;     // best * calibration * scale
+        walked += std::max(strict, fallback);
     });
     return walked;
 }
 
+// `d` as if dispatched over a width x height frame (the noise kernel's grid: rows of
+// NFOR_LOCAL_SIZE, one plane per channel).
+vk::KeptDispatch NoiseOver(vk::KeptDispatch d, int width, int height) {
+    shader::NforNoisePush p = PushOf<shader::NforNoisePush>(d);
+    p.width = width, p.height = height;
+    std::memcpy(d.push.data(), &p, sizeof(p));
+    d.timing.groups[0] = (width + NFOR_LOCAL_SIZE - 1) / NFOR_LOCAL_SIZE;
+    d.timing.groups[1] = height;
+    return d;
+}
+
 TEST(KernelOps, NforFormulasMatchTheirLoops) {
-    // The features' prefilter is off by default.
+    // A wider prefilter than the default (radius 1), with patches.
     const std::vector<vk::KeptDispatch> &run =
         MethodDispatches("nfor", "prefilter 3 1", [](Method &m) {
             m.Set("prefilter-radius", 3);
@@ -218,17 +274,42 @@ TEST(KernelOps, NforFormulasMatchTheirLoops) {
     ExpectFormulaMatchesWalk(run, "nfor_box", WalkBox);
     ExpectFormulaMatchesWalk(run, "nfor_regress", WalkRegress);
     ExpectFormulaMatchesWalk(run, "nfor_gather", WalkGather);
-    // The prefilter's noise estimate of the features has no divisor; a frame without a
-    // variance layer has its colour's estimated, divided by the albedo.
+    // The prefilter's noise estimate of the features: no divisor.
     ExpectFormulaMatchesWalk(run, "nfor_noise", WalkNoise);
     const std::vector<vk::KeptDispatch> &plain =
         MethodDispatches("nfor", "no variance", nullptr, {"variance"});
+    // The defaults: the prefilter over 3x3.
+    ExpectFormulaMatchesWalk(plain, "nfor_prefilter", WalkPrefilter);
+    ExpectFormulaMatchesWalk(plain, "nfor_term", WalkTerm);
+    ExpectFormulaMatchesWalk(plain, "nfor_box", WalkBox);
+    ExpectFormulaMatchesWalk(plain, "nfor_regress", WalkRegress);
+    ExpectFormulaMatchesWalk(plain, "nfor_gather", WalkGather);
+    // A frame without a variance layer has its colour's noise estimated, divided by the
+    // albedo, twice: strict for the firefly clamp, relaxed on the clamped colour for the
+    // weights.
     ExpectFormulaMatchesWalk(plain, "nfor_noise", WalkNoise);
-    int divided = 0;
-    for (const vk::KeptDispatch &d : plain)
-        divided += d.timing.kernel == "nfor_noise" &&
-                   PushOf<shader::NforNoisePush>(d).divisorChannels > 0;
+    int divided = 0, relaxed = 0;
+    std::vector<vk::KeptDispatch> noise;
+    for (const vk::KeptDispatch &d : plain) {
+        if (d.timing.kernel != "nfor_noise") continue;
+        auto p = PushOf<shader::NforNoisePush>(d);
+        divided += p.divisorChannels > 0;
+        relaxed += p.divisorChannels > 0 && p.relaxed != 0;
+        noise.push_back(d);
+    }
     EXPECT_GT(divided, 0) << "no noise estimate was divided by the albedo";
+    EXPECT_GT(relaxed, 0) << "no relaxed noise estimate was recorded";
+    // Frames so small that no direction has enough pairs: the relaxed scan runs at every
+    // pixel of a relaxed dispatch, both with and without a divisor.
+    std::vector<vk::KeptDispatch> tiny;
+    for (const vk::KeptDispatch &d : noise)
+        for (auto [w, h] : {std::pair{1, 1}, {2, 1}, {1, 3}, {2, 2}, {3, 2}, {4, 4}}) {
+            tiny.push_back(NoiseOver(d, w, h));
+            auto p = PushOf<shader::NforNoisePush>(tiny.back());
+            p.relaxed = 1;
+            std::memcpy(tiny.back().push.data(), &p, sizeof(p));
+        }
+    ExpectFormulaMatchesWalk(tiny, "nfor_noise", WalkNoise);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // nfor's operation formulas, one place: each names the shader loops it counts, so that a
 // change to those loops (shaders/nfor/) is followed here and in the walks of
-// tests/tools/kernel_ops_test.cpp. Rules as in kernel_ops.h.
+// tests/tools/kernel_ops_nfor_test.cpp. Rules as in kernel_ops.h.
+#include <algorithm>
 #include <cstdlib>
 
 #include "nfor/distance.h"
@@ -124,30 +125,80 @@ int NoisePairs(int x, int r, int s, int n) {
     return std::max(0, hi - lo + 1);
 }
 
-// noise.comp, per invocation (pixel, channel z): per direction and window pair with both
-// pixels inside the difference, half its square (3) and, with a divisor, alike's two
-// products twice and zAt's two divides (6); per direction with a pair the estimate's
-// divide (1); with a divisor the pixel's square (1); where some direction has a pair the
-// output's two products.
+// noise.comp at one pixel: the pairs along each direction, and those with the pixel in
+// neither (the relaxed scan's).
+struct NoiseWindow {
+    int pairs[4], offCentre[4];
+};
+
+NoiseWindow NoiseWindowAt(int x, int y, const shader::NforNoisePush &p) {
+    NoiseWindow window{};
+    for (int d = 0; d < 4; ++d) {
+        auto [dx, dy] = kNoiseDirections[d];
+        int pairs =
+            NoisePairs(x, p.radius, dx, p.width) * NoisePairs(y, p.radius, dy, p.height);
+        // The pairs (x, y)-(x + d) and (x - d)-(x, y), where inside (the window holds both).
+        auto in = [&](int u, int v) { return u >= 0 && v >= 0 && u < p.width && v < p.height; };
+        window.pairs[d] = pairs;
+        window.offCentre[d] = pairs - in(x + dx, y + dy) - in(x - dx, y - dy);
+    }
+    return window;
+}
+
+// noise.comp's relaxed scan with every pair off the centre counted: per pair the
+// difference, half its square (3) and zAt's two divides with a divisor (2); per direction
+// with NFOR_NOISE_MIN_RELAXED_PAIRS the estimate's divide. Whether one had them.
+bool RelaxedScan(const NoiseWindow &window, bool divisor, double &flops) {
+    bool best = false;
+    for (int d = 0; d < 4; ++d) {
+        int n = window.offCentre[d];
+        flops += (3 + (divisor ? 2 : 0)) * double(n);
+        if (n < NFOR_NOISE_MIN_RELAXED_PAIRS) continue;
+        flops += 1;
+        best = true;
+    }
+    return best;
+}
+
+// noise.comp at one pixel, the costlier of two paths (only the first without a divisor,
+// where every pair is alike and it is exact): (a) every pair alike in the strict scan: per
+// pair alike's two products twice (4, with a divisor), the difference, half its square and
+// zAt's divides (3 + 2 with a divisor), per direction with NFOR_NOISE_MIN_PAIRS the
+// estimate (1), the relaxed scan where none has them; (b) with `relaxed`, no direction with
+// enough pairs alike: per pair alike's 4, at most NFOR_NOISE_MIN_PAIRS - 1 pairs counted per
+// direction (5 each), then the relaxed scan. Then the pixel's square with a divisor (1) and
+// the output's two products where an estimate was found.
+double NoisePixelFlops(const NoiseWindow &window, const shader::NforNoisePush &p) {
+    bool divisor = p.divisorChannels > 0;
+    double alike = divisor ? 4 : 0, counted = 3 + (divisor ? 2 : 0);
+    double strict = 0;
+    bool best = false;
+    for (int d = 0; d < 4; ++d) {
+        int n = window.pairs[d];
+        strict += (alike + counted) * n;
+        if (n < NFOR_NOISE_MIN_PAIRS) continue;
+        strict += 1;
+        best = true;
+    }
+    if (!best && p.relaxed != 0) best = RelaxedScan(window, divisor, strict);
+    strict += (divisor ? 1 : 0) + (best ? 2 : 0);
+    if (!divisor || p.relaxed == 0) return strict;
+    double fallback = 0;
+    for (int d = 0; d < 4; ++d)
+        fallback += alike * window.pairs[d] +
+                    counted * std::min(window.pairs[d], NFOR_NOISE_MIN_PAIRS - 1);
+    best = RelaxedScan(window, divisor, fallback);
+    fallback += 1 + (best ? 2 : 0);
+    return std::max(strict, fallback);
+}
+
+// noise.comp, per invocation (pixel, channel z): NoisePixelFlops.
 double NoiseFlops(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforNoisePush>(d);
-    bool divisor = p.divisorChannels > 0;
-    double perPair = 3 + (divisor ? 6 : 0), flops = 0;
-    double outputs = 0;
+    double flops = 0;
     for (int x = 0; x < p.width; ++x)
-        for (int y = 0; y < p.height; ++y) {
-            double estimates = 0;
-            for (auto [dx, dy] : kNoiseDirections) {
-                double pairs = double(NoisePairs(x, p.radius, dx, p.width)) *
-                               NoisePairs(y, p.radius, dy, p.height);
-                flops += perPair * pairs;
-                estimates += pairs > 0;
-            }
-            flops += estimates;
-            outputs += estimates > 0;
-        }
-    double pixels = double(p.width) * p.height;
-    return (flops + 2 * outputs + (divisor ? pixels : 0)) * d.timing.groups[2];
+        for (int y = 0; y < p.height; ++y) flops += NoisePixelFlops(NoiseWindowAt(x, y, p), p);
+    return flops * d.timing.groups[2];
 }
 
 }  // namespace
@@ -163,10 +214,11 @@ const FormulaMap &NforFormulas() {
           "every albedo above the floor) and 1",
           TermFlops, OpsBound::AtMost}},
         {"nfor_noise",
-         {"per direction and window pair inside 3 (+6 with a divisor), per direction with a "
-          "pair 1, per pixel 2 where one has a pair (+1 with a divisor); every pair alike, "
-          "every "
-          "divisor above the floor",
+         {"per direction and window pair inside 3 (+6 with a divisor), per direction with 3 "
+          "pairs 1, per pixel 2 where one has them (+1 with a divisor); relaxed: the same "
+          "pairs' alike tests (4), 2 counted per direction, then every pair off the centre 3 "
+          "(+2), per direction with 2 pairs 1, whichever costs more; every divisor above the "
+          "floor",
           NoiseFlops, OpsBound::AtMost}},
         {"nfor_box", {"an add per patch position inside; the columns pass a divide", BoxFlops}},
         {"nfor_regress",
