@@ -302,6 +302,26 @@ Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical) {
     return out;
 }
 
+Image NforAverageEmitters(const Image &image, const Image &mask, int r) {
+    Image out = image;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            if (mask.At(0, y, x) != 0) continue;
+            for (int c = 0; c < image.channels; ++c) {
+                double sum = 0;
+                int n = 0;
+                for (int v = std::max(0, y - r); v <= std::min(image.height - 1, y + r); ++v)
+                    for (int u = std::max(0, x - r); u <= std::min(image.width - 1, x + r); ++u)
+                        if (mask.At(0, v, u) == 0) {
+                            sum += image.At(c, v, u);
+                            ++n;
+                        }
+                out.At(c, y, x) = float(sum / n);
+            }
+        }
+    return out;
+}
+
 namespace {
 
 // D(p, q - p) from the stored half of the offsets.
@@ -565,6 +585,12 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     if (p.meanRadius > 0) {
         keep("fit", out);
         RestoreLocalMeans(clamped, p.meanRadius, &out);
+    }
+    bool anyEmitter = false;
+    for (float m : mask.data) anyEmitter |= m == 0;
+    if (p.emitterRadius > 0 && anyEmitter) {
+        keep("lit", out);
+        out = NforAverageEmitters(out, mask, p.emitterRadius);
     }
     keep("output", out);
     return out;

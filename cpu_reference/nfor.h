@@ -111,7 +111,8 @@ struct NforParams {
     // pixel by SURE as the first's; empty: none.
     std::vector<double> pilotBandwidths = {1.0};
     double pilotAlpha = 0;
-    int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
+    int meanRadius = 4;     // restore the clamped colour's local means (tent 2r); 0: off
+    int emitterRadius = 2;  // emitters' box average over the emitters near; 0: kept
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).
@@ -130,6 +131,10 @@ Image NforNoise(const Image &image, const Image *divisor, int radius, double cal
 
 // 1 for pixels that take part, 0 for emitters.
 Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo);
+
+// Each emitter (mask 0) replaced by the mean of the emitters in its (2r+1)^2 window of
+// `image`; other pixels unchanged.
+Image NforAverageEmitters(const Image &image, const Image &mask, int r);
 
 // The colour with fireflies clamped.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
@@ -186,7 +191,7 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
-// fit; output).
+// fit; with emitterRadius and any emitter, lit; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

@@ -390,6 +390,29 @@ void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice
                          o.pilotBandwidths.empty() ? "" : "second pass: ", shares));
 }
 
+// Each emitter (mask 0) becomes the mean of the emitters in its (2r+1)^2 window: lights
+// lose their noise without borrowing from their dark surroundings, nor lend to them.
+Image AverageEmitters(const Image &image, const Image &mask, int r) {
+    Image out = image;
+    int w = image.width, h = image.height;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (mask.At(0, y, x) != 0) continue;
+            std::vector<double> sum(size_t(image.channels), 0.0);
+            int count = 0;
+            for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+                for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {
+                    if (mask.At(0, v, u) != 0) continue;
+                    for (int c = 0; c < image.channels; ++c)
+                        sum[size_t(c)] += image.At(c, v, u);
+                    ++count;
+                }
+            for (int c = 0; c < image.channels; ++c)
+                out.At(c, y, x) = float(sum[size_t(c)] / count);
+        }
+    return out;
+}
+
 std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
     std::vector<std::pair<std::string, double>> perKernel;
     double total = 0;
@@ -439,11 +462,17 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                         "then {} restored (factors {:.3g} to {:.3g})",
                         8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
     }
-    run.Plan(
-        fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
-                    "window and kept as they are (a lone one far above its neighbours: "
-                    "clamped like a firefly)",
-                    o.emitterAlbedo, result.emitters));
+    if (o.emitterRadius > 0 && result.emitters > 0) {
+        run.AddStage("lit", result.image);
+        result.image = AverageEmitters(result.image, mask, o.emitterRadius);
+    }
+    run.Plan(fmt::format(
+        "emitters (largest albedo channel > {}): {} pixels, left out of every window, then {} "
+        "(a lone one far above its neighbours: clamped like a firefly)",
+        o.emitterAlbedo, result.emitters,
+        o.emitterRadius > 0 ? fmt::format("averaged with the emitters of their {}x{} window",
+                                          2 * o.emitterRadius + 1, 2 * o.emitterRadius + 1)
+                            : std::string("kept as they are")));
     run.Plan(o.fireflyThreshold > 0
                  ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
                                "neighbours (colour / albedo, of the neighbours divided alike; "
