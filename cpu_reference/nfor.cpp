@@ -302,22 +302,37 @@ Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical) {
     return out;
 }
 
-Image NforAverageEmitters(const Image &image, const Image &mask, int r) {
+Image NforAverageEmitters(const Image &image, const Image &variance, const Image &mask, int r,
+                          double k) {
     Image out = image;
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) {
             if (mask.At(0, y, x) != 0) continue;
-            for (int c = 0; c < image.channels; ++c) {
-                double sum = 0;
-                int n = 0;
-                for (int v = std::max(0, y - r); v <= std::min(image.height - 1, y + r); ++v)
-                    for (int u = std::max(0, x - r); u <= std::min(image.width - 1, x + r); ++u)
-                        if (mask.At(0, v, u) == 0) {
-                            sum += image.At(c, v, u);
-                            ++n;
-                        }
-                out.At(c, y, x) = float(sum / n);
-            }
+            double weightSum = 0;
+            std::vector<double> sum(size_t(image.channels), 0.0);
+            for (int v = std::max(0, y - r); v <= std::min(image.height - 1, y + r); ++v)
+                for (int u = std::max(0, x - r); u <= std::min(image.width - 1, x + r); ++u) {
+                    if (mask.At(0, v, u) != 0) continue;
+                    // Mean over channels of the squared difference over k^2 (var p + var q).
+                    double d2 = 0;
+                    bool unlike = false;
+                    for (int c = 0; c < image.channels; ++c) {
+                        double diff = double(image.At(c, v, u)) - image.At(c, y, x);
+                        double var =
+                            k * k * (double(variance.At(c, v, u)) + variance.At(c, y, x));
+                        if (var > 0)
+                            d2 += diff * diff / var;
+                        else
+                            unlike |= diff != 0;
+                    }
+                    if (unlike) continue;
+                    double weight = std::exp(-d2 / image.channels);
+                    for (int c = 0; c < image.channels; ++c)
+                        sum[size_t(c)] += weight * image.At(c, v, u);
+                    weightSum += weight;
+                }
+            for (int c = 0; c < image.channels; ++c)
+                out.At(c, y, x) = float(sum[size_t(c)] / weightSum);
         }
     return out;
 }
@@ -590,7 +605,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     for (float m : mask.data) anyEmitter |= m == 0;
     if (p.emitterRadius > 0 && anyEmitter) {
         keep("lit", out);
-        out = NforAverageEmitters(out, mask, p.emitterRadius);
+        out = NforAverageEmitters(out, variance, mask, p.emitterRadius, p.emitterBandwidth);
     }
     keep("output", out);
     return out;

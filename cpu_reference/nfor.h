@@ -111,8 +111,9 @@ struct NforParams {
     // pixel by SURE as the first's; empty: none.
     std::vector<double> pilotBandwidths = {1.0};
     double pilotAlpha = 0;
-    int meanRadius = 4;     // restore the clamped colour's local means (tent 2r); 0: off
-    int emitterRadius = 2;  // emitters' box average over the emitters near; 0: kept
+    int meanRadius = 4;           // restore the clamped colour's local means (tent 2r); 0: off
+    int emitterRadius = 2;        // emitters' weighted average over the emitters near; 0: kept
+    double emitterBandwidth = 1;  // its colour bandwidth k
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).
@@ -132,9 +133,11 @@ Image NforNoise(const Image &image, const Image *divisor, int radius, double cal
 // 1 for pixels that take part, 0 for emitters.
 Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo);
 
-// Each emitter (mask 0) replaced by the mean of the emitters in its (2r+1)^2 window of
-// `image`; other pixels unchanged.
-Image NforAverageEmitters(const Image &image, const Image &mask, int r);
+// Each emitter (mask 0) replaced by the weighted mean of the emitters q in its (2r+1)^2
+// window of `image`, weights exp(-mean over channels of (p - q)^2 / (k^2 (var p + var q)))
+// (0 where both variances are 0 and the values differ); other pixels unchanged.
+Image NforAverageEmitters(const Image &image, const Image &variance, const Image &mask, int r,
+                          double k);
 
 // The colour with fireflies clamped.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,

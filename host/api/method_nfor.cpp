@@ -135,6 +135,9 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "average each emitter with the emitters of its (2r+1)^2 window after "
                         "the fits; 0: emitters kept as they are",
                         &O::emitterRadius, 0, 16)),
+        nested(FloatParam("emitter-bandwidth",
+                          "colour bandwidth of the emitters' average, over their noise",
+                          &O::emitterBandwidth, 1e-3, 1e3)),
         ChoiceParam("nfor-noise",
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
@@ -231,6 +234,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotAlpha = o.pilotAlpha;
         p.meanRadius = o.meanRadius;
         p.emitterRadius = o.emitterRadius;
+        p.emitterBandwidth = o.emitterBandwidth;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);

@@ -390,25 +390,39 @@ void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice
                          o.pilotBandwidths.empty() ? "" : "second pass: ", shares));
 }
 
-// Each emitter (mask 0) becomes the mean of the emitters in its (2r+1)^2 window: lights
-// lose their noise without borrowing from their dark surroundings, nor lend to them.
-Image AverageEmitters(const Image &image, const Image &mask, int r) {
+// Each emitter (mask 0) becomes the mean of the emitters in its (2r+1)^2 window weighted
+// by their colour distance over the noise: lights lose their noise without borrowing from
+// their dark surroundings, nor lend to them, and keep their edges and texture.
+Image AverageEmitters(const Image &image, const Image &variance, const Image &mask, int r,
+                      float k) {
     Image out = image;
-    int w = image.width, h = image.height;
+    int w = image.width, h = image.height, ch = image.channels;
+    std::vector<double> sum(static_cast<size_t>(ch));
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             if (mask.At(0, y, x) != 0) continue;
-            std::vector<double> sum(size_t(image.channels), 0.0);
-            int count = 0;
+            std::fill(sum.begin(), sum.end(), 0.0);
+            double total = 0;
             for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
                 for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {
                     if (mask.At(0, v, u) != 0) continue;
-                    for (int c = 0; c < image.channels; ++c)
-                        sum[size_t(c)] += image.At(c, v, u);
-                    ++count;
+                    double d2 = 0;
+                    bool unlike = false;  // noise-free and different: never averaged
+                    for (int c = 0; c < ch; ++c) {
+                        double diff = double(image.At(c, v, u)) - image.At(c, y, x);
+                        double var = double(k) * k *
+                                     (double(variance.At(c, v, u)) + variance.At(c, y, x));
+                        if (var > 0)
+                            d2 += diff * diff / var;
+                        else
+                            unlike = unlike || diff != 0;
+                    }
+                    if (unlike) continue;
+                    double weight = std::exp(-d2 / ch);
+                    for (int c = 0; c < ch; ++c) sum[size_t(c)] += weight * image.At(c, v, u);
+                    total += weight;
                 }
-            for (int c = 0; c < image.channels; ++c)
-                out.At(c, y, x) = float(sum[size_t(c)] / count);
+            for (int c = 0; c < ch; ++c) out.At(c, y, x) = float(sum[size_t(c)] / total);
         }
     return out;
 }
@@ -464,15 +478,18 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     }
     if (o.emitterRadius > 0 && result.emitters > 0) {
         run.AddStage("lit", result.image);
-        result.image = AverageEmitters(result.image, mask, o.emitterRadius);
+        result.image = AverageEmitters(result.image, gpu.variance.Download(), mask,
+                                       o.emitterRadius, o.emitterBandwidth);
     }
     run.Plan(fmt::format(
         "emitters (largest albedo channel > {}): {} pixels, left out of every window, then {} "
         "(a lone one far above its neighbours: clamped like a firefly)",
         o.emitterAlbedo, result.emitters,
-        o.emitterRadius > 0 ? fmt::format("averaged with the emitters of their {}x{} window",
-                                          2 * o.emitterRadius + 1, 2 * o.emitterRadius + 1)
-                            : std::string("kept as they are")));
+        o.emitterRadius > 0
+            ? fmt::format("averaged with the emitters of their {}x{} window, weighted "
+                          "by colour (bandwidth {} over the noise)",
+                          2 * o.emitterRadius + 1, 2 * o.emitterRadius + 1, o.emitterBandwidth)
+            : std::string("kept as they are")));
     run.Plan(o.fireflyThreshold > 0
                  ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
                                "neighbours (colour / albedo, of the neighbours divided alike; "

@@ -65,6 +65,7 @@ struct NforOptions {
     // Emitters averaged with the emitters of their (2r+1)^2 window, after the local means
     // (lights denoised without borrowing from their dark surroundings); 0: kept as they are.
     int emitterRadius = 2;
+    float emitterBandwidth = 1;  // their weights' colour bandwidth, over the noise
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
