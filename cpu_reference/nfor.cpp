@@ -586,23 +586,35 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
                                   p.radius, p.patchRadius, p.alpha, p.minVariance);
     keep("distance", distance);
-    Image out =
-        NforPass(clamped, variance, features, mask, distance, p, p.bandwidths, "", keep);
-    if (!p.pilotBandwidths.empty()) {
-        keep("pilot", out);
+    // Both passes over the pixels `take` lets in (1), the others their own value.
+    auto passes = [&](const Image &take, const std::string &prefix) {
+        Image out = NforPass(clamped, variance, features, take, distance, p, p.bandwidths,
+                             prefix, keep);
+        if (p.pilotBandwidths.empty()) return out;
+        keep(prefix + "pilot", out);
         Image pilotDistance =
             NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr, p.radius,
                          p.patchRadius, p.pilotAlpha, p.minVariance);
-        keep("pilot.distance", pilotDistance);
-        out = NforPass(clamped, variance, features, mask, pilotDistance, p, p.pilotBandwidths,
-                       "pilot.", keep);
+        keep(prefix + "pilot.distance", pilotDistance);
+        return NforPass(clamped, variance, features, take, pilotDistance, p, p.pilotBandwidths,
+                        prefix + "pilot.", keep);
+    };
+    Image out = passes(mask, "");
+    bool anyEmitter = false;
+    for (float m : mask.data) anyEmitter |= m == 0;
+    if (p.emitterFits && anyEmitter) {
+        // The emitters fitted among themselves: the passes again over the inverted mask.
+        Image lights = mask;
+        for (float &m : lights.data) m = m == 0 ? 1.f : 0.f;
+        Image lit = passes(lights, "lights.");
+        for (size_t i = 0; i < mask.PixelCount(); ++i)
+            if (mask.data[i] == 0)
+                for (int c = 0; c < out.channels; ++c) out.Plane(c)[i] = lit.Plane(c)[i];
     }
     if (p.meanRadius > 0) {
         keep("fit", out);
         RestoreLocalMeans(clamped, p.meanRadius, &out);
     }
-    bool anyEmitter = false;
-    for (float m : mask.data) anyEmitter |= m == 0;
     if (p.emitterRadius > 0 && anyEmitter) {
         keep("lit", out);
         out = NforAverageEmitters(out, variance, mask, p.emitterRadius, p.emitterBandwidth);

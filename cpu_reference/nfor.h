@@ -112,7 +112,8 @@ struct NforParams {
     std::vector<double> pilotBandwidths = {1.0};
     double pilotAlpha = 0;
     int meanRadius = 4;           // restore the clamped colour's local means (tent 2r); 0: off
-    int emitterRadius = 2;        // emitters' weighted average over the emitters near; 0: kept
+    int emitterRadius = 0;        // emitters' weighted average over the emitters near; 0: off
+    bool emitterFits = true;      // emitters fitted among themselves; false: kept
     double emitterBandwidth = 1;  // its colour bandwidth k
 };
 
@@ -194,7 +195,8 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
-// fit; with emitterRadius and any emitter, lit; output).
+// with emitterFits and any emitter the passes' stages again prefixed lights.; fit; with
+// emitterRadius and any emitter, lit; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

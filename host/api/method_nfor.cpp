@@ -131,6 +131,10 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
+        nested(BoolParam("keep-emitters",
+                         "keep the emitters as they come in (by default they are fitted among "
+                         "themselves: both passes again with only the emitters in the windows)",
+                         &O::keepEmitters)),
         nested(IntParam("emitter-radius",
                         "average each emitter with the emitters of its (2r+1)^2 window after "
                         "the fits; 0: emitters kept as they are",
@@ -234,6 +238,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotAlpha = o.pilotAlpha;
         p.meanRadius = o.meanRadius;
         p.emitterRadius = o.emitterRadius;
+        p.emitterFits = !o.keepEmitters;
         p.emitterBandwidth = o.emitterBandwidth;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;

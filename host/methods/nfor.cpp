@@ -308,16 +308,16 @@ int GatherRadius(const NforOptions &o) {
 // and choice.
 void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
                 const NforOptions &o, const std::vector<float> &bandwidths,
-                const vk::GpuImage &distance, const std::string &prefix, vk::GpuImage &out,
-                vk::GpuImage &choice) {
+                const vk::GpuImage &distance, const vk::GpuImage &mask,
+                const std::string &prefix, vk::GpuImage &out, vk::GpuImage &choice) {
     vk::Context &context = run.Context();
     int ch = gpu.color.channels, count = int(bandwidths.size());
     for (int i = 0; i < count; ++i) {
         NforFitSettings settings{o.radius, GatherRadius(o), bandwidths[i], o.ridge, weights};
-        RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
-                          distance, settings, gpu.beta, gpu.hat, i);
+        RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, mask, distance,
+                          settings, gpu.beta, gpu.hat, i);
         run.Stage(fmt::format("{}k{}.beta", prefix, i), gpu.beta);
-        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask, distance,
+        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, mask, distance,
                          gpu.beta, settings, gpu.candidates, i * ch);
         // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
         run.Submit();
@@ -338,21 +338,43 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
 // Both passes: the first weighted by the colour's distance; with pilot bandwidths a second
 // weighted by the distance of the first's output (the pilot) against the colour's variance.
 void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
-                  const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
+                  const NforOptions &o, const vk::GpuImage &mask, const std::string &prefix,
+                  vk::GpuImage &out, vk::GpuImage &choice) {
     if (!gpu.pilot) {
-        RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, "", out, choice);
+        RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, mask, prefix, out, choice);
         return;
     }
-    RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, "", *gpu.pilot, choice);
-    run.Stage("pilot", *gpu.pilot);
+    RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, mask, prefix, *gpu.pilot,
+               choice);
+    run.Stage(prefix + "pilot", *gpu.pilot);
     const vk::GpuImage *albedo =
         gpu.albedo && !o.noDemodulatedDistance ? &*gpu.albedo : nullptr;
     RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
                        o.radius, o.patchRadius, o.pilotAlpha, o.minVariance, gpu.scratch,
                        *gpu.pilotDistance);
-    run.Stage("pilot.distance", *gpu.pilotDistance);
-    RecordPass(run, gpu, weights, o, o.pilotBandwidths, *gpu.pilotDistance, "pilot.", out,
-               choice);
+    run.Stage(prefix + "pilot.distance", *gpu.pilotDistance);
+    RecordPass(run, gpu, weights, o, o.pilotBandwidths, *gpu.pilotDistance, mask,
+               prefix + "pilot.", out, choice);
+}
+
+// The emitters fitted among themselves: both passes again over the inverted mask, their
+// output taken at the emitters.
+void FitEmitters(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
+                 const NforOptions &o, const Image &mask, Image &image) {
+    vk::Context &context = run.Context();
+    int w = image.width, h = image.height, ch = image.channels;
+    Image inverted = mask;
+    for (float &m : inverted.data) m = m == 0 ? 1.f : 0.f;
+    vk::GpuImage lights(context, w, h, 1, "nfor.lights");
+    lights.Upload(inverted);
+    vk::GpuImage out(context, w, h, ch, "nfor.lightsOut"),
+        choice(context, w, h, 1, "nfor.lightsChoice");
+    RecordPasses(run, gpu, weights, o, lights, "lights.", out, choice);
+    run.Submit();
+    Image lit = out.Download();
+    for (size_t i = 0; i < mask.PixelCount(); ++i)
+        if (mask.data[i] == 0)
+            for (int c = 0; c < ch; ++c) image.Plane(c)[i] = lit.Plane(c)[i];
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -461,11 +483,13 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     RecordPrepare(run, gpu, in, o);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
-    RecordPasses(run, gpu, weights, o, out, choice);
+    RecordPasses(run, gpu, weights, o, gpu.mask, "", out, choice);
     run.Submit();
     result.image = out.Download();
     Image mask = gpu.mask.Download(), clamped = gpu.clamped.Download();
     for (float m : mask.data) result.emitters += m == 0;
+    if (!o.keepEmitters && result.emitters > 0)
+        FitEmitters(run, gpu, weights, o, mask, result.image);
     for (size_t i = 0; i < clamped.Size(); ++i)
         result.clamped += clamped.data[i] != in.color->data[i];
     if (o.meanRadius > 0) {
@@ -482,14 +506,18 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                                        o.emitterRadius, o.emitterBandwidth);
     }
     run.Plan(fmt::format(
-        "emitters (largest albedo channel > {}): {} pixels, left out of every window, then {} "
+        "emitters (largest albedo channel > {}): {} pixels, left out of every window, {}, "
+        "then {} "
         "(a lone one far above its neighbours: clamped like a firefly)",
         o.emitterAlbedo, result.emitters,
+        o.keepEmitters ? "kept as they are"
+                       : "fitted among themselves (both passes again, only emitters in the "
+                         "windows)",
         o.emitterRadius > 0
             ? fmt::format("averaged with the emitters of their {}x{} window, weighted "
                           "by colour (bandwidth {} over the noise)",
                           2 * o.emitterRadius + 1, 2 * o.emitterRadius + 1, o.emitterBandwidth)
-            : std::string("kept as they are")));
+            : std::string("not averaged")));
     run.Plan(o.fireflyThreshold > 0
                  ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
                                "neighbours (colour / albedo, of the neighbours divided alike; "

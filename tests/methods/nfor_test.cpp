@@ -730,6 +730,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
     p.meanRadius = o.meanRadius;
     p.emitterRadius = o.emitterRadius;
+    p.emitterFits = !o.keepEmitters;
     p.emitterBandwidth = o.emitterBandwidth;
     p.noiseRadius = o.noiseRadius;
     p.fireflyRank = o.fireflyRank;
