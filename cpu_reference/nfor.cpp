@@ -302,41 +302,6 @@ Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical) {
     return out;
 }
 
-Image NforAverageEmitters(const Image &image, const Image &variance, const Image &mask, int r,
-                          double k) {
-    Image out = image;
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) {
-            if (mask.At(0, y, x) != 0) continue;
-            double weightSum = 0;
-            std::vector<double> sum(size_t(image.channels), 0.0);
-            for (int v = std::max(0, y - r); v <= std::min(image.height - 1, y + r); ++v)
-                for (int u = std::max(0, x - r); u <= std::min(image.width - 1, x + r); ++u) {
-                    if (mask.At(0, v, u) != 0) continue;
-                    // Mean over channels of the squared difference over k^2 (var p + var q).
-                    double d2 = 0;
-                    bool unlike = false;
-                    for (int c = 0; c < image.channels; ++c) {
-                        double diff = double(image.At(c, v, u)) - image.At(c, y, x);
-                        double var =
-                            k * k * (double(variance.At(c, v, u)) + variance.At(c, y, x));
-                        if (var > 0)
-                            d2 += diff * diff / var;
-                        else
-                            unlike |= diff != 0;
-                    }
-                    if (unlike) continue;
-                    double weight = std::exp(-d2 / image.channels);
-                    for (int c = 0; c < image.channels; ++c)
-                        sum[size_t(c)] += weight * image.At(c, v, u);
-                    weightSum += weight;
-                }
-            for (int c = 0; c < image.channels; ++c)
-                out.At(c, y, x) = float(sum[size_t(c)] / weightSum);
-        }
-    return out;
-}
-
 namespace {
 
 // D(p, q - p) from the stored half of the offsets.
@@ -586,38 +551,20 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
                                   p.radius, p.patchRadius, p.alpha, p.minVariance);
     keep("distance", distance);
-    // Both passes over the pixels `take` lets in (1), the others their own value.
-    auto passes = [&](const Image &take, const std::string &prefix) {
-        Image out = NforPass(clamped, variance, features, take, distance, p, p.bandwidths,
-                             prefix, keep);
-        if (p.pilotBandwidths.empty()) return out;
-        keep(prefix + "pilot", out);
+    Image out =
+        NforPass(clamped, variance, features, mask, distance, p, p.bandwidths, "", keep);
+    if (!p.pilotBandwidths.empty()) {
+        keep("pilot", out);
         Image pilotDistance =
             NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr, p.radius,
                          p.patchRadius, p.pilotAlpha, p.minVariance);
-        keep(prefix + "pilot.distance", pilotDistance);
-        return NforPass(clamped, variance, features, take, pilotDistance, p, p.pilotBandwidths,
-                        prefix + "pilot.", keep);
-    };
-    Image out = passes(mask, "");
-    bool anyEmitter = false;
-    for (float m : mask.data) anyEmitter |= m == 0;
-    if (p.emitterFits && anyEmitter) {
-        // The emitters fitted among themselves: the passes again over the inverted mask.
-        Image lights = mask;
-        for (float &m : lights.data) m = m == 0 ? 1.f : 0.f;
-        Image lit = passes(lights, "lights.");
-        for (size_t i = 0; i < mask.PixelCount(); ++i)
-            if (mask.data[i] == 0)
-                for (int c = 0; c < out.channels; ++c) out.Plane(c)[i] = lit.Plane(c)[i];
+        keep("pilot.distance", pilotDistance);
+        out = NforPass(clamped, variance, features, mask, pilotDistance, p, p.pilotBandwidths,
+                       "pilot.", keep);
     }
     if (p.meanRadius > 0) {
         keep("fit", out);
         RestoreLocalMeans(clamped, p.meanRadius, &out);
-    }
-    if (p.emitterRadius > 0 && anyEmitter) {
-        keep("lit", out);
-        out = NforAverageEmitters(out, variance, mask, p.emitterRadius, p.emitterBandwidth);
     }
     keep("output", out);
     return out;

@@ -111,10 +111,7 @@ struct NforParams {
     // pixel by SURE as the first's; empty: none.
     std::vector<double> pilotBandwidths = {1.0};
     double pilotAlpha = 0;
-    int meanRadius = 4;           // restore the clamped colour's local means (tent 2r); 0: off
-    int emitterRadius = 0;        // emitters' weighted average over the emitters near; 0: off
-    bool emitterFits = true;      // emitters fitted among themselves; false: kept
-    double emitterBandwidth = 1;  // its colour bandwidth k
+    int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).
@@ -133,12 +130,6 @@ Image NforNoise(const Image &image, const Image *divisor, int radius, double cal
 
 // 1 for pixels that take part, 0 for emitters.
 Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo);
-
-// Each emitter (mask 0) replaced by the weighted mean of the emitters q in its (2r+1)^2
-// window of `image`, weights exp(-mean over channels of (p - q)^2 / (k^2 (var p + var q)))
-// (0 where both variances are 0 and the values differ); other pixels unchanged.
-Image NforAverageEmitters(const Image &image, const Image &variance, const Image &mask, int r,
-                          double k);
 
 // The colour with fireflies clamped.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
@@ -195,8 +186,7 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
-// with emitterFits and any emitter the passes' stages again prefixed lights.; fit; with
-// emitterRadius and any emitter, lit; output).
+// fit; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

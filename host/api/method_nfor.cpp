@@ -131,17 +131,6 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
-        nested(BoolParam("keep-emitters",
-                         "keep the emitters as they come in (by default they are fitted among "
-                         "themselves: both passes again with only the emitters in the windows)",
-                         &O::keepEmitters)),
-        nested(IntParam("emitter-radius",
-                        "average each emitter with the emitters of its (2r+1)^2 window after "
-                        "the fits; 0: emitters kept as they are",
-                        &O::emitterRadius, 0, 16)),
-        nested(FloatParam("emitter-bandwidth",
-                          "colour bandwidth of the emitters' average, over their noise",
-                          &O::emitterBandwidth, 1e-3, 1e3)),
         ChoiceParam("nfor-noise",
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
@@ -182,15 +171,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         int passReach = 3 * o.radius;
         int pilotReach = !o.pilotBandwidths.empty() ? passReach + o.patchRadius : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
-                      o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) +
-                      o.emitterRadius;
+                      o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
-            "average; {} for the local means; {} for the emitters' average",
+            "average; {} for the local means",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
-            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, o.emitterRadius);
+            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
         int offsets = ref::NforOffsetCount(o.radius), features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =
@@ -237,9 +225,6 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
         p.pilotAlpha = o.pilotAlpha;
         p.meanRadius = o.meanRadius;
-        p.emitterRadius = o.emitterRadius;
-        p.emitterFits = !o.keepEmitters;
-        p.emitterBandwidth = o.emitterBandwidth;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);

@@ -308,16 +308,16 @@ int GatherRadius(const NforOptions &o) {
 // and choice.
 void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
                 const NforOptions &o, const std::vector<float> &bandwidths,
-                const vk::GpuImage &distance, const vk::GpuImage &mask,
-                const std::string &prefix, vk::GpuImage &out, vk::GpuImage &choice) {
+                const vk::GpuImage &distance, const std::string &prefix, vk::GpuImage &out,
+                vk::GpuImage &choice) {
     vk::Context &context = run.Context();
     int ch = gpu.color.channels, count = int(bandwidths.size());
     for (int i = 0; i < count; ++i) {
         NforFitSettings settings{o.radius, GatherRadius(o), bandwidths[i], o.ridge, weights};
-        RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, mask, distance,
-                          settings, gpu.beta, gpu.hat, i);
+        RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
+                          distance, settings, gpu.beta, gpu.hat, i);
         run.Stage(fmt::format("{}k{}.beta", prefix, i), gpu.beta);
-        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, mask, distance,
+        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask, distance,
                          gpu.beta, settings, gpu.candidates, i * ch);
         // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
         run.Submit();
@@ -338,43 +338,21 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
 // Both passes: the first weighted by the colour's distance; with pilot bandwidths a second
 // weighted by the distance of the first's output (the pilot) against the colour's variance.
 void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
-                  const NforOptions &o, const vk::GpuImage &mask, const std::string &prefix,
-                  vk::GpuImage &out, vk::GpuImage &choice) {
+                  const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
     if (!gpu.pilot) {
-        RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, mask, prefix, out, choice);
+        RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, "", out, choice);
         return;
     }
-    RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, mask, prefix, *gpu.pilot,
-               choice);
-    run.Stage(prefix + "pilot", *gpu.pilot);
+    RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, "", *gpu.pilot, choice);
+    run.Stage("pilot", *gpu.pilot);
     const vk::GpuImage *albedo =
         gpu.albedo && !o.noDemodulatedDistance ? &*gpu.albedo : nullptr;
     RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
                        o.radius, o.patchRadius, o.pilotAlpha, o.minVariance, gpu.scratch,
                        *gpu.pilotDistance);
-    run.Stage(prefix + "pilot.distance", *gpu.pilotDistance);
-    RecordPass(run, gpu, weights, o, o.pilotBandwidths, *gpu.pilotDistance, mask,
-               prefix + "pilot.", out, choice);
-}
-
-// The emitters fitted among themselves: both passes again over the inverted mask, their
-// output taken at the emitters.
-void FitEmitters(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
-                 const NforOptions &o, const Image &mask, Image &image) {
-    vk::Context &context = run.Context();
-    int w = image.width, h = image.height, ch = image.channels;
-    Image inverted = mask;
-    for (float &m : inverted.data) m = m == 0 ? 1.f : 0.f;
-    vk::GpuImage lights(context, w, h, 1, "nfor.lights");
-    lights.Upload(inverted);
-    vk::GpuImage out(context, w, h, ch, "nfor.lightsOut"),
-        choice(context, w, h, 1, "nfor.lightsChoice");
-    RecordPasses(run, gpu, weights, o, lights, "lights.", out, choice);
-    run.Submit();
-    Image lit = out.Download();
-    for (size_t i = 0; i < mask.PixelCount(); ++i)
-        if (mask.data[i] == 0)
-            for (int c = 0; c < ch; ++c) image.Plane(c)[i] = lit.Plane(c)[i];
+    run.Stage("pilot.distance", *gpu.pilotDistance);
+    RecordPass(run, gpu, weights, o, o.pilotBandwidths, *gpu.pilotDistance, "pilot.", out,
+               choice);
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -412,43 +390,6 @@ void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice
                          o.pilotBandwidths.empty() ? "" : "second pass: ", shares));
 }
 
-// Each emitter (mask 0) becomes the mean of the emitters in its (2r+1)^2 window weighted
-// by their colour distance over the noise: lights lose their noise without borrowing from
-// their dark surroundings, nor lend to them, and keep their edges and texture.
-Image AverageEmitters(const Image &image, const Image &variance, const Image &mask, int r,
-                      float k) {
-    Image out = image;
-    int w = image.width, h = image.height, ch = image.channels;
-    std::vector<double> sum(static_cast<size_t>(ch));
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (mask.At(0, y, x) != 0) continue;
-            std::fill(sum.begin(), sum.end(), 0.0);
-            double total = 0;
-            for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
-                for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {
-                    if (mask.At(0, v, u) != 0) continue;
-                    double d2 = 0;
-                    bool unlike = false;  // noise-free and different: never averaged
-                    for (int c = 0; c < ch; ++c) {
-                        double diff = double(image.At(c, v, u)) - image.At(c, y, x);
-                        double var = double(k) * k *
-                                     (double(variance.At(c, v, u)) + variance.At(c, y, x));
-                        if (var > 0)
-                            d2 += diff * diff / var;
-                        else
-                            unlike = unlike || diff != 0;
-                    }
-                    if (unlike) continue;
-                    double weight = std::exp(-d2 / ch);
-                    for (int c = 0; c < ch; ++c) sum[size_t(c)] += weight * image.At(c, v, u);
-                    total += weight;
-                }
-            for (int c = 0; c < ch; ++c) out.At(c, y, x) = float(sum[size_t(c)] / total);
-        }
-    return out;
-}
-
 std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
     std::vector<std::pair<std::string, double>> perKernel;
     double total = 0;
@@ -483,13 +424,11 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     RecordPrepare(run, gpu, in, o);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
-    RecordPasses(run, gpu, weights, o, gpu.mask, "", out, choice);
+    RecordPasses(run, gpu, weights, o, out, choice);
     run.Submit();
     result.image = out.Download();
     Image mask = gpu.mask.Download(), clamped = gpu.clamped.Download();
     for (float m : mask.data) result.emitters += m == 0;
-    if (!o.keepEmitters && result.emitters > 0)
-        FitEmitters(run, gpu, weights, o, mask, result.image);
     for (size_t i = 0; i < clamped.Size(); ++i)
         result.clamped += clamped.data[i] != in.color->data[i];
     if (o.meanRadius > 0) {
@@ -500,24 +439,11 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                         "then {} restored (factors {:.3g} to {:.3g})",
                         8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
     }
-    if (o.emitterRadius > 0 && result.emitters > 0) {
-        run.AddStage("lit", result.image);
-        result.image = AverageEmitters(result.image, gpu.variance.Download(), mask,
-                                       o.emitterRadius, o.emitterBandwidth);
-    }
-    run.Plan(fmt::format(
-        "emitters (largest albedo channel > {}): {} pixels, left out of every window, {}, "
-        "then {} "
-        "(a lone one far above its neighbours: clamped like a firefly)",
-        o.emitterAlbedo, result.emitters,
-        o.keepEmitters ? "kept as they are"
-                       : "fitted among themselves (both passes again, only emitters in the "
-                         "windows)",
-        o.emitterRadius > 0
-            ? fmt::format("averaged with the emitters of their {}x{} window, weighted "
-                          "by colour (bandwidth {} over the noise)",
-                          2 * o.emitterRadius + 1, 2 * o.emitterRadius + 1, o.emitterBandwidth)
-            : std::string("not averaged")));
+    run.Plan(
+        fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
+                    "window and kept as they are (a lone one far above its neighbours: "
+                    "clamped like a firefly)",
+                    o.emitterAlbedo, result.emitters));
     run.Plan(o.fireflyThreshold > 0
                  ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
                                "neighbours (colour / albedo, of the neighbours divided alike; "

@@ -62,13 +62,6 @@ struct NforOptions {
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
-    // Emitters averaged with the emitters of their (2r+1)^2 window, after the local means
-    // (lights denoised without borrowing from their dark surroundings); 0: kept as they are.
-    int emitterRadius = 0;
-    // Emitters kept as they come in; by default they are fitted among themselves (both passes
-    // again over the inverted mask).
-    bool keepEmitters = false;
-    float emitterBandwidth = 1;  // their weights' colour bandwidth, over the noise
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };

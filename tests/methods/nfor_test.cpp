@@ -706,16 +706,8 @@ class NforMethod : public GpuTest {};
 // choices agree to their kernels' round-off; the fits and outputs may differ where a clamp
 // or a choice sat on its threshold, which the NMSE bounds allow for a few pixels. With one
 // pass and with a second pass over the pilot (two bandwidths each, and one).
-void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &options,
-                       bool emitters = false) {
+void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &options) {
     Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
-    // Where asked, a noisy light over the left third of the rows in the middle.
-    for (int y = h / 3; emitters && y < std::max(h / 3 + 1, 2 * h / 3); ++y)
-        for (int x = 0; x < std::max(1, w / 3); ++x)
-            for (int c = 0; c < 3; ++c) {
-                f.albedo.At(c, y, x) = 3;
-                f.color.At(c, y, x) = float(8 + 4 * ((x * 7 + y * 3 + c) % 5));
-            }
     NforOptions o = options;
     o.keepStages = true;
     NforResult gpu = NforDenoise(context, InputsOf(f), o);
@@ -729,9 +721,6 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
     p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
     p.meanRadius = o.meanRadius;
-    p.emitterRadius = o.emitterRadius;
-    p.emitterFits = !o.keepEmitters;
-    p.emitterBandwidth = o.emitterBandwidth;
     p.noiseRadius = o.noiseRadius;
     p.fireflyRank = o.fireflyRank;
     p.prefilterRadius = o.prefilterRadius;
@@ -785,55 +774,6 @@ TEST_F(NforMethod, SecondPassStagesMatchTheReference) {
     o.bandwidths = {0.5f, 1.f};
     o.pilotBandwidths = {1.f};
     ExpectStagesMatch(Ctx(), 17, 13, o);
-}
-
-// A frame with a light: its emitters averaged among themselves (stage lit before output),
-// at the defaults and with a wider window.
-TEST_F(NforMethod, EmitterStagesMatchTheReference) {
-    NforOptions o;
-    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}, std::pair{2, 9}})
-        ExpectStagesMatch(Ctx(), w, h, o, true);
-    o.emitterRadius = 5;
-    ExpectStagesMatch(Ctx(), 29, 23, o, true);
-}
-
-// A noisy light's pixels are averaged with the light's other pixels only: its noise falls,
-// its energy stays, and the pixels around it come out as with the emitters kept.
-TEST_F(NforMethod, AveragesEmittersAmongThemselves) {
-    int w = 27, h = 21;
-    Frame f = MakeFrame(w, h, 0.3, "light");
-    std::mt19937_64 rng(SeedFromName("light noise"));
-    std::normal_distribution<double> normal(0, 1);
-    double inSum = 0, inSquares = 0;
-    int count = 0;
-    for (int y = 6; y < 15; ++y)
-        for (int x = 9; x < 18; ++x, ++count)
-            for (int c = 0; c < 3; ++c) {
-                f.albedo.At(c, y, x) = 3;
-                f.color.At(c, y, x) = float(10 * (1 + 0.3 * normal(rng)));
-                inSum += f.color.At(c, y, x);
-                inSquares += std::pow(f.color.At(c, y, x) - 10.0, 2);
-            }
-    NforOptions kept;
-    kept.emitterRadius = 0;
-    NforResult a = NforDenoise(Ctx(), InputsOf(f), {}),
-               b = NforDenoise(Ctx(), InputsOf(f), kept);
-    EXPECT_EQ(a.emitters, size_t(count));
-    double outSum = 0, outSquares = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int c = 0; c < 3; ++c) {
-                bool light = y >= 6 && y < 15 && x >= 9 && x < 18;
-                if (!light) {
-                    ASSERT_EQ(a.image.At(c, y, x), b.image.At(c, y, x)) << x << ", " << y;
-                    continue;
-                }
-                outSum += a.image.At(c, y, x);
-                outSquares += std::pow(a.image.At(c, y, x) - 10.0, 2);
-            }
-    // A 5x5 average leaves about 1/25 of the noise's power inside, up to 1/9 at corners.
-    EXPECT_LT(outSquares, 0.2 * inSquares);
-    EXPECT_NEAR(outSum / inSum, 1.0, 0.01);
 }
 
 TEST_F(NforMethod, RerunsAreBitIdentical) {
