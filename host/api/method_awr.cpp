@@ -5,8 +5,12 @@
 #include <algorithm>
 
 #include "cpu_reference/awr_reconstruct.h"
+#include "cpu_reference/exact_pixels.h"
+#include "cpu_reference/highlights.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
+#include "host/common/exact_pixels.h"
+#include "host/common/highlights.h"
 #include "host/io/hints.h"
 #include "host/methods/awr.h"
 #include "host/wavelet.h"
@@ -20,7 +24,15 @@ struct AwrSettings {
     // auto prefers the variance layer: the paper's range bound, (max - min)^2 / spp,
     // over-smooths (README, Method awr).
     std::string variance = "auto";
+    // Highlights taken out before the reconstruction (host/common/highlights.h); 0: off.
+    float highlights = 16;
 };
+
+// The window radius of the highlights' medians.
+constexpr int kHighlightRadius = 3;
+
+// How far the energy moved into exact pixels goes back: the finest levels' reach.
+constexpr int kExactReach = 8;
 
 bool HasRange(const Frame &frame) {
     return frame.Has("min") && frame.Has("max") && frame.Has("spp");
@@ -55,7 +67,15 @@ class Awr : public FrontEndOf<AwrSettings> {
                       IntParam("awr-spins",
                                "cycle spinning over N x N shifts of the DWT's grid (1: the "
                                "paper's reconstruction; beyond the paper; cost x N^2)",
-                               &AwrParams::spins, 1, 8))}) {}
+                               &AwrParams::spins, 1, 8)),
+               FloatParam("awr-highlights",
+                          "a pixel over this times the median of its 7x7 window (channels "
+                          "summed), with 2 of its 8 neighbours so too and 2 of its standard "
+                          "deviations above that median, is a highlight: reconstructed at "
+                          "the median and given its input back after, so a light's energy "
+                          "does not ring into the dim pixels around it (beyond the paper; 0: "
+                          "off)",
+                          &AwrSettings::highlights, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
     std::string Summary() const override {
@@ -80,9 +100,31 @@ class Awr : public FrontEndOf<AwrSettings> {
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
         std::string why;
         Image variance = Variance(inputs, &why);
-        Result result = ResultOf(AwrReconstruct(context, inputs.Get("color"), variance,
+        const Image &color = inputs.Get("color");
+        HighlightSplit split = Split(color, variance);
+        Result result = ResultOf(AwrReconstruct(context, split.count ? split.base : color,
+                                                split.count ? split.baseVariance : variance,
                                                 options.method, SetupFor(inputs, run)));
         result.plan.insert(result.plan.begin(), why);
+        if (split.count) {
+            AddHighlights(color, split, &result.image);
+            result.plan.push_back(fmt::format(
+                "highlights: {} pixels over {} x their 7x7 median (with 2 of 8 neighbours, 2 "
+                "standard deviations above it) reconstructed at that median and given their "
+                "input back",
+                split.count, options.highlights));
+            if (run.keepStages && !result.stages.empty())
+                result.stages.push_back({"highlights", result.image});
+        }
+        size_t exact = KeepExactPixels(color, variance, &result.image, kExactReach);
+        result.plan.push_back(fmt::format(
+            "exact pixels: {} values with zero variance (every sample equal, not black) keep "
+            "their input; the energy moved into them goes back to the values within {} that "
+            "lost it",
+            exact, kExactReach));
+        // An idle run (the output is the input) has no stages to add to.
+        if (run.keepStages && !result.stages.empty())
+            result.stages.push_back({"exact pixels", result.image});
         return result;
     }
 
@@ -101,11 +143,13 @@ class Awr : public FrontEndOf<AwrSettings> {
             levels);
         // Analysis and synthesis at 2^l per level l, and the spins' shifts.
         int half = WaveletHalfSupport(options.method.basis);
-        needs.reach = 2 * half * ((1 << levels) - 1) + options.method.spins;
+        // The highlights read their neighbours' windows.
+        const int highlights = options.highlights > 0 ? kHighlightRadius + 1 : 0;
+        needs.reach = 2 * half * ((1 << levels) - 1) + options.method.spins + highlights;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
-            "{}, and the spins' shift",
-            WaveletName(options.method.basis), half, levels);
+            "{}, the spins' shift, and {} for the highlights' windows",
+            WaveletName(options.method.basis), half, levels, highlights);
         needs.align = 1 << levels;
         needs.bytesPerPixel = 4.0 * channels * 4;
         needs.bindingBytesPerPixel = 4.0 * channels;
@@ -122,13 +166,40 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string why;
         Image variance = Variance(inputs, &why);
         std::vector<std::pair<std::string, Image>> cpu;
-        ref::AwrReconstruct(inputs.Get("color"), variance, options.method, &cpu);
+        const Image &color = inputs.Get("color");
+        Image base, baseVariance;
+        std::vector<char> highlight;
+        if (Splits(color, variance))
+            highlight = ref::SplitHighlights(color, &variance, options.highlights,
+                                             kHighlightRadius, &base, &baseVariance);
+        bool any = std::find(highlight.begin(), highlight.end(), 1) != highlight.end();
+        Image out = ref::AwrReconstruct(any ? base : color, any ? baseVariance : variance,
+                                        options.method, &cpu);
+        if (any) {
+            ref::AddHighlights(color, base, highlight, &out);
+            if (!cpu.empty()) cpu.emplace_back("highlights", out);
+        }
+        ref::KeepExactPixels(color, variance, &out, kExactReach);
+        if (!cpu.empty()) cpu.emplace_back("exact pixels", std::move(out));
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;
     }
 
   private:
+    // Whether highlights are split: on, and inputs awr accepts (it refuses the others,
+    // naming them).
+    bool Splits(const Image &color, const Image &variance) const {
+        if (!(options.highlights > 0) || !color.SameShape(variance)) return false;
+        for (float v : variance.data)
+            if (!(std::isfinite(v) && v >= 0)) return false;
+        return true;
+    }
+    HighlightSplit Split(const Image &color, const Image &variance) const {
+        if (!Splits(color, variance)) return HighlightSplit();
+        return SplitHighlights(color, &variance, options.highlights, kHighlightRadius);
+    }
+
     static constexpr int kTileLevels = 5;
     int TileLevels(int width, int height) const {
         int levels =

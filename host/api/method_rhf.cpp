@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cpu_reference/exact_pixels.h"
 #include "cpu_reference/rhf.h"
 #include "host/api/front_end.h"
+#include "host/common/exact_pixels.h"
 #include "host/io/hints.h"
 #include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
@@ -50,7 +52,9 @@ class Rhf : public FrontEndOf<RhfParams> {
     std::string Summary() const override {
         return "Ray Histogram Fusion (needs the Bin_* histogram channels)";
     }
-    std::vector<std::string> Uses() const override { return {"color", "hist", "zhist"}; }
+    std::vector<std::string> Uses() const override {
+        return {"color", "hist", "zhist", "variance", "min", "max", "spp"};
+    }
     std::string Missing(const Frame &frame) const override {
         return frame.Has("hist")
                    ? ""
@@ -71,15 +75,29 @@ class Rhf : public FrontEndOf<RhfParams> {
         RunSetup setup = SetupFor(inputs, run);
         setup.scalesUsed = whole.scalesUsed;
         setup.histScales = whole.histScales;
-        return ResultOf(
-            RhfDenoise(context, inputs.Get("color"), Histograms(inputs), options, setup));
+        const Image &color = inputs.Get("color");
+        Result result =
+            ResultOf(RhfDenoise(context, color, Histograms(inputs), options, setup));
+        Image variance = ExactVariance(ExactLayersOf(inputs));
+        size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
+        result.plan.push_back(
+            variance.Empty()
+                ? std::string("exact pixels: none known (no variance layer nor min, max and "
+                              "spp)")
+                : fmt::format("exact pixels: {} values with zero variance (every sample "
+                              "equal, not black) keep their input; the energy moved into them "
+                              "goes back to the values within {} that lost it",
+                              exact, ExactReach()));
+        if (run.keepStages) result.stages.push_back({"exact pixels", result.image});
+        return result;
     }
 
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
         const RhfParams &o = options;
         int scales = RhfScalesUsed(inputs.Width(), inputs.Height(), o);
         TileNeeds needs;
-        needs.reach = RhfReach(o, scales);
+        // The exact pixels' energy returns within ExactReach, by weights read as far again.
+        needs.reach = RhfReach(o, scales) + 2 * ExactReach();
         needs.reachText = fmt::format(
             "the farthest over scales s < {} of (2 x patch half {} + search half {} + 2) x 2^s "
             "and the downsampler's 3-sigma taps, then bicubic U and D per recombination",
@@ -131,13 +149,36 @@ class Rhf : public FrontEndOf<RhfParams> {
 
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         std::vector<std::pair<std::string, Image>> named;
-        ref::Rhf(inputs.Get("color"), Histograms(inputs), options, &named);
+        Image out = ref::Rhf(inputs.Get("color"), Histograms(inputs), options, &named);
+        // The pipeline's clamp of the recombination's overshoot (the reference's output is
+        // raw).
+        if (!options.keepNegative)
+            for (float &v : out.data) v = v < 0 ? 0.f : v;
+        ref::KeepExactPixels(inputs.Get("color"), ExactVariance(ExactLayersOf(inputs)), &out,
+                             ExactReach());
+        named.emplace_back("exact pixels", std::move(out));
         std::vector<Stage> stages;
         for (auto &[name, image] : named) stages.push_back({name, std::move(image)});
         return stages;
     }
 
   private:
+    // How far rhf moves a value at the finest scale: a patch's pixels from the search
+    // window's far side.
+    int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
+
+    // The layers that tell which pixels are exact.
+    static ExactLayers ExactLayersOf(Inputs &inputs) {
+        ExactLayers layers;
+        if (inputs.Has("variance")) layers.variance = &inputs.Get("variance");
+        if (inputs.Has("min") && inputs.Has("max") && inputs.Has("spp")) {
+            layers.min = &inputs.Get("min");
+            layers.max = &inputs.Get("max");
+            layers.spp = &inputs.Get("spp");
+        }
+        return layers;
+    }
+
     // Set by ForTiles: the whole frame's scales and histogram rescales.
     struct {
         int scalesUsed = 0;

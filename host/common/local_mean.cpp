@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <functional>
+#include <thread>
 #include <vector>
 
 #include "host/error.h"
@@ -9,22 +12,61 @@
 namespace mcd {
 namespace {
 
-// Box means of radius r along rows or columns, clipped to the image. Each window summed
-// on its own, in order: a pixel's mean does not depend on where the image starts (a tile
-// gives the whole frame's values).
-void BoxPass(const float *in, float *out, int w, int h, int r, bool rows) {
-    int length = rows ? w : h, lines = rows ? h : w;
-    size_t along = rows ? 1 : size_t(w), across = rows ? size_t(w) : 1;
-    for (int line = 0; line < lines; ++line) {
-        const float *src = in + line * across;
-        float *dst = out + line * across;
-        for (int i = 0; i < length; ++i) {
-            int a = std::max(0, i - r), b = std::min(length - 1, i + r);
-            double sum = 0;
-            for (int j = a; j <= b; ++j) sum += src[j * along];
-            dst[i * along] = float(sum / (b - a + 1));
+// Rows [yBegin, yEnd) of the box means of radius r down the columns of a w x h plane,
+// clipped to the image. Each window summed on its own, in order: a pixel's mean does not
+// depend on where the image starts (a tile gives the whole frame's values). A whole row of
+// windows is summed at once, so the sums run side by side over contiguous memory.
+void ColumnBoxRows(const float *in, float *out, int w, int h, int r, int yBegin, int yEnd) {
+    std::vector<double> sum(static_cast<size_t>(w));
+    for (int y = yBegin; y < yEnd; ++y) {
+        int a = std::max(0, y - r), b = std::min(h - 1, y + r);
+        std::fill(sum.begin(), sum.end(), 0.0);
+        for (int j = a; j <= b; ++j) {
+            const float *row = in + size_t(j) * w;
+            for (int x = 0; x < w; ++x) sum[x] += row[x];
         }
+        float *dst = out + size_t(y) * w;
+        for (int x = 0; x < w; ++x) dst[x] = float(sum[x] / (b - a + 1));
     }
+}
+
+// Calls work(begin, end) over [0, n) split among the machine's cores when the work is
+// large enough to pay for the threads; the parts are disjoint, so the result is the same.
+void InParts(int n, size_t cost, const std::function<void(int, int)> &work) {
+    int parts = std::clamp(int(std::thread::hardware_concurrency()), 1, 8);
+    if (cost < (size_t(1) << 21)) parts = 1;
+    parts = std::min(parts, n);
+    std::vector<std::thread> threads;
+    for (int t = 1; t < parts; ++t)
+        threads.emplace_back(work, int(int64_t(n) * t / parts),
+                             int(int64_t(n) * (t + 1) / parts));
+    work(0, parts > 1 ? int(int64_t(n) / parts) : n);
+    for (std::thread &thread : threads) thread.join();
+}
+
+// Box means of radius r down the columns of a w x h plane.
+void ColumnBox(const float *in, float *out, int w, int h, int r) {
+    InParts(h, size_t(w) * h * size_t(2 * r + 1),
+            [&](int begin, int end) { ColumnBoxRows(in, out, w, h, r, begin, end); });
+}
+
+// The w x h plane `in` transposed into `out` (h x w).
+void Transpose(const float *in, float *out, int w, int h) {
+    constexpr int kBlock = 32;
+    for (int y0 = 0; y0 < h; y0 += kBlock)
+        for (int x0 = 0; x0 < w; x0 += kBlock)
+            for (int y = y0; y < std::min(h, y0 + kBlock); ++y)
+                for (int x = x0; x < std::min(w, x0 + kBlock); ++x)
+                    out[size_t(x) * h + y] = in[size_t(y) * w + x];
+}
+
+// Box means of radius r along the rows: down the columns of the transposed plane, the
+// same sums in the same order. `scratch` holds two planes.
+void RowBox(const float *in, float *out, int w, int h, int r, float *scratch) {
+    float *t = scratch, *u = scratch + size_t(w) * h;
+    Transpose(in, t, w, h);
+    ColumnBox(t, u, h, w, r);
+    Transpose(u, out, h, w);
 }
 
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
@@ -112,12 +154,14 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
 }  // namespace
 
 Image TentMean(const Image &image, int r) {
-    Image a(image.width, image.height, image.channels), b = a;
+    const int w = image.width, h = image.height;
+    Image a(w, h, image.channels), b = a;
+    std::vector<float> scratch(2 * image.PixelCount());
     for (int c = 0; c < image.channels; ++c) {
-        BoxPass(image.Plane(c), a.Plane(c), image.width, image.height, r, true);
-        BoxPass(a.Plane(c), b.Plane(c), image.width, image.height, r, false);
-        BoxPass(b.Plane(c), a.Plane(c), image.width, image.height, r, true);
-        BoxPass(a.Plane(c), b.Plane(c), image.width, image.height, r, false);
+        RowBox(image.Plane(c), a.Plane(c), w, h, r, scratch.data());
+        ColumnBox(a.Plane(c), b.Plane(c), w, h, r);
+        RowBox(b.Plane(c), a.Plane(c), w, h, r, scratch.data());
+        ColumnBox(a.Plane(c), b.Plane(c), w, h, r);
     }
     return b;
 }

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <mutex>
+#include <thread>
 
 #include "host/vk/check.h"
 #include "host/vk/kernel.h"
@@ -230,7 +231,18 @@ std::vector<DeviceInfo> ListDevices() {
     return infos;
 }
 
-Context::Context(const ContextOptions &options) {
+namespace {
+
+// The build threads: one per core, at most 8, unless the options say how many.
+int BuildThreads(int asked) {
+    if (asked > 0) return asked;
+    return std::clamp(int(std::thread::hardware_concurrency()), 1, 8);
+}
+
+}  // namespace
+
+Context::Context(const ContextOptions &options)
+    : builds(BuildThreads(options.pipelineThreads)) {
     InitVolk();
     if (options.validation && !HasLayer(kValidationLayer))
         throw Error(fmt::format("the Vulkan validation layer {} is not installed "

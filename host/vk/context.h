@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "host/vk/build_pool.h"
+
 namespace mcd::vk {
 
 class Kernel;
@@ -46,6 +48,9 @@ struct ContextOptions {
     // from another device or driver), written back atomically when it ends if pipelines
     // were built and the file was absent or a pipeline cache. Empty: no file.
     std::string pipelineCache;
+    // Threads that build pipelines while a run records (host/vk/build_pool.h): 0 one per
+    // core (at most 8), 1 each pipeline built when it is asked for.
+    int pipelineThreads = 0;
 };
 
 class Context {
@@ -86,8 +91,10 @@ class Context {
     // throws mcd::Error of kind Cancelled once it returns true. Empty: never.
     void SetCancel(std::function<bool()> poll) { cancel = std::move(poll); }
 
-    // A kernel is built once per SPIR-V blob and specialization, then reused.
+    // A kernel is built once per SPIR-V blob and specialization, then reused. Its pipeline
+    // builds on the build threads (Kernel::Pipeline waits for it).
     const Kernel &GetKernel(const KernelDesc &desc);
+    BuildPool &Builds() { return builds; }
     VkPipelineCache PipelineCache() const { return pipelineCache; }
     // Pipelines built so far and the seconds vkCreateComputePipelines took for them (what a
     // pipeline cache saves), and the bytes the cache file gave at the start (0: none).
@@ -98,8 +105,15 @@ class Context {
         // Each build: the kernel's name and its seconds, in build order.
         std::vector<std::pair<std::string, double>> each;
     };
-    const PipelineStats &Pipelines() const { return pipelineStats; }
+    // Waits for the builds under way. The seconds are each build's own, summed: with
+    // several build threads, more than the wall time they took.
+    const PipelineStats &Pipelines() {
+        builds.Wait();
+        return pipelineStats;
+    }
+    // Called from the build threads.
     void NotePipelineBuilt(const std::string &name, double seconds) {
+        std::lock_guard<std::mutex> lock(statsMutex);
         ++pipelineStats.built;
         pipelineStats.seconds += seconds;
         pipelineStats.each.emplace_back(name, seconds);
@@ -153,11 +167,15 @@ class Context {
     std::string pipelineCachePath;
     bool pipelineCacheWritable = false;
     PipelineStats pipelineStats;
+    std::mutex statsMutex;
     DeviceInfo info;
     VkPhysicalDeviceMemoryProperties memoryProperties{};
 
     std::mutex messageMutex;
     std::vector<std::string> validationMessages;
+    // Declared before the kernels: destroyed after them, so that a kernel's build finishes
+    // before the kernel goes.
+    BuildPool builds;
     std::map<std::string, std::unique_ptr<Kernel>> kernels;
     MemoryLedger ledger;
     std::function<bool()> cancel;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cstring>
 
 #include "host/vk/check.h"
 #include "host/vk/context.h"
@@ -53,45 +54,59 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
         pli.pushConstantRangeCount = pushBytes > 0 ? 1 : 0;
         pli.pPushConstantRanges = &range;
         MCD_VK(vkCreatePipelineLayout(device, &pli, nullptr, &layout));
-
-        VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-        mi.codeSize = desc.codeBytes;
-        mi.pCode = desc.code;
-        VkShaderModule module = VK_NULL_HANDLE;
-        MCD_VK(vkCreateShaderModule(device, &mi, nullptr, &module));
-
-        std::vector<VkSpecializationMapEntry> entries;
-        std::vector<int32_t> values;
-        for (auto [id, value] : desc.specialization) {
-            entries.push_back({id, uint32_t(values.size() * sizeof(int32_t)), sizeof(int32_t)});
-            values.push_back(value);
-        }
-        VkSpecializationInfo si{uint32_t(entries.size()), entries.data(),
-                                values.size() * sizeof(int32_t), values.data()};
-        VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-        ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-        ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        ci.stage.module = module;
-        ci.stage.pName = "main";
-        ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
-        ci.layout = layout;
-        auto start = std::chrono::steady_clock::now();
-        VkResult result = vkCreateComputePipelines(device, context.PipelineCache(), 1, &ci,
-                                                   nullptr, &pipeline);
-        context.NotePipelineBuilt(
-            name,
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-        vkDestroyShaderModule(device, module, nullptr);
-        if (result != VK_SUCCESS)
-            ThrowVkError(result, fmt::format("vkCreateComputePipelines({})", name).c_str(),
-                         __FILE__, __LINE__);
     } catch (...) {
         Release();
         throw;
     }
+    // The SPIR-V copied: the build may outlive the caller's blob.
+    std::vector<uint32_t> code((desc.codeBytes + 3) / 4);
+    if (desc.codeBytes > 0) std::memcpy(code.data(), desc.code, desc.codeBytes);
+    built = context.Builds().Run(
+        [this, code = std::move(code)]() mutable { Build(std::move(code)); });
+}
+
+void Kernel::Build(std::vector<uint32_t> code) {
+    VkDevice device = context.Device();
+    VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    mi.codeSize = code.size() * sizeof(uint32_t);
+    mi.pCode = code.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    MCD_VK(vkCreateShaderModule(device, &mi, nullptr, &module));
+    std::vector<VkSpecializationMapEntry> entries;
+    std::vector<int32_t> values;
+    for (auto [id, value] : specialization) {
+        entries.push_back({id, uint32_t(values.size() * sizeof(int32_t)), sizeof(int32_t)});
+        values.push_back(value);
+    }
+    VkSpecializationInfo si{uint32_t(entries.size()), entries.data(),
+                            values.size() * sizeof(int32_t), values.data()};
+    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    ci.stage.module = module;
+    ci.stage.pName = "main";
+    ci.stage.pSpecializationInfo = entries.empty() ? nullptr : &si;
+    ci.layout = layout;
+    auto start = std::chrono::steady_clock::now();
+    VkResult result =
+        vkCreateComputePipelines(device, context.PipelineCache(), 1, &ci, nullptr, &pipeline);
+    context.NotePipelineBuilt(
+        name, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    vkDestroyShaderModule(device, module, nullptr);
+    if (result != VK_SUCCESS) {
+        pipeline = VK_NULL_HANDLE;
+        ThrowVkError(result, fmt::format("vkCreateComputePipelines({})", name).c_str(),
+                     __FILE__, __LINE__);
+    }
+}
+
+VkPipeline Kernel::Pipeline() const {
+    built.get();
+    return pipeline;
 }
 
 Kernel::~Kernel() {
+    if (built.valid()) built.wait();
     Release();
 }
 

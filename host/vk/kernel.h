@@ -1,12 +1,15 @@
 // A compute kernel: pipeline built from embedded SPIR-V with specialization constants,
 // a descriptor layout of N buffers (bindings 0..N-1: storage buffers, or read-only float
-// texel buffers where the desc says so) and a push-constant block.
+// texel buffers where the desc says so) and a push-constant block. The layouts are made at
+// once; the pipeline on the context's build threads (Context::Builds), waited for by
+// Pipeline().
 #pragma once
 
 #include <volk.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <future>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,7 +43,8 @@ class Kernel {
     Kernel &operator=(const Kernel &) = delete;
 
     const std::string &Name() const { return name; }
-    VkPipeline Pipeline() const { return pipeline; }
+    // Waits for the build; throws its error if it failed.
+    VkPipeline Pipeline() const;
     VkPipelineLayout Layout() const { return layout; }
     VkDescriptorSetLayout SetLayout() const { return setLayout; }
     uint32_t BindingCount() const { return bindingCount; }
@@ -52,6 +56,7 @@ class Kernel {
     }
 
   private:
+    void Build(std::vector<uint32_t> code);
     void Release();
 
     Context &context;
@@ -61,6 +66,7 @@ class Kernel {
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;
+    std::shared_future<void> built;
 };
 
 }  // namespace mcd::vk

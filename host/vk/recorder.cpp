@@ -29,22 +29,15 @@ Recorder::~Recorder() {
 
 void Recorder::Begin() {
     if (recording) return;
-    if (!commandBuffer) commandBuffer = context.AllocateCommandBuffer();
-    MCD_VK(vkResetCommandBuffer(commandBuffer, 0));
-    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    MCD_VK(vkBeginCommandBuffer(commandBuffer, &bi));
-    if (context.Info().timestamps) {
-        if (!queryPool) {
-            VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-            qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
-            qi.queryCount = 2 * kMaxTimedDispatches;
-            MCD_VK(vkCreateQueryPool(context.Device(), &qi, nullptr, &queryPool));
-            queryCapacity = kMaxTimedDispatches;
-        }
-        vkCmdResetQueryPool(commandBuffer, queryPool, 0, 2 * queryCapacity);
+    if (context.Info().timestamps && !queryPool) {
+        VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        qi.queryCount = 2 * kMaxTimedDispatches;
+        MCD_VK(vkCreateQueryPool(context.Device(), &qi, nullptr, &queryPool));
+        queryCapacity = kMaxTimedDispatches;
     }
     recording = true;
+    commands.clear();
     recorded.clear();
     pushes.clear();
     barriers = 0;
@@ -60,13 +53,15 @@ void Recorder::BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Acces
         if (access != Access::Read && readSinceBarrier.count(handle)) hazard = true;  // WAR
     }
     if (!hazard) return;
-    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    VkPipelineStageFlags stages =
-        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    vkCmdPipelineBarrier(commandBuffer, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    commands.push_back([](VkCommandBuffer cb) {
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                                VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        VkPipelineStageFlags stages =
+            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+        vkCmdPipelineBarrier(cb, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    });
     ++barriers;
     writtenSinceBarrier.clear();
     readSinceBarrier.clear();
@@ -181,8 +176,8 @@ VkDescriptorSet Recorder::AllocateSet(const Kernel &kernel) {
     return set;
 }
 
-void Recorder::BindResources(const Kernel &kernel, const std::vector<Binding> &bindings,
-                             const void *push) {
+std::function<void(VkCommandBuffer)> Recorder::BindResources(
+    const Kernel &kernel, const std::vector<Binding> &bindings, const void *push) {
     std::vector<VkDescriptorBufferInfo> infos(bindings.size());
     std::vector<VkWriteDescriptorSet> writes(bindings.size());
     std::vector<VkBufferView> views(bindings.size(), VK_NULL_HANDLE);
@@ -194,28 +189,47 @@ void Recorder::BindResources(const Kernel &kernel, const std::vector<Binding> &b
             views[i] = kernel.IsVec4(bindings[i].slot) ? bindings[i].buffer->Vec4View()
                                                        : bindings[i].buffer->FloatView();
             writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-            writes[i].pTexelBufferView = &views[i];
         } else {
             infos[i] = {bindings[i].buffer->Handle(), 0, VK_WHOLE_SIZE};
             writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            writes[i].pBufferInfo = &infos[i];
         }
     }
-    vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.Pipeline());
-    if (context.Info().pushDescriptors) {
-        vkCmdPushDescriptorSetKHR(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE,
-                                  kernel.Layout(), 0, uint32_t(writes.size()), writes.data());
-    } else {
-        VkDescriptorSet set = AllocateSet(kernel);
+    // The writes point into infos and views where they are used (the vectors move).
+    auto point = [](std::vector<VkWriteDescriptorSet> &writes,
+                    std::vector<VkDescriptorBufferInfo> &infos,
+                    std::vector<VkBufferView> &views) {
+        for (size_t i = 0; i < writes.size(); ++i) {
+            bool texel = writes[i].descriptorType == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+            writes[i].pTexelBufferView = texel ? &views[i] : nullptr;
+            writes[i].pBufferInfo = texel ? nullptr : &infos[i];
+        }
+    };
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    if (!context.Info().pushDescriptors) {
+        set = AllocateSet(kernel);
+        point(writes, infos, views);
         for (VkWriteDescriptorSet &w : writes) w.dstSet = set;
         vkUpdateDescriptorSets(context.Device(), uint32_t(writes.size()), writes.data(), 0,
                                nullptr);
-        vkCmdBindDescriptorSets(commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.Layout(),
-                                0, 1, &set, 0, nullptr);
     }
-    if (kernel.PushBytes() > 0)
-        vkCmdPushConstants(commandBuffer, kernel.Layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                           kernel.PushBytes(), push);
+    const uint8_t *pushed = static_cast<const uint8_t *>(push);
+    std::vector<uint8_t> constants(pushed, pushed + kernel.PushBytes());
+    return [bind = &kernel, set, point, writes = std::move(writes), infos = std::move(infos),
+            views = std::move(views),
+            constants = std::move(constants)](VkCommandBuffer cb) mutable {
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, bind->Pipeline());
+        if (set == VK_NULL_HANDLE) {
+            point(writes, infos, views);
+            vkCmdPushDescriptorSetKHR(cb, VK_PIPELINE_BIND_POINT_COMPUTE, bind->Layout(), 0,
+                                      uint32_t(writes.size()), writes.data());
+        } else {
+            vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, bind->Layout(), 0, 1,
+                                    &set, 0, nullptr);
+        }
+        if (!constants.empty())
+            vkCmdPushConstants(cb, bind->Layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                               uint32_t(constants.size()), constants.data());
+    };
 }
 
 void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
@@ -231,17 +245,19 @@ void Recorder::DispatchBytes(const Kernel &kernel, const std::string &label,
     std::vector<std::pair<const Buffer *, Access>> uses;
     for (const Binding &b : bindings) uses.push_back({b.buffer, b.access});
     BarrierIfNeeded(uses);
-    BindResources(kernel, bindings, push);
-
     uint32_t slot = uint32_t(recorded.size());
     bool timed = queryPool && slot < queryCapacity;
-    if (timed)
-        vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool,
-                            2 * slot);
-    vkCmdDispatch(commandBuffer, groupsX, groupsY, groupsZ);
-    if (timed)
-        vkCmdWriteTimestamp(commandBuffer, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool,
-                            2 * slot + 1);
+    commands.push_back([bind = BindResources(kernel, bindings, push), timed, slot,
+                        queryPool = queryPool, groupsX, groupsY,
+                        groupsZ](VkCommandBuffer cb) mutable {
+        bind(cb);
+        if (timed)
+            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queryPool, 2 * slot);
+        vkCmdDispatch(cb, groupsX, groupsY, groupsZ);
+        if (timed)
+            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool,
+                                2 * slot + 1);
+    });
     // The traffic of the buffers bound, each whole, and what KeepDispatches keeps.
     DispatchTiming record{label, -1, kernel.Name(), 0, 0, {groupsX, groupsY, groupsZ}};
     for (const Binding &b : bindings) {
@@ -264,7 +280,9 @@ void Recorder::Copy(const Buffer &src, const Buffer &dst, VkDeviceSize bytes,
     if (bytes == 0) return;
     BarrierIfNeeded({{&src, Access::Read}, {&dst, Access::Write}});
     VkBufferCopy region{srcOffset, dstOffset, bytes};
-    vkCmdCopyBuffer(commandBuffer, src.Handle(), dst.Handle(), 1, &region);
+    commands.push_back([region, from = src.Handle(), to = dst.Handle()](VkCommandBuffer cb) {
+        vkCmdCopyBuffer(cb, from, to, 1, &region);
+    });
     Touch(&src, Access::Read);
     Touch(&dst, Access::Write);
 }
@@ -272,8 +290,17 @@ void Recorder::Copy(const Buffer &src, const Buffer &dst, VkDeviceSize bytes,
 void Recorder::Submit() {
     timings.clear();
     if (!recording) return;
-    MCD_VK(vkEndCommandBuffer(commandBuffer));
     recording = false;
+    if (!commandBuffer) commandBuffer = context.AllocateCommandBuffer();
+    MCD_VK(vkResetCommandBuffer(commandBuffer, 0));
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    MCD_VK(vkBeginCommandBuffer(commandBuffer, &bi));
+    if (queryPool) vkCmdResetQueryPool(commandBuffer, queryPool, 0, 2 * queryCapacity);
+    // Binding a pipeline waits for its build.
+    for (const auto &command : commands) command(commandBuffer);
+    commands.clear();
+    MCD_VK(vkEndCommandBuffer(commandBuffer));
     context.SubmitAndWait(commandBuffer);
     uint32_t timed = queryPool ? uint32_t(std::min<size_t>(recorded.size(), queryCapacity)) : 0;
     std::vector<uint64_t> stamps(2 * size_t(timed));

@@ -1,12 +1,15 @@
 // The command recorder: batches dispatches and copies into one command buffer, inserts a
 // barrier only where a dispatch touches a buffer an earlier unbarriered one wrote (or
-// writes one it read), and brackets each labelled dispatch with GPU timestamps.
+// writes one it read), and brackets each labelled dispatch with GPU timestamps. The
+// commands are kept and written into the command buffer at Submit, once the pipelines they
+// bind have built (on the build threads, side by side, while the run recorded).
 #pragma once
 
 #include <volk.h>
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -78,16 +81,20 @@ class Recorder {
                        const std::vector<Binding> &bindings, const void *push,
                        uint32_t pushBytes, uint32_t groupsX, uint32_t groupsY,
                        uint32_t groupsZ);
-    // Bind the kernel's pipeline, its buffers (a push descriptor set, or a set from the
-    // recorder's pools) and its push constants.
-    void BindResources(const Kernel &kernel, const std::vector<Binding> &bindings,
-                       const void *push);
+    // The command that binds the kernel's pipeline (waiting for its build), its buffers (a
+    // push descriptor set, or a set from the recorder's pools, written now) and its push
+    // constants.
+    std::function<void(VkCommandBuffer)> BindResources(const Kernel &kernel,
+                                                       const std::vector<Binding> &bindings,
+                                                       const void *push);
     VkDescriptorSet AllocateSet(const Kernel &kernel);
     void Begin();
     void Touch(const Buffer *buffer, Access access);
     void BarrierIfNeeded(const std::vector<std::pair<const Buffer *, Access>> &uses);
 
     Context &context;
+    // The commands since Begin, written into commandBuffer at Submit.
+    std::vector<std::function<void(VkCommandBuffer)>> commands;
     VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
     VkQueryPool queryPool = VK_NULL_HANDLE;
     uint32_t queryCapacity = 0;

@@ -887,8 +887,9 @@ Method WithoutLocalMeans(Method method) {
 // it to 9 and so does the guide, and that pixel's estimate, of the order of v / 0.01 (v /
 // d = 1.1e4), swamped every window around it (auto x4 the best method on the frame). Around
 // that pixel (a crop of the 128x128 frame; the reference at 128 spp), the floor keeps auto
-// within 5% of the best method, and without it auto is worse by half again (measured: best
-// 0.127, auto 0.109, without the floor 2.04).
+// within 5% of the best method. Since awr and rhf give the energy they spread over the exact
+// emitter back to the point (host/common/exact_pixels.h), no candidate darkens it and the
+// floor no longer changes this crop: it must not make it worse.
 TEST_F(AutoMethod, NoiseCapKeepsOneNoisyPixelFromSwampingItsWindow) {
     render::RenderOptions options;
     options.width = 128, options.height = 128, options.spp = 4;
@@ -913,7 +914,7 @@ TEST_F(AutoMethod, NoiseCapKeepsOneNoisyPixelFromSwampingItsWindow) {
     fmt::print("best method {:.4g}, auto {:.4g}, without the cap {:.4g}\n", best, capped,
                uncapped);
     EXPECT_LE(capped, 1.05 * best);
-    EXPECT_GT(uncapped, 1.5 * capped);
+    EXPECT_LE(capped, uncapped * (1 + 1e-6));
 }
 
 // The half-buffers' estimate (render --layers halves); a frame with no statistics (no

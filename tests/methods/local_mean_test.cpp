@@ -87,6 +87,38 @@ INSTANTIATE_TEST_SUITE_P(Cases, LocalMeanMatches,
                                            LocalMeanCase{64, 48, 3, 8},
                                            LocalMeanCase{5, 40, 4, 16}));
 
+// The tent means against windows summed one by one, in order, in double (the definition
+// the restore keeps, so a tile gives the whole frame's values): the same bits, on odd sizes,
+// windows wider than the image, and planes large enough to be split among threads.
+TEST(LocalMeanTent, SameBitsAsWindowsSummedOneByOne) {
+    auto box = [](const Image &in, int r, bool rows) {
+        Image out(in.width, in.height, in.channels);
+        int length = rows ? in.width : in.height;
+        for (int c = 0; c < in.channels; ++c)
+            for (int y = 0; y < in.height; ++y)
+                for (int x = 0; x < in.width; ++x) {
+                    int i = rows ? x : y;
+                    int a = std::max(0, i - r), b = std::min(length - 1, i + r);
+                    double sum = 0;
+                    for (int j = a; j <= b; ++j) sum += rows ? in.At(c, y, j) : in.At(c, j, x);
+                    out.At(c, y, x) = float(sum / (b - a + 1));
+                }
+        return out;
+    };
+    for (LocalMeanCase c : {LocalMeanCase{1, 1, 1, 1}, LocalMeanCase{7, 5, 3, 4},
+                            LocalMeanCase{37, 3, 2, 2}, LocalMeanCase{301, 203, 3, 20}}) {
+        Image input, unused;
+        MakeImages(c, &input, &unused);
+        for (float &v : input.data)
+            if (!std::isfinite(v)) v = 3;
+        Image expected =
+            box(box(box(box(input, c.r, true), c.r, false), c.r, true), c.r, false);
+        Image got = TentMean(input, c.r);
+        ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
+            << c.w << "x" << c.h << " r" << c.r;
+    }
+}
+
 // An output darkened by a constant factor gets the input back (to the shrinkage's share
 // of it); a window whose input is all zero within reach leaves the output as it is; a value
 // the method left (a light) stays and weighs in no mean.

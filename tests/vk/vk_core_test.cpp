@@ -4,12 +4,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iterator>
 #include <optional>
 #include <random>
@@ -26,6 +28,7 @@
 #include "host/kernels/wavelet_analyze.h"
 #include "host/kernels/wavelet_synthesize.h"
 #include "host/vk/buffer.h"
+#include "host/vk/build_pool.h"
 #include "host/vk/check.h"
 #include "host/vk/context.h"
 #include "host/vk/gpu_image.h"
@@ -873,6 +876,70 @@ TEST_F(VkLedger, CountsAllocationsAndReleases) {
     ctx.ResetLedger();
     EXPECT_TRUE(ctx.Ledger().allocations.empty());
     EXPECT_EQ(ctx.Ledger().peak, before);
+}
+
+// Pipelines built on the build threads (ContextOptions::pipelineThreads) while the recorder
+// goes on, and bound when it submits: the same kernels, counts and bits as building each
+// one when it is asked for. Two analyses of each basis in one submission ask for 12
+// variants (bases x axes x parts).
+TEST(VkBuildThreads, SameKernelsAndBitsAsBuildingEachWhenAsked) {
+    const int w = 300, h = 70, channels = 3;
+    Image in(w, h, channels);
+    std::mt19937 rng(SeedFromName("build threads"));
+    std::uniform_real_distribution<float> unit(-1, 1);
+    for (float &v : in.data) v = unit(rng);
+    auto run = [&](int threads, std::vector<std::string> *keys, int *built) {
+        vk::Context context(vk::ContextOptions{.pipelineThreads = threads});
+        vk::GpuImage src(context, w, h, channels, "src");
+        src.Upload(in);
+        vk::Recorder recorder(context);
+        std::vector<std::unique_ptr<vk::GpuImage>> images;
+        std::vector<Image> out;
+        for (WaveletBasis basis :
+             {WaveletBasis::Haar, WaveletBasis::Cdf97, WaveletBasis::LeGall53}) {
+            images.push_back(std::make_unique<vk::GpuImage>(context, w, h, channels, "tmp"));
+            vk::GpuImage &tmp = *images.back();
+            images.push_back(std::make_unique<vk::GpuImage>(context, w, h, channels, "dst"));
+            RecordWaveletAnalyze(context, recorder, basis, w, h, channels, src.View(),
+                                 tmp.MutableView(), images.back()->MutableView(), "analyze");
+        }
+        recorder.Submit();
+        for (size_t i = 1; i < images.size(); i += 2) out.push_back(images[i]->Download());
+        *keys = context.KernelKeys();
+        *built = context.Pipelines().built;
+        return out;
+    };
+    std::vector<std::string> keysOne, keysMany;
+    int builtOne = 0, builtMany = 0;
+    std::vector<Image> one = run(1, &keysOne, &builtOne), many = run(4, &keysMany, &builtMany);
+    EXPECT_GE(builtOne, 6);
+    EXPECT_EQ(builtOne, int(keysOne.size()));
+    EXPECT_EQ(builtMany, builtOne);
+    ASSERT_EQ(keysOne.size(), keysMany.size());
+    for (size_t i = 0; i < keysOne.size(); ++i)  // keys name the code by its address
+        EXPECT_EQ(keysOne[i], keysMany[i]);
+    ASSERT_EQ(one.size(), many.size());
+    for (size_t i = 0; i < one.size(); ++i)
+        EXPECT_EQ(0, std::memcmp(one[i].data.data(), many[i].data.data(),
+                                 one[i].data.size() * sizeof(float)))
+            << i;
+}
+
+// The build threads' pool: every task runs, Wait returns once all have finished, and a
+// task's exception reaches whoever waits on its future.
+TEST(VkBuildThreads, PoolRunsEveryTaskAndPassesErrorsOn) {
+    for (int threads : {1, 3}) {
+        vk::BuildPool pool(threads);
+        std::atomic<int> done{0};
+        std::vector<std::shared_future<void>> futures;
+        for (int i = 0; i < 20; ++i) futures.push_back(pool.Run([&] { ++done; }));
+        std::shared_future<void> failing =
+            pool.Run([] { throw Error("build failed", ErrorKind::Device); });
+        pool.Wait();
+        EXPECT_EQ(done.load(), 20) << threads;
+        for (auto &f : futures) EXPECT_NO_THROW(f.get());
+        EXPECT_TRUE(ThrowsError(ErrorKind::Device, [&] { failing.get(); })) << threads;
+    }
 }
 
 // The pipeline cache file (ContextOptions::pipelineCache): written when pipelines were

@@ -1,0 +1,80 @@
+#include "cpu_reference/highlights.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mcd::ref {
+namespace {
+
+double UpperMedian(const Image &image, int c, int x, int y, int r) {
+    std::vector<double> values;
+    for (int v = y - r; v <= y + r; ++v)
+        for (int u = x - r; u <= x + r; ++u)
+            if (u >= 0 && v >= 0 && u < image.width && v < image.height)
+                values.push_back(image.At(c, v, u));
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+}
+
+}  // namespace
+
+std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
+                                  Image *base, Image *baseVariance) {
+    const int w = color.width, h = color.height;
+    *base = color;
+    if (variance) *baseVariance = *variance;
+    std::vector<char> highlight(size_t(w) * h, 0);
+    for (float v : color.data)
+        if (!std::isfinite(v)) return highlight;
+    Image sum(w, h, 1);
+    double total = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float s = 0;
+            for (int c = 0; c < color.channels; ++c) s += color.At(c, y, x);
+            sum.At(0, y, x) = s;
+            total += s;
+        }
+    const double floor = 1e-3 * total / (double(w) * h);
+    auto over = [&](int x, int y) {
+        double s = sum.At(0, y, x);
+        if (!(s > k * std::max(UpperMedian(sum, 0, x, y, r), floor))) return false;
+        if (!variance) return true;
+        double excess = 0, v = 0;
+        for (int c = 0; c < color.channels; ++c) {
+            excess += color.At(c, y, x) - UpperMedian(color, c, x, y, r);
+            v += variance->At(c, y, x);
+        }
+        return excess > 0 && excess * excess > 4 * v;
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!over(x, y)) continue;
+            int neighbours = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int u = x + dx, v = y + dy;
+                    if ((dx || dy) && u >= 0 && v >= 0 && u < w && v < h && over(u, v))
+                        ++neighbours;
+                }
+            if (neighbours < 2) continue;
+            highlight[size_t(y) * w + x] = 1;
+            for (int c = 0; c < color.channels; ++c) {
+                base->At(c, y, x) = float(UpperMedian(color, c, x, y, r));
+                if (variance)
+                    baseVariance->At(c, y, x) = float(UpperMedian(*variance, c, x, y, r));
+            }
+        }
+    return highlight;
+}
+
+void AddHighlights(const Image &color, const Image &base, const std::vector<char> &highlight,
+                   Image *output) {
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x)
+                if (highlight[size_t(y) * color.width + x])
+                    output->At(c, y, x) += color.At(c, y, x) - base.At(c, y, x);
+}
+
+}  // namespace mcd::ref

@@ -1,0 +1,25 @@
+// Highlights taken out of a frame before a filter (host/common/highlights.h), the CPU
+// reference: every window sorted in full.
+#pragma once
+
+#include <vector>
+
+#include "host/image.h"
+
+namespace mcd::ref {
+
+// s(p) = the sum of p's channels. Without NaN/Inf in `color`, p is a highlight where s(p) >
+// k max(upper median of s over the window of radius r clipped to the image, 1e-3 x the mean
+// of s) holds at p and at least 2 of its 8 neighbours, and with `variance`, where also e(p) =
+// the sum over channels of (color - its channel's upper median over the window) is > 0 and
+// e^2 > 4 x the sum of p's variances. `base` (and `baseVariance`, when
+// `variance` is given) are the inputs with each channel at a highlight replaced by its
+// window's upper median. Returns the highlight mask.
+std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
+                                  Image *base, Image *baseVariance);
+
+// output += color - base at the highlights, in float.
+void AddHighlights(const Image &color, const Image &base, const std::vector<char> &highlight,
+                   Image *output);
+
+}  // namespace mcd::ref

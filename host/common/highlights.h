@@ -1,0 +1,36 @@
+// Highlights taken out of a frame before a filter and added back after (beyond the papers). A
+// small light or a light's rim is far brighter than the frame around it and has a large
+// variance; a wavelet filter shrinks every detail around it by that variance, so its energy
+// spreads into the dim pixels nearby (rings and blotches around lights), where each unit
+// costs far more relative error than it saves at the light. A pixel whose input (its channels
+// summed) is over k times the median of the same sums over the window of radius r around it
+// (and over a floor of 1e-3 of the frame's mean sum), with at least 2 of its 8 neighbours so
+// too (a lone firefly is noise the filter should spread), and, given a variance, 2 standard
+// deviations above its window's median (a firefly, one sample's deviation about its mean, is
+// not), is a highlight: the filter reads, at
+// that pixel, each channel's median over the window (and the variance's), and the difference
+// is added back after, so the highlight keeps its input and the frame its energy.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "host/image.h"
+
+namespace mcd {
+
+struct HighlightSplit {
+    Image base;                   // the input, highlights replaced by their windows' medians
+    Image baseVariance;           // the same for the variance (empty without one)
+    std::vector<char> highlight;  // per pixel
+    size_t count = 0;
+};
+
+// The split of `color` (and `variance`, the input's size or null) at ratio k over windows of
+// radius r. A frame with NaN/Inf values has no highlights (the filter refuses it or says so).
+HighlightSplit SplitHighlights(const Image &color, const Image *variance, double k, int r);
+
+// `output` plus (color - base) at the highlights.
+void AddHighlights(const Image &color, const HighlightSplit &split, Image *output);
+
+}  // namespace mcd
