@@ -66,6 +66,14 @@ void RequireConfidence(const Image &color, const Image &variance, int r,
 
 }  // namespace
 
+int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y) {
+    int count = 0;
+    for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+            count += (u != x || v != y) && marked[size_t(v) * w + u];
+    return count;
+}
+
 HighlightSplit SplitHighlights(const Image &color, const Image *variance, double k, int r) {
     if (variance && !variance->SameShape(color))
         throw Error("SplitHighlights: the variance must have the color's shape",
@@ -87,10 +95,7 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
         for (int x = 0; x < w; ++x) {
             size_t p = size_t(y) * w + x;
             if (!over[p]) continue;
-            int neighbours = 0;
-            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
-                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
-                    neighbours += (u != x || v != y) && over[size_t(v) * w + u];
+            int neighbours = MarkedNeighbours(over, w, h, x, y);
             if (neighbours < 2) continue;
             split.highlight[p] = 1;
             ++split.count;

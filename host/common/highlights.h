@@ -33,4 +33,8 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
 // `output` plus (color - base) at the highlights.
 void AddHighlights(const Image &color, const HighlightSplit &split, Image *output);
 
+// How many of (x, y)'s 8 neighbours inside the w x h frame are marked: a highlight is a
+// cluster, a lone marked pixel a firefly.
+int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y);
+
 }  // namespace mcd

@@ -7,6 +7,7 @@
 #include <thread>
 #include <vector>
 
+#include "host/common/highlights.h"
 #include "host/error.h"
 
 namespace mcd {
@@ -138,10 +139,7 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
         for (int x = 0; x < w; ++x) {
             size_t p = size_t(y) * w + x;
             if (!over[p]) continue;
-            int neighbours = 0;
-            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
-                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
-                    neighbours += (u != x || v != y) && over[size_t(v) * w + u];
+            int neighbours = MarkedNeighbours(over, w, h, x, y);
             if (!variance && neighbours < kHighlightNeighbours) continue;
             for (int c = 0; c < input.channels; ++c) {
                 size_t i = c * n + p;
