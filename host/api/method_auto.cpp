@@ -41,8 +41,9 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "weights, no estimate)",
                     &O::combine, {"relative", "weights", "select", "mean"}),
         ChoiceParam("auto-noise",
-                    "the error estimate: auto (variance when the frame has a variance "
-                    "layer, else halves, else frame), halves (each candidate also runs on "
+                    "the error estimate: auto (halves when the frame has half-buffers, "
+                    "else variance when it has a variance layer, else frame), halves (each "
+                    "candidate also runs on "
                     "half0 and is compared with half1; Rousselle et al. 2013), variance (SURE "
                     "from the variance layer, with a second run on a perturbed color) or "
                     "frame (SURE from a variance estimated from the frame itself, which the "
@@ -107,7 +108,37 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "over 3%) or combine (combine the candidates by SURE on the frame's own "
                     "noise estimate); --auto-noise other than auto or --auto-combine mean "
                     "combine too",
-                    &O::plain, {"nfor", "combine"})};
+                    &O::plain, {"nfor", "combine"}),
+        ChoiceParam("auto-candidates",
+                    "the candidates auto may run, by their --explain labels, comma-separated "
+                    "(\"nfor,rhf,pivot k0\"), or all; the others are left out",
+                    &O::candidates, {})};
+}
+
+// The labels of --auto-candidates; empty for all.
+std::vector<std::string> CandidateLabels(const std::string &list) {
+    std::vector<std::string> labels;
+    if (list == "all") return labels;
+    size_t begin = 0;
+    while (begin <= list.size()) {
+        size_t end = std::min(list.find(',', begin), list.size());
+        std::string label = list.substr(begin, end - begin);
+        label.erase(0, label.find_first_not_of(' '));
+        label.erase(label.find_last_not_of(' ') + 1);
+        bool known = false;
+        for (const RegisteredVariant &v : AutoVariants()) known |= v.variant->label == label;
+        if (!known) {
+            std::string all;
+            for (const RegisteredVariant &v : AutoVariants())
+                all += (all.empty() ? "" : ", ") + v.variant->label;
+            throw Error(fmt::format("--auto-candidates: no candidate '{}' (all, or of: {})",
+                                    label, all),
+                        ErrorKind::InvalidArgument);
+        }
+        labels.push_back(label);
+        begin = end + 1;
+    }
+    return labels;
 }
 
 const ParamDef<AutoFrontEnd::Options> *OwnDef(const std::string &param) {
@@ -275,11 +306,13 @@ Noise ChooseNoise(vk::Context &context, Inputs &inputs, const Image &color,
         return noise;
     }
     noise.scored = true;
-    bool halves = inputs.Has("half0.color") && inputs.Has("half1.color");
-    // Measured (README): SURE beat the halves on 3 of 4 frames with both (not on
-    // relief-abc), so auto takes the halves only where there is no variance layer.
-    bool variance = o.noise != "halves" && o.noise != "frame" && inputs.Has("variance");
-    if (halves && !variance && o.noise != "variance" && o.noise != "frame") {
+    // The halves first where the frame has them (an accumulated frame: docs/methods/
+    // auto.md): its variance layer, of few samples, is itself noisy and heavy-tailed.
+    bool halves = (o.noise == "auto" || o.noise == "halves") && inputs.Has("half0.color") &&
+                  inputs.Has("half1.color");
+    bool variance =
+        !halves && (o.noise == "auto" || o.noise == "variance") && inputs.Has("variance");
+    if (halves) {
         noise.halves = true;
         HalvesNoise(inputs, color, noise);
         return noise;
@@ -366,6 +399,22 @@ bool Repeats(const FrontEnd &method, const RegisteredVariant &v, Inputs &inputs,
     return false;
 }
 
+// Why the variant stays out with this error estimate (AutoVariant::halves), or "".
+std::string OutByEstimate(const RegisteredVariant &v, const Noise &noise) {
+    using Halves = AutoVariant::Halves;
+    if (v.variant->halves == Halves::Only && !noise.halves)
+        return fmt::format(
+            "weighed by the half-buffers' estimate only, and the error "
+            "estimate is {}",
+            !noise.scored ? "none"
+            : noise.own   ? "the frame's own (without statistics nfor runs alone)"
+                          : "SURE on the variance layer");
+    if (v.variant->halves == Halves::Never && noise.halves)
+        return "the error estimate is the half-buffers', and beside nfor there it did not earn "
+               "its time";
+    return "";
+}
+
 // Run one candidate on the frame and, with an estimate, its probe: on the perturbed color
 // (SURE), on half0 (the half-buffers), or for bayes's split output on the perturbed
 // indirect part. The layers replaced for the probe are put back however it ends.
@@ -429,6 +478,7 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
     // Why none ran, if none does: the first failure's kind, else the layers each lacked.
     std::optional<ErrorKind> failure;
     std::vector<RegisteredVariant> variants = AutoVariants();
+    const std::vector<std::string> allowed = CandidateLabels(o.candidates);
     // Each variant has a slot in the kernels.
     if (variants.size() > size_t(kAutoMaxCandidates))
         throw std::logic_error("auto: more variants in the registry than kernel slots");
@@ -439,7 +489,16 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
             if (m->Name() == v.method->name) base = m.get();
         bool runsSplit = false;
         std::unique_ptr<FrontEnd> method = Configure(*base, v, noise, &runsSplit);
+        if (!allowed.empty() &&
+            std::find(allowed.begin(), allowed.end(), label) == allowed.end()) {
+            plan->push_back(fmt::format("auto: left out {}: not in --auto-candidates", label));
+            continue;
+        }
         if (Repeats(*method, v, inputs, out)) continue;
+        if (std::string why = OutByEstimate(v, noise); !why.empty()) {
+            plan->push_back(fmt::format("auto: left out {}: {}", label, why));
+            continue;
+        }
         // With the frame's own estimate the variants run: without pivot k0, auto was x1.29
         // the best method on interior 16 spp with the ordinary passes only (pivot k0 is that
         // best method, 7x better than pivot); with it, at worst x1.06 over 10 such frames
@@ -607,7 +666,11 @@ std::string AutoFrontEnd::Summary() const {
 }
 
 void AutoFrontEnd::Set(const std::string &param, const ParamValue &value) {
-    if (const auto *def = OwnDef(param)) return def->set(options, value);
+    if (const auto *def = OwnDef(param)) {
+        // A label that names no candidate is refused here, not at the run.
+        if (param == "auto-candidates") CandidateLabels(std::get<std::string>(value));
+        return def->set(options, value);
+    }
     for (auto &m : methods)
         for (const ParamInfo &info : m->Params())
             if (info.name == param) return m->Set(param, value);

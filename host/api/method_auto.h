@@ -79,6 +79,8 @@ class AutoFrontEnd : public FrontEnd {
         // combination (docs/methods/auto.md: nfor alone beat the combination on the real
         // Cycles frames).
         std::string plain = "nfor";
+        // The candidates' labels, comma-separated, or all.
+        std::string candidates = "all";
     };
 
   private:

@@ -23,37 +23,60 @@ std::vector<MethodEntry> Build() {
     // parameters. The pivot variants without the guides ("no ids": --guides none) filter
     // the pixels next to another object or part id, which pivot keeps as they are: on
     // Blender Cycles frames, whose walls and objects each have an id, those pixels carried
-    // 83% of pivot's error on the 256x256 cornell box, and with these two variants auto
-    // went from 5.16e-3 to 4.39e-3 there (accumulated 16 x 1 spp) and from 3.36e-3 to
-    // 1.87e-3 (plain 16 spp; README). "bayes no split" runs where bayes runs split.
+    // most of pivot's error (README). "bayes no split" runs where bayes runs split.
+    // Where the half-buffers weigh the candidates (an accumulated frame), nfor runs, and
+    // the variants that did not earn their time beside it there do not (Halves::Never);
+    // docs/methods/auto.md has the measurements.
+    using Halves = AutoVariant::Halves;
     const ParamValue none = std::string("none");
     return {
-        {"awr", AwrFrontEnd, 0, {{"awr", {}, 4, {0.8f, 0.1f, 0.9f}, "magenta"}}},
+        {"awr",
+         AwrFrontEnd,
+         0,
+         {{"awr", {}, 5, {0.8f, 0.1f, 0.9f}, "magenta", {}, Halves::Never}}},
         {"bayes",
          BayesFrontEnd,
          2,
-         {{"bayes", {}, 3, {1.f, 0.8f, 0.05f}, "yellow"},
-          {"bayes no split", {{"no-split", true}}, 8, {0.5f, 0.25f, 0.1f}, "brown"}}},
-        // nfor is not among the candidates auto combines (docs/methods/nfor.md): auto runs
-        // it alone on frames without statistics (AutoFrontEnd::PickWithoutStatistics).
-        {"nfor", NforFrontEnd, -1, {}},
+         {{"bayes", {}, 4, {1.f, 0.8f, 0.05f}, "yellow", {}, Halves::Never},
+          {"bayes no split",
+           {{"no-split", true}},
+           9,
+           {0.5f, 0.25f, 0.1f},
+           "brown",
+           {},
+           Halves::Never}}},
+        // nfor with its noise from the frame itself: the variance layer of a few accumulated
+        // samples is noisy and heavy-tailed. Weighed by SURE it cost quality on our own
+        // scenes, so it runs where the halves weigh it. Without statistics auto runs it
+        // alone (PickWithoutStatistics).
+        {"nfor",
+         NforFrontEnd,
+         -1,
+         {{"nfor",
+           {{"nfor-noise", std::string("estimate")}},
+           0,
+           {0.6f, 0.2f, 1.f},
+           "purple",
+           {},
+           Halves::Only}}},
         {"pivot",
          PivotFrontEnd,
          3,
-         {{"pivot", {}, 1, {0.1f, 0.7f, 0.1f}, "green"},
-          {"pivot k0", {{"robust-k", 0.f}}, 2, {0.1f, 0.3f, 1.f}, "blue"},
-          {"pivot no ids", {{"guides", none}}, 6, {1.f, 0.5f, 0.f}, "orange", kGuideLayers},
+         {{"pivot", {}, 2, {0.1f, 0.7f, 0.1f}, "green"},
+          {"pivot k0", {{"robust-k", 0.f}}, 3, {0.1f, 0.3f, 1.f}, "blue", {}, Halves::Never},
+          {"pivot no ids", {{"guides", none}}, 7, {1.f, 0.5f, 0.f}, "orange", kGuideLayers},
           {"pivot k0 no ids",
            {{"robust-k", 0.f}, {"guides", none}},
-           7,
+           8,
            {0.5f, 0.5f, 0.5f},
            "grey",
-           kGuideLayers}}},
+           kGuideLayers,
+           Halves::Never}}},
         {"rhf",
          RhfFrontEnd,
          1,
-         {{"rhf", {}, 0, {0.9f, 0.1f, 0.1f}, "red"},
-          {"rhf 2 scales", {{"nscales", 2}}, 5, {0.1f, 0.9f, 0.9f}, "cyan"}}},
+         {{"rhf", {}, 1, {0.9f, 0.1f, 0.1f}, "red"},
+          {"rhf 2 scales", {{"nscales", 2}}, 6, {0.1f, 0.9f, 0.9f}, "cyan"}}},
     };
 }
 

@@ -24,6 +24,11 @@ struct AutoVariant {
     // Layers without which the variant filters as its method's own parameters do (none of
     // them on the frame: the variant is left out). Empty: it always differs.
     std::vector<std::string> differsWith;
+    // Where it runs, by auto's error estimate: always, only where it is the half-buffers'
+    // (SURE misjudged the variant), or only where it is not (beside the candidates that
+    // run there it did not earn its time). docs/methods/auto.md has the measurements.
+    enum class Halves { Any, Only, Never };
+    Halves halves = Halves::Any;
 };
 
 struct MethodEntry {

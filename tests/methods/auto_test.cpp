@@ -774,9 +774,11 @@ TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     int ran = 0;
     for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
     // Every variant of the registry (bayes both split, scored with the direct and indirect
-    // variances, and not).
-    EXPECT_EQ(ran, int(api::AutoVariants().size()))
-        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    // variances, and not) but those weighed by the half-buffers only (the frame has none).
+    int variants = 0;
+    for (const api::RegisteredVariant &v : api::AutoVariants())
+        variants += v.variant->halves != api::AutoVariant::Halves::Only;
+    EXPECT_EQ(ran, variants) << fmt::format("{}", fmt::join(result.plan, "\n"));
     double best = BestSingleMethod(device, frame, reference);
     EXPECT_LE(CompareImages(result.image, reference).relMse, 1.05 * best);
     // A budget of 0 runs the first candidate only, and says what it left out.
@@ -956,10 +958,14 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant"));
     // The methods auto runs that the frame allows (awr from min, max and spp, bayes and
-    // pivot): their plain mean, to the float sums' rounding.
+    // pivot; not nfor, weighed by the half-buffers only): their plain mean, to the float
+    // sums' rounding.
+    EXPECT_TRUE(PlanHas(result, "left out nfor: weighed by the half-buffers' estimate only"));
     std::vector<Image> outputs;
     for (const api::MethodEntry &m : api::Registry())
-        if (!m.variants.empty() && Method(m.name).Missing(frame).empty())
+        if (!m.variants.empty() &&
+            m.variants.front().halves != api::AutoVariant::Halves::Only &&
+            Method(m.name).Missing(frame).empty())
             outputs.push_back(WithoutLocalMeans(Method(m.name)).Run(device, frame).image);
     ASSERT_EQ(outputs.size(), 3u);
     for (size_t i = 0; i < result.image.data.size(); ++i) {
@@ -986,6 +992,53 @@ TEST_F(AutoMethod, FrameWithoutStatisticsRunsNforAlone) {
     Result withVariance = Method("auto").Run(device, frame);
     EXPECT_FALSE(PlanHas(withVariance, "auto: nfor alone"));
     EXPECT_GT(withVariance.candidates.size(), 1u);
+}
+
+// A frame with half-buffers (as `accumulate` writes) runs nfor among the candidates,
+// weighed by the halves' estimate, which auto takes before the variance layer there, and
+// --explain says so; with a variance layer alone (SURE) or without statistics (--auto-plain
+// combine) nfor stays out, and the plan says why. --auto-candidates runs the candidates it
+// names only and refuses a label that names none.
+TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
+    auto [frame, reference] = RenderWithReference(
+        "cornell", 40, 32, 8, render::kLayersAll | render::kLayersHalves, 8);
+    ASSERT_TRUE(frame.Has("variance") && frame.Has("half0.color"));
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    Result result = automatic.Run(device, frame);
+    std::string plan = fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(result.method, "auto");
+    EXPECT_TRUE(PlanHas(result, "from the half-buffers")) << plan;
+    EXPECT_TRUE(PlanHas(result, "auto: ran nfor (twice, on the frame and on half0, ")) << plan;
+    EXPECT_NE(std::find(result.candidates.begin(), result.candidates.end(), "nfor"),
+              result.candidates.end());
+    automatic.Set("auto-candidates", std::string("nfor, rhf"));
+    result = automatic.Run(device, frame);
+    EXPECT_EQ(result.candidates, (std::vector<std::string>{"nfor", "rhf"}));
+    EXPECT_TRUE(PlanHas(result, "auto: left out pivot: not in --auto-candidates"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument,
+        [&] { automatic.Set("auto-candidates", std::string("nfor,pivot k9")); },
+        "no candidate 'pivot k9'"));
+    // SURE on the variance layer: nfor stays out.
+    frame.layers.erase("half0.color");
+    frame.layers.erase("half1.color");
+    result = Method("auto").Run(device, frame);
+    EXPECT_TRUE(PlanHas(result,
+                        "left out nfor: weighed by the half-buffers' estimate only, "
+                        "and the error estimate is SURE on the variance layer"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    // Without statistics (the frame's own noise estimate) nfor runs alone or not at all.
+    for (const char *layer : {"variance", "min", "max", "spp"}) frame.layers.erase(layer);
+    Method combine("auto");
+    combine.Set("auto-plain", std::string("combine"));
+    result = combine.Run(device, frame);
+    EXPECT_TRUE(PlanHas(result,
+                        "left out nfor: weighed by the half-buffers' estimate only, "
+                        "and the error estimate is the frame's own"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(std::find(result.candidates.begin(), result.candidates.end(), "nfor"),
+              result.candidates.end());
 }
 
 // A heavy-tailed frame without statistics: nfor's firefly clamp takes much of its light, so

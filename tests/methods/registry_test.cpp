@@ -49,9 +49,10 @@ TEST(MethodRegistry, AutoVariantsAreWellFormed) {
     EXPECT_EQ(orders.size(), variants.size()) << "one run order each";
     for (size_t i = 1; i < variants.size(); ++i)
         EXPECT_LT(variants[i - 1].variant->order, variants[i].variant->order);
-    // Each method's own parameters run before its variants.
+    // Each method's own parameters run before its variants (nfor runs with one setting only,
+    // its noise from the frame).
     for (const api::MethodEntry &entry : api::Registry())
-        EXPECT_TRUE(entry.variants.empty() || entry.variants.front().overrides.empty())
+        EXPECT_TRUE(entry.variants.size() < 2 || entry.variants.front().overrides.empty())
             << entry.name;
 }
 
@@ -60,9 +61,22 @@ TEST(MethodRegistry, AutoRunOrderAndPickOrder) {
     std::vector<std::string> labels;
     for (const api::RegisteredVariant &v : api::AutoVariants())
         labels.push_back(v.variant->label);
-    EXPECT_EQ(labels, (std::vector<std::string>{"rhf", "pivot", "pivot k0", "bayes", "awr",
-                                                "rhf 2 scales", "pivot no ids",
+    EXPECT_EQ(labels, (std::vector<std::string>{"nfor", "rhf", "pivot", "pivot k0", "bayes",
+                                                "awr", "rhf 2 scales", "pivot no ids",
                                                 "pivot k0 no ids", "bayes no split"}));
+    // Where the half-buffers weigh them (an accumulated frame): nfor and four others; the
+    // rest where the estimate is SURE or the frame's own (nfor: not at all).
+    std::vector<std::string> withHalves, withoutHalves;
+    for (const api::RegisteredVariant &v : api::AutoVariants()) {
+        if (v.variant->halves != api::AutoVariant::Halves::Never)
+            withHalves.push_back(v.variant->label);
+        if (v.variant->halves != api::AutoVariant::Halves::Only)
+            withoutHalves.push_back(v.variant->label);
+    }
+    EXPECT_EQ(withHalves, (std::vector<std::string>{"nfor", "rhf", "pivot", "rhf 2 scales",
+                                                    "pivot no ids"}));
+    EXPECT_EQ(withoutHalves.size(), labels.size() - 1);
+    EXPECT_EQ(withoutHalves.front(), "rhf");
     std::vector<std::string> picks;
     for (const api::MethodEntry *m : api::PickOrder()) picks.push_back(m->name);
     EXPECT_EQ(picks, (std::vector<std::string>{"awr", "rhf", "bayes", "pivot"}));
