@@ -18,6 +18,8 @@ struct PivotSettings {
     PivotParams method;
     std::string guides = "auto", noise = "auto", layer = "auto";
     bool noPartials = false;
+    // The output bound to k standard deviations of the input's noise (BoundToNoise); 0: off.
+    float bound = 3;
     // Set by ForTiles: the whole frame's thresholds (of the pivot, of each partial's).
     std::vector<float> thresholds;
     std::vector<std::vector<float>> partialThresholds;
@@ -97,7 +99,14 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "filter color as one image even when the frame has section 8's "
                    "partial<k>.color/.pivot and remainder layers (by default each partial "
                    "is filtered against its own pivot and the remainder added)",
-                   &PivotSettings::noPartials)}) {}
+                   &PivotSettings::noPartials),
+               FloatParam("pivot-bound",
+                          "with a variance layer, each value ends at most this many standard "
+                          "deviations of its noise (the larger of the pixel's and its 3x3 "
+                          "window's mean) from its input, before the local means are "
+                          "restored: fits that overshoot an edge or go negative cannot move a "
+                          "pixel farther than its noise allows (beyond the paper; 0: off)",
+                          &PivotSettings::bound, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
     std::string Summary() const override {
@@ -123,6 +132,14 @@ class Pivot : public FrontEndOf<PivotSettings> {
         PivotInputs in = InputsOf(inputs);
         Result result =
             ResultOf(PivotDenoise(context, in, options.method, SetupFor(inputs, run)));
+        if (options.bound > 0 && in.variance) {
+            size_t moved = BoundToNoise(*in.color, *in.variance, options.bound, &result.image);
+            result.plan.push_back(fmt::format(
+                "bound: {} values moved to within {} standard deviations of their input's "
+                "noise (the variance layer: the pixel's or its 3x3 mean, the larger)",
+                moved, options.bound));
+            if (run.keepStages) result.stages.push_back({"bound", result.image});
+        }
         if (int r = options.method.meanRadius; r > 0) {
             LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image, in.variance);
             result.plan.push_back(
@@ -160,8 +177,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
         }
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius) : 0;
-        needs.reach += mean;
-        needs.reachText += fmt::format("; the local mean's coarse and fine tents {}", mean);
+        const int bound = options.bound > 0 ? 1 : 0;
+        needs.reach += mean + bound;
+        needs.reachText += fmt::format(
+            "; the local mean's coarse and fine tents {}; {} for the bound's 3x3 variance",
+            mean, bound);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
@@ -203,6 +223,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
         cpuIn.remainder = in.remainder;
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
+        if (options.bound > 0 && in.variance) {
+            ref::BoundToNoise(*in.color, *in.variance, options.bound, &out);
+            cpu.emplace_back("bound", out);
+        }
         if (int r = options.method.meanRadius; r > 0) {
             ref::RestoreLocalMeans(*in.color, r, &out, in.variance);
             cpu.emplace_back("local mean", std::move(out));

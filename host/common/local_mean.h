@@ -48,4 +48,14 @@ struct LocalMeanFactors {
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
                                    const Image *variance = nullptr);
 
+// Each value of `output` moved at most k standard deviations of the pixel's noise from
+// the input (beyond the papers): a method's fits that overshoot an edge, smear a light or a
+// specular line the guide does not show, or go negative, cannot leave a pixel farther from
+// its input than its own noise allows. The variance is the larger of the pixel's and the mean
+// over its 3x3 window clipped to the image (one dark sample set at 4 spp has variance 0
+// beside fireflies). Values whose input or variance is not finite, or whose variance is
+// negative, are left. `variance`: of the pixel mean, 1 or the input's channels. Returns
+// how many values moved.
+size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
+
 }  // namespace mcd
