@@ -133,8 +133,7 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
         for (int x = 0; x < input.width; ++x)
             for (int c = 0; c < input.channels; ++c) {
                 int vc = variance.channels == 1 ? 0 : c;
-                double windowSum = 0;
-                int n = 0;
+                std::vector<double> window;
                 bool usable = true;
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dx = -1; dx <= 1; ++dx) {
@@ -143,12 +142,16 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                             continue;
                         double v = variance.At(vc, yy, xx);
                         if (!std::isfinite(v) || v < 0) usable = false;
-                        windowSum += v;
-                        ++n;
+                        window.push_back(v);
                     }
+                // The window's mean without its largest value.
+                std::sort(window.begin(), window.end());
+                double rest = 0;
+                for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
+                rest = window.size() > 1 ? rest / double(window.size() - 1) : 0;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
                 if (!usable || !std::isfinite(in) || !std::isfinite(out)) continue;
-                double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), windowSum / n));
+                double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
                 if (out < in - k * sd) {
                     output->At(c, y, x) = float(in - k * sd);
                     ++clamped;

@@ -223,8 +223,9 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const size_t p = size_t(y) * w + x;
-                // The larger of the pixel's variance and its window's mean.
-                double sum = 0;
+                // The larger of the pixel's variance and its window's mean without the
+                // window's largest value (one firefly beside the pixel).
+                double sum = 0, largest = 0;
                 int count = 0;
                 bool finite = true;
                 for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
@@ -232,11 +233,13 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                         float vi = v[size_t(j) * w + i];
                         finite = finite && std::isfinite(vi) && vi >= 0;
                         sum += vi;
+                        largest = std::max(largest, double(vi));
                         ++count;
                     }
                 const double o = out[p];
                 if (!finite || !std::isfinite(in[p]) || !std::isfinite(o)) continue;
-                const double spread = k * std::sqrt(std::max(double(v[p]), sum / count));
+                const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
+                const double spread = k * std::sqrt(std::max(double(v[p]), rest));
                 const double lo = in[p] - spread, hi = in[p] + spread;
                 if (o < lo || o > hi) {
                     out[p] = float(std::clamp(o, lo, hi));
