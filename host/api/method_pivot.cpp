@@ -2,11 +2,13 @@
 // bilateral baseline, with the frame's guides and section 8's partial images when present.
 #include <fmt/format.h>
 
+#include "cpu_reference/auto_combine.h"
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/pivot_filter.h"
 #include "host/api/front_end.h"
 #include "host/common/local_mean.h"
 #include "host/io/hints.h"
+#include "host/methods/auto.h"
 #include "host/methods/pivot.h"
 #include "pivot/gather.h"
 
@@ -101,11 +103,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "is filtered against its own pivot and the remainder added)",
                    &PivotSettings::noPartials),
                FloatParam("pivot-bound",
-                          "with a variance layer, each value ends at most this many standard "
-                          "deviations of its noise (the larger of the pixel's and its 3x3 "
-                          "window's mean) from its input, before the local means are "
-                          "restored: fits that overshoot an edge or go negative cannot move a "
-                          "pixel farther than its noise allows (beyond the paper; 0: off)",
+                          "each value ends at most this many standard deviations of its "
+                          "noise (the variance layer, else estimated from the frame; the "
+                          "larger of the pixel's and its 3x3 window's mean without the "
+                          "largest) from its input, before the local means are restored: fits "
+                          "that overshoot an edge or go negative cannot move a pixel farther "
+                          "than its noise allows (beyond the paper; 0: off)",
                           &PivotSettings::bound, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
@@ -132,12 +135,19 @@ class Pivot : public FrontEndOf<PivotSettings> {
         PivotInputs in = InputsOf(inputs);
         Result result =
             ResultOf(PivotDenoise(context, in, options.method, SetupFor(inputs, run)));
-        if (options.bound > 0 && in.variance) {
-            size_t moved = BoundToNoise(*in.color, *in.variance, options.bound, &result.image);
+        if (options.bound > 0) {
+            // Without a variance layer, the frame's own noise estimate (auto's).
+            Image estimated;
+            if (!in.variance) estimated = AutoNoise(context, *in.color, in.pivot, 1).image;
+            const Image &variance = in.variance ? *in.variance : estimated;
+            size_t moved = BoundToNoise(*in.color, variance, options.bound, &result.image);
             result.plan.push_back(fmt::format(
                 "bound: {} values moved to within {} standard deviations of their input's "
-                "noise (the variance layer: the pixel's or its 3x3 mean, the larger)",
-                moved, options.bound));
+                "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
+                "larger)",
+                moved, options.bound,
+                in.variance ? "the variance layer"
+                            : "estimated from the frame divided by the pivot"));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
         if (int r = options.method.meanRadius; r > 0) {
@@ -177,10 +187,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
         }
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius) : 0;
-        const int bound = options.bound > 0 ? 1 : 0;
+        // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean.
+        const int bound = options.bound > 0 ? 3 : 0;
         needs.reach += mean + bound;
         needs.reachText += fmt::format(
-            "; the local mean's coarse and fine tents {}; {} for the bound's 3x3 variance",
+            "; the local mean's coarse and fine tents {}; {} for the bound's noise",
             mean, bound);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
@@ -223,8 +234,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
         cpuIn.remainder = in.remainder;
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
-        if (options.bound > 0 && in.variance) {
-            ref::BoundToNoise(*in.color, *in.variance, options.bound, &out);
+        if (options.bound > 0) {
+            Image estimated;
+            if (!in.variance) estimated = ref::AutoNoise(*in.color, in.pivot, 1);
+            ref::BoundToNoise(*in.color, in.variance ? *in.variance : estimated, options.bound,
+                              &out);
             cpu.emplace_back("bound", out);
         }
         if (int r = options.method.meanRadius; r > 0) {

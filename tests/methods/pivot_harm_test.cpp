@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "harness/gpu_fixture.h"
@@ -91,6 +92,30 @@ TEST_F(PivotHarm, AnEdgeAtLowNoiseMovesNoFurtherThanItsNoise) {
     fmt::print("input {:.4g}, pivot {:.4g}, without the bound {:.4g}\n", RelMse(color, truth),
                bounded, free);
     EXPECT_LT(bounded, free / 5);
+}
+
+// A straight edge on a plain frame (no variance layer): the bound reads the frame's own
+// noise estimate, whose smallest second difference runs along the edge (at a jog of the edge
+// every direction crosses it and the estimate is high there).
+TEST_F(PivotHarm, AnEdgeOnAPlainFrameIsBoundByItsEstimatedNoise) {
+    const int w = 48, h = 40;
+    Image truth(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) truth.At(c, y, x) = x < 24 ? 1.f : 0.1f;
+    Frame frame = NoisyFrame(truth, 0.02, false, "pivot harm plain edge");
+    Device device = api::BorrowDevice(Ctx());
+    Method pivot("pivot");
+    Result bounded = pivot.Run(device, frame);
+    bool planned = false;
+    for (const std::string &line : bounded.plan)
+        planned |= line.find("estimated from the frame") != std::string::npos;
+    EXPECT_TRUE(planned);
+    pivot.Set("pivot-bound", 0.f);
+    double free = RelMse(pivot.Run(device, frame).image, truth);
+    fmt::print("input {:.4g}, pivot {:.4g}, without the bound {:.4g}\n",
+               RelMse(frame.layers["color"], truth), RelMse(bounded.image, truth), free);
+    EXPECT_LT(RelMse(bounded.image, truth), free / 2);
 }
 
 }  // namespace
