@@ -150,7 +150,9 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                 for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
                 rest = window.size() > 1 ? rest / double(window.size() - 1) : 0;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
-                if (!usable || !std::isfinite(in) || !std::isfinite(out)) continue;
+                if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
+                    !std::isfinite(out))
+                    continue;
                 double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
                 if (out < in - k * sd) {
                     output->At(c, y, x) = float(in - k * sd);

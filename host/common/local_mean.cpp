@@ -237,7 +237,10 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                         ++count;
                     }
                 const double o = out[p];
-                if (!finite || !std::isfinite(in[p]) || !std::isfinite(o)) continue;
+                // A variance of 0 (every sample equal: at a few samples per pixel, mostly
+                // all of them missing the light) says nothing of the noise.
+                if (!finite || !(v[p] > 0) || !std::isfinite(in[p]) || !std::isfinite(o))
+                    continue;
                 const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
                 const double spread = k * std::sqrt(std::max(double(v[p]), rest));
                 const double lo = in[p] - spread, hi = in[p] + spread;
