@@ -127,4 +127,42 @@ void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *va
     Scale(input, kept, r, output);
 }
 
+size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
+    size_t clamped = 0;
+    for (int y = 0; y < input.height; ++y)
+        for (int x = 0; x < input.width; ++x)
+            for (int c = 0; c < input.channels; ++c) {
+                int vc = variance.channels == 1 ? 0 : c;
+                std::vector<double> window;
+                bool usable = true;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        int yy = y + dy, xx = x + dx;
+                        if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width)
+                            continue;
+                        double v = variance.At(vc, yy, xx);
+                        if (!std::isfinite(v) || v < 0) usable = false;
+                        window.push_back(v);
+                    }
+                // The window's mean without its largest value.
+                std::sort(window.begin(), window.end());
+                double rest = 0;
+                for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
+                rest = window.size() > 1 ? rest / double(window.size() - 1) : 0;
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
+                    !std::isfinite(out))
+                    continue;
+                double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
+                if (out < in - k * sd) {
+                    output->At(c, y, x) = float(in - k * sd);
+                    ++clamped;
+                } else if (out > in + k * sd) {
+                    output->At(c, y, x) = float(in + k * sd);
+                    ++clamped;
+                }
+            }
+    return clamped;
+}
+
 }  // namespace mcd::ref

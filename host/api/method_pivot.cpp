@@ -2,11 +2,13 @@
 // bilateral baseline, with the frame's guides and section 8's partial images when present.
 #include <fmt/format.h>
 
+#include "cpu_reference/auto_combine.h"
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/pivot_filter.h"
 #include "host/api/front_end.h"
 #include "host/common/local_mean.h"
 #include "host/io/hints.h"
+#include "host/methods/auto.h"
 #include "host/methods/pivot.h"
 #include "pivot/gather.h"
 
@@ -18,6 +20,8 @@ struct PivotSettings {
     PivotParams method;
     std::string guides = "auto", noise = "auto", layer = "auto";
     bool noPartials = false;
+    // The output bound to k standard deviations of the input's noise (BoundToNoise); 0: off.
+    float bound = 3;
     // Set by ForTiles: the whole frame's thresholds (of the pivot, of each partial's).
     std::vector<float> thresholds;
     std::vector<std::vector<float>> partialThresholds;
@@ -97,7 +101,15 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "filter color as one image even when the frame has section 8's "
                    "partial<k>.color/.pivot and remainder layers (by default each partial "
                    "is filtered against its own pivot and the remainder added)",
-                   &PivotSettings::noPartials)}) {}
+                   &PivotSettings::noPartials),
+               FloatParam("pivot-bound",
+                          "each value ends at most this many standard deviations of its "
+                          "noise (the variance layer, else estimated from the frame; the "
+                          "larger of the pixel's and its 3x3 window's mean without the "
+                          "largest) from its input, before the local means are restored: fits "
+                          "that overshoot an edge or go negative cannot move a pixel farther "
+                          "than its noise allows (beyond the paper; 0: off)",
+                          &PivotSettings::bound, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
     std::string Summary() const override {
@@ -123,6 +135,21 @@ class Pivot : public FrontEndOf<PivotSettings> {
         PivotInputs in = InputsOf(inputs);
         Result result =
             ResultOf(PivotDenoise(context, in, options.method, SetupFor(inputs, run)));
+        if (options.bound > 0) {
+            // Without a variance layer, the frame's own noise estimate (auto's).
+            Image estimated;
+            if (!in.variance) estimated = AutoNoise(context, *in.color, in.pivot, 1).image;
+            const Image &variance = in.variance ? *in.variance : estimated;
+            size_t moved = BoundToNoise(*in.color, variance, options.bound, &result.image);
+            result.plan.push_back(fmt::format(
+                "bound: {} values moved to within {} standard deviations of their input's "
+                "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
+                "larger)",
+                moved, options.bound,
+                in.variance ? "the variance layer"
+                            : "estimated from the frame divided by the pivot"));
+            if (run.keepStages) result.stages.push_back({"bound", result.image});
+        }
         if (int r = options.method.meanRadius; r > 0) {
             LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image, in.variance);
             result.plan.push_back(
@@ -160,8 +187,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
         }
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius) : 0;
-        needs.reach += mean;
-        needs.reachText += fmt::format("; the local mean's coarse and fine tents {}", mean);
+        // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean.
+        const int bound = options.bound > 0 ? 3 : 0;
+        needs.reach += mean + bound;
+        needs.reachText += fmt::format(
+            "; the local mean's coarse and fine tents {}; {} for the bound's noise",
+            mean, bound);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
@@ -203,6 +234,13 @@ class Pivot : public FrontEndOf<PivotSettings> {
         cpuIn.remainder = in.remainder;
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
+        if (options.bound > 0) {
+            Image estimated;
+            if (!in.variance) estimated = ref::AutoNoise(*in.color, in.pivot, 1);
+            ref::BoundToNoise(*in.color, in.variance ? *in.variance : estimated, options.bound,
+                              &out);
+            cpu.emplace_back("bound", out);
+        }
         if (int r = options.method.meanRadius; r > 0) {
             ref::RestoreLocalMeans(*in.color, r, &out, in.variance);
             cpu.emplace_back("local mean", std::move(out));

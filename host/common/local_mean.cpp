@@ -206,4 +206,51 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
     return range;
 }
 
+size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
+    if (!input.SameShape(*output) || variance.width != input.width ||
+        variance.height != input.height ||
+        (variance.channels != 1 && variance.channels != input.channels) || !(k > 0))
+        throw Error(
+            "BoundToNoise: the output must have the input's shape, the variance its "
+            "size, k > 0",
+            ErrorKind::Internal);
+    const int w = input.width, h = input.height;
+    size_t moved = 0;
+    for (int c = 0; c < input.channels; ++c) {
+        const float *v = variance.Plane(variance.channels == 1 ? 0 : c);
+        const float *in = input.Plane(c);
+        float *out = output->Plane(c);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                // The larger of the pixel's variance and its window's mean without the
+                // window's largest value (one firefly beside the pixel).
+                double sum = 0, largest = 0;
+                int count = 0;
+                bool finite = true;
+                for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                    for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                        float vi = v[size_t(j) * w + i];
+                        finite = finite && std::isfinite(vi) && vi >= 0;
+                        sum += vi;
+                        largest = std::max(largest, double(vi));
+                        ++count;
+                    }
+                const double o = out[p];
+                // A variance of 0 (every sample equal: at a few samples per pixel, mostly
+                // all of them missing the light) says nothing of the noise.
+                if (!finite || !(v[p] > 0) || !std::isfinite(in[p]) || !std::isfinite(o))
+                    continue;
+                const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
+                const double spread = k * std::sqrt(std::max(double(v[p]), rest));
+                const double lo = in[p] - spread, hi = in[p] + spread;
+                if (o < lo || o > hi) {
+                    out[p] = float(std::clamp(o, lo, hi));
+                    ++moved;
+                }
+            }
+    }
+    return moved;
+}
+
 }  // namespace mcd

@@ -891,7 +891,8 @@ Method WithoutLocalMeans(Method method) {
 // that pixel (a crop of the 128x128 frame; the reference at 128 spp), the floor keeps auto
 // within 5% of the best method. Since awr and rhf give the energy they spread over the exact
 // emitter back to the point (host/common/exact_pixels.h), no candidate darkens it and the
-// floor no longer changes this crop: it must not make it worse.
+// floor no longer changes this crop: it must not make it worse. A case where the floor
+// helps: AutoNoiseCap (auto_cap_test.cpp).
 TEST_F(AutoMethod, NoiseCapKeepsOneNoisyPixelFromSwampingItsWindow) {
     render::RenderOptions options;
     options.width = 128, options.height = 128, options.spp = 4;

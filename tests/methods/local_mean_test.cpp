@@ -81,6 +81,35 @@ TEST_P(LocalMeanMatches, ReferenceWithVariance) {
     }
 }
 
+// The noise bound against its reference: variances of one channel and of the input's,
+// with NaN, Inf and negative values among them and among the inputs; the same bits (both
+// clamp in double and round once), and the same when repeated.
+TEST_P(LocalMeanMatches, BoundToNoiseMatchesReference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    std::mt19937_64 rng(SeedFromName("local mean bound"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int channels : {1, GetParam().channels}) {
+        Image variance(input.width, input.height, channels);
+        for (float &v : variance.data) {
+            float u = unit(rng);
+            v = u < 0.02f   ? std::numeric_limits<float>::quiet_NaN()
+                : u < 0.03f ? std::numeric_limits<float>::infinity()
+                : u < 0.04f ? -unit(rng)
+                : u < 0.2f  ? 0.f
+                            : 0.01f * unit(rng);
+        }
+        Image expected = output, got = output;
+        size_t count = ref::BoundToNoise(input, variance, 3, &expected);
+        EXPECT_EQ(BoundToNoise(input, variance, 3, &got), count);
+        EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
+            << channels;
+        Image again = output;
+        BoundToNoise(input, variance, 3, &again);
+        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, LocalMeanMatches,
                          ::testing::Values(LocalMeanCase{1, 1, 3, 1}, LocalMeanCase{7, 5, 1, 1},
                                            LocalMeanCase{33, 17, 3, 3},
@@ -169,6 +198,28 @@ TEST(LocalMeanProperties, ASmallLightDoesNotRaiseItsSurroundings) {
                 if (d2 <= 9) continue;
                 ASSERT_NEAR(output.At(c, y, x), 0.5f, 0.03f) << c << " " << y << " " << x;
             }
+}
+
+// The bound: a value within k standard deviations stays; one beyond ends at k of them,
+// on either side; a pixel of variance 0 (every sample equal) is left, and one firefly's
+// variance beside a pixel does not widen its bound.
+TEST(LocalMeanProperties, BoundToNoiseClampsAtKStandardDeviations) {
+    Image input(7, 1, 1), output(7, 1, 1), variance(7, 1, 1);
+    for (int x = 0; x < 7; ++x) input.At(0, 0, x) = 1, variance.At(0, 0, x) = 0.01f;
+    output.At(0, 0, 0) = 1.25f;  // 2.5 sd: stays
+    output.At(0, 0, 1) = 2.f;    // 10 sd up
+    output.At(0, 0, 2) = -1.f;   // 20 sd down
+    output.At(0, 0, 3) = 1.5f;
+    variance.At(0, 0, 3) = 0;  // every sample equal: says nothing, left
+    output.At(0, 0, 5) = 5.f;
+    variance.At(0, 0, 6) = 100;  // a firefly beside it: its window {0.01, 0.01, 100}
+    output.At(0, 0, 4) = output.At(0, 0, 6) = 1;
+    EXPECT_EQ(BoundToNoise(input, variance, 3, &output), 3u);
+    EXPECT_EQ(output.At(0, 0, 0), 1.25f);
+    EXPECT_FLOAT_EQ(output.At(0, 0, 1), 1.3f);
+    EXPECT_FLOAT_EQ(output.At(0, 0, 2), 0.7f);
+    EXPECT_EQ(output.At(0, 0, 3), 1.5f);
+    EXPECT_FLOAT_EQ(output.At(0, 0, 5), 1.3f);
 }
 
 }  // namespace
