@@ -701,7 +701,9 @@ TEST_F(AutoEstimateProperty, RelativeCombinationMinimisesTheRelativeError) {
                 EXPECT_LE(objective(f), objective(f - step));
                 EXPECT_GE(f, lo * (1 - 1e-6));
                 EXPECT_LE(f, hi * (1 + 1e-6));
-                if (y == 1) EXPECT_NEAR(f, candidates[0].At(c, y, x), 1e-6 * hi);
+                if (y == 1) {
+                    EXPECT_NEAR(f, candidates[0].At(c, y, x), 1e-6 * hi);
+                }
             }
     // The firefly: equal weights over the two usable candidates at x 0, its own at x 1.
     EXPECT_FLOAT_EQ(out.weights.At(0, 2, 0), 0.5f);
