@@ -118,7 +118,8 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 }
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold, double relative, int rank) {
+                const Image &mask, double threshold, double relative, int rank,
+                double lightEdge) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int c = 0; c < color.channels; ++c)
@@ -136,14 +137,16 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                         all.push_back(color.At(c, v, u));
                         if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
                     }
-                // Unlike all around it next to a light: the light's edge, kept.
-                if (all.empty() || (alike.empty() && emitterNear)) continue;
+                // Unlike all around it next to a light: the light's edge, kept or clamped
+                // with its own relative term.
+                bool edge = alike.empty() && emitterNear;
+                if (all.empty() || (edge && lightEdge < 0)) continue;
                 double s = !alike.empty() && a > 0 ? a : 1;
                 std::vector<double> &near = alike.empty() ? all : alike;
                 double median = rank == 0 ? LowerMedian(near) : KthLargest(near, rank);
                 double limit = median +
                                threshold * std::sqrt(double(variance.At(c, y, x))) / s +
-                               relative * std::fabs(median);
+                               (edge ? lightEdge : relative) * std::fabs(median);
                 if (color.At(c, y, x) / s > limit) out.At(c, y, x) = float(limit * s);
             }
     return out;
@@ -532,7 +535,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
     Image clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
-                              p.fireflyRelative, p.fireflyRank);
+                              p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
     keep("color", clamped);
     if (!in.variance && p.edgeNoise) {
         // The weights' noise estimated again on the clamped colour, edge pixels relaxed.

@@ -105,6 +105,11 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "compare with the 8 neighbours' median (0) or their k-th largest (k: a "
                         "pixel with k - 1 bright neighbours is a highlight, kept)",
                         &O::fireflyRank, 0, 8)),
+        nested(FloatParam("firefly-light-edge",
+                          "a pixel unlike all its neighbours next to an emitter (a light's "
+                          "edge): kept (negative) or clamped as a firefly with this in place "
+                          "of --firefly-relative",
+                          &O::fireflyLightEdge, -1, 1e6)),
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: kept as they are",
                           &O::emitterAlbedo, 1, 1e30)),
@@ -217,6 +222,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.fireflyThreshold = o.fireflyThreshold;
         p.fireflyRelative = o.fireflyRelative;
         p.fireflyRank = o.fireflyRank;
+        p.fireflyLightEdge = o.fireflyLightEdge;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;

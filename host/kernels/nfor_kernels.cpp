@@ -85,8 +85,8 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
-                     float relative, float emitterAlbedo, int rank, vk::GpuImage &out,
-                     vk::GpuImage &mask) {
+                     float relative, float emitterAlbedo, int rank, float lightEdge,
+                     vk::GpuImage &out, vk::GpuImage &mask) {
     CheckColor("nfor clamp", color);
     CheckSize("nfor clamp", color, variance, color.channels);
     CheckSize("nfor clamp", color, out, color.channels);
@@ -107,7 +107,7 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                                   0});
     shader::NforClampPush push{color.width, color.height, albedo ? albedo->channels : 0,
                                threshold,   relative,     emitterAlbedo,
-                               rank};
+                               rank,        lightEdge};
     recorder.Dispatch(
         kernel, "nfor.clamp",
         {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},

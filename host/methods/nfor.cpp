@@ -269,7 +269,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                         o.noiseCalibration, clampVariance);
     RecordNforClamp(context, run.Recorder(), gpu.color, clampVariance, albedo,
                     o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                    gpu.clamped, gpu.mask);
+                    o.fireflyLightEdge, gpu.clamped, gpu.mask);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
     if (again) {

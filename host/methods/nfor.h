@@ -48,6 +48,10 @@ struct NforOptions {
     // Compare with the neighbours' median (0) or their k-th largest (k): a pixel with k - 1
     // bright neighbours is a highlight, kept.
     int fireflyRank = 3;
+    // A pixel unlike all its neighbours next to an emitter (a light's edge, partly
+    // covered): kept (< 0) or clamped against its neighbours' colours with this relative
+    // term in place of fireflyRelative.
+    float fireflyLightEdge = -1;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;
