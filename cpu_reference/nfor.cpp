@@ -497,17 +497,27 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 
 namespace {
 
-// One pass: each bandwidth's fits weighted by `distance` and their collaborative average,
+// A pass's candidate: its bandwidth and window half-size, and the distances over it.
+struct PassCandidate {
+    double bandwidth;
+    int radius;
+    const Image *distance;
+};
+
+// One pass: each candidate's fits weighted by its distance and their collaborative average,
 // then the per-pixel choice by SURE; stages named prefix + k<i>.beta, .hat, .output, choice.
 template <typename Keep>
 Image NforPass(const Image &clamped, const Image &variance, const Image &features,
-               const Image &mask, const Image &distance, const NforParams &p,
-               const std::vector<double> &bandwidths, const std::string &prefix, Keep &keep) {
+               const Image &mask, const NforParams &p,
+               const std::vector<PassCandidate> &candidates, const std::string &prefix,
+               Keep &keep) {
     std::vector<Image> outputs, hats;
-    for (size_t i = 0; i < bandwidths.size(); ++i) {
-        NforCandidate k{bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
-        NforFit fit = NforRegress(clamped, features, mask, distance, k);
-        Image out = NforGather(clamped, features, mask, distance, fit, k);
+    for (size_t i = 0; i < candidates.size(); ++i) {
+        const PassCandidate &c = candidates[i];
+        NforCandidate k{c.bandwidth, &p.featureWeights, p.ridge, c.radius,
+                        std::min(p.gatherRadius, c.radius)};
+        NforFit fit = NforRegress(clamped, features, mask, *c.distance, k);
+        Image out = NforGather(clamped, features, mask, *c.distance, fit, k);
         keep(fmt::format("{}k{}.beta", prefix, i), fit.beta);
         keep(fmt::format("{}k{}.hat", prefix, i), fit.hat);
         keep(fmt::format("{}k{}.output", prefix, i), out);
@@ -554,16 +564,27 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
                                   p.radius, p.patchRadius, p.alpha, p.minVariance);
     keep("distance", distance);
-    Image out =
-        NforPass(clamped, variance, features, mask, distance, p, p.bandwidths, "", keep);
+    std::vector<PassCandidate> first;
+    for (double k : p.bandwidths) first.push_back({k, p.radius, &distance});
+    Image out = NforPass(clamped, variance, features, mask, p, first, "", keep);
     if (!p.pilotBandwidths.empty()) {
         keep("pilot", out);
         Image pilotDistance =
             NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr, p.radius,
                          p.patchRadius, p.pilotAlpha, p.minVariance);
         keep("pilot.distance", pilotDistance);
-        out = NforPass(clamped, variance, features, mask, pilotDistance, p, p.pilotBandwidths,
-                       "pilot.", keep);
+        std::vector<PassCandidate> second;
+        for (double k : p.pilotBandwidths) second.push_back({k, p.radius, &pilotDistance});
+        Image wideDistance;
+        if (p.pilotWideRadius > 0) {
+            wideDistance =
+                NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr,
+                             p.pilotWideRadius, p.patchRadius, p.pilotAlpha, p.minVariance);
+            keep("pilot.wide.distance", wideDistance);
+            for (double k : p.pilotBandwidths)
+                second.push_back({k, p.pilotWideRadius, &wideDistance});
+        }
+        out = NforPass(clamped, variance, features, mask, p, second, "pilot.", keep);
     }
     if (p.meanRadius > 0) {
         keep("fit", out);

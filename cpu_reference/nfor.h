@@ -113,6 +113,9 @@ struct NforParams {
     // pixel by SURE as the first's; empty: none.
     std::vector<double> pilotBandwidths = {1.0};
     double pilotAlpha = 0;
+    // > radius: the second pass also fits each pilot bandwidth over windows of this
+    // half-size, its distance over them, and SURE picks among all; 0: off.
+    int pilotWideRadius = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
 };
 

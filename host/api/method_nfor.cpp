@@ -132,6 +132,10 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "variance cancellation of the second pass's distance (the pilot's "
                           "own noise is far below the colour's)",
                           &O::pilotAlpha, 0, 10)),
+        nested(IntParam("pilot-wide-radius",
+                        "the second pass also fits over windows of this half-size (above "
+                        "--radius) and SURE picks per pixel among both sizes; 0: off",
+                        &O::pilotWideRadius, 0, 10)),
         nested(IntParam("nfor-mean-radius",
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
@@ -174,7 +178,9 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // A second pass reads the first's output as far as one pass reaches, and its own
         // patches around it.
         int passReach = 3 * o.radius;
-        int pilotReach = !o.pilotBandwidths.empty() ? passReach + o.patchRadius : 0;
+        int pilotReach = !o.pilotBandwidths.empty()
+                             ? 3 * std::max(o.radius, o.pilotWideRadius) + o.patchRadius
+                             : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
                       o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
         needs.reachText = fmt::format(
@@ -184,7 +190,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             "average; {} for the local means",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
-        int offsets = ref::NforOffsetCount(o.radius), features = 10, candidates = 4;
+        int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
+            features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =
             4.0 * (2 * offsets + (features + 3) * channels + candidates * (channels + 1) +
@@ -230,6 +237,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.sureRadius = o.sureRadius;
         p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
         p.pilotAlpha = o.pilotAlpha;
+        p.pilotWideRadius = o.pilotWideRadius;
         p.meanRadius = o.meanRadius;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;

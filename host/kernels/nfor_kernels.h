@@ -74,8 +74,8 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                       const vk::GpuImage &distance, const vk::GpuImage &beta,
                       const NforFitSettings &settings, vk::GpuImage &out, int outPlane);
 
-// shaders/nfor/select.comp: per pixel the candidate (planes k x channels.. of
-// `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE.
+// shaders/nfor/select.comp: per pixel the candidate (of the first `count`: planes k x
+// channels.. of `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE.
 void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &variance, const vk::GpuImage &candidates,
                       const vk::GpuImage &hat, int count, int radius, vk::GpuImage &out,

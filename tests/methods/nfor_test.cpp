@@ -727,6 +727,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.meanRadius = o.meanRadius;
     p.noiseRadius = o.noiseRadius;
     p.fireflyRank = o.fireflyRank;
+    p.fireflyLightEdge = o.fireflyLightEdge;
+    p.pilotWideRadius = o.pilotWideRadius;
     p.prefilterRadius = o.prefilterRadius;
     p.prefilterPatch = o.prefilterPatch;
     p.featureWeights.assign(weights.begin(), weights.end());
@@ -778,6 +780,23 @@ TEST_F(NforMethod, SecondPassStagesMatchTheReference) {
     o.bandwidths = {0.5f, 1.f};
     o.pilotBandwidths = {1.f};
     ExpectStagesMatch(Ctx(), 17, 13, o);
+}
+
+// A second pass over two window sizes (each of two bandwidths over both: four candidates by
+// SURE), with a light's edges clamped.
+TEST_F(NforMethod, WideSecondPassStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.pilotWideRadius = 5;
+    o.pilotBandwidths = {0.5f, 1.f};
+    o.fireflyLightEdge = 0.5f;
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+        ExpectStagesMatch(Ctx(), w, h, o);
+    Frame f = MakeFrame(21, 19, 0.4, "wide rerun");
+    EXPECT_TRUE(BitIdentical(NforDenoise(Ctx(), InputsOf(f), o).image,
+                             NforDenoise(Ctx(), InputsOf(f), o).image));
+    o.pilotWideRadius = 3;
+    EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error);
 }
 
 TEST_F(NforMethod, RerunsAreBitIdentical) {
