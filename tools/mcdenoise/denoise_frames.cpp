@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <future>
 #include <map>
@@ -405,9 +406,16 @@ class DenoiseRun {
 void DenoiseRun::Run() {
     Clock::time_point start = Clock::now();
     cache.Keep(0);
-    // One frame is read before the device starts: a bad input fails at once.
+    // The device starts while the loader thread reads the first frame. A single frame that
+    // cannot be read is still the error reported, before any of the device's.
+    std::exception_ptr deviceError;
+    try {
+        device.emplace(settings.device);
+    } catch (...) {
+        deviceError = std::current_exception();
+    }
     if (settings.single) cache.Get(0);
-    device.emplace(settings.device);
+    if (deviceError) std::rethrow_exception(deviceError);
     Pending previous;
     for (size_t i = 0; i < frames.size(); ++i) {
         Pending current;
