@@ -118,7 +118,8 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 }
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold, double relative, int rank) {
+                const Image &mask, double threshold, double relative, int rank,
+                double lightEdge) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int c = 0; c < color.channels; ++c)
@@ -136,14 +137,16 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                         all.push_back(color.At(c, v, u));
                         if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
                     }
-                // Unlike all around it next to a light: the light's edge, kept.
-                if (all.empty() || (alike.empty() && emitterNear)) continue;
+                // Unlike all around it next to a light: the light's edge, kept or clamped
+                // with its own relative term.
+                bool edge = alike.empty() && emitterNear;
+                if (all.empty() || (edge && lightEdge < 0)) continue;
                 double s = !alike.empty() && a > 0 ? a : 1;
                 std::vector<double> &near = alike.empty() ? all : alike;
                 double median = rank == 0 ? LowerMedian(near) : KthLargest(near, rank);
                 double limit = median +
                                threshold * std::sqrt(double(variance.At(c, y, x))) / s +
-                               relative * std::fabs(median);
+                               (edge ? lightEdge : relative) * std::fabs(median);
                 if (color.At(c, y, x) / s > limit) out.At(c, y, x) = float(limit * s);
             }
     return out;
@@ -494,17 +497,27 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 
 namespace {
 
-// One pass: each bandwidth's fits weighted by `distance` and their collaborative average,
+// A pass's candidate: its bandwidth and window half-size, and the distances over it.
+struct PassCandidate {
+    double bandwidth;
+    int radius;
+    const Image *distance;
+};
+
+// One pass: each candidate's fits weighted by its distance and their collaborative average,
 // then the per-pixel choice by SURE; stages named prefix + k<i>.beta, .hat, .output, choice.
 template <typename Keep>
 Image NforPass(const Image &clamped, const Image &variance, const Image &features,
-               const Image &mask, const Image &distance, const NforParams &p,
-               const std::vector<double> &bandwidths, const std::string &prefix, Keep &keep) {
+               const Image &mask, const NforParams &p,
+               const std::vector<PassCandidate> &candidates, const std::string &prefix,
+               Keep &keep) {
     std::vector<Image> outputs, hats;
-    for (size_t i = 0; i < bandwidths.size(); ++i) {
-        NforCandidate k{bandwidths[i], &p.featureWeights, p.ridge, p.radius, p.gatherRadius};
-        NforFit fit = NforRegress(clamped, features, mask, distance, k);
-        Image out = NforGather(clamped, features, mask, distance, fit, k);
+    for (size_t i = 0; i < candidates.size(); ++i) {
+        const PassCandidate &c = candidates[i];
+        NforCandidate k{c.bandwidth, &p.featureWeights, p.ridge, c.radius,
+                        std::min(p.gatherRadius, c.radius)};
+        NforFit fit = NforRegress(clamped, features, mask, *c.distance, k);
+        Image out = NforGather(clamped, features, mask, *c.distance, fit, k);
         keep(fmt::format("{}k{}.beta", prefix, i), fit.beta);
         keep(fmt::format("{}k{}.hat", prefix, i), fit.hat);
         keep(fmt::format("{}k{}.output", prefix, i), out);
@@ -532,7 +545,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
     Image clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
-                              p.fireflyRelative, p.fireflyRank);
+                              p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
     keep("color", clamped);
     if (!in.variance && p.edgeNoise) {
         // The weights' noise estimated again on the clamped colour, edge pixels relaxed.
@@ -551,16 +564,27 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
                                   p.radius, p.patchRadius, p.alpha, p.minVariance);
     keep("distance", distance);
-    Image out =
-        NforPass(clamped, variance, features, mask, distance, p, p.bandwidths, "", keep);
+    std::vector<PassCandidate> first;
+    for (double k : p.bandwidths) first.push_back({k, p.radius, &distance});
+    Image out = NforPass(clamped, variance, features, mask, p, first, "", keep);
     if (!p.pilotBandwidths.empty()) {
         keep("pilot", out);
         Image pilotDistance =
             NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr, p.radius,
                          p.patchRadius, p.pilotAlpha, p.minVariance);
         keep("pilot.distance", pilotDistance);
-        out = NforPass(clamped, variance, features, mask, pilotDistance, p, p.pilotBandwidths,
-                       "pilot.", keep);
+        std::vector<PassCandidate> second;
+        for (double k : p.pilotBandwidths) second.push_back({k, p.radius, &pilotDistance});
+        Image wideDistance;
+        if (p.pilotWideRadius > 0) {
+            wideDistance =
+                NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr,
+                             p.pilotWideRadius, p.patchRadius, p.pilotAlpha, p.minVariance);
+            keep("pilot.wide.distance", wideDistance);
+            for (double k : p.pilotBandwidths)
+                second.push_back({k, p.pilotWideRadius, &wideDistance});
+        }
+        out = NforPass(clamped, variance, features, mask, p, second, "pilot.", keep);
     }
     if (p.meanRadius > 0) {
         keep("fit", out);

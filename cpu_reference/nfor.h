@@ -28,7 +28,8 @@
 //   to it (rho keeps the smooth peaks of noise-free regions, where v = 0). A pixel with no
 //   neighbour divided alike (its albedo unlike all around it: a sample that hit a small
 //   bright object, or a sub-pixel light) compares its colour with the neighbours' colours,
-//   unless a neighbour is an emitter: then it is a light's edge, partly covered, and kept.
+//   unless a neighbour is an emitter: then it is a light's edge, partly covered, and kept
+//   (lightEdge < 0) or compared the same way with lightEdge in place of rho.
 // - Emitters: max albedo channel > emitterAlbedo (a reflectance is at most about 1;
 //   renderers write a light's emission as its albedo); they are left out of every window
 //   and keep their colour as clamped (the issue asks for the input: a lone light pixel hit
@@ -101,6 +102,7 @@ struct NforParams {
     double fireflyThreshold = 4;   // t; 0: no clamp
     double fireflyRelative = 0.5;  // rho
     int fireflyRank = 3;           // 0: the neighbours' lower median; k: their k-th largest
+    double fireflyLightEdge = -1;  // a light's edge pixels: kept (< 0) or this rho
     double emitterAlbedo = 1.5;
     int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;
@@ -111,6 +113,9 @@ struct NforParams {
     // pixel by SURE as the first's; empty: none.
     std::vector<double> pilotBandwidths = {1.0};
     double pilotAlpha = 0;
+    // > radius: the second pass also fits each pilot bandwidth over windows of this
+    // half-size, its distance over them, and SURE picks among all; 0: off.
+    int pilotWideRadius = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
 };
 
@@ -133,7 +138,8 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 
 // The colour with fireflies clamped.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
-                const Image &mask, double threshold, double relative, int rank = 0);
+                const Image &mask, double threshold, double relative, int rank = 0,
+                double lightEdge = -1);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,

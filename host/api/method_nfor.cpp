@@ -105,6 +105,11 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "compare with the 8 neighbours' median (0) or their k-th largest (k: a "
                         "pixel with k - 1 bright neighbours is a highlight, kept)",
                         &O::fireflyRank, 0, 8)),
+        nested(FloatParam("firefly-light-edge",
+                          "a pixel unlike all its neighbours next to an emitter (a light's "
+                          "edge): kept (negative) or clamped as a firefly with this in place "
+                          "of --firefly-relative",
+                          &O::fireflyLightEdge, -1, 1e6)),
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: kept as they are",
                           &O::emitterAlbedo, 1, 1e30)),
@@ -127,6 +132,10 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "variance cancellation of the second pass's distance (the pilot's "
                           "own noise is far below the colour's)",
                           &O::pilotAlpha, 0, 10)),
+        nested(IntParam("pilot-wide-radius",
+                        "the second pass also fits over windows of this half-size (above "
+                        "--radius) and SURE picks per pixel among both sizes; 0: off",
+                        &O::pilotWideRadius, 0, 10)),
         nested(IntParam("nfor-mean-radius",
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
@@ -169,7 +178,9 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // A second pass reads the first's output as far as one pass reaches, and its own
         // patches around it.
         int passReach = 3 * o.radius;
-        int pilotReach = !o.pilotBandwidths.empty() ? passReach + o.patchRadius : 0;
+        int pilotReach = !o.pilotBandwidths.empty()
+                             ? 3 * std::max(o.radius, o.pilotWideRadius) + o.patchRadius
+                             : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
                       o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
         needs.reachText = fmt::format(
@@ -179,7 +190,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             "average; {} for the local means",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
-        int offsets = ref::NforOffsetCount(o.radius), features = 10, candidates = 4;
+        int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
+            features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =
             4.0 * (2 * offsets + (features + 3) * channels + candidates * (channels + 1) +
@@ -217,6 +229,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.fireflyThreshold = o.fireflyThreshold;
         p.fireflyRelative = o.fireflyRelative;
         p.fireflyRank = o.fireflyRank;
+        p.fireflyLightEdge = o.fireflyLightEdge;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;
@@ -224,6 +237,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.sureRadius = o.sureRadius;
         p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
         p.pilotAlpha = o.pilotAlpha;
+        p.pilotWideRadius = o.pilotWideRadius;
         p.meanRadius = o.meanRadius;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;

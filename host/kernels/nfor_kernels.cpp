@@ -85,8 +85,8 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
-                     float relative, float emitterAlbedo, int rank, vk::GpuImage &out,
-                     vk::GpuImage &mask) {
+                     float relative, float emitterAlbedo, int rank, float lightEdge,
+                     vk::GpuImage &out, vk::GpuImage &mask) {
     CheckColor("nfor clamp", color);
     CheckSize("nfor clamp", color, variance, color.channels);
     CheckSize("nfor clamp", color, out, color.channels);
@@ -107,7 +107,7 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                                   0});
     shader::NforClampPush push{color.width, color.height, albedo ? albedo->channels : 0,
                                threshold,   relative,     emitterAlbedo,
-                               rank};
+                               rank,        lightEdge};
     recorder.Dispatch(
         kernel, "nfor.clamp",
         {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},
@@ -344,8 +344,14 @@ void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::Gp
         throw Error(fmt::format("nfor select: {} candidates (1..{}), radius {} (0..{})", count,
                                 NFOR_MAX_CANDIDATES, radius, NFOR_SURE_MAX_RADIUS),
                     ErrorKind::InvalidArgument);
-    CheckSize("nfor select", color, candidates, count * color.channels);
-    CheckSize("nfor select", color, hat, count);
+    // The first `count` candidates of buffers sized for a pass with more.
+    CheckSize("nfor select", color, candidates, 0);
+    CheckSize("nfor select", color, hat, 0);
+    if (candidates.channels < count * color.channels || hat.channels < count)
+        throw Error(fmt::format("nfor select: {} candidates of {} channels, {} and {} planes "
+                                "held",
+                                count, color.channels, candidates.channels, hat.channels),
+                    ErrorKind::InvalidArgument);
     const vk::Kernel &kernel = context.GetKernel({"nfor_select",
                                                   k_nfor_select_spv,
                                                   sizeof(k_nfor_select_spv),

@@ -18,11 +18,12 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                      vk::GpuImage &variance, bool relaxed = false);
 
 // shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters;
-// rank 0 compares with the neighbours' median, k > 0 with their k-th largest.
+// rank 0 compares with the neighbours' median, k > 0 with their k-th largest; lightEdge < 0
+// keeps a light's edge pixels, >= 0 clamps them with that relative term.
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
-                     float relative, float emitterAlbedo, int rank, vk::GpuImage &out,
-                     vk::GpuImage &mask);
+                     float relative, float emitterAlbedo, int rank, float lightEdge,
+                     vk::GpuImage &out, vk::GpuImage &mask);
 
 // shaders/nfor/prefilter.comp: each plane of `features` NL-means-filtered.
 void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
@@ -73,8 +74,8 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                       const vk::GpuImage &distance, const vk::GpuImage &beta,
                       const NforFitSettings &settings, vk::GpuImage &out, int outPlane);
 
-// shaders/nfor/select.comp: per pixel the candidate (planes k x channels.. of
-// `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE.
+// shaders/nfor/select.comp: per pixel the candidate (of the first `count`: planes k x
+// channels.. of `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE.
 void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &variance, const vk::GpuImage &candidates,
                       const vk::GpuImage &hat, int count, int radius, vk::GpuImage &out,

@@ -118,6 +118,14 @@ void CheckOptions(const NforOptions &o) {
             "be finite and > 0; alpha, feature bandwidth, firefly threshold and "
             "pilot alpha finite and >= 0, mean radius >= 0",
             ErrorKind::InvalidArgument);
+    if (o.pilotWideRadius != 0 &&
+        (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
+         o.pilotBandwidths.empty() || 2 * o.pilotBandwidths.size() > NFOR_MAX_CANDIDATES))
+        throw Error(
+            fmt::format("nfor: pilot wide radius {} must be 0 or above the radius {} "
+                        "(at most {}), with 1 to {} pilot bandwidths",
+                        o.pilotWideRadius, o.radius, NFOR_MAX_RADIUS, NFOR_MAX_CANDIDATES / 2),
+            ErrorKind::InvalidArgument);
     if (o.noiseRadius < 1 || o.noiseRadius > NFOR_NOISE_MAX_RADIUS || o.prefilterRadius < 0 ||
         o.prefilterRadius > NFOR_PREFILTER_MAX_RADIUS || o.prefilterPatch < 0 ||
         o.prefilterPatch > NFOR_PREFILTER_MAX_PATCH || o.sureRadius < 0 ||
@@ -129,6 +137,16 @@ void CheckOptions(const NforOptions &o) {
                                 NFOR_PREFILTER_MAX_RADIUS, o.prefilterPatch,
                                 NFOR_PREFILTER_MAX_PATCH, o.sureRadius, NFOR_SURE_MAX_RADIUS),
                     ErrorKind::InvalidArgument);
+}
+
+// The largest window half-size of the passes.
+int LargestRadius(const NforOptions &o) {
+    return std::max(o.radius, o.pilotWideRadius);
+}
+
+// The candidates of the second pass: each bandwidth, and each again over wide windows.
+int PilotCandidateCount(const NforOptions &o) {
+    return int(o.pilotBandwidths.size()) * (o.pilotWideRadius > 0 ? 2 : 1);
 }
 
 void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
@@ -148,7 +166,7 @@ void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &
     if (in.pivot) CheckLayer(*in.pivot, "pivot", w, h, 3, false);
     CheckOptions(o);
     // The distance buffers hold one plane per stored offset in one binding each.
-    double bytes = double(NforOffsetCount(o.radius)) * w * h * sizeof(float);
+    double bytes = double(NforOffsetCount(LargestRadius(o))) * w * h * sizeof(float);
     if (bytes > double(context.BindingBytes()))
         throw Error(
             fmt::format("nfor: a {}x{} frame needs {:.0f} MB for the patch distances of radius "
@@ -160,7 +178,7 @@ void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &
 
 // The most candidates of a pass.
 int CandidateCount(const NforOptions &o) {
-    return int(std::max(o.bandwidths.size(), o.pilotBandwidths.size()));
+    return std::max(int(o.bandwidths.size()), PilotCandidateCount(o));
 }
 
 // The GPU images of a run.
@@ -196,10 +214,17 @@ struct NforGpu {
             pilotDistance.emplace(context, color.width, color.height, NforOffsetCount(o.radius),
                                   "nfor.pilotDistance");
         }
+        if (o.pilotWideRadius > 0) {
+            int offsets = NforOffsetCount(o.pilotWideRadius);
+            wideDistance.emplace(context, color.width, color.height, offsets,
+                                 "nfor.wideDistance");
+            wideScratch.emplace(context, color.width, color.height, offsets,
+                                "nfor.wideScratch");
+        }
     }
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
         scratch, beta, hat, candidates;
-    std::optional<vk::GpuImage> albedo, pilot, pilotDistance;
+    std::optional<vk::GpuImage> albedo, pilot, pilotDistance, wideDistance, wideScratch;
 };
 
 // Planes [first, first + count) of a downloaded image.
@@ -269,7 +294,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                         o.noiseCalibration, clampVariance);
     RecordNforClamp(context, run.Recorder(), gpu.color, clampVariance, albedo,
                     o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                    gpu.clamped, gpu.mask);
+                    o.fireflyLightEdge, gpu.clamped, gpu.mask);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
     if (again) {
@@ -303,17 +328,27 @@ int GatherRadius(const NforOptions &o) {
     return o.gatherRadius < 0 ? o.radius : std::min(o.gatherRadius, o.radius);
 }
 
-// One pass: per bandwidth the fits weighted by `distance` and their collaborative average,
-// then per pixel the one of smallest SURE; stages named `prefix` + k<i>.beta, .hat, .output
-// and choice.
+// A candidate of a pass: its window half-size and bandwidth, and the distances over its
+// windows.
+struct PassCandidate {
+    int radius;
+    float bandwidth;
+    const vk::GpuImage *distance;
+};
+
+// One pass: per candidate the fits weighted by its distance and their collaborative
+// average, then per pixel the one of smallest SURE; stages named `prefix` + k<i>.beta,
+// .hat, .output and choice.
 void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
-                const NforOptions &o, const std::vector<float> &bandwidths,
-                const vk::GpuImage &distance, const std::string &prefix, vk::GpuImage &out,
-                vk::GpuImage &choice) {
+                const NforOptions &o, const std::vector<PassCandidate> &candidates,
+                const std::string &prefix, vk::GpuImage &out, vk::GpuImage &choice) {
     vk::Context &context = run.Context();
-    int ch = gpu.color.channels, count = int(bandwidths.size());
+    int ch = gpu.color.channels, count = int(candidates.size());
     for (int i = 0; i < count; ++i) {
-        NforFitSettings settings{o.radius, GatherRadius(o), bandwidths[i], o.ridge, weights};
+        const PassCandidate &k = candidates[i];
+        const vk::GpuImage &distance = *k.distance;
+        NforFitSettings settings{k.radius, std::min(GatherRadius(o), k.radius), k.bandwidth,
+                                 o.ridge, weights};
         RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
                           distance, settings, gpu.beta, gpu.hat, i);
         run.Stage(fmt::format("{}k{}.beta", prefix, i), gpu.beta);
@@ -339,11 +374,13 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
 // weighted by the distance of the first's output (the pilot) against the colour's variance.
 void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
                   const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
+    std::vector<PassCandidate> first;
+    for (float k : o.bandwidths) first.push_back({o.radius, k, &gpu.distance});
     if (!gpu.pilot) {
-        RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, "", out, choice);
+        RecordPass(run, gpu, weights, o, first, "", out, choice);
         return;
     }
-    RecordPass(run, gpu, weights, o, o.bandwidths, gpu.distance, "", *gpu.pilot, choice);
+    RecordPass(run, gpu, weights, o, first, "", *gpu.pilot, choice);
     run.Stage("pilot", *gpu.pilot);
     const vk::GpuImage *albedo =
         gpu.albedo && !o.noDemodulatedDistance ? &*gpu.albedo : nullptr;
@@ -351,8 +388,17 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
                        o.radius, o.patchRadius, o.pilotAlpha, o.minVariance, gpu.scratch,
                        *gpu.pilotDistance);
     run.Stage("pilot.distance", *gpu.pilotDistance);
-    RecordPass(run, gpu, weights, o, o.pilotBandwidths, *gpu.pilotDistance, "pilot.", out,
-               choice);
+    std::vector<PassCandidate> second;
+    for (float k : o.pilotBandwidths) second.push_back({o.radius, k, &*gpu.pilotDistance});
+    if (gpu.wideDistance) {
+        RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
+                           o.pilotWideRadius, o.patchRadius, o.pilotAlpha, o.minVariance,
+                           *gpu.wideScratch, *gpu.wideDistance);
+        run.Stage("pilot.wide.distance", *gpu.wideDistance);
+        for (float k : o.pilotBandwidths)
+            second.push_back({o.pilotWideRadius, k, &*gpu.wideDistance});
+    }
+    RecordPass(run, gpu, weights, o, second, "pilot.", out, choice);
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -375,17 +421,27 @@ void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice
                         "(the pilot) over the colour's variance (alpha {}), bandwidths "
                         "k = {}",
                         o.pilotAlpha, list(o.pilotBandwidths)));
-    const std::vector<float> &last =
-        o.pilotBandwidths.empty() ? o.bandwidths : o.pilotBandwidths;
+    // The last pass's candidates, named by bandwidth (and window where two sizes run).
+    std::vector<std::string> last;
+    for (float k : o.pilotBandwidths.empty() ? o.bandwidths : o.pilotBandwidths)
+        last.push_back(fmt::format("k = {}", k));
+    if (o.pilotWideRadius > 0) {
+        run.Plan(fmt::format("second pass also over {}x{} windows, the same bandwidths",
+                             2 * o.pilotWideRadius + 1, 2 * o.pilotWideRadius + 1));
+        for (size_t i = 0, n = last.size(); i < n; ++i) {
+            last.push_back(fmt::format("{} over {}x{}", last[i], 2 * o.pilotWideRadius + 1,
+                                       2 * o.pilotWideRadius + 1));
+            last[i] += fmt::format(" over {}x{}", 2 * o.radius + 1, 2 * o.radius + 1);
+        }
+    }
     if (last.size() < 2) return;
     Image picked = choice.Download();
     result.share.assign(last.size(), 0.0);
     for (float c : picked.data) result.share[size_t(c)] += 1.0 / double(picked.Size());
     std::string shares;
     for (size_t i = 0; i < result.share.size(); ++i)
-        shares +=
-            fmt::format("{}k = {}: {:.1f}%", i ? ", " : "", last[i], 100 * result.share[i]);
-    run.Plan(fmt::format("per pixel the bandwidth of smallest SURE over {}x{} ({}{})",
+        shares += fmt::format("{}{}: {:.1f}%", i ? ", " : "", last[i], 100 * result.share[i]);
+    run.Plan(fmt::format("per pixel the candidate of smallest SURE over {}x{} ({}{})",
                          2 * o.sureRadius + 1, 2 * o.sureRadius + 1,
                          o.pilotBandwidths.empty() ? "" : "second pass: ", shares));
 }

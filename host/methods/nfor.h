@@ -48,6 +48,10 @@ struct NforOptions {
     // Compare with the neighbours' median (0) or their k-th largest (k): a pixel with k - 1
     // bright neighbours is a highlight, kept.
     int fireflyRank = 3;
+    // A pixel unlike all its neighbours next to an emitter (a light's edge, partly
+    // covered): kept (< 0) or clamped against its neighbours' colours with this relative
+    // term in place of fireflyRelative.
+    float fireflyLightEdge = -1;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;
@@ -59,6 +63,10 @@ struct NforOptions {
     // empty: one pass.
     std::vector<float> pilotBandwidths = {1.0f};
     float pilotAlpha = 0;
+    // > radius: the second pass also fits each bandwidth over windows of this half-size
+    // (weighted by the pilot's distance over them), and SURE picks per pixel among all its
+    // candidates; 0: one window size.
+    int pilotWideRadius = 0;
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;

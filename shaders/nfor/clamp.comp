@@ -75,10 +75,12 @@ void main() {
             }
             z[i] = zq;
         }
-    // Unlike all around it next to a light: the light's edge, kept.
-    if (m == 0 || (n == 0 && emitterNear)) return;
+    // Unlike all around it next to a light: the light's edge, kept or clamped on its own terms.
+    bool edge = n == 0 && emitterNear;
+    if (m == 0 || (edge && push.lightEdge < 0.0)) return;
     float s = n > 0 && a > 0.0 ? a : 1.0;
     float median = n > 0 ? z[rankIndex(n)] : raw[rankIndex(m)];
-    float limit = median + push.threshold * sqrt(variance[at]) / s + push.relative * abs(median);
+    float relative = edge ? push.lightEdge : push.relative;
+    float limit = median + push.threshold * sqrt(variance[at]) / s + relative * abs(median);
     if (value / s > limit) outColor[at] = limit * s;
 }

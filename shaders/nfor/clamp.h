@@ -8,7 +8,8 @@
 // threshold sqrt(v) / divisor + relative |median| is clamped to that limit; a pixel with
 // no neighbour divided alike (an albedo unlike all around it: a sample that hit a small
 // bright object or a sub-pixel light) compares its colour with its neighbours' colours
-// the same way, unless a neighbour is an emitter (a light's edge, partly covered: kept).
+// the same way; next to an emitter (a light's edge, partly covered) it is kept, or with
+// lightEdge >= 0 clamped with lightEdge in place of relative.
 // Threshold 0: nothing clamped; no neighbour (1x1): kept. The relative term keeps the
 // smooth peaks of noise-free regions (v = 0): only values well above their neighbours are
 // fireflies. One invocation per pixel and channel; channel 0's writes the mask.
@@ -37,10 +38,11 @@ layout(push_constant) uniform NforClampPush {
     float threshold;
     float relative;
     float emitterAlbedo;
-    int rank;  // 0: the neighbours' lower median; k > 0: their k-th largest
+    int rank;         // 0: the neighbours' lower median; k > 0: their k-th largest
+    float lightEdge;  // relative term at a light's edge; < 0: such a pixel is kept
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforClampPush) == 28);
+static_assert(sizeof(NforClampPush) == 32);
 static_assert(offsetof(NforClampPush, emitterAlbedo) == 20);
 }  // namespace mcd::shader
 #else

@@ -149,16 +149,18 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()
 // Clamp: the mask is exact; a clamped value is (median z + t sqrt(v) / a) x a, about 5
 // roundings of |C| + t sqrt(v) + a max |z| of the neighbours. Where the value sits on the
 // limit either side's choice gives it to that accuracy.
-void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int rank) {
+void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int rank,
+                        float lightEdge) {
     std::string name = fmt::format("clamp{}x{}{}", w, h, InputKindName(kind));
-    SCOPED_TRACE(fmt::format("rank {}", rank));
+    SCOPED_TRACE(fmt::format("rank {} light edge {}", rank, lightEdge));
     Image color = Positive(kind, w, h, 3, name);
     Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
     for (float &v : variance.data) v *= 0.01f;
     Image albedo = Albedo(w, h, name + "albedo", true);
     const float threshold = 3, relative = 0.5f, emitterAlbedo = 1.5f;
     Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
-    Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank);
+    Image expected =
+        ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank, lightEdge);
     auto run = [&](Image *gpuMask) {
         vk::GpuImage c = Upload(context, color, "color"),
                      v = Upload(context, variance, "variance");
@@ -166,7 +168,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
         vk::GpuImage out(context, w, h, 3, "out"), m(context, w, h, 1, "mask");
         vk::Recorder recorder(context);
         RecordNforClamp(context, recorder, c, v, &a, threshold, relative, emitterAlbedo, rank,
-                        out, m);
+                        lightEdge, out, m);
         recorder.Submit();
         *gpuMask = m.Download();
         return out.Download();
@@ -185,7 +187,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
                 });
                 magnitude.At(c, y, x) =
                     float(color.At(c, y, x) + threshold * std::sqrt(variance.At(c, y, x)) +
-                          (1 + relative) * a * z);
+                          (1 + std::max(relative, lightEdge)) * a * z);
             }
     EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {8 * kU, 0, 1e-10}));
     EXPECT_TRUE(BitIdentical(actual, run(&again)));
@@ -193,10 +195,12 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
 
 class NforClampKernel : public GpuTestWithParam<KernelCase> {};
 
-// Against the neighbours' median and against their 2nd largest.
+// Against the neighbours' median and against their 2nd largest; a light's edge kept, and
+// clamped with a relative term of its own.
 TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
-    for (int rank : {0, 2}) ExpectClampMatches(Ctx(), w, h, kind, rank);
+    for (int rank : {0, 2}) ExpectClampMatches(Ctx(), w, h, kind, rank, -1);
+    ExpectClampMatches(Ctx(), w, h, kind, 3, 2);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforClampKernel, testing::ValuesIn(KernelCases()),
@@ -723,6 +727,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.meanRadius = o.meanRadius;
     p.noiseRadius = o.noiseRadius;
     p.fireflyRank = o.fireflyRank;
+    p.fireflyLightEdge = o.fireflyLightEdge;
+    p.pilotWideRadius = o.pilotWideRadius;
     p.prefilterRadius = o.prefilterRadius;
     p.prefilterPatch = o.prefilterPatch;
     p.featureWeights.assign(weights.begin(), weights.end());
@@ -774,6 +780,23 @@ TEST_F(NforMethod, SecondPassStagesMatchTheReference) {
     o.bandwidths = {0.5f, 1.f};
     o.pilotBandwidths = {1.f};
     ExpectStagesMatch(Ctx(), 17, 13, o);
+}
+
+// A second pass over two window sizes (each of two bandwidths over both: four candidates by
+// SURE), with a light's edges clamped.
+TEST_F(NforMethod, WideSecondPassStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.pilotWideRadius = 5;
+    o.pilotBandwidths = {0.5f, 1.f};
+    o.fireflyLightEdge = 0.5f;
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+        ExpectStagesMatch(Ctx(), w, h, o);
+    Frame f = MakeFrame(21, 19, 0.4, "wide rerun");
+    EXPECT_TRUE(BitIdentical(NforDenoise(Ctx(), InputsOf(f), o).image,
+                             NforDenoise(Ctx(), InputsOf(f), o).image));
+    o.pilotWideRadius = 3;
+    EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error);
 }
 
 TEST_F(NforMethod, RerunsAreBitIdentical) {
