@@ -661,8 +661,9 @@ std::unique_ptr<FrontEnd> AutoFrontEnd::Clone() const {
 }
 
 std::string AutoFrontEnd::Summary() const {
-    return "every method the frame's layers allow, combined per pixel by error estimates "
-           "that need no reference (SURE from the variance layer or the half-buffers)";
+    return "the methods the frame's layers allow, combined per pixel by error estimates "
+           "that need no reference (the half-buffers, else SURE from the variance layer); "
+           "nfor alone on a frame without statistics";
 }
 
 void AutoFrontEnd::Set(const std::string &param, const ParamValue &value) {

@@ -135,8 +135,8 @@ void AddDenoiseCommand(CLI::App &app) {
                     "(out.####.exr) or a directory (out/)")
         ->required();
     cmd->add_option("--method", opt->method,
-                    "auto (the default: every method the frame's layers allow, combined per "
-                    "pixel), " +
+                    "auto (the default: the methods the frame's layers allow, combined per "
+                    "pixel; nfor alone on a frame without statistics), " +
                         MethodOptions::Names())
         ->capture_default_str();
     cmd->add_flag("--explain", opt->explain, "print what runs and what is left out, and why");
