@@ -37,7 +37,7 @@ static std::string ToolPath() {
         fs::path exe = fs::read_symlink("/proc/self/exe", ec);
         fs::path beside = exe.parent_path().parent_path() / "mcdenoise";
         return !ec && fs::is_regular_file(beside, ec) ? beside.string()
-                                                       : std::string(MCD_TOOL_PATH);
+                                                      : std::string(MCD_TOOL_PATH);
     }();
     return path;
 }

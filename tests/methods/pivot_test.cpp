@@ -117,9 +117,10 @@ Image Planes(const Image &fits, int first, int count, int channels) {
 }
 
 // Stage 1: z is one division, which Vulkan lets a device compute to 2.5 ULP (5 unit
-// roundoffs; lavapipe rounds it correctly, NVIDIA's H200 does not); s two more roundings; nu one more; the estimated s sums
-// at most 9 squares of differences (about 20 roundings of the neighbourhood's mean z^2).
-// Positive data, as rendered frames have, so zl is bounded away from 0.
+// roundoffs; lavapipe rounds it correctly, NVIDIA's H200 does not); s two more roundings; nu
+// one more; the estimated s sums at most 9 squares of differences (about 20 roundings of the
+// neighbourhood's mean z^2). Positive data, as rendered frames have, so zl is bounded away from
+// 0.
 struct RatioCase {
     int w, h;
     bool withVariance, withIds;
