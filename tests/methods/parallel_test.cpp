@@ -11,9 +11,11 @@
 #include <string>
 
 #include "harness/inputs.h"
+#include "host/common/cycle_spin.h"
 #include "host/common/highlights.h"
 #include "host/common/local_mean.h"
 #include "host/common/parallel.h"
+#include "host/kernels/pivot_gather.h"
 
 namespace mcd {
 namespace {
@@ -71,9 +73,11 @@ bool SameBits(const Image &a, const Image &b) {
 }
 
 struct Results {
-    Image tent, restored, restoredWithVariance, bounded, base, baseVariance;
+    Image padded, spun, tileOrder, tent, restored, restoredWithVariance, bounded, base,
+        baseVariance;
     LocalMeanFactors factors, factorsWithVariance;
     size_t moved = 0, highlights = 0;
+    int reach = 0;
     std::vector<char> highlight;
 };
 
@@ -85,6 +89,11 @@ Results RunAll(int w, int h, bool finite, int parts) {
     Image variance = RandomImage(w, h, 3, "parallel variance", finite);
     for (float &v : output.data) v = std::fabs(v);
     Results r;
+    r.padded = MirrorPad(input, 3, 2);
+    r.spun = CycleSpin(w, h, 3, 3, [&](int dx, int dy) { return MirrorPad(input, dx, dy); });
+    Image radii = RandomImage(w, h, 3, "parallel radii", true);
+    for (float &v : radii.data) v = v < 0 ? -1.f : std::min(30.f, std::floor(v));
+    r.tileOrder = PivotTileOrder(radii, &r.reach);
     r.tent = TentMean(input, 2);
     r.restored = output;
     r.factors = RestoreLocalMeans(input, 2, &r.restored);
@@ -118,6 +127,10 @@ TEST(ParallelFor, SameBitsAsTheSerialLoop) {
         for (int parts : {2, 3, 7}) {
             SCOPED_TRACE(std::to_string(parts) + " parts");
             Results split = RunAll(c.w, c.h, c.finite, parts);
+            EXPECT_TRUE(SameBits(serial.padded, split.padded));
+            EXPECT_TRUE(SameBits(serial.spun, split.spun));
+            EXPECT_TRUE(SameBits(serial.tileOrder, split.tileOrder));
+            EXPECT_EQ(serial.reach, split.reach);
             EXPECT_TRUE(SameBits(serial.tent, split.tent));
             EXPECT_TRUE(SameBits(serial.restored, split.restored));
             EXPECT_TRUE(SameBits(serial.restoredWithVariance, split.restoredWithVariance));
@@ -139,6 +152,7 @@ TEST(ParallelFor, SameBitsAsTheSerialLoop) {
 TEST(ParallelFor, TheFramesExerciseEachPath) {
     Results r = RunAll(37, 23, true, 3);
     EXPECT_GT(r.moved, 0u);
+    EXPECT_GT(r.reach, 0);
     EXPECT_GT(r.highlights, 0u);
     EXPECT_TRUE(r.factors.lo != 1 || r.factors.hi != 1);
 }
