@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "host/common/box_mean.h"
 #include "host/common/highlights.h"
 #include "host/common/parallel.h"
 #include "host/error.h"
@@ -13,28 +14,11 @@
 namespace mcd {
 namespace {
 
-// Rows [yBegin, yEnd) of the box means of radius r down the columns of a w x h plane,
-// clipped to the image. Each window summed on its own, in order: a pixel's mean does not
-// depend on where the image starts (a tile gives the whole frame's values). A whole row of
-// windows is summed at once, so the sums run side by side over contiguous memory.
-void ColumnBoxRows(const float *in, float *out, int w, int h, int r, int yBegin, int yEnd) {
-    std::vector<double> sum(static_cast<size_t>(w));
-    for (int y = yBegin; y < yEnd; ++y) {
-        int a = std::max(0, y - r), b = std::min(h - 1, y + r);
-        std::fill(sum.begin(), sum.end(), 0.0);
-        for (int j = a; j <= b; ++j) {
-            const float *row = in + size_t(j) * w;
-            for (int x = 0; x < w; ++x) sum[x] += row[x];
-        }
-        float *dst = out + size_t(y) * w;
-        for (int x = 0; x < w; ++x) dst[x] = float(sum[x] / (b - a + 1));
-    }
-}
-
-// Box means of radius r down the columns of a w x h plane.
+// Box means of radius r down the columns of a w x h plane, clipped to the image. Each
+// window's sum is the one of its values in order: a pixel's mean does not depend on where
+// the image starts (a tile gives the whole frame's values).
 void ColumnBox(const float *in, float *out, int w, int h, int r) {
-    ParallelFor(h, size_t(w) * h * size_t(2 * r + 1),
-                [&](int begin, int end) { ColumnBoxRows(in, out, w, h, r, begin, end); });
+    BoxMeanColumns(in, out, w, h, r);
 }
 
 // The w x h plane `in` transposed into `out` (h x w).
