@@ -96,15 +96,21 @@ void SlidRows(const float *in, float *out, int w, int h, int r, int yBegin, int 
 }  // namespace
 
 void BoxMeanColumns(const float *in, float *out, int w, int h, int r) {
-    std::vector<int> inexact = InexactColumns(in, w, h);
-    // Columns summed one by one read memory a row apart: worth it for a few only.
-    const bool slide = r > 2 && inexact.size() * 8 <= size_t(w);
-    const size_t cost = size_t(w) * h * (slide ? 4 : size_t(2 * r + 1));
-    ParallelFor(h, cost, [&](int begin, int end) {
-        if (slide)
-            SlidRows(in, out, w, h, r, begin, end, inexact);
-        else
-            SummedRows(in, out, w, h, r, begin, end);
+    // Bands of rows, each tested on the rows its windows read: a column's range of values
+    // is narrower over a band than over the whole plane, so more of it slides.
+    const int band = std::max(64, 4 * r);
+    const int bands = (h + band - 1) / band;
+    ParallelFor(bands, size_t(w) * h * 8, [&](int begin, int end) {
+        for (int k = begin; k < end; ++k) {
+            const int y0 = k * band, y1 = std::min(h, y0 + band);
+            const int lo = std::max(0, y0 - r), hi = std::min(h, y1 + r);
+            std::vector<int> inexact = InexactColumns(in + size_t(lo) * w, w, hi - lo);
+            // Columns summed one by one read memory a row apart: worth it for a few only.
+            if (r > 2 && inexact.size() * 8 <= size_t(w))
+                SlidRows(in, out, w, h, r, y0, y1, inexact);
+            else
+                SummedRows(in, out, w, h, r, y0, y1);
+        }
     });
 }
 

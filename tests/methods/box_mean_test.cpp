@@ -82,7 +82,8 @@ TEST(BoxMeanColumns, SameBitsAsWindowsSummedOneByOne) {
         int w, h, r;
     };
     for (Case c : {Case{1, 1, 1}, Case{1, 1, 5}, Case{3, 7, 2}, Case{5, 9, 3}, Case{33, 41, 4},
-                   Case{64, 37, 8}, Case{23, 130, 32}, Case{40, 20, 30}})
+                   Case{64, 37, 8}, Case{23, 130, 32}, Case{40, 20, 30}, Case{17, 300, 3},
+                   Case{9, 200, 20}})
         for (Kind kind :
              {Kind::Plain, Kind::FewWideRange, Kind::ManyWideRange, Kind::NonFinite})
             for (int parts : {1, 3}) {
