@@ -105,8 +105,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                FloatParam("pivot-bound",
                           "each value ends at most this many standard deviations of its "
                           "noise (the variance layer, else estimated from the frame; the "
-                          "larger of the pixel's and its 3x3 window's mean without the "
-                          "largest) from its input, before the local means are restored: fits "
+                          "larger of the pixel's and its 3x3 window's median) from its input, "
+                          "before the local means are restored: fits "
                           "that overshoot an edge or go negative cannot move a pixel farther "
                           "than its noise allows (beyond the paper; 0: off)",
                           &PivotSettings::bound, 0, 1e6)}) {}
@@ -143,8 +143,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
             size_t moved = BoundToNoise(*in.color, variance, options.bound, &result.image);
             result.plan.push_back(fmt::format(
                 "bound: {} values moved to within {} standard deviations of their input's "
-                "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
-                "larger)",
+                "noise ({}: the pixel's, or its 3x3 window's median, the larger)",
                 moved, options.bound,
                 in.variance ? "the variance layer"
                             : "estimated from the frame divided by the pivot"));
@@ -190,9 +189,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean.
         const int bound = options.bound > 0 ? 3 : 0;
         needs.reach += mean + bound;
-        needs.reachText += fmt::format(
-            "; the local mean's coarse and fine tents {}; {} for the bound's noise",
-            mean, bound);
+        needs.reachText +=
+            fmt::format("; the local mean's coarse and fine tents {}; {} for the bound's noise",
+                        mean, bound);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
