@@ -61,4 +61,20 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
 // channels. Returns how many values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
+// The variance of the pixel mean estimated from a frame without sample statistics, robust
+// to the frame's own structure (beyond the papers): per channel z = color / albedo (its one
+// channel or channel c; 1 where it is <= 0.02 or there is none); at each pixel e, the
+// smallest r^2 / 1.5, r = z - (z_-d + z_+d) / 2, over the directions d of (1,0), (0,1),
+// (1,1), (1,-1) whose two neighbours lie in the image, over that minimum's median for unit
+// Gaussian noise (kFrameNoiseMedianOf4 for four directions, of one: kFrameNoiseMedianOf1; no
+// e without a direction or where a difference is not finite). The result: the median of the e
+// of the 5x5 window clipped to the image (the lower middle value of an even count) over
+// kFrameNoiseWindowBias, times the albedo squared at the pixel; 0 where the window has no
+// e. A 3x3 sample variance counts a line or an edge the albedo does not show as noise (a
+// glass's refracted pattern then reads as noise and the plane fits smear it); a line
+// covers less than half of the window, so its median is the noise beside it.
+constexpr double kFrameNoiseMedianOf4 = 0.0504, kFrameNoiseMedianOf1 = 0.4549;
+constexpr double kFrameNoiseWindowBias = 1.165;
+Image FrameNoise(const Image &color, const Image *albedo);
+
 }  // namespace mcd

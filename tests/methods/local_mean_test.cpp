@@ -110,6 +110,28 @@ TEST_P(LocalMeanMatches, BoundToNoiseMatchesReference) {
     }
 }
 
+// The frame's robust noise estimate against its reference: with an albedo of one channel
+// and of the colour's (values at and under the 0.02 floor among them) and without; the
+// same bits (both take z in float and the rest in double, and pick the same median), and
+// the same when repeated.
+TEST_P(LocalMeanMatches, FrameNoiseMatchesReference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    std::mt19937_64 rng(SeedFromName("frame noise albedo"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int channels : {0, 1, GetParam().channels}) {
+        Image albedo(input.width, input.height, std::max(channels, 1));
+        for (float &a : albedo.data) a = unit(rng) < 0.1f ? 0.01f * unit(rng) : unit(rng);
+        const Image *guide = channels ? &albedo : nullptr;
+        Image expected = ref::FrameNoise(input, guide), got = FrameNoise(input, guide);
+        ASSERT_TRUE(got.SameShape(expected));
+        EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
+            << channels;
+        Image again = FrameNoise(input, guide);
+        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, LocalMeanMatches,
                          ::testing::Values(LocalMeanCase{1, 1, 3, 1}, LocalMeanCase{7, 5, 1, 1},
                                            LocalMeanCase{33, 17, 3, 3},
@@ -238,6 +260,34 @@ TEST(LocalMeanProperties, BoundToNoiseHoldsAPixelBetweenTwoFireflies) {
     expected.At(0, 1, 1) = 2.f;
     EXPECT_EQ(ref::BoundToNoise(input, variance, 3, &expected), 1u);
     EXPECT_FLOAT_EQ(expected.At(0, 1, 1), 0.13f);
+}
+
+// The robust estimate reads Gaussian noise's variance (its mean over a frame within 5%),
+// and a bright line the albedo does not show does not raise it beside the line, where a
+// 3x3 sample variance of the same frame is many times the noise.
+TEST(LocalMeanProperties, FrameNoiseReadsTheNoiseAndNotALine) {
+    const int w = 192, h = 192;
+    std::mt19937_64 rng(SeedFromName("frame noise gaussian"));
+    std::normal_distribution<float> gauss(0, 1);
+    Image color(w, h, 1), albedo(w, h, 1);
+    const float sd = 0.05f;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            albedo.At(0, y, x) = 0.5f;
+            color.At(0, y, x) = 0.25f + 0.5f * sd * gauss(rng);  // z's noise: sd
+        }
+    Image flat = FrameNoise(color, &albedo);
+    double mean = 0;
+    for (float v : flat.data) mean += v;
+    mean /= double(flat.data.size());
+    EXPECT_NEAR(mean, 0.25 * sd * sd, 0.05 * 0.25 * sd * sd);
+    // A diagonal line of 20 times the level: beside it (one pixel off) the estimate stays.
+    for (int i = 0; i < w; ++i) color.At(0, i, i) = 5;
+    Image lined = FrameNoise(color, &albedo);
+    double beside = 0;
+    int n = 0;
+    for (int i = 10; i + 10 < w; ++i, ++n) beside += lined.At(0, i, i + 1);
+    EXPECT_LT(beside / n, 2 * 0.25 * sd * sd);
 }
 
 }  // namespace
