@@ -293,9 +293,9 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const size_t p = size_t(y) * w + x;
-                // The larger of the pixel's variance and its window's median (lower
-                // middle on a clipped window): fireflies in up to half the window beside
-                // the pixel do not free it.
+                // The larger of the pixel's variance and the median (lower middle) of its
+                // window's positive ones: fireflies in up to half of them beside the pixel
+                // do not free it.
                 float window[9];
                 int count = 0;
                 bool finite = true;
@@ -303,11 +303,12 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                     for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
                         float vi = v[size_t(j) * w + i];
                         finite = finite && std::isfinite(vi) && vi >= 0;
-                        window[count++] = vi;
+                        if (vi > 0) window[count++] = vi;
                     }
                 const double o = out[p];
                 // A variance of 0 (every sample equal: at a few samples per pixel, mostly
-                // all of them missing the light) says nothing of the noise.
+                // all of them missing the light, or an emitter) says nothing of the noise:
+                // such a pixel is left, and such neighbours count in no median.
                 if (!finite || !(v[p] > 0) || !std::isfinite(in[p]) || !std::isfinite(o))
                     continue;
                 std::nth_element(window, window + (count - 1) / 2, window + count);
