@@ -93,6 +93,50 @@ void SlidRows(const float *in, float *out, int w, int h, int r, int yBegin, int 
     }
 }
 
+// Whether every partial sum of the n values at `values` (a stride apart) is exact in
+// double, as InexactColumns tests a column.
+bool ExactSums(const float *values, int n) {
+    double total = 0;
+    float smallest = std::numeric_limits<float>::infinity();
+    bool finite = true;
+    for (int i = 0; i < n; ++i) {
+        float a = std::fabs(values[i]);
+        finite = finite && std::isfinite(a);
+        total += a;
+        if (a > 0) smallest = std::min(smallest, a);
+    }
+    return finite && (!std::isfinite(smallest) || total < std::ldexp(FloatUlp(smallest), 51));
+}
+
+// One row's box means: slid where exact, else each window summed in order (the interior's
+// windows side by side, so the sums run over contiguous memory).
+void BoxRow(const float *row, float *dst, int w, int r, std::vector<double> &sum) {
+    if (r > 2 && ExactSums(row, w)) {
+        double s = 0;
+        int a = 0, b = std::min(w - 1, r);
+        for (int j = a; j <= b; ++j) s += row[j];
+        for (int x = 0; x < w; ++x) {
+            int nextA = std::max(0, x - r), nextB = std::min(w - 1, x + r);
+            if (nextB > b) s += row[nextB];
+            if (nextA > a) s -= row[a];
+            a = nextA;
+            b = nextB;
+            dst[x] = float(s / (b - a + 1));
+        }
+        return;
+    }
+    sum.assign(size_t(w), 0.0);
+    const int lo = std::min(r, w), hi = std::max(lo, w - r);  // interior: [lo, hi)
+    for (int j = 0; j <= 2 * r; ++j)
+        for (int x = lo; x < hi; ++x) sum[x] += row[x - r + j];
+    for (int x = 0; x < w; ++x) {
+        int a = std::max(0, x - r), b = std::min(w - 1, x + r);
+        if (x < lo || x >= hi)
+            for (int j = a; j <= b; ++j) sum[x] += row[j];
+        dst[x] = float(sum[x] / (b - a + 1));
+    }
+}
+
 }  // namespace
 
 void BoxMeanColumns(const float *in, float *out, int w, int h, int r) {
@@ -111,6 +155,14 @@ void BoxMeanColumns(const float *in, float *out, int w, int h, int r) {
             else
                 SummedRows(in, out, w, h, r, y0, y1);
         }
+    });
+}
+
+void BoxMeanRows(const float *in, float *out, int w, int h, int r) {
+    ParallelFor(h, size_t(w) * h * 8, [&](int begin, int end) {
+        std::vector<double> sum;
+        for (int y = begin; y < end; ++y)
+            BoxRow(in + size_t(y) * w, out + size_t(y) * w, w, r, sum);
     });
 }
 

@@ -21,26 +21,10 @@ void ColumnBox(const float *in, float *out, int w, int h, int r) {
     BoxMeanColumns(in, out, w, h, r);
 }
 
-// The w x h plane `in` transposed into `out` (h x w).
-void Transpose(const float *in, float *out, int w, int h) {
-    constexpr int kBlock = 32;
-    const int blocks = (h + kBlock - 1) / kBlock;
-    ParallelFor(blocks, size_t(w) * h, [&](int begin, int end) {
-        for (int y0 = begin * kBlock; y0 < std::min(h, end * kBlock); y0 += kBlock)
-            for (int x0 = 0; x0 < w; x0 += kBlock)
-                for (int y = y0; y < std::min(h, y0 + kBlock); ++y)
-                    for (int x = x0; x < std::min(w, x0 + kBlock); ++x)
-                        out[size_t(x) * h + y] = in[size_t(y) * w + x];
-    });
-}
-
-// Box means of radius r along the rows: down the columns of the transposed plane, the
-// same sums in the same order. `scratch` holds two planes.
-void RowBox(const float *in, float *out, int w, int h, int r, float *scratch) {
-    float *t = scratch, *u = scratch + size_t(w) * h;
-    Transpose(in, t, w, h);
-    ColumnBox(t, u, h, w, r);
-    Transpose(u, out, h, w);
+// Box means of radius r along the rows: the same sums in the same order as down the
+// columns of the transposed plane.
+void RowBox(const float *in, float *out, int w, int h, int r) {
+    BoxMeanRows(in, out, w, h, r);
 }
 
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
@@ -133,11 +117,10 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
 Image TentMean(const Image &image, int r) {
     const int w = image.width, h = image.height;
     Image a(w, h, image.channels), b = a;
-    std::vector<float> scratch(2 * image.PixelCount());
     for (int c = 0; c < image.channels; ++c) {
-        RowBox(image.Plane(c), a.Plane(c), w, h, r, scratch.data());
+        RowBox(image.Plane(c), a.Plane(c), w, h, r);
         ColumnBox(a.Plane(c), b.Plane(c), w, h, r);
-        RowBox(b.Plane(c), a.Plane(c), w, h, r, scratch.data());
+        RowBox(b.Plane(c), a.Plane(c), w, h, r);
         ColumnBox(a.Plane(c), b.Plane(c), w, h, r);
     }
     return b;

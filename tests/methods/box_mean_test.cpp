@@ -1,5 +1,5 @@
-// Box means down columns (host/common/box_mean.h) against each window summed on its own,
-// in order, in double: the same bits, whether the sums slide or not.
+// Box means down columns and along rows (host/common/box_mean.h) against each window summed on
+// its own, in order, in double: the same bits, whether the sums slide or not.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +28,14 @@ std::vector<float> WindowsOneByOne(const std::vector<float> &in, int w, int h, i
             for (int j = a; j <= b; ++j) sum += in[size_t(j) * w + x];
             out[size_t(y) * w + x] = float(sum / (b - a + 1));
         }
+    return out;
+}
+
+// The w x h plane transposed (h x w).
+std::vector<float> Transposed(const std::vector<float> &in, int w, int h) {
+    std::vector<float> out(in.size());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) out[size_t(x) * h + y] = in[size_t(y) * w + x];
     return out;
 }
 
@@ -97,6 +105,11 @@ TEST(BoxMeanColumns, SameBitsAsWindowsSummedOneByOne) {
                 BoxMeanColumns(in.data(), got.data(), c.w, c.h, c.r);
                 EXPECT_EQ(0,
                           std::memcmp(got.data(), expected.data(), got.size() * sizeof(float)));
+                // Along the rows of the transposed plane: the same means, transposed.
+                std::vector<float> flipped = Transposed(in, c.w, c.h), rows(in.size(), -7.f);
+                BoxMeanRows(flipped.data(), rows.data(), c.h, c.w, c.r);
+                EXPECT_EQ(0, std::memcmp(rows.data(), Transposed(expected, c.w, c.h).data(),
+                                         rows.size() * sizeof(float)));
             }
 }
 
