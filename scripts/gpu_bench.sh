@@ -23,6 +23,9 @@
 #   --debs DIR       a machine without network: install the .deb files in DIR instead of
 #                    apt-get (scripts/packages.txt and their dependencies, downloaded with
 #                    `apt-get download` on a machine of the same release)
+#   --bundle DIR     a machine that cannot build (no network, another distribution): run the
+#                    binaries and libraries packed by scripts/gpu_bundle.py into DIR instead
+#                    of installing and building (implies --no-install --no-build)
 #   --no-install, --no-build, --no-tests   skip a step
 # Writes DIR/table.csv (device,method,size,gpu_ms,wall_s, one row per run), DIR/kernels.csv
 # (bench kernels' figures per kernel) and DIR/table.md (both tables).
@@ -39,6 +42,7 @@ runTimeout=300
 beside=""
 out=gpu_bench.out
 debs=""
+bundle=""
 install=1 build=1 tests=1
 while (($#)); do
     case $1 in
@@ -51,10 +55,11 @@ while (($#)); do
     --beside) beside=$(realpath "$2"); shift ;;
     --out) out=$2; shift ;;
     --debs) debs=$(realpath "$2"); shift ;;
+    --bundle) bundle=$(realpath "$2"); install=0 build=0; shift ;;
     --no-install) install=0 ;;
     --no-build) build=0 ;;
     --no-tests) tests=0 ;;
-    -h | --help) sed -n '2,28p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,31p' "$0"; exit 0 ;;
     *) echo "gpu_bench: unknown argument $1 (--help lists them)" >&2; exit 2 ;;
     esac
     shift
@@ -99,7 +104,13 @@ if ((build)); then
     cmake --build build --parallel "$(nproc)" --target mcdenoise mcd_tests >>"$out/build.log" \
         2>&1 || { say "the build failed; see $out/build.log"; exit 1; }
 fi
-tool=$root/build/mcdenoise
+bin=$root/build
+if [[ -n "$bundle" ]]; then
+    bin=$bundle/build
+    export LD_LIBRARY_PATH=$bundle/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+    export VK_LAYER_PATH=$bundle/layers
+fi
+tool=$bin/mcdenoise
 [[ -x "$tool" ]] || { say "no $tool (build first)"; exit 1; }
 
 # The device: the one named, else the first NVIDIA device. NVIDIA's driver sometimes ships
@@ -122,7 +133,7 @@ csvName=${name//,/;}  # the CSV's device column
 # 3. The kernel-vs-reference tests on that device.
 if ((tests)); then
     say "kernel-vs-reference tests on $name"
-    if build/tests/mcd_tests --gtest_filter='*Kernel*' >"$out/tests.log" 2>&1; then
+    if "$bin/tests/mcd_tests" --gtest_filter='*Kernel*' >"$out/tests.log" 2>&1; then
         say "$(grep -E '^\[  PASSED  \]' "$out/tests.log")"
     else
         say "kernel tests FAILED on $name; see $out/tests.log"
@@ -147,10 +158,10 @@ for size in ${sizes//,/ }; do
         "$tool" render --size "$size" --spp "$spp" --layers all -o "$frame" >/dev/null
     fi
     for method in ${methods//,/ }; do
-        start=$(date +%s.%N)
+        start=$(date +%s%N)
         if line=$(timeout "$runTimeout" "$tool" denoise "$frame" --method "$method" \
             -o "$out/${method}_$size.exr" 2>&1 | grep -E ": $method in [0-9.]+ ms"); then
-            wall=$(printf '%.2f' "$(echo "$(date +%s.%N) - $start" | bc)")
+            wall=$(awk -v ns=$(($(date +%s%N) - start)) 'BEGIN { printf "%.2f", ns / 1e9 }')
             gpu=$(echo "$line" | sed -n 's/.* in [0-9.]* ms (\([0-9.]*\) ms GPU.*/\1/p')
             printf '%s,%s,%s,%s,%s\n' "$csvName" "$method" "$size" "$gpu" "$wall" >>"$csv"
             say "$method at $size: $gpu ms GPU, $wall s wall"

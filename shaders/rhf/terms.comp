@@ -84,7 +84,9 @@ void AddTerms() {
         [[unroll]] for (int k = 0; k < SIDE; ++k) {
             float both = hp[j] + hq[j + k];
             if (both > 1.0) {  // never with an empty pixel or candidate (Bin)
-                float d = nq[j + k] * hp[j] - np[j] * hq[j + k];
+                // precise: a contracted fma(a, b, -c * d) leaves a rounding error where the
+                // two products are equal (a pixel against itself), not 0.
+                precise float d = nq[j + k] * hp[j] - np[j] * hq[j + k];
                 sum[j * SIDE + k] += d * d / (np[j] * nq[j + k] * both);
                 count[j * SIDE + k] += 1.0;
             }

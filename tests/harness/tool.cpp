@@ -28,8 +28,22 @@ ToolDir::~ToolDir() {
     fs::remove(errFile, ec);
 }
 
+// The tool of the build tree this test binary sits in (<build>/tests/<test> ->
+// <build>/mcdenoise), so that a build tree copied elsewhere tests its own tool; else the
+// path the build recorded.
+static std::string ToolPath() {
+    static const std::string path = [] {
+        std::error_code ec;
+        fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+        fs::path beside = exe.parent_path().parent_path() / "mcdenoise";
+        return !ec && fs::is_regular_file(beside, ec) ? beside.string()
+                                                      : std::string(MCD_TOOL_PATH);
+    }();
+    return path;
+}
+
 ToolResult ToolDir::Run(const std::string &args, const std::string &env) const {
-    std::string command = "cd '" + dir.string() + "' && " + env + "'" MCD_TOOL_PATH "' " +
+    std::string command = "cd '" + dir.string() + "' && " + env + "'" + ToolPath() + "' " +
                           args + " 2>'" + errFile.string() + "'";
     ToolResult result;
     FILE *pipe = popen(command.c_str(), "r");

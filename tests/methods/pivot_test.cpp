@@ -116,9 +116,11 @@ Image Planes(const Image &fits, int first, int count, int channels) {
     return part;
 }
 
-// Stage 1: z is one division (1 rounding); s two more; nu one more; the estimated s sums
-// at most 9 squares of differences (about 20 roundings of the neighbourhood's mean z^2).
-// Positive data, as rendered frames have, so zl is bounded away from 0.
+// Stage 1: z is one division, which Vulkan lets a device compute to 2.5 ULP (5 unit
+// roundoffs; lavapipe rounds it correctly, NVIDIA's H200 does not); s two more roundings; nu
+// one more; the estimated s sums at most 9 squares of differences (about 20 roundings of the
+// neighbourhood's mean z^2). Positive data, as rendered frames have, so zl is bounded away from
+// 0.
 struct RatioCase {
     int w, h;
     bool withVariance, withIds;
@@ -140,7 +142,7 @@ TEST_P(PivotRatioKernel, MatchesReference) {
         GpuRatio(Ctx(), f.color, f.pivot, variance, 1e-3f, withIds ? &guide : nullptr);
     for (size_t i = 0; i < expected.nu.Size(); ++i)
         ASSERT_EQ(expected.nu.data[i] < 0, actual.nu.data[i] < 0) << "validity at " << i;
-    EXPECT_TRUE(ImagesMatch(expected.z, actual.z, {}, {2 * kUnitRoundoff, 0, 1e-12}));
+    EXPECT_TRUE(ImagesMatch(expected.z, actual.z, {}, {5 * kUnitRoundoff, 0, 1e-12}));
     // The scale of s and nu: the neighbourhood's squared values.
     Image sScale = expected.s, nuScale = expected.nu;
     for (int c = 0; c < 3; ++c)
