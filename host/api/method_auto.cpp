@@ -113,7 +113,8 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::plain, {"nfor", "combine"}),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
-                    "(\"nfor,rhf,pivot k0\"), or all; the others are left out",
+                    "(\"nfor,rhf,pivot k0\"), or all (every one but awr, which runs where "
+                    "named); the others are left out",
                     &O::candidates, {})};
 }
 
@@ -525,13 +526,6 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
             plan->push_back(fmt::format("auto: left out {}: not in --auto-candidates", label));
             continue;
         }
-        if (allowed.empty() && !v.variant->byDefault) {
-            plan->push_back(fmt::format(
-                "auto: left out {}: it runs where --auto-candidates names it (beside the "
-                "others it held small shares for much time)",
-                label));
-            continue;
-        }
         if (Repeats(*method, v, inputs, out)) continue;
         if (std::string why = OutByEstimate(v, noise); !why.empty()) {
             plan->push_back(fmt::format("auto: left out {}: {}", label, why));
@@ -550,6 +544,13 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         }
         if (std::string lacks = method->Missing(inputs.Source()); !lacks.empty()) {
             plan->push_back(fmt::format("auto: left out {}: {}", label, lacks));
+            continue;
+        }
+        if (allowed.empty() && !v.variant->byDefault) {
+            plan->push_back(fmt::format(
+                "auto: left out {}: it runs where --auto-candidates names it (beside the "
+                "others it held small shares for much time)",
+                label));
             continue;
         }
         double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
