@@ -51,6 +51,7 @@ std::vector<MethodEntry> Build() {
     // most of pivot's error (README). "bayes no split" runs where bayes runs split.
     // Where the half-buffers weigh the candidates (an accumulated frame), nfor runs, and
     // the variants that did not earn their time beside it there do not (Halves::Never);
+    // awr runs only where named (byDefault false): small shares everywhere for much time.
     // docs/methods/auto.md has the measurements.
     using Halves = AutoVariant::Halves;
     const ParamValue none = std::string("none");
