@@ -142,18 +142,17 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                             continue;
                         double v = variance.At(vc, yy, xx);
                         if (!std::isfinite(v) || v < 0) usable = false;
-                        window.push_back(v);
+                        if (v > 0) window.push_back(v);
                     }
-                // The window's mean without its largest value.
-                std::sort(window.begin(), window.end());
-                double rest = 0;
-                for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
-                rest = window.size() > 1 ? rest / double(window.size() - 1) : 0;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
                 if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
                     !std::isfinite(out))
                     continue;
-                double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
+                // The median of the window's positive variances (the pixel's among them),
+                // the lower middle value when they are even in number.
+                std::sort(window.begin(), window.end());
+                double median = window[(window.size() - 1) / 2];
+                double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), median));
                 if (out < in - k * sd) {
                     output->At(c, y, x) = float(in - k * sd);
                     ++clamped;
@@ -163,6 +162,48 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                 }
             }
     return clamped;
+}
+
+Image FrameNoise(const Image &color, const Image *albedo) {
+    const int w = color.width, h = color.height;
+    Image out(w, h, color.channels);
+    for (int c = 0; c < color.channels; ++c) {
+        auto a = [&](int x, int y) {
+            if (!albedo) return 1.0;
+            double v = albedo->At(albedo->channels == 1 ? 0 : c, y, x);
+            return v > 0.02 ? v : 1.0;
+        };
+        // z in float, as a float frame holds it.
+        auto z = [&](int x, int y) { return double(color.At(c, y, x) / float(a(x, y))); };
+        auto inside = [&](int x, int y) { return x >= 0 && x < w && y >= 0 && y < h; };
+        // e at (x, y), or NaN.
+        auto e = [&](int x, int y) {
+            const int d[4][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}};  // (dx, dy)
+            std::vector<double> r2;
+            for (const auto &o : d) {
+                if (!inside(x - o[0], y - o[1]) || !inside(x + o[0], y + o[1])) continue;
+                double r = z(x, y) - (z(x - o[0], y - o[1]) + z(x + o[0], y + o[1])) / 2;
+                if (!std::isfinite(r * r)) return std::nan("");
+                r2.push_back(r * r / 1.5);
+            }
+            if (r2.empty()) return std::nan("");
+            double m = *std::min_element(r2.begin(), r2.end());
+            return m / (r2.size() == 4 ? 0.0504 : 0.4549);
+        };
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                std::vector<double> window;
+                for (int v = y - 2; v <= y + 2; ++v)
+                    for (int u = x - 2; u <= x + 2; ++u)
+                        if (inside(u, v) && std::isfinite(float(e(u, v))))
+                            window.push_back(float(e(u, v)));
+                if (window.empty()) continue;
+                std::sort(window.begin(), window.end());
+                out.At(c, y, x) =
+                    float(window[(window.size() - 1) / 2] / 1.165 * a(x, y) * a(x, y));
+            }
+    }
+    return out;
 }
 
 }  // namespace mcd::ref

@@ -93,8 +93,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
                ChoiceParam("guides", "auto (normals and ids when the frame has them) or none",
                            &PivotSettings::guides, {"auto", "none"}),
                ChoiceParam("pivot-noise",
-                           "auto (the variance layer when present) or estimate (from the 3x3 "
-                           "neighbours of z)",
+                           "auto (the variance layer when present, else estimated from the "
+                           "frame: the median over 5x5 of squared second differences of z) or "
+                           "estimate (the sample variance of z's 3x3 neighbours)",
                            &PivotSettings::noise, {"auto", "estimate"}),
                BoolParam(
                    "no-partials",
@@ -105,8 +106,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                FloatParam("pivot-bound",
                           "each value ends at most this many standard deviations of its "
                           "noise (the variance layer, else estimated from the frame; the "
-                          "larger of the pixel's and its 3x3 window's mean without the "
-                          "largest) from its input, before the local means are restored: fits "
+                          "larger of the pixel's and its 3x3 window's median) from its input, "
+                          "before the local means are restored: fits "
                           "that overshoot an edge or go negative cannot move a pixel farther "
                           "than its noise allows (beyond the paper; 0: off)",
                           &PivotSettings::bound, 0, 1e6)}) {}
@@ -133,8 +134,23 @@ class Pivot : public FrontEndOf<PivotSettings> {
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
         PivotInputs in = InputsOf(inputs);
+        // Without a variance layer the fits read the frame's own noise estimate, robust to
+        // the lines and edges the pivot does not show (a 3x3 sample variance takes them for
+        // noise). The bound and the restore keep theirs: a median misses fireflies.
+        PivotInputs fitIn = in;
+        Image frameNoise;
+        if (UsesFrameNoise(in)) {
+            frameNoise = FrameNoise(*in.color, in.pivot);
+            fitIn.variance = &frameNoise;
+        }
         Result result =
-            ResultOf(PivotDenoise(context, in, options.method, SetupFor(inputs, run)));
+            ResultOf(PivotDenoise(context, fitIn, options.method, SetupFor(inputs, run)));
+        if (UsesFrameNoise(in))
+            result.plan.insert(result.plan.begin(),
+                               "variance for the fits: estimated from the frame (no variance "
+                               "layer): the median over 5x5 of the smallest squared second "
+                               "difference of color / pivot over 4 directions, times the "
+                               "pivot squared");
         if (options.bound > 0) {
             // Without a variance layer, the frame's own noise estimate (auto's).
             Image estimated;
@@ -143,8 +159,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
             size_t moved = BoundToNoise(*in.color, variance, options.bound, &result.image);
             result.plan.push_back(fmt::format(
                 "bound: {} values moved to within {} standard deviations of their input's "
-                "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
-                "larger)",
+                "noise ({}: the pixel's, or its 3x3 window's median, the larger)",
                 moved, options.bound,
                 in.variance ? "the variance layer"
                             : "estimated from the frame divided by the pivot"));
@@ -189,10 +204,13 @@ class Pivot : public FrontEndOf<PivotSettings> {
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean.
         const int bound = options.bound > 0 ? 3 : 0;
-        needs.reach += mean + bound;
+        // The frame's noise for the fits: a 5x5 median of second differences.
+        const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
+        needs.reach += mean + bound + frameNoise;
         needs.reachText += fmt::format(
-            "; the local mean's coarse and fine tents {}; {} for the bound's noise",
-            mean, bound);
+            "; the local mean's coarse and fine tents {}; {} for the bound's noise; {} for "
+            "the frame's noise estimate",
+            mean, bound, frameNoise);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
@@ -216,6 +234,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
 
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         PivotInputs in = InputsOf(inputs);
+        Image frameNoise;
+        if (UsesFrameNoise(in)) frameNoise = ref::FrameNoise(*in.color, in.pivot);
         Image ids;
         if (in.objectId || in.partId) {
             ids = Image(inputs.Width(), inputs.Height(), 2);
@@ -227,7 +247,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         ref::PivotFilterInputs cpuIn;
         cpuIn.color = in.color;
         cpuIn.pivot = in.pivot;
-        cpuIn.variance = in.variance;
+        cpuIn.variance = UsesFrameNoise(in) ? &frameNoise : in.variance;
         cpuIn.guides = {in.normal, ids.Empty() ? nullptr : &ids};
         for (const PivotPartial &partial : in.partials)
             cpuIn.partials.push_back({partial.color, partial.pivot, partial.variance});
@@ -251,6 +271,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
     }
 
   private:
+    // Whether the frame's robust noise estimate stands in for a variance layer: none, one
+    // image filtered (no partials) and --pivot-noise auto.
+    bool UsesFrameNoise(const PivotInputs &in) const {
+        return !in.variance && in.partials.empty() && options.noise == "auto";
+    }
     // The layer that serves as the pivot: auto takes the real one when there is one, as
     // the albedo lacks its shading.
     template <typename HasLayer>

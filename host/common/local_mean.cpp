@@ -206,6 +206,76 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
     return range;
 }
 
+namespace {
+
+// The normalised smallest squared second difference of z at each pixel of channel c
+// (FrameNoise), NaN where there is none.
+std::vector<float> SecondDifferences(const Image &color, const Image *albedo, int c) {
+    const int w = color.width, h = color.height;
+    const float *y = color.Plane(c);
+    const float *a = albedo ? albedo->Plane(albedo->channels == 1 ? 0 : c) : nullptr;
+    std::vector<float> z(color.PixelCount()), e(color.PixelCount());
+    for (size_t p = 0; p < z.size(); ++p) z[p] = a && a[p] > 0.02f ? y[p] / a[p] : y[p];
+    const int directions[4][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}};
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            double best = INFINITY;
+            int count = 0;
+            bool finite = true;
+            for (const auto &d : directions) {
+                const int ya = j - d[0], yb = j + d[0], xa = i - d[1], xb = i + d[1];
+                if (ya < 0 || yb >= h || std::min(xa, xb) < 0 || std::max(xa, xb) >= w)
+                    continue;
+                const double r =
+                    double(z[size_t(j) * w + i]) -
+                    0.5 * (double(z[size_t(ya) * w + xa]) + z[size_t(yb) * w + xb]);
+                finite = finite && std::isfinite(r * r);
+                best = std::min(best, r * r / 1.5);
+                ++count;
+            }
+            const double median = count == 4 ? kFrameNoiseMedianOf4 : kFrameNoiseMedianOf1;
+            e[size_t(j) * w + i] = count > 0 && finite ? float(best / median) : NAN;
+        }
+    return e;
+}
+
+}  // namespace
+
+Image FrameNoise(const Image &color, const Image *albedo) {
+    const int w = color.width, h = color.height;
+    if (albedo && (albedo->width != w || albedo->height != h ||
+                   (albedo->channels != 1 && albedo->channels < color.channels)))
+        throw Error("FrameNoise: the albedo must have the colour's size, 1 or its channels",
+                    ErrorKind::Internal);
+    Image out(w, h, color.channels);
+    for (int c = 0; c < color.channels; ++c) {
+        const std::vector<float> e = SecondDifferences(color, albedo, c);
+        const float *a = albedo ? albedo->Plane(albedo->channels == 1 ? 0 : c) : nullptr;
+        float *dst = out.Plane(c);
+        InParts(h, size_t(w) * h * 25, [&](int begin, int end) {
+            float window[25];
+            for (int y = begin; y < end; ++y)
+                for (int x = 0; x < w; ++x) {
+                    int count = 0;
+                    for (int j = std::max(0, y - 2); j <= std::min(h - 1, y + 2); ++j)
+                        for (int i = std::max(0, x - 2); i <= std::min(w - 1, x + 2); ++i)
+                            if (float v = e[size_t(j) * w + i]; std::isfinite(v))
+                                window[count++] = v;
+                    const size_t p = size_t(y) * w + x;
+                    if (count == 0) {
+                        dst[p] = 0;
+                        continue;
+                    }
+                    std::nth_element(window, window + (count - 1) / 2, window + count);
+                    const double albedoAt = a && a[p] > 0.02f ? a[p] : 1.0;
+                    dst[p] = float(window[(count - 1) / 2] / kFrameNoiseWindowBias * albedoAt *
+                                   albedoAt);
+                }
+        });
+    }
+    return out;
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     if (!input.SameShape(*output) || variance.width != input.width ||
         variance.height != input.height ||
@@ -223,26 +293,27 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const size_t p = size_t(y) * w + x;
-                // The larger of the pixel's variance and its window's mean without the
-                // window's largest value (one firefly beside the pixel).
-                double sum = 0, largest = 0;
+                // The larger of the pixel's variance and the median (lower middle) of its
+                // window's positive ones: fireflies in up to half of them beside the pixel
+                // do not free it.
+                float window[9];
                 int count = 0;
                 bool finite = true;
                 for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
                     for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
                         float vi = v[size_t(j) * w + i];
                         finite = finite && std::isfinite(vi) && vi >= 0;
-                        sum += vi;
-                        largest = std::max(largest, double(vi));
-                        ++count;
+                        if (vi > 0) window[count++] = vi;
                     }
                 const double o = out[p];
                 // A variance of 0 (every sample equal: at a few samples per pixel, mostly
-                // all of them missing the light) says nothing of the noise.
+                // all of them missing the light, or an emitter) says nothing of the noise:
+                // such a pixel is left, and such neighbours count in no median.
                 if (!finite || !(v[p] > 0) || !std::isfinite(in[p]) || !std::isfinite(o))
                     continue;
-                const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
-                const double spread = k * std::sqrt(std::max(double(v[p]), rest));
+                std::nth_element(window, window + (count - 1) / 2, window + count);
+                const double median = window[(count - 1) / 2];
+                const double spread = k * std::sqrt(std::max(double(v[p]), median));
                 const double lo = in[p] - spread, hi = in[p] + spread;
                 if (o < lo || o > hi) {
                     out[p] = float(std::clamp(o, lo, hi));

@@ -51,13 +51,30 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or
 // a light the guide does not show, or go negative, cannot leave a pixel farther from its
-// input than its own noise allows. The variance is the larger of the pixel's and the mean
-// over its 3x3 window clipped to the image without the window's largest value (one firefly
-// beside a pixel must not free it to take the firefly's smear). Values whose variance is 0
+// input than its own noise allows. The variance is the larger of the pixel's and the median
+// of the positive ones of its 3x3 window clipped to the image, the lower middle value of an
+// even count (fireflies beside a pixel, up to half of them, must not free it to take their
+// smear; neighbours of variance 0, an emitter's, do not hold it). Values whose variance is 0
 // (every sample equal: at 4 spp half a dim interior's pixels, whose samples all missed the
 // light), whose input or output is not finite, or whose window has a variance that is not
 // finite or is negative, are left. `variance`: of the pixel mean, 1 or the input's
 // channels. Returns how many values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
+
+// The variance of the pixel mean estimated from a frame without sample statistics, robust
+// to the frame's own structure (beyond the papers): per channel z = color / albedo (its one
+// channel or channel c; 1 where it is <= 0.02 or there is none); at each pixel e, the
+// smallest r^2 / 1.5, r = z - (z_-d + z_+d) / 2, over the directions d of (1,0), (0,1),
+// (1,1), (1,-1) whose two neighbours lie in the image, over that minimum's median for unit
+// Gaussian noise (kFrameNoiseMedianOf4 for four directions, of one: kFrameNoiseMedianOf1; no
+// e without a direction or where a difference is not finite). The result: the median of the e
+// of the 5x5 window clipped to the image (the lower middle value of an even count) over
+// kFrameNoiseWindowBias, times the albedo squared at the pixel; 0 where the window has no
+// e. A 3x3 sample variance counts a line or an edge the albedo does not show as noise (a
+// glass's refracted pattern then reads as noise and the plane fits smear it); a line
+// covers less than half of the window, so its median is the noise beside it.
+constexpr double kFrameNoiseMedianOf4 = 0.0504, kFrameNoiseMedianOf1 = 0.4549;
+constexpr double kFrameNoiseWindowBias = 1.165;
+Image FrameNoise(const Image &color, const Image *albedo);
 
 }  // namespace mcd

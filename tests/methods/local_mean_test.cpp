@@ -110,6 +110,28 @@ TEST_P(LocalMeanMatches, BoundToNoiseMatchesReference) {
     }
 }
 
+// The frame's robust noise estimate against its reference: with an albedo of one channel
+// and of the colour's (values at and under the 0.02 floor among them) and without; the
+// same bits (both take z in float and the rest in double, and pick the same median), and
+// the same when repeated.
+TEST_P(LocalMeanMatches, FrameNoiseMatchesReference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    std::mt19937_64 rng(SeedFromName("frame noise albedo"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int channels : {0, 1, GetParam().channels}) {
+        Image albedo(input.width, input.height, std::max(channels, 1));
+        for (float &a : albedo.data) a = unit(rng) < 0.1f ? 0.01f * unit(rng) : unit(rng);
+        const Image *guide = channels ? &albedo : nullptr;
+        Image expected = ref::FrameNoise(input, guide), got = FrameNoise(input, guide);
+        ASSERT_TRUE(got.SameShape(expected));
+        EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
+            << channels;
+        Image again = FrameNoise(input, guide);
+        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, LocalMeanMatches,
                          ::testing::Values(LocalMeanCase{1, 1, 3, 1}, LocalMeanCase{7, 5, 1, 1},
                                            LocalMeanCase{33, 17, 3, 3},
@@ -220,6 +242,66 @@ TEST(LocalMeanProperties, BoundToNoiseClampsAtKStandardDeviations) {
     EXPECT_FLOAT_EQ(output.At(0, 0, 2), 0.7f);
     EXPECT_EQ(output.At(0, 0, 3), 1.5f);
     EXPECT_FLOAT_EQ(output.At(0, 0, 5), 1.3f);
+}
+
+// Two fireflies beside a pixel (issue 29, relief-abc 16 spp: a dim pixel between two
+// fireflies took pivot's smear of them) do not widen its bound: the window's median is
+// the neighbours' noise, where its mean without the largest was 12.5 here.
+TEST(LocalMeanProperties, BoundToNoiseHoldsAPixelBetweenTwoFireflies) {
+    Image input(3, 3, 1), output(3, 3, 1), variance(3, 3, 1);
+    for (size_t i = 0; i < input.data.size(); ++i)
+        input.data[i] = 0.1f, output.data[i] = 0.1f, variance.data[i] = 0.0001f;
+    variance.At(0, 0, 0) = variance.At(0, 2, 2) = 100;  // two fireflies
+    input.At(0, 0, 0) = input.At(0, 2, 2) = output.At(0, 0, 0) = output.At(0, 2, 2) = 30;
+    output.At(0, 1, 1) = 2.f;  // the fireflies' smear at the centre
+    EXPECT_EQ(BoundToNoise(input, variance, 3, &output), 1u);
+    EXPECT_FLOAT_EQ(output.At(0, 1, 1), 0.13f);
+    Image expected = output;
+    expected.At(0, 1, 1) = 2.f;
+    EXPECT_EQ(ref::BoundToNoise(input, variance, 3, &expected), 1u);
+    EXPECT_FLOAT_EQ(expected.At(0, 1, 1), 0.13f);
+}
+
+// Neighbours of variance 0 (an emitter's pixels, or every sample missing the light at a
+// few samples per pixel) count in no median: beside a light's edge they would otherwise
+// pin a pixel to its own variance (cornell 4 spp).
+TEST(LocalMeanProperties, BoundToNoiseMedianLeavesOutVarianceZero) {
+    Image input(3, 3, 1), output(3, 3, 1), variance(3, 3, 1);
+    for (size_t i = 0; i < input.data.size(); ++i) input.data[i] = 1, output.data[i] = 1;
+    variance.At(0, 1, 1) = 0.0001f;
+    variance.At(0, 0, 0) = variance.At(0, 0, 1) = variance.At(0, 0, 2) = 1;  // the rest 0
+    output.At(0, 1, 1) = 3.5f;  // 2.5 sd of the neighbours' noise: stays
+    EXPECT_EQ(BoundToNoise(input, variance, 3, &output), 0u);
+    EXPECT_EQ(output.At(0, 1, 1), 3.5f);
+    EXPECT_EQ(ref::BoundToNoise(input, variance, 3, &output), 0u);
+}
+
+// The robust estimate reads Gaussian noise's variance (its mean over a frame within 5%),
+// and a bright line the albedo does not show does not raise it beside the line, where a
+// 3x3 sample variance of the same frame is many times the noise.
+TEST(LocalMeanProperties, FrameNoiseReadsTheNoiseAndNotALine) {
+    const int w = 192, h = 192;
+    std::mt19937_64 rng(SeedFromName("frame noise gaussian"));
+    std::normal_distribution<float> gauss(0, 1);
+    Image color(w, h, 1), albedo(w, h, 1);
+    const float sd = 0.05f;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            albedo.At(0, y, x) = 0.5f;
+            color.At(0, y, x) = 0.25f + 0.5f * sd * gauss(rng);  // z's noise: sd
+        }
+    Image flat = FrameNoise(color, &albedo);
+    double mean = 0;
+    for (float v : flat.data) mean += v;
+    mean /= double(flat.data.size());
+    EXPECT_NEAR(mean, 0.25 * sd * sd, 0.05 * 0.25 * sd * sd);
+    // A diagonal line of 20 times the level: beside it (one pixel off) the estimate stays.
+    for (int i = 0; i < w; ++i) color.At(0, i, i) = 5;
+    Image lined = FrameNoise(color, &albedo);
+    double beside = 0;
+    int n = 0;
+    for (int i = 10; i + 10 < w; ++i, ++n) beside += lined.At(0, i, i + 1);
+    EXPECT_LT(beside / n, 2 * 0.25 * sd * sd);
 }
 
 }  // namespace

@@ -72,16 +72,14 @@ TEST_F(PivotHarm, AnEdgeAtLowNoiseMovesNoFurtherThanItsNoise) {
     for (int c = 0; c < 3; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                // The pixel's variance or its 3x3 window's mean without the largest.
+                // The pixel's variance or its 3x3 window's median (lower middle).
                 std::vector<double> window;
                 for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
                     for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
                         window.push_back(variance.At(c, j, i));
                 std::sort(window.begin(), window.end());
-                double rest = 0;
-                for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
                 double v =
-                    std::max(rest / double(window.size() - 1), double(variance.At(c, y, x)));
+                    std::max(window[(window.size() - 1) / 2], double(variance.At(c, y, x)));
                 ASSERT_LE(std::fabs(fits.At(c, y, x) - color.At(c, y, x)),
                           3 * std::sqrt(v) * (1 + 1e-6) + 1e-7)
                     << c << " " << y << " " << x;
@@ -116,6 +114,39 @@ TEST_F(PivotHarm, AnEdgeOnAPlainFrameIsBoundByItsEstimatedNoise) {
     fmt::print("input {:.4g}, pivot {:.4g}, without the bound {:.4g}\n",
                RelMse(frame.layers["color"], truth), RelMse(bounded.image, truth), free);
     EXPECT_LT(RelMse(bounded.image, truth), free / 2);
+}
+
+// A glass's refracted pattern on a plain frame (issue 29, product_transparent): rings and
+// a bright line that the albedo does not show, at a high relative noise. For the fits, a
+// 3x3 sample variance of z counts the pattern as noise, so the quadrants' disagreement
+// does not stop the squares and they smear it (`--pivot-noise estimate`: about the input's
+// error, above it on some draws); with the frame's robust estimate, the default, pivot
+// takes a fifth or more off both.
+TEST_F(PivotHarm, APatternTheAlbedoDoesNotShowIsNotSmeared) {
+    const int w = 64, h = 64;
+    Image truth(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double r = std::hypot(x - 30.0, y - 34.0);
+                double v = 0.3 + 0.25 * std::sin(0.3 * r);
+                if (std::abs(x - y - 3) <= 0 && x > 8 && x < 56) v = 8;
+                truth.At(c, y, x) = float(v);
+            }
+    Frame frame = NoisyFrame(truth, 0.5, false, "pivot harm pattern");
+    Device device = api::BorrowDevice(Ctx());
+    Method pivot("pivot");
+    const double input = RelMse(frame.layers["color"], truth);
+    Result robust = pivot.Run(device, frame);
+    pivot.Set("pivot-noise", std::string("estimate"));
+    const double sample = RelMse(pivot.Run(device, frame).image, truth);
+    fmt::print("input {:.4g}, pivot {:.4g}, with the 3x3 sample variance {:.4g}\n", input,
+               RelMse(robust.image, truth), sample);
+    EXPECT_LT(RelMse(robust.image, truth), 0.8 * std::min(input, sample));
+    bool planned = false;
+    for (const std::string &line : robust.plan)
+        planned |= line.find("estimated from the frame") != std::string::npos;
+    EXPECT_TRUE(planned);
 }
 
 }  // namespace
