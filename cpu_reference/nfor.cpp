@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cpu_reference/local_mean.h"
+#include "cpu_reference/nfor_coarse.h"
 
 namespace mcd::ref {
 namespace {
@@ -571,15 +572,15 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         keep("pilot", out);
         Image pilotDistance =
             NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr, p.radius,
-                         p.patchRadius, p.pilotAlpha, p.minVariance);
+                         p.patchRadius, p.pilotAlpha, p.pilotMinVariance);
         keep("pilot.distance", pilotDistance);
         std::vector<PassCandidate> second;
         for (double k : p.pilotBandwidths) second.push_back({k, p.radius, &pilotDistance});
         Image wideDistance;
         if (p.pilotWideRadius > 0) {
-            wideDistance =
-                NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr,
-                             p.pilotWideRadius, p.patchRadius, p.pilotAlpha, p.minVariance);
+            wideDistance = NforDistance(
+                out, variance, p.demodulateDistance ? in.albedo : nullptr, p.pilotWideRadius,
+                p.patchRadius, p.pilotAlpha, p.pilotMinVariance);
             keep("pilot.wide.distance", wideDistance);
             for (double k : p.pilotBandwidths)
                 second.push_back({k, p.pilotWideRadius, &wideDistance});
@@ -589,6 +590,21 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     if (p.meanRadius > 0) {
         keep("fit", out);
         RestoreLocalMeans(clamped, p.meanRadius, &out);
+    }
+    if (p.coarse) {
+        // The same method at half the resolution, without a coarse pass of its own.
+        Image halfColor = NforHalf(color), halfFeatures = NforHalf(*in.features), halfAlbedo,
+              halfVariance;
+        if (in.albedo) halfAlbedo = NforHalf(*in.albedo);
+        if (in.variance) halfVariance = NforHalf(*in.variance, true);
+        NforInputs half{&halfColor, in.albedo ? &halfAlbedo : nullptr, &halfFeatures,
+                        in.variance ? &halfVariance : nullptr};
+        NforParams coarseParams = p;
+        coarseParams.coarse = false;
+        Image coarse = Nfor(half, coarseParams, nullptr);
+        keep("coarse", coarse);
+        NforAddCoarse(color, coarse, in.albedo, p.emitterAlbedo, p.coarseRelative,
+                      p.coarseNoise, &out);
     }
     keep("output", out);
     return out;

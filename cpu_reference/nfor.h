@@ -90,6 +90,7 @@ struct NforParams {
     std::vector<double> bandwidths = {0.5, 1.0};  // k per candidate
     double alpha = 1;                // variance cancellation in the colour distance
     bool minVariance = false;        // the distance normalised by 2 min(v_p, v_q)
+    bool pilotMinVariance = false;   // the same for the second pass's distance
     bool demodulateDistance = true;  // the distance of colour / albedo
     double ridge = 0.001;            // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
@@ -117,6 +118,10 @@ struct NforParams {
     // half-size, its distance over them, and SURE picks among all; 0: off.
     int pilotWideRadius = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
+    // The frame denoised again at half the resolution (NforHalf of colour, albedo, features
+    // and variance), its low frequencies added (NforAddCoarse, cpu_reference/nfor_coarse.h).
+    bool coarse = false;
+    double coarseRelative = 0.1, coarseNoise = 0.3;
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).
@@ -192,7 +197,7 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
-// fit; output).
+// fit; with coarse, coarse; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

@@ -72,6 +72,10 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                          "normalised: a dark pixel "
                          "does not borrow from a brighter, noisier one) or sum (v_p + v_q)",
                          &O::minVariance, {{"min", true}, {"sum", false}})),
+        nested(EnumParam("pilot-distance-variance",
+                         "the second pass's colour distance's variances: same (as "
+                         "--distance-variance), min or sum",
+                         &O::pilotMinVariance, {{"same", -1}, {"min", 1}, {"sum", 0}})),
         nested(FloatParam("ridge", "ridge lambda x sum(w) on the non-constant columns",
                           &O::ridge, 1e-4, 1e3)),
         nested(FloatParam("feature-bandwidth",
@@ -140,6 +144,18 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
+        nested(BoolParam("nfor-coarse",
+                         "denoise the frame again at half the resolution and take its low "
+                         "frequencies where they differ from the output's by under "
+                         "--coarse-relative x its magnitude and --coarse-noise x its residual",
+                         &O::coarse)),
+        nested(FloatParam("coarse-relative",
+                          "the coarse pass's difference allowed, relative to the output",
+                          &O::coarseRelative, 0, 1e3)),
+        nested(FloatParam("coarse-noise",
+                          "the coarse pass's difference allowed, relative to the output's "
+                          "residual (input - output)",
+                          &O::coarseNoise, 0, 1e3)),
         ChoiceParam("nfor-noise",
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
@@ -190,6 +206,13 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             "average; {} for the local means",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
+        if (o.coarse) {
+            // The half-resolution pass reaches twice as far in this frame's pixels, its
+            // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
+            needs.reach = 2 * needs.reach + 2 + 6;
+            needs.align = 2;
+            needs.reachText += "; doubled and 8 more for the coarse pass";
+        }
         int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
             features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
@@ -220,6 +243,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
         p.alpha = o.alpha;
         p.minVariance = o.minVariance;
+        p.pilotMinVariance = NforPilotMinVariance(o);
         p.demodulateDistance = !o.noDemodulatedDistance;
         p.ridge = o.ridge;
         p.featureWeights.assign(weights.begin(), weights.end());
@@ -239,6 +263,9 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotAlpha = o.pilotAlpha;
         p.pilotWideRadius = o.pilotWideRadius;
         p.meanRadius = o.meanRadius;
+        p.coarse = o.coarse;
+        p.coarseRelative = o.coarseRelative;
+        p.coarseNoise = o.coarseNoise;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);

@@ -10,6 +10,7 @@
 #include "host/error.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/checks.h"
+#include "host/methods/nfor_coarse.h"
 #include "host/vk/gpu_image.h"
 #include "nfor/nfor.h"
 
@@ -35,6 +36,10 @@ float NforDepthScale(const Image *depth) {
 
 float NforPivotScale(const Image *pivot) {
     return PositiveMean(pivot);
+}
+
+bool NforPilotMinVariance(const NforOptions &o) {
+    return o.pilotMinVariance < 0 ? o.minVariance : o.pilotMinVariance != 0;
 }
 
 Image NforFeatures(const NforInputs &in, const NforOptions &o, std::vector<float> *weights,
@@ -112,11 +117,12 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.pilotAlpha) && o.pilotAlpha >= 0) ||
         !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
         !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0) ||
-        o.meanRadius < 0)
+        o.meanRadius < 0 || !(finite(o.coarseRelative) && o.coarseRelative >= 0) ||
+        !(finite(o.coarseNoise) && o.coarseNoise >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold and "
-            "pilot alpha finite and >= 0, mean radius >= 0",
+            "pilot alpha, coarse relative and coarse noise finite and >= 0, mean radius >= 0",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -382,17 +388,18 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
     }
     RecordPass(run, gpu, weights, o, first, "", *gpu.pilot, choice);
     run.Stage("pilot", *gpu.pilot);
+    bool pilotMin = NforPilotMinVariance(o);
     const vk::GpuImage *albedo =
         gpu.albedo && !o.noDemodulatedDistance ? &*gpu.albedo : nullptr;
     RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
-                       o.radius, o.patchRadius, o.pilotAlpha, o.minVariance, gpu.scratch,
+                       o.radius, o.patchRadius, o.pilotAlpha, pilotMin, gpu.scratch,
                        *gpu.pilotDistance);
     run.Stage("pilot.distance", *gpu.pilotDistance);
     std::vector<PassCandidate> second;
     for (float k : o.pilotBandwidths) second.push_back({o.radius, k, &*gpu.pilotDistance});
     if (gpu.wideDistance) {
         RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
-                           o.pilotWideRadius, o.patchRadius, o.pilotAlpha, o.minVariance,
+                           o.pilotWideRadius, o.patchRadius, o.pilotAlpha, pilotMin,
                            *gpu.wideScratch, *gpu.wideDistance);
         run.Stage("pilot.wide.distance", *gpu.wideDistance);
         for (float k : o.pilotBandwidths)
@@ -467,8 +474,38 @@ std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
 
 }  // namespace
 
+namespace {
+
+// The frame at half the resolution (NforHalf of every layer; depth and pivot divided by the
+// whole frame's means), denoised with the same options but no coarse pass of its own.
+Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions &o) {
+    auto half = [](const Image *image, bool ofMean = false) {
+        return image ? std::optional<Image>(NforHalf(*image, ofMean)) : std::nullopt;
+    };
+    std::optional<Image> color = half(in.color), albedo = half(in.albedo),
+                         normal = half(in.normal), depth = half(in.depth),
+                         pivot = half(in.pivot), variance = half(in.variance, true);
+    auto pointer = [](std::optional<Image> &image) { return image ? &*image : nullptr; };
+    NforInputs coarse{pointer(color),
+                      pointer(albedo),
+                      pointer(normal),
+                      pointer(depth),
+                      pointer(pivot),
+                      pointer(variance),
+                      in.depthScale > 0 ? in.depthScale : NforDepthScale(in.depth),
+                      in.pivotScale > 0 ? in.pivotScale : NforPivotScale(in.pivot)};
+    NforOptions options = o;
+    options.coarse = false;
+    options.keepStages = false;
+    return NforDenoise(context, coarse, options).image;
+}
+
+}  // namespace
+
 NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o) {
     CheckInputs(context, in, o);
+    std::optional<Image> coarse;
+    if (o.coarse) coarse = CoarseOutput(context, in, o);
     std::vector<float> weights;
     std::vector<std::string> names;
     Image featureImage = NforFeatures(in, o, &weights, &names);
@@ -494,6 +531,16 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
             fmt::format("local mean: the clamped colour's means over tents of radius {}, "
                         "then {} restored (factors {:.3g} to {:.3g})",
                         8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
+    }
+    if (coarse) {
+        run.AddStage("coarse", *coarse);
+        NforAddCoarse(*in.color, *coarse, in.albedo, o.emitterAlbedo, o.coarseRelative,
+                      o.coarseNoise, &result.image);
+        run.Plan(fmt::format(
+            "coarse pass: the frame denoised again at half the resolution; its low "
+            "frequencies taken where they differ by under min({} x the output's magnitude, "
+            "{} x its residual)",
+            o.coarseRelative, o.coarseNoise));
     }
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "

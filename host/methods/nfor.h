@@ -30,6 +30,8 @@ struct NforOptions {
     // Normalise the colour distance by 2 min(v_p, v_q) (a dark pixel does not borrow from
     // a brighter, noisier one) instead of v_p + v_q (Rousselle et al.'s symmetric form).
     bool minVariance = false;
+    // The second pass's distance: -1 as the first's, 0 sum, 1 min (as minVariance).
+    int pilotMinVariance = -1;
     // Compare the colour itself in the colour distance; by default colour / albedo where
     // the frame has an albedo (the illumination: texture and edge coverage divide out).
     bool noDemodulatedDistance = false;
@@ -70,6 +72,11 @@ struct NforOptions {
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
+    // Denoise the frame again at half the resolution and give the output the coarse
+    // output's low frequencies where they differ by under min(coarseRelative x the
+    // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h).
+    bool coarse = false;
+    float coarseRelative = 0.1f, coarseNoise = 0.3f;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
@@ -102,6 +109,9 @@ Image NforFeatures(const NforInputs &inputs, const NforOptions &options,
 // The means NforFeatures divides depth and pivot by (0 without the layer).
 float NforDepthScale(const Image *depth);
 float NforPivotScale(const Image *pivot);
+
+// Whether the second pass's colour distance is normalised by 2 min(v_p, v_q).
+bool NforPilotMinVariance(const NforOptions &o);
 
 // Throws mcd::Error naming the layer and pixel when an input holds NaN/Inf (or a negative
 // variance), when shapes differ or options are out of range.

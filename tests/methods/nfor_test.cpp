@@ -15,12 +15,14 @@
 #include <vector>
 
 #include "cpu_reference/nfor.h"
+#include "cpu_reference/nfor_coarse.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
+#include "host/methods/nfor_coarse.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
 #include "nfor/nfor.h"
@@ -729,6 +731,11 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.fireflyRank = o.fireflyRank;
     p.fireflyLightEdge = o.fireflyLightEdge;
     p.pilotWideRadius = o.pilotWideRadius;
+    p.minVariance = o.minVariance;
+    p.pilotMinVariance = NforPilotMinVariance(o);
+    p.coarse = o.coarse;
+    p.coarseRelative = o.coarseRelative;
+    p.coarseNoise = o.coarseNoise;
     p.prefilterRadius = o.prefilterRadius;
     p.prefilterPatch = o.prefilterPatch;
     p.featureWeights.assign(weights.begin(), weights.end());
@@ -797,6 +804,97 @@ TEST_F(NforMethod, WideSecondPassStagesMatchTheReference) {
                              NforDenoise(Ctx(), InputsOf(f), o).image));
     o.pilotWideRadius = 3;
     EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error);
+}
+
+// The second pass's distance normalised apart from the first's: by 2 min(v_p, v_q) in the
+// first and v_p + v_q in the second, and the other way round; the second pass's distance
+// follows its own setting (it differs from the one the first pass's would give).
+TEST_F(NforMethod, PilotDistanceVarianceStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.minVariance = true;
+    o.pilotMinVariance = 0;
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{9, 4}})
+        ExpectStagesMatch(Ctx(), w, h, o);
+    o.minVariance = false;
+    o.pilotMinVariance = 1;
+    ExpectStagesMatch(Ctx(), 29, 23, o);
+    Frame f = MakeFrame(29, 23, 0.4, "pilot distance");
+    auto pilotDistance = [&](int pilotMin) {
+        NforOptions run = o;
+        run.pilotMinVariance = pilotMin;
+        run.keepStages = true;
+        NforResult result = NforDenoise(Ctx(), InputsOf(f), run);
+        for (auto &[name, image] : result.stages)
+            if (name == "pilot.distance") return image;
+        ADD_FAILURE() << "no pilot.distance stage";
+        return Image();
+    };
+    Image same = pilotDistance(-1), sum = pilotDistance(0), min = pilotDistance(1);
+    EXPECT_TRUE(BitIdentical(same, sum));
+    EXPECT_FALSE(BitIdentical(min, sum));
+}
+
+// The coarse pass: the whole method again at half the resolution (odd sizes and 1x1
+// included), its stage and the corrected output against the reference's.
+TEST_F(NforMethod, CoarsePassStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.coarse = true;
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+        ExpectStagesMatch(Ctx(), w, h, o);
+    Frame f = MakeFrame(21, 19, 0.4, "coarse rerun");
+    EXPECT_TRUE(BitIdentical(NforDenoise(Ctx(), InputsOf(f), o).image,
+                             NforDenoise(Ctx(), InputsOf(f), o).image));
+}
+
+// The halving and the correction against their references on random inputs, odd sizes,
+// one pixel and constants.
+TEST(NforCoarse, MatchesTheReference) {
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}, std::pair{16, 16}})
+        for (InputKind kind :
+             {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant}) {
+            std::string name = fmt::format("coarse {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            Image input = MakeInput(kind, w, h, 3, seed),
+                  output = MakeInput(kind, w, h, 3, seed + 1);
+            Image albedo = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 2);
+            for (float &a : albedo.data) a *= 2;  // some emitters
+            Image coarse = MakeInput(kind, (w + 1) / 2, (h + 1) / 2, 3, seed + 3);
+            for (size_t i = 0; i < coarse.Size(); ++i) coarse.data[i] *= 1.05f;
+            EXPECT_LE(MeasureDifference(NforHalf(input), ref::NforHalf(input)).nmse, 1e-12)
+                << name;
+            EXPECT_LE(MeasureDifference(NforHalf(input, true), ref::NforHalf(input, true)).nmse,
+                      1e-12)
+                << name;
+            Image gpuSide = output, cpuSide = output;
+            NforAddCoarse(input, coarse, &albedo, 1.5f, 0.1f, 0.3f, &gpuSide);
+            ref::NforAddCoarse(input, coarse, &albedo, 1.5, 0.1, 0.3, &cpuSide);
+            EXPECT_LE(MeasureDifference(gpuSide, cpuSide).nmse, 1e-10) << name;
+        }
+}
+
+// A coarse output a little above the fine one on a flat, noisy area lifts it there; one far
+// off (an edge the half resolution blurs) and an emitter leave it.
+TEST(NforCoarse, TakesSmallLowFrequencyDifferencesOnly) {
+    int w = 16, h = 16;
+    Image input(w, h, 3), output(w, h, 3, 1.f), coarse(w / 2, h / 2, 3, 1.02f);
+    for (size_t i = 0; i < input.Size(); ++i) input.data[i] = i % 2 ? 1.3f : 0.7f;
+    // The residual is 0.3 in every channel: t = min(0.1 x 3, 0.3 sqrt(3 x 0.09)), the
+    // difference 0.02 in each of 3 channels, taken times 1 - |d|^2 / t^2.
+    double t = std::min(0.3, 0.3 * std::sqrt(0.27)), lifted = 1 + 0.02 * (1 - 0.0012 / (t * t));
+    Image moved = output;
+    NforAddCoarse(input, coarse, nullptr, 1.5f, 0.1f, 0.3f, &moved);
+    EXPECT_NEAR(moved.At(0, 8, 8), lifted, 1e-5);
+    Image far(w / 2, h / 2, 3, 2.f), kept = output;
+    NforAddCoarse(input, far, nullptr, 1.5f, 0.1f, 0.3f, &kept);
+    EXPECT_EQ(kept.At(0, 8, 8), 1.f);
+    Image albedo(w, h, 3, 0.5f);
+    albedo.At(1, 8, 8) = 3.f;
+    Image lit = output;
+    NforAddCoarse(input, coarse, &albedo, 1.5f, 0.1f, 0.3f, &lit);
+    EXPECT_EQ(lit.At(0, 8, 8), 1.f);
+    EXPECT_NEAR(lit.At(0, 8, 7), lifted, 1e-5);
 }
 
 TEST_F(NforMethod, RerunsAreBitIdentical) {
