@@ -12,6 +12,8 @@
 #include <optional>
 #include <random>
 #include <stdexcept>
+#include <type_traits>
+#include <variant>
 
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
@@ -111,7 +113,8 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::plain, {"nfor", "combine"}),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
-                    "(\"nfor,rhf,pivot k0\"), or all; the others are left out",
+                    "(\"nfor,rhf,pivot k0\"), or all (every one but awr, which runs where "
+                    "named); the others are left out",
                     &O::candidates, {})};
 }
 
@@ -415,6 +418,34 @@ std::string OutByEstimate(const RegisteredVariant &v, const Noise &noise) {
     return "";
 }
 
+// The variant's probe: its own front end, or a cheaper one where the registry has one
+// (AutoVariant::cheaperProbe), with a plan line naming what the probe changed.
+std::unique_ptr<FrontEnd> CheaperProbe(const FrontEnd &method, const RegisteredVariant &v,
+                                       Candidates &out) {
+    if (!v.variant->cheaperProbe) return nullptr;
+    std::unique_ptr<FrontEnd> probe = method.Clone();
+    v.variant->cheaperProbe(*probe);
+    std::string changed;
+    for (const ParamInfo &info : method.Params()) {
+        ParamValue before = method.Get(info.name), after = probe->Get(info.name);
+        if (before == after) continue;
+        std::string text = std::visit(
+            [](const auto &x) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(x)>, std::string>)
+                    return x;
+                else
+                    return fmt::format("{}", x);
+            },
+            after);
+        changed += fmt::format("{}--{} {}", changed.empty() ? "" : ", ", info.name, text);
+    }
+    if (changed.empty()) return nullptr;
+    out.plans.push_back(fmt::format(
+        "{}: its probe with {} (a cheaper probe that weighed the candidates as well)",
+        v.variant->label, changed));
+    return probe;
+}
+
 // Run one candidate on the frame and, with an estimate, its probe: on the perturbed color
 // (SURE), on half0 (the half-buffers), or for bayes's split output on the perturbed
 // indirect part. The layers replaced for the probe are put back however it ends.
@@ -454,7 +485,8 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                                     : isBayes    ? noise.bayesPerturbed
                                                  : noise.perturbed);
         }
-        Result probeRun = RunTiled(context, method, inputs, RunOptions());
+        std::unique_ptr<FrontEnd> cheaper = CheaperProbe(method, v, out);
+        Result probeRun = RunTiled(context, cheaper ? *cheaper : method, inputs, RunOptions());
         for (const Timing &t : probeRun.timings)
             out.timings.push_back({label + " (probe): " + t.label, t.gpuMs});
         r.candidate.probe = std::move(probeRun.image);
@@ -512,6 +544,13 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         }
         if (std::string lacks = method->Missing(inputs.Source()); !lacks.empty()) {
             plan->push_back(fmt::format("auto: left out {}: {}", label, lacks));
+            continue;
+        }
+        if (allowed.empty() && !v.variant->byDefault) {
+            plan->push_back(fmt::format(
+                "auto: left out {}: it runs where --auto-candidates names it (beside the "
+                "others it held small shares for much time)",
+                label));
             continue;
         }
         double elapsed = std::chrono::duration<double>(Clock::now() - start).count();

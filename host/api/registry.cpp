@@ -1,6 +1,8 @@
 #include "host/api/registry.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <variant>
 
 namespace mcd::api {
 
@@ -12,6 +14,29 @@ std::unique_ptr<FrontEnd> PivotFrontEnd();
 std::unique_ptr<FrontEnd> RhfFrontEnd();
 
 namespace {
+
+// nfor's probe: the widest of the run's first-pass bandwidths alone, over windows 2 pixels
+// narrower (the pilot's pass as the run's). The run picks among its bandwidths per pixel by
+// SURE, mostly the widest; on the accumulated frames this probe weighed the candidates as
+// well as the run's own (docs/methods/auto.md) for about half its work.
+void NforCheaperProbe(FrontEnd &nfor) {
+    const std::string list = std::get<std::string>(nfor.Get("bandwidths"));
+    std::string widest;
+    float most = 0;
+    size_t begin = 0;
+    while (begin <= list.size()) {
+        size_t end = std::min(list.find(',', begin), list.size());
+        std::string item = list.substr(begin, end - begin);
+        char *rest = nullptr;
+        float k = std::strtof(item.c_str(), &rest);
+        // A list the run refuses is left for the run to name.
+        if (item.empty() || *rest != '\0') return;
+        if (k > most) most = k, widest = item;
+        begin = end + 1;
+    }
+    if (!widest.empty()) nfor.Set("bandwidths", widest);
+    nfor.Set("radius", std::max(std::get<int>(nfor.Get("radius")) - 2, 1));
+}
 
 // The pivot filter reads its guides from the normals and the object and part ids.
 const std::vector<std::string> kGuideLayers = {"normal", "objectId", "partId"};
@@ -26,6 +51,7 @@ std::vector<MethodEntry> Build() {
     // most of pivot's error (README). "bayes no split" runs where bayes runs split.
     // Where the half-buffers weigh the candidates (an accumulated frame), nfor runs, and
     // the variants that did not earn their time beside it there do not (Halves::Never);
+    // awr runs only where named (byDefault false): small shares everywhere for much time.
     // docs/methods/auto.md has the measurements.
     using Halves = AutoVariant::Halves;
     const ParamValue none = std::string("none");
@@ -33,7 +59,7 @@ std::vector<MethodEntry> Build() {
         {"awr",
          AwrFrontEnd,
          0,
-         {{"awr", {}, 5, {0.8f, 0.1f, 0.9f}, "magenta", {}, Halves::Never}}},
+         {{"awr", {}, 5, {0.8f, 0.1f, 0.9f}, "magenta", {}, Halves::Never, nullptr, false}}},
         {"bayes",
          BayesFrontEnd,
          2,
@@ -58,7 +84,8 @@ std::vector<MethodEntry> Build() {
            {0.6f, 0.2f, 1.f},
            "purple",
            {},
-           Halves::Only}}},
+           Halves::Only,
+           NforCheaperProbe}}},
         {"pivot",
          PivotFrontEnd,
          3,

@@ -29,6 +29,13 @@ struct AutoVariant {
     // run there it did not earn its time). docs/methods/auto.md has the measurements.
     enum class Halves { Any, Only, Never };
     Halves halves = Halves::Any;
+    // Sets the probe's parameters over the run's (its run on half0 or on the perturbed
+    // colour): a cheaper probe where its estimate weighed the candidates as well. Null: the
+    // probe runs as the run does.
+    void (*cheaperProbe)(FrontEnd &method) = nullptr;
+    // Runs only where --auto-candidates names it: beside the others it held small shares
+    // and cost much time (docs/methods/auto.md).
+    bool byDefault = true;
 };
 
 struct MethodEntry {

@@ -766,6 +766,8 @@ double BestSingleMethod(Device &device, const Frame &frame, const Image &referen
     return best;
 }
 
+bool PlanHas(const Result &result, const std::string &text);
+
 TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     auto [frame, reference] =
         RenderWithReference("cornell", 40, 32, 8, render::kLayersAll, 1024);
@@ -776,13 +778,21 @@ TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     int ran = 0;
     for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
     // Every variant of the registry (bayes both split, scored with the direct and indirect
-    // variances, and not) but those weighed by the half-buffers only (the frame has none).
+    // variances, and not) but those weighed by the half-buffers only (the frame has none)
+    // and awr, which runs where --auto-candidates names it.
     int variants = 0;
     for (const api::RegisteredVariant &v : api::AutoVariants())
-        variants += v.variant->halves != api::AutoVariant::Halves::Only;
+        variants += v.variant->halves != api::AutoVariant::Halves::Only && v.variant->byDefault;
     EXPECT_EQ(ran, variants) << fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(std::find(result.candidates.begin(), result.candidates.end(), "awr"),
+              result.candidates.end());
+    EXPECT_TRUE(
+        PlanHas(result, "auto: left out awr: it runs where --auto-candidates names it"));
     double best = BestSingleMethod(device, frame, reference);
     EXPECT_LE(CompareImages(result.image, reference).relMse, 1.05 * best);
+    Method named("auto");
+    named.Set("auto-candidates", std::string("awr,rhf"));
+    EXPECT_EQ(named.Run(device, frame).candidates, (std::vector<std::string>{"rhf", "awr"}));
     // A budget of 0 runs the first candidate only, and says what it left out.
     automatic.Set("budget", 0.f);
     result = automatic.Run(device, frame);
@@ -960,17 +970,17 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     EXPECT_TRUE(PlanHas(result, "no error estimate"))
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant"));
-    // The methods auto runs that the frame allows (awr from min, max and spp, bayes and
-    // pivot; not nfor, weighed by the half-buffers only): their plain mean, to the float
+    // The methods auto runs that the frame allows (bayes and pivot; not nfor, weighed by the
+    // half-buffers only, nor awr, which runs where named): their plain mean, to the float
     // sums' rounding.
     EXPECT_TRUE(PlanHas(result, "left out nfor: weighed by the half-buffers' estimate only"));
     std::vector<Image> outputs;
     for (const api::MethodEntry &m : api::Registry())
         if (!m.variants.empty() &&
             m.variants.front().halves != api::AutoVariant::Halves::Only &&
-            Method(m.name).Missing(frame).empty())
+            m.variants.front().byDefault && Method(m.name).Missing(frame).empty())
             outputs.push_back(WithoutLocalMeans(Method(m.name)).Run(device, frame).image);
-    ASSERT_EQ(outputs.size(), 3u);
+    ASSERT_EQ(outputs.size(), 2u);
     for (size_t i = 0; i < result.image.data.size(); ++i) {
         double mean = 0, scale = 0;
         for (const Image &o : outputs)
@@ -1015,6 +1025,17 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
     EXPECT_TRUE(PlanHas(result, "auto: ran nfor (twice, on the frame and on half0, ")) << plan;
     EXPECT_NE(std::find(result.candidates.begin(), result.candidates.end(), "nfor"),
               result.candidates.end());
+    // nfor's probe on half0 fits the widest of the run's first-pass bandwidths alone over
+    // narrower windows: one regression fewer than the run (two bandwidths, then the
+    // pilot's pass).
+    EXPECT_TRUE(PlanHas(result, "nfor: its probe with --bandwidths 1, --radius 5 (a cheaper"))
+        << plan;
+    auto count = [&](const std::string &label) {
+        return std::count_if(result.timings.begin(), result.timings.end(),
+                             [&](const Timing &t) { return t.label == label; });
+    };
+    EXPECT_EQ(count("nfor: nfor.regress"), 3);
+    EXPECT_EQ(count("nfor (probe): nfor.regress"), 2);
     automatic.Set("auto-candidates", std::string("nfor, rhf"));
     result = automatic.Run(device, frame);
     EXPECT_EQ(result.candidates, (std::vector<std::string>{"nfor", "rhf"}));
