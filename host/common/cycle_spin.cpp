@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "host/common/parallel.h"
 #include "host/error.h"
 
 namespace mcd {
@@ -13,10 +14,14 @@ Image MirrorPad(const Image &image, int dx, int dy) {
     int w = image.width, h = image.height;
     auto mirror = [](int i, int n) { return i < 0 ? std::min(-i - 1, n - 1) : i; };
     Image padded(w + dx, h + dy, image.channels);
-    for (int c = 0; c < image.channels; ++c)
-        for (int y = 0; y < h + dy; ++y)
+    const int rows = image.channels * (h + dy);
+    ParallelFor(rows, padded.data.size(), [&](int begin, int end) {
+        for (int row = begin; row < end; ++row) {
+            const int c = row / (h + dy), y = row % (h + dy);
             for (int x = 0; x < w + dx; ++x)
                 padded.At(c, y, x) = image.At(c, mirror(y - dy, h), mirror(x - dx, w));
+        }
+    });
     return padded;
 }
 
@@ -33,14 +38,19 @@ Image CycleSpin(int width, int height, int channels, int spins,
                                 dx, dy, one.width, one.height, one.channels, width + dx,
                                 height + dy, channels),
                     ErrorKind::Internal);
-            for (int c = 0; c < channels; ++c)
-                for (int y = 0; y < height; ++y)
+            ParallelFor(channels * height, sum.size(), [&](int begin, int end) {
+                for (int row = begin; row < end; ++row) {
+                    const int c = row / height, y = row % height;
                     for (int x = 0; x < width; ++x)
                         sum[(size_t(c) * height + y) * width + x] += one.At(c, y + dy, x + dx);
+                }
+            });
         }
     Image image(width, height, channels);
     double count = double(spins) * spins;
-    for (size_t i = 0; i < sum.size(); ++i) image.data[i] = float(sum[i] / count);
+    ParallelValues(sum.size(), 2, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) image.data[i] = float(sum[i] / count);
+    });
     return image;
 }
 

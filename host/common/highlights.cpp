@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/common/parallel.h"
 #include "host/error.h"
 
 namespace mcd {
@@ -28,15 +29,18 @@ std::vector<char> OverTheirWindows(const Image &sum, double k, int r) {
     for (float v : sum.data) total += v;
     const double floor = 1e-3 * total / double(sum.PixelCount());
     std::vector<char> over(sum.PixelCount(), 0);
-    std::vector<float> scratch;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double s = sum.data[size_t(y) * w + x];
-            // Cheap test first: the median is at least the floor.
-            if (!(s > k * floor)) continue;
-            double median = WindowMedian(sum.data.data(), w, h, x, y, r, scratch);
-            over[size_t(y) * w + x] = s > k * std::max(median, floor);
-        }
+    const size_t window = size_t(2 * r + 1) * (2 * r + 1);
+    ParallelFor(h, sum.PixelCount() * window, [&](int yBegin, int yEnd) {
+        std::vector<float> scratch;
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < w; ++x) {
+                double s = sum.data[size_t(y) * w + x];
+                // Cheap test first: the median is at least the floor.
+                if (!(s > k * floor)) continue;
+                double median = WindowMedian(sum.data.data(), w, h, x, y, r, scratch);
+                over[size_t(y) * w + x] = s > k * std::max(median, floor);
+            }
+    });
     return over;
 }
 
@@ -48,20 +52,25 @@ constexpr double kHighlightSigmas = 2;
 void RequireConfidence(const Image &color, const Image &variance, int r,
                        std::vector<char> *over) {
     const int w = color.width, h = color.height;
-    std::vector<float> scratch;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            size_t p = size_t(y) * w + x;
-            if (!(*over)[p]) continue;
-            double excess = 0, v = 0;
-            for (int c = 0; c < color.channels; ++c) {
-                excess +=
-                    color.Plane(c)[p] - WindowMedian(color.Plane(c), w, h, x, y, r, scratch);
-                v += variance.Plane(c)[p];
+    const size_t window = size_t(2 * r + 1) * (2 * r + 1);
+    // Few pixels get this far: a row's cost is its marked pixels' windows.
+    size_t marked = size_t(std::count(over->begin(), over->end(), char(1)));
+    ParallelFor(h, marked * window * size_t(color.channels), [&](int yBegin, int yEnd) {
+        std::vector<float> scratch;
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < w; ++x) {
+                size_t p = size_t(y) * w + x;
+                if (!(*over)[p]) continue;
+                double excess = 0, v = 0;
+                for (int c = 0; c < color.channels; ++c) {
+                    excess += color.Plane(c)[p] -
+                              WindowMedian(color.Plane(c), w, h, x, y, r, scratch);
+                    v += variance.Plane(c)[p];
+                }
+                (*over)[p] =
+                    excess > 0 && excess * excess > kHighlightSigmas * kHighlightSigmas * v;
             }
-            (*over)[p] =
-                excess > 0 && excess * excess > kHighlightSigmas * kHighlightSigmas * v;
-        }
+    });
 }
 
 }  // namespace

@@ -1,73 +1,30 @@
 #include "host/common/local_mean.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <functional>
-#include <thread>
 #include <vector>
 
+#include "host/common/box_mean.h"
 #include "host/common/highlights.h"
+#include "host/common/parallel.h"
 #include "host/error.h"
 
 namespace mcd {
 namespace {
 
-// Rows [yBegin, yEnd) of the box means of radius r down the columns of a w x h plane,
-// clipped to the image. Each window summed on its own, in order: a pixel's mean does not
-// depend on where the image starts (a tile gives the whole frame's values). A whole row of
-// windows is summed at once, so the sums run side by side over contiguous memory.
-void ColumnBoxRows(const float *in, float *out, int w, int h, int r, int yBegin, int yEnd) {
-    std::vector<double> sum(static_cast<size_t>(w));
-    for (int y = yBegin; y < yEnd; ++y) {
-        int a = std::max(0, y - r), b = std::min(h - 1, y + r);
-        std::fill(sum.begin(), sum.end(), 0.0);
-        for (int j = a; j <= b; ++j) {
-            const float *row = in + size_t(j) * w;
-            for (int x = 0; x < w; ++x) sum[x] += row[x];
-        }
-        float *dst = out + size_t(y) * w;
-        for (int x = 0; x < w; ++x) dst[x] = float(sum[x] / (b - a + 1));
-    }
-}
-
-// Calls work(begin, end) over [0, n) split among the machine's cores when the work is
-// large enough to pay for the threads; the parts are disjoint, so the result is the same.
-void InParts(int n, size_t cost, const std::function<void(int, int)> &work) {
-    int parts = std::clamp(int(std::thread::hardware_concurrency()), 1, 8);
-    if (cost < (size_t(1) << 21)) parts = 1;
-    parts = std::min(parts, n);
-    std::vector<std::thread> threads;
-    for (int t = 1; t < parts; ++t)
-        threads.emplace_back(work, int(int64_t(n) * t / parts),
-                             int(int64_t(n) * (t + 1) / parts));
-    work(0, parts > 1 ? int(int64_t(n) / parts) : n);
-    for (std::thread &thread : threads) thread.join();
-}
-
-// Box means of radius r down the columns of a w x h plane.
+// Box means of radius r down the columns of a w x h plane, clipped to the image. Each
+// window's sum is the one of its values in order: a pixel's mean does not depend on where
+// the image starts (a tile gives the whole frame's values).
 void ColumnBox(const float *in, float *out, int w, int h, int r) {
-    InParts(h, size_t(w) * h * size_t(2 * r + 1),
-            [&](int begin, int end) { ColumnBoxRows(in, out, w, h, r, begin, end); });
+    BoxMeanColumns(in, out, w, h, r);
 }
 
-// The w x h plane `in` transposed into `out` (h x w).
-void Transpose(const float *in, float *out, int w, int h) {
-    constexpr int kBlock = 32;
-    for (int y0 = 0; y0 < h; y0 += kBlock)
-        for (int x0 = 0; x0 < w; x0 += kBlock)
-            for (int y = y0; y < std::min(h, y0 + kBlock); ++y)
-                for (int x = x0; x < std::min(w, x0 + kBlock); ++x)
-                    out[size_t(x) * h + y] = in[size_t(y) * w + x];
-}
-
-// Box means of radius r along the rows: down the columns of the transposed plane, the
-// same sums in the same order. `scratch` holds two planes.
-void RowBox(const float *in, float *out, int w, int h, int r, float *scratch) {
-    float *t = scratch, *u = scratch + size_t(w) * h;
-    Transpose(in, t, w, h);
-    ColumnBox(t, u, h, w, r);
-    Transpose(u, out, h, w);
+// Box means of radius r along the rows: the same sums in the same order as down the
+// columns of the transposed plane.
+void RowBox(const float *in, float *out, int w, int h, int r) {
+    BoxMeanRows(in, out, w, h, r);
 }
 
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
@@ -75,24 +32,28 @@ void RowBox(const float *in, float *out, int w, int h, int r, float *scratch) {
 void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, Image *output,
                   std::vector<double> *factors) {
     Image moved = *output, squared = *output;
-    for (size_t i = 0; i < moved.data.size(); ++i) {
-        if (kept[i]) moved.data[i] = 0;
-        float e = clean.data[i] - moved.data[i];
-        squared.data[i] = kept[i] ? 0.f : e * e;
-    }
+    ParallelValues(moved.data.size(), 4, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            if (kept[i]) moved.data[i] = 0;
+            float e = clean.data[i] - moved.data[i];
+            squared.data[i] = kept[i] ? 0.f : e * e;
+        }
+    });
     Image mIn = TentMean(clean, s), mOut = TentMean(moved, s), mSq = TentMean(squared, s);
     const double weights = TentSquaredWeights(s);
-    for (size_t i = 0; i < mIn.data.size(); ++i) {
-        if (kept[i]) continue;
-        double a = mIn.data[i], b = mOut.data[i], q = mSq.data[i] * weights;
-        if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) && std::isfinite(q)))
-            continue;
-        double d = a - b, d2 = d * d;
-        double shrink = d2 > q ? 1 - q / d2 : 0;
-        double factor = 1 + shrink * d / b;
-        output->data[i] = float(output->data[i] * factor);
-        (*factors)[i] *= factor;
-    }
+    ParallelValues(mIn.data.size(), 16, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            if (kept[i]) continue;
+            double a = mIn.data[i], b = mOut.data[i], q = mSq.data[i] * weights;
+            if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) && std::isfinite(q)))
+                continue;
+            double d = a - b, d2 = d * d;
+            double shrink = d2 > q ? 1 - q / d2 : 0;
+            double factor = 1 + shrink * d / b;
+            output->data[i] = float(output->data[i] * factor);
+            (*factors)[i] *= factor;
+        }
+    });
 }
 
 // Highlights (local_mean.h): pixels whose input (the sum of its channels) is over
@@ -116,25 +77,27 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
         if ((*kept)[i]) moved.data[i] = 0;
     Image level = TentMean(moved, r);
     std::vector<char> over(n, 0);
-    for (size_t p = 0; p < n; ++p) {
-        double in = 0, around = 0, out = 0;
-        bool finite = true;
-        for (int c = 0; c < input.channels; ++c) {
-            float v = input.Plane(c)[p];
-            finite = finite && std::isfinite(v);
-            in += v;
-            around += level.Plane(c)[p];
-            out += moved.Plane(c)[p];
+    ParallelValues(n, 8 * size_t(input.channels), [&](size_t begin, size_t end) {
+        for (size_t p = begin; p < end; ++p) {
+            double in = 0, around = 0, out = 0;
+            bool finite = true;
+            for (int c = 0; c < input.channels; ++c) {
+                float v = input.Plane(c)[p];
+                finite = finite && std::isfinite(v);
+                in += v;
+                around += level.Plane(c)[p];
+                out += moved.Plane(c)[p];
+            }
+            over[p] = finite && in > 0 && in > kHighlight * std::min(around, out);
+            if (over[p] && variance) {
+                double v = 0;
+                for (int c = 0; c < input.channels; ++c)
+                    v += variance->Plane(variance->channels == 1 ? 0 : c)[p];
+                over[p] = std::isfinite(v) &&
+                          (in - out) * (in - out) > kHighlightSigmas * kHighlightSigmas * v;
+            }
         }
-        over[p] = finite && in > 0 && in > kHighlight * std::min(around, out);
-        if (over[p] && variance) {
-            double v = 0;
-            for (int c = 0; c < input.channels; ++c)
-                v += variance->Plane(variance->channels == 1 ? 0 : c)[p];
-            over[p] = std::isfinite(v) &&
-                      (in - out) * (in - out) > kHighlightSigmas * kHighlightSigmas * v;
-        }
-    }
+    });
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t p = size_t(y) * w + x;
@@ -154,11 +117,10 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
 Image TentMean(const Image &image, int r) {
     const int w = image.width, h = image.height;
     Image a(w, h, image.channels), b = a;
-    std::vector<float> scratch(2 * image.PixelCount());
     for (int c = 0; c < image.channels; ++c) {
-        RowBox(image.Plane(c), a.Plane(c), w, h, r, scratch.data());
+        RowBox(image.Plane(c), a.Plane(c), w, h, r);
         ColumnBox(a.Plane(c), b.Plane(c), w, h, r);
-        RowBox(b.Plane(c), a.Plane(c), w, h, r, scratch.data());
+        RowBox(b.Plane(c), a.Plane(c), w, h, r);
         ColumnBox(a.Plane(c), b.Plane(c), w, h, r);
     }
     return b;
@@ -252,7 +214,7 @@ Image FrameNoise(const Image &color, const Image *albedo) {
         const std::vector<float> e = SecondDifferences(color, albedo, c);
         const float *a = albedo ? albedo->Plane(albedo->channels == 1 ? 0 : c) : nullptr;
         float *dst = out.Plane(c);
-        InParts(h, size_t(w) * h * 25, [&](int begin, int end) {
+        ParallelFor(h, size_t(w) * h * 25, [&](int begin, int end) {
             float window[25];
             for (int y = begin; y < end; ++y)
                 for (int x = 0; x < w; ++x) {
@@ -285,43 +247,47 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
             "size, k > 0",
             ErrorKind::Internal);
     const int w = input.width, h = input.height;
-    size_t moved = 0;
+    std::atomic<size_t> moved{0};
     for (int c = 0; c < input.channels; ++c) {
         const float *v = variance.Plane(variance.channels == 1 ? 0 : c);
         const float *in = input.Plane(c);
         float *out = output->Plane(c);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const size_t p = size_t(y) * w + x;
-                // The larger of the pixel's variance and the median (lower middle) of its
-                // window's positive ones: fireflies in up to half of them beside the pixel
-                // do not free it.
-                float window[9];
-                int count = 0;
-                bool finite = true;
-                for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
-                    for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
-                        float vi = v[size_t(j) * w + i];
-                        finite = finite && std::isfinite(vi) && vi >= 0;
-                        if (vi > 0) window[count++] = vi;
+        ParallelFor(h, size_t(w) * h * 24, [&](int yBegin, int yEnd) {
+            size_t movedHere = 0;
+            for (int y = yBegin; y < yEnd; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const size_t p = size_t(y) * w + x;
+                    // The larger of the pixel's variance and the median (lower middle) of its
+                    // window's positive ones: fireflies in up to half of them beside the pixel
+                    // do not free it.
+                    float window[9];
+                    int count = 0;
+                    bool finite = true;
+                    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                            float vi = v[size_t(j) * w + i];
+                            finite = finite && std::isfinite(vi) && vi >= 0;
+                            if (vi > 0) window[count++] = vi;
+                        }
+                    const double o = out[p];
+                    // A variance of 0 (every sample equal: at a few samples per pixel, mostly
+                    // all of them missing the light, or an emitter) says nothing of the noise:
+                    // such a pixel is left, and such neighbours count in no median.
+                    if (!finite || !(v[p] > 0) || !std::isfinite(in[p]) || !std::isfinite(o))
+                        continue;
+                    std::nth_element(window, window + (count - 1) / 2, window + count);
+                    const double median = window[(count - 1) / 2];
+                    const double spread = k * std::sqrt(std::max(double(v[p]), median));
+                    const double lo = in[p] - spread, hi = in[p] + spread;
+                    if (o < lo || o > hi) {
+                        out[p] = float(std::clamp(o, lo, hi));
+                        ++movedHere;
                     }
-                const double o = out[p];
-                // A variance of 0 (every sample equal: at a few samples per pixel, mostly
-                // all of them missing the light, or an emitter) says nothing of the noise:
-                // such a pixel is left, and such neighbours count in no median.
-                if (!finite || !(v[p] > 0) || !std::isfinite(in[p]) || !std::isfinite(o))
-                    continue;
-                std::nth_element(window, window + (count - 1) / 2, window + count);
-                const double median = window[(count - 1) / 2];
-                const double spread = k * std::sqrt(std::max(double(v[p]), median));
-                const double lo = in[p] - spread, hi = in[p] + spread;
-                if (o < lo || o > hi) {
-                    out[p] = float(std::clamp(o, lo, hi));
-                    ++moved;
                 }
-            }
+            moved += movedHere;
+        });
     }
-    return moved;
+    return moved.load();
 }
 
 }  // namespace mcd

@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <utility>
 #include <vector>
 
+#include "host/common/parallel.h"
 #include "host/error.h"
 #include "host/kernels/pivot_ratio.h"
 #include "host/vk/context.h"
@@ -30,17 +32,20 @@ Image PivotTileOrder(const Image &radii, int *reach) {
     int tilesX = (radii.width + t - 1) / t, tilesY = (radii.height + t - 1) / t;
     int channels = radii.channels;
     Image order(t * t, tilesX * tilesY, 3 * channels, -1.f);
-    *reach = 0;
-    std::vector<std::pair<float, int>> tile;
-    for (int c = 0; c < channels; ++c)
-        for (int ty = 0; ty < tilesY; ++ty)
+    // Rows of tiles sorted on threads, each with its own list; the reach is a maximum.
+    std::atomic<int> largestRadius{0};
+    ParallelFor(channels * tilesY, radii.data.size() * 8, [&](int begin, int end) {
+        std::vector<std::pair<float, int>> tile;
+        int partReach = 0;
+        for (int tileRow = begin; tileRow < end; ++tileRow) {
+            const int c = tileRow / tilesY, ty = tileRow % tilesY;
             for (int tx = 0; tx < tilesX; ++tx) {
                 tile.clear();
                 for (int v = 0; v < t && ty * t + v < radii.height; ++v)
                     for (int u = 0; u < t && tx * t + u < radii.width; ++u) {
                         int x = tx * t + u, y = ty * t + v;
                         float r = radii.At(c, y, x);
-                        if (r >= 0) *reach = std::max(*reach, int(r));
+                        if (r >= 0) partReach = std::max(partReach, int(r));
                         // Off its lattice a centre takes no part, and the gather reads the
                         // centres of step 1 directly: both listed as without fit.
                         int step = PivotLatticeStepOf(r);
@@ -57,6 +62,12 @@ Image PivotTileOrder(const Image &radii, int *reach) {
                     order.At(channels + c, row, int(j)) = std::max(tile[j].first, -1.f);
                 }
             }
+        }
+        int seen = largestRadius.load();
+        while (partReach > seen && !largestRadius.compare_exchange_weak(seen, partReach)) {
+        }
+    });
+    *reach = largestRadius.load();
     // Each tile's local reach: the largest radius listed in a tile that may hold one of its
     // pixels (Chebyshev gap between the tiles <= that tile's largest radius).
     auto gap = [t](int a, int b) { return a == b ? 0 : (std::abs(a - b) - 1) * t + 1; };

@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <deque>
 #include <memory>
 
+#include "host/common/parallel.h"
 #include "host/error.h"
 #include "host/kernels/rhf_aggregate.h"
 #include "host/kernels/rhf_blockmax.h"
@@ -54,46 +56,52 @@ std::vector<double> ColumnWeights(int extent, int s, const std::vector<float> &t
 // Replace what the filter cannot use, and say how much of it there was.
 std::vector<std::string> Sanitize(Image &color, Image &hist) {
     const int W = color.width, H = color.height, n3 = hist.channels - 1;
-    size_t badColor = 0, badHist = 0, empty = 0;
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            bool colorOk = true, histOk = true;
-            for (int c = 0; c < 3; ++c)
-                if (!std::isfinite(color.At(c, y, x))) colorOk = false;
-            double total = 0;
-            for (int i = 0; i <= n3; ++i) {
-                float &v = hist.At(i, y, x);
-                if (!std::isfinite(v) || v < 0) {
-                    histOk = false;
-                    v = 0;
+    std::atomic<size_t> badColor{0}, badHist{0}, empty{0};
+    ParallelFor(H, size_t(W) * H * size_t(n3 + 4), [&](int yBegin, int yEnd) {
+        size_t rowsBadColor = 0, rowsBadHist = 0, rowsEmpty = 0;
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < W; ++x) {
+                bool colorOk = true, histOk = true;
+                for (int c = 0; c < 3; ++c)
+                    if (!std::isfinite(color.At(c, y, x))) colorOk = false;
+                double total = 0;
+                for (int i = 0; i <= n3; ++i) {
+                    float &v = hist.At(i, y, x);
+                    if (!std::isfinite(v) || v < 0) {
+                        histOk = false;
+                        v = 0;
+                    }
+                    if (i < n3) total += v;
                 }
-                if (i < n3) total += v;
+                if (!colorOk) {
+                    // Nothing to average: a black pixel whose histogram matches nothing.
+                    for (int c = 0; c < 3; ++c) color.At(c, y, x) = 0;
+                    for (int i = 0; i <= n3; ++i) hist.At(i, y, x) = 0;
+                }
+                rowsBadColor += !colorOk;
+                rowsBadHist += colorOk && !histOk;
+                rowsEmpty += colorOk && (hist.At(n3, y, x) == 0 || total == 0);
             }
-            if (!colorOk) {
-                // Nothing to average: a black pixel whose histogram matches nothing.
-                for (int c = 0; c < 3; ++c) color.At(c, y, x) = 0;
-                for (int i = 0; i <= n3; ++i) hist.At(i, y, x) = 0;
-            }
-            badColor += !colorOk;
-            badHist += colorOk && !histOk;
-            empty += colorOk && (hist.At(n3, y, x) == 0 || total == 0);
-        }
+        badColor += rowsBadColor;
+        badHist += rowsBadHist;
+        empty += rowsEmpty;
+    });
     std::vector<std::string> warnings;
     if (badColor)
         warnings.push_back(fmt::format(
             "rhf: {} pixel(s) have a NaN/Inf colour; they were taken as black pixels without "
             "samples",
-            badColor));
+            badColor.load()));
     if (badHist)
         warnings.push_back(fmt::format(
             "rhf: {} pixel(s) have NaN/Inf/negative histogram bins or counts; those were set "
             "to 0",
-            badHist));
+            badHist.load()));
     if (empty)
         warnings.push_back(fmt::format(
             "rhf: {} pixel(s) have no samples (count 0 or an empty histogram); their patches "
             "are compared on their other pixels only",
-            empty));
+            empty.load()));
     return warnings;
 }
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <random>
@@ -18,6 +19,7 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/common/parallel.h"
 #include "host/error.h"
 #include "host/kernels/rhf_blockmax.h"
 #include "host/kernels/rhf_select.h"
@@ -475,6 +477,32 @@ TEST_F(RhfProperties, BadPixelsGiveFiniteOutputAndCountedWarnings) {
     for (float &v : f.hist.data) v = 0;
     result = RhfDenoise(Ctx(), f.color, f.hist, o);
     for (float v : result.image.data) ASSERT_TRUE(std::isfinite(v));
+}
+
+// Sanitize's rows split over threads: the same output bits and the same counts as one loop.
+TEST_F(RhfProperties, BadPixelsSameBitsWhenSplitOverThreads) {
+    const int w = 23, h = 19, n3 = 3 * kBins;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf bad split"));
+    f.color.At(0, 3, 4) = std::numeric_limits<float>::quiet_NaN();
+    f.color.At(2, 18, 11) = std::numeric_limits<float>::infinity();
+    f.hist.At(n3, 5, 5) = 0;
+    f.hist.At(3, 12, 2) = std::numeric_limits<float>::quiet_NaN();
+    f.hist.At(n3, 0, 22) = -2;
+    RhfParams o;
+    RhfResult serial, split;
+    {
+        ForceParallelParts force(1);
+        serial = RhfDenoise(Ctx(), f.color, f.hist, o);
+    }
+    {
+        ForceParallelParts force(5);
+        split = RhfDenoise(Ctx(), f.color, f.hist, o);
+    }
+    ASSERT_EQ(serial.image.data.size(), split.image.data.size());
+    EXPECT_EQ(0, std::memcmp(serial.image.data.data(), split.image.data.data(),
+                             serial.image.data.size() * sizeof(float)));
+    EXPECT_EQ(serial.warnings, split.warnings);
+    EXPECT_EQ(serial.warnings.size(), 3u);
 }
 
 TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {

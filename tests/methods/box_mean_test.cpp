@@ -1,0 +1,131 @@
+// Box means down columns and along rows (host/common/box_mean.h) against each window summed on
+// its own, in order, in double: the same bits, whether the sums slide or not.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "harness/inputs.h"
+#include "host/common/box_mean.h"
+#include "host/common/parallel.h"
+
+namespace mcd {
+namespace {
+
+using test::SeedFromName;
+
+// The definition: each window summed in order from its top.
+std::vector<float> WindowsOneByOne(const std::vector<float> &in, int w, int h, int r) {
+    std::vector<float> out(in.size());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int a = std::max(0, y - r), b = std::min(h - 1, y + r);
+            double sum = 0;
+            for (int j = a; j <= b; ++j) sum += in[size_t(j) * w + x];
+            out[size_t(y) * w + x] = float(sum / (b - a + 1));
+        }
+    return out;
+}
+
+// The w x h plane transposed (h x w).
+std::vector<float> Transposed(const std::vector<float> &in, int w, int h) {
+    std::vector<float> out(in.size());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) out[size_t(x) * h + y] = in[size_t(y) * w + x];
+    return out;
+}
+
+// Sums slid down every column without a test of exactness: what the function must not do
+// where a column's sums round.
+std::vector<float> NaiveSlide(const std::vector<float> &in, int w, int h, int r) {
+    std::vector<float> out(in.size());
+    for (int x = 0; x < w; ++x) {
+        double sum = 0;
+        for (int j = 0; j <= std::min(h - 1, r); ++j) sum += in[size_t(j) * w + x];
+        for (int y = 0; y < h; ++y) {
+            int a = std::max(0, y - r), b = std::min(h - 1, y + r);
+            if (y > 0 && y + r < h) sum += in[size_t(y + r) * w + x];
+            if (y > 0 && y - r - 1 >= 0) sum -= in[size_t(y - r - 1) * w + x];
+            out[size_t(y) * w + x] = float(sum / (b - a + 1));
+        }
+    }
+    return out;
+}
+
+enum class Kind { Plain, FewWideRange, ManyWideRange, NonFinite };
+
+// Values in [0, 1) with zeros and negatives; `kind` adds columns whose sums round (a few or
+// many: the slide with or without its fallback) or NaN/Inf.
+std::vector<float> MakePlane(int w, int h, Kind kind) {
+    std::mt19937_64 rng(SeedFromName("box mean " + std::to_string(w) + "x" + std::to_string(h) +
+                                     " " + std::to_string(int(kind))));
+    std::uniform_real_distribution<float> unit(0, 1);
+    std::vector<float> plane(size_t(w) * h);
+    for (float &v : plane) {
+        float u = unit(rng);
+        v = u < 0.05f ? 0.f : u < 0.1f ? -unit(rng) : unit(rng);
+    }
+    for (int x = 0; x < w; ++x) {
+        bool wide = (kind == Kind::FewWideRange && x % 11 == 3) ||
+                    (kind == Kind::ManyWideRange && x % 2 == 0);
+        for (int y = 0; y < h; ++y) {
+            float &v = plane[size_t(y) * w + x];
+            // Large values above small ones: a slid sum keeps the large ones' rounding.
+            if (wide) v = y < h / 2 ? 3e7f * (1 + unit(rng)) : 1e-3f * unit(rng);
+        }
+    }
+    if (kind == Kind::NonFinite)
+        for (size_t i = 0; i < plane.size(); i += 97)
+            plane[i] = i % 2 ? std::numeric_limits<float>::infinity()
+                             : std::numeric_limits<float>::quiet_NaN();
+    return plane;
+}
+
+TEST(BoxMeanColumns, SameBitsAsWindowsSummedOneByOne) {
+    struct Case {
+        int w, h, r;
+    };
+    for (Case c : {Case{1, 1, 1}, Case{1, 1, 5}, Case{3, 7, 2}, Case{5, 9, 3}, Case{33, 41, 4},
+                   Case{64, 37, 8}, Case{23, 130, 32}, Case{40, 20, 30}, Case{17, 300, 3},
+                   Case{9, 200, 20}})
+        for (Kind kind :
+             {Kind::Plain, Kind::FewWideRange, Kind::ManyWideRange, Kind::NonFinite})
+            for (int parts : {1, 3}) {
+                SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) + " r" +
+                             std::to_string(c.r) + " kind " + std::to_string(int(kind)) + ", " +
+                             std::to_string(parts) + " part(s)");
+                ForceParallelParts force(parts);
+                std::vector<float> in = MakePlane(c.w, c.h, kind);
+                std::vector<float> expected = WindowsOneByOne(in, c.w, c.h, c.r);
+                std::vector<float> got(in.size(), -7.f);
+                BoxMeanColumns(in.data(), got.data(), c.w, c.h, c.r);
+                EXPECT_EQ(0,
+                          std::memcmp(got.data(), expected.data(), got.size() * sizeof(float)));
+                // Along the rows of the transposed plane: the same means, transposed.
+                std::vector<float> flipped = Transposed(in, c.w, c.h), rows(in.size(), -7.f);
+                BoxMeanRows(flipped.data(), rows.data(), c.h, c.w, c.r);
+                EXPECT_EQ(0, std::memcmp(rows.data(), Transposed(expected, c.w, c.h).data(),
+                                         rows.size() * sizeof(float)));
+            }
+}
+
+// The wide-range columns are ones where sliding without the test gives other bits: the
+// comparison above would catch a slide there.
+TEST(BoxMeanColumns, WideRangeColumnsRoundWhenSlid) {
+    std::vector<float> in = MakePlane(64, 37, Kind::FewWideRange);
+    std::vector<float> expected = WindowsOneByOne(in, 64, 37, 8);
+    std::vector<float> slid = NaiveSlide(in, 64, 37, 8);
+    EXPECT_NE(0, std::memcmp(slid.data(), expected.data(), slid.size() * sizeof(float)));
+    std::vector<float> plain = MakePlane(64, 37, Kind::Plain);
+    expected = WindowsOneByOne(plain, 64, 37, 8);
+    slid = NaiveSlide(plain, 64, 37, 8);
+    EXPECT_EQ(0, std::memcmp(slid.data(), expected.data(), slid.size() * sizeof(float)))
+        << "plain values in [0, 1) are exact when slid";
+}
+
+}  // namespace
+}  // namespace mcd

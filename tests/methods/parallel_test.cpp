@@ -1,0 +1,161 @@
+// Host loops split over threads (host/common/parallel.h): every index once, and the same
+// bits as the serial loop for each function that uses the split, on odd sizes, 1x1 and
+// NaN/Inf inputs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <random>
+#include <string>
+
+#include "harness/inputs.h"
+#include "host/common/cycle_spin.h"
+#include "host/common/highlights.h"
+#include "host/common/local_mean.h"
+#include "host/common/parallel.h"
+#include "host/kernels/pivot_gather.h"
+
+namespace mcd {
+namespace {
+
+using test::SeedFromName;
+
+TEST(ParallelFor, CoversEachIndexOnce) {
+    for (int n : {0, 1, 2, 7, 1000})
+        for (int parts : {1, 2, 3, 7, 16}) {
+            ForceParallelParts force(parts);
+            std::vector<int> seen(size_t(n), 0);
+            std::mutex lock;
+            int calls = 0;
+            ParallelFor(n, 0, [&](int begin, int end) {
+                for (int i = begin; i < end; ++i) ++seen[size_t(i)];
+                std::lock_guard<std::mutex> guard(lock);
+                ++calls;
+            });
+            for (int i = 0; i < n; ++i) EXPECT_EQ(seen[size_t(i)], 1) << n << " " << parts;
+            EXPECT_EQ(calls, n == 0 ? 0 : std::min(n, parts)) << n << " " << parts;
+        }
+    std::vector<int> values(10001, 0);
+    ForceParallelParts force(3);
+    ParallelValues(values.size(), 1, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) ++values[i];
+    });
+    for (int v : values) EXPECT_EQ(v, 1);
+}
+
+// Random values with zeros, negatives, fireflies, bright blocks, NaN and Inf (unless
+// `finite`).
+Image RandomImage(int w, int h, int channels, const std::string &name, bool finite) {
+    std::mt19937_64 rng(SeedFromName(name + " " + std::to_string(w) + "x" + std::to_string(h)));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image image(w, h, channels);
+    for (float &v : image.data) {
+        float u = unit(rng);
+        v = u < 0.05f              ? 0.f
+            : u < 0.08f            ? -unit(rng)
+            : u < 0.09f && !finite ? std::numeric_limits<float>::quiet_NaN()
+            : u < 0.10f && !finite ? std::numeric_limits<float>::infinity()
+            : u > 0.97f            ? 300 * unit(rng)
+                                   : unit(rng);
+    }
+    for (int c = 0; c < channels; ++c)
+        for (int y = h / 3; y < std::min(h, h / 3 + 3); ++y)
+            for (int x = w / 4; x < std::min(w, w / 4 + 4); ++x)
+                image.At(c, y, x) = 100 + 300 * unit(rng);
+    return image;
+}
+
+bool SameBits(const Image &a, const Image &b) {
+    return a.SameShape(b) &&
+           std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0;
+}
+
+struct Results {
+    Image padded, spun, tileOrder, tent, restored, restoredWithVariance, bounded, base,
+        baseVariance;
+    LocalMeanFactors factors, factorsWithVariance;
+    size_t moved = 0, highlights = 0;
+    int reach = 0;
+    std::vector<char> highlight;
+};
+
+// Each threaded function on one frame, under a split into `parts`.
+Results RunAll(int w, int h, bool finite, int parts) {
+    ForceParallelParts force(parts);
+    Image input = RandomImage(w, h, 3, "parallel input", finite);
+    Image output = RandomImage(w, h, 3, "parallel output", true);
+    Image variance = RandomImage(w, h, 3, "parallel variance", finite);
+    for (float &v : output.data) v = std::fabs(v);
+    Results r;
+    r.padded = MirrorPad(input, 3, 2);
+    r.spun = CycleSpin(w, h, 3, 3, [&](int dx, int dy) { return MirrorPad(input, dx, dy); });
+    Image radii = RandomImage(w, h, 3, "parallel radii", true);
+    for (float &v : radii.data) v = v < 0 ? -1.f : std::min(30.f, std::floor(v));
+    r.tileOrder = PivotTileOrder(radii, &r.reach);
+    r.tent = TentMean(input, 2);
+    r.restored = output;
+    r.factors = RestoreLocalMeans(input, 2, &r.restored);
+    r.restoredWithVariance = output;
+    r.factorsWithVariance = RestoreLocalMeans(input, 2, &r.restoredWithVariance, &variance);
+    r.bounded = output;
+    r.moved = BoundToNoise(input, variance, 2, &r.bounded);
+    Image color = RandomImage(w, h, 3, "parallel color", true);
+    Image colorVariance = RandomImage(w, h, 3, "parallel color variance", true);
+    for (float &v : color.data) v = std::fabs(v);
+    for (float &v : colorVariance.data) v = std::fabs(v) * 1e-3f;
+    HighlightSplit split = SplitHighlights(color, &colorVariance, 16, 2);
+    r.base = split.base;
+    r.baseVariance = split.baseVariance;
+    r.highlights = split.count;
+    r.highlight = split.highlight;
+    return r;
+}
+
+TEST(ParallelFor, SameBitsAsTheSerialLoop) {
+    struct Case {
+        int w, h;
+        bool finite;
+    };
+    for (Case c :
+         {Case{1, 1, false}, Case{1, 1, true}, Case{3, 1, false}, Case{1, 5, true},
+          Case{37, 23, false}, Case{37, 23, true}, Case{64, 9, false}, Case{9, 70, true}}) {
+        SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) +
+                     (c.finite ? "" : " with NaN/Inf"));
+        Results serial = RunAll(c.w, c.h, c.finite, 1);
+        for (int parts : {2, 3, 7}) {
+            SCOPED_TRACE(std::to_string(parts) + " parts");
+            Results split = RunAll(c.w, c.h, c.finite, parts);
+            EXPECT_TRUE(SameBits(serial.padded, split.padded));
+            EXPECT_TRUE(SameBits(serial.spun, split.spun));
+            EXPECT_TRUE(SameBits(serial.tileOrder, split.tileOrder));
+            EXPECT_EQ(serial.reach, split.reach);
+            EXPECT_TRUE(SameBits(serial.tent, split.tent));
+            EXPECT_TRUE(SameBits(serial.restored, split.restored));
+            EXPECT_TRUE(SameBits(serial.restoredWithVariance, split.restoredWithVariance));
+            EXPECT_TRUE(SameBits(serial.bounded, split.bounded));
+            EXPECT_TRUE(SameBits(serial.base, split.base));
+            EXPECT_TRUE(SameBits(serial.baseVariance, split.baseVariance));
+            EXPECT_EQ(serial.factors.lo, split.factors.lo);
+            EXPECT_EQ(serial.factors.hi, split.factors.hi);
+            EXPECT_EQ(serial.factorsWithVariance.lo, split.factorsWithVariance.lo);
+            EXPECT_EQ(serial.factorsWithVariance.hi, split.factorsWithVariance.hi);
+            EXPECT_EQ(serial.moved, split.moved);
+            EXPECT_EQ(serial.highlights, split.highlights);
+            EXPECT_EQ(serial.highlight, split.highlight);
+        }
+    }
+}
+
+// The split finds what it is meant to: otherwise the comparison above proves little.
+TEST(ParallelFor, TheFramesExerciseEachPath) {
+    Results r = RunAll(37, 23, true, 3);
+    EXPECT_GT(r.moved, 0u);
+    EXPECT_GT(r.reach, 0);
+    EXPECT_GT(r.highlights, 0u);
+    EXPECT_TRUE(r.factors.lo != 1 || r.factors.hi != 1);
+}
+
+}  // namespace
+}  // namespace mcd
