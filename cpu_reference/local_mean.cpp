@@ -142,16 +142,15 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                             continue;
                         double v = variance.At(vc, yy, xx);
                         if (!std::isfinite(v) || v < 0) usable = false;
-                        if (v > 0) window.push_back(v);
+                        window.push_back(v);
                     }
+                // The window's median, the lower middle value when it has an even count.
+                std::sort(window.begin(), window.end());
+                double median = window[(window.size() - 1) / 2];
                 double in = input.At(c, y, x), out = output->At(c, y, x);
                 if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
                     !std::isfinite(out))
                     continue;
-                // The median of the window's positive variances (the pixel's among them),
-                // the lower middle value when they are even in number.
-                std::sort(window.begin(), window.end());
-                double median = window[(window.size() - 1) / 2];
                 double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), median));
                 if (out < in - k * sd) {
                     output->At(c, y, x) = float(in - k * sd);

@@ -257,27 +257,26 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
             for (int y = yBegin; y < yEnd; ++y)
                 for (int x = 0; x < w; ++x) {
                     const size_t p = size_t(y) * w + x;
-                    // The larger of the pixel's variance and the median (lower middle) of its
-                    // window's positive ones: fireflies in up to half of them beside the pixel
-                    // do not free it.
-                    float window[9];
+                    // The larger of the pixel's variance and its window's mean without the
+                    // window's largest value (one firefly beside the pixel).
+                    double sum = 0, largest = 0;
                     int count = 0;
                     bool finite = true;
                     for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
                         for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
                             float vi = v[size_t(j) * w + i];
                             finite = finite && std::isfinite(vi) && vi >= 0;
-                            if (vi > 0) window[count++] = vi;
+                            sum += vi;
+                            largest = std::max(largest, double(vi));
+                            ++count;
                         }
                     const double o = out[p];
                     // A variance of 0 (every sample equal: at a few samples per pixel, mostly
-                    // all of them missing the light, or an emitter) says nothing of the noise:
-                    // such a pixel is left, and such neighbours count in no median.
+                    // all of them missing the light) says nothing of the noise.
                     if (!finite || !(v[p] > 0) || !std::isfinite(in[p]) || !std::isfinite(o))
                         continue;
-                    std::nth_element(window, window + (count - 1) / 2, window + count);
-                    const double median = window[(count - 1) / 2];
-                    const double spread = k * std::sqrt(std::max(double(v[p]), median));
+                    const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
+                    const double spread = k * std::sqrt(std::max(double(v[p]), rest));
                     const double lo = in[p] - spread, hi = in[p] + spread;
                     if (o < lo || o > hi) {
                         out[p] = float(std::clamp(o, lo, hi));

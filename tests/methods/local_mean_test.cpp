@@ -262,20 +262,6 @@ TEST(LocalMeanProperties, BoundToNoiseHoldsAPixelBetweenTwoFireflies) {
     EXPECT_FLOAT_EQ(expected.At(0, 1, 1), 0.13f);
 }
 
-// Neighbours of variance 0 (an emitter's pixels, or every sample missing the light at a
-// few samples per pixel) count in no median: beside a light's edge they would otherwise
-// pin a pixel to its own variance (cornell 4 spp).
-TEST(LocalMeanProperties, BoundToNoiseMedianLeavesOutVarianceZero) {
-    Image input(3, 3, 1), output(3, 3, 1), variance(3, 3, 1);
-    for (size_t i = 0; i < input.data.size(); ++i) input.data[i] = 1, output.data[i] = 1;
-    variance.At(0, 1, 1) = 0.0001f;
-    variance.At(0, 0, 0) = variance.At(0, 0, 1) = variance.At(0, 0, 2) = 1;  // the rest 0
-    output.At(0, 1, 1) = 3.5f;  // 2.5 sd of the neighbours' noise: stays
-    EXPECT_EQ(BoundToNoise(input, variance, 3, &output), 0u);
-    EXPECT_EQ(output.At(0, 1, 1), 3.5f);
-    EXPECT_EQ(ref::BoundToNoise(input, variance, 3, &output), 0u);
-}
-
 // The robust estimate reads Gaussian noise's variance (its mean over a frame within 5%),
 // and a bright line the albedo does not show does not raise it beside the line, where a
 // 3x3 sample variance of the same frame is many times the noise.
