@@ -144,14 +144,16 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                         if (!std::isfinite(v) || v < 0) usable = false;
                         window.push_back(v);
                     }
-                // The window's median, the lower middle value when it has an even count.
+                // The window's mean without its largest value.
                 std::sort(window.begin(), window.end());
-                double median = window[(window.size() - 1) / 2];
+                double rest = 0;
+                for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
+                rest = window.size() > 1 ? rest / double(window.size() - 1) : 0;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
                 if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
                     !std::isfinite(out))
                     continue;
-                double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), median));
+                double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
                 if (out < in - k * sd) {
                     output->At(c, y, x) = float(in - k * sd);
                     ++clamped;

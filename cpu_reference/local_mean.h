@@ -19,11 +19,11 @@ namespace mcd::ref {
 void RestoreLocalMeans(const Image &input, int r, Image *output,
                        const Image *variance = nullptr);
 
-// Each output value clamped to input -+ k sqrt(max(variance, the median of the variances of
-// the 3x3 window clipped to the image (the lower of the two middle values of an even
-// count))), per channel (the variance's one channel, or channel c); left where the pixel's
-// variance is 0, where the input, the output or any variance of the window is not finite,
-// or a variance is negative. Returns the number of values clamped.
+// Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
+// the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel
+// (the variance's one channel, or channel c); left where the pixel's variance is 0, where the
+// input, the output or any variance of the window is not finite, or a variance is negative.
+// Returns the number of values clamped.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
 // The frame's robust noise estimate (host/common/local_mean.h, FrameNoise): per channel

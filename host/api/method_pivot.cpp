@@ -106,8 +106,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                FloatParam("pivot-bound",
                           "each value ends at most this many standard deviations of its "
                           "noise (the variance layer, else estimated from the frame; the "
-                          "larger of the pixel's and its 3x3 window's median) from its input, "
-                          "before the local means are restored: fits "
+                          "larger of the pixel's and its 3x3 window's mean without the "
+                          "largest) from its input, before the local means are restored: fits "
                           "that overshoot an edge or go negative cannot move a pixel farther "
                           "than its noise allows (beyond the paper; 0: off)",
                           &PivotSettings::bound, 0, 1e6)}) {}
@@ -159,7 +159,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
             size_t moved = BoundToNoise(*in.color, variance, options.bound, &result.image);
             result.plan.push_back(fmt::format(
                 "bound: {} values moved to within {} standard deviations of their input's "
-                "noise ({}: the pixel's, or its 3x3 window's median, the larger)",
+                "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
+                "larger)",
                 moved, options.bound,
                 in.variance ? "the variance layer"
                             : "estimated from the frame divided by the pivot"));

@@ -51,10 +51,9 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or
 // a light the guide does not show, or go negative, cannot leave a pixel farther from its
-// input than its own noise allows. The variance is the larger of the pixel's and the median
-// of its 3x3 window clipped to the image, the lower middle value of an even count
-// (fireflies beside a pixel, up to half the window, must not free it to take their
-// smear). Values whose variance is 0
+// input than its own noise allows. The variance is the larger of the pixel's and the mean
+// over its 3x3 window clipped to the image without the window's largest value (one firefly
+// beside a pixel must not free it to take the firefly's smear). Values whose variance is 0
 // (every sample equal: at 4 spp half a dim interior's pixels, whose samples all missed the
 // light), whose input or output is not finite, or whose window has a variance that is not
 // finite or is negative, are left. `variance`: of the pixel mean, 1 or the input's
