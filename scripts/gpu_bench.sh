@@ -26,9 +26,12 @@
 #   --bundle DIR     a machine that cannot build (no network, another distribution): run the
 #                    binaries and libraries packed by scripts/gpu_bundle.py into DIR instead
 #                    of installing and building (implies --no-install --no-build)
+#   --test-filter P  the tests run on the device (default '*Kernel*': every kernel-vs-reference
+#                    suite), in one process per core (at most 16), as gtest shards
 #   --no-install, --no-build, --no-tests   skip a step
 # Writes DIR/table.csv (device,method,size,gpu_ms,wall_s, one row per run), DIR/kernels.csv
-# (bench kernels' figures per kernel) and DIR/table.md (both tables).
+# (bench kernels' figures per kernel), DIR/table.md (both tables) and DIR/tests.log. A failed
+# test does not stop the runs: the script prints the table and then exits 1.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -43,6 +46,7 @@ beside=""
 out=gpu_bench.out
 debs=""
 bundle=""
+testFilter='*Kernel*'
 install=1 build=1 tests=1
 while (($#)); do
     case $1 in
@@ -56,10 +60,11 @@ while (($#)); do
     --out) out=$2; shift ;;
     --debs) debs=$(realpath "$2"); shift ;;
     --bundle) bundle=$(realpath "$2"); install=0 build=0; shift ;;
+    --test-filter) testFilter=$2; shift ;;
     --no-install) install=0 ;;
     --no-build) build=0 ;;
     --no-tests) tests=0 ;;
-    -h | --help) sed -n '2,31p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,34p' "$0"; exit 0 ;;
     *) echo "gpu_bench: unknown argument $1 (--help lists them)" >&2; exit 2 ;;
     esac
     shift
@@ -130,15 +135,29 @@ name=$("$tool" info 2>/dev/null | sed -n 's/^\* [0-9]*: \(.*\) (.*), Vulkan.*/\1
 say "device: $name"
 csvName=${name//,/;}  # the CSV's device column
 
-# 3. The kernel-vs-reference tests on that device.
+# 3. The kernel-vs-reference tests on that device: gtest shards side by side, one process
+# (one Vulkan device) each, since the CPU references are most of their time.
+testsFailed=0
 if ((tests)); then
-    say "kernel-vs-reference tests on $name"
-    if "$bin/tests/mcd_tests" --gtest_filter='*Kernel*' >"$out/tests.log" 2>&1; then
-        say "$(grep -E '^\[  PASSED  \]' "$out/tests.log")"
+    shards=$(nproc)
+    ((shards > 16)) && shards=16
+    say "tests $testFilter on $name, $shards processes"
+    pids=()
+    for ((i = 0; i < shards; ++i)); do
+        GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$i "$bin/tests/mcd_tests" \
+            --gtest_filter="$testFilter" >"$out/tests_$i.log" 2>&1 &
+        pids+=($!)
+    done
+    for pid in "${pids[@]}"; do wait "$pid" || testsFailed=1; done
+    cat "$out"/tests_*.log >"$out/tests.log"
+    rm -f "$out"/tests_*.log
+    passed=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) tests\{0,1\}\..*/\1/p' "$out/tests.log" |
+        awk '{ n += $1 } END { print n + 0 }')
+    if ((testsFailed)); then
+        say "tests FAILED on $name ($passed passed); see $out/tests.log"
+        grep -E '^\[  FAILED  \] .* \([0-9]+ ms\)$' "$out/tests.log" >&2 || true
     else
-        say "kernel tests FAILED on $name; see $out/tests.log"
-        grep -E '^\[  FAILED  \]' "$out/tests.log" >&2 || true
-        exit 1
+        say "tests: $passed passed on $name"
     fi
 fi
 
@@ -221,3 +240,4 @@ other=""
             "$kernelsCsv"
     fi
 } | tee "$out/table.md"
+exit $testsFailed

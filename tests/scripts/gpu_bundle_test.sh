@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # scripts/gpu_bundle.py and `scripts/gpu_bench.sh --bundle` end to end on this machine's
 # device: the bundle loads nothing from outside itself but the C and C++ runtimes, its
-# stand-ins satisfy the loader, and the script prints a table row from it.
+# stand-ins satisfy the loader, the tests run from it in shards, and the script prints a
+# table row from it, also after a failing test (then exiting 1).
 # Usage: gpu_bundle_test.sh BUILD_DIR
 set -euo pipefail
 build=$(realpath "$1")
@@ -22,10 +23,28 @@ for bin in "$tmp/bundle/build/mcdenoise" "$tmp/bundle/build/tests/mcd_tests"; do
         grep -v -E "^(libc|libm|libstdc\+\+|libgcc_s)\.so" | grep -v " $lib/" || true)
     [[ -z "$outside" ]] || fail "$bin loads from outside the bundle: $outside"
 done
-# The bundle runs: a frame, one method, the table.
-bash "$root/scripts/gpu_bench.sh" --bundle "$tmp/bundle" --no-tests --sizes 40x30 \
-    --kernels-size none --methods bayes --out "$tmp/out" >"$tmp/log" 2>&1 ||
+# The bundle runs: a few tests in shards (all of them counted), a frame, one method, the table.
+filter='VkKernelCache*:VkBuffer*'
+expected=$(LD_LIBRARY_PATH=$lib "$tmp/bundle/build/tests/mcd_tests" --gtest_list_tests \
+    --gtest_filter="$filter" | grep -c '^  ')
+bash "$root/scripts/gpu_bench.sh" --bundle "$tmp/bundle" --test-filter "$filter" \
+    --sizes 40x30 --kernels-size none --methods bayes --out "$tmp/out" >"$tmp/log" 2>&1 ||
     { cat "$tmp/log" >&2; fail "gpu_bench.sh --bundle failed"; }
+grep -q -E "tests: $expected passed" "$tmp/log" ||
+    { cat "$tmp/log" >&2; fail "the tests did not run from the bundle"; }
 grep -q -E '^[^,]+,bayes,40x30,[0-9.]+,[0-9.]+$' "$tmp/out/table.csv" ||
     { cat "$tmp/out/table.csv" "$tmp/log" >&2; fail "no timed row for bayes"; }
+# A failing test is reported, the table still printed, and the script exits 1: a bundle
+# whose test binary fails.
+cp -r "$tmp/bundle" "$tmp/failing"
+printf '#!/bin/sh\necho "[  FAILED  ] Planted.Failure (1 ms)"\nexit 1\n' \
+    >"$tmp/failing/build/tests/mcd_tests"
+if bash "$root/scripts/gpu_bench.sh" --bundle "$tmp/failing" --sizes 40x30 --kernels-size none \
+    --methods bayes --out "$tmp/out2" >"$tmp/log2" 2>&1; then
+    cat "$tmp/log2" >&2; fail "a failing test did not fail the script"
+fi
+grep -q 'tests FAILED' "$tmp/log2" && grep -q 'Planted.Failure' "$tmp/log2" ||
+    { cat "$tmp/log2" >&2; fail "the failure was not reported"; }
+grep -q -E '^[^,]+,bayes,40x30,[0-9.]+,[0-9.]+$' "$tmp/out2/table.csv" ||
+    { cat "$tmp/log2" >&2; fail "no table after a failing test"; }
 echo "gpu_bundle_test: ok"
