@@ -1,9 +1,9 @@
 // The C API's methods, runs and results (include/mcdenoise/mcdenoise_c.h).
-#include <fmt/format.h>
 
 #include <variant>
 
 #include "host/api/c_api.h"
+#include "host/api/front_end.h"
 #include "host/api/views.h"
 
 using namespace mcd;
@@ -19,13 +19,6 @@ bool SetParam(MCDMethod method, const char *param, const Value &value) {
         method->method.Set(param, value);
         return true;
     });
-}
-
-std::string ParamText(const ParamValue &value) {
-    if (const bool *b = std::get_if<bool>(&value)) return *b ? "true" : "false";
-    if (const int *i = std::get_if<int>(&value)) return std::to_string(*i);
-    if (const float *f = std::get_if<float>(&value)) return fmt::format("{}", *f);
-    return std::get<std::string>(value);
 }
 
 const char *Line(const std::vector<std::string> &lines, int index) {
@@ -99,7 +92,7 @@ const char *mcdGetMethodParamText(MCDMethod method, const char *param) {
     return Guarded<const char *>(nullptr, [&] {
         Require(method, "the method");
         Require(param, "the parameter's name");
-        method->text = ParamText(method->method.Get(param));
+        method->text = api::ParamValueText(method->method.Get(param));
         return method->text.c_str();
     });
 }

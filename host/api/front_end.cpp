@@ -1,5 +1,7 @@
 #include "host/api/front_end.h"
 
+#include <fmt/format.h>
+
 namespace mcd::api {
 
 RunSetup SetupFor(const Inputs &inputs, const RunOptions &run) {
@@ -23,6 +25,13 @@ Result ResultOf(MethodResult &&run) {
         result.timings.push_back({t.label, t.gpuMs});
     for (auto &[name, image] : run.stages) result.stages.push_back({name, std::move(image)});
     return result;
+}
+
+std::string ParamValueText(const ParamValue &value) {
+    if (const bool *b = std::get_if<bool>(&value)) return *b ? "true" : "false";
+    if (const int *i = std::get_if<int>(&value)) return std::to_string(*i);
+    if (const float *f = std::get_if<float>(&value)) return fmt::format("{}", *f);
+    return std::get<std::string>(value);
 }
 
 }  // namespace mcd::api

@@ -254,4 +254,7 @@ RunSetup SetupFor(const Inputs &inputs, const RunOptions &run);
 // The public result from a pipeline's (sliced from BayesResult, RhfResult, ...).
 Result ResultOf(MethodResult &&run);
 
+// A parameter's value as text: true/false, the number, or the string itself.
+std::string ParamValueText(const ParamValue &value);
+
 }  // namespace mcd::api

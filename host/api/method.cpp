@@ -213,17 +213,8 @@ const char *TypeName(ParamType type) {
 }
 
 std::string ValueText(const ParamValue &value) {
-    return std::visit(
-        [](const auto &v) -> std::string {
-            using T = std::decay_t<decltype(v)>;
-            if constexpr (std::is_same_v<T, bool>)
-                return v ? "true" : "false";
-            else if constexpr (std::is_same_v<T, std::string>)
-                return "'" + v + "'";
-            else
-                return fmt::format("{}", v);
-        },
-        value);
+    const std::string text = api::ParamValueText(value);
+    return std::holds_alternative<std::string>(value) ? "'" + text + "'" : text;
 }
 
 }  // namespace

@@ -12,7 +12,6 @@
 #include <optional>
 #include <random>
 #include <stdexcept>
-#include <type_traits>
 #include <variant>
 
 #include "host/api/registry.h"
@@ -429,15 +428,8 @@ std::unique_ptr<FrontEnd> CheaperProbe(const FrontEnd &method, const RegisteredV
     for (const ParamInfo &info : method.Params()) {
         ParamValue before = method.Get(info.name), after = probe->Get(info.name);
         if (before == after) continue;
-        std::string text = std::visit(
-            [](const auto &x) {
-                if constexpr (std::is_same_v<std::decay_t<decltype(x)>, std::string>)
-                    return x;
-                else
-                    return fmt::format("{}", x);
-            },
-            after);
-        changed += fmt::format("{}--{} {}", changed.empty() ? "" : ", ", info.name, text);
+        changed += fmt::format("{}--{} {}", changed.empty() ? "" : ", ", info.name,
+                               ParamValueText(after));
     }
     if (changed.empty()) return nullptr;
     out.plans.push_back(fmt::format(

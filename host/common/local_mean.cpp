@@ -14,19 +14,6 @@
 namespace mcd {
 namespace {
 
-// Box means of radius r down the columns of a w x h plane, clipped to the image. Each
-// window's sum is the one of its values in order: a pixel's mean does not depend on where
-// the image starts (a tile gives the whole frame's values).
-void ColumnBox(const float *in, float *out, int w, int h, int r) {
-    BoxMeanColumns(in, out, w, h, r);
-}
-
-// Box means of radius r along the rows: the same sums in the same order as down the
-// columns of the transposed plane.
-void RowBox(const float *in, float *out, int w, int h, int r) {
-    BoxMeanRows(in, out, w, h, r);
-}
-
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
 // means over tents of radius 2s; `factors` (one per value) multiplied by the same.
 void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, Image *output,
@@ -118,10 +105,12 @@ Image TentMean(const Image &image, int r) {
     const int w = image.width, h = image.height;
     Image a(w, h, image.channels), b = a;
     for (int c = 0; c < image.channels; ++c) {
-        RowBox(image.Plane(c), a.Plane(c), w, h, r);
-        ColumnBox(a.Plane(c), b.Plane(c), w, h, r);
-        RowBox(b.Plane(c), a.Plane(c), w, h, r);
-        ColumnBox(a.Plane(c), b.Plane(c), w, h, r);
+        // Each window's sum is the one of its values in order: a pixel's mean does not
+        // depend on where the image starts (a tile gives the whole frame's values).
+        BoxMeanRows(image.Plane(c), a.Plane(c), w, h, r);
+        BoxMeanColumns(a.Plane(c), b.Plane(c), w, h, r);
+        BoxMeanRows(b.Plane(c), a.Plane(c), w, h, r);
+        BoxMeanColumns(a.Plane(c), b.Plane(c), w, h, r);
     }
     return b;
 }
