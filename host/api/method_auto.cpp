@@ -401,20 +401,28 @@ bool Repeats(const FrontEnd &method, const RegisteredVariant &v, Inputs &inputs,
     return false;
 }
 
-// Why the variant stays out with this error estimate (AutoVariant::halves), or "".
+// Why the variant stays out with this error estimate (AutoVariant::estimates), or "".
+// Without an estimate (--auto-combine mean) only nfor stays out here; the variants stay out
+// as variants (RunCandidates).
 std::string OutByEstimate(const RegisteredVariant &v, const Noise &noise) {
-    using Halves = AutoVariant::Halves;
-    if (v.variant->halves == Halves::Only && !noise.halves)
+    unsigned current = noise.halves ? AutoVariant::kHalves
+                       : noise.own  ? AutoVariant::kOwn
+                                    : AutoVariant::kVariance;
+    if (v.variant->estimates & current) return "";
+    if (v.variant->estimates == AutoVariant::kHalves)
         return fmt::format(
             "weighed by the half-buffers' estimate only, and the error "
             "estimate is {}",
             !noise.scored ? "none"
             : noise.own   ? "the frame's own (without statistics nfor runs alone)"
                           : "SURE on the variance layer");
-    if (v.variant->halves == Halves::Never && noise.halves)
-        return "the error estimate is the half-buffers', and beside nfor there it did not earn "
-               "its time";
-    return "";
+    if (!noise.scored) return "";
+    return fmt::format(
+        "the error estimate is {}, and beside the candidates that run there it did not earn "
+        "its time",
+        noise.halves ? "the half-buffers'"
+        : noise.own  ? "the frame's own"
+                     : "SURE on the variance layer");
 }
 
 // The variant's probe: its own front end, or a cheaper one where the registry has one
