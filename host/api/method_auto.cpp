@@ -844,9 +844,10 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
     Result result = ResultOf(std::move(combined));
     if (options.meanRadius > 0) {
-        LocalMeanFactors f = RestoreLocalMeans(
-            color, options.meanRadius, &result.image,
-            inputs.Has("variance") ? &inputs.Get("variance") : nullptr, kLocalMeanRebalance);
+        LocalMeanFactors f =
+            RestoreLocalMeans(color, options.meanRadius, &result.image,
+                              inputs.Has("variance") ? &inputs.Get("variance") : nullptr,
+                              kLocalMeanRebalanceAuto);
         plan.push_back(fmt::format(
             "auto: the input's local means over tents of radius {}, then {}, then {} again "
             "restored (factors {:.3g} to {:.3g})",

@@ -41,10 +41,13 @@ inline int LocalMeanReach(int r, bool rebalance = false) {
     return 2 * 4 * r + 2 * r + (rebalance ? 2 * 4 * r : 0);
 }
 
-// The weight on the noise of the last coarse pass for pivot and auto (RestoreLocalMeans'
+// The weight on the noise of the last coarse pass for pivot and rhf (RestoreLocalMeans'
 // `rebalance`): 0 restores the coarse means whole (a rare bright sample's energy then
 // spreads over its tent), 1 shrinks them as the first pass does.
 constexpr double kLocalMeanRebalance = 0.25;
+// auto's: its relative combination leans to the darker candidates where they disagree, so
+// its restore gives back more.
+constexpr double kLocalMeanRebalanceAuto = 0.1;
 
 // The factors applied, smallest and largest (1 and 1 where none was).
 struct LocalMeanFactors {
