@@ -751,7 +751,7 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // and the noise estimate's reach.
     const int box = std::max(options.radius, options.frameRadius);
     const int noise = options.noiseRadius + 1;
-    const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius) : 0;
+    const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius, true) : 0;
     needs.reach += 2 * box + noise + mean;
     needs.reachText = fmt::format(
         "the widest candidate's reach + twice the estimates' box radius {} + the noise "
@@ -854,11 +854,13 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     if (options.meanRadius > 0) {
         LocalMeanFactors f =
             RestoreLocalMeans(color, options.meanRadius, &result.image,
-                              inputs.Has("variance") ? &inputs.Get("variance") : nullptr);
+                              inputs.Has("variance") ? &inputs.Get("variance") : nullptr,
+                              kLocalMeanRebalanceAuto);
         plan.push_back(fmt::format(
-            "auto: the input's local means over tents of radius {}, then {} restored "
-            "(factors {:.3g} to {:.3g})",
-            8 * options.meanRadius, 2 * options.meanRadius, f.lo, f.hi));
+            "auto: the input's local means over tents of radius {}, then {}, then {} again "
+            "restored (factors {:.3g} to {:.3g})",
+            8 * options.meanRadius, 2 * options.meanRadius, 8 * options.meanRadius, f.lo,
+            f.hi));
     }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();
