@@ -592,7 +592,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         keep("fit", out);
         RestoreLocalMeans(clamped, p.meanRadius, &out);
     }
-    if (p.keptRadius > 0) {
+    if (p.keptRadius > 0 && !in.variance) {
         keep("unkept", out);
         NforSmoothKept(color, features, p.featureWeights, mask, p.keptRadius,
                        p.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0, &out);

@@ -62,7 +62,9 @@ void NforSmoothKept(const Image &input, const Image &features,
                     for (int dx = -r; dx <= r; ++dx) {
                         int u = x + dx, v = y + dy;
                         if (u < 0 || v < 0 || u >= o.width || v >= o.height) continue;
-                        if (mask.At(0, v, u) != 1 && !Weak(mask, albedo, weakAlbedo, u, v))
+                        bool weakQ = Weak(mask, albedo, weakAlbedo, u, v);
+                        if (mask.At(0, v, u) != 1 && !weakQ) continue;
+                        if ((dx != 0 || dy != 0) && !weakQ && Kept(input, o, mask, r, u, v))
                             continue;
                         bool finite = true;
                         for (int k = 0; k < o.channels; ++k)

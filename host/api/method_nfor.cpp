@@ -115,9 +115,10 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "of --firefly-relative",
                           &O::fireflyLightEdge, -1, 1e6)),
         nested(IntParam("kept-radius",
-                        "a pixel the fits left as it came in (no neighbour weighed: a partly "
-                        "covered edge unlike all around it) takes the output's mean over this "
-                        "radius weighted by the features; 0: kept",
+                        "on a frame without a variance layer, a pixel the fits left as it "
+                        "came in (no neighbour weighed: a partly covered edge unlike all "
+                        "around it) takes the output's mean over this radius weighted by the "
+                        "features; 0: kept",
                         &O::keptRadius, 0, 8)),
         nested(FloatParam("weak-emitter-albedo",
                           "emitters whose albedo is below this (a light's partly covered "

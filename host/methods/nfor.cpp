@@ -533,7 +533,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                         "then {} restored (factors {:.3g} to {:.3g})",
                         8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
     }
-    if (o.keptRadius > 0) {
+    if (o.keptRadius > 0 && !in.variance) {
         run.AddStage("unkept", result.image);
         NforKeptSettings kept{o.keptRadius, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0};
         result.kept = NforSmoothKept(*in.color, gpu.filtered.Download(), weights, mask, kept,

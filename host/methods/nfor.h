@@ -72,9 +72,9 @@ struct NforOptions {
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
-    // A pixel the fits left as it came in (it weighed only itself: a partly covered edge
-    // unlike all around it) takes the feature-weighted mean of the output over this radius
-    // (host/methods/nfor_kept.h); 0: kept.
+    // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
+    // only itself: a partly covered edge unlike all around it) takes the feature-weighted
+    // mean of the output over this radius (host/methods/nfor_kept.h); 0: kept.
     int keptRadius = 2;
     // > 0: emitters whose largest albedo channel is below this (partly covered) are
     // smoothed with the kept pixels, their albedo not compared; 0: emitters kept.

@@ -81,17 +81,25 @@ size_t NforSmoothKept(const Image &input, const Image &features,
     std::vector<float> unlit = featureWeights;
     for (int j = 0; j < k.albedoPlanes && j < int(unlit.size()); ++j) unlit[j] = 0;
     float sigma2 = 0.25f * float(r) * float(r);
+    // The pixels smoothed; none reads another kept one (its input: a firefly would spread).
+    std::vector<uint8_t> kept(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            kept[size_t(y) * w + x] =
+                kind[size_t(y) * w + x] == 1 || NforKeptPixel(input, before, mask, r, x, y);
     size_t changed = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             bool weak = kind[size_t(y) * w + x] == 1;
-            if (!weak && !NforKeptPixel(input, before, mask, r, x, y)) continue;
+            if (!kept[size_t(y) * w + x]) continue;
             const std::vector<float> &s = weak ? unlit : featureWeights;
             std::vector<double> sum(size_t(ch), 0.0);
             double total = 0;
             for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
                 for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {
-                    if (kind[size_t(v) * w + u] == 2) continue;
+                    size_t q = size_t(v) * w + u;
+                    if (kind[q] == 2 || (kept[q] && kind[q] != 1 && (u != x || v != y)))
+                        continue;
                     bool finite = true;
                     for (int c = 0; c < ch; ++c)
                         finite = finite && std::isfinite(before.At(c, v, u));

@@ -34,8 +34,9 @@ struct NforKeptSettings {
 // Each kept pixel of `output` (and each weak emitter) replaced by the mean of the output
 // over the window of radius r clipped to the image with weights exp(-|d|^2 / (2 (r / 2)^2)
 // - sum_j (s_j (F_q,j - F_p,j))^2) (features F and weights s as the fits', the albedo's
-// planes left out at a weak emitter), emitters other than weak ones and non-finite values
-// left out of the mean; the pixel itself has weight 1. The outputs read are those before
+// planes left out at a weak emitter), the other kept pixels (their input: a firefly would
+// spread), emitters other than weak ones and non-finite values left out of the mean; the
+// pixel itself has weight 1. The outputs read are those before
 // any replacement. Returns how many pixels changed.
 size_t NforSmoothKept(const Image &input, const Image &features,
                       const std::vector<float> &featureWeights, const Image &mask,
