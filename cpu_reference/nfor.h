@@ -120,7 +120,7 @@ struct NforParams {
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
-    int keptRadius = 2;
+    int keptRadius = 0;
     double weakEmitterAlbedo = 0;  // > 0: emitters below it smoothed with the kept pixels
     // The frame denoised again at half the resolution (NforHalf of colour, albedo, features
     // and variance), its low frequencies added (NforAddCoarse, cpu_reference/nfor_coarse.h).

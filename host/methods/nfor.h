@@ -75,7 +75,7 @@ struct NforOptions {
     // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted
     // mean of the output over this radius (host/methods/nfor_kept.h); 0: kept.
-    int keptRadius = 2;
+    int keptRadius = 0;
     // > 0: emitters whose largest albedo channel is below this (partly covered) are
     // smoothed with the kept pixels, their albedo not compared; 0: emitters kept.
     float weakEmitterAlbedo = 0;
