@@ -167,12 +167,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
         if (int r = options.method.meanRadius; r > 0) {
-            LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image, in.variance,
-                                                   kLocalMeanRebalance);
             result.plan.push_back(
-                fmt::format("local mean: the input's means over tents of radius {}, then {}, "
-                            "then {} again restored (factors {:.3g} to {:.3g})",
-                            8 * r, 2 * r, 8 * r, f.lo, f.hi));
+                RestoreLocalMeansRebalanced(*in.color, r, &result.image, in.variance));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         if (UsesAlbedo(inputs))

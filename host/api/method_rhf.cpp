@@ -97,12 +97,8 @@ class Rhf : public FrontEndOf<RhfParams> {
                               exact, ExactReach()));
         if (run.keepStages) result.stages.push_back({"exact pixels", result.image});
         if (int r = options.meanRadius; r > 0) {
-            LocalMeanFactors f = RestoreLocalMeans(color, r, &result.image, Variance(inputs),
-                                                   kLocalMeanRebalance);
             result.plan.push_back(
-                fmt::format("local mean: the input's means over tents of radius {}, then {}, "
-                            "then {} again restored (factors {:.3g} to {:.3g})",
-                            8 * r, 2 * r, 8 * r, f.lo, f.hi));
+                RestoreLocalMeansRebalanced(color, r, &result.image, Variance(inputs)));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         return result;

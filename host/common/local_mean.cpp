@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "host/common/box_mean.h"
 #include "host/common/highlights.h"
 #include "host/common/parallel.h"
@@ -283,6 +285,15 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
         });
     }
     return moved.load();
+}
+
+std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
+                                        const Image *variance) {
+    LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, kLocalMeanRebalance);
+    return fmt::format(
+        "local mean: the input's means over tents of radius {}, then {}, then {} again "
+        "restored (factors {:.3g} to {:.3g})",
+        8 * r, 2 * r, 8 * r, f.lo, f.hi);
 }
 
 }  // namespace mcd

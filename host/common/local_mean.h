@@ -24,6 +24,8 @@
 // pass at s = 4r, its noise weighted by `rebalance`, returns it over the coarse tents.
 #pragma once
 
+#include <string>
+
 #include "host/image.h"
 
 namespace mcd {
@@ -60,6 +62,11 @@ struct LocalMeanFactors {
 // `rebalance` >= 0: the last coarse pass, its noise weighted so; < 0: none.
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
                                    const Image *variance = nullptr, double rebalance = -1);
+
+// RestoreLocalMeans with the last coarse pass of pivot and rhf (kLocalMeanRebalance); returns
+// the plan's line for it ("local mean: ...").
+std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
+                                        const Image *variance);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or
