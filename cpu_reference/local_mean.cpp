@@ -91,7 +91,8 @@ double SquaredWeights(int s) {
     return sum;
 }
 
-void Scale(const Image &input, const std::vector<bool> &kept, int s, Image *output) {
+void Scale(const Image &input, const std::vector<bool> &kept, int s, double noiseWeight,
+           Image *output) {
     Image clean(input.width, input.height, input.channels), moved = Moved(*output, kept);
     Image squared = clean;
     for (size_t i = 0; i < input.data.size(); ++i) {
@@ -105,7 +106,7 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, Image *outp
     double weights = SquaredWeights(s);
     for (size_t i = 0; i < output->data.size(); ++i) {
         if (kept[i]) continue;
-        double a = mIn.data[i], b = mOut.data[i], q = mSq.data[i] * weights;
+        double a = mIn.data[i], b = mOut.data[i], q = mSq.data[i] * weights * noiseWeight;
         if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) && std::isfinite(q)))
             continue;
         double d = a - b;
@@ -116,15 +117,17 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, Image *outp
 
 }  // namespace
 
-void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *variance) {
+void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *variance,
+                       double rebalance) {
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
     std::vector<bool> kept(input.data.size());
     for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
     Highlights(input, variance, r, &kept, output);
-    Scale(input, kept, 4 * r, output);
-    Scale(input, kept, r, output);
+    Scale(input, kept, 4 * r, 1, output);
+    Scale(input, kept, r, 1, output);
+    if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, output);
 }
 
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {

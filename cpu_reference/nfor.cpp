@@ -9,6 +9,7 @@
 
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/nfor_coarse.h"
+#include "cpu_reference/nfor_kept.h"
 
 namespace mcd::ref {
 namespace {
@@ -590,6 +591,11 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     if (p.meanRadius > 0) {
         keep("fit", out);
         RestoreLocalMeans(clamped, p.meanRadius, &out);
+    }
+    if (p.keptRadius > 0 && !in.variance) {
+        keep("unkept", out);
+        NforSmoothKept(color, features, p.featureWeights, mask, p.keptRadius,
+                       p.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0, &out);
     }
     if (p.coarse) {
         // The same method at half the resolution, without a coarse pass of its own.

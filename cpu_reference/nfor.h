@@ -118,6 +118,10 @@ struct NforParams {
     // half-size, its distance over them, and SURE picks among all; 0: off.
     int pilotWideRadius = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
+    // Pixels the fits left as they came in: the output's feature-weighted mean over this
+    // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
+    int keptRadius = 0;
+    double weakEmitterAlbedo = 0;  // > 0: emitters below it smoothed with the kept pixels
     // The frame denoised again at half the resolution (NforHalf of colour, albedo, features
     // and variance), its low frequencies added (NforAddCoarse, cpu_reference/nfor_coarse.h).
     bool coarse = false;
@@ -197,7 +201,7 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
-// fit; with coarse, coarse; output).
+// fit; with keptRadius, unkept; with coarse, coarse; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

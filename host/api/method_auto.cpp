@@ -401,20 +401,28 @@ bool Repeats(const FrontEnd &method, const RegisteredVariant &v, Inputs &inputs,
     return false;
 }
 
-// Why the variant stays out with this error estimate (AutoVariant::halves), or "".
+// Why the variant stays out with this error estimate (AutoVariant::estimates), or "".
+// Without an estimate (--auto-combine mean) only nfor stays out here; the variants stay out
+// as variants (RunCandidates).
 std::string OutByEstimate(const RegisteredVariant &v, const Noise &noise) {
-    using Halves = AutoVariant::Halves;
-    if (v.variant->halves == Halves::Only && !noise.halves)
+    unsigned current = noise.halves ? AutoVariant::kHalves
+                       : noise.own  ? AutoVariant::kOwn
+                                    : AutoVariant::kVariance;
+    if (v.variant->estimates & current) return "";
+    if (v.variant->estimates == AutoVariant::kHalves)
         return fmt::format(
             "weighed by the half-buffers' estimate only, and the error "
             "estimate is {}",
             !noise.scored ? "none"
             : noise.own   ? "the frame's own (without statistics nfor runs alone)"
                           : "SURE on the variance layer");
-    if (v.variant->halves == Halves::Never && noise.halves)
-        return "the error estimate is the half-buffers', and beside nfor there it did not earn "
-               "its time";
-    return "";
+    if (!noise.scored) return "";
+    return fmt::format(
+        "the error estimate is {}, and beside the candidates that run there it did not earn "
+        "its time",
+        noise.halves ? "the half-buffers'"
+        : noise.own  ? "the frame's own"
+                     : "SURE on the variance layer");
 }
 
 // The variant's probe: its own front end, or a cheaper one where the registry has one
@@ -743,7 +751,7 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // and the noise estimate's reach.
     const int box = std::max(options.radius, options.frameRadius);
     const int noise = options.noiseRadius + 1;
-    const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius) : 0;
+    const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius, true) : 0;
     needs.reach += 2 * box + noise + mean;
     needs.reachText = fmt::format(
         "the widest candidate's reach + twice the estimates' box radius {} + the noise "
@@ -846,11 +854,13 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     if (options.meanRadius > 0) {
         LocalMeanFactors f =
             RestoreLocalMeans(color, options.meanRadius, &result.image,
-                              inputs.Has("variance") ? &inputs.Get("variance") : nullptr);
+                              inputs.Has("variance") ? &inputs.Get("variance") : nullptr,
+                              kLocalMeanRebalanceAuto);
         plan.push_back(fmt::format(
-            "auto: the input's local means over tents of radius {}, then {} restored "
-            "(factors {:.3g} to {:.3g})",
-            8 * options.meanRadius, 2 * options.meanRadius, f.lo, f.hi));
+            "auto: the input's local means over tents of radius {}, then {}, then {} again "
+            "restored (factors {:.3g} to {:.3g})",
+            8 * options.meanRadius, 2 * options.meanRadius, 8 * options.meanRadius, f.lo,
+            f.hi));
     }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();

@@ -114,6 +114,17 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "edge): kept (negative) or clamped as a firefly with this in place "
                           "of --firefly-relative",
                           &O::fireflyLightEdge, -1, 1e6)),
+        nested(IntParam("kept-radius",
+                        "on a frame without a variance layer, a pixel the fits left as it "
+                        "came in (no neighbour weighed: a partly covered edge unlike all "
+                        "around it) takes the output's mean over this radius weighted by the "
+                        "features; 0: kept",
+                        &O::keptRadius, 0, 8)),
+        nested(FloatParam("weak-emitter-albedo",
+                          "emitters whose albedo is below this (a light's partly covered "
+                          "edge) are smoothed with the kept pixels, their albedo not "
+                          "compared (needs --kept-radius); 0: emitters kept",
+                          &O::weakEmitterAlbedo, 0, 1e30)),
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: kept as they are",
                           &O::emitterAlbedo, 1, 1e30)),
@@ -198,14 +209,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                              ? 3 * std::max(o.radius, o.pilotWideRadius) + o.patchRadius
                              : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
-                      o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
+                      o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) +
+                      o.keptRadius;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
-            "average; {} for the local means",
+            "average; {} for the local means; {} for the kept pixels' mean",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
-            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0);
+            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, o.keptRadius);
         if (o.coarse) {
             // The half-resolution pass reaches twice as far in this frame's pixels, its
             // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
@@ -263,6 +275,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotAlpha = o.pilotAlpha;
         p.pilotWideRadius = o.pilotWideRadius;
         p.meanRadius = o.meanRadius;
+        p.keptRadius = o.keptRadius;
+        p.weakEmitterAlbedo = o.weakEmitterAlbedo;
         p.coarse = o.coarse;
         p.coarseRelative = o.coarseRelative;
         p.coarseNoise = o.coarseNoise;

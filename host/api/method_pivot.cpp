@@ -167,11 +167,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
         if (int r = options.method.meanRadius; r > 0) {
-            LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image, in.variance);
+            LocalMeanFactors f = RestoreLocalMeans(*in.color, r, &result.image, in.variance,
+                                                   kLocalMeanRebalance);
             result.plan.push_back(
-                fmt::format("local mean: the input's means over tents of radius {}, then {} "
-                            "restored (factors {:.3g} to {:.3g})",
-                            8 * r, 2 * r, f.lo, f.hi));
+                fmt::format("local mean: the input's means over tents of radius {}, then {}, "
+                            "then {} again restored (factors {:.3g} to {:.3g})",
+                            8 * r, 2 * r, 8 * r, f.lo, f.hi));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         if (UsesAlbedo(inputs))
@@ -202,7 +203,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 options.method.maxRadius, options.method.maxRadius);
         }
         const int mean =
-            options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius) : 0;
+            options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean.
         const int bound = options.bound > 0 ? 3 : 0;
         // The frame's noise for the fits: a 5x5 median of second differences.
@@ -263,7 +264,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
             cpu.emplace_back("bound", out);
         }
         if (int r = options.method.meanRadius; r > 0) {
-            ref::RestoreLocalMeans(*in.color, r, &out, in.variance);
+            ref::RestoreLocalMeans(*in.color, r, &out, in.variance, kLocalMeanRebalance);
             cpu.emplace_back("local mean", std::move(out));
         }
         std::vector<Stage> stages;

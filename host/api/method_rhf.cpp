@@ -7,9 +7,11 @@
 #include <cmath>
 
 #include "cpu_reference/exact_pixels.h"
+#include "cpu_reference/local_mean.h"
 #include "cpu_reference/rhf.h"
 #include "host/api/front_end.h"
 #include "host/common/exact_pixels.h"
+#include "host/common/local_mean.h"
 #include "host/io/hints.h"
 #include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
@@ -46,7 +48,12 @@ class Rhf : public FrontEndOf<RhfParams> {
                BoolParam("keep-negative",
                          "keep negative output values, as the authors' tool does (by default "
                          "the scale recombination's bicubic overshoot below 0 is clamped to 0)",
-                         &RhfParams::keepNegative)}) {}
+                         &RhfParams::keepNegative),
+               IntParam("rhf-mean-radius",
+                        "restore the input's local means over tents of 8x and 2x this radius "
+                        "(beyond the paper: patch weights average fireflies into their dark "
+                        "neighbours and so darken heavy-tailed frames); 0: off",
+                        &RhfParams::meanRadius, 0, 64)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Rhf>(*this); }
     std::string Summary() const override {
@@ -89,6 +96,15 @@ class Rhf : public FrontEndOf<RhfParams> {
                               "goes back to the values within {} that lost it",
                               exact, ExactReach()));
         if (run.keepStages) result.stages.push_back({"exact pixels", result.image});
+        if (int r = options.meanRadius; r > 0) {
+            LocalMeanFactors f = RestoreLocalMeans(color, r, &result.image, Variance(inputs),
+                                                   kLocalMeanRebalance);
+            result.plan.push_back(
+                fmt::format("local mean: the input's means over tents of radius {}, then {}, "
+                            "then {} again restored (factors {:.3g} to {:.3g})",
+                            8 * r, 2 * r, 8 * r, f.lo, f.hi));
+            if (run.keepStages) result.stages.push_back({"local mean", result.image});
+        }
         return result;
     }
 
@@ -97,11 +113,14 @@ class Rhf : public FrontEndOf<RhfParams> {
         int scales = RhfScalesUsed(inputs.Width(), inputs.Height(), o);
         TileNeeds needs;
         // The exact pixels' energy returns within ExactReach, by weights read as far again.
-        needs.reach = RhfReach(o, scales) + 2 * ExactReach();
+        needs.reach = RhfReach(o, scales) + 2 * ExactReach() +
+                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0);
         needs.reachText = fmt::format(
             "the farthest over scales s < {} of (2 x patch half {} + search half {} + 2) x 2^s "
-            "and the downsampler's 3-sigma taps, then bicubic U and D per recombination",
-            scales, o.patchHalf, o.searchHalf);
+            "and the downsampler's 3-sigma taps, then bicubic U and D per recombination; "
+            "twice the exact pixels' reach {}; the local mean's tents {}",
+            scales, o.patchHalf, o.searchHalf, ExactReach(),
+            o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0);
         needs.align = 1 << (scales - 1);
         // Per pixel: the histograms, the colour and its filtered image, the selection mask and
         // the bin maxima (a float per 8 pixels and bin plane); each coarser scale s adds its
@@ -156,13 +175,23 @@ class Rhf : public FrontEndOf<RhfParams> {
             for (float &v : out.data) v = v < 0 ? 0.f : v;
         ref::KeepExactPixels(inputs.Get("color"), ExactVariance(ExactLayersOf(inputs)), &out,
                              ExactReach());
-        named.emplace_back("exact pixels", std::move(out));
+        named.emplace_back("exact pixels", out);
+        if (options.meanRadius > 0) {
+            ref::RestoreLocalMeans(inputs.Get("color"), options.meanRadius, &out,
+                                   Variance(inputs), kLocalMeanRebalance);
+            named.emplace_back("local mean", std::move(out));
+        }
         std::vector<Stage> stages;
         for (auto &[name, image] : named) stages.push_back({name, std::move(image)});
         return stages;
     }
 
   private:
+    // The frame's variance layer for the restore's highlights, or null.
+    static const Image *Variance(Inputs &inputs) {
+        return inputs.Has("variance") ? &inputs.Get("variance") : nullptr;
+    }
+
     // How far rhf moves a value at the finest scale: a patch's pixels from the search
     // window's far side.
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }

@@ -50,27 +50,29 @@ std::vector<MethodEntry> Build() {
     // Blender Cycles frames, whose walls and objects each have an id, those pixels carried
     // most of pivot's error (README). "bayes no split" runs where bayes runs split.
     // Where the half-buffers weigh the candidates (an accumulated frame), nfor runs, and
-    // the variants that did not earn their time beside it there do not (Halves::Never);
-    // awr runs only where named (byDefault false): small shares everywhere for much time.
-    // docs/methods/auto.md has the measurements.
-    using Halves = AutoVariant::Halves;
+    // the variants that did not earn their time beside it there do not; where SURE on a
+    // variance layer does, the pivot variants without robust weights (k0) did not earn
+    // theirs either: they run on the frame's own estimate, where they are what lifts
+    // interior's plain frames. awr runs only where named (byDefault false): small shares
+    // everywhere for much time. docs/methods/auto.md has the measurements.
+    constexpr unsigned kNotHalves = AutoVariant::kVariance | AutoVariant::kOwn;
     const ParamValue none = std::string("none");
     return {
         {"awr",
          AwrFrontEnd,
          0,
-         {{"awr", {}, 5, {0.8f, 0.1f, 0.9f}, "magenta", {}, Halves::Never, nullptr, false}}},
+         {{"awr", {}, 5, {0.8f, 0.1f, 0.9f}, "magenta", {}, kNotHalves, nullptr, false}}},
         {"bayes",
          BayesFrontEnd,
          2,
-         {{"bayes", {}, 4, {1.f, 0.8f, 0.05f}, "yellow", {}, Halves::Never},
+         {{"bayes", {}, 4, {1.f, 0.8f, 0.05f}, "yellow", {}, kNotHalves},
           {"bayes no split",
            {{"no-split", true}},
            9,
            {0.5f, 0.25f, 0.1f},
            "brown",
            {},
-           Halves::Never}}},
+           kNotHalves}}},
         // nfor with its noise from the frame itself: the variance layer of a few accumulated
         // samples is noisy and heavy-tailed. Weighed by SURE it cost quality on our own
         // scenes, so it runs where the halves weigh it. Without statistics auto runs it
@@ -84,13 +86,19 @@ std::vector<MethodEntry> Build() {
            {0.6f, 0.2f, 1.f},
            "purple",
            {},
-           Halves::Only,
+           AutoVariant::kHalves,
            NforCheaperProbe}}},
         {"pivot",
          PivotFrontEnd,
          3,
          {{"pivot", {}, 2, {0.1f, 0.7f, 0.1f}, "green"},
-          {"pivot k0", {{"robust-k", 0.f}}, 3, {0.1f, 0.3f, 1.f}, "blue", {}, Halves::Never},
+          {"pivot k0",
+           {{"robust-k", 0.f}},
+           3,
+           {0.1f, 0.3f, 1.f},
+           "blue",
+           {},
+           AutoVariant::kOwn},
           {"pivot no ids", {{"guides", none}}, 7, {1.f, 0.5f, 0.f}, "orange", kGuideLayers},
           {"pivot k0 no ids",
            {{"robust-k", 0.f}, {"guides", none}},
@@ -98,7 +106,7 @@ std::vector<MethodEntry> Build() {
            {0.5f, 0.5f, 0.5f},
            "grey",
            kGuideLayers,
-           Halves::Never}}},
+           AutoVariant::kOwn}}},
         {"rhf",
          RhfFrontEnd,
          1,

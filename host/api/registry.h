@@ -24,11 +24,12 @@ struct AutoVariant {
     // Layers without which the variant filters as its method's own parameters do (none of
     // them on the frame: the variant is left out). Empty: it always differs.
     std::vector<std::string> differsWith;
-    // Where it runs, by auto's error estimate: always, only where it is the half-buffers'
-    // (SURE misjudged the variant), or only where it is not (beside the candidates that
-    // run there it did not earn its time). docs/methods/auto.md has the measurements.
-    enum class Halves { Any, Only, Never };
-    Halves halves = Halves::Any;
+    // The error estimates under which it runs (bits of Estimate): the half-buffers', SURE
+    // on the variance layer, SURE on the frame's own. Where one is off, SURE misjudged the
+    // variant there, or beside the candidates that run there it did not earn its time.
+    // docs/methods/auto.md has the measurements.
+    enum Estimate : unsigned { kHalves = 1, kVariance = 2, kOwn = 4, kAnyEstimate = 7 };
+    unsigned estimates = kAnyEstimate;
     // Sets the probe's parameters over the run's (its run on half0 or on the perturbed
     // colour): a cheaper probe where its estimate weighed the candidates as well. Null: the
     // probe runs as the run does.

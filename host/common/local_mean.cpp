@@ -15,9 +15,10 @@ namespace mcd {
 namespace {
 
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
-// means over tents of radius 2s; `factors` (one per value) multiplied by the same.
-void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, Image *output,
-                  std::vector<double> *factors) {
+// means over tents of radius 2s, the noise weighted by `noiseWeight`; `factors` (one per
+// value) multiplied by the same.
+void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, double noiseWeight,
+                  Image *output, std::vector<double> *factors) {
     Image moved = *output, squared = *output;
     ParallelValues(moved.data.size(), 4, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -27,7 +28,7 @@ void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, Imag
         }
     });
     Image mIn = TentMean(clean, s), mOut = TentMean(moved, s), mSq = TentMean(squared, s);
-    const double weights = TentSquaredWeights(s);
+    const double weights = TentSquaredWeights(s) * noiseWeight;
     ParallelValues(mIn.data.size(), 16, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             if (kept[i]) continue;
@@ -126,10 +127,12 @@ double TentSquaredWeights(int r) {
 }
 
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
-                                   const Image *variance) {
-    if (!input.SameShape(*output) || r <= 0)
-        throw Error("RestoreLocalMeans: the output must have the input's shape, r > 0",
-                    ErrorKind::Internal);
+                                   const Image *variance, double rebalance) {
+    if (!input.SameShape(*output) || r <= 0 || std::isnan(rebalance))
+        throw Error(
+            "RestoreLocalMeans: the output must have the input's shape, r > 0, the "
+            "rebalance's weight a number",
+            ErrorKind::Internal);
     // The values the method left as they were (an emitter without a pivot, an exact zero
     // restored) are left out of the means and kept: mass balances without them.
     std::vector<bool> kept(input.data.size());
@@ -144,8 +147,12 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
         clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
     }
     std::vector<double> factors(input.data.size(), 1.0);
-    RestoreScale(clean, kept, 4 * r, output, &factors);
-    RestoreScale(clean, kept, r, output, &factors);
+    RestoreScale(clean, kept, 4 * r, 1, output, &factors);
+    RestoreScale(clean, kept, r, 1, output, &factors);
+    // The fine scale takes the coarse gain back confidently where no rare bright sample
+    // fell and gives it uncertainly where one did: the coarse scale again returns the
+    // energy so lost.
+    if (rebalance >= 0) RestoreScale(clean, kept, 4 * r, rebalance, output, &factors);
     LocalMeanFactors range;
     bool any = false;
     for (size_t i = 0; i < factors.size(); ++i) {

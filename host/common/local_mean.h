@@ -18,7 +18,10 @@
 // removed) has q near d^2 and leaves the method's output, rather than spreading their
 // energy over a glowing square; a darkening shared by many pixels is restored. This runs
 // at s = 4r first and then at s = r on its result: what is uncertain at the fine scale is
-// restored at the coarse one.
+// restored at the coarse one. The fine scale's shrinkage is lopsided where the noise is
+// heavy-tailed: windows without a rare bright sample give the coarse gain back with
+// confidence, windows with one keep it only in part, so the frame loses energy. A last
+// pass at s = 4r, its noise weighted by `rebalance`, returns it over the coarse tents.
 #pragma once
 
 #include "host/image.h"
@@ -32,10 +35,19 @@ Image TentMean(const Image &image, int r);
 // the mean of i.i.d. values' variance to the variance of their tent mean.
 double TentSquaredWeights(int r);
 
-// How far a pixel's restored value reads: the coarse windows, then the fine ones.
-inline int LocalMeanReach(int r) {
-    return 2 * 4 * r + 2 * r;
+// How far a pixel's restored value reads: the coarse windows, then the fine ones, then
+// the coarse ones again where the restore rebalances.
+inline int LocalMeanReach(int r, bool rebalance = false) {
+    return 2 * 4 * r + 2 * r + (rebalance ? 2 * 4 * r : 0);
 }
+
+// The weight on the noise of the last coarse pass for pivot and rhf (RestoreLocalMeans'
+// `rebalance`): 0 restores the coarse means whole (a rare bright sample's energy then
+// spreads over its tent), 1 shrinks them as the first pass does.
+constexpr double kLocalMeanRebalance = 0.25;
+// auto's: its relative combination leans to the darker candidates where they disagree, so
+// its restore gives back more.
+constexpr double kLocalMeanRebalanceAuto = 0.1;
 
 // The factors applied, smallest and largest (1 and 1 where none was).
 struct LocalMeanFactors {
@@ -45,8 +57,9 @@ struct LocalMeanFactors {
 // `output` (the shape of `input`) scaled to `input`'s local means; r > 0. `variance` (of
 // the pixel mean, one channel or the input's; may be null, ignored unless of the input's
 // size) tells highlights from fireflies in place of the neighbours.
+// `rebalance` >= 0: the last coarse pass, its noise weighted so; < 0: none.
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
-                                   const Image *variance = nullptr);
+                                   const Image *variance = nullptr, double rebalance = -1);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or

@@ -11,6 +11,7 @@
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/checks.h"
 #include "host/methods/nfor_coarse.h"
+#include "host/methods/nfor_kept.h"
 #include "host/vk/gpu_image.h"
 #include "nfor/nfor.h"
 
@@ -531,6 +532,20 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
             fmt::format("local mean: the clamped colour's means over tents of radius {}, "
                         "then {} restored (factors {:.3g} to {:.3g})",
                         8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
+    }
+    if (o.keptRadius > 0 && !in.variance) {
+        run.AddStage("unkept", result.image);
+        NforKeptSettings kept{o.keptRadius, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0};
+        result.kept = NforSmoothKept(*in.color, gpu.filtered.Download(), weights, mask, kept,
+                                     &result.image);
+        run.Plan(fmt::format(
+            "kept pixels (the fits left them as they came in: no neighbour weighed){}: {}, "
+            "each given the output's mean over {}x{} weighted by the features",
+            o.weakEmitterAlbedo > 0
+                ? fmt::format(" and emitters of albedo below {} (without the albedo)",
+                              o.weakEmitterAlbedo)
+                : std::string(),
+            result.kept, 2 * o.keptRadius + 1, 2 * o.keptRadius + 1));
     }
     if (coarse) {
         run.AddStage("coarse", *coarse);

@@ -72,6 +72,13 @@ struct NforOptions {
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
+    // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
+    // only itself: a partly covered edge unlike all around it) takes the feature-weighted
+    // mean of the output over this radius (host/methods/nfor_kept.h); 0: kept.
+    int keptRadius = 0;
+    // > 0: emitters whose largest albedo channel is below this (partly covered) are
+    // smoothed with the kept pixels, their albedo not compared; 0: emitters kept.
+    float weakEmitterAlbedo = 0;
     // Denoise the frame again at half the resolution and give the output the coarse
     // output's low frequencies where they differ by under min(coarseRelative x the
     // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h).
@@ -98,6 +105,7 @@ struct NforInputs {
 struct NforResult : MethodResult {
     size_t emitters = 0;        // pixels left out as emitters
     size_t clamped = 0;         // pixel-channels clamped as fireflies
+    size_t kept = 0;            // pixels the fits left as they came in, then smoothed
     std::vector<double> share;  // per candidate, the fraction of pixels that took it
 };
 

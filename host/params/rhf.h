@@ -29,6 +29,10 @@ struct RhfParams {
     // pipeline clamps its output to 0 after the last stage, so `diff --method rhf` compares
     // raw stages. The CPU reference always returns the raw output.
     bool keepNegative = false;
+    // The input's local means restored after the exact pixels (host/common/local_mean.h,
+    // beyond the authors' tool): patch weighting averages a firefly into its dark
+    // neighbours but not theirs into it, so heavy-tailed frames lose brightness. 0: off.
+    int meanRadius = 8;
 };
 
 }  // namespace mcd

@@ -777,17 +777,22 @@ TEST_F(AutoMethod, CombinesTheCandidatesOfARenderedFrame) {
     EXPECT_EQ(result.method, "auto");
     int ran = 0;
     for (const std::string &line : result.plan) ran += line.starts_with("auto: ran ");
-    // Every variant of the registry (bayes both split, scored with the direct and indirect
-    // variances, and not) but those weighed by the half-buffers only (the frame has none)
-    // and awr, which runs where --auto-candidates names it.
+    // Every variant of the registry that runs on SURE from a variance layer (bayes both
+    // split, scored with the direct and indirect variances, and not; not nfor, weighed by the
+    // half-buffers only, nor the pivot k0 variants) but awr, which runs where
+    // --auto-candidates names it.
     int variants = 0;
     for (const api::RegisteredVariant &v : api::AutoVariants())
-        variants += v.variant->halves != api::AutoVariant::Halves::Only && v.variant->byDefault;
+        variants +=
+            (v.variant->estimates & api::AutoVariant::kVariance) && v.variant->byDefault;
     EXPECT_EQ(ran, variants) << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_EQ(std::find(result.candidates.begin(), result.candidates.end(), "awr"),
               result.candidates.end());
     EXPECT_TRUE(
         PlanHas(result, "auto: left out awr: it runs where --auto-candidates names it"));
+    EXPECT_TRUE(PlanHas(result,
+                        "auto: left out pivot k0 no ids: the error estimate is SURE on "
+                        "the variance layer"));
     double best = BestSingleMethod(device, frame, reference);
     EXPECT_LE(CompareImages(result.image, reference).relMse, 1.05 * best);
     Method named("auto");
@@ -977,7 +982,7 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     std::vector<Image> outputs;
     for (const api::MethodEntry &m : api::Registry())
         if (!m.variants.empty() &&
-            m.variants.front().halves != api::AutoVariant::Halves::Only &&
+            (m.variants.front().estimates & api::AutoVariant::kVariance) &&
             m.variants.front().byDefault && Method(m.name).Missing(frame).empty())
             outputs.push_back(WithoutLocalMeans(Method(m.name)).Run(device, frame).image);
     ASSERT_EQ(outputs.size(), 2u);

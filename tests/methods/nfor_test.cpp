@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -16,6 +17,7 @@
 
 #include "cpu_reference/nfor.h"
 #include "cpu_reference/nfor_coarse.h"
+#include "cpu_reference/nfor_kept.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
@@ -23,6 +25,7 @@
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 #include "host/methods/nfor_coarse.h"
+#include "host/methods/nfor_kept.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
 #include "nfor/nfor.h"
@@ -895,6 +898,84 @@ TEST(NforCoarse, TakesSmallLowFrequencyDifferencesOnly) {
     NforAddCoarse(input, coarse, &albedo, 1.5f, 0.1f, 0.3f, &lit);
     EXPECT_EQ(lit.At(0, 8, 8), 1.f);
     EXPECT_NEAR(lit.At(0, 8, 7), lifted, 1e-5);
+}
+
+// The kept pixels' mean against its reference: outputs that equal the input at random
+// pixels (some beside moved ones, some not), a few emitters (weak ones smoothed or not), a
+// NaN among the neighbours; odd sizes and 1x1; two runs bit-identical.
+TEST(NforKept, MatchesTheReferenceAndRepeats) {
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}, std::pair{16, 16}})
+        for (InputKind kind :
+             {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant})
+            for (float weak : {0.f, 1.8f}) {
+                std::string name =
+                    fmt::format("kept {}x{} {} weak {}", w, h, InputKindName(kind), weak);
+                uint64_t seed = SeedFromName(name);
+                std::mt19937 random{uint32_t(seed)};
+                Image input = MakeInput(kind, w, h, 3, seed), output = input;
+                Image features = MakeVarianceInput(InputKind::Uniform, w, h, 7, seed + 1);
+                Image albedo(w, h, 3);
+                std::copy(features.data.begin(), features.data.begin() + albedo.Size(),
+                          albedo.data.begin());
+                Image mask(w, h, 1, 1.f);
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        if (random() % 2)
+                            for (int c = 0; c < 3; ++c) output.At(c, y, x) *= 0.9f;
+                        if (random() % 5 == 0) {
+                            mask.At(0, y, x) = 0;
+                            albedo.At(0, y, x) = random() % 2 ? 1.6f : 2.5f;
+                        }
+                    }
+                if (w * h > 4) output.At(1, h / 2, w / 2 + 1) = std::nanf("");
+                std::vector<float> s = {3.3f, 3.3f, 3.3f, 1.7f, 1.7f, 1.7f, 6.7f};
+                std::vector<double> sd(s.begin(), s.end());
+                NforKeptSettings k{2, weak, &albedo, 3};
+                Image host = output, again = output, cpu = output;
+                NforSmoothKept(input, features, s, mask, k, &host);
+                NforSmoothKept(input, features, s, mask, k, &again);
+                ref::NforSmoothKept(input, features, sd, mask, 2, weak, &albedo, 3, &cpu);
+                EXPECT_TRUE(ImagesMatch(cpu, host, {}, {1e-5, 0, 1e-7})) << name;
+                EXPECT_EQ(0, std::memcmp(host.data.data(), again.data.data(),
+                                         host.data.size() * sizeof(float)))
+                    << name;
+            }
+}
+
+// Only a pixel the fits left beside one they moved takes the mean: of its neighbours of
+// like features (a silhouette's edge line), not of those unlike it nor of emitters. A frame
+// reproduced everywhere (noise-free) is left.
+TEST(NforKept, SmoothsOnlyPixelsTheFitsLeft) {
+    int w = 9, h = 9;
+    Image input(w, h, 3, 1.f), features(w, h, 1, 0.f), mask(w, h, 1, 1.f);
+    std::vector<float> s = {10.f};
+    Image reproduced = input;
+    EXPECT_EQ(NforSmoothKept(input, features, s, mask, NforKeptSettings{}, &reproduced), 0u);
+    EXPECT_EQ(reproduced.data, input.data);
+    // Column 4 an edge line (feature 1) whose centre the fits left at 3; the rest moved.
+    Image output(w, h, 3, 0.5f);
+    for (int y = 0; y < h; ++y) {
+        features.At(0, y, 4) = 1.f;
+        for (int c = 0; c < 3; ++c) output.At(c, y, 4) = 2.f;
+    }
+    for (int c = 0; c < 3; ++c) input.At(c, 4, 4) = output.At(c, 4, 4) = 3.f;
+    mask.At(0, 3, 4) = 0;  // an emitter on the line: left out of the mean
+    Image smoothed = output;
+    EXPECT_EQ(NforSmoothKept(input, features, s, mask, NforKeptSettings{}, &smoothed), 1u);
+    // Weights along the line: exp(-dy^2 / 2) at dy = 1 (below only), 2 (both), 0 (itself).
+    double e1 = std::exp(-0.5), e2 = std::exp(-2.0);
+    double expected = (3 + 2 * e1 + 2 * 2 * e2) / (1 + e1 + 2 * e2);
+    EXPECT_NEAR(smoothed.At(0, 4, 4), expected, 1e-3);  // unlike neighbours weigh e^-100
+    for (size_t i = 0; i < output.PixelCount(); ++i)
+        if (i != size_t(4 * w + 4)) EXPECT_EQ(smoothed.data[i], output.data[i]);
+    EXPECT_EQ(NforSmoothKept(input, features, s, mask, NforKeptSettings{0}, &output), 0u);
+    // The emitter on the line, weak (albedo below 2), is smoothed too, over the pixels
+    // around it whatever their albedo (one plane here: none compared), the centre included.
+    Image albedo(w, h, 3, 1.8f), weak = output;
+    NforKeptSettings k{2, 2.f, &albedo, 1};
+    EXPECT_EQ(NforSmoothKept(input, features, s, mask, k, &weak), 2u);
+    EXPECT_NE(weak.At(0, 3, 4), output.At(0, 3, 4));
+    EXPECT_LT(weak.At(0, 3, 4), 2.f);
 }
 
 TEST_F(NforMethod, RerunsAreBitIdentical) {

@@ -64,19 +64,24 @@ TEST(MethodRegistry, AutoRunOrderAndPickOrder) {
     EXPECT_EQ(labels, (std::vector<std::string>{"nfor", "rhf", "pivot", "pivot k0", "bayes",
                                                 "awr", "rhf 2 scales", "pivot no ids",
                                                 "pivot k0 no ids", "bayes no split"}));
-    // Where the half-buffers weigh them (an accumulated frame): nfor and four others; the
-    // rest where the estimate is SURE or the frame's own (nfor: not at all).
-    std::vector<std::string> withHalves, withoutHalves;
+    // Where the half-buffers weigh them (an accumulated frame): nfor and four others; SURE
+    // on a variance layer: all but nfor and the pivot k0 variants; the frame's own estimate:
+    // all but nfor.
+    std::vector<std::string> withHalves, withVariance, withOwn;
     for (const api::RegisteredVariant &v : api::AutoVariants()) {
-        if (v.variant->halves != api::AutoVariant::Halves::Never)
+        if (v.variant->estimates & api::AutoVariant::kHalves)
             withHalves.push_back(v.variant->label);
-        if (v.variant->halves != api::AutoVariant::Halves::Only)
-            withoutHalves.push_back(v.variant->label);
+        if (v.variant->estimates & api::AutoVariant::kVariance)
+            withVariance.push_back(v.variant->label);
+        if (v.variant->estimates & api::AutoVariant::kOwn) withOwn.push_back(v.variant->label);
     }
     EXPECT_EQ(withHalves, (std::vector<std::string>{"nfor", "rhf", "pivot", "rhf 2 scales",
                                                     "pivot no ids"}));
-    EXPECT_EQ(withoutHalves.size(), labels.size() - 1);
-    EXPECT_EQ(withoutHalves.front(), "rhf");
+    EXPECT_EQ(withVariance,
+              (std::vector<std::string>{"rhf", "pivot", "bayes", "awr", "rhf 2 scales",
+                                        "pivot no ids", "bayes no split"}));
+    EXPECT_EQ(withOwn.size(), labels.size() - 1);
+    EXPECT_EQ(withOwn.front(), "rhf");
     std::vector<std::string> picks;
     for (const api::MethodEntry *m : api::PickOrder()) picks.push_back(m->name);
     EXPECT_EQ(picks, (std::vector<std::string>{"awr", "rhf", "bayes", "pivot"}));
