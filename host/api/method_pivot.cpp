@@ -212,10 +212,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
-        // Two fit buffers of PIVOT_PLANES / 2 planes per channel (one binding each), six
-        // images of the colour's channels, the variance, the fit's packed z, s, nu (four
-        // per channel) and the guides (4 floats a pixel).
-        needs.bindingBytesPerPixel = 8.0 * channels * 4;
+        // Two fit buffers of PIVOT_PLANES / 2 planes per channel (one binding per channel
+        // and buffer), six images of the colour's channels, the variance, the fit's packed
+        // z, s, nu (four per channel, one binding) and the guides (4 floats a pixel).
+        needs.bindingBytesPerPixel = std::max(8.0, 4.0 * channels) * 4;
         needs.bytesPerPixel = (16.0 + 7 + 4) * channels * 4 + 4 * 4;
         return needs;
     }

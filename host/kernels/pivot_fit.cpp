@@ -34,6 +34,22 @@ void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGui
                     ErrorKind::Internal);
 }
 
+void CheckPivotFitBuffers(const char *what, int width, int height, int channels,
+                          const PivotFitBuffers &fits) {
+    if (fits.Channels() != channels || int(fits.hi.size()) != channels)
+        throw Error(fmt::format("{}: fit buffers of {} channels, expected {}", what,
+                                fits.Channels(), channels),
+                    ErrorKind::Internal);
+    for (const auto *part : {&fits.lo, &fits.hi})
+        for (const vk::GpuImage &fit : *part)
+            if (fit.width != width || fit.height != height ||
+                fit.channels != PIVOT_PLANES_PER_BUFFER)
+                throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{}", what,
+                                        fit.buffer.Name(), fit.width, fit.height, fit.channels,
+                                        width, height, PIVOT_PLANES_PER_BUFFER),
+                            ErrorKind::Internal);
+}
+
 Image PivotGuideBuffer(const Image &planes) {
     if (planes.channels != PIVOT_GUIDE_PLANES)
         throw Error(fmt::format("pivot guides: {} planes, expected {}", planes.channels,
@@ -114,9 +130,64 @@ Image PivotZsnOf(const Image &z, const Image &s, const Image &nu) {
     return zsn;
 }
 
+PivotFitBuffers::PivotFitBuffers(vk::Context &context, int width, int height, int channels,
+                                 const std::string &name) {
+    for (int c = 0; c < channels; ++c) {
+        lo.emplace_back(context, width, height, PIVOT_PLANES_PER_BUFFER,
+                        fmt::format("{}Lo{}", name, c));
+        hi.emplace_back(context, width, height, PIVOT_PLANES_PER_BUFFER,
+                        fmt::format("{}Hi{}", name, c));
+    }
+}
+
+namespace {
+
+// The channels' buffers one after the other, as one image of 8 x channels planes.
+Image Joined(const std::vector<vk::GpuImage> &parts) {
+    const vk::GpuImage &first = parts.front();
+    Image joined(first.width, first.height, PIVOT_PLANES_PER_BUFFER * int(parts.size()));
+    size_t each = size_t(first.width) * first.height * PIVOT_PLANES_PER_BUFFER;
+    for (size_t c = 0; c < parts.size(); ++c)
+        parts[c].buffer.Download(joined.data.data() + c * each, each * sizeof(float));
+    return joined;
+}
+
+void Split(const Image &joined, std::vector<vk::GpuImage> &parts) {
+    size_t each = size_t(joined.width) * joined.height * PIVOT_PLANES_PER_BUFFER;
+    for (size_t c = 0; c < parts.size(); ++c)
+        parts[c].buffer.Upload(joined.data.data() + c * each, each * sizeof(float));
+}
+
+}  // namespace
+
+Image PivotFitBuffers::Download() const {
+    return PivotFitsOfBuffers(Joined(lo), Joined(hi), Channels());
+}
+
+void PivotFitBuffers::Upload(const Image &fits) {
+    Image joinedLo, joinedHi;
+    PivotBuffersOfFits(fits, Channels(), &joinedLo, &joinedHi);
+    Split(joinedLo, lo);
+    Split(joinedHi, hi);
+}
+
+Image PivotFitBuffers::Radii() const {
+    const vk::GpuImage &first = hi.front();
+    Image radii(first.width, first.height, Channels());
+    size_t centres = first.buffer.Bytes() / sizeof(float) / PIVOT_PLANES_PER_BUFFER;
+    for (int c = 0; c < Channels(); ++c) {
+        Image planes = hi[c].Download();
+        float *plane = radii.Plane(c);
+        for (size_t i = 0; i < centres; ++i)
+            plane[i] = planes.data[i * PIVOT_PLANES_PER_BUFFER + PIVOT_PLANES - 1 -
+                                   PIVOT_PLANES_PER_BUFFER];
+    }
+    return radii;
+}
+
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &zsn,
                     const PivotGpuGuides &guides, const PivotFitSettings &settings,
-                    vk::GpuImage &fitLo, vk::GpuImage &fitHi, int rowBase, int rows) {
+                    PivotFitBuffers &fits, int rowBase, int rows) {
     if (zsn.channels % 4 != 0 || zsn.channels < 4 || zsn.channels > 16)
         throw Error(fmt::format("pivot fit: {} has {} channels, expected 4 per colour channel "
                                 "(z, s, nu, 0; 1 to 4 colour channels)",
@@ -124,13 +195,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                     ErrorKind::Internal);
     int w = zsn.width, h = zsn.height, channels = zsn.channels / 4;
     CheckPivotGuides("pivot fit", w, h, guides);
-    for (const vk::GpuImage *fit : {&std::as_const(fitLo), &std::as_const(fitHi)})
-        if (fit->width != w || fit->height != h ||
-            fit->channels != PIVOT_PLANES_PER_BUFFER * channels)
-            throw Error(fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x{}",
-                                    fit->buffer.Name(), fit->width, fit->height, fit->channels,
-                                    w, h, PIVOT_PLANES_PER_BUFFER * channels),
-                        ErrorKind::Internal);
+    CheckPivotFitBuffers("pivot fit", w, h, channels, fits);
     if (rowBase < 0 || rows < 1 || rowBase + rows > h)
         throw Error(fmt::format("pivot fit: rows {}..{} of a {}-row image", rowBase,
                                 rowBase + rows - 1, h),
@@ -148,25 +213,28 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
          {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
          (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES),
          (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES)});
-    shader::PivotFitPush push{w,
-                              h,
-                              channels,
-                              settings.maxRadius,
-                              settings.targetNoise,
-                              settings.goodNoise * settings.goodNoise,
-                              settings.disagreement,
-                              settings.k,
-                              settings.sigmaWeight,
-                              rowBase};
-    // Absent guides are compiled out; zsn stands in for their binding.
-    recorder.Dispatch(kernel, "pivot.fit",
-                      {{PIVOT_FIT_ZSN, &zsn.buffer, vk::Access::Read},
-                       {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &zsn.buffer,
-                        vk::Access::Read},
-                       {PIVOT_FIT_LO, &fitLo.buffer, vk::Access::Write},
-                       {PIVOT_FIT_HI, &fitHi.buffer, vk::Access::Write}},
-                      push, uint32_t((w + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
-                      uint32_t(rows), uint32_t(channels));
+    for (int c = 0; c < channels; ++c) {
+        shader::PivotFitPush push{w,
+                                  h,
+                                  channels,
+                                  settings.maxRadius,
+                                  settings.targetNoise,
+                                  settings.goodNoise * settings.goodNoise,
+                                  settings.disagreement,
+                                  settings.k,
+                                  settings.sigmaWeight,
+                                  rowBase,
+                                  c};
+        // Absent guides are compiled out; zsn stands in for their binding.
+        recorder.Dispatch(
+            kernel, "pivot.fit",
+            {{PIVOT_FIT_ZSN, &zsn.buffer, vk::Access::Read},
+             {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &zsn.buffer,
+              vk::Access::Read},
+             {PIVOT_FIT_LO, &fits.lo[c].buffer, vk::Access::Write},
+             {PIVOT_FIT_HI, &fits.hi[c].buffer, vk::Access::Write}},
+            push, uint32_t((w + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE), uint32_t(rows), 1);
+    }
 }
 
 }  // namespace mcd

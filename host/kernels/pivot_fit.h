@@ -1,7 +1,10 @@
 // Record the pivot filter's fit stage (shaders/pivot/fit.comp): per centre and channel, the
 // grown square and the planes of the square and its quadrants, into two buffers of 8
-// planes each ([plane][channel][y][x]; planes in shaders/pivot/pivot.h).
+// planes per channel (planes in shaders/pivot/pivot.h).
 #pragma once
+
+#include <string>
+#include <vector>
 
 #include "host/image.h"
 #include "host/vk/gpu_image.h"
@@ -23,12 +26,29 @@ struct PivotFitSettings {
           sigmaWeight = 0.f;
 };
 
+// The fits on the GPU: per channel two buffers of PIVOT_PLANES_PER_BUFFER planes of the
+// frame's size (planes 0..7 and 8..15, a centre's 8 planes adjacent; shaders/pivot/pivot.h),
+// each its own binding, so that one binding holds one channel's planes.
+struct PivotFitBuffers {
+    PivotFitBuffers(vk::Context &context, int width, int height, int channels,
+                    const std::string &name);
+
+    int Channels() const { return int(lo.size()); }
+    // The fits in the reference's layout (PivotFitsOfBuffers), and back.
+    Image Download() const;
+    void Upload(const Image &fits);
+    // Each centre's radius (plane PIVOT_PLANES - 1; -1: no fit), one plane per channel.
+    Image Radii() const;
+
+    std::vector<vk::GpuImage> lo, hi;
+};
+
 // `zsn`: z, s, nu and 0 of each pixel and channel adjacent (4 x channels floats per pixel,
-// channel-major: PivotZsnOf), as the ratio stage writes them. `fitLo` and `fitHi` hold 8 x
-// channels planes of z's size each, a centre's 8 planes adjacent (shaders/pivot/pivot.h).
+// channel-major: PivotZsnOf), as the ratio stage writes them. One dispatch per channel, into
+// that channel's fit buffers.
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &zsn,
                     const PivotGpuGuides &guides, const PivotFitSettings &settings,
-                    vk::GpuImage &fitLo, vk::GpuImage &fitHi, int rowBase, int rows);
+                    PivotFitBuffers &fits, int rowBase, int rows);
 
 // The fit's packed input from z, s and nu (same shape): float (c * width * height + i) * 4 +
 // k holds z, s, nu (k = 0, 1, 2) of pixel i in channel c, and 0 (k = 3).
@@ -41,9 +61,14 @@ Image PivotZsnOf(const Image &z, const Image &s, const Image &nu);
 Image PivotGuideBuffer(const Image &planes);
 
 // The fits in the reference's layout (cpu_reference/pivot_filter.h: plane p of channel c at
-// channel p * channels + c) from the two fit buffers' contents, and back.
+// channel p * channels + c) from the fit buffers' contents, every channel's one after the
+// other (8 x channels planes in each of `lo` and `hi`), and back.
 Image PivotFitsOfBuffers(const Image &lo, const Image &hi, int channels);
 void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi);
+
+// Throw unless `fits` holds channels x 2 buffers of width x height x PIVOT_PLANES_PER_BUFFER.
+void CheckPivotFitBuffers(const char *what, int width, int height, int channels,
+                          const PivotFitBuffers &fits);
 
 // Throw unless the guide buffer matches width x height x PIVOT_GUIDE_STRIDE when one is used.
 void CheckPivotGuides(const char *what, int width, int height, const PivotGpuGuides &guides);

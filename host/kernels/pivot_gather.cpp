@@ -91,9 +91,9 @@ Image PivotTileOrder(const Image &radii, int *reach) {
 
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                        const vk::GpuImage &pivot, const vk::GpuImage &nu,
-                       const vk::GpuImage &fitLo, const vk::GpuImage &fitHi,
-                       const PivotGpuGuides &guides, const vk::GpuImage &tiles, int reach,
-                       vk::GpuImage &out, int rowBase, int rows) {
+                       const PivotFitBuffers &fits, const PivotGpuGuides &guides,
+                       const vk::GpuImage &tiles, int reach, vk::GpuImage &out, int rowBase,
+                       int rows) {
     if (rowBase < 0 || rows < 1 || rowBase + rows > color.height)
         throw Error(fmt::format("pivot gather: rows {}..{} of a {}-row image", rowBase,
                                 rowBase + rows - 1, color.height),
@@ -108,11 +108,7 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                     ErrorKind::Internal);
     CheckPivotShapes("pivot gather", color, {&pivot, &nu, &out});
     CheckPivotGuides("pivot gather", color.width, color.height, guides);
-    for (const vk::GpuImage *fit : {&fitLo, &fitHi})
-        if (fit->width != color.width || fit->height != color.height ||
-            fit->channels != PIVOT_PLANES_PER_BUFFER * color.channels)
-            throw Error(fmt::format("pivot gather: {} has the wrong shape", fit->buffer.Name()),
-                        ErrorKind::Internal);
+    CheckPivotFitBuffers("pivot gather", color.width, color.height, color.channels, fits);
     const vk::Kernel &kernel = context.GetKernel(
         {"pivot_gather",
          k_pivot_gather_spv,
@@ -125,21 +121,24 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
              (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES),
          (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_FIT_LO) |
              (1u << PIVOT_GATHER_FIT_HI)});
-    shader::PivotGatherPush push{
-        color.width, color.height, color.channels, reach < 0 ? 0 : reach,
-        tilesX,      tilesY,       rowBase};
-    recorder.Dispatch(kernel, "pivot.gather",
-                      {{PIVOT_GATHER_COLOR, &color.buffer, vk::Access::Read},
-                       {PIVOT_GATHER_PIVOT, &pivot.buffer, vk::Access::Read},
-                       {PIVOT_GATHER_NU, &nu.buffer, vk::Access::Read},
-                       {PIVOT_GATHER_FIT_LO, &fitLo.buffer, vk::Access::Read},
-                       {PIVOT_GATHER_FIT_HI, &fitHi.buffer, vk::Access::Read},
-                       {PIVOT_GATHER_GUIDES,
-                        guides.image ? &guides.image->buffer : &color.buffer, vk::Access::Read},
-                       {PIVOT_GATHER_OUT, &out.buffer, vk::Access::Write},
-                       {PIVOT_GATHER_TILES, &tiles.buffer, vk::Access::Read}},
-                      push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
-                      uint32_t(rows), uint32_t(color.channels));
+    for (int c = 0; c < color.channels; ++c) {
+        shader::PivotGatherPush push{
+            color.width, color.height, color.channels, reach < 0 ? 0 : reach,
+            tilesX,      tilesY,       rowBase,        c};
+        recorder.Dispatch(
+            kernel, "pivot.gather",
+            {{PIVOT_GATHER_COLOR, &color.buffer, vk::Access::Read},
+             {PIVOT_GATHER_PIVOT, &pivot.buffer, vk::Access::Read},
+             {PIVOT_GATHER_NU, &nu.buffer, vk::Access::Read},
+             {PIVOT_GATHER_FIT_LO, &fits.lo[c].buffer, vk::Access::Read},
+             {PIVOT_GATHER_FIT_HI, &fits.hi[c].buffer, vk::Access::Read},
+             {PIVOT_GATHER_GUIDES, guides.image ? &guides.image->buffer : &color.buffer,
+              vk::Access::Read},
+             {PIVOT_GATHER_OUT, &out.buffer, vk::Access::Write},
+             {PIVOT_GATHER_TILES, &tiles.buffer, vk::Access::Read}},
+            push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+            uint32_t(rows), 1);
+    }
 }
 
 }  // namespace mcd

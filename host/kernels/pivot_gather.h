@@ -25,11 +25,12 @@ Image PivotTileOrder(const Image &radii, int *reach);
 // multiples of it take part in the gather, with weight times step^2.
 int PivotLatticeStepOf(float radius);
 
-// `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius.
+// `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius. One dispatch
+// per channel, reading that channel's fit buffers.
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                        const vk::GpuImage &pivot, const vk::GpuImage &nu,
-                       const vk::GpuImage &fitLo, const vk::GpuImage &fitHi,
-                       const PivotGpuGuides &guides, const vk::GpuImage &tiles, int reach,
-                       vk::GpuImage &out, int rowBase, int rows);
+                       const PivotFitBuffers &fits, const PivotGpuGuides &guides,
+                       const vk::GpuImage &tiles, int reach, vk::GpuImage &out, int rowBase,
+                       int rows);
 
 }  // namespace mcd

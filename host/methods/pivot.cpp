@@ -54,21 +54,18 @@ void CheckPivotInputs(vk::Context &context, const PivotInputs &in, const PivotPa
                                 PIVOT_MAX_CHANNELS),
                     ErrorKind::InvalidArgument);
     if (w < 1 || h < 1) throw Error("pivot: the image is empty", ErrorKind::InvalidArgument);
-    // Each of the two fit buffers holds PIVOT_PLANES_PER_BUFFER planes per channel in one
-    // binding (written by the fit, read by the gather as a texel view): refuse, before any
-    // work, a frame the device cannot hold.
-    double fitBytes = double(PIVOT_PLANES_PER_BUFFER) * channels * w * h * sizeof(float);
-    double binding = double(context.BindingBytes());
-    if (fitBytes > binding)
-        throw Error(
-            fmt::format(
-                "pivot: a {}x{}x{} frame needs {:.0f} MB per fit buffer, above this device's "
-                "{:.0f} MB per binding (at most {:.0f} pixels of {} channels); crop or tile "
-                "the "
-                "frame",
-                w, h, channels, fitBytes / 1e6, binding / 1e6,
-                std::floor(binding / (PIVOT_PLANES_PER_BUFFER * channels * 4)), channels),
-            ErrorKind::OutOfMemory);
+    // The largest bindings: a channel's fit buffer of PIVOT_PLANES_PER_BUFFER planes
+    // (written by the fit, read by the gather as a texel view) and the fit's packed z, s, nu
+    // (4 floats per channel): refuse, before any work, a frame the device cannot bind.
+    double pixelBytes = std::max(PIVOT_PLANES_PER_BUFFER, 4 * channels) * sizeof(float);
+    double bindingBytes = pixelBytes * w * h, binding = double(context.BindingBytes());
+    if (bindingBytes > binding)
+        throw Error(fmt::format("pivot: a {}x{}x{} frame needs {:.0f} MB in one binding, above "
+                                "this device's {:.0f} MB (at most {:.0f} pixels of {} "
+                                "channels); crop or tile the frame",
+                                w, h, channels, bindingBytes / 1e6, binding / 1e6,
+                                std::floor(binding / pixelBytes), channels),
+                    ErrorKind::OutOfMemory);
     CheckLayer(color, "color", w, h, channels, false);
     CheckLayer(*in.pivot, "pivot", w, h, channels, false);
     if (in.variance) CheckLayer(*in.variance, "variance", w, h, channels, true);
@@ -223,23 +220,18 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotParams &options,
                     const RunSetup &setup, PivotResult &result) {
     vk::Context &context = run.Context();
     int w = gpu.z.width, h = gpu.z.height, channels = gpu.z.channels;
-    vk::GpuImage fitLo(context, w, h, PIVOT_PLANES_PER_BUFFER * channels, "pivot.fitLo");
-    vk::GpuImage fitHi(context, w, h, PIVOT_PLANES_PER_BUFFER * channels, "pivot.fitHi");
+    PivotFitBuffers fits(context, w, h, channels, "pivot.fit");
     PivotFitSettings settings{options.maxRadius,    options.targetNoise, options.goodNoise,
                               options.disagreement, options.k,           options.sigmaWeight};
     // Row strips, one submission each: progress on long frames, and no dispatch long enough
     // to trip a GPU watchdog. The ratio stage recorded before runs with the first strip.
     const int stripRows = setup.stripPixels > 0 ? std::clamp(setup.stripPixels / w, 1, h) : h;
     InStrips(run, h, stripRows, "fit", setup, [&](int rowBase, int rows) {
-        RecordPivotFit(context, run.Recorder(), gpu.zsn, gpu.guides, settings, fitLo, fitHi,
-                       rowBase, rows);
+        RecordPivotFit(context, run.Recorder(), gpu.zsn, gpu.guides, settings, fits, rowBase,
+                       rows);
     });
     // The radii decide how far the gather looks, tile by tile.
-    Image radii(w, h, channels);
-    Image hi = fitHi.Download();
-    for (size_t i = 0; i < radii.Size(); ++i)
-        radii.data[i] =
-            hi.data[i * PIVOT_PLANES_PER_BUFFER + PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER];
+    Image radii = fits.Radii();
     double sum = 0;
     size_t fitted = 0;
     for (float r : radii.data)
@@ -263,14 +255,14 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotParams &options,
         "pixel whose centres lie on their lattice (step: largest power of two <= radius / 2, "
         "at most 8; weight x step^2; a gather), times the pivot");
     InStrips(run, h, stripRows, "gather", setup, [&](int rowBase, int rows) {
-        RecordPivotGather(context, run.Recorder(), gpu.color, gpu.pivot, gpu.nu, fitLo, fitHi,
+        RecordPivotGather(context, run.Recorder(), gpu.color, gpu.pivot, gpu.nu, fits,
                           gpu.guides, tiles, result.largestRadius, gpu.out, rowBase, rows);
     });
     run.Plan(fmt::format("GPU time: {} ({} row strip(s) of up to {} rows)",
                          TimePerKernel(run.Timings()), (h + stripRows - 1) / stripRows,
                          stripRows));
     if (run.KeepsStages()) {
-        run.AddStage("fits", PivotFitsOfBuffers(fitLo.Download(), hi, channels));
+        run.AddStage("fits", fits.Download());
     }
 }
 

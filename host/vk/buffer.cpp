@@ -54,13 +54,9 @@ void DestroyRaw(Context &context, RawBuffer &raw) {
     raw = {};
 }
 
-}  // namespace
-
-Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
-    : context(&context), bytes(bytes), name(std::move(name)) {
-    // Zero-sized buffers are invalid in Vulkan; keep one word so empty images still bind.
-    // The buffer itself is whole vec4 texels, so that any buffer binds as a vec4 view.
-    VkDeviceSize noted = bytes > 0 ? bytes : 4, allocBytes = (noted + 15) / 16 * 16;
+// A fresh device buffer of allocBytes, mapped when its memory is host-visible and the
+// context maps buffers.
+PooledBuffer CreateDeviceBuffer(Context &context, VkDeviceSize allocBytes) {
     // Unified memory (CPU devices, integrated GPUs): map device memory directly. Discrete
     // GPUs: plain VRAM, not the small host-visible BAR window, and stage transfers.
     VkPhysicalDeviceType type = context.Info().type;
@@ -74,17 +70,67 @@ Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
             VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
         0, preferred, unified ? 0 : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
-    buffer = raw.buffer;
-    memory = raw.memory;
-    context.NoteAllocation(this->name, noted);
-    if (raw.hostVisible) {
+    PooledBuffer made{raw.buffer, raw.memory, nullptr, allocBytes};
+    if (raw.hostVisible && !context.StagesTransfers()) {
         try {
-            MCD_VK(vkMapMemory(context.Device(), memory, 0, VK_WHOLE_SIZE, 0, &mapped));
+            MCD_VK(
+                vkMapMemory(context.Device(), made.memory, 0, VK_WHOLE_SIZE, 0, &made.mapped));
+        } catch (...) {
+            DestroyPooled(context.Device(), made);
+            throw;
+        }
+    }
+    return made;
+}
+
+// A buffer of allocBytes from the pool, or fresh; when the device is out of memory with
+// buffers kept, they are freed and the allocation tried again.
+PooledBuffer TakeBuffer(Context &context, VkDeviceSize allocBytes) {
+    BufferPool &pool = context.Pool();
+    if (std::optional<PooledBuffer> kept = pool.Take(allocBytes)) return *kept;
+    try {
+        try {
+            return CreateDeviceBuffer(context, allocBytes);
+        } catch (const Error &e) {
+            if (e.Kind() != ErrorKind::OutOfMemory || pool.GetStats().keptBytes == 0) throw;
+            pool.Trim();
+            return CreateDeviceBuffer(context, allocBytes);
+        }
+    } catch (...) {
+        pool.Forget(allocBytes);
+        throw;
+    }
+}
+
+}  // namespace
+
+Buffer::Buffer(Context &context, VkDeviceSize bytes, std::string name)
+    : context(&context), bytes(bytes), name(std::move(name)) {
+    // Zero-sized buffers are invalid in Vulkan; keep one word so empty images still bind.
+    // The buffer itself is whole vec4 texels, so that any buffer binds as a vec4 view.
+    PooledBuffer taken = TakeBuffer(context, AllocBytes());
+    buffer = taken.buffer;
+    memory = taken.memory;
+    mapped = taken.mapped;
+    context.NoteAllocation(this->name, bytes > 0 ? bytes : 4);
+    if (context.PoisonsBuffers()) {
+        try {
+            Poison();
         } catch (...) {
             Release();
             throw;
         }
     }
+}
+
+void Buffer::Poison() {
+    if (mapped) {
+        std::memset(mapped, 0xff, AllocBytes());
+        return;
+    }
+    context->SubmitAndWait([&](VkCommandBuffer cb) {
+        vkCmdFillBuffer(cb, buffer, 0, VK_WHOLE_SIZE, 0xffffffffu);
+    });
 }
 
 Buffer::~Buffer() {
@@ -113,11 +159,10 @@ Buffer &Buffer::operator=(Buffer &&other) noexcept {
 void Buffer::Release() {
     if (!context) return;
     if (buffer) context->NoteRelease(bytes > 0 ? bytes : 4);
-    if (mapped) vkUnmapMemory(context->Device(), memory);
+    // Views are made for this buffer's size in bytes: the next user makes its own.
     if (floatView) vkDestroyBufferView(context->Device(), floatView, nullptr);
     if (vec4View) vkDestroyBufferView(context->Device(), vec4View, nullptr);
-    if (buffer) vkDestroyBuffer(context->Device(), buffer, nullptr);
-    if (memory) vkFreeMemory(context->Device(), memory, nullptr);
+    if (buffer) context->Pool().Give({buffer, memory, mapped, AllocBytes()});
     buffer = VK_NULL_HANDLE;
     memory = VK_NULL_HANDLE;
     mapped = nullptr;
@@ -164,23 +209,17 @@ void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {
         std::memcpy(static_cast<char *>(mapped) + byteOffset, data, byteCount);
         return;
     }
-    RawBuffer staging = CreateRaw(
-        *context, byteCount, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0);
-    try {
-        void *ptr = nullptr;
-        MCD_VK(vkMapMemory(context->Device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &ptr));
-        std::memcpy(ptr, data, byteCount);
-        vkUnmapMemory(context->Device(), staging.memory);
+    Staging &staging = context->StagingFor(false);
+    for (size_t done = 0; done < byteCount;) {
+        size_t chunk = std::min<size_t>(byteCount - done, Staging::kChunk);
+        void *ptr = staging.Reserve(*context, chunk);
+        std::memcpy(ptr, static_cast<const char *>(data) + done, chunk);
         context->SubmitAndWait([&](VkCommandBuffer cb) {
-            VkBufferCopy region{0, byteOffset, byteCount};
-            vkCmdCopyBuffer(cb, staging.buffer, buffer, 1, &region);
+            VkBufferCopy region{0, byteOffset + done, chunk};
+            vkCmdCopyBuffer(cb, staging.Handle(), buffer, 1, &region);
         });
-    } catch (...) {
-        DestroyRaw(*context, staging);
-        throw;
+        done += chunk;
     }
-    DestroyRaw(*context, staging);
 }
 
 void Buffer::Download(void *data, size_t byteCount, size_t byteOffset) const {
@@ -193,24 +232,53 @@ void Buffer::Download(void *data, size_t byteCount, size_t byteOffset) const {
         std::memcpy(data, static_cast<const char *>(mapped) + byteOffset, byteCount);
         return;
     }
-    RawBuffer staging =
-        CreateRaw(*context, byteCount, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                  VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
-                  VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-    try {
+    Staging &staging = context->StagingFor(true);
+    for (size_t done = 0; done < byteCount;) {
+        size_t chunk = std::min<size_t>(byteCount - done, Staging::kChunk);
+        void *ptr = staging.Reserve(*context, chunk);
         context->SubmitAndWait([&](VkCommandBuffer cb) {
-            VkBufferCopy region{byteOffset, 0, byteCount};
-            vkCmdCopyBuffer(cb, buffer, staging.buffer, 1, &region);
+            VkBufferCopy region{byteOffset + done, 0, chunk};
+            vkCmdCopyBuffer(cb, buffer, staging.Handle(), 1, &region);
         });
-        void *ptr = nullptr;
-        MCD_VK(vkMapMemory(context->Device(), staging.memory, 0, VK_WHOLE_SIZE, 0, &ptr));
-        std::memcpy(data, ptr, byteCount);
-        vkUnmapMemory(context->Device(), staging.memory);
+        std::memcpy(static_cast<char *>(data) + done, ptr, chunk);
+        done += chunk;
+    }
+}
+
+void *Staging::Reserve(Context &context, VkDeviceSize wanted) {
+    wanted = std::min(wanted, kChunk);
+    if (buffer && bytes >= wanted) return mapped;
+    Release(context);
+    // Grow in powers of two (from 1 MiB) so that a run's rising sizes allocate a few times.
+    VkDeviceSize size = VkDeviceSize(1) << 20;
+    while (size < wanted) size *= 2;
+    size = std::min(size, kChunk);
+    RawBuffer raw = CreateRaw(
+        context, size,
+        download ? VK_BUFFER_USAGE_TRANSFER_DST_BIT : VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+        download ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0);
+    try {
+        MCD_VK(vkMapMemory(context.Device(), raw.memory, 0, VK_WHOLE_SIZE, 0, &mapped));
     } catch (...) {
-        DestroyRaw(*context, staging);
+        DestroyRaw(context, raw);
         throw;
     }
-    DestroyRaw(*context, staging);
+    buffer = raw.buffer;
+    memory = raw.memory;
+    bytes = size;
+    ++allocations;
+    return mapped;
+}
+
+void Staging::Release(Context &context) {
+    if (mapped) vkUnmapMemory(context.Device(), memory);
+    if (buffer) vkDestroyBuffer(context.Device(), buffer, nullptr);
+    if (memory) vkFreeMemory(context.Device(), memory, nullptr);
+    buffer = VK_NULL_HANDLE;
+    memory = VK_NULL_HANDLE;
+    mapped = nullptr;
+    bytes = 0;
 }
 
 }  // namespace mcd::vk

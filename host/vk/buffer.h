@@ -1,10 +1,13 @@
 // RAII storage buffer. Memory is device-local where the device has it; uploads and
 // downloads map it directly when it is also host-visible (lavapipe, unified memory) and
-// go through a staging buffer otherwise.
+// go through the context's staging buffers otherwise. A freed buffer goes to the context's
+// pool (host/vk/buffer_pool.h) for the next buffer of its size: a buffer's contents before
+// its user writes them are undefined.
 #pragma once
 
 #include <volk.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -52,6 +55,11 @@ class Buffer {
 
   private:
     void Release();
+    // The allocation's size: the bytes asked for (one word at least) in whole vec4 texels.
+    VkDeviceSize AllocBytes() const {
+        return (std::max<VkDeviceSize>(bytes, 4) + 15) / 16 * 16;
+    }
+    void Poison();
     // The texel view of the given format, made once into `view`.
     VkBufferView View(VkFormat format, int floatsPerTexel, const char *unit,
                       VkBufferView &view) const;
@@ -63,6 +71,35 @@ class Buffer {
     void *mapped = nullptr;
     mutable VkBufferView floatView = VK_NULL_HANDLE, vec4View = VK_NULL_HANDLE;
     std::string name;
+};
+
+// A host-visible buffer for transfers between the host and device memory it cannot map,
+// mapped for its life: a context keeps one per direction (Context::StagingFor) and grows it
+// as transfers ask, to at most kChunk bytes; larger transfers go through it in chunks.
+class Staging {
+  public:
+    static constexpr VkDeviceSize kChunk = VkDeviceSize(64) << 20;
+
+    explicit Staging(bool download) : download(download) {}
+    Staging(const Staging &) = delete;
+    Staging &operator=(const Staging &) = delete;
+    ~Staging() = default;  // the context releases it (Release) before its device goes
+
+    // Mapped memory of at least min(bytes, kChunk) bytes; the buffer grows when smaller.
+    void *Reserve(Context &context, VkDeviceSize bytes);
+    VkBuffer Handle() const { return buffer; }
+    VkDeviceSize Bytes() const { return bytes; }
+    // How many times its memory was allocated (tests: reuse, not one per transfer).
+    int Allocations() const { return allocations; }
+    void Release(Context &context);
+
+  private:
+    bool download;
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    void *mapped = nullptr;
+    VkDeviceSize bytes = 0;
+    int allocations = 0;
 };
 
 }  // namespace mcd::vk

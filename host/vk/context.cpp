@@ -303,6 +303,11 @@ Context::Context(const ContextOptions &options)
         di.ppEnabledExtensionNames = extensions.data();
         MCD_VK(vkCreateDevice(physicalDevice, &di, nullptr, &device));
         vkGetDeviceQueue(device, queueFamily, 0, &queue);
+        pool.SetDevice(device);
+        pool.SetKeep(options.keepFreedBuffers);
+        const char *poison = std::getenv("MCD_POISON_BUFFERS");
+        poisonBuffers = options.poisonBuffers || (poison && *poison == '1');
+        stageTransfers = options.stageTransfers;
 
         VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
         pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -325,6 +330,9 @@ Context::~Context() {
 void Context::Destroy() {
     if (device) {
         vkDeviceWaitIdle(device);
+        pool.Trim();
+        stagingUp.Release(*this);
+        stagingDown.Release(*this);
         kernels.clear();
         SavePipelineCache();
         if (pipelineCache) vkDestroyPipelineCache(device, pipelineCache, nullptr);

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "host/vk/buffer.h"
+#include "host/vk/buffer_pool.h"
 #include "host/vk/build_pool.h"
 
 namespace mcd::vk {
@@ -51,6 +53,15 @@ struct ContextOptions {
     // Threads that build pipelines while a run records (host/vk/build_pool.h): 0 one per
     // core (at most 8), 1 each pipeline built when it is asked for.
     int pipelineThreads = 0;
+    // Keep freed buffers for the next of the same size (host/vk/buffer_pool.h).
+    bool keepFreedBuffers = true;
+    // Fill every buffer handed out, fresh or reused, with NaN bits (0xff bytes) before its
+    // user sees it: a check that no kernel reads what it did not write. Also set by
+    // $MCD_POISON_BUFFERS=1.
+    bool poisonBuffers = false;
+    // Transfers go through the staging buffers even where device memory is host-visible
+    // (the path of discrete GPUs, for tests on other devices).
+    bool stageTransfers = false;
 };
 
 class Context {
@@ -149,6 +160,14 @@ class Context {
     }
     void NoteRelease(VkDeviceSize bytes) { ledger.live -= std::min(ledger.live, bytes); }
 
+    // Freed buffers kept for reuse, and the options of how buffers are made.
+    BufferPool &Pool() { return pool; }
+    bool PoisonsBuffers() const { return poisonBuffers; }
+    bool StagesTransfers() const { return stageTransfers; }
+    // The staging buffer of one direction, kept for the context's life and grown as
+    // transfers need (Buffer::Upload, Buffer::Download).
+    Staging &StagingFor(bool download) { return download ? stagingDown : stagingUp; }
+
   private:
     void Destroy();
     void LoadPipelineCache();
@@ -179,6 +198,10 @@ class Context {
     std::map<std::string, std::unique_ptr<Kernel>> kernels;
     MemoryLedger ledger;
     std::function<bool()> cancel;
+    // Freed with the device (Destroy), before it goes.
+    BufferPool pool;
+    Staging stagingUp{false}, stagingDown{true};
+    bool poisonBuffers = false, stageTransfers = false;
 };
 
 }  // namespace mcd::vk

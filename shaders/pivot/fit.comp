@@ -196,15 +196,16 @@ bool disagrees(Plane square, Plane quadrant) {
     return abs(square.c - quadrant.c) > allowed;
 }
 
-// The planes of the centre `at` in channel c: the square's, quadrant m's (the square's
-// where a quadrant has no fit) and the radius, as four vec4 writes.
-void storeFits(int c, int at, Plane square, float radius) {
+// The planes of the centre `at` (in the bound buffers of its channel): the square's,
+// quadrant m's (the square's where a quadrant has no fit) and the radius, as four vec4
+// writes.
+void storeFits(int at, Plane square, float radius) {
     Plane q[4];
     for (int m = 0; m < 4; ++m) {
         q[m] = solve(quadrantSums(m));
         if (!q[m].valid) q[m] = square;
     }
-    int texel = 2 * (c * planeSize + at);
+    int texel = 2 * at;
     fitLo[texel] = vec4(square.a, square.b, square.c, q[0].a);
     fitLo[texel + 1] = vec4(q[0].b, q[0].c, q[1].a, q[1].b);
     fitHi[texel] = vec4(q[1].c, q[2].a, q[2].b, q[2].c);
@@ -212,8 +213,8 @@ void storeFits(int c, int at, Plane square, float radius) {
 }
 
 // A centre without a fit: zero planes, radius -1.
-void storeNone(int c, int at) {
-    int texel = 2 * (c * planeSize + at);
+void storeNone(int at) {
+    int texel = 2 * at;
     fitLo[texel] = vec4(0.0);
     fitLo[texel + 1] = vec4(0.0);
     fitHi[texel] = vec4(0.0);
@@ -272,12 +273,11 @@ int grow(out float mean) {
         // fits and the radius r + 1 (off the lattice, as the gather tests it).
         if (!onLattice(x0, y0, float(r + 1))) {
             int at = y0 * w + x0;
-            int c = int(gl_WorkGroupID.z);
             if (!square.valid) {
-                storeNone(c, at);
+                storeNone(at);
                 return -1;
             }
-            storeFits(c, at, square, float(r + 1));
+            storeFits(at, square, float(r + 1));
             return -1;
         }
     }
@@ -287,7 +287,7 @@ int grow(out float mean) {
 
 // The chosen square of the centre (x0, y0) fitted with eq. 10 in full, row by row (a row's
 // three segments go to the parts its sign of dy selects), and stored.
-void fitAndStore(int c, int radius, float mean) {
+void fitAndStore(int radius, float mean) {
     int at = y0 * w + x0;
     clearParts();
     float fr = float(radius);
@@ -311,10 +311,10 @@ void fitAndStore(int c, int radius, float mean) {
     }
     Plane square = solve(squareSums());
     if (!square.valid) {
-        storeNone(c, at);
+        storeNone(at);
         return;
     }
-    storeFits(c, at, square, fr);
+    storeFits(at, square, fr);
 }
 
 // The workgroup's centres (one row segment) after growth: radius (-1: no fit to make) and
@@ -343,7 +343,7 @@ void main() {
     int groupX = int(gl_WorkGroupID.x) * PIVOT_LOCAL_SIZE;
     x0 = groupX + columnOf(local);
     y0 = push.rowBase + int(gl_WorkGroupID.y);
-    int c = int(gl_WorkGroupID.z);
+    int c = push.channel;
     w = push.width;
     h = push.height;
     planeSize = w * h;
@@ -359,7 +359,7 @@ void main() {
         int at = y0 * w + x0;
         centre = surfaceAt(at);
         if (texelFetch(zsn, base + at).z < 0.0)
-            storeNone(c, at);
+            storeNone(at);
         else
             radius = grow(mean);
     }
@@ -383,5 +383,5 @@ void main() {
     if (radius < 0) return;
     x0 = groupX + columnOf(mine);
     centre = surfaceAt(y0 * w + x0);
-    fitAndStore(c, radius, grownMean[mine]);
+    fitAndStore(radius, grownMean[mine]);
 }

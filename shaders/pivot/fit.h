@@ -3,7 +3,8 @@
 // its four quadrants (section 4.2, weight eq. 10) at the chosen radius. Growth adds one ring
 // of pixels per step to running sums; a centre whose radius leaves eq. 13's lattice stops
 // there and keeps its growth fits; see cpu_reference/pivot_filter.h for the rules. One
-// invocation per centre and channel.
+// invocation per centre; one dispatch per channel, each channel's fits in buffers of their
+// own (a binding holds one channel's planes, so a frame of 4 channels binds like one of 1).
 #ifndef MCD_SHADERS_PIVOT_FIT_H
 #define MCD_SHADERS_PIVOT_FIT_H
 
@@ -11,8 +12,8 @@
 
 #define PIVOT_FIT_ZSN 0  // (z, s, nu, 0) per pixel and channel, one vec4 texel (ratio stage)
 #define PIVOT_FIT_GUIDES 1
-#define PIVOT_FIT_LO 2  // planes 0..7
-#define PIVOT_FIT_HI 3  // planes 8..15
+#define PIVOT_FIT_LO 2  // planes 0..7 of one channel
+#define PIVOT_FIT_HI 3  // planes 8..15 of one channel
 #define PIVOT_FIT_BINDINGS 4
 
 #ifdef __cplusplus
@@ -32,10 +33,12 @@ layout(push_constant) uniform PivotFitPush {
     float k;             // eq. 10's robustness constant
     float sigmaWeight;   // multiplies sigma (nu) in eq. 10's exponent (1: the paper)
     int rowBase;         // first centre row of this dispatch (row strips)
+    int channel;         // the channel of this dispatch, whose fit buffers are bound
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotFitPush) == 40);
+static_assert(sizeof(PivotFitPush) == 44);
 static_assert(offsetof(PivotFitPush, rowBase) == 36);
+static_assert(offsetof(PivotFitPush, channel) == 40);
 }  // namespace mcd::shader
 #else
 }

@@ -38,7 +38,7 @@ float combine(float z, float zm) {
     return (t * z + zm) / (t + 1.0);
 }
 
-int x, y, w, lo;
+int x, y, w;
 Surface here;
 float sumW, sumWz;
 
@@ -57,7 +57,7 @@ void addCentre(int x0, int y0, float radius) {
     int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
     // The centre's 16 planes as four vec4 texels: square (0..2), quadrant m (3 + 3m ..
     // 5 + 3m), radius (15).
-    int texel = 2 * (lo + i0);
+    int texel = 2 * i0;
     vec4 lo0 = texelFetch(fitLo, texel), lo1 = texelFetch(fitLo, texel + 1);
     vec4 hi0 = texelFetch(fitHi, texel), hi1 = texelFetch(fitHi, texel + 1);
     float zs = lo0.x * fdx + lo0.y * fdy + lo0.z;
@@ -70,13 +70,13 @@ void addCentre(int x0, int y0, float radius) {
 
 // A centre's radius (-1: no fit), from its planes.
 float radiusOf(int i0) {
-    return texelFetch(fitHi, 2 * (lo + i0) + 1).w;
+    return texelFetch(fitHi, 2 * i0 + 1).w;
 }
 
 void main() {
     x = int(gl_GlobalInvocationID.x);
     y = push.rowBase + int(gl_WorkGroupID.y);
-    int c = int(gl_WorkGroupID.z);
+    int c = push.channel;
     w = push.width;
     int h = push.height;
     if (x >= w) return;
@@ -89,7 +89,6 @@ void main() {
         outImage[at] = texelFetch(color, at).r;
         return;
     }
-    lo = c * planeSize;  // channel c's first centre in the fit buffers
     sumW = 0.0;
     sumWz = 0.0;
     here = surfaceAt(i);
@@ -130,7 +129,7 @@ void main() {
     // No lattice centre reaches the pixel: its own fit (square and quadrant 0) at its place.
     if (sumW == 0.0 && radiusOf(i) >= 0.0) {
         sumW = 1.0;
-        sumWz = combine(texelFetch(fitLo, 2 * (lo + i)).z, texelFetch(fitLo, 2 * (lo + i) + 1).y);
+        sumWz = combine(texelFetch(fitLo, 2 * i).z, texelFetch(fitLo, 2 * i + 1).y);
     }
     outImage[at] =
         sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;

@@ -3,8 +3,8 @@
 // (eqs. 11-12) at the pixel with weight exp(-d^2 / R0^2) x normal term x id terms x step^2,
 // over the centres on their lattice (pivot/lattice.glsl), normalises, and multiplies
 // back by the pivot; a pixel no such centre reaches takes its own fit at its place; other
-// pixels keep their color. One
-// invocation per pixel and channel.
+// pixels keep their color. One invocation per pixel; one dispatch per channel, with that
+// channel's fit buffers.
 #ifndef MCD_SHADERS_PIVOT_GATHER_H
 #define MCD_SHADERS_PIVOT_GATHER_H
 
@@ -41,9 +41,10 @@ layout(push_constant) uniform PivotGatherPush {
     int tilesX;  // ceil(width / PIVOT_GATHER_TILE)
     int tilesY;
     int rowBase;  // first row of this dispatch (row strips)
+    int channel;  // the channel of this dispatch, whose fit buffers are bound
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotGatherPush) == 28);
+static_assert(sizeof(PivotGatherPush) == 32);
 }  // namespace mcd::shader
 #else
 }

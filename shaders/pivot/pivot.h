@@ -5,11 +5,11 @@
 #define MCD_SHADERS_PIVOT_PIVOT_H
 
 // Fit planes per channel: (a, b, c) of the square, then of quadrants 0..3, then the radius
-// (-1: no fit). Planes 0..7 live in one buffer and 8..15 in another, so that a 1024x1024
-// RGB frame stays under lavapipe's 128 MiB per binding. In each buffer a centre's 8 planes
-// are adjacent: plane p of channel c at centre i = y * width + x is float
-// (c * width * height + i) * PIVOT_PLANES_PER_BUFFER + p (the gather reads 6 planes of a
-// centre: one or two cache lines, not 6 pages apart).
+// (-1: no fit). Each channel has two buffers of its own, planes 0..7 in one and 8..15 in
+// the other, so that a frame of up to 2048x2048 pixels, of any number of channels, stays
+// within lavapipe's 128 MiB per binding. In each buffer a centre's 8 planes are adjacent:
+// plane p at centre i = y * width + x is float i * PIVOT_PLANES_PER_BUFFER + p (the gather
+// reads 6 planes of a centre: one or two cache lines, not 6 pages apart).
 #define PIVOT_PLANES 16
 #define PIVOT_PLANES_PER_BUFFER 8
 

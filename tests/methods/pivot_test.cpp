@@ -220,7 +220,7 @@ TEST_P(PivotFitKernel, MatchesReference) {
 
     vk::GpuImage zsn(Ctx(), w, h, 12, "zsn");
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
-    vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
+    PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
     zsn.Upload(PivotZsnOf(ratio.z, ratio.s, ratio.nu));
     guide.Upload(GuideOf(f));
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
@@ -231,10 +231,10 @@ TEST_P(PivotFitKernel, MatchesReference) {
                : std::vector<std::pair<int, int>>{{0, h}})
         RecordPivotFit(
             Ctx(), recorder, zsn, gpuGuides,
-            {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k, o.sigmaWeight}, lo,
-            hi, rowBase, rows);
+            {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k, o.sigmaWeight},
+            fitBuffers, rowBase, rows);
     recorder.Submit();
-    Image actual = PivotFitsOfBuffers(lo.Download(), hi.Download(), 3);
+    Image actual = fitBuffers.Download();
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     int compared = 0, skipped = 0, radiusMismatches = 0, planeMismatches = 0;
@@ -295,15 +295,12 @@ TEST_P(PivotGatherKernel, MatchesReference) {
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "out");
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
-    vk::GpuImage lo(Ctx(), w, h, 24, "fitLo"), hi(Ctx(), w, h, 24, "fitHi");
+    PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
     color.Upload(f.color);
     pivot.Upload(f.pivot);
     nu.Upload(ratio.nu);
     guide.Upload(GuideOf(f));
-    Image fitLo, fitHi;
-    PivotBuffersOfFits(fits, 3, &fitLo, &fitHi);
-    lo.Upload(fitLo);
-    hi.Upload(fitHi);
+    fitBuffers.Upload(fits);
     int reach = 0;
     Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
     vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, tileOrder.channels, "tiles");
@@ -313,8 +310,8 @@ TEST_P(PivotGatherKernel, MatchesReference) {
     for (auto [rowBase, rows] :
          h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
                : std::vector<std::pair<int, int>>{{0, h}})
-        RecordPivotGather(Ctx(), recorder, color, pivot, nu, lo, hi, gpuGuides, tiles, reach,
-                          out, rowBase, rows);
+        RecordPivotGather(Ctx(), recorder, color, pivot, nu, fitBuffers, gpuGuides, tiles,
+                          reach, out, rowBase, rows);
     recorder.Submit();
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
@@ -1008,18 +1005,19 @@ namespace {
 
 class PivotLimits : public GpuTest {};
 
-// A frame whose fit buffers cannot be one binding each is refused by the pipeline before
-// any work; mcd::Method runs such a frame in tiles (tests/methods/tiled_run_test.cpp).
+// A frame whose largest binding (a channel's fit buffer, or the fit's packed z, s, nu of 4
+// floats per channel) does not fit the device's is refused by the pipeline before any work;
+// mcd::Method runs such a frame in tiles (tests/methods/tiled_run_test.cpp).
 TEST_F(PivotLimits, RefusesFitsAboveTheBindingLimit) {
-    const int w = 1500, h = 1000;
-    if (double(PIVOT_PLANES_PER_BUFFER) * 3 * w * h * 4 <= Ctx().BindingBytes())
+    const int w = 2000, h = 1500;
+    if (double(std::max(PIVOT_PLANES_PER_BUFFER, 4 * 3)) * w * h * 4 <= Ctx().BindingBytes())
         GTEST_SKIP() << "this device binds " << Ctx().BindingBytes()
                      << " bytes: the frame fits, nothing to refuse";
     Image color(w, h, 3, 0.5f), pivot(w, h, 3, 0.25f);
     PivotInputs in;
     in.color = &color, in.pivot = &pivot;
     EXPECT_TRUE(ThrowsError(
-        ErrorKind::OutOfMemory, [&] { PivotDenoise(Ctx(), in, {}); }, "1500x1000x3"));
+        ErrorKind::OutOfMemory, [&] { PivotDenoise(Ctx(), in, {}); }, "2000x1500x3"));
 }
 
 }  // namespace

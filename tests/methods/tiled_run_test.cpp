@@ -282,5 +282,26 @@ TEST_F(GpuTest, TiledRunPlanCutsOnlyWhatDoesNotFit) {
     EXPECT_EQ(api::PlanTiles(Ctx(), needs, 9, 9, 5).tileWidth, 8);  // forced, aligned up
 }
 
+// pivot binds each channel's fits on their own: an RGB frame tiles only where its largest
+// binding, the fit's packed z, s, nu (12 floats a pixel), exceeds the device's, so a
+// 1920x1080 frame runs whole within lavapipe's 128 MiB, and one 4 times its size does not.
+TEST_F(GpuTest, TiledRunPlanPivotBindsAChannelsFitsAlone) {
+    std::unique_ptr<api::FrontEnd> pivot = api::FindMethod("pivot")->make();
+    Frame frame = RandomFrame(16, 16, 7);
+    api::Inputs inputs(frame, false, "pivot");
+    api::TileNeeds needs = pivot->Tiling(Ctx(), inputs);
+    EXPECT_EQ(needs.bindingBytesPerPixel, 12 * 4);
+    const double binding = double(Ctx().BindingBytes());
+    for (auto [w, h] : {std::pair{1920, 1080}, std::pair{3840, 2160}}) {
+        const double pixels = double(w) * h;
+        if (needs.fixedBytes + needs.bytesPerPixel * pixels >
+            double(Ctx().Info().deviceLocalBytes) / 2)
+            continue;  // the device's memory, not a binding, decides
+        api::TilePlan plan = api::PlanTiles(Ctx(), needs, w, h, 0);
+        EXPECT_EQ(plan.tileWidth == 0, 12 * 4 * pixels <= binding)
+            << w << "x" << h << ": " << plan.why;
+    }
+}
+
 }  // namespace
 }  // namespace mcd::test
