@@ -852,15 +852,11 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
     Result result = ResultOf(std::move(combined));
     if (options.meanRadius > 0) {
-        LocalMeanFactors f =
-            RestoreLocalMeans(color, options.meanRadius, &result.image,
-                              inputs.Has("variance") ? &inputs.Get("variance") : nullptr,
-                              kLocalMeanRebalanceAuto);
-        plan.push_back(fmt::format(
-            "auto: the input's local means over tents of radius {}, then {}, then {} again "
-            "restored (factors {:.3g} to {:.3g})",
-            8 * options.meanRadius, 2 * options.meanRadius, 8 * options.meanRadius, f.lo,
-            f.hi));
+        plan.push_back("auto: local mean: " +
+                       RestoreLocalMeansRebalanced(
+                           color, options.meanRadius, &result.image,
+                           inputs.Has("variance") ? &inputs.Get("variance") : nullptr,
+                           kLocalMeanRebalanceAuto));
     }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();

@@ -167,8 +167,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
         if (int r = options.method.meanRadius; r > 0) {
-            result.plan.push_back(
-                RestoreLocalMeansRebalanced(*in.color, r, &result.image, in.variance));
+            result.plan.push_back("local mean: " + RestoreLocalMeansRebalanced(*in.color, r,
+                                                                               &result.image,
+                                                                               in.variance));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         if (UsesAlbedo(inputs))

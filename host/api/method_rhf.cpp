@@ -98,6 +98,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         if (run.keepStages) result.stages.push_back({"exact pixels", result.image});
         if (int r = options.meanRadius; r > 0) {
             result.plan.push_back(
+                "local mean: " +
                 RestoreLocalMeansRebalanced(color, r, &result.image, Variance(inputs)));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }

@@ -288,11 +288,11 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
 }
 
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
-                                        const Image *variance) {
-    LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, kLocalMeanRebalance);
+                                        const Image *variance, double rebalance) {
+    LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, rebalance);
     return fmt::format(
-        "local mean: the input's means over tents of radius {}, then {}, then {} again "
-        "restored (factors {:.3g} to {:.3g})",
+        "the input's means over tents of radius {}, then {}, then {} again restored (factors "
+        "{:.3g} to {:.3g})",
         8 * r, 2 * r, 8 * r, f.lo, f.hi);
 }
 

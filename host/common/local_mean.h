@@ -63,10 +63,11 @@ struct LocalMeanFactors {
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
                                    const Image *variance = nullptr, double rebalance = -1);
 
-// RestoreLocalMeans with the last coarse pass of pivot and rhf (kLocalMeanRebalance); returns
-// the plan's line for it ("local mean: ...").
+// RestoreLocalMeans with a last coarse pass of weight `rebalance` (kLocalMeanRebalance for
+// pivot and rhf); returns what the plan says of it ("the input's means over tents ...").
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
-                                        const Image *variance);
+                                        const Image *variance,
+                                        double rebalance = kLocalMeanRebalance);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or
