@@ -546,9 +546,29 @@ Image Nfor(const NforInputs &in, const NforParams &p,
                          : NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
-    Image clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
-                              p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
+    bool ownClamp = in.variance && p.clampEstimate;
+    Image clampVariance =
+        ownClamp ? NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration) : Image();
+    Image clamped =
+        NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
+                  p.fireflyThreshold, p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
+    if (ownClamp) {
+        // The light the clamp took off, over the colour's sum.
+        double sum = 0, taken = 0, values = 0, changed = 0;
+        for (int c = 0; c < color.channels; ++c)
+            for (int y = 0; y < color.height; ++y)
+                for (int x = 0; x < color.width; ++x) {
+                    sum += color.At(c, y, x);
+                    taken += double(color.At(c, y, x)) - double(clamped.At(c, y, x));
+                    values += 1;
+                    changed += clamped.At(c, y, x) != color.At(c, y, x) ? 1 : 0;
+                }
+        if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss)
+            clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
+                                p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
+    }
     keep("color", clamped);
+    if (ownClamp) keep("clamp.variance", clampVariance);
     if (!in.variance && p.edgeNoise) {
         // The weights' noise estimated again on the clamped colour, edge pixels relaxed.
         keep("clamp.variance", variance);

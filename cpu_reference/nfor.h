@@ -29,7 +29,11 @@
 //   neighbour divided alike (its albedo unlike all around it: a sample that hit a small
 //   bright object, or a sub-pixel light) compares its colour with the neighbours' colours,
 //   unless a neighbour is an emitter: then it is a light's edge, partly covered, and kept
-//   (lightEdge < 0) or compared the same way with lightEdge in place of rho.
+//   (lightEdge < 0) or compared the same way with lightEdge in place of rho. Beside a
+//   variance layer the clamp reads the frame's own estimate too (a pixel whose few samples
+//   hold a firefly reports the firefly's variance in the layer), unless that clamp takes off
+//   more than clampLoss of the frame's light from at least kNforClampLossMinShare of its
+//   values: then the light is in rare bright samples (caustics), and it reads the layer.
 // - Emitters: max albedo channel > emitterAlbedo (a reflectance is at most about 1;
 //   renderers write a light's emission as its albedo); they are left out of every window
 //   and keep their colour as clamped (the issue asks for the input: a lone light pixel hit
@@ -82,6 +86,8 @@ constexpr double kNforRelEps = 1e-4;
 constexpr double kNforTiny = 1e-30;
 constexpr double kNforTermMax = 25;
 constexpr double kNforExpCut = 30;
+// The clamp's loss counts only where it clamped at least this share of the pixel-channels.
+constexpr double kNforClampLossMinShare = 1e-3;
 
 struct NforParams {
     int radius = 7;        // regression window half-size R
@@ -100,6 +106,13 @@ struct NforParams {
     // Without a variance layer: the clamp reads the estimate above, the rest the one of
     // the clamped colour with edge pixels relaxed (NforNoise's relaxed).
     bool edgeNoise = true;
+    // With a variance layer: the clamp reads the frame's estimate above (the layer's
+    // fireflies report their own variance), the rest the layer; false: all the layer.
+    bool clampEstimate = true;
+    // ... unless that clamp takes off more than this fraction of the colour's sum (over
+    // every pixel and channel), clamping at least kNforClampLossMinShare of the values:
+    // then the layer's.
+    double clampLoss = 0.02;
     double fireflyThreshold = 4;   // t; 0: no clamp
     double fireflyRelative = 0.5;  // rho
     int fireflyRank = 3;           // 0: the neighbours' lower median; k: their k-th largest

@@ -97,6 +97,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                          "the clamped colour, and an edge pixel with too few neighbours of "
                          "its albedo takes its neighbours' noise, so that it is smoothed)",
                          &O::noEdgeNoise)),
+        nested(BoolParam("clamp-layer",
+                         "with a variance layer, the firefly clamp reads the layer instead of "
+                         "the frame's own noise estimate (a firefly's few samples report its "
+                         "own variance there)",
+                         &O::clampLayer)),
+        nested(FloatParam("clamp-loss",
+                          "with a variance layer, where the clamp against the frame's own "
+                          "estimate takes off more than this fraction of the colour's sum (the "
+                          "light is in rare bright samples, not fireflies) it reads the layer",
+                          &O::clampLoss, 0, 1)),
         nested(FloatParam("noise-calibration", "factor on the estimated variance",
                           &O::noiseCalibration, 1e-3, 1e3)),
         nested(FloatParam("firefly-threshold",
@@ -261,6 +271,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.featureWeights.assign(weights.begin(), weights.end());
         p.noiseRadius = o.noiseRadius;
         p.edgeNoise = !o.noEdgeNoise;
+        p.clampEstimate = !o.clampLayer;
+        p.clampLoss = o.clampLoss;
         p.noiseMinCalibration = o.noiseCalibration;
         p.fireflyThreshold = o.fireflyThreshold;
         p.fireflyRelative = o.fireflyRelative;

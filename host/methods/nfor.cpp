@@ -290,6 +290,48 @@ void PlanFeatures(StagedRun &run, const std::vector<std::string> &names, const N
         run.Plan("left out: the features' prefilter (--prefilter-radius 0)");
 }
 
+// The clamp's light counts as the frame's own only where it clamped at least this share of
+// the pixel-channels: a few fireflies may carry much of a small frame's light.
+constexpr double kClampLossMinShare = 1e-3;
+
+// The fraction of the colour's sum over every pixel and channel that the clamp took off
+// (0 where the sum is not positive or it clamped under kClampLossMinShare of the values).
+double ClampLoss(const Image &color, const Image &clamped) {
+    double sum = 0, taken = 0;
+    size_t count = 0;
+    for (size_t i = 0; i < color.Size(); ++i) {
+        sum += color.data[i];
+        taken += double(color.data[i]) - clamped.data[i];
+        count += clamped.data[i] != color.data[i];
+    }
+    if (!(sum > 0) || double(count) < kClampLossMinShare * double(color.Size())) return 0;
+    return taken / sum;
+}
+
+// Emitters and fireflies: the clamp against the frame's own estimate where it has one (by
+// default also beside a variance layer), else against the layer; beside a layer, against
+// the layer after all where the estimate's clamp took more than clampLoss of the light.
+void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
+                 bool ownClamp, NforResult &result) {
+    vk::Context &context = run.Context();
+    const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
+    vk::GpuImage &clampVariance = ownClamp ? gpu.clampVariance : gpu.variance;
+    if (ownClamp)
+        RecordNforNoise(context, run.Recorder(), gpu.color, albedo, o.noiseRadius,
+                        o.noiseCalibration, clampVariance);
+    auto clamp = [&](vk::GpuImage &variance) {
+        RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
+                        o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
+                        o.fireflyLightEdge, gpu.clamped, gpu.mask);
+    };
+    clamp(clampVariance);
+    if (!in.variance || !ownClamp) return;
+    run.Submit();
+    result.clampLoss = ClampLoss(*in.color, gpu.clamped.Download());
+    result.clampOnLayer = result.clampLoss > o.clampLoss;
+    if (result.clampOnLayer) clamp(gpu.variance);
+}
+
 // Prefiltered features kept for later runs on the same features (RunSetup::memo).
 struct NforFeaturesMemo {
     vk::Buffer filtered;
@@ -344,25 +386,19 @@ void RecordFeatures(StagedRun &run, NforGpu &gpu, const NforOptions &o, RunMemo 
 
 // Noise, emitters and fireflies, features, the patch distances.
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
-                   RunMemo *memo, const std::string &featuresId) {
+                   RunMemo *memo, const std::string &featuresId, NforResult &result) {
     vk::Context &context = run.Context();
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
     bool again = !in.variance && !o.noEdgeNoise;
-    // The clamp's estimate; with edge noise the weights' is estimated again below.
-    vk::GpuImage &clampVariance = again ? gpu.clampVariance : gpu.variance;
-    if (!in.variance)
-        RecordNforNoise(context, run.Recorder(), gpu.color, albedo, o.noiseRadius,
-                        o.noiseCalibration, clampVariance);
-    RecordNforClamp(context, run.Recorder(), gpu.color, clampVariance, albedo,
-                    o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                    o.fireflyLightEdge, gpu.clamped, gpu.mask);
+    // The clamp's own estimate; with edge noise the weights' is estimated again below.
+    bool ownClamp = again || (in.variance && !o.clampLayer);
+    RecordClamp(run, gpu, in, o, ownClamp, result);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
-    if (again) {
-        run.StageAtEnd("clamp.variance", gpu.clampVariance);
+    if (ownClamp) run.StageAtEnd("clamp.variance", gpu.clampVariance);
+    if (again)
         RecordNforNoise(context, run.Recorder(), gpu.clamped, albedo, o.noiseRadius,
                         o.noiseCalibration, gpu.variance, true);
-    }
     run.StageAtEnd("variance", gpu.variance);
     RecordFeatures(run, gpu, o, memo, featuresId);
     run.StageAtEnd("features", gpu.filtered);
@@ -448,6 +484,24 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
             second.push_back({o.pilotWideRadius, k, &*gpu.wideDistance});
     }
     RecordPass(run, gpu, weights, o, second, "pilot.", out, choice);
+}
+
+// Which noise the firefly clamp read beside a variance layer, and why.
+void PlanClamp(StagedRun &run, const NforOptions &o, const NforResult &result) {
+    if (o.clampLayer)
+        run.Plan("the firefly clamp reads the variance layer (--clamp-layer)");
+    else if (result.clampOnLayer)
+        run.Plan(fmt::format(
+            "the firefly clamp against the frame's own estimate took off {:.1f}% of the "
+            "light, above {:.1f}% (--clamp-loss): the light is in rare bright samples, not in "
+            "fireflies, so it reads the variance layer",
+            100 * result.clampLoss, 100 * o.clampLoss));
+    else
+        run.Plan(fmt::format(
+            "the firefly clamp reads the frame's own estimate, not the variance layer (a "
+            "firefly's few samples report its own variance there): it took off {:.2f}% of "
+            "the light (at most {:.1f}%, --clamp-loss)",
+            100 * result.clampLoss, 100 * o.clampLoss));
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -557,7 +611,8 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     PlanNoise(run, in, o);
     PlanFeatures(run, names, o);
     NforGpu gpu(context, in, featureImage, o);
-    RecordPrepare(run, gpu, in, o, memo, memo ? FeaturesId(featureImage) : std::string());
+    RecordPrepare(run, gpu, in, o, memo, memo ? FeaturesId(featureImage) : std::string(),
+                  result);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
     RecordPasses(run, gpu, weights, o, out, choice);
@@ -610,6 +665,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                                "colour where none is) + {} sigma + {} x the median",
                                result.clamped, o.fireflyThreshold, o.fireflyRelative)
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
+    if (in.variance) PlanClamp(run, o, result);
     PlanPasses(run, o, choice, result);
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));

@@ -5,8 +5,9 @@
 // holds (Bitterli et al. 2016, NFOR), several bandwidths chosen per pixel by SURE; then a
 // second pass weighted by the first's output (the pilot) and the clamped colour's local
 // means restored. On a frame without a variance layer the colour's noise is estimated from
-// the frame, and so is the features' where they are prefiltered; emitters are left out and
-// keep their input.
+// the frame, and so is the features' where they are prefiltered; beside one the firefly
+// clamp reads that estimate too (unless it takes off much of the light); emitters are left
+// out and keep their input.
 // The readings of the papers are listed in cpu_reference/nfor.h, the CPU twin.
 #pragma once
 
@@ -40,6 +41,14 @@ struct NforOptions {
     float featureBandwidth = 3;
     float albedoSigma = 0.1f, normalSigma = 0.2f, depthSigma = 0.05f, pivotSigma = 0.1f;
     int noiseRadius = 1;
+    // With a variance layer the firefly clamp reads the frame's own estimate, as without
+    // one: a pixel whose few samples hold a firefly reports the firefly's own variance in
+    // the layer, and a threshold of sigmas of it clamps nothing. true: it reads the layer.
+    bool clampLayer = false;
+    // Beside a variance layer, where the clamp against the frame's estimate takes off more
+    // than this fraction of the colour's sum, the frame's light is in its rare bright
+    // samples (caustics seen through few paths), not in fireflies: it reads the layer.
+    float clampLoss = 0.02f;
     // Without a variance layer the clamp reads the frame's estimate and the weights one of
     // the clamped colour in which an edge pixel (too few neighbours divided alike) takes
     // its neighbours' pairs; true: both read the first.
@@ -103,9 +112,13 @@ struct NforInputs {
 // second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
 // with the local means restored, fit (before); output).
 struct NforResult : MethodResult {
-    size_t emitters = 0;        // pixels left out as emitters
-    size_t clamped = 0;         // pixel-channels clamped as fireflies
-    size_t kept = 0;            // pixels the fits left as they came in, then smoothed
+    size_t emitters = 0;  // pixels left out as emitters
+    size_t clamped = 0;   // pixel-channels clamped as fireflies
+    size_t kept = 0;      // pixels the fits left as they came in, then smoothed
+    // Beside a variance layer: the fraction of the light the estimate's clamp took off, and
+    // whether the clamp read the layer after all (NforOptions::clampLoss).
+    double clampLoss = 0;
+    bool clampOnLayer = false;
     std::vector<double> share;  // per candidate, the fraction of pixels that took it
 };
 

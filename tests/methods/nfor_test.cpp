@@ -715,11 +715,22 @@ class NforMethod : public GpuTest {};
 // choices agree to their kernels' round-off; the fits and outputs may differ where a clamp
 // or a choice sat on its threshold, which the NMSE bounds allow for a few pixels. With one
 // pass and with a second pass over the pilot (two bandwidths each, and one).
-void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &options) {
+// With withVariance the frame carries a variance layer: the truth's noise with every
+// seventh pixel's 100x (a firefly among its samples) and every eleventh's 0 (samples that
+// agreed).
+void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &options,
+                       bool withVariance = false) {
     Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
+    Image variance(w, h, 3);
+    for (size_t i = 0; i < variance.Size(); ++i) {
+        double sigma = 0.3 * f.truth.data[i];
+        variance.data[i] = float(sigma * sigma * (i % 7 == 3 ? 100 : i % 11 == 5 ? 0 : 1));
+    }
+    NforInputs gpuIn = InputsOf(f);
+    if (withVariance) gpuIn.variance = &variance;
     NforOptions o = options;
     o.keepStages = true;
-    NforResult gpu = NforDenoise(context, InputsOf(f), o);
+    NforResult gpu = NforDenoise(context, gpuIn, o);
     std::vector<float> weights;
     std::vector<std::string> names;
     Image features = NforFeatures(InputsOf(f), o, &weights, &names);
@@ -743,7 +754,9 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.prefilterPatch = o.prefilterPatch;
     p.featureWeights.assign(weights.begin(), weights.end());
     p.noiseMinCalibration = o.noiseCalibration;
-    ref::NforInputs cpuIn{&f.color, &f.albedo, &features, nullptr};
+    p.clampEstimate = !o.clampLayer;
+    p.clampLoss = o.clampLoss;
+    ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr};
     std::vector<std::pair<std::string, Image>> cpu;
     Image expected = ref::Nfor(cpuIn, p, &cpu);
     ASSERT_EQ(gpu.stages.size(), cpu.size());
@@ -790,6 +803,60 @@ TEST_F(NforMethod, SecondPassStagesMatchTheReference) {
     o.bandwidths = {0.5f, 1.f};
     o.pilotBandwidths = {1.f};
     ExpectStagesMatch(Ctx(), 17, 13, o);
+}
+
+// A frame with a variance layer: the clamp reads the frame's own estimate (by default) or
+// the layer, the rest the layer.
+TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    for (bool layer : {false, true}) {
+        o.clampLayer = layer;
+        for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+            ExpectStagesMatch(Ctx(), w, h, o, true);
+    }
+    // The estimate's clamp taking off more than none of the light: the layer's after all.
+    o.clampLayer = false;
+    o.clampLoss = 0;
+    ExpectStagesMatch(Ctx(), 29, 23, o, true);
+}
+
+// A frame whose light is in rare bright samples (one pixel in 8 saw a caustic through 4 of
+// its 16 paths, the rest none of it): the estimate's clamp would take a third of the light
+// off, so beside the variance layer the clamp reads the layer and the brightness stays.
+TEST_F(NforMethod, KeepsTheLightOfRareBrightSamples) {
+    Frame f = MakeFrame(32, 32, 0.05, "rare bright");
+    std::mt19937_64 rng(SeedFromName("rare bright hits"));
+    Image variance(32, 32, 3);
+    double input = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            bool hit = rng() % 8 == 0;
+            for (int c = 0; c < 3; ++c) {
+                float t = f.truth.At(c, y, x);
+                // Per sample 0 or 10 t (a caustic 10x the surface): mean 2.5 t or 0.
+                f.color.At(c, y, x) = hit ? 2.5f * t : 0.f;
+                variance.At(c, y, x) =
+                    hit ? float(std::pow(10 * t, 2) * 0.25 * 0.75 / 16) : 0.f;
+                input += f.color.At(c, y, x);
+            }
+        }
+    NforInputs in = InputsOf(f);
+    in.variance = &variance;
+    auto brightness = [&](const Image &image) {
+        double sum = 0;
+        for (float v : image.data) sum += v;
+        return sum / input;
+    };
+    NforResult r = NforDenoise(Ctx(), in, {});
+    EXPECT_TRUE(r.clampOnLayer);
+    EXPECT_GT(r.clampLoss, 0.03);
+    EXPECT_NEAR(brightness(r.image), 1, 0.03);
+    NforOptions never;
+    never.clampLoss = 1;
+    NforResult estimate = NforDenoise(Ctx(), in, never);
+    EXPECT_FALSE(estimate.clampOnLayer);
+    EXPECT_LT(brightness(estimate.image), 0.97);
 }
 
 // A second pass over two window sizes (each of two bandwidths over both: four candidates by
@@ -1067,6 +1134,38 @@ TEST_F(NforMethod, ClampsAFirefly) {
             EXPECT_LT(std::fabs(r.image.At(1, y, x) - f.truth.At(1, y, x)),
                       0.5 * f.truth.At(1, y, x) + 0.05)
                 << x << ", " << y;
+}
+
+// A firefly whose few samples report its own variance in the layer (as a sample variance
+// does) is clamped all the same: the clamp reads the frame's own estimate, and the firefly
+// alone, though it holds 8% of the frame's light, does not count as the frame's light
+// (kClampLossMinShare). Against the layer (--clamp-layer) the threshold is sigmas of the
+// firefly itself, and it stays.
+TEST_F(NforMethod, ClampsAFireflyTheVarianceLayerHides) {
+    Frame f = MakeFrame(64, 64, 0.1, "firefly layer");
+    Image variance(64, 64, 3);
+    for (size_t i = 0; i < variance.Size(); ++i)
+        variance.data[i] = float(std::pow(0.1 * f.truth.data[i], 2));
+    float &firefly = f.color.At(1, 32, 32);
+    firefly *= 1000;
+    // One sample of 16 carried it all: the sample variance of the mean is about its square.
+    variance.At(1, 32, 32) = firefly * firefly / 16;
+    NforInputs in = InputsOf(f);
+    in.variance = &variance;
+    NforResult r = NforDenoise(Ctx(), in, {});
+    EXPECT_GE(r.clamped, 1u);
+    // It holds much of the frame's light, but alone: not the frame's own light.
+    EXPECT_FALSE(r.clampOnLayer);
+    // Its neighbours do not take its energy; it keeps at most about the clamp's limit (the
+    // weights still read its variance from the layer, which lets it weigh little).
+    for (int y = 30; y <= 34; ++y)
+        for (int x = 30; x <= 34; ++x)
+            EXPECT_LT(std::fabs(r.image.At(1, y, x) - f.truth.At(1, y, x)),
+                      (x == 32 && y == 32 ? 2 : 0.5) * f.truth.At(1, y, x) + 0.05)
+                << x << ", " << y;
+    NforOptions layer;
+    layer.clampLayer = true;
+    EXPECT_EQ(NforDenoise(Ctx(), in, layer).clamped, 0u);
 }
 
 // A constant frame stays constant (the fit of a constant is that constant).
