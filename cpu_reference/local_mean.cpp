@@ -52,23 +52,31 @@ bool OverAt(const Image &input, const Image *variance, const Image &moved, const
     return !variance || (std::isfinite(v) && (in - out) * (in - out) > 16 * v);
 }
 
-void Highlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
-                Image *output) {
+// One ring of highlights: the pixels over the test (read against the output's tent mean
+// without the values kept so far) with 2 of 8 neighbours so too (or a variance), and, after
+// the first ring, beside a highlight already taken.
+bool HighlightRing(const Image &input, const Image *variance, int r, bool first,
+                   std::vector<bool> *taken, std::vector<bool> *kept, Image *output) {
     Image moved = Moved(*output, *kept), level = Tent(moved, r);
     const int w = input.width, h = input.height;
     std::vector<bool> take(size_t(w) * h);
+    bool any = false;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (!OverAt(input, variance, moved, level, y, x)) continue;
+            if ((*taken)[size_t(y) * w + x] || !OverAt(input, variance, moved, level, y, x))
+                continue;
             int neighbours = 0;
+            bool beside = false;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     int v = y + dy, u = x + dx;
-                    if ((dx || dy) && v >= 0 && v < h && u >= 0 && u < w &&
-                        OverAt(input, variance, moved, level, v, u))
-                        ++neighbours;
+                    if (!(dx || dy) || v < 0 || v >= h || u < 0 || u >= w) continue;
+                    if (OverAt(input, variance, moved, level, v, u)) ++neighbours;
+                    if ((*taken)[size_t(v) * w + u]) beside = true;
                 }
-            take[size_t(y) * w + x] = variance || neighbours >= 2;
+            bool ok = (variance || neighbours >= 2) && (first || beside);
+            take[size_t(y) * w + x] = ok;
+            any = any || ok;
         }
     for (int c = 0; c < input.channels; ++c)
         for (int y = 0; y < h; ++y)
@@ -76,7 +84,17 @@ void Highlights(const Image &input, const Image *variance, int r, std::vector<bo
                 if (take[size_t(y) * w + x]) {
                     output->At(c, y, x) = input.At(c, y, x);
                     (*kept)[(size_t(c) * h + y) * w + x] = true;
+                    (*taken)[size_t(y) * w + x] = true;
                 }
+    return any;
+}
+
+// The first ring, then up to 4 more grown from it.
+void Highlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
+                Image *output) {
+    std::vector<bool> taken(size_t(input.width) * input.height);
+    for (int ring = 0; ring < 5; ++ring)
+        if (!HighlightRing(input, variance, r, ring == 0, &taken, kept, output)) break;
 }
 
 // The sum of the squared weights of the tent of radius 2s, from its 2D weights.

@@ -58,13 +58,14 @@ constexpr int kHighlightNeighbours = 2;
 // pixel's variance away from the output.
 constexpr double kHighlightSigmas = 4;
 
-void KeepHighlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
-                    Image *output) {
-    const int w = input.width, h = input.height;
+// Which pixels are over (KeepHighlights): the input far above the output, or above the
+// output's tent mean without the kept values, and with a variance so many deviations away.
+std::vector<char> OverPixels(const Image &input, const Image *variance, int r,
+                             const std::vector<bool> &kept, const Image &output) {
     const size_t n = input.PixelCount();
-    Image moved = *output;
+    Image moved = output;
     for (size_t i = 0; i < moved.data.size(); ++i)
-        if ((*kept)[i]) moved.data[i] = 0;
+        if (kept[i]) moved.data[i] = 0;
     Image level = TentMean(moved, r);
     std::vector<char> over(n, 0);
     ParallelValues(n, 8 * size_t(input.channels), [&](size_t begin, size_t end) {
@@ -88,18 +89,52 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
             }
         }
     });
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            size_t p = size_t(y) * w + x;
-            if (!over[p]) continue;
-            int neighbours = MarkedNeighbours(over, w, h, x, y);
-            if (!variance && neighbours < kHighlightNeighbours) continue;
+    return over;
+}
+
+// Whether any of (x, y)'s 8 neighbours inside the frame is a kept highlight.
+bool BesideHighlight(const std::vector<char> &taken, int w, int h, int x, int y) {
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int u = x + dx, v = y + dy;
+            if ((dx || dy) && u >= 0 && u < w && v >= 0 && v < h && taken[size_t(v) * w + u])
+                return true;
+        }
+    return false;
+}
+
+// A light's rim is dimmer than its core, and the core's own output lifts the tent mean it is
+// read against: the rim passes the test only once the core is kept. Rings grow, each read
+// against the tent mean without the highlights kept so far, while pixels beside them pass.
+constexpr int kHighlightRings = 4;
+
+void KeepHighlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
+                    Image *output) {
+    const int w = input.width, h = input.height;
+    const size_t n = input.PixelCount();
+    std::vector<char> taken(n, 0);
+    for (int ring = 0; ring <= kHighlightRings; ++ring) {
+        const std::vector<char> over = OverPixels(input, variance, r, *kept, *output);
+        std::vector<size_t> take;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                size_t p = size_t(y) * w + x;
+                if (!over[p] || taken[p]) continue;
+                if (!variance && MarkedNeighbours(over, w, h, x, y) < kHighlightNeighbours)
+                    continue;
+                if (ring > 0 && !BesideHighlight(taken, w, h, x, y)) continue;
+                take.push_back(p);
+            }
+        if (take.empty()) break;
+        for (size_t p : take) {
+            taken[p] = 1;
             for (int c = 0; c < input.channels; ++c) {
                 size_t i = c * n + p;
                 output->data[i] = input.data[i];
                 (*kept)[i] = true;
             }
         }
+    }
 }
 
 }  // namespace

@@ -8,7 +8,10 @@
 // times the output there or the output's tent mean of radius 2r there, with at least 2 of
 // its 8 neighbours so too (a small light or a light's edge the method cut; a firefly stands
 // alone), takes its input back and counts as left; with a variance layer, instead of the
-// neighbours, its input must be over 4 standard deviations from the output. Then at each value,
+// neighbours, its input must be over 4 standard deviations from the output. A light's rim,
+// dimmer than its core, passes only once the core is kept: up to 4 rings more grow from the
+// kept highlights, each read against the tent mean without them (a rim the method cut and
+// the restore spread made a glowing square around each small light). Then at each value,
 // over a tent window of radius 2s (a box of radius s twice, each clipped to the image), m_in
 // and m_out are the means of the input's finite values >= 0 and of the output. Their difference
 // d = m_in - m_out is shrunk by the noise of m_in, estimated as the mean of (input -

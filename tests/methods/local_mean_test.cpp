@@ -227,6 +227,45 @@ TEST(LocalMeanProperties, ASmallLightDoesNotRaiseItsSurroundings) {
             }
 }
 
+// A small light as a render has it: a core of 900 with a rim of 120 (pixels the light
+// partly covers), which the method cut to 500 and 50, and its own smear lifting the wall
+// beside it. The core alone passes the first test (the rim is under 16 times the tent mean
+// the core's output lifts); the rim passes once the core is kept, so it takes its input
+// back too and its cut energy is not spread over the wall in a glowing square.
+TEST(LocalMeanProperties, ALightsRimIsKeptWithItsCore) {
+    const int w = 96, h = 96, r = 8, cx = 48, cy = 48;
+    std::mt19937_64 rng(SeedFromName("local mean light rim"));
+    std::normal_distribution<float> noise(0, 0.1f);
+    Image input(w, h, 3), output(w, h, 3);
+    auto light = [&](int x, int y) {
+        int d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+        return d2 <= 2 ? 2 : d2 <= 5 ? 1 : 0;
+    };
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                int l = light(x, y);
+                input.At(c, y, x) = l == 2   ? 900.f
+                                    : l == 1 ? 120.f
+                                             : std::max(0.f, 0.3f + noise(rng));
+                output.At(c, y, x) = l == 2 ? 500.f : l == 1 ? 50.f : 0.3f;
+            }
+    Image got = output;
+    RestoreLocalMeans(input, r, &got, nullptr, kLocalMeanRebalance);
+    Image expected = output;
+    ref::RestoreLocalMeans(input, r, &expected, nullptr, kLocalMeanRebalance);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                ASSERT_NEAR(got.At(c, y, x), expected.At(c, y, x),
+                            3e-5 * std::fabs(expected.At(c, y, x)) + 1e-12);
+                if (light(x, y))
+                    ASSERT_EQ(got.At(c, y, x), input.At(c, y, x)) << c << " " << y << " " << x;
+                else
+                    ASSERT_NEAR(got.At(c, y, x), 0.3f, 0.015f) << c << " " << y << " " << x;
+            }
+}
+
 // The bound: a value within k standard deviations stays; one beyond ends at k of them,
 // on either side; a pixel of variance 0 (every sample equal) is left, and one firefly's
 // variance beside a pixel does not widen its bound.
