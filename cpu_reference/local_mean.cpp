@@ -109,8 +109,34 @@ double SquaredWeights(int s) {
     return sum;
 }
 
+// The mean of each plane over the tent of radius 2s around each pixel, clipped to the image,
+// weighted by the tent's squared weights, from the 2D weights one by one.
+Image SquaredTent(const Image &image, int s) {
+    int n = 2 * s + 1;
+    std::vector<double> tent(2 * n - 1, 0);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) tent[i + j] += 1.0 / (double(n) * n);
+    const int reach = n - 1;
+    Image out(image.width, image.height, image.channels);
+    for (int c = 0; c < image.channels; ++c)
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                double sum = 0, total = 0;
+                for (int v = std::max(0, y - reach); v <= std::min(image.height - 1, y + reach);
+                     ++v)
+                    for (int u = std::max(0, x - reach);
+                         u <= std::min(image.width - 1, x + reach); ++u) {
+                        double wt = tent[v - y + reach] * tent[u - x + reach];
+                        sum += wt * wt * image.At(c, v, u);
+                        total += wt * wt;
+                    }
+                out.At(c, y, x) = float(sum / total);
+            }
+    return out;
+}
+
 void Scale(const Image &input, const std::vector<bool> &kept, int s, double noiseWeight,
-           Image *output) {
+           bool pixelNoise, Image *output) {
     Image clean(input.width, input.height, input.channels), moved = Moved(*output, kept);
     Image squared = clean;
     for (size_t i = 0; i < input.data.size(); ++i) {
@@ -120,7 +146,8 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, double nois
         float e = clean.data[i] - moved.data[i];
         squared.data[i] = e * e;
     }
-    Image mIn = Tent(clean, s), mOut = Tent(moved, s), mSq = Tent(squared, s);
+    Image mIn = Tent(clean, s), mOut = Tent(moved, s);
+    Image mSq = pixelNoise ? SquaredTent(squared, s) : Tent(squared, s);
     double weights = SquaredWeights(s);
     for (size_t i = 0; i < output->data.size(); ++i) {
         if (kept[i]) continue;
@@ -136,16 +163,16 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, double nois
 }  // namespace
 
 void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *variance,
-                       double rebalance) {
+                       double rebalance, bool pixelNoise) {
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
     std::vector<bool> kept(input.data.size());
     for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
     Highlights(input, variance, r, &kept, output);
-    Scale(input, kept, 4 * r, 1, output);
-    Scale(input, kept, r, 1, output);
-    if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, output);
+    Scale(input, kept, 4 * r, 1, pixelNoise, output);
+    Scale(input, kept, r, 1, pixelNoise, output);
+    if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, pixelNoise, output);
 }
 
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {

@@ -19,8 +19,12 @@ namespace mcd::ref {
 // With `variance` (of the pixel mean, 1 or the input's channels; else ignored) a highlight
 // needs (input - output)^2 > 16 x its variance (channels summed) instead of the neighbours.
 // With rebalance >= 0, once more at s = 4r after those, with q multiplied by rebalance.
+// With pixelNoise, m_sq is the mean of those squares over the same clipped window weighted by
+// the tent's squared weights (q: the variance of the tent mean of values each of variance
+// its own square).
 void RestoreLocalMeans(const Image &input, int r, Image *output,
-                       const Image *variance = nullptr, double rebalance = -1);
+                       const Image *variance = nullptr, double rebalance = -1,
+                       bool pixelNoise = false);
 
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
 // the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel

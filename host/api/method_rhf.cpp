@@ -175,7 +175,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         named.emplace_back("exact pixels", out);
         if (options.meanRadius > 0) {
             ref::RestoreLocalMeans(inputs.Get("color"), options.meanRadius, &out,
-                                   Variance(inputs), kLocalMeanRebalance);
+                                   Variance(inputs), kLocalMeanRebalance, true);
             named.emplace_back("local mean", std::move(out));
         }
         std::vector<Stage> stages;

@@ -16,11 +16,37 @@
 namespace mcd {
 namespace {
 
+// One axis of TentSquaredMean: each value's mean over the 4s + 1 values along `rows` (else
+// columns) around it, weighted by the 1D tent's squared weights and clipped to the image.
+void SquaredTentAxis(const float *src, float *dst, int w, int h, int s, bool rows) {
+    const int n = 2 * s + 1, reach = 2 * s;
+    std::vector<double> weight(2 * reach + 1);
+    for (int j = -reach; j <= reach; ++j) {
+        const double t = double(n - std::abs(j)) / (double(n) * n);
+        weight[j + reach] = t * t;
+    }
+    const int lines = rows ? h : w, length = rows ? w : h;
+    const size_t along = rows ? 1 : size_t(w), across = rows ? size_t(w) : 1;
+    ParallelFor(lines, size_t(lines) * length * (2 * reach + 1), [&](int begin, int end) {
+        for (int line = begin; line < end; ++line)
+            for (int i = 0; i < length; ++i) {
+                double sum = 0, total = 0;
+                for (int j = std::max(0, i - reach); j <= std::min(length - 1, i + reach);
+                     ++j) {
+                    const double t = weight[j - i + reach];
+                    sum += t * src[line * across + j * along];
+                    total += t;
+                }
+                dst[line * across + i * along] = float(sum / total);
+            }
+    });
+}
+
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
 // means over tents of radius 2s, the noise weighted by `noiseWeight`; `factors` (one per
 // value) multiplied by the same.
 void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, double noiseWeight,
-                  Image *output, std::vector<double> *factors) {
+                  bool pixelNoise, Image *output, std::vector<double> *factors) {
     Image moved = *output, squared = *output;
     ParallelValues(moved.data.size(), 4, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -29,7 +55,8 @@ void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, doub
             squared.data[i] = kept[i] ? 0.f : e * e;
         }
     });
-    Image mIn = TentMean(clean, s), mOut = TentMean(moved, s), mSq = TentMean(squared, s);
+    Image mIn = TentMean(clean, s), mOut = TentMean(moved, s);
+    Image mSq = pixelNoise ? TentSquaredMean(squared, s) : TentMean(squared, s);
     const double weights = TentSquaredWeights(s) * noiseWeight;
     ParallelValues(mIn.data.size(), 16, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -153,6 +180,16 @@ Image TentMean(const Image &image, int r) {
     return b;
 }
 
+Image TentSquaredMean(const Image &image, int r) {
+    const int w = image.width, h = image.height;
+    Image a(w, h, image.channels), b = a;
+    for (int c = 0; c < image.channels; ++c) {
+        SquaredTentAxis(image.Plane(c), a.Plane(c), w, h, r, true);
+        SquaredTentAxis(a.Plane(c), b.Plane(c), w, h, r, false);
+    }
+    return b;
+}
+
 double TentSquaredWeights(int r) {
     // The 1D tent is the box of 2r + 1 taps convolved with itself: (2r + 1 - |j|) / n^2.
     double n = 2.0 * r + 1, sum = 0;
@@ -164,7 +201,7 @@ double TentSquaredWeights(int r) {
 }
 
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
-                                   const Image *variance, double rebalance) {
+                                   const Image *variance, double rebalance, bool pixelNoise) {
     if (!input.SameShape(*output) || r <= 0 || std::isnan(rebalance))
         throw Error(
             "RestoreLocalMeans: the output must have the input's shape, r > 0, the "
@@ -184,12 +221,13 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
         clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
     }
     std::vector<double> factors(input.data.size(), 1.0);
-    RestoreScale(clean, kept, 4 * r, 1, output, &factors);
-    RestoreScale(clean, kept, r, 1, output, &factors);
+    RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors);
+    RestoreScale(clean, kept, r, 1, pixelNoise, output, &factors);
     // The fine scale takes the coarse gain back confidently where no rare bright sample
     // fell and gives it uncertainly where one did: the coarse scale again returns the
     // energy so lost.
-    if (rebalance >= 0) RestoreScale(clean, kept, 4 * r, rebalance, output, &factors);
+    if (rebalance >= 0)
+        RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors);
     LocalMeanFactors range;
     bool any = false;
     for (size_t i = 0; i < factors.size(); ++i) {
@@ -324,7 +362,7 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
 
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
                                         const Image *variance, double rebalance) {
-    LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, rebalance);
+    LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, rebalance, true);
     return fmt::format(
         "the input's means over tents of radius {}, then {}, then {} again restored (factors "
         "{:.3g} to {:.3g})",

@@ -18,8 +18,14 @@
 // output)^2 over the same window times the tent's sum of squared weights, q:
 // d' = d max(0, 1 - q / d^2) (positive-part James-Stein), and the output multiplied by
 // (m_out + d') / m_out. A difference that comes from a few pixels (fireflies the method
-// removed) has q near d^2 and leaves the method's output, rather than spreading their
-// energy over a glowing square; a darkening shared by many pixels is restored. This runs
+// removed) should have q near d^2 and leave the method's output, rather than spreading their
+// energy over a glowing square; a darkening shared by many pixels is restored. With
+// `pixelNoise` (pivot, rhf, auto) q is the variance of the tent mean of independent values
+// each of variance its own (input - output)^2: the sum of their squared weights times
+// those, so one pixel's difference has q = d^2 wherever it lies in the window. The window's
+// mean squared difference times the sum of squared weights (without) gives one pixel near
+// the centre q = 4/9 d^2: its energy spread over the rounded square where its weight is
+// over 4/9 of the peak's. This runs
 // at s = 4r first and then at s = r on its result: what is uncertain at the fine scale is
 // restored at the coarse one. The fine scale's shrinkage is lopsided where the noise is
 // heavy-tailed: windows without a rare bright sample give the coarse gain back with
@@ -35,6 +41,12 @@ namespace mcd {
 
 // Each plane's mean over the tent window of radius 2r around each pixel.
 Image TentMean(const Image &image, int r);
+
+// Each plane's mean over the window of radius 2r around each pixel weighted by the tent's
+// squared weights (of radius 2r: the product of the 1D tents' squares, each axis clipped to
+// the image and renormalised). Times TentSquaredWeights(r), the variance of the tent mean of
+// independent values whose variances these are.
+Image TentSquaredMean(const Image &image, int r);
 
 // The sum of the squared weights of an unclipped tent window of radius 2r: the factor from
 // the mean of i.i.d. values' variance to the variance of their tent mean.
@@ -62,12 +74,15 @@ struct LocalMeanFactors {
 // `output` (the shape of `input`) scaled to `input`'s local means; r > 0. `variance` (of
 // the pixel mean, one channel or the input's; may be null, ignored unless of the input's
 // size) tells highlights from fireflies in place of the neighbours.
-// `rebalance` >= 0: the last coarse pass, its noise weighted so; < 0: none.
+// `rebalance` >= 0: the last coarse pass, its noise weighted so; < 0: none. `pixelNoise`:
+// q from each value's own squared difference (TentSquaredMean), not the window's mean one.
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
-                                   const Image *variance = nullptr, double rebalance = -1);
+                                   const Image *variance = nullptr, double rebalance = -1,
+                                   bool pixelNoise = false);
 
 // RestoreLocalMeans with a last coarse pass of weight `rebalance` (kLocalMeanRebalance for
-// pivot and rhf); returns what the plan says of it ("the input's means over tents ...").
+// pivot and rhf) and the noise of each value (`pixelNoise`); returns what the plan says of
+// it ("the input's means over tents ...").
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
                                         const Image *variance,
                                         double rebalance = kLocalMeanRebalance);

@@ -47,23 +47,26 @@ TEST_P(LocalMeanMatches, Reference) {
     Image input, output;
     MakeImages(GetParam(), &input, &output);
     // Without the last coarse pass, unshrunk, pivot's and auto's weight, the first's.
-    for (double rebalance : {-1.0, 0.0, kLocalMeanRebalance, 1.0}) {
-        Image expected = output, got = output;
-        ref::RestoreLocalMeans(input, GetParam().r, &expected, nullptr, rebalance);
-        RestoreLocalMeans(input, GetParam().r, &got, nullptr, rebalance);
-        // Float running sums against double windows: a few float roundings per pass.
-        for (size_t i = 0; i < got.data.size(); ++i) {
-            ASSERT_TRUE(std::isfinite(got.data[i])) << rebalance << " " << i;
-            ASSERT_NEAR(got.data[i], expected.data[i],
-                        3e-5 * std::fabs(expected.data[i]) + 1e-12)
-                << rebalance << " " << i;
+    // Each with the window's noise and with each value's (pivot's, rhf's and auto's).
+    for (double rebalance : {-1.0, 0.0, kLocalMeanRebalance, 1.0})
+        for (bool pixelNoise : {false, true}) {
+            Image expected = output, got = output;
+            ref::RestoreLocalMeans(input, GetParam().r, &expected, nullptr, rebalance,
+                                   pixelNoise);
+            RestoreLocalMeans(input, GetParam().r, &got, nullptr, rebalance, pixelNoise);
+            // Float running sums against double windows: a few float roundings per pass.
+            for (size_t i = 0; i < got.data.size(); ++i) {
+                ASSERT_TRUE(std::isfinite(got.data[i])) << rebalance << " " << i;
+                ASSERT_NEAR(got.data[i], expected.data[i],
+                            3e-5 * std::fabs(expected.data[i]) + 1e-12)
+                    << rebalance << " " << i;
+            }
+            // Bit-identical when repeated.
+            Image again = output;
+            RestoreLocalMeans(input, GetParam().r, &again, nullptr, rebalance, pixelNoise);
+            EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4))
+                << rebalance;
         }
-        // Bit-identical when repeated.
-        Image again = output;
-        RestoreLocalMeans(input, GetParam().r, &again, nullptr, rebalance);
-        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4))
-            << rebalance;
-    }
 }
 
 // With a variance layer (one channel, and the input's), the highlights' test reads it.
@@ -77,8 +80,9 @@ TEST_P(LocalMeanMatches, ReferenceWithVariance) {
         for (float &v : variance.data)
             v = unit(rng) < 0.5f ? 0.01f * unit(rng) : 50 * unit(rng);
         Image expected = output, got = output;
-        ref::RestoreLocalMeans(input, GetParam().r, &expected, &variance, kLocalMeanRebalance);
-        RestoreLocalMeans(input, GetParam().r, &got, &variance, kLocalMeanRebalance);
+        ref::RestoreLocalMeans(input, GetParam().r, &expected, &variance, kLocalMeanRebalance,
+                               true);
+        RestoreLocalMeans(input, GetParam().r, &got, &variance, kLocalMeanRebalance, true);
         for (size_t i = 0; i < got.data.size(); ++i)
             ASSERT_NEAR(got.data[i], expected.data[i],
                         3e-5 * std::fabs(expected.data[i]) + 1e-12)
@@ -251,9 +255,9 @@ TEST(LocalMeanProperties, ALightsRimIsKeptWithItsCore) {
                 output.At(c, y, x) = l == 2 ? 500.f : l == 1 ? 50.f : 0.3f;
             }
     Image got = output;
-    RestoreLocalMeans(input, r, &got, nullptr, kLocalMeanRebalance);
+    RestoreLocalMeans(input, r, &got, nullptr, kLocalMeanRebalance, true);
     Image expected = output;
-    ref::RestoreLocalMeans(input, r, &expected, nullptr, kLocalMeanRebalance);
+    ref::RestoreLocalMeans(input, r, &expected, nullptr, kLocalMeanRebalance, true);
     for (int c = 0; c < 3; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -264,6 +268,34 @@ TEST(LocalMeanProperties, ALightsRimIsKeptWithItsCore) {
                 else
                     ASSERT_NEAR(got.At(c, y, x), 0.3f, 0.015f) << c << " " << y << " " << x;
             }
+}
+
+// One pixel's energy the method cut (a firefly, or a light of one pixel: the neighbours
+// cannot tell them apart) on a wall the method left as it was: with each value's own noise
+// its difference is all noise wherever it lies in a window, and the wall stays; with the
+// window's mean noise it is restored near the centres of the windows that hold it, a
+// square around the pixel.
+TEST(LocalMeanProperties, OnePixelsEnergyIsNotSpreadWithItsOwnNoise) {
+    const int w = 80, h = 80, r = 4;
+    Image input(w, h, 3), output(w, h, 3);
+    // A wall the method flattened: a zero-mean pattern taken out, so no value is left.
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                input.At(c, y, x) = 0.5f + 0.01f * float((x + 2 * y + c) % 5 - 2);
+                output.At(c, y, x) = 0.5f;
+            }
+    for (int c = 0; c < 3; ++c) input.At(c, 40, 40) = 60;
+    Image own = output, window = output;
+    RestoreLocalMeans(input, r, &own, nullptr, -1, true);
+    RestoreLocalMeans(input, r, &window, nullptr, -1, false);
+    double ownMost = 0, windowMost = 0;
+    for (size_t i = 0; i < own.data.size(); ++i) {
+        ownMost = std::max(ownMost, std::fabs(own.data[i] - 0.5));
+        windowMost = std::max(windowMost, std::fabs(window.data[i] - 0.5));
+    }
+    EXPECT_LT(ownMost, 5e-3);
+    EXPECT_GT(windowMost, 20 * ownMost) << ownMost;
 }
 
 // The bound: a value within k standard deviations stays; one beyond ends at k of them,
