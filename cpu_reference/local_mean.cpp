@@ -175,6 +175,60 @@ void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *va
     if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, pixelNoise, output);
 }
 
+namespace {
+
+// The lower middle of the values of plane c (or of the channels' sums, c < 0) at the
+// neighbours of (x, y) inside the image; NaN without any or where one is not finite.
+double MedianAround(const Image &image, int c, int y, int x) {
+    std::vector<double> values;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u) {
+            if ((u == x && v == y) || u < 0 || v < 0 || u >= image.width || v >= image.height)
+                continue;
+            double sum = 0;
+            if (c >= 0)
+                sum = image.At(c, v, u);
+            else
+                for (int k = 0; k < image.channels; ++k) sum += image.At(k, v, u);
+            values.push_back(float(sum));
+        }
+    for (double v : values)
+        if (!std::isfinite(v)) return NAN;
+    if (values.empty()) return NAN;
+    std::sort(values.begin(), values.end());
+    return values[(values.size() - 1) / 2];
+}
+
+bool SpikeOver(const Image &image, int y, int x) {
+    double sum = 0;
+    for (int k = 0; k < image.channels; ++k) sum += image.At(k, y, x);
+    float s = std::isfinite(sum) ? float(sum) : NAN;
+    double m = MedianAround(image, -1, y, x);
+    return std::isfinite(s) && s > 0 && std::isfinite(m) && s > 16 * m;
+}
+
+}  // namespace
+
+size_t CutSpikes(Image *color) {
+    const Image given = *color;
+    size_t count = 0;
+    for (int y = 0; y < given.height; ++y)
+        for (int x = 0; x < given.width; ++x) {
+            if (!SpikeOver(given, y, x)) continue;
+            int neighbours = 0;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u)
+                    if ((u != x || v != y) && u >= 0 && v >= 0 && u < given.width &&
+                        v < given.height && SpikeOver(given, v, u))
+                        ++neighbours;
+            if (neighbours >= 2) continue;
+            for (int c = 0; c < given.channels; ++c)
+                color->At(c, y, x) = float(MedianAround(given, c, y, x));
+            ++count;
+        }
+    return count;
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     size_t clamped = 0;
     for (int y = 0; y < input.height; ++y)

@@ -26,6 +26,13 @@ void RestoreLocalMeans(const Image &input, int r, Image *output,
                        const Image *variance = nullptr, double rebalance = -1,
                        bool pixelNoise = false);
 
+// Lone spikes (host/common/local_mean.h, CutSpikes): a pixel whose channels' sum (NaN if
+// not finite) is > 0 and > 16 x the median (lower middle) of its in-image neighbours' sums,
+// with fewer than 2 of those neighbours so (none where a neighbour's sum is not finite), takes
+// per channel the median of its neighbours' values in the frame as given. Returns how many
+// pixels.
+size_t CutSpikes(Image *color);
+
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
 // the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel
 // (the variance's one channel, or channel c); left where the pixel's variance is 0, where the

@@ -309,6 +309,61 @@ Image FrameNoise(const Image &color, const Image *albedo) {
     return out;
 }
 
+namespace {
+
+// The median of the values at (x, y)'s neighbours within the frame (the lower middle); NaN
+// where one is not finite or there is none.
+double NeighbourMedian(const float *plane, int w, int h, int x, int y) {
+    float values[8];
+    int count = 0;
+    for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+            if (u != x || v != y) values[count++] = plane[size_t(v) * w + u];
+    if (count == 0 ||
+        !std::all_of(values, values + count, [](float v) { return std::isfinite(v); }))
+        return NAN;
+    std::nth_element(values, values + (count - 1) / 2, values + count);
+    return values[(count - 1) / 2];
+}
+
+}  // namespace
+
+size_t CutSpikes(Image *color) {
+    const int w = color->width, h = color->height;
+    const size_t n = color->PixelCount();
+    Image sums(w, h, 1);
+    for (size_t p = 0; p < n; ++p) {
+        double sum = 0;
+        for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
+        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
+    }
+    std::vector<char> over(n, 0);
+    ParallelFor(h, n * 16, [&](int begin, int end) {
+        for (int y = begin; y < end; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
+                over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
+                          sums.data[p] > kSpike * m;
+            }
+    });
+    std::vector<size_t> cut;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (over[size_t(y) * w + x] && MarkedNeighbours(over, w, h, x, y) < 2)
+                cut.push_back(size_t(y) * w + x);
+    // Every median from the frame as it came: one cut does not move another's.
+    std::vector<float> medians(cut.size() * color->channels);
+    for (size_t k = 0; k < cut.size(); ++k)
+        for (int c = 0; c < color->channels; ++c)
+            medians[k * color->channels + c] =
+                float(NeighbourMedian(color->Plane(c), w, h, int(cut[k] % w), int(cut[k] / w)));
+    for (size_t k = 0; k < cut.size(); ++k)
+        for (int c = 0; c < color->channels; ++c)
+            color->Plane(c)[cut[k]] = medians[k * color->channels + c];
+    return cut.size();
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     if (!input.SameShape(*output) || variance.width != input.width ||
         variance.height != input.height ||

@@ -87,6 +87,17 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
                                         const Image *variance,
                                         double rebalance = kLocalMeanRebalance);
 
+// Lone spikes cut from a frame before a filter that averages each pixel with the alike ones
+// around it (beyond the papers): rhf's histograms hardly tell a firefly from its
+// neighbours, so its energy was spread evenly over the search window, a square. A pixel
+// whose value (channels summed, all finite) is over kSpike times the median of its
+// neighbours' (the 8 within the image, the lower middle of an even count), with fewer than 2
+// of them so over, takes per channel its neighbours' median. The restore of local means
+// (with each value's noise) then reads the cut energy as noise: a lone spike's comes back
+// over the coarse tents only. Returns how many pixels were cut.
+constexpr double kSpike = 16;
+size_t CutSpikes(Image *color);
+
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or
 // a light the guide does not show, or go negative, cannot leave a pixel farther from its

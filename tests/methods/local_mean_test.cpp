@@ -320,6 +320,39 @@ TEST(LocalMeanProperties, BoundToNoiseClampsAtKStandardDeviations) {
     EXPECT_FLOAT_EQ(output.At(0, 0, 5), 1.3f);
 }
 
+// Lone spikes against the reference on the random inputs (NaN, Inf, zeros, negatives,
+// spikes of 100 among values under 1): the same count and bits (both sum in double, round
+// to float and pick the same medians), and the same when repeated.
+TEST_P(LocalMeanMatches, CutSpikesMatchesReference) {
+    Image input, unused;
+    MakeImages(GetParam(), &input, &unused);
+    Image expected = input, got = input, again = input;
+    size_t count = ref::CutSpikes(&expected);
+    EXPECT_EQ(CutSpikes(&got), count);
+    ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    CutSpikes(&again);
+    EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+}
+
+// A lone spike takes its neighbours' median per channel; a cluster of them (a light) and a
+// value under 16 times its neighbours' median stay.
+TEST(LocalMeanProperties, CutSpikesCutsOnlyLoneSpikes) {
+    Image color(12, 8, 2);
+    for (int c = 0; c < 2; ++c)
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 12; ++x) color.At(c, y, x) = 0.5f + 0.1f * c;
+    color.At(0, 2, 2) = color.At(1, 2, 2) = 50;  // lone
+    for (int y = 4; y <= 5; ++y)
+        for (int x = 7; x <= 8; ++x) color.At(0, y, x) = 50;  // a 2x2 light
+    color.At(0, 6, 2) = 15;  // 15.6 over a median sum of 1.1: stays
+    Image cut = color;
+    EXPECT_EQ(CutSpikes(&cut), 1u);
+    EXPECT_EQ(cut.At(0, 2, 2), 0.5f);
+    EXPECT_EQ(cut.At(1, 2, 2), 0.6f);
+    for (size_t i = 0; i < cut.data.size(); ++i)
+        if (i % cut.PixelCount() != 2 * 12 + 2) EXPECT_EQ(cut.data[i], color.data[i]) << i;
+}
+
 // The robust estimate reads Gaussian noise's variance (its mean over a frame within 5%),
 // and a bright line the albedo does not show does not raise it beside the line, where a
 // 3x3 sample variance of the same frame is many times the noise.
