@@ -222,6 +222,19 @@ size_t CutSpikes(Image *color) {
                         v < given.height && SpikeOver(given, v, u))
                         ++neighbours;
             if (neighbours >= 2) continue;
+            // Above each neighbour not over, in the channels' sums as floats.
+            bool above = true;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u) {
+                    if ((u == x && v == y) || u < 0 || v < 0 || u >= given.width ||
+                        v >= given.height || SpikeOver(given, v, u))
+                        continue;
+                    double a = 0, b = 0;
+                    for (int k = 0; k < given.channels; ++k)
+                        a += given.At(k, y, x), b += given.At(k, v, u);
+                    if (!(float(b) < float(a))) above = false;
+                }
+            if (!above) continue;
             for (int c = 0; c < given.channels; ++c)
                 color->At(c, y, x) = float(MedianAround(given, c, y, x));
             ++count;

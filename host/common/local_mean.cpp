@@ -326,6 +326,20 @@ double NeighbourMedian(const float *plane, int w, int h, int x, int y) {
     return values[(count - 1) / 2];
 }
 
+// Whether (x, y)'s value is above each of its neighbours' within the frame that is not over
+// (a pair of fireflies is cut whole): a light's rim beside its core is not a spike, however
+// far over its other neighbours it is.
+bool AboveNeighbours(const float *plane, const std::vector<char> &over, int w, int h, int x,
+                     int y) {
+    const float v = plane[size_t(y) * w + x];
+    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+            const size_t q = size_t(j) * w + i;
+            if ((i != x || j != y) && !over[q] && !(plane[q] < v)) return false;
+        }
+    return true;
+}
+
 }  // namespace
 
 size_t CutSpikes(Image *color) {
@@ -350,7 +364,8 @@ size_t CutSpikes(Image *color) {
     std::vector<size_t> cut;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            if (over[size_t(y) * w + x] && MarkedNeighbours(over, w, h, x, y) < 2)
+            if (over[size_t(y) * w + x] && MarkedNeighbours(over, w, h, x, y) < 2 &&
+                AboveNeighbours(sums.data.data(), over, w, h, x, y))
                 cut.push_back(size_t(y) * w + x);
     // Every median from the frame as it came: one cut does not move another's.
     std::vector<float> medians(cut.size() * color->channels);

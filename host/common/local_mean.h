@@ -92,9 +92,10 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
 // neighbours, so its energy was spread evenly over the search window, a square. A pixel
 // whose value (channels summed, all finite) is over kSpike times the median of its
 // neighbours' (the 8 within the image, the lower middle of an even count), with fewer than 2
-// of them so over, takes per channel its neighbours' median. The restore of local means
-// (with each value's noise) then reads the cut energy as noise: a lone spike's comes back
-// over the coarse tents only. Returns how many pixels were cut.
+// of them so over and above each of the others (a light's rim beside its core is no spike;
+// a pair of fireflies is cut whole), takes per channel its neighbours' median. The restore of
+// local means (with each value's noise) then reads the cut energy as noise: a lone spike's
+// comes back over the coarse tents only. Returns how many pixels were cut.
 constexpr double kSpike = 16;
 size_t CutSpikes(Image *color);
 
