@@ -215,6 +215,10 @@ size_t CutSpikes(Image *color) {
     for (int y = 0; y < given.height; ++y)
         for (int x = 0; x < given.width; ++x) {
             if (!SpikeOver(given, y, x)) continue;
+            // Not over 512 x its neighbours' median.
+            double own = 0;
+            for (int k = 0; k < given.channels; ++k) own += given.At(k, y, x);
+            if (!(float(own) <= 512 * MedianAround(given, -1, y, x))) continue;
             int neighbours = 0;
             for (int v = y - 1; v <= y + 1; ++v)
                 for (int u = x - 1; u <= x + 1; ++u)

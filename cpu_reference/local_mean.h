@@ -27,10 +27,10 @@ void RestoreLocalMeans(const Image &input, int r, Image *output,
                        bool pixelNoise = false);
 
 // Lone spikes (host/common/local_mean.h, CutSpikes): a pixel whose channels' sum (NaN if
-// not finite) is > 0 and > 16 x the median (lower middle) of its in-image neighbours' sums,
-// with fewer than 2 of those neighbours so (none where a neighbour's sum is not finite) and
-// its sum (as a float) above each of theirs not so over, takes per channel the median of its
-// neighbours' values in the frame as given. Returns how many pixels.
+// not finite) is > 0 and > 16 x (and <= 512 x) the median (lower middle) of its in-image
+// neighbours' sums, with fewer than 2 of those neighbours so (none where a neighbour's sum is
+// not finite) and its sum (as a float) above each of theirs not so over, takes per channel the
+// median of its neighbours' values in the frame as given. Returns how many pixels.
 size_t CutSpikes(Image *color);
 
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of

@@ -351,7 +351,7 @@ size_t CutSpikes(Image *color) {
         for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
         sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
     }
-    std::vector<char> over(n, 0);
+    std::vector<char> over(n, 0), within(n, 0);
     ParallelFor(h, n * 16, [&](int begin, int end) {
         for (int y = begin; y < end; ++y)
             for (int x = 0; x < w; ++x) {
@@ -359,12 +359,13 @@ size_t CutSpikes(Image *color) {
                 const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
                 over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
                           sums.data[p] > kSpike * m;
+                within[p] = over[p] && sums.data[p] <= kSpikeMost * m;
             }
     });
     std::vector<size_t> cut;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            if (over[size_t(y) * w + x] && MarkedNeighbours(over, w, h, x, y) < 2 &&
+            if (within[size_t(y) * w + x] && MarkedNeighbours(over, w, h, x, y) < 2 &&
                 AboveNeighbours(sums.data.data(), over, w, h, x, y))
                 cut.push_back(size_t(y) * w + x);
     // Every median from the frame as it came: one cut does not move another's.
