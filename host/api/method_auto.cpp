@@ -563,6 +563,10 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         try {
             out.ran.push_back(
                 RunCandidate(context, inputs, *method, v, runsSplit, noise, o, out));
+            // The buffers a candidate kept for reuse (its run, probe and tiles share sizes)
+            // go back: the host holds every output so far, and the next candidate's own
+            // peak is what it needs.
+            context.Pool().Trim();
         } catch (const Error &e) {
             if (e.Kind() == ErrorKind::Cancelled) throw;
             if (!failure) failure = e.Kind();

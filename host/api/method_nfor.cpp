@@ -191,7 +191,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
         NforOptions o = Options();
         o.keepStages = run.keepStages;
-        return ResultOf(NforDenoise(context, InputsOf(inputs), o));
+        return ResultOf(NforDenoise(context, InputsOf(inputs), o, inputs.Memo()));
     }
 
     TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {

@@ -12,6 +12,7 @@
 #include "host/methods/checks.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
+#include "host/methods/run_memo.h"
 #include "host/vk/gpu_image.h"
 #include "nfor/nfor.h"
 
@@ -289,8 +290,61 @@ void PlanFeatures(StagedRun &run, const std::vector<std::string> &names, const N
         run.Plan("left out: the features' prefilter (--prefilter-radius 0)");
 }
 
+// Prefiltered features kept for later runs on the same features (RunSetup::memo).
+struct NforFeaturesMemo {
+    vk::Buffer filtered;
+};
+
+// The features' identity in the memo: their shape and a hash of their values (a tile's are
+// a crop, made anew for each run).
+std::string FeaturesId(const Image &features) {
+    return fmt::format("{}x{}x{} {:016x}", features.width, features.height, features.channels,
+                       HashFloats(features.data));
+}
+
+// The memo's key of the prefiltered features: the features and every option the noise
+// estimate and the prefilter read.
+std::string FeaturesKey(const std::string &featuresId, const NforOptions &o) {
+    return fmt::format("nfor.filtered {} noise {} {:a} prefilter {} {} {:a}", featuresId,
+                       o.noiseRadius, o.noiseCalibration, o.prefilterRadius, o.prefilterPatch,
+                       o.prefilterBandwidth);
+}
+
+// The features prefiltered by NL-means with their own noise estimated (they depend on the
+// feature layers alone), or with a memo those an earlier run on the same features made.
+void RecordFeatures(StagedRun &run, NforGpu &gpu, const NforOptions &o, RunMemo *memo,
+                    const std::string &featuresId) {
+    vk::Context &context = run.Context();
+    const size_t bytes = gpu.filtered.buffer.Bytes();
+    if (o.prefilterRadius <= 0) {
+        run.Recorder().Copy(gpu.features.buffer, gpu.filtered.buffer, bytes);
+        return;
+    }
+    const std::string key = memo ? FeaturesKey(featuresId, o) : std::string();
+    if (NforFeaturesMemo *kept = memo ? memo->Find<NforFeaturesMemo>(key) : nullptr) {
+        run.Recorder().Copy(kept->filtered, gpu.filtered.buffer, bytes);
+        return;
+    }
+    // The features' own noise, for this filter only (submitted before it is freed).
+    vk::GpuImage featureVariance(context, gpu.features.width, gpu.features.height,
+                                 gpu.features.channels, "nfor.featureVariance");
+    RecordNforNoise(context, run.Recorder(), gpu.features, nullptr, o.noiseRadius,
+                    o.noiseCalibration, featureVariance);
+    RecordNforPrefilter(context, run.Recorder(), gpu.features, featureVariance,
+                        o.prefilterRadius, o.prefilterPatch, o.prefilterBandwidth,
+                        gpu.filtered);
+    if (memo) {
+        auto entry = std::make_shared<NforFeaturesMemo>();
+        entry->filtered = vk::Buffer(context, bytes, "nfor.filtered.memo");
+        run.Recorder().Copy(gpu.filtered.buffer, entry->filtered, bytes);
+        memo->Add(key, std::move(entry));
+    }
+    run.Submit();
+}
+
 // Noise, emitters and fireflies, features, the patch distances.
-void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o) {
+void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
+                   RunMemo *memo, const std::string &featuresId) {
     vk::Context &context = run.Context();
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
     bool again = !in.variance && !o.noEdgeNoise;
@@ -310,20 +364,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                         o.noiseCalibration, gpu.variance, true);
     }
     run.StageAtEnd("variance", gpu.variance);
-    if (o.prefilterRadius > 0) {
-        // The features' own noise, for this filter only (submitted before it is freed).
-        vk::GpuImage featureVariance(context, gpu.features.width, gpu.features.height,
-                                     gpu.features.channels, "nfor.featureVariance");
-        RecordNforNoise(context, run.Recorder(), gpu.features, nullptr, o.noiseRadius,
-                        o.noiseCalibration, featureVariance);
-        RecordNforPrefilter(context, run.Recorder(), gpu.features, featureVariance,
-                            o.prefilterRadius, o.prefilterPatch, o.prefilterBandwidth,
-                            gpu.filtered);
-        run.Submit();
-    } else {
-        run.Recorder().Copy(gpu.features.buffer, gpu.filtered.buffer,
-                            gpu.features.buffer.Bytes());
-    }
+    RecordFeatures(run, gpu, o, memo, featuresId);
     run.StageAtEnd("features", gpu.filtered);
     RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
                        o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
@@ -503,7 +544,8 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
 
 }  // namespace
 
-NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o) {
+NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o,
+                       RunMemo *memo) {
     CheckInputs(context, in, o);
     std::optional<Image> coarse;
     if (o.coarse) coarse = CoarseOutput(context, in, o);
@@ -515,7 +557,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     PlanNoise(run, in, o);
     PlanFeatures(run, names, o);
     NforGpu gpu(context, in, featureImage, o);
-    RecordPrepare(run, gpu, in, o);
+    RecordPrepare(run, gpu, in, o, memo, memo ? FeaturesId(featureImage) : std::string());
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
     RecordPasses(run, gpu, weights, o, out, choice);

@@ -121,9 +121,14 @@ float NforPivotScale(const Image *pivot);
 // Whether the second pass's colour distance is normalised by 2 min(v_p, v_q).
 bool NforPilotMinVariance(const NforOptions &o);
 
+class RunMemo;
+
 // Throws mcd::Error naming the layer and pixel when an input holds NaN/Inf (or a negative
-// variance), when shapes differ or options are out of range.
+// variance), when shapes differ or options are out of range. With a memo
+// (host/methods/run_memo.h) the prefiltered features, which depend on the feature layers
+// alone, are taken from an earlier run on the same features or left for later ones (auto's
+// run and probe differ in the colour alone): the output is the same bit for bit.
 NforResult NforDenoise(vk::Context &context, const NforInputs &inputs,
-                       const NforOptions &options);
+                       const NforOptions &options, RunMemo *memo = nullptr);
 
 }  // namespace mcd

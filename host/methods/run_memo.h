@@ -5,9 +5,12 @@
 // memo for one frame; an entry's key names everything its work depends on.
 #pragma once
 
+#include <cstdint>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace mcd {
 
@@ -31,5 +34,17 @@ class RunMemo {
   private:
     std::map<std::string, std::shared_ptr<void>> entries;
 };
+
+// A 64-bit hash (FNV-1a over the words) of float values, for keys naming data a run made
+// anew (a tile's crop) rather than by address.
+inline uint64_t HashFloats(const std::vector<float> &values) {
+    uint64_t hash = 0xcbf29ce484222325ull;
+    for (float v : values) {
+        uint32_t word;
+        std::memcpy(&word, &v, sizeof(word));
+        hash = (hash ^ word) * 0x100000001b3ull;
+    }
+    return hash;
+}
 
 }  // namespace mcd
