@@ -52,23 +52,31 @@ bool OverAt(const Image &input, const Image *variance, const Image &moved, const
     return !variance || (std::isfinite(v) && (in - out) * (in - out) > 16 * v);
 }
 
-void Highlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
-                Image *output) {
+// One ring of highlights: the pixels over the test (read against the output's tent mean
+// without the values kept so far) with 2 of 8 neighbours so too (or a variance), and, after
+// the first ring, beside a highlight already taken.
+bool HighlightRing(const Image &input, const Image *variance, int r, bool first,
+                   std::vector<bool> *taken, std::vector<bool> *kept, Image *output) {
     Image moved = Moved(*output, *kept), level = Tent(moved, r);
     const int w = input.width, h = input.height;
     std::vector<bool> take(size_t(w) * h);
+    bool any = false;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (!OverAt(input, variance, moved, level, y, x)) continue;
+            if ((*taken)[size_t(y) * w + x] || !OverAt(input, variance, moved, level, y, x))
+                continue;
             int neighbours = 0;
+            bool beside = false;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     int v = y + dy, u = x + dx;
-                    if ((dx || dy) && v >= 0 && v < h && u >= 0 && u < w &&
-                        OverAt(input, variance, moved, level, v, u))
-                        ++neighbours;
+                    if (!(dx || dy) || v < 0 || v >= h || u < 0 || u >= w) continue;
+                    if (OverAt(input, variance, moved, level, v, u)) ++neighbours;
+                    if ((*taken)[size_t(v) * w + u]) beside = true;
                 }
-            take[size_t(y) * w + x] = variance || neighbours >= 2;
+            bool ok = (variance || neighbours >= 2) && (first || beside);
+            take[size_t(y) * w + x] = ok;
+            any = any || ok;
         }
     for (int c = 0; c < input.channels; ++c)
         for (int y = 0; y < h; ++y)
@@ -76,7 +84,17 @@ void Highlights(const Image &input, const Image *variance, int r, std::vector<bo
                 if (take[size_t(y) * w + x]) {
                     output->At(c, y, x) = input.At(c, y, x);
                     (*kept)[(size_t(c) * h + y) * w + x] = true;
+                    (*taken)[size_t(y) * w + x] = true;
                 }
+    return any;
+}
+
+// The first ring, then up to 4 more grown from it.
+void Highlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
+                Image *output) {
+    std::vector<bool> taken(size_t(input.width) * input.height);
+    for (int ring = 0; ring < 5; ++ring)
+        if (!HighlightRing(input, variance, r, ring == 0, &taken, kept, output)) break;
 }
 
 // The sum of the squared weights of the tent of radius 2s, from its 2D weights.
@@ -91,8 +109,34 @@ double SquaredWeights(int s) {
     return sum;
 }
 
+// The mean of each plane over the tent of radius 2s around each pixel, clipped to the image,
+// weighted by the tent's squared weights, from the 2D weights one by one.
+Image SquaredTent(const Image &image, int s) {
+    int n = 2 * s + 1;
+    std::vector<double> tent(2 * n - 1, 0);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) tent[i + j] += 1.0 / (double(n) * n);
+    const int reach = n - 1;
+    Image out(image.width, image.height, image.channels);
+    for (int c = 0; c < image.channels; ++c)
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                double sum = 0, total = 0;
+                for (int v = std::max(0, y - reach); v <= std::min(image.height - 1, y + reach);
+                     ++v)
+                    for (int u = std::max(0, x - reach);
+                         u <= std::min(image.width - 1, x + reach); ++u) {
+                        double wt = tent[v - y + reach] * tent[u - x + reach];
+                        sum += wt * wt * image.At(c, v, u);
+                        total += wt * wt;
+                    }
+                out.At(c, y, x) = float(sum / total);
+            }
+    return out;
+}
+
 void Scale(const Image &input, const std::vector<bool> &kept, int s, double noiseWeight,
-           Image *output) {
+           bool pixelNoise, Image *output) {
     Image clean(input.width, input.height, input.channels), moved = Moved(*output, kept);
     Image squared = clean;
     for (size_t i = 0; i < input.data.size(); ++i) {
@@ -102,7 +146,8 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, double nois
         float e = clean.data[i] - moved.data[i];
         squared.data[i] = e * e;
     }
-    Image mIn = Tent(clean, s), mOut = Tent(moved, s), mSq = Tent(squared, s);
+    Image mIn = Tent(clean, s), mOut = Tent(moved, s);
+    Image mSq = pixelNoise ? SquaredTent(squared, s) : Tent(squared, s);
     double weights = SquaredWeights(s);
     for (size_t i = 0; i < output->data.size(); ++i) {
         if (kept[i]) continue;
@@ -118,16 +163,87 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, double nois
 }  // namespace
 
 void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *variance,
-                       double rebalance) {
+                       double rebalance, bool pixelNoise) {
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
     std::vector<bool> kept(input.data.size());
     for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
     Highlights(input, variance, r, &kept, output);
-    Scale(input, kept, 4 * r, 1, output);
-    Scale(input, kept, r, 1, output);
-    if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, output);
+    Scale(input, kept, 4 * r, 1, pixelNoise, output);
+    Scale(input, kept, r, 1, pixelNoise, output);
+    if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, pixelNoise, output);
+}
+
+namespace {
+
+// The lower middle of the values of plane c (or of the channels' sums, c < 0) at the
+// neighbours of (x, y) inside the image; NaN without any or where one is not finite.
+double MedianAround(const Image &image, int c, int y, int x) {
+    std::vector<double> values;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u) {
+            if ((u == x && v == y) || u < 0 || v < 0 || u >= image.width || v >= image.height)
+                continue;
+            double sum = 0;
+            if (c >= 0)
+                sum = image.At(c, v, u);
+            else
+                for (int k = 0; k < image.channels; ++k) sum += image.At(k, v, u);
+            values.push_back(float(sum));
+        }
+    for (double v : values)
+        if (!std::isfinite(v)) return NAN;
+    if (values.empty()) return NAN;
+    std::sort(values.begin(), values.end());
+    return values[(values.size() - 1) / 2];
+}
+
+bool SpikeOver(const Image &image, int y, int x) {
+    double sum = 0;
+    for (int k = 0; k < image.channels; ++k) sum += image.At(k, y, x);
+    float s = std::isfinite(sum) ? float(sum) : NAN;
+    double m = MedianAround(image, -1, y, x);
+    return std::isfinite(s) && s > 0 && std::isfinite(m) && s > 16 * m;
+}
+
+}  // namespace
+
+size_t CutSpikes(Image *color) {
+    const Image given = *color;
+    size_t count = 0;
+    for (int y = 0; y < given.height; ++y)
+        for (int x = 0; x < given.width; ++x) {
+            if (!SpikeOver(given, y, x)) continue;
+            // Not over 512 x its neighbours' median.
+            double own = 0;
+            for (int k = 0; k < given.channels; ++k) own += given.At(k, y, x);
+            if (!(float(own) <= 512 * MedianAround(given, -1, y, x))) continue;
+            int neighbours = 0;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u)
+                    if ((u != x || v != y) && u >= 0 && v >= 0 && u < given.width &&
+                        v < given.height && SpikeOver(given, v, u))
+                        ++neighbours;
+            if (neighbours >= 2) continue;
+            // Above each neighbour not over, in the channels' sums as floats.
+            bool above = true;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u) {
+                    if ((u == x && v == y) || u < 0 || v < 0 || u >= given.width ||
+                        v >= given.height || SpikeOver(given, v, u))
+                        continue;
+                    double a = 0, b = 0;
+                    for (int k = 0; k < given.channels; ++k)
+                        a += given.At(k, y, x), b += given.At(k, v, u);
+                    if (!(float(b) < float(a))) above = false;
+                }
+            if (!above) continue;
+            for (int c = 0; c < given.channels; ++c)
+                color->At(c, y, x) = float(MedianAround(given, c, y, x));
+            ++count;
+        }
+    return count;
 }
 
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {

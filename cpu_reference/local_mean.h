@@ -8,7 +8,9 @@ namespace mcd::ref {
 
 // Values equal to the input's stay and count in no mean. Highlights: pixels whose input
 // (channels summed, all finite) exceeds 16 x min(output, the output's tent mean of radius
-// 2r) with at least 2 of 8 neighbours so too take the input back and stay. Then at s = 4r
+// 2r) with at least 2 of 8 neighbours so too take the input back and stay; then up to 4 rings
+// more, each read again against the tent mean without the values kept so far, of pixels so
+// over and beside one already taken. Then at s = 4r
 // and s = r in turn: over the box of radius s clipped to the image taken twice (a tent),
 // m_in (of max(input, 0), NaN/Inf as 0), m_out and m_sq (of (that input - output)^2);
 // where m_in, m_out > 0 and all finite, d = m_in - m_out is shrunk to
@@ -17,8 +19,19 @@ namespace mcd::ref {
 // With `variance` (of the pixel mean, 1 or the input's channels; else ignored) a highlight
 // needs (input - output)^2 > 16 x its variance (channels summed) instead of the neighbours.
 // With rebalance >= 0, once more at s = 4r after those, with q multiplied by rebalance.
+// With pixelNoise, m_sq is the mean of those squares over the same clipped window weighted by
+// the tent's squared weights (q: the variance of the tent mean of values each of variance
+// its own square).
 void RestoreLocalMeans(const Image &input, int r, Image *output,
-                       const Image *variance = nullptr, double rebalance = -1);
+                       const Image *variance = nullptr, double rebalance = -1,
+                       bool pixelNoise = false);
+
+// Lone spikes (host/common/local_mean.h, CutSpikes): a pixel whose channels' sum (NaN if
+// not finite) is > 0 and > 16 x (and <= 512 x) the median (lower middle) of its in-image
+// neighbours' sums, with fewer than 2 of those neighbours so (none where a neighbour's sum is
+// not finite) and its sum (as a float) above each of theirs not so over, takes per channel the
+// median of its neighbours' values in the frame as given. Returns how many pixels.
+size_t CutSpikes(Image *color);
 
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
 // the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel

@@ -261,7 +261,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
             cpu.emplace_back("bound", out);
         }
         if (int r = options.method.meanRadius; r > 0) {
-            ref::RestoreLocalMeans(*in.color, r, &out, in.variance, kLocalMeanRebalance);
+            ref::RestoreLocalMeans(*in.color, r, &out, in.variance, kLocalMeanRebalance, true);
             cpu.emplace_back("local mean", std::move(out));
         }
         std::vector<Stage> stages;

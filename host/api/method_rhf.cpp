@@ -52,7 +52,9 @@ class Rhf : public FrontEndOf<RhfParams> {
                IntParam("rhf-mean-radius",
                         "restore the input's local means over tents of 8x and 2x this radius "
                         "(beyond the paper: patch weights average fireflies into their dark "
-                        "neighbours and so darken heavy-tailed frames); 0: off",
+                        "neighbours and so darken heavy-tailed frames), and cut lone spikes "
+                        "before the filter, which spreads each over its search window (their "
+                        "energy comes back with the means); 0: off",
                         &RhfParams::meanRadius, 0, 64)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Rhf>(*this); }
@@ -83,8 +85,24 @@ class Rhf : public FrontEndOf<RhfParams> {
         setup.scalesUsed = whole.scalesUsed;
         setup.histScales = whole.histScales;
         const Image &color = inputs.Get("color");
-        Result result =
-            ResultOf(RhfDenoise(context, color, Histograms(inputs), options, setup));
+        // Lone spikes cut before the filter (it spread each over its search window, a
+        // square); the restore of local means gives their energy back.
+        Image cut;
+        size_t spikes = 0;
+        if (options.meanRadius > 0) {
+            cut = color;
+            spikes = CutSpikes(&cut);
+        }
+        Result result = ResultOf(
+            RhfDenoise(context, spikes > 0 ? cut : color, Histograms(inputs), options, setup));
+        if (options.meanRadius > 0)
+            result.plan.insert(
+                result.plan.begin(),
+                fmt::format("spikes: {} lone pixels over {} times their neighbours' median "
+                            "(channels summed) take that median before the filter (it would "
+                            "spread each over its search window); the local mean gives their "
+                            "energy back",
+                            spikes, kSpike));
         Image variance = ExactVariance(ExactLayersOf(inputs));
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
         result.plan.push_back(
@@ -111,11 +129,11 @@ class Rhf : public FrontEndOf<RhfParams> {
         TileNeeds needs;
         // The exact pixels' energy returns within ExactReach, by weights read as far again.
         needs.reach = RhfReach(o, scales) + 2 * ExactReach() +
-                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0);
+                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) + 2 : 0);
         needs.reachText = fmt::format(
             "the farthest over scales s < {} of (2 x patch half {} + search half {} + 2) x 2^s "
             "and the downsampler's 3-sigma taps, then bicubic U and D per recombination; "
-            "twice the exact pixels' reach {}; the local mean's tents {}",
+            "twice the exact pixels' reach {}; the local mean's tents {} and 2 for the spikes",
             scales, o.patchHalf, o.searchHalf, ExactReach(),
             o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0);
         needs.align = 1 << (scales - 1);
@@ -165,7 +183,9 @@ class Rhf : public FrontEndOf<RhfParams> {
 
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         std::vector<std::pair<std::string, Image>> named;
-        Image out = ref::Rhf(inputs.Get("color"), Histograms(inputs), options, &named);
+        Image cut = inputs.Get("color");
+        if (options.meanRadius > 0) ref::CutSpikes(&cut);
+        Image out = ref::Rhf(cut, Histograms(inputs), options, &named);
         // The pipeline's clamp of the recombination's overshoot (the reference's output is
         // raw).
         if (!options.keepNegative)
@@ -175,7 +195,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         named.emplace_back("exact pixels", out);
         if (options.meanRadius > 0) {
             ref::RestoreLocalMeans(inputs.Get("color"), options.meanRadius, &out,
-                                   Variance(inputs), kLocalMeanRebalance);
+                                   Variance(inputs), kLocalMeanRebalance, true);
             named.emplace_back("local mean", std::move(out));
         }
         std::vector<Stage> stages;

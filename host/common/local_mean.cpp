@@ -16,11 +16,37 @@
 namespace mcd {
 namespace {
 
+// One axis of TentSquaredMean: each value's mean over the 4s + 1 values along `rows` (else
+// columns) around it, weighted by the 1D tent's squared weights and clipped to the image.
+void SquaredTentAxis(const float *src, float *dst, int w, int h, int s, bool rows) {
+    const int n = 2 * s + 1, reach = 2 * s;
+    std::vector<double> weight(2 * reach + 1);
+    for (int j = -reach; j <= reach; ++j) {
+        const double t = double(n - std::abs(j)) / (double(n) * n);
+        weight[j + reach] = t * t;
+    }
+    const int lines = rows ? h : w, length = rows ? w : h;
+    const size_t along = rows ? 1 : size_t(w), across = rows ? size_t(w) : 1;
+    ParallelFor(lines, size_t(lines) * length * (2 * reach + 1), [&](int begin, int end) {
+        for (int line = begin; line < end; ++line)
+            for (int i = 0; i < length; ++i) {
+                double sum = 0, total = 0;
+                for (int j = std::max(0, i - reach); j <= std::min(length - 1, i + reach);
+                     ++j) {
+                    const double t = weight[j - i + reach];
+                    sum += t * src[line * across + j * along];
+                    total += t;
+                }
+                dst[line * across + i * along] = float(sum / total);
+            }
+    });
+}
+
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
 // means over tents of radius 2s, the noise weighted by `noiseWeight`; `factors` (one per
 // value) multiplied by the same.
 void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, double noiseWeight,
-                  Image *output, std::vector<double> *factors) {
+                  bool pixelNoise, Image *output, std::vector<double> *factors) {
     Image moved = *output, squared = *output;
     ParallelValues(moved.data.size(), 4, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -29,7 +55,8 @@ void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, doub
             squared.data[i] = kept[i] ? 0.f : e * e;
         }
     });
-    Image mIn = TentMean(clean, s), mOut = TentMean(moved, s), mSq = TentMean(squared, s);
+    Image mIn = TentMean(clean, s), mOut = TentMean(moved, s);
+    Image mSq = pixelNoise ? TentSquaredMean(squared, s) : TentMean(squared, s);
     const double weights = TentSquaredWeights(s) * noiseWeight;
     ParallelValues(mIn.data.size(), 16, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -58,13 +85,14 @@ constexpr int kHighlightNeighbours = 2;
 // pixel's variance away from the output.
 constexpr double kHighlightSigmas = 4;
 
-void KeepHighlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
-                    Image *output) {
-    const int w = input.width, h = input.height;
+// Which pixels are over (KeepHighlights): the input far above the output, or above the
+// output's tent mean without the kept values, and with a variance so many deviations away.
+std::vector<char> OverPixels(const Image &input, const Image *variance, int r,
+                             const std::vector<bool> &kept, const Image &output) {
     const size_t n = input.PixelCount();
-    Image moved = *output;
+    Image moved = output;
     for (size_t i = 0; i < moved.data.size(); ++i)
-        if ((*kept)[i]) moved.data[i] = 0;
+        if (kept[i]) moved.data[i] = 0;
     Image level = TentMean(moved, r);
     std::vector<char> over(n, 0);
     ParallelValues(n, 8 * size_t(input.channels), [&](size_t begin, size_t end) {
@@ -88,18 +116,52 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
             }
         }
     });
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            size_t p = size_t(y) * w + x;
-            if (!over[p]) continue;
-            int neighbours = MarkedNeighbours(over, w, h, x, y);
-            if (!variance && neighbours < kHighlightNeighbours) continue;
+    return over;
+}
+
+// Whether any of (x, y)'s 8 neighbours inside the frame is a kept highlight.
+bool BesideHighlight(const std::vector<char> &taken, int w, int h, int x, int y) {
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int u = x + dx, v = y + dy;
+            if ((dx || dy) && u >= 0 && u < w && v >= 0 && v < h && taken[size_t(v) * w + u])
+                return true;
+        }
+    return false;
+}
+
+// A light's rim is dimmer than its core, and the core's own output lifts the tent mean it is
+// read against: the rim passes the test only once the core is kept. Rings grow, each read
+// against the tent mean without the highlights kept so far, while pixels beside them pass.
+constexpr int kHighlightRings = 4;
+
+void KeepHighlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
+                    Image *output) {
+    const int w = input.width, h = input.height;
+    const size_t n = input.PixelCount();
+    std::vector<char> taken(n, 0);
+    for (int ring = 0; ring <= kHighlightRings; ++ring) {
+        const std::vector<char> over = OverPixels(input, variance, r, *kept, *output);
+        std::vector<size_t> take;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                size_t p = size_t(y) * w + x;
+                if (!over[p] || taken[p]) continue;
+                if (!variance && MarkedNeighbours(over, w, h, x, y) < kHighlightNeighbours)
+                    continue;
+                if (ring > 0 && !BesideHighlight(taken, w, h, x, y)) continue;
+                take.push_back(p);
+            }
+        if (take.empty()) break;
+        for (size_t p : take) {
+            taken[p] = 1;
             for (int c = 0; c < input.channels; ++c) {
                 size_t i = c * n + p;
                 output->data[i] = input.data[i];
                 (*kept)[i] = true;
             }
         }
+    }
 }
 
 }  // namespace
@@ -118,6 +180,16 @@ Image TentMean(const Image &image, int r) {
     return b;
 }
 
+Image TentSquaredMean(const Image &image, int r) {
+    const int w = image.width, h = image.height;
+    Image a(w, h, image.channels), b = a;
+    for (int c = 0; c < image.channels; ++c) {
+        SquaredTentAxis(image.Plane(c), a.Plane(c), w, h, r, true);
+        SquaredTentAxis(a.Plane(c), b.Plane(c), w, h, r, false);
+    }
+    return b;
+}
+
 double TentSquaredWeights(int r) {
     // The 1D tent is the box of 2r + 1 taps convolved with itself: (2r + 1 - |j|) / n^2.
     double n = 2.0 * r + 1, sum = 0;
@@ -129,7 +201,7 @@ double TentSquaredWeights(int r) {
 }
 
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
-                                   const Image *variance, double rebalance) {
+                                   const Image *variance, double rebalance, bool pixelNoise) {
     if (!input.SameShape(*output) || r <= 0 || std::isnan(rebalance))
         throw Error(
             "RestoreLocalMeans: the output must have the input's shape, r > 0, the "
@@ -149,12 +221,13 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
         clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
     }
     std::vector<double> factors(input.data.size(), 1.0);
-    RestoreScale(clean, kept, 4 * r, 1, output, &factors);
-    RestoreScale(clean, kept, r, 1, output, &factors);
+    RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors);
+    RestoreScale(clean, kept, r, 1, pixelNoise, output, &factors);
     // The fine scale takes the coarse gain back confidently where no rare bright sample
     // fell and gives it uncertainly where one did: the coarse scale again returns the
     // energy so lost.
-    if (rebalance >= 0) RestoreScale(clean, kept, 4 * r, rebalance, output, &factors);
+    if (rebalance >= 0)
+        RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors);
     LocalMeanFactors range;
     bool any = false;
     for (size_t i = 0; i < factors.size(); ++i) {
@@ -236,6 +309,77 @@ Image FrameNoise(const Image &color, const Image *albedo) {
     return out;
 }
 
+namespace {
+
+// The median of the values at (x, y)'s neighbours within the frame (the lower middle); NaN
+// where one is not finite or there is none.
+double NeighbourMedian(const float *plane, int w, int h, int x, int y) {
+    float values[8];
+    int count = 0;
+    for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+            if (u != x || v != y) values[count++] = plane[size_t(v) * w + u];
+    if (count == 0 ||
+        !std::all_of(values, values + count, [](float v) { return std::isfinite(v); }))
+        return NAN;
+    std::nth_element(values, values + (count - 1) / 2, values + count);
+    return values[(count - 1) / 2];
+}
+
+// Whether (x, y)'s value is above each of its neighbours' within the frame that is not over
+// (a pair of fireflies is cut whole): a light's rim beside its core is not a spike, however
+// far over its other neighbours it is.
+bool AboveNeighbours(const float *plane, const std::vector<char> &over, int w, int h, int x,
+                     int y) {
+    const float v = plane[size_t(y) * w + x];
+    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+            const size_t q = size_t(j) * w + i;
+            if ((i != x || j != y) && !over[q] && !(plane[q] < v)) return false;
+        }
+    return true;
+}
+
+}  // namespace
+
+size_t CutSpikes(Image *color) {
+    const int w = color->width, h = color->height;
+    const size_t n = color->PixelCount();
+    Image sums(w, h, 1);
+    for (size_t p = 0; p < n; ++p) {
+        double sum = 0;
+        for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
+        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
+    }
+    std::vector<char> over(n, 0), within(n, 0);
+    ParallelFor(h, n * 16, [&](int begin, int end) {
+        for (int y = begin; y < end; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
+                over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
+                          sums.data[p] > kSpike * m;
+                within[p] = over[p] && sums.data[p] <= kSpikeMost * m;
+            }
+    });
+    std::vector<size_t> cut;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (within[size_t(y) * w + x] && MarkedNeighbours(over, w, h, x, y) < 2 &&
+                AboveNeighbours(sums.data.data(), over, w, h, x, y))
+                cut.push_back(size_t(y) * w + x);
+    // Every median from the frame as it came: one cut does not move another's.
+    std::vector<float> medians(cut.size() * color->channels);
+    for (size_t k = 0; k < cut.size(); ++k)
+        for (int c = 0; c < color->channels; ++c)
+            medians[k * color->channels + c] =
+                float(NeighbourMedian(color->Plane(c), w, h, int(cut[k] % w), int(cut[k] / w)));
+    for (size_t k = 0; k < cut.size(); ++k)
+        for (int c = 0; c < color->channels; ++c)
+            color->Plane(c)[cut[k]] = medians[k * color->channels + c];
+    return cut.size();
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     if (!input.SameShape(*output) || variance.width != input.width ||
         variance.height != input.height ||
@@ -289,7 +433,7 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
 
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
                                         const Image *variance, double rebalance) {
-    LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, rebalance);
+    LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, rebalance, true);
     return fmt::format(
         "the input's means over tents of radius {}, then {}, then {} again restored (factors "
         "{:.3g} to {:.3g})",

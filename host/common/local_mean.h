@@ -8,15 +8,24 @@
 // times the output there or the output's tent mean of radius 2r there, with at least 2 of
 // its 8 neighbours so too (a small light or a light's edge the method cut; a firefly stands
 // alone), takes its input back and counts as left; with a variance layer, instead of the
-// neighbours, its input must be over 4 standard deviations from the output. Then at each value,
+// neighbours, its input must be over 4 standard deviations from the output. A light's rim,
+// dimmer than its core, passes only once the core is kept: up to 4 rings more grow from the
+// kept highlights, each read against the tent mean without them (a rim the method cut and
+// the restore spread made a glowing square around each small light). Then at each value,
 // over a tent window of radius 2s (a box of radius s twice, each clipped to the image), m_in
 // and m_out are the means of the input's finite values >= 0 and of the output. Their difference
 // d = m_in - m_out is shrunk by the noise of m_in, estimated as the mean of (input -
 // output)^2 over the same window times the tent's sum of squared weights, q:
 // d' = d max(0, 1 - q / d^2) (positive-part James-Stein), and the output multiplied by
 // (m_out + d') / m_out. A difference that comes from a few pixels (fireflies the method
-// removed) has q near d^2 and leaves the method's output, rather than spreading their
-// energy over a glowing square; a darkening shared by many pixels is restored. This runs
+// removed) should have q near d^2 and leave the method's output, rather than spreading their
+// energy over a glowing square; a darkening shared by many pixels is restored. With
+// `pixelNoise` (pivot, rhf, auto) q is the variance of the tent mean of independent values
+// each of variance its own (input - output)^2: the sum of their squared weights times
+// those, so one pixel's difference has q = d^2 wherever it lies in the window. The window's
+// mean squared difference times the sum of squared weights (without) gives one pixel near
+// the centre q = 4/9 d^2: its energy spread over the rounded square where its weight is
+// over 4/9 of the peak's. This runs
 // at s = 4r first and then at s = r on its result: what is uncertain at the fine scale is
 // restored at the coarse one. The fine scale's shrinkage is lopsided where the noise is
 // heavy-tailed: windows without a rare bright sample give the coarse gain back with
@@ -32,6 +41,12 @@ namespace mcd {
 
 // Each plane's mean over the tent window of radius 2r around each pixel.
 Image TentMean(const Image &image, int r);
+
+// Each plane's mean over the window of radius 2r around each pixel weighted by the tent's
+// squared weights (of radius 2r: the product of the 1D tents' squares, each axis clipped to
+// the image and renormalised). Times TentSquaredWeights(r), the variance of the tent mean of
+// independent values whose variances these are.
+Image TentSquaredMean(const Image &image, int r);
 
 // The sum of the squared weights of an unclipped tent window of radius 2r: the factor from
 // the mean of i.i.d. values' variance to the variance of their tent mean.
@@ -59,15 +74,34 @@ struct LocalMeanFactors {
 // `output` (the shape of `input`) scaled to `input`'s local means; r > 0. `variance` (of
 // the pixel mean, one channel or the input's; may be null, ignored unless of the input's
 // size) tells highlights from fireflies in place of the neighbours.
-// `rebalance` >= 0: the last coarse pass, its noise weighted so; < 0: none.
+// `rebalance` >= 0: the last coarse pass, its noise weighted so; < 0: none. `pixelNoise`:
+// q from each value's own squared difference (TentSquaredMean), not the window's mean one.
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
-                                   const Image *variance = nullptr, double rebalance = -1);
+                                   const Image *variance = nullptr, double rebalance = -1,
+                                   bool pixelNoise = false);
 
 // RestoreLocalMeans with a last coarse pass of weight `rebalance` (kLocalMeanRebalance for
-// pivot and rhf); returns what the plan says of it ("the input's means over tents ...").
+// pivot and rhf) and the noise of each value (`pixelNoise`); returns what the plan says of
+// it ("the input's means over tents ...").
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
                                         const Image *variance,
                                         double rebalance = kLocalMeanRebalance);
+
+// Lone spikes cut from a frame before a filter that averages each pixel with the alike ones
+// around it (beyond the papers): rhf's histograms hardly tell a firefly from its
+// neighbours, so its energy was spread evenly over the search window, a square. A pixel
+// whose value (channels summed, all finite) is over kSpike times the median of its
+// neighbours' (the 8 within the image, the lower middle of an even count), with fewer than 2
+// of them so over and above each of the others (a light's rim beside its core is no spike;
+// a pair of fireflies is cut whole), takes per channel its neighbours' median. The restore of
+// local means (with each value's noise) then reads the cut energy as noise: a lone spike's
+// comes back over the coarse tents only. Returns how many pixels were cut.
+// A spike over kSpikeMost times the median stays: its energy, given back over the coarse
+// tents (at r = 8 a centre weight of 1/4225), would light a glow one can see (fireflies 4
+// spp: a point of 2853 on an emitter of 4.3, 1139 in the reference); the filter's bright
+// veto keeps such a point mostly to itself.
+constexpr double kSpike = 16, kSpikeMost = 512;
+size_t CutSpikes(Image *color);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or

@@ -47,23 +47,26 @@ TEST_P(LocalMeanMatches, Reference) {
     Image input, output;
     MakeImages(GetParam(), &input, &output);
     // Without the last coarse pass, unshrunk, pivot's and auto's weight, the first's.
-    for (double rebalance : {-1.0, 0.0, kLocalMeanRebalance, 1.0}) {
-        Image expected = output, got = output;
-        ref::RestoreLocalMeans(input, GetParam().r, &expected, nullptr, rebalance);
-        RestoreLocalMeans(input, GetParam().r, &got, nullptr, rebalance);
-        // Float running sums against double windows: a few float roundings per pass.
-        for (size_t i = 0; i < got.data.size(); ++i) {
-            ASSERT_TRUE(std::isfinite(got.data[i])) << rebalance << " " << i;
-            ASSERT_NEAR(got.data[i], expected.data[i],
-                        3e-5 * std::fabs(expected.data[i]) + 1e-12)
-                << rebalance << " " << i;
+    // Each with the window's noise and with each value's (pivot's, rhf's and auto's).
+    for (double rebalance : {-1.0, 0.0, kLocalMeanRebalance, 1.0})
+        for (bool pixelNoise : {false, true}) {
+            Image expected = output, got = output;
+            ref::RestoreLocalMeans(input, GetParam().r, &expected, nullptr, rebalance,
+                                   pixelNoise);
+            RestoreLocalMeans(input, GetParam().r, &got, nullptr, rebalance, pixelNoise);
+            // Float running sums against double windows: a few float roundings per pass.
+            for (size_t i = 0; i < got.data.size(); ++i) {
+                ASSERT_TRUE(std::isfinite(got.data[i])) << rebalance << " " << i;
+                ASSERT_NEAR(got.data[i], expected.data[i],
+                            3e-5 * std::fabs(expected.data[i]) + 1e-12)
+                    << rebalance << " " << i;
+            }
+            // Bit-identical when repeated.
+            Image again = output;
+            RestoreLocalMeans(input, GetParam().r, &again, nullptr, rebalance, pixelNoise);
+            EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4))
+                << rebalance;
         }
-        // Bit-identical when repeated.
-        Image again = output;
-        RestoreLocalMeans(input, GetParam().r, &again, nullptr, rebalance);
-        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4))
-            << rebalance;
-    }
 }
 
 // With a variance layer (one channel, and the input's), the highlights' test reads it.
@@ -77,8 +80,9 @@ TEST_P(LocalMeanMatches, ReferenceWithVariance) {
         for (float &v : variance.data)
             v = unit(rng) < 0.5f ? 0.01f * unit(rng) : 50 * unit(rng);
         Image expected = output, got = output;
-        ref::RestoreLocalMeans(input, GetParam().r, &expected, &variance, kLocalMeanRebalance);
-        RestoreLocalMeans(input, GetParam().r, &got, &variance, kLocalMeanRebalance);
+        ref::RestoreLocalMeans(input, GetParam().r, &expected, &variance, kLocalMeanRebalance,
+                               true);
+        RestoreLocalMeans(input, GetParam().r, &got, &variance, kLocalMeanRebalance, true);
         for (size_t i = 0; i < got.data.size(); ++i)
             ASSERT_NEAR(got.data[i], expected.data[i],
                         3e-5 * std::fabs(expected.data[i]) + 1e-12)
@@ -227,6 +231,73 @@ TEST(LocalMeanProperties, ASmallLightDoesNotRaiseItsSurroundings) {
             }
 }
 
+// A small light as a render has it: a core of 900 with a rim of 120 (pixels the light
+// partly covers), which the method cut to 500 and 50, and its own smear lifting the wall
+// beside it. The core alone passes the first test (the rim is under 16 times the tent mean
+// the core's output lifts); the rim passes once the core is kept, so it takes its input
+// back too and its cut energy is not spread over the wall in a glowing square.
+TEST(LocalMeanProperties, ALightsRimIsKeptWithItsCore) {
+    const int w = 96, h = 96, r = 8, cx = 48, cy = 48;
+    std::mt19937_64 rng(SeedFromName("local mean light rim"));
+    std::normal_distribution<float> noise(0, 0.1f);
+    Image input(w, h, 3), output(w, h, 3);
+    auto light = [&](int x, int y) {
+        int d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+        return d2 <= 2 ? 2 : d2 <= 5 ? 1 : 0;
+    };
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                int l = light(x, y);
+                input.At(c, y, x) = l == 2   ? 900.f
+                                    : l == 1 ? 120.f
+                                             : std::max(0.f, 0.3f + noise(rng));
+                output.At(c, y, x) = l == 2 ? 500.f : l == 1 ? 50.f : 0.3f;
+            }
+    Image got = output;
+    RestoreLocalMeans(input, r, &got, nullptr, kLocalMeanRebalance, true);
+    Image expected = output;
+    ref::RestoreLocalMeans(input, r, &expected, nullptr, kLocalMeanRebalance, true);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                ASSERT_NEAR(got.At(c, y, x), expected.At(c, y, x),
+                            3e-5 * std::fabs(expected.At(c, y, x)) + 1e-12);
+                if (light(x, y))
+                    ASSERT_EQ(got.At(c, y, x), input.At(c, y, x)) << c << " " << y << " " << x;
+                else
+                    ASSERT_NEAR(got.At(c, y, x), 0.3f, 0.015f) << c << " " << y << " " << x;
+            }
+}
+
+// One pixel's energy the method cut (a firefly, or a light of one pixel: the neighbours
+// cannot tell them apart) on a wall the method left as it was: with each value's own noise
+// its difference is all noise wherever it lies in a window, and the wall stays; with the
+// window's mean noise it is restored near the centres of the windows that hold it, a
+// square around the pixel.
+TEST(LocalMeanProperties, OnePixelsEnergyIsNotSpreadWithItsOwnNoise) {
+    const int w = 80, h = 80, r = 4;
+    Image input(w, h, 3), output(w, h, 3);
+    // A wall the method flattened: a zero-mean pattern taken out, so no value is left.
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                input.At(c, y, x) = 0.5f + 0.01f * float((x + 2 * y + c) % 5 - 2);
+                output.At(c, y, x) = 0.5f;
+            }
+    for (int c = 0; c < 3; ++c) input.At(c, 40, 40) = 60;
+    Image own = output, window = output;
+    RestoreLocalMeans(input, r, &own, nullptr, -1, true);
+    RestoreLocalMeans(input, r, &window, nullptr, -1, false);
+    double ownMost = 0, windowMost = 0;
+    for (size_t i = 0; i < own.data.size(); ++i) {
+        ownMost = std::max(ownMost, std::fabs(own.data[i] - 0.5));
+        windowMost = std::max(windowMost, std::fabs(window.data[i] - 0.5));
+    }
+    EXPECT_LT(ownMost, 5e-3);
+    EXPECT_GT(windowMost, 20 * ownMost) << ownMost;
+}
+
 // The bound: a value within k standard deviations stays; one beyond ends at k of them,
 // on either side; a pixel of variance 0 (every sample equal) is left, and one firefly's
 // variance beside a pixel does not widen its bound.
@@ -247,6 +318,39 @@ TEST(LocalMeanProperties, BoundToNoiseClampsAtKStandardDeviations) {
     EXPECT_FLOAT_EQ(output.At(0, 0, 2), 0.7f);
     EXPECT_EQ(output.At(0, 0, 3), 1.5f);
     EXPECT_FLOAT_EQ(output.At(0, 0, 5), 1.3f);
+}
+
+// Lone spikes against the reference on the random inputs (NaN, Inf, zeros, negatives,
+// spikes of 100 among values under 1): the same count and bits (both sum in double, round
+// to float and pick the same medians), and the same when repeated.
+TEST_P(LocalMeanMatches, CutSpikesMatchesReference) {
+    Image input, unused;
+    MakeImages(GetParam(), &input, &unused);
+    Image expected = input, got = input, again = input;
+    size_t count = ref::CutSpikes(&expected);
+    EXPECT_EQ(CutSpikes(&got), count);
+    ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    CutSpikes(&again);
+    EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+}
+
+// A lone spike takes its neighbours' median per channel; a cluster of them (a light) and a
+// value under 16 times its neighbours' median stay.
+TEST(LocalMeanProperties, CutSpikesCutsOnlyLoneSpikes) {
+    Image color(12, 8, 2);
+    for (int c = 0; c < 2; ++c)
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 12; ++x) color.At(c, y, x) = 0.5f + 0.1f * c;
+    color.At(0, 2, 2) = color.At(1, 2, 2) = 50;  // lone
+    for (int y = 4; y <= 5; ++y)
+        for (int x = 7; x <= 8; ++x) color.At(0, y, x) = 50;  // a 2x2 light
+    color.At(0, 6, 2) = 15;  // 15.6 over a median sum of 1.1: stays
+    Image cut = color;
+    EXPECT_EQ(CutSpikes(&cut), 1u);
+    EXPECT_EQ(cut.At(0, 2, 2), 0.5f);
+    EXPECT_EQ(cut.At(1, 2, 2), 0.6f);
+    for (size_t i = 0; i < cut.data.size(); ++i)
+        if (i % cut.PixelCount() != 2 * 12 + 2) EXPECT_EQ(cut.data[i], color.data[i]) << i;
 }
 
 // The robust estimate reads Gaussian noise's variance (its mean over a frame within 5%),
