@@ -18,6 +18,8 @@ namespace {
 
 // One axis of TentSquaredMean: each value's mean over the 4s + 1 values along `rows` (else
 // columns) around it, weighted by the 1D tent's squared weights and clipped to the image.
+// The taps are the outer loop and a line of values the inner one, so the inner loop
+// vectorises; each value still adds its taps in ascending order from 0.
 void SquaredTentAxis(const float *src, float *dst, int w, int h, int s, bool rows) {
     const int n = 2 * s + 1, reach = 2 * s;
     std::vector<double> weight(2 * reach + 1);
@@ -25,20 +27,30 @@ void SquaredTentAxis(const float *src, float *dst, int w, int h, int s, bool row
         const double t = double(n - std::abs(j)) / (double(n) * n);
         weight[j + reach] = t * t;
     }
-    const int lines = rows ? h : w, length = rows ? w : h;
-    const size_t along = rows ? 1 : size_t(w), across = rows ? size_t(w) : 1;
-    ParallelFor(lines, size_t(lines) * length * (2 * reach + 1), [&](int begin, int end) {
-        for (int line = begin; line < end; ++line)
-            for (int i = 0; i < length; ++i) {
-                double sum = 0, total = 0;
-                for (int j = std::max(0, i - reach); j <= std::min(length - 1, i + reach);
-                     ++j) {
-                    const double t = weight[j - i + reach];
-                    sum += t * src[line * across + j * along];
-                    total += t;
+    // The clipped weights' sum at each position along the axis.
+    const int length = rows ? w : h;
+    std::vector<double> total(length, 0.0);
+    for (int i = 0; i < length; ++i)
+        for (int j = std::max(0, i - reach); j <= std::min(length - 1, i + reach); ++j)
+            total[i] += weight[j - i + reach];
+    ParallelFor(h, size_t(w) * h * (2 * reach + 1), [&](int begin, int end) {
+        std::vector<double> sum(w);
+        for (int y = begin; y < end; ++y) {
+            std::fill(sum.begin(), sum.end(), 0.0);
+            for (int d = -reach; d <= reach; ++d) {
+                const double t = weight[d + reach];
+                if (rows) {
+                    const float *line = src + size_t(y) * w;
+                    for (int x = std::max(0, -d); x < std::min(w, w - d); ++x)
+                        sum[x] += t * line[x + d];
+                } else if (y + d >= 0 && y + d < h) {
+                    const float *line = src + size_t(y + d) * w;
+                    for (int x = 0; x < w; ++x) sum[x] += t * line[x];
                 }
-                dst[line * across + i * along] = float(sum / total);
             }
+            for (int x = 0; x < w; ++x)
+                dst[size_t(y) * w + x] = float(sum[x] / total[rows ? x : y]);
+        }
     });
 }
 
