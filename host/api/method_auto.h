@@ -74,7 +74,7 @@ class AutoFrontEnd : public FrontEnd {
         // The input's local means restored over tents of 8x, then 2x this radius (0: off;
         // host/common/local_mean.h): the relative combination leans dark where the
         // candidates disagree, and relMSE rewards that (issue 29).
-        int meanRadius = 8;
+        int meanRadius = 16;
         // On a frame with albedo and normals and without statistics, nfor alone or the
         // combination (docs/methods/auto.md: nfor alone beat the combination on the real
         // Cycles frames).
