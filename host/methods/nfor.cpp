@@ -337,13 +337,6 @@ struct NforFeaturesMemo {
     vk::Buffer filtered;
 };
 
-// The features' identity in the memo: their shape and a hash of their values (a tile's are
-// a crop, made anew for each run).
-std::string FeaturesId(const Image &features) {
-    return fmt::format("{}x{}x{} {:016x}", features.width, features.height, features.channels,
-                       HashFloats(features.data));
-}
-
 // The memo's key of the prefiltered features: the features and every option the noise
 // estimate and the prefilter read.
 std::string FeaturesKey(const std::string &featuresId, const NforOptions &o) {
@@ -611,7 +604,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     PlanNoise(run, in, o);
     PlanFeatures(run, names, o);
     NforGpu gpu(context, in, featureImage, o);
-    RecordPrepare(run, gpu, in, o, memo, memo ? FeaturesId(featureImage) : std::string(),
+    RecordPrepare(run, gpu, in, o, memo, memo ? MemoImageId(featureImage) : std::string(),
                   result);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");

@@ -331,18 +331,6 @@ struct RhfMaskMemo {
     vk::Buffer mask;
 };
 
-// The histograms' identity in the memo: their shape and a 64-bit hash of their values (a
-// tile's are a crop, made anew for each run).
-std::string HistogramId(const Image &hist) {
-    uint64_t hash = 0xcbf29ce484222325ull;
-    for (float v : hist.data) {
-        uint32_t word;
-        std::memcpy(&word, &v, sizeof(word));
-        hash = (hash ^ word) * 0x100000001b3ull;
-    }
-    return fmt::format("{}x{}x{} {:016x}", hist.width, hist.height, hist.channels, hash);
-}
-
 // The memo's key of scale s's selection: everything it depends on, the colour apart (the
 // histograms, the scale, its histogram scale and the parameters that select).
 std::string MaskKey(const std::string &histId, const ScaleInputs &in, int s, int nearest,
@@ -517,7 +505,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     if (memo && !std::all_of(colorIn.data.begin(), colorIn.data.end(),
                              [](float v) { return std::isfinite(v); }))
         memo = nullptr;
-    const std::string histId = memo ? HistogramId(histIn) : std::string();
+    const std::string histId = memo ? MemoImageId(histIn) : std::string();
     const int W = color.width, H = color.height, planes = hist.channels;
     RhfLayout layout = RhfLayoutFor(context, W, H, planes, o, setup);
     int scales = setup.scalesUsed > 0 ? setup.scalesUsed : RhfScalesUsed(W, H, o);

@@ -5,12 +5,15 @@
 // memo for one frame; an entry's key names everything its work depends on.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <cstring>
 #include <map>
 #include <memory>
 #include <string>
-#include <vector>
+
+#include "host/image.h"
 
 namespace mcd {
 
@@ -35,16 +38,16 @@ class RunMemo {
     std::map<std::string, std::shared_ptr<void>> entries;
 };
 
-// A 64-bit hash (FNV-1a over the words) of float values, for keys naming data a run made
-// anew (a tile's crop) rather than by address.
-inline uint64_t HashFloats(const std::vector<float> &values) {
+// An image's identity in a memo key: its shape and a 64-bit hash (FNV-1a over the words) of
+// its values, for data a run made anew (a tile's crop) rather than by address.
+inline std::string MemoImageId(const Image &image) {
     uint64_t hash = 0xcbf29ce484222325ull;
-    for (float v : values) {
+    for (float v : image.data) {
         uint32_t word;
         std::memcpy(&word, &v, sizeof(word));
         hash = (hash ^ word) * 0x100000001b3ull;
     }
-    return hash;
+    return fmt::format("{}x{}x{} {:016x}", image.width, image.height, image.channels, hash);
 }
 
 }  // namespace mcd
