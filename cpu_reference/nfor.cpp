@@ -119,38 +119,65 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
     return mask;
 }
 
+namespace {
+
+// Channel c of (x, y) clamped on its own: its value, or its limit where it is above: the
+// median (or k-th largest) of the neighbours' z divided alike + t sqrt(v) / a + rho |median|.
+double ClampedValue(const Image &color, const Image &variance, const Image *divisor,
+                    const Image &mask, double threshold, double relative, int rank,
+                    double lightEdge, int c, int x, int y) {
+    double a = Divisor(divisor, c, x, y), value = color.At(c, y, x);
+    // The z of the neighbours divided alike; without any, their colours.
+    std::vector<double> alike, all;
+    bool emitterNear = false;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u) {
+            if ((u == x && v == y) || !Inside(color, u, v)) continue;
+            emitterNear |= mask.At(0, v, u) == 0;
+            double aq = Divisor(divisor, c, u, v);
+            all.push_back(color.At(c, v, u));
+            if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
+        }
+    // Unlike all around it next to a light: the light's edge, kept or clamped with its own
+    // relative term.
+    bool edge = alike.empty() && emitterNear;
+    if (all.empty() || (edge && lightEdge < 0)) return value;
+    double s = !alike.empty() && a > 0 ? a : 1;
+    std::vector<double> &near = alike.empty() ? all : alike;
+    double median = rank == 0 ? LowerMedian(near) : KthLargest(near, rank);
+    double limit = median + threshold * std::sqrt(double(variance.At(c, y, x))) / s +
+                   (edge ? lightEdge : relative) * std::fabs(median);
+    return value / s > limit ? limit * s : value;
+}
+
+}  // namespace
+
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank,
-                double lightEdge) {
+                double lightEdge, bool sumChannels) {
     Image out = color;
     if (threshold <= 0) return out;
-    for (int c = 0; c < color.channels; ++c)
-        for (int y = 0; y < color.height; ++y)
-            for (int x = 0; x < color.width; ++x) {
-                double a = Divisor(divisor, c, x, y);
-                // The z of the neighbours divided alike; without any, their colours.
-                std::vector<double> alike, all;
-                bool emitterNear = false;
-                for (int v = y - 1; v <= y + 1; ++v)
-                    for (int u = x - 1; u <= x + 1; ++u) {
-                        if ((u == x && v == y) || !Inside(color, u, v)) continue;
-                        emitterNear |= mask.At(0, v, u) == 0;
-                        double aq = Divisor(divisor, c, u, v);
-                        all.push_back(color.At(c, v, u));
-                        if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
-                    }
-                // Unlike all around it next to a light: the light's edge, kept or clamped
-                // with its own relative term.
-                bool edge = alike.empty() && emitterNear;
-                if (all.empty() || (edge && lightEdge < 0)) continue;
-                double s = !alike.empty() && a > 0 ? a : 1;
-                std::vector<double> &near = alike.empty() ? all : alike;
-                double median = rank == 0 ? LowerMedian(near) : KthLargest(near, rank);
-                double limit = median +
-                               threshold * std::sqrt(double(variance.At(c, y, x))) / s +
-                               (edge ? lightEdge : relative) * std::fabs(median);
-                if (color.At(c, y, x) / s > limit) out.At(c, y, x) = float(limit * s);
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
+            double values = 0, kept = 0;
+            std::vector<double> clamped(color.channels), ratios;
+            for (int c = 0; c < color.channels; ++c) {
+                double v = color.At(c, y, x);
+                clamped[c] = ClampedValue(color, variance, divisor, mask, threshold, relative,
+                                          rank, lightEdge, c, x, y);
+                values += v;
+                kept += clamped[c];
+                ratios.push_back(v > 0 ? clamped[c] / v : 1);
             }
+            // The second smallest share a channel keeps: 1 - it of the pixel scaled whole.
+            std::sort(ratios.begin(), ratios.end());
+            double t =
+                sumChannels && ratios.size() > 1 ? std::clamp(1 - ratios[1], 0.0, 1.0) : 0;
+            double scale = values > 0 ? std::min(kept / values, 1.0) : 1;
+            for (int c = 0; c < color.channels; ++c)
+                out.At(c, y, x) = float(
+                    t > 0 ? (1 - t) * clamped[c] + t * color.At(c, y, x) * scale : clamped[c]);
+        }
     return out;
 }
 
@@ -549,9 +576,9 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     bool ownClamp = in.variance && p.clampEstimate;
     Image clampVariance =
         ownClamp ? NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration) : Image();
-    Image clamped =
-        NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
-                  p.fireflyThreshold, p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
+    Image clamped = NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
+                              p.fireflyThreshold, p.fireflyRelative, p.fireflyRank,
+                              p.fireflyLightEdge, p.fireflySum);
     if (ownClamp) {
         // The light the clamp took off, over the colour's sum.
         double sum = 0, taken = 0, values = 0, changed = 0;
@@ -564,8 +591,9 @@ Image Nfor(const NforInputs &in, const NforParams &p,
                     changed += clamped.At(c, y, x) != color.At(c, y, x) ? 1 : 0;
                 }
         if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss)
-            clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
-                                p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
+            clamped =
+                NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
+                          p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge, p.fireflySum);
     }
     keep("color", clamped);
     if (ownClamp) keep("clamp.variance", clampVariance);

@@ -117,6 +117,10 @@ struct NforParams {
     double fireflyRelative = 0.5;  // rho
     int fireflyRank = 3;           // 0: the neighbours' lower median; k: their k-th largest
     double fireflyLightEdge = -1;  // a light's edge pixels: kept (< 0) or this rho
+    // A pixel with two channels or more above their limits clamped as a whole (each scaled
+    // by the clamped channels' sum over the values' sum: the hue stays), blended with the
+    // channels clamped alone by the second channel's excess; false: each on its own.
+    bool fireflySum = true;
     double emitterAlbedo = 1.5;
     int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;
@@ -158,10 +162,13 @@ Image NforNoise(const Image &image, const Image *divisor, int radius, double cal
 // 1 for pixels that take part, 0 for emitters.
 Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo);
 
-// The colour with fireflies clamped.
+// The colour with fireflies clamped; with sumChannels a pixel whose channels are clamped
+// to r_c = clamped / value takes t = 1 - (the second smallest r_c) of itself scaled by the
+// sum of its values clamped one by one over the sum of its values, 1 - t of each channel
+// clamped alone.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank = 0,
-                double lightEdge = -1);
+                double lightEdge = -1, bool sumChannels = false);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,

@@ -86,7 +86,7 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,
-                     vk::GpuImage &out, vk::GpuImage &mask) {
+                     bool sumChannels, vk::GpuImage &out, vk::GpuImage &mask) {
     CheckColor("nfor clamp", color);
     CheckSize("nfor clamp", color, variance, color.channels);
     CheckSize("nfor clamp", color, out, color.channels);
@@ -105,9 +105,16 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                                   {},
                                                   0,
                                                   0});
-    shader::NforClampPush push{color.width, color.height, albedo ? albedo->channels : 0,
-                               threshold,   relative,     emitterAlbedo,
-                               rank,        lightEdge};
+    shader::NforClampPush push{color.width,
+                               color.height,
+                               albedo ? albedo->channels : 0,
+                               threshold,
+                               relative,
+                               emitterAlbedo,
+                               rank,
+                               lightEdge,
+                               color.channels,
+                               sumChannels ? 1 : 0};
     recorder.Dispatch(
         kernel, "nfor.clamp",
         {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},

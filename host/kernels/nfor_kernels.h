@@ -19,11 +19,13 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 
 // shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters;
 // rank 0 compares with the neighbours' median, k > 0 with their k-th largest; lightEdge < 0
-// keeps a light's edge pixels, >= 0 clamps them with that relative term.
+// keeps a light's edge pixels, >= 0 clamps them with that relative term; sumChannels
+// scales a pixel with two channels or more above their limits as a whole, by the sum of
+// its clamped values over the sum of its values.
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,
-                     vk::GpuImage &out, vk::GpuImage &mask);
+                     bool sumChannels, vk::GpuImage &out, vk::GpuImage &mask);
 
 // shaders/nfor/prefilter.comp: each plane of `features` NL-means-filtered.
 void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,

@@ -322,7 +322,7 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     auto clamp = [&](vk::GpuImage &variance) {
         RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
                         o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                        o.fireflyLightEdge, gpu.clamped, gpu.mask);
+                        o.fireflyLightEdge, !o.fireflyEachChannel, gpu.clamped, gpu.mask);
     };
     clamp(clampVariance);
     if (!in.variance || !ownClamp) return;

@@ -63,6 +63,11 @@ struct NforOptions {
     // covered): kept (< 0) or clamped against its neighbours' colours with this relative
     // term in place of fireflyRelative.
     float fireflyLightEdge = -1;
+    // Clamp each channel on its own; by default a pixel with two channels or more above
+    // their limits is scaled as a whole by the sum of its values clamped one by one over
+    // the sum of its values (blended in by the second channel's excess, so nothing jumps),
+    // so that a highlight whose channels cross their limits unevenly keeps its hue.
+    bool fireflyEachChannel = false;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;
