@@ -485,16 +485,28 @@ Image NforGather(const Image &input, const Image &features, const Image &mask,
     return out;
 }
 
-Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
-                 const Image &color, const Image &variance, int sureRadius, Image *choice) {
-    int w = color.width, h = color.height, ch = color.channels;
+namespace {
+
+// The window mean over (2 r + 1)^2 clipped to the frame of one plane.
+double WindowMean(const Image &plane, int r, int x, int y) {
+    double sum = 0;
+    int count = 0;
+    for (int v = y - r; v <= y + r; ++v)
+        for (int u = x - r; u <= x + r; ++u)
+            if (Inside(plane, u, v)) sum += plane.At(0, v, u), ++count;
+    return sum / count;
+}
+
+// Per pixel SURE of each candidate: sum over channels of (y - C)^2 - v + 2 v h.
+std::vector<Image> SurePlanes(const std::vector<Image> &outputs, const std::vector<Image> &hats,
+                              const Image &color, const Image &variance) {
     std::vector<Image> sure;
     for (size_t k = 0; k < outputs.size(); ++k) {
-        Image s(w, h, 1);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
+        Image s(color.width, color.height, 1);
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
                 double e = 0;
-                for (int c = 0; c < ch; ++c) {
+                for (int c = 0; c < color.channels; ++c) {
                     double d = double(outputs[k].At(c, y, x)) - color.At(c, y, x);
                     double v = variance.At(c, y, x);
                     e += d * d - v + 2 * v * hats[k].At(0, y, x);
@@ -503,6 +515,41 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
             }
         sure.push_back(std::move(s));
     }
+    return sure;
+}
+
+// Per pixel each candidate's squared difference from candidate 0 over candidate 0's
+// squared magnitude (channel means) + kNforAgreementFloor; candidate 0's plane is 0.
+std::vector<Image> DisagreementPlanes(const std::vector<Image> &outputs) {
+    const Image &first = outputs[0];
+    std::vector<Image> planes;
+    for (size_t k = 0; k < outputs.size(); ++k) {
+        Image d(first.width, first.height, 1);
+        for (int y = 0; y < first.height; ++y)
+            for (int x = 0; x < first.width; ++x) {
+                double sum = 0, mean = 0;
+                for (int c = 0; c < first.channels; ++c) {
+                    double e = double(outputs[k].At(c, y, x)) - first.At(c, y, x);
+                    sum += e * e;
+                    mean += first.At(c, y, x);
+                }
+                mean /= first.channels;
+                d.At(0, y, x) =
+                    float(sum / first.channels / (mean * mean + kNforAgreementFloor));
+            }
+        planes.push_back(std::move(d));
+    }
+    return planes;
+}
+
+}  // namespace
+
+Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
+                 const Image &color, const Image &variance, int sureRadius, Image *choice,
+                 double agreement) {
+    int w = color.width, h = color.height, ch = color.channels;
+    std::vector<Image> planes = agreement > 0 ? DisagreementPlanes(outputs)
+                                              : SurePlanes(outputs, hats, color, variance);
     Image out(w, h, ch);
     *choice = Image(w, h, 1);
     for (int y = 0; y < h; ++y)
@@ -510,13 +557,12 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
             size_t best = 0;
             double bestSure = 0;
             for (size_t k = 0; k < outputs.size(); ++k) {
-                double sum = 0;
-                int count = 0;
-                for (int v = y - sureRadius; v <= y + sureRadius; ++v)
-                    for (int u = x - sureRadius; u <= x + sureRadius; ++u)
-                        if (Inside(color, u, v)) sum += sure[k].At(0, v, u), ++count;
-                double mean = sum / count;
-                if (k == 0 || mean < bestSure) best = k, bestSure = mean;
+                double mean = WindowMean(planes[k], sureRadius, x, y);
+                if (agreement > 0) {
+                    if (k > 0 && mean < agreement) best = k;
+                } else if (k == 0 || mean < bestSure) {
+                    best = k, bestSure = mean;
+                }
             }
             for (int c = 0; c < ch; ++c) out.At(c, y, x) = outputs[best].At(c, y, x);
             choice->At(0, y, x) = float(best);
@@ -539,7 +585,7 @@ template <typename Keep>
 Image NforPass(const Image &clamped, const Image &variance, const Image &features,
                const Image &mask, const NforParams &p,
                const std::vector<PassCandidate> &candidates, const std::string &prefix,
-               Keep &keep) {
+               Keep &keep, double agreement = 0) {
     std::vector<Image> outputs, hats;
     for (size_t i = 0; i < candidates.size(); ++i) {
         const PassCandidate &c = candidates[i];
@@ -555,7 +601,7 @@ Image NforPass(const Image &clamped, const Image &variance, const Image &feature
     }
     if (outputs.size() == 1) return outputs[0];
     Image choice;
-    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice);
+    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice, agreement);
     keep(prefix + "choice", choice);
     return out;
 }
@@ -634,7 +680,9 @@ Image Nfor(const NforInputs &in, const NforParams &p,
             for (double k : p.pilotBandwidths)
                 second.push_back({k, p.pilotWideRadius, &wideDistance});
         }
-        out = NforPass(clamped, variance, features, mask, p, second, "pilot.", keep);
+        double agreement =
+            p.pilotWideRadius > 0 && p.pilotBandwidths.size() == 1 ? p.wideAgreement : 0;
+        out = NforPass(clamped, variance, features, mask, p, second, "pilot.", keep, agreement);
     }
     if (p.meanRadius > 0) {
         keep("fit", out);

@@ -86,6 +86,8 @@ constexpr double kNforRelEps = 1e-4;
 constexpr double kNforTiny = 1e-30;
 constexpr double kNforTermMax = 25;
 constexpr double kNforExpCut = 30;
+// The magnitude floor of the select's disagreement (dark pixels compare absolutely).
+constexpr double kNforAgreementFloor = 1e-3;
 // The clamp's loss counts only where it clamped at least this share of the pixel-channels.
 constexpr double kNforClampLossMinShare = 1e-3;
 
@@ -134,6 +136,10 @@ struct NforParams {
     // > radius: the second pass also fits each pilot bandwidth over windows of this
     // half-size, its distance over them, and SURE picks among all; 0: off.
     int pilotWideRadius = 0;
+    // > 0 with one pilot bandwidth and pilotWideRadius: the wide window's fit is taken where
+    // its box-averaged disagreement with the narrow one is below this (NforSelect), not by
+    // SURE.
+    double wideAgreement = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
@@ -214,8 +220,12 @@ Image NforGather(const Image &input, const Image &features, const Image &mask,
                  const Image &distance, const NforFit &fit, const NforCandidate &candidate);
 
 // Per pixel the candidate of smallest box-averaged SURE; also the index chosen (1 plane).
+// With agreement > 0 instead the last candidate k > 0 whose box-averaged disagreement with
+// candidate 0 (the channels' mean of (y_k - y_0)^2 over (the channels' mean of y_0)^2 +
+// a floor) is below agreement, else candidate 0.
 Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
-                 const Image &color, const Image &variance, int sureRadius, Image *choice);
+                 const Image &color, const Image &variance, int sureRadius, Image *choice,
+                 double agreement = 0);
 
 // The whole method with its named stages (mask, color, clamp.variance where estimated
 // with edgeNoise, variance, features, distance,

@@ -130,6 +130,12 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                          "values clamped one by one over the sum of its values: the hue "
                          "stays)",
                          &O::fireflyEachChannel)),
+        nested(FloatParam("wide-agreement",
+                          "with --pilot-wide-radius and one pilot bandwidth: take the wide "
+                          "window's fit where its squared difference from the narrow one's, "
+                          "relative to that one's magnitude and averaged over the SURE window, "
+                          "is below this, elsewhere the narrow one's; 0: SURE picks",
+                          &O::wideAgreement, 0, 1e6)),
         nested(IntParam("kept-radius",
                         "on a frame without a variance layer, a pixel the fits left as it "
                         "came in (no neighbour weighed: a partly covered edge unlike all "
@@ -293,6 +299,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
         p.pilotAlpha = o.pilotAlpha;
         p.pilotWideRadius = o.pilotWideRadius;
+        p.wideAgreement = o.wideAgreement;
         p.meanRadius = o.meanRadius;
         p.keptRadius = o.keptRadius;
         p.weakEmitterAlbedo = o.weakEmitterAlbedo;

@@ -342,15 +342,18 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
 void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &variance, const vk::GpuImage &candidates,
                       const vk::GpuImage &hat, int count, int radius, vk::GpuImage &out,
-                      vk::GpuImage &choice) {
+                      vk::GpuImage &choice, float agreement) {
     CheckColor("nfor select", color);
     CheckSize("nfor select", color, variance, color.channels);
     CheckSize("nfor select", color, out, color.channels);
     CheckSize("nfor select", color, choice, 1);
-    if (count < 1 || count > NFOR_MAX_CANDIDATES || radius < 0 || radius > NFOR_SURE_MAX_RADIUS)
-        throw Error(fmt::format("nfor select: {} candidates (1..{}), radius {} (0..{})", count,
-                                NFOR_MAX_CANDIDATES, radius, NFOR_SURE_MAX_RADIUS),
-                    ErrorKind::InvalidArgument);
+    if (count < 1 || count > NFOR_MAX_CANDIDATES || radius < 0 ||
+        radius > NFOR_SURE_MAX_RADIUS || !(agreement >= 0))
+        throw Error(
+            fmt::format("nfor select: {} candidates (1..{}), radius {} (0..{}), "
+                        "agreement {} (at least 0)",
+                        count, NFOR_MAX_CANDIDATES, radius, NFOR_SURE_MAX_RADIUS, agreement),
+            ErrorKind::InvalidArgument);
     // The first `count` candidates of buffers sized for a pass with more.
     CheckSize("nfor select", color, candidates, 0);
     CheckSize("nfor select", color, hat, 0);
@@ -367,7 +370,7 @@ void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                                                   {{NFOR_SPEC_CHANNELS, color.channels}},
                                                   0,
                                                   0});
-    shader::NforSelectPush push{color.width, color.height, count, radius};
+    shader::NforSelectPush push{color.width, color.height, count, radius, agreement};
     recorder.Dispatch(kernel, "nfor.select",
                       {{NFOR_SELECT_COLOR, &color.buffer, vk::Access::Read},
                        {NFOR_SELECT_VARIANCE, &variance.buffer, vk::Access::Read},

@@ -77,11 +77,12 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                       const NforFitSettings &settings, vk::GpuImage &out, int outPlane);
 
 // shaders/nfor/select.comp: per pixel the candidate (of the first `count`: planes k x
-// channels.. of `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE.
+// channels.. of `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE;
+// agreement > 0: the last k > 0 whose box-averaged disagreement with candidate 0 is below it.
 void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &variance, const vk::GpuImage &candidates,
                       const vk::GpuImage &hat, int count, int radius, vk::GpuImage &out,
-                      vk::GpuImage &choice);
+                      vk::GpuImage &choice, float agreement = 0);
 
 // Stored offsets of a window of half-size `radius` (as ref::NforOffsetCount).
 int NforOffsetCount(int radius);

@@ -83,6 +83,11 @@ struct NforOptions {
     // (weighted by the pilot's distance over them), and SURE picks per pixel among all its
     // candidates; 0: one window size.
     int pilotWideRadius = 0;
+    // > 0 with one pilot bandwidth and pilotWideRadius: the wide window's fit is taken where
+    // its disagreement with the narrow one's, relative to the narrow one's magnitude and
+    // averaged over the SURE window, is below this; elsewhere the narrow one's (instead of
+    // SURE's choice).
+    float wideAgreement = 0;
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;

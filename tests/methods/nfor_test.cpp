@@ -720,6 +720,102 @@ TEST_P(NforSelectKernel, MatchesReferenceAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, NforSelectKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
+// Select by agreement on noisy candidates: a pixel's disagreement d^2 / (m^2 + floor) is a
+// few roundings of itself (every term positive), its window mean (window + 12) u more.
+// The threshold is the median of candidate 1's window means, so both choices occur; a
+// candidate whose mean is within the bound of it may go either way, elsewhere the choice
+// must match, and the output is the chosen candidate's value exactly.
+class NforAgreementKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforAgreementKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    std::string name = fmt::format("agree{}x{}{}", w, h, InputKindName(kind));
+    Image color = Positive(kind, w, h, 3, name);
+    std::vector<Image> outputs, hats;
+    Image candidates(w, h, 9), hat(w, h, 3);
+    for (int k = 0; k < 3; ++k) {
+        Image out = color;
+        std::mt19937_64 rng(SeedFromName(name + std::to_string(k)));
+        std::normal_distribution<float> normal(0.f, 0.1f * (k + 1));
+        for (float &v : out.data) v = std::max(0.f, v * (1 + normal(rng)));
+        std::copy(out.data.begin(), out.data.end(), candidates.Plane(3 * k));
+        outputs.push_back(out);
+        hats.push_back(Image(w, h, 1));
+    }
+    const int radius = 2, window = (2 * radius + 1) * (2 * radius + 1);
+    // The reference's window means of each candidate's disagreement with candidate 0.
+    std::vector<Image> means(3, Image(w, h, 1));
+    for (int k = 1; k < 3; ++k)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                int count = 0;
+                for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                    for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius);
+                         ++u, ++count) {
+                        double d = 0, m = 0;
+                        for (int c = 0; c < 3; ++c) {
+                            double e = double(outputs[k].At(c, v, u)) - outputs[0].At(c, v, u);
+                            d += e * e;
+                            m += outputs[0].At(c, v, u);
+                        }
+                        m /= 3;
+                        sum += d / 3 / (m * m + ref::kNforAgreementFloor);
+                    }
+                means[k].At(0, y, x) = float(sum / count);
+            }
+    // Halfway between the lower median and the next larger mean (none: above all).
+    std::vector<float> sorted = means[1].data;
+    std::sort(sorted.begin(), sorted.end());
+    const float low = sorted[(sorted.size() - 1) / 2];
+    auto next = std::upper_bound(sorted.begin(), sorted.end(), low);
+    const bool split = next != sorted.end();
+    const float agreement = split ? 0.5f * (low + *next) : 2 * low + 1e-6f;
+    Image expectedChoice;
+    Image expected =
+        ref::NforSelect(outputs, hats, color, color, radius, &expectedChoice, agreement);
+    auto run = [&](Image *choice) {
+        vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), color, "variance");
+        vk::GpuImage cand = Upload(Ctx(), candidates, "candidates"),
+                     hh = Upload(Ctx(), hat, "hat");
+        vk::GpuImage out(Ctx(), w, h, 3, "out"), pick(Ctx(), w, h, 1, "choice");
+        vk::Recorder recorder(Ctx());
+        RecordNforSelect(Ctx(), recorder, c, v, cand, hh, 3, radius, out, pick, agreement);
+        recorder.Submit();
+        *choice = pick.Download();
+        return out.Download();
+    };
+    Image choice, choiceAgain;
+    Image actual = run(&choice);
+    int ties = 0, mismatches = 0;
+    std::vector<int> taken(3, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int k = int(choice.At(0, y, x));
+            ASSERT_TRUE(k >= 0 && k < 3);
+            ++taken[k];
+            for (int c = 0; c < 3; ++c) ASSERT_EQ(actual.At(c, y, x), outputs[k].At(c, y, x));
+            bool tie = false;
+            for (int j = 1; j < 3; ++j) {
+                double mean = means[j].At(0, y, x);
+                tie = tie || std::fabs(mean - agreement) <= (window + 12) * kU * mean;
+            }
+            if (tie)
+                ++ties;
+            else if (k != int(expectedChoice.At(0, y, x)))
+                ++mismatches;
+        }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_LE(ties, w * h / 10 + 1) << "too many near-ties to test the choice";
+    if (split) EXPECT_GT(taken[0], 0) << "the narrow candidate is taken somewhere";
+    if (split) EXPECT_GT(taken[1] + taken[2], 0) << "a wide candidate is taken somewhere";
+    EXPECT_TRUE(BitIdentical(actual, run(&choiceAgain)));
+    EXPECT_TRUE(BitIdentical(choice, choiceAgain));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforAgreementKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
 // A synthetic plain frame: an albedo texture with an edge, a smooth illumination, normals
 // that turn at y = h / 2, a depth ramp, multiplicative noise; and its truth.
 struct Frame {
