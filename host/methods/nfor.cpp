@@ -344,10 +344,6 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     if (result.clampOnLayer) clamp(gpu.variance);
 }
 
-// Pixels of a strip EstimateClamped runs at once (its window's buffers well within a
-// binding).
-constexpr int kClampStripPixels = 1 << 22;
-
 // Rows [y0, y1) of every channel of `image`.
 Image Rows(const Image &image, int y0, int y1) {
     Image rows(image.width, y1 - y0, image.channels);
@@ -359,11 +355,12 @@ Image Rows(const Image &image, int y0, int y1) {
 
 // The colour clamped against its own noise estimate as RecordClamp clamps it, run on strips
 // of whole rows with a halo of the clamp's reach (the estimate's pairs around the pixel's
-// neighbours): every row as a run on the whole frame clamps it.
+// neighbours), each of at most stripPixels (at least one row): every row as a run on the
+// whole frame clamps it.
 Image EstimateClamped(vk::Context &context, const Image &color, const Image *albedo,
-                      const NforOptions &o) {
+                      const NforOptions &o, int stripPixels) {
     const int w = color.width, h = color.height, ch = color.channels;
-    const int halo = o.noiseRadius + 2, rows = std::max(1, kClampStripPixels / w);
+    const int halo = o.noiseRadius + 2, rows = std::max(1, stripPixels / w);
     Image clamped(w, h, ch);
     for (int y0 = 0; y0 < h; y0 += rows) {
         const int y1 = std::min(h, y0 + rows);
@@ -661,18 +658,20 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
 
 }  // namespace
 
-void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions &o) {
+void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions &o,
+                        int stripPixels) {
     if (!in->variance || o.clampLayer) return;
     CheckLayers(*in);
     CheckOptions(o);
-    in->clampLoss = ClampLoss(*in->color, EstimateClamped(context, *in->color, in->albedo, o));
+    in->clampLoss =
+        ClampLoss(*in->color, EstimateClamped(context, *in->color, in->albedo, o, stripPixels));
     if (!o.coarse) return;
     // The coarse pass's frame, as CoarseOutput halves it.
     Image color = NforHalf(*in->color);
     std::optional<Image> albedo;
     if (in->albedo) albedo = NforHalf(*in->albedo);
-    in->coarseClampLoss =
-        ClampLoss(color, EstimateClamped(context, color, albedo ? &*albedo : nullptr, o));
+    in->coarseClampLoss = ClampLoss(
+        color, EstimateClamped(context, color, albedo ? &*albedo : nullptr, o, stripPixels));
 }
 
 NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o,

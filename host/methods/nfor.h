@@ -149,9 +149,11 @@ float NforPivotScale(const Image *pivot);
 
 // Beside a variance layer (and without NforOptions::clampLayer), sets in->clampLoss and,
 // with a coarse pass, in->coarseClampLoss to what a run on the whole frame measures, bit
-// for bit: the clamp runs on strips of rows with a halo of its reach, so a frame too large
-// to run whole is measured too. Otherwise leaves them.
-void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions &options);
+// for bit: the clamp runs on strips of at most stripPixels (whole rows, at least one) with a
+// halo of its reach, so a frame too large to run whole is measured too. Otherwise leaves
+// them.
+void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions &options,
+                        int stripPixels = 1 << 22);
 
 // Whether the second pass's colour distance is normalised by 2 min(v_p, v_q).
 bool NforPilotMinVariance(const NforOptions &o);
