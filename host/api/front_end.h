@@ -202,8 +202,11 @@ class FrontEnd {
         return needs;
     }
     // A copy that computes, on any window of `whole`, what the run on `whole` computes
-    // there: frame-wide quantities (means, totals, scale counts) fixed from `whole`.
-    virtual std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const { return Clone(); }
+    // there: frame-wide quantities (means, totals, scale counts, decisions) fixed from
+    // `whole`, measured on this device where they need it.
+    virtual std::unique_ptr<FrontEnd> ForTiles(vk::Context &context, Inputs &whole) const {
+        return Clone();
+    }
     virtual std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const = 0;
 };
 

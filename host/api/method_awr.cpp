@@ -156,7 +156,7 @@ class Awr : public FrontEndOf<AwrSettings> {
         return needs;
     }
 
-    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
+    std::unique_ptr<FrontEnd> ForTiles(vk::Context &, Inputs &whole) const override {
         auto copy = std::make_unique<Awr>(*this);
         copy->options.method.levels = TileLevels(whole.Width(), whole.Height());
         return copy;

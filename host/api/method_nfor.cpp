@@ -256,11 +256,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         return needs;
     }
 
-    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
+    std::unique_ptr<FrontEnd> ForTiles(vk::Context &context, Inputs &whole) const override {
         auto copy = std::make_unique<Nfor>(*this);
         NforInputs in = InputsOf(whole);
         copy->depthScale = NforDepthScale(in.depth);
         copy->pivotScale = NforPivotScale(in.pivot);
+        // Whether the clamp reads the variance layer: decided once for the frame.
+        NforFrameClampLoss(context, &in, Options());
+        copy->clampLoss = in.clampLoss;
+        copy->coarseClampLoss = in.coarseClampLoss;
         return copy;
     }
 
@@ -335,11 +339,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             in.variance = &inputs.Get("variance");
         in.depthScale = depthScale;
         in.pivotScale = pivotScale;
+        in.clampLoss = clampLoss;
+        in.coarseClampLoss = coarseClampLoss;
         return in;
     }
 
-    // Set by ForTiles: the whole frame's divisors of depth and pivot.
+    // Set by ForTiles: the whole frame's divisors of depth and pivot, and the fractions of
+    // its light the clamp against its own estimate takes off (< 0: each run's own).
     float depthScale = 0, pivotScale = 0;
+    double clampLoss = -1, coarseClampLoss = -1;
 };
 
 }  // namespace

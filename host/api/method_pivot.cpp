@@ -221,7 +221,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         return needs;
     }
 
-    std::unique_ptr<FrontEnd> ForTiles(Inputs &whole) const override {
+    std::unique_ptr<FrontEnd> ForTiles(vk::Context &, Inputs &whole) const override {
         auto copy = std::make_unique<Pivot>(*this);
         PivotInputs in = InputsOf(whole);
         const float floor = options.method.floor;

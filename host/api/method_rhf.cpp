@@ -173,7 +173,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         return needs;
     }
 
-    std::unique_ptr<FrontEnd> ForTiles(Inputs &frame) const override {
+    std::unique_ptr<FrontEnd> ForTiles(vk::Context &, Inputs &frame) const override {
         auto copy = std::make_unique<Rhf>(*this);
         copy->whole.scalesUsed = RhfScalesUsed(frame.Width(), frame.Height(), options);
         copy->whole.histScales =

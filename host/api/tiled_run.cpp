@@ -103,7 +103,7 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
 
     const int R = needs.reach, align = std::max(needs.align, 1);
     const int tilesX = (W + TW - 1) / TW, tilesY = (H + TH - 1) / TH, count = tilesX * tilesY;
-    std::unique_ptr<FrontEnd> tiled = method.ForTiles(inputs);
+    std::unique_ptr<FrontEnd> tiled = method.ForTiles(context, inputs);
     RunOptions tileRun = run;
     Result result;
     std::vector<std::string> seen;

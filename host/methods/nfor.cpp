@@ -159,7 +159,8 @@ int PilotCandidateCount(const NforOptions &o) {
     return int(o.pilotBandwidths.size()) * (o.pilotWideRadius > 0 ? 2 : 1);
 }
 
-void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
+// The layers' presence, shapes and values.
+void CheckLayers(const NforInputs &in) {
     if (!in.color) throw Error("nfor: needs the color layer", ErrorKind::MissingLayer);
     const Image &color = *in.color;
     int w = color.width, h = color.height, ch = color.channels;
@@ -174,7 +175,12 @@ void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &
     if (in.normal) CheckLayer(*in.normal, "normal", w, h, 3, false);
     if (in.depth) CheckLayer(*in.depth, "depth", w, h, 1, false);
     if (in.pivot) CheckLayer(*in.pivot, "pivot", w, h, 3, false);
+}
+
+void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
+    CheckLayers(in);
     CheckOptions(o);
+    int w = in.color->width, h = in.color->height;
     // The distance buffers hold one plane per stored offset in one binding each.
     double bytes = double(NforOffsetCount(LargestRadius(o))) * w * h * sizeof(float);
     if (bytes > double(context.BindingBytes()))
@@ -328,10 +334,61 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     };
     clamp(clampVariance);
     if (!in.variance || !ownClamp) return;
-    run.Submit();
-    result.clampLoss = ClampLoss(*in.color, gpu.clamped.Download());
+    if (in.clampLoss >= 0) {
+        result.clampLoss = in.clampLoss;  // the whole frame's: every tile decides alike
+    } else {
+        run.Submit();
+        result.clampLoss = ClampLoss(*in.color, gpu.clamped.Download());
+    }
     result.clampOnLayer = result.clampLoss > o.clampLoss;
     if (result.clampOnLayer) clamp(gpu.variance);
+}
+
+// Rows [y0, y1) of every channel of `image`.
+Image Rows(const Image &image, int y0, int y1) {
+    Image rows(image.width, y1 - y0, image.channels);
+    const size_t offset = size_t(y0) * image.width, count = size_t(y1 - y0) * image.width;
+    for (int c = 0; c < image.channels; ++c)
+        std::copy_n(image.Plane(c) + offset, count, rows.Plane(c));
+    return rows;
+}
+
+// The colour clamped against its own noise estimate as RecordClamp clamps it, run on strips
+// of whole rows with a halo of the clamp's reach (the estimate's pairs around the pixel's
+// neighbours), each of at most stripPixels (at least one row): every row as a run on the
+// whole frame clamps it.
+Image EstimateClamped(vk::Context &context, const Image &color, const Image *albedo,
+                      const NforOptions &o, int stripPixels) {
+    const int w = color.width, h = color.height, ch = color.channels;
+    const int halo = o.noiseRadius + 2, rows = std::max(1, stripPixels / w);
+    Image clamped(w, h, ch);
+    for (int y0 = 0; y0 < h; y0 += rows) {
+        const int y1 = std::min(h, y0 + rows);
+        const int wy0 = std::max(0, y0 - halo), wy1 = std::min(h, y1 + halo);
+        vk::GpuImage strip(context, w, wy1 - wy0, ch, "nfor.strip.color"),
+            variance(context, w, wy1 - wy0, ch, "nfor.strip.variance"),
+            out(context, w, wy1 - wy0, ch, "nfor.strip.clamped"),
+            mask(context, w, wy1 - wy0, 1, "nfor.strip.mask");
+        strip.Upload(Rows(color, wy0, wy1));
+        std::optional<vk::GpuImage> divisor;
+        if (albedo) {
+            divisor.emplace(context, w, wy1 - wy0, 3, "nfor.strip.albedo");
+            divisor->Upload(Rows(*albedo, wy0, wy1));
+        }
+        StagedRun run(context, false);
+        const vk::GpuImage *a = divisor ? &*divisor : nullptr;
+        RecordNforNoise(context, run.Recorder(), strip, a, o.noiseRadius, o.noiseCalibration,
+                        variance);
+        RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
+                        o.fireflyRelative, o.emitterAlbedo, o.fireflyRank, o.fireflyLightEdge,
+                        !o.fireflyEachChannel, out, mask);
+        run.Submit();
+        Image part = out.Download();
+        const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;
+        for (int c = 0; c < ch; ++c)
+            std::copy_n(part.Plane(c) + skip, count, clamped.Plane(c) + size_t(y0) * w);
+    }
+    return clamped;
 }
 
 // Prefiltered features kept for later runs on the same features (RunSetup::memo).
@@ -484,21 +541,26 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
 }
 
 // Which noise the firefly clamp read beside a variance layer, and why.
-void PlanClamp(StagedRun &run, const NforOptions &o, const NforResult &result) {
+void PlanClamp(StagedRun &run, const NforInputs &in, const NforOptions &o,
+               const NforResult &result) {
+    const std::string frame =
+        in.clampLoss >= 0 ? " (measured over the whole frame before its tiles, so every "
+                            "tile reads the same)"
+                          : "";
     if (o.clampLayer)
         run.Plan("the firefly clamp reads the variance layer (--clamp-layer)");
     else if (result.clampOnLayer)
         run.Plan(fmt::format(
             "the firefly clamp against the frame's own estimate took off {:.1f}% of the "
             "light, above {:.1f}% (--clamp-loss): the light is in rare bright samples, not in "
-            "fireflies, so it reads the variance layer",
-            100 * result.clampLoss, 100 * o.clampLoss));
+            "fireflies, so it reads the variance layer{}",
+            100 * result.clampLoss, 100 * o.clampLoss, frame));
     else
         run.Plan(fmt::format(
             "the firefly clamp reads the frame's own estimate, not the variance layer (a "
             "firefly's few samples report its own variance there): it took off {:.2f}% of "
-            "the light (at most {:.1f}%, --clamp-loss)",
-            100 * result.clampLoss, 100 * o.clampLoss));
+            "the light (at most {:.1f}%, --clamp-loss){}",
+            100 * result.clampLoss, 100 * o.clampLoss, frame));
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -587,6 +649,7 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
                       pointer(variance),
                       in.depthScale > 0 ? in.depthScale : NforDepthScale(in.depth),
                       in.pivotScale > 0 ? in.pivotScale : NforPivotScale(in.pivot)};
+    coarse.clampLoss = in.coarseClampLoss;
     NforOptions options = o;
     options.coarse = false;
     options.keepStages = false;
@@ -594,6 +657,22 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
 }
 
 }  // namespace
+
+void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions &o,
+                        int stripPixels) {
+    if (!in->variance || o.clampLayer) return;
+    CheckLayers(*in);
+    CheckOptions(o);
+    in->clampLoss =
+        ClampLoss(*in->color, EstimateClamped(context, *in->color, in->albedo, o, stripPixels));
+    if (!o.coarse) return;
+    // The coarse pass's frame, as CoarseOutput halves it.
+    Image color = NforHalf(*in->color);
+    std::optional<Image> albedo;
+    if (in->albedo) albedo = NforHalf(*in->albedo);
+    in->coarseClampLoss = ClampLoss(
+        color, EstimateClamped(context, color, albedo ? &*albedo : nullptr, o, stripPixels));
+}
 
 NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o,
                        RunMemo *memo) {
@@ -662,7 +741,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                                "colour where none is) + {} sigma + {} x the median",
                                result.clamped, o.fireflyThreshold, o.fireflyRelative)
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
-    if (in.variance) PlanClamp(run, o, result);
+    if (in.variance) PlanClamp(run, in, o, result);
     PlanPasses(run, o, choice, result);
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));

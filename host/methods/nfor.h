@@ -115,6 +115,12 @@ struct NforInputs {
     // The divisors of depth and pivot (their means over the frame); 0: this frame's. A
     // tile of a larger frame (host/api/tiled_run.h) passes the whole frame's.
     float depthScale = 0, pivotScale = 0;
+    // Beside a variance layer, the fraction of the light the clamp against the frame's own
+    // estimate takes off, which decides whether the clamp reads the layer instead
+    // (NforOptions::clampLoss), and the same of the coarse pass's half-resolution frame;
+    // < 0: this frame's. A tile passes the whole frame's (NforFrameClampLoss), so that
+    // every tile decides alike.
+    double clampLoss = -1, coarseClampLoss = -1;
 };
 
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
@@ -140,6 +146,14 @@ Image NforFeatures(const NforInputs &inputs, const NforOptions &options,
 // The means NforFeatures divides depth and pivot by (0 without the layer).
 float NforDepthScale(const Image *depth);
 float NforPivotScale(const Image *pivot);
+
+// Beside a variance layer (and without NforOptions::clampLayer), sets in->clampLoss and,
+// with a coarse pass, in->coarseClampLoss to what a run on the whole frame measures, bit
+// for bit: the clamp runs on strips of at most stripPixels (whole rows, at least one) with a
+// halo of its reach, so a frame too large to run whole is measured too. Otherwise leaves
+// them.
+void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions &options,
+                        int stripPixels = 1 << 22);
 
 // Whether the second pass's colour distance is normalised by 2 min(v_p, v_q).
 bool NforPilotMinVariance(const NforOptions &o);

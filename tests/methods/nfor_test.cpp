@@ -1004,6 +1004,40 @@ TEST_F(NforMethod, KeepsTheLightOfRareBrightSamples) {
     EXPECT_LT(brightness(estimate.image), 0.97);
 }
 
+// The fraction of the light the estimate's clamp takes off, measured for a tiled frame in
+// strips of rows (NforFrameClampLoss), is the one a run on the whole frame measures, bit
+// for bit: strips of one row, of a few and the whole frame, at two noise radii (halos).
+TEST_F(NforMethod, FrameClampLossInStripsIsTheRunsOwn) {
+    const int w = 37, h = 29;
+    Frame f = MakeFrame(w, h, 0.1, "strips");
+    std::mt19937_64 rng(SeedFromName("strips hits"));
+    Image variance(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            bool hit = x < w / 2 && rng() % 6 == 0;
+            for (int c = 0; c < 3; ++c) {
+                float t = f.truth.At(c, y, x);
+                if (x < w / 2) f.color.At(c, y, x) = hit ? 4 * t : 0.f;
+                variance.At(c, y, x) = float(std::pow(0.1 * t, 2) * (hit ? 100 : 1));
+            }
+        }
+    NforInputs in = InputsOf(f);
+    in.variance = &variance;
+    for (int noiseRadius : {1, 2}) {
+        NforOptions o;
+        o.radius = 3;
+        o.noiseRadius = noiseRadius;
+        double own = NforDenoise(Ctx(), in, o).clampLoss;
+        EXPECT_GT(own, 0.02) << "the clamp takes some of the light";
+        for (int strip : {w, 3 * w + 5, w * h}) {
+            NforInputs measured = in;
+            NforFrameClampLoss(Ctx(), &measured, o, strip);
+            EXPECT_EQ(measured.clampLoss, own)
+                << "noise radius " << noiseRadius << ", strips of " << strip << " pixels";
+        }
+    }
+}
+
 // A second pass over two window sizes (each of two bandwidths over both: four candidates by
 // SURE), with a light's edges clamped.
 TEST_F(NforMethod, WideSecondPassStagesMatchTheReference) {

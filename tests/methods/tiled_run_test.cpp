@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <random>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -166,6 +167,103 @@ INSTANTIATE_TEST_SUITE_P(
         LocalCase{
             "pivot_bilateral", "pivot", {{"filter", std::string("bilateral")}}, 9, 61, 47}),
     [](const auto &info) { return info.param.name; });
+
+// A frame whose light on the left is in rare bright samples (one pixel in 8 saw a caustic
+// through 4 of its 16 paths; the clamp against the frame's own estimate would take much of
+// it off) and whose right is plain noise with two fireflies the variance layer hides (their
+// own samples report their variance): the left tile alone would clamp against the layer,
+// the right alone against the estimate, the whole frame against the layer.
+Frame RareBrightLeftFrame(int width, int height, int brightColumns) {
+    Frame frame;
+    frame.path = fmt::format("rare bright left {}x{}", width, height);
+    frame.width = width, frame.height = height;
+    Image color(width, height, 3), variance(width, height, 3), albedo(width, height, 3);
+    std::mt19937_64 rng(SeedFromName("rare bright left"));
+    std::normal_distribution<double> noise;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            bool hit = rng() % 8 == 0;
+            for (int c = 0; c < 3; ++c) {
+                double t = 0.3 + 0.2 * c + 0.3 * x / width + 0.1 * y / height;
+                albedo.At(c, y, x) = 0.5f;
+                if (x < brightColumns) {
+                    // Per sample 0 or 40 t: mean 10 t or 0.
+                    color.At(c, y, x) = hit ? float(10 * t) : 0.f;
+                    variance.At(c, y, x) = hit ? float(std::pow(40 * t, 2) * 0.75 / 64) : 0.f;
+                } else {
+                    color.At(c, y, x) = float(std::max(0.0, t * (1 + 0.1 * noise(rng))));
+                    variance.At(c, y, x) = float(std::pow(0.1 * t, 2));
+                }
+            }
+        }
+    for (auto [c, y, x] :
+         {std::tuple{1, height / 3, width - 40}, std::tuple{0, height / 2, width - 20}}) {
+        float &firefly = color.At(c, y, x);
+        firefly *= 1000;
+        variance.At(c, y, x) = firefly * firefly / 16;
+    }
+    frame.layers["color"] = std::move(color);
+    frame.layers["variance"] = std::move(variance);
+    frame.layers["albedo"] = std::move(albedo);
+    return frame;
+}
+
+// The plan's line on what the firefly clamp read (printed): true for the variance layer.
+bool ClampReadsTheLayer(const Result &result) {
+    for (const std::string &line : result.plan)
+        if (line.find("firefly clamp") != std::string::npos) {
+            std::printf("%s\n", line.c_str());
+            return line.find("so it reads the variance layer") != std::string::npos;
+        }
+    ADD_FAILURE() << "no line on the firefly clamp in the plan";
+    return false;
+}
+
+// nfor beside a variance layer decides once for the frame whether its clamp reads the
+// layer (--clamp-loss): every tile reads what the whole frame's run reads, though each
+// window alone would decide otherwise, and the tiled result is the untiled one bit for bit;
+// with the coarse pass too (its half-resolution frame decided once as well).
+TEST_F(GpuTest, TiledRunNforClampDecidesOnceForTheFrame) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 256, height = 48, tile = 128, bright = 64;
+    Frame frame = RareBrightLeftFrame(width, height, bright);
+    for (bool coarse : {false, true}) {
+        SCOPED_TRACE(coarse ? "coarse pass" : "no coarse pass");
+        Params params = {{"radius", 3},
+                         {"pilot-bandwidths", std::string("none")},
+                         {"nfor-mean-radius", 0},
+                         {"nfor-coarse", coarse}};
+        Result whole = RunWith(device, "nfor", params, frame, 0);
+        Result tiled = RunWith(device, "nfor", params, frame, tile);
+        ASSERT_FALSE(tiled.plan.empty());
+        EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+        EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
+        EXPECT_TRUE(ClampReadsTheLayer(whole));
+        ExpectSameBits(whole.image, tiled.image, "nfor tiled");
+
+        std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
+        for (const auto &[param, value] : params) nfor->Set(param, value);
+        api::Inputs inputs(frame, false, "nfor");
+        api::TileNeeds needs = nfor->Tiling(Ctx(), inputs);
+        // The right window holds none of the bright columns.
+        ASSERT_LE(needs.reach, tile - bright);
+        std::unique_ptr<api::FrontEnd> forTiles = nfor->ForTiles(Ctx(), inputs);
+        // The windows RunTiled cuts: each tile and its halo.
+        for (auto [x0, x1] :
+             {std::pair{0, tile + needs.reach}, std::pair{tile - needs.reach, width}}) {
+            SCOPED_TRACE(fmt::format("window [{}, {})", x0, x1));
+            api::Inputs window(inputs, x0, 0, x1, height);
+            Result alone = nfor->Run(Ctx(), window, RunOptions{});
+            Result inTiles = forTiles->Run(Ctx(), window, RunOptions{});
+            EXPECT_EQ(ClampReadsTheLayer(alone), x0 == 0) << "the frame decides alike";
+            EXPECT_TRUE(ClampReadsTheLayer(inTiles));
+            bool said = false;
+            for (const std::string &line : inTiles.plan)
+                said = said || line.find("over the whole frame") != std::string::npos;
+            EXPECT_TRUE(said) << "the plan says the decision is the frame's";
+        }
+    }
+}
 
 // The wavelet methods' statistics are frame-wide: in tiles they complete with a finite
 // image of the frame's size, the plan says the result differs and why, and the difference
