@@ -452,4 +452,78 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
         8 * r, 2 * r, 8 * r, f.lo, f.hi);
 }
 
+namespace {
+
+// Per pixel w (a0 - h1)(a0 - b0) and w (a0 - b0)^2 summed over the channels (planes 0
+// and 1), w = 1 / (a^2 + 0.01), a the channels' mean of `a`.
+Image RestoreGain(const Image &a, const Image &a0, const Image &b0, const Image &h1) {
+    const size_t n = a.PixelCount();
+    Image terms(a.width, a.height, 2);
+    for (size_t i = 0; i < n; ++i) {
+        double mean = 0;
+        for (int c = 0; c < a.channels; ++c) mean += a.data[c * n + i];
+        mean /= a.channels;
+        double w = 1 / (mean * mean + 0.01), gain = 0, squared = 0;
+        if (!std::isfinite(w)) continue;
+        for (int c = 0; c < a.channels; ++c) {
+            double x = a0.data[c * n + i], y = b0.data[c * n + i], h = h1.data[c * n + i];
+            if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) continue;
+            gain += w * (x - h) * (x - y);
+            squared += w * (x - y) * (x - y);
+        }
+        terms.data[i] = float(gain);
+        terms.data[n + i] = float(squared);
+    }
+    return terms;
+}
+
+}  // namespace
+
+RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
+                                      const Image &half1, const Image &combined,
+                                      const Image &combinedHalf, int r, const Image *variance,
+                                      double rebalance, int s, double floorShare,
+                                      Image *output) {
+    if (!half0.SameShape(input) || !half1.SameShape(input) || !combined.SameShape(input) ||
+        !combinedHalf.SameShape(input))
+        throw Error(
+            "RestoreLocalMeansChecked: the halves and combinations must have the "
+            "input's shape",
+            ErrorKind::InvalidArgument);
+    RestoreCheck check;
+    Image restored = combined, restoredHalf = combinedHalf;
+    check.restore = RestoreLocalMeansRebalanced(input, r, &restored, variance, rebalance);
+    RestoreLocalMeansRebalanced(half0, r, &restoredHalf, variance, rebalance);
+    Image terms = TentMean(RestoreGain(combined, combinedHalf, restoredHalf, half1), s);
+    const size_t n = input.PixelCount();
+    std::vector<double> share(n, 1.0);
+    // The means of the input, of the checked output and of what a full lift would add.
+    double in = 0, checked = 0, rest = 0, total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (terms.data[n + i] > 0)
+            share[i] = std::clamp(double(terms.data[i]) / terms.data[n + i], 0.0, 1.0);
+        total += share[i];
+        for (int c = 0; c < input.channels; ++c) {
+            double a = combined.data[c * n + i], b = restored.data[c * n + i];
+            double x = input.data[c * n + i];
+            if (std::isfinite(x)) in += x;
+            if (!std::isfinite(a) || !std::isfinite(b)) continue;
+            checked += a + share[i] * (b - a);
+            rest += (1 - share[i]) * (b - a);
+        }
+    }
+    check.meanShare = n ? total / double(n) : 1;
+    if (checked < floorShare * in && rest > 0)
+        check.lift = std::min(1.0, (floorShare * in - checked) / rest);
+    *output = combined;
+    for (size_t i = 0; i < n; ++i) {
+        double t = share[i] + check.lift * (1 - share[i]);
+        for (int c = 0; c < input.channels; ++c) {
+            double a = combined.data[c * n + i], b = restored.data[c * n + i];
+            output->data[c * n + i] = float(a + t * (b - a));
+        }
+    }
+    return check;
+}
+
 }  // namespace mcd

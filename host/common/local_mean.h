@@ -87,6 +87,32 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
                                         const Image *variance,
                                         double rebalance = kLocalMeanRebalance);
 
+// The restore checked against an independent half-buffer (beyond the papers), for a
+// combination that also ran on half0 (auto beside the half-buffers). Where a frame's light
+// is in rare bright samples (a glossy ring's reflections of small lights at 16 spp) the
+// candidates take it off and the restore gives it back spread over its tents, onto pixels
+// the reference keeps dark. `combined` and `combinedHalf` (the same combination of the
+// candidates' runs on `half0`) are restored as RestoreLocalMeansRebalanced does, from
+// `input` and `half0`; per pixel the share t of the restore, f = a + t (b - a), that the
+// independent `half1` says lowers the relative squared error over the tent of radius 2s:
+// t = sum w (a0 - h1)(a0 - b0) / sum w (a0 - b0)^2 clamped to [0, 1], w = 1 / (a^2 + 0.01)
+// (channels' mean a), where a0, b0 are the half's combination unrestored and restored (the
+// expectation of the sum is that of the reference's in place of h1: a0 and b0 do not
+// depend on h1). relMSE prefers a dark output where the noise is heavy-tailed, so the
+// restore's brightness is then kept to `floorShare` of the input's mean: t' = t + l (1 -
+// t) with the least l in [0, 1] that gives it. `output`: `combined`'s shape.
+constexpr double kRestoreCheckFloor = 0.99;
+struct RestoreCheck {
+    std::string restore;   // RestoreLocalMeansRebalanced's account of the restore
+    double meanShare = 1;  // the mean of t
+    double lift = 0;       // l
+};
+RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
+                                      const Image &half1, const Image &combined,
+                                      const Image &combinedHalf, int r, const Image *variance,
+                                      double rebalance, int s, double floorShare,
+                                      Image *output);
+
 // Lone spikes cut from a frame before a filter that averages each pixel with the alike ones
 // around it (beyond the papers): rhf's histograms hardly tell a firefly from its
 // neighbours, so its energy was spread evenly over the search window, a square. A pixel

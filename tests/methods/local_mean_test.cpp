@@ -11,6 +11,7 @@
 #include "cpu_reference/local_mean.h"
 #include "harness/inputs.h"
 #include "host/common/local_mean.h"
+#include "host/error.h"
 
 namespace mcd {
 namespace {
@@ -379,6 +380,51 @@ TEST(LocalMeanProperties, FrameNoiseReadsTheNoiseAndNotALine) {
     int n = 0;
     for (int i = 10; i + 10 < w; ++i, ++n) beside += lined.At(0, i, i + 1);
     EXPECT_LT(beside / n, 2 * 0.25 * sd * sd);
+}
+
+// A frame darkened uniformly by a combination (0.5 -> 0.3) whose restore brings back 0.5
+// everywhere; half1 agrees with the restore on the left and with the unrestored combination
+// on the right: the check keeps the restore on the left and none of it on the right, and
+// with a floor lifts the rest just enough for that share of the input's mean.
+TEST(LocalMeanProperties, RestoreCheckKeepsWhatHalfOneConfirms) {
+    const int w = 96, h = 24, r = 2, s = 3;
+    Image input(w, h, 3, 0.5f), half0(w, h, 3, 0.5f), half1(w, h, 3, 0.5f);
+    Image combined(w, h, 3, 0.3f), combinedHalf(w, h, 3, 0.3f);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = w / 2; x < w; ++x) half1.At(c, y, x) = 0.3f;
+    Image restored = combined, output;
+    RestoreLocalMeansRebalanced(input, r, &restored, nullptr, kLocalMeanRebalanceAuto);
+    RestoreCheck check =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, 0, &output);
+    EXPECT_EQ(check.lift, 0);
+    EXPECT_NEAR(check.meanShare, 0.5, 0.1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w / 2 - 2 * s; ++x)
+                EXPECT_NEAR(output.At(c, y, x), restored.At(c, y, x), 1e-6);
+            for (int x = w / 2 + 2 * s; x < w; ++x) EXPECT_EQ(output.At(c, y, x), 0.3f);
+        }
+    EXPECT_NEAR(restored.At(0, h / 2, w / 4), 0.5, 0.01);
+
+    RestoreCheck lifted =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, kRestoreCheckFloor, &output);
+    EXPECT_GT(lifted.lift, 0);
+    EXPECT_LT(lifted.lift, 1);
+    double mean = 0;
+    for (float v : output.data) mean += v;
+    mean /= double(output.Size());
+    EXPECT_NEAR(mean, kRestoreCheckFloor * 0.5, 1e-5);
+}
+
+// A half of another shape is refused, not read past its end.
+TEST(LocalMeanProperties, RestoreCheckRefusesHalvesOfAnotherShape) {
+    Image input(8, 8, 3, 0.5f), small(8, 7, 3, 0.5f), output;
+    EXPECT_THROW(RestoreLocalMeansChecked(input, input, small, input, input, 1, nullptr, 0.1, 1,
+                                          0.99, &output),
+                 Error);
 }
 
 }  // namespace
