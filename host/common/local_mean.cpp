@@ -392,6 +392,78 @@ size_t CutSpikes(Image *color) {
     return cut.size();
 }
 
+namespace {
+
+// Whether pixel p is a light: its sum finite and > 0, its channels' variances summed at
+// most (kLightNoise x its sum)^2.
+bool Light(const Image &variance, const Image &sums, size_t p) {
+    const double s = sums.data[p];
+    if (!(s > 0) || !std::isfinite(s)) return false;
+    double v = 0;
+    for (int c = 0; c < variance.channels; ++c)
+        v += variance.data[c * variance.PixelCount() + p];
+    return v <= kLightNoise * kLightNoise * s * s;
+}
+
+}  // namespace
+
+std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
+    const int w = color->width, h = color->height;
+    const size_t n = color->PixelCount();
+    std::vector<size_t> rims;
+    if (variance.width != w || variance.height != h ||
+        (variance.channels != 1 && variance.channels != color->channels))
+        return rims;
+    Image sums(w, h, 1);
+    for (size_t p = 0; p < n; ++p) {
+        double sum = 0;
+        for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
+        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
+    }
+    std::vector<char> light(n);
+    for (size_t p = 0; p < n; ++p) light[p] = Light(variance, sums, p);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            const float own = sums.data[p];
+            const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
+            if (light[p] || !(own > 0) || !std::isfinite(own) || !std::isfinite(m) ||
+                !(own > kSpike * m))
+                continue;
+            bool beside = false, others = false;
+            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                    const size_t q = size_t(j) * w + i;
+                    if (q == p) continue;
+                    if (light[q] && sums.data[q] > own)
+                        beside = true;
+                    else if (!light[q])
+                        others = true;
+                }
+            if (beside && others) rims.push_back(p);
+        }
+    // Every median from the frame as it came, over the neighbours that are no lights.
+    std::vector<float> medians(rims.size() * color->channels);
+    for (size_t k = 0; k < rims.size(); ++k) {
+        const int x = int(rims[k] % w), y = int(rims[k] / w);
+        for (int c = 0; c < color->channels; ++c) {
+            float values[8];
+            int count = 0;
+            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                    const size_t q = size_t(j) * w + i;
+                    if (q != rims[k] && !light[q]) values[count++] = color->Plane(c)[q];
+                }
+            std::nth_element(values, values + (count - 1) / 2, values + count);
+            medians[k * color->channels + c] = values[(count - 1) / 2];
+        }
+    }
+    for (size_t k = 0; k < rims.size(); ++k)
+        for (int c = 0; c < color->channels; ++c)
+            color->Plane(c)[rims[k]] = medians[k * color->channels + c];
+    return rims;
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     if (!input.SameShape(*output) || variance.width != input.width ||
         variance.height != input.height ||

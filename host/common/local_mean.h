@@ -34,6 +34,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "host/image.h"
 
@@ -128,6 +129,21 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
 // veto keeps such a point mostly to itself.
 constexpr double kSpike = 16, kSpikeMost = 512;
 size_t CutSpikes(Image *color);
+
+// A small light's rim cut from a frame before such a filter, and given back after it (beyond
+// the papers). A pixel beside a light's core that one of its few samples saw (glossy_lights
+// accumulated: 15 among walls of 0.08, a bulb of 240 beside it) is no lone spike, but the
+// filter spread it over its search window all the same: a lighter square beside each
+// bulb. A light: a pixel whose value (channels summed, finite, > 0) has a standard
+// deviation (`variance` of the pixel mean, one channel or the frame's, summed) of at most
+// kLightNoise of it: nearly every sample saw the same (a bulb, 240.00x). A pixel whose
+// value is over kSpike times the median of its 8 neighbours', which is no light itself and
+// has a light brighter than it among its neighbours, takes per channel the median of its
+// neighbours that are no lights (from the frame as given); none without such neighbours.
+// Returns the pixels cut (y * width + x, ascending); the caller gives them their input back
+// after the filter. An empty or wrongly sized variance cuts nothing.
+constexpr double kLightNoise = 0.01;
+std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or

@@ -354,6 +354,71 @@ TEST(LocalMeanProperties, CutSpikesCutsOnlyLoneSpikes) {
         if (i % cut.PixelCount() != 2 * 12 + 2) EXPECT_EQ(cut.data[i], color.data[i]) << i;
 }
 
+// Lights' rims against the reference on the random frames, with a variance that makes
+// about a tenth of the pixels lights (0, or tiny against the value) and the rest noisy,
+// and a bright light planted beside a rim and a lone spike: the same pixels and bits, and
+// the same when repeated.
+TEST_P(LocalMeanMatches, CutLightRimsMatchesReference) {
+    const LocalMeanCase &c = GetParam();
+    Image input, unused;
+    MakeImages(c, &input, &unused);
+    std::mt19937_64 rng(
+        SeedFromName("light rims " + std::to_string(c.w) + "x" + std::to_string(c.h)));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image variance(c.w, c.h, c.channels);
+    for (size_t i = 0; i < variance.data.size(); ++i) {
+        float u = unit(rng);
+        variance.data[i] = u < 0.1f ? 0.f : u < 0.15f ? 1e-7f : unit(rng);
+    }
+    if (c.w >= 3 && c.h >= 3)
+        for (int ch = 0; ch < c.channels; ++ch) {
+            input.At(ch, 1, 1) = 200;
+            variance.At(ch, 1, 1) = 0;
+            input.At(ch, 1, 2) = 20;
+        }
+    Image expected = input, got = input, again = input;
+    std::vector<size_t> rims = ref::CutLightRims(&expected, variance);
+    EXPECT_EQ(CutLightRims(&got, variance), rims);
+    ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    CutLightRims(&again, variance);
+    EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+    Image one(c.w, c.h, 1);
+    for (size_t p = 0; p < one.data.size(); ++p) one.data[p] = variance.data[p];
+    Image expectedOne = input, gotOne = input;
+    EXPECT_EQ(CutLightRims(&gotOne, one), ref::CutLightRims(&expectedOne, one));
+    EXPECT_EQ(0,
+              std::memcmp(gotOne.data.data(), expectedOne.data.data(), gotOne.data.size() * 4));
+}
+
+// A bulb (3x3 of 240, its samples agreeing) on a wall of 0.1 with a rim pixel one sample saw
+// (15) beside it: the rim takes the wall's median, the bulb and a lone spike away from
+// any light stay (CutSpikes's), and a wrongly sized variance cuts nothing.
+TEST(LocalMeanProperties, CutLightRimsCutsOnlyPixelsBesideALight) {
+    const int w = 16, h = 12;
+    Image color(w, h, 3, 0.1f), variance(w, h, 3, 0.01f);
+    for (int c = 0; c < 3; ++c) {
+        for (int y = 4; y <= 6; ++y)
+            for (int x = 4; x <= 6; ++x) {
+                color.At(c, y, x) = 240;
+                variance.At(c, y, x) = 1e-4f;
+            }
+        color.At(c, 5, 7) = 15;  // rim
+        variance.At(c, 5, 7) = 14;
+        color.At(c, 2, 12) = 15;  // lone spike: no light beside it
+        variance.At(c, 2, 12) = 14;
+    }
+    Image cut = color;
+    std::vector<size_t> rims = CutLightRims(&cut, variance);
+    ASSERT_EQ(rims.size(), 1u);
+    EXPECT_EQ(rims[0], size_t(5 * w + 7));
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(cut.At(c, 5, 7), 0.1f);
+    for (size_t i = 0; i < cut.data.size(); ++i)
+        if (i % cut.PixelCount() != size_t(5 * w + 7)) EXPECT_EQ(cut.data[i], color.data[i]);
+    Image other(w, h - 1, 3), same = color;
+    EXPECT_TRUE(CutLightRims(&same, other).empty());
+    EXPECT_EQ(0, std::memcmp(same.data.data(), color.data.data(), color.data.size() * 4));
+}
+
 // The robust estimate reads Gaussian noise's variance (its mean over a frame within 5%),
 // and a bright line the albedo does not show does not raise it beside the line, where a
 // 3x3 sample variance of the same frame is many times the noise.
