@@ -209,8 +209,29 @@ bool SpikeOver(const Image &image, int y, int x) {
 
 }  // namespace
 
-size_t CutSpikes(Image *color) {
+namespace {
+
+float SumAt(const Image &image, int y, int x) {
+    double sum = 0;
+    for (int k = 0; k < image.channels; ++k) sum += image.At(k, y, x);
+    return std::isfinite(sum) ? float(sum) : NAN;
+}
+
+bool LightAt(const Image &image, const Image &variance, int y, int x) {
+    double s = SumAt(image, y, x);
+    if (!std::isfinite(s) || !(s > 0)) return false;
+    double v = 0;
+    for (int c = 0; c < variance.channels; ++c) v += variance.At(c, y, x);
+    return v <= 0.01 * 0.01 * s * s;
+}
+
+}  // namespace
+
+size_t CutSpikes(Image *color, const Image *variance) {
     const Image given = *color;
+    const bool usable = variance && variance->width == given.width &&
+                        variance->height == given.height &&
+                        (variance->channels == 1 || variance->channels == given.channels);
     size_t count = 0;
     for (int y = 0; y < given.height; ++y)
         for (int x = 0; x < given.width; ++x) {
@@ -218,7 +239,14 @@ size_t CutSpikes(Image *color) {
             // Not over 512 x its neighbours' median.
             double own = 0;
             for (int k = 0; k < given.channels; ++k) own += given.At(k, y, x);
-            if (!(float(own) <= 512 * MedianAround(given, -1, y, x))) continue;
+            // Over it, only beside a light (or where no variance tells lights).
+            bool besideLight = !usable;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u)
+                    if (usable && (u != x || v != y) && u >= 0 && v >= 0 && u < given.width &&
+                        v < given.height && LightAt(given, *variance, v, u))
+                        besideLight = true;
+            if (!(float(own) <= 512 * MedianAround(given, -1, y, x)) && besideLight) continue;
             int neighbours = 0;
             for (int v = y - 1; v <= y + 1; ++v)
                 for (int u = x - 1; u <= x + 1; ++u)
@@ -246,24 +274,6 @@ size_t CutSpikes(Image *color) {
     return count;
 }
 
-namespace {
-
-float SumAt(const Image &image, int y, int x) {
-    double sum = 0;
-    for (int k = 0; k < image.channels; ++k) sum += image.At(k, y, x);
-    return std::isfinite(sum) ? float(sum) : NAN;
-}
-
-bool LightAt(const Image &image, const Image &variance, int y, int x) {
-    double s = SumAt(image, y, x);
-    if (!std::isfinite(s) || !(s > 0)) return false;
-    double v = 0;
-    for (int c = 0; c < variance.channels; ++c) v += variance.At(c, y, x);
-    return v <= 0.01 * 0.01 * s * s;
-}
-
-}  // namespace
-
 std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
     std::vector<size_t> rims;
     const Image given = *color;
@@ -288,6 +298,12 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
                         brighterLight = true;
                 }
             if (!brighterLight || !plain) continue;
+            int lights = 0;
+            for (int v = y - 4; v <= y + 4; ++v)
+                for (int u = x - 4; u <= x + 4; ++u)
+                    if (u >= 0 && v >= 0 && u < w && v < h && LightAt(given, variance, v, u))
+                        ++lights;
+            if (lights > 25) continue;
             rims.push_back(size_t(y) * w + x);
             for (int c = 0; c < given.channels; ++c) {
                 std::vector<float> values;

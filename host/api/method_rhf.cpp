@@ -94,7 +94,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::vector<size_t> rims;
         if (options.meanRadius > 0) {
             cut = color;
-            spikes = CutSpikes(&cut);
+            spikes = CutSpikes(&cut, &variance);
             rims = CutLightRims(&cut, variance);
         }
         const bool anyCut = spikes > 0 || !rims.empty();
@@ -197,7 +197,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         const Image variance = ExactVariance(ExactLayersOf(inputs));
         std::vector<size_t> rims;
         if (options.meanRadius > 0) {
-            ref::CutSpikes(&cut);
+            ref::CutSpikes(&cut, &variance);
             rims = ref::CutLightRims(&cut, variance);
         }
         Image out = ref::Rhf(cut, Histograms(inputs), options, &named);

@@ -352,9 +352,20 @@ bool AboveNeighbours(const float *plane, const std::vector<char> &over, int w, i
     return true;
 }
 
+// Whether pixel p is a light: its sum finite and > 0, its channels' variances summed at
+// most (kLightNoise x its sum)^2.
+bool Light(const Image &variance, const Image &sums, size_t p) {
+    const double s = sums.data[p];
+    if (!(s > 0) || !std::isfinite(s)) return false;
+    double v = 0;
+    for (int c = 0; c < variance.channels; ++c)
+        v += variance.data[c * variance.PixelCount() + p];
+    return v <= kLightNoise * kLightNoise * s * s;
+}
+
 }  // namespace
 
-size_t CutSpikes(Image *color) {
+size_t CutSpikes(Image *color, const Image *variance) {
     const int w = color->width, h = color->height;
     const size_t n = color->PixelCount();
     Image sums(w, h, 1);
@@ -363,6 +374,17 @@ size_t CutSpikes(Image *color) {
         for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
         sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
     }
+    // Pixels beside a light, where a spike over kSpikeMost stays.
+    const bool usable = variance && variance->width == w && variance->height == h &&
+                        (variance->channels == 1 || variance->channels == color->channels);
+    std::vector<char> lit(n, !usable);
+    if (usable)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                    for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
+                        if ((i != x || j != y) && Light(*variance, sums, size_t(j) * w + i))
+                            lit[size_t(y) * w + x] = 1;
     std::vector<char> over(n, 0), within(n, 0);
     ParallelFor(h, n * 16, [&](int begin, int end) {
         for (int y = begin; y < end; ++y)
@@ -371,7 +393,7 @@ size_t CutSpikes(Image *color) {
                 const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
                 over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
                           sums.data[p] > kSpike * m;
-                within[p] = over[p] && sums.data[p] <= kSpikeMost * m;
+                within[p] = over[p] && (sums.data[p] <= kSpikeMost * m || !lit[p]);
             }
     });
     std::vector<size_t> cut;
@@ -391,21 +413,6 @@ size_t CutSpikes(Image *color) {
             color->Plane(c)[cut[k]] = medians[k * color->channels + c];
     return cut.size();
 }
-
-namespace {
-
-// Whether pixel p is a light: its sum finite and > 0, its channels' variances summed at
-// most (kLightNoise x its sum)^2.
-bool Light(const Image &variance, const Image &sums, size_t p) {
-    const double s = sums.data[p];
-    if (!(s > 0) || !std::isfinite(s)) return false;
-    double v = 0;
-    for (int c = 0; c < variance.channels; ++c)
-        v += variance.data[c * variance.PixelCount() + p];
-    return v <= kLightNoise * kLightNoise * s * s;
-}
-
-}  // namespace
 
 std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
     const int w = color->width, h = color->height;
@@ -440,7 +447,13 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
                     else if (!light[q])
                         others = true;
                 }
-            if (beside && others) rims.push_back(p);
+            if (!beside || !others) continue;
+            // A small light's: a light's long edge spread along itself is its coverage.
+            int lights = 0;
+            for (int j = std::max(0, y - 4); j <= std::min(h - 1, y + 4); ++j)
+                for (int i = std::max(0, x - 4); i <= std::min(w - 1, x + 4); ++i)
+                    lights += light[size_t(j) * w + i];
+            if (lights <= kSmallLight) rims.push_back(p);
         }
     // Every median from the frame as it came, over the neighbours that are no lights.
     std::vector<float> medians(rims.size() * color->channels);

@@ -127,8 +127,12 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
 // tents (at r = 8 a centre weight of 1/4225), would light a glow one can see (fireflies 4
 // spp: a point of 2853 on an emitter of 4.3, 1139 in the reference); the filter's bright
 // veto keeps such a point mostly to itself.
+// With `variance` (of the pixel mean, one channel or the frame's; see CutLightRims for a
+// light) that bound holds only beside a light: a spike over it against black or a dim
+// surface (relief-abc 4 spp: 9.8 on a plane's edge of 0.05 against the black background,
+// its neighbours' median 0) is cut as the others are.
 constexpr double kSpike = 16, kSpikeMost = 512;
-size_t CutSpikes(Image *color);
+size_t CutSpikes(Image *color, const Image *variance = nullptr);
 
 // A small light's rim cut from a frame before such a filter, and given back after it (beyond
 // the papers). A pixel beside a light's core that one of its few samples saw (glossy_lights
@@ -138,11 +142,15 @@ size_t CutSpikes(Image *color);
 // deviation (`variance` of the pixel mean, one channel or the frame's, summed) of at most
 // kLightNoise of it: nearly every sample saw the same (a bulb, 240.00x). A pixel whose
 // value is over kSpike times the median of its 8 neighbours', which is no light itself and
-// has a light brighter than it among its neighbours, takes per channel the median of its
-// neighbours that are no lights (from the frame as given); none without such neighbours.
+// has a light brighter than it among its neighbours, and at most kSmallLight lights in
+// its 9x9 window (a small light: along a large light's edge, as cornell's at 4 spp, the
+// filter spreads the rims along the edge, which is the edge's coverage), takes per channel
+// the median of its neighbours that are no lights (from the frame as given); none without
+// such neighbours.
 // Returns the pixels cut (y * width + x, ascending); the caller gives them their input back
 // after the filter. An empty or wrongly sized variance cuts nothing.
 constexpr double kLightNoise = 0.01;
+constexpr int kSmallLight = 25;
 std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
