@@ -246,7 +246,8 @@ size_t CutSpikes(Image *color, const Image *variance) {
                     if (usable && (u != x || v != y) && u >= 0 && v >= 0 && u < given.width &&
                         v < given.height && LightAt(given, *variance, v, u))
                         besideLight = true;
-            if (!(float(own) <= 512 * MedianAround(given, -1, y, x)) && besideLight) continue;
+            const double median = MedianAround(given, -1, y, x);
+            if (!(float(own) <= 512 * median) && (besideLight || !(median > 0))) continue;
             int neighbours = 0;
             for (int v = y - 1; v <= y + 1; ++v)
                 for (int u = x - 1; u <= x + 1; ++u)

@@ -35,7 +35,7 @@ void RestoreLocalMeans(const Image &input, int r, Image *output,
 // not finite) and its sum (as a float) above each of theirs not so over, takes per channel the
 // median of its neighbours' values in the frame as given. Returns how many pixels. With a
 // variance (1 or color's channels, color's size; else as without), over 512 x is cut too
-// where no neighbour is a light (CutLightRims below).
+// where the median is > 0 and no neighbour is a light (CutLightRims below).
 size_t CutSpikes(Image *color, const Image *variance = nullptr);
 
 // A light's rims (host/common/local_mean.h, CutLightRims): a pixel whose channels' sum (NaN

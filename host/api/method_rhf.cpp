@@ -95,7 +95,8 @@ class Rhf : public FrontEndOf<RhfParams> {
         if (options.meanRadius > 0) {
             cut = color;
             spikes = CutSpikes(&cut, &variance);
-            rims = CutLightRims(&cut, variance);
+            Image spiked = cut;
+            rims = ManySampled(spiked, Histograms(inputs), CutLightRims(&cut, variance), &cut);
         }
         const bool anyCut = spikes > 0 || !rims.empty();
         Result result = ResultOf(
@@ -109,7 +110,8 @@ class Rhf : public FrontEndOf<RhfParams> {
                              "energy back",
                              spikes, kSpike),
                  fmt::format("lights' rims: {} pixels over {} times their neighbours' median "
-                             "beside a brighter light (its samples within 1%) take their "
+                             "beside a brighter light (its samples within 1%), of at least "
+                             "16 samples, take their "
                              "other neighbours' median before the filter and their input back "
                              "after it",
                              rims.size(), kSpike)});
@@ -198,7 +200,9 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::vector<size_t> rims;
         if (options.meanRadius > 0) {
             ref::CutSpikes(&cut, &variance);
-            rims = ref::CutLightRims(&cut, variance);
+            Image spiked = cut;
+            rims = ManySampled(spiked, Histograms(inputs), ref::CutLightRims(&cut, variance),
+                               &cut);
         }
         Image out = ref::Rhf(cut, Histograms(inputs), options, &named);
         // The pipeline's clamp of the recombination's overshoot (the reference's output is
@@ -227,6 +231,26 @@ class Rhf : public FrontEndOf<RhfParams> {
     // How far rhf moves a value at the finest scale: a patch's pixels from the search
     // window's far side.
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
+
+    // The rims (CutLightRims) of at least kRimSamples samples (the histograms' count): with
+    // fewer a rim one sample saw holds a large share of its light, and the filter's spread
+    // along the light's edge is its coverage (cornell at 4 spp, 2 in auto's half-buffers);
+    // the others take their value in `given` back in `cut`.
+    static constexpr float kRimSamples = 16;
+    static std::vector<size_t> ManySampled(const Image &given, const Image &histograms,
+                                           const std::vector<size_t> &rims, Image *cut) {
+        std::vector<size_t> kept;
+        const size_t n = given.PixelCount();
+        for (size_t p : rims) {
+            if (histograms.data[(histograms.channels - 1) * n + p] >= kRimSamples) {
+                kept.push_back(p);
+                continue;
+            }
+            for (int c = 0; c < given.channels; ++c)
+                cut->data[c * n + p] = given.data[c * n + p];
+        }
+        return kept;
+    }
 
     // The pixels `rims` (CutLightRims) take their input back.
     static void GiveBack(const Image &input, const std::vector<size_t> &rims, Image *output) {

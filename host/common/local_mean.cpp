@@ -393,7 +393,7 @@ size_t CutSpikes(Image *color, const Image *variance) {
                 const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
                 over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
                           sums.data[p] > kSpike * m;
-                within[p] = over[p] && (sums.data[p] <= kSpikeMost * m || !lit[p]);
+                within[p] = over[p] && (sums.data[p] <= kSpikeMost * m || (!lit[p] && m > 0));
             }
     });
     std::vector<size_t> cut;

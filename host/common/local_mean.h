@@ -128,9 +128,10 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
 // spp: a point of 2853 on an emitter of 4.3, 1139 in the reference); the filter's bright
 // veto keeps such a point mostly to itself.
 // With `variance` (of the pixel mean, one channel or the frame's; see CutLightRims for a
-// light) that bound holds only beside a light: a spike over it against black or a dim
-// surface (relief-abc 4 spp: 9.8 on a plane's edge of 0.05 against the black background,
-// its neighbours' median 0) is cut as the others are.
+// light) that bound holds only beside a light or where the median is 0: a spike over it on a
+// lit surface (glossy_lights accumulated: the chrome sphere's reflections of the bulbs) is
+// cut as the others are. Over black (a few samples of a dark pixel all 0: cornell 4 spp's
+// half-buffers) the ratio says nothing, and the bound holds.
 constexpr double kSpike = 16, kSpikeMost = 512;
 size_t CutSpikes(Image *color, const Image *variance = nullptr);
 
