@@ -119,38 +119,65 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
     return mask;
 }
 
+namespace {
+
+// Channel c of (x, y) clamped on its own: its value, or its limit where it is above: the
+// median (or k-th largest) of the neighbours' z divided alike + t sqrt(v) / a + rho |median|.
+double ClampedValue(const Image &color, const Image &variance, const Image *divisor,
+                    const Image &mask, double threshold, double relative, int rank,
+                    double lightEdge, int c, int x, int y) {
+    double a = Divisor(divisor, c, x, y), value = color.At(c, y, x);
+    // The z of the neighbours divided alike; without any, their colours.
+    std::vector<double> alike, all;
+    bool emitterNear = false;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u) {
+            if ((u == x && v == y) || !Inside(color, u, v)) continue;
+            emitterNear |= mask.At(0, v, u) == 0;
+            double aq = Divisor(divisor, c, u, v);
+            all.push_back(color.At(c, v, u));
+            if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
+        }
+    // Unlike all around it next to a light: the light's edge, kept or clamped with its own
+    // relative term.
+    bool edge = alike.empty() && emitterNear;
+    if (all.empty() || (edge && lightEdge < 0)) return value;
+    double s = !alike.empty() && a > 0 ? a : 1;
+    std::vector<double> &near = alike.empty() ? all : alike;
+    double median = rank == 0 ? LowerMedian(near) : KthLargest(near, rank);
+    double limit = median + threshold * std::sqrt(double(variance.At(c, y, x))) / s +
+                   (edge ? lightEdge : relative) * std::fabs(median);
+    return value / s > limit ? limit * s : value;
+}
+
+}  // namespace
+
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank,
-                double lightEdge) {
+                double lightEdge, bool sumChannels) {
     Image out = color;
     if (threshold <= 0) return out;
-    for (int c = 0; c < color.channels; ++c)
-        for (int y = 0; y < color.height; ++y)
-            for (int x = 0; x < color.width; ++x) {
-                double a = Divisor(divisor, c, x, y);
-                // The z of the neighbours divided alike; without any, their colours.
-                std::vector<double> alike, all;
-                bool emitterNear = false;
-                for (int v = y - 1; v <= y + 1; ++v)
-                    for (int u = x - 1; u <= x + 1; ++u) {
-                        if ((u == x && v == y) || !Inside(color, u, v)) continue;
-                        emitterNear |= mask.At(0, v, u) == 0;
-                        double aq = Divisor(divisor, c, u, v);
-                        all.push_back(color.At(c, v, u));
-                        if (Alike(a, aq)) alike.push_back(Demodulated(color.At(c, v, u), aq));
-                    }
-                // Unlike all around it next to a light: the light's edge, kept or clamped
-                // with its own relative term.
-                bool edge = alike.empty() && emitterNear;
-                if (all.empty() || (edge && lightEdge < 0)) continue;
-                double s = !alike.empty() && a > 0 ? a : 1;
-                std::vector<double> &near = alike.empty() ? all : alike;
-                double median = rank == 0 ? LowerMedian(near) : KthLargest(near, rank);
-                double limit = median +
-                               threshold * std::sqrt(double(variance.At(c, y, x))) / s +
-                               (edge ? lightEdge : relative) * std::fabs(median);
-                if (color.At(c, y, x) / s > limit) out.At(c, y, x) = float(limit * s);
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
+            double values = 0, kept = 0;
+            std::vector<double> clamped(color.channels), ratios;
+            for (int c = 0; c < color.channels; ++c) {
+                double v = color.At(c, y, x);
+                clamped[c] = ClampedValue(color, variance, divisor, mask, threshold, relative,
+                                          rank, lightEdge, c, x, y);
+                values += v;
+                kept += clamped[c];
+                ratios.push_back(v > 0 ? clamped[c] / v : 1);
             }
+            // The second smallest share a channel keeps: 1 - it of the pixel scaled whole.
+            std::sort(ratios.begin(), ratios.end());
+            double t =
+                sumChannels && ratios.size() > 1 ? std::clamp(1 - ratios[1], 0.0, 1.0) : 0;
+            double scale = values > 0 ? std::min(kept / values, 1.0) : 1;
+            for (int c = 0; c < color.channels; ++c)
+                out.At(c, y, x) = float(
+                    t > 0 ? (1 - t) * clamped[c] + t * color.At(c, y, x) * scale : clamped[c]);
+        }
     return out;
 }
 
@@ -458,16 +485,28 @@ Image NforGather(const Image &input, const Image &features, const Image &mask,
     return out;
 }
 
-Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
-                 const Image &color, const Image &variance, int sureRadius, Image *choice) {
-    int w = color.width, h = color.height, ch = color.channels;
+namespace {
+
+// The window mean over (2 r + 1)^2 clipped to the frame of one plane.
+double WindowMean(const Image &plane, int r, int x, int y) {
+    double sum = 0;
+    int count = 0;
+    for (int v = y - r; v <= y + r; ++v)
+        for (int u = x - r; u <= x + r; ++u)
+            if (Inside(plane, u, v)) sum += plane.At(0, v, u), ++count;
+    return sum / count;
+}
+
+// Per pixel SURE of each candidate: sum over channels of (y - C)^2 - v + 2 v h.
+std::vector<Image> SurePlanes(const std::vector<Image> &outputs, const std::vector<Image> &hats,
+                              const Image &color, const Image &variance) {
     std::vector<Image> sure;
     for (size_t k = 0; k < outputs.size(); ++k) {
-        Image s(w, h, 1);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
+        Image s(color.width, color.height, 1);
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
                 double e = 0;
-                for (int c = 0; c < ch; ++c) {
+                for (int c = 0; c < color.channels; ++c) {
                     double d = double(outputs[k].At(c, y, x)) - color.At(c, y, x);
                     double v = variance.At(c, y, x);
                     e += d * d - v + 2 * v * hats[k].At(0, y, x);
@@ -476,6 +515,41 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
             }
         sure.push_back(std::move(s));
     }
+    return sure;
+}
+
+// Per pixel each candidate's squared difference from candidate 0 over candidate 0's
+// squared magnitude (channel means) + kNforAgreementFloor; candidate 0's plane is 0.
+std::vector<Image> DisagreementPlanes(const std::vector<Image> &outputs) {
+    const Image &first = outputs[0];
+    std::vector<Image> planes;
+    for (size_t k = 0; k < outputs.size(); ++k) {
+        Image d(first.width, first.height, 1);
+        for (int y = 0; y < first.height; ++y)
+            for (int x = 0; x < first.width; ++x) {
+                double sum = 0, mean = 0;
+                for (int c = 0; c < first.channels; ++c) {
+                    double e = double(outputs[k].At(c, y, x)) - first.At(c, y, x);
+                    sum += e * e;
+                    mean += first.At(c, y, x);
+                }
+                mean /= first.channels;
+                d.At(0, y, x) =
+                    float(sum / first.channels / (mean * mean + kNforAgreementFloor));
+            }
+        planes.push_back(std::move(d));
+    }
+    return planes;
+}
+
+}  // namespace
+
+Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
+                 const Image &color, const Image &variance, int sureRadius, Image *choice,
+                 double agreement) {
+    int w = color.width, h = color.height, ch = color.channels;
+    std::vector<Image> planes = agreement > 0 ? DisagreementPlanes(outputs)
+                                              : SurePlanes(outputs, hats, color, variance);
     Image out(w, h, ch);
     *choice = Image(w, h, 1);
     for (int y = 0; y < h; ++y)
@@ -483,13 +557,12 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
             size_t best = 0;
             double bestSure = 0;
             for (size_t k = 0; k < outputs.size(); ++k) {
-                double sum = 0;
-                int count = 0;
-                for (int v = y - sureRadius; v <= y + sureRadius; ++v)
-                    for (int u = x - sureRadius; u <= x + sureRadius; ++u)
-                        if (Inside(color, u, v)) sum += sure[k].At(0, v, u), ++count;
-                double mean = sum / count;
-                if (k == 0 || mean < bestSure) best = k, bestSure = mean;
+                double mean = WindowMean(planes[k], sureRadius, x, y);
+                if (agreement > 0) {
+                    if (k > 0 && mean < agreement) best = k;
+                } else if (k == 0 || mean < bestSure) {
+                    best = k, bestSure = mean;
+                }
             }
             for (int c = 0; c < ch; ++c) out.At(c, y, x) = outputs[best].At(c, y, x);
             choice->At(0, y, x) = float(best);
@@ -512,7 +585,7 @@ template <typename Keep>
 Image NforPass(const Image &clamped, const Image &variance, const Image &features,
                const Image &mask, const NforParams &p,
                const std::vector<PassCandidate> &candidates, const std::string &prefix,
-               Keep &keep) {
+               Keep &keep, double agreement = 0) {
     std::vector<Image> outputs, hats;
     for (size_t i = 0; i < candidates.size(); ++i) {
         const PassCandidate &c = candidates[i];
@@ -528,7 +601,7 @@ Image NforPass(const Image &clamped, const Image &variance, const Image &feature
     }
     if (outputs.size() == 1) return outputs[0];
     Image choice;
-    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice);
+    Image out = NforSelect(outputs, hats, clamped, variance, p.sureRadius, &choice, agreement);
     keep(prefix + "choice", choice);
     return out;
 }
@@ -549,9 +622,9 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     bool ownClamp = in.variance && p.clampEstimate;
     Image clampVariance =
         ownClamp ? NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration) : Image();
-    Image clamped =
-        NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
-                  p.fireflyThreshold, p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
+    Image clamped = NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
+                              p.fireflyThreshold, p.fireflyRelative, p.fireflyRank,
+                              p.fireflyLightEdge, p.fireflySum);
     if (ownClamp) {
         // The light the clamp took off, over the colour's sum.
         double sum = 0, taken = 0, values = 0, changed = 0;
@@ -564,8 +637,9 @@ Image Nfor(const NforInputs &in, const NforParams &p,
                     changed += clamped.At(c, y, x) != color.At(c, y, x) ? 1 : 0;
                 }
         if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss)
-            clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
-                                p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge);
+            clamped =
+                NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
+                          p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge, p.fireflySum);
     }
     keep("color", clamped);
     if (ownClamp) keep("clamp.variance", clampVariance);
@@ -606,7 +680,9 @@ Image Nfor(const NforInputs &in, const NforParams &p,
             for (double k : p.pilotBandwidths)
                 second.push_back({k, p.pilotWideRadius, &wideDistance});
         }
-        out = NforPass(clamped, variance, features, mask, p, second, "pilot.", keep);
+        double agreement =
+            p.pilotWideRadius > 0 && p.pilotBandwidths.size() == 1 ? p.wideAgreement : 0;
+        out = NforPass(clamped, variance, features, mask, p, second, "pilot.", keep, agreement);
     }
     if (p.meanRadius > 0) {
         keep("fit", out);

@@ -86,6 +86,8 @@ constexpr double kNforRelEps = 1e-4;
 constexpr double kNforTiny = 1e-30;
 constexpr double kNforTermMax = 25;
 constexpr double kNforExpCut = 30;
+// The magnitude floor of the select's disagreement (dark pixels compare absolutely).
+constexpr double kNforAgreementFloor = 1e-3;
 // The clamp's loss counts only where it clamped at least this share of the pixel-channels.
 constexpr double kNforClampLossMinShare = 1e-3;
 
@@ -117,6 +119,10 @@ struct NforParams {
     double fireflyRelative = 0.5;  // rho
     int fireflyRank = 3;           // 0: the neighbours' lower median; k: their k-th largest
     double fireflyLightEdge = -1;  // a light's edge pixels: kept (< 0) or this rho
+    // A pixel with two channels or more above their limits clamped as a whole (each scaled
+    // by the clamped channels' sum over the values' sum: the hue stays), blended with the
+    // channels clamped alone by the second channel's excess; false: each on its own.
+    bool fireflySum = true;
     double emitterAlbedo = 1.5;
     int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;
@@ -130,6 +136,10 @@ struct NforParams {
     // > radius: the second pass also fits each pilot bandwidth over windows of this
     // half-size, its distance over them, and SURE picks among all; 0: off.
     int pilotWideRadius = 0;
+    // > 0 with one pilot bandwidth and pilotWideRadius: the wide window's fit is taken where
+    // its box-averaged disagreement with the narrow one is below this (NforSelect), not by
+    // SURE.
+    double wideAgreement = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
@@ -158,10 +168,13 @@ Image NforNoise(const Image &image, const Image *divisor, int radius, double cal
 // 1 for pixels that take part, 0 for emitters.
 Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo);
 
-// The colour with fireflies clamped.
+// The colour with fireflies clamped; with sumChannels a pixel whose channels are clamped
+// to r_c = clamped / value takes t = 1 - (the second smallest r_c) of itself scaled by the
+// sum of its values clamped one by one over the sum of its values, 1 - t of each channel
+// clamped alone.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank = 0,
-                double lightEdge = -1);
+                double lightEdge = -1, bool sumChannels = false);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,
@@ -207,8 +220,12 @@ Image NforGather(const Image &input, const Image &features, const Image &mask,
                  const Image &distance, const NforFit &fit, const NforCandidate &candidate);
 
 // Per pixel the candidate of smallest box-averaged SURE; also the index chosen (1 plane).
+// With agreement > 0 instead the last candidate k > 0 whose box-averaged disagreement with
+// candidate 0 (the channels' mean of (y_k - y_0)^2 over (the channels' mean of y_0)^2 +
+// a floor) is below agreement, else candidate 0.
 Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &hats,
-                 const Image &color, const Image &variance, int sureRadius, Image *choice);
+                 const Image &color, const Image &variance, int sureRadius, Image *choice,
+                 double agreement = 0);
 
 // The whole method with its named stages (mask, color, clamp.variance where estimated
 // with edgeNoise, variance, features, distance,

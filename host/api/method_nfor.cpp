@@ -124,6 +124,18 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "edge): kept (negative) or clamped as a firefly with this in place "
                           "of --firefly-relative",
                           &O::fireflyLightEdge, -1, 1e6)),
+        nested(BoolParam("firefly-each-channel",
+                         "clamp each channel on its own (by default a pixel with two channels "
+                         "or more above their limits is scaled as a whole by the sum of its "
+                         "values clamped one by one over the sum of its values: the hue "
+                         "stays)",
+                         &O::fireflyEachChannel)),
+        nested(FloatParam("wide-agreement",
+                          "with --pilot-wide-radius and one pilot bandwidth: take the wide "
+                          "window's fit where its squared difference from the narrow one's, "
+                          "relative to that one's magnitude and averaged over the SURE window, "
+                          "is below this, elsewhere the narrow one's; 0: SURE picks",
+                          &O::wideAgreement, 0, 1e6)),
         nested(IntParam("kept-radius",
                         "on a frame without a variance layer, a pixel the fits left as it "
                         "came in (no neighbour weighed: a partly covered edge unlike all "
@@ -278,6 +290,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.fireflyRelative = o.fireflyRelative;
         p.fireflyRank = o.fireflyRank;
         p.fireflyLightEdge = o.fireflyLightEdge;
+        p.fireflySum = !o.fireflyEachChannel;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;
@@ -286,6 +299,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
         p.pilotAlpha = o.pilotAlpha;
         p.pilotWideRadius = o.pilotWideRadius;
+        p.wideAgreement = o.wideAgreement;
         p.meanRadius = o.meanRadius;
         p.keptRadius = o.keptRadius;
         p.weakEmitterAlbedo = o.weakEmitterAlbedo;

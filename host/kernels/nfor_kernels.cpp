@@ -86,7 +86,7 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,
-                     vk::GpuImage &out, vk::GpuImage &mask) {
+                     bool sumChannels, vk::GpuImage &out, vk::GpuImage &mask) {
     CheckColor("nfor clamp", color);
     CheckSize("nfor clamp", color, variance, color.channels);
     CheckSize("nfor clamp", color, out, color.channels);
@@ -105,9 +105,16 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                                   {},
                                                   0,
                                                   0});
-    shader::NforClampPush push{color.width, color.height, albedo ? albedo->channels : 0,
-                               threshold,   relative,     emitterAlbedo,
-                               rank,        lightEdge};
+    shader::NforClampPush push{color.width,
+                               color.height,
+                               albedo ? albedo->channels : 0,
+                               threshold,
+                               relative,
+                               emitterAlbedo,
+                               rank,
+                               lightEdge,
+                               color.channels,
+                               sumChannels ? 1 : 0};
     recorder.Dispatch(
         kernel, "nfor.clamp",
         {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},
@@ -335,15 +342,18 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
 void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &variance, const vk::GpuImage &candidates,
                       const vk::GpuImage &hat, int count, int radius, vk::GpuImage &out,
-                      vk::GpuImage &choice) {
+                      vk::GpuImage &choice, float agreement) {
     CheckColor("nfor select", color);
     CheckSize("nfor select", color, variance, color.channels);
     CheckSize("nfor select", color, out, color.channels);
     CheckSize("nfor select", color, choice, 1);
-    if (count < 1 || count > NFOR_MAX_CANDIDATES || radius < 0 || radius > NFOR_SURE_MAX_RADIUS)
-        throw Error(fmt::format("nfor select: {} candidates (1..{}), radius {} (0..{})", count,
-                                NFOR_MAX_CANDIDATES, radius, NFOR_SURE_MAX_RADIUS),
-                    ErrorKind::InvalidArgument);
+    if (count < 1 || count > NFOR_MAX_CANDIDATES || radius < 0 ||
+        radius > NFOR_SURE_MAX_RADIUS || !(agreement >= 0))
+        throw Error(
+            fmt::format("nfor select: {} candidates (1..{}), radius {} (0..{}), "
+                        "agreement {} (at least 0)",
+                        count, NFOR_MAX_CANDIDATES, radius, NFOR_SURE_MAX_RADIUS, agreement),
+            ErrorKind::InvalidArgument);
     // The first `count` candidates of buffers sized for a pass with more.
     CheckSize("nfor select", color, candidates, 0);
     CheckSize("nfor select", color, hat, 0);
@@ -360,7 +370,7 @@ void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                                                   {{NFOR_SPEC_CHANNELS, color.channels}},
                                                   0,
                                                   0});
-    shader::NforSelectPush push{color.width, color.height, count, radius};
+    shader::NforSelectPush push{color.width, color.height, count, radius, agreement};
     recorder.Dispatch(kernel, "nfor.select",
                       {{NFOR_SELECT_COLOR, &color.buffer, vk::Access::Read},
                        {NFOR_SELECT_VARIANCE, &variance.buffer, vk::Access::Read},

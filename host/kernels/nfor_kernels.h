@@ -19,11 +19,13 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 
 // shaders/nfor/clamp.comp: `out` the colour with fireflies clamped, `mask` 0 at emitters;
 // rank 0 compares with the neighbours' median, k > 0 with their k-th largest; lightEdge < 0
-// keeps a light's edge pixels, >= 0 clamps them with that relative term.
+// keeps a light's edge pixels, >= 0 clamps them with that relative term; sumChannels
+// scales a pixel with two channels or more above their limits as a whole, by the sum of
+// its clamped values over the sum of its values.
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,
-                     vk::GpuImage &out, vk::GpuImage &mask);
+                     bool sumChannels, vk::GpuImage &out, vk::GpuImage &mask);
 
 // shaders/nfor/prefilter.comp: each plane of `features` NL-means-filtered.
 void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
@@ -75,11 +77,12 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                       const NforFitSettings &settings, vk::GpuImage &out, int outPlane);
 
 // shaders/nfor/select.comp: per pixel the candidate (of the first `count`: planes k x
-// channels.. of `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE.
+// channels.. of `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE;
+// agreement > 0: the last k > 0 whose box-averaged disagreement with candidate 0 is below it.
 void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &variance, const vk::GpuImage &candidates,
                       const vk::GpuImage &hat, int count, int radius, vk::GpuImage &out,
-                      vk::GpuImage &choice);
+                      vk::GpuImage &choice, float agreement = 0);
 
 // Stored offsets of a window of half-size `radius` (as ref::NforOffsetCount).
 int NforOffsetCount(int radius);

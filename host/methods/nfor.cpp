@@ -120,11 +120,13 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
         !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0) ||
         o.meanRadius < 0 || !(finite(o.coarseRelative) && o.coarseRelative >= 0) ||
-        !(finite(o.coarseNoise) && o.coarseNoise >= 0))
+        !(finite(o.coarseNoise) && o.coarseNoise >= 0) ||
+        !(finite(o.wideAgreement) && o.wideAgreement >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
-            "be finite and > 0; alpha, feature bandwidth, firefly threshold and "
-            "pilot alpha, coarse relative and coarse noise finite and >= 0, mean radius >= 0",
+            "be finite and > 0; alpha, feature bandwidth, firefly threshold, pilot alpha, "
+            "coarse relative, coarse noise and wide agreement finite and >= 0, mean radius "
+            ">= 0",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -322,7 +324,7 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     auto clamp = [&](vk::GpuImage &variance) {
         RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
                         o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                        o.fireflyLightEdge, gpu.clamped, gpu.mask);
+                        o.fireflyLightEdge, !o.fireflyEachChannel, gpu.clamped, gpu.mask);
     };
     clamp(clampVariance);
     if (!in.variance || !ownClamp) return;
@@ -418,7 +420,8 @@ struct PassCandidate {
 // .hat, .output and choice.
 void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
                 const NforOptions &o, const std::vector<PassCandidate> &candidates,
-                const std::string &prefix, vk::GpuImage &out, vk::GpuImage &choice) {
+                const std::string &prefix, vk::GpuImage &out, vk::GpuImage &choice,
+                float agreement = 0) {
     vk::Context &context = run.Context();
     int ch = gpu.color.channels, count = int(candidates.size());
     for (int i = 0; i < count; ++i) {
@@ -440,7 +443,7 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
     }
     if (count > 1) {
         RecordNforSelect(context, run.Recorder(), gpu.clamped, gpu.variance, gpu.candidates,
-                         gpu.hat, count, o.sureRadius, out, choice);
+                         gpu.hat, count, o.sureRadius, out, choice, agreement);
         run.Stage(prefix + "choice", choice);
     } else {
         run.Recorder().Copy(gpu.candidates.buffer, out.buffer, out.buffer.Bytes());
@@ -476,7 +479,8 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
         for (float k : o.pilotBandwidths)
             second.push_back({o.pilotWideRadius, k, &*gpu.wideDistance});
     }
-    RecordPass(run, gpu, weights, o, second, "pilot.", out, choice);
+    float agreement = gpu.wideDistance && o.pilotBandwidths.size() == 1 ? o.wideAgreement : 0;
+    RecordPass(run, gpu, weights, o, second, "pilot.", out, choice, agreement);
 }
 
 // Which noise the firefly clamp read beside a variance layer, and why.

@@ -63,6 +63,11 @@ struct NforOptions {
     // covered): kept (< 0) or clamped against its neighbours' colours with this relative
     // term in place of fireflyRelative.
     float fireflyLightEdge = -1;
+    // Clamp each channel on its own; by default a pixel with two channels or more above
+    // their limits is scaled as a whole by the sum of its values clamped one by one over
+    // the sum of its values (blended in by the second channel's excess, so nothing jumps),
+    // so that a highlight whose channels cross their limits unevenly keeps its hue.
+    bool fireflyEachChannel = false;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;
@@ -78,6 +83,11 @@ struct NforOptions {
     // (weighted by the pilot's distance over them), and SURE picks per pixel among all its
     // candidates; 0: one window size.
     int pilotWideRadius = 0;
+    // > 0 with one pilot bandwidth and pilotWideRadius: the wide window's fit is taken where
+    // its disagreement with the narrow one's, relative to the narrow one's magnitude and
+    // averaged over the SURE window, is below this; elsewhere the narrow one's (instead of
+    // SURE's choice).
+    float wideAgreement = 0;
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;

@@ -10,7 +10,7 @@ layout(std430, binding = NFOR_CLAMP_ALBEDO) readonly buffer Albedo { float albed
 layout(std430, binding = NFOR_CLAMP_OUT) writeonly buffer Out { float outColor[]; };
 layout(std430, binding = NFOR_CLAMP_MASK) writeonly buffer Mask { float mask[]; };
 
-int w, h, c;
+int w, h;
 
 bool emitterAt(int x, int y) {
     float most = 0.0;
@@ -18,40 +18,33 @@ bool emitterAt(int x, int y) {
     return most > push.emitterAlbedo;
 }
 
-// The divisor at (x, y): the albedo's channel above the floor, else 0 (not divided).
-float divisorAt(int x, int y) {
+// The divisor of channel c at (x, y): the albedo's channel above the floor, else 0 (not
+// divided).
+float divisorAt(int c, int x, int y) {
     if (push.albedoChannels == 0) return 0.0;
     float a = albedo[(min(c, push.albedoChannels - 1) * h + y) * w + x];
     return a > float(NFOR_NOISE_ALBEDO_FLOOR) ? a : 0.0;
 }
 
-// Whether divisors a and b divide alike: both not, or both within the ratio.
 // Index of the neighbour compared with in `count` sorted ascending.
 int rankIndex(int count) {
     return push.rank > 0 ? max(0, count - push.rank) : (count - 1) / 2;
 }
 
+// Whether divisors a and b divide alike: both not, or both within the ratio.
 bool alike(float a, float b) {
     float ratio = float(NFOR_NOISE_DIVISOR_RATIO);
     if (a == 0.0 || b == 0.0) return a == b;
     return a <= b * ratio && b <= a * ratio;
 }
 
-void main() {
-    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
-    w = push.width;
-    h = push.height;
-    c = int(gl_WorkGroupID.z);
-    if (x >= w) return;
+// Channel c of (x, y) clamped on its own: its value, or its limit where above it.
+float clampedAt(int c, int x, int y) {
     int at = (c * h + y) * w + x;
     float value = color[at];
-    bool emitter = emitterAt(x, y);
-    if (c == 0) mask[y * w + x] = emitter ? 0.0 : 1.0;
-    outColor[at] = value;
-    if (push.threshold <= 0.0) return;
     // The z of the neighbours divided like this pixel, sorted as they come; with none, the
     // neighbours' colours (a lone pixel whose albedo is unlike all around it).
-    float a = divisorAt(x, y);
+    float a = divisorAt(c, x, y);
     float z[8], raw[8];
     int n = 0, m = 0;
     bool emitterNear = false;
@@ -59,7 +52,7 @@ void main() {
         for (int u = x - 1; u <= x + 1; ++u) {
             if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h) continue;
             emitterNear = emitterNear || emitterAt(u, v);
-            float cq = color[(c * h + v) * w + u], aq = divisorAt(u, v);
+            float cq = color[(c * h + v) * w + u], aq = divisorAt(c, u, v);
             int i = m++;
             while (i > 0 && raw[i - 1] > cq) {
                 raw[i] = raw[i - 1];
@@ -77,10 +70,40 @@ void main() {
         }
     // Unlike all around it next to a light: the light's edge, kept or clamped on its own terms.
     bool edge = n == 0 && emitterNear;
-    if (m == 0 || (edge && push.lightEdge < 0.0)) return;
+    if (m == 0 || (edge && push.lightEdge < 0.0)) return value;
     float s = n > 0 && a > 0.0 ? a : 1.0;
     float median = n > 0 ? z[rankIndex(n)] : raw[rankIndex(m)];
     float relative = edge ? push.lightEdge : push.relative;
     float limit = median + push.threshold * sqrt(variance[at]) / s + relative * abs(median);
-    if (value / s > limit) outColor[at] = limit * s;
+    return value / s > limit ? limit * s : value;
+}
+
+void main() {
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
+    w = push.width;
+    h = push.height;
+    int c = int(gl_WorkGroupID.z);
+    if (x >= w) return;
+    int at = (c * h + y) * w + x;
+    float value = color[at];
+    if (c == 0) mask[y * w + x] = emitterAt(x, y) ? 0.0 : 1.0;
+    outColor[at] = value;
+    if (push.threshold <= 0.0) return;
+    float own = clampedAt(c, x, y);
+    outColor[at] = own;
+    if (push.sumChannels == 0) return;
+    // The share t = 1 - (the second smallest of clamped / value over the channels) of the
+    // pixel scaled as a whole by the clamped channels' sum over the values' sum.
+    float values = 0.0, kept = 0.0, least = 1.0, second = 1.0;
+    for (int k = 0; k < push.channels; ++k) {
+        float v = color[(k * h + y) * w + x], clamped = k == c ? own : clampedAt(k, x, y);
+        values += v;
+        kept += clamped;
+        float ratio = v > 0.0 ? clamped / v : 1.0;
+        second = min(second, max(least, ratio));
+        least = min(least, ratio);
+    }
+    float t = clamp(1.0 - second, 0.0, 1.0);
+    float whole = values > 0.0 ? value * min(kept / values, 1.0) : value;
+    if (t > 0.0) outColor[at] = (1.0 - t) * own + t * whole;
 }

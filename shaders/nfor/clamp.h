@@ -12,7 +12,13 @@
 // lightEdge >= 0 clamped with lightEdge in place of relative.
 // Threshold 0: nothing clamped; no neighbour (1x1): kept. The relative term keeps the
 // smooth peaks of noise-free regions (v = 0): only values well above their neighbours are
-// fireflies. One invocation per pixel and channel; channel 0's writes the mask.
+// fireflies. With sumChannels a pixel whose channels are clamped to r_c = clamped / value
+// takes t = 1 - (the second smallest r_c) of the whole pixel scaled by the sum of its
+// clamped values over the sum of its values (the hue stays: a highlight whose channels
+// cross their limits unevenly does not turn into a coloured speck) and 1 - t of the
+// channel clamped alone (one channel alone above its limit, a sample of one colour, is
+// clamped alone; t goes to 0 with the second channel's excess, so nothing jumps). One
+// invocation per pixel and channel; channel 0's writes the mask.
 #ifndef MCD_SHADERS_NFOR_CLAMP_H
 #define MCD_SHADERS_NFOR_CLAMP_H
 
@@ -40,9 +46,11 @@ layout(push_constant) uniform NforClampPush {
     float emitterAlbedo;
     int rank;         // 0: the neighbours' lower median; k > 0: their k-th largest
     float lightEdge;  // relative term at a light's edge; < 0: such a pixel is kept
+    int channels;     // of the colour
+    int sumChannels;  // 1: the channels clamped together by one factor; 0: each on its own
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforClampPush) == 32);
+static_assert(sizeof(NforClampPush) == 40);
 static_assert(offsetof(NforClampPush, emitterAlbedo) == 20);
 }  // namespace mcd::shader
 #else

@@ -26,6 +26,35 @@ float sureAt(int k, int x, int y) {
     return e;
 }
 
+// Candidate k's squared difference from candidate 0 relative to candidate 0's magnitude.
+float disagreementAt(int k, int x, int y) {
+    float d = 0.0, mean = 0.0;
+    for (int c = 0; c < channels; ++c) {
+        float y0 = candidates[(c * h + y) * w + x];
+        float e = candidates[((k * channels + c) * h + y) * w + x] - y0;
+        d += e * e;
+        mean += y0;
+    }
+    mean /= float(channels);
+    return d / float(channels) / (mean * mean + float(NFOR_AGREEMENT_FLOOR));
+}
+
+// The last candidate k > 0 whose window mean disagreement is below push.agreement, else 0.
+int agreeing(int x, int y) {
+    int r = push.radius, best = 0;
+    for (int k = 1; k < push.candidates; ++k) {
+        float sum = 0.0;
+        int count = 0;
+        for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
+            for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
+                sum += disagreementAt(k, u, v);
+                ++count;
+            }
+        if (sum / float(count) < push.agreement) best = k;
+    }
+    return best;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
@@ -33,7 +62,7 @@ void main() {
     if (x >= w) return;
     int r = push.radius, best = 0;
     float bestSure = 0.0;
-    for (int k = 0; k < push.candidates; ++k) {
+    for (int k = 0; k < (push.agreement > 0.0 ? 0 : push.candidates); ++k) {
         float sum = 0.0;
         int count = 0;
         for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
@@ -47,6 +76,7 @@ void main() {
             bestSure = mean;
         }
     }
+    if (push.agreement > 0.0) best = agreeing(x, y);
     for (int c = 0; c < channels; ++c)
         outputs[(c * h + y) * w + x] = candidates[((best * channels + c) * h + y) * w + x];
     choice[y * w + x] = float(best);

@@ -153,19 +153,21 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()
 
 // Clamp: the mask is exact; a clamped value is (median z + t sqrt(v) / a) x a, about 5
 // roundings of |C| + t sqrt(v) + a max |z| of the neighbours. Where the value sits on the
-// limit either side's choice gives it to that accuracy.
+// limit either side's choice gives it to that accuracy. With the channels summed a value
+// is C x (sum of the clamped values / sum of C): the clamped values' errors summed over the
+// channels (C / sum of C is at most 1 for positive colours) and a few roundings of C.
 void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int rank,
-                        float lightEdge) {
+                        float lightEdge, bool sumChannels = false) {
     std::string name = fmt::format("clamp{}x{}{}", w, h, InputKindName(kind));
-    SCOPED_TRACE(fmt::format("rank {} light edge {}", rank, lightEdge));
+    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {}", rank, lightEdge, sumChannels));
     Image color = Positive(kind, w, h, 3, name);
     Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
     for (float &v : variance.data) v *= 0.01f;
     Image albedo = Albedo(w, h, name + "albedo", true);
     const float threshold = 3, relative = 0.5f, emitterAlbedo = 1.5f;
     Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
-    Image expected =
-        ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank, lightEdge);
+    Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank,
+                                    lightEdge, sumChannels);
     auto run = [&](Image *gpuMask) {
         vk::GpuImage c = Upload(context, color, "color"),
                      v = Upload(context, variance, "variance");
@@ -173,7 +175,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
         vk::GpuImage out(context, w, h, 3, "out"), m(context, w, h, 1, "mask");
         vk::Recorder recorder(context);
         RecordNforClamp(context, recorder, c, v, &a, threshold, relative, emitterAlbedo, rank,
-                        lightEdge, out, m);
+                        lightEdge, sumChannels, out, m);
         recorder.Submit();
         *gpuMask = m.Download();
         return out.Download();
@@ -194,6 +196,13 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
                     float(color.At(c, y, x) + threshold * std::sqrt(variance.At(c, y, x)) +
                           (1 + std::max(relative, lightEdge)) * a * z);
             }
+    if (sumChannels)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                for (int c = 0; c < 3; ++c) sum += magnitude.At(c, y, x);
+                for (int c = 0; c < 3; ++c) magnitude.At(c, y, x) = float(sum);
+            }
     EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {8 * kU, 0, 1e-10}));
     EXPECT_TRUE(BitIdentical(actual, run(&again)));
 }
@@ -201,15 +210,54 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
 class NforClampKernel : public GpuTestWithParam<KernelCase> {};
 
 // Against the neighbours' median and against their 2nd largest; a light's edge kept, and
-// clamped with a relative term of its own.
+// clamped with a relative term of its own; each channel on its own and the channels summed.
 TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
-    for (int rank : {0, 2}) ExpectClampMatches(Ctx(), w, h, kind, rank, -1);
-    ExpectClampMatches(Ctx(), w, h, kind, 3, 2);
+    for (bool sum : {false, true}) {
+        for (int rank : {0, 2}) ExpectClampMatches(Ctx(), w, h, kind, rank, -1, sum);
+        ExpectClampMatches(Ctx(), w, h, kind, 3, 2, sum);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforClampKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
+
+// A highlight whose channels cross their limits unevenly (red and green far above their
+// neighbours, blue not): clamped each on its own it turns blue; summed, it takes t = 1 -
+// (the second smallest share a channel keeps) of itself scaled by one factor, the sum of
+// its values clamped one by one over the sum of its values, so blue goes down with red and
+// green. One channel alone above its limit (a sample of one colour) is clamped alone, and
+// a pixel below its limits keeps its bits either way.
+TEST(NforClampChannels, SummedKeepsTheHue) {
+    const int w = 9, h = 9;
+    Image color(w, h, 3, 0.5f), variance(w, h, 3, 1e-4f), albedo(w, h, 3, 0.5f);
+    color.At(0, 4, 4) = color.At(1, 4, 4) = 50;
+    color.At(1, 2, 6) = 50;
+    Image mask = ref::NforMask(&albedo, w, h, 1.5);
+    Image each = ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, false);
+    Image sum = ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, true);
+    // Each: red and green at the limit (0.5 + 4 x 0.01 + 0.5 x 0.5), blue as it was.
+    const double limit = 0.79;
+    EXPECT_NEAR(each.At(0, 4, 4), limit, 1e-5);
+    EXPECT_NEAR(each.At(1, 4, 4), limit, 1e-5);
+    EXPECT_EQ(each.At(2, 4, 4), 0.5f);
+    double factor = (2 * limit + 0.5) / 100.5, t = 1 - limit / 50;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(sum.At(c, 4, 4),
+                    (1 - t) * each.At(c, 4, 4) + t * color.At(c, 4, 4) * factor, 1e-5)
+            << c;
+    EXPECT_EQ(sum.At(0, 4, 4), sum.At(1, 4, 4));
+    EXPECT_LT(sum.At(2, 4, 4), 0.05f);
+    EXPECT_GT(sum.At(0, 4, 4), 1.f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) {
+                if (x == 4 && y == 4) continue;
+                EXPECT_EQ(sum.At(c, y, x), each.At(c, y, x));
+            }
+    EXPECT_NEAR(sum.At(1, 2, 6), limit, 1e-5);
+    EXPECT_EQ(sum.At(0, 2, 6), 0.5f);
+}
 
 // Weights exp(-e): e's terms T = (d^2 - s) / (s + eps) are each at least -1 and are averaged
 // over n patch positions with about (n + 5) u of mean |T| of rounding. Since e >= mean |T|
@@ -672,6 +720,102 @@ TEST_P(NforSelectKernel, MatchesReferenceAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, NforSelectKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
+// Select by agreement on noisy candidates: a pixel's disagreement d^2 / (m^2 + floor) is a
+// few roundings of itself (every term positive), its window mean (window + 12) u more.
+// The threshold is the median of candidate 1's window means, so both choices occur; a
+// candidate whose mean is within the bound of it may go either way, elsewhere the choice
+// must match, and the output is the chosen candidate's value exactly.
+class NforAgreementKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforAgreementKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    std::string name = fmt::format("agree{}x{}{}", w, h, InputKindName(kind));
+    Image color = Positive(kind, w, h, 3, name);
+    std::vector<Image> outputs, hats;
+    Image candidates(w, h, 9), hat(w, h, 3);
+    for (int k = 0; k < 3; ++k) {
+        Image out = color;
+        std::mt19937_64 rng(SeedFromName(name + std::to_string(k)));
+        std::normal_distribution<float> normal(0.f, 0.1f * (k + 1));
+        for (float &v : out.data) v = std::max(0.f, v * (1 + normal(rng)));
+        std::copy(out.data.begin(), out.data.end(), candidates.Plane(3 * k));
+        outputs.push_back(out);
+        hats.push_back(Image(w, h, 1));
+    }
+    const int radius = 2, window = (2 * radius + 1) * (2 * radius + 1);
+    // The reference's window means of each candidate's disagreement with candidate 0.
+    std::vector<Image> means(3, Image(w, h, 1));
+    for (int k = 1; k < 3; ++k)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                int count = 0;
+                for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                    for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius);
+                         ++u, ++count) {
+                        double d = 0, m = 0;
+                        for (int c = 0; c < 3; ++c) {
+                            double e = double(outputs[k].At(c, v, u)) - outputs[0].At(c, v, u);
+                            d += e * e;
+                            m += outputs[0].At(c, v, u);
+                        }
+                        m /= 3;
+                        sum += d / 3 / (m * m + ref::kNforAgreementFloor);
+                    }
+                means[k].At(0, y, x) = float(sum / count);
+            }
+    // Halfway between the lower median and the next larger mean (none: above all).
+    std::vector<float> sorted = means[1].data;
+    std::sort(sorted.begin(), sorted.end());
+    const float low = sorted[(sorted.size() - 1) / 2];
+    auto next = std::upper_bound(sorted.begin(), sorted.end(), low);
+    const bool split = next != sorted.end();
+    const float agreement = split ? 0.5f * (low + *next) : 2 * low + 1e-6f;
+    Image expectedChoice;
+    Image expected =
+        ref::NforSelect(outputs, hats, color, color, radius, &expectedChoice, agreement);
+    auto run = [&](Image *choice) {
+        vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), color, "variance");
+        vk::GpuImage cand = Upload(Ctx(), candidates, "candidates"),
+                     hh = Upload(Ctx(), hat, "hat");
+        vk::GpuImage out(Ctx(), w, h, 3, "out"), pick(Ctx(), w, h, 1, "choice");
+        vk::Recorder recorder(Ctx());
+        RecordNforSelect(Ctx(), recorder, c, v, cand, hh, 3, radius, out, pick, agreement);
+        recorder.Submit();
+        *choice = pick.Download();
+        return out.Download();
+    };
+    Image choice, choiceAgain;
+    Image actual = run(&choice);
+    int ties = 0, mismatches = 0;
+    std::vector<int> taken(3, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int k = int(choice.At(0, y, x));
+            ASSERT_TRUE(k >= 0 && k < 3);
+            ++taken[k];
+            for (int c = 0; c < 3; ++c) ASSERT_EQ(actual.At(c, y, x), outputs[k].At(c, y, x));
+            bool tie = false;
+            for (int j = 1; j < 3; ++j) {
+                double mean = means[j].At(0, y, x);
+                tie = tie || std::fabs(mean - agreement) <= (window + 12) * kU * mean;
+            }
+            if (tie)
+                ++ties;
+            else if (k != int(expectedChoice.At(0, y, x)))
+                ++mismatches;
+        }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_LE(ties, w * h / 10 + 1) << "too many near-ties to test the choice";
+    if (split) EXPECT_GT(taken[0], 0) << "the narrow candidate is taken somewhere";
+    if (split) EXPECT_GT(taken[1] + taken[2], 0) << "a wide candidate is taken somewhere";
+    EXPECT_TRUE(BitIdentical(actual, run(&choiceAgain)));
+    EXPECT_TRUE(BitIdentical(choice, choiceAgain));
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforAgreementKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
 // A synthetic plain frame: an albedo texture with an edge, a smooth illumination, normals
 // that turn at y = h / 2, a depth ramp, multiplicative noise; and its truth.
 struct Frame {
@@ -744,6 +888,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.noiseRadius = o.noiseRadius;
     p.fireflyRank = o.fireflyRank;
     p.fireflyLightEdge = o.fireflyLightEdge;
+    p.fireflySum = !o.fireflyEachChannel;
     p.pilotWideRadius = o.pilotWideRadius;
     p.minVariance = o.minVariance;
     p.pilotMinVariance = NforPilotMinVariance(o);
