@@ -862,9 +862,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     // The half0 runs' combination, for the restore's check against half1.
     const bool check = noise.halves && options.meanRadius > 0 && options.meanCheck == "halves";
     Image half0 = check ? noise.half0 : Image();
-    AutoEstimateInputs estimate = EstimateInputs(noise, combine);
-    std::optional<AutoEstimateInputs> halfEstimate;
-    if (check) halfEstimate = estimate;
+    const AutoEstimateInputs estimate = EstimateInputs(noise, combine);
     AutoResult combined = AutoCombine(context, color, list, estimate, combine);
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
     Result result = ResultOf(std::move(combined));
@@ -874,12 +872,12 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         for (AutoCandidate &c : list) c.output = c.probe;
         AutoOptions quiet = combine;
         quiet.keepStages = quiet.map = false;
-        Image combinedHalf = AutoCombine(context, half0, list, *halfEstimate, quiet).image;
+        Image combinedHalf = AutoCombine(context, half0, list, estimate, quiet).image;
         Image combinedFull = std::move(result.image);
-        RestoreCheck kept = RestoreLocalMeansChecked(
-            color, half0, halfEstimate->half1, combinedFull, combinedHalf, options.meanRadius,
-            variance, kLocalMeanRebalanceAuto, options.radius / 2, kRestoreCheckFloor,
-            &result.image);
+        RestoreCheck kept =
+            RestoreLocalMeansChecked(color, half0, estimate.half1, combinedFull, combinedHalf,
+                                     options.meanRadius, variance, kLocalMeanRebalanceAuto,
+                                     options.radius / 2, kRestoreCheckFloor, &result.image);
         plan.push_back(fmt::format(
             "auto: local mean: {}; kept per {}x{} tent as far as half1 says it lowers the "
             "error of the same combination of the half0 runs (mean share {:.2f}), then "
