@@ -26,6 +26,11 @@ void Paste(const Image &part, int wx0, int wy0, int x0, int y0, int x1, int y1, 
 
 }  // namespace
 
+double TileMemoryBudget(const vk::Context &context, const TileNeeds &needs) {
+    const double device = double(context.Info().deviceLocalBytes);
+    return needs.notLocal.empty() ? device * 3 / 4 : device;
+}
+
 TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width, int height,
                    int forced) {
     const int align = std::max(needs.align, 1);
@@ -35,9 +40,7 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
         plan.why = "tile size forced";
         return plan;
     }
-    // A method that tiles reproduce runs whole within half the device's memory; one that
-    // they do not (needs.notLocal), within all of it.
-    double budget = double(context.Info().deviceLocalBytes) / (needs.notLocal.empty() ? 2 : 1);
+    const double budget = TileMemoryBudget(context, needs);
     double binding = double(context.BindingBytes());
     auto fits = [&](double windowWidth, double pixels) {
         return needs.fixedBytes + needs.bytesPerPixel * pixels <= budget &&

@@ -17,8 +17,13 @@ struct TilePlan {
     std::string why;  // why it is tiled, for the plan
 };
 
+// The device memory a run of `needs` may take whole: three quarters of the device's for a
+// method that tiles reproduce bit for bit (a tile's halo is work done again), all of it
+// for one that they do not (needs.notLocal: tiles change its output).
+double TileMemoryBudget(const vk::Context &context, const TileNeeds &needs);
+
 // Tiles for `needs` on a W x H frame on this device: whole when its memory fits the budget
-// (half the device's memory) and its largest buffer one binding; else the grid of tiles
+// (TileMemoryBudget) and its largest buffer one binding; else the grid of tiles
 // whose windows fit both with the fewest pixels in all (halos included). `forced` > 0
 // forces square tiles of that size.
 TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width, int height,

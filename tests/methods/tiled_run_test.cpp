@@ -282,6 +282,32 @@ TEST_F(GpuTest, TiledRunPlanCutsOnlyWhatDoesNotFit) {
     EXPECT_EQ(api::PlanTiles(Ctx(), needs, 9, 9, 5).tileWidth, 8);  // forced, aligned up
 }
 
+// The memory budget: a method that tiles reproduce runs whole up to three quarters of the
+// device's memory (so a frame between half and three quarters, which tiled before, does not
+// tile) and tiles beyond; one that tiles change runs whole up to all of it.
+TEST_F(GpuTest, TiledRunPlanBudgetIsThreeQuartersForLocalMethods) {
+    const double device = double(Ctx().Info().deviceLocalBytes);
+    api::TileNeeds needs;
+    needs.reach = 4;
+    needs.align = 1;
+    EXPECT_EQ(api::TileMemoryBudget(Ctx(), needs), device * 3 / 4);
+    // A 1024x1024 frame whose memory is 0.7 of the device's (no binding limit): whole.
+    const int w = 1024;
+    needs.bytesPerPixel = device * 0.7 / (double(w) * w);
+    EXPECT_EQ(api::PlanTiles(Ctx(), needs, w, w, 0).tileWidth, 0);
+    // 0.8 of it: tiles whose windows fit three quarters.
+    const int h = w * 8 / 7;
+    api::TilePlan plan = api::PlanTiles(Ctx(), needs, w, h, 0);
+    ASSERT_GT(plan.tileWidth, 0);
+    double windowPixels = double(std::min(w, plan.tileWidth + 2 * needs.reach)) *
+                          std::min(h, plan.tileHeight + 2 * needs.reach);
+    EXPECT_LE(needs.bytesPerPixel * windowPixels, device * 3 / 4);
+    // A method that tiles change: all of the device's memory.
+    needs.notLocal = "its output changes with the tiles";
+    EXPECT_EQ(api::TileMemoryBudget(Ctx(), needs), device);
+    EXPECT_EQ(api::PlanTiles(Ctx(), needs, w, h, 0).tileWidth, 0);
+}
+
 // pivot binds each channel's fits on their own: an RGB frame tiles only where its largest
 // binding, the fit's packed z, s, nu (12 floats a pixel), exceeds the device's, so a
 // 1920x1080 frame runs whole within lavapipe's 128 MiB, and one 4 times its size does not.
@@ -295,7 +321,7 @@ TEST_F(GpuTest, TiledRunPlanPivotBindsAChannelsFitsAlone) {
     for (auto [w, h] : {std::pair{1920, 1080}, std::pair{3840, 2160}}) {
         const double pixels = double(w) * h;
         if (needs.fixedBytes + needs.bytesPerPixel * pixels >
-            double(Ctx().Info().deviceLocalBytes) / 2)
+            api::TileMemoryBudget(Ctx(), needs))
             continue;  // the device's memory, not a binding, decides
         api::TilePlan plan = api::PlanTiles(Ctx(), needs, w, h, 0);
         EXPECT_EQ(plan.tileWidth == 0, 12 * 4 * pixels <= binding)
