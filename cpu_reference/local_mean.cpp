@@ -209,8 +209,29 @@ bool SpikeOver(const Image &image, int y, int x) {
 
 }  // namespace
 
-size_t CutSpikes(Image *color) {
+namespace {
+
+float SumAt(const Image &image, int y, int x) {
+    double sum = 0;
+    for (int k = 0; k < image.channels; ++k) sum += image.At(k, y, x);
+    return std::isfinite(sum) ? float(sum) : NAN;
+}
+
+bool LightAt(const Image &image, const Image &variance, int y, int x) {
+    double s = SumAt(image, y, x);
+    if (!std::isfinite(s) || !(s > 0)) return false;
+    double v = 0;
+    for (int c = 0; c < variance.channels; ++c) v += variance.At(c, y, x);
+    return v <= 0.01 * 0.01 * s * s;
+}
+
+}  // namespace
+
+size_t CutSpikes(Image *color, const Image *variance) {
     const Image given = *color;
+    const bool usable = variance && variance->width == given.width &&
+                        variance->height == given.height &&
+                        (variance->channels == 1 || variance->channels == given.channels);
     size_t count = 0;
     for (int y = 0; y < given.height; ++y)
         for (int x = 0; x < given.width; ++x) {
@@ -218,7 +239,15 @@ size_t CutSpikes(Image *color) {
             // Not over 512 x its neighbours' median.
             double own = 0;
             for (int k = 0; k < given.channels; ++k) own += given.At(k, y, x);
-            if (!(float(own) <= 512 * MedianAround(given, -1, y, x))) continue;
+            // Over it, only beside a light (or where no variance tells lights).
+            bool besideLight = !usable;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u)
+                    if (usable && (u != x || v != y) && u >= 0 && v >= 0 && u < given.width &&
+                        v < given.height && LightAt(given, *variance, v, u))
+                        besideLight = true;
+            const double median = MedianAround(given, -1, y, x);
+            if (!(float(own) <= 512 * median) && (besideLight || !(median > 0))) continue;
             int neighbours = 0;
             for (int v = y - 1; v <= y + 1; ++v)
                 for (int u = x - 1; u <= x + 1; ++u)
@@ -244,6 +273,51 @@ size_t CutSpikes(Image *color) {
             ++count;
         }
     return count;
+}
+
+std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
+    std::vector<size_t> rims;
+    const Image given = *color;
+    const int w = given.width, h = given.height;
+    if (variance.width != w || variance.height != h ||
+        (variance.channels != 1 && variance.channels != given.channels))
+        return rims;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (LightAt(given, variance, y, x)) continue;
+            float own = SumAt(given, y, x);
+            double m = MedianAround(given, -1, y, x);
+            if (!std::isfinite(own) || !(own > 0) || !std::isfinite(m) || !(own > 16 * m))
+                continue;
+            bool brighterLight = false, plain = false;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u) {
+                    if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h) continue;
+                    if (!LightAt(given, variance, v, u))
+                        plain = true;
+                    else if (SumAt(given, v, u) > own)
+                        brighterLight = true;
+                }
+            if (!brighterLight || !plain) continue;
+            int lights = 0;
+            for (int v = y - 4; v <= y + 4; ++v)
+                for (int u = x - 4; u <= x + 4; ++u)
+                    if (u >= 0 && v >= 0 && u < w && v < h && LightAt(given, variance, v, u))
+                        ++lights;
+            if (lights > 25) continue;
+            rims.push_back(size_t(y) * w + x);
+            for (int c = 0; c < given.channels; ++c) {
+                std::vector<float> values;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if ((u != x || v != y) && u >= 0 && v >= 0 && u < w && v < h &&
+                            !LightAt(given, variance, v, u))
+                            values.push_back(given.At(c, v, u));
+                std::sort(values.begin(), values.end());
+                color->At(c, y, x) = values[(values.size() - 1) / 2];
+            }
+        }
+    return rims;
 }
 
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {

@@ -2,6 +2,9 @@
 // window summed from scratch, in double.
 #pragma once
 
+#include <cstddef>
+#include <vector>
+
 #include "host/image.h"
 
 namespace mcd::ref {
@@ -30,8 +33,21 @@ void RestoreLocalMeans(const Image &input, int r, Image *output,
 // not finite) is > 0 and > 16 x (and <= 512 x) the median (lower middle) of its in-image
 // neighbours' sums, with fewer than 2 of those neighbours so (none where a neighbour's sum is
 // not finite) and its sum (as a float) above each of theirs not so over, takes per channel the
-// median of its neighbours' values in the frame as given. Returns how many pixels.
-size_t CutSpikes(Image *color);
+// median of its neighbours' values in the frame as given. Returns how many pixels. With a
+// variance (1 or color's channels, color's size; else as without), over 512 x is cut too
+// where the median is > 0 and no neighbour is a light (CutLightRims below).
+size_t CutSpikes(Image *color, const Image *variance = nullptr);
+
+// A light's rims (host/common/local_mean.h, CutLightRims): a pixel whose channels' sum (NaN
+// if not finite, as a float) is > 0 and > 16 x the median (lower middle) of its in-image
+// neighbours' sums (none where one is not finite), that is no light, with a light among its
+// neighbours whose sum is above its own and a neighbour that is none, and at most 25 lights
+// in its 9x9 window clipped to the image, takes per channel the
+// median (lower middle) of its neighbours that are no lights, in the frame as given. A light:
+// the sum finite and > 0, the channels' variances summed (in double) <= (0.01 x the sum)^2.
+// Returns the pixels, in
+// raster order; none where the variance has another size or channel count (1 or color's).
+std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
 // the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel

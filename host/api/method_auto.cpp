@@ -101,6 +101,11 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                  "after the combination, which leans dark where the candidates disagree (0: "
                  "off)",
                  &O::meanRadius, 0, 256),
+        ChoiceParam("auto-mean-check",
+                    "beside half-buffers: keep the restore of local means per window as far "
+                    "as half1 says it lowers the error, the output's mean kept to 0.99 of "
+                    "the input's (halves), or keep it whole (off)",
+                    &O::meanCheck, {"halves", "off"}),
         ChoiceParam("auto-plain",
                     "on a frame with albedo and normals and without statistics (no variance "
                     "layer, half-buffers, histograms nor min/max/spp, as most renderers "
@@ -755,7 +760,10 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // and the noise estimate's reach.
     const int box = std::max(options.radius, options.frameRadius);
     const int noise = options.noiseRadius + 1;
-    const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius, true) : 0;
+    // With the restore's check, its tent's radius too (about the estimates' box's).
+    const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius, true) +
+                                                  (options.meanCheck == "halves" ? box : 0)
+                                            : 0;
     needs.reach += 2 * box + noise + mean;
     needs.reachText = fmt::format(
         "the widest candidate's reach + twice the estimates' box radius {} + the noise "
@@ -851,16 +859,35 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     std::vector<AutoCandidate> list;
     for (Ran &r : candidates.ran) list.push_back(std::move(r.candidate));
     AutoOptions combine = CombineOptions(options, noise, run);
-    AutoResult combined =
-        AutoCombine(context, color, list, EstimateInputs(noise, combine), combine);
+    // The half0 runs' combination, for the restore's check against half1.
+    const bool check = noise.halves && options.meanRadius > 0 && options.meanCheck == "halves";
+    Image half0 = check ? noise.half0 : Image();
+    const AutoEstimateInputs estimate = EstimateInputs(noise, combine);
+    AutoResult combined = AutoCombine(context, color, list, estimate, combine);
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
     Result result = ResultOf(std::move(combined));
-    if (options.meanRadius > 0) {
+    const Image *variance = inputs.Has("variance") ? &inputs.Get("variance") : nullptr;
+    if (check) {
+        // The candidates' outputs are combined: their half0 runs take their place.
+        for (AutoCandidate &c : list) c.output = c.probe;
+        AutoOptions quiet = combine;
+        quiet.keepStages = quiet.map = false;
+        Image combinedHalf = AutoCombine(context, half0, list, estimate, quiet).image;
+        Image combinedFull = std::move(result.image);
+        RestoreCheck kept =
+            RestoreLocalMeansChecked(color, half0, estimate.half1, combinedFull, combinedHalf,
+                                     options.meanRadius, variance, kLocalMeanRebalanceAuto,
+                                     options.radius / 2, kRestoreCheckFloor, &result.image);
+        plan.push_back(fmt::format(
+            "auto: local mean: {}; kept per {}x{} tent as far as half1 says it lowers the "
+            "error of the same combination of the half0 runs (mean share {:.2f}), then "
+            "{:.2f} of the rest for {} of the input's mean (--auto-mean-check off: whole)",
+            kept.restore, 2 * (options.radius / 2) * 2 + 1, 2 * (options.radius / 2) * 2 + 1,
+            kept.meanShare, kept.lift, kRestoreCheckFloor));
+    } else if (options.meanRadius > 0) {
         plan.push_back("auto: local mean: " +
-                       RestoreLocalMeansRebalanced(
-                           color, options.meanRadius, &result.image,
-                           inputs.Has("variance") ? &inputs.Get("variance") : nullptr,
-                           kLocalMeanRebalanceAuto));
+                       RestoreLocalMeansRebalanced(color, options.meanRadius, &result.image,
+                                                   variance, kLocalMeanRebalanceAuto));
     }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();

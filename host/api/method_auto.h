@@ -75,6 +75,9 @@ class AutoFrontEnd : public FrontEnd {
         // host/common/local_mean.h): the relative combination leans dark where the
         // candidates disagree, and relMSE rewards that (issue 29).
         int meanRadius = 16;
+        // Beside the half-buffers, the restore kept per window as far as half1 says it
+        // lowers the error ("halves"), or whole ("off"; host/common/local_mean.h).
+        std::string meanCheck = "halves";
         // On a frame with albedo and normals and without statistics, nfor alone or the
         // combination (docs/methods/auto.md: nfor alone beat the combination on the real
         // Cycles frames).

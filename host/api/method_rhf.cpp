@@ -85,26 +85,38 @@ class Rhf : public FrontEndOf<RhfParams> {
         setup.scalesUsed = whole.scalesUsed;
         setup.histScales = whole.histScales;
         const Image &color = inputs.Get("color");
-        // Lone spikes cut before the filter (it spread each over its search window, a
-        // square); the restore of local means gives their energy back.
+        // Lone spikes and lights' rims cut before the filter (it spread each over its
+        // search window, a square); the restore of local means gives the spikes' energy
+        // back, the rims take their input back after the filter.
+        Image variance = ExactVariance(ExactLayersOf(inputs));
         Image cut;
         size_t spikes = 0;
+        std::vector<size_t> rims;
         if (options.meanRadius > 0) {
             cut = color;
-            spikes = CutSpikes(&cut);
+            spikes = CutSpikes(&cut, &variance);
+            Image spiked = cut;
+            rims = ManySampled(spiked, Histograms(inputs), CutLightRims(&cut, variance), &cut);
         }
+        const bool anyCut = spikes > 0 || !rims.empty();
         Result result = ResultOf(
-            RhfDenoise(context, spikes > 0 ? cut : color, Histograms(inputs), options, setup));
+            RhfDenoise(context, anyCut ? cut : color, Histograms(inputs), options, setup));
         if (options.meanRadius > 0)
             result.plan.insert(
                 result.plan.begin(),
-                fmt::format("spikes: {} lone pixels over {} times their neighbours' median "
-                            "(channels summed) take that median before the filter (it would "
-                            "spread each over its search window); the local mean gives their "
-                            "energy back",
-                            spikes, kSpike));
-        Image variance = ExactVariance(ExactLayersOf(inputs));
+                {fmt::format("spikes: {} lone pixels over {} times their neighbours' median "
+                             "(channels summed) take that median before the filter (it would "
+                             "spread each over its search window); the local mean gives their "
+                             "energy back",
+                             spikes, kSpike),
+                 fmt::format("lights' rims: {} pixels over {} times their neighbours' median "
+                             "beside a brighter light (its samples within 1%), of at least "
+                             "16 samples, take their "
+                             "other neighbours' median before the filter and their input back "
+                             "after it",
+                             rims.size(), kSpike)});
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
+        GiveBack(color, rims, &result.image);
         result.plan.push_back(
             variance.Empty()
                 ? std::string("exact pixels: none known (no variance layer nor min, max and "
@@ -184,14 +196,21 @@ class Rhf : public FrontEndOf<RhfParams> {
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
         std::vector<std::pair<std::string, Image>> named;
         Image cut = inputs.Get("color");
-        if (options.meanRadius > 0) ref::CutSpikes(&cut);
+        const Image variance = ExactVariance(ExactLayersOf(inputs));
+        std::vector<size_t> rims;
+        if (options.meanRadius > 0) {
+            ref::CutSpikes(&cut, &variance);
+            Image spiked = cut;
+            rims = ManySampled(spiked, Histograms(inputs), ref::CutLightRims(&cut, variance),
+                               &cut);
+        }
         Image out = ref::Rhf(cut, Histograms(inputs), options, &named);
         // The pipeline's clamp of the recombination's overshoot (the reference's output is
         // raw).
         if (!options.keepNegative)
             for (float &v : out.data) v = v < 0 ? 0.f : v;
-        ref::KeepExactPixels(inputs.Get("color"), ExactVariance(ExactLayersOf(inputs)), &out,
-                             ExactReach());
+        ref::KeepExactPixels(inputs.Get("color"), variance, &out, ExactReach());
+        GiveBack(inputs.Get("color"), rims, &out);
         named.emplace_back("exact pixels", out);
         if (options.meanRadius > 0) {
             ref::RestoreLocalMeans(inputs.Get("color"), options.meanRadius, &out,
@@ -212,6 +231,34 @@ class Rhf : public FrontEndOf<RhfParams> {
     // How far rhf moves a value at the finest scale: a patch's pixels from the search
     // window's far side.
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
+
+    // The rims (CutLightRims) of at least kRimSamples samples (the histograms' count): with
+    // fewer a rim one sample saw holds a large share of its light, and the filter's spread
+    // along the light's edge is its coverage (cornell at 4 spp, 2 in auto's half-buffers);
+    // the others take their value in `given` back in `cut`.
+    static constexpr float kRimSamples = 16;
+    static std::vector<size_t> ManySampled(const Image &given, const Image &histograms,
+                                           const std::vector<size_t> &rims, Image *cut) {
+        std::vector<size_t> kept;
+        const size_t n = given.PixelCount();
+        for (size_t p : rims) {
+            if (histograms.data[(histograms.channels - 1) * n + p] >= kRimSamples) {
+                kept.push_back(p);
+                continue;
+            }
+            for (int c = 0; c < given.channels; ++c)
+                cut->data[c * n + p] = given.data[c * n + p];
+        }
+        return kept;
+    }
+
+    // The pixels `rims` (CutLightRims) take their input back.
+    static void GiveBack(const Image &input, const std::vector<size_t> &rims, Image *output) {
+        for (size_t p : rims)
+            for (int c = 0; c < input.channels; ++c)
+                output->data[c * input.PixelCount() + p] =
+                    input.data[c * input.PixelCount() + p];
+    }
 
     // The layers that tell which pixels are exact.
     static ExactLayers ExactLayersOf(Inputs &inputs) {

@@ -352,9 +352,20 @@ bool AboveNeighbours(const float *plane, const std::vector<char> &over, int w, i
     return true;
 }
 
+// Whether pixel p is a light: its sum finite and > 0, its channels' variances summed at
+// most (kLightNoise x its sum)^2.
+bool Light(const Image &variance, const Image &sums, size_t p) {
+    const double s = sums.data[p];
+    if (!(s > 0) || !std::isfinite(s)) return false;
+    double v = 0;
+    for (int c = 0; c < variance.channels; ++c)
+        v += variance.data[c * variance.PixelCount() + p];
+    return v <= kLightNoise * kLightNoise * s * s;
+}
+
 }  // namespace
 
-size_t CutSpikes(Image *color) {
+size_t CutSpikes(Image *color, const Image *variance) {
     const int w = color->width, h = color->height;
     const size_t n = color->PixelCount();
     Image sums(w, h, 1);
@@ -363,6 +374,17 @@ size_t CutSpikes(Image *color) {
         for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
         sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
     }
+    // Pixels beside a light, where a spike over kSpikeMost stays.
+    const bool usable = variance && variance->width == w && variance->height == h &&
+                        (variance->channels == 1 || variance->channels == color->channels);
+    std::vector<char> lit(n, !usable);
+    if (usable)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                    for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
+                        if ((i != x || j != y) && Light(*variance, sums, size_t(j) * w + i))
+                            lit[size_t(y) * w + x] = 1;
     std::vector<char> over(n, 0), within(n, 0);
     ParallelFor(h, n * 16, [&](int begin, int end) {
         for (int y = begin; y < end; ++y)
@@ -371,7 +393,7 @@ size_t CutSpikes(Image *color) {
                 const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
                 over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
                           sums.data[p] > kSpike * m;
-                within[p] = over[p] && sums.data[p] <= kSpikeMost * m;
+                within[p] = over[p] && (sums.data[p] <= kSpikeMost * m || (!lit[p] && m > 0));
             }
     });
     std::vector<size_t> cut;
@@ -390,6 +412,69 @@ size_t CutSpikes(Image *color) {
         for (int c = 0; c < color->channels; ++c)
             color->Plane(c)[cut[k]] = medians[k * color->channels + c];
     return cut.size();
+}
+
+std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
+    const int w = color->width, h = color->height;
+    const size_t n = color->PixelCount();
+    std::vector<size_t> rims;
+    if (variance.width != w || variance.height != h ||
+        (variance.channels != 1 && variance.channels != color->channels))
+        return rims;
+    Image sums(w, h, 1);
+    for (size_t p = 0; p < n; ++p) {
+        double sum = 0;
+        for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
+        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
+    }
+    std::vector<char> light(n);
+    for (size_t p = 0; p < n; ++p) light[p] = Light(variance, sums, p);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            const float own = sums.data[p];
+            const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
+            if (light[p] || !(own > 0) || !std::isfinite(own) || !std::isfinite(m) ||
+                !(own > kSpike * m))
+                continue;
+            bool beside = false, others = false;
+            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                    const size_t q = size_t(j) * w + i;
+                    if (q == p) continue;
+                    if (light[q] && sums.data[q] > own)
+                        beside = true;
+                    else if (!light[q])
+                        others = true;
+                }
+            if (!beside || !others) continue;
+            // A small light's: a light's long edge spread along itself is its coverage.
+            int lights = 0;
+            for (int j = std::max(0, y - 4); j <= std::min(h - 1, y + 4); ++j)
+                for (int i = std::max(0, x - 4); i <= std::min(w - 1, x + 4); ++i)
+                    lights += light[size_t(j) * w + i];
+            if (lights <= kSmallLight) rims.push_back(p);
+        }
+    // Every median from the frame as it came, over the neighbours that are no lights.
+    std::vector<float> medians(rims.size() * color->channels);
+    for (size_t k = 0; k < rims.size(); ++k) {
+        const int x = int(rims[k] % w), y = int(rims[k] / w);
+        for (int c = 0; c < color->channels; ++c) {
+            float values[8];
+            int count = 0;
+            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                    const size_t q = size_t(j) * w + i;
+                    if (q != rims[k] && !light[q]) values[count++] = color->Plane(c)[q];
+                }
+            std::nth_element(values, values + (count - 1) / 2, values + count);
+            medians[k * color->channels + c] = values[(count - 1) / 2];
+        }
+    }
+    for (size_t k = 0; k < rims.size(); ++k)
+        for (int c = 0; c < color->channels; ++c)
+            color->Plane(c)[rims[k]] = medians[k * color->channels + c];
+    return rims;
 }
 
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
@@ -450,6 +535,80 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
         "the input's means over tents of radius {}, then {}, then {} again restored (factors "
         "{:.3g} to {:.3g})",
         8 * r, 2 * r, 8 * r, f.lo, f.hi);
+}
+
+namespace {
+
+// Per pixel w (a0 - h1)(a0 - b0) and w (a0 - b0)^2 summed over the channels (planes 0
+// and 1), w = 1 / (a^2 + 0.01), a the channels' mean of `a`.
+Image RestoreGain(const Image &a, const Image &a0, const Image &b0, const Image &h1) {
+    const size_t n = a.PixelCount();
+    Image terms(a.width, a.height, 2);
+    for (size_t i = 0; i < n; ++i) {
+        double mean = 0;
+        for (int c = 0; c < a.channels; ++c) mean += a.data[c * n + i];
+        mean /= a.channels;
+        double w = 1 / (mean * mean + 0.01), gain = 0, squared = 0;
+        if (!std::isfinite(w)) continue;
+        for (int c = 0; c < a.channels; ++c) {
+            double x = a0.data[c * n + i], y = b0.data[c * n + i], h = h1.data[c * n + i];
+            if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(h)) continue;
+            gain += w * (x - h) * (x - y);
+            squared += w * (x - y) * (x - y);
+        }
+        terms.data[i] = float(gain);
+        terms.data[n + i] = float(squared);
+    }
+    return terms;
+}
+
+}  // namespace
+
+RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
+                                      const Image &half1, const Image &combined,
+                                      const Image &combinedHalf, int r, const Image *variance,
+                                      double rebalance, int s, double floorShare,
+                                      Image *output) {
+    if (!half0.SameShape(input) || !half1.SameShape(input) || !combined.SameShape(input) ||
+        !combinedHalf.SameShape(input))
+        throw Error(
+            "RestoreLocalMeansChecked: the halves and combinations must have the "
+            "input's shape",
+            ErrorKind::InvalidArgument);
+    RestoreCheck check;
+    Image restored = combined, restoredHalf = combinedHalf;
+    check.restore = RestoreLocalMeansRebalanced(input, r, &restored, variance, rebalance);
+    RestoreLocalMeansRebalanced(half0, r, &restoredHalf, variance, rebalance);
+    Image terms = TentMean(RestoreGain(combined, combinedHalf, restoredHalf, half1), s);
+    const size_t n = input.PixelCount();
+    std::vector<double> share(n, 1.0);
+    // The means of the input, of the checked output and of what a full lift would add.
+    double in = 0, checked = 0, rest = 0, total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (terms.data[n + i] > 0)
+            share[i] = std::clamp(double(terms.data[i]) / terms.data[n + i], 0.0, 1.0);
+        total += share[i];
+        for (int c = 0; c < input.channels; ++c) {
+            double a = combined.data[c * n + i], b = restored.data[c * n + i];
+            double x = input.data[c * n + i];
+            if (std::isfinite(x)) in += x;
+            if (!std::isfinite(a) || !std::isfinite(b)) continue;
+            checked += a + share[i] * (b - a);
+            rest += (1 - share[i]) * (b - a);
+        }
+    }
+    check.meanShare = n ? total / double(n) : 1;
+    if (checked < floorShare * in && rest > 0)
+        check.lift = std::min(1.0, (floorShare * in - checked) / rest);
+    *output = combined;
+    for (size_t i = 0; i < n; ++i) {
+        double t = share[i] + check.lift * (1 - share[i]);
+        for (int c = 0; c < input.channels; ++c) {
+            double a = combined.data[c * n + i], b = restored.data[c * n + i];
+            output->data[c * n + i] = float(a + t * (b - a));
+        }
+    }
+    return check;
 }
 
 }  // namespace mcd

@@ -34,6 +34,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "host/image.h"
 
@@ -87,6 +88,32 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
                                         const Image *variance,
                                         double rebalance = kLocalMeanRebalance);
 
+// The restore checked against an independent half-buffer (beyond the papers), for a
+// combination that also ran on half0 (auto beside the half-buffers). Where a frame's light
+// is in rare bright samples (a glossy ring's reflections of small lights at 16 spp) the
+// candidates take it off and the restore gives it back spread over its tents, onto pixels
+// the reference keeps dark. `combined` and `combinedHalf` (the same combination of the
+// candidates' runs on `half0`) are restored as RestoreLocalMeansRebalanced does, from
+// `input` and `half0`; per pixel the share t of the restore, f = a + t (b - a), that the
+// independent `half1` says lowers the relative squared error over the tent of radius 2s:
+// t = sum w (a0 - h1)(a0 - b0) / sum w (a0 - b0)^2 clamped to [0, 1], w = 1 / (a^2 + 0.01)
+// (channels' mean a), where a0, b0 are the half's combination unrestored and restored (the
+// expectation of the sum is that of the reference's in place of h1: a0 and b0 do not
+// depend on h1). relMSE prefers a dark output where the noise is heavy-tailed, so the
+// restore's brightness is then kept to `floorShare` of the input's mean: t' = t + l (1 -
+// t) with the least l in [0, 1] that gives it. `output`: `combined`'s shape.
+constexpr double kRestoreCheckFloor = 0.99;
+struct RestoreCheck {
+    std::string restore;   // RestoreLocalMeansRebalanced's account of the restore
+    double meanShare = 1;  // the mean of t
+    double lift = 0;       // l
+};
+RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
+                                      const Image &half1, const Image &combined,
+                                      const Image &combinedHalf, int r, const Image *variance,
+                                      double rebalance, int s, double floorShare,
+                                      Image *output);
+
 // Lone spikes cut from a frame before a filter that averages each pixel with the alike ones
 // around it (beyond the papers): rhf's histograms hardly tell a firefly from its
 // neighbours, so its energy was spread evenly over the search window, a square. A pixel
@@ -100,8 +127,32 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
 // tents (at r = 8 a centre weight of 1/4225), would light a glow one can see (fireflies 4
 // spp: a point of 2853 on an emitter of 4.3, 1139 in the reference); the filter's bright
 // veto keeps such a point mostly to itself.
+// With `variance` (of the pixel mean, one channel or the frame's; see CutLightRims for a
+// light) that bound holds only beside a light or where the median is 0: a spike over it on a
+// lit surface (glossy_lights accumulated: the chrome sphere's reflections of the bulbs) is
+// cut as the others are. Over black (a few samples of a dark pixel all 0: cornell 4 spp's
+// half-buffers) the ratio says nothing, and the bound holds.
 constexpr double kSpike = 16, kSpikeMost = 512;
-size_t CutSpikes(Image *color);
+size_t CutSpikes(Image *color, const Image *variance = nullptr);
+
+// A small light's rim cut from a frame before such a filter, and given back after it (beyond
+// the papers). A pixel beside a light's core that one of its few samples saw (glossy_lights
+// accumulated: 15 among walls of 0.08, a bulb of 240 beside it) is no lone spike, but the
+// filter spread it over its search window all the same: a lighter square beside each
+// bulb. A light: a pixel whose value (channels summed, finite, > 0) has a standard
+// deviation (`variance` of the pixel mean, one channel or the frame's, summed) of at most
+// kLightNoise of it: nearly every sample saw the same (a bulb, 240.00x). A pixel whose
+// value is over kSpike times the median of its 8 neighbours', which is no light itself and
+// has a light brighter than it among its neighbours, and at most kSmallLight lights in
+// its 9x9 window (a small light: along a large light's edge, as cornell's at 4 spp, the
+// filter spreads the rims along the edge, which is the edge's coverage), takes per channel
+// the median of its neighbours that are no lights (from the frame as given); none without
+// such neighbours.
+// Returns the pixels cut (y * width + x, ascending); the caller gives them their input back
+// after the filter. An empty or wrongly sized variance cuts nothing.
+constexpr double kLightNoise = 0.01;
+constexpr int kSmallLight = 25;
+std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or

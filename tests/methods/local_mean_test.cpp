@@ -11,6 +11,7 @@
 #include "cpu_reference/local_mean.h"
 #include "harness/inputs.h"
 #include "host/common/local_mean.h"
+#include "host/error.h"
 
 namespace mcd {
 namespace {
@@ -353,6 +354,71 @@ TEST(LocalMeanProperties, CutSpikesCutsOnlyLoneSpikes) {
         if (i % cut.PixelCount() != 2 * 12 + 2) EXPECT_EQ(cut.data[i], color.data[i]) << i;
 }
 
+// Lights' rims against the reference on the random frames, with a variance that makes
+// about a tenth of the pixels lights (0, or tiny against the value) and the rest noisy,
+// and a bright light planted beside a rim and a lone spike: the same pixels and bits, and
+// the same when repeated.
+TEST_P(LocalMeanMatches, CutLightRimsMatchesReference) {
+    const LocalMeanCase &c = GetParam();
+    Image input, unused;
+    MakeImages(c, &input, &unused);
+    std::mt19937_64 rng(
+        SeedFromName("light rims " + std::to_string(c.w) + "x" + std::to_string(c.h)));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image variance(c.w, c.h, c.channels);
+    for (size_t i = 0; i < variance.data.size(); ++i) {
+        float u = unit(rng);
+        variance.data[i] = u < 0.1f ? 0.f : u < 0.15f ? 1e-7f : unit(rng);
+    }
+    if (c.w >= 3 && c.h >= 3)
+        for (int ch = 0; ch < c.channels; ++ch) {
+            input.At(ch, 1, 1) = 200;
+            variance.At(ch, 1, 1) = 0;
+            input.At(ch, 1, 2) = 20;
+        }
+    Image expected = input, got = input, again = input;
+    std::vector<size_t> rims = ref::CutLightRims(&expected, variance);
+    EXPECT_EQ(CutLightRims(&got, variance), rims);
+    ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    CutLightRims(&again, variance);
+    EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+    Image one(c.w, c.h, 1);
+    for (size_t p = 0; p < one.data.size(); ++p) one.data[p] = variance.data[p];
+    Image expectedOne = input, gotOne = input;
+    EXPECT_EQ(CutLightRims(&gotOne, one), ref::CutLightRims(&expectedOne, one));
+    EXPECT_EQ(0,
+              std::memcmp(gotOne.data.data(), expectedOne.data.data(), gotOne.data.size() * 4));
+}
+
+// A bulb (3x3 of 240, its samples agreeing) on a wall of 0.1 with a rim pixel one sample saw
+// (15) beside it: the rim takes the wall's median, the bulb and a lone spike away from
+// any light stay (CutSpikes's), and a wrongly sized variance cuts nothing.
+TEST(LocalMeanProperties, CutLightRimsCutsOnlyPixelsBesideALight) {
+    const int w = 16, h = 12;
+    Image color(w, h, 3, 0.1f), variance(w, h, 3, 0.01f);
+    for (int c = 0; c < 3; ++c) {
+        for (int y = 4; y <= 6; ++y)
+            for (int x = 4; x <= 6; ++x) {
+                color.At(c, y, x) = 240;
+                variance.At(c, y, x) = 1e-4f;
+            }
+        color.At(c, 5, 7) = 15;  // rim
+        variance.At(c, 5, 7) = 14;
+        color.At(c, 2, 12) = 15;  // lone spike: no light beside it
+        variance.At(c, 2, 12) = 14;
+    }
+    Image cut = color;
+    std::vector<size_t> rims = CutLightRims(&cut, variance);
+    ASSERT_EQ(rims.size(), 1u);
+    EXPECT_EQ(rims[0], size_t(5 * w + 7));
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(cut.At(c, 5, 7), 0.1f);
+    for (size_t i = 0; i < cut.data.size(); ++i)
+        if (i % cut.PixelCount() != size_t(5 * w + 7)) EXPECT_EQ(cut.data[i], color.data[i]);
+    Image other(w, h - 1, 3), same = color;
+    EXPECT_TRUE(CutLightRims(&same, other).empty());
+    EXPECT_EQ(0, std::memcmp(same.data.data(), color.data.data(), color.data.size() * 4));
+}
+
 // The robust estimate reads Gaussian noise's variance (its mean over a frame within 5%),
 // and a bright line the albedo does not show does not raise it beside the line, where a
 // 3x3 sample variance of the same frame is many times the noise.
@@ -379,6 +445,51 @@ TEST(LocalMeanProperties, FrameNoiseReadsTheNoiseAndNotALine) {
     int n = 0;
     for (int i = 10; i + 10 < w; ++i, ++n) beside += lined.At(0, i, i + 1);
     EXPECT_LT(beside / n, 2 * 0.25 * sd * sd);
+}
+
+// A frame darkened uniformly by a combination (0.5 -> 0.3) whose restore brings back 0.5
+// everywhere; half1 agrees with the restore on the left and with the unrestored combination
+// on the right: the check keeps the restore on the left and none of it on the right, and
+// with a floor lifts the rest just enough for that share of the input's mean.
+TEST(LocalMeanProperties, RestoreCheckKeepsWhatHalfOneConfirms) {
+    const int w = 96, h = 24, r = 2, s = 3;
+    Image input(w, h, 3, 0.5f), half0(w, h, 3, 0.5f), half1(w, h, 3, 0.5f);
+    Image combined(w, h, 3, 0.3f), combinedHalf(w, h, 3, 0.3f);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = w / 2; x < w; ++x) half1.At(c, y, x) = 0.3f;
+    Image restored = combined, output;
+    RestoreLocalMeansRebalanced(input, r, &restored, nullptr, kLocalMeanRebalanceAuto);
+    RestoreCheck check =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, 0, &output);
+    EXPECT_EQ(check.lift, 0);
+    EXPECT_NEAR(check.meanShare, 0.5, 0.1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w / 2 - 2 * s; ++x)
+                EXPECT_NEAR(output.At(c, y, x), restored.At(c, y, x), 1e-6);
+            for (int x = w / 2 + 2 * s; x < w; ++x) EXPECT_EQ(output.At(c, y, x), 0.3f);
+        }
+    EXPECT_NEAR(restored.At(0, h / 2, w / 4), 0.5, 0.01);
+
+    RestoreCheck lifted =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, kRestoreCheckFloor, &output);
+    EXPECT_GT(lifted.lift, 0);
+    EXPECT_LT(lifted.lift, 1);
+    double mean = 0;
+    for (float v : output.data) mean += v;
+    mean /= double(output.Size());
+    EXPECT_NEAR(mean, kRestoreCheckFloor * 0.5, 1e-5);
+}
+
+// A half of another shape is refused, not read past its end.
+TEST(LocalMeanProperties, RestoreCheckRefusesHalvesOfAnotherShape) {
+    Image input(8, 8, 3, 0.5f), small(8, 7, 3, 0.5f), output;
+    EXPECT_THROW(RestoreLocalMeansChecked(input, input, small, input, input, 1, nullptr, 0.1, 1,
+                                          0.99, &output),
+                 Error);
 }
 
 }  // namespace
