@@ -124,25 +124,23 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
 // local means (with each value's noise) then reads the cut energy as noise: a lone spike's
 // comes back over the coarse tents only. Returns how many pixels were cut.
 // A spike over kSpikeMost times the median stays: its energy, given back over the coarse
-// tents (at r = 8 a centre weight of 1/4225), would light a glow one can see (fireflies 4
-// spp: a point of 2853 on an emitter of 4.3, 1139 in the reference); the filter's bright
-// veto keeps such a point mostly to itself.
+// tents (at r = 8 a centre weight of 1/4225), would light a glow one can see (a firefly
+// on a dim emitter); the filter's bright veto keeps such a point mostly to itself.
 // With `variance` (of the pixel mean, one channel or the frame's; see CutLightRims for a
 // light) that bound holds only beside a light or where the median is 0: a spike over it on a
-// lit surface (glossy_lights accumulated: the chrome sphere's reflections of the bulbs) is
-// cut as the others are. Over black (a few samples of a dark pixel all 0: cornell 4 spp's
-// half-buffers) the ratio says nothing, and the bound holds.
+// lit surface (a chrome sphere's reflections of small lights) is cut as the others are.
+// Over black (a few samples of a dark pixel all 0) the ratio says nothing, and the bound
+// holds.
 constexpr double kSpike = 16, kSpikeMost = 512;
 size_t CutSpikes(Image *color, const Image *variance = nullptr);
 
 // A small light's rim cut from a frame before such a filter, and given back after it (beyond
-// the papers). A pixel beside a light's core that one of its few samples saw (glossy_lights
-// accumulated: 15 among walls of 0.08, a bulb of 240 beside it) is no lone spike, but the
-// filter spread it over its search window all the same: a lighter square beside each
-// bulb. A light: a pixel whose value (channels summed, finite, > 0) has a standard
-// deviation (`variance` of the pixel mean, one channel or the frame's, summed) of at most
-// kLightNoise of it: nearly every sample saw the same (a bulb, 240.00x). A pixel whose
-// value is over kSpike times the median of its 8 neighbours', which is no light itself and
+// the papers). A pixel beside a small light's core that one of its few samples saw is no
+// lone spike, but the filter spread it over its search window all the same: a lighter
+// square beside each bulb. A light: a pixel whose value (channels summed, finite, > 0) has
+// a standard deviation (`variance` of the pixel mean, one channel or the frame's, summed)
+// of at most kLightNoise of it: nearly every sample saw the same. A pixel whose value is
+// over kSpike times the median of its 8 neighbours', which is no light itself and
 // has a light brighter than it among its neighbours, and at most kSmallLight lights in
 // its 9x9 window (a small light: along a large light's edge, as cornell's at 4 spp, the
 // filter spreads the rims along the edge, which is the edge's coverage), takes per channel
