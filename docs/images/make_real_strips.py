@@ -15,6 +15,7 @@ FONT = "/usr/share/fonts/truetype/dejavu/DejaVuSans-Bold.ttf"
 # Per strip: scene, frame, the methods shown between the input and the reference.
 STRIPS = [("sunlit_room", "accumulated", ["pivot", "rhf", "auto", "oidn"]),
           ("glossy_lights", "plain", ["pivot", "auto", "oidn"]),
+          ("glossy_lights", "accumulated", ["rhf", "nfor", "auto", "oidn"]),
           ("product_transparent", "accumulated", ["bayes", "auto", "oidn"])]
 GAP, LABEL = 4, 22
 
