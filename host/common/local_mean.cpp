@@ -363,17 +363,23 @@ bool Light(const Image &variance, const Image &sums, size_t p) {
     return v <= kLightNoise * kLightNoise * s * s;
 }
 
+// Each pixel's channels summed (in double), NaN where the sum is not finite.
+Image ChannelSums(const Image &color) {
+    Image sums(color.width, color.height, 1);
+    for (size_t p = 0; p < color.PixelCount(); ++p) {
+        double sum = 0;
+        for (int c = 0; c < color.channels; ++c) sum += color.Plane(c)[p];
+        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
+    }
+    return sums;
+}
+
 }  // namespace
 
 size_t CutSpikes(Image *color, const Image *variance) {
     const int w = color->width, h = color->height;
     const size_t n = color->PixelCount();
-    Image sums(w, h, 1);
-    for (size_t p = 0; p < n; ++p) {
-        double sum = 0;
-        for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
-        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
-    }
+    const Image sums = ChannelSums(*color);
     // Pixels beside a light, where a spike over kSpikeMost stays.
     const bool usable = variance && variance->width == w && variance->height == h &&
                         (variance->channels == 1 || variance->channels == color->channels);
@@ -421,12 +427,7 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
     if (variance.width != w || variance.height != h ||
         (variance.channels != 1 && variance.channels != color->channels))
         return rims;
-    Image sums(w, h, 1);
-    for (size_t p = 0; p < n; ++p) {
-        double sum = 0;
-        for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
-        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
-    }
+    const Image sums = ChannelSums(*color);
     std::vector<char> light(n);
     for (size_t p = 0; p < n; ++p) light[p] = Light(variance, sums, p);
     for (int y = 0; y < h; ++y)
