@@ -178,8 +178,9 @@ void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *va
 namespace {
 
 // The lower middle of the values of plane c (or of the channels' sums, c < 0) at the
-// neighbours of (x, y) inside the image; NaN without any or where one is not finite.
-double MedianAround(const Image &image, int c, int y, int x) {
+// neighbours of (x, y) inside the image (with `positive`, those not <= 0 only); NaN without
+// any or where one is not finite.
+double MedianAround(const Image &image, int c, int y, int x, bool positive = false) {
     std::vector<double> values;
     for (int v = y - 1; v <= y + 1; ++v)
         for (int u = x - 1; u <= x + 1; ++u) {
@@ -190,7 +191,7 @@ double MedianAround(const Image &image, int c, int y, int x) {
                 sum = image.At(c, v, u);
             else
                 for (int k = 0; k < image.channels; ++k) sum += image.At(k, v, u);
-            values.push_back(float(sum));
+            if (!positive || !(float(sum) <= 0)) values.push_back(float(sum));
         }
     for (double v : values)
         if (!std::isfinite(v)) return NAN;
@@ -246,7 +247,10 @@ size_t CutSpikes(Image *color, const Image *variance) {
                     if (usable && (u != x || v != y) && u >= 0 && v >= 0 && u < given.width &&
                         v < given.height && LightAt(given, *variance, v, u))
                         besideLight = true;
-            const double median = MedianAround(given, -1, y, x);
+            // Where the median is 0, the median of the neighbours above 0 instead.
+            double median = MedianAround(given, -1, y, x);
+            if (median == 0) median = MedianAround(given, -1, y, x, true);
+            if (!(float(own) > 16 * median)) continue;
             if (!(float(own) <= 512 * median) && (besideLight || !(median > 0))) continue;
             int neighbours = 0;
             for (int v = y - 1; v <= y + 1; ++v)

@@ -33,9 +33,11 @@ void RestoreLocalMeans(const Image &input, int r, Image *output,
 // not finite) is > 0 and > 16 x (and <= 512 x) the median (lower middle) of its in-image
 // neighbours' sums, with fewer than 2 of those neighbours so (none where a neighbour's sum is
 // not finite) and its sum (as a float) above each of theirs not so over, takes per channel the
-// median of its neighbours' values in the frame as given. Returns how many pixels. With a
-// variance (1 or color's channels, color's size; else as without), over 512 x is cut too
-// where the median is > 0 and no neighbour is a light (CutLightRims below).
+// median of its neighbours' values in the frame as given. Returns how many pixels. Where
+// that median is 0, the 16 x and 512 x are of the median of the neighbours' sums above 0
+// (none: not cut). With a variance (1 or color's channels, color's size; else as without),
+// over 512 x is cut too where that median is > 0 and no neighbour is a light (CutLightRims
+// below).
 size_t CutSpikes(Image *color, const Image *variance = nullptr);
 
 // A light's rims (host/common/local_mean.h, CutLightRims): a pixel whose channels' sum (NaN

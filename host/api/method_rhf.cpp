@@ -110,11 +110,10 @@ class Rhf : public FrontEndOf<RhfParams> {
                              "energy back",
                              spikes, kSpike),
                  fmt::format("lights' rims: {} pixels over {} times their neighbours' median "
-                             "beside a brighter light (its samples within 1%), of at least "
-                             "16 samples, take their "
-                             "other neighbours' median before the filter and their input back "
-                             "after it",
-                             rims.size(), kSpike)});
+                             "beside a brighter light (its samples within {}%), of at least "
+                             "{} samples, take their other neighbours' median before the "
+                             "filter and their input back after it",
+                             rims.size(), kSpike, kLightNoise * 100, kRimSamples)});
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
         GiveBack(color, rims, &result.image);
         result.plan.push_back(

@@ -323,14 +323,15 @@ Image FrameNoise(const Image &color, const Image *albedo) {
 
 namespace {
 
-// The median of the values at (x, y)'s neighbours within the frame (the lower middle); NaN
-// where one is not finite or there is none.
-double NeighbourMedian(const float *plane, int w, int h, int x, int y) {
+// The median of the values at (x, y)'s neighbours within the frame (the lower middle; with
+// `positive`, of those not <= 0); NaN where one is not finite or there is none.
+double NeighbourMedian(const float *plane, int w, int h, int x, int y, bool positive = false) {
     float values[8];
     int count = 0;
     for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
         for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
-            if (u != x || v != y) values[count++] = plane[size_t(v) * w + u];
+            if ((u != x || v != y) && (!positive || !(plane[size_t(v) * w + u] <= 0)))
+                values[count++] = plane[size_t(v) * w + u];
     if (count == 0 ||
         !std::all_of(values, values + count, [](float v) { return std::isfinite(v); }))
         return NAN;
@@ -363,17 +364,23 @@ bool Light(const Image &variance, const Image &sums, size_t p) {
     return v <= kLightNoise * kLightNoise * s * s;
 }
 
+// Each pixel's channels summed (in double), NaN where the sum is not finite.
+Image ChannelSums(const Image &color) {
+    Image sums(color.width, color.height, 1);
+    for (size_t p = 0; p < color.PixelCount(); ++p) {
+        double sum = 0;
+        for (int c = 0; c < color.channels; ++c) sum += color.Plane(c)[p];
+        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
+    }
+    return sums;
+}
+
 }  // namespace
 
 size_t CutSpikes(Image *color, const Image *variance) {
     const int w = color->width, h = color->height;
     const size_t n = color->PixelCount();
-    Image sums(w, h, 1);
-    for (size_t p = 0; p < n; ++p) {
-        double sum = 0;
-        for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
-        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
-    }
+    const Image sums = ChannelSums(*color);
     // Pixels beside a light, where a spike over kSpikeMost stays.
     const bool usable = variance && variance->width == w && variance->height == h &&
                         (variance->channels == 1 || variance->channels == color->channels);
@@ -393,7 +400,11 @@ size_t CutSpikes(Image *color, const Image *variance) {
                 const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
                 over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
                           sums.data[p] > kSpike * m;
-                within[p] = over[p] && (sums.data[p] <= kSpikeMost * m || (!lit[p] && m > 0));
+                // Over black the ratio says nothing: there the neighbours above 0 tell.
+                const double level =
+                    m == 0 ? NeighbourMedian(sums.data.data(), w, h, x, y, true) : m;
+                within[p] = over[p] && sums.data[p] > kSpike * level &&
+                            (sums.data[p] <= kSpikeMost * level || (!lit[p] && level > 0));
             }
     });
     std::vector<size_t> cut;
@@ -421,12 +432,7 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
     if (variance.width != w || variance.height != h ||
         (variance.channels != 1 && variance.channels != color->channels))
         return rims;
-    Image sums(w, h, 1);
-    for (size_t p = 0; p < n; ++p) {
-        double sum = 0;
-        for (int c = 0; c < color->channels; ++c) sum += color->Plane(c)[p];
-        sums.data[p] = std::isfinite(sum) ? float(sum) : NAN;
-    }
+    const Image sums = ChannelSums(*color);
     std::vector<char> light(n);
     for (size_t p = 0; p < n; ++p) light[p] = Light(variance, sums, p);
     for (int y = 0; y < h; ++y)

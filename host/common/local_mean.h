@@ -127,10 +127,12 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
 // tents (at r = 8 a centre weight of 1/4225), would light a glow one can see (a firefly
 // on a dim emitter); the filter's bright veto keeps such a point mostly to itself.
 // With `variance` (of the pixel mean, one channel or the frame's; see CutLightRims for a
-// light) that bound holds only beside a light or where the median is 0: a spike over it on a
-// lit surface (a chrome sphere's reflections of small lights) is cut as the others are.
-// Over black (a few samples of a dark pixel all 0) the ratio says nothing, and the bound
-// holds.
+// light) that bound holds only beside a light: a spike over it on a lit surface (a chrome
+// sphere's reflections of small lights) is cut as the others are.
+// Over black (a few samples of a dark pixel all 0: the median is 0) the ratio says nothing:
+// there both bounds are read against the median of the neighbours above 0 (a firefly on a
+// plane's edge beside a black background, which the filter spread into the black), and a
+// spike with none stays.
 constexpr double kSpike = 16, kSpikeMost = 512;
 size_t CutSpikes(Image *color, const Image *variance = nullptr);
 

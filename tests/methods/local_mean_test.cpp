@@ -335,6 +335,35 @@ TEST_P(LocalMeanMatches, CutSpikesMatchesReference) {
     EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
 }
 
+// The same with a variance (about a tenth of the pixels lights) and the top third of the
+// rows black with spikes along its edge, where neighbours' medians are 0: the same count
+// and bits.
+TEST_P(LocalMeanMatches, CutSpikesOverBlackMatchesReference) {
+    const LocalMeanCase &c = GetParam();
+    Image input, unused;
+    MakeImages(c, &input, &unused);
+    std::mt19937_64 rng(
+        SeedFromName("spikes over black " + std::to_string(c.w) + "x" + std::to_string(c.h)));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image variance(c.w, c.h, c.channels);
+    for (size_t i = 0; i < variance.data.size(); ++i) {
+        float u = unit(rng);
+        variance.data[i] = u < 0.1f ? 0.f : u < 0.15f ? 1e-7f : unit(rng);
+    }
+    const int edge = c.h / 3;
+    for (int ch = 0; ch < c.channels; ++ch)
+        for (int y = 0; y < edge; ++y)
+            for (int x = 0; x < c.w; ++x) input.At(ch, y, x) = 0;
+    for (int x = 0; x < c.w; x += 3)
+        for (int ch = 0; ch < c.channels; ++ch) input.At(ch, edge, x) = 1000 * unit(rng);
+    Image expected = input, got = input, again = input;
+    size_t count = ref::CutSpikes(&expected, &variance);
+    EXPECT_EQ(CutSpikes(&got, &variance), count);
+    ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    CutSpikes(&again, &variance);
+    EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+}
+
 // A lone spike takes its neighbours' median per channel; a cluster of them (a light) and a
 // value under 16 times its neighbours' median stay.
 TEST(LocalMeanProperties, CutSpikesCutsOnlyLoneSpikes) {
@@ -352,6 +381,39 @@ TEST(LocalMeanProperties, CutSpikesCutsOnlyLoneSpikes) {
     EXPECT_EQ(cut.At(1, 2, 2), 0.6f);
     for (size_t i = 0; i < cut.data.size(); ++i)
         if (i % cut.PixelCount() != 2 * 12 + 2) EXPECT_EQ(cut.data[i], color.data[i]) << i;
+}
+
+// Over black (the neighbours' median 0) a spike is measured against its neighbours above 0:
+// a firefly on a plane's edge beside black is cut though the plane's samples agree (lights
+// by the variance); a point over 512 times a light beside it stays, and so does a spike
+// with only black around it.
+TEST(LocalMeanProperties, CutSpikesOverBlackReadsTheNeighboursAboveZero) {
+    const int w = 12, h = 8;
+    Image color(w, h, 3, 0.f), variance(w, h, 3, 0.f);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 4; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                color.At(c, y, x) = 0.05f;
+                variance.At(c, y, x) = 1e-8f;  // its samples agree: lights
+            }
+    for (int c = 0; c < 3; ++c) {
+        color.At(c, 3, 2) = 10;  // firefly on the edge: 200x the plane beside it
+        variance.At(c, 3, 2) = 25;
+        color.At(c, 3, 8) = 100;  // 2000x the plane beside it: stays
+        variance.At(c, 3, 8) = 2500;
+        color.At(c, 1, 5) = 10;  // black all around: stays
+        variance.At(c, 1, 5) = 25;
+    }
+    Image cut = color, expected = color;
+    EXPECT_EQ(CutSpikes(&cut, &variance), 1u);
+    EXPECT_EQ(ref::CutSpikes(&expected, &variance), 1u);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(cut.At(c, 3, 2), 0.f);
+    for (size_t i = 0; i < cut.data.size(); ++i) {
+        if (i % cut.PixelCount() != size_t(3 * w + 2)) {
+            EXPECT_EQ(cut.data[i], color.data[i]);
+        }
+    }
+    EXPECT_EQ(0, std::memcmp(cut.data.data(), expected.data.data(), cut.data.size() * 4));
 }
 
 // Lights' rims against the reference on the random frames, with a variance that makes
