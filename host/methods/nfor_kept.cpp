@@ -86,7 +86,8 @@ size_t NforSmoothKept(const Image &input, const Image &features,
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             kept[size_t(y) * w + x] =
-                kind[size_t(y) * w + x] == 1 || NforKeptPixel(input, before, mask, r, x, y);
+                kind[size_t(y) * w + x] == 1 ||
+                (k.keptPixels && NforKeptPixel(input, before, mask, r, x, y));
     size_t changed = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
