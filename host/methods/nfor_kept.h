@@ -29,7 +29,7 @@ struct NforKeptSettings {
     float weakEmitterAlbedo = 0;
     const Image *albedo = nullptr;  // the frame's (for weak emitters)
     int albedoPlanes = 0;           // the features' first planes that are the albedo
-    bool keptPixels = true;         // false: only the weak emitters are smoothed
+    bool keptPixels = true;  // false: only the weak emitters change (kept pixels still unread)
 };
 
 // Each kept pixel of `output` (unless !keptPixels) and each weak emitter replaced by the mean of the output
