@@ -150,7 +150,9 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "emitters kept",
                           &O::weakEmitterAlbedo, 0, 1e30)),
         nested(FloatParam("emitter-albedo",
-                          "pixels whose albedo exceeds this are emitters: kept as they are",
+                          "pixels whose albedo exceeds this are emitters: left out of every "
+                          "window and kept as they are (weak ones smoothed: "
+                          "--weak-emitter-albedo)",
                           &O::emitterAlbedo, 1, 1e30)),
         nested(IntParam("prefilter-radius",
                         "window half-size of the features' prefilter; 0: off",
