@@ -688,10 +688,12 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         keep("fit", out);
         RestoreLocalMeans(clamped, p.meanRadius, &out);
     }
-    if (p.keptRadius > 0 && !in.variance) {
+    // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.
+    int keptPass = p.keptRadius > 0 ? p.keptRadius : p.weakEmitterAlbedo > 0 ? 2 : 0;
+    if (keptPass > 0 && !in.variance && (p.keptRadius > 0 || in.albedo)) {
         keep("unkept", out);
-        NforSmoothKept(color, features, p.featureWeights, mask, p.keptRadius,
-                       p.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0, &out);
+        NforSmoothKept(color, features, p.featureWeights, mask, keptPass, p.weakEmitterAlbedo,
+                       in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
     if (p.coarse) {
         // The same method at half the resolution, without a coarse pass of its own.

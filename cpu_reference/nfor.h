@@ -144,7 +144,9 @@ struct NforParams {
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
     int keptRadius = 0;
-    double weakEmitterAlbedo = 0;  // > 0: emitters below it smoothed with the kept pixels
+    // > 0: emitters whose largest albedo channel is below it smoothed over keptRadius (2
+    // where that is 0), without the albedo's planes.
+    double weakEmitterAlbedo = 0;
     // The frame denoised again at half the resolution (NforHalf of colour, albedo, features
     // and variance), its low frequencies added (NforAddCoarse, cpu_reference/nfor_coarse.h).
     bool coarse = false;

@@ -49,13 +49,14 @@ bool Weak(const Image &mask, const Image *albedo, double weakAlbedo, int x, int 
 
 void NforSmoothKept(const Image &input, const Image &features,
                     const std::vector<double> &featureWeights, const Image &mask, int r,
-                    double weakAlbedo, const Image *albedo, int albedoPlanes, Image *output) {
+                    double weakAlbedo, const Image *albedo, int albedoPlanes, Image *output,
+                    bool keptPixels) {
     if (r <= 0) return;
     Image o = *output;
     for (int y = 0; y < o.height; ++y)
         for (int x = 0; x < o.width; ++x) {
             bool weak = Weak(mask, albedo, weakAlbedo, x, y);
-            if (!weak && !Kept(input, o, mask, r, x, y)) continue;
+            if (!weak && (!keptPixels || !Kept(input, o, mask, r, x, y))) continue;
             for (int c = 0; c < o.channels; ++c) {
                 double num = 0, den = 0;
                 for (int dy = -r; dy <= r; ++dy)

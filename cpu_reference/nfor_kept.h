@@ -15,9 +15,11 @@ namespace mcd::ref {
 // in every channel; not another kept pixel), w_q = exp(-|q - p|^2 / (r^2 / 2) - sum_j (s_j
 // (F_q,j - F_p,j))^2), o the output before any change. With weakAlbedo > 0, an emitter (mask 0)
 // whose largest albedo channel is below it is smoothed too, its sum over j from albedoPlanes
-// on, and counts among the q; other emitters do not.
+// on, and counts among the q; other emitters do not. With keptPixels false only such
+// emitters change (the kept pixels are still left out of every mean).
 void NforSmoothKept(const Image &input, const Image &features,
                     const std::vector<double> &featureWeights, const Image &mask, int r,
-                    double weakAlbedo, const Image *albedo, int albedoPlanes, Image *output);
+                    double weakAlbedo, const Image *albedo, int albedoPlanes, Image *output,
+                    bool keptPixels = true);
 
 }  // namespace mcd::ref

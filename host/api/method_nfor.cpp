@@ -143,12 +143,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "features; 0: kept",
                         &O::keptRadius, 0, 8)),
         nested(FloatParam("weak-emitter-albedo",
-                          "emitters whose albedo is below this (a light's partly covered "
-                          "edge) are smoothed with the kept pixels, their albedo not "
-                          "compared (needs --kept-radius); 0: emitters kept",
+                          "on a frame without a variance layer, emitters whose albedo is "
+                          "below this (a light's partly covered edge, a moving light's "
+                          "streak) take the output's mean weighted by the features, their "
+                          "albedo not compared, over --kept-radius (2 where that is 0); 0: "
+                          "emitters kept",
                           &O::weakEmitterAlbedo, 0, 1e30)),
         nested(FloatParam("emitter-albedo",
-                          "pixels whose albedo exceeds this are emitters: kept as they are",
+                          "pixels whose albedo exceeds this are emitters: left out of every "
+                          "window and kept as they are (weak ones smoothed: "
+                          "--weak-emitter-albedo)",
                           &O::emitterAlbedo, 1, 1e30)),
         nested(IntParam("prefilter-radius",
                         "window half-size of the features' prefilter; 0: off",
@@ -219,6 +223,11 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
+        // The kept pixels' pass runs where the noise is the frame's own (NforDenoise).
+        bool ownNoise = !(options.noise == "auto" && inputs.Has("variance"));
+        int keptReach = ownNoise && (o.keptRadius > 0 || inputs.Has("albedo"))
+                            ? NforKeptPassRadius(o)
+                            : 0;
         int colourReach = o.patchRadius + o.noiseRadius + 1;
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
@@ -232,14 +241,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                              : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
                       o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) +
-                      o.keptRadius;
+                      keptReach;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
             "average; {} for the local means; {} for the kept pixels' mean",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
-            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, o.keptRadius);
+            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, keptReach);
         if (o.coarse) {
             // The half-resolution pass reaches twice as far in this frame's pixels, its
             // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.

@@ -706,19 +706,23 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                         "then {} restored (factors {:.3g} to {:.3g})",
                         8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
     }
-    if (o.keptRadius > 0 && !in.variance) {
+    const int keptPass = NforKeptPassRadius(o);
+    if (keptPass > 0 && !in.variance && (o.keptRadius > 0 || in.albedo)) {
         run.AddStage("unkept", result.image);
-        NforKeptSettings kept{o.keptRadius, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0};
+        NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
+                              o.keptRadius > 0};
         result.kept = NforSmoothKept(*in.color, gpu.filtered.Download(), weights, mask, kept,
                                      &result.image);
-        run.Plan(fmt::format(
-            "kept pixels (the fits left them as they came in: no neighbour weighed){}: {}, "
-            "each given the output's mean over {}x{} weighted by the features",
-            o.weakEmitterAlbedo > 0
-                ? fmt::format(" and emitters of albedo below {} (without the albedo)",
-                              o.weakEmitterAlbedo)
-                : std::string(),
-            result.kept, 2 * o.keptRadius + 1, 2 * o.keptRadius + 1));
+        std::string what = o.keptRadius > 0 ? "kept pixels (the fits left them as they came "
+                                              "in: no neighbour weighed)"
+                                            : "";
+        if (o.weakEmitterAlbedo > 0)
+            what += fmt::format("{}emitters of albedo below {} (a light's partly covered edge; "
+                                "their albedo not compared)",
+                                what.empty() ? "" : " and ", o.weakEmitterAlbedo);
+        run.Plan(fmt::format("{}: {}, each given the output's mean over {}x{} weighted by the "
+                             "features",
+                             what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
     if (coarse) {
         run.AddStage("coarse", *coarse);

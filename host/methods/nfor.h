@@ -95,9 +95,11 @@ struct NforOptions {
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted
     // mean of the output over this radius (host/methods/nfor_kept.h); 0: kept.
     int keptRadius = 0;
-    // > 0: emitters whose largest albedo channel is below this (partly covered) are
-    // smoothed with the kept pixels, their albedo not compared; 0: emitters kept.
-    float weakEmitterAlbedo = 0;
+    // > 0: emitters whose largest albedo channel is below this (partly covered: a light's
+    // edge, a moving light's streak) take the output's feature-weighted mean over
+    // keptRadius (kWeakEmitterRadius where that is 0), their albedo not compared; 0:
+    // emitters kept.
+    float weakEmitterAlbedo = 8;
     // Denoise the frame again at half the resolution and give the output the coarse
     // output's low frequencies where they differ by under min(coarseRelative x the
     // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h).
@@ -106,6 +108,16 @@ struct NforOptions {
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
+
+// The radius of the weak emitters' mean when --kept-radius leaves it at 0.
+constexpr int kWeakEmitterRadius = 2;
+
+// The radius of the kept pixels' pass (host/methods/nfor_kept.h): keptRadius, else
+// kWeakEmitterRadius where weak emitters are smoothed; 0: no pass.
+inline int NforKeptPassRadius(const NforOptions &o) {
+    if (o.keptRadius > 0) return o.keptRadius;
+    return o.weakEmitterAlbedo > 0 ? kWeakEmitterRadius : 0;
+}
 
 // The frame's layers the method reads; color is required, the rest may be absent.
 struct NforInputs {

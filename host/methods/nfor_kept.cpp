@@ -91,7 +91,7 @@ size_t NforSmoothKept(const Image &input, const Image &features,
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             bool weak = kind[size_t(y) * w + x] == 1;
-            if (!kept[size_t(y) * w + x]) continue;
+            if (!kept[size_t(y) * w + x] || (!weak && !k.keptPixels)) continue;
             const std::vector<float> &s = weak ? unlit : featureWeights;
             std::vector<double> sum(size_t(ch), 0.0);
             double total = 0;

@@ -29,9 +29,10 @@ struct NforKeptSettings {
     float weakEmitterAlbedo = 0;
     const Image *albedo = nullptr;  // the frame's (for weak emitters)
     int albedoPlanes = 0;           // the features' first planes that are the albedo
+    bool keptPixels = true;  // false: only the weak emitters change (kept pixels still unread)
 };
 
-// Each kept pixel of `output` (and each weak emitter) replaced by the mean of the output
+// Each kept pixel of `output` (unless !keptPixels) and each weak emitter replaced by the mean of the output
 // over the window of radius r clipped to the image with weights exp(-|d|^2 / (2 (r / 2)^2)
 // - sum_j (s_j (F_q,j - F_p,j))^2) (features F and weights s as the fits', the albedo's
 // planes left out at a weak emitter), the other kept pixels (their input: a firefly would

@@ -895,6 +895,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.coarse = o.coarse;
     p.coarseRelative = o.coarseRelative;
     p.coarseNoise = o.coarseNoise;
+    p.keptRadius = o.keptRadius;
+    p.weakEmitterAlbedo = o.weakEmitterAlbedo;
     p.prefilterRadius = o.prefilterRadius;
     p.prefilterPatch = o.prefilterPatch;
     p.featureWeights.assign(weights.begin(), weights.end());
@@ -1148,14 +1150,16 @@ TEST(NforCoarse, TakesSmallLowFrequencyDifferencesOnly) {
 
 // The kept pixels' mean against its reference: outputs that equal the input at random
 // pixels (some beside moved ones, some not), a few emitters (weak ones smoothed or not), a
-// NaN among the neighbours; odd sizes and 1x1; two runs bit-identical.
+// NaN among the neighbours, the kept pixels smoothed or only the weak emitters; odd sizes
+// and 1x1; two runs bit-identical.
 TEST(NforKept, MatchesTheReferenceAndRepeats) {
     for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}, std::pair{16, 16}})
         for (InputKind kind :
              {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant})
-            for (float weak : {0.f, 1.8f}) {
-                std::string name =
-                    fmt::format("kept {}x{} {} weak {}", w, h, InputKindName(kind), weak);
+            for (auto [weak, keptPixels] : {std::pair{0.f, true}, std::pair{1.8f, true},
+                                            std::pair{1.8f, false}}) {
+                std::string name = fmt::format("kept {}x{} {} weak {} kept pixels {}", w, h,
+                                               InputKindName(kind), weak, keptPixels);
                 uint64_t seed = SeedFromName(name);
                 std::mt19937 random{uint32_t(seed)};
                 Image input = MakeInput(kind, w, h, 3, seed), output = input;
@@ -1176,11 +1180,12 @@ TEST(NforKept, MatchesTheReferenceAndRepeats) {
                 if (w * h > 4) output.At(1, h / 2, w / 2 + 1) = std::nanf("");
                 std::vector<float> s = {3.3f, 3.3f, 3.3f, 1.7f, 1.7f, 1.7f, 6.7f};
                 std::vector<double> sd(s.begin(), s.end());
-                NforKeptSettings k{2, weak, &albedo, 3};
+                NforKeptSettings k{2, weak, &albedo, 3, keptPixels};
                 Image host = output, again = output, cpu = output;
                 NforSmoothKept(input, features, s, mask, k, &host);
                 NforSmoothKept(input, features, s, mask, k, &again);
-                ref::NforSmoothKept(input, features, sd, mask, 2, weak, &albedo, 3, &cpu);
+                ref::NforSmoothKept(input, features, sd, mask, 2, weak, &albedo, 3, &cpu,
+                                    keptPixels);
                 EXPECT_TRUE(ImagesMatch(cpu, host, {}, {1e-5, 0, 1e-7})) << name;
                 EXPECT_EQ(0, std::memcmp(host.data.data(), again.data.data(),
                                          host.data.size() * sizeof(float)))
@@ -1222,6 +1227,43 @@ TEST(NforKept, SmoothsOnlyPixelsTheFitsLeft) {
     EXPECT_EQ(NforSmoothKept(input, features, s, mask, k, &weak), 2u);
     EXPECT_NE(weak.At(0, 3, 4), output.At(0, 3, 4));
     EXPECT_LT(weak.At(0, 3, 4), 2.f);
+    // Weak emitters alone (nfor's default): the emitter changes as above, the kept pixel
+    // keeps its input.
+    Image onlyWeak = output;
+    k.keptPixels = false;
+    EXPECT_EQ(NforSmoothKept(input, features, s, mask, k, &onlyWeak), 1u);
+    EXPECT_EQ(onlyWeak.At(0, 3, 4), weak.At(0, 3, 4));
+    EXPECT_EQ(onlyWeak.At(0, 4, 4), 3.f);
+}
+
+// nfor's defaults on a plain frame (no variance layer): a light's partly covered pixels
+// (emitters of weak albedo, a 3x3 block, one of them seen by more samples than the rest)
+// take the output's mean around them; with --weak-emitter-albedo 0 they keep their input.
+// Nothing else changes.
+TEST_F(NforMethod, DefaultsSmoothWeakEmittersOfPlainFrames) {
+    Frame f = MakeFrame(24, 20, 0.2, "weak emitter");
+    int w = f.color.width;
+    auto inBlock = [](int x, int y) { return x >= 10 && x <= 12 && y >= 8 && y <= 10; };
+    for (int y = 8; y <= 10; ++y)
+        for (int x = 10; x <= 12; ++x)
+            for (int c = 0; c < 3; ++c) {
+                f.albedo.At(c, y, x) = 2.f;
+                f.color.At(c, y, x) = x == 11 && y == 9 ? 4.f : 3.f;
+            }
+    NforOptions defaults, off;
+    off.weakEmitterAlbedo = 0;
+    Image a = NforDenoise(Ctx(), InputsOf(f), defaults).image;
+    Image b = NforDenoise(Ctx(), InputsOf(f), off).image;
+    EXPECT_EQ(b.At(0, 9, 11), 4.f);
+    EXPECT_EQ(b.At(0, 8, 10), 3.f);
+    EXPECT_LT(a.At(0, 9, 11), 3.9f);
+    for (size_t i = 0; i < a.data.size(); ++i) {
+        size_t p = i % a.PixelCount();
+        if (inBlock(int(p % w), int(p / w)))
+            EXPECT_NE(a.data[i], b.data[i]) << p;
+        else
+            EXPECT_EQ(a.data[i], b.data[i]) << p;
+    }
 }
 
 TEST_F(NforMethod, RerunsAreBitIdentical) {
