@@ -275,6 +275,116 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, PivotFitKernel,
     testing::ValuesIn(StageCases({{29, 21}, {1, 1}, {1, 12}, {9, 1}, {6, 5}})), StageCaseName);
 
+// The GPU fit stage on z, s, nu, in two row strips where there are two rows; with
+// `frozen`, each centre's square and <z> from those planes. The fits in the reference's
+// layout and the grown planes.
+struct GpuFits {
+    Image fits, grown;
+};
+
+GpuFits GpuFit(vk::Context &ctx, const ref::PivotRatio &ratio, const Frame &f, bool guides,
+               const PivotParams &o, const Image *frozen = nullptr) {
+    int w = ratio.z.width, h = ratio.z.height;
+    vk::GpuImage zsn(ctx, w, h, 12, "zsn");
+    vk::GpuImage guide(ctx, w, h, PIVOT_GUIDE_STRIDE, "guides");
+    PivotFitBuffers fitBuffers(ctx, w, h, 3, "fit");
+    zsn.Upload(PivotZsnOf(ratio.z, ratio.s, ratio.nu));
+    guide.Upload(GuideOf(f));
+    if (frozen) fitBuffers.UploadGrown(*frozen);
+    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
+    vk::Recorder recorder(ctx);
+    for (auto [rowBase, rows] :
+         h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
+               : std::vector<std::pair<int, int>>{{0, h}})
+        RecordPivotFit(ctx, recorder, zsn, gpuGuides,
+                       {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement, o.k,
+                        o.sigmaWeight, frozen != nullptr},
+                       fitBuffers, rowBase, rows);
+    recorder.Submit();
+    return {fitBuffers.Download(), fitBuffers.DownloadGrown()};
+}
+
+// auto's SURE probe: the fits on a perturbed colour with the run's squares and <z> frozen.
+// The run's grown planes (GPU against the reference where no decision is near a threshold;
+// the radius as the fits hold it), then the probe's fits against the reference's frozen
+// fits: no growth decides anything, so every radius matches, and every centre with a fit
+// has the run's radius. Growing on the probe's colour chooses other squares (so the check
+// can fail). Frozen on its own run's squares and colour, the GPU gives the run's fits bit
+// for bit. Radii up to 12: off-lattice centres stop at 4 and 8.
+TEST_P(PivotFitKernel, FrozenSquaresMatchReferenceAndKeepTheRunsRadii) {
+    const auto [w, h, guides] = GetParam();
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("frozen{}x{}", w, h)));
+    const Image *ids = guides ? &f.ids : nullptr;
+    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, ids);
+    PivotParams o;
+    o.maxRadius = 12;
+    o.targetNoise = 0.05f;
+    ref::PivotGuides refGuides{guides ? &f.normal : nullptr, ids};
+    Image margin, grown;
+    Image runFits = ref::PivotFit(ratio, refGuides, o, &margin, &grown);
+    GpuFits gpuRun = GpuFit(Ctx(), ratio, f, guides, o);
+    double zScale = 0;
+    for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
+    int mismatches = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float radius = gpuRun.grown.At(2 * c, y, x);
+                EXPECT_EQ(radius, gpuRun.fits.At(15 * 3 + c, y, x)) << x << ", " << y;
+                if (margin.At(c, y, x) < 1e-3) continue;
+                double mean = grown.At(2 * c + 1, y, x),
+                       terms = (2 * radius + 1) * (2 * radius + 1);
+                if ((radius != grown.At(2 * c, y, x) ||
+                     std::fabs(gpuRun.grown.At(2 * c + 1, y, x) - mean) >
+                         4 * terms * kUnitRoundoff * zScale) &&
+                    mismatches++ < 5)
+                    ADD_FAILURE() << fmt::format("grown at ({}, {}, {}): {} {} vs {} {}", x, y,
+                                                 c, grown.At(2 * c, y, x), mean, radius,
+                                                 gpuRun.grown.At(2 * c + 1, y, x));
+            }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_TRUE(
+        BitIdentical(GpuFit(Ctx(), ratio, f, guides, o, &gpuRun.grown).fits, gpuRun.fits))
+        << "frozen on the run's own squares and colour";
+
+    // The probe's colour: the run's plus half a standard deviation, +-1 by a seeded coin.
+    std::mt19937_64 rng(SeedFromName(fmt::format("frozen probe{}x{}", w, h)));
+    Image probe = f.color;
+    for (size_t i = 0; i < probe.Size(); ++i)
+        probe.data[i] += 0.5f * std::sqrt(f.variance.data[i]) * ((rng() & 1) ? 1.f : -1.f);
+    ref::PivotRatio probeRatio = ref::PivotRatioOf(probe, f.pivot, &f.variance, 1e-3, ids);
+    Image expected = ref::PivotFit(probeRatio, refGuides, o, nullptr, nullptr, &grown);
+    Image grownAnew = ref::PivotFit(probeRatio, refGuides, o);
+    Image actual = GpuFit(Ctx(), probeRatio, f, guides, o, &grown).fits;
+    for (float v : probeRatio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
+    int fitted = 0, other = 0, planeMismatches = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float radius = expected.At(15 * 3 + c, y, x);
+                ASSERT_EQ(radius, actual.At(15 * 3 + c, y, x)) << x << ", " << y << ", " << c;
+                other += grownAnew.At(15 * 3 + c, y, x) != grown.At(2 * c, y, x);
+                if (radius < 0) continue;
+                ++fitted;
+                EXPECT_EQ(radius, grown.At(2 * c, y, x)) << x << ", " << y << ", " << c;
+                double terms = (2 * radius + 1) * (2 * radius + 1);
+                for (int p = 0; p < 15; ++p) {
+                    double scale = p % 3 == 2 ? 1 : radius;
+                    double err = std::fabs(double(expected.At(p * 3 + c, y, x)) -
+                                           actual.At(p * 3 + c, y, x)) *
+                                 scale;
+                    if (err > terms * 100 * kUnitRoundoff * zScale && planeMismatches++ < 5)
+                        ADD_FAILURE() << fmt::format("plane {} at ({}, {}, {}): {} vs {}", p, x,
+                                                     y, c, expected.At(p * 3 + c, y, x),
+                                                     actual.At(p * 3 + c, y, x));
+                }
+            }
+    EXPECT_EQ(planeMismatches, 0);
+    EXPECT_GT(fitted, 0);
+    if (w * h >= 100)
+        EXPECT_GT(other, 0) << "growing on the probe's colour chose the same squares";
+}
+
 // Stage 3 on the reference's fits: per term a plane evaluation, eq. 12's 8th power by
 // three squarings and a weighted mean; relative error a few tens of u of the pivot times
 // the largest |z|.

@@ -149,6 +149,71 @@ TEST_F(TiledRunShared, RhfSelectionsTakenFromAnEarlierRunAreBitIdentical) {
                    "rhf at 2 scales in tiles, selections shared");
 }
 
+// auto's SURE probe of pivot (--squares frozen) takes the squares and <z> its run kept
+// (--squares keep) on the same frame with another colour: every centre with a fit has the
+// run's radius, where growing on that colour chooses other squares somewhere; each kept
+// entry is taken once. In tiles each tile takes its own window's, and the probe gives the
+// untiled probe's bits (pivot's tiles give the whole frame's squares; tiles whose windows
+// are the same have one key, and all but the first grow their own).
+TEST_F(TiledRunShared, PivotProbeTakesTheSquaresItsRunKept) {
+    Frame frame = RenderedFrame(97, 83, render::kLayersAll), other = frame;
+    std::mt19937_64 rng(SeedFromName("pivot squares probe"));
+    const Image &variance = frame.layers["variance"];
+    Image &color = other.layers["color"];
+    for (size_t i = 0; i < color.Size(); ++i)
+        color.data[i] += 0.5f * std::sqrt(variance.data[i]) * ((rng() & 1) ? 1.f : -1.f);
+    // Squares up to 5 and no restore of local means: tiles of 40 with windows of their own.
+    std::unique_ptr<api::FrontEnd> grow = api::FindMethod("pivot")->make();
+    grow->Set("max-radius", 5);
+    grow->Set("pivot-mean-radius", 0);
+    std::unique_ptr<api::FrontEnd> keep = grow->Clone(), frozen = grow->Clone();
+    keep->Set("squares", std::string("keep"));
+    frozen->Set("squares", std::string("frozen"));
+    // The radius plane of each channel of a run's fits stage.
+    auto radii = [](const Result &r) {
+        for (const Stage &stage : r.stages)
+            if (stage.name == "fits") return stage.image;
+        ADD_FAILURE() << "no fits stage";
+        return Image();
+    };
+    Image probeImage;
+    for (int tileSize : {0, 40}) {
+        SCOPED_TRACE(tileSize ? "in tiles" : "whole");
+        RunOptions run;
+        run.keepStages = tileSize == 0;
+        run.tileSize = tileSize;
+        RunMemo memo;
+        api::Inputs shared(frame, false, "pivot");
+        shared.SetMemo(&memo);
+        Result kept = api::RunTiled(Ctx(), *keep, shared, run);
+        const size_t entries = memo.Size();
+        EXPECT_TRUE(tileSize ? entries > 1 : entries == 1) << entries << " kept";
+        shared.Override("color", color);
+        Result probe = api::RunTiled(Ctx(), *frozen, shared, run);
+        EXPECT_EQ(memo.Size(), 0u) << "a kept entry was not taken";
+        if (tileSize) {
+            ExpectSameBits(probeImage, probe.image, "the probe in tiles");
+            continue;
+        }
+        probeImage = probe.image;
+        api::Inputs alone(other, false, "pivot");
+        Image runFits = radii(kept), probeFits = radii(probe),
+              grownFits = radii(api::RunTiled(Ctx(), *grow, alone, run));
+        ASSERT_EQ(runFits.channels, 16 * 3);
+        int fitted = 0, other = 0;
+        for (int c = 15 * 3; c < 16 * 3; ++c)
+            for (size_t i = 0; i < runFits.PixelCount(); ++i) {
+                float r = probeFits.Plane(c)[i];
+                other += grownFits.Plane(c)[i] != runFits.Plane(c)[i];
+                if (r < 0) continue;
+                ++fitted;
+                EXPECT_EQ(r, runFits.Plane(c)[i]) << "centre " << i << ", plane " << c;
+            }
+        EXPECT_GT(fitted, int(runFits.PixelCount()));
+        EXPECT_GT(other, 0) << "growing on the probe's colour chose the run's squares";
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Cases, TiledRunLocal,
     ::testing::Values(
