@@ -199,15 +199,11 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
 }
 
 Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotParams &params,
-               Image *margin, Image *grown, const Image *frozen) {
+               Image *margin) {
     const Image &z = ratio.z;
     int w = z.width, h = z.height, channels = z.channels;
     Image fits(w, h, kPivotPlanes * channels);
     if (margin) *margin = Image(w, h, channels, 1.f);
-    if (grown) {
-        *grown = Image(w, h, 2 * channels);
-        for (int c = 0; c < channels; ++c) std::fill_n(grown->Plane(2 * c), w * h, -1.f);
-    }
     // The parameters in double, as every sum below.
     const double k = params.k, sigmaWeight = params.sigmaWeight;
     const double disagreement = params.disagreement, targetNoise = params.targetNoise;
@@ -221,19 +217,6 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                 double closest = 1;
                 plane(15) = -1;
                 if (ratio.nu.At(c, y0, x0) < 0) continue;
-                // The planes of a fit (a quadrant without one repeats the square's) and the
-                // radius; nothing where the square has no fit.
-                auto store = [&](const Plane planes[5], int radius) {
-                    if (!planes[0].valid) return false;
-                    for (int m = 0; m < 5; ++m) {
-                        const Plane &p = planes[m].valid ? planes[m] : planes[0];
-                        plane(3 * m) = float(p.a);
-                        plane(3 * m + 1) = float(p.b);
-                        plane(3 * m + 2) = float(p.c);
-                    }
-                    plane(15) = float(radius);
-                    return true;
-                };
                 // The centre's local mean of z: <z> during growth.
                 double zc = 0;
                 int n = 0;
@@ -273,21 +256,6 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                     }
                     for (int i = 0; i < 5; ++i) closest = std::min(closest, planes[i].margin);
                 };
-                // Frozen: the square and <z> an earlier run chose, fitted once (off the
-                // lattice: the growth fits of the square of radius - 1, as the run kept).
-                if (frozen) {
-                    double chosen = frozen->At(2 * c, y0, x0);
-                    double mean = frozen->At(2 * c + 1, y0, x0);
-                    if (chosen < 0) continue;
-                    int radius = int(chosen), step = PivotLatticeStep(radius);
-                    Plane planes[5];
-                    if (x0 % step != 0 || y0 % step != 0)
-                        fitAll(window(radius - 1, mean, 0), planes);
-                    else
-                        fitAll(window(radius, mean, radius), planes);
-                    store(planes, radius);
-                    continue;
-                }
                 // Section 4.3: grow from 5x5. A centre that would grow off its lattice (eq.
                 // 13's quadrature) stops before and keeps that square's growth fits.
                 int radius = 2;
@@ -337,19 +305,22 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                     }
                 }
                 // The chosen square of a lattice centre, fitted with eq. 10 in full.
-                double mean = zc;
                 if (!offLattice) {
-                    mean = 0;
+                    double mean = 0;
                     int count = 0;
                     for (const Sample &p : window(radius, zc, 0)) mean += p.z, ++count;
                     mean /= std::max(count, 1);
                     fitAll(window(radius, mean, radius), planes);
                 }
                 if (margin) margin->At(c, y0, x0) = float(closest);
-                if (store(planes, radius) && grown) {
-                    grown->At(2 * c, y0, x0) = float(radius);
-                    grown->At(2 * c + 1, y0, x0) = float(mean);
+                if (!planes[0].valid) continue;
+                for (int m = 0; m < 5; ++m) {
+                    const Plane &p = planes[m].valid ? planes[m] : planes[0];
+                    plane(3 * m) = float(p.a);
+                    plane(3 * m + 1) = float(p.b);
+                    plane(3 * m + 2) = float(p.c);
                 }
+                plane(15) = float(radius);
             }
     return fits;
 }

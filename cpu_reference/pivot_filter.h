@@ -99,14 +99,9 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
 // kPivotPlanes x channels planes, plane p of channel c at channel p * channels + c. `margin`
 // (channels as the color), when not null, receives per centre the smallest relative distance of
 // any growth or rank decision to its threshold: where it is tiny, float and double may decide
-// differently. `grown`, when not null, receives per centre the radius it chose (plane 2c,
-// as the fits' radius plane holds it) and the <z> of its fit (plane 2c + 1; off the
-// lattice: zc, the growth's). With `frozen` (such planes of an earlier run on the same
-// frame: auto's SURE probe) nothing grows: each centre fits the square of the radius given
-// with the <z> given, eq. 10 in full, or off its lattice the growth fit of the square one
-// smaller; a centre without z or with radius -1 there has no fit.
+// differently.
 Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotParams &params,
-               Image *margin = nullptr, Image *grown = nullptr, const Image *frozen = nullptr);
+               Image *margin = nullptr);
 
 // Eq. 13's lattice step for a centre of radius R0 (see above).
 int PivotLatticeStep(double radius);

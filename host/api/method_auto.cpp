@@ -430,21 +430,11 @@ std::string OutByEstimate(const RegisteredVariant &v, const Noise &noise) {
                      : "SURE on the variance layer");
 }
 
-// Whether the variant's probe is its cheaper one under this estimate
-// (AutoVariant::cheaperProbe, cheaperProbeEstimates).
-bool ProbesCheaper(const RegisteredVariant &v, const Noise &noise) {
-    unsigned current = noise.halves ? AutoVariant::kHalves
-                       : noise.own  ? AutoVariant::kOwn
-                                    : AutoVariant::kVariance;
-    return noise.scored && v.variant->cheaperProbe &&
-           (v.variant->cheaperProbeEstimates & current) != 0;
-}
-
 // The variant's probe: its own front end, or a cheaper one where the registry has one
 // (AutoVariant::cheaperProbe), with a plan line naming what the probe changed.
 std::unique_ptr<FrontEnd> CheaperProbe(const FrontEnd &method, const RegisteredVariant &v,
-                                       const Noise &noise, Candidates &out) {
-    if (!ProbesCheaper(v, noise)) return nullptr;
+                                       Candidates &out) {
+    if (!v.variant->cheaperProbe) return nullptr;
     std::unique_ptr<FrontEnd> probe = method.Clone();
     v.variant->cheaperProbe(*probe);
     std::string changed;
@@ -469,16 +459,9 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                  const AutoFrontEnd::Options &o, Candidates &out) {
     const std::string &label = v.variant->label;
     auto begin = Clock::now();
-    // What the cheaper probe reads from the run, the run leaves (AutoVariant::
-    // beforeCheaperProbe).
-    std::unique_ptr<FrontEnd> leaving;
-    if (ProbesCheaper(v, noise) && v.variant->beforeCheaperProbe) {
-        leaving = method.Clone();
-        v.variant->beforeCheaperProbe(*leaving);
-    }
     // Each candidate in its own tiles where the frame does not fit it whole (host/api/
     // tiled_run.h), with its own halo: auto's windows are then the combination's alone.
-    Result one = RunTiled(context, leaving ? *leaving : method, inputs, RunOptions());
+    Result one = RunTiled(context, method, inputs, RunOptions());
     for (const std::string &line : one.plan) out.plans.push_back(label + ": " + line);
     for (const Timing &t : one.timings)
         out.timings.push_back({label + ": " + t.label, t.gpuMs});
@@ -507,7 +490,7 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                                     : isBayes    ? noise.bayesPerturbed
                                                  : noise.perturbed);
         }
-        std::unique_ptr<FrontEnd> cheaper = CheaperProbe(method, v, noise, out);
+        std::unique_ptr<FrontEnd> cheaper = CheaperProbe(method, v, out);
         Result probeRun = RunTiled(context, cheaper ? *cheaper : method, inputs, RunOptions());
         for (const Timing &t : probeRun.timings)
             out.timings.push_back({label + " (probe): " + t.label, t.gpuMs});

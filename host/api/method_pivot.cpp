@@ -10,7 +10,6 @@
 #include "host/io/hints.h"
 #include "host/methods/auto.h"
 #include "host/methods/pivot.h"
-#include "host/methods/run_memo.h"
 #include "pivot/gather.h"
 
 namespace mcd::api {
@@ -20,8 +19,6 @@ namespace {
 struct PivotSettings {
     PivotParams method;
     std::string guides = "auto", noise = "auto", layer = "auto";
-    // grow; keep: grow and leave the squares in the run memo; frozen: take them from it.
-    std::string squares = "grow";
     bool noPartials = false;
     // The output bound to k standard deviations of the input's noise (BoundToNoise); 0: off.
     float bound = 3;
@@ -100,12 +97,6 @@ class Pivot : public FrontEndOf<PivotSettings> {
                            "frame: the median over 5x5 of squared second differences of z) or "
                            "estimate (the sample variance of z's 3x3 neighbours)",
                            &PivotSettings::noise, {"auto", "estimate"}),
-               ChoiceParam("squares",
-                           "grow (each centre's square grown from 5x5), keep (grown, and left "
-                           "for a later run on this frame), or frozen (the squares and <z> a "
-                           "kept run with the same settings and layers but the colour chose, "
-                           "fitted once: auto's SURE probe; grown where there is none)",
-                           &PivotSettings::squares, {"grow", "keep", "frozen"}),
                BoolParam(
                    "no-partials",
                    "filter color as one image even when the frame has section 8's "
@@ -152,25 +143,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
             frameNoise = FrameNoise(*in.color, in.pivot);
             fitIn.variance = &frameNoise;
         }
-        // Squares kept by an earlier run, or to keep for a later one (planefit, one image).
-        RunMemo *memo = inputs.Memo();
-        std::string key;
-        std::shared_ptr<Image> taken;
-        if (memo && options.squares != "grow" && fitIn.partials.empty() &&
-            options.method.filter == PivotFilter::PlaneFit) {
-            key = SquaresKey(inputs, fitIn);
-            if (options.squares == "keep") fitIn.keepGrown = true;
-            if (options.squares == "frozen") taken = memo->Take<Image>(key);
-            fitIn.frozen = taken.get();
-        }
-        PivotResult pivotResult =
-            PivotDenoise(context, fitIn, options.method, SetupFor(inputs, run));
-        if (fitIn.keepGrown)
-            memo->Add(key, std::make_shared<Image>(std::move(pivotResult.grown)));
-        Result result = ResultOf(std::move(pivotResult));
-        if (options.squares == "frozen" && !taken)
-            result.plan.insert(result.plan.begin(),
-                               "squares: no kept run with these settings and layers, grown");
+        Result result =
+            ResultOf(PivotDenoise(context, fitIn, options.method, SetupFor(inputs, run)));
         if (UsesFrameNoise(in))
             result.plan.insert(result.plan.begin(),
                                "variance for the fits: estimated from the frame (no variance "
@@ -240,11 +214,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
         // Two fit buffers of PIVOT_PLANES / 2 planes per channel (one binding per channel
-        // and buffer), the squares' radius and <z> (2 per channel), six images of the colour's
-        // channels, the variance, the fit's packed z, s, nu (four per channel, one binding) and
-        // the guides (4 floats a pixel).
+        // and buffer), six images of the colour's channels, the variance, the fit's packed
+        // z, s, nu (four per channel, one binding) and the guides (4 floats a pixel).
         needs.bindingBytesPerPixel = std::max(8.0, 4.0 * channels) * 4;
-        needs.bytesPerPixel = (16.0 + 2 + 7 + 4) * channels * 4 + 4 * 4;
+        needs.bytesPerPixel = (16.0 + 7 + 4) * channels * 4 + 4 * 4;
         return needs;
     }
 
@@ -297,21 +270,6 @@ class Pivot : public FrontEndOf<PivotSettings> {
     }
 
   private:
-    // The run memo's key of the squares: every setting and layer that decides them but the
-    // colour (a tile's by its crops).
-    std::string SquaresKey(const Inputs &inputs, const PivotInputs &in) const {
-        const PivotParams &p = options.method;
-        std::string key = fmt::format(
-            "pivot squares {} {} {} {} {} {} {} {}x{}+{}+{} pivot {} variance {}", p.floor,
-            p.maxRadius, p.targetNoise, p.goodNoise, p.disagreement, p.k, p.sigmaWeight,
-            inputs.Width(), inputs.Height(), inputs.OriginX(), inputs.OriginY(),
-            MemoImageId(*in.pivot), in.variance ? MemoImageId(*in.variance) : "none");
-        for (const Image *guide : {in.normal, in.objectId, in.partId})
-            key += guide ? " " + MemoImageId(*guide) : " none";
-        for (float t : in.thresholds) key += fmt::format(" {}", t);
-        return key;
-    }
-
     // Whether the frame's robust noise estimate stands in for a variance layer: none, one
     // image filtered (no partials) and --pivot-noise auto.
     bool UsesFrameNoise(const PivotInputs &in) const {

@@ -41,18 +41,6 @@ void NforCheaperProbe(FrontEnd &nfor) {
 // The pivot filter reads its guides from the normals and the object and part ids.
 const std::vector<std::string> kGuideLayers = {"normal", "objectId", "partId"};
 
-// pivot's SURE probe: each centre's square and <z> as the run chose them (the run leaves
-// them in the run memo), so the probe grows nothing: growth is about half the fit. Its
-// divergence term then leaves out how the squares follow the colour (docs/methods/pivot.md
-// has the measurements). Not on the half-buffers: squares chosen on the whole colour would
-// carry half1 into the run on half0, whose error is read against half1.
-void PivotKeepSquares(FrontEnd &pivot) {
-    pivot.Set("squares", std::string("keep"));
-}
-void PivotFrozenSquares(FrontEnd &pivot) {
-    pivot.Set("squares", std::string("frozen"));
-}
-
 std::vector<MethodEntry> Build() {
     // Pick order, as before the combination: the geometric mean over the built-in scenes
     // of the error at equal time (awr, rhf, bayes, pivot).
@@ -103,17 +91,7 @@ std::vector<MethodEntry> Build() {
         {"pivot",
          PivotFrontEnd,
          3,
-         {{"pivot",
-           {},
-           2,
-           {0.1f, 0.7f, 0.1f},
-           "green",
-           {},
-           AutoVariant::kAnyEstimate,
-           PivotFrozenSquares,
-           true,
-           AutoVariant::kVariance,
-           PivotKeepSquares},
+         {{"pivot", {}, 2, {0.1f, 0.7f, 0.1f}, "green"},
           {"pivot k0",
            {{"robust-k", 0.f}},
            3,
@@ -121,17 +99,7 @@ std::vector<MethodEntry> Build() {
            "blue",
            {},
            AutoVariant::kOwn},
-          {"pivot no ids",
-           {{"guides", none}},
-           7,
-           {1.f, 0.5f, 0.f},
-           "orange",
-           kGuideLayers,
-           AutoVariant::kAnyEstimate,
-           PivotFrozenSquares,
-           true,
-           AutoVariant::kVariance,
-           PivotKeepSquares},
+          {"pivot no ids", {{"guides", none}}, 7, {1.f, 0.5f, 0.f}, "orange", kGuideLayers},
           {"pivot k0 no ids",
            {{"robust-k", 0.f}, {"guides", none}},
            8,

@@ -37,11 +37,6 @@ struct AutoVariant {
     // Runs only where --auto-candidates names it: beside the others it held small shares
     // and cost much time (docs/methods/auto.md).
     bool byDefault = true;
-    // The error estimates under which the cheaper probe replaces the run's own (bits of
-    // Estimate), and what the run then sets over its parameters for it (null: nothing; what
-    // the probe reads from the run, such as pivot's squares).
-    unsigned cheaperProbeEstimates = kAnyEstimate;
-    void (*beforeCheaperProbe)(FrontEnd &method) = nullptr;
 };
 
 struct MethodEntry {

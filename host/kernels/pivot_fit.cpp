@@ -48,16 +48,6 @@ void CheckPivotFitBuffers(const char *what, int width, int height, int channels,
                                         fit.buffer.Name(), fit.width, fit.height, fit.channels,
                                         width, height, PIVOT_PLANES_PER_BUFFER),
                             ErrorKind::Internal);
-    if (int(fits.grown.size()) != channels)
-        throw Error(fmt::format("{}: grown buffers of {} channels, expected {}", what,
-                                fits.grown.size(), channels),
-                    ErrorKind::Internal);
-    for (const vk::GpuImage &g : fits.grown)
-        if (g.width != width || g.height != height || g.channels != 2)
-            throw Error(
-                fmt::format("{}: {} is {}x{}x{}, expected {}x{}x2", what, g.buffer.Name(),
-                            g.width, g.height, g.channels, width, height),
-                ErrorKind::Internal);
 }
 
 Image PivotGuideBuffer(const Image &planes) {
@@ -143,7 +133,6 @@ Image PivotZsnOf(const Image &z, const Image &s, const Image &nu) {
 PivotFitBuffers::PivotFitBuffers(vk::Context &context, int width, int height, int channels,
                                  const std::string &name) {
     for (int c = 0; c < channels; ++c) {
-        grown.emplace_back(context, width, height, 2, fmt::format("{}Grown{}", name, c));
         lo.emplace_back(context, width, height, PIVOT_PLANES_PER_BUFFER,
                         fmt::format("{}Lo{}", name, c));
         hi.emplace_back(context, width, height, PIVOT_PLANES_PER_BUFFER,
@@ -180,28 +169,6 @@ void PivotFitBuffers::Upload(const Image &fits) {
     PivotBuffersOfFits(fits, Channels(), &joinedLo, &joinedHi);
     Split(joinedLo, lo);
     Split(joinedHi, hi);
-}
-
-Image PivotFitBuffers::DownloadGrown() const {
-    const vk::GpuImage &first = grown.front();
-    Image planes(first.width, first.height, 2 * Channels());
-    size_t each = size_t(first.width) * first.height * 2;
-    for (int c = 0; c < Channels(); ++c)
-        grown[c].buffer.Download(planes.data.data() + c * each, each * sizeof(float));
-    return planes;
-}
-
-void PivotFitBuffers::UploadGrown(const Image &planes) {
-    const vk::GpuImage &first = grown.front();
-    if (planes.width != first.width || planes.height != first.height ||
-        planes.channels != 2 * Channels())
-        throw Error(fmt::format("pivot: grown planes of {}x{}x{}, expected {}x{}x{}",
-                                planes.width, planes.height, planes.channels, first.width,
-                                first.height, 2 * Channels()),
-                    ErrorKind::Internal);
-    size_t each = size_t(first.width) * first.height * 2;
-    for (int c = 0; c < Channels(); ++c)
-        grown[c].buffer.Upload(planes.data.data() + c * each, each * sizeof(float));
 }
 
 Image PivotFitBuffers::Radii() const {
@@ -257,8 +224,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                                   settings.k,
                                   settings.sigmaWeight,
                                   rowBase,
-                                  c,
-                                  settings.frozen ? 1 : 0};
+                                  c};
         // Absent guides are compiled out; zsn stands in for their binding.
         recorder.Dispatch(
             kernel, "pivot.fit",
@@ -266,9 +232,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
              {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &zsn.buffer,
               vk::Access::Read},
              {PIVOT_FIT_LO, &fits.lo[c].buffer, vk::Access::Write},
-             {PIVOT_FIT_HI, &fits.hi[c].buffer, vk::Access::Write},
-             {PIVOT_FIT_GROWN, &fits.grown[c].buffer,
-              settings.frozen ? vk::Access::Read : vk::Access::Write}},
+             {PIVOT_FIT_HI, &fits.hi[c].buffer, vk::Access::Write}},
             push, uint32_t((w + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE), uint32_t(rows), 1);
     }
 }

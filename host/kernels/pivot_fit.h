@@ -24,9 +24,6 @@ struct PivotFitSettings {
     int maxRadius = 30;
     float targetNoise = 0.02f, goodNoise = 100.f, disagreement = 0.1f, k = 0.3f,
           sigmaWeight = 0.f;
-    // Grow nothing: each centre fits the square PivotFitBuffers::grown holds (an earlier
-    // run's on the same frame) with that run's <z>.
-    bool frozen = false;
 };
 
 // The fits on the GPU: per channel two buffers of PIVOT_PLANES_PER_BUFFER planes of the
@@ -44,13 +41,6 @@ struct PivotFitBuffers {
     Image Radii() const;
 
     std::vector<vk::GpuImage> lo, hi;
-    // Per channel, the radius each centre chose (plane 0, as plane PIVOT_PLANES - 1 holds
-    // it) and the <z> of its fit (plane 1; off the lattice: the growth's): a run writes
-    // them, a frozen run reads them. Each channel's its own binding, as lo and hi.
-    std::vector<vk::GpuImage> grown;
-    // The grown planes as one image (channel c's at planes 2c, 2c + 1), and back.
-    Image DownloadGrown() const;
-    void UploadGrown(const Image &planes);
 };
 
 // `zsn`: z, s, nu and 0 of each pixel and channel adjacent (4 x channels floats per pixel,

@@ -214,18 +214,15 @@ std::string TimePerKernel(const std::vector<vk::DispatchTiming> &timings) {
     return times;
 }
 
-// The paper's filter into gpu.out: fits in row strips (each centre's square grown, or an
-// earlier run's: in.frozen), the radii read back to size the gather's reach per tile, the
-// gather in row strips; the fits kept as a stage.
-void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotInputs &in,
-                    const PivotParams &options, const RunSetup &setup, PivotResult &result) {
+// The paper's filter into gpu.out: fits in row strips, the radii read back to size the
+// gather's reach per tile, the gather in row strips; the fits kept as a stage.
+void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotParams &options,
+                    const RunSetup &setup, PivotResult &result) {
     vk::Context &context = run.Context();
     int w = gpu.z.width, h = gpu.z.height, channels = gpu.z.channels;
     PivotFitBuffers fits(context, w, h, channels, "pivot.fit");
     PivotFitSettings settings{options.maxRadius,    options.targetNoise, options.goodNoise,
-                              options.disagreement, options.k,           options.sigmaWeight,
-                              in.frozen != nullptr};
-    if (in.frozen) fits.UploadGrown(*in.frozen);
+                              options.disagreement, options.k,           options.sigmaWeight};
     // Row strips, one submission each: progress on long frames, and no dispatch long enough
     // to trip a GPU watchdog. The ratio stage recorded before runs with the first strip.
     const int stripRows = setup.stripPixels > 0 ? std::clamp(setup.stripPixels / w, 1, h) : h;
@@ -240,26 +237,19 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotInputs &in,
     for (float r : radii.data)
         if (r >= 0) sum += r, ++fitted;
     result.meanRadius = fitted ? sum / fitted : 0;
-    if (in.keepGrown && !in.frozen) result.grown = fits.DownloadGrown();
     Image tileOrder = PivotTileOrder(radii, &result.largestRadius);
     vk::GpuImage tiles(context, tileOrder.width, tileOrder.height, tileOrder.channels,
                        "pivot.tiles");
     tiles.Upload(tileOrder);
-    if (in.frozen)
-        run.Plan(fmt::format(
-            "planefit: each centre's square and <z> as an earlier run on this frame chose "
-            "them (nothing grown); mean radius {:.2f}, largest {}; fits of the square and 4 "
-            "quadrants with eq. 10 (k = {}, pixels with relative noise > {} left out)",
-            result.meanRadius, result.largestRadius, options.k, options.goodNoise));
-    else
-        run.Plan(fmt::format(
-            "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
-            "square-vs-quadrant disagreement {}; a centre about to leave eq. 13's lattice "
-            "stops at 3, 7 or 16); mean radius {:.2f}, largest {}; fits of the square and 4 "
-            "quadrants with eq. 10 (k = {}, pixels with relative noise > {} left out)",
-            2 * options.maxRadius + 1, 2 * options.maxRadius + 1, options.targetNoise,
-            options.disagreement, result.meanRadius, result.largestRadius, options.k,
-            options.goodNoise));
+    run.Plan(fmt::format(
+        "planefit: squares grown from 5x5 to at most {}x{} (stop at relative noise {}, "
+        "square-vs-quadrant disagreement {}; a centre about to leave eq. 13's lattice stops at "
+        "3, 7 or "
+        "16); mean radius {:.2f}, largest {}; fits of the square and 4 quadrants with eq. 10 "
+        "(k = {}, pixels with relative noise > {} left out)",
+        2 * options.maxRadius + 1, 2 * options.maxRadius + 1, options.targetNoise,
+        options.disagreement, result.meanRadius, result.largestRadius, options.k,
+        options.goodNoise));
     run.Plan(
         "eqs. 11-13: combined square/quadrant fits averaged over the squares holding the "
         "pixel whose centres lie on their lattice (step: largest power of two <= radius / 2, "
@@ -298,7 +288,7 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     if (options.filter == PivotFilter::Bilateral)
         RecordBilateral(run, gpu, options);
     else
-        RecordPlaneFit(run, gpu, in, options, setup, result);
+        RecordPlaneFit(run, gpu, options, setup, result);
     result.image = gpu.out.Download();
     run.AddStage("output", result.image);
     run.Finish(result);
@@ -341,8 +331,6 @@ PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in, const Pivo
         one.thresholds = partial.thresholds;
         one.partials.clear();
         one.remainder = nullptr;
-        one.frozen = nullptr;
-        one.keepGrown = false;
         PivotResult r = PivotDenoiseOne(context, one, params, setup);
         for (size_t i = 0; i < result.image.Size(); ++i)
             result.image.data[i] += r.image.data[i];

@@ -44,11 +44,6 @@ struct PivotInputs {
     // Per channel, the pivot below which a pixel keeps its input (PivotThresholds); a tile
     // of a larger frame (host/api/tiled_run.h) passes the whole frame's. Empty: this pivot's.
     std::vector<float> thresholds;
-    // Planefit without partials. `frozen`: each centre's square and <z> as an earlier run on
-    // this frame chose them (its PivotResult::grown): nothing grows, each square is fitted
-    // once (auto's SURE probe). `keepGrown`: return this run's in PivotResult::grown.
-    const Image *frozen = nullptr;
-    bool keepGrown = false;
 };
 
 // With setup.keepStages, stages z, nu, the fits (planefit; 16 x channels planes as in
@@ -59,9 +54,6 @@ struct PivotResult : MethodResult {
     int largestRadius = 0;  // (with partials: of all partials)
     // Pixel-channels (with partials: summed over them) whose pivot is below the floor.
     size_t pixelsWithoutZ = 0;
-    // With PivotInputs::keepGrown: per channel c, each centre's radius (plane 2c; -1: no
-    // fit) and the <z> of its fit (plane 2c + 1), as cpu_reference/pivot_filter.h's `grown`.
-    Image grown;
 };
 
 // Per-channel pivot threshold: floor x the mean of max(L_a, 0).

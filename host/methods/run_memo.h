@@ -32,16 +32,6 @@ class RunMemo {
         entries[key] = std::move(entry);
         return kept;
     }
-    // The entry under `key`, removed from the memo (for work one later run alone reads), or
-    // nullptr.
-    template <class T>
-    std::shared_ptr<T> Take(const std::string &key) {
-        auto it = entries.find(key);
-        if (it == entries.end()) return nullptr;
-        std::shared_ptr<T> entry = std::static_pointer_cast<T>(it->second);
-        entries.erase(it);
-        return entry;
-    }
     size_t Size() const { return entries.size(); }
 
   private:

@@ -11,8 +11,6 @@ layout(binding = PIVOT_FIT_GUIDES) uniform samplerBuffer guides;
 // A centre's 8 planes of each buffer as two vec4s (pivot/pivot.h): four writes a centre.
 layout(std430, binding = PIVOT_FIT_LO) writeonly buffer FitLo { vec4 fitLo[]; };
 layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { vec4 fitHi[]; };
-// Each centre's radius and <z> (pivot/fit.h): written by a run, read by a frozen one.
-layout(std430, binding = PIVOT_FIT_GROWN) buffer Grown { float grown[]; };
 
 int planeSize, gw, gh;
 
@@ -214,14 +212,6 @@ void storeFits(int at, Plane square, float radius) {
     fitHi[texel + 1] = vec4(q[3].a, q[3].b, q[3].c, radius);
 }
 
-// What a run chose for the centre `at` of this channel: the radius as plane 15 holds it
-// (-1: no fit; off the lattice: r + 1) and the <z> its fit read. A frozen run keeps them.
-void storeGrown(int at, float radius, float mean) {
-    if (push.frozen != 0) return;
-    grown[at] = radius;
-    grown[planeSize + at] = mean;
-}
-
 // A centre without a fit: zero planes, radius -1.
 void storeNone(int at) {
     int texel = 2 * at;
@@ -285,11 +275,9 @@ int grow(out float mean) {
             int at = y0 * w + x0;
             if (!square.valid) {
                 storeNone(at);
-                storeGrown(at, -1.0, 0.0);
                 return -1;
             }
             storeFits(at, square, float(r + 1));
-            storeGrown(at, float(r + 1), zc);
             return -1;
         }
     }
@@ -324,46 +312,15 @@ void fitAndStore(int radius, float mean) {
     Plane square = solve(squareSums());
     if (!square.valid) {
         storeNone(at);
-        storeGrown(at, -1.0, 0.0);
         return;
     }
     storeFits(at, square, fr);
-    storeGrown(at, fr, mean);
-}
-
-// A frozen run's centre off its lattice: the growth fits of the square of radius r (<z>
-// the run's zc, no distance term; its rings added in growth's order), stored with r + 1.
-void growthFitAndStore(int r, float zc) {
-    int at = y0 * w + x0;
-    clearParts();
-    for (int ring = 0; ring <= r; ++ring) addRing(ring, zc);
-    Plane square = solve(squareSums());
-    if (!square.valid)
-        storeNone(at);
-    else
-        storeFits(at, square, float(r + 1));
-}
-
-// A frozen run's centre: the half-size of the square it fits (-1: none) and that fit's
-// <z>, from the run's radius and <z>; `off` for a centre off its lattice.
-int frozenSquare(out float mean, out bool off) {
-    int at = y0 * w + x0;
-    float radius = grown[at];
-    mean = grown[planeSize + at];
-    off = false;
-    if (radius < 0.0) {
-        storeNone(at);
-        return -1;
-    }
-    off = !onLattice(x0, y0, radius);
-    return off ? int(radius) - 1 : int(radius);
 }
 
 // The workgroup's centres (one row segment) after growth: radius (-1: no fit to make) and
 // <z>; then, by rank of radius, which centre each invocation fits.
 shared int grownRadius[PIVOT_LOCAL_SIZE];
 shared float grownMean[PIVOT_LOCAL_SIZE];
-shared bool grownOff[PIVOT_LOCAL_SIZE];  // frozen: off its lattice, growth fits
 shared int fitOrder[PIVOT_LOCAL_SIZE];
 
 // The column (offset in the workgroup's row segment) of invocation i's centre during growth.
@@ -398,22 +355,16 @@ void main() {
     // Growth, one centre per invocation. Every invocation reaches the barriers below.
     int radius = -1;
     float mean = 0.0;
-    bool off = false;
     if (x0 < w) {
         int at = y0 * w + x0;
         centre = surfaceAt(at);
-        if (texelFetch(zsn, base + at).z < 0.0) {
+        if (texelFetch(zsn, base + at).z < 0.0)
             storeNone(at);
-            storeGrown(at, -1.0, 0.0);
-        } else if (push.frozen != 0) {
-            radius = frozenSquare(mean, off);
-        } else {
+        else
             radius = grow(mean);
-        }
     }
     grownRadius[local] = radius;
     grownMean[local] = mean;
-    grownOff[local] = off;
     memoryBarrierShared();
     barrier();
     // The final fits cost (2R + 1)^2 each and invocations run in SIMD groups that take as
@@ -432,8 +383,5 @@ void main() {
     if (radius < 0) return;
     x0 = groupX + columnOf(mine);
     centre = surfaceAt(y0 * w + x0);
-    if (grownOff[mine])
-        growthFitAndStore(radius, grownMean[mine]);
-    else
-        fitAndStore(radius, grownMean[mine]);
+    fitAndStore(radius, grownMean[mine]);
 }

@@ -5,8 +5,6 @@
 // there and keeps its growth fits; see cpu_reference/pivot_filter.h for the rules. One
 // invocation per centre; one dispatch per channel, each channel's fits in buffers of their
 // own (a binding holds one channel's planes, so a frame of 4 channels binds like one of 1).
-// A frozen run (auto's SURE probe) grows nothing: each centre takes the square and <z> an
-// earlier run on the same frame chose, and fits that square once.
 #ifndef MCD_SHADERS_PIVOT_FIT_H
 #define MCD_SHADERS_PIVOT_FIT_H
 
@@ -16,11 +14,7 @@
 #define PIVOT_FIT_GUIDES 1
 #define PIVOT_FIT_LO 2  // planes 0..7 of one channel
 #define PIVOT_FIT_HI 3  // planes 8..15 of one channel
-// One channel's centres' squares and <z>, two planes (0: the radius as plane 15 holds it,
-// 1: <z> of its fit; for a centre off its lattice the growth's <z>): a run writes them, a
-// frozen run (push.frozen) reads them instead of growing.
-#define PIVOT_FIT_GROWN 4
-#define PIVOT_FIT_BINDINGS 5
+#define PIVOT_FIT_BINDINGS 4
 
 #ifdef __cplusplus
 #include <cstddef>
@@ -40,13 +34,11 @@ layout(push_constant) uniform PivotFitPush {
     float sigmaWeight;   // multiplies sigma (nu) in eq. 10's exponent (1: the paper)
     int rowBase;         // first centre row of this dispatch (row strips)
     int channel;         // the channel of this dispatch, whose fit buffers are bound
-    int frozen;          // 1: each centre's square and <z> are read from PIVOT_FIT_GROWN
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotFitPush) == 48);
+static_assert(sizeof(PivotFitPush) == 44);
 static_assert(offsetof(PivotFitPush, rowBase) == 36);
 static_assert(offsetof(PivotFitPush, channel) == 40);
-static_assert(offsetof(PivotFitPush, frozen) == 44);
 }  // namespace mcd::shader
 #else
 }
