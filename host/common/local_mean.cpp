@@ -11,48 +11,11 @@
 #include "host/common/box_mean.h"
 #include "host/common/highlights.h"
 #include "host/common/parallel.h"
+#include "host/common/squared_tent.h"
 #include "host/error.h"
 
 namespace mcd {
 namespace {
-
-// One axis of TentSquaredMean: each value's mean over the 4s + 1 values along `rows` (else
-// columns) around it, weighted by the 1D tent's squared weights and clipped to the image.
-// The taps are the outer loop and a line of values the inner one, so the inner loop
-// vectorises; each value still adds its taps in ascending order from 0.
-void SquaredTentAxis(const float *src, float *dst, int w, int h, int s, bool rows) {
-    const int n = 2 * s + 1, reach = 2 * s;
-    std::vector<double> weight(2 * reach + 1);
-    for (int j = -reach; j <= reach; ++j) {
-        const double t = double(n - std::abs(j)) / (double(n) * n);
-        weight[j + reach] = t * t;
-    }
-    // The clipped weights' sum at each position along the axis.
-    const int length = rows ? w : h;
-    std::vector<double> total(length, 0.0);
-    for (int i = 0; i < length; ++i)
-        for (int j = std::max(0, i - reach); j <= std::min(length - 1, i + reach); ++j)
-            total[i] += weight[j - i + reach];
-    ParallelFor(h, size_t(w) * h * (2 * reach + 1), [&](int begin, int end) {
-        std::vector<double> sum(w);
-        for (int y = begin; y < end; ++y) {
-            std::fill(sum.begin(), sum.end(), 0.0);
-            for (int d = -reach; d <= reach; ++d) {
-                const double t = weight[d + reach];
-                if (rows) {
-                    const float *line = src + size_t(y) * w;
-                    for (int x = std::max(0, -d); x < std::min(w, w - d); ++x)
-                        sum[x] += t * line[x + d];
-                } else if (y + d >= 0 && y + d < h) {
-                    const float *line = src + size_t(y + d) * w;
-                    for (int x = 0; x < w; ++x) sum[x] += t * line[x];
-                }
-            }
-            for (int x = 0; x < w; ++x)
-                dst[size_t(y) * w + x] = float(sum[x] / total[rows ? x : y]);
-        }
-    });
-}
 
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
 // means over tents of radius 2s, the noise weighted by `noiseWeight`; `factors` (one per
@@ -196,8 +159,10 @@ Image TentSquaredMean(const Image &image, int r) {
     const int w = image.width, h = image.height;
     Image a(w, h, image.channels), b = a;
     for (int c = 0; c < image.channels; ++c) {
-        SquaredTentAxis(image.Plane(c), a.Plane(c), w, h, r, true);
-        SquaredTentAxis(a.Plane(c), b.Plane(c), w, h, r, false);
+        // Each value a function of its window alone (squared_tent.h): a tile gives the
+        // whole frame's values.
+        SquaredTentMeanRows(image.Plane(c), a.Plane(c), w, h, r);
+        SquaredTentMeanColumns(a.Plane(c), b.Plane(c), w, h, r);
     }
     return b;
 }
