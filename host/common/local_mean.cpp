@@ -19,10 +19,12 @@ namespace {
 
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
 // means over tents of radius 2s, the noise weighted by `noiseWeight`; `factors` (one per
-// value) multiplied by the same.
+// value) multiplied by the same. `inMeans`: the clean input's tent means at s, made here
+// when empty (the coarse scale's serve its second pass).
 void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, double noiseWeight,
-                  bool pixelNoise, Image *output, std::vector<double> *factors) {
-    Image moved = *output, squared = *output;
+                  bool pixelNoise, Image *output, std::vector<double> *factors,
+                  Image *inMeans) {
+    Image moved = *output, squared(output->width, output->height, output->channels);
     ParallelValues(moved.data.size(), 4, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             if (kept[i]) moved.data[i] = 0;
@@ -30,7 +32,9 @@ void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, doub
             squared.data[i] = kept[i] ? 0.f : e * e;
         }
     });
-    Image mIn = TentMean(clean, s), mOut = TentMean(moved, s);
+    if (inMeans->Empty()) *inMeans = TentMean(clean, s);
+    const Image &mIn = *inMeans;
+    Image mOut = TentMean(moved, s);
     Image mSq = pixelNoise ? TentSquaredMean(squared, s) : TentMean(squared, s);
     const double weights = TentSquaredWeights(s) * noiseWeight;
     ParallelValues(mIn.data.size(), 16, [&](size_t begin, size_t end) {
@@ -143,7 +147,7 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
 
 Image TentMean(const Image &image, int r) {
     const int w = image.width, h = image.height;
-    Image a(w, h, image.channels), b = a;
+    Image a(w, h, image.channels), b(w, h, image.channels);
     for (int c = 0; c < image.channels; ++c) {
         // Each window's sum is the one of its values in order: a pixel's mean does not
         // depend on where the image starts (a tile gives the whole frame's values).
@@ -198,13 +202,14 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
         clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
     }
     std::vector<double> factors(input.data.size(), 1.0);
-    RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors);
-    RestoreScale(clean, kept, r, 1, pixelNoise, output, &factors);
+    Image coarseIn, fineIn;
+    RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors, &coarseIn);
+    RestoreScale(clean, kept, r, 1, pixelNoise, output, &factors, &fineIn);
     // The fine scale takes the coarse gain back confidently where no rare bright sample
     // fell and gives it uncertainly where one did: the coarse scale again returns the
     // energy so lost.
     if (rebalance >= 0)
-        RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors);
+        RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors, &coarseIn);
     LocalMeanFactors range;
     bool any = false;
     for (size_t i = 0; i < factors.size(); ++i) {

@@ -41,8 +41,9 @@ struct Span {
         }
     }
     bool Exact(int maxSpread) const { return finite && (lo > hi || hi - lo <= maxSpread); }
-    // The unit: the last place of the smallest value, at least the float's least.
-    int Unit() const { return std::max(lo - 24, -149); }
+    // The unit: the last place of the smallest value, at least the float's least (1 where
+    // all are 0).
+    int Unit() const { return lo > hi ? 0 : std::max(lo - 24, -149); }
 };
 
 // v (finite, a multiple of 2^q) in units of 2^q.
@@ -107,13 +108,14 @@ void ExactLine(const float *line, int length, int n, int q, const int64_t *total
     Wide *u = buffer->data() + pad;
     for (int j = 0; j < length; ++j) u[j] = Units(line[j], q);
     const Wide fourN = 4 * Wide(n);
+    const double scale = std::ldexp(1.0, q);  // exact: the sums and 2^q are normal doubles
     Wide p1 = 0, p2 = 0, p3 = 0;
     for (int i = 0; i < length + n; ++i) {
         p1 += u[i - 1] + u[i - 2] - u[i - 2 * n - 1] - u[i - 2 * n - 2] +
               fourN * (u[i - n - 2] - u[i - n - 1]);
         p2 += p1;
         p3 += p2;
-        if (i >= n) out[i - n] = float(std::ldexp(double(p3), q) / double(total[i - n]));
+        if (i >= n) out[i - n] = float(double(p3) * scale / double(total[i - n]));
     }
 }
 
