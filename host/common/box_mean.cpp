@@ -11,8 +11,6 @@
 namespace mcd {
 namespace {
 
-constexpr float kInfinity = std::numeric_limits<float>::infinity();
-
 // The unit in the last place of a float a > 0: every float at least a is a multiple of it.
 double FloatUlp(float a) {
     int e = 0;
@@ -110,78 +108,9 @@ bool ExactSums(const float *values, int n) {
     return finite && (!std::isfinite(smallest) || total < std::ldexp(FloatUlp(smallest), 51));
 }
 
-// The indices of a window sliding right whose extreme value is at the front (the largest
-// where `larger`, else the smallest): each index enters and leaves once.
-class SlidingExtreme {
-  public:
-    SlidingExtreme(const std::vector<float> &values, bool larger)
-        : values(values), larger(larger) {}
-    void Push(int i) {
-        while (head < int(order.size()) && Beats(values[i], values[order.back()]))
-            order.pop_back();
-        order.push_back(i);
-    }
-    void PopBefore(int a) {
-        while (head < int(order.size()) && order[head] < a) ++head;
-    }
-    float Front() const { return values[order[head]]; }
-
-  private:
-    bool Beats(float a, float b) const { return larger ? a >= b : a <= b; }
-    const std::vector<float> &values;
-    bool larger;
-    std::vector<int> order;
-    int head = 0;
-};
-
-// One row's box means where its sums in double are not all exact: a window whose values
-// are finite and whose count times its largest magnitude is under 2^51 units in the last
-// place of its smallest non-zero one has exact partial sums in any order, so its sum is
-// the difference of the row's running sums in 128-bit integers (units of the last place of
-// the row's smallest value); other windows are summed in order. The same bits as every
-// window summed in order.
-void BoxRowByWindow(const float *row, float *dst, int w, int r) {
-    std::vector<float> largest(size_t(w), 0.f), smallest(size_t(w), kInfinity);
-    float least = kInfinity, most = 0;
-    for (int x = 0; x < w; ++x) {
-        const float a = std::fabs(row[x]);
-        if (!std::isfinite(a)) continue;
-        largest[x] = a;
-        if (a > 0) smallest[x] = a;
-        least = std::min(least, smallest[x]);
-        most = std::max(most, a);
-    }
-    // The row's running sums in units of its least value's last place, non-finite values
-    // as 0 (their windows are summed in order); when they could overflow, every window is.
-    const double unit = std::isfinite(least) ? FloatUlp(least) : 1.0;
-    const bool fits = double(most) / unit * w < std::ldexp(1.0, 120);
-    std::vector<__int128> running(size_t(w) + 1, 0);
-    std::vector<int> nonFinite(size_t(w) + 1, 0);
-    for (int x = 0; x < w; ++x) {
-        const bool finite = std::isfinite(row[x]);
-        running[x + 1] = running[x] + (finite && fits ? __int128(row[x] / unit) : 0);
-        nonFinite[x + 1] = nonFinite[x] + !finite;
-    }
-    SlidingExtreme high(largest, true), low(smallest, false);
-    for (int x = 0, next = 0; x < w; ++x) {
-        const int a = std::max(0, x - r), b = std::min(w - 1, x + r), count = b - a + 1;
-        for (; next <= b; ++next) high.Push(next), low.Push(next);
-        high.PopBefore(a);
-        low.PopBefore(a);
-        if (fits && nonFinite[b + 1] == nonFinite[a] &&
-            (!std::isfinite(low.Front()) ||
-             double(high.Front()) * count < std::ldexp(FloatUlp(low.Front()), 51))) {
-            dst[x] = float(double(running[b + 1] - running[a]) * unit / count);
-            continue;
-        }
-        double sum = 0;
-        for (int j = a; j <= b; ++j) sum += row[j];
-        dst[x] = float(sum / count);
-    }
-}
-
-// One row's box means: slid in double where every sum is exact, else window by window.
-void BoxRow(const float *row, float *dst, int w, int r) {
+// One row's box means: slid where exact, else each window summed in order (the interior's
+// windows side by side, so the sums run over contiguous memory).
+void BoxRow(const float *row, float *dst, int w, int r, std::vector<double> &sum) {
     if (r > 2 && ExactSums(row, w)) {
         double s = 0;
         int a = 0, b = std::min(w - 1, r);
@@ -196,7 +125,16 @@ void BoxRow(const float *row, float *dst, int w, int r) {
         }
         return;
     }
-    BoxRowByWindow(row, dst, w, r);
+    sum.assign(size_t(w), 0.0);
+    const int lo = std::min(r, w), hi = std::max(lo, w - r);  // interior: [lo, hi)
+    for (int j = 0; j <= 2 * r; ++j)
+        for (int x = lo; x < hi; ++x) sum[x] += row[x - r + j];
+    for (int x = 0; x < w; ++x) {
+        int a = std::max(0, x - r), b = std::min(w - 1, x + r);
+        if (x < lo || x >= hi)
+            for (int j = a; j <= b; ++j) sum[x] += row[j];
+        dst[x] = float(sum[x] / (b - a + 1));
+    }
 }
 
 }  // namespace
@@ -222,7 +160,9 @@ void BoxMeanColumns(const float *in, float *out, int w, int h, int r) {
 
 void BoxMeanRows(const float *in, float *out, int w, int h, int r) {
     ParallelFor(h, size_t(w) * h * 8, [&](int begin, int end) {
-        for (int y = begin; y < end; ++y) BoxRow(in + size_t(y) * w, out + size_t(y) * w, w, r);
+        std::vector<double> sum;
+        for (int y = begin; y < end; ++y)
+            BoxRow(in + size_t(y) * w, out + size_t(y) * w, w, r, sum);
     });
 }
 
