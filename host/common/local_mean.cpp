@@ -11,55 +11,20 @@
 #include "host/common/box_mean.h"
 #include "host/common/highlights.h"
 #include "host/common/parallel.h"
+#include "host/common/squared_tent.h"
 #include "host/error.h"
 
 namespace mcd {
 namespace {
 
-// One axis of TentSquaredMean: each value's mean over the 4s + 1 values along `rows` (else
-// columns) around it, weighted by the 1D tent's squared weights and clipped to the image.
-// The taps are the outer loop and a line of values the inner one, so the inner loop
-// vectorises; each value still adds its taps in ascending order from 0.
-void SquaredTentAxis(const float *src, float *dst, int w, int h, int s, bool rows) {
-    const int n = 2 * s + 1, reach = 2 * s;
-    std::vector<double> weight(2 * reach + 1);
-    for (int j = -reach; j <= reach; ++j) {
-        const double t = double(n - std::abs(j)) / (double(n) * n);
-        weight[j + reach] = t * t;
-    }
-    // The clipped weights' sum at each position along the axis.
-    const int length = rows ? w : h;
-    std::vector<double> total(length, 0.0);
-    for (int i = 0; i < length; ++i)
-        for (int j = std::max(0, i - reach); j <= std::min(length - 1, i + reach); ++j)
-            total[i] += weight[j - i + reach];
-    ParallelFor(h, size_t(w) * h * (2 * reach + 1), [&](int begin, int end) {
-        std::vector<double> sum(w);
-        for (int y = begin; y < end; ++y) {
-            std::fill(sum.begin(), sum.end(), 0.0);
-            for (int d = -reach; d <= reach; ++d) {
-                const double t = weight[d + reach];
-                if (rows) {
-                    const float *line = src + size_t(y) * w;
-                    for (int x = std::max(0, -d); x < std::min(w, w - d); ++x)
-                        sum[x] += t * line[x + d];
-                } else if (y + d >= 0 && y + d < h) {
-                    const float *line = src + size_t(y + d) * w;
-                    for (int x = 0; x < w; ++x) sum[x] += t * line[x];
-                }
-            }
-            for (int x = 0; x < w; ++x)
-                dst[size_t(y) * w + x] = float(sum[x] / total[rows ? x : y]);
-        }
-    });
-}
-
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
 // means over tents of radius 2s, the noise weighted by `noiseWeight`; `factors` (one per
-// value) multiplied by the same.
+// value) multiplied by the same. `inMeans`: the clean input's tent means at s, made here
+// when empty (the coarse scale's serve its second pass).
 void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, double noiseWeight,
-                  bool pixelNoise, Image *output, std::vector<double> *factors) {
-    Image moved = *output, squared = *output;
+                  bool pixelNoise, Image *output, std::vector<double> *factors,
+                  Image *inMeans) {
+    Image moved = *output, squared(output->width, output->height, output->channels);
     ParallelValues(moved.data.size(), 4, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             if (kept[i]) moved.data[i] = 0;
@@ -67,7 +32,9 @@ void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, doub
             squared.data[i] = kept[i] ? 0.f : e * e;
         }
     });
-    Image mIn = TentMean(clean, s), mOut = TentMean(moved, s);
+    if (inMeans->Empty()) *inMeans = TentMean(clean, s);
+    const Image &mIn = *inMeans;
+    Image mOut = TentMean(moved, s);
     Image mSq = pixelNoise ? TentSquaredMean(squared, s) : TentMean(squared, s);
     const double weights = TentSquaredWeights(s) * noiseWeight;
     ParallelValues(mIn.data.size(), 16, [&](size_t begin, size_t end) {
@@ -180,7 +147,7 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
 
 Image TentMean(const Image &image, int r) {
     const int w = image.width, h = image.height;
-    Image a(w, h, image.channels), b = a;
+    Image a(w, h, image.channels), b(w, h, image.channels);
     for (int c = 0; c < image.channels; ++c) {
         // Each window's sum is the one of its values in order: a pixel's mean does not
         // depend on where the image starts (a tile gives the whole frame's values).
@@ -196,8 +163,10 @@ Image TentSquaredMean(const Image &image, int r) {
     const int w = image.width, h = image.height;
     Image a(w, h, image.channels), b = a;
     for (int c = 0; c < image.channels; ++c) {
-        SquaredTentAxis(image.Plane(c), a.Plane(c), w, h, r, true);
-        SquaredTentAxis(a.Plane(c), b.Plane(c), w, h, r, false);
+        // Each value a function of its window alone (squared_tent.h): a tile gives the
+        // whole frame's values.
+        SquaredTentMeanRows(image.Plane(c), a.Plane(c), w, h, r);
+        SquaredTentMeanColumns(a.Plane(c), b.Plane(c), w, h, r);
     }
     return b;
 }
@@ -233,13 +202,14 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
         clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
     }
     std::vector<double> factors(input.data.size(), 1.0);
-    RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors);
-    RestoreScale(clean, kept, r, 1, pixelNoise, output, &factors);
+    Image coarseIn, fineIn;
+    RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors, &coarseIn);
+    RestoreScale(clean, kept, r, 1, pixelNoise, output, &factors, &fineIn);
     // The fine scale takes the coarse gain back confidently where no rare bright sample
     // fell and gives it uncertainly where one did: the coarse scale again returns the
     // energy so lost.
     if (rebalance >= 0)
-        RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors);
+        RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors, &coarseIn);
     LocalMeanFactors range;
     bool any = false;
     for (size_t i = 0; i < factors.size(); ++i) {

@@ -56,10 +56,12 @@ std::vector<float> NaiveSlide(const std::vector<float> &in, int w, int h, int r)
     return out;
 }
 
-enum class Kind { Plain, FewWideRange, ManyWideRange, NonFinite };
+enum class Kind { Plain, FewWideRange, ManyWideRange, NonFinite, Spikes, Cancelling };
 
 // Values in [0, 1) with zeros and negatives; `kind` adds columns whose sums round (a few or
-// many: the slide with or without its fallback) or NaN/Inf.
+// many: the slide with or without its fallback), NaN/Inf, or lone large values over small
+// ones (windows with sums that round beside windows without), or pairs of large values of
+// opposite signs (their sum in order loses what lies between them).
 std::vector<float> MakePlane(int w, int h, Kind kind) {
     std::mt19937_64 rng(SeedFromName("box mean " + std::to_string(w) + "x" + std::to_string(h) +
                                      " " + std::to_string(int(kind))));
@@ -82,6 +84,14 @@ std::vector<float> MakePlane(int w, int h, Kind kind) {
         for (size_t i = 0; i < plane.size(); i += 97)
             plane[i] = i % 2 ? std::numeric_limits<float>::infinity()
                              : std::numeric_limits<float>::quiet_NaN();
+    if (kind == Kind::Spikes)
+        for (size_t i = 0; i < plane.size(); ++i)
+            plane[i] = i % 37 == 5 ? 3e7f * (1 + unit(rng)) : 1e-3f * unit(rng);
+    if (kind == Kind::Cancelling)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                if ((x + y) % 7 == 2 || (x + y) % 7 == 4)
+                    plane[size_t(y) * w + x] = (x + y) % 7 == 2 ? 1e18f : -1e18f;
     return plane;
 }
 
@@ -92,8 +102,8 @@ TEST(BoxMeanColumns, SameBitsAsWindowsSummedOneByOne) {
     for (Case c : {Case{1, 1, 1}, Case{1, 1, 5}, Case{3, 7, 2}, Case{5, 9, 3}, Case{33, 41, 4},
                    Case{64, 37, 8}, Case{23, 130, 32}, Case{40, 20, 30}, Case{17, 300, 3},
                    Case{9, 200, 20}})
-        for (Kind kind :
-             {Kind::Plain, Kind::FewWideRange, Kind::ManyWideRange, Kind::NonFinite})
+        for (Kind kind : {Kind::Plain, Kind::FewWideRange, Kind::ManyWideRange, Kind::NonFinite,
+                          Kind::Spikes, Kind::Cancelling})
             for (int parts : {1, 3}) {
                 SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) + " r" +
                              std::to_string(c.r) + " kind " + std::to_string(int(kind)) + ", " +
