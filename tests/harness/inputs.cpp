@@ -119,4 +119,11 @@ std::string KernelShapeName(const ::testing::TestParamInfo<KernelShape> &info) {
     return fmt::format("{}x{}x{}_{}", c.w, c.h, c.channels, InputKindName(c.kind));
 }
 
+std::vector<float> Transposed(const std::vector<float> &in, int w, int h) {
+    std::vector<float> out(in.size());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) out[size_t(x) * h + y] = in[size_t(y) * w + x];
+    return out;
+}
+
 }  // namespace mcd::test

@@ -45,4 +45,7 @@ std::vector<KernelShape> KernelShapes();
 // "37x23x3_uniform": a gtest parameter's name.
 std::string KernelShapeName(const ::testing::TestParamInfo<KernelShape> &info);
 
+// The w x h plane transposed (h x w): a column pass checked as a row pass.
+std::vector<float> Transposed(const std::vector<float> &in, int w, int h);
+
 }  // namespace mcd::test

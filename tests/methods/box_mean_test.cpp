@@ -17,6 +17,7 @@ namespace mcd {
 namespace {
 
 using test::SeedFromName;
+using test::Transposed;
 
 // The definition: each window summed in order from its top.
 std::vector<float> WindowsOneByOne(const std::vector<float> &in, int w, int h, int r) {
@@ -31,13 +32,6 @@ std::vector<float> WindowsOneByOne(const std::vector<float> &in, int w, int h, i
     return out;
 }
 
-// The w x h plane transposed (h x w).
-std::vector<float> Transposed(const std::vector<float> &in, int w, int h) {
-    std::vector<float> out(in.size());
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) out[size_t(x) * h + y] = in[size_t(y) * w + x];
-    return out;
-}
 
 // Sums slid down every column without a test of exactness: what the function must not do
 // where a column's sums round.

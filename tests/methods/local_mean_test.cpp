@@ -42,6 +42,18 @@ void MakeImages(const LocalMeanCase &c, Image *input, Image *output) {
     }
 }
 
+// A variance of the case's shape that makes about a tenth of the pixels lights (0, or tiny
+// against the value) and the rest noisy.
+Image LightsVariance(const LocalMeanCase &c, std::mt19937_64 *rng) {
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image variance(c.w, c.h, c.channels);
+    for (size_t i = 0; i < variance.data.size(); ++i) {
+        float u = unit(*rng);
+        variance.data[i] = u < 0.1f ? 0.f : u < 0.15f ? 1e-7f : unit(*rng);
+    }
+    return variance;
+}
+
 class LocalMeanMatches : public ::testing::TestWithParam<LocalMeanCase> {};
 
 TEST_P(LocalMeanMatches, Reference) {
@@ -345,11 +357,7 @@ TEST_P(LocalMeanMatches, CutSpikesOverBlackMatchesReference) {
     std::mt19937_64 rng(
         SeedFromName("spikes over black " + std::to_string(c.w) + "x" + std::to_string(c.h)));
     std::uniform_real_distribution<float> unit(0, 1);
-    Image variance(c.w, c.h, c.channels);
-    for (size_t i = 0; i < variance.data.size(); ++i) {
-        float u = unit(rng);
-        variance.data[i] = u < 0.1f ? 0.f : u < 0.15f ? 1e-7f : unit(rng);
-    }
+    Image variance = LightsVariance(c, &rng);
     const int edge = c.h / 3;
     for (int ch = 0; ch < c.channels; ++ch)
         for (int y = 0; y < edge; ++y)
@@ -426,12 +434,7 @@ TEST_P(LocalMeanMatches, CutLightRimsMatchesReference) {
     MakeImages(c, &input, &unused);
     std::mt19937_64 rng(
         SeedFromName("light rims " + std::to_string(c.w) + "x" + std::to_string(c.h)));
-    std::uniform_real_distribution<float> unit(0, 1);
-    Image variance(c.w, c.h, c.channels);
-    for (size_t i = 0; i < variance.data.size(); ++i) {
-        float u = unit(rng);
-        variance.data[i] = u < 0.1f ? 0.f : u < 0.15f ? 1e-7f : unit(rng);
-    }
+    Image variance = LightsVariance(c, &rng);
     if (c.w >= 3 && c.h >= 3)
         for (int ch = 0; ch < c.channels; ++ch) {
             input.At(ch, 1, 1) = 200;

@@ -21,6 +21,7 @@ namespace mcd {
 namespace {
 
 using test::SeedFromName;
+using test::Transposed;
 
 // The definition along each row: the window's weighted sum, exact where SquaredTentExact
 // allows (an integer in units of the last place of its smallest non-zero magnitude, from
@@ -70,13 +71,6 @@ std::vector<float> RowsInDouble(const std::vector<float> &in, int w, int h, int 
             }
             out[size_t(y) * w + x] = float(sum / total);
         }
-    return out;
-}
-
-std::vector<float> Transposed(const std::vector<float> &in, int w, int h) {
-    std::vector<float> out(in.size());
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) out[size_t(x) * h + y] = in[size_t(y) * w + x];
     return out;
 }
 
