@@ -223,11 +223,9 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
-        // The kept pixels' pass runs where the noise is the frame's own (NforDenoise).
-        bool ownNoise = !(options.noise == "auto" && inputs.Has("variance"));
-        int keptReach = ownNoise && (o.keptRadius > 0 || inputs.Has("albedo"))
-                            ? NforKeptPassRadius(o)
-                            : 0;
+        // The kept pixels' pass runs where the noise is the frame's own (InputsOf).
+        const int keptReach = NforKeptPassRadius(
+            o, options.noise == "auto" && inputs.Has("variance"), inputs.Has("albedo"));
         int colourReach = o.patchRadius + o.noiseRadius + 1;
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1

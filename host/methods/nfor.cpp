@@ -706,8 +706,8 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                         "then {} restored (factors {:.3g} to {:.3g})",
                         8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
     }
-    const int keptPass = NforKeptPassRadius(o);
-    if (keptPass > 0 && !in.variance && (o.keptRadius > 0 || in.albedo)) {
+    const int keptPass = NforKeptPassRadius(o, in.variance, in.albedo);
+    if (keptPass > 0) {
         run.AddStage("unkept", result.image);
         NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
                               o.keptRadius > 0};
@@ -717,12 +717,14 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                                               "in: no neighbour weighed)"
                                             : "";
         if (o.weakEmitterAlbedo > 0)
-            what += fmt::format("{}emitters of albedo below {} (a light's partly covered edge; "
-                                "their albedo not compared)",
-                                what.empty() ? "" : " and ", o.weakEmitterAlbedo);
-        run.Plan(fmt::format("{}: {}, each given the output's mean over {}x{} weighted by the "
-                             "features",
-                             what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
+            what += fmt::format(
+                "{}emitters of albedo below {} (a light's partly covered edge; "
+                "their albedo not compared)",
+                what.empty() ? "" : " and ", o.weakEmitterAlbedo);
+        run.Plan(
+            fmt::format("{}: {}, each given the output's mean over {}x{} weighted by the "
+                        "features",
+                        what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
     if (coarse) {
         run.AddStage("coarse", *coarse);

@@ -112,11 +112,14 @@ struct NforOptions {
 // The radius of the weak emitters' mean when --kept-radius leaves it at 0.
 constexpr int kWeakEmitterRadius = 2;
 
-// The radius of the kept pixels' pass (host/methods/nfor_kept.h): keptRadius, else
-// kWeakEmitterRadius where weak emitters are smoothed; 0: no pass.
-inline int NforKeptPassRadius(const NforOptions &o) {
+// The radius of the kept pixels' pass (host/methods/nfor_kept.h) on a frame with or without
+// a variance layer read as the noise and an albedo: keptRadius, else kWeakEmitterRadius
+// where weak emitters are smoothed (they need the albedo); 0: no pass (a variance layer:
+// never).
+inline int NforKeptPassRadius(const NforOptions &o, bool varianceLayer, bool albedo) {
+    if (varianceLayer) return 0;
     if (o.keptRadius > 0) return o.keptRadius;
-    return o.weakEmitterAlbedo > 0 ? kWeakEmitterRadius : 0;
+    return o.weakEmitterAlbedo > 0 && albedo ? kWeakEmitterRadius : 0;
 }
 
 // The frame's layers the method reads; color is required, the rest may be absent.

@@ -54,6 +54,18 @@ Image LightsVariance(const LocalMeanCase &c, std::mt19937_64 *rng) {
     return variance;
 }
 
+// The case's random input and a variance of lights (LightsVariance) drawn by a generator
+// seeded by `name` and the size; the generator, to draw on.
+std::mt19937_64 LightsCase(const LocalMeanCase &c, const std::string &name, Image *input,
+                           Image *variance) {
+    Image unused;
+    MakeImages(c, input, &unused);
+    std::mt19937_64 rng(
+        SeedFromName(name + " " + std::to_string(c.w) + "x" + std::to_string(c.h)));
+    *variance = LightsVariance(c, &rng);
+    return rng;
+}
+
 class LocalMeanMatches : public ::testing::TestWithParam<LocalMeanCase> {};
 
 TEST_P(LocalMeanMatches, Reference) {
@@ -352,12 +364,9 @@ TEST_P(LocalMeanMatches, CutSpikesMatchesReference) {
 // and bits.
 TEST_P(LocalMeanMatches, CutSpikesOverBlackMatchesReference) {
     const LocalMeanCase &c = GetParam();
-    Image input, unused;
-    MakeImages(c, &input, &unused);
-    std::mt19937_64 rng(
-        SeedFromName("spikes over black " + std::to_string(c.w) + "x" + std::to_string(c.h)));
+    Image input, variance;
+    std::mt19937_64 rng = LightsCase(c, "spikes over black", &input, &variance);
     std::uniform_real_distribution<float> unit(0, 1);
-    Image variance = LightsVariance(c, &rng);
     const int edge = c.h / 3;
     for (int ch = 0; ch < c.channels; ++ch)
         for (int y = 0; y < edge; ++y)
@@ -430,11 +439,8 @@ TEST(LocalMeanProperties, CutSpikesOverBlackReadsTheNeighboursAboveZero) {
 // the same when repeated.
 TEST_P(LocalMeanMatches, CutLightRimsMatchesReference) {
     const LocalMeanCase &c = GetParam();
-    Image input, unused;
-    MakeImages(c, &input, &unused);
-    std::mt19937_64 rng(
-        SeedFromName("light rims " + std::to_string(c.w) + "x" + std::to_string(c.h)));
-    Image variance = LightsVariance(c, &rng);
+    Image input, variance;
+    LightsCase(c, "light rims", &input, &variance);
     if (c.w >= 3 && c.h >= 3)
         for (int ch = 0; ch < c.channels; ++ch) {
             input.At(ch, 1, 1) = 200;
