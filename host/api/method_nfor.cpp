@@ -182,10 +182,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
         nested(BoolParam("nfor-coarse",
-                         "denoise the frame again at half the resolution and take its low "
-                         "frequencies where they differ from the output's by under "
-                         "--coarse-relative x its magnitude and --coarse-noise x its residual",
+                         "on every frame, denoise the frame again at half the resolution and "
+                         "take its low frequencies where they differ from the output's by under "
+                         "--coarse-relative x its magnitude and --coarse-noise x its residual "
+                         "(by default only on frames --coarse-gate lets through)",
                          &O::coarse)),
+        nested(FloatParam("coarse-gate",
+                          "the coarse pass runs on a frame whose noise as relMSE weighs it "
+                          "(the median over the pixels of its own estimate / (colour^2 + "
+                          "0.01)) is at least this; 0: never (without --nfor-coarse)",
+                          &O::coarseGate, 0, 1e3)),
         nested(FloatParam("coarse-relative",
                           "the coarse pass's difference allowed, relative to the output",
                           &O::coarseRelative, 0, 1e3)),
@@ -220,7 +226,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         return ResultOf(NforDenoise(context, InputsOf(inputs), o, inputs.Memo()));
     }
 
-    TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
+    TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
         // The kept pixels' pass runs where the noise is the frame's own (InputsOf).
@@ -247,7 +253,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             "average; {} for the local means; {} for the kept pixels' mean",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, keptReach);
-        if (o.coarse) {
+        if (NforCoarseRuns(context, InputsOf(inputs), Options())) {
             // The half-resolution pass reaches twice as far in this frame's pixels, its
             // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
             needs.reach = 2 * needs.reach + 2 + 6;
@@ -268,8 +274,12 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         NforInputs in = InputsOf(whole);
         copy->depthScale = NforDepthScale(in.depth);
         copy->pivotScale = NforPivotScale(in.pivot);
-        // Whether the clamp reads the variance layer: decided once for the frame.
-        NforFrameClampLoss(context, &in, Options());
+        // Whether the coarse pass runs and whether the clamp reads the variance layer:
+        // decided once for the frame.
+        const NforOptions o = Options();
+        if (!o.coarse && o.coarseGate > 0) in.coarseLevel = NforCoarseLevel(context, in, o);
+        copy->coarseLevel = in.coarseLevel;
+        NforFrameClampLoss(context, &in, o);
         copy->clampLoss = in.clampLoss;
         copy->coarseClampLoss = in.coarseClampLoss;
         return copy;
@@ -317,6 +327,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.coarse = o.coarse;
         p.coarseRelative = o.coarseRelative;
         p.coarseNoise = o.coarseNoise;
+        p.coarseGate = o.coarseGate;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);
@@ -348,13 +359,16 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         in.pivotScale = pivotScale;
         in.clampLoss = clampLoss;
         in.coarseClampLoss = coarseClampLoss;
+        in.coarseLevel = coarseLevel;
         return in;
     }
 
-    // Set by ForTiles: the whole frame's divisors of depth and pivot, and the fractions of
-    // its light the clamp against its own estimate takes off (< 0: each run's own).
+    // Set by ForTiles: the whole frame's divisors of depth and pivot, the fractions of its
+    // light the clamp against its own estimate takes off and its relative noise (< 0: each
+    // run's own).
     float depthScale = 0, pivotScale = 0;
     double clampLoss = -1, coarseClampLoss = -1;
+    double coarseLevel = -1;  // the coarse pass's gate (NforCoarseLevel)
 };
 
 }  // namespace

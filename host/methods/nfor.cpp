@@ -121,12 +121,13 @@ void CheckOptions(const NforOptions &o) {
         !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0) ||
         o.meanRadius < 0 || !(finite(o.coarseRelative) && o.coarseRelative >= 0) ||
         !(finite(o.coarseNoise) && o.coarseNoise >= 0) ||
+        !(finite(o.coarseGate) && o.coarseGate >= 0) ||
         !(finite(o.wideAgreement) && o.wideAgreement >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, pilot alpha, "
-            "coarse relative, coarse noise and wide agreement finite and >= 0, mean radius "
-            ">= 0",
+            "coarse relative, coarse noise, coarse gate and wide agreement finite and >= 0, "
+            "mean radius >= 0",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -353,12 +354,12 @@ Image Rows(const Image &image, int y0, int y1) {
     return rows;
 }
 
-// The colour clamped against its own noise estimate as RecordClamp clamps it, run on strips
-// of whole rows with a halo of the clamp's reach (the estimate's pairs around the pixel's
-// neighbours), each of at most stripPixels (at least one row): every row as a run on the
-// whole frame clamps it.
-Image EstimateClamped(vk::Context &context, const Image &color, const Image *albedo,
-                      const NforOptions &o, int stripPixels) {
+// The colour clamped against its own noise estimate as RecordClamp clamps it (or, without
+// `clamp`, that estimate), run on strips of whole rows with a halo of the clamp's reach (the
+// estimate's pairs around the pixel's neighbours), each of at most stripPixels (at least
+// one row): every row as a run on the whole frame clamps it.
+Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *albedo,
+                       const NforOptions &o, int stripPixels, bool clamp) {
     const int w = color.width, h = color.height, ch = color.channels;
     const int halo = o.noiseRadius + 2, rows = std::max(1, stripPixels / w);
     Image clamped(w, h, ch);
@@ -379,11 +380,12 @@ Image EstimateClamped(vk::Context &context, const Image &color, const Image *alb
         const vk::GpuImage *a = divisor ? &*divisor : nullptr;
         RecordNforNoise(context, run.Recorder(), strip, a, o.noiseRadius, o.noiseCalibration,
                         variance);
-        RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
-                        o.fireflyRelative, o.emitterAlbedo, o.fireflyRank, o.fireflyLightEdge,
-                        !o.fireflyEachChannel, out, mask);
+        if (clamp)
+            RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
+                            o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
+                            o.fireflyLightEdge, !o.fireflyEachChannel, out, mask);
         run.Submit();
-        Image part = out.Download();
+        Image part = clamp ? out.Download() : variance.Download();
         const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;
         for (int c = 0; c < ch; ++c)
             std::copy_n(part.Plane(c) + skip, count, clamped.Plane(c) + size_t(y0) * w);
@@ -652,8 +654,19 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
     coarse.clampLoss = in.coarseClampLoss;
     NforOptions options = o;
     options.coarse = false;
+    options.coarseGate = 0;
     options.keepStages = false;
     return NforDenoise(context, coarse, options).image;
+}
+
+// What the coarse pass's gate read, for the plan.
+std::string PlanCoarseGate(const NforInputs &in, const NforOptions &o, double level) {
+    if (o.coarse) return " (--nfor-coarse: on every frame)";
+    return fmt::format(
+        " (the frame's noise as relMSE weighs it, the median over the pixels of its own "
+        "estimate / (colour^2 + 0.01), is {:.4f}{}, {} --coarse-gate {})",
+        level, in.coarseLevel >= 0 ? " over the whole frame" : "",
+        level >= o.coarseGate ? "at least" : "under", o.coarseGate);
 }
 
 }  // namespace
@@ -664,25 +677,46 @@ void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions 
     CheckLayers(*in);
     CheckOptions(o);
     in->clampLoss =
-        ClampLoss(*in->color, EstimateClamped(context, *in->color, in->albedo, o, stripPixels));
-    if (!o.coarse) return;
+        ClampLoss(*in->color, EstimateOnStrips(context, *in->color, in->albedo, o, stripPixels, true));
+    if (!NforCoarseRuns(context, *in, o)) return;
     // The coarse pass's frame, as CoarseOutput halves it.
     Image color = NforHalf(*in->color);
     std::optional<Image> albedo;
     if (in->albedo) albedo = NforHalf(*in->albedo);
     in->coarseClampLoss = ClampLoss(
-        color, EstimateClamped(context, color, albedo ? &*albedo : nullptr, o, stripPixels));
+        color,
+        EstimateOnStrips(context, color, albedo ? &*albedo : nullptr, o, stripPixels, true));
+}
+
+double NforCoarseLevel(vk::Context &context, const NforInputs &in, const NforOptions &o,
+                       int stripPixels) {
+    if (in.coarseLevel >= 0) return in.coarseLevel;
+    CheckLayers(in);
+    CheckOptions(o);
+    return NforRelativeNoise(*in.color,
+                             EstimateOnStrips(context, *in.color, in.albedo, o, stripPixels, false));
+}
+
+bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOptions &o,
+                    double *level) {
+    double measured = o.coarse || o.coarseGate <= 0 ? -1 : NforCoarseLevel(context, in, o);
+    if (level) *level = measured;
+    return o.coarse || (o.coarseGate > 0 && measured >= o.coarseGate);
 }
 
 NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o,
                        RunMemo *memo) {
     CheckInputs(context, in, o);
+    double coarseLevel = -1;
     std::optional<Image> coarse;
-    if (o.coarse) coarse = CoarseOutput(context, in, o);
+    // Decided before the fits, so that a frame the gate leaves spends nothing on the pass.
+    if (NforCoarseRuns(context, in, o, &coarseLevel)) coarse = CoarseOutput(context, in, o);
     std::vector<float> weights;
     std::vector<std::string> names;
     Image featureImage = NforFeatures(in, o, &weights, &names);
     NforResult result;
+    result.coarseLevel = coarseLevel;
+    result.coarseRan = coarse.has_value();
     StagedRun run(context, o.keepStages);
     PlanNoise(run, in, o);
     PlanFeatures(run, names, o);
@@ -733,8 +767,10 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
         run.Plan(fmt::format(
             "coarse pass: the frame denoised again at half the resolution; its low "
             "frequencies taken where they differ by under min({} x the output's magnitude, "
-            "{} x its residual)",
-            o.coarseRelative, o.coarseNoise));
+            "{} x its residual){}",
+            o.coarseRelative, o.coarseNoise, PlanCoarseGate(in, o, coarseLevel)));
+    } else if (o.coarseGate > 0) {
+        run.Plan("left out: the coarse pass" + PlanCoarseGate(in, o, coarseLevel));
     }
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
