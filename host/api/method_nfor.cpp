@@ -181,12 +181,13 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
-        nested(BoolParam("nfor-coarse",
-                         "on every frame, denoise the frame again at half the resolution and "
-                         "take its low frequencies where they differ from the output's by under "
-                         "--coarse-relative x its magnitude and --coarse-noise x its residual "
-                         "(by default only on frames --coarse-gate lets through)",
-                         &O::coarse)),
+        nested(
+            BoolParam("nfor-coarse",
+                      "on every frame, denoise the frame again at half the resolution and "
+                      "take its low frequencies where they differ from the output's by under "
+                      "--coarse-relative x its magnitude and --coarse-noise x its residual "
+                      "(by default only on frames --coarse-gate lets through)",
+                      &O::coarse)),
         nested(FloatParam("coarse-gate",
                           "the coarse pass runs on a frame whose noise as relMSE weighs it "
                           "(the median over the pixels of its own estimate / (colour^2 + "

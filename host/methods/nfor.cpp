@@ -676,8 +676,8 @@ void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions 
     if (!in->variance || o.clampLayer) return;
     CheckLayers(*in);
     CheckOptions(o);
-    in->clampLoss =
-        ClampLoss(*in->color, EstimateOnStrips(context, *in->color, in->albedo, o, stripPixels, true));
+    in->clampLoss = ClampLoss(
+        *in->color, EstimateOnStrips(context, *in->color, in->albedo, o, stripPixels, true));
     if (!NforCoarseRuns(context, *in, o)) return;
     // The coarse pass's frame, as CoarseOutput halves it.
     Image color = NforHalf(*in->color);
@@ -693,8 +693,8 @@ double NforCoarseLevel(vk::Context &context, const NforInputs &in, const NforOpt
     if (in.coarseLevel >= 0) return in.coarseLevel;
     CheckLayers(in);
     CheckOptions(o);
-    return NforRelativeNoise(*in.color,
-                             EstimateOnStrips(context, *in.color, in.albedo, o, stripPixels, false));
+    return NforRelativeNoise(
+        *in.color, EstimateOnStrips(context, *in.color, in.albedo, o, stripPixels, false));
 }
 
 bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOptions &o,

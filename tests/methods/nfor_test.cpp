@@ -1197,10 +1197,10 @@ TEST_F(NforMethod, CoarseGateRunsThePassOnNoisyFramesOnly) {
         NforResult gated = NforDenoise(Ctx(), InputsOf(f), o);
         EXPECT_NEAR(gated.coarseLevel, expected, 1e-4 * expected);
         EXPECT_EQ(gated.coarseRan, noisy);
-        EXPECT_TRUE(
-            BitIdentical(gated.image, NforDenoise(Ctx(), InputsOf(f), noisy ? always : never).image));
-        EXPECT_FALSE(
-            BitIdentical(gated.image, NforDenoise(Ctx(), InputsOf(f), noisy ? never : always).image));
+        EXPECT_TRUE(BitIdentical(
+            gated.image, NforDenoise(Ctx(), InputsOf(f), noisy ? always : never).image));
+        EXPECT_FALSE(BitIdentical(
+            gated.image, NforDenoise(Ctx(), InputsOf(f), noisy ? never : always).image));
         for (int strip : {w, 3 * w + 5})
             EXPECT_EQ(NforCoarseLevel(Ctx(), InputsOf(f), o, strip), gated.coarseLevel)
                 << "strips of " << strip << " pixels";
