@@ -7,6 +7,7 @@
 
 #include "cpu_reference/nfor.h"
 #include "host/api/front_end.h"
+#include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
 #include "host/methods/nfor.h"
 
@@ -254,19 +255,24 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             "average; {} for the local means; {} for the kept pixels' mean",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, keptReach);
-        if (NforCoarseRuns(context, InputsOf(inputs), Options())) {
-            // The half-resolution pass reaches twice as far in this frame's pixels, its
-            // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
-            needs.reach = 2 * needs.reach + 2 + 6;
-            needs.align = 2;
-            needs.reachText += "; doubled and 8 more for the coarse pass";
-        }
         int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
             features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =
             4.0 * (2 * offsets + (features + 3) * channels + candidates * (channels + 1) +
                    6 * channels + 3 * features + 3);
+        // Whether the gate lets the coarse pass run is measured only for a frame too large
+        // to run whole (a whole frame's run does not read the reach): a noise pass saved.
+        bool whole =
+            PlanTiles(context, needs, inputs.Width(), inputs.Height(), 0).tileWidth == 0;
+        if ((o.coarse || o.coarseGate > 0) &&
+            (whole || NforCoarseRuns(context, InputsOf(inputs), Options()))) {
+            // The half-resolution pass reaches twice as far in this frame's pixels, its
+            // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
+            needs.reach = 2 * needs.reach + 2 + 6;
+            needs.align = 2;
+            needs.reachText += "; doubled and 8 more for the coarse pass";
+        }
         return needs;
     }
 

@@ -438,6 +438,12 @@ void RecordFeatures(StagedRun &run, NforGpu &gpu, const NforOptions &o, RunMemo 
     run.Submit();
 }
 
+// Whether the firefly clamp reads the frame's own estimate of the colour's noise
+// (gpu.clampVariance, the one NforCoarseLevel reads).
+bool OwnClampEstimate(const NforInputs &in, const NforOptions &o) {
+    return (!in.variance && !o.noEdgeNoise) || (in.variance && !o.clampLayer);
+}
+
 // Noise, emitters and fireflies, features, the patch distances.
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
                    RunMemo *memo, const std::string &featuresId, NforResult &result) {
@@ -445,7 +451,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
     bool again = !in.variance && !o.noEdgeNoise;
     // The clamp's own estimate; with edge noise the weights' is estimated again below.
-    bool ownClamp = again || (in.variance && !o.clampLayer);
+    bool ownClamp = OwnClampEstimate(in, o);
     RecordClamp(run, gpu, in, o, ownClamp, result);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
@@ -707,16 +713,10 @@ bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOption
 NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o,
                        RunMemo *memo) {
     CheckInputs(context, in, o);
-    double coarseLevel = -1;
-    std::optional<Image> coarse;
-    // Decided before the fits, so that a frame the gate leaves spends nothing on the pass.
-    if (NforCoarseRuns(context, in, o, &coarseLevel)) coarse = CoarseOutput(context, in, o);
     std::vector<float> weights;
     std::vector<std::string> names;
     Image featureImage = NforFeatures(in, o, &weights, &names);
     NforResult result;
-    result.coarseLevel = coarseLevel;
-    result.coarseRan = coarse.has_value();
     StagedRun run(context, o.keepStages);
     PlanNoise(run, in, o);
     PlanFeatures(run, names, o);
@@ -760,6 +760,20 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                         "features",
                         what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
+    // The gate reads the clamp's estimate this run made where it has one (the same bits as
+    // NforCoarseLevel's strips), so a frame it leaves spends nothing more.
+    double coarseLevel = -1;
+    bool coarseRuns = o.coarse;
+    if (!o.coarse && o.coarseGate > 0) {
+        coarseLevel = in.coarseLevel >= 0 || !OwnClampEstimate(in, o)
+                          ? NforCoarseLevel(context, in, o)
+                          : NforRelativeNoise(*in.color, gpu.clampVariance.Download());
+        coarseRuns = coarseLevel >= o.coarseGate;
+    }
+    std::optional<Image> coarse;
+    if (coarseRuns) coarse = CoarseOutput(context, in, o);
+    result.coarseLevel = coarseLevel;
+    result.coarseRan = coarseRuns;
     if (coarse) {
         run.AddStage("coarse", *coarse);
         NforAddCoarse(*in.color, *coarse, in.albedo, o.emitterAlbedo, o.coarseRelative,
