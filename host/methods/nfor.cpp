@@ -362,7 +362,7 @@ Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *al
                        const NforOptions &o, int stripPixels, bool clamp) {
     const int w = color.width, h = color.height, ch = color.channels;
     const int halo = o.noiseRadius + 2, rows = std::max(1, stripPixels / w);
-    Image clamped(w, h, ch);
+    Image frame(w, h, ch);
     for (int y0 = 0; y0 < h; y0 += rows) {
         const int y1 = std::min(h, y0 + rows);
         const int wy0 = std::max(0, y0 - halo), wy1 = std::min(h, y1 + halo);
@@ -388,9 +388,9 @@ Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *al
         Image part = clamp ? out.Download() : variance.Download();
         const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;
         for (int c = 0; c < ch; ++c)
-            std::copy_n(part.Plane(c) + skip, count, clamped.Plane(c) + size_t(y0) * w);
+            std::copy_n(part.Plane(c) + skip, count, frame.Plane(c) + size_t(y0) * w);
     }
-    return clamped;
+    return frame;
 }
 
 // Prefiltered features kept for later runs on the same features (RunSetup::memo).
