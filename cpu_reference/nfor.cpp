@@ -695,7 +695,13 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         NforSmoothKept(color, features, p.featureWeights, mask, keptPass, p.weakEmitterAlbedo,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
-    if (p.coarse) {
+    bool coarseRuns = p.coarse;
+    if (!p.coarse && p.coarseGate > 0) {
+        // The gate: the frame's noise relative to relMSE's denominator, its own estimate.
+        Image own = NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
+        coarseRuns = NforRelativeNoise(color, own) >= p.coarseGate;
+    }
+    if (coarseRuns) {
         // The same method at half the resolution, without a coarse pass of its own.
         Image halfColor = NforHalf(color), halfFeatures = NforHalf(*in.features), halfAlbedo,
               halfVariance;
@@ -705,6 +711,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
                         in.variance ? &halfVariance : nullptr};
         NforParams coarseParams = p;
         coarseParams.coarse = false;
+        coarseParams.coarseGate = 0;
         Image coarse = Nfor(half, coarseParams, nullptr);
         keep("coarse", coarse);
         NforAddCoarse(color, coarse, in.albedo, p.emitterAlbedo, p.coarseRelative,

@@ -148,9 +148,11 @@ struct NforParams {
     // where that is 0), without the albedo's planes.
     double weakEmitterAlbedo = 0;
     // The frame denoised again at half the resolution (NforHalf of colour, albedo, features
-    // and variance), its low frequencies added (NforAddCoarse, cpu_reference/nfor_coarse.h).
+    // and variance), its low frequencies added (NforAddCoarse, cpu_reference/nfor_coarse.h):
+    // with `coarse` always, else where NforRelativeNoise of the colour and its own noise
+    // estimate is at least coarseGate (> 0).
     bool coarse = false;
-    double coarseRelative = 0.1, coarseNoise = 0.3;
+    double coarseRelative = 0.1, coarseNoise = 0.3, coarseGate = 0.02;
 };
 
 // The frame's layers; color and features are required, variance optional (estimated).

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace mcd::ref {
 
@@ -92,6 +94,24 @@ void NforAddCoarse(const Image &input, const Image &coarse, const Image *albedo,
             for (int c = 0; c < fine.channels; ++c)
                 output->At(c, y, x) = float(fine.At(c, y, x) + weight * d[c]);
         }
+}
+
+double NforRelativeNoise(const Image &color, const Image &variance) {
+    std::vector<double> values;
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
+            double sum = 0;
+            for (int c = 0; c < color.channels; ++c) {
+                double v = color.At(c, y, x);
+                sum += variance.At(c, y, x) / (v * v + 0.01);
+            }
+            double value = sum / color.channels;
+            values.push_back(std::isfinite(value) ? value
+                                                  : std::numeric_limits<double>::infinity());
+        }
+    if (values.empty()) return 0;
+    std::sort(values.begin(), values.end());
+    return values[(values.size() - 1) / 2];
 }
 
 }  // namespace mcd::ref

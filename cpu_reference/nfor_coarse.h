@@ -19,4 +19,8 @@ Image NforHalf(const Image &image, bool ofMean = false);
 void NforAddCoarse(const Image &input, const Image &coarse, const Image *albedo,
                    double emitterAlbedo, double relative, double noise, Image *output);
 
+// The median over the pixels (the lower one: index (n - 1) / 2 of the sorted values, a
+// non-finite value sorted last) of sum_c variance / (color^2 + 0.01) / channels.
+double NforRelativeNoise(const Image &color, const Image &variance);
+
 }  // namespace mcd::ref

@@ -740,13 +740,33 @@ const FrontEnd &AutoFrontEnd::Base(const std::string &method) const {
     throw std::logic_error("auto: no front end for " + method);
 }
 
+namespace {
+
+// The error estimate ChooseNoise takes on these layers, as OutByEstimate reads it
+// (AutoVariant::estimates' bits).
+unsigned EstimateOnLayers(Inputs &inputs, const AutoFrontEnd::Options &o) {
+    if (o.combine == "mean") return AutoVariant::kVariance;
+    if ((o.noise == "auto" || o.noise == "halves") && inputs.Has("half0.color") &&
+        inputs.Has("half1.color"))
+        return AutoVariant::kHalves;
+    if ((o.noise == "auto" || o.noise == "variance") && inputs.Has("variance"))
+        return AutoVariant::kVariance;
+    return AutoVariant::kOwn;
+}
+
+}  // namespace
+
 TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     TileNeeds needs;
+    // A variant this estimate leaves out runs on no tile: its reach (and what measuring
+    // it costs, nfor's coarse gate) is not the tiles'.
+    const unsigned estimate = EstimateOnLayers(inputs, options);
     needs.notLocal =
         "auto: each tile fixes its candidates' frame-wide quantities and its own estimates";
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
-        if (!base.Missing(inputs.Source()).empty()) continue;
+        if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
+            continue;
         std::unique_ptr<FrontEnd> method = base.Clone();
         for (const auto &[param, value] : v.variant->overrides) method->Set(param, value);
         TileNeeds one = method->Tiling(context, inputs);

@@ -7,6 +7,7 @@
 
 #include "cpu_reference/nfor.h"
 #include "host/api/front_end.h"
+#include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
 #include "host/methods/nfor.h"
 
@@ -181,11 +182,18 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
-        nested(BoolParam("nfor-coarse",
-                         "denoise the frame again at half the resolution and take its low "
-                         "frequencies where they differ from the output's by under "
-                         "--coarse-relative x its magnitude and --coarse-noise x its residual",
-                         &O::coarse)),
+        nested(
+            BoolParam("nfor-coarse",
+                      "on every frame, denoise the frame again at half the resolution and "
+                      "take its low frequencies where they differ from the output's by under "
+                      "--coarse-relative x its magnitude and --coarse-noise x its residual "
+                      "(by default only on frames --coarse-gate lets through)",
+                      &O::coarse)),
+        nested(FloatParam("coarse-gate",
+                          "the coarse pass runs on a frame whose noise as relMSE weighs it "
+                          "(the median over the pixels of its own estimate / (colour^2 + "
+                          "0.01)) is at least this; 0: never (without --nfor-coarse)",
+                          &O::coarseGate, 0, 1e3)),
         nested(FloatParam("coarse-relative",
                           "the coarse pass's difference allowed, relative to the output",
                           &O::coarseRelative, 0, 1e3)),
@@ -220,7 +228,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         return ResultOf(NforDenoise(context, InputsOf(inputs), o, inputs.Memo()));
     }
 
-    TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
+    TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
         // The kept pixels' pass runs where the noise is the frame's own (InputsOf).
@@ -247,19 +255,24 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             "average; {} for the local means; {} for the kept pixels' mean",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, keptReach);
-        if (o.coarse) {
-            // The half-resolution pass reaches twice as far in this frame's pixels, its
-            // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
-            needs.reach = 2 * needs.reach + 2 + 6;
-            needs.align = 2;
-            needs.reachText += "; doubled and 8 more for the coarse pass";
-        }
         int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
             features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =
             4.0 * (2 * offsets + (features + 3) * channels + candidates * (channels + 1) +
                    6 * channels + 3 * features + 3);
+        // Whether the gate lets the coarse pass run is measured only for a frame too large
+        // to run whole (a whole frame's run does not read the reach): a noise pass saved.
+        bool whole =
+            PlanTiles(context, needs, inputs.Width(), inputs.Height(), 0).tileWidth == 0;
+        if ((o.coarse || o.coarseGate > 0) &&
+            (whole || NforCoarseRuns(context, InputsOf(inputs), Options()))) {
+            // The half-resolution pass reaches twice as far in this frame's pixels, its
+            // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
+            needs.reach = 2 * needs.reach + 2 + 6;
+            needs.align = 2;
+            needs.reachText += "; doubled and 8 more for the coarse pass";
+        }
         return needs;
     }
 
@@ -268,8 +281,12 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         NforInputs in = InputsOf(whole);
         copy->depthScale = NforDepthScale(in.depth);
         copy->pivotScale = NforPivotScale(in.pivot);
-        // Whether the clamp reads the variance layer: decided once for the frame.
-        NforFrameClampLoss(context, &in, Options());
+        // Whether the coarse pass runs and whether the clamp reads the variance layer:
+        // decided once for the frame.
+        const NforOptions o = Options();
+        if (!o.coarse && o.coarseGate > 0) in.coarseLevel = NforCoarseLevel(context, in, o);
+        copy->coarseLevel = in.coarseLevel;
+        NforFrameClampLoss(context, &in, o);
         copy->clampLoss = in.clampLoss;
         copy->coarseClampLoss = in.coarseClampLoss;
         return copy;
@@ -317,6 +334,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.coarse = o.coarse;
         p.coarseRelative = o.coarseRelative;
         p.coarseNoise = o.coarseNoise;
+        p.coarseGate = o.coarseGate;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);
@@ -348,13 +366,16 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         in.pivotScale = pivotScale;
         in.clampLoss = clampLoss;
         in.coarseClampLoss = coarseClampLoss;
+        in.coarseLevel = coarseLevel;
         return in;
     }
 
-    // Set by ForTiles: the whole frame's divisors of depth and pivot, and the fractions of
-    // its light the clamp against its own estimate takes off (< 0: each run's own).
+    // Set by ForTiles: the whole frame's divisors of depth and pivot, the fractions of its
+    // light the clamp against its own estimate takes off and its relative noise (< 0: each
+    // run's own).
     float depthScale = 0, pivotScale = 0;
     double clampLoss = -1, coarseClampLoss = -1;
+    double coarseLevel = -1;  // the coarse pass's gate (NforCoarseLevel)
 };
 
 }  // namespace

@@ -121,12 +121,13 @@ void CheckOptions(const NforOptions &o) {
         !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0) ||
         o.meanRadius < 0 || !(finite(o.coarseRelative) && o.coarseRelative >= 0) ||
         !(finite(o.coarseNoise) && o.coarseNoise >= 0) ||
+        !(finite(o.coarseGate) && o.coarseGate >= 0) ||
         !(finite(o.wideAgreement) && o.wideAgreement >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, pilot alpha, "
-            "coarse relative, coarse noise and wide agreement finite and >= 0, mean radius "
-            ">= 0",
+            "coarse relative, coarse noise, coarse gate and wide agreement finite and >= 0, "
+            "mean radius >= 0",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -353,15 +354,15 @@ Image Rows(const Image &image, int y0, int y1) {
     return rows;
 }
 
-// The colour clamped against its own noise estimate as RecordClamp clamps it, run on strips
-// of whole rows with a halo of the clamp's reach (the estimate's pairs around the pixel's
-// neighbours), each of at most stripPixels (at least one row): every row as a run on the
-// whole frame clamps it.
-Image EstimateClamped(vk::Context &context, const Image &color, const Image *albedo,
-                      const NforOptions &o, int stripPixels) {
+// The colour clamped against its own noise estimate as RecordClamp clamps it (or, without
+// `clamp`, that estimate), run on strips of whole rows with a halo of the clamp's reach (the
+// estimate's pairs around the pixel's neighbours), each of at most stripPixels (at least
+// one row): every row as a run on the whole frame clamps it.
+Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *albedo,
+                       const NforOptions &o, int stripPixels, bool clamp) {
     const int w = color.width, h = color.height, ch = color.channels;
     const int halo = o.noiseRadius + 2, rows = std::max(1, stripPixels / w);
-    Image clamped(w, h, ch);
+    Image frame(w, h, ch);
     for (int y0 = 0; y0 < h; y0 += rows) {
         const int y1 = std::min(h, y0 + rows);
         const int wy0 = std::max(0, y0 - halo), wy1 = std::min(h, y1 + halo);
@@ -379,16 +380,17 @@ Image EstimateClamped(vk::Context &context, const Image &color, const Image *alb
         const vk::GpuImage *a = divisor ? &*divisor : nullptr;
         RecordNforNoise(context, run.Recorder(), strip, a, o.noiseRadius, o.noiseCalibration,
                         variance);
-        RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
-                        o.fireflyRelative, o.emitterAlbedo, o.fireflyRank, o.fireflyLightEdge,
-                        !o.fireflyEachChannel, out, mask);
+        if (clamp)
+            RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
+                            o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
+                            o.fireflyLightEdge, !o.fireflyEachChannel, out, mask);
         run.Submit();
-        Image part = out.Download();
+        Image part = clamp ? out.Download() : variance.Download();
         const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;
         for (int c = 0; c < ch; ++c)
-            std::copy_n(part.Plane(c) + skip, count, clamped.Plane(c) + size_t(y0) * w);
+            std::copy_n(part.Plane(c) + skip, count, frame.Plane(c) + size_t(y0) * w);
     }
-    return clamped;
+    return frame;
 }
 
 // Prefiltered features kept for later runs on the same features (RunSetup::memo).
@@ -436,6 +438,12 @@ void RecordFeatures(StagedRun &run, NforGpu &gpu, const NforOptions &o, RunMemo 
     run.Submit();
 }
 
+// Whether the firefly clamp reads the frame's own estimate of the colour's noise
+// (gpu.clampVariance, the one NforCoarseLevel reads).
+bool OwnClampEstimate(const NforInputs &in, const NforOptions &o) {
+    return (!in.variance && !o.noEdgeNoise) || (in.variance && !o.clampLayer);
+}
+
 // Noise, emitters and fireflies, features, the patch distances.
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
                    RunMemo *memo, const std::string &featuresId, NforResult &result) {
@@ -443,7 +451,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
     bool again = !in.variance && !o.noEdgeNoise;
     // The clamp's own estimate; with edge noise the weights' is estimated again below.
-    bool ownClamp = again || (in.variance && !o.clampLayer);
+    bool ownClamp = OwnClampEstimate(in, o);
     RecordClamp(run, gpu, in, o, ownClamp, result);
     run.StageAtEnd("mask", gpu.mask);
     run.StageAtEnd("color", gpu.clamped);
@@ -652,8 +660,19 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
     coarse.clampLoss = in.coarseClampLoss;
     NforOptions options = o;
     options.coarse = false;
+    options.coarseGate = 0;
     options.keepStages = false;
     return NforDenoise(context, coarse, options).image;
+}
+
+// What the coarse pass's gate read, for the plan.
+std::string PlanCoarseGate(const NforInputs &in, const NforOptions &o, double level) {
+    if (o.coarse) return " (--nfor-coarse: on every frame)";
+    return fmt::format(
+        " (the frame's noise as relMSE weighs it, the median over the pixels of its own "
+        "estimate / (colour^2 + 0.01), is {:.4f}{}, {} --coarse-gate {})",
+        level, in.coarseLevel >= 0 ? " over the whole frame" : "",
+        level >= o.coarseGate ? "at least" : "under", o.coarseGate);
 }
 
 }  // namespace
@@ -663,22 +682,37 @@ void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions 
     if (!in->variance || o.clampLayer) return;
     CheckLayers(*in);
     CheckOptions(o);
-    in->clampLoss =
-        ClampLoss(*in->color, EstimateClamped(context, *in->color, in->albedo, o, stripPixels));
-    if (!o.coarse) return;
+    in->clampLoss = ClampLoss(
+        *in->color, EstimateOnStrips(context, *in->color, in->albedo, o, stripPixels, true));
+    if (!NforCoarseRuns(context, *in, o)) return;
     // The coarse pass's frame, as CoarseOutput halves it.
     Image color = NforHalf(*in->color);
     std::optional<Image> albedo;
     if (in->albedo) albedo = NforHalf(*in->albedo);
     in->coarseClampLoss = ClampLoss(
-        color, EstimateClamped(context, color, albedo ? &*albedo : nullptr, o, stripPixels));
+        color,
+        EstimateOnStrips(context, color, albedo ? &*albedo : nullptr, o, stripPixels, true));
+}
+
+double NforCoarseLevel(vk::Context &context, const NforInputs &in, const NforOptions &o,
+                       int stripPixels) {
+    if (in.coarseLevel >= 0) return in.coarseLevel;
+    CheckLayers(in);
+    CheckOptions(o);
+    return NforRelativeNoise(
+        *in.color, EstimateOnStrips(context, *in.color, in.albedo, o, stripPixels, false));
+}
+
+bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOptions &o,
+                    double *level) {
+    double measured = o.coarse || o.coarseGate <= 0 ? -1 : NforCoarseLevel(context, in, o);
+    if (level) *level = measured;
+    return o.coarse || (o.coarseGate > 0 && measured >= o.coarseGate);
 }
 
 NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o,
                        RunMemo *memo) {
     CheckInputs(context, in, o);
-    std::optional<Image> coarse;
-    if (o.coarse) coarse = CoarseOutput(context, in, o);
     std::vector<float> weights;
     std::vector<std::string> names;
     Image featureImage = NforFeatures(in, o, &weights, &names);
@@ -726,6 +760,20 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                         "features",
                         what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
+    // The gate reads the clamp's estimate this run made where it has one (the same bits as
+    // NforCoarseLevel's strips), so a frame it leaves spends nothing more.
+    double coarseLevel = -1;
+    bool coarseRuns = o.coarse;
+    if (!o.coarse && o.coarseGate > 0) {
+        coarseLevel = in.coarseLevel >= 0 || !OwnClampEstimate(in, o)
+                          ? NforCoarseLevel(context, in, o)
+                          : NforRelativeNoise(*in.color, gpu.clampVariance.Download());
+        coarseRuns = coarseLevel >= o.coarseGate;
+    }
+    std::optional<Image> coarse;
+    if (coarseRuns) coarse = CoarseOutput(context, in, o);
+    result.coarseLevel = coarseLevel;
+    result.coarseRan = coarseRuns;
     if (coarse) {
         run.AddStage("coarse", *coarse);
         NforAddCoarse(*in.color, *coarse, in.albedo, o.emitterAlbedo, o.coarseRelative,
@@ -733,8 +781,10 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
         run.Plan(fmt::format(
             "coarse pass: the frame denoised again at half the resolution; its low "
             "frequencies taken where they differ by under min({} x the output's magnitude, "
-            "{} x its residual)",
-            o.coarseRelative, o.coarseNoise));
+            "{} x its residual){}",
+            o.coarseRelative, o.coarseNoise, PlanCoarseGate(in, o, coarseLevel)));
+    } else if (o.coarseGate > 0) {
+        run.Plan("left out: the coarse pass" + PlanCoarseGate(in, o, coarseLevel));
     }
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "

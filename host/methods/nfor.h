@@ -102,9 +102,11 @@ struct NforOptions {
     float weakEmitterAlbedo = 8;
     // Denoise the frame again at half the resolution and give the output the coarse
     // output's low frequencies where they differ by under min(coarseRelative x the
-    // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h).
+    // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h):
+    // on every frame with `coarse`, else on a frame whose noise as relMSE weighs it
+    // (NforRelativeNoise of the colour's own estimate) is at least coarseGate (0: never).
     bool coarse = false;
-    float coarseRelative = 0.1f, coarseNoise = 0.3f;
+    float coarseRelative = 0.1f, coarseNoise = 0.3f, coarseGate = 0.02f;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
@@ -136,6 +138,9 @@ struct NforInputs {
     // < 0: this frame's. A tile passes the whole frame's (NforFrameClampLoss), so that
     // every tile decides alike.
     double clampLoss = -1, coarseClampLoss = -1;
+    // The frame's relative noise that gates the coarse pass (NforCoarseLevel); < 0: this
+    // frame's. A tile passes the whole frame's, so that every tile decides alike.
+    double coarseLevel = -1;
 };
 
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
@@ -151,6 +156,10 @@ struct NforResult : MethodResult {
     double clampLoss = 0;
     bool clampOnLayer = false;
     std::vector<double> share;  // per candidate, the fraction of pixels that took it
+    // The frame's relative noise the coarse pass's gate read (< 0: not measured) and
+    // whether the pass ran.
+    double coarseLevel = -1;
+    bool coarseRan = false;
 };
 
 // The feature planes the regression reads (albedo, normal, depth / its mean, pivot / its
@@ -169,6 +178,18 @@ float NforPivotScale(const Image *pivot);
 // them.
 void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions &options,
                         int stripPixels = 1 << 22);
+
+// The frame's noise as relMSE weighs it: NforRelativeNoise (host/methods/nfor_coarse.h) of
+// the colour and its own noise estimate (the firefly clamp's, on strips of at most
+// stripPixels as NforFrameClampLoss runs them, so the same bits as on the whole frame);
+// in.coarseLevel where that is set.
+double NforCoarseLevel(vk::Context &context, const NforInputs &in, const NforOptions &options,
+                       int stripPixels = 1 << 22);
+
+// Whether the coarse pass runs on this frame (NforOptions::coarse, coarseGate); `level`,
+// when given, receives the level the gate read (< 0 where none was measured).
+bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOptions &options,
+                    double *level = nullptr);
 
 // Whether the second pass's colour distance is normalised by 2 min(v_p, v_q).
 bool NforPilotMinVariance(const NforOptions &o);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace mcd {
@@ -104,6 +105,22 @@ void NforAddCoarse(const Image &input, const Image &coarse, const Image *albedo,
             for (int c = 0; c < ch; ++c) output->At(c, y, x) += weight * d[c];
         }
     }
+}
+
+double NforRelativeNoise(const Image &color, const Image &variance) {
+    const size_t pixels = size_t(color.width) * color.height;
+    if (pixels == 0) return 0;
+    std::vector<double> relative(pixels, 0.0);
+    for (int c = 0; c < color.channels; ++c) {
+        const float *v = variance.Plane(c), *x = color.Plane(c);
+        for (size_t i = 0; i < pixels; ++i)
+            relative[i] += double(v[i]) / (double(x[i]) * x[i] + 0.01) / color.channels;
+    }
+    for (double &r : relative)
+        if (!std::isfinite(r)) r = std::numeric_limits<double>::infinity();
+    auto middle = relative.begin() + (pixels - 1) / 2;
+    std::nth_element(relative.begin(), middle, relative.end());
+    return *middle;
 }
 
 }  // namespace mcd

@@ -30,4 +30,12 @@ Image NforGaussian(const Image &image, double sigma);
 void NforAddCoarse(const Image &input, const Image &coarse, const Image *albedo,
                    float emitterAlbedo, float relative, float noise, Image *output);
 
+// The frame's noise as relMSE weighs it, which decides whether the coarse pass runs: per
+// pixel the mean over the channels of variance / (color^2 + 0.01), and of those the lower
+// median (the value at (n - 1) / 2 in order; non-finite values count as the largest).
+// Noisy frames (an interior lit indirectly at 16 spp) hold blotches the fine windows cannot
+// reach; on clean ones the half-resolution output is worse than the fine one at every scale
+// the correction touches.
+double NforRelativeNoise(const Image &color, const Image &variance);
+
 }  // namespace mcd

@@ -895,6 +895,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.coarse = o.coarse;
     p.coarseRelative = o.coarseRelative;
     p.coarseNoise = o.coarseNoise;
+    p.coarseGate = o.coarseGate;
     p.keptRadius = o.keptRadius;
     p.weakEmitterAlbedo = o.weakEmitterAlbedo;
     p.prefilterRadius = o.prefilterRadius;
@@ -1146,6 +1147,64 @@ TEST(NforCoarse, TakesSmallLowFrequencyDifferencesOnly) {
     NforAddCoarse(input, coarse, &albedo, 1.5f, 0.1f, 0.3f, &lit);
     EXPECT_EQ(lit.At(0, 8, 8), 1.f);
     EXPECT_NEAR(lit.At(0, 8, 7), lifted, 1e-5);
+}
+
+// The frame's noise that gates the coarse pass against its reference: random colours and
+// variances, odd sizes and one pixel, a NaN and an infinite variance (sorted last); two
+// pixels (the lower median) by hand.
+TEST(NforCoarse, RelativeNoiseMatchesTheReference) {
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}, std::pair{16, 16}})
+        for (InputKind kind :
+             {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant}) {
+            std::string name =
+                fmt::format("relative noise {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            Image color = MakeInput(kind, w, h, 3, seed);
+            Image variance = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
+            if (w * h > 4) {
+                variance.data[1] = std::numeric_limits<float>::quiet_NaN();
+                variance.data[2] = std::numeric_limits<float>::infinity();
+            }
+            double host = NforRelativeNoise(color, variance);
+            double cpu = ref::NforRelativeNoise(color, variance);
+            EXPECT_NEAR(host, cpu, 1e-6 * std::abs(cpu)) << name;
+            EXPECT_EQ(host, NforRelativeNoise(color, variance)) << name;
+        }
+    Image color(2, 1, 1), variance(2, 1, 1);
+    variance.data = {0.003f, 0.001f};
+    EXPECT_NEAR(NforRelativeNoise(color, variance), 0.1, 1e-6);
+    EXPECT_NEAR(ref::NforRelativeNoise(color, variance), 0.1, 1e-6);
+}
+
+// The coarse pass by default: a noisy frame (its own noise estimate relative to relMSE's
+// denominator at least --coarse-gate) takes the pass as --nfor-coarse gives it, a clean one
+// is left as without it, bit for bit; the level the gate read is the reference's estimate's
+// and the same measured in strips of rows.
+TEST_F(NforMethod, CoarseGateRunsThePassOnNoisyFramesOnly) {
+    NforOptions o;
+    o.radius = 3;
+    NforOptions always = o, never = o;
+    always.coarse = true;
+    never.coarseGate = 0;
+    const int w = 29, h = 23;
+    for (double noise : {0.6, 0.02}) {
+        SCOPED_TRACE(fmt::format("noise {}", noise));
+        Frame f = MakeFrame(w, h, noise, fmt::format("coarse gate {}", noise));
+        double expected = ref::NforRelativeNoise(
+            f.color, ref::NforNoise(f.color, &f.albedo, o.noiseRadius, o.noiseCalibration));
+        const bool noisy = noise > 0.1;
+        ASSERT_EQ(expected >= o.coarseGate, noisy) << "level " << expected;
+        NforResult gated = NforDenoise(Ctx(), InputsOf(f), o);
+        EXPECT_NEAR(gated.coarseLevel, expected, 1e-4 * expected);
+        EXPECT_EQ(gated.coarseRan, noisy);
+        EXPECT_TRUE(BitIdentical(
+            gated.image, NforDenoise(Ctx(), InputsOf(f), noisy ? always : never).image));
+        EXPECT_FALSE(BitIdentical(
+            gated.image, NforDenoise(Ctx(), InputsOf(f), noisy ? never : always).image));
+        for (int strip : {w, 3 * w + 5})
+            EXPECT_EQ(NforCoarseLevel(Ctx(), InputsOf(f), o, strip), gated.coarseLevel)
+                << "strips of " << strip << " pixels";
+    }
 }
 
 // The kept pixels' mean against its reference: outputs that equal the input at random

@@ -265,6 +265,58 @@ TEST_F(GpuTest, TiledRunNforClampDecidesOnceForTheFrame) {
     }
 }
 
+// Whether nfor's plan says its coarse pass ran, and that it read the whole frame's level.
+bool CoarsePassRan(const Result &result, bool *wholeFrame = nullptr) {
+    for (const std::string &line : result.plan)
+        if (line.find("coarse pass: the frame denoised again") != std::string::npos) {
+            if (wholeFrame)
+                *wholeFrame = line.find("over the whole frame") != std::string::npos;
+            return true;
+        }
+    return false;
+}
+
+// nfor's coarse pass runs where the frame's own noise, relative to relMSE's denominator in
+// median, reaches --coarse-gate: its left 150 columns are noisy, the rest clean, so the
+// frame takes the pass and the right window alone would not. Every tile reads the frame's
+// level, and the tiled result is the untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforCoarseGateDecidesOnceForTheFrame) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 256, height = 40, tile = 128, noisy = 150;
+    Frame frame;
+    frame.path = "coarse gate left";
+    frame.width = width, frame.height = height;
+    Image color(width, height, 3), albedo(width, height, 3, 0.5f);
+    std::mt19937_64 rng(SeedFromName("coarse gate left"));
+    std::normal_distribution<double> noise;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                double t = 0.3 + 0.2 * c + 0.2 * x / width, sigma = x < noisy ? 0.8 : 0.01;
+                color.At(c, y, x) = float(std::max(0.0, t * (1 + sigma * noise(rng))));
+            }
+    frame.layers["color"] = std::move(color);
+    frame.layers["albedo"] = std::move(albedo);
+    Params params = {
+        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"nfor-mean-radius", 0}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    EXPECT_TRUE(CoarsePassRan(whole));
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, coarse gate");
+
+    std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
+    for (const auto &[param, value] : params) nfor->Set(param, value);
+    api::Inputs inputs(frame, false, "nfor");
+    api::TileNeeds needs = nfor->Tiling(Ctx(), inputs);
+    ASSERT_GT(tile - needs.reach, 2 * noisy - width) << "the right window is mostly clean";
+    std::unique_ptr<api::FrontEnd> forTiles = nfor->ForTiles(Ctx(), inputs);
+    api::Inputs window(inputs, tile - needs.reach, 0, width, height);
+    EXPECT_FALSE(CoarsePassRan(nfor->Run(Ctx(), window, RunOptions{})));
+    bool wholeFrame = false;
+    EXPECT_TRUE(CoarsePassRan(forTiles->Run(Ctx(), window, RunOptions{}), &wholeFrame));
+    EXPECT_TRUE(wholeFrame) << "the plan says the level is the frame's";
+}
+
 // The wavelet methods' statistics are frame-wide: in tiles they complete with a finite
 // image of the frame's size, the plan says the result differs and why, and the difference
 // from the untiled result stays within the bound measured on this frame (relative RMS over
