@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cpu_reference/local_mean.h"
+#include "cpu_reference/nfor_alpha.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
 
@@ -608,8 +609,11 @@ Image NforPass(const Image &clamped, const Image &variance, const Image &feature
 
 }  // namespace
 
-Image Nfor(const NforInputs &in, const NforParams &p,
-           std::vector<std::pair<std::string, Image>> *stages) {
+namespace {
+
+// The method on straight values (every stage but output), its result before any alpha.
+Image NforStraightRun(const NforInputs &in, const NforParams &p,
+                      std::vector<std::pair<std::string, Image>> *stages) {
     auto keep = [&](const std::string &name, const Image &image) {
         if (stages) stages->emplace_back(name, image);
     };
@@ -710,7 +714,32 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         NforAddCoarse(color, coarse, in.albedo, p.emitterAlbedo, p.coarseRelative,
                       p.coarseNoise, &out);
     }
-    keep("output", out);
+    return out;
+}
+
+}  // namespace
+
+Image Nfor(const NforInputs &in, const NforParams &p,
+           std::vector<std::pair<std::string, Image>> *stages) {
+    bool partly = false;
+    if (in.alpha)
+        for (float a : in.alpha->data) partly = partly || NforPartlyCovered(a);
+    Image out;
+    if (!partly) {
+        out = NforStraightRun(in, p, stages);
+    } else {
+        const Image &alpha = *in.alpha;
+        Image color = NforStraight(*in.color, alpha, 1),
+              features = NforStraight(*in.features, alpha, 1), albedo, variance;
+        if (in.albedo) albedo = NforStraight(*in.albedo, alpha, 1);
+        if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
+        NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
+                            in.variance ? &variance : nullptr};
+        out = NforStraightRun(straight, p, stages);
+        if (stages) stages->emplace_back("straight", out);
+        out = NforPremultiply(out, alpha);
+    }
+    if (stages) stages->emplace_back("output", out);
     return out;
 }
 

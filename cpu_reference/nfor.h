@@ -159,6 +159,10 @@ struct NforInputs {
     const Image *albedo = nullptr;    // divisor for the noise and clamp; emitter test
     const Image *features = nullptr;  // the regression's feature planes, scaled
     const Image *variance = nullptr;  // of the pixel mean, as color
+    // Coverage: each pixel of alpha in [1e-3, 1) has colour, albedo, features divided by it
+    // (variance by its square) before the rest, the output multiplied by it after
+    // (cpu_reference/nfor_alpha.h); nullptr: none.
+    const Image *alpha = nullptr;
 };
 
 // Variance of the pixel mean estimated from `image` (divisor: albedo or nullptr).
@@ -233,7 +237,8 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
-// fit; with keptRadius, unkept; with coarse, coarse; output).
+// fit; with keptRadius, unkept; with coarse, coarse; with partly covered pixels, straight;
+// output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

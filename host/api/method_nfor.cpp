@@ -193,6 +193,12 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "the coarse pass's difference allowed, relative to the output's "
                           "residual (input - output)",
                           &O::coarseNoise, 0, 1e3)),
+        nested(BoolParam("premultiplied",
+                         "denoise partly covered pixels (alpha between 0 and 1: an edge over a "
+                         "transparent background) as the frame holds them, premultiplied; by "
+                         "default their colour and features are divided by their alpha (the "
+                         "surface they show) and the output multiplied back",
+                         &O::premultiplied)),
         ChoiceParam("nfor-noise",
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
@@ -211,7 +217,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                "output; runs on plain frames";
     }
     std::vector<std::string> Uses() const override {
-        return {"color", "albedo", "normal", "depth", "pivot", "variance"};
+        return {"color", "albedo", "normal", "depth", "pivot", "variance", "alpha"};
     }
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
@@ -317,7 +323,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.coarse = o.coarse;
         p.coarseRelative = o.coarseRelative;
         p.coarseNoise = o.coarseNoise;
-        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
+        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance,
+                              o.premultiplied ? nullptr : in.alpha};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);
         std::vector<Stage> stages;
@@ -342,6 +349,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
              {std::pair{"albedo", &in.albedo}, {"normal", &in.normal}, {"depth", &in.depth}})
             if (inputs.Has(layer)) *field = &inputs.Get(layer);
         if (options.pivot == "auto" && inputs.Has("pivot")) in.pivot = &inputs.Get("pivot");
+        if (inputs.Has("alpha")) in.alpha = &inputs.Get("alpha");
         if (options.noise == "auto" && inputs.Has("variance"))
             in.variance = &inputs.Get("variance");
         in.depthScale = depthScale;

@@ -10,6 +10,7 @@
 #include "host/error.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/checks.h"
+#include "host/methods/nfor_alpha.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
 #include "host/methods/run_memo.h"
@@ -175,7 +176,42 @@ void CheckLayers(const NforInputs &in) {
     if (in.normal) CheckLayer(*in.normal, "normal", w, h, 3, false);
     if (in.depth) CheckLayer(*in.depth, "depth", w, h, 1, false);
     if (in.pivot) CheckLayer(*in.pivot, "pivot", w, h, 3, false);
+    if (in.alpha) CheckLayer(*in.alpha, "alpha", w, h, 1, false);
 }
+
+// The inputs with each partly covered pixel divided by its alpha (host/methods/nfor_alpha.h):
+// colour and features by alpha, the variance by alpha^2, depth and pivot then divided by
+// the means of the layers as written (a tile's: the whole frame's). Without an alpha, with
+// no pixel partly covered or with NforOptions::premultiplied: the inputs as they are.
+struct StraightInputs {
+    StraightInputs(const NforInputs &given, const NforOptions &o) : inputs(given) {
+        inputs.alpha = nullptr;
+        if (!given.alpha || o.premultiplied) return;
+        const Image &alpha = *given.alpha;
+        partlyCovered = NforPartlyCovered(alpha);
+        if (partlyCovered == 0) return;
+        auto divide = [&](const Image *image, std::optional<Image> &kept, const Image **field,
+                          int power = 1) {
+            if (!image) return;
+            kept = NforDivideByAlpha(*image, alpha, power);
+            *field = &*kept;
+        };
+        divide(given.color, color, &inputs.color);
+        divide(given.albedo, albedo, &inputs.albedo);
+        divide(given.normal, normal, &inputs.normal);
+        divide(given.depth, depth, &inputs.depth);
+        divide(given.pivot, pivot, &inputs.pivot);
+        divide(given.variance, variance, &inputs.variance, 2);
+        if (inputs.depthScale <= 0) inputs.depthScale = NforDepthScale(given.depth);
+        if (inputs.pivotScale <= 0) inputs.pivotScale = NforPivotScale(given.pivot);
+    }
+    StraightInputs(const StraightInputs &) = delete;
+    StraightInputs &operator=(const StraightInputs &) = delete;
+
+    NforInputs inputs;
+    size_t partlyCovered = 0;
+    std::optional<Image> color, albedo, normal, depth, pivot, variance;
+};
 
 void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
     CheckLayers(in);
@@ -663,20 +699,25 @@ void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions 
     if (!in->variance || o.clampLayer) return;
     CheckLayers(*in);
     CheckOptions(o);
-    in->clampLoss =
-        ClampLoss(*in->color, EstimateClamped(context, *in->color, in->albedo, o, stripPixels));
+    // The frame as NforDenoise clamps it.
+    StraightInputs straight(*in, o);
+    const NforInputs &frame = straight.inputs;
+    in->clampLoss = ClampLoss(
+        *frame.color, EstimateClamped(context, *frame.color, frame.albedo, o, stripPixels));
     if (!o.coarse) return;
     // The coarse pass's frame, as CoarseOutput halves it.
-    Image color = NforHalf(*in->color);
+    Image color = NforHalf(*frame.color);
     std::optional<Image> albedo;
-    if (in->albedo) albedo = NforHalf(*in->albedo);
+    if (frame.albedo) albedo = NforHalf(*frame.albedo);
     in->coarseClampLoss = ClampLoss(
         color, EstimateClamped(context, color, albedo ? &*albedo : nullptr, o, stripPixels));
 }
 
-NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o,
+NforResult NforDenoise(vk::Context &context, const NforInputs &given, const NforOptions &o,
                        RunMemo *memo) {
-    CheckInputs(context, in, o);
+    CheckInputs(context, given, o);
+    StraightInputs straight(given, o);
+    const NforInputs &in = straight.inputs;
     std::optional<Image> coarse;
     if (o.coarse) coarse = CoarseOutput(context, in, o);
     std::vector<float> weights;
@@ -749,6 +790,17 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
     if (in.variance) PlanClamp(run, in, o, result);
     PlanPasses(run, o, choice, result);
+    if (straight.partlyCovered > 0) {
+        run.AddStage("straight", result.image);
+        NforMultiplyByAlpha(*given.alpha, &result.image);
+        result.partlyCovered = straight.partlyCovered;
+        run.Plan(fmt::format(
+            "alpha: {} partly covered pixels (alpha from {} to under 1) denoised as the "
+            "surface "
+            "they show: colour and features (and variance) divided by their alpha, the output "
+            "multiplied back (--premultiplied: as the frame holds them)",
+            result.partlyCovered, kNforMinAlpha));
+    }
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

@@ -105,6 +105,9 @@ struct NforOptions {
     // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h).
     bool coarse = false;
     float coarseRelative = 0.1f, coarseNoise = 0.3f;
+    // Denoise partly covered pixels as the frame holds them, premultiplied by their alpha;
+    // by default divided by it and multiplied back after (host/methods/nfor_alpha.h).
+    bool premultiplied = false;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
@@ -136,16 +139,22 @@ struct NforInputs {
     // < 0: this frame's. A tile passes the whole frame's (NforFrameClampLoss), so that
     // every tile decides alike.
     double clampLoss = -1, coarseClampLoss = -1;
+    // The coverage (one channel): colour and features of a partly covered pixel
+    // premultiplied by it, as on a transparent background (host/methods/nfor_alpha.h);
+    // nullptr: none.
+    const Image *alpha = nullptr;
 };
 
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
 // distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates; with a
 // second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
-// with the local means restored, fit (before); output).
+// with the local means restored, fit (before); with partly covered pixels divided by their
+// alpha, straight (before they are multiplied back); output).
 struct NforResult : MethodResult {
-    size_t emitters = 0;  // pixels left out as emitters
-    size_t clamped = 0;   // pixel-channels clamped as fireflies
-    size_t kept = 0;      // pixels the fits left as they came in, then smoothed
+    size_t emitters = 0;       // pixels left out as emitters
+    size_t clamped = 0;        // pixel-channels clamped as fireflies
+    size_t kept = 0;           // pixels the fits left as they came in, then smoothed
+    size_t partlyCovered = 0;  // pixels denoised divided by their alpha
     // Beside a variance layer: the fraction of the light the estimate's clamp took off, and
     // whether the clamp read the layer after all (NforOptions::clampLoss).
     double clampLoss = 0;

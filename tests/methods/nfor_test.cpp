@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cpu_reference/nfor.h"
+#include "cpu_reference/nfor_alpha.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
 #include "harness/compare.h"
@@ -24,6 +25,7 @@
 #include "harness/inputs.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
+#include "host/methods/nfor_alpha.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
 #include "host/metrics.h"
@@ -853,6 +855,25 @@ NforInputs InputsOf(const Frame &f) {
     return in;
 }
 
+// The frame over a transparent background: pixels left of a slanted edge covered, right of
+// it empty (alpha 0: colour, albedo, normal and depth 0), a band of pixels along it partly
+// covered (alpha k / 16, k from 1 to 15, as 16 samples draw it), their colour, features and
+// truth premultiplied by alpha. Returns the alpha.
+Image Cover(Frame *f) {
+    int w = f->color.width, h = f->color.height;
+    Image alpha(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            // The covered share of the pixel: 1 left of the edge, falling over 3 pixels.
+            double edge = 0.5 * w + 0.2 * y, covered = std::clamp((edge - x) / 3, 0.0, 1.0);
+            float a = float(std::round(16 * covered) / 16);
+            alpha.At(0, y, x) = a;
+            for (Image *layer : {&f->color, &f->albedo, &f->normal, &f->depth, &f->truth})
+                for (int c = 0; c < layer->channels; ++c) layer->At(c, y, x) *= a;
+        }
+    return alpha;
+}
+
 class NforMethod : public GpuTest {};
 
 // The whole method's stages against the reference's, by name: the stages before the
@@ -863,8 +884,9 @@ class NforMethod : public GpuTest {};
 // seventh pixel's 100x (a firefly among its samples) and every eleventh's 0 (samples that
 // agreed).
 void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &options,
-                       bool withVariance = false) {
+                       bool withVariance = false, bool covered = false) {
     Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
+    Image alpha = covered ? Cover(&f) : Image();
     Image variance(w, h, 3);
     for (size_t i = 0; i < variance.Size(); ++i) {
         double sigma = 0.3 * f.truth.data[i];
@@ -872,6 +894,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     }
     NforInputs gpuIn = InputsOf(f);
     if (withVariance) gpuIn.variance = &variance;
+    if (covered) gpuIn.alpha = &alpha;
     NforOptions o = options;
     o.keepStages = true;
     NforResult gpu = NforDenoise(context, gpuIn, o);
@@ -903,7 +926,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.noiseMinCalibration = o.noiseCalibration;
     p.clampEstimate = !o.clampLayer;
     p.clampLoss = o.clampLoss;
-    ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr};
+    ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr,
+                          covered && !o.premultiplied ? &alpha : nullptr};
     std::vector<std::pair<std::string, Image>> cpu;
     Image expected = ref::Nfor(cpuIn, p, &cpu);
     ASSERT_EQ(gpu.stages.size(), cpu.size());
@@ -966,6 +990,100 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     o.clampLayer = false;
     o.clampLoss = 0;
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
+}
+
+// Partly covered pixels over a transparent background: divided by their alpha before the
+// method (the variance layer by its square) and multiplied back after; with the coarse and
+// the kept pixels' passes too.
+TEST_F(NforMethod, PartlyCoveredStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    for (bool variance : {false, true})
+        for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{9, 4}}) {
+            SCOPED_TRACE(fmt::format("variance {} {}x{}", variance, w, h));
+            ExpectStagesMatch(Ctx(), w, h, o, variance, true);
+        }
+    o.coarse = true;
+    o.keptRadius = 2;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, true);
+}
+
+// A noisy surface's silhouette over a transparent background: its partly covered pixels,
+// divided by their alpha, are fitted with the surface around them and come out with a
+// smaller error than denoised as the frame holds them; the covered and the empty pixels
+// change little. An alpha of 1 and 0 only, or --premultiplied, gives the bits of a run
+// without an alpha; reruns are bit-identical.
+TEST_F(NforMethod, DenoisesPartlyCoveredPixelsAsTheirSurface) {
+    Frame f = MakeFrame(48, 40, 0.3, "silhouette");
+    Image alpha = Cover(&f);
+    NforInputs in = InputsOf(f);
+    in.alpha = &alpha;
+    NforOptions straight, premultiplied;
+    premultiplied.premultiplied = true;
+    NforResult a = NforDenoise(Ctx(), in, straight), b = NforDenoise(Ctx(), in, premultiplied);
+    EXPECT_EQ(a.partlyCovered, NforPartlyCovered(alpha));
+    EXPECT_GT(a.partlyCovered, 40u);
+    EXPECT_EQ(b.partlyCovered, 0u);
+    // relMSE over the pixels whose alpha is in (lo, hi].
+    auto error = [&](const Image &out, float lo, float hi) {
+        double sum = 0;
+        size_t count = 0;
+        for (size_t i = 0; i < alpha.PixelCount(); ++i) {
+            if (!(alpha.data[i] > lo && alpha.data[i] <= hi)) continue;
+            for (int c = 0; c < 3; ++c) {
+                double t = f.truth.Plane(c)[i], d = out.Plane(c)[i] - t;
+                sum += d * d / (t * t + 0.01);
+            }
+            ++count;
+        }
+        return sum / double(3 * count);
+    };
+    const float below = std::nextafter(1.f, 0.f);
+    EXPECT_LT(error(a.image, 0, below), 0.5 * error(b.image, 0, below))
+        << error(a.image, 0, below) << " against " << error(b.image, 0, below);
+    EXPECT_LT(error(a.image, below, 1), 1.05 * error(b.image, below, 1));
+    EXPECT_TRUE(BitIdentical(a.image, NforDenoise(Ctx(), in, straight).image));
+    NforInputs without = InputsOf(f);
+    EXPECT_TRUE(BitIdentical(b.image, NforDenoise(Ctx(), without, straight).image));
+    Image whole = alpha;
+    for (float &v : whole.data) v = v > 0 ? 1.f : 0.f;
+    in.alpha = &whole;
+    EXPECT_TRUE(BitIdentical(b.image, NforDenoise(Ctx(), in, straight).image));
+}
+
+// The division by alpha (and by its square) and the multiplication back against their
+// references: alphas under the floor, at it, between, 1, above 1 and negative, on values of
+// every kind; only the partly covered pixels change.
+TEST(NforAlpha, MatchesTheReference) {
+    const float special[] = {0.f, 5e-4f, 1e-3f, 1.f / 16, 0.5f, 15.f / 16, 1.f, 1.5f, -0.25f};
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}})
+        for (InputKind kind :
+             {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant}) {
+            std::string name = fmt::format("alpha {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            Image image = MakeInput(kind, w, h, 3, seed);
+            Image alpha = MakeVarianceInput(InputKind::Uniform, w, h, 1, seed + 1);
+            for (size_t i = 0; i < alpha.Size() && i < std::size(special); ++i)
+                alpha.data[i] = special[i];
+            size_t partly = 0;
+            for (float a : alpha.data) partly += ref::NforPartlyCovered(a);
+            EXPECT_EQ(NforPartlyCovered(alpha), partly) << name;
+            const Tolerance tolerance{4 * kU, 0, 1e-12};
+            for (int power : {1, 2}) {
+                Image divided = NforDivideByAlpha(image, alpha, power);
+                EXPECT_TRUE(
+                    ImagesMatch(ref::NforStraight(image, alpha, power), divided, {}, tolerance))
+                    << name << " power " << power;
+                for (size_t i = 0; i < image.Size(); ++i)
+                    if (!ref::NforPartlyCovered(alpha.data[i % alpha.PixelCount()]))
+                        ASSERT_EQ(std::memcmp(&image.data[i], &divided.data[i], 4), 0) << name;
+            }
+            Image multiplied = image;
+            NforMultiplyByAlpha(alpha, &multiplied);
+            EXPECT_TRUE(
+                ImagesMatch(ref::NforPremultiply(image, alpha), multiplied, {}, tolerance))
+                << name;
+        }
 }
 
 // A frame whose light is in rare bright samples (one pixel in 8 saw a caustic through 4 of
@@ -1156,8 +1274,8 @@ TEST(NforKept, MatchesTheReferenceAndRepeats) {
     for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}, std::pair{16, 16}})
         for (InputKind kind :
              {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant})
-            for (auto [weak, keptPixels] : {std::pair{0.f, true}, std::pair{1.8f, true},
-                                            std::pair{1.8f, false}}) {
+            for (auto [weak, keptPixels] :
+                 {std::pair{0.f, true}, std::pair{1.8f, true}, std::pair{1.8f, false}}) {
                 std::string name = fmt::format("kept {}x{} {} weak {} kept pixels {}", w, h,
                                                InputKindName(kind), weak, keptPixels);
                 uint64_t seed = SeedFromName(name);
