@@ -11,6 +11,7 @@
 #include "cpu_reference/nfor_alpha.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
+#include "cpu_reference/nfor_specks.h"
 
 namespace mcd::ref {
 namespace {
@@ -690,6 +691,10 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     }
     if (p.meanRadius > 0) {
         keep("fit", out);
+        if (p.speckRelative >= 0 && !in.variance) {
+            NforClampSpecks(mask, 2, p.speckRelative, p.speckFloor, &out);
+            keep("specks", out);
+        }
         RestoreLocalMeans(clamped, p.meanRadius, &out);
     }
     // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.

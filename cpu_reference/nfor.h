@@ -141,6 +141,9 @@ struct NforParams {
     // SURE.
     double wideAgreement = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
+    // With meanRadius and no variance layer, before the restore: specks of the fits' output
+    // clamped (NforClampSpecks, cpu_reference/nfor_specks.h, rank 2); speckRelative < 0: off.
+    double speckRelative = -1, speckFloor = 0.02;
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
     int keptRadius = 0;
@@ -237,8 +240,8 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
-// fit; with keptRadius, unkept; with coarse, coarse; with partly covered pixels, straight;
-// output).
+// fit; with speckRelative >= 0, specks; with keptRadius, unkept; with coarse, coarse; with
+// partly covered pixels, straight; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

@@ -181,6 +181,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
+        nested(
+            FloatParam("speck-relative",
+                       "on a frame without a variance layer, with the local means restored: a "
+                       "pixel of the fits' output above (1 + this) x its 2nd brightest "
+                       "neighbour + --speck-floor (a speck the fits left) is scaled down to "
+                       "that before the restore, which gives the pixels around it what of its "
+                       "light it holds for certain; negative: off",
+                       &O::speckRelative, -1, 1e3)),
+        nested(FloatParam("speck-floor", "the absolute part of --speck-relative's bound",
+                          &O::speckFloor, 0, 1e6)),
         nested(BoolParam("nfor-coarse",
                          "denoise the frame again at half the resolution and take its low "
                          "frequencies where they differ from the output's by under "
@@ -243,16 +253,20 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         int pilotReach = !o.pilotBandwidths.empty()
                              ? 3 * std::max(o.radius, o.pilotWideRadius) + o.patchRadius
                              : 0;
+        // The specks' bound reads the fits' output of the 8 neighbours.
+        const int speckReach = o.meanRadius > 0 && o.speckRelative >= 0 ? 1 : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
-                      o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) +
-                      keptReach;
+                      o.sureRadius + speckReach +
+                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) + keptReach;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
-            "average; {} for the local means; {} for the kept pixels' mean",
+            "average; {} for the specks' neighbours; {} for the local means; {} for the kept "
+            "pixels' mean",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
-            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, keptReach);
+            o.sureRadius, speckReach, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0,
+            keptReach);
         if (o.coarse) {
             // The half-resolution pass reaches twice as far in this frame's pixels, its
             // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
@@ -318,6 +332,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotWideRadius = o.pilotWideRadius;
         p.wideAgreement = o.wideAgreement;
         p.meanRadius = o.meanRadius;
+        p.speckRelative = o.speckRelative;
+        p.speckFloor = o.speckFloor;
         p.keptRadius = o.keptRadius;
         p.weakEmitterAlbedo = o.weakEmitterAlbedo;
         p.coarse = o.coarse;

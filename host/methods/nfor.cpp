@@ -13,6 +13,7 @@
 #include "host/methods/nfor_alpha.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
+#include "host/methods/nfor_specks.h"
 #include "host/methods/run_memo.h"
 #include "host/vk/gpu_image.h"
 #include "nfor/nfor.h"
@@ -122,12 +123,13 @@ void CheckOptions(const NforOptions &o) {
         !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0) ||
         o.meanRadius < 0 || !(finite(o.coarseRelative) && o.coarseRelative >= 0) ||
         !(finite(o.coarseNoise) && o.coarseNoise >= 0) ||
-        !(finite(o.wideAgreement) && o.wideAgreement >= 0))
+        !(finite(o.wideAgreement) && o.wideAgreement >= 0) || !finite(o.speckRelative) ||
+        !(finite(o.speckFloor) && o.speckFloor >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, pilot alpha, "
-            "coarse relative, coarse noise and wide agreement finite and >= 0, mean radius "
-            ">= 0",
+            "coarse relative, coarse noise, wide agreement and speck floor finite and >= 0, "
+            "speck relative finite, mean radius >= 0",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -741,6 +743,16 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
         result.clamped += clamped.data[i] != in.color->data[i];
     if (o.meanRadius > 0) {
         run.AddStage("fit", result.image);
+        if (o.speckRelative >= 0 && !in.variance) {
+            result.specks =
+                NforClampSpecks(mask, {o.speckRelative, o.speckFloor}, &result.image);
+            run.AddStage("specks", result.image);
+            run.Plan(fmt::format(
+                "specks: {} pixels of the fits' output above (1 + {}) x their {}nd brightest "
+                "neighbour + {} scaled down to that, before the local means give their light "
+                "to the pixels around them",
+                result.specks, o.speckRelative, kNforSpeckRank, o.speckFloor));
+        }
         LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
         run.Plan(
             fmt::format("local mean: the clamped colour's means over tents of radius {}, "

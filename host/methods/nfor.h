@@ -91,6 +91,12 @@ struct NforOptions {
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
+    // On a frame without a variance layer, with the local means restored: a pixel of the
+    // fits' output above (1 + speckRelative) x its 2nd brightest neighbour + speckFloor (a
+    // speck the fits left: a glint no neighbour saw) is scaled down to that before the
+    // restore, which gives the pixels around it what of its light the restore holds for
+    // certain (host/methods/nfor_specks.h); speckRelative < 0: off.
+    float speckRelative = 0.3f, speckFloor = 0.02f;
     // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted
     // mean of the output over this radius (host/methods/nfor_kept.h); 0: kept.
@@ -148,13 +154,15 @@ struct NforInputs {
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
 // distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates; with a
 // second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
-// with the local means restored, fit (before); with partly covered pixels divided by their
+// with the local means restored, fit (before) and with specks clamped, specks (after them);
+// with partly covered pixels divided by their
 // alpha, straight (before they are multiplied back); output).
 struct NforResult : MethodResult {
     size_t emitters = 0;       // pixels left out as emitters
     size_t clamped = 0;        // pixel-channels clamped as fireflies
     size_t kept = 0;           // pixels the fits left as they came in, then smoothed
     size_t partlyCovered = 0;  // pixels denoised divided by their alpha
+    size_t specks = 0;         // pixels of the fits' output scaled down as specks
     // Beside a variance layer: the fraction of the light the estimate's clamp took off, and
     // whether the clamp read the layer after all (NforOptions::clampLoss).
     double clampLoss = 0;

@@ -19,6 +19,7 @@
 #include "cpu_reference/nfor_alpha.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
+#include "cpu_reference/nfor_specks.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
@@ -28,6 +29,7 @@
 #include "host/methods/nfor_alpha.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
+#include "host/methods/nfor_specks.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
 #include "nfor/nfor.h"
@@ -908,6 +910,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
     p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
     p.meanRadius = o.meanRadius;
+    p.speckRelative = o.speckRelative;
+    p.speckFloor = o.speckFloor;
     p.noiseRadius = o.noiseRadius;
     p.fireflyRank = o.fireflyRank;
     p.fireflyLightEdge = o.fireflyLightEdge;
@@ -1049,6 +1053,72 @@ TEST_F(NforMethod, DenoisesPartlyCoveredPixelsAsTheirSurface) {
     for (float &v : whole.data) v = v > 0 ? 1.f : 0.f;
     in.alpha = &whole;
     EXPECT_TRUE(BitIdentical(b.image, NforDenoise(Ctx(), in, straight).image));
+}
+
+// The specks' clamp against its reference on values of every kind (fireflies and impulses
+// among them), masks with emitters, frames of one pixel, one row and 3x3: the same pixels
+// change, to round-off; some do.
+TEST(NforSpecks, MatchesTheReference) {
+    size_t changed = 0;
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::Impulse}) {
+            std::string name = fmt::format("specks {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            Image input = MakeVarianceInput(kind, w, h, 3, seed);
+            Image mask(w, h, 1, 1.f);
+            for (size_t i = 5; i < mask.Size(); i += 13) mask.data[i] = 0;
+            Image gpuSide = input, cpuSide = input;
+            size_t count = NforClampSpecks(mask, {0.3f, 0.02f}, &gpuSide);
+            ref::NforClampSpecks(mask, kNforSpeckRank, 0.3, 0.02, &cpuSide);
+            EXPECT_TRUE(ImagesMatch(cpuSide, gpuSide, {}, {4 * kU, 0, 1e-12})) << name;
+            size_t moved = 0;
+            for (size_t i = 0; i < input.PixelCount(); ++i)
+                moved += input.data[i] != cpuSide.data[i] ||
+                         input.Plane(1)[i] != cpuSide.Plane(1)[i] ||
+                         input.Plane(2)[i] != cpuSide.Plane(2)[i];
+            EXPECT_EQ(count, moved) << name;
+            changed += count;
+        }
+    EXPECT_GT(changed, 0u);
+}
+
+// A speck the firefly clamp leaves (a pixel at 1.7x its flat neighbours, under the clamp's
+// limit) and the fits keep (its normal unlike its neighbours') comes out near its neighbours:
+// scaled down to the bound, its light given to the pixels around it by the local means, the
+// frame's sum kept; with
+// --speck-relative -1 it stays. A line a pixel wide (two bright neighbours each) is kept.
+TEST_F(NforMethod, ClampsASpeckTheFitsLeaveAndKeepsItsLight) {
+    int w = 32, h = 32;
+    Frame f = MakeFrame(w, h, 0, "speck");
+    std::mt19937_64 rng(SeedFromName("speck noise"));
+    std::normal_distribution<double> normal(0, 0.05);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                f.albedo.At(c, y, x) = 0.5f;
+                f.truth.At(c, y, x) = 0.25f;
+                f.color.At(c, y, x) = float(0.25 * (1 + normal(rng)));
+                // A wire a sample hit: its normal unlike the ground's, so the fits weigh
+                // only itself (and a line's pixels one another).
+                if ((x == 16 && y == 16) || (x == 6 && y >= 4 && y < 28)) {
+                    f.color.At(c, y, x) = 0.425f;
+                    f.normal.At(c, y, x) = c == 2 ? 1.f : 0.f;
+                }
+            }
+    NforOptions on, off;
+    off.speckRelative = -1;
+    NforResult a = NforDenoise(Ctx(), InputsOf(f), on),
+               b = NforDenoise(Ctx(), InputsOf(f), off);
+    EXPECT_EQ(b.specks, 0u);
+    EXPECT_GE(a.specks, 1u);
+    EXPECT_GT(b.image.At(1, 16, 16), 0.38f);
+    EXPECT_LT(a.image.At(1, 16, 16), 0.36f);
+    double sumA = 0, sumB = 0;
+    for (size_t i = 0; i < a.image.Size(); ++i)
+        sumA += a.image.data[i], sumB += b.image.data[i];
+    EXPECT_NEAR(sumA / sumB, 1.0, 1e-3);
+    for (int y = 8; y < 24; ++y) EXPECT_GT(a.image.At(1, y, 6), 0.38f) << y;
 }
 
 // The division by alpha (and by its square) and the multiplication back against their
