@@ -692,7 +692,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     if (p.meanRadius > 0) {
         keep("fit", out);
         if (p.speckRelative >= 0 && !in.variance) {
-            NforClampSpecks(mask, 2, p.speckRelative, p.speckFloor, &out);
+            NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out);
             keep("specks", out);
         }
         RestoreLocalMeans(clamped, p.meanRadius, &out);

@@ -142,8 +142,9 @@ struct NforParams {
     double wideAgreement = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
     // With meanRadius and no variance layer, before the restore: specks of the fits' output
-    // clamped (NforClampSpecks, cpu_reference/nfor_specks.h, rank 2); speckRelative < 0: off.
+    // clamped (NforClampSpecks, cpu_reference/nfor_specks.h); speckRelative < 0: off.
     double speckRelative = -1, speckFloor = 0.02;
+    int speckRank = 2;
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
     int keptRadius = 0;

@@ -181,16 +181,21 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
-        nested(
-            FloatParam("speck-relative",
-                       "on a frame without a variance layer, with the local means restored: a "
-                       "pixel of the fits' output above (1 + this) x its 2nd brightest "
-                       "neighbour + --speck-floor (a speck the fits left) is scaled down to "
-                       "that before the restore, which gives the pixels around it what of its "
-                       "light it holds for certain; negative: off",
-                       &O::speckRelative, -1, 1e3)),
+        nested(FloatParam(
+            "speck-relative",
+            "on a frame without a variance layer, with the local means restored: a "
+            "pixel of the fits' output above (1 + this) x its --speck-rank-th "
+            "brightest neighbour + --speck-floor (a speck the fits left) is scaled down to "
+            "that before the restore, which gives the pixels around it what of its "
+            "light it holds for certain; negative: off",
+            &O::speckRelative, -1, 1e3)),
         nested(FloatParam("speck-floor", "the absolute part of --speck-relative's bound",
                           &O::speckFloor, 0, 1e6)),
+        nested(
+            IntParam("speck-rank",
+                     "--speck-relative's bound is over the pixel's this-th brightest "
+                     "neighbour: a pixel with this many bright neighbours (a line's) is kept",
+                     &O::speckRank, 1, 8)),
         nested(BoolParam("nfor-coarse",
                          "denoise the frame again at half the resolution and take its low "
                          "frequencies where they differ from the output's by under "
@@ -334,6 +339,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.meanRadius = o.meanRadius;
         p.speckRelative = o.speckRelative;
         p.speckFloor = o.speckFloor;
+        p.speckRank = o.speckRank;
         p.keptRadius = o.keptRadius;
         p.weakEmitterAlbedo = o.weakEmitterAlbedo;
         p.coarse = o.coarse;

@@ -142,14 +142,15 @@ void CheckOptions(const NforOptions &o) {
     if (o.noiseRadius < 1 || o.noiseRadius > NFOR_NOISE_MAX_RADIUS || o.prefilterRadius < 0 ||
         o.prefilterRadius > NFOR_PREFILTER_MAX_RADIUS || o.prefilterPatch < 0 ||
         o.prefilterPatch > NFOR_PREFILTER_MAX_PATCH || o.sureRadius < 0 ||
-        o.sureRadius > NFOR_SURE_MAX_RADIUS)
-        throw Error(fmt::format("nfor: noise radius {} (1..{}), prefilter radius {} (0..{}) "
-                                "and patch {} (0..{}), "
-                                "SURE radius {} (0..{})",
-                                o.noiseRadius, NFOR_NOISE_MAX_RADIUS, o.prefilterRadius,
-                                NFOR_PREFILTER_MAX_RADIUS, o.prefilterPatch,
-                                NFOR_PREFILTER_MAX_PATCH, o.sureRadius, NFOR_SURE_MAX_RADIUS),
-                    ErrorKind::InvalidArgument);
+        o.sureRadius > NFOR_SURE_MAX_RADIUS || o.speckRank < 1 || o.speckRank > 8)
+        throw Error(
+            fmt::format("nfor: noise radius {} (1..{}), prefilter radius {} (0..{}) "
+                        "and patch {} (0..{}), "
+                        "SURE radius {} (0..{}), speck rank {} (1..8)",
+                        o.noiseRadius, NFOR_NOISE_MAX_RADIUS, o.prefilterRadius,
+                        NFOR_PREFILTER_MAX_RADIUS, o.prefilterPatch, NFOR_PREFILTER_MAX_PATCH,
+                        o.sureRadius, NFOR_SURE_MAX_RADIUS, o.speckRank),
+            ErrorKind::InvalidArgument);
 }
 
 // The largest window half-size of the passes.
@@ -744,14 +745,14 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     if (o.meanRadius > 0) {
         run.AddStage("fit", result.image);
         if (o.speckRelative >= 0 && !in.variance) {
-            result.specks =
-                NforClampSpecks(mask, {o.speckRelative, o.speckFloor}, &result.image);
+            result.specks = NforClampSpecks(mask, {o.speckRelative, o.speckFloor, o.speckRank},
+                                            &result.image);
             run.AddStage("specks", result.image);
             run.Plan(fmt::format(
-                "specks: {} pixels of the fits' output above (1 + {}) x their {}nd brightest "
-                "neighbour + {} scaled down to that, before the local means give their light "
-                "to the pixels around them",
-                result.specks, o.speckRelative, kNforSpeckRank, o.speckFloor));
+                "specks: {} pixels of the fits' output above (1 + {}) x their brightest "
+                "neighbour but {} + {} scaled down to that, before the local means give the "
+                "pixels around them what of their light they hold for certain",
+                result.specks, o.speckRelative, o.speckRank - 1, o.speckFloor));
         }
         LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
         run.Plan(

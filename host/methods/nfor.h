@@ -92,11 +92,13 @@ struct NforOptions {
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
     // On a frame without a variance layer, with the local means restored: a pixel of the
-    // fits' output above (1 + speckRelative) x its 2nd brightest neighbour + speckFloor (a
+    // fits' output above (1 + speckRelative) x its speckRank-th brightest neighbour +
+    // speckFloor (a
     // speck the fits left: a glint no neighbour saw) is scaled down to that before the
     // restore, which gives the pixels around it what of its light the restore holds for
     // certain (host/methods/nfor_specks.h); speckRelative < 0: off.
     float speckRelative = 0.3f, speckFloor = 0.02f;
+    int speckRank = 2;  // a pixel with this many bright neighbours (a line's) is kept
     // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted
     // mean of the output over this radius (host/methods/nfor_kept.h); 0: kept.

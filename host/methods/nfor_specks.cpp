@@ -41,10 +41,10 @@ size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &s, Image *out
                     around.push_back(luminance[q]);
                 }
             if (nearEmitter || !finite) continue;
-            std::nth_element(around.begin(), around.begin() + (kNforSpeckRank - 1),
-                             around.end(), std::greater<double>());
-            const double bound =
-                (1.0 + s.relative) * around[kNforSpeckRank - 1] + double(s.floor);
+            const int k = std::clamp(s.rank, 1, 8) - 1;
+            std::nth_element(around.begin(), around.begin() + k, around.end(),
+                             std::greater<double>());
+            const double bound = (1.0 + s.relative) * around[k] + double(s.floor);
             const double l = luminance[p];
             if (!(l > bound)) continue;
             const double scale = bound / l;

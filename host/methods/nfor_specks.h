@@ -12,17 +12,16 @@
 
 namespace mcd {
 
-// A pixel with this many bright neighbours or more (a line's, a highlight's) is kept.
-constexpr int kNforSpeckRank = 2;
-
 struct NforSpeckSettings {
     float relative = 0.3f;  // bound: (1 + relative) x the rank-th brightest neighbour + floor
     float floor = 0.02f;
+    // A pixel with this many bright neighbours or more (a line's, a highlight's) is kept.
+    int rank = 2;
 };
 
 // Each pixel of `output` (mask 1, not on the frame's border, no emitter, mask 0, among its
 // 8 neighbours) whose luminance (the mean of its channels) is
-// above (1 + relative) n + floor, n the kNforSpeckRank-th largest luminance of its
+// above (1 + relative) n + floor, n the rank-th largest (1 to 8) luminance of its
 // neighbours, scaled by that bound over its luminance (its hue kept); every decision on the
 // output as it came in. Returns how many pixels changed.
 size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &settings, Image *output);

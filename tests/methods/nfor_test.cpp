@@ -912,6 +912,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.meanRadius = o.meanRadius;
     p.speckRelative = o.speckRelative;
     p.speckFloor = o.speckFloor;
+    p.speckRank = o.speckRank;
     p.noiseRadius = o.noiseRadius;
     p.fireflyRank = o.fireflyRank;
     p.fireflyLightEdge = o.fireflyLightEdge;
@@ -1069,8 +1070,9 @@ TEST(NforSpecks, MatchesTheReference) {
             Image mask(w, h, 1, 1.f);
             for (size_t i = 5; i < mask.Size(); i += 13) mask.data[i] = 0;
             Image gpuSide = input, cpuSide = input;
-            size_t count = NforClampSpecks(mask, {0.3f, 0.02f}, &gpuSide);
-            ref::NforClampSpecks(mask, kNforSpeckRank, 0.3, 0.02, &cpuSide);
+            int rank = 1 + int(seed % 4);
+            size_t count = NforClampSpecks(mask, {0.3f, 0.02f, rank}, &gpuSide);
+            ref::NforClampSpecks(mask, rank, 0.3, 0.02, &cpuSide);
             EXPECT_TRUE(ImagesMatch(cpuSide, gpuSide, {}, {4 * kU, 0, 1e-12})) << name;
             size_t moved = 0;
             for (size_t i = 0; i < input.PixelCount(); ++i)
