@@ -97,7 +97,7 @@ struct NforOptions {
     // speck the fits left: a glint no neighbour saw) is scaled down to that before the
     // restore, which gives the pixels around it what of its light the restore holds for
     // certain (host/methods/nfor_specks.h); speckRelative < 0: off.
-    float speckRelative = 0.3f, speckFloor = 0.02f;
+    float speckRelative = 0.2f, speckFloor = 0.01f;
     int speckRank = 2;  // a pixel with this many bright neighbours (a line's) is kept
     // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted

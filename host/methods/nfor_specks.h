@@ -13,8 +13,8 @@
 namespace mcd {
 
 struct NforSpeckSettings {
-    float relative = 0.3f;  // bound: (1 + relative) x the rank-th brightest neighbour + floor
-    float floor = 0.02f;
+    float relative = 0.2f;  // bound: (1 + relative) x the rank-th brightest neighbour + floor
+    float floor = 0.01f;
     // A pixel with this many bright neighbours or more (a line's, a highlight's) is kept.
     int rank = 2;
 };
