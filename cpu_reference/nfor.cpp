@@ -612,9 +612,10 @@ Image NforPass(const Image &clamped, const Image &variance, const Image &feature
 
 namespace {
 
-// The method on straight values (every stage but output), its result before any alpha.
+// The method on straight values (every stage but output), its result before any alpha;
+// `alpha`: the coverage the partly covered pixels were divided by (nullptr: none).
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
-                      std::vector<std::pair<std::string, Image>> *stages) {
+                      std::vector<std::pair<std::string, Image>> *stages, const Image *alpha) {
     auto keep = [&](const std::string &name, const Image &image) {
         if (stages) stages->emplace_back(name, image);
     };
@@ -652,6 +653,9 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         // The weights' noise estimated again on the clamped colour, edge pixels relaxed.
         keep("clamp.variance", variance);
         variance = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
+        // A partly covered pixel holds a N of its N samples: 1 / a times the variance of the
+        // covered pixels its estimate read.
+        if (alpha) variance = NforStraight(variance, *alpha, 1);
     }
     keep("variance", variance);
     Image features = *in.features;
@@ -731,7 +735,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         for (float a : in.alpha->data) partly = partly || NforPartlyCovered(a);
     Image out;
     if (!partly) {
-        out = NforStraightRun(in, p, stages);
+        out = NforStraightRun(in, p, stages, nullptr);
     } else {
         const Image &alpha = *in.alpha;
         Image color = NforStraight(*in.color, alpha, 1),
@@ -740,7 +744,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
         NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
                             in.variance ? &variance : nullptr};
-        out = NforStraightRun(straight, p, stages);
+        out = NforStraightRun(straight, p, stages, &alpha);
         if (stages) stages->emplace_back("straight", out);
         out = NforPremultiply(out, alpha);
     }

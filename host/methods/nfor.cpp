@@ -475,9 +475,11 @@ void RecordFeatures(StagedRun &run, NforGpu &gpu, const NforOptions &o, RunMemo 
     run.Submit();
 }
 
-// Noise, emitters and fireflies, features, the patch distances.
+// Noise, emitters and fireflies, features, the patch distances. `alpha`: the coverage of a
+// frame whose partly covered pixels were divided by it (nullptr: none).
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
-                   RunMemo *memo, const std::string &featuresId, NforResult &result) {
+                   RunMemo *memo, const std::string &featuresId, const Image *alpha,
+                   NforResult &result) {
     vk::Context &context = run.Context();
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
     bool again = !in.variance && !o.noEdgeNoise;
@@ -490,6 +492,12 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     if (again)
         RecordNforNoise(context, run.Recorder(), gpu.clamped, albedo, o.noiseRadius,
                         o.noiseCalibration, gpu.variance, true);
+    if (again && alpha) {
+        // A partly covered pixel divided by its alpha is the mean of a N of its N samples:
+        // 1 / a times the variance of the covered pixels whose pairs its estimate read.
+        run.Submit();
+        gpu.variance.Upload(NforDivideByAlpha(gpu.variance.Download(), *alpha));
+    }
     run.StageAtEnd("variance", gpu.variance);
     RecordFeatures(run, gpu, o, memo, featuresId);
     run.StageAtEnd("features", gpu.filtered);
@@ -732,7 +740,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     PlanFeatures(run, names, o);
     NforGpu gpu(context, in, featureImage, o);
     RecordPrepare(run, gpu, in, o, memo, memo ? MemoImageId(featureImage) : std::string(),
-                  result);
+                  straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
     RecordPasses(run, gpu, weights, o, out, choice);
@@ -810,8 +818,10 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
         run.Plan(fmt::format(
             "alpha: {} partly covered pixels (alpha from {} to under 1) denoised as the "
             "surface "
-            "they show: colour and features (and variance) divided by their alpha, the output "
-            "multiplied back (--premultiplied: as the frame holds them)",
+            "they show: colour and features divided by their alpha (a variance layer by its "
+            "square; the frame's own estimate of their noise, read from the covered pixels "
+            "around, by alpha), the output multiplied back (--premultiplied: as the frame "
+            "holds them)",
             result.partlyCovered, kNforMinAlpha));
     }
     run.AddStage("output", result.image);
