@@ -655,6 +655,28 @@ void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice
                          o.pilotBandwidths.empty() ? "" : "second pass: ", shares));
 }
 
+// The fits' output (result.image) with its specks clamped on a frame without a variance
+// layer, then the clamped colour's local means restored.
+void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, const Image &mask,
+                  const Image &clamped, NforResult &result) {
+    run.AddStage("fit", result.image);
+    if (o.speckRelative >= 0 && !in.variance) {
+        result.specks =
+            NforClampSpecks(mask, {o.speckRelative, o.speckFloor, o.speckRank}, &result.image);
+        run.AddStage("specks", result.image);
+        run.Plan(fmt::format(
+            "specks: {} pixels of the fits' output above (1 + {}) x the luminance of their "
+            "neighbour ranked {} by brightness + {} scaled down to that, before the local "
+            "means give the pixels around them what of their light they hold for certain",
+            result.specks, o.speckRelative, o.speckRank, o.speckFloor));
+    }
+    LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
+    run.Plan(
+        fmt::format("local mean: the clamped colour's means over tents of radius {}, "
+                    "then {} restored (factors {:.3g} to {:.3g})",
+                    8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
+}
+
 std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
     std::vector<std::pair<std::string, double>> perKernel;
     double total = 0;
@@ -750,24 +772,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     for (float m : mask.data) result.emitters += m == 0;
     for (size_t i = 0; i < clamped.Size(); ++i)
         result.clamped += clamped.data[i] != in.color->data[i];
-    if (o.meanRadius > 0) {
-        run.AddStage("fit", result.image);
-        if (o.speckRelative >= 0 && !in.variance) {
-            result.specks = NforClampSpecks(mask, {o.speckRelative, o.speckFloor, o.speckRank},
-                                            &result.image);
-            run.AddStage("specks", result.image);
-            run.Plan(fmt::format(
-                "specks: {} pixels of the fits' output above (1 + {}) x their brightest "
-                "neighbour but {} + {} scaled down to that, before the local means give the "
-                "pixels around them what of their light they hold for certain",
-                result.specks, o.speckRelative, o.speckRank - 1, o.speckFloor));
-        }
-        LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
-        run.Plan(
-            fmt::format("local mean: the clamped colour's means over tents of radius {}, "
-                        "then {} restored (factors {:.3g} to {:.3g})",
-                        8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
-    }
+    if (o.meanRadius > 0) RestoreMeans(run, in, o, mask, clamped, result);
     const int keptPass = NforKeptPassRadius(o, in.variance, in.albedo);
     if (keptPass > 0) {
         run.AddStage("unkept", result.image);
