@@ -8,8 +8,10 @@
 #include <vector>
 
 #include "cpu_reference/local_mean.h"
+#include "cpu_reference/nfor_alpha.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
+#include "cpu_reference/nfor_specks.h"
 
 namespace mcd::ref {
 namespace {
@@ -608,8 +610,12 @@ Image NforPass(const Image &clamped, const Image &variance, const Image &feature
 
 }  // namespace
 
-Image Nfor(const NforInputs &in, const NforParams &p,
-           std::vector<std::pair<std::string, Image>> *stages) {
+namespace {
+
+// The method on straight values (every stage but output), its result before any alpha;
+// `alpha`: the coverage the partly covered pixels were divided by (nullptr: none).
+Image NforStraightRun(const NforInputs &in, const NforParams &p,
+                      std::vector<std::pair<std::string, Image>> *stages, const Image *alpha) {
     auto keep = [&](const std::string &name, const Image &image) {
         if (stages) stages->emplace_back(name, image);
     };
@@ -647,6 +653,9 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         // The weights' noise estimated again on the clamped colour, edge pixels relaxed.
         keep("clamp.variance", variance);
         variance = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
+        // A partly covered pixel holds a N of its N samples: 1 / a times the variance of the
+        // covered pixels its estimate read.
+        if (alpha) variance = NforStraight(variance, *alpha, 1);
     }
     keep("variance", variance);
     Image features = *in.features;
@@ -686,6 +695,10 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     }
     if (p.meanRadius > 0) {
         keep("fit", out);
+        if (p.speckRelative >= 0 && !in.variance) {
+            NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out);
+            keep("specks", out);
+        }
         RestoreLocalMeans(clamped, p.meanRadius, &out);
     }
     // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.
@@ -717,7 +730,32 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         NforAddCoarse(color, coarse, in.albedo, p.emitterAlbedo, p.coarseRelative,
                       p.coarseNoise, &out);
     }
-    keep("output", out);
+    return out;
+}
+
+}  // namespace
+
+Image Nfor(const NforInputs &in, const NforParams &p,
+           std::vector<std::pair<std::string, Image>> *stages) {
+    bool partly = false;
+    if (in.alpha)
+        for (float a : in.alpha->data) partly = partly || NforPartlyCovered(a);
+    Image out;
+    if (!partly) {
+        out = NforStraightRun(in, p, stages, nullptr);
+    } else {
+        const Image &alpha = *in.alpha;
+        Image color = NforStraight(*in.color, alpha, 1),
+              features = NforStraight(*in.features, alpha, 1), albedo, variance;
+        if (in.albedo) albedo = NforStraight(*in.albedo, alpha, 1);
+        if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
+        NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
+                            in.variance ? &variance : nullptr};
+        out = NforStraightRun(straight, p, stages, &alpha);
+        if (stages) stages->emplace_back("straight", out);
+        out = NforPremultiply(out, alpha);
+    }
+    if (stages) stages->emplace_back("output", out);
     return out;
 }
 

@@ -141,6 +141,10 @@ struct NforParams {
     // SURE.
     double wideAgreement = 0;
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
+    // With meanRadius and no variance layer, before the restore: specks of the fits' output
+    // clamped (NforClampSpecks, cpu_reference/nfor_specks.h); speckRelative < 0: off.
+    double speckRelative = -1, speckFloor = 0.02;
+    int speckRank = 2;
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
     int keptRadius = 0;
@@ -161,6 +165,10 @@ struct NforInputs {
     const Image *albedo = nullptr;    // divisor for the noise and clamp; emitter test
     const Image *features = nullptr;  // the regression's feature planes, scaled
     const Image *variance = nullptr;  // of the pixel mean, as color
+    // Coverage: each pixel of alpha in [1e-3, 1) has colour, albedo, features divided by it
+    // (variance by its square) before the rest, the output multiplied by it after
+    // (cpu_reference/nfor_alpha.h); nullptr: none.
+    const Image *alpha = nullptr;
 };
 
 // Variance of the pixel mean estimated from `image` (divisor: albedo or nullptr).
@@ -235,7 +243,8 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // with edgeNoise, variance, features, distance,
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
-// fit; with keptRadius, unkept; with coarse, coarse; output).
+// fit; with speckRelative >= 0, specks; with keptRadius, unkept; with coarse, coarse; with
+// partly covered pixels, straight; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

@@ -182,6 +182,21 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
+        nested(FloatParam(
+            "speck-relative",
+            "on a frame without a variance layer, with the local means restored: a "
+            "pixel of the fits' output above (1 + this) x its --speck-rank-th "
+            "brightest neighbour + --speck-floor (a speck the fits left) is scaled down to "
+            "that before the restore, which gives the pixels around it what of its "
+            "light it holds for certain; negative: off",
+            &O::speckRelative, -1, 1e3)),
+        nested(FloatParam("speck-floor", "the absolute part of --speck-relative's bound",
+                          &O::speckFloor, 0, 1e6)),
+        nested(
+            IntParam("speck-rank",
+                     "--speck-relative's bound is over the pixel's this-th brightest "
+                     "neighbour: a pixel with this many bright neighbours (a line's) is kept",
+                     &O::speckRank, 1, 8)),
         nested(
             BoolParam("nfor-coarse",
                       "on every frame, denoise the frame again at half the resolution and "
@@ -201,6 +216,12 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "the coarse pass's difference allowed, relative to the output's "
                           "residual (input - output)",
                           &O::coarseNoise, 0, 1e3)),
+        nested(BoolParam("premultiplied",
+                         "denoise partly covered pixels (alpha between 0 and 1: an edge over a "
+                         "transparent background) as the frame holds them, premultiplied; by "
+                         "default their colour and features are divided by their alpha (the "
+                         "surface they show) and the output multiplied back",
+                         &O::premultiplied)),
         ChoiceParam("nfor-noise",
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
@@ -219,7 +240,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                "output; runs on plain frames";
     }
     std::vector<std::string> Uses() const override {
-        return {"color", "albedo", "normal", "depth", "pivot", "variance"};
+        return {"color", "albedo", "normal", "depth", "pivot", "variance", "alpha"};
     }
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
@@ -245,16 +266,20 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         int pilotReach = !o.pilotBandwidths.empty()
                              ? 3 * std::max(o.radius, o.pilotWideRadius) + o.patchRadius
                              : 0;
+        // The specks' bound reads the fits' output of the 8 neighbours.
+        const int speckReach = o.meanRadius > 0 && o.speckRelative >= 0 ? 1 : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
-                      o.sureRadius + (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) +
-                      keptReach;
+                      o.sureRadius + speckReach +
+                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) + keptReach;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
-            "average; {} for the local means; {} for the kept pixels' mean",
+            "average; {} for the specks' neighbours; {} for the local means; {} for the kept "
+            "pixels' mean",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
-            o.sureRadius, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0, keptReach);
+            o.sureRadius, speckReach, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0,
+            keptReach);
         int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
             features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
@@ -329,13 +354,17 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotWideRadius = o.pilotWideRadius;
         p.wideAgreement = o.wideAgreement;
         p.meanRadius = o.meanRadius;
+        p.speckRelative = o.speckRelative;
+        p.speckFloor = o.speckFloor;
+        p.speckRank = o.speckRank;
         p.keptRadius = o.keptRadius;
         p.weakEmitterAlbedo = o.weakEmitterAlbedo;
         p.coarse = o.coarse;
         p.coarseRelative = o.coarseRelative;
         p.coarseNoise = o.coarseNoise;
         p.coarseGate = o.coarseGate;
-        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance};
+        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance,
+                              o.premultiplied ? nullptr : in.alpha};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);
         std::vector<Stage> stages;
@@ -360,6 +389,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
              {std::pair{"albedo", &in.albedo}, {"normal", &in.normal}, {"depth", &in.depth}})
             if (inputs.Has(layer)) *field = &inputs.Get(layer);
         if (options.pivot == "auto" && inputs.Has("pivot")) in.pivot = &inputs.Get("pivot");
+        if (inputs.Has("alpha")) in.alpha = &inputs.Get("alpha");
         if (options.noise == "auto" && inputs.Has("variance"))
             in.variance = &inputs.Get("variance");
         in.depthScale = depthScale;

@@ -10,8 +10,10 @@
 #include "host/error.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/checks.h"
+#include "host/methods/nfor_alpha.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
+#include "host/methods/nfor_specks.h"
 #include "host/methods/run_memo.h"
 #include "host/vk/gpu_image.h"
 #include "nfor/nfor.h"
@@ -122,12 +124,13 @@ void CheckOptions(const NforOptions &o) {
         o.meanRadius < 0 || !(finite(o.coarseRelative) && o.coarseRelative >= 0) ||
         !(finite(o.coarseNoise) && o.coarseNoise >= 0) ||
         !(finite(o.coarseGate) && o.coarseGate >= 0) ||
-        !(finite(o.wideAgreement) && o.wideAgreement >= 0))
+        !(finite(o.wideAgreement) && o.wideAgreement >= 0) || !finite(o.speckRelative) ||
+        !(finite(o.speckFloor) && o.speckFloor >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, pilot alpha, "
-            "coarse relative, coarse noise, coarse gate and wide agreement finite and >= 0, "
-            "mean radius >= 0",
+            "coarse relative, coarse noise, coarse gate, wide agreement and speck floor finite "
+            "and >= 0, speck relative finite, mean radius >= 0",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -140,14 +143,15 @@ void CheckOptions(const NforOptions &o) {
     if (o.noiseRadius < 1 || o.noiseRadius > NFOR_NOISE_MAX_RADIUS || o.prefilterRadius < 0 ||
         o.prefilterRadius > NFOR_PREFILTER_MAX_RADIUS || o.prefilterPatch < 0 ||
         o.prefilterPatch > NFOR_PREFILTER_MAX_PATCH || o.sureRadius < 0 ||
-        o.sureRadius > NFOR_SURE_MAX_RADIUS)
-        throw Error(fmt::format("nfor: noise radius {} (1..{}), prefilter radius {} (0..{}) "
-                                "and patch {} (0..{}), "
-                                "SURE radius {} (0..{})",
-                                o.noiseRadius, NFOR_NOISE_MAX_RADIUS, o.prefilterRadius,
-                                NFOR_PREFILTER_MAX_RADIUS, o.prefilterPatch,
-                                NFOR_PREFILTER_MAX_PATCH, o.sureRadius, NFOR_SURE_MAX_RADIUS),
-                    ErrorKind::InvalidArgument);
+        o.sureRadius > NFOR_SURE_MAX_RADIUS || o.speckRank < 1 || o.speckRank > 8)
+        throw Error(
+            fmt::format("nfor: noise radius {} (1..{}), prefilter radius {} (0..{}) "
+                        "and patch {} (0..{}), "
+                        "SURE radius {} (0..{}), speck rank {} (1..8)",
+                        o.noiseRadius, NFOR_NOISE_MAX_RADIUS, o.prefilterRadius,
+                        NFOR_PREFILTER_MAX_RADIUS, o.prefilterPatch, NFOR_PREFILTER_MAX_PATCH,
+                        o.sureRadius, NFOR_SURE_MAX_RADIUS, o.speckRank),
+            ErrorKind::InvalidArgument);
 }
 
 // The largest window half-size of the passes.
@@ -176,7 +180,42 @@ void CheckLayers(const NforInputs &in) {
     if (in.normal) CheckLayer(*in.normal, "normal", w, h, 3, false);
     if (in.depth) CheckLayer(*in.depth, "depth", w, h, 1, false);
     if (in.pivot) CheckLayer(*in.pivot, "pivot", w, h, 3, false);
+    if (in.alpha) CheckLayer(*in.alpha, "alpha", w, h, 1, false);
 }
+
+// The inputs with each partly covered pixel divided by its alpha (host/methods/nfor_alpha.h):
+// colour and features by alpha, the variance by alpha^2, depth and pivot then divided by
+// the means of the layers as written (a tile's: the whole frame's). Without an alpha, with
+// no pixel partly covered or with NforOptions::premultiplied: the inputs as they are.
+struct StraightInputs {
+    StraightInputs(const NforInputs &given, const NforOptions &o) : inputs(given) {
+        inputs.alpha = nullptr;
+        if (!given.alpha || o.premultiplied) return;
+        const Image &alpha = *given.alpha;
+        partlyCovered = NforPartlyCovered(alpha);
+        if (partlyCovered == 0) return;
+        auto divide = [&](const Image *image, std::optional<Image> &kept, const Image **field,
+                          int power = 1) {
+            if (!image) return;
+            kept = NforDivideByAlpha(*image, alpha, power);
+            *field = &*kept;
+        };
+        divide(given.color, color, &inputs.color);
+        divide(given.albedo, albedo, &inputs.albedo);
+        divide(given.normal, normal, &inputs.normal);
+        divide(given.depth, depth, &inputs.depth);
+        divide(given.pivot, pivot, &inputs.pivot);
+        divide(given.variance, variance, &inputs.variance, 2);
+        if (inputs.depthScale <= 0) inputs.depthScale = NforDepthScale(given.depth);
+        if (inputs.pivotScale <= 0) inputs.pivotScale = NforPivotScale(given.pivot);
+    }
+    StraightInputs(const StraightInputs &) = delete;
+    StraightInputs &operator=(const StraightInputs &) = delete;
+
+    NforInputs inputs;
+    size_t partlyCovered = 0;
+    std::optional<Image> color, albedo, normal, depth, pivot, variance;
+};
 
 void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
     CheckLayers(in);
@@ -444,9 +483,11 @@ bool OwnClampEstimate(const NforInputs &in, const NforOptions &o) {
     return (!in.variance && !o.noEdgeNoise) || (in.variance && !o.clampLayer);
 }
 
-// Noise, emitters and fireflies, features, the patch distances.
+// Noise, emitters and fireflies, features, the patch distances. `alpha`: the coverage of a
+// frame whose partly covered pixels were divided by it (nullptr: none).
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
-                   RunMemo *memo, const std::string &featuresId, NforResult &result) {
+                   RunMemo *memo, const std::string &featuresId, const Image *alpha,
+                   NforResult &result) {
     vk::Context &context = run.Context();
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
     bool again = !in.variance && !o.noEdgeNoise;
@@ -459,6 +500,12 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     if (again)
         RecordNforNoise(context, run.Recorder(), gpu.clamped, albedo, o.noiseRadius,
                         o.noiseCalibration, gpu.variance, true);
+    if (again && alpha) {
+        // A partly covered pixel divided by its alpha is the mean of a N of its N samples:
+        // 1 / a times the variance of the covered pixels whose pairs its estimate read.
+        run.Submit();
+        gpu.variance.Upload(NforDivideByAlpha(gpu.variance.Download(), *alpha));
+    }
     run.StageAtEnd("variance", gpu.variance);
     RecordFeatures(run, gpu, o, memo, featuresId);
     run.StageAtEnd("features", gpu.filtered);
@@ -616,6 +663,28 @@ void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice
                          o.pilotBandwidths.empty() ? "" : "second pass: ", shares));
 }
 
+// The fits' output (result.image) with its specks clamped on a frame without a variance
+// layer, then the clamped colour's local means restored.
+void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, const Image &mask,
+                  const Image &clamped, NforResult &result) {
+    run.AddStage("fit", result.image);
+    if (o.speckRelative >= 0 && !in.variance) {
+        result.specks =
+            NforClampSpecks(mask, {o.speckRelative, o.speckFloor, o.speckRank}, &result.image);
+        run.AddStage("specks", result.image);
+        run.Plan(fmt::format(
+            "specks: {} pixels of the fits' output above (1 + {}) x the luminance of their "
+            "neighbour ranked {} by brightness + {} scaled down to that, before the local "
+            "means give the pixels around them what of their light they hold for certain",
+            result.specks, o.speckRelative, o.speckRank, o.speckFloor));
+    }
+    LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
+    run.Plan(
+        fmt::format("local mean: the clamped colour's means over tents of radius {}, "
+                    "then {} restored (factors {:.3g} to {:.3g})",
+                    8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
+}
+
 std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
     std::vector<std::pair<std::string, double>> perKernel;
     double total = 0;
@@ -682,13 +751,17 @@ void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions 
     if (!in->variance || o.clampLayer) return;
     CheckLayers(*in);
     CheckOptions(o);
-    in->clampLoss = ClampLoss(
-        *in->color, EstimateOnStrips(context, *in->color, in->albedo, o, stripPixels, true));
+    // The frame as NforDenoise clamps it.
+    StraightInputs straight(*in, o);
+    const NforInputs &frame = straight.inputs;
+    in->clampLoss =
+        ClampLoss(*frame.color,
+                  EstimateOnStrips(context, *frame.color, frame.albedo, o, stripPixels, true));
     if (!NforCoarseRuns(context, *in, o)) return;
     // The coarse pass's frame, as CoarseOutput halves it.
-    Image color = NforHalf(*in->color);
+    Image color = NforHalf(*frame.color);
     std::optional<Image> albedo;
-    if (in->albedo) albedo = NforHalf(*in->albedo);
+    if (frame.albedo) albedo = NforHalf(*frame.albedo);
     in->coarseClampLoss = ClampLoss(
         color,
         EstimateOnStrips(context, color, albedo ? &*albedo : nullptr, o, stripPixels, true));
@@ -699,8 +772,11 @@ double NforCoarseLevel(vk::Context &context, const NforInputs &in, const NforOpt
     if (in.coarseLevel >= 0) return in.coarseLevel;
     CheckLayers(in);
     CheckOptions(o);
-    return NforRelativeNoise(
-        *in.color, EstimateOnStrips(context, *in.color, in.albedo, o, stripPixels, false));
+    // The frame as NforDenoise estimates its noise.
+    StraightInputs straight(in, o);
+    const NforInputs &frame = straight.inputs;
+    return NforRelativeNoise(*frame.color, EstimateOnStrips(context, *frame.color, frame.albedo,
+                                                            o, stripPixels, false));
 }
 
 bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOptions &o,
@@ -710,9 +786,11 @@ bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOption
     return o.coarse || (o.coarseGate > 0 && measured >= o.coarseGate);
 }
 
-NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOptions &o,
+NforResult NforDenoise(vk::Context &context, const NforInputs &given, const NforOptions &o,
                        RunMemo *memo) {
-    CheckInputs(context, in, o);
+    CheckInputs(context, given, o);
+    StraightInputs straight(given, o);
+    const NforInputs &in = straight.inputs;
     std::vector<float> weights;
     std::vector<std::string> names;
     Image featureImage = NforFeatures(in, o, &weights, &names);
@@ -722,7 +800,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     PlanFeatures(run, names, o);
     NforGpu gpu(context, in, featureImage, o);
     RecordPrepare(run, gpu, in, o, memo, memo ? MemoImageId(featureImage) : std::string(),
-                  result);
+                  straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
     RecordPasses(run, gpu, weights, o, out, choice);
@@ -732,14 +810,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
     for (float m : mask.data) result.emitters += m == 0;
     for (size_t i = 0; i < clamped.Size(); ++i)
         result.clamped += clamped.data[i] != in.color->data[i];
-    if (o.meanRadius > 0) {
-        run.AddStage("fit", result.image);
-        LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
-        run.Plan(
-            fmt::format("local mean: the clamped colour's means over tents of radius {}, "
-                        "then {} restored (factors {:.3g} to {:.3g})",
-                        8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
-    }
+    if (o.meanRadius > 0) RestoreMeans(run, in, o, mask, clamped, result);
     const int keptPass = NforKeptPassRadius(o, in.variance, in.albedo);
     if (keptPass > 0) {
         run.AddStage("unkept", result.image);
@@ -799,6 +870,19 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &in, const NforOpt
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
     if (in.variance) PlanClamp(run, in, o, result);
     PlanPasses(run, o, choice, result);
+    if (straight.partlyCovered > 0) {
+        run.AddStage("straight", result.image);
+        NforMultiplyByAlpha(*given.alpha, &result.image);
+        result.partlyCovered = straight.partlyCovered;
+        run.Plan(fmt::format(
+            "alpha: {} partly covered pixels (alpha from {} to under 1) denoised as the "
+            "surface "
+            "they show: colour and features divided by their alpha (a variance layer by its "
+            "square; the frame's own estimate of their noise, read from the covered pixels "
+            "around, by alpha), the output multiplied back (--premultiplied: as the frame "
+            "holds them)",
+            result.partlyCovered, kNforMinAlpha));
+    }
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

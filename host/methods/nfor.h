@@ -91,6 +91,14 @@ struct NforOptions {
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
+    // On a frame without a variance layer, with the local means restored: a pixel of the
+    // fits' output above (1 + speckRelative) x its speckRank-th brightest neighbour +
+    // speckFloor (a
+    // speck the fits left: a glint no neighbour saw) is scaled down to that before the
+    // restore, which gives the pixels around it what of its light the restore holds for
+    // certain (host/methods/nfor_specks.h); speckRelative < 0: off.
+    float speckRelative = 0.2f, speckFloor = 0.01f;
+    int speckRank = 2;  // a pixel with this many bright neighbours (a line's) is kept
     // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted
     // mean of the output over this radius (host/methods/nfor_kept.h); 0: kept.
@@ -107,6 +115,9 @@ struct NforOptions {
     // (NforRelativeNoise of the colour's own estimate) is at least coarseGate (0: never).
     bool coarse = false;
     float coarseRelative = 0.1f, coarseNoise = 0.3f, coarseGate = 0.02f;
+    // Denoise partly covered pixels as the frame holds them, premultiplied by their alpha;
+    // by default divided by it and multiplied back after (host/methods/nfor_alpha.h).
+    bool premultiplied = false;
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
@@ -141,16 +152,24 @@ struct NforInputs {
     // The frame's relative noise that gates the coarse pass (NforCoarseLevel); < 0: this
     // frame's. A tile passes the whole frame's, so that every tile decides alike.
     double coarseLevel = -1;
+    // The coverage (one channel): colour and features of a partly covered pixel
+    // premultiplied by it, as on a transparent background (host/methods/nfor_alpha.h);
+    // nullptr: none.
+    const Image *alpha = nullptr;
 };
 
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,
 // distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates; with a
 // second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
-// with the local means restored, fit (before); output).
+// with the local means restored, fit (before) and with specks clamped, specks (after them);
+// with partly covered pixels divided by their
+// alpha, straight (before they are multiplied back); output).
 struct NforResult : MethodResult {
-    size_t emitters = 0;  // pixels left out as emitters
-    size_t clamped = 0;   // pixel-channels clamped as fireflies
-    size_t kept = 0;      // pixels the fits left as they came in, then smoothed
+    size_t emitters = 0;       // pixels left out as emitters
+    size_t clamped = 0;        // pixel-channels clamped as fireflies
+    size_t kept = 0;           // pixels the fits left as they came in, then smoothed
+    size_t partlyCovered = 0;  // pixels denoised divided by their alpha
+    size_t specks = 0;         // pixels of the fits' output scaled down as specks
     // Beside a variance layer: the fraction of the light the estimate's clamp took off, and
     // whether the clamp read the layer after all (NforOptions::clampLoss).
     double clampLoss = 0;

@@ -16,16 +16,20 @@
 #include <vector>
 
 #include "cpu_reference/nfor.h"
+#include "cpu_reference/nfor_alpha.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
+#include "cpu_reference/nfor_specks.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
+#include "host/methods/nfor_alpha.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
+#include "host/methods/nfor_specks.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
 #include "nfor/nfor.h"
@@ -853,6 +857,25 @@ NforInputs InputsOf(const Frame &f) {
     return in;
 }
 
+// The frame over a transparent background: pixels left of a slanted edge covered, right of
+// it empty (alpha 0: colour, albedo, normal and depth 0), a band of pixels along it partly
+// covered (alpha k / 16, k from 1 to 15, as 16 samples draw it), their colour, features and
+// truth premultiplied by alpha. Returns the alpha.
+Image Cover(Frame *f) {
+    int w = f->color.width, h = f->color.height;
+    Image alpha(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            // The covered share of the pixel: 1 left of the edge, falling over 3 pixels.
+            double edge = 0.5 * w + 0.2 * y, covered = std::clamp((edge - x) / 3, 0.0, 1.0);
+            float a = float(std::round(16 * covered) / 16);
+            alpha.At(0, y, x) = a;
+            for (Image *layer : {&f->color, &f->albedo, &f->normal, &f->depth, &f->truth})
+                for (int c = 0; c < layer->channels; ++c) layer->At(c, y, x) *= a;
+        }
+    return alpha;
+}
+
 class NforMethod : public GpuTest {};
 
 // The whole method's stages against the reference's, by name: the stages before the
@@ -863,8 +886,9 @@ class NforMethod : public GpuTest {};
 // seventh pixel's 100x (a firefly among its samples) and every eleventh's 0 (samples that
 // agreed).
 void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &options,
-                       bool withVariance = false) {
+                       bool withVariance = false, bool covered = false) {
     Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
+    Image alpha = covered ? Cover(&f) : Image();
     Image variance(w, h, 3);
     for (size_t i = 0; i < variance.Size(); ++i) {
         double sigma = 0.3 * f.truth.data[i];
@@ -872,6 +896,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     }
     NforInputs gpuIn = InputsOf(f);
     if (withVariance) gpuIn.variance = &variance;
+    if (covered) gpuIn.alpha = &alpha;
     NforOptions o = options;
     o.keepStages = true;
     NforResult gpu = NforDenoise(context, gpuIn, o);
@@ -885,6 +910,9 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
     p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
     p.meanRadius = o.meanRadius;
+    p.speckRelative = o.speckRelative;
+    p.speckFloor = o.speckFloor;
+    p.speckRank = o.speckRank;
     p.noiseRadius = o.noiseRadius;
     p.fireflyRank = o.fireflyRank;
     p.fireflyLightEdge = o.fireflyLightEdge;
@@ -904,7 +932,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.noiseMinCalibration = o.noiseCalibration;
     p.clampEstimate = !o.clampLayer;
     p.clampLoss = o.clampLoss;
-    ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr};
+    ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr,
+                          covered && !o.premultiplied ? &alpha : nullptr};
     std::vector<std::pair<std::string, Image>> cpu;
     Image expected = ref::Nfor(cpuIn, p, &cpu);
     ASSERT_EQ(gpu.stages.size(), cpu.size());
@@ -967,6 +996,167 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     o.clampLayer = false;
     o.clampLoss = 0;
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
+}
+
+// Partly covered pixels over a transparent background: divided by their alpha before the
+// method (the variance layer by its square) and multiplied back after; with the coarse and
+// the kept pixels' passes too.
+TEST_F(NforMethod, PartlyCoveredStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    for (bool variance : {false, true})
+        for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{9, 4}}) {
+            SCOPED_TRACE(fmt::format("variance {} {}x{}", variance, w, h));
+            ExpectStagesMatch(Ctx(), w, h, o, variance, true);
+        }
+    o.coarse = true;
+    o.keptRadius = 2;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, true);
+}
+
+// A noisy surface's silhouette over a transparent background: its partly covered pixels,
+// divided by their alpha, are fitted with the surface around them and come out with a
+// smaller error than denoised as the frame holds them; the covered and the empty pixels
+// change little. An alpha of 1 and 0 only, or --premultiplied, gives the bits of a run
+// without an alpha; reruns are bit-identical.
+TEST_F(NforMethod, DenoisesPartlyCoveredPixelsAsTheirSurface) {
+    Frame f = MakeFrame(48, 40, 0.3, "silhouette");
+    Image alpha = Cover(&f);
+    NforInputs in = InputsOf(f);
+    in.alpha = &alpha;
+    NforOptions straight, premultiplied;
+    premultiplied.premultiplied = true;
+    NforResult a = NforDenoise(Ctx(), in, straight), b = NforDenoise(Ctx(), in, premultiplied);
+    EXPECT_EQ(a.partlyCovered, NforPartlyCovered(alpha));
+    EXPECT_GT(a.partlyCovered, 40u);
+    EXPECT_EQ(b.partlyCovered, 0u);
+    // relMSE over the pixels whose alpha is in (lo, hi].
+    auto error = [&](const Image &out, float lo, float hi) {
+        double sum = 0;
+        size_t count = 0;
+        for (size_t i = 0; i < alpha.PixelCount(); ++i) {
+            if (!(alpha.data[i] > lo && alpha.data[i] <= hi)) continue;
+            for (int c = 0; c < 3; ++c) {
+                double t = f.truth.Plane(c)[i], d = out.Plane(c)[i] - t;
+                sum += d * d / (t * t + 0.01);
+            }
+            ++count;
+        }
+        return sum / double(3 * count);
+    };
+    const float below = std::nextafter(1.f, 0.f);
+    EXPECT_LT(error(a.image, 0, below), 0.5 * error(b.image, 0, below))
+        << error(a.image, 0, below) << " against " << error(b.image, 0, below);
+    EXPECT_LT(error(a.image, below, 1), 1.05 * error(b.image, below, 1));
+    EXPECT_TRUE(BitIdentical(a.image, NforDenoise(Ctx(), in, straight).image));
+    NforInputs without = InputsOf(f);
+    EXPECT_TRUE(BitIdentical(b.image, NforDenoise(Ctx(), without, straight).image));
+    Image whole = alpha;
+    for (float &v : whole.data) v = v > 0 ? 1.f : 0.f;
+    in.alpha = &whole;
+    EXPECT_TRUE(BitIdentical(b.image, NforDenoise(Ctx(), in, straight).image));
+}
+
+// The specks' clamp against its reference on values of every kind (fireflies and impulses
+// among them), masks with emitters, frames of one pixel, one row and 3x3: the same pixels
+// change, to round-off; some do.
+TEST(NforSpecks, MatchesTheReference) {
+    size_t changed = 0;
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::Impulse}) {
+            std::string name = fmt::format("specks {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            Image input = MakeVarianceInput(kind, w, h, 3, seed);
+            Image mask(w, h, 1, 1.f);
+            for (size_t i = 5; i < mask.Size(); i += 13) mask.data[i] = 0;
+            Image gpuSide = input, cpuSide = input;
+            int rank = 1 + int(seed % 4);
+            size_t count = NforClampSpecks(mask, {0.3f, 0.02f, rank}, &gpuSide);
+            ref::NforClampSpecks(mask, rank, 0.3, 0.02, &cpuSide);
+            EXPECT_TRUE(ImagesMatch(cpuSide, gpuSide, {}, {4 * kU, 0, 1e-12})) << name;
+            size_t moved = 0;
+            for (size_t i = 0; i < input.PixelCount(); ++i)
+                moved += input.data[i] != cpuSide.data[i] ||
+                         input.Plane(1)[i] != cpuSide.Plane(1)[i] ||
+                         input.Plane(2)[i] != cpuSide.Plane(2)[i];
+            EXPECT_EQ(count, moved) << name;
+            changed += count;
+        }
+    EXPECT_GT(changed, 0u);
+}
+
+// A speck the firefly clamp leaves (a pixel at 1.7x its flat neighbours, under the clamp's
+// limit) and the fits keep (its normal unlike its neighbours') comes out near its neighbours:
+// scaled down to the bound, its light given to the pixels around it by the local means, the
+// frame's sum kept; with
+// --speck-relative -1 it stays. A line a pixel wide (two bright neighbours each) is kept.
+TEST_F(NforMethod, ClampsASpeckTheFitsLeaveAndKeepsItsLight) {
+    int w = 32, h = 32;
+    Frame f = MakeFrame(w, h, 0, "speck");
+    std::mt19937_64 rng(SeedFromName("speck noise"));
+    std::normal_distribution<double> normal(0, 0.05);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                f.albedo.At(c, y, x) = 0.5f;
+                f.truth.At(c, y, x) = 0.25f;
+                f.color.At(c, y, x) = float(0.25 * (1 + normal(rng)));
+                // A wire a sample hit: its normal unlike the ground's, so the fits weigh
+                // only itself (and a line's pixels one another).
+                if ((x == 16 && y == 16) || (x == 6 && y >= 4 && y < 28)) {
+                    f.color.At(c, y, x) = 0.425f;
+                    f.normal.At(c, y, x) = c == 2 ? 1.f : 0.f;
+                }
+            }
+    NforOptions on, off;
+    off.speckRelative = -1;
+    NforResult a = NforDenoise(Ctx(), InputsOf(f), on),
+               b = NforDenoise(Ctx(), InputsOf(f), off);
+    EXPECT_EQ(b.specks, 0u);
+    EXPECT_GE(a.specks, 1u);
+    EXPECT_GT(b.image.At(1, 16, 16), 0.38f);
+    EXPECT_LT(a.image.At(1, 16, 16), 0.36f);
+    double sumA = 0, sumB = 0;
+    for (size_t i = 0; i < a.image.Size(); ++i)
+        sumA += a.image.data[i], sumB += b.image.data[i];
+    EXPECT_NEAR(sumA / sumB, 1.0, 1e-3);
+    for (int y = 8; y < 24; ++y) EXPECT_GT(a.image.At(1, y, 6), 0.38f) << y;
+}
+
+// The division by alpha (and by its square) and the multiplication back against their
+// references: alphas under the floor, at it, between, 1, above 1 and negative, on values of
+// every kind; only the partly covered pixels change.
+TEST(NforAlpha, MatchesTheReference) {
+    const float special[] = {0.f, 5e-4f, 1e-3f, 1.f / 16, 0.5f, 15.f / 16, 1.f, 1.5f, -0.25f};
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}})
+        for (InputKind kind :
+             {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant}) {
+            std::string name = fmt::format("alpha {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            Image image = MakeInput(kind, w, h, 3, seed);
+            Image alpha = MakeVarianceInput(InputKind::Uniform, w, h, 1, seed + 1);
+            for (size_t i = 0; i < alpha.Size() && i < std::size(special); ++i)
+                alpha.data[i] = special[i];
+            size_t partly = 0;
+            for (float a : alpha.data) partly += ref::NforPartlyCovered(a);
+            EXPECT_EQ(NforPartlyCovered(alpha), partly) << name;
+            const Tolerance tolerance{4 * kU, 0, 1e-12};
+            for (int power : {1, 2}) {
+                Image divided = NforDivideByAlpha(image, alpha, power);
+                EXPECT_TRUE(
+                    ImagesMatch(ref::NforStraight(image, alpha, power), divided, {}, tolerance))
+                    << name << " power " << power;
+                for (size_t i = 0; i < image.Size(); ++i)
+                    if (!ref::NforPartlyCovered(alpha.data[i % alpha.PixelCount()]))
+                        ASSERT_EQ(std::memcmp(&image.data[i], &divided.data[i], 4), 0) << name;
+            }
+            Image multiplied = image;
+            NforMultiplyByAlpha(alpha, &multiplied);
+            EXPECT_TRUE(
+                ImagesMatch(ref::NforPremultiply(image, alpha), multiplied, {}, tolerance))
+                << name;
+        }
 }
 
 // A frame whose light is in rare bright samples (one pixel in 8 saw a caustic through 4 of
@@ -1215,8 +1405,8 @@ TEST(NforKept, MatchesTheReferenceAndRepeats) {
     for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}, std::pair{16, 16}})
         for (InputKind kind :
              {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant})
-            for (auto [weak, keptPixels] : {std::pair{0.f, true}, std::pair{1.8f, true},
-                                            std::pair{1.8f, false}}) {
+            for (auto [weak, keptPixels] :
+                 {std::pair{0.f, true}, std::pair{1.8f, true}, std::pair{1.8f, false}}) {
                 std::string name = fmt::format("kept {}x{} {} weak {} kept pixels {}", w, h,
                                                InputKindName(kind), weak, keptPixels);
                 uint64_t seed = SeedFromName(name);

@@ -317,6 +317,43 @@ TEST_F(GpuTest, TiledRunNforCoarseGateDecidesOnceForTheFrame) {
     EXPECT_TRUE(wholeFrame) << "the plan says the level is the frame's";
 }
 
+// nfor on a plain frame over a transparent background (no variance layer, an alpha with
+// partly covered pixels, colour and features premultiplied): the division by alpha, the
+// specks' clamp (which reads the fits' output of its neighbours) and the weak emitters'
+// pass give in tiles the untiled result bit for bit.
+TEST_F(GpuTest, TiledRunNforPlainFrameWithAlphaIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 320, height = 40, tile = 64;
+    Frame frame = RenderedFrame(width, height, render::kLayersAll);
+    frame.layers.erase("variance");
+    Image alpha(width, height, 1);
+    std::mt19937_64 rng(SeedFromName("tiled alpha"));
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            // Covered left of a slanted edge, empty right of it, 16 samples' coverage on it.
+            double covered = std::clamp((0.6 * width + 0.5 * y - x) / 4.0, 0.0, 1.0);
+            float a = float(std::round(16 * covered) / 16);
+            alpha.At(0, y, x) = a;
+            for (const char *layer : {"color", "albedo", "normal", "depth"}) {
+                auto it = frame.layers.find(layer);
+                if (it == frame.layers.end()) continue;
+                for (int c = 0; c < it->second.channels; ++c) it->second.At(c, y, x) *= a;
+            }
+        }
+    frame.layers["alpha"] = alpha;
+    Params params = {{"radius", 3}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
+    EXPECT_EQ(tiled.plan[0].find("1 tile(s)"), std::string::npos) << tiled.plan[0];
+    bool divided = false;
+    for (const std::string &line : whole.plan)
+        divided = divided || line.find("partly covered pixels") != std::string::npos;
+    EXPECT_TRUE(divided) << "the plan names the pixels divided by their alpha";
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled with alpha");
+}
+
 // The wavelet methods' statistics are frame-wide: in tiles they complete with a finite
 // image of the frame's size, the plan says the result differs and why, and the difference
 // from the untiled result stays within the bound measured on this frame (relative RMS over

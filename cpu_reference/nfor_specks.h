@@ -1,0 +1,14 @@
+// nfor's specks clamped (host/methods/nfor_specks.h), the CPU reference, in double.
+#pragma once
+
+#include "host/image.h"
+
+namespace mcd::ref {
+
+// Each pixel p of `output` with mask 1, all 8 neighbours inside the frame and none of mask
+// 0: with L the mean of a pixel's channels and n the rank-th
+// largest L of its neighbours, where L_p > b = (1 + relative) n + floor, every channel
+// becomes its value times b / L_p. L, n and b are read on the output before any change.
+void NforClampSpecks(const Image &mask, int rank, double relative, double floor, Image *output);
+
+}  // namespace mcd::ref

@@ -1,0 +1,58 @@
+#include "host/methods/nfor_specks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <vector>
+
+namespace mcd {
+
+namespace {
+
+// The mean of the channels at pixel i, in double.
+double Luminance(const Image &image, size_t i) {
+    double sum = 0;
+    for (int c = 0; c < image.channels; ++c) sum += image.Plane(c)[i];
+    return sum / image.channels;
+}
+
+}  // namespace
+
+size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &s, Image *output) {
+    const Image in = *output;
+    const int w = in.width, h = in.height;
+    std::vector<double> luminance(in.PixelCount());
+    for (size_t i = 0; i < luminance.size(); ++i) luminance[i] = Luminance(in, i);
+    size_t changed = 0;
+    std::vector<double> around;
+    // A border pixel has fewer neighbours to be bright with it: left.
+    for (int y = 1; y + 1 < h; ++y)
+        for (int x = 1; x + 1 < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (mask.data[p] != 1) continue;
+            around.clear();
+            bool nearEmitter = false, finite = true;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u) {
+                    if (u == x && v == y) continue;
+                    const size_t q = size_t(v) * w + u;
+                    nearEmitter = nearEmitter || mask.data[q] == 0;
+                    finite = finite && std::isfinite(luminance[q]);
+                    around.push_back(luminance[q]);
+                }
+            if (nearEmitter || !finite) continue;
+            const int k = std::clamp(s.rank, 1, 8) - 1;
+            std::nth_element(around.begin(), around.begin() + k, around.end(),
+                             std::greater<double>());
+            const double bound = (1.0 + s.relative) * around[k] + double(s.floor);
+            const double l = luminance[p];
+            if (!(l > bound)) continue;
+            const double scale = bound / l;
+            for (int c = 0; c < in.channels; ++c)
+                output->Plane(c)[p] = float(double(in.Plane(c)[p]) * scale);
+            ++changed;
+        }
+    return changed;
+}
+
+}  // namespace mcd

@@ -1,0 +1,29 @@
+// nfor's specks clamped (beyond the papers): a pixel far above all its neighbours whose
+// fits weighed only itself (a sample that hit a sunlit wire under a pixel wide, its normal
+// and albedo unlike the ground's: a glint no neighbour saw) comes out of the fits as bright
+// as the firefly clamp left it, a speck where the reference spreads that light thinly over
+// the wire around it. On a frame without a variance layer the fits' output at such a pixel
+// is scaled down to a bound over its neighbours' outputs, before the local means are
+// restored (host/common/local_mean.h, against the clamped colour), which give the pixels
+// around it as much of its light as they hold for certain.
+#pragma once
+
+#include "host/image.h"
+
+namespace mcd {
+
+struct NforSpeckSettings {
+    float relative = 0.2f;  // bound: (1 + relative) x the rank-th brightest neighbour + floor
+    float floor = 0.01f;
+    // A pixel with this many bright neighbours or more (a line's, a highlight's) is kept.
+    int rank = 2;
+};
+
+// Each pixel of `output` (mask 1, not on the frame's border, no emitter, mask 0, among its
+// 8 neighbours) whose luminance (the mean of its channels) is
+// above (1 + relative) n + floor, n the rank-th largest (1 to 8) luminance of its
+// neighbours, scaled by that bound over its luminance (its hue kept); every decision on the
+// output as it came in. Returns how many pixels changed.
+size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &settings, Image *output);
+
+}  // namespace mcd
