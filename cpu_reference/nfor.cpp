@@ -612,6 +612,36 @@ Image NforPass(const Image &clamped, const Image &variance, const Image &feature
 
 namespace {
 
+// Whether the coarse pass runs: always with p.coarse, else where the frame's noise relative
+// to relMSE's denominator, from its own estimate, reaches p.coarseGate.
+bool NforCoarseGateOpen(const Image &color, const Image *albedo, const NforParams &p) {
+    if (p.coarse) return true;
+    if (p.coarseGate <= 0) return false;
+    Image own = NforNoise(color, albedo, p.noiseRadius, p.noiseMinCalibration);
+    return NforRelativeNoise(color, own) >= p.coarseGate;
+}
+
+// Give `out` the low frequencies of the same method at half the resolution (without a coarse
+// pass of its own) where the two differ by little.
+void AddCoarse(const NforInputs &in, const NforParams &p,
+               std::vector<std::pair<std::string, Image>> *stages, Image *out) {
+    const Image &color = *in.color;
+    // The same method at half the resolution, without a coarse pass of its own.
+    Image halfColor = NforHalf(color), halfFeatures = NforHalf(*in.features), halfAlbedo,
+          halfVariance;
+    if (in.albedo) halfAlbedo = NforHalf(*in.albedo);
+    if (in.variance) halfVariance = NforHalf(*in.variance, true);
+    NforInputs half{&halfColor, in.albedo ? &halfAlbedo : nullptr, &halfFeatures,
+                    in.variance ? &halfVariance : nullptr};
+    NforParams coarseParams = p;
+    coarseParams.coarse = false;
+    coarseParams.coarseGate = 0;
+    Image coarse = Nfor(half, coarseParams, nullptr);
+    if (stages) stages->emplace_back("coarse", coarse);
+    NforAddCoarse(color, coarse, in.albedo, p.emitterAlbedo, p.coarseRelative, p.coarseNoise,
+                  out);
+}
+
 // The method on straight values (every stage but output), its result before any alpha;
 // `alpha`: the coverage the partly covered pixels were divided by (nullptr: none).
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
@@ -708,28 +738,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         NforSmoothKept(color, features, p.featureWeights, mask, keptPass, p.weakEmitterAlbedo,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
-    bool coarseRuns = p.coarse;
-    if (!p.coarse && p.coarseGate > 0) {
-        // The gate: the frame's noise relative to relMSE's denominator, its own estimate.
-        Image own = NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
-        coarseRuns = NforRelativeNoise(color, own) >= p.coarseGate;
-    }
-    if (coarseRuns) {
-        // The same method at half the resolution, without a coarse pass of its own.
-        Image halfColor = NforHalf(color), halfFeatures = NforHalf(*in.features), halfAlbedo,
-              halfVariance;
-        if (in.albedo) halfAlbedo = NforHalf(*in.albedo);
-        if (in.variance) halfVariance = NforHalf(*in.variance, true);
-        NforInputs half{&halfColor, in.albedo ? &halfAlbedo : nullptr, &halfFeatures,
-                        in.variance ? &halfVariance : nullptr};
-        NforParams coarseParams = p;
-        coarseParams.coarse = false;
-        coarseParams.coarseGate = 0;
-        Image coarse = Nfor(half, coarseParams, nullptr);
-        keep("coarse", coarse);
-        NforAddCoarse(color, coarse, in.albedo, p.emitterAlbedo, p.coarseRelative,
-                      p.coarseNoise, &out);
-    }
+    if (NforCoarseGateOpen(color, in.albedo, p)) AddCoarse(in, p, stages, &out);
     return out;
 }
 

@@ -143,7 +143,7 @@ struct NforParams {
     int meanRadius = 4;  // restore the clamped colour's local means (tent 2r); 0: off
     // With meanRadius and no variance layer, before the restore: specks of the fits' output
     // clamped (NforClampSpecks, cpu_reference/nfor_specks.h); speckRelative < 0: off.
-    double speckRelative = -1, speckFloor = 0.02;
+    double speckRelative = -1, speckFloor = 0.01;
     int speckRank = 2;
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.

@@ -184,11 +184,11 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         &O::meanRadius, 0, 64)),
         nested(FloatParam(
             "speck-relative",
-            "on a frame without a variance layer, with the local means restored: a "
-            "pixel of the fits' output above (1 + this) x its --speck-rank-th "
-            "brightest neighbour + --speck-floor (a speck the fits left) is scaled down to "
-            "that before the restore, which gives the pixels around it what of its "
-            "light it holds for certain; negative: off",
+            "where no variance layer is read (the frame's own noise estimate), with the "
+            "local means restored: a pixel of the fits' output above (1 + this) x its "
+            "--speck-rank-th brightest neighbour + --speck-floor (a speck the fits left) is "
+            "scaled down to that before the restore, which gives the pixels around it what "
+            "of its light it holds for certain; negative: off",
             &O::speckRelative, -1, 1e3)),
         nested(FloatParam("speck-floor", "the absolute part of --speck-relative's bound",
                           &O::speckFloor, 0, 1e6)),
@@ -207,7 +207,8 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
         nested(FloatParam("coarse-gate",
                           "the coarse pass runs on a frame whose noise as relMSE weighs it "
                           "(the median over the pixels of its own estimate / (colour^2 + "
-                          "0.01)) is at least this; 0: never (without --nfor-coarse)",
+                          "0.01), partly covered pixels divided by their alpha) is at least "
+                          "this; 0: never (without --nfor-coarse)",
                           &O::coarseGate, 0, 1e3)),
         nested(FloatParam("coarse-relative",
                           "the coarse pass's difference allowed, relative to the output",

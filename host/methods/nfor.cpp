@@ -744,6 +744,37 @@ std::string PlanCoarseGate(const NforInputs &in, const NforOptions &o, double le
         level >= o.coarseGate ? "at least" : "under", o.coarseGate);
 }
 
+// Give the output the coarse pass's low frequencies where the gate lets it run. The gate
+// reads the clamp's estimate this run made where it has one (the same bits as
+// NforCoarseLevel's strips), so a frame it leaves spends nothing more.
+void AddCoarsePass(vk::Context &context, StagedRun &run, NforGpu &gpu, const NforInputs &in,
+                   const NforOptions &o, NforResult &result) {
+    double coarseLevel = -1;
+    bool coarseRuns = o.coarse;
+    if (!o.coarse && o.coarseGate > 0) {
+        coarseLevel = in.coarseLevel >= 0 || !OwnClampEstimate(in, o)
+                          ? NforCoarseLevel(context, in, o)
+                          : NforRelativeNoise(*in.color, gpu.clampVariance.Download());
+        coarseRuns = coarseLevel >= o.coarseGate;
+    }
+    std::optional<Image> coarse;
+    if (coarseRuns) coarse = CoarseOutput(context, in, o);
+    result.coarseLevel = coarseLevel;
+    result.coarseRan = coarseRuns;
+    if (coarse) {
+        run.AddStage("coarse", *coarse);
+        NforAddCoarse(*in.color, *coarse, in.albedo, o.emitterAlbedo, o.coarseRelative,
+                      o.coarseNoise, &result.image);
+        run.Plan(fmt::format(
+            "coarse pass: the frame denoised again at half the resolution; its low "
+            "frequencies taken where they differ by under min({} x the output's magnitude, "
+            "{} x its residual){}",
+            o.coarseRelative, o.coarseNoise, PlanCoarseGate(in, o, coarseLevel)));
+    } else if (o.coarseGate > 0) {
+        run.Plan("left out: the coarse pass" + PlanCoarseGate(in, o, coarseLevel));
+    }
+}
+
 }  // namespace
 
 void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions &o,
@@ -757,7 +788,7 @@ void NforFrameClampLoss(vk::Context &context, NforInputs *in, const NforOptions 
     in->clampLoss =
         ClampLoss(*frame.color,
                   EstimateOnStrips(context, *frame.color, frame.albedo, o, stripPixels, true));
-    if (!NforCoarseRuns(context, *in, o)) return;
+    if (!NforCoarseRuns(context, frame, o, nullptr, stripPixels)) return;
     // The coarse pass's frame, as CoarseOutput halves it.
     Image color = NforHalf(*frame.color);
     std::optional<Image> albedo;
@@ -780,8 +811,9 @@ double NforCoarseLevel(vk::Context &context, const NforInputs &in, const NforOpt
 }
 
 bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOptions &o,
-                    double *level) {
-    double measured = o.coarse || o.coarseGate <= 0 ? -1 : NforCoarseLevel(context, in, o);
+                    double *level, int stripPixels) {
+    double measured =
+        o.coarse || o.coarseGate <= 0 ? -1 : NforCoarseLevel(context, in, o, stripPixels);
     if (level) *level = measured;
     return o.coarse || (o.coarseGate > 0 && measured >= o.coarseGate);
 }
@@ -831,32 +863,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                         "features",
                         what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
-    // The gate reads the clamp's estimate this run made where it has one (the same bits as
-    // NforCoarseLevel's strips), so a frame it leaves spends nothing more.
-    double coarseLevel = -1;
-    bool coarseRuns = o.coarse;
-    if (!o.coarse && o.coarseGate > 0) {
-        coarseLevel = in.coarseLevel >= 0 || !OwnClampEstimate(in, o)
-                          ? NforCoarseLevel(context, in, o)
-                          : NforRelativeNoise(*in.color, gpu.clampVariance.Download());
-        coarseRuns = coarseLevel >= o.coarseGate;
-    }
-    std::optional<Image> coarse;
-    if (coarseRuns) coarse = CoarseOutput(context, in, o);
-    result.coarseLevel = coarseLevel;
-    result.coarseRan = coarseRuns;
-    if (coarse) {
-        run.AddStage("coarse", *coarse);
-        NforAddCoarse(*in.color, *coarse, in.albedo, o.emitterAlbedo, o.coarseRelative,
-                      o.coarseNoise, &result.image);
-        run.Plan(fmt::format(
-            "coarse pass: the frame denoised again at half the resolution; its low "
-            "frequencies taken where they differ by under min({} x the output's magnitude, "
-            "{} x its residual){}",
-            o.coarseRelative, o.coarseNoise, PlanCoarseGate(in, o, coarseLevel)));
-    } else if (o.coarseGate > 0) {
-        run.Plan("left out: the coarse pass" + PlanCoarseGate(in, o, coarseLevel));
-    }
+    AddCoarsePass(context, run, gpu, in, o, result);
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
                     "window and kept as they are (a lone one far above its neighbours: "
@@ -876,11 +883,10 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
         result.partlyCovered = straight.partlyCovered;
         run.Plan(fmt::format(
             "alpha: {} partly covered pixels (alpha from {} to under 1) denoised as the "
-            "surface "
-            "they show: colour and features divided by their alpha (a variance layer by its "
-            "square; the frame's own estimate of their noise, read from the covered pixels "
-            "around, by alpha), the output multiplied back (--premultiplied: as the frame "
-            "holds them)",
+            "surface they show: colour and features divided by their alpha (a variance layer "
+            "by its square; the frame's own estimate of their noise, read from the covered "
+            "pixels around, by alpha), the output multiplied back (--premultiplied: as the "
+            "frame holds them)",
             result.partlyCovered, kNforMinAlpha));
     }
     run.AddStage("output", result.image);

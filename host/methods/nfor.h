@@ -91,12 +91,12 @@ struct NforOptions {
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
-    // On a frame without a variance layer, with the local means restored: a pixel of the
-    // fits' output above (1 + speckRelative) x its speckRank-th brightest neighbour +
-    // speckFloor (a
-    // speck the fits left: a glint no neighbour saw) is scaled down to that before the
-    // restore, which gives the pixels around it what of its light the restore holds for
-    // certain (host/methods/nfor_specks.h); speckRelative < 0: off.
+    // Where no variance layer is read (the noise is the frame's own estimate), with the local
+    // means restored: a pixel of the fits' output above (1 + speckRelative) x its
+    // speckRank-th brightest neighbour + speckFloor (a speck the fits left: a glint no
+    // neighbour saw) is scaled down to that before the restore, which gives the pixels
+    // around it what of its light the restore holds for certain
+    // (host/methods/nfor_specks.h); speckRelative < 0: off.
     float speckRelative = 0.2f, speckFloor = 0.01f;
     int speckRank = 2;  // a pixel with this many bright neighbours (a line's) is kept
     // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
@@ -162,8 +162,8 @@ struct NforInputs {
 // distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates; with a
 // second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
 // with the local means restored, fit (before) and with specks clamped, specks (after them);
-// with partly covered pixels divided by their
-// alpha, straight (before they are multiplied back); output).
+// with partly covered pixels divided by their alpha, straight (before they are multiplied
+// back); output).
 struct NforResult : MethodResult {
     size_t emitters = 0;       // pixels left out as emitters
     size_t clamped = 0;        // pixel-channels clamped as fireflies
@@ -206,9 +206,10 @@ double NforCoarseLevel(vk::Context &context, const NforInputs &in, const NforOpt
                        int stripPixels = 1 << 22);
 
 // Whether the coarse pass runs on this frame (NforOptions::coarse, coarseGate); `level`,
-// when given, receives the level the gate read (< 0 where none was measured).
+// when given, receives the level the gate read (< 0 where none was measured; strips as
+// NforCoarseLevel's).
 bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOptions &options,
-                    double *level = nullptr);
+                    double *level = nullptr, int stripPixels = 1 << 22);
 
 // Whether the second pass's colour distance is normalised by 2 min(v_p, v_q).
 bool NforPilotMinVariance(const NforOptions &o);

@@ -10,7 +10,7 @@ namespace mcd {
 namespace {
 
 // The mean of the channels at pixel i, in double.
-double Luminance(const Image &image, size_t i) {
+double ChannelMean(const Image &image, size_t i) {
     double sum = 0;
     for (int c = 0; c < image.channels; ++c) sum += image.Plane(c)[i];
     return sum / image.channels;
@@ -22,7 +22,7 @@ size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &s, Image *out
     const Image in = *output;
     const int w = in.width, h = in.height;
     std::vector<double> luminance(in.PixelCount());
-    for (size_t i = 0; i < luminance.size(); ++i) luminance[i] = Luminance(in, i);
+    for (size_t i = 0; i < luminance.size(); ++i) luminance[i] = ChannelMean(in, i);
     size_t changed = 0;
     std::vector<double> around;
     // A border pixel has fewer neighbours to be bright with it: left.

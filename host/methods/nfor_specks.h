@@ -20,10 +20,10 @@ struct NforSpeckSettings {
 };
 
 // Each pixel of `output` (mask 1, not on the frame's border, no emitter, mask 0, among its
-// 8 neighbours) whose luminance (the mean of its channels) is
-// above (1 + relative) n + floor, n the rank-th largest (1 to 8) luminance of its
-// neighbours, scaled by that bound over its luminance (its hue kept); every decision on the
-// output as it came in. Returns how many pixels changed.
+// 8 neighbours) whose luminance (the mean of its channels) is above (1 + relative) n +
+// floor, n the rank-th largest (1 to 8) luminance of its neighbours, scaled by that bound
+// over its luminance (its hue kept); every decision on the output as it came in. Returns
+// how many pixels changed.
 size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &settings, Image *output);
 
 }  // namespace mcd

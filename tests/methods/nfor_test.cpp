@@ -811,8 +811,10 @@ TEST_P(NforAgreementKernel, MatchesReferenceAndRepeats) {
         }
     EXPECT_EQ(mismatches, 0);
     EXPECT_LE(ties, w * h / 10 + 1) << "too many near-ties to test the choice";
-    if (split) EXPECT_GT(taken[0], 0) << "the narrow candidate is taken somewhere";
-    if (split) EXPECT_GT(taken[1] + taken[2], 0) << "a wide candidate is taken somewhere";
+    if (split) {
+        EXPECT_GT(taken[0], 0) << "the narrow candidate is taken somewhere";
+        EXPECT_GT(taken[1] + taken[2], 0) << "a wide candidate is taken somewhere";
+    }
     EXPECT_TRUE(BitIdentical(actual, run(&choiceAgain)));
     EXPECT_TRUE(BitIdentical(choice, choiceAgain));
 }
@@ -1147,9 +1149,11 @@ TEST(NforAlpha, MatchesTheReference) {
                 EXPECT_TRUE(
                     ImagesMatch(ref::NforStraight(image, alpha, power), divided, {}, tolerance))
                     << name << " power " << power;
-                for (size_t i = 0; i < image.Size(); ++i)
-                    if (!ref::NforPartlyCovered(alpha.data[i % alpha.PixelCount()]))
+                for (size_t i = 0; i < image.Size(); ++i) {
+                    if (!ref::NforPartlyCovered(alpha.data[i % alpha.PixelCount()])) {
                         ASSERT_EQ(std::memcmp(&image.data[i], &divided.data[i], 4), 0) << name;
+                    }
+                }
             }
             Image multiplied = image;
             NforMultiplyByAlpha(alpha, &multiplied);
@@ -1397,6 +1401,37 @@ TEST_F(NforMethod, CoarseGateRunsThePassOnNoisyFramesOnly) {
     }
 }
 
+// The coarse gate's level on a frame whose every pixel is half covered (alpha 0.5, colour
+// and features premultiplied) is read on the frame divided by alpha, as the run reads it:
+// NforCoarseLevel (what tiles read) gives the run's level bit for bit, the reference's on
+// the straight frame, and not the premultiplied frame's.
+TEST_F(NforMethod, CoarseGateReadsTheFrameDividedByAlpha) {
+    NforOptions o;
+    o.radius = 3;
+    const int w = 29, h = 23;
+    Frame f = MakeFrame(w, h, 0.3, "coarse gate alpha");
+    Image alpha(w, h, 1, 0.5f);
+    for (Image *layer : {&f.color, &f.albedo, &f.normal, &f.depth})
+        for (float &v : layer->data) v *= 0.5f;
+    Image straight = ref::NforStraight(f.color, alpha, 1),
+          straightAlbedo = ref::NforStraight(f.albedo, alpha, 1);
+    double expected = ref::NforRelativeNoise(
+        straight, ref::NforNoise(straight, &straightAlbedo, o.noiseRadius, o.noiseCalibration));
+    NforInputs in = InputsOf(f);
+    in.alpha = &alpha;
+    NforResult run = NforDenoise(Ctx(), in, o);
+    ASSERT_GT(run.partlyCovered, 0u);
+    EXPECT_NEAR(run.coarseLevel, expected, 1e-4 * expected);
+    for (int strip : {w, 3 * w + 5, 1 << 22})
+        EXPECT_EQ(NforCoarseLevel(Ctx(), in, o, strip), run.coarseLevel)
+            << "strips of " << strip << " pixels";
+    NforOptions premultiplied = o;
+    premultiplied.premultiplied = true;
+    double asWritten = NforCoarseLevel(Ctx(), in, premultiplied);
+    EXPECT_GT(std::abs(asWritten - expected), 1e-2 * expected)
+        << "the premultiplied frame reads another level: " << asWritten;
+}
+
 // The kept pixels' mean against its reference: outputs that equal the input at random
 // pixels (some beside moved ones, some not), a few emitters (weak ones smoothed or not), a
 // NaN among the neighbours, the kept pixels smoothed or only the weak emitters; odd sizes
@@ -1467,7 +1502,9 @@ TEST(NforKept, SmoothsOnlyPixelsTheFitsLeft) {
     double expected = (3 + 2 * e1 + 2 * 2 * e2) / (1 + e1 + 2 * e2);
     EXPECT_NEAR(smoothed.At(0, 4, 4), expected, 1e-3);  // unlike neighbours weigh e^-100
     for (size_t i = 0; i < output.PixelCount(); ++i)
-        if (i != size_t(4 * w + 4)) EXPECT_EQ(smoothed.data[i], output.data[i]);
+        if (i != size_t(4 * w + 4)) {
+            EXPECT_EQ(smoothed.data[i], output.data[i]);
+        }
     EXPECT_EQ(NforSmoothKept(input, features, s, mask, NforKeptSettings{0}, &output), 0u);
     // The emitter on the line, weak (albedo below 2), is smoothed too, over the pixels
     // around it whatever their albedo (one plane here: none compared), the centre included.

@@ -327,7 +327,6 @@ TEST_F(GpuTest, TiledRunNforPlainFrameWithAlphaIsBitIdentical) {
     Frame frame = RenderedFrame(width, height, render::kLayersAll);
     frame.layers.erase("variance");
     Image alpha(width, height, 1);
-    std::mt19937_64 rng(SeedFromName("tiled alpha"));
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             // Covered left of a slanted edge, empty right of it, 16 samples' coverage on it.
