@@ -154,7 +154,7 @@ void Line(const float *line, int length, int n, int maxSpread, const int64_t *to
 // input split among the cores.
 void Transpose(const float *in, float *out, int w, int h) {
     constexpr int kBlock = 32;
-    ParallelFor((h + kBlock - 1) / kBlock, size_t(w) * h, [&](int begin, int end) {
+    ParallelFor((h + kBlock - 1) / kBlock, size_t(w) * h * 8, [&](int begin, int end) {
         for (int y0 = begin * kBlock; y0 < std::min(h, end * kBlock); y0 += kBlock)
             for (int x0 = 0; x0 < w; x0 += kBlock)
                 for (int y = y0; y < std::min(h, y0 + kBlock); ++y)
