@@ -21,23 +21,25 @@ double FloatUlp(float a) {
 // The columns whose partial sums, in any order, are all exact in double: finite values,
 // all multiples of the smallest one's ulp q, with an absolute sum under 2^51 q (margin for
 // the rounding of that sum itself), so every partial sum is an integer times q under 2^53.
+// A NaN or an infinity makes the column's absolute sum one too, so that sum alone tells
+// both (the loops then run side by side over the columns without branches).
 std::vector<int> InexactColumns(const float *in, int w, int h) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
     std::vector<double> total(size_t(w), 0.0);
-    std::vector<float> smallest(size_t(w), std::numeric_limits<float>::infinity());
-    std::vector<char> finite(size_t(w), 1);
+    std::vector<float> smallest(size_t(w), kInf);
     for (int y = 0; y < h; ++y) {
         const float *row = in + size_t(y) * w;
         for (int x = 0; x < w; ++x) {
             float a = std::fabs(row[x]);
-            finite[x] &= std::isfinite(a);
             total[x] += a;
-            if (a > 0) smallest[x] = std::min(smallest[x], a);
+            smallest[x] = std::min(smallest[x], a > 0 ? a : kInf);
         }
     }
     std::vector<int> inexact;
     for (int x = 0; x < w; ++x) {
-        bool exact = finite[x] && (!std::isfinite(smallest[x]) ||
-                                   total[x] < std::ldexp(FloatUlp(smallest[x]), 51));
+        bool exact =
+            std::isfinite(total[x]) &&
+            (!std::isfinite(smallest[x]) || total[x] < std::ldexp(FloatUlp(smallest[x]), 51));
         if (!exact) inexact.push_back(x);
     }
     return inexact;
@@ -93,36 +95,51 @@ void SlidRows(const float *in, float *out, int w, int h, int r, int yBegin, int 
     }
 }
 
-// Whether every partial sum of the n values at `values` (a stride apart) is exact in
-// double, as InexactColumns tests a column.
+// Whether every partial sum of the n values at `values` is exact in double, as
+// InexactColumns tests a column. The absolute sum is taken in four lanes: its rounding in
+// any order is far inside the bound's margin, and where a row is that near the bound its
+// sums are exact either way, so the means do not depend on the order.
 bool ExactSums(const float *values, int n) {
-    double total = 0;
-    float smallest = std::numeric_limits<float>::infinity();
-    bool finite = true;
-    for (int i = 0; i < n; ++i) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    double total[4] = {0, 0, 0, 0};
+    float smallest[4] = {kInf, kInf, kInf, kInf};
+    int i = 0;
+    for (; i + 4 <= n; i += 4)
+        for (int k = 0; k < 4; ++k) {
+            float a = std::fabs(values[i + k]);
+            total[k] += a;
+            smallest[k] = std::min(smallest[k], a > 0 ? a : kInf);
+        }
+    for (; i < n; ++i) {
         float a = std::fabs(values[i]);
-        finite = finite && std::isfinite(a);
-        total += a;
-        if (a > 0) smallest = std::min(smallest, a);
+        total[0] += a;
+        smallest[0] = std::min(smallest[0], a > 0 ? a : kInf);
     }
-    return finite && (!std::isfinite(smallest) || total < std::ldexp(FloatUlp(smallest), 51));
+    const double sum = (total[0] + total[1]) + (total[2] + total[3]);
+    const float least =
+        std::min(std::min(smallest[0], smallest[1]), std::min(smallest[2], smallest[3]));
+    return std::isfinite(sum) &&
+           (!std::isfinite(least) || sum < std::ldexp(FloatUlp(least), 51));
 }
 
-// One row's box means: slid where exact, else each window summed in order (the interior's
-// windows side by side, so the sums run over contiguous memory).
+// One row's box means: differences of prefix sums where those are exact, else each window
+// summed in order (the interior's windows side by side, so the sums run over contiguous
+// memory).
 void BoxRow(const float *row, float *dst, int w, int r, std::vector<double> &sum) {
     if (r > 2 && ExactSums(row, w)) {
-        double s = 0;
-        int a = 0, b = std::min(w - 1, r);
-        for (int j = a; j <= b; ++j) s += row[j];
-        for (int x = 0; x < w; ++x) {
-            int nextA = std::max(0, x - r), nextB = std::min(w - 1, x + r);
-            if (nextB > b) s += row[nextB];
-            if (nextA > a) s -= row[a];
-            a = nextA;
-            b = nextB;
-            dst[x] = float(s / (b - a + 1));
-        }
+        // Every partial sum exact: a window's sum is the difference of two prefix sums.
+        sum.resize(size_t(w) + 1);
+        sum[0] = 0;
+        for (int x = 0; x < w; ++x) sum[x + 1] = sum[x] + row[x];
+        const int lo = std::min(r, w), hi = std::max(lo, w - r);  // interior: [lo, hi)
+        const double count = 2 * r + 1;
+        for (int x = lo; x < hi; ++x) dst[x] = float((sum[x + r + 1] - sum[x - r]) / count);
+        auto clipped = [&](int x) {
+            int a = std::max(0, x - r), b = std::min(w - 1, x + r);
+            dst[x] = float((sum[b + 1] - sum[a]) / (b - a + 1));
+        };
+        for (int x = 0; x < lo; ++x) clipped(x);
+        for (int x = hi; x < w; ++x) clipped(x);
         return;
     }
     sum.assign(size_t(w), 0.0);

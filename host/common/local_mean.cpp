@@ -70,8 +70,10 @@ std::vector<char> OverPixels(const Image &input, const Image *variance, int r,
                              const std::vector<bool> &kept, const Image &output) {
     const size_t n = input.PixelCount();
     Image moved = output;
-    for (size_t i = 0; i < moved.data.size(); ++i)
-        if (kept[i]) moved.data[i] = 0;
+    ParallelValues(moved.data.size(), 2, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i)
+            if (kept[i]) moved.data[i] = 0;
+    });
     Image level = TentMean(moved, r);
     std::vector<char> over(n, 0);
     ParallelValues(n, 8 * size_t(input.channels), [&](size_t begin, size_t end) {
@@ -196,11 +198,13 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
     KeepHighlights(input, variance, r, &kept, output);
-    Image clean = input;
-    for (size_t i = 0; i < clean.data.size(); ++i) {
-        float v = input.data[i];
-        clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
-    }
+    Image clean(input.width, input.height, input.channels);
+    ParallelValues(clean.data.size(), 2, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            float v = input.data[i];
+            clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
+        }
+    });
     std::vector<double> factors(input.data.size(), 1.0);
     Image coarseIn, fineIn;
     RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors, &coarseIn);
@@ -345,6 +349,35 @@ Image ChannelSums(const Image &color) {
     return sums;
 }
 
+// Whether (x, y) is a small light's rim (CutLightRims): no light itself, over kSpike times
+// its neighbours' median, beside a brighter light and other pixels that are none, with at
+// most kSmallLight lights in its 9x9 window.
+bool RimAt(const Image &sums, const std::vector<char> &light, int w, int h, int x, int y) {
+    const size_t p = size_t(y) * w + x;
+    const float own = sums.data[p];
+    const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
+    if (light[p] || !(own > 0) || !std::isfinite(own) || !std::isfinite(m) ||
+        !(own > kSpike * m))
+        return false;
+    bool beside = false, others = false;
+    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+            const size_t q = size_t(j) * w + i;
+            if (q == p) continue;
+            if (light[q] && sums.data[q] > own)
+                beside = true;
+            else if (!light[q])
+                others = true;
+        }
+    if (!beside || !others) return false;
+    // A small light's: a light's long edge spread along itself is its coverage.
+    int lights = 0;
+    for (int j = std::max(0, y - 4); j <= std::min(h - 1, y + 4); ++j)
+        for (int i = std::max(0, x - 4); i <= std::min(w - 1, x + 4); ++i)
+            lights += light[size_t(j) * w + i];
+    return lights <= kSmallLight;
+}
+
 }  // namespace
 
 size_t CutSpikes(Image *color, const Image *variance) {
@@ -356,12 +389,14 @@ size_t CutSpikes(Image *color, const Image *variance) {
                         (variance->channels == 1 || variance->channels == color->channels);
     std::vector<char> lit(n, !usable);
     if (usable)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
-                    for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
-                        if ((i != x || j != y) && Light(*variance, sums, size_t(j) * w + i))
-                            lit[size_t(y) * w + x] = 1;
+        ParallelFor(h, n * 32, [&](int begin, int end) {
+            for (int y = begin; y < end; ++y)
+                for (int x = 0; x < w; ++x)
+                    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
+                            if ((i != x || j != y) && Light(*variance, sums, size_t(j) * w + i))
+                                lit[size_t(y) * w + x] = 1;
+        });
     std::vector<char> over(n, 0), within(n, 0);
     ParallelFor(h, n * 16, [&](int begin, int end) {
         for (int y = begin; y < end; ++y)
@@ -405,32 +440,16 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
     const Image sums = ChannelSums(*color);
     std::vector<char> light(n);
     for (size_t p = 0; p < n; ++p) light[p] = Light(variance, sums, p);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const size_t p = size_t(y) * w + x;
-            const float own = sums.data[p];
-            const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
-            if (light[p] || !(own > 0) || !std::isfinite(own) || !std::isfinite(m) ||
-                !(own > kSpike * m))
-                continue;
-            bool beside = false, others = false;
-            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
-                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
-                    const size_t q = size_t(j) * w + i;
-                    if (q == p) continue;
-                    if (light[q] && sums.data[q] > own)
-                        beside = true;
-                    else if (!light[q])
-                        others = true;
-                }
-            if (!beside || !others) continue;
-            // A small light's: a light's long edge spread along itself is its coverage.
-            int lights = 0;
-            for (int j = std::max(0, y - 4); j <= std::min(h - 1, y + 4); ++j)
-                for (int i = std::max(0, x - 4); i <= std::min(w - 1, x + 4); ++i)
-                    lights += light[size_t(j) * w + i];
-            if (lights <= kSmallLight) rims.push_back(p);
-        }
+    // Each row's rims found on the cores, then gathered in order.
+    std::vector<std::vector<size_t>> rowRims(static_cast<size_t>(h));
+    ParallelFor(h, n * 16, [&](int begin, int end) {
+        for (int y = begin; y < end; ++y)
+            for (int x = 0; x < w; ++x)
+                if (RimAt(sums, light, w, h, x, y))
+                    rowRims[size_t(y)].push_back(size_t(y) * w + x);
+    });
+    for (const std::vector<size_t> &row : rowRims)
+        rims.insert(rims.end(), row.begin(), row.end());
     // Every median from the frame as it came, over the neighbours that are no lights.
     std::vector<float> medians(rims.size() * color->channels);
     for (size_t k = 0; k < rims.size(); ++k) {

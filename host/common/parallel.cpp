@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <cstring>
 #include <thread>
 #include <vector>
 
@@ -31,6 +32,18 @@ void ParallelFor(int n, size_t cost, const std::function<void(int, int)> &work) 
                              int(int64_t(n) * (t + 1) / parts));
     work(0, int(int64_t(n) / parts));
     for (std::thread &thread : threads) thread.join();
+}
+
+void ParallelCopy(void *dst, const void *src, size_t bytes) {
+    // Blocks of 1 MiB: a thread faults a run of pages in order.
+    constexpr size_t kBlock = size_t(1) << 20;
+    const int blocks = int((bytes + kBlock - 1) / kBlock);
+    ParallelFor(blocks, bytes / 4, [&](int begin, int end) {
+        const size_t first = size_t(begin) * kBlock;
+        const size_t last = std::min(bytes, size_t(end) * kBlock);
+        std::memcpy(static_cast<char *>(dst) + first, static_cast<const char *>(src) + first,
+                    last - first);
+    });
 }
 
 ForceParallelParts::ForceParallelParts(int parts) : previous(forcedParts.exchange(parts)) {}

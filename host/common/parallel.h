@@ -25,6 +25,11 @@ inline void ParallelValues(size_t n, size_t costPerValue,
     });
 }
 
+// std::memcpy(dst, src, bytes) split among the cores where it is large: a copy into memory
+// first touched (a buffer's fresh pages) spends most of its time in the page faults, which
+// the cores then take side by side. The regions must not overlap.
+void ParallelCopy(void *dst, const void *src, size_t bytes);
+
 // For tests: every ParallelFor while this lives splits into `parts` (at most n) parts,
 // whatever the cost and the machine's cores; 0 restores the default.
 class ForceParallelParts {

@@ -150,14 +150,17 @@ void Line(const float *line, int length, int n, int maxSpread, const int64_t *to
     }
 }
 
-// out (h x w) = in (w x h) transposed, in blocks that stay in cache.
+// out (h x w) = in (w x h) transposed, in blocks that stay in cache; bands of rows of the
+// input split among the cores.
 void Transpose(const float *in, float *out, int w, int h) {
     constexpr int kBlock = 32;
-    for (int y0 = 0; y0 < h; y0 += kBlock)
-        for (int x0 = 0; x0 < w; x0 += kBlock)
-            for (int y = y0; y < std::min(h, y0 + kBlock); ++y)
-                for (int x = x0; x < std::min(w, x0 + kBlock); ++x)
-                    out[size_t(x) * h + y] = in[size_t(y) * w + x];
+    ParallelFor((h + kBlock - 1) / kBlock, size_t(w) * h * 8, [&](int begin, int end) {
+        for (int y0 = begin * kBlock; y0 < std::min(h, end * kBlock); y0 += kBlock)
+            for (int x0 = 0; x0 < w; x0 += kBlock)
+                for (int y = y0; y < std::min(h, y0 + kBlock); ++y)
+                    for (int x = x0; x < std::min(w, x0 + kBlock); ++x)
+                        out[size_t(x) * h + y] = in[size_t(y) * w + x];
+    });
 }
 
 }  // namespace

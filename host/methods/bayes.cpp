@@ -10,6 +10,7 @@
 #include "bayes/bayes.h"
 #include "host/common/cycle_spin.h"
 #include "host/common/local_mean.h"
+#include "host/common/parallel.h"
 #include "host/error.h"
 #include "host/kernels/bayes_exp.h"
 #include "host/kernels/bayes_log.h"
@@ -215,6 +216,36 @@ double BayesScaleFromMad(double mad, double p) {
     return mad / end;
 }
 
+namespace {
+
+// The mean of each plane of a stationary transform's coefficients (`part`: `channels`
+// channels of SwtPlaneCount(levels) planes of w x h), 0 for the low-pass plane and a band
+// whose axis is not transformed at its level (it is empty). Each plane comes back alone,
+// through one plane's memory, and is summed in order.
+std::vector<double> SwtBandMeans(const vk::GpuImage &part, int w, int h, int channels,
+                                 int levels) {
+    const int count = shader::SwtPlaneCount(levels);
+    const size_t pixels = size_t(w) * h;
+    std::vector<double> means(size_t(channels) * count, 0.0);
+    std::vector<float> plane(pixels);
+    for (int c = 0; c < channels; ++c)
+        for (int level = 0; level < levels; ++level)
+            for (int o = 0; o < 3; ++o) {
+                bool tx = shader::SwtTransformsAxis(w, level);
+                bool ty = shader::SwtTransformsAxis(h, level);
+                if (!(o == 0 ? tx : (o == 1 ? ty : tx && ty))) continue;
+                const size_t index = size_t(c) * count + shader::SwtDetailPlane(level, o);
+                part.buffer.Download(plane.data(), pixels * sizeof(float),
+                                     index * pixels * sizeof(float));
+                double sum = 0;
+                for (float v : plane) sum += v;
+                means[index] = sum / double(pixels);
+            }
+    return means;
+}
+
+}  // namespace
+
 // --noise variance. Derivation:
 // 1. Log domain. The method shrinks z = log(max(Y, floor)). For a pixel mean Y with
 //    variance V (the variance layer), the delta method gives var(z) ~ V / Y^2 to first
@@ -257,14 +288,17 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
             ErrorKind::InvalidArgument);
     int w = color.width, h = color.height, channels = color.channels;
     Image logVar(w, h, channels);
-    for (int c = 0; c < channels; ++c)
-        for (size_t i = 0; i < color.PixelCount(); ++i) {
-            float y = color.Plane(c)[i], v = variance.Plane(c)[i];
+    const size_t pixels = color.PixelCount();
+    ParallelValues(logVar.data.size(), 32, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+            const int c = int(k / pixels);
+            float y = color.data[k], v = variance.data[k];
             if (!(v > 0)) v = 0;  // NaN and negatives: no information
             if (!Finite(v)) v = std::numeric_limits<float>::max();
             double base = Finite(y) ? std::max(double(y), double(floors[c])) : floors[c];
-            logVar.Plane(c)[i] = float(std::log1p(double(v) / (base * base)));
+            logVar.data[k] = float(std::log1p(double(v) / (base * base)));
         }
+    });
     vk::GpuImage varGpu(context, w, h, channels, "bayes.logvar");
     varGpu.Upload(logVar);
     bool swt = kind == BayesTransform::Swt;
@@ -273,27 +307,25 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
     if (!swt)
         transform.RecordSqAnalysis(run.Recorder(), basis, levels, varGpu, varGpu, 0.f, 0.f);
     // The stationary transform: full-size planes (shaders/wavelet/swt.h), in groups of as
-    // many channels as one binding holds, gathered on the host.
-    Image swtVar;
+    // many channels as one binding holds; only the bands' means come back.
+    std::vector<double> swtMeans;
     if (swt) {
         int groupSize = std::min(channels, SwtChannelsPerBinding(context, w, h, levels));
         if (groupSize < 1) CheckSwtFits(context, w, h, 1, levels, "bayes --noise variance");
         if (swtGroupChannels > 0) groupSize = std::min(groupSize, swtGroupChannels);
-        int count = shader::SwtPlaneCount(levels);
-        swtVar = Image(w, h, channels * count);
         for (int first = 0; first < channels; first += groupSize) {
             int n = std::min(groupSize, channels - first);
             SwtTransform swtTransform(context, w, h, n, levels);
             vk::GpuImage part = swtTransform.MakeCoefficients("bayes.swt.var");
             swtTransform.RecordAnalysis(run.Recorder(), basis, varGpu, part, true, first);
             run.Submit();
-            Image planes = part.Download();
-            std::copy(planes.data.begin(), planes.data.end(), swtVar.Plane(first * count));
+            std::vector<double> means = SwtBandMeans(part, w, h, n, levels);
+            swtMeans.insert(swtMeans.end(), means.begin(), means.end());
         }
     }
     run.Submit();
     if (timings) timings->insert(timings->end(), run.Timings().begin(), run.Timings().end());
-    Image coef = swt ? std::move(swtVar) : varGpu.Download();
+    Image coef = swt ? Image() : varGpu.Download();
     double toS = std::exp(0.5 * (std::lgamma(1.0 / pn) - std::lgamma(3.0 / pn)));
     std::vector<double> bandVar;
     for (int c = 0; c < channels; ++c)
@@ -301,17 +333,9 @@ std::vector<float> BayesVarianceNoise(vk::Context &context, const Image &color,
             int lw = LevelExtent(w, level), lh = LevelExtent(h, level);
             int lowW = (lw + 1) / 2, lowH = (lh + 1) / 2;
             int box[3][4] = {{lowW, 0, lw, lowH}, {0, lowH, lowW, lh}, {lowW, lowH, lw, lh}};
-            for (int o = 0; swt && o < 3; ++o) {
-                // A band whose axis is not transformed at this level is empty.
-                bool tx = shader::SwtTransformsAxis(w, level);
-                bool ty = shader::SwtTransformsAxis(h, level);
-                bool used = o == 0 ? tx : (o == 1 ? ty : tx && ty);
-                const float *p = coef.Plane(c * shader::SwtPlaneCount(levels) +
-                                            shader::SwtDetailPlane(level, o));
-                double sum = 0;
-                for (size_t i = 0; used && i < coef.PixelCount(); ++i) sum += p[i];
-                bandVar.push_back(used ? sum / double(coef.PixelCount()) : 0.0);
-            }
+            for (int o = 0; swt && o < 3; ++o)
+                bandVar.push_back(swtMeans[size_t(c * shader::SwtPlaneCount(levels) +
+                                                  shader::SwtDetailPlane(level, o))]);
             for (auto &b : box) {
                 if (swt) break;
                 double sum = 0;

@@ -53,8 +53,15 @@ std::vector<double> ColumnWeights(int extent, int s, const std::vector<float> &t
     return weights;
 }
 
-// Replace what the filter cannot use, and say how much of it there was.
-std::vector<std::string> Sanitize(Image &color, Image &hist) {
+// What the filter cannot use: pixels whose colour is NaN/Inf, pixels whose colour is
+// finite but a bin or the count is NaN/Inf/negative, and pixels without samples (the count
+// or the bins' total 0 once those are 0).
+struct Unusable {
+    size_t badColor = 0, badHist = 0, empty = 0;
+};
+
+// Counts what Sanitize replaces, reading only.
+Unusable CountUnusable(const Image &color, const Image &hist) {
     const int W = color.width, H = color.height, n3 = hist.channels - 1;
     std::atomic<size_t> badColor{0}, badHist{0}, empty{0};
     ParallelFor(H, size_t(W) * H * size_t(n3 + 4), [&](int yBegin, int yEnd) {
@@ -65,43 +72,67 @@ std::vector<std::string> Sanitize(Image &color, Image &hist) {
                 for (int c = 0; c < 3; ++c)
                     if (!std::isfinite(color.At(c, y, x))) colorOk = false;
                 double total = 0;
+                float count = 0;
                 for (int i = 0; i <= n3; ++i) {
-                    float &v = hist.At(i, y, x);
+                    float v = hist.At(i, y, x);
                     if (!std::isfinite(v) || v < 0) {
                         histOk = false;
                         v = 0;
                     }
-                    if (i < n3) total += v;
-                }
-                if (!colorOk) {
-                    // Nothing to average: a black pixel whose histogram matches nothing.
-                    for (int c = 0; c < 3; ++c) color.At(c, y, x) = 0;
-                    for (int i = 0; i <= n3; ++i) hist.At(i, y, x) = 0;
+                    if (i < n3)
+                        total += v;
+                    else
+                        count = v;
                 }
                 rowsBadColor += !colorOk;
                 rowsBadHist += colorOk && !histOk;
-                rowsEmpty += colorOk && (hist.At(n3, y, x) == 0 || total == 0);
+                rowsEmpty += colorOk && (count == 0 || total == 0);
             }
         badColor += rowsBadColor;
         badHist += rowsBadHist;
         empty += rowsEmpty;
     });
+    return {badColor.load(), badHist.load(), empty.load()};
+}
+
+// Replace what the filter cannot use: a NaN/Inf/negative bin or count by 0, and a pixel
+// whose colour is NaN/Inf by a black pixel whose histogram matches nothing.
+void Sanitize(Image &color, Image &hist) {
+    const int W = color.width, H = color.height, n3 = hist.channels - 1;
+    ParallelFor(H, size_t(W) * H * size_t(n3 + 4), [&](int yBegin, int yEnd) {
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < W; ++x) {
+                bool colorOk = true;
+                for (int c = 0; c < 3; ++c)
+                    if (!std::isfinite(color.At(c, y, x))) colorOk = false;
+                for (int i = 0; i <= n3; ++i) {
+                    float &v = hist.At(i, y, x);
+                    if (!std::isfinite(v) || v < 0 || !colorOk) v = 0;
+                }
+                if (!colorOk)
+                    for (int c = 0; c < 3; ++c) color.At(c, y, x) = 0;
+            }
+    });
+}
+
+// What Sanitize replaced, or found without samples, as warnings.
+std::vector<std::string> UnusableWarnings(const Unusable &found) {
     std::vector<std::string> warnings;
-    if (badColor)
+    if (found.badColor)
         warnings.push_back(fmt::format(
             "rhf: {} pixel(s) have a NaN/Inf colour; they were taken as black pixels without "
             "samples",
-            badColor.load()));
-    if (badHist)
+            found.badColor));
+    if (found.badHist)
         warnings.push_back(fmt::format(
             "rhf: {} pixel(s) have NaN/Inf/negative histogram bins or counts; those were set "
             "to 0",
-            badHist.load()));
-    if (empty)
+            found.badHist));
+    if (found.empty)
         warnings.push_back(fmt::format(
             "rhf: {} pixel(s) have no samples (count 0 or an empty histogram); their patches "
             "are compared on their other pixels only",
-            empty.load()));
+            found.empty));
     return warnings;
 }
 
@@ -497,8 +528,18 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     CheckRhfInputs(colorIn, histIn, o);
     RhfResult result;
     StagedRun run(context, setup.keepStages);
-    Image color = colorIn, hist = histIn;
-    for (std::string &warning : Sanitize(color, hist)) run.Warn(std::move(warning));
+    // The inputs are copied only where a value must be replaced: the histograms are most of
+    // a frame's memory, and auto's runs of rhf all read the same.
+    const Unusable found = CountUnusable(colorIn, histIn);
+    for (std::string &warning : UnusableWarnings(found)) run.Warn(std::move(warning));
+    Image colorCopy, histCopy;
+    if (found.badColor || found.badHist) {
+        colorCopy = colorIn;
+        histCopy = histIn;
+        Sanitize(colorCopy, histCopy);
+    }
+    const Image &color = colorCopy.Empty() ? colorIn : colorCopy;
+    const Image &hist = histCopy.Empty() ? histIn : histCopy;
     // A non-finite colour empties its pixel's histogram (Sanitize): the selection then
     // depends on the colour too, and is neither taken from the memo nor left in it.
     RunMemo *memo = setup.memo;

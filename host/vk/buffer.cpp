@@ -6,6 +6,7 @@
 #include <cstring>
 #include <utility>
 
+#include "host/common/parallel.h"
 #include "host/vk/check.h"
 #include "host/vk/context.h"
 
@@ -206,7 +207,7 @@ void Buffer::Upload(const void *data, size_t byteCount, size_t byteOffset) {
                     ErrorKind::Internal);
     if (byteCount == 0) return;
     if (mapped) {
-        std::memcpy(static_cast<char *>(mapped) + byteOffset, data, byteCount);
+        ParallelCopy(static_cast<char *>(mapped) + byteOffset, data, byteCount);
         return;
     }
     Staging &staging = context->StagingFor(false);
@@ -229,7 +230,7 @@ void Buffer::Download(void *data, size_t byteCount, size_t byteOffset) const {
                     ErrorKind::Internal);
     if (byteCount == 0) return;
     if (mapped) {
-        std::memcpy(data, static_cast<const char *>(mapped) + byteOffset, byteCount);
+        ParallelCopy(data, static_cast<const char *>(mapped) + byteOffset, byteCount);
         return;
     }
     Staging &staging = context->StagingFor(true);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -32,7 +33,6 @@ std::vector<float> WindowsOneByOne(const std::vector<float> &in, int w, int h, i
     return out;
 }
 
-
 // Sums slid down every column without a test of exactness: what the function must not do
 // where a column's sums round.
 std::vector<float> NaiveSlide(const std::vector<float> &in, int w, int h, int r) {
@@ -50,12 +50,24 @@ std::vector<float> NaiveSlide(const std::vector<float> &in, int w, int h, int r)
     return out;
 }
 
-enum class Kind { Plain, FewWideRange, ManyWideRange, NonFinite, Spikes, Cancelling };
+enum class Kind {
+    Plain,
+    FewWideRange,
+    ManyWideRange,
+    NonFinite,
+    Spikes,
+    Cancelling,
+    NearBound,
+    OverBound,
+    Subnormal
+};
 
 // Values in [0, 1) with zeros and negatives; `kind` adds columns whose sums round (a few or
 // many: the slide with or without its fallback), NaN/Inf, or lone large values over small
 // ones (windows with sums that round beside windows without), or pairs of large values of
-// opposite signs (their sum in order loses what lies between them).
+// opposite signs (their sum in order loses what lies between them), or lines whose absolute
+// sums lie within 0.1% of the exactness test's bound (2^51 units of the smallest value: the
+// test's own rounding may fall either way), or subnormal values beside normal ones.
 std::vector<float> MakePlane(int w, int h, Kind kind) {
     std::mt19937_64 rng(SeedFromName("box mean " + std::to_string(w) + "x" + std::to_string(h) +
                                      " " + std::to_string(int(kind))));
@@ -86,6 +98,24 @@ std::vector<float> MakePlane(int w, int h, Kind kind) {
             for (int x = 0; x < w; ++x)
                 if ((x + y) % 7 == 2 || (x + y) % 7 == 4)
                     plane[size_t(y) * w + x] = (x + y) % 7 == 2 ? 1e18f : -1e18f;
+    if (kind == Kind::NearBound || kind == Kind::OverBound) {
+        // Small values with every bit of a float's mantissa (units of 2^-23) among large ones
+        // summing in each direction to about 2^28 = 2^51 units (the bound), or 2^33 (over
+        // it: the sums in order round there).
+        const int n = std::max(w, h), e = kind == Kind::NearBound ? 28 : 33;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float target = std::ldexp(1.f, e) / float(n) * (0.999f + 0.002f * unit(rng));
+                float small = 1.f + std::ldexp(float(2 * (x + y) + 1), -23);
+                const bool negative = kind == Kind::NearBound && (x + y) % 3 == 0;
+                plane[size_t(y) * w + x] = (x + y) % 5 == 0 ? small
+                                           : negative       ? -target
+                                                            : target;
+            }
+    }
+    if (kind == Kind::Subnormal)
+        for (size_t i = 0; i < plane.size(); ++i)
+            if (i % 3 == 1) plane[i] = std::numeric_limits<float>::denorm_min() * float(i % 17);
     return plane;
 }
 
@@ -95,9 +125,10 @@ TEST(BoxMeanColumns, SameBitsAsWindowsSummedOneByOne) {
     };
     for (Case c : {Case{1, 1, 1}, Case{1, 1, 5}, Case{3, 7, 2}, Case{5, 9, 3}, Case{33, 41, 4},
                    Case{64, 37, 8}, Case{23, 130, 32}, Case{40, 20, 30}, Case{17, 300, 3},
-                   Case{9, 200, 20}})
+                   Case{9, 200, 20}, Case{7, 7, 3}, Case{6, 9, 9}, Case{11, 2000, 64}})
         for (Kind kind : {Kind::Plain, Kind::FewWideRange, Kind::ManyWideRange, Kind::NonFinite,
-                          Kind::Spikes, Kind::Cancelling})
+                          Kind::Spikes, Kind::Cancelling, Kind::NearBound, Kind::OverBound,
+                          Kind::Subnormal})
             for (int parts : {1, 3}) {
                 SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) + " r" +
                              std::to_string(c.r) + " kind " + std::to_string(int(kind)) + ", " +

@@ -45,6 +45,25 @@ TEST(ParallelFor, CoversEachIndexOnce) {
     for (int v : values) EXPECT_EQ(v, 1);
 }
 
+// ParallelCopy against std::memcpy: every byte, at sizes around its 1 MiB blocks and
+// odd offsets, whole or split among threads; the bytes beside the region untouched.
+TEST(ParallelFor, CopyGivesEveryByte) {
+    constexpr size_t kBlock = size_t(1) << 20;
+    std::mt19937_64 rng(SeedFromName("parallel copy"));
+    std::vector<unsigned char> source(3 * kBlock + 64);
+    for (unsigned char &b : source) b = static_cast<unsigned char>(rng());
+    for (size_t bytes : {size_t(0), size_t(1), size_t(17), kBlock - 1, kBlock, kBlock + 1,
+                         2 * kBlock + 13, 3 * kBlock + 7})
+        for (int parts : {0, 1, 2, 3, 7}) {
+            SCOPED_TRACE(std::to_string(bytes) + " bytes, " + std::to_string(parts) + " parts");
+            ForceParallelParts force(parts);
+            std::vector<unsigned char> got(source.size() + 16, 0xa5), expected = got;
+            ParallelCopy(got.data() + 5, source.data() + 3, bytes);
+            std::memcpy(expected.data() + 5, source.data() + 3, bytes);
+            EXPECT_TRUE(got == expected);
+        }
+}
+
 // Random values with zeros, negatives, fireflies, bright blocks, NaN and Inf (unless
 // `finite`).
 Image RandomImage(int w, int h, int channels, const std::string &name, bool finite) {
