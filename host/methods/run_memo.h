@@ -41,10 +41,13 @@ class RunMemo {
     std::map<std::string, std::shared_ptr<void>> entries;
 };
 
+// FNV-1a's 64-bit offset basis and prime.
+constexpr uint64_t kMemoHashBasis = 0xcbf29ce484222325ull, kMemoHashPrime = 0x100000001b3ull;
+
 // The FNV-1a hash of `words`, four interleaved lanes (word i into lane i % 4) folded in
 // order: the multiplies of the lanes overlap where one chain would wait on each.
 inline uint64_t MemoWordsHash(const float *words, size_t n) {
-    constexpr uint64_t kBasis = 0xcbf29ce484222325ull, kPrime = 0x100000001b3ull;
+    constexpr uint64_t kBasis = kMemoHashBasis, kPrime = kMemoHashPrime;
     uint64_t lane[4] = {kBasis, kBasis, kBasis, kBasis};
     size_t i = 0;
     for (; i + 4 <= n; i += 4)
@@ -78,8 +81,8 @@ inline std::string MemoImageId(const Image &image) {
                 MemoWordsHash(image.data.data() + first, std::min(kBlock, n - first));
         }
     });
-    uint64_t hash = 0xcbf29ce484222325ull;
-    for (uint64_t h : hashes) hash = (hash ^ h) * 0x100000001b3ull;
+    uint64_t hash = kMemoHashBasis;
+    for (uint64_t h : hashes) hash = (hash ^ h) * kMemoHashPrime;
     return fmt::format("{}x{}x{} {:016x}", image.width, image.height, image.channels, hash);
 }
 

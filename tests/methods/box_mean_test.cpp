@@ -100,8 +100,8 @@ std::vector<float> MakePlane(int w, int h, Kind kind) {
                     plane[size_t(y) * w + x] = (x + y) % 7 == 2 ? 1e18f : -1e18f;
     if (kind == Kind::NearBound || kind == Kind::OverBound) {
         // Small values with every bit of a float's mantissa (units of 2^-23) among large ones
-        // summing in each direction to about 2^28 = 2^51 units (the bound), or 2^33 (over
-        // it: the sums in order round there).
+        // (four in five) summing in each direction to about four fifths of 2^28 = 2^51 units
+        // (under the bound), or of 2^33 (over it: the sums in order round there).
         const int n = std::max(w, h), e = kind == Kind::NearBound ? 28 : 33;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {

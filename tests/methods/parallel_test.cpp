@@ -16,6 +16,7 @@
 #include "host/common/local_mean.h"
 #include "host/common/parallel.h"
 #include "host/kernels/pivot_gather.h"
+#include "host/methods/run_memo.h"
 
 namespace mcd {
 namespace {
@@ -174,6 +175,35 @@ TEST(ParallelFor, TheFramesExerciseEachPath) {
     EXPECT_GT(r.reach, 0);
     EXPECT_GT(r.highlights, 0u);
     EXPECT_TRUE(r.factors.lo != 1 || r.factors.hi != 1);
+}
+
+// An image's memo key is the same however its blocks are split among threads, and moves
+// when one word changes in any lane of any block or when two blocks trade places.
+TEST(ParallelFor, MemoImageIdIsTheSameForEverySplit) {
+    const size_t block = size_t(1) << 16;
+    Image image(257, 1021, 1);  // 4 blocks and a partial one
+    std::mt19937_64 rng(SeedFromName("memo image id"));
+    std::uniform_real_distribution<float> unit(0.f, 1.f);
+    for (float &v : image.data) v = unit(rng);
+    ASSERT_GT(image.data.size(), 3 * block);
+    std::string serial;
+    {
+        ForceParallelParts force(1);
+        serial = MemoImageId(image);
+    }
+    for (int parts : {2, 3, 7}) {
+        ForceParallelParts force(parts);
+        EXPECT_EQ(MemoImageId(image), serial) << parts << " parts";
+    }
+    for (size_t i : {size_t(0), size_t(1), size_t(2), size_t(3), block + 5, 4 * block + 9}) {
+        Image changed = image;
+        changed.data[i] = std::nextafter(changed.data[i], 2.f);
+        EXPECT_NE(MemoImageId(changed), serial) << "word " << i;
+    }
+    Image swapped = image;
+    std::swap_ranges(swapped.data.begin(), swapped.data.begin() + block,
+                     swapped.data.begin() + block);
+    EXPECT_NE(MemoImageId(swapped), serial) << "the first two blocks swapped";
 }
 
 }  // namespace
