@@ -18,6 +18,14 @@ double FloatUlp(float a) {
     return std::max(std::ldexp(1.0, e - 24), std::ldexp(1.0, -149));
 }
 
+// Whether values of absolute sum `sum`, all multiples of the ulp q of the smallest nonzero
+// magnitude `least` (infinite: every value 0), have exact partial sums in double in any
+// order: sum finite and under 2^51 q.
+bool WithinExactBound(double sum, float least) {
+    return std::isfinite(sum) &&
+           (!std::isfinite(least) || sum < std::ldexp(FloatUlp(least), 51));
+}
+
 // The columns whose partial sums, in any order, are all exact in double: finite values,
 // all multiples of the smallest one's ulp q, with an absolute sum under 2^51 q (margin for
 // the rounding of that sum itself), so every partial sum is an integer times q under 2^53.
@@ -37,9 +45,7 @@ std::vector<int> InexactColumns(const float *in, int w, int h) {
     }
     std::vector<int> inexact;
     for (int x = 0; x < w; ++x) {
-        bool exact =
-            std::isfinite(total[x]) &&
-            (!std::isfinite(smallest[x]) || total[x] < std::ldexp(FloatUlp(smallest[x]), 51));
+        bool exact = WithinExactBound(total[x], smallest[x]);
         if (!exact) inexact.push_back(x);
     }
     return inexact;
@@ -118,8 +124,7 @@ bool ExactSums(const float *values, int n) {
     const double sum = (total[0] + total[1]) + (total[2] + total[3]);
     const float least =
         std::min(std::min(smallest[0], smallest[1]), std::min(smallest[2], smallest[3]));
-    return std::isfinite(sum) &&
-           (!std::isfinite(least) || sum < std::ldexp(FloatUlp(least), 51));
+    return WithinExactBound(sum, least);
 }
 
 // One row's box means: differences of prefix sums where those are exact, else each window

@@ -60,6 +60,13 @@ struct Unusable {
     size_t badColor = 0, badHist = 0, empty = 0;
 };
 
+// Whether the pixel's three colour channels are all finite.
+bool ColorFinite(const Image &color, int y, int x) {
+    for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(color.At(c, y, x))) return false;
+    return true;
+}
+
 // Counts what Sanitize replaces, reading only.
 Unusable CountUnusable(const Image &color, const Image &hist) {
     const int W = color.width, H = color.height, n3 = hist.channels - 1;
@@ -68,9 +75,8 @@ Unusable CountUnusable(const Image &color, const Image &hist) {
         size_t rowsBadColor = 0, rowsBadHist = 0, rowsEmpty = 0;
         for (int y = yBegin; y < yEnd; ++y)
             for (int x = 0; x < W; ++x) {
-                bool colorOk = true, histOk = true;
-                for (int c = 0; c < 3; ++c)
-                    if (!std::isfinite(color.At(c, y, x))) colorOk = false;
+                const bool colorOk = ColorFinite(color, y, x);
+                bool histOk = true;
                 double total = 0;
                 float count = 0;
                 for (int i = 0; i <= n3; ++i) {
@@ -102,9 +108,7 @@ void Sanitize(Image &color, Image &hist) {
     ParallelFor(H, size_t(W) * H * size_t(n3 + 4), [&](int yBegin, int yEnd) {
         for (int y = yBegin; y < yEnd; ++y)
             for (int x = 0; x < W; ++x) {
-                bool colorOk = true;
-                for (int c = 0; c < 3; ++c)
-                    if (!std::isfinite(color.At(c, y, x))) colorOk = false;
+                const bool colorOk = ColorFinite(color, y, x);
                 for (int i = 0; i <= n3; ++i) {
                     float &v = hist.At(i, y, x);
                     if (!std::isfinite(v) || v < 0 || !colorOk) v = 0;
