@@ -66,8 +66,9 @@ enum class Kind {
 // many: the slide with or without its fallback), NaN/Inf, or lone large values over small
 // ones (windows with sums that round beside windows without), or pairs of large values of
 // opposite signs (their sum in order loses what lies between them), or lines whose absolute
-// sums lie within 0.1% of the exactness test's bound (2^51 units of the smallest value: the
-// test's own rounding may fall either way), or subnormal values beside normal ones.
+// sums lie about the exactness test's bound (2^51 units of the smallest value: the test's own
+// rounding may fall either way, and both ways must give the same bits), or far over it
+// (where sliding rounds), or subnormal values beside normal ones.
 std::vector<float> MakePlane(int w, int h, Kind kind) {
     std::mt19937_64 rng(SeedFromName("box mean " + std::to_string(w) + "x" + std::to_string(h) +
                                      " " + std::to_string(int(kind))));
@@ -100,17 +101,21 @@ std::vector<float> MakePlane(int w, int h, Kind kind) {
                     plane[size_t(y) * w + x] = (x + y) % 7 == 2 ? 1e18f : -1e18f;
     if (kind == Kind::NearBound || kind == Kind::OverBound) {
         // Small values with every bit of a float's mantissa (units of 2^-23) among large ones
-        // (four in five) summing in each direction to about four fifths of 2^28 = 2^51 units
-        // (under the bound), or of 2^33 (over it: the sums in order round there).
-        const int n = std::max(w, h), e = kind == Kind::NearBound ? 28 : 33;
+        // (four in five) whose absolute values sum along the longest lines to about 2^28 =
+        // 2^51 units (at the bound; shorter lines and bands under it); or, over it, large
+        // values in a column's top half only, summing to 2^35 = 2^58 units, above small ones
+        // (sums that pass the large values round when slid, and means below show it).
+        const int n = std::max(w, h);
+        const bool over = kind == Kind::OverBound;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                float target = std::ldexp(1.f, e) / float(n) * (0.999f + 0.002f * unit(rng));
+                float scale = over ? std::ldexp(1.f, 35) / float(std::max(1, h / 2))
+                                   : std::ldexp(1.f, 28) / (0.8f * float(n));
+                float target = scale * (0.999f + 0.002f * unit(rng));
                 float small = 1.f + std::ldexp(float(2 * (x + y) + 1), -23);
-                const bool negative = kind == Kind::NearBound && (x + y) % 3 == 0;
-                plane[size_t(y) * w + x] = (x + y) % 5 == 0 ? small
-                                           : negative       ? -target
-                                                            : target;
+                const bool large = over ? y < h / 2 : (x + y) % 5 != 0;
+                const bool negative = !over && (x + y) % 3 == 0;
+                plane[size_t(y) * w + x] = !large ? small : negative ? -target : target;
             }
     }
     if (kind == Kind::Subnormal)
@@ -160,6 +165,23 @@ TEST(BoxMeanColumns, WideRangeColumnsRoundWhenSlid) {
     slid = NaiveSlide(plain, 64, 37, 8);
     EXPECT_EQ(0, std::memcmp(slid.data(), expected.data(), slid.size() * sizeof(float)))
         << "plain values in [0, 1) are exact when slid";
+}
+
+// Lines over the bound round when slid, so the comparison above fails for a bound set too
+// loose; lines at the bound slide exactly, so either side of the test gives the same bits.
+TEST(BoxMeanColumns, LinesOverTheBoundRoundWhenSlid) {
+    for (int r : {4, 16}) {
+        std::vector<float> over = MakePlane(64, 37, Kind::OverBound);
+        std::vector<float> slid = NaiveSlide(over, 64, 37, r);
+        std::vector<float> expected = WindowsOneByOne(over, 64, 37, r);
+        EXPECT_NE(0, std::memcmp(slid.data(), expected.data(), slid.size() * sizeof(float)))
+            << "radius " << r;
+        std::vector<float> near = MakePlane(64, 37, Kind::NearBound);
+        slid = NaiveSlide(near, 64, 37, r);
+        expected = WindowsOneByOne(near, 64, 37, r);
+        EXPECT_EQ(0, std::memcmp(slid.data(), expected.data(), slid.size() * sizeof(float)))
+            << "radius " << r;
+    }
 }
 
 }  // namespace
