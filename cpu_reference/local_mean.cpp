@@ -367,7 +367,7 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
     std::vector<bool> taken(groups.size(), false);
     for (size_t g = 0; g < groups.size(); ++g) {
         const auto &members = groups[g];
-        if (members.size() < 2 || members.size() > 4) continue;
+        if (members.size() < 3 || members.size() > 4) continue;
         int x0 = w, x1 = -1, y0 = h, y1 = -1;
         double own = 0;
         bool fits = true;

@@ -53,7 +53,7 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 
 // Bright clusters (host/common/local_mean.h, CutBrightClusters): the 8-connected groups of
 // pixels whose channels' sum (as a float) is > 0 and > 16 x the median (lower middle) of
-// their in-image neighbours' sums (none where one is not finite). A group of 2 to 4 pixels,
+// their in-image neighbours' sums (none where one is not finite). A group of 3 or 4 pixels,
 // each with samples (the histograms' last channel) and at most 2.5 samples in the last two
 // bins of any colour (b: the most over its colours), cluster sum k = round(sum b) >= 2, is cut
 // when, with a = the sum of b (0 for pixels without samples) over the m pixels within

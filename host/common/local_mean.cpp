@@ -524,7 +524,8 @@ std::vector<size_t> ClusterAt(const std::vector<char> &over, int w, int h, size_
 // (CutBrightClusters).
 bool ClusterStandsOut(const Image &histograms, int w, int h, const std::vector<size_t> &cluster,
                       int searchHalf) {
-    if (cluster.size() < 2 || cluster.size() > size_t(kClusterMost)) return false;
+    if (cluster.size() < size_t(kClusterLeast) || cluster.size() > size_t(kClusterMost))
+        return false;
     int x0 = w, x1 = -1, y0 = h, y1 = -1;
     double own = 0;
     for (size_t p : cluster) {

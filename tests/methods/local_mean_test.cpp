@@ -572,8 +572,9 @@ TEST_P(LocalMeanMatches, CutBrightClustersMatchesReference) {
 // A column of three pixels that one bright sample of 16 each saw, on a flat floor with no
 // other bright sample within the search window, is cut whole (a light's reflection), and its
 // energy goes back within the tent of radius 2 around it; the same column among
-// many bright samples (noise the filter spreads) and a pair whose samples are all bright
-// (the bright veto keeps such pixels apart) stay.
+// many bright samples (noise the filter spreads), a column whose samples are all bright (the
+// bright veto keeps such pixels apart) and a pair alone on the floor (chance makes pairs)
+// stay.
 TEST(LocalMeanProperties, CutBrightClustersCutsOnlyAClusterThatStandsOut) {
     const int w = 40, h = 20, bins = 20;
     Image color(w, h, 3, 0.0133f), hist(w, h, 3 * bins + 1);
@@ -594,7 +595,8 @@ TEST(LocalMeanProperties, CutBrightClustersCutsOnlyAClusterThatStandsOut) {
     for (int y = 2; y < h; y += 3)
         for (int x = 18; x < 31; x += 3)
             if (x != 24) bright(x, y, 1, 1.5f);
-    bright(36, 4, 16, 80), bright(36, 5, 16, 80);  // a small highlight every sample saw
+    for (int y = 4; y <= 6; ++y) bright(36, y, 16, 80);  // a highlight every sample saw
+    bright(4, 2, 1, 3.4f), bright(5, 2, 2, 6.8f);        // a pair alone on the floor
     Image cut = color;
     const std::vector<size_t> pixels = CutBrightClusters(color, hist, 6, &cut);
     ASSERT_EQ(pixels, (std::vector<size_t>{9 * w + 8, 10 * w + 8, 11 * w + 8}));
