@@ -324,6 +324,126 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
     return rims;
 }
 
+namespace {
+
+// The most samples in a colour's last two bins, -1 without samples.
+double BrightAt(const Image &histograms, int y, int x) {
+    const int bins = (histograms.channels - 1) / 3;
+    if (!(histograms.At(histograms.channels - 1, y, x) > 0)) return -1;
+    double most = 0;
+    for (int c = 0; c < 3; ++c) {
+        double b = double(histograms.At(c * bins + bins - 2, y, x)) +
+                   double(histograms.At(c * bins + bins - 1, y, x));
+        if (b > most) most = b;
+    }
+    return most;
+}
+
+}  // namespace
+
+std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
+                                      int searchHalf, Image *color) {
+    const int w = input.width, h = input.height;
+    std::vector<size_t> cut;
+    if (histograms.width != w || histograms.height != h || histograms.channels < 4) return cut;
+    std::vector<int> group(size_t(w) * h, -1);
+    std::vector<std::vector<std::pair<int, int>>> groups;
+    // Label the groups by flooding in raster order.
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!SpikeOver(input, y, x) || group[size_t(y) * w + x] >= 0) continue;
+            std::vector<std::pair<int, int>> members{{x, y}};
+            group[size_t(y) * w + x] = int(groups.size());
+            for (size_t k = 0; k < members.size(); ++k)
+                for (int v = members[k].second - 1; v <= members[k].second + 1; ++v)
+                    for (int u = members[k].first - 1; u <= members[k].first + 1; ++u)
+                        if (u >= 0 && v >= 0 && u < w && v < h &&
+                            group[size_t(v) * w + u] < 0 && SpikeOver(input, v, u)) {
+                            group[size_t(v) * w + u] = int(groups.size());
+                            members.push_back({u, v});
+                        }
+            groups.push_back(members);
+        }
+    std::vector<bool> taken(groups.size(), false);
+    for (size_t g = 0; g < groups.size(); ++g) {
+        const auto &members = groups[g];
+        if (members.size() < 3 || members.size() > 4) continue;
+        int x0 = w, x1 = -1, y0 = h, y1 = -1;
+        double own = 0;
+        bool fits = true;
+        for (auto [x, y] : members) {
+            double b = BrightAt(histograms, y, x);
+            if (b < 0 || b > 2.5) fits = false;
+            own += b;
+            x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y),
+            y1 = std::max(y1, y);
+        }
+        if (!fits) continue;
+        double around = 0;
+        int m = 0;
+        for (int y = y0 - searchHalf; y <= y1 + searchHalf; ++y)
+            for (int x = x0 - searchHalf; x <= x1 + searchHalf; ++x) {
+                if (x < 0 || y < 0 || x >= w || y >= h) continue;
+                if (x >= x0 - 1 && x <= x1 + 1 && y >= y0 - 1 && y <= y1 + 1) continue;
+                around += std::max(0.0, BrightAt(histograms, y, x));
+                ++m;
+            }
+        long k = std::lround(own), t = std::max(k, long(std::lround(own + around)));
+        if (k < 2 || m == 0 || around > own) continue;
+        // The binomial tail, each term from its log.
+        double s = double(members.size()) / double(members.size() + m), tail = 0;
+        for (long i = k; i <= t; ++i) {
+            double logTerm = std::lgamma(double(t) + 1) - std::lgamma(double(i) + 1) -
+                             std::lgamma(double(t - i) + 1) + double(i) * std::log(s) +
+                             double(t - i) * std::log(1 - s);
+            tail += std::exp(logTerm);
+        }
+        taken[g] = tail < 1e-4;
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int g = group[size_t(y) * w + x];
+            if (g < 0 || !taken[g]) continue;
+            cut.push_back(size_t(y) * w + x);
+            for (int c = 0; c < input.channels; ++c) {
+                std::vector<float> values;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if (u >= 0 && v >= 0 && u < w && v < h && group[size_t(v) * w + u] != g)
+                            values.push_back(input.At(c, v, u));
+                if (values.empty()) continue;
+                std::sort(values.begin(), values.end());
+                color->At(c, y, x) = values[(values.size() - 1) / 2];
+            }
+        }
+    return cut;
+}
+
+void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
+                       int patchHalf, Image *output) {
+    const int w = input.width, h = input.height, r = 2 * patchHalf;
+    std::vector<double> sums(input.data.size(), 0.0);
+    for (size_t p : pixels) {
+        const int x = int(p % w), y = int(p / w);
+        auto weight = [&](int u, int v) {
+            return double(r + 1 - std::abs(u - x)) * double(r + 1 - std::abs(v - y));
+        };
+        double total = 0;
+        for (int v = y - r; v <= y + r; ++v)
+            for (int u = x - r; u <= x + r; ++u)
+                if (u >= 0 && v >= 0 && u < w && v < h) total += weight(u, v);
+        for (int c = 0; c < input.channels; ++c)
+            for (int v = y - r; v <= y + r; ++v)
+                for (int u = x - r; u <= x + r; ++u)
+                    if (u >= 0 && v >= 0 && u < w && v < h)
+                        sums[(size_t(c) * h + v) * w + u] +=
+                            (double(input.At(c, y, x)) - double(cut.At(c, y, x))) *
+                            weight(u, v) / total;
+    }
+    for (size_t k = 0; k < sums.size(); ++k)
+        if (sums[k] != 0) output->data[k] = float(double(output->data[k]) + sums[k]);
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     size_t clamped = 0;
     for (int y = 0; y < input.height; ++y)

@@ -91,14 +91,19 @@ class Rhf : public FrontEndOf<RhfParams> {
         Image variance = ExactVariance(ExactLayersOf(inputs));
         Image cut;
         size_t spikes = 0;
-        std::vector<size_t> rims;
+        std::vector<size_t> rims, clusters;
         if (options.meanRadius > 0) {
             cut = color;
             spikes = CutSpikes(&cut, &variance);
+            // Without the variance layer the restore would take a cluster back as a
+            // highlight (by its neighbours) on top of what the spread gives back.
+            if (Variance(inputs))
+                clusters =
+                    CutBrightClusters(color, Histograms(inputs), options.searchHalf, &cut);
             Image spiked = cut;
             rims = ManySampled(spiked, Histograms(inputs), CutLightRims(&cut, variance), &cut);
         }
-        const bool anyCut = spikes > 0 || !rims.empty();
+        const bool anyCut = spikes > 0 || !rims.empty() || !clusters.empty();
         Result result = ResultOf(
             RhfDenoise(context, anyCut ? cut : color, Histograms(inputs), options, setup));
         if (options.meanRadius > 0)
@@ -113,9 +118,21 @@ class Rhf : public FrontEndOf<RhfParams> {
                              "beside a brighter light (its samples within {}%), of at least "
                              "{} samples, take their other neighbours' median before the "
                              "filter and their input back after it",
-                             rims.size(), kSpike, kLightNoise * 100, kRimSamples)});
+                             rims.size(), kSpike, kLightNoise * 100, kRimSamples),
+                 fmt::format(
+                     "bright clusters: {} pixels in clusters of 2 to {} over {} times "
+                     "their neighbours' median, whose samples above the histograms' "
+                     "range are too many for their share of the search window's "
+                     "(binomial tail under {}) and at least the rest of it, take their "
+                     "other neighbours' median before the filter and give the cut back "
+                     "over a tent of radius {} after it{}",
+                     clusters.size(), kClusterMost, kSpike, kClusterLevel,
+                     2 * options.patchHalf,
+                     Variance(inputs) ? "" : " (none: the frame has no variance layer)")});
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
         GiveBack(color, rims, &result.image);
+        if (!clusters.empty())
+            SpreadOverPatches(color, cut, clusters, options.patchHalf, &result.image);
         result.plan.push_back(
             variance.Empty()
                 ? std::string("exact pixels: none known (no variance layer nor min, max and "
@@ -140,13 +157,13 @@ class Rhf : public FrontEndOf<RhfParams> {
         TileNeeds needs;
         // The exact pixels' energy returns within ExactReach, by weights read as far again.
         needs.reach = RhfReach(o, scales) + 2 * ExactReach() +
-                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) + 2 : 0);
+                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) + CutReach() : 0);
         needs.reachText = fmt::format(
             "the farthest over scales s < {} of (2 x patch half {} + search half {} + 2) x 2^s "
             "and the downsampler's 3-sigma taps, then bicubic U and D per recombination; "
-            "twice the exact pixels' reach {}; the local mean's tents {} and 2 for the spikes",
+            "twice the exact pixels' reach {}; the local mean's tents {} and {} for the cuts",
             scales, o.patchHalf, o.searchHalf, ExactReach(),
-            o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0);
+            o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0, CutReach());
         needs.align = 1 << (scales - 1);
         // Per pixel: the histograms, the colour and its filtered image, the selection mask and
         // the bin maxima (a float per 8 pixels and bin plane); each coarser scale s adds its
@@ -196,9 +213,12 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::vector<std::pair<std::string, Image>> named;
         Image cut = inputs.Get("color");
         const Image variance = ExactVariance(ExactLayersOf(inputs));
-        std::vector<size_t> rims;
+        std::vector<size_t> rims, clusters;
         if (options.meanRadius > 0) {
             ref::CutSpikes(&cut, &variance);
+            if (Variance(inputs))
+                clusters = ref::CutBrightClusters(inputs.Get("color"), Histograms(inputs),
+                                                  options.searchHalf, &cut);
             Image spiked = cut;
             rims = ManySampled(spiked, Histograms(inputs), ref::CutLightRims(&cut, variance),
                                &cut);
@@ -210,6 +230,8 @@ class Rhf : public FrontEndOf<RhfParams> {
             for (float &v : out.data) v = v < 0 ? 0.f : v;
         ref::KeepExactPixels(inputs.Get("color"), variance, &out, ExactReach());
         GiveBack(inputs.Get("color"), rims, &out);
+        if (!clusters.empty())
+            ref::SpreadOverPatches(inputs.Get("color"), cut, clusters, options.patchHalf, &out);
         named.emplace_back("exact pixels", out);
         if (options.meanRadius > 0) {
             ref::RestoreLocalMeans(inputs.Get("color"), options.meanRadius, &out,
@@ -230,6 +252,10 @@ class Rhf : public FrontEndOf<RhfParams> {
     // How far rhf moves a value at the finest scale: a patch's pixels from the search
     // window's far side.
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
+
+    // How far the cuts read: a bright cluster's other pixels, its search window and the
+    // neighbours its pixels are measured against, and the tent its cut goes back over.
+    int CutReach() const { return kClusterMost + options.searchHalf + 2 * options.patchHalf; }
 
     // The rims (CutLightRims) of at least kRimSamples samples (the histograms' count): with
     // fewer a rim one sample saw holds a large share of its light, and the filter's spread

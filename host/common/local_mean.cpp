@@ -472,6 +472,156 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
     return rims;
 }
 
+namespace {
+
+// The most samples above the histograms' range over a pixel's colours (the last two bins of
+// each); -1 where the pixel has no samples.
+double BrightSamples(const Image &histograms, size_t p) {
+    const int n3 = histograms.channels - 1, perColour = n3 / 3;
+    const size_t n = histograms.PixelCount();
+    if (!(histograms.data[n3 * n + p] > 0)) return -1;
+    double most = 0;
+    for (int c = 0; c < 3; ++c)
+        most = std::max(most, double(histograms.data[(c * perColour + perColour - 2) * n + p]) +
+                                  histograms.data[(c * perColour + perColour - 1) * n + p]);
+    return most;
+}
+
+// P(X >= k) for X ~ Binomial(t, pi), 0 <= k <= t.
+double BinomialTail(int k, int t, double pi) {
+    double tail = 0;
+    for (int i = k; i <= t; ++i)
+        tail +=
+            std::exp(std::lgamma(t + 1.0) - std::lgamma(i + 1.0) - std::lgamma(t - i + 1.0) +
+                     i * std::log(pi) + (t - i) * std::log1p(-pi));
+    return tail;
+}
+
+// The 8-connected cluster of `over` pixels holding p (pixels marked in `seen`), ascending.
+std::vector<size_t> ClusterAt(const std::vector<char> &over, int w, int h, size_t p,
+                              std::vector<char> *seen) {
+    std::vector<size_t> cluster, stack{p};
+    (*seen)[p] = 1;
+    while (!stack.empty()) {
+        const size_t q = stack.back();
+        stack.pop_back();
+        cluster.push_back(q);
+        const int x = int(q % w), y = int(q / w);
+        for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+            for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                const size_t r = size_t(j) * w + i;
+                if (over[r] && !(*seen)[r]) {
+                    (*seen)[r] = 1;
+                    stack.push_back(r);
+                }
+            }
+    }
+    std::sort(cluster.begin(), cluster.end());
+    return cluster;
+}
+
+// Whether the cluster's bright samples are too many for its share of its search window's
+// (CutBrightClusters).
+bool ClusterStandsOut(const Image &histograms, int w, int h, const std::vector<size_t> &cluster,
+                      int searchHalf) {
+    if (cluster.size() < size_t(kClusterLeast) || cluster.size() > size_t(kClusterMost))
+        return false;
+    int x0 = w, x1 = -1, y0 = h, y1 = -1;
+    double own = 0;
+    for (size_t p : cluster) {
+        const double b = BrightSamples(histograms, p);
+        if (b < 0 || b > kClusterSamples + 0.5) return false;
+        own += b;
+        x0 = std::min(x0, int(p % w)), x1 = std::max(x1, int(p % w));
+        y0 = std::min(y0, int(p / w)), y1 = std::max(y1, int(p / w));
+    }
+    double around = 0;
+    int pixels = 0;
+    for (int y = std::max(0, y0 - searchHalf); y <= std::min(h - 1, y1 + searchHalf); ++y)
+        for (int x = std::max(0, x0 - searchHalf); x <= std::min(w - 1, x1 + searchHalf); ++x) {
+            if (x >= x0 - 1 && x <= x1 + 1 && y >= y0 - 1 && y <= y1 + 1) continue;
+            around += std::max(0.0, BrightSamples(histograms, size_t(y) * w + x));
+            ++pixels;
+        }
+    const int k = int(std::lround(own)), t = int(std::lround(own + around));
+    if (k < 2 || pixels == 0 || around > own) return false;
+    const double share = double(cluster.size()) / double(cluster.size() + pixels);
+    return BinomialTail(k, std::max(t, k), share) < kClusterLevel;
+}
+
+}  // namespace
+
+std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
+                                      int searchHalf, Image *color) {
+    const int w = input.width, h = input.height;
+    const size_t n = input.PixelCount();
+    std::vector<size_t> cut;
+    if (histograms.width != w || histograms.height != h || histograms.channels < 4) return cut;
+    const Image sums = ChannelSums(input);
+    std::vector<char> over(n, 0);
+    ParallelFor(h, n * 16, [&](int begin, int end) {
+        for (int y = begin; y < end; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
+                over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
+                          sums.data[p] > kSpike * m;
+            }
+    });
+    std::vector<char> seen(n, 0), inCluster(n, 0);
+    for (size_t p = 0; p < n; ++p) {
+        if (!over[p] || seen[p]) continue;
+        const std::vector<size_t> cluster = ClusterAt(over, w, h, p, &seen);
+        if (!ClusterStandsOut(histograms, w, h, cluster, searchHalf)) continue;
+        for (size_t q : cluster) inCluster[q] = 1;
+        cut.insert(cut.end(), cluster.begin(), cluster.end());
+    }
+    std::sort(cut.begin(), cut.end());
+    // Each takes its neighbours' median outside the cluster, from the frame as given.
+    for (size_t p : cut) {
+        const int x = int(p % w), y = int(p / w);
+        for (int c = 0; c < input.channels; ++c) {
+            float values[8];
+            int count = 0;
+            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
+                    if (!inCluster[size_t(j) * w + i])
+                        values[count++] = input.Plane(c)[size_t(j) * w + i];
+            if (count == 0) continue;
+            std::nth_element(values, values + (count - 1) / 2, values + count);
+            color->Plane(c)[p] = values[(count - 1) / 2];
+        }
+    }
+    return cut;
+}
+
+void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
+                       int patchHalf, Image *output) {
+    const int w = input.width, h = input.height, r = 2 * patchHalf;
+    const size_t n = input.PixelCount();
+    std::vector<double> added(n * input.channels, 0.0);
+    for (size_t p : pixels) {
+        const int x = int(p % w), y = int(p / w);
+        const int i0 = std::max(0, x - r), i1 = std::min(w - 1, x + r);
+        const int j0 = std::max(0, y - r), j1 = std::min(h - 1, y + r);
+        // The tent's weights (r + 1 - |dx|)(r + 1 - |dy|) over the clipped window, summed.
+        double total = 0;
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i)
+                total += double(r + 1 - std::abs(i - x)) * (r + 1 - std::abs(j - y));
+        for (int c = 0; c < input.channels; ++c) {
+            const double excess = double(input.Plane(c)[p]) - cut.Plane(c)[p];
+            for (int j = j0; j <= j1; ++j)
+                for (int i = i0; i <= i1; ++i)
+                    added[c * n + size_t(j) * w + i] +=
+                        excess * (double(r + 1 - std::abs(i - x)) * (r + 1 - std::abs(j - y))) /
+                        total;
+        }
+    }
+    for (size_t k = 0; k < added.size(); ++k)
+        if (added[k] != 0) output->data[k] = float(double(output->data[k]) + added[k]);
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     if (!input.SameShape(*output) || variance.width != input.width ||
         variance.height != input.height ||

@@ -501,6 +501,126 @@ TEST(LocalMeanProperties, CutLightRimsCutsOnlyPixelsBesideALight) {
     EXPECT_EQ(0, std::memcmp(same.data.data(), color.data.data(), color.data.size() * 4));
 }
 
+// Histograms of `bins` per colour for a w x h frame: 16 samples a pixel (none for about one
+// in fifty), spread over the low bins, and about one pixel in two hundred with 1-3 samples
+// above the range (the last colour bin).
+Image RandomHistograms(int w, int h, int bins, std::mt19937_64 *rng) {
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image hist(w, h, 3 * bins + 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool empty = unit(*rng) < 0.02f;
+            hist.At(3 * bins, y, x) = empty ? 0.f : 16.f;
+            if (empty) continue;
+            const float bright = unit(*rng) < 0.005f ? float(1 + int(3 * unit(*rng))) : 0.f;
+            for (int c = 0; c < 3; ++c) {
+                const float low = unit(*rng) * (16 - bright);
+                hist.At(c * bins + 1, y, x) = low;
+                hist.At(c * bins + 2, y, x) = 16 - bright - low;
+                hist.At(c * bins + bins - 1, y, x) = bright;
+            }
+        }
+    return hist;
+}
+
+// Bright clusters against the reference on the random frames (NaN, Inf, zeros, negatives,
+// spikes of 100), with random histograms and two planted clusters of one-sample pixels over
+// a flat patch (no other bright sample in their search windows): the same pixels and bits,
+// the same when repeated over threads; the cut given back the same bits as the reference's.
+TEST_P(LocalMeanMatches, CutBrightClustersMatchesReference) {
+    const LocalMeanCase &c = GetParam();
+    Image input, output;
+    MakeImages(c, &input, &output);
+    std::mt19937_64 rng(
+        SeedFromName("bright clusters " + std::to_string(c.w) + "x" + std::to_string(c.h)));
+    const int bins = 20;
+    Image hist = RandomHistograms(c.w, c.h, bins, &rng);
+    for (auto [x0, y0] : {std::pair{c.w / 4, c.h / 4}, {3 * c.w / 4, 2 * c.h / 3}})
+        for (int y = y0 - 8; y <= y0 + 8; ++y)
+            for (int x = x0 - 7; x <= x0 + 7; ++x) {
+                if (x < 0 || y < 0 || x >= c.w || y >= c.h) continue;
+                const bool column = x == x0 && y >= y0 - 1 && y <= y0 + 1;
+                if (std::abs(x - x0) <= 3 && std::abs(y - y0) <= 3)
+                    for (int ch = 0; ch < c.channels; ++ch)
+                        input.At(ch, y, x) = column ? 5 : 0.02f;
+                for (int ch = 0; ch < 3; ++ch) {
+                    hist.At(ch * bins + 1, y, x) = column ? 15.f : 16.f;
+                    hist.At(ch * bins + 2, y, x) = 0;
+                    hist.At(ch * bins + bins - 1, y, x) = column ? 1.f : 0.f;
+                }
+                hist.At(3 * bins, y, x) = 16;
+            }
+    Image expected = input, got = input, again = input;
+    const std::vector<size_t> cut = ref::CutBrightClusters(input, hist, 6, &expected);
+    EXPECT_EQ(CutBrightClusters(input, hist, 6, &got), cut);
+    ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    {
+        ForceParallelParts split(3);  // the rows among threads: the same pixels and bits
+        EXPECT_EQ(CutBrightClusters(input, hist, 6, &again), cut);
+    }
+    EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+    if (c.w >= 16 && c.h >= 16) {
+        EXPECT_GE(cut.size(), 6u);  // both planted columns
+    }
+    Image spreadExpected = output, spreadGot = output;
+    ref::SpreadOverPatches(input, expected, cut, 1, &spreadExpected);
+    SpreadOverPatches(input, got, cut, 1, &spreadGot);
+    EXPECT_EQ(0, std::memcmp(spreadGot.data.data(), spreadExpected.data.data(),
+                             spreadGot.data.size() * 4));
+}
+
+// A column of three pixels that one bright sample of 16 each saw, on a flat floor with no
+// other bright sample within the search window, is cut whole (a light's reflection), and its
+// energy goes back within the tent of radius 2 around it; the same column among
+// many bright samples (noise the filter spreads), a column whose samples are all bright (the
+// bright veto keeps such pixels apart) and a pair alone on the floor (chance makes pairs)
+// stay.
+TEST(LocalMeanProperties, CutBrightClustersCutsOnlyAClusterThatStandsOut) {
+    const int w = 40, h = 20, bins = 20;
+    Image color(w, h, 3, 0.0133f), hist(w, h, 3 * bins + 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 3; ++c) hist.At(c * bins + 1, y, x) = 16;
+            hist.At(3 * bins, y, x) = 16;
+        }
+    auto bright = [&](int x, int y, float samples, float value) {
+        for (int c = 0; c < 3; ++c) {
+            color.At(c, y, x) = value;
+            hist.At(c * bins + 1, y, x) = 16 - samples;
+            hist.At(c * bins + bins - 1, y, x) = samples;
+        }
+    };
+    for (int y = 9; y <= 11; ++y) bright(8, y, 1, 3.4f);   // the floor's column
+    for (int y = 9; y <= 11; ++y) bright(24, y, 1, 3.4f);  // the same among others
+    for (int y = 2; y < h; y += 3)
+        for (int x = 18; x < 31; x += 3)
+            if (x != 24) bright(x, y, 1, 1.5f);
+    for (int y = 4; y <= 6; ++y) bright(36, y, 16, 80);  // a highlight every sample saw
+    bright(4, 2, 1, 3.4f), bright(5, 2, 2, 6.8f);        // a pair alone on the floor
+    Image cut = color;
+    const std::vector<size_t> pixels = CutBrightClusters(color, hist, 6, &cut);
+    ASSERT_EQ(pixels, (std::vector<size_t>{9 * w + 8, 10 * w + 8, 11 * w + 8}));
+    for (size_t p : pixels)
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(cut.Plane(c)[p], 0.0133f);
+    for (size_t i = 0; i < cut.data.size(); ++i)
+        if (std::find(pixels.begin(), pixels.end(), i % cut.PixelCount()) == pixels.end()) {
+            EXPECT_EQ(cut.data[i], color.data[i]) << i;
+        }
+    // Given back over the tent: the column's excess, all within 2 pixels of it.
+    Image out(w, h, 3, 0.f);
+    SpreadOverPatches(color, cut, pixels, 1, &out);
+    double near = 0, far = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            (std::abs(x - 8) <= 2 && y >= 7 && y <= 13 ? near : far) += out.At(0, y, x);
+    EXPECT_NEAR(near, 3 * (3.4 - 0.0133), 1e-4);
+    EXPECT_EQ(far, 0);
+    EXPECT_GT(out.At(0, 10, 8), out.At(0, 10, 9));
+    EXPECT_GT(out.At(0, 10, 9), out.At(0, 10, 10));
+    Image small(w, h - 1, 3 * bins + 1), same = color;
+    EXPECT_TRUE(CutBrightClusters(color, small, 6, &same).empty());
+}
+
 // The robust estimate reads Gaussian noise's variance (its mean over a frame within 5%),
 // and a bright line the albedo does not show does not raise it beside the line, where a
 // 3x3 sample variance of the same frame is many times the noise.
