@@ -120,13 +120,13 @@ class Rhf : public FrontEndOf<RhfParams> {
                              "filter and their input back after it",
                              rims.size(), kSpike, kLightNoise * 100, kRimSamples),
                  fmt::format(
-                     "bright clusters: {} pixels in clusters of 2 to {} over {} times "
+                     "bright clusters: {} pixels in clusters of {} to {} over {} times "
                      "their neighbours' median, whose samples above the histograms' "
                      "range are too many for their share of the search window's "
                      "(binomial tail under {}) and at least the rest of it, take their "
                      "other neighbours' median before the filter and give the cut back "
                      "over a tent of radius {} after it{}",
-                     clusters.size(), kClusterMost, kSpike, kClusterLevel,
+                     clusters.size(), kClusterLeast, kClusterMost, kSpike, kClusterLevel,
                      2 * options.patchHalf,
                      Variance(inputs) ? "" : " (none: the frame has no variance layer)")});
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
