@@ -36,29 +36,51 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
             total += s;
         }
     const double floor = 1e-3 * total / (double(w) * h);
-    auto over = [&](int x, int y) {
-        double s = sum.At(0, y, x);
-        if (!(s > k * std::max(UpperMedian(sum, 0, x, y, r), floor))) return false;
-        if (!variance) return true;
-        double excess = 0, v = 0;
-        for (int c = 0; c < color.channels; ++c) {
-            excess += color.At(c, y, x) - UpperMedian(color, c, x, y, r);
-            v += variance->At(c, y, x);
+    // Over k times the window's median of the sums (and the floor).
+    std::vector<char> bright(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            bright[size_t(y) * w + x] =
+                sum.At(0, y, x) > k * std::max(UpperMedian(sum, 0, x, y, r), floor);
+    // Per pixel 0: not a highlight; 1: one with 2 such neighbours; 2: one with 1 too (4 of its
+    // own standard deviations above the window's median: most of its samples saw the light).
+    std::vector<int> level(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!bright[size_t(y) * w + x]) continue;
+            if (!variance) {
+                level[size_t(y) * w + x] = 1;
+                continue;
+            }
+            double excess = 0, v = 0;
+            for (int c = 0; c < color.channels; ++c) {
+                excess += color.At(c, y, x) - UpperMedian(color, c, x, y, r);
+                v += variance->At(c, y, x);
+            }
+            if (excess > 0)
+                level[size_t(y) * w + x] =
+                    excess * excess > 16 * v ? 2 : excess * excess > 4 * v;
         }
-        return excess > 0 && excess * excess > 4 * v;
+    // How many of (x, y)'s 8 neighbours inside the frame are marked.
+    auto neighbours = [&](const auto &marked, int x, int y) {
+        int count = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                int u = x + dx, v = y + dy;
+                if ((dx || dy) && u >= 0 && v >= 0 && u < w && v < h &&
+                    marked[size_t(v) * w + u])
+                    ++count;
+            }
+        return count;
     };
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (!over(x, y)) continue;
-            int neighbours = 0;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    int u = x + dx, v = y + dy;
-                    if ((dx || dy) && u >= 0 && v >= 0 && u < w && v < h && over(u, v))
-                        ++neighbours;
-                }
-            if (neighbours < 2) continue;
-            highlight[size_t(y) * w + x] = 1;
+            int mark = level[size_t(y) * w + x];
+            highlight[size_t(y) * w + x] = mark && neighbours(level, x, y) >= 3 - mark;
+        }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!highlight[size_t(y) * w + x]) continue;
             for (int c = 0; c < color.channels; ++c) {
                 base->At(c, y, x) = float(UpperMedian(color, c, x, y, r));
                 if (variance)

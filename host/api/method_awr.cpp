@@ -110,8 +110,8 @@ class Awr : public FrontEndOf<AwrSettings> {
             AddHighlights(color, split, &result.image);
             result.plan.push_back(fmt::format(
                 "highlights: {} pixels over {} x their 7x7 median (with 2 of 8 neighbours, 2 "
-                "standard deviations above it) reconstructed at that median and given their "
-                "input back",
+                "standard deviations above it, or 1 neighbour, 4 above) reconstructed at that "
+                "median and given their input back",
                 split.count, options.highlights));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});

@@ -46,9 +46,13 @@ std::vector<char> OverTheirWindows(const Image &sum, double k, int r) {
 
 // With a variance, a highlight must stand kHighlightSigmas of its own standard deviation above
 // its window's median (channels summed): a light's rim seen by many samples does, a firefly
-// (one sample: a deviation about its mean) does not.
+// (one sample: a deviation about its mean) does not. One that stands kPairSigmas above needs
+// one bright neighbour, not two: most of its samples saw the light (a two-pixel reflection
+// of a small light in a mirror sphere).
 constexpr double kHighlightSigmas = 2;
+constexpr double kPairSigmas = 4;
 
+// Marks that pass (1), and those that pass kPairSigmas (2).
 void RequireConfidence(const Image &color, const Image &variance, int r,
                        std::vector<char> *over) {
     const int w = color.width, h = color.height;
@@ -67,8 +71,10 @@ void RequireConfidence(const Image &color, const Image &variance, int r,
                               WindowMedian(color.Plane(c), w, h, x, y, r, scratch);
                     v += variance.Plane(c)[p];
                 }
-                (*over)[p] =
-                    excess > 0 && excess * excess > kHighlightSigmas * kHighlightSigmas * v;
+                (*over)[p] = excess <= 0 ? 0
+                             : excess * excess > kPairSigmas * kPairSigmas * v
+                                 ? 2
+                                 : excess * excess > kHighlightSigmas * kHighlightSigmas * v;
             }
     });
 }
@@ -99,14 +105,17 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
         for (size_t p = 0; p < color.PixelCount(); ++p) sum.data[p] += color.Plane(c)[p];
     std::vector<char> over = OverTheirWindows(sum, k, r);
     if (variance) RequireConfidence(color, *variance, r, &over);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            size_t p = size_t(y) * w + x;
+            // Two marked neighbours, or one for a pixel kPairSigmas above.
+            split.highlight[p] = over[p] && MarkedNeighbours(over, w, h, x, y) >= 3 - over[p];
+        }
     std::vector<float> scratch;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t p = size_t(y) * w + x;
-            if (!over[p]) continue;
-            int neighbours = MarkedNeighbours(over, w, h, x, y);
-            if (neighbours < 2) continue;
-            split.highlight[p] = 1;
+            if (!split.highlight[p]) continue;
             ++split.count;
             for (int c = 0; c < color.channels; ++c) {
                 split.base.Plane(c)[p] = WindowMedian(color.Plane(c), w, h, x, y, r, scratch);

@@ -7,7 +7,9 @@
 // (and over a floor of 1e-3 of the frame's mean sum), with at least 2 of its 8 neighbours so
 // too (a lone firefly is noise the filter should spread), and, given a variance, 2 standard
 // deviations above its window's median (a firefly, one sample's deviation about its mean, is
-// not), is a highlight: the filter reads, at
+// not), is a highlight; so is one 4 standard deviations above with one bright neighbour
+// (most of its samples saw the light: a small light's two-pixel reflection in a mirror
+// sphere, whose shrunk details rang dark holes around it). The filter reads, at
 // that pixel, each channel's median over the window (and the variance's), and the difference
 // is added back after, so the highlight keeps its input and the frame its energy.
 #pragma once

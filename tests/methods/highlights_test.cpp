@@ -70,6 +70,32 @@ TEST(Highlights, LoneFireflyAndNonFiniteFramesHaveNone) {
     EXPECT_EQ(SplitHighlights(color, nullptr, 16, 3).count, 0u);
 }
 
+// A small light's reflection in a mirror sphere covers two pixels, seen by most samples:
+// far above its noise, without the 2 bright neighbours a light's core has. It is a
+// highlight; a lone pixel as far above the median but within two of its standard deviations
+// (a firefly) is not, nor is a lone pixel far above its noise (at 4 spp a firefly's few
+// samples may agree).
+TEST(Highlights, ConfidentTwoPixelReflectionsAreHighlights) {
+    Image color(15, 15, 3, 0.1f), variance(15, 15, 3, 1e-4f);
+    for (int c = 0; c < 3; ++c) {
+        color.At(c, 7, 7) = color.At(c, 7, 8) = 300;  // 30 standard deviations above
+        variance.At(c, 7, 7) = variance.At(c, 7, 8) = 100;
+        color.At(c, 11, 11) = 300;  // alone, 30 standard deviations above
+        variance.At(c, 11, 11) = 100;
+        color.At(c, 2, 2) = 300;  // a firefly: 1 standard deviation above
+        variance.At(c, 2, 2) = 90000;
+    }
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_EQ(split.count, 2u);
+    EXPECT_TRUE(split.highlight[7 * 15 + 7] && split.highlight[7 * 15 + 8]);
+    EXPECT_FALSE(split.highlight[11 * 15 + 11]) << "the lone pixel";
+    EXPECT_FALSE(split.highlight[2 * 15 + 2]) << "the firefly";
+    Image base, baseVariance;
+    EXPECT_EQ(split.highlight,
+              ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance));
+    EXPECT_EQ(split.base.data, base.data);
+}
+
 class HighlightsAwr : public GpuTest {};
 
 // A small light (exact inside, a noisy rim) on a dim floor with a small variance: awr's
@@ -111,6 +137,39 @@ TEST_F(HighlightsAwr, SmallLightDoesNotRingIntoTheFloor) {
     for (size_t i = 0; i < color.data.size(); ++i)
         sumIn += color.data[i], sumOut += split.image.data[i];
     EXPECT_NEAR(sumOut, sumIn, 0.02 * sumIn);
+}
+
+// A two-pixel reflection of a small light, seen by most samples, on a dim surface: awr's
+// shrinkage by its variance left its energy in the coarse bands, which rang dark holes
+// into the surface around it (the chrome sphere of a real frame, issue 29). Taken out as a
+// highlight, the surface around it keeps its level.
+TEST_F(HighlightsAwr, AReflectionDoesNotRingDarkHoles) {
+    const int w = 40, h = 40;
+    Image truth(w, h, 3, 0.05f), color(w, h, 3), variance(w, h, 3);
+    std::mt19937_64 rng(SeedFromName("highlights awr reflection"));
+    std::normal_distribution<float> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool spot = y == 20 && (x == 20 || x == 21);
+                float t = spot ? 300.f : 0.05f, sd = spot ? 60.f : 0.01f;
+                truth.At(c, y, x) = t;
+                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
+                variance.At(c, y, x) = sd * sd;
+            }
+    Frame frame;
+    frame.width = w, frame.height = h;
+    frame.layers["color"] = color;
+    frame.layers["variance"] = variance;
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    // The darkest pixel within 6 of the reflection, against the surface's level.
+    float darkest = 1e30f;
+    for (int y = 14; y <= 26; ++y)
+        for (int x = 14; x <= 27; ++x)
+            if (y != 20 || (x != 20 && x != 21))
+                for (int c = 0; c < 3; ++c) darkest = std::min(darkest, out.image.At(c, y, x));
+    EXPECT_GT(darkest, 0.5f * 0.05f) << "a dark hole beside the reflection";
 }
 
 }  // namespace
