@@ -1,0 +1,39 @@
+// Beside the half-buffers: the estimates of the candidates' errors made to weigh them as the
+// windows can tell them apart (docs/methods/auto.md, "Accumulated frames: the estimates'
+// noise"). Each estimate (F(half0) - half1)^2 - Var(half1), averaged over a window, is
+// unbiased but noisy, and biased low alike for candidates that keep the bias the two halves
+// share (a frame of jittered 1-spp renders keeps some aliasing in both).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/image.h"
+
+namespace mcd {
+
+struct AutoHalvesSettings {
+    // Each estimate gets back half1's variance over the window (the same for every
+    // candidate, in relMSE's units) up to this times the median of the candidates' estimates
+    // at the pixel: the weights lean to equal where the noise hides their differences
+    // (0: off).
+    float shrink = 0;
+    // A candidate whose estimate over the whole window (the frame) is above this times the
+    // median of the candidates' is left out (0: off).
+    float drop = 0;
+    float floorError = 1e-5f;  // the smallest estimate the median reads
+};
+
+struct AutoHalvesResult {
+    std::vector<bool> dropped;           // per candidate
+    std::vector<double> frameEstimates;  // per candidate, the mean of its finite estimates
+    double median = 0;                   // theirs, as the drop compared with
+};
+
+// `smooth`: K planes, the candidates' window means of their estimates; `noise`: one plane,
+// the window mean of half1's variance over relMSE's denominator (>= 0). Returns what was
+// left out; a left-out candidate's plane becomes +inf (weight 0).
+AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
+                                           const AutoHalvesSettings &settings);
+
+}  // namespace mcd

@@ -1,0 +1,120 @@
+// Beside the half-buffers auto adjusts its final error estimates (host/methods/auto_halves.h):
+// half1's variance given back up to a multiple of the candidates' median, and a candidate far
+// above the others over the frame left out.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "cpu_reference/auto_combine.h"
+#include "harness/inputs.h"
+#include "host/methods/auto_halves.h"
+#include "host/metrics.h"
+
+namespace mcd {
+namespace {
+
+using test::SeedFromName;
+
+// K planes of random estimates (some negative, as the halves' estimates are) and a noise
+// plane, seeded by the test's name.
+struct Estimates {
+    Image smooth, noise;
+};
+
+Estimates RandomEstimates(int w, int h, int count, const char *name) {
+    std::mt19937_64 rng(SeedFromName(name));
+    std::uniform_real_distribution<float> error(-0.002f, 0.02f), noise(0.f, 0.1f);
+    Estimates e{Image(w, h, count), Image(w, h, 1)};
+    for (float &x : e.smooth.data) x = error(rng);
+    for (float &x : e.noise.data) x = noise(rng);
+    return e;
+}
+
+TEST(AutoHalvesEstimates, GivesEveryCandidateTheSameNoiseUpToTheMedian) {
+    const int w = 19, h = 13, count = 5;
+    Estimates e = RandomEstimates(w, h, count, "auto halves shrink");
+    Image adjusted = e.smooth;
+    AutoHalvesSettings settings{3.f, 0.f, 1e-5f};
+    AutoHalvesResult result = AutoAdjustHalvesEstimates(adjusted, e.noise, settings);
+    const size_t n = e.noise.PixelCount();
+    for (size_t i = 0; i < n; ++i) {
+        std::vector<float> at;
+        for (int k = 0; k < count; ++k) at.push_back(std::max(e.smooth.data[k * n + i], 1e-5f));
+        std::sort(at.begin(), at.end());
+        float give = std::min(e.noise.data[i], 3.f * at[count / 2]);
+        for (int k = 0; k < count; ++k)
+            EXPECT_FLOAT_EQ(adjusted.data[k * n + i], e.smooth.data[k * n + i] + give)
+                << "pixel " << i << " candidate " << k;
+    }
+    for (bool dropped : result.dropped) EXPECT_FALSE(dropped);
+    Image again = e.smooth;
+    AutoAdjustHalvesEstimates(again, e.noise, settings);
+    EXPECT_EQ(again.data, adjusted.data);
+}
+
+// The drop compares with the candidates' median over the frame, not with the best: an
+// estimate below zero (a candidate that keeps the bias the halves share) leaves the others.
+TEST(AutoHalvesEstimates, LeavesOutOnlyCandidatesFarAboveTheMedian) {
+    const int w = 8, h = 8;
+    const std::vector<float> levels = {0.004f, 0.005f, -0.001f, 0.006f, 0.03f};
+    Image smooth(w, h, int(levels.size())), noise(w, h, 1);
+    for (size_t k = 0; k < levels.size(); ++k)
+        std::fill_n(smooth.Plane(int(k)), smooth.PixelCount(), levels[k]);
+    Image adjusted = smooth;
+    AutoHalvesResult result = AutoAdjustHalvesEstimates(adjusted, noise, {0.f, 3.f, 1e-5f});
+    EXPECT_NEAR(result.median, 0.005, 1e-9);
+    for (size_t k = 0; k < levels.size(); ++k) {
+        bool far = k == 4;
+        EXPECT_EQ(result.dropped[k], far) << "candidate " << k;
+        for (size_t i = 0; i < smooth.PixelCount(); ++i)
+            if (far)
+                EXPECT_TRUE(std::isinf(adjusted.Plane(int(k))[i]));
+            else
+                EXPECT_EQ(adjusted.Plane(int(k))[i], levels[k]);
+    }
+}
+
+// Two candidates of the same true error (each the truth plus its own noise) and estimates
+// that differ by noise much larger than their errors, as a window's halves estimate does
+// on a noisy frame: weighed by 1 / e^2 the combination follows the estimates' noise and is
+// less better than one candidate than equal weights would be; with half1's variance given
+// back the weights lean to equal and more of the two candidates' noise averages out.
+TEST(AutoHalvesEstimates, NoisyEstimatesOfEqualCandidatesLeanToEqualWeights) {
+    const int w = 48, h = 48;
+    std::mt19937_64 rng(SeedFromName("auto halves equal candidates"));
+    std::normal_distribution<float> unit(0.f, 1.f);
+    Image truth(w, h, 3), color(w, h, 3), variance(w, h, 3);
+    std::vector<Image> outputs(2, Image(w, h, 3));
+    for (size_t i = 0; i < truth.data.size(); ++i) {
+        truth.data[i] = 0.5f;
+        color.data[i] = 0.5f + 0.2f * unit(rng);
+        variance.data[i] = 0.04f;
+        for (Image &o : outputs) o.data[i] = 0.5f + 0.03f * unit(rng);
+    }
+    // Each candidate's true relative error is about 0.0035; the estimates scatter by 0.02.
+    Image smooth(w, h, 2), noise(w, h, 1);
+    for (float &x : smooth.data) x = 0.0035f + 0.02f * unit(rng);
+    for (float &x : noise.data) x = 0.15f;
+    auto combined = [&](const Image &errors) {
+        Image f =
+            ref::AutoCombineRelative(color, outputs, errors, variance, 2, 1e-5, 30, 4).color;
+        return CompareImages(f, truth).relMse;
+    };
+    Image adjusted = smooth;
+    AutoAdjustHalvesEstimates(adjusted, noise, {3.f, 0.f, 1e-5f});
+    double before = combined(smooth), after = combined(adjusted);
+    double one = CompareImages(outputs[0], truth).relMse;
+    fmt::print("relMSE: one candidate {:.4g}, estimates as they are {:.4g}, shrunk {:.4g}\n",
+               one, before, after);
+    // Equal weights would give about half of one candidate's error; the give-back is capped
+    // by the median, so where one estimate is far above the other the weights stay apart.
+    EXPECT_LT(after, 0.9 * before);
+    EXPECT_LT(after, 0.75 * one);
+}
+
+}  // namespace
+}  // namespace mcd
