@@ -183,7 +183,8 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
     for (size_t k = 0; k < candidates.size(); ++k)
         estimates += fmt::format("{}{} {:.3g}", estimates.empty() ? "" : ", ",
                                  candidates[k].label, adjusted.frameEstimates[k]);
-    run.Plan(fmt::format("auto: the estimates over the frame: {}", estimates));
+    run.Plan(fmt::format("auto: the estimates over the frame: {}; half1's variance {:.3g}",
+                         estimates, adjusted.frameNoise));
     for (size_t k = 0; k < candidates.size(); ++k)
         if (adjusted.dropped[k])
             run.Plan(

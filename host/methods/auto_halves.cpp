@@ -26,9 +26,10 @@ double Median(std::vector<double> values) {
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-// The smallest median a ratio is taken against. The median, not the best: a candidate that
-// keeps the bias the halves share has an estimate biased low, at times below zero, and
-// against it every other would be left out.
+// The smallest median a ratio is taken against; below it the estimates over the frame
+// tell nothing (the halves' noise or shared bias outweighs them) and none is left out. The
+// median, not the best: a candidate that keeps the bias the halves share has an estimate
+// biased low, at times below zero, and against it every other would be left out.
 constexpr double kDropFloor = 1e-4;
 
 }  // namespace
@@ -44,11 +45,11 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
     result.dropped.assign(count, false);
     for (int k = 0; k < count; ++k)
         result.frameEstimates.push_back(FiniteMean(smooth.Plane(k), n));
-    if (settings.drop > 0) {
-        result.median = std::max(Median(result.frameEstimates), kDropFloor);
+    result.median = Median(result.frameEstimates);
+    result.frameNoise = FiniteMean(noise.data.data(), n);
+    if (settings.drop > 0 && result.median > kDropFloor)
         for (int k = 0; k < count; ++k)
             result.dropped[k] = result.frameEstimates[k] > settings.drop * result.median;
-    }
     std::vector<float> kept;
     for (size_t i = 0; i < n && settings.shrink > 0; ++i) {
         kept.clear();

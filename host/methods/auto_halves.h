@@ -27,7 +27,8 @@ struct AutoHalvesSettings {
 struct AutoHalvesResult {
     std::vector<bool> dropped;           // per candidate
     std::vector<double> frameEstimates;  // per candidate, the mean of its finite estimates
-    double median = 0;                   // theirs, as the drop compared with
+    double median = 0;      // theirs, which the drop compares with where it is above 1e-4
+    double frameNoise = 0;  // the mean of the noise plane
 };
 
 // `smooth`: K planes, the candidates' window means of their estimates; `noise`: one plane,

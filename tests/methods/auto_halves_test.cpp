@@ -78,6 +78,21 @@ TEST(AutoHalvesEstimates, LeavesOutOnlyCandidatesFarAboveTheMedian) {
     }
 }
 
+// Where the candidates' median over the frame is about zero or below, the estimates over
+// the frame tell nothing (half1's noise, or the bias the halves share, outweighs them): none
+// is left out, however far above it one is.
+TEST(AutoHalvesEstimates, LeavesNoneOutWhereTheMedianIsAboutZero) {
+    const int w = 6, h = 5;
+    const std::vector<float> levels = {-0.009f, -0.013f, 0.068f, -0.013f, 0.022f};
+    Image smooth(w, h, int(levels.size())), noise(w, h, 1);
+    for (size_t k = 0; k < levels.size(); ++k)
+        std::fill_n(smooth.Plane(int(k)), smooth.PixelCount(), levels[k]);
+    Image adjusted = smooth;
+    AutoHalvesResult result = AutoAdjustHalvesEstimates(adjusted, noise, {0.f, 3.5f, 1e-5f});
+    for (bool dropped : result.dropped) EXPECT_FALSE(dropped);
+    EXPECT_EQ(adjusted.data, smooth.data);
+}
+
 // Two candidates of the same true error (each the truth plus its own noise) and estimates
 // that differ by noise much larger than their errors, as a window's halves estimate does
 // on a noisy frame: weighed by 1 / e^2 the combination follows the estimates' noise and is
