@@ -157,7 +157,8 @@ void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
 
 // Beside the half-buffers: half1's variance over relMSE's denominator averaged over the
 // windows like the estimates (half1 scored as a candidate has its negative for estimate),
-// then the final estimates adjusted by it and by their means over the frame.
+// then the final estimates raised to it where they are below and a candidate far above the
+// others over the frame left out.
 void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                            const std::vector<AutoCandidate> &candidates,
                            const AutoOptions &options, const vk::GpuImage &guide) {
@@ -170,15 +171,15 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
     run.Submit();
     Image smooth = gpu.smooth.Download(), halfNoise = noise.Download();
     for (float &x : halfNoise.data) x = -x;
-    AutoHalvesSettings settings{options.halvesShrink, options.halvesDrop, options.floorError};
+    AutoHalvesSettings settings{options.halvesFloor, options.halvesDrop, options.floorError};
     AutoHalvesResult adjusted = AutoAdjustHalvesEstimates(smooth, halfNoise, settings);
     gpu.smooth.Upload(smooth);
-    if (options.halvesShrink > 0)
+    if (options.halvesFloor > 0)
         run.Plan(fmt::format(
-            "auto: each estimate given back half1's variance over its window, at most {} x "
-            "the candidates' median there (the weights lean to equal where the windows "
-            "cannot tell the candidates apart; --auto-halves-shrink)",
-            options.halvesShrink));
+            "auto: each estimate raised to at least half1's variance over its window, at most "
+            "{} x the candidates' median there (an estimate below what the noise lets the "
+            "window resolve weighs no more than that; --auto-halves-floor)",
+            options.halvesFloor));
     std::string estimates;
     for (size_t k = 0; k < candidates.size(); ++k)
         estimates += fmt::format("{}{} {:.3g}", estimates.empty() ? "" : ", ",
@@ -230,7 +231,7 @@ void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInput
     // seen by one sample, and so does the first pass), that pixel's estimate, of the order
     // of v / (g^2 + 0.01), would swamp every window around it.
     RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius);
-    if (halves && (options.halvesShrink > 0 || options.halvesDrop > 0))
+    if (halves && (options.halvesFloor > 0 || options.halvesDrop > 0))
         AdjustHalvesEstimates(run, gpu, est, candidates, options, guide);
 }
 

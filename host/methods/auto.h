@@ -70,9 +70,9 @@ struct AutoOptions {
     float noiseLimit = 30, darkLimit = 4;  // the relative combination's
     float noiseCap = 100;                  // the final estimates' (0: none)
     // Beside the half-buffers, the final estimates' adjustment (host/methods/auto_halves.h):
-    // half1's variance given back up to halvesShrink x the candidates' median, and a
-    // candidate above halvesDrop x the best over the frame left out (0: off).
-    float halvesShrink = 0, halvesDrop = 0;
+    // each raised to half1's variance, at most halvesFloor x the candidates' median, and a
+    // candidate above halvesDrop x the median over the frame left out (0: off).
+    float halvesFloor = 0, halvesDrop = 0;
     bool keepStages = false;
     bool map = false;  // return stage "auto.map" even without keepStages
     // Rows per strip of the combination (0: the whole frame, or strips where it does not

@@ -51,7 +51,7 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
         for (int k = 0; k < count; ++k)
             result.dropped[k] = result.frameEstimates[k] > settings.drop * result.median;
     std::vector<float> kept;
-    for (size_t i = 0; i < n && settings.shrink > 0; ++i) {
+    for (size_t i = 0; i < n && settings.floor > 0; ++i) {
         kept.clear();
         for (int k = 0; k < count; ++k) {
             float e = smooth.data[size_t(k) * n + i];
@@ -64,8 +64,11 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
         float median = *middle;
         if (kept.size() % 2 == 0)
             median = 0.5f * (median + *std::max_element(kept.begin(), middle));
-        float give = std::min(std::max(noise.data[i], 0.f), settings.shrink * median);
-        for (int k = 0; k < count; ++k) smooth.data[size_t(k) * n + i] += give;
+        float least = std::min(std::max(noise.data[i], 0.f), settings.floor * median);
+        for (int k = 0; k < count; ++k) {
+            float &e = smooth.data[size_t(k) * n + i];
+            if (!result.dropped[k]) e = std::max(e, least);
+        }
     }
     for (int k = 0; k < count; ++k)
         if (result.dropped[k])
