@@ -94,6 +94,16 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "estimates: a pixel whose mean is mostly noise (a light seen by one "
                    "sample) weighs at most this over its variance in the window (0: no bound)",
                    &O::noiseCap, 0, 1e9),
+        FloatParam("auto-halves-floor",
+                   "beside half-buffers: raise each candidate's error estimate to at least "
+                   "half1's variance over its window, at most this times the candidates' "
+                   "median there, so that an estimate near zero by chance does not take all "
+                   "the weight (0: off)",
+                   &O::halvesFloor, 0, 1e6),
+        FloatParam("auto-halves-drop",
+                   "beside half-buffers: leave out a candidate whose error estimate over the "
+                   "frame is above this times the candidates' median (0: off)",
+                   &O::halvesDrop, 0, 1e6),
         FloatParam("auto-floor", "smallest relative error estimate a weight takes",
                    &O::floorError, 1e-12, 1),
         IntParam("auto-mean-radius",
@@ -621,6 +631,8 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
     c.noiseLimit = o.noiseLimit;
     c.darkLimit = o.darkLimit;
     c.noiseCap = o.noiseCap;
+    c.halvesFloor = o.halvesFloor;
+    c.halvesDrop = o.halvesDrop;
     c.keepStages = run.keepStages;
     c.map = std::find(run.stages.begin(), run.stages.end(), "auto.map") != run.stages.end();
     return c;

@@ -71,6 +71,11 @@ class AutoFrontEnd : public FrontEnd {
         // Measured (README): 50 to 300 keep every bench row within 5% of the best method;
         // 30 lets relief-abc's overshoots hide again, 1000 a light's pixel swamp fireflies.
         float noiseCap = 100;
+        // Beside the half-buffers (docs/methods/auto.md, measured on the six accumulated
+        // Cycles frames and held out on our scenes with halves): each estimate raised to
+        // half1's variance, at most this times their median, and a candidate above
+        // halvesDrop times the median over the frame left out.
+        float halvesFloor = 0.5f, halvesDrop = 3.5f;
         // The input's local means restored over tents of 8x, then 2x this radius (0: off;
         // host/common/local_mean.h): the relative combination leans dark where the
         // candidates disagree, and relMSE rewards that (issue 29).

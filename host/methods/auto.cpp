@@ -10,6 +10,7 @@
 #include "host/kernels/auto_estimate.h"
 #include "host/kernels/auto_noise.h"
 #include "host/kernels/auto_smooth.h"
+#include "host/methods/auto_halves.h"
 #include "host/vk/gpu_image.h"
 #include "shaders/auto/auto.h"
 #include "shaders/auto/noise.h"
@@ -154,6 +155,45 @@ void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                      gpu.smooth);
 }
 
+// Beside the half-buffers: half1's variance over relMSE's denominator averaged over the
+// windows like the estimates (half1 scored as a candidate has its negative for estimate),
+// then the final estimates raised to it where they are below and a candidate far above the
+// others over the frame left out.
+void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
+                           const std::vector<AutoCandidate> &candidates,
+                           const AutoOptions &options, const vk::GpuImage &guide) {
+    vk::Context &context = run.Context();
+    vk::GpuImage rows(context, gpu.width, gpu.height, 2, "auto.halves.rows"),
+        noise(context, gpu.width, gpu.height, 1, "auto.halves.noise");
+    RecordAutoEstimate(context, run.Recorder(), est.half1, est.variance, est.probe, guide,
+                       est.half1, est.half1, est.noOffset, 1.f, options.noiseCap, est.error);
+    RecordAutoSmooth(context, run.Recorder(), est.error, options.radius, rows, noise);
+    run.Submit();
+    Image smooth = gpu.smooth.Download(), halfNoise = noise.Download();
+    for (float &x : halfNoise.data) x = -x;
+    AutoHalvesSettings settings{options.halvesFloor, options.halvesDrop, options.floorError};
+    AutoHalvesResult adjusted = AutoAdjustHalvesEstimates(smooth, halfNoise, settings);
+    gpu.smooth.Upload(smooth);
+    if (options.halvesFloor > 0)
+        run.Plan(fmt::format(
+            "auto: each estimate raised to at least half1's variance over its window, at most "
+            "{} x the candidates' median there (an estimate below what the noise lets the "
+            "window resolve weighs no more than that; --auto-halves-floor)",
+            options.halvesFloor));
+    std::string estimates;
+    for (size_t k = 0; k < candidates.size(); ++k)
+        estimates += fmt::format("{}{} {:.3g}", estimates.empty() ? "" : ", ",
+                                 candidates[k].label, adjusted.frameEstimates[k]);
+    run.Plan(fmt::format("auto: the estimates over the frame: {}; half1's variance {:.3g}",
+                         estimates, adjusted.frameNoise));
+    for (size_t k = 0; k < candidates.size(); ++k)
+        if (adjusted.dropped[k])
+            run.Plan(
+                fmt::format("auto: left out {}: its estimate over the frame is above {} x the "
+                            "candidates' median, {:.3g} (--auto-halves-drop)",
+                            candidates[k].label, options.halvesDrop, adjusted.median));
+}
+
 // The estimates of the final combination, whose denominator's guide stands in for the
 // reference. The candidates' mean stood in for it, but where one candidate overshoots (a
 // firefly kept, a blotch) it inflates the mean and so the denominator, which caps that
@@ -191,6 +231,8 @@ void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInput
     // seen by one sample, and so does the first pass), that pixel's estimate, of the order
     // of v / (g^2 + 0.01), would swamp every window around it.
     RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius);
+    if (halves && (options.halvesFloor > 0 || options.halvesDrop > 0))
+        AdjustHalvesEstimates(run, gpu, est, candidates, options, guide);
 }
 
 // Without an estimate every method gets the same weight, shared by its variants: a

@@ -69,6 +69,10 @@ struct AutoOptions {
     float power = 2, floorError = 1e-5f;
     float noiseLimit = 30, darkLimit = 4;  // the relative combination's
     float noiseCap = 100;                  // the final estimates' (0: none)
+    // Beside the half-buffers, the final estimates' adjustment (host/methods/auto_halves.h):
+    // each raised to half1's variance, at most halvesFloor x the candidates' median, and a
+    // candidate above halvesDrop x the median over the frame left out (0: off).
+    float halvesFloor = 0, halvesDrop = 0;
     bool keepStages = false;
     bool map = false;  // return stage "auto.map" even without keepStages
     // Rows per strip of the combination (0: the whole frame, or strips where it does not

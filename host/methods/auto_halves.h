@@ -1,0 +1,42 @@
+// Beside the half-buffers: the estimates of the candidates' errors made to weigh them as the
+// windows can tell them apart (docs/methods/auto.md, "Accumulated frames: the estimates'
+// noise and the halves' shared bias"). Each estimate (F(half0) - half1)^2 - Var(half1),
+// averaged over a window, is unbiased but noisy, and biased low for a candidate that keeps
+// a bias the two halves share (a frame of jittered 1-spp renders keeps some in both); one
+// such estimate near zero takes all the weight of 1 / e^2.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/image.h"
+
+namespace mcd {
+
+struct AutoHalvesSettings {
+    // Each estimate is raised to at least half1's variance over the window (in relMSE's
+    // units), at most this times the median of the candidates' estimates at the pixel: an
+    // estimate below what the noise lets the window resolve weighs no more than that (0:
+    // off).
+    float floor = 0;
+    // A candidate whose estimate over the whole window (the frame) is above this times the
+    // median of the candidates' is left out (0: off).
+    float drop = 0;
+    float floorError = 1e-5f;  // the smallest estimate the median reads
+};
+
+struct AutoHalvesResult {
+    std::vector<bool> dropped;           // per candidate
+    std::vector<double> frameEstimates;  // per candidate, the mean of its finite estimates
+    double median = 0;      // theirs, which the drop compares with where it is above 1e-4
+    double frameNoise = 0;  // the mean of the noise plane
+};
+
+// `smooth`: K planes, the candidates' window means of their estimates; `noise`: one plane,
+// the window mean of half1's variance over relMSE's denominator (>= 0). Returns what was
+// left out; a left-out candidate's plane becomes +inf (weight 0), and the others' floor
+// reads the median of those left in.
+AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
+                                           const AutoHalvesSettings &settings);
+
+}  // namespace mcd

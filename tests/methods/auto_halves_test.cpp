@@ -1,0 +1,143 @@
+// Beside the half-buffers auto adjusts its final error estimates (host/methods/auto_halves.h):
+// each raised to half1's variance, at most a multiple of the candidates' median, and a
+// candidate far above the others over the frame left out.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "cpu_reference/auto_combine.h"
+#include "harness/inputs.h"
+#include "host/methods/auto_halves.h"
+#include "host/metrics.h"
+
+namespace mcd {
+namespace {
+
+using test::SeedFromName;
+
+// K planes of random estimates (some negative, as the halves' estimates are) and a noise
+// plane, seeded by the test's name.
+struct Estimates {
+    Image smooth, noise;
+};
+
+Estimates RandomEstimates(int w, int h, int count, const char *name) {
+    std::mt19937_64 rng(SeedFromName(name));
+    std::uniform_real_distribution<float> error(-0.002f, 0.02f), noise(0.f, 0.1f);
+    Estimates e{Image(w, h, count), Image(w, h, 1)};
+    for (float &x : e.smooth.data) x = error(rng);
+    for (float &x : e.noise.data) x = noise(rng);
+    return e;
+}
+
+TEST(AutoHalvesEstimates, RaisesEveryEstimateToTheNoiseAtMostAShareOfTheMedian) {
+    const int w = 19, h = 13, count = 5;
+    Estimates e = RandomEstimates(w, h, count, "auto halves floor");
+    Image adjusted = e.smooth;
+    AutoHalvesSettings settings{0.5f, 0.f, 1e-5f};
+    AutoHalvesResult result = AutoAdjustHalvesEstimates(adjusted, e.noise, settings);
+    const size_t n = e.noise.PixelCount();
+    size_t raised = 0;
+    for (size_t i = 0; i < n; ++i) {
+        std::vector<float> at;
+        for (int k = 0; k < count; ++k) at.push_back(std::max(e.smooth.data[k * n + i], 1e-5f));
+        std::sort(at.begin(), at.end());
+        float least = std::min(e.noise.data[i], 0.5f * at[count / 2]);
+        for (int k = 0; k < count; ++k) {
+            float before = e.smooth.data[k * n + i];
+            EXPECT_EQ(adjusted.data[k * n + i], std::max(before, least))
+                << "pixel " << i << " candidate " << k;
+            raised += before < least;
+        }
+    }
+    EXPECT_GT(raised, n / 4);
+    for (bool dropped : result.dropped) EXPECT_FALSE(dropped);
+    Image again = e.smooth;
+    AutoAdjustHalvesEstimates(again, e.noise, settings);
+    EXPECT_EQ(again.data, adjusted.data);
+}
+
+// The drop compares with the candidates' median over the frame, not with the best: an
+// estimate below zero (a candidate that keeps the bias the halves share) leaves the others.
+TEST(AutoHalvesEstimates, LeavesOutOnlyCandidatesFarAboveTheMedian) {
+    const int w = 8, h = 8;
+    const std::vector<float> levels = {0.004f, 0.005f, -0.001f, 0.006f, 0.03f};
+    Image smooth(w, h, int(levels.size())), noise(w, h, 1);
+    for (size_t k = 0; k < levels.size(); ++k)
+        std::fill_n(smooth.Plane(int(k)), smooth.PixelCount(), levels[k]);
+    Image adjusted = smooth;
+    AutoHalvesResult result = AutoAdjustHalvesEstimates(adjusted, noise, {0.f, 3.f, 1e-5f});
+    EXPECT_NEAR(result.median, 0.005, 1e-9);
+    for (size_t k = 0; k < levels.size(); ++k) {
+        bool far = k == 4;
+        EXPECT_EQ(result.dropped[k], far) << "candidate " << k;
+        for (size_t i = 0; i < smooth.PixelCount(); ++i)
+            if (far)
+                EXPECT_TRUE(std::isinf(adjusted.Plane(int(k))[i]));
+            else
+                EXPECT_EQ(adjusted.Plane(int(k))[i], levels[k]);
+    }
+}
+
+// Where the candidates' median over the frame is about zero or below, the estimates over
+// the frame tell nothing (half1's noise, or the bias the halves share, outweighs them): none
+// is left out, however far above it one is.
+TEST(AutoHalvesEstimates, LeavesNoneOutWhereTheMedianIsAboutZero) {
+    const int w = 6, h = 5;
+    const std::vector<float> levels = {-0.009f, -0.013f, 0.068f, -0.013f, 0.022f};
+    Image smooth(w, h, int(levels.size())), noise(w, h, 1);
+    for (size_t k = 0; k < levels.size(); ++k)
+        std::fill_n(smooth.Plane(int(k)), smooth.PixelCount(), levels[k]);
+    Image adjusted = smooth;
+    AutoHalvesResult result = AutoAdjustHalvesEstimates(adjusted, noise, {0.f, 3.5f, 1e-5f});
+    for (bool dropped : result.dropped) EXPECT_FALSE(dropped);
+    EXPECT_EQ(adjusted.data, smooth.data);
+}
+
+// A good candidate and a worse one (each the truth plus its own noise, the second's 4x the
+// first's relative error), and estimates that scatter about their true errors as much as
+// those errors, as a window's halves estimate does on a noisy frame: where the worse one's
+// falls near zero by chance, 1 / e^2 gives it all the weight there. Raised to half the
+// median, no estimate near zero outweighs the other's, and the good candidate keeps most
+// of the weight.
+TEST(AutoHalvesEstimates, AnEstimateNearZeroByChanceDoesNotTakeAllTheWeight) {
+    const int w = 48, h = 48;
+    std::mt19937_64 rng(SeedFromName("auto halves near zero"));
+    std::normal_distribution<float> unit(0.f, 1.f);
+    Image truth(w, h, 3), color(w, h, 3), variance(w, h, 3);
+    std::vector<Image> outputs(2, Image(w, h, 3));
+    const float spread[2] = {0.03f, 0.06f};
+    for (size_t i = 0; i < truth.data.size(); ++i) {
+        truth.data[i] = 0.5f;
+        color.data[i] = 0.5f + 0.2f * unit(rng);
+        variance.data[i] = 0.04f;
+        for (int k = 0; k < 2; ++k) outputs[k].data[i] = 0.5f + spread[k] * unit(rng);
+    }
+    std::vector<double> trueError;
+    for (const Image &o : outputs) trueError.push_back(CompareImages(o, truth).relMse);
+    Image smooth(w, h, 2), noise(w, h, 1);
+    for (int k = 0; k < 2; ++k)
+        for (size_t i = 0; i < smooth.PixelCount(); ++i)
+            smooth.Plane(k)[i] = float(trueError[k] * (1 + unit(rng)));
+    for (float &x : noise.data) x = 0.15f;
+    auto combined = [&](const Image &errors) {
+        Image f =
+            ref::AutoCombineRelative(color, outputs, errors, variance, 2, 1e-5, 30, 4).color;
+        return CompareImages(f, truth).relMse;
+    };
+    Image adjusted = smooth;
+    AutoAdjustHalvesEstimates(adjusted, noise, {0.5f, 0.f, 1e-5f});
+    double before = combined(smooth), after = combined(adjusted);
+    fmt::print(
+        "relMSE: candidates {:.4g} and {:.4g}, estimates as they are {:.4g}, raised "
+        "{:.4g}\n",
+        trueError[0], trueError[1], before, after);
+    EXPECT_LT(after, 0.95 * before);
+}
+
+}  // namespace
+}  // namespace mcd
