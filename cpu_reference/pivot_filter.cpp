@@ -14,6 +14,14 @@ constexpr double kExpCut = 30;
 // A pivot of the elimination below this fraction of its column's raw second moment means
 // the window's pixels do not span that direction: the fit drops to a lower order.
 constexpr double kRankEps = 1e-4;
+// A pixel beside other ids mixes in a side far from its own (PivotRatioOf) when the sides'
+// medians of z within kSideRadius lie over kSideGap of their spreads (kMadSigma x their
+// median distances to their medians) apart and its z over kSideToward of its deviation
+// toward the other side: kept.
+constexpr double kSideGap = 2;
+constexpr double kSideToward = 0.5;
+constexpr double kMadSigma = 1.4826;
+constexpr int kSideRadius = 2;
 
 // One pixel of a window: offset from the centre, weight, value, variance of the value.
 struct Sample {
@@ -189,9 +197,39 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 r.s.At(c, y, x) = float(s);
                 r.nu.At(c, y, x) = float(s / std::max(zl * zl, kTiny));
                 if (PivotBoundaryTerm(ids, x, y) == 0) {
-                    // Kept as it is (it may mix both sides), unless it is 0.
-                    r.nu.At(c, y, x) = color.At(c, y, x) == 0 ? kPivotBoundaryNu : -1;
-                    r.z.At(c, y, x) = r.s.At(c, y, x) = 0;
+                    // Beside other ids: data like any other pixel, unless it mixes in a side
+                    // far from its own (a light's rim first seen as the wall, or a wall
+                    // first seen as the light): then kept.
+                    // Medians of z over its own ids' pixels within kSideRadius (itself
+                    // among them) and over the other ids', and of the distances to its own.
+                    auto medians = [&](bool own, size_t *n) {
+                        std::vector<float> side, distances;
+                        for (int v = std::max(0, y - kSideRadius);
+                             v <= std::min(h - 1, y + kSideRadius); ++v)
+                            for (int u = std::max(0, x - kSideRadius);
+                                 u <= std::min(w - 1, x + kSideRadius); ++u)
+                                if (valid(u, v) && (PivotIdTerm(ids, u, v, x, y) != 0) == own)
+                                    side.push_back(float(zOf(u, v)));
+                        *n = side.size();
+                        if (side.empty()) return std::pair<double, double>{0, 0};
+                        std::sort(side.begin(), side.end());
+                        float median = side[side.size() / 2];
+                        for (float v : side) distances.push_back(std::fabs(v - median));
+                        std::sort(distances.begin(), distances.end());
+                        return std::pair<double, double>{median, distances[side.size() / 2]};
+                    };
+                    size_t n, nOther;
+                    auto [median, distance] = medians(true, &n);
+                    auto [otherMedian, otherDistance] = medians(false, &nOther);
+                    double spread = kMadSigma * std::max(distance, otherDistance);
+                    double sigma2 = std::max(double(r.s.At(c, y, x)), spread * spread);
+                    double gap = otherMedian - median, zHere = r.z.At(c, y, x);
+                    double toward = gap > 0 ? zHere - median : median - zHere;
+                    if (nOther > 0 && gap * gap > kSideGap * kSideGap * spread * spread &&
+                        toward > 0 && toward * toward > kSideToward * kSideToward * sigma2) {
+                        r.nu.At(c, y, x) = -1;
+                        r.z.At(c, y, x) = r.s.At(c, y, x) = 0;
+                    }
                 }
             }
     }
@@ -216,7 +254,10 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                 };
                 double closest = 1;
                 plane(15) = -1;
-                if (ratio.nu.At(c, y0, x0) < 0) continue;
+                // A pixel beside other ids is data to its side's fits but no centre: its
+                // square, mostly of other ids, would grow far on few pixels of its own.
+                if (ratio.nu.At(c, y0, x0) < 0 || PivotBoundaryTerm(guides.ids, x0, y0) == 0)
+                    continue;
                 // The centre's local mean of z: <z> during growth.
                 double zc = 0;
                 int n = 0;
@@ -343,10 +384,8 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
     for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                // Pixels without z keep their input; boundary pixels (no data to the fits)
-                // take the fits of the centres of their own ids that reach them.
-                double nuHere = ratio.nu.At(c, y, x);
-                if (nuHere < 0 && nuHere != kPivotBoundaryNu) continue;
+                // Pixels without z keep their input.
+                if (ratio.nu.At(c, y, x) < 0) continue;
                 double sumW = 0, sumWz = 0;
                 // Every centre whose square holds (x, y) (eq. 13) and that lies on its
                 // lattice, standing for step^2 centres; none reaches further than the
@@ -396,8 +435,7 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                double nuHere = ratio.nu.At(c, y, x);
-                if (nuHere < 0 && nuHere != kPivotBoundaryNu) continue;
+                if (ratio.nu.At(c, y, x) < 0) continue;
                 double g = Luma(pivot, x, y), sumW = 0, sumWz = 0;
                 for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
                     for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u) {

@@ -28,13 +28,15 @@
 // - Normal term (n.n0)^4 for n.n0 > 1/2 else 0 (unit normals; two zero normals give 1, one
 //   gives 0), object and part terms 0 when the ids differ; they multiply both the fit
 //   weights ("effectively excluded from fitting", 4.3) and the averaging weight. The
-//   boundary term w_b ("0 near projections of the boundaries") is 0 for a pixel whose
-//   4-neighbours have other ids: such pixels may mix both sides (the ids are the first
-//   sample's), so the ratio stage gives them no z: no data to fits or averages, and they
-//   keep their input. Where that input is exactly 0 (no sample reached light: at low spp
-//   often, and kept it drew dotted outlines along the id edges) the gather fills them from
-//   the fits of the centres of their own ids that reach them. Filling every boundary pixel
-//   lost the share of an emitter in the pixels around a light (our cornell at 16 spp).
+//   boundary term w_b ("0 near projections of the boundaries") is 0 only for a pixel
+//   beside other ids that mixes in a side far from its own (PivotRatioOf; the ids are the
+//   first sample's: a light's rim seen as the ceiling, or the ceiling seen as the light):
+//   as data it would lift or sink its side's fits around it (our cornell at 64 spp: 11x
+//   the error). Other pixels beside other ids are data to their side's fits and filtered
+//   by them: the pivot, anti-aliased as the colour is, divides out most of their mix. Kept,
+//   as they were, they drew dotted outlines along every id edge at low spp (issue 29). They
+//   are no centres: a square there, mostly of other ids, grows far on few pixels of its own
+//   and its fit, gathered far from the edge, cost our interior at 16 spp 1.35x.
 // - Eq. 13's base weight is exp(-d^2 / R0^2) of the centre's window (d^2 = dx^2 + dy^2),
 //   normalised by the sum of the weights.
 // - Eq. 13's sum over centres is taken as a quadrature: a centre of radius R0 takes part
@@ -86,12 +88,12 @@ struct PivotGuides {
 struct PivotRatio {
     Image z, s, nu;
 };
-// nu of a pixel on an object/part boundary whose input is 0: no data to the fits, but
-// filled by them.
-constexpr float kPivotBoundaryNu = -2;
-// With `ids`, pixels on an object/part boundary (the boundary term) give no z to the fits
-// or averages; they keep their input (nu = -1), except that an input of 0 is filled from
-// the centres of their own ids (nu = kPivotBoundaryNu).
+// With `ids`, a pixel on an object/part boundary (a 4-neighbour has other ids) is data like
+// any other, unless it mixes in a side far from its own: the median z of the other ids'
+// pixels within 2 lies over 2 spreads from the median of its own ids' (itself included; a
+// side's spread is 1.4826 x the median distance to its median, the larger of the two), and
+// its z over half its deviation (the larger of sqrt(s) and the spread) toward the other
+// side. Then it gives no z and keeps its input (nu = -1).
 PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *variance,
                         double floor, const Image *ids = nullptr);
 

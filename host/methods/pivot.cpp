@@ -165,12 +165,13 @@ void PlanInputs(StagedRun &run, const PivotInputs &in, const PivotGpuGuides &gui
     run.Plan(guides.normals ? "normal term (n.n0)^4, n.n0 > 1/2: on"
                             : "left out: the normal term (the frame has no normals)");
     run.Plan(guides.ids
-                 ? fmt::format("object/part and boundary terms: on ({}{}); pixels next to "
-                               "other ids give the fits no data and keep their input, or "
-                               "where it is 0 take the fits of their own ids",
+                 ? fmt::format("object/part terms: on ({}{}); each fit reads and each pixel "
+                               "gathers the pixels of its own ids, those beside other ids "
+                               "included (as data, not as fit centres; one whose z lies "
+                               "toward a side far from its own keeps its input)",
                                in.objectId ? "objectId" : "",
                                in.partId ? (in.objectId ? ", partId" : "partId") : "")
-                 : "left out: the object, part and boundary terms (the frame has no ids)");
+                 : "left out: the object and part terms (the frame has no ids)");
 }
 
 // The cross-bilateral baseline of 4.1 into gpu.out, one submission with the ratio.

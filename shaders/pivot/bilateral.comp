@@ -32,8 +32,7 @@ void main() {
     gw = w;
     gh = h;
     int i = y * w + x, at = c * planeSize + i, base = c * planeSize;
-    float nuHere = texelFetch(nuIn, at).r;
-    if (nuHere < 0.0 && nuHere != PIVOT_BOUNDARY_NU) {
+    if (texelFetch(nuIn, at).r < 0.0) {
         outImage[at] = texelFetch(color, at).r;
         return;
     }

@@ -358,7 +358,9 @@ void main() {
     if (x0 < w) {
         int at = y0 * w + x0;
         centre = surfaceAt(at);
-        if (texelFetch(zsn, base + at).z < 0.0)
+        // A pixel beside other ids is data to its side's fits but no centre: its square,
+        // mostly of other ids, would grow far on few pixels of its own.
+        if (texelFetch(zsn, base + at).z < 0.0 || boundaryTerm(x0, y0) == 0.0)
             storeNone(at);
         else
             radius = grow(mean);

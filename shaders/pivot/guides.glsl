@@ -40,10 +40,10 @@ float geometricTerm(Surface s, Surface s0) {
     return normal * ids;
 }
 
-// The boundary term w_b as a property of a pixel: 0 when a 4-neighbour has other ids (the
-// pixel may straddle an object or part boundary and mix both sides), else 1. The ratio
-// stage marks them: they give no data and keep their input, or where that is 0 the gather
-// fills them (PIVOT_BOUNDARY_NU).
+// Whether a pixel lies beside other ids: 0 when a 4-neighbour has other ids (the pixel may
+// straddle an object or part boundary and mix both sides), else 1. The ratio stage keeps
+// those that mix in a side far from their own (the boundary term w_b); the others are data
+// but no centres of fits.
 float boundaryTerm(int x, int y) {
     if (useIds == 0) return 1.0;
     int i = y * gw + x;

@@ -43,9 +43,17 @@
 #define PIVOT_Z_MAX 1e18
 // A weight exp(-e) with e above this is 0 (no denormals: float and double agree).
 #define PIVOT_EXP_CUT 30.0
-// nu of a pixel on an object/part boundary whose input is 0: no data to the fits, but
-// filled by them (-1: no z or another boundary pixel, the input kept).
-#define PIVOT_BOUNDARY_NU -2.0
+// A pixel beside other ids mixes in a side far from its own when the medians of z of its
+// own ids and of the others within PIVOT_SIDE_RADIUS lie over PIVOT_SIDE_GAP of their
+// spreads apart, and its z over PIVOT_SIDE_TOWARD of its deviation toward the other: it
+// gives no data and keeps its input (the CPU reference's kSideGap, kSideToward,
+// kSideRadius, kMadSigma).
+#define PIVOT_SIDE_GAP 2.0
+#define PIVOT_SIDE_TOWARD 0.5
+#define PIVOT_SIDE_RADIUS 2
+
+// A median absolute distance times this estimates a Gaussian's standard deviation.
+#define PIVOT_SIDE_MAD_SIGMA 1.4826
 // Floor of denominators that may be zero.
 #define PIVOT_TINY 1e-30
 // An elimination pivot at or below this fraction of its raw second moment drops the unknown.

@@ -31,6 +31,45 @@ bool ratioAt(int at, out float z) {
     return abs(z) <= PIVOT_Z_MAX;
 }
 
+// No z at `at`: no data to the fits, and the input kept.
+void noZ(int at) {
+    zOut[at] = 0.0;
+    sOut[at] = 0.0;
+    nuOut[at] = -1.0;
+    zsnOut[at] = vec4(0.0, 0.0, -1.0, 0.0);
+}
+
+const int kSide = (2 * PIVOT_SIDE_RADIUS + 1) * (2 * PIVOT_SIDE_RADIUS + 1);
+
+// values[0..n) with v inserted in order.
+void insertSorted(inout float values[kSide], inout int n, float v) {
+    int j = n++;
+    for (; j > 0 && values[j - 1] > v; --j) values[j] = values[j - 1];
+    values[j] = v;
+}
+
+// The upper median of z over the pixels of (x, y)'s ids (`own`, the pixel among them) or of
+// other ids within PIVOT_SIDE_RADIUS that have one, and the upper median of their distances
+// to it; n = 0: none.
+vec2 sideMedians(int x, int y, int base, bool own, out int n) {
+    const int R = PIVOT_SIDE_RADIUS;
+    float values[kSide];
+    int i0 = y * gw + x;
+    n = 0;
+    for (int v = max(0, y - R); v <= min(gh - 1, y + R); ++v)
+        for (int u = max(0, x - R); u <= min(gw - 1, x + R); ++u) {
+            float zq;
+            if ((idTerm(v * gw + u, i0) != 0.0) == own && ratioAt(base + v * gw + u, zq))
+                insertSorted(values, n, zq);
+        }
+    if (n == 0) return vec2(0.0);
+    float median = values[n / 2];
+    float distances[kSide];
+    int m = 0;
+    for (int k = 0; k < n; ++k) insertSorted(distances, m, abs(values[k] - median));
+    return vec2(median, distances[n / 2]);
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y), c = int(gl_WorkGroupID.z);
     int w = push.width, h = push.height;
@@ -43,14 +82,8 @@ void main() {
     int base = c * w * h, at = base + y * w + x;
     float z;
     bool hasZ = ratioAt(at, z);
-    if (!hasZ || boundaryTerm(x, y) == 0.0) {
-        // A boundary pixel gives no data and keeps its input (it may mix both sides), but
-        // where that is 0 (no sample reached light) the gather fills it from its own ids.
-        float mark = hasZ && z == 0.0 ? PIVOT_BOUNDARY_NU : -1.0;
-        zOut[at] = 0.0;
-        sOut[at] = 0.0;
-        nuOut[at] = mark;
-        zsnOut[at] = vec4(0.0, 0.0, mark, 0.0);
+    if (!hasZ) {
+        noZ(at);
         return;
     }
     // Mean of z over the valid 3x3 neighbours (the pixel is one), then their sample
@@ -80,6 +113,23 @@ void main() {
         s = n > 1 ? sumSq / float(n - 1) : 0.0;
     }
     s = min(s, PIVOT_Z_MAX * PIVOT_Z_MAX);
+    // Beside other ids: data like any other pixel, unless it mixes in another side far from
+    // its own (a light's rim first seen as the wall, or a wall first seen as the light): the
+    // sides' medians of z over PIVOT_SIDE_GAP of their spreads apart, and its z over
+    // PIVOT_SIDE_TOWARD of its deviation toward the other. Then it is kept.
+    if (boundaryTerm(x, y) == 0.0) {
+        int nOwn, nOther;
+        vec2 side = sideMedians(x, y, base, true, nOwn);
+        vec2 other = sideMedians(x, y, base, false, nOther);
+        float spread = PIVOT_SIDE_MAD_SIGMA * max(side.y, other.y);
+        float sigma2 = max(s, spread * spread), gap = other.x - side.x;
+        float toward = gap > 0.0 ? z - side.x : side.x - z;
+        if (nOther > 0 && gap * gap > PIVOT_SIDE_GAP * PIVOT_SIDE_GAP * spread * spread &&
+            toward > 0.0 && toward * toward > PIVOT_SIDE_TOWARD * PIVOT_SIDE_TOWARD * sigma2) {
+            noZ(at);
+            return;
+        }
+    }
     zOut[at] = z;
     sOut[at] = s;
     float nu = s / max(zl * zl, PIVOT_TINY);

@@ -865,8 +865,9 @@ TEST_F(AutoMethod, ReturnsTheMapOfTheLargestWeightsWhenAsked) {
 // mean is as far off as they are) and auto's weighted mean was x8 the best method here
 // (x2.2 since the pivot variants without ids, measured: best 0.0975, auto 0.0873, mean
 // guide 0.214; bayes on the whole colour); the default guide, a first combination by the
-// plain squared error, kept the weighted mean within 5% of it and keeps it under half the
-// mean guide's error (measured now, with 25x25 windows: 0.106 against 0.467). With
+// plain squared error, kept the weighted mean within 5% of it and keeps it under two thirds
+// of the mean guide's error (the margin narrower since pivot filters pixels beside other
+// ids from their own ids' data: its overshoots there are fewer). With
 // bayes's split output among the candidates and the relative combination (the defaults)
 // auto stays within 5% of the best method (0.0964 against 0.0975).
 TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
@@ -889,7 +890,7 @@ TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
         "best method {:.4g}, auto {:.4g}, weighted mean {:.4g}, with the mean as the guide "
         "{:.4g}\n",
         best, relative, combined, mean);
-    EXPECT_GT(mean, 2 * combined);
+    EXPECT_GT(mean, 1.5 * combined);
 }
 
 // `method` without the local means restored (bayes's, pivot's and auto's own): the tests
