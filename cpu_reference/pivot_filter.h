@@ -31,12 +31,12 @@
 //   boundary term w_b ("0 near projections of the boundaries") is 0 only for a pixel
 //   beside other ids that mixes in a side far from its own (PivotRatioOf; the ids are the
 //   first sample's: a light's rim seen as the ceiling, or the ceiling seen as the light):
-//   as data it would lift or sink its side's fits around it (our cornell at 64 spp: 11x
-//   the error). Other pixels beside other ids are data to their side's fits and filtered
+//   as data it would lift or sink its side's fits around it (docs/methods/pivot.md). Other
+//   pixels beside other ids are data to their side's fits and filtered
 //   by them: the pivot, anti-aliased as the colour is, divides out most of their mix. Kept,
 //   as they were, they drew dotted outlines along every id edge at low spp (issue 29). They
 //   are no centres: a square there, mostly of other ids, grows far on few pixels of its own
-//   and its fit, gathered far from the edge, cost our interior at 16 spp 1.35x.
+//   and its fit, gathered far from the edge, misleads the dark floor beside it.
 // - Eq. 13's base weight is exp(-d^2 / R0^2) of the centre's window (d^2 = dx^2 + dy^2),
 //   normalised by the sum of the weights.
 // - Eq. 13's sum over centres is taken as a quadrature: a centre of radius R0 takes part

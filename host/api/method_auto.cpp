@@ -102,7 +102,8 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    &O::halvesFloor, 0, 1e6),
         FloatParam("auto-halves-drop",
                    "beside half-buffers: leave out a candidate whose error estimate over the "
-                   "frame is above this times the candidates' median (0: off)",
+                   "frame is above this times the candidates' median (0: off; at least 1, so "
+                   "the median's own is kept; none where that median is under 1e-4)",
                    &O::halvesDrop, 0, 1e6),
         FloatParam("auto-floor", "smallest relative error estimate a weight takes",
                    &O::floorError, 1e-12, 1),
@@ -632,6 +633,11 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
     c.darkLimit = o.darkLimit;
     c.noiseCap = o.noiseCap;
     c.halvesFloor = o.halvesFloor;
+    if (o.halvesDrop > 0 && o.halvesDrop < 1)
+        throw Error(fmt::format("--auto-halves-drop {}: 0 (off) or at least 1 (below, every "
+                                "candidate could be left out)",
+                                o.halvesDrop),
+                    ErrorKind::InvalidArgument);
     c.halvesDrop = o.halvesDrop;
     c.keepStages = run.keepStages;
     c.map = std::find(run.stages.begin(), run.stages.end(), "auto.map") != run.stages.end();

@@ -155,6 +155,26 @@ void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                      gpu.smooth);
 }
 
+// The estimates over the frame and the candidates they leave out, for the plan.
+std::vector<std::string> HalvesDropPlan(const std::vector<AutoCandidate> &candidates,
+                                        const AutoOptions &options,
+                                        const AutoHalvesResult &adjusted) {
+    std::string estimates;
+    for (size_t k = 0; k < candidates.size(); ++k)
+        estimates += fmt::format("{}{} {:.3g}", estimates.empty() ? "" : ", ",
+                                 candidates[k].label, adjusted.frameEstimates[k]);
+    std::vector<std::string> plan{
+        fmt::format("auto: the estimates over the frame: {}; half1's variance {:.3g}",
+                    estimates, adjusted.frameNoise)};
+    for (size_t k = 0; k < candidates.size(); ++k)
+        if (adjusted.dropped[k])
+            plan.push_back(
+                fmt::format("auto: left out {}: its estimate over the frame is above {} x the "
+                            "candidates' median, {:.3g} (--auto-halves-drop)",
+                            candidates[k].label, options.halvesDrop, adjusted.median));
+    return plan;
+}
+
 // Beside the half-buffers: half1's variance over relMSE's denominator averaged over the
 // windows like the estimates (half1 scored as a candidate has its negative for estimate),
 // then the final estimates raised to it where they are below and a candidate far above the
@@ -171,7 +191,9 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
     run.Submit();
     Image smooth = gpu.smooth.Download(), halfNoise = noise.Download();
     for (float &x : halfNoise.data) x = -x;
+    if (options.halvesSums) options.halvesSums->Add(smooth, halfNoise);
     AutoHalvesSettings settings{options.halvesFloor, options.halvesDrop, options.floorError};
+    if (!options.halvesDropped.empty()) settings.dropped = &options.halvesDropped;
     AutoHalvesResult adjusted = AutoAdjustHalvesEstimates(smooth, halfNoise, settings);
     gpu.smooth.Upload(smooth);
     if (options.halvesFloor > 0)
@@ -180,18 +202,10 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
             "{} x the candidates' median there (an estimate below what the noise lets the "
             "window resolve weighs no more than that; --auto-halves-floor)",
             options.halvesFloor));
-    std::string estimates;
-    for (size_t k = 0; k < candidates.size(); ++k)
-        estimates += fmt::format("{}{} {:.3g}", estimates.empty() ? "" : ", ",
-                                 candidates[k].label, adjusted.frameEstimates[k]);
-    run.Plan(fmt::format("auto: the estimates over the frame: {}; half1's variance {:.3g}",
-                         estimates, adjusted.frameNoise));
-    for (size_t k = 0; k < candidates.size(); ++k)
-        if (adjusted.dropped[k])
-            run.Plan(
-                fmt::format("auto: left out {}: its estimate over the frame is above {} x the "
-                            "candidates' median, {:.3g} (--auto-halves-drop)",
-                            candidates[k].label, options.halvesDrop, adjusted.median));
+    // In strips the whole frame's figures are AutoCombine's to print.
+    if (options.halvesDropped.empty())
+        for (const std::string &line : HalvesDropPlan(candidates, options, adjusted))
+            run.Plan(line);
 }
 
 // The estimates of the final combination, whose denominator's guide stands in for the
@@ -419,23 +433,49 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
         result.image = Image(W, H, color.channels);
         weights = Image(W, H, K);
         int strips = 0;
-        for (int y0 = 0; y0 < H; y0 += rows, ++strips) {
-            const int y1 = std::min(H, y0 + rows);
-            const int wy0 = std::max(0, y0 - halo), wy1 = std::min(H, y1 + halo);
-            AutoEstimateInputs in{
-                Rows(estimate.variance, wy0, wy1), Rows(estimate.probe, wy0, wy1),
-                Rows(estimate.half1, wy0, wy1), Rows(estimate.offset, wy0, wy1),
-                Rows(estimate.meanVariance, wy0, wy1)};
-            Image stripWeights;
-            AutoResult part =
-                CombineWindow(context, Rows(color, wy0, wy1),
-                              CandidateRows(candidates, wy0, wy1), in, options, stripWeights);
-            PasteRows(part.image, y0 - wy0, y0, y1 - y0, result.image);
-            PasteRows(stripWeights, y0 - wy0, y0, y1 - y0, weights);
-            result.timings.insert(result.timings.end(), part.timings.begin(),
-                                  part.timings.end());
-            if (y0 == 0) result.plan = part.plan;
+        // Each strip's rows of the combination (or, with `sums`, of its estimates).
+        auto runStrips = [&](const AutoOptions &stripOptions, AutoHalvesSums *sums) {
+            for (int y0 = 0; y0 < H; y0 += rows) {
+                const int y1 = std::min(H, y0 + rows);
+                const int wy0 = std::max(0, y0 - halo), wy1 = std::min(H, y1 + halo);
+                AutoEstimateInputs in{
+                    Rows(estimate.variance, wy0, wy1), Rows(estimate.probe, wy0, wy1),
+                    Rows(estimate.half1, wy0, wy1), Rows(estimate.offset, wy0, wy1),
+                    Rows(estimate.meanVariance, wy0, wy1)};
+                if (sums) sums->rowBegin = y0 - wy0, sums->rowEnd = y1 - wy0;
+                Image stripWeights;
+                AutoResult part = CombineWindow(context, Rows(color, wy0, wy1),
+                                                CandidateRows(candidates, wy0, wy1), in,
+                                                stripOptions, stripWeights);
+                result.timings.insert(result.timings.end(), part.timings.begin(),
+                                      part.timings.end());
+                if (sums) continue;
+                PasteRows(part.image, y0 - wy0, y0, y1 - y0, result.image);
+                PasteRows(stripWeights, y0 - wy0, y0, y1 - y0, weights);
+                if (y0 == 0) result.plan = part.plan;
+                ++strips;
+            }
+        };
+        AutoOptions stripOptions = options;
+        std::vector<std::string> dropPlan;
+        if (!estimate.half1.Empty() && options.halvesDrop > 0 &&
+            options.combination != AutoCombination::Mean) {
+            // The drop reads the estimates over the whole frame: a first pass over the strips
+            // sums them, so every strip leaves out what the whole frame would.
+            AutoHalvesSums sums;
+            stripOptions.halvesSums = &sums;
+            runStrips(stripOptions, &sums);
+            AutoHalvesResult frame;
+            frame.frameEstimates = sums.Means();
+            frame.frameNoise = sums.NoiseMean();
+            frame.dropped =
+                AutoHalvesDropped(frame.frameEstimates, options.halvesDrop, &frame.median);
+            dropPlan = HalvesDropPlan(candidates, options, frame);
+            stripOptions.halvesSums = nullptr;
+            stripOptions.halvesDropped = frame.dropped;
         }
+        runStrips(stripOptions, nullptr);
+        result.plan.insert(result.plan.end(), dropPlan.begin(), dropPlan.end());
         result.plan.push_back(fmt::format(
             "auto: the combination ran in {} strips of up to {} rows, each with {} rows above "
             "and below (twice the estimates' box radius)",

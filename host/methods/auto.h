@@ -17,6 +17,8 @@
 
 namespace mcd {
 
+struct AutoHalvesSums;  // host/methods/auto_halves.h
+
 // Candidates one combination takes at most (AUTO_MAX_CANDIDATES), and the noise
 // estimate's largest window radius (AUTO_NOISE_MAX_RADIUS).
 constexpr int kAutoMaxCandidates = 10;
@@ -73,6 +75,11 @@ struct AutoOptions {
     // each raised to half1's variance, at most halvesFloor x the candidates' median, and a
     // candidate above halvesDrop x the median over the frame left out (0: off).
     float halvesFloor = 0, halvesDrop = 0;
+    // Set by AutoCombine for a combination in strips: the candidates left out over the whole
+    // frame (empty: the window decides), and the sums its first pass over the strips adds
+    // each strip's estimates to (null: none).
+    std::vector<bool> halvesDropped;
+    AutoHalvesSums *halvesSums = nullptr;
     bool keepStages = false;
     bool map = false;  // return stage "auto.map" even without keepStages
     // Rows per strip of the combination (0: the whole frame, or strips where it does not

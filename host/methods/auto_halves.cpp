@@ -34,6 +34,37 @@ constexpr double kDropFloor = 1e-4;
 
 }  // namespace
 
+void AutoHalvesSums::Add(const Image &smooth, const Image &noise) {
+    const size_t n = smooth.PixelCount();
+    const size_t begin = size_t(rowBegin) * smooth.width, end = size_t(rowEnd) * smooth.width;
+    sum.resize(smooth.channels, 0.0);
+    count.resize(smooth.channels, 0);
+    // The order of FiniteMean over the whole frame: pixels in order, strips top to bottom.
+    for (int k = 0; k < smooth.channels; ++k)
+        for (size_t i = begin; i < end; ++i)
+            if (float e = smooth.data[size_t(k) * n + i]; std::isfinite(e))
+                sum[k] += e, ++count[k];
+    for (size_t i = begin; i < end; ++i)
+        if (std::isfinite(noise.data[i])) noiseSum += noise.data[i], ++noiseCount;
+}
+
+std::vector<double> AutoHalvesSums::Means() const {
+    std::vector<double> means;
+    for (size_t k = 0; k < sum.size(); ++k)
+        means.push_back(count[k] ? sum[k] / double(count[k]) : 0);
+    return means;
+}
+
+std::vector<bool> AutoHalvesDropped(const std::vector<double> &frameEstimates, float drop,
+                                    double *median) {
+    *median = Median(frameEstimates);
+    std::vector<bool> dropped(frameEstimates.size(), false);
+    if (drop > 0 && *median > kDropFloor)
+        for (size_t k = 0; k < frameEstimates.size(); ++k)
+            dropped[k] = frameEstimates[k] > drop * *median;
+    return dropped;
+}
+
 AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
                                            const AutoHalvesSettings &settings) {
     const size_t n = smooth.PixelCount();
@@ -42,14 +73,16 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
         throw Error("auto: the halves' noise must be one plane of the estimates' size",
                     ErrorKind::Internal);
     AutoHalvesResult result;
-    result.dropped.assign(count, false);
     for (int k = 0; k < count; ++k)
         result.frameEstimates.push_back(FiniteMean(smooth.Plane(k), n));
-    result.median = Median(result.frameEstimates);
     result.frameNoise = FiniteMean(noise.data.data(), n);
-    if (settings.drop > 0 && result.median > kDropFloor)
-        for (int k = 0; k < count; ++k)
-            result.dropped[k] = result.frameEstimates[k] > settings.drop * result.median;
+    result.dropped = AutoHalvesDropped(result.frameEstimates, settings.drop, &result.median);
+    if (settings.dropped) {
+        if (settings.dropped->size() != size_t(count))
+            throw Error("auto: the halves' decided drop must hold one flag per candidate",
+                        ErrorKind::Internal);
+        result.dropped = *settings.dropped;
+    }
     std::vector<float> kept;
     for (size_t i = 0; i < n && settings.floor > 0; ++i) {
         kept.clear();

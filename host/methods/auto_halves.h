@@ -23,6 +23,9 @@ struct AutoHalvesSettings {
     // median of the candidates' is left out (0: off).
     float drop = 0;
     float floorError = 1e-5f;  // the smallest estimate the median reads
+    // The candidates left out, decided over the whole frame (a combination in strips: each
+    // strip's window alone would decide otherwise); null: this window's estimates decide.
+    const std::vector<bool> *dropped = nullptr;
 };
 
 struct AutoHalvesResult {
@@ -31,6 +34,25 @@ struct AutoHalvesResult {
     double median = 0;      // theirs, which the drop compares with where it is above 1e-4
     double frameNoise = 0;  // the mean of the noise plane
 };
+
+// Sums over a frame's rows, strip after strip in order, of each candidate's finite window
+// means and of half1's noise: the whole frame's means, to the bit, from a combination in
+// strips (each strip's window holds rows [rowBegin, rowEnd) of its own).
+struct AutoHalvesSums {
+    std::vector<double> sum;
+    std::vector<size_t> count;
+    double noiseSum = 0;
+    size_t noiseCount = 0;
+    int rowBegin = 0, rowEnd = 0;
+    void Add(const Image &smooth, const Image &noise);
+    std::vector<double> Means() const;
+    double NoiseMean() const { return noiseCount ? noiseSum / double(noiseCount) : 0; }
+};
+
+// Which candidates `drop` leaves out, given each one's estimate over the frame (the mean of
+// its finite window means) and their median, which the ratio is taken against.
+std::vector<bool> AutoHalvesDropped(const std::vector<double> &frameEstimates, float drop,
+                                    double *median);
 
 // `smooth`: K planes, the candidates' window means of their estimates; `noise`: one plane,
 // the window mean of half1's variance over relMSE's denominator (>= 0). Returns what was

@@ -631,6 +631,55 @@ TEST_F(AutoEstimateProperty, StripsGiveTheWholeFramesBits) {
     }
 }
 
+// Beside half-buffers the drop reads each candidate's estimate over the frame: a strip's
+// window alone reads other figures (here a candidate off only in the bottom half looks
+// fine in the top strips), so the strips decide once, over the whole frame, and give its
+// bits, its shares and its plan's figures.
+TEST_F(AutoEstimateProperty, StripsLeaveOutWhatTheWholeFrameLeavesOut) {
+    const int w = 32, h = 40;
+    std::mt19937_64 rng(SeedFromName("strips halves drop"));
+    std::normal_distribution<float> normal(0, 1);
+    Image half1(w, h, 3), variance(w, h, 3, 0.0025f), probe(w, h, 3, 0.f);
+    for (float &v : half1.data) v = 0.5f + 0.05f * normal(rng);
+    std::vector<AutoCandidate> candidates;
+    const float spread[3] = {0.02f, 0.03f, 0.03f};
+    for (int k = 0; k < 3; ++k) {
+        AutoCandidate c;
+        c.label = fmt::format("c{}", k);
+        c.method = c.label;
+        c.output = Image(w, h, 3);
+        c.probe = Image(w, h, 3);
+        for (size_t i = 0; i < c.output.data.size(); ++i) {
+            const int y = int((i % c.output.PixelCount()) / w);
+            const float off = k == 2 && y >= 20 ? 0.1f : 0.f;
+            c.output.data[i] = 0.5f + off + spread[k] * normal(rng);
+            c.probe.data[i] = 0.5f + off + spread[k] * normal(rng);
+        }
+        c.colour[0] = float(k);
+        candidates.push_back(std::move(c));
+    }
+    AutoEstimateInputs in;
+    in.variance = variance, in.probe = probe, in.half1 = half1, in.meanVariance = variance;
+    AutoOptions options;
+    options.radius = 3, options.halvesFloor = 0.5f, options.halvesDrop = 3.5f;
+    AutoResult whole = AutoCombine(Ctx(), half1, candidates, in, options);
+    auto dropLines = [](const AutoResult &r) {
+        std::vector<std::string> lines;
+        for (const std::string &line : r.plan)
+            if (line.find("over the frame") != std::string::npos) lines.push_back(line);
+        return lines;
+    };
+    ASSERT_EQ(dropLines(whole).size(), 2u) << fmt::format("{}", fmt::join(whole.plan, "\n"));
+    EXPECT_NE(dropLines(whole)[1].find("left out c2"), std::string::npos);
+    for (int rows : {10, 13}) {
+        options.stripRows = rows;
+        AutoResult strips = AutoCombine(Ctx(), half1, candidates, in, options);
+        EXPECT_EQ(strips.image.data, whole.image.data) << rows << " rows";
+        EXPECT_EQ(strips.sharePercent, whole.sharePercent) << rows << " rows";
+        EXPECT_EQ(dropLines(strips), dropLines(whole)) << rows << " rows";
+    }
+}
+
 // The relative combination's value minimises sum_k w_k (f - c_k)^2 / (c_k^2 + 0.01) under
 // the weights it returns (a step either way raises it; no dark limit), lies between the
 // candidates, is their common value where they agree, and weighs them equally where the

@@ -20,7 +20,7 @@ class RhfClusters : public GpuTest {};
 // A 48x48 floor of about 0.013 a channel, 16 samples a pixel, with a column of 3 pixels at
 // (20, 23-25) that one sample of 16 each saw (80 a channel), as glossy_lights' chrome sphere
 // reflects a bulb on its floor. rhf used to spread the column over its 13x13 search window,
-// lifting the floor there about fivefold; now the floor 3 to 6 pixels from the column stays
+// lifting the floor there several times over; now the floor 3 to 6 pixels from the column stays
 // within 1.5x of its mean, and the column's energy stays within 2 pixels of it.
 TEST_F(RhfClusters, AClusterOnAFlatFloorDrawsNoSquare) {
     const int w = 48, h = 48, spp = 16, bins = 20, cx = 20;
