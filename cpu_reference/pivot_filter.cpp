@@ -202,7 +202,7 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                     // first seen as the light): then kept.
                     // Medians of z over its own ids' pixels within kSideRadius (itself
                     // among them) and over the other ids', and of the distances to its own.
-                    auto medians = [&](bool own, size_t *n) {
+                    auto medians = [&](bool own, size_t *count) {
                         std::vector<float> side, distances;
                         for (int v = std::max(0, y - kSideRadius);
                              v <= std::min(h - 1, y + kSideRadius); ++v)
@@ -210,7 +210,7 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                                  u <= std::min(w - 1, x + kSideRadius); ++u)
                                 if (valid(u, v) && (PivotIdTerm(ids, u, v, x, y) != 0) == own)
                                     side.push_back(float(zOf(u, v)));
-                        *n = side.size();
+                        *count = side.size();
                         if (side.empty()) return std::pair<double, double>{0, 0};
                         std::sort(side.begin(), side.end());
                         float median = side[side.size() / 2];
@@ -218,8 +218,8 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                         std::sort(distances.begin(), distances.end());
                         return std::pair<double, double>{median, distances[side.size() / 2]};
                     };
-                    size_t n, nOther;
-                    auto [median, distance] = medians(true, &n);
+                    size_t ownCount, nOther;
+                    auto [median, distance] = medians(true, &ownCount);
                     auto [otherMedian, otherDistance] = medians(false, &nOther);
                     double spread = kMadSigma * std::max(distance, otherDistance);
                     double sigma2 = std::max(double(r.s.At(c, y, x)), spread * spread);
@@ -414,8 +414,10 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                         sumW += weight;
                         sumWz += weight * Combine(zs, zm);
                     }
-                // No lattice centre reaches the pixel (a thin part between other ids): its
-                // own fit at its own place, square and quadrant 0.
+                // No lattice centre reaches the pixel (a thin part between other ids with a
+                // centre of its own): its own fit at its own place, square and quadrant 0. A
+                // part at most two pixels wide has no centre (each pixel is beside other
+                // ids) and keeps its input.
                 if (sumW == 0 && fits.At(15 * channels + c, y, x) >= 0) {
                     sumW = 1;
                     sumWz = Combine(fits.At(2 * channels + c, y, x),

@@ -2,6 +2,8 @@
 // bilateral baseline, with the frame's guides and section 8's partial images when present.
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "cpu_reference/auto_combine.h"
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/pivot_filter.h"
@@ -11,6 +13,7 @@
 #include "host/methods/auto.h"
 #include "host/methods/pivot.h"
 #include "pivot/gather.h"
+#include "pivot/pivot.h"
 
 namespace mcd::api {
 namespace {
@@ -185,19 +188,22 @@ class Pivot : public FrontEndOf<PivotSettings> {
     TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
         int channels = inputs.Get("color").channels;
         TileNeeds needs;
+        // z's noise over 3x3 and the id boundary (4-neighbours) read 1 pixel further, the
+        // side medians of a pixel beside other ids PIVOT_SIDE_RADIUS.
+        const int ratioReach = std::max(2, PIVOT_SIDE_RADIUS);
         if (options.method.filter == PivotFilter::Bilateral) {
-            needs.reach = options.method.bilateralRadius + 2;
+            needs.reach = options.method.bilateralRadius + ratioReach;
             needs.reachText = fmt::format(
-                "the bilateral radius {}, 1 for the noise estimated from 3x3 neighbours, 1 "
-                "for the id boundary",
-                options.method.bilateralRadius);
+                "the bilateral radius {}; {} for the noise estimated from 3x3 neighbours, the "
+                "id boundary and the side medians of pixels beside other ids",
+                options.method.bilateralRadius, ratioReach);
         } else {
-            needs.reach = 2 * options.method.maxRadius + 2;
+            needs.reach = 2 * options.method.maxRadius + ratioReach;
             needs.reachText = fmt::format(
                 "a pixel gathers the fits of centres up to the largest square half-size {} "
-                "away, each fit reads up to {} further; 1 for the noise estimated from 3x3 "
-                "neighbours, 1 for the id boundary",
-                options.method.maxRadius, options.method.maxRadius);
+                "away, each fit reads up to {} further; {} for the noise estimated from 3x3 "
+                "neighbours, the id boundary and the side medians of pixels beside other ids",
+                options.method.maxRadius, options.method.maxRadius, ratioReach);
         }
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
