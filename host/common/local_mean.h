@@ -175,7 +175,9 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 // fireflies on a heavy-tailed texture make such pairs. Each of its pixels takes per channel
 // the median of its neighbours outside the cluster (from `input`, the frame as given) in
 // `color`; SpreadOverPatches gives the cut back.
-// Returns the cut pixels (ascending). Nothing without histograms of `input`'s size.
+// Returns the cut pixels (ascending). Nothing without histograms of `input`'s size. The
+// colour must be finite (the front ends' --non-finite sees to it): a median of neighbours
+// holding NaN would be cut in and spread.
 constexpr int kClusterLeast = 3, kClusterMost = 4, kClusterSamples = 2;
 constexpr double kClusterLevel = 1e-4;
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
