@@ -112,15 +112,17 @@ Image AutoSmooth(const Image &errors, int radius) {
     for (int p = 0; p < errors.channels; ++p)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                double sum = 0;
-                int n = 0;
+                double sum = 0, n = 0;
                 for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
                     for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius);
                          ++u) {
                         double e = errors.At(p, v, u);
                         if (!std::isfinite(e)) continue;
-                        sum += e;
-                        ++n;
+                        // The tent: 1 at the window's edge, radius + 1 at its centre.
+                        double weight = double(radius + 1 - std::abs(u - x)) *
+                                        double(radius + 1 - std::abs(v - y));
+                        sum += weight * e;
+                        n += weight;
                     }
                 smooth.At(p, y, x) =
                     n > 0 ? float(sum / n) : std::numeric_limits<float>::quiet_NaN();

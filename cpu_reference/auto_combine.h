@@ -45,7 +45,8 @@ Image AutoEstimate(const Image &color, const Image &variance, const Image &probe
 Image AutoNoise(const Image &color, const Image *albedo, int radius);
 
 // Per plane, the mean of the finite values over the (2 radius + 1)^2 window clipped to the
-// image; NaN where the window has none.
+// image, each weighted by the tent (radius + 1 - |u - x|)(radius + 1 - |v - y|); NaN where
+// the window has none.
 Image AutoSmooth(const Image &errors, int radius);
 
 struct AutoCombined {

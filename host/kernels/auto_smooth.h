@@ -1,6 +1,6 @@
 // Record the auto method's smoothing of its error maps (shaders/auto/smooth.comp): the
-// box mean of the finite values over a (2r+1)^2 window, per plane, as a rows pass and a
-// columns pass.
+// tent-weighted mean of the finite values over a (2r+1)^2 window, per plane, as a rows pass and
+// a columns pass.
 #pragma once
 
 #include "host/vk/gpu_image.h"

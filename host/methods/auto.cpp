@@ -132,7 +132,7 @@ struct EstimateGpu {
 
 // Every candidate's estimate with the guide g in relMSE's denominator (g^2 + 0.01, or the
 // pixel's variance over noiseCap where that is larger), one plane each in gpu.errors, then
-// their box means in gpu.smooth. With the half-buffers F(half0) is compared with half1
+// their window means in gpu.smooth. With the half-buffers F(half0) is compared with half1
 // (the zero probe drops the divergence term).
 void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                      const std::vector<AutoCandidate> &candidates, bool halves,
@@ -379,7 +379,7 @@ void PasteRows(const Image &part, int from, int to, int count, Image &whole) {
 // The interior rows of a strip of the combination: all of them where the whole frame fits
 // the device (half its memory, its largest buffer, the candidates' outputs, one binding).
 // The strip's GPU buffers are, per pixel, the candidates' outputs and a probe's planes, the
-// estimates' planes (raw, box means and their row sums, weights) and the colour-sized ones.
+// estimates' planes (raw, window means and their row sums, weights) and the colour-sized ones.
 int StripRows(vk::Context &context, int width, int height, int count, int channels, int halo) {
     double perPixel = 4.0 * (2 * count * channels + 6 * count + 8 * channels);
     double budget = double(context.Info().deviceLocalBytes) / 2;
@@ -413,8 +413,8 @@ std::vector<AutoCandidate> CandidateRows(const std::vector<AutoCandidate> &candi
 }  // namespace
 
 // A frame too large for one combination runs in strips of whole rows with a halo of twice
-// the estimates' box radius (the guide's box mean, then the final one): every kernel of the
-// combination is per pixel but the box means, so the strips give the whole frame's bits.
+// the estimates' window radius (the guide's window mean, then the final one): every kernel of
+// the combination is per pixel but the window means, so the strips give the whole frame's bits.
 AutoResult AutoCombine(vk::Context &context, const Image &color,
                        const std::vector<AutoCandidate> &candidates,
                        const AutoEstimateInputs &estimate, const AutoOptions &options) {
@@ -478,7 +478,7 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
         result.plan.insert(result.plan.end(), dropPlan.begin(), dropPlan.end());
         result.plan.push_back(fmt::format(
             "auto: the combination ran in {} strips of up to {} rows, each with {} rows above "
-            "and below (twice the estimates' box radius)",
+            "and below (twice the estimates' window radius)",
             strips, rows, halo));
     }
     bool map = options.map || options.keepStages;

@@ -67,7 +67,7 @@ struct AutoOptions {
     // relMSE's denominator in the estimates: the candidates' mean, or (false) a first
     // combination weighed by their plain squared error.
     bool meanGuide = false;
-    int radius = 12;  // the estimates' box mean is (2 radius + 1)^2
+    int radius = 12;  // the estimates' window mean is (2 radius + 1)^2
     float power = 2, floorError = 1e-5f;
     float noiseLimit = 30, darkLimit = 4;  // the relative combination's
     float noiseCap = 100;                  // the final estimates' (0: none)
@@ -90,7 +90,7 @@ struct AutoOptions {
 // Each candidate's share (its mean weight, in %) and where its weight is the largest (in %
 // of the pixels), in the candidates' order. With keepStages, stages "auto.<label>.probe" (with
 // an estimate), "auto.<label>", "auto.guide", "auto.estimates" and "auto.errors" (with an
-// estimate: the guide, the second pass's raw estimates and their box means, one plane per
+// estimate: the guide, the second pass's raw estimates and their window means, one plane per
 // candidate), "auto.weights"; with keepStages or `map`, "auto.map": each pixel the colour
 // of the candidate of the largest weight (black where none weighs).
 struct AutoResult : MethodResult {

@@ -9,31 +9,32 @@ layout(std430, binding = AUTO_SMOOTH_INPUT) readonly buffer Input { float inputs
 layout(std430, binding = AUTO_SMOOTH_SCRATCH) buffer Scratch { float scratch[]; };
 layout(std430, binding = AUTO_SMOOTH_OUTPUT) writeonly buffer Output { float outputs[]; };
 
-// Rows: the sum and the count of the finite values of row y over [x - r, x + r], into
-// planes 2p and 2p + 1 of the scratch.
+// Rows: the tent-weighted sum of the finite values of row y over [x - r, x + r] and the
+// sum of their weights r + 1 - |u - x|, into planes 2p and 2p + 1 of the scratch.
 void rows(int x, int y, int p, int w, int h, int r) {
     int base = p * w * h + y * w;
-    float sum = 0.0;
-    int n = 0;
+    float sum = 0.0, n = 0.0;
     for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
         float e = inputs[base + u];
         if (isnan(e) || isinf(e)) continue;
-        sum += e;
-        ++n;
+        float weight = float(r + 1 - abs(u - x));
+        sum += weight * e;
+        n += weight;
     }
     int at = y * w + x;
     scratch[2 * p * w * h + at] = sum;
-    scratch[(2 * p + 1) * w * h + at] = float(n);
+    scratch[(2 * p + 1) * w * h + at] = n;
 }
 
-// Columns: the row sums and counts over [y - r, y + r], and their quotient (NaN where the
-// window has no finite value).
+// Columns: the row sums and weights over [y - r, y + r], each weighted by r + 1 - |v - y|,
+// and their quotient (NaN where the window has no finite value).
 void columns(int x, int y, int p, int w, int h, int r) {
     int sums = 2 * p * w * h, counts = (2 * p + 1) * w * h;
     float sum = 0.0, n = 0.0;
     for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v) {
-        sum += scratch[sums + v * w + x];
-        n += scratch[counts + v * w + x];
+        float weight = float(r + 1 - abs(v - y));
+        sum += weight * scratch[sums + v * w + x];
+        n += weight * scratch[counts + v * w + x];
     }
     outputs[p * w * h + y * w + x] = n > 0.0 ? sum / n : uintBitsToFloat(0x7fc00000u);
 }

@@ -304,6 +304,31 @@ TEST_P(AutoSmoothKernel, MatchesReferenceAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, AutoSmoothKernel, testing::ValuesIn(KernelShapes()),
                          KernelShapeName);
 
+// One large error in a frame of zeros, far from the borders: its smoothed map along the
+// row through it rises by equal steps to the centre and falls to zero just past the
+// window, no step larger than the centre's value over r + 1 (a box's map is flat inside
+// and drops by its whole value at the window's edge: the nested squares of issue #29).
+class AutoSmoothWindow : public GpuTest {};
+
+TEST_F(AutoSmoothWindow, OneLargeErrorHasNoStepAtTheWindowsEdge) {
+    const int radius = 12, size = 4 * radius + 9, centre = size / 2;
+    Image errors(size, size, 1);
+    errors.At(0, centre, centre) = 1e3f;
+    for (bool gpu : {false, true}) {
+        SCOPED_TRACE(gpu ? "gpu" : "cpu reference");
+        Image smooth = gpu ? GpuSmooth(Ctx(), errors, radius) : ref::AutoSmooth(errors, radius);
+        double peak = smooth.At(0, centre, centre), steepest = 0;
+        ASSERT_GT(peak, 0.0);
+        for (int x = 1; x < size; ++x)
+            steepest = std::max(steepest, std::fabs(double(smooth.At(0, centre, x)) -
+                                                    smooth.At(0, centre, x - 1)));
+        EXPECT_LE(steepest, peak / (radius + 1) * (1 + 1e-4));
+        // Zero outside the window, positive inside it.
+        EXPECT_EQ(smooth.At(0, centre, centre + radius + 1), 0.f);
+        EXPECT_GT(smooth.At(0, centre, centre + radius), 0.f);
+    }
+}
+
 // Stage 3: a weight is one pow (a few ulps), the normalisation a sum of K of them and a
 // division, the output a sum of K products: ~(K + 8) ulps of max_k |f_k| for the colour and
 // of 1 for the weights. The selection compares the same floats on both sides: exact. The
@@ -914,9 +939,10 @@ TEST_F(AutoMethod, ReturnsTheMapOfTheLargestWeightsWhenAsked) {
 // mean is as far off as they are) and auto's weighted mean was x8 the best method here
 // (x2.2 since the pivot variants without ids, measured: best 0.0975, auto 0.0873, mean
 // guide 0.214; bayes on the whole colour); the default guide, a first combination by the
-// plain squared error, kept the weighted mean within 5% of it and keeps it under two thirds
-// of the mean guide's error (the margin narrower since pivot filters pixels beside other
-// ids from their own ids' data: its overshoots there are fewer). With
+// plain squared error, kept the weighted mean within 5% of it and keeps it clearly below
+// the mean guide's error (asked: 1.15x; the margin narrower since pivot filters pixels
+// beside other ids from their own ids' data, its overshoots there fewer, and again since
+// the estimates' windows are tents, under which the mean guide's error fell the most). With
 // bayes's split output among the candidates and the relative combination (the defaults)
 // auto stays within 5% of the best method (0.0964 against 0.0975).
 TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
@@ -939,7 +965,7 @@ TEST_F(AutoMethod, GuideKeepsOvershootsOfDarkPixelsVisible) {
         "best method {:.4g}, auto {:.4g}, weighted mean {:.4g}, with the mean as the guide "
         "{:.4g}\n",
         best, relative, combined, mean);
-    EXPECT_GT(mean, 1.5 * combined);
+    EXPECT_GT(mean, 1.15 * combined);
 }
 
 // `method` without the local means restored (bayes's, pivot's and auto's own): the tests
