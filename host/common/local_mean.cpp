@@ -313,6 +313,14 @@ double NeighbourMedian(const float *plane, int w, int h, int x, int y, bool posi
     return values[(count - 1) / 2];
 }
 
+// Whether the channels' sum at (x, y) is over kSpike times its neighbours' median `*median`
+// (set): finite, above 0, beside finite neighbours.
+bool OverSpike(const Image &sums, int x, int y, double *median) {
+    const float own = sums.data[size_t(y) * sums.width + x];
+    *median = NeighbourMedian(sums.data.data(), sums.width, sums.height, x, y);
+    return std::isfinite(own) && own > 0 && std::isfinite(*median) && own > kSpike * *median;
+}
+
 // Whether (x, y)'s value is above each of its neighbours' within the frame that is not over
 // (a pair of fireflies is cut whole): a light's rim beside its core is not a spike, however
 // far over its other neighbours it is.
@@ -355,10 +363,8 @@ Image ChannelSums(const Image &color) {
 bool RimAt(const Image &sums, const std::vector<char> &light, int w, int h, int x, int y) {
     const size_t p = size_t(y) * w + x;
     const float own = sums.data[p];
-    const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
-    if (light[p] || !(own > 0) || !std::isfinite(own) || !std::isfinite(m) ||
-        !(own > kSpike * m))
-        return false;
+    double m;
+    if (light[p] || !OverSpike(sums, x, y, &m)) return false;
     bool beside = false, others = false;
     for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
         for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
@@ -402,9 +408,8 @@ size_t CutSpikes(Image *color, const Image *variance) {
         for (int y = begin; y < end; ++y)
             for (int x = 0; x < w; ++x) {
                 const size_t p = size_t(y) * w + x;
-                const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
-                over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
-                          sums.data[p] > kSpike * m;
+                double m;
+                over[p] = OverSpike(sums, x, y, &m);
                 // Over black the ratio says nothing: there the neighbours above 0 tell.
                 const double level =
                     m == 0 ? NeighbourMedian(sums.data.data(), w, h, x, y, true) : m;
@@ -562,10 +567,8 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
     ParallelFor(h, n * 16, [&](int begin, int end) {
         for (int y = begin; y < end; ++y)
             for (int x = 0; x < w; ++x) {
-                const size_t p = size_t(y) * w + x;
-                const double m = NeighbourMedian(sums.data.data(), w, h, x, y);
-                over[p] = std::isfinite(sums.data[p]) && sums.data[p] > 0 && std::isfinite(m) &&
-                          sums.data[p] > kSpike * m;
+                double m;
+                over[size_t(y) * w + x] = OverSpike(sums, x, y, &m);
             }
     });
     std::vector<char> seen(n, 0), inCluster(n, 0);
