@@ -467,6 +467,7 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
                     const size_t q = size_t(j) * w + i;
                     if (q != rims[k] && !light[q]) values[count++] = color->Plane(c)[q];
                 }
+            if (count == 0) continue;  // RimAt asks for a neighbour that is no light
             std::nth_element(values, values + (count - 1) / 2, values + count);
             medians[k * color->channels + c] = values[(count - 1) / 2];
         }

@@ -54,7 +54,9 @@ TEST(Highlights, MatchesReference) {
                 AddHighlights(color, got, &output);
                 ref::AddHighlights(color, base, mask, &expected);
                 EXPECT_EQ(output.data, expected.data);
-                if (w >= 17) EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
+                if (w >= 17) {
+                    EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
+                }
             }
 }
 
@@ -98,6 +100,15 @@ TEST(Highlights, ConfidentTwoPixelReflectionsAreHighlights) {
 
 class HighlightsAwr : public GpuTest {};
 
+// A frame of a colour and its variance layer, what awr reads.
+Frame ColorAndVariance(const Image &color, const Image &variance) {
+    Frame frame;
+    frame.width = color.width, frame.height = color.height;
+    frame.layers["color"] = color;
+    frame.layers["variance"] = variance;
+    return frame;
+}
+
 // A small light (exact inside, a noisy rim) on a dim floor with a small variance: awr's
 // shrinkage by the rim's variance rings the light into the floor, far worse than its input.
 TEST_F(HighlightsAwr, SmallLightDoesNotRingIntoTheFloor) {
@@ -116,10 +127,7 @@ TEST_F(HighlightsAwr, SmallLightDoesNotRingIntoTheFloor) {
                 color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
                 variance.At(c, y, x) = sd * sd;
             }
-    Frame frame;
-    frame.width = w, frame.height = h;
-    frame.layers["color"] = color;
-    frame.layers["variance"] = variance;
+    Frame frame = ColorAndVariance(color, variance);
     Device device = api::BorrowDevice(Ctx());
     double input = CompareImages(color, truth).relMse;
     Method awr("awr");
@@ -157,10 +165,7 @@ TEST_F(HighlightsAwr, AReflectionDoesNotRingDarkHoles) {
                 color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
                 variance.At(c, y, x) = sd * sd;
             }
-    Frame frame;
-    frame.width = w, frame.height = h;
-    frame.layers["color"] = color;
-    frame.layers["variance"] = variance;
+    Frame frame = ColorAndVariance(color, variance);
     Device device = api::BorrowDevice(Ctx());
     Result out = Method("awr").Run(device, frame);
     // The darkest pixel within 6 of the reflection, against the surface's level.
