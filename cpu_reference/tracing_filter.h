@@ -20,7 +20,7 @@
 // - A neighbour whose samples reach its surface only in part (`valid` = that share: the
 //   rest saw the sky, an emitter or a mirror) lends from that share only, so its weight in
 //   eq. 16's self term is scaled by it; otherwise the pixel would give up more light than
-//   it gets back (measured 22% dark beside three half-covered neighbours).
+//   it gets back (measured dark beside half-covered neighbours).
 // - gamma = 0 switches the variable part off (weight C_p x fixed part wherever both lobes
 //   are positive), rather than 0 x F^2 being NaN for an infinite F.
 #pragma once

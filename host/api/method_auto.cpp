@@ -613,11 +613,9 @@ Candidates RunCandidatesSharing(vk::Context &context, Inputs &inputs,
 }
 
 // The combination's options. The frame's own estimate is rougher than a variance layer:
-// milder weights over smaller windows (measured on 10 frames without statistics, README:
-// power 2 over 17x17 left double-textured x1.06 the best method and the Cycles cornell box
-// at 4.3e-3; power 1 over 9x9 keeps all 10 within 5%, 3.6e-3). And there the relative
-// value leaned to the dark candidates over whole areas (our plain cornell 0.0019 ->
-// 0.0079, README), so that path keeps the weighted mean.
+// milder weights over smaller windows (measured on frames without statistics,
+// docs/methods/auto.md). And there the relative value leaned to the dark candidates over
+// whole areas, so that path keeps the weighted mean.
 AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
                            const RunOptions &run) {
     AutoOptions c;

@@ -56,20 +56,20 @@ class AutoFrontEnd : public FrontEnd {
         // variance layers; 5x5 and 9x9 follow them less closely).
         int noiseRadius = 1;
         float power = 2, epsilon = 0.5f, floorError = 1e-5f;
-        // bayes's divergence at epsilon 0.5 came out 10-40% low against smaller steps
-        // (README); the other candidates measured best at 0.5.
+        // bayes's divergence at epsilon 0.5 came out low against smaller steps
+        // (docs/methods/auto.md); the other candidates measured best at 0.5.
         float bayesEpsilon = 0.05f;
-        // Measured (README) over 63 bench frames: 10 to 100 keep every row within 5%.
+        // Measured over the bench frames (docs/methods/auto.md): a wide range does alike.
         float noiseLimit = 30;
         // Measured (README): without it a light's edge lost to one dark candidate's small
         // weight (our cornell 4 and 16 spp); 2 to 8 did alike.
         float darkLimit = 4;
-        // Where the noise is the frame's own estimate (README: measured on 10 frames
-        // without statistics; 17x17 and power 2 left one x1.06 the best method).
+        // Where the noise is the frame's own estimate (measured on frames without
+        // statistics, docs/methods/auto.md; wider windows and power 2 did worse).
         int frameRadius = 4;
         float framePower = 1;
-        // Measured (README): 50 to 300 keep every bench row within 5% of the best method;
-        // 30 lets relief-abc's overshoots hide again, 1000 a light's pixel swamp fireflies.
+        // Measured (docs/methods/auto.md): too low lets relief-abc's overshoots hide again,
+        // too high lets a light's pixel swamp fireflies.
         float noiseCap = 100;
         // Beside the half-buffers (docs/methods/auto.md, measured on the six accumulated
         // Cycles frames and held out on our scenes with halves): each estimate raised to

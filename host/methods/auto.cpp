@@ -211,9 +211,9 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
 // The estimates of the final combination, whose denominator's guide stands in for the
 // reference. The candidates' mean stood in for it, but where one candidate overshoots (a
 // firefly kept, a blotch) it inflates the mean and so the denominator, which caps that
-// candidate's estimated error at about count^2 however far it is off: on relief-abc 16 spp
-// 4% of the pixels carry 71-99% of every candidate's error and the mean's denominator
-// there is over 4 times the reference's (README). So by default a first pass weighs the
+// candidate's estimated error at about count^2 however far it is off: on relief-abc a few
+// pixels carry most of every candidate's error and the mean's denominator there is
+// several times the reference's (docs/methods/auto.md). So by default a first pass weighs the
 // candidates by their plain squared error (a zero guide: the same denominator everywhere)
 // and its combination, where the overshooting candidates already weigh little, is the
 // guide. Where the candidates disagree beyond what the estimates resolve it leans dark,
@@ -267,11 +267,10 @@ Image Shares(const std::vector<AutoCandidate> &candidates, int width, int height
 // The final combination. Where every estimate is under the floor they all weigh the same
 // and tell nothing: the candidates' median there, not their mean (at a firefly of a frame
 // without statistics every SURE estimate is negative, and the mean kept the firefly of the
-// candidates that keep it: fireflies 128x128 16 spp, ordinary passes, 0.088 -> 0.0146;
-// README). The relative combination takes the value of least expected relMSE under the
-// weights, and equal weights there and where the pixel's noise outweighs what the windows'
-// estimates resolve: a firefly that the candidates that remove it cannot win by their
-// window's estimates (README: double-textured 4 spp x2.45 -> x1.01).
+// candidates that keep it; docs/methods/auto.md). The relative combination takes the
+// value of least expected relMSE under the weights, and equal weights there and where the
+// pixel's noise outweighs what the windows' estimates resolve: a firefly that the
+// candidates that remove it cannot win by their window's estimates.
 void RecordCombination(StagedRun &run, AutoGpu &gpu, const AutoEstimateInputs &in,
                        const std::vector<AutoCandidate> &candidates,
                        const AutoOptions &options) {

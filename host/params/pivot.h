@@ -16,17 +16,17 @@ struct PivotParams {
     // planefit
     int maxRadius = 30;         // largest half-size of the square (paper: 30-40)
     float targetNoise = 0.02f;  // relative std of a centre's fit that stops growth
-    // Relative std above which a pixel is not fitted (section 4.2's threshold). Measured at
-    // 16 spp (cornell, relief-abc, double-textured, glossy-cornell, 128x128): 100 beats 1 and
-    // 3 on PSNR in all four; 1 darkens heavy-tailed scenes (the fireflies carry the energy).
+    // Relative std above which a pixel is not fitted (section 4.2's threshold). Large: small
+    // values leave the heavy-tailed scenes' fireflies, which carry the energy, unfitted and
+    // darken them (docs/methods/pivot.md).
     float goodNoise = 100.f;
     float disagreement = 0.1f;  // square-vs-quadrant limit at the centre, relative
-    // Eq. 10's robustness constant; k = 1 darkened cornell at 16 spp by 5% (it down-weights
-    // the bright tail of the noise), 0 and 0.3 measure the same.
+    // Eq. 10's robustness constant; k = 1 darkens (it down-weights the bright tail of the
+    // noise), 0 and 0.3 measure the same (docs/methods/pivot.md).
     float k = 0.3f;
     // Multiplies sigma in eq. 10. With heavy-tailed noise the pixels that carry the energy
-    // (fireflies) have the largest sigma: 1 (the paper) halved relief-abc's plane at 16 spp;
-    // 0 measured better PSNR on all four scenes above (e.g. glossy-cornell 24.5 -> 25.9 dB).
+    // (fireflies) have the largest sigma, so 1 (the paper) darkens their plane; 0 measured
+    // better PSNR on the scenes above (docs/methods/pivot.md).
     float sigmaWeight = 0.f;
     // bilateral: window half-size, spatial sigma = radius / 2, range sigma on the relative
     // difference of the pivot's channel mean.

@@ -12,8 +12,8 @@ struct RhfParams {
     float threshold = 0.8f;  // kappa, on the normalised chi-square patch distance
     int knn = 2;             // nearest patches always averaged, finest scale only
     // Requested; see RhfScalesUsed. One, not the tool's two: with the scales aligned as
-    // the tool aligns them (issue #20), one scale had the lower error in 16 of 21 cells of
-    // README's quality table (geometric mean 0.81x) and on an accumulated Cycles frame.
+    // the tool aligns them (issue #20), one scale had the lower error in most cells of the
+    // quality table and on an accumulated Cycles frame (docs/methods/rhf.md).
     int scales = 1;
     // The bright veto (beyond the authors' tool; 0 is theirs): a candidate patch is left
     // out when one pixel pair's counted terms in the saturated bins (the last two of each

@@ -8,9 +8,9 @@
 // dy from the grid; the rows dy < 0 are the same terms seen from the candidate
 // (distance.comp). The loops are unrolled so the lane's arrays stay in registers. On
 // lavapipe the loads dominate: the histograms are read as texel buffers (gathered as
-// vectors), and the lane's pixels share the candidates' bins (8 pixels per lane: 1.03 s
-// against 1.30 s with 4 and 1.81 s with 2, 512x512). Bins that no pixel pair of the lane
-// counts are left out (MayCount, from blockmax.comp's maxima): 2.6x faster at 512x512.
+// vectors), and the lane's pixels share the candidates' bins (8 pixels per lane measured
+// fastest, docs/performance.md). Bins that no pixel pair of the lane counts are left out
+// (MayCount, from blockmax.comp's maxima).
 layout(local_size_x = RHF_TERMS_LOCAL_SIZE) in;
 layout(constant_id = RHF_TERMS_SPEC_SEARCH_HALF) const int B = 6;
 // The histogram buffers in use: lavapipe runs every side of a branch, so a plane read

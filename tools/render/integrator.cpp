@@ -6,8 +6,8 @@
 namespace mcd::render {
 namespace {
 
-// A safety cap only: Russian roulette ends paths long before (a cap of 16 lost 2.7% in
-// a closed box of albedo 0.8).
+// A safety cap only: Russian roulette ends paths long before (a low cap lost light in a
+// closed box of bright albedo).
 constexpr int kMaxDepth = 256;
 constexpr int kPivotDepth = 8;
 
