@@ -7,10 +7,12 @@
 #include "cpu_reference/awr_reconstruct.h"
 #include "cpu_reference/exact_pixels.h"
 #include "cpu_reference/highlights.h"
+#include "cpu_reference/input_minimum.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
 #include "host/common/exact_pixels.h"
 #include "host/common/highlights.h"
+#include "host/common/input_minimum.h"
 #include "host/io/hints.h"
 #include "host/methods/awr.h"
 #include "host/wavelet.h"
@@ -26,6 +28,9 @@ struct AwrSettings {
     std::string variance = "auto";
     // Highlights taken out before the reconstruction (host/common/highlights.h); 0: off.
     float highlights = 16;
+    // The output raised to the input's minimum over windows of this radius
+    // (host/common/input_minimum.h); 0: off.
+    int clamp = 1;
 };
 
 // The window radius of the highlights' medians.
@@ -75,7 +80,12 @@ class Awr : public FrontEndOf<AwrSettings> {
                           "the median and given its input back after, so a light's energy "
                           "does not ring into the dim pixels around it (beyond the paper; 0: "
                           "off)",
-                          &AwrSettings::highlights, 0, 1e6)}) {}
+                          &AwrSettings::highlights, 0, 1e6),
+               IntParam("awr-clamp",
+                        "the output raised to the minimum of the input over the (2N+1)^2 "
+                        "window around each pixel, per channel: the synthesis's troughs (dark "
+                        "spots beside highlights) are cut (beyond the paper; 0: off)",
+                        &AwrSettings::clamp, 0, 8)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
     std::string Summary() const override {
@@ -125,6 +135,15 @@ class Awr : public FrontEndOf<AwrSettings> {
         // An idle run (the output is the input) has no stages to add to.
         if (run.keepStages && !result.stages.empty())
             result.stages.push_back({"exact pixels", result.image});
+        if (options.clamp > 0) {
+            size_t clamped = RaiseToInputMinimum(color, options.clamp, &result.image);
+            result.plan.push_back(fmt::format(
+                "troughs cut: {} values below the input's minimum over their {}x{} window "
+                "raised to it",
+                clamped, 2 * options.clamp + 1, 2 * options.clamp + 1));
+            if (run.keepStages && !result.stages.empty())
+                result.stages.push_back({"input minimum", result.image});
+        }
         return result;
     }
 
@@ -143,13 +162,15 @@ class Awr : public FrontEndOf<AwrSettings> {
             levels);
         // Analysis and synthesis at 2^l per level l, and the spins' shifts.
         int half = WaveletHalfSupport(options.method.basis);
-        // The highlights read their neighbours' windows.
+        // The highlights read their neighbours' windows, the clamp its window.
         const int highlights = options.highlights > 0 ? kHighlightRadius + 1 : 0;
-        needs.reach = 2 * half * ((1 << levels) - 1) + options.method.spins + highlights;
+        needs.reach =
+            2 * half * ((1 << levels) - 1) + options.method.spins + highlights + options.clamp;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
-            "{}, the spins' shift, and {} for the highlights' windows",
-            WaveletName(options.method.basis), half, levels, highlights);
+            "{}, the spins' shift, {} for the highlights' windows and {} for the input's "
+            "minimum",
+            WaveletName(options.method.basis), half, levels, highlights, options.clamp);
         needs.align = 1 << levels;
         needs.bytesPerPixel = 4.0 * channels * 4;
         needs.bindingBytesPerPixel = 4.0 * channels;
@@ -180,7 +201,11 @@ class Awr : public FrontEndOf<AwrSettings> {
             if (!cpu.empty()) cpu.emplace_back("highlights", out);
         }
         ref::KeepExactPixels(color, variance, &out, kExactReach);
-        if (!cpu.empty()) cpu.emplace_back("exact pixels", std::move(out));
+        if (!cpu.empty()) cpu.emplace_back("exact pixels", out);
+        if (options.clamp > 0) {
+            ref::RaiseToInputMinimum(color, options.clamp, &out);
+            if (!cpu.empty()) cpu.emplace_back("input minimum", std::move(out));
+        }
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
         return stages;

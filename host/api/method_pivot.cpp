@@ -5,9 +5,11 @@
 #include <algorithm>
 
 #include "cpu_reference/auto_combine.h"
+#include "cpu_reference/kept_edges.h"
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/pivot_filter.h"
 #include "host/api/front_end.h"
+#include "host/common/kept_edges.h"
 #include "host/common/local_mean.h"
 #include "host/io/hints.h"
 #include "host/methods/auto.h"
@@ -23,6 +25,9 @@ struct PivotSettings {
     PivotParams method;
     std::string guides = "auto", noise = "auto", layer = "auto";
     bool noPartials = false;
+    // Keep the values kept at their input beside other ids as they are (ClampKeptEdgeValues
+    // off).
+    bool keepEdges = false;
     // The output bound to k standard deviations of the input's noise (BoundToNoise); 0: off.
     float bound = 3;
     // Set by ForTiles: the whole frame's thresholds (of the pivot, of each partial's).
@@ -106,6 +111,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "partial<k>.color/.pivot and remainder layers (by default each partial "
                    "is filtered against its own pivot and the remainder added)",
                    &PivotSettings::noPartials),
+               BoolParam("pivot-keep-edges",
+                         "leave the values the filter kept at their input beside other ids "
+                         "(mixing in a side far from their own) as they are; by default each "
+                         "is clamped to the range of the filtered values of both sides in "
+                         "its 3x3 window, which takes out their noise (dots along id edges)",
+                         &PivotSettings::keepEdges),
                FloatParam("pivot-bound",
                           "each value ends at most this many standard deviations of its "
                           "noise (the variance layer, else estimated from the frame; the "
@@ -154,6 +165,17 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                "layer): the median over 5x5 of the smallest squared second "
                                "difference of color / pivot over 4 directions, times the "
                                "pivot squared");
+        if (!options.keepEdges) {
+            KeptEdges kept =
+                ClampKeptEdgeValues(*in.color, in.objectId, in.partId, &result.image);
+            result.plan.push_back(fmt::format(
+                "kept edges: {} values kept at their input beside other ids clamped to the "
+                "range of both sides' filtered values in their 3x3 window; {} keep their input "
+                "and its noise (no filtered value of both sides around them: a part at most "
+                "two pixels wide, which no fit reaches)",
+                kept.clamped, kept.alone));
+            if (run.keepStages) result.stages.push_back({"kept edges", result.image});
+        }
         if (options.bound > 0) {
             // Without a variance layer, the frame's own noise estimate (auto's).
             Image estimated;
@@ -207,14 +229,15 @@ class Pivot : public FrontEndOf<PivotSettings> {
         }
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
-        // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean.
-        const int bound = options.bound > 0 ? 3 : 0;
+        // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
+        // the kept edges' 3x3 window.
+        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 1);
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += mean + bound + frameNoise;
         needs.reachText += fmt::format(
-            "; the local mean's coarse and fine tents {}; {} for the bound's noise; {} for "
-            "the frame's noise estimate",
+            "; the local mean's coarse and fine tents {}; {} for the bound's noise and the "
+            "kept edges' window; {} for the frame's noise estimate",
             mean, bound, frameNoise);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
@@ -259,6 +282,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
         cpuIn.remainder = in.remainder;
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
+        if (!options.keepEdges) {
+            ref::ClampKeptEdgeValues(*in.color, in.objectId, in.partId, &out);
+            cpu.emplace_back("kept edges", out);
+        }
         if (options.bound > 0) {
             Image estimated;
             if (!in.variance) estimated = ref::AutoNoise(*in.color, in.pivot, 1);

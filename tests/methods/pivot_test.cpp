@@ -12,17 +12,21 @@
 #include <utility>
 #include <vector>
 
+#include "cpu_reference/kept_edges.h"
 #include "cpu_reference/pivot_filter.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/device.h"
+#include "host/common/kept_edges.h"
 #include "host/kernels/pivot_bilateral.h"
 #include "host/kernels/pivot_fit.h"
 #include "host/kernels/pivot_gather.h"
 #include "host/kernels/pivot_ratio.h"
 #include "host/methods/pivot.h"
 #include "host/metrics.h"
+#include "mcdenoise/mcdenoise.h"
 #include "pivot/gather.h"
 #include "pivot/pivot.h"
 #include "tools/render/renderer.h"
@@ -621,6 +625,91 @@ TEST_F(PivotMethod, IdEdgePixelsAreFilteredByTheirOwnIds) {
     CompareStats stats = MatchWithinFloatSums(expected, result.image, f.color);
     EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
     EXPECT_LT(stats.nmse, 1e-8);
+}
+
+// Values kept at their input beside other ids against the CPU reference (bit for bit: copies
+// and clamps), on random outputs of which about a third are kept, random ids in blocks, NaN.
+TEST(PivotKeptEdges, MatchReference) {
+    for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {40, 31}})
+        for (int ids = 1; ids <= 3; ++ids) {
+            uint64_t seed = SeedFromName(fmt::format("kept edges {}x{} {}", w, h, ids));
+            Image input = MakeInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+            Image output = MakeInput(InputKind::Uniform, w, h, 3, seed + 1);
+            Image pick = MakeInput(InputKind::Uniform, w, h, 3, seed + 2);
+            Image objectId(w, h, 1), partId(w, h, 1);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    objectId.At(0, y, x) = float((x / 3 + y / 4) % 3);
+                    partId.At(0, y, x) = float((x + 2 * y) / 7 % 2);
+                }
+            for (size_t i = 0; i < output.data.size(); ++i)
+                if (pick.data[i] < 0.35f) output.data[i] = input.data[i];
+            if (w * h > 6) output.data[9] = std::numeric_limits<float>::quiet_NaN();
+            const Image *object = ids & 1 ? &objectId : nullptr;
+            const Image *part = ids & 2 ? &partId : nullptr;
+            Image expected = output, got = output;
+            size_t count = ref::ClampKeptEdgeValues(input, object, part, &expected);
+            KeptEdges kept = ClampKeptEdgeValues(input, object, part, &got);
+            EXPECT_EQ(kept.clamped, count) << w << "x" << h << " ids " << ids;
+            EXPECT_TRUE(BitIdentical(got, expected)) << w << "x" << h << " ids " << ids;
+            if (w >= 17) {
+                EXPECT_GT(count, 0u) << "the case clamps nothing";
+            }
+        }
+    Image none(4, 4, 3, 0.5f), out = none;
+    EXPECT_EQ(ClampKeptEdgeValues(none, nullptr, nullptr, &out).clamped, 0u);
+}
+
+// A ceiling (albedo 0.8) above a wall (albedo 0.5), of two object ids, both lit to the same
+// colour, meeting along a slanted edge whose pixels mix both albedos: divided by their
+// albedo, the edge pixels lean toward the other side, and pivot keeps them at their input,
+// noise and all: a line of dots along the edge (the real sunlit_room's ceiling, issue 29).
+// Clamped to the range of both sides' filtered values around them, they lose a part of it.
+TEST_F(PivotMethod, KeptEdgeValuesLoseTheirNoise) {
+    const int w = 48, h = 32;
+    const float level = 0.4f, noise = 0.1f;
+    Image color(w, h, 3), pivot(w, h, 3), variance(w, h, 3), objectId(w, h, 1);
+    std::mt19937_64 rng(SeedFromName("pivot kept edges"));
+    std::normal_distribution<float> normal(0, 1);
+    auto edgeY = [](int x) { return 12 + x / 4; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            objectId.At(0, y, x) = y < edgeY(x) ? 1.f : 2.f;
+            bool edge = y == edgeY(x) - 1 || y == edgeY(x);
+            for (int c = 0; c < 3; ++c) {
+                pivot.At(c, y, x) = edge ? 0.65f : y < edgeY(x) ? 0.8f : 0.5f;
+                color.At(c, y, x) = std::max(0.f, level * (1 + noise * normal(rng)));
+                variance.At(c, y, x) = level * level * noise * noise;
+            }
+        }
+    mcd::Frame frame;
+    frame.width = w, frame.height = h;
+    frame.layers["color"] = color;
+    frame.layers["albedo"] = pivot;
+    frame.layers["variance"] = variance;
+    frame.layers["objectId"] = objectId;
+    Device device = api::BorrowDevice(Ctx());
+    Method method("pivot");
+    method.Set("pivot-keep-edges", true);
+    Result kept = method.Run(device, frame);
+    method.Set("pivot-keep-edges", false);
+    Result clamped = method.Run(device, frame);
+    double inputError = 0, outputError = 0;
+    size_t keptValues = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                if (kept.image.At(c, y, x) == color.At(c, y, x) &&
+                    std::abs(y - edgeY(x)) <= 1) {
+                    inputError += std::fabs(color.At(c, y, x) - level) / level;
+                    outputError += std::fabs(clamped.image.At(c, y, x) - level) / level;
+                    ++keptValues;
+                }
+    ASSERT_GT(keptValues, size_t(w / 2)) << "the case keeps too few edge values";
+    EXPECT_LT(outputError, 0.85 * inputError)
+        << "kept edge values: mean relative error " << outputError / keptValues
+        << " against the input's " << inputError / keptValues;
+    EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, clamped.image));
 }
 
 // The gather's tile lists (host code): per channel and tile, every centre of the tile once,

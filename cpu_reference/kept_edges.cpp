@@ -1,0 +1,74 @@
+#include "cpu_reference/kept_edges.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace mcd::ref {
+namespace {
+
+double IdAt(const Image *id, int x, int y) {
+    return id ? id->At(0, y, x) : 0;
+}
+
+bool SameIds(const Image *objectId, const Image *partId, int x0, int y0, int x1, int y1) {
+    return IdAt(objectId, x0, y0) == IdAt(objectId, x1, y1) &&
+           IdAt(partId, x0, y0) == IdAt(partId, x1, y1);
+}
+
+bool SameFloat(float a, float b) {
+    uint32_t ua, ub;
+    std::memcpy(&ua, &a, 4);
+    std::memcpy(&ub, &b, 4);
+    return ua == ub;
+}
+
+}  // namespace
+
+size_t ClampKeptEdgeValues(const Image &input, const Image *objectId, const Image *partId,
+                           Image *output) {
+    if (!objectId && !partId) return 0;
+    const Image before = *output;
+    const int w = input.width, h = input.height;
+    size_t changed = 0;
+    for (int c = 0; c < input.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool edge = false;
+                const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+                for (int k = 0; k < 4; ++k)
+                    if (nx[k] >= 0 && nx[k] < w && ny[k] >= 0 && ny[k] < h &&
+                        !SameIds(objectId, partId, x, y, nx[k], ny[k]))
+                        edge = true;
+                float in = input.At(c, y, x);
+                if (!edge || !SameFloat(in, before.At(c, y, x)) || !std::isfinite(in)) continue;
+                std::vector<float> values;
+                bool own = false, other = false;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u) {
+                        if (v < 0 || v >= h || u < 0 || u >= w || (u == x && v == y)) continue;
+                        float o = before.At(c, v, u);
+                        if (SameFloat(input.At(c, v, u), o) || !std::isfinite(o)) continue;
+                        values.push_back(o);
+                        if (SameIds(objectId, partId, x, y, u, v))
+                            own = true;
+                        else
+                            other = true;
+                    }
+                if (!own || !other) continue;
+                float lo = values[0], hi = values[0];
+                for (float o : values) {
+                    if (o < lo) lo = o;
+                    if (o > hi) hi = o;
+                }
+                float clamped = in < lo ? lo : in > hi ? hi : in;
+                if (clamped != in) {
+                    output->At(c, y, x) = clamped;
+                    ++changed;
+                }
+            }
+    return changed;
+}
+
+}  // namespace mcd::ref
