@@ -11,6 +11,7 @@
 #include "cpu_reference/nfor_alpha.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
+#include "cpu_reference/nfor_lights.h"
 #include "cpu_reference/nfor_specks.h"
 
 namespace mcd::ref {
@@ -636,6 +637,7 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
     NforParams coarseParams = p;
     coarseParams.coarse = false;
     coarseParams.coarseGate = 0;
+    coarseParams.weakLightShare = coarseParams.lightShare = 0;
     Image coarse = Nfor(half, coarseParams, nullptr);
     if (stages) stages->emplace_back("coarse", coarse);
     NforAddCoarse(color, coarse, in.albedo, p.emitterAlbedo, p.coarseRelative, p.coarseNoise,
@@ -739,6 +741,11 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
     if (NforCoarseGateOpen(color, in.albedo, p)) AddCoarse(in, p, stages, &out);
+    if (!in.variance && in.albedo && (p.weakLightShare > 0 || p.lightShare > 0)) {
+        NforSpreadLights(*in.albedo, p.emitterAlbedo, p.weakEmitterAlbedo, p.weakLightShare,
+                         p.lightShare, &out);
+        keep("lights", out);
+    }
     return out;
 }
 

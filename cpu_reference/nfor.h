@@ -151,6 +151,10 @@ struct NforParams {
     // > 0: emitters whose largest albedo channel is below it smoothed over keptRadius (2
     // where that is 0), without the albedo's planes.
     double weakEmitterAlbedo = 0;
+    // Without a variance layer, with an albedo, last: each emitter gives this share of its
+    // output (weak ones, below weakEmitterAlbedo, the first) to each of its 4 neighbours that
+    // is no emitter (NforSpreadLights, cpu_reference/nfor_lights.h); both 0: off.
+    double weakLightShare = 0, lightShare = 0;
     // The frame denoised again at half the resolution (NforHalf of colour, albedo, features
     // and variance), its low frequencies added (NforAddCoarse, cpu_reference/nfor_coarse.h):
     // with `coarse` always, else where NforRelativeNoise of the colour and its own noise
@@ -244,7 +248,7 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
 // k<i>.beta, k<i>.hat, k<i>.output, choice with several bandwidths; with a second pass
 // pilot, pilot.distance, pilot.k<i>.beta, .hat, .output, pilot.choice; with meanRadius,
 // fit; with speckRelative >= 0, specks; with keptRadius, unkept; with coarse, coarse; with
-// partly covered pixels, straight; output).
+// the lights spread, lights; with partly covered pixels, straight; output).
 Image Nfor(const NforInputs &inputs, const NforParams &params,
            std::vector<std::pair<std::string, Image>> *stages);
 

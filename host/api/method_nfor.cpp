@@ -150,6 +150,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "albedo not compared, over --kept-radius (2 where that is 0); 0: "
                           "emitters kept",
                           &O::weakEmitterAlbedo, 0, 1e30)),
+        nested(FloatParam("weak-light-share",
+                          "on a frame without a variance layer, last: each emitter of albedo "
+                          "below --weak-emitter-albedo gives this share of its output to each "
+                          "of its 4 neighbours that is no emitter (a light's rim, which few "
+                          "samples hit), keeping the rest; 0: off",
+                          &O::weakLightShare, 0, 0.25)),
+        nested(FloatParam("light-share",
+                          "the same for the other emitters (a light hundreds of times as "
+                          "bright as its rim); 0: off",
+                          &O::lightShare, 0, 0.25)),
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: left out of every "
                           "window and kept as they are (weak ones smoothed: "
@@ -254,8 +264,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
         // The kept pixels' pass runs where the noise is the frame's own (InputsOf).
-        const int keptReach = NforKeptPassRadius(
-            o, options.noise == "auto" && inputs.Has("variance"), inputs.Has("albedo"));
+        const bool layer = options.noise == "auto" && inputs.Has("variance");
+        const int keptReach = NforKeptPassRadius(o, layer, inputs.Has("albedo"));
+        // The lights' spread reads the output of the 4 neighbours.
+        const int lightReach = NforSpreadsLights(o, layer, inputs.Has("albedo")) ? 1 : 0;
         int colourReach = o.patchRadius + o.noiseRadius + 1;
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
@@ -271,16 +283,17 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const int speckReach = o.meanRadius > 0 && o.speckRelative >= 0 ? 1 : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
                       o.sureRadius + speckReach +
-                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) + keptReach;
+                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) + keptReach +
+                      lightReach;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
             "average; {} for the specks' neighbours; {} for the local means; {} for the kept "
-            "pixels' mean",
+            "pixels' mean; {} for the lights' spread",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, speckReach, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0,
-            keptReach);
+            keptReach, lightReach);
         int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
             features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
@@ -360,6 +373,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.speckRank = o.speckRank;
         p.keptRadius = o.keptRadius;
         p.weakEmitterAlbedo = o.weakEmitterAlbedo;
+        p.weakLightShare = o.weakLightShare;
+        p.lightShare = o.lightShare;
         p.coarse = o.coarse;
         p.coarseRelative = o.coarseRelative;
         p.coarseNoise = o.coarseNoise;

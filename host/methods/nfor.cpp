@@ -13,6 +13,7 @@
 #include "host/methods/nfor_alpha.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
+#include "host/methods/nfor_lights.h"
 #include "host/methods/nfor_specks.h"
 #include "host/methods/run_memo.h"
 #include "host/vk/gpu_image.h"
@@ -125,12 +126,14 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.coarseNoise) && o.coarseNoise >= 0) ||
         !(finite(o.coarseGate) && o.coarseGate >= 0) ||
         !(finite(o.wideAgreement) && o.wideAgreement >= 0) || !finite(o.speckRelative) ||
-        !(finite(o.speckFloor) && o.speckFloor >= 0))
+        !(finite(o.speckFloor) && o.speckFloor >= 0) ||
+        !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
+        !(o.lightShare >= 0 && o.lightShare <= 0.25f))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, pilot alpha, "
             "coarse relative, coarse noise, coarse gate, wide agreement and speck floor finite "
-            "and >= 0, speck relative finite, mean radius >= 0",
+            "and >= 0, speck relative finite, mean radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -685,6 +688,18 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
                     8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
 }
 
+// Each emitter's share of its output given to its neighbours that are no emitter.
+void SpreadLights(StagedRun &run, const NforInputs &in, const NforOptions &o,
+                  NforResult &result) {
+    NforLightSettings s{o.emitterAlbedo, o.weakEmitterAlbedo, o.weakLightShare, o.lightShare};
+    result.lights = NforSpreadLights(*in.albedo, s, &result.image);
+    run.AddStage("lights", result.image);
+    run.Plan(fmt::format(
+        "lights: {} emitter pixels gave {} (albedo below {}) or {} of their output to each of "
+        "their 4 neighbours that is no emitter (a light's rim, which few of the samples hit)",
+        result.lights, o.weakLightShare, o.weakEmitterAlbedo, o.lightShare));
+}
+
 std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
     std::vector<std::pair<std::string, double>> perKernel;
     double total = 0;
@@ -730,6 +745,8 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
     NforOptions options = o;
     options.coarse = false;
     options.coarseGate = 0;
+    // The lights are spread once, over the whole resolution's output.
+    options.weakLightShare = options.lightShare = 0;
     options.keepStages = false;
     return NforDenoise(context, coarse, options).image;
 }
@@ -864,6 +881,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                         what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
     AddCoarsePass(context, run, gpu, in, o, result);
+    if (NforSpreadsLights(o, in.variance, in.albedo)) SpreadLights(run, in, o, result);
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
                     "window and kept as they are (a lone one far above its neighbours: "

@@ -108,6 +108,11 @@ struct NforOptions {
     // keptRadius (kWeakEmitterRadius where that is 0), their albedo not compared; 0:
     // emitters kept.
     float weakEmitterAlbedo = 8;
+    // On a frame without a variance layer read as the noise and with an albedo, last: each
+    // emitter gives this share of its output (weak ones, of albedo below weakEmitterAlbedo,
+    // the first; the rest the second) to each of its 4 neighbours that is no emitter
+    // (host/methods/nfor_lights.h); both 0: off.
+    float weakLightShare = 0.08f, lightShare = 0.004f;
     // Denoise the frame again at half the resolution and give the output the coarse
     // output's low frequencies where they differ by under min(coarseRelative x the
     // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h):
@@ -133,6 +138,12 @@ inline int NforKeptPassRadius(const NforOptions &o, bool varianceLayer, bool alb
     if (varianceLayer) return 0;
     if (o.keptRadius > 0) return o.keptRadius;
     return o.weakEmitterAlbedo > 0 && albedo ? kWeakEmitterRadius : 0;
+}
+
+// Whether the lights' spread runs on a frame with or without a variance layer read as the
+// noise and an albedo.
+inline bool NforSpreadsLights(const NforOptions &o, bool varianceLayer, bool albedo) {
+    return !varianceLayer && albedo && (o.weakLightShare > 0 || o.lightShare > 0);
 }
 
 // The frame's layers the method reads; color is required, the rest may be absent.
@@ -162,6 +173,7 @@ struct NforInputs {
 // distance, k<i>.beta, k<i>.hat, k<i>.output, choice with several candidates; with a
 // second pass pilot, pilot.distance and pilot.k<i>.beta, .hat, .output, pilot.choice;
 // with the local means restored, fit (before) and with specks clamped, specks (after them);
+// with the lights spread, lights (after);
 // with partly covered pixels divided by their alpha, straight (before they are multiplied
 // back); output).
 struct NforResult : MethodResult {
@@ -170,6 +182,7 @@ struct NforResult : MethodResult {
     size_t kept = 0;           // pixels the fits left as they came in, then smoothed
     size_t partlyCovered = 0;  // pixels denoised divided by their alpha
     size_t specks = 0;         // pixels of the fits' output scaled down as specks
+    size_t lights = 0;         // emitter pixels that gave their neighbours light
     // Beside a variance layer: the fraction of the light the estimate's clamp took off, and
     // whether the clamp read the layer after all (NforOptions::clampLoss).
     double clampLoss = 0;

@@ -19,6 +19,7 @@
 #include "cpu_reference/nfor_alpha.h"
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
+#include "cpu_reference/nfor_lights.h"
 #include "cpu_reference/nfor_specks.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
@@ -29,6 +30,7 @@
 #include "host/methods/nfor_alpha.h"
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
+#include "host/methods/nfor_lights.h"
 #include "host/methods/nfor_specks.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
@@ -928,6 +930,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.coarseGate = o.coarseGate;
     p.keptRadius = o.keptRadius;
     p.weakEmitterAlbedo = o.weakEmitterAlbedo;
+    p.weakLightShare = o.weakLightShare;
+    p.lightShare = o.lightShare;
     p.prefilterRadius = o.prefilterRadius;
     p.prefilterPatch = o.prefilterPatch;
     p.featureWeights.assign(weights.begin(), weights.end());
@@ -1522,6 +1526,89 @@ TEST(NforKept, SmoothsOnlyPixelsTheFitsLeft) {
     EXPECT_EQ(onlyWeak.At(0, 4, 4), 3.f);
 }
 
+// The lights' spread against its reference: values of every kind, emitters weak and
+// strong scattered (some side by side), a non-finite value, frames of one pixel, one row,
+// 3x3 and 31x17; the same pixels change, to round-off; some do; each channel's sum over the
+// frame is kept (light only moves); a rerun is bit-identical.
+TEST(NforLights, MatchesTheReferenceAndRepeats) {
+    size_t gave = 0;
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::Impulse}) {
+            std::string name = fmt::format("lights {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            std::mt19937 random{uint32_t(seed)};
+            Image input = MakeVarianceInput(kind, w, h, 3, seed);
+            Image albedo = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
+            for (size_t p = 0; p < input.PixelCount(); ++p) {
+                int draw = int(random() % 6);
+                // One channel above the threshold makes an emitter: weak, then strong.
+                if (draw == 0) albedo.Plane(int(random() % 3))[p] = 3.f;
+                if (draw == 1) albedo.Plane(int(random() % 3))[p] = 40.f;
+            }
+            if (w * h > 9) {
+                albedo.At(0, 1, 1) = 40.f;
+                input.At(2, 1, 1) = std::nanf("");
+            }
+            NforLightSettings s{1.5f, 8.f, 0.08f, 0.004f};
+            Image host = input, again = input, cpu = input;
+            size_t count = NforSpreadLights(albedo, s, &host);
+            EXPECT_EQ(NforSpreadLights(albedo, s, &again), count);
+            ref::NforSpreadLights(albedo, 1.5, 8, 0.08, 0.004, &cpu);
+            EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12})) << name;
+            EXPECT_TRUE(BitIdentical(host, again)) << name;
+            for (int c = 0; c < 3; ++c) {
+                double before = 0, after = 0, scale = 0;
+                for (size_t p = 0; p < input.PixelCount(); ++p)
+                    if (std::isfinite(input.Plane(c)[p])) {
+                        before += input.Plane(c)[p], after += host.Plane(c)[p];
+                        scale += std::abs(input.Plane(c)[p]);
+                    }
+                EXPECT_NEAR(after, before, 1e-6 * scale + 1e-12) << name << " channel " << c;
+            }
+            gave += count;
+        }
+    EXPECT_GT(gave, 0u);
+}
+
+// nfor's defaults on a plain frame: a bright light (a 3x3 block of strong emitters) in a
+// dim frame gives its 4-neighbours outside the block a share of its light, which they lack
+// with --light-share 0 (the frame's sum kept, the block's corner-diagonal pixels as they
+// were); a weak emitter gives its neighbours a larger share. With a variance layer read as
+// the noise nothing changes.
+TEST_F(NforMethod, DefaultsSpreadALightsRim) {
+    Frame f = MakeFrame(24, 20, 0.05, "light rim");
+    for (int y = 8; y <= 10; ++y)
+        for (int x = 10; x <= 12; ++x)
+            for (int c = 0; c < 3; ++c) f.albedo.At(c, y, x) = f.color.At(c, y, x) = 300.f;
+    for (int c = 0; c < 3; ++c) f.albedo.At(c, 4, 4) = f.color.At(c, 4, 4) = 3.f;
+    NforOptions defaults, off;
+    off.weakLightShare = off.lightShare = 0;
+    NforResult a = NforDenoise(Ctx(), InputsOf(f), defaults);
+    NforResult b = NforDenoise(Ctx(), InputsOf(f), off);
+    EXPECT_EQ(a.lights, 9u);  // the block but its centre, and the weak one
+    EXPECT_EQ(b.lights, 0u);
+    for (int x = 10; x <= 12; ++x) {
+        EXPECT_NEAR(a.image.At(0, 7, x) - b.image.At(0, 7, x), 0.004 * 300, 0.01) << x;
+        EXPECT_NEAR(a.image.At(0, 11, x) - b.image.At(0, 11, x), 0.004 * 300, 0.01) << x;
+    }
+    EXPECT_EQ(a.image.At(0, 7, 9), b.image.At(0, 7, 9));
+    EXPECT_NEAR(a.image.At(0, 8, 10), b.image.At(0, 8, 10) * (1 - 2 * 0.004), 1e-3);
+    EXPECT_GT(a.image.At(0, 4, 5) - b.image.At(0, 4, 5), 0.05 * b.image.At(0, 4, 4));
+    for (int c = 0; c < 3; ++c) {
+        double sumA = 0, sumB = 0;
+        for (size_t p = 0; p < a.image.PixelCount(); ++p)
+            sumA += a.image.Plane(c)[p], sumB += b.image.Plane(c)[p];
+        EXPECT_NEAR(sumA / sumB, 1.0, 1e-6) << c;
+    }
+    Image variance(f.color.width, f.color.height, 3, 0.01f);
+    NforInputs layered = InputsOf(f);
+    layered.variance = &variance;
+    NforResult c = NforDenoise(Ctx(), layered, defaults), d = NforDenoise(Ctx(), layered, off);
+    EXPECT_EQ(c.lights, 0u);
+    EXPECT_TRUE(BitIdentical(c.image, d.image));
+}
+
 // nfor's defaults on a plain frame (no variance layer): a light's partly covered pixels
 // (emitters of weak albedo, a 3x3 block, one of them seen by more samples than the rest)
 // take the output's mean around them; with --weak-emitter-albedo 0 they keep their input.
@@ -1537,7 +1624,10 @@ TEST_F(NforMethod, DefaultsSmoothWeakEmittersOfPlainFrames) {
                 f.color.At(c, y, x) = x == 11 && y == 9 ? 4.f : 3.f;
             }
     NforOptions defaults, off;
+    // The lights' spread (its own test) would move the block's neighbours in both.
+    defaults.weakLightShare = defaults.lightShare = 0;
     off.weakEmitterAlbedo = 0;
+    off.weakLightShare = off.lightShare = 0;
     Image a = NforDenoise(Ctx(), InputsOf(f), defaults).image;
     Image b = NforDenoise(Ctx(), InputsOf(f), off).image;
     EXPECT_EQ(b.At(0, 9, 11), 4.f);
@@ -1603,8 +1693,11 @@ TEST_F(NforMethod, RankDeficientFeaturesDoNotBlowUp) {
 // Emitters (albedo above the threshold) keep their input bits where their neighbours are
 // emitters alike (a light's inside); a lone emitter pixel far above all around it (a
 // sub-pixel light hit by a few samples) is clamped like a firefly; every pixel of a 1x1
-// frame keeps its input; odd and one-pixel-wide frames give finite output.
+// frame keeps its input; odd and one-pixel-wide frames give finite output. The lights'
+// spread, which moves a light's edge, is off here (its own test).
 TEST_F(NforMethod, EmittersKeepTheirInputAndTinyFramesRun) {
+    NforOptions o;
+    o.weakLightShare = o.lightShare = 0;
     for (auto [w, h] : {std::pair{1, 1}, std::pair{1, 13}, std::pair{17, 1}, std::pair{9, 7}}) {
         Frame f = MakeFrame(w, h, 0.5, fmt::format("emit{}x{}", w, h));
         int x0 = std::max(0, w / 2 - 1), x1 = std::min(w - 1, w / 2 + 1);
@@ -1612,7 +1705,7 @@ TEST_F(NforMethod, EmittersKeepTheirInputAndTinyFramesRun) {
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x)
                 for (int c = 0; c < 3; ++c) f.albedo.At(c, y, x) = f.color.At(c, y, x) = 12;
-        NforResult r = NforDenoise(Ctx(), InputsOf(f), {});
+        NforResult r = NforDenoise(Ctx(), InputsOf(f), o);
         for (float v : r.image.data) ASSERT_TRUE(std::isfinite(v));
         EXPECT_EQ(r.emitters, size_t(x1 - x0 + 1) * (y1 - y0 + 1));
         for (int y = y0; y <= y1; ++y)
@@ -1624,7 +1717,7 @@ TEST_F(NforMethod, EmittersKeepTheirInputAndTinyFramesRun) {
     }
     Frame f = MakeFrame(9, 9, 0.1, "lone emitter");
     for (int c = 0; c < 3; ++c) f.albedo.At(c, 4, 4) = f.color.At(c, 4, 4) = 40;
-    NforResult r = NforDenoise(Ctx(), InputsOf(f), {});
+    NforResult r = NforDenoise(Ctx(), InputsOf(f), o);
     EXPECT_EQ(r.emitters, 1u);
     EXPECT_LT(r.image.At(0, 4, 4), 2.f);
 }

@@ -219,6 +219,37 @@ bool ClampReadsTheLayer(const Result &result) {
     return false;
 }
 
+// nfor on a plain frame (no variance layer) with lights across the tiles' seam: the lights'
+// spread reads its 4 neighbours' output, inside the halo, so the tiled result is the
+// untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforSpreadsLightsAcrossTheSeam) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 256, height = 40, tile = 128;
+    Frame frame;
+    frame.path = "lights across a seam";
+    frame.width = width, frame.height = height;
+    uint64_t seed = SeedFromName(frame.path);
+    Image color = MakeVarianceInput(InputKind::Uniform, width, height, 3, seed);
+    Image albedo = MakeVarianceInput(InputKind::Uniform, width, height, 3, seed + 1);
+    // A strong light over the seam, a weak one beside it.
+    for (int y = 10; y < 14; ++y)
+        for (int x = tile - 2; x < tile + 2; ++x)
+            for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = color.At(c, y, x) = 300.f;
+    for (int c = 0; c < 3; ++c) albedo.At(c, 25, tile) = color.At(c, 25, tile) = 3.f;
+    frame.layers["color"] = std::move(color);
+    frame.layers["albedo"] = std::move(albedo);
+    frame.layers["normal"] = MakeInput(InputKind::Uniform, width, height, 3, seed + 2);
+    Params params = {{"radius", 3}, {"pilot-bandwidths", std::string("none")}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+    bool spread = false;
+    for (const std::string &line : whole.plan) spread = spread || line.find("lights: ") == 0;
+    EXPECT_TRUE(spread);
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, lights spread");
+}
+
 // nfor beside a variance layer decides once for the frame whether its clamp reads the
 // layer (--clamp-loss): every tile reads what the whole frame's run reads, though each
 // window alone would decide otherwise, and the tiled result is the untiled one bit for bit;
