@@ -741,11 +741,6 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
     if (NforCoarseGateOpen(color, in.albedo, p)) AddCoarse(in, p, stages, &out);
-    if (!in.variance && in.albedo && (p.weakLightShare > 0 || p.lightShare > 0)) {
-        NforSpreadLights(*in.albedo, p.emitterAlbedo, p.weakEmitterAlbedo, p.weakLightShare,
-                         p.lightShare, &out);
-        keep("lights", out);
-    }
     return out;
 }
 
@@ -756,13 +751,13 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     bool partly = false;
     if (in.alpha)
         for (float a : in.alpha->data) partly = partly || NforPartlyCovered(a);
-    Image out;
+    Image out, albedo;
     if (!partly) {
         out = NforStraightRun(in, p, stages, nullptr);
     } else {
         const Image &alpha = *in.alpha;
         Image color = NforStraight(*in.color, alpha, 1),
-              features = NforStraight(*in.features, alpha, 1), albedo, variance;
+              features = NforStraight(*in.features, alpha, 1), variance;
         if (in.albedo) albedo = NforStraight(*in.albedo, alpha, 1);
         if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
         NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
@@ -770,6 +765,12 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         out = NforStraightRun(straight, p, stages, &alpha);
         if (stages) stages->emplace_back("straight", out);
         out = NforPremultiply(out, alpha);
+    }
+    // The lights' spread, on the output as written; emitters told by the straight albedo.
+    if (!in.variance && in.albedo && (p.weakLightShare > 0 || p.lightShare > 0)) {
+        NforSpreadLights(partly ? albedo : *in.albedo, in.alpha, p.emitterAlbedo,
+                         p.weakEmitterAlbedo, p.weakLightShare, p.lightShare, &out);
+        if (stages) stages->emplace_back("lights", out);
     }
     if (stages) stages->emplace_back("output", out);
     return out;

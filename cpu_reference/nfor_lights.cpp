@@ -6,8 +6,8 @@
 
 namespace mcd::ref {
 
-void NforSpreadLights(const Image &albedo, double emitterAlbedo, double weakAlbedo,
-                      double weakShare, double strongShare, Image *output) {
+void NforSpreadLights(const Image &albedo, const Image *alpha, double emitterAlbedo,
+                      double weakAlbedo, double weakShare, double strongShare, Image *output) {
     const Image before = *output;
     const int w = before.width, h = before.height;
     auto largest = [&](int x, int y) {
@@ -16,6 +16,7 @@ void NforSpreadLights(const Image &albedo, double emitterAlbedo, double weakAlbe
             most = std::max(most, double(albedo.At(c, y, x)));
         return most;
     };
+    auto present = [&](int x, int y) { return !alpha || alpha->At(0, y, x) > 0.f; };
     auto emitter = [&](int x, int y) { return largest(x, y) > emitterAlbedo; };
     // An emitter's share where it gives: > 0 and every channel of its output finite.
     auto share = [&](int x, int y) {
@@ -27,6 +28,7 @@ void NforSpreadLights(const Image &albedo, double emitterAlbedo, double weakAlbe
     const int offsets[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
+            if (!present(x, y)) continue;
             bool self = emitter(x, y);
             double s = self ? share(x, y) : 0;
             if (self && s == 0) continue;
@@ -34,7 +36,7 @@ void NforSpreadLights(const Image &albedo, double emitterAlbedo, double weakAlbe
             std::vector<double> gathered(size_t(before.channels), 0.0);
             for (auto [dx, dy] : offsets) {
                 int u = x + dx, v = y + dy;
-                if (u < 0 || v < 0 || u >= w || v >= h) continue;
+                if (u < 0 || v < 0 || u >= w || v >= h || !present(u, v)) continue;
                 if (self) {
                     receivers += !emitter(u, v);
                 } else if (emitter(u, v)) {

@@ -163,7 +163,8 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: left out of every "
                           "window and kept as they are (weak ones smoothed: "
-                          "--weak-emitter-albedo)",
+                          "--weak-emitter-albedo; on a plain frame each gives its rim a "
+                          "share: --light-share)",
                           &O::emitterAlbedo, 1, 1e30)),
         nested(IntParam("prefilter-radius",
                         "window half-size of the features' prefilter; 0: off",

@@ -690,9 +690,9 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
 
 // Each emitter's share of its output given to its neighbours that are no emitter.
 void SpreadLights(StagedRun &run, const NforInputs &in, const NforOptions &o,
-                  NforResult &result) {
+                  const Image *alpha, NforResult &result) {
     NforLightSettings s{o.emitterAlbedo, o.weakEmitterAlbedo, o.weakLightShare, o.lightShare};
-    result.lights = NforSpreadLights(*in.albedo, s, &result.image);
+    result.lights = NforSpreadLights(*in.albedo, alpha, s, &result.image);
     run.AddStage("lights", result.image);
     run.Plan(fmt::format(
         "lights: {} emitter pixels gave {} (albedo below {}) or {} of their output to each of "
@@ -881,11 +881,10 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                         what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
     AddCoarsePass(context, run, gpu, in, o, result);
-    if (NforSpreadsLights(o, in.variance, in.albedo)) SpreadLights(run, in, o, result);
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
-                    "window and kept as they are (a lone one far above its neighbours: "
-                    "clamped like a firefly)",
+                    "window and kept as they are but for the lights' spread (a lone one far "
+                    "above its neighbours: clamped like a firefly)",
                     o.emitterAlbedo, result.emitters));
     run.Plan(o.fireflyThreshold > 0
                  ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
@@ -907,6 +906,9 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
             "frame holds them)",
             result.partlyCovered, kNforMinAlpha));
     }
+    // On the output as written, so that light moved between pixels of any coverage stays.
+    if (NforSpreadsLights(o, in.variance, in.albedo))
+        SpreadLights(run, in, o, given.alpha, result);
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

@@ -6,13 +6,19 @@
 
 namespace mcd {
 
-size_t NforSpreadLights(const Image &albedo, const NforLightSettings &s, Image *output) {
+size_t NforSpreadLights(const Image &albedo, const Image *alpha, const NforLightSettings &s,
+                        Image *output) {
     const Image in = *output;
     const int w = in.width, h = in.height;
     const size_t n = in.PixelCount();
-    // Per pixel: the share it gives each neighbour, or -1 where it is no emitter.
+    // Per pixel: the share it gives each neighbour, -1 where it is no emitter, 0 where it
+    // takes no part (fully transparent).
     std::vector<double> share(n, -1.0);
     for (size_t i = 0; i < n; ++i) {
+        if (alpha && !(alpha->data[i] > 0.f)) {
+            share[i] = 0;
+            continue;
+        }
         float most = albedo.Plane(0)[i];
         for (int c = 1; c < albedo.channels; ++c) most = std::max(most, albedo.Plane(c)[i]);
         if (!(most > s.emitterAlbedo)) continue;

@@ -1550,11 +1550,17 @@ TEST(NforLights, MatchesTheReferenceAndRepeats) {
                 albedo.At(0, 1, 1) = 40.f;
                 input.At(2, 1, 1) = std::nanf("");
             }
+            // Every other frame with an alpha whose zeros (and a NaN) take no part.
+            Image alpha(w, h, 1, 1.f);
+            const bool withAlpha = kind == InputKind::Uniform || kind == InputKind::Impulse;
+            for (float &a : alpha.data) a = random() % 4 == 0 ? 0.f : random() % 2 ? 1.f : 0.5f;
+            if (w * h > 9) alpha.At(0, 2, 2) = std::nanf("");
             NforLightSettings s{1.5f, 8.f, 0.08f, 0.004f};
             Image host = input, again = input, cpu = input;
-            size_t count = NforSpreadLights(albedo, s, &host);
-            EXPECT_EQ(NforSpreadLights(albedo, s, &again), count);
-            ref::NforSpreadLights(albedo, 1.5, 8, 0.08, 0.004, &cpu);
+            const Image *a = withAlpha ? &alpha : nullptr;
+            size_t count = NforSpreadLights(albedo, a, s, &host);
+            EXPECT_EQ(NforSpreadLights(albedo, a, s, &again), count);
+            ref::NforSpreadLights(albedo, a, 1.5, 8, 0.08, 0.004, &cpu);
             EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12})) << name;
             EXPECT_TRUE(BitIdentical(host, again)) << name;
             for (int c = 0; c < 3; ++c) {
@@ -1566,6 +1572,12 @@ TEST(NforLights, MatchesTheReferenceAndRepeats) {
                     }
                 EXPECT_NEAR(after, before, 1e-6 * scale + 1e-12) << name << " channel " << c;
             }
+            if (withAlpha)
+                for (size_t i = 0; i < host.Size(); ++i)
+                    if (!(alpha.data[i % host.PixelCount()] > 0.f)) {
+                        EXPECT_EQ(std::memcmp(&host.data[i], &input.data[i], sizeof(float)), 0)
+                            << name << " value " << i;
+                    }
             gave += count;
         }
     EXPECT_GT(gave, 0u);
@@ -1607,6 +1619,44 @@ TEST_F(NforMethod, DefaultsSpreadALightsRim) {
     NforResult c = NforDenoise(Ctx(), layered, defaults), d = NforDenoise(Ctx(), layered, off);
     EXPECT_EQ(c.lights, 0u);
     EXPECT_TRUE(BitIdentical(c.image, d.image));
+}
+
+// A light beside a transparent film's background (alpha 0, which the frame's colour
+// replaces after the method): the lights' spread gives it nothing, so the frame's light
+// stays through the whole run, as without the background.
+TEST(NforMethodAlpha, LightsSpreadKeepsTheLightBesideATransparentBackground) {
+    const int w = 16, h = 16;
+    Frame f = MakeFrame(w, h, 0.05, "light beside alpha 0");
+    Image alpha(w, h, 1, 1.f);
+    for (int y = 6; y <= 8; ++y)
+        for (int x = 6; x <= 8; ++x)
+            for (int c = 0; c < 3; ++c) f.albedo.At(c, y, x) = f.color.At(c, y, x) = 300.f;
+    for (int y = 0; y < h; ++y)
+        for (int x = 9; x < w; ++x) {
+            alpha.At(0, y, x) = 0;
+            for (int c = 0; c < 3; ++c) f.color.At(c, y, x) = 0;
+        }
+    mcd::Frame frame;
+    frame.width = w;
+    frame.height = h;
+    frame.layers = {{"color", f.color},
+                    {"albedo", f.albedo},
+                    {"normal", f.normal},
+                    {"depth", f.depth},
+                    {"alpha", alpha}};
+    Device device;
+    Method method("nfor");
+    Result a = method.Run(device, frame);
+    method.Set("light-share", 0.f);
+    method.Set("weak-light-share", 0.f);
+    Result b = method.Run(device, frame);
+    double sumA = 0, sumB = 0;
+    for (size_t p = 0; p < a.image.PixelCount(); ++p)
+        sumA += a.image.Plane(0)[p], sumB += b.image.Plane(0)[p];
+    EXPECT_NEAR(sumA, sumB, 1e-6 * sumB);
+    // The light's own column next to the background gave nothing there.
+    EXPECT_EQ(a.image.At(0, 7, 9), 0.f);
+    EXPECT_GT(a.image.At(0, 5, 7), b.image.At(0, 5, 7));
 }
 
 // nfor's defaults on a plain frame (no variance layer): a light's partly covered pixels
