@@ -70,6 +70,11 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "--auto-power where the noise is the frame's own estimate", &O::framePower,
                    1e-3, 64),
         FloatParam("auto-power", "weights are 1 / error^power", &O::power, 1e-3, 64),
+        FloatParam("auto-halves-power",
+                   "--auto-power where the half-buffers estimate the errors (an accumulated "
+                   "frame): lower weighs the candidates more evenly, where a bias both halves "
+                   "share misleads the estimates",
+                   &O::halvesPower, 1e-3, 64),
         FloatParam("auto-epsilon",
                    "size of the perturbation that measures each candidate's divergence, in "
                    "standard deviations of the pixel mean",
@@ -625,7 +630,7 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
                                                             : AutoCombination::Weights;
     c.meanGuide = o.guide == "mean";
     c.radius = noise.own ? o.frameRadius : o.radius;
-    c.power = noise.own ? o.framePower : o.power;
+    c.power = noise.own ? o.framePower : noise.halves ? o.halvesPower : o.power;
     c.floorError = o.floorError;
     c.noiseLimit = o.noiseLimit;
     c.darkLimit = o.darkLimit;

@@ -76,6 +76,9 @@ class AutoFrontEnd : public FrontEnd {
         // half1's variance, at most this times their median, and a candidate above
         // halvesDrop times the median over the frame left out.
         float halvesFloor = 0.5f, halvesDrop = 3.5f;
+        // --auto-power beside the half-buffers (docs/methods/auto.md: 1 and 1.5 helped the
+        // accumulated Cycles frames and cost our cornell with halves).
+        float halvesPower = 2;
         // The input's local means restored over tents of 8x, then 2x this radius (0: off;
         // host/common/local_mean.h): the relative combination leans dark where the
         // candidates disagree, and relMSE rewards that (issue 29).

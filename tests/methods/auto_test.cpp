@@ -1031,7 +1031,16 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     EXPECT_TRUE(PlanHas(result, "from the half-buffers"))
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_TRUE(PlanHas(result, "on the frame and on half0"));
+    EXPECT_TRUE(PlanHas(result, "weighted per pixel by 1 / error^2"));
     for (float v : result.image.data) ASSERT_TRUE(std::isfinite(v));
+    // --auto-halves-power weighs the candidates beside the halves, not --auto-power.
+    Method milder = automatic;
+    milder.Set("auto-halves-power", 1.f);
+    milder.Set("auto-power", 3.f);
+    Result mild = milder.Run(device, frame);
+    EXPECT_TRUE(PlanHas(mild, "weighted per pixel by 1 / error^1"))
+        << fmt::format("{}", fmt::join(mild.plan, "\n"));
+    EXPECT_NE(mild.image.data, result.image.data);
     frame.layers.erase("variance");
     frame.layers.erase("half0.color");
     frame.layers.erase("half1.color");
