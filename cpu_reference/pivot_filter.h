@@ -44,8 +44,8 @@
 //   (1 below R0 = 4, at most 8), and then stands for the step^2 centres around it (weight
 //   times step^2). Neighbouring squares of one radius overlap in all but a step/(2R0+1) <
 //   1/4 slice per axis, so their fits are nearly the same: the lattice keeps more than 4
-//   centres per axis of each square and sums 11x fewer terms (cornell 1024x1024, 16 spp;
-//   step <= R0 / 3 measured no better at 128x128, 4/16/64 spp, four scenes).
+//   centres per axis of each square and sums far fewer terms (a finer step measured no
+//   better; docs/methods/pivot.md).
 //   Powers of two up to 8 keep the lattice the same in tiles starting on multiples of 8.
 //   A pixel that no lattice centre reaches (a thin part between other ids) takes its own
 //   fit at its place: eq. 11 of the square and quadrant 0 at (0, 0).

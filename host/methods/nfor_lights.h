@@ -1,14 +1,14 @@
 // nfor's lights spread (beyond the papers): on a plain frame a light's rim is sampled by few
-// of its 16 samples. Where none hit it, a pixel next to a light keeps the dark surface
+// of its samples. Where none hit it, a pixel next to a light keeps the dark surface
 // behind it, while the reference's pixel filter gives it a share of the light; where one
 // did, the light's own pixel is brighter than its coverage. Each emitter pixel gives a share
 // of its output to each of its 4 neighbours that is no emitter, and keeps the rest: the
 // frame's light stays, and a light's rim is no longer a hard edge against the dark. It runs
 // on the output as written (premultiplied by alpha where the frame has one), and a pixel the
 // renderer left fully transparent, which the frame's colour replaces afterwards, takes no
-// part: light given to it would be lost. A weak
-// emitter (a partly covered pixel, a moving light's streak) gives a larger share than a
-// strong one, whose light is hundreds of times its rim's.
+// part: light given to it would be lost. A weak emitter (a partly covered pixel, a moving
+// light's streak) gives a larger share than a strong one, whose light is far above its
+// rim's.
 #pragma once
 
 #include <cstddef>

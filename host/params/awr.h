@@ -38,8 +38,8 @@ struct AwrSamplerParams {
     // Luminance floor f of the sampler's contrast (eq. 5): (Imax - Imin)^2 / ((Imax + Imin)^2
     // + (2f)^2). Mitchell's contrast (f = 0) is scale-free, so a shadow pixel with samples
     // 0 and 0.001 ranks with the brightest edge; the floor makes it the range relative to
-    // sqrt(mean^2 + f^2), the denominator of relMSE (f = 0.1: eps 0.01). Measured in the
-    // README (the adaptive sampler).
+    // sqrt(mean^2 + f^2), the denominator of relMSE (f = 0.1: eps 0.01); measured in
+    // docs/methods/awr.md (the adaptive sampler).
     float contrastFloor = 0.1f;
 };
 

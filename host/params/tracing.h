@@ -12,11 +12,11 @@ namespace mcd {
 // smooth surface. C_p = min(1, selfFloor / sum of the fixed parts) keeps the self weight
 // of eq. 16 at least 1 - selfFloor.
 struct TracingParams {
-    int radius = 3;  // measured: 2-4 give most of 8's gain at a fraction of the gather (notes)
+    int radius = 3;  // most of a wide radius's gain at a fraction of the gather (measured)
     float alpha = 0.02f, beta = 20.f, gamma = 0.f;
-    // The paper keeps the self weight at least 1/2 (selfFloor 0.5); measured on relief-abc,
-    // double-textured and glossy-cornell, 0.9 gives 3-8x lower relMSE than 0.5 at the same
-    // time with the same mean brightness (notes), so it is the default.
+    // The paper keeps the self weight at least 1/2 (selfFloor 0.5); 0.9 measured a lower
+    // relMSE at the same time and mean brightness (docs/renderer.md), so it
+    // is the default.
     float selfFloor = 0.9f;
 };
 

@@ -97,8 +97,7 @@ void AddTerms() {
 // their candidates' largest (from the maxima of blockmax.comp: the lane's block and the
 // blocks its candidates fall in, clamped to the row) is above 1. Rounding is monotone, so
 // no pair's h_p + h_q exceeds that sum: where it is <= 1 AddTerms would add nothing, and
-// leaving the bin out gives the same bits. Cornell 512x512 at 8 spp: the lanes count 11 of
-// the 54 unsaturated bins on average.
+// leaving the bin out gives the same bits. At low spp a lane counts few of the bins.
 const int QB = (B + PIX - 1) / PIX;  // candidate blocks on each side
 bool MayCount(int plane) {
     int blocks = (push.width + PIX - 1) / PIX, block = x0Lane / PIX;
