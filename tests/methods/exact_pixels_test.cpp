@@ -59,10 +59,14 @@ TEST(ExactPixels, MatchesReference) {
                         exact += isExact;
                         changed += got.Plane(c)[p] != output.Plane(c)[p];
                         // Black, negative and non-finite values stay the method's.
-                        if (!isExact) EXPECT_EQ(got.Plane(c)[p], output.Plane(c)[p]);
+                        if (!isExact) {
+                            EXPECT_EQ(got.Plane(c)[p], output.Plane(c)[p]);
+                        }
                     }
                 EXPECT_EQ(kept, exact);
-                if (w * h > 1) EXPECT_GT(changed, 0u);
+                if (w * h > 1) {
+                    EXPECT_GT(changed, 0u);
+                }
             }
 }
 
