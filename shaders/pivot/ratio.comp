@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "pivot/ratio.h"
 
@@ -40,34 +41,98 @@ void noZ(int at) {
 }
 
 const int kSide = (2 * PIVOT_SIDE_RADIUS + 1) * (2 * PIVOT_SIDE_RADIUS + 1);
+// Above every z (at most PIVOT_Z_MAX) and every distance between two: an empty place.
+const float kAbsent = 3.0e38;
 
-// values[0..n) with v inserted in order.
-void insertSorted(inout float values[kSide], inout int n, float v) {
-    int j = n++;
-    for (; j > 0 && values[j - 1] > v; --j) values[j] = values[j - 1];
-    values[j] = v;
+#define PIVOT_SORT_PAIR(i, j)                  \
+    {                                          \
+        float lo = min(values[i], values[j]);  \
+        values[j] = max(values[i], values[j]); \
+        values[i] = lo;                        \
+    }
+
+// values in ascending order: Batcher's odd-even merge sort of 32 places without the
+// comparators of the places past kSide (they would hold kAbsent and never move). Constant
+// indices keep the values in registers, and every invocation runs the same instructions.
+void sortSide(inout float values[kSide]) {
+    PIVOT_SORT_PAIR(0, 1) PIVOT_SORT_PAIR(2, 3) PIVOT_SORT_PAIR(0, 2) PIVOT_SORT_PAIR(1, 3)
+    PIVOT_SORT_PAIR(1, 2) PIVOT_SORT_PAIR(4, 5) PIVOT_SORT_PAIR(6, 7) PIVOT_SORT_PAIR(4, 6)
+    PIVOT_SORT_PAIR(5, 7) PIVOT_SORT_PAIR(5, 6) PIVOT_SORT_PAIR(0, 4) PIVOT_SORT_PAIR(2, 6)
+    PIVOT_SORT_PAIR(2, 4) PIVOT_SORT_PAIR(1, 5) PIVOT_SORT_PAIR(3, 7) PIVOT_SORT_PAIR(3, 5)
+    PIVOT_SORT_PAIR(1, 2) PIVOT_SORT_PAIR(3, 4) PIVOT_SORT_PAIR(5, 6) PIVOT_SORT_PAIR(8, 9)
+    PIVOT_SORT_PAIR(10, 11) PIVOT_SORT_PAIR(8, 10) PIVOT_SORT_PAIR(9, 11) PIVOT_SORT_PAIR(9, 10)
+    PIVOT_SORT_PAIR(12, 13) PIVOT_SORT_PAIR(14, 15) PIVOT_SORT_PAIR(12, 14) PIVOT_SORT_PAIR(13, 15)
+    PIVOT_SORT_PAIR(13, 14) PIVOT_SORT_PAIR(8, 12) PIVOT_SORT_PAIR(10, 14) PIVOT_SORT_PAIR(10, 12)
+    PIVOT_SORT_PAIR(9, 13) PIVOT_SORT_PAIR(11, 15) PIVOT_SORT_PAIR(11, 13) PIVOT_SORT_PAIR(9, 10)
+    PIVOT_SORT_PAIR(11, 12) PIVOT_SORT_PAIR(13, 14) PIVOT_SORT_PAIR(0, 8) PIVOT_SORT_PAIR(4, 12)
+    PIVOT_SORT_PAIR(4, 8) PIVOT_SORT_PAIR(2, 10) PIVOT_SORT_PAIR(6, 14) PIVOT_SORT_PAIR(6, 10)
+    PIVOT_SORT_PAIR(2, 4) PIVOT_SORT_PAIR(6, 8) PIVOT_SORT_PAIR(10, 12) PIVOT_SORT_PAIR(1, 9)
+    PIVOT_SORT_PAIR(5, 13) PIVOT_SORT_PAIR(5, 9) PIVOT_SORT_PAIR(3, 11) PIVOT_SORT_PAIR(7, 15)
+    PIVOT_SORT_PAIR(7, 11) PIVOT_SORT_PAIR(3, 5) PIVOT_SORT_PAIR(7, 9) PIVOT_SORT_PAIR(11, 13)
+    PIVOT_SORT_PAIR(1, 2) PIVOT_SORT_PAIR(3, 4) PIVOT_SORT_PAIR(5, 6) PIVOT_SORT_PAIR(7, 8)
+    PIVOT_SORT_PAIR(9, 10) PIVOT_SORT_PAIR(11, 12) PIVOT_SORT_PAIR(13, 14) PIVOT_SORT_PAIR(16, 17)
+    PIVOT_SORT_PAIR(18, 19) PIVOT_SORT_PAIR(16, 18) PIVOT_SORT_PAIR(17, 19) PIVOT_SORT_PAIR(17, 18)
+    PIVOT_SORT_PAIR(20, 21) PIVOT_SORT_PAIR(22, 23) PIVOT_SORT_PAIR(20, 22) PIVOT_SORT_PAIR(21, 23)
+    PIVOT_SORT_PAIR(21, 22) PIVOT_SORT_PAIR(16, 20) PIVOT_SORT_PAIR(18, 22) PIVOT_SORT_PAIR(18, 20)
+    PIVOT_SORT_PAIR(17, 21) PIVOT_SORT_PAIR(19, 23) PIVOT_SORT_PAIR(19, 21) PIVOT_SORT_PAIR(17, 18)
+    PIVOT_SORT_PAIR(19, 20) PIVOT_SORT_PAIR(21, 22) PIVOT_SORT_PAIR(16, 24) PIVOT_SORT_PAIR(20, 24)
+    PIVOT_SORT_PAIR(18, 20) PIVOT_SORT_PAIR(22, 24) PIVOT_SORT_PAIR(19, 21) PIVOT_SORT_PAIR(17, 18)
+    PIVOT_SORT_PAIR(19, 20) PIVOT_SORT_PAIR(21, 22) PIVOT_SORT_PAIR(23, 24) PIVOT_SORT_PAIR(0, 16)
+    PIVOT_SORT_PAIR(8, 24) PIVOT_SORT_PAIR(8, 16) PIVOT_SORT_PAIR(4, 20) PIVOT_SORT_PAIR(12, 20)
+    PIVOT_SORT_PAIR(4, 8) PIVOT_SORT_PAIR(12, 16) PIVOT_SORT_PAIR(20, 24) PIVOT_SORT_PAIR(2, 18)
+    PIVOT_SORT_PAIR(10, 18) PIVOT_SORT_PAIR(6, 22) PIVOT_SORT_PAIR(14, 22) PIVOT_SORT_PAIR(6, 10)
+    PIVOT_SORT_PAIR(14, 18) PIVOT_SORT_PAIR(2, 4) PIVOT_SORT_PAIR(6, 8) PIVOT_SORT_PAIR(10, 12)
+    PIVOT_SORT_PAIR(14, 16) PIVOT_SORT_PAIR(18, 20) PIVOT_SORT_PAIR(22, 24) PIVOT_SORT_PAIR(1, 17)
+    PIVOT_SORT_PAIR(9, 17) PIVOT_SORT_PAIR(5, 21) PIVOT_SORT_PAIR(13, 21) PIVOT_SORT_PAIR(5, 9)
+    PIVOT_SORT_PAIR(13, 17) PIVOT_SORT_PAIR(3, 19) PIVOT_SORT_PAIR(11, 19) PIVOT_SORT_PAIR(7, 23)
+    PIVOT_SORT_PAIR(15, 23) PIVOT_SORT_PAIR(7, 11) PIVOT_SORT_PAIR(15, 19) PIVOT_SORT_PAIR(3, 5)
+    PIVOT_SORT_PAIR(7, 9) PIVOT_SORT_PAIR(11, 13) PIVOT_SORT_PAIR(15, 17) PIVOT_SORT_PAIR(19, 21)
+    PIVOT_SORT_PAIR(1, 2) PIVOT_SORT_PAIR(3, 4) PIVOT_SORT_PAIR(5, 6) PIVOT_SORT_PAIR(7, 8)
+    PIVOT_SORT_PAIR(9, 10) PIVOT_SORT_PAIR(11, 12) PIVOT_SORT_PAIR(13, 14) PIVOT_SORT_PAIR(15, 16)
+    PIVOT_SORT_PAIR(17, 18) PIVOT_SORT_PAIR(19, 20) PIVOT_SORT_PAIR(21, 22) PIVOT_SORT_PAIR(23, 24)
 }
 
-// The upper median of z over the pixels of (x, y)'s ids (`own`, the pixel among them) or of
-// other ids within PIVOT_SIDE_RADIUS that have one, and the upper median of their distances
-// to it; n = 0: none.
-vec2 sideMedians(int x, int y, int base, bool own, out int n) {
-    const int R = PIVOT_SIDE_RADIUS;
-    float values[kSide];
-    int i0 = y * gw + x;
-    n = 0;
-    for (int v = max(0, y - R); v <= min(gh - 1, y + R); ++v)
-        for (int u = max(0, x - R); u <= min(gw - 1, x + R); ++u) {
-            float zq;
-            if ((idTerm(v * gw + u, i0) != 0.0) == own && ratioAt(base + v * gw + u, zq))
-                insertSorted(values, n, zq);
-        }
+// values[k] for k in [0, kSide), by a select over the places (constant indices).
+float valueAt(float values[kSide], int k) {
+    float value = values[0];
+    [[unroll]] for (int j = 1; j < kSide; ++j) value = j == k ? values[j] : value;
+    return value;
+}
+
+// The upper median of the first n of the sorted values and the upper median of their
+// distances to it; (0, 0) when n = 0.
+vec2 medianAndSpread(inout float values[kSide], int n) {
     if (n == 0) return vec2(0.0);
-    float median = values[n / 2];
-    float distances[kSide];
-    int m = 0;
-    for (int k = 0; k < n; ++k) insertSorted(distances, m, abs(values[k] - median));
-    return vec2(median, distances[n / 2]);
+    sortSide(values);
+    float median = valueAt(values, n / 2);
+    [[unroll]] for (int k = 0; k < kSide; ++k)
+        values[k] = k < n ? abs(values[k] - median) : kAbsent;
+    sortSide(values);
+    return vec2(median, valueAt(values, n / 2));
+}
+
+// Over the pixels within PIVOT_SIDE_RADIUS of (x, y) that have a z, those of its ids (`own`,
+// the pixel among them) and those of other ids: the upper median of each side's z and the
+// upper median of their distances to it, and each side's count.
+void sideMedians(int x, int y, int base, out vec2 own, out int nOwn, out vec2 other,
+                 out int nOther) {
+    const int R = PIVOT_SIDE_RADIUS, D = 2 * PIVOT_SIDE_RADIUS + 1;
+    float ownValues[kSide], otherValues[kSide];
+    int i0 = y * gw + x;
+    nOwn = 0;
+    nOther = 0;
+    [[unroll]] for (int k = 0; k < kSide; ++k) {
+        int u = x + k % D - R, v = y + k / D - R;
+        float zq = 0.0;
+        bool has = u >= 0 && u < gw && v >= 0 && v < gh && ratioAt(base + v * gw + u, zq);
+        bool same = has && idTerm(v * gw + u, i0) != 0.0;
+        ownValues[k] = has && same ? zq : kAbsent;
+        otherValues[k] = has && !same ? zq : kAbsent;
+        nOwn += has && same ? 1 : 0;
+        nOther += has && !same ? 1 : 0;
+    }
+    own = medianAndSpread(ownValues, nOwn);
+    other = medianAndSpread(otherValues, nOther);
 }
 
 void main() {
@@ -119,8 +184,8 @@ void main() {
     // PIVOT_SIDE_TOWARD of its deviation toward the other. Then it is kept.
     if (boundaryTerm(x, y) == 0.0) {
         int nOwn, nOther;
-        vec2 side = sideMedians(x, y, base, true, nOwn);
-        vec2 other = sideMedians(x, y, base, false, nOther);
+        vec2 side, other;
+        sideMedians(x, y, base, side, nOwn, other, nOther);
         float spread = PIVOT_SIDE_MAD_SIGMA * max(side.y, other.y);
         float sigma2 = max(s, spread * spread), gap = other.x - side.x;
         float toward = gap > 0.0 ? z - side.x : side.x - z;
