@@ -749,7 +749,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
 Image Nfor(const NforInputs &in, const NforParams &p,
            std::vector<std::pair<std::string, Image>> *stages) {
     bool partly = false;
-    if (in.alpha)
+    if (in.alpha && !p.premultiplied)
         for (float a : in.alpha->data) partly = partly || NforPartlyCovered(a);
     Image out, albedo;
     if (!partly) {

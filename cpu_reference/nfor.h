@@ -155,6 +155,9 @@ struct NforParams {
     // output (weak ones, below weakEmitterAlbedo, the first) to each of its 4 neighbours that
     // is no emitter (NforSpreadLights, cpu_reference/nfor_lights.h); both 0: off.
     double weakLightShare = 0, lightShare = 0;
+    // The frame's alpha is not divided by (the values as written); the lights' spread still
+    // reads it (its zeros take no part).
+    bool premultiplied = false;
     // The frame denoised again at half the resolution (NforHalf of colour, albedo, features
     // and variance), its low frequencies added (NforAddCoarse, cpu_reference/nfor_coarse.h):
     // with `coarse` always, else where NforRelativeNoise of the colour and its own noise

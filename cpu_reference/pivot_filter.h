@@ -45,7 +45,7 @@
 //   times step^2). Neighbouring squares of one radius overlap in all but a step/(2R0+1) <
 //   1/4 slice per axis, so their fits are nearly the same: the lattice keeps more than 4
 //   centres per axis of each square and sums far fewer terms (a finer step measured no
-//   better; docs/methods/pivot.md).
+//   better).
 //   Powers of two up to 8 keep the lattice the same in tiles starting on multiples of 8.
 //   A pixel that no lattice centre reaches (a thin part between other ids) takes its own
 //   fit at its place: eq. 11 of the square and quadrant 0 at (0, 0).

@@ -49,11 +49,11 @@ class AutoFrontEnd : public FrontEnd {
     struct Options {
         float budget = 3600;  // seconds
         std::string combine = "relative", noise = "auto", guide = "combined";
-        // Measured (docs/methods/auto.md): power 2 and a 25x25 window; a wider one let one
+        // Measured on the bench frames: power 2 and a 25x25 window; a wider one let one
         // firefly's estimate spoil a wide area of `fireflies`.
         int radius = 12;
-        // The frame's own noise estimate's window, 3x3 (docs/methods/auto.md: wider ones
-        // follow the real variance layers less closely).
+        // The frame's own noise estimate's window, 3x3 (measured: wider ones follow the
+        // real variance layers less closely).
         int noiseRadius = 1;
         float power = 2, epsilon = 0.5f, floorError = 1e-5f;
         // bayes's divergence at epsilon 0.5 came out low against smaller steps

@@ -380,8 +380,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.coarseRelative = o.coarseRelative;
         p.coarseNoise = o.coarseNoise;
         p.coarseGate = o.coarseGate;
-        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance,
-                              o.premultiplied ? nullptr : in.alpha};
+        p.premultiplied = o.premultiplied;
+        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance, in.alpha};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);
         std::vector<Stage> stages;

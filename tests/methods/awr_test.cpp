@@ -18,6 +18,7 @@
 #include "cpu_reference/wavelet_synthesize.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
@@ -430,15 +431,6 @@ TEST(AwrInputMinimum, MatchesReference) {
 }
 
 class AwrRinging : public GpuTest {};
-
-// A frame of a colour and its variance layer, what awr reads.
-Frame ColorAndVariance(const Image &color, const Image &variance) {
-    Frame frame;
-    frame.width = color.width, frame.height = color.height;
-    frame.layers["color"] = color;
-    frame.layers["variance"] = variance;
-    return frame;
-}
 
 // A dim glossy surface (small variance) crossed by a highlight's streak, one pixel wide and
 // seen by few samples (too noisy to be taken out as a highlight): the shrinkage of the

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cpu_reference/highlights.h"
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
@@ -99,15 +100,6 @@ TEST(Highlights, ConfidentTwoPixelReflectionsAreHighlights) {
 }
 
 class HighlightsAwr : public GpuTest {};
-
-// A frame of a colour and its variance layer, what awr reads.
-Frame ColorAndVariance(const Image &color, const Image &variance) {
-    Frame frame;
-    frame.width = color.width, frame.height = color.height;
-    frame.layers["color"] = color;
-    frame.layers["variance"] = variance;
-    return frame;
-}
 
 // A small light (exact inside, a noisy rim) on a dim floor with a small variance: awr's
 // shrinkage by the rim's variance rings the light into the floor, far worse than its input.

@@ -128,13 +128,18 @@ Image Planes(const Image &fits, int first, int count, int channels) {
 struct RatioCase {
     int w, h;
     bool withVariance, withIds;
+    bool scattered = false;  // ids drawn pixel by pixel: sides of every size in the window
 };
 
 class PivotRatioKernel : public GpuTestWithParam<RatioCase> {};
 
 TEST_P(PivotRatioKernel, MatchesReference) {
-    const auto [w, h, withVariance, withIds] = GetParam();
+    const auto [w, h, withVariance, withIds, scattered] = GetParam();
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h)));
+    if (scattered) {
+        std::mt19937 random{uint32_t(SeedFromName(fmt::format("ratio ids {}x{}", w, h)))};
+        for (float &id : f.ids.data) id = float(random() % 3);
+    }
     // Black and near-black pivots: excluded, never divided by.
     for (int i = 0; i < int(f.pivot.Size()); i += 7) f.pivot.data[i] = 0;
     if (f.pivot.Size() > 3) f.pivot.data[3] = 1e-6f;
@@ -172,15 +177,16 @@ std::vector<RatioCase> RatioCases() {
     for (auto [w, h] : {std::pair{37, 23}, std::pair{1, 1}, std::pair{1, 9}, std::pair{13, 1}})
         for (auto [withVariance, withIds] : {std::pair{true, false}, std::pair{false, true}})
             cases.push_back({w, h, withVariance, withIds});
+    cases.push_back({41, 29, false, true, true});
     return cases;
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, PivotRatioKernel, testing::ValuesIn(RatioCases()),
                          [](const testing::TestParamInfo<RatioCase> &info) {
                              const RatioCase &c = info.param;
-                             return fmt::format("{}x{}{}{}", c.w, c.h,
-                                                c.withVariance ? "_variance" : "",
-                                                c.withIds ? "_ids" : "");
+                             return fmt::format(
+                                 "{}x{}{}{}{}", c.w, c.h, c.withVariance ? "_variance" : "",
+                                 c.withIds ? "_ids" : "", c.scattered ? "_scattered" : "");
                          });
 
 // Stages 2 and 3 and the bilateral baseline: a frame size, with or without guides.
