@@ -153,15 +153,42 @@ double ClampedValue(const Image &color, const Image &variance, const Image *divi
     return value / s > limit ? limit * s : value;
 }
 
+// Brightness of (x, y) for the line test: the sum of its channels (their mean times a
+// constant), in float in channel order as the kernel adds them, so both draw the same
+// lines; 0 outside the frame.
+float LineBrightness(const Image &color, int x, int y) {
+    if (!Inside(color, x, y)) return 0.f;
+    float sum = 0.f;
+    for (int c = 0; c < color.channels; ++c) sum += color.At(c, y, x);
+    return sum;
+}
+
+// Whether (x, y) lies on a bright line: some direction (the 2 axes, the 2 diagonals) with,
+// on both sides, a pixel 1 or 2 steps away brighter than line times (x, y).
+bool OnBrightLine(const Image &color, double line, int x, int y) {
+    const float bound = float(line) * LineBrightness(color, x, y);
+    const int steps[4][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}};
+    for (const auto &d : steps) {
+        bool ahead = false, behind = false;
+        for (int s = 1; s <= 2; ++s) {
+            ahead |= LineBrightness(color, x + s * d[0], y + s * d[1]) > bound;
+            behind |= LineBrightness(color, x - s * d[0], y - s * d[1]) > bound;
+        }
+        if (ahead && behind) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank,
-                double lightEdge, bool sumChannels) {
+                double lightEdge, bool sumChannels, double line) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int y = 0; y < color.height; ++y)
         for (int x = 0; x < color.width; ++x) {
+            if (line > 0 && OnBrightLine(color, line, x, y)) continue;
             double values = 0, kept = 0;
             std::vector<double> clamped(color.channels), ratios;
             for (int c = 0; c < color.channels; ++c) {
@@ -662,7 +689,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         ownClamp ? NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration) : Image();
     Image clamped = NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
                               p.fireflyThreshold, p.fireflyRelative, p.fireflyRank,
-                              p.fireflyLightEdge, p.fireflySum);
+                              p.fireflyLightEdge, p.fireflySum, p.fireflyLine);
     if (ownClamp) {
         // The light the clamp took off, over the colour's sum.
         double sum = 0, taken = 0, values = 0, changed = 0;
@@ -675,9 +702,9 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                     changed += clamped.At(c, y, x) != color.At(c, y, x) ? 1 : 0;
                 }
         if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss)
-            clamped =
-                NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
-                          p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge, p.fireflySum);
+            clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
+                                p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge,
+                                p.fireflySum, p.fireflyLine);
     }
     keep("color", clamped);
     if (ownClamp) keep("clamp.variance", clampVariance);

@@ -29,7 +29,10 @@
 //   neighbour divided alike (its albedo unlike all around it: a sample that hit a small
 //   bright object, or a sub-pixel light) compares its colour with the neighbours' colours,
 //   unless a neighbour is an emitter: then it is a light's edge, partly covered, and kept
-//   (lightEdge < 0) or compared the same way with lightEdge in place of rho. Beside a
+//   (lightEdge < 0) or compared the same way with lightEdge in place of rho. A pixel on
+//   a bright line (line > 0: along an axis or a diagonal, on both sides within 2 steps, a
+//   pixel whose channels' mean is above line times its own) is kept whole: a highlight's
+//   streak one or two pixels wide, of which the samples hit a few pixels. Beside a
 //   variance layer the clamp reads the frame's own estimate too (a pixel whose few samples
 //   hold a firefly reports the firefly's variance in the layer), unless that clamp takes off
 //   more than clampLoss of the frame's light from at least kNforClampLossMinShare of its
@@ -123,6 +126,9 @@ struct NforParams {
     // by the clamped channels' sum over the values' sum: the hue stays), blended with the
     // channels clamped alone by the second channel's excess; false: each on its own.
     bool fireflySum = true;
+    // > 0: a pixel on a line (a pixel above this times its brightness on both sides along
+    // an axis or a diagonal, within 2 steps) is not clamped; 0: off.
+    double fireflyLine = 1;
     double emitterAlbedo = 1.5;
     int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;
@@ -193,7 +199,7 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 // clamped alone.
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank = 0,
-                double lightEdge = -1, bool sumChannels = false);
+                double lightEdge = -1, bool sumChannels = false, double line = 0);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,

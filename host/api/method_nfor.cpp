@@ -131,6 +131,12 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                          "values clamped one by one over the sum of its values: the hue "
                          "stays)",
                          &O::fireflyEachChannel)),
+        nested(
+            FloatParam("firefly-line",
+                       "keep a pixel on a bright line (along an axis or a diagonal, within 2 "
+                       "pixels on both sides, one brighter than this x it: a highlight's "
+                       "streak); 0: off",
+                       &O::fireflyLine, 0, 1e6)),
         nested(FloatParam("wide-agreement",
                           "with --pilot-wide-radius and one pilot bandwidth: take the wide "
                           "window's fit where its squared difference from the narrow one's, "
@@ -359,6 +365,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.fireflyRank = o.fireflyRank;
         p.fireflyLightEdge = o.fireflyLightEdge;
         p.fireflySum = !o.fireflyEachChannel;
+        p.fireflyLine = o.fireflyLine;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;

@@ -21,11 +21,12 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 // rank 0 compares with the neighbours' median, k > 0 with their k-th largest; lightEdge < 0
 // keeps a light's edge pixels, >= 0 clamps them with that relative term; sumChannels
 // scales a pixel with two channels or more above their limits as a whole, by the sum of
-// its clamped values over the sum of its values.
+// its clamped values over the sum of its values; line > 0 keeps a pixel on a line brighter
+// than line times it (along an axis or a diagonal, within 2 steps on both sides), 0: off.
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,
-                     bool sumChannels, vk::GpuImage &out, vk::GpuImage &mask);
+                     bool sumChannels, float line, vk::GpuImage &out, vk::GpuImage &mask);
 
 // shaders/nfor/prefilter.comp: each plane of `features` NL-means-filtered.
 void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,

@@ -373,7 +373,8 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     auto clamp = [&](vk::GpuImage &variance) {
         RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
                         o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                        o.fireflyLightEdge, !o.fireflyEachChannel, gpu.clamped, gpu.mask);
+                        o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine, gpu.clamped,
+                        gpu.mask);
     };
     clamp(clampVariance);
     if (!in.variance || !ownClamp) return;
@@ -425,7 +426,8 @@ Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *al
         if (clamp)
             RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
                             o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                            o.fireflyLightEdge, !o.fireflyEachChannel, out, mask);
+                            o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine, out,
+                            mask);
         run.Submit();
         Image part = clamp ? out.Download() : variance.Download();
         const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;

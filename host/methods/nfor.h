@@ -68,6 +68,10 @@ struct NforOptions {
     // the sum of its values (blended in by the second channel's excess, so nothing jumps),
     // so that a highlight whose channels cross their limits unevenly keeps its hue.
     bool fireflyEachChannel = false;
+    // Keep a pixel on a line (along an axis or a diagonal, on both sides within 2 steps, a
+    // pixel brighter than this times it): a highlight's streak one or two pixels wide, hit
+    // by a few of its samples, is not a firefly. 0: off.
+    float fireflyLine = 1;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;

@@ -78,6 +78,28 @@ float clampedAt(int c, int x, int y) {
     return value / s > limit ? limit * s : value;
 }
 
+// The sum of (x, y)'s channels (their mean, compared with each other); 0 outside the frame.
+float brightnessAt(int x, int y) {
+    if (x < 0 || y < 0 || x >= w || y >= h) return 0.0;
+    float sum = 0.0;
+    for (int k = 0; k < push.channels; ++k) sum += color[(k * h + y) * w + x];
+    return sum;
+}
+
+// Whether (x, y) lies on a bright line: along an axis or a diagonal, a pixel within 2 steps
+// on each side above push.line times its own brightness.
+bool onLine(int x, int y) {
+    float bound = push.line * brightnessAt(x, y);
+    const ivec2 directions[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(-1, 1));
+    for (int i = 0; i < 4; ++i) {
+        ivec2 d = directions[i];
+        float ahead = max(brightnessAt(x + d.x, y + d.y), brightnessAt(x + 2 * d.x, y + 2 * d.y));
+        float behind = max(brightnessAt(x - d.x, y - d.y), brightnessAt(x - 2 * d.x, y - 2 * d.y));
+        if (ahead > bound && behind > bound) return true;
+    }
+    return false;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
@@ -89,6 +111,8 @@ void main() {
     if (c == 0) mask[y * w + x] = emitterAt(x, y) ? 0.0 : 1.0;
     outColor[at] = value;
     if (push.threshold <= 0.0) return;
+    // A line's pixel (a highlight's streak) keeps its value.
+    if (push.line > 0.0 && onLine(x, y)) return;
     float own = clampedAt(c, x, y);
     outColor[at] = own;
     if (push.sumChannels == 0) return;

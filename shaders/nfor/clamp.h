@@ -18,7 +18,10 @@
 // cross their limits unevenly does not turn into a coloured speck) and 1 - t of the
 // channel clamped alone (one channel alone above its limit, a sample of one colour, is
 // clamped alone; t goes to 0 with the second channel's excess, so nothing jumps). One
-// invocation per pixel and channel; channel 0's writes the mask.
+// invocation per pixel and channel; channel 0's writes the mask. With line > 0 a pixel
+// that has, along an axis or a diagonal, on both sides within 2 steps a pixel whose mean
+// over the channels is above line x its own is on a line (a highlight's streak one or two
+// pixels wide, hit by a few of its samples) and kept whole; pixels outside count as 0.
 #ifndef MCD_SHADERS_NFOR_CLAMP_H
 #define MCD_SHADERS_NFOR_CLAMP_H
 
@@ -48,9 +51,10 @@ layout(push_constant) uniform NforClampPush {
     float lightEdge;  // relative term at a light's edge; < 0: such a pixel is kept
     int channels;     // of the colour
     int sumChannels;  // 1: the channels clamped together by one factor; 0: each on its own
+    float line;       // > 0: a pixel on a line this bright is kept; 0: off
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforClampPush) == 40);
+static_assert(sizeof(NforClampPush) == 44);
 static_assert(offsetof(NforClampPush, emitterAlbedo) == 20);
 }  // namespace mcd::shader
 #else

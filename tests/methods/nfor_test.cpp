@@ -163,9 +163,10 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()
 // is C x (sum of the clamped values / sum of C): the clamped values' errors summed over the
 // channels (C / sum of C is at most 1 for positive colours) and a few roundings of C.
 void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int rank,
-                        float lightEdge, bool sumChannels = false) {
+                        float lightEdge, bool sumChannels = false, float line = 0) {
     std::string name = fmt::format("clamp{}x{}{}", w, h, InputKindName(kind));
-    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {}", rank, lightEdge, sumChannels));
+    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {} line {}", rank, lightEdge,
+                             sumChannels, line));
     Image color = Positive(kind, w, h, 3, name);
     Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
     for (float &v : variance.data) v *= 0.01f;
@@ -173,7 +174,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
     const float threshold = 3, relative = 0.5f, emitterAlbedo = 1.5f;
     Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
     Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank,
-                                    lightEdge, sumChannels);
+                                    lightEdge, sumChannels, line);
     auto run = [&](Image *gpuMask) {
         vk::GpuImage c = Upload(context, color, "color"),
                      v = Upload(context, variance, "variance");
@@ -181,7 +182,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
         vk::GpuImage out(context, w, h, 3, "out"), m(context, w, h, 1, "mask");
         vk::Recorder recorder(context);
         RecordNforClamp(context, recorder, c, v, &a, threshold, relative, emitterAlbedo, rank,
-                        lightEdge, sumChannels, out, m);
+                        lightEdge, sumChannels, line, out, m);
         recorder.Submit();
         *gpuMask = m.Download();
         return out.Download();
@@ -216,12 +217,14 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
 class NforClampKernel : public GpuTestWithParam<KernelCase> {};
 
 // Against the neighbours' median and against their 2nd largest; a light's edge kept, and
-// clamped with a relative term of its own; each channel on its own and the channels summed.
+// clamped with a relative term of its own; each channel on its own and the channels summed;
+// a line's pixels kept (1, and 0.5: more lines).
 TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     for (bool sum : {false, true}) {
         for (int rank : {0, 2}) ExpectClampMatches(Ctx(), w, h, kind, rank, -1, sum);
         ExpectClampMatches(Ctx(), w, h, kind, 3, 2, sum);
+        for (float line : {1.f, 0.5f}) ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, line);
     }
 }
 
@@ -263,6 +266,32 @@ TEST(NforClampChannels, SummedKeepsTheHue) {
             }
     EXPECT_NEAR(sum.At(1, 2, 6), limit, 1e-5);
     EXPECT_EQ(sum.At(0, 2, 6), 0.5f);
+}
+
+// A highlight's streak one pixel wide along row 4 whose pixels the samples hit unevenly
+// (8 and 4 in turn, on 0.1), and a lone firefly at (1, 1). Against the 3rd largest
+// neighbour every pixel of the streak is clamped; with the line rule a pixel with a
+// brighter one on both sides along the row (the 4s, and the 8s at 0.5) keeps its values
+// whole, the streak's brightest pixels and the firefly are clamped as before.
+TEST(NforClampLine, KeepsAStreakNotAFirefly) {
+    const int w = 11, h = 9;
+    Image color(w, h, 3, 0.1f), variance(w, h, 3, 1e-4f), albedo(w, h, 3, 0.5f);
+    for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) color.At(c, 4, x) = x % 2 == 0 ? 8.f : 4.f;
+    for (int c = 0; c < 3; ++c) color.At(c, 1, 1) = 8;
+    Image mask = ref::NforMask(&albedo, w, h, 1.5);
+    auto clamp = [&](double line) {
+        return ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, true, line);
+    };
+    Image off = clamp(0), on = clamp(1), wide = clamp(0.5);
+    for (int x = 1; x < w - 1; ++x)
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_LT(off.At(c, 4, x), 1.f) << x;
+            EXPECT_EQ(on.At(c, 4, x), x % 2 == 0 ? off.At(c, 4, x) : 4.f) << x;
+            EXPECT_EQ(wide.At(c, 4, x), color.At(c, 4, x)) << x;
+        }
+    for (const Image *image : {&off, &on, &wide})
+        for (int c = 0; c < 3; ++c) EXPECT_LT(image->At(c, 1, 1), 1.f);
 }
 
 // Weights exp(-e): e's terms T = (d^2 - s) / (s + eps) are each at least -1 and are averaged
@@ -941,6 +970,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.fireflyRank = o.fireflyRank;
     p.fireflyLightEdge = o.fireflyLightEdge;
     p.fireflySum = !o.fireflyEachChannel;
+    p.fireflyLine = o.fireflyLine;
     p.pilotWideRadius = o.pilotWideRadius;
     p.minVariance = o.minVariance;
     p.pilotMinVariance = NforPilotMinVariance(o);
