@@ -137,13 +137,18 @@ double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0, bool d
     if (len == 0 && len0 == 0) return 1;
     if (len == 0 || len0 == 0) return 0;
     double d = (n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2]) / std::sqrt(len * len0);
+    if (!(d > 0.5)) return 0;
+    double term = d * d * d * d;
     // A fit's data pixel whose normal (a mean over its samples; one longer than 1 counts as
-    // 1) is shorter than the centre's saw the centre's surface only in part.
+    // 1) is shorter than the centre's saw the centre's surface only in part: the term times
+    // (1 - |n0|^8 (|n0| - |n|))^4, continuous in the lengths (they are sample counts'
+    // fractions, and a threshold on them would tie).
     if (data) {
         double l = std::min(1.0, std::sqrt(len)), l0 = std::min(1.0, std::sqrt(len0));
-        d *= 1 - std::pow(l0, 8) * std::max(0.0, l0 - l);
+        double coverage = 1 - std::pow(l0, 8) * std::max(0.0, l0 - l);
+        term *= coverage * coverage * coverage * coverage;
     }
-    return d > 0.5 ? d * d * d * d : 0;
+    return term;
 }
 
 double PivotIdTerm(const Image *ids, int x, int y, int x0, int y0) {

@@ -27,16 +27,17 @@ Surface surfaceAt(int i) {
     return s;
 }
 
-// The normal term d^4 for d > 1/2, else 0, d = cos(n, n0) times `coverage` (normals of
-// length at most 1); two zero normals (both labels negative) give 1, one gives 0; times the
-// id terms.
+// The normal term d^4 for d = cos(n, n0) > 1/2, else 0 (normals of length at most 1), times
+// coverage^4; two zero normals (both labels negative) give 1, one gives 0; times the id
+// terms.
 float geometricTerm(Surface s, Surface s0, float coverage) {
     float normal = 1.0;
     if (useNormals != 0 && (s.g.w >= 0.0 || s0.g.w >= 0.0)) {
         float d = s.g.w < 0.0 || s0.g.w < 0.0
                       ? 0.0
-                      : dot(s.g.xyz, s0.g.xyz) / (length(s.g.xyz) * length(s0.g.xyz)) * coverage;
-        normal = d > 0.5 ? d * d * d * d : 0.0;
+                      : dot(s.g.xyz, s0.g.xyz) / (length(s.g.xyz) * length(s0.g.xyz));
+        float c2 = coverage * coverage;
+        normal = d > 0.5 ? d * d * d * d * (c2 * c2) : 0.0;
     }
     float ids = useIds == 0 || abs(s.g.w) == abs(s0.g.w) ? 1.0 : 0.0;
     return normal * ids;
@@ -46,8 +47,8 @@ float geometricTerm(Surface s, Surface s0) {
     return geometricTerm(s, s0, 1.0);
 }
 
-// A fit's weight of data pixel s for centre s0: the geometric term with the cosine times
-// 1 - (|n0| - |n|) where the pixel's normal is the shorter. A pixel's normal is the mean of
+// A fit's weight of data pixel s for centre s0: the geometric term times (1 - |n0|^8 (|n0| -
+// |n|))^4 where the pixel's normal is the shorter. A pixel's normal is the mean of
 // its samples': shorter than the centre's where fewer of them saw the centre's surface (a
 // mirror's rim that reflects a wall beside what lies behind it), so it is data to the
 // centre's plane only as far as it shares that surface.

@@ -632,7 +632,7 @@ TEST_F(PivotMethod, IdEdgePixelsAreFilteredByTheirOwnIds) {
 // shorter mean normal and a z far above the wall's. As data to the wall's fits they bent
 // its planes up toward the rim. Against the same frame with the rim's normals at full
 // length (what the filter saw before it read their length), the wall beside the rim comes
-// out at most half as far from its truth; the GPU matches the CPU twin.
+// out closer to its truth by a third or more; the GPU matches the CPU twin.
 TEST_F(PivotMethod, PixelsThatSawTheSurfaceInPartAreNotItsData) {
     const int w = 32, h = 24, rimX = 20;
     const double noise = 0.1;
@@ -671,7 +671,7 @@ TEST_F(PivotMethod, PixelsThatSawTheSurfaceInPartAreNotItsData) {
         for (int x = rimX; x < rimX + 2; ++x) full.normal.At(2, y, x) = 1;
     PivotResult fullRim = PivotDenoise(Ctx(), InputsOf(full, true, &objectId, &partId), p);
     const double error = wallError(result.image), fullError = wallError(fullRim.image);
-    EXPECT_LT(error, 0.5 * fullError)
+    EXPECT_LT(error, 0.65 * fullError)
         << "the wall beside the rim: mean relative error " << error
         << ", with the rim's normals at full length " << fullError;
     ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, &f.ids);
