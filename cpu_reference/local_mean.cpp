@@ -447,7 +447,11 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     size_t clamped = 0;
     for (int y = 0; y < input.height; ++y)
-        for (int x = 0; x < input.width; ++x)
+        for (int x = 0; x < input.width; ++x) {
+            // Each channel's allowed distance from its input (-1: left), and the largest
+            // share t of the pixel's move that every channel allows.
+            std::vector<double> sd(input.channels, -1);
+            double t = 1;
             for (int c = 0; c < input.channels; ++c) {
                 int vc = variance.channels == 1 ? 0 : c;
                 std::vector<double> window;
@@ -470,15 +474,25 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                 if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
                     !std::isfinite(out))
                     continue;
-                double sd = std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
-                if (out < in - k * sd) {
-                    output->At(c, y, x) = float(in - k * sd);
-                    ++clamped;
-                } else if (out > in + k * sd) {
-                    output->At(c, y, x) = float(in + k * sd);
+                sd[c] = k * std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
+                // Not below 0 where the input is not negative.
+                double low = in >= 0 ? std::max(0.0, in - sd[c]) : in - sd[c];
+                double allowed = out < in ? in - low : sd[c];
+                if (std::fabs(out - in) > allowed)
+                    t = std::min(t, allowed / std::fabs(out - in));
+            }
+            if (t == 1) continue;
+            for (int c = 0; c < input.channels; ++c) {
+                if (sd[c] < 0) continue;
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                double low = in >= 0 ? std::max(0.0, in - sd[c]) : in - sd[c];
+                float moved = float(std::clamp(in + t * (out - in), low, in + sd[c]));
+                if (moved != output->At(c, y, x)) {
+                    output->At(c, y, x) = moved;
                     ++clamped;
                 }
             }
+        }
     return clamped;
 }
 

@@ -73,9 +73,11 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
 // the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel
-// (the variance's one channel, or channel c); left where the pixel's variance is 0, where the
-// input, the output or any variance of the window is not finite, or a variance is negative.
-// Returns the number of values clamped.
+// (the variance's one channel, or channel c), and not below 0 where the input is not
+// negative; left where the pixel's variance is 0, where the input, the output or any variance
+// of the window is not finite, or a variance is negative. The channels a pixel bounds move to
+// input + t (output - input), one t for the pixel: the largest that keeps every one of them
+// in its range. Returns the number of values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
 // The frame's robust noise estimate (host/common/local_mean.h, FrameNoise): per channel

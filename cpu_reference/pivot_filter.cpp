@@ -121,7 +121,11 @@ double Combine(double z, double zm) {
 
 }  // namespace
 
-double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0) {
+// The gather's weight of the plain normal term beside the data term: a pixel that no centre
+// takes as data (its normal shorter than theirs) still takes the fits of its surface.
+constexpr double kGatherFallback = 1e-3;
+
+double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0, bool data) {
     if (!normal) return 1;
     double n[3], n0[3], len = 0, len0 = 0;
     for (int c = 0; c < 3; ++c) {
@@ -133,7 +137,18 @@ double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0) {
     if (len == 0 && len0 == 0) return 1;
     if (len == 0 || len0 == 0) return 0;
     double d = (n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2]) / std::sqrt(len * len0);
-    return d > 0.5 ? d * d * d * d : 0;
+    if (!(d > 0.5)) return 0;
+    double term = d * d * d * d;
+    // A fit's data pixel whose normal (a mean over its samples; one longer than 1 counts as
+    // 1) is shorter than the centre's saw the centre's surface only in part: the term times
+    // (1 - |n0|^8 (|n0| - |n|))^4, continuous in the lengths (they are sample counts'
+    // fractions, and a threshold on them would tie).
+    if (data) {
+        double l = std::min(1.0, std::sqrt(len)), l0 = std::min(1.0, std::sqrt(len0));
+        double coverage = 1 - std::pow(l0, 8) * std::max(0.0, l0 - l);
+        term *= coverage * coverage * coverage * coverage;
+    }
+    return term;
 }
 
 double PivotIdTerm(const Image *ids, int x, int y, int x0, int y0) {
@@ -273,7 +288,7 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                         for (int x = std::max(0, x0 - r); x <= std::min(w - 1, x0 + r); ++x) {
                             double nu = ratio.nu.At(c, y, x);
                             if (nu < 0 || nu > good) continue;
-                            double geo = PivotNormalTerm(guides.normal, x, y, x0, y0) *
+                            double geo = PivotNormalTerm(guides.normal, x, y, x0, y0, true) *
                                          PivotIdTerm(guides.ids, x, y, x0, y0);
                             if (geo == 0) continue;
                             double zq = z.At(c, y, x), dx = x - x0, dy = y - y0;
@@ -404,7 +419,9 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                         if (x0 % step != 0 || y0 % step != 0) continue;
                         double weight =
                             std::exp(-(double(dx) * dx + double(dy) * dy) / (radius * radius)) *
-                            PivotNormalTerm(guides.normal, x, y, x0, y0) *
+                            (PivotNormalTerm(guides.normal, x, y, x0, y0, true) +
+                             (guides.normal ? kGatherFallback : 0) *
+                                 PivotNormalTerm(guides.normal, x, y, x0, y0)) *
                             PivotIdTerm(guides.ids, x, y, x0, y0) * step * step;
                         if (weight == 0) continue;
                         int m = 1 + Quadrant(dx, dy);

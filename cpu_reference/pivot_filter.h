@@ -139,8 +139,10 @@ struct PivotFilterInputs {
 Image PivotFilter(const PivotFilterInputs &in, const PivotParams &params,
                   std::vector<std::pair<std::string, Image>> *stages = nullptr);
 
-// The normal and id terms, exposed for the tests.
-double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0);
+// The normal and id terms, exposed for the tests. The normal term of a fit's data pixel
+// (`data`) is times (1 - |n0|^8 (|n0| - |n|))^4 where the pixel's normal is the shorter
+// (normals count as at most 1 long).
+double PivotNormalTerm(const Image *normal, int x, int y, int x0, int y0, bool data = false);
 double PivotIdTerm(const Image *ids, int x, int y, int x0, int y0);
 double PivotBoundaryTerm(const Image *ids, int x, int y);
 

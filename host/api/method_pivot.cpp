@@ -123,7 +123,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                           "larger of the pixel's and its 3x3 window's mean without the "
                           "largest) from its input, before the local means are restored: fits "
                           "that overshoot an edge or go negative cannot move a pixel farther "
-                          "than its noise allows (beyond the paper; 0: off)",
+                          "than its noise allows; a pixel's channels move by one share, so a "
+                          "bound does not tint it, and not below 0 (beyond the paper; 0: off)",
                           &PivotSettings::bound, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }

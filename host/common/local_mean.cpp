@@ -626,6 +626,21 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
         if (added[k] != 0) output->data[k] = float(double(output->data[k]) + added[k]);
 }
 
+namespace {
+
+// The bound's lowest value: k standard deviations below the input, and not below 0 where
+// the input is not negative (noise does not make a non-negative truth negative).
+double BoundLow(double in, double spread) {
+    return in >= 0 ? std::max(0.0, in - spread) : in - spread;
+}
+
+// How far the output may move from the input toward o.
+double BoundAllowed(double in, double o, double spread) {
+    return o < in ? in - BoundLow(in, spread) : spread;
+}
+
+}  // namespace
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     if (!input.SameShape(*output) || variance.width != input.width ||
         variance.height != input.height ||
@@ -634,17 +649,21 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
             "BoundToNoise: the output must have the input's shape, the variance its "
             "size, k > 0",
             ErrorKind::Internal);
-    const int w = input.width, h = input.height;
+    const int w = input.width, h = input.height, channels = input.channels;
     std::atomic<size_t> moved{0};
-    for (int c = 0; c < input.channels; ++c) {
-        const float *v = variance.Plane(variance.channels == 1 ? 0 : c);
-        const float *in = input.Plane(c);
-        float *out = output->Plane(c);
-        ParallelFor(h, size_t(w) * h * 24, [&](int yBegin, int yEnd) {
-            size_t movedHere = 0;
-            for (int y = yBegin; y < yEnd; ++y)
-                for (int x = 0; x < w; ++x) {
-                    const size_t p = size_t(y) * w + x;
+    ParallelFor(h, size_t(w) * h * 24 * channels, [&](int yBegin, int yEnd) {
+        size_t movedHere = 0;
+        std::vector<double> spread(channels);
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                // The share t of each value's move from its input that every channel's
+                // bound allows: one t for the pixel, so a bound on one channel does not
+                // tint it (a dark pixel whose channels' noise differ).
+                double t = 1;
+                for (int c = 0; c < channels; ++c) {
+                    spread[c] = -1;
+                    const float *v = variance.Plane(variance.channels == 1 ? 0 : c);
                     // The larger of the pixel's variance and its window's mean without the
                     // window's largest value (one firefly beside the pixel).
                     double sum = 0, largest = 0;
@@ -658,22 +677,29 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                             largest = std::max(largest, double(vi));
                             ++count;
                         }
-                    const double o = out[p];
+                    const double in = input.Plane(c)[p], o = output->Plane(c)[p];
                     // A variance of 0 (every sample equal: at a few samples per pixel, mostly
                     // all of them missing the light) says nothing of the noise.
-                    if (!finite || !(v[p] > 0) || !std::isfinite(in[p]) || !std::isfinite(o))
+                    if (!finite || !(v[p] > 0) || !std::isfinite(in) || !std::isfinite(o))
                         continue;
                     const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
-                    const double spread = k * std::sqrt(std::max(double(v[p]), rest));
-                    const double lo = in[p] - spread, hi = in[p] + spread;
-                    if (o < lo || o > hi) {
-                        out[p] = float(std::clamp(o, lo, hi));
-                        ++movedHere;
-                    }
+                    spread[c] = k * std::sqrt(std::max(double(v[p]), rest));
+                    const double allowed = BoundAllowed(in, o, spread[c]);
+                    if (std::fabs(o - in) > allowed)
+                        t = std::min(t, allowed / std::fabs(o - in));
                 }
-            moved += movedHere;
-        });
-    }
+                if (t == 1) continue;
+                for (int c = 0; c < channels; ++c) {
+                    if (spread[c] < 0) continue;
+                    float *out = &output->Plane(c)[p];
+                    const double in = input.Plane(c)[p];
+                    const float value = float(std::clamp(
+                        in + t * (double(*out) - in), BoundLow(in, spread[c]), in + spread[c]));
+                    if (value != *out) *out = value, ++movedHere;
+                }
+            }
+        moved += movedHere;
+    });
     return moved.load();
 }
 

@@ -199,8 +199,10 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 // beside a pixel must not free it to take the firefly's smear). Values whose variance is 0
 // (every sample equal: at 4 spp half a dim interior's pixels, whose samples all missed the
 // light), whose input or output is not finite, or whose window has a variance that is not
-// finite or is negative, are left. `variance`: of the pixel mean, 1 or the input's
-// channels. Returns how many values moved.
+// finite or is negative, are left. A pixel's channels move by one share t of their moves,
+// the largest every channel's bound allows (a bound on one channel alone would tint the
+// pixel), and not below 0 where the input is not negative. `variance`: of the pixel mean, 1
+// or the input's channels. Returns how many values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
 // The variance of the pixel mean estimated from a frame without sample statistics, robust

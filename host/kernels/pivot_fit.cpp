@@ -67,8 +67,11 @@ Image PivotGuideBuffer(const Image &planes) {
             n[k] = planes.data[k * pixels + i];
             len += n[k] * n[k];
         }
+        // A pixel's normal is the mean of its samples': shorter than 1 where they saw other
+        // surfaces or none. Keep that length (the normal term compares it); normalise a
+        // longer one.
         if (len > 0)
-            for (int k = 0; k < 3; ++k) out[k] = float(n[k] / std::sqrt(len));
+            for (int k = 0; k < 3; ++k) out[k] = float(n[k] / std::max(1.0, std::sqrt(len)));
         float object = planes.data[3 * pixels + i] + 0.f,
               part = planes.data[4 * pixels + i] + 0.f;
         uint32_t objectBits, partBits;

@@ -84,7 +84,7 @@ float weightAt(int x, int y, float mean, float radius, out float z, out float s)
     z = pixel.x;
     s = pixel.y;
     if (nu < 0.0 || nu > goodNu) return 0.0;
-    float geo = geometricTerm(surfaceAt(i), centre);
+    float geo = dataTerm(surfaceAt(i), centre);
     if (geo == 0.0) return 0.0;
     float dx = float(x - x0), dy = float(y - y0);
     float e = k * abs(z - mean) / max(abs(mean), PIVOT_TINY) + push.sigmaWeight * nu;

@@ -52,7 +52,7 @@ void addCentre(int x0, int y0, float radius) {
     // Each centre stands for step^2 centres of its lattice.
     int step = latticeStep(radius);
     float weight = exp(-(fdx * fdx + fdy * fdy) / (radius * radius)) *
-                   geometricTerm(here, surfaceAt(i0)) * float(step * step);
+                   gatherTerm(here, surfaceAt(i0)) * float(step * step);
     if (weight == 0.0) return;
     int m = dx >= 0 ? (dy >= 0 ? 0 : 3) : (dy >= 0 ? 1 : 2);
     // The centre's 16 planes as four vec4 texels: square (0..2), quadrant m (3 + 3m ..

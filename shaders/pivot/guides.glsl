@@ -1,7 +1,7 @@
 // The geometric terms of the pivot filter (section 4.4), for kernels that declare the
-// vec4 texel buffer `guides` (per pixel one texel, PivotGuideBuffer: the unit normal, zero
-// where the normal is zero, and a label of the pixel's object and part ids, 1 + the index of
-// the pair among the frame's distinct pairs, negated where the normal is zero), the
+// vec4 texel buffer `guides` (per pixel one texel, PivotGuideBuffer: the normal, of length at
+// most 1, zero where the normal is zero, and a label of the pixel's object and part ids, 1 +
+// the index of the pair among the frame's distinct pairs, negated where the normal is zero), the
 // specialization constants useNormals / useIds and the ints `planeSize` (width x height) and
 // `gw`, `gh` (width, height).
 
@@ -27,17 +27,43 @@ Surface surfaceAt(int i) {
     return s;
 }
 
-// The normal term (n.n0)^4 for n.n0 > 1/2 of unit normals, else 0; two zero normals (both
-// labels negative) give 1, one gives 0 (its stored normal is zero, so n.n0 = 0); times the
-// id terms.
-float geometricTerm(Surface s, Surface s0) {
+// The normal term d^4 for d = cos(n, n0) > 1/2, else 0 (normals of length at most 1), times
+// coverage^4; two zero normals (both labels negative) give 1, one gives 0; times the id
+// terms.
+float geometricTerm(Surface s, Surface s0, float coverage) {
     float normal = 1.0;
-    if (useNormals != 0) {
-        float d = dot(s.g.xyz, s0.g.xyz);
-        normal = s.g.w < 0.0 && s0.g.w < 0.0 ? 1.0 : (d > 0.5 ? d * d * d * d : 0.0);
+    if (useNormals != 0 && (s.g.w >= 0.0 || s0.g.w >= 0.0)) {
+        float d = s.g.w < 0.0 || s0.g.w < 0.0
+                      ? 0.0
+                      : dot(s.g.xyz, s0.g.xyz) / (length(s.g.xyz) * length(s0.g.xyz));
+        float c2 = coverage * coverage;
+        normal = d > 0.5 ? d * d * d * d * (c2 * c2) : 0.0;
     }
     float ids = useIds == 0 || abs(s.g.w) == abs(s0.g.w) ? 1.0 : 0.0;
     return normal * ids;
+}
+
+float geometricTerm(Surface s, Surface s0) {
+    return geometricTerm(s, s0, 1.0);
+}
+
+// A fit's weight of data pixel s for centre s0: the geometric term times (1 - |n0|^8 (|n0| -
+// |n|))^4 where the pixel's normal is the shorter. A pixel's normal is the mean of
+// its samples': shorter than the centre's where fewer of them saw the centre's surface (a
+// mirror's rim that reflects a wall beside what lies behind it), so it is data to the
+// centre's plane only as far as it shares that surface.
+float dataTerm(Surface s, Surface s0) {
+    if (useNormals == 0) return geometricTerm(s, s0);
+    float l0 = length(s0.g.xyz), l02 = l0 * l0, l04 = l02 * l02;
+    return geometricTerm(s, s0, 1.0 - l04 * l04 * max(0.0, l0 - length(s.g.xyz)));
+}
+
+// A pixel's weight of a centre's fit in the gather: the data term, and a thousandth of the
+// geometric term, so a pixel that no centre takes as data (a one-sample firefly whose other
+// samples saw nothing) still takes the fits of the surface its normal points along.
+float gatherTerm(Surface s, Surface s0) {
+    if (useNormals == 0) return geometricTerm(s, s0);
+    return dataTerm(s, s0) + PIVOT_GATHER_FALLBACK * geometricTerm(s, s0);
 }
 
 // Whether a pixel lies beside other ids: 0 when a 4-neighbour has other ids (the pixel may

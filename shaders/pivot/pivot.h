@@ -31,10 +31,13 @@
 
 // The guide image's planes: normal x, y, z, object id, part id (what is absent is zero and
 // compiled out). The GPU buffer holds a pixel's guides in one vec4 texel of
-// PIVOT_GUIDE_STRIDE floats (one fetch): the normal normalised (zero where it is zero) and a
+// PIVOT_GUIDE_STRIDE floats (one fetch): the normal, one longer than 1 normalised, and a
 // label of the (object id, part id) pair, 1 + its index among the frame's distinct pairs,
 // negated where the normal is zero (PivotGuideBuffer, pivot/guides.glsl). Labels only
 // compare for equality, so a tile's own labels give the untiled result bit for bit.
+// The gather's weight of the geometric term beside the data term (pivot/guides.glsl
+// gatherTerm): a pixel no centre takes as data still takes its surface's fits.
+#define PIVOT_GATHER_FALLBACK 1e-3
 #define PIVOT_GUIDE_PLANES 5
 #define PIVOT_GUIDE_STRIDE 4
 

@@ -347,6 +347,33 @@ TEST(LocalMeanProperties, BoundToNoiseClampsAtKStandardDeviations) {
     EXPECT_FLOAT_EQ(output.At(0, 0, 5), 1.3f);
 }
 
+// Issue #29, a chrome sphere's contact with the floor: one share of the pixel's move for
+// every channel, so a bound on one channel does not tint the pixel (fits of 0.008 on a
+// black input whose channels' noise differ came out red and blue), and not below 0 where
+// the input is not negative.
+TEST(LocalMeanProperties, BoundMovesAPixelsChannelsByOneShare) {
+    Image input(2, 1, 3), output(2, 1, 3), variance(2, 1, 3);
+    for (int c = 0; c < 3; ++c) {
+        input.At(c, 0, 0) = 1, output.At(c, 0, 0) = 2;
+        input.At(c, 0, 1) = 0.1f, output.At(c, 0, 1) = c == 1 ? -0.2f : 0.1f;
+        for (int x = 0; x < 2; ++x) variance.At(c, 0, x) = c == 1 ? 1e-4f : 0.01f;
+    }
+    EXPECT_EQ(BoundToNoise(input, variance, 3, &output), 4u);
+    // Green allows 0.03 of the move up, so each channel moves 0.03.
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(output.At(c, 0, 0), 1.03f, 1e-6f) << c;
+    // Green's bound, 0.03 below 0.1, keeps it at 0.07; the others do not move.
+    EXPECT_NEAR(output.At(1, 0, 1), 0.07f, 1e-6f);
+    for (int c : {0, 2}) EXPECT_EQ(output.At(c, 0, 1), 0.1f) << c;
+    // Not below 0: 3 standard deviations of 0.1 below 0.04 would be -0.26.
+    Image dark(1, 1, 1, 0.04f), wide(1, 1, 1, 0.01f), negative(1, 1, 1, -1.f);
+    EXPECT_EQ(BoundToNoise(dark, wide, 3, &negative), 1u);
+    EXPECT_GE(negative.At(0, 0, 0), 0.f);
+    EXPECT_LT(negative.At(0, 0, 0), 1e-7f);
+    Image reference(1, 1, 1, -1.f);
+    EXPECT_EQ(ref::BoundToNoise(dark, wide, 3, &reference), 1u);
+    EXPECT_EQ(reference.At(0, 0, 0), negative.At(0, 0, 0));
+}
+
 // Lone spikes against the reference on the random inputs (NaN, Inf, zeros, negatives,
 // spikes of 100 among values under 1): the same count and bits (both sum in double, round
 // to float and pick the same medians), and the same when repeated.
