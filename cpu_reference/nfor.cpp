@@ -153,13 +153,13 @@ double ClampedValue(const Image &color, const Image &variance, const Image *divi
     return value / s > limit ? limit * s : value;
 }
 
-// Brightness of (x, y) for the line test: the sum of its channels (their mean times a
-// constant), in float in channel order as the kernel adds them, so both draw the same
-// lines; 0 outside the frame.
+// Brightness of (x, y) for the line test: the sum of its channels' positive parts (a
+// negative channel, say ringing, must not make a firefly beside it look dim), in float in
+// channel order as the kernel adds them, so both draw the same lines; 0 outside the frame.
 float LineBrightness(const Image &color, int x, int y) {
     if (!Inside(color, x, y)) return 0.f;
     float sum = 0.f;
-    for (int c = 0; c < color.channels; ++c) sum += color.At(c, y, x);
+    for (int c = 0; c < color.channels; ++c) sum += std::max(color.At(c, y, x), 0.f);
     return sum;
 }
 

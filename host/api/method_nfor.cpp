@@ -275,7 +275,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const int keptReach = NforKeptPassRadius(o, layer, inputs.Has("albedo"));
         // The lights' spread reads the output of the 4 neighbours.
         const int lightReach = NforSpreadsLights(o, layer, inputs.Has("albedo")) ? 1 : 0;
-        int colourReach = o.patchRadius + o.noiseRadius + 1;
+        // The clamp reads its 8 neighbours, its line test 2 pixels away.
+        int colourReach = o.patchRadius + o.noiseRadius + (o.fireflyLine > 0 ? 2 : 1);
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;

@@ -78,11 +78,12 @@ float clampedAt(int c, int x, int y) {
     return value / s > limit ? limit * s : value;
 }
 
-// The sum of (x, y)'s channels (their mean, compared with each other); 0 outside the frame.
+// The sum of (x, y)'s channels' positive parts (compared with each other: a negative
+// channel must not make a firefly look dim); 0 outside the frame.
 float brightnessAt(int x, int y) {
     if (x < 0 || y < 0 || x >= w || y >= h) return 0.0;
     float sum = 0.0;
-    for (int k = 0; k < push.channels; ++k) sum += color[(k * h + y) * w + x];
+    for (int k = 0; k < push.channels; ++k) sum += max(color[(k * h + y) * w + x], 0.0);
     return sum;
 }
 

@@ -432,7 +432,9 @@ TEST(LocalMeanProperties, CutSpikesCutsOnlyLoneSpikes) {
     EXPECT_EQ(cut.At(0, 2, 2), 0.5f);
     EXPECT_EQ(cut.At(1, 2, 2), 0.6f);
     for (size_t i = 0; i < cut.data.size(); ++i)
-        if (i % cut.PixelCount() != 2 * 12 + 2) EXPECT_EQ(cut.data[i], color.data[i]) << i;
+        if (i % cut.PixelCount() != 2 * 12 + 2) {
+            EXPECT_EQ(cut.data[i], color.data[i]) << i;
+        }
 }
 
 // Over black (the neighbours' median 0) a spike is measured against its neighbours above 0:
@@ -522,7 +524,9 @@ TEST(LocalMeanProperties, CutLightRimsCutsOnlyPixelsBesideALight) {
     EXPECT_EQ(rims[0], size_t(5 * w + 7));
     for (int c = 0; c < 3; ++c) EXPECT_EQ(cut.At(c, 5, 7), 0.1f);
     for (size_t i = 0; i < cut.data.size(); ++i)
-        if (i % cut.PixelCount() != size_t(5 * w + 7)) EXPECT_EQ(cut.data[i], color.data[i]);
+        if (i % cut.PixelCount() != size_t(5 * w + 7)) {
+            EXPECT_EQ(cut.data[i], color.data[i]);
+        }
     Image other(w, h - 1, 3), same = color;
     EXPECT_TRUE(CutLightRims(&same, other).empty());
     EXPECT_EQ(0, std::memcmp(same.data.data(), color.data.data(), color.data.size() * 4));

@@ -272,13 +272,16 @@ TEST(NforClampChannels, SummedKeepsTheHue) {
 // (8 and 4 in turn, on 0.1), and a lone firefly at (1, 1). Against the 3rd largest
 // neighbour every pixel of the streak is clamped; with the line rule a pixel with a
 // brighter one on both sides along the row (the 4s, and the 8s at 0.5) keeps its values
-// whole, the streak's brightest pixels and the firefly are clamped as before.
+// whole, the streak's brightest pixels and the firefly are clamped as before, and so is a
+// firefly beside a negative channel.
 TEST(NforClampLine, KeepsAStreakNotAFirefly) {
     const int w = 11, h = 9;
     Image color(w, h, 3, 0.1f), variance(w, h, 3, 1e-4f), albedo(w, h, 3, 0.5f);
     for (int x = 0; x < w; ++x)
         for (int c = 0; c < 3; ++c) color.At(c, 4, x) = x % 2 == 0 ? 8.f : 4.f;
     for (int c = 0; c < 3; ++c) color.At(c, 1, 1) = 8;
+    // A firefly beside a negative channel (ringing): its positive parts make it bright.
+    color.At(0, 7, 8) = 20, color.At(1, 7, 8) = -25;
     Image mask = ref::NforMask(&albedo, w, h, 1.5);
     auto clamp = [&](double line) {
         return ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, true, line);
@@ -290,8 +293,10 @@ TEST(NforClampLine, KeepsAStreakNotAFirefly) {
             EXPECT_EQ(on.At(c, 4, x), x % 2 == 0 ? off.At(c, 4, x) : 4.f) << x;
             EXPECT_EQ(wide.At(c, 4, x), color.At(c, 4, x)) << x;
         }
-    for (const Image *image : {&off, &on, &wide})
+    for (const Image *image : {&off, &on, &wide}) {
         for (int c = 0; c < 3; ++c) EXPECT_LT(image->At(c, 1, 1), 1.f);
+        EXPECT_LT(image->At(0, 7, 8), 1.f);
+    }
 }
 
 // Weights exp(-e): e's terms T = (d^2 - s) / (s + eps) are each at least -1 and are averaged
