@@ -406,6 +406,18 @@ CompareStats MatchWithinFloatSums(const Image &expected, const Image &actual,
     return stats;
 }
 
+// The method's output against the CPU twin's fits and gather with the frame's normals and
+// ids: within the float sums' round-off but for at most 2% of the values.
+void ExpectMatchesGuidedReference(const Frame &f, const PivotParams &p, const Image &output) {
+    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, &f.ids);
+    ref::PivotGuides guides{&f.normal, &f.ids};
+    Image expected =
+        ref::PivotGather(f.color, f.pivot, ratio, ref::PivotFit(ratio, guides, p), guides);
+    CompareStats stats = MatchWithinFloatSums(expected, output, f.color);
+    EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
+    EXPECT_LT(stats.nmse, 1e-8);
+}
+
 class PivotMethod : public GpuTest {};
 
 // Guides or none, and a filter: the method's variants.
@@ -624,13 +636,7 @@ TEST_F(PivotMethod, IdEdgePixelsAreFilteredByTheirOwnIds) {
         << " against the input's " << inputError / edgeValues;
     for (int c = 0; c < 3; ++c)
         EXPECT_EQ(result.image.At(c, rimY, rimX), f.color.At(c, rimY, rimX)) << "the rim";
-    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, &f.ids);
-    ref::PivotGuides refGuides{&f.normal, &f.ids};
-    Image expected = ref::PivotGather(f.color, f.pivot, ratio,
-                                      ref::PivotFit(ratio, refGuides, p), refGuides);
-    CompareStats stats = MatchWithinFloatSums(expected, result.image, f.color);
-    EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
-    EXPECT_LT(stats.nmse, 1e-8);
+    ExpectMatchesGuidedReference(f, p, result.image);
 }
 
 // Issue #29, a chrome sphere's rim: pixels whose samples saw a wall only in part (the rest
@@ -680,13 +686,7 @@ TEST_F(PivotMethod, PixelsThatSawTheSurfaceInPartAreNotItsData) {
     EXPECT_LT(error, 0.65 * fullError)
         << "the wall beside the rim: mean relative error " << error
         << ", with the rim's normals at full length " << fullError;
-    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, p.floor, &f.ids);
-    ref::PivotGuides refGuides{&f.normal, &f.ids};
-    Image expected = ref::PivotGather(f.color, f.pivot, ratio,
-                                      ref::PivotFit(ratio, refGuides, p), refGuides);
-    CompareStats stats = MatchWithinFloatSums(expected, result.image, f.color);
-    EXPECT_LE(stats.mismatches, expected.Size() / 50) << "nmse " << stats.nmse;
-    EXPECT_LT(stats.nmse, 1e-8);
+    ExpectMatchesGuidedReference(f, p, result.image);
 }
 
 // Values kept at their input beside other ids against the CPU reference (bit for bit: copies
