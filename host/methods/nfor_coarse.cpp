@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "host/methods/nfor_emitters.h"
+
 namespace mcd {
 
 Image NforHalf(const Image &image, bool ofMean) {
@@ -86,8 +88,8 @@ void NforAddCoarse(const Image &input, const Image &coarse, const Image *albedo,
     for (int y = 0; y < h; ++y) {
         Tap ty = TapAt(y, coarse.height);
         for (int x = 0; x < w; ++x) {
-            if (albedo && std::max({albedo->At(0, y, x), albedo->At(1, y, x),
-                                    albedo->At(2, y, x)}) > emitterAlbedo)
+            if (albedo &&
+                NforLargestAlbedo(*albedo, size_t(y) * albedo->width + x) > emitterAlbedo)
                 continue;
             Tap tx = TapAt(x, coarse.width);
             float d[4] = {}, length = 0;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "host/methods/nfor_emitters.h"
+
 namespace mcd {
 
 namespace {
@@ -58,9 +60,8 @@ std::vector<uint8_t> EmitterKinds(const Image &mask, const NforKeptSettings &k) 
     for (int y = 0; y < mask.height; ++y)
         for (int x = 0; x < mask.width; ++x) {
             if (mask.At(0, y, x) != 0) continue;
-            float most = 0;
-            for (int c = 0; k.albedo && c < k.albedo->channels; ++c)
-                most = std::max(most, k.albedo->At(c, y, x));
+            const float most =
+                k.albedo ? NforLargestAlbedo(*k.albedo, size_t(y) * mask.width + x) : 0.f;
             bool weak = k.weakEmitterAlbedo > 0 && most < k.weakEmitterAlbedo;
             kind[size_t(y) * mask.width + x] = weak ? 1 : 2;
         }

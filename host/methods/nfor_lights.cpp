@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "host/methods/nfor_emitters.h"
+
 namespace mcd {
 
 size_t NforSpreadLights(const Image &albedo, const Image *alpha, const NforLightSettings &s,
@@ -19,8 +21,7 @@ size_t NforSpreadLights(const Image &albedo, const Image *alpha, const NforLight
             share[i] = 0;
             continue;
         }
-        float most = albedo.Plane(0)[i];
-        for (int c = 1; c < albedo.channels; ++c) most = std::max(most, albedo.Plane(c)[i]);
+        const float most = NforLargestAlbedo(albedo, i);
         if (!(most > s.emitterAlbedo)) continue;
         share[i] = double(most < s.weakAlbedo ? s.weakShare : s.strongShare);
     }
