@@ -29,10 +29,13 @@ double Divisor(const Image *divisor, int c, int x, int y) {
     return a > kNforNoiseAlbedoFloor ? a : 0;
 }
 
-// Whether two divisors divide alike: neither divides, or both within the ratio.
+// Whether two divisors divide alike: neither divides, or both within the ratio. The
+// divisors are the albedo's floats and the products are rounded to float as the kernels
+// round them, so a ratio at the bound (quantized albedos meet it exactly) is decided alike.
 bool Alike(double a, double b) {
     if (a == 0 || b == 0) return a == b;
-    return a <= b * kNforNoiseDivisorRatio && b <= a * kNforNoiseDivisorRatio;
+    const float fa = float(a), fb = float(b), ratio = float(kNforNoiseDivisorRatio);
+    return fa <= fb * ratio && fb <= fa * ratio;
 }
 
 // z = value / divisor (the value where not divided).

@@ -231,6 +231,49 @@ TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, NforClampKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
+// Two albedos at the ratio's bound as float rounds it (quantized albedos, e.g. a partly
+// covered pixel's, meet it exactly): a neighbour's albedo b = float(a x ratio), rounded up,
+// is alike to a in float and not in exact arithmetic. The neighbour's z decides the centre's
+// median, so the kernel and the reference must draw the same line: both clamp the centre.
+TEST_F(GpuTest, NforClampDividesAlikeAtTheRatioAsTheKernel) {
+    const float ratio = float(NFOR_NOISE_DIVISOR_RATIO);
+    float a = 0.1f;
+    while (!(double(a * ratio) > double(a) * double(ratio))) a = std::nextafter(a, 1.f);
+    const float b = a * ratio;
+    ASSERT_GT(double(b), double(a) * double(ratio));
+    const int w = 3, h = 3;
+    Image color(w, h, 3), variance(w, h, 3), albedo(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                // Unlike the centre (not an emitter): excluded from its median.
+                float d = 0.5f, z = 2;
+                if (x == 1 && y == 1) d = a, z = 10;
+                if (x == 0 && y == 1) d = b, z = 1;
+                if (x == 2 && y == 1) d = a, z = 20;
+                albedo.At(c, y, x) = d;
+                color.At(c, y, x) = z * d;
+                variance.At(c, y, x) = 1e-6f;
+            }
+    const float threshold = 3, relative = 0.5f, emitterAlbedo = 1.5f;
+    Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
+    Image expected =
+        ref::NforClamp(color, variance, &albedo, mask, threshold, relative, 0, -1, false, 0);
+    vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
+    vk::GpuImage d = Upload(Ctx(), albedo, "albedo");
+    vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
+    vk::Recorder recorder(Ctx());
+    RecordNforClamp(Ctx(), recorder, c, v, &d, threshold, relative, emitterAlbedo, 0, -1, false,
+                    0, out, m);
+    recorder.Submit();
+    Image actual = out.Download();
+    for (int ch = 0; ch < 3; ++ch) {
+        // The median of z 1 and 20 is 1: the centre's z 10 is clamped to about 1.5.
+        EXPECT_LT(expected.At(ch, 1, 1), 2 * a) << "channel " << ch;
+        EXPECT_NEAR(actual.At(ch, 1, 1), expected.At(ch, 1, 1), 1e-5 * expected.At(ch, 1, 1));
+    }
+}
+
 // A highlight whose channels cross their limits unevenly (red and green far above their
 // neighbours, blue not): clamped each on its own it turns blue; summed, it takes t = 1 -
 // (the second smallest share a channel keeps) of itself scaled by one factor, the sum of
