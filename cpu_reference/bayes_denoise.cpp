@@ -89,14 +89,15 @@ bool InsideDark(const Image &image, const std::vector<double> &floors, int y, in
 
 }  // namespace
 
-Image BayesLog(const Image &color, const std::vector<double> &floors) {
+Image BayesLog(const Image &color, const std::vector<double> &floors, bool fillMissed) {
     Image out(color.width, color.height, color.channels);
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < color.height; ++y)
             for (int x = 0; x < color.width; ++x) {
                 double v = color.At(c, y, x);
                 bool usable = std::isfinite(v) && v > floors[c];
-                bool missed = std::isfinite(v) && v >= 0 && DarkPixel(color, floors, y, x) &&
+                bool missed = fillMissed && std::isfinite(v) && v >= 0 &&
+                              DarkPixel(color, floors, y, x) &&
                               !InsideDark(color, floors, y, x);
                 out.At(c, y, x) = missed ? float(MissedSampleLog(color, floors, c, y, x))
                                          : float(std::log(usable ? v : floors[c]));
@@ -268,7 +269,7 @@ BayesRefResult BayesDenoiseOnce(const Image &color, const BayesParams &options,
     };
     int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
     std::vector<double> floors = BayesFloors(color, double(options.floorRel));
-    Image logImage = BayesLog(color, floors);
+    Image logImage = BayesLog(color, floors, options.restoreZeros);
     stage("log", logImage);
     // Opponent colour: L = (r+g+b)/sqrt3, C1 = (r-g)/sqrt2, C2 = (r+g-2b)/sqrt6 of the logs.
     const double k3 = 1 / std::sqrt(3.0), k2 = 1 / std::sqrt(2.0), k6 = 1 / std::sqrt(6.0);

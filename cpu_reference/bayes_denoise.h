@@ -22,12 +22,13 @@ namespace mcd::ref {
 // negatives, tiny) take its log.
 std::vector<double> BayesFloors(const Image &color, double floorRel);
 
-// log(max(v, floor_c)); NaN, Inf and values <= floor_c take log(floor_c), but in a dark pixel
+// log(max(v, floor_c)); NaN, Inf and values <= floor_c take log(floor_c), but with fillMissed
+// (--zeros restore), in a dark pixel
 // (no channel finite and above its floor) not inside dark (no opposite pair of 3x3 neighbour
 // pixels both dark; coordinates clamped to the frame), a sample that missed the light, the
 // values in [0, floor_c] take the mean of log(max(v, floor_c)) over the in-frame 3x3
 // neighbour pixels that are not dark (log(floor_c) when none is).
-Image BayesLog(const Image &color, const std::vector<double> &floors);
+Image BayesLog(const Image &color, const std::vector<double> &floors, bool fillMissed);
 
 // exp(z), or exactly 0 where the original value was NaN/Inf/negative, and, when
 // restoreZeros, where it was 0 inside black: an opposite pair of its 3x3 neighbour pixels

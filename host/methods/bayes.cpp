@@ -747,7 +747,8 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     bool swt = options.transform == BayesTransform::Swt && levels > 0;
     ChannelGroups groups = BayesChannelGroups(context, color, levels, swt, setup);
     BayesGpu gpu(context, color, floors, levels, swt, groups, options.basis);
-    RecordBayesLog(context, run.Recorder(), gpu.color, gpu.floors, gpu.work);
+    RecordBayesLog(context, run.Recorder(), gpu.color, gpu.floors, gpu.work,
+                   options.restoreZeros);
     run.Stage("log", gpu.work);
     if (levels == 0) {
         run.Plan("left out: the shrinkage (a 1x1 image has no detail band)");

@@ -59,7 +59,7 @@ void main() {
     if (x >= push.width) return;
     int at = (c * push.height + y) * push.width + x;
     float v = color[at], floorValue = floors[c];
-    if (Finite(v) && v >= 0.0 && DarkAt(x, y) && !OnDark(x, y))
+    if (push.fillMissed != 0 && Finite(v) && v >= 0.0 && DarkAt(x, y) && !OnDark(x, y))
         outLog[at] = MissedSampleLog(x, y, c, floorValue);
     else
         outLog[at] = log(Finite(v) && v > floorValue ? v : floorValue);

@@ -356,37 +356,40 @@ TEST_P(BayesLogKernel, MatchesReference) {
     std::vector<double> refFloors = ref::BayesFloors(color, 1e-3);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(floors[c], refFloors[c], 1e-6 * refFloors[c]);
     std::vector<double> floorsAsGpu(floors.begin(), floors.end());
-    Image expected = ref::BayesLog(color, floorsAsGpu);
     vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log");
     in.Upload(color);
     vk::Buffer floorsGpu = Floats(floors, "floors");
-    auto run = [&] {
-        vk::Recorder recorder(Ctx());
-        RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
-        recorder.Submit();
-        return out.Download();
-    };
-    Image scale(w, h, 3);
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                float &s = scale.At(c, y, x);
-                s = std::fabs(expected.At(c, y, x));
-                if (!(color.At(c, y, x) >= 0 && color.At(c, y, x) <= floors[c])) continue;
-                for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, h - 1); ++ny)
-                    for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, w - 1); ++nx) {
-                        float n = color.At(c, ny, nx);
-                        bool lit = std::isfinite(n) && n > floors[c];
-                        s = std::max(s, 3 * std::fabs(std::log(lit ? n : floors[c])));
-                    }
-            }
-    Image logGpu = run();
-    EXPECT_TRUE(ImagesMatch(expected, logGpu, scale, {4 * kUnitRoundoff, 0x1p-21, 1e-9}));
-    EXPECT_TRUE(BitIdentical(logGpu, run()));
+    for (bool fillMissed : {false, true}) {
+        SCOPED_TRACE(fillMissed ? "missed samples filled" : "the floor");
+        Image expected = ref::BayesLog(color, floorsAsGpu, fillMissed);
+        auto run = [&] {
+            vk::Recorder recorder(Ctx());
+            RecordBayesLog(Ctx(), recorder, in, floorsGpu, out, fillMissed);
+            recorder.Submit();
+            return out.Download();
+        };
+        Image scale(w, h, 3);
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    float &s = scale.At(c, y, x);
+                    s = std::fabs(expected.At(c, y, x));
+                    if (!(color.At(c, y, x) >= 0 && color.At(c, y, x) <= floors[c])) continue;
+                    for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, h - 1); ++ny)
+                        for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, w - 1); ++nx) {
+                            float n = color.At(c, ny, nx);
+                            bool lit = std::isfinite(n) && n > floors[c];
+                            s = std::max(s, 3 * std::fabs(std::log(lit ? n : floors[c])));
+                        }
+                }
+        Image logGpu = run();
+        EXPECT_TRUE(ImagesMatch(expected, logGpu, scale, {4 * kUnitRoundoff, 0x1p-21, 1e-9}));
+        EXPECT_TRUE(BitIdentical(logGpu, run()));
+    }
 }
 
-// A zero lone among lit pixels takes the mean log of its lit neighbours; a zero inside black
-// or on a black line, and a zero with no lit neighbour above the floor, take the floor's.
+// With --zeros restore, a zero lone among lit pixels takes the mean log of its lit neighbours;
+// a zero inside black or on a black line takes the floor's, and every zero does without it.
 TEST_F(BayesKernel, LogFillsMissedSamplesFromTheirNeighbours) {
     const int w = 10, h = 8;
     Image color(w, h, 1);
@@ -399,10 +402,15 @@ TEST_F(BayesKernel, LogFillsMissedSamplesFromTheirNeighbours) {
     vk::GpuImage in(Ctx(), w, h, 1, "color"), out(Ctx(), w, h, 1, "log");
     in.Upload(color);
     vk::Buffer floorsGpu = Floats(floors, "floors");
-    vk::Recorder recorder(Ctx());
-    RecordBayesLog(Ctx(), recorder, in, floorsGpu, out);
-    recorder.Submit();
-    Image got = out.Download(), expected = ref::BayesLog(color, {0.01f});
+    auto run = [&](bool fillMissed) {
+        vk::Recorder recorder(Ctx());
+        RecordBayesLog(Ctx(), recorder, in, floorsGpu, out, fillMissed);
+        recorder.Submit();
+        return out.Download();
+    };
+    Image got = run(true), expected = ref::BayesLog(color, {0.01f}, true);
+    for (const Image &image : {run(false), ref::BayesLog(color, {0.01f}, false)})
+        EXPECT_NEAR(image.At(0, 2, 3), std::log(0.01), 1e-5) << "the floor without the fill";
     double mean = 0;
     for (int y = 1; y <= 3; ++y)
         for (int x = 2; x <= 4; ++x)
@@ -425,7 +433,7 @@ TEST_P(BayesExpKernel, MatchesReference) {
     const auto [w, h] = GetParam();
     SCOPED_TRACE(fmt::format("{}x{}", w, h));
     Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayesexp{}x{}", w, h)));
-    Image logImage = ref::BayesLog(color, ref::BayesFloors(color, 1e-3));
+    Image logImage = ref::BayesLog(color, ref::BayesFloors(color, 1e-3), true);
     vk::GpuImage in(Ctx(), w, h, 3, "color"), log(Ctx(), w, h, 3, "log"),
         back(Ctx(), w, h, 3, "exp");
     in.Upload(color);
