@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <limits>
+#include <utility>
 
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/wavelet_analyze.h"
@@ -31,14 +32,75 @@ std::vector<double> BayesFloors(const Image &color, double floorRel) {
     return floors;
 }
 
-Image BayesLog(const Image &color, const std::vector<double> &floors) {
+namespace {
+
+// Whether the pixel at (x, y), clamped to the frame, is black: no channel finite positive.
+bool BlackAt(const Image &image, int y, int x) {
+    y = std::clamp(y, 0, image.height - 1), x = std::clamp(x, 0, image.width - 1);
+    for (int c = 0; c < image.channels; ++c) {
+        float v = image.At(c, y, x);
+        if (std::isfinite(v) && v > 0) return false;
+    }
+    return true;
+}
+
+// Whether (x, y) lies inside black or on a black line: some pair of opposite 3x3 neighbour
+// pixels both black.
+bool InsideBlack(const Image &image, int y, int x) {
+    for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}})
+        if (BlackAt(image, y + dy, x + dx) && BlackAt(image, y - dy, x - dx)) return true;
+    return false;
+}
+
+// Whether the pixel at (x, y), clamped to the frame, is dark: no channel finite and above its
+// floor.
+bool DarkPixel(const Image &image, const std::vector<double> &floors, int y, int x) {
+    y = std::clamp(y, 0, image.height - 1), x = std::clamp(x, 0, image.width - 1);
+    for (int c = 0; c < image.channels; ++c) {
+        double v = image.At(c, y, x);
+        if (std::isfinite(v) && v > floors[c]) return false;
+    }
+    return true;
+}
+
+// The mean of log(max(v, floor)) over the in-frame 3x3 neighbour pixels that are not dark,
+// log(floor) when none is.
+double MissedSampleLog(const Image &image, const std::vector<double> &floors, int c, int y,
+                       int x) {
+    double sum = 0;
+    int count = 0;
+    for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, image.height - 1); ++ny)
+        for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, image.width - 1); ++nx) {
+            if ((nx == x && ny == y) || DarkPixel(image, floors, ny, nx)) continue;
+            double v = image.At(c, ny, nx);
+            sum += std::log(std::isfinite(v) && v > floors[c] ? v : floors[c]), ++count;
+        }
+    return count ? sum / count : std::log(floors[c]);
+}
+
+// Whether both neighbour pixels of (x, y) along a row, column or diagonal are dark.
+bool InsideDark(const Image &image, const std::vector<double> &floors, int y, int x) {
+    for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}})
+        if (DarkPixel(image, floors, y + dy, x + dx) &&
+            DarkPixel(image, floors, y - dy, x - dx))
+            return true;
+    return false;
+}
+
+}  // namespace
+
+Image BayesLog(const Image &color, const std::vector<double> &floors, bool fillMissed) {
     Image out(color.width, color.height, color.channels);
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < color.height; ++y)
             for (int x = 0; x < color.width; ++x) {
                 double v = color.At(c, y, x);
                 bool usable = std::isfinite(v) && v > floors[c];
-                out.At(c, y, x) = float(std::log(usable ? v : floors[c]));
+                bool missed = fillMissed && std::isfinite(v) && v >= 0 &&
+                              DarkPixel(color, floors, y, x) &&
+                              !InsideDark(color, floors, y, x);
+                out.At(c, y, x) = missed ? float(MissedSampleLog(color, floors, c, y, x))
+                                         : float(std::log(usable ? v : floors[c]));
             }
     return out;
 }
@@ -50,7 +112,8 @@ Image BayesExp(const Image &logImage, const Image &original, bool restoreZeros) 
             for (int x = 0; x < out.width; ++x) {
                 double v = original.At(c, y, x);
                 double z = std::clamp(double(logImage.At(c, y, x)), -87.0, 88.0);
-                bool keep = std::isfinite(v) && (v > 0 || (!restoreZeros && v == 0));
+                bool black = restoreZeros && v == 0 && InsideBlack(original, y, x);
+                bool keep = std::isfinite(v) && (v > 0 || (v == 0 && !black));
                 out.At(c, y, x) = keep ? float(std::exp(z)) : 0.f;
             }
     return out;
@@ -206,7 +269,7 @@ BayesRefResult BayesDenoiseOnce(const Image &color, const BayesParams &options,
     };
     int levels = std::min(options.levels, MaxWaveletLevels(color.width, color.height));
     std::vector<double> floors = BayesFloors(color, double(options.floorRel));
-    Image logImage = BayesLog(color, floors);
+    Image logImage = BayesLog(color, floors, options.restoreZeros);
     stage("log", logImage);
     // Opponent colour: L = (r+g+b)/sqrt3, C1 = (r-g)/sqrt2, C2 = (r+g-2b)/sqrt6 of the logs.
     const double k3 = 1 / std::sqrt(3.0), k2 = 1 / std::sqrt(2.0), k6 = 1 / std::sqrt(6.0);

@@ -22,11 +22,19 @@ namespace mcd::ref {
 // negatives, tiny) take its log.
 std::vector<double> BayesFloors(const Image &color, double floorRel);
 
-// log(max(v, floor_c)); NaN, Inf and values <= 0 take log(floor_c).
-Image BayesLog(const Image &color, const std::vector<double> &floors);
+// log(max(v, floor_c)); NaN, Inf and values <= floor_c take log(floor_c), but with fillMissed
+// (--zeros restore), in a dark pixel
+// (no channel finite and above its floor) not inside dark (no opposite pair of 3x3 neighbour
+// pixels both dark; coordinates clamped to the frame), a sample that missed the light, the
+// values in [0, floor_c] take the mean of log(max(v, floor_c)) over the in-frame 3x3
+// neighbour pixels that are not dark (log(floor_c) when none is).
+Image BayesLog(const Image &color, const std::vector<double> &floors, bool fillMissed);
 
-// exp(z), or exactly 0 where the original value was NaN/Inf/negative, and where it was 0
-// when restoreZeros (black stays black). z is clamped to [-87, 88] so exp stays finite.
+// exp(z), or exactly 0 where the original value was NaN/Inf/negative, and, when
+// restoreZeros, where it was 0 inside black: an opposite pair of its 3x3 neighbour pixels
+// (clamped to the frame) both without a finite positive channel (black stays black; a lone
+// zero among lit pixels is a sample that missed the light and takes exp(z)).
+// z is clamped to [-87, 88].
 Image BayesExp(const Image &logImage, const Image &original, bool restoreZeros = true);
 
 // One detail band of the Mallat layout: [x0, x1) x [y0, y1) of channel `channel`.

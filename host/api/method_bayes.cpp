@@ -170,7 +170,10 @@ class Bayes : public FrontEndOf<BayesSettings> {
         std::vector<std::string> ignored;
         const Image *variance = Variance(inputs, &ignored);
         bool split = Split(inputs) && SplitMismatch(inputs).empty();
-        const Image &input = inputs.Get(split ? "indirect" : "color");
+        size_t rounded = 0;
+        const Image input =
+            split ? SplitIndirect(inputs.Get("direct"), inputs.Get("indirect"), &rounded)
+                  : inputs.Get("color");
         ref::BayesRefRun r;
         r.keepStages = true;
         // --noise variance: the reference makes its own estimate (ref::BayesVarianceNoise).

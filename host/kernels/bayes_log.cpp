@@ -11,7 +11,7 @@
 namespace mcd {
 
 void RecordBayesLog(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                    const vk::Buffer &floors, vk::GpuImage &out) {
+                    const vk::Buffer &floors, vk::GpuImage &out, bool fillMissed) {
     if (!color.buffer.Valid() || color.width != out.width || color.height != out.height ||
         color.channels != out.channels)
         throw Error(
@@ -27,7 +27,7 @@ void RecordBayesLog(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                                                   BAYES_LOG_BINDINGS,
                                                   sizeof(shader::BayesLogPush),
                                                   {}});
-    shader::BayesLogPush push{color.width, color.height};
+    shader::BayesLogPush push{color.width, color.height, fillMissed ? 1 : 0};
     recorder.Dispatch(kernel, "bayes.log",
                       {{BAYES_LOG_COLOR, &color.buffer, vk::Access::Read},
                        {BAYES_LOG_FLOORS, &floors, vk::Access::Read},

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 
 #include "bayes/bayes.h"
 #include "host/common/cycle_spin.h"
@@ -35,6 +36,21 @@ bool Finite(float v) {
     return std::isfinite(v);
 }
 
+// Whether the exp kernel keeps a zero at (x, y) black with --zeros restore: both neighbour
+// pixels along a row, column or diagonal (clamped to the frame) black, no channel finite
+// positive.
+bool InsideBlack(const Image &color, int y, int x) {
+    auto black = [&](int yy, int xx) {
+        yy = std::clamp(yy, 0, color.height - 1), xx = std::clamp(xx, 0, color.width - 1);
+        for (int c = 0; c < color.channels; ++c)
+            if (float v = color.At(c, yy, xx); Finite(v) && v > 0) return false;
+        return true;
+    };
+    for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}})
+        if (black(y + dy, x + dx) && black(y - dy, x - dx)) return true;
+    return false;
+}
+
 // Count what the log domain cannot take as is, with the first place of each. Black and
 // nearly black values are ordinary in a render: one line says what became of them.
 void CountSpecials(const Image &color, const std::vector<float> &floors, bool restoreZeros,
@@ -43,6 +59,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
         size_t n = 0;
         int x = 0, y = 0, c = 0;
     } nonFinite, negative, zero, dark;
+    size_t keptBlack = 0;
     auto add = [](Count &count, int c, int y, int x) {
         if (count.n++ == 0) count.x = x, count.y = y, count.c = c;
     };
@@ -54,8 +71,10 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
                     add(nonFinite, c, y, x);
                 else if (v < 0)
                     add(negative, c, y, x);
-                else if (v <= floors[c])
-                    add(dark, c, y, x), zero.n += v == 0;
+                else if (v <= floors[c]) {
+                    add(dark, c, y, x);
+                    if (v == 0) ++zero.n, keptBlack += restoreZeros && InsideBlack(color, y, x);
+                }
             }
     auto say = [&](const Count &count, const char *what, const std::string &then) {
         if (count.n)
@@ -65,12 +84,18 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
     };
     say(nonFinite, "NaN/Inf", "taken as the log floor, output 0");
     say(negative, "negative", "taken as the log floor, output 0");
-    std::string black = zero.n == 0 ? ""
-                        : restoreZeros
-                            ? fmt::format("; the {} black one{} stay{} black", zero.n,
-                                          zero.n == 1 ? "" : "s", zero.n == 1 ? "s" : "")
-                            : fmt::format(", the {} black one{} too (--zeros denoise)", zero.n,
-                                          zero.n == 1 ? "" : "s");
+    size_t lone = zero.n - keptBlack;
+    std::string black =
+        zero.n == 0 ? ""
+        : !restoreZeros
+            ? fmt::format(", the {} black one{} too (--zeros denoise)", zero.n,
+                          zero.n == 1 ? "" : "s")
+            : fmt::format("; the {} black one{} stay{} black", keptBlack,
+                          keptBlack == 1 ? "" : "s", keptBlack == 1 ? "s" : "") +
+                  (lone ? fmt::format(" ({} more, lone among lit pixels, are samples that "
+                                      "missed the light: denoised)",
+                                      lone)
+                        : "");
     say(dark, "black or nearly black",
         "below the log domain's floor (--log-floor x the channel's median), denoised from "
         "it" +
@@ -712,8 +737,9 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         "log domain (eqs. 4-5), per channel; floor {} x the channel's median positive value; "
         "{}",
         options.floorRel,
-        options.restoreZeros ? "zeros restored exactly after exp"
-                             : "zeros denoised like other pixels (--zeros denoise)"));
+        options.restoreZeros
+            ? "zeros inside black or on a black line restored exactly after exp"
+            : "zeros denoised like other pixels (--zeros denoise)"));
     if (levels < options.levels)
         run.Plan(fmt::format("{} levels requested; a {}x{} image allows {}", options.levels,
                              color.width, color.height, levels));
@@ -721,7 +747,8 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
     bool swt = options.transform == BayesTransform::Swt && levels > 0;
     ChannelGroups groups = BayesChannelGroups(context, color, levels, swt, setup);
     BayesGpu gpu(context, color, floors, levels, swt, groups, options.basis);
-    RecordBayesLog(context, run.Recorder(), gpu.color, gpu.floors, gpu.work);
+    RecordBayesLog(context, run.Recorder(), gpu.color, gpu.floors, gpu.work,
+                   options.restoreZeros);
     run.Stage("log", gpu.work);
     if (levels == 0) {
         run.Plan("left out: the shrinkage (a 1x1 image has no detail band)");
@@ -790,6 +817,18 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesPa
     return result;
 }
 
+Image SplitIndirect(const Image &direct, const Image &indirect, size_t *rounded) {
+    Image out = indirect;
+    *rounded = 0;
+    for (size_t i = 0; i < out.Size(); ++i) {
+        float v = out.data[i], d = direct.data[i];
+        if (v < 0 && std::isfinite(d) &&
+            -v <= kSplitRoundingUlps * std::numeric_limits<float>::epsilon() * std::fabs(d))
+            out.data[i] = 0, ++*rounded;
+    }
+    return out;
+}
+
 BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const Image &indirect,
                               const BayesParams &params, const RunSetup &setup,
                               const Image *variance) {
@@ -798,10 +837,17 @@ BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const I
                                 direct.width, direct.height, direct.channels, indirect.width,
                                 indirect.height, indirect.channels),
                     ErrorKind::InvalidArgument);
-    BayesResult result = BayesDenoise(context, indirect, params, setup, variance);
+    size_t rounded = 0;
+    BayesResult result = BayesDenoise(context, SplitIndirect(direct, indirect, &rounded),
+                                      params, setup, variance);
     // Its warnings are about the indirect layer, which the user may not know is what ran.
     for (std::string &warning : result.warnings)
         if (warning.rfind("bayes: ", 0) == 0) warning.insert(5, " (indirect layer)");
+    if (rounded)
+        result.plan.push_back(fmt::format(
+            "{} value{} of the indirect layer below 0 by the split's rounding only (within {} "
+            "float roundings of direct, where direct + indirect = color) taken as 0",
+            rounded, rounded == 1 ? "" : "s", kSplitRoundingUlps));
     size_t nonFinite = 0;
     for (size_t i = 0; i < direct.Size(); ++i) {
         float d = direct.data[i];

@@ -49,7 +49,16 @@ struct BayesResult : MethodResult {
 BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesParams &params,
                          const RunSetup &setup = {}, const Image *variance = nullptr);
 
-// Section 4.1: denoise the indirect part only and add the direct part back.
+// Negative values of the indirect layer within this many float roundings of direct's
+// magnitude are the rounding of direct + indirect = color, not negative light.
+constexpr int kSplitRoundingUlps = 8;
+
+// The indirect layer bayes denoises: its negative values within kSplitRoundingUlps of
+// direct (an indirect composed as color - direct, by accumulate or from Blender's light
+// passes, where all the light is direct) set to 0 and counted in `rounded`.
+Image SplitIndirect(const Image &direct, const Image &indirect, size_t *rounded);
+
+// Section 4.1: denoise the indirect part only (SplitIndirect) and add the direct part back.
 BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const Image &indirect,
                               const BayesParams &params, const RunSetup &setup = {},
                               const Image *variance = nullptr);

@@ -1,6 +1,8 @@
-// Method `bayes`, last stage: back from the log domain. out = exp(clamp(z, -87, 88)), or,
-// with restoreZeros, exactly 0 where the original value was not a finite positive number
-// (black stays black); without it only NaN/Inf/negative originals give 0.
+// Method `bayes`, last stage: back from the log domain. out = exp(clamp(z, -87, 88)), or
+// exactly 0 where the original value was NaN/Inf or negative; with restoreZeros also where it
+// was an exact zero whose two neighbour pixels along a row, column or diagonal (clamped to
+// the frame) are black, no channel finite positive (black stays black; a lone zero among lit
+// pixels is a sample that missed the light, filled by the log stage and denoised).
 #ifndef MCD_SHADERS_BAYES_EXP_H
 #define MCD_SHADERS_BAYES_EXP_H
 
