@@ -496,6 +496,49 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
     return clamped;
 }
 
+size_t BoundToInputRange(const Image &input, int radius, Image *output) {
+    size_t moved = 0;
+    for (int y = 0; y < input.height; ++y)
+        for (int x = 0; x < input.width; ++x) {
+            // Each channel's range (none where the input or output is not finite), and the
+            // largest share t of the pixel's move that keeps every channel in its range.
+            std::vector<double> lo(input.channels), hi(input.channels);
+            std::vector<bool> bounded(input.channels, false);
+            double t = 1;
+            for (int c = 0; c < input.channels; ++c) {
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                if (!std::isfinite(in) || !std::isfinite(out)) continue;
+                bounded[c] = true;
+                lo[c] = hi[c] = in;
+                for (int dy = -radius; dy <= radius; ++dy)
+                    for (int dx = -radius; dx <= radius; ++dx) {
+                        int yy = y + dy, xx = x + dx;
+                        if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width)
+                            continue;
+                        double q = input.At(c, yy, xx);
+                        if (!std::isfinite(q)) continue;
+                        if (q < lo[c]) lo[c] = q;
+                        if (q > hi[c]) hi[c] = q;
+                    }
+                if (out > hi[c]) t = std::min(t, (hi[c] - in) / (out - in));
+                if (out < lo[c]) t = std::min(t, (in - lo[c]) / (in - out));
+            }
+            if (t == 1) continue;
+            for (int c = 0; c < input.channels; ++c) {
+                if (!bounded[c]) continue;
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                float value = float(in + t * (out - in));
+                if (value < float(lo[c])) value = float(lo[c]);
+                if (value > float(hi[c])) value = float(hi[c]);
+                if (value != output->At(c, y, x)) {
+                    output->At(c, y, x) = value;
+                    ++moved;
+                }
+            }
+        }
+    return moved;
+}
+
 Image FrameNoise(const Image &color, const Image *albedo) {
     const int w = color.width, h = color.height;
     Image out(w, h, color.channels);

@@ -28,6 +28,9 @@ struct PivotSettings {
     // Keep the values kept at their input beside other ids as they are (ClampKeptEdgeValues
     // off).
     bool keepEdges = false;
+    // The output held to the range of its input's (2 r + 1)^2 window (BoundToInputRange);
+    // 0: off.
+    int range = 1;
     // The output bound to k standard deviations of the input's noise (BoundToNoise); 0: off.
     float bound = 3;
     // Set by ForTiles: the whole frame's thresholds (of the pivot, of each partial's).
@@ -115,8 +118,17 @@ class Pivot : public FrontEndOf<PivotSettings> {
                          "leave the values the filter kept at their input beside other ids "
                          "(mixing in a side far from their own) as they are; by default each "
                          "is clamped to the range of the filtered values of both sides in "
-                         "its 3x3 window, which takes out their noise (dots along id edges)",
+                         "its 3x3 window, which takes out their noise (dots along id edges); "
+                         "in a part at most two pixels wide the range also spans its own ids' "
+                         "level within 2, the lower of their median and its pivot times "
+                         "their median over the pivot (dots along a wire)",
                          &PivotSettings::keepEdges),
+               IntParam("pivot-range",
+                        "each pixel ends within the range of its input's values in the "
+                        "window of this half-size, its channels moved toward their input by "
+                        "one share (plane fits that extrapolate a highlight's slope or its "
+                        "fireflies beyond every input around them; beyond the paper; 0: off)",
+                        &PivotSettings::range, 0, 16),
                FloatParam("pivot-bound",
                           "each value ends at most this many standard deviations of its "
                           "noise (the variance layer, else estimated from the frame; the "
@@ -167,15 +179,24 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                "difference of color / pivot over 4 directions, times the "
                                "pivot squared");
         if (!options.keepEdges) {
-            KeptEdges kept =
-                ClampKeptEdgeValues(*in.color, in.objectId, in.partId, &result.image);
+            KeptEdges kept = ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId,
+                                                 &result.image);
             result.plan.push_back(fmt::format(
                 "kept edges: {} values kept at their input beside other ids clamped to the "
-                "range of both sides' filtered values in their 3x3 window; {} keep their input "
-                "and its noise (no filtered value of both sides around them: a part at most "
-                "two pixels wide, which no fit reaches)",
-                kept.clamped, kept.alone));
+                "range of both sides' filtered values in their 3x3 window, {} of them in parts "
+                "at most two pixels wide (no filtered value of both sides around them) to the "
+                "range that also spans their own ids' level within 2 (the lower of the median "
+                "value and the pivot times the median value / pivot); {} keep their input and "
+                "its noise (no pixel of their ids around them)",
+                kept.clamped, kept.thin, kept.alone));
             if (run.keepStages) result.stages.push_back({"kept edges", result.image});
+        }
+        if (options.range > 0) {
+            size_t moved = BoundToInputRange(*in.color, options.range, &result.image);
+            result.plan.push_back(fmt::format(
+                "range: {} values moved to within their input's range in its {}x{} window",
+                moved, 2 * options.range + 1, 2 * options.range + 1));
+            if (run.keepStages) result.stages.push_back({"range", result.image});
         }
         if (options.bound > 0) {
             // Without a variance layer, the frame's own noise estimate (auto's).
@@ -231,14 +252,15 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
-        // the kept edges' 3x3 window.
-        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 1);
+        // the kept edges' 5x5 window (a thin part's own median); the range's window.
+        const int bound =
+            (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) + options.range;
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += mean + bound + frameNoise;
         needs.reachText += fmt::format(
-            "; the local mean's coarse and fine tents {}; {} for the bound's noise and the "
-            "kept edges' window; {} for the frame's noise estimate",
+            "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
+            "kept edges' and the range's windows; {} for the frame's noise estimate",
             mean, bound, frameNoise);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
@@ -284,8 +306,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
         if (!options.keepEdges) {
-            ref::ClampKeptEdgeValues(*in.color, in.objectId, in.partId, &out);
+            ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
             cpu.emplace_back("kept edges", out);
+        }
+        if (options.range > 0) {
+            ref::BoundToInputRange(*in.color, options.range, &out);
+            cpu.emplace_back("range", out);
         }
         if (options.bound > 0) {
             Image estimated;

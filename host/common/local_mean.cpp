@@ -703,6 +703,54 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
     return moved.load();
 }
 
+size_t BoundToInputRange(const Image &input, int radius, Image *output) {
+    if (!input.SameShape(*output) || radius < 0)
+        throw Error("BoundToInputRange: the output must have the input's shape, radius >= 0",
+                    ErrorKind::Internal);
+    const int w = input.width, h = input.height, channels = input.channels;
+    const int side = 2 * radius + 1;
+    std::atomic<size_t> moved{0};
+    ParallelFor(h, size_t(w) * h * side * side * channels, [&](int yBegin, int yEnd) {
+        size_t movedHere = 0;
+        std::vector<float> lo(channels), hi(channels);
+        std::vector<bool> bounded(channels);
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                // The share t of each value's move that every channel's range allows.
+                double t = 1;
+                for (int c = 0; c < channels; ++c) {
+                    const float *in = input.Plane(c);
+                    const double i = in[p], o = output->Plane(c)[p];
+                    bounded[c] = std::isfinite(i) && std::isfinite(o);
+                    if (!bounded[c]) continue;
+                    lo[c] = hi[c] = in[p];
+                    for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                        for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius);
+                             ++u) {
+                            const float q = in[size_t(v) * w + u];
+                            if (!std::isfinite(q)) continue;
+                            lo[c] = std::min(lo[c], q);
+                            hi[c] = std::max(hi[c], q);
+                        }
+                    if (o > hi[c]) t = std::min(t, (hi[c] - i) / (o - i));
+                    if (o < lo[c]) t = std::min(t, (i - lo[c]) / (i - o));
+                }
+                if (t == 1) continue;
+                for (int c = 0; c < channels; ++c) {
+                    if (!bounded[c]) continue;
+                    float *out = &output->Plane(c)[p];
+                    const double i = input.Plane(c)[p];
+                    const float value =
+                        std::clamp(float(i + t * (double(*out) - i)), lo[c], hi[c]);
+                    if (value != *out) *out = value, ++movedHere;
+                }
+            }
+        moved += movedHere;
+    });
+    return moved.load();
+}
+
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
                                         const Image *variance, double rebalance) {
     LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, rebalance, true);

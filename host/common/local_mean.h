@@ -205,6 +205,16 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 // or the input's channels. Returns how many values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
+// Each pixel of `output` held to the range of its input's neighbourhood (beyond the papers):
+// per channel [min, max] of the finite input values of the (2 radius + 1)^2 window clipped to
+// the image. A filter that averages cannot leave that range; plane fits can, where they
+// extrapolate a highlight's slope or its fireflies (a glossy ring's fits several times the
+// brightest input around it), and a noise bound lets them, as a highlight's variance is
+// large. A pixel's channels move toward their input by one share t, the largest that keeps
+// every channel in its range (a bound on one channel alone would tint it). Values whose input
+// or output is not finite are left. Returns how many values moved.
+size_t BoundToInputRange(const Image &input, int radius, Image *output);
+
 // The variance of the pixel mean estimated from a frame without sample statistics, robust
 // to the frame's own structure (beyond the papers): per channel z = color / albedo (its one
 // channel or channel c; 1 where it is <= 0.02 or there is none); at each pixel e, the

@@ -146,6 +146,27 @@ TEST_P(LocalMeanMatches, BoundToNoiseMatchesReference) {
     }
 }
 
+// The input-range bound against its reference on the random inputs (NaN, Inf, zeros,
+// negatives, spikes) and outputs, radii 1 and 2: the same count and bits (both take the
+// share in double and round once), and the same when repeated.
+TEST_P(LocalMeanMatches, BoundToInputRangeMatchesReference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    for (int radius : {1, 2}) {
+        Image expected = output, got = output;
+        size_t count = ref::BoundToInputRange(input, radius, &expected);
+        EXPECT_EQ(BoundToInputRange(input, radius, &got), count) << radius;
+        EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
+            << radius;
+        if (input.PixelCount() > 16) {
+            EXPECT_GT(count, 0u) << "the case moves nothing";
+        }
+        Image again = output;
+        BoundToInputRange(input, radius, &again);
+        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+    }
+}
+
 // The frame's robust noise estimate against its reference: with an albedo of one channel
 // and of the colour's (values at and under the 0.02 floor among them) and without; the
 // same bits (both take z in float and the rest in double, and pick the same median), and
@@ -372,6 +393,34 @@ TEST(LocalMeanProperties, BoundMovesAPixelsChannelsByOneShare) {
     Image reference(1, 1, 1, -1.f);
     EXPECT_EQ(ref::BoundToNoise(dark, wide, 3, &reference), 1u);
     EXPECT_EQ(reference.At(0, 0, 0), negative.At(0, 0, 0));
+}
+
+// Issue #29, a glossy ring's highlights: fits several times the brightest input around them
+// end at that input's range, the pixel's channels moved by one share (no tint); a value
+// inside the range stays, and a firefly within the window widens it.
+TEST(LocalMeanProperties, BoundToInputRangeMovesAPixelsChannelsByOneShare) {
+    Image input(5, 1, 3), output(5, 1, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int x = 0; x < 5; ++x) input.At(c, 0, x) = output.At(c, 0, x) = 1 + 0.1f * x;
+    // Pixel 2: red 4 times the largest red within 1 (1.3); green inside the range.
+    output.At(0, 0, 2) = 5.2f;
+    output.At(1, 0, 2) = 1.25f;
+    // Pixel 4: below the range in blue only (its window 1.3 .. 1.4).
+    output.At(2, 0, 4) = 1.f;
+    EXPECT_EQ(BoundToInputRange(input, 1, &output), 3u);
+    // Red allows 0.1 of its 4.0 move: t = 1 / 40, every channel moves by it.
+    EXPECT_NEAR(output.At(0, 0, 2), 1.3f, 1e-6f);
+    EXPECT_NEAR(output.At(1, 0, 2), 1.2f + 0.05f / 40, 1e-6f);
+    EXPECT_EQ(output.At(2, 0, 2), 1.2f);
+    EXPECT_NEAR(output.At(2, 0, 4), 1.3f, 1e-6f);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(output.At(c, 0, 1), input.At(c, 0, 1)) << c;
+    Image wide = input;
+    wide.At(0, 0, 3) = 10;  // a firefly within 1 widens pixel 2's range
+    Image kept(5, 1, 3);
+    kept.data = input.data;
+    kept.At(0, 0, 2) = 5.2f;
+    EXPECT_EQ(BoundToInputRange(wide, 1, &kept), 0u);
+    EXPECT_EQ(kept.At(0, 0, 2), 5.2f);
 }
 
 // Lone spikes against the reference on the random inputs (NaN, Inf, zeros, negatives,
