@@ -20,6 +20,12 @@
 namespace mcd::api {
 namespace {
 
+// The input-range bound's widening, in standard deviations of the input's noise: none.
+// Widened, it left the overshoots of plain frames, whose noise estimated from the frame is
+// large at highlights; pixels of variance 0 are left instead (a dim frame's windows of few
+// samples that all missed the light its fits see).
+constexpr double kPivotRangeSpread = 0;
+
 // The method's parameters, and which layers feed it.
 struct PivotSettings {
     PivotParams method;
@@ -191,26 +197,30 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 kept.clamped, kept.thin, kept.alone));
             if (run.keepStages) result.stages.push_back({"kept edges", result.image});
         }
+        // Without a variance layer, the range and the bound read the frame's own noise
+        // estimate (auto's).
+        Image estimated;
+        if (!in.variance && (options.range > 0 || options.bound > 0))
+            estimated = AutoNoise(context, *in.color, in.pivot, 1).image;
+        const Image &variance = in.variance ? *in.variance : estimated;
+        const char *noiseSource = in.variance ? "the variance layer"
+                                              : "estimated from the frame divided by the pivot";
         if (options.range > 0) {
-            size_t moved = BoundToInputRange(*in.color, options.range, &result.image);
+            size_t moved = BoundToInputRange(*in.color, variance, options.range,
+                                             kPivotRangeSpread, &result.image);
             result.plan.push_back(fmt::format(
-                "range: {} values moved to within their input's range in its {}x{} window",
-                moved, 2 * options.range + 1, 2 * options.range + 1));
+                "range: {} values moved to within their input's range in its {}x{} window "
+                "(those of variance 0 left; {})",
+                moved, 2 * options.range + 1, 2 * options.range + 1, noiseSource));
             if (run.keepStages) result.stages.push_back({"range", result.image});
         }
         if (options.bound > 0) {
-            // Without a variance layer, the frame's own noise estimate (auto's).
-            Image estimated;
-            if (!in.variance) estimated = AutoNoise(context, *in.color, in.pivot, 1).image;
-            const Image &variance = in.variance ? *in.variance : estimated;
             size_t moved = BoundToNoise(*in.color, variance, options.bound, &result.image);
             result.plan.push_back(fmt::format(
                 "bound: {} values moved to within {} standard deviations of their input's "
                 "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
                 "larger)",
-                moved, options.bound,
-                in.variance ? "the variance layer"
-                            : "estimated from the frame divided by the pivot"));
+                moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
         if (int r = options.method.meanRadius; r > 0) {
@@ -309,15 +319,16 @@ class Pivot : public FrontEndOf<PivotSettings> {
             ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
             cpu.emplace_back("kept edges", out);
         }
+        Image estimated;
+        if (!in.variance && (options.range > 0 || options.bound > 0))
+            estimated = ref::AutoNoise(*in.color, in.pivot, 1);
+        const Image &variance = in.variance ? *in.variance : estimated;
         if (options.range > 0) {
-            ref::BoundToInputRange(*in.color, options.range, &out);
+            ref::BoundToInputRange(*in.color, variance, options.range, kPivotRangeSpread, &out);
             cpu.emplace_back("range", out);
         }
         if (options.bound > 0) {
-            Image estimated;
-            if (!in.variance) estimated = ref::AutoNoise(*in.color, in.pivot, 1);
-            ref::BoundToNoise(*in.color, in.variance ? *in.variance : estimated, options.bound,
-                              &out);
+            ref::BoundToNoise(*in.color, variance, options.bound, &out);
             cpu.emplace_back("bound", out);
         }
         if (int r = options.method.meanRadius; r > 0) {

@@ -152,18 +152,34 @@ TEST_P(LocalMeanMatches, BoundToNoiseMatchesReference) {
 TEST_P(LocalMeanMatches, BoundToInputRangeMatchesReference) {
     Image input, output;
     MakeImages(GetParam(), &input, &output);
-    for (int radius : {1, 2}) {
-        Image expected = output, got = output;
-        size_t count = ref::BoundToInputRange(input, radius, &expected);
-        EXPECT_EQ(BoundToInputRange(input, radius, &got), count) << radius;
-        EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
-            << radius;
-        if (input.PixelCount() > 16) {
-            EXPECT_GT(count, 0u) << "the case moves nothing";
+    std::mt19937_64 rng(SeedFromName("local mean range"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int channels : {1, GetParam().channels}) {
+        Image variance(input.width, input.height, channels);
+        for (float &v : variance.data) {
+            float u = unit(rng);
+            v = u < 0.02f   ? std::numeric_limits<float>::quiet_NaN()
+                : u < 0.03f ? -unit(rng)
+                : u < 0.2f  ? 0.f
+                            : 0.01f * unit(rng);
         }
-        Image again = output;
-        BoundToInputRange(input, radius, &again);
-        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+        for (int radius : {1, 2})
+            for (double k : {0.0, 1.0}) {
+                Image expected = output, got = output;
+                size_t count = ref::BoundToInputRange(input, variance, radius, k, &expected);
+                EXPECT_EQ(BoundToInputRange(input, variance, radius, k, &got), count)
+                    << radius << " " << k;
+                EXPECT_EQ(
+                    0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
+                    << channels << " " << radius << " " << k;
+                if (input.PixelCount() > 100) {
+                    EXPECT_GT(count, 0u) << "the case moves nothing";
+                }
+                Image again = output;
+                BoundToInputRange(input, variance, radius, k, &again);
+                EXPECT_EQ(0,
+                          std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+            }
     }
 }
 
@@ -397,9 +413,10 @@ TEST(LocalMeanProperties, BoundMovesAPixelsChannelsByOneShare) {
 
 // Issue #29, a glossy ring's highlights: fits several times the brightest input around them
 // end at that input's range, the pixel's channels moved by one share (no tint); a value
-// inside the range stays, and a firefly within the window widens it.
+// inside the range stays, a firefly within the window widens it, and so does the noise by k
+// of its standard deviations; a pixel of variance 0 is left.
 TEST(LocalMeanProperties, BoundToInputRangeMovesAPixelsChannelsByOneShare) {
-    Image input(5, 1, 3), output(5, 1, 3);
+    Image input(5, 1, 3), output(5, 1, 3), variance(5, 1, 3, 1e-4f);
     for (int c = 0; c < 3; ++c)
         for (int x = 0; x < 5; ++x) input.At(c, 0, x) = output.At(c, 0, x) = 1 + 0.1f * x;
     // Pixel 2: red 4 times the largest red within 1 (1.3); green inside the range.
@@ -407,7 +424,8 @@ TEST(LocalMeanProperties, BoundToInputRangeMovesAPixelsChannelsByOneShare) {
     output.At(1, 0, 2) = 1.25f;
     // Pixel 4: below the range in blue only (its window 1.3 .. 1.4).
     output.At(2, 0, 4) = 1.f;
-    EXPECT_EQ(BoundToInputRange(input, 1, &output), 3u);
+    Image widened = output, still = output;
+    EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &output), 3u);
     // Red allows 0.1 of its 4.0 move: t = 1 / 40, every channel moves by it.
     EXPECT_NEAR(output.At(0, 0, 2), 1.3f, 1e-6f);
     EXPECT_NEAR(output.At(1, 0, 2), 1.2f + 0.05f / 40, 1e-6f);
@@ -419,8 +437,15 @@ TEST(LocalMeanProperties, BoundToInputRangeMovesAPixelsChannelsByOneShare) {
     Image kept(5, 1, 3);
     kept.data = input.data;
     kept.At(0, 0, 2) = 5.2f;
-    EXPECT_EQ(BoundToInputRange(wide, 1, &kept), 0u);
+    EXPECT_EQ(BoundToInputRange(wide, variance, 1, 0, &kept), 0u);
     EXPECT_EQ(kept.At(0, 0, 2), 5.2f);
+    // Widened by 10 deviations of 0.01: red allows 0.2 of its 4.0 move.
+    BoundToInputRange(input, variance, 1, 10, &widened);
+    EXPECT_NEAR(widened.At(0, 0, 2), 1.4f, 1e-6f);
+    // Variance 0 in red: red is not bounded, green and blue stay inside theirs.
+    variance.At(0, 0, 2) = 0;
+    EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &still), 1u);
+    EXPECT_EQ(still.At(0, 0, 2), 5.2f);
 }
 
 // Lone spikes against the reference on the random inputs (NaN, Inf, zeros, negatives,
