@@ -1,5 +1,6 @@
 #include "cpu_reference/kept_edges.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -26,8 +27,8 @@ bool SameFloat(float a, float b) {
 
 }  // namespace
 
-size_t ClampKeptEdgeValues(const Image &input, const Image *objectId, const Image *partId,
-                           Image *output) {
+size_t ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
+                           const Image *partId, Image *output) {
     if (!objectId && !partId) return 0;
     const Image before = *output;
     const int w = input.width, h = input.height;
@@ -56,7 +57,39 @@ size_t ClampKeptEdgeValues(const Image &input, const Image *objectId, const Imag
                         else
                             other = true;
                     }
-                if (!own || !other) continue;
+                if (!own || !other) {
+                    // A thin part: the lower of the upper median of its own ids' values within
+                    // 2 and the pivot times the upper median of their ratios value / pivot.
+                    std::vector<float> line, ratios;
+                    for (int v = y - 2; v <= y + 2; ++v)
+                        for (int u = x - 2; u <= x + 2; ++u) {
+                            if (v < 0 || v >= h || u < 0 || u >= w || (u == x && v == y) ||
+                                !SameIds(objectId, partId, x, y, u, v))
+                                continue;
+                            float o = before.At(c, v, u), a = pivot.At(c, v, u);
+                            if (!std::isfinite(o)) continue;
+                            line.push_back(o);
+                            float ratio = o / a;
+                            if (a > 0 && std::isfinite(ratio)) ratios.push_back(ratio);
+                        }
+                    if (line.empty()) continue;
+                    // The other ids' values in the 3x3 window, kept ones too.
+                    for (int v = y - 1; v <= y + 1; ++v)
+                        for (int u = x - 1; u <= x + 1; ++u)
+                            if (v >= 0 && v < h && u >= 0 && u < w &&
+                                !SameIds(objectId, partId, x, y, u, v) &&
+                                std::isfinite(before.At(c, v, u)))
+                                values.push_back(before.At(c, v, u));
+                    std::sort(line.begin(), line.end());
+                    float level = line[line.size() / 2];
+                    const float here = pivot.At(c, y, x);
+                    if (!ratios.empty() && here > 0) {
+                        std::sort(ratios.begin(), ratios.end());
+                        float scaled = here * ratios[ratios.size() / 2];
+                        if (std::isfinite(scaled) && scaled < level) level = scaled;
+                    }
+                    values.push_back(level);
+                }
                 float lo = values[0], hi = values[0];
                 for (float o : values) {
                     if (o < lo) lo = o;

@@ -496,6 +496,70 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
     return clamped;
 }
 
+size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
+                         Image *output) {
+    size_t moved = 0;
+    for (int y = 0; y < input.height; ++y)
+        for (int x = 0; x < input.width; ++x) {
+            // Each channel's range (none where the input or output is not finite, or a
+            // variance of the 3x3 window is not), and the largest share t of the pixel's move
+            // that keeps every channel in its range.
+            std::vector<double> lo(input.channels), hi(input.channels);
+            std::vector<bool> bounded(input.channels, false);
+            double t = 1;
+            for (int c = 0; c < input.channels; ++c) {
+                int vc = variance.channels == 1 ? 0 : c;
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                std::vector<double> window;
+                bool usable = true;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        int yy = y + dy, xx = x + dx;
+                        if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width)
+                            continue;
+                        double v = variance.At(vc, yy, xx);
+                        if (!std::isfinite(v) || v < 0) usable = false;
+                        window.push_back(v);
+                    }
+                if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
+                    !std::isfinite(out))
+                    continue;
+                std::sort(window.begin(), window.end());
+                double rest = 0;
+                for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
+                rest = window.size() > 1 ? rest / double(window.size() - 1) : 0;
+                double spread = std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
+                bounded[c] = true;
+                double least = in, most = in;
+                for (int dy = -radius; dy <= radius; ++dy)
+                    for (int dx = -radius; dx <= radius; ++dx) {
+                        int yy = y + dy, xx = x + dx;
+                        if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width)
+                            continue;
+                        double q = input.At(c, yy, xx);
+                        if (!std::isfinite(q)) continue;
+                        if (q < least) least = q;
+                        if (q > most) most = q;
+                    }
+                lo[c] = least - k * spread;
+                hi[c] = most + k * spread;
+                if (out > hi[c]) t = std::min(t, (hi[c] - in) / (out - in));
+                if (out < lo[c]) t = std::min(t, (in - lo[c]) / (in - out));
+            }
+            if (t == 1) continue;
+            for (int c = 0; c < input.channels; ++c) {
+                if (!bounded[c]) continue;
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                float value = float(std::clamp(in + t * (out - in), lo[c], hi[c]));
+                if (value != output->At(c, y, x)) {
+                    output->At(c, y, x) = value;
+                    ++moved;
+                }
+            }
+        }
+    return moved;
+}
+
 Image FrameNoise(const Image &color, const Image *albedo) {
     const int w = color.width, h = color.height;
     Image out(w, h, color.channels);

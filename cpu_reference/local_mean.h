@@ -80,6 +80,17 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 // in its range. Returns the number of values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
+// Each output value held to [min - k s, max + k s], min and max over the finite input values
+// of its channel in the (2 radius + 1)^2 window clipped to the image, s as BoundToNoise's
+// spread over its k (the square root of the larger of the pixel's variance and its 3x3
+// window's mean without the largest); the channels of a pixel whose variance is above 0, whose
+// input and output are finite and whose window's variances are finite and not negative move
+// to input + t (output -
+// input), one t for the pixel: the largest that keeps every one of them in its range. Returns
+// the number of values moved.
+size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
+                         Image *output);
+
 // The frame's robust noise estimate (host/common/local_mean.h, FrameNoise): per channel
 // z = color / a (a: the albedo's one channel or channel c, where > 0.02, else 1); per pixel
 // e = min over the directions (0,1), (1,0), (1,1), (1,-1) with both neighbours inside of

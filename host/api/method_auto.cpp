@@ -399,6 +399,7 @@ std::vector<ParamValue> Values(const FrontEnd &method) {
 std::unique_ptr<FrontEnd> Configure(const FrontEnd &base, const RegisteredVariant &v,
                                     const Noise &noise, bool *runsSplit) {
     std::unique_ptr<FrontEnd> method = base.Clone();
+    for (const auto &[param, value] : v.method->autoSettings) method->Set(param, value);
     for (const auto &[param, value] : v.variant->overrides) method->Set(param, value);
     *runsSplit = false;
     if (noise.scored && v.method->name == "bayes") {
@@ -789,6 +790,7 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
             continue;
         std::unique_ptr<FrontEnd> method = base.Clone();
+        for (const auto &[param, value] : v.method->autoSettings) method->Set(param, value);
         for (const auto &[param, value] : v.variant->overrides) method->Set(param, value);
         TileNeeds one = method->Tiling(context, inputs);
         needs.reach = std::max(needs.reach, one.reach);

@@ -20,6 +20,12 @@
 namespace mcd::api {
 namespace {
 
+// The input-range bound's widening, in standard deviations of the input's noise: none.
+// Widened, it left the overshoots of plain frames, whose noise estimated from the frame is
+// large at highlights; pixels of variance 0 are left instead (a dim frame's windows of few
+// samples that all missed the light its fits see).
+constexpr double kPivotRangeSpread = 0;
+
 // The method's parameters, and which layers feed it.
 struct PivotSettings {
     PivotParams method;
@@ -28,6 +34,9 @@ struct PivotSettings {
     // Keep the values kept at their input beside other ids as they are (ClampKeptEdgeValues
     // off).
     bool keepEdges = false;
+    // The output held to the range of its input's (2 r + 1)^2 window (BoundToInputRange);
+    // 0: off.
+    int range = 1;
     // The output bound to k standard deviations of the input's noise (BoundToNoise); 0: off.
     float bound = 3;
     // Set by ForTiles: the whole frame's thresholds (of the pivot, of each partial's).
@@ -115,8 +124,17 @@ class Pivot : public FrontEndOf<PivotSettings> {
                          "leave the values the filter kept at their input beside other ids "
                          "(mixing in a side far from their own) as they are; by default each "
                          "is clamped to the range of the filtered values of both sides in "
-                         "its 3x3 window, which takes out their noise (dots along id edges)",
+                         "its 3x3 window, which takes out their noise (dots along id edges); "
+                         "in a part at most two pixels wide the range also spans its own ids' "
+                         "level within 2, the lower of their median and its pivot times "
+                         "their median over the pivot (dots along a wire)",
                          &PivotSettings::keepEdges),
+               IntParam("pivot-range",
+                        "each pixel ends within the range of its input's values in the "
+                        "window of this half-size, its channels moved toward their input by "
+                        "one share (plane fits that extrapolate a highlight's slope or its "
+                        "fireflies beyond every input around them; beyond the paper; 0: off)",
+                        &PivotSettings::range, 0, 16),
                FloatParam("pivot-bound",
                           "each value ends at most this many standard deviations of its "
                           "noise (the variance layer, else estimated from the frame; the "
@@ -167,29 +185,42 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                "difference of color / pivot over 4 directions, times the "
                                "pivot squared");
         if (!options.keepEdges) {
-            KeptEdges kept =
-                ClampKeptEdgeValues(*in.color, in.objectId, in.partId, &result.image);
+            KeptEdges kept = ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId,
+                                                 &result.image);
             result.plan.push_back(fmt::format(
                 "kept edges: {} values kept at their input beside other ids clamped to the "
-                "range of both sides' filtered values in their 3x3 window; {} keep their input "
-                "and its noise (no filtered value of both sides around them: a part at most "
-                "two pixels wide, which no fit reaches)",
-                kept.clamped, kept.alone));
+                "range of both sides' filtered values in their 3x3 window, {} of them in parts "
+                "at most two pixels wide (no filtered value of both sides around them) to the "
+                "range that also spans their own ids' level within 2 (the lower of the median "
+                "value and the pivot times the median value / pivot); {} keep their input and "
+                "its noise (no pixel of their ids around them)",
+                kept.clamped, kept.thin, kept.alone));
             if (run.keepStages) result.stages.push_back({"kept edges", result.image});
         }
+        // Without a variance layer, the range and the bound read the frame's own noise
+        // estimate (auto's).
+        Image estimated;
+        if (!in.variance && (options.range > 0 || options.bound > 0))
+            estimated = AutoNoise(context, *in.color, in.pivot, 1).image;
+        const Image &variance = in.variance ? *in.variance : estimated;
+        const char *noiseSource = in.variance ? "the variance layer"
+                                              : "estimated from the frame divided by the pivot";
+        if (options.range > 0) {
+            size_t moved = BoundToInputRange(*in.color, variance, options.range,
+                                             kPivotRangeSpread, &result.image);
+            result.plan.push_back(fmt::format(
+                "range: {} values moved to within their input's range in its {}x{} window "
+                "(those of variance 0 left; {})",
+                moved, 2 * options.range + 1, 2 * options.range + 1, noiseSource));
+            if (run.keepStages) result.stages.push_back({"range", result.image});
+        }
         if (options.bound > 0) {
-            // Without a variance layer, the frame's own noise estimate (auto's).
-            Image estimated;
-            if (!in.variance) estimated = AutoNoise(context, *in.color, in.pivot, 1).image;
-            const Image &variance = in.variance ? *in.variance : estimated;
             size_t moved = BoundToNoise(*in.color, variance, options.bound, &result.image);
             result.plan.push_back(fmt::format(
                 "bound: {} values moved to within {} standard deviations of their input's "
                 "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
                 "larger)",
-                moved, options.bound,
-                in.variance ? "the variance layer"
-                            : "estimated from the frame divided by the pivot"));
+                moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
         if (int r = options.method.meanRadius; r > 0) {
@@ -231,14 +262,15 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
-        // the kept edges' 3x3 window.
-        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 1);
+        // the kept edges' 5x5 window (a thin part's own median); the range's window.
+        const int bound =
+            (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) + options.range;
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += mean + bound + frameNoise;
         needs.reachText += fmt::format(
-            "; the local mean's coarse and fine tents {}; {} for the bound's noise and the "
-            "kept edges' window; {} for the frame's noise estimate",
+            "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
+            "kept edges' and the range's windows; {} for the frame's noise estimate",
             mean, bound, frameNoise);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
@@ -284,14 +316,19 @@ class Pivot : public FrontEndOf<PivotSettings> {
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
         if (!options.keepEdges) {
-            ref::ClampKeptEdgeValues(*in.color, in.objectId, in.partId, &out);
+            ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
             cpu.emplace_back("kept edges", out);
         }
+        Image estimated;
+        if (!in.variance && (options.range > 0 || options.bound > 0))
+            estimated = ref::AutoNoise(*in.color, in.pivot, 1);
+        const Image &variance = in.variance ? *in.variance : estimated;
+        if (options.range > 0) {
+            ref::BoundToInputRange(*in.color, variance, options.range, kPivotRangeSpread, &out);
+            cpu.emplace_back("range", out);
+        }
         if (options.bound > 0) {
-            Image estimated;
-            if (!in.variance) estimated = ref::AutoNoise(*in.color, in.pivot, 1);
-            ref::BoundToNoise(*in.color, in.variance ? *in.variance : estimated, options.bound,
-                              &out);
+            ref::BoundToNoise(*in.color, variance, options.bound, &out);
             cpu.emplace_back("bound", out);
         }
         if (int r = options.method.meanRadius; r > 0) {

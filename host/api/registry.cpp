@@ -93,6 +93,9 @@ std::vector<MethodEntry> Build() {
            {},
            AutoVariant::kHalves,
            NforCheaperProbe}}},
+        // pivot's candidates without its input-range bound: held near their input where the
+        // fits overshoot, they drew auto's weights to pivot where its error is the input's
+        // (docs/methods/pivot.md, ninth round).
         {"pivot",
          PivotFrontEnd,
          3,
@@ -111,7 +114,8 @@ std::vector<MethodEntry> Build() {
            {0.5f, 0.5f, 0.5f},
            "grey",
            kGuideLayers,
-           AutoVariant::kOwn}}},
+           AutoVariant::kOwn}},
+         {{"pivot-range", 0}}},
         {"rhf",
          RhfFrontEnd,
          1,

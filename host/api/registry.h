@@ -46,6 +46,9 @@ struct MethodEntry {
     // frame allows by this, lowest first; -1: never picked.
     int pick = -1;
     std::vector<AutoVariant> variants;  // empty: auto does not run it
+    // Parameters auto sets over the user's for every variant of the method, before the
+    // variant's own overrides (which mark a variant; these do not).
+    std::vector<std::pair<std::string, ParamValue>> autoSettings;
 };
 
 // The methods, in the order the command line lists them.

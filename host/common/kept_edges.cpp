@@ -30,12 +30,42 @@ bool Kept(float in, float out) {
     return std::memcmp(&in, &out, sizeof(float)) == 0;
 }
 
+// The level of p's part along it: over the pixels of p's ids within 2 of it (itself left out)
+// whose value is finite, the upper median of their values and, where p's pivot is above 0,
+// p's pivot times the upper median of value / pivot over those whose pivot is above 0, the
+// lower of the two. Each misleads upward where the other does not: the values where p covers
+// less of the part than its neighbours, the ratios where p's pivot carries a firefly of its
+// own (an emitter's albedo). False without such pixels.
+bool OwnLevel(const Ids &ids, const float *plane, const float *pivot, int w, int h, int x,
+              int y, float *level) {
+    const size_t p = size_t(y) * w + x;
+    float values[24], ratios[24];
+    int n = 0, m = 0;
+    for (int v = std::max(0, y - 2); v <= std::min(h - 1, y + 2); ++v)
+        for (int u = std::max(0, x - 2); u <= std::min(w - 1, x + 2); ++u) {
+            const size_t q = size_t(v) * w + u;
+            if (q == p || !ids.Same(p, q) || !std::isfinite(plane[q])) continue;
+            values[n++] = plane[q];
+            const float ratio = plane[q] / pivot[q];
+            if (pivot[q] > 0 && std::isfinite(ratio)) ratios[m++] = ratio;
+        }
+    if (n == 0) return false;
+    std::nth_element(values, values + n / 2, values + n);
+    *level = values[n / 2];
+    if (m > 0 && pivot[p] > 0) {
+        std::nth_element(ratios, ratios + m / 2, ratios + m);
+        const float scaled = pivot[p] * ratios[m / 2];
+        if (std::isfinite(scaled)) *level = std::min(*level, scaled);
+    }
+    return true;
+}
+
 }  // namespace
 
-KeptEdges ClampKeptEdgeValues(const Image &input, const Image *objectId, const Image *partId,
-                              Image *output) {
-    if (!input.SameShape(*output))
-        throw Error("ClampKeptEdgeValues: the output must have the input's shape",
+KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
+                              const Image *partId, Image *output) {
+    if (!input.SameShape(*output) || !input.SameShape(pivot))
+        throw Error("ClampKeptEdgeValues: the output and the pivot must have the input's shape",
                     ErrorKind::Internal);
     for (const Image *id : {objectId, partId})
         if (id && (id->width != input.width || id->height != input.height || id->channels != 1))
@@ -54,23 +84,42 @@ KeptEdges ClampKeptEdgeValues(const Image &input, const Image *objectId, const I
             for (int c = 0; c < input.channels; ++c) {
                 const float *in = input.Plane(c), *out = before.Plane(c);
                 if (!Kept(in[p], out[p]) || !std::isfinite(in[p])) continue;
-                float lo = 0, hi = 0;
-                bool own = false, other = false;
+                float lo = 0, hi = 0, otherLo = 0, otherHi = 0;
+                bool own = false, other = false, otherKept = false;
                 for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
                     for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u) {
                         const size_t q = size_t(v) * w + u;
-                        if (q == p || Kept(in[q], out[q]) || !std::isfinite(out[q])) continue;
+                        if (q == p || !std::isfinite(out[q])) continue;
+                        const bool same = ids.Same(p, q);
+                        // Other ids' values, kept ones too (a light's, as written).
+                        if (!same) {
+                            otherLo = otherKept ? std::min(otherLo, out[q]) : out[q];
+                            otherHi = otherKept ? std::max(otherHi, out[q]) : out[q];
+                            otherKept = true;
+                        }
+                        if (Kept(in[q], out[q])) continue;
                         lo = own || other ? std::min(lo, out[q]) : out[q];
                         hi = own || other ? std::max(hi, out[q]) : out[q];
-                        (ids.Same(p, q) ? own : other) = true;
+                        (same ? own : other) = true;
                     }
-                if (!own || !other) {
-                    ++kept.alone;
-                    continue;
+                // A thin part: its own ids' level along it and the other ids' values around
+                // it, kept ones too, join the range (a light's rim seen as the wall keeps
+                // the light's share).
+                const bool thin = !own || !other;
+                if (thin) {
+                    float level;
+                    if (!OwnLevel(ids, out, pivot.Plane(c), w, h, x, y, &level)) {
+                        ++kept.alone;
+                        continue;
+                    }
+                    lo = own || other ? std::min(lo, level) : level;
+                    hi = own || other ? std::max(hi, level) : level;
+                    if (otherKept) lo = std::min(lo, otherLo), hi = std::max(hi, otherHi);
                 }
                 if (in[p] >= lo && in[p] <= hi) continue;
                 output->Plane(c)[p] = std::clamp(in[p], lo, hi);
                 ++kept.clamped;
+                kept.thin += thin ? 1 : 0;
             }
         }
     return kept;

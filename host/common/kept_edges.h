@@ -4,8 +4,13 @@
 // the other side's light. Kept, its noise stays, a sparse line of light and dark dots along
 // the edge (a room's ceiling edge). Its true value lies between the two sides' values around
 // it, so the input is clamped to the range of the filtered values in its 3x3 window, of its
-// own ids and of the others. A value without filtered neighbours of both kinds (a part at most
-// two pixels wide, whose every pixel is kept) stays as it is.
+// own ids and of the others. In a part at most two pixels wide (a wire, a fence's mesh, a
+// blade of grass) every pixel is kept and none has filtered values of both kinds around it:
+// there the range also takes its own ids' level within 2 pixels (along the part): the lower
+// of their values' median and its pivot times their ratios' to the pivot (its coverage and
+// texture), so a value no sample lit, or a firefly, does not stand out of its line as a dot;
+// and the other ids' values around it, kept ones too, so a light's rim seen as the wall keeps
+// the light's share.
 #pragma once
 
 #include <cstddef>
@@ -18,12 +23,17 @@ namespace mcd {
 // 4-neighbour of another object or part id (`objectId`, `partId`: one channel each, or null),
 // the range of the other values of its channel in its 3x3 window (clipped to the image) that
 // are not kept and finite; where that range has values of the pixel's own ids and of others,
-// the value is clamped to it.
+// the value is clamped to it. Where it lacks either kind, the range also spans the level of
+// the other pixels of its own ids in its 5x5 window whose output is finite: the lower of the
+// upper median of their outputs and, where the pixel's `pivot` is above 0, that pivot times
+// the upper median of output / pivot over those whose pivot is above 0, and every finite
+// value of other ids in its 3x3 window, kept or not; without such pixels the value is left.
 struct KeptEdges {
     size_t clamped = 0;  // values moved
-    size_t alone = 0;    // kept values without filtered neighbours of both kinds: left
+    size_t thin = 0;     // of those, values without filtered neighbours of both kinds
+    size_t alone = 0;    // thin values without a pixel of their own ids within 2: left
 };
-KeptEdges ClampKeptEdgeValues(const Image &input, const Image *objectId, const Image *partId,
-                              Image *output);
+KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
+                              const Image *partId, Image *output);
 
 }  // namespace mcd

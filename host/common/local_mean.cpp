@@ -703,6 +703,88 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
     return moved.load();
 }
 
+namespace {
+
+// The bound's spread of channel c at p over k: the square root of the larger of the pixel's
+// variance and its 3x3 window's mean without the largest; -1 where the pixel's variance is 0
+// (every sample equal says nothing of the noise) or a variance of the window is not finite
+// or negative.
+double NoiseSpread(const Image &variance, int c, int x, int y) {
+    const int w = variance.width, h = variance.height;
+    const float *v = variance.Plane(variance.channels == 1 ? 0 : c);
+    if (!(v[size_t(y) * w + x] > 0)) return -1;
+    double sum = 0, largest = 0;
+    int count = 0;
+    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+            const float vi = v[size_t(j) * w + i];
+            if (!std::isfinite(vi) || vi < 0) return -1;
+            sum += vi;
+            largest = std::max(largest, double(vi));
+            ++count;
+        }
+    const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
+    return std::sqrt(std::max(double(v[size_t(y) * w + x]), rest));
+}
+
+}  // namespace
+
+size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
+                         Image *output) {
+    if (!input.SameShape(*output) || radius < 0 || !(k >= 0) || variance.width != input.width ||
+        variance.height != input.height ||
+        (variance.channels != 1 && variance.channels != input.channels))
+        throw Error(
+            "BoundToInputRange: the output must have the input's shape, the variance its size, "
+            "radius >= 0, k >= 0",
+            ErrorKind::Internal);
+    const int w = input.width, h = input.height, channels = input.channels;
+    const int side = 2 * radius + 1;
+    std::atomic<size_t> moved{0};
+    ParallelFor(h, size_t(w) * h * (side * side + 9) * channels, [&](int yBegin, int yEnd) {
+        size_t movedHere = 0;
+        std::vector<double> lo(channels), hi(channels);
+        std::vector<bool> bounded(channels);
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                // The share t of each value's move that every channel's range allows.
+                double t = 1;
+                for (int c = 0; c < channels; ++c) {
+                    const float *in = input.Plane(c);
+                    const double i = in[p], o = output->Plane(c)[p];
+                    const double spread = NoiseSpread(variance, c, x, y);
+                    bounded[c] = std::isfinite(i) && std::isfinite(o) && spread >= 0;
+                    if (!bounded[c]) continue;
+                    float least = in[p], most = in[p];
+                    for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                        for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius);
+                             ++u) {
+                            const float q = in[size_t(v) * w + u];
+                            if (!std::isfinite(q)) continue;
+                            least = std::min(least, q);
+                            most = std::max(most, q);
+                        }
+                    lo[c] = double(least) - k * spread;
+                    hi[c] = double(most) + k * spread;
+                    if (o > hi[c]) t = std::min(t, (hi[c] - i) / (o - i));
+                    if (o < lo[c]) t = std::min(t, (i - lo[c]) / (i - o));
+                }
+                if (t == 1) continue;
+                for (int c = 0; c < channels; ++c) {
+                    if (!bounded[c]) continue;
+                    float *out = &output->Plane(c)[p];
+                    const double i = input.Plane(c)[p];
+                    const float value =
+                        float(std::clamp(i + t * (double(*out) - i), lo[c], hi[c]));
+                    if (value != *out) *out = value, ++movedHere;
+                }
+            }
+        moved += movedHere;
+    });
+    return moved.load();
+}
+
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,
                                         const Image *variance, double rebalance) {
     LocalMeanFactors f = RestoreLocalMeans(input, r, output, variance, rebalance, true);

@@ -205,6 +205,24 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 // or the input's channels. Returns how many values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
+// Each pixel of `output` held to the range of its input's neighbourhood, widened by its noise
+// (beyond the papers): per channel [min - k s, max + k s], min and max over the finite input
+// values of the (2 radius + 1)^2 window clipped to the image, s the noise bound's standard
+// deviation (BoundToNoise: the larger of the pixel's variance and its 3x3 window's mean without
+// the largest). A filter that averages cannot leave that range by more than the noise lets the
+// truth; plane fits can, where they extrapolate a highlight's slope or its fireflies (a glossy
+// ring's fits several times the brightest input around them), and the noise bound lets them,
+// as a highlight's variance is large. Without the widening, a dim frame of few samples, whose
+// windows all missed the light, lost its fits (every input 0 around a pixel that the light
+// reaches). A pixel's channels move toward their input by one share t, the largest that keeps
+// every channel in its range (a bound on one channel alone would tint it). Values whose
+// variance is 0 (every sample equal: at a few samples per pixel, all of them missing the light;
+// bounded, they kept the input's grain), whose input or output is not finite, or whose window
+// has a variance that is not finite or is negative, are left. `variance`: 1 or the input's
+// channels. Returns how many values moved.
+size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
+                         Image *output);
+
 // The variance of the pixel mean estimated from a frame without sample statistics, robust
 // to the frame's own structure (beyond the papers): per channel z = color / albedo (its one
 // channel or channel c; 1 where it is <= 0.02 or there is none); at each pixel e, the

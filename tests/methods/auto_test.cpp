@@ -1061,15 +1061,18 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant"));
     // The methods auto runs that the frame allows (bayes and pivot; not nfor, weighed by the
-    // half-buffers only, nor awr, which runs where named): their plain mean, to the float
-    // sums' rounding.
+    // half-buffers only, nor awr, which runs where named), with auto's settings for them:
+    // their plain mean, to the float sums' rounding.
     EXPECT_TRUE(PlanHas(result, "left out nfor: weighed by the half-buffers' estimate only"));
     std::vector<Image> outputs;
     for (const api::MethodEntry &m : api::Registry())
         if (!m.variants.empty() &&
             (m.variants.front().estimates & api::AutoVariant::kVariance) &&
-            m.variants.front().byDefault && Method(m.name).Missing(frame).empty())
-            outputs.push_back(WithoutLocalMeans(Method(m.name)).Run(device, frame).image);
+            m.variants.front().byDefault && Method(m.name).Missing(frame).empty()) {
+            Method method(m.name);
+            for (const auto &[param, value] : m.autoSettings) method.Set(param, value);
+            outputs.push_back(WithoutLocalMeans(method).Run(device, frame).image);
+        }
     ASSERT_EQ(outputs.size(), 2u);
     for (size_t i = 0; i < result.image.data.size(); ++i) {
         double mean = 0, scale = 0;
@@ -1248,7 +1251,10 @@ TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
     EXPECT_GT(ShareOf(result, "pivot no ids"), 0)
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_GT(without, 40) << fmt::format("{}", fmt::join(result.plan, "\n"));
-    EXPECT_LT(with, 0.5 * without);
+    // With ids scattered pixel by pixel every pixel is a thin part, which pivot now clamps to
+    // its ids' level around it rather than keeping it: its variants with ids are nearer the
+    // ones without, and auto still leans on those.
+    EXPECT_LT(with, without);
     EXPECT_LE(automatic, 1.05 * std::min({withIds, withoutIds, bayes}));
 }
 

@@ -146,6 +146,43 @@ TEST_P(LocalMeanMatches, BoundToNoiseMatchesReference) {
     }
 }
 
+// The input-range bound against its reference on the random inputs (NaN, Inf, zeros,
+// negatives, spikes) and outputs, radii 1 and 2: the same count and bits (both take the
+// share in double and round once), and the same when repeated.
+TEST_P(LocalMeanMatches, BoundToInputRangeMatchesReference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    std::mt19937_64 rng(SeedFromName("local mean range"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int channels : {1, GetParam().channels}) {
+        Image variance(input.width, input.height, channels);
+        for (float &v : variance.data) {
+            float u = unit(rng);
+            v = u < 0.02f   ? std::numeric_limits<float>::quiet_NaN()
+                : u < 0.03f ? -unit(rng)
+                : u < 0.2f  ? 0.f
+                            : 0.01f * unit(rng);
+        }
+        for (int radius : {1, 2})
+            for (double k : {0.0, 1.0}) {
+                Image expected = output, got = output;
+                size_t count = ref::BoundToInputRange(input, variance, radius, k, &expected);
+                EXPECT_EQ(BoundToInputRange(input, variance, radius, k, &got), count)
+                    << radius << " " << k;
+                EXPECT_EQ(
+                    0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
+                    << channels << " " << radius << " " << k;
+                if (input.PixelCount() > 100) {
+                    EXPECT_GT(count, 0u) << "the case moves nothing";
+                }
+                Image again = output;
+                BoundToInputRange(input, variance, radius, k, &again);
+                EXPECT_EQ(0,
+                          std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+            }
+    }
+}
+
 // The frame's robust noise estimate against its reference: with an albedo of one channel
 // and of the colour's (values at and under the 0.02 floor among them) and without; the
 // same bits (both take z in float and the rest in double, and pick the same median), and
@@ -372,6 +409,43 @@ TEST(LocalMeanProperties, BoundMovesAPixelsChannelsByOneShare) {
     Image reference(1, 1, 1, -1.f);
     EXPECT_EQ(ref::BoundToNoise(dark, wide, 3, &reference), 1u);
     EXPECT_EQ(reference.At(0, 0, 0), negative.At(0, 0, 0));
+}
+
+// Issue #29, a glossy ring's highlights: fits several times the brightest input around them
+// end at that input's range, the pixel's channels moved by one share (no tint); a value
+// inside the range stays, a firefly within the window widens it, and so does the noise by k
+// of its standard deviations; a pixel of variance 0 is left.
+TEST(LocalMeanProperties, BoundToInputRangeMovesAPixelsChannelsByOneShare) {
+    Image input(5, 1, 3), output(5, 1, 3), variance(5, 1, 3, 1e-4f);
+    for (int c = 0; c < 3; ++c)
+        for (int x = 0; x < 5; ++x) input.At(c, 0, x) = output.At(c, 0, x) = 1 + 0.1f * x;
+    // Pixel 2: red 4 times the largest red within 1 (1.3); green inside the range.
+    output.At(0, 0, 2) = 5.2f;
+    output.At(1, 0, 2) = 1.25f;
+    // Pixel 4: below the range in blue only (its window 1.3 .. 1.4).
+    output.At(2, 0, 4) = 1.f;
+    Image widened = output, still = output;
+    EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &output), 3u);
+    // Red allows 0.1 of its 4.0 move: t = 1 / 40, every channel moves by it.
+    EXPECT_NEAR(output.At(0, 0, 2), 1.3f, 1e-6f);
+    EXPECT_NEAR(output.At(1, 0, 2), 1.2f + 0.05f / 40, 1e-6f);
+    EXPECT_EQ(output.At(2, 0, 2), 1.2f);
+    EXPECT_NEAR(output.At(2, 0, 4), 1.3f, 1e-6f);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(output.At(c, 0, 1), input.At(c, 0, 1)) << c;
+    Image wide = input;
+    wide.At(0, 0, 3) = 10;  // a firefly within 1 widens pixel 2's range
+    Image kept(5, 1, 3);
+    kept.data = input.data;
+    kept.At(0, 0, 2) = 5.2f;
+    EXPECT_EQ(BoundToInputRange(wide, variance, 1, 0, &kept), 0u);
+    EXPECT_EQ(kept.At(0, 0, 2), 5.2f);
+    // Widened by 10 deviations of 0.01: red allows 0.2 of its 4.0 move.
+    BoundToInputRange(input, variance, 1, 10, &widened);
+    EXPECT_NEAR(widened.At(0, 0, 2), 1.4f, 1e-6f);
+    // Variance 0 in red: red is not bounded, green and blue stay inside theirs.
+    variance.At(0, 0, 2) = 0;
+    EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &still), 1u);
+    EXPECT_EQ(still.At(0, 0, 2), 5.2f);
 }
 
 // Lone spikes against the reference on the random inputs (NaN, Inf, zeros, negatives,
