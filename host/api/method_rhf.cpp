@@ -167,11 +167,16 @@ class Rhf : public FrontEndOf<RhfParams> {
         needs.align = 1 << (scales - 1);
         // Per pixel: the histograms, the colour and its filtered image, the selection mask and
         // the bin maxima (a float per 8 pixels and bin plane); each coarser scale s adds its
-        // histograms (1/4^s) and the downsampler's scratch (1/2^s), and colour images (a
-        // generous 8 per pixel in all), checked against the peak measured at 1080p.
+        // histograms (1/4^s) and colour images (a generous 8 per pixel in all), checked
+        // against the peak measured at 1080p. The downsampler's scratch holds one buffer of
+        // histograms at a time (1/2^s of one binding at most, below in fixedBytes).
         int planes = inputs.Get(HistogramLayer(inputs)).channels;
-        double maskBytes = RhfMaskWords(o.searchHalf) * 4.0, histScales = 1;
-        for (int s = 1; s < scales; ++s) histScales += std::pow(0.25, s) + std::pow(0.5, s);
+        double maskBytes = RhfMaskWords(o.searchHalf) * 4.0, histScales = 1,
+               scratchBindings = 0;
+        for (int s = 1; s < scales; ++s) {
+            histScales += std::pow(0.25, s);
+            scratchBindings += std::pow(0.5, s);
+        }
         double colourImages = scales > 1 ? 8 : 2;
         needs.bytesPerPixel = planes * 4.0 * histScales + maskBytes + 3 * 4.0 * colourImages +
                               (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH;
@@ -194,7 +199,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         needs.maxWidth =
             int(std::min(maxFloats / (double(o.searchHalf + 1) * side * (apron + 1)),
                          maxFloats / (double(side) * side)));
-        needs.fixedBytes = binding * (1 + 2.0 * (o.searchHalf + 1) / side) +
+        needs.fixedBytes = binding * (1 + 2.0 * (o.searchHalf + 1) / side + scratchBindings) +
                            2 * 4.0 * apron * (o.searchHalf + 1) * side *
                                std::min(inputs.Width(), std::max(needs.maxWidth, 1));
         return needs;

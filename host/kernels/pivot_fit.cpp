@@ -120,15 +120,19 @@ void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi) {
             }
 }
 
-Image PivotZsnOf(const Image &z, const Image &s, const Image &nu) {
+std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu) {
     if (s.width != z.width || s.height != z.height || s.channels != z.channels ||
         nu.width != z.width || nu.height != z.height || nu.channels != z.channels)
         throw Error("pivot: z, s and nu differ in shape", ErrorKind::Internal);
-    Image zsn(z.width, z.height, 4 * z.channels);
-    for (size_t i = 0; i < z.Size(); ++i) {
-        zsn.data[4 * i] = z.data[i];
-        zsn.data[4 * i + 1] = s.data[i];
-        zsn.data[4 * i + 2] = nu.data[i];
+    std::vector<Image> zsn;
+    const size_t pixels = z.PixelCount();
+    for (int c = 0; c < z.channels; ++c) {
+        Image &one = zsn.emplace_back(z.width, z.height, 4);
+        for (size_t i = 0; i < pixels; ++i) {
+            one.data[4 * i] = z.Plane(c)[i];
+            one.data[4 * i + 1] = s.Plane(c)[i];
+            one.data[4 * i + 2] = nu.Plane(c)[i];
+        }
     }
     return zsn;
 }
@@ -188,15 +192,21 @@ Image PivotFitBuffers::Radii() const {
     return radii;
 }
 
-void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &zsn,
-                    const PivotGpuGuides &guides, const PivotFitSettings &settings,
-                    PivotFitBuffers &fits, int rowBase, int rows) {
-    if (zsn.channels % 4 != 0 || zsn.channels < 4 || zsn.channels > 16)
-        throw Error(fmt::format("pivot fit: {} has {} channels, expected 4 per colour channel "
-                                "(z, s, nu, 0; 1 to 4 colour channels)",
-                                zsn.buffer.Name(), zsn.channels),
+void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
+                    const std::vector<vk::GpuImage> &zsn, const PivotGpuGuides &guides,
+                    const PivotFitSettings &settings, PivotFitBuffers &fits, int rowBase,
+                    int rows) {
+    if (zsn.empty() || zsn.size() > PIVOT_MAX_CHANNELS)
+        throw Error(fmt::format("pivot fit: {} packed z, s, nu images; 1 to {} colour channels",
+                                zsn.size(), PIVOT_MAX_CHANNELS),
                     ErrorKind::Internal);
-    int w = zsn.width, h = zsn.height, channels = zsn.channels / 4;
+    int w = zsn[0].width, h = zsn[0].height, channels = int(zsn.size());
+    for (const vk::GpuImage &one : zsn)
+        if (one.width != w || one.height != h || one.channels != 4)
+            throw Error(
+                fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x4 (z, s, nu, 0)",
+                            one.buffer.Name(), one.width, one.height, one.channels, w, h),
+                ErrorKind::Internal);
     CheckPivotGuides("pivot fit", w, h, guides);
     CheckPivotFitBuffers("pivot fit", w, h, channels, fits);
     if (rowBase < 0 || rows < 1 || rowBase + rows > h)
@@ -229,14 +239,15 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                                   rowBase,
                                   c};
         // Absent guides are compiled out; zsn stands in for their binding.
-        recorder.Dispatch(
-            kernel, "pivot.fit",
-            {{PIVOT_FIT_ZSN, &zsn.buffer, vk::Access::Read},
-             {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &zsn.buffer,
-              vk::Access::Read},
-             {PIVOT_FIT_LO, &fits.lo[c].buffer, vk::Access::Write},
-             {PIVOT_FIT_HI, &fits.hi[c].buffer, vk::Access::Write}},
-            push, uint32_t((w + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE), uint32_t(rows), 1);
+        const vk::Buffer &packed = zsn[size_t(c)].buffer;
+        recorder.Dispatch(kernel, "pivot.fit",
+                          {{PIVOT_FIT_ZSN, &packed, vk::Access::Read},
+                           {PIVOT_FIT_GUIDES, guides.image ? &guides.image->buffer : &packed,
+                            vk::Access::Read},
+                           {PIVOT_FIT_LO, &fits.lo[c].buffer, vk::Access::Write},
+                           {PIVOT_FIT_HI, &fits.hi[c].buffer, vk::Access::Write}},
+                          push, uint32_t((w + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+                          uint32_t(rows), 1);
     }
 }
 

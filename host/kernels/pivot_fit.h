@@ -43,16 +43,18 @@ struct PivotFitBuffers {
     std::vector<vk::GpuImage> lo, hi;
 };
 
-// `zsn`: z, s, nu and 0 of each pixel and channel adjacent (4 x channels floats per pixel,
-// channel-major: PivotZsnOf), as the ratio stage writes them. One dispatch per channel, into
-// that channel's fit buffers.
-void RecordPivotFit(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &zsn,
-                    const PivotGpuGuides &guides, const PivotFitSettings &settings,
-                    PivotFitBuffers &fits, int rowBase, int rows);
+// `zsn`: per channel an image of 4 planes holding z, s, nu and 0 of each pixel adjacent
+// (PivotZsnOf), as the ratio stage writes them. One dispatch per channel, with that
+// channel's packed input and fit buffers bound.
+void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
+                    const std::vector<vk::GpuImage> &zsn, const PivotGpuGuides &guides,
+                    const PivotFitSettings &settings, PivotFitBuffers &fits, int rowBase,
+                    int rows);
 
-// The fit's packed input from z, s and nu (same shape): float (c * width * height + i) * 4 +
-// k holds z, s, nu (k = 0, 1, 2) of pixel i in channel c, and 0 (k = 3).
-Image PivotZsnOf(const Image &z, const Image &s, const Image &nu);
+// The fit's packed input from z, s and nu (same shape), one image per channel: float
+// i * 4 + k of channel c's holds z, s, nu (k = 0, 1, 2) of pixel i in channel c, and 0
+// (k = 3).
+std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu);
 
 // The guide buffer (a pixel's guides in one vec4 texel: the normal normalised, zero where
 // it is zero, and the label of its (object id, part id) pair, 1 + the pair's index among the

@@ -23,19 +23,25 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
                     ErrorKind::InvalidArgument);
 }
 
-void CheckPivotZsn(const char *what, const vk::GpuImage &a, const vk::GpuImage &zsn) {
-    if (zsn.width != a.width || zsn.height != a.height || zsn.channels != 4 * a.channels)
-        throw Error(
-            fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{} (z, s, nu, 0 per channel)", what,
-                        zsn.buffer.Name(), zsn.width, zsn.height, zsn.channels, a.width,
-                        a.height, 4 * a.channels),
-            ErrorKind::Internal);
+void CheckPivotZsn(const char *what, const vk::GpuImage &a,
+                   const std::vector<vk::GpuImage> &zsn) {
+    if (int(zsn.size()) != a.channels)
+        throw Error(fmt::format("{}: {} packed z, s, nu images for {} channels", what,
+                                zsn.size(), a.channels),
+                    ErrorKind::Internal);
+    for (const vk::GpuImage &one : zsn)
+        if (one.width != a.width || one.height != a.height || one.channels != 4)
+            throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x4 (z, s, nu, 0)", what,
+                                    one.buffer.Name(), one.width, one.height, one.channels,
+                                    a.width, a.height),
+                        ErrorKind::Internal);
 }
 
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
-                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu, vk::GpuImage &zsn) {
+                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu,
+                      std::vector<vk::GpuImage> &zsn) {
     CheckPivotShapes("pivot ratio", color, {&pivot, &z, &s, &nu});
     CheckPivotZsn("pivot ratio", color, zsn);
     if (variance) CheckPivotShapes("pivot ratio", color, {variance});
@@ -58,19 +64,24 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
     for (size_t c = 0; c < thresholds.size(); ++c) t[c] = thresholds[c];
     shader::PivotRatioPush push{color.width, color.height, t[0], t[1], t[2], t[3]};
     // Without a variance layer the kernel reads none: the color stands in for the binding.
-    recorder.Dispatch(
-        kernel, "pivot.ratio",
-        {{PIVOT_RATIO_COLOR, &color.buffer, vk::Access::Read},
-         {PIVOT_RATIO_PIVOT, &pivot.buffer, vk::Access::Read},
-         {PIVOT_RATIO_VARIANCE, variance ? &variance->buffer : &color.buffer, vk::Access::Read},
-         {PIVOT_RATIO_Z, &z.buffer, vk::Access::Write},
-         {PIVOT_RATIO_S, &s.buffer, vk::Access::Write},
-         {PIVOT_RATIO_NU, &nu.buffer, vk::Access::Write},
-         {PIVOT_RATIO_ZSN, &zsn.buffer, vk::Access::Write},
-         {PIVOT_RATIO_GUIDES, guides.image ? &guides.image->buffer : &color.buffer,
-          vk::Access::Read}},
-        push, uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
-        uint32_t(color.height), uint32_t(color.channels));
+    std::vector<vk::Binding> bindings{
+        {PIVOT_RATIO_COLOR, &color.buffer, vk::Access::Read},
+        {PIVOT_RATIO_PIVOT, &pivot.buffer, vk::Access::Read},
+        {PIVOT_RATIO_VARIANCE, variance ? &variance->buffer : &color.buffer, vk::Access::Read},
+        {PIVOT_RATIO_Z, &z.buffer, vk::Access::Write},
+        {PIVOT_RATIO_S, &s.buffer, vk::Access::Write},
+        {PIVOT_RATIO_NU, &nu.buffer, vk::Access::Write},
+        {PIVOT_RATIO_GUIDES, guides.image ? &guides.image->buffer : &color.buffer,
+         vk::Access::Read}};
+    // Each channel's packed z, s, nu in its own slot; the first stands in for the slots of
+    // channels the frame lacks, which the kernel does not write.
+    for (int c = 0; c < PIVOT_MAX_CHANNELS; ++c)
+        bindings.push_back({uint32_t(PIVOT_RATIO_ZSN + c),
+                            c < color.channels ? &zsn[size_t(c)].buffer : &zsn[0].buffer,
+                            c < color.channels ? vk::Access::Write : vk::Access::Read});
+    recorder.Dispatch(kernel, "pivot.ratio", bindings, push,
+                      uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),
+                      uint32_t(color.height), uint32_t(color.channels));
 }
 
 }  // namespace mcd

@@ -12,18 +12,21 @@
 namespace mcd {
 
 // `color`, `pivot`, `variance` (nullptr: estimate the noise from the 3x3 neighbours), `z`,
-// `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel. `zsn` (4 x the
-// channels) receives the same z, s, nu packed for the fit (PivotZsnOf).
+// `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel. `zsn`, one image of
+// 4 planes per channel, receives the same z, s, nu packed for the fit (PivotZsnOf).
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
-                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu, vk::GpuImage &zsn);
+                      vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu,
+                      std::vector<vk::GpuImage> &zsn);
 
 // Throw unless the images have the same width, height and channel count.
 void CheckPivotShapes(const char *what, const vk::GpuImage &a,
                       std::initializer_list<const vk::GpuImage *> others);
 
-// Throw unless `zsn` is `a`'s size with 4 x its channels (z, s, nu, 0 per pixel-channel).
-void CheckPivotZsn(const char *what, const vk::GpuImage &a, const vk::GpuImage &zsn);
+// Throw unless `zsn` holds an image of `a`'s size and 4 planes (z, s, nu, 0 per pixel) for
+// each of its channels.
+void CheckPivotZsn(const char *what, const vk::GpuImage &a,
+                   const std::vector<vk::GpuImage> &zsn);
 
 }  // namespace mcd

@@ -55,9 +55,9 @@ void CheckPivotInputs(vk::Context &context, const PivotInputs &in, const PivotPa
                     ErrorKind::InvalidArgument);
     if (w < 1 || h < 1) throw Error("pivot: the image is empty", ErrorKind::InvalidArgument);
     // The largest bindings: a channel's fit buffer of PIVOT_PLANES_PER_BUFFER planes
-    // (written by the fit, read by the gather as a texel view) and the fit's packed z, s, nu
-    // (4 floats per channel): refuse, before any work, a frame the device cannot bind.
-    double pixelBytes = std::max(PIVOT_PLANES_PER_BUFFER, 4 * channels) * sizeof(float);
+    // (written by the fit, read by the gather as a texel view) and a channel's packed z, s,
+    // nu (4 floats): refuse, before any work, a frame the device cannot bind.
+    double pixelBytes = std::max(PIVOT_PLANES_PER_BUFFER, 4) * sizeof(float);
     double bindingBytes = pixelBytes * w * h, binding = double(context.BindingBytes());
     if (bindingBytes > binding)
         throw Error(fmt::format("pivot: a {}x{}x{} frame needs {:.0f} MB in one binding, above "
@@ -129,9 +129,11 @@ struct PivotGpu {
           z(context, in.color->width, in.color->height, in.color->channels, "pivot.z"),
           s(context, in.color->width, in.color->height, in.color->channels, "pivot.s"),
           nu(context, in.color->width, in.color->height, in.color->channels, "pivot.nu"),
-          zsn(context, in.color->width, in.color->height, 4 * in.color->channels, "pivot.zsn"),
           out(context, in.color->width, in.color->height, in.color->channels, "pivot.out") {
         int w = in.color->width, h = in.color->height, channels = in.color->channels;
+        // Each channel's packed z, s, nu in a buffer of its own: a binding holds one.
+        for (int c = 0; c < channels; ++c)
+            zsn.emplace_back(context, w, h, 4, fmt::format("pivot.zsn{}", c));
         color.Upload(*in.color);
         pivot.Upload(*in.pivot);
         if (in.variance) {
@@ -147,7 +149,8 @@ struct PivotGpu {
         }
     }
 
-    vk::GpuImage color, pivot, z, s, nu, zsn, out;
+    vk::GpuImage color, pivot, z, s, nu, out;
+    std::vector<vk::GpuImage> zsn;
     std::optional<vk::GpuImage> variance, guide;
     PivotGpuGuides guides;
 };

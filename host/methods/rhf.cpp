@@ -304,15 +304,22 @@ struct RhfScratch {
     std::deque<RhfHistogram> histograms;
 };
 
-// D_s of `count` planes of a srcW x srcH buffer into dst.
+// The downsampler's row pass of `count` planes of a srcW x srcH buffer at scale s.
+vk::Buffer &DownsampleScratch(StagedRun &run, RhfScratch &scratch, int srcW, int srcH,
+                              int count, int s) {
+    return scratch.buffers.emplace_back(
+        run.Context(), size_t(count) * srcH * Shrunk(srcW, s) * sizeof(float), "rhf.scratch");
+}
+
+// D_s of `count` planes of a srcW x srcH buffer into dst, through `temporary` (at least
+// DownsampleScratch's size).
 void RecordDownsample(StagedRun &run, RhfScratch &scratch, const vk::Buffer &src, int srcW,
-                      int srcH, int count, int s, double sigma, vk::Buffer &dst) {
+                      int srcH, int count, int s, double sigma, vk::Buffer &temporary,
+                      vk::Buffer &dst) {
     std::vector<float> g = RhfGaussianTaps(sigma, 1 << s);
     vk::Buffer &weights =
         scratch.buffers.emplace_back(run.Context(), g.size() * sizeof(float), "rhf.taps");
     weights.UploadFloats(g);
-    vk::Buffer &temporary = scratch.buffers.emplace_back(
-        run.Context(), size_t(count) * srcH * Shrunk(srcW, s) * sizeof(float), "rhf.scratch");
     RecordRhfDownsample(run.Context(), run.Recorder(), src, srcW, srcH, count, 1 << s, weights,
                         int(g.size() / 2), temporary, dst);
 }
@@ -334,7 +341,8 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
     ScaleInputs in;
     vk::GpuImage &u =
         scratch.images.emplace_back(run.Context(), Ws, Hs, 3, fmt::format("rhf.color{}", s));
-    RecordDownsample(run, scratch, color.buffer, W, H, 3, s, sigma, u.buffer);
+    RecordDownsample(run, scratch, color.buffer, W, H, 3, s, sigma,
+                     DownsampleScratch(run, scratch, W, H, 3, s), u.buffer);
     run.StageAtEnd(fmt::format("color s{}", s), u);
     in.color = &u;
     RhfHistogram &coarse = scratch.histograms.emplace_back();
@@ -342,12 +350,15 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
     coarse.height = Hs;
     coarse.planes = planes;
     coarse.planesPerSlot = perSlot;
+    // One row pass's scratch for every buffer of planes, each in turn: half a buffer's
+    // memory, not half the histograms'.
+    vk::Buffer &rows = DownsampleScratch(run, scratch, W, H, std::min(perSlot, planes), s);
     for (size_t slot = 0; slot < full.slots.size(); ++slot) {
         int count = std::min(perSlot, planes - int(slot) * perSlot);
         vk::Buffer &to =
             coarse.slots.emplace_back(run.Context(), size_t(count) * Ws * Hs * sizeof(float),
                                       fmt::format("rhf.hist{}.{}", slot, s));
-        RecordDownsample(run, scratch, full.slots[slot], W, H, count, s, sigma, to);
+        RecordDownsample(run, scratch, full.slots[slot], W, H, count, s, sigma, rows, to);
     }
     in.hist = &coarse;
     // Count-preserving rescale: the coarse count channel's total, from the tap weights (a
@@ -452,8 +463,9 @@ const vk::GpuImage &RecordCombine(StagedRun &run, RhfScratch &scratch,
     double sigma = SigmaOfScale(1);
     vk::GpuImage &low = scratch.images.emplace_back(run.Context(), previous.width,
                                                     previous.height, 3, "rhf.low");
-    RecordDownsample(run, scratch, filtered.buffer, filtered.width, filtered.height, 3, 1,
-                     sigma, low.buffer);
+    RecordDownsample(
+        run, scratch, filtered.buffer, filtered.width, filtered.height, 3, 1, sigma,
+        DownsampleScratch(run, scratch, filtered.width, filtered.height, 3, 1), low.buffer);
     vk::GpuImage &combined = scratch.images.emplace_back(
         run.Context(), filtered.width, filtered.height, 3, fmt::format("rhf.combined{}", s));
     // Scale s of the whole frame: origin / 2^s, size ceil(size / 2^s).

@@ -13,7 +13,8 @@ namespace {
 
 constexpr uint32_t kMaxTimedDispatches = 4096;
 constexpr uint32_t kSetsPerPool = 256;
-constexpr uint32_t kMaxBindings = 9;  // rhf.terms: 6 histogram buffers and 3 more
+// pivot.ratio: 7 buffers and a packed z, s, nu per channel (PIVOT_MAX_CHANNELS).
+constexpr uint32_t kMaxBindings = 11;
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
+// This dispatch's channel's (z, s, nu, 0), a texel per pixel.
 layout(binding = PIVOT_FIT_ZSN) uniform samplerBuffer zsn;
 layout(binding = PIVOT_FIT_GUIDES) uniform samplerBuffer guides;
 // A centre's 8 planes of each buffer as two vec4s (pivot/pivot.h): four writes a centre.
@@ -71,7 +72,7 @@ Plane solve(Moments m) {
     return p;
 }
 
-int x0, y0, w, h, base;
+int x0, y0, w, h;
 Surface centre;
 float goodNu, k;
 
@@ -79,7 +80,7 @@ float goodNu, k;
 // 0 for pixels not fitted.
 float weightAt(int x, int y, float mean, float radius, out float z, out float s) {
     int i = y * w + x;
-    vec4 pixel = texelFetch(zsn, base + i);
+    vec4 pixel = texelFetch(zsn, i);
     float nu = pixel.z;
     z = pixel.x;
     s = pixel.y;
@@ -231,8 +232,8 @@ int grow(out float mean) {
     int n = 0;
     for (int v = max(0, y0 - 1); v <= min(h - 1, y0 + 1); ++v)
         for (int u = max(0, x0 - 1); u <= min(w - 1, x0 + 1); ++u)
-            if (texelFetch(zsn, base + v * w + u).z >= 0.0) {
-                zc += texelFetch(zsn, base + v * w + u).x;
+            if (texelFetch(zsn, v * w + u).z >= 0.0) {
+                zc += texelFetch(zsn, v * w + u).x;
                 ++n;
             }
     zc /= float(n);
@@ -343,13 +344,11 @@ void main() {
     int groupX = int(gl_WorkGroupID.x) * PIVOT_LOCAL_SIZE;
     x0 = groupX + columnOf(local);
     y0 = push.rowBase + int(gl_WorkGroupID.y);
-    int c = push.channel;
     w = push.width;
     h = push.height;
     planeSize = w * h;
     gw = w;
     gh = h;
-    base = c * planeSize;
     goodNu = push.goodNu;
     k = push.k;
     // Growth, one centre per invocation. Every invocation reaches the barriers below.
@@ -360,7 +359,7 @@ void main() {
         centre = surfaceAt(at);
         // A pixel beside other ids is data to its side's fits but no centre: its square,
         // mostly of other ids, would grow far on few pixels of its own.
-        if (texelFetch(zsn, base + at).z < 0.0 || boundaryTerm(x0, y0) == 0.0)
+        if (texelFetch(zsn, at).z < 0.0 || boundaryTerm(x0, y0) == 0.0)
             storeNone(at);
         else
             radius = grow(mean);

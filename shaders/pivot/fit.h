@@ -3,14 +3,15 @@
 // its four quadrants (section 4.2, weight eq. 10) at the chosen radius. Growth adds one ring
 // of pixels per step to running sums; a centre whose radius leaves eq. 13's lattice stops
 // there and keeps its growth fits; see cpu_reference/pivot_filter.h for the rules. One
-// invocation per centre; one dispatch per channel, each channel's fits in buffers of their
-// own (a binding holds one channel's planes, so a frame of 4 channels binds like one of 1).
+// invocation per centre; one dispatch per channel, each channel's packed input and fits in
+// buffers of their own (a binding holds one channel's planes, so a frame of 4 channels binds
+// like one of 1).
 #ifndef MCD_SHADERS_PIVOT_FIT_H
 #define MCD_SHADERS_PIVOT_FIT_H
 
 #include "pivot/pivot.h"
 
-#define PIVOT_FIT_ZSN 0  // (z, s, nu, 0) per pixel and channel, one vec4 texel (ratio stage)
+#define PIVOT_FIT_ZSN 0  // (z, s, nu, 0) of the dispatch's channel, a vec4 texel a pixel
 #define PIVOT_FIT_GUIDES 1
 #define PIVOT_FIT_LO 2  // planes 0..7 of one channel
 #define PIVOT_FIT_HI 3  // planes 8..15 of one channel

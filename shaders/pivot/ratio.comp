@@ -12,7 +12,10 @@ layout(binding = PIVOT_RATIO_VARIANCE) uniform samplerBuffer variance;
 layout(std430, binding = PIVOT_RATIO_Z) writeonly buffer Z { float zOut[]; };
 layout(std430, binding = PIVOT_RATIO_S) writeonly buffer S { float sOut[]; };
 layout(std430, binding = PIVOT_RATIO_NU) writeonly buffer Nu { float nuOut[]; };
-layout(std430, binding = PIVOT_RATIO_ZSN) writeonly buffer Zsn { vec4 zsnOut[]; };
+layout(std430, binding = PIVOT_RATIO_ZSN) writeonly buffer Zsn0 { vec4 zsn0[]; };
+layout(std430, binding = PIVOT_RATIO_ZSN + 1) writeonly buffer Zsn1 { vec4 zsn1[]; };
+layout(std430, binding = PIVOT_RATIO_ZSN + 2) writeonly buffer Zsn2 { vec4 zsn2[]; };
+layout(std430, binding = PIVOT_RATIO_ZSN + 3) writeonly buffer Zsn3 { vec4 zsn3[]; };
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
 const int useNormals = 0;
 layout(binding = PIVOT_RATIO_GUIDES) uniform samplerBuffer guides;
@@ -32,12 +35,24 @@ bool ratioAt(int at, out float z) {
     return abs(z) <= PIVOT_Z_MAX;
 }
 
-// No z at `at`: no data to the fits, and the input kept.
-void noZ(int at) {
+// Pixel i's (z, s, nu, 0) into channel c's buffer.
+void storeZsn(int c, int i, vec4 value) {
+    if (c == 0)
+        zsn0[i] = value;
+    else if (c == 1)
+        zsn1[i] = value;
+    else if (c == 2)
+        zsn2[i] = value;
+    else
+        zsn3[i] = value;
+}
+
+// No z at `at` (pixel i of channel c): no data to the fits, and the input kept.
+void noZ(int at, int c, int i) {
     zOut[at] = 0.0;
     sOut[at] = 0.0;
     nuOut[at] = -1.0;
-    zsnOut[at] = vec4(0.0, 0.0, -1.0, 0.0);
+    storeZsn(c, i, vec4(0.0, 0.0, -1.0, 0.0));
 }
 
 const int kSide = (2 * PIVOT_SIDE_RADIUS + 1) * (2 * PIVOT_SIDE_RADIUS + 1);
@@ -148,7 +163,7 @@ void main() {
     float z;
     bool hasZ = ratioAt(at, z);
     if (!hasZ) {
-        noZ(at);
+        noZ(at, c, at - base);
         return;
     }
     // Mean of z over the valid 3x3 neighbours (the pixel is one), then their sample
@@ -191,7 +206,7 @@ void main() {
         float toward = gap > 0.0 ? z - side.x : side.x - z;
         if (nOther > 0 && gap * gap > PIVOT_SIDE_GAP * PIVOT_SIDE_GAP * spread * spread &&
             toward > 0.0 && toward * toward > PIVOT_SIDE_TOWARD * PIVOT_SIDE_TOWARD * sigma2) {
-            noZ(at);
+            noZ(at, c, at - base);
             return;
         }
     }
@@ -199,5 +214,5 @@ void main() {
     sOut[at] = s;
     float nu = s / max(zl * zl, PIVOT_TINY);
     nuOut[at] = nu;
-    zsnOut[at] = vec4(z, s, nu, 0.0);
+    storeZsn(c, at - base, vec4(z, s, nu, 0.0));
 }

@@ -97,16 +97,20 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     if (guide) g.Upload(*guide);
     PivotGpuGuides guides{guide ? &g : nullptr, false, guide != nullptr};
     vk::Recorder recorder(ctx);
-    vk::GpuImage zsn(ctx, w, h, 4 * ch, "zsn");
+    std::vector<vk::GpuImage> zsn;
+    for (int k = 0; k < ch; ++k) zsn.emplace_back(ctx, w, h, 4, "zsn");
     RecordPivotRatio(ctx, recorder, c, p, variance ? &v : nullptr,
                      PivotThresholds(pivot, floor), guides, z, s, nu, zsn);
     recorder.Submit();
     ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download()};
-    // The fit's packed copy holds the same values.
-    Image packed = zsn.Download(), expected = PivotZsnOf(ratio.z, ratio.s, ratio.nu);
-    EXPECT_EQ(0, std::memcmp(packed.data.data(), expected.data.data(),
-                             expected.data.size() * sizeof(float)))
-        << "zsn differs from z, s, nu";
+    // The fit's packed copies, one per channel, hold the same values.
+    std::vector<Image> expected = PivotZsnOf(ratio.z, ratio.s, ratio.nu);
+    for (int k = 0; k < ch; ++k) {
+        Image packed = zsn[size_t(k)].Download();
+        EXPECT_EQ(0, std::memcmp(packed.data.data(), expected[size_t(k)].data.data(),
+                                 expected[size_t(k)].data.size() * sizeof(float)))
+            << "channel " << k << "'s zsn differs from z, s, nu";
+    }
     return ratio;
 }
 
@@ -228,10 +232,11 @@ TEST_P(PivotFitKernel, MatchesReference) {
     Image margin;
     Image expected = ref::PivotFit(ratio, refGuides, o, &margin);
 
-    vk::GpuImage zsn(Ctx(), w, h, 12, "zsn");
+    std::vector<vk::GpuImage> zsn;
+    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu))
+        zsn.emplace_back(Ctx(), w, h, 4, "zsn").Upload(packed);
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
-    zsn.Upload(PivotZsnOf(ratio.z, ratio.s, ratio.nu));
     guide.Upload(GuideOf(f));
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
     vk::Recorder recorder(Ctx());
@@ -1274,19 +1279,19 @@ namespace {
 
 class PivotLimits : public GpuTest {};
 
-// A frame whose largest binding (a channel's fit buffer, or the fit's packed z, s, nu of 4
-// floats per channel) does not fit the device's is refused by the pipeline before any work;
+// A frame whose largest binding (a channel's fit buffer; a channel's packed z, s, nu is
+// smaller) does not fit the device's is refused by the pipeline before any work;
 // mcd::Method runs such a frame in tiles (tests/methods/tiled_run_test.cpp).
 TEST_F(PivotLimits, RefusesFitsAboveTheBindingLimit) {
-    const int w = 2000, h = 1500;
-    if (double(std::max(PIVOT_PLANES_PER_BUFFER, 4 * 3)) * w * h * 4 <= Ctx().BindingBytes())
+    const int w = 3000, h = 2000;
+    if (double(PIVOT_PLANES_PER_BUFFER) * w * h * 4 <= Ctx().BindingBytes())
         GTEST_SKIP() << "this device binds " << Ctx().BindingBytes()
                      << " bytes: the frame fits, nothing to refuse";
     Image color(w, h, 3, 0.5f), pivot(w, h, 3, 0.25f);
     PivotInputs in;
     in.color = &color, in.pivot = &pivot;
     EXPECT_TRUE(ThrowsError(
-        ErrorKind::OutOfMemory, [&] { PivotDenoise(Ctx(), in, {}); }, "2000x1500x3"));
+        ErrorKind::OutOfMemory, [&] { PivotDenoise(Ctx(), in, {}); }, "3000x2000x3"));
 }
 
 }  // namespace

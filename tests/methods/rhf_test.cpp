@@ -222,18 +222,20 @@ INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelBrightVeto, testing::ValuesIn(BrightVet
                          });
 
 // Histograms split over several buffers and distances computed in thin strips (the
-// paths big frames take) give the same bits as the one-buffer, one-strip run.
+// paths big frames take) give the same bits as the one-buffer, one-strip run; at two
+// scales the buffers are downsampled in turn through one scratch.
 struct SplitCase {
-    int planesPerSlot, stripRows;
+    int planesPerSlot, stripRows, scales;
 };
 
 class RhfKernelSplit : public GpuTestWithParam<SplitCase> {};
 
 TEST_P(RhfKernelSplit, IsBitIdentical) {
-    const auto [perSlot, strip] = GetParam();
+    const auto [perSlot, strip, scales] = GetParam();
     Frame f = MakeFrame(33, 31, SeedFromName("rhf split"));
     RhfParams o;
     o.searchHalf = 4;
+    o.scales = scales;
     Image whole = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     RunSetup split;
     split.planesPerSlot = perSlot;
@@ -242,10 +244,12 @@ TEST_P(RhfKernelSplit, IsBitIdentical) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelSplit,
-                         testing::Values(SplitCase{11, 0}, SplitCase{0, 3}, SplitCase{13, 1}),
+                         testing::Values(SplitCase{11, 0, 1}, SplitCase{0, 3, 1},
+                                         SplitCase{13, 1, 1}, SplitCase{11, 0, 2},
+                                         SplitCase{13, 2, 2}),
                          [](const testing::TestParamInfo<SplitCase> &info) {
-                             return fmt::format("planes{}_rows{}", info.param.planesPerSlot,
-                                                info.param.stripRows);
+                             return fmt::format("planes{}_rows{}_s{}", info.param.planesPerSlot,
+                                                info.param.stripRows, info.param.scales);
                          });
 
 TEST_F(RhfKernel, RerunsAreBitIdentical) {

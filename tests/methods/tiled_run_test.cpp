@@ -23,6 +23,7 @@
 #include "host/api/tiled_run.h"
 #include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
+#include "pivot/pivot.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
@@ -525,23 +526,24 @@ TEST_F(GpuTest, TiledRunPlanBudgetIsThreeQuartersForLocalMethods) {
     EXPECT_EQ(api::PlanTiles(Ctx(), needs, w, h, 0).tileWidth, 0);
 }
 
-// pivot binds each channel's fits on their own: an RGB frame tiles only where its largest
-// binding, the fit's packed z, s, nu (12 floats a pixel), exceeds the device's, so a
-// 1920x1080 frame runs whole within lavapipe's 128 MiB, and one 4 times its size does not.
+// pivot binds each channel's fits and packed z, s, nu on their own: an RGB frame tiles only
+// where its largest binding, a channel's fit buffer (8 floats a pixel), exceeds the
+// device's, so a 2560x1440 frame runs whole within lavapipe's 128 MiB, and one 4 times the
+// size of 1920x1080 does not.
 TEST_F(GpuTest, TiledRunPlanPivotBindsAChannelsFitsAlone) {
     std::unique_ptr<api::FrontEnd> pivot = api::FindMethod("pivot")->make();
     Frame frame = RandomFrame(16, 16, 7);
     api::Inputs inputs(frame, false, "pivot");
     api::TileNeeds needs = pivot->Tiling(Ctx(), inputs);
-    EXPECT_EQ(needs.bindingBytesPerPixel, 12 * 4);
+    EXPECT_EQ(needs.bindingBytesPerPixel, PIVOT_PLANES_PER_BUFFER * 4);
     const double binding = double(Ctx().BindingBytes());
-    for (auto [w, h] : {std::pair{1920, 1080}, std::pair{3840, 2160}}) {
+    for (auto [w, h] : {std::pair{1920, 1080}, std::pair{2560, 1440}, std::pair{3840, 2160}}) {
         const double pixels = double(w) * h;
         if (needs.fixedBytes + needs.bytesPerPixel * pixels >
             api::TileMemoryBudget(Ctx(), needs))
             continue;  // the device's memory, not a binding, decides
         api::TilePlan plan = api::PlanTiles(Ctx(), needs, w, h, 0);
-        EXPECT_EQ(plan.tileWidth == 0, 12 * 4 * pixels <= binding)
+        EXPECT_EQ(plan.tileWidth == 0, PIVOT_PLANES_PER_BUFFER * 4 * pixels <= binding)
             << w << "x" << h << ": " << plan.why;
     }
 }
