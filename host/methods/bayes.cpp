@@ -36,15 +36,14 @@ bool Finite(float v) {
     return std::isfinite(v);
 }
 
-// Whether the exp kernel keeps a zero at (x, y) black with --zeros restore: both neighbour
-// pixels along a row, column or diagonal (clamped to the frame) black, no channel finite
-// positive.
-bool InsideBlack(const Image &color, int y, int x) {
+// Whether the exp kernel keeps a zero of channel c at (x, y) black with --zeros restore: both
+// neighbours along a row, column or diagonal (clamped to the frame) black in channel c, not
+// finite positive.
+bool InsideBlack(const Image &color, int c, int y, int x) {
     auto black = [&](int yy, int xx) {
         yy = std::clamp(yy, 0, color.height - 1), xx = std::clamp(xx, 0, color.width - 1);
-        for (int c = 0; c < color.channels; ++c)
-            if (float v = color.At(c, yy, xx); Finite(v) && v > 0) return false;
-        return true;
+        float v = color.At(c, yy, xx);
+        return !(Finite(v) && v > 0);
     };
     for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}})
         if (black(y + dy, x + dx) && black(y - dy, x - dx)) return true;
@@ -73,7 +72,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
                     add(negative, c, y, x);
                 else if (v <= floors[c]) {
                     add(dark, c, y, x);
-                    if (v == 0) ++zero.n, keptBlack += restoreZeros && InsideBlack(color, y, x);
+                    if (v == 0) ++zero.n, keptBlack += restoreZeros && InsideBlack(color, c, y, x);
                 }
             }
     auto say = [&](const Count &count, const char *what, const std::string &then) {
@@ -738,7 +737,8 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         "{}",
         options.floorRel,
         options.restoreZeros
-            ? "zeros inside black or on a black line restored exactly after exp"
+            ? "zeros inside black or on a black line in their channel restored exactly after "
+              "exp"
             : "zeros denoised like other pixels (--zeros denoise)"));
     if (levels < options.levels)
         run.Plan(fmt::format("{} levels requested; a {}x{} image allows {}", options.levels,
