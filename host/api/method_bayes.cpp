@@ -71,8 +71,11 @@ class Bayes : public FrontEndOf<BayesSettings> {
                                  &BayesParams::floorRel, 1e-12, 0.5)),
                Nested(&BayesSettings::method,
                       EnumParam("zeros",
-                                "restore (exact zeros stay 0, the paper's black) or denoise "
-                                "(zeros are noise, as in low-spp renders)",
+                                "restore (zeros inside black in their channel stay 0, the "
+                                "paper's black; dark pixels lone among lit ones, samples that "
+                                "missed the light, filled from their lit neighbours; other "
+                                "zeros denoised) or denoise (zeros are noise, as in low-spp "
+                                "renders)",
                                 &BayesParams::restoreZeros,
                                 {{"restore", true}, {"denoise", false}})),
                Nested(&BayesSettings::method,
