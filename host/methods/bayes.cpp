@@ -50,6 +50,22 @@ bool InsideBlack(const Image &color, int c, int y, int x) {
     return false;
 }
 
+// Whether the log kernel fills the pixel at (x, y) with --zeros restore: dark (no channel
+// finite and above its floor) and not inside dark (no pair of opposite 3x3 neighbour pixels,
+// clamped to the frame, both dark).
+bool MissedSample(const Image &color, const std::vector<float> &floors, int y, int x) {
+    auto dark = [&](int yy, int xx) {
+        yy = std::clamp(yy, 0, color.height - 1), xx = std::clamp(xx, 0, color.width - 1);
+        for (int c = 0; c < color.channels; ++c)
+            if (float v = color.At(c, yy, xx); Finite(v) && v > floors[c]) return false;
+        return true;
+    };
+    if (!dark(y, x)) return false;
+    for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}})
+        if (dark(y + dy, x + dx) && dark(y - dy, x - dx)) return false;
+    return true;
+}
+
 // Count what the log domain cannot take as is, with the first place of each. Black and
 // nearly black values are ordinary in a render: one line says what became of them.
 void CountSpecials(const Image &color, const std::vector<float> &floors, bool restoreZeros,
@@ -58,7 +74,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
         size_t n = 0;
         int x = 0, y = 0, c = 0;
     } nonFinite, negative, zero, dark;
-    size_t keptBlack = 0;
+    size_t keptBlack = 0, filled = 0;
     auto add = [](Count &count, int c, int y, int x) {
         if (count.n++ == 0) count.x = x, count.y = y, count.c = c;
     };
@@ -72,7 +88,9 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
                     add(negative, c, y, x);
                 else if (v <= floors[c]) {
                     add(dark, c, y, x);
-                    if (v == 0) ++zero.n, keptBlack += restoreZeros && InsideBlack(color, c, y, x);
+                    bool kept = restoreZeros && v == 0 && InsideBlack(color, c, y, x);
+                    zero.n += v == 0, keptBlack += kept;
+                    filled += restoreZeros && !kept && MissedSample(color, floors, y, x);
                 }
             }
     auto say = [&](const Count &count, const char *what, const std::string &then) {
@@ -83,21 +101,29 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
     };
     say(nonFinite, "NaN/Inf", "taken as the log floor, output 0");
     say(negative, "negative", "taken as the log floor, output 0");
-    size_t lone = zero.n - keptBlack;
-    std::string black =
-        zero.n == 0 ? ""
-        : !restoreZeros
-            ? fmt::format(", the {} black one{} too (--zeros denoise)", zero.n,
-                          zero.n == 1 ? "" : "s")
-            : fmt::format("; the {} black one{} stay{} black", keptBlack,
-                          keptBlack == 1 ? "" : "s", keptBlack == 1 ? "s" : "") +
-                  (lone ? fmt::format(" ({} more, lone among lit pixels, are samples that "
-                                      "missed the light: denoised)",
-                                      lone)
-                        : "");
+    std::string black;
+    if (!restoreZeros && zero.n)
+        black = fmt::format(", the {} black one{} too (--zeros denoise)", zero.n,
+                            zero.n == 1 ? "" : "s");
+    if (restoreZeros) {
+        size_t floored = dark.n - keptBlack - filled;
+        if (keptBlack)
+            black = fmt::format("; the {} black one{} stay{} black (zeros inside black in "
+                                "their channel)",
+                                keptBlack, keptBlack == 1 ? "" : "s",
+                                keptBlack == 1 ? "s" : "");
+        if (filled)
+            black += fmt::format("; {} in dark pixels lone among lit pixels, samples that "
+                                 "missed the light, filled from their lit neighbours' mean "
+                                 "log and denoised",
+                                 filled);
+        if (floored) black += fmt::format("; {} denoised from the floor", floored);
+    }
     say(dark, "black or nearly black",
-        "below the log domain's floor (--log-floor x the channel's median), denoised from "
-        "it" +
+        (restoreZeros ? std::string("below the log domain's floor (--log-floor x the "
+                                    "channel's median)")
+                      : std::string("below the log domain's floor (--log-floor x the "
+                                    "channel's median), denoised from it")) +
             black);
 }
 

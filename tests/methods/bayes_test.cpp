@@ -421,6 +421,48 @@ TEST_F(BayesKernel, LogFillsMissedSamplesFromTheirNeighbours) {
         for (int x = 0; x < w; ++x) EXPECT_NEAR(image->At(0, 6, x), std::log(0.01), 1e-5);
         EXPECT_NEAR(image->At(0, 7, 9), std::log(0.01), 1e-5);
     }
+    EXPECT_TRUE(BitIdentical(got, run(true)));
+}
+
+// In colour: a pixel with one lit channel is no missed sample (its zeros take the floor), and
+// a missed sample's channels average the same neighbour pixels, every one not dark, each
+// channel at least its floor.
+TEST_F(BayesKernel, LogFillsEveryChannelFromTheSameNeighbours) {
+    const int w = 9, h = 7;
+    Image color(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) color.At(c, y, x) = 0.1f * float(1 + c + (x + 2 * y) % 4);
+    for (int c = 0; c < 3; ++c) color.At(c, 2, 3) = 0, color.At(c, 2, 2) = 0;  // missed
+    color.At(1, 2, 4) = 0, color.At(2, 2, 4) = 0;  // lit in channel 0 only: a neighbour
+    color.At(0, 4, 6) = 0, color.At(1, 4, 6) = 0;  // lit in channel 2 only: not missed
+    std::vector<float> floors = {0.01f, 0.02f, 0.03f};
+    vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log");
+    in.Upload(color);
+    vk::Buffer floorsGpu = Floats(floors, "floors");
+    auto run = [&] {
+        vk::Recorder recorder(Ctx());
+        RecordBayesLog(Ctx(), recorder, in, floorsGpu, out, true);
+        recorder.Submit();
+        return out.Download();
+    };
+    Image got = run(), expected = ref::BayesLog(color, {0.01f, 0.02f, 0.03f}, true);
+    EXPECT_TRUE(BitIdentical(got, run()));
+    for (const Image *image : {&got, &expected}) {
+        SCOPED_TRACE(image == &got ? "kernel" : "CPU twin");
+        for (int c = 0; c < 3; ++c) {
+            double mean = 0;  // (3, 2)'s neighbours less (2, 2), dark itself
+            for (int y = 1; y <= 3; ++y)
+                for (int x = 2; x <= 4; ++x)
+                    if ((x != 3 || y != 2) && (x != 2 || y != 2))
+                        mean += std::log(std::max(double(color.At(c, y, x)),
+                                                  double(floors[c]))) /
+                                7;
+            EXPECT_NEAR(image->At(c, 2, 3), mean, 1e-5) << "channel " << c;
+            if (c < 2) EXPECT_NEAR(image->At(c, 4, 6), std::log(floors[c]), 1e-5);
+        }
+        EXPECT_NEAR(image->At(2, 4, 6), std::log(color.At(2, 4, 6)), 1e-5);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, BayesLogKernel, testing::ValuesIn(kSizes), SizeName);
@@ -1021,16 +1063,21 @@ TEST_F(BayesProperties, SplitRoundingIsNotWarnedAsNegative) {
         << ::testing::PrintToString(r.warnings);
 }
 
-// --zeros restore: a lone zero among lit pixels is counted apart from the black kept.
+// --zeros restore: the zeros kept black, the missed samples filled (a dark pixel lone among
+// lit pixels) and the zeros denoised from the floor (one channel of a lit pixel) are counted
+// apart.
 TEST_F(BayesProperties, RestoreSaysWhichZerosStayBlack) {
     Image color = NoisyPicture(20, 12, SeedFromName("lone zeros"), 0.3);
     for (float &v : color.data) v = std::max(v, 0.05f);
     color.At(0, 4, 6) = 0;
+    for (int c = 0; c < 3; ++c) color.At(c, 2, 13) = 0;  // a missed sample
     for (int c = 0; c < 3; ++c)
         for (int x = 0; x < 20; ++x) color.At(c, 9, x) = 0;  // a black line
     BayesResult r = BayesDenoise(Ctx(), color, PaperBayesParams());
-    EXPECT_TRUE(AnyWarning(r, "the 60 black ones stay black (1 more, lone among lit pixels"))
-        << ::testing::PrintToString(r.warnings);
+    for (const char *part : {"64 black or nearly black values", "the 60 black ones stay black",
+                             "; 3 in dark pixels lone among lit pixels",
+                             "; 1 denoised from the floor"})
+        EXPECT_TRUE(AnyWarning(r, part)) << part << ::testing::PrintToString(r.warnings);
     EXPECT_GT(r.image.At(0, 4, 6), 0.f);
     for (int x = 0; x < 20; ++x) EXPECT_EQ(r.image.At(0, 9, x), 0.f);
 }
