@@ -763,8 +763,9 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         "{}",
         options.floorRel,
         options.restoreZeros
-            ? "zeros inside black or on a black line in their channel restored exactly after "
-              "exp"
+            ? "dark pixels lone among lit pixels (no two opposite 3x3 neighbour pixels dark: "
+              "samples that missed the light) take their lit neighbours' mean log; zeros "
+              "inside black or on a black line in their channel restored exactly after exp"
             : "zeros denoised like other pixels (--zeros denoise)"));
     if (levels < options.levels)
         run.Plan(fmt::format("{} levels requested; a {}x{} image allows {}", options.levels,

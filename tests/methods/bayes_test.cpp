@@ -1079,6 +1079,10 @@ TEST_F(BayesProperties, RestoreSaysWhichZerosStayBlack) {
                              "; 1 denoised from the floor"})
         EXPECT_TRUE(AnyWarning(r, part)) << part << ::testing::PrintToString(r.warnings);
     EXPECT_GT(r.image.At(0, 4, 6), 0.f);
+    for (int c = 0; c < 3; ++c) EXPECT_GT(r.image.At(c, 2, 13), 0.f);
+    bool said = false;  // --explain tells of the fill
+    for (const std::string &line : r.plan) said |= Contains(line, "samples that missed the light");
+    EXPECT_TRUE(said) << ::testing::PrintToString(r.plan);
     for (int x = 0; x < 20; ++x) EXPECT_EQ(r.image.At(0, 9, x), 0.f);
 }
 
