@@ -850,7 +850,7 @@ Image SplitIndirect(const Image &direct, const Image &indirect, size_t *rounded)
     for (size_t i = 0; i < out.Size(); ++i) {
         float v = out.data[i], d = direct.data[i];
         if (v < 0 && std::isfinite(d) &&
-            -v <= kSplitRoundingUlps * std::numeric_limits<float>::epsilon() * std::fabs(d))
+            -v <= kSplitRoundingEpsilons * std::numeric_limits<float>::epsilon() * std::fabs(d))
             out.data[i] = 0, ++*rounded;
     }
     return out;
@@ -872,9 +872,10 @@ BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const I
         if (warning.rfind("bayes: ", 0) == 0) warning.insert(5, " (indirect layer)");
     if (rounded)
         result.plan.push_back(fmt::format(
-            "{} value{} of the indirect layer below 0 by the split's rounding only (within {} "
-            "float roundings of direct, where direct + indirect = color) taken as 0",
-            rounded, rounded == 1 ? "" : "s", kSplitRoundingUlps));
+            "{} value{} of the indirect layer below 0 by the split's rounding only (at most {} "
+            "float epsilons times |direct|, 8 to 16 ulps of direct, where direct + indirect = "
+            "color) taken as 0",
+            rounded, rounded == 1 ? "" : "s", kSplitRoundingEpsilons));
     size_t nonFinite = 0;
     for (size_t i = 0; i < direct.Size(); ++i) {
         float d = direct.data[i];

@@ -1061,6 +1061,18 @@ TEST_F(BayesProperties, SplitRoundingIsNotWarnedAsNegative) {
     r = BayesDenoiseSplit(Ctx(), direct, indirect, BayesParams());
     EXPECT_TRUE(AnyWarning(r, "(indirect layer): 1 negative value"))
         << ::testing::PrintToString(r.warnings);
+    // The bound is 8 float epsilons (2^-20) times |direct|: at it a zero, one float past it
+    // negative light.
+    indirect.At(2, 9, 4) = 0.25f;
+    float bound = 0x1p-20f * std::fabs(direct.At(0, 2, 7));
+    indirect.At(0, 2, 7) = -bound;
+    indirect.At(0, 3, 7) = -std::nextafter(0x1p-20f * std::fabs(direct.At(0, 3, 7)), 1.f);
+    r = BayesDenoiseSplit(Ctx(), direct, indirect, BayesParams());
+    EXPECT_TRUE(AnyWarning(r, "(indirect layer): 1 negative value (first at pixel (7, 3)"))
+        << ::testing::PrintToString(r.warnings);
+    said = false;
+    for (const std::string &line : r.plan) said |= Contains(line, "9 values of the indirect");
+    EXPECT_TRUE(said) << ::testing::PrintToString(r.plan);
 }
 
 // --zeros restore: the zeros kept black, the missed samples filled (a dark pixel lone among
