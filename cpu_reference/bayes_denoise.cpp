@@ -27,7 +27,8 @@ std::vector<double> BayesFloors(const Image &color, double floorRel) {
             }
         std::sort(positive.begin(), positive.end());
         double median = positive.empty() ? 1.0 : positive[positive.size() / 2];
-        floors[c] = std::max(floorRel * median, 1e-30);
+        // Rounded to float as the kernels hold it, so that a value at the floor is dark alike.
+        floors[c] = float(std::max(floorRel * median, 1e-30));
     }
     return floors;
 }

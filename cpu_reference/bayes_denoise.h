@@ -17,7 +17,7 @@
 namespace mcd::ref {
 
 // Per channel: floorRel times the median of the channel's finite positive values (element
-// n/2 of them sorted; 1 when there are none), at least 1e-30. The median, not the mean:
+// n/2 of them sorted; 1 when there are none), at least 1e-30, rounded to float. The median, not the mean:
 // one 1e8 firefly must not raise the floor of the whole channel. Values below it (zeros,
 // negatives, tiny) take its log.
 std::vector<double> BayesFloors(const Image &color, double floorRel);
