@@ -108,15 +108,16 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
     if (restoreZeros) {
         size_t floored = dark.n - keptBlack - filled;
         if (keptBlack)
-            black = fmt::format("; the {} black one{} stay{} black (zeros inside black in "
-                                "their channel)",
-                                keptBlack, keptBlack == 1 ? "" : "s",
-                                keptBlack == 1 ? "s" : "");
+            black = fmt::format(
+                "; the {} black one{} stay{} black (zeros inside black in "
+                "their channel)",
+                keptBlack, keptBlack == 1 ? "" : "s", keptBlack == 1 ? "s" : "");
         if (filled)
-            black += fmt::format("; {} in dark pixels lone among lit pixels, samples that "
-                                 "missed the light, filled from their lit neighbours' mean "
-                                 "log and denoised",
-                                 filled);
+            black += fmt::format(
+                "; {} in dark pixels lone among lit pixels, samples that "
+                "missed the light, filled from their lit neighbours' mean "
+                "log and denoised",
+                filled);
         if (floored) black += fmt::format("; {} denoised from the floor", floored);
     }
     say(dark, "black or nearly black",

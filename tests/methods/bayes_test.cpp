@@ -431,7 +431,8 @@ TEST_F(BayesKernel, LogFillsEveryChannelFromTheSameNeighbours) {
     Image color(w, h, 3);
     for (int c = 0; c < 3; ++c)
         for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) color.At(c, y, x) = 0.1f * float(1 + c + (x + 2 * y) % 4);
+            for (int x = 0; x < w; ++x)
+                color.At(c, y, x) = 0.1f * float(1 + c + (x + 2 * y) % 4);
     for (int c = 0; c < 3; ++c) color.At(c, 2, 3) = 0, color.At(c, 2, 2) = 0;  // missed
     color.At(1, 2, 4) = 0, color.At(2, 2, 4) = 0;  // lit in channel 0 only: a neighbour
     color.At(0, 4, 6) = 0, color.At(1, 4, 6) = 0;  // lit in channel 2 only: not missed
@@ -454,9 +455,9 @@ TEST_F(BayesKernel, LogFillsEveryChannelFromTheSameNeighbours) {
             for (int y = 1; y <= 3; ++y)
                 for (int x = 2; x <= 4; ++x)
                     if ((x != 3 || y != 2) && (x != 2 || y != 2))
-                        mean += std::log(std::max(double(color.At(c, y, x)),
-                                                  double(floors[c]))) /
-                                7;
+                        mean +=
+                            std::log(std::max(double(color.At(c, y, x)), double(floors[c]))) /
+                            7;
             EXPECT_NEAR(image->At(c, 2, 3), mean, 1e-5) << "channel " << c;
             if (c < 2) EXPECT_NEAR(image->At(c, 4, 6), std::log(floors[c]), 1e-5);
         }
@@ -1089,14 +1090,15 @@ TEST_F(BayesProperties, RestoreSaysWhichZerosStayBlack) {
     for (int c = 0; c < 3; ++c)
         for (int x = 0; x < 20; ++x) color.At(c, 9, x) = 0;  // a black line
     BayesResult r = BayesDenoise(Ctx(), color, PaperBayesParams());
-    for (const char *part : {"64 black or nearly black values", "the 60 black ones stay black",
-                             "; 3 in dark pixels lone among lit pixels",
-                             "; 1 denoised from the floor"})
+    for (const char *part :
+         {"64 black or nearly black values", "the 60 black ones stay black",
+          "; 3 in dark pixels lone among lit pixels", "; 1 denoised from the floor"})
         EXPECT_TRUE(AnyWarning(r, part)) << part << ::testing::PrintToString(r.warnings);
     EXPECT_GT(r.image.At(0, 4, 6), 0.f);
     for (int c = 0; c < 3; ++c) EXPECT_GT(r.image.At(c, 2, 13), 0.f);
     bool said = false;  // --explain tells of the fill
-    for (const std::string &line : r.plan) said |= Contains(line, "samples that missed the light");
+    for (const std::string &line : r.plan)
+        said |= Contains(line, "samples that missed the light");
     EXPECT_TRUE(said) << ::testing::PrintToString(r.plan);
     for (int x = 0; x < 20; ++x) EXPECT_EQ(r.image.At(0, 9, x), 0.f);
 }
