@@ -27,28 +27,26 @@ std::vector<double> BayesFloors(const Image &color, double floorRel) {
             }
         std::sort(positive.begin(), positive.end());
         double median = positive.empty() ? 1.0 : positive[positive.size() / 2];
-        floors[c] = std::max(floorRel * median, 1e-30);
+        // Rounded to float as the kernels hold it, so that a value at the floor is dark alike.
+        floors[c] = float(std::max(floorRel * median, 1e-30));
     }
     return floors;
 }
 
 namespace {
 
-// Whether the pixel at (x, y), clamped to the frame, is black: no channel finite positive.
-bool BlackAt(const Image &image, int y, int x) {
+// Whether channel c at (x, y), clamped to the frame, is black: not finite positive.
+bool BlackAt(const Image &image, int c, int y, int x) {
     y = std::clamp(y, 0, image.height - 1), x = std::clamp(x, 0, image.width - 1);
-    for (int c = 0; c < image.channels; ++c) {
-        float v = image.At(c, y, x);
-        if (std::isfinite(v) && v > 0) return false;
-    }
-    return true;
+    float v = image.At(c, y, x);
+    return !(std::isfinite(v) && v > 0);
 }
 
-// Whether (x, y) lies inside black or on a black line: some pair of opposite 3x3 neighbour
-// pixels both black.
-bool InsideBlack(const Image &image, int y, int x) {
+// Whether (x, y) lies inside black or on a black line in channel c: some pair of opposite
+// 3x3 neighbours both black in c.
+bool InsideBlack(const Image &image, int c, int y, int x) {
     for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}})
-        if (BlackAt(image, y + dy, x + dx) && BlackAt(image, y - dy, x - dx)) return true;
+        if (BlackAt(image, c, y + dy, x + dx) && BlackAt(image, c, y - dy, x - dx)) return true;
     return false;
 }
 
@@ -112,7 +110,7 @@ Image BayesExp(const Image &logImage, const Image &original, bool restoreZeros) 
             for (int x = 0; x < out.width; ++x) {
                 double v = original.At(c, y, x);
                 double z = std::clamp(double(logImage.At(c, y, x)), -87.0, 88.0);
-                bool black = restoreZeros && v == 0 && InsideBlack(original, y, x);
+                bool black = restoreZeros && v == 0 && InsideBlack(original, c, y, x);
                 bool keep = std::isfinite(v) && (v > 0 || (v == 0 && !black));
                 out.At(c, y, x) = keep ? float(std::exp(z)) : 0.f;
             }

@@ -17,9 +17,9 @@
 namespace mcd::ref {
 
 // Per channel: floorRel times the median of the channel's finite positive values (element
-// n/2 of them sorted; 1 when there are none), at least 1e-30. The median, not the mean:
-// one 1e8 firefly must not raise the floor of the whole channel. Values below it (zeros,
-// negatives, tiny) take its log.
+// n/2 of them sorted; 1 when there are none), at least 1e-30, rounded to float. The median, not
+// the mean: one 1e8 firefly must not raise the floor of the whole channel. Values below it
+// (zeros, negatives, tiny) take its log.
 std::vector<double> BayesFloors(const Image &color, double floorRel);
 
 // log(max(v, floor_c)); NaN, Inf and values <= floor_c take log(floor_c), but with fillMissed

@@ -71,8 +71,11 @@ class Bayes : public FrontEndOf<BayesSettings> {
                                  &BayesParams::floorRel, 1e-12, 0.5)),
                Nested(&BayesSettings::method,
                       EnumParam("zeros",
-                                "restore (exact zeros stay 0, the paper's black) or denoise "
-                                "(zeros are noise, as in low-spp renders)",
+                                "restore (zeros inside black in their channel stay 0, the "
+                                "paper's black; dark pixels lone among lit ones, samples that "
+                                "missed the light, filled from their lit neighbours; other "
+                                "zeros denoised) or denoise (zeros are noise, as in low-spp "
+                                "renders)",
                                 &BayesParams::restoreZeros,
                                 {{"restore", true}, {"denoise", false}})),
                Nested(&BayesSettings::method,
@@ -150,11 +153,15 @@ class Bayes : public FrontEndOf<BayesSettings> {
             "frame";
         int half = WaveletHalfSupport(o.basis);
         const int mean = o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0;
-        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins + mean;
+        // --zeros restore: the log stage's missed-sample fill reads the 3x3 neighbours before
+        // the filters.
+        const int fill = o.restoreZeros ? 1 : 0;
+        needs.reach = 2 * half * ((1 << levels) - 1) + o.spins + mean + fill;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
-            "{}, the spins' shift and the local mean's coarse and fine tents {}",
-            WaveletName(o.basis), half, levels, mean);
+            "{}, the spins' shift, the local mean's coarse and fine tents {} and --zeros "
+            "restore's 3x3 fill {}",
+            WaveletName(o.basis), half, levels, mean, fill);
         needs.align = o.transform == BayesTransform::Dwt ? 1 << levels : 1;
         // Above the peak measured at 1080p (3 channels, swt, 3 levels). One binding
         // holds a channel's stationary coefficients (3 bands a level and the low band), or

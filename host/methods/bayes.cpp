@@ -36,19 +36,34 @@ bool Finite(float v) {
     return std::isfinite(v);
 }
 
-// Whether the exp kernel keeps a zero at (x, y) black with --zeros restore: both neighbour
-// pixels along a row, column or diagonal (clamped to the frame) black, no channel finite
-// positive.
-bool InsideBlack(const Image &color, int y, int x) {
+// Whether the exp kernel keeps a zero of channel c at (x, y) black with --zeros restore: both
+// neighbours along a row, column or diagonal (clamped to the frame) black in channel c, not
+// finite positive.
+bool InsideBlack(const Image &color, int c, int y, int x) {
     auto black = [&](int yy, int xx) {
         yy = std::clamp(yy, 0, color.height - 1), xx = std::clamp(xx, 0, color.width - 1);
-        for (int c = 0; c < color.channels; ++c)
-            if (float v = color.At(c, yy, xx); Finite(v) && v > 0) return false;
-        return true;
+        float v = color.At(c, yy, xx);
+        return !(Finite(v) && v > 0);
     };
     for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}})
         if (black(y + dy, x + dx) && black(y - dy, x - dx)) return true;
     return false;
+}
+
+// Whether the log kernel fills the pixel at (x, y) with --zeros restore: dark (no channel
+// finite and above its floor) and not inside dark (no pair of opposite 3x3 neighbour pixels,
+// clamped to the frame, both dark).
+bool MissedSample(const Image &color, const std::vector<float> &floors, int y, int x) {
+    auto dark = [&](int yy, int xx) {
+        yy = std::clamp(yy, 0, color.height - 1), xx = std::clamp(xx, 0, color.width - 1);
+        for (int c = 0; c < color.channels; ++c)
+            if (float v = color.At(c, yy, xx); Finite(v) && v > floors[c]) return false;
+        return true;
+    };
+    if (!dark(y, x)) return false;
+    for (auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, std::pair{1, -1}})
+        if (dark(y + dy, x + dx) && dark(y - dy, x - dx)) return false;
+    return true;
 }
 
 // Count what the log domain cannot take as is, with the first place of each. Black and
@@ -59,7 +74,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
         size_t n = 0;
         int x = 0, y = 0, c = 0;
     } nonFinite, negative, zero, dark;
-    size_t keptBlack = 0;
+    size_t keptBlack = 0, filled = 0;
     auto add = [](Count &count, int c, int y, int x) {
         if (count.n++ == 0) count.x = x, count.y = y, count.c = c;
     };
@@ -73,7 +88,9 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
                     add(negative, c, y, x);
                 else if (v <= floors[c]) {
                     add(dark, c, y, x);
-                    if (v == 0) ++zero.n, keptBlack += restoreZeros && InsideBlack(color, y, x);
+                    bool kept = restoreZeros && v == 0 && InsideBlack(color, c, y, x);
+                    zero.n += v == 0, keptBlack += kept;
+                    filled += restoreZeros && !kept && MissedSample(color, floors, y, x);
                 }
             }
     auto say = [&](const Count &count, const char *what, const std::string &then) {
@@ -84,21 +101,30 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
     };
     say(nonFinite, "NaN/Inf", "taken as the log floor, output 0");
     say(negative, "negative", "taken as the log floor, output 0");
-    size_t lone = zero.n - keptBlack;
-    std::string black =
-        zero.n == 0 ? ""
-        : !restoreZeros
-            ? fmt::format(", the {} black one{} too (--zeros denoise)", zero.n,
-                          zero.n == 1 ? "" : "s")
-            : fmt::format("; the {} black one{} stay{} black", keptBlack,
-                          keptBlack == 1 ? "" : "s", keptBlack == 1 ? "s" : "") +
-                  (lone ? fmt::format(" ({} more, lone among lit pixels, are samples that "
-                                      "missed the light: denoised)",
-                                      lone)
-                        : "");
+    std::string black;
+    if (!restoreZeros && zero.n)
+        black = fmt::format(", the {} black one{} too (--zeros denoise)", zero.n,
+                            zero.n == 1 ? "" : "s");
+    if (restoreZeros) {
+        size_t floored = dark.n - keptBlack - filled;
+        if (keptBlack)
+            black = fmt::format(
+                "; the {} black one{} stay{} black (zeros inside black in "
+                "their channel)",
+                keptBlack, keptBlack == 1 ? "" : "s", keptBlack == 1 ? "s" : "");
+        if (filled)
+            black += fmt::format(
+                "; {} in dark pixels lone among lit pixels, samples that "
+                "missed the light, filled from their lit neighbours' mean "
+                "log and denoised",
+                filled);
+        if (floored) black += fmt::format("; {} denoised from the floor", floored);
+    }
     say(dark, "black or nearly black",
-        "below the log domain's floor (--log-floor x the channel's median), denoised from "
-        "it" +
+        (restoreZeros ? std::string("below the log domain's floor (--log-floor x the "
+                                    "channel's median)")
+                      : std::string("below the log domain's floor (--log-floor x the "
+                                    "channel's median), denoised from it")) +
             black);
 }
 
@@ -738,7 +764,9 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
         "{}",
         options.floorRel,
         options.restoreZeros
-            ? "zeros inside black or on a black line restored exactly after exp"
+            ? "dark pixels lone among lit pixels (no two opposite 3x3 neighbour pixels dark: "
+              "samples that missed the light) take their lit neighbours' mean log; zeros "
+              "inside black or on a black line in their channel restored exactly after exp"
             : "zeros denoised like other pixels (--zeros denoise)"));
     if (levels < options.levels)
         run.Plan(fmt::format("{} levels requested; a {}x{} image allows {}", options.levels,
@@ -823,7 +851,7 @@ Image SplitIndirect(const Image &direct, const Image &indirect, size_t *rounded)
     for (size_t i = 0; i < out.Size(); ++i) {
         float v = out.data[i], d = direct.data[i];
         if (v < 0 && std::isfinite(d) &&
-            -v <= kSplitRoundingUlps * std::numeric_limits<float>::epsilon() * std::fabs(d))
+            -v <= kSplitRoundingEpsilons * std::numeric_limits<float>::epsilon() * std::fabs(d))
             out.data[i] = 0, ++*rounded;
     }
     return out;
@@ -845,9 +873,10 @@ BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const I
         if (warning.rfind("bayes: ", 0) == 0) warning.insert(5, " (indirect layer)");
     if (rounded)
         result.plan.push_back(fmt::format(
-            "{} value{} of the indirect layer below 0 by the split's rounding only (within {} "
-            "float roundings of direct, where direct + indirect = color) taken as 0",
-            rounded, rounded == 1 ? "" : "s", kSplitRoundingUlps));
+            "{} value{} of the indirect layer below 0 by the split's rounding only (at most {} "
+            "float epsilons times |direct|, 8 to 16 ulps of direct, where direct + indirect = "
+            "color) taken as 0",
+            rounded, rounded == 1 ? "" : "s", kSplitRoundingEpsilons));
     size_t nonFinite = 0;
     for (size_t i = 0; i < direct.Size(); ++i) {
         float d = direct.data[i];

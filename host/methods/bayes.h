@@ -49,11 +49,12 @@ struct BayesResult : MethodResult {
 BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesParams &params,
                          const RunSetup &setup = {}, const Image *variance = nullptr);
 
-// Negative values of the indirect layer within this many float roundings of direct's
-// magnitude are the rounding of direct + indirect = color, not negative light.
-constexpr int kSplitRoundingUlps = 8;
+// Negative values of the indirect layer down to this many float epsilons times direct's
+// magnitude (8 to 16 units in the last place of direct) are the rounding of direct +
+// indirect = color, not negative light.
+constexpr int kSplitRoundingEpsilons = 8;
 
-// The indirect layer bayes denoises: its negative values within kSplitRoundingUlps of
+// The indirect layer bayes denoises: its negative values within kSplitRoundingEpsilons of
 // direct (an indirect composed as color - direct, by accumulate or from Blender's light
 // passes, where all the light is direct) set to 0 and counted in `rounded`.
 Image SplitIndirect(const Image &direct, const Image &indirect, size_t *rounded);

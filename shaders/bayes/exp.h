@@ -1,8 +1,9 @@
 // Method `bayes`, last stage: back from the log domain. out = exp(clamp(z, -87, 88)), or
 // exactly 0 where the original value was NaN/Inf or negative; with restoreZeros also where it
 // was an exact zero whose two neighbour pixels along a row, column or diagonal (clamped to
-// the frame) are black, no channel finite positive (black stays black; a lone zero among lit
-// pixels is a sample that missed the light, filled by the log stage and denoised).
+// the frame) are black in its channel, not finite positive (black stays black, and so do the
+// zero channels of a primary colour; a lone zero among lit pixels is a sample that missed the
+// light, filled by the log stage and denoised).
 #ifndef MCD_SHADERS_BAYES_EXP_H
 #define MCD_SHADERS_BAYES_EXP_H
 

@@ -353,15 +353,14 @@ TEST_P(BayesLogKernel, MatchesReference) {
     SCOPED_TRACE(fmt::format("{}x{}", w, h));
     Image color = AwkwardInput(w, h, 3, SeedFromName(fmt::format("bayeslog{}x{}", w, h)));
     std::vector<float> floors = BayesFloors(color, 1e-3f);
-    std::vector<double> refFloors = ref::BayesFloors(color, 1e-3);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(floors[c], refFloors[c], 1e-6 * refFloors[c]);
-    std::vector<double> floorsAsGpu(floors.begin(), floors.end());
+    std::vector<double> refFloors = ref::BayesFloors(color, double(1e-3f));
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(double(floors[c]), refFloors[c]) << "channel " << c;
     vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log");
     in.Upload(color);
     vk::Buffer floorsGpu = Floats(floors, "floors");
     for (bool fillMissed : {false, true}) {
         SCOPED_TRACE(fillMissed ? "missed samples filled" : "the floor");
-        Image expected = ref::BayesLog(color, floorsAsGpu, fillMissed);
+        Image expected = ref::BayesLog(color, refFloors, fillMissed);
         auto run = [&] {
             vk::Recorder recorder(Ctx());
             RecordBayesLog(Ctx(), recorder, in, floorsGpu, out, fillMissed);
@@ -420,6 +419,49 @@ TEST_F(BayesKernel, LogFillsMissedSamplesFromTheirNeighbours) {
         EXPECT_NEAR(image->At(0, 2, 3), mean, 1e-5);
         for (int x = 0; x < w; ++x) EXPECT_NEAR(image->At(0, 6, x), std::log(0.01), 1e-5);
         EXPECT_NEAR(image->At(0, 7, 9), std::log(0.01), 1e-5);
+    }
+    EXPECT_TRUE(BitIdentical(got, run(true)));
+}
+
+// In colour: a pixel with one lit channel is no missed sample (its zeros take the floor), and
+// a missed sample's channels average the same neighbour pixels, every one not dark, each
+// channel at least its floor.
+TEST_F(BayesKernel, LogFillsEveryChannelFromTheSameNeighbours) {
+    const int w = 9, h = 7;
+    Image color(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                color.At(c, y, x) = 0.1f * float(1 + c + (x + 2 * y) % 4);
+    for (int c = 0; c < 3; ++c) color.At(c, 2, 3) = 0, color.At(c, 2, 2) = 0;  // missed
+    color.At(1, 2, 4) = 0, color.At(2, 2, 4) = 0;  // lit in channel 0 only: a neighbour
+    color.At(0, 4, 6) = 0, color.At(1, 4, 6) = 0;  // lit in channel 2 only: not missed
+    std::vector<float> floors = {0.01f, 0.02f, 0.03f};
+    vk::GpuImage in(Ctx(), w, h, 3, "color"), out(Ctx(), w, h, 3, "log");
+    in.Upload(color);
+    vk::Buffer floorsGpu = Floats(floors, "floors");
+    auto run = [&] {
+        vk::Recorder recorder(Ctx());
+        RecordBayesLog(Ctx(), recorder, in, floorsGpu, out, true);
+        recorder.Submit();
+        return out.Download();
+    };
+    Image got = run(), expected = ref::BayesLog(color, {0.01f, 0.02f, 0.03f}, true);
+    EXPECT_TRUE(BitIdentical(got, run()));
+    for (const Image *image : {&got, &expected}) {
+        SCOPED_TRACE(image == &got ? "kernel" : "CPU twin");
+        for (int c = 0; c < 3; ++c) {
+            double mean = 0;  // (3, 2)'s neighbours less (2, 2), dark itself
+            for (int y = 1; y <= 3; ++y)
+                for (int x = 2; x <= 4; ++x)
+                    if ((x != 3 || y != 2) && (x != 2 || y != 2))
+                        mean +=
+                            std::log(std::max(double(color.At(c, y, x)), double(floors[c]))) /
+                            7;
+            EXPECT_NEAR(image->At(c, 2, 3), mean, 1e-5) << "channel " << c;
+            if (c < 2) EXPECT_NEAR(image->At(c, 4, 6), std::log(floors[c]), 1e-5);
+        }
+        EXPECT_NEAR(image->At(2, 4, 6), std::log(color.At(2, 4, 6)), 1e-5);
     }
 }
 
@@ -495,10 +537,14 @@ TEST_F(BayesKernel, ExpRestoresBlackButNotLoneZeros) {
         back(Ctx(), w, h, 1, "exp");
     in.Upload(color);
     log.Upload(logImage);
-    vk::Recorder recorder(Ctx());
-    RecordBayesExp(Ctx(), recorder, log, in, back, true);
-    recorder.Submit();
-    Image got = back.Download(), expected = ref::BayesExp(logImage, color, true);
+    auto run = [&] {
+        vk::Recorder recorder(Ctx());
+        RecordBayesExp(Ctx(), recorder, log, in, back, true);
+        recorder.Submit();
+        return back.Download();
+    };
+    Image got = run(), expected = ref::BayesExp(logImage, color, true);
+    EXPECT_TRUE(BitIdentical(got, run()));
     for (const Image *image : {&got, &expected}) {
         SCOPED_TRACE(image == &got ? "kernel" : "CPU twin");
         // The region's convex corner has no black pair through it: denoised like a lone zero.
@@ -514,6 +560,42 @@ TEST_F(BayesKernel, ExpRestoresBlackButNotLoneZeros) {
     }
     for (size_t i = 0; i < got.Size(); ++i)
         EXPECT_EQ(got.data[i] == 0, expected.data[i] == 0) << "the same zeros, pixel " << i;
+}
+
+// Black is decided per channel: a pure red region's green and blue stay 0 with --zeros
+// restore, and so do a missed sample's inside it, while its red is denoised.
+TEST_F(BayesKernel, ExpKeepsPrimaryColoursClean) {
+    const int w = 10, h = 8;
+    Image color(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) color.At(c, y, x) = c == 0 || x >= 5 ? 0.5f : 0.f;
+    for (int c = 0; c < 3; ++c) color.At(c, 4, 2) = 0, color.At(c, 3, 7) = 0;  // missed
+    Image logImage(w, h, 3);
+    for (float &v : logImage.data) v = std::log(0.5f);
+    vk::GpuImage in(Ctx(), w, h, 3, "color"), log(Ctx(), w, h, 3, "log"),
+        back(Ctx(), w, h, 3, "exp");
+    in.Upload(color);
+    log.Upload(logImage);
+    auto run = [&] {
+        vk::Recorder recorder(Ctx());
+        RecordBayesExp(Ctx(), recorder, log, in, back, true);
+        recorder.Submit();
+        return back.Download();
+    };
+    Image got = run(), expected = ref::BayesExp(logImage, color, true);
+    EXPECT_TRUE(BitIdentical(got, run()));
+    for (const Image *image : {&got, &expected}) {
+        SCOPED_TRACE(image == &got ? "kernel" : "CPU twin");
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c)
+                    if (c > 0 && x < 5) {
+                        EXPECT_EQ(image->At(c, y, x), 0.f) << x << "," << y << "," << c;
+                    } else {
+                        EXPECT_GT(image->At(c, y, x), 0.4f) << x << "," << y << "," << c;
+                    }
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, BayesExpKernel, testing::ValuesIn(kSizes), SizeName);
@@ -983,19 +1065,41 @@ TEST_F(BayesProperties, SplitRoundingIsNotWarnedAsNegative) {
     r = BayesDenoiseSplit(Ctx(), direct, indirect, BayesParams());
     EXPECT_TRUE(AnyWarning(r, "(indirect layer): 1 negative value"))
         << ::testing::PrintToString(r.warnings);
+    // The bound is 8 float epsilons (2^-20) times |direct|: at it a zero, one float past it
+    // negative light.
+    indirect.At(2, 9, 4) = 0.25f;
+    float bound = 0x1p-20f * std::fabs(direct.At(0, 2, 7));
+    indirect.At(0, 2, 7) = -bound;
+    indirect.At(0, 3, 7) = -std::nextafter(0x1p-20f * std::fabs(direct.At(0, 3, 7)), 1.f);
+    r = BayesDenoiseSplit(Ctx(), direct, indirect, BayesParams());
+    EXPECT_TRUE(AnyWarning(r, "(indirect layer): 1 negative value (first at pixel (7, 3)"))
+        << ::testing::PrintToString(r.warnings);
+    said = false;
+    for (const std::string &line : r.plan) said |= Contains(line, "9 values of the indirect");
+    EXPECT_TRUE(said) << ::testing::PrintToString(r.plan);
 }
 
-// --zeros restore: a lone zero among lit pixels is counted apart from the black kept.
+// --zeros restore: the zeros kept black, the missed samples filled (a dark pixel lone among
+// lit pixels) and the zeros denoised from the floor (one channel of a lit pixel) are counted
+// apart.
 TEST_F(BayesProperties, RestoreSaysWhichZerosStayBlack) {
     Image color = NoisyPicture(20, 12, SeedFromName("lone zeros"), 0.3);
     for (float &v : color.data) v = std::max(v, 0.05f);
     color.At(0, 4, 6) = 0;
+    for (int c = 0; c < 3; ++c) color.At(c, 2, 13) = 0;  // a missed sample
     for (int c = 0; c < 3; ++c)
         for (int x = 0; x < 20; ++x) color.At(c, 9, x) = 0;  // a black line
     BayesResult r = BayesDenoise(Ctx(), color, PaperBayesParams());
-    EXPECT_TRUE(AnyWarning(r, "the 60 black ones stay black (1 more, lone among lit pixels"))
-        << ::testing::PrintToString(r.warnings);
+    for (const char *part :
+         {"64 black or nearly black values", "the 60 black ones stay black",
+          "; 3 in dark pixels lone among lit pixels", "; 1 denoised from the floor"})
+        EXPECT_TRUE(AnyWarning(r, part)) << part << ::testing::PrintToString(r.warnings);
     EXPECT_GT(r.image.At(0, 4, 6), 0.f);
+    for (int c = 0; c < 3; ++c) EXPECT_GT(r.image.At(c, 2, 13), 0.f);
+    bool said = false;  // --explain tells of the fill
+    for (const std::string &line : r.plan)
+        said |= Contains(line, "samples that missed the light");
+    EXPECT_TRUE(said) << ::testing::PrintToString(r.plan);
     for (int x = 0; x < 20; ++x) EXPECT_EQ(r.image.At(0, 9, x), 0.f);
 }
 
@@ -1003,16 +1107,15 @@ TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     const int w = 33, h = 21;
     // Zeros, 1e-8 and 1e8 in one image.
     Image mixed = NoisyPicture(w, h, SeedFromName("mixed"), 0.3);
-    for (int c = 0; c < 3; ++c)
-        for (int x = 0; x < w; ++x) mixed.At(c, 3, x) = 0;
+    for (int x = 0; x < w; ++x) mixed.At(0, 3, x) = 0;
     mixed.At(1, 10, 10) = 1e-8f;
     mixed.At(2, 11, 11) = 1e8f;
     BayesResult r = BayesDenoise(Ctx(), mixed, PaperBayesParams());
     EXPECT_TRUE(AllFinite(r.image));
-    // One warning for the 99 zeros and the tiny value, saying what became of them.
-    EXPECT_TRUE(AnyWarning(r, "100 black or nearly black values"))
+    // One warning for the 33 zeros and the tiny value, saying what became of them.
+    EXPECT_TRUE(AnyWarning(r, "34 black or nearly black values"))
         << ::testing::PrintToString(r.warnings);
-    EXPECT_TRUE(AnyWarning(r, "the 99 black ones stay black"))
+    EXPECT_TRUE(AnyWarning(r, "the 33 black ones stay black"))
         << ::testing::PrintToString(r.warnings);
     for (int x = 0; x < w; ++x) EXPECT_EQ(r.image.At(0, 3, x), 0.f) << "black stays black";
     // NaN/Inf/negatives: 0 out, counted.

@@ -297,6 +297,24 @@ TEST_F(GpuTest, TiledRunNforClampDecidesOnceForTheFrame) {
     }
 }
 
+// bayes --zeros restore fills missed samples from their 3x3 neighbours before the filters:
+// its halo is one pixel wider than --zeros denoise's, and says why.
+TEST_F(GpuTest, TiledRunBayesRestoreHaloTakesTheFill) {
+    Frame frame = RareBrightLeftFrame(64, 32, 8);
+    int reach[2] = {};
+    for (bool restore : {false, true}) {
+        std::unique_ptr<api::FrontEnd> bayes = api::FindMethod("bayes")->make();
+        bayes->Set("zeros", std::string(restore ? "restore" : "denoise"));
+        api::Inputs inputs(frame, false, "bayes");
+        api::TileNeeds needs = bayes->Tiling(Ctx(), inputs);
+        reach[restore] = needs.reach;
+        EXPECT_NE(needs.reachText.find(restore ? "3x3 fill 1" : "3x3 fill 0"),
+                  std::string::npos)
+            << needs.reachText;
+    }
+    EXPECT_EQ(reach[1], reach[0] + 1);
+}
+
 // Whether nfor's plan says its coarse pass ran, and that it read the whole frame's level.
 bool CoarsePassRan(const Result &result, bool *wholeFrame = nullptr) {
     for (const std::string &line : result.plan)
