@@ -175,6 +175,45 @@ void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *va
     if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, pixelNoise, output);
 }
 
+void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *output) {
+    const int w = input.width, h = input.height, reach = 2 * s;
+    // The tent's sum within the image at each place of an axis of n values.
+    auto sums = [&](int n) {
+        std::vector<double> sum(n, 0.0);
+        for (int at = 0; at < n; ++at)
+            for (int k = 0; k < n; ++k) sum[at] += std::max(0, reach + 1 - std::abs(k - at));
+        return sum;
+    };
+    const std::vector<double> sumX = sums(w), sumY = sums(h);
+    auto tent = [&](const std::vector<double> &sum, int at, int u) {
+        return std::max(0, reach + 1 - std::abs(u - at)) / sum[at];
+    };
+    const Image before = *output;
+    for (int c = 0; c < input.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (before.At(c, y, x) == input.At(c, y, x)) continue;
+                double a = 0, b = 0, q = 0;
+                for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
+                    for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u) {
+                        float in = input.At(c, v, u), out = before.At(c, v, u);
+                        if (in == out) continue;
+                        double clean = std::isfinite(in) && in > 0 ? in : 0;
+                        double wt = tent(sumX, x, u) * tent(sumY, y, v);
+                        a += wt * clean;
+                        b += wt * out;
+                        q += wt * wt * (clean - out) * (clean - out);
+                    }
+                q *= noiseWeight;
+                if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) &&
+                      std::isfinite(q)))
+                    continue;
+                double d = a - b;
+                d *= d * d > q ? 1 - q / (d * d) : 0;
+                output->At(c, y, x) = float(before.At(c, y, x) * (1 + d / b));
+            }
+}
+
 namespace {
 
 // The lower middle of the values of plane c (or of the channels' sums, c < 0) at the
