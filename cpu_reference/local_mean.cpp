@@ -188,7 +188,11 @@ void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *ou
     auto tent = [&](const std::vector<double> &sum, int at, int u) {
         return std::max(0, reach + 1 - std::abs(u - at)) / sum[at];
     };
+    // Each value's shrunk gain (1 - q / d^2 where positive, times d / b) and whether it has one
+    // (a, b > 0, all finite).
     const Image before = *output;
+    const size_t n = input.data.size();
+    std::vector<double> gain(n, 0.0), valid(n, 0.0);
     for (int c = 0; c < input.channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -208,9 +212,26 @@ void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *ou
                 if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) &&
                       std::isfinite(q)))
                     continue;
+                const size_t i = (size_t(c) * h + y) * w + x;
                 double d = a - b;
-                d *= d * d > q ? 1 - q / (d * d) : 0;
-                output->At(c, y, x) = float(before.At(c, y, x) * (1 + d / b));
+                gain[i] = float((d * d > q ? 1 - q / (d * d) : 0) * d / b);
+                valid[i] = 1;
+            }
+    // The output times 1 + the tent's mean of the gains among the values that have one.
+    for (int c = 0; c < input.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t i = (size_t(c) * h + y) * w + x;
+                if (valid[i] == 0) continue;
+                double num = 0, den = 0;
+                for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
+                    for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u) {
+                        const size_t j = (size_t(c) * h + v) * w + u;
+                        double wt = tent(sumX, x, u) * tent(sumY, y, v);
+                        num += wt * gain[j];
+                        den += wt * valid[j];
+                    }
+                output->At(c, y, x) = float(before.At(c, y, x) * (1 + num / den));
             }
 }
 

@@ -291,14 +291,27 @@ LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeigh
     }
     const Image mIn = FilterSeparable(clean, s, false), mOut = FilterSeparable(moved, s, false),
                 q = FilterSeparable(squared, s, true);
-    LocalMeanFactors range;
-    for (size_t i = 0; i < output->data.size(); ++i) {
-        if (kept[i]) continue;
+    // Each value's shrunk gain (its first planes) and whether it has one (the last): a bright
+    // value puts its light and its noise in every window that holds it, so the gain would step
+    // at the edge of the tent's square support around it. Its mean over the same tent, among
+    // the values that have one, ramps over the tent's width instead.
+    const int channels = input.channels;
+    Image gate(input.width, input.height, 2 * channels);
+    const size_t n = input.data.size();
+    for (size_t i = 0; i < n; ++i) {
         double a = mIn.data[i], b = mOut.data[i], noise = q.data[i] * noiseWeight;
-        if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) && std::isfinite(noise)))
+        if (kept[i] ||
+            !(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) && std::isfinite(noise)))
             continue;
         double d = a - b, d2 = d * d;
-        double factor = 1 + (d2 > noise ? 1 - noise / d2 : 0) * d / b;
+        gate.data[i] = float((d2 > noise ? 1 - noise / d2 : 0) * d / b);
+        gate.data[n + i] = 1;
+    }
+    const Image smooth = FilterSeparable(gate, s, false);
+    LocalMeanFactors range;
+    for (size_t i = 0; i < n; ++i) {
+        if (gate.data[n + i] == 0) continue;
+        double factor = 1 + double(smooth.data[i]) / smooth.data[n + i];
         output->data[i] = float(output->data[i] * factor);
         range.lo = std::min(range.lo, factor);
         range.hi = std::max(range.hi, factor);
