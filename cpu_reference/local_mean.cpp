@@ -175,6 +175,66 @@ void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *va
     if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, pixelNoise, output);
 }
 
+void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *output) {
+    const int w = input.width, h = input.height, reach = 2 * s;
+    // The tent's sum within the image at each place of an axis of n values.
+    auto sums = [&](int n) {
+        std::vector<double> sum(n, 0.0);
+        for (int at = 0; at < n; ++at)
+            for (int k = 0; k < n; ++k) sum[at] += std::max(0, reach + 1 - std::abs(k - at));
+        return sum;
+    };
+    const std::vector<double> sumX = sums(w), sumY = sums(h);
+    auto tent = [&](const std::vector<double> &sum, int at, int u) {
+        return std::max(0, reach + 1 - std::abs(u - at)) / sum[at];
+    };
+    // Each value's shrunk gain (1 - q / d^2 where positive, times d / b) and whether it has one
+    // (a, b > 0, all finite).
+    const Image before = *output;
+    const size_t n = input.data.size();
+    std::vector<double> gain(n, 0.0), valid(n, 0.0);
+    for (int c = 0; c < input.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (before.At(c, y, x) == input.At(c, y, x)) continue;
+                double a = 0, b = 0, q = 0;
+                for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
+                    for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u) {
+                        float in = input.At(c, v, u), out = before.At(c, v, u);
+                        if (in == out) continue;
+                        double clean = std::isfinite(in) && in > 0 ? in : 0;
+                        double wt = tent(sumX, x, u) * tent(sumY, y, v);
+                        a += wt * clean;
+                        b += wt * out;
+                        q += wt * wt * (clean - out) * (clean - out);
+                    }
+                q *= noiseWeight;
+                if (!(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) &&
+                      std::isfinite(q)))
+                    continue;
+                const size_t i = (size_t(c) * h + y) * w + x;
+                double d = a - b;
+                gain[i] = float((d * d > q ? 1 - q / (d * d) : 0) * d / b);
+                valid[i] = 1;
+            }
+    // The output times 1 + the tent's mean of the gains among the values that have one.
+    for (int c = 0; c < input.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t i = (size_t(c) * h + y) * w + x;
+                if (valid[i] == 0) continue;
+                double num = 0, den = 0;
+                for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
+                    for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u) {
+                        const size_t j = (size_t(c) * h + v) * w + u;
+                        double wt = tent(sumX, x, u) * tent(sumY, y, v);
+                        num += wt * gain[j];
+                        den += wt * valid[j];
+                    }
+                output->At(c, y, x) = float(before.At(c, y, x) * (1 + num / den));
+            }
+}
+
 namespace {
 
 // The lower middle of the values of plane c (or of the channels' sums, c < 0) at the

@@ -29,6 +29,14 @@ void RestoreLocalMeans(const Image &input, int r, Image *output,
                        const Image *variance = nullptr, double rebalance = -1,
                        bool pixelNoise = false);
 
+// One scale of the restore alone (host/common/local_mean.h, RestoreLocalMeanAt): at each
+// value not equal to the input's, with weights w_uv = t_u t_v of the clipped, renormalised
+// tent of radius 2s (t = 2s + 1 - |offset| over its sum within the image), a = sum w clean,
+// b = sum w moved, q = noiseWeight sum w^2 (clean - moved)^2 (kept values 0 in all three),
+// the gain g = max(0, 1 - q / d^2) d / b, d = a - b, where a and b are > 0 and finite (a
+// value with a gain); the output times 1 + sum w g / sum w over the values with a gain.
+void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *output);
+
 // Lone spikes (host/common/local_mean.h, CutSpikes): a pixel whose channels' sum (NaN if
 // not finite) is > 0 and > 16 x (and <= 512 x) the median (lower middle) of its in-image
 // neighbours' sums, with fewer than 2 of those neighbours so (none where a neighbour's sum is

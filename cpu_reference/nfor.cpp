@@ -652,6 +652,24 @@ bool NforCoarseGateOpen(const Image &color, const Image *albedo, const NforParam
     return NforRelativeNoise(color, own) >= p.coarseGate;
 }
 
+// The colour whose local means give the clamp's light back: the clamped colour within
+// `reach` of an emitter (mask 0) or of a pixel of alpha under 1, the colour elsewhere.
+Image ClampLightSource(const Image &color, const Image &clamped, const Image &mask,
+                       const Image *alpha, int reach) {
+    Image source = clamped;
+    const int w = color.width, h = color.height;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            bool near = false;
+            for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
+                for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
+                    near = near || mask.At(0, v, u) == 0 || (alpha && alpha->At(0, v, u) < 1);
+            if (near) continue;
+            for (int c = 0; c < color.channels; ++c) source.At(c, y, x) = color.At(c, y, x);
+        }
+    return source;
+}
+
 // Give `out` the low frequencies of the same method at half the resolution (without a coarse
 // pass of its own) where the two differ by little.
 void AddCoarse(const NforInputs &in, const NforParams &p,
@@ -668,6 +686,7 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
     coarseParams.coarse = false;
     coarseParams.coarseGate = 0;
     coarseParams.weakLightShare = coarseParams.lightShare = 0;
+    coarseParams.clampLightRadius = 0;
     Image coarse = Nfor(half, coarseParams, nullptr);
     if (stages) stages->emplace_back("coarse", coarse);
     NforAddCoarse(color, coarse, in.albedo, p.emitterAlbedo, p.coarseRelative, p.coarseNoise,
@@ -762,6 +781,14 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
             keep("specks", out);
         }
         RestoreLocalMeans(clamped, p.meanRadius, &out);
+        if (p.clampLightRadius > 0 && !in.variance &&
+            !NforCoarseGateOpen(color, in.albedo, p)) {
+            Image source = ClampLightSource(color, clamped, mask, alpha, p.clampLightReach);
+            RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, &out);
+            if (p.clampLightFine > 0)
+                RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, &out);
+            keep("clamp.light", out);
+        }
     }
     // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.
     int keptPass = p.keptRadius > 0 ? p.keptRadius : p.weakEmitterAlbedo > 0 ? 2 : 0;

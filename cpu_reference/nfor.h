@@ -161,6 +161,13 @@ struct NforParams {
     // output (weak ones, below weakEmitterAlbedo, the first) to each of its 4 neighbours that
     // is no emitter (NforSpreadLights, cpu_reference/nfor_lights.h); both 0: off.
     double weakLightShare = 0, lightShare = 0;
+    // Without a variance layer, where the coarse pass does not run, after the restore: the
+    // colour's own local means restored at s = clampLightRadius, then clampLightFine (0:
+    // none), by RestoreLocalMeanAt (cpu_reference/local_mean.h) with noise weight
+    // clampLightNoise, the colour replaced by the clamped one within clampLightReach
+    // (Chebyshev) of an emitter or a pixel of alpha under 1; clampLightRadius 0: off.
+    int clampLightRadius = 0, clampLightFine = 0, clampLightReach = 4;
+    double clampLightNoise = 2;
     // The frame's alpha is not divided by (the values as written); the lights' spread still
     // reads it (its zeros take no part).
     bool premultiplied = false;

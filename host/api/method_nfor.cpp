@@ -199,6 +199,19 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
+        nested(IntParam("clamp-light-radius",
+                        "on a frame without a variance layer where the coarse pass does not "
+                        "run, after the local means: the colour's own means (the light the "
+                        "firefly clamp took) restored over tents of 2x this radius, each "
+                        "value's difference its own noise (a lone firefly's light stays out); "
+                        "0: off",
+                        &O::clampLightRadius, 0, 64)),
+        nested(IntParam("clamp-light-fine", "then over tents of 2x this radius; 0: none",
+                        &O::clampLightFine, 0, 64)),
+        nested(IntParam("clamp-light-reach",
+                        "the clamp's light is not given back within this many pixels of an "
+                        "emitter or a partly covered pixel",
+                        &O::clampLightReach, 0, 16)),
         nested(FloatParam(
             "speck-relative",
             "where no variance layer is read (the frame's own noise estimate), with the "
@@ -289,19 +302,24 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                              : 0;
         // The specks' bound reads the fits' output of the 8 neighbours.
         const int speckReach = o.meanRadius > 0 && o.speckRelative >= 0 ? 1 : 0;
+        // The clamp's light reads its tents and the reach of its mask.
+        const int clampLightReach =
+            o.meanRadius > 0 && o.clampLightRadius > 0
+                ? 2 * o.clampLightRadius + 2 * o.clampLightFine + o.clampLightReach
+                : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
                       o.sureRadius + speckReach +
-                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) + keptReach +
-                      lightReach;
+                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) + clampLightReach +
+                      keptReach + lightReach;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
-            "average; {} for the specks' neighbours; {} for the local means; {} for the kept "
-            "pixels' mean; {} for the lights' spread",
+            "average; {} for the specks' neighbours; {} for the local means; {} for the "
+            "clamp's light; {} for the kept pixels' mean; {} for the lights' spread",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, speckReach, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0,
-            keptReach, lightReach);
+            clampLightReach, keptReach, lightReach);
         int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
             features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
@@ -377,6 +395,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotWideRadius = o.pilotWideRadius;
         p.wideAgreement = o.wideAgreement;
         p.meanRadius = o.meanRadius;
+        p.clampLightRadius = o.clampLightRadius;
+        p.clampLightFine = o.clampLightFine;
+        p.clampLightReach = o.clampLightReach;
+        p.clampLightNoise = kClampLightNoise;
         p.speckRelative = o.speckRelative;
         p.speckFloor = o.speckFloor;
         p.speckRank = o.speckRank;

@@ -76,8 +76,9 @@ std::vector<MethodEntry> Build() {
         // nfor with its noise from the frame itself: the variance layer of a few accumulated
         // samples is noisy and heavy-tailed. Weighed by SURE it cost quality on our own
         // scenes, so it runs where the halves weigh it. Without statistics auto runs it
-        // alone (PickWithoutStatistics). Beside the halves its weak emitters, specks and lights
-        // stay as they are: smoothing them helped some accumulated frames and cost others.
+        // alone (PickWithoutStatistics). Beside the halves its weak emitters, specks, lights
+        // and clamp's light stay as they are: smoothing them helped some accumulated frames
+        // and cost others.
         {"nfor",
          NforFrontEnd,
          -1,
@@ -86,7 +87,8 @@ std::vector<MethodEntry> Build() {
             {"weak-emitter-albedo", 0.f},
             {"speck-relative", -1.f},
             {"weak-light-share", 0.f},
-            {"light-share", 0.f}},
+            {"light-share", 0.f},
+            {"clamp-light-radius", 0}},
            0,
            {0.6f, 0.2f, 1.f},
            "purple",

@@ -227,6 +227,100 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
 
 namespace {
 
+// The weights of the clipped tent of radius 2s along an axis of n values: at each x, (2s + 1
+// - |u - x|) for u in the axis within 2s, over their sum; with `squared`, their squares.
+std::vector<double> ClippedTent(int n, int s, bool squared) {
+    const int reach = 2 * s, span = 2 * reach + 1;
+    std::vector<double> weights(size_t(n) * span, 0.0);
+    for (int x = 0; x < n; ++x) {
+        double sum = 0;
+        for (int u = std::max(0, x - reach); u <= std::min(n - 1, x + reach); ++u)
+            sum += reach + 1 - std::abs(u - x);
+        for (int u = std::max(0, x - reach); u <= std::min(n - 1, x + reach); ++u) {
+            double w = (reach + 1 - std::abs(u - x)) / sum;
+            weights[size_t(x) * span + (u - x + reach)] = squared ? w * w : w;
+        }
+    }
+    return weights;
+}
+
+// Each plane filtered by the separable weights (ClippedTent's, rows then columns).
+Image FilterSeparable(const Image &image, int s, bool squared) {
+    const int w = image.width, h = image.height, reach = 2 * s, span = 2 * reach + 1;
+    const std::vector<double> wx = ClippedTent(w, s, squared), wy = ClippedTent(h, s, squared);
+    Image rows(w, h, image.channels), out(w, h, image.channels);
+    for (int c = 0; c < image.channels; ++c) {
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
+                    sum += wx[size_t(x) * span + (u - x + reach)] * image.At(c, y, u);
+                rows.At(c, y, x) = float(sum);
+            }
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double sum = 0;
+                for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
+                    sum += wy[size_t(y) * span + (v - y + reach)] * rows.At(c, v, x);
+                out.At(c, y, x) = float(sum);
+            }
+    }
+    return out;
+}
+
+}  // namespace
+
+LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeight,
+                                    Image *output) {
+    if (!input.SameShape(*output) || s <= 0 || !(noiseWeight >= 0))
+        throw Error(
+            "RestoreLocalMeanAt: the output must have the input's shape, s > 0, the noise's "
+            "weight >= 0",
+            ErrorKind::Internal);
+    // Kept values count in no mean: 0 in both and in the squares.
+    Image clean(input.width, input.height, input.channels),
+        moved = *output, squared(input.width, input.height, input.channels);
+    std::vector<bool> kept(input.data.size());
+    for (size_t i = 0; i < kept.size(); ++i) {
+        kept[i] = output->data[i] == input.data[i];
+        float v = input.data[i];
+        clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
+        if (kept[i]) moved.data[i] = 0;
+        float e = clean.data[i] - moved.data[i];
+        squared.data[i] = e * e;
+    }
+    const Image mIn = FilterSeparable(clean, s, false), mOut = FilterSeparable(moved, s, false),
+                q = FilterSeparable(squared, s, true);
+    // Each value's shrunk gain (its first planes) and whether it has one (the last): a bright
+    // value puts its light and its noise in every window that holds it, so the gain would step
+    // at the edge of the tent's square support around it. Its mean over the same tent, among
+    // the values that have one, ramps over the tent's width instead.
+    const int channels = input.channels;
+    Image gate(input.width, input.height, 2 * channels);
+    const size_t n = input.data.size();
+    for (size_t i = 0; i < n; ++i) {
+        double a = mIn.data[i], b = mOut.data[i], noise = q.data[i] * noiseWeight;
+        if (kept[i] ||
+            !(a > 0 && b > 0 && std::isfinite(a) && std::isfinite(b) && std::isfinite(noise)))
+            continue;
+        double d = a - b, d2 = d * d;
+        gate.data[i] = float((d2 > noise ? 1 - noise / d2 : 0) * d / b);
+        gate.data[n + i] = 1;
+    }
+    const Image smooth = FilterSeparable(gate, s, false);
+    LocalMeanFactors range;
+    for (size_t i = 0; i < n; ++i) {
+        if (gate.data[n + i] == 0) continue;
+        double factor = 1 + double(smooth.data[i]) / smooth.data[n + i];
+        output->data[i] = float(output->data[i] * factor);
+        range.lo = std::min(range.lo, factor);
+        range.hi = std::max(range.hi, factor);
+    }
+    return range;
+}
+
+namespace {
+
 // The normalised smallest squared second difference of z at each pixel of channel c
 // (FrameNoise), NaN where there is none.
 std::vector<float> SecondDifferences(const Image &color, const Image *albedo, int c) {

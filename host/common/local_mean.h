@@ -81,6 +81,17 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
                                    const Image *variance = nullptr, double rebalance = -1,
                                    bool pixelNoise = false);
 
+// One scale of the restore alone, without the highlights, for a second input read after the
+// restore: over the tent of radius 2s clipped to the image (weights 2s + 1 - |offset| per
+// axis over their sum), the gain d / m_out, d = m_in - m_out shrunk by q, the variance of
+// m_in's tent mean were each value's noise its own squared difference (the sum of the
+// squared weights times those) times `noiseWeight`; each value scaled by 1 + the mean of
+// those gains over the same tent (among the values that have one: m_in, m_out > 0, finite),
+// so that a bright value, whose noise shuts the gain in every window that holds it, leaves
+// no step at the edge of their square. The values equal to the input's are kept and count
+// in no mean.
+LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeight,
+                                    Image *output);
 // RestoreLocalMeans with a last coarse pass of weight `rebalance` (kLocalMeanRebalance for
 // pivot and rhf) and the noise of each value (`pixelNoise`); returns what the plan says of
 // it ("the input's means over tents ...").

@@ -122,7 +122,8 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.pilotAlpha) && o.pilotAlpha >= 0) ||
         !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
         !(o.albedoSigma > 0 && o.normalSigma > 0 && o.depthSigma > 0 && o.pivotSigma > 0) ||
-        o.meanRadius < 0 || !(finite(o.coarseRelative) && o.coarseRelative >= 0) ||
+        o.meanRadius < 0 || o.clampLightRadius < 0 || o.clampLightFine < 0 ||
+        o.clampLightReach < 0 || !(finite(o.coarseRelative) && o.coarseRelative >= 0) ||
         !(finite(o.coarseNoise) && o.coarseNoise >= 0) ||
         !(finite(o.coarseGate) && o.coarseGate >= 0) ||
         !(finite(o.wideAgreement) && o.wideAgreement >= 0) || !finite(o.speckRelative) ||
@@ -690,6 +691,64 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
                     8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
 }
 
+// The colour whose local means give the clamp's light back: the clamped colour within
+// o.clampLightReach of an emitter or of a pixel of alpha under 1 (their own light is the
+// lights' spread's and the kept pixels' to place), the colour elsewhere.
+Image ClampLightSource(const Image &color, const Image &clamped, const Image &mask,
+                       const Image *alpha, int reach) {
+    const int w = color.width, h = color.height;
+    std::vector<char> blocked(size_t(w) * h), rows(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            blocked[size_t(y) * w + x] =
+                mask.At(0, y, x) == 0 || (alpha && alpha->At(0, y, x) < 1);
+    // A square of radius reach around each blocked pixel: along rows, then columns.
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            char any = 0;
+            for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach) && !any; ++u)
+                any = blocked[size_t(y) * w + u];
+            rows[size_t(y) * w + x] = any;
+        }
+    Image source = clamped;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            char any = 0;
+            for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach) && !any; ++v)
+                any = rows[size_t(v) * w + x];
+            if (any) continue;
+            for (int c = 0; c < color.channels; ++c) source.At(c, y, x) = color.At(c, y, x);
+        }
+    return source;
+}
+
+// After the local means, the colour's own (the clamp's light back) over the tents of
+// o.clampLightRadius, then o.clampLightFine: the clamp takes a glint's light from the few
+// pixels its samples hit, and where many such are near (a wire mesh's glints, a ring's
+// highlight) that light is the frame's; each value's own difference as its noise leaves a
+// lone firefly's light out.
+void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &o,
+                       const Image &mask, const Image &clamped, const Image *alpha,
+                       NforResult &result) {
+    Image source = ClampLightSource(*in.color, clamped, mask, alpha, o.clampLightReach);
+    LocalMeanFactors f =
+        RestoreLocalMeanAt(source, o.clampLightRadius, kClampLightNoise, &result.image);
+    if (o.clampLightFine > 0) {
+        LocalMeanFactors g =
+            RestoreLocalMeanAt(source, o.clampLightFine, kClampLightNoise, &result.image);
+        f.lo = std::min(f.lo, g.lo);
+        f.hi = std::max(f.hi, g.hi);
+    }
+    run.AddStage("clamp.light", result.image);
+    run.Plan(fmt::format(
+        "the clamp's light: the colour's own means over tents of radius {}{} restored, each "
+        "value's difference its noise x {}, the clamped colour kept within {} of an emitter "
+        "or a partly covered pixel (factors {:.3g} to {:.3g})",
+        2 * o.clampLightRadius,
+        o.clampLightFine > 0 ? fmt::format(", then {}", 2 * o.clampLightFine) : "",
+        kClampLightNoise, o.clampLightReach, f.lo, f.hi));
+}
+
 // Each emitter's share of its output given to its neighbours that are no emitter.
 void SpreadLights(StagedRun &run, const NforInputs &in, const NforOptions &o,
                   const Image *alpha, NforResult &result) {
@@ -749,6 +808,7 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
     options.coarseGate = 0;
     // The lights are spread once, over the whole resolution's output.
     options.weakLightShare = options.lightShare = 0;
+    options.clampLightRadius = 0;
     options.keepStages = false;
     return NforDenoise(context, coarse, options).image;
 }
@@ -763,19 +823,31 @@ std::string PlanCoarseGate(const NforInputs &in, const NforOptions &o, double le
         level >= o.coarseGate ? "at least" : "under", o.coarseGate);
 }
 
-// Give the output the coarse pass's low frequencies where the gate lets it run. The gate
-// reads the clamp's estimate this run made where it has one (the same bits as
-// NforCoarseLevel's strips), so a frame it leaves spends nothing more.
-void AddCoarsePass(vk::Context &context, StagedRun &run, NforGpu &gpu, const NforInputs &in,
-                   const NforOptions &o, NforResult &result) {
-    double coarseLevel = -1;
-    bool coarseRuns = o.coarse;
+// Whether the coarse pass runs, and the frame's noise level that decided it (-1: none
+// read). The gate reads the clamp's estimate this run made where it has one (the same bits
+// as NforCoarseLevel's strips), so a frame it leaves spends nothing more.
+struct CoarseGate {
+    double level = -1;
+    bool runs = false;
+};
+
+CoarseGate DecideCoarse(vk::Context &context, NforGpu &gpu, const NforInputs &in,
+                        const NforOptions &o) {
+    CoarseGate gate{-1, o.coarse};
     if (!o.coarse && o.coarseGate > 0) {
-        coarseLevel = in.coarseLevel >= 0 || !OwnClampEstimate(in, o)
-                          ? NforCoarseLevel(context, in, o)
-                          : NforRelativeNoise(*in.color, gpu.clampVariance.Download());
-        coarseRuns = coarseLevel >= o.coarseGate;
+        gate.level = in.coarseLevel >= 0 || !OwnClampEstimate(in, o)
+                         ? NforCoarseLevel(context, in, o)
+                         : NforRelativeNoise(*in.color, gpu.clampVariance.Download());
+        gate.runs = gate.level >= o.coarseGate;
     }
+    return gate;
+}
+
+// Give the output the coarse pass's low frequencies where the gate lets it run.
+void AddCoarsePass(vk::Context &context, StagedRun &run, const NforInputs &in,
+                   const NforOptions &o, CoarseGate gate, NforResult &result) {
+    const double coarseLevel = gate.level;
+    const bool coarseRuns = gate.runs;
     std::optional<Image> coarse;
     if (coarseRuns) coarse = CoarseOutput(context, in, o);
     result.coarseLevel = coarseLevel;
@@ -861,7 +933,13 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     for (float m : mask.data) result.emitters += m == 0;
     for (size_t i = 0; i < clamped.Size(); ++i)
         result.clamped += clamped.data[i] != in.color->data[i];
-    if (o.meanRadius > 0) RestoreMeans(run, in, o, mask, clamped, result);
+    const CoarseGate gate = DecideCoarse(context, gpu, in, o);
+    if (o.meanRadius > 0) {
+        RestoreMeans(run, in, o, mask, clamped, result);
+        if (o.clampLightRadius > 0 && !in.variance && !gate.runs)
+            RestoreClampLight(run, in, o, mask, clamped,
+                              straight.partlyCovered > 0 ? given.alpha : nullptr, result);
+    }
     const int keptPass = NforKeptPassRadius(o, in.variance, in.albedo);
     if (keptPass > 0) {
         run.AddStage("unkept", result.image);
@@ -882,7 +960,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                         "features",
                         what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
-    AddCoarsePass(context, run, gpu, in, o, result);
+    AddCoarsePass(context, run, in, o, gate, result);
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
                     "window and kept as they are but for the lights' spread (a lone one far "

@@ -117,6 +117,13 @@ struct NforOptions {
     // the first; the rest the second) to each of its 4 neighbours that is no emitter
     // (host/methods/nfor_lights.h); both 0: off.
     float weakLightShare = 0.08f, lightShare = 0.004f;
+    // On a frame without a variance layer read as the noise, where the coarse pass does not
+    // run, after the local means: the colour's own local means (the light the firefly clamp
+    // took) restored over tents of radius 2 x clampLightRadius, then 2 x clampLightFine (0:
+    // none), each value's difference its own noise times kClampLightNoise; the clamped
+    // colour kept within clampLightReach of an emitter or a partly covered pixel (a light's
+    // rim, a silhouette). clampLightRadius 0: off.
+    int clampLightRadius = 16, clampLightFine = 2, clampLightReach = 4;
     // Denoise the frame again at half the resolution and give the output the coarse
     // output's low frequencies where they differ by under min(coarseRelative x the
     // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h):
@@ -130,6 +137,10 @@ struct NforOptions {
     // Keep every stage's output in NforResult::stages (for `mcdenoise diff`).
     bool keepStages = false;
 };
+
+// The weight on each value's noise where the clamp's light is restored
+// (NforOptions::clampLightRadius): a lone firefly's light stays out, a shared one comes back.
+constexpr double kClampLightNoise = 2;
 
 // The radius of the weak emitters' mean when --kept-radius leaves it at 0.
 constexpr int kWeakEmitterRadius = 2;

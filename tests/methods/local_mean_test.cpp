@@ -117,6 +117,28 @@ TEST_P(LocalMeanMatches, ReferenceWithVariance) {
     }
 }
 
+// One scale of the restore alone (nfor's clamp's light) against its reference: unshrunk and
+// with each value's noise twice; bit-identical when repeated.
+TEST_P(LocalMeanMatches, RestoreAtMatchesReference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    for (double noiseWeight : {0.0, 2.0}) {
+        Image expected = output, got = output;
+        ref::RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &expected);
+        RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &got);
+        for (size_t i = 0; i < got.data.size(); ++i) {
+            ASSERT_TRUE(std::isfinite(got.data[i])) << noiseWeight << " " << i;
+            ASSERT_NEAR(got.data[i], expected.data[i],
+                        3e-5 * std::fabs(expected.data[i]) + 1e-12)
+                << noiseWeight << " " << i;
+        }
+        Image again = output;
+        RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &again);
+        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4))
+            << noiseWeight;
+    }
+}
+
 // The noise bound against its reference: variances of one channel and of the input's,
 // with NaN, Inf and negative values among them and among the inputs; the same bits (both
 // clamp in double and round once), and the same when repeated.
@@ -360,6 +382,35 @@ TEST(LocalMeanProperties, OnePixelsEnergyIsNotSpreadWithItsOwnNoise) {
     }
     EXPECT_LT(ownMost, 5e-3);
     EXPECT_GT(windowMost, 20 * ownMost) << ownMost;
+}
+
+// A firefly on a wall the method darkened: the restore gives the wall its light back, and
+// the firefly's noise, in every window that holds it, holds the gain back there. The gain
+// must ramp down towards the firefly, not step at the edge of the square of windows that
+// hold it (the squares nfor drew on glossy lights' floor), and the firefly adds no light.
+TEST(LocalMeanProperties, RestoreAtGainHasNoStepAroundAFirefly) {
+    const int w = 40, h = 40, s = 2;
+    Image input(w, h, 1), output(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            input.At(0, y, x) = 0.05f + 0.001f * float((x + 2 * y) % 5 - 2);
+            output.At(0, y, x) = 0.04f;
+        }
+    input.At(0, 20, 20) = 5;
+    RestoreLocalMeanAt(input, s, 2, &output);
+    auto gain = [&](int y, int x) { return output.At(0, y, x) / 0.04 - 1; };
+    const double far = gain(2, 2);
+    EXPECT_GT(far, 0.2);
+    double step = 0, most = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            most = std::max(most, gain(y, x));
+            if (x + 1 < w) step = std::max(step, std::fabs(gain(y, x + 1) - gain(y, x)));
+            if (y + 1 < h) step = std::max(step, std::fabs(gain(y + 1, x) - gain(y, x)));
+        }
+    EXPECT_LT(step, 0.25 * far) << far;
+    EXPECT_LT(gain(20, 20), 0.25 * far);
+    EXPECT_LT(most, 1.05 * far);
 }
 
 // The bound: a value within k standard deviations stays; one beyond ends at k of them,

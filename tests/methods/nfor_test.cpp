@@ -1011,6 +1011,10 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
     p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
     p.meanRadius = o.meanRadius;
+    p.clampLightRadius = o.clampLightRadius;
+    p.clampLightFine = o.clampLightFine;
+    p.clampLightReach = o.clampLightReach;
+    p.clampLightNoise = kClampLightNoise;
     p.speckRelative = o.speckRelative;
     p.speckFloor = o.speckFloor;
     p.speckRank = o.speckRank;
@@ -1101,6 +1105,76 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     o.clampLayer = false;
     o.clampLoss = 0;
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
+}
+
+// The clamp's light given back (the coarse gate shut, so that it runs on these noisy
+// frames): one scale and two, small enough for the frames; beside lights and partly
+// covered pixels, whose neighbourhood keeps the clamped colour; off.
+TEST_F(NforMethod, ClampLightStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.coarseGate = 0;
+    o.clampLightRadius = 2;
+    for (int fine : {0, 1}) {
+        o.clampLightFine = fine;
+        for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}}) {
+            SCOPED_TRACE(fmt::format("fine {} {}x{}", fine, w, h));
+            ExpectStagesMatch(Ctx(), w, h, o);
+        }
+    }
+    SCOPED_TRACE("partly covered, lights");
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, true, true);
+    o.clampLightReach = 0;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, true, true);
+    o.clampLightRadius = 0;
+    ExpectStagesMatch(Ctx(), 29, 23, o);
+}
+
+// Glints that the clamp takes (one pixel in six of the left third, 8x the surface: a wire
+// mesh's) hold light the frame has: with the defaults the output there keeps most of it,
+// without the pass (--clamp-light-radius 0) it loses it. A lone firefly beyond the coarse
+// tents' reach of the glints is a firefly: the pass leaves the pixels around it as they
+// were.
+TEST_F(NforMethod, ClampLightGivesBackGlintsNotAFirefly) {
+    const int w = 128, h = 64;
+    Frame f = MakeFrame(w, h, 0, "clamp light");
+    std::mt19937_64 rng(SeedFromName("clamp light glints"));
+    std::normal_distribution<double> normal(0, 0.05);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double gain = 1;
+            if (x < 40 && rng() % 6 == 0) gain = 8;  // a glint
+            if (x == 112 && y == 32) gain = 40;      // the firefly
+            for (int c = 0; c < 3; ++c) {
+                f.albedo.At(c, y, x) = 0.5f;
+                f.normal.At(c, y, x) = c == 2 ? 1.f : 0.f;
+                f.color.At(c, y, x) = float(0.25 * (1 + normal(rng)) * gain);
+            }
+        }
+    NforOptions on, off;
+    off.clampLightRadius = 0;
+    NforResult a = NforDenoise(Ctx(), InputsOf(f), on),
+               b = NforDenoise(Ctx(), InputsOf(f), off);
+    EXPECT_FALSE(a.coarseRan);
+    auto leftMean = [&](const Image &image) {
+        double sum = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < 32; ++x) sum += image.At(c, y, x);
+        return sum;
+    };
+    const double input = leftMean(f.color);
+    EXPECT_LT(leftMean(b.image), 0.9 * input);
+    EXPECT_GT(leftMean(a.image), 0.95 * input);
+    for (int y = 28; y <= 36; ++y)
+        for (int x = 108; x <= 116; ++x)
+            if (x != 112 || y != 32)
+                EXPECT_NEAR(a.image.At(1, y, x), b.image.At(1, y, x),
+                            0.01 * b.image.At(1, y, x))
+                    << x << "," << y;
+    NforResult again = NforDenoise(Ctx(), InputsOf(f), on);
+    EXPECT_EQ(MeasureDifference(a.image, again.image).parity, 0u);
+    EXPECT_EQ(a.image.data, again.image.data);
 }
 
 // Partly covered pixels over a transparent background: divided by their alpha before the
