@@ -85,9 +85,8 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
 // spread over its k (the square root of the larger of the pixel's variance and its 3x3
 // window's mean without the largest); the channels of a pixel whose variance is above 0, whose
 // input and output are finite and whose window's variances are finite and not negative move
-// to input + t (output -
-// input), one t for the pixel: the largest that keeps every one of them in its range. Returns
-// the number of values moved.
+// to input + t (output - input), one t for the pixel: the largest that keeps every one of
+// them in its range. Returns the number of values moved.
 size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
                          Image *output);
 
