@@ -132,10 +132,13 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "their median over the pivot (dots along a wire)",
                    &PivotSettings::keepEdges),
                IntParam("pivot-range",
-                        "each pixel ends within the range of its input's values in the "
-                        "window of this half-size, its channels moved toward their input by "
-                        "one share (plane fits that extrapolate a highlight's slope or its "
-                        "fireflies beyond every input around them; beyond the paper; 0: off)",
+                        "each pixel's channels end within the range of their input's values "
+                        "in the window of this half-size, moved toward their input by one "
+                        "share (plane fits that extrapolate a highlight's slope or its "
+                        "fireflies beyond every input around them; beyond the paper; 0: off); "
+                        "a channel whose variance is 0, or whose 3x3 window holds a variance "
+                        "that is NaN, infinite or negative, is left as it is (its noise says "
+                        "nothing), as are values that are not finite",
                         &PivotSettings::range, 0, 16),
                FloatParam("pivot-bound",
                           "each value ends at most this many standard deviations of its "
@@ -213,7 +216,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                              kPivotRangeSpread, &result.image);
             result.plan.push_back(fmt::format(
                 "range: {} values moved to within their input's range in its {}x{} window "
-                "(those of variance 0 left; {})",
+                "(those of variance 0, or of a window with a variance not finite or negative, "
+                "left; {})",
                 moved, 2 * options.range + 1, 2 * options.range + 1, noiseSource));
             if (run.keepStages) result.stages.push_back({"range", result.image});
         }

@@ -20,6 +20,7 @@
 #include "harness/inputs.h"
 #include "host/api/device.h"
 #include "host/common/kept_edges.h"
+#include "host/common/local_mean.h"
 #include "host/kernels/pivot_bilateral.h"
 #include "host/kernels/pivot_fit.h"
 #include "host/kernels/pivot_gather.h"
@@ -879,6 +880,33 @@ TEST_F(PivotMethod, OutputStaysWithinItsInputsRange) {
     Result bounded = method.Run(device, frame);
     EXPECT_EQ(outside(bounded.image), 0u);
     EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, bounded.image));
+}
+
+// --pivot-range's help says which channels the range leaves as they are, and the range
+// (BoundToInputRange, unwidened as pivot calls it) leaves them: a pixel of variance 0, and one
+// whose 3x3 window holds a NaN or a negative variance, keep their value beyond the input's
+// range; with every variance above 0 the same value is moved into it.
+TEST(PivotRange, LeavesWhatItsHelpSays) {
+    std::string help;
+    for (const ParamInfo &info : Method("pivot").Params())
+        if (info.name == "pivot-range") help = info.help;
+    EXPECT_NE(help.find("variance is 0"), std::string::npos) << help;
+    EXPECT_NE(help.find("NaN"), std::string::npos) << help;
+    EXPECT_NE(help.find("negative"), std::string::npos) << help;
+    Image input(5, 5, 1, 1.f), output(5, 5, 1, 1.f);
+    output.At(0, 2, 2) = 4;  // beyond every input around it
+    Image variance(5, 5, 1, 0.01f);
+    Image moved = output;
+    EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &moved), 1u);
+    EXPECT_LT(moved.At(0, 2, 2), 4.f);
+    for (float left : {0.f, std::numeric_limits<float>::quiet_NaN(), -1.f}) {
+        Image v = variance;
+        // At the pixel for 0; in its window (a corner) for NaN and negative.
+        (left == 0 ? v.At(0, 2, 2) : v.At(0, 1, 1)) = left;
+        Image same = output;
+        EXPECT_EQ(BoundToInputRange(input, v, 1, 0, &same), 0u) << left;
+        EXPECT_EQ(same.At(0, 2, 2), 4.f) << left;
+    }
 }
 
 // The gather's tile lists (host code): per channel and tile, every centre of the tile once,
