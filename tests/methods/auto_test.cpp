@@ -1222,12 +1222,10 @@ double ShareOf(const Result &result, const std::string &label) {
 }
 
 // A frame whose object id alternates pixel by pixel (as where many small objects meet):
-// pivot keeps the input of every pixel next to another id, here all of them. auto's
-// variants without the ids (pivot no ids, pivot k0 no ids) filter them; they take most of
-// the weight (49% here with bayes's zeros denoised, 62% with them kept; pivot and pivot k0
-// 12%) and auto comes within 5% of the best single method. (On the Cycles cornell box, whose
-// walls are objects of their own, the pixels that pivot kept at id edges carried 83% of its
-// error.)
+// pivot's filter keeps the input of every pixel next to another id, here all of them, and
+// its kept edges clamp them to their ids' level around them. auto's variants without the
+// ids (pivot no ids, pivot k0 no ids) filter them; they take more of the weight than pivot
+// and pivot k0, and auto comes within 5% of the best single method.
 TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
     auto [frame, reference] =
         RenderWithReference("cornell", 48, 40, 8, render::kLayersGbuffer, 1024);
