@@ -761,8 +761,8 @@ AutoFrontEnd::AutoFrontEnd() {
             for (const auto &[param, value] : entry.autoSettings)
                 if (param == info.name)
                     info.help += fmt::format(
-                        "; auto's {} candidates run {} where it is not given, auto's setting "
-                        "(not under --auto-combine mean)",
+                        "; auto's {} candidates run with {} where it is not given (auto's "
+                        "setting; not under --auto-combine mean)",
                         entry.name, ParamValueText(value));
             infos.push_back(info);
         }
