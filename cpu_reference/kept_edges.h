@@ -12,11 +12,12 @@ namespace mcd::ref {
 // pixel with a 4-neighbour of other (objectId, partId) becomes the nearest value of [min,
 // max] over the finite, not kept values of its channel at the other pixels of its 3x3
 // window, where those include one of the pixel's own ids and one of others. Where they do not
-// (a part at most two pixels wide), the range also spans, over the other pixels of its own
-// ids in its 5x5 window whose output is finite, the lower of the upper median of their
-// outputs and (where the pixel's pivot is above 0) the pixel's pivot times the upper median
-// of output / pivot over those whose pivot is above 0, and every finite value of other ids
-// in its 3x3 window, kept or not; without such pixels the value stays.
+// (a part at most two pixels wide, or a side kept whole), the range also spans, over the
+// other pixels of its own ids in its 5x5 window whose output is finite, the lower of the
+// upper median of their outputs and (where the pixel's pivot is above 0) the pixel's pivot
+// times the upper median of output / pivot over those whose pivot is above 0, and every
+// finite value of other ids in its 3x3 window, kept or not; without such pixels the value
+// stays.
 // Returns how many values changed.
 size_t ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
                            const Image *partId, Image *output);

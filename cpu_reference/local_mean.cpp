@@ -504,6 +504,28 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
         if (sums[k] != 0) output->data[k] = float(double(output->data[k]) + sums[k]);
 }
 
+double NoiseSpread(const Image &variance, int c, int x, int y) {
+    int vc = variance.channels == 1 ? 0 : c;
+    double own = variance.At(vc, y, x);
+    if (!(own > 0)) return -1;
+    // The window's sum in raster order less its largest value: the host's order, so that the
+    // two agree to the bit (a sorted sum differs in the last bits).
+    double sum = 0, largest = 0;
+    int count = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            int yy = y + dy, xx = x + dx;
+            if (yy < 0 || yy >= variance.height || xx < 0 || xx >= variance.width) continue;
+            double v = variance.At(vc, yy, xx);
+            if (!std::isfinite(v) || v < 0) return -1;
+            sum += v;
+            largest = std::max(largest, v);
+            ++count;
+        }
+    double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
+    return std::sqrt(std::max(own, rest));
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     size_t clamped = 0;
     for (int y = 0; y < input.height; ++y)
@@ -513,28 +535,10 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
             std::vector<double> sd(input.channels, -1);
             double t = 1;
             for (int c = 0; c < input.channels; ++c) {
-                int vc = variance.channels == 1 ? 0 : c;
-                std::vector<double> window;
-                bool usable = true;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        int yy = y + dy, xx = x + dx;
-                        if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width)
-                            continue;
-                        double v = variance.At(vc, yy, xx);
-                        if (!std::isfinite(v) || v < 0) usable = false;
-                        window.push_back(v);
-                    }
-                // The window's mean without its largest value.
-                std::sort(window.begin(), window.end());
-                double rest = 0;
-                for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
-                rest = window.size() > 1 ? rest / double(window.size() - 1) : 0;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
-                if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
-                    !std::isfinite(out))
-                    continue;
-                sd[c] = k * std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
+                double spread = NoiseSpread(variance, c, x, y);
+                if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) continue;
+                sd[c] = k * spread;
                 // Not below 0 where the input is not negative.
                 double low = in >= 0 ? std::max(0.0, in - sd[c]) : in - sd[c];
                 double allowed = out < in ? in - low : sd[c];
@@ -568,27 +572,9 @@ size_t BoundToInputRange(const Image &input, const Image &variance, int radius, 
             std::vector<bool> bounded(input.channels, false);
             double t = 1;
             for (int c = 0; c < input.channels; ++c) {
-                int vc = variance.channels == 1 ? 0 : c;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
-                std::vector<double> window;
-                bool usable = true;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        int yy = y + dy, xx = x + dx;
-                        if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width)
-                            continue;
-                        double v = variance.At(vc, yy, xx);
-                        if (!std::isfinite(v) || v < 0) usable = false;
-                        window.push_back(v);
-                    }
-                if (!usable || !(variance.At(vc, y, x) > 0) || !std::isfinite(in) ||
-                    !std::isfinite(out))
-                    continue;
-                std::sort(window.begin(), window.end());
-                double rest = 0;
-                for (size_t i = 0; i + 1 < window.size(); ++i) rest += window[i];
-                rest = window.size() > 1 ? rest / double(window.size() - 1) : 0;
-                double spread = std::sqrt(std::max(double(variance.At(vc, y, x)), rest));
+                double spread = NoiseSpread(variance, c, x, y);
+                if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) continue;
                 bounded[c] = true;
                 double least = in, most = in;
                 for (int dy = -radius; dy <= radius; ++dy)

@@ -88,14 +88,20 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 // in its range. Returns the number of values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
+// The bound's standard deviation of channel c (the variance's one channel, or channel c) at
+// (x, y): the square root of the larger of the pixel's variance and its 3x3 window's
+// (clipped to the image) mean without its largest value, the window summed in raster order
+// less the largest; -1 where the pixel's variance is not above 0 or a variance of the
+// window is not finite or is negative.
+double NoiseSpread(const Image &variance, int c, int x, int y);
+
 // Each output value held to [min - k s, max + k s], min and max over the finite input values
 // of its channel in the (2 radius + 1)^2 window clipped to the image, s as BoundToNoise's
 // spread over its k (the square root of the larger of the pixel's variance and its 3x3
 // window's mean without the largest); the channels of a pixel whose variance is above 0, whose
 // input and output are finite and whose window's variances are finite and not negative move
-// to input + t (output -
-// input), one t for the pixel: the largest that keeps every one of them in its range. Returns
-// the number of values moved.
+// to input + t (output - input), one t for the pixel: the largest that keeps every one of
+// them in its range. Returns the number of values moved.
 size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
                          Image *output);
 

@@ -394,13 +394,57 @@ std::vector<ParamValue> Values(const FrontEnd &method) {
     return values;
 }
 
-// The variant's front end: its method's with the user's parameters and its overrides on
-// top. With an estimate bayes runs split only where the split can be scored (runsSplit).
-std::unique_ptr<FrontEnd> Configure(const FrontEnd &base, const RegisteredVariant &v,
-                                    const Noise &noise, bool *runsSplit) {
+// Whether auto's setting of `param` (MethodEntry::autoSettings) applies: where an error
+// estimate weighs the candidates (its reason is their weights; under --auto-combine mean the
+// methods' own defaults run) and the user did not set the parameter.
+bool AutoSettingApplies(const std::string &param, const AutoFrontEnd::Options &o) {
+    return o.combine != "mean" &&
+           std::find(o.given.begin(), o.given.end(), param) == o.given.end();
+}
+
+// The variant's method with the user's parameters, auto's settings where they apply and the
+// variant's overrides on top.
+std::unique_ptr<FrontEnd> WithSettings(const FrontEnd &base, const RegisteredVariant &v,
+                                       const AutoFrontEnd::Options &o) {
     std::unique_ptr<FrontEnd> method = base.Clone();
-    for (const auto &[param, value] : v.method->autoSettings) method->Set(param, value);
+    for (const auto &[param, value] : v.method->autoSettings)
+        if (AutoSettingApplies(param, o)) method->Set(param, value);
     for (const auto &[param, value] : v.variant->overrides) method->Set(param, value);
+    return method;
+}
+
+// The plan lines on auto's settings for the methods whose candidates ran: each applied, or
+// why not.
+void PlanAutoSettings(const std::vector<Ran> &ran, const AutoFrontEnd::Options &o,
+                      std::vector<std::string> *plan) {
+    for (const MethodEntry &entry : Registry()) {
+        if (std::none_of(ran.begin(), ran.end(),
+                         [&](const Ran &r) { return r.candidate.method == entry.name; }))
+            continue;
+        for (const auto &[param, value] : entry.autoSettings) {
+            const bool given =
+                std::find(o.given.begin(), o.given.end(), param) != o.given.end();
+            if (AutoSettingApplies(param, o))
+                plan->push_back(fmt::format(
+                    "auto: {} candidates: --{} {}, auto's setting ({}; given, the option's "
+                    "value holds)",
+                    entry.name, param, ParamValueText(value), entry.autoSettingsWhy));
+            else
+                plan->push_back(fmt::format(
+                    "auto: {} candidates: --{} {}, not auto's setting {}{}", entry.name, param,
+                    given ? "as given" : "at the method's own default", ParamValueText(value),
+                    given ? "" : " (no error estimate weighs them)"));
+        }
+    }
+}
+
+// The variant's front end: its method's with the user's parameters, auto's settings and its
+// overrides on top. With an estimate bayes runs split only where the split can be scored
+// (runsSplit).
+std::unique_ptr<FrontEnd> Configure(const FrontEnd &base, const RegisteredVariant &v,
+                                    const Noise &noise, const AutoFrontEnd::Options &o,
+                                    bool *runsSplit) {
+    std::unique_ptr<FrontEnd> method = WithSettings(base, v, o);
     *runsSplit = false;
     if (noise.scored && v.method->name == "bayes") {
         *runsSplit = !noise.split.offset.Empty() && !std::get<bool>(method->Get("no-split"));
@@ -542,7 +586,7 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         for (const auto &m : methods)
             if (m->Name() == v.method->name) base = m.get();
         bool runsSplit = false;
-        std::unique_ptr<FrontEnd> method = Configure(*base, v, noise, &runsSplit);
+        std::unique_ptr<FrontEnd> method = Configure(*base, v, noise, o, &runsSplit);
         if (!allowed.empty() &&
             std::find(allowed.begin(), allowed.end(), label) == allowed.end()) {
             plan->push_back(fmt::format("auto: left out {}: not in --auto-candidates", label));
@@ -599,6 +643,7 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         throw Error(
             fmt::format("{}: --method auto found no method for this frame", inputs.Path()),
             failure.value_or(ErrorKind::MissingLayer));
+    PlanAutoSettings(out.ran, o, plan);
     return out;
 }
 
@@ -712,7 +757,15 @@ void PlanCombination(const AutoFrontEnd::Options &o, const AutoOptions &c, const
 AutoFrontEnd::AutoFrontEnd() {
     for (const MethodEntry &entry : Registry()) {
         methods.push_back(entry.make());
-        for (const ParamInfo &info : methods.back()->Params()) infos.push_back(info);
+        for (ParamInfo info : methods.back()->Params()) {
+            for (const auto &[param, value] : entry.autoSettings)
+                if (param == info.name)
+                    info.help += fmt::format(
+                        "; auto's {} candidates run with {} where it is not given (auto's "
+                        "setting; not under --auto-combine mean)",
+                        entry.name, ParamValueText(value));
+            infos.push_back(info);
+        }
     }
     for (ParamDef<Options> def : OwnDefs()) {
         def.info.defaultValue = def.get(Options());
@@ -744,7 +797,12 @@ void AutoFrontEnd::Set(const std::string &param, const ParamValue &value) {
     }
     for (auto &m : methods)
         for (const ParamInfo &info : m->Params())
-            if (info.name == param) return m->Set(param, value);
+            if (info.name == param) {
+                if (std::find(options.given.begin(), options.given.end(), param) ==
+                    options.given.end())
+                    options.given.push_back(param);
+                return m->Set(param, value);
+            }
     throw Error("auto has no parameter '" + param + "'", ErrorKind::InvalidArgument);
 }
 
@@ -789,9 +847,7 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
             continue;
-        std::unique_ptr<FrontEnd> method = base.Clone();
-        for (const auto &[param, value] : v.method->autoSettings) method->Set(param, value);
-        for (const auto &[param, value] : v.variant->overrides) method->Set(param, value);
+        std::unique_ptr<FrontEnd> method = WithSettings(base, v, options);
         TileNeeds one = method->Tiling(context, inputs);
         needs.reach = std::max(needs.reach, one.reach);
         needs.align = std::lcm(needs.align, std::max(one.align, 1));

@@ -92,6 +92,9 @@ class AutoFrontEnd : public FrontEnd {
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
+        // The candidates' parameters the user set (not a parameter): auto's settings for
+        // them (MethodEntry::autoSettings) give way.
+        std::vector<std::string> given;
     };
 
   private:

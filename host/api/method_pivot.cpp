@@ -120,20 +120,25 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "partial<k>.color/.pivot and remainder layers (by default each partial "
                    "is filtered against its own pivot and the remainder added)",
                    &PivotSettings::noPartials),
-               BoolParam("pivot-keep-edges",
-                         "leave the values the filter kept at their input beside other ids "
-                         "(mixing in a side far from their own) as they are; by default each "
-                         "is clamped to the range of the filtered values of both sides in "
-                         "its 3x3 window, which takes out their noise (dots along id edges); "
-                         "in a part at most two pixels wide the range also spans its own ids' "
-                         "level within 2, the lower of their median and its pivot times "
-                         "their median over the pivot (dots along a wire)",
-                         &PivotSettings::keepEdges),
+               BoolParam(
+                   "pivot-keep-edges",
+                   "leave the values the filter kept at their input beside other ids "
+                   "(mixing in a side far from their own) as they are; by default each "
+                   "is clamped to the range of the filtered values of both sides in "
+                   "its 3x3 window, which takes out their noise (dots along id edges); "
+                   "where it lacks filtered values of both sides (a part at most two "
+                   "pixels wide, or beside a side kept whole) the range also spans its "
+                   "own ids' level within 2, the lower of their median and its pivot times "
+                   "their median over the pivot (dots along a wire)",
+                   &PivotSettings::keepEdges),
                IntParam("pivot-range",
-                        "each pixel ends within the range of its input's values in the "
-                        "window of this half-size, its channels moved toward their input by "
-                        "one share (plane fits that extrapolate a highlight's slope or its "
-                        "fireflies beyond every input around them; beyond the paper; 0: off)",
+                        "each pixel's channels end within the range of their input's values "
+                        "in the window of this half-size, moved toward their input by one "
+                        "share (plane fits that extrapolate a highlight's slope or its "
+                        "fireflies beyond every input around them; beyond the paper; 0: off); "
+                        "a channel whose variance is 0, or whose 3x3 window holds a variance "
+                        "that is NaN, infinite or negative, is left as it is (its noise says "
+                        "nothing), as are values that are not finite",
                         &PivotSettings::range, 0, 16),
                FloatParam("pivot-bound",
                           "each value ends at most this many standard deviations of its "
@@ -189,11 +194,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                                  &result.image);
             result.plan.push_back(fmt::format(
                 "kept edges: {} values kept at their input beside other ids clamped to the "
-                "range of both sides' filtered values in their 3x3 window, {} of them in parts "
-                "at most two pixels wide (no filtered value of both sides around them) to the "
-                "range that also spans their own ids' level within 2 (the lower of the median "
-                "value and the pivot times the median value / pivot); {} keep their input and "
-                "its noise (no pixel of their ids around them)",
+                "range of both sides' filtered values in their 3x3 window, {} of them "
+                "without a filtered value of both sides around them (in a part at most two "
+                "pixels wide, or beside a side kept whole: a light, alpha 0) to the range "
+                "that also spans their own ids' level within 2 (the lower of the median "
+                "value and the pivot times the median value / pivot); {} keep their input "
+                "and its noise (no pixel of their ids around them)",
                 kept.clamped, kept.thin, kept.alone));
             if (run.keepStages) result.stages.push_back({"kept edges", result.image});
         }
@@ -210,7 +216,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                              kPivotRangeSpread, &result.image);
             result.plan.push_back(fmt::format(
                 "range: {} values moved to within their input's range in its {}x{} window "
-                "(those of variance 0 left; {})",
+                "(those of variance 0, or of a window with a variance not finite or negative, "
+                "left; {})",
                 moved, 2 * options.range + 1, 2 * options.range + 1, noiseSource));
             if (run.keepStages) result.stages.push_back({"range", result.image});
         }

@@ -95,9 +95,8 @@ std::vector<MethodEntry> Build() {
            {},
            AutoVariant::kHalves,
            NforCheaperProbe}}},
-        // pivot's candidates without its input-range bound: held near their input where the
-        // fits overshoot, they drew auto's weights to pivot where its error is the input's
-        // (docs/methods/pivot.md, ninth round).
+        // pivot's candidates without its input-range bound (docs/methods/pivot.md, ninth
+        // round).
         {"pivot",
          PivotFrontEnd,
          3,
@@ -117,7 +116,9 @@ std::vector<MethodEntry> Build() {
            "grey",
            kGuideLayers,
            AutoVariant::kOwn}},
-         {{"pivot-range", 0}}},
+         {{"pivot-range", 0}},
+         "with the range, held near their input where the fits overshoot, they drew the "
+         "weights to pivot where its error is the input's"},
         {"rhf",
          RhfFrontEnd,
          1,

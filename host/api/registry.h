@@ -46,9 +46,11 @@ struct MethodEntry {
     // frame allows by this, lowest first; -1: never picked.
     int pick = -1;
     std::vector<AutoVariant> variants;  // empty: auto does not run it
-    // Parameters auto sets over the user's for every variant of the method, before the
-    // variant's own overrides (which mark a variant; these do not).
+    // Parameters auto sets for every variant of the method where the user did not set them
+    // and an error estimate weighs the candidates (not under --auto-combine mean), before
+    // the variant's own overrides (which mark a variant; these do not), and why (the plan).
     std::vector<std::pair<std::string, ParamValue>> autoSettings;
+    std::string autoSettingsWhy;
 };
 
 // The methods, in the order the command line lists them.

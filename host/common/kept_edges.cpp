@@ -102,8 +102,9 @@ KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Imag
                         hi = own || other ? std::max(hi, out[q]) : out[q];
                         (same ? own : other) = true;
                     }
-                // A thin part: its own ids' level along it and the other ids' values around
-                // it, kept ones too, join the range (a light's rim seen as the wall keeps
+                // Without filtered values of both kinds (a thin part, or a side kept whole):
+                // its own ids' level along it and the other ids' values around it, kept ones
+                // too, join the range (a light's rim seen as the wall keeps
                 // the light's share).
                 const bool thin = !own || !other;
                 if (thin) {

@@ -4,9 +4,10 @@
 // the other side's light. Kept, its noise stays, a sparse line of light and dark dots along
 // the edge (a room's ceiling edge). Its true value lies between the two sides' values around
 // it, so the input is clamped to the range of the filtered values in its 3x3 window, of its
-// own ids and of the others. In a part at most two pixels wide (a wire, a fence's mesh, a
-// blade of grass) every pixel is kept and none has filtered values of both kinds around it:
-// there the range also takes its own ids' level within 2 pixels (along the part): the lower
+// own ids and of the others. Where a value lacks filtered values of both kinds around it (in
+// a part at most two pixels wide, a wire, a fence's mesh, a blade of grass, every pixel is
+// kept; beside a side kept whole, a light or alpha-0 pixels, that side has none), the range
+// also takes its own ids' level within 2 pixels (along the part): the lower
 // of their values' median and its pivot times their ratios' to the pivot (its coverage and
 // texture), so a value no sample lit, or a firefly, does not stand out of its line as a dot;
 // and the other ids' values around it, kept ones too, so a light's rim seen as the wall keeps
@@ -30,8 +31,10 @@ namespace mcd {
 // value of other ids in its 3x3 window, kept or not; without such pixels the value is left.
 struct KeptEdges {
     size_t clamped = 0;  // values moved
-    size_t thin = 0;     // of those, values without filtered neighbours of both kinds
-    size_t alone = 0;    // thin values without a pixel of their own ids within 2: left
+    // Of those, values without filtered neighbours of both kinds (a thin part, or a side
+    // kept whole around them).
+    size_t thin = 0;
+    size_t alone = 0;  // thin values without a pixel of their own ids within 2: left
 };
 KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
                               const Image *partId, Image *output);

@@ -735,6 +735,24 @@ double BoundAllowed(double in, double o, double spread) {
 
 }  // namespace
 
+double NoiseSpread(const Image &variance, int c, int x, int y) {
+    const int w = variance.width, h = variance.height;
+    const float *v = variance.Plane(variance.channels == 1 ? 0 : c);
+    if (!(v[size_t(y) * w + x] > 0)) return -1;
+    double sum = 0, largest = 0;
+    int count = 0;
+    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+            const float vi = v[size_t(j) * w + i];
+            if (!std::isfinite(vi) || vi < 0) return -1;
+            sum += vi;
+            largest = std::max(largest, double(vi));
+            ++count;
+        }
+    const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
+    return std::sqrt(std::max(double(v[size_t(y) * w + x]), rest));
+}
+
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     if (!input.SameShape(*output) || variance.width != input.width ||
         variance.height != input.height ||
@@ -757,27 +775,10 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
                 double t = 1;
                 for (int c = 0; c < channels; ++c) {
                     spread[c] = -1;
-                    const float *v = variance.Plane(variance.channels == 1 ? 0 : c);
-                    // The larger of the pixel's variance and its window's mean without the
-                    // window's largest value (one firefly beside the pixel).
-                    double sum = 0, largest = 0;
-                    int count = 0;
-                    bool finite = true;
-                    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
-                        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
-                            float vi = v[size_t(j) * w + i];
-                            finite = finite && std::isfinite(vi) && vi >= 0;
-                            sum += vi;
-                            largest = std::max(largest, double(vi));
-                            ++count;
-                        }
                     const double in = input.Plane(c)[p], o = output->Plane(c)[p];
-                    // A variance of 0 (every sample equal: at a few samples per pixel, mostly
-                    // all of them missing the light) says nothing of the noise.
-                    if (!finite || !(v[p] > 0) || !std::isfinite(in) || !std::isfinite(o))
-                        continue;
-                    const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
-                    spread[c] = k * std::sqrt(std::max(double(v[p]), rest));
+                    const double s = NoiseSpread(variance, c, x, y);
+                    if (s < 0 || !std::isfinite(in) || !std::isfinite(o)) continue;
+                    spread[c] = k * s;
                     const double allowed = BoundAllowed(in, o, spread[c]);
                     if (std::fabs(o - in) > allowed)
                         t = std::min(t, allowed / std::fabs(o - in));
@@ -796,32 +797,6 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
     });
     return moved.load();
 }
-
-namespace {
-
-// The bound's spread of channel c at p over k: the square root of the larger of the pixel's
-// variance and its 3x3 window's mean without the largest; -1 where the pixel's variance is 0
-// (every sample equal says nothing of the noise) or a variance of the window is not finite
-// or negative.
-double NoiseSpread(const Image &variance, int c, int x, int y) {
-    const int w = variance.width, h = variance.height;
-    const float *v = variance.Plane(variance.channels == 1 ? 0 : c);
-    if (!(v[size_t(y) * w + x] > 0)) return -1;
-    double sum = 0, largest = 0;
-    int count = 0;
-    for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
-        for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
-            const float vi = v[size_t(j) * w + i];
-            if (!std::isfinite(vi) || vi < 0) return -1;
-            sum += vi;
-            largest = std::max(largest, double(vi));
-            ++count;
-        }
-    const double rest = count > 1 ? (sum - largest) / (count - 1) : 0;
-    return std::sqrt(std::max(double(v[size_t(y) * w + x]), rest));
-}
-
-}  // namespace
 
 size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
                          Image *output) {

@@ -216,6 +216,15 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 // or the input's channels. Returns how many values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
+// The noise bound's standard deviation of channel c at (x, y), for BoundToNoise and
+// BoundToInputRange: the square root of the larger of the pixel's variance and its 3x3
+// window's (clipped to the image) mean without its largest value, the window summed in
+// raster order less the largest (as cpu_reference sums it, so both agree to the bit); -1
+// where the pixel's variance is not above 0 (every sample equal says nothing of the noise)
+// or a variance of the window is not finite or is negative. `variance`: 1 or c + 1 channels
+// or more.
+double NoiseSpread(const Image &variance, int c, int x, int y);
+
 // Each pixel of `output` held to the range of its input's neighbourhood, widened by its noise
 // (beyond the papers): per channel [min - k s, max + k s], min and max over the finite input
 // values of the (2 radius + 1)^2 window clipped to the image, s the noise bound's standard

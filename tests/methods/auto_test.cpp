@@ -1061,18 +1061,16 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_TRUE(PlanHas(result, "left out pivot k0: a variant"));
     // The methods auto runs that the frame allows (bayes and pivot; not nfor, weighed by the
-    // half-buffers only, nor awr, which runs where named), with auto's settings for them:
-    // their plain mean, to the float sums' rounding.
+    // half-buffers only, nor awr, which runs where named), with their own defaults (auto's
+    // settings are for weighed candidates): their plain mean, to the float sums' rounding.
     EXPECT_TRUE(PlanHas(result, "left out nfor: weighed by the half-buffers' estimate only"));
+    EXPECT_TRUE(PlanHas(result, "pivot candidates: --pivot-range at the method's own default"));
     std::vector<Image> outputs;
     for (const api::MethodEntry &m : api::Registry())
         if (!m.variants.empty() &&
             (m.variants.front().estimates & api::AutoVariant::kVariance) &&
-            m.variants.front().byDefault && Method(m.name).Missing(frame).empty()) {
-            Method method(m.name);
-            for (const auto &[param, value] : m.autoSettings) method.Set(param, value);
-            outputs.push_back(WithoutLocalMeans(method).Run(device, frame).image);
-        }
+            m.variants.front().byDefault && Method(m.name).Missing(frame).empty())
+            outputs.push_back(WithoutLocalMeans(Method(m.name)).Run(device, frame).image);
     ASSERT_EQ(outputs.size(), 2u);
     for (size_t i = 0; i < result.image.data.size(); ++i) {
         double mean = 0, scale = 0;
@@ -1080,6 +1078,37 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
             mean += o.data[i] / double(outputs.size()), scale += std::fabs(o.data[i]);
         ASSERT_NEAR(result.image.data[i], mean, 1e-6 * (1 + scale)) << i;
     }
+}
+
+// auto's settings for a method's candidates (pivot's --pivot-range 0) apply where the user
+// did not set the option: a given value holds, and the plan and the help say which ran.
+TEST_F(AutoMethod, GivenOptionHoldsOverAutosSetting) {
+    auto [frame, reference] = RenderWithReference("cornell", 24, 20, 8, render::kLayersAll, 8);
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    automatic.Set("auto-candidates", std::string("pivot"));
+    Result byDefault = automatic.Run(device, frame);
+    const std::string plan = fmt::format("{}", fmt::join(byDefault.plan, "\n"));
+    EXPECT_TRUE(PlanHas(byDefault, "auto: pivot candidates: --pivot-range 0, auto's setting"))
+        << plan;
+    EXPECT_FALSE(PlanHas(byDefault, "pivot: range:")) << plan;
+    // Given as auto's own value: the same run.
+    Method zero = automatic;
+    zero.Set("pivot-range", 0);
+    EXPECT_EQ(zero.Run(device, frame).image.data, byDefault.image.data);
+    Method two = automatic;
+    two.Set("pivot-range", 2);
+    Result given = two.Run(device, frame);
+    EXPECT_TRUE(PlanHas(given, "auto: pivot candidates: --pivot-range as given, not auto's"))
+        << fmt::format("{}", fmt::join(given.plan, "\n"));
+    EXPECT_TRUE(PlanHas(given, "pivot: range:"));
+    EXPECT_TRUE(PlanHas(given, "in its 5x5 window"));
+    EXPECT_FALSE(PlanHas(given, "auto's setting ("));
+    bool said = false;
+    for (const ParamInfo &info : automatic.Params())
+        if (info.name == "pivot-range")
+            said = info.help.find("auto's setting") != std::string::npos;
+    EXPECT_TRUE(said);
 }
 
 // A frame without statistics runs nfor alone by default, bit for bit nfor's own output,
@@ -1222,12 +1251,10 @@ double ShareOf(const Result &result, const std::string &label) {
 }
 
 // A frame whose object id alternates pixel by pixel (as where many small objects meet):
-// pivot keeps the input of every pixel next to another id, here all of them. auto's
-// variants without the ids (pivot no ids, pivot k0 no ids) filter them; they take most of
-// the weight (49% here with bayes's zeros denoised, 62% with them kept; pivot and pivot k0
-// 12%) and auto comes within 5% of the best single method. (On the Cycles cornell box, whose
-// walls are objects of their own, the pixels that pivot kept at id edges carried 83% of its
-// error.)
+// pivot's filter keeps the input of every pixel next to another id, here all of them, and
+// its kept edges clamp them to their ids' level around them. auto's variants without the
+// ids (pivot no ids, pivot k0 no ids) filter them; they take more of the weight than pivot
+// and pivot k0, and auto comes within 5% of the best single method.
 TEST_F(AutoMethod, VariantsWithoutIdsFilterPixelsAtIdEdges) {
     auto [frame, reference] =
         RenderWithReference("cornell", 48, 40, 8, render::kLayersGbuffer, 1024);

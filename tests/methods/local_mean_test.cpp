@@ -205,6 +205,42 @@ TEST_P(LocalMeanMatches, BoundToInputRangeMatchesReference) {
     }
 }
 
+// The bounds' noise spread (k > 0 widens the input range by it) against its reference, at
+// every pixel and channel of variances that span sixteen decades (more than a double sums
+// floats exactly over, so a sum in another order differs in the last bits), with NaN, Inf,
+// zeros and negatives among them: the same bits.
+TEST_P(LocalMeanMatches, NoiseSpreadMatchesReference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    std::mt19937_64 rng(SeedFromName("local mean spread"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int channels : {1, GetParam().channels}) {
+        Image variance(input.width, input.height, channels);
+        for (float &v : variance.data) {
+            float u = unit(rng);
+            v = u < 0.02f   ? std::numeric_limits<float>::quiet_NaN()
+                : u < 0.03f ? std::numeric_limits<float>::infinity()
+                : u < 0.04f ? -unit(rng)
+                : u < 0.1f  ? 0.f
+                            : std::pow(10.f, 16 * unit(rng) - 8) * (1 + unit(rng));
+        }
+        size_t spread = 0;
+        for (int c = 0; c < input.channels; ++c)
+            for (int y = 0; y < input.height; ++y)
+                for (int x = 0; x < input.width; ++x) {
+                    const double got = NoiseSpread(variance, c, x, y);
+                    const double expected = ref::NoiseSpread(variance, c, x, y);
+                    ASSERT_EQ(0, std::memcmp(&got, &expected, sizeof got))
+                        << channels << " " << c << " " << x << " " << y << " " << got << " "
+                        << expected;
+                    spread += got >= 0;
+                }
+        if (input.PixelCount() > 100) {
+            EXPECT_GT(spread, 0u) << "no spread computed";
+        }
+    }
+}
+
 // The frame's robust noise estimate against its reference: with an albedo of one channel
 // and of the colour's (values at and under the 0.02 floor among them) and without; the
 // same bits (both take z in float and the rest in double, and pick the same median), and

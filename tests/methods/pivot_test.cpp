@@ -20,6 +20,7 @@
 #include "harness/inputs.h"
 #include "host/api/device.h"
 #include "host/common/kept_edges.h"
+#include "host/common/local_mean.h"
 #include "host/kernels/pivot_bilateral.h"
 #include "host/kernels/pivot_fit.h"
 #include "host/kernels/pivot_gather.h"
@@ -730,6 +731,15 @@ TEST(PivotKeptEdges, MatchReference) {
     EXPECT_EQ(ClampKeptEdgeValues(none, none, nullptr, nullptr, &out).clamped, 0u);
 }
 
+// The image of the run's stage `name` (RunOptions::keepStages); fails the test without it.
+const Image &StageNamed(const Result &result, const std::string &name) {
+    for (const Stage &stage : result.stages)
+        if (stage.name == name) return stage.image;
+    ADD_FAILURE() << "no stage " << name;
+    static const Image none;
+    return none;
+}
+
 // A ceiling (albedo 0.8) above a wall (albedo 0.5), of two object ids, both lit to the same
 // colour, meeting along a slanted edge whose pixels mix both albedos: divided by their
 // albedo, the edge pixels lean toward the other side, and pivot keeps them at their input,
@@ -759,30 +769,35 @@ TEST_F(PivotMethod, KeptEdgeValuesLoseTheirNoise) {
     frame.layers["variance"] = variance;
     frame.layers["objectId"] = objectId;
     Device device = api::BorrowDevice(Ctx());
+    // pivot's defaults: the values the filter kept (its "output" stage equal to the input)
+    // after the clamp ("kept edges") and in what the user gets (after the input range, the
+    // noise bound and the restore of local means).
     Method method("pivot");
-    // The input-range bound would take some filtered values back to their input bit for bit,
-    // which this case would count as kept.
-    method.Set("pivot-range", 0);
-    method.Set("pivot-keep-edges", true);
-    Result kept = method.Run(device, frame);
-    method.Set("pivot-keep-edges", false);
-    Result clamped = method.Run(device, frame);
-    double inputError = 0, outputError = 0;
+    RunOptions run;
+    run.keepStages = true;
+    Result result = method.Run(device, frame, run);
+    const Image &filtered = StageNamed(result, "output");
+    const Image &clamped = StageNamed(result, "kept edges");
+    ASSERT_TRUE(filtered.SameShape(color) && clamped.SameShape(color));
+    double inputError = 0, clampedError = 0, outputError = 0;
     size_t keptValues = 0;
     for (int c = 0; c < 3; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
-                if (kept.image.At(c, y, x) == color.At(c, y, x) &&
-                    std::abs(y - edgeY(x)) <= 1) {
+                if (filtered.At(c, y, x) == color.At(c, y, x) && std::abs(y - edgeY(x)) <= 1) {
                     inputError += std::fabs(color.At(c, y, x) - level) / level;
-                    outputError += std::fabs(clamped.image.At(c, y, x) - level) / level;
+                    clampedError += std::fabs(clamped.At(c, y, x) - level) / level;
+                    outputError += std::fabs(result.image.At(c, y, x) - level) / level;
                     ++keptValues;
                 }
     ASSERT_GT(keptValues, size_t(w / 2)) << "the case keeps too few edge values";
-    EXPECT_LT(outputError, 0.85 * inputError)
-        << "kept edge values: mean relative error " << outputError / keptValues
+    EXPECT_LT(clampedError, 0.85 * inputError)
+        << "kept edge values: mean relative error " << clampedError / keptValues
         << " against the input's " << inputError / keptValues;
-    EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, clamped.image));
+    EXPECT_LT(outputError, 0.85 * inputError)
+        << "kept edge values in the output: mean relative error " << outputError / keptValues
+        << " against the input's " << inputError / keptValues;
+    EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, result.image));
 }
 
 // A wire one pixel wide (its own object id, albedo 0.3) across a wall (albedo 0.8): no fit
@@ -820,29 +835,39 @@ TEST_F(PivotMethod, ThinPartsLoseTheirDots) {
     frame.layers["variance"] = variance;
     frame.layers["objectId"] = objectId;
     Device device = api::BorrowDevice(Ctx());
+    // pivot's defaults: the wire's values the filter kept, after the clamp ("kept edges")
+    // and in what the user gets.
     Method method("pivot");
-    method.Set("pivot-range", 0);
-    method.Set("pivot-keep-edges", true);
-    Result kept = method.Run(device, frame);
-    method.Set("pivot-keep-edges", false);
-    Result clamped = method.Run(device, frame);
-    double inputError = 0, outputError = 0, worst = 0;
+    RunOptions run;
+    run.keepStages = true;
+    Result result = method.Run(device, frame, run);
+    const Image &filtered = StageNamed(result, "output");
+    const Image &clamped = StageNamed(result, "kept edges");
+    ASSERT_TRUE(filtered.SameShape(color) && clamped.SameShape(color));
+    double inputError = 0, clampedError = 0, outputError = 0, worst = 0, worstOutput = 0;
     size_t keptValues = 0;
     for (int c = 0; c < 3; ++c)
         for (int x = 0; x < w; ++x)
-            if (kept.image.At(c, wireY, x) == color.At(c, wireY, x)) {
-                const double error = std::fabs(clamped.image.At(c, wireY, x) - wire) / wire;
+            if (filtered.At(c, wireY, x) == color.At(c, wireY, x)) {
+                const double error = std::fabs(clamped.At(c, wireY, x) - wire) / wire;
+                const double output = std::fabs(result.image.At(c, wireY, x) - wire) / wire;
                 inputError += std::fabs(color.At(c, wireY, x) - wire) / wire;
-                outputError += error;
+                clampedError += error;
+                outputError += output;
                 worst = std::max(worst, error);
+                worstOutput = std::max(worstOutput, output);
                 ++keptValues;
             }
     ASSERT_GT(keptValues, size_t(2 * w)) << "the case keeps too few of the wire's values";
-    EXPECT_LT(outputError, 0.25 * inputError)
-        << "the wire: mean relative error " << outputError / keptValues << " against the "
+    EXPECT_LT(clampedError, 0.25 * inputError)
+        << "the wire: mean relative error " << clampedError / keptValues << " against the "
         << "input's " << inputError / keptValues;
     EXPECT_LT(worst, 1.5) << "a dot stays on the wire";
-    EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, clamped.image));
+    EXPECT_LT(outputError, 0.25 * inputError)
+        << "the wire in the output: mean relative error " << outputError / keptValues
+        << " against the input's " << inputError / keptValues;
+    EXPECT_LT(worstOutput, 1.5) << "a dot stays on the wire in the output";
+    EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, result.image));
 }
 
 // Plane fits that extrapolate beyond every input around them (a highlight's slope, its
@@ -884,6 +909,33 @@ TEST_F(PivotMethod, OutputStaysWithinItsInputsRange) {
     Result bounded = method.Run(device, frame);
     EXPECT_EQ(outside(bounded.image), 0u);
     EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, bounded.image));
+}
+
+// --pivot-range's help says which channels the range leaves as they are, and the range
+// (BoundToInputRange, unwidened as pivot calls it) leaves them: a pixel of variance 0, and one
+// whose 3x3 window holds a NaN or a negative variance, keep their value beyond the input's
+// range; with every variance above 0 the same value is moved into it.
+TEST(PivotRange, LeavesWhatItsHelpSays) {
+    std::string help;
+    for (const ParamInfo &info : Method("pivot").Params())
+        if (info.name == "pivot-range") help = info.help;
+    EXPECT_NE(help.find("variance is 0"), std::string::npos) << help;
+    EXPECT_NE(help.find("NaN"), std::string::npos) << help;
+    EXPECT_NE(help.find("negative"), std::string::npos) << help;
+    Image input(5, 5, 1, 1.f), output(5, 5, 1, 1.f);
+    output.At(0, 2, 2) = 4;  // beyond every input around it
+    Image variance(5, 5, 1, 0.01f);
+    Image moved = output;
+    EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &moved), 1u);
+    EXPECT_LT(moved.At(0, 2, 2), 4.f);
+    for (float left : {0.f, std::numeric_limits<float>::quiet_NaN(), -1.f}) {
+        Image v = variance;
+        // At the pixel for 0; in its window (a corner) for NaN and negative.
+        (left == 0 ? v.At(0, 2, 2) : v.At(0, 1, 1)) = left;
+        Image same = output;
+        EXPECT_EQ(BoundToInputRange(input, v, 1, 0, &same), 0u) << left;
+        EXPECT_EQ(same.At(0, 2, 2), 4.f) << left;
+    }
 }
 
 // The gather's tile lists (host code): per channel and tile, every centre of the tile once,
