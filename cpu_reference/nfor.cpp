@@ -650,7 +650,7 @@ bool NforCoarseGateOpen(const Image &color, const Image *albedo, const NforParam
 }
 
 // The colour whose local means give the clamp's light back: the clamped colour within
-// `reach` of an emitter (mask 0) or of a pixel of alpha under 1, the colour elsewhere.
+// `reach` of an emitter (mask 0) or of a partly covered pixel, the colour elsewhere.
 Image ClampLightSource(const Image &color, const Image &clamped, const Image &mask,
                        const Image *alpha, int reach) {
     Image source = clamped;
@@ -660,7 +660,8 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
             bool near = false;
             for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
                 for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
-                    near = near || mask.At(0, v, u) == 0 || (alpha && alpha->At(0, v, u) < 1);
+                    near = near || mask.At(0, v, u) == 0 ||
+                           (alpha && NforPartlyCovered(alpha->At(0, v, u)));
             if (near) continue;
             for (int c = 0; c < color.channels; ++c) source.At(c, y, x) = color.At(c, y, x);
         }

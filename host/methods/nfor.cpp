@@ -692,8 +692,10 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
 }
 
 // The colour whose local means give the clamp's light back: the clamped colour within
-// o.clampLightReach of an emitter or of a pixel of alpha under 1 (their own light is the
-// lights' spread's and the kept pixels' to place), the colour elsewhere.
+// o.clampLightReach of an emitter or of a partly covered pixel (their own light is the
+// lights' spread's and the kept pixels' to place), the colour elsewhere. An empty pixel
+// (alpha 0) is no partly covered one: a hard edge blocks nothing, so that a tile holding
+// no partly covered pixel (run without the alpha) blocks what the whole frame's run does.
 Image ClampLightSource(const Image &color, const Image &clamped, const Image &mask,
                        const Image *alpha, int reach) {
     const int w = color.width, h = color.height;
@@ -701,7 +703,7 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             blocked[size_t(y) * w + x] =
-                mask.At(0, y, x) == 0 || (alpha && alpha->At(0, y, x) < 1);
+                mask.At(0, y, x) == 0 || (alpha && NforPartlyCovered(alpha->At(0, y, x)));
     // A square of radius reach around each blocked pixel: along rows, then columns.
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
