@@ -440,6 +440,30 @@ TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
     ASSERT_LE(tile + needs.reach, soft);
 }
 
+// nfor's halo holds the clamp's light's reach only where the pass runs: on a plain frame
+// the coarse pass leaves; not beside a variance layer, nor where the coarse pass runs
+// (whose half-resolution run has no such pass), whose reach is then doubled.
+TEST_F(GpuTest, TiledRunNforHaloHoldsTheClampLightOnlyWhereItRuns) {
+    Frame layered = RareBrightLeftFrame(64, 32, 16), plain = layered;
+    plain.layers.erase("variance");
+    auto reach = [&](const Frame &frame, Params params) {
+        std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
+        for (const auto &[param, value] : params) nfor->Set(param, value);
+        api::Inputs inputs(frame, false, "nfor");
+        return nfor->Tiling(Ctx(), inputs).reach;
+    };
+    Params off = {{"clamp-light-radius", 0}};
+    Params plainOn = {{"coarse-gate", 0.f}}, plainOff = {{"coarse-gate", 0.f}};
+    plainOff.push_back(off[0]);
+    // 2 x 16 + 2 x 2 for the default tents, 4 for the guard.
+    EXPECT_EQ(reach(plain, plainOn) - reach(plain, plainOff), 40);
+    EXPECT_EQ(reach(layered, {}), reach(layered, off)) << "beside a variance layer";
+    Params coarse = {{"nfor-coarse", true}}, coarseOff = coarse;
+    coarseOff.push_back(off[0]);
+    EXPECT_EQ(reach(plain, coarse), reach(plain, coarseOff)) << "the coarse pass runs";
+    EXPECT_EQ(reach(layered, coarse), reach(layered, coarseOff)) << "coarse, a layer";
+}
+
 // The wavelet methods' statistics are frame-wide: in tiles they complete with a finite
 // image of the frame's size, the plan says the result differs and why, and the difference
 // from the untiled result stays within the bound measured on this frame (relative RMS over
