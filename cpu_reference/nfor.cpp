@@ -668,6 +668,21 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
     return source;
 }
 
+// After the local means, without a variance layer and where the coarse pass does not run:
+// the colour's own means (the light the clamp took) restored at p.clampLightRadius, then
+// p.clampLightFine, from ClampLightSource's colour.
+template <typename Keep>
+void RestoreClampLight(const NforInputs &in, const NforParams &p, const Image &clamped,
+                       const Image &mask, const Image *alpha, Keep &keep, Image *out) {
+    if (p.clampLightRadius <= 0 || in.variance || NforCoarseGateOpen(*in.color, in.albedo, p))
+        return;
+    Image source = ClampLightSource(*in.color, clamped, mask, alpha, p.clampLightReach);
+    RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, out);
+    if (p.clampLightFine > 0)
+        RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, out);
+    keep("clamp.light", *out);
+}
+
 // Give `out` the low frequencies of the same method at half the resolution (without a coarse
 // pass of its own) where the two differ by little.
 void AddCoarse(const NforInputs &in, const NforParams &p,
@@ -779,14 +794,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
             keep("specks", out);
         }
         RestoreLocalMeans(clamped, p.meanRadius, &out);
-        if (p.clampLightRadius > 0 && !in.variance &&
-            !NforCoarseGateOpen(color, in.albedo, p)) {
-            Image source = ClampLightSource(color, clamped, mask, alpha, p.clampLightReach);
-            RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, &out);
-            if (p.clampLightFine > 0)
-                RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, &out);
-            keep("clamp.light", out);
-        }
+        RestoreClampLight(in, p, clamped, mask, alpha, keep, &out);
     }
     // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.
     int keptPass = p.keptRadius > 0 ? p.keptRadius : p.weakEmitterAlbedo > 0 ? 2 : 0;
