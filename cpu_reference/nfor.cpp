@@ -670,13 +670,14 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
 
 // After the local means, without a variance layer and where the coarse pass does not run:
 // the colour's own means (the light the clamp took) restored at p.clampLightRadius, then
-// p.clampLightFine, from ClampLightSource's colour.
+// p.clampLightFine, from ClampLightSource's colour, guarded by in.alpha's partly covered
+// pixels (with p.premultiplied too).
 template <typename Keep>
 void RestoreClampLight(const NforInputs &in, const NforParams &p, const Image &clamped,
-                       const Image &mask, const Image *alpha, Keep &keep, Image *out) {
+                       const Image &mask, Keep &keep, Image *out) {
     if (p.clampLightRadius <= 0 || in.variance || NforCoarseGateOpen(*in.color, in.albedo, p))
         return;
-    Image source = ClampLightSource(*in.color, clamped, mask, alpha, p.clampLightReach);
+    Image source = ClampLightSource(*in.color, clamped, mask, in.alpha, p.clampLightReach);
     RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, out);
     if (p.clampLightFine > 0)
         RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, out);
@@ -707,7 +708,8 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
 }
 
 // The method on straight values (every stage but output), its result before any alpha;
-// `alpha`: the coverage the partly covered pixels were divided by (nullptr: none).
+// `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
+// the frame's coverage as given, which guards the clamp's light (with p.premultiplied too).
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
                       std::vector<std::pair<std::string, Image>> *stages, const Image *alpha) {
     auto keep = [&](const std::string &name, const Image &image) {
@@ -794,7 +796,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
             keep("specks", out);
         }
         RestoreLocalMeans(clamped, p.meanRadius, &out);
-        RestoreClampLight(in, p, clamped, mask, alpha, keep, &out);
+        RestoreClampLight(in, p, clamped, mask, keep, &out);
     }
     // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.
     int keptPass = p.keptRadius > 0 ? p.keptRadius : p.weakEmitterAlbedo > 0 ? 2 : 0;
@@ -824,7 +826,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         if (in.albedo) albedo = NforStraight(*in.albedo, alpha, 1);
         if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
         NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
-                            in.variance ? &variance : nullptr};
+                            in.variance ? &variance : nullptr, &alpha};
         out = NforStraightRun(straight, p, stages, &alpha);
         if (stages) stages->emplace_back("straight", out);
         out = NforPremultiply(out, alpha);

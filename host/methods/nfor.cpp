@@ -938,9 +938,9 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     const CoarseGate gate = DecideCoarse(context, gpu, in, o);
     if (o.meanRadius > 0) {
         RestoreMeans(run, in, o, mask, clamped, result);
+        // The given alpha guards partly covered pixels under --premultiplied too.
         if (o.clampLightRadius > 0 && !in.variance && !gate.runs)
-            RestoreClampLight(run, in, o, mask, clamped,
-                              straight.partlyCovered > 0 ? given.alpha : nullptr, result);
+            RestoreClampLight(run, in, o, mask, clamped, given.alpha, result);
     }
     const int keptPass = NforKeptPassRadius(o, in.variance, in.albedo);
     if (keptPass > 0) {
