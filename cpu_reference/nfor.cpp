@@ -671,13 +671,14 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
 // After the local means, without a variance layer and where the coarse pass does not run:
 // the colour's own means (the light the clamp took) restored at p.clampLightRadius, then
 // p.clampLightFine, from ClampLightSource's colour, guarded by in.alpha's partly covered
-// pixels (with p.premultiplied too).
+// pixels (none with p.premultiplied: the run is one without the alpha).
 template <typename Keep>
 void RestoreClampLight(const NforInputs &in, const NforParams &p, const Image &clamped,
                        const Image &mask, Keep &keep, Image *out) {
     if (p.clampLightRadius <= 0 || in.variance || NforCoarseGateOpen(*in.color, in.albedo, p))
         return;
-    Image source = ClampLightSource(*in.color, clamped, mask, in.alpha, p.clampLightReach);
+    Image source = ClampLightSource(*in.color, clamped, mask,
+                                    p.premultiplied ? nullptr : in.alpha, p.clampLightReach);
     RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, out);
     if (p.clampLightFine > 0)
         RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, out);
@@ -709,7 +710,7 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
 
 // The method on straight values (every stage but output), its result before any alpha;
 // `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
-// the frame's coverage as given, which guards the clamp's light (with p.premultiplied too).
+// the frame's coverage as given, which guards the clamp's light (not with p.premultiplied).
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
                       std::vector<std::pair<std::string, Image>> *stages, const Image *alpha) {
     auto keep = [&](const std::string &name, const Image &image) {

@@ -745,10 +745,11 @@ void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &
     run.Plan(fmt::format(
         "the clamp's light: the colour's own means over tents of radius {}{} restored, each "
         "value's difference its noise x {}, the clamped colour kept within {} of an emitter "
-        "or a partly covered pixel (factors {:.3g} to {:.3g})",
+        "or a partly covered pixel{} (factors {:.3g} to {:.3g})",
         2 * o.clampLightRadius,
         o.clampLightFine > 0 ? fmt::format(", then {}", 2 * o.clampLightFine) : "",
-        kClampLightNoise, o.clampLightReach, f.lo, f.hi));
+        kClampLightNoise, o.clampLightReach,
+        o.premultiplied ? " (no alpha read: --premultiplied)" : "", f.lo, f.hi));
 }
 
 // Each emitter's share of its output given to its neighbours that are no emitter.
@@ -938,9 +939,10 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     const CoarseGate gate = DecideCoarse(context, gpu, in, o);
     if (o.meanRadius > 0) {
         RestoreMeans(run, in, o, mask, clamped, result);
-        // The given alpha guards partly covered pixels under --premultiplied too.
+        // Under --premultiplied no alpha: the run is one without it.
         if (o.clampLightRadius > 0 && !in.variance && !gate.runs)
-            RestoreClampLight(run, in, o, mask, clamped, given.alpha, result);
+            RestoreClampLight(run, in, o, mask, clamped,
+                              straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     }
     const int keptPass = NforKeptPassRadius(o, in.variance, in.albedo);
     if (keptPass > 0) {

@@ -1108,15 +1108,12 @@ TEST_F(NforMethod, ClampLightStagesMatchTheReference) {
             SCOPED_TRACE(fmt::format("fine {} {}x{}", fine, w, h));
             ExpectStagesMatch(Ctx(), w, h, o);
         }
-        ExpectClampLightChanges(Ctx(), 29, 23, o);
+        // With the tents of s 2 alone the pass changes nothing on this frame.
+        if (fine > 0) ExpectClampLightChanges(Ctx(), 29, 23, o);
     }
     SCOPED_TRACE("partly covered, lights");
     ExpectStagesMatch(Ctx(), 29, 23, o, false, true, true);
     ExpectClampLightChanges(Ctx(), 29, 23, o, true, true);
-    // Under --premultiplied the alpha still guards the partly covered pixels.
-    NforOptions premultiplied = o;
-    premultiplied.premultiplied = true;
-    ExpectStagesMatch(Ctx(), 29, 23, premultiplied, false, true, true);
     o.clampLightReach = 0;
     ExpectStagesMatch(Ctx(), 29, 23, o, false, true, true);
     o.clampLightRadius = 0;
@@ -1168,52 +1165,6 @@ TEST_F(NforMethod, ClampLightGivesBackGlintsNotAFirefly) {
     NforResult again = NforDenoise(Ctx(), InputsOf(f), on);
     EXPECT_EQ(MeasureDifference(a.image, again.image).parity, 0u);
     EXPECT_EQ(a.image.data, again.image.data);
-}
-
-// Under --premultiplied the partly covered pixels are denoised as the frame holds them, and
-// the clamp's light still keeps the clamped colour near them (a silhouette's): the frame's
-// glints (one pixel in six, 8x) give back their light near the edge with the alpha and
-// without it alike but for the guard, which changes the pixels near the edge only.
-TEST_F(NforMethod, ClampLightGuardsSilhouettesUnderPremultiplied) {
-    const int w = 128, h = 32;
-    Frame f = MakeFrame(w, h, 0, "clamp light premultiplied");
-    std::mt19937_64 rng(SeedFromName("clamp light premultiplied glints"));
-    std::normal_distribution<double> normal(0, 0.05);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double gain = rng() % 6 == 0 ? 8 : 1;
-            for (int c = 0; c < 3; ++c) {
-                f.albedo.At(c, y, x) = 0.5f;
-                f.normal.At(c, y, x) = c == 2 ? 1.f : 0.f;
-                f.color.At(c, y, x) = float(0.25 * (1 + normal(rng)) * gain);
-            }
-        }
-    Image alpha = Cover(&f);
-    NforOptions o;
-    o.premultiplied = true;
-    o.coarseGate = 0;
-    NforInputs with = InputsOf(f), without = InputsOf(f);
-    with.alpha = &alpha;
-    NforResult a = NforDenoise(Ctx(), with, o), b = NforDenoise(Ctx(), without, o);
-    EXPECT_EQ(a.partlyCovered, 0u) << "none divided";
-    // The leftmost partly covered pixel, and how far the pass (and the kept pixels' pass
-    // and the lights' spread after it) reads from it.
-    int first = w;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (alpha.At(0, y, x) > 0 && alpha.At(0, y, x) < 1) first = std::min(first, x);
-    const int reach = 2 * o.clampLightRadius + 2 * o.clampLightFine + o.clampLightReach + 8;
-    ASSERT_GT(first - reach, 8);
-    bool near = false;
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                if (x < first - reach)
-                    EXPECT_EQ(a.image.At(c, y, x), b.image.At(c, y, x)) << x << "," << y;
-                else
-                    near = near || a.image.At(c, y, x) != b.image.At(c, y, x);
-            }
-    EXPECT_TRUE(near) << "the guard kept the clamped colour near the edge";
 }
 
 // Partly covered pixels over a transparent background: divided by their alpha before the
