@@ -653,7 +653,7 @@ bool NforCoarseGateOpen(const Image &color, const Image *albedo, const NforParam
 }
 
 // The colour whose local means give the clamp's light back: the clamped colour within
-// `reach` of an emitter (mask 0) or of a pixel of alpha under 1, the colour elsewhere.
+// `reach` of an emitter (mask 0) or of a partly covered pixel, the colour elsewhere.
 Image ClampLightSource(const Image &color, const Image &clamped, const Image &mask,
                        const Image *alpha, int reach) {
     Image source = clamped;
@@ -663,11 +663,29 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
             bool near = false;
             for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
                 for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
-                    near = near || mask.At(0, v, u) == 0 || (alpha && alpha->At(0, v, u) < 1);
+                    near = near || mask.At(0, v, u) == 0 ||
+                           (alpha && NforPartlyCovered(alpha->At(0, v, u)));
             if (near) continue;
             for (int c = 0; c < color.channels; ++c) source.At(c, y, x) = color.At(c, y, x);
         }
     return source;
+}
+
+// After the local means, without a variance layer and where the coarse pass does not run:
+// the colour's own means (the light the clamp took) restored at p.clampLightRadius, then
+// p.clampLightFine, from ClampLightSource's colour, guarded by in.alpha's partly covered
+// pixels (none with p.premultiplied: the run is one without the alpha).
+template <typename Keep>
+void RestoreClampLight(const NforInputs &in, const NforParams &p, const Image &clamped,
+                       const Image &mask, Keep &keep, Image *out) {
+    if (p.clampLightRadius <= 0 || in.variance || NforCoarseGateOpen(*in.color, in.albedo, p))
+        return;
+    Image source = ClampLightSource(*in.color, clamped, mask,
+                                    p.premultiplied ? nullptr : in.alpha, p.clampLightReach);
+    RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, out);
+    if (p.clampLightFine > 0)
+        RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, out);
+    keep("clamp.light", *out);
 }
 
 // Give `out` the low frequencies of the same method at half the resolution (without a coarse
@@ -694,7 +712,8 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
 }
 
 // The method on straight values (every stage but output), its result before any alpha;
-// `alpha`: the coverage the partly covered pixels were divided by (nullptr: none).
+// `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
+// the frame's coverage as given, which guards the clamp's light (not with p.premultiplied).
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
                       std::vector<std::pair<std::string, Image>> *stages, const Image *alpha) {
     auto keep = [&](const std::string &name, const Image &image) {
@@ -781,14 +800,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
             keep("specks", out);
         }
         RestoreLocalMeans(clamped, p.meanRadius, &out);
-        if (p.clampLightRadius > 0 && !in.variance &&
-            !NforCoarseGateOpen(color, in.albedo, p)) {
-            Image source = ClampLightSource(color, clamped, mask, alpha, p.clampLightReach);
-            RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, &out);
-            if (p.clampLightFine > 0)
-                RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, &out);
-            keep("clamp.light", out);
-        }
+        RestoreClampLight(in, p, clamped, mask, keep, &out);
     }
     // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.
     int keptPass = p.keptRadius > 0 ? p.keptRadius : p.weakEmitterAlbedo > 0 ? 2 : 0;
@@ -818,7 +830,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         if (in.albedo) albedo = NforStraight(*in.albedo, alpha, 1);
         if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
         NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
-                            in.variance ? &variance : nullptr};
+                            in.variance ? &variance : nullptr, &alpha};
         out = NforStraightRun(straight, p, stages, &alpha);
         if (stages) stages->emplace_back("straight", out);
         out = NforPremultiply(out, alpha);

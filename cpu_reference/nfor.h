@@ -165,7 +165,7 @@ struct NforParams {
     // colour's own local means restored at s = clampLightRadius, then clampLightFine (0:
     // none), by RestoreLocalMeanAt (cpu_reference/local_mean.h) with noise weight
     // clampLightNoise, the colour replaced by the clamped one within clampLightReach
-    // (Chebyshev) of an emitter or a pixel of alpha under 1; clampLightRadius 0: off.
+    // (Chebyshev) of an emitter or a partly covered pixel; clampLightRadius 0: off.
     int clampLightRadius = 0, clampLightFine = 0, clampLightReach = 4;
     double clampLightNoise = 2;
     // The frame's alpha is not divided by (the values as written); the lights' spread still

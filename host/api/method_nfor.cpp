@@ -302,24 +302,19 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                              : 0;
         // The specks' bound reads the fits' output of the 8 neighbours.
         const int speckReach = o.meanRadius > 0 && o.speckRelative >= 0 ? 1 : 0;
-        // The clamp's light reads its tents and the reach of its mask.
-        const int clampLightReach =
-            o.meanRadius > 0 && o.clampLightRadius > 0
-                ? 2 * o.clampLightRadius + 2 * o.clampLightFine + o.clampLightReach
-                : 0;
         needs.reach = passReach + pilotReach + std::max(colourReach, featureReach) +
                       o.sureRadius + speckReach +
-                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) + clampLightReach +
-                      keptReach + lightReach;
+                      (o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0) + keptReach +
+                      lightReach;
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
             "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
             "average; {} for the specks' neighbours; {} for the local means; {} for the "
-            "clamp's light; {} for the kept pixels' mean; {} for the lights' spread",
+            "kept pixels' mean; {} for the lights' spread",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
             o.sureRadius, speckReach, o.meanRadius > 0 ? LocalMeanReach(o.meanRadius) : 0,
-            clampLightReach, keptReach, lightReach);
+            keptReach, lightReach);
         int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
             features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
@@ -330,6 +325,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =
             PlanTiles(context, needs, inputs.Width(), inputs.Height(), 0).tileWidth == 0;
+        // The clamp's light (none in the coarse pass's run) reads its tents and the reach
+        // of its guard, where it runs: without a variance layer, the coarse pass shut.
+        const int clampLightReach =
+            o.meanRadius > 0 && o.clampLightRadius > 0 && !layer
+                ? 2 * o.clampLightRadius + 2 * o.clampLightFine + o.clampLightReach
+                : 0;
+        const int fineReach = needs.reach + clampLightReach;
+        // A frame that fits whole takes its gate's verdict unmeasured: the larger reach.
+        const bool measured = o.coarse || !whole;
         if ((o.coarse || o.coarseGate > 0) &&
             (whole || NforCoarseRuns(context, InputsOf(inputs), Options()))) {
             // The half-resolution pass reaches twice as far in this frame's pixels, its
@@ -337,6 +341,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             needs.reach = 2 * needs.reach + 2 + 6;
             needs.align = 2;
             needs.reachText += "; doubled and 8 more for the coarse pass";
+            if (!measured && fineReach > needs.reach) {
+                needs.reach = fineReach;
+                needs.reachText += fmt::format(
+                    " (or {}, the clamp's light's without it, if larger)", fineReach);
+            }
+        } else {
+            needs.reach = fineReach;
+            needs.reachText += fmt::format("; {} for the clamp's light", clampLightReach);
         }
         return needs;
     }

@@ -692,8 +692,10 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
 }
 
 // The colour whose local means give the clamp's light back: the clamped colour within
-// o.clampLightReach of an emitter or of a pixel of alpha under 1 (their own light is the
-// lights' spread's and the kept pixels' to place), the colour elsewhere.
+// o.clampLightReach of an emitter or of a partly covered pixel (their own light is the
+// lights' spread's and the kept pixels' to place), the colour elsewhere. An empty pixel
+// (alpha 0) is no partly covered one: a hard edge blocks nothing, so that a tile holding
+// no partly covered pixel (run without the alpha) blocks what the whole frame's run does.
 Image ClampLightSource(const Image &color, const Image &clamped, const Image &mask,
                        const Image *alpha, int reach) {
     const int w = color.width, h = color.height;
@@ -701,7 +703,7 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             blocked[size_t(y) * w + x] =
-                mask.At(0, y, x) == 0 || (alpha && alpha->At(0, y, x) < 1);
+                mask.At(0, y, x) == 0 || (alpha && NforPartlyCovered(alpha->At(0, y, x)));
     // A square of radius reach around each blocked pixel: along rows, then columns.
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -743,10 +745,11 @@ void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &
     run.Plan(fmt::format(
         "the clamp's light: the colour's own means over tents of radius {}{} restored, each "
         "value's difference its noise x {}, the clamped colour kept within {} of an emitter "
-        "or a partly covered pixel (factors {:.3g} to {:.3g})",
+        "or a partly covered pixel{} (factors {:.3g} to {:.3g})",
         2 * o.clampLightRadius,
         o.clampLightFine > 0 ? fmt::format(", then {}", 2 * o.clampLightFine) : "",
-        kClampLightNoise, o.clampLightReach, f.lo, f.hi));
+        kClampLightNoise, o.clampLightReach,
+        o.premultiplied ? " (no alpha read: --premultiplied)" : "", f.lo, f.hi));
 }
 
 // Each emitter's share of its output given to its neighbours that are no emitter.
@@ -936,6 +939,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     const CoarseGate gate = DecideCoarse(context, gpu, in, o);
     if (o.meanRadius > 0) {
         RestoreMeans(run, in, o, mask, clamped, result);
+        // Under --premultiplied no alpha: the run is one without it.
         if (o.clampLightRadius > 0 && !in.variance && !gate.runs)
             RestoreClampLight(run, in, o, mask, clamped,
                               straight.partlyCovered > 0 ? given.alpha : nullptr, result);

@@ -2,17 +2,9 @@
 
 namespace mcd {
 
-namespace {
-
-bool PartlyCovered(float alpha) {
-    return alpha >= kNforMinAlpha && alpha < 1.f;
-}
-
-}  // namespace
-
 size_t NforPartlyCovered(const Image &alpha) {
     size_t count = 0;
-    for (float a : alpha.data) count += PartlyCovered(a);
+    for (float a : alpha.data) count += NforPartlyCovered(a);
     return count;
 }
 
@@ -20,7 +12,7 @@ Image NforDivideByAlpha(const Image &image, const Image &alpha, int power) {
     Image divided = image;
     for (size_t i = 0; i < alpha.PixelCount(); ++i) {
         const float a = alpha.data[i];
-        if (!PartlyCovered(a)) continue;
+        if (!NforPartlyCovered(a)) continue;
         const float divisor = power == 2 ? a * a : a;
         for (int c = 0; c < divided.channels; ++c) divided.Plane(c)[i] /= divisor;
     }
@@ -30,7 +22,7 @@ Image NforDivideByAlpha(const Image &image, const Image &alpha, int power) {
 void NforMultiplyByAlpha(const Image &alpha, Image *image) {
     for (size_t i = 0; i < alpha.PixelCount(); ++i) {
         const float a = alpha.data[i];
-        if (!PartlyCovered(a)) continue;
+        if (!NforPartlyCovered(a)) continue;
         for (int c = 0; c < image->channels; ++c) image->Plane(c)[i] *= a;
     }
 }

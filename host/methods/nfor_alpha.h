@@ -15,6 +15,11 @@ namespace mcd {
 // its values: they are next to nothing, and a division would blow them up).
 constexpr float kNforMinAlpha = 1e-3f;
 
+// Whether a pixel of this alpha is partly covered: in [kNforMinAlpha, 1).
+inline bool NforPartlyCovered(float alpha) {
+    return alpha >= kNforMinAlpha && alpha < 1.f;
+}
+
 // The number of pixels of `alpha` (one channel) in [kNforMinAlpha, 1).
 size_t NforPartlyCovered(const Image &alpha);
 

@@ -1107,6 +1107,36 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
 }
 
+// The clamp's light changes ExpectStagesMatch's frame: its stage differs from the one
+// before it (the fits', before the local means) and from the image at the same point of a
+// run without the pass (after the local means: the kept pixels' pass's input).
+void ExpectClampLightChanges(vk::Context &context, int w, int h, NforOptions o,
+                             bool covered = false, bool lights = false) {
+    Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
+    Image alpha = covered ? Cover(&f) : Image();
+    if (lights) AddLightsAtTheEdge(&f, covered ? &alpha : nullptr);
+    NforInputs in = InputsOf(f);
+    if (covered) in.alpha = &alpha;
+    o.keepStages = true;
+    NforResult on = NforDenoise(context, in, o);
+    o.clampLightRadius = 0;
+    NforResult off = NforDenoise(context, in, o);
+    auto find = [](const NforResult &r, const std::string &name) {
+        for (size_t i = 0; i < r.stages.size(); ++i)
+            if (r.stages[i].first == name) return i;
+        return r.stages.size();
+    };
+    size_t light = find(on, "clamp.light"), unkept = find(off, "unkept");
+    ASSERT_LT(light, on.stages.size()) << "the pass ran";
+    ASSERT_GT(light, 0u);
+    ASSERT_LT(unkept, off.stages.size());
+    EXPECT_EQ(on.stages[light - 1].first, off.stages[unkept - 1].first);
+    EXPECT_EQ(on.stages[light - 1].second.data, off.stages[unkept - 1].second.data);
+    EXPECT_NE(on.stages[light].second.data, on.stages[light - 1].second.data);
+    EXPECT_NE(on.stages[light].second.data, off.stages[unkept].second.data)
+        << "the pass gave some light back";
+}
+
 // The clamp's light given back (the coarse gate shut, so that it runs on these noisy
 // frames): one scale and two, small enough for the frames; beside lights and partly
 // covered pixels, whose neighbourhood keeps the clamped colour; off.
@@ -1121,9 +1151,12 @@ TEST_F(NforMethod, ClampLightStagesMatchTheReference) {
             SCOPED_TRACE(fmt::format("fine {} {}x{}", fine, w, h));
             ExpectStagesMatch(Ctx(), w, h, o);
         }
+        // With the tents of s 2 alone the pass changes nothing on this frame.
+        if (fine > 0) ExpectClampLightChanges(Ctx(), 29, 23, o);
     }
     SCOPED_TRACE("partly covered, lights");
     ExpectStagesMatch(Ctx(), 29, 23, o, false, true, true);
+    ExpectClampLightChanges(Ctx(), 29, 23, o, true, true);
     o.clampLightReach = 0;
     ExpectStagesMatch(Ctx(), 29, 23, o, false, true, true);
     o.clampLightRadius = 0;

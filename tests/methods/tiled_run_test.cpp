@@ -403,6 +403,86 @@ TEST_F(GpuTest, TiledRunNforPlainFrameWithAlphaIsBitIdentical) {
     ExpectSameBits(whole.image, tiled.image, "nfor tiled with alpha");
 }
 
+// Whether a plan holds a line (the tiled run's: of its first tile) on the clamp's light.
+bool ClampLightRan(const Result &result) {
+    for (const std::string &line : result.plan)
+        if (line.find("the clamp's light: ") != std::string::npos) return true;
+    return false;
+}
+
+// nfor's clamp's light (a plain frame, the coarse pass shut) over a transparent
+// background: glints the clamp takes straddle the seam and line a hard edge (empty
+// pixels, alpha 0) in the left tile, whose window holds no partly covered pixel; a soft
+// edge (partly covered pixels) lies in the right tile. The pass keeps the clamped colour
+// only near partly covered pixels, so the left window run without the alpha keeps what
+// the whole frame's does, and the tiled result is the untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 320, height = 32, tile = 160, hard = 24, soft = width - 40;
+    Frame frame;
+    frame.path = "clamp light across a seam";
+    frame.width = width, frame.height = height;
+    Image color(width, height, 3), albedo(width, height, 3), alpha(width, height, 1);
+    std::mt19937_64 rng(SeedFromName(frame.path));
+    std::normal_distribution<double> noise(0, 0.05);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            // Empty left of the hard edge, covered in part over 8 pixels from the soft one.
+            double a = x < hard ? 0 : std::clamp(1 - (x - soft) / 8.0, 0.0, 1.0);
+            bool glints = x < hard + 24 || std::abs(x - tile) < 48;
+            double gain = glints && rng() % 6 == 0 ? 8 : 1;
+            alpha.At(0, y, x) = float(a);
+            for (int c = 0; c < 3; ++c) {
+                albedo.At(c, y, x) = float(0.5 * a);
+                double t = 0.2 + 0.1 * c + 0.1 * x / width;
+                color.At(c, y, x) = float(std::max(0.0, a * t * (1 + noise(rng)) * gain));
+            }
+        }
+    frame.layers["color"] = std::move(color);
+    frame.layers["albedo"] = std::move(albedo);
+    frame.layers["alpha"] = alpha;
+    Params params = {
+        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+    EXPECT_TRUE(ClampLightRan(whole));
+    EXPECT_TRUE(ClampLightRan(tiled));
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, the clamp's light");
+
+    // The left window holds no partly covered pixel, the right one the soft edge.
+    std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
+    for (const auto &[param, value] : params) nfor->Set(param, value);
+    api::Inputs inputs(frame, false, "nfor");
+    api::TileNeeds needs = nfor->Tiling(Ctx(), inputs);
+    ASSERT_LE(tile + needs.reach, soft);
+}
+
+// nfor's halo holds the clamp's light's reach only where the pass runs: on a plain frame
+// the coarse pass leaves; not beside a variance layer, nor where the coarse pass runs
+// (whose half-resolution run has no such pass), whose reach is then doubled.
+TEST_F(GpuTest, TiledRunNforHaloHoldsTheClampLightOnlyWhereItRuns) {
+    Frame layered = RareBrightLeftFrame(64, 32, 16), plain = layered;
+    plain.layers.erase("variance");
+    auto reach = [&](const Frame &frame, Params params) {
+        std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
+        for (const auto &[param, value] : params) nfor->Set(param, value);
+        api::Inputs inputs(frame, false, "nfor");
+        return nfor->Tiling(Ctx(), inputs).reach;
+    };
+    Params off = {{"clamp-light-radius", 0}};
+    Params plainOn = {{"coarse-gate", 0.f}}, plainOff = {{"coarse-gate", 0.f}};
+    plainOff.push_back(off[0]);
+    // 2 x 16 + 2 x 2 for the default tents, 4 for the guard.
+    EXPECT_EQ(reach(plain, plainOn) - reach(plain, plainOff), 40);
+    EXPECT_EQ(reach(layered, {}), reach(layered, off)) << "beside a variance layer";
+    Params coarse = {{"nfor-coarse", true}}, coarseOff = coarse;
+    coarseOff.push_back(off[0]);
+    EXPECT_EQ(reach(plain, coarse), reach(plain, coarseOff)) << "the coarse pass runs";
+    EXPECT_EQ(reach(layered, coarse), reach(layered, coarseOff)) << "coarse, a layer";
+}
+
 // The wavelet methods' statistics are frame-wide: in tiles they complete with a finite
 // image of the frame's size, the plan says the result differs and why, and the difference
 // from the untiled result stays within the bound measured on this frame (relative RMS over
