@@ -325,11 +325,12 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =
             PlanTiles(context, needs, inputs.Width(), inputs.Height(), 0).tileWidth == 0;
-        // The clamp's light (none in the coarse pass's run) reads its tents and the reach
-        // of its guard, where it runs: without a variance layer, the coarse pass shut.
+        // The clamp's light (none in the coarse pass's run) reads, at each scale s, tents of
+        // reach 2s for the means and 2s more for the gain's average, and the reach of its
+        // guard, where it runs: without a variance layer, the coarse pass shut.
         const int clampLightReach =
             o.meanRadius > 0 && o.clampLightRadius > 0 && !layer
-                ? 2 * o.clampLightRadius + 2 * o.clampLightFine + o.clampLightReach
+                ? 4 * o.clampLightRadius + 4 * o.clampLightFine + o.clampLightReach
                 : 0;
         const int fineReach = needs.reach + clampLightReach;
         // A frame that fits whole takes its gate's verdict unmeasured: the larger reach.

@@ -474,8 +474,9 @@ TEST_F(GpuTest, TiledRunNforHaloHoldsTheClampLightOnlyWhereItRuns) {
     Params off = {{"clamp-light-radius", 0}};
     Params plainOn = {{"coarse-gate", 0.f}}, plainOff = {{"coarse-gate", 0.f}};
     plainOff.push_back(off[0]);
-    // 2 x 16 + 2 x 2 for the default tents, 4 for the guard.
-    EXPECT_EQ(reach(plain, plainOn) - reach(plain, plainOff), 40);
+    // 4 x 16 + 4 x 2 for the default tents (the means' and the gain's average), 4 for the
+    // guard.
+    EXPECT_EQ(reach(plain, plainOn) - reach(plain, plainOff), 76);
     EXPECT_EQ(reach(layered, {}), reach(layered, off)) << "beside a variance layer";
     Params coarse = {{"nfor-coarse", true}}, coarseOff = coarse;
     coarseOff.push_back(off[0]);
