@@ -418,7 +418,7 @@ bool ClampLightRan(const Result &result) {
 // the whole frame's does, and the tiled result is the untiled one bit for bit.
 TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
     Device device = api::BorrowDevice(Ctx());
-    const int width = 320, height = 32, tile = 160, hard = 24, soft = width - 40;
+    const int width = 400, height = 32, tile = 200, hard = 24, soft = width - 40;
     Frame frame;
     frame.path = "clamp light across a seam";
     frame.width = width, frame.height = height;
