@@ -229,15 +229,13 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
     for (int c = 0; c < channels; ++c) {
         shader::PivotFitPush push{w,
                                   h,
-                                  channels,
                                   settings.maxRadius,
                                   settings.targetNoise,
                                   settings.goodNoise * settings.goodNoise,
                                   settings.disagreement,
                                   settings.k,
                                   settings.sigmaWeight,
-                                  rowBase,
-                                  c};
+                                  rowBase};
         // Absent guides are compiled out; zsn stands in for their binding.
         const vk::Buffer &packed = zsn[size_t(c)].buffer;
         recorder.Dispatch(kernel, "pivot.fit",

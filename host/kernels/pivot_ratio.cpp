@@ -41,7 +41,7 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
                       vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu,
-                      std::vector<vk::GpuImage> &zsn) {
+                      std::vector<vk::GpuImage> &zsn, const vk::Buffer &unusedSlot) {
     CheckPivotShapes("pivot ratio", color, {&pivot, &z, &s, &nu});
     CheckPivotZsn("pivot ratio", color, zsn);
     if (variance) CheckPivotShapes("pivot ratio", color, {variance});
@@ -49,6 +49,10 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
     if (int(thresholds.size()) != color.channels)
         throw Error(fmt::format("pivot ratio: {} thresholds for {} channels", thresholds.size(),
                                 color.channels),
+                    ErrorKind::Internal);
+    if (unusedSlot.Bytes() > kPivotUnusedSlotBytes)
+        throw Error(fmt::format("pivot ratio: the stand-in {} is {} bytes, above {}",
+                                unusedSlot.Name(), unusedSlot.Bytes(), kPivotUnusedSlotBytes),
                     ErrorKind::Internal);
     const vk::Kernel &kernel = context.GetKernel(
         {"pivot_ratio",
@@ -73,11 +77,12 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
         {PIVOT_RATIO_NU, &nu.buffer, vk::Access::Write},
         {PIVOT_RATIO_GUIDES, guides.image ? &guides.image->buffer : &color.buffer,
          vk::Access::Read}};
-    // Each channel's packed z, s, nu in its own slot; the first stands in for the slots of
-    // channels the frame lacks, which the kernel does not write.
+    // Each channel's packed z, s, nu in its own slot; the tiny stand-in fills the slots of
+    // channels the frame lacks (the kernel does not touch them), so that they add next to
+    // nothing to the dispatch's counted traffic.
     for (int c = 0; c < PIVOT_MAX_CHANNELS; ++c)
         bindings.push_back({uint32_t(PIVOT_RATIO_ZSN + c),
-                            c < color.channels ? &zsn[size_t(c)].buffer : &zsn[0].buffer,
+                            c < color.channels ? &zsn[size_t(c)].buffer : &unusedSlot,
                             c < color.channels ? vk::Access::Write : vk::Access::Read});
     recorder.Dispatch(kernel, "pivot.ratio", bindings, push,
                       uint32_t((color.width + PIVOT_LOCAL_SIZE - 1) / PIVOT_LOCAL_SIZE),

@@ -14,11 +14,16 @@ namespace mcd {
 // `color`, `pivot`, `variance` (nullptr: estimate the noise from the 3x3 neighbours), `z`,
 // `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel. `zsn`, one image of
 // 4 planes per channel, receives the same z, s, nu packed for the fit (PivotZsnOf).
+// `unusedSlot`, at most kPivotUnusedSlotBytes, fills the packed slots of the channels the
+// frame lacks, which the kernel does not touch: their traffic counts next to nothing.
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
                       vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu,
-                      std::vector<vk::GpuImage> &zsn);
+                      std::vector<vk::GpuImage> &zsn, const vk::Buffer &unusedSlot);
+
+// The size of RecordPivotRatio's unusedSlot: one vec4.
+constexpr size_t kPivotUnusedSlotBytes = 16;
 
 // Throw unless the images have the same width, height and channel count.
 void CheckPivotShapes(const char *what, const vk::GpuImage &a,

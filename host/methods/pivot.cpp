@@ -129,7 +129,8 @@ struct PivotGpu {
           z(context, in.color->width, in.color->height, in.color->channels, "pivot.z"),
           s(context, in.color->width, in.color->height, in.color->channels, "pivot.s"),
           nu(context, in.color->width, in.color->height, in.color->channels, "pivot.nu"),
-          out(context, in.color->width, in.color->height, in.color->channels, "pivot.out") {
+          out(context, in.color->width, in.color->height, in.color->channels, "pivot.out"),
+          unusedSlot(context, kPivotUnusedSlotBytes, "pivot.unused") {
         int w = in.color->width, h = in.color->height, channels = in.color->channels;
         // Each channel's packed z, s, nu in a buffer of its own: a binding holds one.
         for (int c = 0; c < channels; ++c)
@@ -151,6 +152,7 @@ struct PivotGpu {
 
     vk::GpuImage color, pivot, z, s, nu, out;
     std::vector<vk::GpuImage> zsn;
+    vk::Buffer unusedSlot;  // the ratio's packed slots of the channels the frame lacks
     std::optional<vk::GpuImage> variance, guide;
     PivotGpuGuides guides;
 };
@@ -286,7 +288,7 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
     PlanInputs(run, in, gpu.guides, result.pixelsWithoutZ, options);
     RecordPivotRatio(context, run.Recorder(), gpu.color, gpu.pivot,
                      gpu.variance ? &*gpu.variance : nullptr, thresholds, gpu.guides, gpu.z,
-                     gpu.s, gpu.nu, gpu.zsn);
+                     gpu.s, gpu.nu, gpu.zsn, gpu.unusedSlot);
     run.StageAtEnd("z", gpu.z);
     run.StageAtEnd("nu", gpu.nu);
     if (options.filter == PivotFilter::Bilateral)

@@ -26,7 +26,6 @@ layout(push_constant) uniform PivotFitPush {
 #endif
     int width;
     int height;
-    int channels;
     int maxRadius;
     float targetNoise;   // relative std of the centre value that stops growth
     float goodNu;        // pixels with nu above this are not fitted (goodNoise^2)
@@ -34,12 +33,10 @@ layout(push_constant) uniform PivotFitPush {
     float k;             // eq. 10's robustness constant
     float sigmaWeight;   // multiplies sigma (nu) in eq. 10's exponent (1: the paper)
     int rowBase;         // first centre row of this dispatch (row strips)
-    int channel;         // the channel of this dispatch, whose fit buffers are bound
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotFitPush) == 44);
-static_assert(offsetof(PivotFitPush, rowBase) == 36);
-static_assert(offsetof(PivotFitPush, channel) == 40);
+static_assert(sizeof(PivotFitPush) == 36);
+static_assert(offsetof(PivotFitPush, rowBase) == 32);
 }  // namespace mcd::shader
 #else
 }

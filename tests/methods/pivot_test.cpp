@@ -73,6 +73,21 @@ Frame MakeFrame(int w, int h, double noise, uint64_t seed) {
     return f;
 }
 
+// `f` with `channels` colour channels (1 to 4) in colour, pivot and variance: channel c is
+// the frame's c, a fourth the mean of its first and third (data unlike the others').
+Frame WithChannels(Frame f, int channels) {
+    for (Image *image : {&f.color, &f.pivot, &f.variance}) {
+        Image out(image->width, image->height, channels);
+        for (int c = 0; c < channels; ++c)
+            for (int y = 0; y < image->height; ++y)
+                for (int x = 0; x < image->width; ++x)
+                    out.At(c, y, x) = c < 3 ? image->At(c, y, x)
+                                            : 0.5f * (image->At(0, y, x) + image->At(2, y, x));
+        *image = std::move(out);
+    }
+    return f;
+}
+
 // The GPU's guide buffer: normal x, y, z, object id, part id, a pixel's values adjacent.
 Image GuideOf(const Frame &f) {
     Image guide(f.normal.width, f.normal.height, PIVOT_GUIDE_PLANES);
@@ -100,9 +115,19 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     vk::Recorder recorder(ctx);
     std::vector<vk::GpuImage> zsn;
     for (int k = 0; k < ch; ++k) zsn.emplace_back(ctx, w, h, 4, "zsn");
+    vk::Buffer unused(ctx, kPivotUnusedSlotBytes, "unused");
     RecordPivotRatio(ctx, recorder, c, p, variance ? &v : nullptr,
-                     PivotThresholds(pivot, floor), guides, z, s, nu, zsn);
+                     PivotThresholds(pivot, floor), guides, z, s, nu, zsn, unused);
     recorder.Submit();
+    // The traffic counted: the inputs (the colour standing in for an absent variance and
+    // guides) and the outputs; the slots of channels the frame lacks add only the stand-in.
+    uint64_t read = c.buffer.Bytes() + p.buffer.Bytes() + (variance ? v : c).buffer.Bytes() +
+                    (guide ? g : c).buffer.Bytes() +
+                    (PIVOT_MAX_CHANNELS - ch) * kPivotUnusedSlotBytes;
+    uint64_t written = z.buffer.Bytes() + s.buffer.Bytes() + nu.buffer.Bytes();
+    for (const vk::GpuImage &one : zsn) written += one.buffer.Bytes();
+    EXPECT_EQ(recorder.Timings().at(0).bytesRead, read);
+    EXPECT_EQ(recorder.Timings().at(0).bytesWritten, written);
     ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download()};
     // The fit's packed copies, one per channel, hold the same values.
     std::vector<Image> expected = PivotZsnOf(ratio.z, ratio.s, ratio.nu);
@@ -134,13 +159,15 @@ struct RatioCase {
     int w, h;
     bool withVariance, withIds;
     bool scattered = false;  // ids drawn pixel by pixel: sides of every size in the window
+    int channels = 3;
 };
 
 class PivotRatioKernel : public GpuTestWithParam<RatioCase> {};
 
 TEST_P(PivotRatioKernel, MatchesReference) {
-    const auto [w, h, withVariance, withIds, scattered] = GetParam();
-    Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h)));
+    const auto [w, h, withVariance, withIds, scattered, channels] = GetParam();
+    Frame f = WithChannels(MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h))),
+                           channels);
     if (scattered) {
         std::mt19937 random{uint32_t(SeedFromName(fmt::format("ratio ids {}x{}", w, h)))};
         for (float &id : f.ids.data) id = float(random() % 3);
@@ -159,7 +186,7 @@ TEST_P(PivotRatioKernel, MatchesReference) {
     EXPECT_TRUE(ImagesMatch(expected.z, actual.z, {}, {5 * kUnitRoundoff, 0, 1e-12}));
     // The scale of s and nu: the neighbourhood's squared values.
     Image sScale = expected.s, nuScale = expected.nu;
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 double big = 0;
@@ -183,6 +210,11 @@ std::vector<RatioCase> RatioCases() {
         for (auto [withVariance, withIds] : {std::pair{true, false}, std::pair{false, true}})
             cases.push_back({w, h, withVariance, withIds});
     cases.push_back({41, 29, false, true, true});
+    // One and four channels: the ratio writes a packed slot per channel, stand-ins the rest.
+    for (int channels : {1, 4}) {
+        cases.push_back({23, 17, true, false, false, channels});
+        cases.push_back({23, 17, false, true, false, channels});
+    }
     return cases;
 }
 
@@ -190,14 +222,16 @@ INSTANTIATE_TEST_SUITE_P(Cases, PivotRatioKernel, testing::ValuesIn(RatioCases()
                          [](const testing::TestParamInfo<RatioCase> &info) {
                              const RatioCase &c = info.param;
                              return fmt::format(
-                                 "{}x{}{}{}{}", c.w, c.h, c.withVariance ? "_variance" : "",
-                                 c.withIds ? "_ids" : "", c.scattered ? "_scattered" : "");
+                                 "{}x{}{}{}{}{}", c.w, c.h, c.withVariance ? "_variance" : "",
+                                 c.withIds ? "_ids" : "", c.scattered ? "_scattered" : "",
+                                 c.channels != 3 ? fmt::format("_{}ch", c.channels) : "");
                          });
 
 // Stages 2 and 3 and the bilateral baseline: a frame size, with or without guides.
 struct StageCase {
     int w, h;
     bool guides;
+    int channels = 3;  // the fit's cases only
 };
 
 std::vector<StageCase> StageCases(std::initializer_list<std::pair<int, int>> sizes) {
@@ -208,8 +242,9 @@ std::vector<StageCase> StageCases(std::initializer_list<std::pair<int, int>> siz
 }
 
 std::string StageCaseName(const testing::TestParamInfo<StageCase> &info) {
-    return fmt::format("{}x{}_{}", info.param.w, info.param.h,
-                       info.param.guides ? "guides" : "noguides");
+    return fmt::format(
+        "{}x{}_{}{}", info.param.w, info.param.h, info.param.guides ? "guides" : "noguides",
+        info.param.channels != 3 ? fmt::format("_{}ch", info.param.channels) : "");
 }
 
 // Stage 2 on the same z, s, nu. The growth decisions compare float sums with thresholds:
@@ -221,8 +256,9 @@ std::string StageCaseName(const testing::TestParamInfo<StageCase> &info) {
 class PivotFitKernel : public GpuTestWithParam<StageCase> {};
 
 TEST_P(PivotFitKernel, MatchesReference) {
-    const auto [w, h, guides] = GetParam();
-    Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("fit{}x{}", w, h)));
+    const auto [w, h, guides, channels] = GetParam();
+    Frame f = WithChannels(MakeFrame(w, h, 0.3, SeedFromName(fmt::format("fit{}x{}", w, h))),
+                           channels);
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
     PivotParams o;
@@ -237,7 +273,7 @@ TEST_P(PivotFitKernel, MatchesReference) {
     for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu))
         zsn.emplace_back(Ctx(), w, h, 4, "zsn").Upload(packed);
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
-    PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
+    PivotFitBuffers fitBuffers(Ctx(), w, h, channels, "fit");
     guide.Upload(GuideOf(f));
     PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
     vk::Recorder recorder(Ctx());
@@ -254,11 +290,11 @@ TEST_P(PivotFitKernel, MatchesReference) {
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     int compared = 0, skipped = 0, radiusMismatches = 0, planeMismatches = 0;
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 auto plane = [&](const Image &fits, int p) {
-                    return double(fits.At(p * 3 + c, y, x));
+                    return double(fits.At(p * channels + c, y, x));
                 };
                 auto gpuPlane = [&](int p) { return plane(actual, p); };
                 if (margin.At(c, y, x) < 1e-3) {
@@ -287,9 +323,15 @@ TEST_P(PivotFitKernel, MatchesReference) {
     EXPECT_LE(skipped, compared / 50 + 1) << "too many centres near a threshold";
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cases, PivotFitKernel,
-    testing::ValuesIn(StageCases({{29, 21}, {1, 1}, {1, 12}, {9, 1}, {6, 5}})), StageCaseName);
+// One and four channels: each channel's dispatch binds that channel's packed z, s, nu.
+std::vector<StageCase> FitCases() {
+    std::vector<StageCase> cases = StageCases({{29, 21}, {1, 1}, {1, 12}, {9, 1}, {6, 5}});
+    cases.push_back({17, 13, false, 1});
+    cases.push_back({17, 13, true, 4});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotFitKernel, testing::ValuesIn(FitCases()), StageCaseName);
 
 // Stage 3 on the reference's fits: per term a plane evaluation, eq. 12's 8th power by
 // three squarings and a weighted mean; relative error a few tens of u of the pivot times
@@ -297,7 +339,8 @@ INSTANTIATE_TEST_SUITE_P(
 class PivotGatherKernel : public GpuTestWithParam<StageCase> {};
 
 TEST_P(PivotGatherKernel, MatchesReference) {
-    const auto [w, h, guides] = GetParam();
+    const int w = GetParam().w, h = GetParam().h;
+    const bool guides = GetParam().guides;
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("gather{}x{}", w, h)));
     for (int i = 0; i < int(f.pivot.Size()); i += 11) f.pivot.data[i] = 0;
     ref::PivotRatio ratio =
@@ -348,7 +391,8 @@ INSTANTIATE_TEST_SUITE_P(Cases, PivotGatherKernel,
 class PivotBilateralKernel : public GpuTestWithParam<StageCase> {};
 
 TEST_P(PivotBilateralKernel, MatchesReference) {
-    const auto [w, h, guides] = GetParam();
+    const int w = GetParam().w, h = GetParam().h;
+    const bool guides = GetParam().guides;
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("bilateral{}x{}", w, h)));
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
