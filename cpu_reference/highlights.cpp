@@ -87,6 +87,46 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
                     baseVariance->At(c, y, x) = float(UpperMedian(*variance, c, x, y, r));
             }
         }
+    // Growth: up to 4 rounds; in each, a pixel not marked takes the first marked neighbour (row
+    // order) that it is over k times the background of (that neighbour's base, channels
+    // summed; and the floor) and, with a variance, 2 standard deviations above: its base and
+    // base variance become that neighbour's. Marks of a round count from the next.
+    for (int round = 0; round < 4; ++round) {
+        std::vector<char> before = highlight;
+        Image baseBefore = *base;
+        Image varianceBefore = variance ? *baseVariance : Image();
+        bool any = false;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (before[size_t(y) * w + x]) continue;
+                double s = 0, var = 0;
+                for (int c = 0; c < color.channels; ++c) {
+                    s += color.At(c, y, x);
+                    if (variance) var += variance->At(c, y, x);
+                }
+                bool done = false;
+                for (int dy = -1; dy <= 1 && !done; ++dy)
+                    for (int dx = -1; dx <= 1 && !done; ++dx) {
+                        int u = x + dx, v = y + dy;
+                        if (u < 0 || v < 0 || u >= w || v >= h || !before[size_t(v) * w + u])
+                            continue;
+                        double background = 0;
+                        for (int c = 0; c < color.channels; ++c)
+                            background += baseBefore.At(c, v, u);
+                        if (!(s > k * std::max(background, floor))) continue;
+                        if (variance && !((s - background) * (s - background) > 4 * var))
+                            continue;
+                        highlight[size_t(y) * w + x] = 1;
+                        for (int c = 0; c < color.channels; ++c) {
+                            base->At(c, y, x) = baseBefore.At(c, v, u);
+                            if (variance)
+                                baseVariance->At(c, y, x) = varianceBefore.At(c, v, u);
+                        }
+                        done = any = true;
+                    }
+            }
+        if (!any) break;
+    }
     return highlight;
 }
 

@@ -79,6 +79,78 @@ void RequireConfidence(const Image &color, const Image &variance, int r,
     });
 }
 
+// A light wider than half the window is its own window's median inside: only its rim is over
+// k times it. Highlights grow, kGrowRounds rings at most, into neighbours over k times the
+// background they carry (the medians their seed read, channels summed) and, given a variance,
+// 2 standard deviations above it; a grown pixel takes the first such neighbour's background
+// (neighbours in row order). Each round reads only the marks of the rounds before it.
+constexpr int kGrowRounds = 4;
+
+void GrowHighlights(const Image &color, const Image *variance, double k, double floor,
+                    HighlightSplit *split) {
+    const int w = color.width, h = color.height;
+    auto sumOf = [&](const Image &image, size_t p) {
+        double s = 0;
+        for (int c = 0; c < image.channels; ++c) s += image.Plane(c)[p];
+        return s;
+    };
+    std::vector<size_t> front;
+    for (size_t p = 0; p < split->highlight.size(); ++p)
+        if (split->highlight[p]) front.push_back(p);
+    for (int round = 0; round < kGrowRounds && !front.empty(); ++round) {
+        // The first neighbour of each candidate to pass, by its place in row order.
+        std::vector<size_t> grown, from;
+        std::vector<char> seen(split->highlight.size(), 0);
+        for (size_t q : front) {
+            const int qx = int(q % w), qy = int(q / w);
+            for (int v = std::max(0, qy - 1); v <= std::min(h - 1, qy + 1); ++v)
+                for (int u = std::max(0, qx - 1); u <= std::min(w - 1, qx + 1); ++u) {
+                    size_t p = size_t(v) * w + u;
+                    if (split->highlight[p] || seen[p]) continue;
+                    seen[p] = 1;
+                    grown.push_back(p);
+                }
+        }
+        std::sort(grown.begin(), grown.end());
+        std::vector<size_t> next;
+        std::vector<size_t> source;
+        for (size_t p : grown) {
+            const int px = int(p % w), py = int(p / w);
+            const double s = sumOf(color, p);
+            const double var = variance ? sumOf(*variance, p) : 0;
+            for (int v = std::max(0, py - 1); v <= std::min(h - 1, py + 1); ++v) {
+                bool found = false;
+                for (int u = std::max(0, px - 1); u <= std::min(w - 1, px + 1); ++u) {
+                    size_t q = size_t(v) * w + u;
+                    if (!split->highlight[q]) continue;
+                    const double background = sumOf(split->base, q);
+                    const double excess = s - background;
+                    if (!(s > k * std::max(background, floor))) continue;
+                    if (variance &&
+                        !(excess * excess > kHighlightSigmas * kHighlightSigmas * var))
+                        continue;
+                    next.push_back(p);
+                    source.push_back(q);
+                    found = true;
+                    break;
+                }
+                if (found) break;
+            }
+        }
+        for (size_t i = 0; i < next.size(); ++i) {
+            split->highlight[next[i]] = 1;
+            for (int c = 0; c < color.channels; ++c) {
+                split->base.Plane(c)[next[i]] = split->base.Plane(c)[source[i]];
+                if (variance)
+                    split->baseVariance.Plane(c)[next[i]] =
+                        split->baseVariance.Plane(c)[source[i]];
+            }
+        }
+        split->count += next.size();
+        front = std::move(next);
+    }
+}
+
 }  // namespace
 
 int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y) {
@@ -124,6 +196,9 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
                         WindowMedian(variance->Plane(c), w, h, x, y, r, scratch);
             }
         }
+    double total = 0;
+    for (float v : sum.data) total += v;
+    GrowHighlights(color, variance, k, 1e-3 * total / double(sum.PixelCount()), &split);
     return split;
 }
 

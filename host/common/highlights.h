@@ -11,7 +11,9 @@
 // (most of its samples saw the light: a small light's two-pixel reflection in a mirror
 // sphere, whose shrunk details rang dark holes around it). The filter reads, at
 // that pixel, each channel's median over the window (and the variance's), and the difference
-// is added back after, so the highlight keeps its input and the frame its energy.
+// is added back after, so the highlight keeps its input and the frame its energy. A light
+// wider than half the window is its own median inside, so highlights then grow into
+// neighbours over k times the background their seed read (a bulb's interior and rim).
 #pragma once
 
 #include <cstddef>

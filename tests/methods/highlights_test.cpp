@@ -35,6 +35,14 @@ void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
         for (int y = h / 3; y < std::min(h, h / 3 + 3); ++y)
             for (int x = w / 4; x < std::min(w, w / 4 + 4); ++x)
                 color->At(c, y, x) = 100 + 300 * unit(rng);
+    // A light wider than the window's half (its interior is its own median: grown into),
+    // with a dimmer rim.
+    for (int c = 0; c < channels; ++c)
+        for (int y = h / 2; y < std::min(h, h / 2 + 7); ++y)
+            for (int x = w / 2; x < std::min(w, w / 2 + 7); ++x) {
+                bool rim = y == h / 2 || x == w / 2;
+                color->At(c, y, x) = (rim ? 20 : 200) + 100 * unit(rng);
+            }
 }
 
 TEST(Highlights, MatchesReference) {
@@ -57,6 +65,10 @@ TEST(Highlights, MatchesReference) {
                 EXPECT_EQ(output.data, expected.data);
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
+                }
+                if (w >= 40) {
+                    EXPECT_TRUE(got.highlight[size_t(h / 2 + 3) * w + w / 2 + 3])
+                        << "the wide light's centre";
                 }
             }
 }
@@ -167,6 +179,46 @@ TEST_F(HighlightsAwr, AReflectionDoesNotRingDarkHoles) {
             if (y != 20 || (x != 20 && x != 21))
                 for (int c = 0; c < 3; ++c) darkest = std::min(darkest, out.image.At(c, y, x));
     EXPECT_GT(darkest, 0.5f * 0.05f) << "a dark hole beside the reflection";
+}
+
+// A bulb 7 pixels wide (a real frame's is 43 pixels: issue 29) on a dim floor. Inside, each
+// pixel is its own window's median, so only the rim was a highlight: the interior went through
+// the shrinkage and its energy spread into a bright halo with dark rings around the bulb.
+// Grown from the rim, the whole bulb is a highlight and the floor around it keeps its level.
+TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
+    const int w = 48, h = 48, cx = 24, cy = 22;
+    Image truth(w, h, 3, 0.05f), color(w, h, 3), variance(w, h, 3);
+    std::mt19937_64 rng(SeedFromName("highlights awr wide bulb"));
+    std::normal_distribution<float> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool bulb = (x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12;
+                float t = bulb ? 500.f : 0.05f, sd = bulb ? 5.f : 0.005f;
+                truth.At(c, y, x) = t;
+                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
+                variance.At(c, y, x) = sd * sd;
+            }
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_TRUE(split.highlight[size_t(cy) * w + cx]) << "the bulb's centre";
+    Frame frame = ColorAndVariance(color, variance);
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    // The floor 2-6 pixels from the bulb: no worse than the input, no value off by half.
+    double errOut = 0, errIn = 0;
+    float worst = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double d = std::sqrt(double((x - cx) * (x - cx) + (y - cy) * (y - cy)));
+                if (d < 2 + std::sqrt(12.0) || d > 6 + std::sqrt(12.0)) continue;
+                errOut += std::pow(out.image.At(c, y, x) - 0.05, 2);
+                errIn += std::pow(color.At(c, y, x) - 0.05, 2);
+                worst = std::max(worst, std::abs(out.image.At(c, y, x) - 0.05f));
+            }
+    EXPECT_LT(errOut, errIn) << "awr worse than its input beside the bulb";
+    EXPECT_LT(worst, 0.5f * 0.05f) << "a halo or ring beside the bulb";
+    EXPECT_LT(errOut, 0.5 * errIn);
 }
 
 }  // namespace
