@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace mcd::ref {
 namespace {
@@ -128,6 +129,31 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
         if (!any) break;
     }
     return highlight;
+}
+
+void LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
+                                       int reach, int r, Image *output) {
+    const int w = color.width, h = color.height;
+    auto marked = [&](int x, int y) { return highlight[size_t(y) * w + x] != 0; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (marked(x, y)) continue;
+            bool near = false;
+            for (int v = y - reach; v <= y + reach; ++v)
+                for (int u = x - reach; u <= x + reach; ++u)
+                    if (u >= 0 && v >= 0 && u < w && v < h && marked(u, v)) near = true;
+            if (!near) continue;
+            for (int c = 0; c < color.channels; ++c) {
+                double high = -std::numeric_limits<double>::infinity();
+                for (int v = y - r; v <= y + r; ++v)
+                    for (int u = x - r; u <= x + r; ++u)
+                        if (u >= 0 && v >= 0 && u < w && v < h && !marked(u, v))
+                            high = std::max(high, double(color.At(c, v, u)));
+                double out = output->At(c, y, x);
+                if (std::isfinite(high) && std::isfinite(out) && out > high)
+                    output->At(c, y, x) = float(high);
+            }
+        }
 }
 
 void AddHighlights(const Image &color, const Image &base, const std::vector<char> &highlight,

@@ -21,6 +21,12 @@ namespace mcd::ref {
 std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
                                   Image *base, Image *baseVariance);
 
+// Where p is not a highlight and a highlight lies within `reach` of it (max(|dx|, |dy|)),
+// each channel of output is min(output, the maximum of color over the non-highlight pixels of
+// the window of radius r around p clipped to the frame), finite values only.
+void LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
+                                       int reach, int r, Image *output);
+
 // output += color - base at the highlights, in float.
 void AddHighlights(const Image &color, const Image &base, const std::vector<char> &highlight,
                    Image *output);

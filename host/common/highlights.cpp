@@ -80,11 +80,11 @@ void RequireConfidence(const Image &color, const Image &variance, int r,
 }
 
 // A light wider than half the window is its own window's median inside: only its rim is over
-// k times it. Highlights grow, kGrowRounds rings at most, into neighbours over k times the
-// background they carry (the medians their seed read, channels summed) and, given a variance,
-// 2 standard deviations above it; a grown pixel takes the first such neighbour's background
-// (neighbours in row order). Each round reads only the marks of the rounds before it.
-constexpr int kGrowRounds = 4;
+// k times it. Highlights grow, kHighlightGrowRounds rings at most, into neighbours over k times
+// the background they carry (the medians their seed read, channels summed) and, given a
+// variance, 2 standard deviations above it; a grown pixel takes the first such neighbour's
+// background (neighbours in row order). Each round reads only the marks of the rounds before
+// it.
 
 void GrowHighlights(const Image &color, const Image *variance, double k, double floor,
                     HighlightSplit *split) {
@@ -97,7 +97,7 @@ void GrowHighlights(const Image &color, const Image *variance, double k, double 
     std::vector<size_t> front;
     for (size_t p = 0; p < split->highlight.size(); ++p)
         if (split->highlight[p]) front.push_back(p);
-    for (int round = 0; round < kGrowRounds && !front.empty(); ++round) {
+    for (int round = 0; round < kHighlightGrowRounds && !front.empty(); ++round) {
         // The first neighbour of each candidate to pass, by its place in row order.
         std::vector<size_t> grown, from;
         std::vector<char> seen(split->highlight.size(), 0);
@@ -200,6 +200,45 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
     for (float v : sum.data) total += v;
     GrowHighlights(color, variance, k, 1e-3 * total / double(sum.PixelCount()), &split);
     return split;
+}
+
+size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
+                                         int reach, int r, Image *output) {
+    if (!color.SameShape(*output) || highlight.size() != color.PixelCount() || reach < 0 ||
+        r < 0)
+        throw Error(
+            "LowerToInputMaximumNearHighlights: the output and mask must have the "
+            "color's shape, reach and r >= 0",
+            ErrorKind::Internal);
+    const int w = color.width, h = color.height;
+    // Distance to the nearest highlight, ring by ring, up to reach.
+    std::vector<char> near = highlight;
+    for (int ring = 0; ring < reach; ++ring) {
+        std::vector<char> grown = near;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                grown[size_t(y) * w + x] |= MarkedNeighbours(near, w, h, x, y) > 0;
+        near = std::move(grown);
+    }
+    size_t moved = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (!near[p] || highlight[p]) continue;
+            for (int c = 0; c < color.channels; ++c) {
+                float high = color.Plane(c)[p];
+                for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+                    for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+                        if (!highlight[size_t(v) * w + u])
+                            high = std::max(high, color.Plane(c)[size_t(v) * w + u]);
+                float &out = output->Plane(c)[p];
+                if (std::isfinite(high) && std::isfinite(out) && out > high) {
+                    out = high;
+                    ++moved;
+                }
+            }
+        }
+    return moved;
 }
 
 void AddHighlights(const Image &color, const HighlightSplit &split, Image *output) {

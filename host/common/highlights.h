@@ -23,6 +23,9 @@
 
 namespace mcd {
 
+// How many rings highlights grow at most from the pixels over k times their window's median.
+constexpr int kHighlightGrowRounds = 4;
+
 struct HighlightSplit {
     Image base;                   // the input, highlights replaced by their windows' medians
     Image baseVariance;           // the same for the variance (empty without one)
@@ -36,6 +39,14 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
 
 // `output` plus (color - base) at the highlights.
 void AddHighlights(const Image &color, const HighlightSplit &split, Image *output);
+
+// Crests near lights cut: each value of `output` at a pixel that is not a highlight but within
+// `reach` (Chebyshev distance) of one is lowered to the largest input value of its channel over
+// the window of radius r around it, highlights left out. The synthesis spreads what is left of
+// a light's noisy rim into a glow beside it; a mean of the samples there is no higher than the
+// highest of them. Returns how many values moved.
+size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
+                                         int reach, int r, Image *output);
 
 // How many of (x, y)'s 8 neighbours inside the w x h frame are marked: a highlight is a
 // cluster, a lone marked pixel a firefly.

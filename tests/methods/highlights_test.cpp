@@ -63,6 +63,14 @@ TEST(Highlights, MatchesReference) {
                 AddHighlights(color, got, &output);
                 ref::AddHighlights(color, base, mask, &expected);
                 EXPECT_EQ(output.data, expected.data);
+                // Crests near the highlights against the twin, on a noisy output.
+                Image crest = output, crestExpected = output;
+                for (size_t i = 0; i < crest.data.size(); ++i)
+                    crest.data[i] = crestExpected.data[i] +=
+                        3 * color.data[(i * 7919) % color.data.size()];
+                LowerToInputMaximumNearHighlights(color, got.highlight, 6, 1, &crest);
+                ref::LowerToInputMaximumNearHighlights(color, mask, 6, 1, &crestExpected);
+                EXPECT_EQ(crest.data, crestExpected.data);
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
                 }
@@ -219,6 +227,32 @@ TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
     EXPECT_LT(errOut, errIn) << "awr worse than its input beside the bulb";
     EXPECT_LT(worst, 0.5f * 0.05f) << "a halo or ring beside the bulb";
     EXPECT_LT(errOut, 0.5 * errIn);
+}
+
+// A glow the synthesis spread beside a light: values within reach of a highlight above the
+// input's 3x3 maximum (highlights left out) are lowered to it; those beyond reach, and troughs,
+// are left.
+TEST(Highlights, CrestsNearLightsAreCut) {
+    Image color(20, 9, 3, 0.1f);
+    std::vector<char> highlight(20 * 9, 0);
+    for (int c = 0; c < 3; ++c) color.At(c, 4, 3) = 500;
+    highlight[4 * 20 + 3] = 1;
+    Image output(20, 9, 3, 0.1f);
+    for (int c = 0; c < 3; ++c) {
+        output.At(c, 4, 5) = 0.4f;   // a glow 2 pixels from the light
+        output.At(c, 4, 15) = 0.4f;  // a crest 12 pixels away
+        output.At(c, 2, 4) = 0.05f;  // a trough beside it
+    }
+    Image expected = output;
+    EXPECT_EQ(LowerToInputMaximumNearHighlights(color, highlight, 6, 1, &output), 3u);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(output.At(c, 4, 5), 0.1f) << "the glow beside the light";
+        EXPECT_EQ(output.At(c, 4, 15), 0.4f) << "the crest beyond reach";
+        EXPECT_EQ(output.At(c, 2, 4), 0.05f) << "the trough";
+        EXPECT_EQ(output.At(c, 4, 3), 0.1f) << "the highlight itself";
+    }
+    ref::LowerToInputMaximumNearHighlights(color, highlight, 6, 1, &expected);
+    EXPECT_EQ(output.data, expected.data);
 }
 
 }  // namespace
