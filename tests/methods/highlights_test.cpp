@@ -229,6 +229,42 @@ TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
     EXPECT_LT(errOut, 0.5 * errIn);
 }
 
+// A ceiling panel 24 pixels wide is its own median but for its corners; grown from them it
+// would take the panel's rim into highlights ring by ring (the cornell light). Still growing
+// after the last round, its growth is undone; a bulb in the same frame still fills.
+TEST(Highlights, ALargeLightDoesNotGrow) {
+    const int w = 128, h = 128, x0 = 8, y0 = 8, size = 24, bx = 100, by = 100;
+    Image color(w, h, 3), variance(w, h, 3);
+    std::mt19937_64 rng(SeedFromName("highlights large light"));
+    std::normal_distribution<float> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool panel = x >= x0 && x < x0 + size && y >= y0 && y < y0 + size;
+                bool bulb = (x - bx) * (x - bx) + (y - by) * (y - by) <= 12;
+                float t = panel || bulb ? 500.f : 0.05f, sd = panel || bulb ? 5.f : 0.005f;
+                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
+                variance.At(c, y, x) = sd * sd;
+            }
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    // Three pixels in from each corner: no window there is mostly dark, so only growth marks
+    // it.
+    for (auto [x, y] : {std::pair{x0 + 3, y0 + 3},
+                        {x0 + size - 4, y0 + 3},
+                        {x0 + 3, y0 + size - 4},
+                        {x0 + size - 4, y0 + size - 4}}) {
+        EXPECT_FALSE(split.highlight[size_t(y) * w + x]) << "grown into the panel at " << x;
+        EXPECT_EQ(split.base.At(0, y, x), color.At(0, y, x));
+    }
+    EXPECT_TRUE(split.highlight[size_t(by) * w + bx]) << "the bulb's centre";
+    Image base, baseVariance;
+    std::vector<char> mask =
+        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
+    EXPECT_EQ(split.highlight, mask);
+    EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+}
+
 // A glow the synthesis spread beside a light: values within reach of a highlight above the
 // input's 3x3 maximum (highlights left out) are lowered to it; those beyond reach, and troughs,
 // are left.
