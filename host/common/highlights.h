@@ -13,7 +13,9 @@
 // that pixel, each channel's median over the window (and the variance's), and the difference
 // is added back after, so the highlight keeps its input and the frame its energy. A light
 // wider than half the window is its own median inside, so highlights then grow into
-// neighbours over k times the background their seed read (a bulb's interior and rim).
+// neighbours over k times the background their seed read and k times the frame's mean (a
+// bulb's interior and rim); a region that would still grow after the last round is a light
+// larger than a bulb, and its growth is undone.
 #pragma once
 
 #include <cstddef>
