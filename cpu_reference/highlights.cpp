@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace mcd::ref {
 namespace {
@@ -35,7 +36,7 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
             sum.At(0, y, x) = s;
             total += s;
         }
-    const double floor = 1e-3 * total / (double(w) * h);
+    const double floor = 1e-3 * total / (double(w) * h), mean = total / (double(w) * h);
     // Over k times the window's median of the sums (and the floor).
     std::vector<char> bright(size_t(w) * h, 0);
     for (int y = 0; y < h; ++y)
@@ -87,7 +88,108 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
                     baseVariance->At(c, y, x) = float(UpperMedian(*variance, c, x, y, r));
             }
         }
+    // Growth: up to 4 rounds; in each, a pixel not marked takes the first marked neighbour (row
+    // order) that it is over k times the background of (that neighbour's base, channels
+    // summed; and the frame's mean) and, with a variance, 2 standard deviations above: its base
+    // and base variance become that neighbour's. Marks of a round count from the next. A fifth
+    // round only looks: a connected region (8 neighbours) with a pixel that would still grow
+    // from it is a large light, and its grown pixels go back to the input.
+    std::vector<char> grown(size_t(w) * h, 0);
+    for (int round = 0; round < 5; ++round) {
+        std::vector<char> before = highlight;
+        Image baseBefore = *base;
+        Image varianceBefore = variance ? *baseVariance : Image();
+        bool any = false;
+        std::vector<char> stillGrowing(size_t(w) * h, 0);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (before[size_t(y) * w + x]) continue;
+                double s = 0, var = 0;
+                for (int c = 0; c < color.channels; ++c) {
+                    s += color.At(c, y, x);
+                    if (variance) var += variance->At(c, y, x);
+                }
+                bool done = false;
+                for (int dy = -1; dy <= 1 && !done; ++dy)
+                    for (int dx = -1; dx <= 1 && !done; ++dx) {
+                        int u = x + dx, v = y + dy;
+                        if (u < 0 || v < 0 || u >= w || v >= h || !before[size_t(v) * w + u])
+                            continue;
+                        double background = 0;
+                        for (int c = 0; c < color.channels; ++c)
+                            background += baseBefore.At(c, v, u);
+                        if (!(s > k * std::max(background, mean))) continue;
+                        if (variance && !((s - background) * (s - background) > 4 * var))
+                            continue;
+                        done = any = true;
+                        if (round == 4) {
+                            stillGrowing[size_t(v) * w + u] = 1;
+                            continue;
+                        }
+                        highlight[size_t(y) * w + x] = 1;
+                        grown[size_t(y) * w + x] = 1;
+                        for (int c = 0; c < color.channels; ++c) {
+                            base->At(c, y, x) = baseBefore.At(c, v, u);
+                            if (variance)
+                                baseVariance->At(c, y, x) = varianceBefore.At(c, v, u);
+                        }
+                    }
+            }
+        if (!any) break;
+        if (round < 4) continue;
+        // Spread the look's verdict over each region, one ring a pass, until it stops.
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    if (!highlight[size_t(y) * w + x] || stillGrowing[size_t(y) * w + x])
+                        continue;
+                    for (int dy = -1; dy <= 1; ++dy)
+                        for (int dx = -1; dx <= 1; ++dx) {
+                            int u = x + dx, v = y + dy;
+                            if (u >= 0 && v >= 0 && u < w && v < h &&
+                                stillGrowing[size_t(v) * w + u] &&
+                                !stillGrowing[size_t(y) * w + x])
+                                stillGrowing[size_t(y) * w + x] = changed = true;
+                        }
+                }
+        }
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (!stillGrowing[size_t(y) * w + x] || !grown[size_t(y) * w + x]) continue;
+                highlight[size_t(y) * w + x] = 0;
+                for (int c = 0; c < color.channels; ++c) {
+                    base->At(c, y, x) = color.At(c, y, x);
+                    if (variance) baseVariance->At(c, y, x) = variance->At(c, y, x);
+                }
+            }
+    }
     return highlight;
+}
+
+void LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
+                                       int reach, int r, Image *output) {
+    const int w = color.width, h = color.height;
+    auto marked = [&](int x, int y) { return highlight[size_t(y) * w + x] != 0; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (marked(x, y)) continue;
+            bool near = false;
+            for (int v = y - reach; v <= y + reach; ++v)
+                for (int u = x - reach; u <= x + reach; ++u)
+                    if (u >= 0 && v >= 0 && u < w && v < h && marked(u, v)) near = true;
+            if (!near) continue;
+            for (int c = 0; c < color.channels; ++c) {
+                double high = -std::numeric_limits<double>::infinity();
+                for (int v = y - r; v <= y + r; ++v)
+                    for (int u = x - r; u <= x + r; ++u)
+                        if (u >= 0 && v >= 0 && u < w && v < h && !marked(u, v))
+                            high = std::max(high, double(color.At(c, v, u)));
+                double out = output->At(c, y, x);
+                if (std::isfinite(high) && std::isfinite(out) && out > high)
+                    output->At(c, y, x) = float(high);
+            }
+        }
 }
 
 void AddHighlights(const Image &color, const Image &base, const std::vector<char> &highlight,

@@ -14,9 +14,18 @@ namespace mcd::ref {
 // the sum over channels of (color - its channel's upper median over the window) is > 0 and
 // e^2 > 4 x the sum of p's variances. `base` (and `baseVariance`, when
 // `variance` is given) are the inputs with each channel at a highlight replaced by its
-// window's upper median. Returns the highlight mask.
+// window's upper median. Then up to 4 rounds of growth: a pixel not marked, with a neighbour
+// q marked before the round whose base channels sum to b, is marked where s > k max(b, floor)
+// and, with `variance`, (s - b)^2 > 4 x the sum of its variances; it takes the base (and base
+// variance) of the first such q in row order. Returns the highlight mask.
 std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
                                   Image *base, Image *baseVariance);
+
+// Where p is not a highlight and a highlight lies within `reach` of it (max(|dx|, |dy|)),
+// each channel of output is min(output, the maximum of color over the non-highlight pixels of
+// the window of radius r around p clipped to the frame), finite values only.
+void LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
+                                       int reach, int r, Image *output);
 
 // output += color - base at the highlights, in float.
 void AddHighlights(const Image &color, const Image &base, const std::vector<char> &highlight,

@@ -36,6 +36,9 @@ struct AwrSettings {
 // The window radius of the highlights' medians.
 constexpr int kHighlightRadius = 3;
 
+// Crests are cut within this distance of highlights, to the input's maximum over 3x3.
+constexpr int kCrestReach = 6;
+
 // How far the energy moved into exact pixels goes back: the finest levels' reach.
 constexpr int kExactReach = 8;
 
@@ -143,6 +146,17 @@ class Awr : public FrontEndOf<AwrSettings> {
                 clamped, 2 * options.clamp + 1, 2 * options.clamp + 1));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"input minimum", result.image});
+            if (split.count) {
+                size_t lowered = LowerToInputMaximumNearHighlights(
+                    color, split.highlight, kCrestReach, options.clamp, &result.image);
+                result.plan.push_back(fmt::format(
+                    "crests near lights cut: {} values within {} of a highlight above the "
+                    "input's maximum over their {}x{} window (highlights left out) lowered to "
+                    "it",
+                    lowered, kCrestReach, 2 * options.clamp + 1, 2 * options.clamp + 1));
+                if (run.keepStages && !result.stages.empty())
+                    result.stages.push_back({"input maximum near lights", result.image});
+            }
         }
         return result;
     }
@@ -162,8 +176,11 @@ class Awr : public FrontEndOf<AwrSettings> {
             levels);
         // Analysis and synthesis at 2^l per level l, and the spins' shifts.
         int half = WaveletHalfSupport(options.method.basis);
-        // The highlights read their neighbours' windows, the clamp its window.
-        const int highlights = options.highlights > 0 ? kHighlightRadius + 1 : 0;
+        // The highlights read their neighbours' windows and grow, the crests near them read
+        // theirs; the clamp its window.
+        const int highlights = options.highlights > 0
+                                   ? kHighlightRadius + 1 + kHighlightGrowRounds + kCrestReach
+                                   : 0;
         needs.reach =
             2 * half * ((1 << levels) - 1) + options.method.spins + highlights + options.clamp;
         needs.reachText = fmt::format(
@@ -204,7 +221,12 @@ class Awr : public FrontEndOf<AwrSettings> {
         if (!cpu.empty()) cpu.emplace_back("exact pixels", out);
         if (options.clamp > 0) {
             ref::RaiseToInputMinimum(color, options.clamp, &out);
-            if (!cpu.empty()) cpu.emplace_back("input minimum", std::move(out));
+            if (!cpu.empty()) cpu.emplace_back("input minimum", out);
+            if (any) {
+                ref::LowerToInputMaximumNearHighlights(color, highlight, kCrestReach,
+                                                       options.clamp, &out);
+                if (!cpu.empty()) cpu.emplace_back("input maximum near lights", out);
+            }
         }
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "host/common/parallel.h"
 #include "host/error.h"
@@ -79,6 +80,128 @@ void RequireConfidence(const Image &color, const Image &variance, int r,
     });
 }
 
+// A light wider than half the window is its own window's median inside: only its rim is over
+// k times it. Highlights grow, kHighlightGrowRounds rings at most, into neighbours over k times
+// the background they carry (the medians their seed read, channels summed) and k times the
+// frame's mean (a light is; a cluster of noise in dim indirect light at low spp is not) and,
+// given a variance, 2 standard deviations above the background; a grown pixel takes the first
+// such neighbour's background (neighbours in row order). Each round reads only the marks of the
+// rounds before it. A region that would still grow after the last round is a light larger than
+// a bulb (a ceiling panel, whose rim the filter keeps anyway): its growth is undone, its seeds
+// kept.
+
+// The first highlight neighbour of `p` (row order) that p is over k times the background of
+// (and of the frame's mean; 2 standard deviations above, given a variance), or SIZE_MAX.
+size_t FirstPassingNeighbour(const Image &color, const Image *variance, double k, double mean,
+                             const HighlightSplit &split, size_t p) {
+    const int w = color.width, h = color.height;
+    auto sumOf = [&](const Image &image, size_t q) {
+        double s = 0;
+        for (int c = 0; c < image.channels; ++c) s += image.Plane(c)[q];
+        return s;
+    };
+    const int px = int(p % w), py = int(p / w);
+    const double s = sumOf(color, p);
+    const double var = variance ? sumOf(*variance, p) : 0;
+    for (int v = std::max(0, py - 1); v <= std::min(h - 1, py + 1); ++v)
+        for (int u = std::max(0, px - 1); u <= std::min(w - 1, px + 1); ++u) {
+            size_t q = size_t(v) * w + u;
+            if (!split.highlight[q]) continue;
+            const double background = sumOf(split.base, q);
+            const double excess = s - background;
+            if (!(s > k * std::max(background, mean))) continue;
+            if (variance && !(excess * excess > kHighlightSigmas * kHighlightSigmas * var))
+                continue;
+            return q;
+        }
+    return SIZE_MAX;
+}
+
+// Undoes the growth of the 8-connected highlight regions holding `seeds`: grown pixels (round
+// above 0) go back to the input.
+void UndoGrowth(const Image &color, const Image *variance, const std::vector<int> &grownIn,
+                const std::vector<size_t> &seeds, HighlightSplit *split) {
+    const int w = color.width, h = color.height;
+    std::vector<char> visited(split->highlight.size(), 0);
+    std::vector<size_t> stack;
+    for (size_t s : seeds)
+        if (!visited[s]) {
+            visited[s] = 1;
+            stack.push_back(s);
+        }
+    std::vector<size_t> region;
+    while (!stack.empty()) {
+        size_t q = stack.back();
+        stack.pop_back();
+        region.push_back(q);
+        const int qx = int(q % w), qy = int(q / w);
+        for (int v = std::max(0, qy - 1); v <= std::min(h - 1, qy + 1); ++v)
+            for (int u = std::max(0, qx - 1); u <= std::min(w - 1, qx + 1); ++u) {
+                size_t p = size_t(v) * w + u;
+                if (!split->highlight[p] || visited[p]) continue;
+                visited[p] = 1;
+                stack.push_back(p);
+            }
+    }
+    for (size_t p : region) {
+        if (grownIn[p] == 0) continue;
+        split->highlight[p] = 0;
+        --split->count;
+        for (int c = 0; c < color.channels; ++c) {
+            split->base.Plane(c)[p] = color.Plane(c)[p];
+            if (variance) split->baseVariance.Plane(c)[p] = variance->Plane(c)[p];
+        }
+    }
+}
+
+void GrowHighlights(const Image &color, const Image *variance, double k, double mean,
+                    HighlightSplit *split) {
+    const int w = color.width, h = color.height;
+    std::vector<int> grownIn(split->highlight.size(), 0);
+    std::vector<size_t> front;
+    for (size_t p = 0; p < split->highlight.size(); ++p)
+        if (split->highlight[p]) front.push_back(p);
+    // The round after the last only asks which regions would still grow.
+    for (int round = 1; round <= kHighlightGrowRounds + 1 && !front.empty(); ++round) {
+        std::vector<size_t> candidates;
+        std::vector<char> seen(split->highlight.size(), 0);
+        for (size_t q : front) {
+            const int qx = int(q % w), qy = int(q / w);
+            for (int v = std::max(0, qy - 1); v <= std::min(h - 1, qy + 1); ++v)
+                for (int u = std::max(0, qx - 1); u <= std::min(w - 1, qx + 1); ++u) {
+                    size_t p = size_t(v) * w + u;
+                    if (split->highlight[p] || seen[p]) continue;
+                    seen[p] = 1;
+                    candidates.push_back(p);
+                }
+        }
+        std::sort(candidates.begin(), candidates.end());
+        std::vector<size_t> next, source;
+        for (size_t p : candidates) {
+            size_t q = FirstPassingNeighbour(color, variance, k, mean, *split, p);
+            if (q == SIZE_MAX) continue;
+            next.push_back(p);
+            source.push_back(q);
+        }
+        if (round > kHighlightGrowRounds) {
+            UndoGrowth(color, variance, grownIn, source, split);
+            break;
+        }
+        for (size_t i = 0; i < next.size(); ++i) {
+            split->highlight[next[i]] = 1;
+            grownIn[next[i]] = round;
+            for (int c = 0; c < color.channels; ++c) {
+                split->base.Plane(c)[next[i]] = split->base.Plane(c)[source[i]];
+                if (variance)
+                    split->baseVariance.Plane(c)[next[i]] =
+                        split->baseVariance.Plane(c)[source[i]];
+            }
+        }
+        split->count += next.size();
+        front = std::move(next);
+    }
+}
+
 }  // namespace
 
 int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y) {
@@ -124,7 +247,49 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
                         WindowMedian(variance->Plane(c), w, h, x, y, r, scratch);
             }
         }
+    double total = 0;
+    for (float v : sum.data) total += v;
+    GrowHighlights(color, variance, k, total / double(sum.PixelCount()), &split);
     return split;
+}
+
+size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
+                                         int reach, int r, Image *output) {
+    if (!color.SameShape(*output) || highlight.size() != color.PixelCount() || reach < 0 ||
+        r < 0)
+        throw Error(
+            "LowerToInputMaximumNearHighlights: the output and mask must have the "
+            "color's shape, reach and r >= 0",
+            ErrorKind::Internal);
+    const int w = color.width, h = color.height;
+    // Distance to the nearest highlight, ring by ring, up to reach.
+    std::vector<char> near = highlight;
+    for (int ring = 0; ring < reach; ++ring) {
+        std::vector<char> grown = near;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                grown[size_t(y) * w + x] |= MarkedNeighbours(near, w, h, x, y) > 0;
+        near = std::move(grown);
+    }
+    size_t moved = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (!near[p] || highlight[p]) continue;
+            for (int c = 0; c < color.channels; ++c) {
+                float high = color.Plane(c)[p];
+                for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+                    for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+                        if (!highlight[size_t(v) * w + u])
+                            high = std::max(high, color.Plane(c)[size_t(v) * w + u]);
+                float &out = output->Plane(c)[p];
+                if (std::isfinite(high) && std::isfinite(out) && out > high) {
+                    out = high;
+                    ++moved;
+                }
+            }
+        }
+    return moved;
 }
 
 void AddHighlights(const Image &color, const HighlightSplit &split, Image *output) {

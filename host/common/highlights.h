@@ -11,7 +11,11 @@
 // (most of its samples saw the light: a small light's two-pixel reflection in a mirror
 // sphere, whose shrunk details rang dark holes around it). The filter reads, at
 // that pixel, each channel's median over the window (and the variance's), and the difference
-// is added back after, so the highlight keeps its input and the frame its energy.
+// is added back after, so the highlight keeps its input and the frame its energy. A light
+// wider than half the window is its own median inside, so highlights then grow into
+// neighbours over k times the background their seed read and k times the frame's mean (a
+// bulb's interior and rim); a region that would still grow after the last round is a light
+// larger than a bulb, and its growth is undone.
 #pragma once
 
 #include <cstddef>
@@ -20,6 +24,9 @@
 #include "host/image.h"
 
 namespace mcd {
+
+// How many rings highlights grow at most from the pixels over k times their window's median.
+constexpr int kHighlightGrowRounds = 4;
 
 struct HighlightSplit {
     Image base;                   // the input, highlights replaced by their windows' medians
@@ -34,6 +41,14 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
 
 // `output` plus (color - base) at the highlights.
 void AddHighlights(const Image &color, const HighlightSplit &split, Image *output);
+
+// Crests near lights cut: each value of `output` at a pixel that is not a highlight but within
+// `reach` (Chebyshev distance) of one is lowered to the largest input value of its channel over
+// the window of radius r around it, highlights left out. The synthesis spreads what is left of
+// a light's noisy rim into a glow beside it; a mean of the samples there is no higher than the
+// highest of them. Returns how many values moved.
+size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
+                                         int reach, int r, Image *output);
 
 // How many of (x, y)'s 8 neighbours inside the w x h frame are marked: a highlight is a
 // cluster, a lone marked pixel a firefly.

@@ -35,6 +35,14 @@ void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
         for (int y = h / 3; y < std::min(h, h / 3 + 3); ++y)
             for (int x = w / 4; x < std::min(w, w / 4 + 4); ++x)
                 color->At(c, y, x) = 100 + 300 * unit(rng);
+    // A light wider than the window's half (its interior is its own median: grown into),
+    // with a dimmer rim.
+    for (int c = 0; c < channels; ++c)
+        for (int y = h / 2; y < std::min(h, h / 2 + 7); ++y)
+            for (int x = w / 2; x < std::min(w, w / 2 + 7); ++x) {
+                bool rim = y == h / 2 || x == w / 2;
+                color->At(c, y, x) = (rim ? 20 : 200) + 100 * unit(rng);
+            }
 }
 
 TEST(Highlights, MatchesReference) {
@@ -55,8 +63,20 @@ TEST(Highlights, MatchesReference) {
                 AddHighlights(color, got, &output);
                 ref::AddHighlights(color, base, mask, &expected);
                 EXPECT_EQ(output.data, expected.data);
+                // Crests near the highlights against the twin, on a noisy output.
+                Image crest = output, crestExpected = output;
+                for (size_t i = 0; i < crest.data.size(); ++i)
+                    crest.data[i] = crestExpected.data[i] +=
+                        3 * color.data[(i * 7919) % color.data.size()];
+                LowerToInputMaximumNearHighlights(color, got.highlight, 6, 1, &crest);
+                ref::LowerToInputMaximumNearHighlights(color, mask, 6, 1, &crestExpected);
+                EXPECT_EQ(crest.data, crestExpected.data);
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
+                }
+                if (w >= 40) {
+                    EXPECT_TRUE(got.highlight[size_t(h / 2 + 3) * w + w / 2 + 3])
+                        << "the wide light's centre";
                 }
             }
 }
@@ -167,6 +187,108 @@ TEST_F(HighlightsAwr, AReflectionDoesNotRingDarkHoles) {
             if (y != 20 || (x != 20 && x != 21))
                 for (int c = 0; c < 3; ++c) darkest = std::min(darkest, out.image.At(c, y, x));
     EXPECT_GT(darkest, 0.5f * 0.05f) << "a dark hole beside the reflection";
+}
+
+// A bulb 7 pixels wide (a real frame's is 43 pixels: issue 29) on a dim floor. Inside, each
+// pixel is its own window's median, so only the rim was a highlight: the interior went through
+// the shrinkage and its energy spread into a bright halo with dark rings around the bulb.
+// Grown from the rim, the whole bulb is a highlight and the floor around it keeps its level.
+TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
+    const int w = 48, h = 48, cx = 24, cy = 22;
+    Image truth(w, h, 3, 0.05f), color(w, h, 3), variance(w, h, 3);
+    std::mt19937_64 rng(SeedFromName("highlights awr wide bulb"));
+    std::normal_distribution<float> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool bulb = (x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12;
+                float t = bulb ? 500.f : 0.05f, sd = bulb ? 5.f : 0.005f;
+                truth.At(c, y, x) = t;
+                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
+                variance.At(c, y, x) = sd * sd;
+            }
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_TRUE(split.highlight[size_t(cy) * w + cx]) << "the bulb's centre";
+    Frame frame = ColorAndVariance(color, variance);
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    // The floor 2-6 pixels from the bulb: no worse than the input, no value off by half.
+    double errOut = 0, errIn = 0;
+    float worst = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double d = std::sqrt(double((x - cx) * (x - cx) + (y - cy) * (y - cy)));
+                if (d < 2 + std::sqrt(12.0) || d > 6 + std::sqrt(12.0)) continue;
+                errOut += std::pow(out.image.At(c, y, x) - 0.05, 2);
+                errIn += std::pow(color.At(c, y, x) - 0.05, 2);
+                worst = std::max(worst, std::abs(out.image.At(c, y, x) - 0.05f));
+            }
+    EXPECT_LT(errOut, errIn) << "awr worse than its input beside the bulb";
+    EXPECT_LT(worst, 0.5f * 0.05f) << "a halo or ring beside the bulb";
+    EXPECT_LT(errOut, 0.5 * errIn);
+}
+
+// A ceiling panel 24 pixels wide is its own median but for its corners; grown from them it
+// would take the panel's rim into highlights ring by ring (the cornell light). Still growing
+// after the last round, its growth is undone; a bulb in the same frame still fills.
+TEST(Highlights, ALargeLightDoesNotGrow) {
+    const int w = 128, h = 128, x0 = 8, y0 = 8, size = 24, bx = 100, by = 100;
+    Image color(w, h, 3), variance(w, h, 3);
+    std::mt19937_64 rng(SeedFromName("highlights large light"));
+    std::normal_distribution<float> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool panel = x >= x0 && x < x0 + size && y >= y0 && y < y0 + size;
+                bool bulb = (x - bx) * (x - bx) + (y - by) * (y - by) <= 12;
+                float t = panel || bulb ? 500.f : 0.05f, sd = panel || bulb ? 5.f : 0.005f;
+                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
+                variance.At(c, y, x) = sd * sd;
+            }
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    // Three pixels in from each corner: no window there is mostly dark, so only growth marks
+    // it.
+    for (auto [x, y] : {std::pair{x0 + 3, y0 + 3},
+                        {x0 + size - 4, y0 + 3},
+                        {x0 + 3, y0 + size - 4},
+                        {x0 + size - 4, y0 + size - 4}}) {
+        EXPECT_FALSE(split.highlight[size_t(y) * w + x]) << "grown into the panel at " << x;
+        EXPECT_EQ(split.base.At(0, y, x), color.At(0, y, x));
+    }
+    EXPECT_TRUE(split.highlight[size_t(by) * w + bx]) << "the bulb's centre";
+    Image base, baseVariance;
+    std::vector<char> mask =
+        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
+    EXPECT_EQ(split.highlight, mask);
+    EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+}
+
+// A glow the synthesis spread beside a light: values within reach of a highlight above the
+// input's 3x3 maximum (highlights left out) are lowered to it; those beyond reach, and troughs,
+// are left.
+TEST(Highlights, CrestsNearLightsAreCut) {
+    Image color(20, 9, 3, 0.1f);
+    std::vector<char> highlight(20 * 9, 0);
+    for (int c = 0; c < 3; ++c) color.At(c, 4, 3) = 500;
+    highlight[4 * 20 + 3] = 1;
+    Image output(20, 9, 3, 0.1f);
+    for (int c = 0; c < 3; ++c) {
+        output.At(c, 4, 5) = 0.4f;   // a glow 2 pixels from the light
+        output.At(c, 4, 15) = 0.4f;  // a crest 12 pixels away
+        output.At(c, 2, 4) = 0.05f;  // a trough beside it
+    }
+    Image expected = output;
+    EXPECT_EQ(LowerToInputMaximumNearHighlights(color, highlight, 6, 1, &output), 3u);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(output.At(c, 4, 5), 0.1f) << "the glow beside the light";
+        EXPECT_EQ(output.At(c, 4, 15), 0.4f) << "the crest beyond reach";
+        EXPECT_EQ(output.At(c, 2, 4), 0.05f) << "the trough";
+        EXPECT_EQ(output.At(c, 4, 3), 0.1f) << "the highlight itself";
+    }
+    ref::LowerToInputMaximumNearHighlights(color, highlight, 6, 1, &expected);
+    EXPECT_EQ(output.data, expected.data);
 }
 
 }  // namespace
