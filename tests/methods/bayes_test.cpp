@@ -517,6 +517,28 @@ TEST_P(BayesExpKernel, MatchesReference) {
     }
 }
 
+// The exp kernel's output with --zeros restore on `color` and a log image of log(0.5)
+// everywhere, and its CPU twin's in `expected`; expects a rerun to give the same bits.
+Image ExpRestoringZeros(vk::Context &context, const Image &color, Image *expected) {
+    const int w = color.width, h = color.height, channels = color.channels;
+    Image logImage(w, h, channels);
+    for (float &v : logImage.data) v = std::log(0.5f);
+    vk::GpuImage in(context, w, h, channels, "color"), log(context, w, h, channels, "log"),
+        back(context, w, h, channels, "exp");
+    in.Upload(color);
+    log.Upload(logImage);
+    auto run = [&] {
+        vk::Recorder recorder(context);
+        RecordBayesExp(context, recorder, log, in, back, true);
+        recorder.Submit();
+        return back.Download();
+    };
+    Image got = run();
+    *expected = ref::BayesExp(logImage, color, true);
+    EXPECT_TRUE(BitIdentical(got, run()));
+    return got;
+}
+
 // --zeros restore keeps black regions, black lines and black at the frame's edge exactly 0,
 // and denoises zeros lone among lit pixels (low-spp samples that missed the light), on the
 // kernel and its CPU twin alike.
@@ -531,20 +553,8 @@ TEST_F(BayesKernel, ExpRestoresBlackButNotLoneZeros) {
     color.At(0, 8, 10) = 0;                                 // on the bottom edge
     color.At(0, 3, 10) = 0, color.At(0, 2, 10) = 0;         // a pair
     color.At(0, 4, 5) = 0, color.At(0, 3, 4) = 0;           // a diagonal pair
-    Image logImage(w, h, 1);
-    for (float &v : logImage.data) v = std::log(0.5f);
-    vk::GpuImage in(Ctx(), w, h, 1, "color"), log(Ctx(), w, h, 1, "log"),
-        back(Ctx(), w, h, 1, "exp");
-    in.Upload(color);
-    log.Upload(logImage);
-    auto run = [&] {
-        vk::Recorder recorder(Ctx());
-        RecordBayesExp(Ctx(), recorder, log, in, back, true);
-        recorder.Submit();
-        return back.Download();
-    };
-    Image got = run(), expected = ref::BayesExp(logImage, color, true);
-    EXPECT_TRUE(BitIdentical(got, run()));
+    Image expected;
+    Image got = ExpRestoringZeros(Ctx(), color, &expected);
     for (const Image *image : {&got, &expected}) {
         SCOPED_TRACE(image == &got ? "kernel" : "CPU twin");
         // The region's convex corner has no black pair through it: denoised like a lone zero.
@@ -571,20 +581,8 @@ TEST_F(BayesKernel, ExpKeepsPrimaryColoursClean) {
         for (int x = 0; x < w; ++x)
             for (int c = 0; c < 3; ++c) color.At(c, y, x) = c == 0 || x >= 5 ? 0.5f : 0.f;
     for (int c = 0; c < 3; ++c) color.At(c, 4, 2) = 0, color.At(c, 3, 7) = 0;  // missed
-    Image logImage(w, h, 3);
-    for (float &v : logImage.data) v = std::log(0.5f);
-    vk::GpuImage in(Ctx(), w, h, 3, "color"), log(Ctx(), w, h, 3, "log"),
-        back(Ctx(), w, h, 3, "exp");
-    in.Upload(color);
-    log.Upload(logImage);
-    auto run = [&] {
-        vk::Recorder recorder(Ctx());
-        RecordBayesExp(Ctx(), recorder, log, in, back, true);
-        recorder.Submit();
-        return back.Download();
-    };
-    Image got = run(), expected = ref::BayesExp(logImage, color, true);
-    EXPECT_TRUE(BitIdentical(got, run()));
+    Image expected;
+    Image got = ExpRestoringZeros(Ctx(), color, &expected);
     for (const Image *image : {&got, &expected}) {
         SCOPED_TRACE(image == &got ? "kernel" : "CPU twin");
         for (int y = 0; y < h; ++y)

@@ -67,6 +67,37 @@ std::mt19937_64 LightsCase(const LocalMeanCase &c, const std::string &name, Imag
     return rng;
 }
 
+// Where a uniform draw u makes a variance NaN (u < nan), Inf (u < inf), negative
+// (u < negative) or zero (u < zero); the rest are positive.
+struct OddShares {
+    float nan, inf, negative, zero;
+};
+
+// A variance of the input's size with `channels` channels and odd values at the given
+// shares, drawn from `rng`; its positive values span sixteen decades if `decades`, else
+// lie under 0.01.
+Image OddVariance(const Image &input, int channels, const OddShares &shares, bool decades,
+                  std::mt19937_64 *rng) {
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image variance(input.width, input.height, channels);
+    for (float &v : variance.data) {
+        float u = unit(*rng);
+        if (u < shares.nan)
+            v = std::numeric_limits<float>::quiet_NaN();
+        else if (u < shares.inf)
+            v = std::numeric_limits<float>::infinity();
+        else if (u < shares.negative)
+            v = -unit(*rng);
+        else if (u < shares.zero)
+            v = 0.f;
+        else if (decades)
+            v = std::pow(10.f, 16 * unit(*rng) - 8) * (1 + unit(*rng));
+        else
+            v = 0.01f * unit(*rng);
+    }
+    return variance;
+}
+
 class LocalMeanMatches : public ::testing::TestWithParam<LocalMeanCase> {};
 
 TEST_P(LocalMeanMatches, Reference) {
@@ -146,17 +177,8 @@ TEST_P(LocalMeanMatches, BoundToNoiseMatchesReference) {
     Image input, output;
     MakeImages(GetParam(), &input, &output);
     std::mt19937_64 rng(SeedFromName("local mean bound"));
-    std::uniform_real_distribution<float> unit(0, 1);
     for (int channels : {1, GetParam().channels}) {
-        Image variance(input.width, input.height, channels);
-        for (float &v : variance.data) {
-            float u = unit(rng);
-            v = u < 0.02f   ? std::numeric_limits<float>::quiet_NaN()
-                : u < 0.03f ? std::numeric_limits<float>::infinity()
-                : u < 0.04f ? -unit(rng)
-                : u < 0.2f  ? 0.f
-                            : 0.01f * unit(rng);
-        }
+        Image variance = OddVariance(input, channels, {0.02f, 0.03f, 0.04f, 0.2f}, false, &rng);
         Image expected = output, got = output;
         size_t count = ref::BoundToNoise(input, variance, 3, &expected);
         EXPECT_EQ(BoundToNoise(input, variance, 3, &got), count);
@@ -175,16 +197,9 @@ TEST_P(LocalMeanMatches, BoundToInputRangeMatchesReference) {
     Image input, output;
     MakeImages(GetParam(), &input, &output);
     std::mt19937_64 rng(SeedFromName("local mean range"));
-    std::uniform_real_distribution<float> unit(0, 1);
     for (int channels : {1, GetParam().channels}) {
-        Image variance(input.width, input.height, channels);
-        for (float &v : variance.data) {
-            float u = unit(rng);
-            v = u < 0.02f   ? std::numeric_limits<float>::quiet_NaN()
-                : u < 0.03f ? -unit(rng)
-                : u < 0.2f  ? 0.f
-                            : 0.01f * unit(rng);
-        }
+        // No Inf: its share is empty.
+        Image variance = OddVariance(input, channels, {0.02f, 0.02f, 0.03f, 0.2f}, false, &rng);
         for (int radius : {1, 2})
             for (double k : {0.0, 1.0}) {
                 Image expected = output, got = output;
@@ -213,17 +228,8 @@ TEST_P(LocalMeanMatches, NoiseSpreadMatchesReference) {
     Image input, output;
     MakeImages(GetParam(), &input, &output);
     std::mt19937_64 rng(SeedFromName("local mean spread"));
-    std::uniform_real_distribution<float> unit(0, 1);
     for (int channels : {1, GetParam().channels}) {
-        Image variance(input.width, input.height, channels);
-        for (float &v : variance.data) {
-            float u = unit(rng);
-            v = u < 0.02f   ? std::numeric_limits<float>::quiet_NaN()
-                : u < 0.03f ? std::numeric_limits<float>::infinity()
-                : u < 0.04f ? -unit(rng)
-                : u < 0.1f  ? 0.f
-                            : std::pow(10.f, 16 * unit(rng) - 8) * (1 + unit(rng));
-        }
+        Image variance = OddVariance(input, channels, {0.02f, 0.03f, 0.04f, 0.1f}, true, &rng);
         size_t spread = 0;
         for (int c = 0; c < input.channels; ++c)
             for (int y = 0; y < input.height; ++y)

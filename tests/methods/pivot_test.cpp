@@ -784,6 +784,45 @@ const Image &StageNamed(const Result &result, const std::string &name) {
     return none;
 }
 
+// A frame of colour, albedo (the pivot), variance and object id layers.
+mcd::Frame LayeredFrame(const Image &color, const Image &albedo, const Image &variance,
+                        const Image &objectId) {
+    mcd::Frame frame;
+    frame.width = color.width, frame.height = color.height;
+    frame.layers["color"] = color;
+    frame.layers["albedo"] = albedo;
+    frame.layers["variance"] = variance;
+    frame.layers["objectId"] = objectId;
+    return frame;
+}
+
+// pivot's default run, with its stages kept (RunOptions::keepStages), of a frame of
+// colour, albedo, variance and object id layers on the test device.
+struct StagedPivotRun {
+    StagedPivotRun(vk::Context &context, const Image &color, const Image &albedo,
+                   const Image &variance, const Image &objectId)
+        : frame(LayeredFrame(color, albedo, variance, objectId)),
+          device(api::BorrowDevice(context)),
+          result(method.Run(device, frame, KeepStages())) {}
+    static RunOptions KeepStages() {
+        RunOptions run;
+        run.keepStages = true;
+        return run;
+    }
+    // The filter's output and the clamp's ("kept edges").
+    const Image &Filtered() const { return StageNamed(result, "output"); }
+    const Image &Clamped() const { return StageNamed(result, "kept edges"); }
+    // Whether a run without kept stages gives the same image.
+    bool RerunsBitIdentically() {
+        return BitIdentical(method.Run(device, frame).image, result.image);
+    }
+
+    mcd::Frame frame;
+    Device device;
+    Method method{"pivot"};
+    Result result;
+};
+
 // A ceiling (albedo 0.8) above a wall (albedo 0.5), of two object ids, both lit to the same
 // colour, meeting along a slanted edge whose pixels mix both albedos: divided by their
 // albedo, the edge pixels lean toward the other side, and pivot keeps them at their input,
@@ -806,22 +845,11 @@ TEST_F(PivotMethod, KeptEdgeValuesLoseTheirNoise) {
                 variance.At(c, y, x) = level * level * noise * noise;
             }
         }
-    mcd::Frame frame;
-    frame.width = w, frame.height = h;
-    frame.layers["color"] = color;
-    frame.layers["albedo"] = pivot;
-    frame.layers["variance"] = variance;
-    frame.layers["objectId"] = objectId;
-    Device device = api::BorrowDevice(Ctx());
+    StagedPivotRun run(Ctx(), color, pivot, variance, objectId);
     // pivot's defaults: the values the filter kept (its "output" stage equal to the input)
     // after the clamp ("kept edges") and in what the user gets (after the input range, the
     // noise bound and the restore of local means).
-    Method method("pivot");
-    RunOptions run;
-    run.keepStages = true;
-    Result result = method.Run(device, frame, run);
-    const Image &filtered = StageNamed(result, "output");
-    const Image &clamped = StageNamed(result, "kept edges");
+    const Image &filtered = run.Filtered(), &clamped = run.Clamped();
     ASSERT_TRUE(filtered.SameShape(color) && clamped.SameShape(color));
     double inputError = 0, clampedError = 0, outputError = 0;
     size_t keptValues = 0;
@@ -831,7 +859,7 @@ TEST_F(PivotMethod, KeptEdgeValuesLoseTheirNoise) {
                 if (filtered.At(c, y, x) == color.At(c, y, x) && std::abs(y - edgeY(x)) <= 1) {
                     inputError += std::fabs(color.At(c, y, x) - level) / level;
                     clampedError += std::fabs(clamped.At(c, y, x) - level) / level;
-                    outputError += std::fabs(result.image.At(c, y, x) - level) / level;
+                    outputError += std::fabs(run.result.image.At(c, y, x) - level) / level;
                     ++keptValues;
                 }
     ASSERT_GT(keptValues, size_t(w / 2)) << "the case keeps too few edge values";
@@ -841,7 +869,7 @@ TEST_F(PivotMethod, KeptEdgeValuesLoseTheirNoise) {
     EXPECT_LT(outputError, 0.85 * inputError)
         << "kept edge values in the output: mean relative error " << outputError / keptValues
         << " against the input's " << inputError / keptValues;
-    EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, result.image));
+    EXPECT_TRUE(run.RerunsBitIdentically());
 }
 
 // A wire one pixel wide (its own object id, albedo 0.3) across a wall (albedo 0.8): no fit
@@ -872,21 +900,10 @@ TEST_F(PivotMethod, ThinPartsLoseTheirDots) {
                 }
             }
         }
-    mcd::Frame frame;
-    frame.width = w, frame.height = h;
-    frame.layers["color"] = color;
-    frame.layers["albedo"] = pivot;
-    frame.layers["variance"] = variance;
-    frame.layers["objectId"] = objectId;
-    Device device = api::BorrowDevice(Ctx());
+    StagedPivotRun run(Ctx(), color, pivot, variance, objectId);
     // pivot's defaults: the wire's values the filter kept, after the clamp ("kept edges")
     // and in what the user gets.
-    Method method("pivot");
-    RunOptions run;
-    run.keepStages = true;
-    Result result = method.Run(device, frame, run);
-    const Image &filtered = StageNamed(result, "output");
-    const Image &clamped = StageNamed(result, "kept edges");
+    const Image &filtered = run.Filtered(), &clamped = run.Clamped();
     ASSERT_TRUE(filtered.SameShape(color) && clamped.SameShape(color));
     double inputError = 0, clampedError = 0, outputError = 0, worst = 0, worstOutput = 0;
     size_t keptValues = 0;
@@ -894,7 +911,7 @@ TEST_F(PivotMethod, ThinPartsLoseTheirDots) {
         for (int x = 0; x < w; ++x)
             if (filtered.At(c, wireY, x) == color.At(c, wireY, x)) {
                 const double error = std::fabs(clamped.At(c, wireY, x) - wire) / wire;
-                const double output = std::fabs(result.image.At(c, wireY, x) - wire) / wire;
+                const double output = std::fabs(run.result.image.At(c, wireY, x) - wire) / wire;
                 inputError += std::fabs(color.At(c, wireY, x) - wire) / wire;
                 clampedError += error;
                 outputError += output;
@@ -911,7 +928,7 @@ TEST_F(PivotMethod, ThinPartsLoseTheirDots) {
         << "the wire in the output: mean relative error " << outputError / keptValues
         << " against the input's " << inputError / keptValues;
     EXPECT_LT(worstOutput, 1.5) << "a dot stays on the wire in the output";
-    EXPECT_TRUE(BitIdentical(method.Run(device, frame).image, result.image));
+    EXPECT_TRUE(run.RerunsBitIdentically());
 }
 
 // Plane fits that extrapolate beyond every input around them (a highlight's slope, its
