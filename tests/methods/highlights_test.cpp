@@ -189,7 +189,7 @@ TEST_F(HighlightsAwr, AReflectionDoesNotRingDarkHoles) {
     EXPECT_GT(darkest, 0.5f * 0.05f) << "a dark hole beside the reflection";
 }
 
-// A bulb 7 pixels wide (a real frame's is 43 pixels: issue 29) on a dim floor. Inside, each
+// A bulb 7 pixels wide (a real frame's are wider: issue 29) on a dim floor. Inside, each
 // pixel is its own window's median, so only the rim was a highlight: the interior went through
 // the shrinkage and its energy spread into a bright halo with dark rings around the bulb.
 // Grown from the rim, the whole bulb is a highlight and the floor around it keeps its level.
