@@ -147,6 +147,7 @@ void UndoGrowth(const Image &color, const Image *variance, const std::vector<int
         if (grownIn[p] == 0) continue;
         split->highlight[p] = 0;
         --split->count;
+        --split->grown;
         for (int c = 0; c < color.channels; ++c) {
             split->base.Plane(c)[p] = color.Plane(c)[p];
             if (variance) split->baseVariance.Plane(c)[p] = variance->Plane(c)[p];
@@ -198,6 +199,7 @@ void GrowHighlights(const Image &color, const Image *variance, double k, double 
             }
         }
         split->count += next.size();
+        split->grown += next.size();
         front = std::move(next);
     }
 }

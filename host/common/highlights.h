@@ -32,7 +32,8 @@ struct HighlightSplit {
     Image base;                   // the input, highlights replaced by their windows' medians
     Image baseVariance;           // the same for the variance (empty without one)
     std::vector<char> highlight;  // per pixel
-    size_t count = 0;
+    size_t count = 0;             // highlights, grown ones included
+    size_t grown = 0;             // of those, the ones the growth added
 };
 
 // The split of `color` (and `variance`, the input's size or null) at ratio k over windows of
