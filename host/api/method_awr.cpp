@@ -175,7 +175,7 @@ class Awr : public FrontEndOf<AwrSettings> {
             "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
             "spans it, and its grid depends on the frame's size; a tile runs {} level(s); the "
             "highlights' undo of a still-growing light spans its whole connected region "
-            "(unbounded) and their growth's stop reads each tile's own mean, not the frame's",
+            "(unbounded); the tiles read the frame's mean for the highlights (passed in)",
             options.method.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
                                       : options.method.levels,
             levels);
@@ -203,6 +203,9 @@ class Awr : public FrontEndOf<AwrSettings> {
     std::unique_ptr<FrontEnd> ForTiles(vk::Context &, Inputs &whole) const override {
         auto copy = std::make_unique<Awr>(*this);
         copy->options.method.levels = TileLevels(whole.Width(), whole.Height());
+        // The highlights' floor and growth stop read the whole frame's mean, not the tile's.
+        if (options.highlights > 0 && whole.Has("color"))
+            copy->frameMean = HighlightFrameMean(whole.Get("color"));
         return copy;
     }
 
@@ -240,6 +243,9 @@ class Awr : public FrontEndOf<AwrSettings> {
     }
 
   private:
+    // The whole frame's mean for the highlights in a tile (-1: the input's own).
+    double frameMean = -1;
+
     // Whether highlights are split: on, and inputs awr accepts (it refuses the others,
     // naming them).
     bool Splits(const Image &color, const Image &variance) const {
@@ -250,7 +256,8 @@ class Awr : public FrontEndOf<AwrSettings> {
     }
     HighlightSplit Split(const Image &color, const Image &variance) const {
         if (!Splits(color, variance)) return HighlightSplit();
-        return SplitHighlights(color, &variance, options.highlights, kHighlightRadius);
+        return SplitHighlights(color, &variance, options.highlights, kHighlightRadius,
+                               frameMean);
     }
 
     static constexpr int kTileLevels = 5;
