@@ -15,9 +15,11 @@ namespace mcd::ref {
 // e^2 > 4 x the sum of p's variances. `base` (and `baseVariance`, when
 // `variance` is given) are the inputs with each channel at a highlight replaced by its
 // window's upper median. Then up to 4 rounds of growth: a pixel not marked, with a neighbour
-// q marked before the round whose base channels sum to b, is marked where s > k max(b, floor)
-// and, with `variance`, (s - b)^2 > 4 x the sum of its variances; it takes the base (and base
-// variance) of the first such q in row order. Returns the highlight mask.
+// q marked before the round whose base channels sum to b, is marked where s > k max(b, the
+// mean of s over the frame) and, with `variance`, (s - b)^2 > 4 x the sum of its variances; it
+// takes the base (and base variance) of the first such q in row order. A fifth round only
+// checks: a connected region (8 neighbours) with a pixel that would still grow is a large
+// light, and its grown pixels get their input (and variance) back. Returns the highlight mask.
 std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
                                   Image *base, Image *baseVariance);
 

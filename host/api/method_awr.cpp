@@ -81,13 +81,16 @@ class Awr : public FrontEndOf<AwrSettings> {
                           "summed), with 2 of its 8 neighbours so too and 2 of its standard "
                           "deviations above that median, is a highlight: reconstructed at "
                           "the median and given its input back after, so a light's energy "
-                          "does not ring into the dim pixels around it (beyond the paper; 0: "
-                          "off)",
+                          "does not ring into the dim pixels around it; highlights then grow "
+                          "up to 4 rings into a light's interior, not past k x the frame's "
+                          "mean, and a region still growing after that (a large light) is "
+                          "given its grown pixels back (beyond the paper; 0: off)",
                           &AwrSettings::highlights, 0, 1e6),
                IntParam("awr-clamp",
                         "the output raised to the minimum of the input over the (2N+1)^2 "
                         "window around each pixel, per channel: the synthesis's troughs (dark "
-                        "spots beside highlights) are cut (beyond the paper; 0: off)",
+                        "spots beside highlights) are cut, and so is the cut of crests near "
+                        "highlights to the input's 3x3 maximum (beyond the paper; 0: both off)",
                         &AwrSettings::clamp, 0, 8)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
@@ -123,9 +126,9 @@ class Awr : public FrontEndOf<AwrSettings> {
             AddHighlights(color, split, &result.image);
             result.plan.push_back(fmt::format(
                 "highlights: {} pixels over {} x their 7x7 median (with 2 of 8 neighbours, 2 "
-                "standard deviations above it, or 1 neighbour, 4 above) reconstructed at that "
-                "median and given their input back",
-                split.count, options.highlights));
+                "standard deviations above it, or 1 neighbour, 4 above) and {} grown from them "
+                "reconstructed at that median and given their input back",
+                split.count - split.grown, options.highlights, split.grown));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
         }
@@ -170,23 +173,26 @@ class Awr : public FrontEndOf<AwrSettings> {
         TileNeeds needs;
         needs.notLocal = fmt::format(
             "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
-            "spans it, and its grid depends on the frame's size; a tile runs {} level(s)",
+            "spans it, and its grid depends on the frame's size; a tile runs {} level(s); the "
+            "highlights' undo of a still-growing light spans its whole connected region "
+            "(unbounded); the tiles read the frame's mean for the highlights (passed in)",
             options.method.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
                                       : options.method.levels,
             levels);
         // Analysis and synthesis at 2^l per level l, and the spins' shifts.
         int half = WaveletHalfSupport(options.method.basis);
-        // The highlights read their neighbours' windows and grow, the crests near them read
-        // theirs; the clamp its window.
-        const int highlights = options.highlights > 0
-                                   ? kHighlightRadius + 1 + kHighlightGrowRounds + kCrestReach
-                                   : 0;
+        // The highlights read their neighbours' windows, grow and look one ring further; the
+        // crests near them read theirs; the clamp its window.
+        const int highlights =
+            options.highlights > 0
+                ? kHighlightRadius + 1 + kHighlightGrowRounds + 1 + kCrestReach
+                : 0;
         needs.reach =
             2 * half * ((1 << levels) - 1) + options.method.spins + highlights + options.clamp;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
-            "{}, the spins' shift, {} for the highlights' windows and {} for the input's "
-            "minimum",
+            "{}, the spins' shift, {} for the highlights' windows, growth and its check "
+            "round and the crest cut, and {} for the input's minimum",
             WaveletName(options.method.basis), half, levels, highlights, options.clamp);
         needs.align = 1 << levels;
         needs.bytesPerPixel = 4.0 * channels * 4;
@@ -197,6 +203,9 @@ class Awr : public FrontEndOf<AwrSettings> {
     std::unique_ptr<FrontEnd> ForTiles(vk::Context &, Inputs &whole) const override {
         auto copy = std::make_unique<Awr>(*this);
         copy->options.method.levels = TileLevels(whole.Width(), whole.Height());
+        // The highlights' floor and growth stop read the whole frame's mean, not the tile's.
+        if (options.highlights > 0 && whole.Has("color"))
+            copy->frameMean = HighlightFrameMean(whole.Get("color"));
         return copy;
     }
 
@@ -234,6 +243,9 @@ class Awr : public FrontEndOf<AwrSettings> {
     }
 
   private:
+    // The whole frame's mean for the highlights in a tile (-1: the input's own).
+    double frameMean = -1;
+
     // Whether highlights are split: on, and inputs awr accepts (it refuses the others,
     // naming them).
     bool Splits(const Image &color, const Image &variance) const {
@@ -244,7 +256,8 @@ class Awr : public FrontEndOf<AwrSettings> {
     }
     HighlightSplit Split(const Image &color, const Image &variance) const {
         if (!Splits(color, variance)) return HighlightSplit();
-        return SplitHighlights(color, &variance, options.highlights, kHighlightRadius);
+        return SplitHighlights(color, &variance, options.highlights, kHighlightRadius,
+                               frameMean);
     }
 
     static constexpr int kTileLevels = 5;

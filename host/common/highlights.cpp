@@ -23,12 +23,26 @@ float WindowMedian(const float *plane, int w, int h, int x, int y, int r,
     return *mid;
 }
 
-// Pixels over k times their window's median of the channel sums (and the floor).
-std::vector<char> OverTheirWindows(const Image &sum, double k, int r) {
-    const int w = sum.width, h = sum.height;
+// The mean of a sum plane.
+double PlaneMean(const Image &sum) {
     double total = 0;
     for (float v : sum.data) total += v;
-    const double floor = 1e-3 * total / double(sum.PixelCount());
+    return total / double(sum.PixelCount());
+}
+
+// The channels of `color` summed per pixel.
+Image ChannelSum(const Image &color) {
+    Image sum(color.width, color.height, 1);
+    for (int c = 0; c < color.channels; ++c)
+        for (size_t p = 0; p < color.PixelCount(); ++p) sum.data[p] += color.Plane(c)[p];
+    return sum;
+}
+
+// Pixels over k times their window's median of the channel sums (and the floor, a fraction of
+// `mean`).
+std::vector<char> OverTheirWindows(const Image &sum, double k, int r, double mean) {
+    const int w = sum.width, h = sum.height;
+    const double floor = 1e-3 * mean;
     std::vector<char> over(sum.PixelCount(), 0);
     const size_t window = size_t(2 * r + 1) * (2 * r + 1);
     ParallelFor(h, sum.PixelCount() * window, [&](int yBegin, int yEnd) {
@@ -147,6 +161,7 @@ void UndoGrowth(const Image &color, const Image *variance, const std::vector<int
         if (grownIn[p] == 0) continue;
         split->highlight[p] = 0;
         --split->count;
+        --split->grown;
         for (int c = 0; c < color.channels; ++c) {
             split->base.Plane(c)[p] = color.Plane(c)[p];
             if (variance) split->baseVariance.Plane(c)[p] = variance->Plane(c)[p];
@@ -198,6 +213,7 @@ void GrowHighlights(const Image &color, const Image *variance, double k, double 
             }
         }
         split->count += next.size();
+        split->grown += next.size();
         front = std::move(next);
     }
 }
@@ -212,7 +228,12 @@ int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y
     return count;
 }
 
-HighlightSplit SplitHighlights(const Image &color, const Image *variance, double k, int r) {
+double HighlightFrameMean(const Image &color) {
+    return PlaneMean(ChannelSum(color));
+}
+
+HighlightSplit SplitHighlights(const Image &color, const Image *variance, double k, int r,
+                               double frameMean) {
     if (variance && !variance->SameShape(color))
         throw Error("SplitHighlights: the variance must have the color's shape",
                     ErrorKind::Internal);
@@ -223,10 +244,9 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
     split.highlight.assign(color.PixelCount(), 0);
     for (float v : color.data)
         if (!std::isfinite(v)) return split;
-    Image sum(w, h, 1);
-    for (int c = 0; c < color.channels; ++c)
-        for (size_t p = 0; p < color.PixelCount(); ++p) sum.data[p] += color.Plane(c)[p];
-    std::vector<char> over = OverTheirWindows(sum, k, r);
+    Image sum = ChannelSum(color);
+    const double mean = frameMean >= 0 ? frameMean : PlaneMean(sum);
+    std::vector<char> over = OverTheirWindows(sum, k, r, mean);
     if (variance) RequireConfidence(color, *variance, r, &over);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -247,9 +267,7 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
                         WindowMedian(variance->Plane(c), w, h, x, y, r, scratch);
             }
         }
-    double total = 0;
-    for (float v : sum.data) total += v;
-    GrowHighlights(color, variance, k, total / double(sum.PixelCount()), &split);
+    GrowHighlights(color, variance, k, mean, &split);
     return split;
 }
 

@@ -32,12 +32,19 @@ struct HighlightSplit {
     Image base;                   // the input, highlights replaced by their windows' medians
     Image baseVariance;           // the same for the variance (empty without one)
     std::vector<char> highlight;  // per pixel
-    size_t count = 0;
+    size_t count = 0;             // highlights, grown ones included
+    size_t grown = 0;             // of those, the ones the growth added
 };
 
 // The split of `color` (and `variance`, the input's size or null) at ratio k over windows of
 // radius r. A frame with NaN/Inf values has no highlights (the filter refuses it or says so).
-HighlightSplit SplitHighlights(const Image &color, const Image *variance, double k, int r);
+// `frameMean` (HighlightFrameMean of the whole frame) stands in for the color's own mean where
+// >= 0, so a tile reads the frame's.
+HighlightSplit SplitHighlights(const Image &color, const Image *variance, double k, int r,
+                               double frameMean = -1);
+
+// The mean of the color's channel sums, as SplitHighlights reads it.
+double HighlightFrameMean(const Image &color);
 
 // `output` plus (color - base) at the highlights.
 void AddHighlights(const Image &color, const HighlightSplit &split, Image *output);

@@ -189,7 +189,7 @@ TEST_F(HighlightsAwr, AReflectionDoesNotRingDarkHoles) {
     EXPECT_GT(darkest, 0.5f * 0.05f) << "a dark hole beside the reflection";
 }
 
-// A bulb 7 pixels wide (a real frame's is 43 pixels: issue 29) on a dim floor. Inside, each
+// A bulb 7 pixels wide (a real frame's are wider: issue 29) on a dim floor. Inside, each
 // pixel is its own window's median, so only the rim was a highlight: the interior went through
 // the shrinkage and its energy spread into a bright halo with dark rings around the bulb.
 // Grown from the rim, the whole bulb is a highlight and the floor around it keeps its level.
@@ -227,6 +227,46 @@ TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
     EXPECT_LT(errOut, errIn) << "awr worse than its input beside the bulb";
     EXPECT_LT(worst, 0.5f * 0.05f) << "a halo or ring beside the bulb";
     EXPECT_LT(errOut, 0.5 * errIn);
+}
+
+// A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
+// stop (k x the mean) keeps the bulb's interior out; given the whole frame's mean, as awr's
+// tiles are, it grows as it does in the whole frame.
+TEST(Highlights, ATileReadsTheFramesMean) {
+    const int w = 48, h = 48, cx = 24, cy = 22, half = 5;
+    Image color(w, h, 3), variance(w, h, 3);
+    std::mt19937_64 rng(SeedFromName("highlights tile mean"));
+    std::normal_distribution<float> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                bool bulb = (x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12;
+                float t = bulb ? 500.f : 0.05f, sd = bulb ? 5.f : 0.005f;
+                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
+                variance.At(c, y, x) = sd * sd;
+            }
+    const int side = 2 * half + 1;
+    Image tile(side, side, 3), tileVariance(side, side, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                tile.At(c, y, x) = color.At(c, cy - half + y, cx - half + x);
+                tileVariance.At(c, y, x) = variance.At(c, cy - half + y, cx - half + x);
+            }
+    HighlightSplit whole = SplitHighlights(color, &variance, 16, 3);
+    HighlightSplit own = SplitHighlights(tile, &tileVariance, 16, 3);
+    HighlightSplit given =
+        SplitHighlights(tile, &tileVariance, 16, 3, HighlightFrameMean(color));
+    ASSERT_TRUE(whole.highlight[size_t(cy) * w + cx]) << "the bulb's centre, whole frame";
+    EXPECT_GT(own.count, 0u) << "the tile's seeds";
+    EXPECT_EQ(own.grown, 0u) << "the tile's own mean stops the growth";
+    EXPECT_GT(given.grown, 0u);
+    EXPECT_TRUE(given.highlight[size_t(half) * side + half]) << "the bulb's centre, tile";
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x)
+            EXPECT_EQ(given.highlight[size_t(y) * side + x],
+                      whole.highlight[size_t(cy - half + y) * w + cx - half + x])
+                << x << ", " << y;
 }
 
 // A ceiling panel 24 pixels wide is its own median but for its corners; grown from them it
