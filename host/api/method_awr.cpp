@@ -87,10 +87,13 @@ class Awr : public FrontEndOf<AwrSettings> {
                           "given its grown pixels back (beyond the paper; 0: off)",
                           &AwrSettings::highlights, 0, 1e6),
                IntParam("awr-clamp",
-                        "the output raised to the minimum of the input over the (2N+1)^2 "
-                        "window around each pixel, per channel: the synthesis's troughs (dark "
-                        "spots beside highlights) are cut, and so is the cut of crests near "
-                        "highlights to the input's 3x3 maximum (beyond the paper; 0: both off)",
+                        fmt::format("the output raised to the minimum of the input over the "
+                                    "(2N+1)^2 window around each pixel, per channel: the "
+                                    "synthesis's troughs (dark spots beside highlights) are "
+                                    "cut; values within {} pixels of a highlight are lowered "
+                                    "to the input's maximum over the same window (crests; "
+                                    "beyond the paper; 0: both off)",
+                                    kCrestReach),
                         &AwrSettings::clamp, 0, 8)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
