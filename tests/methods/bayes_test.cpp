@@ -459,7 +459,9 @@ TEST_F(BayesKernel, LogFillsEveryChannelFromTheSameNeighbours) {
                             std::log(std::max(double(color.At(c, y, x)), double(floors[c]))) /
                             7;
             EXPECT_NEAR(image->At(c, 2, 3), mean, 1e-5) << "channel " << c;
-            if (c < 2) EXPECT_NEAR(image->At(c, 4, 6), std::log(floors[c]), 1e-5);
+            if (c < 2) {
+                EXPECT_NEAR(image->At(c, 4, 6), std::log(floors[c]), 1e-5);
+            }
         }
         EXPECT_NEAR(image->At(2, 4, 6), std::log(color.At(2, 4, 6)), 1e-5);
     }
