@@ -189,24 +189,29 @@ TEST_F(HighlightsAwr, AReflectionDoesNotRingDarkHoles) {
     EXPECT_GT(darkest, 0.5f * 0.05f) << "a dark hole beside the reflection";
 }
 
+// A bulb of radius sqrt(12) around (cx, cy), 500 with a noise of 5, on a floor of 0.05 with a
+// noise of 0.005, seeded by name; each value's variance is its noise's.
+void NoisyBulb(const std::string &name, int cx, int cy, Image *color, Image *variance) {
+    std::mt19937_64 rng(SeedFromName(name));
+    std::normal_distribution<float> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < color->height; ++y)
+            for (int x = 0; x < color->width; ++x) {
+                bool bulb = (x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12;
+                float t = bulb ? 500.f : 0.05f, sd = bulb ? 5.f : 0.005f;
+                color->At(c, y, x) = std::max(0.f, t + sd * normal(rng));
+                variance->At(c, y, x) = sd * sd;
+            }
+}
+
 // A bulb 7 pixels wide (a real frame's are wider: issue 29) on a dim floor. Inside, each
 // pixel is its own window's median, so only the rim was a highlight: the interior went through
 // the shrinkage and its energy spread into a bright halo with dark rings around the bulb.
 // Grown from the rim, the whole bulb is a highlight and the floor around it keeps its level.
 TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
     const int w = 48, h = 48, cx = 24, cy = 22;
-    Image truth(w, h, 3, 0.05f), color(w, h, 3), variance(w, h, 3);
-    std::mt19937_64 rng(SeedFromName("highlights awr wide bulb"));
-    std::normal_distribution<float> normal(0, 1);
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                bool bulb = (x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12;
-                float t = bulb ? 500.f : 0.05f, sd = bulb ? 5.f : 0.005f;
-                truth.At(c, y, x) = t;
-                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
-                variance.At(c, y, x) = sd * sd;
-            }
+    Image color(w, h, 3), variance(w, h, 3);
+    NoisyBulb("highlights awr wide bulb", cx, cy, &color, &variance);
     HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
     EXPECT_TRUE(split.highlight[size_t(cy) * w + cx]) << "the bulb's centre";
     Frame frame = ColorAndVariance(color, variance);
@@ -235,16 +240,7 @@ TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
 TEST(Highlights, ATileReadsTheFramesMean) {
     const int w = 48, h = 48, cx = 24, cy = 22, half = 5;
     Image color(w, h, 3), variance(w, h, 3);
-    std::mt19937_64 rng(SeedFromName("highlights tile mean"));
-    std::normal_distribution<float> normal(0, 1);
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                bool bulb = (x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12;
-                float t = bulb ? 500.f : 0.05f, sd = bulb ? 5.f : 0.005f;
-                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
-                variance.At(c, y, x) = sd * sd;
-            }
+    NoisyBulb("highlights tile mean", cx, cy, &color, &variance);
     const int side = 2 * half + 1;
     Image tile(side, side, 3), tileVariance(side, side, 3);
     for (int c = 0; c < 3; ++c)
