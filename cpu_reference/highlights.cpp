@@ -90,9 +90,21 @@ std::vector<char> MarkSeeds(const Image &color, const Image *variance,
     return highlight;
 }
 
+// Whether a pixel summing to s is the sure rim of the highlight at (u, v), whose background
+// (base summed) is b: the highlight's input summed, sq, is >= s and sq - b > 0 with
+// (sq - b)^2 > 16 x the sum of its variances.
+bool SureRim(const Image &color, const Image &variance, double b, double s, int u, int v) {
+    double sq = 0, vq = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        sq += color.At(c, v, u);
+        vq += variance.At(c, v, u);
+    }
+    return s <= sq && sq - b > 0 && (sq - b) * (sq - b) > 16 * vq;
+}
+
 // The first neighbour (row order) marked in `before` that the pixel at (x, y) is over k times
 // the background of (its base's channels summed; and the frame's mean) and, with a variance,
-// 2 standard deviations above; false when none.
+// 2 standard deviations above or the sure rim of; false when none.
 bool GrowSource(const Image &color, const Image *variance, const std::vector<char> &before,
                 const Image &baseBefore, double k, double mean, int x, int y, int *sx,
                 int *sy) {
@@ -109,7 +121,9 @@ bool GrowSource(const Image &color, const Image *variance, const std::vector<cha
             double background = 0;
             for (int c = 0; c < color.channels; ++c) background += baseBefore.At(c, v, u);
             if (!(s > k * std::max(background, mean))) continue;
-            if (variance && !((s - background) * (s - background) > 4 * var)) continue;
+            if (variance && !((s - background) * (s - background) > 4 * var) &&
+                !SureRim(color, *variance, background, s, u, v))
+                continue;
             *sx = u;
             *sy = v;
             return true;

@@ -16,10 +16,12 @@ namespace mcd::ref {
 // `variance` is given) are the inputs with each channel at a highlight replaced by its
 // window's upper median. Then up to 4 rounds of growth: a pixel not marked, with a neighbour
 // q marked before the round whose base channels sum to b, is marked where s > k max(b, the
-// mean of s over the frame) and, with `variance`, (s - b)^2 > 4 x the sum of its variances; it
-// takes the base (and base variance) of the first such q in row order. A fifth round only
-// checks: a connected region (8 neighbours) with a pixel that would still grow is a large
-// light, and its grown pixels get their input (and variance) back. Returns the highlight mask.
+// mean of s over the frame) and, with `variance`, (s - b)^2 > 4 x the sum of its variances or
+// q is sure of its light (q's s >= the pixel's, and s_q - b > 0 with (s_q - b)^2 > 16 x the
+// sum of q's variances); it takes the base (and base variance) of the first such q in row
+// order. A fifth round only checks: a connected region (8 neighbours) with a pixel that would
+// still grow is a large light, and its grown pixels get their input (and variance) back.
+// Returns the highlight mask.
 std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
                                   Image *base, Image *baseVariance);
 

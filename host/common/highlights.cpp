@@ -104,8 +104,26 @@ void RequireConfidence(const Image &color, const Image &variance, int r,
 // a bulb (a ceiling panel, whose rim the filter keeps anyway): its growth is undone, its seeds
 // kept.
 
+// Whether a pixel whose channels sum to `s` is the rim of the light at highlight q: q stands
+// kPairSigmas of its own standard deviation above its background (most of its samples saw the
+// light) and the pixel is no brighter than q. A rim pixel one sample of the light hit has a
+// standard deviation as large as its mean, so it never stands 2 above: a firefly's statistics.
+// Beside a light seen that surely it is the light's rim and keeps its input; a glint's
+// fireflies, beside a noisier or dimmer highlight, still spread.
+bool SureRimOf(const Image &color, const Image &variance, double background, double s,
+               size_t q) {
+    double sq = 0, vq = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        sq += color.Plane(c)[q];
+        vq += variance.Plane(c)[q];
+    }
+    const double excess = sq - background;
+    return s <= sq && excess > 0 && excess * excess > kPairSigmas * kPairSigmas * vq;
+}
+
 // The first highlight neighbour of `p` (row order) that p is over k times the background of
-// (and of the frame's mean; 2 standard deviations above, given a variance), or SIZE_MAX.
+// (and of the frame's mean) and, given a variance, 2 standard deviations above or the sure rim
+// of (SureRimOf), or SIZE_MAX.
 size_t FirstPassingNeighbour(const Image &color, const Image *variance, double k, double mean,
                              const HighlightSplit &split, size_t p) {
     const int w = color.width, h = color.height;
@@ -124,7 +142,8 @@ size_t FirstPassingNeighbour(const Image &color, const Image *variance, double k
             const double background = sumOf(split.base, q);
             const double excess = s - background;
             if (!(s > k * std::max(background, mean))) continue;
-            if (variance && !(excess * excess > kHighlightSigmas * kHighlightSigmas * var))
+            if (variance && !(excess * excess > kHighlightSigmas * kHighlightSigmas * var) &&
+                !SureRimOf(color, *variance, background, s, q))
                 continue;
             return q;
         }

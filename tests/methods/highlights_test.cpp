@@ -234,6 +234,38 @@ TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
     EXPECT_LT(errOut, 0.5 * errIn);
 }
 
+// A bulb's rim pixel that one sample of 16 saw (a quarter of it covered, read as a
+// sixteenth): its standard deviation is its own mean, so it stands under two of them above the
+// floor, as a firefly does. Beside a highlight it is the light's rim, not noise: grown, it
+// keeps its input, and the floor beside it does not glow with the energy the synthesis spread
+// from it (the bulb at a real frame's edge, issue 29).
+TEST_F(HighlightsAwr, ARimPixelOneSampleSawIsGrown) {
+    const int w = 128, h = 128, cx = 64, cy = 64, rx = cx - 4;
+    Image color(w, h, 3), variance(w, h, 3);
+    NoisyBulb("highlights awr one-sample rim", cx, cy, &color, &variance);
+    for (int c = 0; c < 3; ++c) {
+        color.At(c, cy, rx) = 500.f / 16;
+        variance.At(c, cy, rx) = (500.f / 16) * (500.f / 16);
+    }
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_TRUE(split.highlight[size_t(cy) * w + rx]) << "the rim pixel";
+    Image base, baseVariance;
+    EXPECT_EQ(split.highlight,
+              ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance));
+    EXPECT_EQ(split.base.data, base.data);
+    Frame frame = ColorAndVariance(color, variance);
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    // The floor within 2 pixels of the rim pixel, off the bulb: no value off by half.
+    float worst = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = cy - 2; y <= cy + 2; ++y)
+            for (int x = rx - 2; x <= rx + 2; ++x)
+                if ((x - cx) * (x - cx) + (y - cy) * (y - cy) > 12 && (x != rx || y != cy))
+                    worst = std::max(worst, std::abs(out.image.At(c, y, x) - 0.05f));
+    EXPECT_LT(worst, 0.5f * 0.05f) << "a glow beside the rim pixel";
+}
+
 // A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
 // stop (k x the mean) keeps the bulb's interior out; given the whole frame's mean, as awr's
 // tiles are, it grows as it does in the whole frame.
