@@ -98,18 +98,18 @@ void RequireConfidence(const Image &color, const Image &variance, int r,
 // k times it. Highlights grow, kHighlightGrowRounds rings at most, into neighbours over k times
 // the background they carry (the medians their seed read, channels summed) and k times the
 // frame's mean (a light is; a cluster of noise in dim indirect light at low spp is not) and,
-// given a variance, 2 standard deviations above the background; a grown pixel takes the first
-// such neighbour's background (neighbours in row order). Each round reads only the marks of the
-// rounds before it. A region that would still grow after the last round is a light larger than
-// a bulb (a ceiling panel, whose rim the filter keeps anyway): its growth is undone, its seeds
-// kept.
+// given a variance, 2 standard deviations above the background or the sure rim of the
+// neighbour (SureRimOf); a grown pixel takes the first such neighbour's background (neighbours
+// in row order). Each round reads only the marks of the rounds before it. A region that would
+// still grow after the last round is a light larger than a bulb (a ceiling panel, whose rim the
+// filter keeps anyway): its growth is undone, its seeds kept.
 
-// Whether a pixel whose channels sum to `s` is the rim of the light at highlight q: q stands
-// kPairSigmas of its own standard deviation above its background (most of its samples saw the
-// light) and the pixel is no brighter than q. A rim pixel one sample of the light hit has a
-// standard deviation as large as its mean, so it never stands 2 above: a firefly's statistics.
-// Beside a light seen that surely it is the light's rim and keeps its input; a glint's
-// fireflies, beside a noisier or dimmer highlight, still spread.
+// A rim pixel that one sample of a light hit has a standard deviation as large as its mean,
+// so it never stands 2 above its background: a firefly's statistics. Beside a highlight most
+// of whose samples saw the light (kPairSigmas of its own standard deviation above its
+// background) and no dimmer than it, it is that light's rim. Whether the pixel whose channels
+// sum to `s` is so beside highlight q; a glint's fireflies, brighter than the glint or beside
+// a noisier one, are not.
 bool SureRimOf(const Image &color, const Image &variance, double background, double s,
                size_t q) {
     double sq = 0, vq = 0;
