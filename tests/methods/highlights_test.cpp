@@ -19,6 +19,23 @@
 namespace mcd::test {
 namespace {
 
+// Pixels beside MakeFrame's bright block (rows h/3 to h/3 + 2, columns w/4 to w/4 + 3).
+struct Pixel {
+    int x, y;
+};
+Pixel GlintOf(int w, int h) {
+    return {w / 4, h / 3};
+}
+Pixel GlintFireflyOf(int w, int h) {
+    return {w / 4 - 1, h / 3 - 1};
+}
+Pixel RimPixelOf(int w, int h) {
+    return {w / 4 - 1, h / 3 + 2};
+}
+Pixel BrighterFireflyOf(int w, int h) {
+    return {w / 4 + 1, h / 3 + 3};
+}
+
 // A dim noisy frame with bright blocks (lights), lone fireflies and constants.
 void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
     std::mt19937_64 rng(SeedFromName("highlights " + std::to_string(w) + "x" +
@@ -43,6 +60,23 @@ void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
                 bool rim = y == h / 2 || x == w / 2;
                 color->At(c, y, x) = (rim ? 20 : 200) + 100 * unit(rng);
             }
+    if (w < 17) return;
+    // One-sample pixels beside the bright block (variance = value^2: never 2 standard
+    // deviations above the floor): a rim pixel dimmer than the block, one brighter than the
+    // block, and one beside the block's corner made a glint (about 3 standard deviations above
+    // its background, not sure of its light). The last two are a glint's fireflies.
+    const Pixel glint = GlintOf(w, h);
+    float glintSum = 0;
+    for (int c = 0; c < channels; ++c) glintSum += color->At(c, glint.y, glint.x);
+    for (int c = 0; c < channels; ++c) {
+        variance->At(c, glint.y, glint.x) = glintSum * glintSum / (9.f * channels);
+        for (auto [p, value] : {std::pair{RimPixelOf(w, h), 99.f},
+                                {BrighterFireflyOf(w, h), 450.f},
+                                {GlintFireflyOf(w, h), 99.f}}) {
+            color->At(c, p.y, p.x) = value;
+            variance->At(c, p.y, p.x) = value * value;
+        }
+    }
 }
 
 TEST(Highlights, MatchesReference) {
@@ -71,12 +105,21 @@ TEST(Highlights, MatchesReference) {
                 LowerToInputMaximumNearHighlights(color, got.highlight, 6, 1, &crest);
                 ref::LowerToInputMaximumNearHighlights(color, mask, 6, 1, &crestExpected);
                 EXPECT_EQ(crest.data, crestExpected.data);
+                auto marked = [&](Pixel p) { return got.highlight[size_t(p.y) * w + p.x]; };
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
+                    EXPECT_TRUE(marked(GlintOf(w, h))) << "the glint";
+                    EXPECT_FALSE(marked(GlintFireflyOf(w, h))) << "beside the glint";
+                    EXPECT_FALSE(marked(BrighterFireflyOf(w, h))) << "brighter than the block";
                 }
                 if (w >= 40) {
                     EXPECT_TRUE(got.highlight[size_t(h / 2 + 3) * w + w / 2 + 3])
                         << "the wide light's centre";
+                    // k x the frame's mean stops it at k = 16 (and in the smaller frames).
+                    if (k == 4) {
+                        EXPECT_TRUE(marked(RimPixelOf(w, h)))
+                            << "the rim pixel one sample saw, beside the block";
+                    }
                 }
             }
 }
