@@ -296,6 +296,7 @@ TEST_F(HighlightsAwr, ARimPixelOneSampleSawIsGrown) {
     EXPECT_EQ(split.highlight,
               ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance));
     EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
     Frame frame = ColorAndVariance(color, variance);
     Device device = api::BorrowDevice(Ctx());
     Result out = Method("awr").Run(device, frame);
