@@ -30,7 +30,7 @@ int CountNeighbours(const Marks &marked, int w, int h, int x, int y) {
     return count;
 }
 
-// The sum of p's channels, per pixel.
+// Each pixel's channels summed.
 Image ChannelSums(const Image &color) {
     Image sum(color.width, color.height, 1);
     for (int y = 0; y < color.height; ++y)
