@@ -17,38 +17,42 @@ double UpperMedian(const Image &image, int c, int x, int y, int r) {
     return values[values.size() / 2];
 }
 
-}  // namespace
+// How many of (x, y)'s 8 neighbours inside the w x h frame are marked.
+template <typename Marks>
+int CountNeighbours(const Marks &marked, int w, int h, int x, int y) {
+    int count = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            int u = x + dx, v = y + dy;
+            if ((dx || dy) && u >= 0 && v >= 0 && u < w && v < h && marked[size_t(v) * w + u])
+                ++count;
+        }
+    return count;
+}
 
-std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
-                                  Image *base, Image *baseVariance) {
-    const int w = color.width, h = color.height;
-    *base = color;
-    if (variance) *baseVariance = *variance;
-    std::vector<char> highlight(size_t(w) * h, 0);
-    for (float v : color.data)
-        if (!std::isfinite(v)) return highlight;
-    Image sum(w, h, 1);
-    double total = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
+// Each pixel's channels summed.
+Image ChannelSums(const Image &color) {
+    Image sum(color.width, color.height, 1);
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
             float s = 0;
             for (int c = 0; c < color.channels; ++c) s += color.At(c, y, x);
             sum.At(0, y, x) = s;
-            total += s;
         }
-    const double floor = 1e-3 * total / (double(w) * h), mean = total / (double(w) * h);
-    // Over k times the window's median of the sums (and the floor).
-    std::vector<char> bright(size_t(w) * h, 0);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            bright[size_t(y) * w + x] =
-                sum.At(0, y, x) > k * std::max(UpperMedian(sum, 0, x, y, r), floor);
-    // Per pixel 0: not a highlight; 1: one with 2 such neighbours; 2: one with 1 too (4 of its
-    // own standard deviations above the window's median: most of its samples saw the light).
+    return sum;
+}
+
+// Per pixel 0: not a highlight candidate; 1: over k times its window's median of the sums
+// (and the floor) and, with a variance, 2 standard deviations above its channels' medians;
+// 2: 4 standard deviations above (most of its samples saw the light).
+std::vector<int> CandidateLevels(const Image &color, const Image *variance, const Image &sum,
+                                 double k, int r, double floor) {
+    const int w = color.width, h = color.height;
     std::vector<int> level(size_t(w) * h, 0);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (!bright[size_t(y) * w + x]) continue;
+            if (!(sum.At(0, y, x) > k * std::max(UpperMedian(sum, 0, x, y, r), floor)))
+                continue;
             if (!variance) {
                 level[size_t(y) * w + x] = 1;
                 continue;
@@ -62,107 +66,153 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
                 level[size_t(y) * w + x] =
                     excess * excess > 16 * v ? 2 : excess * excess > 4 * v;
         }
-    // How many of (x, y)'s 8 neighbours inside the frame are marked.
-    auto neighbours = [&](const auto &marked, int x, int y) {
-        int count = 0;
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                int u = x + dx, v = y + dy;
-                if ((dx || dy) && u >= 0 && v >= 0 && u < w && v < h &&
-                    marked[size_t(v) * w + u])
-                    ++count;
-            }
-        return count;
-    };
+    return level;
+}
+
+// Candidates with 2 marked neighbours, or 1 at level 2; their bases become the windows'
+// medians.
+std::vector<char> MarkSeeds(const Image &color, const Image *variance,
+                            const std::vector<int> &level, int r, Image *base,
+                            Image *baseVariance) {
+    const int w = color.width, h = color.height;
+    std::vector<char> highlight(size_t(w) * h, 0);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             int mark = level[size_t(y) * w + x];
-            highlight[size_t(y) * w + x] = mark && neighbours(level, x, y) >= 3 - mark;
-        }
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (!highlight[size_t(y) * w + x]) continue;
+            if (!mark || CountNeighbours(level, w, h, x, y) < 3 - mark) continue;
+            highlight[size_t(y) * w + x] = 1;
             for (int c = 0; c < color.channels; ++c) {
                 base->At(c, y, x) = float(UpperMedian(color, c, x, y, r));
                 if (variance)
                     baseVariance->At(c, y, x) = float(UpperMedian(*variance, c, x, y, r));
             }
         }
-    // Growth: up to 4 rounds; in each, a pixel not marked takes the first marked neighbour (row
-    // order) that it is over k times the background of (that neighbour's base, channels
-    // summed; and the frame's mean) and, with a variance, 2 standard deviations above: its base
-    // and base variance become that neighbour's. Marks of a round count from the next. A fifth
-    // round only looks: a connected region (8 neighbours) with a pixel that would still grow
-    // from it is a large light, and its grown pixels go back to the input.
-    std::vector<char> grown(size_t(w) * h, 0);
-    for (int round = 0; round < 5; ++round) {
-        std::vector<char> before = highlight;
-        Image baseBefore = *base;
-        Image varianceBefore = variance ? *baseVariance : Image();
-        bool any = false;
-        std::vector<char> stillGrowing(size_t(w) * h, 0);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                if (before[size_t(y) * w + x]) continue;
-                double s = 0, var = 0;
-                for (int c = 0; c < color.channels; ++c) {
-                    s += color.At(c, y, x);
-                    if (variance) var += variance->At(c, y, x);
-                }
-                bool done = false;
-                for (int dy = -1; dy <= 1 && !done; ++dy)
-                    for (int dx = -1; dx <= 1 && !done; ++dx) {
-                        int u = x + dx, v = y + dy;
-                        if (u < 0 || v < 0 || u >= w || v >= h || !before[size_t(v) * w + u])
-                            continue;
-                        double background = 0;
-                        for (int c = 0; c < color.channels; ++c)
-                            background += baseBefore.At(c, v, u);
-                        if (!(s > k * std::max(background, mean))) continue;
-                        if (variance && !((s - background) * (s - background) > 4 * var))
-                            continue;
-                        done = any = true;
-                        if (round == 4) {
-                            stillGrowing[size_t(v) * w + u] = 1;
-                            continue;
-                        }
-                        highlight[size_t(y) * w + x] = 1;
-                        grown[size_t(y) * w + x] = 1;
-                        for (int c = 0; c < color.channels; ++c) {
-                            base->At(c, y, x) = baseBefore.At(c, v, u);
-                            if (variance)
-                                baseVariance->At(c, y, x) = varianceBefore.At(c, v, u);
-                        }
-                    }
-            }
-        if (!any) break;
-        if (round < 4) continue;
-        // Spread the look's verdict over each region, one ring a pass, until it stops.
-        for (bool changed = true; changed;) {
-            changed = false;
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) {
-                    if (!highlight[size_t(y) * w + x] || stillGrowing[size_t(y) * w + x])
-                        continue;
-                    for (int dy = -1; dy <= 1; ++dy)
-                        for (int dx = -1; dx <= 1; ++dx) {
-                            int u = x + dx, v = y + dy;
-                            if (u >= 0 && v >= 0 && u < w && v < h &&
-                                stillGrowing[size_t(v) * w + u] &&
-                                !stillGrowing[size_t(y) * w + x])
-                                stillGrowing[size_t(y) * w + x] = changed = true;
-                        }
-                }
+    return highlight;
+}
+
+// Whether a pixel summing to s is the sure rim of the highlight at (u, v), whose background
+// (base summed) is b: the highlight's input summed, sq, is >= s and sq - b > 0 with
+// (sq - b)^2 > 16 x the sum of its variances.
+bool SureRim(const Image &color, const Image &variance, double b, double s, int u, int v) {
+    double sq = 0, vq = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        sq += color.At(c, v, u);
+        vq += variance.At(c, v, u);
+    }
+    return s <= sq && sq - b > 0 && (sq - b) * (sq - b) > 16 * vq;
+}
+
+// The first neighbour (row order) marked in `before` that the pixel at (x, y) is over k times
+// the background of (its base's channels summed; and the frame's mean) and, with a variance,
+// 2 standard deviations above or the sure rim of; false when none.
+bool GrowSource(const Image &color, const Image *variance, const std::vector<char> &before,
+                const Image &baseBefore, double k, double mean, int x, int y, int *sx,
+                int *sy) {
+    const int w = color.width, h = color.height;
+    double s = 0, var = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        s += color.At(c, y, x);
+        if (variance) var += variance->At(c, y, x);
+    }
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            int u = x + dx, v = y + dy;
+            if (u < 0 || v < 0 || u >= w || v >= h || !before[size_t(v) * w + u]) continue;
+            double background = 0;
+            for (int c = 0; c < color.channels; ++c) background += baseBefore.At(c, v, u);
+            if (!(s > k * std::max(background, mean))) continue;
+            if (variance && !((s - background) * (s - background) > 4 * var) &&
+                !SureRim(color, *variance, background, s, u, v))
+                continue;
+            *sx = u;
+            *sy = v;
+            return true;
         }
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                if (!stillGrowing[size_t(y) * w + x] || !grown[size_t(y) * w + x]) continue;
-                highlight[size_t(y) * w + x] = 0;
-                for (int c = 0; c < color.channels; ++c) {
-                    base->At(c, y, x) = color.At(c, y, x);
-                    if (variance) baseVariance->At(c, y, x) = variance->At(c, y, x);
-                }
+    return false;
+}
+
+// One round of growth from the marks before it: each pixel not marked with a source takes the
+// source's base (and base variance). In the check round nothing grows; the sources are marked
+// in `stillGrowing` instead. Returns whether any pixel had a source.
+bool GrowRound(const Image &color, const Image *variance, double k, double mean, bool check,
+               std::vector<char> *highlight, std::vector<char> *grown, Image *base,
+               Image *baseVariance, std::vector<char> *stillGrowing) {
+    const int w = color.width, h = color.height;
+    const std::vector<char> before = *highlight;
+    const Image baseBefore = *base;
+    const Image varianceBefore = variance ? *baseVariance : Image();
+    bool any = false;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int u, v;
+            if (before[size_t(y) * w + x] ||
+                !GrowSource(color, variance, before, baseBefore, k, mean, x, y, &u, &v))
+                continue;
+            any = true;
+            if (check) {
+                (*stillGrowing)[size_t(v) * w + u] = 1;
+                continue;
             }
+            (*highlight)[size_t(y) * w + x] = (*grown)[size_t(y) * w + x] = 1;
+            for (int c = 0; c < color.channels; ++c) {
+                base->At(c, y, x) = baseBefore.At(c, v, u);
+                if (variance) baseVariance->At(c, y, x) = varianceBefore.At(c, v, u);
+            }
+        }
+    return any;
+}
+
+// Spreads the check round's verdict over each connected region (8 neighbours) of highlights,
+// one ring a pass, until it stops; grown pixels of those regions get their input back.
+void UndoStillGrowing(const Image &color, const Image *variance, const std::vector<char> &grown,
+                      std::vector<char> stillGrowing, std::vector<char> *highlight, Image *base,
+                      Image *baseVariance) {
+    const int w = color.width, h = color.height;
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                if ((*highlight)[size_t(y) * w + x] && !stillGrowing[size_t(y) * w + x] &&
+                    CountNeighbours(stillGrowing, w, h, x, y) > 0)
+                    stillGrowing[size_t(y) * w + x] = changed = true;
+    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!stillGrowing[size_t(y) * w + x] || !grown[size_t(y) * w + x]) continue;
+            (*highlight)[size_t(y) * w + x] = 0;
+            for (int c = 0; c < color.channels; ++c) {
+                base->At(c, y, x) = color.At(c, y, x);
+                if (variance) baseVariance->At(c, y, x) = variance->At(c, y, x);
+            }
+        }
+}
+
+}  // namespace
+
+std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
+                                  Image *base, Image *baseVariance) {
+    const int w = color.width, h = color.height;
+    *base = color;
+    if (variance) *baseVariance = *variance;
+    for (float v : color.data)
+        if (!std::isfinite(v)) return std::vector<char>(size_t(w) * h, 0);
+    const Image sum = ChannelSums(color);
+    double total = 0;
+    for (float s : sum.data) total += s;
+    const double mean = total / (double(w) * h);
+    std::vector<int> level = CandidateLevels(color, variance, sum, k, r, 1e-3 * mean);
+    std::vector<char> highlight = MarkSeeds(color, variance, level, r, base, baseVariance);
+    // Growth: up to 4 rounds, each reading the marks of the rounds before it; a fifth only
+    // looks, and a region with a pixel that would still grow is a large light: undone.
+    std::vector<char> grown(size_t(w) * h, 0), stillGrowing(size_t(w) * h, 0);
+    for (int round = 0; round < 5; ++round) {
+        bool check = round == 4;
+        if (!GrowRound(color, variance, k, mean, check, &highlight, &grown, base, baseVariance,
+                       &stillGrowing))
+            break;
+        if (check)
+            UndoStillGrowing(color, variance, grown, stillGrowing, &highlight, base,
+                             baseVariance);
     }
     return highlight;
 }

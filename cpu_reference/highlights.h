@@ -8,18 +8,23 @@
 
 namespace mcd::ref {
 
-// s(p) = the sum of p's channels. Without NaN/Inf in `color`, p is a highlight where s(p) >
+// s(p) = the sum of p's channels. Without NaN/Inf in `color`, p is a candidate where s(p) >
 // k max(upper median of s over the window of radius r clipped to the image, 1e-3 x the mean
-// of s) holds at p and at least 2 of its 8 neighbours, and with `variance`, where also e(p) =
-// the sum over channels of (color - its channel's upper median over the window) is > 0 and
-// e^2 > 4 x the sum of p's variances. `base` (and `baseVariance`, when
-// `variance` is given) are the inputs with each channel at a highlight replaced by its
-// window's upper median. Then up to 4 rounds of growth: a pixel not marked, with a neighbour
-// q marked before the round whose base channels sum to b, is marked where s > k max(b, the
-// mean of s over the frame) and, with `variance`, (s - b)^2 > 4 x the sum of its variances; it
-// takes the base (and base variance) of the first such q in row order. A fifth round only
-// checks: a connected region (8 neighbours) with a pixel that would still grow is a large
-// light, and its grown pixels get their input (and variance) back. Returns the highlight mask.
+// of s) and, with `variance`, e(p) = the sum over channels of (color - its channel's upper
+// median over the window) is > 0 and e^2 > 4 x the sum of p's variances (2 standard
+// deviations). A candidate is a highlight (a seed) with at least 2 candidate neighbours of its
+// 8, or with 1 where e^2 > 16 x that sum (p 4 standard deviations above: a small light's
+// reflection most samples saw). `base` (and `baseVariance`, when `variance` is given) are the
+// inputs with each channel at a seed replaced by its window's upper median. Then up to 4
+// rounds of growth: a pixel not marked, with a neighbour q marked before the round whose base
+// channels sum to b, is marked where s > k max(b, the mean of s over the frame) and, with
+// `variance`, (s - b)^2 > 4 x the sum of its variances, or by the rim rule: q is sure of its
+// light (s_q - b > 0 with (s_q - b)^2 > 16 x the sum of q's variances) and s_q >= s (a rim
+// pixel one sample of the light hit stands under 2 of its standard deviations, as a firefly
+// does). It takes the base (and base variance) of the first such q in row order. A fifth
+// round only checks: a connected region (8 neighbours) with a pixel that would still grow is
+// a large light, and its grown pixels get their input (and variance) back. Returns the
+// highlight mask.
 std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
                                   Image *base, Image *baseVariance);
 

@@ -98,14 +98,32 @@ void RequireConfidence(const Image &color, const Image &variance, int r,
 // k times it. Highlights grow, kHighlightGrowRounds rings at most, into neighbours over k times
 // the background they carry (the medians their seed read, channels summed) and k times the
 // frame's mean (a light is; a cluster of noise in dim indirect light at low spp is not) and,
-// given a variance, 2 standard deviations above the background; a grown pixel takes the first
-// such neighbour's background (neighbours in row order). Each round reads only the marks of the
-// rounds before it. A region that would still grow after the last round is a light larger than
-// a bulb (a ceiling panel, whose rim the filter keeps anyway): its growth is undone, its seeds
-// kept.
+// given a variance, 2 standard deviations above the background or the sure rim of the
+// neighbour (SureRimOf); a grown pixel takes the first such neighbour's background (neighbours
+// in row order). Each round reads only the marks of the rounds before it. A region that would
+// still grow after the last round is a light larger than a bulb (a ceiling panel, whose rim the
+// filter keeps anyway): its growth is undone, its seeds kept.
+
+// A rim pixel that one sample of a light hit has a standard deviation as large as its mean,
+// so it never stands 2 above its background: a firefly's statistics. Beside a highlight most
+// of whose samples saw the light (kPairSigmas of its own standard deviation above its
+// background) and no dimmer than it, it is that light's rim. Whether the pixel whose channels
+// sum to `s` is so beside highlight q; a glint's fireflies, brighter than the glint or beside
+// a noisier one, are not.
+bool SureRimOf(const Image &color, const Image &variance, double background, double s,
+               size_t q) {
+    double sq = 0, vq = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        sq += color.Plane(c)[q];
+        vq += variance.Plane(c)[q];
+    }
+    const double excess = sq - background;
+    return s <= sq && excess > 0 && excess * excess > kPairSigmas * kPairSigmas * vq;
+}
 
 // The first highlight neighbour of `p` (row order) that p is over k times the background of
-// (and of the frame's mean; 2 standard deviations above, given a variance), or SIZE_MAX.
+// (and of the frame's mean) and, given a variance, 2 standard deviations above or the sure rim
+// of (SureRimOf), or SIZE_MAX.
 size_t FirstPassingNeighbour(const Image &color, const Image *variance, double k, double mean,
                              const HighlightSplit &split, size_t p) {
     const int w = color.width, h = color.height;
@@ -124,7 +142,8 @@ size_t FirstPassingNeighbour(const Image &color, const Image *variance, double k
             const double background = sumOf(split.base, q);
             const double excess = s - background;
             if (!(s > k * std::max(background, mean))) continue;
-            if (variance && !(excess * excess > kHighlightSigmas * kHighlightSigmas * var))
+            if (variance && !(excess * excess > kHighlightSigmas * kHighlightSigmas * var) &&
+                !SureRimOf(color, *variance, background, s, q))
                 continue;
             return q;
         }

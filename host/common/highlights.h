@@ -14,8 +14,10 @@
 // is added back after, so the highlight keeps its input and the frame its energy. A light
 // wider than half the window is its own median inside, so highlights then grow into
 // neighbours over k times the background their seed read and k times the frame's mean (a
-// bulb's interior and rim); a region that would still grow after the last round is a light
-// larger than a bulb, and its growth is undone.
+// bulb's interior and rim), 2 standard deviations above it or, beside a highlight 4 above it,
+// no brighter than that highlight (a rim pixel one sample of the light hit); a region that
+// would still grow after the last round is a light larger than a bulb, and its growth is
+// undone.
 #pragma once
 
 #include <cstddef>

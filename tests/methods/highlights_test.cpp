@@ -19,6 +19,23 @@
 namespace mcd::test {
 namespace {
 
+// Pixels beside MakeFrame's bright block (rows h/3 to h/3 + 2, columns w/4 to w/4 + 3).
+struct Pixel {
+    int x, y;
+};
+Pixel GlintOf(int w, int h) {
+    return {w / 4, h / 3};
+}
+Pixel GlintFireflyOf(int w, int h) {
+    return {w / 4 - 1, h / 3 - 1};
+}
+Pixel RimPixelOf(int w, int h) {
+    return {w / 4 - 1, h / 3 + 2};
+}
+Pixel BrighterFireflyOf(int w, int h) {
+    return {w / 4 + 1, h / 3 + 3};
+}
+
 // A dim noisy frame with bright blocks (lights), lone fireflies and constants.
 void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
     std::mt19937_64 rng(SeedFromName("highlights " + std::to_string(w) + "x" +
@@ -43,6 +60,23 @@ void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
                 bool rim = y == h / 2 || x == w / 2;
                 color->At(c, y, x) = (rim ? 20 : 200) + 100 * unit(rng);
             }
+    if (w < 17) return;
+    // One-sample pixels beside the bright block (variance = value^2: never 2 standard
+    // deviations above the floor): a rim pixel dimmer than the block, one brighter than the
+    // block, and one beside the block's corner made a glint (about 3 standard deviations above
+    // its background, not sure of its light). The last two are a glint's fireflies.
+    const Pixel glint = GlintOf(w, h);
+    float glintSum = 0;
+    for (int c = 0; c < channels; ++c) glintSum += color->At(c, glint.y, glint.x);
+    for (int c = 0; c < channels; ++c) {
+        variance->At(c, glint.y, glint.x) = glintSum * glintSum / (9.f * channels);
+        for (auto [p, value] : {std::pair{RimPixelOf(w, h), 99.f},
+                                {BrighterFireflyOf(w, h), 450.f},
+                                {GlintFireflyOf(w, h), 99.f}}) {
+            color->At(c, p.y, p.x) = value;
+            variance->At(c, p.y, p.x) = value * value;
+        }
+    }
 }
 
 TEST(Highlights, MatchesReference) {
@@ -71,12 +105,21 @@ TEST(Highlights, MatchesReference) {
                 LowerToInputMaximumNearHighlights(color, got.highlight, 6, 1, &crest);
                 ref::LowerToInputMaximumNearHighlights(color, mask, 6, 1, &crestExpected);
                 EXPECT_EQ(crest.data, crestExpected.data);
+                auto marked = [&](Pixel p) { return got.highlight[size_t(p.y) * w + p.x]; };
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
+                    EXPECT_TRUE(marked(GlintOf(w, h))) << "the glint";
+                    EXPECT_FALSE(marked(GlintFireflyOf(w, h))) << "beside the glint";
+                    EXPECT_FALSE(marked(BrighterFireflyOf(w, h))) << "brighter than the block";
                 }
                 if (w >= 40) {
                     EXPECT_TRUE(got.highlight[size_t(h / 2 + 3) * w + w / 2 + 3])
                         << "the wide light's centre";
+                    // k x the frame's mean stops it at k = 16 (and in the smaller frames).
+                    if (k == 4) {
+                        EXPECT_TRUE(marked(RimPixelOf(w, h)))
+                            << "the rim pixel one sample saw, beside the block";
+                    }
                 }
             }
 }
@@ -232,6 +275,39 @@ TEST_F(HighlightsAwr, AWideBulbDoesNotHaloIntoTheFloor) {
     EXPECT_LT(errOut, errIn) << "awr worse than its input beside the bulb";
     EXPECT_LT(worst, 0.5f * 0.05f) << "a halo or ring beside the bulb";
     EXPECT_LT(errOut, 0.5 * errIn);
+}
+
+// A bulb's rim pixel that one sample of 16 saw (a quarter of it covered, read as a
+// sixteenth): its standard deviation is its own mean, so it stands under two of them above the
+// floor, as a firefly does. Beside a highlight it is the light's rim, not noise: grown, it
+// keeps its input, and the floor beside it does not glow with the energy the synthesis spread
+// from it (the bulb at a real frame's edge, issue 29).
+TEST_F(HighlightsAwr, ARimPixelOneSampleSawIsGrown) {
+    const int w = 128, h = 128, cx = 64, cy = 64, rx = cx - 4;
+    Image color(w, h, 3), variance(w, h, 3);
+    NoisyBulb("highlights awr one-sample rim", cx, cy, &color, &variance);
+    for (int c = 0; c < 3; ++c) {
+        color.At(c, cy, rx) = 500.f / 16;
+        variance.At(c, cy, rx) = (500.f / 16) * (500.f / 16);
+    }
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_TRUE(split.highlight[size_t(cy) * w + rx]) << "the rim pixel";
+    Image base, baseVariance;
+    EXPECT_EQ(split.highlight,
+              ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance));
+    EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+    Frame frame = ColorAndVariance(color, variance);
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    // The floor within 2 pixels of the rim pixel, off the bulb: no value off by half.
+    float worst = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = cy - 2; y <= cy + 2; ++y)
+            for (int x = rx - 2; x <= rx + 2; ++x)
+                if ((x - cx) * (x - cx) + (y - cy) * (y - cy) > 12 && (x != rx || y != cy))
+                    worst = std::max(worst, std::abs(out.image.At(c, y, x) - 0.05f));
+    EXPECT_LT(worst, 0.5f * 0.05f) << "a glow beside the rim pixel";
 }
 
 // A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
