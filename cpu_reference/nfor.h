@@ -129,6 +129,10 @@ struct NforParams {
     // > 0: a pixel on a line (a pixel above this times its brightness on both sides along
     // an axis or a diagonal, within 2 steps) is not clamped; 0: off.
     double fireflyLine = 1;
+    // > 0: an emitter with no emitter among its 8 neighbours, its largest albedo channel at
+    // least this and each colour channel within kNforLoneLightRatio of its albedo's, is not
+    // clamped (a light smaller than a pixel seen directly); 0: off.
+    double fireflyLoneLight = 0;
     double emitterAlbedo = 1.5;
     int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;
@@ -203,10 +207,12 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 // The colour with fireflies clamped; with sumChannels a pixel whose channels are clamped
 // to r_c = clamped / value takes t = 1 - (the second smallest r_c) of itself scaled by the
 // sum of its values clamped one by one over the sum of its values, 1 - t of each channel
-// clamped alone.
+// clamped alone. With loneLight > 0 a lone light seen directly (kNforLoneLightRatio) is kept.
+constexpr double kNforLoneLightRatio = 1.25;
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank = 0,
-                double lightEdge = -1, bool sumChannels = false, double line = 0);
+                double lightEdge = -1, bool sumChannels = false, double line = 0,
+                double loneLight = 0);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,

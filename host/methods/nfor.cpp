@@ -17,6 +17,7 @@
 #include "host/methods/nfor_specks.h"
 #include "host/methods/run_memo.h"
 #include "host/vk/gpu_image.h"
+#include "nfor/clamp.h"
 #include "nfor/nfor.h"
 
 namespace mcd {
@@ -374,8 +375,8 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     auto clamp = [&](vk::GpuImage &variance) {
         RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
                         o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                        o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine, gpu.clamped,
-                        gpu.mask);
+                        o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
+                        o.fireflyLoneLight, gpu.clamped, gpu.mask);
     };
     clamp(clampVariance);
     if (!in.variance || !ownClamp) return;
@@ -427,8 +428,8 @@ Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *al
         if (clamp)
             RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
                             o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                            o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine, out,
-                            mask);
+                            o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
+                            o.fireflyLoneLight, out, mask);
         run.Submit();
         Image part = clamp ? out.Download() : variance.Download();
         const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;
@@ -973,8 +974,15 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     run.Plan(o.fireflyThreshold > 0
                  ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
                                "neighbours (colour / albedo, of the neighbours divided alike; "
-                               "colour where none is) + {} sigma + {} x the median",
-                               result.clamped, o.fireflyThreshold, o.fireflyRelative)
+                               "colour where none is) + {} sigma + {} x the median{}",
+                               result.clamped, o.fireflyThreshold, o.fireflyRelative,
+                               o.fireflyLoneLight > 0
+                                   ? fmt::format("; an emitter with none beside it, of albedo "
+                                                 "{} or more and its colour within {}x of its "
+                                                 "albedo (a light under a pixel, seen "
+                                                 "directly) kept",
+                                                 o.fireflyLoneLight, NFOR_LONE_LIGHT_RATIO)
+                                   : std::string())
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
     if (in.variance) PlanClamp(run, in, o, result);
     PlanPasses(run, o, choice, result);
