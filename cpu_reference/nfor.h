@@ -40,7 +40,8 @@
 // - Emitters: max albedo channel > emitterAlbedo (a reflectance is at most about 1;
 //   renderers write a light's emission as its albedo); they are left out of every window
 //   and keep their colour as clamped (the issue asks for the input; a lone light pixel hit
-//   by a few of its samples kept as it came in made most of a frame's relMSE).
+//   by a few of its samples kept as it came in made most of a frame's relMSE); with
+//   fireflyLoneLight > 0 a lone one whose colour is its albedo's (seen directly) is kept.
 // - Features are prefiltered (NFOR 5.1) plane by plane with NL-means on themselves, their
 //   variance estimated like the colour's (no divisor).
 // - Colour distance (Rousselle et al. 2012/2013, symmetric), of the colour divided by the
