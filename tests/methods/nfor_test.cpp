@@ -172,10 +172,42 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
     Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
     for (float &v : variance.data) v *= 0.01f;
     Image albedo = Albedo(w, h, name + "albedo", true);
+    // With lone lights kept: the last pixel an emitter too (at the frame's edge), and the
+    // emitters' colours their albedo's x 0.9, 1.3 and 1.2 in turn: within the ratio (kept
+    // whole) and outside it (clamped as without the rule).
+    std::vector<std::pair<size_t, bool>> lights;  // pixel, within the ratio
+    if (loneLight > 0) {
+        for (int c = 0; c < 3; ++c) albedo.Plane(c)[albedo.PixelCount() - 1] = 3.f;
+        const float ratios[3] = {0.9f, 1.3f, 1.2f};
+        for (size_t i = 0; i < albedo.PixelCount(); ++i) {
+            if (albedo.Plane(0)[i] != 3.f) continue;
+            const float ratio = ratios[lights.size() % 3];
+            for (int c = 0; c < 3; ++c) color.Plane(c)[i] = albedo.Plane(c)[i] * ratio;
+            lights.push_back({i, ratio < float(ref::kNforLoneLightRatio)});
+        }
+    }
     const float threshold = 3, relative = 0.5f, emitterAlbedo = 1.5f;
     Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
     Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank,
                                     lightEdge, sumChannels, line, loneLight);
+    if (loneLight > 0) {
+        // The lights within the ratio kept (some the clamp takes without the rule), the others
+        // as without it (some clamped).
+        Image unruled = ref::NforClamp(color, variance, &albedo, mask, threshold, relative,
+                                       rank, lightEdge, sumChannels, line, 0);
+        bool keptByRule = false, clamped = false;
+        for (auto [i, within] : lights)
+            for (int c = 0; c < 3; ++c) {
+                const float in = color.Plane(c)[i], out = expected.Plane(c)[i];
+                EXPECT_EQ(out, within ? in : unruled.Plane(c)[i]) << "pixel " << i;
+                keptByRule = keptByRule || (within && unruled.Plane(c)[i] != in);
+                clamped = clamped || (!within && out != in);
+            }
+        if (w * h > 1) {
+            EXPECT_TRUE(keptByRule);
+            EXPECT_TRUE(clamped);
+        }
+    }
     auto run = [&](Image *gpuMask) {
         vk::GpuImage c = Upload(context, color, "color"),
                      v = Upload(context, variance, "variance");
@@ -219,8 +251,9 @@ class NforClampKernel : public GpuTestWithParam<KernelCase> {};
 
 // Against the neighbours' median and against their 2nd largest; a light's edge kept, and
 // clamped with a relative term of its own; each channel on its own and the channels summed;
-// a line's pixels kept (1, and 0.5: more lines); lone lights kept (albedo 2: the random
-// albedo's emitters qualify).
+// a line's pixels kept (1, and 0.5: more lines); lone lights of albedo 2 or more kept
+// (ExpectClampMatches sets the emitters' colours to their albedo's x 0.9, 1.3 and 1.2: kept,
+// clamped, kept; in the one-row and one-column frames at both ends).
 TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     for (bool sum : {false, true}) {
