@@ -266,9 +266,11 @@ TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
 
 // A light smaller than a pixel seen directly (an emitter alone among its neighbours, its
 // colour its albedo's within the ratio in every channel) is no firefly: kept whole by the
-// kernel and the reference, where without the rule both clamp it. A lone emitter whose
-// colour is off its albedo in one channel (a light seen through a tinted gloss) and one below
-// the albedo bound are clamped as before.
+// kernel and the reference, where without the rule both clamp it, inside the frame, at its
+// corner and at its right edge. A lone emitter whose colour is off its albedo in one channel
+// (a light seen through a tinted gloss), one below the albedo bound and two touching emitters
+// (not alone; unlike albedos, so each is the other's light edge, clamped with lightEdge
+// 0.5) are clamped as before.
 TEST_F(GpuTest, NforClampKeepsALoneLightSeenDirectly) {
     const int w = 12, h = 9;
     Image color(w, h, 3), variance(w, h, 3), albedo(w, h, 3);
@@ -285,32 +287,39 @@ TEST_F(GpuTest, NforClampKeepsALoneLightSeenDirectly) {
             color.At(c, y, x) = albedo.At(c, y, x) * (c == 2 ? blueRatio : ratio);
         }
     };
-    light(2, 2, 60, 1.05f, 1.05f);  // kept
-    light(6, 2, 40, 1.05f, 3.f);    // tinted: clamped
-    light(2, 6, 4, 1.f, 1.f);       // weak: clamped
-    const float threshold = 4, relative = 0.5f, emitterAlbedo = 1.5f, loneLight = 8;
+    light(2, 2, 60, 1.05f, 1.05f);   // kept
+    light(0, 0, 30, 0.9f, 0.9f);     // kept at the corner
+    light(w - 1, 4, 20, 1.2f, 1.f);  // kept at the right edge
+    light(6, 2, 40, 1.05f, 3.f);     // tinted: clamped
+    light(2, 6, 4, 1.f, 1.f);        // weak: clamped
+    light(7, 6, 60, 1.f, 1.f);       // touching: clamped
+    light(8, 6, 20, 1.f, 1.f);
+    const float threshold = 4, relative = 0.5f, emitterAlbedo = 1.5f, lightEdge = 0.5f,
+                loneLight = 8;
     Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
     auto gpu = [&](float lone) {
         vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
         vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
         vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
         vk::Recorder recorder(Ctx());
-        RecordNforClamp(Ctx(), recorder, c, v, &a, threshold, relative, emitterAlbedo, 3, -1,
-                        true, 1, lone, out, m);
+        RecordNforClamp(Ctx(), recorder, c, v, &a, threshold, relative, emitterAlbedo, 3,
+                        lightEdge, true, 1, lone, out, m);
         recorder.Submit();
         return out.Download();
     };
     for (float lone : {loneLight, 0.f}) {
         SCOPED_TRACE(fmt::format("lone light {}", lone));
         Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, 3,
-                                        -1, true, 1, lone);
+                                        lightEdge, true, 1, lone);
         Image actual = gpu(lone);
         EXPECT_TRUE(BitIdentical(actual, gpu(lone)));
         for (int c = 0; c < 3; ++c) {
-            const float kept = color.At(c, 2, 2);
-            EXPECT_EQ(expected.At(c, 2, 2) == kept, lone > 0) << "channel " << c;
-            EXPECT_EQ(actual.At(c, 2, 2) == kept, lone > 0) << "channel " << c;
-            for (auto [x, y] : {std::pair{6, 2}, {2, 6}}) {
+            for (auto [x, y] : {std::pair{2, 2}, {0, 0}, {w - 1, 4}}) {
+                const float kept = color.At(c, y, x);
+                EXPECT_EQ(expected.At(c, y, x) == kept, lone > 0) << x << "," << y << " " << c;
+                EXPECT_EQ(actual.At(c, y, x) == kept, lone > 0) << x << "," << y << " " << c;
+            }
+            for (auto [x, y] : {std::pair{6, 2}, {2, 6}, {7, 6}, {8, 6}}) {
                 EXPECT_LT(expected.At(c, y, x), 0.5f * color.At(c, y, x)) << x << "," << y;
                 EXPECT_NEAR(actual.At(c, y, x), expected.At(c, y, x), 1e-5f * color.At(c, y, x))
                     << x << "," << y;
