@@ -1209,6 +1209,20 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
 }
 
+// Lone lights kept (--firefly-lone-light 2): AddLightsAtTheEdge's weak light (albedo 3, its
+// colour its albedo) has no emitter beside it. The stages agree with the reference's, and
+// the rule keeps channels that the clamp takes without it.
+TEST_F(NforMethod, LoneLightStagesMatchTheReference) {
+    NforOptions o;
+    o.fireflyLoneLight = 2;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, true);
+    Frame f = MakeFrame(29, 23, 0.3, "stages29x23");
+    AddLightsAtTheEdge(&f, nullptr);
+    const size_t clamped = NforDenoise(Ctx(), InputsOf(f), o).clamped;
+    o.fireflyLoneLight = 0;
+    EXPECT_LT(clamped, NforDenoise(Ctx(), InputsOf(f), o).clamped);
+}
+
 // The clamp's light changes ExpectStagesMatch's frame: its stage differs from the one
 // before it (the fits', before the local means) and from the image at the same point of a
 // run without the pass (after the local means: the kept pixels' pass's input).
