@@ -119,6 +119,7 @@ void CheckOptions(const NforOptions &o) {
     if (!(finite(o.ridge) && o.ridge > 0) || !(finite(o.alpha) && o.alpha >= 0) ||
         !(finite(o.featureBandwidth) && o.featureBandwidth >= 0) ||
         !(finite(o.fireflyThreshold) && o.fireflyThreshold >= 0) ||
+        !(finite(o.fireflyLoneLight) && o.fireflyLoneLight >= 0) ||
         !(finite(o.noiseCalibration) && o.noiseCalibration > 0) ||
         !(finite(o.pilotAlpha) && o.pilotAlpha >= 0) ||
         !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
@@ -133,9 +134,10 @@ void CheckOptions(const NforOptions &o) {
         !(o.lightShare >= 0 && o.lightShare <= 0.25f))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
-            "be finite and > 0; alpha, feature bandwidth, firefly threshold, pilot alpha, "
-            "coarse relative, coarse noise, coarse gate, wide agreement and speck floor finite "
-            "and >= 0, speck relative finite, mean radius >= 0, light shares 0 to 0.25",
+            "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
+            "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement "
+            "and speck floor finite and >= 0, speck relative finite, mean radius >= 0, light "
+            "shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||

@@ -34,6 +34,7 @@
 #include "host/methods/nfor_specks.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
+#include "nfor/clamp.h"
 #include "nfor/nfor.h"
 #include "tools/render/renderer.h"
 
@@ -262,6 +263,12 @@ TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
         for (float line : {1.f, 0.5f}) ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, line);
         ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, 1, 2);
     }
+}
+
+// The twin's constants are the kernels': a change to one alone fails here.
+TEST(NforConstants, TwinAndKernelsAgree) {
+    EXPECT_EQ(ref::kNforLoneLightRatio, double(NFOR_LONE_LIGHT_RATIO));
+    EXPECT_EQ(ref::kNforNoiseDivisorRatio, double(NFOR_NOISE_DIVISOR_RATIO));
 }
 
 // A light smaller than a pixel seen directly (an emitter alone among its neighbours, its
@@ -1211,7 +1218,7 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
 
 // Lone lights kept (--firefly-lone-light 2): AddLightsAtTheEdge's weak light (albedo 3, its
 // colour its albedo) has no emitter beside it. The stages agree with the reference's, and
-// the rule keeps channels that the clamp takes without it.
+// the rule keeps channels that the clamp takes without it. A negative albedo is refused.
 TEST_F(NforMethod, LoneLightStagesMatchTheReference) {
     NforOptions o;
     o.fireflyLoneLight = 2;
@@ -1221,6 +1228,8 @@ TEST_F(NforMethod, LoneLightStagesMatchTheReference) {
     const size_t clamped = NforDenoise(Ctx(), InputsOf(f), o).clamped;
     o.fireflyLoneLight = 0;
     EXPECT_LT(clamped, NforDenoise(Ctx(), InputsOf(f), o).clamped);
+    o.fireflyLoneLight = -1;
+    EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error);
 }
 
 // The clamp's light changes ExpectStagesMatch's frame: its stage differs from the one
