@@ -182,16 +182,39 @@ bool OnBrightLine(const Image &color, double line, int x, int y) {
     return false;
 }
 
+// Whether (x, y) is a light smaller than a pixel that its samples saw directly: an emitter
+// (mask 0) with no emitter among its 8 neighbours, its largest albedo channel at least
+// `least`, each colour channel within kNforLoneLightRatio of its albedo's both ways (the
+// products rounded to float, as the kernel compares them).
+bool LoneLight(const Image &color, const Image *albedo, const Image &mask, double least, int x,
+               int y) {
+    if (least <= 0 || !albedo || mask.At(0, y, x) != 0) return false;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u)
+            if ((u != x || v != y) && Inside(color, u, v) && mask.At(0, v, u) == 0)
+                return false;
+    const float ratio = float(kNforLoneLightRatio);
+    float most = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        const float a = albedo->At(std::min(c, albedo->channels - 1), y, x);
+        const float value = color.At(c, y, x);
+        if (!(a > 0 && value <= a * ratio && a <= value * ratio)) return false;
+        most = std::max(most, a);
+    }
+    return most >= float(least);
+}
+
 }  // namespace
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank,
-                double lightEdge, bool sumChannels, double line) {
+                double lightEdge, bool sumChannels, double line, double loneLight) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int y = 0; y < color.height; ++y)
         for (int x = 0; x < color.width; ++x) {
             if (line > 0 && OnBrightLine(color, line, x, y)) continue;
+            if (LoneLight(color, divisor, mask, loneLight, x, y)) continue;
             double values = 0, kept = 0;
             std::vector<double> clamped(color.channels), ratios;
             for (int c = 0; c < color.channels; ++c) {
@@ -728,9 +751,10 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     bool ownClamp = in.variance && p.clampEstimate;
     Image clampVariance =
         ownClamp ? NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration) : Image();
-    Image clamped = NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
-                              p.fireflyThreshold, p.fireflyRelative, p.fireflyRank,
-                              p.fireflyLightEdge, p.fireflySum, p.fireflyLine);
+    Image clamped =
+        NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
+                  p.fireflyThreshold, p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge,
+                  p.fireflySum, p.fireflyLine, p.fireflyLoneLight);
     if (ownClamp) {
         // The light the clamp took off, over the colour's sum.
         double sum = 0, taken = 0, values = 0, changed = 0;
@@ -745,7 +769,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss)
             clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
                                 p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge,
-                                p.fireflySum, p.fireflyLine);
+                                p.fireflySum, p.fireflyLine, p.fireflyLoneLight);
     }
     keep("color", clamped);
     if (ownClamp) keep("clamp.variance", clampVariance);

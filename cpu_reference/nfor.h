@@ -40,7 +40,8 @@
 // - Emitters: max albedo channel > emitterAlbedo (a reflectance is at most about 1;
 //   renderers write a light's emission as its albedo); they are left out of every window
 //   and keep their colour as clamped (the issue asks for the input; a lone light pixel hit
-//   by a few of its samples kept as it came in made most of a frame's relMSE).
+//   by a few of its samples kept as it came in made most of a frame's relMSE); with
+//   fireflyLoneLight > 0 a lone one whose colour is its albedo's (seen directly) is kept.
 // - Features are prefiltered (NFOR 5.1) plane by plane with NL-means on themselves, their
 //   variance estimated like the colour's (no divisor).
 // - Colour distance (Rousselle et al. 2012/2013, symmetric), of the colour divided by the
@@ -129,6 +130,10 @@ struct NforParams {
     // > 0: a pixel on a line (a pixel above this times its brightness on both sides along
     // an axis or a diagonal, within 2 steps) is not clamped; 0: off.
     double fireflyLine = 1;
+    // > 0: an emitter with no emitter among its 8 neighbours, its largest albedo channel at
+    // least this and each colour channel within kNforLoneLightRatio of its albedo's, is not
+    // clamped (a light smaller than a pixel seen directly); 0: off.
+    double fireflyLoneLight = 0;
     double emitterAlbedo = 1.5;
     int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;
@@ -203,10 +208,12 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 // The colour with fireflies clamped; with sumChannels a pixel whose channels are clamped
 // to r_c = clamped / value takes t = 1 - (the second smallest r_c) of itself scaled by the
 // sum of its values clamped one by one over the sum of its values, 1 - t of each channel
-// clamped alone.
+// clamped alone. With loneLight > 0 a lone light seen directly (kNforLoneLightRatio) is kept.
+constexpr double kNforLoneLightRatio = 1.25;
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank = 0,
-                double lightEdge = -1, bool sumChannels = false, double line = 0);
+                double lightEdge = -1, bool sumChannels = false, double line = 0,
+                double loneLight = 0);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,

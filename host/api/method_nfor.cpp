@@ -137,6 +137,13 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                        "pixels on both sides, one brighter than this x it: a highlight's "
                        "streak); 0: off",
                        &O::fireflyLine, 0, 1e6)),
+        nested(FloatParam("firefly-lone-light",
+                          "keep an emitter with no emitter among its 8 neighbours, its albedo "
+                          "at least this and its colour within 1.25x of its albedo in every "
+                          "channel (a light smaller than a pixel, seen directly: its value is "
+                          "its emission, no firefly); 0: off (the default: one sample's hit "
+                          "of a light under a pixel reads many times its share)",
+                          &O::fireflyLoneLight, 0, 1e6)),
         nested(FloatParam("wide-agreement",
                           "with --pilot-wide-radius and one pilot bandwidth: take the wide "
                           "window's fit where its squared difference from the narrow one's, "
@@ -398,6 +405,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.fireflyLightEdge = o.fireflyLightEdge;
         p.fireflySum = !o.fireflyEachChannel;
         p.fireflyLine = o.fireflyLine;
+        p.fireflyLoneLight = o.fireflyLoneLight;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;

@@ -86,7 +86,8 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,
-                     bool sumChannels, float line, vk::GpuImage &out, vk::GpuImage &mask) {
+                     bool sumChannels, float line, float loneLight, vk::GpuImage &out,
+                     vk::GpuImage &mask) {
     CheckColor("nfor clamp", color);
     CheckSize("nfor clamp", color, variance, color.channels);
     CheckSize("nfor clamp", color, out, color.channels);
@@ -115,7 +116,8 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                lightEdge,
                                color.channels,
                                sumChannels ? 1 : 0,
-                               line};
+                               line,
+                               loneLight};
     recorder.Dispatch(
         kernel, "nfor.clamp",
         {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},

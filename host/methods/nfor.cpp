@@ -17,6 +17,7 @@
 #include "host/methods/nfor_specks.h"
 #include "host/methods/run_memo.h"
 #include "host/vk/gpu_image.h"
+#include "nfor/clamp.h"
 #include "nfor/nfor.h"
 
 namespace mcd {
@@ -118,6 +119,7 @@ void CheckOptions(const NforOptions &o) {
     if (!(finite(o.ridge) && o.ridge > 0) || !(finite(o.alpha) && o.alpha >= 0) ||
         !(finite(o.featureBandwidth) && o.featureBandwidth >= 0) ||
         !(finite(o.fireflyThreshold) && o.fireflyThreshold >= 0) ||
+        !(finite(o.fireflyLoneLight) && o.fireflyLoneLight >= 0) ||
         !(finite(o.noiseCalibration) && o.noiseCalibration > 0) ||
         !(finite(o.pilotAlpha) && o.pilotAlpha >= 0) ||
         !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
@@ -132,9 +134,10 @@ void CheckOptions(const NforOptions &o) {
         !(o.lightShare >= 0 && o.lightShare <= 0.25f))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
-            "be finite and > 0; alpha, feature bandwidth, firefly threshold, pilot alpha, "
-            "coarse relative, coarse noise, coarse gate, wide agreement and speck floor finite "
-            "and >= 0, speck relative finite, mean radius >= 0, light shares 0 to 0.25",
+            "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
+            "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement "
+            "and speck floor finite and >= 0, speck relative finite, mean radius >= 0, light "
+            "shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -374,8 +377,8 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     auto clamp = [&](vk::GpuImage &variance) {
         RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
                         o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                        o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine, gpu.clamped,
-                        gpu.mask);
+                        o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
+                        o.fireflyLoneLight, gpu.clamped, gpu.mask);
     };
     clamp(clampVariance);
     if (!in.variance || !ownClamp) return;
@@ -427,8 +430,8 @@ Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *al
         if (clamp)
             RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
                             o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
-                            o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine, out,
-                            mask);
+                            o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
+                            o.fireflyLoneLight, out, mask);
         run.Submit();
         Image part = clamp ? out.Download() : variance.Download();
         const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;
@@ -973,8 +976,15 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     run.Plan(o.fireflyThreshold > 0
                  ? fmt::format("fireflies: {} pixel-channels clamped to the median of their 8 "
                                "neighbours (colour / albedo, of the neighbours divided alike; "
-                               "colour where none is) + {} sigma + {} x the median",
-                               result.clamped, o.fireflyThreshold, o.fireflyRelative)
+                               "colour where none is) + {} sigma + {} x the median{}",
+                               result.clamped, o.fireflyThreshold, o.fireflyRelative,
+                               o.fireflyLoneLight > 0
+                                   ? fmt::format("; an emitter with none beside it, of albedo "
+                                                 "{} or more and its colour within {}x of its "
+                                                 "albedo (a light under a pixel, seen "
+                                                 "directly) kept",
+                                                 o.fireflyLoneLight, NFOR_LONE_LIGHT_RATIO)
+                                   : std::string())
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
     if (in.variance) PlanClamp(run, in, o, result);
     PlanPasses(run, o, choice, result);

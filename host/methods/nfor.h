@@ -72,6 +72,12 @@ struct NforOptions {
     // pixel brighter than this times it): a highlight's streak one or two pixels wide, hit
     // by a few of its samples, is not a firefly. 0: off.
     float fireflyLine = 1;
+    // Keep an emitter with no emitter among its neighbours, of this albedo or more, whose
+    // colour is within NFOR_LONE_LIGHT_RATIO of its albedo in every channel: a light smaller
+    // than a pixel that its samples saw directly, whose value is its own emission, not a
+    // firefly. 0: off, the default: such a light hit by one of its samples reads many times
+    // its share of the pixel, and clamped it errs by at most its own value.
+    float fireflyLoneLight = 0;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;

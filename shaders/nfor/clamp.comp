@@ -101,6 +101,25 @@ bool onLine(int x, int y) {
     return false;
 }
 
+// Whether (x, y) is a lone light seen directly: an emitter of albedo push.loneLight or
+// more, no emitter among its neighbours, each channel's colour within the ratio of its
+// albedo.
+bool loneLightAt(int x, int y) {
+    if (push.loneLight <= 0.0 || !emitterAt(x, y)) return false;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u)
+            if ((u != x || v != y) && u >= 0 && v >= 0 && u < w && v < h && emitterAt(u, v))
+                return false;
+    float most = 0.0, ratio = float(NFOR_LONE_LIGHT_RATIO);
+    for (int k = 0; k < push.channels; ++k) {
+        float a = albedo[(min(k, push.albedoChannels - 1) * h + y) * w + x];
+        float value = color[(k * h + y) * w + x];
+        if (!(a > 0.0 && value <= a * ratio && a <= value * ratio)) return false;
+        most = max(most, a);
+    }
+    return most >= push.loneLight;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
@@ -114,6 +133,8 @@ void main() {
     if (push.threshold <= 0.0) return;
     // A line's pixel (a highlight's streak) keeps its value.
     if (push.line > 0.0 && onLine(x, y)) return;
+    // A light smaller than a pixel seen directly keeps its value.
+    if (loneLightAt(x, y)) return;
     float own = clampedAt(c, x, y);
     outColor[at] = own;
     if (push.sumChannels == 0) return;

@@ -22,6 +22,10 @@
 // that has, along an axis or a diagonal, on both sides within 2 steps a pixel whose mean
 // over the channels is above line x its own is on a line (a highlight's streak one or two
 // pixels wide, hit by a few of its samples) and kept whole; pixels outside count as 0.
+// With loneLight > 0 an emitter with no emitter among its 8 neighbours, its largest albedo
+// channel at least loneLight and each colour channel within NFOR_LONE_LIGHT_RATIO of its
+// albedo's (both ways) is kept whole: a light smaller than a pixel that its samples saw
+// directly (their colour is the light's own emission), not a firefly.
 #ifndef MCD_SHADERS_NFOR_CLAMP_H
 #define MCD_SHADERS_NFOR_CLAMP_H
 
@@ -32,6 +36,7 @@
 #define NFOR_CLAMP_ALBEDO 2
 #define NFOR_CLAMP_OUT 3
 #define NFOR_CLAMP_MASK 4
+#define NFOR_LONE_LIGHT_RATIO 1.25
 #define NFOR_CLAMP_BINDINGS 5
 
 #ifdef __cplusplus
@@ -52,9 +57,10 @@ layout(push_constant) uniform NforClampPush {
     int channels;     // of the colour
     int sumChannels;  // 1: the channels clamped together by one factor; 0: each on its own
     float line;       // > 0: a pixel on a line this bright is kept; 0: off
+    float loneLight;  // > 0: a lone emitter of this albedo or more seen directly is kept
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforClampPush) == 44);
+static_assert(sizeof(NforClampPush) == 48);
 static_assert(offsetof(NforClampPush, emitterAlbedo) == 20);
 }  // namespace mcd::shader
 #else

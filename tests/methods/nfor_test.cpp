@@ -34,6 +34,7 @@
 #include "host/methods/nfor_specks.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
+#include "nfor/clamp.h"
 #include "nfor/nfor.h"
 #include "tools/render/renderer.h"
 
@@ -163,18 +164,51 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()
 // is C x (sum of the clamped values / sum of C): the clamped values' errors summed over the
 // channels (C / sum of C is at most 1 for positive colours) and a few roundings of C.
 void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int rank,
-                        float lightEdge, bool sumChannels = false, float line = 0) {
+                        float lightEdge, bool sumChannels = false, float line = 0,
+                        float loneLight = 0) {
     std::string name = fmt::format("clamp{}x{}{}", w, h, InputKindName(kind));
-    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {} line {}", rank, lightEdge,
-                             sumChannels, line));
+    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {} line {} lone light {}", rank,
+                             lightEdge, sumChannels, line, loneLight));
     Image color = Positive(kind, w, h, 3, name);
     Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
     for (float &v : variance.data) v *= 0.01f;
     Image albedo = Albedo(w, h, name + "albedo", true);
+    // With lone lights kept: the last pixel an emitter too (at the frame's edge), and the
+    // emitters' colours their albedo's x 0.9, 1.3 and 1.2 in turn: within the ratio (kept
+    // whole) and outside it (clamped as without the rule).
+    std::vector<std::pair<size_t, bool>> lights;  // pixel, within the ratio
+    if (loneLight > 0) {
+        for (int c = 0; c < 3; ++c) albedo.Plane(c)[albedo.PixelCount() - 1] = 3.f;
+        const float ratios[3] = {0.9f, 1.3f, 1.2f};
+        for (size_t i = 0; i < albedo.PixelCount(); ++i) {
+            if (albedo.Plane(0)[i] != 3.f) continue;
+            const float ratio = ratios[lights.size() % 3];
+            for (int c = 0; c < 3; ++c) color.Plane(c)[i] = albedo.Plane(c)[i] * ratio;
+            lights.push_back({i, ratio < float(ref::kNforLoneLightRatio)});
+        }
+    }
     const float threshold = 3, relative = 0.5f, emitterAlbedo = 1.5f;
     Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
     Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank,
-                                    lightEdge, sumChannels, line);
+                                    lightEdge, sumChannels, line, loneLight);
+    if (loneLight > 0) {
+        // The lights within the ratio kept (some the clamp takes without the rule), the others
+        // as without it (some clamped).
+        Image unruled = ref::NforClamp(color, variance, &albedo, mask, threshold, relative,
+                                       rank, lightEdge, sumChannels, line, 0);
+        bool keptByRule = false, clamped = false;
+        for (auto [i, within] : lights)
+            for (int c = 0; c < 3; ++c) {
+                const float in = color.Plane(c)[i], out = expected.Plane(c)[i];
+                EXPECT_EQ(out, within ? in : unruled.Plane(c)[i]) << "pixel " << i;
+                keptByRule = keptByRule || (within && unruled.Plane(c)[i] != in);
+                clamped = clamped || (!within && out != in);
+            }
+        if (w * h > 1) {
+            EXPECT_TRUE(keptByRule);
+            EXPECT_TRUE(clamped);
+        }
+    }
     auto run = [&](Image *gpuMask) {
         vk::GpuImage c = Upload(context, color, "color"),
                      v = Upload(context, variance, "variance");
@@ -182,7 +216,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
         vk::GpuImage out(context, w, h, 3, "out"), m(context, w, h, 1, "mask");
         vk::Recorder recorder(context);
         RecordNforClamp(context, recorder, c, v, &a, threshold, relative, emitterAlbedo, rank,
-                        lightEdge, sumChannels, line, out, m);
+                        lightEdge, sumChannels, line, loneLight, out, m);
         recorder.Submit();
         *gpuMask = m.Download();
         return out.Download();
@@ -218,13 +252,87 @@ class NforClampKernel : public GpuTestWithParam<KernelCase> {};
 
 // Against the neighbours' median and against their 2nd largest; a light's edge kept, and
 // clamped with a relative term of its own; each channel on its own and the channels summed;
-// a line's pixels kept (1, and 0.5: more lines).
+// a line's pixels kept (1, and 0.5: more lines); lone lights of albedo 2 or more kept
+// (ExpectClampMatches sets the emitters' colours to their albedo's x 0.9, 1.3 and 1.2: kept,
+// clamped, kept; in the one-row and one-column frames at both ends).
 TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     for (bool sum : {false, true}) {
         for (int rank : {0, 2}) ExpectClampMatches(Ctx(), w, h, kind, rank, -1, sum);
         ExpectClampMatches(Ctx(), w, h, kind, 3, 2, sum);
         for (float line : {1.f, 0.5f}) ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, line);
+        ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, 1, 2);
+    }
+}
+
+// The twin's constants are the kernels': a change to one alone fails here.
+TEST(NforConstants, TwinAndKernelsAgree) {
+    EXPECT_EQ(ref::kNforLoneLightRatio, double(NFOR_LONE_LIGHT_RATIO));
+    EXPECT_EQ(ref::kNforNoiseDivisorRatio, double(NFOR_NOISE_DIVISOR_RATIO));
+}
+
+// A light smaller than a pixel seen directly (an emitter alone among its neighbours, its
+// colour its albedo's within the ratio in every channel) is no firefly: kept whole by the
+// kernel and the reference, where without the rule both clamp it, inside the frame, at its
+// corner and at its right edge. A lone emitter whose colour is off its albedo in one channel
+// (a light seen through a tinted gloss), one below the albedo bound and two touching emitters
+// (not alone; unlike albedos, so each is the other's light edge, clamped with lightEdge
+// 0.5) are clamped as before.
+TEST_F(GpuTest, NforClampKeepsALoneLightSeenDirectly) {
+    const int w = 12, h = 9;
+    Image color(w, h, 3), variance(w, h, 3), albedo(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                albedo.At(c, y, x) = 0.4f;
+                color.At(c, y, x) = 0.1f + 0.01f * float((x * 7 + y * 3 + c) % 5);
+                variance.At(c, y, x) = 1e-4f;
+            }
+    auto light = [&](int x, int y, float a, float ratio, float blueRatio) {
+        for (int c = 0; c < 3; ++c) {
+            albedo.At(c, y, x) = a * (1 - 0.2f * float(c));
+            color.At(c, y, x) = albedo.At(c, y, x) * (c == 2 ? blueRatio : ratio);
+        }
+    };
+    light(2, 2, 60, 1.05f, 1.05f);   // kept
+    light(0, 0, 30, 0.9f, 0.9f);     // kept at the corner
+    light(w - 1, 4, 20, 1.2f, 1.f);  // kept at the right edge
+    light(6, 2, 40, 1.05f, 3.f);     // tinted: clamped
+    light(2, 6, 4, 1.f, 1.f);        // weak: clamped
+    light(7, 6, 60, 1.f, 1.f);       // touching: clamped
+    light(8, 6, 20, 1.f, 1.f);
+    const float threshold = 4, relative = 0.5f, emitterAlbedo = 1.5f, lightEdge = 0.5f,
+                loneLight = 8;
+    Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
+    auto gpu = [&](float lone) {
+        vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
+        vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+        vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
+        vk::Recorder recorder(Ctx());
+        RecordNforClamp(Ctx(), recorder, c, v, &a, threshold, relative, emitterAlbedo, 3,
+                        lightEdge, true, 1, lone, out, m);
+        recorder.Submit();
+        return out.Download();
+    };
+    for (float lone : {loneLight, 0.f}) {
+        SCOPED_TRACE(fmt::format("lone light {}", lone));
+        Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, 3,
+                                        lightEdge, true, 1, lone);
+        Image actual = gpu(lone);
+        EXPECT_TRUE(BitIdentical(actual, gpu(lone)));
+        for (int c = 0; c < 3; ++c) {
+            for (auto [x, y] : {std::pair{2, 2}, {0, 0}, {w - 1, 4}}) {
+                const float kept = color.At(c, y, x);
+                EXPECT_EQ(expected.At(c, y, x) == kept, lone > 0) << x << "," << y << " " << c;
+                EXPECT_EQ(actual.At(c, y, x) == kept, lone > 0) << x << "," << y << " " << c;
+            }
+            for (auto [x, y] : {std::pair{6, 2}, {2, 6}, {7, 6}, {8, 6}}) {
+                EXPECT_LT(expected.At(c, y, x), 0.5f * color.At(c, y, x)) << x << "," << y;
+                EXPECT_NEAR(actual.At(c, y, x), expected.At(c, y, x), 1e-5f * color.At(c, y, x))
+                    << x << "," << y;
+            }
+        }
+        EXPECT_TRUE(ImagesMatch(expected, actual, color, {8 * kU, 0, 1e-10}));
     }
 }
 
@@ -264,7 +372,7 @@ TEST_F(GpuTest, NforClampDividesAlikeAtTheRatioAsTheKernel) {
     vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
     vk::Recorder recorder(Ctx());
     RecordNforClamp(Ctx(), recorder, c, v, &d, threshold, relative, emitterAlbedo, 0, -1, false,
-                    0, out, m);
+                    0, 0, out, m);
     recorder.Submit();
     Image actual = out.Download();
     for (int ch = 0; ch < 3; ++ch) {
@@ -1023,6 +1131,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.fireflyLightEdge = o.fireflyLightEdge;
     p.fireflySum = !o.fireflyEachChannel;
     p.fireflyLine = o.fireflyLine;
+    p.fireflyLoneLight = o.fireflyLoneLight;
     p.pilotWideRadius = o.pilotWideRadius;
     p.minVariance = o.minVariance;
     p.pilotMinVariance = NforPilotMinVariance(o);
@@ -1105,6 +1214,22 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     o.clampLayer = false;
     o.clampLoss = 0;
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
+}
+
+// Lone lights kept (--firefly-lone-light 2): AddLightsAtTheEdge's weak light (albedo 3, its
+// colour its albedo) has no emitter beside it. The stages agree with the reference's, and
+// the rule keeps channels that the clamp takes without it. A negative albedo is refused.
+TEST_F(NforMethod, LoneLightStagesMatchTheReference) {
+    NforOptions o;
+    o.fireflyLoneLight = 2;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, true);
+    Frame f = MakeFrame(29, 23, 0.3, "stages29x23");
+    AddLightsAtTheEdge(&f, nullptr);
+    const size_t clamped = NforDenoise(Ctx(), InputsOf(f), o).clamped;
+    o.fireflyLoneLight = 0;
+    EXPECT_LT(clamped, NforDenoise(Ctx(), InputsOf(f), o).clamped);
+    o.fireflyLoneLight = -1;
+    EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error);
 }
 
 // The clamp's light changes ExpectStagesMatch's frame: its stage differs from the one
@@ -1956,9 +2081,10 @@ TEST_F(NforMethod, RankDeficientFeaturesDoNotBlowUp) {
 
 // Emitters (albedo above the threshold) keep their input bits where their neighbours are
 // emitters alike (a light's inside); a lone emitter pixel far above all around it (a
-// sub-pixel light hit by a few samples) is clamped like a firefly; every pixel of a 1x1
-// frame keeps its input; odd and one-pixel-wide frames give finite output. The lights'
-// spread, which moves a light's edge, is off here (its own test).
+// sub-pixel light hit by a few samples) is clamped like a firefly, and kept with
+// --firefly-lone-light at or below its albedo (its colour is its albedo: seen directly);
+// every pixel of a 1x1 frame keeps its input; odd and one-pixel-wide frames give finite
+// output. The lights' spread, which moves a light's edge, is off here (its own test).
 TEST_F(NforMethod, EmittersKeepTheirInputAndTinyFramesRun) {
     NforOptions o;
     o.weakLightShare = o.lightShare = 0;
@@ -1984,6 +2110,11 @@ TEST_F(NforMethod, EmittersKeepTheirInputAndTinyFramesRun) {
     NforResult r = NforDenoise(Ctx(), InputsOf(f), o);
     EXPECT_EQ(r.emitters, 1u);
     EXPECT_LT(r.image.At(0, 4, 4), 2.f);
+    o.fireflyLoneLight = 8;
+    r = NforDenoise(Ctx(), InputsOf(f), o);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(r.image.At(c, 4, 4), 40.f) << "channel " << c;
+    o.fireflyLoneLight = 41;
+    EXPECT_LT(NforDenoise(Ctx(), InputsOf(f), o).image.At(0, 4, 4), 2.f);
 }
 
 // A firefly (one value 1000x its neighbours) is clamped: the output there is near the
