@@ -1326,10 +1326,11 @@ TEST_F(NforMethod, ClampLightGivesBackGlintsNotAFirefly) {
     EXPECT_GT(leftMean(a.image), 0.95 * input);
     for (int y = 28; y <= 36; ++y)
         for (int x = 108; x <= 116; ++x)
-            if (x != 112 || y != 32)
+            if (x != 112 || y != 32) {
                 EXPECT_NEAR(a.image.At(1, y, x), b.image.At(1, y, x),
                             0.01 * b.image.At(1, y, x))
                     << x << "," << y;
+            }
     NforResult again = NforDenoise(Ctx(), InputsOf(f), on);
     EXPECT_EQ(MeasureDifference(a.image, again.image).parity, 0u);
     EXPECT_EQ(a.image.data, again.image.data);
