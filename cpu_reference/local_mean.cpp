@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 namespace mcd::ref {
@@ -526,77 +527,35 @@ double NoiseSpread(const Image &variance, int c, int x, int y) {
     return std::sqrt(std::max(own, rest));
 }
 
-size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
-    size_t clamped = 0;
-    for (int y = 0; y < input.height; ++y)
-        for (int x = 0; x < input.width; ++x) {
-            // Each channel's allowed distance from its input (-1: left), and the largest
-            // share t of the pixel's move that every channel allows.
-            std::vector<double> sd(input.channels, -1);
-            double t = 1;
-            for (int c = 0; c < input.channels; ++c) {
-                double in = input.At(c, y, x), out = output->At(c, y, x);
-                double spread = NoiseSpread(variance, c, x, y);
-                if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) continue;
-                sd[c] = k * spread;
-                // Not below 0 where the input is not negative.
-                double low = in >= 0 ? std::max(0.0, in - sd[c]) : in - sd[c];
-                double allowed = out < in ? in - low : sd[c];
-                if (std::fabs(out - in) > allowed)
-                    t = std::min(t, allowed / std::fabs(out - in));
-            }
-            if (t == 1) continue;
-            for (int c = 0; c < input.channels; ++c) {
-                if (sd[c] < 0) continue;
-                double in = input.At(c, y, x), out = output->At(c, y, x);
-                double low = in >= 0 ? std::max(0.0, in - sd[c]) : in - sd[c];
-                float moved = float(std::clamp(in + t * (out - in), low, in + sd[c]));
-                if (moved != output->At(c, y, x)) {
-                    output->At(c, y, x) = moved;
-                    ++clamped;
-                }
-            }
-        }
-    return clamped;
-}
+namespace {
 
-size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
-                         Image *output) {
+// A channel's bound: the range its value ends in and the largest share t of its move from
+// the input that keeps it there; none where the channel is left.
+struct Limit {
+    bool bounded = false;
+    double lo = 0, hi = 0, share = 1;
+};
+
+// Each pixel's bounded channels moved to input + t (output - input) and clamped to their
+// ranges, one t for the pixel: the least share over its channels. Returns the number of
+// values moved.
+size_t MoveByOneShare(const Image &input, Image *output,
+                      const std::function<Limit(int, int, int, double, double)> &limitOf) {
     size_t moved = 0;
     for (int y = 0; y < input.height; ++y)
         for (int x = 0; x < input.width; ++x) {
-            // Each channel's range (none where the input or output is not finite, or a
-            // variance of the 3x3 window is not), and the largest share t of the pixel's move
-            // that keeps every channel in its range.
-            std::vector<double> lo(input.channels), hi(input.channels);
-            std::vector<bool> bounded(input.channels, false);
+            std::vector<Limit> limits(input.channels);
             double t = 1;
             for (int c = 0; c < input.channels; ++c) {
-                double in = input.At(c, y, x), out = output->At(c, y, x);
-                double spread = NoiseSpread(variance, c, x, y);
-                if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) continue;
-                bounded[c] = true;
-                double least = in, most = in;
-                for (int dy = -radius; dy <= radius; ++dy)
-                    for (int dx = -radius; dx <= radius; ++dx) {
-                        int yy = y + dy, xx = x + dx;
-                        if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width)
-                            continue;
-                        double q = input.At(c, yy, xx);
-                        if (!std::isfinite(q)) continue;
-                        if (q < least) least = q;
-                        if (q > most) most = q;
-                    }
-                lo[c] = least - k * spread;
-                hi[c] = most + k * spread;
-                if (out > hi[c]) t = std::min(t, (hi[c] - in) / (out - in));
-                if (out < lo[c]) t = std::min(t, (in - lo[c]) / (in - out));
+                limits[c] = limitOf(c, x, y, input.At(c, y, x), output->At(c, y, x));
+                if (limits[c].bounded) t = std::min(t, limits[c].share);
             }
             if (t == 1) continue;
             for (int c = 0; c < input.channels; ++c) {
-                if (!bounded[c]) continue;
+                if (!limits[c].bounded) continue;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
-                float value = float(std::clamp(in + t * (out - in), lo[c], hi[c]));
+                float value =
+                    float(std::clamp(in + t * (out - in), limits[c].lo, limits[c].hi));
                 if (value != output->At(c, y, x)) {
                     output->At(c, y, x) = value;
                     ++moved;
@@ -604,6 +563,48 @@ size_t BoundToInputRange(const Image &input, const Image &variance, int radius, 
             }
         }
     return moved;
+}
+
+}  // namespace
+
+size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
+    return MoveByOneShare(input, output, [&](int c, int x, int y, double in, double out) {
+        Limit limit;
+        double spread = NoiseSpread(variance, c, x, y);
+        if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) return limit;
+        double sd = k * spread;
+        // Not below 0 where the input is not negative.
+        double low = in >= 0 ? std::max(0.0, in - sd) : in - sd;
+        double allowed = out < in ? in - low : sd;
+        limit = {true, low, in + sd, 1};
+        if (std::fabs(out - in) > allowed) limit.share = allowed / std::fabs(out - in);
+        return limit;
+    });
+}
+
+size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
+                         Image *output) {
+    return MoveByOneShare(input, output, [&](int c, int x, int y, double in, double out) {
+        // None where the input or output is not finite, or a variance of the 3x3 window is
+        // not.
+        Limit limit;
+        double spread = NoiseSpread(variance, c, x, y);
+        if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) return limit;
+        double least = in, most = in;
+        for (int dy = -radius; dy <= radius; ++dy)
+            for (int dx = -radius; dx <= radius; ++dx) {
+                int yy = y + dy, xx = x + dx;
+                if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width) continue;
+                double q = input.At(c, yy, xx);
+                if (!std::isfinite(q)) continue;
+                if (q < least) least = q;
+                if (q > most) most = q;
+            }
+        limit = {true, least - k * spread, most + k * spread, 1};
+        if (out > limit.hi) limit.share = (limit.hi - in) / (out - in);
+        if (out < limit.lo) limit.share = (in - limit.lo) / (in - out);
+        return limit;
+    });
 }
 
 Image FrameNoise(const Image &color, const Image *albedo) {
