@@ -570,8 +570,13 @@ size_t MoveByOneShare(const Image &input, Image *output,
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
     return MoveByOneShare(input, output, [&](int c, int x, int y, double in, double out) {
         Limit limit;
+        if (!std::isfinite(in) || !std::isfinite(out)) return limit;
         double spread = NoiseSpread(variance, c, x, y);
-        if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) return limit;
+        // Without a spread only the floor: not below 0 where the input is not negative.
+        if (spread < 0) {
+            if (in >= 0) limit = {true, 0, HUGE_VAL, out < 0 ? in / (in - out) : 1};
+            return limit;
+        }
         double sd = k * spread;
         // Not below 0 where the input is not negative.
         double low = in >= 0 ? std::max(0.0, in - sd) : in - sd;

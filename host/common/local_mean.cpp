@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -807,8 +808,15 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
             ErrorKind::Internal);
     return MoveByOneShare(input, output, 24, [&](int c, int x, int y, double in, double o) {
         ChannelLimit limit;
+        if (!std::isfinite(in) || !std::isfinite(o)) return limit;
         const double s = NoiseSpread(variance, c, x, y);
-        if (s < 0 || !std::isfinite(in) || !std::isfinite(o)) return limit;
+        if (s < 0) {
+            // Its noise says nothing, but a truth that is not negative is not made so.
+            if (in >= 0)
+                limit = {true, 0, std::numeric_limits<double>::infinity(),
+                         o < 0 ? in / (in - o) : 1};
+            return limit;
+        }
         const double spread = k * s;
         const double allowed = BoundAllowed(in, o, spread);
         limit = {true, BoundLow(in, spread), in + spread, 1};
