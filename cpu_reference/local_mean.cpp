@@ -531,8 +531,9 @@ namespace {
 
 // A channel's bound: the range its value ends in and the largest share t of its move from
 // the input that keeps it there; none where the channel is left.
+// `floor`: bounded only below by 0, on its own (not in t).
 struct Limit {
-    bool bounded = false;
+    bool bounded = false, floor = false;
     double lo = 0, hi = 0, share = 1;
 };
 
@@ -548,11 +549,18 @@ size_t MoveByOneShare(const Image &input, Image *output,
             double t = 1;
             for (int c = 0; c < input.channels; ++c) {
                 limits[c] = limitOf(c, x, y, input.At(c, y, x), output->At(c, y, x));
-                if (limits[c].bounded) t = std::min(t, limits[c].share);
+                if (limits[c].floor) {
+                    if (output->At(c, y, x) < 0) {
+                        output->At(c, y, x) = 0;
+                        ++moved;
+                    }
+                } else if (limits[c].bounded) {
+                    t = std::min(t, limits[c].share);
+                }
             }
             if (t == 1) continue;
             for (int c = 0; c < input.channels; ++c) {
-                if (!limits[c].bounded) continue;
+                if (!limits[c].bounded || limits[c].floor) continue;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
                 float value =
                     float(std::clamp(in + t * (out - in), limits[c].lo, limits[c].hi));
@@ -572,16 +580,17 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
         Limit limit;
         if (!std::isfinite(in) || !std::isfinite(out)) return limit;
         double spread = NoiseSpread(variance, c, x, y);
-        // Without a spread only the floor: not below 0 where the input is not negative.
+        // Without a spread only the floor: not below 0 where the input is not negative, the
+        // channel alone.
         if (spread < 0) {
-            if (in >= 0) limit = {true, 0, HUGE_VAL, out < 0 ? in / (in - out) : 1};
+            limit.floor = in >= 0;
             return limit;
         }
         double sd = k * spread;
         // Not below 0 where the input is not negative.
         double low = in >= 0 ? std::max(0.0, in - sd) : in - sd;
         double allowed = out < in ? in - low : sd;
-        limit = {true, low, in + sd, 1};
+        limit = {true, false, low, in + sd, 1};
         if (std::fabs(out - in) > allowed) limit.share = allowed / std::fabs(out - in);
         return limit;
     });
@@ -605,7 +614,7 @@ size_t BoundToInputRange(const Image &input, const Image &variance, int radius, 
                 if (q < least) least = q;
                 if (q > most) most = q;
             }
-        limit = {true, least - k * spread, most + k * spread, 1};
+        limit = {true, false, least - k * spread, most + k * spread, 1};
         if (out > limit.hi) limit.share = (limit.hi - in) / (out - in);
         if (out < limit.lo) limit.share = (in - limit.lo) / (in - out);
         return limit;

@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -736,15 +735,18 @@ double BoundAllowed(double in, double o, double spread) {
 
 // One channel's limits under a bound that moves a pixel's channels by one share: the
 // range [lo, hi] its value ends in, and the largest share of its move from the input that
-// the range allows. Not bounded: the channel is left as it is.
+// the range allows. Not bounded: the channel is left as it is. Floor only: its noise says
+// nothing, so it is only kept from going below 0, alone (moving the pixel's other channels
+// with it, to their input, brought back a dim frame's grain).
 struct ChannelLimit {
-    bool bounded = false;
+    bool bounded = false, floorOnly = false;
     double lo = 0, hi = 0, share = 1;
 };
 
 // Each pixel's bounded channels moved to input + t (output - input), clamped to their
 // ranges, with one t for the pixel: the least share any of its channels allows (a bound on
-// one channel alone would tint the pixel). `limit(c, x, y, in, out)` gives a channel's
+// one channel alone would tint the pixel); a channel bounded by its floor only is raised to
+// 0 where it is below. `limit(c, x, y, in, out)` gives a channel's
 // ChannelLimit; `cost`: about the operations per pixel and channel. Returns how many values
 // moved.
 template <typename Limit>
@@ -761,11 +763,14 @@ size_t MoveByOneShare(const Image &input, Image *output, size_t cost, Limit limi
                 for (int c = 0; c < channels; ++c) {
                     limits[c] =
                         limit(c, x, y, double(input.Plane(c)[p]), double(output->Plane(c)[p]));
-                    if (limits[c].bounded) t = std::min(t, limits[c].share);
+                    if (limits[c].floorOnly && output->Plane(c)[p] < 0)
+                        output->Plane(c)[p] = 0, ++movedHere;
+                    else if (limits[c].bounded && !limits[c].floorOnly)
+                        t = std::min(t, limits[c].share);
                 }
                 if (t == 1) continue;
                 for (int c = 0; c < channels; ++c) {
-                    if (!limits[c].bounded) continue;
+                    if (!limits[c].bounded || limits[c].floorOnly) continue;
                     float *out = &output->Plane(c)[p];
                     const double in = input.Plane(c)[p];
                     const float value = float(
@@ -812,14 +817,12 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
         const double s = NoiseSpread(variance, c, x, y);
         if (s < 0) {
             // Its noise says nothing, but a truth that is not negative is not made so.
-            if (in >= 0)
-                limit = {true, 0, std::numeric_limits<double>::infinity(),
-                         o < 0 ? in / (in - o) : 1};
+            limit.floorOnly = limit.bounded = in >= 0;
             return limit;
         }
         const double spread = k * s;
         const double allowed = BoundAllowed(in, o, spread);
-        limit = {true, BoundLow(in, spread), in + spread, 1};
+        limit = {true, false, BoundLow(in, spread), in + spread, 1};
         if (std::fabs(o - in) > allowed) limit.share = allowed / std::fabs(o - in);
         return limit;
     });
@@ -849,7 +852,7 @@ size_t BoundToInputRange(const Image &input, const Image &variance, int radius, 
                     least = std::min(least, q);
                     most = std::max(most, q);
                 }
-            limit = {true, double(least) - k * spread, double(most) + k * spread, 1};
+            limit = {true, false, double(least) - k * spread, double(most) + k * spread, 1};
             if (o > limit.hi) limit.share = (limit.hi - i) / (o - i);
             if (o < limit.lo) limit.share = (i - limit.lo) / (i - o);
             return limit;
