@@ -161,7 +161,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                           "largest) from its input, before the local means are restored: fits "
                           "that overshoot an edge or go negative cannot move a pixel farther "
                           "than its noise allows; a pixel's channels move by one share, so a "
-                          "bound does not tint it, and not below 0 (beyond the paper; 0: off)",
+                          "bound does not tint it, and not below 0; a value of variance 0 is "
+                          "only kept from going below 0 (beyond the paper; 0: off)",
                           &PivotSettings::bound, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
@@ -263,7 +264,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
             result.plan.push_back(fmt::format(
                 "bound: {} values moved to within {} standard deviations of their input's "
                 "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
-                "larger)",
+                "larger; those of variance 0 only kept from going below 0)",
                 moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
