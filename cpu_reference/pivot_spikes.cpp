@@ -44,7 +44,7 @@ std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
                 }
             if (!finite || w * h == 1) continue;  // no neighbours
             double m = LowerMiddle(w, h, x, y, [&](int u, int v) { return double(sum(u, v)); });
-            if (!(sum(x, y) > 16 * m)) continue;
+            if (!(m > 0) || !(sum(x, y) > 16 * m)) continue;  // no level to scale to
             int over = 0;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
@@ -70,6 +70,7 @@ std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
                 if (output->At(k, y, x) == color.At(k, y, x) || !(own > 0)) continue;
                 double mk = LowerMiddle(
                     w, h, x, y, [&](int u, int vv) { return double(pivot.At(pc, vv, u)); });
+                if (!(mk > 0)) continue;
                 output->At(k, y, x) = float(double(output->At(k, y, x)) * (mk / own));
                 any = true;
             }

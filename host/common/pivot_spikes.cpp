@@ -40,8 +40,10 @@ bool LoneSpike(const std::vector<float> &sums, int w, int h, int x, int y) {
     for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
         for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
             if (!std::isfinite(sums[size_t(v) * w + u])) return false;
+    // A median of 0 (background, black material) would take the tips of thin objects and
+    // small lights to 0.
     const double median = NeighbourMedian(sums.data(), w, h, x, y);
-    if (!(sums[p] > kPivotSpike * median)) return false;
+    if (!(median > 0) || !(sums[p] > kPivotSpike * median)) return false;
     for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
         for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
             if ((u != x || v != y) && sums[size_t(v) * w + u] > kPivotSpike * median) ++over;
@@ -87,6 +89,7 @@ std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
                     const float *plane = pivot.Plane(pivot.channels == 1 ? 0 : c);
                     if (*out == color.Plane(c)[p] || !(plane[p] > 0)) continue;
                     const double median = NeighbourMedian(plane, w, h, x, y);
+                    if (!(median > 0)) continue;
                     *out = float(double(*out) * (median / double(plane[p])));
                     changed = true;
                 }

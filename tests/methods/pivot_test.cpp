@@ -812,8 +812,24 @@ TEST(PivotSpikes, MatchReference) {
             std::vector<size_t> scaled = ScalePivotSpikes(color, pivot, variance, &got);
             EXPECT_EQ(scaled, want) << w << "x" << h << " variance " << varianceChannels;
             EXPECT_TRUE(BitIdentical(got, expected)) << w << "x" << h;
-            if (w >= 17) EXPECT_GT(want.size(), 0u) << "the case scales no spike";
+            if (w >= 17) {
+                EXPECT_GT(want.size(), 0u) << "the case scales no spike";
+            }
         }
+    // A 2-pixel object (a thin tip, a small light) on a pivot of 0, its colour noisy: its
+    // neighbours' median is 0, and it is left alone.
+    const int w = 8, h = 6;
+    std::mt19937_64 rng(SeedFromName("pivot spikes on black"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image pivot(w, h, 3, 0.f), color(w, h, 3), output(w, h, 3), variance(w, h, 3, 1e4f);
+    for (float &v : color.data) v = 0.5f + unit(rng);
+    for (float &v : output.data) v = unit(rng);
+    for (int c = 0; c < 3; ++c) pivot.At(c, 3, 3) = pivot.At(c, 3, 4) = 5 + unit(rng);
+    Image expected = output, got = output;
+    EXPECT_TRUE(ref::ScalePivotSpikes(color, pivot, variance, &expected).empty());
+    EXPECT_TRUE(ScalePivotSpikes(color, pivot, variance, &got).empty());
+    EXPECT_TRUE(BitIdentical(got, output));
+    EXPECT_TRUE(BitIdentical(expected, output));
 }
 
 // The image of the run's stage `name` (RunOptions::keepStages); fails the test without it.
