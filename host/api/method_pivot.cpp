@@ -36,8 +36,8 @@ struct PivotSettings {
     // Keep the values kept at their input beside other ids as they are (ClampKeptEdgeValues
     // off).
     bool keepEdges = false;
-    // Keep the output of pixels whose pivot is a lone spike (ScalePivotSpikes off).
-    bool keepSpikes = false;
+    // Scale the output of pixels whose pivot is a lone spike (ScalePivotSpikes).
+    bool spikes = false;
     // The output held to the range of its input's (2 r + 1)^2 window (BoundToInputRange);
     // 0: off.
     int range = 1;
@@ -135,16 +135,17 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "own ids' level within 2, the lower of their median and its pivot times "
                    "their median over the pivot (dots along a wire)",
                    &PivotSettings::keepEdges),
-               BoolParam("pivot-keep-spikes",
-                         "leave the output of pixels whose pivot is a lone spike (over 16 "
-                         "times its neighbours' median, channels summed) and whose colour's "
-                         "standard deviation (the variance layer; frames without one are "
-                         "left) is at least a quarter of it as it is; by "
-                         "default each takes its filtered z times its neighbours' median "
-                         "pivot (an albedo that followed a mirror to a light in one of a "
-                         "few samples carries the firefly, and z times the pivot gives it "
-                         "back)",
-                         &PivotSettings::keepSpikes),
+               BoolParam("pivot-spikes",
+                         "scale lone pivot spikes: a pixel whose pivot is a lone spike (over "
+                         "16 times its neighbours' median, channels summed, that median above "
+                         "0) and whose colour's standard deviation (the variance layer; "
+                         "frames without one are left) is at least a quarter of it takes its "
+                         "filtered z times its neighbours' median pivot (an albedo that "
+                         "followed a mirror to a light in one of a few samples carries the "
+                         "firefly, and z times the pivot gives it back); it also removes real "
+                         "highlights that a single sample saw (beyond the paper; off by "
+                         "default)",
+                         &PivotSettings::spikes),
                IntParam("pivot-range",
                         "each pixel's channels end within the range of their input's values "
                         "in the window of this half-size, moved toward their input by one "
@@ -217,7 +218,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // Only the sample variance tells how few samples saw a pixel: the frame's estimate is
         // large at every highlight.
         Image restoreFrom;
-        if (!options.keepSpikes && in.variance) {
+        if (options.spikes && !in.variance)
+            result.plan.push_back("pivot spikes: not looked for (no variance layer)");
+        if (options.spikes && in.variance) {
             const std::vector<size_t> spikes =
                 ScalePivotSpikes(*in.color, *in.pivot, *in.variance, &result.image);
             const size_t scaled = spikes.size();
@@ -311,7 +314,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // the kept edges' 5x5 window (a thin part's own median); the range's window; the
         // spikes' 3x3 window and the noise estimate's.
         const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) +
-                          options.range + (options.keepSpikes ? 0 : 1);
+                          options.range + (options.spikes ? 1 : 0);
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += mean + bound + frameNoise;
@@ -365,7 +368,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
         Image restoreFrom = *in.color;
-        if (!options.keepSpikes && in.variance) {
+        if (options.spikes && in.variance) {
             for (size_t p : ref::ScalePivotSpikes(*in.color, *in.pivot, *in.variance, &out))
                 for (int c = 0; c < out.channels; ++c)
                     restoreFrom.Plane(c)[p] = out.Plane(c)[p];

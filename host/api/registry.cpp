@@ -96,7 +96,7 @@ std::vector<MethodEntry> Build() {
            AutoVariant::kHalves,
            NforCheaperProbe}}},
         // pivot's candidates without its input-range bound (docs/methods/pivot.md, ninth
-        // round) and with its lone pivot spikes as the filter gives them (tenth round).
+        // round).
         {"pivot",
          PivotFrontEnd,
          3,
@@ -116,10 +116,9 @@ std::vector<MethodEntry> Build() {
            "grey",
            kGuideLayers,
            AutoVariant::kOwn}},
-         {{"pivot-range", 0}, {"pivot-keep-spikes", true}},
+         {{"pivot-range", 0}},
          "with the range, held near their input where the fits overshoot, they drew the "
-         "weights to pivot where its error is the input's; with the spikes scaled, auto "
-         "measured worse on the real set's accumulated frames (docs/methods/pivot.md)"},
+         "weights to pivot where its error is the input's"},
         {"rhf",
          RhfFrontEnd,
          1,

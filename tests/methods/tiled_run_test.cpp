@@ -114,7 +114,8 @@ TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
         Frame plain = frames[0].second;
         plain.layers.erase("variance");
         frames.push_back({"plain", plain});
-        // Lone spikes of the pivot that few samples saw, across the tiles' seams.
+        // Lone spikes of the pivot that few samples saw, across the tiles' seams
+        // (--pivot-spikes).
         Frame spikes = frames[1].second;
         Image &pivot = spikes.layers["pivot"], &color = spikes.layers["color"];
         Image &variance = spikes.layers["variance"];
@@ -126,8 +127,10 @@ TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
         frames.push_back({"spikes", spikes});
     }
     for (const auto &[kind, frame] : frames) {
-        Result whole = RunWith(device, c.method, c.params, frame, 0);
-        Result tiled = RunWith(device, c.method, c.params, frame, c.tile);
+        Params params = c.params;
+        if (kind == "spikes") params.push_back({"pivot-spikes", true});
+        Result whole = RunWith(device, c.method, params, frame, 0);
+        Result tiled = RunWith(device, c.method, params, frame, c.tile);
         ASSERT_FALSE(tiled.plan.empty());
         EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
         EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
