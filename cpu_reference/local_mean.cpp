@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <vector>
 
 namespace mcd::ref {
@@ -527,43 +526,86 @@ double NoiseSpread(const Image &variance, int c, int x, int y) {
     return std::sqrt(std::max(own, rest));
 }
 
-namespace {
-
-// A channel's bound: the range its value ends in and the largest share t of its move from
-// the input that keeps it there; none where the channel is left.
-// `floor`: bounded only below by 0, on its own (not in t).
-struct Limit {
-    bool bounded = false, floor = false;
-    double lo = 0, hi = 0, share = 1;
-};
-
-// Each pixel's bounded channels moved to input + t (output - input) and clamped to their
-// ranges, one t for the pixel: the least share over its channels. Returns the number of
-// values moved.
-size_t MoveByOneShare(const Image &input, Image *output,
-                      const std::function<Limit(int, int, int, double, double)> &limitOf) {
-    size_t moved = 0;
+size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
+    size_t clamped = 0;
     for (int y = 0; y < input.height; ++y)
         for (int x = 0; x < input.width; ++x) {
-            std::vector<Limit> limits(input.channels);
+            // Each channel's allowed distance from its input (-1: left), and the largest
+            // share t of the pixel's move that every channel allows.
+            std::vector<double> sd(input.channels, -1);
             double t = 1;
             for (int c = 0; c < input.channels; ++c) {
-                limits[c] = limitOf(c, x, y, input.At(c, y, x), output->At(c, y, x));
-                if (limits[c].floor) {
-                    if (output->At(c, y, x) < 0) {
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                double spread = NoiseSpread(variance, c, x, y);
+                if (!std::isfinite(in) || !std::isfinite(out)) continue;
+                // Without a spread only the floor: not below 0 where the input is not
+                // negative, the channel alone.
+                if (spread < 0) {
+                    if (in >= 0 && out < 0) {
                         output->At(c, y, x) = 0;
-                        ++moved;
+                        ++clamped;
                     }
-                } else if (limits[c].bounded) {
-                    t = std::min(t, limits[c].share);
+                    continue;
                 }
+                sd[c] = k * spread;
+                // Not below 0 where the input is not negative.
+                double low = in >= 0 ? std::max(0.0, in - sd[c]) : in - sd[c];
+                double allowed = out < in ? in - low : sd[c];
+                if (std::fabs(out - in) > allowed)
+                    t = std::min(t, allowed / std::fabs(out - in));
             }
             if (t == 1) continue;
             for (int c = 0; c < input.channels; ++c) {
-                if (!limits[c].bounded || limits[c].floor) continue;
+                if (sd[c] < 0) continue;
                 double in = input.At(c, y, x), out = output->At(c, y, x);
-                float value =
-                    float(std::clamp(in + t * (out - in), limits[c].lo, limits[c].hi));
+                double low = in >= 0 ? std::max(0.0, in - sd[c]) : in - sd[c];
+                float moved = float(std::clamp(in + t * (out - in), low, in + sd[c]));
+                if (moved != output->At(c, y, x)) {
+                    output->At(c, y, x) = moved;
+                    ++clamped;
+                }
+            }
+        }
+    return clamped;
+}
+
+size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
+                         Image *output) {
+    size_t moved = 0;
+    for (int y = 0; y < input.height; ++y)
+        for (int x = 0; x < input.width; ++x) {
+            // Each channel's range (none where the input or output is not finite, or a
+            // variance of the 3x3 window is not), and the largest share t of the pixel's move
+            // that keeps every channel in its range.
+            std::vector<double> lo(input.channels), hi(input.channels);
+            std::vector<bool> bounded(input.channels, false);
+            double t = 1;
+            for (int c = 0; c < input.channels; ++c) {
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                double spread = NoiseSpread(variance, c, x, y);
+                if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) continue;
+                bounded[c] = true;
+                double least = in, most = in;
+                for (int dy = -radius; dy <= radius; ++dy)
+                    for (int dx = -radius; dx <= radius; ++dx) {
+                        int yy = y + dy, xx = x + dx;
+                        if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width)
+                            continue;
+                        double q = input.At(c, yy, xx);
+                        if (!std::isfinite(q)) continue;
+                        if (q < least) least = q;
+                        if (q > most) most = q;
+                    }
+                lo[c] = least - k * spread;
+                hi[c] = most + k * spread;
+                if (out > hi[c]) t = std::min(t, (hi[c] - in) / (out - in));
+                if (out < lo[c]) t = std::min(t, (in - lo[c]) / (in - out));
+            }
+            if (t == 1) continue;
+            for (int c = 0; c < input.channels; ++c) {
+                if (!bounded[c]) continue;
+                double in = input.At(c, y, x), out = output->At(c, y, x);
+                float value = float(std::clamp(in + t * (out - in), lo[c], hi[c]));
                 if (value != output->At(c, y, x)) {
                     output->At(c, y, x) = value;
                     ++moved;
@@ -571,54 +613,6 @@ size_t MoveByOneShare(const Image &input, Image *output,
             }
         }
     return moved;
-}
-
-}  // namespace
-
-size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output) {
-    return MoveByOneShare(input, output, [&](int c, int x, int y, double in, double out) {
-        Limit limit;
-        if (!std::isfinite(in) || !std::isfinite(out)) return limit;
-        double spread = NoiseSpread(variance, c, x, y);
-        // Without a spread only the floor: not below 0 where the input is not negative, the
-        // channel alone.
-        if (spread < 0) {
-            limit.floor = in >= 0;
-            return limit;
-        }
-        double sd = k * spread;
-        // Not below 0 where the input is not negative.
-        double low = in >= 0 ? std::max(0.0, in - sd) : in - sd;
-        double allowed = out < in ? in - low : sd;
-        limit = {true, false, low, in + sd, 1};
-        if (std::fabs(out - in) > allowed) limit.share = allowed / std::fabs(out - in);
-        return limit;
-    });
-}
-
-size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
-                         Image *output) {
-    return MoveByOneShare(input, output, [&](int c, int x, int y, double in, double out) {
-        // None where the input or output is not finite, or a variance of the 3x3 window is
-        // not.
-        Limit limit;
-        double spread = NoiseSpread(variance, c, x, y);
-        if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) return limit;
-        double least = in, most = in;
-        for (int dy = -radius; dy <= radius; ++dy)
-            for (int dx = -radius; dx <= radius; ++dx) {
-                int yy = y + dy, xx = x + dx;
-                if (yy < 0 || yy >= input.height || xx < 0 || xx >= input.width) continue;
-                double q = input.At(c, yy, xx);
-                if (!std::isfinite(q)) continue;
-                if (q < least) least = q;
-                if (q > most) most = q;
-            }
-        limit = {true, false, least - k * spread, most + k * spread, 1};
-        if (out > limit.hi) limit.share = (limit.hi - in) / (out - in);
-        if (out < limit.lo) limit.share = (in - limit.lo) / (in - out);
-        return limit;
-    });
 }
 
 Image FrameNoise(const Image &color, const Image *albedo) {
