@@ -780,7 +780,8 @@ TEST(PivotKeptEdges, MatchReference) {
 // Lone pivot spikes scaled against the CPU reference (bit for bit: one product each), on
 // random frames with spikes of 100 in the pivot (lone ones and pairs), colours and variances
 // that make some of them a few samples' fireflies and some steady, a variance of one channel
-// and of three, outputs of which some are kept at their input, and NaN.
+// and of three, outputs of which some are kept at their input, pivots of 0, NaN and Inf; two
+// runs bit-identical.
 TEST(PivotSpikes, MatchReference) {
     for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {40, 31}})
         for (int varianceChannels : {1, 3}) {
@@ -797,6 +798,9 @@ TEST(PivotSpikes, MatchReference) {
                         u < 0.08f || (u < 0.1f && x > 0 && pick[size_t(y) * w + x - 1] < 0.08f);
                     for (int c = 0; c < 3; ++c) {
                         pivot.At(c, y, x) = (spike ? 100 : 1) * unit(rng);
+                        // Pivots of 0: whole pixels, and one channel of some spikes.
+                        if ((u >= 0.1f && u < 0.14f) || (u < 0.02f && c == 1))
+                            pivot.At(c, y, x) = 0;
                         color.At(c, y, x) = pivot.At(c, y, x) * unit(rng);
                         output.At(c, y, x) =
                             u > 0.9f || u < 0.01f ? color.At(c, y, x) : unit(rng);
@@ -807,11 +811,19 @@ TEST(PivotSpikes, MatchReference) {
                 }
             if (w * h > 6) pivot.data[9] = std::numeric_limits<float>::quiet_NaN();
             if (w * h > 60) variance.data[50] = -1;
-            Image expected = output, got = output;
+            const float inf = std::numeric_limits<float>::infinity();
+            if (w * h > 100) {
+                pivot.data[size_t(w) * h + 70] = inf;
+                color.data[90] = inf;
+                variance.data[100] = inf;
+            }
+            Image expected = output, got = output, again = output;
             std::vector<size_t> want = ref::ScalePivotSpikes(color, pivot, variance, &expected);
             std::vector<size_t> scaled = ScalePivotSpikes(color, pivot, variance, &got);
             EXPECT_EQ(scaled, want) << w << "x" << h << " variance " << varianceChannels;
             EXPECT_TRUE(BitIdentical(got, expected)) << w << "x" << h;
+            EXPECT_EQ(ScalePivotSpikes(color, pivot, variance, &again), scaled);
+            EXPECT_TRUE(BitIdentical(again, got)) << "two runs differ, " << w << "x" << h;
             if (w >= 17) {
                 EXPECT_GT(want.size(), 0u) << "the case scales no spike";
             }

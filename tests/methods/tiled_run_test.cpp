@@ -92,6 +92,13 @@ void ExpectSameBits(const Image &a, const Image &b, const std::string &what) {
     }
 }
 
+// The halo a tiled run's plan states ("a halo of N pixels"), or -1.
+int HaloOf(const Result &tiled) {
+    const std::string key = "a halo of ";
+    const size_t at = tiled.plan.empty() ? std::string::npos : tiled.plan[0].find(key);
+    return at == std::string::npos ? -1 : std::stoi(tiled.plan[0].substr(at + key.size()));
+}
+
 struct LocalCase {
     std::string name, method;
     Params params;
@@ -136,6 +143,9 @@ TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
         EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
         ExpectSameBits(whole.image, tiled.image, c.name + " on the " + kind + " frame");
         if (kind == "spikes") {
+            // The spikes' 3x3 window adds exactly 1 to the halo.
+            Result off = RunWith(device, c.method, c.params, frame, c.tile);
+            EXPECT_EQ(HaloOf(tiled), HaloOf(off) + 1) << tiled.plan[0] << "\n" << off.plan[0];
             bool scaled = false;
             for (const std::string &line : whole.plan)
                 scaled |= line.rfind("pivot spikes: ", 0) == 0 &&
