@@ -48,6 +48,35 @@ struct PivotSettings {
     std::vector<std::vector<float>> partialThresholds;
 };
 
+// Lone pivot spikes that few samples saw scaled in the result's image (--pivot-spikes), with
+// the plan's line and the stage. Only the sample variance tells how few samples saw a pixel:
+// the frame's estimate is large at every highlight. Returns the colour the local means are
+// restored from, the scaled pixels at their output (a firefly is noise, not energy to give
+// back over the tents around it); empty where it is the input.
+Image ScaleSpikes(const PivotInputs &in, const RunOptions &run, Result *result) {
+    if (!in.variance) {
+        result->plan.push_back("pivot spikes: not looked for (no variance layer)");
+        return {};
+    }
+    const std::vector<size_t> spikes =
+        ScalePivotSpikes(*in.color, *in.pivot, *in.variance, &result->image);
+    Image restoreFrom;
+    if (!spikes.empty()) {
+        restoreFrom = *in.color;
+        for (size_t p : spikes)
+            for (int c = 0; c < restoreFrom.channels; ++c)
+                restoreFrom.Plane(c)[p] = result->image.Plane(c)[p];
+    }
+    result->plan.push_back(fmt::format(
+        "pivot spikes: {} pixels whose pivot is a lone spike (over {} times its neighbours' "
+        "median) and whose colour's standard deviation is at least {} of it (the variance "
+        "layer) take their filtered z times their neighbours' pivot, their firefly not "
+        "restored",
+        spikes.size(), kPivotSpike, kPivotSpikeNoise));
+    if (run.keepStages) result->stages.push_back({"pivot spikes", result->image});
+    return restoreFrom;
+}
+
 class Pivot : public FrontEndOf<PivotSettings> {
   public:
     Pivot()
@@ -213,31 +242,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const Image &variance = in.variance ? *in.variance : estimated;
         const char *noiseSource = in.variance ? "the variance layer"
                                               : "estimated from the frame divided by the pivot";
-        // The colour the local means are restored from: a scaled spike's firefly is noise
-        // whose energy is not given back over the tents around it.
-        // Only the sample variance tells how few samples saw a pixel: the frame's estimate is
-        // large at every highlight.
         Image restoreFrom;
-        if (options.spikes && !in.variance)
-            result.plan.push_back("pivot spikes: not looked for (no variance layer)");
-        if (options.spikes && in.variance) {
-            const std::vector<size_t> spikes =
-                ScalePivotSpikes(*in.color, *in.pivot, *in.variance, &result.image);
-            const size_t scaled = spikes.size();
-            if (!spikes.empty()) {
-                restoreFrom = *in.color;
-                for (size_t p : spikes)
-                    for (int c = 0; c < restoreFrom.channels; ++c)
-                        restoreFrom.Plane(c)[p] = result.image.Plane(c)[p];
-            }
-            result.plan.push_back(fmt::format(
-                "pivot spikes: {} pixels whose pivot is a lone spike (over {} times its "
-                "neighbours' median) and whose colour's standard deviation is at least {} of "
-                "it (the variance layer) take their filtered z times their neighbours' pivot, "
-                "their firefly not restored",
-                scaled, kPivotSpike, kPivotSpikeNoise));
-            if (run.keepStages) result.stages.push_back({"pivot spikes", result.image});
-        }
+        if (options.spikes) restoreFrom = ScaleSpikes(in, run, &result);
         if (!options.keepEdges) {
             KeptEdges kept = ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId,
                                                  &result.image);
