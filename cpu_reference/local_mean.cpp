@@ -537,7 +537,16 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
             for (int c = 0; c < input.channels; ++c) {
                 double in = input.At(c, y, x), out = output->At(c, y, x);
                 double spread = NoiseSpread(variance, c, x, y);
-                if (spread < 0 || !std::isfinite(in) || !std::isfinite(out)) continue;
+                if (!std::isfinite(in) || !std::isfinite(out)) continue;
+                // Without a spread only the floor: not below 0 where the input is not
+                // negative, the channel alone.
+                if (spread < 0) {
+                    if (in >= 0 && out < 0) {
+                        output->At(c, y, x) = 0;
+                        ++clamped;
+                    }
+                    continue;
+                }
                 sd[c] = k * spread;
                 // Not below 0 where the input is not negative.
                 double low = in >= 0 ? std::max(0.0, in - sd[c]) : in - sd[c];

@@ -82,10 +82,11 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
 // the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel
 // (the variance's one channel, or channel c), and not below 0 where the input is not
-// negative; left where the pixel's variance is 0, where the input, the output or any variance
-// of the window is not finite, or a variance is negative. The channels a pixel bounds move to
-// input + t (output - input), one t for the pixel: the largest that keeps every one of them
-// in its range. Returns the number of values moved.
+// negative; left where the input or the output is not finite. Where the pixel's variance is 0
+// or a variance of the window is not finite or is negative, only a value below 0 whose input
+// is not negative changes, to 0, on its own. The other channels a pixel bounds move to input
+// + t (output - input), one t for the pixel: the largest that keeps every one of them in its
+// range. Returns the number of values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
 // The bound's standard deviation of channel c (the variance's one channel, or channel c) at

@@ -8,9 +8,11 @@
 #include "cpu_reference/kept_edges.h"
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/pivot_filter.h"
+#include "cpu_reference/pivot_spikes.h"
 #include "host/api/front_end.h"
 #include "host/common/kept_edges.h"
 #include "host/common/local_mean.h"
+#include "host/common/pivot_spikes.h"
 #include "host/io/hints.h"
 #include "host/methods/auto.h"
 #include "host/methods/pivot.h"
@@ -34,6 +36,8 @@ struct PivotSettings {
     // Keep the values kept at their input beside other ids as they are (ClampKeptEdgeValues
     // off).
     bool keepEdges = false;
+    // Scale the output of pixels whose pivot is a lone spike (ScalePivotSpikes).
+    bool spikes = false;
     // The output held to the range of its input's (2 r + 1)^2 window (BoundToInputRange);
     // 0: off.
     int range = 1;
@@ -43,6 +47,35 @@ struct PivotSettings {
     std::vector<float> thresholds;
     std::vector<std::vector<float>> partialThresholds;
 };
+
+// Lone pivot spikes that few samples saw scaled in the result's image (--pivot-spikes), with
+// the plan's line and the stage. Only the sample variance tells how few samples saw a pixel:
+// the frame's estimate is large at every highlight. Returns the colour the local means are
+// restored from, the scaled pixels at their output (a firefly is noise, not energy to give
+// back over the tents around it); empty where it is the input.
+Image ScaleSpikes(const PivotInputs &in, const RunOptions &run, Result *result) {
+    if (!in.variance) {
+        result->plan.push_back("pivot spikes: not looked for (no variance layer)");
+        return {};
+    }
+    const std::vector<size_t> spikes =
+        ScalePivotSpikes(*in.color, *in.pivot, *in.variance, &result->image);
+    Image restoreFrom;
+    if (!spikes.empty()) {
+        restoreFrom = *in.color;
+        for (size_t p : spikes)
+            for (int c = 0; c < restoreFrom.channels; ++c)
+                restoreFrom.Plane(c)[p] = result->image.Plane(c)[p];
+    }
+    result->plan.push_back(fmt::format(
+        "pivot spikes: {} pixels whose pivot is a lone spike (over {} times its neighbours' "
+        "median) and whose colour's standard deviation is at least {} of it (the variance "
+        "layer) take their filtered z times their neighbours' pivot, their firefly not "
+        "restored",
+        spikes.size(), kPivotSpike, kPivotSpikeNoise));
+    if (run.keepStages) result->stages.push_back({"pivot spikes", result->image});
+    return restoreFrom;
+}
 
 class Pivot : public FrontEndOf<PivotSettings> {
   public:
@@ -131,6 +164,17 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "own ids' level within 2, the lower of their median and its pivot times "
                    "their median over the pivot (dots along a wire)",
                    &PivotSettings::keepEdges),
+               BoolParam("pivot-spikes",
+                         "scale lone pivot spikes: a pixel whose pivot is a lone spike (over "
+                         "16 times its neighbours' median, channels summed, that median above "
+                         "0) and whose colour's standard deviation (the variance layer; "
+                         "frames without one are left) is at least a quarter of it takes its "
+                         "filtered z times its neighbours' median pivot (an albedo that "
+                         "followed a mirror to a light in one of a few samples carries the "
+                         "firefly, and z times the pivot gives it back); it also removes real "
+                         "highlights that a single sample saw (beyond the paper; off by "
+                         "default)",
+                         &PivotSettings::spikes),
                IntParam("pivot-range",
                         "each pixel's channels end within the range of their input's values "
                         "in the window of this half-size, moved toward their input by one "
@@ -147,7 +191,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                           "largest) from its input, before the local means are restored: fits "
                           "that overshoot an edge or go negative cannot move a pixel farther "
                           "than its noise allows; a pixel's channels move by one share, so a "
-                          "bound does not tint it, and not below 0 (beyond the paper; 0: off)",
+                          "bound does not tint it, and not below 0; a value of variance 0 is "
+                          "only kept from going below 0 (beyond the paper; 0: off)",
                           &PivotSettings::bound, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
@@ -189,6 +234,16 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                "layer): the median over 5x5 of the smallest squared second "
                                "difference of color / pivot over 4 directions, times the "
                                "pivot squared");
+        // Without a variance layer, the range and the bound read the frame's own noise
+        // estimate (auto's).
+        Image estimated;
+        if (!in.variance && (options.range > 0 || options.bound > 0))
+            estimated = AutoNoise(context, *in.color, in.pivot, 1).image;
+        const Image &variance = in.variance ? *in.variance : estimated;
+        const char *noiseSource = in.variance ? "the variance layer"
+                                              : "estimated from the frame divided by the pivot";
+        Image restoreFrom;
+        if (options.spikes) restoreFrom = ScaleSpikes(in, run, &result);
         if (!options.keepEdges) {
             KeptEdges kept = ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId,
                                                  &result.image);
@@ -203,14 +258,6 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 kept.clamped, kept.thin, kept.alone));
             if (run.keepStages) result.stages.push_back({"kept edges", result.image});
         }
-        // Without a variance layer, the range and the bound read the frame's own noise
-        // estimate (auto's).
-        Image estimated;
-        if (!in.variance && (options.range > 0 || options.bound > 0))
-            estimated = AutoNoise(context, *in.color, in.pivot, 1).image;
-        const Image &variance = in.variance ? *in.variance : estimated;
-        const char *noiseSource = in.variance ? "the variance layer"
-                                              : "estimated from the frame divided by the pivot";
         if (options.range > 0) {
             size_t moved = BoundToInputRange(*in.color, variance, options.range,
                                              kPivotRangeSpread, &result.image);
@@ -226,14 +273,15 @@ class Pivot : public FrontEndOf<PivotSettings> {
             result.plan.push_back(fmt::format(
                 "bound: {} values moved to within {} standard deviations of their input's "
                 "noise ({}: the pixel's, or its 3x3 window's mean without the largest, the "
-                "larger)",
+                "larger; those of variance 0 only kept from going below 0)",
                 moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
         if (int r = options.method.meanRadius; r > 0) {
-            result.plan.push_back("local mean: " + RestoreLocalMeansRebalanced(*in.color, r,
-                                                                               &result.image,
-                                                                               in.variance));
+            result.plan.push_back(
+                "local mean: " +
+                RestoreLocalMeansRebalanced(restoreFrom.Empty() ? *in.color : restoreFrom, r,
+                                            &result.image, in.variance));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         if (UsesAlbedo(inputs))
@@ -269,15 +317,17 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
-        // the kept edges' 5x5 window (a thin part's own median); the range's window.
-        const int bound =
-            (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) + options.range;
+        // the kept edges' 5x5 window (a thin part's own median); the range's window; the
+        // spikes' 3x3 window and the noise estimate's.
+        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) +
+                          options.range + (options.spikes ? 1 : 0);
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += mean + bound + frameNoise;
         needs.reachText += fmt::format(
             "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
-            "kept edges' and the range's windows; {} for the frame's noise estimate",
+            "kept edges', the range's and the spikes' windows; {} for the frame's noise "
+            "estimate",
             mean, bound, frameNoise);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
@@ -323,6 +373,13 @@ class Pivot : public FrontEndOf<PivotSettings> {
         cpuIn.remainder = in.remainder;
         std::vector<std::pair<std::string, Image>> cpu;
         Image out = ref::PivotFilter(cpuIn, options.method, &cpu);
+        Image restoreFrom = *in.color;
+        if (options.spikes && in.variance) {
+            for (size_t p : ref::ScalePivotSpikes(*in.color, *in.pivot, *in.variance, &out))
+                for (int c = 0; c < out.channels; ++c)
+                    restoreFrom.Plane(c)[p] = out.Plane(c)[p];
+            cpu.emplace_back("pivot spikes", out);
+        }
         if (!options.keepEdges) {
             ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
             cpu.emplace_back("kept edges", out);
@@ -340,7 +397,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
             cpu.emplace_back("bound", out);
         }
         if (int r = options.method.meanRadius; r > 0) {
-            ref::RestoreLocalMeans(*in.color, r, &out, in.variance, kLocalMeanRebalance, true);
+            ref::RestoreLocalMeans(restoreFrom, r, &out, in.variance, kLocalMeanRebalance,
+                                   true);
             cpu.emplace_back("local mean", std::move(out));
         }
         std::vector<Stage> stages;

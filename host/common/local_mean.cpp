@@ -733,6 +733,56 @@ double BoundAllowed(double in, double o, double spread) {
     return o < in ? in - BoundLow(in, spread) : spread;
 }
 
+// One channel's limits under a bound that moves a pixel's channels by one share: the
+// range [lo, hi] its value ends in, and the largest share of its move from the input that
+// the range allows. Not bounded: the channel is left as it is. Floor only: its noise says
+// nothing, so it is only kept from going below 0, alone (moving the pixel's other channels
+// with it, to their input, brought back a dim frame's grain).
+struct ChannelLimit {
+    bool bounded = false, floorOnly = false;
+    double lo = 0, hi = 0, share = 1;
+};
+
+// Each pixel's bounded channels moved to input + t (output - input), clamped to their
+// ranges, with one t for the pixel: the least share any of its channels allows (a bound on
+// one channel alone would tint the pixel); a channel bounded by its floor only is raised to
+// 0 where it is below. `limit(c, x, y, in, out)` gives a channel's
+// ChannelLimit; `cost`: about the operations per pixel and channel. Returns how many values
+// moved.
+template <typename Limit>
+size_t MoveByOneShare(const Image &input, Image *output, size_t cost, Limit limit) {
+    const int w = input.width, h = input.height, channels = input.channels;
+    std::atomic<size_t> moved{0};
+    ParallelFor(h, size_t(w) * h * cost * channels, [&](int yBegin, int yEnd) {
+        size_t movedHere = 0;
+        std::vector<ChannelLimit> limits(channels);
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                double t = 1;
+                for (int c = 0; c < channels; ++c) {
+                    limits[c] =
+                        limit(c, x, y, double(input.Plane(c)[p]), double(output->Plane(c)[p]));
+                    if (limits[c].floorOnly && output->Plane(c)[p] < 0)
+                        output->Plane(c)[p] = 0, ++movedHere;
+                    else if (limits[c].bounded && !limits[c].floorOnly)
+                        t = std::min(t, limits[c].share);
+                }
+                if (t == 1) continue;
+                for (int c = 0; c < channels; ++c) {
+                    if (!limits[c].bounded || limits[c].floorOnly) continue;
+                    float *out = &output->Plane(c)[p];
+                    const double in = input.Plane(c)[p];
+                    const float value = float(
+                        std::clamp(in + t * (double(*out) - in), limits[c].lo, limits[c].hi));
+                    if (value != *out) *out = value, ++movedHere;
+                }
+            }
+        moved += movedHere;
+    });
+    return moved.load();
+}
+
 }  // namespace
 
 double NoiseSpread(const Image &variance, int c, int x, int y) {
@@ -761,41 +811,21 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
             "BoundToNoise: the output must have the input's shape, the variance its "
             "size, k > 0",
             ErrorKind::Internal);
-    const int w = input.width, h = input.height, channels = input.channels;
-    std::atomic<size_t> moved{0};
-    ParallelFor(h, size_t(w) * h * 24 * channels, [&](int yBegin, int yEnd) {
-        size_t movedHere = 0;
-        std::vector<double> spread(channels);
-        for (int y = yBegin; y < yEnd; ++y)
-            for (int x = 0; x < w; ++x) {
-                const size_t p = size_t(y) * w + x;
-                // The share t of each value's move from its input that every channel's
-                // bound allows: one t for the pixel, so a bound on one channel does not
-                // tint it (a dark pixel whose channels' noise differ).
-                double t = 1;
-                for (int c = 0; c < channels; ++c) {
-                    spread[c] = -1;
-                    const double in = input.Plane(c)[p], o = output->Plane(c)[p];
-                    const double s = NoiseSpread(variance, c, x, y);
-                    if (s < 0 || !std::isfinite(in) || !std::isfinite(o)) continue;
-                    spread[c] = k * s;
-                    const double allowed = BoundAllowed(in, o, spread[c]);
-                    if (std::fabs(o - in) > allowed)
-                        t = std::min(t, allowed / std::fabs(o - in));
-                }
-                if (t == 1) continue;
-                for (int c = 0; c < channels; ++c) {
-                    if (spread[c] < 0) continue;
-                    float *out = &output->Plane(c)[p];
-                    const double in = input.Plane(c)[p];
-                    const float value = float(std::clamp(
-                        in + t * (double(*out) - in), BoundLow(in, spread[c]), in + spread[c]));
-                    if (value != *out) *out = value, ++movedHere;
-                }
-            }
-        moved += movedHere;
+    return MoveByOneShare(input, output, 24, [&](int c, int x, int y, double in, double o) {
+        ChannelLimit limit;
+        if (!std::isfinite(in) || !std::isfinite(o)) return limit;
+        const double s = NoiseSpread(variance, c, x, y);
+        if (s < 0) {
+            // Its noise says nothing, but a truth that is not negative is not made so.
+            limit.floorOnly = limit.bounded = in >= 0;
+            return limit;
+        }
+        const double spread = k * s;
+        const double allowed = BoundAllowed(in, o, spread);
+        limit = {true, false, BoundLow(in, spread), in + spread, 1};
+        if (std::fabs(o - in) > allowed) limit.share = allowed / std::fabs(o - in);
+        return limit;
     });
-    return moved.load();
 }
 
 size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
@@ -807,51 +837,26 @@ size_t BoundToInputRange(const Image &input, const Image &variance, int radius, 
             "BoundToInputRange: the output must have the input's shape, the variance its size, "
             "radius >= 0, k >= 0",
             ErrorKind::Internal);
-    const int w = input.width, h = input.height, channels = input.channels;
-    const int side = 2 * radius + 1;
-    std::atomic<size_t> moved{0};
-    ParallelFor(h, size_t(w) * h * (side * side + 9) * channels, [&](int yBegin, int yEnd) {
-        size_t movedHere = 0;
-        std::vector<double> lo(channels), hi(channels);
-        std::vector<bool> bounded(channels);
-        for (int y = yBegin; y < yEnd; ++y)
-            for (int x = 0; x < w; ++x) {
-                const size_t p = size_t(y) * w + x;
-                // The share t of each value's move that every channel's range allows.
-                double t = 1;
-                for (int c = 0; c < channels; ++c) {
-                    const float *in = input.Plane(c);
-                    const double i = in[p], o = output->Plane(c)[p];
-                    const double spread = NoiseSpread(variance, c, x, y);
-                    bounded[c] = std::isfinite(i) && std::isfinite(o) && spread >= 0;
-                    if (!bounded[c]) continue;
-                    float least = in[p], most = in[p];
-                    for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
-                        for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius);
-                             ++u) {
-                            const float q = in[size_t(v) * w + u];
-                            if (!std::isfinite(q)) continue;
-                            least = std::min(least, q);
-                            most = std::max(most, q);
-                        }
-                    lo[c] = double(least) - k * spread;
-                    hi[c] = double(most) + k * spread;
-                    if (o > hi[c]) t = std::min(t, (hi[c] - i) / (o - i));
-                    if (o < lo[c]) t = std::min(t, (i - lo[c]) / (i - o));
+    const int w = input.width, h = input.height, side = 2 * radius + 1;
+    return MoveByOneShare(
+        input, output, side * side + 9, [&](int c, int x, int y, double i, double o) {
+            ChannelLimit limit;
+            const double spread = NoiseSpread(variance, c, x, y);
+            if (!std::isfinite(i) || !std::isfinite(o) || spread < 0) return limit;
+            const float *in = input.Plane(c);
+            float least = in[size_t(y) * w + x], most = least;
+            for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u) {
+                    const float q = in[size_t(v) * w + u];
+                    if (!std::isfinite(q)) continue;
+                    least = std::min(least, q);
+                    most = std::max(most, q);
                 }
-                if (t == 1) continue;
-                for (int c = 0; c < channels; ++c) {
-                    if (!bounded[c]) continue;
-                    float *out = &output->Plane(c)[p];
-                    const double i = input.Plane(c)[p];
-                    const float value =
-                        float(std::clamp(i + t * (double(*out) - i), lo[c], hi[c]));
-                    if (value != *out) *out = value, ++movedHere;
-                }
-            }
-        moved += movedHere;
-    });
-    return moved.load();
+            limit = {true, false, double(least) - k * spread, double(most) + k * spread, 1};
+            if (o > limit.hi) limit.share = (limit.hi - i) / (o - i);
+            if (o < limit.lo) limit.share = (i - limit.lo) / (i - o);
+            return limit;
+        });
 }
 
 std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output,

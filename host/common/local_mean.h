@@ -207,13 +207,15 @@ void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<s
 // a light the guide does not show, or go negative, cannot leave a pixel farther from its
 // input than its own noise allows. The variance is the larger of the pixel's and the mean
 // over its 3x3 window clipped to the image without the window's largest value (one firefly
-// beside a pixel must not free it to take the firefly's smear). Values whose variance is 0
-// (every sample equal: at 4 spp half a dim interior's pixels, whose samples all missed the
-// light), whose input or output is not finite, or whose window has a variance that is not
-// finite or is negative, are left. A pixel's channels move by one share t of their moves,
-// the largest every channel's bound allows (a bound on one channel alone would tint the
-// pixel), and not below 0 where the input is not negative. `variance`: of the pixel mean, 1
-// or the input's channels. Returns how many values moved.
+// beside a pixel must not free it to take the firefly's smear). Values whose input or
+// output is not finite are left; so are values whose variance is 0 (every sample equal: at
+// 4 spp half a dim interior's pixels, whose samples all missed the light) or whose window
+// has a variance that is not finite or is negative, but for a floor: such a value below 0
+// where its input is not becomes 0, that channel alone (its pixel's others moved with it to
+// their input brought back a dim frame's grain). The other channels of a pixel move by one
+// share t of their moves, the largest every channel's bound allows (a bound on one channel
+// alone would tint the pixel), and not below 0 where the input is not negative. `variance`:
+// of the pixel mean, 1 or the input's channels. Returns how many values moved.
 size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *output);
 
 // The noise bound's standard deviation of channel c at (x, y), for BoundToNoise and

@@ -504,6 +504,33 @@ TEST(LocalMeanProperties, BoundMovesAPixelsChannelsByOneShare) {
     EXPECT_EQ(reference.At(0, 0, 0), negative.At(0, 0, 0));
 }
 
+// Issue #29, a chrome sphere's contact with the floor (glossy_lights accumulated): pixels
+// whose samples were all 0 (variance 0) took fits that went negative, and the bound, which
+// leaves what its noise cannot say, let them through. A value of variance 0 is still not
+// moved below 0 where its input is not, on its own (its pixel's other channels stay: moved
+// to their input they brought back a dim frame's grain); a positive one stays, and so does
+// a negative input's.
+TEST(LocalMeanProperties, BoundKeepsValuesOfVarianceZeroFromGoingNegative) {
+    Image input(3, 1, 3), output(3, 1, 3), variance(3, 1, 3, 0.f);
+    const float black[3] = {0.005f, 0.0033f, -0.0008f};
+    const float dim[3] = {0.03f, -0.001f, 0.02f};
+    for (int c = 0; c < 3; ++c) {
+        input.At(c, 0, 0) = 0, output.At(c, 0, 0) = black[c];
+        input.At(c, 0, 1) = 0.02f, output.At(c, 0, 1) = dim[c];
+        input.At(c, 0, 2) = -0.01f, output.At(c, 0, 2) = -0.02f;
+    }
+    Image reference = output;
+    EXPECT_EQ(BoundToNoise(input, variance, 3, &output), 2u);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(output.At(c, 0, 0), std::max(0.f, black[c])) << c;
+        EXPECT_EQ(output.At(c, 0, 1), std::max(0.f, dim[c])) << c;
+        EXPECT_EQ(output.At(c, 0, 2), -0.02f) << c;
+    }
+    EXPECT_EQ(ref::BoundToNoise(input, variance, 3, &reference), 2u);
+    EXPECT_EQ(0,
+              std::memcmp(reference.data.data(), output.data.data(), output.data.size() * 4));
+}
+
 // Issue #29, a glossy ring's highlights: fits several times the brightest input around them
 // end at that input's range, the pixel's channels moved by one share (no tint); a value
 // inside the range stays, a firefly within the window widens it, and so does the noise by k

@@ -14,6 +14,7 @@
 
 #include "cpu_reference/kept_edges.h"
 #include "cpu_reference/pivot_filter.h"
+#include "cpu_reference/pivot_spikes.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
@@ -21,6 +22,7 @@
 #include "host/api/device.h"
 #include "host/common/kept_edges.h"
 #include "host/common/local_mean.h"
+#include "host/common/pivot_spikes.h"
 #include "host/kernels/pivot_bilateral.h"
 #include "host/kernels/pivot_fit.h"
 #include "host/kernels/pivot_gather.h"
@@ -775,6 +777,73 @@ TEST(PivotKeptEdges, MatchReference) {
     EXPECT_EQ(ClampKeptEdgeValues(none, none, nullptr, nullptr, &out).clamped, 0u);
 }
 
+// Lone pivot spikes scaled against the CPU reference (bit for bit: one product each), on
+// random frames with spikes of 100 in the pivot (lone ones and pairs), colours and variances
+// that make some of them a few samples' fireflies and some steady, a variance of one channel
+// and of three, outputs of which some are kept at their input, pivots of 0, NaN and Inf; two
+// runs bit-identical.
+TEST(PivotSpikes, MatchReference) {
+    for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {40, 31}})
+        for (int varianceChannels : {1, 3}) {
+            std::mt19937_64 rng(SeedFromName(fmt::format("pivot spikes {}x{}", w, h)));
+            std::uniform_real_distribution<float> unit(0, 1);
+            Image pivot(w, h, 3), color(w, h, 3), output(w, h, 3);
+            Image variance(w, h, varianceChannels);
+            std::vector<float> pick(size_t(w) * h);
+            for (float &u : pick) u = unit(rng);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const float u = pick[size_t(y) * w + x];
+                    const bool spike =
+                        u < 0.08f || (u < 0.1f && x > 0 && pick[size_t(y) * w + x - 1] < 0.08f);
+                    for (int c = 0; c < 3; ++c) {
+                        pivot.At(c, y, x) = (spike ? 100 : 1) * unit(rng);
+                        // Pivots of 0: whole pixels, and one channel of some spikes.
+                        if ((u >= 0.1f && u < 0.14f) || (u < 0.02f && c == 1))
+                            pivot.At(c, y, x) = 0;
+                        color.At(c, y, x) = pivot.At(c, y, x) * unit(rng);
+                        output.At(c, y, x) =
+                            u > 0.9f || u < 0.01f ? color.At(c, y, x) : unit(rng);
+                    }
+                    // Half the pixels noisy (a few samples), half steady.
+                    for (int c = 0; c < varianceChannels; ++c)
+                        variance.At(c, y, x) = unit(rng) * ((x + y) % 2 ? 1e4f : 1e-4f);
+                }
+            if (w * h > 6) pivot.data[9] = std::numeric_limits<float>::quiet_NaN();
+            if (w * h > 60) variance.data[50] = -1;
+            const float inf = std::numeric_limits<float>::infinity();
+            if (w * h > 100) {
+                pivot.data[size_t(w) * h + 70] = inf;
+                color.data[90] = inf;
+                variance.data[100] = inf;
+            }
+            Image expected = output, got = output, again = output;
+            std::vector<size_t> want = ref::ScalePivotSpikes(color, pivot, variance, &expected);
+            std::vector<size_t> scaled = ScalePivotSpikes(color, pivot, variance, &got);
+            EXPECT_EQ(scaled, want) << w << "x" << h << " variance " << varianceChannels;
+            EXPECT_TRUE(BitIdentical(got, expected)) << w << "x" << h;
+            EXPECT_EQ(ScalePivotSpikes(color, pivot, variance, &again), scaled);
+            EXPECT_TRUE(BitIdentical(again, got)) << "two runs differ, " << w << "x" << h;
+            if (w >= 17) {
+                EXPECT_GT(want.size(), 0u) << "the case scales no spike";
+            }
+        }
+    // A 2-pixel object (a thin tip, a small light) on a pivot of 0, its colour noisy: its
+    // neighbours' median is 0, and it is left alone.
+    const int w = 8, h = 6;
+    std::mt19937_64 rng(SeedFromName("pivot spikes on black"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image pivot(w, h, 3, 0.f), color(w, h, 3), output(w, h, 3), variance(w, h, 3, 1e4f);
+    for (float &v : color.data) v = 0.5f + unit(rng);
+    for (float &v : output.data) v = unit(rng);
+    for (int c = 0; c < 3; ++c) pivot.At(c, 3, 3) = pivot.At(c, 3, 4) = 5 + unit(rng);
+    Image expected = output, got = output;
+    EXPECT_TRUE(ref::ScalePivotSpikes(color, pivot, variance, &expected).empty());
+    EXPECT_TRUE(ScalePivotSpikes(color, pivot, variance, &got).empty());
+    EXPECT_TRUE(BitIdentical(got, output));
+    EXPECT_TRUE(BitIdentical(expected, output));
+}
+
 // The image of the run's stage `name` (RunOptions::keepStages); fails the test without it.
 const Image &StageNamed(const Result &result, const std::string &name) {
     for (const Stage &stage : result.stages)
@@ -822,6 +891,50 @@ struct StagedPivotRun {
     Method method{"pivot"};
     Result result;
 };
+
+// A pixel of a mirror (albedo 0.05) one of whose samples saw a small light carries the
+// firefly in its albedo as in its colour (issue 29): its z is its neighbours', and z times the
+// pivot gives the firefly back. With --pivot-spikes it takes its neighbours' level; a
+// highlight that every sample saw (its variance small) stays. Without a variance layer the
+// spikes are not looked for.
+TEST_F(PivotMethod, APivotsFireflyIsNotGivenBack) {
+    const int w = 32, h = 32;
+    const float level = 0.025f, noise = 0.1f;
+    Image color(w, h, 3), pivot(w, h, 3, 0.05f), variance(w, h, 3), objectId(w, h, 1, 1.f);
+    std::mt19937_64 rng(SeedFromName("pivot spikes frame"));
+    std::normal_distribution<float> normal(0, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) {
+                color.At(c, y, x) = std::max(0.f, level * (1 + noise * normal(rng)));
+                variance.At(c, y, x) = level * level * noise * noise;
+            }
+    for (int c = 0; c < 3; ++c) {
+        // One sample of 16 saw the light: the standard deviation of the mean is its value.
+        pivot.At(c, 16, 16) = 8, color.At(c, 16, 16) = 8.5f, variance.At(c, 16, 16) = 72;
+        // Every sample saw it.
+        pivot.At(c, 8, 8) = 8, color.At(c, 8, 8) = 4, variance.At(c, 8, 8) = 0.01f;
+    }
+    StagedPivotRun run(Ctx(), color, pivot, variance, objectId);
+    EXPECT_GT(run.result.image.At(0, 16, 16), 1.f) << "the case's firefly is kept by default";
+    run.method.Set("pivot-spikes", true);
+    Result scaled = run.method.Run(run.device, run.frame);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_LT(scaled.image.At(c, 16, 16), 4 * level) << c;
+        EXPECT_GT(scaled.image.At(c, 8, 8), 2.f) << c;
+    }
+    bool said = false;
+    for (const std::string &line : scaled.plan)
+        said |= Contains(line, "pivot spikes: 1 pixels");
+    EXPECT_TRUE(said);
+    EXPECT_TRUE(BitIdentical(run.method.Run(run.device, run.frame).image, scaled.image));
+    mcd::Frame plain = run.frame;
+    plain.layers.erase("variance");
+    said = false;
+    for (const std::string &line : run.method.Run(run.device, plain).plan)
+        said |= Contains(line, "pivot spikes: not looked for (no variance layer)");
+    EXPECT_TRUE(said);
+}
 
 // A ceiling (albedo 0.8) above a wall (albedo 0.5), of two object ids, both lit to the same
 // colour, meeting along a slanted edge whose pixels mix both albedos: divided by their

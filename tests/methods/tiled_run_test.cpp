@@ -92,6 +92,13 @@ void ExpectSameBits(const Image &a, const Image &b, const std::string &what) {
     }
 }
 
+// The halo a tiled run's plan states ("a halo of N pixels"), or -1.
+int HaloOf(const Result &tiled) {
+    const std::string key = "a halo of ";
+    const size_t at = tiled.plan.empty() ? std::string::npos : tiled.plan[0].find(key);
+    return at == std::string::npos ? -1 : std::stoi(tiled.plan[0].substr(at + key.size()));
+}
+
 struct LocalCase {
     std::string name, method;
     Params params;
@@ -114,14 +121,37 @@ TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
         Frame plain = frames[0].second;
         plain.layers.erase("variance");
         frames.push_back({"plain", plain});
+        // Lone spikes of the pivot that few samples saw, across the tiles' seams
+        // (--pivot-spikes).
+        Frame spikes = frames[1].second;
+        Image &pivot = spikes.layers["pivot"], &color = spikes.layers["color"];
+        Image &variance = spikes.layers["variance"];
+        for (size_t p = 0; p < pivot.PixelCount(); p += 37)
+            for (int c = 0; c < 3; ++c) {
+                pivot.Plane(c)[p] *= 100, color.Plane(c)[p] *= 100;
+                variance.Plane(c)[p] = color.Plane(c)[p] * color.Plane(c)[p];
+            }
+        frames.push_back({"spikes", spikes});
     }
     for (const auto &[kind, frame] : frames) {
-        Result whole = RunWith(device, c.method, c.params, frame, 0);
-        Result tiled = RunWith(device, c.method, c.params, frame, c.tile);
+        Params params = c.params;
+        if (kind == "spikes") params.push_back({"pivot-spikes", true});
+        Result whole = RunWith(device, c.method, params, frame, 0);
+        Result tiled = RunWith(device, c.method, params, frame, c.tile);
         ASSERT_FALSE(tiled.plan.empty());
         EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
         EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
         ExpectSameBits(whole.image, tiled.image, c.name + " on the " + kind + " frame");
+        if (kind == "spikes") {
+            // The spikes' 3x3 window adds exactly 1 to the halo.
+            Result off = RunWith(device, c.method, c.params, frame, c.tile);
+            EXPECT_EQ(HaloOf(tiled), HaloOf(off) + 1) << tiled.plan[0] << "\n" << off.plan[0];
+            bool scaled = false;
+            for (const std::string &line : whole.plan)
+                scaled |= line.rfind("pivot spikes: ", 0) == 0 &&
+                          line.rfind("pivot spikes: 0 ", 0) != 0;
+            EXPECT_TRUE(scaled) << "the spikes frame scales no spike";
+        }
     }
 }
 

@@ -1,0 +1,23 @@
+// CPU reference of the lone pivot spikes' scaling (host/common/pivot_spikes.h): a pixel whose
+// pivot is a firefly of its own (an albedo that followed a mirror to a light in one of a few
+// samples) takes its filtered z times its neighbours' pivot.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "host/image.h"
+
+namespace mcd::ref {
+
+// s(p): the pivot's channels summed at p. A pixel whose s and its 8 neighbours' (within the
+// image) are all finite, with s over 16 x m, m the lower middle of the sorted neighbours' s,
+// at most one neighbour's s over 16 x m, and whose colour sum C > 0 and summed variance V
+// (a one-channel variance counted once per colour channel; every value finite, >= 0) have
+// sqrt(V) >= 0.25 C: each channel c whose output differs from its colour and whose pivot
+// P_c(p) > 0 becomes output x m_c / P_c(p), m_c the lower middle of the neighbours' P_c.
+// Returns the pixels changed (y * width + x, ascending).
+std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
+                                     const Image &variance, Image *output);
+
+}  // namespace mcd::ref

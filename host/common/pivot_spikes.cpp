@@ -1,0 +1,105 @@
+#include "host/common/pivot_spikes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "host/common/parallel.h"
+#include "host/error.h"
+
+namespace mcd {
+namespace {
+
+// The lower middle of the values of `plane` at the 8 neighbours of (x, y) within the image.
+double NeighbourMedian(const float *plane, int w, int h, int x, int y) {
+    float values[8];
+    int n = 0;
+    for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+            if (u != x || v != y) values[n++] = plane[size_t(v) * w + u];
+    std::nth_element(values, values + (n - 1) / 2, values + n);
+    return values[(n - 1) / 2];
+}
+
+// Each pixel's channels summed (NaN where one is not finite).
+std::vector<float> Sums(const Image &image) {
+    std::vector<float> sums(image.PixelCount(), 0.0f);
+    for (int c = 0; c < image.channels; ++c) {
+        const float *plane = image.Plane(c);
+        for (size_t p = 0; p < sums.size(); ++p)
+            sums[p] = std::isfinite(plane[p]) ? sums[p] + plane[p] : NAN;
+    }
+    return sums;
+}
+
+// Whether p's pivot sum is a lone spike over its neighbours' median.
+bool LoneSpike(const std::vector<float> &sums, int w, int h, int x, int y) {
+    const size_t p = size_t(y) * w + x;
+    if (!std::isfinite(sums[p]) || w * h == 1) return false;
+    int over = 0;
+    for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+            if (!std::isfinite(sums[size_t(v) * w + u])) return false;
+    // A median of 0 (background, black material) would take the tips of thin objects and
+    // small lights to 0.
+    const double median = NeighbourMedian(sums.data(), w, h, x, y);
+    if (!(median > 0) || !(sums[p] > kPivotSpike * median)) return false;
+    for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+            if ((u != x || v != y) && sums[size_t(v) * w + u] > kPivotSpike * median) ++over;
+    return over < 2;
+}
+
+// Whether p's colour is noisy enough to be a few samples' firefly.
+bool FewSamples(const Image &color, const Image &variance, size_t p) {
+    double value = 0, var = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        const float v = variance.Plane(variance.channels == 1 ? 0 : c)[p];
+        if (!std::isfinite(v) || v < 0) return false;
+        value += color.Plane(c)[p];
+        var += v;
+    }
+    return value > 0 && std::sqrt(var) >= kPivotSpikeNoise * value;
+}
+
+}  // namespace
+
+std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
+                                     const Image &variance, Image *output) {
+    if (!color.SameShape(*output) || pivot.width != color.width ||
+        pivot.height != color.height ||
+        (pivot.channels != 1 && pivot.channels != color.channels) ||
+        variance.width != color.width || variance.height != color.height ||
+        (variance.channels != 1 && variance.channels != color.channels))
+        throw Error(
+            "ScalePivotSpikes: the output must have the colour's shape, the pivot and the "
+            "variance its size and 1 or its channels",
+            ErrorKind::Internal);
+    const int w = color.width, h = color.height;
+    const std::vector<float> sums = Sums(pivot);
+    std::vector<char> scaled(size_t(w) * h, 0);
+    ParallelFor(h, size_t(w) * h * 40, [&](int yBegin, int yEnd) {
+        for (int y = yBegin; y < yEnd; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                if (!LoneSpike(sums, w, h, x, y) || !FewSamples(color, variance, p)) continue;
+                bool changed = false;
+                for (int c = 0; c < color.channels; ++c) {
+                    float *out = &output->Plane(c)[p];
+                    const float *plane = pivot.Plane(pivot.channels == 1 ? 0 : c);
+                    if (*out == color.Plane(c)[p] || !(plane[p] > 0)) continue;
+                    const double median = NeighbourMedian(plane, w, h, x, y);
+                    if (!(median > 0)) continue;
+                    *out = float(double(*out) * (median / double(plane[p])));
+                    changed = true;
+                }
+                scaled[p] = changed;
+            }
+    });
+    std::vector<size_t> pixels;
+    for (size_t p = 0; p < scaled.size(); ++p)
+        if (scaled[p]) pixels.push_back(p);
+    return pixels;
+}
+
+}  // namespace mcd
