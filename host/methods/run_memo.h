@@ -36,6 +36,12 @@ class RunMemo {
         return kept;
     }
     size_t Size() const { return entries.size(); }
+    // How many entries' keys start with `prefix` (a kind of work, as its owner names it).
+    size_t CountWithPrefix(const std::string &prefix) const {
+        return size_t(std::count_if(entries.begin(), entries.end(), [&](const auto &entry) {
+            return entry.first.compare(0, prefix.size(), prefix) == 0;
+        }));
+    }
 
   private:
     std::map<std::string, std::shared_ptr<void>> entries;
