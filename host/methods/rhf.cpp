@@ -102,6 +102,23 @@ Unusable CountUnusable(const Image &color, const Image &hist) {
     return {badColor.load(), badHist.load(), empty.load()};
 }
 
+// CountUnusable's counts kept for later runs on the same histograms with a finite colour.
+struct RhfUnusableMemo {
+    Unusable found;
+};
+
+// CountUnusable, or with a memo (the colour finite) the counts an earlier run made of the
+// same histograms.
+Unusable CountUnusableShared(const Image &color, const Image &hist, RunMemo *memo,
+                             const std::string &histId) {
+    if (!memo) return CountUnusable(color, hist);
+    const std::string key = "rhf.unusable " + histId;
+    if (const RhfUnusableMemo *kept = memo->Find<RhfUnusableMemo>(key)) return kept->found;
+    Unusable found = CountUnusable(color, hist);
+    memo->Add(key, std::make_shared<RhfUnusableMemo>(RhfUnusableMemo{found}));
+    return found;
+}
+
 // Replace what the filter cannot use: a NaN/Inf/negative bin or count by 0, and a pixel
 // whose colour is NaN/Inf by a black pixel whose histogram matches nothing.
 void Sanitize(Image &color, Image &hist) {
@@ -587,9 +604,18 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     CheckRhfInputs(colorIn, histIn, o);
     RhfResult result;
     StagedRun run(context, setup.keepStages);
+    // A non-finite colour empties its pixel's histogram (Sanitize): the selection then
+    // depends on the colour too, and is neither taken from the memo nor left in it.
+    RunMemo *memo = setup.memo;
+    if (memo && !std::all_of(colorIn.data.begin(), colorIn.data.end(),
+                             [](float v) { return std::isfinite(v); }))
+        memo = nullptr;
+    const std::string histId = memo ? MemoImageId(histIn) : std::string();
+    const std::string colorId = memo ? MemoImageId(colorIn) : std::string();
     // The inputs are copied only where a value must be replaced: the histograms are most of
-    // a frame's memory, and auto's runs of rhf all read the same.
-    const Unusable found = CountUnusable(colorIn, histIn);
+    // a frame's memory, and auto's runs of rhf all read the same. With a memo the colour is
+    // finite, so what is unusable depends on the histograms alone and is counted once.
+    const Unusable found = CountUnusableShared(colorIn, histIn, memo, histId);
     for (std::string &warning : UnusableWarnings(found)) run.Warn(std::move(warning));
     Image colorCopy, histCopy;
     if (found.badColor || found.badHist) {
@@ -599,14 +625,6 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     }
     const Image &color = colorCopy.Empty() ? colorIn : colorCopy;
     const Image &hist = histCopy.Empty() ? histIn : histCopy;
-    // A non-finite colour empties its pixel's histogram (Sanitize): the selection then
-    // depends on the colour too, and is neither taken from the memo nor left in it.
-    RunMemo *memo = setup.memo;
-    if (memo && !std::all_of(colorIn.data.begin(), colorIn.data.end(),
-                             [](float v) { return std::isfinite(v); }))
-        memo = nullptr;
-    const std::string histId = memo ? MemoImageId(histIn) : std::string();
-    const std::string colorId = memo ? MemoImageId(colorIn) : std::string();
     const int W = color.width, H = color.height, planes = hist.channels;
     RhfLayout layout = RhfLayoutFor(context, W, H, planes, o, setup);
     int scales = setup.scalesUsed > 0 ? setup.scalesUsed : RhfScalesUsed(W, H, o);

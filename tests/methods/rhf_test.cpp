@@ -288,7 +288,9 @@ TEST_F(RhfKernel, SharedSelectionsAreBitIdentical) {
     // finite colour, made at one scale and taken at two.
     EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), 2u);
     EXPECT_EQ(memo.CountWithPrefix("rhf.filtered0"), 2u);
-    EXPECT_EQ(memo.Size(), 4u);
+    // What the histograms hold that the filter cannot use, counted once.
+    EXPECT_EQ(memo.CountWithPrefix("rhf.unusable"), 1u);
+    EXPECT_EQ(memo.Size(), 5u);
 }
 
 // A run at two scales on a colour no earlier run aggregated takes the selections alone, and
@@ -535,6 +537,31 @@ TEST_F(RhfProperties, BadPixelsSameBitsWhenSplitOverThreads) {
                              serial.image.data.size() * sizeof(float)));
     EXPECT_EQ(serial.warnings, split.warnings);
     EXPECT_EQ(serial.warnings.size(), 3u);
+}
+
+// With a memo the histograms' unusable values are counted once: runs on other finite colours
+// over the same histograms warn and give what they give alone.
+TEST_F(RhfProperties, BadHistogramsSharedAcrossRunsWarnAsAlone) {
+    const int w = 22, h = 18, n3 = 3 * kBins;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf bad shared"));
+    f.hist.At(n3, 5, 5) = 0;
+    f.hist.At(3, 12, 2) = std::numeric_limits<float>::quiet_NaN();
+    f.hist.At(n3, 0, 21) = -2;
+    Image brighter = f.color;
+    for (float &v : brighter.data) v *= 1.5f;
+    RhfParams o;
+    o.searchHalf = 4;
+    RunMemo memo;
+    RunSetup shared;
+    shared.memo = &memo;
+    for (const Image *color : {&f.color, &brighter}) {
+        RhfResult alone = RhfDenoise(Ctx(), *color, f.hist, o);
+        RhfResult taken = RhfDenoise(Ctx(), *color, f.hist, o, shared);
+        EXPECT_TRUE(BitIdentical(alone.image, taken.image));
+        EXPECT_EQ(alone.warnings, taken.warnings);
+        EXPECT_EQ(taken.warnings.size(), 2u);
+    }
+    EXPECT_EQ(memo.CountWithPrefix("rhf.unusable"), 1u);
 }
 
 TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
