@@ -648,8 +648,9 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
 }
 
 // The candidates, sharing the work that depends on layers their runs and probes have in
-// common (host/methods/run_memo.h: rhf's selections, from the histograms alone): the output
-// is the same bit for bit, and the memo goes with the candidates' runs.
+// common (host/methods/run_memo.h: rhf's selections, from the histograms alone, and its
+// finest scale's aggregation of a colour, at one scale and at two): the output is the same
+// bit for bit, and the memo goes with the candidates' runs.
 Candidates RunCandidatesSharing(vk::Context &context, Inputs &inputs,
                                 const std::vector<std::unique_ptr<FrontEnd>> &methods,
                                 const Noise &noise, const AutoFrontEnd::Options &o,

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <deque>
 #include <memory>
+#include <optional>
 
 #include "host/common/parallel.h"
 #include "host/error.h"
@@ -99,6 +100,23 @@ Unusable CountUnusable(const Image &color, const Image &hist) {
         empty += rowsEmpty;
     });
     return {badColor.load(), badHist.load(), empty.load()};
+}
+
+// CountUnusable's counts kept for later runs on the same histograms with a finite colour.
+struct RhfUnusableMemo {
+    Unusable found;
+};
+
+// CountUnusable, or with a memo (the colour finite) the counts an earlier run made of the
+// same histograms.
+Unusable CountUnusableShared(const Image &color, const Image &hist, RunMemo *memo,
+                             const std::string &histId) {
+    if (!memo) return CountUnusable(color, hist);
+    const std::string key = "rhf.unusable " + histId;
+    if (const RhfUnusableMemo *kept = memo->Find<RhfUnusableMemo>(key)) return kept->found;
+    Unusable found = CountUnusable(color, hist);
+    memo->Add(key, std::make_shared<RhfUnusableMemo>(RhfUnusableMemo{found}));
+    return found;
 }
 
 // Replace what the filter cannot use: a NaN/Inf/negative bin or count by 0, and a pixel
@@ -331,12 +349,12 @@ struct ScaleInputs {
     float histScale = 1.f;
 };
 
-// Scale s >= 1: D_s of the colour and of the histograms, rescaled to keep the sample total.
+// Scale s >= 1: D_s of the colour and, where the scale selects anew, of the histograms,
+// rescaled by histScale to keep the sample total.
 ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::GpuImage &color,
-                               const RhfHistogram &full, const HistogramTotals &totals, int s,
-                               float histScale) {
+                               const RhfHistogram &full, int planes, int s, float histScale,
+                               bool selects) {
     const int W = color.width, H = color.height, Ws = Shrunk(W, s), Hs = Shrunk(H, s);
-    const int planes = full.planes, perSlot = full.planesPerSlot;
     double sigma = SigmaOfScale(s);
     ScaleInputs in;
     vk::GpuImage &u =
@@ -345,6 +363,17 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
                      DownsampleScratch(run, scratch, W, H, 3, s), u.buffer);
     run.StageAtEnd(fmt::format("color s{}", s), u);
     in.color = &u;
+    in.histScale = histScale;
+    if (!selects) {
+        // The selection is an earlier run's: the histograms are not read at this scale.
+        run.Plan(
+            fmt::format("scale {}: Gaussian downsampling by {} (sigma {:.4g}) of color "
+                        "to {}x{}; its selection is an earlier run's (histograms rescaled "
+                        "by {:.9g})",
+                        s, 1 << s, sigma, Ws, Hs, histScale));
+        return in;
+    }
+    const int perSlot = full.planesPerSlot;
     RhfHistogram &coarse = scratch.histograms.emplace_back();
     coarse.width = Ws;
     coarse.height = Hs;
@@ -361,9 +390,6 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
         RecordDownsample(run, scratch, full.slots[slot], W, H, count, s, sigma, rows, to);
     }
     in.hist = &coarse;
-    // Count-preserving rescale: the coarse count channel's total, from the tap weights (a
-    // tile's is the whole frame's).
-    in.histScale = histScale > 0 ? histScale : HistScaleOf(totals, W, H, s);
     run.Plan(fmt::format(
         "scale {}: Gaussian downsampling by {} (sigma {:.4g}) of color and {} "
         "histogram planes to {}x{}; histograms rescaled by {:.9g} to keep the sample "
@@ -379,11 +405,29 @@ struct RhfMaskMemo {
 
 // The memo's key of scale s's selection: everything it depends on, the colour apart (the
 // histograms, the scale, its histogram scale and the parameters that select).
-std::string MaskKey(const std::string &histId, const ScaleInputs &in, int s, int nearest,
+std::string MaskKey(const std::string &histId, float histScale, int s, int nearest,
                     const RhfParams &o) {
     return fmt::format(
         "rhf.mask {} s{} scale {:a} patch {} search {} nearest {} threshold {:a} veto {:a}",
-        histId, s, in.histScale, o.patchHalf, o.searchHalf, nearest, o.threshold, o.brightVeto);
+        histId, s, histScale, o.patchHalf, o.searchHalf, nearest, o.threshold, o.brightVeto);
+}
+
+// Scale 0's aggregation kept for later runs with the same colour and selection (rhf at one
+// scale and at two filter scale 0 alike).
+struct RhfFilteredMemo {
+    vk::GpuImage image;
+};
+
+// The memo's key of scale 0's aggregation: its selection's key and the colour's identity.
+std::string FilteredKey(const std::string &maskKey, const std::string &colorId) {
+    return fmt::format("rhf.filtered0 {} colour {}", maskKey, colorId);
+}
+
+// The patches scale s selects: itself and its k_NN neighbours at scale 0 (the tool counts
+// the patch itself apart from them), by distance alone at coarser scales.
+int NearestOf(int s, const RhfParams &o) {
+    int knn = s == 0 ? o.knn : 0;
+    return knn > 0 ? knn + 1 : 0;
 }
 
 // Per strip, the chi-square terms, patch distances and selection into work.mask.
@@ -410,37 +454,53 @@ int RecordSelection(StagedRun &run, RhfWork &work, const RhfLayout &layout,
 }
 
 // RHF at scale s: the selection (per strip: chi-square terms, patch distances, selection),
-// or with a memo the one an earlier run on the same histograms made (it depends on them
-// alone); then the aggregation of the colour into a new image.
-vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork &work,
-                           const RhfLayout &layout, const ScaleInputs &in, int s,
-                           const RhfParams &o, RunMemo *memo, const std::string &histId) {
+// left in the memo for later runs, or `kept`, the one an earlier run on the same histograms
+// made (it depends on them alone); then the aggregation of the colour into a new image.
+vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *work,
+                           const RhfLayout &layout, const ScaleInputs &in, int s, int planes,
+                           const RhfParams &o, RunMemo *memo, const std::string &memoKey,
+                           const RhfMaskMemo *kept, const std::string &colorId) {
     vk::Context &context = run.Context();
     vk::Recorder &recorder = run.Recorder();
-    const int Ws = in.color->width, Hs = in.color->height, n3 = in.hist->planes - 1;
+    const int Ws = in.color->width, Hs = in.color->height, n3 = planes - 1;
     const int side = 2 * o.searchHalf + 1, offsets = side * side;
-    int knn = s == 0 ? o.knn : 0;
-    // The tool counts the patch itself apart from its k_NN neighbours.
-    int nearest = knn > 0 ? knn + 1 : 0;
+    const int nearest = NearestOf(s, o);
     const size_t maskBytes = size_t(RhfMaskWords(o.searchHalf)) * Ws * Hs * sizeof(uint32_t);
-    const std::string key = memo ? MaskKey(histId, in, s, nearest, o) : std::string();
-    RhfMaskMemo *kept = memo ? memo->Find<RhfMaskMemo>(key) : nullptr;
+    // Scale 0 of the same colour with the same selection: an earlier run's aggregation.
+    const std::string filteredKey =
+        memo && kept && s == 0 ? FilteredKey(memoKey, colorId) : std::string();
+    if (RhfFilteredMemo *done =
+            filteredKey.empty() ? nullptr : memo->Find<RhfFilteredMemo>(filteredKey)) {
+        run.StageAtEnd("filtered s0", done->image);
+        run.Plan(
+            fmt::format("scale 0 ({}x{}): an earlier run's selection and aggregation of "
+                        "this colour",
+                        Ws, Hs));
+        return done->image;
+    }
     int strips = 0;
-    if (kept) {
-        recorder.Copy(kept->mask, work.mask, maskBytes);
-    } else {
-        strips = RecordSelection(run, work, layout, in, nearest, o);
+    if (!kept) {
+        strips = RecordSelection(run, *work, layout, in, nearest, o);
         if (memo) {
             auto entry = std::make_shared<RhfMaskMemo>();
             entry->mask = vk::Buffer(context, maskBytes, "rhf.mask.memo");
-            recorder.Copy(work.mask, entry->mask, maskBytes);
-            memo->Add(key, std::move(entry));
+            recorder.Copy(work->mask, entry->mask, maskBytes);
+            memo->Add(memoKey, std::move(entry));
         }
     }
-    vk::GpuImage &filtered =
-        scratch.images.emplace_back(context, Ws, Hs, 3, fmt::format("rhf.filtered{}", s));
-    RecordRhfAggregate(context, recorder, *in.color, work.mask, o.patchHalf, o.searchHalf,
-                       filtered);
+    // At scale 0 with a memo the aggregation is kept there for later runs of this colour.
+    const bool keep = memo && s == 0;
+    std::shared_ptr<RhfFilteredMemo> entry;
+    if (keep)
+        entry = std::make_shared<RhfFilteredMemo>(
+            RhfFilteredMemo{vk::GpuImage(context, Ws, Hs, 3, "rhf.filtered0")});
+    vk::GpuImage &filtered = keep ? entry->image
+                                  : scratch.images.emplace_back(
+                                        context, Ws, Hs, 3, fmt::format("rhf.filtered{}", s));
+    if (keep) memo->Add(FilteredKey(memoKey, colorId), std::move(entry));
+    // The aggregation only reads the mask: a kept one serves without a copy.
+    RecordRhfAggregate(context, recorder, *in.color, kept ? kept->mask : work->mask,
+                       o.patchHalf, o.searchHalf, filtered);
     run.StageAtEnd(fmt::format("filtered s{}", s), filtered);
     run.Plan(fmt::format(
         "scale {} ({}x{}): chi-square pixel terms for {} offsets x {} bins, {}x{} patch "
@@ -544,9 +604,18 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     CheckRhfInputs(colorIn, histIn, o);
     RhfResult result;
     StagedRun run(context, setup.keepStages);
+    // A non-finite colour empties its pixel's histogram (Sanitize): the selection then
+    // depends on the colour too, and is neither taken from the memo nor left in it.
+    RunMemo *memo = setup.memo;
+    if (memo && !std::all_of(colorIn.data.begin(), colorIn.data.end(),
+                             [](float v) { return std::isfinite(v); }))
+        memo = nullptr;
+    const std::string histId = memo ? MemoImageId(histIn) : std::string();
+    const std::string colorId = memo ? MemoImageId(colorIn) : std::string();
     // The inputs are copied only where a value must be replaced: the histograms are most of
-    // a frame's memory, and auto's runs of rhf all read the same.
-    const Unusable found = CountUnusable(colorIn, histIn);
+    // a frame's memory, and auto's runs of rhf all read the same. With a memo the colour is
+    // finite, so what is unusable depends on the histograms alone and is counted once.
+    const Unusable found = CountUnusableShared(colorIn, histIn, memo, histId);
     for (std::string &warning : UnusableWarnings(found)) run.Warn(std::move(warning));
     Image colorCopy, histCopy;
     if (found.badColor || found.badHist) {
@@ -556,13 +625,6 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     }
     const Image &color = colorCopy.Empty() ? colorIn : colorCopy;
     const Image &hist = histCopy.Empty() ? histIn : histCopy;
-    // A non-finite colour empties its pixel's histogram (Sanitize): the selection then
-    // depends on the colour too, and is neither taken from the memo nor left in it.
-    RunMemo *memo = setup.memo;
-    if (memo && !std::all_of(colorIn.data.begin(), colorIn.data.end(),
-                             [](float v) { return std::isfinite(v); }))
-        memo = nullptr;
-    const std::string histId = memo ? MemoImageId(histIn) : std::string();
     const int W = color.width, H = color.height, planes = hist.channels;
     RhfLayout layout = RhfLayoutFor(context, W, H, planes, o, setup);
     int scales = setup.scalesUsed > 0 ? setup.scalesUsed : RhfScalesUsed(W, H, o);
@@ -573,16 +635,43 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             fmt::format("left out: scale {} ({}x{} is smaller than the {}x{} search window)", s,
                         Shrunk(W, s), Shrunk(H, s), side, side));
     HistogramTotals totals = TotalsOf(hist);
+    // Each scale's histogram scale, and the selection an earlier run left for it in the
+    // memo: the histograms are uploaded, and the selection's buffers made, only where a
+    // scale selects anew.
+    std::vector<float> histScales(scales, 1.f);
+    std::vector<const RhfMaskMemo *> kept(scales, nullptr);
+    std::vector<std::string> keys(scales);
+    bool selects = false;
+    for (int s = 0; s < scales; ++s) {
+        if (s > 0)
+            histScales[s] = size_t(s) < setup.histScales.size() && setup.histScales[s] > 0
+                                ? setup.histScales[s]
+                                : HistScaleOf(totals, W, H, s);
+        if (memo) {
+            keys[s] = MaskKey(histId, histScales[s], s, NearestOf(s, o), o);
+            kept[s] = memo->Find<RhfMaskMemo>(keys[s]);
+        }
+        selects = selects || !kept[s];
+    }
 
-    // Uploads: colour and histograms at full resolution.
+    // Uploads: colour and, where a scale selects, histograms at full resolution.
     vk::GpuImage colorGpu(context, W, H, 3, "rhf.color");
     colorGpu.Upload(color);
-    RhfHistogram full = UploadHistogram(context, hist, layout.perSlot);
-    run.Plan(fmt::format(
-        "histograms: {} planes ({} bins per colour + the count) in {} buffer(s) of up to {} "
-        "planes; distances in strips of up to {} rows",
-        planes, (planes - 1) / 3, full.slots.size(), layout.perSlot, layout.stripRows));
-    RhfWork work(context, layout, o.searchHalf, W, H, planes);
+    RhfHistogram full;
+    std::optional<RhfWork> work;
+    if (selects) {
+        full = UploadHistogram(context, hist, layout.perSlot);
+        run.Plan(fmt::format(
+            "histograms: {} planes ({} bins per colour + the count) in {} buffer(s) of up to "
+            "{} planes; distances in strips of up to {} rows",
+            planes, (planes - 1) / 3, full.slots.size(), layout.perSlot, layout.stripRows));
+        work.emplace(context, layout, o.searchHalf, W, H, planes);
+    } else {
+        run.Plan(
+            fmt::format("histograms: {} planes ({} bins per colour + the count), not "
+                        "uploaded: every scale's selection is an earlier run's",
+                        planes, (planes - 1) / 3));
+    }
 
     // Coarse to fine: each scale filtered, then recombined with the coarser result.
     RhfScratch scratch;
@@ -590,11 +679,11 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     for (int s = scales - 1; s >= 0; --s) {
         ScaleInputs in{&colorGpu, &full, 1.f};
         if (s > 0)
-            in = RecordCoarseInputs(
-                run, scratch, colorGpu, full, totals, s,
-                size_t(s) < setup.histScales.size() ? setup.histScales[s] : 0.f);
+            in = RecordCoarseInputs(run, scratch, colorGpu, full, planes, s, histScales[s],
+                                    !kept[s]);
         const vk::GpuImage &filtered =
-            RecordFilter(run, scratch, work, layout, in, s, o, memo, histId);
+            RecordFilter(run, scratch, work ? &*work : nullptr, layout, in, s, planes, o, memo,
+                         keys[s], kept[s], colorId);
         previous =
             previous ? &RecordCombine(run, scratch, filtered, *previous, s, setup) : &filtered;
     }

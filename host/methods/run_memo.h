@@ -1,7 +1,8 @@
 // Work one run leaves for later runs on the same frame. auto runs several methods and
 // variants, each twice (the run and its SURE probe), on one frame whose layers differ between
 // those runs in the colour alone; some of their work depends on other layers only (rhf's
-// selection masks, from the histograms) and is computed once. The owner (auto) keeps the
+// selection masks and the histograms' unusable values) or on the same colour twice (rhf's
+// finest scale at one scale and at two) and is computed once. The owner (auto) keeps the
 // memo for one frame; an entry's key names everything its work depends on.
 #pragma once
 
@@ -36,6 +37,12 @@ class RunMemo {
         return kept;
     }
     size_t Size() const { return entries.size(); }
+    // How many entries' keys start with `prefix` (a kind of work, as its owner names it).
+    size_t CountWithPrefix(const std::string &prefix) const {
+        return size_t(std::count_if(entries.begin(), entries.end(), [&](const auto &entry) {
+            return entry.first.compare(0, prefix.size(), prefix) == 0;
+        }));
+    }
 
   private:
     std::map<std::string, std::shared_ptr<void>> entries;

@@ -260,8 +260,9 @@ TEST_F(RhfKernel, RerunsAreBitIdentical) {
 }
 
 // auto's runs share the selections (RunSetup::memo): a run on another colour over the same
-// histograms, and one at two scales after one at one scale, give what they give alone; a
-// colour with a NaN (which empties its pixel's histogram) neither takes nor leaves one.
+// histograms, and one at two scales after one at one scale (which takes scale 0's
+// aggregation of the same colour too), give what they give alone; a colour with a NaN (which
+// empties its pixel's histogram) neither takes nor leaves one.
 TEST_F(RhfKernel, SharedSelectionsAreBitIdentical) {
     Frame f = MakeFrame(37, 34, SeedFromName("rhf memo"));
     Image perturbed = f.color, broken = f.color;
@@ -283,8 +284,37 @@ TEST_F(RhfKernel, SharedSelectionsAreBitIdentical) {
             EXPECT_TRUE(BitIdentical(RhfDenoise(Ctx(), *color, f.hist, o).image,
                                      RhfDenoise(Ctx(), *color, f.hist, o, shared).image));
         }
-    // The finest scale's selection and the coarse one's.
-    EXPECT_EQ(memo.Size(), 2u);
+    // The finest scale's selection and the coarse one's; scale 0's aggregation of each
+    // finite colour, made at one scale and taken at two.
+    EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), 2u);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.filtered0"), 2u);
+    // What the histograms hold that the filter cannot use, counted once.
+    EXPECT_EQ(memo.CountWithPrefix("rhf.unusable"), 1u);
+    EXPECT_EQ(memo.Size(), 5u);
+}
+
+// A run at two scales on a colour no earlier run aggregated takes the selections alone, and
+// one whose every selection is kept (its histograms not uploaded) gives what it gives alone.
+TEST_F(RhfKernel, KeptSelectionsWithoutTheirAggregationAreBitIdentical) {
+    Frame f = MakeFrame(41, 36, SeedFromName("rhf memo two scales"));
+    Image brighter = f.color;
+    for (float &v : brighter.data) v *= 1.5f;
+    RhfParams one, two;
+    one.searchHalf = two.searchHalf = 4;
+    two.scales = 2;
+    RunMemo memo;
+    RunSetup shared;
+    shared.memo = &memo;
+    RhfDenoise(Ctx(), f.color, f.hist, one, shared);
+    EXPECT_TRUE(BitIdentical(RhfDenoise(Ctx(), brighter, f.hist, two).image,
+                             RhfDenoise(Ctx(), brighter, f.hist, two, shared).image));
+    EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), 2u);
+    // Every selection kept now: a third colour at two scales uploads no histograms.
+    Image darker = f.color;
+    for (float &v : darker.data) v *= 0.5f;
+    EXPECT_TRUE(BitIdentical(RhfDenoise(Ctx(), darker, f.hist, two).image,
+                             RhfDenoise(Ctx(), darker, f.hist, two, shared).image));
+    EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), 2u);
 }
 
 class RhfProperties : public GpuTest {};
@@ -507,6 +537,31 @@ TEST_F(RhfProperties, BadPixelsSameBitsWhenSplitOverThreads) {
                              serial.image.data.size() * sizeof(float)));
     EXPECT_EQ(serial.warnings, split.warnings);
     EXPECT_EQ(serial.warnings.size(), 3u);
+}
+
+// With a memo the histograms' unusable values are counted once: runs on other finite colours
+// over the same histograms warn and give what they give alone.
+TEST_F(RhfProperties, BadHistogramsSharedAcrossRunsWarnAsAlone) {
+    const int w = 22, h = 18, n3 = 3 * kBins;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf bad shared"));
+    f.hist.At(n3, 5, 5) = 0;
+    f.hist.At(3, 12, 2) = std::numeric_limits<float>::quiet_NaN();
+    f.hist.At(n3, 0, 21) = -2;
+    Image brighter = f.color;
+    for (float &v : brighter.data) v *= 1.5f;
+    RhfParams o;
+    o.searchHalf = 4;
+    RunMemo memo;
+    RunSetup shared;
+    shared.memo = &memo;
+    for (const Image *color : {&f.color, &brighter}) {
+        RhfResult alone = RhfDenoise(Ctx(), *color, f.hist, o);
+        RhfResult taken = RhfDenoise(Ctx(), *color, f.hist, o, shared);
+        EXPECT_TRUE(BitIdentical(alone.image, taken.image));
+        EXPECT_EQ(alone.warnings, taken.warnings);
+        EXPECT_EQ(taken.warnings.size(), 2u);
+    }
+    EXPECT_EQ(memo.CountWithPrefix("rhf.unusable"), 1u);
 }
 
 TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
