@@ -454,42 +454,42 @@ int RecordSelection(StagedRun &run, RhfWork &work, const RhfLayout &layout,
 }
 
 // RHF at scale s: the selection (per strip: chi-square terms, patch distances, selection),
-// left in the memo for later runs, or `kept`, the one an earlier run on the same histograms
-// made (it depends on them alone); then the aggregation of the colour into a new image.
-vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *work,
-                           const RhfLayout &layout, const ScaleInputs &in, int s, int planes,
-                           const RhfParams &o, RunMemo *memo, const std::string &memoKey,
-                           const RhfMaskMemo *kept, const std::string &colorId) {
+// left in `made` for later runs, or `kept`, the one an earlier run on the same histograms
+// made (it depends on them alone); then the aggregation of the colour into a new image, or
+// at scale 0 `keptFiltered`, an earlier run's of the same colour with the same selection.
+// `made` (null without a memo) holds this run's entries until the GPU has filled them.
+const vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *work,
+                                 const RhfLayout &layout, const ScaleInputs &in, int s,
+                                 int planes, const RhfParams &o, RunMemo *made,
+                                 const std::string &memoKey, const RhfMaskMemo *kept,
+                                 const RhfFilteredMemo *keptFiltered,
+                                 const std::string &colorId) {
     vk::Context &context = run.Context();
     vk::Recorder &recorder = run.Recorder();
     const int Ws = in.color->width, Hs = in.color->height, n3 = planes - 1;
     const int side = 2 * o.searchHalf + 1, offsets = side * side;
     const int nearest = NearestOf(s, o);
     const size_t maskBytes = size_t(RhfMaskWords(o.searchHalf)) * Ws * Hs * sizeof(uint32_t);
-    // Scale 0 of the same colour with the same selection: an earlier run's aggregation.
-    const std::string filteredKey =
-        memo && kept && s == 0 ? FilteredKey(memoKey, colorId) : std::string();
-    if (RhfFilteredMemo *done =
-            filteredKey.empty() ? nullptr : memo->Find<RhfFilteredMemo>(filteredKey)) {
-        run.StageAtEnd("filtered s0", done->image);
+    if (keptFiltered) {
+        run.StageAtEnd("filtered s0", keptFiltered->image);
         run.Plan(
             fmt::format("scale 0 ({}x{}): an earlier run's selection and aggregation of "
                         "this colour",
                         Ws, Hs));
-        return done->image;
+        return keptFiltered->image;
     }
     int strips = 0;
     if (!kept) {
         strips = RecordSelection(run, *work, layout, in, nearest, o);
-        if (memo) {
+        if (made) {
             auto entry = std::make_shared<RhfMaskMemo>();
             entry->mask = vk::Buffer(context, maskBytes, "rhf.mask.memo");
             recorder.Copy(work->mask, entry->mask, maskBytes);
-            memo->Add(memoKey, std::move(entry));
+            made->Add(memoKey, std::move(entry));
         }
     }
     // At scale 0 with a memo the aggregation is kept there for later runs of this colour.
-    const bool keep = memo && s == 0;
+    const bool keep = made && s == 0;
     std::shared_ptr<RhfFilteredMemo> entry;
     if (keep)
         entry = std::make_shared<RhfFilteredMemo>(
@@ -497,7 +497,7 @@ vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *work,
     vk::GpuImage &filtered = keep ? entry->image
                                   : scratch.images.emplace_back(
                                         context, Ws, Hs, 3, fmt::format("rhf.filtered{}", s));
-    if (keep) memo->Add(FilteredKey(memoKey, colorId), std::move(entry));
+    if (keep) made->Add(FilteredKey(memoKey, colorId), std::move(entry));
     // The aggregation only reads the mask: a kept one serves without a copy.
     RecordRhfAggregate(context, recorder, *in.color, kept ? kept->mask : work->mask,
                        o.patchHalf, o.searchHalf, filtered);
@@ -673,7 +673,15 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
                         planes, (planes - 1) / 3));
     }
 
-    // Coarse to fine: each scale filtered, then recombined with the coarser result.
+    // Scale 0's aggregation of this colour, where an earlier run made it on the same
+    // selection.
+    const RhfFilteredMemo *keptFiltered =
+        memo && kept[0] ? memo->Find<RhfFilteredMemo>(FilteredKey(keys[0], colorId)) : nullptr;
+
+    // Coarse to fine: each scale filtered, then recombined with the coarser result. The
+    // entries this run makes go to the memo once the GPU has written them: a run that throws
+    // on the way (out of memory) leaves none unwritten for auto's next candidate.
+    RunMemo made;
     RhfScratch scratch;
     const vk::GpuImage *previous = nullptr;
     for (int s = scales - 1; s >= 0; --s) {
@@ -681,14 +689,15 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
         if (s > 0)
             in = RecordCoarseInputs(run, scratch, colorGpu, full, planes, s, histScales[s],
                                     !kept[s]);
-        const vk::GpuImage &filtered =
-            RecordFilter(run, scratch, work ? &*work : nullptr, layout, in, s, planes, o, memo,
-                         keys[s], kept[s], colorId);
+        const vk::GpuImage &filtered = RecordFilter(
+            run, scratch, work ? &*work : nullptr, layout, in, s, planes, o,
+            memo ? &made : nullptr, keys[s], kept[s], s == 0 ? keptFiltered : nullptr, colorId);
         previous =
             previous ? &RecordCombine(run, scratch, filtered, *previous, s, setup) : &filtered;
     }
     run.Submit();
     result.image = previous->Download();
+    if (memo) memo->Merge(std::move(made));
     if (!o.keepNegative) ClampNegative(run, result.image);
     run.Finish(result);
     return result;

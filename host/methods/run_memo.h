@@ -36,6 +36,11 @@ class RunMemo {
         entries[key] = std::move(entry);
         return kept;
     }
+    // Move `other`'s entries into this memo (one under a key this memo holds replaces it).
+    void Merge(RunMemo &&other) {
+        for (auto &entry : other.entries) entries[entry.first] = std::move(entry.second);
+        other.entries.clear();
+    }
     size_t Size() const { return entries.size(); }
     // How many entries' keys start with `prefix` (a kind of work, as its owner names it).
     size_t CountWithPrefix(const std::string &prefix) const {

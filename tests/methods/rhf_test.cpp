@@ -260,8 +260,9 @@ TEST_F(RhfKernel, RerunsAreBitIdentical) {
 }
 
 // auto's runs share the selections (RunSetup::memo): a run on another colour over the same
-// histograms, and one at two scales after one at one scale (which takes scale 0's
-// aggregation of the same colour too), give what they give alone; a colour with a NaN (which
+// histograms, one with another patch size on the same colour, and one at two scales after
+// those at one scale (which takes scale 0's aggregation of the same colour and selection,
+// not the other patch size's), give what they give alone; a colour with a NaN (which
 // empties its pixel's histogram) neither takes nor leaves one.
 TEST_F(RhfKernel, SharedSelectionsAreBitIdentical) {
     Frame f = MakeFrame(37, 34, SeedFromName("rhf memo"));
@@ -269,28 +270,30 @@ TEST_F(RhfKernel, SharedSelectionsAreBitIdentical) {
     std::mt19937 rng(SeedFromName("rhf memo probe"));
     for (float &v : perturbed.data) v += (rng() & 1u) ? 0.05f : -0.05f;
     broken.data[5] = std::numeric_limits<float>::quiet_NaN();
-    RhfParams one, two;
-    one.searchHalf = two.searchHalf = 4;
+    RhfParams one, wider, two;
+    one.searchHalf = wider.searchHalf = two.searchHalf = 4;
+    wider.patchHalf = one.patchHalf + 1;
     two.scales = 2;
     RunMemo memo;
     RunSetup shared;
     shared.memo = &memo;
-    for (const RhfParams &o : {one, two})
+    for (const RhfParams &o : {one, wider, two})
         for (const Image *color : {&f.color, &perturbed, &broken}) {
-            SCOPED_TRACE(fmt::format("{} scale(s), colour {}", o.scales,
+            SCOPED_TRACE(fmt::format("{} scale(s), patch half {}, colour {}", o.scales,
+                                     o.patchHalf,
                                      color == &f.color     ? "as made"
                                      : color == &perturbed ? "perturbed"
                                                            : "with a NaN"));
             EXPECT_TRUE(BitIdentical(RhfDenoise(Ctx(), *color, f.hist, o).image,
                                      RhfDenoise(Ctx(), *color, f.hist, o, shared).image));
         }
-    // The finest scale's selection and the coarse one's; scale 0's aggregation of each
-    // finite colour, made at one scale and taken at two.
-    EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), 2u);
-    EXPECT_EQ(memo.CountWithPrefix("rhf.filtered0"), 2u);
+    // The finest scale's selection of each patch size and the coarse one's; scale 0's
+    // aggregation of each finite colour per patch size, made at one scale and taken at two.
+    EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), 3u);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.filtered0"), 4u);
     // What the histograms hold that the filter cannot use, counted once.
     EXPECT_EQ(memo.CountWithPrefix("rhf.unusable"), 1u);
-    EXPECT_EQ(memo.Size(), 5u);
+    EXPECT_EQ(memo.Size(), 8u);
 }
 
 // A run at two scales on a colour no earlier run aggregated takes the selections alone, and
@@ -540,13 +543,17 @@ TEST_F(RhfProperties, BadPixelsSameBitsWhenSplitOverThreads) {
 }
 
 // With a memo the histograms' unusable values are counted once: runs on other finite colours
-// over the same histograms warn and give what they give alone.
+// over the same histograms warn and give what they give alone, and runs over other
+// histograms with other unusable values through the same memo count their own.
 TEST_F(RhfProperties, BadHistogramsSharedAcrossRunsWarnAsAlone) {
     const int w = 22, h = 18, n3 = 3 * kBins;
     Frame f = MakeFrame(w, h, SeedFromName("rhf bad shared"));
+    Image other = f.hist;
     f.hist.At(n3, 5, 5) = 0;
     f.hist.At(3, 12, 2) = std::numeric_limits<float>::quiet_NaN();
     f.hist.At(n3, 0, 21) = -2;
+    // Another NaN bin and no sample-less pixel: one warning where f.hist gives two.
+    other.At(7, 9, 14) = std::numeric_limits<float>::quiet_NaN();
     Image brighter = f.color;
     for (float &v : brighter.data) v *= 1.5f;
     RhfParams o;
@@ -554,14 +561,17 @@ TEST_F(RhfProperties, BadHistogramsSharedAcrossRunsWarnAsAlone) {
     RunMemo memo;
     RunSetup shared;
     shared.memo = &memo;
-    for (const Image *color : {&f.color, &brighter}) {
-        RhfResult alone = RhfDenoise(Ctx(), *color, f.hist, o);
-        RhfResult taken = RhfDenoise(Ctx(), *color, f.hist, o, shared);
-        EXPECT_TRUE(BitIdentical(alone.image, taken.image));
-        EXPECT_EQ(alone.warnings, taken.warnings);
-        EXPECT_EQ(taken.warnings.size(), 2u);
-    }
-    EXPECT_EQ(memo.CountWithPrefix("rhf.unusable"), 1u);
+    for (const Image *hist : {&f.hist, &other})
+        for (const Image *color : {&f.color, &brighter}) {
+            SCOPED_TRACE(fmt::format("histograms {}, colour {}", hist == &f.hist ? 1 : 2,
+                                     color == &f.color ? "as made" : "brighter"));
+            RhfResult alone = RhfDenoise(Ctx(), *color, *hist, o);
+            RhfResult taken = RhfDenoise(Ctx(), *color, *hist, o, shared);
+            EXPECT_TRUE(BitIdentical(alone.image, taken.image));
+            EXPECT_EQ(alone.warnings, taken.warnings);
+            EXPECT_EQ(taken.warnings.size(), hist == &f.hist ? 2u : 1u);
+        }
+    EXPECT_EQ(memo.CountWithPrefix("rhf.unusable"), 2u);
 }
 
 TEST_F(RhfProperties, BadShapesAndOptionsAreErrors) {
