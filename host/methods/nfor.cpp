@@ -477,13 +477,15 @@ void RecordFeatures(StagedRun &run, NforGpu &gpu, const NforOptions &o, RunMemo 
     RecordNforPrefilter(context, run.Recorder(), gpu.features, featureVariance,
                         o.prefilterRadius, o.prefilterPatch, o.prefilterBandwidth,
                         gpu.filtered);
+    std::shared_ptr<NforFeaturesMemo> entry;
     if (memo) {
-        auto entry = std::make_shared<NforFeaturesMemo>();
+        entry = std::make_shared<NforFeaturesMemo>();
         entry->filtered = vk::Buffer(context, bytes, "nfor.filtered.memo");
         run.Recorder().Copy(gpu.filtered.buffer, entry->filtered, bytes);
-        memo->Add(key, std::move(entry));
     }
     run.Submit();
+    // Keep the entry only once the GPU has written it: a run that throws leaves none.
+    if (memo) memo->Add(key, std::move(entry));
 }
 
 // Whether the firefly clamp reads the frame's own estimate of the colour's noise
