@@ -43,6 +43,19 @@ void MakeImages(const LocalMeanCase &c, Image *input, Image *output) {
     }
 }
 
+// The host's restore against its reference, value by value: float running sums against
+// double windows, a few float roundings per pass. `finite`: every value must be.
+void ExpectRestoreNear(const Image &got, const Image &expected, const std::string &label,
+                       bool finite) {
+    for (size_t i = 0; i < got.data.size(); ++i) {
+        if (finite) {
+            ASSERT_TRUE(std::isfinite(got.data[i])) << label << " " << i;
+        }
+        ASSERT_NEAR(got.data[i], expected.data[i], 3e-5 * std::fabs(expected.data[i]) + 1e-12)
+            << label << " " << i;
+    }
+}
+
 // A variance of the case's shape that makes about a tenth of the pixels lights (0, or tiny
 // against the value) and the rest noisy.
 Image LightsVariance(const LocalMeanCase &c, std::mt19937_64 *rng) {
@@ -111,13 +124,8 @@ TEST_P(LocalMeanMatches, Reference) {
             ref::RestoreLocalMeans(input, GetParam().r, &expected, nullptr, rebalance,
                                    pixelNoise);
             RestoreLocalMeans(input, GetParam().r, &got, nullptr, rebalance, pixelNoise);
-            // Float running sums against double windows: a few float roundings per pass.
-            for (size_t i = 0; i < got.data.size(); ++i) {
-                ASSERT_TRUE(std::isfinite(got.data[i])) << rebalance << " " << i;
-                ASSERT_NEAR(got.data[i], expected.data[i],
-                            3e-5 * std::fabs(expected.data[i]) + 1e-12)
-                    << rebalance << " " << i;
-            }
+            ASSERT_NO_FATAL_FAILURE(
+                ExpectRestoreNear(got, expected, std::to_string(rebalance), true));
             // Bit-identical when repeated, with the loops split among threads.
             Image again = output;
             ForceParallelParts split(3);
@@ -141,10 +149,8 @@ TEST_P(LocalMeanMatches, ReferenceWithVariance) {
         ref::RestoreLocalMeans(input, GetParam().r, &expected, &variance, kLocalMeanRebalance,
                                true);
         RestoreLocalMeans(input, GetParam().r, &got, &variance, kLocalMeanRebalance, true);
-        for (size_t i = 0; i < got.data.size(); ++i)
-            ASSERT_NEAR(got.data[i], expected.data[i],
-                        3e-5 * std::fabs(expected.data[i]) + 1e-12)
-                << channels << " " << i;
+        ASSERT_NO_FATAL_FAILURE(
+            ExpectRestoreNear(got, expected, std::to_string(channels), false));
     }
 }
 
@@ -157,12 +163,8 @@ TEST_P(LocalMeanMatches, RestoreAtMatchesReference) {
         Image expected = output, got = output;
         ref::RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &expected);
         RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &got);
-        for (size_t i = 0; i < got.data.size(); ++i) {
-            ASSERT_TRUE(std::isfinite(got.data[i])) << noiseWeight << " " << i;
-            ASSERT_NEAR(got.data[i], expected.data[i],
-                        3e-5 * std::fabs(expected.data[i]) + 1e-12)
-                << noiseWeight << " " << i;
-        }
+        ASSERT_NO_FATAL_FAILURE(
+            ExpectRestoreNear(got, expected, std::to_string(noiseWeight), true));
         Image again = output;
         RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &again);
         EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4))

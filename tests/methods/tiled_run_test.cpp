@@ -76,6 +76,14 @@ Result RunWith(Device &device, const std::string &name, const Params &params,
     return method.Run(device, frame, run);
 }
 
+// What method `name` with `params` asks of tiles on `frame` (its halo, its binding).
+api::TileNeeds NeedsWith(const std::string &name, const Params &params, const Frame &frame) {
+    std::unique_ptr<api::FrontEnd> method = api::FindMethod(name)->make();
+    for (const auto &[param, value] : params) method->Set(param, value);
+    api::Inputs inputs(frame, false, name);
+    return method->Tiling(TestContext(), inputs);
+}
+
 // Bit for bit, NaN included.
 void ExpectSameBits(const Image &a, const Image &b, const std::string &what) {
     ASSERT_TRUE(a.SameShape(b)) << what;
@@ -483,10 +491,7 @@ TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
     ExpectSameBits(whole.image, tiled.image, "nfor tiled, the clamp's light");
 
     // The left window holds no partly covered pixel, the right one the soft edge.
-    std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
-    for (const auto &[param, value] : params) nfor->Set(param, value);
-    api::Inputs inputs(frame, false, "nfor");
-    api::TileNeeds needs = nfor->Tiling(Ctx(), inputs);
+    api::TileNeeds needs = NeedsWith("nfor", params, frame);
     ASSERT_LE(tile + needs.reach, soft);
 }
 
@@ -496,11 +501,8 @@ TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
 TEST_F(GpuTest, TiledRunNforHaloHoldsTheClampLightOnlyWhereItRuns) {
     Frame layered = RareBrightLeftFrame(64, 32, 16), plain = layered;
     plain.layers.erase("variance");
-    auto reach = [&](const Frame &frame, Params params) {
-        std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
-        for (const auto &[param, value] : params) nfor->Set(param, value);
-        api::Inputs inputs(frame, false, "nfor");
-        return nfor->Tiling(Ctx(), inputs).reach;
+    auto reach = [&](const Frame &frame, const Params &params) {
+        return NeedsWith("nfor", params, frame).reach;
     };
     Params off = {{"clamp-light-radius", 0}};
     Params plainOn = {{"coarse-gate", 0.f}}, plainOff = {{"coarse-gate", 0.f}};
