@@ -162,9 +162,10 @@ def JitterCamera(scene, seed):
     point-sampled (aliased) image, not to the filtered pixels of a many-spp reference (their
     albedo, normal and depth are identical at every pixel). Shifting the whole camera by an
     offset drawn from the pixel filter makes each frame's sample an independent draw of the
-    filter, so the mean converges to the reference. Cycles samples its filter per axis."""
+    filter, so the mean converges to the reference. Cycles samples its filter per axis, and
+    its Blackman-Harris spans twice the filter width the user sets."""
     rng = random.Random(seed)
-    width = scene.cycles.filter_width
+    width = 2 * scene.cycles.filter_width
     size = max(scene.render.resolution_x, scene.render.resolution_y)
     camera = scene.camera.data
     # A shift of 1 moves the image by its larger dimension.
