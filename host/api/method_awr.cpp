@@ -76,16 +76,20 @@ class Awr : public FrontEndOf<AwrSettings> {
                                "cycle spinning over N x N shifts of the DWT's grid (1: the "
                                "paper's reconstruction; beyond the paper; cost x N^2)",
                                &AwrParams::spins, 1, 8)),
-               FloatParam("awr-highlights",
-                          "a pixel over this times the median of its 7x7 window (channels "
-                          "summed), with 2 of its 8 neighbours so too and 2 of its standard "
-                          "deviations above that median, is a highlight: reconstructed at "
-                          "the median and given its input back after, so a light's energy "
-                          "does not ring into the dim pixels around it; highlights then grow "
-                          "up to 4 rings into a light's interior, not past k x the frame's "
-                          "mean, and a region still growing after that (a large light) is "
-                          "given its grown pixels back (beyond the paper; 0: off)",
-                          &AwrSettings::highlights, 0, 1e6),
+               FloatParam(
+                   "awr-highlights",
+                   "a pixel over this times the median of its 7x7 window (channels "
+                   "summed), with 2 of its 8 neighbours so too and 2 of its standard "
+                   "deviations above that median, is a highlight: reconstructed at "
+                   "the median and given its input back after, so a light's energy "
+                   "does not ring into the dim pixels around it; highlights then grow "
+                   "up to 4 rings into a light's interior, not past k x the frame's "
+                   "mean, and a region still growing after that (a large light) is "
+                   "given its grown pixels back; with a max layer, pixels over k x their "
+                   "median and the frame's mean whose largest sample is no more than "
+                   "twice the highlights' median one are highlights too (beyond the "
+                   "paper; 0: off)",
+                   &AwrSettings::highlights, 0, 1e6),
                IntParam("awr-clamp",
                         fmt::format("the output raised to the minimum of the input over the "
                                     "(2N+1)^2 window around each pixel, per channel: the "
@@ -120,7 +124,7 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string why;
         Image variance = Variance(inputs, &why);
         const Image &color = inputs.Get("color");
-        HighlightSplit split = Split(color, variance);
+        HighlightSplit split = Split(color, variance, inputs);
         Result result = ResultOf(AwrReconstruct(context, split.count ? split.base : color,
                                                 split.count ? split.baseVariance : variance,
                                                 options.method, SetupFor(inputs, run)));
@@ -131,7 +135,13 @@ class Awr : public FrontEndOf<AwrSettings> {
                 "highlights: {} pixels over {} x their 7x7 median (with 2 of 8 neighbours, 2 "
                 "standard deviations above it, or 1 neighbour, 4 above) and {} grown from them "
                 "reconstructed at that median and given their input back",
-                split.count - split.grown, options.highlights, split.grown));
+                split.count - split.grown - split.sparse, options.highlights, split.grown));
+            if (split.sparse)
+                result.plan.push_back(fmt::format(
+                    "sparse lights: {} pixels over {} x their 7x7 median and the frame's mean "
+                    "whose largest sample is at most {} x the highlights' median one (a "
+                    "light's reflection few samples saw) taken out as highlights too",
+                    split.sparse, options.highlights, kSparseLightSampleRatio));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
         }
@@ -178,7 +188,8 @@ class Awr : public FrontEndOf<AwrSettings> {
             "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
             "spans it, and its grid depends on the frame's size; a tile runs {} level(s); the "
             "highlights' undo of a still-growing light spans its whole connected region "
-            "(unbounded); the tiles read the frame's mean for the highlights (passed in)",
+            "(unbounded); the tiles read the frame's mean for the highlights (passed in), "
+            "but the sparse lights compare with their own tile's highlights",
             options.method.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
                                       : options.method.levels,
             levels);
@@ -219,9 +230,13 @@ class Awr : public FrontEndOf<AwrSettings> {
         const Image &color = inputs.Get("color");
         Image base, baseVariance;
         std::vector<char> highlight;
-        if (Splits(color, variance))
+        if (Splits(color, variance)) {
             highlight = ref::SplitHighlights(color, &variance, options.highlights,
                                              kHighlightRadius, &base, &baseVariance);
+            if (const Image *maxSample = MaxSample(inputs, color))
+                ref::AddSparseLights(color, &variance, *maxSample, options.highlights,
+                                     kHighlightRadius, &highlight, &base, &baseVariance);
+        }
         bool any = std::find(highlight.begin(), highlight.end(), 1) != highlight.end();
         Image out = ref::AwrReconstruct(any ? base : color, any ? baseVariance : variance,
                                         options.method, &cpu);
@@ -257,10 +272,21 @@ class Awr : public FrontEndOf<AwrSettings> {
             if (!(std::isfinite(v) && v >= 0)) return false;
         return true;
     }
-    HighlightSplit Split(const Image &color, const Image &variance) const {
+    HighlightSplit Split(const Image &color, const Image &variance, Inputs &inputs) const {
         if (!Splits(color, variance)) return HighlightSplit();
-        return SplitHighlights(color, &variance, options.highlights, kHighlightRadius,
-                               frameMean);
+        HighlightSplit split =
+            SplitHighlights(color, &variance, options.highlights, kHighlightRadius, frameMean);
+        if (const Image *maxSample = MaxSample(inputs, color))
+            AddSparseLights(color, &variance, *maxSample, options.highlights, kHighlightRadius,
+                            frameMean, &split);
+        return split;
+    }
+
+    // The frame's per-pixel largest sample where it has one of the color's shape, else null.
+    static const Image *MaxSample(Inputs &inputs, const Image &color) {
+        if (!inputs.Has("max")) return nullptr;
+        const Image &maxSample = inputs.Get("max");
+        return maxSample.SameShape(color) ? &maxSample : nullptr;
     }
 
     static constexpr int kTileLevels = 5;

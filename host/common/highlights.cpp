@@ -329,6 +329,63 @@ size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<c
     return moved;
 }
 
+namespace {
+
+// The median (the upper one) of the highlights' largest samples, channels summed; -1 without
+// highlights.
+double HighlightSampleMedian(const Image &maxSample, const std::vector<char> &highlight) {
+    std::vector<double> sums;
+    for (size_t p = 0; p < highlight.size(); ++p) {
+        if (!highlight[p]) continue;
+        double s = 0;
+        for (int c = 0; c < maxSample.channels; ++c) s += maxSample.Plane(c)[p];
+        sums.push_back(s);
+    }
+    if (sums.empty()) return -1;
+    auto mid = sums.begin() + sums.size() / 2;
+    std::nth_element(sums.begin(), mid, sums.end());
+    return *mid;
+}
+
+}  // namespace
+
+size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
+                       double k, int r, double frameMean, HighlightSplit *split) {
+    if (!maxSample.SameShape(color) || split->highlight.size() != color.PixelCount() ||
+        (variance && !variance->SameShape(color)))
+        throw Error("AddSparseLights: the layers must have the color's shape",
+                    ErrorKind::Internal);
+    for (float v : maxSample.data)
+        if (!std::isfinite(v)) return 0;
+    const double lightSample = HighlightSampleMedian(maxSample, split->highlight);
+    if (!(lightSample > 0)) return 0;
+    const int w = color.width, h = color.height;
+    Image sum = ChannelSum(color);
+    const double mean = frameMean >= 0 ? frameMean : PlaneMean(sum);
+    std::vector<char> over = OverTheirWindows(sum, k, r, mean);
+    std::vector<float> scratch;
+    size_t added = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (!over[p] || split->highlight[p] || !(sum.data[p] > k * mean)) continue;
+            double sample = 0;
+            for (int c = 0; c < color.channels; ++c) sample += maxSample.Plane(c)[p];
+            if (!(sample <= kSparseLightSampleRatio * lightSample)) continue;
+            split->highlight[p] = 1;
+            ++added;
+            for (int c = 0; c < color.channels; ++c) {
+                split->base.Plane(c)[p] = WindowMedian(color.Plane(c), w, h, x, y, r, scratch);
+                if (variance)
+                    split->baseVariance.Plane(c)[p] =
+                        WindowMedian(variance->Plane(c), w, h, x, y, r, scratch);
+            }
+        }
+    split->count += added;
+    split->sparse += added;
+    return added;
+}
+
 void AddHighlights(const Image &color, const HighlightSplit &split, Image *output) {
     if (!color.SameShape(*output) || !color.SameShape(split.base))
         throw Error("AddHighlights: the images must have the color's shape",

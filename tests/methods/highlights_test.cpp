@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 
 #include "cpu_reference/highlights.h"
 #include "harness/frames.h"
@@ -308,6 +309,71 @@ TEST_F(HighlightsAwr, ARimPixelOneSampleSawIsGrown) {
                 if ((x - cx) * (x - cx) + (y - cy) * (y - cy) > 12 && (x != rx || y != cy))
                     worst = std::max(worst, std::abs(out.image.At(c, y, x) - 0.05f));
     EXPECT_LT(worst, 0.5f * 0.05f) << "a glow beside the rim pixel";
+}
+
+// A light's reflection one sample of 16 saw (a metal sphere's, issue 29) has a firefly's
+// statistics: its standard deviation is as large as its mean, and it has no bright
+// neighbour. awr spread it into a bright square where the reference is dim, worse than its
+// input. Its sample is no brighter than the bulb the frame shows, so with the frame's max
+// layer it is a sparse light and keeps its input; a firefly, its sample ten times the bulb's,
+// is still spread.
+TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
+    // A frame large enough that the bulb leaves its mean under a sixteenth of the reflection.
+    const int w = 128, h = 128, cx = 32, cy = 32;
+    const Pixel reflection{84, 80}, firefly{80, 40};
+    Image color(w, h, 3), variance(w, h, 3);
+    NoisyBulb("highlights awr lone reflection", cx, cy, &color, &variance);
+    Image truth(w, h, 3, 0.05f), maxSample = color;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12) truth.At(c, y, x) = 500;
+    for (auto [p, sample, reference] :
+         {std::tuple{reflection, 500.f, 60.f}, std::tuple{firefly, 5000.f, 0.05f}})
+        for (int c = 0; c < 3; ++c) {
+            color.At(c, p.y, p.x) = sample / 16;
+            variance.At(c, p.y, p.x) = (sample / 16) * (sample / 16);
+            maxSample.At(c, p.y, p.x) = sample;
+            truth.At(c, p.y, p.x) = reference;
+        }
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    ASSERT_GT(split.count, 0u) << "the bulb";
+    EXPECT_FALSE(split.highlight[size_t(reflection.y) * w + reflection.x]);
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 1u);
+    EXPECT_TRUE(split.highlight[size_t(reflection.y) * w + reflection.x]);
+    EXPECT_FALSE(split.highlight[size_t(firefly.y) * w + firefly.x]);
+    Image base, baseVariance;
+    std::vector<char> highlight =
+        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
+    ref::AddSparseLights(color, &variance, maxSample, 16, 3, &highlight, &base, &baseVariance);
+    EXPECT_EQ(split.highlight, highlight);
+    EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+
+    // The relMSE over the reflection's 9x9 window.
+    auto windowError = [&](const Image &image) {
+        Image a(9, 9, 3), b(9, 9, 3);
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < 9; ++y)
+                for (int x = 0; x < 9; ++x) {
+                    a.At(c, y, x) = image.At(c, reflection.y - 4 + y, reflection.x - 4 + x);
+                    b.At(c, y, x) = truth.At(c, reflection.y - 4 + y, reflection.x - 4 + x);
+                }
+        return CompareImages(a, b).relMse;
+    };
+    Frame frame = ColorAndVariance(color, variance);
+    Device device = api::BorrowDevice(Ctx());
+    Method awr("awr");
+    Result without = awr.Run(device, frame);
+    frame.layers["max"] = maxSample;
+    Result with = awr.Run(device, frame);
+    const double input = windowError(color);
+    EXPECT_GT(windowError(without.image), input) << "the case no longer shows the spread";
+    EXPECT_LE(windowError(with.image), input);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_LT(with.image.At(c, firefly.y, firefly.x),
+                  0.5f * color.At(c, firefly.y, firefly.x))
+            << "the firefly is no longer spread";
 }
 
 // A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
