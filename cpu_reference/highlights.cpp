@@ -217,23 +217,33 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
     return highlight;
 }
 
-void AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
-                     double k, int r, std::vector<char> *highlight, Image *base,
-                     Image *baseVariance) {
-    const int w = color.width, h = color.height;
+namespace {
+
+// The upper median over the highlights of maxSample's channel sums; 0 without highlights or
+// with NaN/Inf in maxSample.
+double SparseLightSample(const Image &maxSample, const std::vector<char> &highlight) {
     for (float v : maxSample.data)
-        if (!std::isfinite(v)) return;
+        if (!std::isfinite(v)) return 0;
     std::vector<double> lightSamples;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (!(*highlight)[size_t(y) * w + x]) continue;
+    for (int y = 0; y < maxSample.height; ++y)
+        for (int x = 0; x < maxSample.width; ++x) {
+            if (!highlight[size_t(y) * maxSample.width + x]) continue;
             double s = 0;
             for (int c = 0; c < maxSample.channels; ++c) s += maxSample.At(c, y, x);
             lightSamples.push_back(s);
         }
-    if (lightSamples.empty()) return;
+    if (lightSamples.empty()) return 0;
     std::sort(lightSamples.begin(), lightSamples.end());
-    const double m = lightSamples[lightSamples.size() / 2];
+    return lightSamples[lightSamples.size() / 2];
+}
+
+}  // namespace
+
+void AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
+                     double k, int r, double lightSample, std::vector<char> *highlight,
+                     Image *base, Image *baseVariance) {
+    const int w = color.width, h = color.height;
+    const double m = lightSample >= 0 ? lightSample : SparseLightSample(maxSample, *highlight);
     if (!(m > 0)) return;
     const Image sum = ChannelSums(color);
     double total = 0;

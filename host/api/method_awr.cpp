@@ -124,7 +124,8 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string why;
         Image variance = Variance(inputs, &why);
         const Image &color = inputs.Get("color");
-        HighlightSplit split = Split(color, variance, inputs);
+        std::string sparseWhyOff;
+        HighlightSplit split = Split(color, variance, inputs, &sparseWhyOff);
         Result result = ResultOf(AwrReconstruct(context, split.count ? split.base : color,
                                                 split.count ? split.baseVariance : variance,
                                                 options.method, SetupFor(inputs, run)));
@@ -145,6 +146,11 @@ class Awr : public FrontEndOf<AwrSettings> {
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
         }
+        if (!sparseWhyOff.empty())
+            result.plan.push_back(fmt::format(
+                "sparse lights off: {} (a light's reflection few samples saw is filtered as a "
+                "firefly)",
+                sparseWhyOff));
         size_t exact = KeepExactPixels(color, variance, &result.image, kExactReach);
         result.plan.push_back(fmt::format(
             "exact pixels: {} values with zero variance (every sample equal, not black) keep "
@@ -188,8 +194,8 @@ class Awr : public FrontEndOf<AwrSettings> {
             "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
             "spans it, and its grid depends on the frame's size; a tile runs {} level(s); the "
             "highlights' undo of a still-growing light spans its whole connected region "
-            "(unbounded); the tiles read the frame's mean for the highlights (passed in), "
-            "but the sparse lights compare with their own tile's highlights",
+            "(unbounded); the tiles read the frame's mean for the highlights and its "
+            "highlights' median largest sample for the sparse lights (passed in)",
             options.method.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
                                       : options.method.levels,
             levels);
@@ -217,9 +223,23 @@ class Awr : public FrontEndOf<AwrSettings> {
     std::unique_ptr<FrontEnd> ForTiles(vk::Context &, Inputs &whole) const override {
         auto copy = std::make_unique<Awr>(*this);
         copy->options.method.levels = TileLevels(whole.Width(), whole.Height());
-        // The highlights' floor and growth stop read the whole frame's mean, not the tile's.
-        if (options.highlights > 0 && whole.Has("color"))
-            copy->frameMean = HighlightFrameMean(whole.Get("color"));
+        // The highlights' floor and growth stop read the whole frame's mean, not the tile's,
+        // and the sparse lights compare with the whole frame's highlights.
+        if (options.highlights > 0 && whole.Has("color")) {
+            const Image &color = whole.Get("color");
+            copy->frameMean = HighlightFrameMean(color);
+            copy->sparseWhyOff = SparseLightsOff(whole, color);
+            copy->lightSample = 0;
+            if (whole.Has("max") && copy->sparseWhyOff.empty()) {
+                std::string why;
+                Image variance = Variance(whole, &why);
+                if (Splits(color, variance))
+                    copy->lightSample = HighlightSampleMedian(
+                        whole.Get("max"), SplitHighlights(color, &variance, options.highlights,
+                                                          kHighlightRadius, copy->frameMean)
+                                              .highlight);
+            }
+        }
         return copy;
     }
 
@@ -233,9 +253,10 @@ class Awr : public FrontEndOf<AwrSettings> {
         if (Splits(color, variance)) {
             highlight = ref::SplitHighlights(color, &variance, options.highlights,
                                              kHighlightRadius, &base, &baseVariance);
-            if (const Image *maxSample = MaxSample(inputs, color))
-                ref::AddSparseLights(color, &variance, *maxSample, options.highlights,
-                                     kHighlightRadius, &highlight, &base, &baseVariance);
+            if (inputs.Has("max") && SparseLightsOff(inputs, color).empty())
+                ref::AddSparseLights(color, &variance, inputs.Get("max"), options.highlights,
+                                     kHighlightRadius, lightSample, &highlight, &base,
+                                     &baseVariance);
         }
         bool any = std::find(highlight.begin(), highlight.end(), 1) != highlight.end();
         Image out = ref::AwrReconstruct(any ? base : color, any ? baseVariance : variance,
@@ -261,8 +282,11 @@ class Awr : public FrontEndOf<AwrSettings> {
     }
 
   private:
-    // The whole frame's mean for the highlights in a tile (-1: the input's own).
-    double frameMean = -1;
+    // Set by ForTiles: the whole frame's mean for the highlights and its highlights' median
+    // largest sample for the sparse lights (-1: the input's own), and why the sparse lights
+    // are off there.
+    double frameMean = -1, lightSample = -1;
+    std::string sparseWhyOff;
 
     // Whether highlights are split: on, and inputs awr accepts (it refuses the others,
     // naming them).
@@ -272,21 +296,29 @@ class Awr : public FrontEndOf<AwrSettings> {
             if (!(std::isfinite(v) && v >= 0)) return false;
         return true;
     }
-    HighlightSplit Split(const Image &color, const Image &variance, Inputs &inputs) const {
+    // The highlights and, with a max layer that serves them, the sparse lights; why the max
+    // layer does not serve them in *whyOff.
+    HighlightSplit Split(const Image &color, const Image &variance, Inputs &inputs,
+                         std::string *whyOff) const {
         if (!Splits(color, variance)) return HighlightSplit();
         HighlightSplit split =
             SplitHighlights(color, &variance, options.highlights, kHighlightRadius, frameMean);
-        if (const Image *maxSample = MaxSample(inputs, color))
-            AddSparseLights(color, &variance, *maxSample, options.highlights, kHighlightRadius,
-                            frameMean, &split);
+        *whyOff = lightSample >= 0 ? sparseWhyOff : SparseLightsOff(inputs, color);
+        if (inputs.Has("max") && whyOff->empty())
+            AddSparseLights(color, &variance, inputs.Get("max"), options.highlights,
+                            kHighlightRadius, frameMean, lightSample, &split);
         return split;
     }
 
-    // The frame's per-pixel largest sample where it has one of the color's shape, else null.
-    static const Image *MaxSample(Inputs &inputs, const Image &color) {
-        if (!inputs.Has("max")) return nullptr;
+    // Why the frame's max layer (its per-pixel largest sample) cannot serve the sparse
+    // lights ("" when it can, or the frame has none).
+    static std::string SparseLightsOff(Inputs &inputs, const Image &color) {
+        if (!inputs.Has("max")) return "";
         const Image &maxSample = inputs.Get("max");
-        return maxSample.SameShape(color) ? &maxSample : nullptr;
+        if (!maxSample.SameShape(color)) return "the max layer is not the color's shape";
+        for (float v : maxSample.data)
+            if (!std::isfinite(v)) return "the max layer has NaN/Inf values";
+        return "";
     }
 
     static constexpr int kTileLevels = 5;

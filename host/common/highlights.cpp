@@ -329,11 +329,12 @@ size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<c
     return moved;
 }
 
-namespace {
-
-// The median (the upper one) of the highlights' largest samples, channels summed; -1 without
-// highlights.
 double HighlightSampleMedian(const Image &maxSample, const std::vector<char> &highlight) {
+    if (highlight.size() != maxSample.PixelCount())
+        throw Error("HighlightSampleMedian: the mask must have the max layer's size",
+                    ErrorKind::Internal);
+    for (float v : maxSample.data)
+        if (!std::isfinite(v)) return 0;
     std::vector<double> sums;
     for (size_t p = 0; p < highlight.size(); ++p) {
         if (!highlight[p]) continue;
@@ -341,23 +342,20 @@ double HighlightSampleMedian(const Image &maxSample, const std::vector<char> &hi
         for (int c = 0; c < maxSample.channels; ++c) s += maxSample.Plane(c)[p];
         sums.push_back(s);
     }
-    if (sums.empty()) return -1;
+    if (sums.empty()) return 0;
     auto mid = sums.begin() + sums.size() / 2;
     std::nth_element(sums.begin(), mid, sums.end());
-    return *mid;
+    return std::max(*mid, 0.0);
 }
 
-}  // namespace
-
 size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
-                       double k, int r, double frameMean, HighlightSplit *split) {
+                       double k, int r, double frameMean, double lightSample,
+                       HighlightSplit *split) {
     if (!maxSample.SameShape(color) || split->highlight.size() != color.PixelCount() ||
         (variance && !variance->SameShape(color)))
         throw Error("AddSparseLights: the layers must have the color's shape",
                     ErrorKind::Internal);
-    for (float v : maxSample.data)
-        if (!std::isfinite(v)) return 0;
-    const double lightSample = HighlightSampleMedian(maxSample, split->highlight);
+    if (lightSample < 0) lightSample = HighlightSampleMedian(maxSample, split->highlight);
     if (!(lightSample > 0)) return 0;
     const int w = color.width, h = color.height;
     Image sum = ChannelSum(color);

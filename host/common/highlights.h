@@ -57,11 +57,19 @@ constexpr double kSparseLightSampleRatio = 2;
 // per-pixel largest sample `maxSample` (the color's shape), a pixel not yet a highlight whose
 // channels sum to over k times its window's median (and the floor) and k times the frame's
 // mean, and whose largest sample (channels summed) is at most kSparseLightSampleRatio times
-// the median of the highlights' largest samples, becomes a highlight: reconstructed at its
-// window's medians, given its input back after. Needs highlights to compare with; returns how
-// many it added (also counted in split->count and split->sparse).
+// `lightSample` (HighlightSampleMedian of the whole frame, so a tile compares with the frame's
+// lights; < 0: that of the split's own highlights), becomes a highlight: reconstructed at its
+// window's medians, given its input back after. Nothing with a `lightSample` of 0 (no
+// highlights to compare with); returns how many it added (also counted in split->count and
+// split->sparse).
 size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
-                       double k, int r, double frameMean, HighlightSplit *split);
+                       double k, int r, double frameMean, double lightSample,
+                       HighlightSplit *split);
+
+// What sparse lights compare with: the median (the upper one) over the highlights of
+// maxSample's channel sums; 0 (sparse lights off) without highlights or where maxSample has
+// NaN/Inf values.
+double HighlightSampleMedian(const Image &maxSample, const std::vector<char> &highlight);
 
 // The mean of the color's channel sums, as SplitHighlights reads it.
 double HighlightFrameMean(const Image &color);

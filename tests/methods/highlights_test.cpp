@@ -311,6 +311,33 @@ TEST_F(HighlightsAwr, ARimPixelOneSampleSawIsGrown) {
     EXPECT_LT(worst, 0.5f * 0.05f) << "a glow beside the rim pixel";
 }
 
+// A 128 x 128 dim floor with a bulb at (32, 32), a light's reflection one sample of 16 saw
+// at (84, 80) (its sample the bulb's) and a firefly at (80, 40) (its sample ten times the
+// bulb's): the color, its variance, the largest sample (maxSample) and the truth.
+struct LoneReflection {
+    static constexpr int w = 128, h = 128, cx = 32, cy = 32;
+    static constexpr Pixel reflection{84, 80}, firefly{80, 40};
+    Image color{w, h, 3}, variance{w, h, 3}, maxSample, truth{w, h, 3, 0.05f};
+
+    explicit LoneReflection(const std::string &name) {
+        NoisyBulb(name, cx, cy, &color, &variance);
+        maxSample = color;
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12)
+                        truth.At(c, y, x) = 500;
+        for (auto [p, sample, reference] :
+             {std::tuple{reflection, 500.f, 60.f}, std::tuple{firefly, 5000.f, 0.05f}})
+            for (int c = 0; c < 3; ++c) {
+                color.At(c, p.y, p.x) = sample / 16;
+                variance.At(c, p.y, p.x) = (sample / 16) * (sample / 16);
+                maxSample.At(c, p.y, p.x) = sample;
+                truth.At(c, p.y, p.x) = reference;
+            }
+    }
+};
+
 // A light's reflection one sample of 16 saw (a metal sphere's, issue 29) has a firefly's
 // statistics: its standard deviation is as large as its mean, and it has no bright
 // neighbour. awr spread it into a bright square where the reference is dim, worse than its
@@ -319,33 +346,22 @@ TEST_F(HighlightsAwr, ARimPixelOneSampleSawIsGrown) {
 // is still spread.
 TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
     // A frame large enough that the bulb leaves its mean under a sixteenth of the reflection.
-    const int w = 128, h = 128, cx = 32, cy = 32;
-    const Pixel reflection{84, 80}, firefly{80, 40};
-    Image color(w, h, 3), variance(w, h, 3);
-    NoisyBulb("highlights awr lone reflection", cx, cy, &color, &variance);
-    Image truth(w, h, 3, 0.05f), maxSample = color;
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12) truth.At(c, y, x) = 500;
-    for (auto [p, sample, reference] :
-         {std::tuple{reflection, 500.f, 60.f}, std::tuple{firefly, 5000.f, 0.05f}})
-        for (int c = 0; c < 3; ++c) {
-            color.At(c, p.y, p.x) = sample / 16;
-            variance.At(c, p.y, p.x) = (sample / 16) * (sample / 16);
-            maxSample.At(c, p.y, p.x) = sample;
-            truth.At(c, p.y, p.x) = reference;
-        }
+    const LoneReflection lone("highlights awr lone reflection");
+    const int w = lone.w;
+    const Pixel reflection = lone.reflection, firefly = lone.firefly;
+    const Image &color = lone.color, &variance = lone.variance, &maxSample = lone.maxSample,
+                &truth = lone.truth;
     HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
     ASSERT_GT(split.count, 0u) << "the bulb";
     EXPECT_FALSE(split.highlight[size_t(reflection.y) * w + reflection.x]);
-    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 1u);
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, -1, &split), 1u);
     EXPECT_TRUE(split.highlight[size_t(reflection.y) * w + reflection.x]);
     EXPECT_FALSE(split.highlight[size_t(firefly.y) * w + firefly.x]);
     Image base, baseVariance;
     std::vector<char> highlight =
         ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
-    ref::AddSparseLights(color, &variance, maxSample, 16, 3, &highlight, &base, &baseVariance);
+    ref::AddSparseLights(color, &variance, maxSample, 16, 3, -1, &highlight, &base,
+                         &baseVariance);
     EXPECT_EQ(split.highlight, highlight);
     EXPECT_EQ(split.base.data, base.data);
     EXPECT_EQ(split.baseVariance.data, baseVariance.data);
@@ -405,6 +421,49 @@ TEST(Highlights, ATileReadsTheFramesMean) {
             EXPECT_EQ(given.highlight[size_t(y) * side + x],
                       whole.highlight[size_t(cy - half + y) * w + cx - half + x])
                 << x << ", " << y;
+}
+
+// A tile holding the reflection one sample saw but not the bulb has no highlights of its own:
+// with them it would keep the reflection out (and awr spread it), so the output would
+// depend on the tile grid. Given the whole frame's highlights' median largest sample, as
+// awr's tiles are, it marks the reflection as the whole frame does.
+TEST(Highlights, ATileComparesSparseLightsWithTheFramesLights) {
+    const LoneReflection frame("highlights tile sparse lights");
+    const int w = frame.w, half = 8, side = 2 * half + 1;
+    const Pixel reflection = frame.reflection;
+    const int x0 = reflection.x - half, y0 = reflection.y - half;
+    HighlightSplit whole = SplitHighlights(frame.color, &frame.variance, 16, 3);
+    const double frameMean = HighlightFrameMean(frame.color),
+                 lightSample = HighlightSampleMedian(frame.maxSample, whole.highlight);
+    ASSERT_GT(lightSample, 0) << "the bulb";
+    AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, -1, -1, &whole);
+    ASSERT_TRUE(whole.highlight[size_t(reflection.y) * w + reflection.x]);
+    Image tile(side, side, 3), tileVariance(side, side, 3), tileMax(side, side, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                tile.At(c, y, x) = frame.color.At(c, y0 + y, x0 + x);
+                tileVariance.At(c, y, x) = frame.variance.At(c, y0 + y, x0 + x);
+                tileMax.At(c, y, x) = frame.maxSample.At(c, y0 + y, x0 + x);
+            }
+    HighlightSplit own = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
+    EXPECT_EQ(own.count, 0u) << "the tile holds no light";
+    EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, frameMean, -1, &own), 0u);
+    HighlightSplit given = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
+    EXPECT_EQ(
+        AddSparseLights(tile, &tileVariance, tileMax, 16, 3, frameMean, lightSample, &given),
+        1u);
+    EXPECT_TRUE(given.highlight[size_t(half) * side + half]) << "the reflection, tile";
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x)
+            EXPECT_EQ(given.highlight[size_t(y) * side + x],
+                      whole.highlight[size_t(y0 + y) * w + x0 + x])
+                << x << ", " << y;
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(given.base.At(c, half, half), whole.base.At(c, reflection.y, reflection.x));
+        EXPECT_EQ(given.baseVariance.At(c, half, half),
+                  whole.baseVariance.At(c, reflection.y, reflection.x));
+    }
 }
 
 // A ceiling panel 24 pixels wide is its own median but for its corners; grown from them it
