@@ -2,6 +2,7 @@
 // and awr keeping a small light's energy at the light.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -14,6 +15,7 @@
 #include "harness/inputs.h"
 #include "host/api/device.h"
 #include "host/common/highlights.h"
+#include "host/common/parallel.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
 
@@ -80,6 +82,73 @@ void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
     }
 }
 
+// Each value's largest sample: 1 to 16 times the value, seeded.
+Image MaxSampleOf(const Image &color) {
+    std::mt19937_64 rng(SeedFromName("highlights max " + std::to_string(color.width) + "x" +
+                                     std::to_string(color.height) + "x" +
+                                     std::to_string(color.channels)));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image maxSample = color;
+    for (float &v : maxSample.data) v *= 1 + 15 * unit(rng);
+    return maxSample;
+}
+
+// The sparse lights added to a split (`split`, and the twin's mask and bases) against the
+// twin, with the split's own highlights' median largest sample and with half of it given, in
+// the default parts and forced into 1 and 3.
+void ExpectSparseLightsMatchReference(const Image &color, const Image &variance, double k,
+                                      const HighlightSplit &split,
+                                      const std::vector<char> &mask, const Image &base,
+                                      const Image &baseVariance) {
+    const int w = color.width, h = color.height;
+    SCOPED_TRACE(testing::Message() << w << "x" << h << "x" << color.channels << ", k " << k);
+    const Image maxSample = MaxSampleOf(color);
+    const double own = HighlightSampleMedian(maxSample, split.highlight);
+    for (double lightSample : {-1.0, own / 2}) {
+        HighlightSplit got = split;
+        const size_t added =
+            AddSparseLights(color, &variance, maxSample, k, 3, -1, lightSample, &got);
+        std::vector<char> expected = mask;
+        Image expectedBase = base, expectedVariance = baseVariance;
+        ref::AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &expected,
+                             &expectedBase, &expectedVariance);
+        ASSERT_EQ(got.highlight, expected) << "light sample " << lightSample;
+        EXPECT_EQ(got.base.data, expectedBase.data);
+        EXPECT_EQ(got.baseVariance.data, expectedVariance.data);
+        const size_t count = size_t(std::count(expected.begin(), expected.end(), char(1)));
+        EXPECT_EQ(got.count, count);
+        EXPECT_EQ(added, count - split.count);
+        EXPECT_EQ(got.sparse, added);
+        if (w >= 40 && lightSample < 0) {
+            EXPECT_GT(added, 0u) << "no sparse light to compare";
+        }
+        for (int parts : {1, 3}) {
+            ForceParallelParts force(parts);
+            HighlightSplit parted = SplitHighlights(color, &variance, k, 3);
+            EXPECT_EQ(
+                AddSparseLights(color, &variance, maxSample, k, 3, -1, lightSample, &parted),
+                added)
+                << parts << " parts";
+            EXPECT_EQ(parted.highlight, expected) << parts << " parts";
+            EXPECT_EQ(parted.base.data, expectedBase.data) << parts << " parts";
+            EXPECT_EQ(parted.baseVariance.data, expectedVariance.data) << parts << " parts";
+            EXPECT_EQ(parted.count, count) << parts << " parts";
+        }
+    }
+    // A NaN in the max layer: the sample cannot be compared, nothing is added.
+    Image withNan = maxSample;
+    withNan.data[withNan.data.size() / 2] = std::numeric_limits<float>::quiet_NaN();
+    HighlightSplit got = split;
+    EXPECT_EQ(AddSparseLights(color, &variance, withNan, k, 3, -1, -1, &got), 0u);
+    EXPECT_EQ(got.highlight, split.highlight);
+    std::vector<char> expected = mask;
+    Image expectedBase = base, expectedVariance = baseVariance;
+    ref::AddSparseLights(color, &variance, withNan, k, 3, -1, &expected, &expectedBase,
+                         &expectedVariance);
+    EXPECT_EQ(expected, mask);
+    EXPECT_EQ(expectedBase.data, base.data);
+}
+
 TEST(Highlights, MatchesReference) {
     for (int channels : {1, 3})
         for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {40, 31}})
@@ -106,6 +175,8 @@ TEST(Highlights, MatchesReference) {
                 LowerToInputMaximumNearHighlights(color, got.highlight, 6, 1, &crest);
                 ref::LowerToInputMaximumNearHighlights(color, mask, 6, 1, &crestExpected);
                 EXPECT_EQ(crest.data, crestExpected.data);
+                ExpectSparseLightsMatchReference(color, variance, k, got, mask, base,
+                                                 baseVariance);
                 auto marked = [&](Pixel p) { return got.highlight[size_t(p.y) * w + p.x]; };
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
@@ -123,6 +194,22 @@ TEST(Highlights, MatchesReference) {
                     }
                 }
             }
+    // A frame without highlights has none to compare a sample with: a lone firefly whose
+    // sample is its value stays out, as it does not with a light's sample given.
+    Image color(9, 9, 3, 0.1f);
+    for (int c = 0; c < 3; ++c) color.At(c, 4, 4) = 1000;
+    HighlightSplit none = SplitHighlights(color, nullptr, 16, 3);
+    ASSERT_EQ(none.count, 0u);
+    EXPECT_EQ(HighlightSampleMedian(color, none.highlight), 0.0);
+    EXPECT_EQ(AddSparseLights(color, nullptr, color, 16, 3, -1, -1, &none), 0u);
+    Image base = color, baseVariance;
+    std::vector<char> mask = none.highlight;
+    ref::AddSparseLights(color, nullptr, color, 16, 3, -1, &mask, &base, &baseVariance);
+    EXPECT_EQ(mask, none.highlight);
+    EXPECT_EQ(AddSparseLights(color, nullptr, color, 16, 3, -1, 3000, &none), 1u);
+    ref::AddSparseLights(color, nullptr, color, 16, 3, 3000, &mask, &base, &baseVariance);
+    EXPECT_EQ(mask, none.highlight);
+    EXPECT_EQ(base.data, none.base.data);
 }
 
 TEST(Highlights, LoneFireflyAndNonFiniteFramesHaveNone) {
