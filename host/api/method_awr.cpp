@@ -306,7 +306,7 @@ class Awr : public FrontEndOf<AwrSettings> {
         *whyOff = lightSample >= 0 ? sparseWhyOff : SparseLightsOff(inputs, color);
         if (inputs.Has("max") && whyOff->empty())
             AddSparseLights(color, &variance, inputs.Get("max"), options.highlights,
-                            kHighlightRadius, frameMean, lightSample, &split);
+                            kHighlightRadius, lightSample, &split);
         return split;
     }
 

@@ -266,6 +266,8 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
     Image sum = ChannelSum(color);
     const double mean = frameMean >= 0 ? frameMean : PlaneMean(sum);
     std::vector<char> over = OverTheirWindows(sum, k, r, mean);
+    split.overWindow = over;
+    split.mean = mean;
     if (variance) RequireConfidence(color, *variance, r, &over);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -349,24 +351,27 @@ double HighlightSampleMedian(const Image &maxSample, const std::vector<char> &hi
 }
 
 size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
-                       double k, int r, double frameMean, double lightSample,
-                       HighlightSplit *split) {
+                       double k, int r, double lightSample, HighlightSplit *split) {
     if (!maxSample.SameShape(color) || split->highlight.size() != color.PixelCount() ||
+        (!split->overWindow.empty() && split->overWindow.size() != color.PixelCount()) ||
         (variance && !variance->SameShape(color)))
         throw Error("AddSparseLights: the layers must have the color's shape",
                     ErrorKind::Internal);
     if (lightSample < 0) lightSample = HighlightSampleMedian(maxSample, split->highlight);
-    if (!(lightSample > 0)) return 0;
+    // A frame with NaN/Inf has no window test, nor sparse lights.
+    if (!(lightSample > 0) || split->overWindow.empty()) return 0;
     const int w = color.width, h = color.height;
-    Image sum = ChannelSum(color);
-    const double mean = frameMean >= 0 ? frameMean : PlaneMean(sum);
-    std::vector<char> over = OverTheirWindows(sum, k, r, mean);
+    const double mean = split->mean;
     std::vector<float> scratch;
     size_t added = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t p = size_t(y) * w + x;
-            if (!over[p] || split->highlight[p] || !(sum.data[p] > k * mean)) continue;
+            if (!split->overWindow[p] || split->highlight[p]) continue;
+            // The channel sum as SplitHighlights made it (ChannelSum's order).
+            float s = 0;
+            for (int c = 0; c < color.channels; ++c) s += color.Plane(c)[p];
+            if (!(s > k * mean)) continue;
             double sample = 0;
             for (int c = 0; c < color.channels; ++c) sample += maxSample.Plane(c)[p];
             if (!(sample <= kSparseLightSampleRatio * lightSample)) continue;

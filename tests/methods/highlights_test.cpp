@@ -107,7 +107,7 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
     for (double lightSample : {-1.0, own / 2}) {
         HighlightSplit got = split;
         const size_t added =
-            AddSparseLights(color, &variance, maxSample, k, 3, -1, lightSample, &got);
+            AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &got);
         std::vector<char> expected = mask;
         Image expectedBase = base, expectedVariance = baseVariance;
         ref::AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &expected,
@@ -125,9 +125,8 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
         for (int parts : {1, 3}) {
             ForceParallelParts force(parts);
             HighlightSplit parted = SplitHighlights(color, &variance, k, 3);
-            EXPECT_EQ(
-                AddSparseLights(color, &variance, maxSample, k, 3, -1, lightSample, &parted),
-                added)
+            EXPECT_EQ(AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &parted),
+                      added)
                 << parts << " parts";
             EXPECT_EQ(parted.highlight, expected) << parts << " parts";
             EXPECT_EQ(parted.base.data, expectedBase.data) << parts << " parts";
@@ -139,7 +138,7 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
     Image withNan = maxSample;
     withNan.data[withNan.data.size() / 2] = std::numeric_limits<float>::quiet_NaN();
     HighlightSplit got = split;
-    EXPECT_EQ(AddSparseLights(color, &variance, withNan, k, 3, -1, -1, &got), 0u);
+    EXPECT_EQ(AddSparseLights(color, &variance, withNan, k, 3, -1, &got), 0u);
     EXPECT_EQ(got.highlight, split.highlight);
     std::vector<char> expected = mask;
     Image expectedBase = base, expectedVariance = baseVariance;
@@ -201,12 +200,12 @@ TEST(Highlights, MatchesReference) {
     HighlightSplit none = SplitHighlights(color, nullptr, 16, 3);
     ASSERT_EQ(none.count, 0u);
     EXPECT_EQ(HighlightSampleMedian(color, none.highlight), 0.0);
-    EXPECT_EQ(AddSparseLights(color, nullptr, color, 16, 3, -1, -1, &none), 0u);
+    EXPECT_EQ(AddSparseLights(color, nullptr, color, 16, 3, -1, &none), 0u);
     Image base = color, baseVariance;
     std::vector<char> mask = none.highlight;
     ref::AddSparseLights(color, nullptr, color, 16, 3, -1, &mask, &base, &baseVariance);
     EXPECT_EQ(mask, none.highlight);
-    EXPECT_EQ(AddSparseLights(color, nullptr, color, 16, 3, -1, 3000, &none), 1u);
+    EXPECT_EQ(AddSparseLights(color, nullptr, color, 16, 3, 3000, &none), 1u);
     ref::AddSparseLights(color, nullptr, color, 16, 3, 3000, &mask, &base, &baseVariance);
     EXPECT_EQ(mask, none.highlight);
     EXPECT_EQ(base.data, none.base.data);
@@ -441,7 +440,7 @@ TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
     HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
     ASSERT_GT(split.count, 0u) << "the bulb";
     EXPECT_FALSE(split.highlight[size_t(reflection.y) * w + reflection.x]);
-    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, -1, &split), 1u);
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 1u);
     EXPECT_TRUE(split.highlight[size_t(reflection.y) * w + reflection.x]);
     EXPECT_FALSE(split.highlight[size_t(firefly.y) * w + firefly.x]);
     Image base, baseVariance;
@@ -523,7 +522,7 @@ TEST(Highlights, ATileComparesSparseLightsWithTheFramesLights) {
     const double frameMean = HighlightFrameMean(frame.color),
                  lightSample = HighlightSampleMedian(frame.maxSample, whole.highlight);
     ASSERT_GT(lightSample, 0) << "the bulb";
-    AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, -1, -1, &whole);
+    AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, -1, &whole);
     ASSERT_TRUE(whole.highlight[size_t(reflection.y) * w + reflection.x]);
     Image tile(side, side, 3), tileVariance(side, side, 3), tileMax(side, side, 3);
     for (int c = 0; c < 3; ++c)
@@ -535,11 +534,9 @@ TEST(Highlights, ATileComparesSparseLightsWithTheFramesLights) {
             }
     HighlightSplit own = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
     EXPECT_EQ(own.count, 0u) << "the tile holds no light";
-    EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, frameMean, -1, &own), 0u);
+    EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, -1, &own), 0u);
     HighlightSplit given = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
-    EXPECT_EQ(
-        AddSparseLights(tile, &tileVariance, tileMax, 16, 3, frameMean, lightSample, &given),
-        1u);
+    EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, lightSample, &given), 1u);
     EXPECT_TRUE(given.highlight[size_t(half) * side + half]) << "the reflection, tile";
     for (int y = 0; y < side; ++y)
         for (int x = 0; x < side; ++x)
