@@ -78,17 +78,19 @@ class Awr : public FrontEndOf<AwrSettings> {
                                &AwrParams::spins, 1, 8)),
                FloatParam(
                    "awr-highlights",
-                   "a pixel over this times the median of its 7x7 window (channels "
-                   "summed), with 2 of its 8 neighbours so too and 2 of its standard "
-                   "deviations above that median, is a highlight: reconstructed at "
-                   "the median and given its input back after, so a light's energy "
-                   "does not ring into the dim pixels around it; highlights then grow "
-                   "up to 4 rings into a light's interior, not past k x the frame's "
-                   "mean, and a region still growing after that (a large light) is "
-                   "given its grown pixels back; with a max layer, pixels over k x their "
-                   "median and the frame's mean whose largest sample is no more than "
-                   "twice the highlights' median one are highlights too (beyond the "
-                   "paper; 0: off)",
+                   fmt::format(
+                       "a pixel over this times the median of its 7x7 window (channels "
+                       "summed), with 2 of its 8 neighbours so too and 2 of its standard "
+                       "deviations above that median, is a highlight: reconstructed at "
+                       "the median and given its input back after, so a light's energy "
+                       "does not ring into the dim pixels around it; highlights then grow "
+                       "up to 4 rings into a light's interior, not past k x the frame's "
+                       "mean, and a region still growing after that (a large light) is "
+                       "given its grown pixels back; with a max layer, pixels over k x "
+                       "their median and the frame's mean whose largest sample is no more "
+                       "than {} x the highlights' median one (fixed) are highlights too "
+                       "(beyond the paper; 0: off)",
+                       kSparseLightSampleRatio),
                    &AwrSettings::highlights, 0, 1e6),
                IntParam("awr-clamp",
                         fmt::format("the output raised to the minimum of the input over the "

@@ -53,7 +53,7 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
 // How far a sparse light's brightest sample may stand above the highlights' (AddSparseLights).
 constexpr double kSparseLightSampleRatio = 2;
 
-// Sparse lights: a light's reflection one or two pixels wide that one or two samples of 16 saw
+// Sparse lights: a light's reflection one or two pixels wide that one or two of its samples saw
 // stands under 2 of its standard deviations, as a firefly does, and the filter spread it into
 // a bright square with dark dots where the reference is dim. A firefly of a rare path weighted
 // by a small density is far brighter than any light the frame shows; a reflection's sample is

@@ -476,6 +476,20 @@ TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
         EXPECT_LT(with.image.At(c, firefly.y, firefly.x),
                   0.5f * color.At(c, firefly.y, firefly.x))
             << "the firefly is no longer spread";
+    // A max layer of one channel (the runs refuse or zero NaN/Inf before) serves no sparse
+    // light: the run is the one without it, and the plan says why.
+    Image oneChannel(w, lone.h, 1);
+    for (int c = 0; c < 3; ++c)
+        for (size_t p = 0; p < oneChannel.PixelCount(); ++p)
+            oneChannel.data[p] = std::max(oneChannel.data[p], maxSample.Plane(c)[p]);
+    frame.layers["max"] = oneChannel;
+    Result off = awr.Run(device, frame);
+    EXPECT_EQ(off.image.data, without.image.data);
+    bool said = false;
+    for (const std::string &line : off.plan)
+        said |= line.find("sparse lights off: the max layer is not the color's shape") !=
+                std::string::npos;
+    EXPECT_TRUE(said) << ::testing::PrintToString(off.plan);
 }
 
 // A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
