@@ -217,6 +217,61 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
     return highlight;
 }
 
+namespace {
+
+// The upper median over the highlights of maxSample's channel sums; 0 without highlights or
+// with NaN/Inf in maxSample.
+double SparseLightSample(const Image &maxSample, const std::vector<char> &highlight) {
+    for (float v : maxSample.data)
+        if (!std::isfinite(v)) return 0;
+    std::vector<double> lightSamples;
+    for (int y = 0; y < maxSample.height; ++y)
+        for (int x = 0; x < maxSample.width; ++x) {
+            if (!highlight[size_t(y) * maxSample.width + x]) continue;
+            double s = 0;
+            for (int c = 0; c < maxSample.channels; ++c) s += maxSample.At(c, y, x);
+            lightSamples.push_back(s);
+        }
+    if (lightSamples.empty()) return 0;
+    std::sort(lightSamples.begin(), lightSamples.end());
+    return lightSamples[lightSamples.size() / 2];
+}
+
+}  // namespace
+
+void AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
+                     double k, int r, double lightSample, std::vector<char> *highlight,
+                     Image *base, Image *baseVariance) {
+    const int w = color.width, h = color.height;
+    const double m = lightSample >= 0 ? lightSample : SparseLightSample(maxSample, *highlight);
+    if (!(m > 0)) return;
+    const Image sum = ChannelSums(color);
+    double total = 0;
+    for (float s : sum.data) total += s;
+    const double mean = total / (double(w) * h);
+    std::vector<char> sparse(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double s = sum.At(0, y, x);
+            if ((*highlight)[size_t(y) * w + x] || !(s > k * mean) ||
+                !(s > k * std::max(UpperMedian(sum, 0, x, y, r), 1e-3 * mean)))
+                continue;
+            double sample = 0;
+            for (int c = 0; c < maxSample.channels; ++c) sample += maxSample.At(c, y, x);
+            if (sample <= 2 * m) sparse[size_t(y) * w + x] = 1;
+        }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!sparse[size_t(y) * w + x]) continue;
+            (*highlight)[size_t(y) * w + x] = 1;
+            for (int c = 0; c < color.channels; ++c) {
+                base->At(c, y, x) = float(UpperMedian(color, c, x, y, r));
+                if (variance)
+                    baseVariance->At(c, y, x) = float(UpperMedian(*variance, c, x, y, r));
+            }
+        }
+}
+
 void LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
                                        int reach, int r, Image *output) {
     const int w = color.width, h = color.height;

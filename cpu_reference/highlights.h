@@ -28,6 +28,16 @@ namespace mcd::ref {
 std::vector<char> SplitHighlights(const Image &color, const Image *variance, double k, int r,
                                   Image *base, Image *baseVariance);
 
+// Sparse lights (host/common/highlights.h): m = lightSample where >= 0, else the upper median
+// over the highlights of the sum of maxSample's channels (0 when there is none or maxSample
+// has NaN/Inf). Nothing when m <= 0. A pixel p not a highlight becomes one where s(p) > k
+// max(upper median of s over the window of radius r, 1e-3 x the mean of s), s(p) > k x the
+// mean of s, and the sum of its maxSample channels is <= 2 m; its base (and baseVariance)
+// channels become their window's upper medians of color (and variance).
+void AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
+                     double k, int r, double lightSample, std::vector<char> *highlight,
+                     Image *base, Image *baseVariance);
+
 // Where p is not a highlight and a highlight lies within `reach` of it (max(|dx|, |dy|)),
 // each channel of output is min(output, the maximum of color over the non-highlight pixels of
 // the window of radius r around p clipped to the frame), finite values only.

@@ -76,16 +76,22 @@ class Awr : public FrontEndOf<AwrSettings> {
                                "cycle spinning over N x N shifts of the DWT's grid (1: the "
                                "paper's reconstruction; beyond the paper; cost x N^2)",
                                &AwrParams::spins, 1, 8)),
-               FloatParam("awr-highlights",
-                          "a pixel over this times the median of its 7x7 window (channels "
-                          "summed), with 2 of its 8 neighbours so too and 2 of its standard "
-                          "deviations above that median, is a highlight: reconstructed at "
-                          "the median and given its input back after, so a light's energy "
-                          "does not ring into the dim pixels around it; highlights then grow "
-                          "up to 4 rings into a light's interior, not past k x the frame's "
-                          "mean, and a region still growing after that (a large light) is "
-                          "given its grown pixels back (beyond the paper; 0: off)",
-                          &AwrSettings::highlights, 0, 1e6),
+               FloatParam(
+                   "awr-highlights",
+                   fmt::format(
+                       "a pixel over this times the median of its 7x7 window (channels "
+                       "summed), with 2 of its 8 neighbours so too and 2 of its standard "
+                       "deviations above that median, is a highlight: reconstructed at "
+                       "the median and given its input back after, so a light's energy "
+                       "does not ring into the dim pixels around it; highlights then grow "
+                       "up to 4 rings into a light's interior, not past k x the frame's "
+                       "mean, and a region still growing after that (a large light) is "
+                       "given its grown pixels back; with a max layer, pixels over k x "
+                       "their median and the frame's mean whose largest sample is no more "
+                       "than {} x the highlights' median one (fixed) are highlights too "
+                       "(beyond the paper; 0: off)",
+                       kSparseLightSampleRatio),
+                   &AwrSettings::highlights, 0, 1e6),
                IntParam("awr-clamp",
                         fmt::format("the output raised to the minimum of the input over the "
                                     "(2N+1)^2 window around each pixel, per channel: the "
@@ -120,7 +126,8 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string why;
         Image variance = Variance(inputs, &why);
         const Image &color = inputs.Get("color");
-        HighlightSplit split = Split(color, variance);
+        std::string sparseWhyOff;
+        HighlightSplit split = Split(color, variance, inputs, &sparseWhyOff);
         Result result = ResultOf(AwrReconstruct(context, split.count ? split.base : color,
                                                 split.count ? split.baseVariance : variance,
                                                 options.method, SetupFor(inputs, run)));
@@ -131,10 +138,21 @@ class Awr : public FrontEndOf<AwrSettings> {
                 "highlights: {} pixels over {} x their 7x7 median (with 2 of 8 neighbours, 2 "
                 "standard deviations above it, or 1 neighbour, 4 above) and {} grown from them "
                 "reconstructed at that median and given their input back",
-                split.count - split.grown, options.highlights, split.grown));
+                split.count - split.grown - split.sparse, options.highlights, split.grown));
+            if (split.sparse)
+                result.plan.push_back(fmt::format(
+                    "sparse lights: {} pixels over {} x their 7x7 median and the frame's mean "
+                    "whose largest sample is at most {} x the highlights' median one (a "
+                    "light's reflection few samples saw) taken out as highlights too",
+                    split.sparse, options.highlights, kSparseLightSampleRatio));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
         }
+        if (!sparseWhyOff.empty())
+            result.plan.push_back(fmt::format(
+                "sparse lights off: {} (a light's reflection few samples saw is filtered as a "
+                "firefly)",
+                sparseWhyOff));
         size_t exact = KeepExactPixels(color, variance, &result.image, kExactReach);
         result.plan.push_back(fmt::format(
             "exact pixels: {} values with zero variance (every sample equal, not black) keep "
@@ -178,7 +196,8 @@ class Awr : public FrontEndOf<AwrSettings> {
             "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
             "spans it, and its grid depends on the frame's size; a tile runs {} level(s); the "
             "highlights' undo of a still-growing light spans its whole connected region "
-            "(unbounded); the tiles read the frame's mean for the highlights (passed in)",
+            "(unbounded); the tiles read the frame's mean for the highlights and its "
+            "highlights' median largest sample for the sparse lights (passed in)",
             options.method.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
                                       : options.method.levels,
             levels);
@@ -206,9 +225,23 @@ class Awr : public FrontEndOf<AwrSettings> {
     std::unique_ptr<FrontEnd> ForTiles(vk::Context &, Inputs &whole) const override {
         auto copy = std::make_unique<Awr>(*this);
         copy->options.method.levels = TileLevels(whole.Width(), whole.Height());
-        // The highlights' floor and growth stop read the whole frame's mean, not the tile's.
-        if (options.highlights > 0 && whole.Has("color"))
-            copy->frameMean = HighlightFrameMean(whole.Get("color"));
+        // The highlights' floor and growth stop read the whole frame's mean, not the tile's,
+        // and the sparse lights compare with the whole frame's highlights.
+        if (options.highlights > 0 && whole.Has("color")) {
+            const Image &color = whole.Get("color");
+            copy->frameMean = HighlightFrameMean(color);
+            copy->sparseWhyOff = SparseLightsOff(whole, color);
+            copy->lightSample = 0;
+            if (whole.Has("max") && copy->sparseWhyOff.empty()) {
+                std::string why;
+                Image variance = Variance(whole, &why);
+                if (Splits(color, variance))
+                    copy->lightSample = HighlightSampleMedian(
+                        whole.Get("max"), SplitHighlights(color, &variance, options.highlights,
+                                                          kHighlightRadius, copy->frameMean)
+                                              .highlight);
+            }
+        }
         return copy;
     }
 
@@ -219,9 +252,14 @@ class Awr : public FrontEndOf<AwrSettings> {
         const Image &color = inputs.Get("color");
         Image base, baseVariance;
         std::vector<char> highlight;
-        if (Splits(color, variance))
+        if (Splits(color, variance)) {
             highlight = ref::SplitHighlights(color, &variance, options.highlights,
                                              kHighlightRadius, &base, &baseVariance);
+            if (inputs.Has("max") && SparseLightsOff(inputs, color).empty())
+                ref::AddSparseLights(color, &variance, inputs.Get("max"), options.highlights,
+                                     kHighlightRadius, lightSample, &highlight, &base,
+                                     &baseVariance);
+        }
         bool any = std::find(highlight.begin(), highlight.end(), 1) != highlight.end();
         Image out = ref::AwrReconstruct(any ? base : color, any ? baseVariance : variance,
                                         options.method, &cpu);
@@ -246,8 +284,11 @@ class Awr : public FrontEndOf<AwrSettings> {
     }
 
   private:
-    // The whole frame's mean for the highlights in a tile (-1: the input's own).
-    double frameMean = -1;
+    // Set by ForTiles: the whole frame's mean for the highlights and its highlights' median
+    // largest sample for the sparse lights (-1: the input's own), and why the sparse lights
+    // are off there.
+    double frameMean = -1, lightSample = -1;
+    std::string sparseWhyOff;
 
     // Whether highlights are split: on, and inputs awr accepts (it refuses the others,
     // naming them).
@@ -257,10 +298,29 @@ class Awr : public FrontEndOf<AwrSettings> {
             if (!(std::isfinite(v) && v >= 0)) return false;
         return true;
     }
-    HighlightSplit Split(const Image &color, const Image &variance) const {
+    // The highlights and, with a max layer that serves them, the sparse lights; why the max
+    // layer does not serve them in *whyOff.
+    HighlightSplit Split(const Image &color, const Image &variance, Inputs &inputs,
+                         std::string *whyOff) const {
         if (!Splits(color, variance)) return HighlightSplit();
-        return SplitHighlights(color, &variance, options.highlights, kHighlightRadius,
-                               frameMean);
+        HighlightSplit split =
+            SplitHighlights(color, &variance, options.highlights, kHighlightRadius, frameMean);
+        *whyOff = lightSample >= 0 ? sparseWhyOff : SparseLightsOff(inputs, color);
+        if (inputs.Has("max") && whyOff->empty())
+            AddSparseLights(color, &variance, inputs.Get("max"), options.highlights,
+                            kHighlightRadius, lightSample, &split);
+        return split;
+    }
+
+    // Why the frame's max layer (its per-pixel largest sample) cannot serve the sparse
+    // lights ("" when it can, or the frame has none).
+    static std::string SparseLightsOff(Inputs &inputs, const Image &color) {
+        if (!inputs.Has("max")) return "";
+        const Image &maxSample = inputs.Get("max");
+        if (!maxSample.SameShape(color)) return "the max layer is not the color's shape";
+        for (float v : maxSample.data)
+            if (!std::isfinite(v)) return "the max layer has NaN/Inf values";
+        return "";
     }
 
     static constexpr int kTileLevels = 5;

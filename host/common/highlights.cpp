@@ -266,6 +266,8 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
     Image sum = ChannelSum(color);
     const double mean = frameMean >= 0 ? frameMean : PlaneMean(sum);
     std::vector<char> over = OverTheirWindows(sum, k, r, mean);
+    split.overWindow = over;
+    split.mean = mean;
     if (variance) RequireConfidence(color, *variance, r, &over);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -327,6 +329,64 @@ size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<c
             }
         }
     return moved;
+}
+
+double HighlightSampleMedian(const Image &maxSample, const std::vector<char> &highlight) {
+    if (highlight.size() != maxSample.PixelCount())
+        throw Error("HighlightSampleMedian: the mask must have the max layer's size",
+                    ErrorKind::Internal);
+    for (float v : maxSample.data)
+        if (!std::isfinite(v)) return 0;
+    std::vector<double> sums;
+    for (size_t p = 0; p < highlight.size(); ++p) {
+        if (!highlight[p]) continue;
+        double s = 0;
+        for (int c = 0; c < maxSample.channels; ++c) s += maxSample.Plane(c)[p];
+        sums.push_back(s);
+    }
+    if (sums.empty()) return 0;
+    auto mid = sums.begin() + sums.size() / 2;
+    std::nth_element(sums.begin(), mid, sums.end());
+    return std::max(*mid, 0.0);
+}
+
+size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
+                       double k, int r, double lightSample, HighlightSplit *split) {
+    if (!maxSample.SameShape(color) || split->highlight.size() != color.PixelCount() ||
+        (!split->overWindow.empty() && split->overWindow.size() != color.PixelCount()) ||
+        (variance && !variance->SameShape(color)))
+        throw Error("AddSparseLights: the layers must have the color's shape",
+                    ErrorKind::Internal);
+    if (lightSample < 0) lightSample = HighlightSampleMedian(maxSample, split->highlight);
+    // A frame with NaN/Inf has no window test, nor sparse lights.
+    if (!(lightSample > 0) || split->overWindow.empty()) return 0;
+    const int w = color.width, h = color.height;
+    const double mean = split->mean;
+    std::vector<float> scratch;
+    size_t added = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (!split->overWindow[p] || split->highlight[p]) continue;
+            // The channel sum as SplitHighlights made it (ChannelSum's order).
+            float s = 0;
+            for (int c = 0; c < color.channels; ++c) s += color.Plane(c)[p];
+            if (!(s > k * mean)) continue;
+            double sample = 0;
+            for (int c = 0; c < color.channels; ++c) sample += maxSample.Plane(c)[p];
+            if (!(sample <= kSparseLightSampleRatio * lightSample)) continue;
+            split->highlight[p] = 1;
+            ++added;
+            for (int c = 0; c < color.channels; ++c) {
+                split->base.Plane(c)[p] = WindowMedian(color.Plane(c), w, h, x, y, r, scratch);
+                if (variance)
+                    split->baseVariance.Plane(c)[p] =
+                        WindowMedian(variance->Plane(c), w, h, x, y, r, scratch);
+            }
+        }
+    split->count += added;
+    split->sparse += added;
+    return added;
 }
 
 void AddHighlights(const Image &color, const HighlightSplit &split, Image *output) {

@@ -36,6 +36,11 @@ struct HighlightSplit {
     std::vector<char> highlight;  // per pixel
     size_t count = 0;             // highlights, grown ones included
     size_t grown = 0;             // of those, the ones the growth added
+    size_t sparse = 0;            // of those, the sparse lights AddSparseLights added
+    // What AddSparseLights reads again: the pixels over k times their window's median of the
+    // channel sums and the floor (empty for a frame with NaN/Inf), and the frame's mean sum.
+    std::vector<char> overWindow;
+    double mean = 0;
 };
 
 // The split of `color` (and `variance`, the input's size or null) at ratio k over windows of
@@ -44,6 +49,31 @@ struct HighlightSplit {
 // >= 0, so a tile reads the frame's.
 HighlightSplit SplitHighlights(const Image &color, const Image *variance, double k, int r,
                                double frameMean = -1);
+
+// How far a sparse light's brightest sample may stand above the highlights' (AddSparseLights).
+constexpr double kSparseLightSampleRatio = 2;
+
+// Sparse lights: a light's reflection one or two pixels wide that one or two of its samples saw
+// stands under 2 of its standard deviations, as a firefly does, and the filter spread it into
+// a bright square with dark dots where the reference is dim. A firefly of a rare path weighted
+// by a small density is far brighter than any light the frame shows; a reflection's sample is
+// no brighter than the light it reflects (nor is a caustic's: those are kept too). Given the
+// per-pixel largest sample `maxSample` (the color's shape), given the split SplitHighlights
+// made of `color` and `variance` at k and r (its window test and mean read again), a pixel not
+// yet a highlight whose channels sum to over k times its window's median (and the floor) and k
+// times the frame's mean, and whose largest sample (channels summed) is at most
+// kSparseLightSampleRatio times `lightSample` (HighlightSampleMedian of the whole frame, so a
+// tile compares with the frame's lights; < 0: that of the split's own highlights), becomes a
+// highlight: reconstructed at its window's medians, given its input back after. Nothing with a
+// `lightSample` of 0 (no highlights to compare with); returns how many it added (also counted
+// in split->count and split->sparse).
+size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
+                       double k, int r, double lightSample, HighlightSplit *split);
+
+// What sparse lights compare with: the median (the upper one) over the highlights of
+// maxSample's channel sums; 0 (sparse lights off) without highlights or where maxSample has
+// NaN/Inf values.
+double HighlightSampleMedian(const Image &maxSample, const std::vector<char> &highlight);
 
 // The mean of the color's channel sums, as SplitHighlights reads it.
 double HighlightFrameMean(const Image &color);

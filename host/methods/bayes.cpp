@@ -66,6 +66,19 @@ bool MissedSample(const Image &color, const std::vector<float> &floors, int y, i
     return true;
 }
 
+// Whether a 3x3 neighbour of (x, y) inside the frame is lit in channel c (finite, above 0).
+bool BesideLight(const Image &color, int c, int y, int x) {
+    for (int v = std::max(0, y - 1); v <= std::min(color.height - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(color.width - 1, x + 1); ++u)
+            if (float value = color.At(c, v, u); Finite(value) && value > 0) return true;
+    return false;
+}
+
+// Zeros kept black too dense to be black: at least this share of the frame's values, and
+// at least half of them beside a lit value of their channel (low-spp indirect light, where
+// most pixels' few samples missed it, not black regions, whose zeros are mostly inside).
+constexpr double kDenseZerosShare = 0.1;
+
 // Count what the log domain cannot take as is, with the first place of each. Black and
 // nearly black values are ordinary in a render: one line says what became of them.
 void CountSpecials(const Image &color, const std::vector<float> &floors, bool restoreZeros,
@@ -74,7 +87,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
         size_t n = 0;
         int x = 0, y = 0, c = 0;
     } nonFinite, negative, zero, dark;
-    size_t keptBlack = 0, filled = 0;
+    size_t keptBlack = 0, filled = 0, keptBesideLight = 0;
     auto add = [](Count &count, int c, int y, int x) {
         if (count.n++ == 0) count.x = x, count.y = y, count.c = c;
     };
@@ -90,6 +103,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
                     add(dark, c, y, x);
                     bool kept = restoreZeros && v == 0 && InsideBlack(color, c, y, x);
                     zero.n += v == 0, keptBlack += kept;
+                    keptBesideLight += kept && BesideLight(color, c, y, x);
                     filled += restoreZeros && !kept && MissedSample(color, floors, y, x);
                 }
             }
@@ -119,6 +133,14 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
                 "log and denoised",
                 filled);
         if (floored) black += fmt::format("; {} denoised from the floor", floored);
+        if (double(keptBlack) >= kDenseZerosShare * double(color.data.size()) &&
+            2 * keptBesideLight >= keptBlack)
+            black += fmt::format(
+                "; zeros too dense to tell black from samples that missed the light ({} of "
+                "the {} kept black are beside a lit value of their channel): the output keeps "
+                "black holes where the light is dim; use --zeros denoise or more samples per "
+                "pixel",
+                keptBesideLight, keptBlack);
     }
     say(dark, "black or nearly black",
         (restoreZeros ? std::string("below the log domain's floor (--log-floor x the "

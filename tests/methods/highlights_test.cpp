@@ -2,10 +2,12 @@
 // and awr keeping a small light's energy at the light.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 
 #include "cpu_reference/highlights.h"
 #include "harness/frames.h"
@@ -13,6 +15,7 @@
 #include "harness/inputs.h"
 #include "host/api/device.h"
 #include "host/common/highlights.h"
+#include "host/common/parallel.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
 
@@ -79,6 +82,72 @@ void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
     }
 }
 
+// Each value's largest sample: 1 to 16 times the value, seeded.
+Image MaxSampleOf(const Image &color) {
+    std::mt19937_64 rng(SeedFromName("highlights max " + std::to_string(color.width) + "x" +
+                                     std::to_string(color.height) + "x" +
+                                     std::to_string(color.channels)));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image maxSample = color;
+    for (float &v : maxSample.data) v *= 1 + 15 * unit(rng);
+    return maxSample;
+}
+
+// The sparse lights added to a split (`split`, and the twin's mask and bases) against the
+// twin, with the split's own highlights' median largest sample and with half of it given, in
+// the default parts and forced into 1 and 3.
+void ExpectSparseLightsMatchReference(const Image &color, const Image &variance, double k,
+                                      const HighlightSplit &split,
+                                      const std::vector<char> &mask, const Image &base,
+                                      const Image &baseVariance) {
+    const int w = color.width, h = color.height;
+    SCOPED_TRACE(testing::Message() << w << "x" << h << "x" << color.channels << ", k " << k);
+    const Image maxSample = MaxSampleOf(color);
+    const double own = HighlightSampleMedian(maxSample, split.highlight);
+    for (double lightSample : {-1.0, own / 2}) {
+        HighlightSplit got = split;
+        const size_t added =
+            AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &got);
+        std::vector<char> expected = mask;
+        Image expectedBase = base, expectedVariance = baseVariance;
+        ref::AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &expected,
+                             &expectedBase, &expectedVariance);
+        ASSERT_EQ(got.highlight, expected) << "light sample " << lightSample;
+        EXPECT_EQ(got.base.data, expectedBase.data);
+        EXPECT_EQ(got.baseVariance.data, expectedVariance.data);
+        const size_t count = size_t(std::count(expected.begin(), expected.end(), char(1)));
+        EXPECT_EQ(got.count, count);
+        EXPECT_EQ(added, count - split.count);
+        EXPECT_EQ(got.sparse, added);
+        if (w >= 40 && lightSample < 0) {
+            EXPECT_GT(added, 0u) << "no sparse light to compare";
+        }
+        for (int parts : {1, 3}) {
+            ForceParallelParts force(parts);
+            HighlightSplit parted = SplitHighlights(color, &variance, k, 3);
+            EXPECT_EQ(AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &parted),
+                      added)
+                << parts << " parts";
+            EXPECT_EQ(parted.highlight, expected) << parts << " parts";
+            EXPECT_EQ(parted.base.data, expectedBase.data) << parts << " parts";
+            EXPECT_EQ(parted.baseVariance.data, expectedVariance.data) << parts << " parts";
+            EXPECT_EQ(parted.count, count) << parts << " parts";
+        }
+    }
+    // A NaN in the max layer: the sample cannot be compared, nothing is added.
+    Image withNan = maxSample;
+    withNan.data[withNan.data.size() / 2] = std::numeric_limits<float>::quiet_NaN();
+    HighlightSplit got = split;
+    EXPECT_EQ(AddSparseLights(color, &variance, withNan, k, 3, -1, &got), 0u);
+    EXPECT_EQ(got.highlight, split.highlight);
+    std::vector<char> expected = mask;
+    Image expectedBase = base, expectedVariance = baseVariance;
+    ref::AddSparseLights(color, &variance, withNan, k, 3, -1, &expected, &expectedBase,
+                         &expectedVariance);
+    EXPECT_EQ(expected, mask);
+    EXPECT_EQ(expectedBase.data, base.data);
+}
+
 TEST(Highlights, MatchesReference) {
     for (int channels : {1, 3})
         for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {40, 31}})
@@ -105,6 +174,8 @@ TEST(Highlights, MatchesReference) {
                 LowerToInputMaximumNearHighlights(color, got.highlight, 6, 1, &crest);
                 ref::LowerToInputMaximumNearHighlights(color, mask, 6, 1, &crestExpected);
                 EXPECT_EQ(crest.data, crestExpected.data);
+                ExpectSparseLightsMatchReference(color, variance, k, got, mask, base,
+                                                 baseVariance);
                 auto marked = [&](Pixel p) { return got.highlight[size_t(p.y) * w + p.x]; };
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
@@ -122,6 +193,22 @@ TEST(Highlights, MatchesReference) {
                     }
                 }
             }
+    // A frame without highlights has none to compare a sample with: a lone firefly whose
+    // sample is its value stays out, as it does not with a light's sample given.
+    Image color(9, 9, 3, 0.1f);
+    for (int c = 0; c < 3; ++c) color.At(c, 4, 4) = 1000;
+    HighlightSplit none = SplitHighlights(color, nullptr, 16, 3);
+    ASSERT_EQ(none.count, 0u);
+    EXPECT_EQ(HighlightSampleMedian(color, none.highlight), 0.0);
+    EXPECT_EQ(AddSparseLights(color, nullptr, color, 16, 3, -1, &none), 0u);
+    Image base = color, baseVariance;
+    std::vector<char> mask = none.highlight;
+    ref::AddSparseLights(color, nullptr, color, 16, 3, -1, &mask, &base, &baseVariance);
+    EXPECT_EQ(mask, none.highlight);
+    EXPECT_EQ(AddSparseLights(color, nullptr, color, 16, 3, 3000, &none), 1u);
+    ref::AddSparseLights(color, nullptr, color, 16, 3, 3000, &mask, &base, &baseVariance);
+    EXPECT_EQ(mask, none.highlight);
+    EXPECT_EQ(base.data, none.base.data);
 }
 
 TEST(Highlights, LoneFireflyAndNonFiniteFramesHaveNone) {
@@ -310,6 +397,101 @@ TEST_F(HighlightsAwr, ARimPixelOneSampleSawIsGrown) {
     EXPECT_LT(worst, 0.5f * 0.05f) << "a glow beside the rim pixel";
 }
 
+// A 128 x 128 dim floor with a bulb at (32, 32), a light's reflection one sample of 16 saw
+// at (84, 80) (its sample the bulb's) and a firefly at (80, 40) (its sample ten times the
+// bulb's): the color, its variance, the largest sample (maxSample) and the truth.
+struct LoneReflection {
+    static constexpr int w = 128, h = 128, cx = 32, cy = 32;
+    static constexpr Pixel reflection{84, 80}, firefly{80, 40};
+    Image color{w, h, 3}, variance{w, h, 3}, maxSample, truth{w, h, 3, 0.05f};
+
+    explicit LoneReflection(const std::string &name) {
+        NoisyBulb(name, cx, cy, &color, &variance);
+        maxSample = color;
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= 12)
+                        truth.At(c, y, x) = 500;
+        for (auto [p, sample, reference] :
+             {std::tuple{reflection, 500.f, 60.f}, std::tuple{firefly, 5000.f, 0.05f}})
+            for (int c = 0; c < 3; ++c) {
+                color.At(c, p.y, p.x) = sample / 16;
+                variance.At(c, p.y, p.x) = (sample / 16) * (sample / 16);
+                maxSample.At(c, p.y, p.x) = sample;
+                truth.At(c, p.y, p.x) = reference;
+            }
+    }
+};
+
+// A light's reflection one sample of 16 saw (a metal sphere's, issue 29) has a firefly's
+// statistics: its standard deviation is as large as its mean, and it has no bright
+// neighbour. awr spread it into a bright square where the reference is dim, worse than its
+// input. Its sample is no brighter than the bulb the frame shows, so with the frame's max
+// layer it is a sparse light and keeps its input; a firefly, its sample ten times the bulb's,
+// is still spread.
+TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
+    // A frame large enough that the bulb leaves its mean under a sixteenth of the reflection.
+    const LoneReflection lone("highlights awr lone reflection");
+    const int w = lone.w;
+    const Pixel reflection = lone.reflection, firefly = lone.firefly;
+    const Image &color = lone.color, &variance = lone.variance, &maxSample = lone.maxSample,
+                &truth = lone.truth;
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    ASSERT_GT(split.count, 0u) << "the bulb";
+    EXPECT_FALSE(split.highlight[size_t(reflection.y) * w + reflection.x]);
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 1u);
+    EXPECT_TRUE(split.highlight[size_t(reflection.y) * w + reflection.x]);
+    EXPECT_FALSE(split.highlight[size_t(firefly.y) * w + firefly.x]);
+    Image base, baseVariance;
+    std::vector<char> highlight =
+        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
+    ref::AddSparseLights(color, &variance, maxSample, 16, 3, -1, &highlight, &base,
+                         &baseVariance);
+    EXPECT_EQ(split.highlight, highlight);
+    EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+
+    // The relMSE over the reflection's 9x9 window.
+    auto windowError = [&](const Image &image) {
+        Image a(9, 9, 3), b(9, 9, 3);
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < 9; ++y)
+                for (int x = 0; x < 9; ++x) {
+                    a.At(c, y, x) = image.At(c, reflection.y - 4 + y, reflection.x - 4 + x);
+                    b.At(c, y, x) = truth.At(c, reflection.y - 4 + y, reflection.x - 4 + x);
+                }
+        return CompareImages(a, b).relMse;
+    };
+    Frame frame = ColorAndVariance(color, variance);
+    Device device = api::BorrowDevice(Ctx());
+    Method awr("awr");
+    Result without = awr.Run(device, frame);
+    frame.layers["max"] = maxSample;
+    Result with = awr.Run(device, frame);
+    const double input = windowError(color);
+    EXPECT_GT(windowError(without.image), input) << "the case no longer shows the spread";
+    EXPECT_LE(windowError(with.image), input);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_LT(with.image.At(c, firefly.y, firefly.x),
+                  0.5f * color.At(c, firefly.y, firefly.x))
+            << "the firefly is no longer spread";
+    // A max layer of one channel (the runs refuse or zero NaN/Inf before) serves no sparse
+    // light: the run is the one without it, and the plan says why.
+    Image oneChannel(w, lone.h, 1);
+    for (int c = 0; c < 3; ++c)
+        for (size_t p = 0; p < oneChannel.PixelCount(); ++p)
+            oneChannel.data[p] = std::max(oneChannel.data[p], maxSample.Plane(c)[p]);
+    frame.layers["max"] = oneChannel;
+    Result off = awr.Run(device, frame);
+    EXPECT_EQ(off.image.data, without.image.data);
+    bool said = false;
+    for (const std::string &line : off.plan)
+        said |= line.find("sparse lights off: the max layer is not the color's shape") !=
+                std::string::npos;
+    EXPECT_TRUE(said) << ::testing::PrintToString(off.plan);
+}
+
 // A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
 // stop (k x the mean) keeps the bulb's interior out; given the whole frame's mean, as awr's
 // tiles are, it grows as it does in the whole frame.
@@ -339,6 +521,47 @@ TEST(Highlights, ATileReadsTheFramesMean) {
             EXPECT_EQ(given.highlight[size_t(y) * side + x],
                       whole.highlight[size_t(cy - half + y) * w + cx - half + x])
                 << x << ", " << y;
+}
+
+// A tile holding the reflection one sample saw but not the bulb has no highlights of its own:
+// with them it would keep the reflection out (and awr spread it), so the output would
+// depend on the tile grid. Given the whole frame's highlights' median largest sample, as
+// awr's tiles are, it marks the reflection as the whole frame does.
+TEST(Highlights, ATileComparesSparseLightsWithTheFramesLights) {
+    const LoneReflection frame("highlights tile sparse lights");
+    const int w = frame.w, half = 8, side = 2 * half + 1;
+    const Pixel reflection = frame.reflection;
+    const int x0 = reflection.x - half, y0 = reflection.y - half;
+    HighlightSplit whole = SplitHighlights(frame.color, &frame.variance, 16, 3);
+    const double frameMean = HighlightFrameMean(frame.color),
+                 lightSample = HighlightSampleMedian(frame.maxSample, whole.highlight);
+    ASSERT_GT(lightSample, 0) << "the bulb";
+    AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, -1, &whole);
+    ASSERT_TRUE(whole.highlight[size_t(reflection.y) * w + reflection.x]);
+    Image tile(side, side, 3), tileVariance(side, side, 3), tileMax(side, side, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                tile.At(c, y, x) = frame.color.At(c, y0 + y, x0 + x);
+                tileVariance.At(c, y, x) = frame.variance.At(c, y0 + y, x0 + x);
+                tileMax.At(c, y, x) = frame.maxSample.At(c, y0 + y, x0 + x);
+            }
+    HighlightSplit own = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
+    EXPECT_EQ(own.count, 0u) << "the tile holds no light";
+    EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, -1, &own), 0u);
+    HighlightSplit given = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
+    EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, lightSample, &given), 1u);
+    EXPECT_TRUE(given.highlight[size_t(half) * side + half]) << "the reflection, tile";
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x)
+            EXPECT_EQ(given.highlight[size_t(y) * side + x],
+                      whole.highlight[size_t(y0 + y) * w + x0 + x])
+                << x << ", " << y;
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(given.base.At(c, half, half), whole.base.At(c, reflection.y, reflection.x));
+        EXPECT_EQ(given.baseVariance.At(c, half, half),
+                  whole.baseVariance.At(c, reflection.y, reflection.x));
+    }
 }
 
 // A ceiling panel 24 pixels wide is its own median but for its corners; grown from them it
