@@ -17,6 +17,11 @@ layout(binding = PIVOT_GATHER_TILES) uniform samplerBuffer tiles;
 
 int planeSize, gw, gh;
 
+// The near window's places are listed in two 32-bit words.
+#if (2 * PIVOT_GATHER_NEAR + 1) * (2 * PIVOT_GATHER_NEAR + 1) > 64
+#error "the near window holds more than 64 centres"
+#endif
+
 #include "pivot/guides.glsl"
 #include "pivot/lattice.glsl"
 
