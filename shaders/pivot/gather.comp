@@ -17,6 +17,11 @@ layout(binding = PIVOT_GATHER_TILES) uniform samplerBuffer tiles;
 
 int planeSize, gw, gh;
 
+// The near window's places are listed in two 32-bit words.
+#if (2 * PIVOT_GATHER_NEAR + 1) * (2 * PIVOT_GATHER_NEAR + 1) > 64
+#error "the near window holds more than 64 centres"
+#endif
+
 #include "pivot/guides.glsl"
 #include "pivot/lattice.glsl"
 
@@ -92,12 +97,26 @@ void main() {
     sumWz = 0.0;
     here = surfaceAt(i);
     // Centres of step 1 (radius <= PIVOT_GATHER_NEAR, dense) directly from the pixel's
-    // neighbourhood; the tiles list only the sparser lattices.
-    const int N = PIVOT_GATHER_NEAR;
+    // neighbourhood; the tiles list only the sparser lattices. First the near centres whose
+    // squares hold the pixel, as bits in row-major order, then only those, in that order:
+    // a SIMD group runs the weights as often as its lanes' largest count of such centres,
+    // not once per place of the window.
+    const int N = PIVOT_GATHER_NEAR, side = 2 * N + 1;
+    uint holds[2] = uint[2](0u, 0u);
     for (int y0 = max(0, y - N); y0 <= min(h - 1, y + N); ++y0)
         for (int x0 = max(0, x - N); x0 <= min(w - 1, x + N); ++x0) {
             float radius = radiusOf(y0 * w + x0);
-            if (radius >= 0.0 && radius <= float(N)) addCentre(x0, y0, radius);
+            if (radius >= 0.0 && radius <= float(N) && float(abs(x - x0)) <= radius &&
+                float(abs(y - y0)) <= radius) {
+                int bit = (y0 - y + N) * side + (x0 - x + N);
+                holds[bit >> 5] |= 1u << (bit & 31);
+            }
+        }
+    for (int word = 0; word < 2; ++word)
+        for (uint bits = holds[word]; bits != 0u; bits &= bits - 1u) {
+            int bit = word * 32 + findLSB(bits);
+            int x0 = x - N + bit % side, y0 = y - N + bit / side;
+            addCentre(x0, y0, radiusOf(y0 * w + x0));
         }
     const int T = PIVOT_GATHER_TILE;
     int tileCount = push.tilesX * push.tilesY;
