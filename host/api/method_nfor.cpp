@@ -215,6 +215,15 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         &O::clampLightRadius, 0, 64)),
         nested(IntParam("clamp-light-fine", "then over tents of 2x this radius; 0: none",
                         &O::clampLightFine, 0, 64)),
+        nested(BoolParam("no-layer-passes",
+                         "beside a variance layer, leave out the passes of a frame without "
+                         "one: the specks' clamp, the clamp's light restored, the weak "
+                         "emitters' mean and the lights' spread",
+                         &O::noLayerPasses)),
+        nested(FloatParam("layer-noise-cap",
+                          "beside a variance layer the weights read min(layer, this x the "
+                          "frame's own estimate of the clamped colour's noise); 0: the layer",
+                          &O::layerNoiseCap, 0, 1e6)),
         nested(IntParam("clamp-light-reach",
                         "the clamp's light is not given back within this many pixels of an "
                         "emitter or a partly covered pixel",
@@ -290,8 +299,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
-        // The kept pixels' pass runs where the noise is the frame's own (InputsOf).
-        const bool layer = options.noise == "auto" && inputs.Has("variance");
+        // The kept pixels' pass runs where the noise is the frame's own (InputsOf), and
+        // beside a layer unless --no-layer-passes (where the clamp reads the frame's own
+        // estimate, which a run decides: the reach allows for it).
+        const bool layer = options.noise == "auto" && inputs.Has("variance") && o.noLayerPasses;
         const int keptReach = NforKeptPassRadius(o, layer, inputs.Has("albedo"));
         // The lights' spread reads the output of the 4 neighbours.
         const int lightReach = NforSpreadsLights(o, layer, inputs.Has("albedo")) ? 1 : 0;
@@ -432,6 +443,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.coarseNoise = o.coarseNoise;
         p.coarseGate = o.coarseGate;
         p.premultiplied = o.premultiplied;
+        p.layerPasses = !o.noLayerPasses;
+        p.layerNoiseCap = o.layerNoiseCap;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance, in.alpha};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);

@@ -137,6 +137,18 @@ struct NforOptions {
     // (NforRelativeNoise of the colour's own estimate) is at least coarseGate (0: never).
     bool coarse = false;
     float coarseRelative = 0.1f, coarseNoise = 0.3f, coarseGate = 0.02f;
+    // Beside a variance layer read as the noise, where the firefly clamp reads the frame's
+    // own estimate (not the layer: clampLayer, clampLoss), the passes of a frame without a
+    // layer run too: the specks' clamp, the clamp's light restored, the weak emitters' mean
+    // and the lights' spread (they read no noise, and the clamp they follow is the same);
+    // true: only without a layer.
+    bool noLayerPasses = false;
+    // Beside a variance layer the weights, distances and SURE read min(layer, this x the
+    // frame's own estimate of the clamped colour's noise, as without a layer): a pixel whose
+    // few samples caught a rare bright path reports that path's variance in the layer,
+    // far above what its neighbours say, and the pilot's distance then weighs it with
+    // anything. 0: the layer as it is.
+    float layerNoiseCap = 3;
     // Denoise partly covered pixels as the frame holds them, premultiplied by their alpha;
     // by default divided by it and multiplied back after (host/methods/nfor_alpha.h).
     bool premultiplied = false;
