@@ -178,7 +178,7 @@ struct NforParams {
     bool layerPasses = true;
     // > 0: beside a variance layer the weights, distances and SURE read min(layer, this x
     // the clamped colour's own estimate, edge pixels relaxed, as without a layer).
-    double layerNoiseCap = 3;
+    double layerNoiseCap = 0;
     // The frame's alpha is not divided by (the values as written); the lights' spread still
     // reads it (its zeros take no part).
     bool premultiplied = false;

@@ -147,8 +147,9 @@ struct NforOptions {
     // frame's own estimate of the clamped colour's noise, as without a layer): a pixel whose
     // few samples caught a rare bright path reports that path's variance in the layer,
     // far above what its neighbours say, and the pilot's distance then weighs it with
-    // anything. 0: the layer as it is.
-    float layerNoiseCap = 3;
+    // anything. 0 (the default: on our renders' layers the cap cost much): the layer as it
+    // is.
+    float layerNoiseCap = 0;
     // Denoise partly covered pixels as the frame holds them, premultiplied by their alpha;
     // by default divided by it and multiplied back after (host/methods/nfor_alpha.h).
     bool premultiplied = false;

@@ -1249,6 +1249,7 @@ TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
         NforOptions o;
         o.keepStages = true;
         o.noLayerPasses = !passes;
+        o.layerNoiseCap = 3;
         NforResult result = NforDenoise(Ctx(), in, o);
         std::set<std::string> names;
         for (const auto &stage : result.stages) names.insert(stage.first);
