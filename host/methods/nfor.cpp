@@ -131,13 +131,14 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.wideAgreement) && o.wideAgreement >= 0) || !finite(o.speckRelative) ||
         !(finite(o.speckFloor) && o.speckFloor >= 0) ||
         !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
-        !(o.lightShare >= 0 && o.lightShare <= 0.25f))
+        !(o.lightShare >= 0 && o.lightShare <= 0.25f) ||
+        !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
-            "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement "
-            "and speck floor finite and >= 0, speck relative finite, mean radius >= 0, light "
-            "shares 0 to 0.25",
+            "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
+            "speck floor and layer noise cap finite and >= 0, speck relative finite, mean "
+            "radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -305,11 +306,6 @@ void PlanNoise(StagedRun &run, const NforInputs &in, const NforOptions &o) {
                                    "(--layer-noise-cap)",
                                    o.layerNoiseCap)
                      : std::string("noise of the colour: the frame's variance layer"));
-        if (!o.noLayerPasses)
-            run.Plan(
-                "beside the layer the specks' clamp, the clamp's light, the weak "
-                "emitters' mean and the lights' spread run as without one "
-                "(--no-layer-passes: off)");
         return;
     }
     run.Plan(fmt::format(
@@ -657,12 +653,17 @@ void PlanClamp(StagedRun &run, const NforInputs &in, const NforOptions &o,
             "light, above {:.1f}% (--clamp-loss): the light is in rare bright samples, not in "
             "fireflies, so it reads the variance layer{}",
             100 * result.clampLoss, 100 * o.clampLoss, frame));
-    else
+    else {
         run.Plan(fmt::format(
             "the firefly clamp reads the frame's own estimate, not the variance layer (a "
             "firefly's few samples report its own variance there): it took off {:.2f}% of "
             "the light (at most {:.1f}%, --clamp-loss){}",
             100 * result.clampLoss, 100 * o.clampLoss, frame));
+        if (!o.noLayerPasses)
+            run.Plan(
+                "so the specks' clamp, the clamp's light, the weak emitters' mean and the "
+                "lights' spread run as without a layer (--no-layer-passes: off)");
+    }
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -986,7 +987,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                               straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     }
     const bool plain = PlainPasses(in, o, result);
-    const int keptPass = NforKeptPassRadius(o, !plain, in.albedo);
+    const int keptPass = NforKeptPassRadius(o, plain, in.albedo);
     if (keptPass > 0) {
         run.AddStage("unkept", result.image);
         NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
@@ -1040,7 +1041,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
             result.partlyCovered, kNforMinAlpha));
     }
     // On the output as written, so that light moved between pixels of any coverage stays.
-    if (NforSpreadsLights(o, !plain, in.albedo)) SpreadLights(run, in, o, given.alpha, result);
+    if (NforSpreadsLights(o, plain, in.albedo)) SpreadLights(run, in, o, given.alpha, result);
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);
