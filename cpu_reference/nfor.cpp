@@ -735,9 +735,58 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
                   out);
 }
 
+// The firefly clamp of in.color against `variance`, or beside a variance layer with
+// p.clampEstimate against the frame's own estimate (*clampVariance), unless that took off
+// more than p.clampLoss of the light (the light is in rare bright samples): then against the
+// layer (*onLayer).
+Image NforClampFrame(const NforInputs &in, const NforParams &p, const Image &variance,
+                     const Image &mask, Image *clampVariance, bool *onLayer) {
+    const Image &color = *in.color;
+    const bool ownClamp = in.variance && p.clampEstimate;
+    *onLayer = false;
+    if (ownClamp)
+        *clampVariance = NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
+    auto clamp = [&](const Image &noise) {
+        return NforClamp(color, noise, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative,
+                         p.fireflyRank, p.fireflyLightEdge, p.fireflySum, p.fireflyLine,
+                         p.fireflyLoneLight);
+    };
+    Image clamped = clamp(ownClamp ? *clampVariance : variance);
+    if (!ownClamp) return clamped;
+    // The light the clamp took off, over the colour's sum.
+    double sum = 0, taken = 0, values = 0, changed = 0;
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                sum += color.At(c, y, x);
+                taken += double(color.At(c, y, x)) - double(clamped.At(c, y, x));
+                values += 1;
+                changed += clamped.At(c, y, x) != color.At(c, y, x) ? 1 : 0;
+            }
+    if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss) {
+        *onLayer = true;
+        clamped = clamp(variance);
+    }
+    return clamped;
+}
+
+// Beside a variance layer with p.layerNoiseCap > 0: `variance` (the layer) capped at
+// layerNoiseCap times the clamped colour's own estimate, edge pixels relaxed, divided by
+// `alpha` (nullptr: none) as without a layer.
+void NforCapLayer(const NforInputs &in, const NforParams &p, const Image &clamped,
+                  const Image *alpha, Image *variance) {
+    if (!in.variance || p.layerNoiseCap <= 0) return;
+    Image estimate = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
+    if (alpha) estimate = NforStraight(estimate, *alpha, 1);
+    for (size_t i = 0; i < variance->data.size(); ++i)
+        variance->data[i] =
+            std::min(variance->data[i], float(p.layerNoiseCap) * estimate.data[i]);
+}
+
 // The method on straight values (every stage but output), its result before any alpha;
 // `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
 // the frame's coverage as given, which guards the clamp's light (not with p.premultiplied).
+// *plainOut: whether the passes of a frame without a variance layer ran.
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
                       std::vector<std::pair<std::string, Image>> *stages, const Image *alpha,
                       bool *plainOut) {
@@ -750,33 +799,10 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                          : NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
-    bool ownClamp = in.variance && p.clampEstimate;
+    const bool ownClamp = in.variance && p.clampEstimate;
     bool clampOnLayer = false;
-    Image clampVariance =
-        ownClamp ? NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration) : Image();
-    Image clamped =
-        NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
-                  p.fireflyThreshold, p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge,
-                  p.fireflySum, p.fireflyLine, p.fireflyLoneLight);
-    if (ownClamp) {
-        // The light the clamp took off, over the colour's sum.
-        double sum = 0, taken = 0, values = 0, changed = 0;
-        for (int c = 0; c < color.channels; ++c)
-            for (int y = 0; y < color.height; ++y)
-                for (int x = 0; x < color.width; ++x) {
-                    sum += color.At(c, y, x);
-                    taken += double(color.At(c, y, x)) - double(clamped.At(c, y, x));
-                    values += 1;
-                    changed += clamped.At(c, y, x) != color.At(c, y, x) ? 1 : 0;
-                }
-        if (sum > 0 && changed >= kNforClampLossMinShare * values &&
-            taken / sum > p.clampLoss) {
-            clampOnLayer = true;
-            clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
-                                p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge,
-                                p.fireflySum, p.fireflyLine, p.fireflyLoneLight);
-        }
-    }
+    Image clampVariance;
+    Image clamped = NforClampFrame(in, p, variance, mask, &clampVariance, &clampOnLayer);
     keep("color", clamped);
     if (ownClamp) keep("clamp.variance", clampVariance);
     // The passes of a frame without a layer: without one, or beside one where the clamp
@@ -791,15 +817,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         // covered pixels its estimate read.
         if (alpha) variance = NforStraight(variance, *alpha, 1);
     }
-    if (in.variance && p.layerNoiseCap > 0) {
-        // The layer capped at layerNoiseCap times the clamped colour's own estimate.
-        Image estimate =
-            NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
-        if (alpha) estimate = NforStraight(estimate, *alpha, 1);
-        for (size_t i = 0; i < variance.data.size(); ++i)
-            variance.data[i] =
-                std::min(variance.data[i], float(p.layerNoiseCap) * estimate.data[i]);
-    }
+    NforCapLayer(in, p, clamped, alpha, &variance);
     keep("variance", variance);
     Image features = *in.features;
     if (p.prefilterRadius > 0) {
