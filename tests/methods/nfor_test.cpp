@@ -1226,6 +1226,13 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
 }
 
+// The names of a run's stages.
+std::set<std::string> StageNames(const NforResult &result) {
+    std::set<std::string> names;
+    for (const auto &stage : result.stages) names.insert(stage.first);
+    return names;
+}
+
 // Beside a variance layer the passes of a frame without one (specks, the clamp's light, the
 // weak emitters' mean, the lights' spread) run, and the weights read the layer capped at
 // --layer-noise-cap times the frame's own estimate; both off, as before. The stages agree
@@ -1251,8 +1258,7 @@ TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
         o.noLayerPasses = !passes;
         o.layerNoiseCap = 3;
         NforResult result = NforDenoise(Ctx(), in, o);
-        std::set<std::string> names;
-        for (const auto &stage : result.stages) names.insert(stage.first);
+        std::set<std::string> names = StageNames(result);
         for (const char *name : {"specks", "unkept", "lights"})
             EXPECT_EQ(names.count(name), passes ? 1u : 0u) << name;
         const Image *variance = nullptr;
@@ -1275,8 +1281,40 @@ TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
     uncapped.keepStages = true;
     uncapped.layerNoiseCap = 0;
     NforResult result = NforDenoise(Ctx(), in, uncapped);
-    for (const auto &stage : result.stages)
-        if (stage.first == "variance") EXPECT_EQ(stage.second.data, layer.data);
+    for (const auto &stage : result.stages) {
+        if (stage.first == "variance") {
+            EXPECT_EQ(stage.second.data, layer.data);
+        }
+    }
+    // The cap is finite and >= 0.
+    for (float bad : {-1.f, std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::infinity()}) {
+        NforOptions o;
+        o.layerNoiseCap = bad;
+        EXPECT_THROW(NforDenoise(Ctx(), in, o), Error) << bad;
+    }
+}
+
+// Beside a variance layer, with the passes on, a clamp that takes off more light than
+// --clamp-loss (0 here: any) reads the layer, and the passes of a frame without one stay out:
+// no specks, kept pixels' mean or lights' spread. The stages agree with the reference's.
+TEST_F(NforMethod, VarianceLayerPassesStayOutWhereTheClampReadsTheLayer) {
+    NforOptions o;
+    o.clampLoss = 0;
+    Frame f = MakeFrame(29, 23, 0.3, "stages29x23");
+    AddLightsAtTheEdge(&f, nullptr);
+    Image layer = LayerWithFireflies(f);
+    NforInputs in = InputsOf(f);
+    in.variance = &layer;
+    NforOptions kept = o;
+    kept.keepStages = true;
+    NforResult result = NforDenoise(Ctx(), in, kept);
+    EXPECT_TRUE(result.clampOnLayer);
+    EXPECT_EQ(result.lights, 0u);
+    std::set<std::string> names = StageNames(result);
+    for (const char *name : {"specks", "unkept", "lights"}) EXPECT_EQ(names.count(name), 0u);
+    EXPECT_EQ(names.count("clamp.variance"), 1u);
+    ExpectStagesMatch(Ctx(), 29, 23, o, true, false, true);
 }
 
 // Lone lights kept (--firefly-lone-light 2): AddLightsAtTheEdge's weak light (albedo 3, its
@@ -1599,8 +1637,13 @@ TEST_F(NforMethod, KeepsTheLightOfRareBrightSamples) {
         for (float v : image.data) sum += v;
         return sum / input;
     };
-    NforResult r = NforDenoise(Ctx(), in, {});
+    NforOptions defaults;
+    defaults.keepStages = true;
+    NforResult r = NforDenoise(Ctx(), in, defaults);
     EXPECT_TRUE(r.clampOnLayer);
+    // The passes of a frame without a layer stay out: the clamp read the layer.
+    std::set<std::string> names = StageNames(r);
+    for (const char *name : {"specks", "unkept", "lights"}) EXPECT_EQ(names.count(name), 0u);
     EXPECT_GT(r.clampLoss, 0.03);
     EXPECT_NEAR(brightness(r.image), 1, 0.03);
     NforOptions never;
@@ -1992,8 +2035,9 @@ TEST(NforLights, MatchesTheReferenceAndRepeats) {
 // nfor's defaults on a plain frame: a bright light (a 3x3 block of strong emitters) in a
 // dim frame gives its 4-neighbours outside the block a share of its light, which they lack
 // with --light-share 0 (the frame's sum kept, the block's corner-diagonal pixels as they
-// were); a weak emitter gives its neighbours a larger share. With a variance layer read as
-// the noise nothing changes.
+// were); a weak emitter gives its neighbours a larger share. Beside a variance layer read as
+// the noise the same (the clamp reads the frame's own estimate); with --no-layer-passes the
+// light shares change nothing, bit for bit.
 TEST_F(NforMethod, DefaultsSpreadALightsRim) {
     Frame f = MakeFrame(24, 20, 0.05, "light rim");
     for (int y = 8; y <= 10; ++y)
@@ -2028,11 +2072,13 @@ TEST_F(NforMethod, DefaultsSpreadALightsRim) {
     EXPECT_EQ(c.lights, 9u);
     EXPECT_EQ(d.lights, 0u);
     EXPECT_GT(c.image.At(0, 7, 11), d.image.At(0, 7, 11) + 0.5);
-    NforOptions noPasses;
-    noPasses.noLayerPasses = true;
+    NforOptions noPasses = defaults, noPassesOff = off;
+    noPasses.noLayerPasses = noPassesOff.noLayerPasses = true;
     NforResult e = NforDenoise(Ctx(), layered, noPasses);
+    NforResult g = NforDenoise(Ctx(), layered, noPassesOff);
     EXPECT_EQ(e.lights, 0u);
-    EXPECT_FALSE(BitIdentical(c.image, e.image));
+    EXPECT_TRUE(BitIdentical(e.image, g.image));
+    EXPECT_GT(c.image.At(0, 7, 11), e.image.At(0, 7, 11) + 0.5);
 }
 
 // A light beside a transparent film's background (alpha 0, which the frame's colour
