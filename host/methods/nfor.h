@@ -117,9 +117,8 @@ struct NforOptions {
     int keptRadius = 0;
     // > 0, where the kept pixels' pass runs (keptRadius): emitters whose largest albedo
     // channel is below this (partly covered: a light's edge, a moving light's streak) take
-    // the output's feature-weighted mean over
-    // keptRadius (kWeakEmitterRadius where that is 0), their albedo not compared; 0:
-    // emitters kept.
+    // the output's feature-weighted mean over keptRadius (kWeakEmitterRadius where that is
+    // 0), their albedo not compared; 0: emitters kept.
     float weakEmitterAlbedo = 8;
     // On a frame with an albedo and without a variance layer read as the noise, or beside one
     // where the clamp reads the frame's own estimate (unless noLayerPasses), last: each

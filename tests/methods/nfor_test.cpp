@@ -1226,6 +1226,13 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
 }
 
+// Whether the run's plan says the plain frame's passes run beside the layer.
+bool PlansLayerPasses(const NforResult &result) {
+    for (const std::string &line : result.plan)
+        if (line.find("run as without a layer") != std::string::npos) return true;
+    return false;
+}
+
 // The names of a run's stages.
 std::set<std::string> StageNames(const NforResult &result) {
     std::set<std::string> names;
@@ -1261,6 +1268,7 @@ TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
         std::set<std::string> names = StageNames(result);
         for (const char *name : {"specks", "unkept", "lights"})
             EXPECT_EQ(names.count(name), passes ? 1u : 0u) << name;
+        EXPECT_EQ(PlansLayerPasses(result), passes);
         const Image *variance = nullptr;
         for (const auto &stage : result.stages)
             if (stage.first == "variance") variance = &stage.second;
@@ -1314,6 +1322,11 @@ TEST_F(NforMethod, VarianceLayerPassesStayOutWhereTheClampReadsTheLayer) {
     std::set<std::string> names = StageNames(result);
     for (const char *name : {"specks", "unkept", "lights"}) EXPECT_EQ(names.count(name), 0u);
     EXPECT_EQ(names.count("clamp.variance"), 1u);
+    EXPECT_FALSE(PlansLayerPasses(result));
+    // Nor where --clamp-layer has the clamp read the layer.
+    NforOptions onLayer;
+    onLayer.clampLayer = true;
+    EXPECT_FALSE(PlansLayerPasses(NforDenoise(Ctx(), in, onLayer)));
     ExpectStagesMatch(Ctx(), 29, 23, o, true, false, true);
 }
 
