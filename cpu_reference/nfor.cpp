@@ -694,14 +694,15 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
     return source;
 }
 
-// After the local means, without a variance layer and where the coarse pass does not run:
+// After the local means, where the passes of a frame without a variance layer run (`plain`)
+// and the coarse pass does not:
 // the colour's own means (the light the clamp took) restored at p.clampLightRadius, then
 // p.clampLightFine, from ClampLightSource's colour, guarded by in.alpha's partly covered
 // pixels (none with p.premultiplied: the run is one without the alpha).
 template <typename Keep>
-void RestoreClampLight(const NforInputs &in, const NforParams &p, const Image &clamped,
-                       const Image &mask, Keep &keep, Image *out) {
-    if (p.clampLightRadius <= 0 || in.variance || NforCoarseGateOpen(*in.color, in.albedo, p))
+void RestoreClampLight(const NforInputs &in, const NforParams &p, bool plain,
+                       const Image &clamped, const Image &mask, Keep &keep, Image *out) {
+    if (p.clampLightRadius <= 0 || !plain || NforCoarseGateOpen(*in.color, in.albedo, p))
         return;
     Image source = ClampLightSource(*in.color, clamped, mask,
                                     p.premultiplied ? nullptr : in.alpha, p.clampLightReach);
@@ -734,11 +735,61 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
                   out);
 }
 
+// The firefly clamp of in.color against `variance`, or beside a variance layer with
+// p.clampEstimate against the frame's own estimate (*clampVariance), unless that took off
+// more than p.clampLoss of the light (the light is in rare bright samples): then against the
+// layer (*onLayer).
+Image NforClampFrame(const NforInputs &in, const NforParams &p, const Image &variance,
+                     const Image &mask, Image *clampVariance, bool *onLayer) {
+    const Image &color = *in.color;
+    const bool ownClamp = in.variance && p.clampEstimate;
+    *onLayer = false;
+    if (ownClamp)
+        *clampVariance = NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
+    auto clamp = [&](const Image &noise) {
+        return NforClamp(color, noise, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative,
+                         p.fireflyRank, p.fireflyLightEdge, p.fireflySum, p.fireflyLine,
+                         p.fireflyLoneLight);
+    };
+    Image clamped = clamp(ownClamp ? *clampVariance : variance);
+    if (!ownClamp) return clamped;
+    // The light the clamp took off, over the colour's sum.
+    double sum = 0, taken = 0, values = 0, changed = 0;
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                sum += color.At(c, y, x);
+                taken += double(color.At(c, y, x)) - double(clamped.At(c, y, x));
+                values += 1;
+                changed += clamped.At(c, y, x) != color.At(c, y, x) ? 1 : 0;
+            }
+    if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss) {
+        *onLayer = true;
+        clamped = clamp(variance);
+    }
+    return clamped;
+}
+
+// Beside a variance layer with p.layerNoiseCap > 0: `variance` (the layer) capped at
+// layerNoiseCap times the clamped colour's own estimate, edge pixels relaxed, divided by
+// `alpha` (nullptr: none) as without a layer.
+void NforCapLayer(const NforInputs &in, const NforParams &p, const Image &clamped,
+                  const Image *alpha, Image *variance) {
+    if (!in.variance || p.layerNoiseCap <= 0) return;
+    Image estimate = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
+    if (alpha) estimate = NforStraight(estimate, *alpha, 1);
+    for (size_t i = 0; i < variance->data.size(); ++i)
+        variance->data[i] =
+            std::min(variance->data[i], float(p.layerNoiseCap) * estimate.data[i]);
+}
+
 // The method on straight values (every stage but output), its result before any alpha;
 // `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
 // the frame's coverage as given, which guards the clamp's light (not with p.premultiplied).
+// *plainOut: whether the passes of a frame without a variance layer ran.
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
-                      std::vector<std::pair<std::string, Image>> *stages, const Image *alpha) {
+                      std::vector<std::pair<std::string, Image>> *stages, const Image *alpha,
+                      bool *plainOut) {
     auto keep = [&](const std::string &name, const Image &image) {
         if (stages) stages->emplace_back(name, image);
     };
@@ -748,31 +799,16 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                          : NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration);
     Image mask = NforMask(in.albedo, color.width, color.height, p.emitterAlbedo);
     keep("mask", mask);
-    bool ownClamp = in.variance && p.clampEstimate;
-    Image clampVariance =
-        ownClamp ? NforNoise(color, in.albedo, p.noiseRadius, p.noiseMinCalibration) : Image();
-    Image clamped =
-        NforClamp(color, ownClamp ? clampVariance : variance, in.albedo, mask,
-                  p.fireflyThreshold, p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge,
-                  p.fireflySum, p.fireflyLine, p.fireflyLoneLight);
-    if (ownClamp) {
-        // The light the clamp took off, over the colour's sum.
-        double sum = 0, taken = 0, values = 0, changed = 0;
-        for (int c = 0; c < color.channels; ++c)
-            for (int y = 0; y < color.height; ++y)
-                for (int x = 0; x < color.width; ++x) {
-                    sum += color.At(c, y, x);
-                    taken += double(color.At(c, y, x)) - double(clamped.At(c, y, x));
-                    values += 1;
-                    changed += clamped.At(c, y, x) != color.At(c, y, x) ? 1 : 0;
-                }
-        if (sum > 0 && changed >= kNforClampLossMinShare * values && taken / sum > p.clampLoss)
-            clamped = NforClamp(color, variance, in.albedo, mask, p.fireflyThreshold,
-                                p.fireflyRelative, p.fireflyRank, p.fireflyLightEdge,
-                                p.fireflySum, p.fireflyLine, p.fireflyLoneLight);
-    }
+    const bool ownClamp = in.variance && p.clampEstimate;
+    bool clampOnLayer = false;
+    Image clampVariance;
+    Image clamped = NforClampFrame(in, p, variance, mask, &clampVariance, &clampOnLayer);
     keep("color", clamped);
     if (ownClamp) keep("clamp.variance", clampVariance);
+    // The passes of a frame without a layer: without one, or beside one where the clamp
+    // read the frame's own estimate.
+    const bool plain = !in.variance || (p.layerPasses && ownClamp && !clampOnLayer);
+    if (plainOut) *plainOut = plain;
     if (!in.variance && p.edgeNoise) {
         // The weights' noise estimated again on the clamped colour, edge pixels relaxed.
         keep("clamp.variance", variance);
@@ -781,6 +817,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         // covered pixels its estimate read.
         if (alpha) variance = NforStraight(variance, *alpha, 1);
     }
+    NforCapLayer(in, p, clamped, alpha, &variance);
     keep("variance", variance);
     Image features = *in.features;
     if (p.prefilterRadius > 0) {
@@ -819,16 +856,16 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     }
     if (p.meanRadius > 0) {
         keep("fit", out);
-        if (p.speckRelative >= 0 && !in.variance) {
+        if (p.speckRelative >= 0 && plain) {
             NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out);
             keep("specks", out);
         }
         RestoreLocalMeans(clamped, p.meanRadius, &out);
-        RestoreClampLight(in, p, clamped, mask, keep, &out);
+        RestoreClampLight(in, p, plain, clamped, mask, keep, &out);
     }
     // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.
     int keptPass = p.keptRadius > 0 ? p.keptRadius : p.weakEmitterAlbedo > 0 ? 2 : 0;
-    if (keptPass > 0 && !in.variance && (p.keptRadius > 0 || in.albedo)) {
+    if (keptPass > 0 && plain && (p.keptRadius > 0 || in.albedo)) {
         keep("unkept", out);
         NforSmoothKept(color, features, p.featureWeights, mask, keptPass, p.weakEmitterAlbedo,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
@@ -845,8 +882,9 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     if (in.alpha && !p.premultiplied)
         for (float a : in.alpha->data) partly = partly || NforPartlyCovered(a);
     Image out, albedo;
+    bool plain = true;
     if (!partly) {
-        out = NforStraightRun(in, p, stages, nullptr);
+        out = NforStraightRun(in, p, stages, nullptr, &plain);
     } else {
         const Image &alpha = *in.alpha;
         Image color = NforStraight(*in.color, alpha, 1),
@@ -855,12 +893,12 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
         NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
                             in.variance ? &variance : nullptr, &alpha};
-        out = NforStraightRun(straight, p, stages, &alpha);
+        out = NforStraightRun(straight, p, stages, &alpha, &plain);
         if (stages) stages->emplace_back("straight", out);
         out = NforPremultiply(out, alpha);
     }
     // The lights' spread, on the output as written; emitters told by the straight albedo.
-    if (!in.variance && in.albedo && (p.weakLightShare > 0 || p.lightShare > 0)) {
+    if (plain && in.albedo && (p.weakLightShare > 0 || p.lightShare > 0)) {
         NforSpreadLights(partly ? albedo : *in.albedo, in.alpha, p.emitterAlbedo,
                          p.weakEmitterAlbedo, p.weakLightShare, p.lightShare, &out);
         if (stages) stages->emplace_back("lights", out);

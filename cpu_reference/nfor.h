@@ -173,6 +173,12 @@ struct NforParams {
     // (Chebyshev) of an emitter or a partly covered pixel; clampLightRadius 0: off.
     int clampLightRadius = 0, clampLightFine = 0, clampLightReach = 4;
     double clampLightNoise = 2;
+    // Beside a variance layer, the specks' clamp, the clamp's light, the weak emitters' mean
+    // and the lights' spread run as without one; false: only without one.
+    bool layerPasses = true;
+    // > 0: beside a variance layer the weights, distances and SURE read min(layer, this x
+    // the clamped colour's own estimate, edge pixels relaxed, as without a layer).
+    double layerNoiseCap = 0;
     // The frame's alpha is not divided by (the values as written); the lights' spread still
     // reads it (its zeros take no part).
     bool premultiplied = false;

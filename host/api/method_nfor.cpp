@@ -150,25 +150,31 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "relative to that one's magnitude and averaged over the SURE window, "
                           "is below this, elsewhere the narrow one's; 0: SURE picks",
                           &O::wideAgreement, 0, 1e6)),
-        nested(IntParam("kept-radius",
-                        "on a frame without a variance layer, a pixel the fits left as it "
-                        "came in (no neighbour weighed: a partly covered edge unlike all "
-                        "around it) takes the output's mean over this radius weighted by the "
-                        "features; 0: kept",
-                        &O::keptRadius, 0, 8)),
-        nested(FloatParam("weak-emitter-albedo",
-                          "on a frame without a variance layer, emitters whose albedo is "
-                          "below this (a light's partly covered edge, a moving light's "
-                          "streak) take the output's mean weighted by the features, their "
-                          "albedo not compared, over --kept-radius (2 where that is 0); 0: "
-                          "emitters kept",
-                          &O::weakEmitterAlbedo, 0, 1e30)),
-        nested(FloatParam("weak-light-share",
-                          "on a frame without a variance layer, last: each emitter of albedo "
-                          "below --weak-emitter-albedo gives this share of its output to each "
-                          "of its 4 neighbours that is no emitter (a light's rim, which few "
-                          "samples hit), keeping the rest; 0: off",
-                          &O::weakLightShare, 0, 0.25)),
+        nested(
+            IntParam("kept-radius",
+                     "on a frame without a variance layer (or beside one where the clamp reads "
+                     "the frame's own estimate, unless --no-layer-passes), a pixel the fits "
+                     "left as it came in (no neighbour weighed: a partly covered edge unlike "
+                     "all around it) takes the output's mean over this radius weighted by the "
+                     "features; 0: kept",
+                     &O::keptRadius, 0, 8)),
+        nested(
+            FloatParam("weak-emitter-albedo",
+                       "on a frame without a variance layer (or beside one where the clamp "
+                       "reads the frame's own estimate, unless --no-layer-passes), emitters "
+                       "whose albedo is below this (a light's partly covered edge, a moving "
+                       "light's streak) take the output's mean weighted by the features, their "
+                       "albedo not compared, over --kept-radius (2 where that is 0); 0: "
+                       "emitters kept",
+                       &O::weakEmitterAlbedo, 0, 1e30)),
+        nested(
+            FloatParam("weak-light-share",
+                       "on a frame without a variance layer (or beside one where the clamp "
+                       "reads the frame's own estimate, unless --no-layer-passes), last: each "
+                       "emitter of albedo below --weak-emitter-albedo gives this share of its "
+                       "output to each of its 4 neighbours that is no emitter (a light's rim, "
+                       "which few samples hit), keeping the rest; 0: off",
+                       &O::weakLightShare, 0, 0.25)),
         nested(FloatParam("light-share",
                           "the same for the other emitters (a light hundreds of times as "
                           "bright as its rim); 0: off",
@@ -206,26 +212,37 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
                         &O::meanRadius, 0, 64)),
-        nested(IntParam("clamp-light-radius",
-                        "on a frame without a variance layer where the coarse pass does not "
-                        "run, after the local means: the colour's own means (the light the "
-                        "firefly clamp took) restored over tents of 2x this radius, each "
-                        "value's difference its own noise (a lone firefly's light stays out); "
-                        "0: off",
-                        &O::clampLightRadius, 0, 64)),
+        nested(IntParam(
+            "clamp-light-radius",
+            "on a frame without a variance layer (or beside one where the clamp reads the "
+            "frame's own estimate, unless --no-layer-passes) where the coarse pass does not "
+            "run, after the local means: the colour's own means (the light the firefly clamp "
+            "took) restored over tents of 2x this radius, each value's difference its own "
+            "noise (a lone firefly's light stays out); 0: off",
+            &O::clampLightRadius, 0, 64)),
         nested(IntParam("clamp-light-fine", "then over tents of 2x this radius; 0: none",
                         &O::clampLightFine, 0, 64)),
+        nested(BoolParam("no-layer-passes",
+                         "beside a variance layer, leave out the passes of a frame without "
+                         "one: the specks' clamp, the clamp's light restored, the weak "
+                         "emitters' mean and the lights' spread",
+                         &O::noLayerPasses)),
+        nested(FloatParam("layer-noise-cap",
+                          "beside a variance layer the weights read min(layer, this x the "
+                          "frame's own estimate of the clamped colour's noise); 0: the layer",
+                          &O::layerNoiseCap, 0, 1e6)),
         nested(IntParam("clamp-light-reach",
                         "the clamp's light is not given back within this many pixels of an "
                         "emitter or a partly covered pixel",
                         &O::clampLightReach, 0, 16)),
         nested(FloatParam(
             "speck-relative",
-            "where no variance layer is read (the frame's own noise estimate), with the "
-            "local means restored: a pixel of the fits' output above (1 + this) x its "
+            "where no variance layer is read (the frame's own noise estimate; or beside one "
+            "where the clamp reads that estimate, unless --no-layer-passes), with the local "
+            "means restored: a pixel of the fits' output above (1 + this) x its "
             "--speck-rank-th brightest neighbour + --speck-floor (a speck the fits left) is "
-            "scaled down to that before the restore, which gives the pixels around it what "
-            "of its light it holds for certain; negative: off",
+            "scaled down to that before the restore, which gives the pixels around it what of "
+            "its light it holds for certain; negative: off",
             &O::speckRelative, -1, 1e3)),
         nested(FloatParam("speck-floor", "the absolute part of --speck-relative's bound",
                           &O::speckFloor, 0, 1e6)),
@@ -290,11 +307,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
-        // The kept pixels' pass runs where the noise is the frame's own (InputsOf).
-        const bool layer = options.noise == "auto" && inputs.Has("variance");
-        const int keptReach = NforKeptPassRadius(o, layer, inputs.Has("albedo"));
+        // The kept pixels' pass runs where the noise is the frame's own (InputsOf), and
+        // beside a layer unless --no-layer-passes (where the clamp reads the frame's own
+        // estimate, which a run decides: the reach allows for it).
+        const bool passesOff =
+            options.noise == "auto" && inputs.Has("variance") && o.noLayerPasses;
+        const int keptReach = NforKeptPassRadius(o, !passesOff, inputs.Has("albedo"));
         // The lights' spread reads the output of the 4 neighbours.
-        const int lightReach = NforSpreadsLights(o, layer, inputs.Has("albedo")) ? 1 : 0;
+        const int lightReach = NforSpreadsLights(o, !passesOff, inputs.Has("albedo")) ? 1 : 0;
         // The clamp reads its 8 neighbours, its line test 2 pixels away.
         int colourReach = o.patchRadius + o.noiseRadius + (o.fireflyLine > 0 ? 2 : 1);
         int featureReach = o.prefilterRadius > 0
@@ -334,9 +354,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             PlanTiles(context, needs, inputs.Width(), inputs.Height(), 0).tileWidth == 0;
         // The clamp's light (none in the coarse pass's run) reads, at each scale s, tents of
         // reach 2s for the means and 2s more for the gain's average, and the reach of its
-        // guard, where it runs: without a variance layer, the coarse pass shut.
+        // guard, where it runs: where the passes of a frame without a variance layer do (not
+        // under --no-layer-passes beside one), the coarse pass shut.
         const int clampLightReach =
-            o.meanRadius > 0 && o.clampLightRadius > 0 && !layer
+            o.meanRadius > 0 && o.clampLightRadius > 0 && !passesOff
                 ? 4 * o.clampLightRadius + 4 * o.clampLightFine + o.clampLightReach
                 : 0;
         const int fineReach = needs.reach + clampLightReach;
@@ -432,6 +453,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.coarseNoise = o.coarseNoise;
         p.coarseGate = o.coarseGate;
         p.premultiplied = o.premultiplied;
+        p.layerPasses = !o.noLayerPasses;
+        p.layerNoiseCap = o.layerNoiseCap;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance, in.alpha};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);

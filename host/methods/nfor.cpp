@@ -131,13 +131,14 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.wideAgreement) && o.wideAgreement >= 0) || !finite(o.speckRelative) ||
         !(finite(o.speckFloor) && o.speckFloor >= 0) ||
         !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
-        !(o.lightShare >= 0 && o.lightShare <= 0.25f))
+        !(o.lightShare >= 0 && o.lightShare <= 0.25f) ||
+        !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
-            "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement "
-            "and speck floor finite and >= 0, speck relative finite, mean radius >= 0, light "
-            "shares 0 to 0.25",
+            "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
+            "speck floor and layer noise cap finite and >= 0, speck relative finite, mean "
+            "radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -299,7 +300,12 @@ Image PlanesOf(const Image &image, int first, int count) {
 
 void PlanNoise(StagedRun &run, const NforInputs &in, const NforOptions &o) {
     if (in.variance) {
-        run.Plan("noise of the colour: the frame's variance layer");
+        run.Plan(o.layerNoiseCap > 0
+                     ? fmt::format("noise of the colour: the frame's variance layer, capped at "
+                                   "{} x the clamped colour's noise estimated from the frame "
+                                   "(--layer-noise-cap)",
+                                   o.layerNoiseCap)
+                     : std::string("noise of the colour: the frame's variance layer"));
         return;
     }
     run.Plan(fmt::format(
@@ -494,6 +500,31 @@ bool OwnClampEstimate(const NforInputs &in, const NforOptions &o) {
     return (!in.variance && !o.noEdgeNoise) || (in.variance && !o.clampLayer);
 }
 
+// Whether the passes of a frame without a variance layer run (the specks, the clamp's
+// light, the kept pixels' mean, the lights' spread): without a layer, or beside one where
+// the clamp read the frame's own estimate (NforOptions::noLayerPasses).
+bool PlainPasses(const NforInputs &in, const NforOptions &o, const NforResult &result) {
+    return !in.variance || (!o.noLayerPasses && !o.clampLayer && !result.clampOnLayer);
+}
+
+// Beside a variance layer: the layer (gpu.variance) capped at o.layerNoiseCap times the
+// frame's own estimate of the clamped colour's noise, made as without a layer.
+void CapLayerNoise(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
+                   const Image *alpha) {
+    vk::GpuImage estimate(run.Context(), gpu.variance.width, gpu.variance.height,
+                          gpu.variance.channels, "nfor.capVariance");
+    RecordNforNoise(run.Context(), run.Recorder(), gpu.clamped,
+                    gpu.albedo ? &*gpu.albedo : nullptr, o.noiseRadius, o.noiseCalibration,
+                    estimate, true);
+    run.Submit();
+    Image cap = estimate.Download();
+    if (alpha) cap = NforDivideByAlpha(cap, *alpha);
+    Image capped = *in.variance;
+    for (size_t i = 0; i < capped.data.size(); ++i)
+        capped.data[i] = std::min(capped.data[i], o.layerNoiseCap * cap.data[i]);
+    gpu.variance.Upload(capped);
+}
+
 // Noise, emitters and fireflies, features, the patch distances. `alpha`: the coverage of a
 // frame whose partly covered pixels were divided by it (nullptr: none).
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
@@ -517,6 +548,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
         run.Submit();
         gpu.variance.Upload(NforDivideByAlpha(gpu.variance.Download(), *alpha));
     }
+    if (in.variance && o.layerNoiseCap > 0) CapLayerNoise(run, gpu, in, o, alpha);
     run.StageAtEnd("variance", gpu.variance);
     RecordFeatures(run, gpu, o, memo, featuresId);
     run.StageAtEnd("features", gpu.filtered);
@@ -621,12 +653,17 @@ void PlanClamp(StagedRun &run, const NforInputs &in, const NforOptions &o,
             "light, above {:.1f}% (--clamp-loss): the light is in rare bright samples, not in "
             "fireflies, so it reads the variance layer{}",
             100 * result.clampLoss, 100 * o.clampLoss, frame));
-    else
+    else {
         run.Plan(fmt::format(
             "the firefly clamp reads the frame's own estimate, not the variance layer (a "
             "firefly's few samples report its own variance there): it took off {:.2f}% of "
             "the light (at most {:.1f}%, --clamp-loss){}",
             100 * result.clampLoss, 100 * o.clampLoss, frame));
+        if (!o.noLayerPasses)
+            run.Plan(
+                "so the specks' clamp, the clamp's light, the weak emitters' mean and the "
+                "lights' spread run as without a layer (--no-layer-passes: off)");
+    }
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -679,7 +716,7 @@ void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice
 void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, const Image &mask,
                   const Image &clamped, NforResult &result) {
     run.AddStage("fit", result.image);
-    if (o.speckRelative >= 0 && !in.variance) {
+    if (o.speckRelative >= 0 && PlainPasses(in, o, result)) {
         result.specks =
             NforClampSpecks(mask, {o.speckRelative, o.speckFloor, o.speckRank}, &result.image);
         run.AddStage("specks", result.image);
@@ -945,11 +982,12 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     if (o.meanRadius > 0) {
         RestoreMeans(run, in, o, mask, clamped, result);
         // Under --premultiplied no alpha: the run is one without it.
-        if (o.clampLightRadius > 0 && !in.variance && !gate.runs)
+        if (o.clampLightRadius > 0 && PlainPasses(in, o, result) && !gate.runs)
             RestoreClampLight(run, in, o, mask, clamped,
                               straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     }
-    const int keptPass = NforKeptPassRadius(o, in.variance, in.albedo);
+    const bool plain = PlainPasses(in, o, result);
+    const int keptPass = NforKeptPassRadius(o, plain, in.albedo);
     if (keptPass > 0) {
         run.AddStage("unkept", result.image);
         NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
@@ -1003,8 +1041,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
             result.partlyCovered, kNforMinAlpha));
     }
     // On the output as written, so that light moved between pixels of any coverage stays.
-    if (NforSpreadsLights(o, in.variance, in.albedo))
-        SpreadLights(run, in, o, given.alpha, result);
+    if (NforSpreadsLights(o, plain, in.albedo)) SpreadLights(run, in, o, given.alpha, result);
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

@@ -101,7 +101,8 @@ struct NforOptions {
     // Restore the clamped colour's local means over tents of radius 8, then 2 x this (the
     // fits' bias at scales above the window, host/common/local_mean.h); 0: off.
     int meanRadius = 4;
-    // Where no variance layer is read (the noise is the frame's own estimate), with the local
+    // Where no variance layer is read (the noise is the frame's own estimate), or beside one
+    // where the clamp reads the frame's own estimate (unless noLayerPasses), with the local
     // means restored: a pixel of the fits' output above (1 + speckRelative) x its
     // speckRank-th brightest neighbour + speckFloor (a speck the fits left: a glint no
     // neighbour saw) is scaled down to that before the restore, which gives the pixels
@@ -109,21 +110,24 @@ struct NforOptions {
     // (host/methods/nfor_specks.h); speckRelative < 0: off.
     float speckRelative = 0.2f, speckFloor = 0.01f;
     int speckRank = 2;  // a pixel with this many bright neighbours (a line's) is kept
-    // On a frame without a variance layer, a pixel the fits left as it came in (it weighed
+    // On a frame without a variance layer, or beside one where the clamp reads the frame's
+    // own estimate (unless noLayerPasses), a pixel the fits left as it came in (it weighed
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted
     // mean of the output over this radius (host/methods/nfor_kept.h); 0: kept.
     int keptRadius = 0;
-    // > 0: emitters whose largest albedo channel is below this (partly covered: a light's
-    // edge, a moving light's streak) take the output's feature-weighted mean over
-    // keptRadius (kWeakEmitterRadius where that is 0), their albedo not compared; 0:
-    // emitters kept.
+    // > 0, where the kept pixels' pass runs (keptRadius): emitters whose largest albedo
+    // channel is below this (partly covered: a light's edge, a moving light's streak) take
+    // the output's feature-weighted mean over keptRadius (kWeakEmitterRadius where that is
+    // 0), their albedo not compared; 0: emitters kept.
     float weakEmitterAlbedo = 8;
-    // On a frame without a variance layer read as the noise and with an albedo, last: each
+    // On a frame with an albedo and without a variance layer read as the noise, or beside one
+    // where the clamp reads the frame's own estimate (unless noLayerPasses), last: each
     // emitter gives this share of its output (weak ones, of albedo below weakEmitterAlbedo,
     // the first; the rest the second) to each of its 4 neighbours that is no emitter
     // (host/methods/nfor_lights.h); both 0: off.
     float weakLightShare = 0.08f, lightShare = 0.004f;
-    // On a frame without a variance layer read as the noise, where the coarse pass does not
+    // On a frame without a variance layer read as the noise, or beside one where the clamp
+    // reads the frame's own estimate (unless noLayerPasses), where the coarse pass does not
     // run, after the local means: the colour's own local means (the light the firefly clamp
     // took) restored over tents of radius 2 x clampLightRadius, then 2 x clampLightFine (0:
     // none), each value's difference its own noise times kClampLightNoise; the clamped
@@ -137,6 +141,19 @@ struct NforOptions {
     // (NforRelativeNoise of the colour's own estimate) is at least coarseGate (0: never).
     bool coarse = false;
     float coarseRelative = 0.1f, coarseNoise = 0.3f, coarseGate = 0.02f;
+    // Beside a variance layer read as the noise, where the firefly clamp reads the frame's
+    // own estimate (not the layer: clampLayer, clampLoss), the passes of a frame without a
+    // layer run too: the specks' clamp, the clamp's light restored, the weak emitters' mean
+    // and the lights' spread (they read no noise, and the clamp they follow is the same);
+    // true: only without a layer.
+    bool noLayerPasses = false;
+    // Beside a variance layer the weights, distances and SURE read min(layer, this x the
+    // frame's own estimate of the clamped colour's noise, as without a layer): a pixel whose
+    // few samples caught a rare bright path reports that path's variance in the layer,
+    // far above what its neighbours say, and the pilot's distance then weighs it with
+    // anything. 0 (the default: on our renders' layers the cap cost much): the layer as it
+    // is.
+    float layerNoiseCap = 0;
     // Denoise partly covered pixels as the frame holds them, premultiplied by their alpha;
     // by default divided by it and multiplied back after (host/methods/nfor_alpha.h).
     bool premultiplied = false;
@@ -151,20 +168,20 @@ constexpr double kClampLightNoise = 2;
 // The radius of the weak emitters' mean when --kept-radius leaves it at 0.
 constexpr int kWeakEmitterRadius = 2;
 
-// The radius of the kept pixels' pass (host/methods/nfor_kept.h) on a frame with or without
-// a variance layer read as the noise and an albedo: keptRadius, else kWeakEmitterRadius
-// where weak emitters are smoothed (they need the albedo); 0: no pass (a variance layer:
-// never).
-inline int NforKeptPassRadius(const NforOptions &o, bool varianceLayer, bool albedo) {
-    if (varianceLayer) return 0;
+// The radius of the kept pixels' pass (host/methods/nfor_kept.h) where the passes of a frame
+// without a variance layer run or not (`plainPasses`: without a layer, or beside one where
+// the clamp reads the frame's own estimate) and with or without an albedo: keptRadius, else
+// kWeakEmitterRadius where weak emitters are smoothed (they need the albedo); 0: no pass.
+inline int NforKeptPassRadius(const NforOptions &o, bool plainPasses, bool albedo) {
+    if (!plainPasses) return 0;
     if (o.keptRadius > 0) return o.keptRadius;
     return o.weakEmitterAlbedo > 0 && albedo ? kWeakEmitterRadius : 0;
 }
 
-// Whether the lights' spread runs on a frame with or without a variance layer read as the
-// noise and an albedo.
-inline bool NforSpreadsLights(const NforOptions &o, bool varianceLayer, bool albedo) {
-    return !varianceLayer && albedo && (o.weakLightShare > 0 || o.lightShare > 0);
+// Whether the lights' spread runs where the passes of a frame without a variance layer run
+// or not (NforKeptPassRadius) and with or without an albedo.
+inline bool NforSpreadsLights(const NforOptions &o, bool plainPasses, bool albedo) {
+    return plainPasses && albedo && (o.weakLightShare > 0 || o.lightShare > 0);
 }
 
 // The frame's layers the method reads; color is required, the rest may be absent.

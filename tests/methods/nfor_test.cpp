@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <set>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -1085,6 +1086,17 @@ void AddLightsAtTheEdge(Frame *f, const Image *alpha) {
 
 class NforMethod : public GpuTest {};
 
+// A variance layer for MakeFrame's frame: the truth's noise with every seventh value's 100x
+// (a firefly among its samples) and every eleventh's 0 (samples that agreed).
+Image LayerWithFireflies(const Frame &f) {
+    Image variance(f.truth.width, f.truth.height, 3);
+    for (size_t i = 0; i < variance.Size(); ++i) {
+        double sigma = 0.3 * f.truth.data[i];
+        variance.data[i] = float(sigma * sigma * (i % 7 == 3 ? 100 : i % 11 == 5 ? 0 : 1));
+    }
+    return variance;
+}
+
 // The whole method's stages against the reference's, by name: the stages before the
 // choices agree to their kernels' round-off; the fits and outputs may differ where a clamp
 // or a choice sat on its threshold, which the NMSE bounds allow for a few pixels. With one
@@ -1098,11 +1110,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
     Image alpha = covered ? Cover(&f, whole) : Image();
     if (lights) AddLightsAtTheEdge(&f, covered ? &alpha : nullptr);
-    Image variance(w, h, 3);
-    for (size_t i = 0; i < variance.Size(); ++i) {
-        double sigma = 0.3 * f.truth.data[i];
-        variance.data[i] = float(sigma * sigma * (i % 7 == 3 ? 100 : i % 11 == 5 ? 0 : 1));
-    }
+    Image variance = LayerWithFireflies(f);
     NforInputs gpuIn = InputsOf(f);
     if (withVariance) gpuIn.variance = &variance;
     if (covered) gpuIn.alpha = &alpha;
@@ -1150,6 +1158,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.clampEstimate = !o.clampLayer;
     p.clampLoss = o.clampLoss;
     p.premultiplied = o.premultiplied;
+    p.layerPasses = !o.noLayerPasses;
+    p.layerNoiseCap = o.layerNoiseCap;
     ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr,
                           covered ? &alpha : nullptr};
     std::vector<std::pair<std::string, Image>> cpu;
@@ -1214,6 +1224,110 @@ TEST_F(NforMethod, VarianceLayerStagesMatchTheReference) {
     o.clampLayer = false;
     o.clampLoss = 0;
     ExpectStagesMatch(Ctx(), 29, 23, o, true);
+}
+
+// Whether the run's plan says the plain frame's passes run beside the layer.
+bool PlansLayerPasses(const NforResult &result) {
+    for (const std::string &line : result.plan)
+        if (line.find("run as without a layer") != std::string::npos) return true;
+    return false;
+}
+
+// The names of a run's stages.
+std::set<std::string> StageNames(const NforResult &result) {
+    std::set<std::string> names;
+    for (const auto &stage : result.stages) names.insert(stage.first);
+    return names;
+}
+
+// Beside a variance layer the passes of a frame without one (specks, the clamp's light, the
+// weak emitters' mean, the lights' spread) run, and the weights read the layer capped at
+// --layer-noise-cap times the frame's own estimate; both off, as before. The stages agree
+// with the reference's; the passes' stages are there only with them; the capped layer is
+// nowhere above the layer, and below it at the values whose layer reports a firefly.
+TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
+    for (bool passes : {true, false})
+        for (float cap : {3.f, 0.f}) {
+            NforOptions o;
+            o.noLayerPasses = !passes;
+            o.layerNoiseCap = cap;
+            ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
+            ExpectStagesMatch(Ctx(), 7, 1, o, true);
+        }
+    Frame f = MakeFrame(29, 23, 0.3, "stages29x23");
+    AddLightsAtTheEdge(&f, nullptr);
+    Image layer = LayerWithFireflies(f);
+    NforInputs in = InputsOf(f);
+    in.variance = &layer;
+    for (bool passes : {true, false}) {
+        NforOptions o;
+        o.keepStages = true;
+        o.noLayerPasses = !passes;
+        o.layerNoiseCap = 3;
+        NforResult result = NforDenoise(Ctx(), in, o);
+        std::set<std::string> names = StageNames(result);
+        for (const char *name : {"specks", "unkept", "lights"})
+            EXPECT_EQ(names.count(name), passes ? 1u : 0u) << name;
+        EXPECT_EQ(PlansLayerPasses(result), passes);
+        const Image *variance = nullptr;
+        for (const auto &stage : result.stages)
+            if (stage.first == "variance") variance = &stage.second;
+        ASSERT_NE(variance, nullptr);
+        size_t below = 0, fireflies = 0;
+        for (size_t i = 0; i < layer.Size(); ++i) {
+            EXPECT_LE(variance->data[i], layer.data[i]) << i;
+            if (i % 7 != 3 || layer.data[i] <= 0) continue;
+            ++fireflies;
+            below += variance->data[i] < layer.data[i];
+        }
+        EXPECT_GT(below, fireflies / 2);
+    }
+    // Two runs of the defaults beside a layer, bit for bit.
+    EXPECT_EQ(NforDenoise(Ctx(), in, NforOptions()).image.data,
+              NforDenoise(Ctx(), in, NforOptions()).image.data);
+    NforOptions uncapped;
+    uncapped.keepStages = true;
+    uncapped.layerNoiseCap = 0;
+    NforResult result = NforDenoise(Ctx(), in, uncapped);
+    for (const auto &stage : result.stages) {
+        if (stage.first == "variance") {
+            EXPECT_EQ(stage.second.data, layer.data);
+        }
+    }
+    // The cap is finite and >= 0.
+    for (float bad : {-1.f, std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::infinity()}) {
+        NforOptions o;
+        o.layerNoiseCap = bad;
+        EXPECT_THROW(NforDenoise(Ctx(), in, o), Error) << bad;
+    }
+}
+
+// Beside a variance layer, with the passes on, a clamp that takes off more light than
+// --clamp-loss (0 here: any) reads the layer, and the passes of a frame without one stay out:
+// no specks, kept pixels' mean or lights' spread. The stages agree with the reference's.
+TEST_F(NforMethod, VarianceLayerPassesStayOutWhereTheClampReadsTheLayer) {
+    NforOptions o;
+    o.clampLoss = 0;
+    Frame f = MakeFrame(29, 23, 0.3, "stages29x23");
+    AddLightsAtTheEdge(&f, nullptr);
+    Image layer = LayerWithFireflies(f);
+    NforInputs in = InputsOf(f);
+    in.variance = &layer;
+    NforOptions kept = o;
+    kept.keepStages = true;
+    NforResult result = NforDenoise(Ctx(), in, kept);
+    EXPECT_TRUE(result.clampOnLayer);
+    EXPECT_EQ(result.lights, 0u);
+    std::set<std::string> names = StageNames(result);
+    for (const char *name : {"specks", "unkept", "lights"}) EXPECT_EQ(names.count(name), 0u);
+    EXPECT_EQ(names.count("clamp.variance"), 1u);
+    EXPECT_FALSE(PlansLayerPasses(result));
+    // Nor where --clamp-layer has the clamp read the layer.
+    NforOptions onLayer;
+    onLayer.clampLayer = true;
+    EXPECT_FALSE(PlansLayerPasses(NforDenoise(Ctx(), in, onLayer)));
+    ExpectStagesMatch(Ctx(), 29, 23, o, true, false, true);
 }
 
 // Lone lights kept (--firefly-lone-light 2): AddLightsAtTheEdge's weak light (albedo 3, its
@@ -1536,12 +1650,18 @@ TEST_F(NforMethod, KeepsTheLightOfRareBrightSamples) {
         for (float v : image.data) sum += v;
         return sum / input;
     };
-    NforResult r = NforDenoise(Ctx(), in, {});
+    NforOptions defaults;
+    defaults.keepStages = true;
+    NforResult r = NforDenoise(Ctx(), in, defaults);
     EXPECT_TRUE(r.clampOnLayer);
+    // The passes of a frame without a layer stay out: the clamp read the layer.
+    std::set<std::string> names = StageNames(r);
+    for (const char *name : {"specks", "unkept", "lights"}) EXPECT_EQ(names.count(name), 0u);
     EXPECT_GT(r.clampLoss, 0.03);
     EXPECT_NEAR(brightness(r.image), 1, 0.03);
     NforOptions never;
     never.clampLoss = 1;
+    never.noLayerPasses = true;  // the clamp's light restored would give it back
     NforResult estimate = NforDenoise(Ctx(), in, never);
     EXPECT_FALSE(estimate.clampOnLayer);
     EXPECT_LT(brightness(estimate.image), 0.97);
@@ -1928,8 +2048,9 @@ TEST(NforLights, MatchesTheReferenceAndRepeats) {
 // nfor's defaults on a plain frame: a bright light (a 3x3 block of strong emitters) in a
 // dim frame gives its 4-neighbours outside the block a share of its light, which they lack
 // with --light-share 0 (the frame's sum kept, the block's corner-diagonal pixels as they
-// were); a weak emitter gives its neighbours a larger share. With a variance layer read as
-// the noise nothing changes.
+// were); a weak emitter gives its neighbours a larger share. Beside a variance layer read as
+// the noise the same (the clamp reads the frame's own estimate); with --no-layer-passes the
+// light shares change nothing, bit for bit.
 TEST_F(NforMethod, DefaultsSpreadALightsRim) {
     Frame f = MakeFrame(24, 20, 0.05, "light rim");
     for (int y = 8; y <= 10; ++y)
@@ -1958,9 +2079,19 @@ TEST_F(NforMethod, DefaultsSpreadALightsRim) {
     Image variance(f.color.width, f.color.height, 3, 0.01f);
     NforInputs layered = InputsOf(f);
     layered.variance = &variance;
+    // Beside a layer the same (the clamp reads the frame's own estimate); with
+    // --no-layer-passes the lights keep theirs.
     NforResult c = NforDenoise(Ctx(), layered, defaults), d = NforDenoise(Ctx(), layered, off);
-    EXPECT_EQ(c.lights, 0u);
-    EXPECT_TRUE(BitIdentical(c.image, d.image));
+    EXPECT_EQ(c.lights, 9u);
+    EXPECT_EQ(d.lights, 0u);
+    EXPECT_GT(c.image.At(0, 7, 11), d.image.At(0, 7, 11) + 0.5);
+    NforOptions noPasses = defaults, noPassesOff = off;
+    noPasses.noLayerPasses = noPassesOff.noLayerPasses = true;
+    NforResult e = NforDenoise(Ctx(), layered, noPasses);
+    NforResult g = NforDenoise(Ctx(), layered, noPassesOff);
+    EXPECT_EQ(e.lights, 0u);
+    EXPECT_TRUE(BitIdentical(e.image, g.image));
+    EXPECT_GT(c.image.At(0, 7, 11), e.image.At(0, 7, 11) + 0.5);
 }
 
 // A light beside a transparent film's background (alpha 0, which the frame's colour

@@ -293,10 +293,14 @@ TEST_F(GpuTest, TiledRunNforSpreadsLightsAcrossTheSeam) {
 // nfor beside a variance layer decides once for the frame whether its clamp reads the
 // layer (--clamp-loss): every tile reads what the whole frame's run reads, though each
 // window alone would decide otherwise, and the tiled result is the untiled one bit for bit;
-// with the coarse pass too (its half-resolution frame decided once as well).
+// with the coarse pass too (its half-resolution frame decided once as well). So do the
+// passes that follow that decision (the weak emitters' mean, the lights' spread): the right
+// window alone reads the estimate and runs them, in tiles it reads the layer and does not.
 TEST_F(GpuTest, TiledRunNforClampDecidesOnceForTheFrame) {
     Device device = api::BorrowDevice(Ctx());
-    const int width = 256, height = 48, tile = 128, bright = 64;
+    // Bright columns few enough that the right window's halo, which the passes widen,
+    // holds none of them.
+    const int width = 256, height = 48, tile = 128, bright = 48;
     Frame frame = RareBrightLeftFrame(width, height, bright);
     for (bool coarse : {false, true}) {
         SCOPED_TRACE(coarse ? "coarse pass" : "no coarse pass");
@@ -324,15 +328,50 @@ TEST_F(GpuTest, TiledRunNforClampDecidesOnceForTheFrame) {
              {std::pair{0, tile + needs.reach}, std::pair{tile - needs.reach, width}}) {
             SCOPED_TRACE(fmt::format("window [{}, {})", x0, x1));
             api::Inputs window(inputs, x0, 0, x1, height);
-            Result alone = nfor->Run(Ctx(), window, RunOptions{});
-            Result inTiles = forTiles->Run(Ctx(), window, RunOptions{});
+            RunOptions stages;
+            stages.keepStages = true;
+            Result alone = nfor->Run(Ctx(), window, stages);
+            Result inTiles = forTiles->Run(Ctx(), window, stages);
             EXPECT_EQ(ClampReadsTheLayer(alone), x0 == 0) << "the frame decides alike";
             EXPECT_TRUE(ClampReadsTheLayer(inTiles));
+            auto has = [](const Result &result, const std::string &name) {
+                for (const auto &stage : result.stages)
+                    if (stage.name == name) return true;
+                return false;
+            };
+            for (const char *name : {"unkept", "lights"}) {
+                EXPECT_EQ(has(alone, name), x0 != 0) << name << " alone";
+                EXPECT_FALSE(has(inTiles, name)) << name << " in tiles";
+            }
             bool said = false;
             for (const std::string &line : inTiles.plan)
                 said = said || line.find("over the whole frame") != std::string::npos;
             EXPECT_TRUE(said) << "the plan says the decision is the frame's";
         }
+    }
+}
+
+// nfor beside a variance layer capped at --layer-noise-cap times the frame's own estimate:
+// the tiled result is the untiled one bit for bit, where the clamp reads the layer (rare
+// bright samples on the left) and where it reads the estimate (the passes run).
+TEST_F(GpuTest, TiledRunNforLayerNoiseCapIsTheWholeFrames) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 256, height = 48, tile = 128;
+    for (int bright : {64, 0}) {
+        SCOPED_TRACE(fmt::format("{} bright columns", bright));
+        Frame frame = RareBrightLeftFrame(width, height, bright);
+        Params params = {
+            {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"layer-noise-cap", 3.f}};
+        Result whole = RunWith(device, "nfor", params, frame, 0);
+        Result tiled = RunWith(device, "nfor", params, frame, tile);
+        ASSERT_FALSE(tiled.plan.empty());
+        EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+        EXPECT_EQ(ClampReadsTheLayer(whole), bright > 0);
+        bool capped = false;
+        for (const std::string &line : whole.plan)
+            capped = capped || line.find("--layer-noise-cap") != std::string::npos;
+        EXPECT_TRUE(capped);
+        ExpectSameBits(whole.image, tiled.image, "nfor tiled, layer capped");
     }
 }
 
