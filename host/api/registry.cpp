@@ -76,19 +76,14 @@ std::vector<MethodEntry> Build() {
         // nfor with its noise from the frame itself: the variance layer of a few accumulated
         // samples is noisy and heavy-tailed. Weighed by SURE it cost quality on our own
         // scenes, so it runs where the halves weigh it. Without statistics auto runs it
-        // alone (PickWithoutStatistics). Beside the halves its weak emitters, specks, lights
-        // and clamp's light stay as they are: smoothing them helped some accumulated frames
-        // and cost others.
+        // alone (PickWithoutStatistics). Its plain-frame passes (weak emitters, specks,
+        // lights' spread, clamp's light) run as on a plain frame, since its clamp reads the
+        // same estimate.
         {"nfor",
          NforFrontEnd,
          -1,
          {{"nfor",
-           {{"nfor-noise", std::string("estimate")},
-            {"weak-emitter-albedo", 0.f},
-            {"speck-relative", -1.f},
-            {"weak-light-share", 0.f},
-            {"light-share", 0.f},
-            {"clamp-light-radius", 0}},
+           {{"nfor-noise", std::string("estimate")}},
            0,
            {0.6f, 0.2f, 1.f},
            "purple",
