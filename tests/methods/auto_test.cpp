@@ -1129,8 +1129,9 @@ TEST_F(AutoMethod, FrameWithoutStatisticsRunsNforAlone) {
     EXPECT_GT(withVariance.candidates.size(), 1u);
 }
 
-// A frame with half-buffers (as `accumulate` writes) runs nfor among the candidates,
-// weighed by the halves' estimate, which auto takes before the variance layer there, and
+// A frame with half-buffers (as `accumulate` writes) runs nfor among the candidates (on
+// its own noise estimate, with the passes of a plain frame), weighed by the halves'
+// estimate, which auto takes before the variance layer there, and
 // --explain says so; with a variance layer alone (SURE) or without statistics (--auto-plain
 // combine) nfor stays out, and the plan says why. --auto-candidates runs the candidates it
 // names only and refuses a label that names none.
@@ -1152,6 +1153,10 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
     // pilot's pass).
     EXPECT_TRUE(PlanHas(result, "nfor: its probe with --bandwidths 1, --radius 5 (a cheaper"))
         << plan;
+    // Its estimate stands for the variance layer, and the passes of a plain frame run.
+    EXPECT_TRUE(PlanHas(result, "nfor: noise of the colour estimated from the frame")) << plan;
+    EXPECT_TRUE(PlanHas(result, "nfor: specks: ")) << plan;
+    EXPECT_TRUE(PlanHas(result, "nfor: the clamp's light: ")) << plan;
     auto count = [&](const std::string &label) {
         return std::count_if(result.timings.begin(), result.timings.end(),
                              [&](const Timing &t) { return t.label == label; });
