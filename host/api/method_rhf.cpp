@@ -301,12 +301,14 @@ class Rhf : public FrontEndOf<RhfParams> {
         for (int j = std::max(0, y - kRimReach); j <= std::min(h - 1, y + kRimReach); ++j)
             for (int i = std::max(0, x - kRimReach); i <= std::min(w - 1, x + kRimReach); ++i) {
                 const size_t q = size_t(j) * w + i;
+                // A light as CutLightRims reads one: its sum rounded to float, finite, > 0.
+                const double s = float(sum(q));
+                if (!(s > 0) || !std::isfinite(s)) continue;
                 double v = 0;
                 for (int c = 0; c < variance.channels; ++c) v += variance.data[c * n + q];
-                if (v <= kLightNoise * kLightNoise * sum(q) * sum(q))
-                    brightest = std::max(brightest, sum(q));
+                if (v <= kLightNoise * kLightNoise * s * s) brightest = std::max(brightest, s);
             }
-        return sum(p) * count >= brightest;
+        return double(float(sum(p))) * count >= brightest;
     }
 
     // The pixels `rims` (CutLightRims) take their input back.

@@ -745,7 +745,7 @@ TEST(LocalMeanProperties, CutLightRimsReachesPastALightsInnerEdge) {
         }
         color.At(c, 5, 8) = 15;  // outer rim
         variance.At(c, 5, 8) = 14;
-        color.At(c, 5, 10) = 15;  // three pixels from the bulb: a lone spike, stays
+        color.At(c, 5, 10) = 15;  // four pixels from the bulb: a lone spike, stays
         variance.At(c, 5, 10) = 14;
     }
     Image cut = color, expected = color;
