@@ -354,13 +354,12 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance) {
             if (!std::isfinite(own) || !(own > 0) || !std::isfinite(m) || !(own > 16 * m))
                 continue;
             bool brighterLight = false, plain = false;
-            for (int v = y - 1; v <= y + 1; ++v)
-                for (int u = x - 1; u <= x + 1; ++u) {
+            for (int v = y - 2; v <= y + 2; ++v)
+                for (int u = x - 2; u <= x + 2; ++u) {
                     if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h) continue;
-                    if (!LightAt(given, variance, v, u))
-                        plain = true;
-                    else if (SumAt(given, v, u) > own)
-                        brighterLight = true;
+                    const bool light = LightAt(given, variance, v, u);
+                    if (!light && std::abs(u - x) <= 1 && std::abs(v - y) <= 1) plain = true;
+                    if (light && SumAt(given, v, u) > own) brighterLight = true;
                 }
             if (!brighterLight || !plain) continue;
             int lights = 0;

@@ -50,8 +50,8 @@ size_t CutSpikes(Image *color, const Image *variance = nullptr);
 
 // A light's rims (host/common/local_mean.h, CutLightRims): a pixel whose channels' sum (NaN
 // if not finite, as a float) is > 0 and > 16 x the median (lower middle) of its in-image
-// neighbours' sums (none where one is not finite), that is no light, with a light among its
-// neighbours whose sum is above its own and a neighbour that is none, and at most 25 lights
+// neighbours' sums (none where one is not finite), that is no light, with a light within 2
+// pixels (5x5) whose sum is above its own and a neighbour that is none, and at most 25 lights
 // in its 9x9 window clipped to the image, takes per channel the
 // median (lower middle) of its neighbours that are no lights, in the frame as given. A light:
 // the sum finite and > 0, the channels' variances summed (in double) <= (0.01 x the sum)^2.

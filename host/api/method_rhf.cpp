@@ -101,7 +101,8 @@ class Rhf : public FrontEndOf<RhfParams> {
                 clusters =
                     CutBrightClusters(color, Histograms(inputs), options.searchHalf, &cut);
             Image spiked = cut;
-            rims = ManySampled(spiked, Histograms(inputs), CutLightRims(&cut, variance), &cut);
+            rims = ManySampled(spiked, Histograms(inputs), variance,
+                               CutLightRims(&cut, variance), &cut);
         }
         const bool anyCut = spikes > 0 || !rims.empty() || !clusters.empty();
         Result result = ResultOf(
@@ -224,8 +225,8 @@ class Rhf : public FrontEndOf<RhfParams> {
                 clusters = ref::CutBrightClusters(inputs.Get("color"), Histograms(inputs),
                                                   options.searchHalf, &cut);
             Image spiked = cut;
-            rims = ManySampled(spiked, Histograms(inputs), ref::CutLightRims(&cut, variance),
-                               &cut);
+            rims = ManySampled(spiked, Histograms(inputs), variance,
+                               ref::CutLightRims(&cut, variance), &cut);
         }
         Image out = ref::Rhf(cut, Histograms(inputs), options, &named);
         // The pipeline's clamp of the recombination's overshoot (the reference's output is
@@ -264,14 +265,17 @@ class Rhf : public FrontEndOf<RhfParams> {
     // The rims (CutLightRims) of at least kRimSamples samples (the histograms' count): with
     // fewer a rim one sample saw holds a large share of its light, and the filter's spread
     // along the light's edge is its coverage (cornell at 4 spp, 2 in auto's half-buffers);
-    // the others take their value in `given` back in `cut`.
+    // those that hold no sample of their light (HoldsALightSample) and the others take their
+    // value in `given` back in `cut`.
     static constexpr float kRimSamples = 16;
     static std::vector<size_t> ManySampled(const Image &given, const Image &histograms,
+                                           const Image &variance,
                                            const std::vector<size_t> &rims, Image *cut) {
         std::vector<size_t> kept;
         const size_t n = given.PixelCount();
         for (size_t p : rims) {
-            if (histograms.data[(histograms.channels - 1) * n + p] >= kRimSamples) {
+            const float count = histograms.data[(histograms.channels - 1) * n + p];
+            if (count >= kRimSamples && HoldsALightSample(given, variance, p, count)) {
                 kept.push_back(p);
                 continue;
             }
@@ -279,6 +283,32 @@ class Rhf : public FrontEndOf<RhfParams> {
                 cut->data[c * n + p] = given.data[c * n + p];
         }
         return kept;
+    }
+
+    // Whether rim p holds at least one of its `count` samples' share of the brightest light
+    // within kRimReach (samples within kLightNoise): a sample that saw the light; a dimmer
+    // caustic sample beside a light is no rim of it.
+    static bool HoldsALightSample(const Image &given, const Image &variance, size_t p,
+                                  float count) {
+        const int w = given.width, h = given.height, x = int(p % w), y = int(p / w);
+        const size_t n = given.PixelCount();
+        auto sum = [&](size_t q) {
+            double s = 0;
+            for (int c = 0; c < given.channels; ++c) s += given.data[c * n + q];
+            return s;
+        };
+        double brightest = 0;
+        for (int j = std::max(0, y - kRimReach); j <= std::min(h - 1, y + kRimReach); ++j)
+            for (int i = std::max(0, x - kRimReach); i <= std::min(w - 1, x + kRimReach); ++i) {
+                const size_t q = size_t(j) * w + i;
+                // A light as CutLightRims reads one: its sum rounded to float, finite, > 0.
+                const double s = float(sum(q));
+                if (!(s > 0) || !std::isfinite(s)) continue;
+                double v = 0;
+                for (int c = 0; c < variance.channels; ++c) v += variance.data[c * n + q];
+                if (v <= kLightNoise * kLightNoise * s * s) brightest = std::max(brightest, s);
+            }
+        return double(float(sum(p))) * count >= brightest;
     }
 
     // The pixels `rims` (CutLightRims) take their input back.

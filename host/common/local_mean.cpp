@@ -452,7 +452,7 @@ Image ChannelSums(const Image &color) {
 }
 
 // Whether (x, y) is a small light's rim (CutLightRims): no light itself, over kSpike times
-// its neighbours' median, beside a brighter light and other pixels that are none, with at
+// its neighbours' median, a brighter light within kRimReach, a neighbour that is none, with at
 // most kSmallLight lights in its 9x9 window.
 bool RimAt(const Image &sums, const std::vector<char> &light, int w, int h, int x, int y) {
     const size_t p = size_t(y) * w + x;
@@ -464,10 +464,12 @@ bool RimAt(const Image &sums, const std::vector<char> &light, int w, int h, int 
         for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
             const size_t q = size_t(j) * w + i;
             if (q == p) continue;
-            if (light[q] && sums.data[q] > own)
-                beside = true;
-            else if (!light[q])
-                others = true;
+            if (!light[q]) others = true;
+        }
+    for (int j = std::max(0, y - kRimReach); j <= std::min(h - 1, y + kRimReach); ++j)
+        for (int i = std::max(0, x - kRimReach); i <= std::min(w - 1, x + kRimReach); ++i) {
+            const size_t q = size_t(j) * w + i;
+            if (light[q] && sums.data[q] > own) beside = true;
         }
     if (!beside || !others) return false;
     // A small light's: a light's long edge spread along itself is its coverage.

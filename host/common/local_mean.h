@@ -154,7 +154,9 @@ size_t CutSpikes(Image *color, const Image *variance = nullptr);
 // a standard deviation (`variance` of the pixel mean, one channel or the frame's, summed)
 // of at most kLightNoise of it: nearly every sample saw the same. A pixel whose value is
 // over kSpike times the median of its 8 neighbours', which is no light itself and
-// has a light brighter than it among its neighbours, and at most kSmallLight lights in
+// has a light brighter than it within kRimReach pixels (a pixel filter as wide as Cycles'
+// spreads a light's edge over two pixels, the inner one no light), a neighbour that is
+// none, and at most kSmallLight lights in
 // its 9x9 window (a small light: along a large light's edge, as cornell's at 4 spp, the
 // filter spreads the rims along the edge, which is the edge's coverage), takes per channel
 // the median of its neighbours that are no lights (from the frame as given); none without
@@ -162,7 +164,7 @@ size_t CutSpikes(Image *color, const Image *variance = nullptr);
 // Returns the pixels cut (y * width + x, ascending); the caller gives them their input back
 // after the filter. An empty or wrongly sized variance cuts nothing.
 constexpr double kLightNoise = 0.01;
-constexpr int kSmallLight = 25;
+constexpr int kSmallLight = 25, kRimReach = 2;
 std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 
 // Small clusters of bright samples cut from a frame before rhf's filter, their energy given

@@ -728,6 +728,35 @@ TEST(LocalMeanProperties, CutLightRimsCutsOnlyPixelsBesideALight) {
     EXPECT_EQ(0, std::memcmp(same.data.data(), color.data.data(), color.data.size() * 4));
 }
 
+// A bulb whose edge a wide pixel filter spread over two pixels: a column of 150 beside the
+// bulb, its samples differing (no light), and outside it a rim pixel one sample saw (15),
+// two pixels from the bulb. The rim is cut all the same; the pixel beyond it stays.
+TEST(LocalMeanProperties, CutLightRimsReachesPastALightsInnerEdge) {
+    const int w = 16, h = 12;
+    Image color(w, h, 3, 0.1f), variance(w, h, 3, 0.01f);
+    for (int c = 0; c < 3; ++c) {
+        for (int y = 4; y <= 6; ++y) {
+            for (int x = 4; x <= 6; ++x) {
+                color.At(c, y, x) = 240;
+                variance.At(c, y, x) = 1e-4f;
+            }
+            color.At(c, y, 7) = 150;  // inner edge: part of its samples saw the bulb
+            variance.At(c, y, 7) = 1400;
+        }
+        color.At(c, 5, 8) = 15;  // outer rim
+        variance.At(c, 5, 8) = 14;
+        color.At(c, 5, 10) = 15;  // four pixels from the bulb: a lone spike, stays
+        variance.At(c, 5, 10) = 14;
+    }
+    Image cut = color, expected = color;
+    std::vector<size_t> rims = CutLightRims(&cut, variance);
+    EXPECT_EQ(rims, ref::CutLightRims(&expected, variance));
+    EXPECT_EQ(0, std::memcmp(cut.data.data(), expected.data.data(), cut.data.size() * 4));
+    EXPECT_NE(std::find(rims.begin(), rims.end(), size_t(5 * w + 8)), rims.end());
+    EXPECT_EQ(std::find(rims.begin(), rims.end(), size_t(5 * w + 10)), rims.end());
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(cut.At(c, 5, 8), 0.1f);
+}
+
 // Histograms of `bins` per colour for a w x h frame: 16 samples a pixel (none for about one
 // in fifty), spread over the low bins, and about one pixel in two hundred with 1-3 samples
 // above the range (the last colour bin).
