@@ -273,9 +273,10 @@ class Rhf : public FrontEndOf<RhfParams> {
                                            const std::vector<size_t> &rims, Image *cut) {
         std::vector<size_t> kept;
         const size_t n = given.PixelCount();
+        const Image sums = rims.empty() ? Image() : ChannelSums(given);
         for (size_t p : rims) {
             const float count = histograms.data[(histograms.channels - 1) * n + p];
-            if (count >= kRimSamples && HoldsALightSample(given, variance, p, count)) {
+            if (count >= kRimSamples && HoldsALightSample(sums, variance, p, count)) {
                 kept.push_back(p);
                 continue;
             }
@@ -286,29 +287,19 @@ class Rhf : public FrontEndOf<RhfParams> {
     }
 
     // Whether rim p holds at least one of its `count` samples' share of the brightest light
-    // within kRimReach (samples within kLightNoise): a sample that saw the light; a dimmer
-    // caustic sample beside a light is no rim of it.
-    static bool HoldsALightSample(const Image &given, const Image &variance, size_t p,
+    // within kRimReach (`sums`: ChannelSums of the frame; a light as CutLightRims reads one):
+    // a sample that saw the light; a dimmer caustic sample beside a light is no rim of it.
+    static bool HoldsALightSample(const Image &sums, const Image &variance, size_t p,
                                   float count) {
-        const int w = given.width, h = given.height, x = int(p % w), y = int(p / w);
-        const size_t n = given.PixelCount();
-        auto sum = [&](size_t q) {
-            double s = 0;
-            for (int c = 0; c < given.channels; ++c) s += given.data[c * n + q];
-            return s;
-        };
+        const int w = sums.width, h = sums.height, x = int(p % w), y = int(p / w);
         double brightest = 0;
         for (int j = std::max(0, y - kRimReach); j <= std::min(h - 1, y + kRimReach); ++j)
             for (int i = std::max(0, x - kRimReach); i <= std::min(w - 1, x + kRimReach); ++i) {
                 const size_t q = size_t(j) * w + i;
-                // A light as CutLightRims reads one: its sum rounded to float, finite, > 0.
-                const double s = float(sum(q));
-                if (!(s > 0) || !std::isfinite(s)) continue;
-                double v = 0;
-                for (int c = 0; c < variance.channels; ++c) v += variance.data[c * n + q];
-                if (v <= kLightNoise * kLightNoise * s * s) brightest = std::max(brightest, s);
+                if (Light(variance, sums, q))
+                    brightest = std::max(brightest, double(sums.data[q]));
             }
-        return double(float(sum(p))) * count >= brightest;
+        return double(sums.data[p]) * count >= brightest;
     }
 
     // The pixels `rims` (CutLightRims) take their input back.

@@ -429,6 +429,8 @@ bool AboveNeighbours(const float *plane, const std::vector<char> &over, int w, i
     return true;
 }
 
+}  // namespace
+
 // Whether pixel p is a light: its sum finite and > 0, its channels' variances summed at
 // most (kLightNoise x its sum)^2.
 bool Light(const Image &variance, const Image &sums, size_t p) {
@@ -450,6 +452,8 @@ Image ChannelSums(const Image &color) {
     }
     return sums;
 }
+
+namespace {
 
 // Whether (x, y) is a small light's rim (CutLightRims): no light itself, over kSpike times
 // its neighbours' median, a brighter light within kRimReach, a neighbour that is none, with at

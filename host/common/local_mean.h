@@ -166,6 +166,11 @@ size_t CutSpikes(Image *color, const Image *variance = nullptr);
 constexpr double kLightNoise = 0.01;
 constexpr int kSmallLight = 25, kRimReach = 2;
 std::vector<size_t> CutLightRims(Image *color, const Image &variance);
+// Each pixel's channels summed (in double, stored as float), NaN where the sum is not
+// finite; whether pixel p of those sums is a light as CutLightRims reads one (its sum finite
+// and > 0, its channels' variances summed at most (kLightNoise x its sum)^2).
+Image ChannelSums(const Image &color);
+bool Light(const Image &variance, const Image &sums, size_t p);
 
 // Small clusters of bright samples cut from a frame before rhf's filter, their energy given
 // back near them after it (beyond the papers). rhf's distance leaves out a bin that holds at
