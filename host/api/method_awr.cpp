@@ -143,8 +143,12 @@ class Awr : public FrontEndOf<AwrSettings> {
                 result.plan.push_back(fmt::format(
                     "sparse lights: {} pixels over {} x their 7x7 median and the frame's mean "
                     "whose largest sample is at most {} x the highlights' median one (a "
-                    "light's reflection few samples saw) taken out as highlights too",
-                    split.sparse, options.highlights, kSparseLightSampleRatio));
+                    "light's reflection few samples saw), or over {} x the mean with {} of 8 "
+                    "neighbours over their windows and that sample at most {} x (a glint's "
+                    "streak), taken out as highlights too",
+                    split.sparse, options.highlights, kSparseLightSampleRatio,
+                    kStreakMeanShare * options.highlights, kStreakNeighbours,
+                    kStreakSampleRatio));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
         }

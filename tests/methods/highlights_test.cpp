@@ -492,6 +492,80 @@ TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
     EXPECT_TRUE(said) << ::testing::PrintToString(off.plan);
 }
 
+// A glossy surface's reflection of a light one sample per pixel saw (a streak of glints on
+// the edge of a floor, issue 29): each glint under 16 x the frame's mean, so no sparse light by
+// that rule, and awr spread the streak across the edge into the dark side, its 9x9 window
+// worse than its input. A streak's glints whose largest sample is at most half the bulb's are
+// sparse lights from 8 x the mean; a caustic's block as dim, its sample over half the bulb's,
+// is still spread.
+TEST_F(HighlightsAwr, AGlintStreakIsNotSpreadAcrossItsEdge) {
+    const int w = 128, h = 128, edge = 80;
+    const Pixel streak{60, edge - 2}, caustic{60, 30};
+    Image color(w, h, 3), variance(w, h, 3);
+    NoisyBulb("highlights awr glint streak", 32, 32, &color, &variance);
+    Image truth(w, h, 3, 0.05f);
+    // The floor below the edge is a fifth as bright (and as noisy).
+    for (int c = 0; c < 3; ++c)
+        for (int y = edge; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                color.At(c, y, x) *= 0.2f;
+                variance.At(c, y, x) *= 0.04f;
+                truth.At(c, y, x) = 0.01f;
+            }
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                if ((x - 32) * (x - 32) + (y - 32) * (y - 32) <= 12) truth.At(c, y, x) = 500;
+    Image maxSample = color;
+    // 2 x 4 blocks of one-sample pixels: the streak's samples 224 a channel (a third of the
+    // bulb's 1500 summed), the caustic's 288 (over half of it).
+    for (auto [at, sample] : {std::pair{streak, 224.f}, std::pair{caustic, 288.f}})
+        for (int c = 0; c < 3; ++c)
+            for (int y = at.y; y < at.y + 2; ++y)
+                for (int x = at.x; x < at.x + 4; ++x) {
+                    color.At(c, y, x) = sample / 16;
+                    variance.At(c, y, x) = (sample / 16) * (sample / 16);
+                    maxSample.At(c, y, x) = sample;
+                    truth.At(c, y, x) = 0.6f * sample / 16;
+                }
+    const double mean = HighlightFrameMean(color);
+    ASSERT_GT(3 * 224.f / 16, 8 * mean);
+    ASSERT_LT(3 * 288.f / 16, 16 * mean) << "the blocks are under the old rule's floor";
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 8u);
+    EXPECT_TRUE(split.highlight[size_t(streak.y) * w + streak.x]);
+    EXPECT_FALSE(split.highlight[size_t(caustic.y) * w + caustic.x]);
+    Image base, baseVariance;
+    std::vector<char> highlight =
+        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
+    ref::AddSparseLights(color, &variance, maxSample, 16, 3, -1, &highlight, &base,
+                         &baseVariance);
+    EXPECT_EQ(split.highlight, highlight);
+    EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+
+    // The relMSE over the 9x9 window round the streak's block.
+    auto windowError = [&](const Image &image) {
+        Image a(9, 9, 3), b(9, 9, 3);
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < 9; ++y)
+                for (int x = 0; x < 9; ++x) {
+                    a.At(c, y, x) = image.At(c, streak.y - 3 + y, streak.x - 2 + x);
+                    b.At(c, y, x) = truth.At(c, streak.y - 3 + y, streak.x - 2 + x);
+                }
+        return CompareImages(a, b).relMse;
+    };
+    Frame frame = ColorAndVariance(color, variance);
+    frame.layers["max"] = maxSample;
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    EXPECT_LE(windowError(out.image), windowError(color));
+    for (int c = 0; c < 3; ++c)
+        EXPECT_LT(out.image.At(c, caustic.y, caustic.x),
+                  0.75f * color.At(c, caustic.y, caustic.x))
+            << "the caustic's block is no longer spread";
+}
+
 // A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
 // stop (k x the mean) keeps the bulb's interior out; given the whole frame's mean, as awr's
 // tiles are, it grows as it does in the whole frame.
