@@ -88,9 +88,12 @@ class Awr : public FrontEndOf<AwrSettings> {
                        "mean, and a region still growing after that (a large light) is "
                        "given its grown pixels back; with a max layer, pixels over k x "
                        "their median and the frame's mean whose largest sample is no more "
-                       "than {} x the highlights' median one (fixed) are highlights too "
+                       "than {} x the highlights' median one (fixed) are highlights too, "
+                       "as are those over k / {} x the mean with {} neighbours over their "
+                       "medians and that sample no more than {} x (a glint's streak; fixed) "
                        "(beyond the paper; 0: off)",
-                       kSparseLightSampleRatio),
+                       kSparseLightSampleRatio, 1 / kStreakMeanShare, kStreakNeighbours,
+                       kStreakSampleRatio),
                    &AwrSettings::highlights, 0, 1e6),
                IntParam("awr-clamp",
                         fmt::format("the output raised to the minimum of the input over the "
