@@ -243,6 +243,9 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
                      double k, int r, double lightSample, std::vector<char> *highlight,
                      Image *base, Image *baseVariance) {
     const int w = color.width, h = color.height;
+    // A frame with NaN/Inf has no highlights, nor sparse lights (as SplitHighlights).
+    for (float v : color.data)
+        if (!std::isfinite(v)) return;
     const double m = lightSample >= 0 ? lightSample : SparseLightSample(maxSample, *highlight);
     if (!(m > 0)) return;
     const Image sum = ChannelSums(color);
@@ -264,8 +267,8 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
                 sparse[size_t(y) * w + x] = 1;
                 continue;
             }
-            // A streak's pixel: over k / 2 x the mean, 2 neighbours over their windows, its
-            // largest sample at most m / 2.
+            // A streak's pixel: over k / 2 x the mean, at least 2 neighbours over their
+            // windows, its largest sample at most m / 2.
             int neighbours = 0;
             for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
                 for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)

@@ -56,10 +56,10 @@ constexpr double kSparseLightSampleRatio = 2;
 // A glossy surface's reflection of a light that one sample per pixel saw is a streak of dim
 // glints, each under k times the frame's mean, and the filter spread it across the edge it
 // lies on into the dark side. Such a pixel is a sparse light too from kStreakMeanShare x k
-// times the mean, with kStreakNeighbours of its 8 neighbours over k times their windows, and
-// its largest sample at most kStreakSampleRatio times the highlights' median one: a glossy
-// reflection is dimmer than the light it reflects, while a caustic's firefly carries its
-// light's full value.
+// times the mean, with at least kStreakNeighbours of its 8 neighbours over k times their
+// windows' medians (and the floor), and its largest sample at most kStreakSampleRatio times
+// the highlights' median one: a glossy reflection is dimmer than the light it reflects, while
+// a caustic's firefly carries its light's full value.
 constexpr double kStreakMeanShare = 0.5;
 constexpr int kStreakNeighbours = 2;
 constexpr double kStreakSampleRatio = 0.5;
