@@ -39,8 +39,18 @@ Pixel BrighterFireflyOf(int w, int h) {
     return {w / 4 + 1, h / 3 + 3};
 }
 
-// A dim noisy frame with bright blocks (lights), lone fireflies and constants.
-void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
+// MakeFrame's glint streak (frames from 17 wide): 2 columns against the right edge, 4 rows.
+std::vector<Pixel> StreakOf(int w, int h) {
+    std::vector<Pixel> streak;
+    if (w < 17) return streak;
+    for (int y = 1; y < std::min(h, 5); ++y)
+        for (int x = w - 2; x < w; ++x) streak.push_back({x, y});
+    return streak;
+}
+
+// A dim noisy frame with bright blocks (lights), lone fireflies and constants; from 17 wide
+// also a glint streak at ratio k of the highlights, between k / 2 and k times the frame's mean.
+void MakeFrame(int w, int h, int channels, double k, Image *color, Image *variance) {
     std::mt19937_64 rng(SeedFromName("highlights " + std::to_string(w) + "x" +
                                      std::to_string(h) + "x" + std::to_string(channels)));
     std::uniform_real_distribution<float> unit(0, 1);
@@ -80,9 +90,25 @@ void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
             variance->At(c, p.y, p.x) = value * value;
         }
     }
+    // The streak's one-sample pixels, seeded around a share of k times the mean they raise
+    // (found by fixed-point steps): over their windows and k / 2 x the mean, under k x it.
+    const std::vector<Pixel> streak = StreakOf(w, h);
+    std::vector<float> jitter;
+    for (size_t i = 0; i < streak.size(); ++i) jitter.push_back(0.51f + 0.04f * unit(rng));
+    double level = 0;
+    for (int step = 0; step <= 20; ++step) {
+        for (size_t i = 0; i < streak.size(); ++i)
+            for (int c = 0; c < channels; ++c) {
+                float value = float(jitter[i] * level / channels);
+                color->At(c, streak[i].y, streak[i].x) = value;
+                variance->At(c, streak[i].y, streak[i].x) = value * value;
+            }
+        level = k * HighlightFrameMean(*color);
+    }
 }
 
-// Each value's largest sample: 1 to 16 times the value, seeded.
+// Each value's largest sample: 1 to 16 times the value, seeded; the streak's its value (all
+// its samples alike, a glossy reflection dimmer than the lights).
 Image MaxSampleOf(const Image &color) {
     std::mt19937_64 rng(SeedFromName("highlights max " + std::to_string(color.width) + "x" +
                                      std::to_string(color.height) + "x" +
@@ -90,20 +116,36 @@ Image MaxSampleOf(const Image &color) {
     std::uniform_real_distribution<float> unit(0, 1);
     Image maxSample = color;
     for (float &v : maxSample.data) v *= 1 + 15 * unit(rng);
+    for (Pixel p : StreakOf(color.width, color.height))
+        for (int c = 0; c < color.channels; ++c)
+            maxSample.At(c, p.y, p.x) = color.At(c, p.y, p.x);
     return maxSample;
 }
 
 // The sparse lights added to a split (`split`, and the twin's mask and bases) against the
 // twin, with the split's own highlights' median largest sample and with half of it given, in
-// the default parts and forced into 1 and 3.
-void ExpectSparseLightsMatchReference(const Image &color, const Image &variance, double k,
-                                      const HighlightSplit &split,
-                                      const std::vector<char> &mask, const Image &base,
-                                      const Image &baseVariance) {
+// the default parts and forced into 1 and 3. Returns how many pixels under k times the frame's
+// mean (a streak's) the split's own median marked.
+size_t ExpectSparseLightsMatchReference(const Image &color, const Image &variance, double k,
+                                        const HighlightSplit &split,
+                                        const std::vector<char> &mask, const Image &base,
+                                        const Image &baseVariance) {
     const int w = color.width, h = color.height;
     SCOPED_TRACE(testing::Message() << w << "x" << h << "x" << color.channels << ", k " << k);
     const Image maxSample = MaxSampleOf(color);
     const double own = HighlightSampleMedian(maxSample, split.highlight);
+    const double mean = HighlightFrameMean(color);
+    for (Pixel p : StreakOf(w, h)) {
+        float s = 0, sample = 0;
+        for (int c = 0; c < color.channels; ++c) {
+            s += color.At(c, p.y, p.x);
+            sample += maxSample.At(c, p.y, p.x);
+        }
+        EXPECT_LT(s, k * mean) << "the streak at " << p.x << ", " << p.y;
+        EXPECT_GT(s, kStreakMeanShare * k * mean) << "the streak at " << p.x << ", " << p.y;
+        EXPECT_LE(sample, kStreakSampleRatio * own) << "the streak at " << p.x << ", " << p.y;
+    }
+    size_t streakMarks = 0;
     for (double lightSample : {-1.0, own / 2}) {
         HighlightSplit got = split;
         const size_t added =
@@ -112,7 +154,8 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
         Image expectedBase = base, expectedVariance = baseVariance;
         ref::AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &expected,
                              &expectedBase, &expectedVariance);
-        ASSERT_EQ(got.highlight, expected) << "light sample " << lightSample;
+        EXPECT_EQ(got.highlight, expected) << "light sample " << lightSample;
+        if (got.highlight != expected) return streakMarks;
         EXPECT_EQ(got.base.data, expectedBase.data);
         EXPECT_EQ(got.baseVariance.data, expectedVariance.data);
         const size_t count = size_t(std::count(expected.begin(), expected.end(), char(1)));
@@ -121,6 +164,11 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
         EXPECT_EQ(got.sparse, added);
         if (w >= 40 && lightSample < 0) {
             EXPECT_GT(added, 0u) << "no sparse light to compare";
+        }
+        for (size_t p = 0; lightSample < 0 && p < expected.size(); ++p) {
+            float s = 0;
+            for (int c = 0; c < color.channels; ++c) s += color.Plane(c)[p];
+            streakMarks += expected[p] && !mask[p] && !(s > k * mean);
         }
         for (int parts : {1, 3}) {
             ForceParallelParts force(parts);
@@ -146,14 +194,15 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
                          &expectedVariance);
     EXPECT_EQ(expected, mask);
     EXPECT_EQ(expectedBase.data, base.data);
+    return streakMarks;
 }
 
 TEST(Highlights, MatchesReference) {
     for (int channels : {1, 3})
-        for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {40, 31}})
+        for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {44, 33}})
             for (double k : {4.0, 16.0}) {
                 Image color, variance;
-                MakeFrame(w, h, channels, &color, &variance);
+                MakeFrame(w, h, channels, k, &color, &variance);
                 HighlightSplit got = SplitHighlights(color, &variance, k, 3);
                 Image base, baseVariance;
                 std::vector<char> mask =
@@ -174,18 +223,19 @@ TEST(Highlights, MatchesReference) {
                 LowerToInputMaximumNearHighlights(color, got.highlight, 6, 1, &crest);
                 ref::LowerToInputMaximumNearHighlights(color, mask, 6, 1, &crestExpected);
                 EXPECT_EQ(crest.data, crestExpected.data);
-                ExpectSparseLightsMatchReference(color, variance, k, got, mask, base,
-                                                 baseVariance);
+                const size_t streakMarks = ExpectSparseLightsMatchReference(
+                    color, variance, k, got, mask, base, baseVariance);
                 auto marked = [&](Pixel p) { return got.highlight[size_t(p.y) * w + p.x]; };
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
                     EXPECT_TRUE(marked(GlintOf(w, h))) << "the glint";
                     EXPECT_FALSE(marked(GlintFireflyOf(w, h))) << "beside the glint";
                     EXPECT_FALSE(marked(BrighterFireflyOf(w, h))) << "brighter than the block";
+                    EXPECT_GT(streakMarks, 0u) << "the streak";
                 }
                 if (w >= 40) {
                     EXPECT_TRUE(got.highlight[size_t(h / 2 + 3) * w + w / 2 + 3])
-                        << "the wide light's centre";
+                        << "the wide light's centre, k " << k << ", " << channels;
                     // k x the frame's mean stops it at k = 16 (and in the smaller frames).
                     if (k == 4) {
                         EXPECT_TRUE(marked(RimPixelOf(w, h)))
@@ -209,6 +259,22 @@ TEST(Highlights, MatchesReference) {
     ref::AddSparseLights(color, nullptr, color, 16, 3, 3000, &mask, &base, &baseVariance);
     EXPECT_EQ(mask, none.highlight);
     EXPECT_EQ(base.data, none.base.data);
+    // A color with -Inf or NaN has no sparse lights even with a light's sample given (its mean
+    // is no bound: -Inf passes every test against it), in the host and the twin alike.
+    for (float bad :
+         {-std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+        Image broken = color;
+        broken.At(1, 0, 0) = bad;
+        HighlightSplit split = SplitHighlights(broken, nullptr, 16, 3);
+        EXPECT_EQ(AddSparseLights(broken, nullptr, color, 16, 3, 3000, &split), 0u) << bad;
+        EXPECT_EQ(split.count, 0u) << bad;
+        std::vector<char> brokenMask(size_t(9) * 9, 0);
+        Image brokenBase = broken, unused;
+        ref::AddSparseLights(broken, nullptr, color, 16, 3, 3000, &brokenMask, &brokenBase,
+                             &unused);
+        EXPECT_EQ(brokenMask, split.highlight) << bad;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(brokenBase.At(c, 4, 4), 1000.f) << bad;
+    }
 }
 
 TEST(Highlights, LoneFireflyAndNonFiniteFramesHaveNone) {
