@@ -563,10 +563,12 @@ TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
 // that rule, and awr spread the streak across the edge into the dark side, its 9x9 window
 // worse than its input. A streak's glints whose largest sample is at most half the bulb's are
 // sparse lights from 8 x the mean; a caustic's block as dim, its sample over half the bulb's,
-// is still spread.
+// is still spread, as are a lone glint and a pair of them (no 2 bright neighbours: a firefly's
+// and its neighbour's) and a streak's block under 8 x the mean.
 TEST_F(HighlightsAwr, AGlintStreakIsNotSpreadAcrossItsEdge) {
     const int w = 128, h = 128, edge = 80;
-    const Pixel streak{60, edge - 2}, caustic{60, 30};
+    const Pixel streak{60, edge - 2}, caustic{60, 30}, lone{100, 12}, pair{112, 24},
+        dim{96, 36};
     Image color(w, h, 3), variance(w, h, 3);
     NoisyBulb("highlights awr glint streak", 32, 32, &color, &variance);
     Image truth(w, h, 3, 0.05f);
@@ -583,24 +585,39 @@ TEST_F(HighlightsAwr, AGlintStreakIsNotSpreadAcrossItsEdge) {
             for (int x = 0; x < w; ++x)
                 if ((x - 32) * (x - 32) + (y - 32) * (y - 32) <= 12) truth.At(c, y, x) = 500;
     Image maxSample = color;
-    // 2 x 4 blocks of one-sample pixels: the streak's samples 224 a channel (a third of the
-    // bulb's 1500 summed), the caustic's 288 (over half of it).
-    for (auto [at, sample] : {std::pair{streak, 224.f}, std::pair{caustic, 288.f}})
+    // One-sample pixels (rows x columns): the streak's 2 x 4 samples 224 a channel (under half
+    // the bulb's 1500 summed), the caustic's 2 x 4 288 (over half of it), a lone glint's and a
+    // 1 x 2 pair's 224.
+    auto place = [&](Pixel at, int rows, int columns, float sample, float value) {
         for (int c = 0; c < 3; ++c)
-            for (int y = at.y; y < at.y + 2; ++y)
-                for (int x = at.x; x < at.x + 4; ++x) {
-                    color.At(c, y, x) = sample / 16;
-                    variance.At(c, y, x) = (sample / 16) * (sample / 16);
+            for (int y = at.y; y < at.y + rows; ++y)
+                for (int x = at.x; x < at.x + columns; ++x) {
+                    color.At(c, y, x) = value;
+                    variance.At(c, y, x) = value * value;
                     maxSample.At(c, y, x) = sample;
-                    truth.At(c, y, x) = 0.6f * sample / 16;
+                    truth.At(c, y, x) = 0.6f * value;
                 }
+    };
+    for (auto [at, rows, columns, sample] : {std::tuple{streak, 2, 4, 224.f},
+                                             {caustic, 2, 4, 288.f},
+                                             {lone, 1, 1, 224.f},
+                                             {pair, 1, 2, 224.f}})
+        place(at, rows, columns, sample, sample / 16);
+    // A streak's 2 x 4 block at about two fifths of 16 x the mean, its samples the streak's.
+    place(dim, 2, 4, 224.f, float(0.4 * 16 * HighlightFrameMean(color) / 3));
     const double mean = HighlightFrameMean(color);
     ASSERT_GT(3 * 224.f / 16, 8 * mean);
     ASSERT_LT(3 * 288.f / 16, 16 * mean) << "the blocks are under the old rule's floor";
+    ASSERT_LT(3 * color.At(0, dim.y, dim.x), 8 * mean) << "the dim block";
+    ASSERT_GT(3 * color.At(0, dim.y, dim.x), 5 * mean) << "the dim block, near 0.4 x k";
     HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
     EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 8u);
-    EXPECT_TRUE(split.highlight[size_t(streak.y) * w + streak.x]);
-    EXPECT_FALSE(split.highlight[size_t(caustic.y) * w + caustic.x]);
+    auto marked = [&](Pixel p) { return split.highlight[size_t(p.y) * w + p.x] != 0; };
+    EXPECT_TRUE(marked(streak));
+    EXPECT_FALSE(marked(caustic));
+    EXPECT_FALSE(marked(lone)) << "the lone glint";
+    EXPECT_FALSE(marked(pair) || marked({pair.x + 1, pair.y})) << "the pair";
+    EXPECT_FALSE(marked(dim)) << "the block under k / 2 x the mean";
     Image base, baseVariance;
     std::vector<char> highlight =
         ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
@@ -626,10 +643,13 @@ TEST_F(HighlightsAwr, AGlintStreakIsNotSpreadAcrossItsEdge) {
     Device device = api::BorrowDevice(Ctx());
     Result out = Method("awr").Run(device, frame);
     EXPECT_LE(windowError(out.image), windowError(color));
-    for (int c = 0; c < 3; ++c)
-        EXPECT_LT(out.image.At(c, caustic.y, caustic.x),
-                  0.75f * color.At(c, caustic.y, caustic.x))
-            << "the caustic's block is no longer spread";
+    for (auto [p, what] : {std::pair{caustic, "the caustic's block"},
+                           {lone, "the lone glint"},
+                           {pair, "the pair"},
+                           {dim, "the dim block"}})
+        for (int c = 0; c < 3; ++c)
+            EXPECT_LT(out.image.At(c, p.y, p.x), 0.75f * color.At(c, p.y, p.x))
+                << what << " is no longer spread";
 }
 
 // A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
