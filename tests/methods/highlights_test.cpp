@@ -724,6 +724,70 @@ TEST(Highlights, ATileComparesSparseLightsWithTheFramesLights) {
     }
 }
 
+// A glint streak (2 x 4 one-sample pixels, under k but over k / 2 x the frame's mean, its
+// samples under half the bulb's) in a tile without a light: with none of its own to compare
+// with it stays out; given the frame's mean and lights' sample, the tile marks it as the whole
+// frame does, and with a sample given that holds the streak's out, leaves it as the frame
+// does.
+TEST(Highlights, ATileComparesAStreakWithTheFramesLights) {
+    LoneReflection frame("highlights tile streak");
+    const int w = frame.w, half = 8, side = 2 * half + 1;
+    const Pixel streak{40, 100};
+    const int x0 = streak.x - half, y0 = streak.y - half;
+    for (int c = 0; c < 3; ++c)
+        for (int y = streak.y; y < streak.y + 2; ++y)
+            for (int x = streak.x; x < streak.x + 4; ++x) {
+                frame.color.At(c, y, x) = 224.f / 16;
+                frame.variance.At(c, y, x) = (224.f / 16) * (224.f / 16);
+                frame.maxSample.At(c, y, x) = 224;
+            }
+    const HighlightSplit split = SplitHighlights(frame.color, &frame.variance, 16, 3);
+    const double frameMean = HighlightFrameMean(frame.color),
+                 lightSample = HighlightSampleMedian(frame.maxSample, split.highlight);
+    ASSERT_GT(3 * 224.f / 16, kStreakMeanShare * 16 * frameMean);
+    ASSERT_LT(3 * 224.f / 16, 16 * frameMean);
+    ASSERT_LE(3 * 224.f, kStreakSampleRatio * lightSample);
+    Image tile(side, side, 3), tileVariance(side, side, 3), tileMax(side, side, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                tile.At(c, y, x) = frame.color.At(c, y0 + y, x0 + x);
+                tileVariance.At(c, y, x) = frame.variance.At(c, y0 + y, x0 + x);
+                tileMax.At(c, y, x) = frame.maxSample.At(c, y0 + y, x0 + x);
+            }
+    HighlightSplit own = SplitHighlights(tile, &tileVariance, 16, 3);
+    EXPECT_EQ(own.count, 0u) << "the tile holds no light";
+    EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, -1, &own), 0u)
+        << "the tile's own lights";
+    for (double given : {lightSample, lightSample / 2}) {
+        SCOPED_TRACE(testing::Message() << "light sample " << given);
+        HighlightSplit whole = split;
+        AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, given, &whole);
+        Image base, baseVariance;
+        std::vector<char> expected =
+            ref::SplitHighlights(frame.color, &frame.variance, 16, 3, &base, &baseVariance);
+        ref::AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, given,
+                             &expected, &base, &baseVariance);
+        EXPECT_EQ(whole.highlight, expected) << "the twin";
+        EXPECT_EQ(whole.base.data, base.data) << "the twin";
+        HighlightSplit cut = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
+        EXPECT_EQ(cut.mean, frameMean);
+        const size_t added = AddSparseLights(tile, &tileVariance, tileMax, 16, 3, given, &cut);
+        EXPECT_EQ(added, given == lightSample ? 8u : 0u);
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                const size_t p = size_t(y0 + y) * w + x0 + x;
+                EXPECT_EQ(cut.highlight[size_t(y) * side + x], whole.highlight[p])
+                    << x << ", " << y;
+                for (int c = 0; c < 3 && whole.highlight[p]; ++c) {
+                    EXPECT_EQ(cut.base.At(c, y, x), whole.base.At(c, y0 + y, x0 + x));
+                    EXPECT_EQ(cut.baseVariance.At(c, y, x),
+                              whole.baseVariance.At(c, y0 + y, x0 + x));
+                }
+            }
+    }
+}
+
 // A ceiling panel 24 pixels wide is its own median but for its corners; grown from them it
 // would take the panel's rim into highlights ring by ring (the cornell light). Still growing
 // after the last round, its growth is undone; a bulb in the same frame still fills.
