@@ -243,22 +243,38 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
                      double k, int r, double lightSample, std::vector<char> *highlight,
                      Image *base, Image *baseVariance) {
     const int w = color.width, h = color.height;
+    // A frame with NaN/Inf has no highlights, nor sparse lights (as SplitHighlights).
+    for (float v : color.data)
+        if (!std::isfinite(v)) return;
     const double m = lightSample >= 0 ? lightSample : SparseLightSample(maxSample, *highlight);
     if (!(m > 0)) return;
     const Image sum = ChannelSums(color);
     double total = 0;
     for (float s : sum.data) total += s;
     const double mean = total / (double(w) * h);
+    auto overWindow = [&](int x, int y) {
+        return sum.At(0, y, x) > k * std::max(UpperMedian(sum, 0, x, y, r), 1e-3 * mean);
+    };
     std::vector<char> sparse(size_t(w) * h, 0);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const double s = sum.At(0, y, x);
-            if ((*highlight)[size_t(y) * w + x] || !(s > k * mean) ||
-                !(s > k * std::max(UpperMedian(sum, 0, x, y, r), 1e-3 * mean)))
-                continue;
+            if ((*highlight)[size_t(y) * w + x] || !overWindow(x, y)) continue;
             double sample = 0;
             for (int c = 0; c < maxSample.channels; ++c) sample += maxSample.At(c, y, x);
-            if (sample <= 2 * m) sparse[size_t(y) * w + x] = 1;
+            if (!(sample <= 2 * m)) continue;
+            if (s > k * mean) {
+                sparse[size_t(y) * w + x] = 1;
+                continue;
+            }
+            // A streak's pixel: over k / 2 x the mean, at least 2 neighbours over their
+            // windows, its largest sample at most m / 2.
+            int neighbours = 0;
+            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                    neighbours += (u != x || v != y) && overWindow(u, v);
+            if (s > 0.5 * k * mean && neighbours >= 2 && sample <= 0.5 * m)
+                sparse[size_t(y) * w + x] = 1;
         }
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {

@@ -88,9 +88,13 @@ class Awr : public FrontEndOf<AwrSettings> {
                        "mean, and a region still growing after that (a large light) is "
                        "given its grown pixels back; with a max layer, pixels over k x "
                        "their median and the frame's mean whose largest sample is no more "
-                       "than {} x the highlights' median one (fixed) are highlights too "
+                       "than {} x the highlights' median one (fixed) are highlights too, "
+                       "as are those over k / {} x the mean with at least {} of their 8 "
+                       "neighbours over k x their medians (and 1e-3 x the mean) and that "
+                       "sample no more than {} x (a glint's streak; fixed) "
                        "(beyond the paper; 0: off)",
-                       kSparseLightSampleRatio),
+                       kSparseLightSampleRatio, 1 / kStreakMeanShare, kStreakNeighbours,
+                       kStreakSampleRatio),
                    &AwrSettings::highlights, 0, 1e6),
                IntParam("awr-clamp",
                         fmt::format("the output raised to the minimum of the input over the "
@@ -143,8 +147,13 @@ class Awr : public FrontEndOf<AwrSettings> {
                 result.plan.push_back(fmt::format(
                     "sparse lights: {} pixels over {} x their 7x7 median and the frame's mean "
                     "whose largest sample is at most {} x the highlights' median one (a "
-                    "light's reflection few samples saw) taken out as highlights too",
-                    split.sparse, options.highlights, kSparseLightSampleRatio));
+                    "light's reflection few samples saw), or over {} x the mean with at least "
+                    "{} "
+                    "of 8 neighbours over k x their medians and that sample at most {} x (a "
+                    "glint's streak), taken out as highlights too",
+                    split.sparse, options.highlights, kSparseLightSampleRatio,
+                    kStreakMeanShare * options.highlights, kStreakNeighbours,
+                    kStreakSampleRatio));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
         }

@@ -371,10 +371,15 @@ size_t AddSparseLights(const Image &color, const Image *variance, const Image &m
             // The channel sum as SplitHighlights made it (ChannelSum's order).
             float s = 0;
             for (int c = 0; c < color.channels; ++c) s += color.Plane(c)[p];
-            if (!(s > k * mean)) continue;
             double sample = 0;
             for (int c = 0; c < color.channels; ++c) sample += maxSample.Plane(c)[p];
             if (!(sample <= kSparseLightSampleRatio * lightSample)) continue;
+            // Under k times the mean only a glint's streak, dimmer than the frame's lights.
+            const bool streak =
+                s > kStreakMeanShare * k * mean &&
+                MarkedNeighbours(split->overWindow, w, h, x, y) >= kStreakNeighbours &&
+                sample <= kStreakSampleRatio * lightSample;
+            if (!(s > k * mean) && !streak) continue;
             split->highlight[p] = 1;
             ++added;
             for (int c = 0; c < color.channels; ++c) {

@@ -53,6 +53,17 @@ HighlightSplit SplitHighlights(const Image &color, const Image *variance, double
 // How far a sparse light's brightest sample may stand above the highlights' (AddSparseLights).
 constexpr double kSparseLightSampleRatio = 2;
 
+// A glossy surface's reflection of a light that one sample per pixel saw is a streak of dim
+// glints, each under k times the frame's mean, and the filter spread it across the edge it
+// lies on into the dark side. Such a pixel is a sparse light too from kStreakMeanShare x k
+// times the mean, with at least kStreakNeighbours of its 8 neighbours over k times their
+// windows' medians (and the floor), and its largest sample at most kStreakSampleRatio times
+// the highlights' median one: a glossy reflection is dimmer than the light it reflects, while
+// a caustic's firefly carries its light's full value.
+constexpr double kStreakMeanShare = 0.5;
+constexpr int kStreakNeighbours = 2;
+constexpr double kStreakSampleRatio = 0.5;
+
 // Sparse lights: a light's reflection one or two pixels wide that one or two of its samples saw
 // stands under 2 of its standard deviations, as a firefly does, and the filter spread it into
 // a bright square with dark dots where the reference is dim. A firefly of a rare path weighted
@@ -61,12 +72,12 @@ constexpr double kSparseLightSampleRatio = 2;
 // per-pixel largest sample `maxSample` (the color's shape), given the split SplitHighlights
 // made of `color` and `variance` at k and r (its window test and mean read again), a pixel not
 // yet a highlight whose channels sum to over k times its window's median (and the floor) and k
-// times the frame's mean, and whose largest sample (channels summed) is at most
-// kSparseLightSampleRatio times `lightSample` (HighlightSampleMedian of the whole frame, so a
-// tile compares with the frame's lights; < 0: that of the split's own highlights), becomes a
-// highlight: reconstructed at its window's medians, given its input back after. Nothing with a
-// `lightSample` of 0 (no highlights to compare with); returns how many it added (also counted
-// in split->count and split->sparse).
+// times the frame's mean (or, for a streak's pixel, the kStreak* terms above), and whose
+// largest sample (channels summed) is at most kSparseLightSampleRatio times `lightSample`
+// (HighlightSampleMedian of the whole frame, so a tile compares with the frame's lights; < 0:
+// that of the split's own highlights), becomes a highlight: reconstructed at its window's
+// medians, given its input back after. Nothing with a `lightSample` of 0 (no highlights to
+// compare with); returns how many it added (also counted in split->count and split->sparse).
 size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
                        double k, int r, double lightSample, HighlightSplit *split);
 

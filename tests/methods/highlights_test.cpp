@@ -39,8 +39,18 @@ Pixel BrighterFireflyOf(int w, int h) {
     return {w / 4 + 1, h / 3 + 3};
 }
 
-// A dim noisy frame with bright blocks (lights), lone fireflies and constants.
-void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
+// MakeFrame's glint streak (frames from 17 wide): 2 columns against the right edge, 4 rows.
+std::vector<Pixel> StreakOf(int w, int h) {
+    std::vector<Pixel> streak;
+    if (w < 17) return streak;
+    for (int y = 1; y < std::min(h, 5); ++y)
+        for (int x = w - 2; x < w; ++x) streak.push_back({x, y});
+    return streak;
+}
+
+// A dim noisy frame with bright blocks (lights), lone fireflies and constants; from 17 wide
+// also a glint streak at ratio k of the highlights, between k / 2 and k times the frame's mean.
+void MakeFrame(int w, int h, int channels, double k, Image *color, Image *variance) {
     std::mt19937_64 rng(SeedFromName("highlights " + std::to_string(w) + "x" +
                                      std::to_string(h) + "x" + std::to_string(channels)));
     std::uniform_real_distribution<float> unit(0, 1);
@@ -80,9 +90,25 @@ void MakeFrame(int w, int h, int channels, Image *color, Image *variance) {
             variance->At(c, p.y, p.x) = value * value;
         }
     }
+    // The streak's one-sample pixels, seeded around a share of k times the mean they raise
+    // (found by fixed-point steps): over their windows and k / 2 x the mean, under k x it.
+    const std::vector<Pixel> streak = StreakOf(w, h);
+    std::vector<float> jitter;
+    for (size_t i = 0; i < streak.size(); ++i) jitter.push_back(0.51f + 0.04f * unit(rng));
+    double level = 0;
+    for (int step = 0; step <= 20; ++step) {
+        for (size_t i = 0; i < streak.size(); ++i)
+            for (int c = 0; c < channels; ++c) {
+                float value = float(jitter[i] * level / channels);
+                color->At(c, streak[i].y, streak[i].x) = value;
+                variance->At(c, streak[i].y, streak[i].x) = value * value;
+            }
+        level = k * HighlightFrameMean(*color);
+    }
 }
 
-// Each value's largest sample: 1 to 16 times the value, seeded.
+// Each value's largest sample: 1 to 16 times the value, seeded; the streak's its value (all
+// its samples alike, a glossy reflection dimmer than the lights).
 Image MaxSampleOf(const Image &color) {
     std::mt19937_64 rng(SeedFromName("highlights max " + std::to_string(color.width) + "x" +
                                      std::to_string(color.height) + "x" +
@@ -90,20 +116,36 @@ Image MaxSampleOf(const Image &color) {
     std::uniform_real_distribution<float> unit(0, 1);
     Image maxSample = color;
     for (float &v : maxSample.data) v *= 1 + 15 * unit(rng);
+    for (Pixel p : StreakOf(color.width, color.height))
+        for (int c = 0; c < color.channels; ++c)
+            maxSample.At(c, p.y, p.x) = color.At(c, p.y, p.x);
     return maxSample;
 }
 
 // The sparse lights added to a split (`split`, and the twin's mask and bases) against the
 // twin, with the split's own highlights' median largest sample and with half of it given, in
-// the default parts and forced into 1 and 3.
-void ExpectSparseLightsMatchReference(const Image &color, const Image &variance, double k,
-                                      const HighlightSplit &split,
-                                      const std::vector<char> &mask, const Image &base,
-                                      const Image &baseVariance) {
+// the default parts and forced into 1 and 3. Returns how many pixels under k times the frame's
+// mean (a streak's) the split's own median marked.
+size_t ExpectSparseLightsMatchReference(const Image &color, const Image &variance, double k,
+                                        const HighlightSplit &split,
+                                        const std::vector<char> &mask, const Image &base,
+                                        const Image &baseVariance) {
     const int w = color.width, h = color.height;
     SCOPED_TRACE(testing::Message() << w << "x" << h << "x" << color.channels << ", k " << k);
     const Image maxSample = MaxSampleOf(color);
     const double own = HighlightSampleMedian(maxSample, split.highlight);
+    const double mean = HighlightFrameMean(color);
+    for (Pixel p : StreakOf(w, h)) {
+        float s = 0, sample = 0;
+        for (int c = 0; c < color.channels; ++c) {
+            s += color.At(c, p.y, p.x);
+            sample += maxSample.At(c, p.y, p.x);
+        }
+        EXPECT_LT(s, k * mean) << "the streak at " << p.x << ", " << p.y;
+        EXPECT_GT(s, kStreakMeanShare * k * mean) << "the streak at " << p.x << ", " << p.y;
+        EXPECT_LE(sample, kStreakSampleRatio * own) << "the streak at " << p.x << ", " << p.y;
+    }
+    size_t streakMarks = 0;
     for (double lightSample : {-1.0, own / 2}) {
         HighlightSplit got = split;
         const size_t added =
@@ -112,7 +154,8 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
         Image expectedBase = base, expectedVariance = baseVariance;
         ref::AddSparseLights(color, &variance, maxSample, k, 3, lightSample, &expected,
                              &expectedBase, &expectedVariance);
-        ASSERT_EQ(got.highlight, expected) << "light sample " << lightSample;
+        EXPECT_EQ(got.highlight, expected) << "light sample " << lightSample;
+        if (got.highlight != expected) return streakMarks;
         EXPECT_EQ(got.base.data, expectedBase.data);
         EXPECT_EQ(got.baseVariance.data, expectedVariance.data);
         const size_t count = size_t(std::count(expected.begin(), expected.end(), char(1)));
@@ -121,6 +164,11 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
         EXPECT_EQ(got.sparse, added);
         if (w >= 40 && lightSample < 0) {
             EXPECT_GT(added, 0u) << "no sparse light to compare";
+        }
+        for (size_t p = 0; lightSample < 0 && p < expected.size(); ++p) {
+            float s = 0;
+            for (int c = 0; c < color.channels; ++c) s += color.Plane(c)[p];
+            streakMarks += expected[p] && !mask[p] && !(s > k * mean);
         }
         for (int parts : {1, 3}) {
             ForceParallelParts force(parts);
@@ -146,14 +194,15 @@ void ExpectSparseLightsMatchReference(const Image &color, const Image &variance,
                          &expectedVariance);
     EXPECT_EQ(expected, mask);
     EXPECT_EQ(expectedBase.data, base.data);
+    return streakMarks;
 }
 
 TEST(Highlights, MatchesReference) {
     for (int channels : {1, 3})
-        for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {40, 31}})
+        for (auto [w, h] : {std::pair{1, 1}, {3, 2}, {17, 13}, {44, 33}})
             for (double k : {4.0, 16.0}) {
                 Image color, variance;
-                MakeFrame(w, h, channels, &color, &variance);
+                MakeFrame(w, h, channels, k, &color, &variance);
                 HighlightSplit got = SplitHighlights(color, &variance, k, 3);
                 Image base, baseVariance;
                 std::vector<char> mask =
@@ -174,18 +223,19 @@ TEST(Highlights, MatchesReference) {
                 LowerToInputMaximumNearHighlights(color, got.highlight, 6, 1, &crest);
                 ref::LowerToInputMaximumNearHighlights(color, mask, 6, 1, &crestExpected);
                 EXPECT_EQ(crest.data, crestExpected.data);
-                ExpectSparseLightsMatchReference(color, variance, k, got, mask, base,
-                                                 baseVariance);
+                const size_t streakMarks = ExpectSparseLightsMatchReference(
+                    color, variance, k, got, mask, base, baseVariance);
                 auto marked = [&](Pixel p) { return got.highlight[size_t(p.y) * w + p.x]; };
                 if (w >= 17) {
                     EXPECT_GT(got.count, 0u) << "the bright block is a highlight";
                     EXPECT_TRUE(marked(GlintOf(w, h))) << "the glint";
                     EXPECT_FALSE(marked(GlintFireflyOf(w, h))) << "beside the glint";
                     EXPECT_FALSE(marked(BrighterFireflyOf(w, h))) << "brighter than the block";
+                    EXPECT_GT(streakMarks, 0u) << "the streak";
                 }
                 if (w >= 40) {
                     EXPECT_TRUE(got.highlight[size_t(h / 2 + 3) * w + w / 2 + 3])
-                        << "the wide light's centre";
+                        << "the wide light's centre, k " << k << ", " << channels;
                     // k x the frame's mean stops it at k = 16 (and in the smaller frames).
                     if (k == 4) {
                         EXPECT_TRUE(marked(RimPixelOf(w, h)))
@@ -209,6 +259,22 @@ TEST(Highlights, MatchesReference) {
     ref::AddSparseLights(color, nullptr, color, 16, 3, 3000, &mask, &base, &baseVariance);
     EXPECT_EQ(mask, none.highlight);
     EXPECT_EQ(base.data, none.base.data);
+    // A color with -Inf or NaN has no sparse lights even with a light's sample given (its mean
+    // is no bound: -Inf passes every test against it), in the host and the twin alike.
+    for (float bad :
+         {-std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+        Image broken = color;
+        broken.At(1, 0, 0) = bad;
+        HighlightSplit split = SplitHighlights(broken, nullptr, 16, 3);
+        EXPECT_EQ(AddSparseLights(broken, nullptr, color, 16, 3, 3000, &split), 0u) << bad;
+        EXPECT_EQ(split.count, 0u) << bad;
+        std::vector<char> brokenMask(size_t(9) * 9, 0);
+        Image brokenBase = broken, unused;
+        ref::AddSparseLights(broken, nullptr, color, 16, 3, 3000, &brokenMask, &brokenBase,
+                             &unused);
+        EXPECT_EQ(brokenMask, split.highlight) << bad;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(brokenBase.At(c, 4, 4), 1000.f) << bad;
+    }
 }
 
 TEST(Highlights, LoneFireflyAndNonFiniteFramesHaveNone) {
@@ -492,6 +558,100 @@ TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
     EXPECT_TRUE(said) << ::testing::PrintToString(off.plan);
 }
 
+// A glossy surface's reflection of a light one sample per pixel saw (a streak of glints on
+// the edge of a floor, issue 29): each glint under 16 x the frame's mean, so no sparse light by
+// that rule, and awr spread the streak across the edge into the dark side, its 9x9 window
+// worse than its input. A streak's glints whose largest sample is at most half the bulb's are
+// sparse lights from 8 x the mean; a caustic's block as dim, its sample over half the bulb's,
+// is still spread, as are a lone glint and a pair of them (no 2 bright neighbours: a firefly's
+// and its neighbour's) and a streak's block under 8 x the mean.
+TEST_F(HighlightsAwr, AGlintStreakIsNotSpreadAcrossItsEdge) {
+    const int w = 128, h = 128, edge = 80;
+    const Pixel streak{60, edge - 2}, caustic{60, 30}, lone{100, 12}, pair{112, 24},
+        dim{96, 36};
+    Image color(w, h, 3), variance(w, h, 3);
+    NoisyBulb("highlights awr glint streak", 32, 32, &color, &variance);
+    Image truth(w, h, 3, 0.05f);
+    // The floor below the edge is a fifth as bright (and as noisy).
+    for (int c = 0; c < 3; ++c)
+        for (int y = edge; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                color.At(c, y, x) *= 0.2f;
+                variance.At(c, y, x) *= 0.04f;
+                truth.At(c, y, x) = 0.01f;
+            }
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                if ((x - 32) * (x - 32) + (y - 32) * (y - 32) <= 12) truth.At(c, y, x) = 500;
+    Image maxSample = color;
+    // One-sample pixels (rows x columns): the streak's 2 x 4 samples 224 a channel (under half
+    // the bulb's 1500 summed), the caustic's 2 x 4 288 (over half of it), a lone glint's and a
+    // 1 x 2 pair's 224.
+    auto place = [&](Pixel at, int rows, int columns, float sample, float value) {
+        for (int c = 0; c < 3; ++c)
+            for (int y = at.y; y < at.y + rows; ++y)
+                for (int x = at.x; x < at.x + columns; ++x) {
+                    color.At(c, y, x) = value;
+                    variance.At(c, y, x) = value * value;
+                    maxSample.At(c, y, x) = sample;
+                    truth.At(c, y, x) = 0.6f * value;
+                }
+    };
+    for (auto [at, rows, columns, sample] : {std::tuple{streak, 2, 4, 224.f},
+                                             {caustic, 2, 4, 288.f},
+                                             {lone, 1, 1, 224.f},
+                                             {pair, 1, 2, 224.f}})
+        place(at, rows, columns, sample, sample / 16);
+    // A streak's 2 x 4 block at about two fifths of 16 x the mean, its samples the streak's.
+    place(dim, 2, 4, 224.f, float(0.4 * 16 * HighlightFrameMean(color) / 3));
+    const double mean = HighlightFrameMean(color);
+    ASSERT_GT(3 * 224.f / 16, 8 * mean);
+    ASSERT_LT(3 * 288.f / 16, 16 * mean) << "the blocks are under the old rule's floor";
+    ASSERT_LT(3 * color.At(0, dim.y, dim.x), 8 * mean) << "the dim block";
+    ASSERT_GT(3 * color.At(0, dim.y, dim.x), 5 * mean) << "the dim block, near 0.4 x k";
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 8u);
+    auto marked = [&](Pixel p) { return split.highlight[size_t(p.y) * w + p.x] != 0; };
+    EXPECT_TRUE(marked(streak));
+    EXPECT_FALSE(marked(caustic));
+    EXPECT_FALSE(marked(lone)) << "the lone glint";
+    EXPECT_FALSE(marked(pair) || marked({pair.x + 1, pair.y})) << "the pair";
+    EXPECT_FALSE(marked(dim)) << "the block under k / 2 x the mean";
+    Image base, baseVariance;
+    std::vector<char> highlight =
+        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
+    ref::AddSparseLights(color, &variance, maxSample, 16, 3, -1, &highlight, &base,
+                         &baseVariance);
+    EXPECT_EQ(split.highlight, highlight);
+    EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+
+    // The relMSE over the 9x9 window round the streak's block.
+    auto windowError = [&](const Image &image) {
+        Image a(9, 9, 3), b(9, 9, 3);
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < 9; ++y)
+                for (int x = 0; x < 9; ++x) {
+                    a.At(c, y, x) = image.At(c, streak.y - 3 + y, streak.x - 2 + x);
+                    b.At(c, y, x) = truth.At(c, streak.y - 3 + y, streak.x - 2 + x);
+                }
+        return CompareImages(a, b).relMse;
+    };
+    Frame frame = ColorAndVariance(color, variance);
+    frame.layers["max"] = maxSample;
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    EXPECT_LE(windowError(out.image), windowError(color));
+    for (auto [p, what] : {std::pair{caustic, "the caustic's block"},
+                           {lone, "the lone glint"},
+                           {pair, "the pair"},
+                           {dim, "the dim block"}})
+        for (int c = 0; c < 3; ++c)
+            EXPECT_LT(out.image.At(c, p.y, p.x), 0.75f * color.At(c, p.y, p.x))
+                << what << " is no longer spread";
+}
+
 // A tile cut tight around a bulb has a mean near the bulb's own, so with that mean the growth's
 // stop (k x the mean) keeps the bulb's interior out; given the whole frame's mean, as awr's
 // tiles are, it grows as it does in the whole frame.
@@ -561,6 +721,70 @@ TEST(Highlights, ATileComparesSparseLightsWithTheFramesLights) {
         EXPECT_EQ(given.base.At(c, half, half), whole.base.At(c, reflection.y, reflection.x));
         EXPECT_EQ(given.baseVariance.At(c, half, half),
                   whole.baseVariance.At(c, reflection.y, reflection.x));
+    }
+}
+
+// A glint streak (2 x 4 one-sample pixels, under k but over k / 2 x the frame's mean, its
+// samples under half the bulb's) in a tile without a light: with none of its own to compare
+// with it stays out; given the frame's mean and lights' sample, the tile marks it as the whole
+// frame does, and with a sample given that holds the streak's out, leaves it as the frame
+// does.
+TEST(Highlights, ATileComparesAStreakWithTheFramesLights) {
+    LoneReflection frame("highlights tile streak");
+    const int w = frame.w, half = 8, side = 2 * half + 1;
+    const Pixel streak{40, 100};
+    const int x0 = streak.x - half, y0 = streak.y - half;
+    for (int c = 0; c < 3; ++c)
+        for (int y = streak.y; y < streak.y + 2; ++y)
+            for (int x = streak.x; x < streak.x + 4; ++x) {
+                frame.color.At(c, y, x) = 224.f / 16;
+                frame.variance.At(c, y, x) = (224.f / 16) * (224.f / 16);
+                frame.maxSample.At(c, y, x) = 224;
+            }
+    const HighlightSplit split = SplitHighlights(frame.color, &frame.variance, 16, 3);
+    const double frameMean = HighlightFrameMean(frame.color),
+                 lightSample = HighlightSampleMedian(frame.maxSample, split.highlight);
+    ASSERT_GT(3 * 224.f / 16, kStreakMeanShare * 16 * frameMean);
+    ASSERT_LT(3 * 224.f / 16, 16 * frameMean);
+    ASSERT_LE(3 * 224.f, kStreakSampleRatio * lightSample);
+    Image tile(side, side, 3), tileVariance(side, side, 3), tileMax(side, side, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                tile.At(c, y, x) = frame.color.At(c, y0 + y, x0 + x);
+                tileVariance.At(c, y, x) = frame.variance.At(c, y0 + y, x0 + x);
+                tileMax.At(c, y, x) = frame.maxSample.At(c, y0 + y, x0 + x);
+            }
+    HighlightSplit own = SplitHighlights(tile, &tileVariance, 16, 3);
+    EXPECT_EQ(own.count, 0u) << "the tile holds no light";
+    EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, -1, &own), 0u)
+        << "the tile's own lights";
+    for (double given : {lightSample, lightSample / 2}) {
+        SCOPED_TRACE(testing::Message() << "light sample " << given);
+        HighlightSplit whole = split;
+        AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, given, &whole);
+        Image base, baseVariance;
+        std::vector<char> expected =
+            ref::SplitHighlights(frame.color, &frame.variance, 16, 3, &base, &baseVariance);
+        ref::AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, given,
+                             &expected, &base, &baseVariance);
+        EXPECT_EQ(whole.highlight, expected) << "the twin";
+        EXPECT_EQ(whole.base.data, base.data) << "the twin";
+        HighlightSplit cut = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
+        EXPECT_EQ(cut.mean, frameMean);
+        const size_t added = AddSparseLights(tile, &tileVariance, tileMax, 16, 3, given, &cut);
+        EXPECT_EQ(added, given == lightSample ? 8u : 0u);
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                const size_t p = size_t(y0 + y) * w + x0 + x;
+                EXPECT_EQ(cut.highlight[size_t(y) * side + x], whole.highlight[p])
+                    << x << ", " << y;
+                for (int c = 0; c < 3 && whole.highlight[p]; ++c) {
+                    EXPECT_EQ(cut.base.At(c, y, x), whole.base.At(c, y0 + y, x0 + x));
+                    EXPECT_EQ(cut.baseVariance.At(c, y, x),
+                              whole.baseVariance.At(c, y0 + y, x0 + x));
+                }
+            }
     }
 }
 
