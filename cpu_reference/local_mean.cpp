@@ -426,18 +426,19 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
     std::vector<bool> taken(groups.size(), false);
     for (size_t g = 0; g < groups.size(); ++g) {
         const auto &members = groups[g];
-        if (members.size() < 3 || members.size() > 4) continue;
+        if (members.size() < 3) continue;
         int x0 = w, x1 = -1, y0 = h, y1 = -1;
         double own = 0;
         bool fits = true;
         for (auto [x, y] : members) {
             double b = BrightAt(histograms, y, x);
-            if (b < 0 || b > 2.5) fits = false;
+            if (b < 0 || b > 0.3 * double(histograms.At(histograms.channels - 1, y, x)))
+                fits = false;
             own += b;
             x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y),
             y1 = std::max(y1, y);
         }
-        if (!fits) continue;
+        if (!fits || x1 - x0 > 2 || y1 - y0 > 2) continue;
         double around = 0;
         int m = 0;
         for (int y = y0 - searchHalf; y <= y1 + searchHalf; ++y)

@@ -85,9 +85,9 @@ class Rhf : public FrontEndOf<RhfParams> {
         setup.scalesUsed = whole.scalesUsed;
         setup.histScales = whole.histScales;
         const Image &color = inputs.Get("color");
-        // Lone spikes and lights' rims cut before the filter (it spread each over its
-        // search window, a square); the restore of local means gives the spikes' energy
-        // back, the rims take their input back after the filter.
+        // Lone spikes, lights' rims and bright clusters cut before the filter (it spread
+        // each over its search window, a square); the restore of local means gives the
+        // spikes' energy back, the rims and clusters take their input back after the filter.
         Image variance = ExactVariance(ExactLayersOf(inputs));
         Image cut;
         size_t spikes = 0;
@@ -121,19 +121,18 @@ class Rhf : public FrontEndOf<RhfParams> {
                              "filter and their input back after it",
                              rims.size(), kSpike, kLightNoise * 100, kRimSamples),
                  fmt::format(
-                     "bright clusters: {} pixels in clusters of {} to {} over {} times "
-                     "their neighbours' median, whose samples above the histograms' "
-                     "range are too many for their share of the search window's "
-                     "(binomial tail under {}) and at least the rest of it, take their "
-                     "other neighbours' median before the filter and give the cut back "
-                     "over a tent of radius {} after it{}",
-                     clusters.size(), kClusterLeast, kClusterMost, kSpike, kClusterLevel,
-                     2 * options.patchHalf,
+                     "bright clusters: {} pixels in clusters of {} or more within {}x{} over "
+                     "{} times their neighbours' median, at most {} of each one's samples "
+                     "above the histograms' range and too many for their share of the search "
+                     "window's (binomial tail under {}) and at least the rest of it, take "
+                     "their other neighbours' median before the filter and their input back "
+                     "after it{}",
+                     clusters.size(), kClusterLeast, kClusterSpan, kClusterSpan, kSpike,
+                     kClusterShare, kClusterLevel,
                      Variance(inputs) ? "" : " (none: the frame has no variance layer)")});
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
         GiveBack(color, rims, &result.image);
-        if (!clusters.empty())
-            SpreadOverPatches(color, cut, clusters, options.patchHalf, &result.image);
+        GiveBack(color, clusters, &result.image);
         result.plan.push_back(
             variance.Empty()
                 ? std::string("exact pixels: none known (no variance layer nor min, max and "
@@ -235,8 +234,7 @@ class Rhf : public FrontEndOf<RhfParams> {
             for (float &v : out.data) v = v < 0 ? 0.f : v;
         ref::KeepExactPixels(inputs.Get("color"), variance, &out, ExactReach());
         GiveBack(inputs.Get("color"), rims, &out);
-        if (!clusters.empty())
-            ref::SpreadOverPatches(inputs.Get("color"), cut, clusters, options.patchHalf, &out);
+        GiveBack(inputs.Get("color"), clusters, &out);
         named.emplace_back("exact pixels", out);
         if (options.meanRadius > 0) {
             ref::RestoreLocalMeans(inputs.Get("color"), options.meanRadius, &out,
@@ -259,8 +257,8 @@ class Rhf : public FrontEndOf<RhfParams> {
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
 
     // How far the cuts read: a bright cluster's other pixels, its search window and the
-    // neighbours its pixels are measured against, and the tent its cut goes back over.
-    int CutReach() const { return kClusterMost + options.searchHalf + 2 * options.patchHalf; }
+    // neighbours its pixels are measured against.
+    int CutReach() const { return kClusterSpan + options.searchHalf + 1; }
 
     // The rims (CutLightRims) of at least kRimSamples samples (the histograms' count): with
     // fewer a rim one sample saw holds a large share of its light, and the filter's spread
@@ -302,7 +300,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         return double(sums.data[p]) * count >= brightest;
     }
 
-    // The pixels `rims` (CutLightRims) take their input back.
+    // The pixels `rims` (CutLightRims, CutBrightClusters) take their input back.
     static void GiveBack(const Image &input, const std::vector<size_t> &rims, Image *output) {
         for (size_t p : rims)
             for (int c = 0; c < input.channels; ++c)

@@ -630,17 +630,21 @@ std::vector<size_t> ClusterAt(const std::vector<char> &over, int w, int h, size_
 // (CutBrightClusters).
 bool ClusterStandsOut(const Image &histograms, int w, int h, const std::vector<size_t> &cluster,
                       int searchHalf) {
-    if (cluster.size() < size_t(kClusterLeast) || cluster.size() > size_t(kClusterMost))
-        return false;
+    if (cluster.size() < size_t(kClusterLeast)) return false;
+    const size_t n = histograms.PixelCount();
     int x0 = w, x1 = -1, y0 = h, y1 = -1;
     double own = 0;
     for (size_t p : cluster) {
-        const double b = BrightSamples(histograms, p);
-        if (b < 0 || b > kClusterSamples + 0.5) return false;
+        // A pixel with more is kept apart by the bright veto.
+        const double b = BrightSamples(histograms, p),
+                     count = histograms.data[(histograms.channels - 1) * n + p];
+        if (b < 0 || b > kClusterShare * count) return false;
         own += b;
         x0 = std::min(x0, int(p % w)), x1 = std::max(x1, int(p % w));
         y0 = std::min(y0, int(p / w)), y1 = std::max(y1, int(p / w));
     }
+    // Longer: a highlight's line, whose run the filter follows.
+    if (x1 - x0 >= kClusterSpan || y1 - y0 >= kClusterSpan) return false;
     double around = 0;
     int pixels = 0;
     for (int y = std::max(0, y0 - searchHalf); y <= std::min(h - 1, y1 + searchHalf); ++y)
