@@ -256,9 +256,14 @@ class Rhf : public FrontEndOf<RhfParams> {
     // window's far side.
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
 
-    // How far the cuts read: a bright cluster's other pixels, its search window and the
-    // neighbours its pixels are measured against.
-    int CutReach() const { return kClusterSpan + options.searchHalf + 1; }
+    // How far the cuts read. A cluster's cut reads its search window (kClusterSpan - 1 and
+    // searchHalf beyond a pixel) and, to tell it from a longer run, its pixels up to
+    // kClusterSpan away with their neighbours; a spike's cut reads 2 pixels. The rims are
+    // found on the cut colour, their 9x9 window of lights (kRimWindow) read after those cuts.
+    int CutReach() const {
+        const int clusters = std::max(kClusterSpan + 1, kClusterSpan - 1 + options.searchHalf);
+        return kRimWindow + std::max(2, clusters);
+    }
 
     // The rims (CutLightRims) of at least kRimSamples samples (the histograms' count): with
     // fewer a rim one sample saw holds a large share of its light, and the filter's spread

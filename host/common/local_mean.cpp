@@ -478,8 +478,8 @@ bool RimAt(const Image &sums, const std::vector<char> &light, int w, int h, int 
     if (!beside || !others) return false;
     // A small light's: a light's long edge spread along itself is its coverage.
     int lights = 0;
-    for (int j = std::max(0, y - 4); j <= std::min(h - 1, y + 4); ++j)
-        for (int i = std::max(0, x - 4); i <= std::min(w - 1, x + 4); ++i)
+    for (int j = std::max(0, y - kRimWindow); j <= std::min(h - 1, y + kRimWindow); ++j)
+        for (int i = std::max(0, x - kRimWindow); i <= std::min(w - 1, x + kRimWindow); ++i)
             lights += light[size_t(j) * w + i];
     return lights <= kSmallLight;
 }

@@ -156,15 +156,15 @@ size_t CutSpikes(Image *color, const Image *variance = nullptr);
 // over kSpike times the median of its 8 neighbours', which is no light itself and
 // has a light brighter than it within kRimReach pixels (a pixel filter as wide as Cycles'
 // spreads a light's edge over two pixels, the inner one no light), a neighbour that is
-// none, and at most kSmallLight lights in
-// its 9x9 window (a small light: along a large light's edge, as cornell's at 4 spp, the
-// filter spreads the rims along the edge, which is the edge's coverage), takes per channel
+// none, and at most kSmallLight lights within kRimWindow pixels (9x9; a small light: along
+// a large light's edge, as cornell's at 4 spp, the filter spreads the rims along the edge,
+// which is the edge's coverage), takes per channel
 // the median of its neighbours that are no lights (from the frame as given); none without
 // such neighbours.
 // Returns the pixels cut (y * width + x, ascending); the caller gives them their input back
 // after the filter. An empty or wrongly sized variance cuts nothing.
 constexpr double kLightNoise = 0.01;
-constexpr int kSmallLight = 25, kRimReach = 2;
+constexpr int kSmallLight = 25, kRimReach = 2, kRimWindow = 4;
 std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 // Each pixel's channels summed (in double, stored as float), NaN where the sum is not
 // finite; whether pixel p of those sums is a light as CutLightRims reads one (its sum finite

@@ -6,10 +6,10 @@
 
 #include <cmath>
 #include <cstring>
-#include <functional>
 #include <random>
 
 #include "cpu_reference/local_mean.h"
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
@@ -76,36 +76,6 @@ TEST_F(RhfClusters, AClusterOnAFlatFloorDrawsNoSquare) {
         }
     EXPECT_NEAR(ring / ringCount, floorMean, 0.2 * floorMean);
     EXPECT_NEAR(near, input, 0.1 * input);
-}
-
-// A frame of 16 samples a pixel whose samples `sample(x, y, s)` gives (the same value in every
-// colour), with the histograms and the variance of the mean as the renderer writes them.
-Frame SampledFrame(int w, int h, const std::function<double(int, int, int)> &sample) {
-    const int spp = 16, bins = 20;
-    Image color(w, h, 3), variance(w, h, 3), hist(w, h, 3 * bins + 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double sum = 0, squares = 0;
-            std::vector<float> pixelHist(3 * bins, 0.f);
-            for (int s = 0; s < spp; ++s) {
-                const double v = sample(x, y, s), rgb[3] = {v, v, v};
-                io::AddToRhfHistogram(rgb, bins, pixelHist.data());
-                sum += v, squares += v * v;
-            }
-            const double mean = sum / spp;
-            for (int c = 0; c < 3; ++c) {
-                color.At(c, y, x) = float(mean);
-                variance.At(c, y, x) =
-                    float(std::max(0.0, (squares / spp - mean * mean) / (spp - 1)));
-            }
-            for (int i = 0; i < 3 * bins; ++i) hist.At(i, y, x) = pixelHist[i];
-            hist.At(3 * bins, y, x) = spp;
-        }
-    Frame frame(w, h);
-    frame.SetLayer("color", color);
-    frame.SetLayer("hist", hist);
-    frame.SetLayer("variance", variance);
-    return frame;
 }
 
 // A light's reflection in chrome: 4 pixels on a dim wall of which 1, 2, 1 and 3 samples of

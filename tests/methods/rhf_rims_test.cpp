@@ -7,10 +7,10 @@
 #include <cmath>
 #include <random>
 
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
-#include "host/io/accumulate.h"
 #include "mcdenoise/mcdenoise.h"
 
 namespace mcd::test {
@@ -28,7 +28,7 @@ class RhfRims : public GpuTest {};
 // column); the left keeps its input, the right is filtered (kept, it was its input to the
 // bit).
 TEST_F(RhfRims, ARimKeepsItsInputOnlyWithOneSamplesShareOfItsLight) {
-    const int w = 40, h = 40, spp = 16, bins = 20, left = 16, right = 22;
+    const int w = 40, h = 40, spp = 16, left = 16, right = 22;
     std::mt19937_64 rng(SeedFromName("rhf rims share"));
     std::uniform_real_distribution<double> wallSample(0.005, 0.0216);
     auto sample = [&](int x, int y, int s) {
@@ -39,29 +39,8 @@ TEST_F(RhfRims, ARimKeepsItsInputOnlyWithOneSamplesShareOfItsLight) {
         if (y == 19 && x == right && s == 0) return 5.0;
         return wallSample(rng);
     };
-    Image color(w, h, 3), variance(w, h, 3), hist(w, h, 3 * bins + 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double sum = 0, squares = 0;
-            std::vector<float> pixelHist(3 * bins, 0.f);
-            for (int s = 0; s < spp; ++s) {
-                const double v = sample(x, y, s), rgb[3] = {v, v, v};
-                io::AddToRhfHistogram(rgb, bins, pixelHist.data());
-                sum += v, squares += v * v;
-            }
-            const double mean = sum / spp;
-            for (int c = 0; c < 3; ++c) {
-                color.At(c, y, x) = float(mean);
-                variance.At(c, y, x) =
-                    float(std::max(0.0, (squares / spp - mean * mean) / (spp - 1)));
-            }
-            for (int i = 0; i < 3 * bins; ++i) hist.At(i, y, x) = pixelHist[i];
-            hist.At(3 * bins, y, x) = spp;
-        }
-    Frame frame(w, h);
-    frame.SetLayer("color", color);
-    frame.SetLayer("hist", hist);
-    frame.SetLayer("variance", variance);
+    const Frame frame = SampledFrame(w, h, sample, spp);
+    const Image &color = frame.Get("color");
     Device device = api::BorrowDevice(Ctx());
     Result result = Method("rhf").Run(device, frame);
     const Image &out = result.image;
