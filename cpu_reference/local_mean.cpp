@@ -479,31 +479,6 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
     return cut;
 }
 
-void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
-                       int patchHalf, Image *output) {
-    const int w = input.width, h = input.height, r = 2 * patchHalf;
-    std::vector<double> sums(input.data.size(), 0.0);
-    for (size_t p : pixels) {
-        const int x = int(p % w), y = int(p / w);
-        auto weight = [&](int u, int v) {
-            return double(r + 1 - std::abs(u - x)) * double(r + 1 - std::abs(v - y));
-        };
-        double total = 0;
-        for (int v = y - r; v <= y + r; ++v)
-            for (int u = x - r; u <= x + r; ++u)
-                if (u >= 0 && v >= 0 && u < w && v < h) total += weight(u, v);
-        for (int c = 0; c < input.channels; ++c)
-            for (int v = y - r; v <= y + r; ++v)
-                for (int u = x - r; u <= x + r; ++u)
-                    if (u >= 0 && v >= 0 && u < w && v < h)
-                        sums[(size_t(c) * h + v) * w + u] +=
-                            (double(input.At(c, y, x)) - double(cut.At(c, y, x))) *
-                            weight(u, v) / total;
-    }
-    for (size_t k = 0; k < sums.size(); ++k)
-        if (sums[k] != 0) output->data[k] = float(double(output->data[k]) + sums[k]);
-}
-
 double NoiseSpread(const Image &variance, int c, int x, int y) {
     int vc = variance.channels == 1 ? 0 : c;
     double own = variance.At(vc, y, x);

@@ -72,12 +72,6 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
                                       int searchHalf, Image *color);
 
-// Each listed pixel's input - cut, per channel, added (summed in double, in the list's order)
-// to the pixels within r = 2 patchHalf of it inside the image, in shares proportional to
-// (r + 1 - |dx|)(r + 1 - |dy|) that sum to 1 over those pixels.
-void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
-                       int patchHalf, Image *output);
-
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
 // the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel
 // (the variance's one channel, or channel c), and not below 0 where the input is not

@@ -703,33 +703,6 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
     return cut;
 }
 
-void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
-                       int patchHalf, Image *output) {
-    const int w = input.width, h = input.height, r = 2 * patchHalf;
-    const size_t n = input.PixelCount();
-    std::vector<double> added(n * input.channels, 0.0);
-    for (size_t p : pixels) {
-        const int x = int(p % w), y = int(p / w);
-        const int i0 = std::max(0, x - r), i1 = std::min(w - 1, x + r);
-        const int j0 = std::max(0, y - r), j1 = std::min(h - 1, y + r);
-        // The tent's weights (r + 1 - |dx|)(r + 1 - |dy|) over the clipped window, summed.
-        double total = 0;
-        for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i)
-                total += double(r + 1 - std::abs(i - x)) * (r + 1 - std::abs(j - y));
-        for (int c = 0; c < input.channels; ++c) {
-            const double excess = double(input.Plane(c)[p]) - cut.Plane(c)[p];
-            for (int j = j0; j <= j1; ++j)
-                for (int i = i0; i <= i1; ++i)
-                    added[c * n + size_t(j) * w + i] +=
-                        excess * (double(r + 1 - std::abs(i - x)) * (r + 1 - std::abs(j - y))) /
-                        total;
-        }
-    }
-    for (size_t k = 0; k < added.size(); ++k)
-        if (added[k] != 0) output->data[k] = float(double(output->data[k]) + added[k]);
-}
-
 namespace {
 
 // The bound's lowest value: k standard deviations below the input, and not below 0 where

@@ -204,14 +204,6 @@ constexpr double kClusterShare = 0.3, kClusterLevel = 1e-4;
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
                                       int searchHalf, Image *color);
 
-// Each pixel p of `pixels` gives input(p) - cut(p), per channel, to the pixels around it as
-// rhf's aggregation spreads a value over a patch of half-size `patchHalf`: each patch that
-// covers p averages it over itself and each pixel averages the patches that cover it, the
-// patch's box taken twice, a tent of radius r = 2 patchHalf (weights (r + 1 - |dx|)(r + 1 -
-// |dy|), renormalised over the window clipped to the image). Added to `output`.
-void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
-                       int patchHalf, Image *output);
-
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or
 // a light the guide does not show, or go negative, cannot leave a pixel farther from its

@@ -782,7 +782,7 @@ Image RandomHistograms(int w, int h, int bins, std::mt19937_64 *rng) {
 // Bright clusters against the reference on the random frames (NaN, Inf, zeros, negatives,
 // spikes of 100), with random histograms and two planted clusters of one-sample pixels over
 // a flat patch (no other bright sample in their search windows): the same pixels and bits,
-// the same when repeated over threads; the cut given back the same bits as the reference's.
+// the same when repeated over threads.
 TEST_P(LocalMeanMatches, CutBrightClustersMatchesReference) {
     const LocalMeanCase &c = GetParam();
     Image input, output;
@@ -818,16 +818,11 @@ TEST_P(LocalMeanMatches, CutBrightClustersMatchesReference) {
     if (c.w >= 16 && c.h >= 16) {
         EXPECT_GE(cut.size(), 6u);  // both planted columns
     }
-    Image spreadExpected = output, spreadGot = output;
-    ref::SpreadOverPatches(input, expected, cut, 1, &spreadExpected);
-    SpreadOverPatches(input, got, cut, 1, &spreadGot);
-    EXPECT_EQ(0, std::memcmp(spreadGot.data.data(), spreadExpected.data.data(),
-                             spreadGot.data.size() * 4));
 }
 
 // A column of three pixels that one bright sample of 16 each saw, on a flat floor with no
-// other bright sample within the search window, is cut whole (a light's reflection), and its
-// energy goes back within the tent of radius 2 around it; the same column among
+// other bright sample within the search window, is cut whole (a light's reflection); the same
+// column among
 // many bright samples (noise the filter spreads), a column whose samples are all bright (the
 // bright veto keeps such pixels apart) and a pair alone on the floor (chance makes pairs)
 // stay.
@@ -862,17 +857,6 @@ TEST(LocalMeanProperties, CutBrightClustersCutsOnlyAClusterThatStandsOut) {
         if (std::find(pixels.begin(), pixels.end(), i % cut.PixelCount()) == pixels.end()) {
             EXPECT_EQ(cut.data[i], color.data[i]) << i;
         }
-    // Given back over the tent: the column's excess, all within 2 pixels of it.
-    Image out(w, h, 3, 0.f);
-    SpreadOverPatches(color, cut, pixels, 1, &out);
-    double near = 0, far = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            (std::abs(x - 8) <= 2 && y >= 7 && y <= 13 ? near : far) += out.At(0, y, x);
-    EXPECT_NEAR(near, 3 * (3.4 - 0.0133), 1e-4);
-    EXPECT_EQ(far, 0);
-    EXPECT_GT(out.At(0, 10, 8), out.At(0, 10, 9));
-    EXPECT_GT(out.At(0, 10, 9), out.At(0, 10, 10));
     Image small(w, h - 1, 3 * bins + 1), same = color;
     EXPECT_TRUE(CutBrightClusters(color, small, 6, &same).empty());
 }
