@@ -96,7 +96,7 @@ class Rhf : public FrontEndOf<RhfParams> {
             cut = color;
             spikes = CutSpikes(&cut, &variance);
             // Without the variance layer the restore would take a cluster back as a
-            // highlight (by its neighbours) on top of what the spread gives back.
+            // highlight (by its neighbours) on top of the input it takes back.
             if (Variance(inputs))
                 clusters =
                     CutBrightClusters(color, Histograms(inputs), options.searchHalf, &cut);

@@ -182,11 +182,14 @@ bool Light(const Image &variance, const Image &sums, size_t p);
 // default half-size; a longer one is a highlight's line, whose run the filter follows), each
 // over kSpike times its neighbours' median (channels summed, as CutSpikes reads them), each
 // with at most kClusterShare of its samples above the histograms' range (the last two bins of a
-// colour, the most of its colours: the bright veto's default share, over which it keeps the
-// pixel apart from one with none) and together k >= 2. Were the bright samples of the cluster's
-// search window (within `searchHalf` of the cluster's box, outside the box grown by 1) and the
-// cluster's spread alike over their pixels, the cluster's k of the T would be Binomial(T,
-// cluster / (cluster + window pixels)). A cluster whose tail P(>= k) is under kClusterLevel and
+// colour, the most of its colours: the bright veto's default share for samples bright in one
+// colour, over which it keeps the pixel apart from one with none; the veto sums its terms over
+// the three colours, so it keeps apart fewer samples bright in all three) and together k >= 2.
+// kClusterShare and kClusterSpan are fixed: they do not follow --bright-veto or --patch-half.
+// Were the bright samples of the cluster's search window (within `searchHalf` of the
+// cluster's box, outside the box grown by 1) and the cluster's spread alike over their
+// pixels, the cluster's k of the T would be Binomial(T, cluster / (cluster + window
+// pixels)). A cluster whose tail P(>= k) is under kClusterLevel and
 // that holds at least as many bright samples as the rest of its window is a small feature the
 // few samples saw on a surface that has none around it (a light's reflection on a dark glossy
 // floor), not noise to spread; beside more bright samples (a highlight's line) the filter's
@@ -198,7 +201,7 @@ bool Light(const Image &variance, const Image &sums, size_t p);
 // reflection in chrome lit the dark pixels beside it where the reference keeps it sharp).
 // Returns the cut pixels (ascending). Nothing without histograms of `input`'s size. The
 // colour must be finite (the front ends' --non-finite sees to it): a median of neighbours
-// holding NaN would be cut in and spread.
+// holding NaN would put NaN into the filter's input.
 constexpr int kClusterLeast = 3, kClusterSpan = 3;
 constexpr double kClusterShare = 0.3, kClusterLevel = 1e-4;
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
