@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace mcd::ref {
@@ -448,11 +449,11 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
                 around += std::max(0.0, BrightAt(histograms, y, x));
                 ++m;
             }
-        long k = std::lround(own), t = std::max(k, long(std::lround(own + around)));
+        int64_t k = std::lround(own), t = std::max(k, int64_t(std::lround(own + around)));
         if (k < 2 || m == 0 || around > own) continue;
         // The binomial tail, each term from its log.
         double s = double(members.size()) / double(members.size() + m), tail = 0;
-        for (long i = k; i <= t; ++i) {
+        for (int64_t i = k; i <= t; ++i) {
             double logTerm = std::lgamma(double(t) + 1) - std::lgamma(double(i) + 1) -
                              std::lgamma(double(t - i) + 1) + double(i) * std::log(s) +
                              double(t - i) * std::log(1 - s);

@@ -593,13 +593,14 @@ double BrightSamples(const Image &histograms, size_t p) {
     return most;
 }
 
-// P(X >= k) for X ~ Binomial(t, pi), 0 <= k <= t.
-double BinomialTail(int k, int t, double pi) {
+// P(X >= k) for X ~ Binomial(t, pi), 0 <= k <= t, summed term by term: a cluster's t is at
+// most 2k (the rest of its window holds no more): k + 1 terms at most, none left out.
+double BinomialTail(int64_t k, int64_t t, double pi) {
     double tail = 0;
-    for (int i = k; i <= t; ++i)
-        tail +=
-            std::exp(std::lgamma(t + 1.0) - std::lgamma(i + 1.0) - std::lgamma(t - i + 1.0) +
-                     i * std::log(pi) + (t - i) * std::log1p(-pi));
+    for (int64_t i = k; i <= t; ++i)
+        tail += std::exp(std::lgamma(double(t) + 1) - std::lgamma(double(i) + 1) -
+                         std::lgamma(double(t - i) + 1) + double(i) * std::log(pi) +
+                         double(t - i) * std::log1p(-pi));
     return tail;
 }
 
@@ -653,7 +654,7 @@ bool ClusterStandsOut(const Image &histograms, int w, int h, const std::vector<s
             around += std::max(0.0, BrightSamples(histograms, size_t(y) * w + x));
             ++pixels;
         }
-    const int k = int(std::lround(own)), t = int(std::lround(own + around));
+    const int64_t k = std::lround(own), t = std::lround(own + around);
     if (k < 2 || pixels == 0 || around > own) return false;
     const double share = double(cluster.size()) / double(cluster.size() + pixels);
     return BinomialTail(k, std::max(t, k), share) < kClusterLevel;
