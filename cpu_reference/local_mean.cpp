@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace mcd::ref {
@@ -426,18 +427,19 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
     std::vector<bool> taken(groups.size(), false);
     for (size_t g = 0; g < groups.size(); ++g) {
         const auto &members = groups[g];
-        if (members.size() < 3 || members.size() > 4) continue;
+        if (members.size() < 3) continue;
         int x0 = w, x1 = -1, y0 = h, y1 = -1;
         double own = 0;
         bool fits = true;
         for (auto [x, y] : members) {
             double b = BrightAt(histograms, y, x);
-            if (b < 0 || b > 2.5) fits = false;
+            if (b < 0 || b > 0.3 * double(histograms.At(histograms.channels - 1, y, x)))
+                fits = false;
             own += b;
             x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y),
             y1 = std::max(y1, y);
         }
-        if (!fits) continue;
+        if (!fits || x1 - x0 > 2 || y1 - y0 > 2) continue;
         double around = 0;
         int m = 0;
         for (int y = y0 - searchHalf; y <= y1 + searchHalf; ++y)
@@ -447,11 +449,11 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
                 around += std::max(0.0, BrightAt(histograms, y, x));
                 ++m;
             }
-        long k = std::lround(own), t = std::max(k, long(std::lround(own + around)));
+        int64_t k = std::lround(own), t = std::max(k, int64_t(std::lround(own + around)));
         if (k < 2 || m == 0 || around > own) continue;
         // The binomial tail, each term from its log.
         double s = double(members.size()) / double(members.size() + m), tail = 0;
-        for (long i = k; i <= t; ++i) {
+        for (int64_t i = k; i <= t; ++i) {
             double logTerm = std::lgamma(double(t) + 1) - std::lgamma(double(i) + 1) -
                              std::lgamma(double(t - i) + 1) + double(i) * std::log(s) +
                              double(t - i) * std::log(1 - s);
@@ -476,31 +478,6 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
             }
         }
     return cut;
-}
-
-void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
-                       int patchHalf, Image *output) {
-    const int w = input.width, h = input.height, r = 2 * patchHalf;
-    std::vector<double> sums(input.data.size(), 0.0);
-    for (size_t p : pixels) {
-        const int x = int(p % w), y = int(p / w);
-        auto weight = [&](int u, int v) {
-            return double(r + 1 - std::abs(u - x)) * double(r + 1 - std::abs(v - y));
-        };
-        double total = 0;
-        for (int v = y - r; v <= y + r; ++v)
-            for (int u = x - r; u <= x + r; ++u)
-                if (u >= 0 && v >= 0 && u < w && v < h) total += weight(u, v);
-        for (int c = 0; c < input.channels; ++c)
-            for (int v = y - r; v <= y + r; ++v)
-                for (int u = x - r; u <= x + r; ++u)
-                    if (u >= 0 && v >= 0 && u < w && v < h)
-                        sums[(size_t(c) * h + v) * w + u] +=
-                            (double(input.At(c, y, x)) - double(cut.At(c, y, x))) *
-                            weight(u, v) / total;
-    }
-    for (size_t k = 0; k < sums.size(); ++k)
-        if (sums[k] != 0) output->data[k] = float(double(output->data[k]) + sums[k]);
 }
 
 double NoiseSpread(const Image &variance, int c, int x, int y) {

@@ -85,9 +85,9 @@ class Rhf : public FrontEndOf<RhfParams> {
         setup.scalesUsed = whole.scalesUsed;
         setup.histScales = whole.histScales;
         const Image &color = inputs.Get("color");
-        // Lone spikes and lights' rims cut before the filter (it spread each over its
-        // search window, a square); the restore of local means gives the spikes' energy
-        // back, the rims take their input back after the filter.
+        // Lone spikes, lights' rims and bright clusters cut before the filter (it spread
+        // each over its search window, a square); the restore of local means gives the
+        // spikes' energy back, the rims and clusters take their input back after the filter.
         Image variance = ExactVariance(ExactLayersOf(inputs));
         Image cut;
         size_t spikes = 0;
@@ -96,7 +96,7 @@ class Rhf : public FrontEndOf<RhfParams> {
             cut = color;
             spikes = CutSpikes(&cut, &variance);
             // Without the variance layer the restore would take a cluster back as a
-            // highlight (by its neighbours) on top of what the spread gives back.
+            // highlight (by its neighbours) on top of the input it takes back.
             if (Variance(inputs))
                 clusters =
                     CutBrightClusters(color, Histograms(inputs), options.searchHalf, &cut);
@@ -121,19 +121,18 @@ class Rhf : public FrontEndOf<RhfParams> {
                              "filter and their input back after it",
                              rims.size(), kSpike, kLightNoise * 100, kRimSamples),
                  fmt::format(
-                     "bright clusters: {} pixels in clusters of {} to {} over {} times "
-                     "their neighbours' median, whose samples above the histograms' "
-                     "range are too many for their share of the search window's "
-                     "(binomial tail under {}) and at least the rest of it, take their "
-                     "other neighbours' median before the filter and give the cut back "
-                     "over a tent of radius {} after it{}",
-                     clusters.size(), kClusterLeast, kClusterMost, kSpike, kClusterLevel,
-                     2 * options.patchHalf,
+                     "bright clusters: {} pixels in clusters of {} or more within {}x{} over "
+                     "{} times their neighbours' median, at most {} of each one's samples "
+                     "above the histograms' range and too many for their share of the search "
+                     "window's (binomial tail under {}) and at least the rest of it, take "
+                     "their other neighbours' median before the filter and their input back "
+                     "after it{}",
+                     clusters.size(), kClusterLeast, kClusterSpan, kClusterSpan, kSpike,
+                     kClusterShare, kClusterLevel,
                      Variance(inputs) ? "" : " (none: the frame has no variance layer)")});
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
         GiveBack(color, rims, &result.image);
-        if (!clusters.empty())
-            SpreadOverPatches(color, cut, clusters, options.patchHalf, &result.image);
+        GiveBack(color, clusters, &result.image);
         result.plan.push_back(
             variance.Empty()
                 ? std::string("exact pixels: none known (no variance layer nor min, max and "
@@ -235,8 +234,7 @@ class Rhf : public FrontEndOf<RhfParams> {
             for (float &v : out.data) v = v < 0 ? 0.f : v;
         ref::KeepExactPixels(inputs.Get("color"), variance, &out, ExactReach());
         GiveBack(inputs.Get("color"), rims, &out);
-        if (!clusters.empty())
-            ref::SpreadOverPatches(inputs.Get("color"), cut, clusters, options.patchHalf, &out);
+        GiveBack(inputs.Get("color"), clusters, &out);
         named.emplace_back("exact pixels", out);
         if (options.meanRadius > 0) {
             ref::RestoreLocalMeans(inputs.Get("color"), options.meanRadius, &out,
@@ -258,9 +256,14 @@ class Rhf : public FrontEndOf<RhfParams> {
     // window's far side.
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
 
-    // How far the cuts read: a bright cluster's other pixels, its search window and the
-    // neighbours its pixels are measured against, and the tent its cut goes back over.
-    int CutReach() const { return kClusterMost + options.searchHalf + 2 * options.patchHalf; }
+    // How far the cuts read. A cluster's cut reads its search window (kClusterSpan - 1 and
+    // searchHalf beyond a pixel) and, to tell it from a longer run, its pixels up to
+    // kClusterSpan away with their neighbours; a spike's cut reads 2 pixels. The rims are
+    // found on the cut colour, their 9x9 window of lights (kRimWindow) read after those cuts.
+    int CutReach() const {
+        const int clusters = std::max(kClusterSpan + 1, kClusterSpan - 1 + options.searchHalf);
+        return kRimWindow + std::max(2, clusters);
+    }
 
     // The rims (CutLightRims) of at least kRimSamples samples (the histograms' count): with
     // fewer a rim one sample saw holds a large share of its light, and the filter's spread
@@ -302,7 +305,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         return double(sums.data[p]) * count >= brightest;
     }
 
-    // The pixels `rims` (CutLightRims) take their input back.
+    // The pixels `rims` (CutLightRims, CutBrightClusters) take their input back.
     static void GiveBack(const Image &input, const std::vector<size_t> &rims, Image *output) {
         for (size_t p : rims)
             for (int c = 0; c < input.channels; ++c)

@@ -478,8 +478,8 @@ bool RimAt(const Image &sums, const std::vector<char> &light, int w, int h, int 
     if (!beside || !others) return false;
     // A small light's: a light's long edge spread along itself is its coverage.
     int lights = 0;
-    for (int j = std::max(0, y - 4); j <= std::min(h - 1, y + 4); ++j)
-        for (int i = std::max(0, x - 4); i <= std::min(w - 1, x + 4); ++i)
+    for (int j = std::max(0, y - kRimWindow); j <= std::min(h - 1, y + kRimWindow); ++j)
+        for (int i = std::max(0, x - kRimWindow); i <= std::min(w - 1, x + kRimWindow); ++i)
             lights += light[size_t(j) * w + i];
     return lights <= kSmallLight;
 }
@@ -593,13 +593,14 @@ double BrightSamples(const Image &histograms, size_t p) {
     return most;
 }
 
-// P(X >= k) for X ~ Binomial(t, pi), 0 <= k <= t.
-double BinomialTail(int k, int t, double pi) {
+// P(X >= k) for X ~ Binomial(t, pi), 0 <= k <= t, summed term by term: a cluster's t is at
+// most 2k (the rest of its window holds no more): k + 1 terms at most, none left out.
+double BinomialTail(int64_t k, int64_t t, double pi) {
     double tail = 0;
-    for (int i = k; i <= t; ++i)
-        tail +=
-            std::exp(std::lgamma(t + 1.0) - std::lgamma(i + 1.0) - std::lgamma(t - i + 1.0) +
-                     i * std::log(pi) + (t - i) * std::log1p(-pi));
+    for (int64_t i = k; i <= t; ++i)
+        tail += std::exp(std::lgamma(double(t) + 1) - std::lgamma(double(i) + 1) -
+                         std::lgamma(double(t - i) + 1) + double(i) * std::log(pi) +
+                         double(t - i) * std::log1p(-pi));
     return tail;
 }
 
@@ -630,17 +631,21 @@ std::vector<size_t> ClusterAt(const std::vector<char> &over, int w, int h, size_
 // (CutBrightClusters).
 bool ClusterStandsOut(const Image &histograms, int w, int h, const std::vector<size_t> &cluster,
                       int searchHalf) {
-    if (cluster.size() < size_t(kClusterLeast) || cluster.size() > size_t(kClusterMost))
-        return false;
+    if (cluster.size() < size_t(kClusterLeast)) return false;
+    const size_t n = histograms.PixelCount();
     int x0 = w, x1 = -1, y0 = h, y1 = -1;
     double own = 0;
     for (size_t p : cluster) {
-        const double b = BrightSamples(histograms, p);
-        if (b < 0 || b > kClusterSamples + 0.5) return false;
+        // A pixel with more is kept apart by the bright veto.
+        const double b = BrightSamples(histograms, p),
+                     count = histograms.data[(histograms.channels - 1) * n + p];
+        if (b < 0 || b > kClusterShare * count) return false;
         own += b;
         x0 = std::min(x0, int(p % w)), x1 = std::max(x1, int(p % w));
         y0 = std::min(y0, int(p / w)), y1 = std::max(y1, int(p / w));
     }
+    // Longer: a highlight's line, whose run the filter follows.
+    if (x1 - x0 >= kClusterSpan || y1 - y0 >= kClusterSpan) return false;
     double around = 0;
     int pixels = 0;
     for (int y = std::max(0, y0 - searchHalf); y <= std::min(h - 1, y1 + searchHalf); ++y)
@@ -649,7 +654,7 @@ bool ClusterStandsOut(const Image &histograms, int w, int h, const std::vector<s
             around += std::max(0.0, BrightSamples(histograms, size_t(y) * w + x));
             ++pixels;
         }
-    const int k = int(std::lround(own)), t = int(std::lround(own + around));
+    const int64_t k = std::lround(own), t = std::lround(own + around);
     if (k < 2 || pixels == 0 || around > own) return false;
     const double share = double(cluster.size()) / double(cluster.size() + pixels);
     return BinomialTail(k, std::max(t, k), share) < kClusterLevel;
@@ -697,33 +702,6 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
         }
     }
     return cut;
-}
-
-void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
-                       int patchHalf, Image *output) {
-    const int w = input.width, h = input.height, r = 2 * patchHalf;
-    const size_t n = input.PixelCount();
-    std::vector<double> added(n * input.channels, 0.0);
-    for (size_t p : pixels) {
-        const int x = int(p % w), y = int(p / w);
-        const int i0 = std::max(0, x - r), i1 = std::min(w - 1, x + r);
-        const int j0 = std::max(0, y - r), j1 = std::min(h - 1, y + r);
-        // The tent's weights (r + 1 - |dx|)(r + 1 - |dy|) over the clipped window, summed.
-        double total = 0;
-        for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i)
-                total += double(r + 1 - std::abs(i - x)) * (r + 1 - std::abs(j - y));
-        for (int c = 0; c < input.channels; ++c) {
-            const double excess = double(input.Plane(c)[p]) - cut.Plane(c)[p];
-            for (int j = j0; j <= j1; ++j)
-                for (int i = i0; i <= i1; ++i)
-                    added[c * n + size_t(j) * w + i] +=
-                        excess * (double(r + 1 - std::abs(i - x)) * (r + 1 - std::abs(j - y))) /
-                        total;
-        }
-    }
-    for (size_t k = 0; k < added.size(); ++k)
-        if (added[k] != 0) output->data[k] = float(double(output->data[k]) + added[k]);
 }
 
 namespace {

@@ -156,15 +156,15 @@ size_t CutSpikes(Image *color, const Image *variance = nullptr);
 // over kSpike times the median of its 8 neighbours', which is no light itself and
 // has a light brighter than it within kRimReach pixels (a pixel filter as wide as Cycles'
 // spreads a light's edge over two pixels, the inner one no light), a neighbour that is
-// none, and at most kSmallLight lights in
-// its 9x9 window (a small light: along a large light's edge, as cornell's at 4 spp, the
-// filter spreads the rims along the edge, which is the edge's coverage), takes per channel
+// none, and at most kSmallLight lights within kRimWindow pixels (9x9; a small light: along
+// a large light's edge, as cornell's at 4 spp, the filter spreads the rims along the edge,
+// which is the edge's coverage), takes per channel
 // the median of its neighbours that are no lights (from the frame as given); none without
 // such neighbours.
 // Returns the pixels cut (y * width + x, ascending); the caller gives them their input back
 // after the filter. An empty or wrongly sized variance cuts nothing.
 constexpr double kLightNoise = 0.01;
-constexpr int kSmallLight = 25, kRimReach = 2;
+constexpr int kSmallLight = 25, kRimReach = 2, kRimWindow = 4;
 std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 // Each pixel's channels summed (in double, stored as float), NaN where the sum is not
 // finite; whether pixel p of those sums is a light as CutLightRims reads one (its sum finite
@@ -172,42 +172,40 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 Image ChannelSums(const Image &color);
 bool Light(const Image &variance, const Image &sums, size_t p);
 
-// Small clusters of bright samples cut from a frame before rhf's filter, their energy given
-// back near them after it (beyond the papers). rhf's distance leaves out a bin that holds at
+// Small clusters of bright samples cut from a frame before rhf's filter and given their
+// input back after it (beyond the papers). rhf's distance leaves out a bin that holds at
 // most one sample of the two pixels compared, and the bright veto reads only the counted
 // terms, so a pixel that one bright sample of many saw is, to the filter, alike the pixels
 // around it, and every pixel whose search window holds it averages it in: a square. Pair by
-// pair one sample is no evidence; the search window is. A cluster: kClusterLeast to
-// kClusterMost 8-connected pixels each over kSpike times its neighbours' median (channels
-// summed, as CutSpikes reads them), each with at most kClusterSamples samples above the
-// histograms' range (the last two bins of a colour, the most of its colours) and together
-// k >= 2. Were the bright samples of the cluster's search window (within `searchHalf` of
-// the cluster's box, outside the box grown by 1) and the cluster's spread alike over their
+// pair one sample is no evidence; the search window is. A cluster: kClusterLeast or
+// more 8-connected pixels within a box of kClusterSpan x kClusterSpan (a patch's at the
+// default half-size; a longer one is a highlight's line, whose run the filter follows), each
+// over kSpike times its neighbours' median (channels summed, as CutSpikes reads them), each
+// with at most kClusterShare of its samples above the histograms' range (the last two bins of a
+// colour, the most of its colours: the bright veto's default share for samples bright in one
+// colour, over which it keeps the pixel apart from one with none; the veto sums its terms over
+// the three colours, so it keeps apart fewer samples bright in all three) and together k >= 2.
+// kClusterShare and kClusterSpan are fixed: they do not follow --bright-veto or --patch-half.
+// Were the bright samples of the cluster's search window (within `searchHalf` of the
+// cluster's box, outside the box grown by 1) and the cluster's spread alike over their
 // pixels, the cluster's k of the T would be Binomial(T, cluster / (cluster + window
-// pixels)). A cluster whose tail P(>= k) is under kClusterLevel and that holds at least as
-// many bright samples as the rest of its window is a small feature the few samples saw on a
-// surface that has none around it (a light's reflection on a dark glossy floor), not noise
-// to spread; beside more bright samples (a highlight's line) the filter's averaging among
-// them stays. The cluster's place and size are read off the same samples, so a pair of
-// bright pixels side by side (about 8 T / window pixels likely by chance) is not enough:
-// fireflies on a heavy-tailed texture make such pairs. Each of its pixels takes per channel
-// the median of its neighbours outside the cluster (from `input`, the frame as given) in
-// `color`; SpreadOverPatches gives the cut back.
+// pixels)). A cluster whose tail P(>= k) is under kClusterLevel and
+// that holds at least as many bright samples as the rest of its window is a small feature the
+// few samples saw on a surface that has none around it (a light's reflection on a dark glossy
+// floor), not noise to spread; beside more bright samples (a highlight's line) the filter's
+// averaging among them stays. The cluster's place and size are read off the same samples, so a
+// pair of bright pixels side by side (about 8 T / window pixels likely by chance) is not
+// enough: fireflies on a heavy-tailed texture make such pairs. Each of its pixels takes per
+// channel the median of its neighbours outside the cluster (from `input`, the frame as given)
+// in `color`; the caller gives them their input back after the filter (spread, a light's
+// reflection in chrome lit the dark pixels beside it where the reference keeps it sharp).
 // Returns the cut pixels (ascending). Nothing without histograms of `input`'s size. The
 // colour must be finite (the front ends' --non-finite sees to it): a median of neighbours
-// holding NaN would be cut in and spread.
-constexpr int kClusterLeast = 3, kClusterMost = 4, kClusterSamples = 2;
-constexpr double kClusterLevel = 1e-4;
+// holding NaN would put NaN into the filter's input.
+constexpr int kClusterLeast = 3, kClusterSpan = 3;
+constexpr double kClusterShare = 0.3, kClusterLevel = 1e-4;
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
                                       int searchHalf, Image *color);
-
-// Each pixel p of `pixels` gives input(p) - cut(p), per channel, to the pixels around it as
-// rhf's aggregation spreads a value over a patch of half-size `patchHalf`: each patch that
-// covers p averages it over itself and each pixel averages the patches that cover it, the
-// patch's box taken twice, a tent of radius r = 2 patchHalf (weights (r + 1 - |dx|)(r + 1 -
-// |dy|), renormalised over the window clipped to the image). Added to `output`.
-void SpreadOverPatches(const Image &input, const Image &cut, const std::vector<size_t> &pixels,
-                       int patchHalf, Image *output);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or

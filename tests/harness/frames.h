@@ -1,6 +1,8 @@
 // Frames built from layers for the tests that run a method through the library.
 #pragma once
 
+#include <functional>
+
 #include "host/image.h"
 #include "mcdenoise/mcdenoise.h"
 
@@ -14,5 +16,11 @@ inline Frame ColorAndVariance(const Image &color, const Image &variance) {
     frame.layers["variance"] = variance;
     return frame;
 }
+
+// A frame of `spp` samples a pixel whose samples `sample(x, y, s)` gives (the same value in
+// every colour), with rhf's histograms of 20 bins a colour and the variance of the mean as the
+// renderer writes them.
+Frame SampledFrame(int w, int h, const std::function<double(int, int, int)> &sample,
+                   int spp = 16);
 
 }  // namespace mcd::test

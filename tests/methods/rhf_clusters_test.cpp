@@ -1,14 +1,19 @@
 // rhf on a frame with a small cluster of one-sample pixels over a flat floor (a light's
 // reflection a few samples saw): the cluster's energy stays near it instead of lighting a
-// square the size of the search window (host/common/local_mean.h, CutBrightClusters).
+// square the size of the search window (host/common/local_mean.h, CutBrightClusters); which
+// clusters are cut, against the CPU twin (cpu_reference/local_mean.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
+#include "cpu_reference/local_mean.h"
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
+#include "host/common/local_mean.h"
 #include "host/io/accumulate.h"
 #include "mcdenoise/mcdenoise.h"
 
@@ -71,6 +76,88 @@ TEST_F(RhfClusters, AClusterOnAFlatFloorDrawsNoSquare) {
         }
     EXPECT_NEAR(ring / ringCount, floorMean, 0.2 * floorMean);
     EXPECT_NEAR(near, input, 0.1 * input);
+}
+
+// A light's reflection in chrome: 4 pixels on a dim wall of which 1, 2, 1 and 3 samples of
+// 16 saw the light (300 a channel), as glossy_lights' sphere reflects a bulb. No pixel has
+// more bright samples than the bright veto's share (0.3 of 16), so the filter used to spread
+// the cluster over its search window (a lighter square); now the wall 3 to 6 pixels from it
+// stays within 1.5x of its mean and the cluster's energy within 2 pixels of it.
+TEST_F(RhfClusters, ALightsReflectionOfSeveralSamplesDrawsNoSquare) {
+    const int w = 48, h = 48, cx = 24, cy = 24;
+    std::mt19937_64 rng(SeedFromName("rhf clusters reflection"));
+    std::uniform_real_distribution<double> wallSample(0.005, 0.0216);
+    auto seen = [&](int x, int y) {
+        const int dx = x - cx, dy = y - cy;
+        return dy == 0   ? (dx == 0   ? 1
+                            : dx == 1 ? 2
+                                      : 0)
+               : dy == 1 ? (dx == -1  ? 1
+                            : dx == 0 ? 3
+                                      : 0)
+                         : 0;
+    };
+    Frame frame = SampledFrame(
+        w, h, [&](int x, int y, int s) { return s < seen(x, y) ? 300.0 : wallSample(rng); });
+    const Image &color = frame.Get("color");
+    double wallMean = 0, input = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) (seen(x, y) ? input : wallMean) += color.At(0, y, x);
+    wallMean /= w * h - 4;
+    input -= 4 * wallMean;
+    Device device = api::BorrowDevice(Ctx());
+    Result result = Method("rhf").Run(device, frame);
+    const Image &out = result.image;
+    double near = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const int d =
+                std::max(std::max(cx - 1 - x, x - cx - 1), std::max(cy - y, y - cy - 1));
+            if (d >= 3 && d <= 6) {
+                EXPECT_LT(out.At(0, y, x), 1.5 * wallMean) << x << ", " << y;
+            }
+            if (d <= 2) near += out.At(0, y, x) - wallMean;
+        }
+    EXPECT_NEAR(near, input, 0.1 * input);
+}
+
+// Hand-made histograms of 16 samples a pixel on a wall of 0.0133 a channel: 5 pixels in a
+// 3x2 box one sample of 16 each saw (a highlight's reflection), a light's reflection of 4
+// pixels with 3 bright samples in one, the same reflection with 5 of 16 in one (over the
+// bright veto's share, which keeps it apart) and a row of 5 one-sample pixels (a highlight's
+// line, longer than a patch): the first two are cut whole, the others stay; the host and the
+// CPU twin cut the same pixels to the same bits.
+TEST(RhfClusterCut, CutsReflectionsUnderTheVetosShare) {
+    const int w = 48, h = 24, bins = 20;
+    Image color(w, h, 3, 0.0133f), hist(w, h, 3 * bins + 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 3; ++c) hist.At(c * bins + 1, y, x) = 16;
+            hist.At(3 * bins, y, x) = 16;
+        }
+    auto bright = [&](int x, int y, float samples, float value) {
+        for (int c = 0; c < 3; ++c) {
+            color.At(c, y, x) = value;
+            hist.At(c * bins + 1, y, x) = 16 - samples;
+            hist.At(c * bins + bins - 1, y, x) = samples;
+        }
+    };
+    for (int x = 8; x <= 10; ++x) bright(x, 10, 1, 3.4f);
+    bright(8, 11, 1, 3.4f), bright(10, 11, 1, 3.4f);
+    for (int x = 8; x <= 12; ++x) bright(x, 18, 1, 3.4f);
+    for (int x0 : {25, 38}) {
+        bright(x0, 10, 1, 18.75f), bright(x0 + 1, 10, 2, 37.5f), bright(x0 - 1, 11, 1, 18.75f);
+        bright(x0, 11, x0 == 25 ? 3 : 5, x0 == 25 ? 56.25f : 93.75f);
+    }
+    Image got = color, expected = color;
+    const std::vector<size_t> cut = CutBrightClusters(color, hist, 6, &got);
+    const std::vector<size_t> want{10 * w + 8,  10 * w + 9,  10 * w + 10,
+                                   10 * w + 25, 10 * w + 26, 11 * w + 8,
+                                   11 * w + 10, 11 * w + 24, 11 * w + 25};
+    EXPECT_EQ(cut, want);
+    EXPECT_EQ(ref::CutBrightClusters(color, hist, 6, &expected), cut);
+    EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    for (size_t p : want) EXPECT_LT(got.Plane(0)[p], 0.2f) << p;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
@@ -187,6 +188,61 @@ TEST_F(TiledRunShared, RhfSelectionsTakenFromAnEarlierRunAreBitIdentical) {
     api::Inputs alone(other, false, "rhf");
     ExpectSameBits(api::RunTiled(Ctx(), *rhf, alone, run).image, second.image,
                    "rhf at 2 scales in tiles, selections shared");
+}
+
+// The count a plan's line starting with `prefix` states ("bright clusters: N pixels"), or -1.
+int CountIn(const Result &result, const std::string &prefix) {
+    for (const std::string &line : result.plan)
+        if (line.rfind(prefix, 0) == 0) return std::stoi(line.substr(prefix.size()));
+    return -1;
+}
+
+// rhf's cuts across the tiles' seams: a wall of 16 samples a pixel with, every 16 pixels, a
+// light's reflection of 4 pixels a few samples saw (cut whole as a bright cluster) and small
+// lights whose edges a wide pixel filter spread (their rims cut), shifted row by row so that
+// some straddle each seam of tiles of 40; the tiled result is the untiled one, bit for bit,
+// at the default search window, at 2 and at 0 (the cuts' reach then the rims' window of
+// lights over the clusters' pixels and their neighbours).
+TEST_F(GpuTest, TiledRunRhfCutsAcrossTheSeamAreBitIdentical) {
+    const int w = 133, h = 101;
+    std::mt19937_64 rng(SeedFromName("tiled rhf cuts"));
+    std::uniform_real_distribution<double> wallSample(0.005, 0.0216);
+    // Bright samples of the reflection at (dx, dy) from its corner, of 16.
+    auto reflection = [](int dx, int dy) {
+        return dy == 0   ? (dx == 1   ? 1
+                            : dx == 2 ? 2
+                                      : 0)
+               : dy == 1 ? (dx <= 1 ? 1 + 2 * dx : 0)
+                         : 0;
+    };
+    auto sample = [&](int x, int y, int s) {
+        const int row = y / 16, dy = y % 16, dx = (x + 5 * row) % 16;
+        if (row % 2 == 0) return s < reflection(dx - 6, dy - 6) ? 300.0 : wallSample(rng);
+        // A 3x3 light with half-lit columns beside it and a rim one sample saw beyond.
+        const bool rows = dy >= 6 && dy <= 8;
+        if (rows && dx >= 6 && dx <= 8) return 10.0;
+        if (rows && (dx == 5 || dx == 9) && s < 8) return 10.0;
+        if (dy == 7 && (dx == 4 || dx == 10) && s == 0) return 10.0;
+        return wallSample(rng);
+    };
+    const Frame frame = SampledFrame(w, h, sample);
+    Device device = api::BorrowDevice(Ctx());
+    // At --search-half 1 or 0 a cluster's window outside its box grown by 1 is empty: no
+    // cluster is cut, the rims are.
+    const std::vector<std::pair<std::string, Params>> cases = {
+        {"rhf", {}},
+        {"rhf --search-half 2", {{"search-half", 2}}},
+        {"rhf --search-half 0 --knn 1", {{"search-half", 0}, {"knn", 1}}}};
+    for (const auto &[what, params] : cases) {
+        Result whole = RunWith(device, "rhf", params, frame, 0);
+        if (what != cases.back().first)
+            EXPECT_GT(CountIn(whole, "bright clusters: "), 0) << what;
+        EXPECT_GT(CountIn(whole, "lights' rims: "), 0) << what;
+        Result tiled = RunWith(device, "rhf", params, frame, 40);
+        ASSERT_FALSE(tiled.plan.empty());
+        EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
+        ExpectSameBits(whole.image, tiled.image, what + " with cuts across the seams");
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(

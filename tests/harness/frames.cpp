@@ -1,0 +1,39 @@
+// Frames built from samples (harness/frames.h).
+#include "harness/frames.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "host/io/accumulate.h"
+
+namespace mcd::test {
+
+Frame SampledFrame(int w, int h, const std::function<double(int, int, int)> &sample, int spp) {
+    const int bins = 20;
+    Image color(w, h, 3), variance(w, h, 3), hist(w, h, 3 * bins + 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum = 0, squares = 0;
+            std::vector<float> pixelHist(3 * bins, 0.f);
+            for (int s = 0; s < spp; ++s) {
+                const double v = sample(x, y, s), rgb[3] = {v, v, v};
+                io::AddToRhfHistogram(rgb, bins, pixelHist.data());
+                sum += v, squares += v * v;
+            }
+            const double mean = sum / spp;
+            for (int c = 0; c < 3; ++c) {
+                color.At(c, y, x) = float(mean);
+                variance.At(c, y, x) =
+                    float(std::max(0.0, (squares / spp - mean * mean) / (spp - 1)));
+            }
+            for (int i = 0; i < 3 * bins; ++i) hist.At(i, y, x) = pixelHist[i];
+            hist.At(3 * bins, y, x) = float(spp);
+        }
+    Frame frame(w, h);
+    frame.SetLayer("color", color);
+    frame.SetLayer("hist", hist);
+    frame.SetLayer("variance", variance);
+    return frame;
+}
+
+}  // namespace mcd::test
