@@ -7,11 +7,13 @@
 #include "cpu_reference/auto_combine.h"
 #include "cpu_reference/kept_edges.h"
 #include "cpu_reference/local_mean.h"
+#include "cpu_reference/pivot_chroma.h"
 #include "cpu_reference/pivot_filter.h"
 #include "cpu_reference/pivot_spikes.h"
 #include "host/api/front_end.h"
 #include "host/common/kept_edges.h"
 #include "host/common/local_mean.h"
+#include "host/common/pivot_chroma.h"
 #include "host/common/pivot_spikes.h"
 #include "host/io/hints.h"
 #include "host/methods/auto.h"
@@ -75,6 +77,30 @@ Image ScaleSpikes(const PivotInputs &in, const RunOptions &run, Result *result) 
         spikes.size(), kPivotSpike, kPivotSpikeNoise));
     if (run.keepStages) result->stages.push_back({"pivot spikes", result->image});
     return restoreFrom;
+}
+
+// Pixels whose fits tint them given their window's chroma (KeepWindowChroma), with the plan's
+// line and the stage: the output's last step, held as the bound holds the fits (its k; before
+// the local means, it moved lights the restore then gave back less of). Only against a
+// variance layer: the
+// frame's own estimate (a plain frame, without ids either) let windows across objects recolour
+// pixels.
+void KeepChroma(const PivotInputs &in, float bound, const RunOptions &run, Result *result) {
+    if (!in.variance) {
+        result->plan.push_back("chroma: not looked at (no variance layer)");
+        return;
+    }
+    const size_t moved = KeepWindowChroma(*in.color, *in.pivot, *in.variance, in.objectId,
+                                          in.partId, bound, &result->image);
+    const int side = 2 * kPivotChromaRadius + 1;
+    result->plan.push_back(fmt::format(
+        "chroma: {} pixels whose chroma is off their input's in their {}x{} window (of their "
+        "ids; z's ratio of sums times their pivot) by over {} of that chroma's noise (the "
+        "variance layer), where the window's chroma and sum agree with their input's within "
+        "{} of its noise, keep their sum and take the window's chroma (each channel within {} "
+        "standard deviations of its input, as the bound holds)",
+        moved, side, side, kPivotChromaFit, kPivotChromaAgree, bound));
+    if (run.keepStages) result->stages.push_back({"chroma", result->image});
 }
 
 class Pivot : public FrontEndOf<PivotSettings> {
@@ -284,6 +310,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                             &result.image, in.variance));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
+        KeepChroma(in, options.bound, run, &result);
         if (UsesAlbedo(inputs))
             result.plan.insert(result.plan.begin(),
                                options.layer == "auto"
@@ -321,14 +348,16 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // spikes' 3x3 window and the noise estimate's.
         const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) +
                           options.range + (options.spikes ? 1 : 0);
+        // The chroma's window (with a variance layer).
+        const int chroma = inputs.Has("variance") ? kPivotChromaRadius : 0;
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
-        needs.reach += mean + bound + frameNoise;
+        needs.reach += mean + bound + chroma + frameNoise;
         needs.reachText += fmt::format(
             "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
-            "kept edges', the range's and the spikes' windows; {} for the frame's noise "
-            "estimate",
-            mean, bound, frameNoise);
+            "kept edges', the range's and the spikes' windows; {} for the chroma's window; {} "
+            "for the frame's noise estimate",
+            mean, bound, chroma, frameNoise);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
@@ -399,7 +428,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
         if (int r = options.method.meanRadius; r > 0) {
             ref::RestoreLocalMeans(restoreFrom, r, &out, in.variance, kLocalMeanRebalance,
                                    true);
-            cpu.emplace_back("local mean", std::move(out));
+            cpu.emplace_back("local mean", out);
+        }
+        if (in.variance) {
+            ref::KeepWindowChroma(*in.color, *in.pivot, *in.variance, in.objectId, in.partId,
+                                  options.bound, &out);
+            cpu.emplace_back("chroma", std::move(out));
         }
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
