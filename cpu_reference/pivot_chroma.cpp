@@ -29,6 +29,13 @@ double Sum(const std::vector<double> &a) {
     return s;
 }
 
+// ramp(d, a, lo, hi) of the header: 0 up to lo a, 1 from hi a, linear between.
+double Ramp(double d, double a, double lo, double hi) {
+    if (d <= lo * a) return 0;
+    if (d >= hi * a) return 1;
+    return (d - lo * a) / ((hi - lo) * a);
+}
+
 // sum_c |a_c / sum a - b_c / sum b|.
 double Distance(const std::vector<double> &a, const std::vector<double> &b) {
     const double sa = Sum(a), sb = Sum(b);
@@ -88,22 +95,24 @@ size_t KeepWindowChroma(const Image &color, const Image &pivot, const Image &var
                 ue[c] = own * own * u[c] / (g[c] * g[c]);
             }
             if (!defined || !(Sum(e) > 0)) continue;
-            if (!(Distance(o, e) > 1.5 * Noise(e, ue))) continue;
-            if (Sum(in) > 0 && !(Distance(in, e) <= 2 * Noise(in, inVar))) continue;
-            if (Sum(inVar) > 0 &&
-                !(std::fabs(Sum(e) - Sum(in)) <= 2 * std::sqrt(Sum(inVar) + Sum(ue))))
-                continue;
+            double w = Ramp(Distance(o, e), Noise(e, ue), 1.5, 5);
+            if (Sum(in) > 0) w *= 1 - Ramp(Distance(in, e), Noise(in, inVar), 2, 4);
+            if (Sum(inVar) > 0)
+                w *= 1 -
+                     Ramp(std::fabs(Sum(e) - Sum(in)), std::sqrt(Sum(inVar) + Sum(ue)), 2, 4);
+            if (!(w > 0)) continue;
             const double total = Sum(o), eTotal = Sum(e);
-            std::vector<float> mended(n);
+            std::vector<double> mended(n);
             bool held = true;
             for (int c = 0; c < n; ++c) {
-                mended[c] = float(total * (e[c] / eTotal));
-                const double s = NoiseSpread(variance, c, x, y);
-                held &= mended[c] >= 0 &&
-                        !(bound > 0 && s >= 0 && std::fabs(mended[c] - in[c]) > bound * s);
+                const float target = float(total * (e[c] / eTotal));
+                const double spread = NoiseSpread(variance, c, x, y);
+                held &= target >= 0 && !(bound > 0 && spread >= 0 &&
+                                         std::fabs(target - in[c]) > bound * spread);
+                mended[c] = o[c] + w * (target - o[c]);
             }
             if (!held) continue;
-            for (int c = 0; c < n; ++c) output->At(c, y, x) = mended[c];
+            for (int c = 0; c < n; ++c) output->At(c, y, x) = float(mended[c]);
             ++moved;
         }
     return moved;

@@ -82,24 +82,33 @@ Image ScaleSpikes(const PivotInputs &in, const RunOptions &run, Result *result) 
 // Pixels whose fits tint them given their window's chroma (KeepWindowChroma), with the plan's
 // line and the stage: the output's last step, held as the bound holds the fits (its k; before
 // the local means, it moved lights the restore then gave back less of). Only against a
-// variance layer: the
-// frame's own estimate (a plain frame, without ids either) let windows across objects recolour
-// pixels.
+// variance layer and with object ids: the frame's own estimate, or a window across objects,
+// recoloured pixels.
 void KeepChroma(const PivotInputs &in, float bound, const RunOptions &run, Result *result) {
-    if (!in.variance) {
-        result->plan.push_back("chroma: not looked at (no variance layer)");
+    if (!in.variance || !in.objectId) {
+        result->plan.push_back(
+            fmt::format("chroma: not looked at ({})",
+                        !in.variance ? "no variance layer read: the fits' noise is estimated"
+                                     : "no object ids: windows would cross objects"));
         return;
     }
     const size_t moved = KeepWindowChroma(*in.color, *in.pivot, *in.variance, in.objectId,
                                           in.partId, bound, &result->image);
     const int side = 2 * kPivotChromaRadius + 1;
+    const std::string held =
+        bound > 0 ? fmt::format(
+                        "each channel's target within {} standard deviations of its "
+                        "input, as the bound holds",
+                        bound)
+                  : std::string("unbounded: --pivot-bound 0");
     result->plan.push_back(fmt::format(
         "chroma: {} pixels whose chroma is off their input's in their {}x{} window (of their "
-        "ids; z's ratio of sums times their pivot) by over {} of that chroma's noise (the "
-        "variance layer), where the window's chroma and sum agree with their input's within "
-        "{} of its noise, keep their sum and take the window's chroma (each channel within {} "
-        "standard deviations of its input, as the bound holds)",
-        moved, side, side, kPivotChromaFit, kPivotChromaAgree, bound));
+        "ids; z's ratio of sums times their pivot) by {} to {} of that chroma's noise (the "
+        "variance layer; weight 0 to 1), where the window's chroma and sum agree with their "
+        "input's within {} to {} of its noise (weight 1 to 0), move by their weight toward "
+        "their sum at the window's chroma ({})",
+        moved, side, side, kPivotChromaFit, kPivotChromaFitFull, kPivotChromaAgree,
+        kPivotChromaAgreeNone, held));
     if (run.keepStages) result->stages.push_back({"chroma", result->image});
 }
 
@@ -218,7 +227,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                           "that overshoot an edge or go negative cannot move a pixel farther "
                           "than its noise allows; a pixel's channels move by one share, so a "
                           "bound does not tint it, and not below 0; a value of variance 0 is "
-                          "only kept from going below 0 (beyond the paper; 0: off)",
+                          "only kept from going below 0; it holds the last step's chroma "
+                          "mends to the same k (beyond the paper; 0: off, unbounded)",
                           &PivotSettings::bound, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
@@ -348,16 +358,19 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // spikes' 3x3 window and the noise estimate's.
         const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) +
                           options.range + (options.spikes ? 1 : 0);
-        // The chroma's window (with a variance layer).
-        const int chroma = inputs.Has("variance") ? kPivotChromaRadius : 0;
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
-        needs.reach += mean + bound + chroma + frameNoise;
+        needs.reach += mean + bound + frameNoise;
+        // The chroma's window reads inputs only, beside the output at its own pixel: the
+        // larger of the two reaches, not their sum.
+        const PivotInputs in = InputsOf(inputs);
+        const int chroma = in.variance && in.objectId ? kPivotChromaRadius : 0;
+        needs.reach = std::max(needs.reach, chroma);
         needs.reachText += fmt::format(
             "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
-            "kept edges', the range's and the spikes' windows; {} for the chroma's window; {} "
-            "for the frame's noise estimate",
-            mean, bound, chroma, frameNoise);
+            "kept edges', the range's and the spikes' windows; {} for the frame's noise "
+            "estimate; the chroma's window {} (the larger of it and the rest)",
+            mean, bound, frameNoise, chroma);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
@@ -430,7 +443,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                    true);
             cpu.emplace_back("local mean", out);
         }
-        if (in.variance) {
+        if (in.variance && in.objectId) {
             ref::KeepWindowChroma(*in.color, *in.pivot, *in.variance, in.objectId, in.partId,
                                   options.bound, &out);
             cpu.emplace_back("chroma", std::move(out));

@@ -27,12 +27,22 @@ double ChromaNoise(const Channels &value, const Channels &var, int n, double sum
     double noise = 0;
     for (int c = 0; c < n; ++c) {
         const double chroma = value[c] / sum;
-        double v = var[c] * (1 - chroma) * (1 - chroma);
+        // The other channels' variances summed first, then scaled (the twin's order).
+        double others = 0;
         for (int j = 0; j < n; ++j)
-            if (j != c) v += chroma * chroma * var[j];
-        noise += std::sqrt(v);
+            if (j != c) others += var[j];
+        noise += std::sqrt(var[c] * (1 - chroma) * (1 - chroma) + chroma * chroma * others);
     }
     return noise / sum;
+}
+
+// A weight rising from 0 where d is `lo` allowances to 1 where it is `hi`: pixels near a
+// threshold move a little, not all or nothing (auto's probe would read a flip as an error).
+// NaN where d is.
+double Ramp(double d, double allowance, double lo, double hi) {
+    if (d <= lo * allowance) return 0;
+    if (d >= hi * allowance) return 1;
+    return (d - lo * allowance) / ((hi - lo) * allowance);
 }
 
 // L1 distance between the chromas of a and b (sums sa and sb).
@@ -111,25 +121,27 @@ bool Mend(const Inputs &in, int x, int y, Image *output) {
     double eSum = 0, veSum = 0;
     for (int c = 0; c < n; ++c) eSum += e[c], veSum += ve[c];
     if (!(eSum > 0)) return false;
-    // The fit's chroma within the window's noise: the fit stands.
-    if (!(ChromaDistance(out, outSum, e, eSum, n) >
-          kPivotChromaFit * ChromaNoise(e, ve, n, eSum)))
-        return false;
-    // The window must stand for the pixel: its input's chroma and brightness agree with it.
-    if (inputSum > 0 && !(ChromaDistance(input, inputSum, e, eSum, n) <=
-                          kPivotChromaAgree * ChromaNoise(input, inputVar, n, inputSum)))
-        return false;
-    if (inputVarSum > 0 &&
-        !(std::fabs(eSum - inputSum) <= kPivotChromaAgree * std::sqrt(inputVarSum + veSum)))
-        return false;
+    // How far the fit's chroma is off the window's, and how well the window stands for the
+    // pixel: its input's chroma and brightness agree with it.
+    double weight = Ramp(ChromaDistance(out, outSum, e, eSum, n), ChromaNoise(e, ve, n, eSum),
+                         kPivotChromaFit, kPivotChromaFitFull);
+    if (inputSum > 0)
+        weight *= 1 - Ramp(ChromaDistance(input, inputSum, e, eSum, n),
+                           ChromaNoise(input, inputVar, n, inputSum), kPivotChromaAgree,
+                           kPivotChromaAgreeNone);
+    if (inputVarSum > 0)
+        weight *= 1 - Ramp(std::fabs(eSum - inputSum), std::sqrt(inputVarSum + veSum),
+                           kPivotChromaAgree, kPivotChromaAgreeNone);
+    if (!(weight > 0)) return false;
     // Held as the bound holds the fits: every channel within its k standard deviations.
     Channels mended{};
     for (int c = 0; c < n; ++c) {
-        mended[c] = float(outSum * (e[c] / eSum));
+        const float target = float(outSum * (e[c] / eSum));
         const double spread = NoiseSpread(in.variance, c, x, y);
-        if (!(mended[c] >= 0) || (in.bound > 0 && spread >= 0 &&
-                                  !(std::fabs(mended[c] - input[c]) <= in.bound * spread)))
+        if (!(target >= 0) || (in.bound > 0 && spread >= 0 &&
+                               !(std::fabs(target - input[c]) <= in.bound * spread)))
             return false;
+        mended[c] = out[c] + weight * (target - out[c]);
     }
     for (int c = 0; c < n; ++c) output->Plane(c)[p] = float(mended[c]);
     return true;
