@@ -74,7 +74,8 @@ class Bayes : public FrontEndOf<BayesSettings> {
                                 "restore (zeros inside black in their channel stay 0, the "
                                 "paper's black; dark pixels lone among lit ones, samples that "
                                 "missed the light, filled from their lit neighbours; other "
-                                "zeros denoised) or denoise (zeros are noise, as in low-spp "
+                                "zeros denoised; refused where the zeros kept black are too "
+                                "dense to be black) or denoise (zeros are noise, as in low-spp "
                                 "renders)",
                                 &BayesParams::restoreZeros,
                                 {{"restore", true}, {"denoise", false}})),

@@ -7,11 +7,13 @@
 #include "cpu_reference/auto_combine.h"
 #include "cpu_reference/kept_edges.h"
 #include "cpu_reference/local_mean.h"
+#include "cpu_reference/pivot_chroma.h"
 #include "cpu_reference/pivot_filter.h"
 #include "cpu_reference/pivot_spikes.h"
 #include "host/api/front_end.h"
 #include "host/common/kept_edges.h"
 #include "host/common/local_mean.h"
+#include "host/common/pivot_chroma.h"
 #include "host/common/pivot_spikes.h"
 #include "host/io/hints.h"
 #include "host/methods/auto.h"
@@ -75,6 +77,39 @@ Image ScaleSpikes(const PivotInputs &in, const RunOptions &run, Result *result) 
         spikes.size(), kPivotSpike, kPivotSpikeNoise));
     if (run.keepStages) result->stages.push_back({"pivot spikes", result->image});
     return restoreFrom;
+}
+
+// Pixels whose fits tint them given their window's chroma (KeepWindowChroma), with the plan's
+// line and the stage: the output's last step, held as the bound holds the fits (its k; before
+// the local means, it moved lights the restore then gave back less of). Only against a
+// variance layer and with object ids: the frame's own estimate, or a window across objects,
+// recoloured pixels.
+void KeepChroma(const PivotInputs &in, float bound, const RunOptions &run, Result *result) {
+    if (!in.variance || !in.objectId) {
+        result->plan.push_back(
+            fmt::format("chroma: not looked at ({})",
+                        !in.variance ? "no variance layer read: the fits' noise is estimated"
+                                     : "no object ids: windows would cross objects"));
+        return;
+    }
+    const size_t moved = KeepWindowChroma(*in.color, *in.pivot, *in.variance, in.objectId,
+                                          in.partId, bound, &result->image);
+    const int side = 2 * kPivotChromaRadius + 1;
+    const std::string held =
+        bound > 0 ? fmt::format(
+                        "each channel's target within {} standard deviations of its "
+                        "input, as the bound holds",
+                        bound)
+                  : std::string("unbounded: --pivot-bound 0");
+    result->plan.push_back(fmt::format(
+        "chroma: {} pixels whose chroma is off their input's in their {}x{} window (of their "
+        "ids; z's ratio of sums times their pivot) by {} to {} of that chroma's noise (the "
+        "variance layer; weight 0 to 1), where the window's chroma and sum agree with their "
+        "input's within {} to {} of its noise (weight 1 to 0), move by their weight toward "
+        "their sum at the window's chroma ({})",
+        moved, side, side, kPivotChromaFit, kPivotChromaFitFull, kPivotChromaAgree,
+        kPivotChromaAgreeNone, held));
+    if (run.keepStages) result->stages.push_back({"chroma", result->image});
 }
 
 class Pivot : public FrontEndOf<PivotSettings> {
@@ -192,7 +227,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                           "that overshoot an edge or go negative cannot move a pixel farther "
                           "than its noise allows; a pixel's channels move by one share, so a "
                           "bound does not tint it, and not below 0; a value of variance 0 is "
-                          "only kept from going below 0 (beyond the paper; 0: off)",
+                          "only kept from going below 0; it holds the last step's chroma "
+                          "mends to the same k (beyond the paper; 0: off, unbounded)",
                           &PivotSettings::bound, 0, 1e6)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Pivot>(*this); }
@@ -284,6 +320,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                             &result.image, in.variance));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
+        KeepChroma(in, options.bound, run, &result);
         if (UsesAlbedo(inputs))
             result.plan.insert(result.plan.begin(),
                                options.layer == "auto"
@@ -324,11 +361,16 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += mean + bound + frameNoise;
+        // The chroma's window reads inputs only, beside the output at its own pixel: the
+        // larger of the two reaches, not their sum.
+        const PivotInputs in = InputsOf(inputs);
+        const int chroma = in.variance && in.objectId ? kPivotChromaRadius : 0;
+        needs.reach = std::max(needs.reach, chroma);
         needs.reachText += fmt::format(
             "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
             "kept edges', the range's and the spikes' windows; {} for the frame's noise "
-            "estimate",
-            mean, bound, frameNoise);
+            "estimate; the chroma's window {} (the larger of it and the rest)",
+            mean, bound, frameNoise, chroma);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
         // keep the order of the sums.
         needs.align = PIVOT_GATHER_TILE;
@@ -399,7 +441,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
         if (int r = options.method.meanRadius; r > 0) {
             ref::RestoreLocalMeans(restoreFrom, r, &out, in.variance, kLocalMeanRebalance,
                                    true);
-            cpu.emplace_back("local mean", std::move(out));
+            cpu.emplace_back("local mean", out);
+        }
+        if (in.variance && in.objectId) {
+            ref::KeepWindowChroma(*in.color, *in.pivot, *in.variance, in.objectId, in.partId,
+                                  options.bound, &out);
+            cpu.emplace_back("chroma", std::move(out));
         }
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});

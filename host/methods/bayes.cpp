@@ -79,6 +79,28 @@ bool BesideLight(const Image &color, int c, int y, int x) {
 // most pixels' few samples missed it, not black regions, whose zeros are mostly inside).
 constexpr double kDenseZerosShare = 0.1;
 
+// Refuse --zeros restore where its zeros kept black are too dense to be black: the output
+// would keep black holes wherever the few samples missed dim light.
+void CheckZerosRestorable(const Image &color) {
+    size_t keptBlack = 0, keptBesideLight = 0;
+    for (int c = 0; c < color.channels; ++c)
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x)
+                if (color.At(c, y, x) == 0 && InsideBlack(color, c, y, x))
+                    ++keptBlack, keptBesideLight += BesideLight(color, c, y, x);
+    if (double(keptBlack) < kDenseZerosShare * double(color.data.size()) ||
+        2 * keptBesideLight < keptBlack)
+        return;
+    throw Error(
+        fmt::format("bayes: --zeros restore refused: zeros too dense to tell black from "
+                    "samples that missed the light ({} of the {} values would stay black, "
+                    "at least {:.0f}%, and {} of them are beside a lit value of their "
+                    "channel): the output would keep black holes where the light is dim; use "
+                    "--zeros denoise or more samples per pixel",
+                    keptBlack, color.data.size(), 100 * kDenseZerosShare, keptBesideLight),
+        ErrorKind::InvalidArgument);
+}
+
 // Count what the log domain cannot take as is, with the first place of each. Black and
 // nearly black values are ordinary in a render: one line says what became of them.
 void CountSpecials(const Image &color, const std::vector<float> &floors, bool restoreZeros,
@@ -87,7 +109,7 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
         size_t n = 0;
         int x = 0, y = 0, c = 0;
     } nonFinite, negative, zero, dark;
-    size_t keptBlack = 0, filled = 0, keptBesideLight = 0;
+    size_t keptBlack = 0, filled = 0;
     auto add = [](Count &count, int c, int y, int x) {
         if (count.n++ == 0) count.x = x, count.y = y, count.c = c;
     };
@@ -103,7 +125,6 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
                     add(dark, c, y, x);
                     bool kept = restoreZeros && v == 0 && InsideBlack(color, c, y, x);
                     zero.n += v == 0, keptBlack += kept;
-                    keptBesideLight += kept && BesideLight(color, c, y, x);
                     filled += restoreZeros && !kept && MissedSample(color, floors, y, x);
                 }
             }
@@ -133,14 +154,6 @@ void CountSpecials(const Image &color, const std::vector<float> &floors, bool re
                 "log and denoised",
                 filled);
         if (floored) black += fmt::format("; {} denoised from the floor", floored);
-        if (double(keptBlack) >= kDenseZerosShare * double(color.data.size()) &&
-            2 * keptBesideLight >= keptBlack)
-            black += fmt::format(
-                "; zeros too dense to tell black from samples that missed the light ({} of "
-                "the {} kept black are beside a lit value of their channel): the output keeps "
-                "black holes where the light is dim; use --zeros denoise or more samples per "
-                "pixel",
-                keptBesideLight, keptBlack);
     }
     say(dark, "black or nearly black",
         (restoreZeros ? std::string("below the log domain's floor (--log-floor x the "
@@ -823,6 +836,7 @@ BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesPa
         throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", params.spins),
                     ErrorKind::InvalidArgument);
     variance = NoiseVariance(params, variance);
+    if (params.restoreZeros) CheckZerosRestorable(color);
     if (params.spins == 1) return BayesDenoiseOnce(context, color, params, setup, variance);
     // Cycle spinning: the first shift's result carries the plan, warnings and fits.
     BayesParams once = params;
@@ -888,8 +902,16 @@ BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const I
                                 indirect.height, indirect.channels),
                     ErrorKind::InvalidArgument);
     size_t rounded = 0;
-    BayesResult result = BayesDenoise(context, SplitIndirect(direct, indirect, &rounded),
-                                      params, setup, variance);
+    BayesResult result;
+    try {
+        result = BayesDenoise(context, SplitIndirect(direct, indirect, &rounded), params, setup,
+                              variance);
+    } catch (const Error &e) {
+        // A refusal of the indirect layer names it, as the warnings below do.
+        std::string message = e.what();
+        if (message.rfind("bayes: ", 0) != 0) throw;
+        throw Error(message.insert(5, " (indirect layer)"), e.Kind());
+    }
     // Its warnings are about the indirect layer, which the user may not know is what ran.
     for (std::string &warning : result.warnings)
         if (warning.rfind("bayes: ", 0) == 0) warning.insert(5, " (indirect layer)");

@@ -43,9 +43,11 @@ struct BayesResult : MethodResult {
 
 // Denoise one image (all channels). `variance`, the per-pixel variance of the mean (same
 // shape as the image; not owned), is what --noise variance reads, and --noise auto when
-// given. Throws mcd::Error on bad parameters, an empty image, or --noise variance without
-// `variance`; NaN/Inf/negative pixels are not an error: they come out 0 and are counted in
-// warnings. The keep-mean scaling is done on the host after download.
+// given. Throws mcd::Error on bad parameters, an empty image, --noise variance without
+// `variance`, or --zeros restore where the zeros it would keep black are too dense to be
+// black (a tenth of the values, half of them beside a lit value); NaN/Inf/negative pixels are
+// not an error: they come out 0 and are counted in warnings. The keep-mean scaling is done on
+// the host after download.
 BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesParams &params,
                          const RunSetup &setup = {}, const Image *variance = nullptr);
 

@@ -1105,10 +1105,9 @@ TEST_F(BayesProperties, RestoreSaysWhichZerosStayBlack) {
 
 // --zeros restore keeps zeros with a black pair of neighbours black; in low-spp indirect
 // light half the pixels' samples miss it and most zeros have such a pair (issue 29's black
-// holes): restore says the zeros are too dense. A black region as large, whose zeros are
-// mostly inside it, draws no such line.
-TEST_F(BayesProperties, RestoreSaysWhenZerosAreTooDense) {
-    const char *dense = "zeros too dense to tell black from samples that missed the light";
+// holes): restore refuses the frame, saying why and what to use. A black region as large,
+// whose zeros are mostly inside it, runs.
+TEST_F(BayesProperties, RestoreRefusesZerosTooDense) {
     Image speckled = NoisyPicture(32, 32, SeedFromName("dense zeros"), 0.3);
     std::mt19937_64 rng(SeedFromName("dense zeros missed"));
     std::bernoulli_distribution missed(0.5);
@@ -1118,40 +1117,50 @@ TEST_F(BayesProperties, RestoreSaysWhenZerosAreTooDense) {
             for (int c = 0; c < 3; ++c)
                 speckled.At(c, y, x) = miss ? 0.f : std::max(speckled.At(c, y, x), 0.05f);
         }
-    BayesResult r = BayesDenoise(Ctx(), speckled, PaperBayesParams());
-    EXPECT_TRUE(AnyWarning(r, dense)) << ::testing::PrintToString(r.warnings);
+    auto restore = [&] { BayesDenoise(Ctx(), speckled, PaperBayesParams()); };
+    EXPECT_TRUE(ThrowsError(ErrorKind::InvalidArgument, restore,
+                            "--zeros restore refused: zeros too dense"));
+    EXPECT_TRUE(Contains(ErrorOf(restore), "use --zeros denoise")) << ErrorOf(restore);
+    BayesParams denoise = PaperBayesParams();
+    denoise.restoreZeros = false;
+    EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), speckled, denoise).image));
 
     Image region = NoisyPicture(32, 32, SeedFromName("dense zeros region"), 0.3);
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x)
             for (int c = 0; c < 3; ++c)
                 region.At(c, y, x) = x < 16 ? 0.f : std::max(region.At(c, y, x), 0.05f);
-    r = BayesDenoise(Ctx(), region, PaperBayesParams());
+    BayesResult r = BayesDenoise(Ctx(), region, PaperBayesParams());
     EXPECT_TRUE(AnyWarning(r, "black ones stay black")) << ::testing::PrintToString(r.warnings);
-    EXPECT_FALSE(AnyWarning(r, dense)) << ::testing::PrintToString(r.warnings);
 }
 
-// The warning asks both that the zeros kept black be a tenth of the values and that half lie
+// The refusal asks both that the zeros kept black be a tenth of the values and that half lie
 // beside a lit value. A zero is kept black between two black neighbours: the middles of runs
 // of three black pixels across a lit frame, each beside lit pixels above and below, pass the
-// second test; at about 6% of the values they fail only the first (no line), at about 11%
-// they pass both.
-TEST_F(BayesProperties, RestoreSaysNothingOfZerosTooFewToBeDense) {
-    const char *dense = "zeros too dense to tell black from samples that missed the light";
-    for (auto [step, kept, said] : {std::tuple{8, 192, false}, std::tuple{4, 336, true}}) {
+// second test; 307 of the 3072 values run, 308 (a tenth or more) are refused.
+TEST_F(BayesProperties, RestoreRefusesZerosFromATenthOfTheValues) {
+    for (auto [kept, refused] : {std::pair{307, false}, std::pair{308, true}}) {
         Image color = NoisyPicture(32, 32, SeedFromName("few dense zeros"), 0.3);
         for (float &v : color.data) v = std::max(v, 0.05f);
         // Runs of three on the odd rows, away from the frame's edges (clamped neighbours
-        // there are black too).
+        // there are black too), in as many channels as the count has left.
+        int left = kept;
         for (int y = 1; y < 32; y += 2)
-            for (int x0 = 2; x0 + 2 < 30; x0 += step)
-                for (int x = x0; x < x0 + 3; ++x)
-                    for (int c = 0; c < 3; ++c) color.At(c, y, x) = 0;
-        BayesResult r = BayesDenoise(Ctx(), color, PaperBayesParams());
-        const std::string stay = fmt::format("the {} black ones stay black", kept);
-        EXPECT_TRUE(AnyWarning(r, stay.c_str())) << ::testing::PrintToString(r.warnings);
-        EXPECT_EQ(AnyWarning(r, dense), said)
-            << "step " << step << ::testing::PrintToString(r.warnings);
+            for (int x0 = 2; x0 + 2 < 30; x0 += 4)
+                for (int c = 0, n = std::min(3, left); c < n; ++c, --left)
+                    for (int x = x0; x < x0 + 3; ++x) color.At(c, y, x) = 0;
+        ASSERT_EQ(left, 0);
+        SCOPED_TRACE(fmt::format("{} kept black", kept));
+        if (refused) {
+            auto restore = [&] { BayesDenoise(Ctx(), color, PaperBayesParams()); };
+            EXPECT_TRUE(
+                ThrowsError(ErrorKind::InvalidArgument, restore,
+                            fmt::format("({} of the 3072 values would stay black", kept)));
+        } else {
+            BayesResult r = BayesDenoise(Ctx(), color, PaperBayesParams());
+            const std::string stay = fmt::format("the {} black ones stay black", kept);
+            EXPECT_TRUE(AnyWarning(r, stay.c_str())) << ::testing::PrintToString(r.warnings);
+        }
     }
 }
 

@@ -118,6 +118,31 @@ TEST_F(BayesCli, NoiseAutoUsesTheVarianceLayer) {
     EXPECT_TRUE(Contains(r.out, "finest HH bands' median")) << r.out;
 }
 
+// --zeros restore on our interior at 4 spp, whose indirect light half the pixels' samples
+// miss (issue 29's black holes): bayes refuses it, naming the layer, the counts and --zeros
+// denoise, and writes nothing; auto with the same setting leaves bayes out and runs the
+// others.
+TEST_F(BayesCli, RestoreRefusesDenseZerosAndAutoRunsWithout) {
+    Output r = Run("render --scene interior --spp 4 --size 32x32 --layers all -o dense.exr");
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = Run("denoise dense.exr -o refused.exr --method bayes --zeros restore");
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument));
+    EXPECT_TRUE(Contains(r.err, "bayes (indirect layer): --zeros restore refused")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "of the 3072 values would stay black")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "use --zeros denoise")) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "refused.exr"));
+    r = Run("denoise dense.exr -o denoised.exr --method bayes --zeros denoise");
+    EXPECT_EQ(r.code, 0) << r.err;
+    r = Run("denoise dense.exr -o auto.exr --method auto --zeros restore --explain");
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_TRUE(Contains(r.out,
+                         "auto: left out bayes: bayes (indirect layer): --zeros restore "
+                         "refused"))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out, "auto: ran ")) << r.out;
+    EXPECT_TRUE(fs::exists(dir / "auto.exr"));
+}
+
 TEST_F(BayesCli, OptionErrors) {
     Image color = Positive(8, 8, 1);
     io::WriteExr((dir / "f.exr").string(), {{"color", &color}});
