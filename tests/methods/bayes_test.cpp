@@ -1281,6 +1281,43 @@ TEST_F(BayesProperties, RestoreDecidesOnTheWholeFrameInTiles) {
     }
 }
 
+// Auto's bayes probe (SURE: the colour perturbed by its noise) may hold zeros denser than the
+// frame's: it keeps the frame's --zeros restore decision. Here the frame's zeros are lone
+// (none kept black: it runs), while the probe's wide noise turns about half their neighbours
+// negative, black, which alone would be refused.
+TEST_F(BayesProperties, RestoreInAutoProbesAsTheFrameDecided) {
+    Device device = api::BorrowDevice(Ctx());
+    Frame frame(32, 32);
+    Image color = NoisyPicture(32, 32, SeedFromName("lone zeros"), 0.3);
+    Image variance(32, 32, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                bool zero = x % 2 == 0 && y % 2 == 0;
+                color.At(c, y, x) = zero ? 0.f : std::max(color.At(c, y, x), 0.05f);
+                variance.At(c, y, x) = zero ? 0.f : 1e6f;
+            }
+    frame.layers["color"] = color;
+    frame.layers["variance"] = variance;
+    Method method("auto");
+    method.Set("zeros", std::string("restore"));
+    method.Set("auto-candidates", std::string("bayes"));
+    Result r = method.Run(device, frame);
+    EXPECT_TRUE(r.image.SameShape(color));
+    // The same run of bayes on a colour perturbed as widely is refused.
+    std::mt19937_64 rng(SeedFromName("lone zeros probe"));
+    std::bernoulli_distribution negative(0.5);
+    Frame probe(32, 32);
+    probe.layers["color"] = color;
+    for (float &v : probe.layers["color"].data)
+        if (v > 0 && negative(rng)) v = -v;
+    Method bayes("bayes");
+    bayes.Set("zeros", std::string("restore"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { bayes.Run(device, probe); },
+        "--zeros restore refused"));
+}
+
 TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {
     const int w = 33, h = 21;
     // Zeros, 1e-8 and 1e8 in one image.
