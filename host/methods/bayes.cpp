@@ -481,6 +481,9 @@ void CheckBayesParams(const Image &color, const BayesParams &options) {
             ErrorKind::InvalidArgument);
     if (options.levels < 0)
         throw Error("bayes: levels must be >= 0", ErrorKind::InvalidArgument);
+    if (options.spins < 1 || options.spins > 8)
+        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", options.spins),
+                    ErrorKind::InvalidArgument);
     if (options.opponent && color.channels != 3)
         throw Error(
             fmt::format("bayes: luminance + chroma needs 3 channels, not {}", color.channels),
@@ -840,9 +843,7 @@ void CheckBayesZeros(const Image &color, const BayesParams &params, const std::s
 
 BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesParams &params,
                          const RunSetup &setup, const Image *variance) {
-    if (params.spins < 1 || params.spins > 8)
-        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", params.spins),
-                    ErrorKind::InvalidArgument);
+    CheckBayesParams(color, params);
     variance = NoiseVariance(params, variance);
     if (!setup.zerosDecided) CheckBayesZeros(color, params);
     if (params.spins == 1) return BayesDenoiseOnce(context, color, params, setup, variance);
