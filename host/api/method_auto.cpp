@@ -536,6 +536,11 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
     std::copy_n(v.variant->colour, 3, r.candidate.colour);
     r.colourName = v.variant->colourName;
     if (noise.scored) {
+        // Bayes's probe keeps the frame's --zeros restore decision (ForTiles, on the frame):
+        // the probe's noise can turn a lone zero's neighbours black.
+        std::unique_ptr<FrontEnd> decided =
+            isBayes ? method.ForTiles(context, inputs) : nullptr;
+        const FrontEnd &probed = decided ? *decided : method;
         ScopedOverrides probe(inputs);
         if (runsSplit) {
             // The probe perturbs I, the part bayes filters, by eps (c / sqrt(v)) b.
@@ -551,8 +556,8 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                                     : isBayes    ? noise.bayesPerturbed
                                                  : noise.perturbed);
         }
-        std::unique_ptr<FrontEnd> cheaper = CheaperProbe(method, v, out);
-        Result probeRun = RunTiled(context, cheaper ? *cheaper : method, inputs, RunOptions());
+        std::unique_ptr<FrontEnd> cheaper = CheaperProbe(probed, v, out);
+        Result probeRun = RunTiled(context, cheaper ? *cheaper : probed, inputs, RunOptions());
         for (const Timing &t : probeRun.timings)
             out.timings.push_back({label + " (probe): " + t.label, t.gpuMs});
         r.candidate.probe = std::move(probeRun.image);
@@ -573,8 +578,14 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
                          const Noise &noise, const AutoFrontEnd::Options &o,
                          Clock::time_point start, std::vector<std::string> *plan) {
     Candidates out;
-    // Why none ran, if none does: the first failure's kind, else the layers each lacked.
+    // Why none ran, if none does: the first failure's kind, else the layers each lacked;
+    // and the first failure's reason, else the first other left out's (not --auto-candidates').
     std::optional<ErrorKind> failure;
+    std::string failed, firstOut;
+    auto leaveOut = [&](const std::string &label, const std::string &why) {
+        plan->push_back(fmt::format("auto: left out {}: {}", label, why));
+        if (firstOut.empty()) firstOut = label + ": " + why;
+    };
     std::vector<RegisteredVariant> variants = AutoVariants();
     const std::vector<std::string> allowed = CandidateLabels(o.candidates);
     // Each variant has a slot in the kernels.
@@ -594,7 +605,7 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         }
         if (Repeats(*method, v, inputs, out)) continue;
         if (std::string why = OutByEstimate(v, noise); !why.empty()) {
-            plan->push_back(fmt::format("auto: left out {}: {}", label, why));
+            leaveOut(label, why);
             continue;
         }
         // With the frame's own estimate the variants run: without pivot k0, auto was x1.29
@@ -604,26 +615,23 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         // methods' own defaults only (on Cycles frames pivot k0 kept fireflies that k 0.3
         // removes).
         if (!noise.scored && !v.variant->overrides.empty()) {
-            plan->push_back(fmt::format(
-                "auto: left out {}: a variant, and no error estimate to weigh it by", label));
+            leaveOut(label, "a variant, and no error estimate to weigh it by");
             continue;
         }
         if (std::string lacks = method->Missing(inputs.Source()); !lacks.empty()) {
-            plan->push_back(fmt::format("auto: left out {}: {}", label, lacks));
+            leaveOut(label, lacks);
             continue;
         }
         if (allowed.empty() && !v.variant->byDefault) {
-            plan->push_back(fmt::format(
-                "auto: left out {}: it runs where --auto-candidates names it (beside the "
-                "others it held small shares for much time)",
-                label));
+            leaveOut(label,
+                     "it runs where --auto-candidates names it (beside the others it held "
+                     "small shares for much time)");
             continue;
         }
         double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
         if (!out.ran.empty() && elapsed > o.budget) {
-            plan->push_back(
-                fmt::format("auto: left out {}: the budget ({} s) was spent after {:.2f} s",
-                            label, o.budget, elapsed));
+            leaveOut(label, fmt::format("the budget ({} s) was spent after {:.2f} s", o.budget,
+                                        elapsed));
             continue;
         }
         try {
@@ -635,13 +643,17 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
             context.Pool().Trim();
         } catch (const Error &e) {
             if (e.Kind() == ErrorKind::Cancelled) throw;
-            if (!failure) failure = e.Kind();
-            plan->push_back(fmt::format("auto: left out {}: {}", label, e.what()));
+            if (!failure) failure = e.Kind(), failed = label + ": " + e.what();
+            leaveOut(label, e.what());
         }
     }
     if (out.ran.empty())
         throw Error(
-            fmt::format("{}: --method auto found no method for this frame", inputs.Path()),
+            fmt::format(
+                "{}: --method auto found no method for this frame{}", inputs.Path(),
+                failed.empty() && firstOut.empty()
+                    ? ""
+                    : " (first left out: " + (failed.empty() ? firstOut : failed) + ")"),
             failure.value_or(ErrorKind::MissingLayer));
     PlanAutoSettings(out.ran, o, plan);
     return out;

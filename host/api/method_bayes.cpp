@@ -121,6 +121,7 @@ class Bayes : public FrontEndOf<BayesSettings> {
         std::vector<std::string> plan;
         const Image *variance = Variance(inputs, &plan);
         RunSetup setup = SetupFor(inputs, run);
+        setup.zerosDecided = zerosDecided;
         Result result;
         std::string mismatch = Split(inputs) ? SplitMismatch(inputs) : "";
         if (Split(inputs) && mismatch.empty()) {
@@ -172,6 +173,23 @@ class Bayes : public FrontEndOf<BayesSettings> {
                                          ? 4.0 * (3 * levels + 1)
                                          : 4.0 * inputs.Get("color").channels;
         return needs;
+    }
+
+    // --zeros restore is refused or not on the whole frame (the layer the run denoises), once,
+    // before any tile runs: a tile's zeros would decide for it alone, and a later tile could
+    // fail after earlier ones ran. Auto's probe keeps its frame's decision the same way.
+    std::unique_ptr<FrontEnd> ForTiles(vk::Context &, Inputs &whole) const override {
+        auto tiled = std::make_unique<Bayes>(*this);
+        if (zerosDecided || !options.method.restoreZeros) return tiled;
+        if (Split(whole) && SplitMismatch(whole).empty()) {
+            size_t rounded = 0;
+            CheckBayesZeros(SplitIndirect(whole.Get("direct"), whole.Get("indirect"), &rounded),
+                            options.method, " (indirect layer)");
+        } else {
+            CheckBayesZeros(whole.Get("color"), options.method);
+        }
+        tiled->zerosDecided = true;
+        return tiled;
     }
 
     std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const override {
@@ -261,6 +279,9 @@ class Bayes : public FrontEndOf<BayesSettings> {
                 "(--noise mad)");
         return nullptr;
     }
+
+    // Set by ForTiles: --zeros restore already judged on the whole frame.
+    bool zerosDecided = false;
 };
 
 }  // namespace

@@ -81,7 +81,7 @@ constexpr double kDenseZerosShare = 0.1;
 
 // Refuse --zeros restore where its zeros kept black are too dense to be black: the output
 // would keep black holes wherever the few samples missed dim light.
-void CheckZerosRestorable(const Image &color) {
+void CheckZerosRestorable(const Image &color, const std::string &layer) {
     size_t keptBlack = 0, keptBesideLight = 0;
     for (int c = 0; c < color.channels; ++c)
         for (int y = 0; y < color.height; ++y)
@@ -92,12 +92,13 @@ void CheckZerosRestorable(const Image &color) {
         2 * keptBesideLight < keptBlack)
         return;
     throw Error(
-        fmt::format("bayes: --zeros restore refused: zeros too dense to tell black from "
+        fmt::format("bayes{}: --zeros restore refused: zeros too dense to tell black from "
                     "samples that missed the light ({} of the {} values would stay black, "
                     "at least {:.0f}%, and {} of them are beside a lit value of their "
                     "channel): the output would keep black holes where the light is dim; use "
                     "--zeros denoise or more samples per pixel",
-                    keptBlack, color.data.size(), 100 * kDenseZerosShare, keptBesideLight),
+                    layer, keptBlack, color.data.size(), 100 * kDenseZerosShare,
+                    keptBesideLight),
         ErrorKind::InvalidArgument);
 }
 
@@ -480,6 +481,9 @@ void CheckBayesParams(const Image &color, const BayesParams &options) {
             ErrorKind::InvalidArgument);
     if (options.levels < 0)
         throw Error("bayes: levels must be >= 0", ErrorKind::InvalidArgument);
+    if (options.spins < 1 || options.spins > 8)
+        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", options.spins),
+                    ErrorKind::InvalidArgument);
     if (options.opponent && color.channels != 3)
         throw Error(
             fmt::format("bayes: luminance + chroma needs 3 channels, not {}", color.channels),
@@ -830,13 +834,18 @@ BayesResult BayesDenoiseOnce(vk::Context &context, const Image &color,
 
 }  // namespace
 
+void CheckBayesZeros(const Image &color, const BayesParams &params, const std::string &layer) {
+    if (!params.restoreZeros) return;
+    // Bad parameters and an empty image are refused as such, not as "0 of 0" zeros.
+    CheckBayesParams(color, params);
+    CheckZerosRestorable(color, layer);
+}
+
 BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesParams &params,
                          const RunSetup &setup, const Image *variance) {
-    if (params.spins < 1 || params.spins > 8)
-        throw Error(fmt::format("bayes: spins must be in [1, 8], not {}", params.spins),
-                    ErrorKind::InvalidArgument);
+    CheckBayesParams(color, params);
     variance = NoiseVariance(params, variance);
-    if (params.restoreZeros) CheckZerosRestorable(color);
+    if (!setup.zerosDecided) CheckBayesZeros(color, params);
     if (params.spins == 1) return BayesDenoiseOnce(context, color, params, setup, variance);
     // Cycle spinning: the first shift's result carries the plan, warnings and fits.
     BayesParams once = params;
@@ -902,16 +911,12 @@ BayesResult BayesDenoiseSplit(vk::Context &context, const Image &direct, const I
                                 indirect.height, indirect.channels),
                     ErrorKind::InvalidArgument);
     size_t rounded = 0;
-    BayesResult result;
-    try {
-        result = BayesDenoise(context, SplitIndirect(direct, indirect, &rounded), params, setup,
-                              variance);
-    } catch (const Error &e) {
-        // A refusal of the indirect layer names it, as the warnings below do.
-        std::string message = e.what();
-        if (message.rfind("bayes: ", 0) != 0) throw;
-        throw Error(message.insert(5, " (indirect layer)"), e.Kind());
-    }
+    Image split = SplitIndirect(direct, indirect, &rounded);
+    // A refusal of the indirect layer names it, as the warnings below do.
+    RunSetup decided = setup;
+    if (!setup.zerosDecided) CheckBayesZeros(split, params, " (indirect layer)");
+    decided.zerosDecided = true;
+    BayesResult result = BayesDenoise(context, split, params, decided, variance);
     // Its warnings are about the indirect layer, which the user may not know is what ran.
     for (std::string &warning : result.warnings)
         if (warning.rfind("bayes: ", 0) == 0) warning.insert(5, " (indirect layer)");

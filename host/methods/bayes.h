@@ -51,6 +51,13 @@ struct BayesResult : MethodResult {
 BayesResult BayesDenoise(vk::Context &context, const Image &color, const BayesParams &params,
                          const RunSetup &setup = {}, const Image *variance = nullptr);
 
+// --zeros restore: throw mcd::Error (invalid argument, the message's first word "bayes"
+// then `layer`) where the zeros it would keep black are too dense to be black, after the
+// parameters' own checks. BayesDenoise calls it unless setup.zerosDecided; a tiled or probe
+// run decides on its whole frame with it and its parts skip it.
+void CheckBayesZeros(const Image &color, const BayesParams &params,
+                     const std::string &layer = "");
+
 // Negative values of the indirect layer down to this many float epsilons times direct's
 // magnitude (8 to 16 units in the last place of direct) are the rounding of direct +
 // indirect = color, not negative light.

@@ -29,6 +29,9 @@ struct RunSetup {
     // (histScales[s]).
     int scalesUsed = 0;
     std::vector<float> histScales;
+    // bayes --zeros restore: the frame's zeros already judged by CheckBayesZeros (on the whole
+    // frame), so that a tile or a probe does not refuse or pass on its own part.
+    bool zerosDecided = false;
 
     // Splitting knobs: the same result in smaller pieces (0: automatic, from the device's
     // binding limit). Tests set them to run the split paths on small frames.

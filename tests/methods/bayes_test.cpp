@@ -22,6 +22,7 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/device.h"
 #include "host/kernels/bayes_exp.h"
 #include "host/kernels/bayes_log.h"
 #include "host/kernels/bayes_mix.h"
@@ -31,6 +32,7 @@
 #include "host/kernels/bayes_table.h"
 #include "host/methods/bayes.h"
 #include "host/vk/buffer.h"
+#include "mcdenoise/mcdenoise.h"
 
 namespace mcd::test {
 namespace {
@@ -1124,6 +1126,21 @@ TEST_F(BayesProperties, RestoreRefusesZerosTooDense) {
     BayesParams denoise = PaperBayesParams();
     denoise.restoreZeros = false;
     EXPECT_TRUE(AllFinite(BayesDenoise(Ctx(), speckled, denoise).image));
+    // The split names the indirect layer in its refusal, and only there; bad parameters and
+    // an empty image are refused as such first.
+    Image direct(32, 32, 3);
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument,
+        [&] { BayesDenoiseSplit(Ctx(), direct, speckled, PaperBayesParams()); },
+        "bayes (indirect layer): --zeros restore refused"));
+    BayesParams bad = PaperBayesParams();
+    bad.pn = 20;
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { BayesDenoiseSplit(Ctx(), direct, speckled, bad); },
+        "bayes: p_n must be in"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { BayesDenoise(Ctx(), Image(), PaperBayesParams()); },
+        "bayes: the image is empty"));
 
     Image region = NoisyPicture(32, 32, SeedFromName("dense zeros region"), 0.3);
     for (int y = 0; y < 32; ++y)
@@ -1139,7 +1156,10 @@ TEST_F(BayesProperties, RestoreRefusesZerosTooDense) {
 // of three black pixels across a lit frame, each beside lit pixels above and below, pass the
 // second test; 307 of the 3072 values run, 308 (a tenth or more) are refused.
 TEST_F(BayesProperties, RestoreRefusesZerosFromATenthOfTheValues) {
-    for (auto [kept, refused] : {std::pair{307, false}, std::pair{308, true}}) {
+    for (auto [kept, refused, spins] : {std::tuple{307, false, 1}, std::tuple{308, true, 1},
+                                        std::tuple{307, false, 2}, std::tuple{308, true, 2}}) {
+        BayesParams params = PaperBayesParams();
+        params.spins = spins;
         Image color = NoisyPicture(32, 32, SeedFromName("few dense zeros"), 0.3);
         for (float &v : color.data) v = std::max(v, 0.05f);
         // Runs of three on the odd rows, away from the frame's edges (clamped neighbours
@@ -1150,18 +1170,152 @@ TEST_F(BayesProperties, RestoreRefusesZerosFromATenthOfTheValues) {
                 for (int c = 0, n = std::min(3, left); c < n; ++c, --left)
                     for (int x = x0; x < x0 + 3; ++x) color.At(c, y, x) = 0;
         ASSERT_EQ(left, 0);
-        SCOPED_TRACE(fmt::format("{} kept black", kept));
+        SCOPED_TRACE(fmt::format("{} kept black, spins {}", kept, spins));
         if (refused) {
-            auto restore = [&] { BayesDenoise(Ctx(), color, PaperBayesParams()); };
+            auto restore = [&] { BayesDenoise(Ctx(), color, params); };
             EXPECT_TRUE(
                 ThrowsError(ErrorKind::InvalidArgument, restore,
                             fmt::format("({} of the 3072 values would stay black", kept)));
+        } else {
+            BayesResult r = BayesDenoise(Ctx(), color, params);
+            const std::string stay = fmt::format("the {} black ones stay black", kept);
+            EXPECT_TRUE(AnyWarning(r, stay.c_str())) << ::testing::PrintToString(r.warnings);
+        }
+    }
+}
+
+// The refusal's second test, half the zeros kept black beside a lit value, at its edge. The
+// top 6 rows black in channel 0 keep 160 zeros inside black (rows 0 to 4) and 32 beside light
+// (row 5); the middles of runs of three black pixels below add one beside light each. With
+// 128 runs, 160 of the 320 kept are beside light (half: refused); with 127, 159 of 318 run.
+TEST_F(BayesProperties, RestoreRefusesFromHalfTheZerosBesideLight) {
+    for (auto [runs, refused] : {std::pair{127, false}, std::pair{128, true}}) {
+        Image color = NoisyPicture(32, 32, SeedFromName("zeros beside light"), 0.3);
+        for (float &v : color.data) v = std::max(v, 0.05f);
+        for (int y = 0; y < 6; ++y)
+            for (int x = 0; x < 32; ++x) color.At(0, y, x) = 0;
+        int left = runs;
+        for (int y = 7; y < 32; y += 2)
+            for (int x0 = 2; x0 + 2 < 30; x0 += 4)
+                for (int c = 0, n = std::min(3, left); c < n; ++c, --left)
+                    for (int x = x0; x < x0 + 3; ++x) color.At(c, y, x) = 0;
+        ASSERT_EQ(left, 0);
+        const int kept = 192 + runs, beside = 32 + runs;
+        SCOPED_TRACE(fmt::format("{} kept black, {} beside light", kept, beside));
+        if (refused) {
+            auto restore = [&] { BayesDenoise(Ctx(), color, PaperBayesParams()); };
+            EXPECT_TRUE(ThrowsError(
+                ErrorKind::InvalidArgument, restore,
+                fmt::format("({} of the 3072 values would stay black, at least 10%, and {} of "
+                            "them are beside a lit value",
+                            kept, beside)));
         } else {
             BayesResult r = BayesDenoise(Ctx(), color, PaperBayesParams());
             const std::string stay = fmt::format("the {} black ones stay black", kept);
             EXPECT_TRUE(AnyWarning(r, stay.c_str())) << ::testing::PrintToString(r.warnings);
         }
     }
+}
+
+// A lit frame whose `side` x `side` top left corner is speckled with zeros: half its pixels'
+// samples missed the light (black in every channel), as in low-spp indirect light.
+Image SpeckledCorner(int width, int height, int side) {
+    Image color = NoisyPicture(width, height, SeedFromName("speckled corner"), 0.3);
+    std::mt19937_64 rng(SeedFromName("speckled corner missed"));
+    std::bernoulli_distribution missed(0.5);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            bool miss = x < side && y < side && missed(rng);
+            for (int c = 0; c < 3; ++c)
+                color.At(c, y, x) = miss ? 0.f : std::max(color.At(c, y, x), 0.05f);
+        }
+    return color;
+}
+
+// --zeros restore is decided on the whole frame, in tiles as whole: a frame speckled all over
+// is refused either way with the frame's counts, before any tile runs; one speckled only in a
+// 16x16 corner passes either way, though its first tile's window (the tile and its halo; a
+// small halo: one level, no local mean) alone is refused.
+TEST_F(BayesProperties, RestoreDecidesOnTheWholeFrameInTiles) {
+    Device device = api::BorrowDevice(Ctx());
+    Method method("bayes");
+    method.Set("zeros", std::string("restore"));
+    method.Set("bayes-levels", 1);
+    method.Set("bayes-mean-radius", 0);
+    for (int tile : {0, 16}) {
+        SCOPED_TRACE(fmt::format("tile size {}", tile));
+        RunOptions run;
+        run.tileSize = tile;
+        Frame dense(64, 64);
+        dense.layers["color"] = SpeckledCorner(64, 64, 64);
+        auto restore = [&] { method.Run(device, dense, run); };
+        EXPECT_TRUE(
+            ThrowsError(ErrorKind::InvalidArgument, restore, "bayes: --zeros restore refused"));
+        EXPECT_TRUE(Contains(ErrorOf(restore), "of the 12288 values would stay black"))
+            << ErrorOf(restore);
+
+        Frame corner(64, 64);
+        corner.layers["color"] = SpeckledCorner(64, 64, 16);
+        Result r = method.Run(device, corner, run);
+        EXPECT_TRUE(r.image.SameShape(corner.layers["color"]));
+        int halo = -1;
+        for (const std::string &line : r.plan)
+            if (size_t at = line.find("a halo of "); at != std::string::npos)
+                halo = std::stoi(line.substr(at + 10));
+        if (tile == 0) {
+            EXPECT_EQ(halo, -1) << ::testing::PrintToString(r.plan);
+            continue;
+        }
+        ASSERT_GT(halo, 0) << ::testing::PrintToString(r.plan);
+        const int side = tile + halo;
+        Frame window(side, side);
+        window.layers["color"] = Image(side, side, 3);
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < side; ++y)
+                for (int x = 0; x < side; ++x)
+                    window.layers["color"].At(c, y, x) = corner.layers["color"].At(c, y, x);
+        EXPECT_TRUE(ThrowsError(
+            ErrorKind::InvalidArgument, [&] { method.Run(device, window, RunOptions()); },
+            "--zeros restore refused"))
+            << side;
+    }
+}
+
+// Auto's bayes probe (SURE: the colour perturbed by its noise) may hold zeros denser than the
+// frame's: it keeps the frame's --zeros restore decision. Here the frame's zeros are lone
+// (none kept black: it runs), while the probe's wide noise turns about half their neighbours
+// negative, black, which alone would be refused.
+TEST_F(BayesProperties, RestoreInAutoProbesAsTheFrameDecided) {
+    Device device = api::BorrowDevice(Ctx());
+    Frame frame(32, 32);
+    Image color = NoisyPicture(32, 32, SeedFromName("lone zeros"), 0.3);
+    Image variance(32, 32, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) {
+                bool zero = x % 2 == 0 && y % 2 == 0;
+                color.At(c, y, x) = zero ? 0.f : std::max(color.At(c, y, x), 0.05f);
+                variance.At(c, y, x) = zero ? 0.f : 1e6f;
+            }
+    frame.layers["color"] = color;
+    frame.layers["variance"] = variance;
+    Method method("auto");
+    method.Set("zeros", std::string("restore"));
+    method.Set("auto-candidates", std::string("bayes"));
+    Result r = method.Run(device, frame);
+    EXPECT_TRUE(r.image.SameShape(color));
+    // The same run of bayes on a colour perturbed as widely is refused.
+    std::mt19937_64 rng(SeedFromName("lone zeros probe"));
+    std::bernoulli_distribution negative(0.5);
+    Frame probe(32, 32);
+    probe.layers["color"] = color;
+    for (float &v : probe.layers["color"].data)
+        if (v > 0 && negative(rng)) v = -v;
+    Method bayes("bayes");
+    bayes.Set("zeros", std::string("restore"));
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { bayes.Run(device, probe); },
+        "--zeros restore refused"));
 }
 
 TEST_F(BayesProperties, ExtremeInputsGiveFiniteOutputAndCountedWarnings) {

@@ -141,6 +141,16 @@ TEST_F(BayesCli, RestoreRefusesDenseZerosAndAutoRunsWithout) {
         << r.out;
     EXPECT_TRUE(Contains(r.out, "auto: ran ")) << r.out;
     EXPECT_TRUE(fs::exists(dir / "auto.exr"));
+    // With bayes its only candidate, auto fails saying why bayes was left out.
+    r =
+        Run("denoise dense.exr -o none.exr --method auto --auto-candidates bayes "
+            "--zeros restore");
+    EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument)) << r.err;
+    EXPECT_TRUE(Contains(r.err,
+                         "found no method for this frame (first left out: bayes: bayes "
+                         "(indirect layer): --zeros restore refused"))
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir / "none.exr"));
 }
 
 TEST_F(BayesCli, OptionErrors) {
