@@ -36,4 +36,21 @@ Frame SampledFrame(int w, int h, const std::function<double(int, int, int)> &sam
     return frame;
 }
 
+HistogramFloor::HistogramFloor(int w, int h)
+    : color(w, h, 3, 0.0133f), hist(w, h, 3 * kBins + 1) {
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 3; ++c) hist.At(c * kBins + 1, y, x) = 16;
+            hist.At(3 * kBins, y, x) = 16;
+        }
+}
+
+void HistogramFloor::Bright(int x, int y, float samples, float value) {
+    for (int c = 0; c < 3; ++c) {
+        color.At(c, y, x) = value;
+        hist.At(c * kBins + 1, y, x) = 16 - samples;
+        hist.At(c * kBins + kBins - 1, y, x) = samples;
+    }
+}
+
 }  // namespace mcd::test

@@ -23,4 +23,14 @@ inline Frame ColorAndVariance(const Image &color, const Image &variance) {
 Frame SampledFrame(int w, int h, const std::function<double(int, int, int)> &sample,
                    int spp = 16);
 
+// A flat floor of 0.0133 a colour whose 16 samples a pixel fell in the second of rhf's 20
+// bins a colour (the count last), on which Bright() gives a pixel bright samples.
+struct HistogramFloor {
+    static constexpr int kBins = 20;
+    HistogramFloor(int w, int h);
+    // Give (x, y) `samples` of its 16 in the last bin and the colour `value`.
+    void Bright(int x, int y, float samples, float value);
+    Image color, hist;
+};
+
 }  // namespace mcd::test

@@ -387,6 +387,32 @@ TEST_F(HighlightsAwr, AReflectionDoesNotRingDarkHoles) {
 
 // A bulb of radius sqrt(12) around (cx, cy), 500 with a noise of 5, on a floor of 0.05 with a
 // noise of 0.005, seeded by name; each value's variance is its noise's.
+// The host's split with sparse lights (k 16, radius 3, no given light sample) is the CPU
+// twin's, mask and bases to the bit.
+void ExpectSparseSplitMatchesTwin(const HighlightSplit &split, const Image &color,
+                                  const Image &variance, const Image &maxSample) {
+    Image base, baseVariance;
+    std::vector<char> highlight =
+        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
+    ref::AddSparseLights(color, &variance, maxSample, 16, 3, -1, &highlight, &base,
+                         &baseVariance);
+    EXPECT_EQ(split.highlight, highlight);
+    EXPECT_EQ(split.base.data, base.data);
+    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+}
+
+// relMSE of `image` against `truth` over the 9x9 window whose top left is (x0, y0).
+double WindowRelMse(const Image &image, const Image &truth, int x0, int y0) {
+    Image a(9, 9, 3), b(9, 9, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < 9; ++y)
+            for (int x = 0; x < 9; ++x) {
+                a.At(c, y, x) = image.At(c, y0 + y, x0 + x);
+                b.At(c, y, x) = truth.At(c, y0 + y, x0 + x);
+            }
+    return CompareImages(a, b).relMse;
+}
+
 void NoisyBulb(const std::string &name, int cx, int cy, Image *color, Image *variance) {
     std::mt19937_64 rng(SeedFromName(name));
     std::normal_distribution<float> normal(0, 1);
@@ -509,25 +535,11 @@ TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
     EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 1u);
     EXPECT_TRUE(split.highlight[size_t(reflection.y) * w + reflection.x]);
     EXPECT_FALSE(split.highlight[size_t(firefly.y) * w + firefly.x]);
-    Image base, baseVariance;
-    std::vector<char> highlight =
-        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
-    ref::AddSparseLights(color, &variance, maxSample, 16, 3, -1, &highlight, &base,
-                         &baseVariance);
-    EXPECT_EQ(split.highlight, highlight);
-    EXPECT_EQ(split.base.data, base.data);
-    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+    ExpectSparseSplitMatchesTwin(split, color, variance, maxSample);
 
     // The relMSE over the reflection's 9x9 window.
     auto windowError = [&](const Image &image) {
-        Image a(9, 9, 3), b(9, 9, 3);
-        for (int c = 0; c < 3; ++c)
-            for (int y = 0; y < 9; ++y)
-                for (int x = 0; x < 9; ++x) {
-                    a.At(c, y, x) = image.At(c, reflection.y - 4 + y, reflection.x - 4 + x);
-                    b.At(c, y, x) = truth.At(c, reflection.y - 4 + y, reflection.x - 4 + x);
-                }
-        return CompareImages(a, b).relMse;
+        return WindowRelMse(image, truth, reflection.x - 4, reflection.y - 4);
     };
     Frame frame = ColorAndVariance(color, variance);
     Device device = api::BorrowDevice(Ctx());
@@ -618,25 +630,11 @@ TEST_F(HighlightsAwr, AGlintStreakIsNotSpreadAcrossItsEdge) {
     EXPECT_FALSE(marked(lone)) << "the lone glint";
     EXPECT_FALSE(marked(pair) || marked({pair.x + 1, pair.y})) << "the pair";
     EXPECT_FALSE(marked(dim)) << "the block under k / 2 x the mean";
-    Image base, baseVariance;
-    std::vector<char> highlight =
-        ref::SplitHighlights(color, &variance, 16, 3, &base, &baseVariance);
-    ref::AddSparseLights(color, &variance, maxSample, 16, 3, -1, &highlight, &base,
-                         &baseVariance);
-    EXPECT_EQ(split.highlight, highlight);
-    EXPECT_EQ(split.base.data, base.data);
-    EXPECT_EQ(split.baseVariance.data, baseVariance.data);
+    ExpectSparseSplitMatchesTwin(split, color, variance, maxSample);
 
     // The relMSE over the 9x9 window round the streak's block.
     auto windowError = [&](const Image &image) {
-        Image a(9, 9, 3), b(9, 9, 3);
-        for (int c = 0; c < 3; ++c)
-            for (int y = 0; y < 9; ++y)
-                for (int x = 0; x < 9; ++x) {
-                    a.At(c, y, x) = image.At(c, streak.y - 3 + y, streak.x - 2 + x);
-                    b.At(c, y, x) = truth.At(c, streak.y - 3 + y, streak.x - 2 + x);
-                }
-        return CompareImages(a, b).relMse;
+        return WindowRelMse(image, truth, streak.x - 2, streak.y - 3);
     };
     Frame frame = ColorAndVariance(color, variance);
     frame.layers["max"] = maxSample;

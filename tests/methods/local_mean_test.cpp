@@ -9,6 +9,7 @@
 #include <random>
 
 #include "cpu_reference/local_mean.h"
+#include "harness/frames.h"
 #include "harness/inputs.h"
 #include "host/common/local_mean.h"
 #include "host/common/parallel.h"
@@ -844,19 +845,11 @@ TEST_P(LocalMeanMatches, CutBrightClustersMatchesReference) {
 // bright veto keeps such pixels apart) and a pair alone on the floor (chance makes pairs)
 // stay.
 TEST(LocalMeanProperties, CutBrightClustersCutsOnlyAClusterThatStandsOut) {
-    const int w = 40, h = 20, bins = 20;
-    Image color(w, h, 3, 0.0133f), hist(w, h, 3 * bins + 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            for (int c = 0; c < 3; ++c) hist.At(c * bins + 1, y, x) = 16;
-            hist.At(3 * bins, y, x) = 16;
-        }
+    const int w = 40, h = 20, bins = test::HistogramFloor::kBins;
+    test::HistogramFloor wall(w, h);
+    Image &color = wall.color, &hist = wall.hist;
     auto bright = [&](int x, int y, float samples, float value) {
-        for (int c = 0; c < 3; ++c) {
-            color.At(c, y, x) = value;
-            hist.At(c * bins + 1, y, x) = 16 - samples;
-            hist.At(c * bins + bins - 1, y, x) = samples;
-        }
+        wall.Bright(x, y, samples, value);
     };
     for (int y = 9; y <= 11; ++y) bright(8, y, 1, 3.4f);   // the floor's column
     for (int y = 9; y <= 11; ++y) bright(24, y, 1, 3.4f);  // the same among others

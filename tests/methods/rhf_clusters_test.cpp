@@ -128,19 +128,11 @@ TEST_F(RhfClusters, ALightsReflectionOfSeveralSamplesDrawsNoSquare) {
 // line, longer than a patch): the first two are cut whole, the others stay; the host and the
 // CPU twin cut the same pixels to the same bits.
 TEST(RhfClusterCut, CutsReflectionsUnderTheVetosShare) {
-    const int w = 48, h = 24, bins = 20;
-    Image color(w, h, 3, 0.0133f), hist(w, h, 3 * bins + 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            for (int c = 0; c < 3; ++c) hist.At(c * bins + 1, y, x) = 16;
-            hist.At(3 * bins, y, x) = 16;
-        }
+    const int w = 48, h = 24;
+    HistogramFloor wall(w, h);
+    Image &color = wall.color, &hist = wall.hist;
     auto bright = [&](int x, int y, float samples, float value) {
-        for (int c = 0; c < 3; ++c) {
-            color.At(c, y, x) = value;
-            hist.At(c * bins + 1, y, x) = 16 - samples;
-            hist.At(c * bins + bins - 1, y, x) = samples;
-        }
+        wall.Bright(x, y, samples, value);
     };
     for (int x = 8; x <= 10; ++x) bright(x, 10, 1, 3.4f);
     bright(8, 11, 1, 3.4f), bright(10, 11, 1, 3.4f);
