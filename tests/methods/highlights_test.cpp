@@ -516,6 +516,21 @@ struct LoneReflection {
     }
 };
 
+// The side x side tile of the frame's colour, variance and max layers whose top left is
+// (x0, y0).
+void CropTile(const LoneReflection &frame, int x0, int y0, int side, Image *tile,
+              Image *tileVariance, Image *tileMax) {
+    *tile = Image(side, side, 3), *tileVariance = Image(side, side, 3),
+    *tileMax = Image(side, side, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                tile->At(c, y, x) = frame.color.At(c, y0 + y, x0 + x);
+                tileVariance->At(c, y, x) = frame.variance.At(c, y0 + y, x0 + x);
+                tileMax->At(c, y, x) = frame.maxSample.At(c, y0 + y, x0 + x);
+            }
+}
+
 // A light's reflection one sample of 16 saw (a metal sphere's, issue 29) has a firefly's
 // statistics: its standard deviation is as large as its mean, and it has no bright
 // neighbour. awr spread it into a bright square where the reference is dim, worse than its
@@ -696,14 +711,8 @@ TEST(Highlights, ATileComparesSparseLightsWithTheFramesLights) {
     ASSERT_GT(lightSample, 0) << "the bulb";
     AddSparseLights(frame.color, &frame.variance, frame.maxSample, 16, 3, -1, &whole);
     ASSERT_TRUE(whole.highlight[size_t(reflection.y) * w + reflection.x]);
-    Image tile(side, side, 3), tileVariance(side, side, 3), tileMax(side, side, 3);
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < side; ++y)
-            for (int x = 0; x < side; ++x) {
-                tile.At(c, y, x) = frame.color.At(c, y0 + y, x0 + x);
-                tileVariance.At(c, y, x) = frame.variance.At(c, y0 + y, x0 + x);
-                tileMax.At(c, y, x) = frame.maxSample.At(c, y0 + y, x0 + x);
-            }
+    Image tile, tileVariance, tileMax;
+    CropTile(frame, x0, y0, side, &tile, &tileVariance, &tileMax);
     HighlightSplit own = SplitHighlights(tile, &tileVariance, 16, 3, frameMean);
     EXPECT_EQ(own.count, 0u) << "the tile holds no light";
     EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, -1, &own), 0u);
@@ -745,14 +754,8 @@ TEST(Highlights, ATileComparesAStreakWithTheFramesLights) {
     ASSERT_GT(3 * 224.f / 16, kStreakMeanShare * 16 * frameMean);
     ASSERT_LT(3 * 224.f / 16, 16 * frameMean);
     ASSERT_LE(3 * 224.f, kStreakSampleRatio * lightSample);
-    Image tile(side, side, 3), tileVariance(side, side, 3), tileMax(side, side, 3);
-    for (int c = 0; c < 3; ++c)
-        for (int y = 0; y < side; ++y)
-            for (int x = 0; x < side; ++x) {
-                tile.At(c, y, x) = frame.color.At(c, y0 + y, x0 + x);
-                tileVariance.At(c, y, x) = frame.variance.At(c, y0 + y, x0 + x);
-                tileMax.At(c, y, x) = frame.maxSample.At(c, y0 + y, x0 + x);
-            }
+    Image tile, tileVariance, tileMax;
+    CropTile(frame, x0, y0, side, &tile, &tileVariance, &tileMax);
     HighlightSplit own = SplitHighlights(tile, &tileVariance, 16, 3);
     EXPECT_EQ(own.count, 0u) << "the tile holds no light";
     EXPECT_EQ(AddSparseLights(tile, &tileVariance, tileMax, 16, 3, -1, &own), 0u)
