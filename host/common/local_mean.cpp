@@ -486,7 +486,7 @@ bool RimAt(const Image &sums, const std::vector<char> &light, int w, int h, int 
 
 }  // namespace
 
-size_t CutSpikes(Image *color, const Image *variance) {
+size_t CutSpikes(Image *color, const Image *variance, std::vector<size_t> *pixels) {
     const int w = color->width, h = color->height;
     const size_t n = color->PixelCount();
     const Image sums = ChannelSums(*color);
@@ -532,6 +532,7 @@ size_t CutSpikes(Image *color, const Image *variance) {
     for (size_t k = 0; k < cut.size(); ++k)
         for (int c = 0; c < color->channels; ++c)
             color->Plane(c)[cut[k]] = medians[k * color->channels + c];
+    if (pixels) *pixels = cut;
     return cut.size();
 }
 

@@ -145,7 +145,9 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
 // plane's edge beside a black background, which the filter spread into the black), and a
 // spike with none stays.
 constexpr double kSpike = 16, kSpikeMost = 512;
-size_t CutSpikes(Image *color, const Image *variance = nullptr);
+// `pixels`, when given, receives the pixels cut (ascending).
+size_t CutSpikes(Image *color, const Image *variance = nullptr,
+                 std::vector<size_t> *pixels = nullptr);
 
 // A small light's rim cut from a frame before such a filter, and given back after it (beyond
 // the papers). A pixel beside a small light's core that one of its few samples saw is no
