@@ -152,7 +152,8 @@ class Rhf : public FrontEndOf<RhfParams> {
     std::unique_ptr<FrontEnd> ForProbe(vk::Context &, Inputs &run, bool onHalf) const override {
         if (options.meanRadius <= 0) return nullptr;
         auto probe = std::make_unique<Rhf>(*this);
-        Cuts cuts = Cut(run, ExactVariance(ExactLayersOf(run)));
+        std::vector<char> lights;
+        Cuts cuts = Cut(run, ExactVariance(ExactLayersOf(run)), &lights);
         auto sets = std::make_shared<CutSets>();
         sets->width = run.FrameWidth() > 0 ? run.FrameWidth() : run.Width();
         sets->height = run.FrameHeight() > 0 ? run.FrameHeight() : run.Height();
@@ -166,6 +167,17 @@ class Rhf : public FrontEndOf<RhfParams> {
         if (onHalf) sets->spikes = toFrame(cuts.spikes);
         sets->clusters = toFrame(cuts.clusters);
         sets->rims = toFrame(cuts.rims);
+        // The lights beside the rims, as the run told them.
+        std::vector<size_t> rimLights;
+        const int w = run.Width(), h = run.Height();
+        for (size_t p : cuts.rims)
+            for (int j = std::max(0, int(p / w) - 1); j <= std::min(h - 1, int(p / w) + 1); ++j)
+                for (int i = std::max(0, int(p % w) - 1); i <= std::min(w - 1, int(p % w) + 1);
+                     ++i)
+                    if (lights[size_t(j) * w + i]) rimLights.push_back(size_t(j) * w + i);
+        std::sort(rimLights.begin(), rimLights.end());
+        rimLights.erase(std::unique(rimLights.begin(), rimLights.end()), rimLights.end());
+        sets->rimLights = toFrame(rimLights);
         probe->decided = std::move(sets);
         return probe;
     }
@@ -271,15 +283,18 @@ class Rhf : public FrontEndOf<RhfParams> {
         Image image;
         std::vector<size_t> spikes, rims, clusters;
     };
-    // The pixels a run cut, of its whole frame (ForProbe); no spikes: the probe finds its own.
+    // The pixels a run cut, of its whole frame (ForProbe), and the lights beside its rims
+    // (which their medians leave out); spikes on half0 only: on the perturbed colour the
+    // probe finds its own.
     struct CutSets {
         int width = 0, height = 0;
         std::optional<std::vector<size_t>> spikes;
-        std::vector<size_t> rims, clusters;
+        std::vector<size_t> rims, clusters, rimLights;
     };
 
-    // The cuts found on this colour (none with --rhf-mean-radius 0).
-    Cuts Cut(Inputs &inputs, const Image &variance) const {
+    // The cuts found on this colour (none with --rhf-mean-radius 0); `lights` (if given) set
+    // to which pixels the rims were found beside.
+    Cuts Cut(Inputs &inputs, const Image &variance, std::vector<char> *lights = nullptr) const {
         Cuts cuts;
         const Image &color = inputs.Get("color");
         cuts.image = color;
@@ -291,15 +306,26 @@ class Rhf : public FrontEndOf<RhfParams> {
             cuts.clusters =
                 CutBrightClusters(color, Histograms(inputs), options.searchHalf, &cuts.image);
         Image spiked = cuts.image;
+        if (lights) *lights = Lights(spiked, variance);
         cuts.rims = ManySampled(spiked, Histograms(inputs), variance,
                                 CutLightRims(&cuts.image, variance), &cuts.image);
         return cuts;
     }
 
+    // Which pixels of `color` are lights by `variance` (as CutLightRims tells them); none
+    // where the shapes differ.
+    static std::vector<char> Lights(const Image &color, const Image &variance) {
+        std::vector<char> light(color.PixelCount(), 0);
+        if (variance.width != color.width || variance.height != color.height) return light;
+        const Image sums = ChannelSums(color);
+        for (size_t p = 0; p < light.size(); ++p) light[p] = Light(variance, sums, p);
+        return light;
+    }
+
     // The run's cuts (`decided`, of the whole frame) on this window's colour: each pixel takes
     // the median of its neighbours as the run's cut does (a cluster's outside the cluster, a
-    // rim's of those that are no lights), from this colour; the spikes its own where
-    // `decided` has none.
+    // rim's of those the run told no lights), from this colour; the spikes its own where
+    // `decided` has none. The probe's variance (auto doubles it for SURE) decides nothing.
     Cuts CutAsDecided(Inputs &inputs, const Image &variance, const RunSetup &setup) const {
         Cuts cuts;
         const Image &color = inputs.Get("color");
@@ -317,10 +343,9 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::vector<char> inCluster(n, 0);
         for (size_t p : cuts.clusters) inCluster[p] = 1;
         TakeNeighbourMedians(color, cuts.clusters, inCluster, &cuts.image);
-        const Image spiked = cuts.image, sums = ChannelSums(spiked);
+        const Image spiked = cuts.image;
         std::vector<char> light(n, 0);
-        if (variance.width == w && variance.height == h)
-            for (size_t p = 0; p < n; ++p) light[p] = Light(variance, sums, p);
+        for (size_t p : InWindow(decided->rimLights, w, h, setup)) light[p] = 1;
         TakeNeighbourMedians(spiked, cuts.rims, light, &cuts.image);
         return cuts;
     }
@@ -335,28 +360,6 @@ class Rhf : public FrontEndOf<RhfParams> {
             if (x >= 0 && x < w && y >= 0 && y < h) window.push_back(size_t(y) * w + x);
         }
         return window;
-    }
-
-    // Each of `pixels` takes per channel the median (the lower middle) of its neighbours
-    // within the frame not `skipped`, from `given`; one with none keeps its value.
-    static void TakeNeighbourMedians(const Image &given, const std::vector<size_t> &pixels,
-                                     const std::vector<char> &skipped, Image *cut) {
-        const int w = given.width, h = given.height;
-        for (size_t p : pixels) {
-            const int x = int(p % w), y = int(p / w);
-            for (int c = 0; c < given.channels; ++c) {
-                float values[8];
-                int count = 0;
-                for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
-                    for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
-                        const size_t q = size_t(j) * w + i;
-                        if (q != p && !skipped[q]) values[count++] = given.Plane(c)[q];
-                    }
-                if (count == 0) continue;
-                std::nth_element(values, values + (count - 1) / 2, values + count);
-                cut->Plane(c)[p] = values[(count - 1) / 2];
-            }
-        }
     }
 
     // Set by ForProbe: the run's cuts, which its probe makes on its own colour.

@@ -4,6 +4,8 @@
 // and on the run's own colour the probe is the run, bit for bit, whole and in tiles.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <random>
 #include <string>
@@ -16,6 +18,7 @@
 #include "host/api/front_end.h"
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
+#include "host/common/local_mean.h"
 #include "mcdenoise/mcdenoise.h"
 
 namespace mcd::test {
@@ -119,7 +122,8 @@ TEST_F(RhfProbe, KeepsTheRunsCutsWhereThePerturbationWouldFlipThem) {
 }
 
 // On the run's own colour the probe cuts what the run cuts, to the same bits, untiled and
-// in tiles of 20 whose seams cross the cuts (the sets are the frame's, mapped per window).
+// in tiles of 20 (the sets are the frame's, mapped per window; a tile's window reaches past
+// its seams to the cuts of its neighbours).
 TEST_F(RhfProbe, OnTheRunsColourIsTheRunBitForBit) {
     const Frame frame = ReflectionFrame();
     std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
@@ -138,6 +142,76 @@ TEST_F(RhfProbe, OnTheRunsColourIsTheRunBitForBit) {
         EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
         EXPECT_TRUE(BitIdentical(run.image, tiled.image)) << "in tiles of 20";
     }
+}
+
+// auto's probe doubles the variance (a half's mean, SURE's probe): the lights beside the run's
+// rims stay the run's. The light's edge column beside the rim is made a light whose variance is
+// within its bound but not within twice it; told from the doubled variance, the rim's median
+// would take one of them and the filter's output near it would move.
+TEST_F(RhfProbe, TheRimsLightsAreTheRunsUnderTheDoubledVariance) {
+    Frame frame = ReflectionFrame();
+    Image &variance = frame.layers["variance"];
+    for (int y = 26; y <= 28; ++y) {
+        const double sum = frame.Get("color").At(0, y, 29) + frame.Get("color").At(1, y, 29) +
+                           frame.Get("color").At(2, y, 29);
+        for (int c = 0; c < 3; ++c) variance.At(c, y, 29) = float(0.3 * 0.0001 * sum * sum);
+    }
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    api::Inputs inputs(frame, false, "rhf");
+    RunOptions keep;
+    keep.keepStages = true;
+    const Result run = api::RunTiled(Ctx(), *rhf, inputs, keep);
+    ASSERT_GT(CountIn(run, "lights' rims: "), 0);
+    Image doubled = variance;
+    for (float &v : doubled.data) v *= 2;
+    for (bool onHalf : {true, false}) {
+        SCOPED_TRACE(onHalf ? "on half0" : "on the perturbed colour");
+        std::unique_ptr<api::FrontEnd> probe = rhf->ForProbe(Ctx(), inputs, onHalf);
+        ASSERT_NE(probe, nullptr);
+        api::Inputs probed(frame, false, "rhf");
+        probed.Override("variance", doubled);
+        const Result result = api::RunTiled(Ctx(), *probe, probed, keep);
+        EXPECT_EQ(CountIn(result, "lights' rims: "), CountIn(run, "lights' rims: "));
+        // Zero variance stays zero: before the local mean the variance tells nothing else.
+        EXPECT_TRUE(
+            BitIdentical(StageOf(run, "exact pixels"), StageOf(result, "exact pixels")));
+    }
+}
+
+// A cut pixel takes its neighbours' median, those skipped left out; one with a neighbour not
+// finite (no median) keeps its value, per channel. (Inputs replace NaN with 0 before a
+// method reads them: this is the step alone.)
+TEST(RhfProbeMedians, SkipTheSkippedAndLeaveAPixelBesideANaN) {
+    Image given(4, 3, 2);
+    std::mt19937_64 rng(SeedFromName("rhf probe medians"));
+    std::uniform_real_distribution<float> value(0.f, 1.f);
+    for (float &v : given.data) v = value(rng);
+    given.At(1, 0, 0) = NAN;
+    std::vector<char> skipped(given.PixelCount(), 0);
+    skipped[2] = 1;
+    // (1, 1) beside the NaN in channel 1; (2, 1) beside neither; (3, 2) at the corner.
+    const std::vector<size_t> pixels = {5, 6, 11};
+    Image cut = given;
+    TakeNeighbourMedians(given, pixels, skipped, &cut);
+    for (size_t p : pixels)
+        for (int c = 0; c < 2; ++c) {
+            const int x = int(p % 4), y = int(p / 4);
+            std::vector<float> values;
+            bool finite = true;
+            for (int j = std::max(0, y - 1); j <= std::min(2, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(3, x + 1); ++i)
+                    if ((i != x || j != y) && !skipped[size_t(j) * 4 + i]) {
+                        values.push_back(given.At(c, j, i));
+                        finite = finite && std::isfinite(values.back());
+                    }
+            std::sort(values.begin(), values.end());
+            const float want = finite ? values[(values.size() - 1) / 2] : given.At(c, y, x);
+            EXPECT_EQ(cut.At(c, y, x), want) << x << ", " << y << " c" << c;
+        }
+    // The NaN's neighbour keeps its value in channel 1 only; the others all take medians.
+    EXPECT_EQ(cut.At(1, 1, 1), given.At(1, 1, 1));
+    EXPECT_NE(cut.At(0, 1, 1), given.At(0, 1, 1));
+    EXPECT_TRUE(std::isnan(cut.At(1, 0, 0)));
 }
 
 // Without the cuts (--rhf-mean-radius 0) the probe runs as the run does.
