@@ -561,6 +561,10 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
         Result probeRun = RunTiled(context, cheaper ? *cheaper : probed, inputs, RunOptions());
         for (const Timing &t : probeRun.timings)
             out.timings.push_back({label + " (probe): " + t.label, t.gpuMs});
+        // What a probe that kept the run's decisions did (rhf's cuts: the run's counts).
+        if (decided)
+            for (const std::string &line : probeRun.plan)
+                out.plans.push_back(label + " (probe): " + line);
         r.candidate.probe = std::move(probeRun.image);
     }
     const Image &output = r.candidate.output;

@@ -15,6 +15,7 @@
 #include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/device.h"
 #include "host/api/front_end.h"
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
@@ -212,6 +213,29 @@ TEST(RhfProbeMedians, SkipTheSkippedAndLeaveAPixelBesideANaN) {
     EXPECT_EQ(cut.At(1, 1, 1), given.At(1, 1, 1));
     EXPECT_NE(cut.At(0, 1, 1), given.At(0, 1, 1));
     EXPECT_TRUE(std::isnan(cut.At(1, 0, 0)));
+}
+
+class AutoProbeOfRhf : public GpuTest {};
+
+// auto runs rhf's probe with the run's cuts: on the perturbed colour (SURE on the variance
+// layer) its plan states the run's clusters and rims, though the probe's doubled variance and
+// its noise would decide its own.
+TEST_F(AutoProbeOfRhf, KeepsTheRunsCuts) {
+    const Frame frame = ReflectionFrame();
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    automatic.Set("auto-candidates", std::string("rhf"));
+    const Result result = automatic.Run(device, frame);
+    std::string plan;
+    for (const std::string &line : result.plan) plan += line + "\n";
+    auto count = [&](const std::string &prefix) {
+        for (const std::string &line : result.plan)
+            if (line.rfind(prefix, 0) == 0) return std::stoi(line.substr(prefix.size()));
+        return -1;
+    };
+    ASSERT_EQ(count("rhf: bright clusters: "), 4) << plan;
+    EXPECT_EQ(count("rhf (probe): bright clusters: "), 4) << plan;
+    EXPECT_EQ(count("rhf (probe): lights' rims: "), count("rhf: lights' rims: ")) << plan;
 }
 
 // Without the cuts (--rhf-mean-radius 0) the probe runs as the run does.
