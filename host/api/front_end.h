@@ -207,6 +207,17 @@ class FrontEnd {
     virtual std::unique_ptr<FrontEnd> ForTiles(vk::Context &context, Inputs &whole) const {
         return Clone();
     }
+    // A copy for auto's probe of this run (`onHalf`: its run on half0, another estimate of
+    // the frame; else on the perturbed colour), with decisions the run takes on `run` (its
+    // frame as given) kept, so that the probe does not flip between branches the run did not
+    // take (bayes's --zeros restore, rhf's cuts). Null: the probe runs as the run does.
+    // rhf's probe makes the run's cuts (the pixels, and the lights a rim's median leaves out)
+    // on its own colour, whatever its variance: a host CPU step with no CPU twin of its own;
+    // its tests hold the probe on the run's own colour to the run's bits, whole and tiled.
+    virtual std::unique_ptr<FrontEnd> ForProbe(vk::Context &context, Inputs &run,
+                                               bool onHalf) const {
+        return nullptr;
+    }
     virtual std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const = 0;
 };
 

@@ -536,10 +536,11 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
     std::copy_n(v.variant->colour, 3, r.candidate.colour);
     r.colourName = v.variant->colourName;
     if (noise.scored) {
-        // Bayes's probe keeps the frame's --zeros restore decision (ForTiles, on the frame):
-        // the probe's noise can turn a lone zero's neighbours black.
-        std::unique_ptr<FrontEnd> decided =
-            isBayes ? method.ForTiles(context, inputs) : nullptr;
+        // The probe keeps the run's decisions (FrontEnd::ForProbe, on the frame as given):
+        // bayes's --zeros restore (the probe's noise can turn a lone zero's neighbours
+        // black), rhf's cuts (a pixel cut in one run and filtered in the other moves by far
+        // more than its colour did).
+        std::unique_ptr<FrontEnd> decided = method.ForProbe(context, inputs, noise.halves);
         const FrontEnd &probed = decided ? *decided : method;
         ScopedOverrides probe(inputs);
         if (runsSplit) {
@@ -560,6 +561,10 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
         Result probeRun = RunTiled(context, cheaper ? *cheaper : probed, inputs, RunOptions());
         for (const Timing &t : probeRun.timings)
             out.timings.push_back({label + " (probe): " + t.label, t.gpuMs});
+        // What a probe that kept the run's decisions did (rhf's cuts: the run's counts).
+        if (decided)
+            for (const std::string &line : probeRun.plan)
+                out.plans.push_back(label + " (probe): " + line);
         r.candidate.probe = std::move(probeRun.image);
     }
     const Image &output = r.candidate.output;

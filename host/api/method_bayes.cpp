@@ -191,6 +191,9 @@ class Bayes : public FrontEndOf<BayesSettings> {
         tiled->zerosDecided = true;
         return tiled;
     }
+    std::unique_ptr<FrontEnd> ForProbe(vk::Context &context, Inputs &run, bool) const override {
+        return ForTiles(context, run);
+    }
 
     std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const override {
         std::vector<std::string> ignored;

@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <vector>
 
 #include "cpu_reference/exact_pixels.h"
 #include "cpu_reference/local_mean.h"
@@ -89,21 +92,10 @@ class Rhf : public FrontEndOf<RhfParams> {
         // each over its search window, a square); the restore of local means gives the
         // spikes' energy back, the rims and clusters take their input back after the filter.
         Image variance = ExactVariance(ExactLayersOf(inputs));
-        Image cut;
-        size_t spikes = 0;
-        std::vector<size_t> rims, clusters;
-        if (options.meanRadius > 0) {
-            cut = color;
-            spikes = CutSpikes(&cut, &variance);
-            // Without the variance layer the restore would take a cluster back as a
-            // highlight (by its neighbours) on top of the input it takes back.
-            if (Variance(inputs))
-                clusters =
-                    CutBrightClusters(color, Histograms(inputs), options.searchHalf, &cut);
-            Image spiked = cut;
-            rims = ManySampled(spiked, Histograms(inputs), variance,
-                               CutLightRims(&cut, variance), &cut);
-        }
+        Cuts cuts = decided ? CutAsDecided(inputs, variance, setup) : Cut(inputs, variance);
+        Image &cut = cuts.image;
+        const size_t spikes = cuts.spikes.size();
+        const std::vector<size_t> &rims = cuts.rims, &clusters = cuts.clusters;
         const bool anyCut = spikes > 0 || !rims.empty() || !clusters.empty();
         Result result = ResultOf(
             RhfDenoise(context, anyCut ? cut : color, Histograms(inputs), options, setup));
@@ -149,6 +141,45 @@ class Rhf : public FrontEndOf<RhfParams> {
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         return result;
+    }
+
+    // The probe cuts the run's rims and clusters, each from the probe's own colour, and gives
+    // them the probe's input back: a pixel near a cut's threshold does not flip between the
+    // run and the probe, which would read as a divergence (or a half0 difference) the run
+    // does not have. On half0 the run's spikes too; on the perturbed colour the probe finds
+    // its own (with the run's, SURE read rhf's error on caustic fireflies too low:
+    // docs/methods/auto.md).
+    std::unique_ptr<FrontEnd> ForProbe(vk::Context &, Inputs &run, bool onHalf) const override {
+        if (options.meanRadius <= 0) return nullptr;
+        auto probe = std::make_unique<Rhf>(*this);
+        std::vector<char> lights;
+        Cuts cuts = Cut(run, ExactVariance(ExactLayersOf(run)), &lights);
+        auto sets = std::make_shared<CutSets>();
+        sets->width = run.FrameWidth() > 0 ? run.FrameWidth() : run.Width();
+        sets->height = run.FrameHeight() > 0 ? run.FrameHeight() : run.Height();
+        auto toFrame = [&](const std::vector<size_t> &pixels) {
+            std::vector<size_t> frame;
+            for (size_t p : pixels)
+                frame.push_back(size_t(int(p / run.Width()) + run.OriginY()) * sets->width +
+                                size_t(int(p % run.Width()) + run.OriginX()));
+            return frame;
+        };
+        if (onHalf) sets->spikes = toFrame(cuts.spikes);
+        sets->clusters = toFrame(cuts.clusters);
+        sets->rims = toFrame(cuts.rims);
+        // The lights beside the rims, as the run told them.
+        std::vector<size_t> rimLights;
+        const int w = run.Width(), h = run.Height();
+        for (size_t p : cuts.rims)
+            for (int j = std::max(0, int(p / w) - 1); j <= std::min(h - 1, int(p / w) + 1); ++j)
+                for (int i = std::max(0, int(p % w) - 1); i <= std::min(w - 1, int(p % w) + 1);
+                     ++i)
+                    if (lights[size_t(j) * w + i]) rimLights.push_back(size_t(j) * w + i);
+        std::sort(rimLights.begin(), rimLights.end());
+        rimLights.erase(std::unique(rimLights.begin(), rimLights.end()), rimLights.end());
+        sets->rimLights = toFrame(rimLights);
+        probe->decided = std::move(sets);
+        return probe;
     }
 
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
@@ -247,6 +278,93 @@ class Rhf : public FrontEndOf<RhfParams> {
     }
 
   private:
+    // The colour with the cuts made and the pixels cut (ascending, of the window).
+    struct Cuts {
+        Image image;
+        std::vector<size_t> spikes, rims, clusters;
+    };
+    // The pixels a run cut, of its whole frame (ForProbe), and the lights beside its rims
+    // (which their medians leave out); spikes on half0 only: on the perturbed colour the
+    // probe finds its own.
+    struct CutSets {
+        int width = 0, height = 0;
+        std::optional<std::vector<size_t>> spikes;
+        std::vector<size_t> rims, clusters, rimLights;
+    };
+
+    // The cuts found on this colour (none with --rhf-mean-radius 0); `lights` (if given) set
+    // to which pixels the rims were found beside.
+    Cuts Cut(Inputs &inputs, const Image &variance, std::vector<char> *lights = nullptr) const {
+        Cuts cuts;
+        const Image &color = inputs.Get("color");
+        cuts.image = color;
+        if (options.meanRadius <= 0) return cuts;
+        CutSpikes(&cuts.image, &variance, &cuts.spikes);
+        // Without the variance layer the restore would take a cluster back as a highlight
+        // (by its neighbours) on top of the input it takes back.
+        if (Variance(inputs))
+            cuts.clusters =
+                CutBrightClusters(color, Histograms(inputs), options.searchHalf, &cuts.image);
+        Image spiked = cuts.image;
+        if (lights) *lights = Lights(spiked, variance);
+        cuts.rims = ManySampled(spiked, Histograms(inputs), variance,
+                                CutLightRims(&cuts.image, variance), &cuts.image);
+        return cuts;
+    }
+
+    // Which pixels of `color` are lights by `variance` (as CutLightRims tells them); none
+    // where the shapes differ.
+    static std::vector<char> Lights(const Image &color, const Image &variance) {
+        std::vector<char> light(color.PixelCount(), 0);
+        if (variance.width != color.width || variance.height != color.height) return light;
+        const Image sums = ChannelSums(color);
+        for (size_t p = 0; p < light.size(); ++p) light[p] = Light(variance, sums, p);
+        return light;
+    }
+
+    // The run's cuts (`decided`, of the whole frame) on this window's colour: each pixel takes
+    // the median of its neighbours as the run's cut does (a cluster's outside the cluster, a
+    // rim's of those the run told no lights), from this colour; the spikes its own where
+    // `decided` has none. The probe's variance (auto doubles it for SURE) decides nothing.
+    Cuts CutAsDecided(Inputs &inputs, const Image &variance, const RunSetup &setup) const {
+        Cuts cuts;
+        const Image &color = inputs.Get("color");
+        cuts.image = color;
+        const int w = color.width, h = color.height;
+        cuts.clusters = InWindow(decided->clusters, w, h, setup);
+        cuts.rims = InWindow(decided->rims, w, h, setup);
+        const size_t n = color.PixelCount();
+        if (decided->spikes) {
+            cuts.spikes = InWindow(*decided->spikes, w, h, setup);
+            TakeNeighbourMedians(color, cuts.spikes, std::vector<char>(n, 0), &cuts.image);
+        } else {
+            CutSpikes(&cuts.image, &variance, &cuts.spikes);
+        }
+        std::vector<char> inCluster(n, 0);
+        for (size_t p : cuts.clusters) inCluster[p] = 1;
+        TakeNeighbourMedians(color, cuts.clusters, inCluster, &cuts.image);
+        const Image spiked = cuts.image;
+        std::vector<char> light(n, 0);
+        for (size_t p : InWindow(decided->rimLights, w, h, setup)) light[p] = 1;
+        TakeNeighbourMedians(spiked, cuts.rims, light, &cuts.image);
+        return cuts;
+    }
+
+    // The pixels of `frame` (of the whole frame, as `decided`) within this w x h window.
+    std::vector<size_t> InWindow(const std::vector<size_t> &frame, int w, int h,
+                                 const RunSetup &setup) const {
+        std::vector<size_t> window;
+        for (size_t q : frame) {
+            const int x = int(q % decided->width) - setup.frameX0,
+                      y = int(q / decided->width) - setup.frameY0;
+            if (x >= 0 && x < w && y >= 0 && y < h) window.push_back(size_t(y) * w + x);
+        }
+        return window;
+    }
+
+    // Set by ForProbe: the run's cuts, which its probe makes on its own colour.
+    std::shared_ptr<const CutSets> decided;
+
     // The frame's variance layer for the restore's highlights, or null.
     static const Image *Variance(Inputs &inputs) {
         return inputs.Has("variance") ? &inputs.Get("variance") : nullptr;

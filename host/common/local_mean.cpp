@@ -486,7 +486,7 @@ bool RimAt(const Image &sums, const std::vector<char> &light, int w, int h, int 
 
 }  // namespace
 
-size_t CutSpikes(Image *color, const Image *variance) {
+size_t CutSpikes(Image *color, const Image *variance, std::vector<size_t> *pixels) {
     const int w = color->width, h = color->height;
     const size_t n = color->PixelCount();
     const Image sums = ChannelSums(*color);
@@ -532,7 +532,30 @@ size_t CutSpikes(Image *color, const Image *variance) {
     for (size_t k = 0; k < cut.size(); ++k)
         for (int c = 0; c < color->channels; ++c)
             color->Plane(c)[cut[k]] = medians[k * color->channels + c];
+    if (pixels) *pixels = cut;
     return cut.size();
+}
+
+void TakeNeighbourMedians(const Image &given, const std::vector<size_t> &pixels,
+                          const std::vector<char> &skipped, Image *cut) {
+    const int w = given.width, h = given.height;
+    for (size_t p : pixels) {
+        const int x = int(p % w), y = int(p / w);
+        for (int c = 0; c < given.channels; ++c) {
+            float values[8];
+            int count = 0;
+            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                    const size_t q = size_t(j) * w + i;
+                    if (q != p && !skipped[q]) values[count++] = given.Plane(c)[q];
+                }
+            if (count == 0 ||
+                !std::all_of(values, values + count, [](float v) { return std::isfinite(v); }))
+                continue;
+            std::nth_element(values, values + (count - 1) / 2, values + count);
+            cut->Plane(c)[p] = values[(count - 1) / 2];
+        }
+    }
 }
 
 std::vector<size_t> CutLightRims(Image *color, const Image &variance) {

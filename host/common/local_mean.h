@@ -145,7 +145,9 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
 // plane's edge beside a black background, which the filter spread into the black), and a
 // spike with none stays.
 constexpr double kSpike = 16, kSpikeMost = 512;
-size_t CutSpikes(Image *color, const Image *variance = nullptr);
+// `pixels`, when given, receives the pixels cut (ascending).
+size_t CutSpikes(Image *color, const Image *variance = nullptr,
+                 std::vector<size_t> *pixels = nullptr);
 
 // A small light's rim cut from a frame before such a filter, and given back after it (beyond
 // the papers). A pixel beside a small light's core that one of its few samples saw is no
@@ -166,6 +168,11 @@ size_t CutSpikes(Image *color, const Image *variance = nullptr);
 constexpr double kLightNoise = 0.01;
 constexpr int kSmallLight = 25, kRimReach = 2, kRimWindow = 4;
 std::vector<size_t> CutLightRims(Image *color, const Image &variance);
+// Each of `pixels` takes per channel the median (the lower middle) of its neighbours
+// within the frame not `skipped`, from `given` (rhf's probe makes its run's cuts so); one with
+// none, or with one not finite (no median: as a spike's cut), keeps its value.
+void TakeNeighbourMedians(const Image &given, const std::vector<size_t> &pixels,
+                          const std::vector<char> &skipped, Image *cut);
 // Each pixel's channels summed (in double, stored as float), NaN where the sum is not
 // finite; whether pixel p of those sums is a light as CutLightRims reads one (its sum finite
 // and > 0, its channels' variances summed at most (kLightNoise x its sum)^2).

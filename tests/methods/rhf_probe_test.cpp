@@ -1,0 +1,252 @@
+// auto's probe of rhf (FrontEnd::ForProbe): it cuts the pixels the run cut (lights' rims,
+// bright clusters, and on half0 the lone spikes), each from the probe's own colour, and gives
+// the rims and clusters the probe's input back; a perturbation that would flip a cut does not,
+// and on the run's own colour the probe is the run, bit for bit, whole and in tiles.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "harness/compare.h"
+#include "harness/frames.h"
+#include "harness/gpu_fixture.h"
+#include "harness/inputs.h"
+#include "host/api/device.h"
+#include "host/api/front_end.h"
+#include "host/api/registry.h"
+#include "host/api/tiled_run.h"
+#include "host/common/local_mean.h"
+#include "mcdenoise/mcdenoise.h"
+
+namespace mcd::test {
+namespace {
+
+class RhfProbe : public GpuTest {};
+
+// The count a plan's line starting with `prefix` states ("bright clusters: N pixels"), or -1.
+int CountIn(const Result &result, const std::string &prefix) {
+    for (const std::string &line : result.plan)
+        if (line.rfind(prefix, 0) == 0) return std::stoi(line.substr(prefix.size()));
+    return -1;
+}
+
+// The stage `name` of `result` (empty if none).
+Image StageOf(const Result &result, const std::string &name) {
+    for (const Stage &stage : result.stages)
+        if (stage.name == name) return stage.image;
+    return Image();
+}
+
+// A wall of 16 samples a pixel with a light's reflection of 4 pixels (1, 2, 1 and 3 samples
+// of 16 at 300 a channel, cut whole as a bright cluster) and a 3x3 light whose edge a wide
+// pixel filter spread, with a rim one sample saw beyond it (cut as a light's rim), and a
+// firefly one sample of 16 saw at 40 (cut as a lone spike).
+Frame ReflectionFrame() {
+    const int w = 48, h = 40;
+    std::mt19937_64 rng(SeedFromName("rhf probe cuts"));
+    std::uniform_real_distribution<double> wallSample(0.005, 0.0216);
+    auto reflection = [](int x, int y) {
+        const int dx = x - 12, dy = y - 12;
+        return dy == 0   ? (dx == 0   ? 1
+                            : dx == 1 ? 2
+                                      : 0)
+               : dy == 1 ? (dx == -1  ? 1
+                            : dx == 0 ? 3
+                                      : 0)
+                         : 0;
+    };
+    auto sample = [&](int x, int y, int s) {
+        if (s < reflection(x, y)) return 300.0;
+        if (x == 6 && y == 30 && s == 0) return 40.0;
+        const bool rows = y >= 26 && y <= 28;
+        if (rows && x >= 30 && x <= 32) return 10.0;
+        if (rows && (x == 29 || x == 33) && s < 8) return 10.0;
+        if (y == 27 && x == 28 && s == 0) return 10.0;
+        return wallSample(rng);
+    };
+    return SampledFrame(w, h, sample);
+}
+
+// The run's colour with two of the reflection's pixels and the firefly at their wall's level:
+// the probe's noise there would leave a cluster of 2, which is not cut, and no firefly.
+Image FlippedColour(const Frame &frame) {
+    Image color = frame.Get("color");
+    for (int c = 0; c < 3; ++c)
+        color.At(c, 12, 12) = color.At(c, 13, 11) = color.At(c, 30, 6) = 0.0133f;
+    return color;
+}
+
+TEST_F(RhfProbe, KeepsTheRunsCutsWhereThePerturbationWouldFlipThem) {
+    const Frame frame = ReflectionFrame();
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    api::Inputs inputs(frame, false, "rhf");
+    RunOptions keep;
+    keep.keepStages = true;
+    const Result run = api::RunTiled(Ctx(), *rhf, inputs, keep);
+    const int clusters = CountIn(run, "bright clusters: "),
+              rims = CountIn(run, "lights' rims: ");
+    ASSERT_EQ(clusters, 4);
+    ASSERT_GT(rims, 0);
+    ASSERT_EQ(CountIn(run, "spikes: "), 1);
+    std::unique_ptr<api::FrontEnd> onHalf = rhf->ForProbe(Ctx(), inputs, true),
+                                   onPerturbed = rhf->ForProbe(Ctx(), inputs, false);
+    ASSERT_NE(onHalf, nullptr);
+    ASSERT_NE(onPerturbed, nullptr);
+
+    const Image flipped = FlippedColour(frame);
+    inputs.Override("color", flipped);
+    // Alone the flipped colour cuts no cluster, and the reflection's other two pixels as
+    // spikes: the test tells the probe's cuts apart.
+    const Result alone = api::RunTiled(Ctx(), *rhf, inputs, keep);
+    EXPECT_EQ(CountIn(alone, "bright clusters: "), 0);
+    const int ownSpikes = CountIn(alone, "spikes: ");
+    EXPECT_EQ(ownSpikes, 2);
+    for (const auto *probe : {onHalf.get(), onPerturbed.get()}) {
+        const bool half = probe == onHalf.get();
+        SCOPED_TRACE(half ? "on half0" : "on the perturbed colour");
+        const Result probed = api::RunTiled(Ctx(), *probe, inputs, keep);
+        EXPECT_EQ(CountIn(probed, "bright clusters: "), clusters);
+        EXPECT_EQ(CountIn(probed, "lights' rims: "), rims);
+        EXPECT_EQ(CountIn(probed, "spikes: "), half ? 1 : ownSpikes);
+        // Each of the run's cluster pixels takes the probe's input back after the filter.
+        const Image given = StageOf(probed, "exact pixels");
+        ASSERT_TRUE(given.SameShape(flipped));
+        for (auto [x, y] : {std::pair{12, 12}, {13, 12}, {11, 13}, {12, 13}})
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(given.At(c, y, x), flipped.At(c, y, x))
+                    << x << ", " << y << " c" << c;
+    }
+}
+
+// On the run's own colour the probe cuts what the run cuts, to the same bits, untiled and
+// in tiles of 20 (the sets are the frame's, mapped per window; a tile's window reaches past
+// its seams to the cuts of its neighbours).
+TEST_F(RhfProbe, OnTheRunsColourIsTheRunBitForBit) {
+    const Frame frame = ReflectionFrame();
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    api::Inputs inputs(frame, false, "rhf");
+    const Result run = api::RunTiled(Ctx(), *rhf, inputs, RunOptions());
+    RunOptions tiles;
+    tiles.tileSize = 20;
+    for (bool onHalf : {true, false}) {
+        SCOPED_TRACE(onHalf ? "on half0" : "on the perturbed colour");
+        std::unique_ptr<api::FrontEnd> probe = rhf->ForProbe(Ctx(), inputs, onHalf);
+        ASSERT_NE(probe, nullptr);
+        EXPECT_TRUE(
+            BitIdentical(run.image, api::RunTiled(Ctx(), *probe, inputs, RunOptions()).image));
+        const Result tiled = api::RunTiled(Ctx(), *probe, inputs, tiles);
+        ASSERT_FALSE(tiled.plan.empty());
+        EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
+        EXPECT_TRUE(BitIdentical(run.image, tiled.image)) << "in tiles of 20";
+    }
+}
+
+// auto's probe doubles the variance (a half's mean, SURE's probe): the lights beside the run's
+// rims stay the run's. The light's edge column beside the rim is made a light whose variance is
+// within its bound but not within twice it; told from the doubled variance, the rim's median
+// would take one of them and the filter's output near it would move.
+TEST_F(RhfProbe, TheRimsLightsAreTheRunsUnderTheDoubledVariance) {
+    Frame frame = ReflectionFrame();
+    Image &variance = frame.layers["variance"];
+    for (int y = 26; y <= 28; ++y) {
+        const double sum = frame.Get("color").At(0, y, 29) + frame.Get("color").At(1, y, 29) +
+                           frame.Get("color").At(2, y, 29);
+        for (int c = 0; c < 3; ++c) variance.At(c, y, 29) = float(0.3 * 0.0001 * sum * sum);
+    }
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    api::Inputs inputs(frame, false, "rhf");
+    RunOptions keep;
+    keep.keepStages = true;
+    const Result run = api::RunTiled(Ctx(), *rhf, inputs, keep);
+    ASSERT_GT(CountIn(run, "lights' rims: "), 0);
+    Image doubled = variance;
+    for (float &v : doubled.data) v *= 2;
+    for (bool onHalf : {true, false}) {
+        SCOPED_TRACE(onHalf ? "on half0" : "on the perturbed colour");
+        std::unique_ptr<api::FrontEnd> probe = rhf->ForProbe(Ctx(), inputs, onHalf);
+        ASSERT_NE(probe, nullptr);
+        api::Inputs probed(frame, false, "rhf");
+        probed.Override("variance", doubled);
+        const Result result = api::RunTiled(Ctx(), *probe, probed, keep);
+        EXPECT_EQ(CountIn(result, "lights' rims: "), CountIn(run, "lights' rims: "));
+        // Zero variance stays zero: before the local mean the variance tells nothing else.
+        EXPECT_TRUE(
+            BitIdentical(StageOf(run, "exact pixels"), StageOf(result, "exact pixels")));
+    }
+}
+
+// A cut pixel takes its neighbours' median, those skipped left out; one with a neighbour not
+// finite (no median) keeps its value, per channel. (Inputs replace NaN with 0 before a
+// method reads them: this is the step alone.)
+TEST(RhfProbeMedians, SkipTheSkippedAndLeaveAPixelBesideANaN) {
+    Image given(4, 3, 2);
+    std::mt19937_64 rng(SeedFromName("rhf probe medians"));
+    std::uniform_real_distribution<float> value(0.f, 1.f);
+    for (float &v : given.data) v = value(rng);
+    given.At(1, 0, 0) = NAN;
+    std::vector<char> skipped(given.PixelCount(), 0);
+    skipped[2] = 1;
+    // (1, 1) beside the NaN in channel 1; (2, 1) beside neither; (3, 2) at the corner.
+    const std::vector<size_t> pixels = {5, 6, 11};
+    Image cut = given;
+    TakeNeighbourMedians(given, pixels, skipped, &cut);
+    for (size_t p : pixels)
+        for (int c = 0; c < 2; ++c) {
+            const int x = int(p % 4), y = int(p / 4);
+            std::vector<float> values;
+            bool finite = true;
+            for (int j = std::max(0, y - 1); j <= std::min(2, y + 1); ++j)
+                for (int i = std::max(0, x - 1); i <= std::min(3, x + 1); ++i)
+                    if ((i != x || j != y) && !skipped[size_t(j) * 4 + i]) {
+                        values.push_back(given.At(c, j, i));
+                        finite = finite && std::isfinite(values.back());
+                    }
+            std::sort(values.begin(), values.end());
+            const float want = finite ? values[(values.size() - 1) / 2] : given.At(c, y, x);
+            EXPECT_EQ(cut.At(c, y, x), want) << x << ", " << y << " c" << c;
+        }
+    // The NaN's neighbour keeps its value in channel 1 only; the others all take medians.
+    EXPECT_EQ(cut.At(1, 1, 1), given.At(1, 1, 1));
+    EXPECT_NE(cut.At(0, 1, 1), given.At(0, 1, 1));
+    EXPECT_TRUE(std::isnan(cut.At(1, 0, 0)));
+}
+
+class AutoProbeOfRhf : public GpuTest {};
+
+// auto runs rhf's probe with the run's cuts: on the perturbed colour (SURE on the variance
+// layer) its plan states the run's clusters and rims, though the probe's doubled variance and
+// its noise would decide its own.
+TEST_F(AutoProbeOfRhf, KeepsTheRunsCuts) {
+    const Frame frame = ReflectionFrame();
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    automatic.Set("auto-candidates", std::string("rhf"));
+    const Result result = automatic.Run(device, frame);
+    std::string plan;
+    for (const std::string &line : result.plan) plan += line + "\n";
+    auto count = [&](const std::string &prefix) {
+        for (const std::string &line : result.plan)
+            if (line.rfind(prefix, 0) == 0) return std::stoi(line.substr(prefix.size()));
+        return -1;
+    };
+    ASSERT_EQ(count("rhf: bright clusters: "), 4) << plan;
+    EXPECT_EQ(count("rhf (probe): bright clusters: "), 4) << plan;
+    EXPECT_EQ(count("rhf (probe): lights' rims: "), count("rhf: lights' rims: ")) << plan;
+}
+
+// Without the cuts (--rhf-mean-radius 0) the probe runs as the run does.
+TEST_F(RhfProbe, NoneWithoutCuts) {
+    const Frame frame = ReflectionFrame();
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    rhf->Set("rhf-mean-radius", 0);
+    api::Inputs inputs(frame, false, "rhf");
+    EXPECT_EQ(rhf->ForProbe(Ctx(), inputs, true), nullptr);
+    EXPECT_EQ(rhf->ForProbe(Ctx(), inputs, false), nullptr);
+}
+
+}  // namespace
+}  // namespace mcd::test
