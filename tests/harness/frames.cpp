@@ -36,6 +36,12 @@ Frame SampledFrame(int w, int h, const std::function<double(int, int, int)> &sam
     return frame;
 }
 
+int ReflectionSamplesAt(int dx, int dy) {
+    if (dy == 0) return dx == 0 ? 1 : dx == 1 ? 2 : 0;
+    if (dy == 1) return dx == -1 ? 1 : dx == 0 ? 3 : 0;
+    return 0;
+}
+
 HistogramFloor::HistogramFloor(int w, int h)
     : color(w, h, 3, 0.0133f), hist(w, h, 3 * kBins + 1) {
     for (int y = 0; y < h; ++y)

@@ -23,6 +23,10 @@ inline Frame ColorAndVariance(const Image &color, const Image &variance) {
 Frame SampledFrame(int w, int h, const std::function<double(int, int, int)> &sample,
                    int spp = 16);
 
+// How many of 16 samples a light's reflection in chrome gives the pixel at (dx, dy) from it:
+// 1 and 2 in its row, 1 and 3 below (as glossy_lights' sphere reflects a bulb), else 0.
+int ReflectionSamplesAt(int dx, int dy);
+
 // A flat floor of 0.0133 a colour whose 16 samples a pixel fell in the second of rhf's 20
 // bins a colour (the count last), on which Bright() gives a pixel bright samples.
 struct HistogramFloor {

@@ -87,16 +87,7 @@ TEST_F(RhfClusters, ALightsReflectionOfSeveralSamplesDrawsNoSquare) {
     const int w = 48, h = 48, cx = 24, cy = 24;
     std::mt19937_64 rng(SeedFromName("rhf clusters reflection"));
     std::uniform_real_distribution<double> wallSample(0.005, 0.0216);
-    auto seen = [&](int x, int y) {
-        const int dx = x - cx, dy = y - cy;
-        return dy == 0   ? (dx == 0   ? 1
-                            : dx == 1 ? 2
-                                      : 0)
-               : dy == 1 ? (dx == -1  ? 1
-                            : dx == 0 ? 3
-                                      : 0)
-                         : 0;
-    };
+    auto seen = [&](int x, int y) { return ReflectionSamplesAt(x - cx, y - cy); };
     Frame frame = SampledFrame(
         w, h, [&](int x, int y, int s) { return s < seen(x, y) ? 300.0 : wallSample(rng); });
     const Image &color = frame.Get("color");

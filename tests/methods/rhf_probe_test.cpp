@@ -49,16 +49,7 @@ Frame ReflectionFrame() {
     const int w = 48, h = 40;
     std::mt19937_64 rng(SeedFromName("rhf probe cuts"));
     std::uniform_real_distribution<double> wallSample(0.005, 0.0216);
-    auto reflection = [](int x, int y) {
-        const int dx = x - 12, dy = y - 12;
-        return dy == 0   ? (dx == 0   ? 1
-                            : dx == 1 ? 2
-                                      : 0)
-               : dy == 1 ? (dx == -1  ? 1
-                            : dx == 0 ? 3
-                                      : 0)
-                         : 0;
-    };
+    auto reflection = [](int x, int y) { return ReflectionSamplesAt(x - 12, y - 12); };
     auto sample = [&](int x, int y, int s) {
         if (s < reflection(x, y)) return 300.0;
         if (x == 6 && y == 30 && s == 0) return 40.0;
