@@ -472,7 +472,10 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
                     for (int u = x - 1; u <= x + 1; ++u)
                         if (u >= 0 && v >= 0 && u < w && v < h && group[size_t(v) * w + u] != g)
                             values.push_back(input.At(c, v, u));
-                if (values.empty()) continue;
+                // A value that is not finite has no order: the pixel keeps its input.
+                if (values.empty() || !std::all_of(values.begin(), values.end(),
+                                                   [](float v) { return std::isfinite(v); }))
+                    continue;
                 std::sort(values.begin(), values.end());
                 color->At(c, y, x) = values[(values.size() - 1) / 2];
             }

@@ -710,20 +710,7 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
     }
     std::sort(cut.begin(), cut.end());
     // Each takes its neighbours' median outside the cluster, from the frame as given.
-    for (size_t p : cut) {
-        const int x = int(p % w), y = int(p / w);
-        for (int c = 0; c < input.channels; ++c) {
-            float values[8];
-            int count = 0;
-            for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
-                for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i)
-                    if (!inCluster[size_t(j) * w + i])
-                        values[count++] = input.Plane(c)[size_t(j) * w + i];
-            if (count == 0) continue;
-            std::nth_element(values, values + (count - 1) / 2, values + count);
-            color->Plane(c)[p] = values[(count - 1) / 2];
-        }
-    }
+    TakeNeighbourMedians(input, cut, inCluster, color);
     return cut;
 }
 

@@ -168,9 +168,9 @@ size_t CutSpikes(Image *color, const Image *variance = nullptr,
 constexpr double kLightNoise = 0.01;
 constexpr int kSmallLight = 25, kRimReach = 2, kRimWindow = 4;
 std::vector<size_t> CutLightRims(Image *color, const Image &variance);
-// Each of `pixels` takes per channel the median (the lower middle) of its neighbours
-// within the frame not `skipped`, from `given` (rhf's probe makes its run's cuts so); one with
-// none, or with one not finite (no median: as a spike's cut), keeps its value.
+// Each of `pixels` takes per channel the median (the lower middle) of its neighbours within
+// the frame not `skipped`, from `given` (a bright cluster's cut; rhf's probe making its run's
+// cuts); one with none, or with one not finite (no median: as a spike's cut), keeps its value.
 void TakeNeighbourMedians(const Image &given, const std::vector<size_t> &pixels,
                           const std::vector<char> &skipped, Image *cut);
 // Each pixel's channels summed (in double, stored as float), NaN where the sum is not
