@@ -276,6 +276,33 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
             if (s > 0.5 * k * mean && neighbours >= 2 && sample <= 0.5 * m)
                 sparse[size_t(y) * w + x] = 1;
         }
+    // A two-pixel reflection's dimmer pixel: the only neighbour over its window of a sparse
+    // light, not a highlight, with a sum no larger than the light's and a largest sample at
+    // most a quarter of the light's.
+    auto sampleSum = [&](int x, int y) {
+        float s = 0;
+        for (int c = 0; c < maxSample.channels; ++c) s += maxSample.At(c, y, x);
+        return s;
+    };
+    std::vector<char> partner(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!sparse[size_t(y) * w + x]) continue;
+            int over = 0, px = -1, py = -1;
+            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                    if ((u != x || v != y) && overWindow(u, v)) {
+                        ++over;
+                        px = u;
+                        py = v;
+                    }
+            if (over != 1 || (*highlight)[size_t(py) * w + px] || sparse[size_t(py) * w + px])
+                continue;
+            if (sum.At(0, py, px) <= sum.At(0, y, x) &&
+                sampleSum(px, py) <= 0.25 * sampleSum(x, y))
+                partner[size_t(py) * w + px] = 1;
+        }
+    for (size_t p = 0; p < partner.size(); ++p) sparse[p] |= partner[p];
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             if (!sparse[size_t(y) * w + x]) continue;

@@ -150,7 +150,8 @@ class Awr : public FrontEndOf<AwrSettings> {
                     "light's reflection few samples saw), or over {} x the mean with at least "
                     "{} "
                     "of 8 neighbours over k x their medians and that sample at most {} x (a "
-                    "glint's streak), taken out as highlights too",
+                    "glint's streak), and a two-pixel reflection's dimmer pixel beside one, "
+                    "taken out as highlights too",
                     split.sparse, options.highlights, kSparseLightSampleRatio,
                     kStreakMeanShare * options.highlights, kStreakNeighbours,
                     kStreakSampleRatio));

@@ -585,6 +585,55 @@ TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
     EXPECT_TRUE(said) << ::testing::PrintToString(off.plan);
 }
 
+// A light's reflection two pixels tall (issue 29, the pair at (98, 114-115) of the accumulated
+// glossy_lights): the brighter pixel, one sample of 16 saw, is a sparse light; the other, one
+// sample of the reflection's faint edge, is under 8 x the frame's mean and beside only that
+// one bright pixel, so no rule took it out, and awr spread it into the floor below: the 9x9
+// window worse than the input. The sparse light's one bright neighbour, no brighter than it
+// and its sample under a quarter of the light's, keeps its input. A caustic's pair, the
+// dimmer pixel's sample the light's whole value, is still spread, as is the firefly.
+TEST_F(HighlightsAwr, ATwoPixelReflectionIsNotSpread) {
+    LoneReflection pair("highlights awr two-pixel reflection");
+    const int w = pair.w;
+    const Pixel top = pair.reflection, bottom{top.x, top.y + 1};
+    const Pixel causticTop{40, 96}, causticBottom{40, 97};
+    for (auto [p, value, sample, reference] : {std::tuple{bottom, 6.f, 96.f, 5.f},
+                                               {causticTop, 500.f / 16, 500.f, 0.05f},
+                                               {causticBottom, 6.f, 500.f, 0.05f}})
+        for (int c = 0; c < 3; ++c) {
+            pair.color.At(c, p.y, p.x) = value;
+            pair.variance.At(c, p.y, p.x) = value * value;
+            pair.maxSample.At(c, p.y, p.x) = sample;
+            pair.truth.At(c, p.y, p.x) = reference;
+        }
+    const Image &color = pair.color, &variance = pair.variance, &maxSample = pair.maxSample;
+    const double mean = HighlightFrameMean(color);
+    ASSERT_GT(3 * color.At(0, top.y, top.x), 16 * mean) << "the top pixel, a sparse light";
+    ASSERT_LT(3 * color.At(0, bottom.y, bottom.x), 8 * mean) << "the bottom one, not";
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 3u);
+    auto marked = [&](Pixel p) { return split.highlight[size_t(p.y) * w + p.x] != 0; };
+    EXPECT_TRUE(marked(top) && marked(bottom) && marked(causticTop));
+    EXPECT_FALSE(marked(causticBottom)) << "the caustic's pair";
+    EXPECT_FALSE(marked(pair.firefly));
+    ExpectSparseSplitMatchesTwin(split, color, variance, maxSample);
+
+    Frame frame = ColorAndVariance(color, variance);
+    frame.layers["max"] = maxSample;
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    const double input = WindowRelMse(color, pair.truth, top.x - 4, top.y - 3);
+    EXPECT_LE(WindowRelMse(out.image, pair.truth, top.x - 4, top.y - 3), input);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_LT(out.image.At(c, causticBottom.y, causticBottom.x),
+                  0.75f * color.At(c, causticBottom.y, causticBottom.x))
+            << "the caustic's pair is no longer spread";
+        EXPECT_LT(out.image.At(c, pair.firefly.y, pair.firefly.x),
+                  0.5f * color.At(c, pair.firefly.y, pair.firefly.x))
+            << "the firefly is no longer spread";
+    }
+}
+
 // A glossy surface's reflection of a light one sample per pixel saw (a streak of glints on
 // the edge of a floor, issue 29): each glint under 16 x the frame's mean, so no sparse light by
 // that rule, and awr spread the streak across the edge into the dark side, its 9x9 window
