@@ -277,8 +277,7 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
                 sparse[size_t(y) * w + x] = 1;
         }
     // A two-pixel reflection's dimmer pixel: the only neighbour over its window of a sparse
-    // light, not a highlight, with a sum no larger than the light's and a largest sample at
-    // most a quarter of the light's.
+    // light, not a highlight, with a largest sample at most a quarter of the light's.
     auto sampleSum = [&](int x, int y) {
         float s = 0;
         for (int c = 0; c < maxSample.channels; ++c) s += maxSample.At(c, y, x);
@@ -298,9 +297,7 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
                     }
             if (over != 1 || (*highlight)[size_t(py) * w + px] || sparse[size_t(py) * w + px])
                 continue;
-            if (sum.At(0, py, px) <= sum.At(0, y, x) &&
-                sampleSum(px, py) <= 0.25 * sampleSum(x, y))
-                partner[size_t(py) * w + px] = 1;
+            if (sampleSum(px, py) <= 0.25 * sampleSum(x, y)) partner[size_t(py) * w + px] = 1;
         }
     for (size_t p = 0; p < partner.size(); ++p) sparse[p] |= partner[p];
     for (int y = 0; y < h; ++y)
