@@ -247,12 +247,13 @@ float SumAt(const Image &image, size_t p) {
 // A two-pixel reflection of a light few samples saw: its brighter pixel is a sparse light, and
 // the other, which fewer samples saw, is under k times the frame's mean; the filter spread it
 // into the dark pixels beside it. A sparse light in `sparse` (pixels in row order) whose one
-// neighbour over its window is not a highlight and has a largest sample at most
-// kPartnerSampleRatio times the light's takes that neighbour in. The partners, found in the
-// order of their lights, join `sparse`, sorted again. A sparse light with more such neighbours
-// is a streak's or a light's rim, whose dim pixels are noise. (A partner brighter than its
-// light would be over k times the mean and, not a sparse light itself, have a largest sample
-// over kSparseLightSampleRatio times the highlights': the sample test refuses it.)
+// neighbour over its window has no other such neighbour, is not a highlight and has a largest
+// sample at most kPartnerSampleRatio times the light's takes that neighbour in. The partners,
+// found in the order of their lights, join `sparse`, sorted again. A sparse light or partner
+// with more such neighbours is on a streak, a line or a light's rim, whose dim pixels are
+// noise. (A partner brighter than its light would be over k times the mean and, not a sparse
+// light itself, have a largest sample over kSparseLightSampleRatio times the highlights': the
+// sample test refuses it.)
 void AddReflectionPartners(const Image &color, const Image &maxSample,
                            const HighlightSplit &split, std::vector<size_t> *sparse) {
     const int w = color.width, h = color.height;
@@ -265,7 +266,9 @@ void AddReflectionPartners(const Image &color, const Image &maxSample,
         for (int v = std::max(0, qy - 1); v <= std::min(h - 1, qy + 1); ++v)
             for (int u = std::max(0, qx - 1); u <= std::min(w - 1, qx + 1); ++u) {
                 const size_t p = size_t(v) * w + u;
-                if (p == q || !split.overWindow[p] || split.highlight[p] || taken[p]) continue;
+                if (p == q || !split.overWindow[p] || split.highlight[p] || taken[p] ||
+                    MarkedNeighbours(split.overWindow, w, h, u, v) != 1)
+                    continue;
                 if (!(SumAt(maxSample, p) <= kPartnerSampleRatio * SumAt(maxSample, q)))
                     continue;
                 taken[p] = 1;

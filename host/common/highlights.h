@@ -82,10 +82,11 @@ constexpr double kPartnerSampleRatio = 0.25;
 // (HighlightSampleMedian of the whole frame, so a tile compares with the frame's lights; < 0:
 // that of the split's own highlights), becomes a highlight: reconstructed at its window's
 // medians, given its input back after. So does a two-pixel reflection's dimmer pixel: the one
-// neighbour over its window (and the floor) of such a pixel, not a highlight, with its largest
-// sample at most kPartnerSampleRatio times that pixel's. Nothing with a `lightSample` of 0 (no
-// highlights to compare with); returns how many it added (also counted in split->count and
-// split->sparse).
+// neighbour over its window (and the floor) of such a pixel, with no other neighbour so itself
+// (a sparse light's or its partner's other such neighbours are a streak's, a line's or a light
+// rim's), not a highlight, with its largest sample at most kPartnerSampleRatio times that
+// pixel's. Nothing with a `lightSample` of 0 (no highlights to compare with); returns how many
+// it added (also counted in split->count and split->sparse).
 size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
                        double k, int r, double lightSample, HighlightSplit *split);
 
