@@ -63,8 +63,8 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 // pixels whose channels' sum (as a float) is > 0 and > 16 x the median (lower middle) of
 // their in-image neighbours' sums (none where one is not finite), joined by each pixel that
 // is not such but has b >= 0.5 (below) and touches 2 or more such groups of 2 or more pixels
-// whose every pixel has b >= 0.5. A group of 3 or more pixels
-// within a 3x3 box, each with n > 0 samples (the histograms' last channel) and b <= 0.3 n (b:
+// within a 2x2 box whose every pixel has b >= 0.5. A group of 3 or more pixels within a 3x3
+// box, each with n > 0 samples (the histograms' last channel) and b <= 0.3 n (b:
 // the most samples in the last two bins over its colours), cluster sum k = round(sum b) >= 2,
 // is cut when, with a = the sum of b (0 for pixels without samples) over the m pixels within
 // searchHalf of the group's box but outside the box grown by 1 and t = max(k, round(k + a)),

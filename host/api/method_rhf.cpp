@@ -383,11 +383,16 @@ class Rhf : public FrontEndOf<RhfParams> {
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
 
     // How far the cuts read. A cluster's cut reads its search window (kClusterSpan - 1 and
-    // searchHalf beyond a pixel) and, to tell it from a longer run, its pixels up to
-    // kClusterSpan away with their neighbours; a spike's cut reads 2 pixels. The rims are
-    // found on the cut colour, their 9x9 window of lights (kRimWindow) read after those cuts.
+    // searchHalf beyond a pixel) and, to tell it from a longer run, whether the pixels up to
+    // kClusterSpan away are over (their neighbours, 1 more) or bridge two groups: a bridge
+    // reads its neighbours (1), and whether the group a neighbour is in can be bridged, which
+    // spans less than kClusterSpan: its pixels up to kClusterSpan - 1 from that neighbour tell
+    // it ends, with their neighbours (1): kClusterSpan + 1 + kClusterSpan - 1 + 1 in all. A
+    // spike's cut reads 2 pixels. The rims are found on the cut colour, their 9x9 window of
+    // lights (kRimWindow) read after those cuts.
     int CutReach() const {
-        const int clusters = std::max(kClusterSpan + 1, kClusterSpan - 1 + options.searchHalf);
+        const int clusters =
+            std::max(2 * kClusterSpan + 1, kClusterSpan - 1 + options.searchHalf);
         return kRimWindow + std::max(2, clusters);
     }
 

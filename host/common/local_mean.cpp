@@ -653,7 +653,8 @@ std::vector<size_t> ClusterAt(const std::vector<char> &over, int w, int h, size_
 // `over` with the bridges added: a pixel that is not over but holds a bright sample (its count
 // rounds to 1 or more: the histograms' rescale leaves it a little under 1), beside
 // kBridgedGroups or more groups of `over` (8-connected) of at least kBridgedSize pixels each
-// holding one (CutBrightClusters).
+// holding one, spanning less than kClusterSpan (CutBrightClusters). The span bounds how far
+// a join reads: a longer group's bridge would depend on the whole of it.
 std::vector<char> JoinBridged(const Image &histograms, const std::vector<char> &over, int w,
                               int h) {
     const size_t n = over.size();
@@ -665,11 +666,16 @@ std::vector<char> JoinBridged(const Image &histograms, const std::vector<char> &
         if (!over[p] || seen[p]) continue;
         const std::vector<size_t> group = ClusterAt(over, w, h, p, &seen);
         bool bright = group.size() >= size_t(kBridgedSize);
+        int x0 = w, x1 = -1, y0 = h, y1 = -1;
         for (size_t q : group) {
             label[q] = int(bridgeable.size());
             bright = bright && BrightSamples(histograms, q) >= 0.5;
+            const int x = int(q % w), y = int(q / w);
+            x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y),
+            y1 = std::max(y1, y);
         }
-        bridgeable.push_back(bright);
+        bridgeable.push_back(bright && x1 - x0 + 1 < kClusterSpan &&
+                             y1 - y0 + 1 < kClusterSpan);
     }
     std::vector<char> joined = over;
     ParallelFor(h, n * 16, [&](int begin, int end) {

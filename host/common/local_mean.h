@@ -205,7 +205,8 @@ bool Light(const Image &variance, const Image &sums, size_t p);
 // enough: fireflies on a heavy-tailed texture make such pairs. A pixel that holds a bright
 // sample but is not over kSpike times its neighbours' median joins the groups it touches when
 // they are kBridgedGroups or more of at least kBridgedSize pixels, each of which holds a bright
-// sample: its bright neighbours lift its median, so the measure splits a small caustic at its
+// sample, spanning less than kClusterSpan (a longer one would make the joined cluster too long
+// to cut, and its join would read the whole of it): its bright neighbours lift its median, so the measure splits a small caustic at its
 // middle into pairs (two lone fireflies with a pixel between them stay apart). Each pixel of a
 // cluster cut takes per channel the median of its neighbours outside the cluster (from
 // `input`, the frame as given) in `color`; the caller gives them their input back after the
