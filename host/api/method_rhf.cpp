@@ -121,10 +121,13 @@ class Rhf : public FrontEndOf<RhfParams> {
                      "window's (binomial tail under {}) and at least the rest of it, take "
                      "their other neighbours' median before the filter and their input back "
                      "after it; {} more in clusters joined by a pixel with a bright sample "
-                     "under {} times (a soft caustic split at its middle) take it too, and the "
-                     "local mean gives their energy back{}",
+                     "under {} times that touches {} or more groups of {} or more over pixels "
+                     "each with a bright sample, spanning less than {} (a soft caustic split "
+                     "at its middle), take that median before the filter too, but not their "
+                     "input back: the local mean gives their energy back{}",
                      clusters.size(), kClusterLeast, kClusterSpan, kClusterSpan, kSpike,
-                     kClusterShare, kClusterLevel, cuts.bridged.size(), kSpike,
+                     kClusterShare, kClusterLevel, cuts.bridged.size(), kSpike, kBridgedGroups,
+                     kBridgedSize, kClusterSpan,
                      Variance(inputs) ? "" : " (none: the frame has no variance layer)")});
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
         GiveBack(color, rims, &result.image);
