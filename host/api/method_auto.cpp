@@ -122,6 +122,13 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "as half1 says it lowers the error, the output's mean kept to 0.99 of "
                     "the input's (halves), or keep it whole (off)",
                     &O::meanCheck, {"halves", "off"}),
+        ChoiceParam("auto-mean-lift",
+                    "with --auto-mean-check halves, how the output is brought to 0.99 of the "
+                    "input's mean where the checked restore leaves it below: restore (more of "
+                    "the restore, the same share everywhere) or gain (the checked output "
+                    "times one gain, which moves no light between pixels; at most what the "
+                    "whole restore adds)",
+                    &O::meanLift, {"restore", "gain"}),
         ChoiceParam("auto-plain",
                     "on a frame with albedo and normals and without statistics (no variance "
                     "layer, half-buffers, histograms nor min/max/spp, as most renderers "
@@ -994,13 +1001,17 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         RestoreCheck kept =
             RestoreLocalMeansChecked(color, half0, estimate.half1, combinedFull, combinedHalf,
                                      options.meanRadius, variance, kLocalMeanRebalanceAuto,
-                                     options.radius / 2, kRestoreCheckFloor, &result.image);
+                                     options.radius / 2, kRestoreCheckFloor, &result.image,
+                                     options.meanLift == "gain");
+        std::string lift = options.meanLift == "gain"
+                               ? fmt::format("times {:.4f}", kept.gain)
+                               : fmt::format("{:.2f} of the rest", kept.lift);
         plan.push_back(fmt::format(
             "auto: local mean: {}; kept per {}x{} tent as far as half1 says it lowers the "
             "error of the same combination of the half0 runs (mean share {:.2f}), then "
-            "{:.2f} of the rest for {} of the input's mean (--auto-mean-check off: whole)",
+            "{} for {} of the input's mean (--auto-mean-check off: whole)",
             kept.restore, 2 * (options.radius / 2) * 2 + 1, 2 * (options.radius / 2) * 2 + 1,
-            kept.meanShare, kept.lift, kRestoreCheckFloor));
+            kept.meanShare, lift, kRestoreCheckFloor));
     } else if (options.meanRadius > 0) {
         plan.push_back("auto: local mean: " +
                        RestoreLocalMeansRebalanced(color, options.meanRadius, &result.image,

@@ -893,7 +893,7 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
                                       const Image &half1, const Image &combined,
                                       const Image &combinedHalf, int r, const Image *variance,
                                       double rebalance, int s, double floorShare,
-                                      Image *output) {
+                                      Image *output, bool gainLift) {
     if (!half0.SameShape(input) || !half1.SameShape(input) || !combined.SameShape(input) ||
         !combinedHalf.SameShape(input))
         throw Error(
@@ -923,14 +923,18 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
         }
     }
     check.meanShare = n ? total / double(n) : 1;
-    if (checked < floorShare * in && rest > 0)
-        check.lift = std::min(1.0, (floorShare * in - checked) / rest);
+    if (checked < floorShare * in && rest > 0) {
+        if (gainLift && checked > 0)
+            check.gain = std::min(floorShare * in, checked + rest) / checked;
+        else if (!gainLift)
+            check.lift = std::min(1.0, (floorShare * in - checked) / rest);
+    }
     *output = combined;
     for (size_t i = 0; i < n; ++i) {
         double t = share[i] + check.lift * (1 - share[i]);
         for (int c = 0; c < input.channels; ++c) {
             double a = combined.data[c * n + i], b = restored.data[c * n + i];
-            output->data[c * n + i] = float(a + t * (b - a));
+            output->data[c * n + i] = float(check.gain * (a + t * (b - a)));
         }
     }
     return check;

@@ -979,6 +979,25 @@ TEST(LocalMeanProperties, RestoreCheckKeepsWhatHalfOneConfirms) {
     for (float v : output.data) mean += v;
     mean /= double(output.Size());
     EXPECT_NEAR(mean, kRestoreCheckFloor * 0.5, 1e-5);
+
+    // The gain lifts the checked output as a whole: every value times one gain, the mean
+    // the same share of the input's, and the restore's share as it was.
+    Image gained;
+    RestoreCheck gain =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, 0, &output);
+    RestoreCheck raised =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, kRestoreCheckFloor, &gained, true);
+    EXPECT_EQ(raised.lift, 0);
+    EXPECT_EQ(raised.meanShare, gain.meanShare);
+    EXPECT_GT(raised.gain, 1);
+    double gainedMean = 0;
+    for (size_t i = 0; i < gained.data.size(); ++i) {
+        EXPECT_NEAR(gained.data[i], raised.gain * output.data[i], 1e-6);
+        gainedMean += gained.data[i];
+    }
+    EXPECT_NEAR(gainedMean / double(gained.Size()), kRestoreCheckFloor * 0.5, 1e-5);
 }
 
 // A half of another shape is refused, not read past its end.
