@@ -122,13 +122,12 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "as half1 says it lowers the error, the output's mean kept to 0.99 of "
                     "the input's (halves), or keep it whole (off)",
                     &O::meanCheck, {"halves", "off"}),
-        ChoiceParam("auto-mean-lift",
-                    "with --auto-mean-check halves, how the output is brought to 0.99 of the "
-                    "input's mean where the checked restore leaves it below: restore (more of "
-                    "the restore, the same share everywhere) or gain (the checked output "
-                    "times one gain, which moves no light between pixels; at most what the "
-                    "whole restore adds)",
-                    &O::meanLift, {"restore", "gain"}),
+        FloatParam("auto-mean-gain",
+                   "with --auto-mean-check halves, where the checked restore leaves the "
+                   "output below 0.99 of the input's mean: first one gain over the whole "
+                   "output, at most this, which moves no light between pixels, then the rest "
+                   "by more of the restore, the same share everywhere (1: the restore alone)",
+                   &O::meanGain, 1, 2),
         ChoiceParam("auto-plain",
                     "on a frame with albedo and normals and without statistics (no variance "
                     "layer, half-buffers, histograms nor min/max/spp, as most renderers "
@@ -998,14 +997,12 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         quiet.keepStages = quiet.map = false;
         Image combinedHalf = AutoCombine(context, half0, list, estimate, quiet).image;
         Image combinedFull = std::move(result.image);
-        RestoreCheck kept =
-            RestoreLocalMeansChecked(color, half0, estimate.half1, combinedFull, combinedHalf,
-                                     options.meanRadius, variance, kLocalMeanRebalanceAuto,
-                                     options.radius / 2, kRestoreCheckFloor, &result.image,
-                                     options.meanLift == "gain");
-        std::string lift = options.meanLift == "gain"
-                               ? fmt::format("times {:.4f}", kept.gain)
-                               : fmt::format("{:.2f} of the rest", kept.lift);
+        RestoreCheck kept = RestoreLocalMeansChecked(
+            color, half0, estimate.half1, combinedFull, combinedHalf, options.meanRadius,
+            variance, kLocalMeanRebalanceAuto, options.radius / 2, kRestoreCheckFloor,
+            &result.image, options.meanGain);
+        std::string lift = fmt::format("{:.2f} of the rest", kept.lift);
+        if (kept.gain != 1) lift = fmt::format("times {:.4f} and ", kept.gain) + lift;
         plan.push_back(fmt::format(
             "auto: local mean: {}; kept per {}x{} tent as far as half1 says it lowers the "
             "error of the same combination of the half0 runs (mean share {:.2f}), then "

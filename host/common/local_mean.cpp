@@ -892,8 +892,8 @@ Image RestoreGain(const Image &a, const Image &a0, const Image &b0, const Image 
 RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
                                       const Image &half1, const Image &combined,
                                       const Image &combinedHalf, int r, const Image *variance,
-                                      double rebalance, int s, double floorShare,
-                                      Image *output, bool gainLift) {
+                                      double rebalance, int s, double floorShare, Image *output,
+                                      double maxGain) {
     if (!half0.SameShape(input) || !half1.SameShape(input) || !combined.SameShape(input) ||
         !combinedHalf.SameShape(input))
         throw Error(
@@ -923,12 +923,12 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
         }
     }
     check.meanShare = n ? total / double(n) : 1;
-    if (checked < floorShare * in && rest > 0) {
-        if (gainLift && checked > 0)
-            check.gain = std::min(floorShare * in, checked + rest) / checked;
-        else if (!gainLift)
-            check.lift = std::min(1.0, (floorShare * in - checked) / rest);
-    }
+    // A gain of at most maxGain first, then as much more of the restore as the floor asks.
+    const double target = floorShare * in;
+    if (checked < target && checked > 0 && rest > 0 && maxGain > 1)
+        check.gain = std::min({target / checked, maxGain, (checked + rest) / checked});
+    if (checked * check.gain < target && rest > 0)
+        check.lift = std::min(1.0, (target / check.gain - checked) / rest);
     *output = combined;
     for (size_t i = 0; i < n; ++i) {
         double t = share[i] + check.lift * (1 - share[i]);

@@ -988,7 +988,7 @@ TEST(LocalMeanProperties, RestoreCheckKeepsWhatHalfOneConfirms) {
                                  kLocalMeanRebalanceAuto, s, 0, &output);
     RestoreCheck raised =
         RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
-                                 kLocalMeanRebalanceAuto, s, kRestoreCheckFloor, &gained, true);
+                                 kLocalMeanRebalanceAuto, s, kRestoreCheckFloor, &gained, 2);
     EXPECT_EQ(raised.lift, 0);
     EXPECT_EQ(raised.meanShare, gain.meanShare);
     EXPECT_GT(raised.gain, 1);
