@@ -122,6 +122,11 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "as half1 says it lowers the error, the output's mean kept to 0.99 of "
                     "the input's (halves), or keep it whole (off)",
                     &O::meanCheck, {"halves", "off"}),
+        IntParam("auto-mean-check-radius",
+                 "with --auto-mean-check halves: the check's tents have radius twice this, "
+                 "at most the estimates' (--auto-radius): narrow, so that the share of the "
+                 "restore follows half1 around a light's reflections",
+                 &O::meanCheckRadius, 0, 32),
         FloatParam("auto-mean-gain",
                    "with --auto-mean-check halves, where the checked restore leaves the "
                    "output below 0.99 of the input's mean: first one gain over the whole "
@@ -997,18 +1002,20 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         quiet.keepStages = quiet.map = false;
         Image combinedHalf = AutoCombine(context, half0, list, estimate, quiet).image;
         Image combinedFull = std::move(result.image);
+        // The check's tents, within the estimates' windows (the tiles' reach holds those).
+        const int check = std::min(options.meanCheckRadius, options.radius / 2);
         RestoreCheck kept = RestoreLocalMeansChecked(
             color, half0, estimate.half1, combinedFull, combinedHalf, options.meanRadius,
-            variance, kLocalMeanRebalanceAuto, options.radius / 2, kRestoreCheckFloor,
-            &result.image, options.meanGain);
+            variance, kLocalMeanRebalanceAuto, check, kRestoreCheckFloor, &result.image,
+            options.meanGain);
         std::string lift = fmt::format("{:.2f} of the rest", kept.lift);
         if (kept.gain != 1) lift = fmt::format("times {:.4f} and ", kept.gain) + lift;
         plan.push_back(fmt::format(
             "auto: local mean: {}; kept per {}x{} tent as far as half1 says it lowers the "
             "error of the same combination of the half0 runs (mean share {:.2f}), then "
             "{} for {} of the input's mean (--auto-mean-check off: whole)",
-            kept.restore, 2 * (options.radius / 2) * 2 + 1, 2 * (options.radius / 2) * 2 + 1,
-            kept.meanShare, lift, kRestoreCheckFloor));
+            kept.restore, 4 * check + 1, 4 * check + 1, kept.meanShare, lift,
+            kRestoreCheckFloor));
     } else if (options.meanRadius > 0) {
         plan.push_back("auto: local mean: " +
                        RestoreLocalMeansRebalanced(color, options.meanRadius, &result.image,

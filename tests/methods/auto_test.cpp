@@ -1048,6 +1048,16 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     EXPECT_TRUE(PlanHas(out, "of the input's mean (--auto-mean-check off: whole)"))
         << fmt::format("{}", fmt::join(out.plan, "\n"));
     for (float v : out.image.data) ASSERT_TRUE(std::isfinite(v));
+    Method wide = gained;
+    wide.Set("auto-mean-check-radius", 6);
+    Result widened = wide.Run(device, frame);
+    EXPECT_TRUE(PlanHas(widened, "kept per 25x25 tent"))
+        << fmt::format("{}", fmt::join(widened.plan, "\n"));
+    EXPECT_TRUE(PlanHas(out, "kept per 5x5 tent"));
+    EXPECT_NE(widened.image.data, out.image.data);
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { wide.Set("auto-mean-check-radius", -1); },
+        "auto-mean-check-radius"));
     for (float bad : {0.9f, 2.5f})
         EXPECT_TRUE(ThrowsError(
             ErrorKind::InvalidArgument, [&] { gained.Set("auto-mean-gain", bad); },
