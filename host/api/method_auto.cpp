@@ -123,9 +123,10 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "the input's (halves), or keep it whole (off)",
                     &O::meanCheck, {"halves", "off"}),
         IntParam("auto-mean-check-radius",
-                 "with --auto-mean-check halves: the check's tents have radius twice this, "
-                 "at most the estimates' (--auto-radius): narrow, so that the share of the "
-                 "restore follows half1 around a light's reflections",
+                 "with --auto-mean-check halves: the check's tents have radius twice this "
+                 "(0: a 1x1 check, per pixel); values above --auto-radius / 2 act as that "
+                 "(the estimates' windows): narrow, so that the share of the restore follows "
+                 "half1 around a light's reflections",
                  &O::meanCheckRadius, 0, 32),
         FloatParam("auto-mean-gain",
                    "with --auto-mean-check halves, where the checked restore leaves the "
