@@ -872,7 +872,8 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // it costs, nfor's coarse gate) is not the tiles'.
     const unsigned estimate = EstimateOnLayers(inputs, options);
     needs.notLocal =
-        "auto: each tile fixes its candidates' frame-wide quantities and its own estimates";
+        "auto: each tile fixes its candidates' frame-wide quantities, its own estimates and "
+        "the restore's gain and lift";
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
