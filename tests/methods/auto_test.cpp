@@ -1047,7 +1047,13 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     Result out = gained.Run(device, frame);
     EXPECT_TRUE(PlanHas(out, "of the input's mean (--auto-mean-check off: whole)"))
         << fmt::format("{}", fmt::join(out.plan, "\n"));
+    EXPECT_TRUE(PlanHas(out, "times 1.")) << fmt::format("{}", fmt::join(out.plan, "\n"));
     for (float v : out.image.data) ASSERT_TRUE(std::isfinite(v));
+    Method plain = automatic;
+    plain.Set("auto-mean-gain", 1.f);
+    Result unlifted = plain.Run(device, frame);
+    EXPECT_FALSE(PlanHas(unlifted, "times 1."));
+    EXPECT_NE(unlifted.image.data, out.image.data);
     Method wide = gained;
     wide.Set("auto-mean-check-radius", 6);
     Result widened = wide.Run(device, frame);
