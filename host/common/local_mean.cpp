@@ -925,9 +925,14 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
     check.meanShare = n ? total / double(n) : 1;
     // A gain of at most maxGain first, then as much more of the restore as the floor asks.
     const double target = floorShare * in;
-    if (checked < target && checked > 0 && rest > 0 && maxGain > 1)
-        check.gain = std::min({target / checked, maxGain, (checked + rest) / checked});
-    if (checked * check.gain < target && rest > 0)
+    // A gain that reaches the target leaves no lift (not even one rounding step's).
+    bool reached = false;
+    if (checked < target && checked > 0 && rest > 0 && maxGain > 1) {
+        const double cap = std::min(maxGain, (checked + rest) / checked);
+        reached = target / checked <= cap;
+        check.gain = std::min(target / checked, cap);
+    }
+    if (!reached && checked * check.gain < target && rest > 0)
         check.lift = std::min(1.0, (target / check.gain - checked) / rest);
     *output = combined;
     for (size_t i = 0; i < n; ++i) {
