@@ -132,7 +132,8 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "with --auto-mean-check halves, where the checked restore leaves the "
                    "output below 0.99 of the input's mean: first one gain over the whole "
                    "output, at most this, which moves no light between pixels, then the rest "
-                   "by more of the restore, the same share everywhere (1: the restore alone)",
+                   "by more of the restore, the same share everywhere (1: the restore "
+                   "alone); half1 does not check the gain nor that lift: a brightness floor",
                    &O::meanGain, 1, 2),
         ChoiceParam("auto-plain",
                     "on a frame with albedo and normals and without statistics (no variance "

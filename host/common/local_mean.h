@@ -116,7 +116,10 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
 // taken times one gain g, at most `maxGain` and what the whole restore would add, towards
 // that share: a small gain moves no light between pixels, where the rest of the restore
 // puts it back spread over its tents (a glossy ring's light onto the wall around it); a
-// large one would brighten every pixel alike. `output`: `combined`'s shape.
+// large one would brighten every pixel alike. Half1 does not check the gain (nor the
+// lift): both are a floor on brightness, as auto's bound on it asks; a gain also held to
+// half1's least-squares gain of the checked half0 output lost (docs/methods/auto.md).
+// `output`: `combined`'s shape.
 constexpr double kRestoreCheckFloor = 0.99;
 struct RestoreCheck {
     std::string restore;   // RestoreLocalMeansRebalanced's account of the restore
