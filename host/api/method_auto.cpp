@@ -122,6 +122,19 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "as half1 says it lowers the error, the output's mean kept to 0.99 of "
                     "the input's (halves), or keep it whole (off)",
                     &O::meanCheck, {"halves", "off"}),
+        IntParam("auto-mean-check-radius",
+                 "with --auto-mean-check halves: the check's tents have radius twice this "
+                 "(0: a 1x1 check, per pixel); values above --auto-radius / 2 act as that "
+                 "(the estimates' windows): narrow, so that the share of the restore follows "
+                 "half1 around a light's reflections",
+                 &O::meanCheckRadius, 0, 32),
+        FloatParam("auto-mean-gain",
+                   "with --auto-mean-check halves, where the checked restore leaves the "
+                   "output below 0.99 of the input's mean: first one gain over the whole "
+                   "output, at most this, which moves no light between pixels, then the rest "
+                   "by more of the restore, the same share everywhere (1: the restore "
+                   "alone); half1 does not check the gain nor that lift: a brightness floor",
+                   &O::meanGain, 1, 2),
         ChoiceParam("auto-plain",
                     "on a frame with albedo and normals and without statistics (no variance "
                     "layer, half-buffers, histograms nor min/max/spp, as most renderers "
@@ -860,7 +873,8 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // it costs, nfor's coarse gate) is not the tiles'.
     const unsigned estimate = EstimateOnLayers(inputs, options);
     needs.notLocal =
-        "auto: each tile fixes its candidates' frame-wide quantities and its own estimates";
+        "auto: each tile fixes its candidates' frame-wide quantities, its own estimates and "
+        "the restore's gain and lift";
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
@@ -991,16 +1005,20 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         quiet.keepStages = quiet.map = false;
         Image combinedHalf = AutoCombine(context, half0, list, estimate, quiet).image;
         Image combinedFull = std::move(result.image);
-        RestoreCheck kept =
-            RestoreLocalMeansChecked(color, half0, estimate.half1, combinedFull, combinedHalf,
-                                     options.meanRadius, variance, kLocalMeanRebalanceAuto,
-                                     options.radius / 2, kRestoreCheckFloor, &result.image);
+        // The check's tents, within the estimates' windows (the tiles' reach holds those).
+        const int check = std::min(options.meanCheckRadius, options.radius / 2);
+        RestoreCheck kept = RestoreLocalMeansChecked(
+            color, half0, estimate.half1, combinedFull, combinedHalf, options.meanRadius,
+            variance, kLocalMeanRebalanceAuto, check, kRestoreCheckFloor, &result.image,
+            options.meanGain);
+        std::string lift = fmt::format("{:.2f} of the rest", kept.lift);
+        if (kept.gain != 1) lift = fmt::format("times {:.4f} and ", kept.gain) + lift;
         plan.push_back(fmt::format(
             "auto: local mean: {}; kept per {}x{} tent as far as half1 says it lowers the "
             "error of the same combination of the half0 runs (mean share {:.2f}), then "
-            "{:.2f} of the rest for {} of the input's mean (--auto-mean-check off: whole)",
-            kept.restore, 2 * (options.radius / 2) * 2 + 1, 2 * (options.radius / 2) * 2 + 1,
-            kept.meanShare, kept.lift, kRestoreCheckFloor));
+            "{} for {} of the input's mean (--auto-mean-check off: whole)",
+            kept.restore, 4 * check + 1, 4 * check + 1, kept.meanShare, lift,
+            kRestoreCheckFloor));
     } else if (options.meanRadius > 0) {
         plan.push_back("auto: local mean: " +
                        RestoreLocalMeansRebalanced(color, options.meanRadius, &result.image,

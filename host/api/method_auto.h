@@ -86,6 +86,12 @@ class AutoFrontEnd : public FrontEnd {
         // Beside the half-buffers, the restore kept per window as far as half1 says it
         // lowers the error ("halves"), or whole ("off"; host/common/local_mean.h).
         std::string meanCheck = "halves";
+        // Half the radius of the check's tents (at most half --auto-radius).
+        int meanCheckRadius = 1;
+        // The largest gain that brings the checked restore towards 0.99 of the input's
+        // mean before more of the restore does (1: the restore alone). A gain moves no
+        // light between pixels; kept within the brightness bound auto is held to.
+        float meanGain = 1.02f;
         // On a frame with albedo and normals and without statistics, nfor alone or the
         // combination (docs/methods/auto.md: nfor alone beat the combination on the real
         // Cycles frames).

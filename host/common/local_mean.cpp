@@ -948,8 +948,8 @@ Image RestoreGain(const Image &a, const Image &a0, const Image &b0, const Image 
 RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
                                       const Image &half1, const Image &combined,
                                       const Image &combinedHalf, int r, const Image *variance,
-                                      double rebalance, int s, double floorShare,
-                                      Image *output) {
+                                      double rebalance, int s, double floorShare, Image *output,
+                                      double maxGain) {
     if (!half0.SameShape(input) || !half1.SameShape(input) || !combined.SameShape(input) ||
         !combinedHalf.SameShape(input))
         throw Error(
@@ -979,14 +979,23 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
         }
     }
     check.meanShare = n ? total / double(n) : 1;
-    if (checked < floorShare * in && rest > 0)
-        check.lift = std::min(1.0, (floorShare * in - checked) / rest);
+    // A gain of at most maxGain first, then as much more of the restore as the floor asks.
+    const double target = floorShare * in;
+    // A gain that reaches the target leaves no lift (not even one rounding step's).
+    bool reached = false;
+    if (checked < target && checked > 0 && rest > 0 && maxGain > 1) {
+        const double cap = std::min(maxGain, (checked + rest) / checked);
+        reached = target / checked <= cap;
+        check.gain = std::min(target / checked, cap);
+    }
+    if (!reached && checked * check.gain < target && rest > 0)
+        check.lift = std::min(1.0, (target / check.gain - checked) / rest);
     *output = combined;
     for (size_t i = 0; i < n; ++i) {
         double t = share[i] + check.lift * (1 - share[i]);
         for (int c = 0; c < input.channels; ++c) {
             double a = combined.data[c * n + i], b = restored.data[c * n + i];
-            output->data[c * n + i] = float(a + t * (b - a));
+            output->data[c * n + i] = float(check.gain * (a + t * (b - a)));
         }
     }
     return check;

@@ -112,18 +112,26 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
 // expectation of the sum is that of the reference's in place of h1: a0 and b0 do not
 // depend on h1). relMSE prefers a dark output where the noise is heavy-tailed, so the
 // restore's brightness is then kept to `floorShare` of the input's mean: t' = t + l (1 -
-// t) with the least l in [0, 1] that gives it. `output`: `combined`'s shape.
+// t) with the least l in [0, 1] that gives it. Before that lift the checked output is
+// taken times one gain g, at most `maxGain` and what the whole restore would add, towards
+// that share: a small gain moves no light between pixels, where the rest of the restore
+// puts it back spread over its tents (a glossy ring's light onto the wall around it); a
+// large one would brighten every pixel alike. Half1 does not check the gain (nor the
+// lift): both are a floor on brightness, as auto's bound on it asks; a gain also held to
+// half1's least-squares gain of the checked half0 output lost (docs/methods/auto.md).
+// `output`: `combined`'s shape.
 constexpr double kRestoreCheckFloor = 0.99;
 struct RestoreCheck {
     std::string restore;   // RestoreLocalMeansRebalanced's account of the restore
     double meanShare = 1;  // the mean of t
     double lift = 0;       // l
+    double gain = 1;       // g
 };
 RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
                                       const Image &half1, const Image &combined,
                                       const Image &combinedHalf, int r, const Image *variance,
-                                      double rebalance, int s, double floorShare,
-                                      Image *output);
+                                      double rebalance, int s, double floorShare, Image *output,
+                                      double maxGain = 1);
 
 // Lone spikes cut from a frame before a filter that averages each pixel with the alike ones
 // around it (beyond the papers): rhf's histograms hardly tell a firefly from its

@@ -1041,6 +1041,33 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     EXPECT_TRUE(PlanHas(mild, "weighted per pixel by 1 / error^1"))
         << fmt::format("{}", fmt::join(mild.plan, "\n"));
     EXPECT_NE(mild.image.data, result.image.data);
+    // --auto-mean-gain: the gain runs and the plan says what it took; 1 to 2 only.
+    Method gained = automatic;
+    gained.Set("auto-mean-gain", 1.5f);
+    Result out = gained.Run(device, frame);
+    EXPECT_TRUE(PlanHas(out, "of the input's mean (--auto-mean-check off: whole)"))
+        << fmt::format("{}", fmt::join(out.plan, "\n"));
+    EXPECT_TRUE(PlanHas(out, "times 1.")) << fmt::format("{}", fmt::join(out.plan, "\n"));
+    for (float v : out.image.data) ASSERT_TRUE(std::isfinite(v));
+    Method plain = automatic;
+    plain.Set("auto-mean-gain", 1.f);
+    Result unlifted = plain.Run(device, frame);
+    EXPECT_FALSE(PlanHas(unlifted, "times 1."));
+    EXPECT_NE(unlifted.image.data, out.image.data);
+    Method wide = gained;
+    wide.Set("auto-mean-check-radius", 6);
+    Result widened = wide.Run(device, frame);
+    EXPECT_TRUE(PlanHas(widened, "kept per 25x25 tent"))
+        << fmt::format("{}", fmt::join(widened.plan, "\n"));
+    EXPECT_TRUE(PlanHas(out, "kept per 5x5 tent"));
+    EXPECT_NE(widened.image.data, out.image.data);
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { wide.Set("auto-mean-check-radius", -1); },
+        "auto-mean-check-radius"));
+    for (float bad : {0.9f, 2.5f})
+        EXPECT_TRUE(ThrowsError(
+            ErrorKind::InvalidArgument, [&] { gained.Set("auto-mean-gain", bad); },
+            "auto-mean-gain"));
     frame.layers.erase("variance");
     frame.layers.erase("half0.color");
     frame.layers.erase("half1.color");

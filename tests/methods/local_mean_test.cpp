@@ -1007,6 +1007,58 @@ TEST(LocalMeanProperties, RestoreCheckKeepsWhatHalfOneConfirms) {
     for (float v : output.data) mean += v;
     mean /= double(output.Size());
     EXPECT_NEAR(mean, kRestoreCheckFloor * 0.5, 1e-5);
+
+    // The gain lifts the checked output as a whole: every value times one gain, the mean
+    // the same share of the input's, and the restore's share as it was.
+    Image gained;
+    RestoreCheck gain =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, 0, &output);
+    RestoreCheck raised =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, kRestoreCheckFloor, &gained, 2);
+    EXPECT_EQ(raised.lift, 0);
+    EXPECT_EQ(raised.meanShare, gain.meanShare);
+    EXPECT_GT(raised.gain, 1);
+    double gainedMean = 0;
+    for (size_t i = 0; i < gained.data.size(); ++i) {
+        EXPECT_NEAR(gained.data[i], raised.gain * output.data[i], 1e-6);
+        gainedMean += gained.data[i];
+    }
+    EXPECT_NEAR(gainedMean / double(gained.Size()), kRestoreCheckFloor * 0.5, 1e-5);
+    // A gain that reaches the floor leaves no lift, whatever its last rounding step.
+    for (int k = 0; k < 20; ++k) {
+        RestoreCheck reached =
+            RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                     kLocalMeanRebalanceAuto, s, 0.9 + 0.005 * k, &gained, 2);
+        EXPECT_GT(reached.gain, 1);
+        EXPECT_EQ(reached.lift, 0) << 0.9 + 0.005 * k;
+    }
+
+    // A gain held to its cap: the rest of the way by the lift.
+    RestoreCheck capped = RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf,
+                                                   r, nullptr, kLocalMeanRebalanceAuto, s,
+                                                   kRestoreCheckFloor, &gained, 1.001);
+    EXPECT_EQ(capped.gain, 1.001);
+    EXPECT_GT(capped.lift, 0);
+    EXPECT_LT(capped.lift, lifted.lift);
+    gainedMean = 0;
+    for (float v : gained.data) gainedMean += v;
+    EXPECT_NEAR(gainedMean / double(gained.Size()), kRestoreCheckFloor * 0.5, 1e-5);
+
+    // A gain of 1: the lift alone, as before the gain, bit for bit where half1 keeps none
+    // of the restore.
+    RestoreCheck alone =
+        RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                                 kLocalMeanRebalanceAuto, s, kRestoreCheckFloor, &gained, 1);
+    EXPECT_EQ(alone.gain, 1);
+    EXPECT_EQ(alone.lift, lifted.lift);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = w / 2 + 2 * s; x < w; ++x) {
+                double a = combined.At(c, y, x), b = restored.At(c, y, x);
+                EXPECT_EQ(gained.At(c, y, x), float(a + alone.lift * (b - a)));
+            }
 }
 
 // A half of another shape is refused, not read past its end.
