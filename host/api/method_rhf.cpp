@@ -134,13 +134,21 @@ class Rhf : public FrontEndOf<RhfParams> {
                               "goes back to the values within {} that lost it",
                               exact, ExactReach()));
         if (run.keepStages) result.stages.push_back({"exact pixels", result.image});
-        if (int r = options.meanRadius; r > 0) {
+        // A tile's restore waits for the assembled frame (Finish).
+        if (int r = options.meanRadius; r > 0 && !finishWhole) {
             result.plan.push_back(
                 "local mean: " +
                 RestoreLocalMeansRebalanced(color, r, &result.image, Variance(inputs)));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         return result;
+    }
+
+    void Finish(vk::Context &, Inputs &whole, Result *result) const override {
+        result->plan.push_back("local mean (on the whole frame, after the tiles): " +
+                               RestoreLocalMeansRebalanced(whole.Get("color"),
+                                                           options.meanRadius, &result->image,
+                                                           Variance(whole)));
     }
 
     // The probe cuts the run's rims and clusters, each from the probe's own colour, and gives
@@ -195,6 +203,7 @@ class Rhf : public FrontEndOf<RhfParams> {
             "twice the exact pixels' reach {}; the local mean's tents {} and {} for the cuts",
             scales, o.patchHalf, o.searchHalf, ExactReach(),
             o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0, CutReach());
+        needs.finishReach = o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0;
         needs.align = 1 << (scales - 1);
         // Per pixel: the histograms, the colour and its filtered image, the selection mask and
         // the bin maxima (a float per 8 pixels and bin plane); each coarser scale s adds its
