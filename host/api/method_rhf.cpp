@@ -18,6 +18,7 @@
 #include "host/io/hints.h"
 #include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
+#include "host/methods/run_memo.h"
 #include "rhf/blockmax.h"
 #include "rhf/terms.h"
 
@@ -160,33 +161,20 @@ class Rhf : public FrontEndOf<RhfParams> {
     std::unique_ptr<FrontEnd> ForProbe(vk::Context &, Inputs &run, bool onHalf) const override {
         if (options.meanRadius <= 0) return nullptr;
         auto probe = std::make_unique<Rhf>(*this);
-        std::vector<char> lights;
-        Cuts cuts = Cut(run, ExactVariance(ExactLayersOf(run)), &lights);
-        auto sets = std::make_shared<CutSets>();
-        sets->width = run.FrameWidth() > 0 ? run.FrameWidth() : run.Width();
-        sets->height = run.FrameHeight() > 0 ? run.FrameHeight() : run.Height();
-        auto toFrame = [&](const std::vector<size_t> &pixels) {
-            std::vector<size_t> frame;
-            for (size_t p : pixels)
-                frame.push_back(size_t(int(p / run.Width()) + run.OriginY()) * sets->width +
-                                size_t(int(p % run.Width()) + run.OriginX()));
-            return frame;
-        };
-        if (onHalf) sets->spikes = toFrame(cuts.spikes);
-        sets->clusters = toFrame(cuts.clusters);
-        sets->rims = toFrame(cuts.rims);
-        // The lights beside the rims, as the run told them.
-        std::vector<size_t> rimLights;
-        const int w = run.Width(), h = run.Height();
-        for (size_t p : cuts.rims)
-            for (int j = std::max(0, int(p / w) - 1); j <= std::min(h - 1, int(p / w) + 1); ++j)
-                for (int i = std::max(0, int(p % w) - 1); i <= std::min(w - 1, int(p % w) + 1);
-                     ++i)
-                    if (lights[size_t(j) * w + i]) rimLights.push_back(size_t(j) * w + i);
-        std::sort(rimLights.begin(), rimLights.end());
-        rimLights.erase(std::unique(rimLights.begin(), rimLights.end()), rimLights.end());
-        sets->rimLights = toFrame(rimLights);
-        probe->decided = std::move(sets);
+        const Image variance = ExactVariance(ExactLayersOf(run));
+        // auto's rhf candidates cut their frame alike: the second takes the first's sets.
+        std::string key;
+        if (RunMemo *memo = run.Memo()) {
+            key = CutSetsKey(run, variance, onHalf);
+            if (const auto *kept = memo->Find<std::shared_ptr<const CutSets>>(key)) {
+                probe->decided = *kept;
+                return probe;
+            }
+        }
+        probe->decided = FindCutSets(run, variance, onHalf);
+        if (!key.empty())
+            run.Memo()->Add(key,
+                            std::make_shared<std::shared_ptr<const CutSets>>(probe->decided));
         return probe;
     }
 
@@ -300,6 +288,49 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::optional<std::vector<size_t>> spikes;
         std::vector<size_t> rims, clusters, rimLights;
     };
+
+    // The cut sets' memo key: everything Cut reads and what ForProbe keeps of it.
+    std::string CutSetsKey(Inputs &run, const Image &variance, bool onHalf) const {
+        return fmt::format(
+            "rhf.cuts colour {} exact variance {} variance layer {} histograms {} search {} "
+            "spikes {} window {}x{} at {},{} of {}x{}",
+            MemoImageId(run.Get("color")), MemoImageId(variance), Variance(run) != nullptr,
+            MemoImageId(Histograms(run)), options.searchHalf, onHalf, run.Width(), run.Height(),
+            run.OriginX(), run.OriginY(), run.FrameWidth(), run.FrameHeight());
+    }
+
+    // The run's cuts on `run` as ForProbe keeps them: the pixels of its whole frame and the
+    // lights beside its rims; its spikes on half0 only.
+    std::shared_ptr<const CutSets> FindCutSets(Inputs &run, const Image &variance,
+                                               bool onHalf) const {
+        std::vector<char> lights;
+        Cuts cuts = Cut(run, variance, &lights);
+        auto sets = std::make_shared<CutSets>();
+        sets->width = run.FrameWidth() > 0 ? run.FrameWidth() : run.Width();
+        sets->height = run.FrameHeight() > 0 ? run.FrameHeight() : run.Height();
+        auto toFrame = [&](const std::vector<size_t> &pixels) {
+            std::vector<size_t> frame;
+            for (size_t p : pixels)
+                frame.push_back(size_t(int(p / run.Width()) + run.OriginY()) * sets->width +
+                                size_t(int(p % run.Width()) + run.OriginX()));
+            return frame;
+        };
+        if (onHalf) sets->spikes = toFrame(cuts.spikes);
+        sets->clusters = toFrame(cuts.clusters);
+        sets->rims = toFrame(cuts.rims);
+        // The lights beside the rims, as the run told them.
+        std::vector<size_t> rimLights;
+        const int w = run.Width(), h = run.Height();
+        for (size_t p : cuts.rims)
+            for (int j = std::max(0, int(p / w) - 1); j <= std::min(h - 1, int(p / w) + 1); ++j)
+                for (int i = std::max(0, int(p % w) - 1); i <= std::min(w - 1, int(p % w) + 1);
+                     ++i)
+                    if (lights[size_t(j) * w + i]) rimLights.push_back(size_t(j) * w + i);
+        std::sort(rimLights.begin(), rimLights.end());
+        rimLights.erase(std::unique(rimLights.begin(), rimLights.end()), rimLights.end());
+        sets->rimLights = toFrame(rimLights);
+        return sets;
+    }
 
     // The cuts found on this colour (none with --rhf-mean-radius 0); `lights` (if given) set
     // to which pixels the rims were found beside.
