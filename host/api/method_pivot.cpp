@@ -478,7 +478,6 @@ class Pivot : public FrontEndOf<PivotSettings> {
         return PivotLayer([&](const std::string &l) { return inputs.Has(l); }) == "albedo";
     }
 
-    // The pipeline's inputs from the frame and the parameters.
     // The local means restored (from `restoreFrom` where given: the spikes' scaled pixels),
     // then the chroma kept: the output's last steps.
     void RestoreAndKeepChroma(const PivotInputs &in, const Image &restoreFrom,
@@ -493,6 +492,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         KeepChroma(in, options.bound, run, result);
     }
 
+    // The pipeline's inputs from the frame and the parameters.
     PivotInputs InputsOf(Inputs &inputs) const {
         std::string layer = PivotLayer([&](const std::string &l) { return inputs.Has(l); });
         if (!inputs.Has(layer)) {
