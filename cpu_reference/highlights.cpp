@@ -276,6 +276,37 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
             if (s > 0.5 * k * mean && neighbours >= 2 && sample <= 0.5 * m)
                 sparse[size_t(y) * w + x] = 1;
         }
+    // A two-pixel reflection's dimmer pixel: the only neighbour over its window of a sparse
+    // light, with no other neighbour so itself, not a highlight, with a largest sample at most
+    // a quarter of the light's.
+    auto sampleSum = [&](int x, int y) {
+        float s = 0;
+        for (int c = 0; c < maxSample.channels; ++c) s += maxSample.At(c, y, x);
+        return s;
+    };
+    // How many of (x, y)'s 8 neighbours pass the window test; the last one in (*px, *py).
+    auto overNeighbours = [&](int x, int y, int *px, int *py) {
+        int over = 0;
+        for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+            for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                if ((u != x || v != y) && overWindow(u, v)) {
+                    ++over;
+                    *px = u;
+                    *py = v;
+                }
+        return over;
+    };
+    std::vector<char> partner(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (!sparse[size_t(y) * w + x]) continue;
+            int px = -1, py = -1, ux, uy;
+            if (overNeighbours(x, y, &px, &py) != 1 || (*highlight)[size_t(py) * w + px] ||
+                sparse[size_t(py) * w + px] || overNeighbours(px, py, &ux, &uy) != 1)
+                continue;
+            if (sampleSum(px, py) <= 0.25 * sampleSum(x, y)) partner[size_t(py) * w + px] = 1;
+        }
+    for (size_t p = 0; p < partner.size(); ++p) sparse[p] |= partner[p];
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             if (!sparse[size_t(y) * w + x]) continue;

@@ -34,8 +34,12 @@ std::vector<char> SplitHighlights(const Image &color, const Image *variance, dou
 // becomes one where s(p) > k max(upper median of s over the window of radius r, 1e-3 x the
 // mean of s) and the sum of its maxSample channels is <= 2 m, where s(p) > k x the mean of s
 // or (a streak) s(p) > k / 2 x that mean, at least 2 of its 8 neighbours in the frame pass the
-// window test, and that sum is <= m / 2; its base (and baseVariance) channels become their
-// window's upper medians of color (and variance).
+// window test, and that sum is <= m / 2. Then a sparse light with exactly one neighbour that
+// passes the window test adds that neighbour where that neighbour has no other neighbour that
+// passes it, is neither a highlight nor a sparse light and its maxSample sum is <= 0.25 x the
+// sparse light's.
+// Each added pixel's base (and baseVariance) channels become their window's upper medians of
+// color (and variance).
 void AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
                      double k, int r, double lightSample, std::vector<char> *highlight,
                      Image *base, Image *baseVariance);

@@ -399,31 +399,79 @@ double BrightAt(const Image &histograms, int y, int x) {
     return most;
 }
 
-}  // namespace
-
-std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
-                                      int searchHalf, Image *color) {
-    const int w = input.width, h = input.height;
-    std::vector<size_t> cut;
-    if (histograms.width != w || histograms.height != h || histograms.channels < 4) return cut;
-    std::vector<int> group(size_t(w) * h, -1);
-    std::vector<std::vector<std::pair<int, int>>> groups;
-    // Label the groups by flooding in raster order.
+// Each pixel's group of 8-connected `member` pixels (-1 outside them) and the groups' pixels
+// (x, y), labelled by flooding in raster order.
+void LabelGroups(const std::vector<char> &member, int w, int h, std::vector<int> *group,
+                 std::vector<std::vector<std::pair<int, int>>> *groups) {
+    group->assign(size_t(w) * h, -1);
+    groups->clear();
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (!SpikeOver(input, y, x) || group[size_t(y) * w + x] >= 0) continue;
+            if (!member[size_t(y) * w + x] || (*group)[size_t(y) * w + x] >= 0) continue;
             std::vector<std::pair<int, int>> members{{x, y}};
-            group[size_t(y) * w + x] = int(groups.size());
+            (*group)[size_t(y) * w + x] = int(groups->size());
             for (size_t k = 0; k < members.size(); ++k)
                 for (int v = members[k].second - 1; v <= members[k].second + 1; ++v)
                     for (int u = members[k].first - 1; u <= members[k].first + 1; ++u)
                         if (u >= 0 && v >= 0 && u < w && v < h &&
-                            group[size_t(v) * w + u] < 0 && SpikeOver(input, v, u)) {
-                            group[size_t(v) * w + u] = int(groups.size());
+                            (*group)[size_t(v) * w + u] < 0 && member[size_t(v) * w + u]) {
+                            (*group)[size_t(v) * w + u] = int(groups->size());
                             members.push_back({u, v});
                         }
-            groups.push_back(members);
+            groups->push_back(members);
         }
+}
+
+// `over` and the pixels that bridge its groups: a pixel with a bright sample, not over,
+// touching two or more groups of 2 pixels or more, each with a bright sample, whose box is
+// under 3 (the cluster's span) on each side. `group` and `groups` label `over`.
+std::vector<char> JoinBridges(const Image &histograms, const std::vector<char> &over,
+                              const std::vector<int> &group,
+                              const std::vector<std::vector<std::pair<int, int>>> &groups) {
+    const int w = histograms.width, h = histograms.height;
+    std::vector<char> member = over;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (over[size_t(y) * w + x] || !(BrightAt(histograms, y, x) >= 0.5)) continue;
+            std::vector<int> touched;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u) {
+                    if (u < 0 || v < 0 || u >= w || v >= h) continue;
+                    int g = group[size_t(v) * w + u];
+                    if (g < 0 || groups[g].size() < 2) continue;
+                    bool bright = true;
+                    int x0 = w, x1 = -1, y0 = h, y1 = -1;
+                    for (auto [i, j] : groups[g]) {
+                        if (!(BrightAt(histograms, j, i) >= 0.5)) bright = false;
+                        x0 = std::min(x0, i), x1 = std::max(x1, i);
+                        y0 = std::min(y0, j), y1 = std::max(y1, j);
+                    }
+                    if (bright && x1 - x0 < 2 && y1 - y0 < 2) touched.push_back(g);
+                }
+            std::sort(touched.begin(), touched.end());
+            touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+            member[size_t(y) * w + x] = touched.size() >= 2;
+        }
+    return member;
+}
+
+}  // namespace
+
+std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
+                                      int searchHalf, Image *color,
+                                      std::vector<size_t> *bridged) {
+    const int w = input.width, h = input.height;
+    std::vector<size_t> cut;
+    if (bridged) bridged->clear();
+    if (histograms.width != w || histograms.height != h || histograms.channels < 4) return cut;
+    std::vector<char> over(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) over[size_t(y) * w + x] = SpikeOver(input, y, x);
+    std::vector<int> group;
+    std::vector<std::vector<std::pair<int, int>>> groups;
+    LabelGroups(over, w, h, &group, &groups);
+    const std::vector<char> member = JoinBridges(histograms, over, group, groups);
+    LabelGroups(member, w, h, &group, &groups);
     std::vector<bool> taken(groups.size(), false);
     for (size_t g = 0; g < groups.size(); ++g) {
         const auto &members = groups[g];
@@ -465,7 +513,15 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
         for (int x = 0; x < w; ++x) {
             int g = group[size_t(y) * w + x];
             if (g < 0 || !taken[g]) continue;
-            cut.push_back(size_t(y) * w + x);
+            // A group with a pixel under 16 x its neighbours' median was joined.
+            bool joined = false;
+            for (auto [u, v] : groups[g])
+                if (!over[size_t(v) * w + u]) joined = true;
+            if (joined) {
+                if (bridged) bridged->push_back(size_t(y) * w + x);
+            } else {
+                cut.push_back(size_t(y) * w + x);
+            }
             for (int c = 0; c < input.channels; ++c) {
                 std::vector<float> values;
                 for (int v = y - 1; v <= y + 1; ++v)

@@ -61,16 +61,21 @@ std::vector<size_t> CutLightRims(Image *color, const Image &variance);
 
 // Bright clusters (host/common/local_mean.h, CutBrightClusters): the 8-connected groups of
 // pixels whose channels' sum (as a float) is > 0 and > 16 x the median (lower middle) of
-// their in-image neighbours' sums (none where one is not finite). A group of 3 or more pixels
-// within a 3x3 box, each with n > 0 samples (the histograms' last channel) and b <= 0.3 n (b:
+// their in-image neighbours' sums (none where one is not finite), joined by each pixel that
+// is not such but has b >= 0.5 (below) and touches 2 or more such groups of 2 or more pixels
+// within a 2x2 box whose every pixel has b >= 0.5. A group of 3 or more pixels within a 3x3
+// box, each with n > 0 samples (the histograms' last channel) and b <= 0.3 n (b:
 // the most samples in the last two bins over its colours), cluster sum k = round(sum b) >= 2,
 // is cut when, with a = the sum of b (0 for pixels without samples) over the m pixels within
 // searchHalf of the group's box but outside the box grown by 1 and t = max(k, round(k + a)),
 // sum_{i >= k} C(t, i) s^i (1 - s)^(t - i) < 1e-4, s = size / (size + m), and a <= the sum of b
 // over the group: each of its pixels takes per channel the median (lower middle) of its
-// in-image neighbours outside the group in `input`. Returns the cut pixels in raster order.
+// in-image neighbours outside the group in `input`. Returns the cut pixels in raster order,
+// but those of a group holding a joining pixel, which go to `bridged` (if given) in raster
+// order.
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
-                                      int searchHalf, Image *color);
+                                      int searchHalf, Image *color,
+                                      std::vector<size_t> *bridged = nullptr);
 
 // Each output value clamped to input -+ k sqrt(max(variance, the mean of the variances of
 // the 3x3 window clipped to the image but its largest one (0 for a 1x1 image))), per channel

@@ -150,10 +150,13 @@ class Awr : public FrontEndOf<AwrSettings> {
                     "light's reflection few samples saw), or over {} x the mean with at least "
                     "{} "
                     "of 8 neighbours over k x their medians and that sample at most {} x (a "
-                    "glint's streak), taken out as highlights too",
+                    "glint's streak), and a two-pixel reflection's dimmer pixel (the only "
+                    "neighbour over its median of one, with no other neighbour so itself, not "
+                    "a highlight, its largest sample at most {} x the light's), taken out as "
+                    "highlights too",
                     split.sparse, options.highlights, kSparseLightSampleRatio,
                     kStreakMeanShare * options.highlights, kStreakNeighbours,
-                    kStreakSampleRatio));
+                    kStreakSampleRatio, kPartnerSampleRatio));
             if (run.keepStages && !result.stages.empty())
                 result.stages.push_back({"highlights", result.image});
         }
@@ -212,18 +215,20 @@ class Awr : public FrontEndOf<AwrSettings> {
             levels);
         // Analysis and synthesis at 2^l per level l, and the spins' shifts.
         int half = WaveletHalfSupport(options.method.basis);
-        // The highlights read their neighbours' windows, grow and look one ring further; the
+        // The highlights read their neighbours' windows, grow and look one ring further; a
+        // sparse light's partner reads the light's neighbours (one ring further again); the
         // crests near them read theirs; the clamp its window.
         const int highlights =
             options.highlights > 0
-                ? kHighlightRadius + 1 + kHighlightGrowRounds + 1 + kCrestReach
+                ? kHighlightRadius + 1 + kHighlightGrowRounds + 1 + 1 + kCrestReach
                 : 0;
         needs.reach =
             2 * half * ((1 << levels) - 1) + options.method.spins + highlights + options.clamp;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
             "{}, the spins' shift, {} for the highlights' windows, growth and its check "
-            "round and the crest cut, and {} for the input's minimum",
+            "round, the sparse lights' partners and the crest cut, and {} for the input's "
+            "minimum",
             WaveletName(options.method.basis), half, levels, highlights, options.clamp);
         needs.align = 1 << levels;
         needs.bytesPerPixel = 4.0 * channels * 4;

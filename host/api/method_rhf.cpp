@@ -91,13 +91,15 @@ class Rhf : public FrontEndOf<RhfParams> {
         const Image &color = inputs.Get("color");
         // Lone spikes, lights' rims and bright clusters cut before the filter (it spread
         // each over its search window, a square); the restore of local means gives the
-        // spikes' energy back, the rims and clusters take their input back after the filter.
+        // spikes' and bridged clusters' energy back, the rims and other clusters take their
+        // input back after the filter.
         Image variance = ExactVariance(ExactLayersOf(inputs));
         Cuts cuts = decided ? CutAsDecided(inputs, variance, setup) : Cut(inputs, variance);
         Image &cut = cuts.image;
         const size_t spikes = cuts.spikes.size();
         const std::vector<size_t> &rims = cuts.rims, &clusters = cuts.clusters;
-        const bool anyCut = spikes > 0 || !rims.empty() || !clusters.empty();
+        const bool anyCut =
+            spikes > 0 || !rims.empty() || !clusters.empty() || !cuts.bridged.empty();
         Result result = ResultOf(
             RhfDenoise(context, anyCut ? cut : color, Histograms(inputs), options, setup));
         if (options.meanRadius > 0)
@@ -119,9 +121,14 @@ class Rhf : public FrontEndOf<RhfParams> {
                      "above the histograms' range and too many for their share of the search "
                      "window's (binomial tail under {}) and at least the rest of it, take "
                      "their other neighbours' median before the filter and their input back "
-                     "after it{}",
+                     "after it; {} more in clusters joined by a pixel with a bright sample "
+                     "under {} times that touches {} or more groups of {} or more over pixels "
+                     "each with a bright sample, spanning less than {} (a soft caustic split "
+                     "at its middle), take that median before the filter too, but not their "
+                     "input back: the local mean gives their energy back{}",
                      clusters.size(), kClusterLeast, kClusterSpan, kClusterSpan, kSpike,
-                     kClusterShare, kClusterLevel,
+                     kClusterShare, kClusterLevel, cuts.bridged.size(), kSpike, kBridgedGroups,
+                     kBridgedSize, kClusterSpan,
                      Variance(inputs) ? "" : " (none: the frame has no variance layer)")});
         size_t exact = KeepExactPixels(color, variance, &result.image, ExactReach());
         GiveBack(color, rims, &result.image);
@@ -245,12 +252,12 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::vector<std::pair<std::string, Image>> named;
         Image cut = inputs.Get("color");
         const Image variance = ExactVariance(ExactLayersOf(inputs));
-        std::vector<size_t> rims, clusters;
+        std::vector<size_t> rims, clusters, bridged;
         if (options.meanRadius > 0) {
             ref::CutSpikes(&cut, &variance);
             if (Variance(inputs))
                 clusters = ref::CutBrightClusters(inputs.Get("color"), Histograms(inputs),
-                                                  options.searchHalf, &cut);
+                                                  options.searchHalf, &cut, &bridged);
             Image spiked = cut;
             rims = ManySampled(spiked, Histograms(inputs), variance,
                                ref::CutLightRims(&cut, variance), &cut);
@@ -278,7 +285,7 @@ class Rhf : public FrontEndOf<RhfParams> {
     // The colour with the cuts made and the pixels cut (ascending, of the window).
     struct Cuts {
         Image image;
-        std::vector<size_t> spikes, rims, clusters;
+        std::vector<size_t> spikes, rims, clusters, bridged;
     };
     // The pixels a run cut, of its whole frame (ForProbe), and the lights beside its rims
     // (which their medians leave out); spikes on half0 only: on the perturbed colour the
@@ -286,7 +293,7 @@ class Rhf : public FrontEndOf<RhfParams> {
     struct CutSets {
         int width = 0, height = 0;
         std::optional<std::vector<size_t>> spikes;
-        std::vector<size_t> rims, clusters, rimLights;
+        std::vector<size_t> rims, clusters, bridged, rimLights;
     };
 
     // The cut sets' memo key: everything Cut reads and what ForProbe keeps of it.
@@ -317,6 +324,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         };
         if (onHalf) sets->spikes = toFrame(cuts.spikes);
         sets->clusters = toFrame(cuts.clusters);
+        sets->bridged = toFrame(cuts.bridged);
         sets->rims = toFrame(cuts.rims);
         // The lights beside the rims, as the run told them.
         std::vector<size_t> rimLights;
@@ -343,8 +351,8 @@ class Rhf : public FrontEndOf<RhfParams> {
         // Without the variance layer the restore would take a cluster back as a highlight
         // (by its neighbours) on top of the input it takes back.
         if (Variance(inputs))
-            cuts.clusters =
-                CutBrightClusters(color, Histograms(inputs), options.searchHalf, &cuts.image);
+            cuts.clusters = CutBrightClusters(color, Histograms(inputs), options.searchHalf,
+                                              &cuts.image, &cuts.bridged);
         Image spiked = cuts.image;
         if (lights) *lights = Lights(spiked, variance);
         cuts.rims = ManySampled(spiked, Histograms(inputs), variance,
@@ -372,6 +380,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         cuts.image = color;
         const int w = color.width, h = color.height;
         cuts.clusters = InWindow(decided->clusters, w, h, setup);
+        cuts.bridged = InWindow(decided->bridged, w, h, setup);
         cuts.rims = InWindow(decided->rims, w, h, setup);
         const size_t n = color.PixelCount();
         if (decided->spikes) {
@@ -382,7 +391,9 @@ class Rhf : public FrontEndOf<RhfParams> {
         }
         std::vector<char> inCluster(n, 0);
         for (size_t p : cuts.clusters) inCluster[p] = 1;
+        for (size_t p : cuts.bridged) inCluster[p] = 1;
         TakeNeighbourMedians(color, cuts.clusters, inCluster, &cuts.image);
+        TakeNeighbourMedians(color, cuts.bridged, inCluster, &cuts.image);
         const Image spiked = cuts.image;
         std::vector<char> light(n, 0);
         for (size_t p : InWindow(decided->rimLights, w, h, setup)) light[p] = 1;
@@ -415,11 +426,16 @@ class Rhf : public FrontEndOf<RhfParams> {
     int ExactReach() const { return 2 * options.patchHalf + options.searchHalf; }
 
     // How far the cuts read. A cluster's cut reads its search window (kClusterSpan - 1 and
-    // searchHalf beyond a pixel) and, to tell it from a longer run, its pixels up to
-    // kClusterSpan away with their neighbours; a spike's cut reads 2 pixels. The rims are
-    // found on the cut colour, their 9x9 window of lights (kRimWindow) read after those cuts.
+    // searchHalf beyond a pixel) and, to tell it from a longer run, whether the pixels up to
+    // kClusterSpan away are over (their neighbours, 1 more) or bridge two groups: a bridge
+    // reads its neighbours (1), and whether the group a neighbour is in can be bridged, which
+    // spans less than kClusterSpan: its pixels up to kClusterSpan - 1 from that neighbour tell
+    // it ends, with their neighbours (1): kClusterSpan + 1 + kClusterSpan - 1 + 1 in all. A
+    // spike's cut reads 2 pixels. The rims are found on the cut colour, their 9x9 window of
+    // lights (kRimWindow) read after those cuts.
     int CutReach() const {
-        const int clusters = std::max(kClusterSpan + 1, kClusterSpan - 1 + options.searchHalf);
+        const int clusters =
+            std::max(2 * kClusterSpan + 1, kClusterSpan - 1 + options.searchHalf);
         return kRimWindow + std::max(2, clusters);
     }
 

@@ -237,6 +237,48 @@ void GrowHighlights(const Image &color, const Image *variance, double k, double 
     }
 }
 
+// The channels of `image` at pixel p summed, in channel order.
+float SumAt(const Image &image, size_t p) {
+    float s = 0;
+    for (int c = 0; c < image.channels; ++c) s += image.Plane(c)[p];
+    return s;
+}
+
+// A two-pixel reflection of a light few samples saw: its brighter pixel is a sparse light, and
+// the other, which fewer samples saw, is under k times the frame's mean; the filter spread it
+// into the dark pixels beside it. A sparse light in `sparse` (pixels in row order) whose one
+// neighbour over its window has no other such neighbour, is not a highlight and has a largest
+// sample at most kPartnerSampleRatio times the light's takes that neighbour in. The partners,
+// found in the order of their lights, join `sparse`, sorted again. A sparse light or partner
+// with more such neighbours is on a streak, a line or a light's rim, whose dim pixels are
+// noise. (A partner brighter than its light would be over k times the mean and, not a sparse
+// light itself, have a largest sample over kSparseLightSampleRatio times the highlights': the
+// sample test refuses it.)
+void AddReflectionPartners(const Image &color, const Image &maxSample,
+                           const HighlightSplit &split, std::vector<size_t> *sparse) {
+    const int w = color.width, h = color.height;
+    std::vector<char> taken(color.PixelCount(), 0);
+    for (size_t q : *sparse) taken[q] = 1;
+    std::vector<size_t> partners;
+    for (size_t q : *sparse) {
+        const int qx = int(q % w), qy = int(q / w);
+        if (MarkedNeighbours(split.overWindow, w, h, qx, qy) != 1) continue;
+        for (int v = std::max(0, qy - 1); v <= std::min(h - 1, qy + 1); ++v)
+            for (int u = std::max(0, qx - 1); u <= std::min(w - 1, qx + 1); ++u) {
+                const size_t p = size_t(v) * w + u;
+                if (p == q || !split.overWindow[p] || split.highlight[p] || taken[p] ||
+                    MarkedNeighbours(split.overWindow, w, h, u, v) != 1)
+                    continue;
+                if (!(SumAt(maxSample, p) <= kPartnerSampleRatio * SumAt(maxSample, q)))
+                    continue;
+                taken[p] = 1;
+                partners.push_back(p);
+            }
+    }
+    sparse->insert(sparse->end(), partners.begin(), partners.end());
+    std::sort(sparse->begin(), sparse->end());
+}
+
 }  // namespace
 
 int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y) {
@@ -363,6 +405,7 @@ size_t AddSparseLights(const Image &color, const Image *variance, const Image &m
     const int w = color.width, h = color.height;
     const double mean = split->mean;
     std::vector<float> scratch;
+    std::vector<size_t> sparse;
     size_t added = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -380,15 +423,20 @@ size_t AddSparseLights(const Image &color, const Image *variance, const Image &m
                 MarkedNeighbours(split->overWindow, w, h, x, y) >= kStreakNeighbours &&
                 sample <= kStreakSampleRatio * lightSample;
             if (!(s > k * mean) && !streak) continue;
-            split->highlight[p] = 1;
-            ++added;
-            for (int c = 0; c < color.channels; ++c) {
-                split->base.Plane(c)[p] = WindowMedian(color.Plane(c), w, h, x, y, r, scratch);
-                if (variance)
-                    split->baseVariance.Plane(c)[p] =
-                        WindowMedian(variance->Plane(c), w, h, x, y, r, scratch);
-            }
+            sparse.push_back(p);
         }
+    AddReflectionPartners(color, maxSample, *split, &sparse);
+    for (size_t p : sparse) {
+        const int x = int(p % w), y = int(p / w);
+        split->highlight[p] = 1;
+        ++added;
+        for (int c = 0; c < color.channels; ++c) {
+            split->base.Plane(c)[p] = WindowMedian(color.Plane(c), w, h, x, y, r, scratch);
+            if (variance)
+                split->baseVariance.Plane(c)[p] =
+                    WindowMedian(variance->Plane(c), w, h, x, y, r, scratch);
+        }
+    }
     split->count += added;
     split->sparse += added;
     return added;

@@ -64,6 +64,11 @@ constexpr double kStreakMeanShare = 0.5;
 constexpr int kStreakNeighbours = 2;
 constexpr double kStreakSampleRatio = 0.5;
 
+// A two-pixel reflection's dimmer pixel, which the reflection's faint edge covers, has its
+// largest sample at most kPartnerSampleRatio times its sparse light's; a caustic's fireflies
+// side by side each carry about the light's full value.
+constexpr double kPartnerSampleRatio = 0.25;
+
 // Sparse lights: a light's reflection one or two pixels wide that one or two of its samples saw
 // stands under 2 of its standard deviations, as a firefly does, and the filter spread it into
 // a bright square with dark dots where the reference is dim. A firefly of a rare path weighted
@@ -76,8 +81,12 @@ constexpr double kStreakSampleRatio = 0.5;
 // largest sample (channels summed) is at most kSparseLightSampleRatio times `lightSample`
 // (HighlightSampleMedian of the whole frame, so a tile compares with the frame's lights; < 0:
 // that of the split's own highlights), becomes a highlight: reconstructed at its window's
-// medians, given its input back after. Nothing with a `lightSample` of 0 (no highlights to
-// compare with); returns how many it added (also counted in split->count and split->sparse).
+// medians, given its input back after. So does a two-pixel reflection's dimmer pixel: the one
+// neighbour over its window (and the floor) of such a pixel, with no other neighbour so itself
+// (a sparse light's or its partner's other such neighbours are a streak's, a line's or a light
+// rim's), not a highlight, with its largest sample at most kPartnerSampleRatio times that
+// pixel's. Nothing with a `lightSample` of 0 (no highlights to compare with); returns how many
+// it added (also counted in split->count and split->sparse).
 size_t AddSparseLights(const Image &color, const Image *variance, const Image &maxSample,
                        double k, int r, double lightSample, HighlightSplit *split);
 

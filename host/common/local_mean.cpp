@@ -650,6 +650,53 @@ std::vector<size_t> ClusterAt(const std::vector<char> &over, int w, int h, size_
     return cluster;
 }
 
+// `over` with the bridges added: a pixel that is not over but holds a bright sample (its count
+// rounds to 1 or more: the histograms' rescale leaves it a little under 1), beside
+// kBridgedGroups or more groups of `over` (8-connected) of at least kBridgedSize pixels each
+// holding one, spanning less than kClusterSpan (CutBrightClusters). The span bounds how far
+// a join reads: a longer group's bridge would depend on the whole of it.
+std::vector<char> JoinBridged(const Image &histograms, const std::vector<char> &over, int w,
+                              int h) {
+    const size_t n = over.size();
+    // Each group's label, and whether it may be bridged.
+    std::vector<int> label(n, -1);
+    std::vector<char> bridgeable;
+    std::vector<char> seen(n, 0);
+    for (size_t p = 0; p < n; ++p) {
+        if (!over[p] || seen[p]) continue;
+        const std::vector<size_t> group = ClusterAt(over, w, h, p, &seen);
+        bool bright = group.size() >= size_t(kBridgedSize);
+        int x0 = w, x1 = -1, y0 = h, y1 = -1;
+        for (size_t q : group) {
+            label[q] = int(bridgeable.size());
+            bright = bright && BrightSamples(histograms, q) >= 0.5;
+            const int x = int(q % w), y = int(q / w);
+            x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y),
+            y1 = std::max(y1, y);
+        }
+        bridgeable.push_back(bright && x1 - x0 + 1 < kClusterSpan &&
+                             y1 - y0 + 1 < kClusterSpan);
+    }
+    std::vector<char> joined = over;
+    ParallelFor(h, n * 16, [&](int begin, int end) {
+        for (int y = begin; y < end; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                if (over[p] || !(BrightSamples(histograms, p) >= 0.5)) continue;
+                int groups[8], count = 0;
+                for (int j = std::max(0, y - 1); j <= std::min(h - 1, y + 1); ++j)
+                    for (int i = std::max(0, x - 1); i <= std::min(w - 1, x + 1); ++i) {
+                        const int g = label[size_t(j) * w + i];
+                        if (g >= 0 && bridgeable[g] &&
+                            std::find(groups, groups + count, g) == groups + count)
+                            groups[count++] = g;
+                    }
+                joined[p] = count >= kBridgedGroups;
+            }
+    });
+    return joined;
+}
+
 // Whether the cluster's bright samples are too many for its share of its search window's
 // (CutBrightClusters).
 bool ClusterStandsOut(const Image &histograms, int w, int h, const std::vector<size_t> &cluster,
@@ -686,10 +733,12 @@ bool ClusterStandsOut(const Image &histograms, int w, int h, const std::vector<s
 }  // namespace
 
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
-                                      int searchHalf, Image *color) {
+                                      int searchHalf, Image *color,
+                                      std::vector<size_t> *bridged) {
     const int w = input.width, h = input.height;
     const size_t n = input.PixelCount();
-    std::vector<size_t> cut;
+    std::vector<size_t> cut, joinedCut;
+    if (bridged) bridged->clear();
     if (histograms.width != w || histograms.height != h || histograms.channels < 4) return cut;
     const Image sums = ChannelSums(input);
     std::vector<char> over(n, 0);
@@ -700,17 +749,24 @@ std::vector<size_t> CutBrightClusters(const Image &input, const Image &histogram
                 over[size_t(y) * w + x] = OverSpike(sums, x, y, &m);
             }
     });
+    const std::vector<char> joined = JoinBridged(histograms, over, w, h);
     std::vector<char> seen(n, 0), inCluster(n, 0);
     for (size_t p = 0; p < n; ++p) {
-        if (!over[p] || seen[p]) continue;
-        const std::vector<size_t> cluster = ClusterAt(over, w, h, p, &seen);
+        if (!joined[p] || seen[p]) continue;
+        const std::vector<size_t> cluster = ClusterAt(joined, w, h, p, &seen);
         if (!ClusterStandsOut(histograms, w, h, cluster, searchHalf)) continue;
         for (size_t q : cluster) inCluster[q] = 1;
-        cut.insert(cut.end(), cluster.begin(), cluster.end());
+        const bool joins =
+            std::any_of(cluster.begin(), cluster.end(), [&](size_t q) { return !over[q]; });
+        std::vector<size_t> &to = joins ? joinedCut : cut;
+        to.insert(to.end(), cluster.begin(), cluster.end());
     }
     std::sort(cut.begin(), cut.end());
+    std::sort(joinedCut.begin(), joinedCut.end());
     // Each takes its neighbours' median outside the cluster, from the frame as given.
     TakeNeighbourMedians(input, cut, inCluster, color);
+    TakeNeighbourMedians(input, joinedCut, inCluster, color);
+    if (bridged) *bridged = std::move(joinedCut);
     return cut;
 }
 

@@ -202,17 +202,27 @@ bool Light(const Image &variance, const Image &sums, size_t p);
 // floor), not noise to spread; beside more bright samples (a highlight's line) the filter's
 // averaging among them stays. The cluster's place and size are read off the same samples, so a
 // pair of bright pixels side by side (about 8 T / window pixels likely by chance) is not
-// enough: fireflies on a heavy-tailed texture make such pairs. Each of its pixels takes per
-// channel the median of its neighbours outside the cluster (from `input`, the frame as given)
-// in `color`; the caller gives them their input back after the filter (spread, a light's
-// reflection in chrome lit the dark pixels beside it where the reference keeps it sharp).
-// Returns the cut pixels (ascending). Nothing without histograms of `input`'s size. The
-// colour must be finite (the front ends' --non-finite sees to it): a median of neighbours
-// holding NaN would put NaN into the filter's input.
-constexpr int kClusterLeast = 3, kClusterSpan = 3;
+// enough: fireflies on a heavy-tailed texture make such pairs. A pixel that holds a bright
+// sample but is not over kSpike times its neighbours' median joins the groups it touches when
+// they are kBridgedGroups or more of at least kBridgedSize pixels, each of which holds a bright
+// sample, spanning less than kClusterSpan (one longer than kClusterSpan would make the joined
+// cluster too long to cut; without the bound the join would read the whole group): its bright
+// neighbours lift its median, so the measure splits a small caustic at its middle into pairs (two
+// lone fireflies with a pixel between them stay apart). Each pixel of a cluster cut takes per
+// channel the median of its neighbours outside the cluster (from `input`, the frame as given) in
+// `color`; the caller gives them their input back after the filter (spread, a light's reflection in
+// chrome lit the dark pixels beside it where the reference keeps it sharp), but for a cluster so
+// joined: it is no sharp point (its values fall off from pixel to pixel; the reference holds a blob
+// wider than it), so its pixels go to `bridged` (if given; ascending) and the caller leaves their
+// energy to the restore of local means, as a spike's. Returns the other cut pixels (ascending).
+// Nothing without histograms of `input`'s size. The colour must be finite (the front ends'
+// --non-finite sees to it): a median of neighbours holding NaN would put NaN into the filter's
+// input.
+constexpr int kClusterLeast = 3, kClusterSpan = 3, kBridgedGroups = 2, kBridgedSize = 2;
 constexpr double kClusterShare = 0.3, kClusterLevel = 1e-4;
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
-                                      int searchHalf, Image *color);
+                                      int searchHalf, Image *color,
+                                      std::vector<size_t> *bridged = nullptr);
 
 // Each value of `output` moved at most k standard deviations of the pixel's noise from
 // the input (beyond the papers): a method's fits that overshoot an edge, smear a firefly or

@@ -585,6 +585,127 @@ TEST_F(HighlightsAwr, ALoneReflectionIsNotSpread) {
     EXPECT_TRUE(said) << ::testing::PrintToString(off.plan);
 }
 
+// A light's reflection two pixels tall (issue 29, the pair at (98, 114-115) of the accumulated
+// glossy_lights): the brighter pixel, one sample of 16 saw, is a sparse light; the other, one
+// sample of the reflection's faint edge, is under 8 x the frame's mean and beside only that
+// one bright pixel, so no rule took it out, and awr spread it into the floor below: the 9x9
+// window worse than the input. The sparse light's one bright neighbour, its sample under a
+// quarter of the light's, keeps its input. A caustic's pair, the dimmer pixel's one sample 0.4
+// x the light's (its value that sample over 16, under 16 x the mean), is still spread, as is
+// the firefly.
+TEST_F(HighlightsAwr, ATwoPixelReflectionIsNotSpread) {
+    LoneReflection pair("highlights awr two-pixel reflection");
+    const int w = pair.w;
+    const Pixel top = pair.reflection, bottom{top.x, top.y + 1};
+    const Pixel causticTop{40, 96}, causticBottom{40, 97};
+    for (auto [p, value, sample, reference] : {std::tuple{bottom, 6.f, 96.f, 5.f},
+                                               {causticTop, 500.f / 16, 500.f, 0.05f},
+                                               {causticBottom, 200.f / 16, 200.f, 0.05f}})
+        for (int c = 0; c < 3; ++c) {
+            pair.color.At(c, p.y, p.x) = value;
+            pair.variance.At(c, p.y, p.x) = value * value;
+            pair.maxSample.At(c, p.y, p.x) = sample;
+            pair.truth.At(c, p.y, p.x) = reference;
+        }
+    const Image &color = pair.color, &variance = pair.variance, &maxSample = pair.maxSample;
+    const double mean = HighlightFrameMean(color);
+    ASSERT_GT(3 * color.At(0, top.y, top.x), 16 * mean) << "the top pixel, a sparse light";
+    ASSERT_LT(3 * color.At(0, bottom.y, bottom.x), 8 * mean) << "the bottom one, not";
+    ASSERT_LT(3 * color.At(0, causticBottom.y, causticBottom.x), 16 * mean)
+        << "the caustic's dimmer pixel, not";
+    HighlightSplit split = SplitHighlights(color, &variance, 16, 3);
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 3u);
+    auto marked = [&](Pixel p) { return split.highlight[size_t(p.y) * w + p.x] != 0; };
+    EXPECT_TRUE(marked(top) && marked(bottom) && marked(causticTop));
+    EXPECT_FALSE(marked(causticBottom)) << "the caustic's pair";
+    EXPECT_FALSE(marked(pair.firefly));
+    ExpectSparseSplitMatchesTwin(split, color, variance, maxSample);
+
+    Frame frame = ColorAndVariance(color, variance);
+    frame.layers["max"] = maxSample;
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    const double input = WindowRelMse(color, pair.truth, top.x - 4, top.y - 3);
+    EXPECT_LE(WindowRelMse(out.image, pair.truth, top.x - 4, top.y - 3), input);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_LT(out.image.At(c, causticBottom.y, causticBottom.x),
+                  0.75f * color.At(c, causticBottom.y, causticBottom.x))
+            << "the caustic's pair is no longer spread";
+        EXPECT_LT(out.image.At(c, pair.firefly.y, pair.firefly.x),
+                  0.5f * color.At(c, pair.firefly.y, pair.firefly.x))
+            << "the firefly is no longer spread";
+    }
+}
+
+// A sparse light's partner is the one pixel beside it over its window, with no other such
+// neighbour itself, not yet a highlight. On a dim floor with a light 7 x 9 pixels (its rim
+// seeds, grown through): a two-pixel reflection, whose dimmer pixel joins; a sparse light
+// between two dim pixels over their windows (a streak's or a rim's noise: neither joins); a
+// line of a sparse light and two dim pixels (the first has two neighbours over their windows,
+// the light and the last: neither joins, both are left to the filter as before the rule); and
+// a sparse light whose one such neighbour is a pixel grown from the light's edge (it keeps
+// its grown base and is counted once).
+TEST(Highlights, ASparseLightsPartnerIsItsOnlyBrightNeighbour) {
+    const int w = 128, h = 128;
+    Image color(w, h, 3), variance(w, h, 3), maxSample;
+    std::mt19937_64 rng(SeedFromName("highlights sparse light partners"));
+    std::normal_distribution<float> normal(0, 1);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const bool light = x >= 20 && x < 27 && y >= 20 && y < 29;
+                const float t = light ? 500.f : 0.05f, sd = light ? 5.f : 0.005f;
+                color.At(c, y, x) = std::max(0.f, t + sd * normal(rng));
+                variance.At(c, y, x) = sd * sd;
+            }
+    maxSample = color;
+    // Sparse lights (one sample of 16, under twice the light's) and dim one-sample pixels
+    // over their windows (a sample under a quarter of the lights'); `grown` an exact pixel
+    // beside the light's edge, the grown light's.
+    const Pixel grown{27, 24}, besideGrown{28, 24};
+    const Pixel pairLight{90, 60}, pairDim{90, 61};
+    const Pixel between{60, 30}, above{60, 29}, below{60, 31};
+    const Pixel lineLight{60, 90}, lineNear{60, 91}, lineFar{60, 92};
+    for (Pixel p : {besideGrown, pairLight, between, lineLight})
+        for (int c = 0; c < 3; ++c) {
+            color.At(c, p.y, p.x) = 50;
+            variance.At(c, p.y, p.x) = 50 * 50;
+            maxSample.At(c, p.y, p.x) = 800;
+        }
+    for (Pixel p : {pairDim, above, below, lineNear, lineFar})
+        for (int c = 0; c < 3; ++c) {
+            color.At(c, p.y, p.x) = 6;
+            variance.At(c, p.y, p.x) = 6 * 6;
+            maxSample.At(c, p.y, p.x) = 96;
+        }
+    for (int c = 0; c < 3; ++c) {
+        color.At(c, grown.y, grown.x) = maxSample.At(c, grown.y, grown.x) = 40;
+        variance.At(c, grown.y, grown.x) = 0.01f;
+    }
+    ASSERT_GT(150, 16 * HighlightFrameMean(color)) << "the sparse lights, over k x the mean";
+    const HighlightSplit before = SplitHighlights(color, &variance, 16, 3);
+    auto at = [&](Pixel p) { return size_t(p.y) * w + p.x; };
+    ASSERT_TRUE(before.highlight[at(grown)] && before.grown > 0) << "the grown pixel";
+    for (Pixel p :
+         {besideGrown, pairLight, between, lineLight, pairDim, above, below, lineNear, lineFar})
+        ASSERT_FALSE(before.highlight[at(p)]) << p.x << ", " << p.y;
+
+    HighlightSplit split = before;
+    EXPECT_EQ(AddSparseLights(color, &variance, maxSample, 16, 3, -1, &split), 5u);
+    EXPECT_EQ(split.count, before.count + 5);
+    for (Pixel p : {besideGrown, pairLight, between, lineLight, pairDim})
+        EXPECT_TRUE(split.highlight[at(p)]) << p.x << ", " << p.y;
+    EXPECT_FALSE(split.highlight[at(above)] || split.highlight[at(below)])
+        << "a sparse light's two dim neighbours";
+    EXPECT_FALSE(split.highlight[at(lineNear)] || split.highlight[at(lineFar)]) << "the line";
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(split.base.At(c, grown.y, grown.x), before.base.At(c, grown.y, grown.x));
+        EXPECT_EQ(split.baseVariance.At(c, grown.y, grown.x),
+                  before.baseVariance.At(c, grown.y, grown.x));
+    }
+    ExpectSparseSplitMatchesTwin(split, color, variance, maxSample);
+}
+
 // A glossy surface's reflection of a light one sample per pixel saw (a streak of glints on
 // the edge of a floor, issue 29): each glint under 16 x the frame's mean, so no sparse light by
 // that rule, and awr spread the streak across the edge into the dark side, its 9x9 window

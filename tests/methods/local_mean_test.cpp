@@ -782,8 +782,9 @@ Image RandomHistograms(int w, int h, int bins, std::mt19937_64 *rng) {
 
 // Bright clusters against the reference on the random frames (NaN, Inf, zeros, negatives,
 // spikes of 100), with random histograms and two planted clusters of one-sample pixels over
-// a flat patch (no other bright sample in their search windows): the same pixels and bits,
-// the same when repeated over threads.
+// a flat patch (no other bright sample in their search windows), and on the larger frame a
+// caustic split at its middle: the same pixels (those given back and those bridged) and
+// bits, the same when repeated over threads.
 TEST_P(LocalMeanMatches, CutBrightClustersMatchesReference) {
     const LocalMeanCase &c = GetParam();
     Image input, output;
@@ -820,17 +821,44 @@ TEST_P(LocalMeanMatches, CutBrightClustersMatchesReference) {
             }
             hist.At(3 * bins, y, x) = 16;
         }
+    // A caustic split at its middle (the pixel at x0 + 1, y0 + 1 under 16 times its
+    // neighbours' median), on a flat patch of frames large enough to hold a third.
+    if (c.w >= 48 && c.h >= 48)
+        for (int x0 = c.w / 4, y0 = 2 * c.h / 3, y = y0 - 7; y <= y0 + 9; ++y)
+            for (int x = x0 - 6; x <= x0 + 8; ++x) {
+                const int dx = x - x0, dy = y - y0;
+                float sum = 0.04f, samples = 0;
+                if (dy == 0 && dx == 1) sum = 0.30f;
+                if (dy == 0 && dx == 2) sum = 2.38f, samples = 1;
+                if (dy == 1 && dx >= 0 && dx <= 2)
+                    sum = dx == 0 ? 7.37f : dx == 1 ? 3.87f : 3.10f, samples = 1;
+                if (dy == 2 && dx == 0) sum = 3.60f, samples = 2;
+                for (int ch = 0; ch < c.channels; ++ch) input.At(ch, y, x) = sum / 3;
+                for (int ch = 0; ch < 3; ++ch) {
+                    hist.At(ch * bins + 1, y, x) = 16 - samples;
+                    hist.At(ch * bins + 2, y, x) = 0;
+                    hist.At(ch * bins + bins - 1, y, x) = samples;
+                }
+                hist.At(3 * bins, y, x) = 16;
+            }
     Image expected = input, got = input, again = input;
-    const std::vector<size_t> cut = ref::CutBrightClusters(input, hist, 6, &expected);
-    EXPECT_EQ(CutBrightClusters(input, hist, 6, &got), cut);
+    std::vector<size_t> bridged, expectedBridged, bridgedAgain;
+    const std::vector<size_t> cut =
+        ref::CutBrightClusters(input, hist, 6, &expected, &expectedBridged);
+    EXPECT_EQ(CutBrightClusters(input, hist, 6, &got, &bridged), cut);
+    EXPECT_EQ(bridged, expectedBridged);
     ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
     {
         ForceParallelParts split(3);  // the rows among threads: the same pixels and bits
-        EXPECT_EQ(CutBrightClusters(input, hist, 6, &again), cut);
+        EXPECT_EQ(CutBrightClusters(input, hist, 6, &again, &bridgedAgain), cut);
+        EXPECT_EQ(bridgedAgain, bridged);
     }
     EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
     if (c.w >= 16 && c.h >= 16) {
         EXPECT_GE(cut.size(), 9u);  // the planted columns
+    }
+    if (c.w >= 48 && c.h >= 48) {
+        EXPECT_EQ(bridged.size(), 5u);  // the planted caustic
     }
     if (c.w >= 2 && c.h >= 4) {
         for (int y = 0; y <= 2; ++y)

@@ -143,5 +143,68 @@ TEST(RhfClusterCut, CutsReflectionsUnderTheVetosShare) {
     for (size_t p : want) EXPECT_LT(got.Plane(0)[p], 0.2f) << p;
 }
 
+// A caustic of 5 pixels as the ring casts on glossy_lights' floor: one or two bright samples
+// of 16 in each, its middle pixel (3.87, channels summed) under 16 times its neighbours'
+// median (0.30: a dim neighbour and its four bright ones lift it), so the over pixels form two
+// pairs. The middle pixel joins them and the 5 are cut whole, set apart as bridged (their
+// energy left to the restore). Two pairs beside a pixel with no
+// bright sample, and a pair and a lone firefly with a bright pixel between them, stay; the
+// host and the CPU twin cut the same pixels to the same bits.
+TEST(RhfClusterCut, JoinsACausticSplitAtItsMiddle) {
+    const int w = 48, h = 24;
+    HistogramFloor wall(w, h);
+    auto bright = [&](int x, int y, float samples, float sum) {
+        wall.Bright(x, y, samples, sum / 3);
+    };
+    bright(12, 10, 1, 2.38f), bright(11, 10, 0, 0.30f);
+    bright(10, 11, 1, 7.37f), bright(11, 11, 1, 3.87f), bright(12, 11, 1, 3.10f);
+    bright(10, 12, 2, 3.60f);
+    // Two pairs beside a dim pixel without a bright sample.
+    bright(26, 10, 1, 10.2f), bright(26, 11, 1, 10.2f), bright(27, 10, 0, 0.6f);
+    bright(28, 10, 1, 10.2f), bright(28, 11, 1, 10.2f);
+    // A pair and a lone firefly, a bright pixel between them under 16 times its neighbours.
+    bright(40, 10, 1, 10.2f), bright(40, 11, 1, 10.2f), bright(41, 11, 1, 0.6f);
+    bright(42, 11, 1, 10.2f);
+    Image got = wall.color, expected = wall.color;
+    std::vector<size_t> bridged, expectedBridged;
+    EXPECT_TRUE(CutBrightClusters(wall.color, wall.hist, 6, &got, &bridged).empty());
+    const std::vector<size_t> want{10 * w + 12, 11 * w + 10, 11 * w + 11, 11 * w + 12,
+                                   12 * w + 10};
+    EXPECT_EQ(bridged, want);
+    EXPECT_TRUE(
+        ref::CutBrightClusters(wall.color, wall.hist, 6, &expected, &expectedBridged).empty());
+    EXPECT_EQ(expectedBridged, bridged);
+    EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    for (size_t p : want) EXPECT_LT(got.Plane(0)[p], 0.2f) << p;
+}
+
+// What a bright pixel does not bridge: the caustic above with one pixel of a pair over 16
+// times by value but with no bright sample (the pairs stay apart, neither cut), and a line of
+// 11 one-sample pixels beside a reflection of 2x2 two-sample pixels, a bright pixel under 16
+// times between them (the line spans more than kClusterSpan: the reflection is cut alone, as
+// a cluster given its input back); host and CPU twin alike.
+TEST(RhfClusterCut, BridgesNeitherAPairMissingABrightSampleNorALongLine) {
+    const int w = 48, h = 24;
+    HistogramFloor wall(w, h);
+    auto bright = [&](int x, int y, float samples, float sum) {
+        wall.Bright(x, y, samples, sum / 3);
+    };
+    bright(12, 10, 1, 2.38f), bright(11, 10, 0, 0.30f);
+    bright(10, 11, 1, 7.37f), bright(11, 11, 1, 3.87f), bright(12, 11, 1, 3.10f);
+    bright(10, 12, 0, 3.60f);
+    for (int x = 20; x <= 30; ++x) bright(x, 18, 1, 10.2f);
+    bright(31, 18, 1, 0.6f);
+    for (int y = 18; y <= 19; ++y) bright(32, y, 2, 10.2f), bright(33, y, 2, 10.2f);
+    Image got = wall.color, expected = wall.color;
+    std::vector<size_t> bridged, expectedBridged;
+    const std::vector<size_t> want{18 * w + 32, 18 * w + 33, 19 * w + 32, 19 * w + 33};
+    EXPECT_EQ(CutBrightClusters(wall.color, wall.hist, 6, &got, &bridged), want);
+    EXPECT_TRUE(bridged.empty());
+    EXPECT_EQ(ref::CutBrightClusters(wall.color, wall.hist, 6, &expected, &expectedBridged),
+              want);
+    EXPECT_TRUE(expectedBridged.empty());
+    EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+}
+
 }  // namespace
 }  // namespace mcd::test

@@ -45,14 +45,32 @@ Image StageOf(const Result &result, const std::string &name) {
 // A wall of 16 samples a pixel with a light's reflection of 4 pixels (1, 2, 1 and 3 samples
 // of 16 at 300 a channel, cut whole as a bright cluster) and a 3x3 light whose edge a wide
 // pixel filter spread, with a rim one sample saw beyond it (cut as a light's rim), and a
-// firefly one sample of 16 saw at 40 (cut as a lone spike).
+// firefly one sample of 16 saw at 40 (cut as a lone spike), and a caustic of 5 pixels with its
+// corner at (36, 8), split at its middle (cut whole as bridged; rhf_clusters_test.cpp).
+constexpr int kCausticX = 36, kCausticY = 8;
 Frame ReflectionFrame() {
     const int w = 48, h = 40;
     std::mt19937_64 rng(SeedFromName("rhf probe cuts"));
     std::uniform_real_distribution<double> wallSample(0.005, 0.0216);
     auto reflection = [](int x, int y) { return ReflectionSamplesAt(x - 12, y - 12); };
+    // The caustic's bright samples of 16 and their value, and its dim pixel's samples.
+    auto caustic = [](int dx, int dy, int s) {
+        const int samples = dy == 2 && dx == 0 ? 2 : dy == 1 || (dy == 0 && dx == 2) ? 1 : 0;
+        const double value = dy == 0   ? 12.7
+                             : dy == 2 ? 9.6
+                             : dx == 0 ? 39.3
+                             : dx == 1 ? 20.6
+                                       : 16.5;
+        if (dx < 0 || dy < 0 || dx > 2 || dy > 2) return -1.0;
+        if (s < samples) return value;
+        return dy == 0 && dx == 1 ? 0.1 : -1.0;
+    };
     auto sample = [&](int x, int y, int s) {
         if (s < reflection(x, y)) return 300.0;
+        if (const double c = caustic(x - kCausticX, y - kCausticY, s); c >= 0) {
+            wallSample(rng);  // drawn all the same: the other pixels keep their samples
+            return c;
+        }
         if (x == 6 && y == 30 && s == 0) return 40.0;
         const bool rows = y >= 26 && y <= 28;
         if (rows && x >= 30 && x <= 32) return 10.0;
@@ -63,13 +81,27 @@ Frame ReflectionFrame() {
     return SampledFrame(w, h, sample);
 }
 
-// The run's colour with two of the reflection's pixels and the firefly at their wall's level:
-// the probe's noise there would leave a cluster of 2, which is not cut, and no firefly.
+// The run's colour with two of the reflection's pixels, the firefly and the caustic's middle
+// and top right pixels at their wall's level: the probe's noise there would leave a cluster
+// of 2, which is not cut, no firefly, and of the caustic a pair and a lone pixel, no bridge.
 Image FlippedColour(const Frame &frame) {
     Image color = frame.Get("color");
     for (int c = 0; c < 3; ++c)
-        color.At(c, 12, 12) = color.At(c, 13, 11) = color.At(c, 30, 6) = 0.0133f;
+        color.At(c, 12, 12) = color.At(c, 13, 11) = color.At(c, 30, 6) = color.At(
+            c, kCausticY, kCausticX + 2) = color.At(c, kCausticY + 1, kCausticX + 1) = 0.0133f;
     return color;
+}
+
+// The count of a run's bridged pixels ("...; N more in clusters joined"), or -1.
+int BridgedIn(const Result &result) {
+    const std::string marker = "; ", what = " more in clusters joined";
+    for (const std::string &line : result.plan) {
+        const size_t end = line.find(what);
+        if (line.rfind("bright clusters: ", 0) != 0 || end == std::string::npos) continue;
+        const size_t begin = line.rfind(marker, end);
+        return std::stoi(line.substr(begin + marker.size(), end - begin - marker.size()));
+    }
+    return -1;
 }
 
 TEST_F(RhfProbe, KeepsTheRunsCutsWhereThePerturbationWouldFlipThem) {
@@ -82,8 +114,11 @@ TEST_F(RhfProbe, KeepsTheRunsCutsWhereThePerturbationWouldFlipThem) {
     const int clusters = CountIn(run, "bright clusters: "),
               rims = CountIn(run, "lights' rims: ");
     ASSERT_EQ(clusters, 4);
+    ASSERT_EQ(BridgedIn(run), 5);
     ASSERT_GT(rims, 0);
-    ASSERT_EQ(CountIn(run, "spikes: "), 1);
+    // The firefly and the caustic's brightest pixel (a pair's, above its other neighbours).
+    const int spikes = CountIn(run, "spikes: ");
+    ASSERT_EQ(spikes, 2);
     std::unique_ptr<api::FrontEnd> onHalf = rhf->ForProbe(Ctx(), inputs, true),
                                    onPerturbed = rhf->ForProbe(Ctx(), inputs, false);
     ASSERT_NE(onHalf, nullptr);
@@ -91,19 +126,22 @@ TEST_F(RhfProbe, KeepsTheRunsCutsWhereThePerturbationWouldFlipThem) {
 
     const Image flipped = FlippedColour(frame);
     inputs.Override("color", flipped);
-    // Alone the flipped colour cuts no cluster, and the reflection's other two pixels as
-    // spikes: the test tells the probe's cuts apart.
+    // Alone the flipped colour cuts no cluster, bridges none, and cuts the reflection's other
+    // two pixels and the caustic's other three as spikes: the test tells the probe's cuts
+    // apart.
     const Result alone = api::RunTiled(Ctx(), *rhf, inputs, keep);
     EXPECT_EQ(CountIn(alone, "bright clusters: "), 0);
+    EXPECT_EQ(BridgedIn(alone), 0);
     const int ownSpikes = CountIn(alone, "spikes: ");
-    EXPECT_EQ(ownSpikes, 2);
+    EXPECT_EQ(ownSpikes, 5);
     for (const auto *probe : {onHalf.get(), onPerturbed.get()}) {
         const bool half = probe == onHalf.get();
         SCOPED_TRACE(half ? "on half0" : "on the perturbed colour");
         const Result probed = api::RunTiled(Ctx(), *probe, inputs, keep);
         EXPECT_EQ(CountIn(probed, "bright clusters: "), clusters);
+        EXPECT_EQ(BridgedIn(probed), 5);
         EXPECT_EQ(CountIn(probed, "lights' rims: "), rims);
-        EXPECT_EQ(CountIn(probed, "spikes: "), half ? 1 : ownSpikes);
+        EXPECT_EQ(CountIn(probed, "spikes: "), half ? spikes : ownSpikes);
         // Each of the run's cluster pixels takes the probe's input back after the filter.
         const Image given = StageOf(probed, "exact pixels");
         ASSERT_TRUE(given.SameShape(flipped));
@@ -111,6 +149,9 @@ TEST_F(RhfProbe, KeepsTheRunsCutsWhereThePerturbationWouldFlipThem) {
             for (int c = 0; c < 3; ++c)
                 EXPECT_EQ(given.At(c, y, x), flipped.At(c, y, x))
                     << x << ", " << y << " c" << c;
+        // The run's bridged pixels do not: the caustic's brightest keeps the filter's output.
+        EXPECT_LT(given.At(0, kCausticY + 1, kCausticX),
+                  0.5f * flipped.At(0, kCausticY + 1, kCausticX));
     }
 }
 
@@ -167,6 +208,32 @@ TEST_F(RhfProbe, CandidatesOfOneColourShareTheirCutSets) {
     twoScales->Set("search-half", 4);
     EXPECT_NE(twoScales->ForProbe(Ctx(), shared, false), nullptr);
     EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 3u) << "another search window took them";
+}
+
+// The run against its CPU reference (FrontEnd::Reference) on the frame with the caustic: the
+// same stages, their values within float rounding; the bridged pixels keep the filter's
+// output (not their input: the local mean gives their energy back).
+TEST_F(RhfProbe, RunMatchesItsReferenceWithACaustic) {
+    const Frame frame = ReflectionFrame();
+    Device device = api::BorrowDevice(Ctx());
+    Method rhf("rhf");
+    RunOptions keep;
+    keep.keepStages = true;
+    const Result run = rhf.Run(device, frame, keep);
+    ASSERT_EQ(BridgedIn(run), 5);
+    const std::vector<Stage> cpu = rhf.Reference(device, frame);
+    ASSERT_EQ(run.stages.size(), cpu.size());
+    Tolerance tolerance;
+    tolerance.relTol = 1e-3, tolerance.absTol = 1e-5, tolerance.maxNmse = 1e-8;
+    for (size_t i = 0; i < cpu.size(); ++i) {
+        ASSERT_EQ(run.stages[i].name, cpu[i].name);
+        EXPECT_TRUE(ImagesMatch(cpu[i].image, run.stages[i].image, Image(), tolerance))
+            << cpu[i].name;
+    }
+    // The caustic's middle pixel, bright in the input, is no longer so after the filter.
+    const Image &given = frame.Get("color"), exact = StageOf(run, "exact pixels");
+    EXPECT_LT(exact.At(0, kCausticY + 1, kCausticX + 1),
+              0.5f * given.At(0, kCausticY + 1, kCausticX + 1));
 }
 
 // auto's probe doubles the variance (a half's mean, SURE's probe): the lights beside the run's

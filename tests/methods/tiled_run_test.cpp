@@ -311,6 +311,77 @@ TEST_F(GpuTest, TiledRunRhfCutsAcrossTheSeamAreBitIdentical) {
     }
 }
 
+// The bright pixels a caustic of 5 pixels on a dim floor holds at (dx, dy) from its corner
+// (its samples of 16 at `value` a channel, the others at `dim`, 0 for the floor's): two
+// pairs over 16 times their neighbours' median and the pixel between them under it (a dim
+// neighbour and its four bright ones lift its median), which joins them.
+struct CausticPixel {
+    int samples;
+    double value, dim;
+};
+CausticPixel CausticAt(int dx, int dy) {
+    if (dy == 0 && dx == 1) return {0, 0, 0.1};
+    if (dy == 0 && dx == 2) return {1, 12.7, 0};
+    if (dy == 1 && dx == 0) return {1, 39.3, 0};
+    if (dy == 1 && dx == 1) return {1, 20.6, 0};
+    if (dy == 1 && dx == 2) return {1, 16.5, 0};
+    if (dy == 2 && dx == 0) return {2, 9.6, 0};
+    return {0, 0, 0};
+}
+
+// rhf's joins across the tiles' seams: caustics split at their middle (cut whole, their energy
+// left to the restore) straddling the seams of tiles of 40, and a light's reflection of 4
+// pixels with a bright pixel beside it that also touches the end of a line of one-sample
+// pixels 197 long, whose far end holds no bright sample (a tile's window sees only the
+// line's bright part): the line cannot be bridged, whole or in tiles, and the reflection is
+// cut alone; the tiled result is the untiled one, bit for bit, at the default search window
+// and at 2 (the cuts' reach then the joins').
+TEST_F(GpuTest, TiledRunRhfJoinsAcrossTheSeamAreBitIdentical) {
+    const int w = 240, h = 40, lineY = 21;
+    std::mt19937_64 rng(SeedFromName("tiled rhf joins"));
+    std::uniform_real_distribution<double> floorSample(0.005, 0.0216);
+    const std::vector<std::pair<int, int>> caustics = {{38, 6}, {78, 30}, {119, 5}, {158, 34}};
+    auto sample = [&](int x, int y, int s) {
+        for (auto [cx, cy] : caustics)
+            if (x >= cx && x <= cx + 2 && y >= cy && y <= cy + 2) {
+                const CausticPixel c = CausticAt(x - cx, y - cy);
+                if (s < c.samples) return c.value;
+                if (c.dim > 0) return c.dim;
+            }
+        // The reflection at x 200-201, its bridge at 199 in a dim glow (which keeps it
+        // under 16 times its neighbours' median), the line up to 198.
+        const int reflection = y == lineY - 1 ? (x == 200   ? 1
+                                                 : x == 201 ? 2
+                                                            : 0)
+                               : y == lineY   ? (x == 200   ? 1
+                                                 : x == 201 ? 3
+                                                            : 0)
+                                              : 0;
+        if (reflection) return s < reflection ? 300.0 : floorSample(rng);
+        if (x == 199 && y == lineY) return s == 0 ? 9.0 : 0.1;
+        if (x >= 198 && x <= 199 && std::abs(y - lineY) == 1) return 0.1;
+        if (y == lineY && x == 2) return 5.0;
+        if (y == lineY && x > 2 && x <= 198) return s == 0 ? 300.0 : floorSample(rng);
+        return floorSample(rng);
+    };
+    const Frame frame = SampledFrame(w, h, sample);
+    Device device = api::BorrowDevice(Ctx());
+    const std::vector<std::pair<std::string, Params>> cases = {
+        {"rhf", {}}, {"rhf --search-half 2", {{"search-half", 2}}}};
+    for (const auto &[what, params] : cases) {
+        Result whole = RunWith(device, "rhf", params, frame, 0);
+        std::string plan;
+        for (const std::string &line : whole.plan) plan += line + "\n";
+        EXPECT_EQ(CountIn(whole, "bright clusters: "), 4) << what << "\n" << plan;
+        EXPECT_NE(plan.find("; 20 more in clusters joined"), std::string::npos) << what << "\n"
+                                                                                << plan;
+        Result tiled = RunWith(device, "rhf", params, frame, 40);
+        ASSERT_FALSE(tiled.plan.empty());
+        EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
+        ExpectSameBits(whole.image, tiled.image, what + " with joins across the seams");
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Cases, TiledRunLocal,
     ::testing::Values(
