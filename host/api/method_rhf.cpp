@@ -168,17 +168,17 @@ class Rhf : public FrontEndOf<RhfParams> {
     std::unique_ptr<FrontEnd> ForProbe(vk::Context &, Inputs &run, bool onHalf) const override {
         if (options.meanRadius <= 0) return nullptr;
         auto probe = std::make_unique<Rhf>(*this);
-        const Image variance = ExactVariance(ExactLayersOf(run));
+        const ExactLayers layers = ExactLayersOf(run);
         // auto's rhf candidates cut their frame alike: the second takes the first's sets.
         std::string key;
         if (RunMemo *memo = run.Memo()) {
-            key = CutSetsKey(run, variance, onHalf);
+            key = CutSetsKey(run, layers, onHalf);
             if (const auto *kept = memo->Find<std::shared_ptr<const CutSets>>(key)) {
                 probe->decided = *kept;
                 return probe;
             }
         }
-        probe->decided = FindCutSets(run, variance, onHalf);
+        probe->decided = FindCutSets(run, ExactVariance(layers), onHalf);
         if (!key.empty())
             run.Memo()->Add(key,
                             std::make_shared<std::shared_ptr<const CutSets>>(probe->decided));
@@ -296,14 +296,17 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::vector<size_t> rims, clusters, bridged, rimLights;
     };
 
-    // The cut sets' memo key: everything Cut reads and what ForProbe keeps of it.
-    std::string CutSetsKey(Inputs &run, const Image &variance, bool onHalf) const {
+    // The cut sets' memo key: everything Cut reads (the exact variance by the layers it is
+    // made from, so that a hit does not make it) and what ForProbe keeps of it.
+    std::string CutSetsKey(Inputs &run, const ExactLayers &layers, bool onHalf) const {
+        auto id = [](const Image *layer) { return layer ? MemoImageId(*layer) : "none"; };
         return fmt::format(
-            "rhf.cuts colour {} exact variance {} variance layer {} histograms {} search {} "
-            "spikes {} window {}x{} at {},{} of {}x{}",
-            MemoImageId(run.Get("color")), MemoImageId(variance), Variance(run) != nullptr,
-            MemoImageId(Histograms(run)), options.searchHalf, onHalf, run.Width(), run.Height(),
-            run.OriginX(), run.OriginY(), run.FrameWidth(), run.FrameHeight());
+            "rhf.cuts colour {} exact variance of {} {} {} {} variance layer {} histograms {} "
+            "search {} spikes {} window {}x{} at {},{} of {}x{}",
+            MemoImageId(run.Get("color")), id(layers.variance), id(layers.min), id(layers.max),
+            id(layers.spp), Variance(run) != nullptr, MemoImageId(Histograms(run)),
+            options.searchHalf, onHalf, run.Width(), run.Height(), run.OriginX(), run.OriginY(),
+            run.FrameWidth(), run.FrameHeight());
     }
 
     // The run's cuts on `run` as ForProbe keeps them: the pixels of its whole frame and the
@@ -341,7 +344,8 @@ class Rhf : public FrontEndOf<RhfParams> {
     }
 
     // The cuts found on this colour (none with --rhf-mean-radius 0); `lights` (if given) set
-    // to which pixels the rims were found beside.
+    // to which pixels the rims were found beside. Every input read here (the layers, the
+    // variance's, the options) goes into CutSetsKey: auto's probes take its sets by that key.
     Cuts Cut(Inputs &inputs, const Image &variance, std::vector<char> *lights = nullptr) const {
         Cuts cuts;
         const Image &color = inputs.Get("color");

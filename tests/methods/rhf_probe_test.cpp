@@ -208,6 +208,18 @@ TEST_F(RhfProbe, CandidatesOfOneColourShareTheirCutSets) {
     twoScales->Set("search-half", 4);
     EXPECT_NE(twoScales->ForProbe(Ctx(), shared, false), nullptr);
     EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 3u) << "another search window took them";
+    EXPECT_EQ(BridgedIn(a), 5) << "the kept sets lost the bridged clusters";
+    // Cut reads the variance and the histograms too: another of either cuts anew.
+    Image variance = frame.Get("variance");
+    for (float &v : variance.data) v *= 4.0f;
+    shared.Override("variance", variance);
+    EXPECT_NE(twoScales->ForProbe(Ctx(), shared, false), nullptr);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 4u) << "another variance took the first's sets";
+    Image histograms = frame.Get("hist");
+    histograms.data[0] += 1.0f;
+    shared.Override("hist", histograms);
+    EXPECT_NE(twoScales->ForProbe(Ctx(), shared, false), nullptr);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 5u) << "other histograms took the first's sets";
 }
 
 // The run against its CPU reference (FrontEnd::Reference) on the frame with the caustic: the
