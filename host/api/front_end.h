@@ -174,6 +174,10 @@ struct TileNeeds {
     // and input, pixel by pixel within this reach (the local mean's restore), that a tiled
     // run makes once on the assembled frame (FrontEnd::Finish), so that no halo holds it.
     int finishReach = 0;
+    // Whether the method's variants take each other's work from the run memo window by
+    // window where their tiles lie alike (rhf's selections and aggregations): auto then
+    // plans them on one tile plan, their needs widened together.
+    bool sharesByWindow = false;
 };
 
 class FrontEnd {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -579,10 +580,13 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
 }
 
 // The tile needs of the variants of `v`'s method that may run on these inputs, widened
-// together (WidestNeeds), or none where a variant's tiles change its output. Where they
-// run in tiles they then cut the frame alike, and rhf at two scales takes rhf's selections
-// and finest aggregations from the run memo window by window, as it does whole; the plan
-// moves no pixel of a method whose tiles give the untiled bits.
+// together (WidestNeeds), or none where the method does not share work window by window
+// (TileNeeds::sharesByWindow: a wider halo would buy it nothing) or a variant's tiles change
+// its output. Where they run in tiles they then cut the frame alike, and rhf at two scales
+// takes rhf's selections and finest aggregations from the run memo window by window, as it
+// does whole; the plan moves no pixel of a method whose tiles give the untiled bits. A
+// variant whose needs cannot be told is left out of the plan (its own run tells why; RunTiled
+// widens each run's own needs by the plan).
 std::optional<TileNeeds> SharedTiling(vk::Context &context, Inputs &inputs,
                                       const FrontEnd &base, const RegisteredVariant &v,
                                       const Noise &noise, const AutoFrontEnd::Options &o,
@@ -597,11 +601,17 @@ std::optional<TileNeeds> SharedTiling(vk::Context &context, Inputs &inputs,
         if (!runs || !OutByEstimate(other, noise).empty() ||
             (!noise.scored && !other.variant->overrides.empty()))
             continue;
-        bool runsSplit = false;
-        std::unique_ptr<FrontEnd> method = Configure(base, other, noise, o, &runsSplit);
-        if (!method->Missing(inputs.Source()).empty()) continue;
-        TileNeeds needs = method->Tiling(context, inputs);
-        if (!needs.notLocal.empty()) return std::nullopt;
+        TileNeeds needs;
+        try {
+            bool runsSplit = false;
+            std::unique_ptr<FrontEnd> method = Configure(base, other, noise, o, &runsSplit);
+            if (!method->Missing(inputs.Source()).empty()) continue;
+            needs = method->Tiling(context, inputs);
+        } catch (const Error &e) {
+            if (e.Kind() == ErrorKind::Cancelled) throw;
+            continue;
+        }
+        if (!needs.notLocal.empty() || !needs.sharesByWindow) return std::nullopt;
         shared = shared ? WidestNeeds(*shared, needs) : needs;
     }
     return shared;
@@ -627,6 +637,8 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
     // Each variant has a slot in the kernels.
     if (variants.size() > size_t(kAutoMaxCandidates))
         throw std::logic_error("auto: more variants in the registry than kernel slots");
+    // Each method's shared tile plan (SharedTiling), made at its first candidate.
+    std::map<std::string, std::optional<TileNeeds>> sharedPlans;
     for (const RegisteredVariant &v : variants) {
         const std::string &label = v.variant->label;
         const FrontEnd *base = nullptr;
@@ -671,8 +683,13 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
             continue;
         }
         try {
-            const std::optional<TileNeeds> shared =
-                SharedTiling(context, inputs, *base, v, noise, o, allowed);
+            auto kept = sharedPlans.find(v.method->name);
+            if (kept == sharedPlans.end())
+                kept = sharedPlans
+                           .emplace(v.method->name,
+                                    SharedTiling(context, inputs, *base, v, noise, o, allowed))
+                           .first;
+            const std::optional<TileNeeds> &shared = kept->second;
             out.ran.push_back(RunCandidate(context, inputs, *method, v, runsSplit, noise, o,
                                            shared ? &*shared : nullptr, out));
             // The buffers a candidate kept for reuse (its run, probe and tiles share sizes)

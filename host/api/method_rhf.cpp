@@ -200,6 +200,7 @@ class Rhf : public FrontEndOf<RhfParams> {
             o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0, CutReach());
         needs.finishReach = o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0;
         needs.align = 1 << (scales - 1);
+        needs.sharesByWindow = true;
         // Per pixel: the histograms, the colour and its filtered image, the selection mask and
         // the bin maxima (a float per 8 pixels and bin plane); each coarser scale s adds its
         // histograms (1/4^s) and colour images (a generous 8 per pixel in all), checked

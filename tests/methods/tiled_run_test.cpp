@@ -238,6 +238,10 @@ TEST_F(TiledRunShared, RhfScalesPlannedAlikeShareTheFinestSelections) {
     }
     EXPECT_EQ(made[1], 12u) << "the coarser scale's alone";
     EXPECT_GT(made[0], 12u) << "the test tells shared windows from their own";
+    // auto widens the plans of rhf's variants alone: pivot's share nothing window by window.
+    api::Inputs inputs(frame, false, "rhf");
+    EXPECT_TRUE(one->Tiling(Ctx(), inputs).sharesByWindow);
+    EXPECT_FALSE(api::FindMethod("pivot")->make()->Tiling(Ctx(), inputs).sharesByWindow);
 }
 
 TEST(TiledRunPlan, WidestNeedsHoldBoth) {
