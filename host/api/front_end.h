@@ -216,10 +216,11 @@ class FrontEnd {
         return Clone();
     }
     // The last step TileNeeds::finishReach names, made on the output assembled from the
-    // tiles (`whole`: the frame's inputs). RunTiled sets `finishWhole` on ForTiles' copy,
-    // whose Run then leaves the step out, and calls Finish on it once after the tiles.
+    // tiles (`whole`: the frame's inputs). RunTiled calls LeaveFinishToWhole on ForTiles'
+    // copy, whose Run then leaves the step out, and calls Finish on it once after the tiles.
     virtual void Finish(vk::Context &context, Inputs &whole, Result *result) const {}
-    bool finishWhole = false;
+    void LeaveFinishToWhole() { finishWhole = true; }
+    bool FinishesWhole() const { return finishWhole; }
     // A copy for auto's probe of this run (`onHalf`: its run on half0, another estimate of
     // the frame; else on the perturbed colour), with decisions the run takes on `run` (its
     // frame as given) kept, so that the probe does not flip between branches the run did not
@@ -232,6 +233,10 @@ class FrontEnd {
         return nullptr;
     }
     virtual std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const = 0;
+
+  protected:
+    // Set by LeaveFinishToWhole: Run leaves out the step Finish makes.
+    bool finishWhole = false;
 };
 
 // A front end whose parameters are the fields of O, by the table `defs`.

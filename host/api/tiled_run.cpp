@@ -124,7 +124,7 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
     const int R = needs.reach, align = std::max(needs.align, 1);
     const int tilesX = (W + TW - 1) / TW, tilesY = (H + TH - 1) / TH, count = tilesX * tilesY;
     std::unique_ptr<FrontEnd> tiled = method.ForTiles(context, inputs);
-    tiled->finishWhole = needs.finishReach > 0;
+    if (needs.finishReach > 0) tiled->LeaveFinishToWhole();
     RunOptions tileRun = run;
     Result result;
     std::vector<std::string> seen;
@@ -173,7 +173,7 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
             ++done;
             if (run.progress) run.progress("tiles", done, count);
         }
-    if (tiled->finishWhole) tiled->Finish(context, inputs, &result);
+    if (tiled->FinishesWhole()) tiled->Finish(context, inputs, &result);
     result.plan.insert(
         result.plan.begin(),
         fmt::format("tiled: {} tile(s) of up to {}x{} pixels ({} x {}), each run on a window "
