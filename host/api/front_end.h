@@ -170,6 +170,14 @@ struct TileNeeds {
     double bytesPerPixel = 0, bindingBytesPerPixel = 0, fixedBytes = 0;
     // The widest window the method can run (0: any), for buffers that grow with a row.
     int maxWidth = 0;
+    // Of `reach`, what the method's last step adds (0: none): a host pass over its output
+    // and input, pixel by pixel within this reach (the local mean's restore), that a tiled
+    // run makes once on the assembled frame (FrontEnd::Finish), so that no halo holds it.
+    int finishReach = 0;
+    // Whether the method's variants take each other's work from the run memo window by
+    // window where their tiles lie alike (rhf's selections and aggregations): auto then
+    // plans them on one tile plan, their needs widened together.
+    bool sharesByWindow = false;
 };
 
 class FrontEnd {
@@ -207,6 +215,12 @@ class FrontEnd {
     virtual std::unique_ptr<FrontEnd> ForTiles(vk::Context &context, Inputs &whole) const {
         return Clone();
     }
+    // The last step TileNeeds::finishReach names, made on the output assembled from the
+    // tiles (`whole`: the frame's inputs). RunTiled calls LeaveFinishToWhole on ForTiles'
+    // copy, whose Run then leaves the step out, and calls Finish on it once after the tiles.
+    virtual void Finish(vk::Context &context, Inputs &whole, Result *result) const {}
+    void LeaveFinishToWhole() { finishWhole = true; }
+    bool FinishesWhole() const { return finishWhole; }
     // A copy for auto's probe of this run (`onHalf`: its run on half0, another estimate of
     // the frame; else on the perturbed colour), with decisions the run takes on `run` (its
     // frame as given) kept, so that the probe does not flip between branches the run did not
@@ -219,6 +233,10 @@ class FrontEnd {
         return nullptr;
     }
     virtual std::vector<Stage> Reference(vk::Context &context, Inputs &inputs) const = 0;
+
+  protected:
+    // Set by LeaveFinishToWhole: Run leaves out the step Finish makes.
+    bool finishWhole = false;
 };
 
 // A front end whose parameters are the fields of O, by the table `defs`.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -530,12 +531,13 @@ std::unique_ptr<FrontEnd> CheaperProbe(const FrontEnd &method, const RegisteredV
 // indirect part. The layers replaced for the probe are put back however it ends.
 Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                  const RegisteredVariant &v, bool runsSplit, const Noise &noise,
-                 const AutoFrontEnd::Options &o, Candidates &out) {
+                 const AutoFrontEnd::Options &o, const TileNeeds *shared, Candidates &out) {
     const std::string &label = v.variant->label;
     auto begin = Clock::now();
     // Each candidate in its own tiles where the frame does not fit it whole (host/api/
-    // tiled_run.h), with its own halo: auto's windows are then the combination's alone.
-    Result one = RunTiled(context, method, inputs, RunOptions());
+    // tiled_run.h), with its method's variants' halo (SharedTiling): auto's windows are then
+    // the combination's alone.
+    Result one = RunTiled(context, method, inputs, RunOptions(), shared);
     for (const std::string &line : one.plan) out.plans.push_back(label + ": " + line);
     for (const Timing &t : one.timings)
         out.timings.push_back({label + ": " + t.label, t.gpuMs});
@@ -571,7 +573,8 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                                                  : noise.perturbed);
         }
         std::unique_ptr<FrontEnd> cheaper = CheaperProbe(probed, v, out);
-        Result probeRun = RunTiled(context, cheaper ? *cheaper : probed, inputs, RunOptions());
+        Result probeRun =
+            RunTiled(context, cheaper ? *cheaper : probed, inputs, RunOptions(), shared);
         for (const Timing &t : probeRun.timings)
             out.timings.push_back({label + " (probe): " + t.label, t.gpuMs});
         // What a probe that kept the run's decisions did (rhf's cuts: the run's counts).
@@ -587,6 +590,44 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
             ErrorKind::Internal);
     r.seconds = std::chrono::duration<double>(Clock::now() - begin).count();
     return r;
+}
+
+// The tile needs of the variants of `v`'s method that may run on these inputs, widened
+// together (WidestNeeds), or none where the method does not share work window by window
+// (TileNeeds::sharesByWindow: a wider halo would buy it nothing) or a variant's tiles change
+// its output. Where they run in tiles they then cut the frame alike, and rhf at two scales
+// takes rhf's selections and finest aggregations from the run memo window by window, as it
+// does whole; the plan moves no pixel of a method whose tiles give the untiled bits. A
+// variant whose needs cannot be told is left out of the plan (its own run tells why; RunTiled
+// widens each run's own needs by the plan).
+std::optional<TileNeeds> SharedTiling(vk::Context &context, Inputs &inputs,
+                                      const FrontEnd &base, const RegisteredVariant &v,
+                                      const Noise &noise, const AutoFrontEnd::Options &o,
+                                      const std::vector<std::string> &allowed) {
+    std::optional<TileNeeds> shared;
+    for (const RegisteredVariant &other : AutoVariants()) {
+        if (other.method->name != v.method->name) continue;
+        const std::string &label = other.variant->label;
+        const bool runs =
+            allowed.empty() ? other.variant->byDefault
+                            : std::find(allowed.begin(), allowed.end(), label) != allowed.end();
+        if (!runs || !OutByEstimate(other, noise).empty() ||
+            (!noise.scored && !other.variant->overrides.empty()))
+            continue;
+        TileNeeds needs;
+        try {
+            bool runsSplit = false;
+            std::unique_ptr<FrontEnd> method = Configure(base, other, noise, o, &runsSplit);
+            if (!method->Missing(inputs.Source()).empty()) continue;
+            needs = method->Tiling(context, inputs);
+        } catch (const Error &e) {
+            if (e.Kind() == ErrorKind::Cancelled) throw;
+            continue;
+        }
+        if (!needs.notLocal.empty() || !needs.sharesByWindow) return std::nullopt;
+        shared = shared ? WidestNeeds(*shared, needs) : needs;
+    }
+    return shared;
 }
 
 // The candidates, in the registry's run order while the budget lasts, each variant left
@@ -609,6 +650,8 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
     // Each variant has a slot in the kernels.
     if (variants.size() > size_t(kAutoMaxCandidates))
         throw std::logic_error("auto: more variants in the registry than kernel slots");
+    // Each method's shared tile plan (SharedTiling), made at its first candidate.
+    std::map<std::string, std::optional<TileNeeds>> sharedPlans;
     for (const RegisteredVariant &v : variants) {
         const std::string &label = v.variant->label;
         const FrontEnd *base = nullptr;
@@ -653,8 +696,15 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
             continue;
         }
         try {
-            out.ran.push_back(
-                RunCandidate(context, inputs, *method, v, runsSplit, noise, o, out));
+            auto kept = sharedPlans.find(v.method->name);
+            if (kept == sharedPlans.end())
+                kept = sharedPlans
+                           .emplace(v.method->name,
+                                    SharedTiling(context, inputs, *base, v, noise, o, allowed))
+                           .first;
+            const std::optional<TileNeeds> &shared = kept->second;
+            out.ran.push_back(RunCandidate(context, inputs, *method, v, runsSplit, noise, o,
+                                           shared ? &*shared : nullptr, out));
             // The buffers a candidate kept for reuse (its run, probe and tiles share sizes)
             // go back: the host holds every output so far, and the next candidate's own
             // peak is what it needs.

@@ -313,14 +313,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
-        if (int r = options.method.meanRadius; r > 0) {
-            result.plan.push_back(
-                "local mean: " +
-                RestoreLocalMeansRebalanced(restoreFrom.Empty() ? *in.color : restoreFrom, r,
-                                            &result.image, in.variance));
-            if (run.keepStages) result.stages.push_back({"local mean", result.image});
-        }
-        KeepChroma(in, options.bound, run, &result);
+        // A tile's last steps wait for the assembled frame (Finish).
+        if (!finishWhole) RestoreAndKeepChroma(in, restoreFrom, run, &result);
         if (UsesAlbedo(inputs))
             result.plan.insert(result.plan.begin(),
                                options.layer == "auto"
@@ -329,6 +323,15 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                    : "pivot: the albedo layer stands in for the pivot "
                                      "(--pivot-layer albedo)");
         return result;
+    }
+
+    void Finish(vk::Context &, Inputs &whole, Result *result) const override {
+        Result finished;
+        finished.image = std::move(result->image);
+        RestoreAndKeepChroma(InputsOf(whole), Image(), RunOptions(), &finished);
+        result->image = std::move(finished.image);
+        for (std::string &line : finished.plan)
+            result->plan.push_back("on the whole frame, after the tiles: " + line);
     }
 
     TileNeeds Tiling(vk::Context &, Inputs &inputs) const override {
@@ -360,12 +363,17 @@ class Pivot : public FrontEndOf<PivotSettings> {
                           options.range + (options.spikes ? 1 : 0);
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
-        needs.reach += mean + bound + frameNoise;
+        needs.reach += bound + frameNoise;
+        const int beforeRestore = needs.reach;
+        needs.reach += mean;
         // The chroma's window reads inputs only, beside the output at its own pixel: the
         // larger of the two reaches, not their sum.
         const PivotInputs in = InputsOf(inputs);
         const int chroma = in.variance && in.objectId ? kPivotChromaRadius : 0;
         needs.reach = std::max(needs.reach, chroma);
+        // The restore and the chroma, the last steps, read the spikes' scaled pixels where
+        // they restore from: with --pivot-spikes they stay in the tiles.
+        if (!options.spikes) needs.finishReach = needs.reach - beforeRestore;
         needs.reachText += fmt::format(
             "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
             "kept edges', the range's and the spikes' windows; {} for the frame's noise "
@@ -468,6 +476,20 @@ class Pivot : public FrontEndOf<PivotSettings> {
     }
     bool UsesAlbedo(Inputs &inputs) const {
         return PivotLayer([&](const std::string &l) { return inputs.Has(l); }) == "albedo";
+    }
+
+    // The local means restored (from `restoreFrom` where given: the spikes' scaled pixels),
+    // then the chroma kept: the output's last steps.
+    void RestoreAndKeepChroma(const PivotInputs &in, const Image &restoreFrom,
+                              const RunOptions &run, Result *result) const {
+        if (int r = options.method.meanRadius; r > 0) {
+            result->plan.push_back(
+                "local mean: " +
+                RestoreLocalMeansRebalanced(restoreFrom.Empty() ? *in.color : restoreFrom, r,
+                                            &result->image, in.variance));
+            if (run.keepStages) result->stages.push_back({"local mean", result->image});
+        }
+        KeepChroma(in, options.bound, run, result);
     }
 
     // The pipeline's inputs from the frame and the parameters.

@@ -18,6 +18,7 @@
 #include "host/io/hints.h"
 #include "host/kernels/rhf_select.h"
 #include "host/methods/rhf.h"
+#include "host/methods/run_memo.h"
 #include "rhf/blockmax.h"
 #include "rhf/terms.h"
 
@@ -141,13 +142,21 @@ class Rhf : public FrontEndOf<RhfParams> {
                               "goes back to the values within {} that lost it",
                               exact, ExactReach()));
         if (run.keepStages) result.stages.push_back({"exact pixels", result.image});
-        if (int r = options.meanRadius; r > 0) {
+        // A tile's restore waits for the assembled frame (Finish).
+        if (int r = options.meanRadius; r > 0 && !finishWhole) {
             result.plan.push_back(
                 "local mean: " +
                 RestoreLocalMeansRebalanced(color, r, &result.image, Variance(inputs)));
             if (run.keepStages) result.stages.push_back({"local mean", result.image});
         }
         return result;
+    }
+
+    void Finish(vk::Context &, Inputs &whole, Result *result) const override {
+        result->plan.push_back("local mean (on the whole frame, after the tiles): " +
+                               RestoreLocalMeansRebalanced(whole.Get("color"),
+                                                           options.meanRadius, &result->image,
+                                                           Variance(whole)));
     }
 
     // The probe cuts the run's rims and clusters, each from the probe's own colour, and gives
@@ -159,34 +168,20 @@ class Rhf : public FrontEndOf<RhfParams> {
     std::unique_ptr<FrontEnd> ForProbe(vk::Context &, Inputs &run, bool onHalf) const override {
         if (options.meanRadius <= 0) return nullptr;
         auto probe = std::make_unique<Rhf>(*this);
-        std::vector<char> lights;
-        Cuts cuts = Cut(run, ExactVariance(ExactLayersOf(run)), &lights);
-        auto sets = std::make_shared<CutSets>();
-        sets->width = run.FrameWidth() > 0 ? run.FrameWidth() : run.Width();
-        sets->height = run.FrameHeight() > 0 ? run.FrameHeight() : run.Height();
-        auto toFrame = [&](const std::vector<size_t> &pixels) {
-            std::vector<size_t> frame;
-            for (size_t p : pixels)
-                frame.push_back(size_t(int(p / run.Width()) + run.OriginY()) * sets->width +
-                                size_t(int(p % run.Width()) + run.OriginX()));
-            return frame;
-        };
-        if (onHalf) sets->spikes = toFrame(cuts.spikes);
-        sets->clusters = toFrame(cuts.clusters);
-        sets->bridged = toFrame(cuts.bridged);
-        sets->rims = toFrame(cuts.rims);
-        // The lights beside the rims, as the run told them.
-        std::vector<size_t> rimLights;
-        const int w = run.Width(), h = run.Height();
-        for (size_t p : cuts.rims)
-            for (int j = std::max(0, int(p / w) - 1); j <= std::min(h - 1, int(p / w) + 1); ++j)
-                for (int i = std::max(0, int(p % w) - 1); i <= std::min(w - 1, int(p % w) + 1);
-                     ++i)
-                    if (lights[size_t(j) * w + i]) rimLights.push_back(size_t(j) * w + i);
-        std::sort(rimLights.begin(), rimLights.end());
-        rimLights.erase(std::unique(rimLights.begin(), rimLights.end()), rimLights.end());
-        sets->rimLights = toFrame(rimLights);
-        probe->decided = std::move(sets);
+        const ExactLayers layers = ExactLayersOf(run);
+        // auto's rhf candidates cut their frame alike: the second takes the first's sets.
+        std::string key;
+        if (RunMemo *memo = run.Memo()) {
+            key = CutSetsKey(run, layers, onHalf);
+            if (const auto *kept = memo->Find<std::shared_ptr<const CutSets>>(key)) {
+                probe->decided = *kept;
+                return probe;
+            }
+        }
+        probe->decided = FindCutSets(run, ExactVariance(layers), onHalf);
+        if (!key.empty())
+            run.Memo()->Add(key,
+                            std::make_shared<std::shared_ptr<const CutSets>>(probe->decided));
         return probe;
     }
 
@@ -203,7 +198,9 @@ class Rhf : public FrontEndOf<RhfParams> {
             "twice the exact pixels' reach {}; the local mean's tents {} and {} for the cuts",
             scales, o.patchHalf, o.searchHalf, ExactReach(),
             o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0, CutReach());
+        needs.finishReach = o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0;
         needs.align = 1 << (scales - 1);
+        needs.sharesByWindow = true;
         // Per pixel: the histograms, the colour and its filtered image, the selection mask and
         // the bin maxima (a float per 8 pixels and bin plane); each coarser scale s adds its
         // histograms (1/4^s) and colour images (a generous 8 per pixel in all), checked
@@ -300,8 +297,56 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::vector<size_t> rims, clusters, bridged, rimLights;
     };
 
+    // The cut sets' memo key: everything Cut reads (the exact variance by the layers it is
+    // made from, so that a hit does not make it) and what ForProbe keeps of it.
+    std::string CutSetsKey(Inputs &run, const ExactLayers &layers, bool onHalf) const {
+        auto id = [](const Image *layer) { return layer ? MemoImageId(*layer) : "none"; };
+        return fmt::format(
+            "rhf.cuts colour {} exact variance of {} {} {} {} variance layer {} histograms {} "
+            "search {} spikes {} window {}x{} at {},{} of {}x{}",
+            MemoImageId(run.Get("color")), id(layers.variance), id(layers.min), id(layers.max),
+            id(layers.spp), Variance(run) != nullptr, MemoImageId(Histograms(run)),
+            options.searchHalf, onHalf, run.Width(), run.Height(), run.OriginX(), run.OriginY(),
+            run.FrameWidth(), run.FrameHeight());
+    }
+
+    // The run's cuts on `run` as ForProbe keeps them: the pixels of its whole frame and the
+    // lights beside its rims; its spikes on half0 only.
+    std::shared_ptr<const CutSets> FindCutSets(Inputs &run, const Image &variance,
+                                               bool onHalf) const {
+        std::vector<char> lights;
+        Cuts cuts = Cut(run, variance, &lights);
+        auto sets = std::make_shared<CutSets>();
+        sets->width = run.FrameWidth() > 0 ? run.FrameWidth() : run.Width();
+        sets->height = run.FrameHeight() > 0 ? run.FrameHeight() : run.Height();
+        auto toFrame = [&](const std::vector<size_t> &pixels) {
+            std::vector<size_t> frame;
+            for (size_t p : pixels)
+                frame.push_back(size_t(int(p / run.Width()) + run.OriginY()) * sets->width +
+                                size_t(int(p % run.Width()) + run.OriginX()));
+            return frame;
+        };
+        if (onHalf) sets->spikes = toFrame(cuts.spikes);
+        sets->clusters = toFrame(cuts.clusters);
+        sets->bridged = toFrame(cuts.bridged);
+        sets->rims = toFrame(cuts.rims);
+        // The lights beside the rims, as the run told them.
+        std::vector<size_t> rimLights;
+        const int w = run.Width(), h = run.Height();
+        for (size_t p : cuts.rims)
+            for (int j = std::max(0, int(p / w) - 1); j <= std::min(h - 1, int(p / w) + 1); ++j)
+                for (int i = std::max(0, int(p % w) - 1); i <= std::min(w - 1, int(p % w) + 1);
+                     ++i)
+                    if (lights[size_t(j) * w + i]) rimLights.push_back(size_t(j) * w + i);
+        std::sort(rimLights.begin(), rimLights.end());
+        rimLights.erase(std::unique(rimLights.begin(), rimLights.end()), rimLights.end());
+        sets->rimLights = toFrame(rimLights);
+        return sets;
+    }
+
     // The cuts found on this colour (none with --rhf-mean-radius 0); `lights` (if given) set
-    // to which pixels the rims were found beside.
+    // to which pixels the rims were found beside. Every input read here (the layers, the
+    // variance's, the options) goes into CutSetsKey: auto's probes take its sets by that key.
     Cuts Cut(Inputs &inputs, const Image &variance, std::vector<char> *lights = nullptr) const {
         Cuts cuts;
         const Image &color = inputs.Get("color");

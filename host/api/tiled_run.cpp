@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace mcd::api {
 
@@ -25,6 +26,21 @@ void Paste(const Image &part, int wx0, int wy0, int x0, int y0, int x1, int y1, 
 }
 
 }  // namespace
+
+TileNeeds WidestNeeds(TileNeeds needs, const TileNeeds &other) {
+    // The halos (without each one's last step, made on the whole frame) and the grids.
+    const int halo = std::max(needs.reach - needs.finishReach, other.reach - other.finishReach);
+    needs.reach = halo + needs.finishReach;
+    needs.align = std::lcm(std::max(needs.align, 1), std::max(other.align, 1));
+    needs.bytesPerPixel = std::max(needs.bytesPerPixel, other.bytesPerPixel);
+    needs.bindingBytesPerPixel =
+        std::max(needs.bindingBytesPerPixel, other.bindingBytesPerPixel);
+    needs.fixedBytes = std::max(needs.fixedBytes, other.fixedBytes);
+    if (other.maxWidth > 0)
+        needs.maxWidth =
+            needs.maxWidth > 0 ? std::min(needs.maxWidth, other.maxWidth) : other.maxWidth;
+    return needs;
+}
 
 double TileMemoryBudget(const vk::Context &context, const TileNeeds &needs) {
     const double device = double(context.Info().deviceLocalBytes);
@@ -88,9 +104,13 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
 }
 
 Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
-                const RunOptions &run) {
+                const RunOptions &run, const TileNeeds *shared) {
     const int W = inputs.Width(), H = inputs.Height();
     TileNeeds needs = method.Tiling(context, inputs);
+    if (shared && needs.notLocal.empty()) needs = WidestNeeds(needs, *shared);
+    // The last step is made once on the assembled frame (FrontEnd::Finish): a halo need not
+    // hold it.
+    needs.reach -= needs.finishReach;
     TilePlan plan = PlanTiles(context, needs, W, H, run.keepStages ? 0 : run.tileSize);
     const int TW = plan.tileWidth, TH = plan.tileHeight;
     if (TW == 0 || (TW >= W && TH >= H)) return method.Run(context, inputs, run);
@@ -104,6 +124,7 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
     const int R = needs.reach, align = std::max(needs.align, 1);
     const int tilesX = (W + TW - 1) / TW, tilesY = (H + TH - 1) / TH, count = tilesX * tilesY;
     std::unique_ptr<FrontEnd> tiled = method.ForTiles(context, inputs);
+    if (needs.finishReach > 0) tiled->LeaveFinishToWhole();
     RunOptions tileRun = run;
     Result result;
     std::vector<std::string> seen;
@@ -152,12 +173,19 @@ Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
             ++done;
             if (run.progress) run.progress("tiles", done, count);
         }
+    if (tiled->FinishesWhole()) tiled->Finish(context, inputs, &result);
     result.plan.insert(
         result.plan.begin(),
         fmt::format("tiled: {} tile(s) of up to {}x{} pixels ({} x {}), each run on a window "
-                    "of the tile and a halo of {} pixels ({}), windows starting on multiples "
-                    "of {}; {}; {}",
-                    count, TW, TH, tilesX, tilesY, R, needs.reachText, align, plan.why,
+                    "of the tile and a halo of {} pixels ({}{}), windows starting on "
+                    "multiples of {}; {}; {}",
+                    count, TW, TH, tilesX, tilesY, R, needs.reachText,
+                    needs.finishReach > 0
+                        ? fmt::format("; less the last step's {}, made once on the whole "
+                                      "frame after the tiles",
+                                      needs.finishReach)
+                        : "",
+                    align, plan.why,
                     needs.notLocal.empty()
                         ? "the result is the untiled one bit for bit"
                         : "the result differs from the untiled one: " + needs.notLocal));

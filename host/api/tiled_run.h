@@ -35,11 +35,18 @@ inline int WaveletHalfSupport(WaveletBasis basis) {
     return basis == WaveletBasis::Haar ? 1 : basis == WaveletBasis::LeGall53 ? 2 : 4;
 }
 
+// `needs` widened to hold `other`'s too: the larger halo and memory, the coarser grid, the
+// narrower window. Two runs planned with the same widened needs cut a frame alike.
+TileNeeds WidestNeeds(TileNeeds needs, const TileNeeds &other);
+
 // Run `method` on `inputs`, whole or in tiles by PlanTiles (run.tileSize forces a size).
 // Tiled, the result has only the stages asked for by name (RunOptions::stages; keepStages
 // runs whole), put together from the tiles', and the plan is the first tile's, after a line
-// that says how the frame was cut.
+// that says how the frame was cut. `shared` (if given, for a method whose tiles give the
+// untiled bits) widens the method's needs (WidestNeeds): runs of methods that share work in
+// the run memo by their windows' content (rhf at one and at two scales) then make the same
+// windows.
 Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
-                const RunOptions &run);
+                const RunOptions &run, const TileNeeds *shared = nullptr);
 
 }  // namespace mcd::api

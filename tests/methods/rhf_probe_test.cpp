@@ -20,6 +20,7 @@
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
+#include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
 
 namespace mcd::test {
@@ -175,6 +176,50 @@ TEST_F(RhfProbe, OnTheRunsColourIsTheRunBitForBit) {
         EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
         EXPECT_TRUE(BitIdentical(run.image, tiled.image)) << "in tiles of 20";
     }
+}
+
+// auto's rhf candidates (one scale and two) cut their frame alike: through the run memo the
+// second's probe takes the first's cut sets, and probes as it does alone, bit for bit; another
+// colour or search window cuts anew.
+TEST_F(RhfProbe, CandidatesOfOneColourShareTheirCutSets) {
+    const Frame frame = ReflectionFrame();
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make(),
+                                   twoScales = api::FindMethod("rhf")->make();
+    twoScales->Set("nscales", 2);
+    RunMemo memo;
+    api::Inputs shared(frame, false, "rhf"), alone(frame, false, "rhf");
+    shared.SetMemo(&memo);
+    ASSERT_NE(rhf->ForProbe(Ctx(), shared, false), nullptr);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 1u);
+    std::unique_ptr<api::FrontEnd> taken = twoScales->ForProbe(Ctx(), shared, false),
+                                   own = twoScales->ForProbe(Ctx(), alone, false);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 1u) << "the second candidate cut anew";
+    const Image flipped = FlippedColour(frame);
+    shared.Override("color", flipped);
+    alone.Override("color", flipped);
+    RunOptions keep;
+    keep.keepStages = true;
+    const Result a = api::RunTiled(Ctx(), *taken, shared, keep),
+                 b = api::RunTiled(Ctx(), *own, alone, keep);
+    EXPECT_EQ(CountIn(a, "bright clusters: "), 4);
+    EXPECT_TRUE(BitIdentical(a.image, b.image));
+    EXPECT_NE(rhf->ForProbe(Ctx(), shared, false), nullptr);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 2u) << "another colour took the first's sets";
+    twoScales->Set("search-half", 4);
+    EXPECT_NE(twoScales->ForProbe(Ctx(), shared, false), nullptr);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 3u) << "another search window took them";
+    EXPECT_EQ(BridgedIn(a), 5) << "the kept sets lost the bridged clusters";
+    // Cut reads the variance and the histograms too: another of either cuts anew.
+    Image variance = frame.Get("variance");
+    for (float &v : variance.data) v *= 4.0f;
+    shared.Override("variance", variance);
+    EXPECT_NE(twoScales->ForProbe(Ctx(), shared, false), nullptr);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 4u) << "another variance took the first's sets";
+    Image histograms = frame.Get("hist");
+    histograms.data[0] += 1.0f;
+    shared.Override("hist", histograms);
+    EXPECT_NE(twoScales->ForProbe(Ctx(), shared, false), nullptr);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 5u) << "other histograms took the first's sets";
 }
 
 // The run against its CPU reference (FrontEnd::Reference) on the frame with the caustic: the

@@ -164,10 +164,14 @@ TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
         EXPECT_NE(tiled.plan[0].find("tiled:"), std::string::npos) << tiled.plan[0];
         EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
         ExpectSameBits(whole.image, tiled.image, c.name + " on the " + kind + " frame");
+        // The last step, made once on the assembled frame, leaves the halo (FrontEnd::
+        // Finish); with --pivot-spikes it restores from the tiles' scaled pixels and stays.
+        const api::TileNeeds needs = NeedsWith(c.method, params, frame);
+        EXPECT_EQ(HaloOf(tiled), needs.reach - needs.finishReach) << tiled.plan[0];
+        EXPECT_EQ(needs.finishReach > 0, kind != "spikes") << kind;
         if (kind == "spikes") {
-            // The spikes' 3x3 window adds exactly 1 to the halo.
-            Result off = RunWith(device, c.method, c.params, frame, c.tile);
-            EXPECT_EQ(HaloOf(tiled), HaloOf(off) + 1) << tiled.plan[0] << "\n" << off.plan[0];
+            // The spikes' 3x3 window adds exactly 1 to the reach.
+            EXPECT_EQ(needs.reach, NeedsWith(c.method, c.params, frame).reach + 1);
             bool scaled = false;
             for (const std::string &line : whole.plan)
                 scaled |= line.rfind("pivot spikes: ", 0) == 0 &&
@@ -202,6 +206,58 @@ TEST_F(TiledRunShared, RhfSelectionsTakenFromAnEarlierRunAreBitIdentical) {
     api::Inputs alone(other, false, "rhf");
     ExpectSameBits(api::RunTiled(Ctx(), *rhf, alone, run).image, second.image,
                    "rhf at 2 scales in tiles, selections shared");
+}
+
+// auto's rhf at one scale and at two cut a frame alike where both run in tiles (their needs
+// widened together, WidestNeeds): the second takes the first's finest selections window by
+// window and gives what it gives alone; planned on its own needs it selects anew.
+TEST_F(TiledRunShared, RhfScalesPlannedAlikeShareTheFinestSelections) {
+    const Frame frame = RenderedFrame(133, 101, render::kLayersAll);
+    std::unique_ptr<api::FrontEnd> one = api::FindMethod("rhf")->make(),
+                                   two = api::FindMethod("rhf")->make();
+    two->Set("nscales", 2);
+    RunOptions run;
+    run.tileSize = 40;
+    api::Inputs alone(frame, false, "rhf");
+    const Image twoAlone = api::RunTiled(Ctx(), *two, alone, run).image;
+    size_t made[2] = {};
+    for (bool widened : {false, true}) {
+        SCOPED_TRACE(widened ? "widened" : "each its own");
+        RunMemo memo;
+        api::Inputs shared(frame, false, "rhf");
+        shared.SetMemo(&memo);
+        const api::TileNeeds needs =
+            api::WidestNeeds(one->Tiling(Ctx(), shared), two->Tiling(Ctx(), shared));
+        const api::TileNeeds *plan = widened ? &needs : nullptr;
+        api::RunTiled(Ctx(), *one, shared, run, plan);
+        const size_t first = memo.CountWithPrefix("rhf.mask");
+        ASSERT_EQ(first, 12u) << "one selection a tile";
+        const Result second = api::RunTiled(Ctx(), *two, shared, run, plan);
+        made[widened] = memo.CountWithPrefix("rhf.mask") - first;
+        ExpectSameBits(twoAlone, second.image, "rhf at 2 scales after rhf at 1");
+    }
+    EXPECT_EQ(made[1], 12u) << "the coarser scale's alone";
+    EXPECT_GT(made[0], 12u) << "the test tells shared windows from their own";
+    // auto widens the plans of rhf's variants alone: pivot's share nothing window by window.
+    api::Inputs inputs(frame, false, "rhf");
+    EXPECT_TRUE(one->Tiling(Ctx(), inputs).sharesByWindow);
+    EXPECT_FALSE(api::FindMethod("pivot")->make()->Tiling(Ctx(), inputs).sharesByWindow);
+}
+
+TEST(TiledRunPlan, WidestNeedsHoldBoth) {
+    api::TileNeeds a, b;
+    a.reach = 50, a.finishReach = 30, a.align = 2, a.bytesPerPixel = 10, a.fixedBytes = 7;
+    b.reach = 40, b.finishReach = 0, b.align = 8, b.bindingBytesPerPixel = 3, b.maxWidth = 90;
+    const api::TileNeeds w = api::WidestNeeds(a, b);
+    EXPECT_EQ(w.reach - w.finishReach, 40) << "the larger halo";
+    EXPECT_EQ(w.finishReach, 30) << "its own last step";
+    EXPECT_EQ(w.align, 8);
+    EXPECT_EQ(w.bytesPerPixel, 10);
+    EXPECT_EQ(w.bindingBytesPerPixel, 3);
+    EXPECT_EQ(w.fixedBytes, 7);
+    EXPECT_EQ(w.maxWidth, 90);
+    a.maxWidth = 60;
+    EXPECT_EQ(api::WidestNeeds(a, b).maxWidth, 60);
 }
 
 // The count a plan's line starting with `prefix` states ("bright clusters: N pixels"), or -1.
