@@ -143,6 +143,18 @@ TEST(RhfClusterCut, CutsReflectionsUnderTheVetosShare) {
     for (size_t p : want) EXPECT_LT(got.Plane(0)[p], 0.2f) << p;
 }
 
+// The ring's caustic on glossy_lights' floor, 5 pixels with one or two bright samples of 16
+// (channels summed); `lastSamples` is the bright samples of its lower pixel, 0 to take them
+// away while its value stays.
+void PlantCaustic(HistogramFloor &wall, float lastSamples) {
+    auto bright = [&](int x, int y, float samples, float sum) {
+        wall.Bright(x, y, samples, sum / 3);
+    };
+    bright(12, 10, 1, 2.38f), bright(11, 10, 0, 0.30f);
+    bright(10, 11, 1, 7.37f), bright(11, 11, 1, 3.87f), bright(12, 11, 1, 3.10f);
+    bright(10, 12, lastSamples, 3.60f);
+}
+
 // A caustic of 5 pixels as the ring casts on glossy_lights' floor: one or two bright samples
 // of 16 in each, its middle pixel (3.87, channels summed) under 16 times its neighbours'
 // median (0.30: a dim neighbour and its four bright ones lift it), so the over pixels form two
@@ -156,9 +168,7 @@ TEST(RhfClusterCut, JoinsACausticSplitAtItsMiddle) {
     auto bright = [&](int x, int y, float samples, float sum) {
         wall.Bright(x, y, samples, sum / 3);
     };
-    bright(12, 10, 1, 2.38f), bright(11, 10, 0, 0.30f);
-    bright(10, 11, 1, 7.37f), bright(11, 11, 1, 3.87f), bright(12, 11, 1, 3.10f);
-    bright(10, 12, 2, 3.60f);
+    PlantCaustic(wall, 2);
     // Two pairs beside a dim pixel without a bright sample.
     bright(26, 10, 1, 10.2f), bright(26, 11, 1, 10.2f), bright(27, 10, 0, 0.6f);
     bright(28, 10, 1, 10.2f), bright(28, 11, 1, 10.2f);
@@ -189,9 +199,7 @@ TEST(RhfClusterCut, BridgesNeitherAPairMissingABrightSampleNorALongLine) {
     auto bright = [&](int x, int y, float samples, float sum) {
         wall.Bright(x, y, samples, sum / 3);
     };
-    bright(12, 10, 1, 2.38f), bright(11, 10, 0, 0.30f);
-    bright(10, 11, 1, 7.37f), bright(11, 11, 1, 3.87f), bright(12, 11, 1, 3.10f);
-    bright(10, 12, 0, 3.60f);
+    PlantCaustic(wall, 0);
     for (int x = 20; x <= 30; ++x) bright(x, 18, 1, 10.2f);
     bright(31, 18, 1, 0.6f);
     for (int y = 18; y <= 19; ++y) bright(32, y, 2, 10.2f), bright(33, y, 2, 10.2f);
