@@ -155,6 +155,19 @@ void PlantCaustic(HistogramFloor &wall, float lastSamples) {
     bright(10, 12, lastSamples, 3.60f);
 }
 
+// CutBrightClusters by the host and by the CPU twin on one frame (search half 6).
+struct BothCuts {
+    std::vector<size_t> cut, bridged, refCut, refBridged;
+    Image image, refImage;
+};
+BothCuts CutBoth(const HistogramFloor &wall) {
+    BothCuts b;
+    b.image = b.refImage = wall.color;
+    b.cut = CutBrightClusters(wall.color, wall.hist, 6, &b.image, &b.bridged);
+    b.refCut = ref::CutBrightClusters(wall.color, wall.hist, 6, &b.refImage, &b.refBridged);
+    return b;
+}
+
 // A caustic of 5 pixels as the ring casts on glossy_lights' floor: one or two bright samples
 // of 16 in each, its middle pixel (3.87, channels summed) under 16 times its neighbours'
 // median (0.30: a dim neighbour and its four bright ones lift it), so the over pixels form two
@@ -175,17 +188,16 @@ TEST(RhfClusterCut, JoinsACausticSplitAtItsMiddle) {
     // A pair and a lone firefly, a bright pixel between them under 16 times its neighbours.
     bright(40, 10, 1, 10.2f), bright(40, 11, 1, 10.2f), bright(41, 11, 1, 0.6f);
     bright(42, 11, 1, 10.2f);
-    Image got = wall.color, expected = wall.color;
-    std::vector<size_t> bridged, expectedBridged;
-    EXPECT_TRUE(CutBrightClusters(wall.color, wall.hist, 6, &got, &bridged).empty());
+    const BothCuts b = CutBoth(wall);
+    EXPECT_TRUE(b.cut.empty());
     const std::vector<size_t> want{10 * w + 12, 11 * w + 10, 11 * w + 11, 11 * w + 12,
                                    12 * w + 10};
-    EXPECT_EQ(bridged, want);
-    EXPECT_TRUE(
-        ref::CutBrightClusters(wall.color, wall.hist, 6, &expected, &expectedBridged).empty());
-    EXPECT_EQ(expectedBridged, bridged);
-    EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
-    for (size_t p : want) EXPECT_LT(got.Plane(0)[p], 0.2f) << p;
+    EXPECT_EQ(b.bridged, want);
+    EXPECT_TRUE(b.refCut.empty());
+    EXPECT_EQ(b.refBridged, b.bridged);
+    EXPECT_EQ(
+        0, std::memcmp(b.image.data.data(), b.refImage.data.data(), b.image.data.size() * 4));
+    for (size_t p : want) EXPECT_LT(b.image.Plane(0)[p], 0.2f) << p;
 }
 
 // What a bright pixel does not bridge: the caustic above with one pixel of a pair over 16
@@ -203,15 +215,14 @@ TEST(RhfClusterCut, BridgesNeitherAPairMissingABrightSampleNorALongLine) {
     for (int x = 20; x <= 30; ++x) bright(x, 18, 1, 10.2f);
     bright(31, 18, 1, 0.6f);
     for (int y = 18; y <= 19; ++y) bright(32, y, 2, 10.2f), bright(33, y, 2, 10.2f);
-    Image got = wall.color, expected = wall.color;
-    std::vector<size_t> bridged, expectedBridged;
+    const BothCuts b = CutBoth(wall);
     const std::vector<size_t> want{18 * w + 32, 18 * w + 33, 19 * w + 32, 19 * w + 33};
-    EXPECT_EQ(CutBrightClusters(wall.color, wall.hist, 6, &got, &bridged), want);
-    EXPECT_TRUE(bridged.empty());
-    EXPECT_EQ(ref::CutBrightClusters(wall.color, wall.hist, 6, &expected, &expectedBridged),
-              want);
-    EXPECT_TRUE(expectedBridged.empty());
-    EXPECT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4));
+    EXPECT_EQ(b.cut, want);
+    EXPECT_TRUE(b.bridged.empty());
+    EXPECT_EQ(b.refCut, want);
+    EXPECT_TRUE(b.refBridged.empty());
+    EXPECT_EQ(
+        0, std::memcmp(b.image.data.data(), b.refImage.data.data(), b.image.data.size() * 4));
 }
 
 }  // namespace
