@@ -6,6 +6,7 @@
 
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/exit_status.h"
+#include "tools/mcdenoise/heap.h"
 #include "tools/mcdenoise/usage.h"
 
 namespace mcd::tool {
@@ -71,6 +72,7 @@ int RunCommandLine(CLI::App &app, int argc, char **argv) {
 }  // namespace mcd::tool
 
 int main(int argc, char **argv) {
+    mcd::tool::UseHugePages(argv);
     CLI::App app{"mcdenoise: denoise Monte Carlo renders with GLSL compute kernels on Vulkan",
                  "mcdenoise"};
     mcd::tool::AddCommands(app);

@@ -1,0 +1,42 @@
+// The tool's request for huge pages (heap.h): the GLIBC_TUNABLES value it restarts with,
+// and a restarted process that runs once and succeeds.
+#include "tools/mcdenoise/heap.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+namespace {
+
+TEST(CliHeap, TunablesGainHugePagesOnce) {
+    using mcd::tool::TunablesWithHugePages;
+    EXPECT_EQ(TunablesWithHugePages(nullptr), "glibc.malloc.hugetlb=1");
+    EXPECT_EQ(TunablesWithHugePages(""), "glibc.malloc.hugetlb=1");
+    EXPECT_EQ(TunablesWithHugePages("glibc.malloc.arena_max=2"),
+              "glibc.malloc.arena_max=2:glibc.malloc.hugetlb=1");
+    // Already named, whatever its value: the user's choice stands, no restart.
+    EXPECT_EQ(TunablesWithHugePages("glibc.malloc.hugetlb=1"), "");
+    EXPECT_EQ(TunablesWithHugePages("glibc.malloc.arena_max=2:glibc.malloc.hugetlb=0"), "");
+    // A longer name that starts with it is another tunable.
+    EXPECT_EQ(TunablesWithHugePages("glibc.malloc.hugetlbx=1"),
+              "glibc.malloc.hugetlbx=1:glibc.malloc.hugetlb=1");
+}
+
+// The tool restarted with the tunable prints its version once and succeeds, whether or not
+// the caller's environment names other tunables.
+TEST(CliHeap, RestartedToolRunsOnce) {
+    for (const std::string env :
+         {"env -u GLIBC_TUNABLES", "env GLIBC_TUNABLES=glibc.malloc.arena_max=4"}) {
+        const std::string command = env + " " + MCD_TOOL_PATH + " --version";
+        FILE *pipe = popen(command.c_str(), "r");
+        ASSERT_NE(pipe, nullptr);
+        std::string out;
+        char buffer[256];
+        while (fgets(buffer, sizeof buffer, pipe)) out += buffer;
+        EXPECT_EQ(pclose(pipe), 0) << command;
+        EXPECT_EQ(out, "mcdenoise 0.1.0\n") << command;
+    }
+}
+
+}  // namespace
