@@ -18,6 +18,7 @@
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
+#include "host/io/layer_names.h"
 #include "host/methods/auto.h"
 #include "host/methods/run_memo.h"
 
@@ -279,6 +280,8 @@ struct Noise {
     SplitScore split;     // with a variance layer: bayes's split output's score
     std::string from;     // for the plan
     std::vector<Timing> timings;
+    // With the halves: the layers half0 has its own of (half0.<layer>), which its runs read.
+    std::vector<std::string> half0Layers;
 };
 
 // The half-buffers (Rousselle, Manzi and Zwicker 2013): each candidate also runs on half0
@@ -299,8 +302,23 @@ void HalvesNoise(Inputs &inputs, const Image &color, Noise &noise) {
     }
     // No divergence term: h1 is independent of F(h0).
     noise.probe = Image(color.width, color.height, color.channels);
-    noise.from = "the half-buffers (each candidate run on half0, compared with half1)";
     if (inputs.Has("variance")) noise.frameVariance = inputs.Get("variance");
+    // half0's own layers (accumulate's): the frame's carry half1's samples too, and a run
+    // that follows them would follow half1's noise and be estimated low.
+    for (const std::string &name : io::Half0Layers())
+        if (inputs.Has(name) && inputs.Has("half0." + name)) {
+            const Image &own = inputs.Get("half0." + name);
+            if (!own.SameShape(inputs.Get(name)))
+                throw Error(
+                    fmt::format("{}: half0.{} must have {}'s shape", inputs.Path(), name, name),
+                    ErrorKind::InvalidArgument);
+            noise.half0Layers.push_back(name);
+        }
+    noise.from = fmt::format(
+        "the half-buffers (each candidate run on half0, {}, compared with half1)",
+        noise.half0Layers.empty()
+            ? "with the frame's other layers"
+            : fmt::format("with half0's own {}", fmt::join(noise.half0Layers, ", ")));
 }
 
 // No statistics (a plain Cycles frame): the variance of the mean from the frame itself, the
@@ -562,12 +580,17 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
             // The probe perturbs I, the part bayes filters, by eps (c / sqrt(v)) b.
             probe.Override("indirect", noise.split.perturbedIndirect);
         } else {
-            // The half run sees half the samples: the variance of its mean doubles.
-            if (!noise.frameVariance.Empty()) {
+            // The half run sees half the samples: the variance of its mean doubles (half0's
+            // own variance, where the frame has it, is that already).
+            const std::vector<std::string> &own = noise.half0Layers;
+            if (!noise.frameVariance.Empty() &&
+                std::find(own.begin(), own.end(), "variance") == own.end()) {
                 Image doubled = noise.frameVariance;
                 for (float &x : doubled.data) x *= 2;
                 probe.Override("variance", std::move(doubled));
             }
+            for (const std::string &name : own)
+                probe.Override(name, inputs.Get("half0." + name));
             probe.Override("color", noise.halves ? noise.half0
                                     : isBayes    ? noise.bayesPerturbed
                                                  : noise.perturbed);
@@ -960,6 +983,7 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
 std::vector<std::string> AutoFrontEnd::Uses() const {
     std::vector<std::string> layers = {"half0.color", "half1.color", "direct.variance",
                                        "indirect.variance"};
+    for (const std::string &name : io::Half0Layers()) layers.push_back("half0." + name);
     for (const auto &m : methods) {
         std::vector<std::string> uses = m->Uses();
         if (uses.empty()) return {};

@@ -11,6 +11,7 @@
 
 #include "host/api/device.h"
 #include "host/api/front_end.h"
+#include "host/io/layer_names.h"
 #include "host/methods/temporal.h"
 
 namespace mcd {
@@ -145,6 +146,7 @@ Frame GatheredFrame(const Frame &current, TemporalGathered &g, std::vector<std::
     for (const std::string &name : current.Names()) {
         if (out.layers.count(name)) continue;
         if (Ungathered(name) || name == "half0.color" || name == "half1.color" ||
+            io::IsHalf0LayerName(name) ||
             (name == "variance" || name == "direct.variance" || name == "indirect.variance")) {
             dropped.push_back(name);
             continue;

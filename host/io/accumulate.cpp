@@ -151,6 +151,11 @@ Accumulator::Accumulator(AccumulateOptions options) : options(options) {
     if (options.histBins < 3)
         throw Error("a histogram needs at least 3 bins per channel",
                     ErrorKind::InvalidArgument);
+    if (options.half0Layers) {
+        AccumulateOptions inner = options;
+        inner.half0Layers = false;
+        half0 = std::make_unique<Accumulator>(inner);
+    }
 }
 
 void Accumulator::Start(const Frame &frame) {
@@ -304,6 +309,8 @@ void Accumulator::Add(const Frame &frame) {
         if (frames == 0)
             for (size_t i = 0; i < n; ++i)
                 if (!AllFinite(image, i)) ++nonFinite[name];
+    // half0's frames again, alone (their non-finite values are counted above).
+    if (half0 && frames % 2 == 0) half0->Add(frame);
     ++frames;
 }
 
@@ -358,6 +365,13 @@ Frame Accumulator::Finish() {
         out.layers[name + ".variance"] = std::move(spread);
     }
     for (auto &[name, image] : firstOf) out.layers[name] = std::move(image);
+    // half0's own layers: with one frame there is no half1 to keep them apart from.
+    if (half0 && frames > 1) {
+        Frame own = half0->Finish();
+        for (auto &[name, image] : own.layers)
+            if (IsHalf0LayerName("half0." + name))
+                out.layers["half0." + name] = std::move(image);
+    }
     out.metadata["mcd:accumulatedFrames"] = std::to_string(frames);
     // "1" when the frames share their camera rays (identical frames do too), "0" when
     // they do not, absent when it cannot tell.

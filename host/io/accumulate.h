@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,10 @@ enum class CameraRays {
 
 struct AccumulateOptions {
     int histBins = 20;  // per channel: the hist layer has 3 * histBins + 1 channels
+    // Also half0's own layers ("half0.<layer>" for io::Half0Layers(): the same statistics
+    // over the frames half0.color is the mean of), so that auto's runs on half0 read no
+    // layer that half1's samples moved. Doubles the accumulator's memory.
+    bool half0Layers = true;
 };
 
 class Accumulator {
@@ -72,7 +77,9 @@ class Accumulator {
     // The accumulated frame: color, variance, spp, min, max, hist, half0.color,
     // half1.color, and the carried layers (means over frames; objectId and partId from the
     // first frame; direct.variance and indirect.variance, the variances of the direct and
-    // indirect means, beside direct and indirect). Throws when no frame was added.
+    // indirect means, beside direct and indirect); with half0Layers and two frames or more,
+    // half0.<layer> for each of those that io::Half0Layers() names, as Finish of an
+    // Accumulator given the even frames (0, 2, ...) alone. Throws when no frame was added.
     Frame Finish();
 
     int Frames() const { return frames; }
@@ -111,6 +118,7 @@ class Accumulator {
     std::vector<float> lo, hi;
     Image hist;
     MeanLayer halves[2];
+    std::unique_ptr<Accumulator> half0;  // the even frames alone (half0Layers)
     std::map<std::string, MeanLayer> means;
     std::map<std::string, Image> firstOf;  // ids: the first frame's
     std::map<std::string, uint64_t> nonFinite;

@@ -31,6 +31,12 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
 // rather than a renderer's pass kept under its own name.
 bool IsOwnLayerName(std::string_view name);
 
+// "half0.<layer>" for a layer that accumulate also writes for half0 alone (the frames
+// half0.color is the mean of): auto's runs on half0 read them in place of the frame's.
+bool IsHalf0LayerName(std::string_view name);
+// Those layers' names without the "half0." (variance, hist, albedo, normal, ...).
+std::vector<std::string> Half0Layers();
+
 // The channel names a layer of channelCount channels is written under: "color" -> R,G,B
 // (Y when grey); "alpha" -> A; "normal" -> normal.X/Y/Z; other 3-channel layers -> x.R/G/B;
 // "depth"

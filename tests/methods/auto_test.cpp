@@ -1156,6 +1156,42 @@ TEST_F(AutoMethod, FrameWithoutStatisticsRunsNforAlone) {
     EXPECT_GT(withVariance.candidates.size(), 1u);
 }
 
+// half0's own layers (accumulate's half0.<layer>): the runs on half0 read them in place of
+// the frame's and --explain names them. The frame's own layers under those names (the
+// variance doubled, as the runs on half0 take it without them) give the same bits as none;
+// other values there move the result (the frame's runs do not read them: only the
+// estimate, through the half0 runs, can).
+TEST_F(AutoMethod, HalfRunsReadHalf0sOwnLayers) {
+    auto [frame, reference] = RenderWithReference(
+        "cornell", 24, 20, 8, render::kLayersAll | render::kLayersHalves, 8);
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    Result without = automatic.Run(device, frame);
+    EXPECT_TRUE(PlanHas(without, "each candidate run on half0, with the frame's other layers"))
+        << fmt::format("{}", fmt::join(without.plan, "\n"));
+    Frame same = frame;
+    for (const char *name : {"albedo", "normal", "depth", "pivot", "hist", "min", "max", "spp"})
+        if (frame.Has(name)) same.layers["half0." + std::string(name)] = frame.Get(name);
+    Image doubled = frame.Get("variance");
+    for (float &v : doubled.data) v *= 2;
+    same.layers["half0.variance"] = doubled;
+    Result asBefore = automatic.Run(device, same);
+    EXPECT_TRUE(PlanHas(asBefore,
+                        "with half0's own variance, spp, min, max, hist, pivot, albedo, "
+                        "normal, depth, compared"))
+        << fmt::format("{}", fmt::join(asBefore.plan, "\n"));
+    EXPECT_EQ(asBefore.image.data, without.image.data);
+    // Other features for half0 (seeded noise on the albedo and the normal).
+    Frame other = same;
+    std::mt19937 rng(7);
+    std::normal_distribution<float> noise(0.f, 0.2f);
+    for (const char *name : {"half0.albedo", "half0.normal"})
+        for (float &v : other.layers[name].data) v += noise(rng);
+    Result moved = automatic.Run(device, other);
+    EXPECT_NE(moved.image.data, without.image.data);
+    for (float v : moved.image.data) ASSERT_TRUE(std::isfinite(v));
+}
+
 // A frame with half-buffers (as `accumulate` writes) runs nfor among the candidates (on
 // its own noise estimate, with the passes of a plain frame), weighed by the halves'
 // estimate, which auto takes before the variance layer there, and

@@ -23,6 +23,7 @@
 #include "host/io/accumulate.h"
 #include "host/io/conventions.h"
 #include "host/io/frame.h"
+#include "host/io/layer_names.h"
 #include "tools/mcdenoise/exit_status.h"
 #include "tools/render/renderer.h"
 
@@ -162,6 +163,52 @@ TEST_F(CliAccumulate, OneSppFramesGiveTheirSamplesStatistics) {
             }
             EXPECT_EQ(acc.Get("objectId").At(0, y, x), in[0].Get("objectId").At(0, y, x));
         }
+}
+
+// half0's own layers: each half0.<layer> is that layer of the even frames (1, 3, 5 here)
+// accumulated alone, to the bit, written and read back under its own name (the frame's
+// layer of that name untouched); --no-half0-layers writes half0.color alone, the rest the
+// same bits.
+TEST_F(CliAccumulate, WritesHalf0sOwnLayersFromItsFramesAlone) {
+    std::string inputs;
+    for (int k = 1; k <= 5; ++k) {
+        ToolResult r = Run(fmt::format(
+            "render --scene cornell --size 14x10 --spp 2 --seed {} --layers all -o f{}.exr", k,
+            k));
+        ASSERT_EQ(r.code, 0) << r.All();
+        inputs += fmt::format(" f{}.exr", k);
+    }
+    ToolResult r = Run("accumulate" + inputs + " -o acc.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    ASSERT_EQ(Run("accumulate f1.exr f3.exr f5.exr -o even.exr").code, 0);
+    r = Run("accumulate" + inputs + " --no-half0-layers -o plain.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    io::Frame acc = io::ReadFrame(Path("acc.exr")), even = io::ReadFrame(Path("even.exr")),
+              plain = io::ReadFrame(Path("plain.exr"));
+    int own = 0;
+    for (const std::string &name : io::Half0Layers()) {
+        if (!even.Has(name)) continue;
+        ++own;
+        ASSERT_TRUE(acc.Has("half0." + name)) << name;
+        EXPECT_EQ(acc.Get("half0." + name).channels, even.Get(name).channels) << name;
+        EXPECT_EQ(acc.Get("half0." + name).data, even.Get(name).data) << name;
+        EXPECT_FALSE(plain.Has("half0." + name)) << name;
+        EXPECT_EQ(acc.Get(name).data, plain.Get(name).data) << name;
+    }
+    // Features, statistics and the split's parts: every layer of --layers all but the ids.
+    EXPECT_EQ(own, 13);
+    EXPECT_NE(acc.Get("half0.albedo").data, acc.Get("albedo").data);
+    EXPECT_NE(acc.Get("half0.hist").data, acc.Get("hist").data);
+    for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < 14 * 10; ++i)
+            ExpectClose(acc.Get("half0.color").Plane(c)[i], even.Get("color").Plane(c)[i],
+                        "half0.color");
+    EXPECT_EQ(acc.Get("half0.color").data, plain.Get("half0.color").data);
+    EXPECT_FALSE(acc.Has("half0.objectId"));
+    // One frame: no halves to keep apart.
+    io::Accumulator one;
+    one.Add(io::ReadFrame(Path("f1.exr")));
+    EXPECT_FALSE(one.Finish().Has("half0.albedo"));
 }
 
 TEST_F(CliAccumulate, RefusesMismatchedFramesNamingTheFile) {

@@ -10,6 +10,7 @@
 #include "host/error.h"
 #include "host/io/accumulate.h"
 #include "host/io/frame.h"
+#include "host/io/layer_names.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/path_guard.h"
 #include "tools/mcdenoise/progress.h"
@@ -43,6 +44,7 @@ struct AccumulateOptions {
     std::vector<std::string> inputs;
     std::string output;
     int histBins = io::AccumulateOptions().histBins;
+    bool noHalf0Layers = false;
 };
 
 // What the frames' headers say before any pixels are read: a mismatched file is refused at
@@ -163,7 +165,7 @@ void RunAccumulate(const AccumulateOptions &opt) {
     Headers h = ReadHeaders(opt.inputs);
 
     auto start = std::chrono::steady_clock::now();
-    io::Accumulator accumulator({opt.histBins});
+    io::Accumulator accumulator({opt.histBins, !opt.noHalf0Layers});
     double bytes = 0;
     int total = int(opt.inputs.size());
     io::Frame frame = Accumulate(accumulator, opt.inputs, &bytes);
@@ -176,6 +178,11 @@ void RunAccumulate(const AccumulateOptions &opt) {
     std::vector<std::pair<std::string, const Image *>> layers;
     for (const char *name : kOutputOrder)
         if (frame.Has(name)) layers.push_back({name, &frame.Get(name)});
+    // Then half0's own layers, in the same order.
+    for (const char *name : kOutputOrder)
+        if (std::string half = fmt::format("half0.{}", name);
+            io::IsHalf0LayerName(half) && frame.Has(half))
+            layers.push_back({half, &frame.Get(half)});
     io::WriteExr(opt.output, layers, frame.metadata);
     double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -202,7 +209,10 @@ void AddAccumulateCommand(CLI::App &app) {
         "alpha averaged over the frames, objectId and partId from the first frame; "
         "direct.variance and indirect.variance the variances of the direct and indirect means "
         "(as variance: for auto's estimate of bayes's split output); "
-        "half0.color and half1.color the means of the even and odd frames; other layers are "
+        "half0.color and half1.color the means of the even and odd frames, and "
+        "half0.<layer> for each of the layers above but objectId and partId, made from the "
+        "even frames alone (auto's runs on half0 read them, so that no layer of those runs "
+        "carries half1's samples; --no-half0-layers leaves them out); other layers are "
         "not carried (it lists them). NaN/Inf values "
         "are left out and counted per layer. The frames must have equal spp each and may "
         "come from any renderer.\n\n"
@@ -222,6 +232,9 @@ void AddAccumulateCommand(CLI::App &app) {
     CheckRange(cmd->add_option("--hist-bins", opt->histBins, "histogram bins per channel")
                    ->capture_default_str(),
                3, 1000, true);
+    cmd->add_flag("--no-half0-layers", opt->noHalf0Layers,
+                  "write half0.color alone for half0, not half0's own variance, hist, "
+                  "albedo, ... (half the accumulator's memory and the file's size)");
     cmd->callback([opt] { RunAccumulate(*opt); });
 }
 
