@@ -365,8 +365,9 @@ Frame Accumulator::Finish() {
         out.layers[name + ".variance"] = std::move(spread);
     }
     for (auto &[name, image] : firstOf) out.layers[name] = std::move(image);
-    // half0's own layers: with one frame there is no half1 to keep them apart from.
-    if (half0 && frames > 1) {
+    // half0's own layers: from three frames on, so half0 holds two and its variances are
+    // not 0 (with one frame there is no half1 to keep them apart from).
+    if (half0 && frames > 2) {
         Frame own = half0->Finish();
         for (auto &[name, image] : own.layers)
             if (IsHalf0LayerName("half0." + name))

@@ -133,18 +133,21 @@ RenderFrames() {
 }
 
 # Accumulate inputs into output when it is missing, older than an input or made from
-# other inputs (OUTPUT.inputs lists them).
+# other inputs or flags (OUTPUT.inputs lists them, after the layout's tag: a file made
+# before accumulate wrote half0's own layers is made again). Usage: Accumulate OUTPUT
+# FLAGS INPUTS..., FLAGS one word of accumulate's options ("-" for none).
 Accumulate() {
-    local output=$1
-    shift
-    local stale=0 f
-    [ -f "$output" ] && [ "$(cat "$output.inputs" 2> /dev/null)" = "$*" ] || stale=1
+    local output=$1 flags=$2
+    shift 2
+    local stale=0 f record="half0-layers $flags $*" extra=()
+    [ "$flags" = - ] || extra=("$flags")
+    [ -f "$output" ] && [ "$(cat "$output.inputs" 2> /dev/null)" = "$record" ] || stale=1
     for f in "$@"; do [ "$f" -nt "$output" ] && stale=1; done
     [ $stale = 1 ] || return 0
-    "$tool" accumulate "$@" -o "$output.partial.exr" > "$output.log" 2>&1 ||
+    "$tool" accumulate "${extra[@]}" "$@" -o "$output.partial.exr" > "$output.log" 2>&1 ||
         { echo "realset.sh: accumulate failed for $output (see $output.log)" >&2; exit 1; }
     mv "$output.partial.exr" "$output"
-    echo "$*" > "$output.inputs"
+    echo "$record" > "$output.inputs"
 }
 
 echo "$(date -Is) realset.sh: scenes $scenes, ${size}x$size, out $out" >> "$log"
@@ -155,7 +158,7 @@ for scene in "${list[@]}"; do
     RenderFrames "$dir/frames"
     inputs=()
     for s in $(seq 1 "$frames"); do inputs+=("$(printf '%s/frames/%02d.exr' "$dir" "$s")"); done
-    Accumulate "$dir/acc.exr" "${inputs[@]}"
+    Accumulate "$dir/acc.exr" - "${inputs[@]}"
 done
 
 # Reference chunks round by round: chunk k of every scene before chunk k + 1 of any.
@@ -175,7 +178,8 @@ for scene in "${list[@]}"; do
     n=$(($(SceneRefSpp "$scene") / chunkSpp))
     chunks=()
     for k in $(seq 1 "$n"); do chunks+=("$(printf '%s/%s/ref/chunk%02d.exr' "$out" "$scene" "$k")"); done
-    Accumulate "$out/$scene/ref.exr" "${chunks[@]}"
+    # The reference's halves estimate its noise; half0's own layers serve no one there.
+    Accumulate "$out/$scene/ref.exr" --no-half0-layers "${chunks[@]}"
 done
 echo "$(date -Is) realset.sh: done" | tee -a "$log"
 echo "measure it: $tool bench real $out"

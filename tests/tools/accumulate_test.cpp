@@ -205,10 +205,20 @@ TEST_F(CliAccumulate, WritesHalf0sOwnLayersFromItsFramesAlone) {
                         "half0.color");
     EXPECT_EQ(acc.Get("half0.color").data, plain.Get("half0.color").data);
     EXPECT_FALSE(acc.Has("half0.objectId"));
-    // One frame: no halves to keep apart.
-    io::Accumulator one;
+    // One frame: no halves to keep apart; two: half0 holds one frame, whose variances are 0.
+    io::Accumulator one, two, three;
     one.Add(io::ReadFrame(Path("f1.exr")));
     EXPECT_FALSE(one.Finish().Has("half0.albedo"));
+    for (int k = 1; k <= 3; ++k) {
+        io::Frame frame = io::ReadFrame(Path(fmt::format("f{}.exr", k)));
+        if (k <= 2) two.Add(frame);
+        three.Add(frame);
+    }
+    io::Frame twoOut = two.Finish(), threeOut = three.Finish();
+    EXPECT_FALSE(twoOut.Has("half0.variance"));
+    EXPECT_FALSE(twoOut.Has("half0.albedo"));
+    EXPECT_TRUE(threeOut.Has("half0.variance"));
+    EXPECT_TRUE(threeOut.Has("half0.albedo"));
 }
 
 TEST_F(CliAccumulate, RefusesMismatchedFramesNamingTheFile) {
