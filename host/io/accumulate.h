@@ -77,7 +77,7 @@ class Accumulator {
     // The accumulated frame: color, variance, spp, min, max, hist, half0.color,
     // half1.color, and the carried layers (means over frames; objectId and partId from the
     // first frame; direct.variance and indirect.variance, the variances of the direct and
-    // indirect means, beside direct and indirect); with half0Layers and two frames or more,
+    // indirect means, beside direct and indirect); with half0Layers and three frames or more,
     // half0.<layer> for each of those that io::Half0Layers() names, as Finish of an
     // Accumulator given the even frames (0, 2, ...) alone. Throws when no frame was added.
     Frame Finish();
