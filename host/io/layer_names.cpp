@@ -98,12 +98,6 @@ bool IsPartialName(std::string_view name) {
     return what == "color" || what == "pivot" || what == "variance";
 }
 
-// The layers that half0 may have its own of ("half0.<layer>": accumulated from half0's
-// frames alone, for auto's runs on half0); half0.color is among kOwnDottedNames.
-constexpr std::array<std::string_view, 14> kHalf0Layers = {
-    "variance", "spp",    "min",    "max",   "hist",  "direct",          "indirect",
-    "pivot",    "albedo", "normal", "depth", "alpha", "direct.variance", "indirect.variance"};
-
 // Own names with a dot, taken whole: "direct.variance" is not view layer "direct" of
 // variance (which it would take from the real one, whose channels sort after it).
 constexpr std::array<std::string_view, 4> kOwnDottedNames = {
@@ -242,16 +236,6 @@ std::optional<int> AlphaOf(const std::vector<Channel> &group) {
 }
 
 }  // namespace
-
-bool IsHalf0LayerName(std::string_view name) {
-    if (!name.starts_with("half0.")) return false;
-    std::string_view layer = name.substr(6);
-    return std::find(kHalf0Layers.begin(), kHalf0Layers.end(), layer) != kHalf0Layers.end();
-}
-
-std::vector<std::string> Half0Layers() {
-    return {kHalf0Layers.begin(), kHalf0Layers.end()};
-}
 
 bool IsOwnLayerName(std::string_view name) {
     return IsOwnName(name);

@@ -3,6 +3,8 @@
 // string work, kept apart from the file I/O so the rules can be read in one place.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,11 +33,25 @@ std::vector<LayerChannels> GroupChannels(const std::vector<std::string> &channel
 // rather than a renderer's pass kept under its own name.
 bool IsOwnLayerName(std::string_view name);
 
+// The layers that half0 may have its own of ("half0.<layer>": accumulated from half0's
+// frames alone, for auto's runs on half0); half0.color is an own name of its own. Inline:
+// the core library (auto, temporal) reads them without linking the file I/O library.
+inline constexpr std::array<std::string_view, 14> kHalf0Layers = {
+    "variance", "spp",    "min",    "max",   "hist",  "direct",          "indirect",
+    "pivot",    "albedo", "normal", "depth", "alpha", "direct.variance", "indirect.variance"};
+
 // "half0.<layer>" for a layer that accumulate also writes for half0 alone (the frames
 // half0.color is the mean of): auto's runs on half0 read them in place of the frame's.
-bool IsHalf0LayerName(std::string_view name);
+inline bool IsHalf0LayerName(std::string_view name) {
+    if (!name.starts_with("half0.")) return false;
+    return std::find(kHalf0Layers.begin(), kHalf0Layers.end(), name.substr(6)) !=
+           kHalf0Layers.end();
+}
+
 // Those layers' names without the "half0." (variance, hist, albedo, normal, ...).
-std::vector<std::string> Half0Layers();
+inline std::vector<std::string> Half0Layers() {
+    return {kHalf0Layers.begin(), kHalf0Layers.end()};
+}
 
 // The channel names a layer of channelCount channels is written under: "color" -> R,G,B
 // (Y when grey); "alpha" -> A; "normal" -> normal.X/Y/Z; other 3-channel layers -> x.R/G/B;
