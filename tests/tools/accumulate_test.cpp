@@ -80,6 +80,20 @@ class CliAccumulate : public ::testing::Test {
   protected:
     ToolResult Run(const std::string &args) { return tool.Run(args); }
     std::string Path(const std::string &name) const { return tool.Path(name).string(); }
+    // Renders cornell 14x10 frames f1.exr .. fN.exr (seeds 1..N, every layer) and returns
+    // their names for accumulate's command line (" f1.exr f2.exr ...").
+    std::string RenderFrames(int count, int spp) {
+        std::string inputs;
+        for (int k = 1; k <= count; ++k) {
+            ToolResult r =
+                Run(fmt::format("render --scene cornell --size 14x10 --spp {} --seed {} "
+                                "--layers all -o f{}.exr",
+                                spp, k, k));
+            EXPECT_EQ(r.code, 0) << r.All();
+            inputs += fmt::format(" f{}.exr", k);
+        }
+        return inputs;
+    }
     ToolDir tool{"mcd_accumulate_cli"};
 };
 
@@ -88,14 +102,8 @@ class CliAccumulate : public ::testing::Test {
 // and the carried layers.
 TEST_F(CliAccumulate, OneSppFramesGiveTheirSamplesStatistics) {
     const int frames = 5, bins = 20;
-    std::string inputs;
-    for (int k = 1; k <= frames; ++k) {
-        ToolResult r = Run(fmt::format(
-            "render --scene cornell --size 14x10 --spp 1 --seed {} --layers all -o f{}.exr", k,
-            k));
-        ASSERT_EQ(r.code, 0) << r.All();
-        inputs += fmt::format(" f{}.exr", k);
-    }
+    const std::string inputs = RenderFrames(frames, 1);
+    ASSERT_FALSE(HasFailure());
     ToolResult r = Run("accumulate" + inputs + " -o acc.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "5 frames 14x10")) << r.out;
@@ -170,14 +178,8 @@ TEST_F(CliAccumulate, OneSppFramesGiveTheirSamplesStatistics) {
 // layer of that name untouched); --no-half0-layers writes half0.color alone, the rest the
 // same bits.
 TEST_F(CliAccumulate, WritesHalf0sOwnLayersFromItsFramesAlone) {
-    std::string inputs;
-    for (int k = 1; k <= 5; ++k) {
-        ToolResult r = Run(fmt::format(
-            "render --scene cornell --size 14x10 --spp 2 --seed {} --layers all -o f{}.exr", k,
-            k));
-        ASSERT_EQ(r.code, 0) << r.All();
-        inputs += fmt::format(" f{}.exr", k);
-    }
+    const std::string inputs = RenderFrames(5, 2);
+    ASSERT_FALSE(HasFailure());
     ToolResult r = Run("accumulate" + inputs + " -o acc.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     ASSERT_EQ(Run("accumulate f1.exr f3.exr f5.exr -o even.exr").code, 0);
