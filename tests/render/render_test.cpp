@@ -163,6 +163,16 @@ TEST(RenderLayers, HalvesCarryHalf0sOwnLayersFromTheEvenSamples) {
         ASSERT_NEAR(mx.data[i], std::max(a, b), 1e-4 * (1 + std::fabs(a) + std::fabs(b)));
     }
     for (float v : spp.data) ASSERT_EQ(v, 2.f);
+    for (const char *name : {"direct", "indirect"}) {
+        const Image &own = Layer(r3, fmt::format("half0.{}.variance", name));
+        ASSERT_EQ(own.data.size(), variance.data.size()) << name;
+        for (size_t i = 0; i < own.data.size(); ++i) {
+            double a = Layer(r1, name).data[i];
+            double b = 3.0 * Layer(r3, name).data[i] - 2.0 * Layer(r2, name).data[i];
+            ASSERT_NEAR(own.data[i], (a - b) * (a - b) / 4, 1e-4 * (1 + a * a + b * b))
+                << name << " " << i;
+        }
+    }
     const Image &hist = Layer(r3, "half0.hist");
     for (size_t i = 0; i < hist.data.size(); ++i) {
         double expected = double(Layer(r1, "hist").data[i]) + Layer(r3, "hist").data[i] -
