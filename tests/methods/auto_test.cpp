@@ -1156,16 +1156,25 @@ TEST_F(AutoMethod, FrameWithoutStatisticsRunsNforAlone) {
     EXPECT_GT(withVariance.candidates.size(), 1u);
 }
 
-// half0's own layers (accumulate's half0.<layer>): the runs on half0 read them in place of
-// the frame's and --explain names them. The frame's own layers under those names (the
-// variance doubled, as the runs on half0 take it without them) give the same bits as none;
-// other values there move the result (the frame's runs do not read them: only the
-// estimate, through the half0 runs, can).
+// half0's own layers (accumulate's half0.<layer>, and the renderer's with halves): the
+// runs on half0 read them in place of the frame's and --explain names them. The frame's own
+// layers under those names (the variance doubled, as the runs on half0 take it without
+// them) give the same bits as none; other values there move the result (the frame's runs do
+// not read them: only the estimate, through the half0 runs, can).
 TEST_F(AutoMethod, HalfRunsReadHalf0sOwnLayers) {
-    auto [frame, reference] = RenderWithReference(
+    auto [rendered, reference] = RenderWithReference(
         "cornell", 24, 20, 8, render::kLayersAll | render::kLayersHalves, 8);
     Device device = api::BorrowDevice(Ctx());
     Method automatic("auto");
+    Result own = automatic.Run(device, rendered);
+    EXPECT_TRUE(PlanHas(own,
+                        "with half0's own variance, spp, min, max, hist, direct, indirect, "
+                        "albedo, normal, depth, direct.variance, indirect.variance, compared"))
+        << fmt::format("{}", fmt::join(own.plan, "\n"));
+    Frame frame = rendered;
+    std::erase_if(frame.layers, [](const auto &layer) {
+        return layer.first.rfind("half0.", 0) == 0 && layer.first != "half0.color";
+    });
     Result without = automatic.Run(device, frame);
     EXPECT_TRUE(PlanHas(without, "each candidate run on half0, with the frame's other layers"))
         << fmt::format("{}", fmt::join(without.plan, "\n"));

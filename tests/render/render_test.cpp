@@ -115,6 +115,72 @@ TEST(RenderLayers, HalvesSplitTheSamples) {
     EXPECT_EQ(render::ParseLayerGroups("all") & render::kLayersHalves, 0u);
 }
 
+// From 3 spp on, half0 also has its own layers, of the even samples alone (samples 0 and 2
+// at 3 spp). A sample's sums are recovered from renders of 1, 2 and 3 spp (the same seed
+// gives sample s the same path at any spp): sample 1 = 2 c2 - c1, sample 2 = 3 c3 - 2 c2.
+// The frame's own layers are the same bits with or without the halves; at 2 spp half0 has
+// its colour alone.
+TEST(RenderLayers, HalvesCarryHalf0sOwnLayersFromTheEvenSamples) {
+    static const render::Scene scene = render::BuildScene("dof-arealight");
+    auto renderAt = [](int spp, const std::string &groups) {
+        RenderOptions o;
+        o.width = 13, o.height = 9, o.spp = spp, o.seed = 11;
+        o.layers = render::ParseLayerGroups(groups);
+        return render::Render(scene, o);
+    };
+    const std::string groups = "hist,split,gbuffer,halves";
+    render::RenderResult r1 = renderAt(1, groups), r2 = renderAt(2, groups),
+                         r3 = renderAt(3, groups), plain = renderAt(3, "hist,split,gbuffer");
+    for (const auto &[name, image] : plain.layers)
+        EXPECT_EQ(Layer(r3, name).data, image.data) << name;
+    for (const auto &[name, image] : r2.layers)
+        EXPECT_FALSE(name.rfind("half0.", 0) == 0 && name != "half0.color") << name;
+    EXPECT_THROW(Layer(r3, "half0.objectId"), Error);
+    EXPECT_THROW(Layer(r3, "half0.pivot"), Error);
+    // The mean of samples 0 and 2, from the three renders' means (or sums for hist).
+    auto evenMean = [&](const std::string &name, size_t i) {
+        double c1 = Layer(r1, name).data[i], c2 = Layer(r2, name).data[i],
+               c3 = Layer(r3, name).data[i];
+        return (c1 + (3 * c3 - 2 * c2)) / 2;
+    };
+    for (const char *name : {"color", "albedo", "normal", "depth", "direct", "indirect"}) {
+        const Image &own = Layer(r3, fmt::format("half0.{}", name));
+        for (size_t i = 0; i < own.data.size(); ++i) {
+            double expected = evenMean(name, i);
+            ASSERT_NEAR(own.data[i], expected, 1e-4 * (1 + std::fabs(expected)))
+                << name << " " << i;
+        }
+    }
+    const Image &variance = Layer(r3, "half0.variance"), &mn = Layer(r3, "half0.min"),
+                &mx = Layer(r3, "half0.max"), &spp = Layer(r3, "half0.spp");
+    for (size_t i = 0; i < variance.data.size(); ++i) {
+        // Two samples a and b: the variance of their mean is (a - b)^2 / 4.
+        double a = Layer(r1, "color").data[i];
+        double b = 3.0 * Layer(r3, "color").data[i] - 2.0 * Layer(r2, "color").data[i];
+        double scale = 1 + a * a + b * b;
+        ASSERT_NEAR(variance.data[i], (a - b) * (a - b) / 4, 1e-4 * scale) << i;
+        ASSERT_NEAR(mn.data[i], std::min(a, b), 1e-4 * (1 + std::fabs(a) + std::fabs(b)));
+        ASSERT_NEAR(mx.data[i], std::max(a, b), 1e-4 * (1 + std::fabs(a) + std::fabs(b)));
+    }
+    for (float v : spp.data) ASSERT_EQ(v, 2.f);
+    for (const char *name : {"direct", "indirect"}) {
+        const Image &own = Layer(r3, fmt::format("half0.{}.variance", name));
+        ASSERT_EQ(own.data.size(), variance.data.size()) << name;
+        for (size_t i = 0; i < own.data.size(); ++i) {
+            double a = Layer(r1, name).data[i];
+            double b = 3.0 * Layer(r3, name).data[i] - 2.0 * Layer(r2, name).data[i];
+            ASSERT_NEAR(own.data[i], (a - b) * (a - b) / 4, 1e-4 * (1 + a * a + b * b))
+                << name << " " << i;
+        }
+    }
+    const Image &hist = Layer(r3, "half0.hist");
+    for (size_t i = 0; i < hist.data.size(); ++i) {
+        double expected = double(Layer(r1, "hist").data[i]) + Layer(r3, "hist").data[i] -
+                          Layer(r2, "hist").data[i];
+        ASSERT_NEAR(hist.data[i], expected, 1e-5) << i;
+    }
+}
+
 TEST(RenderLayers, AgreeWithEachOther) {
     render::RenderResult r = RenderCornell(24, 18, 8, 7, render::kLayersAll);
     const Image &color = Layer(r, "color"), &mn = Layer(r, "min"), &mx = Layer(r, "max");

@@ -126,12 +126,14 @@ TEST(RenderTracing, EachSampleIsRestPlusOwn) {
 }
 
 // Radius 0 leaves every pixel to its own samples: the frame is the plain one bit for bit,
-// and so is color.unfiltered with any radius; with partial 1 filtered too (glossy-cornell's
-// mirror) and without.
+// and so is color.unfiltered with any radius (and the half-buffers with half0's own layers,
+// of the samples before the filter); with partial 1 filtered too (glossy-cornell's mirror)
+// and without.
 TEST(RenderTracing, RadiusZeroIsThePlainFrame) {
     for (auto [sceneName, partials] : {std::pair{"relief-abc", 1}, {"glossy-cornell", 2}}) {
         render::Scene scene = render::BuildScene(sceneName);
-        const unsigned layers = render::kLayersAll | render::kLayersPartials;
+        const unsigned layers =
+            render::kLayersAll | render::kLayersPartials | render::kLayersHalves;
         RenderOptions plainOptions = Traced(21, 17, 3, 4, 0, layers);
         plainOptions.tracing.enabled = false;
         render::RenderResult plain = render::Render(scene, plainOptions);

@@ -99,7 +99,8 @@ render::Vec3 Step(const std::string &text) {
 Sequence OurSequence(const FlickerOptions &opt, bool moving) {
     Sequence s;
     s.name = fmt::format("ours {} {} {}", opt.scene, moving ? "camera" : "static", opt.size);
-    std::string dir = fmt::format("{}/{}_{}_{}_{}spp", opt.cache, opt.scene,
+    // "_h0": frames with half0's own layers (older caches have half0.color alone).
+    std::string dir = fmt::format("{}/{}_{}_{}_{}spp_h0", opt.cache, opt.scene,
                                   moving ? "camera" : "static", opt.size, opt.spp);
     fs::create_directories(dir);
     render::Scene scene = render::BuildScene(opt.scene);

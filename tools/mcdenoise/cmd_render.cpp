@@ -250,7 +250,9 @@ void AddFrameOptions(CLI::App *cmd, RenderCommandOptions &opt) {
                     "before the first diffuse/glossy hit, and the remainder) and zhist "
                     "(histograms of color / pivot, with the pivot, for denoise --method rhf "
                     "--demodulate pivot) and halves (half0.color, half1.color: the means of "
-                    "the even and of the odd samples, for auto's error estimate); color, "
+                    "the even and of the odd samples, for auto's error estimate; from 3 spp on "
+                    "also half0.<layer> for variance, spp, min, max and each group's hist, "
+                    "split and gbuffer layers but the ids, of the even samples alone); color, "
                     "variance, spp, min and max are always written");
     cmd->add_option("--threads", opt.threads,
                     "threads (default: all cores; the frame is the same)");

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <system_error>
@@ -128,7 +129,16 @@ struct FrameLayers {
                 if (k < kPartialTypes)
                     partialPivots.emplace_back(w, h, 3), partialVariances.emplace_back(w, h, 3);
             }
-        if (o.layers & kLayersHalves) half0 = Image(w, h, 3), half1 = Image(w, h, 3);
+        if (o.layers & kLayersHalves) {
+            half1 = Image(w, h, 3);
+            // half0's own layers from two even samples on (one has no variance), as
+            // accumulate writes them from three frames on: auto's runs on half0 read them.
+            if (o.spp >= 3) {
+                half0Own = std::make_unique<FrameLayers>(Half0Options(o));
+                half0Own->objectId = half0Own->partId = Image();  // the first sample's
+            } else
+                half0 = Image(w, h, 3);
+        }
         if (o.tracing.enabled) unfiltered = Image(w, h, 3);
         if (o.layers & kLayersGbuffer) {
             albedo = Image(w, h, 3), normal = Image(w, h, 3), depth = Image(w, h, 1);
@@ -169,8 +179,28 @@ struct FrameLayers {
         }
         if (!partialColors.empty())
             result.layers.emplace_back("remainder", std::move(partialColors.back()));
+        if (half0Own) {
+            // half0's colour, then its own layers under "half0.".
+            RenderResult own;
+            half0Own->MoveInto(own);
+            result.layers.emplace_back("half0.color", std::move(own.layers.front().second));
+            add("half1.color", half1);
+            for (size_t i = 1; i < own.layers.size(); ++i)
+                result.layers.emplace_back("half0." + own.layers[i].first,
+                                           std::move(own.layers[i].second));
+            return;
+        }
         add("half0.color", half0);
         add("half1.color", half1);
+    }
+
+    // The layers the even samples alone give: no ids, pivot, halves, partials nor tracing.
+    static RenderOptions Half0Options(const RenderOptions &o) {
+        RenderOptions own = o;
+        own.spp = (o.spp + 1) / 2;
+        own.layers = o.layers & (kLayersHist | kLayersSplit | kLayersGbuffer);
+        own.tracing.enabled = false;
+        return own;
     }
 
     Image color, variance, spp, mn, mx;
@@ -179,32 +209,70 @@ struct FrameLayers {
     // covariance that auto's estimate of bayes's split output needs.
     Image directVariance, indirectVariance;
     Image half0, half1;  // means of the even and of the odd samples
-    Image unfiltered;    // color before the tracing filter
+    // From three samples on, half0's own layers (its colour among them) in place of half0.
+    std::unique_ptr<FrameLayers> half0Own;
+    Image unfiltered;  // color before the tracing filter
     // partial0.color, partial1.color, ..., remainder, then the partials' pivots.
     std::vector<Image> partialColors, partialPivots, partialVariances;
 };
 
-// Sums over one pixel's samples, and its histograms' buckets.
-struct PixelSums {
-    PixelSums() = default;
-    explicit PixelSums(int bins) : bucket(3 * bins), zbucket(3 * bins) {}
-    // Zero for the next pixel, keeping the buckets' memory.
+// One set of samples' sums: a layer set's means, variances, ranges, G-buffer and histogram.
+struct Moments {
+    Moments() = default;
+    explicit Moments(int bins) : bucket(3 * bins) {}
+    // Zero for the next pixel, keeping the bucket's memory.
     void Reset() {
-        std::vector<float> keep = std::move(bucket), zkeep = std::move(zbucket);
-        *this = PixelSums();
-        bucket = std::move(keep), zbucket = std::move(zkeep);
+        std::vector<float> keep = std::move(bucket);
+        *this = Moments();
+        bucket = std::move(keep);
         std::fill(bucket.begin(), bucket.end(), 0.f);
-        std::fill(zbucket.begin(), zbucket.end(), 0.f);
+    }
+    // Add one sample (its colour c3, already 0 where it was not finite).
+    void Add(const PathSample &p, const double c3[3], int bins, bool hist) {
+        for (int c = 0; c < 3; ++c) {
+            sum[c] += c3[c];
+            sumSq[c] += c3[c] * c3[c];
+            lo[c] = std::min(lo[c], c3[c]);
+            hi[c] = std::max(hi[c], c3[c]);
+            sumDirect[c] += p.direct[c];
+            sumIndirect[c] += p.indirect[c];
+            sumSqDirect[c] += p.direct[c] * p.direct[c];
+            sumSqIndirect[c] += p.indirect[c] * p.indirect[c];
+            sumAlbedo[c] += p.albedo[c];
+            sumNormal[c] += p.normal[c];
+        }
+        sumDepth += p.depth;
+        if (hist) AddToHistogram(c3, bins, bucket.data());
     }
 
     double sum[3] = {}, sumSq[3] = {}, lo[3] = {INFINITY, INFINITY, INFINITY},
            hi[3] = {-INFINITY, -INFINITY, -INFINITY}, sumDirect[3] = {}, sumIndirect[3] = {},
            sumSqDirect[3] = {}, sumSqIndirect[3] = {}, sumAlbedo[3] = {}, sumNormal[3] = {},
-           sumDepth = 0, sumHalf[2][3] = {};
+           sumDepth = 0;
+    std::vector<float> bucket;
+};
+
+// Sums over one pixel's samples: all of them, the even ones alone (half0's own layers),
+// the odd ones' colour (half1), the partials and the z histogram.
+struct PixelSums {
+    PixelSums() = default;
+    explicit PixelSums(int bins) : all(bins), even(bins), zbucket(3 * bins) {}
+    // Zero for the next pixel, keeping the buckets' memory.
+    void Reset() {
+        all.Reset(), even.Reset();
+        std::fill(zbucket.begin(), zbucket.end(), 0.f);
+        for (int c = 0; c < 3; ++c) sumHalf[0][c] = sumHalf[1][c] = 0;
+        for (int k = 0; k <= kPartialTypes; ++k) sumPartial[k] = sumSqPartial[k] = Vec3(0);
+        firstObject = firstPart = 0;
+        nonFinite = 0;
+    }
+
+    Moments all, even;
+    double sumHalf[2][3] = {};
     Vec3 sumPartial[kPartialTypes + 1], sumSqPartial[kPartialTypes + 1];
     int firstObject = 0, firstPart = 0;
     uint64_t nonFinite = 0;  // paths that produced NaN/Inf (counted as 0)
-    std::vector<float> bucket, zbucket;
+    std::vector<float> zbucket;
 };
 
 // Deterministic: a fixed 4x4 grid of pinhole rays per pixel.
@@ -295,26 +363,15 @@ void SamplePixel(const SampleSource &source, const RenderOptions &o, const Frame
                 record.pdf = float(a.pdf);
             }
         }
-        for (int c = 0; c < 3; ++c) {
-            sums.sum[c] += c3[c];
-            sums.sumHalf[s % 2][c] += c3[c];
-            sums.sumSq[c] += c3[c] * c3[c];
-            sums.lo[c] = std::min(sums.lo[c], c3[c]);
-            sums.hi[c] = std::max(sums.hi[c], c3[c]);
-            sums.sumDirect[c] += p.direct[c];
-            sums.sumIndirect[c] += p.indirect[c];
-            sums.sumSqDirect[c] += p.direct[c] * p.direct[c];
-            sums.sumSqIndirect[c] += p.indirect[c] * p.indirect[c];
-            sums.sumAlbedo[c] += p.albedo[c];
-            sums.sumNormal[c] += p.normal[c];
-        }
+        const bool hist = !layers.hist.Empty();
+        sums.all.Add(p, c3, bins, hist);
+        if (layers.half0Own && s % 2 == 0) sums.even.Add(p, c3, bins, hist);
+        for (int c = 0; c < 3; ++c) sums.sumHalf[s % 2][c] += c3[c];
         for (int k = 0; k <= kPartialTypes; ++k) {
             sums.sumPartial[k] += p.partial[k];
             sums.sumSqPartial[k] += p.partial[k] * p.partial[k];
         }
-        sums.sumDepth += p.depth;
         if (s == 0) sums.firstObject = p.objectId, sums.firstPart = p.partId;
-        if (!layers.hist.Empty()) AddToHistogram(c3, bins, sums.bucket.data());
         if (!layers.zhist.Empty()) {
             // Divided by the layer's float pivot, as the denoiser will.
             double z3[3];
@@ -335,49 +392,55 @@ double VarianceOfMean(double sum, double sumSq, double n) {
     return n > 1 ? std::max(0.0, (sumSq - n * mean * mean) / (n - 1)) / n : 0;
 }
 
-// The pixel's means, variances of the mean, ranges, G-buffer and histograms.
-void WritePixel(const PixelSums &sums, const RenderOptions &o, int x, int y,
-                FrameLayers &layers) {
-    const int bins = o.histBins;
-    double n = o.spp;
+// A layer set's means, variances of the mean, ranges, G-buffer and histogram from n samples'
+// sums.
+void WriteMoments(const Moments &m, int bins, double n, int x, int y, FrameLayers &layers) {
     for (int c = 0; c < 3; ++c) {
-        double mean = sums.sum[c] / n;
-        layers.color.At(c, y, x) = float(mean);
-        layers.variance.At(c, y, x) = float(VarianceOfMean(sums.sum[c], sums.sumSq[c], n));
-        layers.mn.At(c, y, x) = float(sums.lo[c]);
-        layers.mx.At(c, y, x) = float(sums.hi[c]);
+        layers.color.At(c, y, x) = float(m.sum[c] / n);
+        layers.variance.At(c, y, x) = float(VarianceOfMean(m.sum[c], m.sumSq[c], n));
+        layers.mn.At(c, y, x) = float(m.lo[c]);
+        layers.mx.At(c, y, x) = float(m.hi[c]);
         if (!layers.direct.Empty()) {
-            layers.direct.At(c, y, x) = float(sums.sumDirect[c] / n);
-            layers.indirect.At(c, y, x) = float(sums.sumIndirect[c] / n);
+            layers.direct.At(c, y, x) = float(m.sumDirect[c] / n);
+            layers.indirect.At(c, y, x) = float(m.sumIndirect[c] / n);
             layers.directVariance.At(c, y, x) =
-                float(VarianceOfMean(sums.sumDirect[c], sums.sumSqDirect[c], n));
+                float(VarianceOfMean(m.sumDirect[c], m.sumSqDirect[c], n));
             layers.indirectVariance.At(c, y, x) =
-                float(VarianceOfMean(sums.sumIndirect[c], sums.sumSqIndirect[c], n));
-        }
-        if (!layers.half0.Empty()) {
-            // Sample s goes to half s % 2: ceil(n / 2) and floor(n / 2) samples.
-            int even = (o.spp + 1) / 2, odd = o.spp / 2;
-            layers.half0.At(c, y, x) = float(sums.sumHalf[0][c] / even);
-            layers.half1.At(c, y, x) = odd > 0 ? float(sums.sumHalf[1][c] / odd) : 0.f;
+                float(VarianceOfMean(m.sumIndirect[c], m.sumSqIndirect[c], n));
         }
         if (!layers.albedo.Empty()) {
-            layers.albedo.At(c, y, x) = float(sums.sumAlbedo[c] / n);
-            layers.normal.At(c, y, x) = float(sums.sumNormal[c] / n);
+            layers.albedo.At(c, y, x) = float(m.sumAlbedo[c] / n);
+            layers.normal.At(c, y, x) = float(m.sumNormal[c] / n);
         }
     }
     layers.spp.At(0, y, x) = float(n);
-    if (!layers.depth.Empty()) {
-        layers.depth.At(0, y, x) = float(sums.sumDepth / n);
+    if (!layers.depth.Empty()) layers.depth.At(0, y, x) = float(m.sumDepth / n);
+    if (!layers.hist.Empty()) {
+        for (int b = 0; b < 3 * bins; ++b) layers.hist.At(b, y, x) = m.bucket[b];
+        layers.hist.At(3 * bins, y, x) = float(n);
+    }
+}
+
+// The pixel's layers: its samples' moments, ids, half-buffers and z histogram.
+void WritePixel(const PixelSums &sums, const RenderOptions &o, int x, int y,
+                FrameLayers &layers) {
+    const int bins = o.histBins;
+    // Sample s goes to half s % 2: ceil(n / 2) and floor(n / 2) samples.
+    const int even = (o.spp + 1) / 2, odd = o.spp / 2;
+    WriteMoments(sums.all, bins, o.spp, x, y, layers);
+    if (layers.half0Own) WriteMoments(sums.even, bins, even, x, y, *layers.half0Own);
+    for (int c = 0; c < 3; ++c) {
+        if (!layers.half0.Empty()) layers.half0.At(c, y, x) = float(sums.sumHalf[0][c] / even);
+        if (!layers.half1.Empty())
+            layers.half1.At(c, y, x) = odd > 0 ? float(sums.sumHalf[1][c] / odd) : 0.f;
+    }
+    if (!layers.objectId.Empty()) {
         layers.objectId.At(0, y, x) = float(sums.firstObject);
         layers.partId.At(0, y, x) = float(sums.firstPart);
     }
-    if (!layers.hist.Empty()) {
-        for (int b = 0; b < 3 * bins; ++b) layers.hist.At(b, y, x) = sums.bucket[b];
-        layers.hist.At(3 * bins, y, x) = float(n);
-    }
     if (!layers.zhist.Empty()) {
         for (int b = 0; b < 3 * bins; ++b) layers.zhist.At(b, y, x) = sums.zbucket[b];
-        layers.zhist.At(3 * bins, y, x) = float(n);
+        layers.zhist.At(3 * bins, y, x) = float(o.spp);
     }
 }
 

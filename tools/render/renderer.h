@@ -38,7 +38,9 @@ enum LayerGroup : unsigned {
     kLayersZHist = 32,
     // Half-buffers (not in "all"): half0.color and half1.color, the means of the even and
     // of the odd samples, two independent estimates of color (as `accumulate` writes from
-    // N frames); with 1 spp half1 has no sample and is 0.
+    // N frames); with 1 spp half1 has no sample and is 0. From 3 spp on also half0's own
+    // layers (half0.variance, .spp, .min, .max and the hist, split and gbuffer layers but the
+    // ids), of the even samples alone, as accumulate writes them.
     kLayersHalves = 64,
 };
 
