@@ -38,8 +38,10 @@ struct NforOptions {
     bool noDemodulatedDistance = false;
     float ridge = 0.001f;  // lambda: ridge of lambda sum(w) on the non-constant columns
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
+    // The albedo's scale is wide: an edge pixel's albedo, a mix of its two sides, still
+    // weighs its neighbours, and the fit's albedo columns follow the texture.
     float featureBandwidth = 3;
-    float albedoSigma = 0.1f, normalSigma = 0.2f, depthSigma = 0.05f, pivotSigma = 0.1f;
+    float albedoSigma = 0.3f, normalSigma = 0.2f, depthSigma = 0.05f, pivotSigma = 0.1f;
     int noiseRadius = 1;
     // With a variance layer the firefly clamp reads the frame's own estimate, as without
     // one: a pixel whose few samples hold a firefly reports the firefly's own variance in
