@@ -6,6 +6,7 @@
 
 #include "harness/inputs.h"
 #include "host/api/front_end.h"
+#include "host/common/parallel.h"
 #include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
 
@@ -55,19 +56,24 @@ TEST(InputsLayerId, WindowsOfOneLayerShareOnlyTheirOwnWindow) {
     EXPECT_EQ(after.LayerId("hist"), MemoImageId(own));
 }
 
+// The crop's rows are copied in parts (forced: 1, 5 and 7, so part bounds fall inside
+// planes and across them).
 TEST(InputsLayerId, WindowCropsAreTheFramesValues) {
     const Frame frame = LayeredFrame(23, 17);
-    api::Inputs whole(frame, false, "rhf");
-    api::Inputs window(whole, 5, 3, 20, 15);
-    const Image &crop = window.Get("hist");
     const Image &hist = frame.layers.at("hist");
-    ASSERT_EQ(crop.width, 15);
-    ASSERT_EQ(crop.height, 12);
-    for (int c = 0; c < hist.channels; ++c)
-        for (int y = 0; y < crop.height; ++y)
-            for (int x = 0; x < crop.width; ++x)
-                ASSERT_EQ(crop.At(c, y, x), hist.At(c, y + 3, x + 5))
-                    << c << " " << x << " " << y;
+    for (int parts : {1, 5, 7}) {
+        ForceParallelParts force(parts);
+        api::Inputs whole(frame, false, "rhf");
+        api::Inputs window(whole, 5, 3, 20, 15);
+        const Image &crop = window.Get("hist");
+        ASSERT_EQ(crop.width, 15);
+        ASSERT_EQ(crop.height, 12);
+        for (int c = 0; c < hist.channels; ++c)
+            for (int y = 0; y < crop.height; ++y)
+                for (int x = 0; x < crop.width; ++x)
+                    ASSERT_EQ(crop.At(c, y, x), hist.At(c, y + 3, x + 5))
+                        << parts << ": " << c << " " << x << " " << y;
+    }
 }
 
 }  // namespace
