@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,6 +44,10 @@ class Inputs {
     const Image &Get(const std::string &layer);
     // Replace a layer for the rest of the run (checked like the frame's own on read).
     void Override(const std::string &layer, Image image);
+    // The layer's identity in a memo key (RunMemo): the hash of its values, made once and
+    // kept until the layer is replaced; a window's crop of its parent's layer is named by
+    // the parent's identity and the window, so no crop is hashed again.
+    const std::string &LayerId(const std::string &layer);
     // The names of the frame's layers and the overrides, sorted.
     std::vector<std::string> Names() const;
     // Work shared between runs on these inputs (auto's candidates and probes;
@@ -63,6 +68,8 @@ class Inputs {
     int x0 = 0, y0 = 0;
     std::map<std::string, Image> overrides;  // demodulated or repaired layers, or crops
     std::map<std::string, bool> checked;
+    std::set<std::string> crops;             // overrides that are crops of the parent's layer
+    std::map<std::string, std::string> ids;  // LayerId's, dropped when a layer is replaced
 };
 
 // Layers of `inputs` replaced for a scope, each put back as it was when the scope ends,

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "host/api/front_end.h"
+#include "host/common/parallel.h"
+#include "host/methods/run_memo.h"
 
 namespace mcd::api {
 
@@ -33,6 +35,20 @@ bool Inputs::Has(const std::string &layer) const {
 void Inputs::Override(const std::string &layer, Image image) {
     overrides[layer] = std::move(image);
     checked.erase(layer);
+    crops.erase(layer);
+    ids.erase(layer);
+}
+
+const std::string &Inputs::LayerId(const std::string &layer) {
+    if (auto it = ids.find(layer); it != ids.end()) return it->second;
+    const Image &image = Get(layer);
+    // A crop is its parent's layer seen through the window: the same parent and window
+    // give the same values.
+    std::string id = parent && crops.count(layer) > 0
+                         ? fmt::format("{} window [{}, {}) x [{}, {})", parent->LayerId(layer),
+                                       x0, x0 + width, y0, y0 + height)
+                         : MemoImageId(image);
+    return ids[layer] = std::move(id);
 }
 
 std::vector<std::string> Inputs::Names() const {
@@ -61,11 +77,17 @@ const Image &Inputs::Get(const std::string &layer) {
                 fmt::format("{}: layer '{}' is {}x{}, the frame {}x{}", Path(), layer,
                             whole.width, whole.height, parent->Width(), parent->Height()),
                 ErrorKind::InvalidArgument);
+        // Rows of every plane split among the cores (rhf's histograms: 61 planes).
         Image crop(width, height, whole.channels);
-        for (int c = 0; c < whole.channels; ++c)
-            for (int y = 0; y < height; ++y)
+        const int rows = whole.channels * height;
+        ParallelFor(rows, size_t(rows) * size_t(width), [&](int begin, int end) {
+            for (int row = begin; row < end; ++row) {
+                const int c = row / height, y = row % height;
                 std::copy_n(whole.Plane(c) + size_t(y0 + y) * whole.width + x0, width,
                             crop.Plane(c) + size_t(y) * width);
+            }
+        });
+        crops.insert(layer);
         return overrides[layer] = std::move(crop);
     }
     // A borrowed layer is read from the caller's memory once, as planar float32.

@@ -100,6 +100,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         const std::vector<size_t> &rims = cuts.rims, &clusters = cuts.clusters;
         const bool anyCut =
             spikes > 0 || !rims.empty() || !clusters.empty() || !cuts.bridged.empty();
+        if (setup.memo) setup.histId = inputs.LayerId(HistogramLayer(inputs));
         Result result = ResultOf(
             RhfDenoise(context, anyCut ? cut : color, Histograms(inputs), options, setup));
         if (options.meanRadius > 0)
@@ -300,14 +301,17 @@ class Rhf : public FrontEndOf<RhfParams> {
     // The cut sets' memo key: everything Cut reads (the exact variance by the layers it is
     // made from, so that a hit does not make it) and what ForProbe keeps of it.
     std::string CutSetsKey(Inputs &run, const ExactLayers &layers, bool onHalf) const {
-        auto id = [](const Image *layer) { return layer ? MemoImageId(*layer) : "none"; };
+        // The layers by their identities (Inputs::LayerId: each hashed once a frame).
+        auto id = [&](const Image *layer, const char *name) {
+            return layer ? run.LayerId(name) : std::string("none");
+        };
         return fmt::format(
             "rhf.cuts colour {} exact variance of {} {} {} {} variance layer {} histograms {} "
             "search {} spikes {} window {}x{} at {},{} of {}x{}",
-            MemoImageId(run.Get("color")), id(layers.variance), id(layers.min), id(layers.max),
-            id(layers.spp), Variance(run) != nullptr, MemoImageId(Histograms(run)),
-            options.searchHalf, onHalf, run.Width(), run.Height(), run.OriginX(), run.OriginY(),
-            run.FrameWidth(), run.FrameHeight());
+            run.LayerId("color"), id(layers.variance, "variance"), id(layers.min, "min"),
+            id(layers.max, "max"), id(layers.spp, "spp"), Variance(run) != nullptr,
+            run.LayerId(HistogramLayer(run)), options.searchHalf, onHalf, run.Width(),
+            run.Height(), run.OriginX(), run.OriginY(), run.FrameWidth(), run.FrameHeight());
     }
 
     // The run's cuts on `run` as ForProbe keeps them: the pixels of its whole frame and the

@@ -610,7 +610,9 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
     if (memo && !std::all_of(colorIn.data.begin(), colorIn.data.end(),
                              [](float v) { return std::isfinite(v); }))
         memo = nullptr;
-    const std::string histId = memo ? MemoImageId(histIn) : std::string();
+    const std::string histId = !memo                  ? std::string()
+                               : setup.histId.empty() ? MemoImageId(histIn)
+                                                      : setup.histId;
     const std::string colorId = memo ? MemoImageId(colorIn) : std::string();
     // The inputs are copied only where a value must be replaced: the histograms are most of
     // a frame's memory, and auto's runs of rhf all read the same. With a memo the colour is

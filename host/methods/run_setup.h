@@ -45,6 +45,9 @@ struct RunSetup {
     // Work shared with other runs on the same frame (host/methods/run_memo.h): taken from
     // it where an earlier run left it, left in it for later runs. nullptr: none.
     RunMemo *memo = nullptr;
+    // rhf: the histograms' identity in the memo's keys where the caller knows it (a frame's
+    // layer: api::Inputs::LayerId); empty: hashed from the values.
+    std::string histId;
 };
 
 }  // namespace mcd

@@ -208,6 +208,40 @@ TEST_F(TiledRunShared, RhfSelectionsTakenFromAnEarlierRunAreBitIdentical) {
                    "rhf at 2 scales in tiles, selections shared");
 }
 
+// The windows' histograms are keyed by the frame's layer and the window (Inputs::LayerId):
+// after the frame's histograms are replaced a tiled run selects anew, window by window, and
+// gives what it gives alone on them.
+TEST_F(TiledRunShared, RhfReplacedHistogramsSelectAnew) {
+    Frame frame = RenderedFrame(97, 83, render::kLayersAll), other = frame;
+    // Each colour's bins in reverse order: the same counts, other distances.
+    Image &hist = other.layers["hist"];
+    const int bins = (hist.channels - 1) / 3;
+    const Image before = hist;
+    for (int c = 0; c < 3 * bins; ++c)
+        std::copy_n(before.Plane(c / bins * bins + bins - 1 - c % bins), hist.PixelCount(),
+                    hist.Plane(c));
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    RunOptions run;
+    run.tileSize = 40;
+    RunMemo memo;
+    api::Inputs shared(frame, false, "rhf");
+    shared.SetMemo(&memo);
+    api::RunTiled(Ctx(), *rhf, shared, run);
+    const size_t kept = memo.CountWithPrefix("rhf.mask");
+    ASSERT_EQ(kept, 9u) << "one selection a tile";
+    shared.Override("hist", other.layers["hist"]);
+    Result second = api::RunTiled(Ctx(), *rhf, shared, run);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), 2 * kept) << "new histograms, new selections";
+    api::Inputs alone(other, false, "rhf");
+    const Image expected = api::RunTiled(Ctx(), *rhf, alone, run).image;
+    ExpectSameBits(expected, second.image, "rhf in tiles on replaced histograms");
+    api::Inputs first(frame, false, "rhf");
+    const Image firstImage = api::RunTiled(Ctx(), *rhf, first, run).image;
+    EXPECT_NE(0, std::memcmp(firstImage.data.data(), expected.data.data(),
+                             expected.data.size() * sizeof(float)))
+        << "the reversed bins select as the frame's do: the test tells nothing";
+}
+
 // auto's rhf at one scale and at two cut a frame alike where both run in tiles (their needs
 // widened together, WidestNeeds): the second takes the first's finest selections window by
 // window and gives what it gives alone; planned on its own needs it selects anew.
