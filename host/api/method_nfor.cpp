@@ -137,6 +137,12 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                        "pixels on both sides, one brighter than this x it: a highlight's "
                        "streak); 0: off",
                        &O::fireflyLine, 0, 1e6)),
+        nested(FloatParam("firefly-line-floor",
+                          "a pixel the clamp takes down keeps at least this x its line's "
+                          "brightness (the dimmer side's brightest within 2 pixels, along the "
+                          "axis or diagonal where that is largest): a highlight line's peaks, "
+                          "which --firefly-line does not keep; 0: off",
+                          &O::fireflyLineFloor, 0, 1e6)),
         nested(FloatParam("firefly-lone-light",
                           "keep an emitter with no emitter among its 8 neighbours, its albedo "
                           "at least this and its colour within 1.25x of its albedo in every "
@@ -316,7 +322,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // The lights' spread reads the output of the 4 neighbours.
         const int lightReach = NforSpreadsLights(o, !passesOff, inputs.Has("albedo")) ? 1 : 0;
         // The clamp reads its 8 neighbours, its line test 2 pixels away.
-        int colourReach = o.patchRadius + o.noiseRadius + (o.fireflyLine > 0 ? 2 : 1);
+        int colourReach = o.patchRadius + o.noiseRadius +
+                          (o.fireflyLine > 0 || o.fireflyLineFloor > 0 ? 2 : 1);
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;
@@ -427,6 +434,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.fireflySum = !o.fireflyEachChannel;
         p.fireflyLine = o.fireflyLine;
         p.fireflyLoneLight = o.fireflyLoneLight;
+        p.fireflyLineFloor = o.fireflyLineFloor;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;

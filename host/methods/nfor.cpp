@@ -384,7 +384,7 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
         RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
                         o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
                         o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
-                        o.fireflyLoneLight, gpu.clamped, gpu.mask);
+                        o.fireflyLoneLight, o.fireflyLineFloor, gpu.clamped, gpu.mask);
     };
     clamp(clampVariance);
     if (!in.variance || !ownClamp) return;
@@ -437,7 +437,7 @@ Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *al
             RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
                             o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
                             o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
-                            o.fireflyLoneLight, out, mask);
+                            o.fireflyLoneLight, o.fireflyLineFloor, out, mask);
         run.Submit();
         Image part = clamp ? out.Download() : variance.Download();
         const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;

@@ -166,10 +166,10 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()
 // channels (C / sum of C is at most 1 for positive colours) and a few roundings of C.
 void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int rank,
                         float lightEdge, bool sumChannels = false, float line = 0,
-                        float loneLight = 0) {
+                        float loneLight = 0, float lineFloor = 0) {
     std::string name = fmt::format("clamp{}x{}{}", w, h, InputKindName(kind));
-    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {} line {} lone light {}", rank,
-                             lightEdge, sumChannels, line, loneLight));
+    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {} line {} lone light {} floor {}",
+                             rank, lightEdge, sumChannels, line, loneLight, lineFloor));
     Image color = Positive(kind, w, h, 3, name);
     Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
     for (float &v : variance.data) v *= 0.01f;
@@ -191,7 +191,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
     const float threshold = 3, relative = 0.5f, emitterAlbedo = 1.5f;
     Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
     Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank,
-                                    lightEdge, sumChannels, line, loneLight);
+                                    lightEdge, sumChannels, line, loneLight, lineFloor);
     if (loneLight > 0) {
         // The lights within the ratio kept (some the clamp takes without the rule), the others
         // as without it (some clamped).
@@ -217,7 +217,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
         vk::GpuImage out(context, w, h, 3, "out"), m(context, w, h, 1, "mask");
         vk::Recorder recorder(context);
         RecordNforClamp(context, recorder, c, v, &a, threshold, relative, emitterAlbedo, rank,
-                        lightEdge, sumChannels, line, loneLight, out, m);
+                        lightEdge, sumChannels, line, loneLight, lineFloor, out, m);
         recorder.Submit();
         *gpuMask = m.Download();
         return out.Download();
@@ -253,7 +253,8 @@ class NforClampKernel : public GpuTestWithParam<KernelCase> {};
 
 // Against the neighbours' median and against their 2nd largest; a light's edge kept, and
 // clamped with a relative term of its own; each channel on its own and the channels summed;
-// a line's pixels kept (1, and 0.5: more lines); lone lights of albedo 2 or more kept
+// a line's pixels kept (1, and 0.5: more lines); a line's peaks floored (1.5, with the line
+// rule and without); lone lights of albedo 2 or more kept
 // (ExpectClampMatches sets the emitters' colours to their albedo's x 0.9, 1.3 and 1.2: kept,
 // clamped, kept; in the one-row and one-column frames at both ends).
 TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
@@ -263,6 +264,8 @@ TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
         ExpectClampMatches(Ctx(), w, h, kind, 3, 2, sum);
         for (float line : {1.f, 0.5f}) ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, line);
         ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, 1, 2);
+        for (float line : {1.f, 0.f})
+            ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, line, 0, 1.5f);
     }
 }
 
@@ -311,7 +314,7 @@ TEST_F(GpuTest, NforClampKeepsALoneLightSeenDirectly) {
         vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
         vk::Recorder recorder(Ctx());
         RecordNforClamp(Ctx(), recorder, c, v, &a, threshold, relative, emitterAlbedo, 3,
-                        lightEdge, true, 1, lone, out, m);
+                        lightEdge, true, 1, lone, 0, out, m);
         recorder.Submit();
         return out.Download();
     };
@@ -373,7 +376,7 @@ TEST_F(GpuTest, NforClampDividesAlikeAtTheRatioAsTheKernel) {
     vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
     vk::Recorder recorder(Ctx());
     RecordNforClamp(Ctx(), recorder, c, v, &d, threshold, relative, emitterAlbedo, 0, -1, false,
-                    0, 0, out, m);
+                    0, 0, 0, out, m);
     recorder.Submit();
     Image actual = out.Download();
     for (int ch = 0; ch < 3; ++ch) {
@@ -446,6 +449,41 @@ TEST(NforClampLine, KeepsAStreakNotAFirefly) {
             EXPECT_EQ(wide.At(c, 4, x), color.At(c, 4, x)) << x;
         }
     for (const Image *image : {&off, &on, &wide}) {
+        for (int c = 0; c < 3; ++c) EXPECT_LT(image->At(c, 1, 1), 1.f);
+        EXPECT_LT(image->At(0, 7, 8), 1.f);
+    }
+}
+
+// A streak whose every third pixel is a peak (8, 4, 4 in turn along row 4, on 0.1, the
+// channels x 1, 0.75, 0.5), as the samples hit glossy lights' ring: the line rule keeps the
+// 4s and clamps the 8s, whose dimmer side's brightest within 2 steps is a 4; the floor 1.5
+// keeps 1.5 x 4 of them (0.75 of each channel: hue kept). A lone firefly and one beside a
+// negative channel, whose lines are their ground's, stay below 1.
+TEST(NforClampLine, FloorKeepsAStreaksPeaksNotAFirefly) {
+    const int w = 11, h = 9;
+    Image color(w, h, 3, 0.1f), variance(w, h, 3, 1e-4f), albedo(w, h, 3, 0.5f);
+    for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c)
+            color.At(c, 4, x) = (x % 3 == 0 ? 8.f : 4.f) * (1 - 0.25f * float(c));
+    for (int c = 0; c < 3; ++c) color.At(c, 1, 1) = 8;
+    color.At(0, 7, 8) = 20, color.At(1, 7, 8) = -25;
+    Image mask = ref::NforMask(&albedo, w, h, 1.5);
+    auto clamp = [&](double floor) {
+        return ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, true, 1, 0, floor);
+    };
+    Image off = clamp(0), on = clamp(1.5);
+    for (int x = 1; x < w - 1; ++x)
+        for (int c = 0; c < 3; ++c) {
+            const float value = color.At(c, 4, x);
+            if (x % 3 != 0) {
+                EXPECT_EQ(off.At(c, 4, x), value) << x;
+                EXPECT_EQ(on.At(c, 4, x), value) << x;
+                continue;
+            }
+            EXPECT_LT(off.At(c, 4, x), 0.25f * value) << x;
+            EXPECT_FLOAT_EQ(on.At(c, 4, x), 0.75f * value) << x;
+        }
+    for (const Image *image : {&off, &on}) {
         for (int c = 0; c < 3; ++c) EXPECT_LT(image->At(c, 1, 1), 1.f);
         EXPECT_LT(image->At(0, 7, 8), 1.f);
     }
@@ -1140,6 +1178,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.fireflySum = !o.fireflyEachChannel;
     p.fireflyLine = o.fireflyLine;
     p.fireflyLoneLight = o.fireflyLoneLight;
+    p.fireflyLineFloor = o.fireflyLineFloor;
     p.pilotWideRadius = o.pilotWideRadius;
     p.minVariance = o.minVariance;
     p.pilotMinVariance = NforPilotMinVariance(o);
