@@ -241,7 +241,8 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 out.At(c, y, x) =
                     float(t > 0 ? (1 - t) * clamped[c] + t * v * scale : clamped[c]);
                 // The line's floor, after the channels' blend.
-                if (v > 0) out.At(c, y, x) = std::max(out.At(c, y, x), floorShare * v);
+                if (lineFloor > 0 && v > 0)
+                    out.At(c, y, x) = std::max(out.At(c, y, x), floorShare * v);
             }
         }
     return out;

@@ -142,7 +142,8 @@ void main() {
     // A light smaller than a pixel seen directly keeps its value.
     if (loneLightAt(x, y)) return;
     float own = clampedAt(c, x, y);
-    outColor[at] = value > 0.0 ? max(own, floorShare * value) : own;
+    bool floored = push.lineFloor > 0.0 && value > 0.0;
+    outColor[at] = floored ? max(own, floorShare * value) : own;
     if (push.sumChannels == 0) return;
     // The share t = 1 - (the second smallest of clamped / value over the channels) of the
     // pixel scaled as a whole by the clamped channels' sum over the values' sum.
@@ -158,5 +159,5 @@ void main() {
     float t = clamp(1.0 - second, 0.0, 1.0);
     float whole = values > 0.0 ? value * min(kept / values, 1.0) : value;
     if (t > 0.0) outColor[at] = (1.0 - t) * own + t * whole;
-    if (value > 0.0) outColor[at] = max(outColor[at], floorShare * value);
+    if (floored) outColor[at] = max(outColor[at], floorShare * value);
 }
