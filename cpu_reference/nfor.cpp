@@ -182,6 +182,18 @@ float LineSupport(const Image &color, int x, int y) {
     return support;
 }
 
+// Whether an albedo channel above kNforLineFloorLight (a bright emitter) lies within
+// kNforLineFloorReach pixels of (x, y).
+bool EmitterWithinReach(const Image *albedo, int x, int y) {
+    if (!albedo) return false;
+    const int r = kNforLineFloorReach;
+    for (int v = y - r; v <= y + r; ++v)
+        for (int u = x - r; u <= x + r; ++u)
+            for (int c = 0; c < albedo->channels && Inside(*albedo, u, v); ++c)
+                if (albedo->At(c, v, u) > float(kNforLineFloorLight)) return true;
+    return false;
+}
+
 // Whether (x, y) is a light smaller than a pixel that its samples saw directly: an emitter
 // (mask 0) with no emitter among its 8 neighbours, its largest albedo channel at least
 // `least`, each colour channel within kNforLoneLightRatio of its albedo's both ways (the
@@ -221,6 +233,7 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
             const float floorShare =
                 brightness > 0 ? std::min(float(lineFloor) * support / brightness, 1.f) : 0.f;
             if (LoneLight(color, divisor, mask, loneLight, x, y)) continue;
+            const bool floored = lineFloor > 0 && EmitterWithinReach(divisor, x, y);
             double values = 0, kept = 0;
             std::vector<double> clamped(color.channels), ratios;
             for (int c = 0; c < color.channels; ++c) {
@@ -241,7 +254,7 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 out.At(c, y, x) =
                     float(t > 0 ? (1 - t) * clamped[c] + t * v * scale : clamped[c]);
                 // The line's floor, after the channels' blend.
-                if (lineFloor > 0 && v > 0)
+                if (floored && v > 0)
                     out.At(c, y, x) = std::max(out.At(c, y, x), floorShare * v);
             }
         }

@@ -221,6 +221,9 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 // With lineFloor > 0 a pixel not kept keeps at least min(1, lineFloor x S / B) of each
 // positive channel (B its line brightness, S the brightest line through it: LineSupport).
 constexpr double kNforLoneLightRatio = 1.25;
+// The line's floor holds within this many pixels of an albedo channel above the light's.
+constexpr int kNforLineFloorReach = 4;
+constexpr double kNforLineFloorLight = 8;
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank = 0,
                 double lightEdge = -1, bool sumChannels = false, double line = 0,

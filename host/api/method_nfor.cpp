@@ -3,12 +3,14 @@
 // estimated from the frame when it has no variance layer.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "cpu_reference/nfor.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
+#include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 
 namespace mcd::api {
@@ -321,9 +323,12 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const int keptReach = NforKeptPassRadius(o, !passesOff, inputs.Has("albedo"));
         // The lights' spread reads the output of the 4 neighbours.
         const int lightReach = NforSpreadsLights(o, !passesOff, inputs.Has("albedo")) ? 1 : 0;
-        // The clamp reads its 8 neighbours, its line test 2 pixels away.
-        int colourReach = o.patchRadius + o.noiseRadius +
-                          (o.fireflyLine > 0 || o.fireflyLineFloor > 0 ? 2 : 1);
+        // The clamp reads its 8 neighbours, its line test 2 pixels away, the line's floor
+        // the emitters kNforLineFloorReach away.
+        const int clampReach = o.fireflyLineFloor > 0 ? std::max(2, kNforLineFloorReach)
+                               : o.fireflyLine > 0    ? 2
+                                                      : 1;
+        int colourReach = o.patchRadius + o.noiseRadius + clampReach;
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;

@@ -83,6 +83,8 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
         push, Groups(image.width), uint32_t(image.height), uint32_t(image.channels));
 }
 
+static_assert(kNforLineFloorReach == NFOR_LINE_FLOOR_REACH);
+
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,

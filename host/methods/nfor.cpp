@@ -414,7 +414,9 @@ Image Rows(const Image &image, int y0, int y1) {
 Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *albedo,
                        const NforOptions &o, int stripPixels, bool clamp) {
     const int w = color.width, h = color.height, ch = color.channels;
-    const int halo = o.noiseRadius + 2, rows = std::max(1, stripPixels / w);
+    const int floorReach = o.fireflyLineFloor > 0 ? kNforLineFloorReach : 0;
+    const int halo = o.noiseRadius + std::max(2, floorReach),
+              rows = std::max(1, stripPixels / w);
     Image frame(w, h, ch);
     for (int y0 = 0; y0 < h; y0 += rows) {
         const int y1 = std::min(h, y0 + rows);

@@ -103,6 +103,17 @@ float lineSupport(int x, int y) {
     return support;
 }
 
+// Whether a pixel of albedo above NFOR_LINE_FLOOR_LIGHT (a bright emitter) lies within
+// NFOR_LINE_FLOOR_REACH pixels of (x, y), itself included.
+bool emitterWithinReach(int x, int y) {
+    int r = NFOR_LINE_FLOOR_REACH;
+    for (int v = max(y - r, 0); v <= min(y + r, h - 1); ++v)
+        for (int u = max(x - r, 0); u <= min(x + r, w - 1); ++u)
+            for (int k = 0; k < push.albedoChannels; ++k)
+                if (albedo[(k * h + v) * w + u] > float(NFOR_LINE_FLOOR_LIGHT)) return true;
+    return false;
+}
+
 // Whether (x, y) is a lone light seen directly: an emitter of albedo push.loneLight or
 // more, no emitter among its neighbours, each channel's colour within the ratio of its
 // albedo.
@@ -142,7 +153,7 @@ void main() {
     // A light smaller than a pixel seen directly keeps its value.
     if (loneLightAt(x, y)) return;
     float own = clampedAt(c, x, y);
-    bool floored = push.lineFloor > 0.0 && value > 0.0;
+    bool floored = push.lineFloor > 0.0 && value > 0.0 && emitterWithinReach(x, y);
     outColor[at] = floored ? max(own, floorShare * value) : own;
     if (push.sumChannels == 0) return;
     // The share t = 1 - (the second smallest of clamped / value over the channels) of the

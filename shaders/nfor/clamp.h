@@ -29,7 +29,10 @@
 // pixel not kept whole keeps at least min(1, lineFloor x S / B) of each positive channel,
 // B its brightness, S its line's (over the 4 directions, the largest of the dimmer side's
 // brightest pixel within 2 steps): the peaks of a line hit by few samples, whose line
-// rule fails at every peak, keep the line's level; a lone firefly's S is its ground's.
+// rule fails at every peak, keep the line's level; a lone firefly's S is its ground's. The
+// floor holds only within NFOR_LINE_FLOOR_REACH pixels of a pixel whose largest albedo
+// channel is above NFOR_LINE_FLOOR_LIGHT (a highlight reflecting a light, whose hits the
+// albedo marks as bright emitters; grass, edges and a dim light's rim hold none).
 #ifndef MCD_SHADERS_NFOR_CLAMP_H
 #define MCD_SHADERS_NFOR_CLAMP_H
 
@@ -41,6 +44,8 @@
 #define NFOR_CLAMP_OUT 3
 #define NFOR_CLAMP_MASK 4
 #define NFOR_LONE_LIGHT_RATIO 1.25
+#define NFOR_LINE_FLOOR_REACH 4
+#define NFOR_LINE_FLOOR_LIGHT 8.0
 #define NFOR_CLAMP_BINDINGS 5
 
 #ifdef __cplusplus

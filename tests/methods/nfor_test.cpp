@@ -272,6 +272,8 @@ TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
 // The twin's constants are the kernels': a change to one alone fails here.
 TEST(NforConstants, TwinAndKernelsAgree) {
     EXPECT_EQ(ref::kNforLoneLightRatio, double(NFOR_LONE_LIGHT_RATIO));
+    EXPECT_EQ(ref::kNforLineFloorReach, NFOR_LINE_FLOOR_REACH);
+    EXPECT_EQ(ref::kNforLineFloorLight, double(NFOR_LINE_FLOOR_LIGHT));
     EXPECT_EQ(ref::kNforNoiseDivisorRatio, double(NFOR_NOISE_DIVISOR_RATIO));
 }
 
@@ -454,17 +456,22 @@ TEST(NforClampLine, KeepsAStreakNotAFirefly) {
     }
 }
 
-// A streak whose every third pixel is a peak (8, 4, 4 in turn along row 4, on 0.1, the
-// channels x 1, 0.75, 0.5), as the samples hit glossy lights' ring: the line rule keeps the
-// 4s and clamps the 8s, whose dimmer side's brightest within 2 steps is a 4; the floor 1.5
-// keeps 1.5 x 4 of them (0.75 of each channel: hue kept). A lone firefly and one beside a
-// negative channel, whose lines are their ground's, stay below 1.
-TEST(NforClampLine, FloorKeepsAStreaksPeaksNotAFirefly) {
-    const int w = 11, h = 9;
+// Two streaks whose every third pixel is a peak (8, 4, 4 in turn along rows 4 and 13, on
+// 0.1, the channels x 1, 0.75, 0.5), as the samples hit glossy lights' ring, and an emitter
+// (a light's reflection) at (5, 0), 4 rows above the first: the line rule keeps the 4s and
+// clamps the 8s, whose dimmer side's brightest within 2 steps is a 4; the floor 1.5 keeps
+// 1.5 x 4 of the first streak's 8s (0.75 of each channel: hue kept) and leaves the second,
+// 13 rows from the emitter, as without it. A lone firefly within reach of the emitter and
+// one beside a negative channel, whose lines are their ground's, stay below 1. The kernel
+// gives the reference's values.
+TEST_F(GpuTest, NforClampLineFloorKeepsAStreaksPeaksNearALightNotAFirefly) {
+    const int w = 11, h = 17;
     Image color(w, h, 3, 0.1f), variance(w, h, 3, 1e-4f), albedo(w, h, 3, 0.5f);
-    for (int x = 0; x < w; ++x)
-        for (int c = 0; c < 3; ++c)
-            color.At(c, 4, x) = (x % 3 == 0 ? 8.f : 4.f) * (1 - 0.25f * float(c));
+    for (int y : {4, 13})
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                color.At(c, y, x) = (x % 3 == 0 ? 8.f : 4.f) * (1 - 0.25f * float(c));
+    for (int c = 0; c < 3; ++c) albedo.At(c, 0, 5) = 10;
     for (int c = 0; c < 3; ++c) color.At(c, 1, 1) = 8;
     color.At(0, 7, 8) = 20, color.At(1, 7, 8) = -25;
     Image mask = ref::NforMask(&albedo, w, h, 1.5);
@@ -472,21 +479,34 @@ TEST(NforClampLine, FloorKeepsAStreaksPeaksNotAFirefly) {
         return ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, true, 1, 0, floor);
     };
     Image off = clamp(0), on = clamp(1.5);
-    for (int x = 1; x < w - 1; ++x)
-        for (int c = 0; c < 3; ++c) {
-            const float value = color.At(c, 4, x);
-            if (x % 3 != 0) {
-                EXPECT_EQ(off.At(c, 4, x), value) << x;
-                EXPECT_EQ(on.At(c, 4, x), value) << x;
-                continue;
+    for (int y : {4, 13})
+        for (int x = 1; x < w - 1; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float value = color.At(c, y, x);
+                if (x % 3 != 0) {
+                    EXPECT_EQ(off.At(c, y, x), value) << x << "," << y;
+                    EXPECT_EQ(on.At(c, y, x), value) << x << "," << y;
+                    continue;
+                }
+                EXPECT_LT(off.At(c, y, x), 0.25f * value) << x << "," << y;
+                if (y == 4)
+                    EXPECT_FLOAT_EQ(on.At(c, y, x), 0.75f * value) << x;
+                else
+                    EXPECT_EQ(on.At(c, y, x), off.At(c, y, x)) << x;
             }
-            EXPECT_LT(off.At(c, 4, x), 0.25f * value) << x;
-            EXPECT_FLOAT_EQ(on.At(c, 4, x), 0.75f * value) << x;
-        }
     for (const Image *image : {&off, &on}) {
         for (int c = 0; c < 3; ++c) EXPECT_LT(image->At(c, 1, 1), 1.f);
         EXPECT_LT(image->At(0, 7, 8), 1.f);
     }
+    vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
+    vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+    vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
+    vk::Recorder recorder(Ctx());
+    RecordNforClamp(Ctx(), recorder, c, v, &a, 4, 0.5f, 1.5f, 3, -1, true, 1, 0, 1.5f, out, m);
+    recorder.Submit();
+    Image actual = out.Download();
+    for (size_t i = 0; i < on.data.size(); ++i)
+        EXPECT_NEAR(actual.data[i], on.data[i], 1e-5f * (1 + std::fabs(on.data[i]))) << i;
 }
 
 // Weights exp(-e): e's terms T = (d^2 - s) / (s + eps) are each at least -1 and are averaged
