@@ -136,7 +136,7 @@ struct NforParams {
     double fireflyLoneLight = 0;
     // > 0: a pixel clamped keeps at least this times its line's brightness (the dimmer
     // side's brightest within 2 steps, in the direction where that is largest); 0: off.
-    double fireflyLineFloor = 0;
+    double fireflyLineFloor = 1.5;
     double emitterAlbedo = 1.5;
     int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;

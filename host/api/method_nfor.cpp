@@ -139,12 +139,14 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                        "pixels on both sides, one brighter than this x it: a highlight's "
                        "streak); 0: off",
                        &O::fireflyLine, 0, 1e6)),
-        nested(FloatParam("firefly-line-floor",
-                          "a pixel the clamp takes down keeps at least this x its line's "
-                          "brightness (the dimmer side's brightest within 2 pixels, along the "
-                          "axis or diagonal where that is largest): a highlight line's peaks, "
-                          "which --firefly-line does not keep; 0: off",
-                          &O::fireflyLineFloor, 0, 1e6)),
+        nested(FloatParam(
+            "firefly-line-floor",
+            "a pixel the clamp takes down keeps at least this x its line's "
+            "brightness (the dimmer side's brightest within 2 pixels, along the "
+            "axis or diagonal where that is largest): a highlight line's peaks, "
+            "which --firefly-line does not keep; only within 4 pixels of an albedo above 8, a "
+            "light a highlight reflects; 0: off",
+            &O::fireflyLineFloor, 0, 1e6)),
         nested(FloatParam("firefly-lone-light",
                           "keep an emitter with no emitter among its 8 neighbours, its albedo "
                           "at least this and its colour within 1.25x of its albedo in every "

@@ -81,9 +81,9 @@ struct NforOptions {
     // A pixel the clamp takes down keeps at least this times its line's brightness (over
     // the axes and diagonals, the largest of the dimmer side's brightest pixel within 2
     // steps), its hue kept: a highlight line hit by few samples has a peak at each hit,
-    // which the line rule does not keep. 0: off (the default: 1.5 raises glossy lights'
-    // plain frame's brightness and lowers its error, and raises three other plain frames').
-    float fireflyLineFloor = 0;
+    // which the line rule does not keep. Only within kNforLineFloorReach pixels of an albedo
+    // above kNforLineFloorLight (a highlight reflecting a light). 0: off.
+    float fireflyLineFloor = 1.5f;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;
