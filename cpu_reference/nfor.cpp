@@ -166,19 +166,31 @@ float LineBrightness(const Image &color, int x, int y) {
     return sum;
 }
 
-// Whether (x, y) lies on a bright line: some direction (the 2 axes, the 2 diagonals) with,
-// on both sides, a pixel 1 or 2 steps away brighter than line times (x, y).
-bool OnBrightLine(const Image &color, double line, int x, int y) {
-    const float bound = float(line) * LineBrightness(color, x, y);
+// The brightness of (x, y)'s line: over the 2 axes and the 2 diagonals, the largest of the
+// dimmer side's brightest pixel 1 or 2 steps away (in float, as the kernel compares).
+float LineSupport(const Image &color, int x, int y) {
     const int steps[4][2] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}};
+    float support = 0.f;
     for (const auto &d : steps) {
-        bool ahead = false, behind = false;
+        float ahead = 0.f, behind = 0.f;
         for (int s = 1; s <= 2; ++s) {
-            ahead |= LineBrightness(color, x + s * d[0], y + s * d[1]) > bound;
-            behind |= LineBrightness(color, x - s * d[0], y - s * d[1]) > bound;
+            ahead = std::max(ahead, LineBrightness(color, x + s * d[0], y + s * d[1]));
+            behind = std::max(behind, LineBrightness(color, x - s * d[0], y - s * d[1]));
         }
-        if (ahead && behind) return true;
+        support = std::max(support, std::min(ahead, behind));
     }
+    return support;
+}
+
+// Whether an albedo channel above kNforLineFloorLight (a bright emitter) lies within
+// kNforLineFloorReach pixels of (x, y).
+bool EmitterWithinReach(const Image *albedo, int x, int y) {
+    if (!albedo) return false;
+    const int r = kNforLineFloorReach;
+    for (int v = y - r; v <= y + r; ++v)
+        for (int u = x - r; u <= x + r; ++u)
+            for (int c = 0; c < albedo->channels && Inside(*albedo, u, v); ++c)
+                if (albedo->At(c, v, u) > float(kNforLineFloorLight)) return true;
     return false;
 }
 
@@ -208,13 +220,20 @@ bool LoneLight(const Image &color, const Image *albedo, const Image &mask, doubl
 
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank,
-                double lightEdge, bool sumChannels, double line, double loneLight) {
+                double lightEdge, bool sumChannels, double line, double loneLight,
+                double lineFloor) {
     Image out = color;
     if (threshold <= 0) return out;
     for (int y = 0; y < color.height; ++y)
         for (int x = 0; x < color.width; ++x) {
-            if (line > 0 && OnBrightLine(color, line, x, y)) continue;
+            // A line's pixel is kept; its peak keeps lineFloor x the line's brightness.
+            const float brightness = LineBrightness(color, x, y);
+            const float support = line > 0 || lineFloor > 0 ? LineSupport(color, x, y) : 0.f;
+            if (line > 0 && support > float(line) * brightness) continue;
+            const float floorShare =
+                brightness > 0 ? std::min(float(lineFloor) * support / brightness, 1.f) : 0.f;
             if (LoneLight(color, divisor, mask, loneLight, x, y)) continue;
+            const bool floored = lineFloor > 0 && EmitterWithinReach(divisor, x, y);
             double values = 0, kept = 0;
             std::vector<double> clamped(color.channels), ratios;
             for (int c = 0; c < color.channels; ++c) {
@@ -230,9 +249,14 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
             double t =
                 sumChannels && ratios.size() > 1 ? std::clamp(1 - ratios[1], 0.0, 1.0) : 0;
             double scale = values > 0 ? std::min(kept / values, 1.0) : 1;
-            for (int c = 0; c < color.channels; ++c)
-                out.At(c, y, x) = float(
-                    t > 0 ? (1 - t) * clamped[c] + t * color.At(c, y, x) * scale : clamped[c]);
+            for (int c = 0; c < color.channels; ++c) {
+                const float v = color.At(c, y, x);
+                out.At(c, y, x) =
+                    float(t > 0 ? (1 - t) * clamped[c] + t * v * scale : clamped[c]);
+                // The line's floor, after the channels' blend.
+                if (floored && v > 0)
+                    out.At(c, y, x) = std::max(out.At(c, y, x), floorShare * v);
+            }
         }
     return out;
 }
@@ -749,7 +773,7 @@ Image NforClampFrame(const NforInputs &in, const NforParams &p, const Image &var
     auto clamp = [&](const Image &noise) {
         return NforClamp(color, noise, in.albedo, mask, p.fireflyThreshold, p.fireflyRelative,
                          p.fireflyRank, p.fireflyLightEdge, p.fireflySum, p.fireflyLine,
-                         p.fireflyLoneLight);
+                         p.fireflyLoneLight, p.fireflyLineFloor);
     };
     Image clamped = clamp(ownClamp ? *clampVariance : variance);
     if (!ownClamp) return clamped;

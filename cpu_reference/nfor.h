@@ -134,6 +134,9 @@ struct NforParams {
     // least this and each colour channel within kNforLoneLightRatio of its albedo's, is not
     // clamped (a light smaller than a pixel seen directly); 0: off.
     double fireflyLoneLight = 0;
+    // > 0: a pixel clamped keeps at least this times its line's brightness (the dimmer
+    // side's brightest within 2 steps, in the direction where that is largest); 0: off.
+    double fireflyLineFloor = 1.5;
     double emitterAlbedo = 1.5;
     int prefilterRadius = 1;  // 0: features as they are
     int prefilterPatch = 1;
@@ -215,11 +218,16 @@ Image NforMask(const Image *albedo, int width, int height, double emitterAlbedo)
 // to r_c = clamped / value takes t = 1 - (the second smallest r_c) of itself scaled by the
 // sum of its values clamped one by one over the sum of its values, 1 - t of each channel
 // clamped alone. With loneLight > 0 a lone light seen directly (kNforLoneLightRatio) is kept.
+// With lineFloor > 0 a pixel not kept keeps at least min(1, lineFloor x S / B) of each
+// positive channel (B its line brightness, S the brightest line through it: LineSupport).
 constexpr double kNforLoneLightRatio = 1.25;
+// The line's floor holds within this many pixels of an albedo channel above the light's.
+constexpr int kNforLineFloorReach = 4;
+constexpr double kNforLineFloorLight = 8;
 Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 const Image &mask, double threshold, double relative, int rank = 0,
                 double lightEdge = -1, bool sumChannels = false, double line = 0,
-                double loneLight = 0);
+                double loneLight = 0, double lineFloor = 0);
 
 // Each feature plane NL-means-filtered with its own variance.
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,

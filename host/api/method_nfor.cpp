@@ -3,12 +3,14 @@
 // estimated from the frame when it has no variance layer.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "cpu_reference/nfor.h"
 #include "host/api/front_end.h"
 #include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
+#include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 
 namespace mcd::api {
@@ -137,6 +139,14 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                        "pixels on both sides, one brighter than this x it: a highlight's "
                        "streak); 0: off",
                        &O::fireflyLine, 0, 1e6)),
+        nested(FloatParam(
+            "firefly-line-floor",
+            "a pixel the clamp takes down keeps at least this x its line's "
+            "brightness (the dimmer side's brightest within 2 pixels, along the "
+            "axis or diagonal where that is largest): a highlight line's peaks, "
+            "which --firefly-line does not keep; only within 4 pixels of an albedo above 8, a "
+            "light a highlight reflects; 0: off",
+            &O::fireflyLineFloor, 0, 1e6)),
         nested(FloatParam("firefly-lone-light",
                           "keep an emitter with no emitter among its 8 neighbours, its albedo "
                           "at least this and its colour within 1.25x of its albedo in every "
@@ -315,8 +325,12 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const int keptReach = NforKeptPassRadius(o, !passesOff, inputs.Has("albedo"));
         // The lights' spread reads the output of the 4 neighbours.
         const int lightReach = NforSpreadsLights(o, !passesOff, inputs.Has("albedo")) ? 1 : 0;
-        // The clamp reads its 8 neighbours, its line test 2 pixels away.
-        int colourReach = o.patchRadius + o.noiseRadius + (o.fireflyLine > 0 ? 2 : 1);
+        // The clamp reads its 8 neighbours, its line test 2 pixels away, the line's floor
+        // the emitters kNforLineFloorReach away.
+        const int clampReach = o.fireflyLineFloor > 0 ? std::max(2, kNforLineFloorReach)
+                               : o.fireflyLine > 0    ? 2
+                                                      : 1;
+        int colourReach = o.patchRadius + o.noiseRadius + clampReach;
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;
@@ -427,6 +441,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.fireflySum = !o.fireflyEachChannel;
         p.fireflyLine = o.fireflyLine;
         p.fireflyLoneLight = o.fireflyLoneLight;
+        p.fireflyLineFloor = o.fireflyLineFloor;
         p.emitterAlbedo = o.emitterAlbedo;
         p.prefilterRadius = o.prefilterRadius;
         p.prefilterPatch = o.prefilterPatch;

@@ -83,11 +83,13 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
         push, Groups(image.width), uint32_t(image.height), uint32_t(image.channels));
 }
 
+static_assert(kNforLineFloorReach == NFOR_LINE_FLOOR_REACH);
+
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,
-                     bool sumChannels, float line, float loneLight, vk::GpuImage &out,
-                     vk::GpuImage &mask) {
+                     bool sumChannels, float line, float loneLight, float lineFloor,
+                     vk::GpuImage &out, vk::GpuImage &mask) {
     CheckColor("nfor clamp", color);
     CheckSize("nfor clamp", color, variance, color.channels);
     CheckSize("nfor clamp", color, out, color.channels);
@@ -117,7 +119,8 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                                color.channels,
                                sumChannels ? 1 : 0,
                                line,
-                               loneLight};
+                               loneLight,
+                               lineFloor};
     recorder.Dispatch(
         kernel, "nfor.clamp",
         {{NFOR_CLAMP_COLOR, &color.buffer, vk::Access::Read},

@@ -25,12 +25,15 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 // than line times it (along an axis or a diagonal, within 2 steps on both sides), 0: off;
 // loneLight > 0 keeps an emitter with no emitter beside it, of that albedo or more, whose
 // colour is within NFOR_LONE_LIGHT_RATIO of its albedo in every channel (a light smaller
-// than a pixel, seen directly), 0: off.
+// than a pixel, seen directly), 0: off; lineFloor > 0 lets a pixel clamped within
+// kNforLineFloorReach pixels of an emitter keep that times its line's brightness
+// (shaders/nfor/clamp.h), 0: off.
+constexpr int kNforLineFloorReach = 4;  // NFOR_LINE_FLOOR_REACH
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
                      float relative, float emitterAlbedo, int rank, float lightEdge,
-                     bool sumChannels, float line, float loneLight, vk::GpuImage &out,
-                     vk::GpuImage &mask);
+                     bool sumChannels, float line, float loneLight, float lineFloor,
+                     vk::GpuImage &out, vk::GpuImage &mask);
 
 // shaders/nfor/prefilter.comp: each plane of `features` NL-means-filtered.
 void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,

@@ -384,7 +384,7 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
         RecordNforClamp(context, run.Recorder(), gpu.color, variance, albedo,
                         o.fireflyThreshold, o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
                         o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
-                        o.fireflyLoneLight, gpu.clamped, gpu.mask);
+                        o.fireflyLoneLight, o.fireflyLineFloor, gpu.clamped, gpu.mask);
     };
     clamp(clampVariance);
     if (!in.variance || !ownClamp) return;
@@ -414,7 +414,9 @@ Image Rows(const Image &image, int y0, int y1) {
 Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *albedo,
                        const NforOptions &o, int stripPixels, bool clamp) {
     const int w = color.width, h = color.height, ch = color.channels;
-    const int halo = o.noiseRadius + 2, rows = std::max(1, stripPixels / w);
+    const int floorReach = o.fireflyLineFloor > 0 ? kNforLineFloorReach : 0;
+    const int halo = o.noiseRadius + std::max(2, floorReach),
+              rows = std::max(1, stripPixels / w);
     Image frame(w, h, ch);
     for (int y0 = 0; y0 < h; y0 += rows) {
         const int y1 = std::min(h, y0 + rows);
@@ -437,7 +439,7 @@ Image EstimateOnStrips(vk::Context &context, const Image &color, const Image *al
             RecordNforClamp(context, run.Recorder(), strip, variance, a, o.fireflyThreshold,
                             o.fireflyRelative, o.emitterAlbedo, o.fireflyRank,
                             o.fireflyLightEdge, !o.fireflyEachChannel, o.fireflyLine,
-                            o.fireflyLoneLight, out, mask);
+                            o.fireflyLoneLight, o.fireflyLineFloor, out, mask);
         run.Submit();
         Image part = clamp ? out.Download() : variance.Download();
         const size_t skip = size_t(y0 - wy0) * w, count = size_t(y1 - y0) * w;

@@ -80,6 +80,12 @@ struct NforOptions {
     // firefly. 0: off, the default: such a light hit by one of its samples reads many times
     // its share of the pixel, and clamped it errs by at most its own value.
     float fireflyLoneLight = 0;
+    // A pixel the clamp takes down keeps at least this times its line's brightness (over
+    // the axes and diagonals, the largest of the dimmer side's brightest pixel within 2
+    // steps), its hue kept: a highlight line hit by few samples has a peak at each hit,
+    // which the line rule does not keep. Only within kNforLineFloorReach pixels of an albedo
+    // above kNforLineFloorLight (a highlight reflecting a light). 0: off.
+    float fireflyLineFloor = 1.5f;
     float emitterAlbedo = 1.5f;
     int prefilterRadius = 1;  // 0: features unfiltered
     int prefilterPatch = 1;

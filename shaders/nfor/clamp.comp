@@ -87,17 +87,30 @@ float brightnessAt(int x, int y) {
     return sum;
 }
 
-// Whether (x, y) lies on a bright line: along an axis or a diagonal, a pixel within 2 steps
-// on each side above push.line times its own brightness.
-bool onLine(int x, int y) {
-    float bound = push.line * brightnessAt(x, y);
+// The brightness of (x, y)'s line: over the axes and the diagonals, the largest of the
+// dimmer side's brightest pixel within 2 steps.
+float lineSupport(int x, int y) {
     const ivec2 directions[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(-1, 1));
+    float support = 0.0;
     for (int i = 0; i < 4; ++i) {
         ivec2 d = directions[i];
-        float ahead = max(brightnessAt(x + d.x, y + d.y), brightnessAt(x + 2 * d.x, y + 2 * d.y));
-        float behind = max(brightnessAt(x - d.x, y - d.y), brightnessAt(x - 2 * d.x, y - 2 * d.y));
-        if (ahead > bound && behind > bound) return true;
+        float ahead =
+            max(brightnessAt(x + d.x, y + d.y), brightnessAt(x + 2 * d.x, y + 2 * d.y));
+        float behind =
+            max(brightnessAt(x - d.x, y - d.y), brightnessAt(x - 2 * d.x, y - 2 * d.y));
+        support = max(support, min(ahead, behind));
     }
+    return support;
+}
+
+// Whether a pixel of albedo above NFOR_LINE_FLOOR_LIGHT (a bright emitter) lies within
+// NFOR_LINE_FLOOR_REACH pixels of (x, y), itself included.
+bool emitterWithinReach(int x, int y) {
+    int r = NFOR_LINE_FLOOR_REACH;
+    for (int v = max(y - r, 0); v <= min(y + r, h - 1); ++v)
+        for (int u = max(x - r, 0); u <= min(x + r, w - 1); ++u)
+            for (int k = 0; k < push.albedoChannels; ++k)
+                if (albedo[(k * h + v) * w + u] > float(NFOR_LINE_FLOOR_LIGHT)) return true;
     return false;
 }
 
@@ -131,12 +144,17 @@ void main() {
     if (c == 0) mask[y * w + x] = emitterAt(x, y) ? 0.0 : 1.0;
     outColor[at] = value;
     if (push.threshold <= 0.0) return;
-    // A line's pixel (a highlight's streak) keeps its value.
-    if (push.line > 0.0 && onLine(x, y)) return;
+    // A line's pixel (a highlight's streak) keeps its value; with the floor on, a line's
+    // peak keeps at least lineFloor x its line's brightness, its hue kept.
+    float brightness = brightnessAt(x, y);
+    float support = push.line > 0.0 || push.lineFloor > 0.0 ? lineSupport(x, y) : 0.0;
+    if (push.line > 0.0 && support > push.line * brightness) return;
+    float floorShare = brightness > 0.0 ? min(push.lineFloor * support / brightness, 1.0) : 0.0;
     // A light smaller than a pixel seen directly keeps its value.
     if (loneLightAt(x, y)) return;
     float own = clampedAt(c, x, y);
-    outColor[at] = own;
+    bool floored = push.lineFloor > 0.0 && value > 0.0 && emitterWithinReach(x, y);
+    outColor[at] = floored ? max(own, floorShare * value) : own;
     if (push.sumChannels == 0) return;
     // The share t = 1 - (the second smallest of clamped / value over the channels) of the
     // pixel scaled as a whole by the clamped channels' sum over the values' sum.
@@ -152,4 +170,5 @@ void main() {
     float t = clamp(1.0 - second, 0.0, 1.0);
     float whole = values > 0.0 ? value * min(kept / values, 1.0) : value;
     if (t > 0.0) outColor[at] = (1.0 - t) * own + t * whole;
+    if (floored) outColor[at] = max(outColor[at], floorShare * value);
 }

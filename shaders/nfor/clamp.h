@@ -25,7 +25,14 @@
 // With loneLight > 0 an emitter with no emitter among its 8 neighbours, its largest albedo
 // channel at least loneLight and each colour channel within NFOR_LONE_LIGHT_RATIO of its
 // albedo's (both ways) is kept whole: a light smaller than a pixel that its samples saw
-// directly (their colour is the light's own emission), not a firefly.
+// directly (their colour is the light's own emission), not a firefly. With lineFloor > 0 a
+// pixel not kept whole keeps at least min(1, lineFloor x S / B) of each positive channel,
+// B its brightness, S its line's (over the 4 directions, the largest of the dimmer side's
+// brightest pixel within 2 steps): the peaks of a line hit by few samples, whose line
+// rule fails at every peak, keep the line's level; a lone firefly's S is its ground's. The
+// floor holds only within NFOR_LINE_FLOOR_REACH pixels of a pixel whose largest albedo
+// channel is above NFOR_LINE_FLOOR_LIGHT (a highlight reflecting a light, whose hits the
+// albedo marks as bright emitters; grass, edges and a dim light's rim hold none).
 #ifndef MCD_SHADERS_NFOR_CLAMP_H
 #define MCD_SHADERS_NFOR_CLAMP_H
 
@@ -37,6 +44,8 @@
 #define NFOR_CLAMP_OUT 3
 #define NFOR_CLAMP_MASK 4
 #define NFOR_LONE_LIGHT_RATIO 1.25
+#define NFOR_LINE_FLOOR_REACH 4
+#define NFOR_LINE_FLOOR_LIGHT 8.0
 #define NFOR_CLAMP_BINDINGS 5
 
 #ifdef __cplusplus
@@ -58,9 +67,10 @@ layout(push_constant) uniform NforClampPush {
     int sumChannels;  // 1: the channels clamped together by one factor; 0: each on its own
     float line;       // > 0: a pixel on a line this bright is kept; 0: off
     float loneLight;  // > 0: a lone emitter of this albedo or more seen directly is kept
+    float lineFloor;  // > 0: a pixel keeps at least this x its line's brightness; 0: off
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforClampPush) == 48);
+static_assert(sizeof(NforClampPush) == 52);
 static_assert(offsetof(NforClampPush, emitterAlbedo) == 20);
 }  // namespace mcd::shader
 #else

@@ -166,10 +166,10 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()
 // channels (C / sum of C is at most 1 for positive colours) and a few roundings of C.
 void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int rank,
                         float lightEdge, bool sumChannels = false, float line = 0,
-                        float loneLight = 0) {
+                        float loneLight = 0, float lineFloor = 0) {
     std::string name = fmt::format("clamp{}x{}{}", w, h, InputKindName(kind));
-    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {} line {} lone light {}", rank,
-                             lightEdge, sumChannels, line, loneLight));
+    SCOPED_TRACE(fmt::format("rank {} light edge {} sum {} line {} lone light {} floor {}",
+                             rank, lightEdge, sumChannels, line, loneLight, lineFloor));
     Image color = Positive(kind, w, h, 3, name);
     Image variance = Positive(InputKind::Uniform, w, h, 3, name + "variance");
     for (float &v : variance.data) v *= 0.01f;
@@ -191,7 +191,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
     const float threshold = 3, relative = 0.5f, emitterAlbedo = 1.5f;
     Image mask = ref::NforMask(&albedo, w, h, emitterAlbedo);
     Image expected = ref::NforClamp(color, variance, &albedo, mask, threshold, relative, rank,
-                                    lightEdge, sumChannels, line, loneLight);
+                                    lightEdge, sumChannels, line, loneLight, lineFloor);
     if (loneLight > 0) {
         // The lights within the ratio kept (some the clamp takes without the rule), the others
         // as without it (some clamped).
@@ -217,7 +217,7 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
         vk::GpuImage out(context, w, h, 3, "out"), m(context, w, h, 1, "mask");
         vk::Recorder recorder(context);
         RecordNforClamp(context, recorder, c, v, &a, threshold, relative, emitterAlbedo, rank,
-                        lightEdge, sumChannels, line, loneLight, out, m);
+                        lightEdge, sumChannels, line, loneLight, lineFloor, out, m);
         recorder.Submit();
         *gpuMask = m.Download();
         return out.Download();
@@ -253,7 +253,8 @@ class NforClampKernel : public GpuTestWithParam<KernelCase> {};
 
 // Against the neighbours' median and against their 2nd largest; a light's edge kept, and
 // clamped with a relative term of its own; each channel on its own and the channels summed;
-// a line's pixels kept (1, and 0.5: more lines); lone lights of albedo 2 or more kept
+// a line's pixels kept (1, and 0.5: more lines); a line's peaks floored (1.5, with the line
+// rule and without); lone lights of albedo 2 or more kept
 // (ExpectClampMatches sets the emitters' colours to their albedo's x 0.9, 1.3 and 1.2: kept,
 // clamped, kept; in the one-row and one-column frames at both ends).
 TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
@@ -263,12 +264,16 @@ TEST_P(NforClampKernel, MatchesReferenceAndRepeats) {
         ExpectClampMatches(Ctx(), w, h, kind, 3, 2, sum);
         for (float line : {1.f, 0.5f}) ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, line);
         ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, 1, 2);
+        for (float line : {1.f, 0.f})
+            ExpectClampMatches(Ctx(), w, h, kind, 3, -1, sum, line, 0, 1.5f);
     }
 }
 
 // The twin's constants are the kernels': a change to one alone fails here.
 TEST(NforConstants, TwinAndKernelsAgree) {
     EXPECT_EQ(ref::kNforLoneLightRatio, double(NFOR_LONE_LIGHT_RATIO));
+    EXPECT_EQ(ref::kNforLineFloorReach, NFOR_LINE_FLOOR_REACH);
+    EXPECT_EQ(ref::kNforLineFloorLight, double(NFOR_LINE_FLOOR_LIGHT));
     EXPECT_EQ(ref::kNforNoiseDivisorRatio, double(NFOR_NOISE_DIVISOR_RATIO));
 }
 
@@ -311,7 +316,7 @@ TEST_F(GpuTest, NforClampKeepsALoneLightSeenDirectly) {
         vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
         vk::Recorder recorder(Ctx());
         RecordNforClamp(Ctx(), recorder, c, v, &a, threshold, relative, emitterAlbedo, 3,
-                        lightEdge, true, 1, lone, out, m);
+                        lightEdge, true, 1, lone, 0, out, m);
         recorder.Submit();
         return out.Download();
     };
@@ -373,7 +378,7 @@ TEST_F(GpuTest, NforClampDividesAlikeAtTheRatioAsTheKernel) {
     vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
     vk::Recorder recorder(Ctx());
     RecordNforClamp(Ctx(), recorder, c, v, &d, threshold, relative, emitterAlbedo, 0, -1, false,
-                    0, 0, out, m);
+                    0, 0, 0, out, m);
     recorder.Submit();
     Image actual = out.Download();
     for (int ch = 0; ch < 3; ++ch) {
@@ -449,6 +454,59 @@ TEST(NforClampLine, KeepsAStreakNotAFirefly) {
         for (int c = 0; c < 3; ++c) EXPECT_LT(image->At(c, 1, 1), 1.f);
         EXPECT_LT(image->At(0, 7, 8), 1.f);
     }
+}
+
+// Two streaks whose every third pixel is a peak (8, 4, 4 in turn along rows 4 and 13, on
+// 0.1, the channels x 1, 0.75, 0.5), as the samples hit glossy lights' ring, and an emitter
+// (a light's reflection) at (5, 0), 4 rows above the first: the line rule keeps the 4s and
+// clamps the 8s, whose dimmer side's brightest within 2 steps is a 4; the floor 1.5 keeps
+// 1.5 x 4 of the first streak's 8s (0.75 of each channel: hue kept) and leaves the second,
+// 13 rows from the emitter, as without it. A lone firefly within reach of the emitter and
+// one beside a negative channel, whose lines are their ground's, stay below 1. The kernel
+// gives the reference's values.
+TEST_F(GpuTest, NforClampLineFloorKeepsAStreaksPeaksNearALightNotAFirefly) {
+    const int w = 11, h = 17;
+    Image color(w, h, 3, 0.1f), variance(w, h, 3, 1e-4f), albedo(w, h, 3, 0.5f);
+    for (int y : {4, 13})
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                color.At(c, y, x) = (x % 3 == 0 ? 8.f : 4.f) * (1 - 0.25f * float(c));
+    for (int c = 0; c < 3; ++c) albedo.At(c, 0, 5) = 10;
+    for (int c = 0; c < 3; ++c) color.At(c, 1, 1) = 8;
+    color.At(0, 7, 8) = 20, color.At(1, 7, 8) = -25;
+    Image mask = ref::NforMask(&albedo, w, h, 1.5);
+    auto clamp = [&](double floor) {
+        return ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, true, 1, 0, floor);
+    };
+    Image off = clamp(0), on = clamp(1.5);
+    for (int y : {4, 13})
+        for (int x = 1; x < w - 1; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float value = color.At(c, y, x);
+                if (x % 3 != 0) {
+                    EXPECT_EQ(off.At(c, y, x), value) << x << "," << y;
+                    EXPECT_EQ(on.At(c, y, x), value) << x << "," << y;
+                    continue;
+                }
+                EXPECT_LT(off.At(c, y, x), 0.25f * value) << x << "," << y;
+                if (y == 4)
+                    EXPECT_FLOAT_EQ(on.At(c, y, x), 0.75f * value) << x;
+                else
+                    EXPECT_EQ(on.At(c, y, x), off.At(c, y, x)) << x;
+            }
+    for (const Image *image : {&off, &on}) {
+        for (int c = 0; c < 3; ++c) EXPECT_LT(image->At(c, 1, 1), 1.f);
+        EXPECT_LT(image->At(0, 7, 8), 1.f);
+    }
+    vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
+    vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+    vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
+    vk::Recorder recorder(Ctx());
+    RecordNforClamp(Ctx(), recorder, c, v, &a, 4, 0.5f, 1.5f, 3, -1, true, 1, 0, 1.5f, out, m);
+    recorder.Submit();
+    Image actual = out.Download();
+    for (size_t i = 0; i < on.data.size(); ++i)
+        EXPECT_NEAR(actual.data[i], on.data[i], 1e-5f * (1 + std::fabs(on.data[i]))) << i;
 }
 
 // Weights exp(-e): e's terms T = (d^2 - s) / (s + eps) are each at least -1 and are averaged
@@ -1140,6 +1198,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.fireflySum = !o.fireflyEachChannel;
     p.fireflyLine = o.fireflyLine;
     p.fireflyLoneLight = o.fireflyLoneLight;
+    p.fireflyLineFloor = o.fireflyLineFloor;
     p.pilotWideRadius = o.pilotWideRadius;
     p.minVariance = o.minVariance;
     p.pilotMinVariance = NforPilotMinVariance(o);
