@@ -327,9 +327,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const int lightReach = NforSpreadsLights(o, !passesOff, inputs.Has("albedo")) ? 1 : 0;
         // The clamp reads its 8 neighbours, its line test 2 pixels away, the line's floor
         // the emitters kNforLineFloorReach away.
-        const int clampReach = o.fireflyLineFloor > 0 ? std::max(2, kNforLineFloorReach)
-                               : o.fireflyLine > 0    ? 2
-                                                      : 1;
+        const int clampReach = o.fireflyLineFloor > 0 && inputs.Has("albedo")
+                                   ? std::max(2, kNforLineFloorReach)
+                               : o.fireflyLine > 0 ? 2
+                                                   : 1;
         int colourReach = o.patchRadius + o.noiseRadius + clampReach;
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1

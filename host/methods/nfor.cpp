@@ -120,6 +120,7 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.featureBandwidth) && o.featureBandwidth >= 0) ||
         !(finite(o.fireflyThreshold) && o.fireflyThreshold >= 0) ||
         !(finite(o.fireflyLoneLight) && o.fireflyLoneLight >= 0) ||
+        !(finite(o.fireflyLineFloor) && o.fireflyLineFloor >= 0) ||
         !(finite(o.noiseCalibration) && o.noiseCalibration > 0) ||
         !(finite(o.pilotAlpha) && o.pilotAlpha >= 0) ||
         !(finite(o.prefilterBandwidth) && o.prefilterBandwidth > 0) ||
