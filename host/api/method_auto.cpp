@@ -315,10 +315,13 @@ void HalvesNoise(Inputs &inputs, const Image &color, Noise &noise) {
             noise.half0Layers.push_back(name);
         }
     noise.from = fmt::format(
-        "the half-buffers (each candidate run on half0, {}, compared with half1)",
+        "the half-buffers (each candidate run on half0, {}, compared with half1{})",
         noise.half0Layers.empty()
             ? "with the frame's other layers"
-            : fmt::format("with half0's own {}", fmt::join(noise.half0Layers, ", ")));
+            : fmt::format("with half0's own {}", fmt::join(noise.half0Layers, ", ")),
+        noise.half0Layers.empty() ? ""
+                                  : "; there each decides for itself what the run on the "
+                                    "frame decides, such as rhf's cuts");
 }
 
 // No statistics (a plain Cycles frame): the variance of the mean from the frame itself, the
@@ -573,7 +576,13 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
         // bayes's --zeros restore (the probe's noise can turn a lone zero's neighbours
         // black), rhf's cuts (a pixel cut in one run and filtered in the other moves by far
         // more than its colour did).
-        std::unique_ptr<FrontEnd> decided = method.ForProbe(context, inputs, noise.halves);
+        // On half0 with half0's own layers the probe is the method's run on a frame of its
+        // own, and decides for itself: the run's decisions read the frame's colour and
+        // layers, which carry half1's samples, and a half0 run that follows half1 is
+        // estimated low against it.
+        const bool ownFrame = noise.halves && !noise.half0Layers.empty();
+        std::unique_ptr<FrontEnd> decided =
+            ownFrame ? nullptr : method.ForProbe(context, inputs, noise.halves);
         const FrontEnd &probed = decided ? *decided : method;
         ScopedOverrides probe(inputs);
         if (runsSplit) {
