@@ -107,6 +107,12 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "median there, so that an estimate near zero by chance does not take all "
                    "the weight (0: off)",
                    &O::halvesFloor, 0, 1e6),
+        FloatParam("auto-halves-rank",
+                   "beside half-buffers: that floor times (the candidate's error estimate over "
+                   "the frame / the smallest of the candidates') ^ this, so that where half1's "
+                   "noise hides the differences the weights follow the frame's ranking instead "
+                   "of going equal (0: the same floor for all)",
+                   &O::halvesRank, 0, 16),
         FloatParam("auto-halves-drop",
                    "beside half-buffers: leave out a candidate whose error estimate over the "
                    "frame is above this times the candidates' median (0: off; at least 1, so "
@@ -795,6 +801,7 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
     c.darkLimit = o.darkLimit;
     c.noiseCap = o.noiseCap;
     c.halvesFloor = o.halvesFloor;
+    c.halvesRank = o.halvesRank;
     if (o.halvesDrop > 0 && o.halvesDrop < 1)
         throw Error(fmt::format("--auto-halves-drop {}: 0 (off) or at least 1 (below, every "
                                 "candidate could be left out)",

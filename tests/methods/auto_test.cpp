@@ -687,6 +687,7 @@ TEST_F(AutoEstimateProperty, StripsLeaveOutWhatTheWholeFrameLeavesOut) {
     in.variance = variance, in.probe = probe, in.half1 = half1, in.meanVariance = variance;
     AutoOptions options;
     options.radius = 3, options.halvesFloor = 0.5f, options.halvesDrop = 3.5f;
+    options.halvesRank = 1;  // strips read the whole frame's estimates for it too
     AutoResult whole = AutoCombine(Ctx(), half1, candidates, in, options);
     auto dropLines = [](const AutoResult &r) {
         std::vector<std::string> lines;
