@@ -107,6 +107,12 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "median there, so that an estimate near zero by chance does not take all "
                    "the weight (0: off)",
                    &O::halvesFloor, 0, 1e6),
+        FloatParam("auto-halves-rank",
+                   "beside half-buffers: that floor times (the candidate's error estimate over "
+                   "the frame / the smallest of the candidates') ^ this, so that where half1's "
+                   "noise hides the differences the weights follow the frame's ranking instead "
+                   "of going equal (0: the same floor for all)",
+                   &O::halvesRank, 0, 16),
         FloatParam("auto-halves-drop",
                    "beside half-buffers: leave out a candidate whose error estimate over the "
                    "frame is above this times the candidates' median (0: off; at least 1, so "
@@ -315,10 +321,13 @@ void HalvesNoise(Inputs &inputs, const Image &color, Noise &noise) {
             noise.half0Layers.push_back(name);
         }
     noise.from = fmt::format(
-        "the half-buffers (each candidate run on half0, {}, compared with half1)",
+        "the half-buffers (each candidate run on half0, {}, compared with half1{})",
         noise.half0Layers.empty()
             ? "with the frame's other layers"
-            : fmt::format("with half0's own {}", fmt::join(noise.half0Layers, ", ")));
+            : fmt::format("with half0's own {}", fmt::join(noise.half0Layers, ", ")),
+        noise.half0Layers.empty() ? ""
+                                  : "; there each decides for itself what the run on the "
+                                    "frame decides, such as rhf's cuts");
 }
 
 // No statistics (a plain Cycles frame): the variance of the mean from the frame itself, the
@@ -573,7 +582,13 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
         // bayes's --zeros restore (the probe's noise can turn a lone zero's neighbours
         // black), rhf's cuts (a pixel cut in one run and filtered in the other moves by far
         // more than its colour did).
-        std::unique_ptr<FrontEnd> decided = method.ForProbe(context, inputs, noise.halves);
+        // On half0 with half0's own layers the probe is the method's run on a frame of its
+        // own, and decides for itself: the run's decisions read the frame's colour and
+        // layers, which carry half1's samples, and a half0 run that follows half1 is
+        // estimated low against it.
+        const bool ownFrame = noise.halves && !noise.half0Layers.empty();
+        std::unique_ptr<FrontEnd> decided =
+            ownFrame ? nullptr : method.ForProbe(context, inputs, noise.halves);
         const FrontEnd &probed = decided ? *decided : method;
         ScopedOverrides probe(inputs);
         if (runsSplit) {
@@ -786,6 +801,7 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
     c.darkLimit = o.darkLimit;
     c.noiseCap = o.noiseCap;
     c.halvesFloor = o.halvesFloor;
+    c.halvesRank = o.halvesRank;
     if (o.halvesDrop > 0 && o.halvesDrop < 1)
         throw Error(fmt::format("--auto-halves-drop {}: 0 (off) or at least 1 (below, every "
                                 "candidate could be left out)",

@@ -76,6 +76,10 @@ class AutoFrontEnd : public FrontEnd {
         // half1's variance, at most this times their median, and a candidate above
         // halvesDrop times the median over the frame left out.
         float halvesFloor = 0.5f, halvesDrop = 3.5f;
+        // Each floor times (the candidate's estimate over the frame / the smallest) ^ this;
+        // off: it helped glossy_lights' accumulated frame and cost our interior with halves
+        // (docs/methods/auto.md).
+        float halvesRank = 0;
         // --auto-power beside the half-buffers (docs/methods/auto.md: 1 and 1.5 helped the
         // accumulated Cycles frames and cost our cornell with halves).
         float halvesPower = 2;

@@ -192,16 +192,27 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
     Image smooth = gpu.smooth.Download(), halfNoise = noise.Download();
     for (float &x : halfNoise.data) x = -x;
     if (options.halvesSums) options.halvesSums->Add(smooth, halfNoise);
-    AutoHalvesSettings settings{options.halvesFloor, options.halvesDrop, options.floorError};
+    AutoHalvesSettings settings{options.halvesFloor, options.halvesDrop, options.floorError,
+                                options.halvesRank};
     if (!options.halvesDropped.empty()) settings.dropped = &options.halvesDropped;
+    if (!options.halvesFrameEstimates.empty()) {
+        settings.frameEstimates = &options.halvesFrameEstimates;
+        settings.frameNoise = options.halvesFrameNoise;
+    }
     AutoHalvesResult adjusted = AutoAdjustHalvesEstimates(smooth, halfNoise, settings);
     gpu.smooth.Upload(smooth);
     if (options.halvesFloor > 0)
         run.Plan(fmt::format(
             "auto: each estimate raised to at least half1's variance over its window, at most "
             "{} x the candidates' median there (an estimate below what the noise lets the "
-            "window resolve weighs no more than that; --auto-halves-floor)",
-            options.halvesFloor));
+            "window resolve weighs no more than that; --auto-halves-floor){}",
+            options.halvesFloor,
+            options.halvesRank > 0
+                ? fmt::format(", times (its frame-wide estimate / the smallest) ^ {}, so "
+                              "that where the noise hides the differences the weights follow "
+                              "the frame's ranking (--auto-halves-rank)",
+                              options.halvesRank)
+                : ""));
     // In strips the whole frame's figures are AutoCombine's to print.
     if (options.halvesDropped.empty())
         for (const std::string &line : HalvesDropPlan(candidates, options, adjusted))
@@ -457,7 +468,7 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
         };
         AutoOptions stripOptions = options;
         std::vector<std::string> dropPlan;
-        if (!estimate.half1.Empty() && options.halvesDrop > 0 &&
+        if (!estimate.half1.Empty() && (options.halvesDrop > 0 || options.halvesRank > 0) &&
             options.combination != AutoCombination::Mean) {
             // The drop reads the estimates over the whole frame: a first pass over the strips
             // sums them, so every strip leaves out what the whole frame would.
@@ -472,6 +483,8 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
             dropPlan = HalvesDropPlan(candidates, options, frame);
             stripOptions.halvesSums = nullptr;
             stripOptions.halvesDropped = frame.dropped;
+            stripOptions.halvesFrameEstimates = frame.frameEstimates;
+            stripOptions.halvesFrameNoise = frame.frameNoise;
         }
         runStrips(stripOptions, nullptr);
         result.plan.insert(result.plan.end(), dropPlan.begin(), dropPlan.end());

@@ -75,10 +75,14 @@ struct AutoOptions {
     // each raised to half1's variance, at most halvesFloor x the candidates' median, and a
     // candidate above halvesDrop x the median over the frame left out (0: off).
     float halvesFloor = 0, halvesDrop = 0;
+    // The floor of each times (its estimate over the frame / the smallest) ^ this (0: off).
+    float halvesRank = 0;
     // Set by AutoCombine for a combination in strips: the candidates left out over the whole
-    // frame (empty: the window decides), and the sums its first pass over the strips adds
-    // each strip's estimates to (null: none).
+    // frame (empty: the window decides), its estimates and noise, and the sums its first pass
+    // over the strips adds each strip's estimates to (null: none).
     std::vector<bool> halvesDropped;
+    std::vector<double> halvesFrameEstimates;  // the whole frame's, for the rank
+    double halvesFrameNoise = 0;
     AutoHalvesSums *halvesSums = nullptr;
     bool keepStages = false;
     bool map = false;  // return stage "auto.map" even without keepStages

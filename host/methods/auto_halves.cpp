@@ -32,6 +32,28 @@ double Median(std::vector<double> values) {
 // biased low, at times below zero, and against it every other would be left out.
 constexpr double kDropFloor = 1e-4;
 
+// The smallest share of half1's variance over the frame a candidate's estimate over the
+// frame counts as in the rank: below it the frame's noise hides the differences (fence_grass
+// in docs/methods/auto.md), and a candidate whose estimate is about zero or below would take
+// every weight.
+constexpr double kRankNoise = 0.01;
+
+// Each candidate's factor on the floor: (its frame estimate / the smallest of those left
+// in) ^ power, the estimates raised to kRankNoise x the frame's noise first; 1 without rank.
+std::vector<float> RankFactors(const std::vector<double> &frame, double noise,
+                               const std::vector<bool> &dropped, float power, float least) {
+    std::vector<float> factors(frame.size(), 1.f);
+    if (power <= 0) return factors;
+    const double bottom = std::max(kRankNoise * noise, double(least));
+    double smallest = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < frame.size(); ++k)
+        if (!dropped[k]) smallest = std::min(smallest, std::max(frame[k], bottom));
+    for (size_t k = 0; k < frame.size(); ++k)
+        if (!dropped[k])
+            factors[k] = float(std::pow(std::max(frame[k], bottom) / smallest, double(power)));
+    return factors;
+}
+
 }  // namespace
 
 void AutoHalvesSums::Add(const Image &smooth, const Image &noise) {
@@ -83,6 +105,14 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
                         ErrorKind::Internal);
         result.dropped = *settings.dropped;
     }
+    const bool whole = settings.frameEstimates != nullptr;
+    if (whole && settings.frameEstimates->size() != size_t(count))
+        throw Error("auto: the halves' frame estimates must hold one per candidate",
+                    ErrorKind::Internal);
+    const std::vector<float> factors =
+        RankFactors(whole ? *settings.frameEstimates : result.frameEstimates,
+                    whole ? settings.frameNoise : result.frameNoise, result.dropped,
+                    settings.rank, settings.floorError);
     std::vector<float> kept;
     for (size_t i = 0; i < n && settings.floor > 0; ++i) {
         kept.clear();
@@ -100,7 +130,7 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
         float least = std::min(std::max(noise.data[i], 0.f), settings.floor * median);
         for (int k = 0; k < count; ++k) {
             float &e = smooth.data[size_t(k) * n + i];
-            if (!result.dropped[k]) e = std::max(e, least);
+            if (!result.dropped[k]) e = std::max(e, least * factors[k]);
         }
     }
     for (int k = 0; k < count; ++k)

@@ -23,9 +23,17 @@ struct AutoHalvesSettings {
     // median of the candidates' is left out (0: off).
     float drop = 0;
     float floorError = 1e-5f;  // the smallest estimate the median reads
+    // Each candidate's floor times (its estimate over the frame / the smallest of those
+    // left in) ^ this, so that where the noise hides the differences the weights follow the
+    // frame's ranking instead of going equal (0: the same floor for all).
+    float rank = 0;
     // The candidates left out, decided over the whole frame (a combination in strips: each
     // strip's window alone would decide otherwise); null: this window's estimates decide.
     const std::vector<bool> *dropped = nullptr;
+    // The whole frame's estimates and noise the rank reads, from a combination in strips;
+    // null: this window's.
+    const std::vector<double> *frameEstimates = nullptr;
+    double frameNoise = 0;
 };
 
 struct AutoHalvesResult {

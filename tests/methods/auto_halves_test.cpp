@@ -98,6 +98,52 @@ TEST(AutoHalvesEstimates, LeavesNoneOutWhereTheMedianIsAboutZero) {
     EXPECT_EQ(adjusted.data, smooth.data);
 }
 
+// Where half1's noise dominates every window the plain floor raises the candidates' estimates
+// to one level, and 1 / e^2 weighs them alike; with the rank each floor is scaled by the
+// candidate's estimate over the frame over the smallest, so the weights follow the frame's
+// ranking there (the floor here 2x the median, so that it binds for all). A candidate whose
+// frame estimate is about zero or below (under a share of the frame's noise) counts as that
+// share, so it cannot take every weight.
+TEST(AutoHalvesEstimates, TheRankKeepsTheFramesOrderWhereTheNoiseDominates) {
+    const int w = 16, h = 12;
+    const std::vector<float> levels = {0.002f, 0.004f, 0.008f};
+    std::mt19937_64 rng(SeedFromName("auto halves rank"));
+    std::uniform_real_distribution<float> scatter(-0.001f, 0.001f);
+    Image smooth(w, h, int(levels.size())), noise(w, h, 1);
+    for (size_t k = 0; k < levels.size(); ++k)
+        for (size_t i = 0; i < smooth.PixelCount(); ++i)
+            smooth.Plane(int(k))[i] = levels[k] + scatter(rng);
+    for (float &x : noise.data) x = 0.1f;
+    Image adjusted = smooth;
+    AutoHalvesSettings settings{2.f, 0.f, 1e-5f, 1.f};
+    AutoHalvesResult result = AutoAdjustHalvesEstimates(adjusted, noise, settings);
+    const size_t n = smooth.PixelCount();
+    for (size_t i = 0; i < n; ++i) {
+        std::vector<float> at;
+        for (size_t k = 0; k < levels.size(); ++k) at.push_back(smooth.Plane(int(k))[i]);
+        std::sort(at.begin(), at.end());
+        const float least = 2.f * at[1];
+        for (size_t k = 0; k < levels.size(); ++k) {
+            float factor = float(result.frameEstimates[k] / result.frameEstimates[0]);
+            float expected = std::max(smooth.Plane(int(k))[i], least * factor);
+            EXPECT_NEAR(adjusted.Plane(int(k))[i], expected, 1e-6f * expected)
+                << "pixel " << i << " candidate " << k;
+        }
+        // The floors bind for all three: their ratios are the frame's.
+        EXPECT_NEAR(adjusted.Plane(2)[i] / adjusted.Plane(0)[i],
+                    result.frameEstimates[2] / result.frameEstimates[0], 1e-4);
+    }
+    // An estimate over the frame below zero counts as 1% of the frame's noise: the others'
+    // factors are their estimates over that, not over ~0.
+    for (size_t i = 0; i < n; ++i) smooth.Plane(0)[i] = -0.003f;
+    adjusted = smooth;
+    AutoAdjustHalvesEstimates(adjusted, noise, settings);
+    for (size_t i = 0; i < n; ++i) {
+        EXPECT_NEAR(adjusted.Plane(0)[i], 2.f * smooth.Plane(1)[i], 1e-9f);
+        EXPECT_LT(adjusted.Plane(2)[i], 10 * adjusted.Plane(0)[i]);
+    }
+}
+
 // A good candidate and a worse one (each the truth plus its own noise, the second's 4x the
 // first's relative error), and estimates that scatter about their true errors as much as
 // those errors, as a window's halves estimate does on a noisy frame: where the worse one's

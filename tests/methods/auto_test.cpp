@@ -687,6 +687,7 @@ TEST_F(AutoEstimateProperty, StripsLeaveOutWhatTheWholeFrameLeavesOut) {
     in.variance = variance, in.probe = probe, in.half1 = half1, in.meanVariance = variance;
     AutoOptions options;
     options.radius = 3, options.halvesFloor = 0.5f, options.halvesDrop = 3.5f;
+    options.halvesRank = 1;  // strips read the whole frame's estimates for it too
     AutoResult whole = AutoCombine(Ctx(), half1, candidates, in, options);
     auto dropLines = [](const AutoResult &r) {
         std::vector<std::string> lines;
@@ -1199,6 +1200,38 @@ TEST_F(AutoMethod, HalfRunsReadHalf0sOwnLayers) {
     Result moved = automatic.Run(device, other);
     EXPECT_NE(moved.image.data, without.image.data);
     for (float v : moved.image.data) ASSERT_TRUE(std::isfinite(v));
+}
+
+// With half0's own layers a run on half0 is the method's run on a frame of its own and
+// decides for itself (rhf's cuts: no probe keeping the run's, whose plan lines would say
+// "rhf (probe): ..."); without them the probe keeps the run's cuts, as before.
+TEST_F(AutoMethod, HalfRunsOnHalf0sOwnLayersDecideTheirOwnCuts) {
+    auto [frame, reference] = RenderWithReference(
+        "cornell", 24, 20, 8, render::kLayersAll | render::kLayersHalves, 8);
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    automatic.Set("auto-candidates", std::string("rhf"));
+    auto probeLines = [](const Result &result) {
+        int count = 0;
+        for (const std::string &line : result.plan)
+            count += line.rfind("rhf (probe): ", 0) == 0;
+        return count;
+    };
+    Result keeps = automatic.Run(device, frame);
+    EXPECT_GT(probeLines(keeps), 0) << fmt::format("{}", fmt::join(keeps.plan, "\n"));
+    EXPECT_FALSE(PlanHas(keeps, "there each decides for itself"));
+    Frame own = frame;
+    for (const char *name : {"albedo", "normal", "depth", "pivot", "hist", "min", "max", "spp"})
+        if (frame.Has(name)) own.layers["half0." + std::string(name)] = frame.Get(name);
+    Image doubled = frame.Get("variance");
+    for (float &v : doubled.data) v *= 2;
+    own.layers["half0.variance"] = doubled;
+    Result decides = automatic.Run(device, own);
+    EXPECT_EQ(probeLines(decides), 0) << fmt::format("{}", fmt::join(decides.plan, "\n"));
+    EXPECT_TRUE(PlanHas(decides,
+                        "there each decides for itself what the run on the frame "
+                        "decides, such as rhf's cuts"));
+    for (float v : decides.image.data) ASSERT_TRUE(std::isfinite(v));
 }
 
 // A frame with half-buffers (as `accumulate` writes) runs nfor among the candidates (on
