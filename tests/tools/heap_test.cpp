@@ -11,16 +11,23 @@ namespace {
 
 TEST(CliHeap, TunablesGainHugePagesOnce) {
     using mcd::tool::TunablesWithHugePages;
-    EXPECT_EQ(TunablesWithHugePages(nullptr), "glibc.malloc.hugetlb=1");
-    EXPECT_EQ(TunablesWithHugePages(""), "glibc.malloc.hugetlb=1");
+    const std::string added =
+        "glibc.malloc.hugetlb=1:glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold="
+        "68719476736";
+    EXPECT_EQ(TunablesWithHugePages(nullptr), added);
+    EXPECT_EQ(TunablesWithHugePages(""), added);
     EXPECT_EQ(TunablesWithHugePages("glibc.malloc.arena_max=2"),
-              "glibc.malloc.arena_max=2:glibc.malloc.hugetlb=1");
+              "glibc.malloc.arena_max=2:" + added);
     // Already named, whatever its value: the user's choice stands, no restart.
     EXPECT_EQ(TunablesWithHugePages("glibc.malloc.hugetlb=1"), "");
     EXPECT_EQ(TunablesWithHugePages("glibc.malloc.arena_max=2:glibc.malloc.hugetlb=0"), "");
+    // A user's own heap setting is kept, the others added.
+    EXPECT_EQ(TunablesWithHugePages("glibc.malloc.mmap_max=4"),
+              "glibc.malloc.mmap_max=4:glibc.malloc.hugetlb=1:"
+              "glibc.malloc.trim_threshold=68719476736");
     // A longer name that starts with it is another tunable.
     EXPECT_EQ(TunablesWithHugePages("glibc.malloc.hugetlbx=1"),
-              "glibc.malloc.hugetlbx=1:glibc.malloc.hugetlb=1");
+              "glibc.malloc.hugetlbx=1:" + added);
 }
 
 // The tool restarted with the tunable prints its version once and succeeds, whether or not

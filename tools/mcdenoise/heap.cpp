@@ -12,21 +12,36 @@ namespace {
 
 constexpr const char *kHugePagesName = "glibc.malloc.hugetlb";
 
-}  // namespace
+// What the tool adds: huge pages, and freed memory kept in the heap for the next block (no
+// block mapped on its own, the heap's top never handed back), so that a block reused is not
+// faulted and zeroed by the kernel again.
+constexpr const char *kSettings[] = {"glibc.malloc.hugetlb=1", "glibc.malloc.mmap_max=0",
+                                     "glibc.malloc.trim_threshold=68719476736"};
 
-std::string TunablesWithHugePages(const char *current) {
-    const std::string setting = std::string(kHugePagesName) + "=1";
-    if (!current || !*current) return setting;
-    // Tunables are name=value pairs joined by ':'.
-    const std::string value = current;
+// Whether the tunables `value` (name=value pairs joined by ':') name `name`.
+bool Names(const std::string &value, const std::string &name) {
     for (size_t start = 0; start <= value.size();) {
         size_t end = value.find(':', start);
         if (end == std::string::npos) end = value.size();
         const std::string pair = value.substr(start, end - start);
-        if (pair.compare(0, pair.find('='), kHugePagesName) == 0) return "";
+        if (pair.substr(0, pair.find('=')) == name) return true;
         start = end + 1;
     }
-    return value + ":" + setting;
+    return false;
+}
+
+}  // namespace
+
+std::string TunablesWithHugePages(const char *current) {
+    const std::string value = current ? current : "";
+    // The user's own huge-page setting, whatever its value, stands for all of them.
+    if (Names(value, kHugePagesName)) return "";
+    std::string tunables = value;
+    for (const std::string setting : kSettings) {
+        if (Names(value, setting.substr(0, setting.find('=')))) continue;
+        tunables += (tunables.empty() ? "" : ":") + setting;
+    }
+    return tunables;
 }
 
 void UseHugePages(char **argv) {
