@@ -109,10 +109,11 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    &O::halvesFloor, 0, 1e6),
         FloatParam("auto-halves-rank",
                    "beside half-buffers: that floor times (the candidate's error estimate over "
-                   "the frame / the smallest of the candidates') ^ this, so that where half1's "
-                   "noise hides the differences the weights follow the frame's ranking instead "
-                   "of going equal (0: the same floor for all)",
-                   &O::halvesRank, 0, 16),
+                   "the frame / the smallest of those not left out, each first raised to 1% of "
+                   "half1's variance over the frame) ^ this, so that where half1's noise hides "
+                   "the differences the weights follow the frame's ranking instead of going "
+                   "equal (0: the same floor for all; no effect with --auto-halves-floor 0)",
+                   &O::halvesRank, 0, 4),
         FloatParam("auto-halves-drop",
                    "beside half-buffers: leave out a candidate whose error estimate over the "
                    "frame is above this times the candidates' median (0: off; at least 1, so "

@@ -1157,6 +1157,26 @@ TEST_F(AutoMethod, FrameWithoutStatisticsRunsNforAlone) {
     EXPECT_GT(withVariance.candidates.size(), 1u);
 }
 
+// The frame without half0's own layers (the renderer writes them with halves from 3 spp on).
+Frame WithoutHalf0sOwnLayers(Frame frame) {
+    std::erase_if(frame.layers, [](const auto &layer) {
+        return layer.first.rfind("half0.", 0) == 0 && layer.first != "half0.color";
+    });
+    return frame;
+}
+
+// The frame's own layers under half0's names, its variance doubled (as the runs on half0
+// take it without them).
+Frame WithFramesLayersAsHalf0s(const Frame &frame) {
+    Frame same = frame;
+    for (const char *name : {"albedo", "normal", "depth", "pivot", "hist", "min", "max", "spp"})
+        if (frame.Has(name)) same.layers["half0." + std::string(name)] = frame.Get(name);
+    Image doubled = frame.Get("variance");
+    for (float &v : doubled.data) v *= 2;
+    same.layers["half0.variance"] = doubled;
+    return same;
+}
+
 // half0's own layers (accumulate's half0.<layer>, and the renderer's with halves): the
 // runs on half0 read them in place of the frame's and --explain names them. The frame's own
 // layers under those names (the variance doubled, as the runs on half0 take it without
@@ -1172,19 +1192,11 @@ TEST_F(AutoMethod, HalfRunsReadHalf0sOwnLayers) {
                         "with half0's own variance, spp, min, max, hist, direct, indirect, "
                         "albedo, normal, depth, direct.variance, indirect.variance, compared"))
         << fmt::format("{}", fmt::join(own.plan, "\n"));
-    Frame frame = rendered;
-    std::erase_if(frame.layers, [](const auto &layer) {
-        return layer.first.rfind("half0.", 0) == 0 && layer.first != "half0.color";
-    });
+    const Frame frame = WithoutHalf0sOwnLayers(rendered);
     Result without = automatic.Run(device, frame);
     EXPECT_TRUE(PlanHas(without, "each candidate run on half0, with the frame's other layers"))
         << fmt::format("{}", fmt::join(without.plan, "\n"));
-    Frame same = frame;
-    for (const char *name : {"albedo", "normal", "depth", "pivot", "hist", "min", "max", "spp"})
-        if (frame.Has(name)) same.layers["half0." + std::string(name)] = frame.Get(name);
-    Image doubled = frame.Get("variance");
-    for (float &v : doubled.data) v *= 2;
-    same.layers["half0.variance"] = doubled;
+    const Frame same = WithFramesLayersAsHalf0s(frame);
     Result asBefore = automatic.Run(device, same);
     EXPECT_TRUE(PlanHas(asBefore,
                         "with half0's own variance, spp, min, max, hist, pivot, albedo, "
@@ -1206,8 +1218,9 @@ TEST_F(AutoMethod, HalfRunsReadHalf0sOwnLayers) {
 // decides for itself (rhf's cuts: no probe keeping the run's, whose plan lines would say
 // "rhf (probe): ..."); without them the probe keeps the run's cuts, as before.
 TEST_F(AutoMethod, HalfRunsOnHalf0sOwnLayersDecideTheirOwnCuts) {
-    auto [frame, reference] = RenderWithReference(
+    auto [rendered, reference] = RenderWithReference(
         "cornell", 24, 20, 8, render::kLayersAll | render::kLayersHalves, 8);
+    const Frame frame = WithoutHalf0sOwnLayers(rendered);
     Device device = api::BorrowDevice(Ctx());
     Method automatic("auto");
     automatic.Set("auto-candidates", std::string("rhf"));
@@ -1220,12 +1233,7 @@ TEST_F(AutoMethod, HalfRunsOnHalf0sOwnLayersDecideTheirOwnCuts) {
     Result keeps = automatic.Run(device, frame);
     EXPECT_GT(probeLines(keeps), 0) << fmt::format("{}", fmt::join(keeps.plan, "\n"));
     EXPECT_FALSE(PlanHas(keeps, "there each decides for itself"));
-    Frame own = frame;
-    for (const char *name : {"albedo", "normal", "depth", "pivot", "hist", "min", "max", "spp"})
-        if (frame.Has(name)) own.layers["half0." + std::string(name)] = frame.Get(name);
-    Image doubled = frame.Get("variance");
-    for (float &v : doubled.data) v *= 2;
-    own.layers["half0.variance"] = doubled;
+    const Frame own = WithFramesLayersAsHalf0s(frame);
     Result decides = automatic.Run(device, own);
     EXPECT_EQ(probeLines(decides), 0) << fmt::format("{}", fmt::join(decides.plan, "\n"));
     EXPECT_TRUE(PlanHas(decides,
