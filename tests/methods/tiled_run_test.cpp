@@ -184,6 +184,22 @@ TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
 
 class TiledRunShared : public GpuTest {};
 
+// rhf in tiles of 40 on a frame's inputs that share one memo (as auto's runs do); returns
+// how many selections the memo kept.
+struct SharedRhfRuns {
+    explicit SharedRhfRuns(const Frame &frame) : shared(frame, false, "rhf") {
+        run.tileSize = 40;
+        shared.SetMemo(&memo);
+    }
+    Result Run(const api::FrontEnd &rhf) {
+        return api::RunTiled(TestContext(), rhf, shared, run);
+    }
+    size_t Selections() const { return memo.CountWithPrefix("rhf.mask"); }
+    RunOptions run;
+    RunMemo memo;
+    api::Inputs shared;
+};
+
 // auto's runs share rhf's selections through the inputs' memo, tile by tile: a second run in
 // tiles on another colour takes the first's and gives what it gives alone.
 TEST_F(TiledRunShared, RhfSelectionsTakenFromAnEarlierRunAreBitIdentical) {
@@ -191,18 +207,14 @@ TEST_F(TiledRunShared, RhfSelectionsTakenFromAnEarlierRunAreBitIdentical) {
     for (float &v : other.layers["color"].data) v *= 1.25f;
     std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
     rhf->Set("nscales", 2);
-    RunOptions run;
-    run.tileSize = 40;
-    RunMemo memo;
-    api::Inputs shared(frame, false, "rhf");
-    shared.SetMemo(&memo);
-    api::RunTiled(Ctx(), *rhf, shared, run);
-    const size_t kept = memo.CountWithPrefix("rhf.mask");
+    SharedRhfRuns runs(frame);
+    const RunOptions &run = runs.run;
+    runs.Run(*rhf);
+    const size_t kept = runs.Selections();
     EXPECT_GT(kept, 0u);
-    shared.Override("color", other.layers["color"]);
-    Result second = api::RunTiled(Ctx(), *rhf, shared, run);
-    EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), kept)
-        << "the second run made selections of its own";
+    runs.shared.Override("color", other.layers["color"]);
+    Result second = runs.Run(*rhf);
+    EXPECT_EQ(runs.Selections(), kept) << "the second run made selections of its own";
     api::Inputs alone(other, false, "rhf");
     ExpectSameBits(api::RunTiled(Ctx(), *rhf, alone, run).image, second.image,
                    "rhf at 2 scales in tiles, selections shared");
@@ -221,17 +233,14 @@ TEST_F(TiledRunShared, RhfReplacedHistogramsSelectAnew) {
         std::copy_n(before.Plane(c / bins * bins + bins - 1 - c % bins), hist.PixelCount(),
                     hist.Plane(c));
     std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
-    RunOptions run;
-    run.tileSize = 40;
-    RunMemo memo;
-    api::Inputs shared(frame, false, "rhf");
-    shared.SetMemo(&memo);
-    api::RunTiled(Ctx(), *rhf, shared, run);
-    const size_t kept = memo.CountWithPrefix("rhf.mask");
+    SharedRhfRuns runs(frame);
+    const RunOptions &run = runs.run;
+    runs.Run(*rhf);
+    const size_t kept = runs.Selections();
     ASSERT_EQ(kept, 9u) << "one selection a tile";
-    shared.Override("hist", other.layers["hist"]);
-    Result second = api::RunTiled(Ctx(), *rhf, shared, run);
-    EXPECT_EQ(memo.CountWithPrefix("rhf.mask"), 2 * kept) << "new histograms, new selections";
+    runs.shared.Override("hist", other.layers["hist"]);
+    Result second = runs.Run(*rhf);
+    EXPECT_EQ(runs.Selections(), 2 * kept) << "new histograms, new selections";
     api::Inputs alone(other, false, "rhf");
     const Image expected = api::RunTiled(Ctx(), *rhf, alone, run).image;
     ExpectSameBits(expected, second.image, "rhf in tiles on replaced histograms");
