@@ -233,7 +233,9 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
             const float floorShare =
                 brightness > 0 ? std::min(float(lineFloor) * support / brightness, 1.f) : 0.f;
             if (LoneLight(color, divisor, mask, loneLight, x, y)) continue;
-            const bool floored = lineFloor > 0 && EmitterWithinReach(divisor, x, y);
+            // The floor raises only a value below it: the emitters' window is read only then
+            // (0: not read yet).
+            int floored = lineFloor > 0 ? 0 : -1;
             double values = 0, kept = 0;
             std::vector<double> clamped(color.channels), ratios;
             for (int c = 0; c < color.channels; ++c) {
@@ -254,8 +256,10 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 out.At(c, y, x) =
                     float(t > 0 ? (1 - t) * clamped[c] + t * v * scale : clamped[c]);
                 // The line's floor, after the channels' blend.
-                if (floored && v > 0)
-                    out.At(c, y, x) = std::max(out.At(c, y, x), floorShare * v);
+                const float floorValue = floorShare * v;
+                if (floored < 0 || !(v > 0) || out.At(c, y, x) > floorValue) continue;
+                if (floored == 0) floored = EmitterWithinReach(divisor, x, y) ? 1 : -1;
+                if (floored > 0) out.At(c, y, x) = std::max(out.At(c, y, x), floorValue);
             }
         }
     return out;

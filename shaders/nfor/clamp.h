@@ -18,7 +18,7 @@
 // cross their limits unevenly does not turn into a coloured speck) and 1 - t of the
 // channel clamped alone (one channel alone above its limit, a sample of one colour, is
 // clamped alone; t goes to 0 with the second channel's excess, so nothing jumps). One
-// invocation per pixel and channel; channel 0's writes the mask. With line > 0 a pixel
+// invocation per pixel, every channel (the blend reads them all); it writes the mask. With line > 0 a pixel
 // that has, along an axis or a diagonal, on both sides within 2 steps a pixel whose mean
 // over the channels is above line x its own is on a line (a highlight's streak one or two
 // pixels wide, hit by a few of its samples) and kept whole; pixels outside count as 0.

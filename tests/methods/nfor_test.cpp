@@ -118,42 +118,44 @@ TEST_P(NforNoiseKernel, MatchesReferenceAndRepeats) {
     std::string name = fmt::format("noise{}x{}{}", w, h, InputKindName(kind));
     Image image = Positive(kind, w, h, 3, name);
     Image albedo = Albedo(w, h, name + "albedo", false);
-    const int radius = 2;
     const float calibration = 1.479f;
-    // Relaxed: most pixels of the random albedo have too few neighbours divided alike.
-    for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}}) {
-        const Image *divisor = divided ? &albedo : nullptr;
-        Image expected = ref::NforNoise(image, divisor, radius, calibration, relaxed);
-        auto run = [&] {
-            vk::GpuImage in = Upload(Ctx(), image, "image"),
-                         a = Upload(Ctx(), albedo, "albedo");
-            vk::GpuImage out(Ctx(), w, h, 3, "variance");
-            vk::Recorder recorder(Ctx());
-            RecordNforNoise(Ctx(), recorder, in, divided ? &a : nullptr, radius, calibration,
-                            out, relaxed);
-            recorder.Submit();
-            return out.Download();
-        };
-        Image actual = run();
-        auto divisorAt = [&](int c, int x, int y) {
-            double a = divided ? albedo.At(c, y, x) : 1.0;
-            return a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
-        };
-        Image magnitude(w, h, 3);
-        for (int c = 0; c < 3; ++c)
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) {
-                    double z = WindowMax(image, c, x, y, radius + 1, [&](int c, int u, int v) {
-                        return std::fabs(image.At(c, v, u)) / divisorAt(c, u, v);
-                    });
-                    double a = divisorAt(c, x, y);
-                    magnitude.At(c, y, x) =
-                        float(4 * z * z * a * a * calibration / NFOR_CHI2_MEDIAN);
-                }
-        EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {16 * kU, 0, 1e-10}))
-            << "divided " << divided << " relaxed " << relaxed;
-        EXPECT_TRUE(BitIdentical(actual, run()));
-    }
+    // Radius 1 (the default: the kernel's unrolled path) and 2. Relaxed: most pixels of the
+    // random albedo have too few neighbours divided alike.
+    for (int radius : {1, 2})
+        for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}}) {
+            const Image *divisor = divided ? &albedo : nullptr;
+            Image expected = ref::NforNoise(image, divisor, radius, calibration, relaxed);
+            auto run = [&] {
+                vk::GpuImage in = Upload(Ctx(), image, "image"),
+                             a = Upload(Ctx(), albedo, "albedo");
+                vk::GpuImage out(Ctx(), w, h, 3, "variance");
+                vk::Recorder recorder(Ctx());
+                RecordNforNoise(Ctx(), recorder, in, divided ? &a : nullptr, radius,
+                                calibration, out, relaxed);
+                recorder.Submit();
+                return out.Download();
+            };
+            Image actual = run();
+            auto divisorAt = [&](int c, int x, int y) {
+                double a = divided ? albedo.At(c, y, x) : 1.0;
+                return a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
+            };
+            Image magnitude(w, h, 3);
+            for (int c = 0; c < 3; ++c)
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        double z =
+                            WindowMax(image, c, x, y, radius + 1, [&](int c, int u, int v) {
+                                return std::fabs(image.At(c, v, u)) / divisorAt(c, u, v);
+                            });
+                        double a = divisorAt(c, x, y);
+                        magnitude.At(c, y, x) =
+                            float(4 * z * z * a * a * calibration / NFOR_CHI2_MEDIAN);
+                    }
+            EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {16 * kU, 0, 1e-10}))
+                << "radius " << radius << " divided " << divided << " relaxed " << relaxed;
+            EXPECT_TRUE(BitIdentical(actual, run()));
+        }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()),
@@ -514,6 +516,42 @@ TEST_F(GpuTest, NforClampLineFloorKeepsAStreaksPeaksNearALightNotAFirefly) {
         EXPECT_NEAR(actual.data[i], on.data[i], 1e-5f * (1 + std::fabs(on.data[i]))) << i;
 }
 
+// The floor raises a value only where the clamp lowered it, the channels' blend included:
+// beside a bright emitter (albedo 10 at (5, 0)) a pixel (8, 8, 0.1) at (5, 3) between two of
+// brightness 4.1 on its row has its red and green clamped, and its blue, under its own
+// limit, lowered by the blend to far below the floor 1.5 x 4.1 / 16.1 of it: the floor
+// gives it back (a floor read from the channel's own clamp alone would leave it). A ground
+// pixel beside the emitter, not lowered, keeps its value. The kernel gives the reference's.
+TEST_F(GpuTest, NforClampLineFloorRaisesWhatTheBlendLowered) {
+    const int w = 11, h = 9;
+    Image color(w, h, 3, 0.1f), variance(w, h, 3, 1e-4f), albedo(w, h, 3, 0.5f);
+    for (int c = 0; c < 3; ++c) albedo.At(c, 0, 5) = 10;
+    color.At(0, 3, 5) = 8, color.At(1, 3, 5) = 8;
+    for (int x : {4, 6}) color.At(0, 3, x) = 2, color.At(1, 3, x) = 2;
+    Image mask = ref::NforMask(&albedo, w, h, 1.5);
+    auto clamp = [&](double floor) {
+        return ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, true, 1, 0, floor);
+    };
+    Image off = clamp(0), on = clamp(1.5);
+    const float share = 1.5f * 4.1f / 16.1f;
+    EXPECT_LT(off.At(2, 3, 5), 0.2f * share * 0.1f);
+    EXPECT_FLOAT_EQ(on.At(2, 3, 5), share * 0.1f);
+    for (int c = 0; c < 2; ++c) {
+        EXPECT_LT(off.At(c, 3, 5), share * 8);
+        EXPECT_FLOAT_EQ(on.At(c, 3, 5), share * 8) << c;
+    }
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(on.At(c, 1, 4), color.At(c, 1, 4)) << c;
+    vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
+    vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+    vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
+    vk::Recorder recorder(Ctx());
+    RecordNforClamp(Ctx(), recorder, c, v, &a, 4, 0.5f, 1.5f, 3, -1, true, 1, 0, 1.5f, out, m);
+    recorder.Submit();
+    Image actual = out.Download();
+    for (size_t i = 0; i < on.data.size(); ++i)
+        EXPECT_NEAR(actual.data[i], on.data[i], 1e-5f * (1 + std::fabs(on.data[i]))) << i;
+}
+
 // Weights exp(-e): e's terms T = (d^2 - s) / (s + eps) are each at least -1 and are averaged
 // over n patch positions with about (n + 5) u of mean |T| of rounding. Since e >= mean |T|
 // - 2 / k^2 (only negative terms make |T| and T differ, by at most 2), a weight's absolute
@@ -534,31 +572,35 @@ TEST_P(NforPrefilterKernel, MatchesReferenceAndRepeats) {
     Image variance = Positive(InputKind::Uniform, w, h, 4, name + "variance");
     // A third of the pixels sharp (no noise), the rest a little noisy.
     for (size_t i = 0; i < variance.Size(); ++i) variance.data[i] *= i % 3 == 0 ? 0.f : 0.05f;
-    const int radius = 2, patch = 1;
+    const int patch = 1;
     const float bandwidth = 1;
-    Image expected = ref::NforPrefilter(features, variance, radius, patch, bandwidth);
-    auto run = [&] {
-        vk::GpuImage f = Upload(Ctx(), features, "features");
-        vk::GpuImage v = Upload(Ctx(), variance, "variance");
-        vk::GpuImage out(Ctx(), w, h, 4, "out");
-        vk::Recorder recorder(Ctx());
-        RecordNforPrefilter(Ctx(), recorder, f, v, radius, patch, bandwidth, out);
-        recorder.Submit();
-        return out.Download();
-    };
-    Image actual = run();
-    int m = (2 * radius + 1) * (2 * radius + 1), n = (2 * patch + 1) * (2 * patch + 1);
-    double perValue = 2 * m * WeightError(n, bandwidth) + m * kU;
-    Image magnitude(w, h, 4);
-    for (int c = 0; c < 4; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                magnitude.At(c, y, x) =
-                    float(WindowMax(features, c, x, y, radius, [&](int c, int u, int v) {
-                        return std::fabs(features.At(c, v, u));
-                    }));
-    EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {perValue, 0, 1e-9}));
-    EXPECT_TRUE(BitIdentical(actual, run()));
+    // Radius 1 (the default: the kernel's unrolled path) and 2.
+    for (int radius : {1, 2}) {
+        SCOPED_TRACE(fmt::format("radius {}", radius));
+        Image expected = ref::NforPrefilter(features, variance, radius, patch, bandwidth);
+        auto run = [&] {
+            vk::GpuImage f = Upload(Ctx(), features, "features");
+            vk::GpuImage v = Upload(Ctx(), variance, "variance");
+            vk::GpuImage out(Ctx(), w, h, 4, "out");
+            vk::Recorder recorder(Ctx());
+            RecordNforPrefilter(Ctx(), recorder, f, v, radius, patch, bandwidth, out);
+            recorder.Submit();
+            return out.Download();
+        };
+        Image actual = run();
+        int m = (2 * radius + 1) * (2 * radius + 1), n = (2 * patch + 1) * (2 * patch + 1);
+        double perValue = 2 * m * WeightError(n, bandwidth) + m * kU;
+        Image magnitude(w, h, 4);
+        for (int c = 0; c < 4; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    magnitude.At(c, y, x) =
+                        float(WindowMax(features, c, x, y, radius, [&](int c, int u, int v) {
+                            return std::fabs(features.At(c, v, u));
+                        }));
+        EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {perValue, 0, 1e-9}));
+        EXPECT_TRUE(BitIdentical(actual, run()));
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforPrefilterKernel, testing::ValuesIn(KernelCases()),
