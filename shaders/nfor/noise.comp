@@ -117,7 +117,8 @@ float smallestMedian1(int x, int y, float a, bool relaxed, int minPairs) {
         [[unroll]] for (int dv = -1; dv <= 1; ++dv)
             [[unroll]] for (int du = -1; du <= 1; ++du) {
                 int k0 = (dv + 2) * 4 + du + 1, k1 = k0 + dirs[d].y * 4 + dirs[d].x;
-                bool centre = (du == 0 && dv == 0) || (du + dirs[d].x == 0 && dv + dirs[d].y == 0);
+                bool centre =
+                    (du == 0 && dv == 0) || (du + dirs[d].x == 0 && dv + dirs[d].y == 0);
                 if (ins[k0] && ins[k1] && counts(a, as[k0], as[k1], relaxed, centre)) {
                     float diff = zs[k0] - zs[k1];
                     insertSorted9(halves, n, 0.5 * diff * diff);
@@ -149,7 +150,8 @@ void main() {
     float best = smallestMedianAt(x, y, a, false, NFOR_NOISE_MIN_PAIRS);
     // Too few neighbours divided alike (an edge pixel's albedo unlike all around it): the
     // differences of its neighbours divided as it is (coverage divides out of colour / albedo).
-    if (best < 0.0 && push.relaxed != 0) best = smallestMedianAt(x, y, a, true, NFOR_NOISE_MIN_RELAXED_PAIRS);
+    if (best < 0.0 && push.relaxed != 0)
+        best = smallestMedianAt(x, y, a, true, NFOR_NOISE_MIN_RELAXED_PAIRS);
     float scale = a > 0.0 ? a * a : 1.0;
     outputs[(c * h + y) * w + x] = best < 0.0 ? 0.0 : best * push.calibration * scale;
 }
