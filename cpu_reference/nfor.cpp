@@ -233,9 +233,7 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
             const float floorShare =
                 brightness > 0 ? std::min(float(lineFloor) * support / brightness, 1.f) : 0.f;
             if (LoneLight(color, divisor, mask, loneLight, x, y)) continue;
-            // The floor raises only a value below it: the emitters' window is read only then
-            // (0: not read yet).
-            int floored = lineFloor > 0 ? 0 : -1;
+            const bool floored = lineFloor > 0 && EmitterWithinReach(divisor, x, y);
             double values = 0, kept = 0;
             std::vector<double> clamped(color.channels), ratios;
             for (int c = 0; c < color.channels; ++c) {
@@ -256,10 +254,8 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
                 out.At(c, y, x) =
                     float(t > 0 ? (1 - t) * clamped[c] + t * v * scale : clamped[c]);
                 // The line's floor, after the channels' blend.
-                const float floorValue = floorShare * v;
-                if (floored < 0 || !(v > 0) || out.At(c, y, x) > floorValue) continue;
-                if (floored == 0) floored = EmitterWithinReach(divisor, x, y) ? 1 : -1;
-                if (floored > 0) out.At(c, y, x) = std::max(out.At(c, y, x), floorValue);
+                if (floored && v > 0)
+                    out.At(c, y, x) = std::max(out.At(c, y, x), floorShare * v);
             }
         }
     return out;
