@@ -535,13 +535,18 @@ TEST_F(GpuTest, NforClampLineFloorKeepsAStreaksPeaksNearALightNotAFirefly) {
 // brightness 4.1 on its row has its red and green clamped, and its blue, under its own
 // limit, lowered by the blend to far below the floor 1.5 x 4.1 / 16.1 of it: the floor
 // gives it back (a floor read from the channel's own clamp alone would leave it). A ground
-// pixel beside the emitter, not lowered, keeps its value. The kernel gives the reference's.
+// pixel beside the emitter, not lowered, keeps its value. A pixel (0.1, 8, 0.1) at (8, 2) on
+// the ground has its green alone clamped (no blend): its red stays above its floor
+// 1.5 x 0.3 / 8.2 of it, so the emitters' window is first needed at green, which the floor
+// raises (a kernel that skipped the window after red would leave it). The kernel gives the
+// reference's.
 TEST_F(GpuTest, NforClampLineFloorRaisesWhatTheBlendLowered) {
     const int w = 11, h = 9;
     Image color(w, h, 3, 0.1f), variance(w, h, 3, 1e-4f), albedo(w, h, 3, 0.5f);
     for (int c = 0; c < 3; ++c) albedo.At(c, 0, 5) = 10;
     color.At(0, 3, 5) = 8, color.At(1, 3, 5) = 8;
     for (int x : {4, 6}) color.At(0, 3, x) = 2, color.At(1, 3, x) = 2;
+    color.At(1, 2, 8) = 8;
     Image mask = ref::NforMask(&albedo, w, h, 1.5);
     auto clamp = [&](double floor) {
         return ref::NforClamp(color, variance, &albedo, mask, 4, 0.5, 3, -1, true, 1, 0, floor);
@@ -555,6 +560,10 @@ TEST_F(GpuTest, NforClampLineFloorRaisesWhatTheBlendLowered) {
         EXPECT_FLOAT_EQ(on.At(c, 3, 5), share * 8) << c;
     }
     for (int c = 0; c < 3; ++c) EXPECT_EQ(on.At(c, 1, 4), color.At(c, 1, 4)) << c;
+    const float greenShare = 1.5f * 0.3f / 8.2f;
+    EXPECT_LT(off.At(1, 2, 8), 0.5f * greenShare * 8);
+    EXPECT_FLOAT_EQ(on.At(1, 2, 8), greenShare * 8);
+    for (int c : {0, 2}) EXPECT_EQ(on.At(c, 2, 8), color.At(c, 2, 8)) << c;
     vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
     vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
     vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
