@@ -3,6 +3,7 @@
 #extension GL_EXT_control_flow_attributes : require
 
 #include "nfor/clamp.h"
+#include "nfor/sorted.glsl"
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(std430, binding = NFOR_CLAMP_COLOR) readonly buffer Color { float color[]; };
@@ -39,31 +40,6 @@ bool alike(float a, float b) {
     return a <= b * ratio && b <= a * ratio;
 }
 
-// Inserts v into the n values of s sorted ascending after every value not above it, as an
-// insertion sort inserts it; unrolled, so that s stays in registers.
-void insertSorted8(inout float s[8], int n, float v) {
-    bool placed = false;
-    [[unroll]] for (int i = 7; i >= 1; --i) {
-        if (i <= n && !placed) {
-            if (s[i - 1] > v) {
-                s[i] = s[i - 1];
-            } else {
-                s[i] = v;
-                placed = true;
-            }
-        }
-    }
-    if (!placed) s[0] = v;
-}
-
-// s[k], indexed by constants only.
-float pick8(float s[8], int k) {
-    float picked = s[0];
-    [[unroll]] for (int i = 1; i < 8; ++i)
-        if (k == i) picked = s[i];
-    return picked;
-}
-
 // Channel c of (x, y) clamped on its own: its value, or its limit where above it.
 float clampedAt(int c, int x, int y) {
     int at = (c * h + y) * w + x;
@@ -71,7 +47,7 @@ float clampedAt(int c, int x, int y) {
     // The z of the neighbours divided like this pixel, sorted as they come; with none, the
     // neighbours' colours (a lone pixel whose albedo is unlike all around it).
     float a = divisorAt(c, x, y);
-    float z[8], raw[8];
+    float z[9], raw[9];  // the 8 neighbours, in sorted.glsl's 9 slots
     int n = 0, m = 0;
     bool emitterNear = false;
     [[unroll]] for (int dv = -1; dv <= 1; ++dv)
@@ -80,17 +56,17 @@ float clampedAt(int c, int x, int y) {
             if ((du == 0 && dv == 0) || u < 0 || v < 0 || u >= w || v >= h) continue;
             emitterNear = emitterNear || emitterAt(u, v);
             float cq = color[(c * h + v) * w + u], aq = divisorAt(c, u, v);
-            insertSorted8(raw, m, cq);
+            insertSorted(raw, m, cq);
             ++m;
             if (!alike(a, aq)) continue;
-            insertSorted8(z, n, aq > 0.0 ? cq / aq : cq);
+            insertSorted(z, n, aq > 0.0 ? cq / aq : cq);
             ++n;
         }
     // Unlike all around it next to a light: the light's edge, kept or clamped on its own terms.
     bool edge = n == 0 && emitterNear;
     if (m == 0 || (edge && push.lightEdge < 0.0)) return value;
     float s = n > 0 && a > 0.0 ? a : 1.0;
-    float median = n > 0 ? pick8(z, rankIndex(n)) : pick8(raw, rankIndex(m));
+    float median = n > 0 ? pickSorted(z, rankIndex(n)) : pickSorted(raw, rankIndex(m));
     float relative = edge ? push.lightEdge : push.relative;
     float limit = median + push.threshold * sqrt(variance[at]) / s + relative * abs(median);
     return value / s > limit ? limit * s : value;

@@ -3,6 +3,7 @@
 #extension GL_EXT_control_flow_attributes : require
 
 #include "nfor/noise.h"
+#include "nfor/sorted.glsl"
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(std430, binding = NFOR_NOISE_IMAGE) readonly buffer Values { float values[]; };
@@ -76,23 +77,6 @@ float smallestMedian(int x, int y, float a, bool relaxed, int minPairs) {
     return best;
 }
 
-// Inserts v into the n values of s sorted ascending as the insertion sort above inserts it
-// (after every value not above it), unrolled: s stays in registers.
-void insertSorted9(inout float s[9], int n, float v) {
-    bool placed = false;
-    [[unroll]] for (int i = 8; i >= 1; --i) {
-        if (i <= n && !placed) {
-            if (s[i - 1] > v) {
-                s[i] = s[i - 1];
-            } else {
-                s[i] = v;
-                placed = true;
-            }
-        }
-    }
-    if (!placed) s[0] = v;
-}
-
 // smallestMedian at radius 1 (the default), unrolled: the z and divisors of the pixels the
 // pairs read (x - 1..x + 2, y - 2..y + 2) loaded once, every array indexed by constants.
 float smallestMedian1(int x, int y, float a, bool relaxed, int minPairs) {
@@ -121,15 +105,12 @@ float smallestMedian1(int x, int y, float a, bool relaxed, int minPairs) {
                     (du == 0 && dv == 0) || (du + dirs[d].x == 0 && dv + dirs[d].y == 0);
                 if (ins[k0] && ins[k1] && counts(a, as[k0], as[k1], relaxed, centre)) {
                     float diff = zs[k0] - zs[k1];
-                    insertSorted9(halves, n, 0.5 * diff * diff);
+                    insertSorted(halves, n, 0.5 * diff * diff);
                     ++n;
                 }
             }
         if (n < minPairs) continue;
-        float median = halves[0];
-        [[unroll]] for (int k = 1; k < 9; ++k)
-            if ((n - 1) / 2 == k) median = halves[k];
-        float estimate = median / float(NFOR_CHI2_MEDIAN);
+        float estimate = pickSorted(halves, (n - 1) / 2) / float(NFOR_CHI2_MEDIAN);
         if (best < 0.0 || estimate < best) best = estimate;
     }
     return best;
