@@ -128,7 +128,7 @@ void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
          {NFOR_CLAMP_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read},
          {NFOR_CLAMP_OUT, &out.buffer, vk::Access::Write},
          {NFOR_CLAMP_MASK, &mask.buffer, vk::Access::Write}},
-        push, Groups(color.width), uint32_t(color.height), uint32_t(color.channels));
+        push, Groups(color.width), uint32_t(color.height), 1);
 }
 
 void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,

@@ -1,7 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "nfor/clamp.h"
+#include "nfor/sorted.glsl"
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(std430, binding = NFOR_CLAMP_COLOR) readonly buffer Color { float color[]; };
@@ -45,34 +47,26 @@ float clampedAt(int c, int x, int y) {
     // The z of the neighbours divided like this pixel, sorted as they come; with none, the
     // neighbours' colours (a lone pixel whose albedo is unlike all around it).
     float a = divisorAt(c, x, y);
-    float z[8], raw[8];
+    float z[9], raw[9];  // the 8 neighbours, in sorted.glsl's 9 slots
     int n = 0, m = 0;
     bool emitterNear = false;
-    for (int v = y - 1; v <= y + 1; ++v)
-        for (int u = x - 1; u <= x + 1; ++u) {
-            if ((u == x && v == y) || u < 0 || v < 0 || u >= w || v >= h) continue;
+    [[unroll]] for (int dv = -1; dv <= 1; ++dv)
+        [[unroll]] for (int du = -1; du <= 1; ++du) {
+            int u = x + du, v = y + dv;
+            if ((du == 0 && dv == 0) || u < 0 || v < 0 || u >= w || v >= h) continue;
             emitterNear = emitterNear || emitterAt(u, v);
             float cq = color[(c * h + v) * w + u], aq = divisorAt(c, u, v);
-            int i = m++;
-            while (i > 0 && raw[i - 1] > cq) {
-                raw[i] = raw[i - 1];
-                --i;
-            }
-            raw[i] = cq;
+            insertSorted(raw, m, cq);
+            ++m;
             if (!alike(a, aq)) continue;
-            float zq = aq > 0.0 ? cq / aq : cq;
-            i = n++;
-            while (i > 0 && z[i - 1] > zq) {
-                z[i] = z[i - 1];
-                --i;
-            }
-            z[i] = zq;
+            insertSorted(z, n, aq > 0.0 ? cq / aq : cq);
+            ++n;
         }
     // Unlike all around it next to a light: the light's edge, kept or clamped on its own terms.
     bool edge = n == 0 && emitterNear;
     if (m == 0 || (edge && push.lightEdge < 0.0)) return value;
     float s = n > 0 && a > 0.0 ? a : 1.0;
-    float median = n > 0 ? z[rankIndex(n)] : raw[rankIndex(m)];
+    float median = n > 0 ? pickSorted(z, rankIndex(n)) : pickSorted(raw, rankIndex(m));
     float relative = edge ? push.lightEdge : push.relative;
     float limit = median + push.threshold * sqrt(variance[at]) / s + relative * abs(median);
     return value / s > limit ? limit * s : value;
@@ -137,38 +131,55 @@ void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
     h = push.height;
-    int c = int(gl_WorkGroupID.z);
     if (x >= w) return;
-    int at = (c * h + y) * w + x;
-    float value = color[at];
-    if (c == 0) mask[y * w + x] = emitterAt(x, y) ? 0.0 : 1.0;
-    outColor[at] = value;
+    mask[y * w + x] = emitterAt(x, y) ? 0.0 : 1.0;
+    // Every channel of the pixel here: the channels' blend reads them all. Arrays indexed by
+    // constants only (the loops unrolled to the largest count), so they stay in registers.
+    float values[NFOR_MAX_CHANNELS];
+    [[unroll]] for (int c = 0; c < NFOR_MAX_CHANNELS; ++c)
+        if (c < push.channels) {
+            values[c] = color[(c * h + y) * w + x];
+            outColor[(c * h + y) * w + x] = values[c];
+        }
     if (push.threshold <= 0.0) return;
-    // A line's pixel (a highlight's streak) keeps its value; with the floor on, a line's
+    // A line's pixel (a highlight's streak) keeps its values; with the floor on, a line's
     // peak keeps at least lineFloor x its line's brightness, its hue kept.
     float brightness = brightnessAt(x, y);
     float support = push.line > 0.0 || push.lineFloor > 0.0 ? lineSupport(x, y) : 0.0;
     if (push.line > 0.0 && support > push.line * brightness) return;
     float floorShare = brightness > 0.0 ? min(push.lineFloor * support / brightness, 1.0) : 0.0;
-    // A light smaller than a pixel seen directly keeps its value.
+    // A light smaller than a pixel seen directly keeps its values.
     if (loneLightAt(x, y)) return;
-    float own = clampedAt(c, x, y);
-    bool floored = push.lineFloor > 0.0 && value > 0.0 && emitterWithinReach(x, y);
-    outColor[at] = floored ? max(own, floorShare * value) : own;
-    if (push.sumChannels == 0) return;
+    float own[NFOR_MAX_CHANNELS];
+    [[unroll]] for (int c = 0; c < NFOR_MAX_CHANNELS; ++c)
+        if (c < push.channels) own[c] = clampedAt(c, x, y);
     // The share t = 1 - (the second smallest of clamped / value over the channels) of the
     // pixel scaled as a whole by the clamped channels' sum over the values' sum.
-    float values = 0.0, kept = 0.0, least = 1.0, second = 1.0;
-    for (int k = 0; k < push.channels; ++k) {
-        float v = color[(k * h + y) * w + x], clamped = k == c ? own : clampedAt(k, x, y);
-        values += v;
-        kept += clamped;
-        float ratio = v > 0.0 ? clamped / v : 1.0;
-        second = min(second, max(least, ratio));
-        least = min(least, ratio);
-    }
+    float sum = 0.0, kept = 0.0, least = 1.0, second = 1.0;
+    [[unroll]] for (int c = 0; c < NFOR_MAX_CHANNELS; ++c)
+        if (c < push.channels) {
+            sum += values[c];
+            kept += own[c];
+            float ratio = values[c] > 0.0 ? own[c] / values[c] : 1.0;
+            second = min(second, max(least, ratio));
+            least = min(least, ratio);
+        }
     float t = clamp(1.0 - second, 0.0, 1.0);
-    float whole = values > 0.0 ? value * min(kept / values, 1.0) : value;
-    if (t > 0.0) outColor[at] = (1.0 - t) * own + t * whole;
-    if (floored) outColor[at] = max(outColor[at], floorShare * value);
+    // The floor raises only a value below it: the emitters' window is read only then, once.
+    bool reachRead = false, reach = false;
+    [[unroll]] for (int c = 0; c < NFOR_MAX_CHANNELS; ++c)
+        if (c < push.channels) {
+            float value = values[c], result = own[c];
+            if (push.sumChannels != 0) {
+                float whole = sum > 0.0 ? value * min(kept / sum, 1.0) : value;
+                if (t > 0.0) result = (1.0 - t) * own[c] + t * whole;
+            }
+            float floorValue = floorShare * value;
+            if (push.lineFloor > 0.0 && value > 0.0 && !(result > floorValue)) {
+                if (!reachRead) reach = emitterWithinReach(x, y);
+                reachRead = true;
+                if (reach) result = max(result, floorValue);
+            }
+            outColor[(c * h + y) * w + x] = result;
+        }
 }

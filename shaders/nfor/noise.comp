@@ -1,7 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 #include "nfor/noise.h"
+#include "nfor/sorted.glsl"
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(std430, binding = NFOR_NOISE_IMAGE) readonly buffer Values { float values[]; };
@@ -75,6 +77,50 @@ float smallestMedian(int x, int y, float a, bool relaxed, int minPairs) {
     return best;
 }
 
+// smallestMedian at radius 1 (the default), unrolled: the z and divisors of the pixels the
+// pairs read (x - 1..x + 2, y - 2..y + 2) loaded once, every array indexed by constants.
+float smallestMedian1(int x, int y, float a, bool relaxed, int minPairs) {
+    float zs[20], as[20];
+    bool ins[20];
+    [[unroll]] for (int j = 0; j < 5; ++j)
+        [[unroll]] for (int i = 0; i < 4; ++i) {
+            int u = x - 1 + i, v = y - 2 + j, k = j * 4 + i;
+            ins[k] = inside(u, v);
+            as[k] = 0.0;
+            zs[k] = 0.0;
+            if (ins[k]) {
+                as[k] = divisorAt(u, v);
+                zs[k] = zAt(u, v, as[k]);
+            }
+        }
+    const ivec2 dirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
+    float best = -1.0;
+    [[unroll]] for (int d = 0; d < 4; ++d) {
+        float halves[9];
+        int n = 0;
+        [[unroll]] for (int dv = -1; dv <= 1; ++dv)
+            [[unroll]] for (int du = -1; du <= 1; ++du) {
+                int k0 = (dv + 2) * 4 + du + 1, k1 = k0 + dirs[d].y * 4 + dirs[d].x;
+                bool centre =
+                    (du == 0 && dv == 0) || (du + dirs[d].x == 0 && dv + dirs[d].y == 0);
+                if (ins[k0] && ins[k1] && counts(a, as[k0], as[k1], relaxed, centre)) {
+                    float diff = zs[k0] - zs[k1];
+                    insertSorted(halves, n, 0.5 * diff * diff);
+                    ++n;
+                }
+            }
+        if (n < minPairs) continue;
+        float estimate = pickSorted(halves, (n - 1) / 2) / float(NFOR_CHI2_MEDIAN);
+        if (best < 0.0 || estimate < best) best = estimate;
+    }
+    return best;
+}
+
+float smallestMedianAt(int x, int y, float a, bool relaxed, int minPairs) {
+    if (push.radius == 1) return smallestMedian1(x, y, a, relaxed, minPairs);
+    return smallestMedian(x, y, a, relaxed, minPairs);
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
@@ -82,10 +128,11 @@ void main() {
     c = int(gl_WorkGroupID.z);
     if (x >= w) return;
     float a = divisorAt(x, y);
-    float best = smallestMedian(x, y, a, false, NFOR_NOISE_MIN_PAIRS);
+    float best = smallestMedianAt(x, y, a, false, NFOR_NOISE_MIN_PAIRS);
     // Too few neighbours divided alike (an edge pixel's albedo unlike all around it): the
     // differences of its neighbours divided as it is (coverage divides out of colour / albedo).
-    if (best < 0.0 && push.relaxed != 0) best = smallestMedian(x, y, a, true, NFOR_NOISE_MIN_RELAXED_PAIRS);
+    if (best < 0.0 && push.relaxed != 0)
+        best = smallestMedianAt(x, y, a, true, NFOR_NOISE_MIN_RELAXED_PAIRS);
     float scale = a > 0.0 ? a * a : 1.0;
     outputs[(c * h + y) * w + x] = best < 0.0 ? 0.0 : best * push.calibration * scale;
 }
