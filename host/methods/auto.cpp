@@ -192,12 +192,22 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
     Image smooth = gpu.smooth.Download(), halfNoise = noise.Download();
     for (float &x : halfNoise.data) x = -x;
     if (options.halvesSums) options.halvesSums->Add(smooth, halfNoise);
-    AutoHalvesSettings settings{options.halvesFloor, options.halvesDrop, options.floorError,
-                                options.halvesRank};
+    AutoHalvesSettings settings;
+    settings.floor = options.halvesFloor, settings.drop = options.halvesDrop;
+    settings.floorError = options.floorError, settings.rank = options.halvesRank;
     if (!options.halvesDropped.empty()) settings.dropped = &options.halvesDropped;
     if (!options.halvesFrameEstimates.empty()) {
         settings.frameEstimates = &options.halvesFrameEstimates;
         settings.frameNoise = options.halvesFrameNoise;
+    }
+    if (options.halvesVariants) {
+        // Each candidate's method by its first candidate's index.
+        for (const AutoCandidate &c : candidates) {
+            int first = 0;
+            while (candidates[first].method != c.method) ++first;
+            settings.method.push_back(first);
+        }
+        settings.power = options.power;
     }
     AutoHalvesResult adjusted = AutoAdjustHalvesEstimates(smooth, halfNoise, settings);
     gpu.smooth.Upload(smooth);
@@ -213,6 +223,12 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                               "the frame's ranking (--auto-halves-rank)",
                               options.halvesRank)
                 : ""));
+    if (options.halvesVariants)
+        run.Plan(fmt::format(
+            "auto: a method's variants share one candidate's weight (each estimate times the "
+            "number of its method's candidates left in ^ 1/{}: their errors go together; "
+            "--auto-halves-variants share)",
+            options.power));
     // In strips the whole frame's figures are AutoCombine's to print.
     if (options.halvesDropped.empty())
         for (const std::string &line : HalvesDropPlan(candidates, options, adjusted))
@@ -256,7 +272,7 @@ void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInput
     // seen by one sample, and so does the first pass), that pixel's estimate, of the order
     // of v / (g^2 + 0.01), would swamp every window around it.
     RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius);
-    if (halves && (options.halvesFloor > 0 || options.halvesDrop > 0))
+    if (halves && (options.halvesFloor > 0 || options.halvesDrop > 0 || options.halvesVariants))
         AdjustHalvesEstimates(run, gpu, est, candidates, options, guide);
 }
 

@@ -87,6 +87,23 @@ std::vector<bool> AutoHalvesDropped(const std::vector<double> &frameEstimates, f
     return dropped;
 }
 
+std::vector<float> AutoVariantFactors(const std::vector<int> &method,
+                                      const std::vector<bool> &dropped, float power) {
+    std::vector<float> factors(dropped.size(), 1.f);
+    if (method.empty() || power <= 0) return factors;
+    if (method.size() != dropped.size())
+        throw Error("auto: the variants' methods must hold one per candidate",
+                    ErrorKind::Internal);
+    for (size_t k = 0; k < method.size(); ++k) {
+        if (dropped[k]) continue;
+        int siblings = 0;
+        for (size_t j = 0; j < method.size(); ++j)
+            siblings += !dropped[j] && method[j] == method[k];
+        factors[k] = float(std::pow(double(siblings), 1.0 / double(power)));
+    }
+    return factors;
+}
+
 AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
                                            const AutoHalvesSettings &settings) {
     const size_t n = smooth.PixelCount();
@@ -133,9 +150,16 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
             if (!result.dropped[k]) e = std::max(e, least * factors[k]);
         }
     }
-    for (int k = 0; k < count; ++k)
+    // After the floor: the variants share their method's weight there too.
+    const std::vector<float> variants =
+        AutoVariantFactors(settings.method, result.dropped, settings.power);
+    for (int k = 0; k < count; ++k) {
+        float *plane = smooth.Plane(k);
         if (result.dropped[k])
-            std::fill_n(smooth.Plane(k), n, std::numeric_limits<float>::infinity());
+            std::fill_n(plane, n, std::numeric_limits<float>::infinity());
+        else if (variants[k] != 1.f)
+            for (size_t i = 0; i < n; ++i) plane[i] *= variants[k];
+    }
     return result;
 }
 

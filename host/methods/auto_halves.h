@@ -27,6 +27,12 @@ struct AutoHalvesSettings {
     // left in) ^ this, so that where the noise hides the differences the weights follow the
     // frame's ranking instead of going equal (0: the same floor for all).
     float rank = 0;
+    // Per candidate, the method it is a variant of; with `power` > 0 each estimate left in
+    // is multiplied by (the number of that method's candidates left in) ^ (1 / power), so
+    // that under weights 1 / e^power a method's variants, whose errors go together, share
+    // one candidate's weight (empty: each weighs alone).
+    std::vector<int> method;
+    float power = 0;
     // The candidates left out, decided over the whole frame (a combination in strips: each
     // strip's window alone would decide otherwise); null: this window's estimates decide.
     const std::vector<bool> *dropped = nullptr;
@@ -61,6 +67,12 @@ struct AutoHalvesSums {
 // its finite window means) and their median, which the ratio is taken against.
 std::vector<bool> AutoHalvesDropped(const std::vector<double> &frameEstimates, float drop,
                                     double *median);
+
+// Each candidate's factor on its estimate that makes a method's variants share one weight
+// under weights 1 / e^power: (its method's candidates left in) ^ (1 / power); 1 for every
+// candidate where `method` is empty or power is not above 0.
+std::vector<float> AutoVariantFactors(const std::vector<int> &method,
+                                      const std::vector<bool> &dropped, float power);
 
 // `smooth`: K planes, the candidates' window means of their estimates; `noise`: one plane,
 // the window mean of half1's variance over relMSE's denominator (>= 0). Returns what was

@@ -185,5 +185,80 @@ TEST(AutoHalvesEstimates, AnEstimateNearZeroByChanceDoesNotTakeAllTheWeight) {
     EXPECT_LT(after, 0.95 * before);
 }
 
+// A method's variants share one candidate's weight under 1 / e^power: each estimate left in
+// times (its method's candidates left in) ^ (1 / power), after the floor; a variant whose
+// sibling is left out weighs alone again.
+TEST(AutoHalvesEstimates, AMethodsVariantsShareOneWeight) {
+    const std::vector<int> method = {0, 1, 2, 1, 2};
+    std::vector<bool> none(5, false), third(5, false);
+    third[3] = true;
+    const float root2 = std::sqrt(2.f);
+    EXPECT_EQ(AutoVariantFactors(method, none, 2.f),
+              (std::vector<float>{1.f, root2, root2, root2, root2}));
+    EXPECT_EQ(AutoVariantFactors(method, third, 2.f),
+              (std::vector<float>{1.f, 1.f, root2, 1.f, root2}));
+    EXPECT_EQ(AutoVariantFactors(method, none, 0.f), std::vector<float>(5, 1.f));
+    EXPECT_EQ(AutoVariantFactors({}, none, 2.f), std::vector<float>(5, 1.f));
+
+    const int w = 11, h = 7, count = 5;
+    Estimates e = RandomEstimates(w, h, count, "auto halves variants");
+    AutoHalvesSettings plain;
+    plain.floor = 0.5f, plain.floorError = 1e-5f;
+    AutoHalvesSettings shared = plain;
+    shared.method = method, shared.power = 2.f;
+    Image before = e.smooth, after = e.smooth;
+    AutoAdjustHalvesEstimates(before, e.noise, plain);
+    AutoAdjustHalvesEstimates(after, e.noise, shared);
+    const std::vector<float> factors = AutoVariantFactors(method, none, 2.f);
+    for (int k = 0; k < count; ++k)
+        for (size_t i = 0; i < before.PixelCount(); ++i)
+            EXPECT_EQ(after.Plane(k)[i], before.Plane(k)[i] * factors[k])
+                << "pixel " << i << " candidate " << k;
+}
+
+// One method's run and three variants of another whose errors go together (the same noise
+// but for a small part of their own), estimates that scatter as much as the errors and a
+// floor that binds, as on a noisy accumulated frame: each candidate weighing alone gives the
+// variants three quarters of the weight and keeps their shared error; sharing one weight
+// gives them half.
+TEST(AutoHalvesEstimates, VariantsWhoseErrorsGoTogetherWeighAsOne) {
+    const int w = 48, h = 48;
+    std::mt19937_64 rng(SeedFromName("auto halves variants together"));
+    std::normal_distribution<float> unit(0.f, 1.f);
+    Image truth(w, h, 3), color(w, h, 3), variance(w, h, 3);
+    std::vector<Image> outputs(4, Image(w, h, 3));
+    for (size_t i = 0; i < truth.data.size(); ++i) {
+        truth.data[i] = 0.5f;
+        color.data[i] = 0.5f + 0.2f * unit(rng);
+        variance.data[i] = 0.04f;
+        const float shared = 0.04f * unit(rng);
+        outputs[0].data[i] = 0.5f + 0.04f * unit(rng);
+        outputs[1].data[i] = 0.5f + shared + 0.005f * unit(rng);
+        outputs[2].data[i] = 0.5f + shared + 0.005f * unit(rng);
+        outputs[3].data[i] = 0.5f + shared + 0.005f * unit(rng);
+    }
+    Image smooth(w, h, 4), noise(w, h, 1);
+    for (int k = 0; k < 4; ++k) {
+        const double error = CompareImages(outputs[k], truth).relMse;
+        for (size_t i = 0; i < smooth.PixelCount(); ++i)
+            smooth.Plane(k)[i] = float(error * (1 + unit(rng)));
+    }
+    for (float &x : noise.data) x = 0.15f;
+    auto combined = [&](bool share) {
+        AutoHalvesSettings settings;
+        settings.floor = 0.5f, settings.floorError = 1e-5f;
+        if (share) settings.method = {0, 1, 1, 1}, settings.power = 2.f;
+        Image adjusted = smooth;
+        AutoAdjustHalvesEstimates(adjusted, noise, settings);
+        Image f =
+            ref::AutoCombineRelative(color, outputs, adjusted, variance, 2, 1e-5, 30, 4).color;
+        return CompareImages(f, truth).relMse;
+    };
+    const double alone = combined(false), shared = combined(true);
+    fmt::print("relMSE: each alone {:.4g}, the variants sharing one weight {:.4g}\n", alone,
+               shared);
+    EXPECT_LT(shared, 0.95 * alone);
+}
+
 }  // namespace
 }  // namespace mcd
