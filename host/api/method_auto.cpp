@@ -114,6 +114,13 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "the differences the weights follow the frame's ranking instead of going "
                    "equal (0: the same floor for all; no effect with --auto-halves-floor 0)",
                    &O::halvesRank, 0, 4),
+        ChoiceParam("auto-halves-variants",
+                    "beside half-buffers: a method's variants (rhf and rhf 2 scales, pivot and "
+                    "pivot no ids), whose errors go together, share one candidate's weight, "
+                    "each estimate times (its method's candidates left in) ^ (1 / "
+                    "--auto-halves-power) (share), or each weighs as one (each); not under "
+                    "--auto-combine select, which weighs none",
+                    &O::halvesVariants, {"share", "each"}),
         FloatParam("auto-halves-drop",
                    "beside half-buffers: leave out a candidate whose error estimate over the "
                    "frame is above this times the candidates' median (0: off; at least 1, so "
@@ -803,6 +810,7 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
     c.noiseCap = o.noiseCap;
     c.halvesFloor = o.halvesFloor;
     c.halvesRank = o.halvesRank;
+    c.halvesVariants = o.halvesVariants == "share";
     if (o.halvesDrop > 0 && o.halvesDrop < 1)
         throw Error(fmt::format("--auto-halves-drop {}: 0 (off) or at least 1 (below, every "
                                 "candidate could be left out)",

@@ -80,6 +80,9 @@ class AutoFrontEnd : public FrontEnd {
         // off: it helped glossy_lights' accumulated frame and cost our interior with halves
         // (docs/methods/auto.md).
         float halvesRank = 0;
+        // Beside the half-buffers a method's variants share one candidate's weight (share)
+        // or each weighs alone (each): docs/methods/auto.md, the variants round.
+        std::string halvesVariants = "share";
         // --auto-power beside the half-buffers (docs/methods/auto.md: 1 and 1.5 helped the
         // accumulated Cycles frames and cost our cornell with halves).
         float halvesPower = 2;

@@ -155,6 +155,23 @@ void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                      gpu.smooth);
 }
 
+// Each candidate's method as the index of that method's first candidate.
+std::vector<int> MethodIndices(const std::vector<AutoCandidate> &candidates) {
+    std::vector<int> first;
+    for (const AutoCandidate &c : candidates) {
+        int k = 0;
+        while (candidates[k].method != c.method) ++k;
+        first.push_back(k);
+    }
+    return first;
+}
+
+// Whether a method's variants share one weight: beside the half-buffers, where the
+// combination weighs the candidates (select takes one, with no weights to share).
+bool SharesVariants(const AutoOptions &options) {
+    return options.halvesVariants && options.combination != AutoCombination::Select;
+}
+
 // The estimates over the frame and the candidates they leave out, for the plan.
 std::vector<std::string> HalvesDropPlan(const std::vector<AutoCandidate> &candidates,
                                         const AutoOptions &options,
@@ -192,13 +209,16 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
     Image smooth = gpu.smooth.Download(), halfNoise = noise.Download();
     for (float &x : halfNoise.data) x = -x;
     if (options.halvesSums) options.halvesSums->Add(smooth, halfNoise);
-    AutoHalvesSettings settings{options.halvesFloor, options.halvesDrop, options.floorError,
-                                options.halvesRank};
+    AutoHalvesSettings settings;
+    settings.floor = options.halvesFloor, settings.drop = options.halvesDrop;
+    settings.floorError = options.floorError, settings.rank = options.halvesRank;
     if (!options.halvesDropped.empty()) settings.dropped = &options.halvesDropped;
     if (!options.halvesFrameEstimates.empty()) {
         settings.frameEstimates = &options.halvesFrameEstimates;
         settings.frameNoise = options.halvesFrameNoise;
     }
+    if (SharesVariants(options)) settings.method = MethodIndices(candidates);
+    settings.power = options.power;
     AutoHalvesResult adjusted = AutoAdjustHalvesEstimates(smooth, halfNoise, settings);
     gpu.smooth.Upload(smooth);
     if (options.halvesFloor > 0)
@@ -213,6 +233,17 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                               "the frame's ranking (--auto-halves-rank)",
                               options.halvesRank)
                 : ""));
+    std::string shared;
+    for (size_t k = 0; k < candidates.size(); ++k)
+        if (adjusted.variants[k] != 1.f)
+            shared += fmt::format("{}{} x{:.3g}", shared.empty() ? "" : ", ",
+                                  candidates[k].label, adjusted.variants[k]);
+    if (!shared.empty())
+        run.Plan(fmt::format(
+            "auto: a method's variants share one candidate's weight, their errors going "
+            "together: each estimate times the number of its method's candidates left in ^ "
+            "1/{}: {} (--auto-halves-variants share)",
+            options.power, shared));
     // In strips the whole frame's figures are AutoCombine's to print.
     if (options.halvesDropped.empty())
         for (const std::string &line : HalvesDropPlan(candidates, options, adjusted))
@@ -256,7 +287,8 @@ void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInput
     // seen by one sample, and so does the first pass), that pixel's estimate, of the order
     // of v / (g^2 + 0.01), would swamp every window around it.
     RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius);
-    if (halves && (options.halvesFloor > 0 || options.halvesDrop > 0))
+    if (halves &&
+        (options.halvesFloor > 0 || options.halvesDrop > 0 || SharesVariants(options)))
         AdjustHalvesEstimates(run, gpu, est, candidates, options, guide);
 }
 
@@ -265,13 +297,12 @@ void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInput
 Image Shares(const std::vector<AutoCandidate> &candidates, int width, int height) {
     int count = int(candidates.size());
     Image shares(width, height, count);
-    for (int k = 0; k < count; ++k) {
-        int siblings = 0;
-        for (const AutoCandidate &other : candidates)
-            siblings += other.method == candidates[k].method;
+    // At power 1 the variants' factor is their number.
+    const std::vector<float> siblings = AutoVariantFactors(
+        MethodIndices(candidates), std::vector<bool>(candidates.size(), false), 1.f);
+    for (int k = 0; k < count; ++k)
         std::fill(shares.data.begin() + size_t(k) * width * height,
-                  shares.data.begin() + size_t(k + 1) * width * height, float(siblings));
-    }
+                  shares.data.begin() + size_t(k + 1) * width * height, siblings[k]);
     return shares;
 }
 

@@ -77,6 +77,9 @@ struct AutoOptions {
     float halvesFloor = 0, halvesDrop = 0;
     // The floor of each times (its estimate over the frame / the smallest) ^ this (0: off).
     float halvesRank = 0;
+    // Beside the half-buffers, a method's variants share one candidate's weight (each
+    // estimate times its method's candidates left in ^ (1 / power)); false: each weighs alone.
+    bool halvesVariants = false;
     // Set by AutoCombine for a combination in strips: the candidates left out over the whole
     // frame (empty: the window decides), its estimates and noise, and the sums its first pass
     // over the strips adds each strip's estimates to (null: none).

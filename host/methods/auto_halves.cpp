@@ -54,6 +54,31 @@ std::vector<float> RankFactors(const std::vector<double> &frame, double noise,
     return factors;
 }
 
+// After the floor, each variant's estimate times its factor: max(e, floorError), as the
+// combination reads it, so that an estimate at or below floorError shares too. Left as they
+// are where every estimate left in is under floorError: the combination weighs the
+// candidates equally there (its median), with no weights to share. The product is capped at
+// the largest float, so that a factor near it leaves the candidate in.
+void ShareVariants(Image &smooth, const std::vector<bool> &dropped,
+                   const std::vector<float> &factors, float floorError) {
+    const size_t n = smooth.PixelCount();
+    const int count = smooth.channels;
+    if (std::all_of(factors.begin(), factors.end(), [](float f) { return f == 1.f; })) return;
+    const double largest = std::numeric_limits<float>::max();
+    for (size_t i = 0; i < n; ++i) {
+        bool weighed = false;
+        for (int k = 0; k < count; ++k)
+            if (float e = smooth.data[size_t(k) * n + i]; !dropped[k] && std::isfinite(e))
+                weighed = weighed || e >= floorError;
+        if (!weighed) continue;
+        for (int k = 0; k < count; ++k) {
+            float &e = smooth.data[size_t(k) * n + i];
+            if (!dropped[k] && factors[k] != 1.f && std::isfinite(e))
+                e = float(std::min(double(std::max(e, floorError)) * factors[k], largest));
+        }
+    }
+}
+
 }  // namespace
 
 void AutoHalvesSums::Add(const Image &smooth, const Image &noise) {
@@ -85,6 +110,26 @@ std::vector<bool> AutoHalvesDropped(const std::vector<double> &frameEstimates, f
         for (size_t k = 0; k < frameEstimates.size(); ++k)
             dropped[k] = frameEstimates[k] > drop * *median;
     return dropped;
+}
+
+std::vector<float> AutoVariantFactors(const std::vector<int> &method,
+                                      const std::vector<bool> &dropped, float power) {
+    std::vector<float> factors(dropped.size(), 1.f);
+    if (method.empty() || power <= 0) return factors;
+    if (method.size() != dropped.size())
+        throw Error("auto: the variants' methods must hold one per candidate",
+                    ErrorKind::Internal);
+    for (size_t k = 0; k < method.size(); ++k) {
+        if (dropped[k]) continue;
+        int siblings = 0;
+        for (size_t j = 0; j < method.size(); ++j)
+            siblings += !dropped[j] && method[j] == method[k];
+        // In double and capped: below a power of about 0.01 the root of a few siblings
+        // overflows a float.
+        factors[k] = float(std::min(std::pow(double(siblings), 1.0 / double(power)),
+                                    double(std::numeric_limits<float>::max())));
+    }
+    return factors;
 }
 
 AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
@@ -133,6 +178,8 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
             if (!result.dropped[k]) e = std::max(e, least * factors[k]);
         }
     }
+    result.variants = AutoVariantFactors(settings.method, result.dropped, settings.power);
+    ShareVariants(smooth, result.dropped, result.variants, settings.floorError);
     for (int k = 0; k < count; ++k)
         if (result.dropped[k])
             std::fill_n(smooth.Plane(k), n, std::numeric_limits<float>::infinity());

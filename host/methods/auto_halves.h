@@ -27,6 +27,13 @@ struct AutoHalvesSettings {
     // left in) ^ this, so that where the noise hides the differences the weights follow the
     // frame's ranking instead of going equal (0: the same floor for all).
     float rank = 0;
+    // Per candidate, the method it is a variant of; with `power` > 0 each estimate left in,
+    // after the floor and read as max(e, floorError), is multiplied by (the number of that
+    // method's candidates left in) ^ (1 / power), so that under weights 1 / e^power a
+    // method's variants, whose errors go together, share one candidate's weight (empty: each
+    // weighs alone). Not where every estimate left in is under floorError (equal weights).
+    std::vector<int> method;
+    float power = 0;
     // The candidates left out, decided over the whole frame (a combination in strips: each
     // strip's window alone would decide otherwise); null: this window's estimates decide.
     const std::vector<bool> *dropped = nullptr;
@@ -41,6 +48,8 @@ struct AutoHalvesResult {
     std::vector<double> frameEstimates;  // per candidate, the mean of its finite estimates
     double median = 0;      // theirs, which the drop compares with where it is above 1e-4
     double frameNoise = 0;  // the mean of the noise plane
+    // Per candidate, the factor AutoVariantFactors put on its estimate (1: weighs alone).
+    std::vector<float> variants;
 };
 
 // Sums over a frame's rows, strip after strip in order, of each candidate's finite window
@@ -61,6 +70,12 @@ struct AutoHalvesSums {
 // its finite window means) and their median, which the ratio is taken against.
 std::vector<bool> AutoHalvesDropped(const std::vector<double> &frameEstimates, float drop,
                                     double *median);
+
+// Each candidate's factor on its estimate that makes a method's variants share one weight
+// under weights 1 / e^power: (its method's candidates left in) ^ (1 / power), at most the
+// largest float; 1 for every candidate where `method` is empty or power is not above 0.
+std::vector<float> AutoVariantFactors(const std::vector<int> &method,
+                                      const std::vector<bool> &dropped, float power);
 
 // `smooth`: K planes, the candidates' window means of their estimates; `noise`: one plane,
 // the window mean of half1's variance over relMSE's denominator (>= 0). Returns what was

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -32,6 +34,27 @@ Estimates RandomEstimates(int w, int h, int count, const char *name) {
     for (float &x : e.smooth.data) x = error(rng);
     for (float &x : e.noise.data) x = noise(rng);
     return e;
+}
+
+// Normal deviates by Box-Muller from std::mt19937, whose output the standard fixes (unlike
+// std::normal_distribution's), so that a figure a test compares does not move with the
+// library.
+struct Normal {
+    std::mt19937 rng;
+    explicit Normal(uint64_t seed) : rng(uint32_t(seed ^ (seed >> 32))) {}
+    // In (0, 1).
+    double Uniform() { return (double(rng() >> 8) + 0.5) / double(1 << 24); }
+    float operator()() {
+        const double r = std::sqrt(-2 * std::log(Uniform()));
+        return float(r * std::cos(6.283185307179586 * Uniform()));
+    }
+};
+
+// Each factor as expected, to a float's rounding.
+void ExpectFactors(const std::vector<float> &factors, const std::vector<float> &expected) {
+    ASSERT_EQ(factors.size(), expected.size());
+    for (size_t k = 0; k < factors.size(); ++k)
+        EXPECT_FLOAT_EQ(factors[k], expected[k]) << "candidate " << k;
 }
 
 TEST(AutoHalvesEstimates, RaisesEveryEstimateToTheNoiseAtMostAShareOfTheMedian) {
@@ -183,6 +206,125 @@ TEST(AutoHalvesEstimates, AnEstimateNearZeroByChanceDoesNotTakeAllTheWeight) {
         "{:.4g}\n",
         trueError[0], trueError[1], before, after);
     EXPECT_LT(after, 0.95 * before);
+}
+
+// A method's variants share one candidate's weight under 1 / e^power: each estimate left in
+// times (its method's candidates left in) ^ (1 / power), after the floor and read as
+// max(e, floorError) like the combination reads it (an estimate under floorError shares
+// too); a variant whose sibling is left out weighs alone again. Where every estimate is
+// under floorError (the combination's equal weights) they stay as they are.
+TEST(AutoHalvesEstimates, AMethodsVariantsShareOneWeight) {
+    const std::vector<int> method = {0, 1, 2, 1, 2};
+    std::vector<bool> none(5, false), third(5, false);
+    third[3] = true;
+    const float root2 = std::sqrt(2.f);
+    ExpectFactors(AutoVariantFactors(method, none, 2.f), {1.f, root2, root2, root2, root2});
+    ExpectFactors(AutoVariantFactors(method, third, 2.f), {1.f, 1.f, root2, 1.f, root2});
+    ExpectFactors(AutoVariantFactors(method, none, 0.f), std::vector<float>(5, 1.f));
+    ExpectFactors(AutoVariantFactors({}, none, 2.f), std::vector<float>(5, 1.f));
+
+    const int w = 11, h = 7, count = 5;
+    const float floorError = 1e-5f;
+    Estimates e = RandomEstimates(w, h, count, "auto halves variants");
+    // Pixel 0: every estimate under floorError, and no noise to raise them.
+    e.noise.data[0] = 0;
+    for (int k = 0; k < count; ++k) e.smooth.Plane(k)[0] = -1e-3f;
+    // Pixel 1: a variant's estimate under floorError beside others above it.
+    e.smooth.Plane(1)[1] = -1e-3f, e.noise.data[1] = 0;
+    AutoHalvesSettings plain;
+    plain.floor = 0.5f, plain.floorError = floorError;
+    AutoHalvesSettings shared = plain;
+    shared.method = method, shared.power = 2.f;
+    Image before = e.smooth, after = e.smooth;
+    AutoAdjustHalvesEstimates(before, e.noise, plain);
+    AutoHalvesResult result = AutoAdjustHalvesEstimates(after, e.noise, shared);
+    const std::vector<float> factors = AutoVariantFactors(method, none, 2.f);
+    EXPECT_EQ(result.variants, factors);
+    size_t under = 0;
+    for (size_t i = 0; i < before.PixelCount(); ++i) {
+        bool weighed = false;
+        for (int k = 0; k < count; ++k) weighed = weighed || before.Plane(k)[i] >= floorError;
+        EXPECT_EQ(weighed, i != 0) << "pixel " << i;
+        for (int k = 0; k < count; ++k) {
+            const float b = before.Plane(k)[i];
+            if (b >= floorError || !weighed || factors[k] == 1.f) {
+                const float expected = weighed ? b * factors[k] : b;
+                EXPECT_EQ(after.Plane(k)[i], expected) << "pixel " << i << " candidate " << k;
+            } else {
+                EXPECT_EQ(after.Plane(k)[i], floorError * factors[k])
+                    << "pixel " << i << " candidate " << k;
+                ++under;
+            }
+        }
+    }
+    EXPECT_GT(under, 0u);
+    EXPECT_EQ(after.Plane(1)[1], floorError * root2);
+}
+
+// Below a power of about 0.01 the factor's root overflows a float: it is capped at the
+// largest, and every estimate stays finite (an infinite one would leave its candidate out).
+TEST(AutoHalvesEstimates, ATinyPowerLeavesEveryVariantIn) {
+    const std::vector<int> method = {0, 1, 1};
+    const std::vector<bool> none(3, false);
+    const float largest = std::numeric_limits<float>::max();
+    for (float power : {1e-3f, 5e-3f}) {
+        const std::vector<float> factors = AutoVariantFactors(method, none, power);
+        EXPECT_EQ(factors, (std::vector<float>{1.f, largest, largest})) << power;
+        Estimates e = RandomEstimates(7, 5, 3, "auto halves tiny power");
+        AutoHalvesSettings settings;
+        settings.floor = 0.5f, settings.floorError = 1e-5f;
+        settings.method = method, settings.power = power;
+        AutoHalvesResult result = AutoAdjustHalvesEstimates(e.smooth, e.noise, settings);
+        for (bool dropped : result.dropped) EXPECT_FALSE(dropped);
+        for (float x : e.smooth.data) EXPECT_TRUE(std::isfinite(x)) << power;
+    }
+    ExpectFactors(AutoVariantFactors(method, none, 0.1f), {1.f, 1024.f, 1024.f});
+}
+
+// One method's run and three variants of another whose errors go together (the same noise
+// but for a small part of their own), estimates that scatter about the errors and a floor
+// that binds, as on a noisy accumulated frame: each candidate weighing alone gives the
+// variants three quarters of the weight and keeps their shared error; sharing one weight
+// gives them half. The noise is the test's own (Normal), not the library's.
+TEST(AutoHalvesEstimates, VariantsWhoseErrorsGoTogetherWeighAsOne) {
+    const int w = 48, h = 48;
+    // The estimates' scatter: enough for the floor to bind, little enough that the ratio
+    // below stands well clear of its bound whatever the seed.
+    const float kScatter = 0.3f;
+    Normal unit(SeedFromName("auto halves variants together"));
+    Image truth(w, h, 3), color(w, h, 3), variance(w, h, 3);
+    std::vector<Image> outputs(4, Image(w, h, 3));
+    for (size_t i = 0; i < truth.data.size(); ++i) {
+        truth.data[i] = 0.5f;
+        color.data[i] = 0.5f + 0.2f * unit();
+        variance.data[i] = 0.04f;
+        const float shared = 0.04f * unit();
+        outputs[0].data[i] = 0.5f + 0.04f * unit();
+        outputs[1].data[i] = 0.5f + shared + 0.005f * unit();
+        outputs[2].data[i] = 0.5f + shared + 0.005f * unit();
+        outputs[3].data[i] = 0.5f + shared + 0.005f * unit();
+    }
+    Image smooth(w, h, 4), noise(w, h, 1);
+    for (int k = 0; k < 4; ++k) {
+        const double error = CompareImages(outputs[k], truth).relMse;
+        for (size_t i = 0; i < smooth.PixelCount(); ++i)
+            smooth.Plane(k)[i] = float(error * (1 + kScatter * unit()));
+    }
+    for (float &x : noise.data) x = 0.15f;
+    auto combined = [&](bool share) {
+        AutoHalvesSettings settings;
+        settings.floor = 0.5f, settings.floorError = 1e-5f;
+        if (share) settings.method = {0, 1, 1, 1}, settings.power = 2.f;
+        Image adjusted = smooth;
+        AutoAdjustHalvesEstimates(adjusted, noise, settings);
+        Image f =
+            ref::AutoCombineRelative(color, outputs, adjusted, variance, 2, 1e-5, 30, 4).color;
+        return CompareImages(f, truth).relMse;
+    };
+    const double alone = combined(false), shared = combined(true);
+    fmt::print("relMSE: each alone {:.4g}, the variants sharing one weight {:.4g}\n", alone,
+               shared);
+    EXPECT_LT(shared, 0.95 * alone);
 }
 
 }  // namespace

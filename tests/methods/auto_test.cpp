@@ -706,6 +706,69 @@ TEST_F(AutoEstimateProperty, StripsLeaveOutWhatTheWholeFrameLeavesOut) {
     }
 }
 
+// Two candidates of one method beside the half-buffers (no floor, no drop: the variants
+// alone run the adjustment): sharing one weight and each weighing alone give different
+// outputs, the plan names the shared factors only where some is not 1, strips give the whole
+// frame's output, and under --auto-combine select, which weighs none, share and each agree.
+TEST_F(AutoEstimateProperty, VariantsShareOneWeightInStripsAsOnTheWholeFrame) {
+    const int w = 32, h = 40;
+    std::mt19937_64 rng(SeedFromName("strips halves variants"));
+    std::normal_distribution<float> normal(0, 1);
+    Image half1(w, h, 3), variance(w, h, 3, 0.0025f), probe(w, h, 3, 0.f);
+    for (float &v : half1.data) v = 0.5f + 0.05f * normal(rng);
+    std::vector<AutoCandidate> candidates;
+    const float spread[3] = {0.02f, 0.03f, 0.035f};
+    for (int k = 0; k < 3; ++k) {
+        AutoCandidate c;
+        c.label = fmt::format("c{}", k);
+        c.method = k == 0 ? "a" : "b";
+        c.output = Image(w, h, 3);
+        c.probe = Image(w, h, 3);
+        for (size_t i = 0; i < c.output.data.size(); ++i) {
+            c.output.data[i] = 0.5f + spread[k] * normal(rng);
+            c.probe.data[i] = 0.5f + spread[k] * normal(rng);
+        }
+        c.colour[0] = float(k);
+        candidates.push_back(std::move(c));
+    }
+    AutoEstimateInputs in;
+    in.variance = variance, in.probe = probe, in.half1 = half1, in.meanVariance = variance;
+    AutoOptions each;
+    each.radius = 3;
+    AutoOptions share = each;
+    share.halvesVariants = true;
+    auto sharedLines = [](const AutoResult &r) {
+        std::vector<std::string> lines;
+        for (const std::string &line : r.plan)
+            if (line.find("variants share") != std::string::npos) lines.push_back(line);
+        return lines;
+    };
+    for (AutoCombination combination : {AutoCombination::Relative, AutoCombination::Weights}) {
+        each.combination = share.combination = combination;
+        AutoResult alone = AutoCombine(Ctx(), half1, candidates, in, each);
+        AutoResult whole = AutoCombine(Ctx(), half1, candidates, in, share);
+        EXPECT_NE(whole.image.data, alone.image.data);
+        EXPECT_NE(whole.sharePercent, alone.sharePercent);
+        EXPECT_TRUE(sharedLines(alone).empty());
+        ASSERT_EQ(sharedLines(whole).size(), 1u)
+            << fmt::format("{}", fmt::join(whole.plan, "\n"));
+        EXPECT_NE(sharedLines(whole)[0].find("c1 x1.41, c2 x1.41"), std::string::npos)
+            << sharedLines(whole)[0];
+        for (int rows : {10, 13}) {
+            AutoOptions strip = share;
+            strip.stripRows = rows;
+            AutoResult strips = AutoCombine(Ctx(), half1, candidates, in, strip);
+            EXPECT_EQ(strips.image.data, whole.image.data) << rows << " rows";
+            EXPECT_EQ(strips.sharePercent, whole.sharePercent) << rows << " rows";
+        }
+    }
+    each.combination = share.combination = AutoCombination::Select;
+    AutoResult alone = AutoCombine(Ctx(), half1, candidates, in, each);
+    AutoResult selected = AutoCombine(Ctx(), half1, candidates, in, share);
+    EXPECT_EQ(selected.image.data, alone.image.data);
+    EXPECT_TRUE(sharedLines(selected).empty());
+}
+
 // The relative combination's value minimises sum_k w_k (f - c_k)^2 / (c_k^2 + 0.01) under
 // the weights it returns (a step either way raises it; no dark limit), lies between the
 // candidates, is their common value where they agree, and weighs them equally where the
@@ -1042,6 +1105,15 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     EXPECT_TRUE(PlanHas(mild, "weighted per pixel by 1 / error^1"))
         << fmt::format("{}", fmt::join(mild.plan, "\n"));
     EXPECT_NE(mild.image.data, result.image.data);
+    // --auto-halves-variants: share by default (the plan names the factors), each weighs
+    // alone.
+    EXPECT_TRUE(PlanHas(result, "variants share one candidate's weight"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+    Method alone = automatic;
+    alone.Set("auto-halves-variants", "each");
+    Result each = alone.Run(device, frame);
+    EXPECT_FALSE(PlanHas(each, "variants share one candidate's weight"));
+    EXPECT_NE(each.image.data, result.image.data);
     // --auto-mean-gain: the gain runs and the plan says what it took; 1 to 2 only.
     Method gained = automatic;
     gained.Set("auto-mean-gain", 1.5f);
