@@ -102,6 +102,10 @@ class AutoFrontEnd : public FrontEnd {
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
+        // The pilot square's side (0: no pilot) and the fraction of time and share of the
+        // time rule there (PilotLeavesOut; docs/methods/auto.md).
+        int pilotSize = 256;
+        float pilotShare = 0.75f;
         // The candidates' parameters the user set (not a parameter): auto's settings for
         // them (MethodEntry::autoSettings) give way.
         std::vector<std::string> given;
@@ -116,5 +120,21 @@ class AutoFrontEnd : public FrontEnd {
     std::vector<ParamInfo> infos;
     Options options;
 };
+
+// A candidate as it ran on the pilot window: its seconds (run and probe, with what it took
+// from the run memo of those before it) and its share (mean weight, percent).
+struct PilotCandidate {
+    std::string label;
+    double seconds = 0;
+    double share = 0;
+};
+
+// The time rule: in run order, a candidate is left out where one that ran before it and
+// stays took under `shareRatio` times its time and it kept under `shareRatio` times that
+// one's share. Returns, per
+// candidate, why it is left out, or "" where it stays. The first always stays; only those
+// before it are compared, so what a cheaper one cost did not depend on one left out.
+std::vector<std::string> PilotLeavesOut(const std::vector<PilotCandidate> &pilot,
+                                        double shareRatio);
 
 }  // namespace mcd::api
