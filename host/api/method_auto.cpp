@@ -160,7 +160,7 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::candidates, {}),
         IntParam("auto-pilot",
                  "where SURE on a variance layer weighs the candidates and the frame holds "
-                 "at least 4 squares of this side: the candidates first run and combine on "
+                 "at least 16 squares of this side: the candidates first run and combine on "
                  "such a square at the frame's centre, and a candidate is left out of the "
                  "frame's run where one that ran before it took under --auto-pilot-share of "
                  "its time there and it kept under that fraction of that one's share (0: "
@@ -893,10 +893,14 @@ void PlanCombination(const AutoFrontEnd::Options &o, const AutoOptions &c, const
     plan->insert(plan->begin(), lines.begin(), lines.end());
 }
 
+// The frames the pilot runs on hold at least this many of its squares: on fewer it cost
+// about what it saved (docs/methods/auto.md).
+constexpr double kPilotSquares = 16;
+
 // The time rule's pilot (PilotLeavesOut): where SURE on the variance layer weighs the
-// candidates of a whole frame that holds 4 pilot squares, they run and combine on the
-// square at its centre first. Returns the candidates the rule leaves out and why; the plan
-// says what the pilot measured.
+// candidates of a whole frame that holds kPilotSquares pilot squares, they run and combine
+// on the square at its centre first. Returns the candidates the rule leaves out and why; the
+// plan says what the pilot measured.
 std::map<std::string, std::string> Pilot(vk::Context &context, Inputs &inputs,
                                          const std::vector<std::unique_ptr<FrontEnd>> &methods,
                                          const Noise &noise, const AutoFrontEnd::Options &o,
@@ -905,7 +909,7 @@ std::map<std::string, std::string> Pilot(vk::Context &context, Inputs &inputs,
     const int side = o.pilotSize, w = inputs.Width(), h = inputs.Height();
     const bool whole = inputs.FrameWidth() == w && inputs.FrameHeight() == h;
     if (side <= 0 || !whole || !noise.scored || noise.halves || noise.own || w < side ||
-        h < side || double(w) * h < 4.0 * side * side)
+        h < side || double(w) * h < kPilotSquares * side * side)
         return out;
     // On a grid of 8: rhf's coarser scales cut windows at even origins.
     const int x0 = (w - side) / 2 / 8 * 8, y0 = (h - side) / 2 / 8 * 8;

@@ -1,6 +1,6 @@
 // auto's time rule (issue #32): on a pilot square a candidate whose share is small beside a
 // cheaper one that ran before it is left out of the frame's run (host/api/method_auto.h,
-// PilotLeavesOut), and the whole method runs the pilot only where the frame holds four
+// PilotLeavesOut), and the whole method runs the pilot only where the frame holds 16
 // squares and SURE on the variance layer weighs the candidates.
 #include <gtest/gtest.h>
 
@@ -75,11 +75,11 @@ bool Has(const std::string &plan, const std::string &text) {
     return plan.find(text) != std::string::npos;
 }
 
-// The pilot runs where the frame holds 4 squares, and what it leaves out does not run; on a
+// The pilot runs where the frame holds 16 squares, and what it leaves out does not run; on a
 // smaller frame, or with --auto-pilot 0, nothing changes.
 TEST_F(AutoPilot, RunsOnFramesOfFourSquaresAndLeavesOutWhatItSays) {
     render::RenderOptions options;
-    options.width = 48, options.height = 40, options.spp = 4;
+    options.width = 64, options.height = 48, options.spp = 4;
     options.layers = render::kLayersAll;
     render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
     Frame frame;
@@ -92,12 +92,12 @@ TEST_F(AutoPilot, RunsOnFramesOfFourSquaresAndLeavesOutWhatItSays) {
     EXPECT_FALSE(Has(Plan(small), "auto: pilot on")) << Plan(small);
 
     Method piloted("auto");
-    piloted.Set("auto-pilot", 20);
+    piloted.Set("auto-pilot", 12);
     // Every candidate with a smaller share than a cheaper one before it is left out.
     piloted.Set("auto-pilot-share", 1.f);
     Result result = piloted.Run(device, frame);
     const std::string plan = Plan(result);
-    EXPECT_TRUE(Has(plan, "auto: pilot on the 20x20 square at (8, 8)")) << plan;
+    EXPECT_TRUE(Has(plan, "auto: pilot on the 12x12 square at (24, 16)")) << plan;
     int out = 0;
     for (const std::string &line : result.plan) {
         if (!line.starts_with("auto: left out ") || !Has(line, "on the pilot square")) continue;
@@ -108,8 +108,8 @@ TEST_F(AutoPilot, RunsOnFramesOfFourSquaresAndLeavesOutWhatItSays) {
     }
     EXPECT_EQ(result.candidates.size() + out, small.candidates.size()) << plan;
 
-    // A frame under 4 squares runs no pilot, nor does --auto-pilot 0.
-    piloted.Set("auto-pilot", 25);
+    // A frame under 16 squares runs no pilot, nor does --auto-pilot 0.
+    piloted.Set("auto-pilot", 14);
     EXPECT_FALSE(Has(Plan(piloted.Run(device, frame)), "auto: pilot on"));
     piloted.Set("auto-pilot", 0);
     Result off = piloted.Run(device, frame);
