@@ -162,15 +162,14 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                  "where SURE on a variance layer weighs the candidates and the frame holds "
                  "at least 16 squares of this side: the candidates first run and combine on "
                  "such a square at the frame's centre, and a candidate is left out of the "
-                 "frame's run where one that ran before it took under --auto-pilot-share of "
-                 "its time there and it kept under that fraction of that one's share (0: "
-                 "off; the pilot's times then decide, so outputs may differ between runs "
-                 "near the margins)",
+                 "frame's run where one of the same method that ran before it (pivot before "
+                 "pivot no ids) took over its share there divided by --auto-pilot-share; "
+                 "shares, not times, decide, so a rerun gives the same bits (0: off)",
                  &O::pilotSize, 0, 4096),
         FloatParam("auto-pilot-share",
-                   "with --auto-pilot: a candidate is left out where an earlier one took "
-                   "under this fraction of its time on the pilot square and it kept under "
-                   "this fraction of that one's share (0: none)",
+                   "with --auto-pilot: a candidate is left out where its share on the pilot "
+                   "square is under this fraction of an earlier one's of the same method "
+                   "(0: none)",
                    &O::pilotShare, 0, 1)};
 }
 
@@ -897,10 +896,10 @@ void PlanCombination(const AutoFrontEnd::Options &o, const AutoOptions &c, const
 // about what it saved (docs/methods/auto.md).
 constexpr double kPilotSquares = 16;
 
-// The time rule's pilot (PilotLeavesOut): where SURE on the variance layer weighs the
+// The pilot (PilotLeavesOut): where SURE on the variance layer weighs the
 // candidates of a whole frame that holds kPilotSquares pilot squares, they run and combine
 // on the square at its centre first. Returns the candidates the rule leaves out and why; the
-// plan says what the pilot measured.
+// plan gives each candidate's share there.
 std::map<std::string, std::string> Pilot(vk::Context &context, Inputs &inputs,
                                          const std::vector<std::unique_ptr<FrontEnd>> &methods,
                                          const Noise &noise, const AutoFrontEnd::Options &o,
@@ -925,16 +924,16 @@ std::map<std::string, std::string> Pilot(vk::Context &context, Inputs &inputs,
     const AutoEstimateInputs estimate = EstimateInputs(pilotNoise, combine);
     AutoResult combined = AutoCombine(context, color, list, estimate, combine);
     std::vector<PilotCandidate> pilot;
-    std::string measured;
+    std::string shares;
     for (size_t k = 0; k < list.size(); ++k) {
-        pilot.push_back({list[k].label, ran.ran[k].seconds, combined.sharePercent[k]});
-        measured += fmt::format("{}{} {:.2f} s {:.1f}%", k ? ", " : "", list[k].label,
-                                ran.ran[k].seconds, combined.sharePercent[k]);
+        pilot.push_back({list[k].label, list[k].method, combined.sharePercent[k]});
+        shares +=
+            fmt::format("{}{} {:.1f}%", k ? ", " : "", list[k].label, combined.sharePercent[k]);
     }
     plan->push_back(fmt::format(
-        "auto: pilot on the {}x{} square at ({}, {}) (--auto-pilot): each candidate's time "
-        "and share there: {}",
-        side, side, x0, y0, measured));
+        "auto: pilot on the {}x{} square at ({}, {}) (--auto-pilot): each candidate's share "
+        "there: {}",
+        side, side, x0, y0, shares));
     const std::vector<std::string> why = PilotLeavesOut(pilot, o.pilotShare);
     for (size_t k = 0; k < why.size(); ++k)
         if (!why[k].empty()) out[pilot[k].label] = why[k];
@@ -949,15 +948,15 @@ std::vector<std::string> PilotLeavesOut(const std::vector<PilotCandidate> &pilot
     std::vector<std::string> why(pilot.size());
     for (size_t k = 0; k < pilot.size(); ++k)
         for (size_t j = 0; j < k; ++j) {
-            if (!why[j].empty() || pilot[j].seconds >= shareRatio * pilot[k].seconds ||
+            if (!why[j].empty() || pilot[j].method != pilot[k].method ||
                 pilot[k].share >= shareRatio * pilot[j].share)
                 continue;
             why[k] = fmt::format(
-                "on the pilot square its share was {:.1f}% in {:.2f} s, under {} of {}'s "
-                "{:.1f}% in {:.2f} s (itself under {} of the time): beside the candidates "
-                "that run there it did not earn its time (--auto-pilot-share)",
-                pilot[k].share, pilot[k].seconds, shareRatio, pilot[j].label, pilot[j].share,
-                pilot[j].seconds, shareRatio);
+                "on the pilot square its share was {:.1f}%, under {:g} of {}'s {:.1f}% (the "
+                "same method, run before it): beside it, it adds little "
+                "(--auto-pilot-share)",
+                pilot[k].share, std::round(shareRatio * 1000) / 1000, pilot[j].label,
+                pilot[j].share);
             break;
         }
     return why;

@@ -102,10 +102,11 @@ class AutoFrontEnd : public FrontEnd {
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
-        // The pilot square's side (0: no pilot) and the fraction of time and share of the
-        // time rule there (PilotLeavesOut; docs/methods/auto.md).
+        // The pilot square's side (0: no pilot) and the fraction of its method's earlier
+        // candidate's share under which a candidate is left out (PilotLeavesOut;
+        // docs/methods/auto.md).
         int pilotSize = 256;
-        float pilotShare = 0.75f;
+        float pilotShare = 0.9f;
         // The candidates' parameters the user set (not a parameter): auto's settings for
         // them (MethodEntry::autoSettings) give way.
         std::vector<std::string> given;
@@ -121,19 +122,20 @@ class AutoFrontEnd : public FrontEnd {
     Options options;
 };
 
-// A candidate as it ran on the pilot window: its seconds (run and probe, with what it took
-// from the run memo of those before it) and its share (mean weight, percent).
+// A candidate as it ran on the pilot window: its method (the registry's name) and its share
+// there (mean weight, percent). No time: the rule reads the pilot's outputs only, so the same
+// frame and options leave out the same candidates in every run.
 struct PilotCandidate {
     std::string label;
-    double seconds = 0;
+    std::string method;
     double share = 0;
 };
 
-// The time rule: in run order, a candidate is left out where one that ran before it and
-// stays took under `shareRatio` times its time and it kept under `shareRatio` times that
-// one's share. Returns, per
-// candidate, why it is left out, or "" where it stays. The first always stays; only those
-// before it are compared, so what a cheaper one cost did not depend on one left out.
+// The pilot's rule: in run order, a candidate is left out where one of the same method that
+// ran before it and stays (its method's default before its variants) holds a share above its
+// own divided by `shareRatio`. Returns, per candidate, why it is left out, or "" where it
+// stays. The first of each method always stays; only those before it are compared, so what
+// a later one reused from the run memo never came from one left out.
 std::vector<std::string> PilotLeavesOut(const std::vector<PilotCandidate> &pilot,
                                         double shareRatio);
 
