@@ -164,20 +164,7 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr, which runs where "
                     "named); the others are left out",
-                    &O::candidates, {}),
-        IntParam("auto-pilot",
-                 "where SURE on a variance layer weighs the candidates and the frame holds "
-                 "at least 16 squares of this side: the candidates first run and combine on "
-                 "such a square at the frame's centre, and a candidate is left out of the "
-                 "frame's run where one of the same method that ran before it (pivot before "
-                 "pivot no ids) took over its share there divided by --auto-pilot-share; "
-                 "shares, not times, decide, so a rerun gives the same bits (0: off)",
-                 &O::pilotSize, 0, 4096),
-        FloatParam("auto-pilot-share",
-                   "with --auto-pilot: a candidate is left out where its share on the pilot "
-                   "square is under this fraction of an earlier one's of the same method "
-                   "(0: none)",
-                   &O::pilotShare, 0, 1)};
+                    &O::candidates, {})};
 }
 
 // The labels of --auto-candidates; empty for all.
@@ -694,8 +681,7 @@ std::optional<TileNeeds> SharedTiling(vk::Context &context, Inputs &inputs,
 Candidates RunCandidates(vk::Context &context, Inputs &inputs,
                          const std::vector<std::unique_ptr<FrontEnd>> &methods,
                          const Noise &noise, const AutoFrontEnd::Options &o,
-                         Clock::time_point start, std::vector<std::string> *plan,
-                         const std::map<std::string, std::string> &pilotOut) {
+                         Clock::time_point start, std::vector<std::string> *plan) {
     Candidates out;
     // Why none ran, if none does: the first failure's kind, else the layers each lacked;
     // and the first failure's reason, else the first other left out's (not --auto-candidates').
@@ -727,10 +713,6 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         if (Repeats(*method, v, inputs, out)) continue;
         if (std::string why = OutByEstimate(v, noise); !why.empty()) {
             leaveOut(label, why);
-            continue;
-        }
-        if (auto out = pilotOut.find(label); out != pilotOut.end()) {
-            leaveOut(label, out->second);
             continue;
         }
         // With the frame's own estimate the variants run: without pivot k0, auto was x1.29
@@ -798,15 +780,14 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
 Candidates RunCandidatesSharing(vk::Context &context, Inputs &inputs,
                                 const std::vector<std::unique_ptr<FrontEnd>> &methods,
                                 const Noise &noise, const AutoFrontEnd::Options &o,
-                                Clock::time_point start, std::vector<std::string> *plan,
-                                const std::map<std::string, std::string> &pilotOut = {}) {
+                                Clock::time_point start, std::vector<std::string> *plan) {
     RunMemo memo;
     struct Detach {
         Inputs &inputs;
         ~Detach() { inputs.SetMemo(nullptr); }
     } detach{inputs};
     inputs.SetMemo(&memo);
-    return RunCandidates(context, inputs, methods, noise, o, start, plan, pilotOut);
+    return RunCandidates(context, inputs, methods, noise, o, start, plan);
 }
 
 // The combination's options. The frame's own estimate is rougher than a variance layer:
@@ -900,75 +881,7 @@ void PlanCombination(const AutoFrontEnd::Options &o, const AutoOptions &c, const
     plan->insert(plan->begin(), lines.begin(), lines.end());
 }
 
-// The frames the pilot runs on hold at least this many of its squares: on fewer it cost
-// about what it saved (docs/methods/auto.md).
-constexpr double kPilotSquares = 16;
-
-// The pilot (PilotLeavesOut): where SURE on the variance layer weighs the
-// candidates of a whole frame that holds kPilotSquares pilot squares, they run and combine
-// on the square at its centre first. Returns the candidates the rule leaves out and why; the
-// plan gives each candidate's share there.
-std::map<std::string, std::string> Pilot(vk::Context &context, Inputs &inputs,
-                                         const std::vector<std::unique_ptr<FrontEnd>> &methods,
-                                         const Noise &noise, const AutoFrontEnd::Options &o,
-                                         std::vector<std::string> *plan) {
-    std::map<std::string, std::string> out;
-    const int side = o.pilotSize, w = inputs.Width(), h = inputs.Height();
-    const bool whole = inputs.FrameWidth() == w && inputs.FrameHeight() == h;
-    if (side <= 0 || !whole || !noise.scored || noise.halves || noise.own || w < side ||
-        h < side || double(w) * h < kPilotSquares * side * side)
-        return out;
-    // On a grid of 8: rhf's coarser scales cut windows at even origins.
-    const int x0 = (w - side) / 2 / 8 * 8, y0 = (h - side) / 2 / 8 * 8;
-    Inputs window(inputs, x0, y0, x0 + side, y0 + side);
-    std::vector<std::string> ignored;
-    const Image color = window.Get("color");
-    Noise pilotNoise = ChooseNoise(context, window, color, o, &ignored);
-    Candidates ran =
-        RunCandidatesSharing(context, window, methods, pilotNoise, o, Clock::now(), &ignored);
-    std::vector<AutoCandidate> list;
-    for (Ran &r : ran.ran) list.push_back(std::move(r.candidate));
-    AutoOptions combine = CombineOptions(o, pilotNoise, RunOptions());
-    const AutoEstimateInputs estimate = EstimateInputs(pilotNoise, combine);
-    AutoResult combined = AutoCombine(context, color, list, estimate, combine);
-    std::vector<PilotCandidate> pilot;
-    std::string shares;
-    for (size_t k = 0; k < list.size(); ++k) {
-        pilot.push_back({list[k].label, list[k].method, combined.sharePercent[k]});
-        shares +=
-            fmt::format("{}{} {:.1f}%", k ? ", " : "", list[k].label, combined.sharePercent[k]);
-    }
-    plan->push_back(fmt::format(
-        "auto: pilot on the {}x{} square at ({}, {}) (--auto-pilot): each candidate's share "
-        "there: {}",
-        side, side, x0, y0, shares));
-    const std::vector<std::string> why = PilotLeavesOut(pilot, o.pilotShare);
-    for (size_t k = 0; k < why.size(); ++k)
-        if (!why[k].empty()) out[pilot[k].label] = why[k];
-    context.Pool().Trim();
-    return out;
-}
-
 }  // namespace
-
-std::vector<std::string> PilotLeavesOut(const std::vector<PilotCandidate> &pilot,
-                                        double shareRatio) {
-    std::vector<std::string> why(pilot.size());
-    for (size_t k = 0; k < pilot.size(); ++k)
-        for (size_t j = 0; j < k; ++j) {
-            if (!why[j].empty() || pilot[j].method != pilot[k].method ||
-                pilot[k].share >= shareRatio * pilot[j].share)
-                continue;
-            why[k] = fmt::format(
-                "on the pilot square its share was {:.1f}%, under {:g} of {}'s {:.1f}% (the "
-                "same method, run before it): beside it, it adds little "
-                "(--auto-pilot-share)",
-                pilot[k].share, std::round(shareRatio * 1000) / 1000, pilot[j].label,
-                pilot[j].share);
-            break;
-        }
-    return why;
-}
 
 AutoFrontEnd::AutoFrontEnd() {
     for (const MethodEntry &entry : Registry()) {
@@ -1171,10 +1084,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                     ErrorKind::InvalidArgument);
     std::vector<std::string> plan;
     Noise noise = ChooseNoise(context, inputs, color, options, &plan);
-    const std::map<std::string, std::string> pilotOut =
-        Pilot(context, inputs, methods, noise, options, &plan);
     Candidates candidates =
-        RunCandidatesSharing(context, inputs, methods, noise, options, start, &plan, pilotOut);
+        RunCandidatesSharing(context, inputs, methods, noise, options, start, &plan);
     std::vector<AutoCandidate> list;
     for (Ran &r : candidates.ran) list.push_back(std::move(r.candidate));
     AutoOptions combine = CombineOptions(options, noise, run);

@@ -105,11 +105,6 @@ class AutoFrontEnd : public FrontEnd {
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
-        // The pilot square's side (0: no pilot) and the fraction of its method's earlier
-        // candidate's share under which a candidate is left out (PilotLeavesOut;
-        // docs/methods/auto.md).
-        int pilotSize = 256;
-        float pilotShare = 0.9f;
         // The candidates' parameters the user set (not a parameter): auto's settings for
         // them (MethodEntry::autoSettings) give way.
         std::vector<std::string> given;
@@ -124,22 +119,5 @@ class AutoFrontEnd : public FrontEnd {
     std::vector<ParamInfo> infos;
     Options options;
 };
-
-// A candidate as it ran on the pilot window: its method (the registry's name) and its share
-// there (mean weight, percent). No time: the rule reads the pilot's outputs only, so the same
-// frame and options leave out the same candidates in every run.
-struct PilotCandidate {
-    std::string label;
-    std::string method;
-    double share = 0;
-};
-
-// The pilot's rule: in run order, a candidate is left out where one of the same method that
-// ran before it and stays (its method's default before its variants) holds a share above its
-// own divided by `shareRatio`. Returns, per candidate, why it is left out, or "" where it
-// stays. The first of each method always stays; only those before it are compared, so what
-// a later one reused from the run memo never came from one left out.
-std::vector<std::string> PilotLeavesOut(const std::vector<PilotCandidate> &pilot,
-                                        double shareRatio);
 
 }  // namespace mcd::api
