@@ -477,6 +477,24 @@ TEST(NforClampLine, KeepsAStreakNotAFirefly) {
     }
 }
 
+// The clamp kernel with the line floor tests' settings (threshold 4, relative 0.5, emitters
+// over 1.5, rank 3, lines 1, floor 1.5) gives the reference's `expected`.
+void ExpectLineFloorKernelGives(const Image &color, const Image &variance, const Image &albedo,
+                                const Image &expected) {
+    vk::Context &ctx = TestContext();
+    vk::GpuImage c = Upload(ctx, color, "color"), v = Upload(ctx, variance, "variance");
+    vk::GpuImage a = Upload(ctx, albedo, "albedo");
+    vk::GpuImage out(ctx, color.width, color.height, 3, "out");
+    vk::GpuImage m(ctx, color.width, color.height, 1, "mask");
+    vk::Recorder recorder(ctx);
+    RecordNforClamp(ctx, recorder, c, v, &a, 4, 0.5f, 1.5f, 3, -1, true, 1, 0, 1.5f, out, m);
+    recorder.Submit();
+    Image actual = out.Download();
+    for (size_t i = 0; i < expected.data.size(); ++i)
+        EXPECT_NEAR(actual.data[i], expected.data[i], 1e-5f * (1 + std::fabs(expected.data[i])))
+            << i;
+}
+
 // Two streaks whose every third pixel is a peak (8, 4, 4 in turn along rows 4 and 13, on
 // 0.1, the channels x 1, 0.75, 0.5), as the samples hit glossy lights' ring, and an emitter
 // (a light's reflection) at (5, 0), 4 rows above the first: the line rule keeps the 4s and
@@ -519,15 +537,7 @@ TEST_F(GpuTest, NforClampLineFloorKeepsAStreaksPeaksNearALightNotAFirefly) {
         for (int c = 0; c < 3; ++c) EXPECT_LT(image->At(c, 1, 1), 1.f);
         EXPECT_LT(image->At(0, 1, 9), 1.f);
     }
-    vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
-    vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
-    vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
-    vk::Recorder recorder(Ctx());
-    RecordNforClamp(Ctx(), recorder, c, v, &a, 4, 0.5f, 1.5f, 3, -1, true, 1, 0, 1.5f, out, m);
-    recorder.Submit();
-    Image actual = out.Download();
-    for (size_t i = 0; i < on.data.size(); ++i)
-        EXPECT_NEAR(actual.data[i], on.data[i], 1e-5f * (1 + std::fabs(on.data[i]))) << i;
+    ExpectLineFloorKernelGives(color, variance, albedo, on);
 }
 
 // The floor raises a value only where the clamp lowered it, the channels' blend included:
@@ -564,15 +574,7 @@ TEST_F(GpuTest, NforClampLineFloorRaisesWhatTheBlendLowered) {
     EXPECT_LT(off.At(1, 2, 8), 0.5f * greenShare * 8);
     EXPECT_FLOAT_EQ(on.At(1, 2, 8), greenShare * 8);
     for (int c : {0, 2}) EXPECT_EQ(on.At(c, 2, 8), color.At(c, 2, 8)) << c;
-    vk::GpuImage c = Upload(Ctx(), color, "color"), v = Upload(Ctx(), variance, "variance");
-    vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
-    vk::GpuImage out(Ctx(), w, h, 3, "out"), m(Ctx(), w, h, 1, "mask");
-    vk::Recorder recorder(Ctx());
-    RecordNforClamp(Ctx(), recorder, c, v, &a, 4, 0.5f, 1.5f, 3, -1, true, 1, 0, 1.5f, out, m);
-    recorder.Submit();
-    Image actual = out.Download();
-    for (size_t i = 0; i < on.data.size(); ++i)
-        EXPECT_NEAR(actual.data[i], on.data[i], 1e-5f * (1 + std::fabs(on.data[i]))) << i;
+    ExpectLineFloorKernelGives(color, variance, albedo, on);
 }
 
 // Weights exp(-e): e's terms T = (d^2 - s) / (s + eps) are each at least -1 and are averaged
