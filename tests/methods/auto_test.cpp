@@ -6,7 +6,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <random>
@@ -656,35 +658,56 @@ TEST_F(AutoEstimateProperty, StripsGiveTheWholeFramesBits) {
     }
 }
 
+// A 32x40 frame beside half-buffers for the combination's strips tests: half1 around 0.5,
+// three candidates c0..c2 of the given methods whose output and probe are 0.5 plus an offset
+// (by candidate and row) plus seeded noise of their spread; the variance 0.0025 everywhere.
+struct HalvesFrame {
+    Image half1, variance, probe;
+    std::vector<AutoCandidate> candidates;
+    AutoEstimateInputs Inputs() const {
+        AutoEstimateInputs in;
+        in.variance = variance, in.probe = probe, in.half1 = half1, in.meanVariance = variance;
+        return in;
+    }
+};
+
+HalvesFrame NoisyHalvesFrame(const char *seedName, std::array<float, 3> spread,
+                             const std::function<std::string(int)> &methodOf,
+                             const std::function<float(int, int)> &offsetAt) {
+    const int w = 32, h = 40;
+    std::mt19937_64 rng(SeedFromName(seedName));
+    std::normal_distribution<float> normal(0, 1);
+    HalvesFrame frame{Image(w, h, 3), Image(w, h, 3, 0.0025f), Image(w, h, 3, 0.f), {}};
+    for (float &v : frame.half1.data) v = 0.5f + 0.05f * normal(rng);
+    for (int k = 0; k < 3; ++k) {
+        AutoCandidate c;
+        c.label = fmt::format("c{}", k);
+        c.method = methodOf(k);
+        c.output = Image(w, h, 3);
+        c.probe = Image(w, h, 3);
+        for (size_t i = 0; i < c.output.data.size(); ++i) {
+            const float off = offsetAt(k, int((i % c.output.PixelCount()) / w));
+            c.output.data[i] = 0.5f + off + spread[k] * normal(rng);
+            c.probe.data[i] = 0.5f + off + spread[k] * normal(rng);
+        }
+        c.colour[0] = float(k);
+        frame.candidates.push_back(std::move(c));
+    }
+    return frame;
+}
+
 // Beside half-buffers the drop reads each candidate's estimate over the frame: a strip's
 // window alone reads other figures (here a candidate off only in the bottom half looks
 // fine in the top strips), so the strips decide once, over the whole frame, and give its
 // bits, its shares and its plan's figures.
 TEST_F(AutoEstimateProperty, StripsLeaveOutWhatTheWholeFrameLeavesOut) {
-    const int w = 32, h = 40;
-    std::mt19937_64 rng(SeedFromName("strips halves drop"));
-    std::normal_distribution<float> normal(0, 1);
-    Image half1(w, h, 3), variance(w, h, 3, 0.0025f), probe(w, h, 3, 0.f);
-    for (float &v : half1.data) v = 0.5f + 0.05f * normal(rng);
-    std::vector<AutoCandidate> candidates;
-    const float spread[3] = {0.02f, 0.03f, 0.03f};
-    for (int k = 0; k < 3; ++k) {
-        AutoCandidate c;
-        c.label = fmt::format("c{}", k);
-        c.method = c.label;
-        c.output = Image(w, h, 3);
-        c.probe = Image(w, h, 3);
-        for (size_t i = 0; i < c.output.data.size(); ++i) {
-            const int y = int((i % c.output.PixelCount()) / w);
-            const float off = k == 2 && y >= 20 ? 0.1f : 0.f;
-            c.output.data[i] = 0.5f + off + spread[k] * normal(rng);
-            c.probe.data[i] = 0.5f + off + spread[k] * normal(rng);
-        }
-        c.colour[0] = float(k);
-        candidates.push_back(std::move(c));
-    }
-    AutoEstimateInputs in;
-    in.variance = variance, in.probe = probe, in.half1 = half1, in.meanVariance = variance;
+    const HalvesFrame frame = NoisyHalvesFrame(
+        "strips halves drop", {0.02f, 0.03f, 0.03f},
+        [](int k) { return fmt::format("c{}", k); },
+        [](int k, int y) { return k == 2 && y >= 20 ? 0.1f : 0.f; });
+    const Image &half1 = frame.half1;
+    const std::vector<AutoCandidate> &candidates = frame.candidates;
+    const AutoEstimateInputs in = frame.Inputs();
     AutoOptions options;
     options.radius = 3, options.halvesFloor = 0.5f, options.halvesDrop = 3.5f;
     options.halvesRank = 1;  // strips read the whole frame's estimates for it too
@@ -711,28 +734,12 @@ TEST_F(AutoEstimateProperty, StripsLeaveOutWhatTheWholeFrameLeavesOut) {
 // outputs, the plan names the shared factors only where some is not 1, strips give the whole
 // frame's output, and under --auto-combine select, which weighs none, share and each agree.
 TEST_F(AutoEstimateProperty, VariantsShareOneWeightInStripsAsOnTheWholeFrame) {
-    const int w = 32, h = 40;
-    std::mt19937_64 rng(SeedFromName("strips halves variants"));
-    std::normal_distribution<float> normal(0, 1);
-    Image half1(w, h, 3), variance(w, h, 3, 0.0025f), probe(w, h, 3, 0.f);
-    for (float &v : half1.data) v = 0.5f + 0.05f * normal(rng);
-    std::vector<AutoCandidate> candidates;
-    const float spread[3] = {0.02f, 0.03f, 0.035f};
-    for (int k = 0; k < 3; ++k) {
-        AutoCandidate c;
-        c.label = fmt::format("c{}", k);
-        c.method = k == 0 ? "a" : "b";
-        c.output = Image(w, h, 3);
-        c.probe = Image(w, h, 3);
-        for (size_t i = 0; i < c.output.data.size(); ++i) {
-            c.output.data[i] = 0.5f + spread[k] * normal(rng);
-            c.probe.data[i] = 0.5f + spread[k] * normal(rng);
-        }
-        c.colour[0] = float(k);
-        candidates.push_back(std::move(c));
-    }
-    AutoEstimateInputs in;
-    in.variance = variance, in.probe = probe, in.half1 = half1, in.meanVariance = variance;
+    const HalvesFrame frame = NoisyHalvesFrame(
+        "strips halves variants", {0.02f, 0.03f, 0.035f},
+        [](int k) { return std::string(k == 0 ? "a" : "b"); }, [](int, int) { return 0.f; });
+    const Image &half1 = frame.half1;
+    const std::vector<AutoCandidate> &candidates = frame.candidates;
+    const AutoEstimateInputs in = frame.Inputs();
     AutoOptions each;
     each.radius = 3;
     AutoOptions share = each;
