@@ -35,8 +35,8 @@ struct PivotSettings {
     PivotParams method;
     std::string guides = "auto", noise = "auto", layer = "auto";
     bool noPartials = false;
-    // Keep the values kept at their input beside other ids as they are (ClampKeptEdgeValues
-    // off).
+    // Keep the values beside other ids as the filter left them (ClampEdgeFitsToSides and
+    // ClampKeptEdgeValues off).
     bool keepEdges = false;
     // Scale the output of pixels whose pivot is a lone spike (ScalePivotSpikes).
     bool spikes = false;
@@ -197,7 +197,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    "where it lacks filtered values of both sides (a part at most two "
                    "pixels wide, or beside a side kept whole) the range also spans its "
                    "own ids' level within 2, the lower of their median and its pivot times "
-                   "their median over the pivot (dots along a wire)",
+                   "their median over the pivot (dots along a wire); and the filtered "
+                   "values beside other ids whose color / pivot lies beyond both sides' in "
+                   "their 5x5 window are clamped to that range (dark dots along an outline)",
                    &PivotSettings::keepEdges),
                BoolParam("pivot-spikes",
                          "scale lone pivot spikes: a pixel whose pivot is a lone spike (over "
@@ -281,6 +283,17 @@ class Pivot : public FrontEndOf<PivotSettings> {
         Image restoreFrom;
         if (options.spikes) restoreFrom = ScaleSpikes(in, run, &result);
         if (!options.keepEdges) {
+            size_t sides = ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId,
+                                                &result.image);
+            result.plan.push_back(fmt::format(
+                "edge fits: {} filtered values beside other ids whose color / pivot lay "
+                "beyond both sides' (the pixels off the edge in their 5x5 window, of their "
+                "own ids and of others) and their outline's (the median of their own ids' "
+                "inputs beside other ids there) clamped to that range (a pixel that mixes two "
+                "sides lies between them; planes extrapolated to an edge do not always; an "
+                "outline of its own, a glass's, shows in the inputs along it)",
+                sides));
+            if (run.keepStages) result.stages.push_back({"edge fits", result.image});
             KeptEdges kept = ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId,
                                                  &result.image);
             result.plan.push_back(fmt::format(
@@ -357,9 +370,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
-        // the kept edges' 5x5 window (a thin part's own median); the range's window; the
+        // the edge fits' 5x5 window of pixels off the edge (3: their 4-neighbours), then the
+        // kept edges' 5x5 window (a thin part's own median); the range's window; the
         // spikes' 3x3 window and the noise estimate's.
-        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) +
+        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 3 + 2) +
                           options.range + (options.spikes ? 1 : 0);
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
@@ -430,14 +444,16 @@ class Pivot : public FrontEndOf<PivotSettings> {
                     restoreFrom.Plane(c)[p] = out.Plane(c)[p];
             cpu.emplace_back("pivot spikes", out);
         }
-        if (!options.keepEdges) {
-            ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
-            cpu.emplace_back("kept edges", out);
-        }
         Image estimated;
         if (!in.variance && (options.range > 0 || options.bound > 0))
             estimated = ref::AutoNoise(*in.color, in.pivot, 1);
         const Image &variance = in.variance ? *in.variance : estimated;
+        if (!options.keepEdges) {
+            ref::ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId, &out);
+            cpu.emplace_back("edge fits", out);
+            ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
+            cpu.emplace_back("kept edges", out);
+        }
         if (options.range > 0) {
             ref::BoundToInputRange(*in.color, variance, options.range, kPivotRangeSpread, &out);
             cpu.emplace_back("range", out);
