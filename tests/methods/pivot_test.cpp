@@ -792,6 +792,39 @@ TEST(PivotKeptEdges, MatchReference) {
     EXPECT_EQ(ClampEdgeFitsToSides(none, none, nullptr, nullptr, &out), 0u);
 }
 
+// An outline of its own (a glass's silhouette, darker than both sides) is left where the
+// inputs along it show it, and lifted between its sides where they do not (one unlucky
+// gather among inputs at the sides' level).
+TEST(PivotKeptEdges, AnOutlineItsInputsShowStays) {
+    const int w = 12, h = 10, edgeX = 6;
+    Image pivot(w, h, 3, 0.5f), objectId(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) objectId.At(0, y, x) = x < edgeX ? 1.f : 2.f;
+    // The filtered output: both sides at 0.4, the edge columns at 0.1 (their fits).
+    Image output(w, h, 3, 0.4f);
+    for (int y = 0; y < h; ++y)
+        for (int c = 0; c < 3; ++c) output.At(c, y, edgeX - 1) = output.At(c, y, edgeX) = 0.1f;
+    for (float outline : {0.1f, 0.4f}) {
+        // Inputs: the sides' level off the edge (not equal to the output: filtered), the
+        // outline's along it.
+        Image input(w, h, 3, 0.41f);
+        for (int y = 0; y < h; ++y)
+            for (int c = 0; c < 3; ++c)
+                input.At(c, y, edgeX - 1) = input.At(c, y, edgeX) =
+                    outline < 0.2f ? 0.098f : outline;
+        Image held = output;
+        const size_t moved = ClampEdgeFitsToSides(input, pivot, &objectId, nullptr, &held);
+        const float edge = held.At(1, h / 2, edgeX);
+        if (outline < 0.2f) {
+            EXPECT_EQ(moved, 0u) << "an outline its inputs show was lifted";
+            EXPECT_EQ(edge, 0.1f);
+        } else {
+            EXPECT_EQ(moved, size_t(2 * h * 3));
+            EXPECT_NEAR(edge, 0.4f, 1e-6) << "an edge gather below both sides stays";
+        }
+    }
+}
+
 // Lone pivot spikes scaled against the CPU reference (bit for bit: one product each), on
 // random frames with spikes of 100 in the pivot (lone ones and pairs), colours and variances
 // that make some of them a few samples' fireflies and some steady, a variance of one channel
