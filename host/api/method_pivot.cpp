@@ -286,14 +286,14 @@ class Pivot : public FrontEndOf<PivotSettings> {
             size_t sides = ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId,
                                                 &result.image);
             result.plan.push_back(fmt::format(
-                "edge fits: {} filtered values beside other ids whose color / pivot lay "
+                "edge sides: {} filtered values beside other ids whose color / pivot lay "
                 "beyond both sides' (the pixels off the edge in their 5x5 window, of their "
                 "own ids and of others) and their outline's (the median of their own ids' "
                 "inputs beside other ids there) clamped to that range (a pixel that mixes two "
                 "sides lies between them; planes extrapolated to an edge do not always; an "
                 "outline of its own, a glass's, shows in the inputs along it)",
                 sides));
-            if (run.keepStages) result.stages.push_back({"edge fits", result.image});
+            if (run.keepStages) result.stages.push_back({"edge sides", result.image});
             KeptEdges kept = ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId,
                                                  &result.image);
             result.plan.push_back(fmt::format(
@@ -370,7 +370,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
-        // the edge fits' 5x5 window of pixels off the edge (3: their 4-neighbours), then the
+        // the edge sides' 5x5 window of pixels off the edge (3: their 4-neighbours), then the
         // kept edges' 5x5 window (a thin part's own median); the range's window; the
         // spikes' 3x3 window and the noise estimate's.
         const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 3 + 2) +
@@ -450,7 +450,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const Image &variance = in.variance ? *in.variance : estimated;
         if (!options.keepEdges) {
             ref::ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId, &out);
-            cpu.emplace_back("edge fits", out);
+            cpu.emplace_back("edge sides", out);
             ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
             cpu.emplace_back("kept edges", out);
         }

@@ -1065,7 +1065,7 @@ TEST_F(PivotMethod, EdgeValuesStayBetweenTheirSides) {
             }
         }
     StagedPivotRun run(Ctx(), color, pivot, variance, objectId);
-    const Image &filtered = run.Filtered(), &held = StageNamed(run.result, "edge fits");
+    const Image &filtered = run.Filtered(), &held = StageNamed(run.result, "edge sides");
     ASSERT_TRUE(filtered.SameShape(color) && held.SameShape(color));
     auto onEdge = [&](int x, int y) {
         return (x > 0 && objectId.At(0, y, x - 1) != objectId.At(0, y, x)) ||
