@@ -79,4 +79,47 @@ std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
     return changed;
 }
 
+std::vector<size_t> KeepPivotSpikeClusters(const Image &color, const Image &pivot,
+                                           Image *output) {
+    const int w = color.width, h = color.height;
+    auto sum = [&](int x, int y) {
+        float s = 0;
+        for (int c = 0; c < pivot.channels; ++c) s += pivot.At(c, y, x);
+        return s;
+    };
+    std::vector<size_t> changed;
+    if (w * h == 1) return changed;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            bool finite = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int xx = x + dx, yy = y + dy;
+                    if (xx >= 0 && yy >= 0 && xx < w && yy < h && !std::isfinite(sum(xx, yy)))
+                        finite = false;
+                }
+            if (!finite) continue;
+            double m = LowerMiddle(w, h, x, y, [&](int u, int v) { return double(sum(u, v)); });
+            if (!(m > 0) || !(sum(x, y) > 16 * m)) continue;
+            int over = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int xx = x + dx, yy = y + dy;
+                    if ((dx != 0 || dy != 0) && xx >= 0 && yy >= 0 && xx < w && yy < h &&
+                        sum(xx, yy) > 16 * m)
+                        ++over;
+                }
+            if (over < 2) continue;
+            bool any = false;
+            for (int k = 0; k < color.channels; ++k) {
+                float in = color.At(k, y, x);
+                if (!std::isfinite(in) || output->At(k, y, x) == in) continue;
+                output->At(k, y, x) = in;
+                any = true;
+            }
+            if (any) changed.push_back(size_t(y) * w + x);
+        }
+    return changed;
+}
+
 }  // namespace mcd::ref

@@ -326,6 +326,15 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
+        const size_t clusters =
+            KeepPivotSpikeClusters(*in.color, *in.pivot, &result.image).size();
+        result.plan.push_back(fmt::format(
+            "spike clusters: {} pixels whose pivot is over {} times its neighbours' median "
+            "with 2 or more of them so (a light seen in a mirror: the albedo followed it; no "
+            "fit of the surface around holds it) keep their input, which the restore leaves "
+            "(it spread their cut light as a halo)",
+            clusters, kPivotSpike));
+        if (run.keepStages) result.stages.push_back({"spike clusters", result.image});
         // A tile's last steps wait for the assembled frame (Finish).
         if (!finishWhole) RestoreAndKeepChroma(in, restoreFrom, run, &result);
         if (UsesAlbedo(inputs))
@@ -372,9 +381,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
         // the edge sides' 5x5 window of pixels off the edge (3: their 4-neighbours), then the
         // kept edges' 5x5 window (a thin part's own median); the range's window; the
-        // spikes' 3x3 window and the noise estimate's.
+        // spikes' 3x3 window and the noise estimate's; the spike clusters' 3x3 window.
         const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 3 + 2) +
-                          options.range + (options.spikes ? 1 : 0);
+                          options.range + (options.spikes ? 1 : 0) + 1;
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += bound + frameNoise;
@@ -462,6 +471,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
             ref::BoundToNoise(*in.color, variance, options.bound, &out);
             cpu.emplace_back("bound", out);
         }
+        ref::KeepPivotSpikeClusters(*in.color, *in.pivot, &out);
+        cpu.emplace_back("spike clusters", out);
         if (int r = options.method.meanRadius; r > 0) {
             ref::RestoreLocalMeans(restoreFrom, r, &out, in.variance, kLocalMeanRebalance,
                                    true);

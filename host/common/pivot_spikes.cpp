@@ -32,22 +32,29 @@ std::vector<float> Sums(const Image &image) {
     return sums;
 }
 
-// Whether p's pivot sum is a lone spike over its neighbours' median.
-bool LoneSpike(const std::vector<float> &sums, int w, int h, int x, int y) {
+// Where p's pivot sum is a spike over its neighbours' median, how many of them are so too;
+// -1 where it is not.
+int SpikeNeighbours(const std::vector<float> &sums, int w, int h, int x, int y) {
     const size_t p = size_t(y) * w + x;
-    if (!std::isfinite(sums[p]) || w * h == 1) return false;
+    if (!std::isfinite(sums[p]) || w * h == 1) return -1;
     int over = 0;
     for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
         for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
-            if (!std::isfinite(sums[size_t(v) * w + u])) return false;
+            if (!std::isfinite(sums[size_t(v) * w + u])) return -1;
     // A median of 0 (background, black material) would take the tips of thin objects and
     // small lights to 0.
     const double median = NeighbourMedian(sums.data(), w, h, x, y);
-    if (!(median > 0) || !(sums[p] > kPivotSpike * median)) return false;
+    if (!(median > 0) || !(sums[p] > kPivotSpike * median)) return -1;
     for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
         for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
             if ((u != x || v != y) && sums[size_t(v) * w + u] > kPivotSpike * median) ++over;
-    return over < 2;
+    return over;
+}
+
+// Whether p's pivot sum is a lone spike over its neighbours' median.
+bool LoneSpike(const std::vector<float> &sums, int w, int h, int x, int y) {
+    const int over = SpikeNeighbours(sums, w, h, x, y);
+    return over >= 0 && over < 2;
 }
 
 // Whether p's colour is noisy enough to be a few samples' firefly.
@@ -99,6 +106,35 @@ std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
     std::vector<size_t> pixels;
     for (size_t p = 0; p < scaled.size(); ++p)
         if (scaled[p]) pixels.push_back(p);
+    return pixels;
+}
+
+std::vector<size_t> KeepPivotSpikeClusters(const Image &color, const Image &pivot,
+                                           Image *output) {
+    if (!color.SameShape(*output) || pivot.width != color.width ||
+        pivot.height != color.height ||
+        (pivot.channels != 1 && pivot.channels != color.channels))
+        throw Error(
+            "KeepPivotSpikeClusters: the output must have the colour's shape, the pivot its "
+            "size and 1 or its channels",
+            ErrorKind::Internal);
+    const int w = color.width, h = color.height;
+    const std::vector<float> sums = Sums(pivot);
+    std::vector<size_t> pixels;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (SpikeNeighbours(sums, w, h, x, y) < 2) continue;
+            const size_t p = size_t(y) * w + x;
+            bool changed = false;
+            for (int c = 0; c < color.channels; ++c) {
+                const float in = color.Plane(c)[p];
+                float *out = &output->Plane(c)[p];
+                if (!std::isfinite(in) || *out == in) continue;
+                *out = in;
+                changed = true;
+            }
+            if (changed) pixels.push_back(p);
+        }
     return pixels;
 }
 

@@ -28,4 +28,12 @@ constexpr double kPivotSpike = 16, kPivotSpikeNoise = 0.25;
 std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
                                      const Image &variance, Image *output);
 
+// Pixels whose pivot is a spike with 2 or more of its 8 neighbours so too (a light seen in a
+// mirror by a few pixels: the albedo followed the mirror to it) hold no surface the fits
+// around them describe: their fits cut the light, and the restore of local means gave it
+// back spread over its tents, a halo round the reflection. Each keeps its input (finite
+// channels), which the restore leaves. Returns the pixels changed (ascending).
+std::vector<size_t> KeepPivotSpikeClusters(const Image &color, const Image &pivot,
+                                           Image *output);
+
 }  // namespace mcd
