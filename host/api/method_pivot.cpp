@@ -40,6 +40,9 @@ struct PivotSettings {
     bool keepEdges = false;
     // Scale the output of pixels whose pivot is a lone spike (ScalePivotSpikes).
     bool spikes = false;
+    // Fit the pixels whose pivot is a cluster of spikes as the others (KeepPivotSpikeClusters
+    // off).
+    bool fitClusters = false;
     // The output held to the range of its input's (2 r + 1)^2 window (BoundToInputRange);
     // 0: off.
     int range = 1;
@@ -212,6 +215,14 @@ class Pivot : public FrontEndOf<PivotSettings> {
                          "highlights that a single sample saw (beyond the paper; off by "
                          "default)",
                          &PivotSettings::spikes),
+               BoolParam("pivot-fit-clusters",
+                         "fit the pixels whose pivot is a cluster of spikes (over 16 times its "
+                         "neighbours' median, channels summed, with 2 or more of them so: a "
+                         "light seen in a mirror, whose albedo followed the mirror to it) as "
+                         "the others; by default they keep their input, which the restore of "
+                         "local means leaves (their fits cut the light and the restore spread "
+                         "it as a halo round the reflection; beyond the paper)",
+                         &PivotSettings::fitClusters),
                IntParam("pivot-range",
                         "each pixel's channels end within the range of their input's values "
                         "in the window of this half-size, moved toward their input by one "
@@ -326,15 +337,19 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
-        const size_t clusters =
-            KeepPivotSpikeClusters(*in.color, *in.pivot, &result.image).size();
-        result.plan.push_back(fmt::format(
-            "spike clusters: {} pixels whose pivot is over {} times its neighbours' median "
-            "with 2 or more of them so (a light seen in a mirror: the albedo followed it; no "
-            "fit of the surface around holds it) keep their input, which the restore leaves "
-            "(it spread their cut light as a halo)",
-            clusters, kPivotSpike));
-        if (run.keepStages) result.stages.push_back({"spike clusters", result.image});
+        if (!options.fitClusters) {
+            const size_t clusters =
+                KeepPivotSpikeClusters(*in.color, *in.pivot, &result.image).size();
+            result.plan.push_back(fmt::format(
+                "spike clusters: {} pixels whose pivot is over {} times its neighbours' median "
+                "with 2 or more of them so (a light seen in a mirror: the albedo followed it; "
+                "no "
+                "fit of the surface around holds it) keep their input, which the restore "
+                "leaves "
+                "(it spread their cut light as a halo)",
+                clusters, kPivotSpike));
+            if (run.keepStages) result.stages.push_back({"spike clusters", result.image});
+        }
         // A tile's last steps wait for the assembled frame (Finish).
         if (!finishWhole) RestoreAndKeepChroma(in, restoreFrom, run, &result);
         if (UsesAlbedo(inputs))
@@ -383,7 +398,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
         // kept edges' 5x5 window (a thin part's own median); the range's window; the
         // spikes' 3x3 window and the noise estimate's; the spike clusters' 3x3 window.
         const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 3 + 2) +
-                          options.range + (options.spikes ? 1 : 0) + 1;
+                          options.range + (options.spikes ? 1 : 0) +
+                          (options.fitClusters ? 0 : 1);
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += bound + frameNoise;
@@ -471,8 +487,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
             ref::BoundToNoise(*in.color, variance, options.bound, &out);
             cpu.emplace_back("bound", out);
         }
-        ref::KeepPivotSpikeClusters(*in.color, *in.pivot, &out);
-        cpu.emplace_back("spike clusters", out);
+        if (!options.fitClusters) {
+            ref::KeepPivotSpikeClusters(*in.color, *in.pivot, &out);
+            cpu.emplace_back("spike clusters", out);
+        }
         if (int r = options.method.meanRadius; r > 0) {
             ref::RestoreLocalMeans(restoreFrom, r, &out, in.variance, kLocalMeanRebalance,
                                    true);

@@ -1038,6 +1038,9 @@ TEST_F(PivotMethod, ALightInAMirrorLeavesNoHalo) {
     EXPECT_LT(error / count, 0.1 * level) << "a halo round the reflection";
     for (int c = 0; c < 3; ++c) EXPECT_EQ(run.result.image.At(c, cy, cx), 25.f) << c;
     EXPECT_TRUE(run.RerunsBitIdentically());
+    // --pivot-fit-clusters (auto's candidates) fits them as the others.
+    run.method.Set("pivot-fit-clusters", true);
+    EXPECT_NE(run.method.Run(run.device, run.frame).image.At(0, cy, cx), 25.f);
 }
 
 // A ceiling (albedo 0.8) above a wall (albedo 0.5), of two object ids, both lit to the same
