@@ -82,6 +82,35 @@ Image ScaleSpikes(const PivotInputs &in, const RunOptions &run, Result *result) 
     return restoreFrom;
 }
 
+// Filtered values beside other ids held between their two sides (ClampEdgeFitsToSides), with
+// the plan's line and the stage.
+void HoldEdgeSides(const PivotInputs &in, const RunOptions &run, Result *result) {
+    const size_t sides =
+        ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId, &result->image);
+    result->plan.push_back(fmt::format(
+        "edge sides: {} filtered values beside other ids whose color / pivot lay beyond both "
+        "sides' (the pixels off the edge in their 5x5 window, of their own ids and of others) "
+        "and their outline's (the median of their own ids' inputs beside other ids there) "
+        "clamped to that range (a pixel that mixes two sides lies between them; planes "
+        "extrapolated to an edge do not always; an outline of its own, a glass's, shows in the "
+        "inputs along it)",
+        sides));
+    if (run.keepStages) result->stages.push_back({"edge sides", result->image});
+}
+
+// Pixels whose pivot is a cluster of spikes keep their input (KeepPivotSpikeClusters), with
+// the plan's line and the stage.
+void KeepSpikeClusters(const PivotInputs &in, const RunOptions &run, Result *result) {
+    const size_t clusters = KeepPivotSpikeClusters(*in.color, *in.pivot, &result->image).size();
+    result->plan.push_back(fmt::format(
+        "spike clusters: {} pixels whose pivot is over {} times its neighbours' median with 2 "
+        "or more of them so (a light seen in a mirror: the albedo followed it; no fit of the "
+        "surface around holds it) keep their input, which the restore leaves (it spread their "
+        "cut light as a halo)",
+        clusters, kPivotSpike));
+    if (run.keepStages) result->stages.push_back({"spike clusters", result->image});
+}
+
 // Pixels whose fits tint them given their window's chroma (KeepWindowChroma), with the plan's
 // line and the stage: the output's last step, held as the bound holds the fits (its k; before
 // the local means, it moved lights the restore then gave back less of). Only against a
@@ -294,17 +323,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         Image restoreFrom;
         if (options.spikes) restoreFrom = ScaleSpikes(in, run, &result);
         if (!options.keepEdges) {
-            size_t sides = ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId,
-                                                &result.image);
-            result.plan.push_back(fmt::format(
-                "edge sides: {} filtered values beside other ids whose color / pivot lay "
-                "beyond both sides' (the pixels off the edge in their 5x5 window, of their "
-                "own ids and of others) and their outline's (the median of their own ids' "
-                "inputs beside other ids there) clamped to that range (a pixel that mixes two "
-                "sides lies between them; planes extrapolated to an edge do not always; an "
-                "outline of its own, a glass's, shows in the inputs along it)",
-                sides));
-            if (run.keepStages) result.stages.push_back({"edge sides", result.image});
+            HoldEdgeSides(in, run, &result);
             KeptEdges kept = ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId,
                                                  &result.image);
             result.plan.push_back(fmt::format(
@@ -337,19 +356,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
-        if (!options.fitClusters) {
-            const size_t clusters =
-                KeepPivotSpikeClusters(*in.color, *in.pivot, &result.image).size();
-            result.plan.push_back(fmt::format(
-                "spike clusters: {} pixels whose pivot is over {} times its neighbours' median "
-                "with 2 or more of them so (a light seen in a mirror: the albedo followed it; "
-                "no "
-                "fit of the surface around holds it) keep their input, which the restore "
-                "leaves "
-                "(it spread their cut light as a halo)",
-                clusters, kPivotSpike));
-            if (run.keepStages) result.stages.push_back({"spike clusters", result.image});
-        }
+        if (!options.fitClusters) KeepSpikeClusters(in, run, &result);
         // A tile's last steps wait for the assembled frame (Finish).
         if (!finishWhole) RestoreAndKeepChroma(in, restoreFrom, run, &result);
         if (UsesAlbedo(inputs))
