@@ -101,13 +101,20 @@ void HoldEdgeSides(const PivotInputs &in, const RunOptions &run, Result *result)
 // Pixels whose pivot is a cluster of spikes keep their input (KeepPivotSpikeClusters), with
 // the plan's line and the stage.
 void KeepSpikeClusters(const PivotInputs &in, const RunOptions &run, Result *result) {
-    const size_t clusters = KeepPivotSpikeClusters(*in.color, *in.pivot, &result->image).size();
+    const size_t clusters =
+        KeepPivotSpikeClusters(*in.color, *in.pivot, in.objectId, in.partId, &result->image)
+            .size();
     result->plan.push_back(fmt::format(
         "spike clusters: {} pixels whose pivot is over {} times its neighbours' median with 2 "
         "or more of them so (a light seen in a mirror: the albedo followed it; no fit of the "
-        "surface around holds it) keep their input, which the restore leaves (it spread their "
-        "cut light as a halo)",
-        clusters, kPivotSpike));
+        "surface around holds it) {}keep their input, which the restore leaves (it spread "
+        "their cut light as a halo)",
+        clusters, kPivotSpike,
+        in.objectId || in.partId
+            ? "and whose other neighbours have their ids (a mirror's; a thin bright part of "
+              "its "
+              "own ids, a wire, is fitted) "
+            : "(no ids: a thin bright part, a wire, is not told from a reflection) "));
     if (run.keepStages) result->stages.push_back({"spike clusters", result->image});
 }
 
@@ -495,7 +502,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
             cpu.emplace_back("bound", out);
         }
         if (!options.fitClusters) {
-            ref::KeepPivotSpikeClusters(*in.color, *in.pivot, &out);
+            ref::KeepPivotSpikeClusters(*in.color, *in.pivot, in.objectId, in.partId, &out);
             cpu.emplace_back("spike clusters", out);
         }
         if (int r = options.method.meanRadius; r > 0) {

@@ -880,14 +880,41 @@ TEST(PivotSpikes, MatchReference) {
             EXPECT_TRUE(BitIdentical(got, expected)) << w << "x" << h;
             EXPECT_EQ(ScalePivotSpikes(color, pivot, variance, &again), scaled);
             EXPECT_TRUE(BitIdentical(again, got)) << "two runs differ, " << w << "x" << h;
-            // The clusters (pairs and more) keep their input, on the same outputs.
-            Image clustersExpected = output, clustersGot = output;
-            std::vector<size_t> kept =
-                ref::KeepPivotSpikeClusters(color, pivot, &clustersExpected);
-            EXPECT_EQ(KeepPivotSpikeClusters(color, pivot, &clustersGot), kept)
-                << w << "x" << h;
-            EXPECT_TRUE(BitIdentical(clustersGot, clustersExpected)) << w << "x" << h;
-            if (w >= 17) EXPECT_GT(kept.size(), 0u) << "the case keeps no cluster";
+            {
+                Image pivot1(w, h, 1);
+                for (size_t p = 0; p < pivot1.PixelCount(); ++p) pivot1.data[p] = pivot.data[p];
+                Image expected1 = output, got1 = output;
+                EXPECT_EQ(ScalePivotSpikes(color, pivot1, variance, &got1),
+                          ref::ScalePivotSpikes(color, pivot1, variance, &expected1))
+                    << w << "x" << h << " pivot of 1 channel";
+                EXPECT_TRUE(BitIdentical(got1, expected1)) << w << "x" << h << " pivot 1";
+            }
+            // The clusters (pairs and more) keep their input, on the same outputs: without
+            // ids and with ids (blocks of 8x8, the cluster's whole; some part ids), with the
+            // pivot's 3 channels and with its first alone.
+            Image objectId(w, h, 1), partId(w, h, 1, 0.f), pivot1(w, h, 1);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    objectId.At(0, y, x) = float(1 + x / 8 + 10 * (y / 8));
+                    if (pick[size_t(y) * w + x] > 0.95f) partId.At(0, y, x) = 1;
+                    pivot1.At(0, y, x) = pivot.At(0, y, x);
+                }
+            for (const Image *onePivot : {&pivot, &pivot1})
+                for (bool ids : {false, true}) {
+                    const Image *object = ids ? &objectId : nullptr;
+                    const Image *part = ids ? &partId : nullptr;
+                    const std::string label =
+                        fmt::format("{}x{} pivot {} ids {}", w, h, onePivot->channels, ids);
+                    Image clustersExpected = output, clustersGot = output;
+                    std::vector<size_t> kept = ref::KeepPivotSpikeClusters(
+                        color, *onePivot, object, part, &clustersExpected);
+                    EXPECT_EQ(
+                        KeepPivotSpikeClusters(color, *onePivot, object, part, &clustersGot),
+                        kept)
+                        << label;
+                    EXPECT_TRUE(BitIdentical(clustersGot, clustersExpected)) << label;
+                    if (w >= 17) EXPECT_GT(kept.size(), 0u) << "no cluster kept, " << label;
+                }
             if (w >= 17) {
                 EXPECT_GT(want.size(), 0u) << "the case scales no spike";
             }
@@ -1041,6 +1068,76 @@ TEST_F(PivotMethod, ALightInAMirrorLeavesNoHalo) {
     // --pivot-fit-clusters (auto's candidates) fits them as the others.
     run.method.Set("pivot-fit-clusters", true);
     EXPECT_NE(run.method.Run(run.device, run.frame).image.At(0, cy, cx), 25.f);
+}
+
+// A bright wire one pixel wide (albedo 0.8, its own object id) on a dark ground (0.04):
+// every wire pixel is a pivot spike with 2 neighbours so, as a light in a mirror, but its
+// dark neighbours have other ids. It keeps no noisy input (host and CPU twin); a 2x2 bright
+// patch of its own id neither; a cluster with the ground's id (a reflection) does, and
+// without ids the wire does too (nothing tells it from a reflection).
+TEST(PivotSpikes, AThinBrightPartOfItsOwnIdKeepsNoInput) {
+    const int w = 20, h = 14, wireX = 5;
+    std::mt19937_64 rng(SeedFromName("pivot spike clusters wire"));
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image pivot(w, h, 3, 0.04f), color(w, h, 3), output(w, h, 3), objectId(w, h, 1, 1.f);
+    auto patch = [](int x, int y) { return x >= 12 && x < 14 && y >= 4 && y < 6; };
+    auto mirror = [](int x, int y) { return x >= 12 && x < 14 && y >= 9 && y < 11; };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (x == wireX) objectId.At(0, y, x) = 2;
+            if (patch(x, y)) objectId.At(0, y, x) = 3;
+            for (int c = 0; c < 3; ++c) {
+                if (x == wireX || patch(x, y) || mirror(x, y)) pivot.At(c, y, x) = 0.8f;
+                // A noisy input, a filtered output at the level.
+                color.At(c, y, x) = pivot.At(c, y, x) * 2 * unit(rng);
+                output.At(c, y, x) = pivot.At(c, y, x);
+            }
+        }
+    for (bool ids : {true, false}) {
+        const Image *object = ids ? &objectId : nullptr;
+        Image got = output, expected = output;
+        const std::vector<size_t> kept =
+            KeepPivotSpikeClusters(color, pivot, object, nullptr, &got);
+        EXPECT_EQ(ref::KeepPivotSpikeClusters(color, pivot, object, nullptr, &expected), kept);
+        EXPECT_TRUE(BitIdentical(got, expected)) << "ids " << ids;
+        for (const Image *image : {&got, &expected})
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    for (int c = 0; c < 3; ++c) {
+                        const bool input = image->At(c, y, x) == color.At(c, y, x);
+                        if (mirror(x, y))
+                            EXPECT_TRUE(input) << "a reflection, " << x << "," << y;
+                        if (ids && (x == wireX || patch(x, y)))
+                            EXPECT_FALSE(input)
+                                << "a thin part kept its noise, " << x << "," << y;
+                        if (!ids && x == wireX && y > 0 && y + 1 < h) EXPECT_TRUE(input);
+                    }
+    }
+}
+
+// The same wire through the method: the spike clusters' step leaves it as the bound did.
+TEST_F(PivotMethod, AThinBrightPartOfItsOwnIdIsNotKeptAsAReflection) {
+    const int w = 32, h = 24, wireX = 15;
+    std::mt19937_64 rng(SeedFromName("pivot method wire"));
+    std::normal_distribution<float> normal(0, 1);
+    Image pivot(w, h, 3, 0.04f), color(w, h, 3), variance(w, h, 3), objectId(w, h, 1, 1.f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (x == wireX) objectId.At(0, y, x) = 2;
+            for (int c = 0; c < 3; ++c) {
+                if (x == wireX) pivot.At(c, y, x) = 0.8f;
+                const float level = pivot.At(c, y, x) * 0.5f;
+                color.At(c, y, x) = std::max(0.f, level * (1 + 0.5f * normal(rng)));
+                variance.At(c, y, x) = level * level * 0.25f;
+            }
+        }
+    StagedPivotRun run(Ctx(), color, pivot, variance, objectId);
+    const Image &before = StageNamed(run.result, "bound"),
+                &after = StageNamed(run.result, "spike clusters");
+    ASSERT_TRUE(before.SameShape(color) && after.SameShape(color));
+    for (int y = 1; y + 1 < h; ++y)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_EQ(after.At(c, y, wireX), before.At(c, y, wireX)) << y << " " << c;
 }
 
 // A ceiling (albedo 0.8) above a wall (albedo 0.5), of two object ids, both lit to the same
