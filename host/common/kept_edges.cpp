@@ -132,6 +132,11 @@ size_t ClampEdgeFitsToSides(const Image &input, const Image &pivot, const Image 
         throw Error(
             "ClampEdgeFitsToSides: the output and the pivot must have the input's shape",
             ErrorKind::Internal);
+    for (const Image *id : {objectId, partId})
+        if (id && (id->width != input.width || id->height != input.height || id->channels != 1))
+            throw Error(
+                "ClampEdgeFitsToSides: an id layer must be one channel of the input's size",
+                ErrorKind::Internal);
     if (!objectId && !partId) return 0;
     const Ids ids{objectId, partId};
     const int w = input.width, h = input.height;

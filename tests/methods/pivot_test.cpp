@@ -790,6 +790,14 @@ TEST(PivotKeptEdges, MatchReference) {
     Image none(4, 4, 3, 0.5f), out = none;
     EXPECT_EQ(ClampKeptEdgeValues(none, none, nullptr, nullptr, &out).clamped, 0u);
     EXPECT_EQ(ClampEdgeFitsToSides(none, none, nullptr, nullptr, &out), 0u);
+    // An id layer of another size or channel count is refused before it is read.
+    Image small(2, 2, 1, 1.f), twoChannels(4, 4, 2, 1.f);
+    for (const Image *id : {&small, &twoChannels}) {
+        EXPECT_THROW(ClampEdgeFitsToSides(none, none, id, nullptr, &out), Error);
+        EXPECT_THROW(ClampEdgeFitsToSides(none, none, nullptr, id, &out), Error);
+        EXPECT_THROW(KeepPivotSpikeClusters(none, none, id, nullptr, &out), Error);
+        EXPECT_THROW(KeepPivotSpikeClusters(none, none, nullptr, id, &out), Error);
+    }
 }
 
 // An outline of its own (a glass's silhouette, darker than both sides) is left where the
