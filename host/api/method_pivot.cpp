@@ -85,6 +85,11 @@ Image ScaleSpikes(const PivotInputs &in, const RunOptions &run, Result *result) 
 // Filtered values beside other ids held between their two sides (ClampEdgeFitsToSides), with
 // the plan's line and the stage.
 void HoldEdgeSides(const PivotInputs &in, const RunOptions &run, Result *result) {
+    if (!in.objectId && !in.partId) {
+        result->plan.push_back("edge sides: not looked at (no ids)");
+        if (run.keepStages) result->stages.push_back({"edge sides", result->image});
+        return;
+    }
     const size_t sides =
         ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId, &result->image);
     result->plan.push_back(fmt::format(
@@ -229,16 +234,19 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    &PivotSettings::noPartials),
                BoolParam(
                    "pivot-keep-edges",
-                   "leave the values the filter kept at their input beside other ids "
-                   "(mixing in a side far from their own) as they are; by default each "
-                   "is clamped to the range of the filtered values of both sides in "
-                   "its 3x3 window, which takes out their noise (dots along id edges); "
-                   "where it lacks filtered values of both sides (a part at most two "
-                   "pixels wide, or beside a side kept whole) the range also spans its "
-                   "own ids' level within 2, the lower of their median and its pivot times "
-                   "their median over the pivot (dots along a wire); and the filtered "
-                   "values beside other ids whose color / pivot lies beyond both sides' in "
-                   "their 5x5 window are clamped to that range (dark dots along an outline)",
+                   "leave the values beside other ids as the filter left them; by default "
+                   "two steps hold them: first each filtered value beside other ids whose "
+                   "filtered value / pivot lies beyond the range of both sides' in its 5x5 "
+                   "window (the pixels off the edge, of its own ids and of others), widened "
+                   "to its outline's level (the median input / pivot of its own ids' pixels "
+                   "beside other ids there), is clamped to that range times its pivot (dark "
+                   "dots along an outline); then each value the filter kept at its input "
+                   "(mixing in a side far from its own) is clamped to the range of the "
+                   "filtered values of both sides in its 3x3 window (dots along id edges); "
+                   "where it lacks filtered values of both sides (a part at most two pixels "
+                   "wide, or beside a side kept whole) the range also spans its own ids' "
+                   "level within 2, the lower of their median and its pivot times their "
+                   "median over the pivot (dots along a wire)",
                    &PivotSettings::keepEdges),
                BoolParam("pivot-spikes",
                          "scale lone pivot spikes: a pixel whose pivot is a lone spike (over "
@@ -408,12 +416,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
-        // the edge sides' 5x5 window of pixels off the edge (3: their 4-neighbours), then the
-        // kept edges' 5x5 window (a thin part's own median); the range's window; the
-        // spikes' 3x3 window and the noise estimate's; the spike clusters' 3x3 window.
-        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 3 + 2) +
-                          options.range + (options.spikes ? 1 : 0) +
-                          (options.fitClusters ? 0 : 1);
+        // the edge sides' 5x5 window of outputs (the ids and inputs they test lie in the
+        // tile), then the kept edges' 5x5 window (a thin part's own median); the range's
+        // window; the spikes' 3x3 window and the noise estimate's. The spike clusters read
+        // their own output and the pivot: no reach.
+        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2 + 2) +
+                          options.range + (options.spikes ? 1 : 0);
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
         needs.reach += bound + frameNoise;
@@ -429,7 +437,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
         if (!options.spikes) needs.finishReach = needs.reach - beforeRestore;
         needs.reachText += fmt::format(
             "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
-            "kept edges', the range's and the spikes' windows; {} for the frame's noise "
+            "edge sides', the kept edges', the range's and the spikes' windows (the spike "
+            "clusters read their own pixel); {} for the frame's noise "
             "estimate; the chroma's window {} (the larger of it and the rest)",
             mean, bound, frameNoise, chroma);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
