@@ -1123,7 +1123,8 @@ TEST(PivotSpikes, AThinBrightPartOfItsOwnIdKeepsNoInput) {
     }
 }
 
-// The same wire through the method: the spike clusters' step leaves it as the bound did.
+// The same wire through the method: the spike clusters' step leaves it as the bound did;
+// without ids the edge step says it did not look.
 TEST_F(PivotMethod, AThinBrightPartOfItsOwnIdIsNotKeptAsAReflection) {
     const int w = 32, h = 24, wireX = 15;
     std::mt19937_64 rng(SeedFromName("pivot method wire"));
@@ -1146,6 +1147,13 @@ TEST_F(PivotMethod, AThinBrightPartOfItsOwnIdIsNotKeptAsAReflection) {
     for (int y = 1; y + 1 < h; ++y)
         for (int c = 0; c < 3; ++c)
             EXPECT_EQ(after.At(c, y, wireX), before.At(c, y, wireX)) << y << " " << c;
+    // Without ids the edge step does not look, and the plan says so.
+    mcd::Frame noIds = run.frame;
+    noIds.layers.erase("objectId");
+    bool said = false;
+    for (const std::string &line : run.method.Run(run.device, noIds).plan)
+        said |= line == "edge sides: not looked at (no ids)";
+    EXPECT_TRUE(said);
 }
 
 // A ceiling (albedo 0.8) above a wall (albedo 0.5), of two object ids, both lit to the same
