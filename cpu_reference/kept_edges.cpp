@@ -104,4 +104,59 @@ size_t ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *
     return changed;
 }
 
+size_t ClampEdgeFitsToSides(const Image &input, const Image &pivot, const Image *objectId,
+                            const Image *partId, Image *output) {
+    if (!objectId && !partId) return 0;
+    const int w = input.width, h = input.height;
+    auto onEdge = [&](int x, int y) {
+        const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+        for (int k = 0; k < 4; ++k)
+            if (nx[k] >= 0 && nx[k] < w && ny[k] >= 0 && ny[k] < h &&
+                !SameIds(objectId, partId, x, y, nx[k], ny[k]))
+                return true;
+        return false;
+    };
+    const Image before = *output;
+    size_t changed = 0;
+    for (int c = 0; c < input.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float o = before.At(c, y, x), a = pivot.At(c, y, x);
+                if (!onEdge(x, y) || !(a > 0) || !std::isfinite(o) ||
+                    SameFloat(input.At(c, y, x), o))
+                    continue;
+                std::vector<float> own, other, line;
+                for (int v = y - 2; v <= y + 2; ++v)
+                    for (int u = x - 2; u <= x + 2; ++u) {
+                        if (v < 0 || v >= h || u < 0 || u >= w) continue;
+                        const float ov = before.At(c, v, u), av = pivot.At(c, v, u);
+                        const bool same = SameIds(objectId, partId, x, y, u, v);
+                        if (!(av > 0)) continue;
+                        if (onEdge(u, v)) {
+                            const float z = input.At(c, v, u) / av;
+                            if (same && std::isfinite(z)) line.push_back(z);
+                            continue;
+                        }
+                        if (!std::isfinite(ov) || SameFloat(input.At(c, v, u), ov)) continue;
+                        const float z = ov / av;
+                        if (std::isfinite(z)) (same ? own : other).push_back(z);
+                    }
+                if (own.empty() || other.empty()) continue;
+                float lo = *std::min_element(own.begin(), own.end());
+                float hi = *std::max_element(own.begin(), own.end());
+                lo = std::min(lo, *std::min_element(other.begin(), other.end()));
+                hi = std::max(hi, *std::max_element(other.begin(), other.end()));
+                if (!line.empty()) {
+                    std::sort(line.begin(), line.end());
+                    lo = std::min(lo, line[line.size() / 2]);
+                    hi = std::max(hi, line[line.size() / 2]);
+                }
+                const float z = o / a;
+                if (!std::isfinite(z) || (z >= lo && z <= hi)) continue;
+                output->At(c, y, x) = (z < lo ? lo : hi) * a;
+                ++changed;
+            }
+    return changed;
+}
+
 }  // namespace mcd::ref

@@ -22,4 +22,15 @@ namespace mcd::ref {
 size_t ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
                            const Image *partId, Image *output);
 
+// At a pixel with a 4-neighbour of other (objectId, partId) and a pivot above 0, a finite
+// value not equal to its input has its z = value / pivot clamped to [lo, hi] and becomes z
+// times its pivot: over the other pixels of its 5x5 window without such a neighbour, with a
+// pivot above 0 and a finite value not equal to their input (where those include one of the
+// pixel's own ids and one of others), lo and hi are the least and the largest value / pivot,
+// widened to the upper median of input / pivot (finite) over the window's pixels of its own
+// ids with such a neighbour and a pivot above 0, itself included. Returns how many values
+// changed.
+size_t ClampEdgeFitsToSides(const Image &input, const Image &pivot, const Image *objectId,
+                            const Image *partId, Image *output);
+
 }  // namespace mcd::ref

@@ -20,4 +20,12 @@ namespace mcd::ref {
 std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
                                      const Image &variance, Image *output);
 
+// With s and m as above: a pixel whose s and its neighbours' are finite, s over 16 x m (m >
+// 0) and 2 or more neighbours' s over 16 x m, and whose neighbours with s at most 16 x m
+// all have its object id and part id (each layer given; one channel each, or null), takes
+// its colour in each channel where that is finite. Returns the pixels changed (ascending).
+std::vector<size_t> KeepPivotSpikeClusters(const Image &color, const Image &pivot,
+                                           const Image *objectId, const Image *partId,
+                                           Image *output);
+
 }  // namespace mcd::ref

@@ -35,11 +35,14 @@ struct PivotSettings {
     PivotParams method;
     std::string guides = "auto", noise = "auto", layer = "auto";
     bool noPartials = false;
-    // Keep the values kept at their input beside other ids as they are (ClampKeptEdgeValues
-    // off).
+    // Keep the values beside other ids as the filter left them (ClampEdgeFitsToSides and
+    // ClampKeptEdgeValues off).
     bool keepEdges = false;
     // Scale the output of pixels whose pivot is a lone spike (ScalePivotSpikes).
     bool spikes = false;
+    // Fit the pixels whose pivot is a cluster of spikes as the others (KeepPivotSpikeClusters
+    // off).
+    bool fitClusters = false;
     // The output held to the range of its input's (2 r + 1)^2 window (BoundToInputRange);
     // 0: off.
     int range = 1;
@@ -77,6 +80,47 @@ Image ScaleSpikes(const PivotInputs &in, const RunOptions &run, Result *result) 
         spikes.size(), kPivotSpike, kPivotSpikeNoise));
     if (run.keepStages) result->stages.push_back({"pivot spikes", result->image});
     return restoreFrom;
+}
+
+// Filtered values beside other ids held between their two sides (ClampEdgeFitsToSides), with
+// the plan's line and the stage.
+void HoldEdgeSides(const PivotInputs &in, const RunOptions &run, Result *result) {
+    if (!in.objectId && !in.partId) {
+        result->plan.push_back("edge sides: not looked at (no ids)");
+        if (run.keepStages) result->stages.push_back({"edge sides", result->image});
+        return;
+    }
+    const size_t sides =
+        ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId, &result->image);
+    result->plan.push_back(fmt::format(
+        "edge sides: {} filtered values beside other ids whose color / pivot lay beyond both "
+        "sides' (the pixels off the edge in their 5x5 window, of their own ids and of others) "
+        "and their outline's (the median of their own ids' inputs beside other ids there) "
+        "clamped to that range (a pixel that mixes two sides lies between them; planes "
+        "extrapolated to an edge do not always; an outline of its own, a glass's, shows in the "
+        "inputs along it)",
+        sides));
+    if (run.keepStages) result->stages.push_back({"edge sides", result->image});
+}
+
+// Pixels whose pivot is a cluster of spikes keep their input (KeepPivotSpikeClusters), with
+// the plan's line and the stage.
+void KeepSpikeClusters(const PivotInputs &in, const RunOptions &run, Result *result) {
+    const size_t clusters =
+        KeepPivotSpikeClusters(*in.color, *in.pivot, in.objectId, in.partId, &result->image)
+            .size();
+    result->plan.push_back(fmt::format(
+        "spike clusters: {} pixels whose pivot is over {} times its neighbours' median with 2 "
+        "or more of them so (a light seen in a mirror: the albedo followed it; no fit of the "
+        "surface around holds it) {}keep their input, which the restore leaves (it spread "
+        "their cut light as a halo)",
+        clusters, kPivotSpike,
+        in.objectId || in.partId
+            ? "and whose other neighbours have their ids (a mirror's; a thin bright part of "
+              "its "
+              "own ids, a wire, is fitted) "
+            : "(no ids: a thin bright part, a wire, is not told from a reflection) "));
+    if (run.keepStages) result->stages.push_back({"spike clusters", result->image});
 }
 
 // Pixels whose fits tint them given their window's chroma (KeepWindowChroma), with the plan's
@@ -190,14 +234,19 @@ class Pivot : public FrontEndOf<PivotSettings> {
                    &PivotSettings::noPartials),
                BoolParam(
                    "pivot-keep-edges",
-                   "leave the values the filter kept at their input beside other ids "
-                   "(mixing in a side far from their own) as they are; by default each "
-                   "is clamped to the range of the filtered values of both sides in "
-                   "its 3x3 window, which takes out their noise (dots along id edges); "
-                   "where it lacks filtered values of both sides (a part at most two "
-                   "pixels wide, or beside a side kept whole) the range also spans its "
-                   "own ids' level within 2, the lower of their median and its pivot times "
-                   "their median over the pivot (dots along a wire)",
+                   "leave the values beside other ids as the filter left them; by default "
+                   "two steps hold them: first each filtered value beside other ids whose "
+                   "filtered value / pivot lies beyond the range of both sides' in its 5x5 "
+                   "window (the pixels off the edge, of its own ids and of others), widened "
+                   "to its outline's level (the median input / pivot of its own ids' pixels "
+                   "beside other ids there), is clamped to that range times its pivot (dark "
+                   "dots along an outline); then each value the filter kept at its input "
+                   "(mixing in a side far from its own) is clamped to the range of the "
+                   "filtered values of both sides in its 3x3 window (dots along id edges); "
+                   "where it lacks filtered values of both sides (a part at most two pixels "
+                   "wide, or beside a side kept whole) the range also spans its own ids' "
+                   "level within 2, the lower of their median and its pivot times their "
+                   "median over the pivot (dots along a wire)",
                    &PivotSettings::keepEdges),
                BoolParam("pivot-spikes",
                          "scale lone pivot spikes: a pixel whose pivot is a lone spike (over "
@@ -210,6 +259,14 @@ class Pivot : public FrontEndOf<PivotSettings> {
                          "highlights that a single sample saw (beyond the paper; off by "
                          "default)",
                          &PivotSettings::spikes),
+               BoolParam("pivot-fit-clusters",
+                         "fit the pixels whose pivot is a cluster of spikes (over 16 times its "
+                         "neighbours' median, channels summed, with 2 or more of them so: a "
+                         "light seen in a mirror, whose albedo followed the mirror to it) as "
+                         "the others; by default they keep their input, which the restore of "
+                         "local means leaves (their fits cut the light and the restore spread "
+                         "it as a halo round the reflection; beyond the paper)",
+                         &PivotSettings::fitClusters),
                IntParam("pivot-range",
                         "each pixel's channels end within the range of their input's values "
                         "in the window of this half-size, moved toward their input by one "
@@ -281,6 +338,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
         Image restoreFrom;
         if (options.spikes) restoreFrom = ScaleSpikes(in, run, &result);
         if (!options.keepEdges) {
+            HoldEdgeSides(in, run, &result);
             KeptEdges kept = ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId,
                                                  &result.image);
             result.plan.push_back(fmt::format(
@@ -313,6 +371,7 @@ class Pivot : public FrontEndOf<PivotSettings> {
                 moved, options.bound, noiseSource));
             if (run.keepStages) result.stages.push_back({"bound", result.image});
         }
+        if (!options.fitClusters) KeepSpikeClusters(in, run, &result);
         // A tile's last steps wait for the assembled frame (Finish).
         if (!finishWhole) RestoreAndKeepChroma(in, restoreFrom, run, &result);
         if (UsesAlbedo(inputs))
@@ -357,9 +416,11 @@ class Pivot : public FrontEndOf<PivotSettings> {
         const int mean =
             options.method.meanRadius > 0 ? LocalMeanReach(options.method.meanRadius, true) : 0;
         // The bound's 3x3 window, and the noise estimate's 3x3 residuals over a 3x3 mean;
-        // the kept edges' 5x5 window (a thin part's own median); the range's window; the
-        // spikes' 3x3 window and the noise estimate's.
-        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2) +
+        // the edge sides' 5x5 window of outputs (the ids and inputs they test lie in the
+        // tile), then the kept edges' 5x5 window (a thin part's own median); the range's
+        // window; the spikes' 3x3 window and the noise estimate's. The spike clusters read
+        // their own output and the pivot: no reach.
+        const int bound = (options.bound > 0 ? 3 : 0) + (options.keepEdges ? 0 : 2 + 2) +
                           options.range + (options.spikes ? 1 : 0);
         // The frame's noise for the fits: a 5x5 median of second differences.
         const int frameNoise = !inputs.Has("variance") && options.noise == "auto" ? 3 : 0;
@@ -376,7 +437,8 @@ class Pivot : public FrontEndOf<PivotSettings> {
         if (!options.spikes) needs.finishReach = needs.reach - beforeRestore;
         needs.reachText += fmt::format(
             "; the local mean's coarse and fine tents {}; {} for the bound's noise, the "
-            "kept edges', the range's and the spikes' windows; {} for the frame's noise "
+            "edge sides', the kept edges', the range's and the spikes' windows (the spike "
+            "clusters read their own pixel); {} for the frame's noise "
             "estimate; the chroma's window {} (the larger of it and the rest)",
             mean, bound, frameNoise, chroma);
         // The gather sums the centres tile by tile of its own grid: windows on that grid
@@ -430,14 +492,16 @@ class Pivot : public FrontEndOf<PivotSettings> {
                     restoreFrom.Plane(c)[p] = out.Plane(c)[p];
             cpu.emplace_back("pivot spikes", out);
         }
-        if (!options.keepEdges) {
-            ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
-            cpu.emplace_back("kept edges", out);
-        }
         Image estimated;
         if (!in.variance && (options.range > 0 || options.bound > 0))
             estimated = ref::AutoNoise(*in.color, in.pivot, 1);
         const Image &variance = in.variance ? *in.variance : estimated;
+        if (!options.keepEdges) {
+            ref::ClampEdgeFitsToSides(*in.color, *in.pivot, in.objectId, in.partId, &out);
+            cpu.emplace_back("edge sides", out);
+            ref::ClampKeptEdgeValues(*in.color, *in.pivot, in.objectId, in.partId, &out);
+            cpu.emplace_back("kept edges", out);
+        }
         if (options.range > 0) {
             ref::BoundToInputRange(*in.color, variance, options.range, kPivotRangeSpread, &out);
             cpu.emplace_back("range", out);
@@ -445,6 +509,10 @@ class Pivot : public FrontEndOf<PivotSettings> {
         if (options.bound > 0) {
             ref::BoundToNoise(*in.color, variance, options.bound, &out);
             cpu.emplace_back("bound", out);
+        }
+        if (!options.fitClusters) {
+            ref::KeepPivotSpikeClusters(*in.color, *in.pivot, in.objectId, in.partId, &out);
+            cpu.emplace_back("spike clusters", out);
         }
         if (int r = options.method.meanRadius; r > 0) {
             ref::RestoreLocalMeans(restoreFrom, r, &out, in.variance, kLocalMeanRebalance,

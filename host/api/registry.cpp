@@ -111,9 +111,10 @@ std::vector<MethodEntry> Build() {
            "grey",
            kGuideLayers,
            AutoVariant::kOwn}},
-         {{"pivot-range", 0}},
-         "with the range, held near their input where the fits overshoot, they drew the "
-         "weights to pivot where its error is the input's"},
+         {{"pivot-range", 0}, {"pivot-fit-clusters", true}},
+         "with the range, held near their input where the fits overshoot, or with a mirror's "
+         "lights kept at their input, they drew the weights to pivot where its error is the "
+         "input's"},
         {"rhf",
          RhfFrontEnd,
          1,

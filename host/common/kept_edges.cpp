@@ -126,4 +126,65 @@ KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Imag
     return kept;
 }
 
+size_t ClampEdgeFitsToSides(const Image &input, const Image &pivot, const Image *objectId,
+                            const Image *partId, Image *output) {
+    if (!input.SameShape(*output) || !input.SameShape(pivot))
+        throw Error(
+            "ClampEdgeFitsToSides: the output and the pivot must have the input's shape",
+            ErrorKind::Internal);
+    for (const Image *id : {objectId, partId})
+        if (id && (id->width != input.width || id->height != input.height || id->channels != 1))
+            throw Error(
+                "ClampEdgeFitsToSides: an id layer must be one channel of the input's size",
+                ErrorKind::Internal);
+    if (!objectId && !partId) return 0;
+    const Ids ids{objectId, partId};
+    const int w = input.width, h = input.height;
+    std::vector<char> edge(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) edge[size_t(y) * w + x] = BesideOtherIds(ids, w, h, x, y);
+    size_t moved = 0;
+    for (int c = 0; c < input.channels; ++c) {
+        const float *in = input.Plane(c), *piv = pivot.Plane(c);
+        float *out = output->Plane(c);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t p = size_t(y) * w + x;
+                if (!edge[p] || !(piv[p] > 0) || !std::isfinite(out[p]) || Kept(in[p], out[p]))
+                    continue;
+                float lo = 0, hi = 0, line[25];
+                bool own = false, other = false;
+                int n = 0;
+                for (int v = std::max(0, y - 2); v <= std::min(h - 1, y + 2); ++v)
+                    for (int u = std::max(0, x - 2); u <= std::min(w - 1, x + 2); ++u) {
+                        const size_t q = size_t(v) * w + u;
+                        if (!(piv[q] > 0)) continue;
+                        // Its outline: the inputs of its own ids along the edge.
+                        if (edge[q]) {
+                            const float z = in[q] / piv[q];
+                            if (ids.Same(p, q) && std::isfinite(z)) line[n++] = z;
+                            continue;
+                        }
+                        if (!std::isfinite(out[q]) || Kept(in[q], out[q])) continue;
+                        const float z = out[q] / piv[q];
+                        if (!std::isfinite(z)) continue;
+                        lo = own || other ? std::min(lo, z) : z;
+                        hi = own || other ? std::max(hi, z) : z;
+                        (ids.Same(p, q) ? own : other) = true;
+                    }
+                if (!own || !other) continue;
+                if (n > 0) {
+                    std::nth_element(line, line + n / 2, line + n);
+                    lo = std::min(lo, line[n / 2]);
+                    hi = std::max(hi, line[n / 2]);
+                }
+                const float z = out[p] / piv[p];
+                if (!std::isfinite(z) || (z >= lo && z <= hi)) continue;
+                out[p] = std::clamp(z, lo, hi) * piv[p];
+                ++moved;
+            }
+    }
+    return moved;
+}
+
 }  // namespace mcd

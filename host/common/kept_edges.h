@@ -39,4 +39,21 @@ struct KeptEdges {
 KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
                               const Image *partId, Image *output);
 
+// Filtered values beside other ids held between their two sides (beyond the papers). A pixel
+// beside other ids is no fit centre; it gathers its own ids' planes from beyond it, and where
+// those extrapolate it can come out far darker or brighter than both sides (a cabinet's
+// outline dotted black on a sunlit room). With an albedo-like pivot a pixel that mixes two
+// sides has its z = value / pivot between theirs; an outline of its own (a glass's dark
+// silhouette) is not, and the inputs along it say so. For each filtered value (not equal to
+// its input) at a pixel with a 4-neighbour of other ids and a pivot above 0: [lo, hi], min
+// and max of output / pivot over the pixels of its 5x5 window (clipped to the image) that
+// have no 4-neighbour of other ids, a pivot above 0 and a finite output not equal to their
+// input, where those hold a pixel of its own ids and one of others, widened to the upper
+// median of input / pivot over the pixels of its own ids beside other ids in that window
+// (itself too) whose pivot is above 0 and ratio finite (its outline's level, which one
+// unlucky input does not move); its z is clamped to that range, times its pivot. Returns
+// how many values moved.
+size_t ClampEdgeFitsToSides(const Image &input, const Image &pivot, const Image *objectId,
+                            const Image *partId, Image *output);
+
 }  // namespace mcd

@@ -28,4 +28,17 @@ constexpr double kPivotSpike = 16, kPivotSpikeNoise = 0.25;
 std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
                                      const Image &variance, Image *output);
 
+// Pixels whose pivot is a spike with 2 or more of its 8 neighbours so too (a light seen in a
+// mirror by a few pixels: the albedo followed the mirror to it) hold no surface the fits
+// around them describe: their fits cut the light, and the restore of local means gave it
+// back spread over its tents, a halo round the reflection. Each keeps its input (finite
+// channels), which the restore leaves, where its neighbours not over kPivotSpike times the
+// median (the dark ones) all have its ids (`objectId`, `partId`: one channel each, or null;
+// each present): a reflection has its mirror's ids, while a thin bright part (a wire, a
+// small bright patch of its own id) would keep its noisy input. Returns the pixels changed
+// (ascending).
+std::vector<size_t> KeepPivotSpikeClusters(const Image &color, const Image &pivot,
+                                           const Image *objectId, const Image *partId,
+                                           Image *output);
+
 }  // namespace mcd
