@@ -193,6 +193,7 @@ class Awr : public FrontEndOf<AwrSettings> {
                 if (run.keepStages && !result.stages.empty())
                     result.stages.push_back({"input maximum near lights", result.image});
             }
+            CutBeyondLightRims(color, variance, inputs, run, &result);
         }
         return result;
     }
@@ -220,7 +221,8 @@ class Awr : public FrontEndOf<AwrSettings> {
         // crests near them read theirs; the clamp its window.
         const int highlights =
             options.highlights > 0
-                ? kHighlightRadius + 1 + kHighlightGrowRounds + 1 + 1 + kCrestReach
+                ? std::max(kHighlightRadius + 1 + kHighlightGrowRounds + 1 + 1 + kCrestReach,
+                           1 + kLightRimReach + 1)
                 : 0;
         needs.reach =
             2 * half * ((1 << levels) - 1) + options.method.spins + highlights + options.clamp;
@@ -291,6 +293,12 @@ class Awr : public FrontEndOf<AwrSettings> {
                                                        options.clamp, &out);
                 if (!cpu.empty()) cpu.emplace_back("input maximum near lights", out);
             }
+            if (Splits(color, variance)) {
+                ref::LowerBeyondLightRims(color, variance, RimSamples(inputs, color),
+                                          options.highlights, MeanOf(color), kLightRimReach,
+                                          options.clamp, &out);
+                if (!cpu.empty()) cpu.emplace_back("input maximum beyond light rims", out);
+            }
         }
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
@@ -324,6 +332,35 @@ class Awr : public FrontEndOf<AwrSettings> {
             AddSparseLights(color, &variance, inputs.Get("max"), options.highlights,
                             kHighlightRadius, lightSample, &split);
         return split;
+    }
+
+    // The frame's mean the lights read: the whole frame's in a tile.
+    double MeanOf(const Image &color) const {
+        return frameMean >= 0 ? frameMean : HighlightFrameMean(color);
+    }
+    // The max layer the light rims read, where it serves (else none: lights without rims).
+    static const Image *RimSamples(Inputs &inputs, const Image &color) {
+        return inputs.Has("max") && SparseLightsOff(inputs, color).empty() ? &inputs.Get("max")
+                                                                           : nullptr;
+    }
+    // Crests beyond the rims of lights sure of themselves cut (a large light's noisy rim
+    // spread into the dim pixels past it), with the plan's line and the stage.
+    void CutBeyondLightRims(const Image &color, const Image &variance, Inputs &inputs,
+                            const RunOptions &run, Result *result) const {
+        if (!Splits(color, variance)) return;
+        LightRims rims = FindLightRims(color, variance, RimSamples(inputs, color),
+                                       options.highlights, MeanOf(color));
+        size_t lowered =
+            LowerBeyondLightRims(color, rims, kLightRimReach, options.clamp, &result->image);
+        result->plan.push_back(fmt::format(
+            "crests beyond light rims cut: {} values within {} of {} light pixels (over {} x "
+            "the frame's mean, {} standard deviations above 0) and {} rim pixels (a light's "
+            "neighbours with a sample at least {} x its value), not beside a light, above the "
+            "input's maximum over their {}x{} window (lights and rims left out) lowered to it",
+            lowered, kLightRimReach, rims.lights, options.highlights, kLightRimSigmas,
+            rims.rims, kLightRimSampleShare, 2 * options.clamp + 1, 2 * options.clamp + 1));
+        if (run.keepStages && !result->stages.empty())
+            result->stages.push_back({"input maximum beyond light rims", result->image});
     }
 
     // Why the frame's max layer (its per-pixel largest sample) cannot serve the sparse
