@@ -100,10 +100,12 @@ class Awr : public FrontEndOf<AwrSettings> {
                         fmt::format("the output raised to the minimum of the input over the "
                                     "(2N+1)^2 window around each pixel, per channel: the "
                                     "synthesis's troughs (dark spots beside highlights) are "
-                                    "cut; values within {} pixels of a highlight are lowered "
-                                    "to the input's maximum over the same window (crests; "
-                                    "beyond the paper; 0: both off)",
-                                    kCrestReach),
+                                    "cut; values within {} pixels of a highlight, and {} past "
+                                    "a large light's rim (a light over k x the frame's mean, "
+                                    "{} standard deviations above 0), are lowered to the "
+                                    "input's maximum over the same window, highlights, lights "
+                                    "and rims left out (crests; beyond the paper; 0: all off)",
+                                    kCrestReach, kLightRimReach, kLightRimSigmas),
                         &AwrSettings::clamp, 0, 8)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
