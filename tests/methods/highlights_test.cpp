@@ -972,7 +972,6 @@ TEST(Highlights, CrestsNearLightsAreCut) {
     EXPECT_EQ(output.data, expected.data);
 }
 
-
 // A 64 x 48 dim floor (0.05, a small variance) with a ceiling panel of 24 x 4 pixels at 30 a
 // channel, sure of itself (a small variance), and a rim row above and below it that the
 // panel's edge crosses: each rim pixel a quarter covered, its 16 samples 30 or 0.05, so its
@@ -1015,23 +1014,50 @@ struct PanelLight {
 
 // Lights and rims, and the cut beyond them, against the twin: on the panel, on a frame with
 // a rim pixel every sample missed beside the panel's full interior (kept: the spread may be
-// its light) and beside a panel pixel the edge crosses (cut: past the light's edge), and on
-// the noisy frames MakeFrame makes (a wide light among them).
+// its light) and a pixel beside a light the edge crosses and no full light (cut: past the
+// light's edge), and on the noisy frames MakeFrame makes (a wide light among them).
 TEST(Highlights, LightRimsMatchReference) {
     PanelLight panel("highlights light rims twin");
     const int w = panel.w, h = panel.h;
-    // A rim pixel every sample missed, and a panel pixel half covered beside its rim.
+    // A rim pixel every sample missed; two pixels the panel's edge crosses (two thirds
+    // covered, 20 a channel): one in its bottom row, one past its right side.
+    const int crossX = PanelLight::x1, crossY = PanelLight::y0 + 1;
     for (int c = 0; c < 3; ++c) {
         panel.color.At(c, PanelLight::y0 - 1, 30) = 0.05f;
         panel.variance.At(c, PanelLight::y0 - 1, 30) = 0;
         panel.maxSample.At(c, PanelLight::y0 - 1, 30) = 0.05f;
-        panel.color.At(c, PanelLight::y1 - 1, 40) = 15;
+        for (auto [x, y] : {std::pair{40, PanelLight::y1 - 1}, {crossX, crossY}}) {
+            panel.color.At(c, y, x) = 20;
+            panel.variance.At(c, y, x) = 0.0025f;
+            panel.maxSample.At(c, y, x) = 20.1f;
+        }
     }
     const double mean = HighlightFrameMean(panel.color);
+    auto sumAt = [&](int x, int y) {
+        return panel.color.At(0, y, x) + panel.color.At(1, y, x) + panel.color.At(2, y, x);
+    };
+    // The crossed pixels are lights (over 16 x the mean), not full ones (under 0.75 x the
+    // panel beside them): the frame's numbers, not luck.
+    ASSERT_GT(sumAt(crossX, crossY), 16 * mean);
+    ASSERT_LT(sumAt(crossX, crossY), kFullLightShare * sumAt(crossX - 1, crossY));
     LightRims rims = FindLightRims(panel.color, panel.variance, &panel.maxSample, 16, mean);
-    EXPECT_EQ(rims.lights, size_t(24 * 4)) << "the panel, its half-covered pixel too";
-    EXPECT_GT(rims.rims, 0u);
-    EXPECT_FALSE(rims.rim[size_t(PanelLight::y0 - 1) * w + 30]) << "no sample saw it";
+    // The lights: the panel (the crossed pixel in it too), the crossed pixel past it, and the
+    // rim pixels whose binomial mean (s^2 >= 16 v where a quarter or more of the samples hit)
+    // passes 16 x the mean.
+    size_t rimLights = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool inPanel = x >= PanelLight::x0 && x < PanelLight::x1 &&
+                                 y >= PanelLight::y0 && y < PanelLight::y1;
+            const bool rimRow = x >= PanelLight::x0 && x < PanelLight::x1 &&
+                                (y == PanelLight::y0 - 1 || y == PanelLight::y1);
+            const bool rimLight = rimRow && sumAt(x, y) > 16 * mean;
+            rimLights += rimLight;
+            EXPECT_EQ(bool(rims.light[size_t(y) * w + x]),
+                      inPanel || (x == crossX && y == crossY) || rimLight)
+                << x << "," << y << " (sum " << sumAt(x, y) << ")";
+        }
+    EXPECT_EQ(rims.lights, size_t(24 * 4 + 1) + rimLights);
     Image output(w, h, 3, 0.5f), expected = output;
     EXPECT_GT(LowerBeyondLightRims(panel.color, rims, kLightRimReach, 1, &output), 0u);
     ref::LowerBeyondLightRims(panel.color, panel.variance, &panel.maxSample, 16, mean,
@@ -1041,6 +1067,9 @@ TEST(Highlights, LightRimsMatchReference) {
         EXPECT_EQ(output.At(c, PanelLight::y0 - 1, 30), 0.5f) << "the missed rim pixel";
         EXPECT_LT(output.At(c, PanelLight::y0 - 2, 25), 0.1f) << "past the top rim";
         EXPECT_LT(output.At(c, PanelLight::y1 + 1, 40), 0.1f) << "past the crossed pixel";
+        // Beside the crossed pixel past the panel's side and beside no full light: cut (with
+        // every light full it would be kept as a rim).
+        EXPECT_LT(output.At(c, crossY, crossX + 1), 0.1f) << "beside a light, not a full one";
         EXPECT_EQ(output.At(c, 2, 2), 0.5f) << "out of reach";
     }
     // Without a max layer: lights, no rims; NaN in the variance: nothing.
