@@ -355,14 +355,23 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
             if (!std::isfinite(v)) return;
     const int w = color.width, h = color.height;
     auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h; };
+    // Channel sums in float, in channel order (as ChannelSums).
     auto sum = [](const Image &image, int x, int y) {
-        double s = 0;
+        float s = 0;
         for (int c = 0; c < image.channels; ++c) s += image.At(c, y, x);
         return s;
     };
+    // The frame's own mean of the sums unless given (a tile reads the whole frame's).
+    double mean = frameMean;
+    if (mean < 0) {
+        double total = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) total += sum(color, x, y);
+        mean = total / (double(w) * h);
+    }
     auto light = [&](int x, int y) {
-        double s = sum(color, x, y);
-        return s > k * frameMean && s > 0 && s * s >= 16 * sum(variance, x, y);
+        const double s = sum(color, x, y);
+        return s > k * mean && s > 0 && s * s >= 16.0 * sum(variance, x, y);
     };
     auto rim = [&](int x, int y) {
         if (!maxSample || light(x, y)) return false;
@@ -370,7 +379,7 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
         for (int v = y - 1; v <= y + 1; ++v)
             for (int u = x - 1; u <= x + 1; ++u)
                 if (inside(u, v) && light(u, v))
-                    brightest = std::max(brightest, sum(color, u, v));
+                    brightest = std::max(brightest, double(sum(color, u, v)));
         return brightest > 0 && sum(*maxSample, x, y) >= 0.5 * brightest;
     };
     // A full light is no dimmer than 0.75 x the brightest light beside it.
@@ -380,7 +389,7 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
         for (int v = y - 1; v <= y + 1; ++v)
             for (int u = x - 1; u <= x + 1; ++u)
                 if (inside(u, v) && light(u, v))
-                    brightest = std::max(brightest, sum(color, u, v));
+                    brightest = std::max(brightest, double(sum(color, u, v)));
         return sum(color, x, y) >= 0.75 * brightest;
     };
     std::vector<char> marked(color.PixelCount()), lit(color.PixelCount());

@@ -297,7 +297,7 @@ class Awr : public FrontEndOf<AwrSettings> {
             }
             if (Splits(color, variance)) {
                 ref::LowerBeyondLightRims(color, variance, RimSamples(inputs, color),
-                                          options.highlights, MeanOf(color), kLightRimReach,
+                                          options.highlights, frameMean, kLightRimReach,
                                           options.clamp, &out);
                 if (!cpu.empty()) cpu.emplace_back("input maximum beyond light rims", out);
             }

@@ -1060,7 +1060,8 @@ TEST(Highlights, LightRimsMatchReference) {
     EXPECT_EQ(rims.lights, size_t(24 * 4 + 1) + rimLights);
     Image output(w, h, 3, 0.5f), expected = output;
     EXPECT_GT(LowerBeyondLightRims(panel.color, rims, kLightRimReach, 1, &output), 0u);
-    ref::LowerBeyondLightRims(panel.color, panel.variance, &panel.maxSample, 16, mean,
+    // The twin takes the frame's own mean (-1), the host HighlightFrameMean.
+    ref::LowerBeyondLightRims(panel.color, panel.variance, &panel.maxSample, 16, -1,
                               kLightRimReach, 1, &expected);
     EXPECT_EQ(output.data, expected.data);
     for (int c = 0; c < 3; ++c) {
@@ -1093,11 +1094,27 @@ TEST(Highlights, LightRimsMatchReference) {
                 LowerBeyondLightRims(color,
                                      FindLightRims(color, variance, &maxSample, k, frameMean),
                                      1, 1, &got);
-                ref::LowerBeyondLightRims(color, variance, &maxSample, k, frameMean, 1, 1,
-                                          &want);
+                ref::LowerBeyondLightRims(color, variance, &maxSample, k, -1, 1, 1, &want);
                 EXPECT_EQ(got.data, want.data)
                     << fw << "x" << fh << "x" << channels << " " << k;
             }
+}
+
+// The light's sum is in float, in channel order, in the host and its twin alike: a pixel of
+// 2^24, 1 and 1 sums to 2^24 in float (2^24 + 2 in double), under a threshold of 2^24 + 1,
+// so it is no light and the pixel past its would-be rim keeps its value.
+TEST(Highlights, LightRimsSumChannelsInFloat) {
+    Image color(5, 1, 3, 0.05f), variance(5, 1, 3, 0.f), maxSample = color;
+    color.At(0, 0, 2) = 16777216.f, color.At(1, 0, 2) = 1, color.At(2, 0, 2) = 1;
+    maxSample.At(0, 0, 3) = 16777216.f;
+    const double frameMean = 16777217;
+    Image output(5, 1, 3, 0.5f), expected = output;
+    LightRims rims = FindLightRims(color, variance, &maxSample, 1, frameMean);
+    EXPECT_EQ(rims.lights, 0u);
+    LowerBeyondLightRims(color, rims, 1, 1, &output);
+    ref::LowerBeyondLightRims(color, variance, &maxSample, 1, frameMean, 1, 1, &expected);
+    EXPECT_EQ(output.data, expected.data);
+    EXPECT_EQ(output.At(0, 0, 4), 0.5f);
 }
 
 // A large light's noisy rim (a ceiling panel's edge, our cornell at 4-64 spp): the filter
