@@ -211,8 +211,9 @@ class Awr : public FrontEndOf<AwrSettings> {
             "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
             "spans it, and its grid depends on the frame's size; a tile runs {} level(s); the "
             "highlights' undo of a still-growing light spans its whole connected region "
-            "(unbounded); the tiles read the frame's mean for the highlights and its "
-            "highlights' median largest sample for the sparse lights (passed in)",
+            "(unbounded); the tiles read the frame's mean for the highlights and the lights "
+            "beyond whose rims crests are cut, its highlights' median largest sample for the "
+            "sparse lights and whether its max layer serves them and the rims (passed in)",
             options.method.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
                                       : options.method.levels,
             levels);
@@ -231,8 +232,8 @@ class Awr : public FrontEndOf<AwrSettings> {
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
             "{}, the spins' shift, {} for the highlights' windows, growth and its check "
-            "round, the sparse lights' partners and the crest cut, and {} for the input's "
-            "minimum",
+            "round, the sparse lights' partners and the crest cut (or the lights' rims and the "
+            "cut beyond them, whichever reads further), and {} for the input's minimum",
             WaveletName(options.method.basis), half, levels, highlights, options.clamp);
         needs.align = 1 << levels;
         needs.bytesPerPixel = 4.0 * channels * 4;
@@ -296,7 +297,8 @@ class Awr : public FrontEndOf<AwrSettings> {
                 if (!cpu.empty()) cpu.emplace_back("input maximum near lights", out);
             }
             if (Splits(color, variance)) {
-                ref::LowerBeyondLightRims(color, variance, RimSamples(inputs, color),
+                std::string rimsOff;
+                ref::LowerBeyondLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
                                           options.highlights, frameMean, kLightRimReach,
                                           options.clamp, &out);
                 if (!cpu.empty()) cpu.emplace_back("input maximum beyond light rims", out);
@@ -340,27 +342,34 @@ class Awr : public FrontEndOf<AwrSettings> {
     double MeanOf(const Image &color) const {
         return frameMean >= 0 ? frameMean : HighlightFrameMean(color);
     }
-    // The max layer the light rims read, where it serves (else none: lights without rims).
-    static const Image *RimSamples(Inputs &inputs, const Image &color) {
-        return inputs.Has("max") && SparseLightsOff(inputs, color).empty() ? &inputs.Get("max")
-                                                                           : nullptr;
+    // The max layer the light rims read, where it serves (else none: lights without rims,
+    // why in *whyOff); a tile reads the whole frame's decision, as the sparse lights do.
+    const Image *RimSamples(Inputs &inputs, const Image &color, std::string *whyOff) const {
+        *whyOff = !inputs.Has("max") ? "the frame has no max layer"
+                  : lightSample >= 0 ? sparseWhyOff
+                                     : SparseLightsOff(inputs, color);
+        return whyOff->empty() ? &inputs.Get("max") : nullptr;
     }
     // Crests beyond the rims of lights sure of themselves cut (a large light's noisy rim
     // spread into the dim pixels past it), with the plan's line and the stage.
     void CutBeyondLightRims(const Image &color, const Image &variance, Inputs &inputs,
                             const RunOptions &run, Result *result) const {
         if (!Splits(color, variance)) return;
-        LightRims rims = FindLightRims(color, variance, RimSamples(inputs, color),
+        std::string rimsOff;
+        LightRims rims = FindLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
                                        options.highlights, MeanOf(color));
         size_t lowered =
             LowerBeyondLightRims(color, rims, kLightRimReach, options.clamp, &result->image);
         result->plan.push_back(fmt::format(
             "crests beyond light rims cut: {} values within {} of {} light pixels (over {} x "
-            "the frame's mean, {} standard deviations above 0) and {} rim pixels (a light's "
-            "neighbours with a sample at least {} x its value), not beside a light, above the "
-            "input's maximum over their {}x{} window (lights and rims left out) lowered to it",
+            "the frame's mean, {} standard deviations above 0; none where the color has "
+            "NaN/Inf, in tiles each tile's own) and {} rim pixels (a light's neighbours with a "
+            "sample at least {} x its value{}), not beside a full light (one at least {} x "
+            "the brightest light beside it: its neighbours are its rim), above the input's "
+            "maximum over their {}x{} window (lights and rims left out) lowered to it",
             lowered, kLightRimReach, rims.lights, options.highlights, kLightRimSigmas,
-            rims.rims, kLightRimSampleShare, 2 * options.clamp + 1, 2 * options.clamp + 1));
+            rims.rims, kLightRimSampleShare, rimsOff.empty() ? "" : "; none: " + rimsOff,
+            kFullLightShare, 2 * options.clamp + 1, 2 * options.clamp + 1));
         if (run.keepStages && !result->stages.empty())
             result->stages.push_back({"input maximum beyond light rims", result->image});
     }
