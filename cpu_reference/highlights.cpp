@@ -344,6 +344,83 @@ void LowerToInputMaximumNearHighlights(const Image &color, const std::vector<cha
         }
 }
 
+void LowerBeyondLightRims(const Image &color, const Image &variance, const Image *maxSample,
+                          double k, double frameMean, int reach, int r, Image *output) {
+    for (size_t i = 0; i < color.data.size(); ++i)
+        if (!std::isfinite(color.data[i]) || !std::isfinite(variance.data[i]) ||
+            variance.data[i] < 0)
+            return;
+    if (maxSample)
+        for (float v : maxSample->data)
+            if (!std::isfinite(v)) return;
+    const int w = color.width, h = color.height;
+    auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h; };
+    // Channel sums in float, in channel order (as ChannelSums).
+    auto sum = [](const Image &image, int x, int y) {
+        float s = 0;
+        for (int c = 0; c < image.channels; ++c) s += image.At(c, y, x);
+        return s;
+    };
+    // The frame's own mean of the sums unless given (a tile reads the whole frame's).
+    double mean = frameMean;
+    if (mean < 0) {
+        double total = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) total += sum(color, x, y);
+        mean = total / (double(w) * h);
+    }
+    auto light = [&](int x, int y) {
+        const double s = sum(color, x, y);
+        return s > k * mean && s > 0 && s * s >= 16.0 * sum(variance, x, y);
+    };
+    auto rim = [&](int x, int y) {
+        if (!maxSample || light(x, y)) return false;
+        double brightest = 0;
+        for (int v = y - 1; v <= y + 1; ++v)
+            for (int u = x - 1; u <= x + 1; ++u)
+                if (inside(u, v) && light(u, v))
+                    brightest = std::max(brightest, double(sum(color, u, v)));
+        return brightest > 0 && sum(*maxSample, x, y) >= 0.5 * brightest;
+    };
+    // A full light is no dimmer than 0.75 x the brightest light beside it.
+    auto full = [&](int x, int y) {
+        if (!light(x, y)) return false;
+        double brightest = 0;
+        for (int v = y - 1; v <= y + 1; ++v)
+            for (int u = x - 1; u <= x + 1; ++u)
+                if (inside(u, v) && light(u, v))
+                    brightest = std::max(brightest, double(sum(color, u, v)));
+        return sum(color, x, y) >= 0.75 * brightest;
+    };
+    std::vector<char> marked(color.PixelCount()), lit(color.PixelCount());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            lit[size_t(y) * w + x] = full(x, y);
+            marked[size_t(y) * w + x] = light(x, y) || rim(x, y);
+        }
+    auto any = [&](const std::vector<char> &mask, int x, int y, int radius) {
+        for (int v = y - radius; v <= y + radius; ++v)
+            for (int u = x - radius; u <= x + radius; ++u)
+                if (inside(u, v) && mask[size_t(v) * w + u]) return true;
+        return false;
+    };
+    Image in = *output;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (marked[size_t(y) * w + x] || any(lit, x, y, 1) || !any(marked, x, y, reach))
+                continue;
+            for (int c = 0; c < color.channels; ++c) {
+                double high = color.At(c, y, x);
+                for (int v = y - r; v <= y + r; ++v)
+                    for (int u = x - r; u <= x + r; ++u)
+                        if (inside(u, v) && !marked[size_t(v) * w + u])
+                            high = std::max(high, double(color.At(c, v, u)));
+                double out = in.At(c, y, x);
+                if (std::isfinite(out) && out > high) output->At(c, y, x) = float(high);
+            }
+        }
+}
+
 void AddHighlights(const Image &color, const Image &base, const std::vector<char> &highlight,
                    Image *output) {
     for (int c = 0; c < color.channels; ++c)

@@ -44,6 +44,19 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
                      double k, int r, double lightSample, std::vector<char> *highlight,
                      Image *base, Image *baseVariance);
 
+// Crests beyond lights' rims (host/common/highlights.h): nothing where color or variance has
+// NaN/Inf, variance a negative value, or maxSample (when given) NaN/Inf. s(p) and v(p) are the
+// sums of p's color and variance channels (in float, in channel order); m = frameMean where
+// >= 0, else the mean of s over the frame; p is a light where s > k m, s > 0 and s^2
+// >= 16 v; a rim (with maxSample) where it is not a light, a light L lies among its 8
+// neighbours and the sum of its maxSample channels is >= 0.5 x the largest s(L) of those.
+// A light is full where s >= 0.75 x the largest s of the lights among its 8 neighbours.
+// Where p is neither, has no full light among its 8 neighbours and a light or rim lies within
+// `reach` of it, each channel of output is min(output, the maximum of color over p and the
+// pixels of the window of radius r around p that are neither).
+void LowerBeyondLightRims(const Image &color, const Image &variance, const Image *maxSample,
+                          double k, double frameMean, int reach, int r, Image *output);
+
 // Where p is not a highlight and a highlight lies within `reach` of it (max(|dx|, |dy|)),
 // each channel of output is min(output, the maximum of color over the non-highlight pixels of
 // the window of radius r around p clipped to the frame), finite values only.

@@ -100,10 +100,12 @@ class Awr : public FrontEndOf<AwrSettings> {
                         fmt::format("the output raised to the minimum of the input over the "
                                     "(2N+1)^2 window around each pixel, per channel: the "
                                     "synthesis's troughs (dark spots beside highlights) are "
-                                    "cut; values within {} pixels of a highlight are lowered "
-                                    "to the input's maximum over the same window (crests; "
-                                    "beyond the paper; 0: both off)",
-                                    kCrestReach),
+                                    "cut; values within {} pixels of a highlight, and {} past "
+                                    "a large light's rim (a light over k x the frame's mean, "
+                                    "{} standard deviations above 0), are lowered to the "
+                                    "input's maximum over the same window, highlights, lights "
+                                    "and rims left out (crests; beyond the paper; 0: all off)",
+                                    kCrestReach, kLightRimReach, kLightRimSigmas),
                         &AwrSettings::clamp, 0, 8)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
@@ -193,6 +195,7 @@ class Awr : public FrontEndOf<AwrSettings> {
                 if (run.keepStages && !result.stages.empty())
                     result.stages.push_back({"input maximum near lights", result.image});
             }
+            CutBeyondLightRims(color, variance, inputs, run, &result);
         }
         return result;
     }
@@ -208,8 +211,9 @@ class Awr : public FrontEndOf<AwrSettings> {
             "awr's decimated DWT ({} levels on the whole frame) has coarse bands whose support "
             "spans it, and its grid depends on the frame's size; a tile runs {} level(s); the "
             "highlights' undo of a still-growing light spans its whole connected region "
-            "(unbounded); the tiles read the frame's mean for the highlights and its "
-            "highlights' median largest sample for the sparse lights (passed in)",
+            "(unbounded); the tiles read the frame's mean for the highlights and the lights "
+            "beyond whose rims crests are cut, its highlights' median largest sample for the "
+            "sparse lights and whether its max layer serves them and the rims (passed in)",
             options.method.levels < 0 ? MaxWaveletLevels(inputs.Width(), inputs.Height())
                                       : options.method.levels,
             levels);
@@ -220,15 +224,16 @@ class Awr : public FrontEndOf<AwrSettings> {
         // crests near them read theirs; the clamp its window.
         const int highlights =
             options.highlights > 0
-                ? kHighlightRadius + 1 + kHighlightGrowRounds + 1 + 1 + kCrestReach
+                ? std::max(kHighlightRadius + 1 + kHighlightGrowRounds + 1 + 1 + kCrestReach,
+                           1 + kLightRimReach + 1)
                 : 0;
         needs.reach =
             2 * half * ((1 << levels) - 1) + options.method.spins + highlights + options.clamp;
         needs.reachText = fmt::format(
             "{} analysis and synthesis filters reading {} sample(s) each way at 2^l for l < "
             "{}, the spins' shift, {} for the highlights' windows, growth and its check "
-            "round, the sparse lights' partners and the crest cut, and {} for the input's "
-            "minimum",
+            "round, the sparse lights' partners and the crest cut (or the lights' rims and the "
+            "cut beyond them, whichever reads further), and {} for the input's minimum",
             WaveletName(options.method.basis), half, levels, highlights, options.clamp);
         needs.align = 1 << levels;
         needs.bytesPerPixel = 4.0 * channels * 4;
@@ -291,6 +296,13 @@ class Awr : public FrontEndOf<AwrSettings> {
                                                        options.clamp, &out);
                 if (!cpu.empty()) cpu.emplace_back("input maximum near lights", out);
             }
+            if (Splits(color, variance)) {
+                std::string rimsOff;
+                ref::LowerBeyondLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
+                                          options.highlights, frameMean, kLightRimReach,
+                                          options.clamp, &out);
+                if (!cpu.empty()) cpu.emplace_back("input maximum beyond light rims", out);
+            }
         }
         std::vector<Stage> stages;
         for (auto &[name, image] : cpu) stages.push_back({name, std::move(image)});
@@ -324,6 +336,42 @@ class Awr : public FrontEndOf<AwrSettings> {
             AddSparseLights(color, &variance, inputs.Get("max"), options.highlights,
                             kHighlightRadius, lightSample, &split);
         return split;
+    }
+
+    // The frame's mean the lights read: the whole frame's in a tile.
+    double MeanOf(const Image &color) const {
+        return frameMean >= 0 ? frameMean : HighlightFrameMean(color);
+    }
+    // The max layer the light rims read, where it serves (else none: lights without rims,
+    // why in *whyOff); a tile reads the whole frame's decision, as the sparse lights do.
+    const Image *RimSamples(Inputs &inputs, const Image &color, std::string *whyOff) const {
+        *whyOff = !inputs.Has("max") ? "the frame has no max layer"
+                  : lightSample >= 0 ? sparseWhyOff
+                                     : SparseLightsOff(inputs, color);
+        return whyOff->empty() ? &inputs.Get("max") : nullptr;
+    }
+    // Crests beyond the rims of lights sure of themselves cut (a large light's noisy rim
+    // spread into the dim pixels past it), with the plan's line and the stage.
+    void CutBeyondLightRims(const Image &color, const Image &variance, Inputs &inputs,
+                            const RunOptions &run, Result *result) const {
+        if (!Splits(color, variance)) return;
+        std::string rimsOff;
+        LightRims rims = FindLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
+                                       options.highlights, MeanOf(color));
+        size_t lowered =
+            LowerBeyondLightRims(color, rims, kLightRimReach, options.clamp, &result->image);
+        result->plan.push_back(fmt::format(
+            "crests beyond light rims cut: {} values within {} of {} light pixels (over {} x "
+            "the frame's mean, {} standard deviations above 0; none where the color has "
+            "NaN/Inf, in tiles each tile's own) and {} rim pixels (a light's neighbours with a "
+            "sample at least {} x its value{}), not beside a full light (one at least {} x "
+            "the brightest light beside it: its neighbours are its rim), above the input's "
+            "maximum over their {}x{} window (lights and rims left out) lowered to it",
+            lowered, kLightRimReach, rims.lights, options.highlights, kLightRimSigmas,
+            rims.rims, kLightRimSampleShare, rimsOff.empty() ? "" : "; none: " + rimsOff,
+            kFullLightShare, 2 * options.clamp + 1, 2 * options.clamp + 1));
+        if (run.keepStages && !result->stages.empty())
+            result->stages.push_back({"input maximum beyond light rims", result->image});
     }
 
     // Why the frame's max layer (its per-pixel largest sample) cannot serve the sparse

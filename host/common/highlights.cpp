@@ -373,6 +373,101 @@ size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<c
     return moved;
 }
 
+LightRims FindLightRims(const Image &color, const Image &variance, const Image *maxSample,
+                        double k, double frameMean) {
+    LightRims found;
+    const size_t n = color.PixelCount();
+    if (!variance.SameShape(color) || (maxSample && !maxSample->SameShape(color))) return found;
+    for (size_t i = 0; i < color.data.size(); ++i)
+        if (!std::isfinite(color.data[i]) ||
+            !(std::isfinite(variance.data[i]) && variance.data[i] >= 0))
+            return found;
+    if (maxSample)
+        for (float v : maxSample->data)
+            if (!std::isfinite(v)) return found;
+    const int w = color.width, h = color.height;
+    found.light.assign(n, 0);
+    found.rim.assign(n, 0);
+    for (size_t p = 0; p < n; ++p) {
+        const double s = SumAt(color, p), v = SumAt(variance, p);
+        found.light[p] =
+            s > k * frameMean && s > 0 && s * s >= kLightRimSigmas * kLightRimSigmas * v;
+        found.lights += found.light[p];
+    }
+    if (!maxSample || !found.lights) return found;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (found.light[p]) continue;
+            double brightest = 0;
+            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                    if (found.light[size_t(v) * w + u])
+                        brightest =
+                            std::max(brightest, double(SumAt(color, size_t(v) * w + u)));
+            found.rim[p] =
+                brightest > 0 && SumAt(*maxSample, p) >= kLightRimSampleShare * brightest;
+            found.rims += found.rim[p];
+        }
+    return found;
+}
+
+size_t LowerBeyondLightRims(const Image &color, const LightRims &rims, int reach, int r,
+                            Image *output) {
+    if (!color.SameShape(*output) || reach < 0 || r < 0)
+        throw Error(
+            "LowerBeyondLightRims: the output must have the color's shape, reach and r >= 0",
+            ErrorKind::Internal);
+    const size_t n = color.PixelCount();
+    if (rims.light.size() != n || rims.rim.size() != n) return 0;
+    const int w = color.width, h = color.height;
+    std::vector<char> marked(n);
+    for (size_t p = 0; p < n; ++p) marked[p] = rims.light[p] || rims.rim[p];
+    // A full light: no light beside it brighter than 1 / kFullLightShare times it (a light
+    // pixel the edge crosses is dimmer than the interior beside it).
+    std::vector<char> full(n);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (!rims.light[p]) continue;
+            double brightest = 0;
+            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                    if (rims.light[size_t(v) * w + u])
+                        brightest =
+                            std::max(brightest, double(SumAt(color, size_t(v) * w + u)));
+            full[p] = SumAt(color, p) >= kFullLightShare * brightest;
+        }
+    std::vector<char> near = marked;
+    for (int ring = 0; ring < reach; ++ring) {
+        std::vector<char> grown = near;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                grown[size_t(y) * w + x] |= MarkedNeighbours(near, w, h, x, y) > 0;
+        near = std::move(grown);
+    }
+    size_t moved = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            // A full light's neighbour is its rim, lit or not: the spread may be its light.
+            if (!near[p] || marked[p] || MarkedNeighbours(full, w, h, x, y) > 0) continue;
+            for (int c = 0; c < color.channels; ++c) {
+                float high = color.Plane(c)[p];
+                for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+                    for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+                        if (!marked[size_t(v) * w + u])
+                            high = std::max(high, color.Plane(c)[size_t(v) * w + u]);
+                float &out = output->Plane(c)[p];
+                if (std::isfinite(out) && out > high) {
+                    out = high;
+                    ++moved;
+                }
+            }
+        }
+    return moved;
+}
+
 double HighlightSampleMedian(const Image &maxSample, const std::vector<char> &highlight) {
     if (highlight.size() != maxSample.PixelCount())
         throw Error("HighlightSampleMedian: the mask must have the max layer's size",

@@ -109,6 +109,41 @@ void AddHighlights(const Image &color, const HighlightSplit &split, Image *outpu
 size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<char> &highlight,
                                          int reach, int r, Image *output);
 
+// Lights sure of themselves and their rims (beyond the papers). A large light's interior is no
+// highlight (it is its own window's median), and its rim, pixels some of whose samples saw the
+// light, is noisy: the filter spread the rim into the dim pixels beyond it, a bright band
+// where the reference is dark. A light pixel has channels summing to over k times the frame's
+// mean and kLightRimSigmas of its standard deviations (the sum's, from the variance) above 0:
+// most of its samples saw the light. A rim pixel is not a light, has a light among its 8
+// neighbours, and its largest sample (channels summed) is at least kLightRimSampleShare times
+// the brightest such light's sum: a sample of it saw that light.
+constexpr double kLightRimSigmas = 4;
+constexpr double kLightRimSampleShare = 0.5;
+// A light pixel at least this share of the brightest light beside it is the light's full
+// interior, not a pixel its edge crosses: its neighbours are the rim, lit or not.
+constexpr double kFullLightShare = 0.75;
+// How far beyond a rim its spread is cut.
+constexpr int kLightRimReach = 1;
+
+struct LightRims {
+    std::vector<char> light, rim;  // per pixel
+    size_t lights = 0, rims = 0;
+};
+
+// The lights and rims of `color` at ratio k over `frameMean` (HighlightFrameMean of the whole
+// frame), from `variance` (the color's shape) and `maxSample` (the color's shape, or null: no
+// rims). None where variance or color has NaN/Inf or a negative variance, or the shapes differ.
+LightRims FindLightRims(const Image &color, const Image &variance, const Image *maxSample,
+                        double k, double frameMean);
+
+// Crests beyond lights' rims cut: each value of `output` at a pixel that is neither a light,
+// a rim nor a full light's neighbour (its rim, whether or not a sample saw the light) but
+// within `reach` of a light or rim is lowered to the largest input value of its channel over
+// the window of radius r around it, lights and rims left out: a mean of the samples there is no
+// higher than the highest of them. Returns how many values moved.
+size_t LowerBeyondLightRims(const Image &color, const LightRims &rims, int reach, int r,
+                            Image *output);
+
 // How many of (x, y)'s 8 neighbours inside the w x h frame are marked: a highlight is a
 // cluster, a lone marked pixel a firefly.
 int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y);

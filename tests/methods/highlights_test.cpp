@@ -972,5 +972,170 @@ TEST(Highlights, CrestsNearLightsAreCut) {
     EXPECT_EQ(output.data, expected.data);
 }
 
+// A 64 x 48 dim floor (0.05, a small variance) with a ceiling panel of 24 x 4 pixels at 30 a
+// channel, sure of itself (a small variance), and a rim row above and below it that the
+// panel's edge crosses: each rim pixel a quarter covered, its 16 samples 30 or 0.05, so its
+// mean a binomial count of sixteenths and its largest sample 30 where any sample hit. The
+// color, its variance, the largest sample and the truth (the rim a quarter of the panel).
+struct PanelLight {
+    static constexpr int w = 64, h = 48, x0 = 20, x1 = 44, y0 = 20, y1 = 24;
+    Image color{w, h, 3}, variance{w, h, 3}, maxSample{w, h, 3}, truth{w, h, 3, 0.05f};
+
+    explicit PanelLight(const std::string &name) {
+        std::mt19937_64 rng(SeedFromName(name));
+        std::normal_distribution<float> normal(0, 1);
+        std::binomial_distribution<int> hits(16, 0.25);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const bool panel = x >= x0 && x < x1 && y >= y0 && y < y1;
+                const bool rim = x >= x0 && x < x1 && (y == y0 - 1 || y == y1);
+                const int n = rim ? hits(rng) : 0;
+                for (int c = 0; c < 3; ++c) {
+                    float value, var, top;
+                    if (panel) {
+                        value = 30 + 0.05f * normal(rng), var = 0.0025f, top = value + 0.1f;
+                    } else if (rim) {
+                        const float p = n / 16.f;
+                        value = 30 * p + 0.05f * (1 - p);
+                        var = 30.f * 30.f * p * (1 - p) / 16;
+                        top = n ? 30.f : 0.05f;
+                        truth.At(c, y, x) = 30 * 0.25f + 0.05f * 0.75f;
+                    } else {
+                        value = std::max(0.f, 0.05f + 0.005f * normal(rng));
+                        var = 0.005f * 0.005f, top = value + 0.01f;
+                    }
+                    if (panel) truth.At(c, y, x) = 30;
+                    color.At(c, y, x) = value, variance.At(c, y, x) = var;
+                    maxSample.At(c, y, x) = top;
+                }
+            }
+    }
+};
+
+// Lights and rims, and the cut beyond them, against the twin: on the panel, on a frame with
+// a rim pixel every sample missed beside the panel's full interior (kept: the spread may be
+// its light) and a pixel beside a light the edge crosses and no full light (cut: past the
+// light's edge), and on the noisy frames MakeFrame makes (a wide light among them).
+TEST(Highlights, LightRimsMatchReference) {
+    PanelLight panel("highlights light rims twin");
+    const int w = panel.w, h = panel.h;
+    // A rim pixel every sample missed; two pixels the panel's edge crosses (two thirds
+    // covered, 20 a channel): one in its bottom row, one past its right side.
+    const int crossX = PanelLight::x1, crossY = PanelLight::y0 + 1;
+    for (int c = 0; c < 3; ++c) {
+        panel.color.At(c, PanelLight::y0 - 1, 30) = 0.05f;
+        panel.variance.At(c, PanelLight::y0 - 1, 30) = 0;
+        panel.maxSample.At(c, PanelLight::y0 - 1, 30) = 0.05f;
+        for (auto [x, y] : {std::pair{40, PanelLight::y1 - 1}, {crossX, crossY}}) {
+            panel.color.At(c, y, x) = 20;
+            panel.variance.At(c, y, x) = 0.0025f;
+            panel.maxSample.At(c, y, x) = 20.1f;
+        }
+    }
+    const double mean = HighlightFrameMean(panel.color);
+    auto sumAt = [&](int x, int y) {
+        return panel.color.At(0, y, x) + panel.color.At(1, y, x) + panel.color.At(2, y, x);
+    };
+    // The crossed pixels are lights (over 16 x the mean), not full ones (under 0.75 x the
+    // panel beside them): the frame's numbers, not luck.
+    ASSERT_GT(sumAt(crossX, crossY), 16 * mean);
+    ASSERT_LT(sumAt(crossX, crossY), kFullLightShare * sumAt(crossX - 1, crossY));
+    LightRims rims = FindLightRims(panel.color, panel.variance, &panel.maxSample, 16, mean);
+    // The lights: the panel (the crossed pixel in it too), the crossed pixel past it, and the
+    // rim pixels whose binomial mean (s^2 >= 16 v where a quarter or more of the samples hit)
+    // passes 16 x the mean.
+    size_t rimLights = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool inPanel = x >= PanelLight::x0 && x < PanelLight::x1 &&
+                                 y >= PanelLight::y0 && y < PanelLight::y1;
+            const bool rimRow = x >= PanelLight::x0 && x < PanelLight::x1 &&
+                                (y == PanelLight::y0 - 1 || y == PanelLight::y1);
+            const bool rimLight = rimRow && sumAt(x, y) > 16 * mean;
+            rimLights += rimLight;
+            EXPECT_EQ(bool(rims.light[size_t(y) * w + x]),
+                      inPanel || (x == crossX && y == crossY) || rimLight)
+                << x << "," << y << " (sum " << sumAt(x, y) << ")";
+        }
+    EXPECT_EQ(rims.lights, size_t(24 * 4 + 1) + rimLights);
+    Image output(w, h, 3, 0.5f), expected = output;
+    EXPECT_GT(LowerBeyondLightRims(panel.color, rims, kLightRimReach, 1, &output), 0u);
+    // The twin takes the frame's own mean (-1), the host HighlightFrameMean.
+    ref::LowerBeyondLightRims(panel.color, panel.variance, &panel.maxSample, 16, -1,
+                              kLightRimReach, 1, &expected);
+    EXPECT_EQ(output.data, expected.data);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(output.At(c, PanelLight::y0 - 1, 30), 0.5f) << "the missed rim pixel";
+        EXPECT_LT(output.At(c, PanelLight::y0 - 2, 25), 0.1f) << "past the top rim";
+        EXPECT_LT(output.At(c, PanelLight::y1 + 1, 40), 0.1f) << "past the crossed pixel";
+        // Beside the crossed pixel past the panel's side and beside no full light: cut (with
+        // every light full it would be kept as a rim).
+        EXPECT_LT(output.At(c, crossY, crossX + 1), 0.1f) << "beside a light, not a full one";
+        EXPECT_EQ(output.At(c, 2, 2), 0.5f) << "out of reach";
+    }
+    // Without a max layer: lights, no rims; NaN in the variance: nothing.
+    EXPECT_EQ(FindLightRims(panel.color, panel.variance, nullptr, 16, mean).rims, 0u);
+    Image broken = panel.variance;
+    broken.At(0, 0, 0) = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_EQ(FindLightRims(panel.color, broken, &panel.maxSample, 16, mean).lights, 0u);
+    for (int channels : {1, 3})
+        for (auto [fw, fh] : {std::pair{3, 2}, {17, 13}, {44, 33}})
+            for (double k : {4.0, 16.0}) {
+                Image color, variance;
+                MakeFrame(fw, fh, channels, k, &color, &variance);
+                Image maxSample = color;
+                for (size_t i = 0; i < maxSample.data.size(); ++i)
+                    maxSample.data[i] += 4 * std::sqrt(variance.data[i]);
+                const double frameMean = HighlightFrameMean(color);
+                Image got(fw, fh, channels), want;
+                for (size_t i = 0; i < got.data.size(); ++i)
+                    got.data[i] = color.data[i] + 2 * color.data[(i * 7919) % got.data.size()];
+                want = got;
+                LowerBeyondLightRims(color,
+                                     FindLightRims(color, variance, &maxSample, k, frameMean),
+                                     1, 1, &got);
+                ref::LowerBeyondLightRims(color, variance, &maxSample, k, -1, 1, 1, &want);
+                EXPECT_EQ(got.data, want.data)
+                    << fw << "x" << fh << "x" << channels << " " << k;
+            }
+}
+
+// The light's sum is in float, in channel order, in the host and its twin alike: a pixel of
+// 2^24, 1 and 1 sums to 2^24 in float (2^24 + 2 in double), under a threshold of 2^24 + 1,
+// so it is no light and the pixel past its would-be rim keeps its value.
+TEST(Highlights, LightRimsSumChannelsInFloat) {
+    Image color(5, 1, 3, 0.05f), variance(5, 1, 3, 0.f), maxSample = color;
+    color.At(0, 0, 2) = 16777216.f, color.At(1, 0, 2) = 1, color.At(2, 0, 2) = 1;
+    maxSample.At(0, 0, 3) = 16777216.f;
+    const double frameMean = 16777217;
+    Image output(5, 1, 3, 0.5f), expected = output;
+    LightRims rims = FindLightRims(color, variance, &maxSample, 1, frameMean);
+    EXPECT_EQ(rims.lights, 0u);
+    LowerBeyondLightRims(color, rims, 1, 1, &output);
+    ref::LowerBeyondLightRims(color, variance, &maxSample, 1, frameMean, 1, 1, &expected);
+    EXPECT_EQ(output.data, expected.data);
+    EXPECT_EQ(output.At(0, 0, 4), 0.5f);
+}
+
+// A large light's noisy rim (a ceiling panel's edge, our cornell at 4-64 spp): the filter
+// spread it into the dim rows past it, worse than the input there. The values past the rim
+// are lowered to the input's maximum over their window, rims and lights left out.
+TEST_F(HighlightsAwr, ALargeLightsRimDoesNotGlowPastIt) {
+    PanelLight panel("highlights awr panel rim");
+    Frame frame = ColorAndVariance(panel.color, panel.variance);
+    frame.layers["max"] = panel.maxSample;
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    // The row past each rim, over the panel's width: no value off by half the floor (the
+    // floor's own noise is a tenth of it).
+    float worst = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y : {PanelLight::y0 - 2, PanelLight::y1 + 1})
+            for (int x = PanelLight::x0; x < PanelLight::x1; ++x)
+                worst =
+                    std::max(worst, std::abs(out.image.At(c, y, x) - panel.truth.At(c, y, x)));
+    EXPECT_LT(worst, 0.5f * 0.05f) << "a glow past the rim";
+}
+
 }  // namespace
 }  // namespace mcd::test
