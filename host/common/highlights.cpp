@@ -279,6 +279,55 @@ void AddReflectionPartners(const Image &color, const Image &maxSample,
     std::sort(sparse->begin(), sparse->end());
 }
 
+// Each pixel of `marked` and those within `rings` steps of one (8-neighbours).
+std::vector<char> GrownBy(const std::vector<char> &marked, int w, int h, int rings) {
+    std::vector<char> near = marked;
+    for (int ring = 0; ring < rings; ++ring) {
+        std::vector<char> grown = near;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                grown[size_t(y) * w + x] |= MarkedNeighbours(near, w, h, x, y) > 0;
+        near = std::move(grown);
+    }
+    return near;
+}
+
+// The largest channel sum of `color` over the marked pixels of (x, y)'s 3x3 window, itself
+// included; 0 where none is marked.
+double BrightestMarkedAround(const Image &color, const std::vector<char> &marked, int x,
+                             int y) {
+    const int w = color.width, h = color.height;
+    double brightest = 0;
+    for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+        for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+            if (marked[size_t(v) * w + u])
+                brightest = std::max(brightest, double(SumAt(color, size_t(v) * w + u)));
+    return brightest;
+}
+
+// Lowers each channel of the output at (x, y) to the input's largest value over the unmarked
+// pixels of its (2r+1)^2 window (its own input included); a non-finite maximum lowers nothing
+// where `finiteOnly`. Returns the values lowered.
+size_t LowerToWindowMaximum(const Image &color, const std::vector<char> &marked, int x, int y,
+                            int r, bool finiteOnly, Image *output) {
+    const int w = color.width, h = color.height;
+    const size_t p = size_t(y) * w + x;
+    size_t moved = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        float high = color.Plane(c)[p];
+        for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+            for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+                if (!marked[size_t(v) * w + u])
+                    high = std::max(high, color.Plane(c)[size_t(v) * w + u]);
+        float &out = output->Plane(c)[p];
+        if ((!finiteOnly || std::isfinite(high)) && std::isfinite(out) && out > high) {
+            out = high;
+            ++moved;
+        }
+    }
+    return moved;
+}
+
 }  // namespace
 
 int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y) {
@@ -343,32 +392,14 @@ size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<c
             "color's shape, reach and r >= 0",
             ErrorKind::Internal);
     const int w = color.width, h = color.height;
-    // Distance to the nearest highlight, ring by ring, up to reach.
-    std::vector<char> near = highlight;
-    for (int ring = 0; ring < reach; ++ring) {
-        std::vector<char> grown = near;
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                grown[size_t(y) * w + x] |= MarkedNeighbours(near, w, h, x, y) > 0;
-        near = std::move(grown);
-    }
+    // Within reach of the nearest highlight.
+    const std::vector<char> near = GrownBy(highlight, w, h, reach);
     size_t moved = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t p = size_t(y) * w + x;
             if (!near[p] || highlight[p]) continue;
-            for (int c = 0; c < color.channels; ++c) {
-                float high = color.Plane(c)[p];
-                for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
-                    for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
-                        if (!highlight[size_t(v) * w + u])
-                            high = std::max(high, color.Plane(c)[size_t(v) * w + u]);
-                float &out = output->Plane(c)[p];
-                if (std::isfinite(high) && std::isfinite(out) && out > high) {
-                    out = high;
-                    ++moved;
-                }
-            }
+            moved += LowerToWindowMaximum(color, highlight, x, y, r, true, output);
         }
     return moved;
 }
@@ -399,12 +430,7 @@ LightRims FindLightRims(const Image &color, const Image &variance, const Image *
         for (int x = 0; x < w; ++x) {
             const size_t p = size_t(y) * w + x;
             if (found.light[p]) continue;
-            double brightest = 0;
-            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
-                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
-                    if (found.light[size_t(v) * w + u])
-                        brightest =
-                            std::max(brightest, double(SumAt(color, size_t(v) * w + u)));
+            const double brightest = BrightestMarkedAround(color, found.light, x, y);
             found.rim[p] =
                 brightest > 0 && SumAt(*maxSample, p) >= kLightRimSampleShare * brightest;
             found.rims += found.rim[p];
@@ -430,40 +456,17 @@ size_t LowerBeyondLightRims(const Image &color, const LightRims &rims, int reach
         for (int x = 0; x < w; ++x) {
             const size_t p = size_t(y) * w + x;
             if (!rims.light[p]) continue;
-            double brightest = 0;
-            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
-                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
-                    if (rims.light[size_t(v) * w + u])
-                        brightest =
-                            std::max(brightest, double(SumAt(color, size_t(v) * w + u)));
+            const double brightest = BrightestMarkedAround(color, rims.light, x, y);
             full[p] = SumAt(color, p) >= kFullLightShare * brightest;
         }
-    std::vector<char> near = marked;
-    for (int ring = 0; ring < reach; ++ring) {
-        std::vector<char> grown = near;
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                grown[size_t(y) * w + x] |= MarkedNeighbours(near, w, h, x, y) > 0;
-        near = std::move(grown);
-    }
+    const std::vector<char> near = GrownBy(marked, w, h, reach);
     size_t moved = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t p = size_t(y) * w + x;
             // A full light's neighbour is its rim, lit or not: the spread may be its light.
             if (!near[p] || marked[p] || MarkedNeighbours(full, w, h, x, y) > 0) continue;
-            for (int c = 0; c < color.channels; ++c) {
-                float high = color.Plane(c)[p];
-                for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
-                    for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
-                        if (!marked[size_t(v) * w + u])
-                            high = std::max(high, color.Plane(c)[size_t(v) * w + u]);
-                float &out = output->Plane(c)[p];
-                if (std::isfinite(out) && out > high) {
-                    out = high;
-                    ++moved;
-                }
-            }
+            moved += LowerToWindowMaximum(color, marked, x, y, r, false, output);
         }
     return moved;
 }

@@ -785,7 +785,9 @@ TEST(PivotKeptEdges, MatchReference) {
                 << w << "x" << h << " ids " << ids;
             EXPECT_TRUE(BitIdentical(sidesGot, sidesExpected))
                 << w << "x" << h << " ids " << ids;
-            if (w >= 40) EXPECT_GT(sidesCount, 0u) << "the case holds no edge value";
+            if (w >= 40) {
+                EXPECT_GT(sidesCount, 0u) << "the case holds no edge value";
+            }
         }
     Image none(4, 4, 3, 0.5f), out = none;
     EXPECT_EQ(ClampKeptEdgeValues(none, none, nullptr, nullptr, &out).clamped, 0u);
@@ -921,7 +923,9 @@ TEST(PivotSpikes, MatchReference) {
                         kept)
                         << label;
                     EXPECT_TRUE(BitIdentical(clustersGot, clustersExpected)) << label;
-                    if (w >= 17) EXPECT_GT(kept.size(), 0u) << "no cluster kept, " << label;
+                    if (w >= 17) {
+                        EXPECT_GT(kept.size(), 0u) << "no cluster kept, " << label;
+                    }
                 }
             if (w >= 17) {
                 EXPECT_GT(want.size(), 0u) << "the case scales no spike";
@@ -991,6 +995,20 @@ struct StagedPivotRun {
     Result result;
 };
 
+// A dark mirror's noisy ground: every channel level x (1 + noise x a normal draw), not below
+// 0, and the variance of that noise.
+void FillMirrorGround(float level, float noise, const char *seedName, Image *color,
+                      Image *variance) {
+    std::mt19937_64 rng(SeedFromName(seedName));
+    std::normal_distribution<float> normal(0, 1);
+    for (int y = 0; y < color->height; ++y)
+        for (int x = 0; x < color->width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                color->At(c, y, x) = std::max(0.f, level * (1 + noise * normal(rng)));
+                variance->At(c, y, x) = level * level * noise * noise;
+            }
+}
+
 // A pixel of a mirror (albedo 0.05) one of whose samples saw a small light carries the
 // firefly in its albedo as in its colour (issue 29): its z is its neighbours', and z times the
 // pivot gives the firefly back. With --pivot-spikes it takes its neighbours' level; a
@@ -1000,14 +1018,7 @@ TEST_F(PivotMethod, APivotsFireflyIsNotGivenBack) {
     const int w = 32, h = 32;
     const float level = 0.025f, noise = 0.1f;
     Image color(w, h, 3), pivot(w, h, 3, 0.05f), variance(w, h, 3), objectId(w, h, 1, 1.f);
-    std::mt19937_64 rng(SeedFromName("pivot spikes frame"));
-    std::normal_distribution<float> normal(0, 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int c = 0; c < 3; ++c) {
-                color.At(c, y, x) = std::max(0.f, level * (1 + noise * normal(rng)));
-                variance.At(c, y, x) = level * level * noise * noise;
-            }
+    FillMirrorGround(level, noise, "pivot spikes frame", &color, &variance);
     for (int c = 0; c < 3; ++c) {
         // One sample of 16 saw the light: the standard deviation of the mean is its value.
         pivot.At(c, 16, 16) = 8, color.At(c, 16, 16) = 8.5f, variance.At(c, 16, 16) = 72;
@@ -1044,14 +1055,7 @@ TEST_F(PivotMethod, ALightInAMirrorLeavesNoHalo) {
     const int w = 48, h = 48, cx = 24, cy = 24;
     const float level = 0.025f, noise = 0.1f;
     Image color(w, h, 3), pivot(w, h, 3, 0.05f), variance(w, h, 3), objectId(w, h, 1, 1.f);
-    std::mt19937_64 rng(SeedFromName("pivot spike clusters"));
-    std::normal_distribution<float> normal(0, 1);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int c = 0; c < 3; ++c) {
-                color.At(c, y, x) = std::max(0.f, level * (1 + noise * normal(rng)));
-                variance.At(c, y, x) = level * level * noise * noise;
-            }
+    FillMirrorGround(level, noise, "pivot spike clusters", &color, &variance);
     for (int y = cy; y < cy + 2; ++y)
         for (int x = cx; x < cx + 2; ++x)
             for (int c = 0; c < 3; ++c) {
@@ -1113,12 +1117,16 @@ TEST(PivotSpikes, AThinBrightPartOfItsOwnIdKeepsNoInput) {
                 for (int x = 0; x < w; ++x)
                     for (int c = 0; c < 3; ++c) {
                         const bool input = image->At(c, y, x) == color.At(c, y, x);
-                        if (mirror(x, y))
+                        if (mirror(x, y)) {
                             EXPECT_TRUE(input) << "a reflection, " << x << "," << y;
-                        if (ids && (x == wireX || patch(x, y)))
+                        }
+                        if (ids && (x == wireX || patch(x, y))) {
                             EXPECT_FALSE(input)
                                 << "a thin part kept its noise, " << x << "," << y;
-                        if (!ids && x == wireX && y > 0 && y + 1 < h) EXPECT_TRUE(input);
+                        }
+                        if (!ids && x == wireX && y > 0 && y + 1 < h) {
+                            EXPECT_TRUE(input);
+                        }
                     }
     }
 }
