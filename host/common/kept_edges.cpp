@@ -5,6 +5,8 @@
 #include <cstring>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "host/error.h"
 
 namespace mcd {
@@ -60,18 +62,26 @@ bool OwnLevel(const Ids &ids, const float *plane, const float *pivot, int w, int
     return true;
 }
 
+// Refuses an output or pivot not of the input's shape, or an id layer not one channel of its
+// size, before anything is read.
+void CheckEdgeLayers(const char *step, const Image &input, const Image &pivot,
+                     const Image *objectId, const Image *partId, const Image &output) {
+    if (!input.SameShape(output) || !input.SameShape(pivot))
+        throw Error(
+            fmt::format("{}: the output and the pivot must have the input's shape", step),
+            ErrorKind::Internal);
+    for (const Image *id : {objectId, partId})
+        if (id && (id->width != input.width || id->height != input.height || id->channels != 1))
+            throw Error(
+                fmt::format("{}: an id layer must be one channel of the input's size", step),
+                ErrorKind::Internal);
+}
+
 }  // namespace
 
 KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
                               const Image *partId, Image *output) {
-    if (!input.SameShape(*output) || !input.SameShape(pivot))
-        throw Error("ClampKeptEdgeValues: the output and the pivot must have the input's shape",
-                    ErrorKind::Internal);
-    for (const Image *id : {objectId, partId})
-        if (id && (id->width != input.width || id->height != input.height || id->channels != 1))
-            throw Error(
-                "ClampKeptEdgeValues: an id layer must be one channel of the input's size",
-                ErrorKind::Internal);
+    CheckEdgeLayers("ClampKeptEdgeValues", input, pivot, objectId, partId, *output);
     KeptEdges kept;
     if (!objectId && !partId) return kept;
     const Ids ids{objectId, partId};
@@ -128,15 +138,7 @@ KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Imag
 
 size_t ClampEdgeFitsToSides(const Image &input, const Image &pivot, const Image *objectId,
                             const Image *partId, Image *output) {
-    if (!input.SameShape(*output) || !input.SameShape(pivot))
-        throw Error(
-            "ClampEdgeFitsToSides: the output and the pivot must have the input's shape",
-            ErrorKind::Internal);
-    for (const Image *id : {objectId, partId})
-        if (id && (id->width != input.width || id->height != input.height || id->channels != 1))
-            throw Error(
-                "ClampEdgeFitsToSides: an id layer must be one channel of the input's size",
-                ErrorKind::Internal);
+    CheckEdgeLayers("ClampEdgeFitsToSides", input, pivot, objectId, partId, *output);
     if (!objectId && !partId) return 0;
     const Ids ids{objectId, partId};
     const int w = input.width, h = input.height;

@@ -87,15 +87,18 @@ bool FewSamples(const Image &color, const Image &variance, size_t p) {
     return value > 0 && std::sqrt(var) >= kPivotSpikeNoise * value;
 }
 
+// Whether `layer` has the colour's size and 1 or `channels` channels.
+bool FitsColour(const Image &layer, const Image &color, int channels) {
+    return layer.width == color.width && layer.height == color.height &&
+           (layer.channels == 1 || layer.channels == channels);
+}
+
 }  // namespace
 
 std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
                                      const Image &variance, Image *output) {
-    if (!color.SameShape(*output) || pivot.width != color.width ||
-        pivot.height != color.height ||
-        (pivot.channels != 1 && pivot.channels != color.channels) ||
-        variance.width != color.width || variance.height != color.height ||
-        (variance.channels != 1 && variance.channels != color.channels))
+    if (!color.SameShape(*output) || !FitsColour(pivot, color, color.channels) ||
+        !FitsColour(variance, color, color.channels))
         throw Error(
             "ScalePivotSpikes: the output must have the colour's shape, the pivot and the "
             "variance its size and 1 or its channels",
@@ -130,14 +133,9 @@ std::vector<size_t> ScalePivotSpikes(const Image &color, const Image &pivot,
 std::vector<size_t> KeepPivotSpikeClusters(const Image &color, const Image &pivot,
                                            const Image *objectId, const Image *partId,
                                            Image *output) {
-    const auto idShaped = [&](const Image *id) {
-        return !id ||
-               (id->width == color.width && id->height == color.height && id->channels == 1);
-    };
-    if (!color.SameShape(*output) || pivot.width != color.width ||
-        pivot.height != color.height ||
-        (pivot.channels != 1 && pivot.channels != color.channels) || !idShaped(objectId) ||
-        !idShaped(partId))
+    if (!color.SameShape(*output) || !FitsColour(pivot, color, color.channels) ||
+        (objectId && !FitsColour(*objectId, color, 1)) ||
+        (partId && !FitsColour(*partId, color, 1)))
         throw Error(
             "KeepPivotSpikeClusters: the output must have the colour's shape, the pivot its "
             "size and 1 or its channels, each id layer its size and 1 channel",
