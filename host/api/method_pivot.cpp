@@ -117,8 +117,7 @@ void KeepSpikeClusters(const PivotInputs &in, const RunOptions &run, Result *res
         clusters, kPivotSpike,
         in.objectId || in.partId
             ? "and whose other neighbours have their ids (a mirror's; a thin bright part of "
-              "its "
-              "own ids, a wire, is fitted) "
+              "its own ids, a wire, is fitted) "
             : "(no ids: a thin bright part, a wire, is not told from a reflection) "));
     if (run.keepStages) result->stages.push_back({"spike clusters", result->image});
 }
