@@ -42,33 +42,28 @@ void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk:
                                 "buffers",
                                 planes, srcWidth, srcHeight, step),
                     ErrorKind::Internal);
-    // A pipeline per radius and step: the taps unroll (downsample.comp).
-    const vk::Kernel &kernel = context.GetKernel(
-        {"rhf_downsample",
-         k_rhf_downsample_spv,
-         sizeof(k_rhf_downsample_spv),
-         RHF_DOWNSAMPLE_BINDINGS,
-         sizeof(shader::RhfDownsamplePush),
-         {{RHF_DOWNSAMPLE_SPEC_RADIUS, radius}, {RHF_DOWNSAMPLE_SPEC_STEP, step}},
-         (1u << RHF_DOWNSAMPLE_SRC) | (1u << RHF_DOWNSAMPLE_WEIGHTS)});
+    const vk::Kernel &kernel = context.GetKernel({"rhf_downsample",
+                                                  k_rhf_downsample_spv,
+                                                  sizeof(k_rhf_downsample_spv),
+                                                  RHF_DOWNSAMPLE_BINDINGS,
+                                                  sizeof(shader::RhfDownsamplePush),
+                                                  {},
+                                                  1u << RHF_DOWNSAMPLE_SRC});
     auto groups = [](int n) {
         return uint32_t((n + RHF_DOWNSAMPLE_LOCAL_SIZE - 1) / RHF_DOWNSAMPLE_LOCAL_SIZE);
-    };
-    auto blocks = [](int n) {
-        return (n + RHF_DOWNSAMPLE_PIXELS_PER_LANE - 1) / RHF_DOWNSAMPLE_PIXELS_PER_LANE;
     };
     shader::RhfDownsamplePush alongX{srcWidth, srcHeight, dstWidth, srcHeight, step, radius, 0};
     recorder.Dispatch(kernel, "rhf.downsample",
                       {{RHF_DOWNSAMPLE_SRC, &src, vk::Access::Read},
                        {RHF_DOWNSAMPLE_DST, &scratch, vk::Access::Write},
                        {RHF_DOWNSAMPLE_WEIGHTS, &weights, vk::Access::Read}},
-                      alongX, groups(blocks(dstWidth)), uint32_t(srcHeight), uint32_t(planes));
+                      alongX, groups(dstWidth), uint32_t(srcHeight), uint32_t(planes));
     shader::RhfDownsamplePush alongY{dstWidth, srcHeight, dstWidth, dstHeight, step, radius, 1};
     recorder.Dispatch(kernel, "rhf.downsample",
                       {{RHF_DOWNSAMPLE_SRC, &scratch, vk::Access::Read},
                        {RHF_DOWNSAMPLE_DST, &dst, vk::Access::Write},
                        {RHF_DOWNSAMPLE_WEIGHTS, &weights, vk::Access::Read}},
-                      alongY, groups(dstWidth), uint32_t(blocks(dstHeight)), uint32_t(planes));
+                      alongY, groups(dstWidth), uint32_t(dstHeight), uint32_t(planes));
 }
 
 }  // namespace mcd

@@ -1,8 +1,7 @@
 // RHF Gaussian downsampling D_s (paper eq. 8) as the tool samples, one axis at a time:
 // dst(x) = sum_i g(i) src(mirror(step * x + step / 2 - radius + i)), i in [0, 2 radius],
 // for every plane of a planar image (step / 2 = floor((x + 0.5) step) - step x).
-// The normalised weights g come in a buffer; the radius and step are specialization
-// constants (a pipeline per scale). The x pass makes dstWidth x srcHeight, the y
+// The normalised weights g come in a buffer. The x pass makes dstWidth x srcHeight, the y
 // pass srcWidth x dstHeight.
 #ifndef MCD_SHADERS_RHF_DOWNSAMPLE_H
 #define MCD_SHADERS_RHF_DOWNSAMPLE_H
@@ -12,10 +11,6 @@
 #define RHF_DOWNSAMPLE_WEIGHTS 2
 #define RHF_DOWNSAMPLE_BINDINGS 3
 #define RHF_DOWNSAMPLE_LOCAL_SIZE 64
-// Results per invocation along the pass's axis.
-#define RHF_DOWNSAMPLE_PIXELS_PER_LANE 4
-#define RHF_DOWNSAMPLE_SPEC_RADIUS 0
-#define RHF_DOWNSAMPLE_SPEC_STEP 1
 
 #ifdef __cplusplus
 #include <cstddef>

@@ -811,7 +811,7 @@ TEST_F(VkTexelRecorder, WritingThroughATexelBindingThrows) {
                         RHF_DOWNSAMPLE_BINDINGS,
                         sizeof(shader::RhfDownsamplePush),
                         {},
-                        (1u << RHF_DOWNSAMPLE_SRC) | (1u << RHF_DOWNSAMPLE_WEIGHTS)};
+                        1u << RHF_DOWNSAMPLE_SRC};
     const vk::Kernel &kernel = Ctx().GetKernel(desc);
     EXPECT_TRUE(kernel.IsTexel(RHF_DOWNSAMPLE_SRC));
     EXPECT_FALSE(kernel.IsTexel(RHF_DOWNSAMPLE_DST));
