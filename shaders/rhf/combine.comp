@@ -5,9 +5,10 @@
 
 // One invocation per pixel and channel: x across, row and channel from the grid.
 layout(local_size_x = RHF_COMBINE_LOCAL_SIZE) in;
-layout(std430, binding = RHF_COMBINE_FILTERED) readonly buffer Filtered { float filtered[]; };
-layout(std430, binding = RHF_COMBINE_LOW) readonly buffer Low { float low[]; };
-layout(std430, binding = RHF_COMBINE_COARSE) readonly buffer Coarse { float coarse[]; };
+// Texel buffers: lavapipe gathers a texel fetch as one vector, a storage load lane by lane.
+layout(binding = RHF_COMBINE_FILTERED) uniform samplerBuffer filtered;
+layout(binding = RHF_COMBINE_LOW) uniform samplerBuffer low;
+layout(binding = RHF_COMBINE_COARSE) uniform samplerBuffer coarse;
 layout(std430, binding = RHF_COMBINE_OUT) writeonly buffer Out { float outColor[]; };
 
 // Keys' cubic convolution kernel with a = -0.5.
@@ -38,21 +39,33 @@ void main() {
     float ty = (float(y + push.originY) + 0.5) * float(fch) / float(push.frameHeight) - 0.5;
     int ix = int(floor(tx)), iy = int(floor(ty));
     float fx = tx - float(ix), fy = ty - float(iy);
-    // Mirror only near the frame's edges: its integer division is slow on CPU devices. A
-    // tap outside the window (only in a halo's outer pixels, which no tile keeps) clamps.
-    bool insideX = ix >= 1 && ix + 2 < fcw, insideY = iy >= 1 && iy + 2 < fch;
+    // Mirror only near the frame's edges: its integer division is slow on CPU devices, and
+    // lavapipe flattens a small conditional into both sides, so the four taps' indices are
+    // found in one branch per axis. A tap outside the window (only in a halo's outer pixels,
+    // which no tile keeps) clamps. The columns' weights are found once for the four rows.
+    int rows[4], columns[4];
+    if (ix >= 1 && ix + 2 < fcw) {
+        for (int i = 0; i < 4; ++i) columns[i] = clamp(ix + i - 1 - cx0, 0, cw - 1);
+    } else {
+        for (int i = 0; i < 4; ++i) columns[i] = clamp(Mirror(ix + i - 1, fcw) - cx0, 0, cw - 1);
+    }
+    if (iy >= 1 && iy + 2 < fch) {
+        for (int j = 0; j < 4; ++j) rows[j] = plane + clamp(iy + j - 1 - cy0, 0, ch - 1) * cw;
+    } else {
+        for (int j = 0; j < 4; ++j)
+            rows[j] = plane + clamp(Mirror(iy + j - 1, fch) - cy0, 0, ch - 1) * cw;
+    }
+    float wx[4];
+    for (int i = 0; i < 4; ++i) wx[i] = Keys(fx - float(i - 1));
     float lowV = 0.0, coarseV = 0.0;
-    for (int j = -1; j <= 2; ++j) {
-        float wy = Keys(fy - float(j));
-        int cy = clamp((insideY ? iy + j : Mirror(iy + j, fch)) - cy0, 0, ch - 1);
-        int row = plane + cy * cw;
-        for (int i = -1; i <= 2; ++i) {
-            float w = wy * Keys(fx - float(i));
-            int at = row + clamp((insideX ? ix + i : Mirror(ix + i, fcw)) - cx0, 0, cw - 1);
-            lowV += w * low[at];
-            coarseV += w * coarse[at];
+    for (int j = 0; j < 4; ++j) {
+        float wy = Keys(fy - float(j - 1));
+        for (int i = 0; i < 4; ++i) {
+            float w = wy * wx[i];
+            lowV += w * texelFetch(low, rows[j] + columns[i]).r;
+            coarseV += w * texelFetch(coarse, rows[j] + columns[i]).r;
         }
     }
     int at = (c * push.height + y) * push.width + x;
-    outColor[at] = filtered[at] - lowV + coarseV;
+    outColor[at] = texelFetch(filtered, at).r - lowV + coarseV;
 }
