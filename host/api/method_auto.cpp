@@ -64,6 +64,15 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::guide, {"combined", "mean"}),
         IntParam("auto-radius", "half-size of the window the error estimates are averaged over",
                  &O::radius, 0, 64),
+        ChoiceParam("auto-window",
+                    "the final estimates' windows: tent (the tents of --auto-radius) or colour "
+                    "(each tent weight also times exp(-d / --auto-window-bandwidth^2), d the "
+                    "relative squared colour distance of the guide combination, so that the "
+                    "windows keep to pixels of its colour)",
+                    &O::window, {"tent", "colour"}),
+        FloatParam("auto-window-bandwidth",
+                   "with --auto-window colour: the colour distance's bandwidth",
+                   &O::windowBandwidth, 1e-3, 100),
         IntParam("auto-frame-radius",
                  "--auto-radius where the noise is the frame's own estimate (--auto-noise "
                  "frame, or auto on a frame without variance nor half-buffers)",
@@ -803,6 +812,7 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
                                                             : AutoCombination::Weights;
     c.meanGuide = o.guide == "mean";
     c.radius = noise.own ? o.frameRadius : o.radius;
+    c.windowBandwidth = o.window == "colour" ? o.windowBandwidth : 0.f;
     c.power = noise.own ? o.framePower : noise.halves ? o.halvesPower : o.power;
     c.floorError = o.floorError;
     c.noiseLimit = o.noiseLimit;
@@ -861,9 +871,12 @@ void PlanCombination(const AutoFrontEnd::Options &o, const AutoOptions &c, const
     std::string estimates;
     if (noise.scored)
         estimates = fmt::format(
-            " (error estimates from {}, averaged over {}x{} windows; relMSE's denominator "
+            " (error estimates from {}, averaged over {}x{} windows{}; relMSE's denominator "
             "from {})",
             noise.from, 2 * c.radius + 1, 2 * c.radius + 1,
+            c.windowBandwidth > 0 ? fmt::format(" weighed by the guide's colour (bandwidth {})",
+                                                c.windowBandwidth)
+                                  : "",
             c.meanGuide ? "the candidates' mean"
                         : "a first combination by their plain squared error");
     std::vector<std::string> lines = {

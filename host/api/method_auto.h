@@ -52,6 +52,8 @@ class AutoFrontEnd : public FrontEnd {
         // Measured on the bench frames: power 2 and a 25x25 window; a wider one let one
         // firefly's estimate spoil a wide area of `fireflies`.
         int radius = 12;
+        std::string window = "tent";
+        float windowBandwidth = 0.2f;
         // The frame's own noise estimate's window, 3x3 (measured: wider ones follow the
         // real variance layers less closely).
         int noiseRadius = 1;
