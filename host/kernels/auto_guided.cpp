@@ -19,10 +19,11 @@ void RecordAutoSmoothGuided(vk::Context &context, vk::Recorder &recorder,
     CheckAutoShapes("auto guided smooth", input, input.channels, {&output});
     CheckAutoShapes("auto guided smooth", input, guide.channels, {&guide});
     if (input.channels < 1 || input.channels > AUTO_GUIDED_MAX_PLANES || guide.channels < 1 ||
-        guide.channels > 4)
+        guide.channels > AUTO_GUIDED_MAX_GUIDE_CHANNELS)
         throw Error(fmt::format("auto guided smooth: {} planes and a guide of {} channels; 1 "
-                                "to {} and 1 to 4",
-                                input.channels, guide.channels, AUTO_GUIDED_MAX_PLANES),
+                                "to {} and 1 to {}",
+                                input.channels, guide.channels, AUTO_GUIDED_MAX_PLANES,
+                                AUTO_GUIDED_MAX_GUIDE_CHANNELS),
                     ErrorKind::Internal);
     if (radius < 0 || radius > 64)
         throw Error(fmt::format("auto guided smooth: radius {} outside [0, 64]", radius),

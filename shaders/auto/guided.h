@@ -17,6 +17,8 @@
 #define AUTO_GUIDED_BINDINGS 3
 // Planes one dispatch smooths at most (the candidates' estimates).
 #define AUTO_GUIDED_MAX_PLANES AUTO_MAX_CANDIDATES
+// Guide channels at most.
+#define AUTO_GUIDED_MAX_GUIDE_CHANNELS 4
 // The colour distance's largest exponent: exp(-80) is a normal float.
 #define AUTO_GUIDED_MAX_EXPONENT 80
 
