@@ -151,9 +151,9 @@ Image AutoSmoothGuided(const Image &errors, const Image &guide, int radius, doub
             std::fill(n.begin(), n.end(), 0.0);
             for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
                 for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u) {
-                    // At least exp(-80) (the kernel's float holds it).
+                    // At least exp(-40): the kernel's float products keep it.
                     double exponent = std::min(
-                        AutoGuideDistance(guide, y, x, v, u) / (bandwidth * bandwidth), 80.0);
+                        AutoGuideDistance(guide, y, x, v, u) / (bandwidth * bandwidth), 40.0);
                     double weight = double(radius + 1 - std::abs(u - x)) *
                                     double(radius + 1 - std::abs(v - y)) * std::exp(-exponent);
                     for (int p = 0; p < errors.channels; ++p) {

@@ -53,7 +53,7 @@ Image AutoSmooth(const Image &errors, int radius);
 // channels of (a - b)^2 / (a^2 + b^2 + 0.01), each channel's term 0 where it is not finite.
 double AutoGuideDistance(const Image &guide, int y, int x, int v, int u);
 
-// As AutoSmooth, each tent weight times exp(-min(AutoGuideDistance / bandwidth^2, 80)) (guide:
+// As AutoSmooth, each tent weight times exp(-min(AutoGuideDistance / bandwidth^2, 40)) (guide:
 // the errors' size, any channels): the windows keep to pixels of the guide's colour, so that
 // estimates are not mixed across the edges where the candidates' errors change.
 Image AutoSmoothGuided(const Image &errors, const Image &guide, int radius, double bandwidth);

@@ -39,8 +39,9 @@ void main() {
     for (int v = max(0, y - r); v <= min(h - 1, y + r); ++v)
         for (int u = max(0, x - r); u <= min(w - 1, x + r); ++u) {
             int near = v * w + u;
-            // The colour's factor is at least exp(-AUTO_GUIDED_MAX_EXPONENT): no weight
-            // underflows, so a window is empty only where its values are not finite.
+            // The colour's factor is at least exp(-AUTO_GUIDED_MAX_EXPONENT): neither the
+            // weight nor its product with an estimate flushes to 0, so a window is empty
+            // only where its values are not finite.
             float exponent = min(Distance(centre, near, n) * push.inverseBandwidth2,
                                  float(AUTO_GUIDED_MAX_EXPONENT));
             float weight =

@@ -1,7 +1,7 @@
 // Auto stage 2, the guided windows (--auto-window colour): the error maps' mean over the
 // (2r+1)^2 window clipped to the frame, of the finite values only (NaN where the window
 // has none), each weighted by the tent (r + 1 - |u - x|)(r + 1 - |v - y|) times
-// exp(-min(d / bandwidth^2, 80)), d the guide's relative colour distance between the two
+// exp(-min(d / bandwidth^2, 40)), d the guide's relative colour distance between the two
 // pixels: the mean over its channels of (a - b)^2 / (a^2 + b^2 + 0.01) (a channel's term 0
 // where it is not finite). The windows keep to pixels of the guide's colour, so that the
 // estimates are not mixed across the edges where the candidates' errors change. Not
@@ -19,8 +19,10 @@
 #define AUTO_GUIDED_MAX_PLANES AUTO_MAX_CANDIDATES
 // Guide channels at most.
 #define AUTO_GUIDED_MAX_GUIDE_CHANNELS 4
-// The colour distance's largest exponent: exp(-80) is a normal float.
-#define AUTO_GUIDED_MAX_EXPONENT 80
+// The colour distance's largest exponent: a weight of exp(-40) (about 4e-18) times an
+// estimate down to about 1e-20 is still a normal float, so neither flushes to 0 on a GPU
+// while the CPU twin's double keeps it.
+#define AUTO_GUIDED_MAX_EXPONENT 40
 
 #ifdef __cplusplus
 #include <cstddef>
