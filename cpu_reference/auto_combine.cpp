@@ -134,8 +134,11 @@ double AutoGuideDistance(const Image &guide, int y, int x, int v, int u) {
     double sum = 0;
     for (int c = 0; c < guide.channels; ++c) {
         double a = guide.At(c, y, x), b = guide.At(c, v, u);
-        double d = (a - b) * (a - b) / (a * a + b * b + kAutoRelOffset);
-        // A value that is not finite tells nothing: the tent alone.
+        double top = (a - b) * (a - b), bottom = a * a + b * b + kAutoRelOffset;
+        // A value that is not finite tells nothing: the tent alone. So does one whose
+        // squares overflow the kernel's float (a guide above about 1.8e19).
+        if (!std::isfinite(float(top)) || !std::isfinite(float(bottom))) continue;
+        double d = top / bottom;
         if (std::isfinite(d)) sum += d;
     }
     return sum / guide.channels;

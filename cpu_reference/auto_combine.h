@@ -50,7 +50,8 @@ Image AutoNoise(const Image &color, const Image *albedo, int radius);
 Image AutoSmooth(const Image &errors, int radius);
 
 // The guide's relative colour distance between pixels (y, x) and (v, u): the mean over its
-// channels of (a - b)^2 / (a^2 + b^2 + 0.01), each channel's term 0 where it is not finite.
+// channels of (a - b)^2 / (a^2 + b^2 + 0.01), each channel's term 0 where it is not finite or
+// where the kernel's float squares overflow.
 double AutoGuideDistance(const Image &guide, int y, int x, int v, int u);
 
 // As AutoSmooth, each tent weight times exp(-min(AutoGuideDistance / bandwidth^2, 40)) (guide:

@@ -99,6 +99,20 @@ TEST_F(AutoGuidedWindow, AFlatGuideIsTheTent) {
     }
 }
 
+// A guide above float's square root of its largest value (a squared term overflows in the
+// kernel, which then leaves the channel out): the twin leaves it out too.
+TEST_F(AutoGuidedWindow, AHugeGuideMatchesTheTwin) {
+    const int w = 21, h = 13, radius = 3;
+    Image errors = MakeInput(InputKind::Uniform, w, h, 2, SeedFromName("guidedhuge"));
+    Image guide(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) guide.At(c, y, x) = x < w / 2 ? 3e19f : 1.f;
+    Image expected = ref::AutoSmoothGuided(errors, guide, radius, 0.2);
+    Image actual = GpuGuided(Ctx(), errors, guide, radius, 0.2f);
+    EXPECT_TRUE(ImagesMatch(expected, actual, Image(), {1e-5, 1e-7, 1e-10}));
+}
+
 // A frame whose guide is dark on the left and bright on the right, the error map noisy
 // around 1 on the left and around 0 on the right (a candidate wrong on one side of an edge
 // only): with the guided windows the two sides' means stay apart next to the edge, where
