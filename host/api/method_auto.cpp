@@ -812,6 +812,13 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
                                                             : AutoCombination::Weights;
     c.meanGuide = o.guide == "mean";
     c.radius = noise.own ? o.frameRadius : o.radius;
+    bool bandwidthGiven =
+        std::find(o.given.begin(), o.given.end(), "auto-window-bandwidth") != o.given.end();
+    if (bandwidthGiven && o.window != "colour")
+        throw Error(fmt::format("--auto-window-bandwidth {} needs --auto-window colour (the "
+                                "tents have no bandwidth)",
+                                o.windowBandwidth),
+                    ErrorKind::InvalidArgument);
     c.windowBandwidth = o.window == "colour" ? o.windowBandwidth : 0.f;
     c.power = noise.own ? o.framePower : noise.halves ? o.halvesPower : o.power;
     c.floorError = o.floorError;
@@ -932,18 +939,21 @@ std::string AutoFrontEnd::Summary() const {
 }
 
 void AutoFrontEnd::Set(const std::string &param, const ParamValue &value) {
+    auto Given = [&] {
+        if (std::find(options.given.begin(), options.given.end(), param) == options.given.end())
+            options.given.push_back(param);
+    };
     if (const auto *def = OwnDef(param)) {
         // A label that names no candidate is refused here, not at the run.
         if (param == "auto-candidates") CandidateLabels(std::get<std::string>(value));
-        return def->set(options, value);
+        def->set(options, value);
+        return Given();
     }
     for (auto &m : methods)
         for (const ParamInfo &info : m->Params())
             if (info.name == param) {
-                if (std::find(options.given.begin(), options.given.end(), param) ==
-                    options.given.end())
-                    options.given.push_back(param);
-                return m->Set(param, value);
+                m->Set(param, value);
+                return Given();
             }
     throw Error("auto has no parameter '" + param + "'", ErrorKind::InvalidArgument);
 }

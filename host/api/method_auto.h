@@ -107,8 +107,9 @@ class AutoFrontEnd : public FrontEnd {
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
-        // The candidates' parameters the user set (not a parameter): auto's settings for
-        // them (MethodEntry::autoSettings) give way.
+        // The parameters the user set (not a parameter): auto's settings for the
+        // candidates' (MethodEntry::autoSettings) give way; an option that needs another
+        // is refused without it.
         std::vector<std::string> given;
     };
 

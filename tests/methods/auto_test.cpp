@@ -1384,6 +1384,22 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
               result.candidates.end());
 }
 
+// --auto-window-bandwidth weighs the colour windows only: with the tents it is refused, not
+// silently ignored; with --auto-window colour it runs.
+TEST_F(AutoMethod, WindowBandwidthNeedsColourWindows) {
+    auto [frame, reference] = RenderWithReference("cornell", 24, 16, 4, render::kLayersAll, 4);
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    automatic.Set("auto-window-bandwidth", 0.3f);
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { automatic.Run(device, frame); },
+        "needs --auto-window colour"));
+    automatic.Set("auto-window", std::string("colour"));
+    Result result = automatic.Run(device, frame);
+    EXPECT_TRUE(PlanHas(result, "weighed by the guide's colour (bandwidth 0.3)"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
+}
+
 // A heavy-tailed frame without statistics: nfor's firefly clamp takes much of its light, so
 // auto falls back to the combination, which keeps the input's mean luminance (within 3%,
 // the bound it checks nfor's output against; nfor alone keeps far less of it).
