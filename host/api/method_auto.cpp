@@ -68,7 +68,8 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "the final estimates' windows: tent (the tents of --auto-radius) or colour "
                     "(each tent weight also times exp(-d / --auto-window-bandwidth^2), d the "
                     "relative squared colour distance of the guide combination, so that the "
-                    "windows keep to pixels of its colour)",
+                    "windows keep to pixels of its colour; its gain on accumulated frames was "
+                    "measured with --auto-radius 20: docs/methods/auto.md)",
                     &O::window, {"tent", "colour"}),
         FloatParam("auto-window-bandwidth",
                    "with --auto-window colour: the colour distance's bandwidth",
