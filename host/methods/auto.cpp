@@ -131,6 +131,17 @@ struct EstimateGpu {
     }
 };
 
+// The window means of `errors`' planes into `out`: the tents (`rows`, twice the planes, their
+// scratch), or with bandwidth > 0 the tents weighed by the guide's colour.
+void RecordWindowMean(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &errors,
+                      const vk::GpuImage &guide, int radius, float bandwidth,
+                      vk::GpuImage &rows, vk::GpuImage &out) {
+    if (bandwidth > 0)
+        RecordAutoSmoothGuided(context, recorder, errors, guide, radius, bandwidth, out);
+    else
+        RecordAutoSmooth(context, recorder, errors, radius, rows, out);
+}
+
 // Every candidate's estimate with the guide g in relMSE's denominator (g^2 + 0.01, or the
 // pixel's variance over noiseCap where that is larger), one plane each in gpu.errors, then
 // their window means in gpu.smooth. With the half-buffers F(half0) is compared with half1
@@ -153,12 +164,8 @@ void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
         // The next candidate's upload reuses the scratch.
         run.Submit();
     }
-    if (bandwidth > 0)
-        RecordAutoSmoothGuided(context, run.Recorder(), gpu.errors, guide, radius, bandwidth,
-                               gpu.smooth);
-    else
-        RecordAutoSmooth(context, run.Recorder(), gpu.errors, radius, gpu.smoothScratch,
-                         gpu.smooth);
+    RecordWindowMean(context, run.Recorder(), gpu.errors, guide, radius, bandwidth,
+                     gpu.smoothScratch, gpu.smooth);
 }
 
 // Each candidate's method as the index of that method's first candidate.
@@ -210,11 +217,8 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
         noise(context, gpu.width, gpu.height, 1, "auto.halves.noise");
     RecordAutoEstimate(context, run.Recorder(), est.half1, est.variance, est.probe, guide,
                        est.half1, est.half1, est.noOffset, 1.f, options.noiseCap, est.error);
-    if (options.windowBandwidth > 0)
-        RecordAutoSmoothGuided(context, run.Recorder(), est.error, guide, options.radius,
-                               options.windowBandwidth, noise);
-    else
-        RecordAutoSmooth(context, run.Recorder(), est.error, options.radius, rows, noise);
+    RecordWindowMean(context, run.Recorder(), est.error, guide, options.radius,
+                     options.windowBandwidth, rows, noise);
     run.Submit();
     Image smooth = gpu.smooth.Download(), halfNoise = noise.Download();
     for (float &x : halfNoise.data) x = -x;
