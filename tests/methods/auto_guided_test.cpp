@@ -12,10 +12,10 @@
 #include "auto/guided.h"
 #include "cpu_reference/auto_combine.h"
 #include "harness/compare.h"
+#include "harness/gpu_auto.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/kernels/auto_guided.h"
-#include "host/kernels/auto_smooth.h"
 
 namespace mcd::test {
 namespace {
@@ -35,23 +35,6 @@ Image GpuGuided(vk::Context &ctx, const Image &errors, const Image &guide, int r
     return out.Download();
 }
 
-Image GpuTent(vk::Context &ctx, const Image &errors, int radius) {
-    vk::GpuImage in(ctx, errors.width, errors.height, errors.channels, "e");
-    vk::GpuImage out(ctx, errors.width, errors.height, errors.channels, "s");
-    vk::GpuImage rows(ctx, errors.width, errors.height, 2 * errors.channels, "rows");
-    in.Upload(errors);
-    vk::Recorder recorder(ctx);
-    RecordAutoSmooth(ctx, recorder, in, radius, rows, out);
-    recorder.Submit();
-    return out.Download();
-}
-
-// A guide of positive colours (a denoised frame's): the input kinds made positive, with a
-// few non-finite values where the kind has them.
-Image Guide(InputKind kind, int w, int h, int channels, uint64_t seed) {
-    return MakeVarianceInput(kind, w, h, channels, seed);
-}
-
 // A sum of at most n = (2r+1)^2 weighted terms and one division: the tents' bound (4n+16)u,
 // of the window's mean absolute value, plus the weights'. A weight is exp(-x), x the
 // colour distance over bandwidth^2 capped at AUTO_GUIDED_MAX_EXPONENT (40): x carries a
@@ -66,7 +49,8 @@ TEST_P(AutoGuidedKernel, MatchesReferenceAndRepeats) {
     std::string name = fmt::format("guided{}x{}{}", w, h, InputKindName(kind));
     // Error maps: one plane per candidate (1 to 3 here); a 3-channel guide of other seeds.
     Image errors = MakeInput(kind, w, h, channels, SeedFromName(name));
-    Image guide = Guide(kind, w, h, 3, SeedFromName(name + "guide"));
+    // A guide of positive colours (a denoised frame's), non-finite where the kind has them.
+    Image guide = MakeVarianceInput(kind, w, h, 3, SeedFromName(name + "guide"));
     for (int radius : {0, 1, 3})
         for (float bandwidth : {0.05f, 0.3f, 10.f}) {
             SCOPED_TRACE(fmt::format("radius {}, bandwidth {}", radius, bandwidth));
@@ -95,7 +79,7 @@ TEST_F(AutoGuidedWindow, AFlatGuideIsTheTent) {
     Image errors = MakeInput(InputKind::Uniform, w, h, 2, SeedFromName("guidedflat"));
     Image guide(w, h, 3);
     for (float &v : guide.data) v = 0.5f;
-    Image tent = GpuTent(Ctx(), errors, radius);
+    Image tent = GpuSmooth(Ctx(), errors, radius);
     Image reference = ref::AutoSmooth(errors, radius);
     for (bool gpu : {false, true}) {
         SCOPED_TRACE(gpu ? "gpu" : "cpu reference");
@@ -143,7 +127,7 @@ TEST_F(AutoGuidedWindow, KeepsAnErrorsStepAtTheGuidesEdge) {
         SCOPED_TRACE(gpu ? "gpu" : "cpu reference");
         Image guided = gpu ? GpuGuided(Ctx(), errors, guide, radius, 0.2f)
                            : ref::AutoSmoothGuided(errors, guide, radius, 0.2);
-        Image tent = gpu ? GpuTent(Ctx(), errors, radius) : ref::AutoSmooth(errors, radius);
+        Image tent = gpu ? GpuSmooth(Ctx(), errors, radius) : ref::AutoSmooth(errors, radius);
         // The tents' step beside the edge is a small part of the true one (1).
         EXPECT_LT(Step(tent), 0.25);
         EXPECT_GT(Step(guided), 0.9);

@@ -18,6 +18,7 @@
 #include "cpu_reference/auto_combine.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
+#include "harness/gpu_auto.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
@@ -25,7 +26,6 @@
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
 #include "host/kernels/auto_noise.h"
-#include "host/kernels/auto_smooth.h"
 #include "host/methods/auto.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
@@ -64,17 +64,6 @@ Image GpuEstimate(vk::Context &ctx, const Image &color, const Image &variance,
     RecordAutoEstimate(ctx, recorder, y, v, b, g, f, fp, o, epsilon, noiseCap, e);
     recorder.Submit();
     return e.Download();
-}
-
-Image GpuSmooth(vk::Context &ctx, const Image &errors, int radius) {
-    vk::GpuImage in(ctx, errors.width, errors.height, errors.channels, "e");
-    vk::GpuImage out(ctx, errors.width, errors.height, errors.channels, "s");
-    vk::GpuImage rows(ctx, errors.width, errors.height, 2 * errors.channels, "rows");
-    in.Upload(errors);
-    vk::Recorder recorder(ctx);
-    RecordAutoSmooth(ctx, recorder, in, radius, rows, out);
-    recorder.Submit();
-    return out.Download();
 }
 
 ref::AutoCombined GpuCombine(vk::Context &ctx, const Image &color,
