@@ -73,6 +73,26 @@ INSTANTIATE_TEST_SUITE_P(Cases, AutoGuidedKernel, testing::ValuesIn(KernelShapes
 
 class AutoGuidedWindow : public GpuTest {};
 
+// Windows wider than the frame (the default radius 12 and the measured 20 on a 17x11
+// frame): every window is clipped on both sides, and the kernel still matches its twin.
+TEST_F(AutoGuidedWindow, WindowsWiderThanTheFrameMatchTheTwin) {
+    const int w = 17, h = 11;
+    Image errors = MakeInput(InputKind::Uniform, w, h, 2, SeedFromName("guidedwide"));
+    Image guide = MakeVarianceInput(InputKind::Uniform, w, h, 3, SeedFromName("guidedwideg"));
+    for (int radius : {12, 20}) {
+        SCOPED_TRACE(fmt::format("radius {}", radius));
+        Image expected = ref::AutoSmoothGuided(errors, guide, radius, 0.3);
+        Image magnitude = errors;
+        for (float &v : magnitude.data) v = std::fabs(v);
+        magnitude = ref::AutoSmoothGuided(magnitude, guide, radius, 0.3);
+        int n = (2 * radius + 1) * (2 * radius + 1);
+        double weights = 2.0 * AUTO_GUIDED_MAX_EXPONENT * (guide.channels + 12);
+        Image actual = GpuGuided(Ctx(), errors, guide, radius, 0.3f);
+        EXPECT_TRUE(ImagesMatch(expected, actual, magnitude,
+                                {(4 * n + 16 + weights) * kUnitRoundoff, 0, 1e-10}));
+    }
+}
+
 // A flat guide gives the tents' windows back: every colour distance is 0.
 TEST_F(AutoGuidedWindow, AFlatGuideIsTheTent) {
     const int w = 29, h = 17, radius = 4;

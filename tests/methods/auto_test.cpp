@@ -629,22 +629,26 @@ TEST_F(AutoEstimateProperty, StripsGiveTheWholeFramesBits) {
     in.variance = s.variance;
     in.probe = probe;
     in.meanVariance = s.variance;
-    for (AutoCombination mode : {AutoCombination::Relative, AutoCombination::Weights}) {
-        AutoOptions options;
-        options.combination = mode;
-        options.radius = 3;
-        options.map = true;
-        AutoResult whole = AutoCombine(Ctx(), s.color, candidates, in, options);
-        for (int rows : {1, 5, 52}) {
-            options.stripRows = rows;
-            AutoResult strips = AutoCombine(Ctx(), s.color, candidates, in, options);
-            EXPECT_EQ(strips.image.data, whole.image.data) << rows << " rows";
-            EXPECT_EQ(strips.sharePercent, whole.sharePercent) << rows << " rows";
-            EXPECT_EQ(strips.wonPercent, whole.wonPercent) << rows << " rows";
-            ASSERT_EQ(strips.stages.size(), whole.stages.size());
-            EXPECT_EQ(strips.stages.back().second.data, whole.stages.back().second.data);
+    // The tents, and the windows weighed by the guide's colour (--auto-window colour).
+    for (float bandwidth : {0.f, 0.3f})
+        for (AutoCombination mode : {AutoCombination::Relative, AutoCombination::Weights}) {
+            SCOPED_TRACE(fmt::format("bandwidth {}", bandwidth));
+            AutoOptions options;
+            options.combination = mode;
+            options.radius = 3;
+            options.windowBandwidth = bandwidth;
+            options.map = true;
+            AutoResult whole = AutoCombine(Ctx(), s.color, candidates, in, options);
+            for (int rows : {1, 5, 52}) {
+                options.stripRows = rows;
+                AutoResult strips = AutoCombine(Ctx(), s.color, candidates, in, options);
+                EXPECT_EQ(strips.image.data, whole.image.data) << rows << " rows";
+                EXPECT_EQ(strips.sharePercent, whole.sharePercent) << rows << " rows";
+                EXPECT_EQ(strips.wonPercent, whole.wonPercent) << rows << " rows";
+                ASSERT_EQ(strips.stages.size(), whole.stages.size());
+                EXPECT_EQ(strips.stages.back().second.data, whole.stages.back().second.data);
+            }
         }
-    }
 }
 
 // A 32x40 frame beside half-buffers for the combination's strips tests: half1 around 0.5,
