@@ -813,13 +813,6 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
                                                             : AutoCombination::Weights;
     c.meanGuide = o.guide == "mean";
     c.radius = noise.own ? o.frameRadius : o.radius;
-    bool bandwidthGiven =
-        std::find(o.given.begin(), o.given.end(), "auto-window-bandwidth") != o.given.end();
-    if (bandwidthGiven && o.window != "colour")
-        throw Error(fmt::format("--auto-window-bandwidth {} needs --auto-window colour (the "
-                                "tents have no bandwidth)",
-                                o.windowBandwidth),
-                    ErrorKind::InvalidArgument);
     c.windowBandwidth = o.window == "colour" ? o.windowBandwidth : 0.f;
     c.power = noise.own ? o.framePower : noise.halves ? o.halvesPower : o.power;
     c.floorError = o.floorError;
@@ -1098,9 +1091,26 @@ const FrontEnd *AutoFrontEnd::PickWithoutStatistics(const Frame &frame,
     return &nfor;
 }
 
+namespace {
+
+// An option given without the one it needs is refused before anything runs (nfor alone
+// would skip the combination that reads it).
+void CheckNeededOptions(const AutoFrontEnd::Options &o) {
+    bool bandwidthGiven =
+        std::find(o.given.begin(), o.given.end(), "auto-window-bandwidth") != o.given.end();
+    if (bandwidthGiven && o.window != "colour")
+        throw Error(fmt::format("--auto-window-bandwidth {} needs --auto-window colour (the "
+                                "tents have no bandwidth)",
+                                o.windowBandwidth),
+                    ErrorKind::InvalidArgument);
+}
+
+}  // namespace
+
 // The noise source, the candidates, their combination (host/methods/auto.h), the plan.
 Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const {
     auto start = Clock::now();
+    CheckNeededOptions(options);
     const Image color = inputs.Get("color");
     if (color.channels < 1 || color.channels > 4)
         throw Error(fmt::format("{}: auto combines 1 to 4 colour channels, the color has {}",

@@ -1378,7 +1378,8 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
 }
 
 // --auto-window-bandwidth weighs the colour windows only: with the tents it is refused, not
-// silently ignored; with --auto-window colour it runs.
+// silently ignored, on a frame auto combines and on one where nfor runs alone; with
+// --auto-window colour it runs.
 TEST_F(AutoMethod, WindowBandwidthNeedsColourWindows) {
     auto [frame, reference] = RenderWithReference("cornell", 24, 16, 4, render::kLayersAll, 4);
     Device device = api::BorrowDevice(Ctx());
@@ -1386,6 +1387,11 @@ TEST_F(AutoMethod, WindowBandwidthNeedsColourWindows) {
     automatic.Set("auto-window-bandwidth", 0.3f);
     EXPECT_TRUE(ThrowsError(
         ErrorKind::InvalidArgument, [&] { automatic.Run(device, frame); },
+        "needs --auto-window colour"));
+    Frame bare = frame;
+    for (const char *layer : {"variance", "min", "max", "spp"}) bare.layers.erase(layer);
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { automatic.Run(device, bare); },
         "needs --auto-window colour"));
     automatic.Set("auto-window", std::string("colour"));
     Result result = automatic.Run(device, frame);
