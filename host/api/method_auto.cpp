@@ -895,6 +895,18 @@ void PlanCombination(const AutoFrontEnd::Options &o, const AutoOptions &c, const
     plan->insert(plan->begin(), lines.begin(), lines.end());
 }
 
+// An option given without the one it needs is refused before anything runs, on every path
+// (nfor alone or a picked method would skip the combination that reads it).
+void CheckNeededOptions(const AutoFrontEnd::Options &o) {
+    bool bandwidthGiven =
+        std::find(o.given.begin(), o.given.end(), "auto-window-bandwidth") != o.given.end();
+    if (bandwidthGiven && o.window != "colour")
+        throw Error(fmt::format("--auto-window-bandwidth {} needs --auto-window colour (the "
+                                "tents have no bandwidth)",
+                                o.windowBandwidth),
+                    ErrorKind::InvalidArgument);
+}
+
 }  // namespace
 
 AutoFrontEnd::AutoFrontEnd() {
@@ -1042,6 +1054,7 @@ std::string AutoFrontEnd::Missing(const Frame &frame) const {
 
 const FrontEnd &AutoFrontEnd::Pick(const Frame &frame, const std::string &demodulate,
                                    std::vector<std::string> *plan) const {
+    CheckNeededOptions(options);
     std::string order;
     for (const MethodEntry *m : PickOrder()) order += (order.empty() ? "" : " > ") + m->name;
     for (const MethodEntry *m : PickOrder()) {
@@ -1069,6 +1082,7 @@ std::vector<Stage> AutoFrontEnd::Reference(vk::Context &, Inputs &) const {
 
 const FrontEnd *AutoFrontEnd::PickWithoutStatistics(const Frame &frame,
                                                     std::vector<std::string> *plan) const {
+    CheckNeededOptions(options);
     if (options.plain != "nfor" || options.noise != "auto" || options.combine == "mean")
         return nullptr;
     for (const char *layer : {"variance", "half0.color", "half1.color"})
@@ -1090,22 +1104,6 @@ const FrontEnd *AutoFrontEnd::PickWithoutStatistics(const Frame &frame,
     plan->insert(plan->end(), lines.begin(), lines.end());
     return &nfor;
 }
-
-namespace {
-
-// An option given without the one it needs is refused before anything runs (nfor alone
-// would skip the combination that reads it).
-void CheckNeededOptions(const AutoFrontEnd::Options &o) {
-    bool bandwidthGiven =
-        std::find(o.given.begin(), o.given.end(), "auto-window-bandwidth") != o.given.end();
-    if (bandwidthGiven && o.window != "colour")
-        throw Error(fmt::format("--auto-window-bandwidth {} needs --auto-window colour (the "
-                                "tents have no bandwidth)",
-                                o.windowBandwidth),
-                    ErrorKind::InvalidArgument);
-}
-
-}  // namespace
 
 // The noise source, the candidates, their combination (host/methods/auto.h), the plan.
 Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const {
