@@ -130,6 +130,49 @@ Image AutoSmooth(const Image &errors, int radius) {
     return smooth;
 }
 
+double AutoGuideDistance(const Image &guide, int y, int x, int v, int u) {
+    double sum = 0;
+    for (int c = 0; c < guide.channels; ++c) {
+        double a = guide.At(c, y, x), b = guide.At(c, v, u);
+        double top = (a - b) * (a - b), bottom = a * a + b * b + kAutoRelOffset;
+        // A value that is not finite tells nothing: the tent alone. So does one whose
+        // squares overflow the kernel's float (a guide above about 1.8e19).
+        if (!std::isfinite(float(top)) || !std::isfinite(float(bottom))) continue;
+        double d = top / bottom;
+        if (std::isfinite(d)) sum += d;
+    }
+    return sum / guide.channels;
+}
+
+Image AutoSmoothGuided(const Image &errors, const Image &guide, int radius, double bandwidth) {
+    int w = errors.width, h = errors.height;
+    Image smooth(w, h, errors.channels);
+    std::vector<double> sum(errors.channels), n(errors.channels);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::fill(sum.begin(), sum.end(), 0.0);
+            std::fill(n.begin(), n.end(), 0.0);
+            for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius); ++v)
+                for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius); ++u) {
+                    // At least exp(-40): the kernel's float products keep it.
+                    double exponent = std::min(
+                        AutoGuideDistance(guide, y, x, v, u) / (bandwidth * bandwidth), 40.0);
+                    double weight = double(radius + 1 - std::abs(u - x)) *
+                                    double(radius + 1 - std::abs(v - y)) * std::exp(-exponent);
+                    for (int p = 0; p < errors.channels; ++p) {
+                        double e = errors.At(p, v, u);
+                        if (!std::isfinite(e)) continue;
+                        sum[p] += weight * e;
+                        n[p] += weight;
+                    }
+                }
+            for (int p = 0; p < errors.channels; ++p)
+                smooth.At(p, y, x) =
+                    n[p] > 0 ? float(sum[p] / n[p]) : std::numeric_limits<float>::quiet_NaN();
+        }
+    return smooth;
+}
+
 AutoCombined AutoCombine(const Image &color, const std::vector<Image> &candidates,
                          const Image &errors, bool select, double power, double floorError,
                          bool medianUnderFloor) {

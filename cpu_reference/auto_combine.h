@@ -49,6 +49,16 @@ Image AutoNoise(const Image &color, const Image *albedo, int radius);
 // the window has none.
 Image AutoSmooth(const Image &errors, int radius);
 
+// The guide's relative colour distance between pixels (y, x) and (v, u): the mean over its
+// channels of (a - b)^2 / (a^2 + b^2 + 0.01), each channel's term 0 where it is not finite or
+// where the kernel's float squares overflow.
+double AutoGuideDistance(const Image &guide, int y, int x, int v, int u);
+
+// As AutoSmooth, each tent weight times exp(-min(AutoGuideDistance / bandwidth^2, 40)) (guide:
+// the errors' size, any channels): the windows keep to pixels of the guide's colour, so that
+// estimates are not mixed across the edges where the candidates' errors change.
+Image AutoSmoothGuided(const Image &errors, const Image &guide, int radius, double bandwidth);
+
 struct AutoCombined {
     Image color;    // C planes
     Image weights;  // K planes, summing to 1 (or all 0 where the input is kept)

@@ -64,6 +64,16 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::guide, {"combined", "mean"}),
         IntParam("auto-radius", "half-size of the window the error estimates are averaged over",
                  &O::radius, 0, 64),
+        ChoiceParam("auto-window",
+                    "the final estimates' windows: tent (the tents of --auto-radius) or colour "
+                    "(each tent weight also times exp(-d / --auto-window-bandwidth^2), d the "
+                    "relative squared colour distance of the guide combination, so that the "
+                    "windows keep to pixels of its colour; its gain on accumulated frames was "
+                    "measured with --auto-radius 20: docs/methods/auto.md)",
+                    &O::window, {"tent", "colour"}),
+        FloatParam("auto-window-bandwidth",
+                   "with --auto-window colour: the colour distance's bandwidth",
+                   &O::windowBandwidth, 1e-3, 100),
         IntParam("auto-frame-radius",
                  "--auto-radius where the noise is the frame's own estimate (--auto-noise "
                  "frame, or auto on a frame without variance nor half-buffers)",
@@ -803,6 +813,7 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
                                                             : AutoCombination::Weights;
     c.meanGuide = o.guide == "mean";
     c.radius = noise.own ? o.frameRadius : o.radius;
+    c.windowBandwidth = o.window == "colour" ? o.windowBandwidth : 0.f;
     c.power = noise.own ? o.framePower : noise.halves ? o.halvesPower : o.power;
     c.floorError = o.floorError;
     c.noiseLimit = o.noiseLimit;
@@ -861,9 +872,12 @@ void PlanCombination(const AutoFrontEnd::Options &o, const AutoOptions &c, const
     std::string estimates;
     if (noise.scored)
         estimates = fmt::format(
-            " (error estimates from {}, averaged over {}x{} windows; relMSE's denominator "
+            " (error estimates from {}, averaged over {}x{} windows{}; relMSE's denominator "
             "from {})",
             noise.from, 2 * c.radius + 1, 2 * c.radius + 1,
+            c.windowBandwidth > 0 ? fmt::format(" weighed by the guide's colour (bandwidth {})",
+                                                c.windowBandwidth)
+                                  : "",
             c.meanGuide ? "the candidates' mean"
                         : "a first combination by their plain squared error");
     std::vector<std::string> lines = {
@@ -879,6 +893,18 @@ void PlanCombination(const AutoFrontEnd::Options &o, const AutoOptions &c, const
             ran[k].seconds, combined.sharePercent[k], combined.wonPercent[k],
             ran[k].colourName));
     plan->insert(plan->begin(), lines.begin(), lines.end());
+}
+
+// An option given without the one it needs is refused before anything runs, on every path
+// (nfor alone or a picked method would skip the combination that reads it).
+void CheckNeededOptions(const AutoFrontEnd::Options &o) {
+    bool bandwidthGiven =
+        std::find(o.given.begin(), o.given.end(), "auto-window-bandwidth") != o.given.end();
+    if (bandwidthGiven && o.window != "colour")
+        throw Error(fmt::format("--auto-window-bandwidth {} needs --auto-window colour (the "
+                                "tents have no bandwidth)",
+                                o.windowBandwidth),
+                    ErrorKind::InvalidArgument);
 }
 
 }  // namespace
@@ -919,18 +945,21 @@ std::string AutoFrontEnd::Summary() const {
 }
 
 void AutoFrontEnd::Set(const std::string &param, const ParamValue &value) {
+    auto Given = [&] {
+        if (std::find(options.given.begin(), options.given.end(), param) == options.given.end())
+            options.given.push_back(param);
+    };
     if (const auto *def = OwnDef(param)) {
         // A label that names no candidate is refused here, not at the run.
         if (param == "auto-candidates") CandidateLabels(std::get<std::string>(value));
-        return def->set(options, value);
+        def->set(options, value);
+        return Given();
     }
     for (auto &m : methods)
         for (const ParamInfo &info : m->Params())
             if (info.name == param) {
-                if (std::find(options.given.begin(), options.given.end(), param) ==
-                    options.given.end())
-                    options.given.push_back(param);
-                return m->Set(param, value);
+                m->Set(param, value);
+                return Given();
             }
     throw Error("auto has no parameter '" + param + "'", ErrorKind::InvalidArgument);
 }
@@ -1025,6 +1054,7 @@ std::string AutoFrontEnd::Missing(const Frame &frame) const {
 
 const FrontEnd &AutoFrontEnd::Pick(const Frame &frame, const std::string &demodulate,
                                    std::vector<std::string> *plan) const {
+    CheckNeededOptions(options);
     std::string order;
     for (const MethodEntry *m : PickOrder()) order += (order.empty() ? "" : " > ") + m->name;
     for (const MethodEntry *m : PickOrder()) {
@@ -1052,6 +1082,7 @@ std::vector<Stage> AutoFrontEnd::Reference(vk::Context &, Inputs &) const {
 
 const FrontEnd *AutoFrontEnd::PickWithoutStatistics(const Frame &frame,
                                                     std::vector<std::string> *plan) const {
+    CheckNeededOptions(options);
     if (options.plain != "nfor" || options.noise != "auto" || options.combine == "mean")
         return nullptr;
     for (const char *layer : {"variance", "half0.color", "half1.color"})
@@ -1077,6 +1108,7 @@ const FrontEnd *AutoFrontEnd::PickWithoutStatistics(const Frame &frame,
 // The noise source, the candidates, their combination (host/methods/auto.h), the plan.
 Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const {
     auto start = Clock::now();
+    CheckNeededOptions(options);
     const Image color = inputs.Get("color");
     if (color.channels < 1 || color.channels > 4)
         throw Error(fmt::format("{}: auto combines 1 to 4 colour channels, the color has {}",

@@ -52,6 +52,8 @@ class AutoFrontEnd : public FrontEnd {
         // Measured on the bench frames: power 2 and a 25x25 window; a wider one let one
         // firefly's estimate spoil a wide area of `fireflies`.
         int radius = 12;
+        std::string window = "tent";
+        float windowBandwidth = 0.2f;
         // The frame's own noise estimate's window, 3x3 (measured: wider ones follow the
         // real variance layers less closely).
         int noiseRadius = 1;
@@ -105,8 +107,9 @@ class AutoFrontEnd : public FrontEnd {
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
-        // The candidates' parameters the user set (not a parameter): auto's settings for
-        // them (MethodEntry::autoSettings) give way.
+        // The parameters the user set (not a parameter): auto's settings for the
+        // candidates' (MethodEntry::autoSettings) give way; an option that needs another
+        // is refused without it.
         std::vector<std::string> given;
     };
 

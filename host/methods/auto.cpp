@@ -8,6 +8,7 @@
 #include "host/error.h"
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
+#include "host/kernels/auto_guided.h"
 #include "host/kernels/auto_noise.h"
 #include "host/kernels/auto_smooth.h"
 #include "host/methods/auto_halves.h"
@@ -130,13 +131,25 @@ struct EstimateGpu {
     }
 };
 
+// The window means of `errors`' planes into `out`: the tents (`rows`, twice the planes, their
+// scratch), or with bandwidth > 0 the tents weighed by the guide's colour.
+void RecordWindowMean(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &errors,
+                      const vk::GpuImage &guide, int radius, float bandwidth,
+                      vk::GpuImage &rows, vk::GpuImage &out) {
+    if (bandwidth > 0)
+        RecordAutoSmoothGuided(context, recorder, errors, guide, radius, bandwidth, out);
+    else
+        RecordAutoSmooth(context, recorder, errors, radius, rows, out);
+}
+
 // Every candidate's estimate with the guide g in relMSE's denominator (g^2 + 0.01, or the
 // pixel's variance over noiseCap where that is larger), one plane each in gpu.errors, then
 // their window means in gpu.smooth. With the half-buffers F(half0) is compared with half1
 // (the zero probe drops the divergence term).
 void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                      const std::vector<AutoCandidate> &candidates, bool halves,
-                     const vk::GpuImage &guide, float noiseCap, int radius) {
+                     const vk::GpuImage &guide, float noiseCap, int radius,
+                     float bandwidth = 0) {
     vk::Context &context = run.Context();
     size_t planeBytes = size_t(gpu.width) * gpu.height * sizeof(float);
     for (int k = 0; k < gpu.count; ++k) {
@@ -151,8 +164,8 @@ void RecordEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
         // The next candidate's upload reuses the scratch.
         run.Submit();
     }
-    RecordAutoSmooth(context, run.Recorder(), gpu.errors, radius, gpu.smoothScratch,
-                     gpu.smooth);
+    RecordWindowMean(context, run.Recorder(), gpu.errors, guide, radius, bandwidth,
+                     gpu.smoothScratch, gpu.smooth);
 }
 
 // Each candidate's method as the index of that method's first candidate.
@@ -204,7 +217,8 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
         noise(context, gpu.width, gpu.height, 1, "auto.halves.noise");
     RecordAutoEstimate(context, run.Recorder(), est.half1, est.variance, est.probe, guide,
                        est.half1, est.half1, est.noOffset, 1.f, options.noiseCap, est.error);
-    RecordAutoSmooth(context, run.Recorder(), est.error, options.radius, rows, noise);
+    RecordWindowMean(context, run.Recorder(), est.error, guide, options.radius,
+                     options.windowBandwidth, rows, noise);
     run.Submit();
     Image smooth = gpu.smooth.Download(), halfNoise = noise.Download();
     for (float &x : halfNoise.data) x = -x;
@@ -286,7 +300,8 @@ void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInput
     // dark where a candidate is right to be bright (fireflies 4 spp: rhf darkens a light
     // seen by one sample, and so does the first pass), that pixel's estimate, of the order
     // of v / (g^2 + 0.01), would swamp every window around it.
-    RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius);
+    RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius,
+                    options.windowBandwidth);
     if (halves &&
         (options.halvesFloor > 0 || options.halvesDrop > 0 || SharesVariants(options)))
         AdjustHalvesEstimates(run, gpu, est, candidates, options, guide);

@@ -68,6 +68,9 @@ struct AutoOptions {
     // combination weighed by their plain squared error.
     bool meanGuide = false;
     int radius = 12;  // the estimates' window mean is (2 radius + 1)^2
+    // The final estimates' windows weighed by the guide's colour too, exp(-distance /
+    // bandwidth^2) (0: tents alone).
+    float windowBandwidth = 0;
     float power = 2, floorError = 1e-5f;
     float noiseLimit = 30, darkLimit = 4;  // the relative combination's
     float noiseCap = 100;                  // the final estimates' (0: none)

@@ -18,6 +18,7 @@
 #include "cpu_reference/auto_combine.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
+#include "harness/gpu_auto.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
@@ -25,7 +26,6 @@
 #include "host/kernels/auto_combine.h"
 #include "host/kernels/auto_estimate.h"
 #include "host/kernels/auto_noise.h"
-#include "host/kernels/auto_smooth.h"
 #include "host/methods/auto.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
@@ -64,17 +64,6 @@ Image GpuEstimate(vk::Context &ctx, const Image &color, const Image &variance,
     RecordAutoEstimate(ctx, recorder, y, v, b, g, f, fp, o, epsilon, noiseCap, e);
     recorder.Submit();
     return e.Download();
-}
-
-Image GpuSmooth(vk::Context &ctx, const Image &errors, int radius) {
-    vk::GpuImage in(ctx, errors.width, errors.height, errors.channels, "e");
-    vk::GpuImage out(ctx, errors.width, errors.height, errors.channels, "s");
-    vk::GpuImage rows(ctx, errors.width, errors.height, 2 * errors.channels, "rows");
-    in.Upload(errors);
-    vk::Recorder recorder(ctx);
-    RecordAutoSmooth(ctx, recorder, in, radius, rows, out);
-    recorder.Submit();
-    return out.Download();
 }
 
 ref::AutoCombined GpuCombine(vk::Context &ctx, const Image &color,
@@ -640,22 +629,26 @@ TEST_F(AutoEstimateProperty, StripsGiveTheWholeFramesBits) {
     in.variance = s.variance;
     in.probe = probe;
     in.meanVariance = s.variance;
-    for (AutoCombination mode : {AutoCombination::Relative, AutoCombination::Weights}) {
-        AutoOptions options;
-        options.combination = mode;
-        options.radius = 3;
-        options.map = true;
-        AutoResult whole = AutoCombine(Ctx(), s.color, candidates, in, options);
-        for (int rows : {1, 5, 52}) {
-            options.stripRows = rows;
-            AutoResult strips = AutoCombine(Ctx(), s.color, candidates, in, options);
-            EXPECT_EQ(strips.image.data, whole.image.data) << rows << " rows";
-            EXPECT_EQ(strips.sharePercent, whole.sharePercent) << rows << " rows";
-            EXPECT_EQ(strips.wonPercent, whole.wonPercent) << rows << " rows";
-            ASSERT_EQ(strips.stages.size(), whole.stages.size());
-            EXPECT_EQ(strips.stages.back().second.data, whole.stages.back().second.data);
+    // The tents, and the windows weighed by the guide's colour (--auto-window colour).
+    for (float bandwidth : {0.f, 0.3f})
+        for (AutoCombination mode : {AutoCombination::Relative, AutoCombination::Weights}) {
+            SCOPED_TRACE(fmt::format("bandwidth {}", bandwidth));
+            AutoOptions options;
+            options.combination = mode;
+            options.radius = 3;
+            options.windowBandwidth = bandwidth;
+            options.map = true;
+            AutoResult whole = AutoCombine(Ctx(), s.color, candidates, in, options);
+            for (int rows : {1, 5, 52}) {
+                options.stripRows = rows;
+                AutoResult strips = AutoCombine(Ctx(), s.color, candidates, in, options);
+                EXPECT_EQ(strips.image.data, whole.image.data) << rows << " rows";
+                EXPECT_EQ(strips.sharePercent, whole.sharePercent) << rows << " rows";
+                EXPECT_EQ(strips.wonPercent, whole.wonPercent) << rows << " rows";
+                ASSERT_EQ(strips.stages.size(), whole.stages.size());
+                EXPECT_EQ(strips.stages.back().second.data, whole.stages.back().second.data);
+            }
         }
-    }
 }
 
 // A 32x40 frame beside half-buffers for the combination's strips tests: half1 around 0.5,
@@ -1382,6 +1375,28 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
         << fmt::format("{}", fmt::join(result.plan, "\n"));
     EXPECT_EQ(std::find(result.candidates.begin(), result.candidates.end(), "nfor"),
               result.candidates.end());
+}
+
+// --auto-window-bandwidth weighs the colour windows only: with the tents it is refused, not
+// silently ignored, on a frame auto combines and on one where nfor runs alone; with
+// --auto-window colour it runs.
+TEST_F(AutoMethod, WindowBandwidthNeedsColourWindows) {
+    auto [frame, reference] = RenderWithReference("cornell", 24, 16, 4, render::kLayersAll, 4);
+    Device device = api::BorrowDevice(Ctx());
+    Method automatic("auto");
+    automatic.Set("auto-window-bandwidth", 0.3f);
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { automatic.Run(device, frame); },
+        "needs --auto-window colour"));
+    // The ordinary passes only (as Blender Cycles writes them): nfor alone.
+    Frame bare = PlainFireflies(24, 16, 4).first;
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { automatic.Run(device, bare); },
+        "needs --auto-window colour"));
+    automatic.Set("auto-window", std::string("colour"));
+    Result result = automatic.Run(device, frame);
+    EXPECT_TRUE(PlanHas(result, "weighed by the guide's colour (bandwidth 0.3)"))
+        << fmt::format("{}", fmt::join(result.plan, "\n"));
 }
 
 // A heavy-tailed frame without statistics: nfor's firefly clamp takes much of its light, so
