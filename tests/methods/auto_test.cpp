@@ -1172,6 +1172,9 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     // settings are for weighed candidates): their plain mean, to the float sums' rounding.
     EXPECT_TRUE(PlanHas(result, "left out nfor: weighed by the half-buffers' estimate only"));
     EXPECT_TRUE(PlanHas(result, "pivot candidates: --pivot-range at the method's own default"));
+    // The shading-edge test too: pivot's own --pivot-edge runs under mean
+    // (docs/methods/auto.md).
+    EXPECT_TRUE(PlanHas(result, "pivot candidates: --pivot-edge at the method's own default"));
     std::vector<Image> outputs;
     for (const api::MethodEntry &m : api::Registry())
         if (!m.variants.empty() &&
