@@ -13,10 +13,10 @@ namespace mcd {
 
 // `color`, `pivot`, `variance` (nullptr: estimate the noise from the 3x3 neighbours), `z`,
 // `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel. `zsn`, one image of
-// 4 planes per channel, receives the same z, s, nu and z's 3x3 mean packed for the fit and
-// the gather (PivotZsnOf).
-// `unusedSlot`, at most kPivotUnusedSlotBytes, fills the packed slots of the channels the
-// frame lacks, which the kernel does not touch: their traffic counts next to nothing.
+// 4 planes per channel, receives the same z, s, nu and the 3x3 median of z packed for the fit
+// and the gather (PivotZsnOf). `unusedSlot`, at most kPivotUnusedSlotBytes, fills the packed
+// slots of the channels the frame lacks, which the kernel does not touch: their traffic counts
+// next to nothing.
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
