@@ -1317,7 +1317,7 @@ TEST_F(PivotMethod, EdgeValuesStayBetweenTheirSides) {
 // spread the patch over the shadow beside it (a glowing halo); with it the filter's halo
 // falls by over half, and the method's (after the restore of local means, which spreads
 // what the fits moved) by over 30%.
-TEST_F(PivotMethod, AShadingEdgeThePivotDoesNotShowLeavesNoHalo) {
+TEST_F(PivotMethod, AShadingEdgeThePivotDoesNotShowHalvesTheHalo) {
     const int w = 64, h = 48;
     const float albedo = 0.6f, sun = 1.f, shade = 0.125f;
     Image color(w, h, 3), pivot(w, h, 3, albedo), variance(w, h, 3), objectId(w, h, 1, 1.f);
