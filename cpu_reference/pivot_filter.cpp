@@ -191,11 +191,16 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 // Mean, then sample variance, of z over the valid 3x3 neighbours.
                 int y0 = std::max(0, y - 1), y1 = std::min(h - 1, y + 1);
                 int x0 = std::max(0, x - 1), x1 = std::min(w - 1, x + 1);
+                // The same values as floats, sorted after, give the edge test's level.
                 double sum = 0, sumSq = 0;
                 int n = 0;
+                std::vector<float> values;
                 for (int v = y0; v <= y1; ++v)
                     for (int u = x0; u <= x1; ++u)
-                        if (valid(u, v)) sum += zOf(u, v), ++n;
+                        if (valid(u, v)) {
+                            sum += zOf(u, v), ++n;
+                            values.push_back(float(zOf(u, v)));
+                        }
                 double zl = sum / n;
                 for (int v = y0; v <= y1; ++v)
                     for (int u = x0; u <= x1; ++u)
@@ -210,12 +215,8 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 s = std::min(s, kZMax * kZMax);
                 r.z.At(c, y, x) = float(zOf(x, y));
                 r.s.At(c, y, x) = float(s);
-                // The edge test's level: the median of the same values (the upper one of
-                // an even count).
-                std::vector<float> values;
-                for (int v = y0; v <= y1; ++v)
-                    for (int u = x0; u <= x1; ++u)
-                        if (valid(u, v)) values.push_back(float(zOf(u, v)));
+                // The edge test's level: the median of those values (the upper one of an
+                // even count).
                 std::sort(values.begin(), values.end());
                 r.level.At(c, y, x) = values[values.size() / 2];
                 r.nu.At(c, y, x) = float(s / std::max(zl * zl, kTiny));

@@ -35,22 +35,6 @@ bool ratioAt(int at, out float z) {
     return abs(z) <= PIVOT_Z_MAX;
 }
 
-// The median of z over the valid 3x3 neighbours of (x, y) (the upper one of an even count):
-// an insertion sort of at most 9 values.
-float medianOfNeighbours(int x, int y, int base, int w, int h) {
-    float values[9];
-    int n = 0;
-    for (int v = max(0, y - 1); v <= min(h - 1, y + 1); ++v)
-        for (int u = max(0, x - 1); u <= min(w - 1, x + 1); ++u) {
-            float zq;
-            if (!ratioAt(base + v * w + u, zq)) continue;
-            int j = n++;
-            for (; j > 0 && values[j - 1] > zq; --j) values[j] = values[j - 1];
-            values[j] = zq;
-        }
-    return values[n / 2];
-}
-
 // Pixel i's (z, s, nu, level) into channel c's buffer (level: the 3x3 median of z).
 void storeZsn(int c, int i, vec4 value) {
     if (c == 0)
@@ -183,21 +167,24 @@ void main() {
         return;
     }
     // Mean of z over the valid 3x3 neighbours (the pixel is one), then their sample
-    // variance about it (two passes: no cancellation).
+    // variance about it (two passes: no cancellation). The same values sorted as they come
+    // (an insertion sort of at most 9) give the edge test's level (pivot/edge.glsl): their
+    // median (the upper one of an even count), which one bright sample does not lift and a
+    // window straddling an edge takes from its larger side.
     float sum = 0.0;
+    float sorted[9];
     int n = 0;
     for (int v = max(0, y - 1); v <= min(h - 1, y + 1); ++v)
         for (int u = max(0, x - 1); u <= min(w - 1, x + 1); ++u) {
             float zq;
-            if (ratioAt(base + v * w + u, zq)) {
-                sum += zq;
-                ++n;
-            }
+            if (!ratioAt(base + v * w + u, zq)) continue;
+            sum += zq;
+            int j = n++;
+            for (; j > 0 && sorted[j - 1] > zq; --j) sorted[j] = sorted[j - 1];
+            sorted[j] = zq;
         }
     float zl = sum / float(n);
-    // The edge test's level (pivot/edge.glsl): the median of the same values, which one
-    // bright sample does not lift and a window straddling an edge takes from its larger side.
-    float level = medianOfNeighbours(x, y, base, w, h);
+    float level = sorted[n / 2];
     float s;
     if (hasVariance != 0) {
         float la = texelFetch(pivot, at).r;
