@@ -301,10 +301,17 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                             if (nu < 0 || nu > good) continue;
                             // The edge test in the final fit only: growth still stops
                             // where a quadrant disagrees.
-                            if (radius > 0 &&
-                                PivotAcrossEdge(ratio.level.At(c, y, x), ratio.s.At(c, y, x),
-                                                centreLevel, centreS, params.edge))
-                                continue;
+                            if (radius > 0) {
+                                double zq = ratio.level.At(c, y, x), sq = ratio.s.At(c, y, x);
+                                // A few float operations on stored floats, against the
+                                // growth's long sums: the other terms' margin scale is far
+                                // coarser than its round-off.
+                                closest = std::min(
+                                    closest, 100 * PivotEdgeMargin(zq, sq, centreLevel, centreS,
+                                                                   params.edge));
+                                if (PivotAcrossEdge(zq, sq, centreLevel, centreS, params.edge))
+                                    continue;
+                            }
                             double geo = PivotNormalTerm(guides.normal, x, y, x0, y0, true) *
                                          PivotIdTerm(guides.ids, x, y, x0, y0);
                             if (geo == 0) continue;
@@ -408,7 +415,17 @@ bool PivotAcrossEdge(double zq, double sq, double zc, double sc, double sigmas) 
     if (!(sigmas > 0)) return false;
     double gap = std::fabs(zq - zc);
     return gap > kPivotEdgeContrast * std::min(std::fabs(zq), std::fabs(zc)) &&
-           gap * gap * 9 > sigmas * sigmas * (sq + sc);
+           3 * gap > sigmas * std::sqrt(sq + sc);
+}
+
+double PivotEdgeMargin(double zq, double sq, double zc, double sc, double sigmas) {
+    if (!(sigmas > 0)) return 1;
+    double gap = std::fabs(zq - zc), margin = 1;
+    double contrast = kPivotEdgeContrast * std::min(std::fabs(zq), std::fabs(zc));
+    double noise = sigmas * std::sqrt(sq + sc);
+    if (contrast > 0) margin = std::min(margin, std::fabs(gap - contrast) / contrast);
+    if (noise > 0) margin = std::min(margin, std::fabs(3 * gap - noise) / noise);
+    return margin;
 }
 
 Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &ratio,

@@ -123,6 +123,9 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
 // a pixel does not gather the fits of centres across one.
 constexpr double kPivotEdgeContrast = 1;
 bool PivotAcrossEdge(double zq, double sq, double zc, double sc, double sigmas);
+// The relative distance of PivotAcrossEdge's two comparisons to their thresholds (the
+// smaller; 1 without the test): where it is small float and double may decide apart.
+double PivotEdgeMargin(double zq, double sq, double zc, double sc, double sigmas);
 
 // The bilateral baseline: cross-bilateral filter of z guided by the pivot (and the guides),
 // over fitted pixels, then back-multiplied.

@@ -8,5 +8,5 @@ bool acrossEdge(float zq, float sq, float zc, float sc, float sigmas) {
     if (sigmas <= 0.0) return false;
     float gap = abs(zq - zc);
     return gap > PIVOT_EDGE_CONTRAST * min(abs(zq), abs(zc)) &&
-           gap * gap * 9.0 > sigmas * sigmas * (sq + sc);
+           3.0 * gap > sigmas * sqrt(sq + sc);
 }
