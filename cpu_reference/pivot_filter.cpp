@@ -173,7 +173,7 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                         double floor, const Image *ids) {
     int w = color.width, h = color.height;
     PivotRatio r{Image(w, h, color.channels), Image(w, h, color.channels),
-                 Image(w, h, color.channels, -1.f)};
+                 Image(w, h, color.channels, -1.f), Image(w, h, color.channels)};
     for (int c = 0; c < color.channels; ++c) {
         double mean = 0;
         for (int y = 0; y < h; ++y)
@@ -191,11 +191,16 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 // Mean, then sample variance, of z over the valid 3x3 neighbours.
                 int y0 = std::max(0, y - 1), y1 = std::min(h - 1, y + 1);
                 int x0 = std::max(0, x - 1), x1 = std::min(w - 1, x + 1);
+                // The same values as floats, sorted after, give the edge test's level.
                 double sum = 0, sumSq = 0;
                 int n = 0;
+                std::vector<float> values;
                 for (int v = y0; v <= y1; ++v)
                     for (int u = x0; u <= x1; ++u)
-                        if (valid(u, v)) sum += zOf(u, v), ++n;
+                        if (valid(u, v)) {
+                            sum += zOf(u, v), ++n;
+                            values.push_back(float(zOf(u, v)));
+                        }
                 double zl = sum / n;
                 for (int v = y0; v <= y1; ++v)
                     for (int u = x0; u <= x1; ++u)
@@ -210,6 +215,10 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 s = std::min(s, kZMax * kZMax);
                 r.z.At(c, y, x) = float(zOf(x, y));
                 r.s.At(c, y, x) = float(s);
+                // The edge test's level: the median of those values (the upper one of an
+                // even count).
+                std::sort(values.begin(), values.end());
+                r.level.At(c, y, x) = values[values.size() / 2];
                 r.nu.At(c, y, x) = float(s / std::max(zl * zl, kTiny));
                 if (PivotBoundaryTerm(ids, x, y) == 0) {
                     // Beside other ids: data like any other pixel, unless it mixes in a side
@@ -280,6 +289,8 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                     for (int u = std::max(0, x0 - 1); u <= std::min(w - 1, x0 + 1); ++u)
                         if (ratio.nu.At(c, v, u) >= 0) zc += z.At(c, v, u), ++n;
                 zc /= n;
+                const double centreLevel = ratio.level.At(c, y0, x0),
+                             centreS = ratio.s.At(c, y0, x0);
                 // The pixels of the square of half-size r that may be fitted, with eq. 10's
                 // weight for the given <z> and distance scale (0: no distance term).
                 auto window = [&](int r, double mean, double radius) {
@@ -288,6 +299,19 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                         for (int x = std::max(0, x0 - r); x <= std::min(w - 1, x0 + r); ++x) {
                             double nu = ratio.nu.At(c, y, x);
                             if (nu < 0 || nu > good) continue;
+                            // The edge test in the final fit only: growth still stops
+                            // where a quadrant disagrees.
+                            if (radius > 0) {
+                                double zq = ratio.level.At(c, y, x), sq = ratio.s.At(c, y, x);
+                                // A few float operations on stored floats, against the
+                                // growth's long sums: the other terms' margin scale is far
+                                // coarser than its round-off.
+                                closest = std::min(
+                                    closest, 100 * PivotEdgeMargin(zq, sq, centreLevel, centreS,
+                                                                   params.edge));
+                                if (PivotAcrossEdge(zq, sq, centreLevel, centreS, params.edge))
+                                    continue;
+                            }
                             double geo = PivotNormalTerm(guides.normal, x, y, x0, y0, true) *
                                          PivotIdTerm(guides.ids, x, y, x0, y0);
                             if (geo == 0) continue;
@@ -387,8 +411,25 @@ int PivotLatticeStep(double radius) {
     return step;
 }
 
+bool PivotAcrossEdge(double zq, double sq, double zc, double sc, double sigmas) {
+    if (!(sigmas > 0)) return false;
+    double gap = std::fabs(zq - zc);
+    return gap > kPivotEdgeContrast * std::min(std::fabs(zq), std::fabs(zc)) &&
+           3 * gap > sigmas * std::sqrt(sq + sc);
+}
+
+double PivotEdgeMargin(double zq, double sq, double zc, double sc, double sigmas) {
+    if (!(sigmas > 0)) return 1;
+    double gap = std::fabs(zq - zc), margin = 1;
+    double contrast = kPivotEdgeContrast * std::min(std::fabs(zq), std::fabs(zc));
+    double noise = sigmas * std::sqrt(sq + sc);
+    if (contrast > 0) margin = std::min(margin, std::fabs(gap - contrast) / contrast);
+    if (noise > 0) margin = std::min(margin, std::fabs(3 * gap - noise) / noise);
+    return margin;
+}
+
 Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &ratio,
-                  const Image &fits, const PivotGuides &guides) {
+                  const Image &fits, const PivotGuides &guides, double edge) {
     int w = color.width, h = color.height, channels = color.channels;
     Image out = color;
     int reach = 0;
@@ -417,6 +458,10 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                             continue;
                         int step = PivotLatticeStep(radius);
                         if (x0 % step != 0 || y0 % step != 0) continue;
+                        if (PivotAcrossEdge(ratio.level.At(c, y, x), ratio.s.At(c, y, x),
+                                            ratio.level.At(c, y0, x0), ratio.s.At(c, y0, x0),
+                                            edge))
+                            continue;
                         double weight =
                             std::exp(-(double(dx) * dx + double(dy) * dy) / (radius * radius)) *
                             (PivotNormalTerm(guides.normal, x, y, x0, y0, true) +
@@ -491,7 +536,7 @@ Image PivotFilterOne(const Image &color, const Image &pivot, const Image *varian
         out = PivotBilateral(color, pivot, ratio, guides, params);
     } else {
         fits = PivotFit(ratio, guides, params);
-        out = PivotGather(color, pivot, ratio, fits, guides);
+        out = PivotGather(color, pivot, ratio, fits, guides, params.edge);
     }
     if (stages) {
         stages->emplace_back(prefix + "z", std::move(ratio.z));

@@ -84,9 +84,11 @@ struct PivotGuides {
     const Image *ids = nullptr;
 };
 
-// Stage 1. z, s and nu (channels as the color); nu = -1 marks pixels without z.
+// Stage 1. z, s, nu and level, the median z of the valid 3x3 neighbours (the upper one of an
+// even count; the shading-edge test's, PivotAcrossEdge), channels as the color; nu = -1
+// marks pixels without z.
 struct PivotRatio {
-    Image z, s, nu;
+    Image z, s, nu, level;
 };
 // With `ids`, a pixel on an object/part boundary (a 4-neighbour has other ids) is data like
 // any other, unless it mixes in a side far from its own: the median z of the other ids'
@@ -109,9 +111,21 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
 int PivotLatticeStep(double radius);
 
 // Stage 3. Eqs. 11-13 and the back-multiplication; pixels without z or without any
-// averaging weight keep their color.
+// averaging weight keep their color. `edge`: the shading-edge test's sigmas (0: off).
 Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &ratio,
-                  const Image &fits, const PivotGuides &guides);
+                  const Image &fits, const PivotGuides &guides, double edge);
+
+// The shading-edge test (PivotParams::edge): levels zq and zc (PivotRatio::level) with
+// variances sq and sc of one pixel each lie across an edge when they differ by over
+// kPivotEdgeContrast times the smaller and by over `sigmas` standard deviations of the
+// levels' noise, read as (sq + sc) / 9. The final fit of a centre (not its growth, whose
+// quadrant test still stops at the edge) leaves out data across an edge from the centre, and
+// a pixel does not gather the fits of centres across one.
+constexpr double kPivotEdgeContrast = 1;
+bool PivotAcrossEdge(double zq, double sq, double zc, double sc, double sigmas);
+// The relative distance of PivotAcrossEdge's two comparisons to their thresholds (the
+// smaller; 1 without the test): where it is small float and double may decide apart.
+double PivotEdgeMargin(double zq, double sq, double zc, double sc, double sigmas);
 
 // The bilateral baseline: cross-bilateral filter of z guided by the pivot (and the guides),
 // over fitted pixels, then back-multiplied.

@@ -201,6 +201,14 @@ class Pivot : public FrontEndOf<PivotSettings> {
                                  "0 keeps fireflies' energy in heavy-tailed noise)",
                                  &PivotParams::sigmaWeight, 0, 1e6)),
                Nested(&PivotSettings::method,
+                      FloatParam("pivot-edge",
+                                 "shading edges the pivot does not show (a sun patch on a "
+                                 "floor): a fit leaves out, and a pixel does not gather the "
+                                 "fit of, what lies across one, where the two 3x3 medians "
+                                 "of color / pivot differ by over the smaller and by over "
+                                 "this many standard deviations of their noise (0: off)",
+                                 &PivotParams::edge, 0, 1e6)),
+               Nested(&PivotSettings::method,
                       IntParam("bilateral-radius", "window half-size of the bilateral filter",
                                &PivotParams::bilateralRadius, 0, 64)),
                Nested(&PivotSettings::method,

@@ -120,10 +120,11 @@ void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi) {
             }
 }
 
-std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu) {
-    if (s.width != z.width || s.height != z.height || s.channels != z.channels ||
-        nu.width != z.width || nu.height != z.height || nu.channels != z.channels)
-        throw Error("pivot: z, s and nu differ in shape", ErrorKind::Internal);
+std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu,
+                              const Image &level) {
+    for (const Image *one : {&s, &nu, &level})
+        if (one->width != z.width || one->height != z.height || one->channels != z.channels)
+            throw Error("pivot: z, s, nu and level differ in shape", ErrorKind::Internal);
     std::vector<Image> zsn;
     const size_t pixels = z.PixelCount();
     for (int c = 0; c < z.channels; ++c) {
@@ -132,6 +133,7 @@ std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu) {
             one.data[4 * i] = z.Plane(c)[i];
             one.data[4 * i + 1] = s.Plane(c)[i];
             one.data[4 * i + 2] = nu.Plane(c)[i];
+            one.data[4 * i + 3] = level.Plane(c)[i];
         }
     }
     return zsn;
@@ -204,7 +206,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
     for (const vk::GpuImage &one : zsn)
         if (one.width != w || one.height != h || one.channels != 4)
             throw Error(
-                fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x4 (z, s, nu, 0)",
+                fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x4 (z, s, nu, level)",
                             one.buffer.Name(), one.width, one.height, one.channels, w, h),
                 ErrorKind::Internal);
     CheckPivotGuides("pivot fit", w, h, guides);
@@ -235,7 +237,8 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                                   settings.disagreement,
                                   settings.k,
                                   settings.sigmaWeight,
-                                  rowBase};
+                                  rowBase,
+                                  settings.edge};
         // Absent guides are compiled out; zsn stands in for their binding.
         const vk::Buffer &packed = zsn[size_t(c)].buffer;
         recorder.Dispatch(kernel, "pivot.fit",

@@ -23,7 +23,7 @@ struct PivotGpuGuides {
 struct PivotFitSettings {
     int maxRadius = 30;
     float targetNoise = 0.02f, goodNoise = 100.f, disagreement = 0.1f, k = 0.3f,
-          sigmaWeight = 0.f;
+          sigmaWeight = 0.f, edge = 0.f;
 };
 
 // The fits on the GPU: per channel two buffers of PIVOT_PLANES_PER_BUFFER planes of the
@@ -43,7 +43,7 @@ struct PivotFitBuffers {
     std::vector<vk::GpuImage> lo, hi;
 };
 
-// `zsn`: per channel an image of 4 planes holding z, s, nu and 0 of each pixel adjacent
+// `zsn`: per channel an image of 4 planes holding z, s, nu and level of each pixel adjacent
 // (PivotZsnOf), as the ratio stage writes them. One dispatch per channel, with that
 // channel's packed input and fit buffers bound.
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
@@ -51,10 +51,11 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                     const PivotFitSettings &settings, PivotFitBuffers &fits, int rowBase,
                     int rows);
 
-// The fit's packed input from z, s and nu (same shape), one image per channel: float
-// i * 4 + k of channel c's holds z, s, nu (k = 0, 1, 2) of pixel i in channel c, and 0
-// (k = 3).
-std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu);
+// The fit's packed input from z, s, nu and level (same shape; level the median of z over
+// the valid 3x3 neighbours, the edge test's), one image per channel: float i * 4 + k of
+// channel c's holds z, s, nu, level (k = 0..3) of pixel i in channel c.
+std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu,
+                              const Image &level);
 
 // The guide buffer (a pixel's guides in one vec4 texel: the normal normalised, zero where
 // it is zero, and the label of its (object id, part id) pair, 1 + the pair's index among the

@@ -90,10 +90,10 @@ Image PivotTileOrder(const Image &radii, int *reach) {
 }
 
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                       const vk::GpuImage &pivot, const vk::GpuImage &nu,
+                       const vk::GpuImage &pivot, const std::vector<vk::GpuImage> &zsn,
                        const PivotFitBuffers &fits, const PivotGpuGuides &guides,
-                       const vk::GpuImage &tiles, int reach, vk::GpuImage &out, int rowBase,
-                       int rows) {
+                       const vk::GpuImage &tiles, int reach, float edge, vk::GpuImage &out,
+                       int rowBase, int rows) {
     if (rowBase < 0 || rows < 1 || rowBase + rows > color.height)
         throw Error(fmt::format("pivot gather: rows {}..{} of a {}-row image", rowBase,
                                 rowBase + rows - 1, color.height),
@@ -106,7 +106,8 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                                 tiles.width, tiles.height, tiles.channels, t * t,
                                 tilesX * tilesY, 3 * color.channels),
                     ErrorKind::Internal);
-    CheckPivotShapes("pivot gather", color, {&pivot, &nu, &out});
+    CheckPivotShapes("pivot gather", color, {&pivot, &out});
+    CheckPivotZsn("pivot gather", color, zsn);
     CheckPivotGuides("pivot gather", color.width, color.height, guides);
     CheckPivotFitBuffers("pivot gather", color.width, color.height, color.channels, fits);
     const vk::Kernel &kernel = context.GetKernel(
@@ -116,20 +117,21 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
          PIVOT_GATHER_BINDINGS,
          sizeof(shader::PivotGatherPush),
          {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
-         (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_NU) |
+         (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_ZSN) |
              (1u << PIVOT_GATHER_FIT_LO) | (1u << PIVOT_GATHER_FIT_HI) |
              (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES),
          (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_FIT_LO) |
-             (1u << PIVOT_GATHER_FIT_HI)});
+             (1u << PIVOT_GATHER_FIT_HI) | (1u << PIVOT_GATHER_ZSN)});
     for (int c = 0; c < color.channels; ++c) {
         shader::PivotGatherPush push{
             color.width, color.height, color.channels, reach < 0 ? 0 : reach,
-            tilesX,      tilesY,       rowBase,        c};
+            tilesX,      tilesY,       rowBase,        c,
+            edge};
         recorder.Dispatch(
             kernel, "pivot.gather",
             {{PIVOT_GATHER_COLOR, &color.buffer, vk::Access::Read},
              {PIVOT_GATHER_PIVOT, &pivot.buffer, vk::Access::Read},
-             {PIVOT_GATHER_NU, &nu.buffer, vk::Access::Read},
+             {PIVOT_GATHER_ZSN, &zsn[size_t(c)].buffer, vk::Access::Read},
              {PIVOT_GATHER_FIT_LO, &fits.lo[c].buffer, vk::Access::Read},
              {PIVOT_GATHER_FIT_HI, &fits.hi[c].buffer, vk::Access::Read},
              {PIVOT_GATHER_GUIDES, guides.image ? &guides.image->buffer : &color.buffer,

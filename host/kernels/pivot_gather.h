@@ -2,6 +2,8 @@
 // gather, then the back-multiplication by the pivot.
 #pragma once
 
+#include <vector>
+
 #include "host/image.h"
 #include "host/kernels/pivot_fit.h"
 
@@ -25,12 +27,13 @@ Image PivotTileOrder(const Image &radii, int *reach);
 // multiples of it take part in the gather, with weight times step^2.
 int PivotLatticeStepOf(float radius);
 
-// `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius. One dispatch
-// per channel, reading that channel's fit buffers.
+// `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius; `zsn` the
+// ratio's packed (z, s, nu, level) per channel; `edge` the sigmas of the shading-edge test (0:
+// off). One dispatch per channel, reading that channel's fit and zsn buffers.
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                       const vk::GpuImage &pivot, const vk::GpuImage &nu,
+                       const vk::GpuImage &pivot, const std::vector<vk::GpuImage> &zsn,
                        const PivotFitBuffers &fits, const PivotGpuGuides &guides,
-                       const vk::GpuImage &tiles, int reach, vk::GpuImage &out, int rowBase,
-                       int rows);
+                       const vk::GpuImage &tiles, int reach, float edge, vk::GpuImage &out,
+                       int rowBase, int rows);
 
 }  // namespace mcd

@@ -31,9 +31,9 @@ void CheckPivotZsn(const char *what, const vk::GpuImage &a,
                     ErrorKind::Internal);
     for (const vk::GpuImage &one : zsn)
         if (one.width != a.width || one.height != a.height || one.channels != 4)
-            throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x4 (z, s, nu, 0)", what,
-                                    one.buffer.Name(), one.width, one.height, one.channels,
-                                    a.width, a.height),
+            throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x4 (z, s, nu, level)",
+                                    what, one.buffer.Name(), one.width, one.height,
+                                    one.channels, a.width, a.height),
                         ErrorKind::Internal);
 }
 

@@ -228,7 +228,8 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotParams &options,
     int w = gpu.z.width, h = gpu.z.height, channels = gpu.z.channels;
     PivotFitBuffers fits(context, w, h, channels, "pivot.fit");
     PivotFitSettings settings{options.maxRadius,    options.targetNoise, options.goodNoise,
-                              options.disagreement, options.k,           options.sigmaWeight};
+                              options.disagreement, options.k,           options.sigmaWeight,
+                              options.edge};
     // Row strips, one submission each: progress on long frames, and no dispatch long enough
     // to trip a GPU watchdog. The ratio stage recorded before runs with the first strip.
     const int stripRows = setup.stripPixels > 0 ? std::clamp(setup.stripPixels / w, 1, h) : h;
@@ -252,17 +253,25 @@ void RecordPlaneFit(StagedRun &run, PivotGpu &gpu, const PivotParams &options,
         "square-vs-quadrant disagreement {}; a centre about to leave eq. 13's lattice stops at "
         "3, 7 or "
         "16); mean radius {:.2f}, largest {}; fits of the square and 4 quadrants with eq. 10 "
-        "(k = {}, pixels with relative noise > {} left out)",
+        "(k = {}, pixels with relative noise > {} left out){}",
         2 * options.maxRadius + 1, 2 * options.maxRadius + 1, options.targetNoise,
         options.disagreement, result.meanRadius, result.largestRadius, options.k,
-        options.goodNoise));
+        options.goodNoise,
+        options.edge > 0
+            ? fmt::format("; shading edges the pivot does not show: the final fits leave out, "
+                          "and the gather skips centres of, what lies across one (3x3 medians "
+                          "of z over {}x apart and over {} standard deviations of their "
+                          "noise)",
+                          1 + PIVOT_EDGE_CONTRAST, options.edge)
+            : std::string()));
     run.Plan(
         "eqs. 11-13: combined square/quadrant fits averaged over the squares holding the "
         "pixel whose centres lie on their lattice (step: largest power of two <= radius / 2, "
         "at most 8; weight x step^2; a gather), times the pivot");
     InStrips(run, h, stripRows, "gather", setup, [&](int rowBase, int rows) {
-        RecordPivotGather(context, run.Recorder(), gpu.color, gpu.pivot, gpu.nu, fits,
-                          gpu.guides, tiles, result.largestRadius, gpu.out, rowBase, rows);
+        RecordPivotGather(context, run.Recorder(), gpu.color, gpu.pivot, gpu.zsn, fits,
+                          gpu.guides, tiles, result.largestRadius, options.edge, gpu.out,
+                          rowBase, rows);
     });
     run.Plan(fmt::format("GPU time: {} ({} row strip(s) of up to {} rows)",
                          TimePerKernel(run.Timings()), (h + stripRows - 1) / stripRows,

@@ -28,6 +28,10 @@ struct PivotParams {
     // (fireflies) have the largest sigma, so 1 (the paper) darkens their plane; 0 measured
     // better PSNR on the scenes above (docs/methods/pivot.md).
     float sigmaWeight = 0.f;
+    // Sigmas of the shading-edge test (shaders/pivot/edge.glsl): a fit leaves out, and a
+    // pixel does not gather, what lies across an edge its colour shows and the pivot does
+    // not (a sun patch on a floor). 0: off.
+    float edge = 4.f;
     // bilateral: window half-size, spatial sigma = radius / 2, range sigma on the relative
     // difference of the pivot's channel mean.
     int bilateralRadius = 8;

@@ -6,7 +6,8 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
-// This dispatch's channel's (z, s, nu, 0), a texel per pixel.
+// This dispatch's channel's (z, s, nu, level), a texel per pixel (level: the median of z
+// over the valid 3x3 neighbours).
 layout(binding = PIVOT_FIT_ZSN) uniform samplerBuffer zsn;
 layout(binding = PIVOT_FIT_GUIDES) uniform samplerBuffer guides;
 // A centre's 8 planes of each buffer as two vec4s (pivot/pivot.h): four writes a centre.
@@ -15,6 +16,7 @@ layout(std430, binding = PIVOT_FIT_HI) writeonly buffer FitHi { vec4 fitHi[]; };
 
 int planeSize, gw, gh;
 
+#include "pivot/edge.glsl"
 #include "pivot/guides.glsl"
 #include "pivot/lattice.glsl"
 
@@ -74,10 +76,13 @@ Plane solve(Moments m) {
 
 int x0, y0, w, h;
 Surface centre;
+// The centre's level (3x3 median of z) and its variance s: the shading-edge test's side.
+float centreLevel, centreS;
 float goodNu, k;
 
 // Eq. 10's weight of pixel (x, y) for <z> = mean, and the distance term when radius > 0;
-// 0 for pixels not fitted.
+// 0 for pixels not fitted and, in the final fit (radius > 0), for those across a shading
+// edge from the centre.
 float weightAt(int x, int y, float mean, float radius, out float z, out float s) {
     int i = y * w + x;
     vec4 pixel = texelFetch(zsn, i);
@@ -85,6 +90,7 @@ float weightAt(int x, int y, float mean, float radius, out float z, out float s)
     z = pixel.x;
     s = pixel.y;
     if (nu < 0.0 || nu > goodNu) return 0.0;
+    if (radius > 0.0 && acrossEdge(pixel.w, s, centreLevel, centreS, push.edge)) return 0.0;
     float geo = dataTerm(surfaceAt(i), centre);
     if (geo == 0.0) return 0.0;
     float dx = float(x - x0), dy = float(y - y0);
@@ -357,6 +363,8 @@ void main() {
     if (x0 < w) {
         int at = y0 * w + x0;
         centre = surfaceAt(at);
+        centreLevel = texelFetch(zsn, at).w;
+        centreS = texelFetch(zsn, at).y;
         // A pixel beside other ids is data to its side's fits but no centre: its square,
         // mostly of other ids, would grow far on few pixels of its own.
         if (texelFetch(zsn, at).z < 0.0 || boundaryTerm(x0, y0) == 0.0)
@@ -384,5 +392,7 @@ void main() {
     if (radius < 0) return;
     x0 = groupX + columnOf(mine);
     centre = surfaceAt(y0 * w + x0);
+    centreLevel = texelFetch(zsn, y0 * w + x0).w;
+    centreS = texelFetch(zsn, y0 * w + x0).y;
     fitAndStore(radius, grownMean[mine]);
 }

@@ -11,7 +11,7 @@
 
 #include "pivot/pivot.h"
 
-#define PIVOT_FIT_ZSN 0  // (z, s, nu, 0) of the dispatch's channel, a vec4 texel a pixel
+#define PIVOT_FIT_ZSN 0  // (z, s, nu, level) of the dispatch's channel, a vec4 texel a pixel
 #define PIVOT_FIT_GUIDES 1
 #define PIVOT_FIT_LO 2  // planes 0..7 of one channel
 #define PIVOT_FIT_HI 3  // planes 8..15 of one channel
@@ -33,9 +33,10 @@ layout(push_constant) uniform PivotFitPush {
     float k;             // eq. 10's robustness constant
     float sigmaWeight;   // multiplies sigma (nu) in eq. 10's exponent (1: the paper)
     int rowBase;         // first centre row of this dispatch (row strips)
+    float edge;          // sigmas of the shading-edge test (pivot/edge.glsl; 0: off)
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotFitPush) == 36);
+static_assert(sizeof(PivotFitPush) == 40);
 static_assert(offsetof(PivotFitPush, rowBase) == 32);
 }  // namespace mcd::shader
 #else

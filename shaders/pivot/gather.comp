@@ -8,7 +8,7 @@ layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
 layout(binding = PIVOT_GATHER_COLOR) uniform samplerBuffer color;
 layout(binding = PIVOT_GATHER_PIVOT) uniform samplerBuffer pivot;
-layout(binding = PIVOT_GATHER_NU) uniform samplerBuffer nuIn;
+layout(binding = PIVOT_GATHER_ZSN) uniform samplerBuffer zsn;
 layout(binding = PIVOT_GATHER_FIT_LO) uniform samplerBuffer fitLo;
 layout(binding = PIVOT_GATHER_FIT_HI) uniform samplerBuffer fitHi;
 layout(binding = PIVOT_GATHER_GUIDES) uniform samplerBuffer guides;
@@ -22,6 +22,7 @@ int planeSize, gw, gh;
 #error "the near window holds more than 64 centres"
 #endif
 
+#include "pivot/edge.glsl"
 #include "pivot/guides.glsl"
 #include "pivot/lattice.glsl"
 
@@ -45,14 +46,19 @@ float combine(float z, float zm) {
 
 int x, y, w;
 Surface here;
+// The pixel's level (3x3 median of z) and its variance: a centre across a shading edge from
+// it (whose fit left it out) is not gathered.
+float hereLevel, hereS;
 float sumW, sumWz;
 
 // Centre (x0, y0) of radius `radius` on its lattice: its term of eq. 13 at the pixel, when
-// its square holds the pixel.
+// its square holds the pixel and it lies on the pixel's side of any shading edge.
 void addCentre(int x0, int y0, float radius) {
     int dx = x - x0, dy = y - y0;
     if (float(abs(dx)) > radius || float(abs(dy)) > radius) return;
     int i0 = y0 * w + x0;
+    vec4 centre = texelFetch(zsn, i0);
+    if (acrossEdge(hereLevel, hereS, centre.w, centre.y, push.edge)) return;
     float fdx = float(dx), fdy = float(dy);
     // Each centre stands for step^2 centres of its lattice.
     int step = latticeStep(radius);
@@ -89,10 +95,13 @@ void main() {
     gw = w;
     gh = h;
     int i = y * w + x, at = c * planeSize + i;
-    if (texelFetch(nuIn, at).r < 0.0) {
+    vec4 own = texelFetch(zsn, i);
+    if (own.z < 0.0) {
         outImage[at] = texelFetch(color, at).r;
         return;
     }
+    hereLevel = own.w;
+    hereS = own.y;
     sumW = 0.0;
     sumWz = 0.0;
     here = surfaceAt(i);

@@ -12,7 +12,7 @@
 
 #define PIVOT_GATHER_COLOR 0
 #define PIVOT_GATHER_PIVOT 1
-#define PIVOT_GATHER_NU 2
+#define PIVOT_GATHER_ZSN 2  // (z, s, nu, level) of the dispatch's channel (pivot/fit.h)
 #define PIVOT_GATHER_FIT_LO 3
 #define PIVOT_GATHER_FIT_HI 4
 #define PIVOT_GATHER_GUIDES 5
@@ -41,10 +41,11 @@ layout(push_constant) uniform PivotGatherPush {
     int tilesX;  // ceil(width / PIVOT_GATHER_TILE)
     int tilesY;
     int rowBase;  // first row of this dispatch (row strips)
-    int channel;  // the channel of this dispatch, whose fit buffers are bound
+    int channel;  // the channel of this dispatch, whose fit and zsn buffers are bound
+    float edge;   // sigmas of the shading-edge test (pivot/edge.glsl; 0: off)
 #ifdef __cplusplus
 };
-static_assert(sizeof(PivotGatherPush) == 32);
+static_assert(sizeof(PivotGatherPush) == 36);
 }  // namespace mcd::shader
 #else
 }

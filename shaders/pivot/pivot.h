@@ -61,5 +61,9 @@
 #define PIVOT_TINY 1e-30
 // An elimination pivot at or below this fraction of its raw second moment drops the unknown.
 #define PIVOT_RANK_EPS 1e-4
+// The shading-edge test (pivot/edge.glsl): two levels of z (3x3 medians) lie across an edge
+// when they differ by over this times the smaller as well as by the given sigmas of their
+// noise.
+#define PIVOT_EDGE_CONTRAST 1.0
 
 #endif

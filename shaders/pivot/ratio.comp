@@ -35,7 +35,7 @@ bool ratioAt(int at, out float z) {
     return abs(z) <= PIVOT_Z_MAX;
 }
 
-// Pixel i's (z, s, nu, 0) into channel c's buffer.
+// Pixel i's (z, s, nu, level) into channel c's buffer (level: the 3x3 median of z).
 void storeZsn(int c, int i, vec4 value) {
     if (c == 0)
         zsn0[i] = value;
@@ -167,18 +167,24 @@ void main() {
         return;
     }
     // Mean of z over the valid 3x3 neighbours (the pixel is one), then their sample
-    // variance about it (two passes: no cancellation).
+    // variance about it (two passes: no cancellation). The same values sorted as they come
+    // (an insertion sort of at most 9) give the edge test's level (pivot/edge.glsl): their
+    // median (the upper one of an even count), which one bright sample does not lift and a
+    // window straddling an edge takes from its larger side.
     float sum = 0.0;
+    float sorted[9];
     int n = 0;
     for (int v = max(0, y - 1); v <= min(h - 1, y + 1); ++v)
         for (int u = max(0, x - 1); u <= min(w - 1, x + 1); ++u) {
             float zq;
-            if (ratioAt(base + v * w + u, zq)) {
-                sum += zq;
-                ++n;
-            }
+            if (!ratioAt(base + v * w + u, zq)) continue;
+            sum += zq;
+            int j = n++;
+            for (; j > 0 && sorted[j - 1] > zq; --j) sorted[j] = sorted[j - 1];
+            sorted[j] = zq;
         }
     float zl = sum / float(n);
+    float level = sorted[n / 2];
     float s;
     if (hasVariance != 0) {
         float la = texelFetch(pivot, at).r;
@@ -214,5 +220,5 @@ void main() {
     sOut[at] = s;
     float nu = s / max(zl * zl, PIVOT_TINY);
     nuOut[at] = nu;
-    storeZsn(c, at - base, vec4(z, s, nu, 0.0));
+    storeZsn(c, at - base, vec4(z, s, nu, level));
 }

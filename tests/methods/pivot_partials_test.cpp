@@ -157,7 +157,7 @@ TEST_F(PivotPartialsMethod, MatchesTheReferencePerPartial) {
         ref::PivotRatio ratio =
             ref::PivotRatioOf(*partial.color, *partial.pivot, partial.variance, p.floor, &ids);
         Image filtered = ref::PivotGather(*partial.color, *partial.pivot, ratio,
-                                          ref::PivotFit(ratio, guides, p), guides);
+                                          ref::PivotFit(ratio, guides, p), guides, p.edge);
         for (size_t i = 0; i < expected.Size(); ++i) {
             expected.data[i] += filtered.data[i];
             magnitude.data[i] +=
