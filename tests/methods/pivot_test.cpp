@@ -102,7 +102,7 @@ Image GuideOf(const Frame &f) {
     return PivotGuideBuffer(guide);
 }
 
-// The GPU ratio stage's z, s, nu and level.
+// The GPU ratio stage's z, s, nu, level and noise.
 ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivot,
                          const Image *variance, float floor, const Image *guide) {
     int w = color.width, h = color.height, ch = color.channels;
@@ -116,7 +116,7 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     PivotGpuGuides guides{guide ? &g : nullptr, false, guide != nullptr};
     vk::Recorder recorder(ctx);
     std::vector<vk::GpuImage> zsn;
-    for (int k = 0; k < ch; ++k) zsn.emplace_back(ctx, w, h, 4, "zsn");
+    for (int k = 0; k < ch; ++k) zsn.emplace_back(ctx, w, h, 8, "zsn");
     vk::Buffer unused(ctx, kPivotUnusedSlotBytes, "unused");
     RecordPivotRatio(ctx, recorder, c, p, variance ? &v : nullptr,
                      PivotThresholds(pivot, floor), guides, z, s, nu, zsn, unused);
@@ -130,15 +130,19 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     for (const vk::GpuImage &one : zsn) written += one.buffer.Bytes();
     EXPECT_EQ(recorder.Timings().at(0).bytesRead, read);
     EXPECT_EQ(recorder.Timings().at(0).bytesWritten, written);
-    ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download(), Image(w, h, ch)};
-    // The level only in the packed copies: their fourth float.
+    ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download(), Image(w, h, ch),
+                          Image(w, h, ch)};
+    // The level and the noise only in the packed copies: their fourth and fifth floats.
     for (int k = 0; k < ch; ++k) {
         Image packed = zsn[size_t(k)].Download();
-        for (size_t i = 0; i < ratio.level.PixelCount(); ++i)
-            ratio.level.Plane(k)[i] = packed.data[4 * i + 3];
+        for (size_t i = 0; i < ratio.level.PixelCount(); ++i) {
+            ratio.level.Plane(k)[i] = packed.data[8 * i + 3];
+            ratio.noise.Plane(k)[i] = packed.data[8 * i + 4];
+        }
     }
     // The fit's packed copies, one per channel, hold the same values.
-    std::vector<Image> expected = PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level);
+    std::vector<Image> expected =
+        PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise);
     for (int k = 0; k < ch; ++k) {
         Image packed = zsn[size_t(k)].Download();
         EXPECT_EQ(0, std::memcmp(packed.data.data(), expected[size_t(k)].data.data(),
@@ -193,7 +197,7 @@ TEST_P(PivotRatioKernel, MatchesReference) {
         ASSERT_EQ(expected.nu.data[i] < 0, actual.nu.data[i] < 0) << "validity at " << i;
     EXPECT_TRUE(ImagesMatch(expected.z, actual.z, {}, {5 * kUnitRoundoff, 0, 1e-12}));
     // The scale of s and nu: the neighbourhood's squared values.
-    Image sScale = expected.s, nuScale = expected.nu;
+    Image sScale = expected.s, nuScale = expected.nu, noiseScale = expected.noise;
     for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -204,15 +208,21 @@ TEST_P(PivotRatioKernel, MatchesReference) {
                             big = std::max(big, std::fabs(double(expected.z.At(c, v, u))));
                 double s = expected.s.At(c, y, x), nu = expected.nu.At(c, y, x);
                 sScale.At(c, y, x) = float(s + big * big);
+                noiseScale.At(c, y, x) = float(expected.noise.At(c, y, x) + big * big);
                 nuScale.At(c, y, x) =
                     nu < 0 ? 0.f : float(nu * (1 + big * big / std::max(s, 1e-30)));
             }
     Tolerance tol{40 * kUnitRoundoff, 0, 1e-9};
     // The level is one of the neighbours' z (their median): z's tolerance, where z is valid.
     Image levelExpected = expected.level, levelActual = actual.level;
+    Image noiseExpected = expected.noise, noiseActual = actual.noise;
     for (size_t i = 0; i < levelExpected.Size(); ++i)
-        if (expected.nu.data[i] < 0) levelExpected.data[i] = levelActual.data[i] = 0;
+        if (expected.nu.data[i] < 0) {
+            levelExpected.data[i] = levelActual.data[i] = 0;
+            noiseExpected.data[i] = noiseActual.data[i] = 0;
+        }
     EXPECT_TRUE(ImagesMatch(levelExpected, levelActual, {}, {5 * kUnitRoundoff, 0, 1e-12}));
+    EXPECT_TRUE(ImagesMatch(noiseExpected, noiseActual, noiseScale, tol));
     EXPECT_TRUE(ImagesMatch(expected.s, actual.s, sScale, tol));
     EXPECT_TRUE(ImagesMatch(expected.nu, actual.nu, nuScale, tol));
 }
@@ -290,8 +300,8 @@ TEST_P(PivotFitKernel, MatchesReference) {
     }
 
     std::vector<vk::GpuImage> zsn;
-    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level))
-        zsn.emplace_back(Ctx(), w, h, 4, "zsn").Upload(packed);
+    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise))
+        zsn.emplace_back(Ctx(), w, h, 8, "zsn").Upload(packed);
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     PivotFitBuffers fitBuffers(Ctx(), w, h, channels, "fit");
     guide.Upload(GuideOf(f));
@@ -374,8 +384,8 @@ TEST_P(PivotGatherKernel, MatchesReference) {
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage out(Ctx(), w, h, 3, "out");
     std::vector<vk::GpuImage> zsn;
-    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level))
-        zsn.emplace_back(Ctx(), w, h, 4, "zsn").Upload(packed);
+    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise))
+        zsn.emplace_back(Ctx(), w, h, 8, "zsn").Upload(packed);
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
     color.Upload(f.color);
