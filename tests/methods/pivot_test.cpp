@@ -1392,6 +1392,41 @@ TEST_F(PivotMethod, AShadingEdgeThePivotDoesNotShowHalvesTheHalo) {
     EXPECT_LT(final, finalOff * 7 / 10) << "the method's halo with the edge test";
 }
 
+// A flat surface at 4 spp, each sample a hit of 4x the mean with probability 1/4: a third
+// of the pixels saw nothing (s = 0). The edge test's noise comes from the 3x3 window, so
+// neighbours of a flat surface seldom lie across an edge; with each pixel's own s (0 where
+// it saw nothing) a level of 0 lay across from any other.
+TEST(PivotEdgeNoise, AFlatSurfaceAtLowSppShowsFewEdges) {
+    const int w = 48, h = 40;
+    const float albedo = 0.5f, mean = 0.3f;
+    Image color(w, h, 1), pivot(w, h, 1, albedo), variance(w, h, 1);
+    std::mt19937_64 rng(SeedFromName("pivot flat low spp"));
+    std::binomial_distribution<int> hits(4, 0.25);
+    int empty = 0;
+    for (size_t i = 0; i < color.PixelCount(); ++i) {
+        const float k = float(hits(rng));
+        color.data[i] = mean * k;
+        variance.data[i] = mean * mean * (4 * k - k * k) / 3;  // of the mean of 4
+        empty += k == 0;
+    }
+    EXPECT_GT(empty, int(color.PixelCount()) / 5)
+        << "few pixels saw nothing: the case tests nothing";
+    const PivotParams p;
+    ref::PivotRatio ratio = ref::PivotRatioOf(color, pivot, &variance, p.floor);
+    int pairs = 0, across = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x + 1 < w; ++x) {
+            if (ratio.nu.At(0, y, x) < 0 || ratio.nu.At(0, y, x + 1) < 0) continue;
+            ++pairs;
+            across += ref::PivotAcrossEdge(ratio.level.At(0, y, x), ratio.noise.At(0, y, x),
+                                           ratio.level.At(0, y, x + 1),
+                                           ratio.noise.At(0, y, x + 1), p.edge);
+        }
+    std::printf("[edge noise] %d of %d neighbour pairs across an edge\n", across, pairs);
+    EXPECT_GT(pairs, w * h / 2);
+    EXPECT_LT(across, pairs / 100) << "a flat surface's neighbours across an edge";
+}
+
 // A wire one pixel wide (its own object id, albedo 0.3) across a wall (albedo 0.8): no fit
 // has a centre on it, so pivot keeps its input, where every fifth value is 0 (no sample hit
 // it) and every seventh a firefly: a dotted line (the real fence_grass's wires and mesh,
