@@ -173,7 +173,8 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                         double floor, const Image *ids) {
     int w = color.width, h = color.height;
     PivotRatio r{Image(w, h, color.channels), Image(w, h, color.channels),
-                 Image(w, h, color.channels, -1.f), Image(w, h, color.channels)};
+                 Image(w, h, color.channels, -1.f), Image(w, h, color.channels),
+                 Image(w, h, color.channels)};
     for (int c = 0; c < color.channels; ++c) {
         double mean = 0;
         for (int y = 0; y < h; ++y)
@@ -205,20 +206,31 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 for (int v = y0; v <= y1; ++v)
                     for (int u = x0; u <= x1; ++u)
                         if (valid(u, v)) sumSq += (zOf(u, v) - zl) * (zOf(u, v) - zl);
-                double s;
+                // A pixel's variance of z from the variance input.
+                auto varianceOf = [&](int u, int v) {
+                    double la = pivot.At(c, v, u);
+                    return std::min(double(variance->At(c, v, u)) / (la * la), kZMax * kZMax);
+                };
+                double s, noise = 0;
                 if (variance) {
-                    double la = pivot.At(c, y, x);
-                    s = double(variance->At(c, y, x)) / (la * la);
+                    s = varianceOf(x, y);
+                    // The edge test's noise: the mean of the valid neighbours' variances,
+                    // which one pixel whose samples all missed (s = 0) does not take to 0.
+                    for (int v = y0; v <= y1; ++v)
+                        for (int u = x0; u <= x1; ++u)
+                            if (valid(u, v)) noise += varianceOf(u, v);
+                    noise /= n;
                 } else {
-                    s = n > 1 ? sumSq / (n - 1) : 0;
+                    s = std::min(n > 1 ? sumSq / (n - 1) : 0, kZMax * kZMax);
+                    noise = s;
                 }
-                s = std::min(s, kZMax * kZMax);
                 r.z.At(c, y, x) = float(zOf(x, y));
                 r.s.At(c, y, x) = float(s);
                 // The edge test's level: the median of those values (the upper one of an
                 // even count).
                 std::sort(values.begin(), values.end());
                 r.level.At(c, y, x) = values[values.size() / 2];
+                r.noise.At(c, y, x) = float(noise);
                 r.nu.At(c, y, x) = float(s / std::max(zl * zl, kTiny));
                 if (PivotBoundaryTerm(ids, x, y) == 0) {
                     // Beside other ids: data like any other pixel, unless it mixes in a side
@@ -290,7 +302,7 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                         if (ratio.nu.At(c, v, u) >= 0) zc += z.At(c, v, u), ++n;
                 zc /= n;
                 const double centreLevel = ratio.level.At(c, y0, x0),
-                             centreS = ratio.s.At(c, y0, x0);
+                             centreNoise = ratio.noise.At(c, y0, x0);
                 // The pixels of the square of half-size r that may be fitted, with eq. 10's
                 // weight for the given <z> and distance scale (0: no distance term).
                 auto window = [&](int r, double mean, double radius) {
@@ -302,14 +314,16 @@ Image PivotFit(const PivotRatio &ratio, const PivotGuides &guides, const PivotPa
                             // The edge test in the final fit only: growth still stops
                             // where a quadrant disagrees.
                             if (radius > 0) {
-                                double zq = ratio.level.At(c, y, x), sq = ratio.s.At(c, y, x);
+                                double zq = ratio.level.At(c, y, x),
+                                       sq = ratio.noise.At(c, y, x);
                                 // A few float operations on stored floats, against the
                                 // growth's long sums: the other terms' margin scale is far
                                 // coarser than its round-off.
                                 closest = std::min(
-                                    closest, 100 * PivotEdgeMargin(zq, sq, centreLevel, centreS,
-                                                                   params.edge));
-                                if (PivotAcrossEdge(zq, sq, centreLevel, centreS, params.edge))
+                                    closest, 100 * PivotEdgeMargin(zq, sq, centreLevel,
+                                                                   centreNoise, params.edge));
+                                if (PivotAcrossEdge(zq, sq, centreLevel, centreNoise,
+                                                    params.edge))
                                     continue;
                             }
                             double geo = PivotNormalTerm(guides.normal, x, y, x0, y0, true) *
@@ -458,9 +472,9 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                             continue;
                         int step = PivotLatticeStep(radius);
                         if (x0 % step != 0 || y0 % step != 0) continue;
-                        if (PivotAcrossEdge(ratio.level.At(c, y, x), ratio.s.At(c, y, x),
-                                            ratio.level.At(c, y0, x0), ratio.s.At(c, y0, x0),
-                                            edge))
+                        if (PivotAcrossEdge(ratio.level.At(c, y, x), ratio.noise.At(c, y, x),
+                                            ratio.level.At(c, y0, x0),
+                                            ratio.noise.At(c, y0, x0), edge))
                             continue;
                         double weight =
                             std::exp(-(double(dx) * dx + double(dy) * dy) / (radius * radius)) *

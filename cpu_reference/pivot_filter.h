@@ -84,11 +84,12 @@ struct PivotGuides {
     const Image *ids = nullptr;
 };
 
-// Stage 1. z, s, nu and level, the median z of the valid 3x3 neighbours (the upper one of an
-// even count; the shading-edge test's, PivotAcrossEdge), channels as the color; nu = -1
-// marks pixels without z.
+// Stage 1. z, s, nu, level, the median z of the valid 3x3 neighbours (the upper one of an
+// even count), and noise, the mean of their variances s (without a variance input the
+// window's sample variance, s itself; both the shading-edge test's, PivotAcrossEdge),
+// channels as the color; nu = -1 marks pixels without z.
 struct PivotRatio {
-    Image z, s, nu, level;
+    Image z, s, nu, level, noise;
 };
 // With `ids`, a pixel on an object/part boundary (a 4-neighbour has other ids) is data like
 // any other, unless it mixes in a side far from its own: the median z of the other ids'
@@ -116,11 +117,11 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                   const Image &fits, const PivotGuides &guides, double edge);
 
 // The shading-edge test (PivotParams::edge): levels zq and zc (PivotRatio::level) with
-// variances sq and sc of one pixel each lie across an edge when they differ by over
-// kPivotEdgeContrast times the smaller and by over `sigmas` standard deviations of the
-// levels' noise, read as (sq + sc) / 9. The final fit of a centre (not its growth, whose
-// quadrant test still stops at the edge) leaves out data across an edge from the centre, and
-// a pixel does not gather the fits of centres across one.
+// noises sq and sc (PivotRatio::noise: a pixel's variance over its 3x3 window) lie across an
+// edge when they differ by over kPivotEdgeContrast times the smaller and by over `sigmas`
+// standard deviations of the levels' noise, read as (sq + sc) / 9. The final fit of a centre
+// (not its growth, whose quadrant test still stops at the edge) leaves out data across an edge
+// from the centre, and a pixel does not gather the fits of centres across one.
 constexpr double kPivotEdgeContrast = 1;
 bool PivotAcrossEdge(double zq, double sq, double zc, double sc, double sigmas);
 // The relative distance of PivotAcrossEdge's two comparisons to their thresholds (the

@@ -121,19 +121,20 @@ void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi) {
 }
 
 std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu,
-                              const Image &level) {
-    for (const Image *one : {&s, &nu, &level})
+                              const Image &level, const Image &noise) {
+    for (const Image *one : {&s, &nu, &level, &noise})
         if (one->width != z.width || one->height != z.height || one->channels != z.channels)
             throw Error("pivot: z, s, nu and level differ in shape", ErrorKind::Internal);
     std::vector<Image> zsn;
     const size_t pixels = z.PixelCount();
     for (int c = 0; c < z.channels; ++c) {
-        Image &one = zsn.emplace_back(z.width, z.height, 4);
+        Image &one = zsn.emplace_back(z.width, z.height, 8);
         for (size_t i = 0; i < pixels; ++i) {
-            one.data[4 * i] = z.Plane(c)[i];
-            one.data[4 * i + 1] = s.Plane(c)[i];
-            one.data[4 * i + 2] = nu.Plane(c)[i];
-            one.data[4 * i + 3] = level.Plane(c)[i];
+            one.data[8 * i] = z.Plane(c)[i];
+            one.data[8 * i + 1] = s.Plane(c)[i];
+            one.data[8 * i + 2] = nu.Plane(c)[i];
+            one.data[8 * i + 3] = level.Plane(c)[i];
+            one.data[8 * i + 4] = noise.Plane(c)[i];
         }
     }
     return zsn;
@@ -204,10 +205,11 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                     ErrorKind::Internal);
     int w = zsn[0].width, h = zsn[0].height, channels = int(zsn.size());
     for (const vk::GpuImage &one : zsn)
-        if (one.width != w || one.height != h || one.channels != 4)
+        if (one.width != w || one.height != h || one.channels != 8)
             throw Error(
-                fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x4 (z, s, nu, level)",
-                            one.buffer.Name(), one.width, one.height, one.channels, w, h),
+                fmt::format(
+                    "pivot fit: {} is {}x{}x{}, expected {}x{}x8 (z, s, nu, level, noise)",
+                    one.buffer.Name(), one.width, one.height, one.channels, w, h),
                 ErrorKind::Internal);
     CheckPivotGuides("pivot fit", w, h, guides);
     CheckPivotFitBuffers("pivot fit", w, h, channels, fits);

@@ -43,19 +43,19 @@ struct PivotFitBuffers {
     std::vector<vk::GpuImage> lo, hi;
 };
 
-// `zsn`: per channel an image of 4 planes holding z, s, nu and level of each pixel adjacent
-// (PivotZsnOf), as the ratio stage writes them. One dispatch per channel, with that
+// `zsn`: per channel an image of 8 planes holding z, s, nu, level and noise of each pixel
+// adjacent (PivotZsnOf), as the ratio stage writes them. One dispatch per channel, with that
 // channel's packed input and fit buffers bound.
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                     const std::vector<vk::GpuImage> &zsn, const PivotGpuGuides &guides,
                     const PivotFitSettings &settings, PivotFitBuffers &fits, int rowBase,
                     int rows);
 
-// The fit's packed input from z, s, nu and level (same shape; level the median of z over
-// the valid 3x3 neighbours, the edge test's), one image per channel: float i * 4 + k of
-// channel c's holds z, s, nu, level (k = 0..3) of pixel i in channel c.
+// The fit's packed input from z, s, nu, level and noise (same shape; level and noise the edge
+// test's, PivotRatio), one image per channel: float i * 8 + k of channel c's holds z, s,
+// nu, level, noise (k = 0..4; 5..7 zero) of pixel i in channel c, two vec4 texels a pixel.
 std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu,
-                              const Image &level);
+                              const Image &level, const Image &noise);
 
 // The guide buffer (a pixel's guides in one vec4 texel: the normal normalised, zero where
 // it is zero, and the label of its (object id, part id) pair, 1 + the pair's index among the

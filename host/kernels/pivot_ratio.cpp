@@ -30,11 +30,12 @@ void CheckPivotZsn(const char *what, const vk::GpuImage &a,
                                 zsn.size(), a.channels),
                     ErrorKind::Internal);
     for (const vk::GpuImage &one : zsn)
-        if (one.width != a.width || one.height != a.height || one.channels != 4)
-            throw Error(fmt::format("{}: {} is {}x{}x{}, expected {}x{}x4 (z, s, nu, level)",
-                                    what, one.buffer.Name(), one.width, one.height,
-                                    one.channels, a.width, a.height),
-                        ErrorKind::Internal);
+        if (one.width != a.width || one.height != a.height || one.channels != 8)
+            throw Error(
+                fmt::format("{}: {} is {}x{}x{}, expected {}x{}x8 (z, s, nu, level, noise)",
+                            what, one.buffer.Name(), one.width, one.height, one.channels,
+                            a.width, a.height),
+                ErrorKind::Internal);
 }
 
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,

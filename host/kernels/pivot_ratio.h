@@ -13,10 +13,10 @@ namespace mcd {
 
 // `color`, `pivot`, `variance` (nullptr: estimate the noise from the 3x3 neighbours), `z`,
 // `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel. `zsn`, one image of
-// 4 planes per channel, receives the same z, s, nu and the 3x3 median of z packed for the fit
-// and the gather (PivotZsnOf). `unusedSlot`, at most kPivotUnusedSlotBytes, fills the packed
-// slots of the channels the frame lacks, which the kernel does not touch: their traffic counts
-// next to nothing.
+// 8 planes per channel, receives the same z, s, nu, the 3x3 median of z and the 3x3 mean of s
+// packed for the fit and the gather (PivotZsnOf). `unusedSlot`, at most kPivotUnusedSlotBytes,
+// fills the packed slots of the channels the frame lacks, which the kernel does not touch:
+// their traffic counts next to nothing.
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
@@ -30,8 +30,8 @@ constexpr size_t kPivotUnusedSlotBytes = 16;
 void CheckPivotShapes(const char *what, const vk::GpuImage &a,
                       std::initializer_list<const vk::GpuImage *> others);
 
-// Throw unless `zsn` holds an image of `a`'s size and 4 planes (z, s, nu, level per pixel) for
-// each of its channels.
+// Throw unless `zsn` holds an image of `a`'s size and 8 planes (z, s, nu, level, noise per
+// pixel) for each of its channels.
 void CheckPivotZsn(const char *what, const vk::GpuImage &a,
                    const std::vector<vk::GpuImage> &zsn);
 

@@ -56,8 +56,8 @@ void CheckPivotInputs(vk::Context &context, const PivotInputs &in, const PivotPa
     if (w < 1 || h < 1) throw Error("pivot: the image is empty", ErrorKind::InvalidArgument);
     // The largest bindings: a channel's fit buffer of PIVOT_PLANES_PER_BUFFER planes
     // (written by the fit, read by the gather as a texel view) and a channel's packed z, s,
-    // nu (4 floats): refuse, before any work, a frame the device cannot bind.
-    double pixelBytes = std::max(PIVOT_PLANES_PER_BUFFER, 4) * sizeof(float);
+    // nu, level and noise (8 floats): refuse, before any work, a frame the device cannot bind.
+    double pixelBytes = std::max(PIVOT_PLANES_PER_BUFFER, 8) * sizeof(float);
     double bindingBytes = pixelBytes * w * h, binding = double(context.BindingBytes());
     if (bindingBytes > binding)
         throw Error(fmt::format("pivot: a {}x{}x{} frame needs {:.0f} MB in one binding, above "
@@ -134,7 +134,7 @@ struct PivotGpu {
         int w = in.color->width, h = in.color->height, channels = in.color->channels;
         // Each channel's packed z, s, nu in a buffer of its own: a binding holds one.
         for (int c = 0; c < channels; ++c)
-            zsn.emplace_back(context, w, h, 4, fmt::format("pivot.zsn{}", c));
+            zsn.emplace_back(context, w, h, 8, fmt::format("pivot.zsn{}", c));
         color.Upload(*in.color);
         pivot.Upload(*in.pivot);
         if (in.variance) {

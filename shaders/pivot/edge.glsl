@@ -2,8 +2,8 @@
 // and a centre lie across a shading edge the pivot does not show (a sun patch on a floor)
 // when their levels (the median of z over the valid 3x3 neighbours, zsn.w) differ by over
 // PIVOT_EDGE_CONTRAST times the smaller and by over `sigmas` standard deviations of the two
-// levels' noise (read as each pixel's variance s over the 9 pixels of its window). sigmas
-// <= 0: no test.
+// levels' noise (read as each window's noise, the mean of its variances s, over its 9
+// pixels). sigmas <= 0: no test.
 bool acrossEdge(float zq, float sq, float zc, float sc, float sigmas) {
     if (sigmas <= 0.0) return false;
     float gap = abs(zq - zc);

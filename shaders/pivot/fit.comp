@@ -76,8 +76,8 @@ Plane solve(Moments m) {
 
 int x0, y0, w, h;
 Surface centre;
-// The centre's level (3x3 median of z) and its variance s: the shading-edge test's side.
-float centreLevel, centreS;
+// The centre's level (3x3 median of z) and its noise (3x3 mean of s): the edge test's side.
+float centreLevel, centreNoise;
 float goodNu, k;
 
 // Eq. 10's weight of pixel (x, y) for <z> = mean, and the distance term when radius > 0;
@@ -85,12 +85,14 @@ float goodNu, k;
 // edge from the centre.
 float weightAt(int x, int y, float mean, float radius, out float z, out float s) {
     int i = y * w + x;
-    vec4 pixel = texelFetch(zsn, i);
+    vec4 pixel = texelFetch(zsn, 2 * i);
     float nu = pixel.z;
     z = pixel.x;
     s = pixel.y;
     if (nu < 0.0 || nu > goodNu) return 0.0;
-    if (radius > 0.0 && acrossEdge(pixel.w, s, centreLevel, centreS, push.edge)) return 0.0;
+    if (radius > 0.0 && push.edge > 0.0 &&
+        acrossEdge(pixel.w, texelFetch(zsn, 2 * i + 1).x, centreLevel, centreNoise, push.edge))
+        return 0.0;
     float geo = dataTerm(surfaceAt(i), centre);
     if (geo == 0.0) return 0.0;
     float dx = float(x - x0), dy = float(y - y0);
@@ -238,8 +240,8 @@ int grow(out float mean) {
     int n = 0;
     for (int v = max(0, y0 - 1); v <= min(h - 1, y0 + 1); ++v)
         for (int u = max(0, x0 - 1); u <= min(w - 1, x0 + 1); ++u)
-            if (texelFetch(zsn, v * w + u).z >= 0.0) {
-                zc += texelFetch(zsn, v * w + u).x;
+            if (texelFetch(zsn, 2 * (v * w + u)).z >= 0.0) {
+                zc += texelFetch(zsn, 2 * (v * w + u)).x;
                 ++n;
             }
     zc /= float(n);
@@ -363,11 +365,11 @@ void main() {
     if (x0 < w) {
         int at = y0 * w + x0;
         centre = surfaceAt(at);
-        centreLevel = texelFetch(zsn, at).w;
-        centreS = texelFetch(zsn, at).y;
+        centreLevel = texelFetch(zsn, 2 * at).w;
+        centreNoise = texelFetch(zsn, 2 * at + 1).x;
         // A pixel beside other ids is data to its side's fits but no centre: its square,
         // mostly of other ids, would grow far on few pixels of its own.
-        if (texelFetch(zsn, at).z < 0.0 || boundaryTerm(x0, y0) == 0.0)
+        if (texelFetch(zsn, 2 * at).z < 0.0 || boundaryTerm(x0, y0) == 0.0)
             storeNone(at);
         else
             radius = grow(mean);
@@ -392,7 +394,7 @@ void main() {
     if (radius < 0) return;
     x0 = groupX + columnOf(mine);
     centre = surfaceAt(y0 * w + x0);
-    centreLevel = texelFetch(zsn, y0 * w + x0).w;
-    centreS = texelFetch(zsn, y0 * w + x0).y;
+    centreLevel = texelFetch(zsn, 2 * (y0 * w + x0)).w;
+    centreNoise = texelFetch(zsn, 2 * (y0 * w + x0) + 1).x;
     fitAndStore(radius, grownMean[mine]);
 }

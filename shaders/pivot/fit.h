@@ -11,7 +11,8 @@
 
 #include "pivot/pivot.h"
 
-#define PIVOT_FIT_ZSN 0  // (z, s, nu, level) of the dispatch's channel, a vec4 texel a pixel
+// (z, s, nu, level) and (noise, 0, 0, 0) of the dispatch's channel, two vec4 texels a pixel
+#define PIVOT_FIT_ZSN 0
 #define PIVOT_FIT_GUIDES 1
 #define PIVOT_FIT_LO 2  // planes 0..7 of one channel
 #define PIVOT_FIT_HI 3  // planes 8..15 of one channel

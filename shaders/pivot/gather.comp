@@ -46,9 +46,9 @@ float combine(float z, float zm) {
 
 int x, y, w;
 Surface here;
-// The pixel's level (3x3 median of z) and its variance: a centre across a shading edge from
-// it (whose fit left it out) is not gathered.
-float hereLevel, hereS;
+// The pixel's level (3x3 median of z) and its noise (the 3x3 mean of s): a centre across a
+// shading edge from it (whose fit left it out) is not gathered.
+float hereLevel, hereNoise;
 float sumW, sumWz;
 
 // Centre (x0, y0) of radius `radius` on its lattice: its term of eq. 13 at the pixel, when
@@ -57,8 +57,9 @@ void addCentre(int x0, int y0, float radius) {
     int dx = x - x0, dy = y - y0;
     if (float(abs(dx)) > radius || float(abs(dy)) > radius) return;
     int i0 = y0 * w + x0;
-    vec4 centre = texelFetch(zsn, i0);
-    if (acrossEdge(hereLevel, hereS, centre.w, centre.y, push.edge)) return;
+    if (push.edge > 0.0 && acrossEdge(hereLevel, hereNoise, texelFetch(zsn, 2 * i0).w,
+                                      texelFetch(zsn, 2 * i0 + 1).x, push.edge))
+        return;
     float fdx = float(dx), fdy = float(dy);
     // Each centre stands for step^2 centres of its lattice.
     int step = latticeStep(radius);
@@ -95,13 +96,13 @@ void main() {
     gw = w;
     gh = h;
     int i = y * w + x, at = c * planeSize + i;
-    vec4 own = texelFetch(zsn, i);
+    vec4 own = texelFetch(zsn, 2 * i);
     if (own.z < 0.0) {
         outImage[at] = texelFetch(color, at).r;
         return;
     }
     hereLevel = own.w;
-    hereS = own.y;
+    hereNoise = texelFetch(zsn, 2 * i + 1).x;
     sumW = 0.0;
     sumWz = 0.0;
     here = surfaceAt(i);

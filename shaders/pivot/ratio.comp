@@ -35,16 +35,23 @@ bool ratioAt(int at, out float z) {
     return abs(z) <= PIVOT_Z_MAX;
 }
 
-// Pixel i's (z, s, nu, level) into channel c's buffer (level: the 3x3 median of z).
-void storeZsn(int c, int i, vec4 value) {
-    if (c == 0)
-        zsn0[i] = value;
-    else if (c == 1)
-        zsn1[i] = value;
-    else if (c == 2)
-        zsn2[i] = value;
-    else
-        zsn3[i] = value;
+// Pixel i's (z, s, nu, level) and (noise, 0, 0, 0) into channel c's buffer, two texels a
+// pixel (level: the 3x3 median of z; noise: the mean of s over the valid 3x3 neighbours).
+void storeZsn(int c, int i, vec4 value, float noise) {
+    vec4 extra = vec4(noise, 0.0, 0.0, 0.0);
+    if (c == 0) {
+        zsn0[2 * i] = value;
+        zsn0[2 * i + 1] = extra;
+    } else if (c == 1) {
+        zsn1[2 * i] = value;
+        zsn1[2 * i + 1] = extra;
+    } else if (c == 2) {
+        zsn2[2 * i] = value;
+        zsn2[2 * i + 1] = extra;
+    } else {
+        zsn3[2 * i] = value;
+        zsn3[2 * i + 1] = extra;
+    }
 }
 
 // No z at `at` (pixel i of channel c): no data to the fits, and the input kept.
@@ -52,7 +59,7 @@ void noZ(int at, int c, int i) {
     zOut[at] = 0.0;
     sOut[at] = 0.0;
     nuOut[at] = -1.0;
-    storeZsn(c, i, vec4(0.0, 0.0, -1.0, 0.0));
+    storeZsn(c, i, vec4(0.0, 0.0, -1.0, 0.0), 0.0);
 }
 
 const int kSide = (2 * PIVOT_SIDE_RADIUS + 1) * (2 * PIVOT_SIDE_RADIUS + 1);
@@ -185,10 +192,21 @@ void main() {
         }
     float zl = sum / float(n);
     float level = sorted[n / 2];
-    float s;
+    float s, noise = 0.0;
     if (hasVariance != 0) {
         float la = texelFetch(pivot, at).r;
         s = texelFetch(variance, at).r / la / la;
+        // The edge test's noise: the mean of the valid neighbours' variances, which one
+        // pixel whose samples all missed (s = 0) does not take to 0.
+        for (int v = max(0, y - 1); v <= min(h - 1, y + 1); ++v)
+            for (int u = max(0, x - 1); u <= min(w - 1, x + 1); ++u) {
+                float zq;
+                if (!ratioAt(base + v * w + u, zq)) continue;
+                float lq = texelFetch(pivot, base + v * w + u).r;
+                noise += min(texelFetch(variance, base + v * w + u).r / lq / lq,
+                             PIVOT_Z_MAX * PIVOT_Z_MAX);
+            }
+        noise /= float(n);
     } else {
         float sumSq = 0.0;
         for (int v = max(0, y - 1); v <= min(h - 1, y + 1); ++v)
@@ -199,6 +217,8 @@ void main() {
         s = n > 1 ? sumSq / float(n - 1) : 0.0;
     }
     s = min(s, PIVOT_Z_MAX * PIVOT_Z_MAX);
+    // Without a variance input s is the window's sample variance: the noise already.
+    if (hasVariance == 0) noise = s;
     // Beside other ids: data like any other pixel, unless it mixes in another side far from
     // its own (a light's rim first seen as the wall, or a wall first seen as the light): the
     // sides' medians of z over PIVOT_SIDE_GAP of their spreads apart, and its z over
@@ -220,5 +240,5 @@ void main() {
     sOut[at] = s;
     float nu = s / max(zl * zl, PIVOT_TINY);
     nuOut[at] = nu;
-    storeZsn(c, at - base, vec4(z, s, nu, level));
+    storeZsn(c, at - base, vec4(z, s, nu, level), noise);
 }

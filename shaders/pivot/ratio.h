@@ -15,9 +15,9 @@
 #define PIVOT_RATIO_S 4
 #define PIVOT_RATIO_NU 5
 #define PIVOT_RATIO_GUIDES 6
-// (z, s, nu, 0) per pixel adjacent, the fit's one fetch: channel c's in its own buffer at
-// slot PIVOT_RATIO_ZSN + c, so that a binding holds one channel's (the slots of channels the
-// frame lacks are bound but not written).
+// (z, s, nu, level) and (noise, 0, 0, 0) per pixel adjacent, two texels: channel c's in its own
+// buffer at slot PIVOT_RATIO_ZSN + c, so that a binding holds one channel's (the slots of
+// channels the frame lacks are bound but not written).
 #define PIVOT_RATIO_ZSN 7
 #define PIVOT_RATIO_BINDINGS (PIVOT_RATIO_ZSN + PIVOT_MAX_CHANNELS)
 

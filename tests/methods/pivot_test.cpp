@@ -102,7 +102,7 @@ Image GuideOf(const Frame &f) {
     return PivotGuideBuffer(guide);
 }
 
-// The GPU ratio stage's z, s, nu and level.
+// The GPU ratio stage's z, s, nu, level and noise.
 ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivot,
                          const Image *variance, float floor, const Image *guide) {
     int w = color.width, h = color.height, ch = color.channels;
@@ -116,7 +116,7 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     PivotGpuGuides guides{guide ? &g : nullptr, false, guide != nullptr};
     vk::Recorder recorder(ctx);
     std::vector<vk::GpuImage> zsn;
-    for (int k = 0; k < ch; ++k) zsn.emplace_back(ctx, w, h, 4, "zsn");
+    for (int k = 0; k < ch; ++k) zsn.emplace_back(ctx, w, h, 8, "zsn");
     vk::Buffer unused(ctx, kPivotUnusedSlotBytes, "unused");
     RecordPivotRatio(ctx, recorder, c, p, variance ? &v : nullptr,
                      PivotThresholds(pivot, floor), guides, z, s, nu, zsn, unused);
@@ -130,15 +130,19 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     for (const vk::GpuImage &one : zsn) written += one.buffer.Bytes();
     EXPECT_EQ(recorder.Timings().at(0).bytesRead, read);
     EXPECT_EQ(recorder.Timings().at(0).bytesWritten, written);
-    ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download(), Image(w, h, ch)};
-    // The level only in the packed copies: their fourth float.
+    ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download(), Image(w, h, ch),
+                          Image(w, h, ch)};
+    // The level and the noise only in the packed copies: their fourth and fifth floats.
     for (int k = 0; k < ch; ++k) {
         Image packed = zsn[size_t(k)].Download();
-        for (size_t i = 0; i < ratio.level.PixelCount(); ++i)
-            ratio.level.Plane(k)[i] = packed.data[4 * i + 3];
+        for (size_t i = 0; i < ratio.level.PixelCount(); ++i) {
+            ratio.level.Plane(k)[i] = packed.data[8 * i + 3];
+            ratio.noise.Plane(k)[i] = packed.data[8 * i + 4];
+        }
     }
     // The fit's packed copies, one per channel, hold the same values.
-    std::vector<Image> expected = PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level);
+    std::vector<Image> expected =
+        PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise);
     for (int k = 0; k < ch; ++k) {
         Image packed = zsn[size_t(k)].Download();
         EXPECT_EQ(0, std::memcmp(packed.data.data(), expected[size_t(k)].data.data(),
@@ -193,7 +197,7 @@ TEST_P(PivotRatioKernel, MatchesReference) {
         ASSERT_EQ(expected.nu.data[i] < 0, actual.nu.data[i] < 0) << "validity at " << i;
     EXPECT_TRUE(ImagesMatch(expected.z, actual.z, {}, {5 * kUnitRoundoff, 0, 1e-12}));
     // The scale of s and nu: the neighbourhood's squared values.
-    Image sScale = expected.s, nuScale = expected.nu;
+    Image sScale = expected.s, nuScale = expected.nu, noiseScale = expected.noise;
     for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -204,15 +208,21 @@ TEST_P(PivotRatioKernel, MatchesReference) {
                             big = std::max(big, std::fabs(double(expected.z.At(c, v, u))));
                 double s = expected.s.At(c, y, x), nu = expected.nu.At(c, y, x);
                 sScale.At(c, y, x) = float(s + big * big);
+                noiseScale.At(c, y, x) = float(expected.noise.At(c, y, x) + big * big);
                 nuScale.At(c, y, x) =
                     nu < 0 ? 0.f : float(nu * (1 + big * big / std::max(s, 1e-30)));
             }
     Tolerance tol{40 * kUnitRoundoff, 0, 1e-9};
     // The level is one of the neighbours' z (their median): z's tolerance, where z is valid.
     Image levelExpected = expected.level, levelActual = actual.level;
+    Image noiseExpected = expected.noise, noiseActual = actual.noise;
     for (size_t i = 0; i < levelExpected.Size(); ++i)
-        if (expected.nu.data[i] < 0) levelExpected.data[i] = levelActual.data[i] = 0;
+        if (expected.nu.data[i] < 0) {
+            levelExpected.data[i] = levelActual.data[i] = 0;
+            noiseExpected.data[i] = noiseActual.data[i] = 0;
+        }
     EXPECT_TRUE(ImagesMatch(levelExpected, levelActual, {}, {5 * kUnitRoundoff, 0, 1e-12}));
+    EXPECT_TRUE(ImagesMatch(noiseExpected, noiseActual, noiseScale, tol));
     EXPECT_TRUE(ImagesMatch(expected.s, actual.s, sScale, tol));
     EXPECT_TRUE(ImagesMatch(expected.nu, actual.nu, nuScale, tol));
 }
@@ -290,8 +300,8 @@ TEST_P(PivotFitKernel, MatchesReference) {
     }
 
     std::vector<vk::GpuImage> zsn;
-    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level))
-        zsn.emplace_back(Ctx(), w, h, 4, "zsn").Upload(packed);
+    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise))
+        zsn.emplace_back(Ctx(), w, h, 8, "zsn").Upload(packed);
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     PivotFitBuffers fitBuffers(Ctx(), w, h, channels, "fit");
     guide.Upload(GuideOf(f));
@@ -374,8 +384,8 @@ TEST_P(PivotGatherKernel, MatchesReference) {
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage out(Ctx(), w, h, 3, "out");
     std::vector<vk::GpuImage> zsn;
-    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level))
-        zsn.emplace_back(Ctx(), w, h, 4, "zsn").Upload(packed);
+    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise))
+        zsn.emplace_back(Ctx(), w, h, 8, "zsn").Upload(packed);
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
     color.Upload(f.color);
@@ -1380,6 +1390,41 @@ TEST_F(PivotMethod, AShadingEdgeThePivotDoesNotShowHalvesTheHalo) {
     EXPECT_LT(filtered, filteredOff / 2) << "the filter's halo with the edge test";
     // The restore of local means spreads over its tents what the fits moved (pivot.md).
     EXPECT_LT(final, finalOff * 7 / 10) << "the method's halo with the edge test";
+}
+
+// A flat surface at 4 spp, each sample a hit of 4x the mean with probability 1/4: a third
+// of the pixels saw nothing (s = 0). The edge test's noise comes from the 3x3 window, so
+// neighbours of a flat surface seldom lie across an edge; with each pixel's own s (0 where
+// it saw nothing) a level of 0 lay across from any other.
+TEST(PivotEdgeNoise, AFlatSurfaceAtLowSppShowsFewEdges) {
+    const int w = 48, h = 40;
+    const float albedo = 0.5f, mean = 0.3f;
+    Image color(w, h, 1), pivot(w, h, 1, albedo), variance(w, h, 1);
+    std::mt19937_64 rng(SeedFromName("pivot flat low spp"));
+    std::binomial_distribution<int> hits(4, 0.25);
+    int empty = 0;
+    for (size_t i = 0; i < color.PixelCount(); ++i) {
+        const float k = float(hits(rng));
+        color.data[i] = mean * k;
+        variance.data[i] = mean * mean * (4 * k - k * k) / 3;  // of the mean of 4
+        empty += k == 0;
+    }
+    EXPECT_GT(empty, int(color.PixelCount()) / 5)
+        << "few pixels saw nothing: the case tests nothing";
+    const PivotParams p;
+    ref::PivotRatio ratio = ref::PivotRatioOf(color, pivot, &variance, p.floor);
+    int pairs = 0, across = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x + 1 < w; ++x) {
+            if (ratio.nu.At(0, y, x) < 0 || ratio.nu.At(0, y, x + 1) < 0) continue;
+            ++pairs;
+            across += ref::PivotAcrossEdge(ratio.level.At(0, y, x), ratio.noise.At(0, y, x),
+                                           ratio.level.At(0, y, x + 1),
+                                           ratio.noise.At(0, y, x + 1), p.edge);
+        }
+    std::printf("[edge noise] %d of %d neighbour pairs across an edge\n", across, pairs);
+    EXPECT_GT(pairs, w * h / 2);
+    EXPECT_LT(across, pairs / 100) << "a flat surface's neighbours across an edge";
 }
 
 // A wire one pixel wide (its own object id, albedo 0.3) across a wall (albedo 0.8): no fit
