@@ -178,7 +178,10 @@ void main() {
     // (an insertion sort of at most 9) give the edge test's level (pivot/edge.glsl): their
     // median (the upper one of an even count), which one bright sample does not lift and a
     // window straddling an edge takes from its larger side.
-    float sum = 0.0;
+    // With a variance input the same loop sums the edge test's noise: the mean of the valid
+    // neighbours' variances, which one pixel whose samples all missed (s = 0) does not take
+    // to 0.
+    float sum = 0.0, noise = 0.0;
     float sorted[9];
     int n = 0;
     for (int v = max(0, y - 1); v <= min(h - 1, y + 1); ++v)
@@ -189,23 +192,18 @@ void main() {
             int j = n++;
             for (; j > 0 && sorted[j - 1] > zq; --j) sorted[j] = sorted[j - 1];
             sorted[j] = zq;
-        }
-    float zl = sum / float(n);
-    float level = sorted[n / 2];
-    float s, noise = 0.0;
-    if (hasVariance != 0) {
-        float la = texelFetch(pivot, at).r;
-        s = texelFetch(variance, at).r / la / la;
-        // The edge test's noise: the mean of the valid neighbours' variances, which one
-        // pixel whose samples all missed (s = 0) does not take to 0.
-        for (int v = max(0, y - 1); v <= min(h - 1, y + 1); ++v)
-            for (int u = max(0, x - 1); u <= min(w - 1, x + 1); ++u) {
-                float zq;
-                if (!ratioAt(base + v * w + u, zq)) continue;
+            if (hasVariance != 0) {
                 float lq = texelFetch(pivot, base + v * w + u).r;
                 noise += min(texelFetch(variance, base + v * w + u).r / lq / lq,
                              PIVOT_Z_MAX * PIVOT_Z_MAX);
             }
+        }
+    float zl = sum / float(n);
+    float level = sorted[n / 2];
+    float s;
+    if (hasVariance != 0) {
+        float la = texelFetch(pivot, at).r;
+        s = texelFetch(variance, at).r / la / la;
         noise /= float(n);
     } else {
         float sumSq = 0.0;
