@@ -1947,8 +1947,8 @@ namespace {
 
 class PivotLimits : public GpuTest {};
 
-// A frame whose largest binding (a channel's fit buffer; a channel's packed z, s, nu is
-// smaller) does not fit the device's is refused by the pipeline before any work;
+// A frame whose largest binding (a channel's fit buffer; a channel's packed z, s, nu, level
+// and noise is as large) does not fit the device's is refused by the pipeline before any work;
 // mcd::Method runs such a frame in tiles (tests/methods/tiled_run_test.cpp).
 TEST_F(PivotLimits, RefusesFitsAboveTheBindingLimit) {
     const int w = 3000, h = 2000;
