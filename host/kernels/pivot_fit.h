@@ -44,9 +44,9 @@ struct PivotFitBuffers {
 };
 
 // `zsn`: per channel an image of 8 planes holding z, s, nu, level and noise of each pixel
-// adjacent (PivotZsnOf), as the ratio stage writes them; of 4 (z, s, nu) where settings.edge
-// is 0. One dispatch per channel, with that
-// channel's packed input and fit buffers bound.
+// adjacent (PivotZsnOf), as the ratio stage writes them; of 4 (z, s, nu) only where
+// settings.edge is 0. One dispatch per channel, with that channel's packed input and fit
+// buffers bound.
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                     const std::vector<vk::GpuImage> &zsn, const PivotGpuGuides &guides,
                     const PivotFitSettings &settings, PivotFitBuffers &fits, int rowBase,

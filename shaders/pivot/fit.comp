@@ -9,7 +9,7 @@ layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
 // Texels a pixel of zsn: 2 with the edge test's inputs, 1 without (pivot/pivot.h).
 layout(constant_id = PIVOT_SPEC_ZSN_TEXELS) const int zsnTexels = 2;
 // This dispatch's channel's (z, s, nu, level) (level: the median of z over the valid 3x3
-// neighbours), then its noise where zsnTexels is 2.
+// neighbours; 0 where zsnTexels is 1), then its noise where zsnTexels is 2.
 layout(binding = PIVOT_FIT_ZSN) uniform samplerBuffer zsn;
 layout(binding = PIVOT_FIT_GUIDES) uniform samplerBuffer guides;
 // A centre's 8 planes of each buffer as two vec4s (pivot/pivot.h): four writes a centre.

@@ -184,7 +184,7 @@ void main() {
     // window straddling an edge takes from its larger side.
     // With a variance input the same loop sums the edge test's noise: the mean of the valid
     // neighbours' variances, which one pixel whose samples all missed (s = 0) does not take
-    // to 0. Without the edge test neither is computed (level and noise stay 0).
+    // to 0. Without the edge test the level is not sorted out and neither is stored.
     float sum = 0.0, noise = 0.0;
     float sorted[9];
     int n = 0;

@@ -329,6 +329,15 @@ TEST_P(PivotFitKernel, MatchesReference) {
                         o.sigmaWeight, o.edge},
                        fitBuffers, rowBase, rows);
     recorder.Submit();
+    // The edge test reads the level and noise the 4-float layout lacks: refused, not misread.
+    if (!edgeInputs) {
+        vk::Recorder refused(Ctx());
+        EXPECT_THROW(RecordPivotFit(Ctx(), refused, zsn, gpuGuides,
+                                    {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement,
+                                     o.k, o.sigmaWeight, 4.f},
+                                    fitBuffers, 0, h),
+                     Error);
+    }
     Image actual = fitBuffers.Download();
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
@@ -422,6 +431,12 @@ TEST_P(PivotGatherKernel, MatchesReference) {
         RecordPivotGather(Ctx(), recorder, color, pivot, zsn, fitBuffers, gpuGuides, tiles,
                           reach, o.edge, out, rowBase, rows);
     recorder.Submit();
+    if (!edgeInputs) {
+        vk::Recorder refused(Ctx());
+        EXPECT_THROW(RecordPivotGather(Ctx(), refused, color, pivot, zsn, fitBuffers, gpuGuides,
+                                       tiles, reach, 4.f, out, 0, h),
+                     Error);
+    }
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     Image magnitude = f.pivot;
