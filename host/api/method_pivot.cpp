@@ -453,10 +453,12 @@ class Pivot : public FrontEndOf<PivotSettings> {
         needs.align = PIVOT_GATHER_TILE;
         // Two fit buffers of PIVOT_PLANES / 2 planes per channel (one binding per channel
         // and buffer), six images of the colour's channels, the variance, the fit's packed
-        // z, s, nu, level and noise (eight per channel, one binding per channel) and the
-        // guides (4 floats a pixel).
-        needs.bindingBytesPerPixel = std::max(PIVOT_PLANES_PER_BUFFER, 8) * 4.0;
-        needs.bytesPerPixel = (16.0 + 7 + 8) * channels * 4 + 4 * 4;
+        // z, s, nu, level and noise (eight per channel, four without the edge test; one
+        // binding per channel) and the guides (4 floats a pixel).
+        const int zsnPlanes =
+            options.method.edge > 0 ? PIVOT_ZSN_EDGE_PLANES : PIVOT_ZSN_PLANES;
+        needs.bindingBytesPerPixel = std::max(PIVOT_PLANES_PER_BUFFER, zsnPlanes) * 4.0;
+        needs.bytesPerPixel = (16.0 + 7 + zsnPlanes) * channels * 4 + 4 * 4;
         return needs;
     }
 

@@ -121,20 +121,22 @@ void PivotBuffersOfFits(const Image &fits, int channels, Image *lo, Image *hi) {
 }
 
 std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu,
-                              const Image &level, const Image &noise) {
+                              const Image &level, const Image &noise, bool edgeInputs) {
     for (const Image *one : {&s, &nu, &level, &noise})
         if (one->width != z.width || one->height != z.height || one->channels != z.channels)
             throw Error("pivot: z, s, nu and level differ in shape", ErrorKind::Internal);
     std::vector<Image> zsn;
     const size_t pixels = z.PixelCount();
+    const size_t n = edgeInputs ? PIVOT_ZSN_EDGE_PLANES : PIVOT_ZSN_PLANES;
     for (int c = 0; c < z.channels; ++c) {
-        Image &one = zsn.emplace_back(z.width, z.height, 8);
+        Image &one = zsn.emplace_back(z.width, z.height, int(n));
         for (size_t i = 0; i < pixels; ++i) {
-            one.data[8 * i] = z.Plane(c)[i];
-            one.data[8 * i + 1] = s.Plane(c)[i];
-            one.data[8 * i + 2] = nu.Plane(c)[i];
-            one.data[8 * i + 3] = level.Plane(c)[i];
-            one.data[8 * i + 4] = noise.Plane(c)[i];
+            one.data[n * i] = z.Plane(c)[i];
+            one.data[n * i + 1] = s.Plane(c)[i];
+            one.data[n * i + 2] = nu.Plane(c)[i];
+            if (!edgeInputs) continue;
+            one.data[n * i + 3] = level.Plane(c)[i];
+            one.data[n * i + 4] = noise.Plane(c)[i];
         }
     }
     return zsn;
@@ -204,13 +206,21 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                                 zsn.size(), PIVOT_MAX_CHANNELS),
                     ErrorKind::Internal);
     int w = zsn[0].width, h = zsn[0].height, channels = int(zsn.size());
+    int zsnTexels = zsn[0].channels / 4;
     for (const vk::GpuImage &one : zsn)
-        if (one.width != w || one.height != h || one.channels != 8)
+        if (one.width != w || one.height != h || one.channels != zsn[0].channels ||
+            (one.channels != PIVOT_ZSN_PLANES && one.channels != PIVOT_ZSN_EDGE_PLANES))
             throw Error(
-                fmt::format(
-                    "pivot fit: {} is {}x{}x{}, expected {}x{}x8 (z, s, nu, level, noise)",
-                    one.buffer.Name(), one.width, one.height, one.channels, w, h),
+                fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x{} (z, s, nu, level, "
+                            "noise) or x{} (z, s, nu) for every channel",
+                            one.buffer.Name(), one.width, one.height, one.channels, w, h,
+                            PIVOT_ZSN_EDGE_PLANES, PIVOT_ZSN_PLANES),
                 ErrorKind::Internal);
+    if (settings.edge > 0 && zsnTexels != 2)
+        throw Error(
+            "pivot fit: the shading-edge test reads zsn's level and noise, which this "
+            "one lacks",
+            ErrorKind::Internal);
     CheckPivotGuides("pivot fit", w, h, guides);
     CheckPivotFitBuffers("pivot fit", w, h, channels, fits);
     if (rowBase < 0 || rows < 1 || rowBase + rows > h)
@@ -221,15 +231,17 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
         throw Error(fmt::format("pivot fit: the maximum radius is {}; 2..64 allowed",
                                 settings.maxRadius),
                     ErrorKind::InvalidArgument);
-    const vk::Kernel &kernel = context.GetKernel(
-        {"pivot_fit",
-         k_pivot_fit_spv,
-         sizeof(k_pivot_fit_spv),
-         PIVOT_FIT_BINDINGS,
-         sizeof(shader::PivotFitPush),
-         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
-         (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES),
-         (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES)});
+    const vk::Kernel &kernel =
+        context.GetKernel({"pivot_fit",
+                           k_pivot_fit_spv,
+                           sizeof(k_pivot_fit_spv),
+                           PIVOT_FIT_BINDINGS,
+                           sizeof(shader::PivotFitPush),
+                           {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0},
+                            {PIVOT_SPEC_IDS, guides.ids ? 1 : 0},
+                            {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
+                           (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES),
+                           (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES)});
     for (int c = 0; c < channels; ++c) {
         shader::PivotFitPush push{w,
                                   h,

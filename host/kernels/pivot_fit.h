@@ -44,8 +44,9 @@ struct PivotFitBuffers {
 };
 
 // `zsn`: per channel an image of 8 planes holding z, s, nu, level and noise of each pixel
-// adjacent (PivotZsnOf), as the ratio stage writes them. One dispatch per channel, with that
-// channel's packed input and fit buffers bound.
+// adjacent (PivotZsnOf), as the ratio stage writes them; of 4 (z, s, nu) only where
+// settings.edge is 0. One dispatch per channel, with that channel's packed input and fit
+// buffers bound.
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                     const std::vector<vk::GpuImage> &zsn, const PivotGpuGuides &guides,
                     const PivotFitSettings &settings, PivotFitBuffers &fits, int rowBase,
@@ -53,9 +54,11 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
 
 // The fit's packed input from z, s, nu, level and noise (same shape; level and noise the edge
 // test's, PivotRatio), one image per channel: float i * 8 + k of channel c's holds z, s,
-// nu, level, noise (k = 0..4; 5..7 zero) of pixel i in channel c, two vec4 texels a pixel.
+// nu, level, noise (k = 0..4; 5..7 zero) of pixel i in channel c, two vec4 texels a pixel;
+// without `edgeInputs` float i * 4 + k holds z, s, nu (k = 0..2; 3 zero), one texel a pixel
+// (level and noise unread).
 std::vector<Image> PivotZsnOf(const Image &z, const Image &s, const Image &nu,
-                              const Image &level, const Image &noise);
+                              const Image &level, const Image &noise, bool edgeInputs = true);
 
 // The guide buffer (a pixel's guides in one vec4 texel: the normal normalised, zero where
 // it is zero, and the label of its (object id, part id) pair, 1 + the pair's index among the

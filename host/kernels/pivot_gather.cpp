@@ -107,7 +107,12 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                                 tilesX * tilesY, 3 * color.channels),
                     ErrorKind::Internal);
     CheckPivotShapes("pivot gather", color, {&pivot, &out});
-    CheckPivotZsn("pivot gather", color, zsn);
+    int zsnTexels = CheckPivotZsn("pivot gather", color, zsn);
+    if (edge > 0 && zsnTexels != 2)
+        throw Error(
+            "pivot gather: the shading-edge test reads zsn's level and noise, which "
+            "this one lacks",
+            ErrorKind::Internal);
     CheckPivotGuides("pivot gather", color.width, color.height, guides);
     CheckPivotFitBuffers("pivot gather", color.width, color.height, color.channels, fits);
     const vk::Kernel &kernel = context.GetKernel(
@@ -116,7 +121,9 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
          sizeof(k_pivot_gather_spv),
          PIVOT_GATHER_BINDINGS,
          sizeof(shader::PivotGatherPush),
-         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
+         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0},
+          {PIVOT_SPEC_IDS, guides.ids ? 1 : 0},
+          {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
          (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_ZSN) |
              (1u << PIVOT_GATHER_FIT_LO) | (1u << PIVOT_GATHER_FIT_HI) |
              (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES),

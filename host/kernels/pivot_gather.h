@@ -28,8 +28,9 @@ Image PivotTileOrder(const Image &radii, int *reach);
 int PivotLatticeStepOf(float radius);
 
 // `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius; `zsn` the
-// ratio's packed (z, s, nu, level, noise) per channel; `edge` the sigmas of the shading-edge
-// test (0: off). One dispatch per channel, reading that channel's fit and zsn buffers.
+// ratio's packed (z, s, nu, level, noise) per channel, or (z, s, nu) where `edge` is 0;
+// `edge` the sigmas of the shading-edge test (0: off). One dispatch per channel, reading that
+// channel's fit and zsn buffers.
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                        const vk::GpuImage &pivot, const std::vector<vk::GpuImage> &zsn,
                        const PivotFitBuffers &fits, const PivotGpuGuides &guides,

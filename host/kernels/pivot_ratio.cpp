@@ -23,19 +23,23 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
                     ErrorKind::InvalidArgument);
 }
 
-void CheckPivotZsn(const char *what, const vk::GpuImage &a,
-                   const std::vector<vk::GpuImage> &zsn) {
-    if (int(zsn.size()) != a.channels)
+int CheckPivotZsn(const char *what, const vk::GpuImage &a,
+                  const std::vector<vk::GpuImage> &zsn) {
+    if (int(zsn.size()) != a.channels || zsn.empty())
         throw Error(fmt::format("{}: {} packed z, s, nu images for {} channels", what,
                                 zsn.size(), a.channels),
                     ErrorKind::Internal);
+    int planes = zsn.front().channels;
+    if (planes != PIVOT_ZSN_PLANES && planes != PIVOT_ZSN_EDGE_PLANES) planes = -1;
     for (const vk::GpuImage &one : zsn)
-        if (one.width != a.width || one.height != a.height || one.channels != 8)
+        if (one.width != a.width || one.height != a.height || one.channels != planes)
             throw Error(
-                fmt::format("{}: {} is {}x{}x{}, expected {}x{}x8 (z, s, nu, level, noise)",
+                fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{} (z, s, nu, level, "
+                            "noise) or x{} (z, s, nu) for every channel",
                             what, one.buffer.Name(), one.width, one.height, one.channels,
-                            a.width, a.height),
+                            a.width, a.height, PIVOT_ZSN_EDGE_PLANES, PIVOT_ZSN_PLANES),
                 ErrorKind::Internal);
+    return planes / 4;
 }
 
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
@@ -44,7 +48,7 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                       vk::GpuImage &z, vk::GpuImage &s, vk::GpuImage &nu,
                       std::vector<vk::GpuImage> &zsn, const vk::Buffer &unusedSlot) {
     CheckPivotShapes("pivot ratio", color, {&pivot, &z, &s, &nu});
-    CheckPivotZsn("pivot ratio", color, zsn);
+    int zsnTexels = CheckPivotZsn("pivot ratio", color, zsn);
     if (variance) CheckPivotShapes("pivot ratio", color, {variance});
     CheckPivotGuides("pivot ratio", color.width, color.height, guides);
     if (int(thresholds.size()) != color.channels)
@@ -55,16 +59,18 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
         throw Error(fmt::format("pivot ratio: the stand-in {} is {} bytes, above {}",
                                 unusedSlot.Name(), unusedSlot.Bytes(), kPivotUnusedSlotBytes),
                     ErrorKind::Internal);
-    const vk::Kernel &kernel = context.GetKernel(
-        {"pivot_ratio",
-         k_pivot_ratio_spv,
-         sizeof(k_pivot_ratio_spv),
-         PIVOT_RATIO_BINDINGS,
-         sizeof(shader::PivotRatioPush),
-         {{PIVOT_SPEC_VARIANCE, variance ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
-         (1u << PIVOT_RATIO_COLOR) | (1u << PIVOT_RATIO_PIVOT) | (1u << PIVOT_RATIO_VARIANCE) |
-             (1u << PIVOT_RATIO_GUIDES),
-         1u << PIVOT_RATIO_GUIDES});
+    const vk::Kernel &kernel =
+        context.GetKernel({"pivot_ratio",
+                           k_pivot_ratio_spv,
+                           sizeof(k_pivot_ratio_spv),
+                           PIVOT_RATIO_BINDINGS,
+                           sizeof(shader::PivotRatioPush),
+                           {{PIVOT_SPEC_VARIANCE, variance ? 1 : 0},
+                            {PIVOT_SPEC_IDS, guides.ids ? 1 : 0},
+                            {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
+                           (1u << PIVOT_RATIO_COLOR) | (1u << PIVOT_RATIO_PIVOT) |
+                               (1u << PIVOT_RATIO_VARIANCE) | (1u << PIVOT_RATIO_GUIDES),
+                           1u << PIVOT_RATIO_GUIDES});
     float t[4] = {};
     for (size_t c = 0; c < thresholds.size(); ++c) t[c] = thresholds[c];
     shader::PivotRatioPush push{color.width, color.height, t[0], t[1], t[2], t[3]};

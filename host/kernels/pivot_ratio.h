@@ -12,9 +12,10 @@
 namespace mcd {
 
 // `color`, `pivot`, `variance` (nullptr: estimate the noise from the 3x3 neighbours), `z`,
-// `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel. `zsn`, one image of
-// 8 planes per channel, receives the same z, s, nu, the 3x3 median of z and the 3x3 mean of s
-// packed for the fit and the gather (PivotZsnOf). `unusedSlot`, at most kPivotUnusedSlotBytes,
+// `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel. `zsn`, one image per
+// channel, receives the same z, s, nu packed for the fit and the gather (PivotZsnOf): with 8
+// planes also the 3x3 median of z and the 3x3 mean of s (the shading-edge test's inputs),
+// with 4 planes not (a run without the test). `unusedSlot`, at most kPivotUnusedSlotBytes,
 // fills the packed slots of the channels the frame lacks, which the kernel does not touch:
 // their traffic counts next to nothing.
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
@@ -30,9 +31,10 @@ constexpr size_t kPivotUnusedSlotBytes = 16;
 void CheckPivotShapes(const char *what, const vk::GpuImage &a,
                       std::initializer_list<const vk::GpuImage *> others);
 
-// Throw unless `zsn` holds an image of `a`'s size and 8 planes (z, s, nu, level, noise per
-// pixel) for each of its channels.
-void CheckPivotZsn(const char *what, const vk::GpuImage &a,
-                   const std::vector<vk::GpuImage> &zsn);
+// Throw unless `zsn` holds an image of `a`'s size for each of its channels, all of
+// PIVOT_ZSN_EDGE_PLANES planes (z, s, nu, level, noise per pixel) or all of PIVOT_ZSN_PLANES
+// (z, s, nu); return the vec4 texels a pixel (2 or 1).
+int CheckPivotZsn(const char *what, const vk::GpuImage &a,
+                  const std::vector<vk::GpuImage> &zsn);
 
 }  // namespace mcd

@@ -121,9 +121,10 @@ Image GuideImage(const PivotInputs &in) {
 }
 
 // The GPU side of a run: the inputs, z, its weights s and noise nu, the output, and the
-// guides when the frame has normals or ids.
+// guides when the frame has normals or ids. `edgeInputs`: the packed z, s, nu carry the
+// shading-edge test's level and noise (8 floats a pixel, else 4).
 struct PivotGpu {
-    PivotGpu(vk::Context &context, const PivotInputs &in)
+    PivotGpu(vk::Context &context, const PivotInputs &in, bool edgeInputs)
         : color(context, in.color->width, in.color->height, in.color->channels, "pivot.color"),
           pivot(context, in.color->width, in.color->height, in.color->channels, "pivot.pivot"),
           z(context, in.color->width, in.color->height, in.color->channels, "pivot.z"),
@@ -132,9 +133,12 @@ struct PivotGpu {
           out(context, in.color->width, in.color->height, in.color->channels, "pivot.out"),
           unusedSlot(context, kPivotUnusedSlotBytes, "pivot.unused") {
         int w = in.color->width, h = in.color->height, channels = in.color->channels;
-        // Each channel's packed z, s, nu in a buffer of its own: a binding holds one.
+        // Each channel's packed z, s, nu in a buffer of its own: a binding holds one. A run
+        // without the edge test holds 4 floats a pixel, not 8.
         for (int c = 0; c < channels; ++c)
-            zsn.emplace_back(context, w, h, 8, fmt::format("pivot.zsn{}", c));
+            zsn.emplace_back(context, w, h,
+                             edgeInputs ? PIVOT_ZSN_EDGE_PLANES : PIVOT_ZSN_PLANES,
+                             fmt::format("pivot.zsn{}", c));
         color.Upload(*in.color);
         pivot.Upload(*in.pivot);
         if (in.variance) {
@@ -293,7 +297,7 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
                                 in.pivot->channels),
                     ErrorKind::Internal);
     result.pixelsWithoutZ = CountWithoutZ(*in.color, *in.pivot, thresholds);
-    PivotGpu gpu(context, in);
+    PivotGpu gpu(context, in, options.edge > 0);
     PlanInputs(run, in, gpu.guides, result.pixelsWithoutZ, options);
     RecordPivotRatio(context, run.Recorder(), gpu.color, gpu.pivot,
                      gpu.variance ? &*gpu.variance : nullptr, thresholds, gpu.guides, gpu.z,

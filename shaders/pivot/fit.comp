@@ -6,8 +6,10 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
-// This dispatch's channel's (z, s, nu, level), a texel per pixel (level: the median of z
-// over the valid 3x3 neighbours).
+// Texels a pixel of zsn: 2 with the edge test's inputs, 1 without (pivot/pivot.h).
+layout(constant_id = PIVOT_SPEC_ZSN_TEXELS) const int zsnTexels = 2;
+// This dispatch's channel's (z, s, nu, level) (level: the median of z over the valid 3x3
+// neighbours; 0 where zsnTexels is 1), then its noise where zsnTexels is 2.
 layout(binding = PIVOT_FIT_ZSN) uniform samplerBuffer zsn;
 layout(binding = PIVOT_FIT_GUIDES) uniform samplerBuffer guides;
 // A centre's 8 planes of each buffer as two vec4s (pivot/pivot.h): four writes a centre.
@@ -85,12 +87,12 @@ float goodNu, k;
 // edge from the centre.
 float weightAt(int x, int y, float mean, float radius, out float z, out float s) {
     int i = y * w + x;
-    vec4 pixel = texelFetch(zsn, 2 * i);
+    vec4 pixel = texelFetch(zsn, zsnTexels * i);
     float nu = pixel.z;
     z = pixel.x;
     s = pixel.y;
     if (nu < 0.0 || nu > goodNu) return 0.0;
-    if (radius > 0.0 && push.edge > 0.0 &&
+    if (zsnTexels == 2 && radius > 0.0 && push.edge > 0.0 &&
         acrossEdge(pixel.w, texelFetch(zsn, 2 * i + 1).x, centreLevel, centreNoise, push.edge))
         return 0.0;
     float geo = dataTerm(surfaceAt(i), centre);
@@ -240,8 +242,8 @@ int grow(out float mean) {
     int n = 0;
     for (int v = max(0, y0 - 1); v <= min(h - 1, y0 + 1); ++v)
         for (int u = max(0, x0 - 1); u <= min(w - 1, x0 + 1); ++u)
-            if (texelFetch(zsn, 2 * (v * w + u)).z >= 0.0) {
-                zc += texelFetch(zsn, 2 * (v * w + u)).x;
+            if (texelFetch(zsn, zsnTexels * (v * w + u)).z >= 0.0) {
+                zc += texelFetch(zsn, zsnTexels * (v * w + u)).x;
                 ++n;
             }
     zc /= float(n);
@@ -365,11 +367,9 @@ void main() {
     if (x0 < w) {
         int at = y0 * w + x0;
         centre = surfaceAt(at);
-        centreLevel = texelFetch(zsn, 2 * at).w;
-        centreNoise = texelFetch(zsn, 2 * at + 1).x;
         // A pixel beside other ids is data to its side's fits but no centre: its square,
         // mostly of other ids, would grow far on few pixels of its own.
-        if (texelFetch(zsn, 2 * at).z < 0.0 || boundaryTerm(x0, y0) == 0.0)
+        if (texelFetch(zsn, zsnTexels * at).z < 0.0 || boundaryTerm(x0, y0) == 0.0)
             storeNone(at);
         else
             radius = grow(mean);
@@ -394,7 +394,10 @@ void main() {
     if (radius < 0) return;
     x0 = groupX + columnOf(mine);
     centre = surfaceAt(y0 * w + x0);
-    centreLevel = texelFetch(zsn, 2 * (y0 * w + x0)).w;
-    centreNoise = texelFetch(zsn, 2 * (y0 * w + x0) + 1).x;
+    // The edge test's side of the centre (growth does not test; the final fit does).
+    if (zsnTexels == 2) {
+        centreLevel = texelFetch(zsn, 2 * (y0 * w + x0)).w;
+        centreNoise = texelFetch(zsn, 2 * (y0 * w + x0) + 1).x;
+    }
     fitAndStore(radius, grownMean[mine]);
 }

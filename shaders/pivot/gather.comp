@@ -6,6 +6,8 @@
 layout(local_size_x = PIVOT_LOCAL_SIZE) in;
 layout(constant_id = PIVOT_SPEC_NORMALS) const int useNormals = 0;
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
+// Texels a pixel of zsn: 2 with the edge test's inputs, 1 without (pivot/pivot.h).
+layout(constant_id = PIVOT_SPEC_ZSN_TEXELS) const int zsnTexels = 2;
 layout(binding = PIVOT_GATHER_COLOR) uniform samplerBuffer color;
 layout(binding = PIVOT_GATHER_PIVOT) uniform samplerBuffer pivot;
 layout(binding = PIVOT_GATHER_ZSN) uniform samplerBuffer zsn;
@@ -57,8 +59,9 @@ void addCentre(int x0, int y0, float radius) {
     int dx = x - x0, dy = y - y0;
     if (float(abs(dx)) > radius || float(abs(dy)) > radius) return;
     int i0 = y0 * w + x0;
-    if (push.edge > 0.0 && acrossEdge(hereLevel, hereNoise, texelFetch(zsn, 2 * i0).w,
-                                      texelFetch(zsn, 2 * i0 + 1).x, push.edge))
+    if (zsnTexels == 2 && push.edge > 0.0 &&
+        acrossEdge(hereLevel, hereNoise, texelFetch(zsn, 2 * i0).w,
+                   texelFetch(zsn, 2 * i0 + 1).x, push.edge))
         return;
     float fdx = float(dx), fdy = float(dy);
     // Each centre stands for step^2 centres of its lattice.
@@ -96,13 +99,15 @@ void main() {
     gw = w;
     gh = h;
     int i = y * w + x, at = c * planeSize + i;
-    vec4 own = texelFetch(zsn, 2 * i);
+    vec4 own = texelFetch(zsn, zsnTexels * i);
     if (own.z < 0.0) {
         outImage[at] = texelFetch(color, at).r;
         return;
     }
-    hereLevel = own.w;
-    hereNoise = texelFetch(zsn, 2 * i + 1).x;
+    if (zsnTexels == 2) {
+        hereLevel = own.w;
+        hereNoise = texelFetch(zsn, 2 * i + 1).x;
+    }
     sumW = 0.0;
     sumWz = 0.0;
     here = surfaceAt(i);

@@ -15,10 +15,17 @@
 
 // Specialization constants: the normal term and the object/part terms are compiled out
 // when the frame has no normals or ids; the ratio kernel reads the variance layer or
-// estimates the noise.
+// estimates the noise; the packed z, s, nu hold the shading-edge test's inputs or not.
 #define PIVOT_SPEC_NORMALS 0
 #define PIVOT_SPEC_IDS 1
 #define PIVOT_SPEC_VARIANCE 2
+#define PIVOT_SPEC_ZSN_TEXELS 3
+
+// The ratio stage's packed input of the fit and the gather, per pixel adjacent: with the
+// shading-edge test two vec4 texels, (z, s, nu, level) and (noise, 0, 0, 0); without it one,
+// (z, s, nu, 0), which the test-off runs read at half the bytes.
+#define PIVOT_ZSN_PLANES 4
+#define PIVOT_ZSN_EDGE_PLANES 8
 
 // Eq. 13 as a quadrature over the centres: a centre of radius R0 takes part when x0 and y0
 // are multiples of its step (the largest power of two <= R0 / 2, at most this), with weight

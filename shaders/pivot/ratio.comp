@@ -17,6 +17,8 @@ layout(std430, binding = PIVOT_RATIO_ZSN + 1) writeonly buffer Zsn1 { vec4 zsn1[
 layout(std430, binding = PIVOT_RATIO_ZSN + 2) writeonly buffer Zsn2 { vec4 zsn2[]; };
 layout(std430, binding = PIVOT_RATIO_ZSN + 3) writeonly buffer Zsn3 { vec4 zsn3[]; };
 layout(constant_id = PIVOT_SPEC_IDS) const int useIds = 0;
+// 2: the packed input holds the edge test's level and noise; 1: z, s, nu alone.
+layout(constant_id = PIVOT_SPEC_ZSN_TEXELS) const int zsnTexels = 2;
 const int useNormals = 0;
 layout(binding = PIVOT_RATIO_GUIDES) uniform samplerBuffer guides;
 
@@ -36,21 +38,23 @@ bool ratioAt(int at, out float z) {
 }
 
 // Pixel i's (z, s, nu, level) and (noise, 0, 0, 0) into channel c's buffer, two texels a
-// pixel (level: the 3x3 median of z; noise: the mean of s over the valid 3x3 neighbours).
+// pixel (level: the 3x3 median of z; noise: the mean of s over the valid 3x3 neighbours);
+// without the edge test's inputs (z, s, nu, 0), one texel.
 void storeZsn(int c, int i, vec4 value, float noise) {
     vec4 extra = vec4(noise, 0.0, 0.0, 0.0);
+    int at = zsnTexels * i;
     if (c == 0) {
-        zsn0[2 * i] = value;
-        zsn0[2 * i + 1] = extra;
+        zsn0[at] = value;
+        if (zsnTexels == 2) zsn0[at + 1] = extra;
     } else if (c == 1) {
-        zsn1[2 * i] = value;
-        zsn1[2 * i + 1] = extra;
+        zsn1[at] = value;
+        if (zsnTexels == 2) zsn1[at + 1] = extra;
     } else if (c == 2) {
-        zsn2[2 * i] = value;
-        zsn2[2 * i + 1] = extra;
+        zsn2[at] = value;
+        if (zsnTexels == 2) zsn2[at + 1] = extra;
     } else {
-        zsn3[2 * i] = value;
-        zsn3[2 * i + 1] = extra;
+        zsn3[at] = value;
+        if (zsnTexels == 2) zsn3[at + 1] = extra;
     }
 }
 
@@ -180,7 +184,7 @@ void main() {
     // window straddling an edge takes from its larger side.
     // With a variance input the same loop sums the edge test's noise: the mean of the valid
     // neighbours' variances, which one pixel whose samples all missed (s = 0) does not take
-    // to 0.
+    // to 0. Without the edge test the level is not sorted out and neither is stored.
     float sum = 0.0, noise = 0.0;
     float sorted[9];
     int n = 0;
@@ -190,6 +194,7 @@ void main() {
             if (!ratioAt(base + v * w + u, zq)) continue;
             sum += zq;
             int j = n++;
+            if (zsnTexels == 1) continue;
             for (; j > 0 && sorted[j - 1] > zq; --j) sorted[j] = sorted[j - 1];
             sorted[j] = zq;
             if (hasVariance != 0) {
@@ -199,7 +204,7 @@ void main() {
             }
         }
     float zl = sum / float(n);
-    float level = sorted[n / 2];
+    float level = zsnTexels == 2 ? sorted[n / 2] : 0.0;
     float s;
     if (hasVariance != 0) {
         float la = texelFetch(pivot, at).r;

@@ -102,9 +102,11 @@ Image GuideOf(const Frame &f) {
     return PivotGuideBuffer(guide);
 }
 
-// The GPU ratio stage's z, s, nu, level and noise.
+// The GPU ratio stage's z, s, nu, level and noise (level and noise 0 without
+// `edgeInputs`: the packed input then holds z, s, nu alone).
 ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivot,
-                         const Image *variance, float floor, const Image *guide) {
+                         const Image *variance, float floor, const Image *guide,
+                         bool edgeInputs = true) {
     int w = color.width, h = color.height, ch = color.channels;
     vk::GpuImage c(ctx, w, h, ch, "color"), p(ctx, w, h, ch, "pivot"), v(ctx, w, h, ch, "var");
     vk::GpuImage z(ctx, w, h, ch, "z"), s(ctx, w, h, ch, "s"), nu(ctx, w, h, ch, "nu");
@@ -116,7 +118,8 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     PivotGpuGuides guides{guide ? &g : nullptr, false, guide != nullptr};
     vk::Recorder recorder(ctx);
     std::vector<vk::GpuImage> zsn;
-    for (int k = 0; k < ch; ++k) zsn.emplace_back(ctx, w, h, 8, "zsn");
+    const int planes = edgeInputs ? PIVOT_ZSN_EDGE_PLANES : PIVOT_ZSN_PLANES;
+    for (int k = 0; k < ch; ++k) zsn.emplace_back(ctx, w, h, planes, "zsn");
     vk::Buffer unused(ctx, kPivotUnusedSlotBytes, "unused");
     RecordPivotRatio(ctx, recorder, c, p, variance ? &v : nullptr,
                      PivotThresholds(pivot, floor), guides, z, s, nu, zsn, unused);
@@ -133,7 +136,7 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     ref::PivotRatio ratio{z.Download(), s.Download(), nu.Download(), Image(w, h, ch),
                           Image(w, h, ch)};
     // The level and the noise only in the packed copies: their fourth and fifth floats.
-    for (int k = 0; k < ch; ++k) {
+    for (int k = 0; k < ch && edgeInputs; ++k) {
         Image packed = zsn[size_t(k)].Download();
         for (size_t i = 0; i < ratio.level.PixelCount(); ++i) {
             ratio.level.Plane(k)[i] = packed.data[8 * i + 3];
@@ -142,9 +145,10 @@ ref::PivotRatio GpuRatio(vk::Context &ctx, const Image &color, const Image &pivo
     }
     // The fit's packed copies, one per channel, hold the same values.
     std::vector<Image> expected =
-        PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise);
+        PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise, edgeInputs);
     for (int k = 0; k < ch; ++k) {
         Image packed = zsn[size_t(k)].Download();
+        EXPECT_EQ(packed.data.size(), expected[size_t(k)].data.size());
         EXPECT_EQ(0, std::memcmp(packed.data.data(), expected[size_t(k)].data.data(),
                                  expected[size_t(k)].data.size() * sizeof(float)))
             << "channel " << k << "'s zsn differs from z, s, nu";
@@ -172,12 +176,13 @@ struct RatioCase {
     bool withVariance, withIds;
     bool scattered = false;  // ids drawn pixel by pixel: sides of every size in the window
     int channels = 3;
+    bool edgeInputs = true;  // false: the packed input without the edge test's (4 floats)
 };
 
 class PivotRatioKernel : public GpuTestWithParam<RatioCase> {};
 
 TEST_P(PivotRatioKernel, MatchesReference) {
-    const auto [w, h, withVariance, withIds, scattered, channels] = GetParam();
+    const auto [w, h, withVariance, withIds, scattered, channels, edgeInputs] = GetParam();
     Frame f = WithChannels(MakeFrame(w, h, 0.3, SeedFromName(fmt::format("ratio{}x{}", w, h))),
                            channels);
     if (scattered) {
@@ -191,8 +196,8 @@ TEST_P(PivotRatioKernel, MatchesReference) {
     ref::PivotRatio expected =
         ref::PivotRatioOf(f.color, f.pivot, variance, 1e-3, withIds ? &f.ids : nullptr);
     Image guide = GuideOf(f);
-    ref::PivotRatio actual =
-        GpuRatio(Ctx(), f.color, f.pivot, variance, 1e-3f, withIds ? &guide : nullptr);
+    ref::PivotRatio actual = GpuRatio(Ctx(), f.color, f.pivot, variance, 1e-3f,
+                                      withIds ? &guide : nullptr, edgeInputs);
     for (size_t i = 0; i < expected.nu.Size(); ++i)
         ASSERT_EQ(expected.nu.data[i] < 0, actual.nu.data[i] < 0) << "validity at " << i;
     EXPECT_TRUE(ImagesMatch(expected.z, actual.z, {}, {5 * kUnitRoundoff, 0, 1e-12}));
@@ -217,7 +222,7 @@ TEST_P(PivotRatioKernel, MatchesReference) {
     Image levelExpected = expected.level, levelActual = actual.level;
     Image noiseExpected = expected.noise, noiseActual = actual.noise;
     for (size_t i = 0; i < levelExpected.Size(); ++i)
-        if (expected.nu.data[i] < 0) {
+        if (expected.nu.data[i] < 0 || !edgeInputs) {
             levelExpected.data[i] = levelActual.data[i] = 0;
             noiseExpected.data[i] = noiseActual.data[i] = 0;
         }
@@ -238,6 +243,9 @@ std::vector<RatioCase> RatioCases() {
         cases.push_back({23, 17, true, false, false, channels});
         cases.push_back({23, 17, false, true, false, channels});
     }
+    // Without the edge test's inputs: one texel a pixel.
+    cases.push_back({37, 23, true, true, false, 3, false});
+    cases.push_back({23, 17, false, false, false, 4, false});
     return cases;
 }
 
@@ -245,16 +253,18 @@ INSTANTIATE_TEST_SUITE_P(Cases, PivotRatioKernel, testing::ValuesIn(RatioCases()
                          [](const testing::TestParamInfo<RatioCase> &info) {
                              const RatioCase &c = info.param;
                              return fmt::format(
-                                 "{}x{}{}{}{}{}", c.w, c.h, c.withVariance ? "_variance" : "",
+                                 "{}x{}{}{}{}{}{}", c.w, c.h, c.withVariance ? "_variance" : "",
                                  c.withIds ? "_ids" : "", c.scattered ? "_scattered" : "",
-                                 c.channels != 3 ? fmt::format("_{}ch", c.channels) : "");
+                                 c.channels != 3 ? fmt::format("_{}ch", c.channels) : "",
+                                 c.edgeInputs ? "" : "_noedge");
                          });
 
 // Stages 2 and 3 and the bilateral baseline: a frame size, with or without guides.
 struct StageCase {
     int w, h;
     bool guides;
-    int channels = 3;  // the fit's cases only
+    int channels = 3;        // the fit's cases only
+    bool edgeInputs = true;  // false: no edge test, the packed input of 4 floats a pixel
 };
 
 std::vector<StageCase> StageCases(std::initializer_list<std::pair<int, int>> sizes) {
@@ -266,8 +276,9 @@ std::vector<StageCase> StageCases(std::initializer_list<std::pair<int, int>> siz
 
 std::string StageCaseName(const testing::TestParamInfo<StageCase> &info) {
     return fmt::format(
-        "{}x{}_{}{}", info.param.w, info.param.h, info.param.guides ? "guides" : "noguides",
-        info.param.channels != 3 ? fmt::format("_{}ch", info.param.channels) : "");
+        "{}x{}_{}{}{}", info.param.w, info.param.h, info.param.guides ? "guides" : "noguides",
+        info.param.channels != 3 ? fmt::format("_{}ch", info.param.channels) : "",
+        info.param.edgeInputs ? "" : "_noedge");
 }
 
 // Stage 2 on the same z, s, nu. The growth decisions compare float sums with thresholds:
@@ -279,7 +290,7 @@ std::string StageCaseName(const testing::TestParamInfo<StageCase> &info) {
 class PivotFitKernel : public GpuTestWithParam<StageCase> {};
 
 TEST_P(PivotFitKernel, MatchesReference) {
-    const auto [w, h, guides, channels] = GetParam();
+    const auto [w, h, guides, channels, edgeInputs] = GetParam();
     Frame f = WithChannels(MakeFrame(w, h, 0.3, SeedFromName(fmt::format("fit{}x{}", w, h))),
                            channels);
     ref::PivotRatio ratio =
@@ -288,20 +299,22 @@ TEST_P(PivotFitKernel, MatchesReference) {
     o.maxRadius = 6;
     o.targetNoise = 0.05f;
     o.sigmaWeight = guides ? 0.5f : 1.f;
+    if (!edgeInputs) o.edge = 0;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image margin;
     Image expected = ref::PivotFit(ratio, refGuides, o, &margin);
     // The frame's shadow step crosses the shading-edge test: without it the reference's fits
     // differ, so the comparison below pins fit.comp's edge code.
-    if (w * h >= 100) {
+    if (w * h >= 100 && edgeInputs) {
         PivotParams noEdge = o;
         noEdge.edge = 0;
         EXPECT_NE(ref::PivotFit(ratio, refGuides, noEdge).data, expected.data);
     }
 
     std::vector<vk::GpuImage> zsn;
-    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise))
-        zsn.emplace_back(Ctx(), w, h, 8, "zsn").Upload(packed);
+    for (const Image &packed :
+         PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise, edgeInputs))
+        zsn.emplace_back(Ctx(), w, h, packed.channels, "zsn").Upload(packed);
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     PivotFitBuffers fitBuffers(Ctx(), w, h, channels, "fit");
     guide.Upload(GuideOf(f));
@@ -316,6 +329,15 @@ TEST_P(PivotFitKernel, MatchesReference) {
                         o.sigmaWeight, o.edge},
                        fitBuffers, rowBase, rows);
     recorder.Submit();
+    // The edge test reads the level and noise the 4-float layout lacks: refused, not misread.
+    if (!edgeInputs) {
+        vk::Recorder refused(Ctx());
+        EXPECT_THROW(RecordPivotFit(Ctx(), refused, zsn, gpuGuides,
+                                    {o.maxRadius, o.targetNoise, o.goodNoise, o.disagreement,
+                                     o.k, o.sigmaWeight, 4.f},
+                                    fitBuffers, 0, h),
+                     Error);
+    }
     Image actual = fitBuffers.Download();
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
@@ -358,6 +380,9 @@ std::vector<StageCase> FitCases() {
     std::vector<StageCase> cases = StageCases({{29, 21}, {1, 1}, {1, 12}, {9, 1}, {6, 5}});
     cases.push_back({17, 13, false, 1});
     cases.push_back({17, 13, true, 4});
+    // Without the edge test: z, s, nu one texel a pixel.
+    cases.push_back({29, 21, true, 3, false});
+    cases.push_back({17, 13, false, 1, false});
     return cases;
 }
 
@@ -370,13 +395,14 @@ class PivotGatherKernel : public GpuTestWithParam<StageCase> {};
 
 TEST_P(PivotGatherKernel, MatchesReference) {
     const int w = GetParam().w, h = GetParam().h;
-    const bool guides = GetParam().guides;
+    const bool guides = GetParam().guides, edgeInputs = GetParam().edgeInputs;
     Frame f = MakeFrame(w, h, 0.3, SeedFromName(fmt::format("gather{}x{}", w, h)));
     for (int i = 0; i < int(f.pivot.Size()); i += 11) f.pivot.data[i] = 0;
     ref::PivotRatio ratio =
         ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, guides ? &f.ids : nullptr);
     PivotParams o;
     o.maxRadius = 12;  // lattice steps 1, 2 and 4 (eq. 13's quadrature)
+    if (!edgeInputs) o.edge = 0;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image fits = ref::PivotFit(ratio, refGuides, o);
     Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides, o.edge);
@@ -384,8 +410,9 @@ TEST_P(PivotGatherKernel, MatchesReference) {
     vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
     vk::GpuImage out(Ctx(), w, h, 3, "out");
     std::vector<vk::GpuImage> zsn;
-    for (const Image &packed : PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise))
-        zsn.emplace_back(Ctx(), w, h, 8, "zsn").Upload(packed);
+    for (const Image &packed :
+         PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise, edgeInputs))
+        zsn.emplace_back(Ctx(), w, h, packed.channels, "zsn").Upload(packed);
     vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
     PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
     color.Upload(f.color);
@@ -404,6 +431,12 @@ TEST_P(PivotGatherKernel, MatchesReference) {
         RecordPivotGather(Ctx(), recorder, color, pivot, zsn, fitBuffers, gpuGuides, tiles,
                           reach, o.edge, out, rowBase, rows);
     recorder.Submit();
+    if (!edgeInputs) {
+        vk::Recorder refused(Ctx());
+        EXPECT_THROW(RecordPivotGather(Ctx(), refused, color, pivot, zsn, fitBuffers, gpuGuides,
+                                       tiles, reach, 4.f, out, 0, h),
+                     Error);
+    }
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     Image magnitude = f.pivot;
@@ -414,8 +447,15 @@ TEST_P(PivotGatherKernel, MatchesReference) {
         ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, PivotGatherKernel,
-                         testing::ValuesIn(StageCases({{27, 19}, {1, 1}, {1, 10}, {7, 1}})),
+// Without the edge test: z, s, nu one texel a pixel.
+std::vector<StageCase> GatherCases() {
+    std::vector<StageCase> cases = StageCases({{27, 19}, {1, 1}, {1, 10}, {7, 1}});
+    cases.push_back({27, 19, true, 3, false});
+    cases.push_back({27, 19, false, 3, false});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, PivotGatherKernel, testing::ValuesIn(GatherCases()),
                          StageCaseName);
 
 // The bilateral baseline: each weight is an exp of a few roundings (exp's own error is a
@@ -564,6 +604,22 @@ INSTANTIATE_TEST_SUITE_P(Cases, PivotMethodVariant,
                          testing::ValuesIn(VariantCases({PivotFilter::PlaneFit,
                                                          PivotFilter::Bilateral})),
                          VariantCaseName);
+
+// Without the edge test (auto's candidates) the run packs z, s, nu in 4 floats a pixel: the
+// same filter as the reference's without the test, in one and in several row strips.
+TEST_F(PivotMethod, WithoutTheEdgeTestMatchesReference) {
+    Frame f = MakeFrame(33, 25, 0.3, SeedFromName("method no edge"));
+    Image objectId, partId;
+    PivotInputs in = InputsOf(f, true, &objectId, &partId);
+    PivotParams o;
+    o.maxRadius = 6;
+    o.edge = 0;
+    PivotResult whole = PivotDenoise(Ctx(), in, o);
+    ExpectMatchesGuidedReference(f, o, whole.image);
+    RunSetup strips;
+    strips.stripPixels = 33 * 4;
+    EXPECT_TRUE(BitIdentical(whole.image, PivotDenoise(Ctx(), in, o, strips).image));
+}
 
 // Row strips (one submission each, with progress after each) give the same bits as one
 // strip, and progress reaches every row of both stages in order.
