@@ -24,6 +24,14 @@ struct RhfParams {
     // dark patches at few samples; a lone firefly sample, at most 1 in its bins, stays below
     // the tool's "more than 1" and is still averaged away (README, "The bright veto").
     float brightVeto = 0.3f;
+    // The pooled bright veto (beyond the tool; 0: off), finest scale: a candidate patch is
+    // left out when the bright samples (the saturated bins' counts, summed over the colours)
+    // pooled over its patch box, P, and over the centre's, Q, differ by (P - Q)^2 >
+    // brightPool (P + Q). A highlight's line whose pixels each hold one bright sample adds
+    // no term to the distance nor to the bright veto (a bin of one sample is not counted),
+    // so the dark patches of its window took it in; a lone firefly (P - Q of one sample,
+    // summed over three colours: 3) stays under it.
+    float brightPool = 2.f;
     // Keep negative output values, as the authors' tool does. Off (beyond the tool): the
     // recombination's bicubic U overshoots below 0 at strong edges (README), and the GPU
     // pipeline clamps its output to 0 after the last stage, so `diff --method rhf` compares

@@ -221,6 +221,67 @@ INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelBrightVeto, testing::ValuesIn(BrightVet
                                                 NameOf(info.param.veto));
                          });
 
+// The pooled bright veto (beyond the authors' tool, the finest scale): GPU against CPU with
+// it off, at the default and stronger, at one and two scales, the bright veto on. The frame's
+// brightest band holds samples above the histogram's range; the pool must change the
+// output, or the test would compare nothing new.
+class RhfKernelBrightPool : public GpuTestWithParam<BrightVetoCase> {};
+
+TEST_P(RhfKernelBrightPool, MatchesReference) {
+    const auto [scales, pool] = GetParam();
+    Frame f = MakeFrame(33, 29, SeedFromName("rhf pool"));
+    RhfParams o;
+    o.searchHalf = 4;
+    o.scales = scales;
+    o.brightPool = pool;
+    o.keepNegative = true;
+    Image expected = ref::Rhf(f.color, f.hist, o);
+    EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
+                            ToleranceFor(f.color, o)));
+    if (pool > 0) {
+        RhfParams off = o;
+        off.brightPool = 0;
+        EXPECT_FALSE(
+            ImagesMatch(expected, ref::Rhf(f.color, f.hist, off), {}, ToleranceFor(f.color, o)))
+            << "the pooled veto changed nothing on this frame";
+    }
+}
+
+std::vector<BrightVetoCase> BrightPoolCases() {
+    std::vector<BrightVetoCase> cases;
+    for (int scales : {1, 2})
+        for (float pool : {0.f, 2.f, 1.f}) cases.push_back({scales, pool});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelBrightPool, testing::ValuesIn(BrightPoolCases()),
+                         [](const testing::TestParamInfo<BrightVetoCase> &info) {
+                             return fmt::format("s{}_pool{}", info.param.scales,
+                                                NameOf(info.param.veto));
+                         });
+
+// The pool's counts the host uploads against the CPU reference's, to the bit: random
+// histograms (the bins' fractions as the renderer splits samples), the edges cut.
+TEST(RhfBrightPool, HostMatchesReference) {
+    for (auto [w, h] : {std::pair{1, 1}, {2, 3}, {17, 11}})
+        for (int patchHalf : {0, 1, 2}) {
+            SCOPED_TRACE(fmt::format("{}x{} w {}", w, h, patchHalf));
+            Frame f = MakeFrame(w, h, SeedFromName(fmt::format("rhf pool {}x{}", w, h)));
+            std::mt19937_64 rng(SeedFromName(fmt::format("rhf pool bins {}x{}", w, h)));
+            std::uniform_real_distribution<float> fraction(0.f, 3.f);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    for (int c = 0; c < 3; ++c)
+                        if (rng() % 3 == 0)
+                            f.hist.At(c * kBins + kBins - 1, y, x) = fraction(rng);
+            std::vector<float> host = RhfBrightPool(f.hist, patchHalf),
+                               cpu = ref::RhfBrightPool(f.hist, patchHalf);
+            ASSERT_EQ(host.size(), cpu.size());
+            EXPECT_EQ(std::memcmp(host.data(), cpu.data(), host.size() * sizeof(float)), 0);
+            EXPECT_GT(*std::max_element(cpu.begin(), cpu.end()), 0.f);
+        }
+}
+
 // Histograms split over several buffers and distances computed in thin strips (the
 // paths big frames take) give the same bits as the one-buffer, one-strip run; at two
 // scales the buffers are downsampled in turn through one scratch.
@@ -474,6 +535,7 @@ TEST_P(RhfPropertiesOneLight, BrightVetoKeepsItInPlace) {
     EXPECT_TRUE(ImagesMatch(f.color, kept, {}, {0, 16 * kUnitRoundoff * lightMean, 1e-12}));
     EXPECT_TRUE(ImagesMatch(ref::Rhf(f.color, f.hist, o), kept, {}, ToleranceFor(f.color, o)));
     o.brightVeto = 0;
+    o.brightPool = 0;
     Image spread = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     EXPECT_LT(spread.At(1, ly, lx), 0.5f * lightMean)
         << "the authors' distance no longer spreads the light";
@@ -673,7 +735,7 @@ TEST_F(RhfSelectKernel, MatchesTheToolsSortOnTies) {
                 dist.UploadFloats(d);
                 vk::Recorder recorder(Ctx());
                 RecordRhfSelect(Ctx(), recorder, w, rows, b, 0, rows, nearest, threshold, dist,
-                                mask);
+                                dist, 0.f, mask);
                 recorder.Submit();
                 std::vector<uint32_t> bits(size_t(RhfMaskWords(b)) * rows * w);
                 mask.Download(bits.data(), bits.size() * sizeof(uint32_t));
@@ -824,6 +886,7 @@ TEST_F(RhfToolAlignment, KnnTiesResolveAsTheToolsSelectionSort) {
         o.threshold = 1;
         o.scales = 1;
         o.brightVeto = 0;
+        o.brightPool = 0;
         Image cpu = ref::RhfSingleScale(f.color, f.hist, 0, 2, 1.0, 1);
         Image gpu = RhfDenoise(Ctx(), f.color, f.hist, o).image;
         EXPECT_FLOAT_EQ(cpu.At(0, c.y, c.x), c.expected);
