@@ -46,9 +46,9 @@ class Rhf : public FrontEndOf<RhfParams> {
                           &RhfParams::brightVeto, 0, 1e30),
                FloatParam("bright-pool",
                           "finest scale: leave a candidate patch out when its bright samples "
-                          "(saturated bins, colours summed) pooled over the patch, P, and the "
-                          "centre's, Q, differ by (P - Q)^2 > this x (P + Q): a highlight's "
-                          "line of one bright sample a pixel is kept out of the dark patches "
+                          "(saturated bins, colours summed) pooled over the patch, Q, exceed "
+                          "the centre's, P, by (P - Q)^2 > this x (P + Q): a highlight's line "
+                          "of one bright sample a pixel is kept out of the dark patches "
                           "around it. Beyond the authors' tool; 0: off",
                           &RhfParams::brightPool, 0, 1e30),
                IntParam("knn", "nearest patches always averaged (finest scale)",

@@ -526,8 +526,8 @@ const vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *w
             ? fmt::format(" with bright veto {} (in the frame's sample counts)", o.brightVeto)
             : std::string(" (no bright veto)"),
         PoolBoundOf(s, o) > 0
-            ? fmt::format(" whose bright samples pooled over the patch differ from the "
-                          "centre's by (P - Q)^2 <= {} (P + Q)",
+            ? fmt::format(", no candidate whose bright samples pooled over the patch (Q) "
+                          "exceed the centre's (P) by (P - Q)^2 > {} (P + Q)",
                           PoolBoundOf(s, o))
             : std::string(),
         nearest, o.threshold,
