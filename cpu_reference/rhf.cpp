@@ -138,7 +138,7 @@ Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int s
         float own = pool[size_t(y) * W + x], other = pool[size_t(qy) * W + qx];
         float diff = own - other, square = diff * diff,
               bound = float(brightPool) * (own + other);
-        return square > bound && other > own;
+        return square > bound;
     };
     std::vector<double> sum(size_t(C) * W * H, 0.0), count(size_t(W) * H, 0.0);
     for (int y = 0; y < H; ++y)

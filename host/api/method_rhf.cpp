@@ -46,10 +46,10 @@ class Rhf : public FrontEndOf<RhfParams> {
                           &RhfParams::brightVeto, 0, 1e30),
                FloatParam("bright-pool",
                           "finest scale: leave a candidate patch out when its bright samples "
-                          "(saturated bins, colours summed) pooled over the patch, Q, exceed "
-                          "the centre's, P, by (P - Q)^2 > this x (P + Q): a highlight's line "
-                          "of one bright sample a pixel is kept out of the dark patches "
-                          "around it. Beyond the authors' tool; 0: off",
+                          "(saturated bins, colours summed) pooled over the patch, Q, and the "
+                          "centre's, P, differ by (P - Q)^2 > this x (P + Q): a highlight's "
+                          "line of bright samples is kept out of the dark patches around it. "
+                          "Beyond the authors' tool; 0: off",
                           &RhfParams::brightPool, 0, 1e30),
                IntParam("knn", "nearest patches always averaged (finest scale)",
                         &RhfParams::knn, 0, 1681),

@@ -527,7 +527,7 @@ const vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *w
             : std::string(" (no bright veto)"),
         PoolBoundOf(s, o) > 0
             ? fmt::format(", no candidate whose bright samples pooled over the patch (Q) "
-                          "exceed the centre's (P) by (P - Q)^2 > {} (P + Q)",
+                          "differ from the centre's (P) by (P - Q)^2 > {} (P + Q)",
                           PoolBoundOf(s, o))
             : std::string(),
         nearest, o.threshold,

@@ -19,10 +19,11 @@ layout(binding = RHF_SELECT_POOL) uniform samplerBuffer pool;
 
 float d[OFFSETS];
 
-// Offset o's distance, -1 (no candidate) where the candidate's pooled bright samples exceed
-// the centre's beyond poolBound: a highlight's line whose pixels hold one bright sample each
-// adds no term to the distance, so without this the dark patches around it take it in. One
-// way only: a bright patch may still take in darker ones, so a firefly is averaged away.
+// Offset o's distance, -1 (no candidate) where the pooled bright samples of the two patch
+// boxes differ beyond poolBound: a highlight's line whose pixels hold one bright sample each
+// adds no term to the distance, so without this the dark patches around it take it in. Both
+// ways, as the selection is symmetric: the energy the filter moves stays with the patches
+// that share it (one way, a bright patch's energy went nowhere).
 float Candidate(int o, int base, int plane, int x, int y, float own) {
     float at = texelFetch(dist, o * plane + base).r;
     if (push.poolBound <= 0.0 || at < 0.0) return at;
@@ -31,7 +32,7 @@ float Candidate(int o, int base, int plane, int x, int y, float own) {
     // Unfused, as the CPU reference computes it.
     precise float diff = own - other, square = diff * diff,
                   bound = push.poolBound * (own + other);
-    return square > bound && other > own ? -1.0 : at;
+    return square > bound ? -1.0 : at;
 }
 
 void main() {

