@@ -525,12 +525,12 @@ const vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *w
         o.brightVeto > 0
             ? fmt::format(" with bright veto {} (in the frame's sample counts)", o.brightVeto)
             : std::string(" (no bright veto)"),
+        nearest, o.threshold,
         PoolBoundOf(s, o) > 0
             ? fmt::format(", no candidate whose bright samples pooled over the patch (Q) "
                           "differ from the centre's (P) by (P - Q)^2 > {} (P + Q)",
                           PoolBoundOf(s, o))
             : std::string(),
-        nearest, o.threshold,
         kept ? std::string("(an earlier run's on these histograms)")
              : fmt::format("in {} strip(s)", strips)));
     return filtered;

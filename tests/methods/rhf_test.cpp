@@ -282,6 +282,35 @@ TEST(RhfBrightPool, HostMatchesReference) {
         }
 }
 
+// --explain's selection line names the nearest count and the threshold in their places,
+// with the pooled veto's text after the threshold only when it is on.
+TEST_F(RhfKernel, PlanNamesTheSelection) {
+    Frame f = MakeFrame(21, 19, SeedFromName("rhf plan"));
+    RhfParams o;
+    o.searchHalf = 4;
+    o.knn = 3;
+    o.threshold = 0.75f;
+    auto planOf = [&](const RhfParams &params) {
+        std::string plan;
+        for (const std::string &line : RhfDenoise(Ctx(), f.color, f.hist, params).plan)
+            plan += line + "\n";
+        return plan;
+    };
+    const std::string off = planOf(o);
+    EXPECT_NE(
+        off.find("selection of 4 nearest (itself + k_NN) + distance < 0.75 in 1 strip(s)"),
+        std::string::npos)
+        << off;
+    EXPECT_EQ(off.find("pooled"), std::string::npos) << off;
+    o.brightPool = 6;
+    const std::string on = planOf(o);
+    EXPECT_NE(on.find("selection of 4 nearest (itself + k_NN) + distance < 0.75, no candidate "
+                      "whose bright samples pooled"),
+              std::string::npos)
+        << on;
+    EXPECT_NE(on.find("> 6 (P + Q) in 1 strip(s)"), std::string::npos) << on;
+}
+
 // Histograms split over several buffers and distances computed in thin strips (the
 // paths big frames take) give the same bits as the one-buffer, one-strip run; at two
 // scales the buffers are downsampled in turn through one scratch.
