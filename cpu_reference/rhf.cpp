@@ -132,12 +132,21 @@ Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int s
     const int W = color.width, H = color.height, C = color.channels;
     const std::vector<float> pool =
         brightPool > 0 ? RhfBrightPool(hist, patchHalf) : std::vector<float>();
-    // The pooled veto in float, unfused, as the kernel compares.
+    // The pixels of (x, y)'s pool box, cut at the image's edges.
+    auto boxArea = [&](int x, int y) {
+        int across = std::min(W - 1, x + patchHalf) - std::max(0, x - patchHalf) + 1;
+        int down = std::min(H - 1, y + patchHalf) - std::max(0, y - patchHalf) + 1;
+        return float(across * down);
+    };
+    // The pooled veto: rates r = P / a, each with variance P / a^2 (counts), apart when
+    // (rP - rQ)^2 > brightPool (P / aP^2 + Q / aQ^2). Both sides times aP^2 aQ^2, in
+    // float, unfused, as the kernel compares.
     auto pooledApart = [&](int x, int y, int qx, int qy) {
         if (brightPool <= 0) return false;
         float own = pool[size_t(y) * W + x], other = pool[size_t(qy) * W + qx];
-        float diff = own - other, square = diff * diff,
-              bound = float(brightPool) * (own + other);
+        float ownArea = boxArea(x, y), area = boxArea(qx, qy);
+        float diff = own * area - other * ownArea, square = diff * diff;
+        float bound = float(brightPool) * (own * area * area + other * ownArea * ownArea);
         return square > bound;
     };
     std::vector<double> sum(size_t(C) * W * H, 0.0), count(size_t(W) * H, 0.0);

@@ -46,8 +46,9 @@ std::vector<float> RhfBrightPool(const Image &hist, int patchHalf);
 // them, ties resolved as the tool's selection sort over the window column by column does)
 // plus every patch closer than the threshold, binary weights, aggregation over the
 // patches covering each pixel. Vetoed patches are no candidates; with brightPool > 0 nor
-// are those whose RhfBrightPool, Q, differs from the centre's, P, by (P - Q)^2 > brightPool
-// (P + Q) (in float). A pixel no selected patch covers keeps its value.
+// are those whose RhfBrightPool, Q, differs from the centre's, P, as rates over the boxes'
+// pixel counts aQ, aP (cut at the image's edges): (P/aP - Q/aQ)^2 > brightPool (P/aP^2 +
+// Q/aQ^2) (in float). A pixel no selected patch covers keeps its value.
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
                      double threshold, int knn, double brightVeto = 0, double brightPool = 0);
 

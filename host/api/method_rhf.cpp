@@ -47,7 +47,8 @@ class Rhf : public FrontEndOf<RhfParams> {
                FloatParam("bright-pool",
                           "finest scale: leave a candidate patch out when its bright samples "
                           "(saturated bins, colours summed) pooled over the patch, Q, and the "
-                          "centre's, P, differ by (P - Q)^2 > this x (P + Q): a highlight's "
+                          "centre's, P, differ as rates over the boxes' pixels aQ, aP by "
+                          "(P/aP - Q/aQ)^2 > this x (P/aP^2 + Q/aQ^2): a highlight's "
                           "line of bright samples is kept out of the dark patches around it. "
                           "Beyond the authors' tool; 0: off",
                           &RhfParams::brightPool, 0, 1e30),

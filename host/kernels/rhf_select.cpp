@@ -18,7 +18,7 @@ int RhfMaskWords(int searchHalf) {
 void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
                      int searchHalf, int rowBase, int rows, int nearest, float threshold,
                      const vk::Buffer &dist, const vk::Buffer &pool, float poolBound,
-                     vk::Buffer &mask) {
+                     int patchHalf, vk::Buffer &mask) {
     size_t side = 2 * searchHalf + 1, words = RhfMaskWords(searchHalf);
     if (rowBase < 0 || rows <= 0 || rowBase + rows > height ||
         dist.Bytes() < side * side * rows * width * sizeof(float) ||
@@ -36,8 +36,8 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
                            sizeof(shader::RhfSelectPush),
                            {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}},
                            (1u << RHF_SELECT_DISTANCE) | (1u << RHF_SELECT_POOL)});
-    shader::RhfSelectPush push{width, height,  searchHalf, rowBase,
-                               rows,  nearest, poolBound,  threshold};
+    shader::RhfSelectPush push{width,   height,    searchHalf, rowBase,  rows,
+                               nearest, poolBound, threshold,  patchHalf};
     recorder.Dispatch(kernel, "rhf.select",
                       {{RHF_SELECT_DISTANCE, &dist, vk::Access::Read},
                        {RHF_SELECT_POOL, &pool, vk::Access::Read},

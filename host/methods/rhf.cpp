@@ -463,7 +463,7 @@ int RecordSelection(StagedRun &run, RhfWork &work, const RhfLayout &layout,
         RecordRhfDistance(context, recorder, Ws, Hs, o.patchHalf, o.searchHalf, termBase,
                           termRows, y0, rows, work.termSum, work.termCount, work.dist);
         RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, nearest, o.threshold,
-                        work.dist, work.pool, poolBound, work.mask);
+                        work.dist, work.pool, poolBound, o.patchHalf, work.mask);
     }
     return strips;
 }
@@ -528,7 +528,8 @@ const vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *w
         nearest, o.threshold,
         PoolBoundOf(s, o) > 0
             ? fmt::format(", no candidate whose bright samples pooled over the patch (Q) "
-                          "differ from the centre's (P) by (P - Q)^2 > {} (P + Q)",
+                          "differ from the centre's (P) as rates over the boxes' pixels (aQ, "
+                          "aP) by (P/aP - Q/aQ)^2 > {} (P/aP^2 + Q/aQ^2)",
                           PoolBoundOf(s, o))
             : std::string(),
         kept ? std::string("(an earlier run's on these histograms)")

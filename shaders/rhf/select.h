@@ -4,7 +4,8 @@
 // threshold, as a bit mask over the window's offsets, planar
 // [word][y][x] over the whole image. With poolBound > 0 a candidate is no candidate when the
 // bright samples pooled over its patch box, Q, and over the centre's, P (RHF_SELECT_POOL, one
-// float per pixel of the scale), differ by (P - Q)^2 > poolBound (P + Q).
+// float per pixel of the scale), differ as rates over their boxes' pixel counts aQ, aP (the
+// boxes cut at the image's edges): (P/aP - Q/aQ)^2 > poolBound (P/aP^2 + Q/aQ^2).
 #ifndef MCD_SHADERS_RHF_SELECT_H
 #define MCD_SHADERS_RHF_SELECT_H
 
@@ -30,10 +31,12 @@ layout(push_constant) uniform RhfSelectPush {
     int nearest;      // nearest patches always taken
     float poolBound;  // 0: no pooled bright veto
     float threshold;
+    int patchHalf;  // w: the pool's box is (2w + 1)^2 pixels, cut at the image's edges
 #ifdef __cplusplus
 };
-static_assert(sizeof(RhfSelectPush) == 32);
+static_assert(sizeof(RhfSelectPush) == 36);
 static_assert(offsetof(RhfSelectPush, threshold) == 28);
+static_assert(offsetof(RhfSelectPush, patchHalf) == 32);
 }  // namespace mcd::shader
 #else
 }
