@@ -210,11 +210,12 @@ class Rhf : public FrontEndOf<RhfParams> {
         needs.finishReach = o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0;
         needs.align = 1 << (scales - 1);
         needs.sharesByWindow = true;
-        // Per pixel: the histograms, the colour and its filtered image, the selection mask and
-        // the bin maxima (a float per 8 pixels and bin plane); each coarser scale s adds its
-        // histograms (1/4^s) and colour images (a generous 8 per pixel in all), checked
-        // against the peak measured at 1080p. The downsampler's scratch holds one buffer of
-        // histograms at a time (1/2^s of one binding at most, below in fixedBytes).
+        // Per pixel: the histograms, the colour and its filtered image, the selection mask,
+        // the bin maxima (a float per 8 pixels and bin plane) and, when on, the pooled veto's
+        // counts (a float); each coarser scale s adds its histograms (1/4^s) and colour
+        // images (a generous 8 per pixel in all), checked against the peak measured at 1080p.
+        // The downsampler's scratch holds one buffer of histograms at a time (1/2^s of one
+        // binding at most, below in fixedBytes).
         int planes = inputs.Get(HistogramLayer(inputs)).channels;
         double maskBytes = RhfMaskWords(o.searchHalf) * 4.0, histScales = 1,
                scratchBindings = 0;
@@ -224,7 +225,8 @@ class Rhf : public FrontEndOf<RhfParams> {
         }
         double colourImages = scales > 1 ? 8 : 2;
         needs.bytesPerPixel = planes * 4.0 * histScales + maskBytes + 3 * 4.0 * colourImages +
-                              (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH;
+                              (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH +
+                              (o.brightPool > 0 ? 4.0 : 0.0);
         // One binding: the mask, a sixth of the histograms (their buffers at most), the maxima.
         // A histogram buffer holds at most 2^25 floats (RhfLayoutFor), less than a binding on
         // devices with larger ones: scaled so that PlanTiles' test against the binding is

@@ -303,11 +303,12 @@ RhfHistogram UploadHistogram(vk::Context &context, const Image &hist, int perSlo
     return full;
 }
 
-// Work buffers, sized for the finest scale and reused by every scale.
+// Work buffers, sized for the finest scale and reused by every scale. The pooled veto's
+// counts only when it is on (the kernel does not read them otherwise: one float to bind).
 struct RhfWork {
     RhfWork(vk::Context &context, const RhfLayout &layout, int searchHalf, int width,
-            int height, int planes)
-        : pool(context, size_t(width) * height * sizeof(float), "rhf.pool"),
+            int height, int planes, bool pooled)
+        : pool(context, (pooled ? size_t(width) * height : 1) * sizeof(float), "rhf.pool"),
           termSum(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
                   "rhf.termSum"),
           termCount(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
@@ -707,7 +708,7 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             "histograms: {} planes ({} bins per colour + the count) in {} buffer(s) of up to "
             "{} planes; distances in strips of up to {} rows",
             planes, (planes - 1) / 3, full.slots.size(), layout.perSlot, layout.stripRows));
-        work.emplace(context, layout, o.searchHalf, W, H, planes);
+        work.emplace(context, layout, o.searchHalf, W, H, planes, o.brightPool > 0);
         if (o.brightPool > 0) work->pool.UploadFloats(RhfBrightPool(hist, o.patchHalf));
     } else {
         run.Plan(
