@@ -116,12 +116,16 @@ TEST_F(RhfClusters, ALightsReflectionOfSeveralSamplesDrawsNoSquare) {
 // A highlight's line on a dim wall: a vertical band of 2 pixels whose samples each saw a
 // light (200 a channel) with probability 1/8, so most of its pixels hold 1 to 3 bright
 // samples of 16, as the gold ring's inner edge in glossy_lights. A bin of one sample adds no
-// term to the distance, so the wall's patches took the line's pixels in and the filter drew
-// a lighter block the width of its search window beside it (more than 3x the wall's mean).
-// The pooled bright veto keeps the line's patches out: at a bound of 6 the wall 3 to 6 pixels
-// from the line is lifted by at most 0.6 of that (patches holding one bright sample of the
-// line's edge still pass), at 2 it stays within 1.5x of its mean; the line keeps most of its
-// light.
+// term to the distance, so without the pool the wall's patches take the line's pixels in and
+// the filter draws a lighter block the width of its search window beside it. The limits:
+// a bright sample counts 3 in the pool (one saturated bin per colour), and a wall centre
+// (P = 0) keeps a candidate of Q counts iff Q^2 <= B Q, i.e. Q <= B. At bound 2 no box
+// holding a line sample passes, so the wall 3 to 6 pixels away keeps its own noise: its
+// samples' spread (uniform, sd 0.36 of the mean) over 16 samples stays far below half its
+// mean, while one leaked sample of 200 among a window of candidates lifts a pixel by more
+// than its mean. At bound 6 only boxes of at most 2 bright samples pass (the line's edge),
+// where without the pool every box over the line's 1 to 3 a pixel did: the lift at most 0.6
+// of that. The line keeps most of its light (it is averaged with itself).
 TEST_F(RhfClusters, AHighlightsLineDrawsNoBlocks) {
     const int w = 48, h = 48, x0 = 23, y0 = 8, y1 = 40;
     std::mt19937_64 rng(SeedFromName("rhf clusters line"));
