@@ -287,6 +287,17 @@ TEST_F(TiledRunShared, RhfScalesPlannedAlikeShareTheFinestSelections) {
     EXPECT_FALSE(api::FindMethod("pivot")->make()->Tiling(Ctx(), inputs).sharesByWindow);
 }
 
+// rhf's plan counts the pooled bright veto's counts, a float a pixel, only when it is on
+// (off, its buffer is one float).
+TEST_F(GpuTest, TiledRunPlanRhfCountsThePoolWhenOn) {
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    Frame frame = RenderedFrame(17, 13, render::kLayersAll);
+    api::Inputs inputs(frame, false, "rhf");
+    const double off = rhf->Tiling(Ctx(), inputs).bytesPerPixel;
+    rhf->Set("bright-pool", 6.f);
+    EXPECT_EQ(rhf->Tiling(Ctx(), inputs).bytesPerPixel, off + 4);
+}
+
 TEST(TiledRunPlan, WidestNeedsHoldBoth) {
     api::TileNeeds a, b;
     a.reach = 50, a.finishReach = 30, a.align = 2, a.bytesPerPixel = 10, a.fixedBytes = 7;
