@@ -454,6 +454,10 @@ INSTANTIATE_TEST_SUITE_P(
         // window's own sizes would interpolate elsewhere).
         LocalCase{
             "rhf_three_scales", "rhf", {{"nscales", 3}, {"search-half", 2}}, 44, 133, 101},
+        // The pooled bright veto: its counts cut at a window's edge lie beyond the halo's
+        // reach.
+        LocalCase{
+            "rhf_bright_pool", "rhf", {{"bright-pool", 6.f}, {"search-half", 4}}, 9, 61, 47},
         LocalCase{"pivot_planefit", "pivot", {{"max-radius", 5}}, 13, 61, 47},
         LocalCase{
             "pivot_bilateral", "pivot", {{"filter", std::string("bilateral")}}, 9, 61, 47}),
