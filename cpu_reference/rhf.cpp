@@ -107,9 +107,48 @@ std::vector<bool> RhfSelect(const std::vector<double> &distances, int nearest,
     return picked;
 }
 
+std::vector<float> RhfBrightPool(const Image &hist, int patchHalf) {
+    const int W = hist.width, H = hist.height, n = (hist.channels - 1) / 3;
+    std::vector<float> pool(size_t(W) * H);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            float sum = 0.f;
+            for (int ty = y - patchHalf; ty <= y + patchHalf; ++ty)
+                for (int tx = x - patchHalf; tx <= x + patchHalf; ++tx) {
+                    if (tx < 0 || ty < 0 || tx >= W || ty >= H) continue;
+                    float bright = 0.f;
+                    for (int c = 0; c < 3; ++c)
+                        for (int b = std::max(0, n - 2); b < n; ++b)
+                            bright += hist.At(c * n + b, ty, tx);
+                    sum += bright;
+                }
+            pool[size_t(y) * W + x] = sum;
+        }
+    return pool;
+}
+
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
-                     double threshold, int knn, double brightVeto) {
+                     double threshold, int knn, double brightVeto, double brightPool) {
     const int W = color.width, H = color.height, C = color.channels;
+    const std::vector<float> pool =
+        brightPool > 0 ? RhfBrightPool(hist, patchHalf) : std::vector<float>();
+    // The pixels of (x, y)'s pool box, cut at the image's edges.
+    auto boxArea = [&](int x, int y) {
+        int across = std::min(W - 1, x + patchHalf) - std::max(0, x - patchHalf) + 1;
+        int down = std::min(H - 1, y + patchHalf) - std::max(0, y - patchHalf) + 1;
+        return float(across * down);
+    };
+    // The pooled veto: rates r = P / a, each with variance P / a^2 (counts), apart when
+    // (rP - rQ)^2 > brightPool (P / aP^2 + Q / aQ^2). Both sides times aP^2 aQ^2, in
+    // float, unfused, as the kernel compares.
+    auto pooledApart = [&](int x, int y, int qx, int qy) {
+        if (brightPool <= 0) return false;
+        float own = pool[size_t(y) * W + x], other = pool[size_t(qy) * W + qx];
+        float ownArea = boxArea(x, y), area = boxArea(qx, qy);
+        float diff = own * area - other * ownArea, square = diff * diff;
+        float bound = float(brightPool) * (own * area * area + other * ownArea * ownArea);
+        return square > bound;
+    };
     std::vector<double> sum(size_t(C) * W * H, 0.0), count(size_t(W) * H, 0.0);
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {
@@ -125,7 +164,7 @@ Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int s
             for (int qx = xmin; qx <= xmax; ++qx)
                 for (int qy = ymin; qy <= ymax; ++qy) {
                     double d = RhfPatchDistance(hist, x, y, qx, qy, w0, brightVeto);
-                    if (d < 0) continue;
+                    if (d < 0 || pooledApart(x, y, qx, qy)) continue;
                     distances.push_back(d);
                     where.emplace_back(qx, qy);
                 }
@@ -249,7 +288,8 @@ Image Rhf(const Image &color, const Image &hist, const RhfParams &params,
         // The veto's bound is in the frame's sample counts: divide it by the rescale.
         Image filtered =
             RhfSingleScale(u, h, params.patchHalf, params.searchHalf, double(params.threshold),
-                           s == 0 ? params.knn : 0, double(params.brightVeto) / factor);
+                           s == 0 ? params.knn : 0, double(params.brightVeto) / factor,
+                           s == 0 ? double(params.brightPool) : 0.0);
         if (stages) stages->push_back({fmt::format("filtered s{}", s), filtered});
         if (s < scales - 1) {
             // u_s - U(D(u_s)) + U(u_{s+1}).

@@ -37,13 +37,20 @@ double RhfPatchDistance(const Image &hist, int x0, int y0, int x1, int y1, int w
 std::vector<bool> RhfSelect(const std::vector<double> &distances, int nearest,
                             double threshold);
 
+// Not in the paper: per pixel the bright samples (the last two bins of each colour) summed
+// over its (2 patchHalf + 1)^2 box cut at the image's edges, in float, row by row, a
+// pixel's colours and bins first. Width x height, row-major.
+std::vector<float> RhfBrightPool(const Image &hist, int patchHalf);
+
 // Algorithm 2 on one scale: kNN (with knn > 0, the knn + 1 nearest, the patch itself among
 // them, ties resolved as the tool's selection sort over the window column by column does)
 // plus every patch closer than the threshold, binary weights, aggregation over the
-// patches covering each pixel. Vetoed patches are no candidates. A pixel no selected patch
-// covers keeps its value.
+// patches covering each pixel. Vetoed patches are no candidates; with brightPool > 0 nor
+// are those whose RhfBrightPool, Q, differs from the centre's, P, as rates over the boxes'
+// pixel counts aQ, aP (cut at the image's edges): (P/aP - Q/aQ)^2 > brightPool (P/aP^2 +
+// Q/aQ^2) (in float). A pixel no selected patch covers keeps its value.
 Image RhfSingleScale(const Image &color, const Image &hist, int patchHalf, int searchHalf,
-                     double threshold, int knn, double brightVeto = 0);
+                     double threshold, int knn, double brightVeto = 0, double brightPool = 0);
 
 // Not in the paper (issue #19, a bound the GPU's pixel terms use to leave bins out): for
 // every bin plane i < 3n, row y and block of `block` pixels of the row (the last block cut

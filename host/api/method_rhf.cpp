@@ -44,6 +44,14 @@ class Rhf : public FrontEndOf<RhfParams> {
                           "whose distance lets a visible light into dark patches at few "
                           "samples; 0 is the authors' tool",
                           &RhfParams::brightVeto, 0, 1e30),
+               FloatParam("bright-pool",
+                          "finest scale: leave a candidate patch out when its bright samples "
+                          "(saturated bins, colours summed) pooled over the patch, Q, and the "
+                          "centre's, P, differ as rates over the boxes' pixels aQ, aP by "
+                          "(P/aP - Q/aQ)^2 > this x (P/aP^2 + Q/aQ^2): a highlight's "
+                          "line of bright samples is kept out of the dark patches around it. "
+                          "Beyond the authors' tool; 0: off",
+                          &RhfParams::brightPool, 0, 1e30),
                IntParam("knn", "nearest patches always averaged (finest scale)",
                         &RhfParams::knn, 0, 1681),
                IntParam("nscales",
@@ -202,11 +210,12 @@ class Rhf : public FrontEndOf<RhfParams> {
         needs.finishReach = o.meanRadius > 0 ? LocalMeanReach(o.meanRadius, true) : 0;
         needs.align = 1 << (scales - 1);
         needs.sharesByWindow = true;
-        // Per pixel: the histograms, the colour and its filtered image, the selection mask and
-        // the bin maxima (a float per 8 pixels and bin plane); each coarser scale s adds its
-        // histograms (1/4^s) and colour images (a generous 8 per pixel in all), checked
-        // against the peak measured at 1080p. The downsampler's scratch holds one buffer of
-        // histograms at a time (1/2^s of one binding at most, below in fixedBytes).
+        // Per pixel: the histograms, the colour and its filtered image, the selection mask,
+        // the bin maxima (a float per 8 pixels and bin plane) and, when on, the pooled veto's
+        // counts (a float); each coarser scale s adds its histograms (1/4^s) and colour
+        // images (a generous 8 per pixel in all), checked against the peak measured at 1080p.
+        // The downsampler's scratch holds one buffer of histograms at a time (1/2^s of one
+        // binding at most, below in fixedBytes).
         int planes = inputs.Get(HistogramLayer(inputs)).channels;
         double maskBytes = RhfMaskWords(o.searchHalf) * 4.0, histScales = 1,
                scratchBindings = 0;
@@ -216,7 +225,8 @@ class Rhf : public FrontEndOf<RhfParams> {
         }
         double colourImages = scales > 1 ? 8 : 2;
         needs.bytesPerPixel = planes * 4.0 * histScales + maskBytes + 3 * 4.0 * colourImages +
-                              (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH;
+                              (planes - 1) * 4.0 / RHF_BLOCKMAX_WIDTH +
+                              (o.brightPool > 0 ? 4.0 : 0.0);
         // One binding: the mask, a sixth of the histograms (their buffers at most), the maxima.
         // A histogram buffer holds at most 2^25 floats (RhfLayoutFor), less than a binding on
         // devices with larger ones: scaled so that PlanTiles' test against the binding is

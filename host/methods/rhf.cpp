@@ -195,6 +195,11 @@ void CheckRhfInputs(const Image &color, const Image &hist, const RhfParams &o) {
         throw Error(fmt::format("rhf: the bright veto must be a finite number >= 0, not {}",
                                 o.brightVeto),
                     ErrorKind::InvalidArgument);
+    if (!std::isfinite(o.brightPool) || o.brightPool < 0)
+        throw Error(fmt::format("rhf: the pooled bright veto must be a finite number >= 0, "
+                                "not {}",
+                                o.brightPool),
+                    ErrorKind::InvalidArgument);
     if (o.scales < 1 || o.scales > kMaxScales)
         throw Error(fmt::format("rhf: scales must be in 1..{}, not {}", kMaxScales, o.scales),
                     ErrorKind::InvalidArgument);
@@ -298,11 +303,13 @@ RhfHistogram UploadHistogram(vk::Context &context, const Image &hist, int perSlo
     return full;
 }
 
-// Work buffers, sized for the finest scale and reused by every scale.
+// Work buffers, sized for the finest scale and reused by every scale. The pooled veto's
+// counts only when it is on (the kernel does not read them otherwise: one float to bind).
 struct RhfWork {
     RhfWork(vk::Context &context, const RhfLayout &layout, int searchHalf, int width,
-            int height, int planes)
-        : termSum(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
+            int height, int planes, bool pooled)
+        : pool(context, (pooled ? size_t(width) * height : 1) * sizeof(float), "rhf.pool"),
+          termSum(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
                   "rhf.termSum"),
           termCount(context, layout.termRowFloats * layout.termRowsMax * sizeof(float),
                     "rhf.termCount"),
@@ -311,7 +318,7 @@ struct RhfWork {
                "rhf.mask"),
           blockMax(context, size_t(planes - 1) * height * RhfBlocks(width) * sizeof(float),
                    "rhf.blockMax") {}
-    vk::Buffer termSum, termCount, dist, mask, blockMax;
+    vk::Buffer pool, termSum, termCount, dist, mask, blockMax;
 };
 
 // What the scales make while recording, kept until the submission (deques: references
@@ -398,6 +405,12 @@ ScaleInputs RecordCoarseInputs(StagedRun &run, RhfScratch &scratch, const vk::Gp
     return in;
 }
 
+// The pooled bright veto's bound at scale s: the finest scale's alone (the coarse
+// histograms stay on the GPU).
+float PoolBoundOf(int s, const RhfParams &o) {
+    return s == 0 ? o.brightPool : 0.f;
+}
+
 // A selection mask kept for later runs on the same histograms (RunSetup::memo).
 struct RhfMaskMemo {
     vk::Buffer mask;
@@ -408,8 +421,11 @@ struct RhfMaskMemo {
 std::string MaskKey(const std::string &histId, float histScale, int s, int nearest,
                     const RhfParams &o) {
     return fmt::format(
-        "rhf.mask {} s{} scale {:a} patch {} search {} nearest {} threshold {:a} veto {:a}",
-        histId, s, histScale, o.patchHalf, o.searchHalf, nearest, o.threshold, o.brightVeto);
+        "rhf.mask {} s{} scale {:a} patch {} search {} nearest {} threshold {:a} veto {:a} "
+        "pool "
+        "{:a}",
+        histId, s, histScale, o.patchHalf, o.searchHalf, nearest, o.threshold, o.brightVeto,
+        PoolBoundOf(s, o));
 }
 
 // Scale 0's aggregation kept for later runs with the same colour and selection (rhf at one
@@ -432,7 +448,7 @@ int NearestOf(int s, const RhfParams &o) {
 
 // Per strip, the chi-square terms, patch distances and selection into work.mask.
 int RecordSelection(StagedRun &run, RhfWork &work, const RhfLayout &layout,
-                    const ScaleInputs &in, int nearest, const RhfParams &o) {
+                    const ScaleInputs &in, int nearest, float poolBound, const RhfParams &o) {
     vk::Context &context = run.Context();
     vk::Recorder &recorder = run.Recorder();
     const int Ws = in.color->width, Hs = in.color->height;
@@ -448,7 +464,7 @@ int RecordSelection(StagedRun &run, RhfWork &work, const RhfLayout &layout,
         RecordRhfDistance(context, recorder, Ws, Hs, o.patchHalf, o.searchHalf, termBase,
                           termRows, y0, rows, work.termSum, work.termCount, work.dist);
         RecordRhfSelect(context, recorder, Ws, Hs, o.searchHalf, y0, rows, nearest, o.threshold,
-                        work.dist, work.mask);
+                        work.dist, work.pool, poolBound, o.patchHalf, work.mask);
     }
     return strips;
 }
@@ -480,7 +496,7 @@ const vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *w
     }
     int strips = 0;
     if (!kept) {
-        strips = RecordSelection(run, *work, layout, in, nearest, o);
+        strips = RecordSelection(run, *work, layout, in, nearest, PoolBoundOf(s, o), o);
         if (made) {
             auto entry = std::make_shared<RhfMaskMemo>();
             entry->mask = vk::Buffer(context, maskBytes, "rhf.mask.memo");
@@ -504,13 +520,19 @@ const vk::GpuImage &RecordFilter(StagedRun &run, RhfScratch &scratch, RhfWork *w
     run.StageAtEnd(fmt::format("filtered s{}", s), filtered);
     run.Plan(fmt::format(
         "scale {} ({}x{}): chi-square pixel terms for {} offsets x {} bins, {}x{} patch "
-        "distances{}, selection of {} nearest (itself + k_NN) + distance < {} {}, "
+        "distances{}, selection of {} nearest (itself + k_NN) + distance < {}{} {}, "
         "aggregation",
         s, Ws, Hs, offsets, n3, 2 * o.patchHalf + 1, 2 * o.patchHalf + 1,
         o.brightVeto > 0
             ? fmt::format(" with bright veto {} (in the frame's sample counts)", o.brightVeto)
             : std::string(" (no bright veto)"),
         nearest, o.threshold,
+        PoolBoundOf(s, o) > 0
+            ? fmt::format(", no candidate whose bright samples pooled over the patch (Q) "
+                          "differ from the centre's (P) as rates over the boxes' pixels (aQ, "
+                          "aP) by (P/aP - Q/aQ)^2 > {} (P/aP^2 + Q/aQ^2)",
+                          PoolBoundOf(s, o))
+            : std::string(),
         kept ? std::string("(an earlier run's on these histograms)")
              : fmt::format("in {} strip(s)", strips)));
     return filtered;
@@ -599,6 +621,25 @@ int RhfReach(const RhfParams &o, int scales) {
     return combined;
 }
 
+std::vector<float> RhfBrightPool(const Image &hist, int patchHalf) {
+    const int W = hist.width, H = hist.height, n = (hist.channels - 1) / 3;
+    std::vector<float> bright(size_t(W) * H, 0.f), pool(size_t(W) * H, 0.f);
+    for (size_t p = 0; p < bright.size(); ++p)
+        for (int c = 0; c < 3; ++c)
+            for (int b = std::max(0, n - 2); b < n; ++b) bright[p] += hist.Plane(c * n + b)[p];
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            float sum = 0.f;
+            for (int ty = std::max(0, y - patchHalf); ty <= std::min(H - 1, y + patchHalf);
+                 ++ty)
+                for (int tx = std::max(0, x - patchHalf); tx <= std::min(W - 1, x + patchHalf);
+                     ++tx)
+                    sum += bright[size_t(ty) * W + tx];
+            pool[size_t(y) * W + x] = sum;
+        }
+    return pool;
+}
+
 RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &histIn,
                      const RhfParams &o, const RunSetup &setup) {
     CheckRhfInputs(colorIn, histIn, o);
@@ -667,7 +708,8 @@ RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &hi
             "histograms: {} planes ({} bins per colour + the count) in {} buffer(s) of up to "
             "{} planes; distances in strips of up to {} rows",
             planes, (planes - 1) / 3, full.slots.size(), layout.perSlot, layout.stripRows));
-        work.emplace(context, layout, o.searchHalf, W, H, planes);
+        work.emplace(context, layout, o.searchHalf, W, H, planes, o.brightPool > 0);
+        if (o.brightPool > 0) work->pool.UploadFloats(RhfBrightPool(hist, o.patchHalf));
     } else {
         run.Plan(
             fmt::format("histograms: {} planes ({} bins per colour + the count), not "

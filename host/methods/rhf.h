@@ -40,6 +40,11 @@ std::vector<float> RhfHistScales(const Image &color, const Image &hist, int scal
 // bicubic U and D up to the finest scale.
 int RhfReach(const RhfParams &params, int scales);
 
+// The pooled bright veto's counts (RhfParams::brightPool): per pixel the sum over its
+// (2 patchHalf + 1)^2 box (cut at the image's edges) of the last two bins of each colour, in
+// row-major order, the colours and bins of a pixel summed first.
+std::vector<float> RhfBrightPool(const Image &hist, int patchHalf);
+
 // Denoise `color` (3 channels) with its histograms `hist` (3n+1 channels: channel c*n+b is
 // bin b of colour c, the last is the sample count; ReadFrame's "hist" layer). NaN/Inf
 // colours are taken as black pixels without samples, NaN/Inf/negative bins and counts as

@@ -24,6 +24,20 @@ struct RhfParams {
     // dark patches at few samples; a lone firefly sample, at most 1 in its bins, stays below
     // the tool's "more than 1" and is still averaged away (README, "The bright veto").
     float brightVeto = 0.3f;
+    // The pooled bright veto (beyond the tool; 0: off), finest scale: a candidate patch is
+    // left out when the bright samples (the saturated bins' counts, summed over the colours)
+    // pooled over its patch box, Q, and over the centre's, P, differ as rates over the
+    // boxes' pixel counts aQ, aP (boxes cut at the frame's edges, so a border box is not
+    // taken for a darker one): (P/aP - Q/aQ)^2 > brightPool (P/aP^2 + Q/aQ^2), which is
+    // (P - Q)^2 > brightPool (P + Q) where both boxes are whole. A highlight's line whose
+    // pixels each hold one bright sample adds no term to the distance nor to the bright veto (a
+    // bin of one sample is not counted), so the dark patches of its window took it in: a block
+    // the size of the window. Loose enough that a patch with a pair of fireflies (P - Q of two
+    // samples, summed over three colours: 6) is still averaged at 6: a tighter bound kept the
+    // fireflies that CutSpikes leaves as blotches; one way only (a bright patch may take in
+    // darker ones) lost their energy to the restore's glow. Off by default: at 6 rows of the
+    // heavy-tailed scenes got worse (docs/methods/rhf.md).
+    float brightPool = 0.f;
     // Keep negative output values, as the authors' tool does. Off (beyond the tool): the
     // recombination's bicubic U overshoots below 0 at strong edges (README), and the GPU
     // pipeline clamps its output to 0 after the last stage, so `diff --method rhf` compares

@@ -12,15 +12,46 @@ layout(constant_id = RHF_SELECT_SPEC_SEARCH_HALF) const int B = 6;
 const int SIDE = 2 * B + 1, OFFSETS = SIDE * SIDE, WORDS = (OFFSETS + 31) / 32;
 const float NONE = 3.0e38;  // above every distance
 layout(binding = RHF_SELECT_DISTANCE) uniform samplerBuffer dist;
-layout(std430, binding = RHF_SELECT_MASK) writeonly buffer Mask { uint mask[]; };
+layout(std430, binding = RHF_SELECT_MASK) writeonly buffer Mask {
+    uint mask[];
+};
+layout(binding = RHF_SELECT_POOL) uniform samplerBuffer pool;
 
 float d[OFFSETS];
+
+// Pixels in the pool's box around (x, y), cut at the image's edges.
+int BoxArea(int x, int y) {
+    int w = push.patchHalf;
+    return (min(push.width - 1, x + w) - max(0, x - w) + 1) *
+           (min(push.height - 1, y + w) - max(0, y - w) + 1);
+}
+
+// Offset o's distance, -1 (no candidate) where the pooled bright samples of the two patch
+// boxes differ beyond poolBound: a highlight's line whose pixels hold one bright sample each
+// adds no term to the distance, so without this the dark patches around it take it in. Both
+// ways (the veto is symmetric in P, Q), so the energy the filter moves stays with the
+// patches that share it. The counts are compared as rates over their boxes' pixels, so a
+// box cut at the frame's edge is not taken for a darker one: (P/aP - Q/aQ)^2 >
+// poolBound (P/aP^2 + Q/aQ^2), here times aP^2 aQ^2.
+float Candidate(int o, int base, int plane, int x, int y, float own, float ownArea) {
+    float at = texelFetch(dist, o * plane + base).r;
+    if (push.poolBound <= 0.0 || at < 0.0) return at;
+    int qx = x + o % SIDE - B, qy = y + o / SIDE - B;
+    float other = texelFetch(pool, qy * push.width + qx).r, area = float(BoxArea(qx, qy));
+    // Unfused, as the CPU reference computes it.
+    precise float diff = own * area - other * ownArea, square = diff * diff,
+                  bound = push.poolBound * (own * area * area + other * ownArea * ownArea);
+    return square > bound ? -1.0 : at;
+}
 
 void main() {
     int x = int(gl_GlobalInvocationID.x), r = int(gl_WorkGroupID.y);
     if (x >= push.width) return;
-    int plane = push.rows * push.width, base = r * push.width + x;
-    [[unroll]] for (int o = 0; o < OFFSETS; ++o) d[o] = texelFetch(dist, o * plane + base).r;
+    int plane = push.rows * push.width, base = r * push.width + x, y = push.rowBase + r;
+    float own = push.poolBound > 0.0 ? texelFetch(pool, y * push.width + x).r : 0.0;
+    float ownArea = float(BoxArea(x, y));
+    [[unroll]] for (int o = 0; o < OFFSETS; ++o) d[o] =
+        Candidate(o, base, plane, x, y, own, ownArea);
     // The cut: the distance t of the nearest-th nearest candidate, by passes of "smallest
     // distance above the last" that count its copies. Vetoed candidates are negative.
     // A nearest covering the window takes every candidate.
@@ -54,16 +85,16 @@ void main() {
         int n = 0, order[OFFSETS];
         for (int key = 0; key < OFFSETS; ++key) {
             int o = (key % SIDE) * SIDE + key / SIDE;
-            if (texelFetch(dist, o * plane + base).r >= 0.0) order[n++] = o;
+            if (Candidate(o, base, plane, x, y, own, ownArea) >= 0.0) order[n++] = o;
         }
         for (int k = 0; k < push.nearest; ++k) {
             int best = k;
-            float bestD = texelFetch(dist, order[k] * plane + base).r;
+            float bestD = Candidate(order[k], base, plane, x, y, own, ownArea);
             // Every lane runs the same count: on lavapipe (Mesa 22.3) stores after a loop
             // whose lanes leave at different counts were lost.
             for (int j = 1; j < OFFSETS; ++j) {
                 if (j <= k || j >= n) continue;
-                float dj = texelFetch(dist, order[j] * plane + base).r;
+                float dj = Candidate(order[j], base, plane, x, y, own, ownArea);
                 if (dj < bestD) {
                     best = j;
                     bestD = dj;
@@ -77,7 +108,6 @@ void main() {
         t = -1.0;
     }
     // The candidates up to the cut (or the replay's picks) and every one under the threshold.
-    int y = push.rowBase + r;
     [[unroll]] for (int word = 0; word < WORDS; ++word) {
         uint bits = picks[word];
         [[unroll]] for (int bit = 0; bit < 32; ++bit) {

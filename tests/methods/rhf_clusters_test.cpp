@@ -4,6 +4,7 @@
 // clusters are cut, against the CPU twin (cpu_reference/local_mean.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -110,6 +111,61 @@ TEST_F(RhfClusters, ALightsReflectionOfSeveralSamplesDrawsNoSquare) {
             if (d <= 2) near += out.At(0, y, x) - wallMean;
         }
     EXPECT_NEAR(near, input, 0.1 * input);
+}
+
+// A highlight's line on a dim wall: a vertical band of 2 pixels whose samples each saw a
+// light (200 a channel) with probability 1/8, so most of its pixels hold 1 to 3 bright
+// samples of 16, as the gold ring's inner edge in glossy_lights. A bin of one sample adds no
+// term to the distance, so without the pool the wall's patches take the line's pixels in and
+// the filter draws a lighter block the width of its search window beside it. The limits:
+// a bright sample counts 3 in the pool (one saturated bin per colour), and a wall centre
+// (P = 0) keeps a candidate of Q counts iff Q^2 <= B Q, i.e. Q <= B. At bound 2 no box
+// holding a line sample passes, so the wall 3 to 6 pixels away keeps its own noise: its
+// samples' spread (uniform, sd 0.36 of the mean) over 16 samples stays far below half its
+// mean, while one leaked sample of 200 among a window of candidates lifts a pixel by more
+// than its mean. At bound 6 only boxes of at most 2 bright samples pass (the line's edge),
+// where without the pool every box over the line's 1 to 3 a pixel did: the lift at most 0.6
+// of that. The line keeps most of its light (it is averaged with itself).
+TEST_F(RhfClusters, AHighlightsLineDrawsNoBlocks) {
+    const int w = 48, h = 48, x0 = 23, y0 = 8, y1 = 40;
+    std::mt19937_64 rng(SeedFromName("rhf clusters line"));
+    std::uniform_real_distribution<double> wallSample(0.005, 0.0216);
+    auto onLine = [&](int x, int y) { return (x == x0 || x == x0 + 1) && y >= y0 && y <= y1; };
+    Frame frame = SampledFrame(w, h, [&](int x, int y, int) {
+        return onLine(x, y) && rng() % 8 == 0 ? 200.0 : wallSample(rng);
+    });
+    const Image &color = frame.Get("color");
+    double wallMean = 0, line = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) (onLine(x, y) ? line : wallMean) += color.At(0, y, x);
+    wallMean /= w * h - 2 * (y1 - y0 + 1);
+    Device device = api::BorrowDevice(Ctx());
+    // The wall's largest lift 3 to 6 pixels from the line, and the line's light.
+    auto measure = [&](const Image &out, double *lineOut) {
+        double lift = 0;
+        *lineOut = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const int d = x < x0 ? x0 - x : x - x0 - 1;
+                if (onLine(x, y)) *lineOut += out.At(0, y, x);
+                if (y >= y0 + 6 && y <= y1 - 6 && d >= 3 && d <= 6)
+                    lift = std::max(lift, out.At(0, y, x) - wallMean);
+            }
+        return lift;
+    };
+    Method off("rhf"), on("rhf"), tight("rhf");
+    off.Set("bright-pool", 0.f);
+    on.Set("bright-pool", 6.f);
+    tight.Set("bright-pool", 2.f);
+    double lineOn = 0, lineOff = 0, lineTight = 0;
+    const double liftOn = measure(on.Run(device, frame).image, &lineOn);
+    const double liftOff = measure(off.Run(device, frame).image, &lineOff);
+    const double liftTight = measure(tight.Run(device, frame).image, &lineTight);
+    EXPECT_GT(liftOff, 2 * wallMean) << "the line no longer lights a block without the pool";
+    EXPECT_LT(liftOn, 0.6 * liftOff);
+    EXPECT_LT(liftTight, 0.5 * wallMean);
+    EXPECT_GT(lineOn, 0.5 * line);
+    EXPECT_GT(lineTight, 0.5 * line);
 }
 
 // Hand-made histograms of 16 samples a pixel on a wall of 0.0133 a channel: 5 pixels in a

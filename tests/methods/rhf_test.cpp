@@ -221,6 +221,155 @@ INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelBrightVeto, testing::ValuesIn(BrightVet
                                                 NameOf(info.param.veto));
                          });
 
+// The pooled bright veto (beyond the authors' tool, the finest scale): GPU against CPU with
+// it off (the default), at bounds 1, 2 and 6 (the one the docs measure), at one and two
+// scales, the bright veto on (BrightVetoCase::veto holds the pool's bound here). The frame's
+// brightest band holds samples above the histogram's range; the pool must change the
+// output, or the test would compare nothing new.
+class RhfKernelBrightPool : public GpuTestWithParam<BrightVetoCase> {};
+
+TEST_P(RhfKernelBrightPool, MatchesReference) {
+    const auto [scales, pool] = GetParam();
+    Frame f = MakeFrame(33, 29, SeedFromName("rhf pool"));
+    RhfParams o;
+    o.searchHalf = 4;
+    o.scales = scales;
+    o.brightPool = pool;
+    o.keepNegative = true;
+    Image expected = ref::Rhf(f.color, f.hist, o);
+    EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
+                            ToleranceFor(f.color, o)));
+    if (pool > 0) {
+        RhfParams off = o;
+        off.brightPool = 0;
+        EXPECT_FALSE(
+            ImagesMatch(expected, ref::Rhf(f.color, f.hist, off), {}, ToleranceFor(f.color, o)))
+            << "the pooled veto changed nothing on this frame";
+    }
+}
+
+std::vector<BrightVetoCase> BrightPoolCases() {
+    std::vector<BrightVetoCase> cases;
+    for (int scales : {1, 2})
+        for (float pool : {0.f, 1.f, 2.f, 6.f}) cases.push_back({scales, pool});
+    return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, RhfKernelBrightPool, testing::ValuesIn(BrightPoolCases()),
+                         [](const testing::TestParamInfo<BrightVetoCase> &info) {
+                             return fmt::format("s{}_pool{}", info.param.scales,
+                                                NameOf(info.param.veto));
+                         });
+
+// The pooled veto where the boxes are cut at the frame's edges: bright samples on the
+// border rows and columns only (random counts), GPU against CPU at bounds 2 and 6.
+TEST_F(RhfKernel, BrightPoolAtTheEdgesMatchesReference) {
+    const int w = 23, h = 19;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf pool edges"));
+    std::mt19937_64 rng(SeedFromName("rhf pool edge bins"));
+    std::uniform_int_distribution<int> bright(0, 6);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) {
+                float &last = f.hist.At(c * kBins + kBins - 1, y, x);
+                last = x < 2 || y < 2 || x >= w - 2 || y >= h - 2 ? float(bright(rng)) : 0.f;
+            }
+    RhfParams o;
+    o.searchHalf = 4;
+    o.scales = 1;
+    o.keepNegative = true;
+    const Image off = ref::Rhf(f.color, f.hist, o);
+    for (float pool : {2.f, 6.f}) {
+        SCOPED_TRACE(fmt::format("pool {}", pool));
+        o.brightPool = pool;
+        Image expected = ref::Rhf(f.color, f.hist, o);
+        EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
+                                ToleranceFor(f.color, o)));
+        EXPECT_FALSE(ImagesMatch(expected, off, {}, ToleranceFor(f.color, o)))
+            << "the pooled veto changed nothing on this frame";
+    }
+}
+
+// A saturated field touching the frame's edges (every pixel the same many bright samples)
+// is filtered at its border as inside: a box cut at the edge holds fewer bright samples
+// but the same rate, so the pooled veto leaves every candidate in, on the GPU and in the
+// reference, and each gives its output without the veto, to the bit.
+TEST_F(RhfKernel, BrightPoolKeepsASaturatedFieldsBorder) {
+    const int w = 21, h = 17, spp = 16;
+    Frame f = MakeFrame(w, h, SeedFromName("rhf pool saturated"));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            for (int i = 0; i < 3 * kBins; ++i) f.hist.At(i, y, x) = 0.f;
+            for (int c = 0; c < 3; ++c) f.hist.At(c * kBins + kBins - 1, y, x) = float(spp);
+            f.hist.At(3 * kBins, y, x) = float(spp);
+        }
+    for (int patchHalf : {1, 2})
+        for (float pool : {2.f, 6.f}) {
+            SCOPED_TRACE(fmt::format("patch half {} pool {}", patchHalf, pool));
+            RhfParams o;
+            o.searchHalf = 4;
+            o.patchHalf = patchHalf;
+            o.scales = 1;
+            o.keepNegative = true;
+            const Image cpuOff = ref::Rhf(f.color, f.hist, o),
+                        gpuOff = RhfDenoise(Ctx(), f.color, f.hist, o).image;
+            o.brightPool = pool;
+            EXPECT_TRUE(BitIdentical(cpuOff, ref::Rhf(f.color, f.hist, o)));
+            EXPECT_TRUE(BitIdentical(gpuOff, RhfDenoise(Ctx(), f.color, f.hist, o).image));
+        }
+}
+
+// The pool's counts the host uploads against the CPU reference's, to the bit: random
+// histograms (the bins' fractions as the renderer splits samples), the edges cut.
+TEST(RhfBrightPool, HostMatchesReference) {
+    for (auto [w, h] : {std::pair{1, 1}, {2, 3}, {17, 11}})
+        for (int patchHalf : {0, 1, 2}) {
+            SCOPED_TRACE(fmt::format("{}x{} w {}", w, h, patchHalf));
+            Frame f = MakeFrame(w, h, SeedFromName(fmt::format("rhf pool {}x{}", w, h)));
+            std::mt19937_64 rng(SeedFromName(fmt::format("rhf pool bins {}x{}", w, h)));
+            std::uniform_real_distribution<float> fraction(0.f, 3.f);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    for (int c = 0; c < 3; ++c)
+                        if (rng() % 3 == 0)
+                            f.hist.At(c * kBins + kBins - 1, y, x) = fraction(rng);
+            std::vector<float> host = RhfBrightPool(f.hist, patchHalf),
+                               cpu = ref::RhfBrightPool(f.hist, patchHalf);
+            ASSERT_EQ(host.size(), cpu.size());
+            EXPECT_EQ(std::memcmp(host.data(), cpu.data(), host.size() * sizeof(float)), 0);
+            EXPECT_GT(*std::max_element(cpu.begin(), cpu.end()), 0.f);
+        }
+}
+
+// --explain's selection line names the nearest count and the threshold in their places,
+// with the pooled veto's text after the threshold only when it is on.
+TEST_F(RhfKernel, PlanNamesTheSelection) {
+    Frame f = MakeFrame(21, 19, SeedFromName("rhf plan"));
+    RhfParams o;
+    o.searchHalf = 4;
+    o.knn = 3;
+    o.threshold = 0.75f;
+    auto planOf = [&](const RhfParams &params) {
+        std::string plan;
+        for (const std::string &line : RhfDenoise(Ctx(), f.color, f.hist, params).plan)
+            plan += line + "\n";
+        return plan;
+    };
+    const std::string off = planOf(o);
+    EXPECT_NE(
+        off.find("selection of 4 nearest (itself + k_NN) + distance < 0.75 in 1 strip(s)"),
+        std::string::npos)
+        << off;
+    EXPECT_EQ(off.find("pooled"), std::string::npos) << off;
+    o.brightPool = 6;
+    const std::string on = planOf(o);
+    EXPECT_NE(on.find("selection of 4 nearest (itself + k_NN) + distance < 0.75, no candidate "
+                      "whose bright samples pooled"),
+              std::string::npos)
+        << on;
+    EXPECT_NE(on.find("> 6 (P/aP^2 + Q/aQ^2) in 1 strip(s)"), std::string::npos) << on;
+}
+
 // Histograms split over several buffers and distances computed in thin strips (the
 // paths big frames take) give the same bits as the one-buffer, one-strip run; at two
 // scales the buffers are downsampled in turn through one scratch.
@@ -474,6 +623,7 @@ TEST_P(RhfPropertiesOneLight, BrightVetoKeepsItInPlace) {
     EXPECT_TRUE(ImagesMatch(f.color, kept, {}, {0, 16 * kUnitRoundoff * lightMean, 1e-12}));
     EXPECT_TRUE(ImagesMatch(ref::Rhf(f.color, f.hist, o), kept, {}, ToleranceFor(f.color, o)));
     o.brightVeto = 0;
+    o.brightPool = 0;
     Image spread = RhfDenoise(Ctx(), f.color, f.hist, o).image;
     EXPECT_LT(spread.At(1, ly, lx), 0.5f * lightMean)
         << "the authors' distance no longer spreads the light";
@@ -673,7 +823,7 @@ TEST_F(RhfSelectKernel, MatchesTheToolsSortOnTies) {
                 dist.UploadFloats(d);
                 vk::Recorder recorder(Ctx());
                 RecordRhfSelect(Ctx(), recorder, w, rows, b, 0, rows, nearest, threshold, dist,
-                                mask);
+                                dist, 0.f, 1, mask);
                 recorder.Submit();
                 std::vector<uint32_t> bits(size_t(RhfMaskWords(b)) * rows * w);
                 mask.Download(bits.data(), bits.size() * sizeof(uint32_t));
@@ -824,6 +974,7 @@ TEST_F(RhfToolAlignment, KnnTiesResolveAsTheToolsSelectionSort) {
         o.threshold = 1;
         o.scales = 1;
         o.brightVeto = 0;
+        o.brightPool = 0;
         Image cpu = ref::RhfSingleScale(f.color, f.hist, 0, 2, 1.0, 1);
         Image gpu = RhfDenoise(Ctx(), f.color, f.hist, o).image;
         EXPECT_FLOAT_EQ(cpu.At(0, c.y, c.x), c.expected);

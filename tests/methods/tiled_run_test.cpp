@@ -287,6 +287,17 @@ TEST_F(TiledRunShared, RhfScalesPlannedAlikeShareTheFinestSelections) {
     EXPECT_FALSE(api::FindMethod("pivot")->make()->Tiling(Ctx(), inputs).sharesByWindow);
 }
 
+// rhf's plan counts the pooled bright veto's counts, a float a pixel, only when it is on
+// (off, its buffer is one float).
+TEST_F(GpuTest, TiledRunPlanRhfCountsThePoolWhenOn) {
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make();
+    Frame frame = RenderedFrame(17, 13, render::kLayersAll);
+    api::Inputs inputs(frame, false, "rhf");
+    const double off = rhf->Tiling(Ctx(), inputs).bytesPerPixel;
+    rhf->Set("bright-pool", 6.f);
+    EXPECT_EQ(rhf->Tiling(Ctx(), inputs).bytesPerPixel, off + 4);
+}
+
 TEST(TiledRunPlan, WidestNeedsHoldBoth) {
     api::TileNeeds a, b;
     a.reach = 50, a.finishReach = 30, a.align = 2, a.bytesPerPixel = 10, a.fixedBytes = 7;
@@ -443,6 +454,10 @@ INSTANTIATE_TEST_SUITE_P(
         // window's own sizes would interpolate elsewhere).
         LocalCase{
             "rhf_three_scales", "rhf", {{"nscales", 3}, {"search-half", 2}}, 44, 133, 101},
+        // The pooled bright veto: its counts cut at a window's edge lie beyond the halo's
+        // reach.
+        LocalCase{
+            "rhf_bright_pool", "rhf", {{"bright-pool", 6.f}, {"search-half", 4}}, 9, 61, 47},
         LocalCase{"pivot_planefit", "pivot", {{"max-radius", 5}}, 13, 61, 47},
         LocalCase{
             "pivot_bilateral", "pivot", {{"filter", std::string("bilateral")}}, 9, 61, 47}),

@@ -147,6 +147,13 @@ TEST_F(CliUsage, ParseErrorsExitTwoWithReadableRanges) {
     EXPECT_FALSE(std::regex_search(r.err, std::regex("[0-9]{10}"))) << r.err;
     EXPECT_TRUE(IsUsageError(Run("denoise f.exr -o o.exr --awr-spins 9"),
                              "--awr-spins: 9 is out of range (1 to 8)"));
+    // A bound of 1e29 or more is none to a reader: past it, the value must be finite.
+    EXPECT_TRUE(
+        IsUsageError(Run("denoise f.exr -o o.exr --bright-pool 1e40"),
+                     "--bright-pool: 1e40 is out of range (a finite number, at least 0)"));
+    EXPECT_TRUE(
+        IsUsageError(Run("denoise f.exr -o o.exr --bright-veto nan"),
+                     "--bright-veto: nan is out of range (a finite number, at least 0)"));
     EXPECT_TRUE(
         IsUsageError(Run("denoise f.exr -o o.exr --kappa abc"), "'abc' is not a number"));
     EXPECT_TRUE(

@@ -152,6 +152,11 @@ CLI::Option *CheckRange(CLI::Option *option, double min, double max, bool intege
             if (value.empty() || *end != '\0' || (integer && v != std::floor(v)))
                 return fmt::format("'{}' is not {}", value,
                                    integer ? "an integer" : "a number");
+            // Past a bound no user meets (1e29 and up), or not a number: say it must be finite.
+            bool unbounded = max >= 1e29 && !(v <= max);
+            if (unbounded)
+                return fmt::format("{} is out of range (a finite number{}{})", value,
+                                   min <= -1e29 ? "" : ", ", min <= -1e29 ? "" : range);
             if (!(v >= min && v <= max))
                 return fmt::format("{} is out of range ({})", value, range);
             return "";

@@ -40,7 +40,8 @@ std::string RangeText(double min, double max);
 
 // Check that `option`'s value is a number (an integer with `integer`) in [min, max], and
 // say the range at the end of its help. The message for a bad value names the value and
-// the range: "--kappa: -1 is out of range (at least 0)".
+// the range: "--kappa: -1 is out of range (at least 0)"; past an unbounded maximum (or NaN)
+// it says so: "--kappa: 1e40 is out of range (a finite number, at least 0)".
 CLI::Option *CheckRange(CLI::Option *option, double min, double max, bool integer);
 
 // How much faster one thing is than another, given their times' ratio (the other's over
