@@ -216,11 +216,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                             one.buffer.Name(), one.width, one.height, one.channels, w, h,
                             PIVOT_ZSN_EDGE_PLANES, PIVOT_ZSN_PLANES),
                 ErrorKind::Internal);
-    if (settings.edge > 0 && zsnTexels != 2)
-        throw Error(
-            "pivot fit: the shading-edge test reads zsn's level and noise, which this "
-            "one lacks",
-            ErrorKind::Internal);
+    CheckPivotZsnHoldsEdge("pivot fit", zsnTexels, settings.edge);
     CheckPivotGuides("pivot fit", w, h, guides);
     CheckPivotFitBuffers("pivot fit", w, h, channels, fits);
     if (rowBase < 0 || rows < 1 || rowBase + rows > h)

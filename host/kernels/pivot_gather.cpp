@@ -108,11 +108,7 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
                     ErrorKind::Internal);
     CheckPivotShapes("pivot gather", color, {&pivot, &out});
     int zsnTexels = CheckPivotZsn("pivot gather", color, zsn);
-    if (edge > 0 && zsnTexels != 2)
-        throw Error(
-            "pivot gather: the shading-edge test reads zsn's level and noise, which "
-            "this one lacks",
-            ErrorKind::Internal);
+    CheckPivotZsnHoldsEdge("pivot gather", zsnTexels, edge);
     CheckPivotGuides("pivot gather", color.width, color.height, guides);
     CheckPivotFitBuffers("pivot gather", color.width, color.height, color.channels, fits);
     const vk::Kernel &kernel = context.GetKernel(

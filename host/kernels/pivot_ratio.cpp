@@ -42,6 +42,14 @@ int CheckPivotZsn(const char *what, const vk::GpuImage &a,
     return planes / 4;
 }
 
+void CheckPivotZsnHoldsEdge(const char *what, int zsnTexels, float edge) {
+    if (edge > 0 && zsnTexels != 2)
+        throw Error(fmt::format("{}: the shading-edge test reads zsn's level and noise, which "
+                                "this one lacks",
+                                what),
+                    ErrorKind::Internal);
+}
+
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,

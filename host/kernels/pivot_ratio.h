@@ -37,4 +37,8 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
 int CheckPivotZsn(const char *what, const vk::GpuImage &a,
                   const std::vector<vk::GpuImage> &zsn);
 
+// Refuse the shading-edge test (`edge` > 0) on packed inputs of one texel a pixel, which lack
+// its level and noise.
+void CheckPivotZsnHoldsEdge(const char *what, int zsnTexels, float edge);
+
 }  // namespace mcd

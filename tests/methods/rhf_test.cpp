@@ -185,6 +185,20 @@ struct BrightVetoCase {
     float veto;
 };
 
+// The kernel against the CPU twin with `o`; where `off` (o with its option off) differs from
+// o, the option must change the twin's output, or the comparison would test nothing new.
+void ExpectRhfMatchesWithOption(vk::Context &ctx, const Frame &f, const RhfParams &o,
+                                const RhfParams &off, bool optionOn, const char *what) {
+    Image expected = ref::Rhf(f.color, f.hist, o);
+    EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(ctx, f.color, f.hist, o).image, {},
+                            ToleranceFor(f.color, o)));
+    if (optionOn) {
+        EXPECT_FALSE(
+            ImagesMatch(expected, ref::Rhf(f.color, f.hist, off), {}, ToleranceFor(f.color, o)))
+            << "the " << what << " changed nothing on this frame";
+    }
+}
+
 class RhfKernelBrightVeto : public GpuTestWithParam<BrightVetoCase> {};
 
 TEST_P(RhfKernelBrightVeto, MatchesReference) {
@@ -196,16 +210,9 @@ TEST_P(RhfKernelBrightVeto, MatchesReference) {
     o.scales = scales;
     o.brightVeto = veto;
     o.keepNegative = true;
-    Image expected = ref::Rhf(f.color, f.hist, o);
-    EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
-                            ToleranceFor(f.color, o)));
-    if (veto > 0) {
-        RhfParams off = o;
-        off.brightVeto = 0;
-        EXPECT_FALSE(
-            ImagesMatch(expected, ref::Rhf(f.color, f.hist, off), {}, ToleranceFor(f.color, o)))
-            << "the veto changed nothing on this frame";
-    }
+    RhfParams off = o;
+    off.brightVeto = 0;
+    ExpectRhfMatchesWithOption(Ctx(), f, o, off, veto > 0, "veto");
 }
 
 std::vector<BrightVetoCase> BrightVetoCases() {
@@ -236,16 +243,9 @@ TEST_P(RhfKernelBrightPool, MatchesReference) {
     o.scales = scales;
     o.brightPool = pool;
     o.keepNegative = true;
-    Image expected = ref::Rhf(f.color, f.hist, o);
-    EXPECT_TRUE(ImagesMatch(expected, RhfDenoise(Ctx(), f.color, f.hist, o).image, {},
-                            ToleranceFor(f.color, o)));
-    if (pool > 0) {
-        RhfParams off = o;
-        off.brightPool = 0;
-        EXPECT_FALSE(
-            ImagesMatch(expected, ref::Rhf(f.color, f.hist, off), {}, ToleranceFor(f.color, o)))
-            << "the pooled veto changed nothing on this frame";
-    }
+    RhfParams off = o;
+    off.brightPool = 0;
+    ExpectRhfMatchesWithOption(Ctx(), f, o, off, pool > 0, "pooled veto");
 }
 
 std::vector<BrightVetoCase> BrightPoolCases() {
