@@ -34,7 +34,8 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
                            sizeof(k_rhf_select_spv),
                            RHF_SELECT_BINDINGS,
                            sizeof(shader::RhfSelectPush),
-                           {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}},
+                           {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf},
+                            {RHF_SELECT_SPEC_POOL, poolBound > 0 ? 1 : 0}},
                            (1u << RHF_SELECT_DISTANCE) | (1u << RHF_SELECT_POOL)});
     shader::RhfSelectPush push{width,   height,    searchHalf, rowBase,  rows,
                                nearest, poolBound, threshold,  patchHalf};

@@ -9,6 +9,8 @@
 // lines the compiler handles at any window size.
 layout(local_size_x = RHF_SELECT_LOCAL_SIZE) in;
 layout(constant_id = RHF_SELECT_SPEC_SEARCH_HALF) const int B = 6;
+// The pooled veto's code compiled out when it is off: lavapipe runs a branch no lane takes.
+layout(constant_id = RHF_SELECT_SPEC_POOL) const int usePool = 1;
 const int SIDE = 2 * B + 1, OFFSETS = SIDE * SIDE, WORDS = (OFFSETS + 31) / 32;
 const float NONE = 3.0e38;  // above every distance
 layout(binding = RHF_SELECT_DISTANCE) uniform samplerBuffer dist;
@@ -35,7 +37,7 @@ int BoxArea(int x, int y) {
 // poolBound (P/aP^2 + Q/aQ^2), here times aP^2 aQ^2.
 float Candidate(int o, int base, int plane, int x, int y, float own, float ownArea) {
     float at = texelFetch(dist, o * plane + base).r;
-    if (push.poolBound <= 0.0 || at < 0.0) return at;
+    if (usePool == 0 || push.poolBound <= 0.0 || at < 0.0) return at;
     int qx = x + o % SIDE - B, qy = y + o / SIDE - B;
     float other = texelFetch(pool, qy * push.width + qx).r, area = float(BoxArea(qx, qy));
     // Unfused, as the CPU reference computes it.
@@ -48,8 +50,11 @@ void main() {
     int x = int(gl_GlobalInvocationID.x), r = int(gl_WorkGroupID.y);
     if (x >= push.width) return;
     int plane = push.rows * push.width, base = r * push.width + x, y = push.rowBase + r;
-    float own = push.poolBound > 0.0 ? texelFetch(pool, y * push.width + x).r : 0.0;
-    float ownArea = float(BoxArea(x, y));
+    float own = 0.0, ownArea = 0.0;
+    if (usePool != 0 && push.poolBound > 0.0) {
+        own = texelFetch(pool, y * push.width + x).r;
+        ownArea = float(BoxArea(x, y));
+    }
     [[unroll]] for (int o = 0; o < OFFSETS; ++o) d[o] =
         Candidate(o, base, plane, x, y, own, ownArea);
     // The cut: the distance t of the nearest-th nearest candidate, by passes of "smallest

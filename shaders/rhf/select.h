@@ -15,6 +15,7 @@
 #define RHF_SELECT_BINDINGS 3
 #define RHF_SELECT_LOCAL_SIZE 64
 #define RHF_SELECT_SPEC_SEARCH_HALF 0  // b
+#define RHF_SELECT_SPEC_POOL 1         // 1: the pooled bright veto is on (compiled out at 0)
 
 #ifdef __cplusplus
 #include <cstddef>
