@@ -191,7 +191,9 @@ Image PivotFitBuffers::Radii() const {
     const size_t centres = radii.PixelCount();
     // Blocks of centres through one small buffer, reused: the radius is one float of a
     // centre's eight, and a copy of the whole buffer would fault in fresh pages for all eight.
-    const size_t block = std::min(centres, kPivotRadiiBlock);
+    // A staged buffer is read whole: there each read is a submission and a wait.
+    const size_t block = first.buffer.Mapped() ? std::min(centres, kPivotRadiiBlock)
+                                               : std::max<size_t>(centres, 1);
     std::vector<float> planes(block * PIVOT_PLANES_PER_BUFFER);
     constexpr int kRadius = PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER;
     for (int c = 0; c < Channels(); ++c) {

@@ -26,7 +26,7 @@ struct PivotFitSettings {
           sigmaWeight = 0.f, edge = 0.f;
 };
 
-// How many centres' planes PivotFitBuffers::Radii copies at a time.
+// How many centres' planes PivotFitBuffers::Radii copies at a time from mapped memory.
 constexpr size_t kPivotRadiiBlock = size_t(1) << 15;
 
 // The fits on the GPU: per channel two buffers of PIVOT_PLANES_PER_BUFFER planes of the
