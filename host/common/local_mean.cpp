@@ -17,14 +17,56 @@
 namespace mcd {
 namespace {
 
+// The images a restore's steps make anew at every scale and ring, kept for the next one:
+// each step overwrites every value, and fresh pages cost more than the values' work.
+struct RestoreScratch {
+    Image moved, squared, means, squaredMeans;
+    std::vector<float> plane;  // one plane of the tent means' passes
+};
+
+// `image` shaped as `like` (its values left as they are where it already is).
+void ShapeAs(const Image &like, Image *image) {
+    if (!image->SameShape(like)) *image = Image(like.width, like.height, like.channels);
+}
+
+// TentMean and TentSquaredMean into `out` through `plane` (local_mean.h).
+void TentMeanInto(const Image &image, int r, std::vector<float> *plane, Image *out) {
+    const int w = image.width, h = image.height;
+    ShapeAs(image, out);
+    plane->resize(size_t(w) * h);
+    float *a = plane->data();
+    for (int c = 0; c < image.channels; ++c) {
+        // Each window's sum is the one of its values in order: a pixel's mean does not
+        // depend on where the image starts (a tile gives the whole frame's values).
+        BoxMeanRows(image.Plane(c), a, w, h, r);
+        BoxMeanColumns(a, out->Plane(c), w, h, r);
+        BoxMeanRows(out->Plane(c), a, w, h, r);
+        BoxMeanColumns(a, out->Plane(c), w, h, r);
+    }
+}
+
+void TentSquaredMeanInto(const Image &image, int r, std::vector<float> *plane, Image *out) {
+    const int w = image.width, h = image.height;
+    ShapeAs(image, out);
+    plane->resize(size_t(w) * h);
+    for (int c = 0; c < image.channels; ++c) {
+        // Each value a function of its window alone (squared_tent.h): a tile gives the
+        // whole frame's values.
+        SquaredTentMeanRows(image.Plane(c), plane->data(), w, h, r);
+        SquaredTentMeanColumns(plane->data(), out->Plane(c), w, h, r);
+    }
+}
+
 // One scale of the restore (local_mean.h): `output` scaled by the shrunk ratio of the
 // means over tents of radius 2s, the noise weighted by `noiseWeight`; `factors` (one per
 // value) multiplied by the same. `inMeans`: the clean input's tent means at s, made here
 // when empty (the coarse scale's serve its second pass).
 void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, double noiseWeight,
-                  bool pixelNoise, Image *output, std::vector<double> *factors,
-                  Image *inMeans) {
-    Image moved = *output, squared(output->width, output->height, output->channels);
+                  bool pixelNoise, Image *output, std::vector<double> *factors, Image *inMeans,
+                  RestoreScratch *scratch) {
+    Image &moved = scratch->moved, &squared = scratch->squared;
+    moved = *output;  // a vector's copy keeps its storage where it is large enough
+    ShapeAs(*output, &squared);
     ParallelValues(moved.data.size(), 4, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             if (kept[i]) moved.data[i] = 0;
@@ -32,10 +74,13 @@ void RestoreScale(const Image &clean, const std::vector<bool> &kept, int s, doub
             squared.data[i] = kept[i] ? 0.f : e * e;
         }
     });
-    if (inMeans->Empty()) *inMeans = TentMean(clean, s);
-    const Image &mIn = *inMeans;
-    Image mOut = TentMean(moved, s);
-    Image mSq = pixelNoise ? TentSquaredMean(squared, s) : TentMean(squared, s);
+    if (inMeans->Empty()) TentMeanInto(clean, s, &scratch->plane, inMeans);
+    const Image &mIn = *inMeans, &mOut = scratch->means, &mSq = scratch->squaredMeans;
+    TentMeanInto(moved, s, &scratch->plane, &scratch->means);
+    if (pixelNoise)
+        TentSquaredMeanInto(squared, s, &scratch->plane, &scratch->squaredMeans);
+    else
+        TentMeanInto(squared, s, &scratch->plane, &scratch->squaredMeans);
     const double weights = TentSquaredWeights(s) * noiseWeight;
     ParallelValues(mIn.data.size(), 16, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -67,14 +112,16 @@ constexpr double kHighlightSigmas = 4;
 // Which pixels are over (KeepHighlights): the input far above the output, or above the
 // output's tent mean without the kept values, and with a variance so many deviations away.
 std::vector<char> OverPixels(const Image &input, const Image *variance, int r,
-                             const std::vector<bool> &kept, const Image &output) {
+                             const std::vector<bool> &kept, const Image &output,
+                             RestoreScratch *scratch) {
     const size_t n = input.PixelCount();
-    Image moved = output;
+    Image &moved = scratch->moved, &level = scratch->means;
+    moved = output;
     ParallelValues(moved.data.size(), 2, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i)
             if (kept[i]) moved.data[i] = 0;
     });
-    Image level = TentMean(moved, r);
+    TentMeanInto(moved, r, &scratch->plane, &level);
     std::vector<char> over(n, 0);
     ParallelValues(n, 8 * size_t(input.channels), [&](size_t begin, size_t end) {
         for (size_t p = begin; p < end; ++p) {
@@ -117,12 +164,12 @@ bool BesideHighlight(const std::vector<char> &taken, int w, int h, int x, int y)
 constexpr int kHighlightRings = 4;
 
 void KeepHighlights(const Image &input, const Image *variance, int r, std::vector<bool> *kept,
-                    Image *output) {
+                    Image *output, RestoreScratch *scratch) {
     const int w = input.width, h = input.height;
     const size_t n = input.PixelCount();
     std::vector<char> taken(n, 0);
     for (int ring = 0; ring <= kHighlightRings; ++ring) {
-        const std::vector<char> over = OverPixels(input, variance, r, *kept, *output);
+        const std::vector<char> over = OverPixels(input, variance, r, *kept, *output, scratch);
         std::vector<size_t> take;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -148,29 +195,17 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
 }  // namespace
 
 Image TentMean(const Image &image, int r) {
-    const int w = image.width, h = image.height;
-    Image a(w, h, image.channels), b(w, h, image.channels);
-    for (int c = 0; c < image.channels; ++c) {
-        // Each window's sum is the one of its values in order: a pixel's mean does not
-        // depend on where the image starts (a tile gives the whole frame's values).
-        BoxMeanRows(image.Plane(c), a.Plane(c), w, h, r);
-        BoxMeanColumns(a.Plane(c), b.Plane(c), w, h, r);
-        BoxMeanRows(b.Plane(c), a.Plane(c), w, h, r);
-        BoxMeanColumns(a.Plane(c), b.Plane(c), w, h, r);
-    }
-    return b;
+    Image out;
+    std::vector<float> plane;
+    TentMeanInto(image, r, &plane, &out);
+    return out;
 }
 
 Image TentSquaredMean(const Image &image, int r) {
-    const int w = image.width, h = image.height;
-    Image a(w, h, image.channels), b = a;
-    for (int c = 0; c < image.channels; ++c) {
-        // Each value a function of its window alone (squared_tent.h): a tile gives the
-        // whole frame's values.
-        SquaredTentMeanRows(image.Plane(c), a.Plane(c), w, h, r);
-        SquaredTentMeanColumns(a.Plane(c), b.Plane(c), w, h, r);
-    }
-    return b;
+    Image out;
+    std::vector<float> plane;
+    TentSquaredMeanInto(image, r, &plane, &out);
+    return out;
 }
 
 double TentSquaredWeights(int r) {
@@ -197,7 +232,8 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
-    KeepHighlights(input, variance, r, &kept, output);
+    RestoreScratch scratch;
+    KeepHighlights(input, variance, r, &kept, output, &scratch);
     Image clean(input.width, input.height, input.channels);
     ParallelValues(clean.data.size(), 2, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
@@ -207,13 +243,14 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
     });
     std::vector<double> factors(input.data.size(), 1.0);
     Image coarseIn, fineIn;
-    RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors, &coarseIn);
-    RestoreScale(clean, kept, r, 1, pixelNoise, output, &factors, &fineIn);
+    RestoreScale(clean, kept, 4 * r, 1, pixelNoise, output, &factors, &coarseIn, &scratch);
+    RestoreScale(clean, kept, r, 1, pixelNoise, output, &factors, &fineIn, &scratch);
     // The fine scale takes the coarse gain back confidently where no rare bright sample
     // fell and gives it uncertainly where one did: the coarse scale again returns the
     // energy so lost.
     if (rebalance >= 0)
-        RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors, &coarseIn);
+        RestoreScale(clean, kept, 4 * r, rebalance, pixelNoise, output, &factors, &coarseIn,
+                     &scratch);
     LocalMeanFactors range;
     bool any = false;
     for (size_t i = 0; i < factors.size(); ++i) {

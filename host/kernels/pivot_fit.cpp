@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
@@ -186,13 +188,24 @@ void PivotFitBuffers::Upload(const Image &fits) {
 Image PivotFitBuffers::Radii() const {
     const vk::GpuImage &first = hi.front();
     Image radii(first.width, first.height, Channels());
-    size_t centres = first.buffer.Bytes() / sizeof(float) / PIVOT_PLANES_PER_BUFFER;
+    const size_t centres = radii.PixelCount();
+    // Blocks of centres through one small buffer, reused: the radius is one float of a
+    // centre's eight, and a copy of the whole buffer would fault in fresh pages for all eight.
+    // A staged buffer is read whole: there each read is a submission and a wait.
+    const size_t block = first.buffer.Mapped() ? std::min(centres, kPivotRadiiBlock)
+                                               : std::max<size_t>(centres, 1);
+    std::vector<float> planes(block * PIVOT_PLANES_PER_BUFFER);
+    constexpr int kRadius = PIVOT_PLANES - 1 - PIVOT_PLANES_PER_BUFFER;
     for (int c = 0; c < Channels(); ++c) {
-        Image planes = hi[c].Download();
         float *plane = radii.Plane(c);
-        for (size_t i = 0; i < centres; ++i)
-            plane[i] = planes.data[i * PIVOT_PLANES_PER_BUFFER + PIVOT_PLANES - 1 -
-                                   PIVOT_PLANES_PER_BUFFER];
+        for (size_t begin = 0; begin < centres; begin += block) {
+            const size_t n = std::min(block, centres - begin);
+            hi[size_t(c)].buffer.Download(planes.data(),
+                                          n * PIVOT_PLANES_PER_BUFFER * sizeof(float),
+                                          begin * PIVOT_PLANES_PER_BUFFER * sizeof(float));
+            for (size_t i = 0; i < n; ++i)
+                plane[begin + i] = planes[i * PIVOT_PLANES_PER_BUFFER + kRadius];
+        }
     }
     return radii;
 }

@@ -26,6 +26,9 @@ struct PivotFitSettings {
           sigmaWeight = 0.f, edge = 0.f;
 };
 
+// How many centres' planes PivotFitBuffers::Radii copies at a time from mapped memory.
+constexpr size_t kPivotRadiiBlock = size_t(1) << 15;
+
 // The fits on the GPU: per channel two buffers of PIVOT_PLANES_PER_BUFFER planes of the
 // frame's size (planes 0..7 and 8..15, a centre's 8 planes adjacent; shaders/pivot/pivot.h),
 // each its own binding, so that one binding holds one channel's planes.
@@ -37,7 +40,8 @@ struct PivotFitBuffers {
     // The fits in the reference's layout (PivotFitsOfBuffers), and back.
     Image Download() const;
     void Upload(const Image &fits);
-    // Each centre's radius (plane PIVOT_PLANES - 1; -1: no fit), one plane per channel.
+    // Each centre's radius (plane PIVOT_PLANES - 1; -1: no fit), one plane per channel, read
+    // kPivotRadiiBlock centres at a time.
     Image Radii() const;
 
     std::vector<vk::GpuImage> lo, hi;

@@ -30,6 +30,8 @@ class Buffer {
     VkDeviceSize Bytes() const { return bytes; }
     const std::string &Name() const { return name; }
     bool Valid() const { return buffer != VK_NULL_HANDLE; }
+    // Whether transfers map its memory (else they go through the context's staging buffers).
+    bool Mapped() const { return mapped != nullptr; }
     // The whole buffer as a read-only texel buffer of floats (created on first use).
     // Kernels read through it where loads dominate: lavapipe gathers texel fetches as
     // vectors but loads storage buffers one lane at a time. It is not free: lavapipe

@@ -13,6 +13,7 @@
 #include "harness/inputs.h"
 #include "host/common/local_mean.h"
 #include "host/common/parallel.h"
+#include "host/common/squared_tent.h"
 #include "host/error.h"
 
 namespace mcd {
@@ -307,6 +308,27 @@ TEST(LocalMeanTent, SameBitsAsWindowsSummedOneByOne) {
         Image got = TentMean(input, c.r);
         ASSERT_EQ(0, std::memcmp(got.data.data(), expected.data.data(), got.data.size() * 4))
             << c.w << "x" << c.h << " r" << c.r;
+    }
+}
+
+// TentSquaredMean shares one plane of scratch among the channels: each channel's values are
+// still its own plane's two passes, bit for bit, whatever the other channels held.
+TEST(LocalMeanTent, SquaredTentMeanIsEachChannelsOwnPasses) {
+    for (LocalMeanCase c : {LocalMeanCase{1, 1, 1, 1}, LocalMeanCase{7, 5, 3, 4},
+                            LocalMeanCase{37, 3, 4, 2}, LocalMeanCase{301, 203, 3, 20}}) {
+        Image input, unused;
+        MakeImages(c, &input, &unused);
+        for (float &v : input.data)
+            if (!std::isfinite(v)) v = 3;
+        Image got = TentSquaredMean(input, c.r);
+        ASSERT_TRUE(got.SameShape(input));
+        std::vector<float> rows(input.PixelCount()), expected(input.PixelCount());
+        for (int ch = 0; ch < c.channels; ++ch) {
+            SquaredTentMeanRows(input.Plane(ch), rows.data(), c.w, c.h, c.r);
+            SquaredTentMeanColumns(rows.data(), expected.data(), c.w, c.h, c.r);
+            ASSERT_EQ(0, std::memcmp(got.Plane(ch), expected.data(), expected.size() * 4))
+                << c.w << "x" << c.h << " r" << c.r << " channel " << ch;
+        }
     }
 }
 

@@ -540,6 +540,38 @@ void ExpectMatchesGuidedReference(const Frame &f, const PivotParams &p, const Im
     EXPECT_LT(stats.nmse, 1e-8);
 }
 
+class PivotFitRadii : public GpuTest {};
+
+// The radius plane of random fits read back through `context`'s transfers.
+void ExpectRadiiAreTheFitsRadiusPlane(vk::Context &context) {
+    const int w = 211, h = 163, channels = 2;
+    ASSERT_GT(size_t(w) * h, kPivotRadiiBlock);
+    ASSERT_NE(size_t(w) * h % kPivotRadiiBlock, 0u);
+    std::mt19937 rng(SeedFromName("fit radii"));
+    std::uniform_real_distribution<float> value(-1.f, 40.f);
+    Image fits(w, h, PIVOT_PLANES * channels);
+    for (float &v : fits.data) v = value(rng);
+    PivotFitBuffers buffers(context, w, h, channels, "fit");
+    buffers.Upload(fits);
+    Image radii = buffers.Radii();
+    Image expected = Planes(fits, PIVOT_PLANES - 1, 1, channels);
+    ASSERT_TRUE(radii.SameShape(expected));
+    EXPECT_EQ(radii.data, expected.data);
+}
+
+// Radii reads mapped buffers in blocks: a frame of more centres than a block and not a
+// multiple of it, every value distinct, so that a block read at the wrong offset or plane
+// shows.
+TEST_F(PivotFitRadii, AreTheFitsRadiusPlaneAcrossBlocks) {
+    ExpectRadiiAreTheFitsRadiusPlane(Ctx());
+}
+
+// Through the staging buffers (a discrete GPU's path), read whole.
+TEST(PivotFitRadiiStaged, AreTheFitsRadiusPlane) {
+    vk::Context context(vk::ContextOptions{.pipelineThreads = 1, .stageTransfers = true});
+    ExpectRadiiAreTheFitsRadiusPlane(context);
+}
+
 class PivotMethod : public GpuTest {};
 
 // Guides or none, and a filter: the method's variants.
