@@ -354,8 +354,13 @@ class Rhf : public FrontEndOf<RhfParams> {
 
     // The run's own cuts with their lights, from auto's memo where an earlier run made them.
     std::shared_ptr<const Cuts> OwnCuts(Inputs &inputs, const Image &variance) const {
-        const std::string key = "rhf.own cuts " + CutInputs(inputs, ExactLayersOf(inputs));
-        return Kept(*inputs.Memo(), key, [&] { return Cut(inputs, variance, true); });
+        return Kept(*inputs.Memo(), OwnCutsKey(inputs),
+                    [&] { return Cut(inputs, variance, true); });
+    }
+
+    // The own cuts' memo key.
+    std::string OwnCutsKey(Inputs &inputs) const {
+        return "rhf.own cuts " + CutInputs(inputs, ExactLayersOf(inputs));
     }
 
     // The cuts kept in `memo` under `key`, made there by `make` where none are.
@@ -369,13 +374,17 @@ class Rhf : public FrontEndOf<RhfParams> {
     }
 
     // The run's cuts on `run` as ForProbe keeps them: the pixels of its whole frame and the
-    // lights beside its rims; its spikes on half0 only.
+    // lights beside its rims; its spikes on half0 only. The cuts an earlier run kept in
+    // auto's memo where there are (a frame run whole), else cut here and not kept: a tiled
+    // run reads its tiles' cuts, never the whole frame's.
     std::shared_ptr<const CutSets> FindCutSets(Inputs &run, const Image &variance,
                                                bool onHalf) const {
-        const std::shared_ptr<const Cuts> found =
-            run.Memo() && options.meanRadius > 0
-                ? OwnCuts(run, variance)
-                : std::make_shared<const Cuts>(Cut(run, variance, true));
+        std::shared_ptr<const Cuts> found;
+        if (RunMemo *memo = run.Memo(); memo && options.meanRadius > 0)
+            if (const auto *kept = memo->Find<std::shared_ptr<const Cuts>>(OwnCutsKey(run)))
+                found = *kept;
+        if (!found || found->lights.empty())
+            found = std::make_shared<const Cuts>(Cut(run, variance, true));
         const Cuts &cuts = *found;
         const std::vector<char> &lights = cuts.lights;
         auto sets = std::make_shared<CutSets>();
