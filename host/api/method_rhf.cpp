@@ -336,9 +336,9 @@ class Rhf : public FrontEndOf<RhfParams> {
 
     // This run's cuts: its own (Cut) or as its run decided (CutAsDecided). With auto's memo
     // they are made once for the same inputs: rhf and rhf at two scales cut the same colour,
-    // and so do their probes (the same perturbed colour, the same decided sets). The own
-    // cuts keep their lights for ForProbe. The decided cuts' key names the sets by theirs
-    // (the memo holds those sets, and the colour, variance and window they are cut on).
+    // and so do their probes (the same perturbed colour, the same decided sets). A whole
+    // frame's own cuts keep their lights for ForProbe. The decided cuts' key names the sets by
+    // theirs (the memo holds those sets, and the colour, variance and window they are cut on).
     std::shared_ptr<const Cuts> CutsFor(Inputs &inputs, const Image &variance,
                                         const RunSetup &setup) const {
         RunMemo *memo = inputs.Memo();
@@ -352,10 +352,13 @@ class Rhf : public FrontEndOf<RhfParams> {
         return Kept(*memo, key, [&] { return CutAsDecided(inputs, variance, setup); });
     }
 
-    // The run's own cuts with their lights, from auto's memo where an earlier run made them.
+    // The run's own cuts, from auto's memo where an earlier run made them; with their lights
+    // on a whole frame only: ForProbe looks up no tile's.
     std::shared_ptr<const Cuts> OwnCuts(Inputs &inputs, const Image &variance) const {
+        const bool whole =
+            inputs.Width() == inputs.FrameWidth() && inputs.Height() == inputs.FrameHeight();
         return Kept(*inputs.Memo(), OwnCutsKey(inputs),
-                    [&] { return Cut(inputs, variance, true); });
+                    [&] { return Cut(inputs, variance, whole); });
     }
 
     // The own cuts' memo key.
