@@ -258,12 +258,13 @@ TEST_F(RhfProbe, CandidatesOfOneColourShareTheirCuts) {
     // Sets decided on the other colour (no cluster) cut it anew, as alone.
     std::unique_ptr<api::FrontEnd> otherSets = rhf->ForProbe(Ctx(), shared, false),
                                    ownSets = rhf->ForProbe(Ctx(), alone, false);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.own cuts"), 1u) << "ForProbe kept the cuts it made";
     const Result e = api::RunTiled(Ctx(), *otherSets, shared, RunOptions()),
                  f = api::RunTiled(Ctx(), *ownSets, alone, RunOptions());
     EXPECT_EQ(memo.CountWithPrefix("rhf.decided cuts"), 3u) << "other sets took the cuts";
     EXPECT_TRUE(BitIdentical(e.image, f.image));
     EXPECT_FALSE(BitIdentical(e.image, a.image)) << "the sets make no difference here";
-    // A run on the other colour cuts anew, as alone (no cluster there).
+    // A run on the other colour cuts anew (ForProbe kept none), as alone (no cluster there).
     RunOptions keep;
     keep.keepStages = true;
     const Result c = api::RunTiled(Ctx(), *twoScales, shared, keep),
