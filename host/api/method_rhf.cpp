@@ -337,8 +337,8 @@ class Rhf : public FrontEndOf<RhfParams> {
     // This run's cuts: its own (Cut) or as its run decided (CutAsDecided). With auto's memo
     // they are made once for the same inputs: rhf and rhf at two scales cut the same colour,
     // and so do their probes (the same perturbed colour, the same decided sets). A whole
-    // frame's own cuts keep their lights for ForProbe. The decided cuts' key names the sets by
-    // theirs (the memo holds those sets, and the colour, variance and window they are cut on).
+    // frame's own cuts keep their lights for ForProbe. The decided cuts' key is the sets' key
+    // and the probe's inputs (its colour, variance and window, origin included).
     std::shared_ptr<const Cuts> CutsFor(Inputs &inputs, const Image &variance,
                                         const RunSetup &setup) const {
         RunMemo *memo = inputs.Memo();
@@ -346,9 +346,8 @@ class Rhf : public FrontEndOf<RhfParams> {
             return std::make_shared<const Cuts>(decided ? CutAsDecided(inputs, variance, setup)
                                                         : Cut(inputs, variance));
         if (!decided) return OwnCuts(inputs, variance);
-        const std::string key =
-            fmt::format("rhf.decided cuts by {} on {} from {},{}", decidedKey,
-                        CutInputs(inputs, ExactLayersOf(inputs)), setup.frameX0, setup.frameY0);
+        const std::string key = fmt::format("rhf.decided cuts by {} on {}", decidedKey,
+                                            CutInputs(inputs, ExactLayersOf(inputs)));
         return Kept(*memo, key, [&] { return CutAsDecided(inputs, variance, setup); });
     }
 
