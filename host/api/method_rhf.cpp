@@ -102,8 +102,9 @@ class Rhf : public FrontEndOf<RhfParams> {
         // spikes' and bridged clusters' energy back, the rims and other clusters take their
         // input back after the filter.
         Image variance = ExactVariance(ExactLayersOf(inputs));
-        Cuts cuts = decided ? CutAsDecided(inputs, variance, setup) : Cut(inputs, variance);
-        Image &cut = cuts.image;
+        const std::shared_ptr<const Cuts> made = CutsFor(inputs, variance, setup);
+        const Cuts &cuts = *made;
+        const Image &cut = cuts.image;
         const size_t spikes = cuts.spikes.size();
         const std::vector<size_t> &rims = cuts.rims, &clusters = cuts.clusters;
         const bool anyCut =
@@ -182,6 +183,7 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::string key;
         if (RunMemo *memo = run.Memo()) {
             key = CutSetsKey(run, layers, onHalf);
+            probe->decidedKey = key;
             if (const auto *kept = memo->Find<std::shared_ptr<const CutSets>>(key)) {
                 probe->decided = *kept;
                 return probe;
@@ -294,10 +296,12 @@ class Rhf : public FrontEndOf<RhfParams> {
     }
 
   private:
-    // The colour with the cuts made and the pixels cut (ascending, of the window).
+    // The colour with the cuts made and the pixels cut (ascending, of the window); `lights`
+    // (where asked) which pixels the rims were found beside.
     struct Cuts {
         Image image;
         std::vector<size_t> spikes, rims, clusters, bridged;
+        std::vector<char> lights;
     };
     // The pixels a run cut, of its whole frame (ForProbe), and the lights beside its rims
     // (which their medians leave out); spikes on half0 only: on the perturbed colour the
@@ -308,28 +312,83 @@ class Rhf : public FrontEndOf<RhfParams> {
         std::vector<size_t> rims, clusters, bridged, rimLights;
     };
 
-    // The cut sets' memo key: everything Cut reads (the exact variance by the layers it is
-    // made from, so that a hit does not make it) and what ForProbe keeps of it.
-    std::string CutSetsKey(Inputs &run, const ExactLayers &layers, bool onHalf) const {
-        // The layers by their identities (Inputs::LayerId: each hashed once a frame).
+    // What Cut reads, for a memo key: the layers by their identities (Inputs::LayerId: each
+    // hashed once a frame; the exact variance by the layers it is made from, so that a hit
+    // does not make it), the options and the window.
+    std::string CutInputs(Inputs &run, const ExactLayers &layers) const {
         auto id = [&](const Image *layer, const char *name) {
             return layer ? run.LayerId(name) : std::string("none");
         };
         return fmt::format(
-            "rhf.cuts colour {} exact variance of {} {} {} {} variance layer {} histograms {} "
-            "search {} spikes {} window {}x{} at {},{} of {}x{}",
+            "colour {} exact variance of {} {} {} {} variance layer {} histograms {} search {} "
+            "radius {} window {}x{} at {},{} of {}x{}",
             run.LayerId("color"), id(layers.variance, "variance"), id(layers.min, "min"),
             id(layers.max, "max"), id(layers.spp, "spp"), Variance(run) != nullptr,
-            run.LayerId(HistogramLayer(run)), options.searchHalf, onHalf, run.Width(),
-            run.Height(), run.OriginX(), run.OriginY(), run.FrameWidth(), run.FrameHeight());
+            run.LayerId(HistogramLayer(run)), options.searchHalf, options.meanRadius,
+            run.Width(), run.Height(), run.OriginX(), run.OriginY(), run.FrameWidth(),
+            run.FrameHeight());
+    }
+
+    // The cut sets' memo key: everything Cut reads and what ForProbe keeps of it.
+    std::string CutSetsKey(Inputs &run, const ExactLayers &layers, bool onHalf) const {
+        return fmt::format("rhf.cuts {} spikes {}", CutInputs(run, layers), onHalf);
+    }
+
+    // This run's cuts: its own (Cut) or as its run decided (CutAsDecided). With auto's memo
+    // they are made once for the same inputs: rhf and rhf at two scales cut the same colour,
+    // and so do their probes (the same perturbed colour, the same decided sets). A whole
+    // frame's own cuts keep their lights for ForProbe. The decided cuts' key is the sets' key
+    // and the probe's inputs (its colour, variance and window, origin included).
+    std::shared_ptr<const Cuts> CutsFor(Inputs &inputs, const Image &variance,
+                                        const RunSetup &setup) const {
+        RunMemo *memo = inputs.Memo();
+        if (!memo || options.meanRadius <= 0 || (decided && decidedKey.empty()))
+            return std::make_shared<const Cuts>(decided ? CutAsDecided(inputs, variance, setup)
+                                                        : Cut(inputs, variance));
+        if (!decided) return OwnCuts(inputs, variance);
+        const std::string key = fmt::format("rhf.decided cuts by {} on {}", decidedKey,
+                                            CutInputs(inputs, ExactLayersOf(inputs)));
+        return Kept(*memo, key, [&] { return CutAsDecided(inputs, variance, setup); });
+    }
+
+    // The run's own cuts, from auto's memo where an earlier run made them; with their lights
+    // on a whole frame only: ForProbe looks up no tile's.
+    std::shared_ptr<const Cuts> OwnCuts(Inputs &inputs, const Image &variance) const {
+        const bool whole =
+            inputs.Width() == inputs.FrameWidth() && inputs.Height() == inputs.FrameHeight();
+        return Kept(*inputs.Memo(), OwnCutsKey(inputs),
+                    [&] { return Cut(inputs, variance, whole); });
+    }
+
+    // The own cuts' memo key.
+    std::string OwnCutsKey(Inputs &inputs) const {
+        return "rhf.own cuts " + CutInputs(inputs, ExactLayersOf(inputs));
+    }
+
+    // The cuts kept in `memo` under `key`, made there by `make` where none are.
+    template <class Make>
+    static std::shared_ptr<const Cuts> Kept(RunMemo &memo, const std::string &key,
+                                            const Make &make) {
+        if (const auto *kept = memo.Find<std::shared_ptr<const Cuts>>(key)) return *kept;
+        auto cuts = std::make_shared<const Cuts>(make());
+        memo.Add(key, std::make_shared<std::shared_ptr<const Cuts>>(cuts));
+        return cuts;
     }
 
     // The run's cuts on `run` as ForProbe keeps them: the pixels of its whole frame and the
-    // lights beside its rims; its spikes on half0 only.
+    // lights beside its rims; its spikes on half0 only. The cuts an earlier run kept in
+    // auto's memo where there are (a frame run whole), else cut here and not kept: a tiled
+    // run reads its tiles' cuts, never the whole frame's.
     std::shared_ptr<const CutSets> FindCutSets(Inputs &run, const Image &variance,
                                                bool onHalf) const {
-        std::vector<char> lights;
-        Cuts cuts = Cut(run, variance, &lights);
+        std::shared_ptr<const Cuts> found;
+        if (RunMemo *memo = run.Memo(); memo && options.meanRadius > 0)
+            if (const auto *kept = memo->Find<std::shared_ptr<const Cuts>>(OwnCutsKey(run)))
+                found = *kept;
+        if (!found || found->lights.empty())
+            found = std::make_shared<const Cuts>(Cut(run, variance, true));
+        const Cuts &cuts = *found;
+        const std::vector<char> &lights = cuts.lights;
         auto sets = std::make_shared<CutSets>();
         sets->width = run.FrameWidth() > 0 ? run.FrameWidth() : run.Width();
         sets->height = run.FrameHeight() > 0 ? run.FrameHeight() : run.Height();
@@ -358,10 +417,11 @@ class Rhf : public FrontEndOf<RhfParams> {
         return sets;
     }
 
-    // The cuts found on this colour (none with --rhf-mean-radius 0); `lights` (if given) set
-    // to which pixels the rims were found beside. Every input read here (the layers, the
-    // variance's, the options) goes into CutSetsKey: auto's probes take its sets by that key.
-    Cuts Cut(Inputs &inputs, const Image &variance, std::vector<char> *lights = nullptr) const {
+    // The cuts found on this colour (none with --rhf-mean-radius 0); with `withLights` their
+    // lights set to which pixels the rims were found beside. Every input read here (the
+    // layers, the variance's, the options) goes into CutInputs: auto's runs and probes take
+    // the cuts and their sets by that key.
+    Cuts Cut(Inputs &inputs, const Image &variance, bool withLights = false) const {
         Cuts cuts;
         const Image &color = inputs.Get("color");
         cuts.image = color;
@@ -373,7 +433,7 @@ class Rhf : public FrontEndOf<RhfParams> {
             cuts.clusters = CutBrightClusters(color, Histograms(inputs), options.searchHalf,
                                               &cuts.image, &cuts.bridged);
         Image spiked = cuts.image;
-        if (lights) *lights = Lights(spiked, variance);
+        if (withLights) cuts.lights = Lights(spiked, variance);
         cuts.rims = ManySampled(spiked, Histograms(inputs), variance,
                                 CutLightRims(&cuts.image, variance), &cuts.image);
         return cuts;
@@ -432,8 +492,10 @@ class Rhf : public FrontEndOf<RhfParams> {
         return window;
     }
 
-    // Set by ForProbe: the run's cuts, which its probe makes on its own colour.
+    // Set by ForProbe: the run's cuts, which its probe makes on its own colour, and their
+    // key in auto's memo (empty without one).
     std::shared_ptr<const CutSets> decided;
+    std::string decidedKey;
 
     // The frame's variance layer for the restore's highlights, or null.
     static const Image *Variance(Inputs &inputs) {

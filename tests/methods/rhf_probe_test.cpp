@@ -222,6 +222,58 @@ TEST_F(RhfProbe, CandidatesOfOneColourShareTheirCutSets) {
     EXPECT_EQ(memo.CountWithPrefix("rhf.cuts"), 5u) << "other histograms took the first's sets";
 }
 
+// auto's rhf candidates cut one colour once: through the run memo the second run takes the
+// first's cuts, ForProbe its sets from them, and a probe the cuts an earlier probe made as
+// decided on the same colour; each bit for bit as alone. Another colour cuts anew.
+TEST_F(RhfProbe, CandidatesOfOneColourShareTheirCuts) {
+    const Frame frame = ReflectionFrame();
+    std::unique_ptr<api::FrontEnd> rhf = api::FindMethod("rhf")->make(),
+                                   twoScales = api::FindMethod("rhf")->make();
+    twoScales->Set("nscales", 2);
+    RunMemo memo;
+    api::Inputs shared(frame, false, "rhf"), alone(frame, false, "rhf");
+    shared.SetMemo(&memo);
+    api::RunTiled(Ctx(), *rhf, shared, RunOptions());
+    EXPECT_EQ(memo.CountWithPrefix("rhf.own cuts"), 1u);
+    const Result second = api::RunTiled(Ctx(), *twoScales, shared, RunOptions());
+    EXPECT_EQ(memo.CountWithPrefix("rhf.own cuts"), 1u) << "the second candidate cut anew";
+    EXPECT_TRUE(BitIdentical(second.image,
+                             api::RunTiled(Ctx(), *twoScales, alone, RunOptions()).image));
+    std::unique_ptr<api::FrontEnd> probe = rhf->ForProbe(Ctx(), shared, false),
+                                   secondProbe = twoScales->ForProbe(Ctx(), shared, false),
+                                   ownProbe = twoScales->ForProbe(Ctx(), alone, false);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.own cuts"), 1u) << "ForProbe cut anew";
+    // The first probe on the run's colour, the second on another: it cuts as decided anew.
+    api::RunTiled(Ctx(), *probe, shared, RunOptions());
+    EXPECT_EQ(memo.CountWithPrefix("rhf.decided cuts"), 1u);
+    const Image flipped = FlippedColour(frame);
+    shared.Override("color", flipped);
+    alone.Override("color", flipped);
+    const Result a = api::RunTiled(Ctx(), *secondProbe, shared, RunOptions()),
+                 b = api::RunTiled(Ctx(), *ownProbe, alone, RunOptions());
+    EXPECT_EQ(memo.CountWithPrefix("rhf.decided cuts"), 2u) << "another colour took the cuts";
+    EXPECT_TRUE(BitIdentical(a.image, b.image));
+    api::RunTiled(Ctx(), *probe, shared, RunOptions());
+    EXPECT_EQ(memo.CountWithPrefix("rhf.decided cuts"), 2u) << "the first probe cut anew";
+    // Sets decided on the other colour (no cluster) cut it anew, as alone.
+    std::unique_ptr<api::FrontEnd> otherSets = rhf->ForProbe(Ctx(), shared, false),
+                                   ownSets = rhf->ForProbe(Ctx(), alone, false);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.own cuts"), 1u) << "ForProbe kept the cuts it made";
+    const Result e = api::RunTiled(Ctx(), *otherSets, shared, RunOptions()),
+                 f = api::RunTiled(Ctx(), *ownSets, alone, RunOptions());
+    EXPECT_EQ(memo.CountWithPrefix("rhf.decided cuts"), 3u) << "other sets took the cuts";
+    EXPECT_TRUE(BitIdentical(e.image, f.image));
+    EXPECT_FALSE(BitIdentical(e.image, a.image)) << "the sets make no difference here";
+    // A run on the other colour cuts anew (ForProbe kept none), as alone (no cluster there).
+    RunOptions keep;
+    keep.keepStages = true;
+    const Result c = api::RunTiled(Ctx(), *twoScales, shared, keep),
+                 d = api::RunTiled(Ctx(), *twoScales, alone, keep);
+    EXPECT_EQ(memo.CountWithPrefix("rhf.own cuts"), 2u) << "another colour took the cuts";
+    EXPECT_EQ(CountIn(c, "bright clusters: "), 0);
+    EXPECT_TRUE(BitIdentical(c.image, d.image));
+}
+
 // The run against its CPU reference (FrontEnd::Reference) on the frame with the caustic: the
 // same stages, their values within float rounding; the bridged pixels keep the filter's
 // output (not their input: the local mean gives their energy back).

@@ -287,6 +287,48 @@ TEST_F(TiledRunShared, RhfScalesPlannedAlikeShareTheFinestSelections) {
     EXPECT_FALSE(api::FindMethod("pivot")->make()->Tiling(Ctx(), inputs).sharesByWindow);
 }
 
+// auto's rhf candidates in tiles on the plan they share (WidestNeeds), both probed on a
+// perturbed colour: the second run takes the first's cuts tile by tile, ForProbe keeps no
+// cuts of the whole frame (no tile reads them), the second probe takes the first's decided
+// cuts tile by tile; each bit for bit as alone.
+TEST_F(TiledRunShared, RhfScalesAndTheirProbesShareTheCutsByTile) {
+    const Frame frame = RenderedFrame(133, 101, render::kLayersAll);
+    Image perturbed = frame.Get("color");
+    std::mt19937_64 rng(SeedFromName("tiled rhf probes"));
+    std::normal_distribution<float> noise(0.f, 0.2f);
+    for (float &v : perturbed.data) v = std::max(0.f, v * (1.f + noise(rng)));
+    std::unique_ptr<api::FrontEnd> one = api::FindMethod("rhf")->make(),
+                                   two = api::FindMethod("rhf")->make();
+    two->Set("nscales", 2);
+    RunMemo memo;
+    api::Inputs shared(frame, false, "rhf"), alone(frame, false, "rhf");
+    shared.SetMemo(&memo);
+    RunOptions run;
+    run.tileSize = 40;
+    const api::TileNeeds needs =
+        api::WidestNeeds(one->Tiling(Ctx(), shared), two->Tiling(Ctx(), shared));
+    auto tiled = [&](const api::FrontEnd &method, api::Inputs &inputs) {
+        return api::RunTiled(Ctx(), method, inputs, run, &needs).image;
+    };
+    auto count = [&](const char *prefix) { return memo.CountWithPrefix(prefix); };
+    tiled(*one, shared);
+    ASSERT_EQ(count("rhf.own cuts"), 12u) << "one entry a tile";
+    ExpectSameBits(tiled(*two, alone), tiled(*two, shared), "rhf at 2 scales, cuts shared");
+    EXPECT_EQ(count("rhf.own cuts"), 12u) << "the second run cut anew";
+    std::unique_ptr<api::FrontEnd> probes[2] = {one->ForProbe(Ctx(), shared, false),
+                                                two->ForProbe(Ctx(), shared, false)},
+                                   ownProbes[2] = {one->ForProbe(Ctx(), alone, false),
+                                                   two->ForProbe(Ctx(), alone, false)};
+    EXPECT_EQ(count("rhf.own cuts"), 12u) << "ForProbe kept the whole frame's cuts";
+    shared.Override("color", perturbed);
+    alone.Override("color", perturbed);
+    for (int i = 0; i < 2; ++i) {
+        SCOPED_TRACE(i ? "rhf at 2 scales' probe" : "rhf's probe");
+        ExpectSameBits(tiled(*ownProbes[i], alone), tiled(*probes[i], shared), "probe");
+        EXPECT_EQ(count("rhf.decided cuts"), 12u) << "one entry a tile, made once";
+    }
+}
+
 // rhf's plan counts the pooled bright veto's counts, a float a pixel, only when it is on
 // (off, its buffer is one float).
 TEST_F(GpuTest, TiledRunPlanRhfCountsThePoolWhenOn) {
