@@ -219,16 +219,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                                 zsn.size(), PIVOT_MAX_CHANNELS),
                     ErrorKind::Internal);
     int w = zsn[0].width, h = zsn[0].height, channels = int(zsn.size());
-    int zsnTexels = zsn[0].channels / 4;
-    for (const vk::GpuImage &one : zsn)
-        if (one.width != w || one.height != h || one.channels != zsn[0].channels ||
-            (one.channels != PIVOT_ZSN_PLANES && one.channels != PIVOT_ZSN_EDGE_PLANES))
-            throw Error(
-                fmt::format("pivot fit: {} is {}x{}x{}, expected {}x{}x{} (z, s, nu, level, "
-                            "noise) or x{} (z, s, nu) for every channel",
-                            one.buffer.Name(), one.width, one.height, one.channels, w, h,
-                            PIVOT_ZSN_EDGE_PLANES, PIVOT_ZSN_PLANES),
-                ErrorKind::Internal);
+    int zsnTexels = CheckPivotZsn("pivot fit", w, h, channels, zsn);
     CheckPivotZsnHoldsEdge("pivot fit", zsnTexels, settings.edge);
     CheckPivotGuides("pivot fit", w, h, guides);
     CheckPivotFitBuffers("pivot fit", w, h, channels, fits);

@@ -23,23 +23,28 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
                     ErrorKind::InvalidArgument);
 }
 
-int CheckPivotZsn(const char *what, const vk::GpuImage &a,
+int CheckPivotZsn(const char *what, int width, int height, int channels,
                   const std::vector<vk::GpuImage> &zsn) {
-    if (int(zsn.size()) != a.channels || zsn.empty())
+    if (int(zsn.size()) != channels || zsn.empty())
         throw Error(fmt::format("{}: {} packed z, s, nu images for {} channels", what,
-                                zsn.size(), a.channels),
+                                zsn.size(), channels),
                     ErrorKind::Internal);
     int planes = zsn.front().channels;
     if (planes != PIVOT_ZSN_PLANES && planes != PIVOT_ZSN_EDGE_PLANES) planes = -1;
     for (const vk::GpuImage &one : zsn)
-        if (one.width != a.width || one.height != a.height || one.channels != planes)
+        if (one.width != width || one.height != height || one.channels != planes)
             throw Error(
                 fmt::format("{}: {} is {}x{}x{}, expected {}x{}x{} (z, s, nu, level, "
                             "noise) or x{} (z, s, nu) for every channel",
-                            what, one.buffer.Name(), one.width, one.height, one.channels,
-                            a.width, a.height, PIVOT_ZSN_EDGE_PLANES, PIVOT_ZSN_PLANES),
+                            what, one.buffer.Name(), one.width, one.height, one.channels, width,
+                            height, PIVOT_ZSN_EDGE_PLANES, PIVOT_ZSN_PLANES),
                 ErrorKind::Internal);
     return planes / 4;
+}
+
+int CheckPivotZsn(const char *what, const vk::GpuImage &a,
+                  const std::vector<vk::GpuImage> &zsn) {
+    return CheckPivotZsn(what, a.width, a.height, a.channels, zsn);
 }
 
 void CheckPivotZsnHoldsEdge(const char *what, int zsnTexels, float edge) {

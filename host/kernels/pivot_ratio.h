@@ -36,6 +36,9 @@ void CheckPivotShapes(const char *what, const vk::GpuImage &a,
 // (z, s, nu); return the vec4 texels a pixel (2 or 1).
 int CheckPivotZsn(const char *what, const vk::GpuImage &a,
                   const std::vector<vk::GpuImage> &zsn);
+// The same for a width x height image of `channels` channels.
+int CheckPivotZsn(const char *what, int width, int height, int channels,
+                  const std::vector<vk::GpuImage> &zsn);
 
 // Refuse the shading-edge test (`edge` > 0) on packed inputs of one texel a pixel, which lack
 // its level and noise.
