@@ -382,7 +382,8 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
                     brightest = std::max(brightest, double(sum(color, u, v)));
         return brightest > 0 && sum(*maxSample, x, y) >= 0.5 * brightest;
     };
-    // A full light is no dimmer than 0.75 x the brightest light beside it.
+    // A full light is, 2 standard deviations below its value, no dimmer than 0.75 x the
+    // brightest light beside it.
     auto full = [&](int x, int y) {
         if (!light(x, y)) return false;
         double brightest = 0;
@@ -390,7 +391,9 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
             for (int u = x - 1; u <= x + 1; ++u)
                 if (inside(u, v) && light(u, v))
                     brightest = std::max(brightest, double(sum(color, u, v)));
-        return sum(color, x, y) >= 0.75 * brightest;
+        const double low =
+            double(sum(color, x, y)) - 2 * std::sqrt(double(sum(variance, x, y)));
+        return low >= 0.75 * brightest;
     };
     std::vector<char> marked(color.PixelCount()), lit(color.PixelCount());
     for (int y = 0; y < h; ++y)

@@ -419,12 +419,24 @@ LightRims FindLightRims(const Image &color, const Image &variance, const Image *
     const int w = color.width, h = color.height;
     found.light.assign(n, 0);
     found.rim.assign(n, 0);
+    found.full.assign(n, 0);
     for (size_t p = 0; p < n; ++p) {
         const double s = SumAt(color, p), v = SumAt(variance, p);
         found.light[p] =
             s > k * frameMean && s > 0 && s * s >= kLightRimSigmas * kLightRimSigmas * v;
         found.lights += found.light[p];
     }
+    // A full light: sure to be no dimmer than kFullLightShare x the brightest light beside it
+    // (a light pixel the edge crosses is dimmer than the interior beside it, its noise aside).
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (!found.light[p]) continue;
+            const double brightest = BrightestMarkedAround(color, found.light, x, y);
+            const double low =
+                SumAt(color, p) - kFullLightSigmas * std::sqrt(double(SumAt(variance, p)));
+            found.full[p] = low >= kFullLightShare * brightest;
+        }
     if (!maxSample || !found.lights) return found;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -445,20 +457,11 @@ size_t LowerBeyondLightRims(const Image &color, const LightRims &rims, int reach
             "LowerBeyondLightRims: the output must have the color's shape, reach and r >= 0",
             ErrorKind::Internal);
     const size_t n = color.PixelCount();
-    if (rims.light.size() != n || rims.rim.size() != n) return 0;
+    if (rims.light.size() != n || rims.rim.size() != n || rims.full.size() != n) return 0;
     const int w = color.width, h = color.height;
     std::vector<char> marked(n);
     for (size_t p = 0; p < n; ++p) marked[p] = rims.light[p] || rims.rim[p];
-    // A full light: no light beside it brighter than 1 / kFullLightShare times it (a light
-    // pixel the edge crosses is dimmer than the interior beside it).
-    std::vector<char> full(n);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const size_t p = size_t(y) * w + x;
-            if (!rims.light[p]) continue;
-            const double brightest = BrightestMarkedAround(color, rims.light, x, y);
-            full[p] = SumAt(color, p) >= kFullLightShare * brightest;
-        }
+    const std::vector<char> &full = rims.full;
     const std::vector<char> near = GrownBy(marked, w, h, reach);
     size_t moved = 0;
     for (int y = 0; y < h; ++y)

@@ -119,20 +119,25 @@ size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<c
 // the brightest such light's sum: a sample of it saw that light.
 constexpr double kLightRimSigmas = 4;
 constexpr double kLightRimSampleShare = 0.5;
-// A light pixel at least this share of the brightest light beside it is the light's full
-// interior, not a pixel its edge crosses: its neighbours are the rim, lit or not.
+// A light pixel at least this share of the brightest light beside it, kFullLightSigmas of its
+// standard deviations (the sum's) below its value, is the light's full interior, not a pixel
+// its edge crosses: its neighbours are the rim, lit or not. A crossed pixel's samples are the
+// light's or the ceiling's, so its noise may lift it over the share; its standard deviation
+// keeps it out (the row past it was left to the spread: issue 29, cornell 256x256).
 constexpr double kFullLightShare = 0.75;
+constexpr double kFullLightSigmas = 2;
 // How far beyond a rim its spread is cut.
 constexpr int kLightRimReach = 1;
 
 struct LightRims {
-    std::vector<char> light, rim;  // per pixel
+    std::vector<char> light, rim, full;  // per pixel
     size_t lights = 0, rims = 0;
 };
 
-// The lights and rims of `color` at ratio k over `frameMean` (HighlightFrameMean of the whole
-// frame), from `variance` (the color's shape) and `maxSample` (the color's shape, or null: no
-// rims). None where variance or color has NaN/Inf or a negative variance, or the shapes differ.
+// The lights, full lights and rims of `color` at ratio k over `frameMean` (HighlightFrameMean
+// of the whole frame), from `variance` (the color's shape) and `maxSample` (the color's shape,
+// or null: no rims). None where variance or color has NaN/Inf or a negative variance, or the
+// shapes differ.
 LightRims FindLightRims(const Image &color, const Image &variance, const Image *maxSample,
                         double k, double frameMean);
 
