@@ -412,14 +412,29 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
         for (int x = 0; x < w; ++x) {
             if (marked[size_t(y) * w + x] || any(lit, x, y, 1) || !any(marked, x, y, reach))
                 continue;
+            // Within 2 of a full light: the higher of its input and the window's mean plus 2 of
+            // that mean's standard deviations; else the window's maximum.
+            const bool nearFull = any(lit, x, y, 2);
             for (int c = 0; c < color.channels; ++c) {
-                double high = color.At(c, y, x);
+                double high = color.At(c, y, x), total = 0, spread = 0;
+                int count = 0;
                 for (int v = y - r; v <= y + r; ++v)
                     for (int u = x - r; u <= x + r; ++u)
-                        if (inside(u, v) && !marked[size_t(v) * w + u])
+                        if (inside(u, v) && !marked[size_t(v) * w + u]) {
                             high = std::max(high, double(color.At(c, v, u)));
-                double out = in.At(c, y, x);
-                if (std::isfinite(out) && out > high) output->At(c, y, x) = float(high);
+                            total += color.At(c, v, u);
+                            spread += variance.At(c, v, u);
+                            ++count;
+                        }
+                const float out = in.At(c, y, x);
+                if (nearFull) {
+                    const float bound =
+                        std::max(color.At(c, y, x),
+                                 float(total / count + 2 * std::sqrt(spread) / count));
+                    if (std::isfinite(out) && out > bound) output->At(c, y, x) = bound;
+                } else if (std::isfinite(out) && out > high) {
+                    output->At(c, y, x) = float(high);
+                }
             }
         }
 }

@@ -358,8 +358,8 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string rimsOff;
         LightRims rims = FindLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
                                        options.highlights, MeanOf(color));
-        size_t lowered =
-            LowerBeyondLightRims(color, rims, kLightRimReach, options.clamp, &result->image);
+        size_t lowered = LowerBeyondLightRims(color, variance, rims, kLightRimReach,
+                                              options.clamp, &result->image);
         result->plan.push_back(fmt::format(
             "crests beyond light rims cut: {} values within {} of {} light pixels (over {} x "
             "the frame's mean, {} standard deviations above 0; none where the color has "

@@ -1060,7 +1060,9 @@ TEST(Highlights, LightRimsMatchReference) {
         }
     EXPECT_EQ(rims.lights, size_t(24 * 4 + 1) + rimLights);
     Image output(w, h, 3, 0.5f), expected = output;
-    EXPECT_GT(LowerBeyondLightRims(panel.color, rims, kLightRimReach, 1, &output), 0u);
+    EXPECT_GT(
+        LowerBeyondLightRims(panel.color, panel.variance, rims, kLightRimReach, 1, &output),
+        0u);
     // The twin takes the frame's own mean (-1), the host HighlightFrameMean.
     ref::LowerBeyondLightRims(panel.color, panel.variance, &panel.maxSample, 16, -1,
                               kLightRimReach, 1, &expected);
@@ -1079,7 +1081,8 @@ TEST(Highlights, LightRimsMatchReference) {
     Image coveredOut(w, h, 3, 0.5f), coveredWant = coveredOut;
     LightRims coveredRims = FindLightRims(covered.color, covered.variance, &covered.maxSample,
                                           16, HighlightFrameMean(covered.color));
-    EXPECT_GT(LowerBeyondLightRims(covered.color, coveredRims, kLightRimReach, 1, &coveredOut),
+    EXPECT_GT(LowerBeyondLightRims(covered.color, covered.variance, coveredRims, kLightRimReach,
+                                   1, &coveredOut),
               0u);
     ref::LowerBeyondLightRims(covered.color, covered.variance, &covered.maxSample, 16, -1,
                               kLightRimReach, 1, &coveredWant);
@@ -1102,7 +1105,7 @@ TEST(Highlights, LightRimsMatchReference) {
                 for (size_t i = 0; i < got.data.size(); ++i)
                     got.data[i] = color.data[i] + 2 * color.data[(i * 7919) % got.data.size()];
                 want = got;
-                LowerBeyondLightRims(color,
+                LowerBeyondLightRims(color, variance,
                                      FindLightRims(color, variance, &maxSample, k, frameMean),
                                      1, 1, &got);
                 ref::LowerBeyondLightRims(color, variance, &maxSample, k, -1, 1, 1, &want);
@@ -1122,7 +1125,7 @@ TEST(Highlights, LightRimsSumChannelsInFloat) {
     Image output(5, 1, 3, 0.5f), expected = output;
     LightRims rims = FindLightRims(color, variance, &maxSample, 1, frameMean);
     EXPECT_EQ(rims.lights, 0u);
-    LowerBeyondLightRims(color, rims, 1, 1, &output);
+    LowerBeyondLightRims(color, variance, rims, 1, 1, &output);
     ref::LowerBeyondLightRims(color, variance, &maxSample, 1, frameMean, 1, 1, &expected);
     EXPECT_EQ(output.data, expected.data);
     EXPECT_EQ(output.At(0, 0, 4), 0.5f);
@@ -1174,6 +1177,18 @@ TEST_F(HighlightsAwr, AHalfCoveredRimDoesNotGlowPastIt) {
                 worst =
                     std::max(worst, std::abs(out.image.At(c, y, x) - panel.truth.At(c, y, x)));
     EXPECT_LT(worst, 0.5f * 0.05f) << "a glow past the rim";
+    // Within 2 of the panel's full interior the bound is the window's mean (plus 2 standard
+    // deviations of it) or the pixel's own input: the row's squared error no more than the
+    // input's.
+    double outError = 0, inError = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y : {PanelLight::y0 - 2, PanelLight::y1 + 1})
+            for (int x = PanelLight::x0; x < PanelLight::x1; ++x) {
+                const double truth = panel.truth.At(c, y, x);
+                outError += std::pow(out.image.At(c, y, x) - truth, 2);
+                inError += std::pow(panel.color.At(c, y, x) - truth, 2);
+            }
+    EXPECT_LE(outError, inError) << "the rows past the rims worse than their input";
 }
 
 }  // namespace
