@@ -347,8 +347,9 @@ size_t LowerToWindowMeanBound(const Image &color, const Image &variance,
                     spread += variance.Plane(c)[size_t(v) * w + u];
                     ++count;
                 }
-        const float mean = float(total / count + kRimCutSigmas * std::sqrt(spread) / count);
-        const float bound = std::max(color.Plane(c)[p], mean);
+        // The mean's variance is the sum of the pixels' over count^2.
+        const float high = float(total / count + kRimCutSigmas * std::sqrt(spread) / count);
+        const float bound = std::max(color.Plane(c)[p], high);
         float &out = output->Plane(c)[p];
         if (std::isfinite(out) && out > bound) {
             out = bound;
