@@ -382,7 +382,8 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
                     brightest = std::max(brightest, double(sum(color, u, v)));
         return brightest > 0 && sum(*maxSample, x, y) >= 0.5 * brightest;
     };
-    // A full light is no dimmer than 0.75 x the brightest light beside it.
+    // A full light is, 2 standard deviations below its value, no dimmer than 0.75 x the
+    // brightest light beside it.
     auto full = [&](int x, int y) {
         if (!light(x, y)) return false;
         double brightest = 0;
@@ -390,7 +391,9 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
             for (int u = x - 1; u <= x + 1; ++u)
                 if (inside(u, v) && light(u, v))
                     brightest = std::max(brightest, double(sum(color, u, v)));
-        return sum(color, x, y) >= 0.75 * brightest;
+        const double low =
+            double(sum(color, x, y)) - 2 * std::sqrt(double(sum(variance, x, y)));
+        return low >= 0.75 * brightest;
     };
     std::vector<char> marked(color.PixelCount()), lit(color.PixelCount());
     for (int y = 0; y < h; ++y)
@@ -409,14 +412,29 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
         for (int x = 0; x < w; ++x) {
             if (marked[size_t(y) * w + x] || any(lit, x, y, 1) || !any(marked, x, y, reach))
                 continue;
+            // Within 2 of a full light: the higher of its input and the window's mean plus 2 of
+            // that mean's standard deviations; else the window's maximum.
+            const bool nearFull = any(lit, x, y, 2);
             for (int c = 0; c < color.channels; ++c) {
-                double high = color.At(c, y, x);
+                double high = color.At(c, y, x), total = 0, spread = 0;
+                int count = 0;
                 for (int v = y - r; v <= y + r; ++v)
                     for (int u = x - r; u <= x + r; ++u)
-                        if (inside(u, v) && !marked[size_t(v) * w + u])
+                        if (inside(u, v) && !marked[size_t(v) * w + u]) {
                             high = std::max(high, double(color.At(c, v, u)));
-                double out = in.At(c, y, x);
-                if (std::isfinite(out) && out > high) output->At(c, y, x) = float(high);
+                            total += color.At(c, v, u);
+                            spread += variance.At(c, v, u);
+                            ++count;
+                        }
+                const float out = in.At(c, y, x);
+                if (nearFull) {
+                    const float bound =
+                        std::max(color.At(c, y, x),
+                                 float(total / count + 2 * std::sqrt(spread) / count));
+                    if (std::isfinite(out) && out > bound) output->At(c, y, x) = bound;
+                } else if (std::isfinite(out) && out > high) {
+                    output->At(c, y, x) = float(high);
+                }
             }
         }
 }

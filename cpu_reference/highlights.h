@@ -50,10 +50,13 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
 // >= 0, else the mean of s over the frame; p is a light where s > k m, s > 0 and s^2
 // >= 16 v; a rim (with maxSample) where it is not a light, a light L lies among its 8
 // neighbours and the sum of its maxSample channels is >= 0.5 x the largest s(L) of those.
-// A light is full where s >= 0.75 x the largest s of the lights among its 8 neighbours.
+// A light is full where s - 2 sqrt(v) >= 0.75 x the largest s of the lights among its 8
+// neighbours.
 // Where p is neither, has no full light among its 8 neighbours and a light or rim lies within
 // `reach` of it, each channel of output is min(output, the maximum of color over p and the
-// pixels of the window of radius r around p that are neither).
+// pixels of the window of radius r around p that are neither); where a full light lies within
+// 2 of p, min(output, max(color at p, m + 2 sqrt(V) / n)) instead, m the mean of color and V
+// the sum of variance over those n pixels.
 void LowerBeyondLightRims(const Image &color, const Image &variance, const Image *maxSample,
                           double k, double frameMean, int reach, int r, Image *output);
 

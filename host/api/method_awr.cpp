@@ -104,8 +104,12 @@ class Awr : public FrontEndOf<AwrSettings> {
                                     "a large light's rim (a light over k x the frame's mean, "
                                     "{} standard deviations above 0), are lowered to the "
                                     "input's maximum over the same window, highlights, lights "
-                                    "and rims left out (crests; beyond the paper; 0: all off)",
-                                    kCrestReach, kLightRimReach, kLightRimSigmas),
+                                    "and rims left out, and within {} of a full light's "
+                                    "interior to their own input or that window's mean plus "
+                                    "{} of its standard deviations (crests; beyond the paper; "
+                                    "0: all off)",
+                                    kCrestReach, kLightRimReach, kLightRimSigmas,
+                                    kNearFullLight, kRimCutSigmas),
                         &AwrSettings::clamp, 0, 8)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
@@ -221,11 +225,12 @@ class Awr : public FrontEndOf<AwrSettings> {
         int half = WaveletHalfSupport(options.method.basis);
         // The highlights read their neighbours' windows, grow and look one ring further; a
         // sparse light's partner reads the light's neighbours (one ring further again); the
-        // crests near them read theirs; the clamp its window.
+        // crests near them read theirs; the rim cut reads a full light within kNearFullLight
+        // and its neighbours; the clamp its window.
         const int highlights =
             options.highlights > 0
-                ? std::max(kHighlightRadius + 1 + kHighlightGrowRounds + 1 + 1 + kCrestReach,
-                           1 + kLightRimReach + 1)
+                ? std::max({kHighlightRadius + 1 + kHighlightGrowRounds + 1 + 1 + kCrestReach,
+                            1 + kLightRimReach + 1, kNearFullLight + 1})
                 : 0;
         needs.reach =
             2 * half * ((1 << levels) - 1) + options.method.spins + highlights + options.clamp;
@@ -358,18 +363,21 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string rimsOff;
         LightRims rims = FindLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
                                        options.highlights, MeanOf(color));
-        size_t lowered =
-            LowerBeyondLightRims(color, rims, kLightRimReach, options.clamp, &result->image);
+        size_t lowered = LowerBeyondLightRims(color, variance, rims, kLightRimReach,
+                                              options.clamp, &result->image);
         result->plan.push_back(fmt::format(
             "crests beyond light rims cut: {} values within {} of {} light pixels (over {} x "
             "the frame's mean, {} standard deviations above 0; none where the color has "
             "NaN/Inf, in tiles each tile's own) and {} rim pixels (a light's neighbours with a "
-            "sample at least {} x its value{}), not beside a full light (one at least {} x "
-            "the brightest light beside it: its neighbours are its rim), above the input's "
-            "maximum over their {}x{} window (lights and rims left out) lowered to it",
+            "sample at least {} x its value{}), not beside a full light (one {} standard "
+            "deviations below its value at least {} x the brightest light beside it: its "
+            "neighbours are its rim), above the input's maximum over their {}x{} window "
+            "(lights and rims left out) lowered to it, within {} of a full light above their "
+            "own input or that window's mean plus {} of its standard deviations",
             lowered, kLightRimReach, rims.lights, options.highlights, kLightRimSigmas,
             rims.rims, kLightRimSampleShare, rimsOff.empty() ? "" : "; none: " + rimsOff,
-            kFullLightShare, 2 * options.clamp + 1, 2 * options.clamp + 1));
+            kFullLightSigmas, kFullLightShare, 2 * options.clamp + 1, 2 * options.clamp + 1,
+            kNearFullLight, kRimCutSigmas));
         if (run.keepStages && !result->stages.empty())
             result->stages.push_back({"input maximum beyond light rims", result->image});
     }

@@ -328,6 +328,37 @@ size_t LowerToWindowMaximum(const Image &color, const std::vector<char> &marked,
     return moved;
 }
 
+// Lowers each channel of the output at (x, y) to the higher of its input and the input's mean
+// over the unmarked pixels of its (2r+1)^2 window ((x, y) unmarked itself, so at least one)
+// plus kRimCutSigmas of that mean's standard deviations. Returns the values lowered.
+size_t LowerToWindowMeanBound(const Image &color, const Image &variance,
+                              const std::vector<char> &marked, int x, int y, int r,
+                              Image *output) {
+    const int w = color.width, h = color.height;
+    const size_t p = size_t(y) * w + x;
+    size_t moved = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        double total = 0, spread = 0;
+        int count = 0;
+        for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+            for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+                if (!marked[size_t(v) * w + u]) {
+                    total += color.Plane(c)[size_t(v) * w + u];
+                    spread += variance.Plane(c)[size_t(v) * w + u];
+                    ++count;
+                }
+        // The mean's variance is the sum of the pixels' over count^2.
+        const float high = float(total / count + kRimCutSigmas * std::sqrt(spread) / count);
+        const float bound = std::max(color.Plane(c)[p], high);
+        float &out = output->Plane(c)[p];
+        if (std::isfinite(out) && out > bound) {
+            out = bound;
+            ++moved;
+        }
+    }
+    return moved;
+}
+
 }  // namespace
 
 int MarkedNeighbours(const std::vector<char> &marked, int w, int h, int x, int y) {
@@ -419,12 +450,24 @@ LightRims FindLightRims(const Image &color, const Image &variance, const Image *
     const int w = color.width, h = color.height;
     found.light.assign(n, 0);
     found.rim.assign(n, 0);
+    found.full.assign(n, 0);
     for (size_t p = 0; p < n; ++p) {
         const double s = SumAt(color, p), v = SumAt(variance, p);
         found.light[p] =
             s > k * frameMean && s > 0 && s * s >= kLightRimSigmas * kLightRimSigmas * v;
         found.lights += found.light[p];
     }
+    // A full light: sure to be no dimmer than kFullLightShare x the brightest light beside it
+    // (a light pixel the edge crosses is dimmer than the interior beside it, its noise aside).
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t p = size_t(y) * w + x;
+            if (!found.light[p]) continue;
+            const double brightest = BrightestMarkedAround(color, found.light, x, y);
+            const double low =
+                SumAt(color, p) - kFullLightSigmas * std::sqrt(double(SumAt(variance, p)));
+            found.full[p] = low >= kFullLightShare * brightest;
+        }
     if (!maxSample || !found.lights) return found;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -438,35 +481,32 @@ LightRims FindLightRims(const Image &color, const Image &variance, const Image *
     return found;
 }
 
-size_t LowerBeyondLightRims(const Image &color, const LightRims &rims, int reach, int r,
-                            Image *output) {
-    if (!color.SameShape(*output) || reach < 0 || r < 0)
+size_t LowerBeyondLightRims(const Image &color, const Image &variance, const LightRims &rims,
+                            int reach, int r, Image *output) {
+    if (!color.SameShape(*output) || !color.SameShape(variance) || reach < 0 || r < 0)
         throw Error(
-            "LowerBeyondLightRims: the output must have the color's shape, reach and r >= 0",
+            "LowerBeyondLightRims: the output and variance must have the color's shape, reach "
+            "and r >= 0",
             ErrorKind::Internal);
     const size_t n = color.PixelCount();
-    if (rims.light.size() != n || rims.rim.size() != n) return 0;
+    if (rims.light.size() != n || rims.rim.size() != n || rims.full.size() != n) return 0;
     const int w = color.width, h = color.height;
     std::vector<char> marked(n);
     for (size_t p = 0; p < n; ++p) marked[p] = rims.light[p] || rims.rim[p];
-    // A full light: no light beside it brighter than 1 / kFullLightShare times it (a light
-    // pixel the edge crosses is dimmer than the interior beside it).
-    std::vector<char> full(n);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const size_t p = size_t(y) * w + x;
-            if (!rims.light[p]) continue;
-            const double brightest = BrightestMarkedAround(color, rims.light, x, y);
-            full[p] = SumAt(color, p) >= kFullLightShare * brightest;
-        }
+    const std::vector<char> &full = rims.full;
     const std::vector<char> near = GrownBy(marked, w, h, reach);
+    // Past a sharp light's edge: nothing of its light, so the spread is held tighter.
+    const std::vector<char> nearFull = GrownBy(full, w, h, kNearFullLight);
     size_t moved = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t p = size_t(y) * w + x;
             // A full light's neighbour is its rim, lit or not: the spread may be its light.
             if (!near[p] || marked[p] || MarkedNeighbours(full, w, h, x, y) > 0) continue;
-            moved += LowerToWindowMaximum(color, marked, x, y, r, false, output);
+            if (nearFull[p])
+                moved += LowerToWindowMeanBound(color, variance, marked, x, y, r, output);
+            else
+                moved += LowerToWindowMaximum(color, marked, x, y, r, false, output);
         }
     return moved;
 }

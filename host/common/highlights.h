@@ -119,20 +119,32 @@ size_t LowerToInputMaximumNearHighlights(const Image &color, const std::vector<c
 // the brightest such light's sum: a sample of it saw that light.
 constexpr double kLightRimSigmas = 4;
 constexpr double kLightRimSampleShare = 0.5;
-// A light pixel at least this share of the brightest light beside it is the light's full
-// interior, not a pixel its edge crosses: its neighbours are the rim, lit or not.
+// A light pixel at least this share of the brightest light beside it, kFullLightSigmas of its
+// standard deviations (the sum's) below its value, is the light's full interior, not a pixel
+// its edge crosses: its neighbours are the rim, lit or not. A crossed pixel's samples are the
+// light's or the ceiling's, so its noise may lift it over the share; its standard deviation
+// keeps it out (the row past it was left to the spread: issue 29, cornell 256x256).
 constexpr double kFullLightShare = 0.75;
+constexpr double kFullLightSigmas = 2;
 // How far beyond a rim its spread is cut.
 constexpr int kLightRimReach = 1;
+// Within kNearFullLight of a full light (a sharp light's edge: the pixels past it see none of
+// its light) a value past the rim is held to its own input or the window's mean plus
+// kRimCutSigmas of that mean's standard deviations, whichever is higher: the window's maximum
+// leaves the spread twice the input's error there (issue 29, cornell 256x256). A soft light's
+// glow (out of focus, a caustic) has no full light beside it and keeps the maximum.
+constexpr int kNearFullLight = 2;
+constexpr double kRimCutSigmas = 2;
 
 struct LightRims {
-    std::vector<char> light, rim;  // per pixel
+    std::vector<char> light, rim, full;  // per pixel
     size_t lights = 0, rims = 0;
 };
 
-// The lights and rims of `color` at ratio k over `frameMean` (HighlightFrameMean of the whole
-// frame), from `variance` (the color's shape) and `maxSample` (the color's shape, or null: no
-// rims). None where variance or color has NaN/Inf or a negative variance, or the shapes differ.
+// The lights, full lights and rims of `color` at ratio k over `frameMean` (HighlightFrameMean
+// of the whole frame), from `variance` (the color's shape) and `maxSample` (the color's shape,
+// or null: no rims). None where variance or color has NaN/Inf or a negative variance, or the
+// shapes differ.
 LightRims FindLightRims(const Image &color, const Image &variance, const Image *maxSample,
                         double k, double frameMean);
 
@@ -140,9 +152,12 @@ LightRims FindLightRims(const Image &color, const Image &variance, const Image *
 // a rim nor a full light's neighbour (its rim, whether or not a sample saw the light) but
 // within `reach` of a light or rim is lowered to the largest input value of its channel over
 // the window of radius r around it, lights and rims left out: a mean of the samples there is no
-// higher than the highest of them. Returns how many values moved.
-size_t LowerBeyondLightRims(const Image &color, const LightRims &rims, int reach, int r,
-                            Image *output);
+// higher than the highest of them. Within kNearFullLight of a full light the bound is the
+// higher of its own input and the mean of those values plus kRimCutSigmas standard deviations
+// of that mean (from `variance`, the per-pixel variance of the mean, the color's shape).
+// Returns how many values moved.
+size_t LowerBeyondLightRims(const Image &color, const Image &variance, const LightRims &rims,
+                            int reach, int r, Image *output);
 
 // How many of (x, y)'s 8 neighbours inside the w x h frame are marked: a highlight is a
 // cluster, a lone marked pixel a firefly.

@@ -974,17 +974,18 @@ TEST(Highlights, CrestsNearLightsAreCut) {
 
 // A 64 x 48 dim floor (0.05, a small variance) with a ceiling panel of 24 x 4 pixels at 30 a
 // channel, sure of itself (a small variance), and a rim row above and below it that the
-// panel's edge crosses: each rim pixel a quarter covered, its 16 samples 30 or 0.05, so its
-// mean a binomial count of sixteenths and its largest sample 30 where any sample hit. The
-// color, its variance, the largest sample and the truth (the rim a quarter of the panel).
+// panel's edge crosses: each rim pixel `covered` (a quarter unless told), its 16 samples 30 or
+// 0.05, so its mean a binomial count of sixteenths and its largest sample 30 where any sample
+// hit. The color, its variance, the largest sample and the truth (the rim that share of the
+// panel).
 struct PanelLight {
     static constexpr int w = 64, h = 48, x0 = 20, x1 = 44, y0 = 20, y1 = 24;
     Image color{w, h, 3}, variance{w, h, 3}, maxSample{w, h, 3}, truth{w, h, 3, 0.05f};
 
-    explicit PanelLight(const std::string &name) {
+    explicit PanelLight(const std::string &name, float covered = 0.25f) {
         std::mt19937_64 rng(SeedFromName(name));
         std::normal_distribution<float> normal(0, 1);
-        std::binomial_distribution<int> hits(16, 0.25);
+        std::binomial_distribution<int> hits(16, covered);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const bool panel = x >= x0 && x < x1 && y >= y0 && y < y1;
@@ -999,7 +1000,7 @@ struct PanelLight {
                         value = 30 * p + 0.05f * (1 - p);
                         var = 30.f * 30.f * p * (1 - p) / 16;
                         top = n ? 30.f : 0.05f;
-                        truth.At(c, y, x) = 30 * 0.25f + 0.05f * 0.75f;
+                        truth.At(c, y, x) = 30 * covered + 0.05f * (1 - covered);
                     } else {
                         value = std::max(0.f, 0.05f + 0.005f * normal(rng));
                         var = 0.005f * 0.005f, top = value + 0.01f;
@@ -1059,7 +1060,9 @@ TEST(Highlights, LightRimsMatchReference) {
         }
     EXPECT_EQ(rims.lights, size_t(24 * 4 + 1) + rimLights);
     Image output(w, h, 3, 0.5f), expected = output;
-    EXPECT_GT(LowerBeyondLightRims(panel.color, rims, kLightRimReach, 1, &output), 0u);
+    EXPECT_GT(
+        LowerBeyondLightRims(panel.color, panel.variance, rims, kLightRimReach, 1, &output),
+        0u);
     // The twin takes the frame's own mean (-1), the host HighlightFrameMean.
     ref::LowerBeyondLightRims(panel.color, panel.variance, &panel.maxSample, 16, -1,
                               kLightRimReach, 1, &expected);
@@ -1073,6 +1076,17 @@ TEST(Highlights, LightRimsMatchReference) {
         EXPECT_LT(output.At(c, crossY, crossX + 1), 0.1f) << "beside a light, not a full one";
         EXPECT_EQ(output.At(c, 2, 2), 0.5f) << "out of reach";
     }
+    // Rims crossed over half: noisy lights, some over 0.75 x the panel, no full ones.
+    PanelLight covered("highlights awr half-covered rim", 0.55f);
+    Image coveredOut(w, h, 3, 0.5f), coveredWant = coveredOut;
+    LightRims coveredRims = FindLightRims(covered.color, covered.variance, &covered.maxSample,
+                                          16, HighlightFrameMean(covered.color));
+    EXPECT_GT(LowerBeyondLightRims(covered.color, covered.variance, coveredRims, kLightRimReach,
+                                   1, &coveredOut),
+              0u);
+    ref::LowerBeyondLightRims(covered.color, covered.variance, &covered.maxSample, 16, -1,
+                              kLightRimReach, 1, &coveredWant);
+    EXPECT_EQ(coveredOut.data, coveredWant.data);
     // Without a max layer: lights, no rims; NaN in the variance: nothing.
     EXPECT_EQ(FindLightRims(panel.color, panel.variance, nullptr, 16, mean).rims, 0u);
     Image broken = panel.variance;
@@ -1091,7 +1105,7 @@ TEST(Highlights, LightRimsMatchReference) {
                 for (size_t i = 0; i < got.data.size(); ++i)
                     got.data[i] = color.data[i] + 2 * color.data[(i * 7919) % got.data.size()];
                 want = got;
-                LowerBeyondLightRims(color,
+                LowerBeyondLightRims(color, variance,
                                      FindLightRims(color, variance, &maxSample, k, frameMean),
                                      1, 1, &got);
                 ref::LowerBeyondLightRims(color, variance, &maxSample, k, -1, 1, 1, &want);
@@ -1111,7 +1125,7 @@ TEST(Highlights, LightRimsSumChannelsInFloat) {
     Image output(5, 1, 3, 0.5f), expected = output;
     LightRims rims = FindLightRims(color, variance, &maxSample, 1, frameMean);
     EXPECT_EQ(rims.lights, 0u);
-    LowerBeyondLightRims(color, rims, 1, 1, &output);
+    LowerBeyondLightRims(color, variance, rims, 1, 1, &output);
     ref::LowerBeyondLightRims(color, variance, &maxSample, 1, frameMean, 1, 1, &expected);
     EXPECT_EQ(output.data, expected.data);
     EXPECT_EQ(output.At(0, 0, 4), 0.5f);
@@ -1135,6 +1149,46 @@ TEST_F(HighlightsAwr, ALargeLightsRimDoesNotGlowPastIt) {
                 worst =
                     std::max(worst, std::abs(out.image.At(c, y, x) - panel.truth.At(c, y, x)));
     EXPECT_LT(worst, 0.5f * 0.05f) << "a glow past the rim";
+}
+
+// The panel's edge crossing its rim rows over half (cornell at 256x256, 16 spp): a crossed
+// pixel whose samples hit the light 12 or 13 times in 16 reaches 0.75 x the panel, yet it is
+// no full light (its standard deviation says the edge crosses it), so the row past it is cut
+// like the rest and no blotch stays beside it.
+TEST_F(HighlightsAwr, AHalfCoveredRimDoesNotGlowPastIt) {
+    PanelLight panel("highlights awr half-covered rim", 0.55f);
+    // The frame's numbers, not luck: crossed pixels over 0.75 x the panel are there, and
+    // none that 14 or more samples hit (full within 2 standard deviations: the light's).
+    int overShare = 0;
+    for (int y : {PanelLight::y0 - 1, PanelLight::y1})
+        for (int x = PanelLight::x0; x < PanelLight::x1; ++x) {
+            overShare += panel.color.At(0, y, x) >= kFullLightShare * 30;
+            ASSERT_LT(panel.color.At(0, y, x), 30 * 14 / 16.f) << x << "," << y;
+        }
+    ASSERT_GE(overShare, 3);
+    Frame frame = ColorAndVariance(panel.color, panel.variance);
+    frame.layers["max"] = panel.maxSample;
+    Device device = api::BorrowDevice(Ctx());
+    Result out = Method("awr").Run(device, frame);
+    float worst = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y : {PanelLight::y0 - 2, PanelLight::y1 + 1})
+            for (int x = PanelLight::x0; x < PanelLight::x1; ++x)
+                worst =
+                    std::max(worst, std::abs(out.image.At(c, y, x) - panel.truth.At(c, y, x)));
+    EXPECT_LT(worst, 0.5f * 0.05f) << "a glow past the rim";
+    // Within 2 of the panel's full interior the bound is the window's mean (plus 2 standard
+    // deviations of it) or the pixel's own input: the row's squared error no more than the
+    // input's.
+    double outError = 0, inError = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y : {PanelLight::y0 - 2, PanelLight::y1 + 1})
+            for (int x = PanelLight::x0; x < PanelLight::x1; ++x) {
+                const double truth = panel.truth.At(c, y, x);
+                outError += std::pow(out.image.At(c, y, x) - truth, 2);
+                inError += std::pow(panel.color.At(c, y, x) - truth, 2);
+            }
+    EXPECT_LE(outError, inError) << "the rows past the rims worse than their input";
 }
 
 }  // namespace
