@@ -28,6 +28,7 @@
 #include "host/kernels/auto_noise.h"
 #include "host/methods/auto.h"
 #include "host/metrics.h"
+#include "mcdenoise/io.h"
 #include "mcdenoise/mcdenoise.h"
 #include "shaders/auto/auto.h"
 #include "tools/render/renderer.h"
@@ -1244,6 +1245,40 @@ TEST_F(AutoMethod, FrameWithoutStatisticsRunsNforAlone) {
     Result withVariance = Method("auto").Run(device, frame);
     EXPECT_FALSE(PlanHas(withVariance, "auto: nfor alone"));
     EXPECT_GT(withVariance.candidates.size(), 1u);
+}
+
+// A Blender Cycles frame with the passes Blender writes by default (Combined and Depth: no
+// Denoising Data, no statistics) runs nfor alone too, bit for bit nfor's own output, and the
+// plan says how to get the albedo and normals in Blender. With --auto-plain combine, nfor's
+// left-out line says why it did not run alone here, not that it does.
+TEST_F(AutoMethod, BlenderFrameWithDefaultPassesRunsNforAlone) {
+    Frame frame =
+        ReadFrame(std::string(MCD_SOURCE_DIR) + "/tests/data/cycles_glossy_box_32_16spp.exr");
+    std::erase_if(frame.layers, [](const auto &layer) {
+        return layer.first != "color" && layer.first != "alpha" && layer.first != "depth";
+    });
+    Device device = api::BorrowDevice(Ctx());
+    Result result = Method("auto").Run(device, frame);
+    const std::string plan = fmt::format("{}", fmt::join(result.plan, "\n"));
+    EXPECT_EQ(result.method, "nfor") << plan;
+    EXPECT_TRUE(PlanHas(result, "auto: nfor alone (the frame has no statistics")) << plan;
+    EXPECT_TRUE(PlanHas(result,
+                        "auto: nfor's fit follows the depth and the screen position only: no "
+                        "albedo nor normal layers (in Blender, enable View Layer Properties > "
+                        "Passes > Data > Denoising Data"))
+        << plan;
+    EXPECT_EQ(result.image.data, Method("nfor").Run(device, frame).image.data);
+    Method combine("auto");
+    combine.Set("auto-plain", std::string("combine"));
+    Result combined = combine.Run(device, frame);
+    const std::string combinedPlan = fmt::format("{}", fmt::join(combined.plan, "\n"));
+    EXPECT_EQ(combined.method, "auto");
+    EXPECT_TRUE(PlanHas(combined,
+                        "left out nfor: weighed by the half-buffers' estimate only, and the "
+                        "error estimate is the frame's own (on a frame without statistics nfor "
+                        "runs alone, not here: --auto-plain combine)"))
+        << combinedPlan;
+    EXPECT_FALSE(PlanHas(combined, "auto: nfor alone")) << combinedPlan;
 }
 
 // The frame without half0's own layers (the renderer writes them with halves from 3 spp on).
