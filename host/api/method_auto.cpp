@@ -167,7 +167,7 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "histograms nor min/max/spp, as most renderers write), with or without "
                     "albedo and normals: nfor (run nfor alone, which beat the combination on "
                     "such frames, and combine instead where nfor moves the mean luminance by "
-                    "over 3%) or combine (combine the candidates by SURE on the frame's own "
+                    "over 2%) or combine (combine the candidates by SURE on the frame's own "
                     "noise estimate); --auto-noise other than auto or --auto-combine mean "
                     "combine too",
                     &O::plain, {"nfor", "combine"}),
@@ -1139,7 +1139,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         // Where nfor alone could run, it ran and moved the mean (CombineWhereNforMovedTheMean).
         noise.notAlone = WhyNotNforAlone(inputs.Source());
         if (noise.notAlone.empty())
-            noise.notAlone = "nfor alone moved the frame's mean luminance by over 3%, above";
+            noise.notAlone = "nfor alone moved the frame's mean luminance by over 2%, above";
     }
     Candidates candidates =
         RunCandidatesSharing(context, inputs, methods, noise, options, start, &plan);
