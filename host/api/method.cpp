@@ -134,8 +134,9 @@ double MeanLuminance(const Image &image) {
 }
 
 // auto's nfor alone on a frame without statistics: where its output's mean luminance is
-// over 3% off the input's (nfor's firefly clamp took the light of a heavy-tailed frame),
-// run the combination instead, which restores the input's local means.
+// over 2% off the input's (nfor's firefly clamp took the light of a heavy-tailed frame),
+// run the combination instead, which restores the input's local means. 2%: the bound auto
+// is held to (docs/methods/auto.md).
 void CombineWhereNforMovedTheMean(vk::Context &context, const api::FrontEnd &automatic,
                                   const Frame &frame, bool refuseNonFinite,
                                   const RunOptions &options, api::Inputs &inputs,
@@ -143,9 +144,9 @@ void CombineWhereNforMovedTheMean(vk::Context &context, const api::FrontEnd &aut
                                   std::vector<std::string> *plan) {
     double input = MeanLuminance(inputs.Get("color"));
     double ratio = input > 0 ? MeanLuminance(result->image) / input : 1;
-    if (std::fabs(ratio - 1) <= 0.03) return;
+    if (std::fabs(ratio - 1) <= 0.02) return;
     plan->push_back(fmt::format(
-        "auto: nfor's output had {:.3f} of the frame's mean luminance (over 3% off: its "
+        "auto: nfor's output had {:.3f} of the frame's mean luminance (over 2% off: its "
         "firefly clamp took the light of rare bright samples), so the candidates were "
         "combined instead",
         ratio));

@@ -18,6 +18,7 @@
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
 #include "host/common/local_mean.h"
+#include "host/io/hints.h"
 #include "host/io/layer_names.h"
 #include "host/methods/auto.h"
 #include "host/methods/run_memo.h"
@@ -162,11 +163,11 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "alone); half1 does not check the gain nor that lift: a brightness floor",
                    &O::meanGain, 1, 2),
         ChoiceParam("auto-plain",
-                    "on a frame with albedo and normals and without statistics (no variance "
-                    "layer, half-buffers, histograms nor min/max/spp, as most renderers "
-                    "write): nfor (run nfor alone, which beat the combination on such "
-                    "frames, and combine instead where nfor moves the mean luminance by "
-                    "over 3%) or combine (combine the candidates by SURE on the frame's own "
+                    "on a frame without statistics (no variance layer, half-buffers, "
+                    "histograms nor min/max/spp, as most renderers write), with or without "
+                    "albedo and normals: nfor (run nfor alone, which beat the combination on "
+                    "such frames, and combine instead where nfor moves the mean luminance by "
+                    "over 2%) or combine (combine the candidates by SURE on the frame's own "
                     "noise estimate); --auto-noise other than auto or --auto-combine mean "
                     "combine too",
                     &O::plain, {"nfor", "combine"}),
@@ -303,6 +304,8 @@ struct Noise {
     Image frameVariance;  // with the halves: the frame's variance layer, if any
     SplitScore split;     // with a variance layer: bayes's split output's score
     std::string from;     // for the plan
+    // With the frame's own estimate: why nfor does not run alone (for nfor's plan line).
+    std::string notAlone;
     std::vector<Timing> timings;
     // With the halves: the layers half0 has its own of (half0.<layer>), which its runs read.
     std::vector<std::string> half0Layers;
@@ -539,7 +542,9 @@ std::string OutByEstimate(const RegisteredVariant &v, const Noise &noise) {
             "weighed by the half-buffers' estimate only, and the error "
             "estimate is {}",
             !noise.scored ? "none"
-            : noise.own   ? "the frame's own (without statistics nfor runs alone)"
+            : noise.own   ? fmt::format("the frame's own (on a frame without statistics "
+                                          "nfor runs alone, not here: {})",
+                                        noise.notAlone)
                           : "SURE on the variance layer");
     if (!noise.scored) return "";
     return fmt::format(
@@ -1080,29 +1085,43 @@ std::vector<Stage> AutoFrontEnd::Reference(vk::Context &, Inputs &) const {
     throw Error("auto: pick a method first", ErrorKind::Internal);
 }
 
+std::string AutoFrontEnd::WhyNotNforAlone(const Frame &frame) const {
+    if (options.plain != "nfor") return "--auto-plain combine";
+    if (options.noise != "auto") return fmt::format("--auto-noise {}", options.noise);
+    if (options.combine == "mean") return "--auto-combine mean";
+    for (const char *layer : {"variance", "half0.color", "half1.color"})
+        if (frame.Has(layer)) return fmt::format("the frame has {}", layer);
+    for (const char *statistics : {"awr", "rhf"})
+        if (Base(statistics).Missing(frame).empty())
+            return fmt::format("the frame has {}'s statistics", statistics);
+    if (std::string lacks = Base("nfor").Missing(frame); !lacks.empty()) return lacks;
+    return "";
+}
+
 const FrontEnd *AutoFrontEnd::PickWithoutStatistics(const Frame &frame,
                                                     std::vector<std::string> *plan) const {
     CheckNeededOptions(options);
-    if (options.plain != "nfor" || options.noise != "auto" || options.combine == "mean")
-        return nullptr;
-    for (const char *layer : {"variance", "half0.color", "half1.color"})
-        if (frame.Has(layer)) return nullptr;
-    // Without the features nfor's fit is in the screen position alone.
-    if (!frame.Has("albedo") || !frame.Has("normal")) return nullptr;
-    std::vector<std::string> lines;
-    for (const char *statistics : {"awr", "rhf"}) {
-        std::string lacks = Base(statistics).Missing(frame);
-        if (lacks.empty()) return nullptr;
-        lines.push_back(fmt::format("auto: left out {}: {}", statistics, lacks));
-    }
-    const FrontEnd &nfor = Base("nfor");
-    if (!nfor.Missing(frame).empty()) return nullptr;
+    if (!WhyNotNforAlone(frame).empty()) return nullptr;
     plan->push_back(
-        "auto: nfor alone (the frame has albedo and normals and no statistics: no variance "
-        "layer, half-buffers, histograms nor min/max/spp; --auto-plain combine combines the "
-        "candidates instead)");
-    plan->insert(plan->end(), lines.begin(), lines.end());
-    return &nfor;
+        "auto: nfor alone (the frame has no statistics: no variance layer, half-buffers, "
+        "histograms nor min/max/spp; --auto-plain combine combines the candidates instead)");
+    // Without albedo and normals (Blender's default passes) nfor still runs alone: its fit
+    // then follows the depth and the screen position, and the plan says how to get them.
+    std::vector<std::string> features;
+    for (const char *layer : {"albedo", "normal"})
+        if (!frame.Has(layer)) features.push_back(layer);
+    if (!features.empty()) {
+        std::string follows =
+            frame.Has("depth") ? "the depth and the screen position" : "the screen position";
+        std::string what =
+            fmt::format("nfor's fit follows {} only: no {} layer{}", follows,
+                        fmt::join(features, " nor "), features.size() > 1 ? "s" : "");
+        plan->push_back("auto: " + io::Lacks(frame, what, features));
+    }
+    for (const char *statistics : {"awr", "rhf"})
+        plan->push_back(
+            fmt::format("auto: left out {}: {}", statistics, Base(statistics).Missing(frame)));
+    return &Base("nfor");
 }
 
 // The noise source, the candidates, their combination (host/methods/auto.h), the plan.
@@ -1116,6 +1135,12 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                     ErrorKind::InvalidArgument);
     std::vector<std::string> plan;
     Noise noise = ChooseNoise(context, inputs, color, options, &plan);
+    if (noise.own) {
+        // Where nfor alone could run, it ran and moved the mean (CombineWhereNforMovedTheMean).
+        noise.notAlone = WhyNotNforAlone(inputs.Source());
+        if (noise.notAlone.empty())
+            noise.notAlone = "nfor alone moved the frame's mean luminance by over 2%, above";
+    }
     Candidates candidates =
         RunCandidatesSharing(context, inputs, methods, noise, options, start, &plan);
     std::vector<AutoCandidate> list;

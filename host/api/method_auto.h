@@ -32,11 +32,14 @@ class AutoFrontEnd : public FrontEnd {
     // why.
     const FrontEnd &Pick(const Frame &frame, const std::string &demodulate,
                          std::vector<std::string> *plan) const;
-    // nfor alone on a frame with albedo and normals and without statistics (--auto-plain
-    // nfor, the default), with the plan lines that say why; null where auto combines its
-    // candidates.
+    // nfor alone on a frame without statistics (--auto-plain nfor, the default), with the
+    // plan lines that say why and, where the frame lacks albedo or normals, how to get them;
+    // null where auto combines its candidates.
     const FrontEnd *PickWithoutStatistics(const Frame &frame,
                                           std::vector<std::string> *plan) const;
+    // Why PickWithoutStatistics does not pick nfor alone on the frame (an option, the
+    // frame's statistics, what nfor lacks); "" where it does.
+    std::string WhyNotNforAlone(const Frame &frame) const;
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override;
     // The widest reach and the largest memory of the candidates the frame allows, plus the
@@ -101,9 +104,9 @@ class AutoFrontEnd : public FrontEnd {
         // mean before more of the restore does (1: the restore alone). A gain moves no
         // light between pixels; kept within the brightness bound auto is held to.
         float meanGain = 1.02f;
-        // On a frame with albedo and normals and without statistics, nfor alone or the
-        // combination (docs/methods/auto.md: nfor alone beat the combination on the real
-        // Cycles frames).
+        // On a frame without statistics, nfor alone or the combination (docs/methods/
+        // auto.md: nfor alone beat the combination on the real Cycles frames, with and
+        // without albedo and normals).
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";

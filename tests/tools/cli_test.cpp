@@ -505,14 +505,17 @@ TEST_F(CliTest, DenoiseAwr) {
     EXPECT_TRUE(IsError(Run("denoise bare.exr --method awr -o f.exr"), ErrorKind::MissingLayer,
                         "variance layer"));
     EXPECT_FALSE(fs::exists(Path("f.exr")));
-    // auto (the default) runs every method the frame has the layers for, says what it
-    // left out and why, and with no statistics (no variance, no halves) estimates the
-    // noise from the frame itself.
+    // auto (the default) on a colour without statistics (no variance, no halves) runs nfor
+    // alone and says what it left out and why; with --auto-plain combine it runs every
+    // method the frame has the layers for and estimates the noise from the frame itself.
     r = Run("denoise bare.exr -o g.exr --explain");
     ASSERT_EQ(r.code, 0) << r.All();
-    EXPECT_TRUE(Contains(r.out, "auto: ran bayes")) << r.out;
+    EXPECT_TRUE(Contains(r.out, "auto: nfor alone")) << r.out;
     EXPECT_TRUE(Contains(r.out, "left out awr: no variance layer")) << r.out;
     EXPECT_TRUE(Contains(r.out, "left out rhf: no histogram")) << r.out;
+    r = Run("denoise bare.exr -o g.exr --explain --auto-plain combine");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "auto: ran bayes")) << r.out;
     EXPECT_TRUE(Contains(r.out, "the frame's own noise estimate")) << r.out;
     // With a variance layer each candidate's error is estimated (SURE), and the map of the
     // largest weights is written on request.
