@@ -1,0 +1,251 @@
+// The OpenImageIO module (libmcdenoise_oiio): PNG read and written through it, EXR read and
+// written without it (OpenEXR's headers in OpenImageIO's terms), and its absence a typed
+// error naming the file.
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/tool.h"
+#include "host/image.h"
+#include "host/io/frame.h"
+#include "host/io/image_file.h"
+#include "tools/mcdenoise/exit_status.h"
+
+namespace mcd::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The test binary is not beside the module: point the lookup at the build's.
+const bool kModuleDirSet = [] {
+    return setenv("MCD_OIIO_MODULE_DIR", MCD_OIIO_MODULE_BUILD_DIR, 0) == 0;
+}();
+
+class IoTestModule : public ::testing::Test {
+  protected:
+    IoTestModule() : dir("mcd_io_module") {}
+    std::string Path(const std::string &name) const { return dir.Path(name).string(); }
+    test::ToolDir dir;
+};
+
+// A colour and variance frame `awr` denoises; values from a seeded generator.
+void WriteNoisyFrame(const std::string &path, unsigned seed) {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> value(0.1f, 2.f);
+    Image color(24, 16, 3), variance(24, 16, 3);
+    for (float &v : color.data) v = value(random);
+    for (float &v : variance.data) v = 0.01f * value(random);
+    WriteExr(path, {{"color", &color}, {"variance", &variance}});
+}
+
+TEST_F(IoTestModule, PngIsReadAndWrittenThroughTheModule) {
+    ASSERT_TRUE(kModuleDirSet);
+    Image rgb(4, 3, 3);
+    for (size_t i = 0; i < rgb.data.size(); ++i) rgb.data[i] = float(i % 11) / 10.f;
+    WritePng(Path("preview.png"), rgb);
+    EXPECT_TRUE(IoModuleLoaded());
+
+    // The module's bytes as OpenImageIO reads them: sRGB of the values.
+    auto in = OIIO::ImageInput::open(Path("preview.png"));
+    ASSERT_TRUE(in) << OIIO::geterror();
+    ASSERT_EQ(in->spec().nchannels, 3);
+    std::vector<uint8_t> bytes(4 * 3 * 3);
+    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeUInt8, bytes.data()));
+    // Read back through the module: linear again, within 8-bit steps.
+    Image back = ReadImage(Path("preview.png"));
+    ASSERT_EQ(back.channels, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < 3; ++y)
+            for (int x = 0; x < 4; ++x) {
+                float v = rgb.At(c, y, x);
+                float srgb =
+                    v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
+                EXPECT_EQ(bytes[(size_t(y) * 4 + x) * 3 + c], std::lround(srgb * 255.f));
+                EXPECT_NEAR(back.At(c, y, x), v, 0.01f) << c << " " << x << "," << y;
+            }
+}
+
+TEST_F(IoTestModule, ExrDenoiseNeedsNoModuleAndPngSaysWhatIsMissing) {
+    WriteNoisyFrame(Path("in.exr"), 7);
+    fs::create_directories(dir.Path("empty"));
+    const std::string noModule =
+        fmt::format("MCD_OIIO_MODULE_DIR={} ", dir.Path("empty").string());
+    test::ToolResult r = dir.Run("denoise in.exr --method awr -o out.exr", noModule);
+    EXPECT_EQ(r.code, 0) << r.All();
+    r = dir.Run("info out.exr", noModule);
+    EXPECT_EQ(r.code, 0) << r.All();
+
+    // A PNG output and a PNG input need the module: an I/O error naming the file and it.
+    r = dir.Run("denoise in.exr --method awr -o out.png", noModule);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::Io)) << r.All();
+    EXPECT_NE(r.err.find("out.png"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("libmcdenoise_oiio.so"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir.Path("out.png")));
+    r = dir.Run("denoise in.exr --method awr -o out.png");  // the build's module
+    EXPECT_EQ(r.code, 0) << r.All();
+    r = dir.Run("info out.png", noModule);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::Io)) << r.All();
+    EXPECT_NE(r.err.find("out.png"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("libmcdenoise_oiio.so"), std::string::npos) << r.err;
+    r = dir.Run("info out.png");
+    EXPECT_EQ(r.code, 0) << r.All();
+}
+
+// Channel names from a seeded generator: layers, RGBA and other suffixes in any case.
+std::vector<std::string> RandomChannels(std::mt19937 &random) {
+    const std::vector<std::string> layers = {"",
+                                             "ViewLayer.Combined.",
+                                             "ViewLayer.Noisy Image.",
+                                             "albedo.",
+                                             "a.b.",
+                                             "Z.",
+                                             "half0.color.",
+                                             "x"};
+    const std::vector<std::string> suffixes = {"R", "G",     "B",        "A",     "Y",
+                                               "Z", "alpha", "red",      "u",     "v",
+                                               "0", "1",     "Bin_0003", "depth", "X"};
+    std::set<std::string> names;
+    int count = 2 + int(random() % 12);
+    while (int(names.size()) < count)
+        names.insert(layers[random() % layers.size()] + suffixes[random() % suffixes.size()]);
+    std::vector<std::string> list(names.begin(), names.end());
+    std::shuffle(list.begin(), list.end(), random);
+    return list;
+}
+
+TEST_F(IoTestModule, ExrHeadersAreOpenImageIOs) {
+    std::mt19937 random(32);
+    const OIIO::TypeDesc types[] = {OIIO::TypeHalf, OIIO::TypeFloat, OIIO::TypeUInt32};
+    for (int round = 0; round < 60; ++round) {
+        std::vector<std::string> names = RandomChannels(random);
+        OIIO::ImageSpec spec(5, 4, int(names.size()), OIIO::TypeFloat);
+        spec.channelnames = names;
+        spec.channelformats.clear();
+        for (size_t c = 0; c < names.size(); ++c)
+            spec.channelformats.push_back(types[random() % 3]);
+        spec.x = int(random() % 5), spec.y = int(random() % 5);
+        if (round % 3 == 0) spec.tile_width = spec.tile_height = 16;
+        spec.attribute("mcd:spp", fmt::format("{}", random() % 1000));
+        spec.attribute("DateTime", "2026:12:01 08:00:00");
+        spec.attribute("ImageDescription", "a test");
+        spec.attribute("samplesPerPixel", int(random() % 100));
+        spec.attribute("exposure", 0.25f * float(random() % 9));
+        std::string path = Path(fmt::format("h{}.exr", round));
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out && out->open(path, spec)) << OIIO::geterror();
+        std::vector<float> pixels(size_t(spec.image_pixels()) * names.size(), 1.f);
+        ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data()));
+        out->close();
+
+        auto in = OIIO::ImageInput::open(path);
+        ASSERT_TRUE(in);
+        const OIIO::ImageSpec &theirs = in->spec();
+        ImageHeader ours = ReadExrHeader(path);
+        EXPECT_EQ(ours.channelNames, theirs.channelnames) << path;
+        for (int c = 0; c < theirs.nchannels; ++c) {
+            OIIO::TypeDesc type = theirs.channelformat(c);
+            std::string name = type == OIIO::TypeUInt32 ? "uint32" : type.c_str();  // "uint"
+            EXPECT_EQ(ours.typeNames[c], name) << c;
+        }
+        EXPECT_EQ(ours.x, theirs.x);
+        EXPECT_EQ(ours.y, theirs.y);
+        EXPECT_EQ(ours.width, theirs.width);
+        EXPECT_EQ(ours.height, theirs.height);
+        EXPECT_EQ(ours.tiled, theirs.tile_width > 0);
+        // Every string, int and float attribute OpenImageIO reports but its own hints.
+        size_t compared = 0;
+        for (const OIIO::ParamValue &a : theirs.extra_attribs) {
+            std::string name = a.name().string();
+            if (name.starts_with("oiio:")) continue;
+            if (a.type() == OIIO::TypeString) {
+                EXPECT_EQ(ours.strings[name], a.get_string()) << name;
+            } else if (a.type() == OIIO::TypeInt) {
+                EXPECT_EQ(ours.ints[name], a.get_int()) << name;
+            } else if (a.type() == OIIO::TypeFloat) {
+                EXPECT_EQ(ours.floats[name], a.get_float()) << name;
+            } else {
+                continue;
+            }
+            ++compared;
+        }
+        EXPECT_EQ(compared, ours.strings.size() + ours.ints.size() + ours.floats.size());
+    }
+}
+
+TEST_F(IoTestModule, ExrWritesKeepChannelTypesAndAttributes) {
+    // WriteExr: float channels, zip, the metadata as string attributes by their names.
+    Image color(6, 5, 3), depth(6, 5, 1);
+    for (size_t i = 0; i < color.data.size(); ++i) color.data[i] = 0.1f * float(i);
+    for (size_t i = 0; i < depth.data.size(); ++i) depth.data[i] = float(i);
+    std::string path = Path("w.exr");
+    WriteExr(path, {{"color", &color}, {"depth", &depth}},
+             {{"mcd:method", "awr"}, {"DateTime", "2026:01:02 03:04:05"}, {"Copyright", "me"}});
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in) << OIIO::geterror();
+    const OIIO::ImageSpec &spec = in->spec();
+    EXPECT_EQ(spec.channelnames, (std::vector<std::string>{"R", "G", "B", "depth.Z"}));
+    for (int c = 0; c < spec.nchannels; ++c) EXPECT_EQ(spec.channelformat(c), OIIO::TypeFloat);
+    EXPECT_EQ(spec.get_string_attribute("compression"), "zip");
+    EXPECT_EQ(spec.get_string_attribute("mcd:method"), "awr");
+    EXPECT_EQ(spec.get_string_attribute("DateTime"), "2026:01:02 03:04:05");
+    EXPECT_EQ(spec.get_string_attribute("Copyright"), "me");
+    Frame frame = ReadFrame(path);
+    EXPECT_EQ(frame.Get("color").data, color.data);
+    EXPECT_EQ(frame.Get("depth").data, depth.data);
+
+    // WriteDenoisedOver on a half/float/uint frame with int and float attributes: every
+    // channel keeps its type, every attribute stays, the colour is replaced.
+    OIIO::ImageSpec mixed(6, 5, 5, OIIO::TypeHalf);
+    mixed.channelnames = {"R", "G", "B", "A", "id"};
+    mixed.channelformats = {OIIO::TypeHalf, OIIO::TypeHalf, OIIO::TypeHalf, OIIO::TypeFloat,
+                            OIIO::TypeUInt32};
+    mixed.attribute("samplesPerPixel", 64);
+    mixed.attribute("exposure", 1.5f);
+    mixed.attribute("renderer", "test");
+    std::string frameFile = Path("mixed.exr");
+    auto out = OIIO::ImageOutput::create(frameFile);
+    ASSERT_TRUE(out && out->open(frameFile, mixed));
+    std::vector<float> pixels(6 * 5 * 5, 1.f);
+    for (size_t p = 0; p < 30; ++p) pixels[p * 5 + 4] = float(p) / 4294967295.f;
+    ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data()));
+    out->close();
+    const Image ids = ReadFrame(frameFile).Get("id");
+    Image denoised(6, 5, 3);
+    for (size_t i = 0; i < denoised.data.size(); ++i)
+        denoised.data[i] = 0.5f + 0.25f * float(i % 3);
+    WriteDenoisedOver(frameFile, denoised, {{"mcd:method", "awr"}});
+    auto after = OIIO::ImageInput::open(frameFile);
+    ASSERT_TRUE(after) << OIIO::geterror();
+    const OIIO::ImageSpec &s = after->spec();
+    std::vector<std::string> names = {
+        "R", "G", "B", "A", "id", "color.noisy.R", "color.noisy.G", "color.noisy.B"};
+    EXPECT_EQ(std::set<std::string>(s.channelnames.begin(), s.channelnames.end()),
+              std::set<std::string>(names.begin(), names.end()));
+    for (int c = 0; c < s.nchannels; ++c) {
+        const std::string &n = s.channelnames[c];
+        OIIO::TypeDesc want = n == "A"    ? OIIO::TypeFloat
+                              : n == "id" ? OIIO::TypeUInt32
+                                          : OIIO::TypeHalf;
+        EXPECT_EQ(s.channelformat(c), want) << n;
+    }
+    EXPECT_EQ(s.get_int_attribute("samplesPerPixel"), 64);
+    EXPECT_EQ(s.get_float_attribute("exposure"), 1.5f);
+    EXPECT_EQ(s.get_string_attribute("renderer"), "test");
+    EXPECT_EQ(s.get_string_attribute("mcd:method"), "awr");
+    Frame back = ReadFrame(frameFile);
+    EXPECT_EQ(back.Get("color").data, denoised.data);
+    EXPECT_EQ(back.Get("id").data, ids.data);
+}
+
+}  // namespace
+}  // namespace mcd::io
