@@ -29,6 +29,9 @@
 #ifndef MCD_INSTALL_LIBDIR
 #define MCD_INSTALL_LIBDIR ""
 #endif
+#ifndef MCD_RELATIVE_LIBDIR
+#define MCD_RELATIVE_LIBDIR ""
+#endif
 
 namespace mcd::io {
 
@@ -244,6 +247,9 @@ const McdOiioApi &IoModule(const std::string &path, const std::string &what) {
             std::error_code ec;
             fs::path self = fs::canonical(info.dli_fname, ec);
             if (!ec) dirs.push_back(self.parent_path());
+            // The tool in <prefix>/bin finds <prefix>/lib wherever the prefix went.
+            if (!ec && *MCD_RELATIVE_LIBDIR)
+                dirs.push_back(self.parent_path().parent_path() / MCD_RELATIVE_LIBDIR);
         }
         if (*MCD_INSTALL_LIBDIR) dirs.push_back(MCD_INSTALL_LIBDIR);
     }

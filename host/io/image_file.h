@@ -79,8 +79,9 @@ void WriteModuleUInt8(const std::string &path, const std::string &target, const 
 bool IoModuleLoaded();
 
 // The module, loaded at the first call: from the directory MCD_OIIO_MODULE_DIR names if
-// set, else beside the binary or library holding this code, else the install's lib
-// directory. Throws mcd::Error (Io) naming `path` and `what` needs it when it is missing.
+// set, else beside the binary or library holding this code, else in ../lib from there (the
+// tool in <prefix>/bin), else the configured install's lib directory. Throws mcd::Error (Io)
+// naming `path` and `what` needs it when it is missing.
 const McdOiioApi &IoModule(const std::string &path, const std::string &what);
 
 }  // namespace mcd::io
