@@ -220,7 +220,7 @@ OverwriteTargets FindTargets(const std::vector<std::string> &names, const std::s
 }
 
 // The file's header as written back: its channels, their types and its attributes,
-// scanlines, the added channels (each of the type of the one it copies), lossless,
+// increasing scanlines, the added channels (each of the type of the one it copies), lossless,
 // `metadata` on top.
 Imf::Header OverwriteHeader(const Imf::Header &in, const std::vector<std::string> &names,
                             const OverwriteTargets &t,
@@ -235,6 +235,8 @@ Imf::Header OverwriteHeader(const Imf::Header &in, const std::vector<std::string
     if (compression == Imf::DWAA_COMPRESSION || compression == Imf::DWAB_COMPRESSION ||
         compression == Imf::B44_COMPRESSION || compression == Imf::B44A_COMPRESSION)
         header.compression() = Imf::ZIP_COMPRESSION;
+    // Bands are written top-down: a decreasing or random order would read them out of range.
+    header.lineOrder() = Imf::INCREASING_Y;
     SetStringAttributes(header, metadata);
     return header;
 }

@@ -1,6 +1,9 @@
 // The OpenImageIO module (libmcdenoise_oiio): PNG read and written through it, EXR read and
 // written without it (OpenEXR's headers in OpenImageIO's terms), and its absence a typed
 // error naming the file.
+#include <Imath/half.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -10,6 +13,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <random>
 #include <set>
 #include <string>
@@ -245,6 +249,59 @@ TEST_F(IoTestModule, ExrWritesKeepChannelTypesAndAttributes) {
     Frame back = ReadFrame(frameFile);
     EXPECT_EQ(back.Get("color").data, denoised.data);
     EXPECT_EQ(back.Get("id").data, ids.data);
+}
+
+// A channel's samples as half bits, read back by OpenImageIO.
+std::vector<uint16_t> HalfBits(const std::string &path, const std::string &channel) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return {};
+    const OIIO::ImageSpec &spec = in->spec();
+    int c = spec.channelindex(channel);
+    if (c < 0) return {};
+    std::vector<uint16_t> bits(size_t(spec.width) * spec.height);
+    if (!in->read_image(0, 0, c, c + 1, OIIO::TypeHalf, bits.data())) return {};
+    return bits;
+}
+
+TEST_F(IoTestModule, OverwriteKeepsEveryChannelOfAnyLineOrder) {
+    // 40x100 half frames stored bottom-up (scanlines) and in random tile order: the
+    // colour is replaced, every other channel and the noisy copies keep their bits.
+    std::mt19937 random(41);
+    std::uniform_real_distribution<float> value(-4.f, 4.f);
+    const std::vector<std::string> channels = {"R", "G", "B", "A", "Z"};
+    for (const char *order : {"decreasingY", "randomY"}) {
+        OIIO::ImageSpec spec(40, 100, 5, OIIO::TypeHalf);
+        spec.channelnames = channels;
+        spec.attribute("openexr:lineOrder", order);
+        if (std::string(order) == "randomY") spec.tile_width = spec.tile_height = 16;
+        std::string path = Path(fmt::format("{}.exr", order));
+        auto out = OIIO::ImageOutput::create(path);
+        ASSERT_TRUE(out && out->open(path, spec)) << OIIO::geterror();
+        std::vector<float> pixels(size_t(40) * 100 * 5);
+        for (float &v : pixels) v = value(random);
+        ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data()));
+        out->close();
+        // OpenImageIO does not report the order: ask OpenEXR that it was stored so.
+        Imf::LineOrder stored = Imf::InputFile(path.c_str()).header().lineOrder();
+        ASSERT_EQ(stored, std::string(order) == "randomY" ? Imf::RANDOM_Y : Imf::DECREASING_Y);
+
+        std::map<std::string, std::vector<uint16_t>> before;
+        for (const std::string &c : channels) before[c] = HalfBits(path, c);
+        Image denoised(40, 100, 3);
+        for (float &v : denoised.data) v = value(random);
+        WriteDenoisedOver(path, denoised, {{"mcd:method", "awr"}});
+        for (int c = 0; c < 3; ++c) {
+            std::vector<uint16_t> want;
+            for (int y = 0; y < 100; ++y)
+                for (int x = 0; x < 40; ++x)
+                    want.push_back(Imath::half(denoised.At(c, y, x)).bits());
+            EXPECT_EQ(HalfBits(path, channels[c]), want) << order << " " << channels[c];
+            EXPECT_EQ(HalfBits(path, "color.noisy." + channels[c]), before[channels[c]])
+                << order << " " << channels[c];
+        }
+        EXPECT_EQ(HalfBits(path, "A"), before["A"]) << order;
+        EXPECT_EQ(HalfBits(path, "Z"), before["Z"]) << order;
+    }
 }
 
 }  // namespace
