@@ -261,26 +261,30 @@ const McdOiioApi &IoModule(const std::string &path, const std::string &what) {
         if (!fs::exists(candidate, ec)) continue;
         void *handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!handle) {
-            why = dlerror();
+            const char *error = dlerror();
+            why += fmt::format("; cannot load {}: {}", candidate.string(),
+                               error ? error : "unknown error");
             continue;
         }
         auto entry =
             reinterpret_cast<McdOiioModuleFunction>(dlsym(handle, MCD_OIIO_MODULE_ENTRY));
         const McdOiioApi *found = entry ? entry() : nullptr;
         if (!found || found->version != MCD_OIIO_MODULE_VERSION) {
-            why = fmt::format("{} is not this version's module", candidate.string());
+            why +=
+                fmt::format("; cannot load {}: not this version's module", candidate.string());
             continue;
         }
         api = found;
         moduleLoaded = true;
         return *api;
     }
-    throw Error(
-        fmt::format("cannot {} '{}': that needs the OpenImageIO module {}, not found in "
-                    "{}{}",
-                    what, path, kModuleName, looked.empty() ? "(nowhere)" : looked,
-                    why.empty() ? "" : " (" + why + ")"),
-        ErrorKind::Io);
+    // Found but unloadable says why (the loader's words), else where it was looked for.
+    std::string missing =
+        why.empty() ? fmt::format("not found in {}", looked.empty() ? "(nowhere)" : looked)
+                    : why.substr(2);
+    throw Error(fmt::format("cannot {} '{}': that needs the OpenImageIO module {}, {}", what,
+                            path, kModuleName, missing),
+                ErrorKind::Io);
 }
 
 ModuleImage::ModuleImage(const std::string &path) : path(path) {

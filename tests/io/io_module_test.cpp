@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 #include <set>
@@ -103,6 +104,21 @@ TEST_F(IoTestModule, ExrDenoiseNeedsNoModuleAndPngSaysWhatIsMissing) {
     EXPECT_NE(r.err.find("libmcdenoise_oiio.so"), std::string::npos) << r.err;
     r = dir.Run("info out.png");
     EXPECT_EQ(r.code, 0) << r.All();
+}
+
+TEST_F(IoTestModule, AModuleThatWillNotLoadSaysWhy) {
+    WriteNoisyFrame(Path("in.exr"), 9);
+    fs::create_directories(dir.Path("broken"));
+    std::ofstream(dir.Path("broken") / "libmcdenoise_oiio.so") << std::string(4096, 'x');
+    const std::string broken =
+        fmt::format("MCD_OIIO_MODULE_DIR={} ", dir.Path("broken").string());
+    test::ToolResult r = dir.Run("denoise in.exr --method awr -o out.png", broken);
+    EXPECT_EQ(r.code, int(tool::ExitStatus::Io)) << r.All();
+    EXPECT_NE(r.err.find("out.png"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("cannot load"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("not found"), std::string::npos) << r.err;
+    // The loader's own words: the file is no ELF object.
+    EXPECT_NE(r.err.find("ELF"), std::string::npos) << r.err;
 }
 
 // Channel names from a seeded generator: layers, RGBA and other suffixes in any case.
