@@ -100,6 +100,33 @@ TEST_F(IoTestModule, ExrDenoiseNeedsNoModuleAndPngSaysWhatIsMissing) {
     EXPECT_EQ(r.code, 0) << r.All();
 }
 
+TEST_F(IoTestModule, ExrFramesNeverLoadTheModule) {
+#ifndef __GLIBC__
+    GTEST_SKIP() << "needs glibc's loader trace (LD_DEBUG)";
+#endif
+    // Fresh processes with the module in reach: glibc's loader lists every object it opens.
+    WriteNoisyFrame(Path("in.exr"), 11);
+    WriteNoisyFrame(Path("over.exr"), 12);
+    const std::string trace = "LD_DEBUG=files ";
+    auto loaded = [](const test::ToolResult &r, const char *name) {
+        return r.err.find(name) != std::string::npos;
+    };
+    for (const char *args : {"denoise in.exr --method awr -o out.exr", "info out.exr",
+                             "denoise over.exr --method awr -o over.exr --overwrite-input"}) {
+        test::ToolResult r = dir.Run(args, trace);
+        EXPECT_EQ(r.code, 0) << args << "\n" << r.All();
+        EXPECT_FALSE(loaded(r, "libmcdenoise_oiio")) << args;
+        EXPECT_FALSE(loaded(r, "libOpenImageIO")) << args;
+    }
+    // A PNG does load it, and the trace sees that.
+    for (const char *args : {"denoise in.exr --method awr -o out.png", "info out.png"}) {
+        test::ToolResult r = dir.Run(args, trace);
+        EXPECT_EQ(r.code, 0) << args << "\n" << r.All();
+        EXPECT_TRUE(loaded(r, "libmcdenoise_oiio")) << args;
+        EXPECT_TRUE(loaded(r, "libOpenImageIO")) << args;
+    }
+}
+
 TEST_F(IoTestModule, AModuleThatWillNotLoadSaysWhy) {
     WriteNoisyFrame(Path("in.exr"), 9);
     fs::create_directories(dir.Path("broken"));
