@@ -293,6 +293,17 @@ ModuleImage::ModuleImage(const std::string &path) : path(path) {
     const McdOiioHeader *h = nullptr;
     handle = api->open(path.c_str(), &h, error, sizeof error);
     if (!handle) throw Error(fmt::format("cannot read '{}': {}", path, error), ErrorKind::Io);
+    try {
+        FillHeader(h);
+    } catch (...) {
+        api->close(handle);  // the destructor does not run for a throwing constructor
+        handle = nullptr;
+        throw;
+    }
+}
+
+// The module's header in ImageHeader's terms.
+void ModuleImage::FillHeader(const McdOiioHeader *h) {
     header.x = h->x, header.y = h->y, header.width = h->width, header.height = h->height;
     header.depth = h->depth, header.tiled = h->tiled, header.deep = h->deep;
     header.parts = h->subimages;

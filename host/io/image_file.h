@@ -63,6 +63,8 @@ class ModuleImage {
     void ReadRows(int y0, int y1, float *pixels);
 
   private:
+    void FillHeader(const McdOiioHeader *h);
+
     std::string path;
     const McdOiioApi *api = nullptr;
     void *handle = nullptr;

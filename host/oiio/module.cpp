@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +18,20 @@ void SetError(char *error, size_t errorSize, const std::string &message) {
     size_t n = std::min(errorSize - 1, message.size());
     std::memcpy(error, message.data(), n);
     error[n] = 0;
+}
+
+// Run `body`; a C++ exception becomes the error text and `failed`, so none crosses the C
+// interface.
+template <typename Result, typename Body>
+Result Guarded(char *error, size_t errorSize, Result failed, Body body) {
+    try {
+        return body();
+    } catch (const std::exception &e) {
+        SetError(error, errorSize, e.what());
+    } catch (...) {
+        SetError(error, errorSize, "unknown exception");
+    }
+    return failed;
 }
 
 const char *TypeName(OIIO::TypeDesc type) {
@@ -83,7 +98,7 @@ void FillHeader(Image &image) {
     h.attributes = image.attributes.data();
 }
 
-void *Open(const char *path, const McdOiioHeader **header, char *error, size_t errorSize) {
+void *OpenImage(const char *path, const McdOiioHeader **header, char *error, size_t errorSize) {
     // Keep colour as stored: OIIO would premultiply a PNG's unassociated alpha.
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
@@ -98,7 +113,12 @@ void *Open(const char *path, const McdOiioHeader **header, char *error, size_t e
     return image.release();
 }
 
-int ReadRows(void *handle, int y0, int y1, float *pixels, char *error, size_t errorSize) {
+void *Open(const char *path, const McdOiioHeader **header, char *error, size_t errorSize) {
+    return Guarded<void *>(error, errorSize, nullptr,
+                           [&] { return OpenImage(path, header, error, errorSize); });
+}
+
+int ReadImageRows(void *handle, int y0, int y1, float *pixels, char *error, size_t errorSize) {
     Image &image = *static_cast<Image *>(handle);
     const OIIO::ImageSpec &spec = image.in->spec();
     bool ok = true;
@@ -108,6 +128,8 @@ int ReadRows(void *handle, int y0, int y1, float *pixels, char *error, size_t er
             image.whole.resize(size_t(spec.width) * spec.height * spec.nchannels);
             ok = image.in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat,
                                       image.whole.data());
+            // A failed read leaves nothing behind: a retry reads again, not the remains.
+            if (!ok) std::vector<float>().swap(image.whole);
         }
         size_t row = size_t(spec.width) * spec.nchannels;
         if (ok)
@@ -121,13 +143,18 @@ int ReadRows(void *handle, int y0, int y1, float *pixels, char *error, size_t er
     return ok;
 }
 
+int ReadRows(void *handle, int y0, int y1, float *pixels, char *error, size_t errorSize) {
+    return Guarded(error, errorSize, 0,
+                   [&] { return ReadImageRows(handle, y0, y1, pixels, error, errorSize); });
+}
+
 void Close(void *handle) {
     delete static_cast<Image *>(handle);
 }
 
-int WriteUInt8(const char *path, const char *format, int width, int height, int channels,
-               const unsigned char *pixels, int unassociatedAlpha, char *error,
-               size_t errorSize) {
+int WriteImageUInt8(const char *path, const char *format, int width, int height, int channels,
+                    const unsigned char *pixels, int unassociatedAlpha, char *error,
+                    size_t errorSize) {
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(format);
     if (!out) {
         SetError(error, errorSize, OIIO::geterror());
@@ -141,6 +168,15 @@ int WriteUInt8(const char *path, const char *format, int width, int height, int 
         return 0;
     }
     return 1;
+}
+
+int WriteUInt8(const char *path, const char *format, int width, int height, int channels,
+               const unsigned char *pixels, int unassociatedAlpha, char *error,
+               size_t errorSize) {
+    return Guarded(error, errorSize, 0, [&] {
+        return WriteImageUInt8(path, format, width, height, channels, pixels, unassociatedAlpha,
+                               error, errorSize);
+    });
 }
 
 const McdOiioApi kApi = {MCD_OIIO_MODULE_VERSION, Open, ReadRows, Close, WriteUInt8};

@@ -142,6 +142,45 @@ TEST_F(IoTestModule, AModuleThatWillNotLoadSaysWhy) {
     EXPECT_NE(r.err.find("ELF"), std::string::npos) << r.err;
 }
 
+TEST_F(IoTestModule, ModuleErrorsComeBackAsErrors) {
+    // A C++ exception inside the module (a null path makes std::string throw) is an error
+    // return with a message, not one crossing the C interface.
+    const McdOiioApi &api = IoModule(Path("any.png"), "read");
+    char error[256] = {};
+    const McdOiioHeader *header = nullptr;
+    EXPECT_EQ(api.open(nullptr, &header, error, sizeof error), nullptr);
+    EXPECT_NE(error[0], 0);
+    error[0] = 0;
+    const unsigned char pixel[3] = {1, 2, 3};
+    EXPECT_EQ(api.writeUInt8(nullptr, "png", 1, 1, 3, pixel, 0, error, sizeof error), 0);
+    EXPECT_NE(error[0], 0);
+
+    // A tiled file whose tiles are damaged fails to read, and fails again on a retry.
+    OIIO::ImageSpec spec(64, 64, 3, OIIO::TypeFloat);
+    spec.tile_width = spec.tile_height = 16;
+    spec.attribute("compression", "zip");
+    std::string path = Path("tiled.tif");
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out && out->open(path, spec)) << OIIO::geterror();
+    std::mt19937 random(5);
+    std::vector<float> pixels(64 * 64 * 3);
+    for (float &v : pixels) v = float(random() % 1000) / 1000.f;
+    ASSERT_TRUE(out->write_image(OIIO::TypeFloat, pixels.data()));
+    out->close();
+    {
+        std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+        std::vector<char> bytes((std::istreambuf_iterator<char>(file)), {});
+        for (size_t k = bytes.size() / 3; k < 2 * bytes.size() / 3; ++k) bytes[k] ^= 0x5a;
+        file.seekp(0);
+        file.write(bytes.data(), std::streamsize(bytes.size()));
+    }
+    ModuleImage image(path);
+    ASSERT_TRUE(image.Header().tiled);
+    std::vector<float> rows(64 * 3);
+    EXPECT_THROW(image.ReadRows(0, 1, rows.data()), Error);
+    EXPECT_THROW(image.ReadRows(0, 1, rows.data()), Error);
+}
+
 // Channel names from a seeded generator: layers, RGBA and other suffixes in any case.
 std::vector<std::string> RandomChannels(std::mt19937 &random) {
     const std::vector<std::string> layers = {"",
