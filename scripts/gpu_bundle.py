@@ -3,7 +3,8 @@
 
 usage: python3 scripts/gpu_bundle.py [--build DIR] [--out DIR]
 
-Copies the tool, the test binary and the built SPIR-V (the test binary reads some of it from
+Copies the tool, the test binary, the OpenImageIO module libmcdenoise_oiio.so (beside the tool,
+where both look for it) and the built SPIR-V (the test binary reads some of it from
 <build>/shaders) into OUT/build/, and into OUT/lib/ every shared library they load except the
 C and C++ runtimes, plus the Vulkan loader (mcdenoise opens it at run time) and libglvnd's
 dispatch libraries (NVIDIA's Vulkan driver lives in its GLX library and needs them), and the
@@ -118,8 +119,9 @@ def Main():
     parser.add_argument('--build', default='build')
     parser.add_argument('--out', default='gpu_bundle')
     args = parser.parse_args()
-    binaries = [os.path.join(args.build, 'mcdenoise'),
-                os.path.join(args.build, 'tests', 'mcd_tests')]
+    # The OpenImageIO module sits beside the tool, where the tool and the tests look for it.
+    places = ['mcdenoise', 'tests/mcd_tests', 'libmcdenoise_oiio.so']
+    binaries = [os.path.join(args.build, p) for p in places]
     for b in binaries:
         if not os.path.isfile(b):
             sys.exit(f'gpu_bundle: {b} not found (build first)')
@@ -127,8 +129,8 @@ def Main():
     lib = os.path.join(args.out, 'lib')
     os.makedirs(os.path.join(args.out, 'build', 'tests'))
     os.makedirs(lib)
-    for b, dest in zip(binaries, ['build/mcdenoise', 'build/tests/mcd_tests']):
-        Run(['strip', '-o', os.path.join(args.out, dest), b])
+    for b, place in zip(binaries, places):
+        Run(['strip', '--strip-unneeded', '-o', os.path.join(args.out, 'build', place), b])
     shutil.copytree(os.path.join(args.build, 'shaders'), os.path.join(args.out, 'build', 'shaders'),
                     ignore=lambda d, names: [n for n in names
                                              if not n.endswith('.spv') and

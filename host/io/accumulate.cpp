@@ -1,6 +1,5 @@
 #include "host/io/accumulate.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,6 +10,7 @@
 #include <memory>
 
 #include "host/error.h"
+#include "host/io/image_file.h"
 #include "host/io/layer_names.h"
 
 namespace mcd::io {
@@ -66,27 +66,20 @@ bool AccumulatorKeeps(const std::string &layer) {
 }
 
 FrameHeader ReadFrameHeader(const std::string &path) {
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-    if (!in)
-        throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()), ErrorKind::Io);
-    const OIIO::ImageSpec &spec = in->spec();
+    ImageHeader spec = ReadImageHeader(path);
     FrameHeader header;
     header.path = path;
     header.width = spec.width;
     header.height = spec.height;
     try {
-        for (const LayerChannels &layer : GroupChannels(spec.channelnames))
+        for (const LayerChannels &layer : GroupChannels(spec.channelNames))
             header.layers[layer.name] = int(layer.channels.size());
     } catch (const Error &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
-    for (const OIIO::ParamValue &attribute : spec.extra_attribs) {
-        std::string name = attribute.name().string();
-        if (attribute.type() == OIIO::TypeString && !name.starts_with("oiio:"))
-            header.metadata[name] = attribute.get_string();
-        else if (attribute.type() == OIIO::TypeInt)
-            header.metadata[name] = std::to_string(attribute.get_int());
-    }
+    for (const auto &[name, value] : spec.strings)
+        if (!name.starts_with("oiio:")) header.metadata[name] = value;
+    for (const auto &[name, value] : spec.ints) header.metadata[name] = std::to_string(value);
     return header;
 }
 

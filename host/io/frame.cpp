@@ -1,6 +1,5 @@
 #include "host/io/frame.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -17,6 +16,7 @@
 #include "host/error.h"
 #include "host/io/conventions.h"
 #include "host/io/exr_read.h"
+#include "host/io/image_file.h"
 #include "host/io/layer_names.h"
 
 namespace mcd {
@@ -24,12 +24,12 @@ using namespace io;
 
 namespace {
 
-// How a channel's stored values become our floats. OIIO hands integer data over as
-// normalized [0,1] floats.
+// How a channel's stored values become our floats. The OpenImageIO module hands integer
+// data over as normalized [0,1] floats.
 enum class Decode {
     None,     // float data, or integer data in a linear color space
     Srgb,     // 8/16-bit display data: undo the sRGB transfer curve
-    Integer,  // 32-bit unsigned (EXR ids): undo OIIO's normalization
+    Integer,  // 32-bit unsigned: undo the normalization
 };
 
 float SrgbToLinear(float v) {
@@ -62,28 +62,18 @@ bool Wanted(const std::string &layer, const ReadOptions &options) {
     return !IsOwnLayerName(layer);
 }
 
-// Read a band of rows at a time through OIIO, interleaved, and scatter it into the planes;
-// a whole interleaved copy of a histogram frame would double the memory needed. Tiled
-// files need band heights on tile boundaries (read_scanlines does not read them).
-void ReadBands(OIIO::ImageInput &in, const std::string &path, const OIIO::ImageSpec &spec,
-               const std::vector<Decode> &decode, const std::vector<float *> &destination) {
-    int channelCount = spec.nchannels;
-    bool tiled = spec.tile_width > 0;
-    int bandRows =
-        tiled ? spec.tile_height * std::max(1, 32 / std::max(1, spec.tile_height)) : 32;
+// Read a band of rows at a time through the module, interleaved, and scatter it into the
+// planes; a whole interleaved copy of a big frame would double the memory needed.
+void ReadBands(ModuleImage &in, const std::vector<Decode> &decode,
+               const std::vector<float *> &destination) {
+    const ImageHeader &spec = in.Header();
+    int channelCount = int(spec.channelNames.size());
+    constexpr int bandRows = 32;
     size_t rowValues = size_t(spec.width) * size_t(channelCount);
     std::vector<float> band(size_t(bandRows) * rowValues);
     for (int y0 = 0; y0 < spec.height; y0 += bandRows) {
         int y1 = std::min(spec.height, y0 + bandRows);
-        bool ok = tiled ? in.read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + y0,
-                                        spec.y + y1, spec.z, spec.z + 1, 0, channelCount,
-                                        OIIO::TypeFloat, band.data())
-                        : in.read_scanlines(0, 0, spec.y + y0, spec.y + y1, spec.z, 0,
-                                            channelCount, OIIO::TypeFloat, band.data());
-        if (!ok)
-            throw Error(fmt::format("cannot read '{}': {}", path, in.geterror()),
-                        ErrorKind::Io);
-
+        in.ReadRows(y0, y1, band.data());
         for (int c = 0; c < channelCount; ++c) {
             if (!destination[c]) continue;
             for (int y = y0; y < y1; ++y) {
@@ -121,21 +111,22 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec))
         throw Error(fmt::format("cannot read '{}': no such file", path), ErrorKind::Io);
-    // Keep color as stored: OIIO would premultiply a PNG's unassociated alpha, and alpha
-    // is not ours to apply.
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path, &config);
-    if (!in)
-        throw Error(fmt::format("cannot read '{}': {}", path, OIIO::geterror()), ErrorKind::Io);
+    // EXR with OpenEXR; anything else through the OpenImageIO module, loaded only now.
+    std::unique_ptr<ModuleImage> module;
+    ImageHeader exrHeader;
+    if (IsExrFile(path))
+        exrHeader = ReadExrHeader(path);
+    else
+        module = std::make_unique<ModuleImage>(path);
+    const ImageHeader &spec = module ? module->Header() : exrHeader;
 
-    // Only subimage 0 is read: a multi-part EXR's other parts are ignored (renderers we
-    // take frames from, pbrt-v4 and Blender, write all layers into one part). The data
-    // window is the frame; an EXR display window is ignored.
-    const OIIO::ImageSpec &spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    // Only part 0 is read: a multi-part EXR's other parts are ignored (renderers we take
+    // frames from, pbrt-v4 and Blender, write all layers into one part). The data window
+    // is the frame; an EXR display window is ignored.
+    int channelCount = int(spec.channelNames.size());
+    if (spec.width <= 0 || spec.height <= 0 || channelCount <= 0)
         throw Error(fmt::format("cannot read '{}': it has zero size ({}x{}, {} channels)", path,
-                                spec.width, spec.height, spec.nchannels),
+                                spec.width, spec.height, channelCount),
                     ErrorKind::Io);
     if (spec.deep)
         throw Error(fmt::format("cannot read '{}': deep images are unsupported", path),
@@ -145,27 +136,27 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
                     ErrorKind::Io);
 
     // Decide per channel how its values are turned into floats.
-    int channelCount = spec.nchannels;
-    bool linear = IsLinearColorSpace(spec.get_string_attribute("oiio:ColorSpace"));
+    auto colorSpace = spec.strings.find("oiio:ColorSpace");
+    bool linear = colorSpace != spec.strings.end() && IsLinearColorSpace(colorSpace->second);
     std::vector<Decode> decode(channelCount);
     for (int c = 0; c < channelCount; ++c) {
-        OIIO::TypeDesc format = spec.channelformat(c);
-        if (format == OIIO::TypeDesc::FLOAT || format == OIIO::TypeDesc::HALF ||
-            format == OIIO::TypeDesc::DOUBLE)
+        SampleType format = spec.channelTypes[c];
+        if (format == SampleType::Float || format == SampleType::Half ||
+            format == SampleType::Double)
             decode[c] = Decode::None;
-        else if (format == OIIO::TypeDesc::UINT8 || format == OIIO::TypeDesc::UINT16)
-            decode[c] = linear || IsAlpha(spec.channelnames[c]) ? Decode::None : Decode::Srgb;
-        else if (format == OIIO::TypeDesc::UINT32)
+        else if (format == SampleType::UInt8 || format == SampleType::UInt16)
+            decode[c] = linear || IsAlpha(spec.channelNames[c]) ? Decode::None : Decode::Srgb;
+        else if (format == SampleType::UInt32)
             decode[c] = Decode::Integer;
         else
             throw Error(fmt::format("cannot read '{}': channel '{}' has unsupported format {}",
-                                    path, spec.channelnames[c], format.c_str()),
+                                    path, spec.channelNames[c], spec.typeNames[c]),
                         ErrorKind::Io);
     }
 
     std::vector<LayerChannels> grouped;
     try {
-        grouped = GroupChannels(spec.channelnames);
+        grouped = GroupChannels(spec.channelNames);
     } catch (const Error &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
@@ -199,29 +190,26 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
 
     // EXR files straight into the planes, only the wanted channels (EXR data is float, half
     // or 32-bit ids, none of which needs decoding beyond a float conversion).
-    bool exr = std::string(in->format_name()) == "openexr";
-    std::vector<ExrTarget> targets;
-    for (int c = 0; c < channelCount; ++c)
-        if (destination[c]) targets.push_back({spec.channelnames[c], destination[c]});
-    if (!exr || !ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets))
-        ReadBands(*in, path, spec, decode, destination);
-
-    // The file's string attributes; "oiio:*" are OIIO's own hints, not the file's.
-    for (const OIIO::ParamValue &attribute : spec.extra_attribs) {
-        std::string name = attribute.name().string();
-        if (attribute.type() == OIIO::TypeString && !name.starts_with("oiio:"))
-            frame.metadata[name] = attribute.get_string();
+    if (module) {
+        ReadBands(*module, decode, destination);
+    } else {
+        std::vector<ExrTarget> targets;
+        for (int c = 0; c < channelCount; ++c)
+            if (destination[c]) targets.push_back({spec.channelNames[c], destination[c]});
+        if (!ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets))
+            throw Error(
+                fmt::format("cannot read '{}': subsampled channels are unsupported", path),
+                ErrorKind::Io);
     }
+
+    // The file's string attributes; "oiio:*" are OpenImageIO's hints, not the file's.
+    for (const auto &[name, value] : spec.strings)
+        if (!name.starts_with("oiio:")) frame.metadata[name] = value;
     // Numbers only for the conventions (pbrt-v4's samplesPerPixel is an int).
     std::map<std::string, double> numbers;
-    for (const OIIO::ParamValue &attribute : spec.extra_attribs) {
-        OIIO::TypeDesc type = attribute.type();
-        if (type == OIIO::TypeInt)
-            numbers[attribute.name().string()] = attribute.get_int();
-        else if (type == OIIO::TypeFloat)
-            numbers[attribute.name().string()] = attribute.get_float();
-    }
-    ApplyConventions(frame, spec.channelnames, numbers);
+    for (const auto &[name, value] : spec.ints) numbers[name] = value;
+    for (const auto &[name, value] : spec.floats) numbers[name] = value;
+    ApplyConventions(frame, spec.channelNames, numbers);
     return frame;
 }
 

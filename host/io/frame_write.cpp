@@ -1,6 +1,14 @@
 // WriteExr, WritePng and WriteDenoisedOver, all written to a temporary file that is renamed
 // over the target.
-#include <OpenImageIO/imageio.h>
+#include <Imath/ImathBox.h>
+#include <Imath/half.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
@@ -10,14 +18,18 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <system_error>
+#include <thread>
 
 #include "host/error.h"
 #include "host/io/frame.h"
+#include "host/io/image_file.h"
 #include "host/io/layer_names.h"
 
 namespace mcd {
@@ -27,7 +39,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Rows interleaved and handed to OIIO at a time: bounded memory for histogram frames.
+// Rows copied at a time: bounded memory for histogram frames.
 constexpr int kBandRows = 32;
 
 // Removes the temporary file when the scope ends, unless the write was committed.
@@ -58,12 +70,12 @@ bool SyncFile(const fs::path &path) {
     return ::close(fd) == 0 && ok;
 }
 
-// Write an image with the OIIO writer named format into a hidden temporary file beside
-// path (".name.tmp<pid>-<n>.ext": same file system, so the rename is atomic), then rename
-// it over path. Readers see the old file or the new one, never a part of one; on any
-// failure the temporary file is removed and the old file left as it was.
-void WriteAtomically(const std::string &path, const char *format, const OIIO::ImageSpec &spec,
-                     const std::function<bool(OIIO::ImageOutput &)> &writePixels) {
+// Write a file with `write` into a hidden temporary file beside path
+// (".name.tmp<pid>-<n>.ext": same file system, so the rename is atomic), then rename it over
+// path. Readers see the old file or the new one, never a part of one; on any failure (write
+// throws) the temporary file is removed and the old file left as it was.
+void WriteAtomically(const std::string &path,
+                     const std::function<void(const std::string &temp)> &write) {
     static std::atomic<int> tempCount{0};
     fs::path target(path);
     fs::path dir = target.parent_path();
@@ -79,15 +91,7 @@ void WriteAtomically(const std::string &path, const char *format, const OIIO::Im
 
     TempFile temp(dir / fmt::format(".{}.tmp{}-{}{}", target.stem().string(), ::getpid(),
                                     tempCount++, target.extension().string()));
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(format);
-    if (!out)
-        throw Error(fmt::format("cannot write '{}': {}", path, OIIO::geterror()),
-                    ErrorKind::Io);
-    if (!out->open(temp.Path().string(), spec))
-        throw Error(fmt::format("cannot write '{}': {}", path, out->geterror()), ErrorKind::Io);
-    if (!writePixels(*out) || !out->close())
-        throw Error(fmt::format("cannot write '{}': {}", path, out->geterror()), ErrorKind::Io);
-    out.reset();
+    write(temp.Path().string());
     if (!SyncFile(temp.Path()))
         throw Error(
             fmt::format("cannot write '{}': flushing '{}' failed", path, temp.Path().string()),
@@ -99,6 +103,43 @@ void WriteAtomically(const std::string &path, const char *format, const OIIO::Im
                                 temp.Path().string(), ec.message()),
                     ErrorKind::Io);
     temp.Commit();
+}
+
+// OpenEXR compresses on every core, as OpenImageIO had it do.
+void UseAllCores() {
+    static std::once_flag threads;
+    std::call_once(threads, [] {
+        Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
+    });
+}
+
+// Set string attributes by OpenImageIO's names (as ReadFrame reports them) on an EXR
+// header; the file's layout is not metadata's to change.
+void SetStringAttributes(Imf::Header &header,
+                         const std::map<std::string, std::string> &metadata) {
+    for (const auto &[key, value] : metadata) {
+        std::string name = ExrAttributeName(key);
+        if (key.starts_with("oiio:") || name == "compression" || name == "channels" ||
+            name == "dataWindow" || name == "displayWindow" || name == "lineOrder" ||
+            name == "tiles" || name == "type" || name == "name" || name == "version" ||
+            name == "chunkCount")
+            continue;
+        // An attribute of another type under that name stays as it is.
+        if (auto old = header.find(name);
+            old != header.end() &&
+            !dynamic_cast<const Imf::StringAttribute *>(&old.attribute()))
+            continue;
+        header.insert(name, Imf::StringAttribute(value));
+    }
+    // The time of writing where none is given, as OpenImageIO wrote it before.
+    if (header.find("capDate") == header.end()) {
+        std::time_t now = std::time(nullptr);
+        std::tm local{};
+        char text[32] = {};
+        if (localtime_r(&now, &local) &&
+            std::strftime(text, sizeof text, "%Y:%m:%d %H:%M:%S", &local))
+            header.insert("capDate", Imf::StringAttribute(text));
+    }
 }
 
 uint8_t EncodeSrgb8(float v) {
@@ -178,26 +219,65 @@ OverwriteTargets FindTargets(const std::vector<std::string> &names, const std::s
     return t;
 }
 
-// The file's spec as written back: its channels, their types and its attributes, scanlines,
-// the added channels (each of the type of the one it copies), lossless, `metadata` on top.
-OIIO::ImageSpec OverwriteSpec(const OIIO::ImageSpec &in, const OverwriteTargets &t,
-                              const std::map<std::string, std::string> &metadata) {
-    OIIO::ImageSpec spec = in;
-    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
-    spec.channelformats.clear();
-    for (int c = 0; c < in.nchannels; ++c) spec.channelformats.push_back(in.channelformat(c));
-    for (size_t k = 0; k < t.noisyNames.size(); ++k) {
-        spec.channelnames.push_back(t.noisyNames[k]);
-        spec.channelformats.push_back(in.channelformat(t.noisyFrom[k]));
-    }
-    spec.nchannels = int(spec.channelnames.size());
-    spec.erase_attribute("oiio:subimages");
+// The file's header as written back: its channels, their types and its attributes,
+// increasing scanlines, the added channels (each of the type of the one it copies), lossless,
+// `metadata` on top.
+Imf::Header OverwriteHeader(const Imf::Header &in, const std::vector<std::string> &names,
+                            const OverwriteTargets &t,
+                            const std::map<std::string, std::string> &metadata) {
+    Imf::Header header = in;
+    for (const char *layout : {"tiles", "type", "chunkCount", "name", "version"})
+        if (header.find(layout) != header.end()) header.erase(layout);
+    for (size_t k = 0; k < t.noisyNames.size(); ++k)
+        header.channels().insert(t.noisyNames[k], in.channels()[names[t.noisyFrom[k]]]);
     // Lossy compression (DWA, B44) would change the kept channels' bits once more.
-    std::string compression = spec.get_string_attribute("compression");
-    if (compression.starts_with("dwa") || compression.starts_with("b44"))
-        spec.attribute("compression", "zip");
-    for (const auto &[key, value] : metadata) spec.attribute(key, value);
-    return spec;
+    Imf::Compression compression = header.compression();
+    if (compression == Imf::DWAA_COMPRESSION || compression == Imf::DWAB_COMPRESSION ||
+        compression == Imf::B44_COMPRESSION || compression == Imf::B44A_COMPRESSION)
+        header.compression() = Imf::ZIP_COMPRESSION;
+    // Bands are written top-down: a decreasing or random order would read them out of range.
+    header.lineOrder() = Imf::INCREASING_Y;
+    SetStringAttributes(header, metadata);
+    return header;
+}
+
+size_t SampleBytes(Imf::PixelType type) {
+    return type == Imf::HALF ? 2 : 4;
+}
+
+// Store a float as a sample of `type` (ids rounded, as ReadFrame reads them back).
+void StoreSample(float v, Imf::PixelType type, char *dst) {
+    if (type == Imf::HALF) {
+        Imath::half h(v);
+        std::memcpy(dst, &h, 2);
+    } else if (type == Imf::FLOAT) {
+        std::memcpy(dst, &v, 4);
+    } else {
+        double r = std::isfinite(v) ? std::clamp(std::round(double(v)), 0.0, 4294967295.0) : 0;
+        uint32_t u = uint32_t(r);
+        std::memcpy(dst, &u, 4);
+    }
+}
+
+// A channel's samples for a band of rows.
+struct BandSlice {
+    std::string name;
+    Imf::PixelType type;
+    char *plane;
+};
+
+// A frame buffer over band planes whose first row is row `top` (absolute).
+Imf::FrameBuffer BandBuffer(const std::vector<BandSlice> &slices, const Imath::Box2i &window,
+                            int top) {
+    Imf::FrameBuffer buffer;
+    std::ptrdiff_t width = window.max.x - window.min.x + 1;
+    for (const BandSlice &slice : slices) {
+        std::ptrdiff_t bytes = std::ptrdiff_t(SampleBytes(slice.type)), row = bytes * width;
+        // OpenEXR addresses pixel (x, y) at base + x xStride + y yStride.
+        char *base = slice.plane - window.min.x * bytes - std::ptrdiff_t(top) * row;
+        buffer.insert(slice.name, Imf::Slice(slice.type, base, size_t(bytes), size_t(row)));
+    }
+    return buffer;
 }
 
 }  // namespace
@@ -208,16 +288,21 @@ void io::WriteDenoisedOver(const std::string &path, const Image &denoised,
         return Error(ErrorKind::Io,
                      fmt::format("cannot write the denoised colour into '{}': {}", path, why));
     };
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-    if (!in) throw fail(OIIO::geterror());
-    if (std::string(in->format_name()) != "openexr") throw fail("it is not an OpenEXR file");
-    const OIIO::ImageSpec &inSpec = in->spec();
-    if (int parts = inSpec.get_int_attribute("oiio:subimages", 1); parts > 1)
-        throw fail(fmt::format("it has {} parts and only the first is read", parts));
-    if (inSpec.deep || inSpec.depth > 1) throw fail("deep and volume images are unsupported");
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw fail("no such file");
+    if (!IsExrFile(path)) throw fail("it is not an OpenEXR file");
+    ImageHeader inSpec;
+    try {
+        inSpec = ReadExrHeader(path);
+    } catch (const Error &e) {
+        throw fail(e.what());
+    }
+    if (inSpec.parts > 1)
+        throw fail(fmt::format("it has {} parts and only the first is read", inSpec.parts));
+    if (inSpec.deep) throw fail("deep and volume images are unsupported");
     OverwriteTargets t;
     try {
-        t = FindTargets(inSpec.channelnames, path);
+        t = FindTargets(inSpec.channelNames, path);
     } catch (const Error &e) {
         throw fail(e.what());
     }
@@ -226,53 +311,62 @@ void io::WriteDenoisedOver(const std::string &path, const Image &denoised,
         throw fail(fmt::format("the image is {}x{}x{}, the frame's colour {}x{}x{}",
                                denoised.width, denoised.height, denoised.channels, inSpec.width,
                                inSpec.height, t.denoised.size()));
-    OIIO::ImageSpec spec = OverwriteSpec(inSpec, t, metadata);
 
-    // Native bytes in and out: every channel kept bit for bit but those the result replaces.
-    const int width = inSpec.width, inCount = inSpec.nchannels;
-    std::vector<size_t> inOffset(inCount + 1, 0);
-    for (int c = 0; c < inCount; ++c)
-        inOffset[c + 1] = inOffset[c] + inSpec.channelformat(c).size();
-    const size_t inPixel = inOffset[inCount], outPixel = spec.pixel_bytes(true);
-    const bool tiled = inSpec.tile_width > 0;
-    const int bandRows =
-        tiled ? inSpec.tile_height * std::max(1, kBandRows / std::max(1, inSpec.tile_height))
-              : kBandRows;
-    auto writePixels = [&](OIIO::ImageOutput &out) {
-        std::vector<unsigned char> band(size_t(bandRows) * width * inPixel),
-            written(size_t(bandRows) * width * outPixel);
-        for (int y0 = 0; y0 < inSpec.height; y0 += bandRows) {
-            int y1 = std::min(inSpec.height, y0 + bandRows), z = inSpec.z;
-            int top = inSpec.y + y0, bottom = inSpec.y + y1;
-            bool ok = tiled ? in->read_tiles(0, 0, inSpec.x, inSpec.x + width, top, bottom, z,
-                                             z + 1, 0, inCount, OIIO::TypeUnknown, band.data())
-                            : in->read_scanlines(0, 0, top, bottom, z, 0, inCount,
-                                                 OIIO::TypeUnknown, band.data());
-            if (!ok) throw fail(in->geterror());
-            for (size_t p = 0; p < size_t(y1 - y0) * width; ++p) {
-                const unsigned char *src = band.data() + p * inPixel;
-                unsigned char *dst = written.data() + p * outPixel;
-                std::memcpy(dst, src, inPixel);
-                size_t at = inPixel;
-                for (int c : t.noisyFrom) {
-                    size_t bytes = inOffset[c + 1] - inOffset[c];
-                    std::memcpy(dst + at, src + inOffset[c], bytes);
-                    at += bytes;
-                }
-                size_t pixel = size_t(y0) * width + p;
-                for (size_t k = 0; k < t.denoised.size(); ++k) {
-                    int c = t.denoised[k];
-                    float v = denoised.Plane(int(k))[pixel];
-                    OIIO::convert_pixel_values(OIIO::TypeFloat, &v, inSpec.channelformat(c),
-                                               dst + inOffset[c]);
-                }
-            }
-            if (!out.write_scanlines(top, bottom, z, OIIO::TypeUnknown, written.data()))
-                return false;
+    // Native samples in and out: every channel kept bit for bit but those the result
+    // replaces. One plane per channel a band high; the replaced channels are written from
+    // planes of their own, the added ones from the planes of the channels they copy.
+    UseAllCores();
+    try {
+        Imf::InputFile in(path.c_str());
+        const Imf::Header &inHeader = in.header();
+        const Imath::Box2i window = inHeader.dataWindow();
+        const std::vector<std::string> &names = inSpec.channelNames;
+        const int width = inSpec.width, count = int(names.size());
+        std::vector<Imf::PixelType> types;
+        for (const std::string &name : names) types.push_back(inHeader.channels()[name].type);
+        Imf::Header header = OverwriteHeader(inHeader, names, t, metadata);
+
+        // Planes a band high: one per channel read, one per replaced channel; the added
+        // channels are written from the planes of the channels they copy.
+        std::vector<std::vector<char>> planes(count), replaced(t.denoised.size());
+        std::vector<BandSlice> read, written;
+        for (int c = 0; c < count; ++c) {
+            planes[c].resize(size_t(kBandRows) * width * SampleBytes(types[c]));
+            read.push_back({names[c], types[c], planes[c].data()});
         }
-        return true;
-    };
-    WriteAtomically(path, "openexr", spec, writePixels);
+        written = read;
+        for (size_t k = 0; k < t.denoised.size(); ++k) {
+            int c = t.denoised[k];
+            replaced[k].resize(planes[c].size());
+            written[c].plane = replaced[k].data();
+        }
+        for (size_t k = 0; k < t.noisyNames.size(); ++k)
+            written.push_back(
+                {t.noisyNames[k], types[t.noisyFrom[k]], planes[t.noisyFrom[k]].data()});
+
+        WriteAtomically(path, [&](const std::string &temp) {
+            Imf::OutputFile out(temp.c_str(), header);
+            for (int y0 = 0; y0 < inSpec.height; y0 += kBandRows) {
+                int y1 = std::min(inSpec.height, y0 + kBandRows);
+                int top = window.min.y + y0;
+                in.setFrameBuffer(BandBuffer(read, window, top));
+                in.readPixels(top, window.min.y + y1 - 1);
+                for (size_t k = 0; k < t.denoised.size(); ++k) {
+                    Imf::PixelType type = types[t.denoised[k]];
+                    size_t bytes = SampleBytes(type);
+                    const float *src = denoised.Plane(int(k)) + size_t(y0) * width;
+                    for (size_t p = 0; p < size_t(y1 - y0) * width; ++p)
+                        StoreSample(src[p], type, replaced[k].data() + p * bytes);
+                }
+                out.setFrameBuffer(BandBuffer(written, window, top));
+                out.writePixels(y1 - y0);
+            }
+        });
+    } catch (const Error &) {
+        throw;
+    } catch (const std::exception &e) {
+        throw fail(e.what());
+    }
 }
 
 void WriteExr(const std::string &path,
@@ -312,32 +406,33 @@ void WriteExr(const std::string &path,
     }
 
     int width = first->width, height = first->height;
-    int channelCount = int(channelNames.size());
-    OIIO::ImageSpec spec(width, height, channelCount, OIIO::TypeFloat);
-    spec.channelnames = channelNames;
-    for (const auto &[key, value] : metadata)
-        if (key != "compression") spec.attribute(key, value);
-    spec.attribute("compression", "zip");
+    Imf::Header header(width, height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const std::string &name : channelNames)
+        header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    SetStringAttributes(header, metadata);
 
-    // Interleave a band of rows at a time from the planar layers.
-    std::vector<const float *> planes;
-    for (const auto &[name, image] : layers)
-        for (int c = 0; c < image->channels; ++c) planes.push_back(image->Plane(c));
-    auto writePixels = [&](OIIO::ImageOutput &out) {
-        std::vector<float> band(size_t(kBandRows) * width * channelCount);
-        for (int y0 = 0; y0 < height; y0 += kBandRows) {
-            int y1 = std::min(height, y0 + kBandRows);
-            for (int y = y0; y < y1; ++y)
-                for (int c = 0; c < channelCount; ++c) {
-                    const float *src = planes[c] + size_t(y) * width;
-                    float *dst = band.data() + size_t(y - y0) * width * channelCount + c;
-                    for (int x = 0; x < width; ++x) dst[size_t(x) * channelCount] = src[x];
-                }
-            if (!out.write_scanlines(y0, y1, 0, OIIO::TypeFloat, band.data())) return false;
+    // OpenEXR reads the planar layers as they are: no interleaved copy.
+    Imf::FrameBuffer buffer;
+    for (const auto &[name, image] : layers) {
+        std::vector<std::string> names = ChannelNamesOf(name, image->channels);
+        for (int c = 0; c < image->channels; ++c)
+            buffer.insert(
+                names[c],
+                Imf::Slice(Imf::FLOAT,
+                           reinterpret_cast<char *>(const_cast<float *>(image->Plane(c))),
+                           sizeof(float), sizeof(float) * size_t(width)));
+    }
+    UseAllCores();
+    WriteAtomically(path, [&](const std::string &temp) {
+        try {
+            Imf::OutputFile out(temp.c_str(), header);
+            out.setFrameBuffer(buffer);
+            out.writePixels(height);
+        } catch (const std::exception &e) {
+            throw Error(fmt::format("cannot write '{}': {}", path, e.what()), ErrorKind::Io);
         }
-        return true;
-    };
-    WriteAtomically(path, "openexr", spec, writePixels);
+    });
 }
 
 void WritePng(const std::string &path, const Image &image, float exposure) {
@@ -383,12 +478,11 @@ void WritePngWithAlpha(const std::string &path, const Image &image, const Image 
             }
         }
 
-    OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeUInt8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    // The color is stored as it is, not divided by alpha (ReadFrame reads it so too).
-    if (alpha) spec.attribute("oiio:UnassociatedAlpha", 1);
-    WriteAtomically(path, "png", spec, [&](OIIO::ImageOutput &out) {
-        return out.write_image(OIIO::TypeUInt8, pixels.data());
+    // PNG through the OpenImageIO module, loaded at the first preview.
+    WriteAtomically(path, [&](const std::string &temp) {
+        // The color is stored as it is, not divided by alpha (ReadFrame reads it so too).
+        WriteModuleUInt8(temp, path, "png", image.width, image.height, channels, pixels.data(),
+                         alpha != nullptr);
     });
 }
 

@@ -1,5 +1,7 @@
 // Frames on disk (libmcdenoise_io, target mcdenoise::io): reading any file OpenImageIO
-// reads into a frame of named layers, and writing EXR and PNG. The core library
+// reads into a frame of named layers, and writing EXR and PNG. EXR goes through OpenEXR;
+// other formats through the module libmcdenoise_oiio.so (OpenImageIO), loaded at the
+// first such file from beside this library, else the install's lib directory. The core library
 // (mcdenoise/mcdenoise.h) has no file-format dependency; programs that read or write
 // files link this one too.
 #pragma once

@@ -17,14 +17,22 @@ lib=$tmp/bundle/lib
 [[ -f $tmp/bundle/layers/VkLayer_khronos_validation.json ]] || fail "validation layer missing"
 # A stand-in is tiny: no code of the library it stands for.
 [[ $(stat -c %s "$lib/libopenvdb.so.10.0") -lt 100000 ]] || fail "libopenvdb is not a stand-in"
+[[ -f $tmp/bundle/build/libmcdenoise_oiio.so ]] || fail "the OpenImageIO module is missing"
 # Every library the binaries load resolves inside the bundle, but the runtimes.
-for bin in "$tmp/bundle/build/mcdenoise" "$tmp/bundle/build/tests/mcd_tests"; do
+for bin in "$tmp/bundle/build/mcdenoise" "$tmp/bundle/build/tests/mcd_tests" \
+    "$tmp/bundle/build/libmcdenoise_oiio.so"; do
     outside=$(LD_LIBRARY_PATH=$lib ldd "$bin" | awk '/=>/ { print $1, $3 }' |
         grep -v -E "^(libc|libm|libstdc\+\+|libgcc_s)\.so" | grep -v " $lib/" || true)
     [[ -z "$outside" ]] || fail "$bin loads from outside the bundle: $outside"
 done
-# The bundle runs: a few tests in shards (all of them counted), a frame, one method, the table.
-filter='VkKernelCache*:VkBuffer*'
+# The bundled tool reads and writes PNG through the bundled module, with nothing set.
+env -u MCD_OIIO_MODULE_DIR LD_LIBRARY_PATH=$lib "$tmp/bundle/build/mcdenoise" render \
+    --size 8x8 --spp 2 -o "$tmp/r.exr" --preview "$tmp/r.png" >"$tmp/log" 2>&1 &&
+    env -u MCD_OIIO_MODULE_DIR LD_LIBRARY_PATH=$lib "$tmp/bundle/build/mcdenoise" info \
+        "$tmp/r.png" >>"$tmp/log" 2>&1 || { cat "$tmp/log" >&2; fail "the bundle's PNG failed"; }
+# The bundle runs: a few tests in shards (all of them counted, the module's PNG ones among
+# them), a frame, one method, the table.
+filter='VkKernelCache*:VkBuffer*:IoTestModule.PngIsReadAndWrittenThroughTheModule'
 expected=$(LD_LIBRARY_PATH=$lib "$tmp/bundle/build/tests/mcd_tests" --gtest_list_tests \
     --gtest_filter="$filter" | grep -c '^  ')
 bash "$root/scripts/gpu_bench.sh" --bundle "$tmp/bundle" --test-filter "$filter" \

@@ -1,0 +1,89 @@
+// What the io code knows of an image file before reading its pixels, the same for an
+// EXR (read with OpenEXR) and any other file (read by the OpenImageIO module, loaded at the
+// first such file: host/io/oiio_module.h).
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/io/oiio_module.h"
+
+namespace mcd::io {
+
+// How a channel's values are stored.
+enum class SampleType { UInt8, UInt16, UInt32, Half, Float, Double, Other };
+
+struct ImageHeader {
+    bool exr = false;
+    int x = 0, y = 0, width = 0, height = 0, depth = 1;
+    // In OpenImageIO's order (an EXR's unprefixed channels first, R,G,B,A before others
+    // within a layer), which GroupChannels' ties depend on.
+    std::vector<std::string> channelNames;
+    std::vector<SampleType> channelTypes;
+    std::vector<std::string> typeNames;  // for messages
+    bool tiled = false, deep = false;
+    int parts = 1;
+    // The file's attributes by OpenImageIO's names ("capDate" is "DateTime", an EXR's
+    // compression a string); "oiio:*" names are OpenImageIO's hints, not the file's.
+    std::map<std::string, std::string> strings;
+    std::map<std::string, int> ints;
+    std::map<std::string, float> floats;
+};
+
+// Whether the file starts with OpenEXR's magic number.
+bool IsExrFile(const std::string &path);
+
+// The header of part 0 of an EXR. Throws mcd::Error (Io) naming the path.
+ImageHeader ReadExrHeader(const std::string &path);
+
+// The header of any image file: EXR with OpenEXR, others with the module.
+ImageHeader ReadImageHeader(const std::string &path);
+
+// EXR channel names (a ChannelList's alphabetical order) in OpenImageIO's order; the
+// permutation: result[k] is names[order[k]].
+std::vector<int> OiioChannelOrder(const std::vector<std::string> &names);
+
+// An attribute name as OpenImageIO calls it ("capDate" -> "DateTime"), and back.
+std::string OiioAttributeName(const std::string &exrName);
+std::string ExrAttributeName(const std::string &oiioName);
+
+// A non-EXR file opened through the module: its header and its rows as float.
+class ModuleImage {
+  public:
+    explicit ModuleImage(const std::string &path);
+    ~ModuleImage();
+    ModuleImage(const ModuleImage &) = delete;
+    ModuleImage &operator=(const ModuleImage &) = delete;
+
+    const ImageHeader &Header() const { return header; }
+    // Rows [y0, y1) of the data window, every channel interleaved; integer types
+    // normalized to [0,1]. Throws mcd::Error (Io).
+    void ReadRows(int y0, int y1, float *pixels);
+
+  private:
+    void FillHeader(const McdOiioHeader *h);
+
+    std::string path;
+    const McdOiioApi *api = nullptr;
+    void *handle = nullptr;
+    ImageHeader header;
+};
+
+// Write 8-bit pixels to path in format ("png") through the module. Throws mcd::Error (Io)
+// naming `target` (the file the caller writes; path may be its temporary).
+void WriteModuleUInt8(const std::string &path, const std::string &target, const char *format,
+                      int width, int height, int channels, const unsigned char *pixels,
+                      bool unassociatedAlpha);
+
+// Whether this process has loaded the OpenImageIO module.
+bool IoModuleLoaded();
+
+// The module, loaded at the first call: from the directory MCD_OIIO_MODULE_DIR names if
+// set, else beside the binary or library holding this code, else in ../lib from there (the
+// tool in <prefix>/bin), else the configured install's lib directory. Throws mcd::Error (Io)
+// naming `path` and `what` needs it when it is missing.
+const McdOiioApi &IoModule(const std::string &path, const std::string &what);
+
+}  // namespace mcd::io
