@@ -119,11 +119,7 @@ void SetStringAttributes(Imf::Header &header,
                          const std::map<std::string, std::string> &metadata) {
     for (const auto &[key, value] : metadata) {
         std::string name = ExrAttributeName(key);
-        if (key.starts_with("oiio:") || name == "compression" || name == "channels" ||
-            name == "dataWindow" || name == "displayWindow" || name == "lineOrder" ||
-            name == "tiles" || name == "type" || name == "name" || name == "version" ||
-            name == "chunkCount")
-            continue;
+        if (key.starts_with("oiio:") || IsLayoutAttribute(name)) continue;
         // An attribute of another type under that name stays as it is.
         if (auto old = header.find(name);
             old != header.end() &&

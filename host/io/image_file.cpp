@@ -47,14 +47,6 @@ constexpr std::pair<const char *, const char *> kRenamed[] = {
     {"xDensity", "XResolution"},
 };
 
-// Header fields that are the file's layout, not attributes.
-bool IsLayoutAttribute(const std::string &name) {
-    for (const char *layout : {"channels", "compression", "dataWindow", "displayWindow",
-                               "lineOrder", "tiles", "type", "name", "version", "chunkCount"})
-        if (name == layout) return true;
-    return false;
-}
-
 const char *CompressionName(Imf::Compression compression) {
     switch (compression) {
         case Imf::NO_COMPRESSION:
@@ -95,6 +87,13 @@ SampleType TypeOf(const std::string &name) {
 std::atomic<bool> moduleLoaded{false};
 
 }  // namespace
+
+bool IsLayoutAttribute(const std::string &name) {
+    for (const char *layout : {"channels", "compression", "dataWindow", "displayWindow",
+                               "lineOrder", "tiles", "type", "name", "version", "chunkCount"})
+        if (name == layout) return true;
+    return false;
+}
 
 std::string OiioAttributeName(const std::string &exrName) {
     for (const auto &[exr, oiio] : kRenamed)

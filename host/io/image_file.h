@@ -45,6 +45,10 @@ ImageHeader ReadImageHeader(const std::string &path);
 // permutation: result[k] is names[order[k]].
 std::vector<int> OiioChannelOrder(const std::vector<std::string> &names);
 
+// Whether an EXR header field is the file's layout (channels, windows, tiles, ...), not
+// an attribute.
+bool IsLayoutAttribute(const std::string &name);
+
 // An attribute name as OpenImageIO calls it ("capDate" -> "DateTime"), and back.
 std::string OiioAttributeName(const std::string &exrName);
 std::string ExrAttributeName(const std::string &oiioName);

@@ -1131,6 +1131,16 @@ TEST(Highlights, LightRimsSumChannelsInFloat) {
     EXPECT_EQ(output.At(0, 0, 4), 0.5f);
 }
 
+// The largest error of awr's output in the rows just past the panel's rims, over its width.
+float WorstPastRims(const Image &image, const PanelLight &panel) {
+    float worst = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y : {PanelLight::y0 - 2, PanelLight::y1 + 1})
+            for (int x = PanelLight::x0; x < PanelLight::x1; ++x)
+                worst = std::max(worst, std::abs(image.At(c, y, x) - panel.truth.At(c, y, x)));
+    return worst;
+}
+
 // A large light's noisy rim (a ceiling panel's edge, our cornell at 4-64 spp): the filter
 // spread it into the dim rows past it, worse than the input there. The values past the rim
 // are lowered to the input's maximum over their window, rims and lights left out.
@@ -1142,12 +1152,7 @@ TEST_F(HighlightsAwr, ALargeLightsRimDoesNotGlowPastIt) {
     Result out = Method("awr").Run(device, frame);
     // The row past each rim, over the panel's width: no value off by half the floor (the
     // floor's own noise is a tenth of it).
-    float worst = 0;
-    for (int c = 0; c < 3; ++c)
-        for (int y : {PanelLight::y0 - 2, PanelLight::y1 + 1})
-            for (int x = PanelLight::x0; x < PanelLight::x1; ++x)
-                worst =
-                    std::max(worst, std::abs(out.image.At(c, y, x) - panel.truth.At(c, y, x)));
+    float worst = WorstPastRims(out.image, panel);
     EXPECT_LT(worst, 0.5f * 0.05f) << "a glow past the rim";
 }
 
@@ -1170,12 +1175,7 @@ TEST_F(HighlightsAwr, AHalfCoveredRimDoesNotGlowPastIt) {
     frame.layers["max"] = panel.maxSample;
     Device device = api::BorrowDevice(Ctx());
     Result out = Method("awr").Run(device, frame);
-    float worst = 0;
-    for (int c = 0; c < 3; ++c)
-        for (int y : {PanelLight::y0 - 2, PanelLight::y1 + 1})
-            for (int x = PanelLight::x0; x < PanelLight::x1; ++x)
-                worst =
-                    std::max(worst, std::abs(out.image.At(c, y, x) - panel.truth.At(c, y, x)));
+    float worst = WorstPastRims(out.image, panel);
     EXPECT_LT(worst, 0.5f * 0.05f) << "a glow past the rim";
     // Within 2 of the panel's full interior the bound is the window's mean (plus 2 standard
     // deviations of it) or the pixel's own input: the row's squared error no more than the

@@ -45,6 +45,15 @@ void MakeImages(const LocalMeanCase &c, Image *input, Image *output) {
     }
 }
 
+// MakeImages' input with its NaN and Inf made 3: a box mean's windows all finite.
+Image FiniteInput(const LocalMeanCase &c) {
+    Image input, unused;
+    MakeImages(c, &input, &unused);
+    for (float &v : input.data)
+        if (!std::isfinite(v)) v = 3;
+    return input;
+}
+
 // The host's restore against its reference, value by value: float running sums against
 // double windows, a few float roundings per pass. `finite`: every value must be.
 void ExpectRestoreNear(const Image &got, const Image &expected, const std::string &label,
@@ -299,10 +308,7 @@ TEST(LocalMeanTent, SameBitsAsWindowsSummedOneByOne) {
     };
     for (LocalMeanCase c : {LocalMeanCase{1, 1, 1, 1}, LocalMeanCase{7, 5, 3, 4},
                             LocalMeanCase{37, 3, 2, 2}, LocalMeanCase{301, 203, 3, 20}}) {
-        Image input, unused;
-        MakeImages(c, &input, &unused);
-        for (float &v : input.data)
-            if (!std::isfinite(v)) v = 3;
+        Image input = FiniteInput(c);
         Image expected =
             box(box(box(box(input, c.r, true), c.r, false), c.r, true), c.r, false);
         Image got = TentMean(input, c.r);
@@ -316,10 +322,7 @@ TEST(LocalMeanTent, SameBitsAsWindowsSummedOneByOne) {
 TEST(LocalMeanTent, SquaredTentMeanIsEachChannelsOwnPasses) {
     for (LocalMeanCase c : {LocalMeanCase{1, 1, 1, 1}, LocalMeanCase{7, 5, 3, 4},
                             LocalMeanCase{37, 3, 4, 2}, LocalMeanCase{301, 203, 3, 20}}) {
-        Image input, unused;
-        MakeImages(c, &input, &unused);
-        for (float &v : input.data)
-            if (!std::isfinite(v)) v = 3;
+        Image input = FiniteInput(c);
         Image got = TentSquaredMean(input, c.r);
         ASSERT_TRUE(got.SameShape(input));
         std::vector<float> rows(input.PixelCount()), expected(input.PixelCount());
