@@ -15,8 +15,8 @@ constexpr double kExpCut = 30;
 // the window's pixels do not span that direction: the fit drops to a lower order.
 constexpr double kRankEps = 1e-4;
 // A pixel beside other ids mixes in a side far from its own (PivotRatioOf) when the sides'
-// medians of the shared z within kSideRadius lie over kSideGap of their spreads (kMadSigma x
-// their median distances to their medians) apart and its z over kSideToward of its deviation
+// medians of z within kSideRadius lie over kSideGap of their spreads (kMadSigma x their
+// median distances to their medians) apart and its z over kSideToward of its deviation
 // toward the other side: kept.
 constexpr double kSideGap = 2;
 constexpr double kSideToward = 0.5;
@@ -175,25 +175,6 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
     PivotRatio r{Image(w, h, color.channels), Image(w, h, color.channels),
                  Image(w, h, color.channels, -1.f), Image(w, h, color.channels),
                  Image(w, h, color.channels)};
-    // A pixel's z shared by its channels: the sum of its colour over the sum of its pivot,
-    // and that ratio's variance from the variance input. The side test reads it, so that a
-    // pixel's channels are kept, or filtered, together.
-    auto greyOf = [&](int x, int y) {
-        double sumColor = 0, sumPivot = 0;
-        for (int k = 0; k < color.channels; ++k) {
-            sumColor += color.At(k, y, x);
-            sumPivot += std::max(0.0, double(pivot.At(k, y, x)));
-        }
-        return std::clamp(sumColor / sumPivot, -kZMax, kZMax);
-    };
-    auto greyVarianceOf = [&](int x, int y) {
-        double sumVariance = 0, sumPivot = 0;
-        for (int k = 0; k < color.channels; ++k) {
-            sumVariance += variance->At(k, y, x);
-            sumPivot += std::max(0.0, double(pivot.At(k, y, x)));
-        }
-        return std::min(sumVariance / (sumPivot * sumPivot), kZMax * kZMax);
-    };
     for (int c = 0; c < color.channels; ++c) {
         double mean = 0;
         for (int y = 0; y < h; ++y)
@@ -212,34 +193,27 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 int y0 = std::max(0, y - 1), y1 = std::min(h - 1, y + 1);
                 int x0 = std::max(0, x - 1), x1 = std::min(w - 1, x + 1);
                 // The same values as floats, sorted after, give the edge test's level.
-                double sum = 0, sumSq = 0, greySum = 0, greySumSq = 0;
+                double sum = 0, sumSq = 0;
                 int n = 0;
                 std::vector<float> values;
                 for (int v = y0; v <= y1; ++v)
                     for (int u = x0; u <= x1; ++u)
                         if (valid(u, v)) {
                             sum += zOf(u, v), ++n;
-                            greySum += greyOf(u, v);
                             values.push_back(float(zOf(u, v)));
                         }
-                double zl = sum / n, greyMean = greySum / n;
+                double zl = sum / n;
                 for (int v = y0; v <= y1; ++v)
                     for (int u = x0; u <= x1; ++u)
-                        if (valid(u, v)) {
-                            sumSq += (zOf(u, v) - zl) * (zOf(u, v) - zl);
-                            greySumSq += (greyOf(u, v) - greyMean) * (greyOf(u, v) - greyMean);
-                        }
-                // The shared z's sample variance over the window.
-                double greyWindow = std::min(n > 1 ? greySumSq / (n - 1) : 0, kZMax * kZMax);
+                        if (valid(u, v)) sumSq += (zOf(u, v) - zl) * (zOf(u, v) - zl);
                 // A pixel's variance of z from the variance input.
                 auto varianceOf = [&](int u, int v) {
                     double la = pivot.At(c, v, u);
                     return std::min(double(variance->At(c, v, u)) / (la * la), kZMax * kZMax);
                 };
-                double s, noise = 0, greyS = greyWindow;
+                double s, noise = 0;
                 if (variance) {
                     s = varianceOf(x, y);
-                    greyS = greyVarianceOf(x, y);
                     // The edge test's noise: the mean of the valid neighbours' variances,
                     // which one pixel whose samples all missed (s = 0) does not take to 0.
                     for (int v = y0; v <= y1; ++v)
@@ -261,10 +235,9 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                 if (PivotBoundaryTerm(ids, x, y) == 0) {
                     // Beside other ids: data like any other pixel, unless it mixes in a side
                     // far from its own (a light's rim first seen as the wall, or a wall
-                    // first seen as the light): then every channel of it is kept.
-                    // Medians of the shared z over its own ids' pixels within kSideRadius
-                    // (itself among them) and over the other ids', and of the distances to its
-                    // own.
+                    // first seen as the light): then kept.
+                    // Medians of z over its own ids' pixels within kSideRadius (itself
+                    // among them) and over the other ids', and of the distances to its own.
                     auto medians = [&](bool own, size_t *count) {
                         std::vector<float> side, distances;
                         for (int v = std::max(0, y - kSideRadius);
@@ -272,7 +245,7 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                             for (int u = std::max(0, x - kSideRadius);
                                  u <= std::min(w - 1, x + kSideRadius); ++u)
                                 if (valid(u, v) && (PivotIdTerm(ids, u, v, x, y) != 0) == own)
-                                    side.push_back(float(greyOf(u, v)));
+                                    side.push_back(float(zOf(u, v)));
                         *count = side.size();
                         if (side.empty()) return std::pair<double, double>{0, 0};
                         std::sort(side.begin(), side.end());
@@ -285,8 +258,8 @@ PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *var
                     auto [median, distance] = medians(true, &ownCount);
                     auto [otherMedian, otherDistance] = medians(false, &nOther);
                     double spread = kMadSigma * std::max(distance, otherDistance);
-                    double sigma2 = std::max(double(float(greyS)), spread * spread);
-                    double gap = otherMedian - median, zHere = float(greyOf(x, y));
+                    double sigma2 = std::max(double(r.s.At(c, y, x)), spread * spread);
+                    double gap = otherMedian - median, zHere = r.z.At(c, y, x);
                     double toward = gap > 0 ? zHere - median : median - zHere;
                     if (nOther > 0 && gap * gap > kSideGap * kSideGap * spread * spread &&
                         toward > 0 && toward * toward > kSideToward * kSideToward * sigma2) {

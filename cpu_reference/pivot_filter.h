@@ -92,13 +92,11 @@ struct PivotRatio {
     Image z, s, nu, level, noise;
 };
 // With `ids`, a pixel on an object/part boundary (a 4-neighbour has other ids) is data like
-// any other, unless it mixes in a side far from its own (read on its shared z: the sum of its
-// colour over the sum of its pivot, one for all its channels): the median shared z of the other
-// ids' pixels within 2 lies over 2 spreads from the median of its own ids' (itself included;
-// a side's spread is 1.4826 x the median distance to its median, the larger of the two), and
-// its shared z over half its deviation (the larger of the shared z's standard deviation and
-// the spread) toward the other side. Then it gives no z in any channel and keeps its input
-// (nu = -1): decided per channel, a pixel kept one channel and filtered the others.
+// any other, unless it mixes in a side far from its own: the median z of the other ids'
+// pixels within 2 lies over 2 spreads from the median of its own ids' (itself included; a
+// side's spread is 1.4826 x the median distance to its median, the larger of the two), and
+// its z over half its deviation (the larger of sqrt(s) and the spread) toward the other
+// side. Then it gives no z and keeps its input (nu = -1).
 PivotRatio PivotRatioOf(const Image &color, const Image &pivot, const Image *variance,
                         double floor, const Image *ids = nullptr);
 

@@ -176,9 +176,8 @@ void PlanInputs(StagedRun &run, const PivotInputs &in, const PivotGpuGuides &gui
     run.Plan(guides.ids
                  ? fmt::format("object/part terms: on ({}{}); each fit reads and each pixel "
                                "gathers the pixels of its own ids, those beside other ids "
-                               "included (as data, not as fit centres; one whose z, its "
-                               "colour over its pivot summed over the channels, lies toward a "
-                               "side far from its own keeps its input in every channel)",
+                               "included (as data, not as fit centres; one whose z lies "
+                               "toward a side far from its own keeps its input)",
                                in.objectId ? "objectId" : "",
                                in.partId ? (in.objectId ? ", partId" : "partId") : "")
                  : "left out: the object and part terms (the frame has no ids)");

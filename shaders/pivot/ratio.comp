@@ -37,22 +37,6 @@ bool ratioAt(int at, out float z) {
     return abs(z) <= PIVOT_Z_MAX;
 }
 
-// The channels' shared z of pixel i (of a plane): the sum of its colour over the sum of its
-// pivot, and the variance of that ratio (the variance input's sum over the pivot's squared).
-// The side test reads it, so that a pixel's channels are kept, or filtered, together:
-// decided per channel it kept one channel and filtered the others, a dot of another colour.
-float greyAt(int i, out float variancePart) {
-    float sumColor = 0.0, sumPivot = 0.0, sumVariance = 0.0;
-    int channels = int(gl_NumWorkGroups.z);
-    for (int k = 0; k < channels; ++k) {
-        sumColor += texelFetch(color, k * planeSize + i).r;
-        sumPivot += max(texelFetch(pivot, k * planeSize + i).r, 0.0);
-        if (hasVariance != 0) sumVariance += texelFetch(variance, k * planeSize + i).r;
-    }
-    variancePart = min(sumVariance / sumPivot / sumPivot, PIVOT_Z_MAX * PIVOT_Z_MAX);
-    return clamp(sumColor / sumPivot, -PIVOT_Z_MAX, PIVOT_Z_MAX);
-}
-
 // Pixel i's (z, s, nu, level) and (noise, 0, 0, 0) into channel c's buffer, two texels a
 // pixel (level: the 3x3 median of z; noise: the mean of s over the valid 3x3 neighbours);
 // without the edge test's inputs (z, s, nu, 0), one texel.
@@ -80,29 +64,6 @@ void noZ(int at, int c, int i) {
     sOut[at] = 0.0;
     nuOut[at] = -1.0;
     storeZsn(c, i, vec4(0.0, 0.0, -1.0, 0.0), 0.0);
-}
-
-// The sample variance of the shared z about its mean over the valid 3x3 neighbours of
-// (x, y) (two passes: no cancellation); 0 for one pixel.
-float greyWindowVariance(int x, int y, int base) {
-    float sum = 0.0, sumSq = 0.0, unused;
-    int n = 0;
-    for (int v = max(0, y - 1); v <= min(gh - 1, y + 1); ++v)
-        for (int u = max(0, x - 1); u <= min(gw - 1, x + 1); ++u) {
-            float zq;
-            if (!ratioAt(base + v * gw + u, zq)) continue;
-            sum += greyAt(v * gw + u, unused);
-            ++n;
-        }
-    float mean = sum / float(n);
-    for (int v = max(0, y - 1); v <= min(gh - 1, y + 1); ++v)
-        for (int u = max(0, x - 1); u <= min(gw - 1, x + 1); ++u) {
-            float zq;
-            if (!ratioAt(base + v * gw + u, zq)) continue;
-            float d = greyAt(v * gw + u, unused) - mean;
-            sumSq += d * d;
-        }
-    return min(n > 1 ? sumSq / float(n - 1) : 0.0, PIVOT_Z_MAX * PIVOT_Z_MAX);
 }
 
 const int kSide = (2 * PIVOT_SIDE_RADIUS + 1) * (2 * PIVOT_SIDE_RADIUS + 1);
@@ -177,8 +138,8 @@ vec2 medianAndSpread(inout float values[kSide], int n) {
 }
 
 // Over the pixels within PIVOT_SIDE_RADIUS of (x, y) that have a z, those of its ids (`own`,
-// the pixel among them) and those of other ids: the upper median of each side's shared z
-// (greyAt) and the upper median of their distances to it, and each side's count.
+// the pixel among them) and those of other ids: the upper median of each side's z and the
+// upper median of their distances to it, and each side's count.
 void sideMedians(int x, int y, int base, out vec2 own, out int nOwn, out vec2 other,
                  out int nOther) {
     const int R = PIVOT_SIDE_RADIUS, D = 2 * PIVOT_SIDE_RADIUS + 1;
@@ -188,9 +149,8 @@ void sideMedians(int x, int y, int base, out vec2 own, out int nOwn, out vec2 ot
     nOther = 0;
     [[unroll]] for (int k = 0; k < kSide; ++k) {
         int u = x + k % D - R, v = y + k / D - R;
-        float zq = 0.0, unused;
+        float zq = 0.0;
         bool has = u >= 0 && u < gw && v >= 0 && v < gh && ratioAt(base + v * gw + u, zq);
-        if (has) zq = greyAt(v * gw + u, unused);
         bool same = has && idTerm(v * gw + u, i0) != 0.0;
         ownValues[k] = has && same ? zq : kAbsent;
         otherValues[k] = has && !same ? zq : kAbsent;
@@ -264,18 +224,15 @@ void main() {
     if (hasVariance == 0) noise = s;
     // Beside other ids: data like any other pixel, unless it mixes in another side far from
     // its own (a light's rim first seen as the wall, or a wall first seen as the light): the
-    // sides' medians of the shared z over PIVOT_SIDE_GAP of their spreads apart, and its
-    // shared z over PIVOT_SIDE_TOWARD of its deviation toward the other. Then every channel
-    // of it is kept.
+    // sides' medians of z over PIVOT_SIDE_GAP of their spreads apart, and its z over
+    // PIVOT_SIDE_TOWARD of its deviation toward the other. Then it is kept.
     if (boundaryTerm(x, y) == 0.0) {
-        float greyS, greyHere = greyAt(y * w + x, greyS);
-        if (hasVariance == 0) greyS = greyWindowVariance(x, y, base);
         int nOwn, nOther;
         vec2 side, other;
         sideMedians(x, y, base, side, nOwn, other, nOther);
         float spread = PIVOT_SIDE_MAD_SIGMA * max(side.y, other.y);
-        float sigma2 = max(greyS, spread * spread), gap = other.x - side.x;
-        float toward = gap > 0.0 ? greyHere - side.x : side.x - greyHere;
+        float sigma2 = max(s, spread * spread), gap = other.x - side.x;
+        float toward = gap > 0.0 ? z - side.x : side.x - z;
         if (nOther > 0 && gap * gap > PIVOT_SIDE_GAP * PIVOT_SIDE_GAP * spread * spread &&
             toward > 0.0 && toward * toward > PIVOT_SIDE_TOWARD * PIVOT_SIDE_TOWARD * sigma2) {
             noZ(at, c, at - base);

@@ -1416,65 +1416,6 @@ TEST_F(PivotMethod, EdgeValuesStayBetweenTheirSides) {
     EXPECT_TRUE(run.RerunsBitIdentically());
 }
 
-// Two walls of coloured albedos, the second lit 8 times brighter (a light's rim beside a
-// wall), meet at a slanted edge whose pixels mix the two halves; 16 samples a pixel, each
-// channel's hits drawn on their own (a path's colour differs per channel). A pixel beside the
-// other wall keeps its input where it mixes in a side far from its own; decided per channel,
-// an edge pixel kept one channel and filtered the others: a dot of another colour along the
-// edge (issue 29, the real sunlit_room's cabinet). The side test reads the channels' shared
-// z, so a pixel's channels are kept, or filtered, together.
-TEST_F(PivotMethod, EdgePixelsKeepOrFilterAllTheirChannels) {
-    const int w = 48, h = 40;
-    const float lightA = 0.25f, lightB = 2.f;
-    const float albedoA[3] = {0.8f, 0.55f, 0.3f}, albedoB[3] = {0.15f, 0.3f, 0.6f};
-    Image color(w, h, 3), pivot(w, h, 3), variance(w, h, 3), objectId(w, h, 1);
-    std::mt19937_64 rng(SeedFromName("pivot edge channels"));
-    std::binomial_distribution<int> hits(16, 0.5);
-    auto edgeX = [](int y) { return 14 + y / 3; };
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            objectId.At(0, y, x) = x < edgeX(y) ? 1.f : 2.f;
-            const bool edge = x == edgeX(y) - 1 || x == edgeX(y);
-            for (int c = 0; c < 3; ++c) {
-                const float a = lightA * albedoA[c], b = lightB * albedoB[c];
-                const float mean = edge ? 0.5f * (a + b) : x < edgeX(y) ? a : b;
-                pivot.At(c, y, x) = edge           ? 0.5f * (albedoA[c] + albedoB[c])
-                                    : x < edgeX(y) ? albedoA[c]
-                                                   : albedoB[c];
-                // 16 samples of 2 x mean with probability 1/2: their mean and the variance
-                // of that mean from the samples.
-                const float k = float(hits(rng));
-                color.At(c, y, x) = mean * k / 8;
-                variance.At(c, y, x) = (mean * mean * k - mean * mean * k * k / 16) / 60;
-            }
-        }
-    StagedPivotRun run(Ctx(), color, pivot, variance, objectId);
-    const Image &filtered = run.Filtered();
-    ASSERT_TRUE(filtered.SameShape(color));
-    auto onEdge = [&](int x, int y) {
-        return (x > 0 && objectId.At(0, y, x - 1) != objectId.At(0, y, x)) ||
-               (x + 1 < w && objectId.At(0, y, x + 1) != objectId.At(0, y, x));
-    };
-    // Edge pixels whose filtered channels are some at their input (the same float, where the
-    // input is not 0: a fit may give 0 back) and some not.
-    size_t mixed = 0, kept = 0, edgePixels = 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            if (!onEdge(x, y)) continue;
-            int same = 0, moved = 0;
-            for (int c = 0; c < 3; ++c) {
-                if (color.At(c, y, x) == 0) continue;
-                (filtered.At(c, y, x) == color.At(c, y, x) ? same : moved) += 1;
-            }
-            mixed += same > 0 && moved > 0;
-            kept += same > 0 && moved == 0;
-            ++edgePixels;
-        }
-    EXPECT_EQ(mixed, 0u) << "edge pixels with some channels kept and others filtered, of "
-                         << edgePixels << " (" << kept << " kept whole)";
-    EXPECT_TRUE(run.RerunsBitIdentically());
-}
-
 // A sun patch on a floor (issue 29): one object, a flat albedo, the light 8 times brighter
 // inside a slanted rectangle than around it, 16 binomial samples a pixel. The patch's edge
 // is a shading edge the pivot does not show: without the edge test the fits and the gather
