@@ -78,7 +78,10 @@ std::vector<MethodEntry> Build() {
         // scenes, so it runs where the halves weigh it. Without statistics auto runs it
         // alone (PickWithoutStatistics). Its plain-frame passes (weak emitters, specks,
         // lights' spread, clamp's light) run as on a plain frame, since its clamp reads the
-        // same estimate.
+        // same estimate. "nfor layer", nfor's own setting (its weights on the variance
+        // layer), runs beside it where the frame has a layer: the two err in different
+        // places (a bright path's variance against the estimate's median), and the halves
+        // weigh each. It runs last, so the other candidates' order and sums stay.
         {"nfor",
          NforFrontEnd,
          -1,
@@ -88,6 +91,14 @@ std::vector<MethodEntry> Build() {
            {0.6f, 0.2f, 1.f},
            "purple",
            {},
+           AutoVariant::kHalves,
+           NforCheaperProbe},
+          {"nfor layer",
+           {},
+           10,
+           {1.f, 0.6f, 0.8f},
+           "pink",
+           {"variance"},
            AutoVariant::kHalves,
            NforCheaperProbe}}},
         // pivot's candidates without its input-range bound (docs/methods/pivot.md, ninth
