@@ -1400,6 +1400,21 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
     };
     EXPECT_EQ(count("nfor: nfor.regress"), 3);
     EXPECT_EQ(count("nfor (probe): nfor.regress"), 2);
+    // Beside the variance layer nfor's own setting runs too, its weights on the layer, with
+    // the same cheaper probe, last.
+    EXPECT_TRUE(PlanHas(result, "auto: ran nfor layer (twice, on the frame and on half0, "))
+        << plan;
+    EXPECT_TRUE(PlanHas(result, "nfor layer: noise of the colour: the frame's variance layer"))
+        << plan;
+    EXPECT_EQ(count("nfor layer: nfor.regress"), 3);
+    EXPECT_EQ(count("nfor layer (probe): nfor.regress"), 2);
+    EXPECT_EQ(result.candidates.back(), "nfor layer");
+    // Without a variance layer nfor's own setting would read the same estimate: left out.
+    Frame noLayer = frame;
+    noLayer.layers.erase("variance");
+    Result withoutLayer = automatic.Run(device, noLayer);
+    EXPECT_TRUE(PlanHas(withoutLayer, "auto: ran nfor (twice")) << plan;
+    EXPECT_FALSE(PlanHas(withoutLayer, "auto: ran nfor layer")) << plan;
     automatic.Set("auto-candidates", std::string("nfor, rhf"));
     result = automatic.Run(device, frame);
     EXPECT_EQ(result.candidates, (std::vector<std::string>{"nfor", "rhf"}));
