@@ -52,10 +52,11 @@ TEST(MethodRegistry, AutoVariantsAreWellFormed) {
     // Each method's own parameters run before its variants; nfor's first run is its noise
     // from the frame, its own parameters (the variance layer) a second candidate after all
     // the others.
-    for (const api::MethodEntry &entry : api::Registry())
-        if (entry.name != "nfor")
-            EXPECT_TRUE(entry.variants.size() < 2 || entry.variants.front().overrides.empty())
-                << entry.name;
+    for (const api::MethodEntry &entry : api::Registry()) {
+        if (entry.name == "nfor") continue;
+        EXPECT_TRUE(entry.variants.size() < 2 || entry.variants.front().overrides.empty())
+            << entry.name;
+    }
     const api::MethodEntry *nfor = api::FindMethod("nfor");
     ASSERT_EQ(nfor->variants.size(), 2u);
     EXPECT_FALSE(nfor->variants.front().overrides.empty());
