@@ -126,11 +126,11 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "equal (0: the same floor for all; no effect with --auto-halves-floor 0)",
                    &O::halvesRank, 0, 4),
         ChoiceParam("auto-halves-variants",
-                    "beside half-buffers: a method's variants (rhf and rhf 2 scales, pivot and "
-                    "pivot no ids), whose errors go together, share one candidate's weight, "
-                    "each estimate times (its method's candidates left in) ^ (1 / "
-                    "--auto-halves-power) (share), or each weighs as one (each); not under "
-                    "--auto-combine select, which weighs none",
+                    "beside half-buffers: a method's variants (nfor and nfor layer, rhf and "
+                    "rhf 2 scales, pivot and pivot no ids), whose errors go together, share "
+                    "one candidate's weight, each estimate times (its method's candidates "
+                    "left in) ^ (1 / --auto-halves-power) (share), or each weighs as one "
+                    "(each); not under --auto-combine select, which weighs none",
                     &O::halvesVariants, {"share", "each"}),
         FloatParam("auto-halves-drop",
                    "beside half-buffers: leave out a candidate whose error estimate over the "
@@ -173,8 +173,8 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::plain, {"nfor", "combine"}),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
-                    "(\"nfor,rhf,pivot k0\"), or all (every one but awr, which runs where "
-                    "named); the others are left out",
+                    "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
+                    "which run where named); the others are left out",
                     &O::candidates, {})};
 }
 

@@ -78,7 +78,11 @@ std::vector<MethodEntry> Build() {
         // scenes, so it runs where the halves weigh it. Without statistics auto runs it
         // alone (PickWithoutStatistics). Its plain-frame passes (weak emitters, specks,
         // lights' spread, clamp's light) run as on a plain frame, since its clamp reads the
-        // same estimate.
+        // same estimate. "nfor layer", nfor's own setting (its weights on the variance
+        // layer), runs beside it where the frame has a layer and --auto-candidates names it:
+        // the two err in different places (a bright path's variance against the estimate's
+        // median), but the second run's gain did not earn its time by default. It runs
+        // last, so the other candidates' order and sums stay.
         {"nfor",
          NforFrontEnd,
          -1,
@@ -89,7 +93,16 @@ std::vector<MethodEntry> Build() {
            "purple",
            {},
            AutoVariant::kHalves,
-           NforCheaperProbe}}},
+           NforCheaperProbe},
+          {"nfor layer",
+           {},
+           10,
+           {1.f, 0.6f, 0.8f},
+           "pink",
+           {"variance"},
+           AutoVariant::kHalves,
+           NforCheaperProbe,
+           false}}},
         // pivot's candidates without its input-range bound (docs/methods/pivot.md, ninth
         // round).
         {"pivot",

@@ -21,7 +21,7 @@ struct AutoHalvesSums;  // host/methods/auto_halves.h
 
 // Candidates one combination takes at most (AUTO_MAX_CANDIDATES), and the noise
 // estimate's largest window radius (AUTO_NOISE_MAX_RADIUS).
-constexpr int kAutoMaxCandidates = 10;
+constexpr int kAutoMaxCandidates = 11;
 constexpr int kAutoNoiseMaxRadius = 8;
 
 // The variance of the pixel mean of `color` (1 to 4 channels) from the frame itself: the

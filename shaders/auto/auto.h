@@ -5,7 +5,7 @@
 
 #define AUTO_LOCAL_SIZE 64
 // Candidates one combination takes at most.
-#define AUTO_MAX_CANDIDATES 10
+#define AUTO_MAX_CANDIDATES 11
 // relMSE's offset: the error of a value is (x - r)^2 / (r^2 + AUTO_REL_OFFSET).
 #define AUTO_REL_OFFSET 0.01
 // Combination modes.

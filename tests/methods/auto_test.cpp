@@ -1400,6 +1400,33 @@ TEST_F(AutoMethod, FrameWithHalvesRunsNforAmongTheCandidates) {
     };
     EXPECT_EQ(count("nfor: nfor.regress"), 3);
     EXPECT_EQ(count("nfor (probe): nfor.regress"), 2);
+    // nfor's own setting (its weights on the variance layer) runs only where named.
+    EXPECT_TRUE(PlanHas(result, "auto: left out nfor layer: it runs where --auto-candidates"))
+        << plan;
+    EXPECT_EQ(count("nfor layer: nfor.regress"), 0);
+    // Named, it runs beside the variance layer with the same cheaper probe, last.
+    const std::string both = "nfor, rhf, pivot, rhf 2 scales, pivot no ids, nfor layer";
+    automatic.Set("auto-candidates", both);
+    Result named = automatic.Run(device, frame);
+    std::string namedPlan = fmt::format("{}", fmt::join(named.plan, "\n"));
+    EXPECT_TRUE(PlanHas(named, "auto: ran nfor layer (twice, on the frame and on half0, "))
+        << namedPlan;
+    EXPECT_TRUE(PlanHas(named, "nfor layer: noise of the colour: the frame's variance layer"))
+        << namedPlan;
+    auto countNamed = [&](const std::string &label) {
+        return std::count_if(named.timings.begin(), named.timings.end(),
+                             [&](const Timing &t) { return t.label == label; });
+    };
+    EXPECT_EQ(countNamed("nfor layer: nfor.regress"), 3);
+    EXPECT_EQ(countNamed("nfor layer (probe): nfor.regress"), 2);
+    ASSERT_FALSE(named.candidates.empty());
+    EXPECT_EQ(named.candidates.back(), "nfor layer");
+    // Without a variance layer nfor's own setting would read the same estimate: left out.
+    Frame noLayer = frame;
+    noLayer.layers.erase("variance");
+    Result withoutLayer = automatic.Run(device, noLayer);
+    EXPECT_TRUE(PlanHas(withoutLayer, "auto: ran nfor (twice")) << namedPlan;
+    EXPECT_FALSE(PlanHas(withoutLayer, "auto: ran nfor layer")) << namedPlan;
     automatic.Set("auto-candidates", std::string("nfor, rhf"));
     result = automatic.Run(device, frame);
     EXPECT_EQ(result.candidates, (std::vector<std::string>{"nfor", "rhf"}));

@@ -49,11 +49,21 @@ TEST(MethodRegistry, AutoVariantsAreWellFormed) {
     EXPECT_EQ(orders.size(), variants.size()) << "one run order each";
     for (size_t i = 1; i < variants.size(); ++i)
         EXPECT_LT(variants[i - 1].variant->order, variants[i].variant->order);
-    // Each method's own parameters run before its variants (nfor runs with one setting only,
-    // its noise from the frame).
-    for (const api::MethodEntry &entry : api::Registry())
+    // Each method's own parameters run before its variants; nfor's first run is its noise
+    // from the frame, its own parameters (the variance layer) a second candidate after all
+    // the others.
+    for (const api::MethodEntry &entry : api::Registry()) {
+        if (entry.name == "nfor") continue;
         EXPECT_TRUE(entry.variants.size() < 2 || entry.variants.front().overrides.empty())
             << entry.name;
+    }
+    const api::MethodEntry *nfor = api::FindMethod("nfor");
+    ASSERT_EQ(nfor->variants.size(), 2u);
+    EXPECT_FALSE(nfor->variants.front().overrides.empty());
+    EXPECT_TRUE(nfor->variants.back().overrides.empty());
+    EXPECT_EQ(nfor->variants.back().differsWith, std::vector<std::string>{"variance"});
+    EXPECT_FALSE(nfor->variants.back().byDefault) << "nfor layer runs where named";
+    EXPECT_EQ(variants.back().variant, &nfor->variants.back());
 }
 
 // The run order is part of the output: the candidates' order sets the combination's sums.
@@ -61,12 +71,12 @@ TEST(MethodRegistry, AutoRunOrderAndPickOrder) {
     std::vector<std::string> labels;
     for (const api::RegisteredVariant &v : api::AutoVariants())
         labels.push_back(v.variant->label);
-    EXPECT_EQ(labels, (std::vector<std::string>{"nfor", "rhf", "pivot", "pivot k0", "bayes",
-                                                "awr", "rhf 2 scales", "pivot no ids",
-                                                "pivot k0 no ids", "bayes no split"}));
-    // Where the half-buffers weigh them (an accumulated frame): nfor and four others; SURE
-    // on a variance layer: all but nfor and the pivot k0 variants; the frame's own estimate:
-    // all but nfor.
+    EXPECT_EQ(labels, (std::vector<std::string>{
+                          "nfor", "rhf", "pivot", "pivot k0", "bayes", "awr", "rhf 2 scales",
+                          "pivot no ids", "pivot k0 no ids", "bayes no split", "nfor layer"}));
+    // Where the half-buffers weigh them (an accumulated frame): the two nfor candidates and
+    // four others; SURE on a variance layer: all but nfor's and the pivot k0 variants; the
+    // frame's own estimate: all but nfor's.
     std::vector<std::string> withHalves, withVariance, withOwn;
     for (const api::RegisteredVariant &v : api::AutoVariants()) {
         if (v.variant->estimates & api::AutoVariant::kHalves)
@@ -76,11 +86,11 @@ TEST(MethodRegistry, AutoRunOrderAndPickOrder) {
         if (v.variant->estimates & api::AutoVariant::kOwn) withOwn.push_back(v.variant->label);
     }
     EXPECT_EQ(withHalves, (std::vector<std::string>{"nfor", "rhf", "pivot", "rhf 2 scales",
-                                                    "pivot no ids"}));
+                                                    "pivot no ids", "nfor layer"}));
     EXPECT_EQ(withVariance,
               (std::vector<std::string>{"rhf", "pivot", "bayes", "awr", "rhf 2 scales",
                                         "pivot no ids", "bayes no split"}));
-    EXPECT_EQ(withOwn.size(), labels.size() - 1);
+    EXPECT_EQ(withOwn.size(), labels.size() - 2);
     EXPECT_EQ(withOwn.front(), "rhf");
     std::vector<std::string> picks;
     for (const api::MethodEntry *m : api::PickOrder()) picks.push_back(m->name);
