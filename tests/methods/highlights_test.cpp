@@ -1235,9 +1235,10 @@ TEST_F(HighlightsAwr, ALightsTroughStaysAtTheInputsLevel) {
                     outError += std::pow(out.image.At(c, y, x) - truth, 2);
                     inError += std::pow(panel.color.At(c, y, x) - truth, 2);
                 }
-            // The floor's noise is a tenth of it a value, so a row's mean over 72 values is
-            // its level to about 1.2%.
-            EXPECT_GE(outSum, 0.95 * inSum) << "row " << y << ": a trough";
+            // The floor's noise is a tenth of it a value: a 5x5 window's mean is its level to
+            // 2%, held to 2 of those below, and a row's mean over 72 values to 1.2%; 0.92
+            // leaves the row's own three of those.
+            EXPECT_GE(outSum, 0.92 * inSum) << "row " << y << ": a trough";
             EXPECT_LE(outError, inError) << "row " << y << " worse than its input";
         }
 }
