@@ -308,7 +308,7 @@ class Awr : public FrontEndOf<AwrSettings> {
                 ref::ClampBeyondLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
                                           options.highlights, frameMean, kLightRimReach,
                                           options.clamp, &out);
-                if (!cpu.empty()) cpu.emplace_back("input maximum beyond light rims", out);
+                if (!cpu.empty()) cpu.emplace_back("window bounds beyond light rims", out);
             }
         }
         std::vector<Stage> stages;
@@ -357,7 +357,7 @@ class Awr : public FrontEndOf<AwrSettings> {
                                      : SparseLightsOff(inputs, color);
         return whyOff->empty() ? &inputs.Get("max") : nullptr;
     }
-    // Crests beyond the rims of lights sure of themselves cut (a large light's noisy rim
+    // Values beyond the rims of lights sure of themselves held (a large light's noisy rim
     // spread into the dim pixels past it), with the plan's line and the stage.
     void CutBeyondLightRims(const Image &color, const Image &variance, Inputs &inputs,
                             const RunOptions &run, Result *result) const {
@@ -365,25 +365,24 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string rimsOff;
         LightRims rims = FindLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
                                        options.highlights, MeanOf(color));
-        size_t lowered = ClampBeyondLightRims(color, variance, rims, kLightRimReach,
-                                              options.clamp, &result->image);
+        size_t moved = ClampBeyondLightRims(color, variance, rims, kLightRimReach,
+                                            options.clamp, &result->image);
         result->plan.push_back(fmt::format(
-            "crests and troughs beyond light rims cut: {} values within {} of {} light pixels "
-            "(over {} x "
-            "the frame's mean, {} standard deviations above 0; none where the color has "
-            "NaN/Inf, in tiles each tile's own) and {} rim pixels (a light's neighbours with a "
-            "sample at least {} x its value{}), not beside a full light (one {} standard "
-            "deviations below its value at least {} x the brightest light beside it: its "
-            "neighbours are its rim), above the input's maximum over their {}x{} window "
-            "(lights and rims left out) lowered to it; within {} of a full light held between "
-            "their own input and their {}x{} window's mean minus and plus {} of its standard "
-            "deviations",
-            lowered, kLightRimReach, rims.lights, options.highlights, kLightRimSigmas,
-            rims.rims, kLightRimSampleShare, rimsOff.empty() ? "" : "; none: " + rimsOff,
-            kFullLightSigmas, kFullLightShare, 2 * options.clamp + 1, 2 * options.clamp + 1,
-            kFullLightReach, 2 * kRimMeanRadius + 1, 2 * kRimMeanRadius + 1, kRimCutSigmas));
+            "crests and troughs beyond light rims held: {} values within {} of {} light "
+            "pixels (over {} x the frame's mean, {} standard deviations above 0; none where "
+            "the color has NaN/Inf, in tiles each tile's own) and {} rim pixels (a light's "
+            "neighbours with a sample at least {} x its value{}), not beside a full light (one "
+            "{} standard deviations below its value at least {} x the brightest light beside "
+            "it: its neighbours are its rim), above the input's maximum over their {}x{} "
+            "window (lights and rims left out) lowered to it; within {} of a full light held "
+            "between their own input and their {}x{} window's mean minus and plus {} of its "
+            "standard deviations",
+            moved, kLightRimReach, rims.lights, options.highlights, kLightRimSigmas, rims.rims,
+            kLightRimSampleShare, rimsOff.empty() ? "" : "; none: " + rimsOff, kFullLightSigmas,
+            kFullLightShare, 2 * options.clamp + 1, 2 * options.clamp + 1, kFullLightReach,
+            2 * kRimMeanRadius + 1, 2 * kRimMeanRadius + 1, kRimCutSigmas));
         if (run.keepStages && !result->stages.empty())
-            result->stages.push_back({"input maximum beyond light rims", result->image});
+            result->stages.push_back({"window bounds beyond light rims", result->image});
     }
 
     // Why the frame's max layer (its per-pixel largest sample) cannot serve the sparse

@@ -132,10 +132,10 @@ constexpr int kLightRimReach = 1;
 // of its light) each value, the rim and the full light's neighbours left out, is held between
 // the lower of its own input and the mean of its (2 kRimMeanRadius + 1)^2 window (lights and
 // rims left out) minus kRimCutSigmas of that mean's standard deviations, and the higher of its
-// input and that mean plus as many. The window's maximum left the crests past the rim at twice
-// the input's error, and the synthesis's trough a few rows out, held only by the input's
-// minimum, drew a dark line beside the light (issue 29, cornell 256x256). A soft light's glow
-// (out of focus, a caustic) has no full light beside it and keeps the maximum.
+// input and that mean plus as many. The window's maximum is itself a high draw of the noise,
+// so it left the crests past the rim too high, and the synthesis's trough a few rows out, held
+// only by the input's minimum, drew a dark line beside the light (issue 29). A soft light's
+// glow (out of focus, a caustic) has no full light beside it and keeps the maximum.
 constexpr int kFullLightReach = 4;
 constexpr int kRimMeanRadius = 2;
 constexpr double kRimCutSigmas = 2;
@@ -152,14 +152,15 @@ struct LightRims {
 LightRims FindLightRims(const Image &color, const Image &variance, const Image *maxSample,
                         double k, double frameMean);
 
-// Crests beyond lights' rims cut: each value of `output` at a pixel that is neither a light,
-// a rim nor a full light's neighbour (its rim, whether or not a sample saw the light) but
-// within `reach` of a light or rim is lowered to the largest input value of its channel over
-// the window of radius r around it, lights and rims left out: a mean of the samples there is no
-// higher than the highest of them. Within kFullLightReach of a full light each such value is
-// instead held within the bounds above from the window's mean (`variance` is the per-pixel
-// variance of the mean, the color's shape): crests and troughs alike. Returns how many values
-// moved.
+// Values beyond lights' rims held to their window. A pixel that is neither a light, a rim nor
+// a full light's neighbour (its rim, whether or not a sample saw the light) is moved as
+// follows. Within kFullLightReach of a full light (whether or not within `reach` of a light or
+// rim), each value of `output` is held within the bounds above from the mean of its window of
+// radius kRimMeanRadius, whatever r is (`variance` is the per-pixel variance of the mean, the
+// color's shape): crests and troughs alike. Elsewhere within `reach` of a light or rim, each
+// value is lowered to the largest input value of its channel over the window of radius r
+// around it, lights and rims left out: a mean of the samples there is no higher than the
+// highest of them. Returns how many values moved.
 size_t ClampBeyondLightRims(const Image &color, const Image &variance, const LightRims &rims,
                             int reach, int r, Image *output);
 

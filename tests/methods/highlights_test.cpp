@@ -1107,7 +1107,7 @@ TEST(Highlights, LightRimsMatchReference) {
     broken.At(0, 0, 0) = std::numeric_limits<float>::quiet_NaN();
     EXPECT_EQ(FindLightRims(panel.color, broken, &panel.maxSample, 16, mean).lights, 0u);
     for (int channels : {1, 3})
-        for (auto [fw, fh] : {std::pair{3, 2}, {17, 13}, {44, 33}})
+        for (auto [fw, fh] : {std::pair{1, 1}, {3, 2}, {17, 13}, {44, 33}})
             for (double k : {4.0, 16.0}) {
                 Image color, variance;
                 MakeFrame(fw, fh, channels, k, &color, &variance);
@@ -1235,7 +1235,7 @@ TEST_F(HighlightsAwr, ALightsTroughStaysAtTheInputsLevel) {
                     outError += std::pow(out.image.At(c, y, x) - truth, 2);
                     inError += std::pow(panel.color.At(c, y, x) - truth, 2);
                 }
-            // The floor's noise is a tenth of it a value: a 5x5 window's mean is its level to
+            // The floor's noise is a tenth of its value: a 5x5 window's mean is its level to
             // 2%, held to 2 of those below, and a row's mean over 72 values to 1.2%; 0.92
             // leaves the row's own three of those.
             EXPECT_GE(outSum, 0.92 * inSum) << "row " << y << ": a trough";
