@@ -344,7 +344,7 @@ void LowerToInputMaximumNearHighlights(const Image &color, const std::vector<cha
         }
 }
 
-void LowerBeyondLightRims(const Image &color, const Image &variance, const Image *maxSample,
+void ClampBeyondLightRims(const Image &color, const Image &variance, const Image *maxSample,
                           double k, double frameMean, int reach, int r, Image *output) {
     for (size_t i = 0; i < color.data.size(); ++i)
         if (!std::isfinite(color.data[i]) || !std::isfinite(variance.data[i]) ||
@@ -410,16 +410,19 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
     Image in = *output;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            if (marked[size_t(y) * w + x] || any(lit, x, y, 1) || !any(marked, x, y, reach))
-                continue;
-            // Within 2 of a full light: the higher of its input and the window's mean plus 2 of
-            // that mean's standard deviations; else the window's maximum.
-            const bool nearFull = any(lit, x, y, 2);
+            if (marked[size_t(y) * w + x] || any(lit, x, y, 1)) continue;
+            // Within 4 of a full light: between the lower of its input and the 5x5 window's
+            // mean minus 2 of that mean's standard deviations and the higher of its input and
+            // the mean plus as many. Else, within reach of a light or rim: the window's
+            // maximum.
+            const bool nearFull = any(lit, x, y, 4);
+            if (!nearFull && !any(marked, x, y, reach)) continue;
+            const int radius = nearFull ? 2 : r;
             for (int c = 0; c < color.channels; ++c) {
                 double high = color.At(c, y, x), total = 0, spread = 0;
                 int count = 0;
-                for (int v = y - r; v <= y + r; ++v)
-                    for (int u = x - r; u <= x + r; ++u)
+                for (int v = y - radius; v <= y + radius; ++v)
+                    for (int u = x - radius; u <= x + radius; ++u)
                         if (inside(u, v) && !marked[size_t(v) * w + u]) {
                             high = std::max(high, double(color.At(c, v, u)));
                             total += color.At(c, v, u);
@@ -427,12 +430,13 @@ void LowerBeyondLightRims(const Image &color, const Image &variance, const Image
                             ++count;
                         }
                 const float out = in.At(c, y, x);
+                if (!std::isfinite(out)) continue;
                 if (nearFull) {
-                    const float bound =
-                        std::max(color.At(c, y, x),
-                                 float(total / count + 2 * std::sqrt(spread) / count));
-                    if (std::isfinite(out) && out > bound) output->At(c, y, x) = bound;
-                } else if (std::isfinite(out) && out > high) {
+                    const double mean = total / count, margin = 2 * std::sqrt(spread) / count;
+                    const float upper = std::max(color.At(c, y, x), float(mean + margin));
+                    const float lower = std::min(color.At(c, y, x), float(mean - margin));
+                    output->At(c, y, x) = std::clamp(out, lower, upper);
+                } else if (out > high) {
                     output->At(c, y, x) = float(high);
                 }
             }

@@ -54,10 +54,12 @@ void AddSparseLights(const Image &color, const Image *variance, const Image &max
 // neighbours.
 // Where p is neither, has no full light among its 8 neighbours and a light or rim lies within
 // `reach` of it, each channel of output is min(output, the maximum of color over p and the
-// pixels of the window of radius r around p that are neither); where a full light lies within
-// 2 of p, min(output, max(color at p, m + 2 sqrt(V) / n)) instead, m the mean of color and V
-// the sum of variance over those n pixels.
-void LowerBeyondLightRims(const Image &color, const Image &variance, const Image *maxSample,
+// pixels of the window of radius r around p that are neither). Where p is neither, has no full
+// light among its 8 neighbours and a full light lies within 4 of it, each channel of output is
+// instead clamped to [min(color at p, m - 2 sqrt(V) / n), max(color at p, m + 2 sqrt(V) / n)],
+// m the mean of color and V the sum of variance over the n pixels of the window of radius 2
+// around p that are neither light nor rim.
+void ClampBeyondLightRims(const Image &color, const Image &variance, const Image *maxSample,
                           double k, double frameMean, int reach, int r, Image *output);
 
 // Where p is not a highlight and a highlight lies within `reach` of it (max(|dx|, |dy|)),

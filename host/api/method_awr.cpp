@@ -96,21 +96,23 @@ class Awr : public FrontEndOf<AwrSettings> {
                        kSparseLightSampleRatio, 1 / kStreakMeanShare, kStreakNeighbours,
                        kStreakSampleRatio),
                    &AwrSettings::highlights, 0, 1e6),
-               IntParam("awr-clamp",
-                        fmt::format("the output raised to the minimum of the input over the "
-                                    "(2N+1)^2 window around each pixel, per channel: the "
-                                    "synthesis's troughs (dark spots beside highlights) are "
-                                    "cut; values within {} pixels of a highlight, and {} past "
-                                    "a large light's rim (a light over k x the frame's mean, "
-                                    "{} standard deviations above 0), are lowered to the "
-                                    "input's maximum over the same window, highlights, lights "
-                                    "and rims left out, and within {} of a full light's "
-                                    "interior to their own input or that window's mean plus "
-                                    "{} of its standard deviations (crests; beyond the paper; "
-                                    "0: all off)",
-                                    kCrestReach, kLightRimReach, kLightRimSigmas,
-                                    kNearFullLight, kRimCutSigmas),
-                        &AwrSettings::clamp, 0, 8)}) {}
+               IntParam(
+                   "awr-clamp",
+                   fmt::format("the output raised to the minimum of the input over the "
+                               "(2N+1)^2 window around each pixel, per channel: the "
+                               "synthesis's troughs (dark spots beside highlights) are "
+                               "cut; values within {} pixels of a highlight, and {} past "
+                               "a large light's rim (a light over k x the frame's mean, "
+                               "{} standard deviations above 0), are lowered to the "
+                               "input's maximum over the same window, highlights, lights "
+                               "and rims left out, and within {} of a full light's "
+                               "interior held between their own input and the mean of "
+                               "their {}x{} window minus and plus {} of its standard "
+                               "deviations (crests and troughs; beyond the paper; 0: all "
+                               "off)",
+                               kCrestReach, kLightRimReach, kLightRimSigmas, kFullLightReach,
+                               2 * kRimMeanRadius + 1, 2 * kRimMeanRadius + 1, kRimCutSigmas),
+                   &AwrSettings::clamp, 0, 8)}) {}
 
     std::unique_ptr<FrontEnd> Clone() const override { return std::make_unique<Awr>(*this); }
     std::string Summary() const override {
@@ -225,12 +227,12 @@ class Awr : public FrontEndOf<AwrSettings> {
         int half = WaveletHalfSupport(options.method.basis);
         // The highlights read their neighbours' windows, grow and look one ring further; a
         // sparse light's partner reads the light's neighbours (one ring further again); the
-        // crests near them read theirs; the rim cut reads a full light within kNearFullLight
-        // and its neighbours; the clamp its window.
+        // crests near them read theirs; the rim cut reads a full light within kFullLightReach
+        // and its neighbours, and lights and rims over its window; the clamp its window.
         const int highlights =
             options.highlights > 0
                 ? std::max({kHighlightRadius + 1 + kHighlightGrowRounds + 1 + 1 + kCrestReach,
-                            1 + kLightRimReach + 1, kNearFullLight + 1})
+                            1 + kLightRimReach + 1, kFullLightReach + 1, kRimMeanRadius + 1})
                 : 0;
         needs.reach =
             2 * half * ((1 << levels) - 1) + options.method.spins + highlights + options.clamp;
@@ -303,10 +305,10 @@ class Awr : public FrontEndOf<AwrSettings> {
             }
             if (Splits(color, variance)) {
                 std::string rimsOff;
-                ref::LowerBeyondLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
+                ref::ClampBeyondLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
                                           options.highlights, frameMean, kLightRimReach,
                                           options.clamp, &out);
-                if (!cpu.empty()) cpu.emplace_back("input maximum beyond light rims", out);
+                if (!cpu.empty()) cpu.emplace_back("window bounds beyond light rims", out);
             }
         }
         std::vector<Stage> stages;
@@ -355,7 +357,7 @@ class Awr : public FrontEndOf<AwrSettings> {
                                      : SparseLightsOff(inputs, color);
         return whyOff->empty() ? &inputs.Get("max") : nullptr;
     }
-    // Crests beyond the rims of lights sure of themselves cut (a large light's noisy rim
+    // Values beyond the rims of lights sure of themselves held (a large light's noisy rim
     // spread into the dim pixels past it), with the plan's line and the stage.
     void CutBeyondLightRims(const Image &color, const Image &variance, Inputs &inputs,
                             const RunOptions &run, Result *result) const {
@@ -363,23 +365,24 @@ class Awr : public FrontEndOf<AwrSettings> {
         std::string rimsOff;
         LightRims rims = FindLightRims(color, variance, RimSamples(inputs, color, &rimsOff),
                                        options.highlights, MeanOf(color));
-        size_t lowered = LowerBeyondLightRims(color, variance, rims, kLightRimReach,
-                                              options.clamp, &result->image);
+        size_t moved = ClampBeyondLightRims(color, variance, rims, kLightRimReach,
+                                            options.clamp, &result->image);
         result->plan.push_back(fmt::format(
-            "crests beyond light rims cut: {} values within {} of {} light pixels (over {} x "
-            "the frame's mean, {} standard deviations above 0; none where the color has "
-            "NaN/Inf, in tiles each tile's own) and {} rim pixels (a light's neighbours with a "
-            "sample at least {} x its value{}), not beside a full light (one {} standard "
-            "deviations below its value at least {} x the brightest light beside it: its "
-            "neighbours are its rim), above the input's maximum over their {}x{} window "
-            "(lights and rims left out) lowered to it, within {} of a full light above their "
-            "own input or that window's mean plus {} of its standard deviations",
-            lowered, kLightRimReach, rims.lights, options.highlights, kLightRimSigmas,
-            rims.rims, kLightRimSampleShare, rimsOff.empty() ? "" : "; none: " + rimsOff,
-            kFullLightSigmas, kFullLightShare, 2 * options.clamp + 1, 2 * options.clamp + 1,
-            kNearFullLight, kRimCutSigmas));
+            "crests and troughs beyond light rims held: {} values within {} of {} light "
+            "pixels (over {} x the frame's mean, {} standard deviations above 0; none where "
+            "the color has NaN/Inf, in tiles each tile's own) and {} rim pixels (a light's "
+            "neighbours with a sample at least {} x its value{}), not beside a full light (one "
+            "{} standard deviations below its value at least {} x the brightest light beside "
+            "it: its neighbours are its rim), above the input's maximum over their {}x{} "
+            "window (lights and rims left out) lowered to it; within {} of a full light held "
+            "between their own input and their {}x{} window's mean minus and plus {} of its "
+            "standard deviations",
+            moved, kLightRimReach, rims.lights, options.highlights, kLightRimSigmas, rims.rims,
+            kLightRimSampleShare, rimsOff.empty() ? "" : "; none: " + rimsOff, kFullLightSigmas,
+            kFullLightShare, 2 * options.clamp + 1, 2 * options.clamp + 1, kFullLightReach,
+            2 * kRimMeanRadius + 1, 2 * kRimMeanRadius + 1, kRimCutSigmas));
         if (run.keepStages && !result->stages.empty())
-            result->stages.push_back({"input maximum beyond light rims", result->image});
+            result->stages.push_back({"window bounds beyond light rims", result->image});
     }
 
     // Why the frame's max layer (its per-pixel largest sample) cannot serve the sparse

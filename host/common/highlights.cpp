@@ -328,10 +328,11 @@ size_t LowerToWindowMaximum(const Image &color, const std::vector<char> &marked,
     return moved;
 }
 
-// Lowers each channel of the output at (x, y) to the higher of its input and the input's mean
-// over the unmarked pixels of its (2r+1)^2 window ((x, y) unmarked itself, so at least one)
-// plus kRimCutSigmas of that mean's standard deviations. Returns the values lowered.
-size_t LowerToWindowMeanBound(const Image &color, const Image &variance,
+// Holds each channel of the output at (x, y) between the lower of its input and the input's
+// mean over the unmarked pixels of its (2r+1)^2 window ((x, y) unmarked itself, so at least
+// one) minus kRimCutSigmas of that mean's standard deviations, and the higher of its input and
+// that mean plus as many. Returns the values moved.
+size_t HoldToWindowMeanBounds(const Image &color, const Image &variance,
                               const std::vector<char> &marked, int x, int y, int r,
                               Image *output) {
     const int w = color.width, h = color.height;
@@ -348,11 +349,14 @@ size_t LowerToWindowMeanBound(const Image &color, const Image &variance,
                     ++count;
                 }
         // The mean's variance is the sum of the pixels' over count^2.
-        const float high = float(total / count + kRimCutSigmas * std::sqrt(spread) / count);
-        const float bound = std::max(color.Plane(c)[p], high);
+        const double mean = total / count, margin = kRimCutSigmas * std::sqrt(spread) / count;
+        const float own = color.Plane(c)[p];
+        const float high = std::max(own, float(mean + margin));
+        const float low = std::min(own, float(mean - margin));
         float &out = output->Plane(c)[p];
-        if (std::isfinite(out) && out > bound) {
-            out = bound;
+        if (!std::isfinite(out)) continue;
+        if (out > high || out < low) {
+            out = out > high ? high : low;
             ++moved;
         }
     }
@@ -481,11 +485,11 @@ LightRims FindLightRims(const Image &color, const Image &variance, const Image *
     return found;
 }
 
-size_t LowerBeyondLightRims(const Image &color, const Image &variance, const LightRims &rims,
+size_t ClampBeyondLightRims(const Image &color, const Image &variance, const LightRims &rims,
                             int reach, int r, Image *output) {
     if (!color.SameShape(*output) || !color.SameShape(variance) || reach < 0 || r < 0)
         throw Error(
-            "LowerBeyondLightRims: the output and variance must have the color's shape, reach "
+            "ClampBeyondLightRims: the output and variance must have the color's shape, reach "
             "and r >= 0",
             ErrorKind::Internal);
     const size_t n = color.PixelCount();
@@ -495,17 +499,18 @@ size_t LowerBeyondLightRims(const Image &color, const Image &variance, const Lig
     for (size_t p = 0; p < n; ++p) marked[p] = rims.light[p] || rims.rim[p];
     const std::vector<char> &full = rims.full;
     const std::vector<char> near = GrownBy(marked, w, h, reach);
-    // Past a sharp light's edge: nothing of its light, so the spread is held tighter.
-    const std::vector<char> nearFull = GrownBy(full, w, h, kNearFullLight);
+    // Past a sharp light's edge: nothing of its light, so the spread is held both ways.
+    const std::vector<char> nearFull = GrownBy(full, w, h, kFullLightReach);
     size_t moved = 0;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t p = size_t(y) * w + x;
             // A full light's neighbour is its rim, lit or not: the spread may be its light.
-            if (!near[p] || marked[p] || MarkedNeighbours(full, w, h, x, y) > 0) continue;
+            if (marked[p] || MarkedNeighbours(full, w, h, x, y) > 0) continue;
             if (nearFull[p])
-                moved += LowerToWindowMeanBound(color, variance, marked, x, y, r, output);
-            else
+                moved += HoldToWindowMeanBounds(color, variance, marked, x, y, kRimMeanRadius,
+                                                output);
+            else if (near[p])
                 moved += LowerToWindowMaximum(color, marked, x, y, r, false, output);
         }
     return moved;

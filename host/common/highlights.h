@@ -128,12 +128,16 @@ constexpr double kFullLightShare = 0.75;
 constexpr double kFullLightSigmas = 2;
 // How far beyond a rim its spread is cut.
 constexpr int kLightRimReach = 1;
-// Within kNearFullLight of a full light (a sharp light's edge: the pixels past it see none of
-// its light) a value past the rim is held to its own input or the window's mean plus
-// kRimCutSigmas of that mean's standard deviations, whichever is higher: the window's maximum
-// leaves the spread twice the input's error there (issue 29, cornell 256x256). A soft light's
+// Within kFullLightReach of a full light (a sharp light's edge: the pixels past it see none
+// of its light) each value, the rim and the full light's neighbours left out, is held between
+// the lower of its own input and the mean of its (2 kRimMeanRadius + 1)^2 window (lights and
+// rims left out) minus kRimCutSigmas of that mean's standard deviations, and the higher of its
+// input and that mean plus as many. The window's maximum is itself a high draw of the noise,
+// so it left the crests past the rim too high, and the synthesis's trough a few rows out, held
+// only by the input's minimum, drew a dark line beside the light (issue 29). A soft light's
 // glow (out of focus, a caustic) has no full light beside it and keeps the maximum.
-constexpr int kNearFullLight = 2;
+constexpr int kFullLightReach = 4;
+constexpr int kRimMeanRadius = 2;
 constexpr double kRimCutSigmas = 2;
 
 struct LightRims {
@@ -148,15 +152,16 @@ struct LightRims {
 LightRims FindLightRims(const Image &color, const Image &variance, const Image *maxSample,
                         double k, double frameMean);
 
-// Crests beyond lights' rims cut: each value of `output` at a pixel that is neither a light,
-// a rim nor a full light's neighbour (its rim, whether or not a sample saw the light) but
-// within `reach` of a light or rim is lowered to the largest input value of its channel over
-// the window of radius r around it, lights and rims left out: a mean of the samples there is no
-// higher than the highest of them. Within kNearFullLight of a full light the bound is the
-// higher of its own input and the mean of those values plus kRimCutSigmas standard deviations
-// of that mean (from `variance`, the per-pixel variance of the mean, the color's shape).
-// Returns how many values moved.
-size_t LowerBeyondLightRims(const Image &color, const Image &variance, const LightRims &rims,
+// Values beyond lights' rims held to their window. A pixel that is neither a light, a rim nor
+// a full light's neighbour (its rim, whether or not a sample saw the light) is moved as
+// follows. Within kFullLightReach of a full light (whether or not within `reach` of a light or
+// rim), each value of `output` is held within the bounds above from the mean of its window of
+// radius kRimMeanRadius, whatever r is (`variance` is the per-pixel variance of the mean, the
+// color's shape): crests and troughs alike. Elsewhere within `reach` of a light or rim, each
+// value is lowered to the largest input value of its channel over the window of radius r
+// around it, lights and rims left out: a mean of the samples there is no higher than the
+// highest of them. Returns how many values moved.
+size_t ClampBeyondLightRims(const Image &color, const Image &variance, const LightRims &rims,
                             int reach, int r, Image *output);
 
 // How many of (x, y)'s 8 neighbours inside the w x h frame are marked: a highlight is a
