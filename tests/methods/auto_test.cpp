@@ -770,6 +770,69 @@ TEST_F(AutoEstimateProperty, VariantsShareOneWeightInStripsAsOnTheWholeFrame) {
     EXPECT_TRUE(sharedLines(selected).empty());
 }
 
+// Issue 29: beside the half-buffers, a candidate that erases a small dark object (its output
+// there the wall's level, the wall less noisy than the other candidate's) keeps the
+// estimates over its wide windows nearly as low as the wall's, and took the object's
+// weight: the object faded. The guard of the local means sees its mean over the object
+// depart from the input's by several standard errors and weighs it less there: the
+// object's mean stays within a few % of the truth, and the frame's error is no worse.
+TEST_F(AutoEstimateProperty, GuardKeepsADarkObjectOneCandidateErases) {
+    const int w = 40, h = 40, x0 = 17, y0 = 17, side = 6;
+    const float wall = 0.3f, object = 0.2f, sigma = 0.05f;
+    std::mt19937_64 rng(SeedFromName("auto guard erased object"));
+    std::normal_distribution<float> normal(0, 1);
+    auto inside = [&](size_t i) {
+        const int x = int(i % w), y = int((i / w) % h);
+        return x >= x0 && x < x0 + side && y >= y0 && y < y0 + side;
+    };
+    Image truth(w, h, 3), color(w, h, 3), half1(w, h, 3);
+    for (size_t i = 0; i < truth.data.size(); ++i) {
+        truth.data[i] = inside(i) ? object : wall;
+        color.data[i] = truth.data[i] + sigma * normal(rng);
+        half1.data[i] = truth.data[i] + sigma * std::sqrt(2.f) * normal(rng);
+    }
+    // c0 keeps the object and is noisy; c1 is smooth and erases it, on the frame and on half0.
+    std::vector<AutoCandidate> candidates(2);
+    for (int k = 0; k < 2; ++k) {
+        AutoCandidate &c = candidates[k];
+        c.label = c.method = fmt::format("c{}", k);
+        c.output = c.probe = Image(w, h, 3);
+        const float spread = k == 0 ? 0.04f : 0.005f;
+        for (size_t i = 0; i < truth.data.size(); ++i) {
+            const float level = k == 1 ? wall : truth.data[i];
+            c.output.data[i] = level + spread * normal(rng);
+            c.probe.data[i] = level + spread * std::sqrt(2.f) * normal(rng);
+        }
+    }
+    AutoEstimateInputs in;
+    in.variance = Image(w, h, 3, 2 * sigma * sigma);
+    in.probe = Image(w, h, 3, 0.f);
+    in.half1 = half1;
+    in.meanVariance = Image(w, h, 3, sigma * sigma);
+    AutoOptions options;
+    options.radius = 6, options.halvesFloor = 0.5f;
+    auto objectMean = [&](const Image &image) {
+        double sum = 0;
+        for (size_t i = 0; i < image.data.size(); ++i) sum += inside(i) ? image.data[i] : 0;
+        return sum / (3.0 * side * side);
+    };
+    AutoResult unguarded = AutoCombine(Ctx(), color, candidates, in, options);
+    options.meanGuard = 2;
+    AutoResult guarded = AutoCombine(Ctx(), color, candidates, in, options);
+    const double before = objectMean(unguarded.image) / object,
+                 after = objectMean(guarded.image) / object;
+    const double errorBefore = CompareImages(unguarded.image, truth).relMse,
+                 errorAfter = CompareImages(guarded.image, truth).relMse;
+    fmt::print(
+        "object's mean over the truth: {:.3f} unguarded, {:.3f} guarded; relMSE {:.4g} "
+        "-> {:.4g}\n",
+        before, after, errorBefore, errorAfter);
+    EXPECT_NEAR(after, 1.0, 0.03);
+    EXPECT_LE(errorAfter, errorBefore);
+    AutoResult again = AutoCombine(Ctx(), color, candidates, in, options);
+    EXPECT_EQ(again.image.data, guarded.image.data);
+}
+
 // The relative combination's value minimises sum_k w_k (f - c_k)^2 / (c_k^2 + 0.01) under
 // the weights it returns (a step either way raises it; no dark limit), lies between the
 // candidates, is their common value where they agree, and weighs them equally where the
