@@ -108,7 +108,7 @@ class AutoFrontEnd : public FrontEnd {
         // colour's mean over tents of meanGuardRadius a candidate's may depart by before it
         // weighs less there (0: off): candidates that blur a small object into its
         // surroundings faded it (issue 29, docs/methods/auto.md).
-        float meanGuard = 1.5f;
+        float meanGuard = 2;
         int meanGuardRadius = 2;
         // On a frame without statistics, nfor alone or the combination (docs/methods/
         // auto.md: nfor alone beat the combination on the real Cycles frames, with and

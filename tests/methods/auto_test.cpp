@@ -775,7 +775,9 @@ TEST_F(AutoEstimateProperty, VariantsShareOneWeightInStripsAsOnTheWholeFrame) {
 // estimates over its wide windows nearly as low as the wall's, and took the object's
 // weight: the object faded. The guard of the local means sees its mean over the object
 // depart from the input's by several standard errors and weighs it less there: the
-// object's mean stays within a few % of the truth, and the frame's error is no worse.
+// object's mean stays within 3% of the truth. Its relMSE is printed, not asserted: the
+// noisy candidate that keeps the object has more of it there than a mix that lifts the
+// object a little, and the guard reweighs some of the wall's noise too.
 TEST_F(AutoEstimateProperty, GuardKeepsADarkObjectOneCandidateErases) {
     const int w = 40, h = 40, x0 = 17, y0 = 17, side = 6;
     const float wall = 0.3f, object = 0.2f, sigma = 0.05f;
@@ -797,7 +799,7 @@ TEST_F(AutoEstimateProperty, GuardKeepsADarkObjectOneCandidateErases) {
         AutoCandidate &c = candidates[k];
         c.label = c.method = fmt::format("c{}", k);
         c.output = c.probe = Image(w, h, 3);
-        const float spread = k == 0 ? 0.04f : 0.005f;
+        const float spread = k == 0 ? 0.06f : 0.005f;
         for (size_t i = 0; i < truth.data.size(); ++i) {
             const float level = k == 1 ? wall : truth.data[i];
             c.output.data[i] = level + spread * normal(rng);
@@ -823,12 +825,19 @@ TEST_F(AutoEstimateProperty, GuardKeepsADarkObjectOneCandidateErases) {
                  after = objectMean(guarded.image) / object;
     const double errorBefore = CompareImages(unguarded.image, truth).relMse,
                  errorAfter = CompareImages(guarded.image, truth).relMse;
+    const Image objectTruth = truth.Crop(x0, y0, x0 + side, y0 + side);
+    const double
+        objectBefore =
+            CompareImages(unguarded.image.Crop(x0, y0, x0 + side, y0 + side), objectTruth)
+                .relMse,
+        objectAfter =
+            CompareImages(guarded.image.Crop(x0, y0, x0 + side, y0 + side), objectTruth).relMse;
     fmt::print(
         "object's mean over the truth: {:.3f} unguarded, {:.3f} guarded; relMSE {:.4g} "
-        "-> {:.4g}\n",
-        before, after, errorBefore, errorAfter);
+        "-> {:.4g}, over the object {:.4g} -> {:.4g}\n",
+        before, after, errorBefore, errorAfter, objectBefore, objectAfter);
+    EXPECT_GT(before, 1.1);  // lifted toward the wall without the guard
     EXPECT_NEAR(after, 1.0, 0.03);
-    EXPECT_LE(errorAfter, errorBefore);
     AutoResult again = AutoCombine(Ctx(), color, candidates, in, options);
     EXPECT_EQ(again.image.data, guarded.image.data);
 }
