@@ -236,7 +236,8 @@ std::vector<double> AutoGuardLocalMeans(Image &smooth, const Image &color,
         for (size_t i = 0; i < n; ++i) mean[c * n + i] = sums[i] / ones[i];
         TentSums(variance.Plane(c), w, h, guard.radius, true, rows, sums);
         for (size_t i = 0; i < n; ++i) {
-            const double least = kAutoGuardRelative * mean[c * n + i];
+            const double least = std::max(kAutoGuardRelative * std::abs(mean[c * n + i]),
+                                          double(kAutoGuardLeastError));
             meanVariance[c * n + i] =
                 std::max(sums[i], 0.0) / (ones[i] * ones[i]) + least * least;
         }
@@ -249,8 +250,12 @@ std::vector<double> AutoGuardLocalMeans(Image &smooth, const Image &color,
             for (size_t i = 0; i < n; ++i) {
                 const double departure = sums[i] / ones[i] - mean[c * n + i];
                 const double v = meanVariance[c * n + i];
-                // A departure of 0 where the mean is exact (v 0) is none.
-                if (departure != 0) t2[i] += v > 0 ? departure * departure / v : HUGE_VAL;
+                // A NaN variance is not noise, as in the combination: no guard there.
+                if (std::isnan(v)) {
+                    t2[i] = std::numeric_limits<double>::quiet_NaN();
+                    continue;
+                }
+                if (departure != 0) t2[i] += departure * departure / v;
             }
         }
         float *plane = smooth.Plane(int(k));

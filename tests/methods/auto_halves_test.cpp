@@ -353,8 +353,10 @@ double GuardFactor(const Image &color, const Image &output, const Image &varianc
                 spread += wt * wt * variance.At(c, y, x);
             }
         const double mean = colour / weights, departure = candidate / weights - mean;
-        const double error2 = spread / (weights * weights) + 1e-4 * mean * mean;
-        if (departure != 0) t2 += error2 > 0 ? departure * departure / error2 : HUGE_VAL;
+        const double least = std::max(1e-2 * std::abs(mean), 1e-4);
+        const double error2 = spread / (weights * weights) + least * least;
+        if (std::isnan(error2)) return 1;  // a NaN variance is not noise: unguarded
+        if (departure != 0) t2 += departure * departure / error2;
     }
     const double logRatio = std::min(0.5 * (t2 / color.channels - double(z) * z), 16.0);
     return logRatio > 0 ? std::exp(logRatio) : 1;
@@ -370,6 +372,15 @@ TEST(AutoHalvesEstimates, GuardRaisesCandidatesWhoseLocalMeanDeparts) {
         for (float &x : variance.data) x = 0.01f * unit(rng);
         // A window of exact values: variance 0 around the frame's last pixel.
         for (int c = 0; c < 3; ++c) variance.At(c, h - 1, w - 1) = 0;
+        // A NaN variance in one channel leaves the tents that reach it unguarded.
+        double unguarded = 0;
+        if (w * h > 1) {
+            variance.At(1, 0, w / 2) = std::numeric_limits<float>::quiet_NaN();
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    if (std::abs(x - w / 2) <= radius && y <= radius)
+                        unguarded += 1.0 / (double(w) * h);
+        }
         std::vector<Image> outputs(4, color);
         for (size_t i = 0; i < color.data.size(); ++i) {
             outputs[1].data[i] += 0.05f * (unit(rng) - 0.5f);  // within the noise, mostly
@@ -403,8 +414,9 @@ TEST(AutoHalvesEstimates, GuardRaisesCandidatesWhoseLocalMeanDeparts) {
                             << k << " at " << x << "," << y;
                     }
                 }
-        EXPECT_EQ(raised[0], 0.0);          // the colour itself departs by nothing
-        EXPECT_NEAR(raised[2], 1.0, 1e-9);  // half the colour everywhere: far past its noise
+        EXPECT_EQ(raised[0], 0.0);  // the colour itself departs by nothing
+        // Half the colour everywhere: far past its noise, but where the variance is NaN.
+        EXPECT_NEAR(raised[2], 1.0 - unguarded, 1e-9);
         Image again = smooth;
         AutoGuardLocalMeans(again, color, pointers, variance, guard);
         EXPECT_EQ(std::memcmp(again.data.data(), guarded.data.data(),
@@ -416,6 +428,30 @@ TEST(AutoHalvesEstimates, GuardRaisesCandidatesWhoseLocalMeanDeparts) {
         EXPECT_EQ(
             std::memcmp(off.data.data(), smooth.data.data(), off.data.size() * sizeof(float)),
             0);
+    }
+}
+
+TEST(AutoHalvesEstimates, GuardNeedsARealDepartureWhereTheColourIsExactlyBlack) {
+    // A black background: colour and variance exactly 0. A bleed of rounding is no
+    // departure; one of a hundred least standard errors is.
+    const int w = 8, h = 6;
+    Image color(w, h, 3), variance(w, h, 3);
+    std::vector<Image> outputs(3, color);
+    for (float &x : outputs[1].data) x = 1e-9f;
+    for (float &x : outputs[2].data) x = 100 * kAutoGuardLeastError;
+    std::vector<const Image *> pointers;
+    for (const Image &o : outputs) pointers.push_back(&o);
+    Image smooth(w, h, 3);
+    for (float &x : smooth.data) x = 1e-3f;
+    const Image before = smooth;
+    std::vector<double> raised =
+        AutoGuardLocalMeans(smooth, color, pointers, variance, {2.f, 2, 1e-5f});
+    EXPECT_EQ(raised[0], 0.0);
+    EXPECT_EQ(raised[1], 0.0);
+    EXPECT_NEAR(raised[2], 1.0, 1e-9);
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+        EXPECT_EQ(smooth.Plane(1)[i], before.Plane(1)[i]);
+        EXPECT_GT(smooth.Plane(2)[i], before.Plane(2)[i]);
     }
 }
 
