@@ -168,7 +168,9 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "of it (the variance of the pixel mean), t above this, has its error "
                    "estimate there multiplied by exp((t^2 - this^2) / 2), how much less "
                    "likely such a departure is under the input's noise, so that a candidate "
-                   "that fades or ghosts an object weighs less on it (0: off)",
+                   "that fades or ghosts an object weighs less on it (0: off); on, it runs "
+                   "the half-buffers' second estimate pass also where the floor, the drop "
+                   "and the variants are off",
                    &O::meanGuard, 0, 100),
         IntParam("auto-mean-guard-radius",
                  "with --auto-mean-guard: the radius of its tents (at most --auto-radius)",
@@ -1041,12 +1043,15 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius, true) +
                                                   (options.meanCheck == "halves" ? box : 0)
                                             : 0;
-    needs.reach +=
-        2 * box + noise + mean + (options.meanGuard > 0 ? options.meanGuardRadius : 0);
+    // The guard's tents (at most the estimates' radius, hence the box's) feed the final
+    // window only, so they lie within twice the box: box + guard <= 2 * box.
+    const int guard = options.meanGuard > 0 ? std::min(options.meanGuardRadius, box) : 0;
+    needs.reach += std::max(2 * box, box + guard) + noise + mean;
     needs.reachText = fmt::format(
-        "the widest candidate's reach + twice the estimates' box radius {} + the noise "
-        "estimate's {} + the local mean's coarse and fine tents {} + the guard's tents {}",
-        box, noise, mean, options.meanGuard > 0 ? options.meanGuardRadius : 0);
+        "the widest candidate's reach + twice the estimates' box radius {} (the guard's "
+        "tents {} within it) + the noise estimate's {} + the local mean's coarse and fine "
+        "tents {}",
+        box, guard, noise, mean);
     // The noise estimate: the colour, the albedo, their second differences and the result.
     needs.bytesPerPixel = 4 * 4 * 4;
     needs.bindingBytesPerPixel = 4 * 4;

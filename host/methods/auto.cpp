@@ -77,6 +77,13 @@ void CheckAutoInputs(const Image &color, const std::vector<AutoCandidate> &candi
         !estimate.meanVariance.SameShape(color))
         throw Error("auto: the relative combination needs the variance of the pixel mean",
                     ErrorKind::Internal);
+    // The guard's tents must lie within the strips' halo of twice the estimates' radius.
+    if (options.meanGuard > 0 &&
+        (options.meanGuardRadius < 0 || options.meanGuardRadius > options.radius))
+        throw Error(fmt::format("auto: the guard's radius {} is not within 0 to the "
+                                "estimates' radius {}",
+                                options.meanGuardRadius, options.radius),
+                    ErrorKind::Internal);
 }
 
 // The buffers of a combination: K candidates of C channels, W x H.
@@ -567,8 +574,11 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
         result.plan.insert(result.plan.end(), dropPlan.begin(), dropPlan.end());
         result.plan.push_back(fmt::format(
             "auto: the combination ran in {} strips of up to {} rows, each with {} rows above "
-            "and below (twice the estimates' window radius)",
-            strips, rows, halo));
+            "and below (twice the estimates' window radius){}",
+            strips, rows, halo,
+            options.meanGuard > 0 && !estimate.half1.Empty()
+                ? "; the guard's raised shares above are the first strip's"
+                : ""));
     }
     bool map = options.map || options.keepStages;
     Image mapImage = Tally(weights, candidates, map, result);

@@ -755,12 +755,24 @@ TEST_F(AutoEstimateProperty, VariantsShareOneWeightInStripsAsOnTheWholeFrame) {
             << fmt::format("{}", fmt::join(whole.plan, "\n"));
         EXPECT_NE(sharedLines(whole)[0].find("c1 x1.41, c2 x1.41"), std::string::npos)
             << sharedLines(whole)[0];
+        // The guard of the local means is host code run per strip: its tents too must give
+        // the whole frame's bits.
+        AutoOptions guarded = share;
+        guarded.meanGuard = 2;
+        AutoResult wholeGuarded = AutoCombine(Ctx(), half1, candidates, in, guarded);
         for (int rows : {10, 13}) {
             AutoOptions strip = share;
             strip.stripRows = rows;
             AutoResult strips = AutoCombine(Ctx(), half1, candidates, in, strip);
             EXPECT_EQ(strips.image.data, whole.image.data) << rows << " rows";
             EXPECT_EQ(strips.sharePercent, whole.sharePercent) << rows << " rows";
+            strip = guarded;
+            strip.stripRows = rows;
+            strips = AutoCombine(Ctx(), half1, candidates, in, strip);
+            EXPECT_EQ(strips.image.data, wholeGuarded.image.data) << rows << " rows, guarded";
+            EXPECT_EQ(strips.sharePercent, wholeGuarded.sharePercent) << rows << " rows";
+            EXPECT_NE(fmt::format("{}", fmt::join(strips.plan, "\n")).find("first strip's"),
+                      std::string::npos);
         }
     }
     each.combination = share.combination = AutoCombination::Select;
@@ -840,6 +852,25 @@ TEST_F(AutoEstimateProperty, GuardKeepsADarkObjectOneCandidateErases) {
     EXPECT_NEAR(after, 1.0, 0.03);
     AutoResult again = AutoCombine(Ctx(), color, candidates, in, options);
     EXPECT_EQ(again.image.data, guarded.image.data);
+    // A combination of half0 runs reads twice the variance (meanGuardVarianceScale 2): the
+    // same departures are fewer standard errors, so the guard raises c1 in fewer pixels.
+    auto raisedShare = [](const AutoResult &r) {
+        for (const std::string &line : r.plan) {
+            const size_t at = line.find("raised in ");
+            if (line.find("guard of the local means") == std::string::npos ||
+                at == std::string::npos)
+                continue;
+            const size_t c1 = line.find("c1 ", at);
+            if (c1 != std::string::npos) return std::stod(line.substr(c1 + 3));
+        }
+        return -1.0;
+    };
+    options.meanGuardVarianceScale = 2;
+    AutoResult scaled = AutoCombine(Ctx(), color, candidates, in, options);
+    EXPECT_GT(raisedShare(guarded), 0.0);
+    EXPECT_GE(raisedShare(scaled), 0.0);
+    EXPECT_LT(raisedShare(scaled), raisedShare(guarded));
+    EXPECT_NE(scaled.image.data, guarded.image.data);
 }
 
 // The relative combination's value minimises sum_k w_k (f - c_k)^2 / (c_k^2 + 0.01) under
