@@ -162,6 +162,19 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "by more of the restore, the same share everywhere (1: the restore "
                    "alone); half1 does not check the gain nor that lift: a brightness floor",
                    &O::meanGain, 1, 2),
+        FloatParam("auto-mean-guard",
+                   "beside half-buffers: a candidate whose mean over tents of "
+                   "--auto-mean-guard-radius departs from the input's by t standard errors "
+                   "of it (the variance of the pixel mean), t above this, has its error "
+                   "estimate there multiplied by exp((t^2 - this^2) / 2), how much less "
+                   "likely such a departure is under the input's noise, so that a candidate "
+                   "that fades or ghosts an object weighs less on it (0: off); on, it runs "
+                   "the half-buffers' second estimate pass also where the floor, the drop "
+                   "and the variants are off",
+                   &O::meanGuard, 0, 100),
+        IntParam("auto-mean-guard-radius",
+                 "with --auto-mean-guard: the radius of its tents (at most --auto-radius)",
+                 &O::meanGuardRadius, 1, 16),
         ChoiceParam("auto-plain",
                     "on a frame without statistics (no variance layer, half-buffers, "
                     "histograms nor min/max/spp, as most renderers write), with or without "
@@ -833,6 +846,9 @@ AutoOptions CombineOptions(const AutoFrontEnd::Options &o, const Noise &noise,
                                 o.halvesDrop),
                     ErrorKind::InvalidArgument);
     c.halvesDrop = o.halvesDrop;
+    // Within the strips' halo of twice the estimates' radius.
+    c.meanGuard = o.meanGuard;
+    c.meanGuardRadius = std::min(o.meanGuardRadius, c.radius);
     c.keepStages = run.keepStages;
     c.map = std::find(run.stages.begin(), run.stages.end(), "auto.map") != run.stages.end();
     return c;
@@ -1027,11 +1043,15 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     const int mean = options.meanRadius > 0 ? LocalMeanReach(options.meanRadius, true) +
                                                   (options.meanCheck == "halves" ? box : 0)
                                             : 0;
-    needs.reach += 2 * box + noise + mean;
+    // The guard's tents (at most the estimates' radius, hence the box's) feed the final
+    // window only, so they lie within twice the box: box + guard <= 2 * box.
+    const int guard = options.meanGuard > 0 ? std::min(options.meanGuardRadius, box) : 0;
+    needs.reach += std::max(2 * box, box + guard) + noise + mean;
     needs.reachText = fmt::format(
-        "the widest candidate's reach + twice the estimates' box radius {} + the noise "
-        "estimate's {} + the local mean's coarse and fine tents {}",
-        box, noise, mean);
+        "the widest candidate's reach + twice the estimates' box radius {} (the guard's "
+        "tents {} within it) + the noise estimate's {} + the local mean's coarse and fine "
+        "tents {}",
+        box, guard, noise, mean);
     // The noise estimate: the colour, the albedo, their second differences and the result.
     needs.bytesPerPixel = 4 * 4 * 4;
     needs.bindingBytesPerPixel = 4 * 4;
@@ -1159,6 +1179,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         for (AutoCandidate &c : list) c.output = c.probe;
         AutoOptions quiet = combine;
         quiet.keepStages = quiet.map = false;
+        quiet.meanGuardVarianceScale = 2;  // half0 holds half the samples
         Image combinedHalf = AutoCombine(context, half0, list, estimate, quiet).image;
         Image combinedFull = std::move(result.image);
         // The check's tents, within the estimates' windows (the tiles' reach holds those).

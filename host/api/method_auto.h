@@ -104,6 +104,12 @@ class AutoFrontEnd : public FrontEnd {
         // mean before more of the restore does (1: the restore alone). A gain moves no
         // light between pixels; kept within the brightness bound auto is held to.
         float meanGain = 1.02f;
+        // Beside the half-buffers, the guard of the local means: standard errors of the
+        // colour's mean over tents of meanGuardRadius a candidate's may depart by before it
+        // weighs less there (0: off): candidates that blur a small object into its
+        // surroundings faded it (issue 29, docs/methods/auto.md).
+        float meanGuard = 2;
+        int meanGuardRadius = 2;
         // On a frame without statistics, nfor alone or the combination (docs/methods/
         // auto.md: nfor alone beat the combination on the real Cycles frames, with and
         // without albedo and normals).

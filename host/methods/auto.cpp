@@ -77,6 +77,13 @@ void CheckAutoInputs(const Image &color, const std::vector<AutoCandidate> &candi
         !estimate.meanVariance.SameShape(color))
         throw Error("auto: the relative combination needs the variance of the pixel mean",
                     ErrorKind::Internal);
+    // The guard's tents must lie within the strips' halo of twice the estimates' radius.
+    if (options.meanGuard > 0 &&
+        (options.meanGuardRadius < 0 || options.meanGuardRadius > options.radius))
+        throw Error(fmt::format("auto: the guard's radius {} is not within 0 to the "
+                                "estimates' radius {}",
+                                options.meanGuardRadius, options.radius),
+                    ErrorKind::Internal);
 }
 
 // The buffers of a combination: K candidates of C channels, W x H.
@@ -205,13 +212,42 @@ std::vector<std::string> HalvesDropPlan(const std::vector<AutoCandidate> &candid
     return plan;
 }
 
+// The guard of the local means on the adjusted estimates, and its plan line. The variance
+// of the pixel mean is the relative combination's, else half half1's.
+void GuardLocalMeans(StagedRun &run, Image &smooth, const Image &color,
+                     const std::vector<AutoCandidate> &candidates, const AutoEstimateInputs &in,
+                     const AutoOptions &options) {
+    Image variance = in.meanVariance.Empty() ? in.variance : in.meanVariance;
+    const float scale = options.meanGuardVarianceScale * (in.meanVariance.Empty() ? 0.5f : 1.f);
+    for (float &v : variance.data) v *= scale;
+    std::vector<const Image *> outputs;
+    for (const AutoCandidate &c : candidates) outputs.push_back(&c.output);
+    AutoMeanGuard guard;
+    guard.z = options.meanGuard, guard.radius = options.meanGuardRadius;
+    guard.floorError = options.floorError;
+    const std::vector<double> raised =
+        AutoGuardLocalMeans(smooth, color, outputs, variance, guard);
+    std::string shares;
+    for (size_t k = 0; k < candidates.size(); ++k)
+        shares += fmt::format("{}{} {:.1f}%", shares.empty() ? "" : ", ", candidates[k].label,
+                              100 * raised[k]);
+    run.Plan(fmt::format(
+        "auto: guard of the local means: an estimate times exp((t^2 - {}^2) / 2) where the "
+        "candidate's mean over {}x{} tents departs from the colour's by t > {} standard "
+        "errors of it, so that a candidate that fades or ghosts an object weighs less there "
+        "(--auto-mean-guard); raised in {}",
+        options.meanGuard, 2 * options.meanGuardRadius + 1, 2 * options.meanGuardRadius + 1,
+        options.meanGuard, shares));
+}
+
 // Beside the half-buffers: half1's variance over relMSE's denominator averaged over the
 // windows like the estimates (half1 scored as a candidate has its negative for estimate),
 // then the final estimates raised to it where they are below and a candidate far above the
 // others over the frame left out.
 void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
                            const std::vector<AutoCandidate> &candidates,
-                           const AutoOptions &options, const vk::GpuImage &guide) {
+                           const AutoOptions &options, const vk::GpuImage &guide,
+                           const Image &color, const AutoEstimateInputs &in) {
     vk::Context &context = run.Context();
     vk::GpuImage rows(context, gpu.width, gpu.height, 2, "auto.halves.rows"),
         noise(context, gpu.width, gpu.height, 1, "auto.halves.noise");
@@ -234,6 +270,7 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
     if (SharesVariants(options)) settings.method = MethodIndices(candidates);
     settings.power = options.power;
     AutoHalvesResult adjusted = AutoAdjustHalvesEstimates(smooth, halfNoise, settings);
+    if (options.meanGuard > 0) GuardLocalMeans(run, smooth, color, candidates, in, options);
     gpu.smooth.Upload(smooth);
     if (options.halvesFloor > 0)
         run.Plan(fmt::format(
@@ -275,7 +312,8 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
 // guide. Where the candidates disagree beyond what the estimates resolve it leans dark,
 // which suits relMSE: brightening a dark pixel costs without bound, darkening a bright one
 // at most 1.
-void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInputs &in,
+void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const Image &color,
+                           const AutoEstimateInputs &in,
                            const std::vector<AutoCandidate> &candidates,
                            const AutoOptions &options, vk::GpuImage &guide) {
     vk::Context &context = run.Context();
@@ -302,9 +340,9 @@ void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const AutoEstimateInput
     // of v / (g^2 + 0.01), would swamp every window around it.
     RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius,
                     options.windowBandwidth);
-    if (halves &&
-        (options.halvesFloor > 0 || options.halvesDrop > 0 || SharesVariants(options)))
-        AdjustHalvesEstimates(run, gpu, est, candidates, options, guide);
+    if (halves && (options.halvesFloor > 0 || options.halvesDrop > 0 ||
+                   SharesVariants(options) || options.meanGuard > 0))
+        AdjustHalvesEstimates(run, gpu, est, candidates, options, guide, color, in);
 }
 
 // Without an estimate every method gets the same weight, shared by its variants: a
@@ -396,7 +434,7 @@ AutoResult CombineWindow(vk::Context &context, const Image &color,
     vk::GpuImage guide;
     if (scored) {
         guide = vk::GpuImage(context, gpu.width, gpu.height, gpu.channels, "auto.guide");
-        RecordGuidedEstimates(run, gpu, estimate, candidates, options, guide);
+        RecordGuidedEstimates(run, gpu, color, estimate, candidates, options, guide);
         for (const AutoCandidate &c : candidates)
             run.AddStage("auto." + c.label + ".probe", c.probe);
     }
@@ -536,8 +574,11 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
         result.plan.insert(result.plan.end(), dropPlan.begin(), dropPlan.end());
         result.plan.push_back(fmt::format(
             "auto: the combination ran in {} strips of up to {} rows, each with {} rows above "
-            "and below (twice the estimates' window radius)",
-            strips, rows, halo));
+            "and below (twice the estimates' window radius){}",
+            strips, rows, halo,
+            options.meanGuard > 0 && !estimate.half1.Empty()
+                ? "; the guard's raised shares above are the first strip's"
+                : ""));
     }
     bool map = options.map || options.keepStages;
     Image mapImage = Tally(weights, candidates, map, result);

@@ -83,6 +83,14 @@ struct AutoOptions {
     // Beside the half-buffers, a method's variants share one candidate's weight (each
     // estimate times its method's candidates left in ^ (1 / power)); false: each weighs alone.
     bool halvesVariants = false;
+    // Beside the half-buffers, the guard of the local means (host/methods/auto_halves.h):
+    // a candidate whose mean over tents of meanGuardRadius departs from the colour's by
+    // over meanGuard standard errors of it weighs less there (0: off). The standard errors
+    // read the variance of the pixel mean times meanGuardVarianceScale (2 for a combination
+    // of the half0 runs, whose colour holds half the samples).
+    float meanGuard = 0;
+    int meanGuardRadius = 2;
+    float meanGuardVarianceScale = 1;
     // Set by AutoCombine for a combination in strips: the candidates left out over the whole
     // frame (empty: the window decides), its estimates and noise, and the sums its first pass
     // over the strips adds each strip's estimates to (null: none).

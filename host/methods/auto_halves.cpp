@@ -79,6 +79,29 @@ void ShareVariants(Image &smooth, const std::vector<bool> &dropped,
     }
 }
 
+// Sums over tents of `radius` of `plane` (width x height) into `out`: weights (r + 1 - |dx|)
+// (r + 1 - |dy|), or their squares with `squared`; pixels past the frame's edge weigh 0.
+void TentSums(const float *plane, int width, int height, int radius, bool squared,
+              std::vector<double> &rows, std::vector<double> &out) {
+    std::vector<double> taps(2 * radius + 1);
+    for (int d = -radius; d <= radius; ++d) {
+        const double t = radius + 1 - std::abs(d);
+        taps[d + radius] = squared ? t * t : t;
+    }
+    rows.assign(size_t(width) * height, 0.0);
+    out.assign(size_t(width) * height, 0.0);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int d = std::max(-radius, -x); d <= std::min(radius, width - 1 - x); ++d)
+                rows[size_t(y) * width + x] +=
+                    taps[d + radius] * plane[size_t(y) * width + x + d];
+    for (int y = 0; y < height; ++y)
+        for (int d = std::max(-radius, -y); d <= std::min(radius, height - 1 - y); ++d)
+            for (int x = 0; x < width; ++x)
+                out[size_t(y) * width + x] +=
+                    taps[d + radius] * rows[size_t(y + d) * width + x];
+}
+
 }  // namespace
 
 void AutoHalvesSums::Add(const Image &smooth, const Image &noise) {
@@ -184,6 +207,68 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
         if (result.dropped[k])
             std::fill_n(smooth.Plane(k), n, std::numeric_limits<float>::infinity());
     return result;
+}
+
+std::vector<double> AutoGuardLocalMeans(Image &smooth, const Image &color,
+                                        const std::vector<const Image *> &outputs,
+                                        const Image &variance, const AutoMeanGuard &guard) {
+    const int w = color.width, h = color.height, channels = color.channels;
+    const size_t n = color.PixelCount();
+    if (smooth.channels != int(outputs.size()) || smooth.PixelCount() != n ||
+        !variance.SameShape(color))
+        throw Error(
+            "auto: the guard reads one estimate plane per output and the colour's "
+            "variance",
+            ErrorKind::Internal);
+    for (const Image *output : outputs)
+        if (!output->SameShape(color))
+            throw Error("auto: the guard's outputs must have the colour's shape",
+                        ErrorKind::Internal);
+    std::vector<double> raised(outputs.size(), 0.0);
+    if (guard.z <= 0) return raised;
+    // Each channel's tent weight over the frame, its colour's tent mean and that mean's
+    // variance, shared by every candidate.
+    std::vector<double> rows, ones, sums, mean(n * channels), meanVariance(n * channels);
+    const std::vector<float> one(n, 1.f);
+    TentSums(one.data(), w, h, guard.radius, false, rows, ones);
+    for (int c = 0; c < channels; ++c) {
+        TentSums(color.Plane(c), w, h, guard.radius, false, rows, sums);
+        for (size_t i = 0; i < n; ++i) mean[c * n + i] = sums[i] / ones[i];
+        TentSums(variance.Plane(c), w, h, guard.radius, true, rows, sums);
+        for (size_t i = 0; i < n; ++i) {
+            const double least = std::max(kAutoGuardRelative * std::abs(mean[c * n + i]),
+                                          double(kAutoGuardLeastError));
+            meanVariance[c * n + i] =
+                std::max(sums[i], 0.0) / (ones[i] * ones[i]) + least * least;
+        }
+    }
+    std::vector<double> t2(n);
+    for (size_t k = 0; k < outputs.size(); ++k) {
+        std::fill(t2.begin(), t2.end(), 0.0);
+        for (int c = 0; c < channels; ++c) {
+            TentSums(outputs[k]->Plane(c), w, h, guard.radius, false, rows, sums);
+            for (size_t i = 0; i < n; ++i) {
+                const double departure = sums[i] / ones[i] - mean[c * n + i];
+                const double v = meanVariance[c * n + i];
+                // A NaN variance is not noise, as in the combination: no guard there.
+                if (std::isnan(v)) {
+                    t2[i] = std::numeric_limits<double>::quiet_NaN();
+                    continue;
+                }
+                if (departure != 0) t2[i] += departure * departure / v;
+            }
+        }
+        float *plane = smooth.Plane(int(k));
+        const double z2 = double(guard.z) * guard.z;
+        for (size_t i = 0; i < n; ++i) {
+            // The normal density's ratio at z over that at t.
+            const double logRatio = std::min(0.5 * (t2[i] / channels - z2), kAutoGuardMostLog);
+            if (!(logRatio > 0) || !std::isfinite(plane[i])) continue;
+            plane[i] = float(double(std::max(plane[i], guard.floorError)) * std::exp(logRatio));
+            raised[k] += 1.0 / double(n);
+        }
+    }
+    return raised;
 }
 
 }  // namespace mcd

@@ -84,4 +84,38 @@ std::vector<float> AutoVariantFactors(const std::vector<int> &method,
 AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
                                            const AutoHalvesSettings &settings);
 
+// The guard of the local means (issue 29): a candidate that fades or ghosts a small object
+// (blurs it into its surroundings) keeps the estimates' wide windows nearly as they were,
+// yet its mean over the object departs from the input's by more than the input's noise
+// allows. At each pixel t is the root mean square over channels of the candidate's
+// departure from the colour, each averaged over tents of `radius`, in standard errors of
+// the colour's tent mean (from the variance of the pixel mean, with kAutoGuardRelative of
+// that mean, or kAutoGuardLeastError if more, as its least standard error); a NaN variance
+// leaves the pixel unguarded. Where t > z the estimate, read as at least
+// floorError, is multiplied by exp(min((t^2 - z^2) / 2, kAutoGuardMostLog)): how much less
+// likely a departure of t than one of z is under the input's noise (normal), so that a
+// departure well past the noise takes the candidate's weight there (z 0: off).
+struct AutoMeanGuard {
+    float z = 0;
+    int radius = 2;
+    float floorError = 1e-5f;
+};
+
+// The largest log of the guard's factor, so that a departure far past the least standard error
+// lowers a candidate's weight, finitely, instead of dropping it.
+constexpr double kAutoGuardMostLog = 16;
+// The least standard error of a tent mean, as a share of it: a window of exact values
+// (every sample alike) holds a candidate to its mean within this, not to the bit.
+constexpr float kAutoGuardRelative = 0.01f;
+// The least standard error of a tent mean, absolute: where the colour is exactly 0 (a black
+// background), a departure must be real, not a bleed of rounding, to count.
+constexpr float kAutoGuardLeastError = 1e-4f;
+
+// `smooth`: K planes, one per output of `outputs` (each of `color`'s shape); `variance`:
+// the variance of `color`'s pixel mean, per channel. Returns, per candidate, the share of
+// the pixels whose estimate it raised.
+std::vector<double> AutoGuardLocalMeans(Image &smooth, const Image &color,
+                                        const std::vector<const Image *> &outputs,
+                                        const Image &variance, const AutoMeanGuard &guard);
+
 }  // namespace mcd

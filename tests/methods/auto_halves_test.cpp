@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -325,6 +327,132 @@ TEST(AutoHalvesEstimates, VariantsWhoseErrorsGoTogetherWeighAsOne) {
     fmt::print("relMSE: each alone {:.4g}, the variants sharing one weight {:.4g}\n", alone,
                shared);
     EXPECT_LT(shared, 0.95 * alone);
+}
+
+// The guard of the local means, loop by loop from its definition: each pixel's tent window
+// (weights (r + 1 - |dx|)(r + 1 - |dy|) over the pixels in the frame), the departure of the
+// candidate's window mean from the colour's over the standard error of the colour's (the
+// variances with the squared weights, plus 1% of the mean squared), t their root mean
+// square over channels, the estimate (at least floorError) times exp(min((t^2 - z^2) / 2,
+// 16)) where t > z. Random inputs, some candidates offset; odd sizes, 1x1, a non-finite
+// estimate, and a window of exact values (variance 0, capped). Two runs give the same bits.
+double GuardFactor(const Image &color, const Image &output, const Image &variance, int x0,
+                   int y0, int radius, float z) {
+    double t2 = 0;
+    for (int c = 0; c < color.channels; ++c) {
+        double weights = 0, colour = 0, candidate = 0, spread = 0;
+        for (int y = std::max(0, y0 - radius); y <= std::min(color.height - 1, y0 + radius);
+             ++y)
+            for (int x = std::max(0, x0 - radius); x <= std::min(color.width - 1, x0 + radius);
+                 ++x) {
+                const double wt = double(radius + 1 - std::abs(x - x0)) *
+                                  double(radius + 1 - std::abs(y - y0));
+                weights += wt;
+                colour += wt * color.At(c, y, x);
+                candidate += wt * output.At(c, y, x);
+                spread += wt * wt * variance.At(c, y, x);
+            }
+        const double mean = colour / weights, departure = candidate / weights - mean;
+        const double least = std::max(1e-2 * std::abs(mean), 1e-4);
+        const double error2 = spread / (weights * weights) + least * least;
+        if (std::isnan(error2)) return 1;  // a NaN variance is not noise: unguarded
+        if (departure != 0) t2 += departure * departure / error2;
+    }
+    const double logRatio = std::min(0.5 * (t2 / color.channels - double(z) * z), 16.0);
+    return logRatio > 0 ? std::exp(logRatio) : 1;
+}
+
+TEST(AutoHalvesEstimates, GuardRaisesCandidatesWhoseLocalMeanDeparts) {
+    const float z = 2, floorError = 1e-5f;
+    for (auto [w, h, radius] : {std::array<int, 3>{17, 11, 2}, {1, 1, 2}, {5, 9, 3}}) {
+        std::mt19937_64 rng(SeedFromName(fmt::format("auto guard {}x{}", w, h).c_str()));
+        std::uniform_real_distribution<float> unit(0.f, 1.f);
+        Image color(w, h, 3), variance(w, h, 3);
+        for (float &x : color.data) x = 0.2f + unit(rng);
+        for (float &x : variance.data) x = 0.01f * unit(rng);
+        // A window of exact values: variance 0 around the frame's last pixel.
+        for (int c = 0; c < 3; ++c) variance.At(c, h - 1, w - 1) = 0;
+        // A NaN variance in one channel leaves the tents that reach it unguarded.
+        double unguarded = 0;
+        if (w * h > 1) {
+            variance.At(1, 0, w / 2) = std::numeric_limits<float>::quiet_NaN();
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    if (std::abs(x - w / 2) <= radius && y <= radius)
+                        unguarded += 1.0 / (double(w) * h);
+        }
+        std::vector<Image> outputs(4, color);
+        for (size_t i = 0; i < color.data.size(); ++i) {
+            outputs[1].data[i] += 0.05f * (unit(rng) - 0.5f);  // within the noise, mostly
+            outputs[2].data[i] *= 0.5f;                        // fades everything
+            outputs[3].data[i] += (i % 7 == 0) ? 0.5f : 0.f;   // ghosts in places
+        }
+        Image smooth(w, h, 4);
+        for (float &x : smooth.data) x = 0.02f * unit(rng) - 0.002f;
+        smooth.Plane(3)[0] = std::numeric_limits<float>::quiet_NaN();
+        std::vector<const Image *> pointers;
+        for (const Image &o : outputs) pointers.push_back(&o);
+        Image guarded = smooth;
+        AutoMeanGuard guard{z, radius, floorError};
+        std::vector<double> raised =
+            AutoGuardLocalMeans(guarded, color, pointers, variance, guard);
+        for (int k = 0; k < 4; ++k)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const size_t i = size_t(y) * w + x;
+                    const float before = smooth.Plane(k)[i], after = guarded.Plane(k)[i];
+                    const double factor =
+                        GuardFactor(color, outputs[k], variance, x, y, radius, z);
+                    if (!std::isfinite(before)) {
+                        EXPECT_TRUE(std::isnan(after));
+                    } else if (factor == 1) {
+                        EXPECT_EQ(after, before) << k << " at " << x << "," << y;
+                    } else {
+                        // Double sums in another order: a few float roundings.
+                        const double expected = std::max(before, floorError) * factor;
+                        EXPECT_NEAR(after, expected, 1e-5 * expected)
+                            << k << " at " << x << "," << y;
+                    }
+                }
+        EXPECT_EQ(raised[0], 0.0);  // the colour itself departs by nothing
+        // Half the colour everywhere: far past its noise, but where the variance is NaN.
+        EXPECT_NEAR(raised[2], 1.0 - unguarded, 1e-9);
+        Image again = smooth;
+        AutoGuardLocalMeans(again, color, pointers, variance, guard);
+        EXPECT_EQ(std::memcmp(again.data.data(), guarded.data.data(),
+                              again.data.size() * sizeof(float)),
+                  0);
+        // Off: nothing changes.
+        Image off = smooth;
+        AutoGuardLocalMeans(off, color, pointers, variance, {0.f, radius, floorError});
+        EXPECT_EQ(
+            std::memcmp(off.data.data(), smooth.data.data(), off.data.size() * sizeof(float)),
+            0);
+    }
+}
+
+TEST(AutoHalvesEstimates, GuardNeedsARealDepartureWhereTheColourIsExactlyBlack) {
+    // A black background: colour and variance exactly 0. A bleed of rounding is no
+    // departure; one of a hundred least standard errors is.
+    const int w = 8, h = 6;
+    Image color(w, h, 3), variance(w, h, 3);
+    std::vector<Image> outputs(3, color);
+    for (float &x : outputs[1].data) x = 1e-9f;
+    for (float &x : outputs[2].data) x = 100 * kAutoGuardLeastError;
+    std::vector<const Image *> pointers;
+    for (const Image &o : outputs) pointers.push_back(&o);
+    Image smooth(w, h, 3);
+    for (float &x : smooth.data) x = 1e-3f;
+    const Image before = smooth;
+    std::vector<double> raised =
+        AutoGuardLocalMeans(smooth, color, pointers, variance, {2.f, 2, 1e-5f});
+    EXPECT_EQ(raised[0], 0.0);
+    EXPECT_EQ(raised[1], 0.0);
+    EXPECT_NEAR(raised[2], 1.0, 1e-9);
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+        EXPECT_EQ(smooth.Plane(1)[i], before.Plane(1)[i]);
+        EXPECT_GT(smooth.Plane(2)[i], before.Plane(2)[i]);
+    }
 }
 
 }  // namespace

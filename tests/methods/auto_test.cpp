@@ -755,12 +755,24 @@ TEST_F(AutoEstimateProperty, VariantsShareOneWeightInStripsAsOnTheWholeFrame) {
             << fmt::format("{}", fmt::join(whole.plan, "\n"));
         EXPECT_NE(sharedLines(whole)[0].find("c1 x1.41, c2 x1.41"), std::string::npos)
             << sharedLines(whole)[0];
+        // The guard of the local means is host code run per strip: its tents too must give
+        // the whole frame's bits.
+        AutoOptions guarded = share;
+        guarded.meanGuard = 2;
+        AutoResult wholeGuarded = AutoCombine(Ctx(), half1, candidates, in, guarded);
         for (int rows : {10, 13}) {
             AutoOptions strip = share;
             strip.stripRows = rows;
             AutoResult strips = AutoCombine(Ctx(), half1, candidates, in, strip);
             EXPECT_EQ(strips.image.data, whole.image.data) << rows << " rows";
             EXPECT_EQ(strips.sharePercent, whole.sharePercent) << rows << " rows";
+            strip = guarded;
+            strip.stripRows = rows;
+            strips = AutoCombine(Ctx(), half1, candidates, in, strip);
+            EXPECT_EQ(strips.image.data, wholeGuarded.image.data) << rows << " rows, guarded";
+            EXPECT_EQ(strips.sharePercent, wholeGuarded.sharePercent) << rows << " rows";
+            EXPECT_NE(fmt::format("{}", fmt::join(strips.plan, "\n")).find("first strip's"),
+                      std::string::npos);
         }
     }
     each.combination = share.combination = AutoCombination::Select;
@@ -768,6 +780,97 @@ TEST_F(AutoEstimateProperty, VariantsShareOneWeightInStripsAsOnTheWholeFrame) {
     AutoResult selected = AutoCombine(Ctx(), half1, candidates, in, share);
     EXPECT_EQ(selected.image.data, alone.image.data);
     EXPECT_TRUE(sharedLines(selected).empty());
+}
+
+// Issue 29: beside the half-buffers, a candidate that erases a small dark object (its output
+// there the wall's level, the wall less noisy than the other candidate's) keeps the
+// estimates over its wide windows nearly as low as the wall's, and took the object's
+// weight: the object faded. The guard of the local means sees its mean over the object
+// depart from the input's by several standard errors and weighs it less there: the
+// object's mean stays within 3% of the truth. Its relMSE is printed, not asserted: the
+// noisy candidate that keeps the object has more of it there than a mix that lifts the
+// object a little, and the guard reweighs some of the wall's noise too.
+TEST_F(AutoEstimateProperty, GuardKeepsADarkObjectOneCandidateErases) {
+    const int w = 40, h = 40, x0 = 17, y0 = 17, side = 6;
+    const float wall = 0.3f, object = 0.2f, sigma = 0.05f;
+    std::mt19937_64 rng(SeedFromName("auto guard erased object"));
+    std::normal_distribution<float> normal(0, 1);
+    auto inside = [&](size_t i) {
+        const int x = int(i % w), y = int((i / w) % h);
+        return x >= x0 && x < x0 + side && y >= y0 && y < y0 + side;
+    };
+    Image truth(w, h, 3), color(w, h, 3), half1(w, h, 3);
+    for (size_t i = 0; i < truth.data.size(); ++i) {
+        truth.data[i] = inside(i) ? object : wall;
+        color.data[i] = truth.data[i] + sigma * normal(rng);
+        half1.data[i] = truth.data[i] + sigma * std::sqrt(2.f) * normal(rng);
+    }
+    // c0 keeps the object and is noisy; c1 is smooth and erases it, on the frame and on half0.
+    std::vector<AutoCandidate> candidates(2);
+    for (int k = 0; k < 2; ++k) {
+        AutoCandidate &c = candidates[k];
+        c.label = c.method = fmt::format("c{}", k);
+        c.output = c.probe = Image(w, h, 3);
+        const float spread = k == 0 ? 0.06f : 0.005f;
+        for (size_t i = 0; i < truth.data.size(); ++i) {
+            const float level = k == 1 ? wall : truth.data[i];
+            c.output.data[i] = level + spread * normal(rng);
+            c.probe.data[i] = level + spread * std::sqrt(2.f) * normal(rng);
+        }
+    }
+    AutoEstimateInputs in;
+    in.variance = Image(w, h, 3, 2 * sigma * sigma);
+    in.probe = Image(w, h, 3, 0.f);
+    in.half1 = half1;
+    in.meanVariance = Image(w, h, 3, sigma * sigma);
+    AutoOptions options;
+    options.radius = 6, options.halvesFloor = 0.5f;
+    auto objectMean = [&](const Image &image) {
+        double sum = 0;
+        for (size_t i = 0; i < image.data.size(); ++i) sum += inside(i) ? image.data[i] : 0;
+        return sum / (3.0 * side * side);
+    };
+    AutoResult unguarded = AutoCombine(Ctx(), color, candidates, in, options);
+    options.meanGuard = 2;
+    AutoResult guarded = AutoCombine(Ctx(), color, candidates, in, options);
+    const double before = objectMean(unguarded.image) / object,
+                 after = objectMean(guarded.image) / object;
+    const double errorBefore = CompareImages(unguarded.image, truth).relMse,
+                 errorAfter = CompareImages(guarded.image, truth).relMse;
+    const Image objectTruth = truth.Crop(x0, y0, x0 + side, y0 + side);
+    const double
+        objectBefore =
+            CompareImages(unguarded.image.Crop(x0, y0, x0 + side, y0 + side), objectTruth)
+                .relMse,
+        objectAfter =
+            CompareImages(guarded.image.Crop(x0, y0, x0 + side, y0 + side), objectTruth).relMse;
+    fmt::print(
+        "object's mean over the truth: {:.3f} unguarded, {:.3f} guarded; relMSE {:.4g} "
+        "-> {:.4g}, over the object {:.4g} -> {:.4g}\n",
+        before, after, errorBefore, errorAfter, objectBefore, objectAfter);
+    EXPECT_GT(before, 1.1);  // lifted toward the wall without the guard
+    EXPECT_NEAR(after, 1.0, 0.03);
+    AutoResult again = AutoCombine(Ctx(), color, candidates, in, options);
+    EXPECT_EQ(again.image.data, guarded.image.data);
+    // A combination of half0 runs reads twice the variance (meanGuardVarianceScale 2): the
+    // same departures are fewer standard errors, so the guard raises c1 in fewer pixels.
+    auto raisedShare = [](const AutoResult &r) {
+        for (const std::string &line : r.plan) {
+            const size_t at = line.find("raised in ");
+            if (line.find("guard of the local means") == std::string::npos ||
+                at == std::string::npos)
+                continue;
+            const size_t c1 = line.find("c1 ", at);
+            if (c1 != std::string::npos) return std::stod(line.substr(c1 + 3));
+        }
+        return -1.0;
+    };
+    options.meanGuardVarianceScale = 2;
+    AutoResult scaled = AutoCombine(Ctx(), color, candidates, in, options);
+    EXPECT_GT(raisedShare(guarded), 0.0);
+    EXPECT_GE(raisedShare(scaled), 0.0);
+    EXPECT_LT(raisedShare(scaled), raisedShare(guarded));
+    EXPECT_NE(scaled.image.data, guarded.image.data);
 }
 
 // The relative combination's value minimises sum_k w_k (f - c_k)^2 / (c_k^2 + 0.01) under
