@@ -1154,6 +1154,14 @@ TEST(Highlights, LightRimsSumChannelsInFloat) {
     EXPECT_EQ(output.At(0, 0, 4), 0.5f);
 }
 
+// awr at its defaults on the panel's colour, variance and largest sample.
+Result RunAwrOnPanel(const PanelLight &panel) {
+    Frame frame = ColorAndVariance(panel.color, panel.variance);
+    frame.layers["max"] = panel.maxSample;
+    Device device = api::BorrowDevice(TestContext());
+    return Method("awr").Run(device, frame);
+}
+
 // The largest error of awr's output in the rows just past the panel's rims, over its width.
 float WorstPastRims(const Image &image, const PanelLight &panel) {
     float worst = 0;
@@ -1169,10 +1177,7 @@ float WorstPastRims(const Image &image, const PanelLight &panel) {
 // are lowered to the input's maximum over their window, rims and lights left out.
 TEST_F(HighlightsAwr, ALargeLightsRimDoesNotGlowPastIt) {
     PanelLight panel("highlights awr panel rim");
-    Frame frame = ColorAndVariance(panel.color, panel.variance);
-    frame.layers["max"] = panel.maxSample;
-    Device device = api::BorrowDevice(Ctx());
-    Result out = Method("awr").Run(device, frame);
+    Result out = RunAwrOnPanel(panel);
     // The row past each rim, over the panel's width: no value off by half the floor (the
     // floor's own noise is a tenth of it).
     float worst = WorstPastRims(out.image, panel);
@@ -1194,10 +1199,7 @@ TEST_F(HighlightsAwr, AHalfCoveredRimDoesNotGlowPastIt) {
             ASSERT_LT(panel.color.At(0, y, x), 30 * 14 / 16.f) << x << "," << y;
         }
     ASSERT_GE(overShare, 3);
-    Frame frame = ColorAndVariance(panel.color, panel.variance);
-    frame.layers["max"] = panel.maxSample;
-    Device device = api::BorrowDevice(Ctx());
-    Result out = Method("awr").Run(device, frame);
+    Result out = RunAwrOnPanel(panel);
     float worst = WorstPastRims(out.image, panel);
     EXPECT_LT(worst, 0.5f * 0.05f) << "a glow past the rim";
     // Within 2 of the panel's full interior the bound is the window's mean (plus 2 standard
@@ -1220,10 +1222,7 @@ TEST_F(HighlightsAwr, AHalfCoveredRimDoesNotGlowPastIt) {
 // by more than its noise, nor worse than the input in squared error.
 TEST_F(HighlightsAwr, ALightsTroughStaysAtTheInputsLevel) {
     PanelLight panel("highlights awr trough past the rim", 0.55f);
-    Frame frame = ColorAndVariance(panel.color, panel.variance);
-    frame.layers["max"] = panel.maxSample;
-    Device device = api::BorrowDevice(Ctx());
-    Result out = Method("awr").Run(device, frame);
+    Result out = RunAwrOnPanel(panel);
     // Rows 1-3 past each rim, each within kFullLightReach of the panel's interior.
     for (int past = 1; past <= kFullLightReach - 1; ++past)
         for (int y : {PanelLight::y0 - 1 - past, PanelLight::y1 + past}) {
