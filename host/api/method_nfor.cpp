@@ -361,8 +361,9 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             features = 10, candidates = 4;
         needs.bindingBytesPerPixel = 4.0 * offsets;
         needs.bytesPerPixel =
-            4.0 * (2 * offsets + (features + 3) * channels + candidates * (channels + 1) +
-                   6 * channels + 3 * features + 3);
+            4.0 * (2 * offsets + NforBetaStride(features, channels) +
+                   NforPackedFloats(features) + kNforIlluminationFloats +
+                   candidates * (channels + 1) + 6 * channels + 3 * features + 3);
         // Whether the gate lets the coarse pass run is measured only for a frame too large
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =

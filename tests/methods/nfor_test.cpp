@@ -632,6 +632,63 @@ TEST_P(NforPrefilterKernel, MatchesReferenceAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, NforPrefilterKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
+// The illumination kernel's output made on the CPU: per pixel the channels' colour, then
+// their variance, each divided by the albedo's channel (min(c, its channels - 1)) and its
+// square where that is above the floor; zeros past the channels.
+Image IlluminationOf(const Image &color, const Image &variance, const Image *albedo) {
+    Image out(color.width, color.height, kNforIlluminationFloats);
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
+            float *values = out.data.data() + (size_t(y) * color.width + x) * 8;
+            for (int c = 0; c < color.channels; ++c) {
+                float value = color.At(c, y, x), noise = variance.At(c, y, x);
+                float a = albedo ? albedo->At(std::min(c, albedo->channels - 1), y, x) : 0.f;
+                if (albedo && a > float(NFOR_NOISE_ALBEDO_FLOOR)) {
+                    value /= a;
+                    noise /= a * a;
+                }
+                values[c] = value;
+                values[4 + c] = noise;
+            }
+        }
+    return out;
+}
+
+// Illumination: one division each, rounded alike here (the square too): bit for bit, with
+// 1, 3 and 4 colour channels, an albedo of as many or 1 channel, or none.
+class NforIlluminationKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforIlluminationKernel, MatchesTheDefinitionAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    const std::string name = fmt::format("illumination{}x{}{}", w, h, InputKindName(kind));
+    for (auto [channels, albedoChannels] : {std::pair{3, 3}, {3, 0}, {4, 1}, {1, 1}, {4, 4}}) {
+        SCOPED_TRACE(fmt::format("{} channels, albedo {}", channels, albedoChannels));
+        Image color = Positive(kind, w, h, channels, name);
+        Image variance = Positive(InputKind::Uniform, w, h, channels, name + "variance");
+        Image albedo =
+            Positive(InputKind::Uniform, w, h, std::max(albedoChannels, 1), name + "albedo");
+        // Some albedos under the floor: those channels are not divided.
+        for (size_t i = 0; i < albedo.Size(); i += 3) albedo.data[i] *= 0.01f;
+        const Image *divisor = albedoChannels > 0 ? &albedo : nullptr;
+        auto run = [&] {
+            vk::GpuImage c = Upload(Ctx(), color, "color"),
+                         v = Upload(Ctx(), variance, "variance"),
+                         a = Upload(Ctx(), albedo, "albedo");
+            vk::GpuImage out(Ctx(), w, h, kNforIlluminationFloats, "illumination");
+            vk::Recorder recorder(Ctx());
+            RecordNforIllumination(Ctx(), recorder, c, v, divisor ? &a : nullptr, out);
+            recorder.Submit();
+            return out.Download();
+        };
+        Image actual = run();
+        EXPECT_TRUE(BitIdentical(IlluminationOf(color, variance, divisor), actual));
+        EXPECT_TRUE(BitIdentical(actual, run()));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforIlluminationKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
 // Term (divided: also the normaliser 2 min(v_p, v_q)): with the albedo's divisions, cp and cq
 // carry a rounding each, which moves d^2 by at most 2u (|cp| + |cq|)^2; the variances'
 // divisions, the sums, the square and the division add about 6 roundings more: 12u of ((|cp| +
@@ -648,13 +705,12 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
         Image expected = ref::NforTerms(color, variance, divided ? &albedo : nullptr, radius,
                                         alpha, divided);
         auto run = [&] {
-            vk::GpuImage c = Upload(Ctx(), color, "color"),
-                         v = Upload(Ctx(), variance, "variance");
-            vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+            vk::GpuImage illumination =
+                Upload(Ctx(), IlluminationOf(color, variance, divided ? &albedo : nullptr),
+                       "illumination");
             vk::GpuImage out(Ctx(), w, h, NforOffsetCount(radius), "terms");
             vk::Recorder recorder(Ctx());
-            RecordNforTerm(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, alpha,
-                           divided, out);
+            RecordNforTerm(Ctx(), recorder, illumination, 3, radius, alpha, divided, out);
             recorder.Submit();
             return out.Download();
         };
@@ -751,10 +807,11 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
             vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
             int offsets = NforOffsetCount(radius);
             vk::GpuImage scratch(Ctx(), w, h, offsets, "scratch"),
-                out(Ctx(), w, h, offsets, "D");
+                out(Ctx(), w, h, offsets, "D"),
+                illumination(Ctx(), w, h, kNforIlluminationFloats, "illumination");
             vk::Recorder recorder(Ctx());
             RecordNforDistance(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, patch,
-                               alpha, divided, scratch, out);
+                               alpha, divided, illumination, scratch, out);
             recorder.Submit();
             return out.Download();
         };
@@ -838,6 +895,38 @@ NforFitSettings SettingsOf(const FitInputs &f) {
             float(f.candidate.ridge), std::vector<float>(f.weights.begin(), f.weights.end())};
 }
 
+// Pack: a copy, bit for bit against NforPackedOf, with 1, 3 and 4 colour channels and
+// features filling part of a vec4, all of it, and three.
+class NforPackKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforPackKernel, MatchesTheLayoutAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    const std::string name = fmt::format("pack{}x{}{}", w, h, InputKindName(kind));
+    for (auto [channels, features] : {std::pair{3, 7}, {1, 5}, {4, 10}, {3, 3}}) {
+        SCOPED_TRACE(fmt::format("{} channels, {} features", channels, features));
+        Image color = MakeInput(kind, w, h, channels, SeedFromName(name));
+        Image feature = MakeInput(kind, w, h, features, SeedFromName(name + "features"));
+        Image mask(w, h, 1, 1.f);
+        for (size_t i = 0; i < mask.Size(); i += 4) mask.data[i] = 0.f;
+        auto run = [&] {
+            vk::GpuImage c = Upload(Ctx(), color, "color"),
+                         fe = Upload(Ctx(), feature, "features"),
+                         m = Upload(Ctx(), mask, "mask");
+            vk::GpuImage out(Ctx(), w, h, NforPackedFloats(features), "packed");
+            vk::Recorder recorder(Ctx());
+            RecordNforPack(Ctx(), recorder, c, fe, m, out);
+            recorder.Submit();
+            return out.Download();
+        };
+        Image actual = run();
+        EXPECT_TRUE(BitIdentical(NforPackedOf(color, feature, mask), actual));
+        EXPECT_TRUE(BitIdentical(actual, run()));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforPackKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
 // Regress: the sums of A = sum w x x^T (+ ridge) carry each weight's error (WeightError
 // with the feature term exact to (n + 3) u) and m u of accumulation relative to
 // sum w |x_i x_j|; the solution moves by the condition number times that. The condition
@@ -854,17 +943,18 @@ TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     ref::NforFit expected =
         ref::NforRegress(f.color, f.features, f.mask, f.distance, f.candidate);
     auto run = [&](Image *hat) {
-        vk::GpuImage c = Upload(Ctx(), f.color, "color"),
-                     fe = Upload(Ctx(), f.features, "features");
-        vk::GpuImage m = Upload(Ctx(), f.mask, "mask"), d = Upload(Ctx(), f.distance, "D");
-        vk::GpuImage beta(Ctx(), w, h, 8 * 3, "beta"), hats(Ctx(), w, h, 2, "hat");
+        vk::GpuImage packed =
+            Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+        vk::GpuImage d = Upload(Ctx(), f.distance, "D");
+        vk::GpuImage beta(Ctx(), w, h, NforBetaStride(5, 3), "beta"),
+            hats(Ctx(), w, h, 2, "hat");
         vk::Recorder recorder(Ctx());
-        RecordNforRegress(Ctx(), recorder, c, fe, m, d, SettingsOf(f), beta, hats, 1);
+        RecordNforRegress(Ctx(), recorder, packed, 3, d, SettingsOf(f), beta, hats, 1);
         recorder.Submit();
         Image all = hats.Download();
         *hat = Image(w, h, 1);
         std::copy(all.Plane(1), all.Plane(1) + hat->Size(), hat->data.begin());
-        return beta.Download();
+        return NforBetaPlanes(beta.Download(), 5, 3);
     };
     Image hat, hatAgain;
     Image beta = run(&hat);
@@ -919,13 +1009,13 @@ TEST_P(NforGatherKernel, MatchesReferenceAndRepeats) {
     ref::NforFit fit = ref::NforRegress(f.color, f.features, f.mask, f.distance, f.candidate);
     Image expected = ref::NforGather(f.input, f.features, f.mask, f.distance, fit, f.candidate);
     auto run = [&] {
-        vk::GpuImage in = Upload(Ctx(), f.input, "input"),
-                     fe = Upload(Ctx(), f.features, "features");
-        vk::GpuImage m = Upload(Ctx(), f.mask, "mask"), d = Upload(Ctx(), f.distance, "D");
-        vk::GpuImage beta = Upload(Ctx(), fit.beta, "beta");
+        vk::GpuImage in = Upload(Ctx(), f.input, "input"), d = Upload(Ctx(), f.distance, "D");
+        vk::GpuImage packed =
+            Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+        vk::GpuImage beta = Upload(Ctx(), NforBetaPerPixel(fit.beta, 5, 3), "beta");
         vk::GpuImage out(Ctx(), w, h, 6, "out");
         vk::Recorder recorder(Ctx());
-        RecordNforGather(Ctx(), recorder, in, fe, m, d, beta, SettingsOf(f), out, 3);
+        RecordNforGather(Ctx(), recorder, in, packed, d, beta, SettingsOf(f), out, 3);
         recorder.Submit();
         Image all = out.Download();
         Image part(w, h, 3);

@@ -62,11 +62,10 @@ double WalkTerm(const vk::KeptDispatch &d) {
         auto [ox, oy] = Offset(p.radius, j);
         if (!Inside(x + ox, y + oy, p.width, p.height)) return;
         for (int c = 0; c < channels; ++c) {
-            if (p.albedoChannels > 0) walked += 2 * 3;  // valueAt at p and q
-            walked += 1;                                // diff
-            walked += p.minVariance != 0 ? 2 : 1;       // s
-            walked += 10;                               // t
-            walked += 2;                                // min, the sum
+            walked += 1;                           // diff
+            walked += p.minVariance != 0 ? 2 : 1;  // s
+            walked += 10;                          // t
+            walked += 2;                           // min, the sum
         }
         walked += 1;  // the mean
     });
