@@ -257,10 +257,13 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
     CheckOffsets("nfor box", radius, patch);
     shader::NforDistancePush push{in.width,         in.height, radius, patch,
                                   vertical ? 1 : 0, 0,         0,      0};
+    // One invocation per block of NFOR_BOX_BLOCK outputs along the pass's axis.
+    int blocksX = vertical ? in.width : (in.width + NFOR_BOX_BLOCK - 1) / NFOR_BOX_BLOCK;
+    int blocksY = vertical ? (in.height + NFOR_BOX_BLOCK - 1) / NFOR_BOX_BLOCK : in.height;
     recorder.Dispatch(BoxKernel(context), "nfor.box",
                       {{NFOR_BOX_IN, &in.buffer, vk::Access::Read},
                        {NFOR_BOX_OUT, &out.buffer, vk::Access::Write}},
-                      push, Groups(in.width), uint32_t(in.height), uint32_t(in.channels));
+                      push, Groups(blocksX), uint32_t(blocksY), uint32_t(in.channels));
 }
 
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,

@@ -28,6 +28,9 @@
 #define NFOR_TERM_OUT 1
 #define NFOR_TERM_BINDINGS 2
 
+// `box` sums NFOR_BOX_BLOCK outputs an invocation, along its pass's axis, from the values
+// their patches read, loaded once.
+#define NFOR_BOX_BLOCK 4
 #define NFOR_BOX_IN 0
 #define NFOR_BOX_OUT 1
 #define NFOR_BOX_BINDINGS 2

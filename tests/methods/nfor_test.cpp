@@ -760,11 +760,20 @@ class NforBoxKernel : public GpuTestWithParam<KernelCase> {};
 TEST_P(NforBoxKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     std::string name = fmt::format("box{}x{}{}", w, h, InputKindName(kind));
-    const int radius = 2, patch = 2;
+    const int radius = 2;
     Image input = MakeInput(kind, w, h, NforOffsetCount(radius), SeedFromName(name));
     Image absolute = input;
     for (float &v : absolute.data) v = std::fabs(v);
-    for (bool vertical : {false, true}) {
+    // Patches of every half-size the kernel's blocks hold (up to NFOR_MAX_PATCH), on sizes
+    // that are no multiple of the block.
+    for (auto [patch, vertical] : {std::pair{2, false},
+                                   {2, true},
+                                   {0, false},
+                                   {0, true},
+                                   {1, true},
+                                   {3, false},
+                                   {3, true}}) {
+        SCOPED_TRACE(fmt::format("patch {}", patch));
         Image expected = ref::NforBoxPass(input, radius, patch, vertical);
         Image magnitude = ref::NforBoxPass(absolute, radius, patch, vertical);
         auto run = [&] {
