@@ -1,15 +1,16 @@
 // nfor stage 4: the colour's NL-means patch distance D(p, o) for every offset o of the
 // regression window with oy > 0, or oy = 0 and ox > 0 (raster order; the other half is
-// D(p, o) = D(p + o, -o)). Two kernels: `term` writes, per pixel u and stored offset j, the
-// mean over the channels of ((C_u - C_u+o)^2 - alpha (v_u + v_u+o)) / (v_u + v_u+o +
-// NFOR_REL_EPS (C_u^2 + C_u+o^2) + NFOR_TINY), each at most NFOR_TERM_MAX (0 where u + o
-// is outside; with minVariance both v_u + v_u+o are 2 min(v_u, v_u+o): a dark pixel does
-// not borrow from a brighter, noisier one, and a term is at least -alpha); with an albedo, C is
-// the colour divided by the albedo's channel where that is above NFOR_NOISE_ALBEDO_FLOOR and v
-// the variance divided by its square (the illumination: texture and the coverage of edge pixels
-// divide out); `box` sums those over the patch positions, along rows (vertical 0) and then
-// along columns (vertical 1), the second dividing by the number of patch positions with both
-// ends inside (0 where none). One invocation per pixel and stored offset.
+// D(p, o) = D(p + o, -o)). Three kernels: `illumination` (below), then `term` writes, per pixel
+// u and stored offset j, the mean over the channels of ((C_u - C_u+o)^2 - alpha (v_u + v_u+o))
+// / (v_u + v_u+o + NFOR_REL_EPS (C_u^2 + C_u+o^2) + NFOR_TINY), each at most NFOR_TERM_MAX (0
+// where u + o is outside; with minVariance both v_u + v_u+o are 2 min(v_u, v_u+o): a dark pixel
+// does not borrow from a brighter, noisier one, and a term is at least -alpha); with an albedo,
+// C is the colour divided by the albedo's channel where that is above NFOR_NOISE_ALBEDO_FLOOR
+// and v the variance divided by its square (the illumination: texture and the coverage of edge
+// pixels divide out); `box` sums those over the patch positions, along rows (vertical 0) and
+// then along columns (vertical 1), the second dividing by the number of patch positions with
+// both ends inside (0 where none). `term`: one invocation per pixel and stored offset; `box`:
+// one per NFOR_BOX_BLOCK outputs of a stored offset.
 #ifndef MCD_SHADERS_NFOR_DISTANCE_H
 #define MCD_SHADERS_NFOR_DISTANCE_H
 

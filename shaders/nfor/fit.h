@@ -3,9 +3,8 @@
 // over the (2R + 1)^2 window, weight of q exp(-max(0, D(p, q - p)) / k^2 - sum_j (s_j
 // (F_q,j - F_p,j))^2) (1 at q = p; 0 for emitters, outside the frame and where the
 // exponent exceeds NFOR_EXP_CUT), ridge lambda sum(w) on every column but the constant,
-// Cholesky; writes the coefficients (column i, channel c at i * channels + c of the pixel's
-// packed run, below) and
-// the fit's influence on its centre, (A^-1)_00, at plane `hatPlane` of the hat buffer.
+// Cholesky; writes the coefficients (per pixel, below) and the fit's influence on its
+// centre, (A^-1)_00, at plane `hatPlane` of the hat buffer.
 // An emitter (mask 0) writes its colour as the constant, no slope, influence 1. `gather`:
 // per pixel q the average of the fits of the windows p holding q whose centres are at most
 // gatherRadius away (all of them at the window's radius: NFOR's collaborative filtering),
