@@ -281,17 +281,21 @@ void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::
 
 namespace {
 
-void CheckFit(const char *what, const vk::GpuImage &packed, int channels,
+void CheckFit(const char *what, const vk::GpuImage &packed, int features, int channels,
               const vk::GpuImage &distance, const NforFitSettings &settings) {
     if (channels < 1 || channels > NFOR_MAX_CHANNELS)
         throw Error(fmt::format("{}: {} channels; 1 to {} are supported", what, channels,
                                 NFOR_MAX_CHANNELS),
                     ErrorKind::InvalidArgument);
-    int features = int(settings.featureWeights.size());
-    if (features > NFOR_MAX_FEATURES)
-        throw Error(fmt::format("{}: {} feature weights; at most {}", what, features,
-                                NFOR_MAX_FEATURES),
+    // The packed size is the same for several feature counts: check the count itself.
+    if (int(settings.featureWeights.size()) != features)
+        throw Error(fmt::format("{}: {} feature weights for {} feature planes", what,
+                                settings.featureWeights.size(), features),
                     ErrorKind::InvalidArgument);
+    if (features < 0 || features > NFOR_MAX_FEATURES)
+        throw Error(
+            fmt::format("{}: {} features; at most {}", what, features, NFOR_MAX_FEATURES),
+            ErrorKind::InvalidArgument);
     CheckSize(what, packed, packed, NforPackedFloats(features));
     if (settings.radius < 1 || settings.radius > NFOR_MAX_RADIUS)
         throw Error(
@@ -365,11 +369,10 @@ void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
 }
 
 void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &packed,
-                       int channels, const vk::GpuImage &distance,
+                       int features, int channels, const vk::GpuImage &distance,
                        const NforFitSettings &settings, vk::GpuImage &beta, vk::GpuImage &hat,
                        int hatPlane) {
-    CheckFit("nfor regress", packed, channels, distance, settings);
-    int features = int(settings.featureWeights.size());
+    CheckFit("nfor regress", packed, features, channels, distance, settings);
     CheckSize("nfor regress", packed, beta, NforBetaStride(features, channels));
     CheckSize("nfor regress", packed, hat, 0);
     if (hatPlane < 0 || hatPlane >= hat.channels)
@@ -388,11 +391,10 @@ void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::G
 }
 
 void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
-                      const vk::GpuImage &packed, const vk::GpuImage &distance,
+                      const vk::GpuImage &packed, int features, const vk::GpuImage &distance,
                       const vk::GpuImage &beta, const NforFitSettings &settings,
                       vk::GpuImage &out, int outPlane) {
-    CheckFit("nfor gather", packed, input.channels, distance, settings);
-    int features = int(settings.featureWeights.size());
+    CheckFit("nfor gather", packed, features, input.channels, distance, settings);
     CheckSize("nfor gather", packed, input, 0);
     CheckSize("nfor gather", input, beta, NforBetaStride(features, input.channels));
     CheckSize("nfor gather", input, out, 0);

@@ -96,18 +96,19 @@ void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                     const vk::GpuImage &features, const vk::GpuImage &mask,
                     vk::GpuImage &packed);
 
-// shaders/nfor/regress.comp: on `pack`'s output for a colour of `channels`, the fits'
-// coefficients into `beta` (NforBetaStride planes' worth, per pixel: column i, channel c
-// at i * channels + c) and their influence into plane `hatPlane` of `hat`.
+// shaders/nfor/regress.comp: on `pack`'s output of `features` feature planes (one weight
+// each in `settings`) for a colour of `channels`, the fits' coefficients into `beta`
+// (NforBetaStride planes' worth, per pixel: column i, channel c at i * channels + c) and their
+// influence into plane `hatPlane` of `hat`.
 void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &packed,
-                       int channels, const vk::GpuImage &distance,
+                       int features, int channels, const vk::GpuImage &distance,
                        const NforFitSettings &settings, vk::GpuImage &beta, vk::GpuImage &hat,
                        int hatPlane);
 
-// shaders/nfor/gather.comp: the collaborative average into planes outPlane.. of `out`;
-// emitters take `input`.
+// shaders/nfor/gather.comp: the collaborative average into planes outPlane.. of `out`, on
+// `pack`'s output of `features` feature planes; emitters take `input`.
 void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
-                      const vk::GpuImage &packed, const vk::GpuImage &distance,
+                      const vk::GpuImage &packed, int features, const vk::GpuImage &distance,
                       const vk::GpuImage &beta, const NforFitSettings &settings,
                       vk::GpuImage &out, int outPlane);
 

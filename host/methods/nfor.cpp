@@ -591,13 +591,14 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
         const vk::GpuImage &distance = *k.distance;
         NforFitSettings settings{k.radius, std::min(GatherRadius(o), k.radius), k.bandwidth,
                                  o.ridge, weights};
-        RecordNforRegress(context, run.Recorder(), gpu.packed, ch, distance, settings, gpu.beta,
-                          gpu.hat, i);
+        RecordNforRegress(context, run.Recorder(), gpu.packed, gpu.filtered.channels, ch,
+                          distance, settings, gpu.beta, gpu.hat, i);
         run.Stage(fmt::format("{}k{}.beta", prefix, i), [&] {
             return NforBetaPlanes(gpu.beta.Download(), gpu.filtered.channels, ch);
         });
-        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.packed, distance, gpu.beta,
-                         settings, gpu.candidates, i * ch);
+        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.packed,
+                         gpu.filtered.channels, distance, gpu.beta, settings, gpu.candidates,
+                         i * ch);
         // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
         run.Submit();
         run.Stage(fmt::format("{}k{}.hat", prefix, i),

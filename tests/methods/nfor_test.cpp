@@ -879,18 +879,22 @@ struct FitInputs {
     ref::NforCandidate candidate;
 };
 
-FitInputs MakeFitInputs(int w, int h, InputKind kind, const std::string &name, int radius) {
+// `features` planes: the albedo's three, a uniform plane, a constant plane (a rank-deficient
+// column), then two more uniform planes; the albedo's weighted 3, the others 1.
+FitInputs MakeFitInputs(int w, int h, InputKind kind, const std::string &name, int radius,
+                        int features = 5, int channels = 3) {
     FitInputs f;
-    f.input = Positive(kind, w, h, 3, name);
+    f.input = Positive(kind, w, h, channels, name);
     Image albedo = Albedo(w, h, name + "albedo", true);
     Image other = MakeInput(InputKind::Uniform, w, h, 3, SeedFromName(name + "normal"));
-    f.features = Image(w, h, 5);
-    for (size_t i = 0; i < f.input.PixelCount(); ++i) {
-        for (int c = 0; c < 3; ++c) f.features.Plane(c)[i] = std::min(albedo.Plane(c)[i], 1.f);
-        f.features.Plane(3)[i] = other.Plane(0)[i];
-        f.features.Plane(4)[i] = 1.f;  // a constant plane: a rank-deficient column
-    }
-    f.weights = {3, 3, 3, 1, 1};
+    f.features = Image(w, h, features);
+    const float *extra[4] = {other.Plane(0), nullptr, other.Plane(1), other.Plane(2)};
+    for (size_t i = 0; i < f.input.PixelCount(); ++i)
+        for (int j = 0; j < features; ++j)
+            f.features.Plane(j)[i] = j < 3          ? std::min(albedo.Plane(j)[i], 1.f)
+                                     : extra[j - 3] ? extra[j - 3][i]
+                                                    : 1.f;
+    for (int j = 0; j < features; ++j) f.weights.push_back(j < 3 ? 3 : 1);
     Image variance = ref::NforNoise(f.input, &albedo, 2, 1.479);
     f.mask = ref::NforMask(&albedo, w, h, 1.5);
     f.color = ref::NforClamp(f.input, variance, &albedo, f.mask, 4, 0.5, 0);
@@ -898,6 +902,10 @@ FitInputs MakeFitInputs(int w, int h, InputKind kind, const std::string &name, i
     f.candidate = {0.7, &f.weights, 0.1, radius, radius};
     return f;
 }
+
+// The fit kernels' shapes (features, channels): 5 x 3 fills the coefficients' vec4s
+// exactly; 7 x 3 and 4 x 1 pad them.
+constexpr std::pair<int, int> kFitShapes[] = {{5, 3}, {7, 3}, {4, 1}};
 
 NforFitSettings SettingsOf(const FitInputs &f) {
     return {f.candidate.radius, f.candidate.gatherRadius, float(f.candidate.bandwidth),
@@ -944,30 +952,32 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforPackKernel, testing::ValuesIn(KernelCases())
 // sum over the window of |x|^2 + (columns - 1) lambda m: bounds of the window's features.
 class NforRegressKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
-    const auto [w, h, kind] = GetParam();
+void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
+    SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
     const int radius = 2;
-    FitInputs f = MakeFitInputs(
-        w, h, kind, fmt::format("regress{}x{}{}", w, h, InputKindName(kind)), radius);
+    FitInputs f =
+        MakeFitInputs(w, h, kind, fmt::format("regress{}x{}{}", w, h, InputKindName(kind)),
+                      radius, features, channels);
     ref::NforFit expected =
         ref::NforRegress(f.color, f.features, f.mask, f.distance, f.candidate);
     auto run = [&](Image *hat) {
         vk::GpuImage packed =
-            Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
-        vk::GpuImage d = Upload(Ctx(), f.distance, "D");
-        vk::GpuImage beta(Ctx(), w, h, NforBetaStride(5, 3), "beta"),
-            hats(Ctx(), w, h, 2, "hat");
-        vk::Recorder recorder(Ctx());
-        RecordNforRegress(Ctx(), recorder, packed, 3, d, SettingsOf(f), beta, hats, 1);
+            Upload(TestContext(), NforPackedOf(f.color, f.features, f.mask), "packed");
+        vk::GpuImage d = Upload(TestContext(), f.distance, "D");
+        vk::GpuImage beta(TestContext(), w, h, NforBetaStride(features, channels), "beta"),
+            hats(TestContext(), w, h, 2, "hat");
+        vk::Recorder recorder(TestContext());
+        RecordNforRegress(TestContext(), recorder, packed, features, channels, d, SettingsOf(f),
+                          beta, hats, 1);
         recorder.Submit();
         Image all = hats.Download();
         *hat = Image(w, h, 1);
         std::copy(all.Plane(1), all.Plane(1) + hat->Size(), hat->data.begin());
-        return NforBetaPlanes(beta.Download(), 5, 3);
+        return NforBetaPlanes(beta.Download(), features, channels);
     };
     Image hat, hatAgain;
     Image beta = run(&hat);
-    int window = (2 * radius + 1) * (2 * radius + 1), columns = 8;
+    int window = (2 * radius + 1) * (2 * radius + 1), columns = features + 3;
     double lambda = f.candidate.ridge;
     Image betaScale(w, h, beta.channels), hatScale(w, h, 1);
     for (int y = 0; y < h; ++y)
@@ -977,12 +987,12 @@ TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
                 for (int u = x - radius; u <= x + radius; ++u) {
                     if (u < 0 || v < 0 || u >= w || v >= h) continue;
                     double norm = 1 + 2.0;  // the constant and |dx|, |dy| <= 1
-                    for (int j = 0; j < 5; ++j) {
+                    for (int j = 0; j < features; ++j) {
                         double d = f.features.At(j, v, u) - f.features.At(j, y, x);
                         norm += d * d;
                     }
                     trace += norm;
-                    for (int c = 0; c < 3; ++c)
+                    for (int c = 0; c < channels; ++c)
                         largest = std::max(largest, double(std::fabs(f.color.At(c, v, u))));
                 }
             double condition = trace / std::min(1.0, lambda);
@@ -1002,6 +1012,11 @@ TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(hat, hatAgain));
 }
 
+TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    for (auto [features, channels] : kFitShapes) CheckRegress(w, h, kind, features, channels);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, NforRegressKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
@@ -1010,43 +1025,50 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforRegressKernel, testing::ValuesIn(KernelCases
 // of the window's largest prediction magnitude.
 class NforGatherKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforGatherKernel, MatchesReferenceAndRepeats) {
-    const auto [w, h, kind] = GetParam();
+void CheckGather(int w, int h, InputKind kind, int features, int channels) {
+    SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
     const int radius = 2;
-    FitInputs f = MakeFitInputs(
-        w, h, kind, fmt::format("gather{}x{}{}", w, h, InputKindName(kind)), radius);
+    FitInputs f =
+        MakeFitInputs(w, h, kind, fmt::format("gather{}x{}{}", w, h, InputKindName(kind)),
+                      radius, features, channels);
     ref::NforFit fit = ref::NforRegress(f.color, f.features, f.mask, f.distance, f.candidate);
     Image expected = ref::NforGather(f.input, f.features, f.mask, f.distance, fit, f.candidate);
     auto run = [&] {
-        vk::GpuImage in = Upload(Ctx(), f.input, "input"), d = Upload(Ctx(), f.distance, "D");
+        vk::GpuImage in = Upload(TestContext(), f.input, "input"),
+                     d = Upload(TestContext(), f.distance, "D");
         vk::GpuImage packed =
-            Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
-        vk::GpuImage beta = Upload(Ctx(), NforBetaPerPixel(fit.beta, 5, 3), "beta");
-        vk::GpuImage out(Ctx(), w, h, 6, "out");
-        vk::Recorder recorder(Ctx());
-        RecordNforGather(Ctx(), recorder, in, packed, d, beta, SettingsOf(f), out, 3);
+            Upload(TestContext(), NforPackedOf(f.color, f.features, f.mask), "packed");
+        vk::GpuImage beta =
+            Upload(TestContext(), NforBetaPerPixel(fit.beta, features, channels), "beta");
+        vk::GpuImage out(TestContext(), w, h, 2 * channels, "out");
+        vk::Recorder recorder(TestContext());
+        RecordNforGather(TestContext(), recorder, in, packed, features, d, beta, SettingsOf(f),
+                         out, channels);
         recorder.Submit();
         Image all = out.Download();
-        Image part(w, h, 3);
-        std::copy(all.Plane(3), all.Plane(3) + part.Size(), part.data.begin());
+        Image part(w, h, channels);
+        std::copy(all.Plane(channels), all.Plane(channels) + part.Size(), part.data.begin());
         return part;
     };
     Image actual = run();
-    int window = (2 * radius + 1) * (2 * radius + 1), columns = 8;
-    Image magnitude(w, h, 3);
-    for (int c = 0; c < 3; ++c)
+    int window = (2 * radius + 1) * (2 * radius + 1), columns = features + 3;
+    Image magnitude(w, h, channels);
+    for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 double most = std::fabs(f.input.At(c, y, x));
                 for (int v = y - radius; v <= y + radius; ++v)
                     for (int u = x - radius; u <= x + radius; ++u) {
                         if (u < 0 || v < 0 || u >= w || v >= h) continue;
-                        double xs[8] = {1, double(x - u) / radius, double(y - v) / radius};
-                        for (int j = 0; j < 5; ++j)
+                        std::vector<double> xs(columns);
+                        xs[0] = 1;
+                        xs[1] = double(x - u) / radius;
+                        xs[2] = double(y - v) / radius;
+                        for (int j = 0; j < features; ++j)
                             xs[3 + j] = f.features.At(j, y, x) - f.features.At(j, v, u);
                         double sum = 0;
                         for (int i = 0; i < columns; ++i)
-                            sum += std::fabs(xs[i] * fit.beta.At(i * 3 + c, v, u));
+                            sum += std::fabs(xs[i] * fit.beta.At(i * channels + c, v, u));
                         most = std::max(most, sum);
                     }
                 magnitude.At(c, y, x) = float(most);
@@ -1057,8 +1079,34 @@ TEST_P(NforGatherKernel, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(actual, run()));
 }
 
+TEST_P(NforGatherKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    for (auto [features, channels] : kFitShapes) CheckGather(w, h, kind, features, channels);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, NforGatherKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
+
+// Regress and gather refuse feature weights that do not match the packed features: a pack
+// of 5 features has the size of one of 7, so only the count can tell them apart.
+class NforFitChecks : public GpuTest {};
+
+TEST_F(NforFitChecks, FeatureCountMismatchThrows) {
+    const int w = 5, h = 4, radius = 2;
+    FitInputs f = MakeFitInputs(w, h, InputKind::Uniform, "fitchecks", radius);
+    NforFitSettings settings = SettingsOf(f);
+    settings.featureWeights.resize(7, 1.f);
+    ASSERT_EQ(NforPackedFloats(5), NforPackedFloats(7));
+    vk::GpuImage packed = Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+    vk::GpuImage d = Upload(Ctx(), f.distance, "D"), in = Upload(Ctx(), f.input, "input");
+    vk::GpuImage beta(Ctx(), w, h, NforBetaStride(5, 3), "beta"), hat(Ctx(), w, h, 1, "hat"),
+        out(Ctx(), w, h, 3, "out");
+    vk::Recorder recorder(Ctx());
+    EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 0),
+                 Error);
+    EXPECT_THROW(RecordNforGather(Ctx(), recorder, in, packed, 5, d, beta, settings, out, 0),
+                 Error);
+}
 
 // Select on the same candidates: SURE of a pixel is a few roundings of sum |d^2| + v (1 +
 // 2 h); its window mean m u more. Where the reference's best and second best means are
