@@ -273,7 +273,17 @@ void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::
     CheckSize("nfor distance", color, scratch, NforOffsetCount(radius));
     CheckOffsets("nfor distance", radius, patch);
     RecordNforIllumination(context, recorder, color, variance, albedo, illumination);
-    RecordNforTerm(context, recorder, illumination, color.channels, radius, alpha, minVariance,
+    RecordNforDistanceOfIllumination(context, recorder, illumination, color.channels, radius,
+                                     patch, alpha, minVariance, scratch, distance);
+}
+
+void RecordNforDistanceOfIllumination(vk::Context &context, vk::Recorder &recorder,
+                                      const vk::GpuImage &illumination, int channels,
+                                      int radius, int patch, float alpha, bool minVariance,
+                                      vk::GpuImage &scratch, vk::GpuImage &distance) {
+    CheckSize("nfor distance", illumination, scratch, NforOffsetCount(radius));
+    CheckOffsets("nfor distance", radius, patch);
+    RecordNforTerm(context, recorder, illumination, channels, radius, alpha, minVariance,
                    distance);
     RecordNforBox(context, recorder, distance, radius, patch, false, scratch);
     RecordNforBox(context, recorder, scratch, radius, patch, true, distance);

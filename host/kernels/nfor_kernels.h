@@ -68,6 +68,13 @@ void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::
                         int patch, float alpha, bool minVariance, vk::GpuImage &illumination,
                         vk::GpuImage &scratch, vk::GpuImage &distance);
 
+// RecordNforDistance after its illumination: term and both boxes on `illumination` (of a
+// colour of `channels`), for another window on the same colour, variance and albedo.
+void RecordNforDistanceOfIllumination(vk::Context &context, vk::Recorder &recorder,
+                                      const vk::GpuImage &illumination, int channels,
+                                      int radius, int patch, float alpha, bool minVariance,
+                                      vk::GpuImage &scratch, vk::GpuImage &distance);
+
 // One candidate of the fit: the window, the bandwidth k, the ridge and the feature weights
 // s_j (one per feature plane).
 struct NforFitSettings {

@@ -639,9 +639,11 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
     std::vector<PassCandidate> second;
     for (float k : o.pilotBandwidths) second.push_back({o.radius, k, &*gpu.pilotDistance});
     if (gpu.wideDistance) {
-        RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
-                           o.pilotWideRadius, o.patchRadius, o.pilotAlpha, pilotMin,
-                           gpu.illumination, *gpu.wideScratch, *gpu.wideDistance);
+        // The pilot distance's illumination: the same pilot, variance and albedo.
+        RecordNforDistanceOfIllumination(run.Context(), run.Recorder(), gpu.illumination,
+                                         gpu.pilot->channels, o.pilotWideRadius, o.patchRadius,
+                                         o.pilotAlpha, pilotMin, *gpu.wideScratch,
+                                         *gpu.wideDistance);
         run.Stage("pilot.wide.distance", *gpu.wideDistance);
         for (float k : o.pilotBandwidths)
             second.push_back({o.pilotWideRadius, k, &*gpu.wideDistance});
