@@ -359,10 +359,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             keptReach, lightReach);
         int offsets = ref::NforOffsetCount(std::max(o.radius, o.pilotWideRadius)),
             features = 10, candidates = 4;
-        needs.bindingBytesPerPixel = 4.0 * offsets;
+        // The largest one-binding buffer: the distances, or at small radii the coefficients,
+        // the candidates, the packed inputs or the illumination.
+        needs.bindingBytesPerPixel =
+            4.0 * std::max({offsets, NforBetaStride(features, channels), candidates * channels,
+                            NforPackedFloats(features), kNforIlluminationFloats});
         needs.bytesPerPixel =
-            4.0 * (2 * offsets + (features + 3) * channels + candidates * (channels + 1) +
-                   6 * channels + 3 * features + 3);
+            4.0 * (2 * offsets + NforBetaStride(features, channels) +
+                   NforPackedFloats(features) + kNforIlluminationFloats +
+                   candidates * (channels + 1) + 6 * channels + 3 * features + 3);
         // Whether the gate lets the coarse pass run is measured only for a frame too large
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =

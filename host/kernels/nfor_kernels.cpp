@@ -13,8 +13,10 @@
 #include "nfor/distance.h"
 #include "nfor/fit.h"
 #include "nfor/gather_spv.h"
+#include "nfor/illumination_spv.h"
 #include "nfor/noise.h"
 #include "nfor/noise_spv.h"
+#include "nfor/pack_spv.h"
 #include "nfor/prefilter.h"
 #include "nfor/prefilter_spv.h"
 #include "nfor/regress_spv.h"
@@ -84,6 +86,7 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 }
 
 static_assert(kNforLineFloorReach == NFOR_LINE_FLOOR_REACH);
+static_assert(kNforIlluminationFloats == NFOR_ILLUMINATION_FLOATS);
 
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
@@ -173,6 +176,17 @@ const vk::Kernel &TermKernel(vk::Context &context, int channels) {
                               0});
 }
 
+const vk::Kernel &IlluminationKernel(vk::Context &context, int channels) {
+    return context.GetKernel({"nfor_illumination",
+                              k_nfor_illumination_spv,
+                              sizeof(k_nfor_illumination_spv),
+                              NFOR_ILLUMINATION_BINDINGS,
+                              sizeof(shader::NforDistancePush),
+                              {{NFOR_SPEC_CHANNELS, channels}},
+                              0,
+                              0});
+}
+
 const vk::Kernel &BoxKernel(vk::Context &context) {
     return context.GetKernel({"nfor_box",
                               k_nfor_box_spv,
@@ -193,29 +207,47 @@ void CheckOffsets(const char *what, int radius, int patch) {
 
 }  // namespace
 
-void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                    const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
-                    float alpha, bool minVariance, vk::GpuImage &terms) {
-    CheckColor("nfor term", color);
-    CheckSize("nfor term", color, variance, color.channels);
-    CheckSize("nfor term", color, terms, NforOffsetCount(radius));
+void RecordNforIllumination(vk::Context &context, vk::Recorder &recorder,
+                            const vk::GpuImage &color, const vk::GpuImage &variance,
+                            const vk::GpuImage *albedo, vk::GpuImage &illumination) {
+    CheckColor("nfor illumination", color);
+    CheckSize("nfor illumination", color, variance, color.channels);
+    CheckSize("nfor illumination", color, illumination, NFOR_ILLUMINATION_FLOATS);
     if (albedo) {
-        CheckSize("nfor term", color, *albedo, 0);
+        CheckSize("nfor illumination", color, *albedo, 0);
         if (albedo->channels != 1 && albedo->channels < color.channels)
-            throw Error("nfor term: the albedo needs 1 channel or as many as the colour",
-                        ErrorKind::InvalidArgument);
+            throw Error(
+                "nfor illumination: the albedo needs 1 channel or as many as the colour",
+                ErrorKind::InvalidArgument);
     }
+    shader::NforDistancePush push{
+        color.width, color.height, 0, 0, 0, 0, albedo ? albedo->channels : 0, 0};
+    recorder.Dispatch(
+        IlluminationKernel(context, color.channels), "nfor.illumination",
+        {{NFOR_ILLUMINATION_COLOR, &color.buffer, vk::Access::Read},
+         {NFOR_ILLUMINATION_VARIANCE, &variance.buffer, vk::Access::Read},
+         {NFOR_ILLUMINATION_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read},
+         {NFOR_ILLUMINATION_OUT, &illumination.buffer, vk::Access::Write}},
+        push, Groups(color.width), uint32_t(color.height));
+}
+
+void RecordNforTerm(vk::Context &context, vk::Recorder &recorder,
+                    const vk::GpuImage &illumination, int channels, int radius, float alpha,
+                    bool minVariance, vk::GpuImage &terms) {
+    if (channels < 1 || channels > NFOR_MAX_CHANNELS)
+        throw Error(fmt::format("nfor term: {} channels; 1 to {} are supported", channels,
+                                NFOR_MAX_CHANNELS),
+                    ErrorKind::InvalidArgument);
+    CheckSize("nfor term", illumination, illumination, NFOR_ILLUMINATION_FLOATS);
+    CheckSize("nfor term", illumination, terms, NforOffsetCount(radius));
     CheckOffsets("nfor term", radius, 0);
     shader::NforDistancePush push{
-        color.width,        color.height, radius, 0, 0, alpha, albedo ? albedo->channels : 0,
-        minVariance ? 1 : 0};
-    recorder.Dispatch(
-        TermKernel(context, color.channels), "nfor.term",
-        {{NFOR_TERM_COLOR, &color.buffer, vk::Access::Read},
-         {NFOR_TERM_VARIANCE, &variance.buffer, vk::Access::Read},
-         {NFOR_TERM_OUT, &terms.buffer, vk::Access::Write},
-         {NFOR_TERM_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read}},
-        push, Groups(color.width), uint32_t(color.height), uint32_t(terms.channels));
+        illumination.width, illumination.height, radius, 0, 0, alpha, 0, minVariance ? 1 : 0};
+    recorder.Dispatch(TermKernel(context, channels), "nfor.term",
+                      {{NFOR_TERM_ILLUMINATION, &illumination.buffer, vk::Access::Read},
+                       {NFOR_TERM_OUT, &terms.buffer, vk::Access::Write}},
+                      push, Groups(illumination.width), uint32_t(illumination.height),
+                      uint32_t(terms.channels));
 }
 
 void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,
@@ -225,19 +257,33 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
     CheckOffsets("nfor box", radius, patch);
     shader::NforDistancePush push{in.width,         in.height, radius, patch,
                                   vertical ? 1 : 0, 0,         0,      0};
+    // One invocation per block of NFOR_BOX_BLOCK outputs along the pass's axis.
+    int blocksX = vertical ? in.width : (in.width + NFOR_BOX_BLOCK - 1) / NFOR_BOX_BLOCK;
+    int blocksY = vertical ? (in.height + NFOR_BOX_BLOCK - 1) / NFOR_BOX_BLOCK : in.height;
     recorder.Dispatch(BoxKernel(context), "nfor.box",
                       {{NFOR_BOX_IN, &in.buffer, vk::Access::Read},
                        {NFOR_BOX_OUT, &out.buffer, vk::Access::Write}},
-                      push, Groups(in.width), uint32_t(in.height), uint32_t(in.channels));
+                      push, Groups(blocksX), uint32_t(blocksY), uint32_t(in.channels));
 }
 
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
-                        int patch, float alpha, bool minVariance, vk::GpuImage &scratch,
-                        vk::GpuImage &distance) {
+                        int patch, float alpha, bool minVariance, vk::GpuImage &illumination,
+                        vk::GpuImage &scratch, vk::GpuImage &distance) {
     CheckSize("nfor distance", color, scratch, NforOffsetCount(radius));
     CheckOffsets("nfor distance", radius, patch);
-    RecordNforTerm(context, recorder, color, variance, albedo, radius, alpha, minVariance,
+    RecordNforIllumination(context, recorder, color, variance, albedo, illumination);
+    RecordNforDistanceOfIllumination(context, recorder, illumination, color.channels, radius,
+                                     patch, alpha, minVariance, scratch, distance);
+}
+
+void RecordNforDistanceOfIllumination(vk::Context &context, vk::Recorder &recorder,
+                                      const vk::GpuImage &illumination, int channels,
+                                      int radius, int patch, float alpha, bool minVariance,
+                                      vk::GpuImage &scratch, vk::GpuImage &distance) {
+    CheckSize("nfor distance", illumination, scratch, NforOffsetCount(radius));
+    CheckOffsets("nfor distance", radius, patch);
+    RecordNforTerm(context, recorder, illumination, channels, radius, alpha, minVariance,
                    distance);
     RecordNforBox(context, recorder, distance, radius, patch, false, scratch);
     RecordNforBox(context, recorder, scratch, radius, patch, true, distance);
@@ -245,23 +291,27 @@ void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::
 
 namespace {
 
-void CheckFit(const char *what, const vk::GpuImage &color, const vk::GpuImage &features,
-              const vk::GpuImage &mask, const vk::GpuImage &distance,
-              const NforFitSettings &settings) {
-    CheckColor(what, color);
-    CheckSize(what, color, features, 0);
-    CheckSize(what, color, mask, 1);
-    if (features.channels > NFOR_MAX_FEATURES ||
-        size_t(features.channels) != settings.featureWeights.size())
+void CheckFit(const char *what, const vk::GpuImage &packed, int features, int channels,
+              const vk::GpuImage &distance, const NforFitSettings &settings) {
+    if (channels < 1 || channels > NFOR_MAX_CHANNELS)
+        throw Error(fmt::format("{}: {} channels; 1 to {} are supported", what, channels,
+                                NFOR_MAX_CHANNELS),
+                    ErrorKind::InvalidArgument);
+    // The packed size is the same for several feature counts: check the count itself.
+    if (int(settings.featureWeights.size()) != features)
+        throw Error(fmt::format("{}: {} feature weights for {} feature planes", what,
+                                settings.featureWeights.size(), features),
+                    ErrorKind::InvalidArgument);
+    if (features < 0 || features > NFOR_MAX_FEATURES)
         throw Error(
-            fmt::format("{}: {} feature planes and {} weights; at most {}", what,
-                        features.channels, settings.featureWeights.size(), NFOR_MAX_FEATURES),
+            fmt::format("{}: {} features; at most {}", what, features, NFOR_MAX_FEATURES),
             ErrorKind::InvalidArgument);
+    CheckSize(what, packed, packed, NforPackedFloats(features));
     if (settings.radius < 1 || settings.radius > NFOR_MAX_RADIUS)
         throw Error(
             fmt::format("{}: radius {}; 1..{} allowed", what, settings.radius, NFOR_MAX_RADIUS),
             ErrorKind::InvalidArgument);
-    CheckSize(what, color, distance, NforOffsetCount(settings.radius));
+    CheckSize(what, packed, distance, NforOffsetCount(settings.radius));
     if (settings.gatherRadius < 0 || settings.gatherRadius > settings.radius)
         throw Error(fmt::format("{}: gather radius {}; 0..{} allowed", what,
                                 settings.gatherRadius, settings.radius),
@@ -272,9 +322,9 @@ void CheckFit(const char *what, const vk::GpuImage &color, const vk::GpuImage &f
                     ErrorKind::InvalidArgument);
 }
 
-shader::NforFitPush FitPush(const vk::GpuImage &color, const NforFitSettings &settings,
+shader::NforFitPush FitPush(const vk::GpuImage &image, const NforFitSettings &settings,
                             int plane) {
-    shader::NforFitPush push{color.width,     color.height,
+    shader::NforFitPush push{image.width,     image.height,
                              settings.radius, settings.gatherRadius,
                              plane,           1.f / (settings.bandwidth * settings.bandwidth),
                              settings.ridge,  {}};
@@ -284,11 +334,11 @@ shader::NforFitPush FitPush(const vk::GpuImage &color, const NforFitSettings &se
 }
 
 const vk::Kernel &FitKernel(vk::Context &context, const char *name, const uint32_t *code,
-                            size_t bytes, int channels, int features) {
+                            size_t bytes, uint32_t bindings, int channels, int features) {
     return context.GetKernel({name,
                               code,
                               bytes,
-                              NFOR_FIT_BINDINGS,
+                              bindings,
                               sizeof(shader::NforFitPush),
                               {{NFOR_SPEC_CHANNELS, channels}, {NFOR_SPEC_FEATURES, features}},
                               0,
@@ -297,52 +347,115 @@ const vk::Kernel &FitKernel(vk::Context &context, const char *name, const uint32
 
 }  // namespace
 
-void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                       const vk::GpuImage &features, const vk::GpuImage &mask,
-                       const vk::GpuImage &distance, const NforFitSettings &settings,
-                       vk::GpuImage &beta, vk::GpuImage &hat, int hatPlane) {
-    CheckFit("nfor regress", color, features, mask, distance, settings);
-    CheckSize("nfor regress", color, beta, (features.channels + 3) * color.channels);
-    CheckSize("nfor regress", color, hat, 0);
+int NforPackedFloats(int features) {
+    return 4 * NFOR_PACKED_VEC4S(features);
+}
+
+int NforBetaStride(int features, int channels) {
+    return NFOR_BETA_STRIDE(features, channels);
+}
+
+void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                    const vk::GpuImage &features, const vk::GpuImage &mask,
+                    vk::GpuImage &packed) {
+    CheckColor("nfor pack", color);
+    CheckSize("nfor pack", color, features, 0);
+    CheckSize("nfor pack", color, mask, 1);
+    if (features.channels > NFOR_MAX_FEATURES)
+        throw Error(fmt::format("nfor pack: {} feature planes; at most {}", features.channels,
+                                NFOR_MAX_FEATURES),
+                    ErrorKind::InvalidArgument);
+    CheckSize("nfor pack", color, packed, NforPackedFloats(features.channels));
+    const vk::Kernel &kernel =
+        FitKernel(context, "nfor_pack", k_nfor_pack_spv, sizeof(k_nfor_pack_spv),
+                  NFOR_PACK_BINDINGS, color.channels, features.channels);
+    shader::NforFitPush push{color.width, color.height, 0, 0, 0, 0, 0, {}};
+    recorder.Dispatch(kernel, "nfor.pack",
+                      {{NFOR_PACK_COLOR, &color.buffer, vk::Access::Read},
+                       {NFOR_PACK_FEATURES, &features.buffer, vk::Access::Read},
+                       {NFOR_PACK_MASK, &mask.buffer, vk::Access::Read},
+                       {NFOR_PACK_OUT, &packed.buffer, vk::Access::Write}},
+                      push, Groups(color.width), uint32_t(color.height));
+}
+
+void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &packed,
+                       int features, int channels, const vk::GpuImage &distance,
+                       const NforFitSettings &settings, vk::GpuImage &beta, vk::GpuImage &hat,
+                       int hatPlane) {
+    CheckFit("nfor regress", packed, features, channels, distance, settings);
+    CheckSize("nfor regress", packed, beta, NforBetaStride(features, channels));
+    CheckSize("nfor regress", packed, hat, 0);
     if (hatPlane < 0 || hatPlane >= hat.channels)
         throw Error(fmt::format("nfor regress: plane {} of {}", hatPlane, hat.channels),
                     ErrorKind::InvalidArgument);
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_regress", k_nfor_regress_spv, sizeof(k_nfor_regress_spv),
-                  color.channels, features.channels);
+                  NFOR_REGRESS_BINDINGS, channels, features);
     recorder.Dispatch(kernel, "nfor.regress",
-                      {{NFOR_FIT_COLOR, &color.buffer, vk::Access::Read},
-                       {NFOR_FIT_FEATURES, &features.buffer, vk::Access::Read},
-                       {NFOR_FIT_MASK, &mask.buffer, vk::Access::Read},
+                      {{NFOR_FIT_PACKED, &packed.buffer, vk::Access::Read},
                        {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},
                        {NFOR_FIT_BETA, &beta.buffer, vk::Access::Write},
                        {NFOR_FIT_OUT, &hat.buffer, vk::Access::Write}},
-                      FitPush(color, settings, hatPlane), Groups(color.width),
-                      uint32_t(color.height));
+                      FitPush(packed, settings, hatPlane), Groups(packed.width),
+                      uint32_t(packed.height));
 }
 
 void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
-                      const vk::GpuImage &features, const vk::GpuImage &mask,
-                      const vk::GpuImage &distance, const vk::GpuImage &beta,
-                      const NforFitSettings &settings, vk::GpuImage &out, int outPlane) {
-    CheckFit("nfor gather", input, features, mask, distance, settings);
-    CheckSize("nfor gather", input, beta, (features.channels + 3) * input.channels);
+                      const vk::GpuImage &packed, int features, const vk::GpuImage &distance,
+                      const vk::GpuImage &beta, const NforFitSettings &settings,
+                      vk::GpuImage &out, int outPlane) {
+    CheckFit("nfor gather", packed, features, input.channels, distance, settings);
+    CheckSize("nfor gather", packed, input, 0);
+    CheckSize("nfor gather", input, beta, NforBetaStride(features, input.channels));
     CheckSize("nfor gather", input, out, 0);
     if (outPlane < 0 || outPlane + input.channels > out.channels)
         throw Error(fmt::format("nfor gather: planes {}.. of {}", outPlane, out.channels),
                     ErrorKind::InvalidArgument);
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_gather", k_nfor_gather_spv, sizeof(k_nfor_gather_spv),
-                  input.channels, features.channels);
+                  NFOR_GATHER_BINDINGS, input.channels, features);
     recorder.Dispatch(kernel, "nfor.gather",
-                      {{NFOR_FIT_COLOR, &input.buffer, vk::Access::Read},
-                       {NFOR_FIT_FEATURES, &features.buffer, vk::Access::Read},
-                       {NFOR_FIT_MASK, &mask.buffer, vk::Access::Read},
+                      {{NFOR_FIT_PACKED, &packed.buffer, vk::Access::Read},
                        {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},
                        {NFOR_FIT_BETA, &beta.buffer, vk::Access::Read},
-                       {NFOR_FIT_OUT, &out.buffer, vk::Access::Write}},
+                       {NFOR_FIT_OUT, &out.buffer, vk::Access::Write},
+                       {NFOR_FIT_COLOR, &input.buffer, vk::Access::Read}},
                       FitPush(input, settings, outPlane), Groups(input.width),
                       uint32_t(input.height));
+}
+
+Image NforPackedOf(const Image &color, const Image &features, const Image &mask) {
+    int stride = NforPackedFloats(features.channels), colour = stride - 4;
+    Image packed(color.width, color.height, stride);
+    for (size_t p = 0; p < packed.PixelCount(); ++p) {
+        float *out = packed.data.data() + p * stride;
+        out[0] = mask.Plane(0)[p];
+        for (int j = 0; j < features.channels; ++j) out[1 + j] = features.Plane(j)[p];
+        for (int c = 0; c < color.channels; ++c) out[colour + c] = color.Plane(c)[p];
+    }
+    return packed;
+}
+
+Image NforBetaPlanes(const Image &perPixel, int features, int channels) {
+    int stride = NforBetaStride(features, channels), count = (features + 3) * channels;
+    if (perPixel.channels != stride)
+        throw Error(fmt::format("nfor beta: {} planes, expected {}", perPixel.channels, stride),
+                    ErrorKind::Internal);
+    Image planes(perPixel.width, perPixel.height, count);
+    for (size_t p = 0; p < planes.PixelCount(); ++p)
+        for (int k = 0; k < count; ++k) planes.Plane(k)[p] = perPixel.data[p * stride + k];
+    return planes;
+}
+
+Image NforBetaPerPixel(const Image &planes, int features, int channels) {
+    int stride = NforBetaStride(features, channels), count = (features + 3) * channels;
+    if (planes.channels != count)
+        throw Error(fmt::format("nfor beta: {} planes, expected {}", planes.channels, count),
+                    ErrorKind::Internal);
+    Image perPixel(planes.width, planes.height, stride);
+    for (size_t p = 0; p < planes.PixelCount(); ++p)
+        for (int k = 0; k < count; ++k) perPixel.data[p * stride + k] = planes.Plane(k)[p];
+    return perPixel;
 }
 
 void RecordNforSelect(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,

@@ -40,25 +40,40 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
                          const vk::GpuImage &features, const vk::GpuImage &variance, int radius,
                          int patch, float bandwidth, vk::GpuImage &out);
 
-// shaders/nfor/term.comp: per pixel and stored offset of the window of half-size
-// `radius`, the channels' mean distance term (nfor/distance.h) into `terms`
-// (NforOffsetCount(radius) planes).
-void RecordNforTerm(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                    const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
-                    float alpha, bool minVariance, vk::GpuImage &terms);
+// shaders/nfor/illumination.comp: per pixel the colour and its variance, each channel
+// divided by the albedo's channel (and its square) where that is above the floor
+// (nfor/distance.h), into `illumination` (kNforIlluminationFloats planes' worth, per pixel:
+// a vec4 of values, a vec4 of variances, zeros past the channels).
+void RecordNforIllumination(vk::Context &context, vk::Recorder &recorder,
+                            const vk::GpuImage &color, const vk::GpuImage &variance,
+                            const vk::GpuImage *albedo, vk::GpuImage &illumination);
+
+// shaders/nfor/term.comp: on the illumination of a colour of `channels`, per pixel and
+// stored offset of the window of half-size `radius`, the channels' mean distance term
+// (nfor/distance.h) into `terms` (NforOffsetCount(radius) planes).
+void RecordNforTerm(vk::Context &context, vk::Recorder &recorder,
+                    const vk::GpuImage &illumination, int channels, int radius, float alpha,
+                    bool minVariance, vk::GpuImage &terms);
 
 // shaders/nfor/box.comp: one pass of the patch sum of every plane of `in`, along rows, or
 // along columns and divided by the patch positions with both ends inside (`vertical`).
 void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,
                    int radius, int patch, bool vertical, vk::GpuImage &out);
 
-// Both: the patch distance of every stored offset of the
+// Illumination, term and both boxes: the patch distance of every stored offset of the
 // window of half-size `radius` into `distance` (NforOffsetCount(radius) planes); `scratch`
-// is the same size.
+// is the same size, `illumination` RecordNforIllumination's.
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
-                        int patch, float alpha, bool minVariance, vk::GpuImage &scratch,
-                        vk::GpuImage &distance);
+                        int patch, float alpha, bool minVariance, vk::GpuImage &illumination,
+                        vk::GpuImage &scratch, vk::GpuImage &distance);
+
+// RecordNforDistance after its illumination: term and both boxes on `illumination` (of a
+// colour of `channels`), for another window on the same colour, variance and albedo.
+void RecordNforDistanceOfIllumination(vk::Context &context, vk::Recorder &recorder,
+                                      const vk::GpuImage &illumination, int channels,
+                                      int radius, int patch, float alpha, bool minVariance,
+                                      vk::GpuImage &scratch, vk::GpuImage &distance);
 
 // One candidate of the fit: the window, the bandwidth k, the ridge and the feature weights
 // s_j (one per feature plane).
@@ -70,19 +85,45 @@ struct NforFitSettings {
     std::vector<float> featureWeights;
 };
 
-// shaders/nfor/regress.comp: the fits' coefficients into `beta` ((planes + 3) x channels
-// planes) and their influence into plane `hatPlane` of `hat`.
-void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
-                       const vk::GpuImage &features, const vk::GpuImage &mask,
-                       const vk::GpuImage &distance, const NforFitSettings &settings,
-                       vk::GpuImage &beta, vk::GpuImage &hat, int hatPlane);
+// Floats per pixel of RecordNforTerm's `illumination`.
+constexpr int kNforIlluminationFloats = 8;  // NFOR_ILLUMINATION_FLOATS
 
-// shaders/nfor/gather.comp: the collaborative average into planes outPlane.. of `out`;
-// emitters take `input`.
+// The fits' packed inputs (shaders/nfor/fit.h): floats per pixel of `pack`'s output for
+// `features` feature planes, and of the coefficients for `channels` colour channels.
+int NforPackedFloats(int features);
+int NforBetaStride(int features, int channels);
+
+// What pack writes, made on the CPU (an image of NforPackedFloats(features.channels)
+// planes' worth, laid out per pixel).
+Image NforPackedOf(const Image &color, const Image &features, const Image &mask);
+
+// shaders/nfor/pack.comp: per pixel the mask, the features and the colour, vec4-aligned,
+// into `packed` (NforPackedFloats(features.channels) planes' worth, laid out per pixel).
+void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                    const vk::GpuImage &features, const vk::GpuImage &mask,
+                    vk::GpuImage &packed);
+
+// shaders/nfor/regress.comp: on `pack`'s output of `features` feature planes (one weight
+// each in `settings`) for a colour of `channels`, the fits' coefficients into `beta`
+// (NforBetaStride planes' worth, per pixel: column i, channel c at i * channels + c) and their
+// influence into plane `hatPlane` of `hat`.
+void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &packed,
+                       int features, int channels, const vk::GpuImage &distance,
+                       const NforFitSettings &settings, vk::GpuImage &beta, vk::GpuImage &hat,
+                       int hatPlane);
+
+// shaders/nfor/gather.comp: the collaborative average into planes outPlane.. of `out`, on
+// `pack`'s output of `features` feature planes; emitters take `input`.
 void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
-                      const vk::GpuImage &features, const vk::GpuImage &mask,
-                      const vk::GpuImage &distance, const vk::GpuImage &beta,
-                      const NforFitSettings &settings, vk::GpuImage &out, int outPlane);
+                      const vk::GpuImage &packed, int features, const vk::GpuImage &distance,
+                      const vk::GpuImage &beta, const NforFitSettings &settings,
+                      vk::GpuImage &out, int outPlane);
+
+// The coefficients as planes (column i, channel c at plane i * channels + c: the CPU
+// reference's) from regress's per-pixel layout, downloaded as an image of NforBetaStride
+// planes, and back.
+Image NforBetaPlanes(const Image &perPixel, int features, int channels);
+Image NforBetaPerPixel(const Image &planes, int features, int channels);
 
 // shaders/nfor/select.comp: per pixel the candidate (of the first `count`: planes k x
 // channels.. of `candidates`, influence at plane k of `hat`) of the smallest box-averaged SURE;

@@ -262,8 +262,12 @@ struct NforGpu {
                    "nfor.distance"),
           scratch(context, color.width, color.height, NforOffsetCount(o.radius),
                   "nfor.scratch"),
-          beta(context, color.width, color.height, (featureImage.channels + 3) * color.channels,
-               "nfor.beta"),
+          illumination(context, color.width, color.height, kNforIlluminationFloats,
+                       "nfor.illumination"),
+          packed(context, color.width, color.height, NforPackedFloats(featureImage.channels),
+                 "nfor.packed"),
+          beta(context, color.width, color.height,
+               NforBetaStride(featureImage.channels, color.channels), "nfor.beta"),
           hat(context, color.width, color.height, CandidateCount(o), "nfor.hat"),
           candidates(context, color.width, color.height, CandidateCount(o) * color.channels,
                      "nfor.candidates") {
@@ -288,7 +292,7 @@ struct NforGpu {
         }
     }
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
-        scratch, beta, hat, candidates;
+        scratch, illumination, packed, beta, hat, candidates;
     std::optional<vk::GpuImage> albedo, pilot, pilotDistance, wideDistance, wideScratch;
 };
 
@@ -557,7 +561,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     run.StageAtEnd("features", gpu.filtered);
     RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
                        o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
-                       o.alpha, o.minVariance, gpu.scratch, gpu.distance);
+                       o.alpha, o.minVariance, gpu.illumination, gpu.scratch, gpu.distance);
     run.StageAtEnd("distance", gpu.distance);
 }
 
@@ -587,11 +591,14 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
         const vk::GpuImage &distance = *k.distance;
         NforFitSettings settings{k.radius, std::min(GatherRadius(o), k.radius), k.bandwidth,
                                  o.ridge, weights};
-        RecordNforRegress(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
+        RecordNforRegress(context, run.Recorder(), gpu.packed, gpu.filtered.channels, ch,
                           distance, settings, gpu.beta, gpu.hat, i);
-        run.Stage(fmt::format("{}k{}.beta", prefix, i), gpu.beta);
-        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask, distance,
-                         gpu.beta, settings, gpu.candidates, i * ch);
+        run.Stage(fmt::format("{}k{}.beta", prefix, i), [&] {
+            return NforBetaPlanes(gpu.beta.Download(), gpu.filtered.channels, ch);
+        });
+        RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.packed,
+                         gpu.filtered.channels, distance, gpu.beta, settings, gpu.candidates,
+                         i * ch);
         // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
         run.Submit();
         run.Stage(fmt::format("{}k{}.hat", prefix, i),
@@ -612,6 +619,8 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
 // weighted by the distance of the first's output (the pilot) against the colour's variance.
 void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
                   const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
+    RecordNforPack(run.Context(), run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
+                   gpu.packed);
     std::vector<PassCandidate> first;
     for (float k : o.bandwidths) first.push_back({o.radius, k, &gpu.distance});
     if (!gpu.pilot) {
@@ -624,15 +633,17 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
     const vk::GpuImage *albedo =
         gpu.albedo && !o.noDemodulatedDistance ? &*gpu.albedo : nullptr;
     RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
-                       o.radius, o.patchRadius, o.pilotAlpha, pilotMin, gpu.scratch,
-                       *gpu.pilotDistance);
+                       o.radius, o.patchRadius, o.pilotAlpha, pilotMin, gpu.illumination,
+                       gpu.scratch, *gpu.pilotDistance);
     run.Stage("pilot.distance", *gpu.pilotDistance);
     std::vector<PassCandidate> second;
     for (float k : o.pilotBandwidths) second.push_back({o.radius, k, &*gpu.pilotDistance});
     if (gpu.wideDistance) {
-        RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
-                           o.pilotWideRadius, o.patchRadius, o.pilotAlpha, pilotMin,
-                           *gpu.wideScratch, *gpu.wideDistance);
+        // The pilot distance's illumination: the same pilot, variance and albedo.
+        RecordNforDistanceOfIllumination(run.Context(), run.Recorder(), gpu.illumination,
+                                         gpu.pilot->channels, o.pilotWideRadius, o.patchRadius,
+                                         o.pilotAlpha, pilotMin, *gpu.wideScratch,
+                                         *gpu.wideDistance);
         run.Stage("pilot.wide.distance", *gpu.wideDistance);
         for (float k : o.pilotBandwidths)
             second.push_back({o.pilotWideRadius, k, &*gpu.wideDistance});

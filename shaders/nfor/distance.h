@@ -1,26 +1,37 @@
 // nfor stage 4: the colour's NL-means patch distance D(p, o) for every offset o of the
 // regression window with oy > 0, or oy = 0 and ox > 0 (raster order; the other half is
-// D(p, o) = D(p + o, -o)). Two kernels: `term` writes, per pixel u and stored offset j, the
-// mean over the channels of ((C_u - C_u+o)^2 - alpha (v_u + v_u+o)) / (v_u + v_u+o +
-// NFOR_REL_EPS (C_u^2 + C_u+o^2) + NFOR_TINY), each at most NFOR_TERM_MAX (0 where u + o
-// is outside; with minVariance both v_u + v_u+o are 2 min(v_u, v_u+o): a dark pixel does
-// not borrow from a brighter, noisier one, and a term is at least -alpha); with an albedo, C is the colour divided by the albedo's channel where that
-// is above NFOR_NOISE_ALBEDO_FLOOR and v the variance divided by its square (the
-// illumination: texture and the coverage of edge pixels divide out); `box` sums those over the
-// patch positions, along rows (vertical 0) and then along columns (vertical 1), the second
-// dividing by the number of patch positions with both ends inside (0 where none). One
-// invocation per pixel and stored offset.
+// D(p, o) = D(p + o, -o)). Three kernels: `illumination` (below), then `term` writes, per pixel
+// u and stored offset j, the mean over the channels of ((C_u - C_u+o)^2 - alpha (v_u + v_u+o))
+// / (v_u + v_u+o + NFOR_REL_EPS (C_u^2 + C_u+o^2) + NFOR_TINY), each at most NFOR_TERM_MAX (0
+// where u + o is outside; with minVariance both v_u + v_u+o are 2 min(v_u, v_u+o): a dark pixel
+// does not borrow from a brighter, noisier one, and a term is at least -alpha); with an albedo,
+// C is the colour divided by the albedo's channel where that is above NFOR_NOISE_ALBEDO_FLOOR
+// and v the variance divided by its square (the illumination: texture and the coverage of edge
+// pixels divide out); `box` sums those over the patch positions, along rows (vertical 0) and
+// then along columns (vertical 1), the second dividing by the number of patch positions with
+// both ends inside (0 where none). `term`: one invocation per pixel and stored offset; `box`:
+// one per NFOR_BOX_BLOCK outputs of a stored offset.
 #ifndef MCD_SHADERS_NFOR_DISTANCE_H
 #define MCD_SHADERS_NFOR_DISTANCE_H
 
 #include "nfor/nfor.h"
 
-#define NFOR_TERM_COLOR 0
-#define NFOR_TERM_VARIANCE 1
-#define NFOR_TERM_OUT 2
-#define NFOR_TERM_ALBEDO 3
-#define NFOR_TERM_BINDINGS 4
+// `illumination` first writes, per pixel, two vec4s: C and v of each channel (zeros past
+// the channels), so that `term` loads each end of a pair in two loads and divides nothing.
+#define NFOR_ILLUMINATION_COLOR 0
+#define NFOR_ILLUMINATION_VARIANCE 1
+#define NFOR_ILLUMINATION_ALBEDO 2
+#define NFOR_ILLUMINATION_OUT 3
+#define NFOR_ILLUMINATION_BINDINGS 4
+#define NFOR_ILLUMINATION_FLOATS 8
 
+#define NFOR_TERM_ILLUMINATION 0
+#define NFOR_TERM_OUT 1
+#define NFOR_TERM_BINDINGS 2
+
+// `box` sums NFOR_BOX_BLOCK outputs an invocation, along its pass's axis, from the values
+// their patches read, loaded once.
+#define NFOR_BOX_BLOCK 4
 #define NFOR_BOX_IN 0
 #define NFOR_BOX_OUT 1
 #define NFOR_BOX_BINDINGS 2
@@ -38,7 +49,7 @@ layout(push_constant) uniform NforDistancePush {
     int patchRadius;     // box: the patch half-size
     int vertical;        // box: 0 rows, 1 columns (and the division)
     float alpha;         // term: the variance cancellation
-    int albedoChannels;  // term: 0, or compare colour / albedo (where above the floor)
+    int albedoChannels;  // illumination: 0, or colour / albedo (where above the floor)
     int minVariance;     // term: normalise by 2 min(v_u, v_u+o) instead of v_u + v_u+o
 #ifdef __cplusplus
 };

@@ -3,8 +3,8 @@
 // over the (2R + 1)^2 window, weight of q exp(-max(0, D(p, q - p)) / k^2 - sum_j (s_j
 // (F_q,j - F_p,j))^2) (1 at q = p; 0 for emitters, outside the frame and where the
 // exponent exceeds NFOR_EXP_CUT), ridge lambda sum(w) on every column but the constant,
-// Cholesky; writes the coefficients (column i, channel c at plane i * channels + c) and
-// the fit's influence on its centre, (A^-1)_00, at plane `hatPlane` of the hat buffer.
+// Cholesky; writes the coefficients (per pixel, below) and the fit's influence on its
+// centre, (A^-1)_00, at plane `hatPlane` of the hat buffer.
 // An emitter (mask 0) writes its colour as the constant, no slope, influence 1. `gather`:
 // per pixel q the average of the fits of the windows p holding q whose centres are at most
 // gatherRadius away (all of them at the window's radius: NFOR's collaborative filtering),
@@ -15,13 +15,28 @@
 
 #include "nfor/nfor.h"
 
-#define NFOR_FIT_COLOR 0  // regress: the clamped colour; gather: the input colour
-#define NFOR_FIT_FEATURES 1
-#define NFOR_FIT_MASK 2
-#define NFOR_FIT_DISTANCE 3
-#define NFOR_FIT_BETA 4  // regress writes, gather reads
-#define NFOR_FIT_OUT 5   // regress: the influence; gather: the output
-#define NFOR_FIT_BINDINGS 6
+// The fits read each pixel's inputs packed (`pack`, one invocation per pixel): per pixel
+// NFOR_PACKED_VEC4S(F) vec4s, the mask at float 0, feature j at float 1 + j, zeros to the
+// next vec4, then the colour's channels (zeros past them): one load brings four values. The
+// coefficients are packed per pixel too: NFOR_BETA_STRIDE(F, channels) floats, column i and
+// channel c at i * channels + c.
+#define NFOR_FEATURE_VEC4S(F) (((F) + 4) / 4)
+#define NFOR_PACKED_VEC4S(F) (NFOR_FEATURE_VEC4S(F) + 1)
+#define NFOR_BETA_STRIDE(F, C) ((((F) + 3) * (C) + 3) / 4 * 4)
+
+#define NFOR_PACK_COLOR 0
+#define NFOR_PACK_FEATURES 1
+#define NFOR_PACK_MASK 2
+#define NFOR_PACK_OUT 3
+#define NFOR_PACK_BINDINGS 4
+
+#define NFOR_FIT_PACKED 0
+#define NFOR_FIT_DISTANCE 1
+#define NFOR_FIT_BETA 2   // regress writes, gather reads
+#define NFOR_FIT_OUT 3    // regress: the influence; gather: the output
+#define NFOR_FIT_COLOR 4  // gather: the input colour, kept by emitters
+#define NFOR_REGRESS_BINDINGS 4
+#define NFOR_GATHER_BINDINGS 5
 
 #ifdef __cplusplus
 #include <cstddef>

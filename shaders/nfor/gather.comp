@@ -8,19 +8,22 @@ layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(constant_id = NFOR_SPEC_CHANNELS) const int channels = 3;
 layout(constant_id = NFOR_SPEC_FEATURES) const int featureCount = 7;
 const int columnCount = featureCount + 3;
-layout(std430, binding = NFOR_FIT_COLOR) readonly buffer Color { float color[]; };
-layout(std430, binding = NFOR_FIT_FEATURES) readonly buffer Features { float features[]; };
-layout(std430, binding = NFOR_FIT_MASK) readonly buffer Mask { float mask[]; };
+const int betaVec4s = NFOR_BETA_STRIDE(featureCount, channels) / 4;
+layout(std430, binding = NFOR_FIT_PACKED) readonly buffer Packed { vec4 packed[]; };
 layout(std430, binding = NFOR_FIT_DISTANCE) readonly buffer Distance { float distance[]; };
-layout(std430, binding = NFOR_FIT_BETA) readonly buffer Beta { float beta[]; };
+layout(std430, binding = NFOR_FIT_BETA) readonly buffer Beta { vec4 beta[]; };
 layout(std430, binding = NFOR_FIT_OUT) writeonly buffer Out { float outputs[]; };
+layout(std430, binding = NFOR_FIT_COLOR) readonly buffer Color { float color[]; };
 
 int w, h;
 
 #include "nfor/weight.glsl"
 
-// The fit of window (u, v) at this pixel, per channel, column by column.
-#define BETA(i, c) beta[(((i) * channels + (c)) * h + v) * w + u]
+// The fit of window (u, v) at this pixel, per channel, column by column, from its
+// coefficients loaded four at a time.
+#define LOAD_BETA(k) \
+    if ((k) < betaVec4s) coefficients[k] = beta[base + (k)];
+#define BETA(i, c) coefficients[((i) * channels + (c)) / 4][((i) * channels + (c)) % 4]
 #define PREDICT(i)                                                     \
     if ((i) < columnCount) {                                           \
         value0 += col[i] * BETA(i, 0);                                 \
@@ -34,7 +37,7 @@ void main() {
     w = push.width;
     h = push.height;
     if (x >= w) return;
-    if (mask[y * w + x] == 0.0) {
+    if (packed[(y * w + x) * packedVec4s].x == 0.0) {
         for (int c = 0; c < channels; ++c)
             outputs[((push.outPlane + c) * h + y) * w + x] = color[(c * h + y) * w + x];
         return;
@@ -47,6 +50,9 @@ void main() {
             if (u < 0 || v < 0 || u >= w || v >= h) continue;
             float wq = weightOf(u, v, x, y, u, v, -1.0);
             if (wq == 0.0) continue;
+            vec4 coefficients[13];
+            int base = (v * w + u) * betaVec4s;
+            SEQ13(LOAD_BETA)
             float value0 = 0.0, value1 = 0.0, value2 = 0.0, value3 = 0.0;
             SEQ13(PREDICT)
             sum0 += wq * value0;

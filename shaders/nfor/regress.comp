@@ -1,7 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
-#extension GL_EXT_control_flow_attributes : require
 
 #include "nfor/fit.h"
 
@@ -12,9 +11,8 @@ const int columnCount = featureCount + 3;
 const int packedCount = columnCount * (columnCount + 1) / 2;
 // Arrays at their largest size; the loops run to the specialised counts.
 const int kMaxColumns = NFOR_MAX_FEATURES + 3;
-layout(std430, binding = NFOR_FIT_COLOR) readonly buffer Color { float color[]; };
-layout(std430, binding = NFOR_FIT_FEATURES) readonly buffer Features { float features[]; };
-layout(std430, binding = NFOR_FIT_MASK) readonly buffer Mask { float mask[]; };
+const int betaStride = NFOR_BETA_STRIDE(featureCount, channels);
+layout(std430, binding = NFOR_FIT_PACKED) readonly buffer Packed { vec4 packed[]; };
 layout(std430, binding = NFOR_FIT_DISTANCE) readonly buffer Distance { float distance[]; };
 layout(std430, binding = NFOR_FIT_BETA) writeonly buffer Beta { float beta[]; };
 layout(std430, binding = NFOR_FIT_OUT) writeonly buffer Hat { float hat[]; };
@@ -45,10 +43,17 @@ int tri(int i, int j) {
     return i * (i + 1) / 2 + j;
 }
 
+// The pixel's colour (its packed vec4 past the features).
+vec4 colorAt(int pixel) {
+    return packed[pixel * packedVec4s + featureVec4s];
+}
+
 void writeConstant(int x, int y) {
+    int base = (y * w + x) * betaStride;
+    vec4 color = colorAt(y * w + x);
     [[unroll]] for (int c = 0; c < channels; ++c) {
-        beta[(c * h + y) * w + x] = color[(c * h + y) * w + x];
-        [[unroll]] for (int i = 1; i < columnCount; ++i) beta[((i * channels + c) * h + y) * w + x] = 0.0;
+        beta[base + c] = color[c];
+        [[unroll]] for (int i = 1; i < columnCount; ++i) beta[base + i * channels + c] = 0.0;
     }
     hat[(push.outPlane * h + y) * w + x] = 1.0;
 }
@@ -58,7 +63,7 @@ void main() {
     w = push.width;
     h = push.height;
     if (x >= w) return;
-    if (mask[y * w + x] == 0.0) {
+    if (packed[(y * w + x) * packedVec4s].x == 0.0) {
         writeConstant(x, y);
         return;
     }
@@ -73,10 +78,8 @@ void main() {
             if (u < 0 || v < 0 || u >= w || v >= h) continue;
             float wq = weightOf(x, y, u, v, u, v, 1.0);
             if (wq == 0.0) continue;
-            float c0 = color[(0 * h + v) * w + u];
-            float c1 = channels > 1 ? color[(1 * h + v) * w + u] : 0.0;
-            float c2 = channels > 2 ? color[(2 * h + v) * w + u] : 0.0;
-            float c3 = channels > 3 ? color[(3 * h + v) * w + u] : 0.0;
+            vec4 cq = colorAt(v * w + u);
+            float c0 = cq.x, c1 = cq.y, c2 = cq.z, c3 = cq.w;
             ACCUMULATE
             weights += wq;
         }
@@ -112,7 +115,8 @@ void main() {
             [[unroll]] for (int k = i + 1; k < columnCount; ++k) t -= a[tri(k, i)] * b[o + k];
             b[o + i] = t / a[tri(i, i)];
         }
-        [[unroll]] for (int i = 0; i < columnCount; ++i) beta[((i * channels + c) * h + y) * w + x] = b[o + i];
+        [[unroll]] for (int i = 0; i < columnCount; ++i)
+            beta[(y * w + x) * betaStride + i * channels + c] = b[o + i];
     }
     // (A^-1)_00 = |L^-1 e_0|^2.
     float z[kMaxColumns];

@@ -1,5 +1,5 @@
 // The weight of q in p's window and the regression's columns of q there, shared by regress
-// and gather. Needs w, h, the mask, features and distance buffers and `featureCount`.
+// and gather. Needs w, h, the packed and distance buffers and `featureCount`.
 // Arrays are indexed by constants only (the loops are unrolled by the preprocessor to the
 // largest counts, the spec constants fold the unused steps away), which keeps them in
 // registers.
@@ -16,12 +16,24 @@ float distanceOf(int px, int py, int qx, int qy) {
     return distance[((mirrored - centre - 1) * h + qy) * w + qx];
 }
 
-// The features of the pixel fixed over the loop (p in regress, q in gather).
-float fixedFeature[NFOR_MAX_FEATURES];
-#define LOAD_FIXED(j) \
-    if ((j) < featureCount) fixedFeature[j] = features[((j) * h + fy) * w + fx];
+// A pixel's packed inputs (nfor/fit.h): the mask and features in slots[0..featureVec4s).
+const int featureVec4s = NFOR_FEATURE_VEC4S(featureCount);
+const int packedVec4s = NFOR_PACKED_VEC4S(featureCount);
+#define FEATURE(slots, j) slots[((j) + 1) / 4][((j) + 1) % 4]
+#define LOAD_SLOT(k) \
+    if ((k) < featureVec4s) slots[k] = packed[base + (k)];
+#define LOAD_SLOTS(pixel)                  \
+    {                                      \
+        int base = (pixel) * packedVec4s;  \
+        LOAD_SLOT(0) LOAD_SLOT(1) LOAD_SLOT(2) \
+    }
+
+// The mask and features of the pixel fixed over the loop (p in regress, q in gather).
+vec4 fixedSlots[3];
 void loadFixed(int fx, int fy) {
-    SEQ10(LOAD_FIXED, 0)
+    vec4 slots[3];
+    LOAD_SLOTS(fy * w + fx)
+    fixedSlots = slots;
 }
 
 // The columns (1, dx / R, dy / R, F_q - F_p) into col, and q's weight in p's window: 0 for
@@ -29,15 +41,17 @@ void loadFixed(int fx, int fy) {
 // q = p, else exp(-max(0, D) / k^2 - sum_j (s_j (F_q,j - F_p,j))^2), 0 beyond the cut.
 // sign: 1 when q moves, -1 when p does.
 float col[NFOR_MAX_FEATURES + 3];
-#define COLUMN(j)                                                                       \
-    if ((j) < featureCount) {                                                           \
-        float d = sign * (features[((j) * h + my) * w + mx] - fixedFeature[j]);         \
-        col[3 + (j)] = d;                                                               \
-        float s = push.featureWeight[j] * d;                                            \
-        e += s * s;                                                                     \
+#define COLUMN(j)                                                         \
+    if ((j) < featureCount) {                                             \
+        float d = sign * (FEATURE(slots, j) - FEATURE(fixedSlots, j));    \
+        col[3 + (j)] = d;                                                 \
+        float s = push.featureWeight[j] * d;                              \
+        e += s * s;                                                       \
     }
 float weightOf(int px, int py, int qx, int qy, int mx, int my, float sign) {
-    if (mask[my * w + mx] == 0.0) return 0.0;
+    vec4 slots[3];
+    LOAD_SLOTS(my * w + mx)
+    if (slots[0].x == 0.0) return 0.0;
     col[0] = 1.0;
     col[1] = float(qx - px) / float(push.radius);
     col[2] = float(qy - py) / float(push.radius);

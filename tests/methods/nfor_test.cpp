@@ -632,6 +632,63 @@ TEST_P(NforPrefilterKernel, MatchesReferenceAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, NforPrefilterKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
+// The illumination kernel's output made on the CPU: per pixel the channels' colour, then
+// their variance, each divided by the albedo's channel (min(c, its channels - 1)) and its
+// square where that is above the floor; zeros past the channels.
+Image IlluminationOf(const Image &color, const Image &variance, const Image *albedo) {
+    Image out(color.width, color.height, kNforIlluminationFloats);
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
+            float *values = out.data.data() + (size_t(y) * color.width + x) * 8;
+            for (int c = 0; c < color.channels; ++c) {
+                float value = color.At(c, y, x), noise = variance.At(c, y, x);
+                float a = albedo ? albedo->At(std::min(c, albedo->channels - 1), y, x) : 0.f;
+                if (albedo && a > float(NFOR_NOISE_ALBEDO_FLOOR)) {
+                    value /= a;
+                    noise /= a * a;
+                }
+                values[c] = value;
+                values[4 + c] = noise;
+            }
+        }
+    return out;
+}
+
+// Illumination: one division each, rounded alike here (the square too): bit for bit, with
+// 1, 3 and 4 colour channels, an albedo of as many or 1 channel, or none.
+class NforIlluminationKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforIlluminationKernel, MatchesTheDefinitionAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    const std::string name = fmt::format("illumination{}x{}{}", w, h, InputKindName(kind));
+    for (auto [channels, albedoChannels] : {std::pair{3, 3}, {3, 0}, {4, 1}, {1, 1}, {4, 4}}) {
+        SCOPED_TRACE(fmt::format("{} channels, albedo {}", channels, albedoChannels));
+        Image color = Positive(kind, w, h, channels, name);
+        Image variance = Positive(InputKind::Uniform, w, h, channels, name + "variance");
+        Image albedo =
+            Positive(InputKind::Uniform, w, h, std::max(albedoChannels, 1), name + "albedo");
+        // Some albedos under the floor: those channels are not divided.
+        for (size_t i = 0; i < albedo.Size(); i += 3) albedo.data[i] *= 0.01f;
+        const Image *divisor = albedoChannels > 0 ? &albedo : nullptr;
+        auto run = [&] {
+            vk::GpuImage c = Upload(Ctx(), color, "color"),
+                         v = Upload(Ctx(), variance, "variance"),
+                         a = Upload(Ctx(), albedo, "albedo");
+            vk::GpuImage out(Ctx(), w, h, kNforIlluminationFloats, "illumination");
+            vk::Recorder recorder(Ctx());
+            RecordNforIllumination(Ctx(), recorder, c, v, divisor ? &a : nullptr, out);
+            recorder.Submit();
+            return out.Download();
+        };
+        Image actual = run();
+        EXPECT_TRUE(BitIdentical(IlluminationOf(color, variance, divisor), actual));
+        EXPECT_TRUE(BitIdentical(actual, run()));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforIlluminationKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
 // Term (divided: also the normaliser 2 min(v_p, v_q)): with the albedo's divisions, cp and cq
 // carry a rounding each, which moves d^2 by at most 2u (|cp| + |cq|)^2; the variances'
 // divisions, the sums, the square and the division add about 6 roundings more: 12u of ((|cp| +
@@ -648,13 +705,12 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
         Image expected = ref::NforTerms(color, variance, divided ? &albedo : nullptr, radius,
                                         alpha, divided);
         auto run = [&] {
-            vk::GpuImage c = Upload(Ctx(), color, "color"),
-                         v = Upload(Ctx(), variance, "variance");
-            vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+            vk::GpuImage illumination =
+                Upload(Ctx(), IlluminationOf(color, variance, divided ? &albedo : nullptr),
+                       "illumination");
             vk::GpuImage out(Ctx(), w, h, NforOffsetCount(radius), "terms");
             vk::Recorder recorder(Ctx());
-            RecordNforTerm(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, alpha,
-                           divided, out);
+            RecordNforTerm(Ctx(), recorder, illumination, 3, radius, alpha, divided, out);
             recorder.Submit();
             return out.Download();
         };
@@ -704,11 +760,20 @@ class NforBoxKernel : public GpuTestWithParam<KernelCase> {};
 TEST_P(NforBoxKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     std::string name = fmt::format("box{}x{}{}", w, h, InputKindName(kind));
-    const int radius = 2, patch = 2;
+    const int radius = 2;
     Image input = MakeInput(kind, w, h, NforOffsetCount(radius), SeedFromName(name));
     Image absolute = input;
     for (float &v : absolute.data) v = std::fabs(v);
-    for (bool vertical : {false, true}) {
+    // Patches of every half-size the kernel's blocks hold (up to NFOR_MAX_PATCH), on sizes
+    // that are no multiple of the block.
+    for (auto [patch, vertical] : {std::pair{2, false},
+                                   {2, true},
+                                   {0, false},
+                                   {0, true},
+                                   {1, true},
+                                   {3, false},
+                                   {3, true}}) {
+        SCOPED_TRACE(fmt::format("patch {}", patch));
         Image expected = ref::NforBoxPass(input, radius, patch, vertical);
         Image magnitude = ref::NforBoxPass(absolute, radius, patch, vertical);
         auto run = [&] {
@@ -751,10 +816,11 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
             vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
             int offsets = NforOffsetCount(radius);
             vk::GpuImage scratch(Ctx(), w, h, offsets, "scratch"),
-                out(Ctx(), w, h, offsets, "D");
+                out(Ctx(), w, h, offsets, "D"),
+                illumination(Ctx(), w, h, kNforIlluminationFloats, "illumination");
             vk::Recorder recorder(Ctx());
             RecordNforDistance(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, patch,
-                               alpha, divided, scratch, out);
+                               alpha, divided, illumination, scratch, out);
             recorder.Submit();
             return out.Download();
         };
@@ -813,18 +879,22 @@ struct FitInputs {
     ref::NforCandidate candidate;
 };
 
-FitInputs MakeFitInputs(int w, int h, InputKind kind, const std::string &name, int radius) {
+// `features` planes: the albedo's three, a uniform plane, a constant plane (a rank-deficient
+// column), then two more uniform planes; the albedo's weighted 3, the others 1.
+FitInputs MakeFitInputs(int w, int h, InputKind kind, const std::string &name, int radius,
+                        int features = 5, int channels = 3) {
     FitInputs f;
-    f.input = Positive(kind, w, h, 3, name);
+    f.input = Positive(kind, w, h, channels, name);
     Image albedo = Albedo(w, h, name + "albedo", true);
     Image other = MakeInput(InputKind::Uniform, w, h, 3, SeedFromName(name + "normal"));
-    f.features = Image(w, h, 5);
-    for (size_t i = 0; i < f.input.PixelCount(); ++i) {
-        for (int c = 0; c < 3; ++c) f.features.Plane(c)[i] = std::min(albedo.Plane(c)[i], 1.f);
-        f.features.Plane(3)[i] = other.Plane(0)[i];
-        f.features.Plane(4)[i] = 1.f;  // a constant plane: a rank-deficient column
-    }
-    f.weights = {3, 3, 3, 1, 1};
+    f.features = Image(w, h, features);
+    const float *extra[4] = {other.Plane(0), nullptr, other.Plane(1), other.Plane(2)};
+    for (size_t i = 0; i < f.input.PixelCount(); ++i)
+        for (int j = 0; j < features; ++j)
+            f.features.Plane(j)[i] = j < 3          ? std::min(albedo.Plane(j)[i], 1.f)
+                                     : extra[j - 3] ? extra[j - 3][i]
+                                                    : 1.f;
+    for (int j = 0; j < features; ++j) f.weights.push_back(j < 3 ? 3 : 1);
     Image variance = ref::NforNoise(f.input, &albedo, 2, 1.479);
     f.mask = ref::NforMask(&albedo, w, h, 1.5);
     f.color = ref::NforClamp(f.input, variance, &albedo, f.mask, 4, 0.5, 0);
@@ -833,10 +903,46 @@ FitInputs MakeFitInputs(int w, int h, InputKind kind, const std::string &name, i
     return f;
 }
 
+// The fit kernels' shapes (features, channels): 5 x 3 fills the coefficients' vec4s
+// exactly; 7 x 3 and 4 x 1 pad them.
+constexpr std::pair<int, int> kFitShapes[] = {{5, 3}, {7, 3}, {4, 1}};
+
 NforFitSettings SettingsOf(const FitInputs &f) {
     return {f.candidate.radius, f.candidate.gatherRadius, float(f.candidate.bandwidth),
             float(f.candidate.ridge), std::vector<float>(f.weights.begin(), f.weights.end())};
 }
+
+// Pack: a copy, bit for bit against NforPackedOf, with 1, 3 and 4 colour channels and
+// features filling part of a vec4, all of it, and three.
+class NforPackKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforPackKernel, MatchesTheLayoutAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    const std::string name = fmt::format("pack{}x{}{}", w, h, InputKindName(kind));
+    for (auto [channels, features] : {std::pair{3, 7}, {1, 5}, {4, 10}, {3, 3}}) {
+        SCOPED_TRACE(fmt::format("{} channels, {} features", channels, features));
+        Image color = MakeInput(kind, w, h, channels, SeedFromName(name));
+        Image feature = MakeInput(kind, w, h, features, SeedFromName(name + "features"));
+        Image mask(w, h, 1, 1.f);
+        for (size_t i = 0; i < mask.Size(); i += 4) mask.data[i] = 0.f;
+        auto run = [&] {
+            vk::GpuImage c = Upload(Ctx(), color, "color"),
+                         fe = Upload(Ctx(), feature, "features"),
+                         m = Upload(Ctx(), mask, "mask");
+            vk::GpuImage out(Ctx(), w, h, NforPackedFloats(features), "packed");
+            vk::Recorder recorder(Ctx());
+            RecordNforPack(Ctx(), recorder, c, fe, m, out);
+            recorder.Submit();
+            return out.Download();
+        };
+        Image actual = run();
+        EXPECT_TRUE(BitIdentical(NforPackedOf(color, feature, mask), actual));
+        EXPECT_TRUE(BitIdentical(actual, run()));
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforPackKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
 
 // Regress: the sums of A = sum w x x^T (+ ridge) carry each weight's error (WeightError
 // with the feature term exact to (n + 3) u) and m u of accumulation relative to
@@ -846,29 +952,32 @@ NforFitSettings SettingsOf(const FitInputs &f) {
 // sum over the window of |x|^2 + (columns - 1) lambda m: bounds of the window's features.
 class NforRegressKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
-    const auto [w, h, kind] = GetParam();
+void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
+    SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
     const int radius = 2;
-    FitInputs f = MakeFitInputs(
-        w, h, kind, fmt::format("regress{}x{}{}", w, h, InputKindName(kind)), radius);
+    FitInputs f =
+        MakeFitInputs(w, h, kind, fmt::format("regress{}x{}{}", w, h, InputKindName(kind)),
+                      radius, features, channels);
     ref::NforFit expected =
         ref::NforRegress(f.color, f.features, f.mask, f.distance, f.candidate);
     auto run = [&](Image *hat) {
-        vk::GpuImage c = Upload(Ctx(), f.color, "color"),
-                     fe = Upload(Ctx(), f.features, "features");
-        vk::GpuImage m = Upload(Ctx(), f.mask, "mask"), d = Upload(Ctx(), f.distance, "D");
-        vk::GpuImage beta(Ctx(), w, h, 8 * 3, "beta"), hats(Ctx(), w, h, 2, "hat");
-        vk::Recorder recorder(Ctx());
-        RecordNforRegress(Ctx(), recorder, c, fe, m, d, SettingsOf(f), beta, hats, 1);
+        vk::GpuImage packed =
+            Upload(TestContext(), NforPackedOf(f.color, f.features, f.mask), "packed");
+        vk::GpuImage d = Upload(TestContext(), f.distance, "D");
+        vk::GpuImage beta(TestContext(), w, h, NforBetaStride(features, channels), "beta"),
+            hats(TestContext(), w, h, 2, "hat");
+        vk::Recorder recorder(TestContext());
+        RecordNforRegress(TestContext(), recorder, packed, features, channels, d, SettingsOf(f),
+                          beta, hats, 1);
         recorder.Submit();
         Image all = hats.Download();
         *hat = Image(w, h, 1);
         std::copy(all.Plane(1), all.Plane(1) + hat->Size(), hat->data.begin());
-        return beta.Download();
+        return NforBetaPlanes(beta.Download(), features, channels);
     };
     Image hat, hatAgain;
     Image beta = run(&hat);
-    int window = (2 * radius + 1) * (2 * radius + 1), columns = 8;
+    int window = (2 * radius + 1) * (2 * radius + 1), columns = features + 3;
     double lambda = f.candidate.ridge;
     Image betaScale(w, h, beta.channels), hatScale(w, h, 1);
     for (int y = 0; y < h; ++y)
@@ -878,12 +987,12 @@ TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
                 for (int u = x - radius; u <= x + radius; ++u) {
                     if (u < 0 || v < 0 || u >= w || v >= h) continue;
                     double norm = 1 + 2.0;  // the constant and |dx|, |dy| <= 1
-                    for (int j = 0; j < 5; ++j) {
+                    for (int j = 0; j < features; ++j) {
                         double d = f.features.At(j, v, u) - f.features.At(j, y, x);
                         norm += d * d;
                     }
                     trace += norm;
-                    for (int c = 0; c < 3; ++c)
+                    for (int c = 0; c < channels; ++c)
                         largest = std::max(largest, double(std::fabs(f.color.At(c, v, u))));
                 }
             double condition = trace / std::min(1.0, lambda);
@@ -903,6 +1012,11 @@ TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(hat, hatAgain));
 }
 
+TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    for (auto [features, channels] : kFitShapes) CheckRegress(w, h, kind, features, channels);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, NforRegressKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
@@ -911,43 +1025,50 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforRegressKernel, testing::ValuesIn(KernelCases
 // of the window's largest prediction magnitude.
 class NforGatherKernel : public GpuTestWithParam<KernelCase> {};
 
-TEST_P(NforGatherKernel, MatchesReferenceAndRepeats) {
-    const auto [w, h, kind] = GetParam();
+void CheckGather(int w, int h, InputKind kind, int features, int channels) {
+    SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
     const int radius = 2;
-    FitInputs f = MakeFitInputs(
-        w, h, kind, fmt::format("gather{}x{}{}", w, h, InputKindName(kind)), radius);
+    FitInputs f =
+        MakeFitInputs(w, h, kind, fmt::format("gather{}x{}{}", w, h, InputKindName(kind)),
+                      radius, features, channels);
     ref::NforFit fit = ref::NforRegress(f.color, f.features, f.mask, f.distance, f.candidate);
     Image expected = ref::NforGather(f.input, f.features, f.mask, f.distance, fit, f.candidate);
     auto run = [&] {
-        vk::GpuImage in = Upload(Ctx(), f.input, "input"),
-                     fe = Upload(Ctx(), f.features, "features");
-        vk::GpuImage m = Upload(Ctx(), f.mask, "mask"), d = Upload(Ctx(), f.distance, "D");
-        vk::GpuImage beta = Upload(Ctx(), fit.beta, "beta");
-        vk::GpuImage out(Ctx(), w, h, 6, "out");
-        vk::Recorder recorder(Ctx());
-        RecordNforGather(Ctx(), recorder, in, fe, m, d, beta, SettingsOf(f), out, 3);
+        vk::GpuImage in = Upload(TestContext(), f.input, "input"),
+                     d = Upload(TestContext(), f.distance, "D");
+        vk::GpuImage packed =
+            Upload(TestContext(), NforPackedOf(f.color, f.features, f.mask), "packed");
+        vk::GpuImage beta =
+            Upload(TestContext(), NforBetaPerPixel(fit.beta, features, channels), "beta");
+        vk::GpuImage out(TestContext(), w, h, 2 * channels, "out");
+        vk::Recorder recorder(TestContext());
+        RecordNforGather(TestContext(), recorder, in, packed, features, d, beta, SettingsOf(f),
+                         out, channels);
         recorder.Submit();
         Image all = out.Download();
-        Image part(w, h, 3);
-        std::copy(all.Plane(3), all.Plane(3) + part.Size(), part.data.begin());
+        Image part(w, h, channels);
+        std::copy(all.Plane(channels), all.Plane(channels) + part.Size(), part.data.begin());
         return part;
     };
     Image actual = run();
-    int window = (2 * radius + 1) * (2 * radius + 1), columns = 8;
-    Image magnitude(w, h, 3);
-    for (int c = 0; c < 3; ++c)
+    int window = (2 * radius + 1) * (2 * radius + 1), columns = features + 3;
+    Image magnitude(w, h, channels);
+    for (int c = 0; c < channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 double most = std::fabs(f.input.At(c, y, x));
                 for (int v = y - radius; v <= y + radius; ++v)
                     for (int u = x - radius; u <= x + radius; ++u) {
                         if (u < 0 || v < 0 || u >= w || v >= h) continue;
-                        double xs[8] = {1, double(x - u) / radius, double(y - v) / radius};
-                        for (int j = 0; j < 5; ++j)
+                        std::vector<double> xs(columns);
+                        xs[0] = 1;
+                        xs[1] = double(x - u) / radius;
+                        xs[2] = double(y - v) / radius;
+                        for (int j = 0; j < features; ++j)
                             xs[3 + j] = f.features.At(j, y, x) - f.features.At(j, v, u);
                         double sum = 0;
                         for (int i = 0; i < columns; ++i)
-                            sum += std::fabs(xs[i] * fit.beta.At(i * 3 + c, v, u));
+                            sum += std::fabs(xs[i] * fit.beta.At(i * channels + c, v, u));
                         most = std::max(most, sum);
                     }
                 magnitude.At(c, y, x) = float(most);
@@ -958,8 +1079,34 @@ TEST_P(NforGatherKernel, MatchesReferenceAndRepeats) {
     EXPECT_TRUE(BitIdentical(actual, run()));
 }
 
+TEST_P(NforGatherKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    for (auto [features, channels] : kFitShapes) CheckGather(w, h, kind, features, channels);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, NforGatherKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
+
+// Regress and gather refuse feature weights that do not match the packed features: a pack
+// of 5 features has the size of one of 7, so only the count can tell them apart.
+class NforFitChecks : public GpuTest {};
+
+TEST_F(NforFitChecks, FeatureCountMismatchThrows) {
+    const int w = 5, h = 4, radius = 2;
+    FitInputs f = MakeFitInputs(w, h, InputKind::Uniform, "fitchecks", radius);
+    NforFitSettings settings = SettingsOf(f);
+    settings.featureWeights.resize(7, 1.f);
+    ASSERT_EQ(NforPackedFloats(5), NforPackedFloats(7));
+    vk::GpuImage packed = Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+    vk::GpuImage d = Upload(Ctx(), f.distance, "D"), in = Upload(Ctx(), f.input, "input");
+    vk::GpuImage beta(Ctx(), w, h, NforBetaStride(5, 3), "beta"), hat(Ctx(), w, h, 1, "hat"),
+        out(Ctx(), w, h, 3, "out");
+    vk::Recorder recorder(Ctx());
+    EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 0),
+                 Error);
+    EXPECT_THROW(RecordNforGather(Ctx(), recorder, in, packed, 5, d, beta, settings, out, 0),
+                 Error);
+}
 
 // Select on the same candidates: SURE of a pixel is a few roundings of sum |d^2| + v (1 +
 // 2 h); its window mean m u more. Where the reference's best and second best means are

@@ -62,11 +62,10 @@ double WalkTerm(const vk::KeptDispatch &d) {
         auto [ox, oy] = Offset(p.radius, j);
         if (!Inside(x + ox, y + oy, p.width, p.height)) return;
         for (int c = 0; c < channels; ++c) {
-            if (p.albedoChannels > 0) walked += 2 * 3;  // valueAt at p and q
-            walked += 1;                                // diff
-            walked += p.minVariance != 0 ? 2 : 1;       // s
-            walked += 10;                               // t
-            walked += 2;                                // min, the sum
+            walked += 1;                           // diff
+            walked += p.minVariance != 0 ? 2 : 1;  // s
+            walked += 10;                          // t
+            walked += 2;                           // min, the sum
         }
         walked += 1;  // the mean
     });
@@ -84,15 +83,20 @@ double WalkBox(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     int w = p.width, h = p.height, f = p.patchRadius;
     double walked = 0;
-    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int j) {
-        if (x >= w) return;
-        if (p.vertical == 0) {
-            for (int t = std::max(-f, -x); t <= std::min(f, w - 1 - x); ++t) walked += 1;
-            return;
+    // An invocation sums NFOR_BOX_BLOCK outputs along its pass's axis.
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int gx, int gy, int j) {
+        for (int k = 0; k < NFOR_BOX_BLOCK; ++k) {
+            int x = p.vertical == 0 ? gx * NFOR_BOX_BLOCK + k : gx,
+                y = p.vertical == 0 ? gy : gy * NFOR_BOX_BLOCK + k;
+            if (x >= w || y >= h) return;
+            if (p.vertical == 0) {
+                for (int t = std::max(-f, -x); t <= std::min(f, w - 1 - x); ++t) walked += 1;
+                continue;
+            }
+            for (int t = std::max(-f, -y); t <= std::min(f, h - 1 - y); ++t) walked += 1;
+            auto [ox, oy] = Offset(p.radius, j);
+            if (Along(x, ox, f, w) * Along(y, oy, f, h) > 0) walked += 1;
         }
-        for (int t = std::max(-f, -y); t <= std::min(f, h - 1 - y); ++t) walked += 1;
-        auto [ox, oy] = Offset(p.radius, j);
-        if (Along(x, ox, f, w) * Along(y, oy, f, h) > 0) walked += 1;
     });
     return walked;
 }

@@ -38,11 +38,11 @@ std::pair<int, int> StoredOffset(int radius, int j) {
 }
 
 // term.comp, per invocation whose q = p + o is inside: per channel the difference (1), the
-// variance sum (1, or 2 min: 2), the term's 10 operators, min and the sum (2), and with an
-// albedo valueAt's divide, square and divide at p and q (6); then the mean's divide (1).
+// variance sum (1, or 2 min: 2), the term's 10 operators, min and the sum (2); then the
+// mean's divide (1). The albedo's divides are illumination.comp's, once a pixel.
 double TermFlops(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
-    double perChannel = 1 + (p.minVariance ? 2 : 1) + 10 + 2 + (p.albedoChannels > 0 ? 6 : 0);
+    double perChannel = 1 + (p.minVariance ? 2 : 1) + 10 + 2;
     double perInside = Channels(d) * perChannel + 1, flops = 0;
     for (uint32_t j = 0; j < d.timing.groups[2]; ++j) {
         auto [ox, oy] = StoredOffset(p.radius, int(j));
@@ -210,9 +210,8 @@ const FormulaMap &NforFormulas() {
           "weight under the cut",
           PrefilterFlops, OpsBound::AtMost}},
         {"nfor_term",
-         {"per offset with q inside, per channel 14 (15 min-variance, +6 albedo-divided, "
-          "every albedo above the floor) and 1",
-          TermFlops, OpsBound::AtMost}},
+         {"per offset with q inside, per channel 14 (15 min-variance) and 1", TermFlops,
+          OpsBound::Exact}},
         {"nfor_noise",
          {"per direction and window pair inside 3 (+6 with a divisor), per direction with 3 "
           "pairs 1, per pixel 2 where one has them (+1 with a divisor); relaxed: the same "
