@@ -28,18 +28,69 @@ Inputs::Inputs(Inputs &parent, int x0, int y0, int x1, int y1)
       y0(y0) {}
 
 bool Inputs::Has(const std::string &layer) const {
+    if (auto it = aliases.find(layer); it != aliases.end()) return Has(it->second);
     if (overrides.count(layer) > 0) return true;
     return parent ? parent->Has(layer) : frame.Has(layer);
 }
 
 void Inputs::Override(const std::string &layer, Image image) {
     overrides[layer] = std::move(image);
+    aliases.erase(layer);
     checked.erase(layer);
     crops.erase(layer);
     ids.erase(layer);
 }
 
+void Inputs::Alias(const std::string &layer, const std::string &source) {
+    if (layer == source || aliases.count(source) > 0)
+        throw Error(
+            fmt::format("layer '{}' read from '{}', itself read from another", layer, source),
+            ErrorKind::Internal);
+    overrides.erase(layer);
+    aliases[layer] = source;
+    checked.erase(layer);
+    crops.erase(layer);
+    ids.erase(layer);
+}
+
+Inputs::Held Inputs::Take(const std::string &layer) {
+    Get(layer);
+    Held held;
+    if (auto it = overrides.find(layer); it != overrides.end()) {
+        held.image = std::move(it->second);
+        overrides.erase(it);
+    }
+    if (auto it = aliases.find(layer); it != aliases.end()) {
+        held.alias = std::move(it->second);
+        aliases.erase(it);
+    }
+    held.checked = checked[layer];
+    held.crop = crops.count(layer) > 0;
+    if (auto it = ids.find(layer); it != ids.end()) held.id = std::move(it->second);
+    checked.erase(layer);
+    crops.erase(layer);
+    ids.erase(layer);
+    return held;
+}
+
+void Inputs::Put(const std::string &layer, Held held) {
+    overrides.erase(layer);
+    aliases.erase(layer);
+    if (held.image) overrides[layer] = std::move(*held.image);
+    if (held.alias) aliases[layer] = std::move(*held.alias);
+    checked[layer] = held.checked;
+    if (held.crop)
+        crops.insert(layer);
+    else
+        crops.erase(layer);
+    if (held.id)
+        ids[layer] = std::move(*held.id);
+    else
+        ids.erase(layer);
+}
+
 const std::string &Inputs::LayerId(const std::string &layer) {
+    if (auto it = aliases.find(layer); it != aliases.end()) return LayerId(it->second);
     if (auto it = ids.find(layer); it != ids.end()) return it->second;
     const Image &image = Get(layer);
     // A crop is its parent's layer seen through the window: the same parent and window
@@ -67,6 +118,7 @@ std::vector<std::string> Inputs::Names() const {
 }
 
 const Image &Inputs::Get(const std::string &layer) {
+    if (auto it = aliases.find(layer); it != aliases.end()) return Get(it->second);
     auto it = overrides.find(layer);
     if (parent) {
         // The parent checks the whole layer (warnings in frame coordinates); crop once.
