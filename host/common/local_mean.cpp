@@ -281,7 +281,7 @@ std::vector<double> ClippedTent(int n, int s, bool squared) {
     return weights;
 }
 
-// One row filtered by the row weights `wx` (ClippedTent's, `span` a value). Each output is
+// One row filtered by the row weights `wx` (ClippedTent's, 2 reach + 1 a value). Each output is
 // its window's products summed in order, u rising; the values whose window lies inside the
 // row share one set of weights (their clipped sums are the same), so they are summed side
 // by side, each in that same order.
@@ -298,14 +298,15 @@ void FilterRow(const float *in, float *out, int w, int reach, const std::vector<
     for (int x = 0; x < lo; ++x) edge(x);
     if (hi > lo) {
         const double *inner = wx.data() + size_t(lo) * span;
+        const int n = hi - lo;
         double *sums = acc->data();
-        std::fill(sums + lo, sums + hi, 0.0);
+        std::fill(sums, sums + n, 0.0);
         for (int d = 0; d < span; ++d) {
             const double weight = inner[d];
-            const float *from = in + (d - reach);
-            for (int x = lo; x < hi; ++x) sums[x] += weight * from[x];
+            const float *from = in + (lo - reach + d);  // u = x - reach + d
+            for (int i = 0; i < n; ++i) sums[i] += weight * from[i];
         }
-        for (int x = lo; x < hi; ++x) out[x] = float(sums[x]);
+        for (int i = 0; i < n; ++i) out[lo + i] = float(sums[i]);
     }
     for (int x = hi; x < w; ++x) edge(x);
 }
