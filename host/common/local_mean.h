@@ -229,9 +229,8 @@ bool Light(const Image &variance, const Image &sums, size_t p);
 // reference holds a blob wider than it), so its pixels go to `bridged` (if given; ascending)
 // and the caller leaves their energy to the restore of local means, as a spike's. Returns the
 // other cut pixels (ascending). Nothing without histograms of `input`'s size. The colour must
-// be finite (the front ends'
-// --non-finite sees to it): a median of neighbours holding NaN would put NaN into the filter's
-// input.
+// be finite (the front ends' --non-finite sees to it): a median of neighbours holding NaN
+// would put NaN into the filter's input.
 constexpr int kClusterLeast = 3, kClusterSpan = 3, kBridgedGroups = 2, kBridgedSize = 2;
 constexpr double kClusterShare = 0.3, kClusterLevel = 1e-4;
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,
