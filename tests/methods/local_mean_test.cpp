@@ -376,6 +376,7 @@ TEST(LocalMeanTent, ClippedTentSameBitsAsWindowsSummedOneByOne) {
     for (LocalMeanCase c :
          {LocalMeanCase{1, 1, 1, 1}, LocalMeanCase{1, 9, 3, 2}, LocalMeanCase{9, 1, 2, 1},
           LocalMeanCase{7, 5, 3, 4}, LocalMeanCase{37, 3, 2, 2}, LocalMeanCase{40, 23, 3, 3},
+          LocalMeanCase{9, 9, 3, 2}, LocalMeanCase{10, 5, 3, 2}, LocalMeanCase{8, 4, 1, 2},
           LocalMeanCase{301, 67, 3, 8}, LocalMeanCase{150, 140, 2, 32}})
         for (int kind = 0; kind < 3; ++kind) {
             Image input = TentInput(c, kind, &rng);
