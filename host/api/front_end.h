@@ -46,7 +46,8 @@ class Inputs {
     // Replace a layer for the rest of the run (checked like the frame's own on read).
     void Override(const std::string &layer, Image image);
     // Replace a layer by another layer of these inputs, read in its place (not copied) and
-    // named by its identity, until the layer is replaced again.
+    // named by its identity, until the layer is replaced again. The layer follows its
+    // source: a later replacement of the source is read through it too (a copy would not).
     void Alias(const std::string &layer, const std::string &source);
     // What a layer's replacement moves aside (ScopedOverrides): its own image where it has
     // one (a repaired, demodulated or cropped layer, or an earlier override; none: the
@@ -58,8 +59,9 @@ class Inputs {
         bool checked = false, crop = false;
         std::optional<std::string> id;
     };
-    // Moves the layer's own image and state out (read, and so checked, first) and leaves
-    // the frame's or the parent's in their place until Put.
+    // Moves the layer's own image and state out (read, and so checked, first). The layer's
+    // own entry stays, emptied, so that references from Get survive Override or Put into
+    // it; follow Take by Override, Alias or Put before reading the layer.
     Held Take(const std::string &layer);
     // Puts back what Take moved out, replacing whatever the layer is now.
     void Put(const std::string &layer, Held held);
@@ -67,7 +69,7 @@ class Inputs {
     // kept until the layer is replaced; a window's crop of its parent's layer is named by
     // the parent's identity and the window, so no crop is hashed again.
     const std::string &LayerId(const std::string &layer);
-    // The names of the frame's layers and the overrides, sorted.
+    // The names of the frame's layers, the overrides and the aliases, sorted.
     std::vector<std::string> Names() const;
     // Work shared between runs on these inputs (auto's candidates and probes;
     // RunSetup::memo), and on the windows made of them (a tile's: keys name their content).
@@ -93,7 +95,9 @@ class Inputs {
 };
 
 // Layers of `inputs` replaced for a scope, each put back as it was when the scope ends,
-// however it ends.
+// however it ends. A reference from Get to a layer's own image (an override, a repair or a
+// crop) made before the scope stays valid and sees the scope's replacement in it (empty
+// while aliased); one to a layer the scope gave its first override dangles after it.
 class ScopedOverrides {
   public:
     explicit ScopedOverrides(Inputs &inputs) : inputs(inputs) {}
@@ -106,18 +110,29 @@ class ScopedOverrides {
     // The layer's image and state moved aside, not copied: a frame's layer is not held
     // twice, and its identity is not hashed again when it comes back.
     void Override(const std::string &layer, Image image) {
-        saved.emplace_back(layer, inputs.Take(layer));
+        Hold(layer);
         inputs.Override(layer, std::move(image));
     }
 
     // The layer read from `source` of the same inputs for the scope, without a copy.
     void Alias(const std::string &layer, const std::string &source) {
-        inputs.Get(source);
-        saved.emplace_back(layer, inputs.Take(layer));
+        Hold(layer);
         inputs.Alias(layer, source);
     }
 
   private:
+    // The slot made first, then the layer moved into it: no allocation after Take, so
+    // nothing moved out is lost to an exception.
+    void Hold(const std::string &layer) {
+        saved.emplace_back(layer, Inputs::Held{});
+        try {
+            saved.back().second = inputs.Take(layer);
+        } catch (...) {
+            saved.pop_back();
+            throw;
+        }
+    }
+
     Inputs &inputs;
     std::vector<std::pair<std::string, Inputs::Held>> saved;
 };

@@ -42,11 +42,16 @@ void Inputs::Override(const std::string &layer, Image image) {
 }
 
 void Inputs::Alias(const std::string &layer, const std::string &source) {
-    if (layer == source || aliases.count(source) > 0)
+    if (layer == source)
+        throw Error(fmt::format("layer '{}' read from itself", layer), ErrorKind::Internal);
+    if (aliases.count(source) > 0)
         throw Error(
             fmt::format("layer '{}' read from '{}', itself read from another", layer, source),
             ErrorKind::Internal);
-    overrides.erase(layer);
+    // The source must exist and be readable (checked, repaired) before the layer follows it.
+    Get(source);
+    // Keep the layer's own entry, emptied, so that references from Get stay valid.
+    if (auto it = overrides.find(layer); it != overrides.end()) it->second = Image();
     aliases[layer] = source;
     checked.erase(layer);
     crops.erase(layer);
@@ -55,16 +60,17 @@ void Inputs::Alias(const std::string &layer, const std::string &source) {
 
 Inputs::Held Inputs::Take(const std::string &layer) {
     Get(layer);
+    // Nothing below allocates, so nothing moved out can be lost to an exception.
     Held held;
     if (auto it = overrides.find(layer); it != overrides.end()) {
         held.image = std::move(it->second);
-        overrides.erase(it);
+        it->second = Image();
     }
     if (auto it = aliases.find(layer); it != aliases.end()) {
         held.alias = std::move(it->second);
         aliases.erase(it);
     }
-    held.checked = checked[layer];
+    if (auto it = checked.find(layer); it != checked.end()) held.checked = it->second;
     held.crop = crops.count(layer) > 0;
     if (auto it = ids.find(layer); it != ids.end()) held.id = std::move(it->second);
     checked.erase(layer);
@@ -74,9 +80,12 @@ Inputs::Held Inputs::Take(const std::string &layer) {
 }
 
 void Inputs::Put(const std::string &layer, Held held) {
-    overrides.erase(layer);
     aliases.erase(layer);
-    if (held.image) overrides[layer] = std::move(*held.image);
+    // Into the entry in place where there is one (references from Get stay valid).
+    if (held.image)
+        overrides[layer] = std::move(*held.image);
+    else
+        overrides.erase(layer);
     if (held.alias) aliases[layer] = std::move(*held.alias);
     checked[layer] = held.checked;
     if (held.crop)
@@ -103,17 +112,11 @@ const std::string &Inputs::LayerId(const std::string &layer) {
 }
 
 std::vector<std::string> Inputs::Names() const {
-    if (parent) {
-        std::vector<std::string> names = parent->Names();
-        for (const auto &[name, image] : overrides)
-            if (!parent->Has(name)) names.push_back(name);
-        std::sort(names.begin(), names.end());
-        return names;
-    }
-    std::vector<std::string> names = frame.Names();
-    for (const auto &[name, image] : overrides)
-        if (!frame.Has(name)) names.push_back(name);
+    std::vector<std::string> names = parent ? parent->Names() : frame.Names();
+    for (const auto &[name, image] : overrides) names.push_back(name);
+    for (const auto &[name, source] : aliases) names.push_back(name);
     std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
     return names;
 }
 

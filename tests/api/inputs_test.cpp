@@ -2,6 +2,7 @@
 // derived for a window's crop; two windows or two contents never share one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -89,8 +90,9 @@ TEST(InputsScopedOverrides, LayersComeBackAsTheyWere) {
     api::Inputs whole(frame, false, "rhf");
     api::Inputs window(whole, 2, 1, 20, 15);
     const Image *frameHist = &whole.Get("hist");
-    whole.Get("variance");
-    const float *crop = window.Get("color").data.data();
+    const Image *repaired = &whole.Get("variance");
+    const Image *cropImage = &window.Get("color");
+    const float *crop = cropImage->data.data();
     const std::string histId = whole.LayerId("hist"), cropId = window.LayerId("color");
     ASSERT_EQ(whole.warnings.size(), 1u);
     ASSERT_EQ(frameHist, &frame.layers.at("hist"));
@@ -102,6 +104,9 @@ TEST(InputsScopedOverrides, LayersComeBackAsTheyWere) {
         scoped.Override("variance", Image(23, 17, 3));
         scoped.Override("variance", Image(23, 17, 1));
         scopedWindow.Override("color", Image(18, 14, 3));
+        // A reference from before the scope sees the replacement, in place.
+        EXPECT_EQ(&whole.Get("variance"), repaired);
+        EXPECT_EQ(&window.Get("color"), cropImage);
         EXPECT_EQ(whole.LayerId("hist"), MemoImageId(other));
         EXPECT_EQ(whole.Get("variance").channels, 1);
         EXPECT_EQ(window.Get("color").data[0], 0.f);
@@ -110,11 +115,63 @@ TEST(InputsScopedOverrides, LayersComeBackAsTheyWere) {
     }
     EXPECT_EQ(&whole.Get("hist"), frameHist);
     EXPECT_EQ(whole.LayerId("hist"), histId);
+    EXPECT_EQ(&whole.Get("variance"), repaired);
+    EXPECT_EQ(&window.Get("color"), cropImage);
     EXPECT_EQ(whole.Get("variance").data[4], 0.f);
     EXPECT_EQ(whole.Get("variance").channels, 3);
     EXPECT_EQ(whole.warnings.size(), 1u);
     EXPECT_EQ(window.Get("color").data.data(), crop);
     EXPECT_EQ(window.LayerId("color"), cropId);
+}
+
+// The identity a layer had comes back as it was, not hashed again: a planted sentinel id
+// returns after the scope, and a window's crop is again named by its parent's identity
+// and the window (rehashing its values would give another string).
+TEST(InputsScopedOverrides, IdentityComesBackUnhashed) {
+    const Frame frame = LayeredFrame(23, 17);
+    api::Inputs whole(frame, false, "rhf");
+    api::Inputs window(whole, 2, 1, 20, 15);
+    api::Inputs::Held planted;
+    planted.id = "planted id";
+    whole.Put("hist", planted);
+    ASSERT_EQ(whole.LayerId("hist"), "planted id");
+    window.Get("color");
+    const std::string cropId = api::Inputs(whole, 2, 1, 20, 15).LayerId("color");
+    ASSERT_NE(cropId, MemoImageId(window.Get("color")));
+    {
+        api::ScopedOverrides scoped(whole), scopedWindow(window);
+        scoped.Override("hist", Image(23, 17, 13));
+        scopedWindow.Override("color", Image(18, 14, 3));
+        EXPECT_EQ(whole.LayerId("hist"), MemoImageId(Image(23, 17, 13)));
+    }
+    EXPECT_EQ(whole.LayerId("hist"), "planted id");
+    EXPECT_EQ(window.LayerId("color"), cropId);
+}
+
+// Inputs::Alias refuses a layer read from itself and a source that is not there, leaving
+// the layer as it was; an alias follows later replacements of its source and is named.
+TEST(InputsAlias, ChecksItsSourceAndFollowsIt) {
+    const Frame frame = LayeredFrame(23, 17);
+    api::Inputs whole(frame, false, "rhf");
+    try {
+        whole.Alias("hist", "hist");
+        ADD_FAILURE() << "an alias of itself was taken";
+    } catch (const Error &e) {
+        EXPECT_NE(std::string(e.what()).find("read from itself"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_THROW(whole.Alias("hist", "no such layer"), Error);
+    {
+        api::ScopedOverrides scoped(whole);
+        EXPECT_THROW(scoped.Alias("hist", "no such layer"), Error);
+    }
+    EXPECT_EQ(&whole.Get("hist"), &frame.layers.at("hist"));
+    whole.Alias("extra", "hist");
+    const std::vector<std::string> names = whole.Names();
+    EXPECT_NE(std::find(names.begin(), names.end(), "extra"), names.end());
+    Image other(23, 17, 13, 2.f);
+    whole.Override("hist", other);
+    EXPECT_EQ(whole.Get("extra").data, other.data);
 }
 
 // A layer read from another (auto's probes on half0's own layers): the source's values in
