@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -44,11 +45,31 @@ class Inputs {
     const Image &Get(const std::string &layer);
     // Replace a layer for the rest of the run (checked like the frame's own on read).
     void Override(const std::string &layer, Image image);
+    // Replace a layer by another layer of these inputs, read in its place (not copied) and
+    // named by its identity, until the layer is replaced again. The layer follows its
+    // source: a later replacement of the source is read through it too (a copy would not).
+    void Alias(const std::string &layer, const std::string &source);
+    // What a layer's replacement moves aside (ScopedOverrides): its own image where it has
+    // one (a repaired, demodulated or cropped layer, or an earlier override; none: the
+    // frame's or the parent's) or the layer it was read from, whether it was checked, and
+    // its identity.
+    struct Held {
+        std::optional<Image> image;
+        std::optional<std::string> alias;
+        bool checked = false, crop = false;
+        std::optional<std::string> id;
+    };
+    // Moves the layer's own image and state out (read, and so checked, first). The layer's
+    // own entry stays, emptied, so that references from Get survive Override or Put into
+    // it; follow Take by Override, Alias or Put before reading the layer.
+    Held Take(const std::string &layer);
+    // Puts back what Take moved out, replacing whatever the layer is now.
+    void Put(const std::string &layer, Held held);
     // The layer's identity in a memo key (RunMemo): the hash of its values, made once and
     // kept until the layer is replaced; a window's crop of its parent's layer is named by
     // the parent's identity and the window, so no crop is hashed again.
     const std::string &LayerId(const std::string &layer);
-    // The names of the frame's layers and the overrides, sorted.
+    // The names of the frame's layers, the overrides and the aliases, sorted.
     std::vector<std::string> Names() const;
     // Work shared between runs on these inputs (auto's candidates and probes;
     // RunSetup::memo), and on the windows made of them (a tile's: keys name their content).
@@ -70,10 +91,13 @@ class Inputs {
     std::map<std::string, bool> checked;
     std::set<std::string> crops;             // overrides that are crops of the parent's layer
     std::map<std::string, std::string> ids;  // LayerId's, dropped when a layer is replaced
+    std::map<std::string, std::string> aliases;  // layers read from another (Alias)
 };
 
 // Layers of `inputs` replaced for a scope, each put back as it was when the scope ends,
-// however it ends.
+// however it ends. A reference from Get to a layer's own image (an override, a repair or a
+// crop) made before the scope stays valid and sees the scope's replacement in it (empty
+// while aliased); one to a layer the scope gave its first override dangles after it.
 class ScopedOverrides {
   public:
     explicit ScopedOverrides(Inputs &inputs) : inputs(inputs) {}
@@ -81,16 +105,36 @@ class ScopedOverrides {
     ScopedOverrides &operator=(const ScopedOverrides &) = delete;
     ~ScopedOverrides() {
         for (auto it = saved.rbegin(); it != saved.rend(); ++it)
-            inputs.Override(it->first, std::move(it->second));
+            inputs.Put(it->first, std::move(it->second));
     }
+    // The layer's image and state moved aside, not copied: a frame's layer is not held
+    // twice, and its identity is not hashed again when it comes back.
     void Override(const std::string &layer, Image image) {
-        saved.emplace_back(layer, inputs.Get(layer));
+        Hold(layer);
         inputs.Override(layer, std::move(image));
     }
 
+    // The layer read from `source` of the same inputs for the scope, without a copy.
+    void Alias(const std::string &layer, const std::string &source) {
+        Hold(layer);
+        inputs.Alias(layer, source);
+    }
+
   private:
+    // The slot made first, then the layer moved into it: no allocation after Take, so
+    // nothing moved out is lost to an exception.
+    void Hold(const std::string &layer) {
+        saved.emplace_back(layer, Inputs::Held{});
+        try {
+            saved.back().second = inputs.Take(layer);
+        } catch (...) {
+            saved.pop_back();
+            throw;
+        }
+    }
+
     Inputs &inputs;
-    std::vector<std::pair<std::string, Image>> saved;
+    std::vector<std::pair<std::string, Inputs::Held>> saved;
 };
 
 // A parameter bound to a field of the options struct O: O's initializers are the defaults.

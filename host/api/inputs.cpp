@@ -28,18 +28,78 @@ Inputs::Inputs(Inputs &parent, int x0, int y0, int x1, int y1)
       y0(y0) {}
 
 bool Inputs::Has(const std::string &layer) const {
+    if (auto it = aliases.find(layer); it != aliases.end()) return Has(it->second);
     if (overrides.count(layer) > 0) return true;
     return parent ? parent->Has(layer) : frame.Has(layer);
 }
 
 void Inputs::Override(const std::string &layer, Image image) {
     overrides[layer] = std::move(image);
+    aliases.erase(layer);
     checked.erase(layer);
     crops.erase(layer);
     ids.erase(layer);
 }
 
+void Inputs::Alias(const std::string &layer, const std::string &source) {
+    if (layer == source)
+        throw Error(fmt::format("layer '{}' read from itself", layer), ErrorKind::Internal);
+    if (aliases.count(source) > 0)
+        throw Error(
+            fmt::format("layer '{}' read from '{}', itself read from another", layer, source),
+            ErrorKind::Internal);
+    // The source must exist and be readable (checked, repaired) before the layer follows it.
+    Get(source);
+    // Keep the layer's own entry, emptied, so that references from Get stay valid.
+    if (auto it = overrides.find(layer); it != overrides.end()) it->second = Image();
+    aliases[layer] = source;
+    checked.erase(layer);
+    crops.erase(layer);
+    ids.erase(layer);
+}
+
+Inputs::Held Inputs::Take(const std::string &layer) {
+    Get(layer);
+    // Nothing below allocates, so nothing moved out can be lost to an exception.
+    Held held;
+    if (auto it = overrides.find(layer); it != overrides.end()) {
+        held.image = std::move(it->second);
+        it->second = Image();
+    }
+    if (auto it = aliases.find(layer); it != aliases.end()) {
+        held.alias = std::move(it->second);
+        aliases.erase(it);
+    }
+    if (auto it = checked.find(layer); it != checked.end()) held.checked = it->second;
+    held.crop = crops.count(layer) > 0;
+    if (auto it = ids.find(layer); it != ids.end()) held.id = std::move(it->second);
+    checked.erase(layer);
+    crops.erase(layer);
+    ids.erase(layer);
+    return held;
+}
+
+void Inputs::Put(const std::string &layer, Held held) {
+    aliases.erase(layer);
+    // Into the entry in place where there is one (references from Get stay valid).
+    if (held.image)
+        overrides[layer] = std::move(*held.image);
+    else
+        overrides.erase(layer);
+    if (held.alias) aliases[layer] = std::move(*held.alias);
+    checked[layer] = held.checked;
+    if (held.crop)
+        crops.insert(layer);
+    else
+        crops.erase(layer);
+    if (held.id)
+        ids[layer] = std::move(*held.id);
+    else
+        ids.erase(layer);
+}
+
 const std::string &Inputs::LayerId(const std::string &layer) {
+    if (auto it = aliases.find(layer); it != aliases.end()) return LayerId(it->second);
     if (auto it = ids.find(layer); it != ids.end()) return it->second;
     const Image &image = Get(layer);
     // A crop is its parent's layer seen through the window: the same parent and window
@@ -52,21 +112,16 @@ const std::string &Inputs::LayerId(const std::string &layer) {
 }
 
 std::vector<std::string> Inputs::Names() const {
-    if (parent) {
-        std::vector<std::string> names = parent->Names();
-        for (const auto &[name, image] : overrides)
-            if (!parent->Has(name)) names.push_back(name);
-        std::sort(names.begin(), names.end());
-        return names;
-    }
-    std::vector<std::string> names = frame.Names();
-    for (const auto &[name, image] : overrides)
-        if (!frame.Has(name)) names.push_back(name);
+    std::vector<std::string> names = parent ? parent->Names() : frame.Names();
+    for (const auto &[name, image] : overrides) names.push_back(name);
+    for (const auto &[name, source] : aliases) names.push_back(name);
     std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
     return names;
 }
 
 const Image &Inputs::Get(const std::string &layer) {
+    if (auto it = aliases.find(layer); it != aliases.end()) return Get(it->second);
     auto it = overrides.find(layer);
     if (parent) {
         // The parent checks the whole layer (warnings in frame coordinates); crop once.

@@ -640,8 +640,7 @@ Ran RunCandidate(vk::Context &context, Inputs &inputs, const FrontEnd &method,
                 for (float &x : doubled.data) x *= 2;
                 probe.Override("variance", std::move(doubled));
             }
-            for (const std::string &name : own)
-                probe.Override(name, inputs.Get("half0." + name));
+            for (const std::string &name : own) probe.Alias(name, "half0." + name);
             probe.Override("color", noise.halves ? noise.half0
                                     : isBayes    ? noise.bayesPerturbed
                                                  : noise.perturbed);

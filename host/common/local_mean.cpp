@@ -281,31 +281,68 @@ std::vector<double> ClippedTent(int n, int s, bool squared) {
     return weights;
 }
 
-// Each plane filtered by the separable weights (ClippedTent's, rows then columns).
-Image FilterSeparable(const Image &image, int s, bool squared) {
-    const int w = image.width, h = image.height, reach = 2 * s, span = 2 * reach + 1;
-    const std::vector<double> wx = ClippedTent(w, s, squared), wy = ClippedTent(h, s, squared);
-    Image rows(w, h, image.channels), out(w, h, image.channels);
-    for (int c = 0; c < image.channels; ++c) {
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                double sum = 0;
-                for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
-                    sum += wx[size_t(x) * span + (u - x + reach)] * image.At(c, y, u);
-                rows.At(c, y, x) = float(sum);
-            }
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                double sum = 0;
-                for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
-                    sum += wy[size_t(y) * span + (v - y + reach)] * rows.At(c, v, x);
-                out.At(c, y, x) = float(sum);
-            }
+// One row filtered by the row weights `wx` (ClippedTent's, 2 reach + 1 a value). Each output is
+// its window's products summed in order, u rising; the values whose window lies inside the
+// row share one set of weights (their clipped sums are the same), so they are summed side
+// by side, each in that same order.
+void FilterRow(const float *in, float *out, int w, int reach, const std::vector<double> &wx,
+               std::vector<double> *acc) {
+    const int span = 2 * reach + 1;
+    auto edge = [&](int x) {
+        double sum = 0;
+        for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
+            sum += wx[size_t(x) * span + (u - x + reach)] * in[u];
+        out[x] = float(sum);
+    };
+    const int lo = std::min(reach, w), hi = std::max(lo, w - reach);
+    for (int x = 0; x < lo; ++x) edge(x);
+    if (hi > lo) {
+        const double *inner = wx.data() + size_t(lo) * span;
+        const int n = hi - lo;
+        double *sums = acc->data();
+        std::fill(sums, sums + n, 0.0);
+        for (int d = 0; d < span; ++d) {
+            const double weight = inner[d];
+            const float *from = in + (lo - reach + d);  // u = x - reach + d
+            for (int i = 0; i < n; ++i) sums[i] += weight * from[i];
+        }
+        for (int i = 0; i < n; ++i) out[lo + i] = float(sums[i]);
     }
-    return out;
+    for (int x = hi; x < w; ++x) edge(x);
 }
 
 }  // namespace
+
+// Every output is its window's products summed in order (u, then v, rising); the rows and
+// the columns' outputs are split among the cores, the columns' summed a row at a time.
+Image ClippedTentFilter(const Image &image, int s, bool squared) {
+    const int w = image.width, h = image.height, reach = 2 * s, span = 2 * reach + 1;
+    const std::vector<double> wx = ClippedTent(w, s, squared), wy = ClippedTent(h, s, squared);
+    Image rows(w, h, image.channels), out(w, h, image.channels);
+    const int lines = image.channels * h;
+    const size_t cost = size_t(lines) * w * span;
+    ParallelFor(lines, cost, [&](int begin, int end) {
+        std::vector<double> acc(static_cast<size_t>(w));
+        for (int line = begin; line < end; ++line)
+            FilterRow(image.data.data() + size_t(line) * w, rows.data.data() + size_t(line) * w,
+                      w, reach, wx, &acc);
+    });
+    ParallelFor(lines, cost, [&](int begin, int end) {
+        std::vector<double> acc(static_cast<size_t>(w));
+        for (int line = begin; line < end; ++line) {
+            const int c = line / h, y = line % h;
+            std::fill(acc.begin(), acc.end(), 0.0);
+            for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v) {
+                const double weight = wy[size_t(y) * span + (v - y + reach)];
+                const float *from = rows.Plane(c) + size_t(v) * w;
+                for (int x = 0; x < w; ++x) acc[x] += weight * from[x];
+            }
+            float *to = out.Plane(c) + size_t(y) * w;
+            for (int x = 0; x < w; ++x) to[x] = float(acc[x]);
+        }
+    });
+    return out;
+}
 
 LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeight,
                                     Image *output) {
@@ -326,8 +363,9 @@ LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeigh
         float e = clean.data[i] - moved.data[i];
         squared.data[i] = e * e;
     }
-    const Image mIn = FilterSeparable(clean, s, false), mOut = FilterSeparable(moved, s, false),
-                q = FilterSeparable(squared, s, true);
+    const Image mIn = ClippedTentFilter(clean, s, false),
+                mOut = ClippedTentFilter(moved, s, false),
+                q = ClippedTentFilter(squared, s, true);
     // Each value's shrunk gain (its first planes) and whether it has one (the last): a bright
     // value puts its light and its noise in every window that holds it, so the gain would step
     // at the edge of the tent's square support around it. Its mean over the same tent, among
@@ -344,7 +382,7 @@ LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeigh
         gate.data[i] = float((d2 > noise ? 1 - noise / d2 : 0) * d / b);
         gate.data[n + i] = 1;
     }
-    const Image smooth = FilterSeparable(gate, s, false);
+    const Image smooth = ClippedTentFilter(gate, s, false);
     LocalMeanFactors range;
     for (size_t i = 0; i < n; ++i) {
         if (gate.data[n + i] == 0) continue;

@@ -92,6 +92,11 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
 // in no mean.
 LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeight,
                                     Image *output);
+// Each plane of `image` over the tent of radius 2s clipped to the image (RestoreLocalMeanAt's
+// means): along rows, then down columns, each value its window's weights (with `squared`,
+// their squares) times the values, summed in double in order of rising offset and rounded
+// to float once per pass.
+Image ClippedTentFilter(const Image &image, int s, bool squared);
 // RestoreLocalMeans with a last coarse pass of weight `rebalance` (kLocalMeanRebalance for
 // pivot and rhf) and the noise of each value (`pixelNoise`); returns what the plan says of
 // it ("the input's means over tents ...").
@@ -215,17 +220,17 @@ bool Light(const Image &variance, const Image &sums, size_t p);
 // they are kBridgedGroups or more of at least kBridgedSize pixels, each of which holds a bright
 // sample, spanning less than kClusterSpan (one longer than kClusterSpan would make the joined
 // cluster too long to cut; without the bound the join would read the whole group): its bright
-// neighbours lift its median, so the measure splits a small caustic at its middle into pairs (two
-// lone fireflies with a pixel between them stay apart). Each pixel of a cluster cut takes per
-// channel the median of its neighbours outside the cluster (from `input`, the frame as given) in
-// `color`; the caller gives them their input back after the filter (spread, a light's reflection in
-// chrome lit the dark pixels beside it where the reference keeps it sharp), but for a cluster so
-// joined: it is no sharp point (its values fall off from pixel to pixel; the reference holds a blob
-// wider than it), so its pixels go to `bridged` (if given; ascending) and the caller leaves their
-// energy to the restore of local means, as a spike's. Returns the other cut pixels (ascending).
-// Nothing without histograms of `input`'s size. The colour must be finite (the front ends'
-// --non-finite sees to it): a median of neighbours holding NaN would put NaN into the filter's
-// input.
+// neighbours lift its median, so the measure splits a small caustic at its middle into pairs
+// (two lone fireflies with a pixel between them stay apart). Each pixel of a cluster cut takes
+// per channel the median of its neighbours outside the cluster (from `input`, the frame as
+// given) in `color`; the caller gives them their input back after the filter (spread, a light's
+// reflection in chrome lit the dark pixels beside it where the reference keeps it sharp), but
+// for a cluster so joined: it is no sharp point (its values fall off from pixel to pixel; the
+// reference holds a blob wider than it), so its pixels go to `bridged` (if given; ascending)
+// and the caller leaves their energy to the restore of local means, as a spike's. Returns the
+// other cut pixels (ascending). Nothing without histograms of `input`'s size. The colour must
+// be finite (the front ends' --non-finite sees to it): a median of neighbours holding NaN
+// would put NaN into the filter's input.
 constexpr int kClusterLeast = 3, kClusterSpan = 3, kBridgedGroups = 2, kBridgedSize = 2;
 constexpr double kClusterShare = 0.3, kClusterLevel = 1e-4;
 std::vector<size_t> CutBrightClusters(const Image &input, const Image &histograms,

@@ -317,6 +317,83 @@ TEST(LocalMeanTent, SameBitsAsWindowsSummedOneByOne) {
     }
 }
 
+// Kind 0: random values with zeros, negatives, NaN, Inf and fireflies; 1: a constant; 2:
+// finite values over eight decades with fireflies.
+Image TentInput(const LocalMeanCase &c, int kind, std::mt19937_64 *rng) {
+    std::uniform_real_distribution<float> unit(0, 1);
+    Image image(c.w, c.h, c.channels);
+    for (float &v : image.data) {
+        const float u = unit(*rng);
+        if (kind == 1)
+            v = 0.37f;
+        else if (kind == 0)
+            v = u < 0.05f   ? 0.f
+                : u < 0.1f  ? -unit(*rng)
+                : u < 0.12f ? std::numeric_limits<float>::quiet_NaN()
+                : u < 0.14f ? std::numeric_limits<float>::infinity()
+                : u < 0.15f ? -std::numeric_limits<float>::infinity()
+                : u < 0.18f ? 1e4f * unit(*rng)
+                            : unit(*rng);
+        else
+            v = u < 0.03f ? 1e5f * unit(*rng) : std::pow(10.f, 8 * unit(*rng) - 4);
+    }
+    return image;
+}
+
+// The clipped tent (RestoreLocalMeanAt's means) against each window summed on its own, in
+// double, in order of rising offset, rows then columns: the same bits (NaN for NaN) on odd
+// sizes, 1x1, windows wider than the image, NaN/Inf, fireflies and constants, squared
+// weights too, and the same when the loops are split among threads.
+TEST(LocalMeanTent, ClippedTentSameBitsAsWindowsSummedOneByOne) {
+    auto pass = [](const Image &in, int s, bool squared, bool rows) {
+        const int reach = 2 * s, length = rows ? in.width : in.height;
+        Image out(in.width, in.height, in.channels);
+        for (int c = 0; c < in.channels; ++c)
+            for (int y = 0; y < in.height; ++y)
+                for (int x = 0; x < in.width; ++x) {
+                    const int i = rows ? x : y;
+                    const int a = std::max(0, i - reach), b = std::min(length - 1, i + reach);
+                    double total = 0;
+                    for (int j = a; j <= b; ++j) total += reach + 1 - std::abs(j - i);
+                    double sum = 0;
+                    for (int j = a; j <= b; ++j) {
+                        double weight = (reach + 1 - std::abs(j - i)) / total;
+                        if (squared) weight *= weight;
+                        sum += weight * (rows ? in.At(c, y, j) : in.At(c, j, x));
+                    }
+                    out.At(c, y, x) = float(sum);
+                }
+        return out;
+    };
+    auto same = [](const Image &got, const Image &expected) {
+        for (size_t i = 0; i < got.data.size(); ++i) {
+            const bool bothNaN = std::isnan(got.data[i]) && std::isnan(expected.data[i]);
+            if (!bothNaN && std::memcmp(&got.data[i], &expected.data[i], 4) != 0) return false;
+        }
+        return true;
+    };
+    std::mt19937_64 rng(SeedFromName("clipped tent"));
+    for (LocalMeanCase c :
+         {LocalMeanCase{1, 1, 1, 1}, LocalMeanCase{1, 9, 3, 2}, LocalMeanCase{9, 1, 2, 1},
+          LocalMeanCase{7, 5, 3, 4}, LocalMeanCase{37, 3, 2, 2}, LocalMeanCase{40, 23, 3, 3},
+          LocalMeanCase{9, 9, 3, 2}, LocalMeanCase{10, 5, 3, 2}, LocalMeanCase{8, 4, 1, 2},
+          LocalMeanCase{301, 67, 3, 8}, LocalMeanCase{150, 140, 2, 32}})
+        for (int kind = 0; kind < 3; ++kind) {
+            Image input = TentInput(c, kind, &rng);
+            for (bool squared : {false, true}) {
+                const Image expected =
+                    pass(pass(input, c.r, squared, true), c.r, squared, false);
+                Image got = ClippedTentFilter(input, c.r, squared);
+                ASSERT_TRUE(got.SameShape(input));
+                EXPECT_TRUE(same(got, expected))
+                    << c.w << "x" << c.h << " s" << c.r << " kind " << kind << " " << squared;
+                ForceParallelParts split(3);
+                EXPECT_TRUE(same(ClippedTentFilter(input, c.r, squared), expected))
+                    << c.w << "x" << c.h << " s" << c.r << " split";
+            }
+        }
+}
+
 // TentSquaredMean shares one plane of scratch among the channels: each channel's values are
 // still its own plane's two passes, bit for bit, whatever the other channels held.
 TEST(LocalMeanTent, SquaredTentMeanIsEachChannelsOwnPasses) {
