@@ -172,8 +172,8 @@ const vk::Kernel &TermKernel(vk::Context &context, int channels) {
                               NFOR_TERM_BINDINGS,
                               sizeof(shader::NforDistancePush),
                               {{NFOR_SPEC_CHANNELS, channels}},
-                              0,
-                              0});
+                              1u << NFOR_TERM_ILLUMINATION,
+                              1u << NFOR_TERM_ILLUMINATION});
 }
 
 const vk::Kernel &IlluminationKernel(vk::Context &context, int channels) {
@@ -194,7 +194,7 @@ const vk::Kernel &BoxKernel(vk::Context &context) {
                               NFOR_BOX_BINDINGS,
                               sizeof(shader::NforDistancePush),
                               {},
-                              0,
+                              1u << NFOR_BOX_IN,
                               0});
 }
 
@@ -333,16 +333,18 @@ shader::NforFitPush FitPush(const vk::GpuImage &image, const NforFitSettings &se
     return push;
 }
 
+// texel, vec4: the bindings read through texel views (KernelDesc), of them those of vec4s.
 const vk::Kernel &FitKernel(vk::Context &context, const char *name, const uint32_t *code,
-                            size_t bytes, uint32_t bindings, int channels, int features) {
+                            size_t bytes, uint32_t bindings, int channels, int features,
+                            uint32_t texel = 0, uint32_t vec4 = 0) {
     return context.GetKernel({name,
                               code,
                               bytes,
                               bindings,
                               sizeof(shader::NforFitPush),
                               {{NFOR_SPEC_CHANNELS, channels}, {NFOR_SPEC_FEATURES, features}},
-                              0,
-                              0});
+                              texel,
+                              vec4});
 }
 
 }  // namespace
@@ -390,7 +392,8 @@ void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::G
                     ErrorKind::InvalidArgument);
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_regress", k_nfor_regress_spv, sizeof(k_nfor_regress_spv),
-                  NFOR_REGRESS_BINDINGS, channels, features);
+                  NFOR_REGRESS_BINDINGS, channels, features,
+                  (1u << NFOR_FIT_PACKED) | (1u << NFOR_FIT_DISTANCE), 1u << NFOR_FIT_PACKED);
     recorder.Dispatch(kernel, "nfor.regress",
                       {{NFOR_FIT_PACKED, &packed.buffer, vk::Access::Read},
                        {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},
@@ -413,7 +416,10 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                     ErrorKind::InvalidArgument);
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_gather", k_nfor_gather_spv, sizeof(k_nfor_gather_spv),
-                  NFOR_GATHER_BINDINGS, input.channels, features);
+                  NFOR_GATHER_BINDINGS, input.channels, features,
+                  (1u << NFOR_FIT_PACKED) | (1u << NFOR_FIT_DISTANCE) | (1u << NFOR_FIT_BETA) |
+                      (1u << NFOR_FIT_COLOR),
+                  (1u << NFOR_FIT_PACKED) | (1u << NFOR_FIT_BETA));
     recorder.Dispatch(kernel, "nfor.gather",
                       {{NFOR_FIT_PACKED, &packed.buffer, vk::Access::Read},
                        {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},

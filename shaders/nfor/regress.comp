@@ -12,8 +12,8 @@ const int packedCount = columnCount * (columnCount + 1) / 2;
 // Arrays at their largest size; the loops run to the specialised counts.
 const int kMaxColumns = NFOR_MAX_FEATURES + 3;
 const int betaStride = NFOR_BETA_STRIDE(featureCount, channels);
-layout(std430, binding = NFOR_FIT_PACKED) readonly buffer Packed { vec4 packed[]; };
-layout(std430, binding = NFOR_FIT_DISTANCE) readonly buffer Distance { float distance[]; };
+layout(binding = NFOR_FIT_PACKED) uniform samplerBuffer packed;
+layout(binding = NFOR_FIT_DISTANCE) uniform samplerBuffer distance;
 layout(std430, binding = NFOR_FIT_BETA) writeonly buffer Beta { float beta[]; };
 layout(std430, binding = NFOR_FIT_OUT) writeonly buffer Hat { float hat[]; };
 
@@ -45,7 +45,7 @@ int tri(int i, int j) {
 
 // The pixel's colour (its packed vec4 past the features).
 vec4 colorAt(int pixel) {
-    return packed[pixel * packedVec4s + featureVec4s];
+    return texelFetch(packed, pixel * packedVec4s + featureVec4s);
 }
 
 void writeConstant(int x, int y) {
@@ -63,7 +63,7 @@ void main() {
     w = push.width;
     h = push.height;
     if (x >= w) return;
-    if (packed[(y * w + x) * packedVec4s].x == 0.0) {
+    if (texelFetch(packed, (y * w + x) * packedVec4s).x == 0.0) {
         writeConstant(x, y);
         return;
     }

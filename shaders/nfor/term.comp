@@ -6,9 +6,7 @@
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(constant_id = NFOR_SPEC_CHANNELS) const int channels = 3;
-layout(std430, binding = NFOR_TERM_ILLUMINATION) readonly buffer Illumination {
-    vec4 illumination[];
-};
+layout(binding = NFOR_TERM_ILLUMINATION) uniform samplerBuffer illumination;
 layout(std430, binding = NFOR_TERM_OUT) writeonly buffer Out { float terms[]; };
 
 #include "nfor/offsets.glsl"
@@ -22,8 +20,8 @@ void main() {
     float term = 0.0;
     if (qx >= 0 && qy >= 0 && qx < w && qy < h) {
         int p = 2 * (y * w + x), q = 2 * (qy * w + qx);
-        vec4 valueP = illumination[p], noiseP = illumination[p + 1];
-        vec4 valueQ = illumination[q], noiseQ = illumination[q + 1];
+        vec4 valueP = texelFetch(illumination, p), noiseP = texelFetch(illumination, p + 1);
+        vec4 valueQ = texelFetch(illumination, q), noiseQ = texelFetch(illumination, q + 1);
         [[unroll]] for (int c = 0; c < channels; ++c) {
             float cp = valueP[c], cq = valueQ[c], vp = noiseP[c], vq = noiseQ[c];
             float diff = cp - cq;

@@ -11,9 +11,12 @@ float distanceOf(int px, int py, int qx, int qy) {
     int r = push.radius, ox = qx - px, oy = qy - py;
     int side = 2 * r + 1, centre = (side * side - 1) / 2;
     int index = (oy + r) * side + ox + r;
-    if (index > centre) return distance[((index - centre - 1) * h + py) * w + px];
-    int mirrored = (r - oy) * side + r - ox;
-    return distance[((mirrored - centre - 1) * h + qy) * w + qx];
+    // Offsets after the centre are stored at p, the others mirrored at q: one fetch either
+    // way, its address selected (lavapipe runs both sides of a branch).
+    bool stored = index > centre;
+    int plane = stored ? index - centre - 1 : centre - 1 - index;
+    int ax = stored ? px : qx, ay = stored ? py : qy;
+    return texelFetch(distance, (plane * h + ay) * w + ax).x;
 }
 
 // A pixel's packed inputs (nfor/fit.h): the mask and features in slots[0..featureVec4s).
@@ -21,7 +24,7 @@ const int featureVec4s = NFOR_FEATURE_VEC4S(featureCount);
 const int packedVec4s = NFOR_PACKED_VEC4S(featureCount);
 #define FEATURE(slots, j) slots[((j) + 1) / 4][((j) + 1) % 4]
 #define LOAD_SLOT(k) \
-    if ((k) < featureVec4s) slots[k] = packed[base + (k)];
+    if ((k) < featureVec4s) slots[k] = texelFetch(packed, base + (k));
 #define LOAD_SLOTS(pixel)                  \
     {                                      \
         int base = (pixel) * packedVec4s;  \
