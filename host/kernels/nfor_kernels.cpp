@@ -87,6 +87,8 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 
 static_assert(kNforLineFloorReach == NFOR_LINE_FLOOR_REACH);
 static_assert(kNforIlluminationFloats == NFOR_ILLUMINATION_FLOATS);
+// Every window's stored offsets, 2R(R + 1), fill whole invocations of `term`.
+static_assert(4 % NFOR_TERM_OFFSETS == 0);
 
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
@@ -247,7 +249,7 @@ void RecordNforTerm(vk::Context &context, vk::Recorder &recorder,
                       {{NFOR_TERM_ILLUMINATION, &illumination.buffer, vk::Access::Read},
                        {NFOR_TERM_OUT, &terms.buffer, vk::Access::Write}},
                       push, Groups(illumination.width), uint32_t(illumination.height),
-                      uint32_t(terms.channels));
+                      uint32_t(terms.channels / NFOR_TERM_OFFSETS));
 }
 
 void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,

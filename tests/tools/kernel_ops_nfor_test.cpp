@@ -57,17 +57,19 @@ double WalkTerm(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     int channels = d.Spec(NFOR_SPEC_CHANNELS, 3);
     double walked = 0;
-    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int j) {
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int z) {
         if (x >= p.width) return;
-        auto [ox, oy] = Offset(p.radius, j);
-        if (!Inside(x + ox, y + oy, p.width, p.height)) return;
-        for (int c = 0; c < channels; ++c) {
-            walked += 1;                           // diff
-            walked += p.minVariance != 0 ? 2 : 1;  // s
-            walked += 10;                          // t
-            walked += 2;                           // min, the sum
+        for (int k = 0; k < NFOR_TERM_OFFSETS; ++k) {
+            auto [ox, oy] = Offset(p.radius, z * NFOR_TERM_OFFSETS + k);
+            if (!Inside(x + ox, y + oy, p.width, p.height)) continue;
+            for (int c = 0; c < channels; ++c) {
+                walked += 1;                           // diff
+                walked += p.minVariance != 0 ? 2 : 1;  // s
+                walked += 10;                          // t
+                walked += 2;                           // min, the sum
+            }
+            walked += 1;  // the mean
         }
-        walked += 1;  // the mean
     });
     return walked;
 }

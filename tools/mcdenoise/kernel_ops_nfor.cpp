@@ -37,14 +37,15 @@ std::pair<int, int> StoredOffset(int radius, int j) {
     return {index % side - radius, index / side - radius};
 }
 
-// term.comp, per invocation whose q = p + o is inside: per channel the difference (1), the
+// term.comp, per pixel and offset (NFOR_TERM_OFFSETS an invocation) whose q = p + o is
+// inside: per channel the difference (1), the
 // variance sum (1, or 2 min: 2), the term's 10 operators, min and the sum (2); then the
 // mean's divide (1). The albedo's divides are illumination.comp's, once a pixel.
 double TermFlops(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     double perChannel = 1 + (p.minVariance ? 2 : 1) + 10 + 2;
     double perInside = Channels(d) * perChannel + 1, flops = 0;
-    for (uint32_t j = 0; j < d.timing.groups[2]; ++j) {
+    for (uint32_t j = 0; j < d.timing.groups[2] * NFOR_TERM_OFFSETS; ++j) {
         auto [ox, oy] = StoredOffset(p.radius, int(j));
         double inside =
             double(std::max(0, p.width - std::abs(ox))) * std::max(0, p.height - std::abs(oy));
