@@ -326,10 +326,10 @@ void CheckFit(const char *what, const vk::GpuImage &packed, int features, int ch
 
 shader::NforFitPush FitPush(const vk::GpuImage &image, const NforFitSettings &settings,
                             int plane) {
-    shader::NforFitPush push{image.width,     image.height,
-                             settings.radius, settings.gatherRadius,
-                             plane,           1.f / (settings.bandwidth * settings.bandwidth),
-                             settings.ridge,  {}};
+    shader::NforFitPush push{
+        image.width,           image.height, settings.radius,
+        settings.gatherRadius, plane,        1.f / (settings.bandwidth * settings.bandwidth),
+        settings.ridge,        {},           0};
     std::copy(settings.featureWeights.begin(), settings.featureWeights.end(),
               push.featureWeight);
     return push;
@@ -373,7 +373,7 @@ void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_pack", k_nfor_pack_spv, sizeof(k_nfor_pack_spv),
                   NFOR_PACK_BINDINGS, color.channels, features.channels);
-    shader::NforFitPush push{color.width, color.height, 0, 0, 0, 0, 0, {}};
+    shader::NforFitPush push{color.width, color.height, 0, 0, 0, 0, 0, {}, 0};
     recorder.Dispatch(kernel, "nfor.pack",
                       {{NFOR_PACK_COLOR, &color.buffer, vk::Access::Read},
                        {NFOR_PACK_FEATURES, &features.buffer, vk::Access::Read},
@@ -382,27 +382,55 @@ void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                       push, Groups(color.width), uint32_t(color.height));
 }
 
+bool NforSameWindow(const NforFitSettings &a, const NforFitSettings &b) {
+    return a.radius == b.radius && a.gatherRadius == b.gatherRadius && a.ridge == b.ridge &&
+           a.featureWeights == b.featureWeights;
+}
+
 void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &packed,
                        int features, int channels, const vk::GpuImage &distance,
                        const NforFitSettings &settings, vk::GpuImage &beta, vk::GpuImage &hat,
-                       int hatPlane) {
+                       int hatPlane, const NforFitSettings *second, vk::GpuImage *secondBeta) {
     CheckFit("nfor regress", packed, features, channels, distance, settings);
     CheckSize("nfor regress", packed, beta, NforBetaStride(features, channels));
     CheckSize("nfor regress", packed, hat, 0);
-    if (hatPlane < 0 || hatPlane >= hat.channels)
-        throw Error(fmt::format("nfor regress: plane {} of {}", hatPlane, hat.channels),
+    int candidates = second ? 2 : 1;
+    if (hatPlane < 0 || hatPlane + candidates > hat.channels)
+        throw Error(fmt::format("nfor regress: planes {}..{} of {}", hatPlane,
+                                hatPlane + candidates - 1, hat.channels),
                     ErrorKind::InvalidArgument);
+    if (!second != !secondBeta)
+        throw Error("nfor regress: a second candidate needs its coefficients and they it",
+                    ErrorKind::InvalidArgument);
+    if (second) {
+        CheckFit("nfor regress", packed, features, channels, distance, *second);
+        CheckSize("nfor regress", packed, *secondBeta, NforBetaStride(features, channels));
+        if (!NforSameWindow(settings, *second))
+            throw Error("nfor regress: the second candidate differs in more than its bandwidth",
+                        ErrorKind::InvalidArgument);
+    }
     const vk::Kernel &kernel =
-        FitKernel(context, "nfor_regress", k_nfor_regress_spv, sizeof(k_nfor_regress_spv),
-                  NFOR_REGRESS_BINDINGS, channels, features,
-                  (1u << NFOR_FIT_PACKED) | (1u << NFOR_FIT_DISTANCE), 1u << NFOR_FIT_PACKED);
+        context.GetKernel({"nfor_regress",
+                           k_nfor_regress_spv,
+                           sizeof(k_nfor_regress_spv),
+                           NFOR_REGRESS_BINDINGS,
+                           sizeof(shader::NforFitPush),
+                           {{NFOR_SPEC_CHANNELS, channels},
+                            {NFOR_SPEC_FEATURES, features},
+                            {NFOR_SPEC_CANDIDATES, candidates}},
+                           (1u << NFOR_FIT_PACKED) | (1u << NFOR_FIT_DISTANCE),
+                           1u << NFOR_FIT_PACKED});
+    shader::NforFitPush push = FitPush(packed, settings, hatPlane);
+    if (second) push.secondInvBandwidth2 = 1.f / (second->bandwidth * second->bandwidth);
+    // A single candidate binds its own coefficients in the second's slot too (not written).
     recorder.Dispatch(kernel, "nfor.regress",
                       {{NFOR_FIT_PACKED, &packed.buffer, vk::Access::Read},
                        {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},
                        {NFOR_FIT_BETA, &beta.buffer, vk::Access::Write},
-                       {NFOR_FIT_OUT, &hat.buffer, vk::Access::Write}},
-                      FitPush(packed, settings, hatPlane), Groups(packed.width),
-                      uint32_t(packed.height));
+                       {NFOR_FIT_OUT, &hat.buffer, vk::Access::Write},
+                       {NFOR_FIT_SECOND_BETA, second ? &secondBeta->buffer : &beta.buffer,
+                        vk::Access::Write}},
+                      push, Groups(packed.width), uint32_t(packed.height));
 }
 
 void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,

@@ -7,7 +7,7 @@
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(constant_id = NFOR_SPEC_CHANNELS) const int channels = 3;
 layout(constant_id = NFOR_SPEC_FEATURES) const int featureCount = 7;
-const int columnCount = featureCount + 3;
+const int columnCount = featureCount + 3, candidateCount = 1;
 const int betaVec4s = NFOR_BETA_STRIDE(featureCount, channels) / 4;
 layout(binding = NFOR_FIT_PACKED) uniform samplerBuffer packed;
 layout(binding = NFOR_FIT_DISTANCE) uniform samplerBuffer distance;

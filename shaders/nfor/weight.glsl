@@ -1,5 +1,6 @@
 // The weight of q in p's window and the regression's columns of q there, shared by regress
-// and gather. Needs w, h, the packed and distance buffers and `featureCount`.
+// and gather. Needs w, h, the packed and distance buffers, `featureCount` and
+// `candidateCount`.
 // Arrays are indexed by constants only (the loops are unrolled by the preprocessor to the
 // largest counts, the spec constants fold the unused steps away), which keeps them in
 // registers.
@@ -42,8 +43,10 @@ void loadFixed(int fx, int fy) {
 // The columns (1, dx / R, dy / R, F_q - F_p) into col, and q's weight in p's window: 0 for
 // an emitter at `moving` (the pixel not fixed; the fixed one's mask is the caller's), 1 at
 // q = p, else exp(-max(0, D) / k^2 - sum_j (s_j (F_q,j - F_p,j))^2), 0 beyond the cut.
-// sign: 1 when q moves, -1 when p does.
+// sign: 1 when q moves, -1 when p does. With candidateCount 2, secondWeight is the same
+// weight at the second bandwidth.
 float col[NFOR_MAX_FEATURES + 3];
+float secondWeight;
 #define COLUMN(j)                                                         \
     if ((j) < featureCount) {                                             \
         float d = sign * (FEATURE(slots, j) - FEATURE(fixedSlots, j));    \
@@ -54,13 +57,22 @@ float col[NFOR_MAX_FEATURES + 3];
 float weightOf(int px, int py, int qx, int qy, int mx, int my, float sign) {
     vec4 slots[3];
     LOAD_SLOTS(my * w + mx)
+    secondWeight = 0.0;
     if (slots[0].x == 0.0) return 0.0;
     col[0] = 1.0;
     col[1] = float(qx - px) / float(push.radius);
     col[2] = float(qy - py) / float(push.radius);
     float e = 0.0;
     SEQ10(COLUMN, 0)
-    if (qx == px && qy == py) return 1.0;
-    e += max(0.0, distanceOf(px, py, qx, qy)) * push.invBandwidth2;
+    if (qx == px && qy == py) {
+        secondWeight = 1.0;
+        return 1.0;
+    }
+    float d = max(0.0, distanceOf(px, py, qx, qy));
+    if (candidateCount > 1) {
+        float e2 = e + d * push.secondInvBandwidth2;
+        secondWeight = e2 > NFOR_EXP_CUT ? 0.0 : exp(-e2);
+    }
+    e += d * push.invBandwidth2;
     return e > NFOR_EXP_CUT ? 0.0 : exp(-e);
 }

@@ -1017,6 +1017,66 @@ TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     for (auto [features, channels] : kFitShapes) CheckRegress(w, h, kind, features, channels);
 }
 
+// Regress of two candidates in one pass (their bandwidths differ) writes, bit for bit, what
+// each writes in a pass of its own: the shared reads and column differences, the sums each
+// its own in the same order. A second bandwidth whose weights cut more of the window than
+// the first's, and one that cuts less, tell the candidates' weights apart.
+struct RegressOutput {
+    Image beta, hat;  // hat: the influence planes from the first candidate's
+};
+
+TEST_P(NforRegressKernel, TwoCandidatesInOnePassAsEachAlone) {
+    const auto [w, h, kind] = GetParam();
+    for (auto [features, channels] : kFitShapes) {
+        SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
+        FitInputs f = MakeFitInputs(
+            w, h, kind, fmt::format("regresspair{}x{}{}", w, h, InputKindName(kind)), 2,
+            features, channels);
+        int stride = NforBetaStride(features, channels);
+        for (float secondBandwidth : {0.25f, 2.f}) {
+            NforFitSettings first = SettingsOf(f), second = first;
+            second.bandwidth = secondBandwidth;
+            // `settings` alone, or with `second` (its coefficients into *secondBeta).
+            auto run = [&](const NforFitSettings &settings, Image *secondBeta) {
+                vk::GpuImage packed =
+                    Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+                vk::GpuImage d = Upload(Ctx(), f.distance, "D");
+                vk::GpuImage beta(Ctx(), w, h, stride, "beta"),
+                    other(Ctx(), w, h, stride, "b2"), hats(Ctx(), w, h, 3, "hat");
+                vk::Recorder recorder(Ctx());
+                RecordNforRegress(Ctx(), recorder, packed, features, channels, d, settings,
+                                  beta, hats, 1, secondBeta ? &second : nullptr,
+                                  secondBeta ? &other : nullptr);
+                recorder.Submit();
+                // The coefficients without the padding (never written).
+                if (secondBeta)
+                    *secondBeta = NforBetaPlanes(other.Download(), features, channels);
+                Image all = hats.Download();
+                RegressOutput out{NforBetaPlanes(beta.Download(), features, channels),
+                                  Image(w, h, secondBeta ? 2 : 1)};
+                std::copy(all.Plane(1), all.Plane(1) + out.hat.Size(), out.hat.data.begin());
+                return out;
+            };
+            RegressOutput firstAlone = run(first, nullptr), secondAlone = run(second, nullptr);
+            Image secondBeta, again;
+            RegressOutput paired = run(first, &secondBeta);
+            Image firstHat(w, h, 1), secondHat(w, h, 1);
+            std::copy(paired.hat.Plane(0), paired.hat.Plane(0) + firstHat.Size(),
+                      firstHat.data.begin());
+            std::copy(paired.hat.Plane(1), paired.hat.Plane(1) + secondHat.Size(),
+                      secondHat.data.begin());
+            EXPECT_TRUE(BitIdentical(firstAlone.beta, paired.beta));
+            EXPECT_TRUE(BitIdentical(firstAlone.hat, firstHat));
+            EXPECT_TRUE(BitIdentical(secondAlone.beta, secondBeta));
+            EXPECT_TRUE(BitIdentical(secondAlone.hat, secondHat));
+            RegressOutput repeat = run(first, &again);
+            EXPECT_TRUE(BitIdentical(paired.beta, repeat.beta));
+            EXPECT_TRUE(BitIdentical(paired.hat, repeat.hat));
+            EXPECT_TRUE(BitIdentical(secondBeta, again));
+        }
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, NforRegressKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
@@ -1105,6 +1165,30 @@ TEST_F(NforFitChecks, FeatureCountMismatchThrows) {
     EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 0),
                  Error);
     EXPECT_THROW(RecordNforGather(Ctx(), recorder, in, packed, 5, d, beta, settings, out, 0),
+                 Error);
+}
+
+// A second candidate must differ in its bandwidth alone and bring its coefficients.
+TEST_F(NforFitChecks, SecondCandidateOfAnotherWindowThrows) {
+    const int w = 5, h = 4, radius = 2;
+    FitInputs f = MakeFitInputs(w, h, InputKind::Uniform, "fitpair", radius);
+    NforFitSettings settings = SettingsOf(f), second = settings;
+    second.ridge *= 2;
+    vk::GpuImage packed = Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+    vk::GpuImage d = Upload(Ctx(), f.distance, "D");
+    vk::GpuImage beta(Ctx(), w, h, NforBetaStride(5, 3), "beta"),
+        other(Ctx(), w, h, NforBetaStride(5, 3), "b2"), hat(Ctx(), w, h, 2, "hat");
+    vk::Recorder recorder(Ctx());
+    EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 0,
+                                   &second, &other),
+                 Error);
+    second = settings;
+    EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 0,
+                                   &second, nullptr),
+                 Error);
+    // Its influence needs a plane after the first's.
+    EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 1,
+                                   &second, &other),
                  Error);
 }
 

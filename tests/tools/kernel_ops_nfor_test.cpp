@@ -144,22 +144,27 @@ double WalkSolve(int columns, int channels) {
 double WalkRegress(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforFitPush>(d);
     int channels = d.Spec(NFOR_SPEC_CHANNELS, 3), features = d.Spec(NFOR_SPEC_FEATURES, 7);
-    int columns = features + 3, r = p.radius;
+    int columns = features + 3, r = p.radius, candidates = d.Spec(NFOR_SPEC_CANDIDATES, 1);
     double walked = 0;
     ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int) {
         if (x >= p.width) return;
         for (int v = y - r; v <= y + r; ++v)
             for (int u = x - r; u <= x + r; ++u) {
                 if (!Inside(u, v, p.width, p.height)) continue;
-                walked += WalkWeightOf(features, u == x && v == y);
-                for (int i = 0; i < columns; ++i) {  // ACCUMULATE
-                    walked += 1;                     // wx
-                    for (int j = 0; j <= i; ++j) walked += 2;
-                    for (int c = 0; c < channels; ++c) walked += 2;
+                bool centre = u == x && v == y;
+                walked += WalkWeightOf(features, centre);
+                // The second candidate's weight: * its 1 / k^2, e +, exp.
+                if (candidates > 1 && !centre) walked += 3;
+                for (int k = 0; k < candidates; ++k) {
+                    for (int i = 0; i < columns; ++i) {  // ACCUMULATE
+                        walked += 1;                     // wx
+                        for (int j = 0; j <= i; ++j) walked += 2;
+                        for (int c = 0; c < channels; ++c) walked += 2;
+                    }
+                    walked += 1;  // weights
                 }
-                walked += 1;  // weights
             }
-        walked += WalkSolve(columns, channels);
+        for (int k = 0; k < candidates; ++k) walked += WalkSolve(columns, channels);
     });
     return walked;
 }
