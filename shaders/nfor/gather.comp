@@ -38,8 +38,10 @@ void main() {
     h = push.height;
     if (x >= w) return;
     if (texelFetch(packed, (y * w + x) * packedVec4s).x == 0.0) {
-        for (int c = 0; c < channels; ++c)
-            outputs[((push.outPlane + c) * h + y) * w + x] = texelFetch(color, (c * h + y) * w + x).x;
+        for (int c = 0; c < channels; ++c) {
+            float value = texelFetch(color, (c * h + y) * w + x).x;
+            outputs[((push.outPlane + c) * h + y) * w + x] = value;
+        }
         return;
     }
     loadFixed(x, y);
