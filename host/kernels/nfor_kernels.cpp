@@ -422,14 +422,15 @@ void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::G
                            1u << NFOR_FIT_PACKED});
     shader::NforFitPush push = FitPush(packed, settings, hatPlane);
     if (second) push.secondInvBandwidth2 = 1.f / (second->bandwidth * second->bandwidth);
-    // A single candidate binds its own coefficients in the second's slot too (not written).
+    // A single candidate binds its own coefficients in the second's slot too, as read: the
+    // variant never writes it, and the recorder sees one writer of the buffer.
     recorder.Dispatch(kernel, "nfor.regress",
                       {{NFOR_FIT_PACKED, &packed.buffer, vk::Access::Read},
                        {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},
                        {NFOR_FIT_BETA, &beta.buffer, vk::Access::Write},
                        {NFOR_FIT_OUT, &hat.buffer, vk::Access::Write},
                        {NFOR_FIT_SECOND_BETA, second ? &secondBeta->buffer : &beta.buffer,
-                        vk::Access::Write}},
+                        second ? vk::Access::Write : vk::Access::Read}},
                       push, Groups(packed.width), uint32_t(packed.height));
 }
 

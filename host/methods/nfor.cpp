@@ -603,7 +603,8 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
         RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.packed,
                          gpu.filtered.channels, *candidates[i].distance, beta, settingsOf(i),
                          gpu.candidates, i * ch);
-        // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
+        // One submission per candidate: its gather, after the regress dispatch that fitted it
+        // (a pair's both, in the first's); none long enough to trip a GPU watchdog.
         run.Submit();
         run.Stage(fmt::format("{}k{}.hat", prefix, i),
                   [&, i] { return PlanesOf(gpu.hat.Download(), i, 1); });

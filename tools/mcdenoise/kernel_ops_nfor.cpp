@@ -38,9 +38,9 @@ std::pair<int, int> StoredOffset(int radius, int j) {
 }
 
 // term.comp, per pixel and offset (NFOR_TERM_OFFSETS an invocation) whose q = p + o is
-// inside: per channel the difference (1), the
-// variance sum (1, or 2 min: 2), the term's 10 operators, min and the sum (2); then the
-// mean's divide (1). The albedo's divides are illumination.comp's, once a pixel.
+// inside: per channel the difference (1), the variance sum (1, or 2 min: 2), the term's 10
+// operators, min and the sum (2); then the mean's divide (1). The albedo's divides are
+// illumination.comp's, once a pixel.
 double TermFlops(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     double perChannel = 1 + (p.minVariance ? 2 : 1) + 10 + 2;
