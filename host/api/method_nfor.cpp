@@ -365,7 +365,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             4.0 * std::max({offsets, NforBetaStride(features, channels), candidates * channels,
                             NforPackedFloats(features), kNforIlluminationFloats});
         needs.bytesPerPixel =
-            4.0 * (2 * offsets + NforBetaStride(features, channels) +
+            4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
                    NforPackedFloats(features) + kNforIlluminationFloats +
                    candidates * (channels + 1) + 6 * channels + 3 * features + 3);
         // Whether the gate lets the coarse pass run is measured only for a frame too large

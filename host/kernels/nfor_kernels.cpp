@@ -87,6 +87,8 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
 
 static_assert(kNforLineFloorReach == NFOR_LINE_FLOOR_REACH);
 static_assert(kNforIlluminationFloats == NFOR_ILLUMINATION_FLOATS);
+// Every window's stored offsets, 2R(R + 1), fill whole invocations of `term`.
+static_assert(4 % NFOR_TERM_OFFSETS == 0);
 
 void RecordNforClamp(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &variance, const vk::GpuImage *albedo, float threshold,
@@ -172,8 +174,8 @@ const vk::Kernel &TermKernel(vk::Context &context, int channels) {
                               NFOR_TERM_BINDINGS,
                               sizeof(shader::NforDistancePush),
                               {{NFOR_SPEC_CHANNELS, channels}},
-                              0,
-                              0});
+                              1u << NFOR_TERM_ILLUMINATION,
+                              1u << NFOR_TERM_ILLUMINATION});
 }
 
 const vk::Kernel &IlluminationKernel(vk::Context &context, int channels) {
@@ -194,7 +196,7 @@ const vk::Kernel &BoxKernel(vk::Context &context) {
                               NFOR_BOX_BINDINGS,
                               sizeof(shader::NforDistancePush),
                               {},
-                              0,
+                              1u << NFOR_BOX_IN,
                               0});
 }
 
@@ -247,7 +249,7 @@ void RecordNforTerm(vk::Context &context, vk::Recorder &recorder,
                       {{NFOR_TERM_ILLUMINATION, &illumination.buffer, vk::Access::Read},
                        {NFOR_TERM_OUT, &terms.buffer, vk::Access::Write}},
                       push, Groups(illumination.width), uint32_t(illumination.height),
-                      uint32_t(terms.channels));
+                      uint32_t(terms.channels / NFOR_TERM_OFFSETS));
 }
 
 void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,
@@ -324,25 +326,27 @@ void CheckFit(const char *what, const vk::GpuImage &packed, int features, int ch
 
 shader::NforFitPush FitPush(const vk::GpuImage &image, const NforFitSettings &settings,
                             int plane) {
-    shader::NforFitPush push{image.width,     image.height,
-                             settings.radius, settings.gatherRadius,
-                             plane,           1.f / (settings.bandwidth * settings.bandwidth),
-                             settings.ridge,  {}};
+    shader::NforFitPush push{
+        image.width,           image.height, settings.radius,
+        settings.gatherRadius, plane,        1.f / (settings.bandwidth * settings.bandwidth),
+        settings.ridge,        {},           0};
     std::copy(settings.featureWeights.begin(), settings.featureWeights.end(),
               push.featureWeight);
     return push;
 }
 
+// texel, vec4: the bindings read through texel views (KernelDesc), of them those of vec4s.
 const vk::Kernel &FitKernel(vk::Context &context, const char *name, const uint32_t *code,
-                            size_t bytes, uint32_t bindings, int channels, int features) {
+                            size_t bytes, uint32_t bindings, int channels, int features,
+                            uint32_t texel = 0, uint32_t vec4 = 0) {
     return context.GetKernel({name,
                               code,
                               bytes,
                               bindings,
                               sizeof(shader::NforFitPush),
                               {{NFOR_SPEC_CHANNELS, channels}, {NFOR_SPEC_FEATURES, features}},
-                              0,
-                              0});
+                              texel,
+                              vec4});
 }
 
 }  // namespace
@@ -369,7 +373,7 @@ void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_pack", k_nfor_pack_spv, sizeof(k_nfor_pack_spv),
                   NFOR_PACK_BINDINGS, color.channels, features.channels);
-    shader::NforFitPush push{color.width, color.height, 0, 0, 0, 0, 0, {}};
+    shader::NforFitPush push{color.width, color.height, 0, 0, 0, 0, 0, {}, 0};
     recorder.Dispatch(kernel, "nfor.pack",
                       {{NFOR_PACK_COLOR, &color.buffer, vk::Access::Read},
                        {NFOR_PACK_FEATURES, &features.buffer, vk::Access::Read},
@@ -378,26 +382,56 @@ void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
                       push, Groups(color.width), uint32_t(color.height));
 }
 
+bool NforSameWindow(const NforFitSettings &a, const NforFitSettings &b) {
+    return a.radius == b.radius && a.gatherRadius == b.gatherRadius && a.ridge == b.ridge &&
+           a.featureWeights == b.featureWeights;
+}
+
 void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &packed,
                        int features, int channels, const vk::GpuImage &distance,
                        const NforFitSettings &settings, vk::GpuImage &beta, vk::GpuImage &hat,
-                       int hatPlane) {
+                       int hatPlane, const NforFitSettings *second, vk::GpuImage *secondBeta) {
     CheckFit("nfor regress", packed, features, channels, distance, settings);
     CheckSize("nfor regress", packed, beta, NforBetaStride(features, channels));
     CheckSize("nfor regress", packed, hat, 0);
-    if (hatPlane < 0 || hatPlane >= hat.channels)
-        throw Error(fmt::format("nfor regress: plane {} of {}", hatPlane, hat.channels),
+    int candidates = second ? 2 : 1;
+    if (hatPlane < 0 || hatPlane + candidates > hat.channels)
+        throw Error(fmt::format("nfor regress: planes {}..{} of {}", hatPlane,
+                                hatPlane + candidates - 1, hat.channels),
                     ErrorKind::InvalidArgument);
+    if (!second != !secondBeta)
+        throw Error("nfor regress: a second candidate needs its coefficients and they it",
+                    ErrorKind::InvalidArgument);
+    if (second) {
+        CheckFit("nfor regress", packed, features, channels, distance, *second);
+        CheckSize("nfor regress", packed, *secondBeta, NforBetaStride(features, channels));
+        if (!NforSameWindow(settings, *second))
+            throw Error("nfor regress: the second candidate differs in more than its bandwidth",
+                        ErrorKind::InvalidArgument);
+    }
     const vk::Kernel &kernel =
-        FitKernel(context, "nfor_regress", k_nfor_regress_spv, sizeof(k_nfor_regress_spv),
-                  NFOR_REGRESS_BINDINGS, channels, features);
+        context.GetKernel({"nfor_regress",
+                           k_nfor_regress_spv,
+                           sizeof(k_nfor_regress_spv),
+                           NFOR_REGRESS_BINDINGS,
+                           sizeof(shader::NforFitPush),
+                           {{NFOR_SPEC_CHANNELS, channels},
+                            {NFOR_SPEC_FEATURES, features},
+                            {NFOR_SPEC_CANDIDATES, candidates}},
+                           (1u << NFOR_FIT_PACKED) | (1u << NFOR_FIT_DISTANCE),
+                           1u << NFOR_FIT_PACKED});
+    shader::NforFitPush push = FitPush(packed, settings, hatPlane);
+    if (second) push.secondInvBandwidth2 = 1.f / (second->bandwidth * second->bandwidth);
+    // A single candidate binds its own coefficients in the second's slot too, as read: the
+    // variant never writes it, and the recorder sees one writer of the buffer.
     recorder.Dispatch(kernel, "nfor.regress",
                       {{NFOR_FIT_PACKED, &packed.buffer, vk::Access::Read},
                        {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},
                        {NFOR_FIT_BETA, &beta.buffer, vk::Access::Write},
-                       {NFOR_FIT_OUT, &hat.buffer, vk::Access::Write}},
-                      FitPush(packed, settings, hatPlane), Groups(packed.width),
-                      uint32_t(packed.height));
+                       {NFOR_FIT_OUT, &hat.buffer, vk::Access::Write},
+                       {NFOR_FIT_SECOND_BETA, second ? &secondBeta->buffer : &beta.buffer,
+                        second ? vk::Access::Write : vk::Access::Read}},
+                      push, Groups(packed.width), uint32_t(packed.height));
 }
 
 void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &input,
@@ -413,7 +447,10 @@ void RecordNforGather(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                     ErrorKind::InvalidArgument);
     const vk::Kernel &kernel =
         FitKernel(context, "nfor_gather", k_nfor_gather_spv, sizeof(k_nfor_gather_spv),
-                  NFOR_GATHER_BINDINGS, input.channels, features);
+                  NFOR_GATHER_BINDINGS, input.channels, features,
+                  (1u << NFOR_FIT_PACKED) | (1u << NFOR_FIT_DISTANCE) | (1u << NFOR_FIT_BETA) |
+                      (1u << NFOR_FIT_COLOR),
+                  (1u << NFOR_FIT_PACKED) | (1u << NFOR_FIT_BETA));
     recorder.Dispatch(kernel, "nfor.gather",
                       {{NFOR_FIT_PACKED, &packed.buffer, vk::Access::Read},
                        {NFOR_FIT_DISTANCE, &distance.buffer, vk::Access::Read},

@@ -106,11 +106,17 @@ void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
 // shaders/nfor/regress.comp: on `pack`'s output of `features` feature planes (one weight
 // each in `settings`) for a colour of `channels`, the fits' coefficients into `beta`
 // (NforBetaStride planes' worth, per pixel: column i, channel c at i * channels + c) and their
-// influence into plane `hatPlane` of `hat`.
+// influence into plane `hatPlane` of `hat`. With `second` (and `secondBeta`), a candidate
+// differing from `settings` in its bandwidth alone fitted in the same pass, into
+// `secondBeta` and plane hatPlane + 1: the same values as a pass of its own.
 void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &packed,
                        int features, int channels, const vk::GpuImage &distance,
                        const NforFitSettings &settings, vk::GpuImage &beta, vk::GpuImage &hat,
-                       int hatPlane);
+                       int hatPlane, const NforFitSettings *second = nullptr,
+                       vk::GpuImage *secondBeta = nullptr);
+
+// Whether RecordNforRegress can fit `b` as the second candidate of `a`'s pass.
+bool NforSameWindow(const NforFitSettings &a, const NforFitSettings &b);
 
 // shaders/nfor/gather.comp: the collaborative average into planes outPlane.. of `out`, on
 // `pack`'s output of `features` feature planes; emitters take `input`.

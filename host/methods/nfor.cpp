@@ -278,6 +278,10 @@ struct NforGpu {
             albedo.emplace(context, color.width, color.height, 3, "nfor.albedo");
             albedo->Upload(*in.albedo);
         }
+        // A pass's candidates differing in their bandwidth alone are fitted two at a time.
+        if (CandidateCount(o) > 1)
+            secondBeta.emplace(context, color.width, color.height, beta.channels,
+                               "nfor.secondBeta");
         if (!o.pilotBandwidths.empty()) {
             pilot.emplace(context, color.width, color.height, color.channels, "nfor.pilot");
             pilotDistance.emplace(context, color.width, color.height, NforOffsetCount(o.radius),
@@ -293,7 +297,8 @@ struct NforGpu {
     }
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
         scratch, illumination, packed, beta, hat, candidates;
-    std::optional<vk::GpuImage> albedo, pilot, pilotDistance, wideDistance, wideScratch;
+    std::optional<vk::GpuImage> albedo, pilot, pilotDistance, wideDistance, wideScratch,
+        secondBeta;
 };
 
 // Planes [first, first + count) of a downloaded image.
@@ -586,25 +591,39 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
                 float agreement = 0) {
     vk::Context &context = run.Context();
     int ch = gpu.color.channels, count = int(candidates.size());
-    for (int i = 0; i < count; ++i) {
+    auto settingsOf = [&](int i) {
         const PassCandidate &k = candidates[i];
-        const vk::GpuImage &distance = *k.distance;
-        NforFitSettings settings{k.radius, std::min(GatherRadius(o), k.radius), k.bandwidth,
-                                 o.ridge, weights};
-        RecordNforRegress(context, run.Recorder(), gpu.packed, gpu.filtered.channels, ch,
-                          distance, settings, gpu.beta, gpu.hat, i);
-        run.Stage(fmt::format("{}k{}.beta", prefix, i), [&] {
-            return NforBetaPlanes(gpu.beta.Download(), gpu.filtered.channels, ch);
-        });
+        return NforFitSettings{k.radius, std::min(GatherRadius(o), k.radius), k.bandwidth,
+                               o.ridge, weights};
+    };
+    // Candidate i's collaborative average from its coefficients, and its stages.
+    auto gather = [&](int i, const vk::GpuImage &beta) {
+        run.Stage(fmt::format("{}k{}.beta", prefix, i),
+                  [&] { return NforBetaPlanes(beta.Download(), gpu.filtered.channels, ch); });
         RecordNforGather(context, run.Recorder(), gpu.clamped, gpu.packed,
-                         gpu.filtered.channels, distance, gpu.beta, settings, gpu.candidates,
-                         i * ch);
-        // One submission per candidate: no dispatch long enough to trip a GPU watchdog.
+                         gpu.filtered.channels, *candidates[i].distance, beta, settingsOf(i),
+                         gpu.candidates, i * ch);
+        // One submission per candidate: its gather, after the regress dispatch that fitted it
+        // (a pair's both, in the first's); none long enough to trip a GPU watchdog.
         run.Submit();
         run.Stage(fmt::format("{}k{}.hat", prefix, i),
                   [&, i] { return PlanesOf(gpu.hat.Download(), i, 1); });
         run.Stage(fmt::format("{}k{}.output", prefix, i),
                   [&, i] { return PlanesOf(gpu.candidates.Download(), i * ch, ch); });
+    };
+    for (int i = 0; i < count; ++i) {
+        NforFitSettings settings = settingsOf(i);
+        // The next candidate over the same distances and window is fitted in the same pass:
+        // the window's reads and weights' features are shared.
+        bool pair = i + 1 < count && gpu.secondBeta &&
+                    candidates[i + 1].distance == candidates[i].distance &&
+                    NforSameWindow(settings, settingsOf(i + 1));
+        NforFitSettings next = pair ? settingsOf(i + 1) : settings;
+        RecordNforRegress(context, run.Recorder(), gpu.packed, gpu.filtered.channels, ch,
+                          *candidates[i].distance, settings, gpu.beta, gpu.hat, i,
+                          pair ? &next : nullptr, pair ? &*gpu.secondBeta : nullptr);
+        gather(i, gpu.beta);
+        if (pair) gather(++i, *gpu.secondBeta);
     }
     if (count > 1) {
         RecordNforSelect(context, run.Recorder(), gpu.clamped, gpu.variance, gpu.candidates,

@@ -5,7 +5,7 @@
 #include "nfor/distance.h"
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
-layout(std430, binding = NFOR_BOX_IN) readonly buffer In { float inputs[]; };
+layout(binding = NFOR_BOX_IN) uniform samplerBuffer inputs;
 layout(std430, binding = NFOR_BOX_OUT) writeonly buffer Out { float outputs[]; };
 
 #include "nfor/offsets.glsl"
@@ -33,7 +33,7 @@ void main() {
         int t = i - kReach;
         values[i] = 0.0;
         if (t >= -f && t < kBlock + f && first + t >= 0 && first + t < n)
-            values[i] = inputs[base + t * step];
+            values[i] = texelFetch(inputs, base + t * step).x;
     }
     ivec2 o = storedOffset(push.radius, j);
     [[unroll]] for (int k = 0; k < kBlock; ++k) {

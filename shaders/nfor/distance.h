@@ -9,8 +9,8 @@
 // and v the variance divided by its square (the illumination: texture and the coverage of edge
 // pixels divide out); `box` sums those over the patch positions, along rows (vertical 0) and
 // then along columns (vertical 1), the second dividing by the number of patch positions with
-// both ends inside (0 where none). `term`: one invocation per pixel and stored offset; `box`:
-// one per NFOR_BOX_BLOCK outputs of a stored offset.
+// both ends inside (0 where none). `term`: one invocation per pixel and NFOR_TERM_OFFSETS
+// stored offsets; `box`: one per NFOR_BOX_BLOCK outputs of a stored offset.
 #ifndef MCD_SHADERS_NFOR_DISTANCE_H
 #define MCD_SHADERS_NFOR_DISTANCE_H
 
@@ -25,6 +25,9 @@
 #define NFOR_ILLUMINATION_BINDINGS 4
 #define NFOR_ILLUMINATION_FLOATS 8
 
+// `term` computes NFOR_TERM_OFFSETS consecutive stored offsets an invocation (the count of
+// stored offsets, 2R(R + 1), is a multiple of 4).
+#define NFOR_TERM_OFFSETS 4
 #define NFOR_TERM_ILLUMINATION 0
 #define NFOR_TERM_OUT 1
 #define NFOR_TERM_BINDINGS 2

@@ -4,7 +4,10 @@
 // (F_q,j - F_p,j))^2) (1 at q = p; 0 for emitters, outside the frame and where the
 // exponent exceeds NFOR_EXP_CUT), ridge lambda sum(w) on every column but the constant,
 // Cholesky; writes the coefficients (per pixel, below) and the fit's influence on its
-// centre, (A^-1)_00, at plane `hatPlane` of the hat buffer.
+// centre, (A^-1)_00, at plane `outPlane` of the hat buffer. With NFOR_SPEC_CANDIDATES 2 it
+// fits a second bandwidth (1 / k^2 secondInvBandwidth2) over the same window in the same
+// pass, into the second coefficients and plane outPlane + 1: the window's fetches, columns
+// and feature distances are shared, each candidate's sums are its own, in the same order.
 // An emitter (mask 0) writes its colour as the constant, no slope, influence 1. `gather`:
 // per pixel q the average of the fits of the windows p holding q whose centres are at most
 // gatherRadius away (all of them at the window's radius: NFOR's collaborative filtering),
@@ -32,10 +35,11 @@
 
 #define NFOR_FIT_PACKED 0
 #define NFOR_FIT_DISTANCE 1
-#define NFOR_FIT_BETA 2   // regress writes, gather reads
-#define NFOR_FIT_OUT 3    // regress: the influence; gather: the output
-#define NFOR_FIT_COLOR 4  // gather: the input colour, kept by emitters
-#define NFOR_REGRESS_BINDINGS 4
+#define NFOR_FIT_BETA 2         // regress writes, gather reads
+#define NFOR_FIT_OUT 3          // regress: the influence; gather: the output
+#define NFOR_FIT_COLOR 4        // gather: the input colour, kept by emitters
+#define NFOR_FIT_SECOND_BETA 4  // regress: the second candidate's coefficients
+#define NFOR_REGRESS_BINDINGS 5
 #define NFOR_GATHER_BINDINGS 5
 
 #ifdef __cplusplus
@@ -53,9 +57,10 @@ layout(push_constant) uniform NforFitPush {
     float invBandwidth2;  // 1 / k^2
     float ridge;
     float featureWeight[NFOR_MAX_FEATURES];  // s_j
+    float secondInvBandwidth2;               // regress: the second candidate's 1 / k^2
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforFitPush) == 68);
+static_assert(sizeof(NforFitPush) == 72);
 static_assert(offsetof(NforFitPush, featureWeight) == 28);
 }  // namespace mcd::shader
 #else

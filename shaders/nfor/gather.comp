@@ -7,13 +7,13 @@
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(constant_id = NFOR_SPEC_CHANNELS) const int channels = 3;
 layout(constant_id = NFOR_SPEC_FEATURES) const int featureCount = 7;
-const int columnCount = featureCount + 3;
+const int columnCount = featureCount + 3, candidateCount = 1;
 const int betaVec4s = NFOR_BETA_STRIDE(featureCount, channels) / 4;
-layout(std430, binding = NFOR_FIT_PACKED) readonly buffer Packed { vec4 packed[]; };
-layout(std430, binding = NFOR_FIT_DISTANCE) readonly buffer Distance { float distance[]; };
-layout(std430, binding = NFOR_FIT_BETA) readonly buffer Beta { vec4 beta[]; };
+layout(binding = NFOR_FIT_PACKED) uniform samplerBuffer packed;
+layout(binding = NFOR_FIT_DISTANCE) uniform samplerBuffer distance;
+layout(binding = NFOR_FIT_BETA) uniform samplerBuffer beta;
 layout(std430, binding = NFOR_FIT_OUT) writeonly buffer Out { float outputs[]; };
-layout(std430, binding = NFOR_FIT_COLOR) readonly buffer Color { float color[]; };
+layout(binding = NFOR_FIT_COLOR) uniform samplerBuffer color;
 
 int w, h;
 
@@ -22,7 +22,7 @@ int w, h;
 // The fit of window (u, v) at this pixel, per channel, column by column, from its
 // coefficients loaded four at a time.
 #define LOAD_BETA(k) \
-    if ((k) < betaVec4s) coefficients[k] = beta[base + (k)];
+    if ((k) < betaVec4s) coefficients[k] = texelFetch(beta, base + (k));
 #define BETA(i, c) coefficients[((i) * channels + (c)) / 4][((i) * channels + (c)) % 4]
 #define PREDICT(i)                                                     \
     if ((i) < columnCount) {                                           \
@@ -37,9 +37,11 @@ void main() {
     w = push.width;
     h = push.height;
     if (x >= w) return;
-    if (packed[(y * w + x) * packedVec4s].x == 0.0) {
-        for (int c = 0; c < channels; ++c)
-            outputs[((push.outPlane + c) * h + y) * w + x] = color[(c * h + y) * w + x];
+    if (texelFetch(packed, (y * w + x) * packedVec4s).x == 0.0) {
+        for (int c = 0; c < channels; ++c) {
+            float value = texelFetch(color, (c * h + y) * w + x).x;
+            outputs[((push.outPlane + c) * h + y) * w + x] = value;
+        }
         return;
     }
     loadFixed(x, y);

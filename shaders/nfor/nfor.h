@@ -16,9 +16,10 @@
 #define NFOR_SURE_MAX_RADIUS 8
 
 // Specialization constants: the colour's channel count and the feature planes' (the fit's
-// arrays are sized by them).
+// arrays are sized by them); regress's candidates a dispatch (1 or 2, nfor/fit.h).
 #define NFOR_SPEC_CHANNELS 0
 #define NFOR_SPEC_FEATURES 1
+#define NFOR_SPEC_CANDIDATES 2
 
 // The noise estimate: divisors (albedo) at or under the floor are 1; neighbours whose
 // divisors differ by more than the ratio are not compared; the median of chi^2_1.

@@ -6,33 +6,37 @@
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(constant_id = NFOR_SPEC_CHANNELS) const int channels = 3;
-layout(std430, binding = NFOR_TERM_ILLUMINATION) readonly buffer Illumination {
-    vec4 illumination[];
-};
+layout(binding = NFOR_TERM_ILLUMINATION) uniform samplerBuffer illumination;
 layout(std430, binding = NFOR_TERM_OUT) writeonly buffer Out { float terms[]; };
 
 #include "nfor/offsets.glsl"
 
 void main() {
-    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y), j = int(gl_WorkGroupID.z);
+    int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
+    int first = int(gl_WorkGroupID.z) * NFOR_TERM_OFFSETS;
     int w = push.width, h = push.height;
     if (x >= w) return;
-    ivec2 o = storedOffset(push.radius, j);
-    int qx = x + o.x, qy = y + o.y;
-    float term = 0.0;
-    if (qx >= 0 && qy >= 0 && qx < w && qy < h) {
-        int p = 2 * (y * w + x), q = 2 * (qy * w + qx);
-        vec4 valueP = illumination[p], noiseP = illumination[p + 1];
-        vec4 valueQ = illumination[q], noiseQ = illumination[q + 1];
-        [[unroll]] for (int c = 0; c < channels; ++c) {
-            float cp = valueP[c], cq = valueQ[c], vp = noiseP[c], vq = noiseQ[c];
-            float diff = cp - cq;
-            float s = push.minVariance != 0 ? 2.0 * min(vp, vq) : vp + vq;
-            float t = (diff * diff - push.alpha * s) /
-                      (s + float(NFOR_REL_EPS) * (cp * cp + cq * cq) + float(NFOR_TINY));
-            term += min(t, float(NFOR_TERM_MAX));
+    // p's values are fetched once for its NFOR_TERM_OFFSETS offsets.
+    int p = 2 * (y * w + x);
+    vec4 valueP = texelFetch(illumination, p), noiseP = texelFetch(illumination, p + 1);
+    [[unroll]] for (int k = 0; k < NFOR_TERM_OFFSETS; ++k) {
+        int j = first + k;
+        ivec2 o = storedOffset(push.radius, j);
+        int qx = x + o.x, qy = y + o.y;
+        float term = 0.0;
+        if (qx >= 0 && qy >= 0 && qx < w && qy < h) {
+            int q = 2 * (qy * w + qx);
+            vec4 valueQ = texelFetch(illumination, q), noiseQ = texelFetch(illumination, q + 1);
+            [[unroll]] for (int c = 0; c < channels; ++c) {
+                float cp = valueP[c], cq = valueQ[c], vp = noiseP[c], vq = noiseQ[c];
+                float diff = cp - cq;
+                float s = push.minVariance != 0 ? 2.0 * min(vp, vq) : vp + vq;
+                float t = (diff * diff - push.alpha * s) /
+                          (s + float(NFOR_REL_EPS) * (cp * cp + cq * cq) + float(NFOR_TINY));
+                term += min(t, float(NFOR_TERM_MAX));
+            }
+            term /= float(channels);
         }
-        term /= float(channels);
+        terms[(j * h + y) * w + x] = term;
     }
-    terms[(j * h + y) * w + x] = term;
 }

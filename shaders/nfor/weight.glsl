@@ -1,5 +1,6 @@
 // The weight of q in p's window and the regression's columns of q there, shared by regress
-// and gather. Needs w, h, the packed and distance buffers and `featureCount`.
+// and gather. Needs w, h, the packed and distance buffers, `featureCount` and
+// `candidateCount`.
 // Arrays are indexed by constants only (the loops are unrolled by the preprocessor to the
 // largest counts, the spec constants fold the unused steps away), which keeps them in
 // registers.
@@ -11,9 +12,12 @@ float distanceOf(int px, int py, int qx, int qy) {
     int r = push.radius, ox = qx - px, oy = qy - py;
     int side = 2 * r + 1, centre = (side * side - 1) / 2;
     int index = (oy + r) * side + ox + r;
-    if (index > centre) return distance[((index - centre - 1) * h + py) * w + px];
-    int mirrored = (r - oy) * side + r - ox;
-    return distance[((mirrored - centre - 1) * h + qy) * w + qx];
+    // Offsets after the centre are stored at p, the others mirrored at q: one fetch either
+    // way, its address selected (lavapipe runs both sides of a branch).
+    bool stored = index > centre;
+    int plane = stored ? index - centre - 1 : centre - 1 - index;
+    int ax = stored ? px : qx, ay = stored ? py : qy;
+    return texelFetch(distance, (plane * h + ay) * w + ax).x;
 }
 
 // A pixel's packed inputs (nfor/fit.h): the mask and features in slots[0..featureVec4s).
@@ -21,7 +25,7 @@ const int featureVec4s = NFOR_FEATURE_VEC4S(featureCount);
 const int packedVec4s = NFOR_PACKED_VEC4S(featureCount);
 #define FEATURE(slots, j) slots[((j) + 1) / 4][((j) + 1) % 4]
 #define LOAD_SLOT(k) \
-    if ((k) < featureVec4s) slots[k] = packed[base + (k)];
+    if ((k) < featureVec4s) slots[k] = texelFetch(packed, base + (k));
 #define LOAD_SLOTS(pixel)                  \
     {                                      \
         int base = (pixel) * packedVec4s;  \
@@ -39,8 +43,10 @@ void loadFixed(int fx, int fy) {
 // The columns (1, dx / R, dy / R, F_q - F_p) into col, and q's weight in p's window: 0 for
 // an emitter at `moving` (the pixel not fixed; the fixed one's mask is the caller's), 1 at
 // q = p, else exp(-max(0, D) / k^2 - sum_j (s_j (F_q,j - F_p,j))^2), 0 beyond the cut.
-// sign: 1 when q moves, -1 when p does.
+// sign: 1 when q moves, -1 when p does. With candidateCount 2, secondWeight is the same
+// weight at the second bandwidth.
 float col[NFOR_MAX_FEATURES + 3];
+float secondWeight;
 #define COLUMN(j)                                                         \
     if ((j) < featureCount) {                                             \
         float d = sign * (FEATURE(slots, j) - FEATURE(fixedSlots, j));    \
@@ -51,13 +57,22 @@ float col[NFOR_MAX_FEATURES + 3];
 float weightOf(int px, int py, int qx, int qy, int mx, int my, float sign) {
     vec4 slots[3];
     LOAD_SLOTS(my * w + mx)
+    secondWeight = 0.0;
     if (slots[0].x == 0.0) return 0.0;
     col[0] = 1.0;
     col[1] = float(qx - px) / float(push.radius);
     col[2] = float(qy - py) / float(push.radius);
     float e = 0.0;
     SEQ10(COLUMN, 0)
-    if (qx == px && qy == py) return 1.0;
-    e += max(0.0, distanceOf(px, py, qx, qy)) * push.invBandwidth2;
+    if (qx == px && qy == py) {
+        secondWeight = 1.0;
+        return 1.0;
+    }
+    float d = max(0.0, distanceOf(px, py, qx, qy));
+    if (candidateCount > 1) {
+        float e2 = e + d * push.secondInvBandwidth2;
+        secondWeight = e2 > NFOR_EXP_CUT ? 0.0 : exp(-e2);
+    }
+    e += d * push.invBandwidth2;
     return e > NFOR_EXP_CUT ? 0.0 : exp(-e);
 }

@@ -952,33 +952,16 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforPackKernel, testing::ValuesIn(KernelCases())
 // sum over the window of |x|^2 + (columns - 1) lambda m: bounds of the window's features.
 class NforRegressKernel : public GpuTestWithParam<KernelCase> {};
 
-void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
-    SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
-    const int radius = 2;
-    FitInputs f =
-        MakeFitInputs(w, h, kind, fmt::format("regress{}x{}{}", w, h, InputKindName(kind)),
-                      radius, features, channels);
+// Expect regress's coefficients and influence plane for `candidate` within the bound above of
+// the reference's.
+void ExpectRegressMatches(const FitInputs &f, const ref::NforCandidate &candidate,
+                          const Image &beta, const Image &hat) {
     ref::NforFit expected =
-        ref::NforRegress(f.color, f.features, f.mask, f.distance, f.candidate);
-    auto run = [&](Image *hat) {
-        vk::GpuImage packed =
-            Upload(TestContext(), NforPackedOf(f.color, f.features, f.mask), "packed");
-        vk::GpuImage d = Upload(TestContext(), f.distance, "D");
-        vk::GpuImage beta(TestContext(), w, h, NforBetaStride(features, channels), "beta"),
-            hats(TestContext(), w, h, 2, "hat");
-        vk::Recorder recorder(TestContext());
-        RecordNforRegress(TestContext(), recorder, packed, features, channels, d, SettingsOf(f),
-                          beta, hats, 1);
-        recorder.Submit();
-        Image all = hats.Download();
-        *hat = Image(w, h, 1);
-        std::copy(all.Plane(1), all.Plane(1) + hat->Size(), hat->data.begin());
-        return NforBetaPlanes(beta.Download(), features, channels);
-    };
-    Image hat, hatAgain;
-    Image beta = run(&hat);
+        ref::NforRegress(f.color, f.features, f.mask, f.distance, candidate);
+    int w = beta.width, h = beta.height, radius = candidate.radius;
+    int features = f.features.channels, channels = f.color.channels;
     int window = (2 * radius + 1) * (2 * radius + 1), columns = features + 3;
-    double lambda = f.candidate.ridge;
+    double lambda = candidate.ridge;
     Image betaScale(w, h, beta.channels), hatScale(w, h, 1);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -997,7 +980,7 @@ void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
                 }
             double condition = trace / std::min(1.0, lambda);
             double error =
-                condition * (WeightError(1, f.candidate.bandwidth) + (window + 8) * kU);
+                condition * (WeightError(1, candidate.bandwidth) + (window + 8) * kU);
             double betaNorm = 0;
             for (int i = 0; i < beta.channels; ++i)
                 betaNorm = std::max(betaNorm, double(std::fabs(expected.beta.At(i, y, x))));
@@ -1008,6 +991,32 @@ void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
         }
     EXPECT_TRUE(ImagesMatch(expected.beta, beta, betaScale, {1, 0, 1e-8}));
     EXPECT_TRUE(ImagesMatch(expected.hat, hat, hatScale, {1, 0, 1e-8}));
+}
+
+void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
+    SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
+    const int radius = 2;
+    FitInputs f =
+        MakeFitInputs(w, h, kind, fmt::format("regress{}x{}{}", w, h, InputKindName(kind)),
+                      radius, features, channels);
+    auto run = [&](Image *hat) {
+        vk::GpuImage packed =
+            Upload(TestContext(), NforPackedOf(f.color, f.features, f.mask), "packed");
+        vk::GpuImage d = Upload(TestContext(), f.distance, "D");
+        vk::GpuImage beta(TestContext(), w, h, NforBetaStride(features, channels), "beta"),
+            hats(TestContext(), w, h, 2, "hat");
+        vk::Recorder recorder(TestContext());
+        RecordNforRegress(TestContext(), recorder, packed, features, channels, d, SettingsOf(f),
+                          beta, hats, 1);
+        recorder.Submit();
+        Image all = hats.Download();
+        *hat = Image(w, h, 1);
+        std::copy(all.Plane(1), all.Plane(1) + hat->Size(), hat->data.begin());
+        return NforBetaPlanes(beta.Download(), features, channels);
+    };
+    Image hat, hatAgain;
+    Image beta = run(&hat);
+    ExpectRegressMatches(f, f.candidate, beta, hat);
     EXPECT_TRUE(BitIdentical(beta, run(&hatAgain)));
     EXPECT_TRUE(BitIdentical(hat, hatAgain));
 }
@@ -1015,6 +1024,87 @@ void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
 TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     for (auto [features, channels] : kFitShapes) CheckRegress(w, h, kind, features, channels);
+}
+
+// Regress of two candidates in one pass (their bandwidths differ) writes what each writes in
+// a pass of its own: the shared reads and column differences, the sums each its own in the
+// same order. Bit for bit on a CPU device (lavapipe); elsewhere each variant may contract
+// its own multiply-adds, so each candidate within the reference's bound. A second bandwidth
+// whose weights cut more of the window than the first's, and one that cuts less; each
+// case's two outputs alone differ, so a pair reading the wrong bandwidth fails (not at 1x1,
+// whose window is p alone, weight 1 at any bandwidth: there only the writes are checked).
+struct RegressOutput {
+    Image beta, hat;  // hat: the influence planes from the first candidate's
+};
+
+TEST_P(NforRegressKernel, TwoCandidatesInOnePassAsEachAlone) {
+    const auto [w, h, kind] = GetParam();
+    for (auto [features, channels] : kFitShapes) {
+        SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
+        std::string name = fmt::format("regresspair{}x{}{}", w, h, InputKindName(kind));
+        FitInputs f = MakeFitInputs(w, h, kind, name, 2, features, channels);
+        // Distances over the weights' range (the made ones are at most 0, or so large that
+        // k = 0.25 and 0.7 fit alike), uniform in [-1, 3): at most 0 the bandwidths weigh
+        // alike, past 30 k^2 a weight is cut (k = 0.25 past 1.9, not 0.7 or 2).
+        Image spread =
+            MakeInput(InputKind::Uniform, w, h, f.distance.channels, SeedFromName(name + "D"));
+        for (size_t i = 0; i < spread.Size(); ++i) f.distance.data[i] = 1 + 2 * spread.data[i];
+        int stride = NforBetaStride(features, channels);
+        for (float secondBandwidth : {0.25f, 2.f}) {
+            NforFitSettings first = SettingsOf(f), second = first;
+            second.bandwidth = secondBandwidth;
+            // `settings` alone, or with `second` (its coefficients into *secondBeta).
+            auto run = [&](const NforFitSettings &settings, Image *secondBeta) {
+                vk::GpuImage packed =
+                    Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+                vk::GpuImage d = Upload(Ctx(), f.distance, "D");
+                vk::GpuImage beta(Ctx(), w, h, stride, "beta"),
+                    other(Ctx(), w, h, stride, "b2"), hats(Ctx(), w, h, 3, "hat");
+                vk::Recorder recorder(Ctx());
+                RecordNforRegress(Ctx(), recorder, packed, features, channels, d, settings,
+                                  beta, hats, 1, secondBeta ? &second : nullptr,
+                                  secondBeta ? &other : nullptr);
+                recorder.Submit();
+                // The coefficients without the padding (never written).
+                if (secondBeta)
+                    *secondBeta = NforBetaPlanes(other.Download(), features, channels);
+                Image all = hats.Download();
+                RegressOutput out{NforBetaPlanes(beta.Download(), features, channels),
+                                  Image(w, h, secondBeta ? 2 : 1)};
+                std::copy(all.Plane(1), all.Plane(1) + out.hat.Size(), out.hat.data.begin());
+                return out;
+            };
+            SCOPED_TRACE(fmt::format("second bandwidth {}", secondBandwidth));
+            RegressOutput firstAlone = run(first, nullptr), secondAlone = run(second, nullptr);
+            if (w * h > 1) {
+                EXPECT_FALSE(BitIdentical(firstAlone.beta, secondAlone.beta) &&
+                             BitIdentical(firstAlone.hat, secondAlone.hat))
+                    << "the bandwidths fit alike: the pair check cannot fail";
+            }
+            Image secondBeta, again;
+            RegressOutput paired = run(first, &secondBeta);
+            Image firstHat(w, h, 1), secondHat(w, h, 1);
+            std::copy(paired.hat.Plane(0), paired.hat.Plane(0) + firstHat.Size(),
+                      firstHat.data.begin());
+            std::copy(paired.hat.Plane(1), paired.hat.Plane(1) + secondHat.Size(),
+                      secondHat.data.begin());
+            if (Ctx().Info().type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+                EXPECT_TRUE(BitIdentical(firstAlone.beta, paired.beta));
+                EXPECT_TRUE(BitIdentical(firstAlone.hat, firstHat));
+                EXPECT_TRUE(BitIdentical(secondAlone.beta, secondBeta));
+                EXPECT_TRUE(BitIdentical(secondAlone.hat, secondHat));
+            } else {
+                ref::NforCandidate secondCandidate = f.candidate;
+                secondCandidate.bandwidth = secondBandwidth;
+                ExpectRegressMatches(f, f.candidate, paired.beta, firstHat);
+                ExpectRegressMatches(f, secondCandidate, secondBeta, secondHat);
+            }
+            RegressOutput repeat = run(first, &again);
+            EXPECT_TRUE(BitIdentical(paired.beta, repeat.beta));
+            EXPECT_TRUE(BitIdentical(paired.hat, repeat.hat));
+            EXPECT_TRUE(BitIdentical(secondBeta, again));
+        }
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforRegressKernel, testing::ValuesIn(KernelCases()),
@@ -1105,6 +1195,30 @@ TEST_F(NforFitChecks, FeatureCountMismatchThrows) {
     EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 0),
                  Error);
     EXPECT_THROW(RecordNforGather(Ctx(), recorder, in, packed, 5, d, beta, settings, out, 0),
+                 Error);
+}
+
+// A second candidate must differ in its bandwidth alone and bring its coefficients.
+TEST_F(NforFitChecks, SecondCandidateOfAnotherWindowThrows) {
+    const int w = 5, h = 4, radius = 2;
+    FitInputs f = MakeFitInputs(w, h, InputKind::Uniform, "fitpair", radius);
+    NforFitSettings settings = SettingsOf(f), second = settings;
+    second.ridge *= 2;
+    vk::GpuImage packed = Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+    vk::GpuImage d = Upload(Ctx(), f.distance, "D");
+    vk::GpuImage beta(Ctx(), w, h, NforBetaStride(5, 3), "beta"),
+        other(Ctx(), w, h, NforBetaStride(5, 3), "b2"), hat(Ctx(), w, h, 2, "hat");
+    vk::Recorder recorder(Ctx());
+    EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 0,
+                                   &second, &other),
+                 Error);
+    second = settings;
+    EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 0,
+                                   &second, nullptr),
+                 Error);
+    // Its influence needs a plane after the first's.
+    EXPECT_THROW(RecordNforRegress(Ctx(), recorder, packed, 5, 3, d, settings, beta, hat, 1,
+                                   &second, &other),
                  Error);
 }
 

@@ -57,17 +57,19 @@ double WalkTerm(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     int channels = d.Spec(NFOR_SPEC_CHANNELS, 3);
     double walked = 0;
-    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int j) {
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int z) {
         if (x >= p.width) return;
-        auto [ox, oy] = Offset(p.radius, j);
-        if (!Inside(x + ox, y + oy, p.width, p.height)) return;
-        for (int c = 0; c < channels; ++c) {
-            walked += 1;                           // diff
-            walked += p.minVariance != 0 ? 2 : 1;  // s
-            walked += 10;                          // t
-            walked += 2;                           // min, the sum
+        for (int k = 0; k < NFOR_TERM_OFFSETS; ++k) {
+            auto [ox, oy] = Offset(p.radius, z * NFOR_TERM_OFFSETS + k);
+            if (!Inside(x + ox, y + oy, p.width, p.height)) continue;
+            for (int c = 0; c < channels; ++c) {
+                walked += 1;                           // diff
+                walked += p.minVariance != 0 ? 2 : 1;  // s
+                walked += 10;                          // t
+                walked += 2;                           // min, the sum
+            }
+            walked += 1;  // the mean
         }
-        walked += 1;  // the mean
     });
     return walked;
 }
@@ -142,22 +144,27 @@ double WalkSolve(int columns, int channels) {
 double WalkRegress(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforFitPush>(d);
     int channels = d.Spec(NFOR_SPEC_CHANNELS, 3), features = d.Spec(NFOR_SPEC_FEATURES, 7);
-    int columns = features + 3, r = p.radius;
+    int columns = features + 3, r = p.radius, candidates = d.Spec(NFOR_SPEC_CANDIDATES, 1);
     double walked = 0;
     ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int x, int y, int) {
         if (x >= p.width) return;
         for (int v = y - r; v <= y + r; ++v)
             for (int u = x - r; u <= x + r; ++u) {
                 if (!Inside(u, v, p.width, p.height)) continue;
-                walked += WalkWeightOf(features, u == x && v == y);
-                for (int i = 0; i < columns; ++i) {  // ACCUMULATE
-                    walked += 1;                     // wx
-                    for (int j = 0; j <= i; ++j) walked += 2;
-                    for (int c = 0; c < channels; ++c) walked += 2;
+                bool centre = u == x && v == y;
+                walked += WalkWeightOf(features, centre);
+                // The second candidate's weight: * its 1 / k^2, e +, exp.
+                if (candidates > 1 && !centre) walked += 3;
+                for (int k = 0; k < candidates; ++k) {
+                    for (int i = 0; i < columns; ++i) {  // ACCUMULATE
+                        walked += 1;                     // wx
+                        for (int j = 0; j <= i; ++j) walked += 2;
+                        for (int c = 0; c < channels; ++c) walked += 2;
+                    }
+                    walked += 1;  // weights
                 }
-                walked += 1;  // weights
             }
-        walked += WalkSolve(columns, channels);
+        for (int k = 0; k < candidates; ++k) walked += WalkSolve(columns, channels);
     });
     return walked;
 }

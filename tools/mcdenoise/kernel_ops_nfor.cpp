@@ -37,14 +37,15 @@ std::pair<int, int> StoredOffset(int radius, int j) {
     return {index % side - radius, index / side - radius};
 }
 
-// term.comp, per invocation whose q = p + o is inside: per channel the difference (1), the
-// variance sum (1, or 2 min: 2), the term's 10 operators, min and the sum (2); then the
-// mean's divide (1). The albedo's divides are illumination.comp's, once a pixel.
+// term.comp, per pixel and offset (NFOR_TERM_OFFSETS an invocation) whose q = p + o is
+// inside: per channel the difference (1), the variance sum (1, or 2 min: 2), the term's 10
+// operators, min and the sum (2); then the mean's divide (1). The albedo's divides are
+// illumination.comp's, once a pixel.
 double TermFlops(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     double perChannel = 1 + (p.minVariance ? 2 : 1) + 10 + 2;
     double perInside = Channels(d) * perChannel + 1, flops = 0;
-    for (uint32_t j = 0; j < d.timing.groups[2]; ++j) {
+    for (uint32_t j = 0; j < d.timing.groups[2] * NFOR_TERM_OFFSETS; ++j) {
         auto [ox, oy] = StoredOffset(p.radius, int(j));
         double inside =
             double(std::max(0, p.width - std::abs(ox))) * std::max(0, p.height - std::abs(oy));
@@ -89,17 +90,21 @@ double BoxFlops(const vk::KeptDispatch &d) {
 // its i + 1 products into the triangle (2 each), one per channel into b (2 each); the
 // weight sum (1). Per pixel: the ridge (2 per column but the constant), the Cholesky
 // (column j: 2j, sqrt, and per row below 2j + 1), per channel both triangular solves
-// (2 C^2) and the influence (2i + 3 per row).
+// (2 C^2) and the influence (2i + 3 per row). A second candidate in the pass
+// (NFOR_SPEC_CANDIDATES 2) adds, off the centre, its weight's scale, add and exp (3), its own
+// ACCUMULATE and weight sum per step and its own solve per pixel.
 double RegressFlops(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforFitPush>(d);
     double features = d.Spec(NFOR_SPEC_FEATURES, 7), c = features + 3, ch = Channels(d);
+    double candidates = d.Spec(NFOR_SPEC_CANDIDATES, 1);
     double pixels = double(p.width) * p.height;
     double steps = WindowPairs(p.width, p.radius) * WindowPairs(p.height, p.radius);
-    double perStep = 2 + 4 * features + c + c * (c + 1) + 2 * ch * c + 1;
+    double perStep = 2 + 4 * features + candidates * (c + c * (c + 1) + 2 * ch * c + 1);
+    double offCentre = 4 + 3 * (candidates - 1);
     double cholesky = 0;
     for (int j = 0; j < c; ++j) cholesky += 2 * j + 1 + (c - 1 - j) * (2 * j + 1);
     double perPixel = 2 * (c - 1) + cholesky + 2 * c * c * ch + c * c + 2 * c;
-    return steps * perStep + 4 * (steps - pixels) + pixels * perPixel;
+    return steps * perStep + offCentre * (steps - pixels) + candidates * pixels * perPixel;
 }
 
 // gather.comp with weight.glsl, per window step within gatherRadius in the frame: weightOf
@@ -222,7 +227,8 @@ const FormulaMap &NforFormulas() {
         {"nfor_box", {"an add per patch position inside; the columns pass a divide", BoxFlops}},
         {"nfor_regress",
          {"per window step 3 + 4F + C(C+2) + 2C channels (+4 off the centre), per pixel the "
-          "ridge, Cholesky and solves (C = F + 3); no emitter or zero weight",
+          "ridge, Cholesky and solves (C = F + 3); a second candidate of the pass its own "
+          "sums and solves (+3 off the centre); no emitter or zero weight",
           RegressFlops, OpsBound::AtMost}},
         {"nfor_gather",
          {"per gather step 11 + 4F + 2C channels (+4 off the centre), per pixel a divide per "
