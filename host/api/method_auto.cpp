@@ -723,8 +723,13 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
     // Each variant has a slot in the kernels.
     if (variants.size() > size_t(kAutoMaxCandidates))
         throw std::logic_error("auto: more variants in the registry than kernel slots");
-    // Each method's shared tile plan (SharedTiling), made at its first candidate.
-    std::map<std::string, std::optional<TileNeeds>> sharedPlans;
+    // The variants that run while the budget lasts, with their front ends.
+    struct Chosen {
+        RegisteredVariant v;
+        std::unique_ptr<FrontEnd> method;
+        bool runsSplit = false;
+    };
+    std::vector<Chosen> chosen;
     for (const RegisteredVariant &v : variants) {
         const std::string &label = v.variant->label;
         const FrontEnd *base = nullptr;
@@ -762,6 +767,39 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
                      "small shares for much time)");
             continue;
         }
+        chosen.push_back({v, std::move(method), runsSplit});
+    }
+    // Each method's shared tile plan (SharedTiling), made at its first candidate.
+    std::map<std::string, std::optional<TileNeeds>> sharedPlans;
+    auto sharedPlan = [&](const Chosen &c) -> const std::optional<TileNeeds> & {
+        auto kept = sharedPlans.find(c.v.method->name);
+        if (kept == sharedPlans.end()) {
+            const FrontEnd *base = nullptr;
+            for (const auto &m : methods)
+                if (m->Name() == c.v.method->name) base = m.get();
+            kept = sharedPlans
+                       .emplace(c.v.method->name,
+                                SharedTiling(context, inputs, *base, c.v, noise, o, allowed))
+                       .first;
+        }
+        return kept->second;
+    };
+    // Every candidate's kernels start building now, behind those the runs ask for, so that
+    // they build beside the first candidates' runs rather than on the way of their own.
+    // Under a budget of the user's a candidate may be left out after the runs before it:
+    // none is made ahead.
+    if (std::find(o.given.begin(), o.given.end(), "budget") == o.given.end())
+        for (const Chosen &c : chosen) {
+            try {
+                const std::optional<TileNeeds> &shared = sharedPlan(c);
+                PrepareKernels(context, *c.method, inputs, shared ? &*shared : nullptr);
+            } catch (const Error &e) {
+                // The candidate's run meets it again and says so.
+                if (e.Kind() == ErrorKind::Cancelled) throw;
+            }
+        }
+    for (const Chosen &c : chosen) {
+        const std::string &label = c.v.variant->label;
         double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
         if (!out.ran.empty() && elapsed > o.budget) {
             leaveOut(label, fmt::format("the budget ({} s) was spent after {:.2f} s", o.budget,
@@ -769,15 +807,9 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
             continue;
         }
         try {
-            auto kept = sharedPlans.find(v.method->name);
-            if (kept == sharedPlans.end())
-                kept = sharedPlans
-                           .emplace(v.method->name,
-                                    SharedTiling(context, inputs, *base, v, noise, o, allowed))
-                           .first;
-            const std::optional<TileNeeds> &shared = kept->second;
-            out.ran.push_back(RunCandidate(context, inputs, *method, v, runsSplit, noise, o,
-                                           shared ? &*shared : nullptr, out));
+            const std::optional<TileNeeds> &shared = sharedPlan(c);
+            out.ran.push_back(RunCandidate(context, inputs, *c.method, c.v, c.runsSplit, noise,
+                                           o, shared ? &*shared : nullptr, out));
             // The buffers a candidate kept for reuse (its run, probe and tiles share sizes)
             // go back: the host holds every output so far, and the next candidate's own
             // peak is what it needs.

@@ -162,6 +162,13 @@ class Rhf : public FrontEndOf<RhfParams> {
         return result;
     }
 
+    void PrepareKernels(vk::Context &context, Inputs &inputs) const override {
+        RunSetup setup = SetupFor(inputs, RunOptions());
+        setup.scalesUsed = whole.scalesUsed;
+        PrepareRhfKernels(context, inputs.Width(), inputs.Height(), Histograms(inputs).channels,
+                          options, setup);
+    }
+
     void Finish(vk::Context &, Inputs &whole, Result *result) const override {
         result->plan.push_back("local mean (on the whole frame, after the tiles): " +
                                RestoreLocalMeansRebalanced(whole.Get("color"),
