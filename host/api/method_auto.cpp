@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -703,34 +704,23 @@ std::optional<TileNeeds> SharedTiling(vk::Context &context, Inputs &inputs,
     return shared;
 }
 
-// The candidates, in the registry's run order while the budget lasts, each variant left
-// out where it repeats another, needs an estimate to be weighed or lacks its layers.
-Candidates RunCandidates(vk::Context &context, Inputs &inputs,
-                         const std::vector<std::unique_ptr<FrontEnd>> &methods,
-                         const Noise &noise, const AutoFrontEnd::Options &o,
-                         Clock::time_point start, std::vector<std::string> *plan) {
-    Candidates out;
-    // Why none ran, if none does: the first failure's kind, else the layers each lacked;
-    // and the first failure's reason, else the first other left out's (not --auto-candidates').
-    std::optional<ErrorKind> failure;
-    std::string failed, firstOut;
-    auto leaveOut = [&](const std::string &label, const std::string &why) {
-        plan->push_back(fmt::format("auto: left out {}: {}", label, why));
-        if (firstOut.empty()) firstOut = label + ": " + why;
-    };
-    std::vector<RegisteredVariant> variants = AutoVariants();
-    const std::vector<std::string> allowed = CandidateLabels(o.candidates);
-    // Each variant has a slot in the kernels.
-    if (variants.size() > size_t(kAutoMaxCandidates))
-        throw std::logic_error("auto: more variants in the registry than kernel slots");
-    // The variants that run while the budget lasts, with their front ends.
-    struct Chosen {
-        RegisteredVariant v;
-        std::unique_ptr<FrontEnd> method;
-        bool runsSplit = false;
-    };
+// A variant auto runs, with its front end (Configure).
+struct Chosen {
+    RegisteredVariant v;
+    std::unique_ptr<FrontEnd> method;
+    bool runsSplit = false;
+};
+
+// The variants that run while the budget lasts, in run order: each left out (`leaveOut`, or
+// a plan line for --auto-candidates) where it repeats another, needs an estimate to be
+// weighed or lacks its layers.
+std::vector<Chosen> ChooseCandidates(
+    Inputs &inputs, const std::vector<std::unique_ptr<FrontEnd>> &methods, const Noise &noise,
+    const AutoFrontEnd::Options &o, const std::vector<std::string> &allowed, Candidates &out,
+    std::vector<std::string> *plan,
+    const std::function<void(const std::string &, const std::string &)> &leaveOut) {
     std::vector<Chosen> chosen;
-    for (const RegisteredVariant &v : variants) {
+    for (const RegisteredVariant &v : AutoVariants()) {
         const std::string &label = v.variant->label;
         const FrontEnd *base = nullptr;
         for (const auto &m : methods)
@@ -769,6 +759,31 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
         }
         chosen.push_back({v, std::move(method), runsSplit});
     }
+    return chosen;
+}
+
+// The candidates, in the registry's run order while the budget lasts, each variant left
+// out where it repeats another, needs an estimate to be weighed or lacks its layers.
+Candidates RunCandidates(vk::Context &context, Inputs &inputs,
+                         const std::vector<std::unique_ptr<FrontEnd>> &methods,
+                         const Noise &noise, const AutoFrontEnd::Options &o,
+                         Clock::time_point start, std::vector<std::string> *plan) {
+    Candidates out;
+    // Why none ran, if none does: the first failure's kind, else the layers each lacked;
+    // and the first failure's reason, else the first other left out's (not --auto-candidates').
+    std::optional<ErrorKind> failure;
+    std::string failed, firstOut;
+    auto leaveOut = [&](const std::string &label, const std::string &why) {
+        plan->push_back(fmt::format("auto: left out {}: {}", label, why));
+        if (firstOut.empty()) firstOut = label + ": " + why;
+    };
+    std::vector<RegisteredVariant> variants = AutoVariants();
+    const std::vector<std::string> allowed = CandidateLabels(o.candidates);
+    // Each variant has a slot in the kernels.
+    if (variants.size() > size_t(kAutoMaxCandidates))
+        throw std::logic_error("auto: more variants in the registry than kernel slots");
+    std::vector<Chosen> chosen =
+        ChooseCandidates(inputs, methods, noise, o, allowed, out, plan, leaveOut);
     // Each method's shared tile plan (SharedTiling), made at its first candidate.
     std::map<std::string, std::optional<TileNeeds>> sharedPlans;
     auto sharedPlan = [&](const Chosen &c) -> const std::optional<TileNeeds> & {
