@@ -164,6 +164,9 @@ class Rhf : public FrontEndOf<RhfParams> {
 
     void PrepareKernels(vk::Context &context, Inputs &inputs) const override {
         RunSetup setup = SetupFor(inputs, RunOptions());
+        // Looser than Run, on purpose: no kernel's key reads `histScales`, so it is left
+        // unset; the selection kernels are listed even where the memo will serve the
+        // selections (auto's candidates share their keys, and an unused one costs a build).
         setup.scalesUsed = whole.scalesUsed;
         PrepareRhfKernels(context, inputs.Width(), inputs.Height(), Histograms(inputs).channels,
                           options, setup);

@@ -43,25 +43,45 @@ void BuildPool::Hasten(uint64_t ticket) {
     later.erase(it);
 }
 
+std::packaged_task<void()> BuildPool::Take(uint64_t ticket) {
+    for (Queue *from : {&queue, &later}) {
+        auto it = std::find_if(from->begin(), from->end(),
+                               [&](const auto &entry) { return entry.first == ticket; });
+        if (it == from->end()) continue;
+        std::packaged_task<void()> task = std::move(it->second);
+        from->erase(it);
+        return task;
+    }
+    return {};
+}
+
+void BuildPool::NoteIfIdle() {
+    if (queue.empty() && later.empty() && running == 0) idle.notify_all();
+}
+
 void BuildPool::RunHere(uint64_t ticket) {
     std::packaged_task<void()> task;
     {
         std::lock_guard<std::mutex> lock(mutex);
-        for (Queue *from : {&queue, &later}) {
-            auto it = std::find_if(from->begin(), from->end(),
-                                   [&](const auto &entry) { return entry.first == ticket; });
-            if (it == from->end()) continue;
-            task = std::move(it->second);
-            from->erase(it);
-            ++running;
-            break;
-        }
+        task = Take(ticket);
+        if (!task.valid()) return;
+        ++running;
     }
-    if (!task.valid()) return;
     task();  // an exception lands in the task's future
     std::lock_guard<std::mutex> lock(mutex);
     --running;
-    if (queue.empty() && later.empty() && running == 0) idle.notify_all();
+    NoteIfIdle();
+}
+
+void BuildPool::Drop(uint64_t ticket) {
+    std::packaged_task<void()> task;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        task = Take(ticket);
+        if (!task.valid()) return;
+        NoteIfIdle();
+    }
+    // The task destroyed unrun leaves its future ready with a broken promise.
 }
 
 void BuildPool::Wait() {
@@ -83,7 +103,7 @@ void BuildPool::Work() {
         task();  // an exception lands in the task's future
         lock.lock();
         --running;
-        if (queue.empty() && later.empty() && running == 0) idle.notify_all();
+        NoteIfIdle();
     }
 }
 

@@ -37,11 +37,19 @@ class BuildPool {
     // Runs the task in the caller, if no worker has taken it yet: one who would wait for it
     // builds it instead.
     void RunHere(uint64_t ticket);
+    // Forgets the task, if no worker has taken it yet: its future is then ready at once, with
+    // a broken promise, and the task never runs (a kernel dropped before its build).
+    void Drop(uint64_t ticket);
     // Waits until every queued task has finished.
     void Wait();
 
   private:
     void Work();
+    // Takes the task named `ticket` out of either queue; an empty task if none holds it.
+    // Called with `mutex` held.
+    std::packaged_task<void()> Take(uint64_t ticket);
+    // Wakes Wait if nothing is queued or running. Called with `mutex` held.
+    void NoteIfIdle();
 
     using Queue = std::deque<std::pair<uint64_t, std::packaged_task<void()>>>;
     int threads = 0;

@@ -107,12 +107,17 @@ void Kernel::Build(std::vector<uint32_t> code) {
 }
 
 VkPipeline Kernel::Pipeline() const {
-    if (ticket) context.Builds().RunHere(ticket);
+    // Once built, no lookup: a bind neither locks the pool nor scans its queues.
+    if (ticket && built.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        context.Builds().RunHere(ticket);
     built.get();
     return pipeline;
 }
 
 Kernel::~Kernel() {
+    // A build no thread has started is dropped, not made: a run failed or cancelled after
+    // preparing kernels does not hold up the context's teardown for builds it will not use.
+    if (ticket) context.Builds().Drop(ticket);
     if (built.valid()) built.wait();
     Release();
 }

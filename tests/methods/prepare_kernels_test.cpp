@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <tuple>
@@ -132,12 +133,6 @@ TEST(PrepareKernels, AutoMakesItsCandidatesKernelsAhead) {
     EXPECT_EQ(rhfPivotUnderBudget, rhfPivot);
 }
 
-}  // namespace
-}  // namespace mcd::test
-
-namespace mcd::test {
-namespace {
-
 // Two workers, each held by a task until its gate opens; the tasks queued after them run in
 // the order `order` records, on the one worker released.
 struct HeldPool {
@@ -158,9 +153,13 @@ struct HeldPool {
         while (held < 2) std::this_thread::yield();
     }
     ~HeldPool() {
-        if (!opened) gates[0].set_value();
-        gates[1].set_value();
+        Open(0);
+        Open(1);
         pool.Wait();
+    }
+    void Open(int gate) {
+        if (!opened[gate]) gates[gate].set_value();
+        opened[gate] = true;
     }
     std::function<void()> Note(std::string name) {
         return [this, name] {
@@ -168,19 +167,22 @@ struct HeldPool {
             order.push_back(name);
         };
     }
+    // What has run by the time `expected` tasks have, or by a deadline (an ordering bug
+    // fails the test rather than hanging it).
     std::vector<std::string> RunOn() {
-        gates[0].set_value();
-        opened = true;
+        Open(0);
         // The first worker runs the queue; the second stays held.
+        auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
         while (true) {
             {
                 std::lock_guard<std::mutex> lock(mutex);
-                if (order.size() >= expected) return order;
+                if (order.size() >= expected || std::chrono::steady_clock::now() > deadline)
+                    return order;
             }
             std::this_thread::yield();
         }
     }
-    bool opened = false;
+    bool opened[2] = {false, false};
     size_t expected = 0;
 };
 
@@ -200,13 +202,74 @@ TEST(PrepareKernels, BuildPoolRunsATaskNoWorkerTookInTheCaller) {
     HeldPool held;
     uint64_t ticket = 0;
     std::thread::id ranOn;
-    std::shared_future<void> done =
-        held.pool.Run([&] { ranOn = std::this_thread::get_id(); }, true, &ticket);
+    auto note = held.Note("here");
+    std::shared_future<void> done = held.pool.Run(
+        [&] {
+            ranOn = std::this_thread::get_id();
+            note();
+        },
+        true, &ticket);
     held.pool.RunHere(ticket);
     ASSERT_EQ(done.wait_for(std::chrono::seconds(0)), std::future_status::ready);
     EXPECT_EQ(ranOn, std::this_thread::get_id());
     held.pool.RunHere(ticket);  // taken already: nothing
-    EXPECT_TRUE(held.RunOn().empty());
+    // The task ran once, here: the worker released runs only the one queued after it.
+    held.pool.Run(held.Note("next"), true);
+    held.expected = 2;
+    EXPECT_EQ(held.RunOn(), (std::vector<std::string>{"here", "next"}));
+}
+
+// Whether `pool`'s Wait returns within a few seconds; a Wait still blocked is left behind.
+bool WaitsWithin(vk::BuildPool &pool) {
+    auto returned = std::make_shared<std::promise<void>>();
+    std::future<void> done = returned->get_future();
+    std::thread waiter([&pool, returned] {
+        pool.Wait();
+        returned->set_value();
+    });
+    if (done.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+        waiter.detach();
+        return false;
+    }
+    waiter.join();
+    return true;
+}
+
+TEST(PrepareKernels, BuildPoolRunHereKeepsATasksErrorForItsWaiter) {
+    auto held = std::make_unique<HeldPool>();
+    uint64_t ticket = 0;
+    std::shared_future<void> done =
+        held->pool.Run([] { throw std::runtime_error("build failed"); }, true, &ticket);
+    held->pool.RunHere(ticket);
+    ASSERT_EQ(done.wait_for(std::chrono::seconds(0)), std::future_status::ready);
+    EXPECT_THROW(done.get(), std::runtime_error);
+    // Once the held workers go, nothing counts as running.
+    held->Open(0);
+    held->Open(1);
+    if (!WaitsWithin(held->pool)) {
+        held.release();  // its Wait would block too: left, not destroyed
+        FAIL() << "Wait did not return after a task run here threw";
+    }
+}
+
+TEST(PrepareKernels, BuildPoolDropsATaskNoWorkerTook) {
+    HeldPool held;
+    uint64_t ticket = 0;
+    std::shared_future<void> done = held.pool.Run(held.Note("dropped"), true, &ticket);
+    held.pool.Drop(ticket);
+    // Ready at once, without the task: its promise is broken.
+    ASSERT_EQ(done.wait_for(std::chrono::seconds(0)), std::future_status::ready);
+    try {
+        done.get();
+        ADD_FAILURE() << "a dropped task's future holds no error";
+    } catch (const std::future_error &error) {
+        EXPECT_EQ(error.code(), std::future_errc::broken_promise);
+    }
+    held.pool.Drop(ticket);  // gone already: nothing
+    // Queued ahead after it: the worker released would run the dropped task first.
+    held.pool.Run(held.Note("next"), true);
+    held.expected = 1;
+    EXPECT_EQ(held.RunOn(), (std::vector<std::string>{"next"}));
 }
 
 }  // namespace
