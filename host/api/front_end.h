@@ -253,6 +253,10 @@ class FrontEnd {
     }
 
     virtual Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const = 0;
+    // Makes ahead the kernels Run will record on these inputs (Context::PrepareKernel), so
+    // that they build beside earlier work (auto's other candidates): only kernels the run
+    // records, none for a layer the frame lacks. Default: none (each builds when recorded).
+    virtual void PrepareKernels(vk::Context &context, Inputs &inputs) const {}
 
     // Tiling: the reach and memory per pixel on these inputs (default: not tile-local).
     virtual TileNeeds Tiling(vk::Context &context, Inputs &inputs) const {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -703,29 +704,23 @@ std::optional<TileNeeds> SharedTiling(vk::Context &context, Inputs &inputs,
     return shared;
 }
 
-// The candidates, in the registry's run order while the budget lasts, each variant left
-// out where it repeats another, needs an estimate to be weighed or lacks its layers.
-Candidates RunCandidates(vk::Context &context, Inputs &inputs,
-                         const std::vector<std::unique_ptr<FrontEnd>> &methods,
-                         const Noise &noise, const AutoFrontEnd::Options &o,
-                         Clock::time_point start, std::vector<std::string> *plan) {
-    Candidates out;
-    // Why none ran, if none does: the first failure's kind, else the layers each lacked;
-    // and the first failure's reason, else the first other left out's (not --auto-candidates').
-    std::optional<ErrorKind> failure;
-    std::string failed, firstOut;
-    auto leaveOut = [&](const std::string &label, const std::string &why) {
-        plan->push_back(fmt::format("auto: left out {}: {}", label, why));
-        if (firstOut.empty()) firstOut = label + ": " + why;
-    };
-    std::vector<RegisteredVariant> variants = AutoVariants();
-    const std::vector<std::string> allowed = CandidateLabels(o.candidates);
-    // Each variant has a slot in the kernels.
-    if (variants.size() > size_t(kAutoMaxCandidates))
-        throw std::logic_error("auto: more variants in the registry than kernel slots");
-    // Each method's shared tile plan (SharedTiling), made at its first candidate.
-    std::map<std::string, std::optional<TileNeeds>> sharedPlans;
-    for (const RegisteredVariant &v : variants) {
+// A variant auto runs, with its front end (Configure).
+struct Chosen {
+    RegisteredVariant v;
+    std::unique_ptr<FrontEnd> method;
+    bool runsSplit = false;
+};
+
+// The variants that run while the budget lasts, in run order: each left out (`leaveOut`, or
+// a plan line for --auto-candidates) where it repeats another, needs an estimate to be
+// weighed or lacks its layers.
+std::vector<Chosen> ChooseCandidates(
+    Inputs &inputs, const std::vector<std::unique_ptr<FrontEnd>> &methods, const Noise &noise,
+    const AutoFrontEnd::Options &o, const std::vector<std::string> &allowed, Candidates &out,
+    std::vector<std::string> *plan,
+    const std::function<void(const std::string &, const std::string &)> &leaveOut) {
+    std::vector<Chosen> chosen;
+    for (const RegisteredVariant &v : AutoVariants()) {
         const std::string &label = v.variant->label;
         const FrontEnd *base = nullptr;
         for (const auto &m : methods)
@@ -762,6 +757,64 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
                      "small shares for much time)");
             continue;
         }
+        chosen.push_back({v, std::move(method), runsSplit});
+    }
+    return chosen;
+}
+
+// The candidates, in the registry's run order while the budget lasts, each variant left
+// out where it repeats another, needs an estimate to be weighed or lacks its layers.
+Candidates RunCandidates(vk::Context &context, Inputs &inputs,
+                         const std::vector<std::unique_ptr<FrontEnd>> &methods,
+                         const Noise &noise, const AutoFrontEnd::Options &o,
+                         Clock::time_point start, std::vector<std::string> *plan) {
+    Candidates out;
+    // Why none ran, if none does: the first failure's kind, else the layers each lacked;
+    // and the first failure's reason, else the first other left out's (not --auto-candidates').
+    std::optional<ErrorKind> failure;
+    std::string failed, firstOut;
+    auto leaveOut = [&](const std::string &label, const std::string &why) {
+        plan->push_back(fmt::format("auto: left out {}: {}", label, why));
+        if (firstOut.empty()) firstOut = label + ": " + why;
+    };
+    std::vector<RegisteredVariant> variants = AutoVariants();
+    const std::vector<std::string> allowed = CandidateLabels(o.candidates);
+    // Each variant has a slot in the kernels.
+    if (variants.size() > size_t(kAutoMaxCandidates))
+        throw std::logic_error("auto: more variants in the registry than kernel slots");
+    std::vector<Chosen> chosen =
+        ChooseCandidates(inputs, methods, noise, o, allowed, out, plan, leaveOut);
+    // Each method's shared tile plan (SharedTiling), made at its first candidate.
+    std::map<std::string, std::optional<TileNeeds>> sharedPlans;
+    auto sharedPlan = [&](const Chosen &c) -> const std::optional<TileNeeds> & {
+        auto kept = sharedPlans.find(c.v.method->name);
+        if (kept == sharedPlans.end()) {
+            const FrontEnd *base = nullptr;
+            for (const auto &m : methods)
+                if (m->Name() == c.v.method->name) base = m.get();
+            kept = sharedPlans
+                       .emplace(c.v.method->name,
+                                SharedTiling(context, inputs, *base, c.v, noise, o, allowed))
+                       .first;
+        }
+        return kept->second;
+    };
+    // Every candidate's kernels start building now, behind those the runs ask for, so that
+    // they build beside the first candidates' runs rather than on the way of their own.
+    // Under a budget of the user's a candidate may be left out after the runs before it:
+    // none is made ahead.
+    if (std::find(o.given.begin(), o.given.end(), "budget") == o.given.end())
+        for (const Chosen &c : chosen) {
+            try {
+                const std::optional<TileNeeds> &shared = sharedPlan(c);
+                PrepareKernels(context, *c.method, inputs, shared ? &*shared : nullptr);
+            } catch (const Error &e) {
+                // The candidate's run meets it again and says so.
+                if (e.Kind() == ErrorKind::Cancelled) throw;
+            }
+        }
+    for (const Chosen &c : chosen) {
+        const std::string &label = c.v.variant->label;
         double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
         if (!out.ran.empty() && elapsed > o.budget) {
             leaveOut(label, fmt::format("the budget ({} s) was spent after {:.2f} s", o.budget,
@@ -769,15 +822,9 @@ Candidates RunCandidates(vk::Context &context, Inputs &inputs,
             continue;
         }
         try {
-            auto kept = sharedPlans.find(v.method->name);
-            if (kept == sharedPlans.end())
-                kept = sharedPlans
-                           .emplace(v.method->name,
-                                    SharedTiling(context, inputs, *base, v, noise, o, allowed))
-                           .first;
-            const std::optional<TileNeeds> &shared = kept->second;
-            out.ran.push_back(RunCandidate(context, inputs, *method, v, runsSplit, noise, o,
-                                           shared ? &*shared : nullptr, out));
+            const std::optional<TileNeeds> &shared = sharedPlan(c);
+            out.ran.push_back(RunCandidate(context, inputs, *c.method, c.v, c.runsSplit, noise,
+                                           o, shared ? &*shared : nullptr, out));
             // The buffers a candidate kept for reuse (its run, probe and tiles share sizes)
             // go back: the host holds every output so far, and the next candidate's own
             // peak is what it needs.

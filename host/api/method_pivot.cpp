@@ -315,6 +315,18 @@ class Pivot : public FrontEndOf<PivotSettings> {
         return "the pivot method divides by itself";
     }
 
+    void PrepareKernels(vk::Context &context, Inputs &inputs) const override {
+        const PivotInputs in = InputsOf(inputs);
+        // As Run: the fits read the frame's noise estimate where there is no variance layer
+        // (the kernel's variant depends on there being one, not on its values).
+        PivotInputs fitIn = in;
+        const Image estimate;
+        if (UsesFrameNoise(in)) fitIn.variance = &estimate;
+        PreparePivotKernels(context, fitIn, options.method);
+        if (!in.variance && (options.range > 0 || options.bound > 0))
+            PrepareAutoNoiseKernels(context);
+    }
+
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
         PivotInputs in = InputsOf(inputs);
         // Without a variance layer the fits read the frame's own noise estimate, robust to

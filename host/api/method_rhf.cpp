@@ -162,6 +162,16 @@ class Rhf : public FrontEndOf<RhfParams> {
         return result;
     }
 
+    void PrepareKernels(vk::Context &context, Inputs &inputs) const override {
+        RunSetup setup = SetupFor(inputs, RunOptions());
+        // Looser than Run, on purpose: no kernel's key reads `histScales`, so it is left
+        // unset; the selection kernels are listed even where the memo will serve the
+        // selections (auto's candidates share their keys, and an unused one costs a build).
+        setup.scalesUsed = whole.scalesUsed;
+        PrepareRhfKernels(context, inputs.Width(), inputs.Height(), Histograms(inputs).channels,
+                          options, setup);
+    }
+
     void Finish(vk::Context &, Inputs &whole, Result *result) const override {
         result->plan.push_back("local mean (on the whole frame, after the tiles): " +
                                RestoreLocalMeansRebalanced(whole.Get("color"),

@@ -103,17 +103,44 @@ TilePlan PlanTiles(const vk::Context &context, const TileNeeds &needs, int width
     return plan;
 }
 
-Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
-                const RunOptions &run, const TileNeeds *shared) {
-    const int W = inputs.Width(), H = inputs.Height();
+namespace {
+
+// The method's needs on these inputs, widened by `shared`, its last step left to the whole.
+TileNeeds NeedsOf(vk::Context &context, const FrontEnd &method, Inputs &inputs,
+                  const TileNeeds *shared) {
     TileNeeds needs = method.Tiling(context, inputs);
     if (shared && needs.notLocal.empty()) needs = WidestNeeds(needs, *shared);
     // The last step is made once on the assembled frame (FrontEnd::Finish): a halo need not
     // hold it.
     needs.reach -= needs.finishReach;
+    return needs;
+}
+
+bool Whole(const TilePlan &plan, int width, int height) {
+    return plan.tileWidth == 0 || (plan.tileWidth >= width && plan.tileHeight >= height);
+}
+
+}  // namespace
+
+void PrepareKernels(vk::Context &context, const FrontEnd &method, Inputs &inputs,
+                    const TileNeeds *shared) {
+    try {
+        const int W = inputs.Width(), H = inputs.Height();
+        if (!Whole(PlanTiles(context, NeedsOf(context, method, inputs, shared), W, H, 0), W, H))
+            return;
+        method.PrepareKernels(context, inputs);
+    } catch (const Error &e) {
+        if (e.Kind() == ErrorKind::Cancelled) throw;
+    }
+}
+
+Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
+                const RunOptions &run, const TileNeeds *shared) {
+    const int W = inputs.Width(), H = inputs.Height();
+    TileNeeds needs = NeedsOf(context, method, inputs, shared);
     TilePlan plan = PlanTiles(context, needs, W, H, run.keepStages ? 0 : run.tileSize);
     const int TW = plan.tileWidth, TH = plan.tileHeight;
-    if (TW == 0 || (TW >= W && TH >= H)) return method.Run(context, inputs, run);
+    if (Whole(plan, W, H)) return method.Run(context, inputs, run);
     // A tiled run has no whole-frame stages to keep (what `diff` compares).
     if (run.keepStages)
         throw Error(fmt::format("{}: the frame runs in tiles ({}), so its stages cannot be "

@@ -49,4 +49,10 @@ TileNeeds WidestNeeds(TileNeeds needs, const TileNeeds &other);
 Result RunTiled(vk::Context &context, const FrontEnd &method, Inputs &inputs,
                 const RunOptions &run, const TileNeeds *shared = nullptr);
 
+// Makes ahead the kernels `method` will record on `inputs` (FrontEnd::PrepareKernels) where
+// RunTiled (with no tile size forced) runs it whole; a tiled run's windows make theirs as
+// they record them. An error the run would meet (a frame it refuses) is left for it to say.
+void PrepareKernels(vk::Context &context, const FrontEnd &method, Inputs &inputs,
+                    const TileNeeds *shared = nullptr);
+
 }  // namespace mcd::api

@@ -11,6 +11,16 @@
 
 namespace mcd {
 
+vk::KernelDesc AutoNoiseKernel() {
+    return {"auto_noise",
+            k_auto_noise_spv,
+            sizeof(k_auto_noise_spv),
+            AUTO_NOISE_BINDINGS,
+            sizeof(shader::AutoNoisePush),
+            {},
+            0};
+}
+
 void RecordAutoNoise(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage *albedo, int radius, vk::GpuImage &output) {
     if (color.channels < 1 || color.channels > 4)
@@ -29,13 +39,7 @@ void RecordAutoNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
         throw Error(
             fmt::format("auto noise: radius {} outside [1, {}]", radius, AUTO_NOISE_MAX_RADIUS),
             ErrorKind::InvalidArgument);
-    const vk::Kernel &kernel = context.GetKernel({"auto_noise",
-                                                  k_auto_noise_spv,
-                                                  sizeof(k_auto_noise_spv),
-                                                  AUTO_NOISE_BINDINGS,
-                                                  sizeof(shader::AutoNoisePush),
-                                                  {},
-                                                  0});
+    const vk::Kernel &kernel = context.GetKernel(AutoNoiseKernel());
     shader::AutoNoisePush push{color.width, color.height, color.channels,
                                albedo ? albedo->channels : 0, radius};
     // Without an albedo the colour is bound in its place (not read).

@@ -4,9 +4,13 @@
 #pragma once
 
 #include "host/vk/gpu_image.h"
+#include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
+
+// The kernel RecordAutoNoise records.
+vk::KernelDesc AutoNoiseKernel();
 
 // `color` 1 to 4 channels; `albedo` null (no demodulation) or of color's size with 1
 // channel or at least color's; `output` color's shape; radius 1..AUTO_NOISE_MAX_RADIUS.

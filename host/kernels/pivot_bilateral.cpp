@@ -13,6 +13,19 @@
 
 namespace mcd {
 
+vk::KernelDesc PivotBilateralKernel(bool normals, bool ids) {
+    return {"pivot_bilateral",
+            k_pivot_bilateral_spv,
+            sizeof(k_pivot_bilateral_spv),
+            PIVOT_BILATERAL_BINDINGS,
+            sizeof(shader::PivotBilateralPush),
+            {{PIVOT_SPEC_NORMALS, normals ? 1 : 0}, {PIVOT_SPEC_IDS, ids ? 1 : 0}},
+            (1u << PIVOT_BILATERAL_COLOR) | (1u << PIVOT_BILATERAL_PIVOT) |
+                (1u << PIVOT_BILATERAL_Z) | (1u << PIVOT_BILATERAL_NU) |
+                (1u << PIVOT_BILATERAL_GUIDES),
+            1u << PIVOT_BILATERAL_GUIDES};
+}
+
 void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
                           const vk::GpuImage &color, const vk::GpuImage &pivot,
                           const vk::GpuImage &z, const vk::GpuImage &nu,
@@ -25,17 +38,8 @@ void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
                     ErrorKind::InvalidArgument);
     if (!(settings.sigmaRange > 0))
         throw Error("pivot bilateral: the range sigma must be > 0", ErrorKind::InvalidArgument);
-    const vk::Kernel &kernel = context.GetKernel(
-        {"pivot_bilateral",
-         k_pivot_bilateral_spv,
-         sizeof(k_pivot_bilateral_spv),
-         PIVOT_BILATERAL_BINDINGS,
-         sizeof(shader::PivotBilateralPush),
-         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0}, {PIVOT_SPEC_IDS, guides.ids ? 1 : 0}},
-         (1u << PIVOT_BILATERAL_COLOR) | (1u << PIVOT_BILATERAL_PIVOT) |
-             (1u << PIVOT_BILATERAL_Z) | (1u << PIVOT_BILATERAL_NU) |
-             (1u << PIVOT_BILATERAL_GUIDES),
-         1u << PIVOT_BILATERAL_GUIDES});
+    const vk::Kernel &kernel =
+        context.GetKernel(PivotBilateralKernel(guides.normals, guides.ids));
     shader::PivotBilateralPush push{color.width,
                                     color.height,
                                     color.channels,

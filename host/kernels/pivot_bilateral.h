@@ -3,6 +3,7 @@
 #pragma once
 
 #include "host/kernels/pivot_fit.h"
+#include "host/vk/kernel.h"
 
 namespace mcd {
 
@@ -10,6 +11,9 @@ struct PivotBilateralSettings {
     int radius = 8;
     float sigmaRange = 0.2f, goodNoise = 100.f;
 };
+
+// The kernel RecordPivotBilateral records with these guides.
+vk::KernelDesc PivotBilateralKernel(bool normals, bool ids);
 
 void RecordPivotBilateral(vk::Context &context, vk::Recorder &recorder,
                           const vk::GpuImage &color, const vk::GpuImage &pivot,

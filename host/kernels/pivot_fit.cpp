@@ -210,6 +210,19 @@ Image PivotFitBuffers::Radii() const {
     return radii;
 }
 
+vk::KernelDesc PivotFitKernel(bool normals, bool ids, int zsnTexels) {
+    return {"pivot_fit",
+            k_pivot_fit_spv,
+            sizeof(k_pivot_fit_spv),
+            PIVOT_FIT_BINDINGS,
+            sizeof(shader::PivotFitPush),
+            {{PIVOT_SPEC_NORMALS, normals ? 1 : 0},
+             {PIVOT_SPEC_IDS, ids ? 1 : 0},
+             {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
+            (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES),
+            (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES)};
+}
+
 void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                     const std::vector<vk::GpuImage> &zsn, const PivotGpuGuides &guides,
                     const PivotFitSettings &settings, PivotFitBuffers &fits, int rowBase,
@@ -232,16 +245,7 @@ void RecordPivotFit(vk::Context &context, vk::Recorder &recorder,
                                 settings.maxRadius),
                     ErrorKind::InvalidArgument);
     const vk::Kernel &kernel =
-        context.GetKernel({"pivot_fit",
-                           k_pivot_fit_spv,
-                           sizeof(k_pivot_fit_spv),
-                           PIVOT_FIT_BINDINGS,
-                           sizeof(shader::PivotFitPush),
-                           {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0},
-                            {PIVOT_SPEC_IDS, guides.ids ? 1 : 0},
-                            {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
-                           (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES),
-                           (1u << PIVOT_FIT_ZSN) | (1u << PIVOT_FIT_GUIDES)});
+        context.GetKernel(PivotFitKernel(guides.normals, guides.ids, zsnTexels));
     for (int c = 0; c < channels; ++c) {
         shader::PivotFitPush push{w,
                                   h,

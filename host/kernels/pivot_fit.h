@@ -8,6 +8,7 @@
 
 #include "host/image.h"
 #include "host/vk/gpu_image.h"
+#include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
@@ -46,6 +47,9 @@ struct PivotFitBuffers {
 
     std::vector<vk::GpuImage> lo, hi;
 };
+
+// The kernel RecordPivotFit records with these guides and zsn of 1 or 2 vec4s a pixel.
+vk::KernelDesc PivotFitKernel(bool normals, bool ids, int zsnTexels);
 
 // `zsn`: per channel an image of 8 planes holding z, s, nu, level and noise of each pixel
 // adjacent (PivotZsnOf), as the ratio stage writes them; of 4 (z, s, nu) only where

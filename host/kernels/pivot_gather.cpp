@@ -89,6 +89,22 @@ Image PivotTileOrder(const Image &radii, int *reach) {
     return order;
 }
 
+vk::KernelDesc PivotGatherKernel(bool normals, bool ids, int zsnTexels) {
+    return {"pivot_gather",
+            k_pivot_gather_spv,
+            sizeof(k_pivot_gather_spv),
+            PIVOT_GATHER_BINDINGS,
+            sizeof(shader::PivotGatherPush),
+            {{PIVOT_SPEC_NORMALS, normals ? 1 : 0},
+             {PIVOT_SPEC_IDS, ids ? 1 : 0},
+             {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
+            (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_ZSN) |
+                (1u << PIVOT_GATHER_FIT_LO) | (1u << PIVOT_GATHER_FIT_HI) |
+                (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES),
+            (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_FIT_LO) |
+                (1u << PIVOT_GATHER_FIT_HI) | (1u << PIVOT_GATHER_ZSN)};
+}
+
 void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                        const vk::GpuImage &pivot, const std::vector<vk::GpuImage> &zsn,
                        const PivotFitBuffers &fits, const PivotGpuGuides &guides,
@@ -111,20 +127,8 @@ void RecordPivotGather(vk::Context &context, vk::Recorder &recorder, const vk::G
     CheckPivotZsnHoldsEdge("pivot gather", zsnTexels, edge);
     CheckPivotGuides("pivot gather", color.width, color.height, guides);
     CheckPivotFitBuffers("pivot gather", color.width, color.height, color.channels, fits);
-    const vk::Kernel &kernel = context.GetKernel(
-        {"pivot_gather",
-         k_pivot_gather_spv,
-         sizeof(k_pivot_gather_spv),
-         PIVOT_GATHER_BINDINGS,
-         sizeof(shader::PivotGatherPush),
-         {{PIVOT_SPEC_NORMALS, guides.normals ? 1 : 0},
-          {PIVOT_SPEC_IDS, guides.ids ? 1 : 0},
-          {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
-         (1u << PIVOT_GATHER_COLOR) | (1u << PIVOT_GATHER_PIVOT) | (1u << PIVOT_GATHER_ZSN) |
-             (1u << PIVOT_GATHER_FIT_LO) | (1u << PIVOT_GATHER_FIT_HI) |
-             (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_TILES),
-         (1u << PIVOT_GATHER_GUIDES) | (1u << PIVOT_GATHER_FIT_LO) |
-             (1u << PIVOT_GATHER_FIT_HI) | (1u << PIVOT_GATHER_ZSN)});
+    const vk::Kernel &kernel =
+        context.GetKernel(PivotGatherKernel(guides.normals, guides.ids, zsnTexels));
     for (int c = 0; c < color.channels; ++c) {
         shader::PivotGatherPush push{
             color.width, color.height, color.channels, reach < 0 ? 0 : reach,

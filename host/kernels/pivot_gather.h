@@ -6,6 +6,7 @@
 
 #include "host/image.h"
 #include "host/kernels/pivot_fit.h"
+#include "host/vk/kernel.h"
 
 namespace mcd {
 
@@ -26,6 +27,9 @@ Image PivotTileOrder(const Image &radii, int *reach);
 // most PIVOT_LATTICE_MAX_STEP (cpu_reference/pivot_filter.h). Only centres with x0 and y0
 // multiples of it take part in the gather, with weight times step^2.
 int PivotLatticeStepOf(float radius);
+
+// The kernel RecordPivotGather records with these guides and zsn of 1 or 2 vec4s a pixel.
+vk::KernelDesc PivotGatherKernel(bool normals, bool ids, int zsnTexels);
 
 // `tiles` from PivotTileOrder of the fits' radii; `reach` its largest radius; `zsn` the
 // ratio's packed (z, s, nu, level, noise) per channel, or (z, s, nu) where `edge` is 0;

@@ -55,6 +55,20 @@ void CheckPivotZsnHoldsEdge(const char *what, int zsnTexels, float edge) {
                     ErrorKind::Internal);
 }
 
+vk::KernelDesc PivotRatioKernel(bool variance, bool ids, int zsnTexels) {
+    return {"pivot_ratio",
+            k_pivot_ratio_spv,
+            sizeof(k_pivot_ratio_spv),
+            PIVOT_RATIO_BINDINGS,
+            sizeof(shader::PivotRatioPush),
+            {{PIVOT_SPEC_VARIANCE, variance ? 1 : 0},
+             {PIVOT_SPEC_IDS, ids ? 1 : 0},
+             {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
+            (1u << PIVOT_RATIO_COLOR) | (1u << PIVOT_RATIO_PIVOT) |
+                (1u << PIVOT_RATIO_VARIANCE) | (1u << PIVOT_RATIO_GUIDES),
+            1u << PIVOT_RATIO_GUIDES};
+}
+
 void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                       const vk::GpuImage &pivot, const vk::GpuImage *variance,
                       const std::vector<float> &thresholds, const PivotGpuGuides &guides,
@@ -73,17 +87,7 @@ void RecordPivotRatio(vk::Context &context, vk::Recorder &recorder, const vk::Gp
                                 unusedSlot.Name(), unusedSlot.Bytes(), kPivotUnusedSlotBytes),
                     ErrorKind::Internal);
     const vk::Kernel &kernel =
-        context.GetKernel({"pivot_ratio",
-                           k_pivot_ratio_spv,
-                           sizeof(k_pivot_ratio_spv),
-                           PIVOT_RATIO_BINDINGS,
-                           sizeof(shader::PivotRatioPush),
-                           {{PIVOT_SPEC_VARIANCE, variance ? 1 : 0},
-                            {PIVOT_SPEC_IDS, guides.ids ? 1 : 0},
-                            {PIVOT_SPEC_ZSN_TEXELS, zsnTexels}},
-                           (1u << PIVOT_RATIO_COLOR) | (1u << PIVOT_RATIO_PIVOT) |
-                               (1u << PIVOT_RATIO_VARIANCE) | (1u << PIVOT_RATIO_GUIDES),
-                           1u << PIVOT_RATIO_GUIDES});
+        context.GetKernel(PivotRatioKernel(variance != nullptr, guides.ids, zsnTexels));
     float t[4] = {};
     for (size_t c = 0; c < thresholds.size(); ++c) t[c] = thresholds[c];
     shader::PivotRatioPush push{color.width, color.height, t[0], t[1], t[2], t[3]};

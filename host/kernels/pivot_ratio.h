@@ -7,9 +7,14 @@
 
 #include "host/kernels/pivot_fit.h"
 #include "host/vk/gpu_image.h"
+#include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
+
+// The kernel RecordPivotRatio records: with a variance layer or without, with the ids'
+// guide or without, zsn of 1 or 2 vec4s a pixel.
+vk::KernelDesc PivotRatioKernel(bool variance, bool ids, int zsnTexels);
 
 // `color`, `pivot`, `variance` (nullptr: estimate the noise from the 3x3 neighbours), `z`,
 // `s`, `nu`: same size, 1 to 4 channels; `thresholds` one per channel. `zsn`, one image per

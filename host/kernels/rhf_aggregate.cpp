@@ -11,6 +11,17 @@
 
 namespace mcd {
 
+vk::KernelDesc RhfAggregateKernel(int searchHalf, int patchHalf) {
+    return {"rhf_aggregate",
+            k_rhf_aggregate_spv,
+            sizeof(k_rhf_aggregate_spv),
+            RHF_AGGREGATE_BINDINGS,
+            sizeof(shader::RhfAggregatePush),
+            {{RHF_AGGREGATE_SPEC_SEARCH_HALF, searchHalf},
+             {RHF_AGGREGATE_SPEC_PATCH_HALF, patchHalf}},
+            1u << RHF_AGGREGATE_COLOR};
+}
+
 void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::Buffer &mask, int patchHalf, int searchHalf,
                         vk::GpuImage &out) {
@@ -23,14 +34,7 @@ void RecordRhfAggregate(vk::Context &context, vk::Recorder &recorder, const vk::
                                 color.width, color.height, color.channels, out.width,
                                 out.height, out.channels, mask.Bytes()),
                     ErrorKind::Internal);
-    const vk::Kernel &kernel = context.GetKernel({"rhf_aggregate",
-                                                  k_rhf_aggregate_spv,
-                                                  sizeof(k_rhf_aggregate_spv),
-                                                  RHF_AGGREGATE_BINDINGS,
-                                                  sizeof(shader::RhfAggregatePush),
-                                                  {{RHF_AGGREGATE_SPEC_SEARCH_HALF, searchHalf},
-                                                   {RHF_AGGREGATE_SPEC_PATCH_HALF, patchHalf}},
-                                                  1u << RHF_AGGREGATE_COLOR});
+    const vk::Kernel &kernel = context.GetKernel(RhfAggregateKernel(searchHalf, patchHalf));
     shader::RhfAggregatePush push{color.width, color.height, patchHalf, searchHalf, words};
     recorder.Dispatch(
         kernel, "rhf.aggregate",

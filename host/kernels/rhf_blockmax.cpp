@@ -16,6 +16,16 @@ int RhfBlocks(int width) {
     return (width + RHF_BLOCKMAX_WIDTH - 1) / RHF_BLOCKMAX_WIDTH;
 }
 
+vk::KernelDesc RhfBlockMaxKernel() {
+    return {"rhf_blockmax",
+            k_rhf_blockmax_spv,
+            sizeof(k_rhf_blockmax_spv),
+            RHF_BLOCKMAX_BINDINGS,
+            sizeof(shader::RhfBlockMaxPush),
+            {},
+            (1u << RHF_BLOCKMAX_HIST) | (1u << RHF_BLOCKMAX_COUNT)};
+}
+
 void RecordRhfBlockMax(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
                        float histScale, vk::Buffer &blockMax) {
     const int n3 = hist.planes - 1, blocks = RhfBlocks(hist.width);
@@ -29,14 +39,7 @@ void RecordRhfBlockMax(vk::Context &context, vk::Recorder &recorder, const RhfHi
         throw Error(fmt::format("rhf block maxima: a {}x{} image's {} planes do not fit '{}'",
                                 hist.width, hist.height, n3, blockMax.Name()),
                     ErrorKind::Internal);
-    const vk::Kernel &kernel =
-        context.GetKernel({"rhf_blockmax",
-                           k_rhf_blockmax_spv,
-                           sizeof(k_rhf_blockmax_spv),
-                           RHF_BLOCKMAX_BINDINGS,
-                           sizeof(shader::RhfBlockMaxPush),
-                           {},
-                           (1u << RHF_BLOCKMAX_HIST) | (1u << RHF_BLOCKMAX_COUNT)});
+    const vk::Kernel &kernel = context.GetKernel(RhfBlockMaxKernel());
     const vk::Buffer &counts = hist.slots[n3 / hist.planesPerSlot];
     for (size_t slot = 0; slot < hist.slots.size(); ++slot) {
         int first = int(slot) * hist.planesPerSlot;

@@ -2,11 +2,15 @@
 #pragma once
 
 #include "host/kernels/rhf_terms.h"
+#include "host/vk/kernel.h"
 
 namespace mcd {
 
 // Blocks per row of a width-pixel image.
 int RhfBlocks(int width);
+
+// The kernel RecordRhfBlockMax records.
+vk::KernelDesc RhfBlockMaxKernel();
 
 // blockMax gets 3n planes of height x RhfBlocks(width): per bin plane, row and block the
 // largest bin times histScale among the block's pixels with a non-zero count (-FLT_MAX when

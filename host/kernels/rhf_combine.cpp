@@ -10,6 +10,17 @@
 
 namespace mcd {
 
+vk::KernelDesc RhfCombineKernel() {
+    return {
+        "rhf_combine",
+        k_rhf_combine_spv,
+        sizeof(k_rhf_combine_spv),
+        RHF_COMBINE_BINDINGS,
+        sizeof(shader::RhfCombinePush),
+        {},
+        (1u << RHF_COMBINE_FILTERED) | (1u << RHF_COMBINE_LOW) | (1u << RHF_COMBINE_COARSE)};
+}
+
 void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
                       const vk::GpuImage &filtered, const vk::GpuImage &low,
                       const vk::GpuImage &coarse, vk::GpuImage &out,
@@ -24,14 +35,7 @@ void RecordRhfCombine(vk::Context &context, vk::Recorder &recorder,
                                 filtered.width, filtered.height, low.width, low.height,
                                 coarse.width, coarse.height),
                     ErrorKind::Internal);
-    const vk::Kernel &kernel = context.GetKernel(
-        {"rhf_combine",
-         k_rhf_combine_spv,
-         sizeof(k_rhf_combine_spv),
-         RHF_COMBINE_BINDINGS,
-         sizeof(shader::RhfCombinePush),
-         {},
-         (1u << RHF_COMBINE_FILTERED) | (1u << RHF_COMBINE_LOW) | (1u << RHF_COMBINE_COARSE)});
+    const vk::Kernel &kernel = context.GetKernel(RhfCombineKernel());
     RhfCombineWindow w = window;
     if (w.frameWidth <= 0 || w.frameHeight <= 0) w = {0, 0, filtered.width, filtered.height};
     if (w.originX < 0 || w.originY < 0 || w.originX % 2 || w.originY % 2 ||

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "host/vk/gpu_image.h"
+#include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
@@ -11,6 +12,9 @@ namespace mcd {
 struct RhfCombineWindow {
     int originX = 0, originY = 0, frameWidth = 0, frameHeight = 0;
 };
+
+// The kernel RecordRhfCombine records.
+vk::KernelDesc RhfCombineKernel();
 
 // out = filtered - U(low) + U(coarse); low and coarse are one size, half of filtered's
 // (rounded up), all 3 channels.

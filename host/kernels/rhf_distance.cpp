@@ -15,6 +15,17 @@ namespace mcd {
 // Each lane owns RHF_DISTANCE_PIXELS_PER_LANE centres of a row.
 constexpr int kCentresPerGroup = RHF_DISTANCE_LOCAL_SIZE * RHF_DISTANCE_PIXELS_PER_LANE;
 
+vk::KernelDesc RhfDistanceKernel(int searchHalf, int patchHalf) {
+    return {"rhf_distance",
+            k_rhf_distance_spv,
+            sizeof(k_rhf_distance_spv),
+            RHF_DISTANCE_BINDINGS,
+            sizeof(shader::RhfDistancePush),
+            {{RHF_DISTANCE_SPEC_SEARCH_HALF, searchHalf},
+             {RHF_DISTANCE_SPEC_PATCH_HALF, patchHalf}},
+            (1u << RHF_DISTANCE_SUM) | (1u << RHF_DISTANCE_COUNT)};
+}
+
 void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, int height,
                        int patchHalf, int searchHalf, int termBase, int termRows, int rowBase,
                        int rows, const vk::Buffer &termSum, const vk::Buffer &termCount,
@@ -31,15 +42,7 @@ void RecordRhfDistance(vk::Context &context, vk::Recorder &recorder, int width, 
                                 rowBase, rowBase + rows - 1, termBase, termBase + termRows - 1,
                                 width, height),
                     ErrorKind::Internal);
-    const vk::Kernel &kernel =
-        context.GetKernel({"rhf_distance",
-                           k_rhf_distance_spv,
-                           sizeof(k_rhf_distance_spv),
-                           RHF_DISTANCE_BINDINGS,
-                           sizeof(shader::RhfDistancePush),
-                           {{RHF_DISTANCE_SPEC_SEARCH_HALF, searchHalf},
-                            {RHF_DISTANCE_SPEC_PATCH_HALF, patchHalf}},
-                           (1u << RHF_DISTANCE_SUM) | (1u << RHF_DISTANCE_COUNT)});
+    const vk::Kernel &kernel = context.GetKernel(RhfDistanceKernel(searchHalf, patchHalf));
     shader::RhfDistancePush push{width,    height,   patchHalf, 0,
                                  termBase, termRows, rowBase,   rows};
     recorder.Dispatch(kernel, "rhf.distance",

@@ -2,9 +2,13 @@
 #pragma once
 
 #include "host/vk/buffer.h"
+#include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
+
+// The kernel RecordRhfDistance records with these half-windows.
+vk::KernelDesc RhfDistanceKernel(int searchHalf, int patchHalf);
 
 // The term buffers hold image rows termBase..termBase+termRows-1 (they must cover the
 // strip's rows - patchHalf - searchHalf to + patchHalf, inside the image); dist gets (2b+1)^2

@@ -28,6 +28,16 @@ std::vector<float> RhfGaussianTaps(double sigma, int step) {
     return out;
 }
 
+vk::KernelDesc RhfDownsampleKernel() {
+    return {"rhf_downsample",
+            k_rhf_downsample_spv,
+            sizeof(k_rhf_downsample_spv),
+            RHF_DOWNSAMPLE_BINDINGS,
+            sizeof(shader::RhfDownsamplePush),
+            {},
+            1u << RHF_DOWNSAMPLE_SRC};
+}
+
 void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk::Buffer &src,
                          int srcWidth, int srcHeight, int planes, int step,
                          const vk::Buffer &weights, int radius, vk::Buffer &scratch,
@@ -42,13 +52,7 @@ void RecordRhfDownsample(vk::Context &context, vk::Recorder &recorder, const vk:
                                 "buffers",
                                 planes, srcWidth, srcHeight, step),
                     ErrorKind::Internal);
-    const vk::Kernel &kernel = context.GetKernel({"rhf_downsample",
-                                                  k_rhf_downsample_spv,
-                                                  sizeof(k_rhf_downsample_spv),
-                                                  RHF_DOWNSAMPLE_BINDINGS,
-                                                  sizeof(shader::RhfDownsamplePush),
-                                                  {},
-                                                  1u << RHF_DOWNSAMPLE_SRC});
+    const vk::Kernel &kernel = context.GetKernel(RhfDownsampleKernel());
     auto groups = [](int n) {
         return uint32_t((n + RHF_DOWNSAMPLE_LOCAL_SIZE - 1) / RHF_DOWNSAMPLE_LOCAL_SIZE);
     };

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "host/vk/buffer.h"
+#include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
@@ -12,6 +13,9 @@ namespace mcd {
 // The tool's normalised Gaussian taps of standard deviation sigma for sampling by `step`:
 // 2 h + 1 of them, h = ceil(sigma sqrt(4 ln 10)), centred on the sample point.
 std::vector<float> RhfGaussianTaps(double sigma, int step);
+
+// The kernel RecordRhfDownsample records.
+vk::KernelDesc RhfDownsampleKernel();
 
 // src holds `planes` planes of srcWidth x srcHeight; dst gets them at
 // ceil(srcWidth / step) x ceil(srcHeight / step): tap i of `weights` (2 radius + 1 floats)

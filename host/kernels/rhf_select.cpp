@@ -15,6 +15,16 @@ int RhfMaskWords(int searchHalf) {
     return (side * side + 31) / 32;
 }
 
+vk::KernelDesc RhfSelectKernel(int searchHalf, bool pooled) {
+    return {"rhf_select",
+            k_rhf_select_spv,
+            sizeof(k_rhf_select_spv),
+            RHF_SELECT_BINDINGS,
+            sizeof(shader::RhfSelectPush),
+            {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf}, {RHF_SELECT_SPEC_POOL, pooled ? 1 : 0}},
+            (1u << RHF_SELECT_DISTANCE) | (1u << RHF_SELECT_POOL)};
+}
+
 void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, int height,
                      int searchHalf, int rowBase, int rows, int nearest, float threshold,
                      const vk::Buffer &dist, const vk::Buffer &pool, float poolBound,
@@ -28,15 +38,7 @@ void RecordRhfSelect(vk::Context &context, vk::Recorder &recorder, int width, in
                                 "buffers",
                                 rowBase, rowBase + rows - 1, width, height),
                     ErrorKind::Internal);
-    const vk::Kernel &kernel =
-        context.GetKernel({"rhf_select",
-                           k_rhf_select_spv,
-                           sizeof(k_rhf_select_spv),
-                           RHF_SELECT_BINDINGS,
-                           sizeof(shader::RhfSelectPush),
-                           {{RHF_SELECT_SPEC_SEARCH_HALF, searchHalf},
-                            {RHF_SELECT_SPEC_POOL, poolBound > 0 ? 1 : 0}},
-                           (1u << RHF_SELECT_DISTANCE) | (1u << RHF_SELECT_POOL)});
+    const vk::Kernel &kernel = context.GetKernel(RhfSelectKernel(searchHalf, poolBound > 0));
     shader::RhfSelectPush push{width,   height,    searchHalf, rowBase,  rows,
                                nearest, poolBound, threshold,  patchHalf};
     recorder.Dispatch(kernel, "rhf.select",

@@ -2,12 +2,17 @@
 #pragma once
 
 #include "host/vk/buffer.h"
+#include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
 
 // Mask words per centre for a search half-window b: one bit per offset.
 int RhfMaskWords(int searchHalf);
+
+// The kernel RecordRhfSelect records with this search half-window, with the pooled veto
+// (poolBound > 0) or without.
+vk::KernelDesc RhfSelectKernel(int searchHalf, bool pooled);
 
 // dist holds the strip's (2b+1)^2 distance planes of rows x width; mask (whole image,
 // RhfMaskWords planes of height x width) gets the strip's rows. `nearest` patches are always

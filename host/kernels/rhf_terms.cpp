@@ -18,6 +18,16 @@ static_assert(RHF_BLOCKMAX_WIDTH == RHF_TERMS_PIXELS_PER_LANE,
 // Each lane owns RHF_TERMS_PIXELS_PER_LANE pixels of a row.
 constexpr int kPixelsPerGroup = RHF_TERMS_LOCAL_SIZE * RHF_TERMS_PIXELS_PER_LANE;
 
+vk::KernelDesc RhfTermsKernel(int searchHalf, int slots) {
+    return {"rhf_terms",
+            k_rhf_terms_spv,
+            sizeof(k_rhf_terms_spv),
+            RHF_TERMS_BINDINGS,
+            sizeof(shader::RhfTermsPush),
+            {{RHF_TERMS_SPEC_SEARCH_HALF, searchHalf}, {RHF_TERMS_SPEC_SLOTS, slots}},
+            (1u << RHF_HIST_SLOTS) - 1};
+}
+
 void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHistogram &hist,
                     int searchHalf, int rowBase, int rows, float histScale, float brightVeto,
                     const vk::Buffer &blockMax, vk::Buffer &termSum, vk::Buffer &termCount) {
@@ -34,14 +44,7 @@ void RecordRhfTerms(vk::Context &context, vk::Recorder &recorder, const RhfHisto
                                 rowBase, rowBase + rows - 1, hist.height, need),
                     ErrorKind::Internal);
     const vk::Kernel &kernel =
-        context.GetKernel({"rhf_terms",
-                           k_rhf_terms_spv,
-                           sizeof(k_rhf_terms_spv),
-                           RHF_TERMS_BINDINGS,
-                           sizeof(shader::RhfTermsPush),
-                           {{RHF_TERMS_SPEC_SEARCH_HALF, searchHalf},
-                            {RHF_TERMS_SPEC_SLOTS, int(hist.slots.size())}},
-                           (1u << RHF_HIST_SLOTS) - 1});
+        context.GetKernel(RhfTermsKernel(searchHalf, int(hist.slots.size())));
     shader::RhfTermsPush push{hist.width, hist.height, hist.planes - 1,    brightVeto,
                               rowBase,    rows,        hist.planesPerSlot, histScale};
     std::vector<vk::Binding> bindings;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "host/vk/buffer.h"
+#include "host/vk/kernel.h"
 #include "host/vk/recorder.h"
 
 namespace mcd {
@@ -16,6 +17,10 @@ struct RhfHistogram {
     int width = 0, height = 0, planes = 0, planesPerSlot = 0;
     size_t PixelCount() const { return size_t(width) * size_t(height); }
 };
+
+// The kernel RecordRhfTerms records with this search half-window on histograms in `slots`
+// buffers.
+vk::KernelDesc RhfTermsKernel(int searchHalf, int slots);
 
 // termSum / termCount get (b+1)(2b+1) planes (offsets with dy >= 0) of rows x width, for image
 // rows rowBase..rowBase+rows-1; bins and counts are multiplied by histScale as they are read.

@@ -21,6 +21,10 @@ namespace mcd {
 static_assert(kAutoMaxCandidates == AUTO_MAX_CANDIDATES);
 static_assert(kAutoNoiseMaxRadius == AUTO_NOISE_MAX_RADIUS);
 
+void PrepareAutoNoiseKernels(vk::Context &context) {
+    context.PrepareKernel(AutoNoiseKernel());
+}
+
 MethodResult AutoNoise(vk::Context &context, const Image &color, const Image *albedo,
                        int radius) {
     StagedRun run(context, false);

@@ -30,6 +30,8 @@ constexpr int kAutoNoiseMaxRadius = 8;
 // least color's). The result's image is that variance (color's shape).
 MethodResult AutoNoise(vk::Context &context, const Image &color, const Image *albedo,
                        int radius);
+// Makes AutoNoise's kernel ahead (Context::PrepareKernel).
+void PrepareAutoNoiseKernels(vk::Context &context);
 
 // One candidate: a method's output on the frame and what its error estimate reads.
 struct AutoCandidate {

@@ -316,6 +316,26 @@ PivotResult PivotDenoiseOne(vk::Context &context, const PivotInputs &in,
 
 }  // namespace
 
+void PreparePivotKernels(vk::Context &context, const PivotInputs &in,
+                         const PivotParams &params) {
+    if (!in.color || !in.pivot) return;
+    // As PivotGpu and PivotDenoiseOne make them: each partial with its own variance.
+    const bool normals = in.normal != nullptr, ids = in.objectId || in.partId;
+    const int zsnTexels = (params.edge > 0 ? PIVOT_ZSN_EDGE_PLANES : PIVOT_ZSN_PLANES) / 4;
+    std::vector<bool> variances;
+    if (in.partials.empty()) variances.push_back(in.variance != nullptr);
+    for (const PivotPartial &partial : in.partials)
+        variances.push_back(partial.variance != nullptr);
+    for (bool variance : variances)
+        context.PrepareKernel(PivotRatioKernel(variance, ids, zsnTexels));
+    if (params.filter == PivotFilter::Bilateral) {
+        context.PrepareKernel(PivotBilateralKernel(normals, ids));
+        return;
+    }
+    context.PrepareKernel(PivotFitKernel(normals, ids, zsnTexels));
+    context.PrepareKernel(PivotGatherKernel(normals, ids, zsnTexels));
+}
+
 PivotResult PivotDenoise(vk::Context &context, const PivotInputs &in, const PivotParams &params,
                          const RunSetup &setup) {
     if (in.partials.empty()) return PivotDenoiseOne(context, in, params, setup);

@@ -64,4 +64,9 @@ std::vector<float> PivotThresholds(const Image &pivot, float floor);
 PivotResult PivotDenoise(vk::Context &context, const PivotInputs &inputs,
                          const PivotParams &params, const RunSetup &setup = {});
 
+// Makes ahead (Context::PrepareKernel) the kernels PivotDenoise records on these inputs with
+// these parameters: the guides' variants the frame has, the variance's where it has one.
+void PreparePivotKernels(vk::Context &context, const PivotInputs &inputs,
+                         const PivotParams &params);
+
 }  // namespace mcd

@@ -640,6 +640,26 @@ std::vector<float> RhfBrightPool(const Image &hist, int patchHalf) {
     return pool;
 }
 
+void PrepareRhfKernels(vk::Context &context, int width, int height, int planes,
+                       const RhfParams &o, const RunSetup &setup) {
+    const RhfLayout layout = RhfLayoutFor(context, width, height, planes, o, setup);
+    const int scales =
+        setup.scalesUsed > 0 ? setup.scalesUsed : RhfScalesUsed(width, height, o);
+    // Each scale's selection (RecordSelection), then its aggregation (RecordFilter); the
+    // coarse scales' downsampling and recombination (RecordCoarseInputs, RecordCombine).
+    context.PrepareKernel(RhfBlockMaxKernel());
+    context.PrepareKernel(
+        RhfTermsKernel(o.searchHalf, (planes + layout.perSlot - 1) / layout.perSlot));
+    context.PrepareKernel(RhfDistanceKernel(o.searchHalf, o.patchHalf));
+    for (int s = 0; s < scales; ++s)
+        context.PrepareKernel(RhfSelectKernel(o.searchHalf, PoolBoundOf(s, o) > 0));
+    context.PrepareKernel(RhfAggregateKernel(o.searchHalf, o.patchHalf));
+    if (scales > 1) {
+        context.PrepareKernel(RhfDownsampleKernel());
+        context.PrepareKernel(RhfCombineKernel());
+    }
+}
+
 RhfResult RhfDenoise(vk::Context &context, const Image &colorIn, const Image &histIn,
                      const RhfParams &o, const RunSetup &setup) {
     CheckRhfInputs(colorIn, histIn, o);

@@ -52,4 +52,10 @@ std::vector<float> RhfBrightPool(const Image &hist, int patchHalf);
 RhfResult RhfDenoise(vk::Context &context, const Image &color, const Image &hist,
                      const RhfParams &params, const RunSetup &setup = {});
 
+// Makes ahead (Context::PrepareKernel) the kernels RhfDenoise records on a width x height
+// frame with `planes` histogram planes where it selects at every scale (no earlier run's
+// selection in the memo): each only where the run records it.
+void PrepareRhfKernels(vk::Context &context, int width, int height, int planes,
+                       const RhfParams &params, const RunSetup &setup = {});
+
 }  // namespace mcd

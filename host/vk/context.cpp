@@ -478,11 +478,27 @@ void Context::SubmitAndWait(const std::function<void(VkCommandBuffer)> &record) 
 const Kernel &Context::GetKernel(const KernelDesc &desc) {
     std::string key = KernelKey(desc);
     auto it = kernels.find(key);
-    if (it != kernels.end()) return *it->second;
+    if (it != kernels.end()) {
+        if (it->second->Ahead()) {
+            it->second->Hasten();
+            std::lock_guard<std::mutex> lock(statsMutex);
+            ++pipelineStats.preparedUsed;
+        }
+        return *it->second;
+    }
     auto kernel = std::make_unique<Kernel>(*this, desc);
     const Kernel &ref = *kernel;
     kernels.emplace(std::move(key), std::move(kernel));
     return ref;
+}
+
+void Context::PrepareKernel(const KernelDesc &desc) {
+    if (!builds.HasWorkers()) return;
+    std::string key = KernelKey(desc);
+    if (kernels.count(key)) return;
+    kernels.emplace(std::move(key), std::make_unique<Kernel>(*this, desc, true));
+    std::lock_guard<std::mutex> lock(statsMutex);
+    ++pipelineStats.prepared;
 }
 
 std::vector<std::string> Context::TakeValidationMessages() {

@@ -105,6 +105,11 @@ class Context {
     // A kernel is built once per SPIR-V blob and specialization, then reused. Its pipeline
     // builds on the build threads (Kernel::Pipeline waits for it).
     const Kernel &GetKernel(const KernelDesc &desc);
+    // The kernel made ahead of the run that will record it, its build queued behind those
+    // asked for now (GetKernel then moves it up, if it has not started): a method lists the
+    // kernels a run will record before it starts (FrontEnd::PrepareKernels), so that they
+    // build beside earlier work. Nothing with one build thread (nothing to build beside).
+    void PrepareKernel(const KernelDesc &desc);
     BuildPool &Builds() { return builds; }
     VkPipelineCache PipelineCache() const { return pipelineCache; }
     // Pipelines built so far and the seconds vkCreateComputePipelines took for them (what a
@@ -113,6 +118,9 @@ class Context {
         int built = 0;
         double seconds = 0;
         size_t loadedBytes = 0;
+        // Of the kernels made so far, those made ahead (PrepareKernel) and those of them a
+        // run asked for (GetKernel) since.
+        int prepared = 0, preparedUsed = 0;
         // Each build: the kernel's name and its seconds, in build order.
         std::vector<std::pair<std::string, double>> each;
     };

@@ -18,14 +18,15 @@ std::string KernelKey(const KernelDesc &desc) {
     return key;
 }
 
-Kernel::Kernel(Context &context, const KernelDesc &desc)
+Kernel::Kernel(Context &context, const KernelDesc &desc, bool ahead)
     : context(context),
       name(desc.name),
       bindingCount(desc.bindingCount),
       pushBytes(desc.pushBytes),
       texelBindings(desc.texelBindings),
       vec4Bindings(desc.vec4Bindings),
-      specialization(desc.specialization) {
+      specialization(desc.specialization),
+      ahead(ahead) {
     VkDevice device = context.Device();
     if (pushBytes > context.Limits().maxPushConstantsSize)
         throw Error(fmt::format("kernel {}: {} bytes of push constants exceed the device's {}",
@@ -62,7 +63,12 @@ Kernel::Kernel(Context &context, const KernelDesc &desc)
     std::vector<uint32_t> code((desc.codeBytes + 3) / 4);
     if (desc.codeBytes > 0) std::memcpy(code.data(), desc.code, desc.codeBytes);
     built = context.Builds().Run(
-        [this, code = std::move(code)]() mutable { Build(std::move(code)); });
+        [this, code = std::move(code)]() mutable { Build(std::move(code)); }, ahead, &ticket);
+}
+
+void Kernel::Hasten() {
+    if (ahead) context.Builds().Hasten(ticket);
+    ahead = false;
 }
 
 void Kernel::Build(std::vector<uint32_t> code) {
@@ -101,11 +107,17 @@ void Kernel::Build(std::vector<uint32_t> code) {
 }
 
 VkPipeline Kernel::Pipeline() const {
+    // Once built, no lookup: a bind neither locks the pool nor scans its queues.
+    if (ticket && built.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        context.Builds().RunHere(ticket);
     built.get();
     return pipeline;
 }
 
 Kernel::~Kernel() {
+    // A build no thread has started is dropped, not made: a run failed or cancelled after
+    // preparing kernels does not hold up the context's teardown for builds it will not use.
+    if (ticket) context.Builds().Drop(ticket);
     if (built.valid()) built.wait();
     Release();
 }

@@ -2,7 +2,7 @@
 // a descriptor layout of N buffers (bindings 0..N-1: storage buffers, or read-only float
 // texel buffers where the desc says so) and a push-constant block. The layouts are made at
 // once; the pipeline on the context's build threads (Context::Builds), waited for by
-// Pipeline().
+// Pipeline(), or behind the builds asked for now where it is made ahead of its use.
 #pragma once
 
 #include <volk.h>
@@ -37,13 +37,20 @@ std::string KernelKey(const KernelDesc &desc);
 
 class Kernel {
   public:
-    Kernel(Context &context, const KernelDesc &desc);
+    // `ahead`: made before a run records it (Context::PrepareKernel), its build queued
+    // behind the others until Hasten.
+    Kernel(Context &context, const KernelDesc &desc, bool ahead = false);
     ~Kernel();
     Kernel(const Kernel &) = delete;
     Kernel &operator=(const Kernel &) = delete;
 
     const std::string &Name() const { return name; }
-    // Waits for the build; throws its error if it failed.
+    // Made ahead of its use, and not yet asked for by a run.
+    bool Ahead() const { return ahead; }
+    // The build queued with the others asked for now, if it has not started.
+    void Hasten();
+    // Waits for the build (makes it here if no build thread has started it); throws its
+    // error if it failed.
     VkPipeline Pipeline() const;
     VkPipelineLayout Layout() const { return layout; }
     VkDescriptorSetLayout SetLayout() const { return setLayout; }
@@ -67,6 +74,8 @@ class Kernel {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;
     std::shared_future<void> built;
+    uint64_t ticket = 0;
+    bool ahead = false;
 };
 
 }  // namespace mcd::vk
