@@ -97,9 +97,10 @@ void loadWindow1(int x, int y) {
         }
 }
 
-// Orders s[i] <= s[j].
+// Orders s[i] <= s[j] (a compare and two selects).
 void exchange(inout float s[9], int i, int j) {
-    float lo = min(s[i], s[j]), hi = max(s[i], s[j]);
+    bool swap = s[i] > s[j];
+    float lo = swap ? s[j] : s[i], hi = swap ? s[i] : s[j];
     s[i] = lo;
     s[j] = hi;
 }
@@ -146,9 +147,13 @@ float smallestMedian1(float a, bool relaxed, int minPairs) {
                 bool centre =
                     (du == 0 && dv == 0) || (du + dirs[d].x == 0 && dv + dirs[d].y == 0);
                 bool pair = ins[k0] && ins[k1] && counts(a, as[k0], as[k1], relaxed, centre);
-                float diff = zs[k0] - zs[k1];
-                halves[(dv + 1) * 3 + du + 1] = pair ? 0.5 * diff * diff : inf;
-                n += pair ? 1 : 0;
+                float half_ = inf;
+                if (pair) {
+                    float diff = zs[k0] - zs[k1];
+                    half_ = 0.5 * diff * diff;
+                    ++n;
+                }
+                halves[(dv + 1) * 3 + du + 1] = half_;
             }
         if (n < minPairs) continue;
         sortLowest5(halves);
