@@ -107,12 +107,13 @@ double WindowMax(const Image &image, int c, int x, int y, int r,
     return most;
 }
 
-// Noise: each half squared difference of z = value / divisor carries about 2u (|z0| + |z1|)^2
-// of rounding (two divisions, a subtraction, a square), the median selects one of them (a
-// tie swapped by rounding picks a value as close), and 4 more roundings scale it: 16u of
-// (2 max |z|)^2 x divisor^2 x calibration / median(chi^2_1) over the window.
 // The noise kernel on `image` (3 channels) against the reference, divided by `albedo` or
 // not, and a second run bit for bit.
+//
+// Tolerance: each half squared difference of z = value / divisor carries about
+// 2u (|z0| + |z1|)^2 of rounding (two divisions, a subtraction, a square), the median selects
+// one of them (a tie swapped by rounding picks a value as close), and 4 more roundings scale
+// it: 16u of (2 max |z|)^2 x divisor^2 x calibration / median(chi^2_1) over the window.
 void ExpectNoiseMatches(vk::Context &ctx, const Image &image, const Image &albedo, int radius,
                         bool divided, bool relaxed) {
     const int w = image.width, h = image.height;
