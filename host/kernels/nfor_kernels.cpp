@@ -67,14 +67,15 @@ void RecordNforNoise(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
         throw Error(
             fmt::format("nfor noise: radius {}; 1..{} allowed", radius, NFOR_NOISE_MAX_RADIUS),
             ErrorKind::InvalidArgument);
-    const vk::Kernel &kernel = context.GetKernel({"nfor_noise",
-                                                  k_nfor_noise_spv,
-                                                  sizeof(k_nfor_noise_spv),
-                                                  NFOR_NOISE_BINDINGS,
-                                                  sizeof(shader::NforNoisePush),
-                                                  {},
-                                                  0,
-                                                  0});
+    const vk::Kernel &kernel =
+        context.GetKernel({"nfor_noise",
+                           k_nfor_noise_spv,
+                           sizeof(k_nfor_noise_spv),
+                           NFOR_NOISE_BINDINGS,
+                           sizeof(shader::NforNoisePush),
+                           {},
+                           (1u << NFOR_NOISE_IMAGE) | (1u << NFOR_NOISE_DIVISOR),
+                           0});
     shader::NforNoisePush push{image.width, image.height, divisor ? divisor->channels : 0,
                                radius,      calibration,  relaxed ? 1 : 0};
     recorder.Dispatch(
@@ -148,14 +149,15 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
                                 radius, NFOR_PREFILTER_MAX_RADIUS, patch,
                                 NFOR_PREFILTER_MAX_PATCH, bandwidth),
                     ErrorKind::InvalidArgument);
-    const vk::Kernel &kernel = context.GetKernel({"nfor_prefilter",
-                                                  k_nfor_prefilter_spv,
-                                                  sizeof(k_nfor_prefilter_spv),
-                                                  NFOR_PREFILTER_BINDINGS,
-                                                  sizeof(shader::NforPrefilterPush),
-                                                  {},
-                                                  0,
-                                                  0});
+    const vk::Kernel &kernel =
+        context.GetKernel({"nfor_prefilter",
+                           k_nfor_prefilter_spv,
+                           sizeof(k_nfor_prefilter_spv),
+                           NFOR_PREFILTER_BINDINGS,
+                           sizeof(shader::NforPrefilterPush),
+                           {},
+                           (1u << NFOR_PREFILTER_FEATURES) | (1u << NFOR_PREFILTER_VARIANCE),
+                           0});
     shader::NforPrefilterPush push{features.width, features.height, radius, patch, bandwidth};
     recorder.Dispatch(kernel, "nfor.prefilter",
                       {{NFOR_PREFILTER_FEATURES, &features.buffer, vk::Access::Read},

@@ -6,8 +6,8 @@
 #include "nfor/sorted.glsl"
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
-layout(std430, binding = NFOR_NOISE_IMAGE) readonly buffer Values { float values[]; };
-layout(std430, binding = NFOR_NOISE_DIVISOR) readonly buffer Divisor { float divisor[]; };
+layout(binding = NFOR_NOISE_IMAGE) uniform samplerBuffer values;
+layout(binding = NFOR_NOISE_DIVISOR) uniform samplerBuffer divisor;
 layout(std430, binding = NFOR_NOISE_OUTPUT) writeonly buffer Output { float outputs[]; };
 
 const int kMaxPairs = (2 * NFOR_NOISE_MAX_RADIUS + 1) * (2 * NFOR_NOISE_MAX_RADIUS + 1);
@@ -16,7 +16,7 @@ int w, h, c;
 // The divisor at (x, y): the albedo's channel above the floor, else 0 (not divided).
 float divisorAt(int x, int y) {
     if (push.divisorChannels == 0) return 0.0;
-    float a = divisor[(min(c, push.divisorChannels - 1) * h + y) * w + x];
+    float a = texelFetch(divisor, (min(c, push.divisorChannels - 1) * h + y) * w + x).x;
     return a > float(NFOR_NOISE_ALBEDO_FLOOR) ? a : 0.0;
 }
 
@@ -28,7 +28,7 @@ bool alike(float a, float b) {
 }
 
 float zAt(int x, int y, float a) {
-    float value = values[(c * h + y) * w + x];
+    float value = texelFetch(values, (c * h + y) * w + x).x;
     return a > 0.0 ? value / a : value;
 }
 
@@ -77,11 +77,13 @@ float smallestMedian(int x, int y, float a, bool relaxed, int minPairs) {
     return best;
 }
 
-// smallestMedian at radius 1 (the default), unrolled: the z and divisors of the pixels the
-// pairs read (x - 1..x + 2, y - 2..y + 2) loaded once, every array indexed by constants.
-float smallestMedian1(int x, int y, float a, bool relaxed, int minPairs) {
-    float zs[20], as[20];
-    bool ins[20];
+// The window of radius 1 (the default), unrolled: the z and divisors of the pixels its
+// pairs read (x - 1..x + 2, y - 2..y + 2), fetched once for both estimates; every array is
+// indexed by constants.
+float zs[20], as[20];
+bool ins[20];
+
+void loadWindow1(int x, int y) {
     [[unroll]] for (int j = 0; j < 5; ++j)
         [[unroll]] for (int i = 0; i < 4; ++i) {
             int u = x - 1 + i, v = y - 2 + j, k = j * 4 + i;
@@ -93,8 +95,49 @@ float smallestMedian1(int x, int y, float a, bool relaxed, int minPairs) {
                 zs[k] = zAt(u, v, as[k]);
             }
         }
+}
+
+// Orders s[i] <= s[j] (a compare and two selects).
+void exchange(inout float s[9], int i, int j) {
+    bool swap = s[i] > s[j];
+    float lo = swap ? s[j] : s[i], hi = swap ? s[i] : s[j];
+    s[i] = lo;
+    s[j] = hi;
+}
+
+// s[0..4] the 5 smallest of the 9 values, ascending: a sorting network of 9 inputs without
+// the exchanges that reach only its 4 largest outputs.
+void sortLowest5(inout float s[9]) {
+    exchange(s, 0, 3);
+    exchange(s, 1, 7);
+    exchange(s, 2, 5);
+    exchange(s, 4, 8);
+    exchange(s, 0, 7);
+    exchange(s, 2, 4);
+    exchange(s, 3, 8);
+    exchange(s, 5, 6);
+    exchange(s, 0, 2);
+    exchange(s, 1, 3);
+    exchange(s, 4, 5);
+    exchange(s, 7, 8);
+    exchange(s, 1, 4);
+    exchange(s, 3, 6);
+    exchange(s, 5, 7);
+    exchange(s, 0, 1);
+    exchange(s, 2, 4);
+    exchange(s, 3, 5);
+    exchange(s, 2, 3);
+    exchange(s, 4, 5);
+    exchange(s, 1, 2);
+    exchange(s, 3, 4);
+}
+
+// smallestMedian over the window loadWindow1 fetched. A pair that does not count is +inf:
+// sorted after the n that do, so the lower median of those is element (n - 1) / 2 < 5 of
+// all 9, the same value as the insertion sort's.
+float smallestMedian1(float a, bool relaxed, int minPairs) {
     const ivec2 dirs[4] = ivec2[4](ivec2(1, 0), ivec2(0, 1), ivec2(1, 1), ivec2(1, -1));
-    float best = -1.0;
+    float best = -1.0, inf = uintBitsToFloat(0x7f800000u);
     [[unroll]] for (int d = 0; d < 4; ++d) {
         float halves[9];
         int n = 0;
@@ -103,22 +146,21 @@ float smallestMedian1(int x, int y, float a, bool relaxed, int minPairs) {
                 int k0 = (dv + 2) * 4 + du + 1, k1 = k0 + dirs[d].y * 4 + dirs[d].x;
                 bool centre =
                     (du == 0 && dv == 0) || (du + dirs[d].x == 0 && dv + dirs[d].y == 0);
-                if (ins[k0] && ins[k1] && counts(a, as[k0], as[k1], relaxed, centre)) {
+                bool pair = ins[k0] && ins[k1] && counts(a, as[k0], as[k1], relaxed, centre);
+                float half_ = inf;
+                if (pair) {
                     float diff = zs[k0] - zs[k1];
-                    insertSorted(halves, n, 0.5 * diff * diff);
+                    half_ = 0.5 * diff * diff;
                     ++n;
                 }
+                halves[(dv + 1) * 3 + du + 1] = half_;
             }
         if (n < minPairs) continue;
+        sortLowest5(halves);
         float estimate = pickSorted(halves, (n - 1) / 2) / float(NFOR_CHI2_MEDIAN);
         if (best < 0.0 || estimate < best) best = estimate;
     }
     return best;
-}
-
-float smallestMedianAt(int x, int y, float a, bool relaxed, int minPairs) {
-    if (push.radius == 1) return smallestMedian1(x, y, a, relaxed, minPairs);
-    return smallestMedian(x, y, a, relaxed, minPairs);
 }
 
 void main() {
@@ -127,12 +169,19 @@ void main() {
     h = push.height;
     c = int(gl_WorkGroupID.z);
     if (x >= w) return;
-    float a = divisorAt(x, y);
-    float best = smallestMedianAt(x, y, a, false, NFOR_NOISE_MIN_PAIRS);
+    float a = divisorAt(x, y), best;
+    bool relax = push.relaxed != 0;
     // Too few neighbours divided alike (an edge pixel's albedo unlike all around it): the
     // differences of its neighbours divided as it is (coverage divides out of colour / albedo).
-    if (best < 0.0 && push.relaxed != 0)
-        best = smallestMedianAt(x, y, a, true, NFOR_NOISE_MIN_RELAXED_PAIRS);
+    if (push.radius == 1) {
+        loadWindow1(x, y);
+        best = smallestMedian1(a, false, NFOR_NOISE_MIN_PAIRS);
+        if (best < 0.0 && relax) best = smallestMedian1(a, true, NFOR_NOISE_MIN_RELAXED_PAIRS);
+    } else {
+        best = smallestMedian(x, y, a, false, NFOR_NOISE_MIN_PAIRS);
+        if (best < 0.0 && relax)
+            best = smallestMedian(x, y, a, true, NFOR_NOISE_MIN_RELAXED_PAIRS);
+    }
     float scale = a > 0.0 ? a * a : 1.0;
     outputs[(c * h + y) * w + x] = best < 0.0 ? 0.0 : best * push.calibration * scale;
 }

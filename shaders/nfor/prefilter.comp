@@ -5,8 +5,8 @@
 #include "nfor/prefilter.h"
 
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
-layout(std430, binding = NFOR_PREFILTER_FEATURES) readonly buffer Features { float features[]; };
-layout(std430, binding = NFOR_PREFILTER_VARIANCE) readonly buffer Variance { float variance[]; };
+layout(binding = NFOR_PREFILTER_FEATURES) uniform samplerBuffer features;
+layout(binding = NFOR_PREFILTER_VARIANCE) uniform samplerBuffer variance;
 layout(std430, binding = NFOR_PREFILTER_OUT) writeonly buffer Out { float outputs[]; };
 
 int w, h;
@@ -28,8 +28,8 @@ float prefilter1(int x, int y, int base, float scale) {
             fs[k] = 0.0;
             vs[k] = 0.0;
             if (ins[k]) {
-                fs[k] = features[base + v * w + u];
-                vs[k] = variance[base + v * w + u];
+                fs[k] = texelFetch(features, base + v * w + u).x;
+                vs[k] = texelFetch(variance, base + v * w + u).x;
             }
         }
     float sum = 0.0, weights = 0.0;
@@ -80,8 +80,9 @@ void main() {
                 for (int tx = -f; tx <= f; ++tx) {
                     int px = x + tx, py = y + ty, qx = u + tx, qy = v + ty;
                     if (!inside(px, py) || !inside(qx, qy)) continue;
-                    float fp = features[base + py * w + px], fq = features[base + qy * w + qx];
-                    float vp = variance[base + py * w + px], vq = variance[base + qy * w + qx];
+                    int ip = base + py * w + px, iq = base + qy * w + qx;
+                    float fp = texelFetch(features, ip).x, fq = texelFetch(features, iq).x;
+                    float vp = texelFetch(variance, ip).x, vq = texelFetch(variance, iq).x;
                     float diff = fp - fq;
                     float term = (diff * diff - (vp + vq)) /
                                  (vp + vq + float(NFOR_REL_EPS) * (fp * fp + fq * fq) +
@@ -91,7 +92,7 @@ void main() {
                 }
             float e = max(0.0, distance / float(count)) * scale;
             float wq = (u == x && v == y) ? 1.0 : (e > NFOR_EXP_CUT ? 0.0 : exp(-e));
-            sum += wq * features[base + v * w + u];
+            sum += wq * texelFetch(features, base + v * w + u).x;
             weights += wq;
         }
     outputs[base + y * w + x] = sum / weights;

@@ -107,10 +107,49 @@ double WindowMax(const Image &image, int c, int x, int y, int r,
     return most;
 }
 
-// Noise: each half squared difference of z = value / divisor carries about 2u (|z0| + |z1|)^2
-// of rounding (two divisions, a subtraction, a square), the median selects one of them (a
-// tie swapped by rounding picks a value as close), and 4 more roundings scale it: 16u of
-// (2 max |z|)^2 x divisor^2 x calibration / median(chi^2_1) over the window.
+// The noise kernel on `image` (3 channels) against the reference, divided by `albedo` or
+// not, and a second run bit for bit.
+//
+// Tolerance: each half squared difference of z = value / divisor carries about
+// 2u (|z0| + |z1|)^2 of rounding (two divisions, a subtraction, a square), the median selects
+// one of them (a tie swapped by rounding picks a value as close), and 4 more roundings scale
+// it: 16u of (2 max |z|)^2 x divisor^2 x calibration / median(chi^2_1) over the window.
+void ExpectNoiseMatches(vk::Context &ctx, const Image &image, const Image &albedo, int radius,
+                        bool divided, bool relaxed) {
+    const int w = image.width, h = image.height;
+    const float calibration = 1.479f;
+    const Image *divisor = divided ? &albedo : nullptr;
+    Image expected = ref::NforNoise(image, divisor, radius, calibration, relaxed);
+    auto run = [&] {
+        vk::GpuImage in = Upload(ctx, image, "image"), a = Upload(ctx, albedo, "albedo");
+        vk::GpuImage out(ctx, w, h, 3, "variance");
+        vk::Recorder recorder(ctx);
+        RecordNforNoise(ctx, recorder, in, divided ? &a : nullptr, radius, calibration, out,
+                        relaxed);
+        recorder.Submit();
+        return out.Download();
+    };
+    Image actual = run();
+    auto divisorAt = [&](int c, int x, int y) {
+        double a = divided ? albedo.At(c, y, x) : 1.0;
+        return a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
+    };
+    Image magnitude(w, h, 3);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double z = WindowMax(image, c, x, y, radius + 1, [&](int c, int u, int v) {
+                    return std::fabs(image.At(c, v, u)) / divisorAt(c, u, v);
+                });
+                double a = divisorAt(c, x, y);
+                magnitude.At(c, y, x) =
+                    float(4 * z * z * a * a * calibration / NFOR_CHI2_MEDIAN);
+            }
+    EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {16 * kU, 0, 1e-10}))
+        << "radius " << radius << " divided " << divided << " relaxed " << relaxed;
+    EXPECT_TRUE(BitIdentical(actual, run()));
+}
+
 class NforNoiseKernel : public GpuTestWithParam<KernelCase> {};
 
 TEST_P(NforNoiseKernel, MatchesReferenceAndRepeats) {
@@ -118,48 +157,34 @@ TEST_P(NforNoiseKernel, MatchesReferenceAndRepeats) {
     std::string name = fmt::format("noise{}x{}{}", w, h, InputKindName(kind));
     Image image = Positive(kind, w, h, 3, name);
     Image albedo = Albedo(w, h, name + "albedo", false);
-    const float calibration = 1.479f;
     // Radius 1 (the default: the kernel's unrolled path) and 2. Relaxed: most pixels of the
     // random albedo have too few neighbours divided alike.
     for (int radius : {1, 2})
-        for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}}) {
-            const Image *divisor = divided ? &albedo : nullptr;
-            Image expected = ref::NforNoise(image, divisor, radius, calibration, relaxed);
-            auto run = [&] {
-                vk::GpuImage in = Upload(Ctx(), image, "image"),
-                             a = Upload(Ctx(), albedo, "albedo");
-                vk::GpuImage out(Ctx(), w, h, 3, "variance");
-                vk::Recorder recorder(Ctx());
-                RecordNforNoise(Ctx(), recorder, in, divided ? &a : nullptr, radius,
-                                calibration, out, relaxed);
-                recorder.Submit();
-                return out.Download();
-            };
-            Image actual = run();
-            auto divisorAt = [&](int c, int x, int y) {
-                double a = divided ? albedo.At(c, y, x) : 1.0;
-                return a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
-            };
-            Image magnitude(w, h, 3);
-            for (int c = 0; c < 3; ++c)
-                for (int y = 0; y < h; ++y)
-                    for (int x = 0; x < w; ++x) {
-                        double z =
-                            WindowMax(image, c, x, y, radius + 1, [&](int c, int u, int v) {
-                                return std::fabs(image.At(c, v, u)) / divisorAt(c, u, v);
-                            });
-                        double a = divisorAt(c, x, y);
-                        magnitude.At(c, y, x) =
-                            float(4 * z * z * a * a * calibration / NFOR_CHI2_MEDIAN);
-                    }
-            EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {16 * kU, 0, 1e-10}))
-                << "radius " << radius << " divided " << divided << " relaxed " << relaxed;
-            EXPECT_TRUE(BitIdentical(actual, run()));
-        }
+        for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}})
+            ExpectNoiseMatches(Ctx(), image, albedo, radius, divided, relaxed);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforNoiseKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
+
+// Radius 1 takes each direction's median by a sorting network over its 9 pairs (those that
+// do not count as +inf): a frame of many pixels, its albedo in patches (most pairs alike
+// inside, fewer across their borders) with a random tenth unlike (few alike), so that many
+// counts of pairs and orders of the values reach it.
+TEST_F(GpuTest, NforNoiseRadiusOneOverManyCountsOfPairs) {
+    const int w = 61, h = 47;
+    Image image = Positive(InputKind::LogNormalFireflies, w, h, 3, "noiseCounts");
+    Image albedo(w, h, 3);
+    std::mt19937_64 rng(SeedFromName("noiseCountsAlbedo"));
+    std::uniform_real_distribution<float> unit(0.f, 1.f);
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                albedo.At(c, y, x) =
+                    unit(rng) < 0.1f ? unit(rng) : 0.2f + 0.1f * ((x / 5 + y / 3) % 4);
+    for (auto [divided, relaxed] : {std::pair{false, false}, {true, false}, {true, true}})
+        ExpectNoiseMatches(Ctx(), image, albedo, 1, divided, relaxed);
+}
 
 // Clamp: the mask is exact; a clamped value is (median z + t sqrt(v) / a) x a, about 5
 // roundings of |C| + t sqrt(v) + a max |z| of the neighbours. Where the value sits on the
