@@ -2903,7 +2903,8 @@ TEST(NforLine, MatchesTheReferenceAndRepeats) {
 
 // The line's hits near the light give the light the clamp took to the line, gaps included,
 // no more than they lost; nothing below the light changes (the lone firefly beside it is
-// not spread); without the line, or without a light above the gate, nothing changes at all.
+// not spread); where the output already holds the line's light the cap drops it all;
+// without the line, or without a light above the gate, nothing changes at all.
 TEST(NforLine, SpreadsALinesHitsNotALoneFirefly) {
     const int w = 48, h = 40;
     LineFrame f = MakeLineFrame(w, h);
@@ -2927,6 +2928,17 @@ TEST(NforLine, SpreadsALinesHitsNotALoneFirefly) {
     Image again = f.output;
     NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, {}, &again);
     EXPECT_TRUE(BitIdentical(out, again));
+    // The cap: where the output already holds the hits' light along the line, nothing is
+    // added and all the light given is dropped.
+    LineFrame lit = MakeLineFrame(w, h);
+    for (int x = 6; x < w - 6; ++x)
+        for (int c = 0; c < 3; ++c) lit.output.At(c, LineRow(x, w, h), x) = 10.f;
+    Image capped = lit.output;
+    NforLineStats full =
+        NforSpreadLine(lit.color, lit.clamped, lit.albedo, nullptr, {}, &capped);
+    EXPECT_EQ(full.givers, stats.givers);
+    EXPECT_NEAR(full.dropped, full.moved, 1e-4);
+    EXPECT_TRUE(BitIdentical(capped, lit.output));
     for (bool line : {false, true}) {
         LineFrame g = MakeLineFrame(w, h, line, line ? 7.f : 40.f);
         Image kept = g.output;
