@@ -2928,11 +2928,12 @@ TEST(NforLine, SpreadsALinesHitsNotALoneFirefly) {
     Image again = f.output;
     NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, {}, &again);
     EXPECT_TRUE(BitIdentical(out, again));
-    // The cap: where the output already holds the hits' light along the line, nothing is
+    // The cap: where the output already holds the hits' light about the line, nothing is
     // added and all the light given is dropped.
     LineFrame lit = MakeLineFrame(w, h);
-    for (int x = 6; x < w - 6; ++x)
-        for (int c = 0; c < 3; ++c) lit.output.At(c, LineRow(x, w, h), x) = 10.f;
+    for (int x = 0; x < w; ++x)
+        for (int y = LineRow(x, w, h) - 1; y <= LineRow(x, w, h) + 1; ++y)
+            for (int c = 0; c < 3; ++c) lit.output.At(c, y, x) = 10.f;
     Image capped = lit.output;
     NforLineStats full =
         NforSpreadLine(lit.color, lit.clamped, lit.albedo, nullptr, {}, &capped);
