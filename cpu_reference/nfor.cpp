@@ -933,8 +933,7 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     }
     // The line spread, last, on the output and the colours as written.
     if (p.lineSpread > 0 && in.albedo) {
-        NforSpreadLine(*in.color, clamped, partly ? albedo : *in.albedo, in.alpha, p.lineSpread,
-                       4, 3, 4, &out);
+        NforSpreadLine(*in.color, clamped, *in.albedo, in.alpha, p.lineSpread, 4, 3, 4, &out);
         if (stages) stages->emplace_back("line", out);
     }
     if (stages) stages->emplace_back("output", out);

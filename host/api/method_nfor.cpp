@@ -407,8 +407,9 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             needs.reach = fineReach;
             needs.reachText += fmt::format("; {} for the clamp's light", clampLightReach);
         }
-        // The line spread runs last on the frame's resolution, near lights alone.
-        if (o.lineSpread > 0 && inputs.Has("albedo")) {
+        // The line spread runs last on the frame's resolution, near lights alone: a frame
+        // without one needs no reach for it.
+        if (inputs.Has("albedo") && NforLineSpreads(inputs.Get("albedo"), o.lineSpread)) {
             needs.reach += kNforLineReach;
             needs.reachText += fmt::format("; {} for the line spread", kNforLineReach);
         }

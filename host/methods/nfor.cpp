@@ -1096,9 +1096,9 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     // On the output as written, so that light moved between pixels of any coverage stays.
     if (NforSpreadsLights(o, plain, in.albedo)) SpreadLights(run, in, o, given.alpha, result);
     if (o.lineSpread > 0 && in.albedo) {
-        // The colour and the clamped colour as written, like the output.
+        // The colour, the clamped colour and the albedo as written, like the output.
         if (straight.partlyCovered > 0) NforMultiplyByAlpha(*given.alpha, &clamped);
-        SpreadLine(run, *given.color, clamped, *in.albedo, given.alpha, o, result);
+        SpreadLine(run, *given.color, clamped, *given.albedo, given.alpha, o, result);
     }
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));

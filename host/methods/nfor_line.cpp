@@ -166,6 +166,13 @@ bool OnLine(const LineField &f, const Window &win, int x, int y, double ratio) {
 
 }  // namespace
 
+bool NforLineSpreads(const Image &albedo, float lightAlbedo) {
+    if (!(lightAlbedo > 0)) return false;
+    for (size_t i = 0; i < albedo.PixelCount(); ++i)
+        if (NforLargestAlbedo(albedo, i) > lightAlbedo) return true;
+    return false;
+}
+
 NforLineStats NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo,
                              const Image *alpha, const NforLineSettings &s, Image *output) {
     NforLineStats stats;

@@ -35,6 +35,9 @@ struct NforLineStats {
     double dropped = 0;  // the luminance the cap dropped
 };
 
+// Whether the pass has work on a frame: some albedo channel above lightAlbedo (> 0).
+bool NforLineSpreads(const Image &albedo, float lightAlbedo);
+
 // Adds to `output` the light `color` lost to `clamped` (max(color - clamped, 0) per channel)
 // at the line pixels near a light (by `albedo`), shared along their lines and capped, as the
 // header says. Every sum in a fixed order: two runs give the same bits. Touches nothing when
