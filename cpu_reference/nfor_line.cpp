@@ -61,6 +61,74 @@ double Lum709(const Image &image, int x, int y) {
     return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) + 0.0722 * image.At(2, y, x);
 }
 
+// The smoothed luminance and its structure tensor's planes.
+struct Structure {
+    Grid smooth, xx, yy, xy;
+    // The line's direction (ax, ay) and across it (nx, ny) at a pixel.
+    void Direction(int x, int y, double *ax, double *ay, double *nx, double *ny) const {
+        double angle = 0.5 * std::atan2(2 * xy(x, y), xx(x, y) - yy(x, y));
+        *nx = std::cos(angle), *ny = std::sin(angle);
+        *ax = -*ny, *ay = *nx;
+    }
+    // Whether the tensor's coherence is above 0.
+    bool Coherent(int x, int y) const {
+        double trace = xx(x, y) + yy(x, y), d = xx(x, y) - yy(x, y);
+        if (!(trace > 0)) return false;
+        double disc = std::sqrt(std::max(d * d / 4 + xy(x, y) * xy(x, y), 0.0));
+        double c = 2 * disc / std::max(trace, 1e-30);
+        return c * c > 0;
+    }
+};
+
+Structure StructureOf(const Grid &L) {
+    const int w = L.w, h = L.h;
+    const Grid Ls = Gaussian(L, 1);
+    Grid gxx(w, h), gyy(w, h), gxy(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double gx = 0, gy = 0;
+            if (w > 1) {
+                int a = std::max(x - 1, 0), b = std::min(x + 1, w - 1);
+                gx = (Ls(b, y) - Ls(a, y)) / (b - a);
+            }
+            if (h > 1) {
+                int a = std::max(y - 1, 0), b = std::min(y + 1, h - 1);
+                gy = (Ls(x, b) - Ls(x, a)) / (b - a);
+            }
+            gxx(x, y) = gx * gx, gyy(x, y) = gy * gy, gxy(x, y) = gx * gy;
+        }
+    return {Ls, Gaussian(gxx, 3), Gaussian(gyy, 3), Gaussian(gxy, 3)};
+}
+
+// A grid's mean over the 5 steps -2..2 along the pixel's line.
+double LineMean(const Structure &st, const Grid &g, int x, int y) {
+    double ax, ay, nx, ny, sum = 0;
+    st.Direction(x, y, &ax, &ay, &nx, &ny);
+    for (int t = -2; t <= 2; ++t) sum += g.Sample(x + t * ax, y + t * ay);
+    return sum / 5;
+}
+
+// Each pixel adds of what it was given the share that lifts its output's luminance at most
+// to Lin's mean along its line.
+void AddCapped(const std::vector<Grid> &given, const Structure &st, const Grid &Lin,
+               Image *output) {
+    const int ch = output->channels;
+    for (int y = 0; y < output->height; ++y)
+        for (int x = 0; x < output->width; ++x) {
+            double got = ch >= 3 ? 0.2126 * given[0](x, y) + 0.7152 * given[1](x, y) +
+                                       0.0722 * given[2](x, y)
+                                 : given[0](x, y);
+            if (!(got > 0)) continue;
+            double out = Lum709(*output, x, y);
+            if (!std::isfinite(out)) continue;
+            double share = std::min(
+                1.0, std::max(LineMean(st, Lin, x, y) - out, 0.0) / std::max(got, 1e-12));
+            for (int c = 0; c < ch; ++c)
+                output->At(c, y, x) =
+                    float(double(output->At(c, y, x)) + given[size_t(c)](x, y) * share);
+        }
+}
+
 }  // namespace
 
 int NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo,
@@ -85,41 +153,13 @@ int NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo
             Lpos(x, y) = std::max(L(x, y), 0.0);
             Lin(x, y) = std::isfinite(li) ? li : 0;
         }
-    const Grid Ls = Gaussian(L, 1);
-    Grid gxx(w, h), gyy(w, h), gxy(w, h);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double gx = 0, gy = 0;
-            if (w > 1) {
-                int a = std::max(x - 1, 0), b = std::min(x + 1, w - 1);
-                gx = (Ls(b, y) - Ls(a, y)) / (b - a);
-            }
-            if (h > 1) {
-                int a = std::max(y - 1, 0), b = std::min(y + 1, h - 1);
-                gy = (Ls(x, b) - Ls(x, a)) / (b - a);
-            }
-            gxx(x, y) = gx * gx, gyy(x, y) = gy * gy, gxy(x, y) = gx * gy;
-        }
-    const Grid jxx = Gaussian(gxx, 3), jyy = Gaussian(gyy, 3), jxy = Gaussian(gxy, 3);
-    // The line's direction (ax, ay) and across it (nx, ny) at a pixel.
+    const Structure st = StructureOf(L);
+    const Grid &Ls = st.smooth;
     auto direction = [&](int x, int y, double *ax, double *ay, double *nx, double *ny) {
-        double angle = 0.5 * std::atan2(2 * jxy(x, y), jxx(x, y) - jyy(x, y));
-        *nx = std::cos(angle), *ny = std::sin(angle);
-        *ax = -*ny, *ay = *nx;
+        st.Direction(x, y, ax, ay, nx, ny);
     };
-    auto coherent = [&](int x, int y) {
-        double trace = jxx(x, y) + jyy(x, y), d = jxx(x, y) - jyy(x, y);
-        if (!(trace > 0)) return false;
-        double disc = std::sqrt(std::max(d * d / 4 + jxy(x, y) * jxy(x, y), 0.0));
-        double c = 2 * disc / std::max(trace, 1e-30);
-        return c * c > 0;
-    };
-    auto lineMean = [&](const Grid &g, int x, int y) {
-        double ax, ay, nx, ny, sum = 0;
-        direction(x, y, &ax, &ay, &nx, &ny);
-        for (int t = -2; t <= 2; ++t) sum += g.Sample(x + t * ax, y + t * ay);
-        return sum / 5;
-    };
+    auto coherent = [&](int x, int y) { return st.Coherent(x, y); };
+    auto lineMean = [&](const Grid &g, int x, int y) { return LineMean(st, g, x, y); };
     auto present = [&](int x, int y) { return !alpha || alpha->At(0, y, x) > 0.f; };
     auto nearLight = [&](int x, int y) {
         for (int v = std::max(0, y - gateReach); v <= std::min(h - 1, y + gateReach); ++v)
@@ -175,20 +215,7 @@ int NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo
                     given[size_t(c)](tx[k], ty[k]) += r[size_t(c)] * tw[k] / total;
             ++givers;
         }
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double got = ch >= 3 ? 0.2126 * given[0](x, y) + 0.7152 * given[1](x, y) +
-                                       0.0722 * given[2](x, y)
-                                 : given[0](x, y);
-            if (!(got > 0)) continue;
-            double out = Lum709(*output, x, y);
-            if (!std::isfinite(out)) continue;
-            double share =
-                std::min(1.0, std::max(lineMean(Lin, x, y) - out, 0.0) / std::max(got, 1e-12));
-            for (int c = 0; c < ch; ++c)
-                output->At(c, y, x) =
-                    float(double(output->At(c, y, x)) + given[size_t(c)](x, y) * share);
-        }
+    AddCapped(given, st, Lin, output);
     return givers;
 }
 

@@ -164,6 +164,37 @@ bool OnLine(const LineField &f, const Window &win, int x, int y, double ratio) {
     return along / 4 > ratio * across;
 }
 
+// The cap: each pixel of the window adds what it was given (`add`, channel planes of the
+// window), at most what lifts its output's luminance to the input's mean along its line.
+// Returns the luminance dropped.
+double AddCapped(const std::vector<double> &add, const Plane &inputLum, const LineField &f,
+                 const Window &win, Image *output) {
+    const int ch = output->channels;
+    const size_t n = size_t(win.w) * win.h;
+    double dropped = 0;
+    std::vector<double> given(size_t(ch), 0.0);
+    for (int y = 0; y < win.h; ++y)
+        for (int x = 0; x < win.w; ++x) {
+            const size_t i = win.Index(x, y),
+                         p = size_t(y + win.y0) * output->width + x + win.x0;
+            for (int c = 0; c < ch; ++c) given[size_t(c)] = add[size_t(c) * n + i];
+            const double received = Luminance(given);
+            if (!(received > 0)) continue;
+            double before = ch >= 3
+                                ? 0.2126 * output->Plane(0)[p] + 0.7152 * output->Plane(1)[p] +
+                                      0.0722 * output->Plane(2)[p]
+                                : double(output->Plane(0)[p]);
+            if (!std::isfinite(before)) continue;
+            const double room = std::max(LineMean(inputLum, f, win, x, y) - before, 0.0);
+            const double kept = std::min(1.0, room / std::max(received, 1e-12));
+            for (int c = 0; c < ch; ++c)
+                output->Plane(c)[p] =
+                    float(double(output->Plane(c)[p]) + given[size_t(c)] * kept);
+            dropped += received * (1 - kept);
+        }
+    return dropped;
+}
+
 }  // namespace
 
 bool NforLineSpreads(const Image &albedo, float lightAlbedo) {
@@ -252,26 +283,7 @@ NforLineStats NforSpreadLine(const Image &color, const Image &clamped, const Ima
             ++stats.givers;
             stats.moved += Luminance(removed);
         }
-    // The cap: a pixel receives at most up to the input's mean along its line.
-    std::vector<double> given(size_t(ch), 0.0);
-    for (int y = 0; y < win.h; ++y)
-        for (int x = 0; x < win.w; ++x) {
-            const size_t i = win.Index(x, y), p = frame(x, y);
-            for (int c = 0; c < ch; ++c) given[size_t(c)] = add[size_t(c) * n + i];
-            const double received = Luminance(given);
-            if (!(received > 0)) continue;
-            double before = ch >= 3
-                                ? 0.2126 * output->Plane(0)[p] + 0.7152 * output->Plane(1)[p] +
-                                      0.0722 * output->Plane(2)[p]
-                                : double(output->Plane(0)[p]);
-            if (!std::isfinite(before)) continue;
-            const double room = std::max(LineMean(inputLum, f, win, x, y) - before, 0.0);
-            const double kept = std::min(1.0, room / std::max(received, 1e-12));
-            for (int c = 0; c < ch; ++c)
-                output->Plane(c)[p] =
-                    float(double(output->Plane(c)[p]) + given[size_t(c)] * kept);
-            stats.dropped += received * (1 - kept);
-        }
+    stats.dropped = AddCapped(add, inputLum, f, win, output);
     return stats;
 }
 
