@@ -742,6 +742,35 @@ TEST_F(GpuTest, TiledRunNforCoarseGateDecidesOnceForTheFrame) {
     EXPECT_TRUE(wholeFrame) << "the plan says the level is the frame's";
 }
 
+// nfor on a dark plain frame with a light (albedo 40) on a tile seam under a highlight line
+// of hits (every third pixel 10, the gaps 0.05) that crosses the seam: the line spread, which
+// reads its reach around each pixel, gives in tiles the untiled result bit for bit.
+TEST_F(GpuTest, TiledRunNforLineSpreadAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 192, height = 48, tile = 64;
+    Frame frame = RenderedFrame(width, height, render::kLayersAll);
+    frame.layers.erase("variance");
+    Image &color = frame.layers.at("color");
+    Image &albedo = frame.layers.at("albedo");
+    for (float &v : color.data) v *= 0.02f;
+    const int lx = 64, ly = 30;
+    for (int x = lx - 30; x < lx + 30; ++x) {
+        const int y = ly - 4 + (x - lx) / 6;
+        for (int c = 0; c < 3; ++c) color.At(c, y, x) = x % 3 == 0 ? 10.f : 0.05f;
+    }
+    for (int c = 0; c < 3; ++c) color.At(c, ly, lx) = 0.5f, albedo.At(c, ly, lx) = 40.f;
+    Params params = {{"radius", 3}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    EXPECT_EQ(tiled.plan[0].find("1 tile(s)"), std::string::npos) << tiled.plan[0];
+    bool spread = false;
+    for (const std::string &line : whole.plan)
+        spread = spread || (line.find("line spread: ") != std::string::npos &&
+                            line.find("line spread: 0 ") == std::string::npos);
+    EXPECT_TRUE(spread) << "some pixels of the line gave";
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, line spread");
+}
+
 // nfor on a plain frame over a transparent background (no variance layer, an alpha with
 // partly covered pixels, colour and features premultiplied): the division by alpha, the
 // specks' clamp (which reads the fits' output of its neighbours) and the weak emitters'
