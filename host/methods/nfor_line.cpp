@@ -5,8 +5,6 @@
 #include <utility>
 #include <vector>
 
-#include "host/methods/nfor_emitters.h"
-
 namespace mcd {
 
 namespace {
@@ -80,23 +78,83 @@ double Luminance(const std::vector<double> &rgb) {
     return rgb.size() >= 3 ? 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2] : rgb[0];
 }
 
-// The window around every pixel whose albedo exceeds the gate; w 0 where none does.
-Window FindWindow(const Image &albedo, const NforLineSettings &s) {
-    int lo[2] = {albedo.width, albedo.height}, hi[2] = {-1, -1};
-    for (int y = 0; y < albedo.height; ++y)
-        for (int x = 0; x < albedo.width; ++x) {
-            if (!(NforLargestAlbedo(albedo, size_t(y) * albedo.width + x) > s.lightAlbedo))
-                continue;
+// Whether a pixel is a light: any albedo channel above the gate (a NaN channel hides none).
+bool IsLight(const Image &albedo, size_t p, float gate) {
+    for (int c = 0; c < albedo.channels; ++c)
+        if (albedo.Plane(c)[p] > gate) return true;
+    return false;
+}
+
+// Whether some pixel within `margin` (Chebyshev) of each pixel is set, by a running count
+// along rows, then columns.
+std::vector<char> Dilate(const std::vector<char> &mask, int w, int h, int margin) {
+    std::vector<char> rows(mask.size()), out(mask.size());
+    auto pass = [&](const std::vector<char> &in, std::vector<char> &to, int n, int lines,
+                    auto index) {
+        for (int l = 0; l < lines; ++l) {
+            int count = 0;
+            for (int i = 0; i < std::min(n, margin); ++i) count += in[index(i, l)];
+            for (int i = 0; i < n; ++i) {
+                if (i + margin < n) count += in[index(i + margin, l)];
+                if (i - margin - 1 >= 0) count -= in[index(i - margin - 1, l)];
+                to[index(i, l)] = count > 0;
+            }
+        }
+    };
+    pass(mask, rows, w, h, [&](int i, int l) { return size_t(l) * w + i; });
+    pass(rows, out, h, w, [&](int i, int l) { return size_t(i) * w + l; });
+    return out;
+}
+
+// The windows the pass works on: the lights and the reach around them, one per connected
+// group of that reach, groups whose boxes overlap merged; none where no pixel is a light.
+// A pixel the pass reads or writes lies in one window alone, so the windows give the bits
+// of one window around every light, at the cost of the lights' surroundings alone.
+std::vector<Window> FindWindows(const Image &albedo, const NforLineSettings &s) {
+    const int w = albedo.width, h = albedo.height;
+    std::vector<char> light(albedo.PixelCount());
+    bool any = false;
+    for (size_t p = 0; p < light.size(); ++p)
+        any |= light[p] = IsLight(albedo, p, s.lightAlbedo);
+    std::vector<Window> windows;
+    if (!any) return windows;
+    std::vector<char> reach = Dilate(light, w, h, s.gateReach + s.radius + 2 + kNforLineReach);
+    std::vector<size_t> stack;
+    for (size_t start = 0; start < reach.size(); ++start) {
+        if (!reach[start]) continue;
+        int lo[2] = {w, h}, hi[2] = {-1, -1};
+        reach[start] = 0, stack.push_back(start);
+        while (!stack.empty()) {
+            const size_t p = stack.back();
+            stack.pop_back();
+            const int x = int(p % size_t(w)), y = int(p / size_t(w));
             lo[0] = std::min(lo[0], x), hi[0] = std::max(hi[0], x);
             lo[1] = std::min(lo[1], y), hi[1] = std::max(hi[1], y);
+            for (auto [u, v] : {std::pair{x - 1, y}, std::pair{x + 1, y}, std::pair{x, y - 1},
+                                std::pair{x, y + 1}})
+                if (u >= 0 && v >= 0 && u < w && v < h && reach[size_t(v) * w + u])
+                    reach[size_t(v) * w + u] = 0, stack.push_back(size_t(v) * w + u);
         }
-    Window win;
-    if (hi[0] < 0) return win;
-    const int margin = s.gateReach + s.radius + 2 + kNforLineReach;
-    win.x0 = std::max(0, lo[0] - margin), win.y0 = std::max(0, lo[1] - margin);
-    win.w = std::min(albedo.width, hi[0] + 1 + margin) - win.x0;
-    win.h = std::min(albedo.height, hi[1] + 1 + margin) - win.y0;
-    return win;
+        windows.push_back({lo[0], lo[1], hi[0] + 1 - lo[0], hi[1] + 1 - lo[1]});
+    }
+    // Merge windows whose boxes overlap until none do.
+    for (bool merged = true; merged;) {
+        merged = false;
+        for (size_t a = 0; a < windows.size() && !merged; ++a)
+            for (size_t b = a + 1; b < windows.size() && !merged; ++b) {
+                Window &p = windows[a], &q = windows[b];
+                if (p.x0 >= q.x0 + q.w || q.x0 >= p.x0 + p.w || p.y0 >= q.y0 + q.h ||
+                    q.y0 >= p.y0 + p.h)
+                    continue;
+                const int x1 = std::max(p.x0 + p.w, q.x0 + q.w),
+                          y1 = std::max(p.y0 + p.h, q.y0 + q.h);
+                p.x0 = std::min(p.x0, q.x0), p.y0 = std::min(p.y0, q.y0);
+                p.w = x1 - p.x0, p.h = y1 - p.y0;
+                windows.erase(windows.begin() + std::ptrdiff_t(b));
+                merged = true;
+            }
+    }
+    return windows;
 }
 
 // The line's direction per pixel of the window (the structure tensor's minor eigenvector),
@@ -200,16 +258,17 @@ double AddCapped(const std::vector<double> &add, const Plane &inputLum, const Li
 bool NforLineSpreads(const Image &albedo, float lightAlbedo) {
     if (!(lightAlbedo > 0)) return false;
     for (size_t i = 0; i < albedo.PixelCount(); ++i)
-        if (NforLargestAlbedo(albedo, i) > lightAlbedo) return true;
+        if (IsLight(albedo, i, lightAlbedo)) return true;
     return false;
 }
 
-NforLineStats NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo,
-                             const Image *alpha, const NforLineSettings &s, Image *output) {
-    NforLineStats stats;
-    if (!(s.lightAlbedo > 0)) return stats;
-    const Window win = FindWindow(albedo, s);
-    if (win.w == 0) return stats;
+namespace {
+
+// The pass within one window, its figures added to `stats`.
+void SpreadWindow(const Image &color, const Image &clamped, const Image &albedo,
+                  const Image *alpha, const NforLineSettings &s, const Window &win,
+                  Image *output, NforLineStats *total) {
+    NforLineStats &stats = *total;
     const int W = color.width, ch = color.channels;
     const size_t n = size_t(win.w) * win.h;
     auto frame = [&](int x, int y) { return size_t(y + win.y0) * W + (x + win.x0); };
@@ -222,7 +281,7 @@ NforLineStats NforSpreadLine(const Image &color, const Image &clamped, const Ima
             const size_t i = win.Index(x, y), p = frame(x, y);
             lum[i] = Luminance(clamped, p), inputLum[i] = Luminance(color, p);
             positive[i] = std::max(lum[i], 0.0);
-            light[i] = NforLargestAlbedo(albedo, p) > s.lightAlbedo;
+            light[i] = IsLight(albedo, p, s.lightAlbedo);
         }
     const int g = s.gateReach;
     for (int y = 0; y < win.h; ++y)
@@ -283,7 +342,17 @@ NforLineStats NforSpreadLine(const Image &color, const Image &clamped, const Ima
             ++stats.givers;
             stats.moved += Luminance(removed);
         }
-    stats.dropped = AddCapped(add, inputLum, f, win, output);
+    stats.dropped += AddCapped(add, inputLum, f, win, output);
+}
+
+}  // namespace
+
+NforLineStats NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo,
+                             const Image *alpha, const NforLineSettings &s, Image *output) {
+    NforLineStats stats;
+    if (!(s.lightAlbedo > 0)) return stats;
+    for (const Window &win : FindWindows(albedo, s))
+        SpreadWindow(color, clamped, albedo, alpha, s, win, output, &stats);
     return stats;
 }
 

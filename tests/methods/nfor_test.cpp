@@ -2841,10 +2841,10 @@ double Lum(const Image &image, int x, int y) {
 }
 
 // The line spread against its reference: random values of every kind (a NaN and an Inf in
-// the colour), the clamp's light taken from random pixels, lights scattered, with and
-// without an alpha whose zeros take no part; frames of one pixel, one row, 3x3, 31x17 and
-// the line frame; a rerun is bit-identical; some pixels give. With no albedo above the gate
-// the output is unchanged, bit for bit.
+// the colour, a NaN in a light's albedo), the clamp's light taken from random pixels, lights
+// scattered, with and without an alpha whose zeros take no part; frames of one pixel, one row,
+// 3x3, 31x17 and the line frame; a rerun is bit-identical; some pixels give. With no albedo
+// above the gate the output is unchanged, bit for bit.
 TEST(NforLine, MatchesTheReferenceAndRepeats) {
     size_t gave = 0;
     for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3},
@@ -2870,6 +2870,8 @@ TEST(NforLine, MatchesTheReferenceAndRepeats) {
             if (w * h > 9) {
                 f.color.At(1, 1, 1) = std::nanf("");
                 f.color.At(0, 2, 1) = std::numeric_limits<float>::infinity();
+                // The line's light with a NaN first channel: its others still make it one.
+                f.albedo.At(0, h / 2, w / 2) = std::nanf("");
             }
             Image alpha(w, h, 1, 1.f);
             const bool withAlpha = kind == InputKind::Uniform || kind == InputKind::Impulse;
