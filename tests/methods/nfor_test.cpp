@@ -2950,6 +2950,38 @@ TEST(NforLine, SpreadsALinesHitsNotALoneFirefly) {
     }
 }
 
+// A frame larger than the pass's reach about its lights: the line frame's light, bright
+// edges 18 and 16 pixels beside it (read by the tensor and the line means of pixels it
+// writes), a second light on the line 85 pixels right (a window of its own); against the
+// reference, which reads the whole frame, and with the second light alone.
+TEST(NforLine, LightsFarApartMatchTheReference) {
+    const int w = 200, h = 120;
+    LineFrame f = MakeLineFrame(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (x == w / 2 + 18 || y == h / 2 + 16)
+                for (int c = 0; c < 3; ++c) f.color.At(c, y, x) = f.clamped.At(c, y, x) = 0.3f;
+    f.output = f.clamped;
+    const int x2 = w / 2 + 85, y2 = LineRow(x2, w, h) + 3;
+    for (int c = 0; c < 3; ++c) f.albedo.At(c, y2, x2) = 40.f;
+    for (bool first : {true, false}) {
+        SCOPED_TRACE(first ? "both lights" : "the second light alone");
+        if (!first)
+            for (int c = 0; c < 3; ++c) f.albedo.At(c, h / 2, w / 2) = 0.5f;
+        Image host = f.output, cpu = f.output;
+        NforLineStats stats = NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, {}, &host);
+        int cpuGave =
+            ref::NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, 8, 4, 3, 4, &cpu);
+        EXPECT_GE(stats.givers, first ? 4u : 2u);
+        EXPECT_EQ(int(stats.givers), cpuGave);
+        EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12}));
+        size_t changed = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) changed += host.At(1, y, x) != f.output.At(1, y, x);
+        EXPECT_GT(changed, 0u);
+    }
+}
+
 // A tile with a halo of kNforLineReach gives the pixels of the tile what the whole frame
 // does, bit for bit.
 TEST(NforLine, ATileWithItsHaloMatchesTheWholeFrame) {
