@@ -3045,5 +3045,47 @@ TEST_F(NforMethod, DefaultsSpreadTheClampsLightAlongALine) {
                     EXPECT_EQ(a.image.At(c, y, x), b.image.At(c, y, x)) << x << ", " << y;
 }
 
+// The line frame's line partly covered (alpha 0.75, the colour as written), the rest
+// covered: the method's line stage is its reference's pass on the stage before it, given
+// the colour and the clamped colour (the "color" stage, straight) as written. Some pixels
+// give.
+TEST_F(NforMethod, PartlyCoveredLineSpreadsTheLightAsWritten) {
+    const int w = 48, h = 40;
+    Frame f = MakeFrame(w, h, 0.05, "line partly covered");
+    LineFrame line = MakeLineFrame(w, h);
+    Image alpha(w, h, 1, 1.f);
+    for (float &v : f.color.data) v *= 0.02f;  // a dark room
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (line.color.At(0, y, x) != 0.01f) {
+                if (line.albedo.At(0, y, x) < 1.f) alpha.At(0, y, x) = 0.75f;
+                for (int c = 0; c < 3; ++c) {
+                    f.color.At(c, y, x) = line.color.At(c, y, x);
+                    f.albedo.At(c, y, x) = line.albedo.At(c, y, x);
+                }
+            }
+    NforInputs in = InputsOf(f);
+    in.alpha = &alpha;
+    NforOptions o;
+    o.keepStages = true;
+    NforResult r = NforDenoise(Ctx(), in, o);
+    EXPECT_GT(r.partlyCovered, 0u);
+    EXPECT_GT(r.lineGivers, 0u);
+    auto stage = [&](const std::string &name) {
+        for (const auto &s : r.stages)
+            if (s.first == name) return s.second;
+        ADD_FAILURE() << "no stage " << name;
+        return Image();
+    };
+    Image clamped = stage("color"), expected = stage("lights"), got = stage("line");
+    ASSERT_EQ(clamped.Size(), f.color.Size());
+    for (int c = 0; c < 3; ++c)
+        for (size_t p = 0; p < clamped.PixelCount(); ++p) clamped.Plane(c)[p] *= alpha.data[p];
+    int cpuGave =
+        ref::NforSpreadLine(f.color, clamped, f.albedo, &alpha, 8, 4, 3, 4, &expected);
+    EXPECT_EQ(int(r.lineGivers), cpuGave);
+    EXPECT_TRUE(ImagesMatch(expected, got, {}, {4 * kU, 0, 1e-12}));
+}
+
 }  // namespace
 }  // namespace mcd::test
