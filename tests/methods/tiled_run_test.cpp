@@ -22,6 +22,7 @@
 #include "host/api/front_end.h"
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
+#include "host/methods/nfor_line.h"
 #include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
 #include "pivot/pivot.h"
@@ -769,6 +770,29 @@ TEST_F(GpuTest, TiledRunNforLineSpreadAcrossTheSeamIsBitIdentical) {
                             line.find("line spread: 0 ") == std::string::npos);
     EXPECT_TRUE(spread) << "some pixels of the line gave";
     ExpectSameBits(whole.image, tiled.image, "nfor tiled, line spread");
+}
+
+// nfor's halo grows by the line spread's reach on a frame with a light (an albedo channel
+// above the gate, beside a NaN one too), and says so; not on a frame without one.
+TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
+    int reach[3] = {};
+    for (int lit : {0, 1, 2}) {
+        SCOPED_TRACE(fmt::format("light {}", lit));
+        Frame frame = RenderedFrame(64, 32, render::kLayersAll);
+        frame.layers.erase("variance");
+        Image &albedo = frame.layers.at("albedo");
+        if (lit > 0)
+            for (int c = 0; c < 3; ++c) albedo.At(c, 16, 32) = 40.f;
+        if (lit == 2) albedo.At(0, 16, 32) = std::nanf("");
+        std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
+        api::Inputs inputs(frame, false, "nfor");
+        api::TileNeeds needs = nfor->Tiling(Ctx(), inputs);
+        reach[lit] = needs.reach;
+        const std::string text = fmt::format("{} for the line spread", kNforLineReach);
+        EXPECT_EQ(needs.reachText.find(text) != std::string::npos, lit > 0) << needs.reachText;
+    }
+    EXPECT_EQ(reach[1], reach[0] + kNforLineReach);
+    EXPECT_EQ(reach[2], reach[1]);
 }
 
 // nfor on a plain frame over a transparent background (no variance layer, an alpha with
