@@ -155,11 +155,6 @@ int NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo
         }
     const Structure st = StructureOf(L);
     const Grid &Ls = st.smooth;
-    auto direction = [&](int x, int y, double *ax, double *ay, double *nx, double *ny) {
-        st.Direction(x, y, ax, ay, nx, ny);
-    };
-    auto coherent = [&](int x, int y) { return st.Coherent(x, y); };
-    auto lineMean = [&](const Grid &g, int x, int y) { return LineMean(st, g, x, y); };
     auto present = [&](int x, int y) { return !alpha || alpha->At(0, y, x) > 0.f; };
     auto nearLight = [&](int x, int y) {
         for (int v = std::max(0, y - gateReach); v <= std::min(h - 1, y + gateReach); ++v)
@@ -180,9 +175,9 @@ int NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo
                 ok = ok && std::isfinite(r[size_t(c)]);
                 rsum += r[size_t(c)];
             }
-            if (!ok || !(rsum > 0) || !coherent(x, y)) continue;
+            if (!ok || !(rsum > 0) || !st.Coherent(x, y)) continue;
             double ax, ay, nx, ny;
-            direction(x, y, &ax, &ay, &nx, &ny);
+            st.Direction(x, y, &ax, &ay, &nx, &ny);
             double along = 0;
             for (int t : {-2, -1, 1, 2}) along += Ls.Sample(x + t * ax, y + t * ay);
             double across =
@@ -198,7 +193,7 @@ int NforSpreadLine(const Image &color, const Image &clamped, const Image &albedo
                     if (u < 0 || v < 0 || u >= w || v >= h || !present(u, v)) continue;
                     double weight = (radius + 1 - std::abs(t)) *
                                     std::exp(-b * b / (2 * 0.7 * 0.7)) *
-                                    std::max(lineMean(Lpos, u, v), 0.0);
+                                    std::max(LineMean(st, Lpos, u, v), 0.0);
                     size_t k = 0;
                     while (k < tx.size() && !(tx[k] == u && ty[k] == v)) ++k;
                     if (k == tx.size()) {

@@ -134,9 +134,9 @@ struct NforOptions {
     // the first; the rest the second) to each of its 4 neighbours that is no emitter
     // (host/methods/nfor_lights.h); both 0: off.
     float weakLightShare = 0.08f, lightShare = 0.004f;
-    // With an albedo, after the coarse pass, on the straight output: the light the firefly
-    // clamp took from a line's pixels near a light whose albedo exceeds this, shared along
-    // the line and capped by the input's light there (host/methods/nfor_line.h); 0: off.
+    // With an albedo, last, after the lights' spread, on the output as written: the light the
+    // firefly clamp took from a line's pixels near a light whose albedo exceeds this, shared
+    // along the line and capped by the input's light there (host/methods/nfor_line.h); 0: off.
     float lineSpread = 8;
     // On a frame without a variance layer read as the noise, or beside one where the clamp
     // reads the frame's own estimate (unless noLayerPasses), where the coarse pass does not

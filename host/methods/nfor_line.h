@@ -8,8 +8,10 @@
 // light over the line: tent-weighted steps along it, a narrow Gaussian across, each target
 // weighted by the clamped luminance averaged along its own line. A pixel then receives at
 // most up to the input's luminance averaged along its line (the cap): light the frame does
-// not show there is dropped, not placed. Runs on the output in straight (not premultiplied)
-// values; a pixel of alpha 0 (or NaN) neither gives nor receives.
+// not show there is dropped, not placed. Runs last, after the lights' spread, on the output,
+// the colour and the clamped colour as written; a pixel of alpha 0 (or NaN) neither gives
+// nor receives. Works in one window per group of lights (their reach about them), so that
+// its cost follows the lights' surroundings, not the frame.
 #pragma once
 
 #include <cstddef>
