@@ -12,6 +12,7 @@
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
 #include "cpu_reference/nfor_lights.h"
+#include "cpu_reference/nfor_line.h"
 #include "cpu_reference/nfor_specks.h"
 
 namespace mcd::ref {
@@ -810,10 +811,11 @@ void NforCapLayer(const NforInputs &in, const NforParams &p, const Image &clampe
 // The method on straight values (every stage but output), its result before any alpha;
 // `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
 // the frame's coverage as given, which guards the clamp's light (not with p.premultiplied).
-// *plainOut: whether the passes of a frame without a variance layer ran.
+// *plainOut: whether the passes of a frame without a variance layer ran; *clampedOut: the
+// clamped colour.
 Image NforStraightRun(const NforInputs &in, const NforParams &p,
                       std::vector<std::pair<std::string, Image>> *stages, const Image *alpha,
-                      bool *plainOut) {
+                      bool *plainOut, Image *clampedOut) {
     auto keep = [&](const std::string &name, const Image &image) {
         if (stages) stages->emplace_back(name, image);
     };
@@ -895,6 +897,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
     if (NforCoarseGateOpen(color, in.albedo, p)) AddCoarse(in, p, stages, &out);
+    if (clampedOut) *clampedOut = clamped;
     return out;
 }
 
@@ -905,10 +908,10 @@ Image Nfor(const NforInputs &in, const NforParams &p,
     bool partly = false;
     if (in.alpha && !p.premultiplied)
         for (float a : in.alpha->data) partly = partly || NforPartlyCovered(a);
-    Image out, albedo;
+    Image out, albedo, clamped;
     bool plain = true;
     if (!partly) {
-        out = NforStraightRun(in, p, stages, nullptr, &plain);
+        out = NforStraightRun(in, p, stages, nullptr, &plain, &clamped);
     } else {
         const Image &alpha = *in.alpha;
         Image color = NforStraight(*in.color, alpha, 1),
@@ -917,7 +920,8 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
         NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
                             in.variance ? &variance : nullptr, &alpha};
-        out = NforStraightRun(straight, p, stages, &alpha, &plain);
+        out = NforStraightRun(straight, p, stages, &alpha, &plain, &clamped);
+        clamped = NforPremultiply(clamped, alpha);
         if (stages) stages->emplace_back("straight", out);
         out = NforPremultiply(out, alpha);
     }
@@ -926,6 +930,11 @@ Image Nfor(const NforInputs &in, const NforParams &p,
         NforSpreadLights(partly ? albedo : *in.albedo, in.alpha, p.emitterAlbedo,
                          p.weakEmitterAlbedo, p.weakLightShare, p.lightShare, &out);
         if (stages) stages->emplace_back("lights", out);
+    }
+    // The line spread, last, on the output and the colours as written.
+    if (p.lineSpread > 0 && in.albedo) {
+        NforSpreadLine(*in.color, clamped, *in.albedo, in.alpha, p.lineSpread, 4, 3, 4, &out);
+        if (stages) stages->emplace_back("line", out);
     }
     if (stages) stages->emplace_back("output", out);
     return out;

@@ -169,6 +169,10 @@ struct NforParams {
     // output (weak ones, below weakEmitterAlbedo, the first) to each of its 4 neighbours that
     // is no emitter (NforSpreadLights, cpu_reference/nfor_lights.h); both 0: off.
     double weakLightShare = 0, lightShare = 0;
+    // With an albedo, last, after the lights' spread, on the output as written: the clamp's
+    // light shared along the line near a light of albedo above this (NforSpreadLine,
+    // cpu_reference/nfor_line.h, gate reach 4, ratio 3, radius 4); 0: off.
+    double lineSpread = 0;
     // Without a variance layer, where the coarse pass does not run, after the restore: the
     // colour's own local means restored at s = clampLightRadius, then clampLightFine (0:
     // none), by RestoreLocalMeanAt (cpu_reference/local_mean.h) with noise weight

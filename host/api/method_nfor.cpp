@@ -12,6 +12,7 @@
 #include "host/common/local_mean.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
+#include "host/methods/nfor_line.h"
 
 namespace mcd::api {
 namespace {
@@ -189,6 +190,13 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "the same for the other emitters (a light hundreds of times as "
                           "bright as its rim); 0: off",
                           &O::lightShare, 0, 0.25)),
+        nested(FloatParam("line-spread",
+                          "the light the firefly clamp took from a line's pixels (a glossy "
+                          "object's highlight line, drawn by few samples as hits with gaps) "
+                          "within 4 pixels of a light whose albedo exceeds this, shared along "
+                          "the line, a pixel given at most up to the input's light along it; "
+                          "0: off",
+                          &O::lineSpread, 0, 1e30)),
         nested(FloatParam("emitter-albedo",
                           "pixels whose albedo exceeds this are emitters: left out of every "
                           "window and kept as they are (weak ones smoothed: "
@@ -399,6 +407,12 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             needs.reach = fineReach;
             needs.reachText += fmt::format("; {} for the clamp's light", clampLightReach);
         }
+        // The line spread runs last on the frame's resolution, near lights alone: a frame
+        // without one needs no reach for it.
+        if (inputs.Has("albedo") && NforLineSpreads(inputs.Get("albedo"), o.lineSpread)) {
+            needs.reach += kNforLineReach;
+            needs.reachText += fmt::format("; {} for the line spread", kNforLineReach);
+        }
         return needs;
     }
 
@@ -469,6 +483,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.weakEmitterAlbedo = o.weakEmitterAlbedo;
         p.weakLightShare = o.weakLightShare;
         p.lightShare = o.lightShare;
+        p.lineSpread = o.lineSpread;
         p.coarse = o.coarse;
         p.coarseRelative = o.coarseRelative;
         p.coarseNoise = o.coarseNoise;

@@ -14,6 +14,7 @@
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
 #include "host/methods/nfor_lights.h"
+#include "host/methods/nfor_line.h"
 #include "host/methods/nfor_specks.h"
 #include "host/methods/run_memo.h"
 #include "host/vk/gpu_image.h"
@@ -839,6 +840,25 @@ void SpreadLights(StagedRun &run, const NforInputs &in, const NforOptions &o,
         result.lights, o.weakLightShare, o.weakEmitterAlbedo, o.lightShare));
 }
 
+// The clamp's light of a line near a light shared along it, last, on the output, the colour
+// and the clamped colour as written.
+void SpreadLine(StagedRun &run, const Image &color, const Image &clamped, const Image &albedo,
+                const Image *alpha, const NforOptions &o, NforResult &result) {
+    NforLineSettings s;
+    s.lightAlbedo = o.lineSpread;
+    const NforLineStats stats = NforSpreadLine(color, clamped, albedo, alpha, s, &result.image);
+    result.lineGivers = stats.givers;
+    result.lineMoved = stats.moved, result.lineDropped = stats.dropped;
+    run.AddStage("line", result.image);
+    run.Plan(fmt::format(
+        "line spread: {} pixels within {} of a light (albedo above {}) on a line (the clamped "
+        "luminance along it above {}x across) gave the light the firefly clamp took, {:.4g} "
+        "(luminance summed), shared over {} steps along the line; the cap (a pixel given at "
+        "most up to the input's light along its line) dropped {:.4g} of it",
+        stats.givers, s.gateReach, o.lineSpread, s.ratio, stats.moved, s.radius,
+        stats.dropped));
+}
+
 std::string GpuTimes(const std::vector<vk::DispatchTiming> &timings) {
     std::vector<std::pair<std::string, double>> perKernel;
     double total = 0;
@@ -1075,6 +1095,11 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     }
     // On the output as written, so that light moved between pixels of any coverage stays.
     if (NforSpreadsLights(o, plain, in.albedo)) SpreadLights(run, in, o, given.alpha, result);
+    if (o.lineSpread > 0 && in.albedo) {
+        // The colour, the clamped colour and the albedo as written, like the output.
+        if (straight.partlyCovered > 0) NforMultiplyByAlpha(*given.alpha, &clamped);
+        SpreadLine(run, *given.color, clamped, *given.albedo, given.alpha, o, result);
+    }
     run.AddStage("output", result.image);
     run.Plan(GpuTimes(run.Timings()));
     run.Finish(result);

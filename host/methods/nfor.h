@@ -134,6 +134,10 @@ struct NforOptions {
     // the first; the rest the second) to each of its 4 neighbours that is no emitter
     // (host/methods/nfor_lights.h); both 0: off.
     float weakLightShare = 0.08f, lightShare = 0.004f;
+    // With an albedo, last, after the lights' spread, on the output as written: the light the
+    // firefly clamp took from a line's pixels near a light whose albedo exceeds this, shared
+    // along the line and capped by the input's light there (host/methods/nfor_line.h); 0: off.
+    float lineSpread = 8;
     // On a frame without a variance layer read as the noise, or beside one where the clamp
     // reads the frame's own estimate (unless noLayerPasses), where the coarse pass does not
     // run, after the local means: the colour's own local means (the light the firefly clamp
@@ -229,6 +233,8 @@ struct NforResult : MethodResult {
     size_t partlyCovered = 0;  // pixels denoised divided by their alpha
     size_t specks = 0;         // pixels of the fits' output scaled down as specks
     size_t lights = 0;         // emitter pixels that gave their neighbours light
+    size_t lineGivers = 0;     // line pixels whose clamped light the line spread shared
+    double lineMoved = 0, lineDropped = 0;  // the luminance it shared, and the cap dropped
     // Beside a variance layer: the fraction of the light the estimate's clamp took off, and
     // whether the clamp read the layer after all (NforOptions::clampLoss).
     double clampLoss = 0;

@@ -21,6 +21,7 @@
 #include "cpu_reference/nfor_coarse.h"
 #include "cpu_reference/nfor_kept.h"
 #include "cpu_reference/nfor_lights.h"
+#include "cpu_reference/nfor_line.h"
 #include "cpu_reference/nfor_specks.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
@@ -32,6 +33,7 @@
 #include "host/methods/nfor_coarse.h"
 #include "host/methods/nfor_kept.h"
 #include "host/methods/nfor_lights.h"
+#include "host/methods/nfor_line.h"
 #include "host/methods/nfor_specks.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
@@ -1569,6 +1571,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.weakEmitterAlbedo = o.weakEmitterAlbedo;
     p.weakLightShare = o.weakLightShare;
     p.lightShare = o.lightShare;
+    p.lineSpread = o.lineSpread;
     p.prefilterRadius = o.prefilterRadius;
     p.prefilterPatch = o.prefilterPatch;
     p.featureWeights.assign(weights.begin(), weights.end());
@@ -2823,6 +2826,290 @@ TEST_F(NforMethod, DenoisesARenderedPlainFrame) {
     };
     double brightness = mean(r.image) / mean(reference);
     EXPECT_NEAR(brightness, 1, 0.1);
+}
+
+// A light under a glossy object's highlight line as a plain frame's few samples draw it: a
+// light (albedo 40, colour 0.5) at the centre; a line stepping down one row every 6 pixels,
+// 4 rows above the light at its column, every third pixel of it a hit of 10 (the clamp took
+// it down to 1), its gaps 0.05; a lone firefly of 10 (clamped to 0.01) 3 pixels right of
+// and below the light, off the line; the background 0.01 (albedo 0.5). The output given to
+// the pass: the clamped colour.
+struct LineFrame {
+    Image color, clamped, albedo, output;
+};
+
+int LineRow(int x, int w, int h) {
+    return h / 2 - 4 + (x - w / 2) / 6;
+}
+
+LineFrame MakeLineFrame(int w, int h, bool line = true, float lightAlbedo = 40.f) {
+    LineFrame f{Image(w, h, 3, 0.01f), Image(w, h, 3, 0.01f), Image(w, h, 3, 0.5f), Image()};
+    auto set = [&](int x, int y, float color, float clamped) {
+        if (x >= w || y >= h) return;
+        for (int c = 0; c < 3; ++c)
+            f.color.At(c, y, x) = color, f.clamped.At(c, y, x) = clamped;
+    };
+    if (line)
+        for (int x = 6; x < w - 6; ++x) {
+            const bool hit = x % 3 == 0;
+            set(x, LineRow(x, w, h), hit ? 10.f : 0.05f, hit ? 1.f : 0.05f);
+        }
+    set(w / 2 + 3, h / 2 + 3, 10.f, 0.01f);
+    set(w / 2, h / 2, 0.5f, 0.5f);
+    for (int c = 0; c < 3; ++c) f.albedo.At(c, h / 2, w / 2) = lightAlbedo;
+    f.output = f.clamped;
+    return f;
+}
+
+double Lum(const Image &image, int x, int y) {
+    return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) + 0.0722 * image.At(2, y, x);
+}
+
+// The line spread against its reference: random values of every kind (a NaN and an Inf in
+// the colour, a NaN in a light's albedo), the clamp's light taken from random pixels, lights
+// scattered, with and without an alpha whose zeros take no part; frames of one pixel, one row,
+// 3x3, 31x17 and the line frame; a rerun is bit-identical; some pixels give. With no albedo
+// above the gate the output is unchanged, bit for bit.
+TEST(NforLine, MatchesTheReferenceAndRepeats) {
+    size_t gave = 0;
+    for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3},
+                        std::pair{48, 40}})
+        for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
+                               InputKind::Constant, InputKind::Impulse}) {
+            std::string name = fmt::format("line {}x{} {}", w, h, InputKindName(kind));
+            uint64_t seed = SeedFromName(name);
+            std::mt19937 random{uint32_t(seed)};
+            LineFrame f = MakeLineFrame(w, h);
+            Image color = MakeVarianceInput(kind, w, h, 3, seed);
+            for (size_t i = 0; i < color.Size(); ++i)
+                f.color.data[i] += std::abs(color.data[i]);
+            f.clamped = f.color;
+            Image output = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 2);
+            for (size_t i = 0; i < output.Size(); ++i)
+                f.output.data[i] = f.clamped.data[i] * (1 + 0.2f * output.data[i]);
+            for (size_t p = 0; p < color.PixelCount(); ++p) {
+                if (random() % 4 == 0)
+                    for (int c = 0; c < 3; ++c) f.clamped.Plane(c)[p] *= 0.1f;
+                if (random() % 40 == 0) f.albedo.Plane(int(random() % 3))[p] = 20.f;
+            }
+            if (w * h > 9) {
+                f.color.At(1, 1, 1) = std::nanf("");
+                f.color.At(0, 2, 1) = std::numeric_limits<float>::infinity();
+                // The line's light with a NaN first channel: its others still make it one.
+                f.albedo.At(0, h / 2, w / 2) = std::nanf("");
+            }
+            Image alpha(w, h, 1, 1.f);
+            const bool withAlpha = kind == InputKind::Uniform || kind == InputKind::Impulse;
+            for (float &a : alpha.data) a = random() % 8 == 0 ? 0.f : 1.f;
+            const Image *a = withAlpha ? &alpha : nullptr;
+            Image host = f.output, again = f.output, cpu = f.output;
+            NforLineStats stats = NforSpreadLine(f.color, f.clamped, f.albedo, a, {}, &host);
+            NforSpreadLine(f.color, f.clamped, f.albedo, a, {}, &again);
+            int cpuGave =
+                ref::NforSpreadLine(f.color, f.clamped, f.albedo, a, 8, 4, 3, 4, &cpu);
+            EXPECT_EQ(int(stats.givers), cpuGave) << name;
+            EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12})) << name;
+            EXPECT_TRUE(BitIdentical(host, again)) << name;
+            if (withAlpha)
+                for (size_t i = 0; i < host.Size(); ++i)
+                    if (!(alpha.data[i % host.PixelCount()] > 0.f)) {
+                        EXPECT_EQ(std::memcmp(&host.data[i], &f.output.data[i], sizeof(float)),
+                                  0)
+                            << name << " value " << i;
+                    }
+            gave += stats.givers;
+            // No light above the gate: nothing changes.
+            Image unlit = f.output;
+            NforLineSettings high;
+            high.lightAlbedo = 1e6f;
+            EXPECT_EQ(NforSpreadLine(f.color, f.clamped, f.albedo, a, high, &unlit).givers, 0u);
+            EXPECT_TRUE(BitIdentical(unlit, f.output)) << name;
+        }
+    EXPECT_GT(gave, 0u);
+}
+
+// The line's hits near the light give the light the clamp took to the line, gaps included,
+// no more than they lost; nothing below the light changes (the lone firefly beside it is
+// not spread); where the output already holds the line's light the cap drops it all;
+// without the line, or without a light above the gate, nothing changes at all.
+TEST(NforLine, SpreadsALinesHitsNotALoneFirefly) {
+    const int w = 48, h = 40;
+    LineFrame f = MakeLineFrame(w, h);
+    Image out = f.output;
+    NforLineStats stats = NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, {}, &out);
+    // The hits within 4 pixels of the light: x = 21, 24, 27.
+    EXPECT_GE(stats.givers, 2u);
+    EXPECT_LE(stats.givers, 3u);
+    double added = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) added += Lum(out, x, y) - Lum(f.output, x, y);
+    EXPECT_GT(added, 0.5 * stats.givers * 9);
+    EXPECT_LE(added, stats.moved + 1e-4);
+    EXPECT_NEAR(added, stats.moved - stats.dropped, 1e-4);
+    for (int x : {22, 23, 25, 26})
+        EXPECT_GT(Lum(out, x, LineRow(x, w, h)), 0.5) << "gap at x " << x;
+    for (int y = h / 2 - 1; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(out.At(c, y, x), f.output.At(c, y, x)) << x << ", " << y;
+    Image again = f.output;
+    NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, {}, &again);
+    EXPECT_TRUE(BitIdentical(out, again));
+    // The cap: where the output already holds the hits' light about the line, nothing is
+    // added and all the light given is dropped.
+    LineFrame lit = MakeLineFrame(w, h);
+    for (int x = 0; x < w; ++x)
+        for (int y = LineRow(x, w, h) - 1; y <= LineRow(x, w, h) + 1; ++y)
+            for (int c = 0; c < 3; ++c) lit.output.At(c, y, x) = 10.f;
+    Image capped = lit.output;
+    NforLineStats full =
+        NforSpreadLine(lit.color, lit.clamped, lit.albedo, nullptr, {}, &capped);
+    EXPECT_EQ(full.givers, stats.givers);
+    EXPECT_NEAR(full.dropped, full.moved, 1e-4);
+    EXPECT_TRUE(BitIdentical(capped, lit.output));
+    for (bool line : {false, true}) {
+        LineFrame g = MakeLineFrame(w, h, line, line ? 7.f : 40.f);
+        Image kept = g.output;
+        EXPECT_EQ(NforSpreadLine(g.color, g.clamped, g.albedo, nullptr, {}, &kept).givers, 0u);
+        EXPECT_TRUE(BitIdentical(kept, g.output)) << (line ? "light of albedo 7" : "no line");
+    }
+}
+
+// A frame larger than the pass's reach about its lights: the line frame's light, bright
+// edges 18 and 16 pixels beside it (read by the tensor and the line means of pixels it
+// writes), a second light on the line 85 pixels right (a window of its own); against the
+// reference, which reads the whole frame, and with the second light alone.
+TEST(NforLine, LightsFarApartMatchTheReference) {
+    const int w = 200, h = 120;
+    LineFrame f = MakeLineFrame(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (x == w / 2 + 18 || y == h / 2 + 16)
+                for (int c = 0; c < 3; ++c) f.color.At(c, y, x) = f.clamped.At(c, y, x) = 0.3f;
+    f.output = f.clamped;
+    const int x2 = w / 2 + 85, y2 = LineRow(x2, w, h) + 3;
+    for (int c = 0; c < 3; ++c) f.albedo.At(c, y2, x2) = 40.f;
+    for (bool first : {true, false}) {
+        SCOPED_TRACE(first ? "both lights" : "the second light alone");
+        if (!first)
+            for (int c = 0; c < 3; ++c) f.albedo.At(c, h / 2, w / 2) = 0.5f;
+        Image host = f.output, cpu = f.output;
+        NforLineStats stats = NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, {}, &host);
+        int cpuGave =
+            ref::NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, 8, 4, 3, 4, &cpu);
+        EXPECT_GE(stats.givers, first ? 4u : 2u);
+        EXPECT_EQ(int(stats.givers), cpuGave);
+        EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12}));
+        size_t changed = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) changed += host.At(1, y, x) != f.output.At(1, y, x);
+        EXPECT_GT(changed, 0u);
+    }
+}
+
+// A tile with a halo of kNforLineReach gives the pixels of the tile what the whole frame
+// does, bit for bit.
+TEST(NforLine, ATileWithItsHaloMatchesTheWholeFrame) {
+    const int w = 120, h = 90, R = kNforLineReach;
+    LineFrame f = MakeLineFrame(w, h);
+    Image whole = f.output;
+    ASSERT_GT(NforSpreadLine(f.color, f.clamped, f.albedo, nullptr, {}, &whole).givers, 0u);
+    const int tx0 = w / 2 - 6, ty0 = h / 2 - 9, tw = 12, th = 8;
+    const int x0 = tx0 - R, y0 = ty0 - R, cw = tw + 2 * R, chh = th + 2 * R;
+    auto crop = [&](const Image &image) {
+        Image part(cw, chh, image.channels);
+        for (int c = 0; c < image.channels; ++c)
+            for (int y = 0; y < chh; ++y)
+                for (int x = 0; x < cw; ++x) part.At(c, y, x) = image.At(c, y0 + y, x0 + x);
+        return part;
+    };
+    Image color = crop(f.color), clamped = crop(f.clamped), albedo = crop(f.albedo),
+          tile = crop(f.output);
+    NforSpreadLine(color, clamped, albedo, nullptr, {}, &tile);
+    size_t changed = 0;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < th; ++y)
+            for (int x = 0; x < tw; ++x) {
+                const float a = whole.At(c, ty0 + y, tx0 + x), b = tile.At(c, R + y, R + x);
+                EXPECT_EQ(std::memcmp(&a, &b, sizeof(float)), 0) << x << ", " << y;
+                changed += a != f.output.At(c, ty0 + y, tx0 + x);
+            }
+    EXPECT_GT(changed, 0u);
+}
+
+// nfor's defaults on a dark plain frame with a light under a highlight line of hits: the line
+// spread gives the line the light the clamp took (the gaps beside the light brighter than
+// with --line-spread 0), the rest of the frame as it was, bit for bit.
+TEST_F(NforMethod, DefaultsSpreadTheClampsLightAlongALine) {
+    const int w = 48, h = 40;
+    Frame f = MakeFrame(w, h, 0.05, "line spread");
+    LineFrame line = MakeLineFrame(w, h);
+    for (float &v : f.color.data) v *= 0.02f;  // a dark room
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (line.color.At(0, y, x) != 0.01f)
+                for (int c = 0; c < 3; ++c) {
+                    f.color.At(c, y, x) = line.color.At(c, y, x);
+                    f.albedo.At(c, y, x) = line.albedo.At(c, y, x);
+                }
+    NforOptions defaults, off;
+    off.lineSpread = 0;
+    NforResult a = NforDenoise(Ctx(), InputsOf(f), defaults);
+    NforResult b = NforDenoise(Ctx(), InputsOf(f), off);
+    EXPECT_GT(a.lineGivers, 0u);
+    EXPECT_GT(a.lineMoved, 0);
+    EXPECT_EQ(b.lineGivers, 0u);
+    double gained = 0;
+    for (int x : {22, 23, 25, 26})
+        gained += Lum(a.image, x, LineRow(x, w, h)) - Lum(b.image, x, LineRow(x, w, h));
+    EXPECT_GT(gained, 0.5);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (std::abs(x - w / 2) > 12 || y >= h / 2)
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_EQ(a.image.At(c, y, x), b.image.At(c, y, x)) << x << ", " << y;
+}
+
+// The line frame's line partly covered (alpha 0.75, the colour as written), the rest
+// covered: the method's line stage is its reference's pass on the stage before it, given
+// the colour and the clamped colour (the "color" stage, straight) as written. Some pixels
+// give.
+TEST_F(NforMethod, PartlyCoveredLineSpreadsTheLightAsWritten) {
+    const int w = 48, h = 40;
+    Frame f = MakeFrame(w, h, 0.05, "line partly covered");
+    LineFrame line = MakeLineFrame(w, h);
+    Image alpha(w, h, 1, 1.f);
+    for (float &v : f.color.data) v *= 0.02f;  // a dark room
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (line.color.At(0, y, x) != 0.01f) {
+                if (line.albedo.At(0, y, x) < 1.f) alpha.At(0, y, x) = 0.75f;
+                for (int c = 0; c < 3; ++c) {
+                    f.color.At(c, y, x) = line.color.At(c, y, x);
+                    f.albedo.At(c, y, x) = line.albedo.At(c, y, x);
+                }
+            }
+    NforInputs in = InputsOf(f);
+    in.alpha = &alpha;
+    NforOptions o;
+    o.keepStages = true;
+    NforResult r = NforDenoise(Ctx(), in, o);
+    EXPECT_GT(r.partlyCovered, 0u);
+    EXPECT_GT(r.lineGivers, 0u);
+    auto stage = [&](const std::string &name) {
+        for (const auto &s : r.stages)
+            if (s.first == name) return s.second;
+        ADD_FAILURE() << "no stage " << name;
+        return Image();
+    };
+    Image clamped = stage("color"), expected = stage("lights"), got = stage("line");
+    ASSERT_EQ(clamped.Size(), f.color.Size());
+    for (int c = 0; c < 3; ++c)
+        for (size_t p = 0; p < clamped.PixelCount(); ++p) clamped.Plane(c)[p] *= alpha.data[p];
+    int cpuGave =
+        ref::NforSpreadLine(f.color, clamped, f.albedo, &alpha, 8, 4, 3, 4, &expected);
+    EXPECT_EQ(int(r.lineGivers), cpuGave);
+    EXPECT_TRUE(ImagesMatch(expected, got, {}, {4 * kU, 0, 1e-12}));
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "host/api/front_end.h"
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
+#include "host/methods/nfor_line.h"
 #include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
 #include "pivot/pivot.h"
@@ -740,6 +741,58 @@ TEST_F(GpuTest, TiledRunNforCoarseGateDecidesOnceForTheFrame) {
     bool wholeFrame = false;
     EXPECT_TRUE(CoarsePassRan(forTiles->Run(Ctx(), window, RunOptions{}), &wholeFrame));
     EXPECT_TRUE(wholeFrame) << "the plan says the level is the frame's";
+}
+
+// nfor on a dark plain frame with a light (albedo 40) on a tile seam under a highlight line
+// of hits (every third pixel 10, the gaps 0.05) that crosses the seam: the line spread, which
+// reads its reach around each pixel, gives in tiles the untiled result bit for bit.
+TEST_F(GpuTest, TiledRunNforLineSpreadAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 192, height = 48, tile = 64;
+    Frame frame = RenderedFrame(width, height, render::kLayersAll);
+    frame.layers.erase("variance");
+    Image &color = frame.layers.at("color");
+    Image &albedo = frame.layers.at("albedo");
+    for (float &v : color.data) v *= 0.02f;
+    const int lx = 64, ly = 30;
+    for (int x = lx - 30; x < lx + 30; ++x) {
+        const int y = ly - 4 + (x - lx) / 6;
+        for (int c = 0; c < 3; ++c) color.At(c, y, x) = x % 3 == 0 ? 10.f : 0.05f;
+    }
+    for (int c = 0; c < 3; ++c) color.At(c, ly, lx) = 0.5f, albedo.At(c, ly, lx) = 40.f;
+    Params params = {{"radius", 3}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    EXPECT_EQ(tiled.plan[0].find("1 tile(s)"), std::string::npos) << tiled.plan[0];
+    bool spread = false;
+    for (const std::string &line : whole.plan)
+        spread = spread || (line.find("line spread: ") != std::string::npos &&
+                            line.find("line spread: 0 ") == std::string::npos);
+    EXPECT_TRUE(spread) << "some pixels of the line gave";
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, line spread");
+}
+
+// nfor's halo grows by the line spread's reach on a frame with a light (an albedo channel
+// above the gate, beside a NaN one too), and says so; not on a frame without one.
+TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
+    int reach[3] = {};
+    for (int lit : {0, 1, 2}) {
+        SCOPED_TRACE(fmt::format("light {}", lit));
+        Frame frame = RenderedFrame(64, 32, render::kLayersAll);
+        frame.layers.erase("variance");
+        Image &albedo = frame.layers.at("albedo");
+        if (lit > 0)
+            for (int c = 0; c < 3; ++c) albedo.At(c, 16, 32) = 40.f;
+        if (lit == 2) albedo.At(0, 16, 32) = std::nanf("");
+        std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
+        api::Inputs inputs(frame, false, "nfor");
+        api::TileNeeds needs = nfor->Tiling(Ctx(), inputs);
+        reach[lit] = needs.reach;
+        const std::string text = fmt::format("{} for the line spread", kNforLineReach);
+        EXPECT_EQ(needs.reachText.find(text) != std::string::npos, lit > 0) << needs.reachText;
+    }
+    EXPECT_EQ(reach[1], reach[0] + kNforLineReach);
+    EXPECT_EQ(reach[2], reach[1]);
 }
 
 // nfor on a plain frame over a transparent background (no variance layer, an alpha with
