@@ -65,12 +65,16 @@ double Bilinear(const Plane &a, const Window &win, double px, double py) {
            at(x0, y0 + 1) * (1 - fx) * fy + at(x0 + 1, y0 + 1) * fx * fy;
 }
 
-// Rec. 709 luminance of a pixel (the first channel where there are fewer than 3), 0 where
-// it is not finite.
+// Rec. 709 luminance of a pixel (the first channel where there are fewer than 3).
+double RawLuminance(const Image &image, size_t i) {
+    return image.channels >= 3 ? 0.2126 * image.Plane(0)[i] + 0.7152 * image.Plane(1)[i] +
+                                     0.0722 * image.Plane(2)[i]
+                               : double(image.Plane(0)[i]);
+}
+
+// The same, 0 where it is not finite.
 double Luminance(const Image &image, size_t i) {
-    double l = image.channels >= 3 ? 0.2126 * image.Plane(0)[i] + 0.7152 * image.Plane(1)[i] +
-                                         0.0722 * image.Plane(2)[i]
-                                   : double(image.Plane(0)[i]);
+    const double l = RawLuminance(image, i);
     return std::isfinite(l) ? l : 0.0;
 }
 
@@ -238,10 +242,7 @@ double AddCapped(const std::vector<double> &add, const Plane &inputLum, const Li
             for (int c = 0; c < ch; ++c) given[size_t(c)] = add[size_t(c) * n + i];
             const double received = Luminance(given);
             if (!(received > 0)) continue;
-            double before = ch >= 3
-                                ? 0.2126 * output->Plane(0)[p] + 0.7152 * output->Plane(1)[p] +
-                                      0.0722 * output->Plane(2)[p]
-                                : double(output->Plane(0)[p]);
+            const double before = RawLuminance(*output, p);
             if (!std::isfinite(before)) continue;
             const double room = std::max(LineMean(inputLum, f, win, x, y) - before, 0.0);
             const double kept = std::min(1.0, room / std::max(received, 1e-12));
