@@ -945,7 +945,8 @@ TEST(VkBuildThreads, PoolRunsEveryTaskAndPassesErrorsOn) {
 // The pipeline cache file (ContextOptions::pipelineCache): written when pipelines were
 // built, read back by the next context, and a file from another device or a damaged one
 // ignored, never an error. Whether the driver puts pipelines in it is its own affair
-// (lavapipe writes the header only; README).
+// (lavapipe writes the header only; README). Each build is waited for (Kernel::Pipeline):
+// a kernel never bound is dropped unbuilt with its context, and nothing built writes nothing.
 TEST(VkPipelineCache, WrittenReadBackAndForeignFilesIgnored) {
     const std::vector<uint32_t> *code = AnalyzeSpirv();
     ASSERT_NE(code, nullptr) << "analyze.spv not found next to the test binary's build tree";
@@ -977,7 +978,7 @@ TEST(VkPipelineCache, WrittenReadBackAndForeignFilesIgnored) {
     {
         vk::Context context(vk::ContextOptions{.pipelineCache = path});
         EXPECT_EQ(context.Pipelines().loadedBytes, file.size());
-        context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+        context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar)).Pipeline();
     }
     // Another device's cache (its device ID changed): read as none; left as it was by a
     // context that built nothing, replaced by this device's after a build.
@@ -988,9 +989,11 @@ TEST(VkPipelineCache, WrittenReadBackAndForeignFilesIgnored) {
         {
             vk::Context context(vk::ContextOptions{.pipelineCache = path});
             EXPECT_EQ(context.Pipelines().loadedBytes, 0u);
-            if (build) context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+            if (build) context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar)).Pipeline();
         }
-        if (!build) EXPECT_EQ(bytes(), foreign);
+        if (!build) {
+            EXPECT_EQ(bytes(), foreign);
+        }
     }
     EXPECT_EQ(bytes().substr(0, 16 + VK_UUID_SIZE), file.substr(0, 16 + VK_UUID_SIZE));
     // A file that is no pipeline cache (a frame given by mistake) is read as none and never
@@ -999,7 +1002,7 @@ TEST(VkPipelineCache, WrittenReadBackAndForeignFilesIgnored) {
     {
         vk::Context context(vk::ContextOptions{.pipelineCache = path});
         EXPECT_EQ(context.Pipelines().loadedBytes, 0u);
-        context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar));
+        context.GetKernel(AnalyzeDesc(*code, WaveletBasis::Haar)).Pipeline();
     }
     EXPECT_EQ(bytes(), "not a pipeline cache");
     int files = 0;
