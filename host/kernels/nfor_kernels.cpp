@@ -7,6 +7,7 @@
 #include "host/error.h"
 #include "host/vk/context.h"
 #include "host/vk/kernel.h"
+#include "nfor/box_columns_spv.h"
 #include "nfor/box_spv.h"
 #include "nfor/clamp.h"
 #include "nfor/clamp_spv.h"
@@ -191,7 +192,17 @@ const vk::Kernel &IlluminationKernel(vk::Context &context, int channels) {
                               0});
 }
 
-const vk::Kernel &BoxKernel(vk::Context &context) {
+// The row pass (box.comp) or the column pass (box_columns.comp); both read vec4 groups.
+const vk::Kernel &BoxKernel(vk::Context &context, bool vertical) {
+    if (vertical)
+        return context.GetKernel({"nfor_box_columns",
+                                  k_nfor_box_columns_spv,
+                                  sizeof(k_nfor_box_columns_spv),
+                                  NFOR_BOX_BINDINGS,
+                                  sizeof(shader::NforDistancePush),
+                                  {},
+                                  1u << NFOR_BOX_IN,
+                                  1u << NFOR_BOX_IN});
     return context.GetKernel({"nfor_box",
                               k_nfor_box_spv,
                               sizeof(k_nfor_box_spv),
@@ -199,7 +210,7 @@ const vk::Kernel &BoxKernel(vk::Context &context) {
                               sizeof(shader::NforDistancePush),
                               {},
                               1u << NFOR_BOX_IN,
-                              0});
+                              1u << NFOR_BOX_IN});
 }
 
 void CheckOffsets(const char *what, int radius, int patch) {
@@ -261,13 +272,15 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
     CheckOffsets("nfor box", radius, patch);
     shader::NforDistancePush push{in.width,         in.height, radius, patch,
                                   vertical ? 1 : 0, 0,         0,      0};
-    // One invocation per block of NFOR_BOX_BLOCK outputs along the pass's axis.
+    // One invocation per block of NFOR_BOX_BLOCK outputs along the pass's axis and group of
+    // NFOR_TERM_OFFSETS planes.
     int blocksX = vertical ? in.width : (in.width + NFOR_BOX_BLOCK - 1) / NFOR_BOX_BLOCK;
     int blocksY = vertical ? (in.height + NFOR_BOX_BLOCK - 1) / NFOR_BOX_BLOCK : in.height;
-    recorder.Dispatch(BoxKernel(context), "nfor.box",
+    recorder.Dispatch(BoxKernel(context, vertical), "nfor.box",
                       {{NFOR_BOX_IN, &in.buffer, vk::Access::Read},
                        {NFOR_BOX_OUT, &out.buffer, vk::Access::Write}},
-                      push, Groups(blocksX), uint32_t(blocksY), uint32_t(in.channels));
+                      push, Groups(blocksX), uint32_t(blocksY),
+                      uint32_t(in.channels / NFOR_TERM_OFFSETS));
 }
 
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,

@@ -50,13 +50,16 @@ void RecordNforIllumination(vk::Context &context, vk::Recorder &recorder,
 
 // shaders/nfor/term.comp: on the illumination of a colour of `channels`, per pixel and
 // stored offset of the window of half-size `radius`, the channels' mean distance term
-// (nfor/distance.h) into `terms` (NforOffsetCount(radius) planes).
+// (nfor/distance.h) into `terms` (NforOffsetCount(radius) planes' worth, in groups of
+// NFOR_TERM_OFFSETS offsets: offset 4g + k of pixel p at float (g * w * h + p) * 4 + k).
 void RecordNforTerm(vk::Context &context, vk::Recorder &recorder,
                     const vk::GpuImage &illumination, int channels, int radius, float alpha,
                     bool minVariance, vk::GpuImage &terms);
 
-// shaders/nfor/box.comp: one pass of the patch sum of every plane of `in`, along rows, or
-// along columns and divided by the patch positions with both ends inside (`vertical`).
+// shaders/nfor/box.comp: one pass of the patch sum of every offset of `in` (in groups, as
+// RecordNforTerm writes them), along rows into `out` in groups; or (`vertical`,
+// box_columns.comp) along columns and divided by the patch positions with both ends inside,
+// into `out` one plane per offset.
 void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &in,
                    int radius, int patch, bool vertical, vk::GpuImage &out);
 

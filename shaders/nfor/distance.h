@@ -10,7 +10,11 @@
 // pixels divide out); `box` sums those over the patch positions, along rows (vertical 0) and
 // then along columns (vertical 1), the second dividing by the number of patch positions with
 // both ends inside (0 where none). `term`: one invocation per pixel and NFOR_TERM_OFFSETS
-// stored offsets; `box`: one per NFOR_BOX_BLOCK outputs of a stored offset.
+// stored offsets; `box` (rows) and `box_columns`: one per NFOR_BOX_BLOCK outputs of a group
+// of NFOR_TERM_OFFSETS stored offsets.
+// The terms and the row sums are stored in groups: stored offsets 4g..4g+3 of pixel p as the
+// vec4 g * w * h + p (one store a group: lavapipe stores lane by lane, a vec4 as one); the
+// column pass writes one plane per stored offset, as regress and gather read them.
 #ifndef MCD_SHADERS_NFOR_DISTANCE_H
 #define MCD_SHADERS_NFOR_DISTANCE_H
 
@@ -25,15 +29,15 @@
 #define NFOR_ILLUMINATION_BINDINGS 4
 #define NFOR_ILLUMINATION_FLOATS 8
 
-// `term` computes NFOR_TERM_OFFSETS consecutive stored offsets an invocation (the count of
-// stored offsets, 2R(R + 1), is a multiple of 4).
+// `term` computes NFOR_TERM_OFFSETS consecutive stored offsets an invocation, a group (the
+// count of stored offsets, 2R(R + 1), is a multiple of 4).
 #define NFOR_TERM_OFFSETS 4
 #define NFOR_TERM_ILLUMINATION 0
 #define NFOR_TERM_OUT 1
 #define NFOR_TERM_BINDINGS 2
 
-// `box` sums NFOR_BOX_BLOCK outputs an invocation, along its pass's axis, from the values
-// their patches read, loaded once.
+// `box` sums NFOR_BOX_BLOCK outputs of a group an invocation, along its pass's axis, from
+// the groups their patches read, fetched once.
 #define NFOR_BOX_BLOCK 4
 #define NFOR_BOX_IN 0
 #define NFOR_BOX_OUT 1

@@ -7,21 +7,21 @@
 layout(local_size_x = NFOR_LOCAL_SIZE) in;
 layout(constant_id = NFOR_SPEC_CHANNELS) const int channels = 3;
 layout(binding = NFOR_TERM_ILLUMINATION) uniform samplerBuffer illumination;
-layout(std430, binding = NFOR_TERM_OUT) writeonly buffer Out { float terms[]; };
+layout(std430, binding = NFOR_TERM_OUT) writeonly buffer Out { vec4 terms[]; };
 
 #include "nfor/offsets.glsl"
 
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
-    int first = int(gl_WorkGroupID.z) * NFOR_TERM_OFFSETS;
+    int group = int(gl_WorkGroupID.z), first = group * NFOR_TERM_OFFSETS;
     int w = push.width, h = push.height;
     if (x >= w) return;
     // p's values are fetched once for its NFOR_TERM_OFFSETS offsets.
     int p = 2 * (y * w + x);
     vec4 valueP = texelFetch(illumination, p), noiseP = texelFetch(illumination, p + 1);
+    vec4 groupTerms;
     [[unroll]] for (int k = 0; k < NFOR_TERM_OFFSETS; ++k) {
-        int j = first + k;
-        ivec2 o = storedOffset(push.radius, j);
+        ivec2 o = storedOffset(push.radius, first + k);
         int qx = x + o.x, qy = y + o.y;
         float term = 0.0;
         if (qx >= 0 && qy >= 0 && qx < w && qy < h) {
@@ -37,6 +37,8 @@ void main() {
             }
             term /= float(channels);
         }
-        terms[(j * h + y) * w + x] = term;
+        groupTerms[k] = term;
     }
+    // The group's terms in one store (lavapipe stores lane by lane, a vec4 as one).
+    terms[group * w * h + y * w + x] = groupTerms;
 }

@@ -38,6 +38,7 @@
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
 #include "nfor/clamp.h"
+#include "nfor/distance.h"
 #include "nfor/nfor.h"
 #include "tools/render/renderer.h"
 
@@ -716,6 +717,29 @@ TEST_P(NforIlluminationKernel, MatchesTheDefinitionAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, NforIlluminationKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
+// The distance kernels' groups (nfor/distance.h): plane 4g + k of pixel p at float
+// (g * w * h + p) * 4 + k, and back.
+Image GroupsOfPlanes(const Image &planes) {
+    Image groups = planes;
+    size_t n = planes.PixelCount();
+    for (int j = 0; j < planes.channels; ++j)
+        for (size_t i = 0; i < n; ++i)
+            groups.data[((j / NFOR_TERM_OFFSETS) * n + i) * NFOR_TERM_OFFSETS +
+                        j % NFOR_TERM_OFFSETS] = planes.Plane(j)[i];
+    return groups;
+}
+
+Image PlanesOfGroups(const Image &groups) {
+    Image planes = groups;
+    size_t n = groups.PixelCount();
+    for (int j = 0; j < groups.channels; ++j)
+        for (size_t i = 0; i < n; ++i)
+            planes.Plane(j)[i] =
+                groups.data[((j / NFOR_TERM_OFFSETS) * n + i) * NFOR_TERM_OFFSETS +
+                            j % NFOR_TERM_OFFSETS];
+    return planes;
+}
+
 // Term (divided: also the normaliser 2 min(v_p, v_q)): with the albedo's divisions, cp and cq
 // carry a rounding each, which moves d^2 by at most 2u (|cp| + |cq|)^2; the variances'
 // divisions, the sums, the square and the division add about 6 roundings more: 12u of ((|cp| +
@@ -739,7 +763,7 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
             vk::Recorder recorder(Ctx());
             RecordNforTerm(Ctx(), recorder, illumination, 3, radius, alpha, divided, out);
             recorder.Submit();
-            return out.Download();
+            return PlanesOfGroups(out.Download());
         };
         Image actual = run();
         Image magnitude(w, h, expected.channels);
@@ -781,11 +805,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforTermKernel, testing::ValuesIn(KernelCases())
 
 // Box: a row pass sums at most 2f + 1 values (2f u of the sum of their |values|); a column
 // pass sums as many and divides once ((2f + 2) u of the mean |value|): (2f + 2) u of the
-// pass applied to |input|, computed here in double.
-class NforBoxKernel : public GpuTestWithParam<KernelCase> {};
-
-TEST_P(NforBoxKernel, MatchesReferenceAndRepeats) {
-    const auto [w, h, kind] = GetParam();
+// pass applied to |input|, computed here in double. Both passes read the offsets in groups
+// (nfor/distance.h); the row pass writes groups, the column pass planes.
+void CheckBoxPass(int w, int h, InputKind kind, bool vertical) {
     std::string name = fmt::format("box{}x{}{}", w, h, InputKindName(kind));
     const int radius = 2;
     Image input = MakeInput(kind, w, h, NforOffsetCount(radius), SeedFromName(name));
@@ -793,23 +815,18 @@ TEST_P(NforBoxKernel, MatchesReferenceAndRepeats) {
     for (float &v : absolute.data) v = std::fabs(v);
     // Patches of every half-size the kernel's blocks hold (up to NFOR_MAX_PATCH), on sizes
     // that are no multiple of the block.
-    for (auto [patch, vertical] : {std::pair{2, false},
-                                   {2, true},
-                                   {0, false},
-                                   {0, true},
-                                   {1, true},
-                                   {3, false},
-                                   {3, true}}) {
+    for (int patch : {2, 0, 1, 3}) {
         SCOPED_TRACE(fmt::format("patch {}", patch));
         Image expected = ref::NforBoxPass(input, radius, patch, vertical);
         Image magnitude = ref::NforBoxPass(absolute, radius, patch, vertical);
         auto run = [&] {
-            vk::GpuImage in = Upload(Ctx(), input, "terms");
-            vk::GpuImage out(Ctx(), w, h, input.channels, "box");
-            vk::Recorder recorder(Ctx());
-            RecordNforBox(Ctx(), recorder, in, radius, patch, vertical, out);
+            vk::GpuImage in = Upload(TestContext(), GroupsOfPlanes(input), "terms");
+            vk::GpuImage out(TestContext(), w, h, input.channels, "box");
+            vk::Recorder recorder(TestContext());
+            RecordNforBox(TestContext(), recorder, in, radius, patch, vertical, out);
             recorder.Submit();
-            return out.Download();
+            Image result = out.Download();
+            return vertical ? result : PlanesOfGroups(result);
         };
         Image actual = run();
         EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {(2 * patch + 3) * kU, 0, 1e-10}))
@@ -818,7 +835,24 @@ TEST_P(NforBoxKernel, MatchesReferenceAndRepeats) {
     }
 }
 
+class NforBoxKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforBoxKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    CheckBoxPass(w, h, kind, false);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cases, NforBoxKernel, testing::ValuesIn(KernelCases()),
+                         KernelCaseName);
+
+class NforBoxColumnsKernel : public GpuTestWithParam<KernelCase> {};
+
+TEST_P(NforBoxColumnsKernel, MatchesReferenceAndRepeats) {
+    const auto [w, h, kind] = GetParam();
+    CheckBoxPass(w, h, kind, true);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, NforBoxColumnsKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
 // Distance: a term is about 6 roundings of (d^2 + alpha s) / (s + eps) per channel, with 3

@@ -85,19 +85,24 @@ double WalkBox(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     int w = p.width, h = p.height, f = p.patchRadius;
     double walked = 0;
-    // An invocation sums NFOR_BOX_BLOCK outputs along its pass's axis.
-    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int gx, int gy, int j) {
+    // An invocation sums NFOR_BOX_BLOCK outputs of a group of NFOR_TERM_OFFSETS offsets
+    // along its pass's axis: each add a vec4's, one per offset.
+    ForEachInvocation(d, NFOR_LOCAL_SIZE, [&](int gx, int gy, int group) {
         for (int k = 0; k < NFOR_BOX_BLOCK; ++k) {
             int x = p.vertical == 0 ? gx * NFOR_BOX_BLOCK + k : gx,
                 y = p.vertical == 0 ? gy : gy * NFOR_BOX_BLOCK + k;
             if (x >= w || y >= h) return;
             if (p.vertical == 0) {
-                for (int t = std::max(-f, -x); t <= std::min(f, w - 1 - x); ++t) walked += 1;
+                for (int t = std::max(-f, -x); t <= std::min(f, w - 1 - x); ++t)
+                    walked += NFOR_TERM_OFFSETS;
                 continue;
             }
-            for (int t = std::max(-f, -y); t <= std::min(f, h - 1 - y); ++t) walked += 1;
-            auto [ox, oy] = Offset(p.radius, j);
-            if (Along(x, ox, f, w) * Along(y, oy, f, h) > 0) walked += 1;
+            for (int t = std::max(-f, -y); t <= std::min(f, h - 1 - y); ++t)
+                walked += NFOR_TERM_OFFSETS;
+            for (int c = 0; c < NFOR_TERM_OFFSETS; ++c) {
+                auto [ox, oy] = Offset(p.radius, group * NFOR_TERM_OFFSETS + c);
+                if (Along(x, ox, f, w) * Along(y, oy, f, h) > 0) walked += 1;
+            }
         }
     });
     return walked;
@@ -283,6 +288,7 @@ TEST(KernelOps, NforFormulasMatchTheirLoops) {
     ExpectFormulaMatchesWalk(run, "nfor_prefilter", WalkPrefilter);
     ExpectFormulaMatchesWalk(run, "nfor_term", WalkTerm);
     ExpectFormulaMatchesWalk(run, "nfor_box", WalkBox);
+    ExpectFormulaMatchesWalk(run, "nfor_box_columns", WalkBox);
     ExpectFormulaMatchesWalk(run, "nfor_regress", WalkRegress);
     ExpectFormulaMatchesWalk(run, "nfor_gather", WalkGather);
     // The prefilter's noise estimate of the features: no divisor.
@@ -293,6 +299,7 @@ TEST(KernelOps, NforFormulasMatchTheirLoops) {
     ExpectFormulaMatchesWalk(plain, "nfor_prefilter", WalkPrefilter);
     ExpectFormulaMatchesWalk(plain, "nfor_term", WalkTerm);
     ExpectFormulaMatchesWalk(plain, "nfor_box", WalkBox);
+    ExpectFormulaMatchesWalk(plain, "nfor_box_columns", WalkBox);
     ExpectFormulaMatchesWalk(plain, "nfor_regress", WalkRegress);
     ExpectFormulaMatchesWalk(plain, "nfor_gather", WalkGather);
     // A frame without a variance layer has its colour's noise estimated, divided by the

@@ -66,12 +66,13 @@ double PositionsWithPatch(int n, int o, int f) {
     return count;
 }
 
-// box.comp: an add per patch position inside along the pass's axis; the columns pass
-// (vertical 1) divides where the patch has a position with both ends inside.
+// box.comp (rows) and box_columns.comp, per stored offset of the invocations' groups: an add
+// per patch position inside along the pass's axis; the columns pass (vertical 1) divides
+// where the patch has a position with both ends inside.
 double BoxFlops(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     double flops = 0;
-    for (uint32_t j = 0; j < d.timing.groups[2]; ++j) {
+    for (uint32_t j = 0; j < d.timing.groups[2] * NFOR_TERM_OFFSETS; ++j) {
         if (p.vertical == 0) {
             flops += p.height * WindowPairs(p.width, p.patchRadius);
             continue;
@@ -224,7 +225,8 @@ const FormulaMap &NforFormulas() {
           "(+2), per direction with 2 pairs 1, whichever costs more; every divisor above the "
           "floor",
           NoiseFlops, OpsBound::AtMost}},
-        {"nfor_box", {"an add per patch position inside; the columns pass a divide", BoxFlops}},
+        {"nfor_box", {"an add per patch position inside", BoxFlops}},
+        {"nfor_box_columns", {"an add per patch position inside and a divide", BoxFlops}},
         {"nfor_regress",
          {"per window step 3 + 4F + C(C+2) + 2C channels (+4 off the centre), per pixel the "
           "ridge, Cholesky and solves (C = F + 3); a second candidate of the pass its own "
