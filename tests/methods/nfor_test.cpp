@@ -3118,11 +3118,9 @@ TEST_F(NforMethod, PartlyCoveredLineSpreadsTheLightAsWritten) {
 // The line frame painted into a dark room's colour and albedo as written, its drawn pixels
 // partly covered (alpha a; the light at a 0.75 and 0.9 covered), the rest covered: every
 // stage agrees with the reference's. The line's gap pixels beside a hit weigh next to
-// nothing but themselves: the reference's fit (in double) gives their straight colour back
-// to the bit where the kernels' (in float) land 2 ulps off. The local means once counted a
-// value equal to its input as kept, and so took the hit as a highlight on one side only
-// (clamp.light nmse 0.72 at a 0.75); nfor now hands them the values its fits leave (the
-// emitters), on both sides alike.
+// nothing but themselves, so a fit gives their colour back only to within rounding, exact
+// on one side and not on the other; the local means must take kept values from nfor's mask
+// (the emitters), not from an output equal to its input, for the stages to agree.
 TEST_F(NforMethod, PartlyCoveredLineStagesMatchTheReference) {
     NforOptions o;
     o.radius = 3;
