@@ -221,9 +221,9 @@ double TentSquaredWeights(int r) {
 
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
                                    const Image *variance, double rebalance, bool pixelNoise,
-                                   std::vector<bool> *given) {
+                                   std::vector<bool> *left) {
     if (!input.SameShape(*output) || r <= 0 || std::isnan(rebalance) ||
-        (given && given->size() != input.data.size()))
+        (left && left->size() != input.data.size()))
         throw Error(
             "RestoreLocalMeans: the output must have the input's shape, r > 0, the "
             "rebalance's weight a number, a kept mask one flag per value",
@@ -233,7 +233,7 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
     // that says which it left is taken at its word.
     std::vector<bool> kept(input.data.size());
     for (size_t i = 0; i < kept.size(); ++i)
-        kept[i] = given ? bool((*given)[i]) : output->data[i] == input.data[i];
+        kept[i] = left ? bool((*left)[i]) : output->data[i] == input.data[i];
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
@@ -264,7 +264,7 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
         range.hi = any ? std::max(range.hi, factors[i]) : factors[i];
         any = true;
     }
-    if (given) *given = std::move(kept);
+    if (left) *left = std::move(kept);
     return range;
 }
 
@@ -351,9 +351,9 @@ Image ClippedTentFilter(const Image &image, int s, bool squared) {
 }
 
 LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeight,
-                                    Image *output, const std::vector<bool> *given) {
+                                    Image *output, const std::vector<bool> *left) {
     if (!input.SameShape(*output) || s <= 0 || !(noiseWeight >= 0) ||
-        (given && given->size() != input.data.size()))
+        (left && left->size() != input.data.size()))
         throw Error(
             "RestoreLocalMeanAt: the output must have the input's shape, s > 0, the noise's "
             "weight >= 0, a kept mask one flag per value",
@@ -363,7 +363,7 @@ LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeigh
         moved = *output, squared(input.width, input.height, input.channels);
     std::vector<bool> kept(input.data.size());
     for (size_t i = 0; i < kept.size(); ++i) {
-        kept[i] = given ? bool((*given)[i]) : output->data[i] == input.data[i];
+        kept[i] = left ? bool((*left)[i]) : output->data[i] == input.data[i];
         float v = input.data[i];
         clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
         if (kept[i]) moved.data[i] = 0;

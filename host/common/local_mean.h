@@ -76,13 +76,13 @@ struct LocalMeanFactors {
 // size) tells highlights from fireflies in place of the neighbours.
 // `rebalance` >= 0: the last coarse pass, its noise weighted so; < 0: none. `pixelNoise`:
 // q from each value's own squared difference (TentSquaredMean), not the window's mean one.
-// `kept` (one flag per value; may be null): the values the method left, kept in place of
+// `left` (one flag per value; may be null): the values the method left, kept in place of
 // those equal to the input's (a fit that gives a value back to within rounding, exactly on
 // one side of a float and double pair and not on the other, is then restored on both); on
 // return it holds them and the highlights taken back.
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
                                    const Image *variance = nullptr, double rebalance = -1,
-                                   bool pixelNoise = false, std::vector<bool> *kept = nullptr);
+                                   bool pixelNoise = false, std::vector<bool> *left = nullptr);
 
 // One scale of the restore alone, without the highlights, for a second input read after the
 // restore: over the tent of radius 2s clipped to the image (weights 2s + 1 - |offset| per
@@ -92,9 +92,9 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
 // those gains over the same tent (among the values that have one: m_in, m_out > 0, finite),
 // so that a bright value, whose noise shuts the gain in every window that holds it, leaves
 // no step at the edge of their square. The values equal to the input's are kept and count
-// in no mean; with `kept` (one flag per value), those it marks instead.
+// in no mean; with `left` (one flag per value), those it marks instead.
 LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeight,
-                                    Image *output, const std::vector<bool> *kept = nullptr);
+                                    Image *output, const std::vector<bool> *left = nullptr);
 // Each plane of `image` over the tent of radius 2s clipped to the image (RestoreLocalMeanAt's
 // means): along rows, then down columns, each value its window's weights (with `squared`,
 // their squares) times the values, summed in double in order of rising offset and rounded

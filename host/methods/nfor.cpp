@@ -758,10 +758,10 @@ std::vector<bool> FitsLeft(const Image &mask, int channels) {
 }
 
 // The fits' output (result.image) with its specks clamped on a frame without a variance
-// layer, then the clamped colour's local means restored; `kept` receives the values the
+// layer, then the clamped colour's local means restored; `meansLeft` receives the values the
 // restore left (FitsLeft's and the highlights it gave their input back).
 void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, const Image &mask,
-                  const Image &clamped, NforResult &result, std::vector<bool> *kept) {
+                  const Image &clamped, NforResult &result, std::vector<bool> *meansLeft) {
     run.AddStage("fit", result.image);
     if (o.speckRelative >= 0 && PlainPasses(in, o, result)) {
         result.specks =
@@ -773,9 +773,9 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
             "means give the pixels around them what of their light they hold for certain",
             result.specks, o.speckRelative, o.speckRank, o.speckFloor));
     }
-    *kept = FitsLeft(mask, clamped.channels);
+    *meansLeft = FitsLeft(mask, clamped.channels);
     LocalMeanFactors f =
-        RestoreLocalMeans(clamped, o.meanRadius, &result.image, nullptr, -1, false, kept);
+        RestoreLocalMeans(clamped, o.meanRadius, &result.image, nullptr, -1, false, meansLeft);
     run.Plan(
         fmt::format("local mean: the clamped colour's means over tents of radius {}, "
                     "then {} restored (factors {:.3g} to {:.3g})",
@@ -820,16 +820,16 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
 // pixels its samples hit, and where many such are near (a wire mesh's glints, a ring's
 // highlight) that light is the frame's; each value's own difference as its noise leaves a
 // lone firefly's light out.
-// `kept`: the values the local means' restore left as the clamped colour has them; those
+// `meansLeft`: the values the local means' restore left as the clamped colour has them; those
 // whose source value is that too stay here.
 void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &o,
                        const Image &mask, const Image &clamped, const Image *alpha,
-                       const std::vector<bool> &kept, NforResult &result) {
+                       const std::vector<bool> &meansLeft, NforResult &result) {
     Image source = ClampLightSource(*in.color, clamped, mask, alpha, o.clampLightReach);
     // Both are inputs: the colour where the clamp left it, or the clamped colour copied.
-    std::vector<bool> left(kept.size());
+    std::vector<bool> left(meansLeft.size());
     for (size_t i = 0; i < left.size(); ++i)
-        left[i] = kept[i] && source.data[i] == clamped.data[i];
+        left[i] = meansLeft[i] && source.data[i] == clamped.data[i];
     LocalMeanFactors f =
         RestoreLocalMeanAt(source, o.clampLightRadius, kClampLightNoise, &result.image, &left);
     if (o.clampLightFine > 0) {
@@ -1054,12 +1054,13 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
         result.clamped += clamped.data[i] != in.color->data[i];
     const CoarseGate gate = DecideCoarse(context, gpu, in, o);
     if (o.meanRadius > 0) {
-        std::vector<bool> kept;
-        RestoreMeans(run, in, o, mask, clamped, result, &kept);
+        std::vector<bool> meansLeft;
+        RestoreMeans(run, in, o, mask, clamped, result, &meansLeft);
         // Under --premultiplied no alpha: the run is one without it.
         if (o.clampLightRadius > 0 && PlainPasses(in, o, result) && !gate.runs)
             RestoreClampLight(run, in, o, mask, clamped,
-                              straight.partlyCovered > 0 ? given.alpha : nullptr, kept, result);
+                              straight.partlyCovered > 0 ? given.alpha : nullptr, meansLeft,
+                              result);
     }
     const bool plain = PlainPasses(in, o, result);
     const int keptPass = NforKeptPassRadius(o, plain, in.albedo);
