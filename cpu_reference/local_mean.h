@@ -12,12 +12,11 @@ namespace mcd::ref {
 // Values equal to the input's stay and count in no mean. Highlights: pixels whose input
 // (channels summed, all finite) exceeds 16 x min(output, the output's tent mean of radius
 // 2r) with at least 2 of 8 neighbours so too take the input back (a value kept already
-// keeps its own) and stay; then up to 4 rings
-// more, each read again against the tent mean without the values kept so far, of pixels so
-// over and beside one already taken. Then at s = 4r
-// and s = r in turn: over the box of radius s clipped to the image taken twice (a tent),
-// m_in (of max(input, 0), NaN/Inf as 0), m_out and m_sq (of (that input - output)^2);
-// where m_in, m_out > 0 and all finite, d = m_in - m_out is shrunk to
+// keeps its own) and stay; then up to 4 rings more, each read again against the tent mean
+// without the values kept so far, of pixels so over and beside one already taken. Then at
+// s = 4r and s = r in turn: over the box of radius s clipped to the image taken twice (a
+// tent), m_in (of max(input, 0), NaN/Inf as 0), m_out and m_sq (of (that input -
+// output)^2); where m_in, m_out > 0 and all finite, d = m_in - m_out is shrunk to
 // d max(0, 1 - q / d^2), q = m_sq x the unclipped tent's sum of squared weights, and the
 // output multiplied by (m_out + d) / m_out.
 // With `variance` (of the pixel mean, 1 or the input's channels; else ignored) a highlight
