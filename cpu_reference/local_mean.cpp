@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "host/error.h"
+
 namespace mcd::ref {
 namespace {
 
@@ -166,6 +168,9 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, double nois
 
 void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *variance,
                        double rebalance, bool pixelNoise, std::vector<bool> *left) {
+    if (left && left->size() != input.data.size())
+        throw Error("ref::RestoreLocalMeans: a kept mask one flag per value",
+                    ErrorKind::Internal);
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
@@ -182,6 +187,9 @@ void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *va
 
 void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *output,
                         const std::vector<bool> *left) {
+    if (left && left->size() != input.data.size())
+        throw Error("ref::RestoreLocalMeanAt: a kept mask one flag per value",
+                    ErrorKind::Internal);
     const int w = input.width, h = input.height, reach = 2 * s;
     // The tent's sum within the image at each place of an axis of n values.
     auto sums = [&](int n) {

@@ -244,7 +244,9 @@ TEST_P(LocalMeanMatches, KeptMaskMatchesReference) {
                 ++added;
             }
         }
-        if (large) EXPECT_GT(added, 0u) << pixelNoise;
+        if (large) {
+            EXPECT_GT(added, 0u) << pixelNoise;
+        }
         const size_t restored = ExpectKeptStay(input, output, kept, got);
         if (large) EXPECT_GT(restored, 0u) << pixelNoise;
         Image again = output;
@@ -261,11 +263,14 @@ TEST_P(LocalMeanMatches, KeptMaskMatchesReference) {
         const size_t restored = ExpectKeptStay(input, output, kept, got);
         if (large) EXPECT_GT(restored, 0u) << noiseWeight;
     }
-    // A mask of another size is refused.
+    // A mask of another size is refused, by both.
     std::vector<bool> wrong(kept.size() + 1, false);
     Image got = output;
     EXPECT_THROW(RestoreLocalMeanAt(input, GetParam().r, 2, &got, &wrong), Error);
     EXPECT_THROW(RestoreLocalMeans(input, GetParam().r, &got, nullptr, -1, false, &wrong),
+                 Error);
+    EXPECT_THROW(ref::RestoreLocalMeanAt(input, GetParam().r, 2, &got, &wrong), Error);
+    EXPECT_THROW(ref::RestoreLocalMeans(input, GetParam().r, &got, nullptr, -1, false, &wrong),
                  Error);
 }
 
