@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "host/error.h"
+
 namespace mcd::ref {
 namespace {
 
@@ -83,8 +85,9 @@ bool HighlightRing(const Image &input, const Image *variance, int r, bool first,
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
                 if (take[size_t(y) * w + x]) {
-                    output->At(c, y, x) = input.At(c, y, x);
-                    (*kept)[(size_t(c) * h + y) * w + x] = true;
+                    const size_t i = (size_t(c) * h + y) * w + x;
+                    if (!(*kept)[i]) output->At(c, y, x) = input.At(c, y, x);
+                    (*kept)[i] = true;
                     (*taken)[size_t(y) * w + x] = true;
                 }
     return any;
@@ -164,19 +167,29 @@ void Scale(const Image &input, const std::vector<bool> &kept, int s, double nois
 }  // namespace
 
 void RestoreLocalMeans(const Image &input, int r, Image *output, const Image *variance,
-                       double rebalance, bool pixelNoise) {
+                       double rebalance, bool pixelNoise, std::vector<bool> *left) {
+    if (left && left->size() != input.data.size())
+        throw Error("ref::RestoreLocalMeans: a kept mask one flag per value",
+                    ErrorKind::Internal);
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
-    std::vector<bool> kept(input.data.size());
-    for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
+    // The method's own word on what it left, else the values equal to the input's.
+    std::vector<bool> kept = left ? *left : std::vector<bool>(input.data.size(), false);
+    if (!left)
+        for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
     Highlights(input, variance, r, &kept, output);
     Scale(input, kept, 4 * r, 1, pixelNoise, output);
     Scale(input, kept, r, 1, pixelNoise, output);
     if (rebalance >= 0) Scale(input, kept, 4 * r, rebalance, pixelNoise, output);
+    if (left) *left = kept;
 }
 
-void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *output) {
+void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *output,
+                        const std::vector<bool> *left) {
+    if (left && left->size() != input.data.size())
+        throw Error("ref::RestoreLocalMeanAt: a kept mask one flag per value",
+                    ErrorKind::Internal);
     const int w = input.width, h = input.height, reach = 2 * s;
     // The tent's sum within the image at each place of an axis of n values.
     auto sums = [&](int n) {
@@ -193,16 +206,21 @@ void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *ou
     // (a, b > 0, all finite).
     const Image before = *output;
     const size_t n = input.data.size();
+    // Whether value (c, y, x) is kept: as the method says, else equal to the input's.
+    auto keptAt = [&](int c, int y, int x) {
+        return left ? bool((*left)[(size_t(c) * h + y) * w + x])
+                    : before.At(c, y, x) == input.At(c, y, x);
+    };
     std::vector<double> gain(n, 0.0), valid(n, 0.0);
     for (int c = 0; c < input.channels; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
-                if (before.At(c, y, x) == input.At(c, y, x)) continue;
+                if (keptAt(c, y, x)) continue;
                 double a = 0, b = 0, q = 0;
                 for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach); ++v)
                     for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u) {
+                        if (keptAt(c, v, u)) continue;
                         float in = input.At(c, v, u), out = before.At(c, v, u);
-                        if (in == out) continue;
                         double clean = std::isfinite(in) && in > 0 ? in : 0;
                         double wt = tent(sumX, x, u) * tent(sumY, y, v);
                         a += wt * clean;

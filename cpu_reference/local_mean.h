@@ -11,12 +11,12 @@ namespace mcd::ref {
 
 // Values equal to the input's stay and count in no mean. Highlights: pixels whose input
 // (channels summed, all finite) exceeds 16 x min(output, the output's tent mean of radius
-// 2r) with at least 2 of 8 neighbours so too take the input back and stay; then up to 4 rings
-// more, each read again against the tent mean without the values kept so far, of pixels so
-// over and beside one already taken. Then at s = 4r
-// and s = r in turn: over the box of radius s clipped to the image taken twice (a tent),
-// m_in (of max(input, 0), NaN/Inf as 0), m_out and m_sq (of (that input - output)^2);
-// where m_in, m_out > 0 and all finite, d = m_in - m_out is shrunk to
+// 2r) with at least 2 of 8 neighbours so too take the input back (a value kept already
+// keeps its own) and stay; then up to 4 rings more, each read again against the tent mean
+// without the values kept so far, of pixels so over and beside one already taken. Then at
+// s = 4r and s = r in turn: over the box of radius s clipped to the image taken twice (a
+// tent), m_in (of max(input, 0), NaN/Inf as 0), m_out and m_sq (of (that input -
+// output)^2); where m_in, m_out > 0 and all finite, d = m_in - m_out is shrunk to
 // d max(0, 1 - q / d^2), q = m_sq x the unclipped tent's sum of squared weights, and the
 // output multiplied by (m_out + d) / m_out.
 // With `variance` (of the pixel mean, 1 or the input's channels; else ignored) a highlight
@@ -25,9 +25,11 @@ namespace mcd::ref {
 // With pixelNoise, m_sq is the mean of those squares over the same clipped window weighted by
 // the tent's squared weights (q: the variance of the tent mean of values each of variance
 // its own square).
+// With `left` (one flag per value) the values it marks stay and count in no mean instead of
+// those equal to the input's; on return it also marks the highlights taken.
 void RestoreLocalMeans(const Image &input, int r, Image *output,
                        const Image *variance = nullptr, double rebalance = -1,
-                       bool pixelNoise = false);
+                       bool pixelNoise = false, std::vector<bool> *left = nullptr);
 
 // One scale of the restore alone (host/common/local_mean.h, RestoreLocalMeanAt): at each
 // value not equal to the input's, with weights w_uv = t_u t_v of the clipped, renormalised
@@ -35,7 +37,9 @@ void RestoreLocalMeans(const Image &input, int r, Image *output,
 // b = sum w moved, q = noiseWeight sum w^2 (clean - moved)^2 (kept values 0 in all three),
 // the gain g = max(0, 1 - q / d^2) d / b, d = a - b, where a and b are > 0 and finite (a
 // value with a gain); the output times 1 + sum w g / sum w over the values with a gain.
-void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *output);
+// With `left` (one flag per value), the values it marks are the kept ones instead.
+void RestoreLocalMeanAt(const Image &input, int s, double noiseWeight, Image *output,
+                        const std::vector<bool> *left = nullptr);
 
 // Lone spikes (host/common/local_mean.h, CutSpikes): a pixel whose channels' sum (NaN if
 // not finite) is > 0 and > 16 x (and <= 512 x) the median (lower middle) of its in-image

@@ -724,16 +724,22 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
 // the colour's own means (the light the clamp took) restored at p.clampLightRadius, then
 // p.clampLightFine, from ClampLightSource's colour, guarded by in.alpha's partly covered
 // pixels (none with p.premultiplied: the run is one without the alpha).
+// `left`: the values the local means left as `clamped` has them (emitters, highlights); of
+// those, the ones the source also takes from `clamped` or shares with it stay.
 template <typename Keep>
 void RestoreClampLight(const NforInputs &in, const NforParams &p, bool plain,
-                       const Image &clamped, const Image &mask, Keep &keep, Image *out) {
+                       const Image &clamped, const Image &mask, const std::vector<bool> &left,
+                       Keep &keep, Image *out) {
     if (p.clampLightRadius <= 0 || !plain || NforCoarseGateOpen(*in.color, in.albedo, p))
         return;
     Image source = ClampLightSource(*in.color, clamped, mask,
                                     p.premultiplied ? nullptr : in.alpha, p.clampLightReach);
-    RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, out);
+    std::vector<bool> stay = left;
+    for (size_t i = 0; i < stay.size(); ++i)
+        if (source.data[i] != clamped.data[i]) stay[i] = false;
+    RestoreLocalMeanAt(source, p.clampLightRadius, p.clampLightNoise, out, &stay);
     if (p.clampLightFine > 0)
-        RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, out);
+        RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, out, &stay);
     keep("clamp.light", *out);
 }
 
@@ -886,8 +892,15 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
             NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out);
             keep("specks", out);
         }
-        RestoreLocalMeans(clamped, p.meanRadius, &out);
-        RestoreClampLight(in, p, plain, clamped, mask, keep, &out);
+        // What the fits leave by design: an emitter's colour (clamped), every channel.
+        std::vector<bool> left(clamped.data.size(), false);
+        for (int c = 0; c < clamped.channels; ++c)
+            for (int y = 0; y < clamped.height; ++y)
+                for (int x = 0; x < clamped.width; ++x)
+                    left[(size_t(c) * clamped.height + y) * clamped.width + x] =
+                        mask.At(0, y, x) == 0;
+        RestoreLocalMeans(clamped, p.meanRadius, &out, nullptr, -1, false, &left);
+        RestoreClampLight(in, p, plain, clamped, mask, left, keep, &out);
     }
     // Weak emitters alone are smoothed over radius 2 when keptRadius is 0.
     int keptPass = p.keptRadius > 0 ? p.keptRadius : p.weakEmitterAlbedo > 0 ? 2 : 0;

@@ -68,7 +68,9 @@
 //   chosen per pixel by SURE like the first pass's.
 // - Local means (beyond the papers; cpu_reference/local_mean.h): the output scaled to the
 //   clamped colour's means over tents of radius 8, then 2 meanRadius: the fits' bias at
-//   scales above the window goes, the fireflies' energy stays out.
+//   scales above the window goes, the fireflies' energy stays out. The values kept (out of
+//   the means, not scaled) are the emitters' (the fits copy them), not those that come out
+//   equal to the input.
 #pragma once
 
 #include <cstddef>

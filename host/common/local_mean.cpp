@@ -185,7 +185,8 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
             taken[p] = 1;
             for (int c = 0; c < input.channels; ++c) {
                 size_t i = c * n + p;
-                output->data[i] = input.data[i];
+                // A value already kept stays as the method left it.
+                if (!(*kept)[i]) output->data[i] = input.data[i];
                 (*kept)[i] = true;
             }
         }
@@ -219,16 +220,20 @@ double TentSquaredWeights(int r) {
 }
 
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
-                                   const Image *variance, double rebalance, bool pixelNoise) {
-    if (!input.SameShape(*output) || r <= 0 || std::isnan(rebalance))
+                                   const Image *variance, double rebalance, bool pixelNoise,
+                                   std::vector<bool> *left) {
+    if (!input.SameShape(*output) || r <= 0 || std::isnan(rebalance) ||
+        (left && left->size() != input.data.size()))
         throw Error(
             "RestoreLocalMeans: the output must have the input's shape, r > 0, the "
-            "rebalance's weight a number",
+            "rebalance's weight a number, a kept mask one flag per value",
             ErrorKind::Internal);
     // The values the method left as they were (an emitter without a pivot, an exact zero
-    // restored) are left out of the means and kept: mass balances without them.
+    // restored) are left out of the means and kept: mass balances without them. A method
+    // that says which it left is taken at its word.
     std::vector<bool> kept(input.data.size());
-    for (size_t i = 0; i < kept.size(); ++i) kept[i] = output->data[i] == input.data[i];
+    for (size_t i = 0; i < kept.size(); ++i)
+        kept[i] = left ? bool((*left)[i]) : output->data[i] == input.data[i];
     if (variance && (variance->width != input.width || variance->height != input.height ||
                      (variance->channels != 1 && variance->channels != input.channels)))
         variance = nullptr;
@@ -259,6 +264,7 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
         range.hi = any ? std::max(range.hi, factors[i]) : factors[i];
         any = true;
     }
+    if (left) *left = std::move(kept);
     return range;
 }
 
@@ -345,18 +351,19 @@ Image ClippedTentFilter(const Image &image, int s, bool squared) {
 }
 
 LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeight,
-                                    Image *output) {
-    if (!input.SameShape(*output) || s <= 0 || !(noiseWeight >= 0))
+                                    Image *output, const std::vector<bool> *left) {
+    if (!input.SameShape(*output) || s <= 0 || !(noiseWeight >= 0) ||
+        (left && left->size() != input.data.size()))
         throw Error(
             "RestoreLocalMeanAt: the output must have the input's shape, s > 0, the noise's "
-            "weight >= 0",
+            "weight >= 0, a kept mask one flag per value",
             ErrorKind::Internal);
     // Kept values count in no mean: 0 in both and in the squares.
     Image clean(input.width, input.height, input.channels),
         moved = *output, squared(input.width, input.height, input.channels);
     std::vector<bool> kept(input.data.size());
     for (size_t i = 0; i < kept.size(); ++i) {
-        kept[i] = output->data[i] == input.data[i];
+        kept[i] = left ? bool((*left)[i]) : output->data[i] == input.data[i];
         float v = input.data[i];
         clean.data[i] = !kept[i] && std::isfinite(v) && v > 0 ? v : 0.f;
         if (kept[i]) moved.data[i] = 0;

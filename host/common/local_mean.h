@@ -7,30 +7,29 @@
 // mean and stay. First the highlights: a pixel whose input (its channels summed) is over 16
 // times the output there or the output's tent mean of radius 2r there, with at least 2 of
 // its 8 neighbours so too (a small light or a light's edge the method cut; a firefly stands
-// alone), takes its input back and counts as left; with a variance layer, instead of the
-// neighbours, its input must be over 4 standard deviations from the output. A light's rim,
-// dimmer than its core, passes only once the core is kept: up to 4 rings more grow from the
-// kept highlights, each read against the tent mean without them (a rim the method cut and
-// the restore spread made a glowing square around each small light). Then at each value,
-// over a tent window of radius 2s (a box of radius s twice, each clipped to the image), m_in
-// and m_out are the means of the input's finite values >= 0 and of the output. Their difference
-// d = m_in - m_out is shrunk by the noise of m_in, estimated as the mean of (input -
-// output)^2 over the same window times the tent's sum of squared weights, q:
-// d' = d max(0, 1 - q / d^2) (positive-part James-Stein), and the output multiplied by
-// (m_out + d') / m_out. A difference that comes from a few pixels (fireflies the method
-// removed) should have q near d^2 and leave the method's output, rather than spreading their
-// energy over a glowing square; a darkening shared by many pixels is restored. With
-// `pixelNoise` (pivot, rhf, auto) q is the variance of the tent mean of independent values
-// each of variance its own (input - output)^2: the sum of their squared weights times
-// those, so one pixel's difference has q = d^2 wherever it lies in the window. The window's
-// mean squared difference times the sum of squared weights (without) gives one pixel near
-// the centre q = 4/9 d^2: its energy spread over the rounded square where its weight is
-// over 4/9 of the peak's. This runs
-// at s = 4r first and then at s = r on its result: what is uncertain at the fine scale is
-// restored at the coarse one. The fine scale's shrinkage is lopsided where the noise is
-// heavy-tailed: windows without a rare bright sample give the coarse gain back with
-// confidence, windows with one keep it only in part, so the frame loses energy. A last
-// pass at s = 4r, its noise weighted by `rebalance`, returns it over the coarse tents.
+// alone), takes its input back (but its values kept already) and counts as left; with a
+// variance layer, instead of the neighbours, its input must be over 4 standard deviations from
+// the output. A light's rim, dimmer than its core, passes only once the core is kept: up to 4
+// rings more grow from the kept highlights, each read against the tent mean without them (a rim
+// the method cut and the restore spread made a glowing square around each small light). Then at
+// each value, over a tent window of radius 2s (a box of radius s twice, each clipped to the
+// image), m_in and m_out are the means of the input's finite values >= 0 and of the output.
+// Their difference d = m_in - m_out is shrunk by the noise of m_in, estimated as the mean of
+// (input - output)^2 over the same window times the tent's sum of squared weights, q: d' = d
+// max(0, 1 - q / d^2) (positive-part James-Stein), and the output multiplied by (m_out + d') /
+// m_out. A difference that comes from a few pixels (fireflies the method removed) should have q
+// near d^2 and leave the method's output, rather than spreading their energy over a glowing
+// square; a darkening shared by many pixels is restored. With `pixelNoise` (pivot, rhf, auto) q
+// is the variance of the tent mean of independent values each of variance its own (input -
+// output)^2: the sum of their squared weights times those, so one pixel's difference has q =
+// d^2 wherever it lies in the window. The window's mean squared difference times the sum of
+// squared weights (without) gives one pixel near the centre q = 4/9 d^2: its energy spread over
+// the rounded square where its weight is over 4/9 of the peak's. This runs at s = 4r first and
+// then at s = r on its result: what is uncertain at the fine scale is restored at the coarse
+// one. The fine scale's shrinkage is lopsided where the noise is heavy-tailed: windows without
+// a rare bright sample give the coarse gain back with confidence, windows with one keep it only
+// in part, so the frame loses energy. A last pass at s = 4r, its noise weighted by `rebalance`,
+// returns it over the coarse tents.
 #pragma once
 
 #include <string>
@@ -77,9 +76,13 @@ struct LocalMeanFactors {
 // size) tells highlights from fireflies in place of the neighbours.
 // `rebalance` >= 0: the last coarse pass, its noise weighted so; < 0: none. `pixelNoise`:
 // q from each value's own squared difference (TentSquaredMean), not the window's mean one.
+// `left` (one flag per value; may be null): the values the method left, kept in place of
+// those equal to the input's (a fit that gives a value back to within rounding, exactly on
+// one side of a float and double pair and not on the other, is then restored on both); on
+// return it holds them and the highlights taken back.
 LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
                                    const Image *variance = nullptr, double rebalance = -1,
-                                   bool pixelNoise = false);
+                                   bool pixelNoise = false, std::vector<bool> *left = nullptr);
 
 // One scale of the restore alone, without the highlights, for a second input read after the
 // restore: over the tent of radius 2s clipped to the image (weights 2s + 1 - |offset| per
@@ -89,9 +92,9 @@ LocalMeanFactors RestoreLocalMeans(const Image &input, int r, Image *output,
 // those gains over the same tent (among the values that have one: m_in, m_out > 0, finite),
 // so that a bright value, whose noise shuts the gain in every window that holds it, leaves
 // no step at the edge of their square. The values equal to the input's are kept and count
-// in no mean.
+// in no mean; with `left` (one flag per value), those it marks instead.
 LocalMeanFactors RestoreLocalMeanAt(const Image &input, int s, double noiseWeight,
-                                    Image *output);
+                                    Image *output, const std::vector<bool> *left = nullptr);
 // Each plane of `image` over the tent of radius 2s clipped to the image (RestoreLocalMeanAt's
 // means): along rows, then down columns, each value its window's weights (with `squared`,
 // their squares) times the values, summed in double in order of rising offset and rounded

@@ -745,10 +745,23 @@ void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice
                          o.pilotBandwidths.empty() ? "" : "second pass: ", shares));
 }
 
+// The values the fits leave by design: every channel of an emitter (mask 0), whose
+// gather copies the clamped colour. A fit that weighs little but its own pixel gives it
+// back only to within rounding, so kept-ness is not read from the output's equality.
+std::vector<bool> FitsLeft(const Image &mask, int channels) {
+    const size_t n = mask.PixelCount();
+    std::vector<bool> left(n * channels, false);
+    for (size_t p = 0; p < n; ++p)
+        if (mask.data[p] == 0)
+            for (int c = 0; c < channels; ++c) left[c * n + p] = true;
+    return left;
+}
+
 // The fits' output (result.image) with its specks clamped on a frame without a variance
-// layer, then the clamped colour's local means restored.
+// layer, then the clamped colour's local means restored; `meansLeft` receives the values the
+// restore left (FitsLeft's and the highlights it gave their input back).
 void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, const Image &mask,
-                  const Image &clamped, NforResult &result) {
+                  const Image &clamped, NforResult &result, std::vector<bool> *meansLeft) {
     run.AddStage("fit", result.image);
     if (o.speckRelative >= 0 && PlainPasses(in, o, result)) {
         result.specks =
@@ -760,7 +773,9 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
             "means give the pixels around them what of their light they hold for certain",
             result.specks, o.speckRelative, o.speckRank, o.speckFloor));
     }
-    LocalMeanFactors f = RestoreLocalMeans(clamped, o.meanRadius, &result.image);
+    *meansLeft = FitsLeft(mask, clamped.channels);
+    LocalMeanFactors f =
+        RestoreLocalMeans(clamped, o.meanRadius, &result.image, nullptr, -1, false, meansLeft);
     run.Plan(
         fmt::format("local mean: the clamped colour's means over tents of radius {}, "
                     "then {} restored (factors {:.3g} to {:.3g})",
@@ -805,15 +820,21 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
 // pixels its samples hit, and where many such are near (a wire mesh's glints, a ring's
 // highlight) that light is the frame's; each value's own difference as its noise leaves a
 // lone firefly's light out.
+// `meansLeft`: the values the local means' restore left as the clamped colour has them; those
+// whose source value is that too stay here.
 void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &o,
                        const Image &mask, const Image &clamped, const Image *alpha,
-                       NforResult &result) {
+                       const std::vector<bool> &meansLeft, NforResult &result) {
     Image source = ClampLightSource(*in.color, clamped, mask, alpha, o.clampLightReach);
+    // Both are inputs: the colour where the clamp left it, or the clamped colour copied.
+    std::vector<bool> left(meansLeft.size());
+    for (size_t i = 0; i < left.size(); ++i)
+        left[i] = meansLeft[i] && source.data[i] == clamped.data[i];
     LocalMeanFactors f =
-        RestoreLocalMeanAt(source, o.clampLightRadius, kClampLightNoise, &result.image);
+        RestoreLocalMeanAt(source, o.clampLightRadius, kClampLightNoise, &result.image, &left);
     if (o.clampLightFine > 0) {
-        LocalMeanFactors g =
-            RestoreLocalMeanAt(source, o.clampLightFine, kClampLightNoise, &result.image);
+        LocalMeanFactors g = RestoreLocalMeanAt(source, o.clampLightFine, kClampLightNoise,
+                                                &result.image, &left);
         f.lo = std::min(f.lo, g.lo);
         f.hi = std::max(f.hi, g.hi);
     }
@@ -1033,11 +1054,13 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
         result.clamped += clamped.data[i] != in.color->data[i];
     const CoarseGate gate = DecideCoarse(context, gpu, in, o);
     if (o.meanRadius > 0) {
-        RestoreMeans(run, in, o, mask, clamped, result);
+        std::vector<bool> meansLeft;
+        RestoreMeans(run, in, o, mask, clamped, result, &meansLeft);
         // Under --premultiplied no alpha: the run is one without it.
         if (o.clampLightRadius > 0 && PlainPasses(in, o, result) && !gate.runs)
             RestoreClampLight(run, in, o, mask, clamped,
-                              straight.partlyCovered > 0 ? given.alpha : nullptr, result);
+                              straight.partlyCovered > 0 ? given.alpha : nullptr, meansLeft,
+                              result);
     }
     const bool plain = PlainPasses(in, o, result);
     const int keptPass = NforKeptPassRadius(o, plain, in.albedo);

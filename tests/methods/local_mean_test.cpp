@@ -183,6 +183,97 @@ TEST_P(LocalMeanMatches, RestoreAtMatchesReference) {
     }
 }
 
+// The case's output with a tenth of its values given their finite input back (not kept: a
+// fit that gave one back) and a sixth marked kept, a third of those given their input too
+// (an emitter's); the mask.
+std::vector<bool> GivenBackAndKept(const Image &input, Image *output) {
+    std::mt19937_64 rng(SeedFromName("local mean kept mask " + std::to_string(input.width) +
+                                     "x" + std::to_string(input.height)));
+    std::uniform_real_distribution<float> unit(0, 1);
+    std::vector<bool> kept(input.data.size(), false);
+    for (size_t i = 0; i < kept.size(); ++i) {
+        const float u = unit(rng);
+        const bool finite = std::isfinite(input.data[i]);
+        if (u < 0.1f && finite) output->data[i] = input.data[i];
+        kept[i] = u >= 0.1f && u < 0.27f;
+        if (u >= 0.21f && u < 0.27f && finite) output->data[i] = input.data[i];
+    }
+    return kept;
+}
+
+// Expects each value `kept` marks left as it was in `output`, and returns how many values
+// given their input back (`input`) but not marked were restored.
+size_t ExpectKeptStay(const Image &input, const Image &output, const std::vector<bool> &kept,
+                      const Image &got) {
+    size_t restored = 0;
+    for (size_t i = 0; i < kept.size(); ++i) {
+        if (kept[i]) {
+            EXPECT_EQ(std::memcmp(&got.data[i], &output.data[i], 4), 0) << i;
+        } else if (output.data[i] == input.data[i] && got.data[i] != output.data[i]) {
+            ++restored;
+        }
+    }
+    return restored;
+}
+
+// An explicit kept mask (nfor's) in place of the equality: both restores against their
+// references; the marked values stay, values given their input back unmarked are restored as
+// any other, and the mask returned adds the highlights taken (the same as the reference's),
+// each given its input back, some on every case of 100 pixels or more.
+TEST_P(LocalMeanMatches, KeptMaskMatchesReference) {
+    Image input, output;
+    MakeImages(GetParam(), &input, &output);
+    const std::vector<bool> kept = GivenBackAndKept(input, &output);
+    const bool large = input.PixelCount() >= 100;
+    for (bool pixelNoise : {false, true}) {
+        Image expected = output, got = output;
+        std::vector<bool> keptExpected = kept, keptGot = kept;
+        ref::RestoreLocalMeans(input, GetParam().r, &expected, nullptr, kLocalMeanRebalance,
+                               pixelNoise, &keptExpected);
+        RestoreLocalMeans(input, GetParam().r, &got, nullptr, kLocalMeanRebalance, pixelNoise,
+                          &keptGot);
+        ASSERT_NO_FATAL_FAILURE(ExpectRestoreNear(got, expected, "means", true));
+        EXPECT_EQ(keptGot, keptExpected);
+        // The mask returned holds the one given and adds the highlights, each its input back.
+        size_t added = 0;
+        for (size_t i = 0; i < kept.size(); ++i) {
+            if (kept[i]) {
+                EXPECT_TRUE(keptGot[i]) << i;
+            } else if (keptGot[i]) {
+                EXPECT_EQ(std::memcmp(&got.data[i], &input.data[i], 4), 0) << i;
+                ++added;
+            }
+        }
+        if (large) {
+            EXPECT_GT(added, 0u) << pixelNoise;
+        }
+        const size_t restored = ExpectKeptStay(input, output, kept, got);
+        if (large) EXPECT_GT(restored, 0u) << pixelNoise;
+        Image again = output;
+        std::vector<bool> keptAgain = kept;
+        RestoreLocalMeans(input, GetParam().r, &again, nullptr, kLocalMeanRebalance, pixelNoise,
+                          &keptAgain);
+        EXPECT_EQ(0, std::memcmp(again.data.data(), got.data.data(), got.data.size() * 4));
+    }
+    for (double noiseWeight : {0.0, 2.0}) {
+        Image expected = output, got = output;
+        ref::RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &expected, &kept);
+        RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &got, &kept);
+        ASSERT_NO_FATAL_FAILURE(ExpectRestoreNear(got, expected, "at", true));
+        const size_t restored = ExpectKeptStay(input, output, kept, got);
+        if (large) EXPECT_GT(restored, 0u) << noiseWeight;
+    }
+    // A mask of another size is refused, by both.
+    std::vector<bool> wrong(kept.size() + 1, false);
+    Image got = output;
+    EXPECT_THROW(RestoreLocalMeanAt(input, GetParam().r, 2, &got, &wrong), Error);
+    EXPECT_THROW(RestoreLocalMeans(input, GetParam().r, &got, nullptr, -1, false, &wrong),
+                 Error);
+    EXPECT_THROW(ref::RestoreLocalMeanAt(input, GetParam().r, 2, &got, &wrong), Error);
+    EXPECT_THROW(ref::RestoreLocalMeans(input, GetParam().r, &got, nullptr, -1, false, &wrong),
+                 Error);
+}
+
 // The noise bound against its reference: variances of one channel and of the input's,
 // with NaN, Inf and negative values among them and among the inputs; the same bits (both
 // clamp in double and round once), and the same when repeated.
