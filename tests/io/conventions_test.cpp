@@ -281,7 +281,9 @@ TEST_F(IoTestConventions, DenoisedOverACyclesFrameKeepsItsChannelNames) {
         EXPECT_EQ(after.types[name], before.types[name]) << name;
         bool replaced = name == "ViewLayer.Combined.R" || name == "ViewLayer.Combined.G" ||
                         name == "ViewLayer.Combined.B";
-        if (!replaced) EXPECT_EQ(after.bytes[name], before.bytes[name]) << name;
+        if (!replaced) {
+            EXPECT_EQ(after.bytes[name], before.bytes[name]) << name;
+        }
     }
     for (int c = 0; c < 3; ++c) {
         std::string name = std::string("ViewLayer.Combined.") + "RGB"[c];
@@ -347,7 +349,9 @@ TEST_F(IoTestConventions, DenoisedOverOtherFramesKeepsEveryChannel) {
         EXPECT_EQ(Sorted(after.names), Sorted(want)) << variant;
         for (const std::string &name : channels) {
             EXPECT_EQ(after.types[name], before.types[name]) << name;
-            if (name.size() > 1) EXPECT_EQ(after.bytes[name], before.bytes[name]) << name;
+            if (name.size() > 1) {
+                EXPECT_EQ(after.bytes[name], before.bytes[name]) << name;
+            }
         }
         for (int c = 0; c < 3; ++c) {
             std::string name(1, "RGB"[c]);

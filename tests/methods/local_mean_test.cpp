@@ -248,7 +248,9 @@ TEST_P(LocalMeanMatches, KeptMaskMatchesReference) {
             EXPECT_GT(added, 0u) << pixelNoise;
         }
         const size_t restored = ExpectKeptStay(input, output, kept, got);
-        if (large) EXPECT_GT(restored, 0u) << pixelNoise;
+        if (large) {
+            EXPECT_GT(restored, 0u) << pixelNoise;
+        }
         Image again = output;
         std::vector<bool> keptAgain = kept;
         RestoreLocalMeans(input, GetParam().r, &again, nullptr, kLocalMeanRebalance, pixelNoise,
@@ -261,7 +263,9 @@ TEST_P(LocalMeanMatches, KeptMaskMatchesReference) {
         RestoreLocalMeanAt(input, GetParam().r, noiseWeight, &got, &kept);
         ASSERT_NO_FATAL_FAILURE(ExpectRestoreNear(got, expected, "at", true));
         const size_t restored = ExpectKeptStay(input, output, kept, got);
-        if (large) EXPECT_GT(restored, 0u) << noiseWeight;
+        if (large) {
+            EXPECT_GT(restored, 0u) << noiseWeight;
+        }
     }
     // A mask of another size is refused, by both.
     std::vector<bool> wrong(kept.size() + 1, false);

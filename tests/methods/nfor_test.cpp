@@ -248,8 +248,12 @@ void ExpectClampMatches(vk::Context &context, int w, int h, InputKind kind, int 
                 clamped = clamped || (!within && out != in);
             }
         // Both seen (one channel's few lights in a row need not hold one clamped).
-        if (w * h > 1) EXPECT_TRUE(keptByRule);
-        if (w * h > 1 && channels > 1) EXPECT_TRUE(clamped);
+        if (w * h > 1) {
+            EXPECT_TRUE(keptByRule);
+        }
+        if (w * h > 1 && channels > 1) {
+            EXPECT_TRUE(clamped);
+        }
     }
     auto run = [&](Image *gpuMask) {
         vk::GpuImage c = Upload(context, color, "color"),
@@ -3102,9 +3106,10 @@ TEST_F(NforMethod, DefaultsSpreadTheClampsLightAlongALine) {
     EXPECT_GT(gained, 0.5);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            if (std::abs(x - w / 2) > 12 || y >= h / 2)
+            if (std::abs(x - w / 2) > 12 || y >= h / 2) {
                 for (int c = 0; c < 3; ++c)
                     EXPECT_EQ(a.image.At(c, y, x), b.image.At(c, y, x)) << x << ", " << y;
+            }
 }
 
 // The line frame's line partly covered (alpha 0.75, the colour as written), the rest

@@ -69,7 +69,9 @@ void MatchOnce(int n, int w, int h, int pivotChannels, int varianceChannels, boo
     EXPECT_TRUE(BitIdentical(got, expected));
     EXPECT_EQ(KeepWindowChroma(color, pivot, variance, object, part, bound, &again), moved);
     EXPECT_TRUE(BitIdentical(again, got)) << "two runs differ";
-    if (w >= 17) EXPECT_GT(want, 0u) << "the case moves nothing";
+    if (w >= 17) {
+        EXPECT_GT(want, 0u) << "the case moves nothing";
+    }
 }
 
 // Random frames against the CPU reference (bit for bit), of 2, 3 and 4 colour channels, with
@@ -238,7 +240,9 @@ TEST(PivotChroma, BlendsInWithoutAJump) {
         const float fit = out.At(0, 4, 4);
         KeepWindowChroma(wall.color, wall.pivot, wall.variance, nullptr, nullptr, 0, &out);
         const double moved = out.At(0, 4, 4) - fit;
-        if (i == 0) EXPECT_EQ(moved, 0);
+        if (i == 0) {
+            EXPECT_EQ(moved, 0);
+        }
         if (i > 0) largest = std::max(largest, std::fabs(moved - last));
         last = moved;
     }

@@ -180,7 +180,9 @@ TEST_P(TiledRunLocal, BitIdenticalToUntiled) {
             EXPECT_TRUE(scaled) << "the spikes frame scales no spike";
         }
     }
-    if (c.method == "pivot") EXPECT_GT(chromaMoved, 0u) << "no chroma pixel moved";
+    if (c.method == "pivot") {
+        EXPECT_GT(chromaMoved, 0u) << "no chroma pixel moved";
+    }
 }
 
 class TiledRunShared : public GpuTest {};
@@ -402,8 +404,9 @@ TEST_F(GpuTest, TiledRunRhfCutsAcrossTheSeamAreBitIdentical) {
         {"rhf --search-half 0 --knn 1", {{"search-half", 0}, {"knn", 1}}}};
     for (const auto &[what, params] : cases) {
         Result whole = RunWith(device, "rhf", params, frame, 0);
-        if (what != cases.back().first)
+        if (what != cases.back().first) {
             EXPECT_GT(CountIn(whole, "bright clusters: "), 0) << what;
+        }
         EXPECT_GT(CountIn(whole, "lights' rims: "), 0) << what;
         Result tiled = RunWith(device, "rhf", params, frame, 40);
         ASSERT_FALSE(tiled.plan.empty());
