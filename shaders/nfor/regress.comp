@@ -14,13 +14,14 @@ const int packedCount = columnCount * (columnCount + 1) / 2;
 const int kMaxColumns = NFOR_MAX_FEATURES + 3;
 const int kMaxPacked = kMaxColumns * (kMaxColumns + 1) / 2;
 const int kMaxRight = kMaxColumns * NFOR_MAX_CHANNELS;
-const int betaStride = NFOR_BETA_STRIDE(featureCount, channels);
+const int betaVec4s = NFOR_BETA_STRIDE(featureCount, channels) / 4;
 layout(binding = NFOR_FIT_PACKED) uniform samplerBuffer packed;
 layout(binding = NFOR_FIT_DISTANCE) uniform samplerBuffer distance;
-layout(std430, binding = NFOR_FIT_BETA) writeonly buffer Beta { float beta[]; };
+// The coefficients as vec4s (the stride is a whole number of them): one store per vec4.
+layout(std430, binding = NFOR_FIT_BETA) writeonly buffer Beta { vec4 beta[]; };
 layout(std430, binding = NFOR_FIT_OUT) writeonly buffer Hat { float hat[]; };
 layout(std430, binding = NFOR_FIT_SECOND_BETA) writeonly buffer SecondBeta {
-    float secondBeta[];
+    vec4 secondBeta[];
 };
 
 int w, h;
@@ -58,38 +59,41 @@ vec4 colorAt(int pixel) {
     return texelFetch(packed, pixel * packedVec4s + featureVec4s);
 }
 
-// Candidate k's coefficient `index`.
-void writeBeta(int k, int index, float value) {
-    if (k == 0)
-        beta[index] = value;
-    else
-        secondBeta[index] = value;
-}
-
-// Candidate k's fit of the colour as a constant: no slope, influence 1.
-void writeConstant(int x, int y, int k) {
-    int base = (y * w + x) * betaStride;
-    vec4 color = colorAt(y * w + x);
-    [[unroll]] for (int c = 0; c < channels; ++c) {
-        writeBeta(k, base + c, color[c]);
-        [[unroll]] for (int i = 1; i < columnCount; ++i) writeBeta(k, base + i * channels + c, 0.0);
+// Candidate k's fit, stored once at the end whichever way it went (lavapipe runs every
+// storage store as a loop over the lanes, even where none takes it): its coefficients,
+// column i and channel c from b[c * kMaxColumns + i], zeros in the padding, and its
+// influence; a failed fit (an emitter, or a Cholesky without a positive pivot) writes the
+// colour as the constant, no slope, influence 1.
+void writeFit(int x, int y, int k, bool failed, vec4 color, float b[kMaxRight],
+              float influence) {
+    int base = (y * w + x) * betaVec4s;
+    [[unroll]] for (int v = 0; v < betaVec4s; ++v) {
+        vec4 value = vec4(0.0);
+        [[unroll]] for (int e = 0; e < 4; ++e) {
+            int index = 4 * v + e, i = index / channels, c = index % channels;
+            if (i < columnCount)
+                value[e] = failed ? (i == 0 ? color[c] : 0.0) : b[c * kMaxColumns + i];
+        }
+        if (k == 0)
+            beta[base + v] = value;
+        else
+            secondBeta[base + v] = value;
     }
-    hat[((push.outPlane + k) * h + y) * w + x] = 1.0;
+    hat[((push.outPlane + k) * h + y) * w + x] = failed ? 1.0 : influence;
 }
 
 // A candidate's normal equations (a: the lower triangle, b: the right sides, weights: the
 // sum of its weights) with the ridge, solved by Cholesky: its coefficients and influence.
-void solve(float a[kMaxPacked], float b[kMaxRight], float weights, int x, int y,
-           int candidate) {
+// A fit failed already (`failed`: an emitter) or failing on a pivot carries on to the end
+// without a branch: its values are discarded there.
+void solve(float a[kMaxPacked], float b[kMaxRight], float weights, int x, int y, int candidate,
+           bool failed, vec4 color) {
     [[unroll]] for (int i = 1; i < columnCount; ++i) a[tri(i, i)] += push.ridge * weights;
     // Cholesky in place: A = L L^T.
     [[unroll]] for (int j = 0; j < columnCount; ++j) {
         float s = a[tri(j, j)];
         [[unroll]] for (int k = 0; k < j; ++k) s -= a[tri(j, k)] * a[tri(j, k)];
-        if (!(s > 0.0)) {
-            writeConstant(x, y, candidate);
-            return;
-        }
+        failed = failed || !(s > 0.0);
         float l = sqrt(s);
         a[tri(j, j)] = l;
         [[unroll]] for (int i = j + 1; i < columnCount; ++i) {
@@ -110,8 +114,6 @@ void solve(float a[kMaxPacked], float b[kMaxRight], float weights, int x, int y,
             [[unroll]] for (int k = i + 1; k < columnCount; ++k) t -= a[tri(k, i)] * b[o + k];
             b[o + i] = t / a[tri(i, i)];
         }
-        [[unroll]] for (int i = 0; i < columnCount; ++i)
-            writeBeta(candidate, (y * w + x) * betaStride + i * channels + c, b[o + i]);
     }
     // (A^-1)_00 = |L^-1 e_0|^2.
     float z[kMaxColumns];
@@ -122,7 +124,7 @@ void solve(float a[kMaxPacked], float b[kMaxRight], float weights, int x, int y,
         z[i] = t / a[tri(i, i)];
         influence += z[i] * z[i];
     }
-    hat[((push.outPlane + candidate) * h + y) * w + x] = influence;
+    writeFit(x, y, candidate, failed, color, b, influence);
 }
 
 void main() {
@@ -130,12 +132,9 @@ void main() {
     w = push.width;
     h = push.height;
     if (x >= w) return;
-    if (texelFetch(packed, (y * w + x) * packedVec4s).x == 0.0) {
-        writeConstant(x, y, 0);
-        if (candidateCount > 1) writeConstant(x, y, 1);
-        return;
-    }
-    loadFixed(x, y);
+    // An emitter fits nothing: its sums stay zero and its fits fail, as constants.
+    bool emitter = texelFetch(packed, (y * w + x) * packedVec4s).x == 0.0;
+    vec4 color = colorAt(y * w + x);
     float sa[kMaxPacked], sb[kMaxRight], sa2[kMaxPacked], sb2[kMaxRight];
     SEQ91(ZA)
     SEQ52(ZB)
@@ -145,23 +144,26 @@ void main() {
     }
     float weights = 0.0, secondWeights = 0.0;
     int r = push.radius;
-    for (int v = y - r; v <= y + r; ++v)
-        for (int u = x - r; u <= x + r; ++u) {
-            if (u < 0 || v < 0 || u >= w || v >= h) continue;
-            float wq = weightOf(x, y, u, v, u, v, 1.0);
-            float wq2 = secondWeight;
-            if (wq == 0.0 && (candidateCount == 1 || wq2 == 0.0)) continue;
-            vec4 cq = colorAt(v * w + u);
-            float c0 = cq.x, c1 = cq.y, c2 = cq.z, c3 = cq.w;
-            if (wq != 0.0) {
-                ACCUMULATE(sa, sb, wq)
-                weights += wq;
+    if (!emitter) {
+        loadFixed(x, y);
+        for (int v = y - r; v <= y + r; ++v)
+            for (int u = x - r; u <= x + r; ++u) {
+                if (u < 0 || v < 0 || u >= w || v >= h) continue;
+                float wq = weightOf(x, y, u, v, u, v, 1.0);
+                float wq2 = secondWeight;
+                if (wq == 0.0 && (candidateCount == 1 || wq2 == 0.0)) continue;
+                vec4 cq = colorAt(v * w + u);
+                float c0 = cq.x, c1 = cq.y, c2 = cq.z, c3 = cq.w;
+                if (wq != 0.0) {
+                    ACCUMULATE(sa, sb, wq)
+                    weights += wq;
+                }
+                if (candidateCount > 1 && wq2 != 0.0) {
+                    ACCUMULATE(sa2, sb2, wq2)
+                    secondWeights += wq2;
+                }
             }
-            if (candidateCount > 1 && wq2 != 0.0) {
-                ACCUMULATE(sa2, sb2, wq2)
-                secondWeights += wq2;
-            }
-        }
-    solve(sa, sb, weights, x, y, 0);
-    if (candidateCount > 1) solve(sa2, sb2, secondWeights, x, y, 1);
+    }
+    solve(sa, sb, weights, x, y, 0, emitter, color);
+    if (candidateCount > 1) solve(sa2, sb2, secondWeights, x, y, 1, emitter, color);
 }

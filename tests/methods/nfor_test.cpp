@@ -1131,7 +1131,7 @@ TEST_P(NforRegressKernel, TwoCandidatesInOnePassAsEachAlone) {
                                   beta, hats, 1, secondBeta ? &second : nullptr,
                                   secondBeta ? &other : nullptr);
                 recorder.Submit();
-                // The coefficients without the padding (never written).
+                // The coefficients without the padding (zeros, read by nobody).
                 if (secondBeta)
                     *secondBeta = NforBetaPlanes(other.Download(), features, channels);
                 Image all = hats.Download();
@@ -1175,6 +1175,51 @@ TEST_P(NforRegressKernel, TwoCandidatesInOnePassAsEachAlone) {
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforRegressKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
+
+// Regress without a ridge on frames of one row (dy is 0 at every q: A's third row is exactly
+// zero) and of one pixel (the window is p alone): every Cholesky meets a zero pivot, in the
+// kernel as in the reference, and each fit is the pixel's colour as a constant, no slope,
+// influence 1. Bit for bit, one candidate and two (the second failing in the same pass).
+TEST_F(GpuTest, NforRegressWithoutRidgeFailsToTheColour) {
+    for (auto [w, h] : {std::pair{1, 1}, {11, 1}})
+        for (auto [features, channels] : kFitShapes) {
+            SCOPED_TRACE(
+                fmt::format("{}x{}, {} features, {} channels", w, h, features, channels));
+            FitInputs f =
+                MakeFitInputs(w, h, InputKind::Uniform, fmt::format("regressridge0{}x{}", w, h),
+                              2, features, channels);
+            f.candidate.ridge = 0;
+            ref::NforFit expected =
+                ref::NforRegress(f.color, f.features, f.mask, f.distance, f.candidate);
+            // The case reaches the failure path: every influence is the constant's.
+            for (float value : expected.hat.data) ASSERT_EQ(value, 1.f);
+            NforFitSettings first = SettingsOf(f), second = first;
+            second.bandwidth = 0.25f;
+            int stride = NforBetaStride(features, channels);
+            for (bool pair : {false, true}) {
+                SCOPED_TRACE(pair ? "two candidates" : "one candidate");
+                vk::GpuImage packed =
+                    Upload(Ctx(), NforPackedOf(f.color, f.features, f.mask), "packed");
+                vk::GpuImage d = Upload(Ctx(), f.distance, "D");
+                vk::GpuImage beta(Ctx(), w, h, stride, "beta"),
+                    other(Ctx(), w, h, stride, "b2"), hats(Ctx(), w, h, 3, "hat");
+                vk::Recorder recorder(Ctx());
+                RecordNforRegress(Ctx(), recorder, packed, features, channels, d, first, beta,
+                                  hats, 1, pair ? &second : nullptr, pair ? &other : nullptr);
+                recorder.Submit();
+                Image all = hats.Download();
+                for (int k = 0; k < (pair ? 2 : 1); ++k) {
+                    Image hat(w, h, 1);
+                    std::copy(all.Plane(1 + k), all.Plane(1 + k) + hat.Size(),
+                              hat.data.begin());
+                    Image fit =
+                        NforBetaPlanes((k ? other : beta).Download(), features, channels);
+                    EXPECT_TRUE(BitIdentical(expected.beta, fit)) << "candidate " << k;
+                    EXPECT_TRUE(BitIdentical(expected.hat, hat)) << "candidate " << k;
+                }
+            }
+        }
+}
 
 // Gather on the reference's coefficients: each prediction sums `columns` products (columns
 // u of sum |x_i beta_i|), the weighted mean over m windows adds 2 m weight errors and m u,
