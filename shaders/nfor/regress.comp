@@ -47,6 +47,24 @@ int w, h;
     ROW(SA, SB, WQ, 7) ROW(SA, SB, WQ, 8) ROW(SA, SB, WQ, 9) ROW(SA, SB, WQ, 10) \
     ROW(SA, SB, WQ, 11) ROW(SA, SB, WQ, 12)
 
+// Three steps at once (A, B, C: their columns colA.., colours cA.. and weights): each sum
+// written once, its three terms added in the steps' order, as three single steps add them.
+#define ACC3(SA, i, j) if ((j) <= (i)) SA[TRI(i, j)] = \
+    ((SA[TRI(i, j)] + wxA * colA[j]) + wxB * colB[j]) + wxC * colC[j];
+#define RIGHT3(SB, i, c, e) if (channels > (c)) SB[(c) * kMaxColumns + (i)] = \
+    ((SB[(c) * kMaxColumns + (i)] + wxA * cA.e) + wxB * cB.e) + wxC * cC.e;
+#define ROW3(SA, SB, WA, WB, WC, i) if ((i) < columnCount) { \
+    float wxA = WA * colA[i], wxB = WB * colB[i], wxC = WC * colC[i]; \
+    ACC3(SA, i, 0) ACC3(SA, i, 1) ACC3(SA, i, 2) ACC3(SA, i, 3) ACC3(SA, i, 4) ACC3(SA, i, 5) \
+    ACC3(SA, i, 6) ACC3(SA, i, 7) ACC3(SA, i, 8) ACC3(SA, i, 9) ACC3(SA, i, 10) \
+    ACC3(SA, i, 11) ACC3(SA, i, 12) \
+    RIGHT3(SB, i, 0, x) RIGHT3(SB, i, 1, y) RIGHT3(SB, i, 2, z) RIGHT3(SB, i, 3, w) }
+#define ACCUMULATE3(SA, SB, WA, WB, WC) ROW3(SA, SB, WA, WB, WC, 0) \
+    ROW3(SA, SB, WA, WB, WC, 1) ROW3(SA, SB, WA, WB, WC, 2) ROW3(SA, SB, WA, WB, WC, 3) \
+    ROW3(SA, SB, WA, WB, WC, 4) ROW3(SA, SB, WA, WB, WC, 5) ROW3(SA, SB, WA, WB, WC, 6) \
+    ROW3(SA, SB, WA, WB, WC, 7) ROW3(SA, SB, WA, WB, WC, 8) ROW3(SA, SB, WA, WB, WC, 9) \
+    ROW3(SA, SB, WA, WB, WC, 10) ROW3(SA, SB, WA, WB, WC, 11) ROW3(SA, SB, WA, WB, WC, 12)
+
 #include "nfor/weight.glsl"
 
 // Lower triangle packed by rows: element (i, j), j <= i.
@@ -127,6 +145,36 @@ void solve(float a[kMaxPacked], float b[kMaxRight], float weights, int x, int y,
     writeFit(x, y, candidate, failed, color, b, influence);
 }
 
+// q = (u, v)'s step in p = (x, y)'s window without a branch (lavapipe runs a loop's body
+// under a mask whichever way a lane goes): q's columns into col, its colour, its weight at
+// the first bandwidth (returned) and at the second (secondWeight). Both weights are 0 where q
+// is outside the frame or an emitter, 1 at q = p. An outside q reads the frame's pixel
+// nearest to it and p reads the distance of offset (1, 0): finite values the zero weight
+// or the centre's 1 discards.
+float stepWeight(int x, int y, int u, int v, out vec4 color) {
+    bool inside = u >= 0 && v >= 0 && u < w && v < h, centre = u == x && v == y;
+    int qx = clamp(u, 0, w - 1), qy = clamp(v, 0, h - 1);
+    vec4 slots[3];
+    LOAD_SLOTS(qy * w + qx)
+    color = colorAt(qy * w + qx);
+    col[0] = 1.0;
+    col[1] = float(u - x) / float(push.radius);
+    col[2] = float(v - y) / float(push.radius);
+    float e = 0.0, sign = 1.0;
+    SEQ10(COLUMN, 0)
+    float d = max(0.0, distanceOf(x, y, centre ? x + 1 : qx, qy));
+    float second = 0.0;
+    if (candidateCount > 1) {
+        float e2 = e + d * push.secondInvBandwidth2;
+        second = e2 > NFOR_EXP_CUT ? 0.0 : exp(-e2);
+    }
+    e += d * push.invBandwidth2;
+    float first = e > NFOR_EXP_CUT ? 0.0 : exp(-e);
+    bool valid = inside && slots[0].x != 0.0;
+    secondWeight = valid ? (centre ? 1.0 : second) : 0.0;
+    return valid ? (centre ? 1.0 : first) : 0.0;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
@@ -142,28 +190,34 @@ void main() {
         SEQ91(ZA2)
         SEQ52(ZB2)
     }
-    float weights = 0.0, secondWeights = 0.0;
     int r = push.radius;
     if (!emitter) {
         loadFixed(x, y);
-        for (int v = y - r; v <= y + r; ++v)
-            for (int u = x - r; u <= x + r; ++u) {
-                if (u < 0 || v < 0 || u >= w || v >= h) continue;
-                float wq = weightOf(x, y, u, v, u, v, 1.0);
-                float wq2 = secondWeight;
-                if (wq == 0.0 && (candidateCount == 1 || wq2 == 0.0)) continue;
-                vec4 cq = colorAt(v * w + u);
-                float c0 = cq.x, c1 = cq.y, c2 = cq.z, c3 = cq.w;
-                if (wq != 0.0) {
-                    ACCUMULATE(sa, sb, wq)
-                    weights += wq;
-                }
-                if (candidateCount > 1 && wq2 != 0.0) {
-                    ACCUMULATE(sa2, sb2, wq2)
-                    secondWeights += wq2;
-                }
+        // Each row three steps at a time, then the 0-2 steps left one at a time. A step adds
+        // its terms whatever its weight: a zero weight adds zeros, which leave the sums (from
+        // +0, never -0) unchanged. The constant's sum sa[0] is the sum of the weights.
+        for (int v = y - r; v <= y + r; ++v) {
+            int u = x - r;
+            for (; u + 2 <= x + r; u += 3) {
+                vec4 cA, cB, cC;
+                float wA = stepWeight(x, y, u, v, cA), wA2 = secondWeight;
+                float colA[kMaxColumns] = col;
+                float wB = stepWeight(x, y, u + 1, v, cB), wB2 = secondWeight;
+                float colB[kMaxColumns] = col;
+                float wC = stepWeight(x, y, u + 2, v, cC), wC2 = secondWeight;
+                float colC[kMaxColumns] = col;
+                ACCUMULATE3(sa, sb, wA, wB, wC)
+                if (candidateCount > 1) ACCUMULATE3(sa2, sb2, wA2, wB2, wC2)
             }
+            for (; u <= x + r; ++u) {
+                vec4 cq;
+                float wq = stepWeight(x, y, u, v, cq), wq2 = secondWeight;
+                float c0 = cq.x, c1 = cq.y, c2 = cq.z, c3 = cq.w;
+                ACCUMULATE(sa, sb, wq)
+                if (candidateCount > 1) ACCUMULATE(sa2, sb2, wq2)
+            }
+        }
     }
-    solve(sa, sb, weights, x, y, 0, emitter, color);
-    if (candidateCount > 1) solve(sa2, sb2, secondWeights, x, y, 1, emitter, color);
+    solve(sa, sb, sa[0], x, y, 0, emitter, color);
+    if (candidateCount > 1) solve(sa2, sb2, sa2[0], x, y, 1, emitter, color);
 }

@@ -1059,9 +1059,9 @@ void ExpectRegressMatches(const FitInputs &f, const ref::NforCandidate &candidat
     EXPECT_TRUE(ImagesMatch(expected.hat, hat, hatScale, {1, 0, 1e-8}));
 }
 
-void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
-    SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
-    const int radius = 2;
+void CheckRegress(int w, int h, InputKind kind, int features, int channels, int radius) {
+    SCOPED_TRACE(
+        fmt::format("{} features, {} channels, radius {}", features, channels, radius));
     FitInputs f =
         MakeFitInputs(w, h, kind, fmt::format("regress{}x{}{}", w, h, InputKindName(kind)),
                       radius, features, channels);
@@ -1087,9 +1087,13 @@ void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
     EXPECT_TRUE(BitIdentical(hat, hatAgain));
 }
 
+// Radii 1, 2 and 3: window rows of 3, 5 and 7 steps, taken three at a time with no step, 2
+// and 1 left over.
 TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
-    for (auto [features, channels] : kFitShapes) CheckRegress(w, h, kind, features, channels);
+    for (int radius : {1, 2, 3})
+        for (auto [features, channels] : kFitShapes)
+            CheckRegress(w, h, kind, features, channels, radius);
 }
 
 // Regress of two candidates in one pass (their bandwidths differ) writes what each writes in
