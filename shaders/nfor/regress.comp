@@ -27,26 +27,12 @@ layout(std430, binding = NFOR_FIT_SECOND_BETA) writeonly buffer SecondBeta {
 int w, h;
 
 #define TRI(i, j) ((i) * ((i) + 1) / 2 + (j))
-#define ACC(SA, i, j) if ((j) <= (i)) SA[TRI(i, j)] += wx * col[j];
-#define ROW(SA, SB, WQ, i) if ((i) < columnCount) { float wx = WQ * col[i]; \
-    ACC(SA, i, 0) ACC(SA, i, 1) ACC(SA, i, 2) ACC(SA, i, 3) ACC(SA, i, 4) ACC(SA, i, 5) \
-    ACC(SA, i, 6) ACC(SA, i, 7) ACC(SA, i, 8) ACC(SA, i, 9) ACC(SA, i, 10) ACC(SA, i, 11) \
-    ACC(SA, i, 12) \
-    SB[i] += wx * c0; \
-    if (channels > 1) SB[kMaxColumns + (i)] += wx * c1; \
-    if (channels > 2) SB[2 * kMaxColumns + (i)] += wx * c2; \
-    if (channels > 3) SB[3 * kMaxColumns + (i)] += wx * c3; }
 #define SEQ91(F) SEQ10(F, 0) SEQ10(F, 10) SEQ10(F, 20) SEQ10(F, 30) SEQ10(F, 40) SEQ10(F, 50) SEQ10(F, 60) SEQ10(F, 70) SEQ10(F, 80) F(90)
 #define SEQ52(F) SEQ10(F, 0) SEQ10(F, 10) SEQ10(F, 20) SEQ10(F, 30) SEQ10(F, 40) F(50) F(51)
 #define ZA(i) sa[i] = 0.0;
 #define ZB(i) sb[i] = 0.0;
 #define ZA2(i) sa2[i] = 0.0;
 #define ZB2(i) sb2[i] = 0.0;
-#define ACCUMULATE(SA, SB, WQ) ROW(SA, SB, WQ, 0) ROW(SA, SB, WQ, 1) ROW(SA, SB, WQ, 2) \
-    ROW(SA, SB, WQ, 3) ROW(SA, SB, WQ, 4) ROW(SA, SB, WQ, 5) ROW(SA, SB, WQ, 6) \
-    ROW(SA, SB, WQ, 7) ROW(SA, SB, WQ, 8) ROW(SA, SB, WQ, 9) ROW(SA, SB, WQ, 10) \
-    ROW(SA, SB, WQ, 11) ROW(SA, SB, WQ, 12)
-
 // Three steps at once (A, B, C: their columns colA.., colours cA.. and weights): each sum
 // written once, its three terms added in the steps' order, as three single steps add them.
 #define ACC3(SA, i, j) if ((j) <= (i)) SA[TRI(i, j)] = \
@@ -148,18 +134,21 @@ void solve(float a[kMaxPacked], float b[kMaxRight], float weights, int x, int y,
 // q = (u, v)'s step in p = (x, y)'s window without a branch (lavapipe runs a loop's body
 // under a mask whichever way a lane goes): q's columns into col, its colour, its weight at
 // the first bandwidth (returned) and at the second (secondWeight). Both weights are 0 where q
-// is outside the frame or an emitter, 1 at q = p. An outside q reads the frame's pixel
-// nearest to it and p reads the distance of offset (1, 0): finite values the zero weight
-// or the centre's 1 discards.
+// is outside the frame, past the window's row (u > x + r: a last chunk's padding) or an
+// emitter, 1 at q = p. Such a q reads the pixel of the frame and the window nearest to it,
+// and p reads the distance of offset (1, 0): finite values the zero weight or the centre's
+// 1 discards.
 float stepWeight(int x, int y, int u, int v, out vec4 color) {
-    bool inside = u >= 0 && v >= 0 && u < w && v < h, centre = u == x && v == y;
-    int qx = clamp(u, 0, w - 1), qy = clamp(v, 0, h - 1);
+    int r = push.radius;
+    bool inside = u >= 0 && v >= 0 && u < w && v < h && u <= x + r;
+    bool centre = u == x && v == y;
+    int qx = clamp(u, max(x - r, 0), min(x + r, w - 1)), qy = clamp(v, 0, h - 1);
     vec4 slots[3];
     LOAD_SLOTS(qy * w + qx)
     color = colorAt(qy * w + qx);
     col[0] = 1.0;
-    col[1] = float(u - x) / float(push.radius);
-    col[2] = float(v - y) / float(push.radius);
+    col[1] = float(u - x) / float(r);
+    col[2] = float(v - y) / float(r);
     float e = 0.0, sign = 1.0;
     SEQ10(COLUMN, 0)
     float d = max(0.0, distanceOf(x, y, centre ? x + 1 : qx, qy));
@@ -193,12 +182,12 @@ void main() {
     int r = push.radius;
     if (!emitter) {
         loadFixed(x, y);
-        // Each row three steps at a time, then the 0-2 steps left one at a time. A step adds
-        // its terms whatever its weight: a zero weight adds zeros, which leave the sums (from
-        // +0, never -0) unchanged. The constant's sum sa[0] is the sum of the weights.
+        // Each row three steps at a time; a row whose length is no multiple of 3 ends in a
+        // chunk whose steps past it weigh 0. A step adds its terms whatever its weight: a
+        // zero weight adds zeros, which leave the sums (from +0, never -0) unchanged. The
+        // constant's sum sa[0] is the sum of the weights.
         for (int v = y - r; v <= y + r; ++v) {
-            int u = x - r;
-            for (; u + 2 <= x + r; u += 3) {
+            for (int u = x - r; u <= x + r; u += 3) {
                 vec4 cA, cB, cC;
                 float wA = stepWeight(x, y, u, v, cA), wA2 = secondWeight;
                 float colA[kMaxColumns] = col;
@@ -208,13 +197,6 @@ void main() {
                 float colC[kMaxColumns] = col;
                 ACCUMULATE3(sa, sb, wA, wB, wC)
                 if (candidateCount > 1) ACCUMULATE3(sa2, sb2, wA2, wB2, wC2)
-            }
-            for (; u <= x + r; ++u) {
-                vec4 cq;
-                float wq = stepWeight(x, y, u, v, cq), wq2 = secondWeight;
-                float c0 = cq.x, c1 = cq.y, c2 = cq.z, c3 = cq.w;
-                ACCUMULATE(sa, sb, wq)
-                if (candidateCount > 1) ACCUMULATE(sa2, sb2, wq2)
             }
         }
     }
