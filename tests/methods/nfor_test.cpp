@@ -1087,8 +1087,8 @@ void CheckRegress(int w, int h, InputKind kind, int features, int channels, int 
     EXPECT_TRUE(BitIdentical(hat, hatAgain));
 }
 
-// Radii 1, 2 and 3: window rows of 3, 5 and 7 steps, taken three at a time with no step, 2
-// and 1 left over.
+// Radii 1, 2 and 3: window rows of 3, 5 and 7 steps, which the kernel takes three at a
+// time; a row's last chunk holds 3, 2 and 1 of its steps (the others weigh 0).
 TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     for (int radius : {1, 2, 3})
