@@ -184,7 +184,8 @@ void main() {
         loadFixed(x, y);
         // Each row three steps at a time; a row whose length is no multiple of 3 ends in a
         // chunk whose steps past it weigh 0. A step adds its terms whatever its weight: a
-        // zero weight adds zeros, which leave the sums (from +0, never -0) unchanged. The
+        // zero weight times finite columns and colour (the front end keeps the inputs
+        // finite) adds zeros, which leave the sums (from +0, never -0) unchanged. The
         // constant's sum sa[0] is the sum of the weights.
         for (int v = y - r; v <= y + r; ++v) {
             for (int u = x - r; u <= x + r; u += 3) {
