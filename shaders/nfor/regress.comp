@@ -136,7 +136,8 @@ void solve(float a[kMaxPacked], float b[kMaxRight], float weights, int x, int y,
 // the first bandwidth (returned) and at the second (secondWeight). Both weights are 0 where q
 // is outside the frame, past the window's row (u > x + r: a last chunk's padding) or an
 // emitter, 1 at q = p. Such a q reads the pixel of the frame and the window nearest to it,
-// and p reads the distance of offset (1, 0): finite values the zero weight or the centre's
+// and p, or a step clamped onto p, reads the distance of offset (1, 0), which p stores (no
+// plane holds p's distance to itself): values in range that the zero weight or the centre's
 // 1 discards.
 float stepWeight(int x, int y, int u, int v, out vec4 color) {
     int r = push.radius;
@@ -151,7 +152,8 @@ float stepWeight(int x, int y, int u, int v, out vec4 color) {
     col[2] = float(v - y) / float(r);
     float e = 0.0, sign = 1.0;
     SEQ10(COLUMN, 0)
-    float d = max(0.0, distanceOf(x, y, centre ? x + 1 : qx, qy));
+    bool atP = qx == x && qy == y;
+    float d = max(0.0, distanceOf(x, y, atP ? x + 1 : qx, qy));
     float second = 0.0;
     if (candidateCount > 1) {
         float e2 = e + d * push.secondInvBandwidth2;

@@ -1088,7 +1088,9 @@ void CheckRegress(int w, int h, InputKind kind, int features, int channels, int 
 }
 
 // Radii 1, 2 and 3: window rows of 3, 5 and 7 steps, which the kernel takes three at a
-// time; a row's last chunk holds 3, 2 and 1 of its steps (the others weigh 0).
+// time; a row's last chunk holds 3, 2 and 1 of its steps (the others weigh 0). The bound is
+// the arithmetic's, so an order of additions other than main's passes here: that the kernel
+// keeps the output's bits was checked by comparing whole outputs (docs/performance.md).
 TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
     for (int radius : {1, 2, 3})
