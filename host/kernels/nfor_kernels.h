@@ -111,7 +111,9 @@ void RecordNforPack(vk::Context &context, vk::Recorder &recorder, const vk::GpuI
 // (NforBetaStride planes' worth, per pixel: column i, channel c at i * channels + c) and their
 // influence into plane `hatPlane` of `hat`. With `second` (and `secondBeta`), a candidate
 // differing from `settings` in its bandwidth alone fitted in the same pass, into
-// `secondBeta` and plane hatPlane + 1: the same values as a pass of its own.
+// `secondBeta` and plane hatPlane + 1: the same values as a pass of its own. The packed
+// colour and features must be finite: a step of weight 0 (outside the frame, an emitter) is
+// summed as zeros, not skipped.
 void RecordNforRegress(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &packed,
                        int features, int channels, const vk::GpuImage &distance,
                        const NforFitSettings &settings, vk::GpuImage &beta, vk::GpuImage &hat,

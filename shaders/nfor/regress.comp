@@ -27,25 +27,29 @@ layout(std430, binding = NFOR_FIT_SECOND_BETA) writeonly buffer SecondBeta {
 int w, h;
 
 #define TRI(i, j) ((i) * ((i) + 1) / 2 + (j))
-#define ACC(SA, i, j) if ((j) <= (i)) SA[TRI(i, j)] += wx * col[j];
-#define ROW(SA, SB, WQ, i) if ((i) < columnCount) { float wx = WQ * col[i]; \
-    ACC(SA, i, 0) ACC(SA, i, 1) ACC(SA, i, 2) ACC(SA, i, 3) ACC(SA, i, 4) ACC(SA, i, 5) \
-    ACC(SA, i, 6) ACC(SA, i, 7) ACC(SA, i, 8) ACC(SA, i, 9) ACC(SA, i, 10) ACC(SA, i, 11) \
-    ACC(SA, i, 12) \
-    SB[i] += wx * c0; \
-    if (channels > 1) SB[kMaxColumns + (i)] += wx * c1; \
-    if (channels > 2) SB[2 * kMaxColumns + (i)] += wx * c2; \
-    if (channels > 3) SB[3 * kMaxColumns + (i)] += wx * c3; }
 #define SEQ91(F) SEQ10(F, 0) SEQ10(F, 10) SEQ10(F, 20) SEQ10(F, 30) SEQ10(F, 40) SEQ10(F, 50) SEQ10(F, 60) SEQ10(F, 70) SEQ10(F, 80) F(90)
 #define SEQ52(F) SEQ10(F, 0) SEQ10(F, 10) SEQ10(F, 20) SEQ10(F, 30) SEQ10(F, 40) F(50) F(51)
 #define ZA(i) sa[i] = 0.0;
 #define ZB(i) sb[i] = 0.0;
 #define ZA2(i) sa2[i] = 0.0;
 #define ZB2(i) sb2[i] = 0.0;
-#define ACCUMULATE(SA, SB, WQ) ROW(SA, SB, WQ, 0) ROW(SA, SB, WQ, 1) ROW(SA, SB, WQ, 2) \
-    ROW(SA, SB, WQ, 3) ROW(SA, SB, WQ, 4) ROW(SA, SB, WQ, 5) ROW(SA, SB, WQ, 6) \
-    ROW(SA, SB, WQ, 7) ROW(SA, SB, WQ, 8) ROW(SA, SB, WQ, 9) ROW(SA, SB, WQ, 10) \
-    ROW(SA, SB, WQ, 11) ROW(SA, SB, WQ, 12)
+// Three steps at once (A, B, C: their columns colA.., colours cA.. and weights): each sum
+// written once, its three terms added in the steps' order, as three single steps add them.
+#define ACC3(SA, i, j) if ((j) <= (i)) SA[TRI(i, j)] = \
+    ((SA[TRI(i, j)] + wxA * colA[j]) + wxB * colB[j]) + wxC * colC[j];
+#define RIGHT3(SB, i, c, e) if (channels > (c)) SB[(c) * kMaxColumns + (i)] = \
+    ((SB[(c) * kMaxColumns + (i)] + wxA * cA.e) + wxB * cB.e) + wxC * cC.e;
+#define ROW3(SA, SB, WA, WB, WC, i) if ((i) < columnCount) { \
+    float wxA = WA * colA[i], wxB = WB * colB[i], wxC = WC * colC[i]; \
+    ACC3(SA, i, 0) ACC3(SA, i, 1) ACC3(SA, i, 2) ACC3(SA, i, 3) ACC3(SA, i, 4) ACC3(SA, i, 5) \
+    ACC3(SA, i, 6) ACC3(SA, i, 7) ACC3(SA, i, 8) ACC3(SA, i, 9) ACC3(SA, i, 10) \
+    ACC3(SA, i, 11) ACC3(SA, i, 12) \
+    RIGHT3(SB, i, 0, x) RIGHT3(SB, i, 1, y) RIGHT3(SB, i, 2, z) RIGHT3(SB, i, 3, w) }
+#define ACCUMULATE3(SA, SB, WA, WB, WC) ROW3(SA, SB, WA, WB, WC, 0) \
+    ROW3(SA, SB, WA, WB, WC, 1) ROW3(SA, SB, WA, WB, WC, 2) ROW3(SA, SB, WA, WB, WC, 3) \
+    ROW3(SA, SB, WA, WB, WC, 4) ROW3(SA, SB, WA, WB, WC, 5) ROW3(SA, SB, WA, WB, WC, 6) \
+    ROW3(SA, SB, WA, WB, WC, 7) ROW3(SA, SB, WA, WB, WC, 8) ROW3(SA, SB, WA, WB, WC, 9) \
+    ROW3(SA, SB, WA, WB, WC, 10) ROW3(SA, SB, WA, WB, WC, 11) ROW3(SA, SB, WA, WB, WC, 12)
 
 #include "nfor/weight.glsl"
 
@@ -127,6 +131,41 @@ void solve(float a[kMaxPacked], float b[kMaxRight], float weights, int x, int y,
     writeFit(x, y, candidate, failed, color, b, influence);
 }
 
+// q = (u, v)'s step in p = (x, y)'s window without a branch (lavapipe runs a loop's body
+// under a mask whichever way a lane goes): q's columns into col, its colour, its weight at
+// the first bandwidth (returned) and at the second (secondWeight). Both weights are 0 where q
+// is outside the frame, past the window's row (u > x + r: a last chunk's padding) or an
+// emitter, 1 at q = p. Such a q reads the pixel of the frame and the window nearest to it,
+// and p, or a step clamped onto p, reads the distance of offset (1, 0), which p stores (no
+// plane holds p's distance to itself): values in range that the zero weight or the centre's
+// 1 discards.
+float stepWeight(int x, int y, int u, int v, out vec4 color) {
+    int r = push.radius;
+    bool inside = u >= 0 && v >= 0 && u < w && v < h && u <= x + r;
+    bool centre = u == x && v == y;
+    int qx = clamp(u, max(x - r, 0), min(x + r, w - 1)), qy = clamp(v, 0, h - 1);
+    vec4 slots[3];
+    LOAD_SLOTS(qy * w + qx)
+    color = colorAt(qy * w + qx);
+    col[0] = 1.0;
+    col[1] = float(u - x) / float(r);
+    col[2] = float(v - y) / float(r);
+    float e = 0.0, sign = 1.0;
+    SEQ10(COLUMN, 0)
+    bool atP = qx == x && qy == y;
+    float d = max(0.0, distanceOf(x, y, atP ? x + 1 : qx, qy));
+    float second = 0.0;
+    if (candidateCount > 1) {
+        float e2 = e + d * push.secondInvBandwidth2;
+        second = e2 > NFOR_EXP_CUT ? 0.0 : exp(-e2);
+    }
+    e += d * push.invBandwidth2;
+    float first = e > NFOR_EXP_CUT ? 0.0 : exp(-e);
+    bool valid = inside && slots[0].x != 0.0;
+    secondWeight = valid ? (centre ? 1.0 : second) : 0.0;
+    return valid ? (centre ? 1.0 : first) : 0.0;
+}
+
 void main() {
     int x = int(gl_GlobalInvocationID.x), y = int(gl_WorkGroupID.y);
     w = push.width;
@@ -142,28 +181,28 @@ void main() {
         SEQ91(ZA2)
         SEQ52(ZB2)
     }
-    float weights = 0.0, secondWeights = 0.0;
     int r = push.radius;
     if (!emitter) {
         loadFixed(x, y);
-        for (int v = y - r; v <= y + r; ++v)
-            for (int u = x - r; u <= x + r; ++u) {
-                if (u < 0 || v < 0 || u >= w || v >= h) continue;
-                float wq = weightOf(x, y, u, v, u, v, 1.0);
-                float wq2 = secondWeight;
-                if (wq == 0.0 && (candidateCount == 1 || wq2 == 0.0)) continue;
-                vec4 cq = colorAt(v * w + u);
-                float c0 = cq.x, c1 = cq.y, c2 = cq.z, c3 = cq.w;
-                if (wq != 0.0) {
-                    ACCUMULATE(sa, sb, wq)
-                    weights += wq;
-                }
-                if (candidateCount > 1 && wq2 != 0.0) {
-                    ACCUMULATE(sa2, sb2, wq2)
-                    secondWeights += wq2;
-                }
+        // Each row three steps at a time; a row whose length is no multiple of 3 ends in a
+        // chunk whose steps past it weigh 0. A step adds its terms whatever its weight: a
+        // zero weight times finite columns and colour (the front end keeps the inputs
+        // finite) adds zeros, which leave the sums (from +0, never -0) unchanged. The
+        // constant's sum sa[0] is the sum of the weights.
+        for (int v = y - r; v <= y + r; ++v) {
+            for (int u = x - r; u <= x + r; u += 3) {
+                vec4 cA, cB, cC;
+                float wA = stepWeight(x, y, u, v, cA), wA2 = secondWeight;
+                float colA[kMaxColumns] = col;
+                float wB = stepWeight(x, y, u + 1, v, cB), wB2 = secondWeight;
+                float colB[kMaxColumns] = col;
+                float wC = stepWeight(x, y, u + 2, v, cC), wC2 = secondWeight;
+                float colC[kMaxColumns] = col;
+                ACCUMULATE3(sa, sb, wA, wB, wC)
+                if (candidateCount > 1) ACCUMULATE3(sa2, sb2, wA2, wB2, wC2)
             }
+        }
     }
-    solve(sa, sb, weights, x, y, 0, emitter, color);
-    if (candidateCount > 1) solve(sa2, sb2, secondWeights, x, y, 1, emitter, color);
+    solve(sa, sb, sa[0], x, y, 0, emitter, color);
+    if (candidateCount > 1) solve(sa2, sb2, sa2[0], x, y, 1, emitter, color);
 }

@@ -1059,9 +1059,9 @@ void ExpectRegressMatches(const FitInputs &f, const ref::NforCandidate &candidat
     EXPECT_TRUE(ImagesMatch(expected.hat, hat, hatScale, {1, 0, 1e-8}));
 }
 
-void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
-    SCOPED_TRACE(fmt::format("{} features, {} channels", features, channels));
-    const int radius = 2;
+void CheckRegress(int w, int h, InputKind kind, int features, int channels, int radius) {
+    SCOPED_TRACE(
+        fmt::format("{} features, {} channels, radius {}", features, channels, radius));
     FitInputs f =
         MakeFitInputs(w, h, kind, fmt::format("regress{}x{}{}", w, h, InputKindName(kind)),
                       radius, features, channels);
@@ -1087,9 +1087,15 @@ void CheckRegress(int w, int h, InputKind kind, int features, int channels) {
     EXPECT_TRUE(BitIdentical(hat, hatAgain));
 }
 
+// Radii 1, 2 and 3: window rows of 3, 5 and 7 steps, which the kernel takes three at a
+// time; a row's last chunk holds 3, 2 and 1 of its steps (the others weigh 0). The bound is
+// the arithmetic's, so an order of additions other than main's passes here: that the kernel
+// keeps the output's bits was checked by comparing whole outputs (docs/performance.md).
 TEST_P(NforRegressKernel, MatchesReferenceAndRepeats) {
     const auto [w, h, kind] = GetParam();
-    for (auto [features, channels] : kFitShapes) CheckRegress(w, h, kind, features, channels);
+    for (int radius : {1, 2, 3})
+        for (auto [features, channels] : kFitShapes)
+            CheckRegress(w, h, kind, features, channels, radius);
 }
 
 // Regress of two candidates in one pass (their bandwidths differ) writes what each writes in
