@@ -194,18 +194,12 @@ const vk::Kernel &IlluminationKernel(vk::Context &context, int channels) {
 
 // The row pass (box.comp) or the column pass (box_columns.comp); both read vec4 groups.
 const vk::Kernel &BoxKernel(vk::Context &context, bool vertical) {
-    if (vertical)
-        return context.GetKernel({"nfor_box_columns",
-                                  k_nfor_box_columns_spv,
-                                  sizeof(k_nfor_box_columns_spv),
-                                  NFOR_BOX_BINDINGS,
-                                  sizeof(shader::NforDistancePush),
-                                  {},
-                                  1u << NFOR_BOX_IN,
-                                  1u << NFOR_BOX_IN});
-    return context.GetKernel({"nfor_box",
-                              k_nfor_box_spv,
-                              sizeof(k_nfor_box_spv),
+    const char *name = vertical ? "nfor_box_columns" : "nfor_box";
+    const uint32_t *spirv = vertical ? k_nfor_box_columns_spv : k_nfor_box_spv;
+    size_t bytes = vertical ? sizeof(k_nfor_box_columns_spv) : sizeof(k_nfor_box_spv);
+    return context.GetKernel({name,
+                              spirv,
+                              bytes,
                               NFOR_BOX_BINDINGS,
                               sizeof(shader::NforDistancePush),
                               {},
