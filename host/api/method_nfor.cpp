@@ -69,6 +69,13 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                          "compare the colour itself in the NL-means distance (by default "
                          "colour / albedo: texture and edge coverage divide out)",
                          &O::noDemodulatedDistance)),
+        nested(FloatParam("albedo-noise",
+                          "the demodulated distance compares the colours themselves, not "
+                          "colour / albedo, in a pair with an end whose albedo is noise: its "
+                          "relative variance over 3x3 above this, and dividing by it roughens "
+                          "the colour (glossy metal, whose albedo follows the sampled bounce); "
+                          "0: every pair compares colour / albedo",
+                          &O::albedoNoise, 0, 100)),
         nested(FloatParam("alpha", "variance cancellation in the colour distance", &O::alpha, 0,
                           10)),
         nested(EnumParam("distance-variance",
@@ -339,7 +346,9 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                                    ? std::max(2, kNforLineFloorReach)
                                : o.fireflyLine > 0 ? 2
                                                    : 1;
-        int colourReach = o.patchRadius + o.noiseRadius + clampReach;
+        // The distance's trust reads the clamped colour of the 8 neighbours.
+        const int trustReach = o.albedoNoise > 0 && inputs.Has("albedo") ? 1 : 0;
+        int colourReach = o.patchRadius + std::max(o.noiseRadius, trustReach) + clampReach;
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;
@@ -447,6 +456,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.minVariance = o.minVariance;
         p.pilotMinVariance = NforPilotMinVariance(o);
         p.demodulateDistance = !o.noDemodulatedDistance;
+        p.albedoNoise = o.albedoNoise;
         p.ridge = o.ridge;
         p.featureWeights.assign(weights.begin(), weights.end());
         p.noiseRadius = o.noiseRadius;

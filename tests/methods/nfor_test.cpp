@@ -667,18 +667,23 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforPrefilterKernel, testing::ValuesIn(KernelCas
 
 // The illumination kernel's output made on the CPU: per pixel the channels' colour, then
 // their variance, each divided by the albedo's channel (min(c, its channels - 1)) and its
-// square where that is above the floor; zeros past the channels.
-Image IlluminationOf(const Image &color, const Image &variance, const Image *albedo) {
+// square where that is above the floor, zeros past the channels; then the divisors (1 where
+// not divided and past the channels), negated where `trust` is 0.
+Image IlluminationOf(const Image &color, const Image &variance, const Image *albedo,
+                     const Image *trust = nullptr) {
     Image out(color.width, color.height, kNforIlluminationFloats);
     for (int y = 0; y < color.height; ++y)
         for (int x = 0; x < color.width; ++x) {
-            float *values = out.data.data() + (size_t(y) * color.width + x) * 8;
+            float *values = out.data.data() + (size_t(y) * color.width + x) * 12;
+            const float sign = albedo && trust && trust->At(0, y, x) == 0 ? -1.f : 1.f;
+            for (int c = 0; c < 4; ++c) values[8 + c] = sign;
             for (int c = 0; c < color.channels; ++c) {
                 float value = color.At(c, y, x), noise = variance.At(c, y, x);
                 float a = albedo ? albedo->At(std::min(c, albedo->channels - 1), y, x) : 0.f;
                 if (albedo && a > float(NFOR_NOISE_ALBEDO_FLOOR)) {
                     value /= a;
                     noise /= a * a;
+                    values[8 + c] = sign * a;
                 }
                 values[c] = value;
                 values[4 + c] = noise;
@@ -687,8 +692,18 @@ Image IlluminationOf(const Image &color, const Image &variance, const Image *alb
     return out;
 }
 
+// A trust plane (nfor/trust.h) of about 40% zeros: pairs with such an end compare colours.
+Image RandomTrust(int w, int h, const std::string &name) {
+    std::mt19937_64 rng(SeedFromName(name));
+    std::uniform_real_distribution<float> unit(0.f, 1.f);
+    Image trust(w, h, 1);
+    for (float &t : trust.data) t = unit(rng) < 0.4f ? 0.f : 1.f;
+    return trust;
+}
+
 // Illumination: one division each, rounded alike here (the square too): bit for bit, with
-// 1, 3 and 4 colour channels, an albedo of as many or 1 channel, or none.
+// 1, 3 and 4 colour channels, an albedo of as many or 1 channel, or none; with and without
+// a trust plane.
 class NforIlluminationKernel : public GpuTestWithParam<KernelCase> {};
 
 TEST_P(NforIlluminationKernel, MatchesTheDefinitionAndRepeats) {
@@ -703,19 +718,25 @@ TEST_P(NforIlluminationKernel, MatchesTheDefinitionAndRepeats) {
         // Some albedos under the floor: those channels are not divided.
         for (size_t i = 0; i < albedo.Size(); i += 3) albedo.data[i] *= 0.01f;
         const Image *divisor = albedoChannels > 0 ? &albedo : nullptr;
-        auto run = [&] {
-            vk::GpuImage c = Upload(Ctx(), color, "color"),
-                         v = Upload(Ctx(), variance, "variance"),
-                         a = Upload(Ctx(), albedo, "albedo");
-            vk::GpuImage out(Ctx(), w, h, kNforIlluminationFloats, "illumination");
-            vk::Recorder recorder(Ctx());
-            RecordNforIllumination(Ctx(), recorder, c, v, divisor ? &a : nullptr, out);
-            recorder.Submit();
-            return out.Download();
-        };
-        Image actual = run();
-        EXPECT_TRUE(BitIdentical(IlluminationOf(color, variance, divisor), actual));
-        EXPECT_TRUE(BitIdentical(actual, run()));
+        const Image trust = RandomTrust(w, h, name + "trust");
+        for (bool trusted : {false, true}) {
+            auto run = [&] {
+                vk::GpuImage c = Upload(Ctx(), color, "color"),
+                             v = Upload(Ctx(), variance, "variance"),
+                             a = Upload(Ctx(), albedo, "albedo"), t = Upload(Ctx(), trust, "t");
+                vk::GpuImage out(Ctx(), w, h, kNforIlluminationFloats, "illumination");
+                vk::Recorder recorder(Ctx());
+                RecordNforIllumination(Ctx(), recorder, c, v, divisor ? &a : nullptr, out,
+                                       trusted ? &t : nullptr);
+                recorder.Submit();
+                return out.Download();
+            };
+            Image actual = run();
+            EXPECT_TRUE(BitIdentical(
+                IlluminationOf(color, variance, divisor, trusted ? &trust : nullptr), actual))
+                << "trust " << trusted;
+            EXPECT_TRUE(BitIdentical(actual, run()));
+        }
     }
 }
 
@@ -748,7 +769,9 @@ Image PlanesOfGroups(const Image &groups) {
 // Term (divided: also the normaliser 2 min(v_p, v_q)): with the albedo's divisions, cp and cq
 // carry a rounding each, which moves d^2 by at most 2u (|cp| + |cq|)^2; the variances'
 // divisions, the sums, the square and the division add about 6 roundings more: 12u of ((|cp| +
-// |cq|)^2 + alpha s) / den per channel, computed here in double from the inputs.
+// |cq|)^2 + alpha s) / den per channel, computed here in double from the inputs. With a trust
+// plane a pair with an end not trusted compares the colours, which term makes back from the
+// divided values times the divisors (2 roundings more each, within the bound).
 class NforTermKernel : public GpuTestWithParam<KernelCase> {};
 
 TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
@@ -757,13 +780,17 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
         DistanceInputs(fmt::format("term{}x{}{}", w, h, InputKindName(kind)), kind, w, h);
     const int radius = 3;
     const float alpha = 1;
-    for (bool divided : {false, true}) {
+    const Image trustPlane = RandomTrust(w, h, fmt::format("termTrust{}x{}", w, h));
+    for (int mode : {0, 1, 2}) {
+        // 0 colour, 1 colour / albedo, 2 colour / albedo where both ends are trusted.
+        const bool divided = mode > 0;
+        const Image *trust = mode == 2 ? &trustPlane : nullptr;
         Image expected = ref::NforTerms(color, variance, divided ? &albedo : nullptr, radius,
-                                        alpha, divided);
+                                        alpha, divided, trust);
         auto run = [&] {
-            vk::GpuImage illumination =
-                Upload(Ctx(), IlluminationOf(color, variance, divided ? &albedo : nullptr),
-                       "illumination");
+            vk::GpuImage illumination = Upload(
+                Ctx(), IlluminationOf(color, variance, divided ? &albedo : nullptr, trust),
+                "illumination");
             vk::GpuImage out(Ctx(), w, h, NforOffsetCount(radius), "terms");
             vk::Recorder recorder(Ctx());
             RecordNforTerm(Ctx(), recorder, illumination, 3, radius, alpha, divided, out);
@@ -779,11 +806,14 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
                 for (int x = 0; x < w; ++x) {
                     int qx = x + ox, qy = y + oy;
                     if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+                    const bool pair =
+                        divided &&
+                        (!trust || (trust->At(0, y, x) != 0 && trust->At(0, qy, qx) != 0));
                     double sum = 0;
                     for (int c = 0; c < 3; ++c) {
                         auto scale = [&](int u, int v) {
                             double a = albedo.At(c, v, u);
-                            return divided && a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
+                            return pair && a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
                         };
                         double sp = scale(x, y), sq = scale(qx, qy);
                         double cp = color.At(c, y, x) / sp, cq = color.At(c, qy, qx) / sq;
@@ -800,7 +830,7 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
                 }
         }
         EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {12 * kU, 0, 1e-9}))
-            << (divided ? "divided" : "colour");
+            << "mode " << mode;
         EXPECT_TRUE(BitIdentical(actual, run()));
     }
 }
@@ -872,21 +902,27 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
         DistanceInputs(fmt::format("distance{}x{}{}", w, h, InputKindName(kind)), kind, w, h);
     const int radius = 3, patch = 2;
     const float alpha = 1;
-    for (bool divided : {false, true}) {
+    const Image trustPlane = RandomTrust(w, h, fmt::format("distanceTrust{}x{}", w, h));
+    for (int mode : {0, 1, 2}) {
+        // 0 colour, 1 colour / albedo, 2 colour / albedo where both ends are trusted.
         // Divided: also the normaliser 2 min(v_p, v_q).
+        const bool divided = mode > 0;
+        const Image *trust = mode == 2 ? &trustPlane : nullptr;
         Image expected = ref::NforDistance(color, variance, divided ? &albedo : nullptr, radius,
-                                           patch, alpha, divided);
+                                           patch, alpha, divided, trust);
         auto run = [&] {
             vk::GpuImage c = Upload(Ctx(), color, "color"),
                          v = Upload(Ctx(), variance, "variance");
-            vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+            vk::GpuImage a = Upload(Ctx(), albedo, "albedo"),
+                         t = Upload(Ctx(), trustPlane, "t");
             int offsets = NforOffsetCount(radius);
             vk::GpuImage scratch(Ctx(), w, h, offsets, "scratch"),
                 out(Ctx(), w, h, offsets, "D"),
                 illumination(Ctx(), w, h, kNforIlluminationFloats, "illumination");
             vk::Recorder recorder(Ctx());
             RecordNforDistance(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, patch,
-                               alpha, divided, illumination, scratch, out);
+                               alpha, divided, illumination, scratch, out,
+                               trust ? &t : nullptr);
             recorder.Submit();
             return out.Download();
         };
@@ -914,9 +950,12 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
                             if (ux < 0 || uy < 0 || ux >= w || uy >= h || ux + ox < 0 ||
                                 uy + oy < 0 || ux + ox >= w || uy + oy >= h)
                                 continue;
+                            const bool pair = !trust || (trust->At(0, uy, ux) != 0 &&
+                                                         trust->At(0, uy + oy, ux + ox) != 0);
+                            const Image &zs = pair ? z : color, &vs = pair ? vz : variance;
                             for (int c = 0; c < 3; ++c) {
-                                double cp = z.At(c, uy, ux), cq = z.At(c, uy + oy, ux + ox);
-                                double vp = vz.At(c, uy, ux), vq = vz.At(c, uy + oy, ux + ox);
+                                double cp = zs.At(c, uy, ux), cq = zs.At(c, uy + oy, ux + ox);
+                                double vp = vs.At(c, uy, ux), vq = vs.At(c, uy + oy, ux + ox);
                                 double s = divided ? 2 * std::min(vp, vq) : vp + vq;
                                 double den = s + NFOR_REL_EPS * (cp * cp + cq * cq) + NFOR_TINY;
                                 sum += std::min(((cp - cq) * (cp - cq) + alpha * s) / den,
@@ -930,7 +969,7 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
         }
         int n = (2 * patch + 1) * (2 * patch + 1);
         EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {(n + 10) * kU, 0, 1e-10}))
-            << "divided " << divided;
+            << "mode " << mode;
         EXPECT_TRUE(BitIdentical(actual, run()));
     }
 }
