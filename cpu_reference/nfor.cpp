@@ -314,9 +314,10 @@ void NforOffset(int radius, int j, int *ox, int *oy) {
 
 Image NforAlbedoTrust(const Image &color, const Image &albedo, double noise) {
     const int w = color.width, h = color.height, channels = color.channels;
+    // The albedo at least the floor, a NaN the floor (as the kernel's comparison).
     auto albedoAt = [&](int c, int x, int y) {
-        return std::max(double(albedo.At(std::min(c, albedo.channels - 1), y, x)),
-                        kNforNoiseAlbedoFloor);
+        double a = albedo.At(std::min(c, albedo.channels - 1), y, x);
+        return a > kNforNoiseAlbedoFloor ? a : kNforNoiseAlbedoFloor;
     };
     Image trust(w, h, 1);
     for (int y = 0; y < h; ++y)

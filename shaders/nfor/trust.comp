@@ -10,10 +10,11 @@ layout(std430, binding = NFOR_TRUST_COLOR) readonly buffer Color { float color[]
 layout(std430, binding = NFOR_TRUST_ALBEDO) readonly buffer Albedo { float albedo[]; };
 layout(std430, binding = NFOR_TRUST_OUT) writeonly buffer Out { float trust[]; };
 
-// The albedo of colour channel c at (x, y), at least the floor.
+// The albedo of colour channel c at (x, y), at least the floor (NaN too: max's NaN is
+// undefined, a comparison's false).
 float AlbedoAt(int c, int x, int y) {
     float a = albedo[(min(c, push.albedoChannels - 1) * push.height + y) * push.width + x];
-    return max(a, float(NFOR_NOISE_ALBEDO_FLOOR));
+    return a > float(NFOR_NOISE_ALBEDO_FLOOR) ? a : float(NFOR_NOISE_ALBEDO_FLOOR);
 }
 
 float ColorAt(int c, int x, int y) {

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -104,6 +105,28 @@ TEST_P(NforTrustKernel, MatchesTheReferenceAndRepeats) {
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforTrustKernel, testing::ValuesIn(TrustCases()),
                          TrustCaseName);
+
+// NaN and Inf albedos (the API removes them; library and kernel callers need not): the kernel
+// and the reference floor a NaN alike (a comparison, not max, whose NaN is undefined), on a
+// colour and an albedo random enough that windows around them are untrusted.
+TEST_F(GpuTest, NforTrustFloorsANonFiniteAlbedoAsTheReference) {
+    const int w = 23, h = 17;
+    Image color =
+        MakeVarianceInput(InputKind::Uniform, w, h, 3, SeedFromName("trustNaNAlbedo"));
+    std::mt19937_64 rng(SeedFromName("trustNaNAlbedoA"));
+    std::uniform_real_distribution<float> unit(0.f, 1.f);
+    Image albedo(w, h, 3);
+    for (float &v : albedo.data) v = unit(rng);
+    const float nan = std::numeric_limits<float>::quiet_NaN(),
+                inf = std::numeric_limits<float>::infinity();
+    for (size_t i = 0; i < albedo.data.size(); i += 7) albedo.data[i] = nan;
+    for (size_t i = 3; i < albedo.data.size(); i += 29) albedo.data[i] = i % 2 ? inf : -inf;
+    Image expected = ref::NforAlbedoTrust(color, albedo, 0.1);
+    Image actual = RunTrust(Ctx(), color, albedo, 0.1f);
+    EXPECT_TRUE(BitIdentical(expected, actual));
+    EXPECT_LT(std::count(expected.data.begin(), expected.data.end(), 1.f),
+              int(expected.data.size()));
+}
 
 // The rule: the albedo that is noise (left) is not trusted, the texture the colour follows
 // (right) is; a bound above the albedo's roughness trusts every pixel, and so does a
