@@ -9,6 +9,11 @@
 // roughens the colour rather than smoothing it: glossy metal, whose albedo follows the sampled
 // bounce, not texture the colour follows): trust 0; elsewhere 1. The ratios are compared
 // cross-multiplied (a black window is trusted). One invocation per pixel.
+// The albedo here is floored, not left undivided at or below the floor as the distance's
+// divisor is: z stays continuous across the floor, so that a window straddling it (dark
+// texture beside black) does not read the jump from C / a to C as the albedo roughening the
+// colour. The two agree wherever the window's albedos are above the floor. NaN albedos are
+// floored (the distance leaves them undivided).
 #ifndef MCD_SHADERS_NFOR_TRUST_H
 #define MCD_SHADERS_NFOR_TRUST_H
 
