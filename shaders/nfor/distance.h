@@ -25,7 +25,8 @@
 // `illumination` first writes, per pixel, three vec4s: C and v of each channel (zeros past
 // the channels) and the divisor of each (1 where not divided, and past the channels), negated
 // where the albedo is not trusted, so that `term` loads each end of a pair in three loads and
-// divides nothing (a pair with an end not trusted multiplies back).
+// divides nothing (a pair with an end not trusted multiplies back: the colours and variances
+// of NforTerms up to rounding for albedos whose square is finite; past that, a variance 0).
 #define NFOR_ILLUMINATION_COLOR 0
 #define NFOR_ILLUMINATION_VARIANCE 1
 #define NFOR_ILLUMINATION_ALBEDO 2

@@ -37,8 +37,11 @@ void main() {
                     float dp = abs(divisorP[c]), dq = abs(divisorQ[c]);
                     cp *= dp;
                     cq *= dq;
-                    vp *= dp * dp;
-                    vq *= dq * dq;
+                    // A square that overflows (an albedo past about 1.8e19) multiplies in
+                    // two steps: a variance of 0 stays 0, not NaN.
+                    float dp2 = dp * dp, dq2 = dq * dq;
+                    vp = isinf(dp2) ? vp * dp * dp : vp * dp2;
+                    vq = isinf(dq2) ? vq * dq * dq : vq * dq2;
                 }
                 float diff = cp - cq;
                 float s = push.minVariance != 0 ? 2.0 * min(vp, vq) : vp + vq;

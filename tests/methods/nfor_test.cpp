@@ -838,6 +838,28 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
 INSTANTIATE_TEST_SUITE_P(Cases, NforTermKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
 
+// A pair with an untrusted end whose albedo's square overflows a float (its divided variance
+// is 0): term multiplies back to a variance of 0, never 0 x Inf (NaN, which min may turn into
+// the cap). The colours are equal once multiplied back, so every term is finite and <= 0.
+TEST_F(GpuTest, NforTermMultipliesAHugeAlbedoBackFinitely) {
+    const int w = 5, h = 3, radius = 1;
+    Image color(w, h, 3), variance(w, h, 3), albedo(w, h, 3), trust(w, h, 1);
+    for (float &v : color.data) v = 0.5f;
+    for (float &v : variance.data) v = 0.01f;
+    for (float &v : albedo.data) v = 0.5f;
+    for (float &v : trust.data) v = 1.f;
+    for (int c = 0; c < 3; ++c) albedo.At(c, 1, 2) = 1e20f;
+    trust.At(0, 1, 2) = 0.f;
+    vk::GpuImage illumination =
+        Upload(Ctx(), IlluminationOf(color, variance, &albedo, &trust), "illumination");
+    vk::GpuImage out(Ctx(), w, h, NforOffsetCount(radius), "terms");
+    vk::Recorder recorder(Ctx());
+    RecordNforTerm(Ctx(), recorder, illumination, 3, radius, 1.f, false, out);
+    recorder.Submit();
+    Image terms = out.Download();
+    for (float v : terms.data) ASSERT_TRUE(std::isfinite(v) && v <= 0) << v;
+}
+
 // Box: a row pass sums at most 2f + 1 values (2f u of the sum of their |values|); a column
 // pass sums as many and divides once ((2f + 2) u of the mean |value|): (2f + 2) u of the
 // pass applied to |input|, computed here in double. Both passes read the offsets in groups
