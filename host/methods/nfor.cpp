@@ -134,12 +134,14 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.speckFloor) && o.speckFloor >= 0) ||
         !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
         !(o.lightShare >= 0 && o.lightShare <= 0.25f) ||
-        !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0))
+        !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0) ||
+        !(finite(o.albedoNoise) && o.albedoNoise >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
             "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
-            "speck floor and layer noise cap finite and >= 0, speck relative finite, mean "
+            "speck floor, layer noise cap and albedo noise finite and >= 0, speck relative "
+            "finite, mean "
             "radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&

@@ -1728,6 +1728,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.premultiplied = o.premultiplied;
     p.layerPasses = !o.noLayerPasses;
     p.layerNoiseCap = o.layerNoiseCap;
+    p.demodulateDistance = !o.noDemodulatedDistance;
+    p.albedoNoise = o.albedoNoise;
     ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr,
                           covered ? &alpha : nullptr};
     std::vector<std::pair<std::string, Image>> cpu;
@@ -1760,6 +1762,38 @@ TEST_F(NforMethod, StagesMatchTheReference) {
     o.meanRadius = 0;
     for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
         ExpectStagesMatch(Ctx(), w, h, o);
+}
+
+// The distance's albedo trust: off (no trust stage), and on over a frame whose left half's
+// albedo is noise (random per pixel and channel, which the colour does not follow), where
+// the trust stage marks pixels untrusted and the pilot's and the second pass's distances
+// take the per-pair rule.
+TEST_F(NforMethod, AlbedoTrustStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.albedoNoise = 0;
+    ExpectStagesMatch(Ctx(), 29, 23, o);
+    o.albedoNoise = NforOptions().albedoNoise;
+    int untrusted = 0;
+    auto noisy = [&untrusted](Frame *f, Image *) {
+        std::mt19937_64 rng(SeedFromName("stagesNoisyAlbedo"));
+        std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
+        const int w = f->color.width, h = f->color.height;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w / 2; ++x)
+                for (int c = 0; c < 3; ++c) f->albedo.At(c, y, x) = reflectance(rng);
+        Image trust = ref::NforAlbedoTrust(f->color, f->albedo, NforOptions().albedoNoise);
+        untrusted = int(std::count(trust.data.begin(), trust.data.end(), 0.f));
+    };
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, false, false, noisy);
+    EXPECT_GT(untrusted, 29 * 23 / 8) << "a good share of the noisy half is untrusted";
+    // The bound is finite and >= 0.
+    Frame f = MakeFrame(7, 5, 0.3, "trustBound");
+    for (float bad : {-1.f, std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::infinity()}) {
+        o.albedoNoise = bad;
+        EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error) << bad;
+    }
 }
 
 // The defaults (second pass, local means), and a second pass of two bandwidths by SURE.
