@@ -312,8 +312,60 @@ void NforOffset(int radius, int j, int *ox, int *oy) {
     *oy = index / side - radius;
 }
 
+Image NforAlbedoTrust(const Image &color, const Image &albedo, double noise) {
+    const int w = color.width, h = color.height, channels = color.channels;
+    // The albedo at least the floor, a NaN the floor (as the kernel's comparison).
+    auto albedoAt = [&](int c, int x, int y) {
+        double a = albedo.At(std::min(c, albedo.channels - 1), y, x);
+        return a > kNforNoiseAlbedoFloor ? a : kNforNoiseAlbedoFloor;
+    };
+    Image trust(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            // The window's pixels inside the frame.
+            std::vector<std::pair<int, int>> window;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u)
+                    if (Inside(color, u, v)) window.emplace_back(u, v);
+            const double n = double(window.size());
+            // Per quantity (0 albedo, 1 colour, 2 colour / albedo): the channels' sum of the
+            // window's variance and of its squared mean.
+            double variances[3] = {0, 0, 0}, squaredMeans[3] = {0, 0, 0};
+            for (int c = 0; c < channels; ++c)
+                for (int kind = 0; kind < 3; ++kind) {
+                    auto valueOf = [&](int u, int v) {
+                        double a = albedoAt(c, u, v), value = color.At(c, v, u);
+                        return kind == 0 ? a : kind == 1 ? value : value / a;
+                    };
+                    double mean = 0;
+                    for (auto [u, v] : window) mean += valueOf(u, v);
+                    mean /= n;
+                    double deviation = 0;
+                    for (auto [u, v] : window)
+                        deviation += (valueOf(u, v) - mean) * (valueOf(u, v) - mean);
+                    variances[kind] += deviation / n;
+                    squaredMeans[kind] += mean * mean;
+                }
+            const bool rough = variances[0] > noise * squaredMeans[0];
+            const bool roughens = variances[2] * squaredMeans[1] >
+                                  (1 + kNforTrustTie) * variances[1] * squaredMeans[2];
+            trust.At(0, y, x) = rough && roughens ? 0.f : 1.f;
+        }
+    return trust;
+}
+
+namespace {
+
+// Whether the pair (x, y), (x + ox, y + oy) compares colour / albedo: both trusted (no
+// trust image: every pixel is).
+bool PairTrusted(const Image *trust, int x, int y, int ox, int oy) {
+    return !trust || (trust->At(0, y, x) != 0 && trust->At(0, y + oy, x + ox) != 0);
+}
+
+}  // namespace
+
 Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
-                   int patch, double alpha, bool minVariance) {
+                   int patch, double alpha, bool minVariance, const Image *trust) {
     // The values compared and their variances: the colour, or colour / albedo.
     Image z = color, vz = variance;
     for (int c = 0; c < color.channels; ++c)
@@ -339,9 +391,12 @@ Image NforDistance(const Image &color, const Image &variance, const Image *divis
                         if (!Inside(color, ux, uy) || !Inside(color, ux + ox, uy + oy))
                             continue;
                         double term = 0;
+                        // Colour / albedo where both albedos are trusted, else the colours.
+                        const bool divided = PairTrusted(trust, ux, uy, ox, oy);
+                        const Image &zs = divided ? z : color, &vs = divided ? vz : variance;
                         for (int c = 0; c < color.channels; ++c) {
-                            double cp = z.At(c, uy, ux), cq = z.At(c, uy + oy, ux + ox);
-                            double vp = vz.At(c, uy, ux), vq = vz.At(c, uy + oy, ux + ox);
+                            double cp = zs.At(c, uy, ux), cq = zs.At(c, uy + oy, ux + ox);
+                            double vp = vs.At(c, uy, ux), vq = vs.At(c, uy + oy, ux + ox);
                             double s = minVariance ? 2 * std::min(vp, vq) : vp + vq;
                             double t = ((cp - cq) * (cp - cq) - alpha * s) /
                                        (s + kNforRelEps * (cp * cp + cq * cq) + kNforTiny);
@@ -357,7 +412,7 @@ Image NforDistance(const Image &color, const Image &variance, const Image *divis
 }
 
 Image NforTerms(const Image &color, const Image &variance, const Image *divisor, int radius,
-                double alpha, bool minVariance) {
+                double alpha, bool minVariance, const Image *trust) {
     int w = color.width, h = color.height;
     Image out(w, h, NforOffsetCount(radius));
     for (int j = 0; j < out.channels; ++j) {
@@ -367,10 +422,12 @@ Image NforTerms(const Image &color, const Image &variance, const Image *divisor,
             for (int x = 0; x < w; ++x) {
                 if (!Inside(color, x + ox, y + oy)) continue;
                 double term = 0;
+                const bool divided = PairTrusted(trust, x, y, ox, oy);
                 for (int c = 0; c < color.channels; ++c) {
-                    // Colour and variance, divided by the albedo where it is above the floor.
-                    double ap = Divisor(divisor, c, x, y),
-                           aq = Divisor(divisor, c, x + ox, y + oy);
+                    // Colour and variance, divided by the albedo where it is above the floor
+                    // and both ends' albedos are trusted.
+                    double ap = divided ? Divisor(divisor, c, x, y) : 0,
+                           aq = divided ? Divisor(divisor, c, x + ox, y + oy) : 0;
                     double sp = ap > 0 ? ap : 1, sq = aq > 0 ? aq : 1;
                     double cp = color.At(c, y, x) / sp, cq = color.At(c, y + oy, x + ox) / sq;
                     double vp = variance.At(c, y, x) / (sp * sp),
@@ -859,25 +916,32 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                                  p.prefilterBandwidth);
     }
     keep("features", features);
-    Image distance = NforDistance(clamped, variance, p.demodulateDistance ? in.albedo : nullptr,
-                                  p.radius, p.patchRadius, p.alpha, p.minVariance);
+    // The distance's divisor, and where its albedo is noise (the pairs there compare colours).
+    const Image *divisor = p.demodulateDistance ? in.albedo : nullptr;
+    Image trustImage;
+    const Image *trust = nullptr;
+    if (divisor && p.albedoNoise > 0) {
+        trustImage = NforAlbedoTrust(clamped, *in.albedo, p.albedoNoise);
+        keep("trust", trustImage);
+        trust = &trustImage;
+    }
+    Image distance = NforDistance(clamped, variance, divisor, p.radius, p.patchRadius, p.alpha,
+                                  p.minVariance, trust);
     keep("distance", distance);
     std::vector<PassCandidate> first;
     for (double k : p.bandwidths) first.push_back({k, p.radius, &distance});
     Image out = NforPass(clamped, variance, features, mask, p, first, "", keep);
     if (!p.pilotBandwidths.empty()) {
         keep("pilot", out);
-        Image pilotDistance =
-            NforDistance(out, variance, p.demodulateDistance ? in.albedo : nullptr, p.radius,
-                         p.patchRadius, p.pilotAlpha, p.pilotMinVariance);
+        Image pilotDistance = NforDistance(out, variance, divisor, p.radius, p.patchRadius,
+                                           p.pilotAlpha, p.pilotMinVariance, trust);
         keep("pilot.distance", pilotDistance);
         std::vector<PassCandidate> second;
         for (double k : p.pilotBandwidths) second.push_back({k, p.radius, &pilotDistance});
         Image wideDistance;
         if (p.pilotWideRadius > 0) {
-            wideDistance = NforDistance(
-                out, variance, p.demodulateDistance ? in.albedo : nullptr, p.pilotWideRadius,
-                p.patchRadius, p.pilotAlpha, p.pilotMinVariance);
+            wideDistance = NforDistance(out, variance, divisor, p.pilotWideRadius,
+                                        p.patchRadius, p.pilotAlpha, p.pilotMinVariance, trust);
             keep("pilot.wide.distance", wideDistance);
             for (double k : p.pilotBandwidths)
                 second.push_back({k, p.pilotWideRadius, &wideDistance});

@@ -49,7 +49,9 @@
 //   edge pixels divide out, so that an edge pixel finds its like along the edge): per channel
 //   ((C_u - C_u+o)^2 - alpha (v_u + v_u+o)) / (v_u + v_u+o + kRelEps (C_u^2 + C_u+o^2) +
 //   kTiny), clamped to at most kTermMax, averaged over the channels and over the patch
-//   positions t with both p+t and p+t+o inside. D(p, o) = D(p+o, -o): the weight of q in
+//   positions t with both p+t and p+t+o inside; a pair with an end whose albedo is noise
+//   (NforAlbedoTrust) compares the colours themselves (the same units at both ends).
+//   D(p, o) = D(p+o, -o): the weight of q in
 //   p's window is that of p in q's, which the collaborative average needs.
 // - Weight of q in p's window: exp(-max(0, D) / k^2 - sum_j (s_j (F_q,j - F_p,j))^2), 1 at
 //   q = p, 0 for emitters and where the exponent exceeds kExpCut. NFOR weighs by the colour
@@ -94,6 +96,9 @@ constexpr double kNforTermMax = 25;
 constexpr double kNforExpCut = 30;
 // The magnitude floor of the select's disagreement (dark pixels compare absolutely).
 constexpr double kNforAgreementFloor = 1e-3;
+// The albedo trust's margin: colour / albedo rougher than the colour by more than this
+// (a window whose colour holds one non-zero value is a tie).
+constexpr double kNforTrustTie = 1e-3;
 // The clamp's loss counts only where it clamped at least this share of the pixel-channels.
 constexpr double kNforClampLossMinShare = 1e-3;
 
@@ -106,7 +111,10 @@ struct NforParams {
     bool minVariance = false;        // the distance normalised by 2 min(v_p, v_q)
     bool pilotMinVariance = false;   // the same for the second pass's distance
     bool demodulateDistance = true;  // the distance of colour / albedo
-    double ridge = 0.001;            // lambda
+    // The distance's pairs with an end whose albedo is noise (NforAlbedoTrust with this
+    // bound) compare colours; 0: every pair compares colour / albedo.
+    double albedoNoise = 0.1;
+    double ridge = 0.001;  // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
     std::vector<double> featureWeights;
     int noiseRadius = 1;
@@ -239,17 +247,27 @@ Image NforClamp(const Image &color, const Image &variance, const Image *divisor,
 Image NforPrefilter(const Image &features, const Image &variance, int radius, int patch,
                     double bandwidth);
 
+// Where the colour distance trusts the albedo (1) or not (0), per pixel: over the pixel's
+// 3x3 window inside the frame, albedos taken at least kNforNoiseAlbedoFloor and colour
+// channel c read against albedo channel min(c, its channels - 1), the relative roughness (the
+// channels' sum of the window's variance over the sum of its squared means) of the albedo,
+// of the colour and of colour / albedo; not trusted where the albedo's is above `noise` and
+// colour / albedo is rougher than the colour by more than kNforTrustTie (the albedo is noise,
+// as on glossy metal whose albedo follows the sampled bounce, not texture the colour follows).
+Image NforAlbedoTrust(const Image &color, const Image &albedo, double noise);
+
 // Patch distance D(p, o) for the stored offsets (NforOffset), one plane each, of the colour
-// (divisor nullptr) or of colour / divisor where the divisor is above the floor.
+// (divisor nullptr) or of colour / divisor where the divisor is above the floor; with a trust
+// image (NforAlbedoTrust), a pair with an end not trusted compares the colours themselves.
 Image NforDistance(const Image &color, const Image &variance, const Image *divisor, int radius,
-                   int patch, double alpha, bool minVariance);
+                   int patch, double alpha, bool minVariance, const Image *trust = nullptr);
 
 // The distance's two steps as the GPU takes them (for the kernels' own tests): per pixel u
 // and stored offset o, the channels' mean term of u and u + o (0 where u + o is outside);
 // and one pass of the patch sum over those, along rows, or along columns divided by the
 // number of patch positions with both ends inside (`vertical`).
 Image NforTerms(const Image &color, const Image &variance, const Image *divisor, int radius,
-                double alpha, bool minVariance);
+                double alpha, bool minVariance, const Image *trust = nullptr);
 Image NforBoxPass(const Image &terms, int radius, int patch, bool vertical);
 
 // Stored offset j of the window of radius R: (ox, oy) with oy > 0, or oy = 0 and ox > 0,

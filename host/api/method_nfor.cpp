@@ -69,6 +69,13 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                          "compare the colour itself in the NL-means distance (by default "
                          "colour / albedo: texture and edge coverage divide out)",
                          &O::noDemodulatedDistance)),
+        nested(FloatParam("albedo-noise",
+                          "the demodulated distance compares the colours themselves, not "
+                          "colour / albedo, in a pair with an end whose albedo is noise: its "
+                          "relative variance over 3x3 above this, and dividing by it roughens "
+                          "the colour (glossy metal, whose albedo follows the sampled bounce); "
+                          "0: every pair compares colour / albedo",
+                          &O::albedoNoise, 0, 100)),
         nested(FloatParam("alpha", "variance cancellation in the colour distance", &O::alpha, 0,
                           10)),
         nested(EnumParam("distance-variance",
@@ -339,7 +346,13 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                                    ? std::max(2, kNforLineFloorReach)
                                : o.fireflyLine > 0 ? 2
                                                    : 1;
-        int colourReach = o.patchRadius + o.noiseRadius + clampReach;
+        // The distance's trust reads the clamped colour of the 8 neighbours, which reads
+        // max(clamp, noise) further: 1 + max(clamp, noise), which the noise and clamp's
+        // reach below already holds (both at least 1); the max keeps the trust named.
+        const bool trusts =
+            o.albedoNoise > 0 && !o.noDemodulatedDistance && inputs.Has("albedo");
+        const int trustReach = trusts ? 1 : 0;
+        int colourReach = o.patchRadius + std::max(o.noiseRadius, trustReach) + clampReach;
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;
@@ -359,7 +372,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
-            "the noise, clamp and patches (or the features' prefilter); {} for the SURE "
+            "the noise, clamp, patches and the distance's trust (or the features' "
+            "prefilter); {} for the SURE "
             "average; {} for the specks' neighbours; {} for the local means; {} for the "
             "kept pixels' mean; {} for the lights' spread",
             o.radius, o.radius, o.radius, pilotReach, std::max(colourReach, featureReach),
@@ -372,10 +386,10 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         needs.bindingBytesPerPixel =
             4.0 * std::max({offsets, NforBetaStride(features, channels), candidates * channels,
                             NforPackedFloats(features), kNforIlluminationFloats});
-        needs.bytesPerPixel =
-            4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
-                   NforPackedFloats(features) + kNforIlluminationFloats +
-                   candidates * (channels + 1) + 6 * channels + 3 * features + 3);
+        needs.bytesPerPixel = 4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
+                                     NforPackedFloats(features) + kNforIlluminationFloats +
+                                     candidates * (channels + 1) + 6 * channels + 3 * features +
+                                     3 + (trusts ? 1 : 0));
         // Whether the gate lets the coarse pass run is measured only for a frame too large
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =
@@ -447,6 +461,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.minVariance = o.minVariance;
         p.pilotMinVariance = NforPilotMinVariance(o);
         p.demodulateDistance = !o.noDemodulatedDistance;
+        p.albedoNoise = o.albedoNoise;
         p.ridge = o.ridge;
         p.featureWeights.assign(weights.begin(), weights.end());
         p.noiseRadius = o.noiseRadius;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "host/error.h"
 #include "host/vk/context.h"
@@ -24,6 +25,8 @@
 #include "nfor/select.h"
 #include "nfor/select_spv.h"
 #include "nfor/term_spv.h"
+#include "nfor/trust.h"
+#include "nfor/trust_spv.h"
 
 namespace mcd {
 namespace {
@@ -192,6 +195,17 @@ const vk::Kernel &IlluminationKernel(vk::Context &context, int channels) {
                               0});
 }
 
+const vk::Kernel &TrustKernel(vk::Context &context, int channels) {
+    return context.GetKernel({"nfor_trust",
+                              k_nfor_trust_spv,
+                              sizeof(k_nfor_trust_spv),
+                              NFOR_TRUST_BINDINGS,
+                              sizeof(shader::NforTrustPush),
+                              {{NFOR_SPEC_CHANNELS, channels}},
+                              0,
+                              0});
+}
+
 // The row pass (box.comp) or the column pass (box_columns.comp); both read vec4 groups.
 const vk::Kernel &BoxKernel(vk::Context &context, bool vertical) {
     const char *name = vertical ? "nfor_box_columns" : "nfor_box";
@@ -216,9 +230,29 @@ void CheckOffsets(const char *what, int radius, int patch) {
 
 }  // namespace
 
+void RecordNforTrust(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                     const vk::GpuImage &albedo, float noise, vk::GpuImage &trust) {
+    CheckColor("nfor trust", color);
+    CheckSize("nfor trust", color, albedo, 0);
+    CheckSize("nfor trust", color, trust, 1);
+    if (albedo.channels != 1 && albedo.channels < color.channels)
+        throw Error("nfor trust: the albedo needs 1 channel or as many as the colour",
+                    ErrorKind::InvalidArgument);
+    if (!(noise >= 0) || !std::isfinite(noise))
+        throw Error(fmt::format("nfor trust: noise {} must be finite and >= 0", noise),
+                    ErrorKind::InvalidArgument);
+    shader::NforTrustPush push{color.width, color.height, albedo.channels, noise};
+    recorder.Dispatch(TrustKernel(context, color.channels), "nfor.trust",
+                      {{NFOR_TRUST_COLOR, &color.buffer, vk::Access::Read},
+                       {NFOR_TRUST_ALBEDO, &albedo.buffer, vk::Access::Read},
+                       {NFOR_TRUST_OUT, &trust.buffer, vk::Access::Write}},
+                      push, Groups(color.width), uint32_t(color.height));
+}
+
 void RecordNforIllumination(vk::Context &context, vk::Recorder &recorder,
                             const vk::GpuImage &color, const vk::GpuImage &variance,
-                            const vk::GpuImage *albedo, vk::GpuImage &illumination) {
+                            const vk::GpuImage *albedo, vk::GpuImage &illumination,
+                            const vk::GpuImage *trust) {
     CheckColor("nfor illumination", color);
     CheckSize("nfor illumination", color, variance, color.channels);
     CheckSize("nfor illumination", color, illumination, NFOR_ILLUMINATION_FLOATS);
@@ -229,14 +263,18 @@ void RecordNforIllumination(vk::Context &context, vk::Recorder &recorder,
                 "nfor illumination: the albedo needs 1 channel or as many as the colour",
                 ErrorKind::InvalidArgument);
     }
+    if (albedo && trust) CheckSize("nfor illumination", color, *trust, 1);
     shader::NforDistancePush push{
-        color.width, color.height, 0, 0, 0, 0, albedo ? albedo->channels : 0, 0};
+        color.width, color.height,           0, 0, 0, 0, albedo ? albedo->channels : 0,
+        0,           albedo && trust ? 1 : 0};
     recorder.Dispatch(
         IlluminationKernel(context, color.channels), "nfor.illumination",
         {{NFOR_ILLUMINATION_COLOR, &color.buffer, vk::Access::Read},
          {NFOR_ILLUMINATION_VARIANCE, &variance.buffer, vk::Access::Read},
          {NFOR_ILLUMINATION_ALBEDO, albedo ? &albedo->buffer : &color.buffer, vk::Access::Read},
-         {NFOR_ILLUMINATION_OUT, &illumination.buffer, vk::Access::Write}},
+         {NFOR_ILLUMINATION_OUT, &illumination.buffer, vk::Access::Write},
+         {NFOR_ILLUMINATION_TRUST, albedo && trust ? &trust->buffer : &color.buffer,
+          vk::Access::Read}},
         push, Groups(color.width), uint32_t(color.height));
 }
 
@@ -250,8 +288,15 @@ void RecordNforTerm(vk::Context &context, vk::Recorder &recorder,
     CheckSize("nfor term", illumination, illumination, NFOR_ILLUMINATION_FLOATS);
     CheckSize("nfor term", illumination, terms, NforOffsetCount(radius));
     CheckOffsets("nfor term", radius, 0);
-    shader::NforDistancePush push{
-        illumination.width, illumination.height, radius, 0, 0, alpha, 0, minVariance ? 1 : 0};
+    shader::NforDistancePush push{illumination.width,
+                                  illumination.height,
+                                  radius,
+                                  0,
+                                  0,
+                                  alpha,
+                                  0,
+                                  minVariance ? 1 : 0,
+                                  0};
     recorder.Dispatch(TermKernel(context, channels), "nfor.term",
                       {{NFOR_TERM_ILLUMINATION, &illumination.buffer, vk::Access::Read},
                        {NFOR_TERM_OUT, &terms.buffer, vk::Access::Write}},
@@ -264,8 +309,8 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
     CheckSize("nfor box", in, in, NforOffsetCount(radius));
     CheckSize("nfor box", in, out, in.channels);
     CheckOffsets("nfor box", radius, patch);
-    shader::NforDistancePush push{in.width,         in.height, radius, patch,
-                                  vertical ? 1 : 0, 0,         0,      0};
+    shader::NforDistancePush push{in.width, in.height, radius, patch, vertical ? 1 : 0,
+                                  0,        0,         0,      0};
     // One invocation per block of NFOR_BOX_BLOCK outputs along the pass's axis and group of
     // NFOR_TERM_OFFSETS planes.
     int blocksX = vertical ? in.width : (in.width + NFOR_BOX_BLOCK - 1) / NFOR_BOX_BLOCK;
@@ -280,10 +325,11 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
                         int patch, float alpha, bool minVariance, vk::GpuImage &illumination,
-                        vk::GpuImage &scratch, vk::GpuImage &distance) {
+                        vk::GpuImage &scratch, vk::GpuImage &distance,
+                        const vk::GpuImage *trust) {
     CheckSize("nfor distance", color, scratch, NforOffsetCount(radius));
     CheckOffsets("nfor distance", radius, patch);
-    RecordNforIllumination(context, recorder, color, variance, albedo, illumination);
+    RecordNforIllumination(context, recorder, color, variance, albedo, illumination, trust);
     RecordNforDistanceOfIllumination(context, recorder, illumination, color.channels, radius,
                                      patch, alpha, minVariance, scratch, distance);
 }

@@ -40,13 +40,22 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
                          const vk::GpuImage &features, const vk::GpuImage &variance, int radius,
                          int patch, float bandwidth, vk::GpuImage &out);
 
+// shaders/nfor/trust.comp: per pixel whether the colour distance trusts the albedo (1) or
+// not (0: the albedo is rough, its relative variance over 3x3 above `noise`, and dividing by
+// it roughens the colour; nfor/trust.h), into `trust` (1 plane). The albedo has 1 channel or
+// at least the colour's.
+void RecordNforTrust(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
+                     const vk::GpuImage &albedo, float noise, vk::GpuImage &trust);
+
 // shaders/nfor/illumination.comp: per pixel the colour and its variance, each channel
 // divided by the albedo's channel (and its square) where that is above the floor
 // (nfor/distance.h), into `illumination` (kNforIlluminationFloats planes' worth, per pixel:
-// a vec4 of values, a vec4 of variances, zeros past the channels).
+// a vec4 of values, a vec4 of variances, zeros past the channels, a vec4 of the divisors, 1
+// where not divided, negated where `trust` (RecordNforTrust's, with an albedo) is 0).
 void RecordNforIllumination(vk::Context &context, vk::Recorder &recorder,
                             const vk::GpuImage &color, const vk::GpuImage &variance,
-                            const vk::GpuImage *albedo, vk::GpuImage &illumination);
+                            const vk::GpuImage *albedo, vk::GpuImage &illumination,
+                            const vk::GpuImage *trust = nullptr);
 
 // shaders/nfor/term.comp: on the illumination of a colour of `channels`, per pixel and
 // stored offset of the window of half-size `radius`, the channels' mean distance term
@@ -69,7 +78,8 @@ void RecordNforBox(vk::Context &context, vk::Recorder &recorder, const vk::GpuIm
 void RecordNforDistance(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                         const vk::GpuImage &variance, const vk::GpuImage *albedo, int radius,
                         int patch, float alpha, bool minVariance, vk::GpuImage &illumination,
-                        vk::GpuImage &scratch, vk::GpuImage &distance);
+                        vk::GpuImage &scratch, vk::GpuImage &distance,
+                        const vk::GpuImage *trust = nullptr);
 
 // RecordNforDistance after its illumination: term and both boxes on `illumination` (of a
 // colour of `channels`), for another window on the same colour, variance and albedo.
@@ -89,7 +99,7 @@ struct NforFitSettings {
 };
 
 // Floats per pixel of RecordNforTerm's `illumination`.
-constexpr int kNforIlluminationFloats = 8;  // NFOR_ILLUMINATION_FLOATS
+constexpr int kNforIlluminationFloats = 12;  // NFOR_ILLUMINATION_FLOATS
 
 // The fits' packed inputs (shaders/nfor/fit.h): floats per pixel of `pack`'s output for
 // `features` feature planes, and of the coefficients for `channels` colour channels.

@@ -134,12 +134,14 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.speckFloor) && o.speckFloor >= 0) ||
         !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
         !(o.lightShare >= 0 && o.lightShare <= 0.25f) ||
-        !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0))
+        !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0) ||
+        !(finite(o.albedoNoise) && o.albedoNoise >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
             "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
-            "speck floor and layer noise cap finite and >= 0, speck relative finite, mean "
+            "speck floor, layer noise cap and albedo noise finite and >= 0, speck relative "
+            "finite, mean "
             "radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
@@ -278,6 +280,8 @@ struct NforGpu {
         if (in.albedo) {
             albedo.emplace(context, color.width, color.height, 3, "nfor.albedo");
             albedo->Upload(*in.albedo);
+            if (o.albedoNoise > 0 && !o.noDemodulatedDistance)
+                trust.emplace(context, color.width, color.height, 1, "nfor.trust");
         }
         // A pass's candidates differing in their bandwidth alone are fitted two at a time.
         if (CandidateCount(o) > 1)
@@ -298,7 +302,7 @@ struct NforGpu {
     }
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
         scratch, illumination, packed, beta, hat, candidates;
-    std::optional<vk::GpuImage> albedo, pilot, pilotDistance, wideDistance, wideScratch,
+    std::optional<vk::GpuImage> albedo, trust, pilot, pilotDistance, wideDistance, wideScratch,
         secondBeta;
 };
 
@@ -538,6 +542,14 @@ void CapLayerNoise(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     gpu.variance.Upload(capped);
 }
 
+// Where the colour distance trusts the albedo (albedoNoise > 0), from the clamped colour.
+void RecordTrust(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
+    if (!gpu.trust) return;
+    RecordNforTrust(run.Context(), run.Recorder(), gpu.clamped, *gpu.albedo, o.albedoNoise,
+                    *gpu.trust);
+    run.StageAtEnd("trust", *gpu.trust);
+}
+
 // Noise, emitters and fireflies, features, the patch distances. `alpha`: the coverage of a
 // frame whose partly covered pixels were divided by it (nullptr: none).
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
@@ -565,9 +577,11 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     run.StageAtEnd("variance", gpu.variance);
     RecordFeatures(run, gpu, o, memo, featuresId);
     run.StageAtEnd("features", gpu.filtered);
+    RecordTrust(run, gpu, o);
     RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
                        o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
-                       o.alpha, o.minVariance, gpu.illumination, gpu.scratch, gpu.distance);
+                       o.alpha, o.minVariance, gpu.illumination, gpu.scratch, gpu.distance,
+                       gpu.trust ? &*gpu.trust : nullptr);
     run.StageAtEnd("distance", gpu.distance);
 }
 
@@ -650,16 +664,17 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
     RecordPass(run, gpu, weights, o, first, "", *gpu.pilot, choice);
     run.Stage("pilot", *gpu.pilot);
     bool pilotMin = NforPilotMinVariance(o);
+    // The pilot's distance trusts the albedo where the first's did (of the clamped colour).
     const vk::GpuImage *albedo =
         gpu.albedo && !o.noDemodulatedDistance ? &*gpu.albedo : nullptr;
     RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
                        o.radius, o.patchRadius, o.pilotAlpha, pilotMin, gpu.illumination,
-                       gpu.scratch, *gpu.pilotDistance);
+                       gpu.scratch, *gpu.pilotDistance, gpu.trust ? &*gpu.trust : nullptr);
     run.Stage("pilot.distance", *gpu.pilotDistance);
     std::vector<PassCandidate> second;
     for (float k : o.pilotBandwidths) second.push_back({o.radius, k, &*gpu.pilotDistance});
     if (gpu.wideDistance) {
-        // The pilot distance's illumination: the same pilot, variance and albedo.
+        // The pilot distance's illumination: the same pilot, variance, albedo and trust.
         RecordNforDistanceOfIllumination(run.Context(), run.Recorder(), gpu.illumination,
                                          gpu.pilot->channels, o.pilotWideRadius, o.patchRadius,
                                          o.pilotAlpha, pilotMin, *gpu.wideScratch,
@@ -698,6 +713,29 @@ void PlanClamp(StagedRun &run, const NforInputs &in, const NforOptions &o,
                 "so the specks' clamp, the clamp's light, the weak emitters' mean and the "
                 "lights' spread run as without a layer (--no-layer-passes: off)");
     }
+}
+
+// What the colour distance compared (after the run's submit: it reads the trust back).
+void PlanDistance(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
+    if (!gpu.albedo || o.noDemodulatedDistance) {
+        run.Plan(gpu.albedo ? "the colour distance compares the colour itself "
+                              "(--no-demodulated-distance)"
+                            : "the colour distance compares the colour itself (no albedo)");
+        return;
+    }
+    if (!gpu.trust) {
+        run.Plan("the colour distance compares colour / albedo (--albedo-noise 0)");
+        return;
+    }
+    const Image trust = gpu.trust->Download();
+    size_t untrusted = 0;
+    for (float t : trust.data) untrusted += t == 0;
+    run.Plan(fmt::format(
+        "the colour distance compares colour / albedo where both pixels' albedos are trusted, "
+        "the colours themselves where either is not: {} pixels ({:.1f}%) whose albedo is "
+        "noise (its relative variance over 3x3 above {}, --albedo-noise, and dividing by it "
+        "roughens the colour)",
+        untrusted, 100.0 * double(untrusted) / double(trust.PixelCount()), o.albedoNoise));
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -1047,6 +1085,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
     RecordPasses(run, gpu, weights, o, out, choice);
     run.Submit();
+    PlanDistance(run, gpu, o);
     result.image = out.Download();
     Image mask = gpu.mask.Download(), clamped = gpu.clamped.Download();
     for (float m : mask.data) result.emitters += m == 0;

@@ -36,6 +36,11 @@ struct NforOptions {
     // Compare the colour itself in the colour distance; by default colour / albedo where
     // the frame has an albedo (the illumination: texture and edge coverage divide out).
     bool noDemodulatedDistance = false;
+    // The demodulated distance compares the colours themselves in a pair with an end whose
+    // albedo is noise: its relative variance over 3x3 above this, and dividing by it
+    // roughens the colour (glossy metal, whose albedo follows the sampled bounce); 0: every
+    // pair compares colour / albedo.
+    float albedoNoise = 0.1f;
     float ridge = 0.001f;  // lambda: ridge of lambda sum(w) on the non-constant columns
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
     // The albedo's scale is wide: an edge pixel's albedo, a mix of its two sides, still

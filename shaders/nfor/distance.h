@@ -7,7 +7,9 @@
 // does not borrow from a brighter, noisier one, and a term is at least -alpha); with an albedo,
 // C is the colour divided by the albedo's channel where that is above NFOR_NOISE_ALBEDO_FLOOR
 // and v the variance divided by its square (the illumination: texture and the coverage of edge
-// pixels divide out); `box` sums those over the patch positions, along rows (vertical 0) and
+// pixels divide out), unless a trust plane (nfor/trust.h) marks either end's albedo as noise:
+// then the pair compares the colours and variances themselves (the same units at both ends);
+// `box` sums those over the patch positions, along rows (vertical 0) and
 // then along columns (vertical 1), the second dividing by the number of patch positions with
 // both ends inside (0 where none). `term`: one invocation per pixel and NFOR_TERM_OFFSETS
 // stored offsets; `box` (rows) and `box_columns`: one per NFOR_BOX_BLOCK outputs of a group
@@ -20,14 +22,18 @@
 
 #include "nfor/nfor.h"
 
-// `illumination` first writes, per pixel, two vec4s: C and v of each channel (zeros past
-// the channels), so that `term` loads each end of a pair in two loads and divides nothing.
+// `illumination` first writes, per pixel, three vec4s: C and v of each channel (zeros past
+// the channels) and the divisor of each (1 where not divided, and past the channels), negated
+// where the albedo is not trusted, so that `term` loads each end of a pair in three loads and
+// divides nothing (a pair with an end not trusted multiplies back: the colours and variances
+// of NforTerms up to rounding for albedos whose square is finite; past that, a variance 0).
 #define NFOR_ILLUMINATION_COLOR 0
 #define NFOR_ILLUMINATION_VARIANCE 1
 #define NFOR_ILLUMINATION_ALBEDO 2
 #define NFOR_ILLUMINATION_OUT 3
-#define NFOR_ILLUMINATION_BINDINGS 4
-#define NFOR_ILLUMINATION_FLOATS 8
+#define NFOR_ILLUMINATION_TRUST 4
+#define NFOR_ILLUMINATION_BINDINGS 5
+#define NFOR_ILLUMINATION_FLOATS 12
 
 // `term` computes NFOR_TERM_OFFSETS consecutive stored offsets an invocation, a group (the
 // count of stored offsets, 2R(R + 1), is a multiple of 4).
@@ -58,9 +64,10 @@ layout(push_constant) uniform NforDistancePush {
     float alpha;         // term: the variance cancellation
     int albedoChannels;  // illumination: 0, or colour / albedo (where above the floor)
     int minVariance;     // term: normalise by 2 min(v_u, v_u+o) instead of v_u + v_u+o
+    int trust;           // illumination: 1 where a trust plane marks the albedos to divide by
 #ifdef __cplusplus
 };
-static_assert(sizeof(NforDistancePush) == 32);
+static_assert(sizeof(NforDistancePush) == 36);
 static_assert(offsetof(NforDistancePush, albedoChannels) == 24);
 }  // namespace mcd::shader
 #else

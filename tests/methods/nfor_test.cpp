@@ -667,18 +667,23 @@ INSTANTIATE_TEST_SUITE_P(Cases, NforPrefilterKernel, testing::ValuesIn(KernelCas
 
 // The illumination kernel's output made on the CPU: per pixel the channels' colour, then
 // their variance, each divided by the albedo's channel (min(c, its channels - 1)) and its
-// square where that is above the floor; zeros past the channels.
-Image IlluminationOf(const Image &color, const Image &variance, const Image *albedo) {
+// square where that is above the floor, zeros past the channels; then the divisors (1 where
+// not divided and past the channels), negated where `trust` is 0.
+Image IlluminationOf(const Image &color, const Image &variance, const Image *albedo,
+                     const Image *trust = nullptr) {
     Image out(color.width, color.height, kNforIlluminationFloats);
     for (int y = 0; y < color.height; ++y)
         for (int x = 0; x < color.width; ++x) {
-            float *values = out.data.data() + (size_t(y) * color.width + x) * 8;
+            float *values = out.data.data() + (size_t(y) * color.width + x) * 12;
+            const float sign = albedo && trust && trust->At(0, y, x) == 0 ? -1.f : 1.f;
+            for (int c = 0; c < 4; ++c) values[8 + c] = sign;
             for (int c = 0; c < color.channels; ++c) {
                 float value = color.At(c, y, x), noise = variance.At(c, y, x);
                 float a = albedo ? albedo->At(std::min(c, albedo->channels - 1), y, x) : 0.f;
                 if (albedo && a > float(NFOR_NOISE_ALBEDO_FLOOR)) {
                     value /= a;
                     noise /= a * a;
+                    values[8 + c] = sign * a;
                 }
                 values[c] = value;
                 values[4 + c] = noise;
@@ -687,8 +692,18 @@ Image IlluminationOf(const Image &color, const Image &variance, const Image *alb
     return out;
 }
 
+// A trust plane (nfor/trust.h) of about 40% zeros: pairs with such an end compare colours.
+Image RandomTrust(int w, int h, const std::string &name) {
+    std::mt19937_64 rng(SeedFromName(name));
+    std::uniform_real_distribution<float> unit(0.f, 1.f);
+    Image trust(w, h, 1);
+    for (float &t : trust.data) t = unit(rng) < 0.4f ? 0.f : 1.f;
+    return trust;
+}
+
 // Illumination: one division each, rounded alike here (the square too): bit for bit, with
-// 1, 3 and 4 colour channels, an albedo of as many or 1 channel, or none.
+// 1, 3 and 4 colour channels, an albedo of as many or 1 channel, or none; with and without
+// a trust plane.
 class NforIlluminationKernel : public GpuTestWithParam<KernelCase> {};
 
 TEST_P(NforIlluminationKernel, MatchesTheDefinitionAndRepeats) {
@@ -703,19 +718,25 @@ TEST_P(NforIlluminationKernel, MatchesTheDefinitionAndRepeats) {
         // Some albedos under the floor: those channels are not divided.
         for (size_t i = 0; i < albedo.Size(); i += 3) albedo.data[i] *= 0.01f;
         const Image *divisor = albedoChannels > 0 ? &albedo : nullptr;
-        auto run = [&] {
-            vk::GpuImage c = Upload(Ctx(), color, "color"),
-                         v = Upload(Ctx(), variance, "variance"),
-                         a = Upload(Ctx(), albedo, "albedo");
-            vk::GpuImage out(Ctx(), w, h, kNforIlluminationFloats, "illumination");
-            vk::Recorder recorder(Ctx());
-            RecordNforIllumination(Ctx(), recorder, c, v, divisor ? &a : nullptr, out);
-            recorder.Submit();
-            return out.Download();
-        };
-        Image actual = run();
-        EXPECT_TRUE(BitIdentical(IlluminationOf(color, variance, divisor), actual));
-        EXPECT_TRUE(BitIdentical(actual, run()));
+        const Image trust = RandomTrust(w, h, name + "trust");
+        for (bool trusted : {false, true}) {
+            auto run = [&] {
+                vk::GpuImage c = Upload(Ctx(), color, "color"),
+                             v = Upload(Ctx(), variance, "variance"),
+                             a = Upload(Ctx(), albedo, "albedo"), t = Upload(Ctx(), trust, "t");
+                vk::GpuImage out(Ctx(), w, h, kNforIlluminationFloats, "illumination");
+                vk::Recorder recorder(Ctx());
+                RecordNforIllumination(Ctx(), recorder, c, v, divisor ? &a : nullptr, out,
+                                       trusted ? &t : nullptr);
+                recorder.Submit();
+                return out.Download();
+            };
+            Image actual = run();
+            EXPECT_TRUE(BitIdentical(
+                IlluminationOf(color, variance, divisor, trusted ? &trust : nullptr), actual))
+                << "trust " << trusted;
+            EXPECT_TRUE(BitIdentical(actual, run()));
+        }
     }
 }
 
@@ -748,7 +769,9 @@ Image PlanesOfGroups(const Image &groups) {
 // Term (divided: also the normaliser 2 min(v_p, v_q)): with the albedo's divisions, cp and cq
 // carry a rounding each, which moves d^2 by at most 2u (|cp| + |cq|)^2; the variances'
 // divisions, the sums, the square and the division add about 6 roundings more: 12u of ((|cp| +
-// |cq|)^2 + alpha s) / den per channel, computed here in double from the inputs.
+// |cq|)^2 + alpha s) / den per channel, computed here in double from the inputs. With a trust
+// plane a pair with an end not trusted compares the colours, which term makes back from the
+// divided values times the divisors (2 roundings more each, within the bound).
 class NforTermKernel : public GpuTestWithParam<KernelCase> {};
 
 TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
@@ -757,13 +780,17 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
         DistanceInputs(fmt::format("term{}x{}{}", w, h, InputKindName(kind)), kind, w, h);
     const int radius = 3;
     const float alpha = 1;
-    for (bool divided : {false, true}) {
+    const Image trustPlane = RandomTrust(w, h, fmt::format("termTrust{}x{}", w, h));
+    for (int mode : {0, 1, 2}) {
+        // 0 colour, 1 colour / albedo, 2 colour / albedo where both ends are trusted.
+        const bool divided = mode > 0;
+        const Image *trust = mode == 2 ? &trustPlane : nullptr;
         Image expected = ref::NforTerms(color, variance, divided ? &albedo : nullptr, radius,
-                                        alpha, divided);
+                                        alpha, divided, trust);
         auto run = [&] {
-            vk::GpuImage illumination =
-                Upload(Ctx(), IlluminationOf(color, variance, divided ? &albedo : nullptr),
-                       "illumination");
+            vk::GpuImage illumination = Upload(
+                Ctx(), IlluminationOf(color, variance, divided ? &albedo : nullptr, trust),
+                "illumination");
             vk::GpuImage out(Ctx(), w, h, NforOffsetCount(radius), "terms");
             vk::Recorder recorder(Ctx());
             RecordNforTerm(Ctx(), recorder, illumination, 3, radius, alpha, divided, out);
@@ -779,11 +806,14 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
                 for (int x = 0; x < w; ++x) {
                     int qx = x + ox, qy = y + oy;
                     if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+                    const bool pair =
+                        divided &&
+                        (!trust || (trust->At(0, y, x) != 0 && trust->At(0, qy, qx) != 0));
                     double sum = 0;
                     for (int c = 0; c < 3; ++c) {
                         auto scale = [&](int u, int v) {
                             double a = albedo.At(c, v, u);
-                            return divided && a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
+                            return pair && a > NFOR_NOISE_ALBEDO_FLOOR ? a : 1.0;
                         };
                         double sp = scale(x, y), sq = scale(qx, qy);
                         double cp = color.At(c, y, x) / sp, cq = color.At(c, qy, qx) / sq;
@@ -800,13 +830,35 @@ TEST_P(NforTermKernel, MatchesReferenceAndRepeats) {
                 }
         }
         EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {12 * kU, 0, 1e-9}))
-            << (divided ? "divided" : "colour");
+            << "mode " << mode;
         EXPECT_TRUE(BitIdentical(actual, run()));
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforTermKernel, testing::ValuesIn(KernelCases()),
                          KernelCaseName);
+
+// A pair with an untrusted end whose albedo's square overflows a float (its divided variance
+// is 0): term multiplies back to a variance of 0, never 0 x Inf (NaN, which min may turn into
+// the cap). The colours are equal once multiplied back, so every term is finite and <= 0.
+TEST_F(GpuTest, NforTermMultipliesAHugeAlbedoBackFinitely) {
+    const int w = 5, h = 3, radius = 1;
+    Image color(w, h, 3), variance(w, h, 3), albedo(w, h, 3), trust(w, h, 1);
+    for (float &v : color.data) v = 0.5f;
+    for (float &v : variance.data) v = 0.01f;
+    for (float &v : albedo.data) v = 0.5f;
+    for (float &v : trust.data) v = 1.f;
+    for (int c = 0; c < 3; ++c) albedo.At(c, 1, 2) = 1e20f;
+    trust.At(0, 1, 2) = 0.f;
+    vk::GpuImage illumination =
+        Upload(Ctx(), IlluminationOf(color, variance, &albedo, &trust), "illumination");
+    vk::GpuImage out(Ctx(), w, h, NforOffsetCount(radius), "terms");
+    vk::Recorder recorder(Ctx());
+    RecordNforTerm(Ctx(), recorder, illumination, 3, radius, 1.f, false, out);
+    recorder.Submit();
+    Image terms = out.Download();
+    for (float v : terms.data) ASSERT_TRUE(std::isfinite(v) && v <= 0) << v;
+}
 
 // Box: a row pass sums at most 2f + 1 values (2f u of the sum of their |values|); a column
 // pass sums as many and divides once ((2f + 2) u of the mean |value|): (2f + 2) u of the
@@ -872,21 +924,27 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
         DistanceInputs(fmt::format("distance{}x{}{}", w, h, InputKindName(kind)), kind, w, h);
     const int radius = 3, patch = 2;
     const float alpha = 1;
-    for (bool divided : {false, true}) {
+    const Image trustPlane = RandomTrust(w, h, fmt::format("distanceTrust{}x{}", w, h));
+    for (int mode : {0, 1, 2}) {
+        // 0 colour, 1 colour / albedo, 2 colour / albedo where both ends are trusted.
         // Divided: also the normaliser 2 min(v_p, v_q).
+        const bool divided = mode > 0;
+        const Image *trust = mode == 2 ? &trustPlane : nullptr;
         Image expected = ref::NforDistance(color, variance, divided ? &albedo : nullptr, radius,
-                                           patch, alpha, divided);
+                                           patch, alpha, divided, trust);
         auto run = [&] {
             vk::GpuImage c = Upload(Ctx(), color, "color"),
                          v = Upload(Ctx(), variance, "variance");
-            vk::GpuImage a = Upload(Ctx(), albedo, "albedo");
+            vk::GpuImage a = Upload(Ctx(), albedo, "albedo"),
+                         t = Upload(Ctx(), trustPlane, "t");
             int offsets = NforOffsetCount(radius);
             vk::GpuImage scratch(Ctx(), w, h, offsets, "scratch"),
                 out(Ctx(), w, h, offsets, "D"),
                 illumination(Ctx(), w, h, kNforIlluminationFloats, "illumination");
             vk::Recorder recorder(Ctx());
             RecordNforDistance(Ctx(), recorder, c, v, divided ? &a : nullptr, radius, patch,
-                               alpha, divided, illumination, scratch, out);
+                               alpha, divided, illumination, scratch, out,
+                               trust ? &t : nullptr);
             recorder.Submit();
             return out.Download();
         };
@@ -914,9 +972,12 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
                             if (ux < 0 || uy < 0 || ux >= w || uy >= h || ux + ox < 0 ||
                                 uy + oy < 0 || ux + ox >= w || uy + oy >= h)
                                 continue;
+                            const bool pair = !trust || (trust->At(0, uy, ux) != 0 &&
+                                                         trust->At(0, uy + oy, ux + ox) != 0);
+                            const Image &zs = pair ? z : color, &vs = pair ? vz : variance;
                             for (int c = 0; c < 3; ++c) {
-                                double cp = z.At(c, uy, ux), cq = z.At(c, uy + oy, ux + ox);
-                                double vp = vz.At(c, uy, ux), vq = vz.At(c, uy + oy, ux + ox);
+                                double cp = zs.At(c, uy, ux), cq = zs.At(c, uy + oy, ux + ox);
+                                double vp = vs.At(c, uy, ux), vq = vs.At(c, uy + oy, ux + ox);
                                 double s = divided ? 2 * std::min(vp, vq) : vp + vq;
                                 double den = s + NFOR_REL_EPS * (cp * cp + cq * cq) + NFOR_TINY;
                                 sum += std::min(((cp - cq) * (cp - cq) + alpha * s) / den,
@@ -930,7 +991,7 @@ TEST_P(NforDistanceKernel, MatchesReferenceAndRepeats) {
         }
         int n = (2 * patch + 1) * (2 * patch + 1);
         EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {(n + 10) * kU, 0, 1e-10}))
-            << "divided " << divided;
+            << "mode " << mode;
         EXPECT_TRUE(BitIdentical(actual, run()));
     }
 }
@@ -1673,6 +1734,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.premultiplied = o.premultiplied;
     p.layerPasses = !o.noLayerPasses;
     p.layerNoiseCap = o.layerNoiseCap;
+    p.demodulateDistance = !o.noDemodulatedDistance;
+    p.albedoNoise = o.albedoNoise;
     ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr,
                           covered ? &alpha : nullptr};
     std::vector<std::pair<std::string, Image>> cpu;
@@ -1705,6 +1768,38 @@ TEST_F(NforMethod, StagesMatchTheReference) {
     o.meanRadius = 0;
     for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
         ExpectStagesMatch(Ctx(), w, h, o);
+}
+
+// The distance's albedo trust: off (no trust stage), and on over a frame whose left half's
+// albedo is noise (random per pixel and channel, which the colour does not follow), where
+// the trust stage marks pixels untrusted and the pilot's and the second pass's distances
+// take the per-pair rule.
+TEST_F(NforMethod, AlbedoTrustStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.albedoNoise = 0;
+    ExpectStagesMatch(Ctx(), 29, 23, o);
+    o.albedoNoise = NforOptions().albedoNoise;
+    int untrusted = 0;
+    auto noisy = [&untrusted](Frame *f, Image *) {
+        std::mt19937_64 rng(SeedFromName("stagesNoisyAlbedo"));
+        std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
+        const int w = f->color.width, h = f->color.height;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w / 2; ++x)
+                for (int c = 0; c < 3; ++c) f->albedo.At(c, y, x) = reflectance(rng);
+        Image trust = ref::NforAlbedoTrust(f->color, f->albedo, NforOptions().albedoNoise);
+        untrusted = int(std::count(trust.data.begin(), trust.data.end(), 0.f));
+    };
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, false, false, noisy);
+    EXPECT_GT(untrusted, 29 * 23 / 8) << "a good share of the noisy half is untrusted";
+    // The bound is finite and >= 0.
+    Frame f = MakeFrame(7, 5, 0.3, "trustBound");
+    for (float bad : {-1.f, std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::infinity()}) {
+        o.albedoNoise = bad;
+        EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error) << bad;
+    }
 }
 
 // The defaults (second pass, local means), and a second pass of two bandwidths by SURE.

@@ -834,6 +834,48 @@ TEST_F(GpuTest, TiledRunNforPlainFrameWithAlphaIsBitIdentical) {
     ExpectSameBits(whole.image, tiled.image, "nfor tiled with alpha");
 }
 
+// nfor on a rendered frame whose albedo is noise (random per pixel and channel, which the
+// colour does not follow) in bands across the tile seams: the distance's trust, which reads
+// the clamped colour and albedo of the 8 neighbours, gives in tiles the untiled result bit
+// for bit. The frame is wide enough that the middle tiles' windows (the tile and its halo)
+// hold only part of it.
+TEST_F(GpuTest, TiledRunNforNoisyAlbedoAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 640, height = 24, tile = 160;
+    Frame frame = RenderedFrame(width, height, render::kLayersAll);
+    frame.layers.erase("variance");
+    Image &albedo = frame.layers.at("albedo");
+    std::mt19937_64 rng(SeedFromName("tiled noisy albedo"));
+    std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            if (x % tile < 24 || x % tile >= tile - 24)
+                for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = reflectance(rng);
+    Params params = {{"radius", 3}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_EQ(tiled.plan[0].find("1 tile(s)"), std::string::npos) << tiled.plan[0];
+    const int halo = HaloOf(tiled);
+    EXPECT_TRUE(halo > 0 && halo < tile && 2 * tile + halo < width) << tiled.plan[0];
+    bool untrusted = false;
+    for (const std::string &line : whole.plan)
+        untrusted = untrusted || (line.find("whose albedo is noise") != std::string::npos &&
+                                  line.find(": 0 pixels") == std::string::npos);
+    EXPECT_TRUE(untrusted) << "the plan counts pixels whose albedo is noise";
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, a noisy albedo across the seams");
+}
+
+// nfor's memory per pixel counts the trust plane (one float) where the distance trusts an
+// albedo, and not with --albedo-noise 0.
+TEST_F(GpuTest, TiledRunNforNeedsCountTheTrustPlane) {
+    Frame frame = RenderedFrame(32, 16, render::kLayersAll);
+    api::TileNeeds on = NeedsWith("nfor", {}, frame),
+                   off = NeedsWith("nfor", {{"albedo-noise", 0.f}}, frame);
+    EXPECT_EQ(on.bytesPerPixel, off.bytesPerPixel + 4.0);
+    EXPECT_EQ(on.reach, off.reach);
+}
+
 // Whether a plan holds a line (the tiled run's: of its first tile) on the clamp's light.
 bool ClampLightRan(const Result &result) {
     for (const std::string &line : result.plan)

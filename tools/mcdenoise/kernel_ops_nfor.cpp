@@ -40,7 +40,8 @@ std::pair<int, int> StoredOffset(int radius, int j) {
 // term.comp, per pixel and offset (NFOR_TERM_OFFSETS an invocation) whose q = p + o is
 // inside: per channel the difference (1), the variance sum (1, or 2 min: 2), the term's 10
 // operators, min and the sum (2); then the mean's divide (1). The albedo's divides are
-// illumination.comp's, once a pixel.
+// illumination.comp's, once a pixel; a pair with an end whose albedo is not trusted
+// multiplies back 6 more per channel, which depends on the data and is not counted.
 double TermFlops(const vk::KeptDispatch &d) {
     auto p = PushOf<shader::NforDistancePush>(d);
     double perChannel = 1 + (p.minVariance ? 2 : 1) + 10 + 2;
@@ -216,8 +217,9 @@ const FormulaMap &NforFormulas() {
           "weight under the cut",
           PrefilterFlops, OpsBound::AtMost}},
         {"nfor_term",
-         {"per offset with q inside, per channel 14 (15 min-variance) and 1", TermFlops,
-          OpsBound::Exact}},
+         {"per offset with q inside, per channel 14 (15 min-variance) and 1; a pair with an "
+          "end whose albedo is not trusted 6 more per channel, not counted",
+          TermFlops, OpsBound::AtLeast}},
         {"nfor_noise",
          {"per direction and window pair inside 3 (+6 with a divisor), per direction with 3 "
           "pairs 1, per pixel 2 where one has them (+1 with a divisor); relaxed: the same "
