@@ -159,8 +159,8 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "keep an emitter with no emitter among its 8 neighbours, its albedo "
                           "at least this and its colour within 1.25x of its albedo in every "
                           "channel (a light smaller than a pixel, seen directly: its value is "
-                          "its emission, no firefly); 0: off (the default: one sample's hit "
-                          "of a light under a pixel reads many times its share)",
+                          "its emission, no firefly; one sample's hit of a light under a pixel "
+                          "reads many times its share); 0: off (clamped like a firefly)",
                           &O::fireflyLoneLight, 0, 1e6)),
         nested(FloatParam("wide-agreement",
                           "with --pilot-wide-radius and one pilot bandwidth: take the wide "

@@ -82,9 +82,9 @@ struct NforOptions {
     // Keep an emitter with no emitter among its neighbours, of this albedo or more, whose
     // colour is within NFOR_LONE_LIGHT_RATIO of its albedo in every channel: a light smaller
     // than a pixel that its samples saw directly, whose value is its own emission, not a
-    // firefly. 0: off, the default: such a light hit by one of its samples reads many times
-    // its share of the pixel, and clamped it errs by at most its own value.
-    float fireflyLoneLight = 0;
+    // firefly. Such a light hit by one of its samples reads many times its share of the
+    // pixel; clamped, a light the samples hit often is erased. 0: off (clamped).
+    float fireflyLoneLight = 8;
     // A pixel the clamp takes down keeps at least this times its line's brightness (over
     // the axes and diagonals, the largest of the dimmer side's brightest pixel within 2
     // steps), its hue kept: a highlight line hit by few samples has a peak at each hit,
