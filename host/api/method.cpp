@@ -22,6 +22,7 @@ namespace {
 // The parameters of mcd::Method itself, shared by every method.
 struct CommonParams {
     std::string demodulate, nonFinite = "refuse";
+    float alphaRim = 0.02f;
 };
 
 std::vector<api::ParamDef<CommonParams>> CommonDefs() {
@@ -35,7 +36,15 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
         api::ChoiceParam("non-finite",
                          "NaN/Inf input values: refuse (stop, naming the layer, the count "
                          "and the first pixel) or zero (replace them with 0 and warn so)",
-                         &CommonParams::nonFinite, {"refuse", "zero"})};
+                         &CommonParams::nonFinite, {"refuse", "zero"}),
+        api::FloatParam("alpha-rim",
+                        "a fully transparent pixel (alpha 0) beside covered ones takes this "
+                        "share of the output colour and of the alpha of each of its 4 "
+                        "neighbours of alpha above 0, which keep the rest: the coverage the "
+                        "renderer's pixel filter gives a pixel beside an edge, which few "
+                        "samples draw (docs/frames.md); 0: it keeps the frame's colour and "
+                        "alpha (with --overwrite-input, which keeps the frame's alpha, 0)",
+                        &CommonParams::alphaRim, 0, 0.25)};
 }
 
 // "auto", or a method of the registry; null for another name.
@@ -185,6 +194,54 @@ void KeepTransparent(const Frame &frame, Result *result) {
         clear.size()));
 }
 
+// The empty rim of a silhouette over a transparent background: the renderer's pixel filter
+// gives a pixel of alpha 0 beside an edge a little of the edge's coverage, which few of its
+// samples draw. Each pixel of alpha above 0 gives `share` of its output colour and of its
+// alpha to each of its 4 neighbours of alpha 0 and keeps the rest: light and coverage move
+// between pixels, none is added, and the colour stays premultiplied by the alpha written.
+void ShareRim(float share, Result *result) {
+    Image &alpha = result->alpha;
+    Image &image = result->image;
+    if (share <= 0.f || alpha.channels != 1 || alpha.width != image.width ||
+        alpha.height != image.height)
+        return;
+    const Image color = image, coverage = alpha;
+    const int width = image.width, height = image.height;
+    size_t takers = 0;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            if (coverage.At(0, y, x) > 0.f) continue;
+            bool took = false;
+            for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                int sx = x + dx, sy = y + dy;
+                if (sx < 0 || sy < 0 || sx >= width || sy >= height) continue;
+                float a = coverage.At(0, sy, sx);
+                // A giver whose colour is not finite gives nothing (it has no share to give).
+                bool finite = std::isfinite(a);
+                for (int c = 0; c < image.channels; ++c)
+                    finite = finite && std::isfinite(color.At(c, sy, sx));
+                if (!(a > 0.f) || !finite) continue;
+                for (int c = 0; c < image.channels; ++c) {
+                    float given = share * color.At(c, sy, sx);
+                    image.At(c, y, x) += given;
+                    image.At(c, sy, sx) -= given;
+                }
+                float given = share * a;
+                alpha.At(0, y, x) += given;
+                alpha.At(0, sy, sx) -= given;
+                took = true;
+            }
+            takers += took;
+        }
+    if (takers == 0) return;
+    result->plan.push_back(fmt::format(
+        "alpha: {} pixel(s) of alpha 0 beside covered ones took {} of the colour and of the "
+        "alpha of each of their 4 neighbours of alpha above 0, which kept the rest (the "
+        "pixel filter's coverage past an edge; --alpha-rim); the result's alpha is the "
+        "frame's with those shares moved",
+        takers, share));
+}
+
 bool SameType(const ParamValue &value, ParamType type) {
     switch (type) {
         case ParamType::Bool:
@@ -243,7 +300,7 @@ struct Method::Impl {
                     ErrorKind::InvalidArgument);
     }
     bool IsCommon(const std::string &name) const {
-        return name == "demodulate" || name == "non-finite";
+        return name == "demodulate" || name == "non-finite" || name == "alpha-rim";
     }
 };
 
@@ -432,6 +489,7 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());
     if (frame.Has("alpha")) result.alpha = frame.Copy("alpha");
     KeepTransparent(frame, &result);
+    ShareRim(impl->common.alphaRim, &result);
     if (options.output.data) {
         api::WriteOutput(result.image, result.alpha, options.output);
         result.image = Image();

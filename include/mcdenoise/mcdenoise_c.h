@@ -125,8 +125,9 @@ void mcdSetMethodProgressFunction(MCDMethod method, MCDProgressFunction function
                                   void *userPtr);
 
 /* Run the method on the frame. `output` (NULL: keep the result in the MCDResult) must be
- * the frame's size with the color's channels, or one more for the frame's alpha (1 where
- * it has none); it is written only when the run succeeds. NULL on failure. */
+ * the frame's size with the color's channels, or one more for the result's alpha (the
+ * frame's, alpha-rim's shares moved; 1 where it has none); it is written only when the run
+ * succeeds. NULL on failure. */
 MCDResult mcdRunMethod(MCDMethod method, MCDDevice device, MCDFrame frame,
                        const MCDView *output);
 void mcdReleaseResult(MCDResult result);

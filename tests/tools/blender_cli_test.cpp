@@ -85,9 +85,9 @@ class CliBlender : public ::testing::Test {
 };
 
 // The plain Cycles frame runs bayes, pivot and auto (awr and rhf need statistics, and say
-// so); two of them accumulated run every method. None touches the transparent background.
-// Without alpha the same frame's background is denoised like any pixel: the check above
-// would see it.
+// so); two of them accumulated run every method. With --alpha-rim 0 none touches the
+// transparent background. Without alpha the same frame's background is denoised like any
+// pixel: the check above would see it.
 TEST_F(CliBlender, TransparentBackgroundIsKeptByEveryMethod) {
     ToolResult r = Run("accumulate " + kFrame + " " + kData +
                        "cycles_transparent_24_16spp_s2.exr -o acc.exr");
@@ -105,7 +105,8 @@ TEST_F(CliBlender, TransparentBackgroundIsKeptByEveryMethod) {
     int changedWithoutAlpha = 0;
     std::string counts;
     for (const std::string &m : methods) {
-        r = Run("denoise " + kFrame + " --method " + m + " -o plain_" + m + ".exr");
+        r = Run("denoise " + kFrame + " --method " + m + " -o plain_" + m +
+                ".exr --alpha-rim 0");
         if (Method(m).Missing(plain).empty()) {
             ASSERT_EQ(r.code, 0) << m << ": " << r.All();
             EXPECT_EQ(ChangedBackground(plain, Path("plain_" + m + ".exr"), m), 0) << m;
@@ -114,7 +115,8 @@ TEST_F(CliBlender, TransparentBackgroundIsKeptByEveryMethod) {
             EXPECT_EQ(r.code, int(tool::ExitStatus::MissingLayer)) << m;
             EXPECT_TRUE(Contains(r.err, "Blender Cycles writes no sample statistics")) << r.err;
         }
-        r = Run("denoise acc.exr --method " + m + " -o acc_" + m + ".exr --explain");
+        r = Run("denoise acc.exr --method " + m + " -o acc_" + m +
+                ".exr --explain --alpha-rim 0");
         ASSERT_EQ(r.code, 0) << m << ": " << r.All();
         EXPECT_TRUE(Contains(r.out, "fully transparent pixel(s) (alpha 0) keep")) << r.out;
         EXPECT_EQ(ChangedBackground(accumulated, Path("acc_" + m + ".exr"), m), 0) << m;
@@ -129,14 +131,60 @@ TEST_F(CliBlender, TransparentBackgroundIsKeptByEveryMethod) {
     EXPECT_GT(changedWithoutAlpha, 0) << "background values changed without alpha:" << counts;
 }
 
+// By default the background's pixels beside the silhouette (alpha 0, a covered 4-neighbour)
+// take a share of their neighbours' colour and alpha, written beside the colour; the rest
+// of the background keeps its bits, and the colour and alpha summed over the frame are the
+// run's with --alpha-rim 0.
+TEST_F(CliBlender, TransparentRimTakesColourAndAlphaAlike) {
+    ToolResult r = Run("denoise " + kFrame + " -o rim.exr --explain");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "pixel(s) of alpha 0 beside covered ones took 0.02")) << r.out;
+    r = Run("denoise " + kFrame + " -o kept.exr --alpha-rim 0");
+    ASSERT_EQ(r.code, 0) << r.All();
+    io::Frame input = io::ReadFrame(kFrame), rim = io::ReadFrame(Path("rim.exr")),
+              kept = io::ReadFrame(Path("kept.exr"));
+    ASSERT_TRUE(rim.Has("alpha") && kept.Has("alpha"));
+    const Image &alpha = input.Get("alpha"), &rimAlpha = rim.Get("alpha");
+    const Image &color = input.Get("color"), &rimColor = rim.Get("color"),
+                &keptColor = kept.Get("color");
+    const int w = alpha.width, h = alpha.height;
+    auto covered = [&](int x, int y) {
+        return x >= 0 && y >= 0 && x < w && y < h && alpha.At(0, y, x) > 0.f;
+    };
+    int receivers = 0;
+    double sums[2][2] = {};  // colour and alpha, of rim.exr and of kept.exr / the input
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            sums[0][1] += rimAlpha.At(0, y, x), sums[1][1] += alpha.At(0, y, x);
+            for (int c = 0; c < 3; ++c)
+                sums[0][0] += rimColor.At(c, y, x), sums[1][0] += keptColor.At(c, y, x);
+            if (alpha.At(0, y, x) > 0.f) continue;
+            bool rimPixel = covered(x + 1, y) || covered(x - 1, y) || covered(x, y + 1) ||
+                            covered(x, y - 1);
+            receivers += rimPixel;
+            if (rimPixel) {
+                EXPECT_GT(rimAlpha.At(0, y, x), 0.f) << x << ", " << y;
+                continue;
+            }
+            EXPECT_EQ(rimAlpha.At(0, y, x), 0.f) << x << ", " << y;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_TRUE(SameBits(rimColor.At(c, y, x), color.At(c, y, x)))
+                    << x << ", " << y;
+        }
+    EXPECT_GT(receivers, 0);
+    EXPECT_NEAR(sums[0][0], sums[1][0], 1e-5 * sums[1][0]);
+    EXPECT_NEAR(sums[0][1], sums[1][1], 1e-5 * sums[1][1]);
+}
+
 // The Cycles frame written over keeps every channel under its name and bits, the denoised
-// colour in Combined (as written to another file), Combined's alpha; Noisy Image (R, G, B,
-// A) is the one channel set added. A second run reads Noisy Image, Cycles' noisy colour,
+// colour in Combined (as written to another file with --alpha-rim 0: the file keeps its
+// alpha, so no coverage moves), Combined's alpha; Noisy Image (R, G, B, A) is the one
+// channel set added. A second run reads Noisy Image, Cycles' noisy colour,
 // so it writes the same Combined and keeps the channel names.
 TEST_F(CliBlender, OverwriteInputKeepsTheChannelNamesAndAddsNoisyImage) {
     fs::copy_file(kFrame, Path("f.exr"));
     std::map<std::string, std::vector<float>> before = Channels(Path("f.exr"));
-    ToolResult r = Run("denoise f.exr --method bayes -o d.exr");
+    ToolResult r = Run("denoise f.exr --method bayes -o d.exr --alpha-rim 0");
     ASSERT_EQ(r.code, 0) << r.All();
     r = Run("denoise f.exr --method bayes -o f.exr --overwrite-input");
     ASSERT_EQ(r.code, 0) << r.All();

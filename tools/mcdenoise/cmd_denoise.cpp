@@ -99,6 +99,8 @@ void RunDenoise(const DenoiseOptions &opt) {
     if (!IsSequence(opt.inputs)) {
         settings.single = true;
         SequenceFrame frame = PlanOneFrame(opt, &settings.inPlace);
+        // The file keeps its own alpha: no coverage may move beside it.
+        if (settings.inPlace) method.Set("alpha-rim", 0.f);
         DenoiseFrames({frame}, method, settings);
         return;
     }
