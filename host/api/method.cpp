@@ -43,8 +43,11 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
                         "neighbours of alpha above 0, which keep the rest: the coverage the "
                         "renderer's pixel filter gives a pixel beside an edge, which few "
                         "samples draw (docs/frames.md); 0: it keeps the frame's colour and "
-                        "alpha (with --overwrite-input, which keeps the frame's alpha, 0)",
-                        &CommonParams::alphaRim, 0, 0.25)};
+                        "alpha. Runs only where the alpha is delivered beside the colour (not "
+                        "into an output without an alpha channel, nor with "
+                        "--overwrite-input, which keeps the file's alpha); at most 0.2, so "
+                        "an isolated covered pixel keeps a fifth of itself",
+                        &CommonParams::alphaRim, 0, 0.2)};
 }
 
 // "auto", or a method of the registry; null for another name.
@@ -188,10 +191,9 @@ void KeepTransparent(const Frame &frame, Result *result) {
             image.Plane(c)[i] = std::isfinite(v) ? v : 0.f;
         }
     }
-    result->plan.push_back(fmt::format(
-        "alpha: {} fully transparent pixel(s) (alpha 0) keep the frame's colour; the "
-        "result's alpha is the frame's",
-        clear.size()));
+    result->plan.push_back(
+        fmt::format("alpha: {} fully transparent pixel(s) (alpha 0) keep the frame's colour",
+                    clear.size()));
 }
 
 // The empty rim of a silhouette over a transparent background: the renderer's pixel filter
@@ -199,7 +201,9 @@ void KeepTransparent(const Frame &frame, Result *result) {
 // samples draw. Each pixel of alpha above 0 gives `share` of its output colour and of its
 // alpha to each of its 4 neighbours of alpha 0 and keeps the rest: light and coverage move
 // between pixels, none is added, and the colour stays premultiplied by the alpha written.
-void ShareRim(float share, Result *result) {
+// Without `delivered` (the caller gets no alpha beside the colour) nothing moves: light in
+// a pixel whose alpha, as the caller has it, is 0 would be added over its background.
+void ShareRim(float share, bool delivered, Result *result) {
     Image &alpha = result->alpha;
     Image &image = result->image;
     if (share <= 0.f || alpha.channels != 1 || alpha.width != image.width ||
@@ -210,7 +214,8 @@ void ShareRim(float share, Result *result) {
     size_t takers = 0;
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            if (coverage.At(0, y, x) > 0.f) continue;
+            // Only alpha 0 takes (a NaN alpha is no receiver, as in KeepTransparent).
+            if (!(coverage.At(0, y, x) <= 0.f)) continue;
             bool took = false;
             for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
                 int sx = x + dx, sy = y + dy;
@@ -221,6 +226,8 @@ void ShareRim(float share, Result *result) {
                 for (int c = 0; c < image.channels; ++c)
                     finite = finite && std::isfinite(color.At(c, sy, sx));
                 if (!(a > 0.f) || !finite) continue;
+                took = true;
+                if (!delivered) continue;
                 for (int c = 0; c < image.channels; ++c) {
                     float given = share * color.At(c, sy, sx);
                     image.At(c, y, x) += given;
@@ -229,11 +236,19 @@ void ShareRim(float share, Result *result) {
                 float given = share * a;
                 alpha.At(0, y, x) += given;
                 alpha.At(0, sy, sx) -= given;
-                took = true;
             }
             takers += took;
         }
     if (takers == 0) return;
+    if (!delivered) {
+        result->plan.push_back(fmt::format(
+            "alpha: --alpha-rim left out: the output has no alpha channel, so the {} "
+            "pixel(s) of alpha 0 beside covered ones keep the frame's colour (light moved "
+            "there without its alpha would be added over the background)",
+            takers));
+        return;
+    }
+    result->rimPixels = int(takers);
     result->plan.push_back(fmt::format(
         "alpha: {} pixel(s) of alpha 0 beside covered ones took {} of the colour and of the "
         "alpha of each of their 4 neighbours of alpha above 0, which kept the rest (the "
@@ -489,7 +504,10 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());
     if (frame.Has("alpha")) result.alpha = frame.Copy("alpha");
     KeepTransparent(frame, &result);
-    ShareRim(impl->common.alphaRim, &result);
+    // The moved alpha reaches the caller in Result::alpha or in the output's last channel.
+    bool alphaDelivered =
+        !options.output.data || options.output.channels == result.image.channels + 1;
+    ShareRim(impl->common.alphaRim, alphaDelivered, &result);
     if (options.output.data) {
         api::WriteOutput(result.image, result.alpha, options.output);
         result.image = Image();

@@ -166,7 +166,8 @@ TEST_P(LibraryRun, TransparentRimTakesAShareOfItsCoveredNeighbours) {
     kept.Set("alpha-rim", 0.f);
     const float share = std::get<float>(shared.Get("alpha-rim"));
     ASSERT_GT(share, 0.f);
-    EXPECT_THROW(shared.Set("alpha-rim", 0.3f), Error);
+    EXPECT_THROW(Method(shared).Set("alpha-rim", 0.21f), Error);
+    EXPECT_NO_THROW(Method(shared).Set("alpha-rim", 0.2f));
     EXPECT_THROW(shared.Set("alpha-rim", -0.01f), Error);
     Result before = kept.Run(device, frame), after = shared.Run(device, frame);
 
@@ -219,6 +220,62 @@ TEST_P(LibraryRun, TransparentRimTakesAShareOfItsCoveredNeighbours) {
         plan.find(fmt::format("alpha: {} pixel(s) of alpha 0 beside covered", height + 1)),
         std::string::npos)
         << plan;
+}
+
+// The rim's light moves only where its alpha reaches the caller: into an output with the
+// alpha channel (as Result::alpha), not into one with the colour's channels alone, which
+// gets the colour of a run with the share off and a plan line that says why.
+TEST_F(LibraryRunning, AlphaRimRunsOnlyWhereItsAlphaIsDelivered) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 17, height = 13;
+    Frame frame = OwnedFrame(width, height);
+    Image &alpha = frame.layers["alpha"];
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < 6; ++x) alpha.At(0, y, x) = 0.f;
+    Method shared("bayes"), kept("bayes");
+    kept.Set("alpha-rim", 0.f);
+    Result before = kept.Run(device, frame), after = shared.Run(device, frame);
+    ASSERT_GT(after.rimPixels, 0);
+    EXPECT_EQ(before.rimPixels, 0);
+    ASSERT_NE(after.image.data, before.image.data);
+
+    std::vector<float> rgb(size_t(width) * height * 3), rgba(size_t(width) * height * 4);
+    RunOptions run;
+    run.output = OutputView::Planar(rgb.data(), width, height, 3);
+    Result plain = shared.Run(device, frame, run);
+    EXPECT_EQ(rgb, before.image.data);
+    EXPECT_EQ(plain.rimPixels, 0);
+    std::string plan = fmt::format("{}", fmt::join(plain.plan, "\n"));
+    EXPECT_NE(plan.find(fmt::format("alpha: --alpha-rim left out: the output has no alpha "
+                                    "channel, so the {} pixel(s)",
+                                    height)),
+              std::string::npos)
+        << plan;
+
+    run.output = OutputView::Planar(rgba.data(), width, height, 4);
+    shared.Run(device, frame, run);
+    std::vector<float> want = after.image.data;
+    want.insert(want.end(), after.alpha.data.begin(), after.alpha.data.end());
+    EXPECT_EQ(rgba, want);
+}
+
+// A pixel of NaN alpha (kept under non-finite zero) is no rim: it takes no share, so its
+// colour and alpha are those of the run with the share off.
+TEST_F(LibraryRunning, AlphaRimLeavesANanAlphaPixelAlone) {
+    Device device = api::BorrowDevice(Ctx());
+    Frame frame = OwnedFrame(15, 11);
+    Image &alpha = frame.layers["alpha"];
+    alpha.At(0, 5, 7) = std::numeric_limits<float>::quiet_NaN();
+    alpha.At(0, 2, 3) = 0.f;
+    Method shared("bayes"), kept("bayes");
+    shared.Set("non-finite", std::string("zero"));
+    kept.Set("non-finite", std::string("zero"));
+    kept.Set("alpha-rim", 0.f);
+    Result before = kept.Run(device, frame), after = shared.Run(device, frame);
+    EXPECT_EQ(after.rimPixels, 1);
+    EXPECT_TRUE(std::isnan(after.alpha.At(0, 5, 7)));
+    for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(after.image.At(c, 5, 7), before.image.At(c, 5, 7)) << c;
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, LibraryRun,
