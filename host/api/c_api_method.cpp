@@ -2,6 +2,8 @@
 
 #include <variant>
 
+#include <fmt/format.h>
+
 #include "host/api/c_api.h"
 #include "host/api/front_end.h"
 #include "host/api/views.h"
@@ -180,7 +182,15 @@ bool mcdCopyResultImage(MCDResult result, const MCDView *output) {
                         ErrorKind::InvalidArgument);
         OutputView view = OutputViewOf(*output);
         CheckView(view, "the output");
-        WriteOutput(result->result.image, result->result.alpha, view);
+        const Result &r = result->result;
+        if (r.rimPixels > 0 && view.channels == r.image.channels)
+            throw Error(fmt::format("the output has no alpha channel, but alpha-rim moved "
+                                    "light and alpha into {} pixel(s) of alpha 0: copy into "
+                                    "{} channels, or run with alpha-rim 0 or into a "
+                                    "{}-channel output view",
+                                    r.rimPixels, r.image.channels + 1, r.image.channels),
+                        ErrorKind::InvalidArgument);
+        WriteOutput(r.image, r.alpha, view);
         return true;
     });
 }

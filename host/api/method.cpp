@@ -22,6 +22,7 @@ namespace {
 // The parameters of mcd::Method itself, shared by every method.
 struct CommonParams {
     std::string demodulate, nonFinite = "refuse";
+    float alphaRim = 0.02f;
 };
 
 std::vector<api::ParamDef<CommonParams>> CommonDefs() {
@@ -35,7 +36,18 @@ std::vector<api::ParamDef<CommonParams>> CommonDefs() {
         api::ChoiceParam("non-finite",
                          "NaN/Inf input values: refuse (stop, naming the layer, the count "
                          "and the first pixel) or zero (replace them with 0 and warn so)",
-                         &CommonParams::nonFinite, {"refuse", "zero"})};
+                         &CommonParams::nonFinite, {"refuse", "zero"}),
+        api::FloatParam("alpha-rim",
+                        "a fully transparent pixel (alpha 0) beside covered ones takes this "
+                        "share of the output colour and of the alpha of each of its 4 "
+                        "neighbours of alpha above 0, which keep the rest: the coverage the "
+                        "renderer's pixel filter gives a pixel beside an edge, which few "
+                        "samples draw (docs/frames.md); 0: it keeps the frame's colour and "
+                        "alpha. Runs only where the alpha is delivered beside the colour (not "
+                        "into an output without an alpha channel, nor with "
+                        "--overwrite-input, which keeps the file's alpha); at most 0.2, so "
+                        "an isolated covered pixel keeps a fifth of itself",
+                        &CommonParams::alphaRim, 0, 0.2)};
 }
 
 // "auto", or a method of the registry; null for another name.
@@ -179,10 +191,70 @@ void KeepTransparent(const Frame &frame, Result *result) {
             image.Plane(c)[i] = std::isfinite(v) ? v : 0.f;
         }
     }
+    result->plan.push_back(
+        fmt::format("alpha: {} fully transparent pixel(s) (alpha 0) keep the frame's colour",
+                    clear.size()));
+}
+
+// The empty rim of a silhouette over a transparent background: the renderer's pixel filter
+// gives a pixel of alpha 0 beside an edge a little of the edge's coverage, which few of its
+// samples draw. Each pixel of alpha above 0 gives `share` of its output colour and of its
+// alpha to each of its 4 neighbours of alpha 0 and keeps the rest: light and coverage move
+// between pixels, none is added, and the colour stays premultiplied by the alpha written.
+// Without `delivered` (the caller gets no alpha beside the colour) nothing moves: light in
+// a pixel whose alpha, as the caller has it, is 0 would be added over its background.
+void ShareRim(float share, bool delivered, Result *result) {
+    Image &alpha = result->alpha;
+    Image &image = result->image;
+    if (share <= 0.f || alpha.channels != 1 || alpha.width != image.width ||
+        alpha.height != image.height)
+        return;
+    const Image color = image, coverage = alpha;
+    const int width = image.width, height = image.height;
+    size_t takers = 0;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            // Only alpha 0 takes (a NaN alpha is no receiver, as in KeepTransparent).
+            if (!(coverage.At(0, y, x) <= 0.f)) continue;
+            bool took = false;
+            for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                int sx = x + dx, sy = y + dy;
+                if (sx < 0 || sy < 0 || sx >= width || sy >= height) continue;
+                float a = coverage.At(0, sy, sx);
+                // A giver whose colour is not finite gives nothing (it has no share to give).
+                bool finite = std::isfinite(a);
+                for (int c = 0; c < image.channels; ++c)
+                    finite = finite && std::isfinite(color.At(c, sy, sx));
+                if (!(a > 0.f) || !finite) continue;
+                took = true;
+                if (!delivered) continue;
+                for (int c = 0; c < image.channels; ++c) {
+                    float given = share * color.At(c, sy, sx);
+                    image.At(c, y, x) += given;
+                    image.At(c, sy, sx) -= given;
+                }
+                float given = share * a;
+                alpha.At(0, y, x) += given;
+                alpha.At(0, sy, sx) -= given;
+            }
+            takers += took;
+        }
+    if (takers == 0) return;
+    if (!delivered) {
+        result->plan.push_back(fmt::format(
+            "alpha: --alpha-rim left out: the output has no alpha channel, so the {} "
+            "pixel(s) of alpha 0 beside covered ones keep the frame's colour (light moved "
+            "there without its alpha would be added over the background)",
+            takers));
+        return;
+    }
+    result->rimPixels = int(takers);
     result->plan.push_back(fmt::format(
-        "alpha: {} fully transparent pixel(s) (alpha 0) keep the frame's colour; the "
-        "result's alpha is the frame's",
-        clear.size()));
+        "alpha: {} pixel(s) of alpha 0 beside covered ones took {} of the colour and of the "
+        "alpha of each of their 4 neighbours of alpha above 0, which kept the rest (the "
+        "pixel filter's coverage past an edge; --alpha-rim); the result's alpha is the "
+        "frame's with those shares moved",
+        takers, share));
 }
 
 bool SameType(const ParamValue &value, ParamType type) {
@@ -243,7 +315,7 @@ struct Method::Impl {
                     ErrorKind::InvalidArgument);
     }
     bool IsCommon(const std::string &name) const {
-        return name == "demodulate" || name == "non-finite";
+        return name == "demodulate" || name == "non-finite" || name == "alpha-rim";
     }
 };
 
@@ -432,6 +504,10 @@ Result Method::Run(Device &device, const Frame &frame, const RunOptions &options
     result.plan.insert(result.plan.begin(), autoPlan.begin(), autoPlan.end());
     if (frame.Has("alpha")) result.alpha = frame.Copy("alpha");
     KeepTransparent(frame, &result);
+    // The moved alpha reaches the caller in Result::alpha or in the output's last channel.
+    bool alphaDelivered =
+        !options.output.data || options.output.channels == result.image.channels + 1;
+    ShareRim(impl->common.alphaRim, alphaDelivered, &result);
     if (options.output.data) {
         api::WriteOutput(result.image, result.alpha, options.output);
         result.image = Image();

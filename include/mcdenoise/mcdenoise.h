@@ -105,7 +105,11 @@ struct Result {
     // The denoised color, the frame's size and channels; empty when RunOptions::output
     // received it.
     Image image;
-    Image alpha;                          // the frame's alpha layer as it is (empty: none)
+    Image alpha;  // the frame's alpha layer, alpha-rim's shares moved (empty: none)
+    // Pixels of alpha 0 that took alpha-rim's shares of their covered neighbours: light
+    // and alpha moved there together, so `image` is only right over a background
+    // composited with `alpha` (a 3-channel copy of it would light the background).
+    int rimPixels = 0;
     std::vector<std::string> plan;        // what ran, what was left out, and why
     std::vector<std::string> warnings;    // e.g. non-finite input values replaced
     std::vector<Stage> stages;            // with RunOptions::keepStages
@@ -132,8 +136,10 @@ struct RunOptions {
     // Cancelled and writes nothing to `output`. A submission under way runs to its end.
     std::function<bool()> cancel;
     // Where the result goes (no data: Result::image). The frame's width and height, with
-    // the color's channels or one more, which receives the frame's alpha (1 where it has
-    // none). Written only when the run succeeds; Result::image is then left empty.
+    // the color's channels or one more, which receives Result::alpha (1 where the frame has
+    // none). Without that channel alpha-rim does not run (the plan says so): its moved alpha
+    // would not reach the caller. Written only when the run succeeds; Result::image is
+    // then left empty.
     OutputView output;
     // Internal (tests): run in tiles of this many pixels a side, with the method's halo,
     // even where the frame fits the device. 0: tiles only where it does not fit.

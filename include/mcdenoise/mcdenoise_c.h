@@ -125,8 +125,10 @@ void mcdSetMethodProgressFunction(MCDMethod method, MCDProgressFunction function
                                   void *userPtr);
 
 /* Run the method on the frame. `output` (NULL: keep the result in the MCDResult) must be
- * the frame's size with the color's channels, or one more for the frame's alpha (1 where
- * it has none); it is written only when the run succeeds. NULL on failure. */
+ * the frame's size with the color's channels, or one more for the result's alpha (the
+ * frame's, alpha-rim's shares moved; 1 where it has none); it is written only when the run
+ * succeeds. An output without the alpha channel runs without alpha-rim (its moved alpha
+ * would not reach the caller; the plan says so). NULL on failure. */
 MCDResult mcdRunMethod(MCDMethod method, MCDDevice device, MCDFrame frame,
                        const MCDView *output);
 void mcdReleaseResult(MCDResult result);
@@ -143,7 +145,9 @@ const char *mcdGetResultWarning(MCDResult result, int index);
 double mcdGetResultWallMs(MCDResult result);
 double mcdGetResultGpuMs(MCDResult result);
 /* The result's image (a run without an output view) into the caller's view, as
- * mcdRunMethod's output. */
+ * mcdRunMethod's output. Refused without the alpha channel when alpha-rim moved light and
+ * alpha into pixels of alpha 0: that colour needs its alpha (pass a view with one more
+ * channel, or run with alpha-rim 0 or with a 3-channel output view). */
 bool mcdCopyResultImage(MCDResult result, const MCDView *output);
 
 #ifdef __cplusplus

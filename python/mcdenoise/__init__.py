@@ -7,7 +7,11 @@
 
 Arrays are (height, width, channels) or (height, width), float32 or float16, of any
 strides: the library reads them where they are (no copy before its own upload). A colour
-with 4 channels is RGB and alpha; the alpha passes through to the result. Failures raise
+with 4 channels is RGB and alpha; the result's fourth channel is that alpha, except that a
+pixel of alpha 0 beside covered ones takes the alpha_rim share (0.02) of their colour and
+alpha alike (the renderer's pixel filter past an edge; alpha_rim=0 keeps the alpha as it
+is). A 3-channel colour with an "alpha" layer returns 3 channels: the alpha does not come
+back, so no light moves into pixels of alpha 0 (they keep the input's colour). Failures raise
 mcdenoise.Error subclasses (one per error code) with the library's message; the library's
 warnings are Python warnings (mcdenoise.LibraryWarning).
 """
@@ -212,6 +216,8 @@ def denoise(color, method="auto", albedo=None, normal=None, depth=None, variance
     named arguments taking precedence. params: the method's parameters by their command
     line names, "-" written "_" (kappa=0.6, non_finite="zero"). progress(stage, done,
     total): called as the run advances; returning False cancels it (CancelledError).
+    An RGBA `color` returns RGBA, the alpha with alpha_rim's shares moved; a 3-channel one
+    returns 3 channels and runs without alpha_rim (its alpha would not come back).
     """
     flat = np.ndim(color) == 2
     color = _layer_array(color, "color")
@@ -220,7 +226,8 @@ def denoise(color, method="auto", albedo=None, normal=None, depth=None, variance
                                     ("depth", depth), ("variance", variance)) if v is not None})
     given.pop("color", None)
     rgba = color.shape[2] == 4
-    if rgba:  # RGB and alpha: the alpha passes through into the result's fourth channel
+    # RGB and alpha: the result's alpha (alpha_rim's shares moved) is its fourth channel
+    if rgba:
         given["alpha"] = color[:, :, 3:]
         color = color[:, :, :3]
     frame = _Frame()

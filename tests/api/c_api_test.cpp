@@ -92,6 +92,38 @@ TEST_F(CApi, RunGivesTheCppRunsBits) {
     mcdReleaseFrame(frame);
 }
 
+// A result whose alpha-rim moved light into pixels of alpha 0 copies into a view with the
+// alpha channel, which gets the moved alpha; a view of the colour's channels alone is
+// refused (that colour over the caller's background would be a halo).
+TEST_F(CApi, CopyResultImageKeepsTheRimsColourWithItsAlpha) {
+    Layers layers;
+    std::vector<float> alpha(size_t(layers.w) * layers.h, 0.7f);
+    for (int y = 0; y < layers.h; ++y)
+        for (int x = 0; x < 5; ++x) alpha[size_t(y) * layers.w + x] = 0.f;
+    MCDFrame frame = layers.NewFrame();
+    MCDView a = mcdInterleaved(alpha.data(), MCD_FORMAT_FLOAT, layers.w, layers.h, 1);
+    ASSERT_TRUE(mcdSetFrameLayer(frame, "alpha", &a));
+    MCDMethod method = mcdNewMethod("bayes");
+    MCDResult kept = mcdRunMethod(method, SharedDevice(), frame, nullptr);
+    ASSERT_NE(kept, nullptr) << TakeError().second;
+    std::vector<float> rgb(size_t(layers.w) * layers.h * 3);
+    MCDView rgbView = mcdInterleaved(rgb.data(), MCD_FORMAT_FLOAT, layers.w, layers.h, 3);
+    EXPECT_FALSE(mcdCopyResultImage(kept, &rgbView));
+    auto [code, message] = TakeError();
+    EXPECT_EQ(code, MCD_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(message.find("alpha-rim moved light and alpha into 13 pixel(s)"),
+              std::string::npos)
+        << message;
+    std::vector<float> rgba(size_t(layers.w) * layers.h * 4);
+    MCDView rgbaView = mcdInterleaved(rgba.data(), MCD_FORMAT_FLOAT, layers.w, layers.h, 4);
+    ASSERT_TRUE(mcdCopyResultImage(kept, &rgbaView)) << TakeError().second;
+    EXPECT_GT(rgba[size_t(4) * 4 + 3], 0.f);  // the rim at (4, 0) took coverage
+    EXPECT_EQ(rgba[size_t(3) * 4 + 3], 0.f);  // (3, 0) is farther out
+    mcdReleaseResult(kept);
+    mcdReleaseMethod(method);
+    mcdReleaseFrame(frame);
+}
+
 TEST_F(CApi, ErrorsAreCodesWithTheLibrarysMessage) {
     EXPECT_EQ(mcdNewMethod("nope"), nullptr);
     auto [code, message] = TakeError();

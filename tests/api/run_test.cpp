@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -107,10 +108,11 @@ TEST_P(LibraryRun, BorrowedLayersGiveTheOwnedBitsAndAlphaPassesThrough) {
 }
 
 // Pixels of alpha 0 (a transparent film's background) keep the frame's colour bits, read
-// from borrowed layers as from owned ones; the rest is the owned run's.
+// from borrowed layers as from owned ones, with --alpha-rim 0; the rest is the owned run's.
 TEST_P(LibraryRun, TransparentPixelsKeepTheBorrowedColour) {
     Device device = api::BorrowDevice(Ctx());
     Method method(GetParam());
+    method.Set("alpha-rim", 0.f);
     const int width = 29, height = 23, edge = 10;
     Frame owned = OwnedFrame(width, height);
     Image &alpha = owned.layers["alpha"];
@@ -143,6 +145,137 @@ TEST_P(LibraryRun, TransparentPixelsKeepTheBorrowedColour) {
     EXPECT_NE(plan.find(fmt::format("alpha: {} fully transparent", edge * height + 1)),
               std::string::npos)
         << plan;
+}
+
+// By default a pixel of alpha 0 takes --alpha-rim's share of the colour and of the alpha
+// of each of its 4 neighbours of alpha above 0, which keep the rest (the pixel filter's
+// coverage past a silhouette); pixels of alpha 0 farther out keep the frame's colour.
+// Expected values from the run with the share off, each giver's shares pushed to its
+// receivers here (the pass gathers per receiver): a receiver sums at most 4 terms, so the
+// two orders differ by at most 4 roundings of the largest magnitude summed.
+TEST_P(LibraryRun, TransparentRimTakesAShareOfItsCoveredNeighbours) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 29, height = 23, edge = 10;
+    Frame frame = OwnedFrame(width, height);
+    Image &alpha = frame.layers["alpha"];
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < edge; ++x) alpha.At(0, y, x) = 0.f;
+    alpha.At(0, 11, 20) = 0.f;     // a hole with 4 covered neighbours
+    alpha.At(0, 3, edge) = 0.25f;  // a partly covered giver
+    Method kept(GetParam()), shared(GetParam());
+    kept.Set("alpha-rim", 0.f);
+    const float share = std::get<float>(shared.Get("alpha-rim"));
+    ASSERT_GT(share, 0.f);
+    EXPECT_THROW(Method(shared).Set("alpha-rim", 0.21f), Error);
+    EXPECT_NO_THROW(Method(shared).Set("alpha-rim", 0.2f));
+    EXPECT_THROW(shared.Set("alpha-rim", -0.01f), Error);
+    Result before = kept.Run(device, frame), after = shared.Run(device, frame);
+
+    Image color = before.image, coverage = alpha, bound(width, height, 1, 0.f);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            float a = alpha.At(0, y, x);
+            if (a <= 0.f) continue;
+            const int offsets[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+            for (const auto &o : offsets) {
+                int rx = x + o[0], ry = y + o[1];
+                if (rx < 0 || ry < 0 || rx >= width || ry >= height) continue;
+                if (alpha.At(0, ry, rx) > 0.f) continue;
+                for (int c = 0; c < 3; ++c) {
+                    float v = before.image.At(c, y, x);
+                    color.At(c, ry, rx) += share * v;
+                    color.At(c, y, x) -= share * v;
+                    for (float *b : {&bound.At(0, ry, rx), &bound.At(0, y, x)})
+                        *b = std::max(*b, std::fabs(v));
+                }
+                coverage.At(0, ry, rx) += share * a;
+                coverage.At(0, y, x) -= share * a;
+            }
+        }
+    ASSERT_TRUE(after.image.SameShape(color));
+    ASSERT_TRUE(after.alpha.SameShape(alpha));
+    const float eps = std::numeric_limits<float>::epsilon();
+    size_t moved = 0;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                float want = color.At(c, y, x);
+                float tol = 4 * eps *
+                            (std::fabs(want) + std::fabs(before.image.At(c, y, x)) +
+                             4 * share * bound.At(0, y, x));
+                ASSERT_NEAR(after.image.At(c, y, x), want, tol)
+                    << "pixel (" << x << ", " << y << "), channel " << c;
+                moved += after.image.At(c, y, x) != before.image.At(c, y, x);
+            }
+            ASSERT_NEAR(after.alpha.At(0, y, x), coverage.At(0, y, x), 4 * eps)
+                << "alpha at (" << x << ", " << y << ")";
+            if (x < edge - 1)
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_EQ(after.image.At(c, y, x), frame.layers["color"].At(c, y, x));
+        }
+    EXPECT_GT(moved, size_t(3) * height);
+    EXPECT_GT(after.alpha.At(0, 11, 20), 0.f);
+    std::string plan = fmt::format("{}", fmt::join(after.plan, "\n"));
+    EXPECT_NE(
+        plan.find(fmt::format("alpha: {} pixel(s) of alpha 0 beside covered", height + 1)),
+        std::string::npos)
+        << plan;
+}
+
+// The rim's light moves only where its alpha reaches the caller: into an output with the
+// alpha channel (as Result::alpha), not into one with the colour's channels alone, which
+// gets the colour of a run with the share off and a plan line that says why.
+TEST_F(LibraryRunning, AlphaRimRunsOnlyWhereItsAlphaIsDelivered) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 17, height = 13;
+    Frame frame = OwnedFrame(width, height);
+    Image &alpha = frame.layers["alpha"];
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < 6; ++x) alpha.At(0, y, x) = 0.f;
+    Method shared("bayes"), kept("bayes");
+    kept.Set("alpha-rim", 0.f);
+    Result before = kept.Run(device, frame), after = shared.Run(device, frame);
+    ASSERT_GT(after.rimPixels, 0);
+    EXPECT_EQ(before.rimPixels, 0);
+    ASSERT_NE(after.image.data, before.image.data);
+
+    std::vector<float> rgb(size_t(width) * height * 3), rgba(size_t(width) * height * 4);
+    RunOptions run;
+    run.output = OutputView::Planar(rgb.data(), width, height, 3);
+    Result plain = shared.Run(device, frame, run);
+    EXPECT_EQ(rgb, before.image.data);
+    EXPECT_EQ(plain.rimPixels, 0);
+    std::string plan = fmt::format("{}", fmt::join(plain.plan, "\n"));
+    EXPECT_NE(plan.find(fmt::format("alpha: --alpha-rim left out: the output has no alpha "
+                                    "channel, so the {} pixel(s)",
+                                    height)),
+              std::string::npos)
+        << plan;
+
+    run.output = OutputView::Planar(rgba.data(), width, height, 4);
+    shared.Run(device, frame, run);
+    std::vector<float> want = after.image.data;
+    want.insert(want.end(), after.alpha.data.begin(), after.alpha.data.end());
+    EXPECT_EQ(rgba, want);
+}
+
+// A pixel of NaN alpha (kept under non-finite zero) is no rim: it takes no share, so its
+// colour and alpha are those of the run with the share off.
+TEST_F(LibraryRunning, AlphaRimLeavesANanAlphaPixelAlone) {
+    Device device = api::BorrowDevice(Ctx());
+    Frame frame = OwnedFrame(15, 11);
+    Image &alpha = frame.layers["alpha"];
+    alpha.At(0, 5, 7) = std::numeric_limits<float>::quiet_NaN();
+    alpha.At(0, 2, 3) = 0.f;
+    Method shared("bayes"), kept("bayes");
+    shared.Set("non-finite", std::string("zero"));
+    kept.Set("non-finite", std::string("zero"));
+    kept.Set("alpha-rim", 0.f);
+    Result before = kept.Run(device, frame), after = shared.Run(device, frame);
+    EXPECT_EQ(after.rimPixels, 1);
+    EXPECT_TRUE(std::isnan(after.alpha.At(0, 5, 7)));
+    for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(after.image.At(c, 5, 7), before.image.At(c, 5, 7)) << c;
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, LibraryRun,

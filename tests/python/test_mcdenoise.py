@@ -57,6 +57,25 @@ def test_alpha_passes_through_and_shapes_are_kept():
     assert gray.shape == color.shape[:2]
 
 
+def test_alpha_rim_moves_light_only_where_its_alpha_comes_back():
+    color = noisy()
+    alpha = np.full(color.shape[:2] + (1,), 0.8, np.float32)
+    alpha[:, :6] = 0.0  # a transparent background, its rim in column 5
+    rgba = np.concatenate([color, alpha], axis=2)
+    out = mcdenoise.denoise(rgba, method="bayes")
+    kept = mcdenoise.denoise(rgba, method="bayes", alpha_rim=0.0)
+    assert np.array_equal(kept[:, :, 3], alpha[:, :, 0])
+    # RGBA: the rim takes colour and alpha alike; none is added; farther out nothing moves
+    assert (out[:, 5, 3] > 0).all() and (out[:, 5, :3] != color[:, 5]).any()
+    assert np.array_equal(out[:, :5, :3], color[:, :5]) and (out[:, :5, 3] == 0).all()
+    np.testing.assert_allclose(out.sum(axis=(0, 1)), kept.sum(axis=(0, 1)), rtol=1e-5)
+    # 3 channels and an alpha layer: the alpha does not come back, so no light moves
+    three = mcdenoise.denoise(color, method="bayes", layers={"alpha": alpha})
+    assert three.shape == color.shape
+    assert np.array_equal(three, kept[:, :, :3])
+    assert np.array_equal(three[:, :6], color[:, :6])
+
+
 def test_half_in_half_out():
     color16 = noisy().astype(np.float16)
     out16 = mcdenoise.denoise(color16, method="bayes")

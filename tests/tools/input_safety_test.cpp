@@ -300,7 +300,9 @@ TEST_F(CliInputSafety, DenoiseKeepsAlphaAndSaysHowItWasMade) {
     ASSERT_TRUE(in.Has("alpha"));
     EXPECT_TRUE(BitIdentical(in.Get("alpha"), alpha));
 
-    ToolResult r = Run("denoise a.exr --method awr --cs 2 -o d.exr --preview d.png");
+    // --alpha-rim 0: the background's rim (x 3) keeps its alpha (the shares: run_test.cpp).
+    ToolResult r =
+        Run("denoise a.exr --method awr --cs 2 -o d.exr --preview d.png --alpha-rim 0");
     ASSERT_EQ(r.code, 0) << r.All();
     io::Frame out = io::ReadFrame(Path("d.exr").string());
     ASSERT_TRUE(out.Has("alpha"));
@@ -315,6 +317,8 @@ TEST_F(CliInputSafety, DenoiseKeepsAlphaAndSaysHowItWasMade) {
     const std::string &options = out.metadata["mcd:options"];
     EXPECT_TRUE(Contains(options, "cs=2"));
     EXPECT_TRUE(Contains(options, "non-finite=refuse"));
+    EXPECT_TRUE(Contains(options, "alpha-rim=0") && !Contains(options, "alpha-rim=0."))
+        << options;
     EXPECT_FALSE(Contains(options, "kappa=")) << "rhf's options are not awr's";
     Method awr("awr");
     for (const ParamInfo &info : awr.Params()) EXPECT_TRUE(Contains(options, info.name + "="));

@@ -4,8 +4,10 @@
 // (tools/mcdenoise/denoise_frames.h, which runs one frame as a sequence of one).
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <set>
+#include <variant>
 
 #include "host/error.h"
 #include "host/io/frame.h"
@@ -91,6 +93,19 @@ void PrepareSequence(const std::vector<SequenceFrame> &frames) {
     }
 }
 
+// --overwrite-input keeps the file's alpha, so --alpha-rim's light cannot move with its
+// coverage: it runs with 0, and says so where the command line asked for a share.
+void KeepTheFilesAlpha(const DenoiseOptions &opt, Method *method) {
+    float share = std::get<float>(method->Get("alpha-rim"));
+    if (share > 0.f && opt.methods.Given("alpha-rim"))
+        fmt::print(stderr,
+                   "warning: --alpha-rim {} left out (0): --overwrite-input keeps the file's "
+                   "alpha, and the rim's light without its alpha would be added over the "
+                   "background; write to another file with -o for the rim\n",
+                   share);
+    method->Set("alpha-rim", 0.f);
+}
+
 void RunDenoise(const DenoiseOptions &opt) {
     Method method = opt.methods.Make(opt.method);
     DenoiseSettings settings;
@@ -99,6 +114,8 @@ void RunDenoise(const DenoiseOptions &opt) {
     if (!IsSequence(opt.inputs)) {
         settings.single = true;
         SequenceFrame frame = PlanOneFrame(opt, &settings.inPlace);
+        // The file keeps its own alpha: no coverage may move beside it.
+        if (settings.inPlace) KeepTheFilesAlpha(opt, &method);
         DenoiseFrames({frame}, method, settings);
         return;
     }

@@ -524,8 +524,10 @@ Pending DenoiseRun::Denoise(size_t i, LoadedFrame &loaded) {
         output.provenance["mcd:temporal"] = g.temporal->frame.metadata["mcd:temporalOffsets"];
     output.image = std::move(result.image);
     output.overInput = settings.inPlace;
+    // The result's alpha: the frame's, with --alpha-rim's shares moved.
+    if (!result.alpha.Empty()) output.alpha = std::move(result.alpha);
     // A frame of a window stays for the next frames' windows: its alpha is copied.
-    if (loaded.frame.Has("alpha"))
+    else if (loaded.frame.Has("alpha"))
         output.alpha = settings.temporal ? loaded.frame.layers.at("alpha")
                                          : std::move(loaded.frame.layers.at("alpha"));
     p.written = StartWrite(f, std::move(output));

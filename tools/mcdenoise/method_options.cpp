@@ -60,6 +60,12 @@ void MethodOptions::AddParams(CLI::App *command, std::vector<ParamInfo> infos) {
     }
 }
 
+bool MethodOptions::Given(const std::string &name) const {
+    for (const auto &b : bound)
+        if (b->info.name == name && b->option->count() > 0) return true;
+    return false;
+}
+
 Method MethodOptions::Make(const std::string &name) const {
     Method method(name);
     Apply(method);

@@ -22,6 +22,8 @@ class MethodOptions {
     // The method `name` with the parameters given on the command line set; given options
     // of other methods are ignored, as they always were.
     Method Make(const std::string &name) const;
+    // Whether the command line gave the parameter `name`.
+    bool Given(const std::string &name) const;
     // Set on `target` (a Method or a Temporal) the given options it has.
     template <class Target>
     void Apply(Target &target) const;
