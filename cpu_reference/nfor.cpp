@@ -354,6 +354,64 @@ Image NforAlbedoTrust(const Image &color, const Image &albedo, double noise) {
     return trust;
 }
 
+Image NforGlintRows(const Image &albedo, double gate, int reach) {
+    const int w = albedo.width, h = albedo.height;
+    Image rows(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
+                for (int c = 0; c < albedo.channels; ++c)
+                    if (double(albedo.At(c, y, u)) > gate) rows.At(0, y, x) = 1.f;
+    return rows;
+}
+
+Image NforGlintNoise(const Image &color, const Image &albedo, const Image &trust, double gate,
+                     int reach, double scale, Image *variance) {
+    const int w = color.width, h = color.height;
+    auto glint = [&](int x, int y) {
+        for (int c = 0; c < albedo.channels; ++c)
+            if (double(albedo.At(c, y, x)) > gate) return true;
+        return false;
+    };
+    Image floored(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (trust.At(0, y, x) != 0.f) continue;
+            // Any glint in the square of half-side `reach` around the pixel.
+            bool near = false;
+            for (int v = y - reach; v <= y + reach && !near; ++v)
+                for (int u = x - reach; u <= x + reach && !near; ++u)
+                    near = Inside(color, u, v) && glint(u, v);
+            if (!near) continue;
+            int count = 0;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u) count += Inside(color, u, v);
+            const float n = float(count);
+            for (int c = 0; c < color.channels; ++c) {
+                // The window's mean, then its squared deviations, in raster order.
+                float mean = 0.f;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if (Inside(color, u, v)) mean += color.At(c, v, u);
+                mean /= n;
+                float squares = 0.f;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if (Inside(color, u, v)) {
+                            const float d = color.At(c, v, u) - mean;
+                            squares += d * d;
+                        }
+                const float bound = float(scale) * (squares / n);
+                float &value = variance->At(c, y, x);
+                if (bound > value) {
+                    value = bound;
+                    floored.At(0, y, x) = 1.f;
+                }
+            }
+        }
+    return floored;
+}
+
 namespace {
 
 // Whether the pair (x, y), (x + ox, y + oy) compares colour / albedo: both trusted (no
@@ -924,6 +982,15 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         trustImage = NforAlbedoTrust(clamped, *in.albedo, p.albedoNoise);
         keep("trust", trustImage);
         trust = &trustImage;
+    }
+    // Near a glint, where the albedo is noise: the weights' noise floored (no layer).
+    const bool glints = trust && !in.variance && p.edgeNoise && p.glintNoise > 0 &&
+                        std::any_of(in.albedo->data.begin(), in.albedo->data.end(),
+                                    [](float a) { return double(a) > kNforGlintAlbedo; });
+    if (glints) {
+        keep("glint", NforGlintNoise(clamped, *in.albedo, *trust, kNforGlintAlbedo,
+                                     kNforGlintReach, p.glintNoise, &variance));
+        keep("glint.variance", variance);
     }
     Image distance = NforDistance(clamped, variance, divisor, p.radius, p.patchRadius, p.alpha,
                                   p.minVariance, trust);

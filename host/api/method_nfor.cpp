@@ -76,6 +76,13 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "the colour (glossy metal, whose albedo follows the sampled bounce); "
                           "0: every pair compares colour / albedo",
                           &O::albedoNoise, 0, 100)),
+        nested(FloatParam("glint-noise",
+                          "on a frame without a variance layer, where the albedo is noise "
+                          "(--albedo-noise) within 16 pixels of a glint (an albedo channel "
+                          "above 8), the weights' noise at least this times the clamped "
+                          "colour's variance over 3x3: the fits average a reflected light's "
+                          "hits and misses instead of keeping them; 0: off",
+                          &O::glintNoise, 0, 100)),
         nested(FloatParam("alpha", "variance cancellation in the colour distance", &O::alpha, 0,
                           10)),
         nested(EnumParam("distance-variance",
@@ -352,7 +359,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const bool trusts =
             o.albedoNoise > 0 && !o.noDemodulatedDistance && inputs.Has("albedo");
         const int trustReach = trusts ? 1 : 0;
-        int colourReach = o.patchRadius + std::max(o.noiseRadius, trustReach) + clampReach;
+        // The glint floor (where the noise is the frame's own) reads the albedo
+        // kNforGlintReach away, the trust and the clamped colour of the 8 neighbours.
+        const bool glints = trusts && o.glintNoise > 0 && !o.noEdgeNoise &&
+                            !(options.noise == "auto" && inputs.Has("variance"));
+        const int glintReach = glints ? kNforGlintReach : 0;
+        int colourReach =
+            o.patchRadius +
+            std::max(std::max(o.noiseRadius, trustReach) + clampReach, glintReach);
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;
@@ -372,7 +386,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
-            "the noise, clamp, patches and the distance's trust (or the features' "
+            "the noise, clamp, patches, the distance's trust and the glint floor (or the "
+            "features' "
             "prefilter); {} for the SURE "
             "average; {} for the specks' neighbours; {} for the local means; {} for the "
             "kept pixels' mean; {} for the lights' spread",
@@ -462,6 +477,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotMinVariance = NforPilotMinVariance(o);
         p.demodulateDistance = !o.noDemodulatedDistance;
         p.albedoNoise = o.albedoNoise;
+        p.glintNoise = o.glintNoise;
         p.ridge = o.ridge;
         p.featureWeights.assign(weights.begin(), weights.end());
         p.noiseRadius = o.noiseRadius;

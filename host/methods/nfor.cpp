@@ -135,12 +135,14 @@ void CheckOptions(const NforOptions &o) {
         !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
         !(o.lightShare >= 0 && o.lightShare <= 0.25f) ||
         !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0) ||
-        !(finite(o.albedoNoise) && o.albedoNoise >= 0))
+        !(finite(o.albedoNoise) && o.albedoNoise >= 0) ||
+        !(finite(o.glintNoise) && o.glintNoise >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
             "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
-            "speck floor, layer noise cap and albedo noise finite and >= 0, speck relative "
+            "speck floor, layer noise cap, albedo noise and glint noise finite and >= 0, "
+            "speck relative "
             "finite, mean "
             "radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
@@ -282,6 +284,11 @@ struct NforGpu {
             albedo->Upload(*in.albedo);
             if (o.albedoNoise > 0 && !o.noDemodulatedDistance)
                 trust.emplace(context, color.width, color.height, 1, "nfor.trust");
+            if (trust && !in.variance && !o.noEdgeNoise && o.glintNoise > 0 &&
+                NforLineSpreads(*in.albedo, kNforGlintAlbedo)) {
+                glintNear.emplace(context, color.width, color.height, 1, "nfor.glintNear");
+                glint.emplace(context, color.width, color.height, 1, "nfor.glint");
+            }
         }
         // A pass's candidates differing in their bandwidth alone are fitted two at a time.
         if (CandidateCount(o) > 1)
@@ -303,7 +310,7 @@ struct NforGpu {
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
         scratch, illumination, packed, beta, hat, candidates;
     std::optional<vk::GpuImage> albedo, trust, pilot, pilotDistance, wideDistance, wideScratch,
-        secondBeta;
+        secondBeta, glintNear, glint;
 };
 
 // Planes [first, first + count) of a downloaded image.
@@ -550,6 +557,17 @@ void RecordTrust(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
     run.StageAtEnd("trust", *gpu.trust);
 }
 
+// Near a glint, where the albedo is noise: the weights' noise at least o.glintNoise times the
+// clamped colour's 3x3 variance (a frame without a variance layer; NforOptions::glintNoise).
+void RecordGlintNoise(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
+    if (!gpu.glint) return;
+    RecordNforGlintNoise(run.Context(), run.Recorder(), gpu.clamped, *gpu.albedo, *gpu.trust,
+                         kNforGlintAlbedo, kNforGlintReach, o.glintNoise, *gpu.glintNear,
+                         gpu.variance, *gpu.glint);
+    run.StageAtEnd("glint", *gpu.glint);
+    run.StageAtEnd("glint.variance", gpu.variance);
+}
+
 // Noise, emitters and fireflies, features, the patch distances. `alpha`: the coverage of a
 // frame whose partly covered pixels were divided by it (nullptr: none).
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
@@ -574,10 +592,15 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
         gpu.variance.Upload(NforDivideByAlpha(gpu.variance.Download(), *alpha));
     }
     if (in.variance && o.layerNoiseCap > 0) CapLayerNoise(run, gpu, in, o, alpha);
-    run.StageAtEnd("variance", gpu.variance);
+    // The glint floor rewrites the variance below: its stage is read before.
+    if (gpu.glint)
+        run.Stage("variance", gpu.variance);
+    else
+        run.StageAtEnd("variance", gpu.variance);
     RecordFeatures(run, gpu, o, memo, featuresId);
     run.StageAtEnd("features", gpu.filtered);
     RecordTrust(run, gpu, o);
+    RecordGlintNoise(run, gpu, o);
     RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
                        o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
                        o.alpha, o.minVariance, gpu.illumination, gpu.scratch, gpu.distance,
@@ -736,6 +759,20 @@ void PlanDistance(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
         "noise (its relative variance over 3x3 above {}, --albedo-noise, and dividing by it "
         "roughens the colour)",
         untrusted, 100.0 * double(untrusted) / double(trust.PixelCount()), o.albedoNoise));
+}
+
+// Where the glint floor raised the weights' noise (after the run's submit: it reads the mask
+// back).
+void PlanGlintNoise(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
+    if (!gpu.glint) return;
+    const Image floored = gpu.glint->Download();
+    size_t count = 0;
+    for (float f : floored.data) count += f > 0;
+    run.Plan(fmt::format(
+        "glint floor: the weights' noise raised to {} x the clamped colour's 3x3 variance at "
+        "{} pixels whose albedo is noise within {} of a glint (an albedo above {}; "
+        "--glint-noise)",
+        o.glintNoise, count, kNforGlintReach, kNforGlintAlbedo));
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -1086,6 +1123,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     RecordPasses(run, gpu, weights, o, out, choice);
     run.Submit();
     PlanDistance(run, gpu, o);
+    PlanGlintNoise(run, gpu, o);
     result.image = out.Download();
     Image mask = gpu.mask.Download(), clamped = gpu.clamped.Download();
     for (float m : mask.data) result.emitters += m == 0;

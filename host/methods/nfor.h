@@ -20,6 +20,12 @@
 
 namespace mcd {
 
+// The glint floor's gate (NforOptions::glintNoise): a glint is a pixel with an albedo channel
+// above kNforGlintAlbedo (a light, as the line spread's), its reach kNforGlintReach pixels
+// (Chebyshev).
+constexpr float kNforGlintAlbedo = 8;
+constexpr int kNforGlintReach = 16;
+
 struct NforOptions {
     int radius = 7;  // regression window half-size
     // Each pixel averages the fits of the windows centred at most this far (NFOR: all
@@ -41,6 +47,11 @@ struct NforOptions {
     // roughens the colour (glossy metal, whose albedo follows the sampled bounce); 0: every
     // pair compares colour / albedo.
     float albedoNoise = 0.1f;
+    // On a frame without a variance layer, where the albedo is noise (albedoNoise's trust 0)
+    // within kNforGlintReach of a glint: the weights' noise at least this times the clamped
+    // colour's variance over 3x3. The frame's robust estimate reads the misses between a
+    // reflected light's hits, so the weights keep hits and gaps as signal; 0: off.
+    float glintNoise = 0.1f;
     float ridge = 0.001f;  // lambda: ridge of lambda sum(w) on the non-constant columns
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
     // The albedo's scale is wide: an edge pixel's albedo, a mix of its two sides, still
