@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "cpu_reference/local_mean.h"
@@ -929,6 +930,28 @@ void NforCapLayer(const NforInputs &in, const NforParams &p, const Image &clampe
             std::min(variance->data[i], float(p.layerNoiseCap) * estimate.data[i]);
 }
 
+// The glint floor's guard: each pixel with a raised pixel in its square of half-side
+// kNforGlintGuardReach has each channel at least the minimum of the clamped colour's 3x3
+// window inside the frame (a NaN neither bounds nor is raised).
+void GuardGlint(const Image &clamped, const Image &raised, Image *out) {
+    const int w = clamped.width, h = clamped.height, r = kNforGlintGuardReach;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            bool near = false;
+            for (int v = y - r; v <= y + r; ++v)
+                for (int u = x - r; u <= x + r; ++u)
+                    near = near || (Inside(clamped, u, v) && raised.At(0, v, u) > 0.f);
+            if (!near) continue;
+            for (int c = 0; c < clamped.channels; ++c) {
+                double low = std::numeric_limits<double>::infinity();
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if (Inside(clamped, u, v)) low = std::fmin(low, clamped.At(c, v, u));
+                if (std::isfinite(low) && low > out->At(c, y, x)) out->At(c, y, x) = float(low);
+            }
+        }
+}
+
 // The method on straight values (every stage but output), its result before any alpha;
 // `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
 // the frame's coverage as given, which guards the clamp's light (not with p.premultiplied).
@@ -987,9 +1010,11 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     const bool glints = trust && !in.variance && p.edgeNoise && p.glintNoise > 0 &&
                         std::any_of(in.albedo->data.begin(), in.albedo->data.end(),
                                     [](float a) { return double(a) > kNforGlintAlbedo; });
+    Image glintMask;
     if (glints) {
-        keep("glint", NforGlintNoise(clamped, *in.albedo, *trust, kNforGlintAlbedo,
-                                     kNforGlintReach, p.glintNoise, &variance));
+        glintMask = NforGlintNoise(clamped, *in.albedo, *trust, kNforGlintAlbedo,
+                                   kNforGlintReach, p.glintNoise, &variance);
+        keep("glint", glintMask);
         keep("glint.variance", variance);
     }
     Image distance = NforDistance(clamped, variance, divisor, p.radius, p.patchRadius, p.alpha,
@@ -1041,6 +1066,10 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
     if (NforCoarseGateOpen(color, in.albedo, p)) AddCoarse(in, p, stages, &out);
+    if (glints) {
+        GuardGlint(clamped, glintMask, &out);
+        keep("glint.guard", out);
+    }
     if (clampedOut) *clampedOut = clamped;
     return out;
 }

@@ -102,6 +102,7 @@ constexpr double kNforTrustTie = 1e-3;
 // The glint floor's gate: an albedo channel above this within this many pixels.
 constexpr double kNforGlintAlbedo = 8;
 constexpr int kNforGlintReach = 16;
+constexpr int kNforGlintGuardReach = 3;  // the output's guard about a raised pixel
 // The clamp's loss counts only where it clamped at least this share of the pixel-channels.
 constexpr double kNforClampLossMinShare = 1e-3;
 

@@ -359,10 +359,13 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const bool trusts =
             o.albedoNoise > 0 && !o.noDemodulatedDistance && inputs.Has("albedo");
         const int trustReach = trusts ? 1 : 0;
-        // The glint floor (where the noise is the frame's own) reads the albedo
-        // kNforGlintReach away, the trust and the clamped colour of the 8 neighbours.
+        // The glint floor (where the noise is the frame's own, on a frame with a glint) reads
+        // the albedo kNforGlintReach away, the trust and the clamped colour of the 8
+        // neighbours; its guard on the output reads the floor kNforGlintGuardReach away,
+        // within the passes' reach.
         const bool glints = trusts && o.glintNoise > 0 && !o.noEdgeNoise &&
-                            !(options.noise == "auto" && inputs.Has("variance"));
+                            !(options.noise == "auto" && inputs.Has("variance")) &&
+                            NforLineSpreads(inputs.Get("albedo"), kNforGlintAlbedo);
         const int glintReach = glints ? kNforGlintReach : 0;
         int colourReach =
             o.patchRadius +
@@ -404,7 +407,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         needs.bytesPerPixel = 4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
                                      NforPackedFloats(features) + kNforIlluminationFloats +
                                      candidates * (channels + 1) + 6 * channels + 3 * features +
-                                     3 + (trusts ? 1 : 0));
+                                     3 + (trusts ? 1 : 0) + (glints ? 2 : 0));
         // Whether the gate lets the coarse pass run is measured only for a frame too large
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "host/common/local_mean.h"
@@ -761,6 +762,39 @@ void PlanDistance(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
         untrusted, 100.0 * double(untrusted) / double(trust.PixelCount()), o.albedoNoise));
 }
 
+// Within kNforGlintGuardReach of a pixel whose noise the glint floor raised, each channel of
+// the output at least the clamped colour's minimum over its 3x3 window inside the frame (NaN
+// values neither bound nor are raised). Returns the pixel-channels raised.
+size_t GuardGlintFloor(const Image &clamped, const Image &floored, Image *output) {
+    const int w = clamped.width, h = clamped.height, r = kNforGlintGuardReach;
+    // The raised pixels' square of radius r: along rows, then columns.
+    std::vector<char> rows(size_t(w) * h, 0), near(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+                rows[size_t(y) * w + x] |= floored.data[size_t(y) * w + u] > 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+                near[size_t(y) * w + x] |= rows[size_t(v) * w + x];
+    size_t raised = 0;
+    for (int c = 0; c < clamped.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (!near[size_t(y) * w + x]) continue;
+                float low = std::numeric_limits<float>::infinity();
+                for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                    for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                        if (clamped.At(c, v, u) < low) low = clamped.At(c, v, u);
+                float &value = output->At(c, y, x);
+                if (std::isfinite(low) && low > value) {
+                    value = low;
+                    ++raised;
+                }
+            }
+    return raised;
+}
+
 // Where the glint floor raised the weights' noise (after the run's submit: it reads the mask
 // back).
 void PlanGlintNoise(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
@@ -1161,6 +1195,14 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                         what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
     }
     AddCoarsePass(context, run, in, o, gate, result);
+    if (gpu.glint) {
+        const size_t guarded = GuardGlintFloor(clamped, gpu.glint->Download(), &result.image);
+        run.AddStage("glint.guard", result.image);
+        run.Plan(fmt::format(
+            "glint guard: {} pixel-channels within {} of a raised pixel lifted to the clamped "
+            "colour's 3x3 minimum",
+            guarded, kNforGlintGuardReach));
+    }
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
                     "window and kept as they are but for the lights' spread (a lone one far "

@@ -25,6 +25,9 @@ namespace mcd {
 // (Chebyshev).
 constexpr float kNforGlintAlbedo = 8;
 constexpr int kNforGlintReach = 16;
+// Within this of a pixel whose noise the floor raised, the output is kept at least the clamped
+// colour's 3x3 minimum (NforOptions::glintNoise).
+constexpr int kNforGlintGuardReach = 3;
 
 struct NforOptions {
     int radius = 7;  // regression window half-size
@@ -50,7 +53,10 @@ struct NforOptions {
     // On a frame without a variance layer, where the albedo is noise (albedoNoise's trust 0)
     // within kNforGlintReach of a glint: the weights' noise at least this times the clamped
     // colour's variance over 3x3. The frame's robust estimate reads the misses between a
-    // reflected light's hits, so the weights keep hits and gaps as signal; 0: off.
+    // reflected light's hits, so the weights keep hits and gaps as signal. Within
+    // kNforGlintGuardReach of a raised pixel each output channel is then at least the clamped
+    // colour's minimum over 3x3: the fits, weighing a bright neighbour more, would otherwise
+    // undershoot a dark pixel beside a highlight. 0: off.
     float glintNoise = 0.1f;
     float ridge = 0.001f;  // lambda: ridge of lambda sum(w) on the non-constant columns
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
