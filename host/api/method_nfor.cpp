@@ -81,7 +81,9 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "(--albedo-noise) within 16 pixels of a glint (an albedo channel "
                           "above 8), the weights' noise at least this times the clamped "
                           "colour's variance over 3x3: the fits average a reflected light's "
-                          "hits and misses instead of keeping them; 0: off",
+                          "hits and misses instead of keeping them (the output within 3 "
+                          "pixels of such a pixel then at least the clamped colour's 3x3 "
+                          "minimum); 0: off",
                           &O::glintNoise, 0, 100)),
         nested(FloatParam("alpha", "variance cancellation in the colour distance", &O::alpha, 0,
                           10)),
