@@ -338,6 +338,23 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         return ResultOf(NforDenoise(context, InputsOf(inputs), o, inputs.Memo()));
     }
 
+    // Whether the frame holds a glint for the floor (NforOptions::glintNoise): an albedo
+    // channel above kNforGlintAlbedo, or a partly covered pixel's that its alpha's division
+    // would lift above it.
+    static bool GlintMayRun(Inputs &inputs) {
+        const Image &albedo = inputs.Get("albedo");
+        if (NforLineSpreads(albedo, kNforGlintAlbedo)) return true;
+        if (!inputs.Has("alpha")) return false;
+        const Image &alpha = inputs.Get("alpha");
+        for (size_t i = 0; i < alpha.PixelCount(); ++i) {
+            const float a = alpha.data[i];
+            if (!(a > 0.f && a < 1.f)) continue;
+            for (int c = 0; c < albedo.channels; ++c)
+                if (albedo.Plane(c)[i] > kNforGlintAlbedo * a) return true;
+        }
+        return false;
+    }
+
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
@@ -367,7 +384,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // within the passes' reach.
         const bool glints = trusts && o.glintNoise > 0 && !o.noEdgeNoise &&
                             !(options.noise == "auto" && inputs.Has("variance")) &&
-                            NforLineSpreads(inputs.Get("albedo"), kNforGlintAlbedo);
+                            GlintMayRun(inputs);
         const int glintReach = glints ? kNforGlintReach : 0;
         int colourReach =
             o.patchRadius +
