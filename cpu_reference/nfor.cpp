@@ -387,14 +387,14 @@ Image NforGlintNoise(const Image &color, const Image &albedo, const Image &trust
             int count = 0;
             for (int v = y - 1; v <= y + 1; ++v)
                 for (int u = x - 1; u <= x + 1; ++u) count += Inside(color, u, v);
-            const float n = float(count);
+            const float inverse = shader::kNforGlintInverses[count];
             for (int c = 0; c < color.channels; ++c) {
                 // The window's mean, then its squared deviations, in raster order.
                 float mean = 0.f;
                 for (int v = y - 1; v <= y + 1; ++v)
                     for (int u = x - 1; u <= x + 1; ++u)
                         if (Inside(color, u, v)) mean += color.At(c, v, u);
-                mean /= n;
+                mean *= inverse;
                 float squares = 0.f;
                 for (int v = y - 1; v <= y + 1; ++v)
                     for (int u = x - 1; u <= x + 1; ++u)
@@ -402,7 +402,7 @@ Image NforGlintNoise(const Image &color, const Image &albedo, const Image &trust
                             const float d = color.At(c, v, u) - mean;
                             squares += d * d;
                         }
-                const float bound = float(scale) * (squares / n);
+                const float bound = float(scale) * (squares * inverse);
                 float &value = variance->At(c, y, x);
                 if (bound > value) {
                     value = bound;
@@ -767,6 +767,25 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
     return out;
 }
 
+void GuardGlint(const Image &clamped, const Image &raised, Image *out) {
+    const int w = clamped.width, h = clamped.height, r = kNforGlintGuardReach;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            bool near = false;
+            for (int v = y - r; v <= y + r; ++v)
+                for (int u = x - r; u <= x + r; ++u)
+                    near = near || (Inside(clamped, u, v) && raised.At(0, v, u) > 0.f);
+            if (!near) continue;
+            for (int c = 0; c < clamped.channels; ++c) {
+                double low = std::numeric_limits<double>::infinity();
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if (Inside(clamped, u, v)) low = std::fmin(low, clamped.At(c, v, u));
+                if (std::isfinite(low) && low > out->At(c, y, x)) out->At(c, y, x) = float(low);
+            }
+        }
+}
+
 namespace {
 
 // A pass's candidate: its bandwidth and window half-size, and the distances over it.
@@ -930,26 +949,39 @@ void NforCapLayer(const NforInputs &in, const NforParams &p, const Image &clampe
             std::min(variance->data[i], float(p.layerNoiseCap) * estimate.data[i]);
 }
 
-// The glint floor's guard: each pixel with a raised pixel in its square of half-side
-// kNforGlintGuardReach has each channel at least the minimum of the clamped colour's 3x3
-// window inside the frame (a NaN neither bounds nor is raised).
-void GuardGlint(const Image &clamped, const Image &raised, Image *out) {
-    const int w = clamped.width, h = clamped.height, r = kNforGlintGuardReach;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            bool near = false;
-            for (int v = y - r; v <= y + r; ++v)
-                for (int u = x - r; u <= x + r; ++u)
-                    near = near || (Inside(clamped, u, v) && raised.At(0, v, u) > 0.f);
-            if (!near) continue;
-            for (int c = 0; c < clamped.channels; ++c) {
-                double low = std::numeric_limits<double>::infinity();
-                for (int v = y - 1; v <= y + 1; ++v)
-                    for (int u = x - 1; u <= x + 1; ++u)
-                        if (Inside(clamped, u, v)) low = std::fmin(low, clamped.At(c, v, u));
-                if (std::isfinite(low) && low > out->At(c, y, x)) out->At(c, y, x) = float(low);
-            }
-        }
+// What the fits leave by design: an emitter's colour (clamped), every channel.
+std::vector<bool> LeftByTheFits(const Image &clamped, const Image &mask) {
+    std::vector<bool> left(clamped.data.size(), false);
+    for (int c = 0; c < clamped.channels; ++c)
+        for (int y = 0; y < clamped.height; ++y)
+            for (int x = 0; x < clamped.width; ++x)
+                left[(size_t(c) * clamped.height + y) * clamped.width + x] =
+                    mask.At(0, y, x) == 0;
+    return left;
+}
+
+// The features as the passes read them: prefiltered where p.prefilterRadius > 0.
+Image PrefilteredFeatures(const Image &features, const NforParams &p) {
+    if (p.prefilterRadius <= 0) return features;
+    Image featureVariance = NforNoise(features, nullptr, p.noiseRadius, p.noiseMinCalibration);
+    return NforPrefilter(features, featureVariance, p.prefilterRadius, p.prefilterPatch,
+                         p.prefilterBandwidth);
+}
+
+// Near a glint, where the albedo is noise: the weights' noise floored (a frame without a
+// layer, with a trust). Returns the raised pixels' mask, empty where the floor does not run.
+template <typename Keep>
+Image FloorGlints(const NforInputs &in, const NforParams &p, const Image &clamped,
+                  const Image *trust, Keep &keep, Image *variance) {
+    const bool glints = trust && !in.variance && p.edgeNoise && p.glintNoise > 0 &&
+                        std::any_of(in.albedo->data.begin(), in.albedo->data.end(),
+                                    [](float a) { return double(a) > kNforGlintAlbedo; });
+    if (!glints) return Image();
+    Image glintMask = NforGlintNoise(clamped, *in.albedo, *trust, kNforGlintAlbedo,
+                                     kNforGlintReach, p.glintNoise, variance);
+    keep("glint", glintMask);
+    keep("glint.variance", *variance);
+    return glintMask;
 }
 
 // The method on straight values (every stage but output), its result before any alpha;
@@ -989,13 +1021,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     }
     NforCapLayer(in, p, clamped, alpha, &variance);
     keep("variance", variance);
-    Image features = *in.features;
-    if (p.prefilterRadius > 0) {
-        Image featureVariance =
-            NforNoise(features, nullptr, p.noiseRadius, p.noiseMinCalibration);
-        features = NforPrefilter(features, featureVariance, p.prefilterRadius, p.prefilterPatch,
-                                 p.prefilterBandwidth);
-    }
+    const Image features = PrefilteredFeatures(*in.features, p);
     keep("features", features);
     // The distance's divisor, and where its albedo is noise (the pairs there compare colours).
     const Image *divisor = p.demodulateDistance ? in.albedo : nullptr;
@@ -1006,17 +1032,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         keep("trust", trustImage);
         trust = &trustImage;
     }
-    // Near a glint, where the albedo is noise: the weights' noise floored (no layer).
-    const bool glints = trust && !in.variance && p.edgeNoise && p.glintNoise > 0 &&
-                        std::any_of(in.albedo->data.begin(), in.albedo->data.end(),
-                                    [](float a) { return double(a) > kNforGlintAlbedo; });
-    Image glintMask;
-    if (glints) {
-        glintMask = NforGlintNoise(clamped, *in.albedo, *trust, kNforGlintAlbedo,
-                                   kNforGlintReach, p.glintNoise, &variance);
-        keep("glint", glintMask);
-        keep("glint.variance", variance);
-    }
+    const Image glintMask = FloorGlints(in, p, clamped, trust, keep, &variance);
     Image distance = NforDistance(clamped, variance, divisor, p.radius, p.patchRadius, p.alpha,
                                   p.minVariance, trust);
     keep("distance", distance);
@@ -1048,13 +1064,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
             NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out);
             keep("specks", out);
         }
-        // What the fits leave by design: an emitter's colour (clamped), every channel.
-        std::vector<bool> left(clamped.data.size(), false);
-        for (int c = 0; c < clamped.channels; ++c)
-            for (int y = 0; y < clamped.height; ++y)
-                for (int x = 0; x < clamped.width; ++x)
-                    left[(size_t(c) * clamped.height + y) * clamped.width + x] =
-                        mask.At(0, y, x) == 0;
+        std::vector<bool> left = LeftByTheFits(clamped, mask);
         RestoreLocalMeans(clamped, p.meanRadius, &out, nullptr, -1, false, &left);
         RestoreClampLight(in, p, plain, clamped, mask, left, keep, &out);
     }
@@ -1066,7 +1076,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
     if (NforCoarseGateOpen(color, in.albedo, p)) AddCoarse(in, p, stages, &out);
-    if (glints) {
+    if (glintMask.PixelCount() > 0) {
         GuardGlint(clamped, glintMask, &out);
         keep("glint.guard", out);
     }

@@ -81,6 +81,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "nfor/glint.h"
 
 namespace mcd::ref {
 
@@ -99,10 +100,10 @@ constexpr double kNforAgreementFloor = 1e-3;
 // The albedo trust's margin: colour / albedo rougher than the colour by more than this
 // (a window whose colour holds one non-zero value is a tie).
 constexpr double kNforTrustTie = 1e-3;
-// The glint floor's gate: an albedo channel above this within this many pixels.
-constexpr double kNforGlintAlbedo = 8;
-constexpr int kNforGlintReach = 16;
-constexpr int kNforGlintGuardReach = 3;  // the output's guard about a raised pixel
+// The glint floor's gate and guard: one definition with the kernels' (nfor/glint.h).
+using shader::kNforGlintAlbedo;
+using shader::kNforGlintGuardReach;
+using shader::kNforGlintReach;
 // The clamp's loss counts only where it clamped at least this share of the pixel-channels.
 constexpr double kNforClampLossMinShare = 1e-3;
 
@@ -120,7 +121,7 @@ struct NforParams {
     double albedoNoise = 0.1;
     // Without a variance layer (edgeNoise), where the trust is 0 within kNforGlintReach of an
     // albedo channel above kNforGlintAlbedo: the variance floored at this times the clamped
-    // colour's 3x3 variance (NforGlintNoise); 0: off.
+    // colour's 3x3 variance (NforGlintNoise), for every later step that reads it; 0: off.
     double glintNoise = 0.1;
     double ridge = 0.001;  // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
@@ -271,6 +272,12 @@ Image NforAlbedoTrust(const Image &color, const Image &albedo, double noise);
 // either side keeps the variance. Returns 1 where some channel was raised, else 0.
 Image NforGlintNoise(const Image &color, const Image &albedo, const Image &trust, double gate,
                      int reach, double scale, Image *variance);
+
+// The glint floor's guard: each pixel with a pixel of `raised` above 0 in its square of
+// half-side kNforGlintGuardReach (inside the frame) has each channel of *out at least the
+// minimum of the clamped colour's 3x3 window inside the frame (a NaN neither bounds nor is
+// raised; an infinite minimum raises nothing).
+void GuardGlint(const Image &clamped, const Image &raised, Image *out);
 
 // The floor's row marks, per pixel: 1 where some albedo channel above `gate` lies within
 // `reach` pixels in the same row (inside the frame), else 0.

@@ -79,8 +79,9 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
         nested(FloatParam("glint-noise",
                           "on a frame without a variance layer, where the albedo is noise "
                           "(--albedo-noise) within 16 pixels of a glint (an albedo channel "
-                          "above 8), the weights' noise at least this times the clamped "
-                          "colour's variance over 3x3: the fits average a reflected light's "
+                          "above 8), the weights' noise (also SURE's and the pilot's) at "
+                          "least this times the clamped colour's variance over 3x3: the fits "
+                          "average a reflected light's "
                           "hits and misses instead of keeping them (the output within 3 "
                           "pixels of such a pixel then at least the clamped colour's 3x3 "
                           "minimum); 0: off",

@@ -90,6 +90,36 @@ Image NforFeatures(const NforInputs &in, const NforOptions &o, std::vector<float
     return features;
 }
 
+size_t GuardGlintFloor(const Image &clamped, const Image &floored, Image *output) {
+    const int w = clamped.width, h = clamped.height, r = kNforGlintGuardReach;
+    // The raised pixels' square of radius r: along rows, then columns.
+    std::vector<char> rows(size_t(w) * h, 0), near(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+                rows[size_t(y) * w + x] |= floored.data[size_t(y) * w + u] > 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+                near[size_t(y) * w + x] |= rows[size_t(v) * w + x];
+    size_t raised = 0;
+    for (int c = 0; c < clamped.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (!near[size_t(y) * w + x]) continue;
+                float low = std::numeric_limits<float>::infinity();
+                for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                    for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                        if (clamped.At(c, v, u) < low) low = clamped.At(c, v, u);
+                float &value = output->At(c, y, x);
+                if (std::isfinite(low) && low > value) {
+                    value = low;
+                    ++raised;
+                }
+            }
+    return raised;
+}
+
 namespace {
 
 void CheckLayer(const Image &image, const char *what, int width, int height, int channels,
@@ -762,44 +792,9 @@ void PlanDistance(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
         untrusted, 100.0 * double(untrusted) / double(trust.PixelCount()), o.albedoNoise));
 }
 
-// Within kNforGlintGuardReach of a pixel whose noise the glint floor raised, each channel of
-// the output at least the clamped colour's minimum over its 3x3 window inside the frame (NaN
-// values neither bound nor are raised). Returns the pixel-channels raised.
-size_t GuardGlintFloor(const Image &clamped, const Image &floored, Image *output) {
-    const int w = clamped.width, h = clamped.height, r = kNforGlintGuardReach;
-    // The raised pixels' square of radius r: along rows, then columns.
-    std::vector<char> rows(size_t(w) * h, 0), near(size_t(w) * h, 0);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
-                rows[size_t(y) * w + x] |= floored.data[size_t(y) * w + u] > 0;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
-                near[size_t(y) * w + x] |= rows[size_t(v) * w + x];
-    size_t raised = 0;
-    for (int c = 0; c < clamped.channels; ++c)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                if (!near[size_t(y) * w + x]) continue;
-                float low = std::numeric_limits<float>::infinity();
-                for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
-                    for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
-                        if (clamped.At(c, v, u) < low) low = clamped.At(c, v, u);
-                float &value = output->At(c, y, x);
-                if (std::isfinite(low) && low > value) {
-                    value = low;
-                    ++raised;
-                }
-            }
-    return raised;
-}
-
-// Where the glint floor raised the weights' noise (after the run's submit: it reads the mask
-// back).
-void PlanGlintNoise(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
-    if (!gpu.glint) return;
-    const Image floored = gpu.glint->Download();
+// Where the glint floor raised the weights' noise (`floored`: its mask, read back after the
+// run's submit).
+void PlanGlintNoise(StagedRun &run, const Image &floored, const NforOptions &o) {
     size_t count = 0;
     for (float f : floored.data) count += f > 0;
     run.Plan(fmt::format(
@@ -807,6 +802,40 @@ void PlanGlintNoise(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
         "{} pixels whose albedo is noise within {} of a glint (an albedo above {}; "
         "--glint-noise)",
         o.glintNoise, count, kNforGlintReach, kNforGlintAlbedo));
+}
+
+// The kept pixels' and weak emitters' pass over radius keptPass, its stage and plan line.
+void SmoothKept(StagedRun &run, const NforInputs &in, const NforOptions &o, NforGpu &gpu,
+                const std::vector<float> &weights, const Image &mask, int keptPass,
+                NforResult &result) {
+    run.AddStage("unkept", result.image);
+    NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
+                          o.keptRadius > 0};
+    result.kept =
+        NforSmoothKept(*in.color, gpu.filtered.Download(), weights, mask, kept, &result.image);
+    std::string what = o.keptRadius > 0 ? "kept pixels (the fits left them as they came "
+                                          "in: no neighbour weighed)"
+                                        : "";
+    if (o.weakEmitterAlbedo > 0)
+        what += fmt::format(
+            "{}emitters of albedo below {} (a light's partly covered edge; "
+            "their albedo not compared)",
+            what.empty() ? "" : " and ", o.weakEmitterAlbedo);
+    run.Plan(
+        fmt::format("{}: {}, each given the output's mean over {}x{} weighted by the "
+                    "features",
+                    what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
+}
+
+// The glint floor's guard on the output, its stage and its plan line.
+void GuardGlint(StagedRun &run, const Image &clamped, const Image &floored,
+                NforResult &result) {
+    const size_t guarded = GuardGlintFloor(clamped, floored, &result.image);
+    run.AddStage("glint.guard", result.image);
+    run.Plan(fmt::format(
+        "glint guard: {} pixel-channels within {} of a raised pixel lifted to the clamped "
+        "colour's 3x3 minimum",
+        guarded, kNforGlintGuardReach));
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -1157,7 +1186,9 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     RecordPasses(run, gpu, weights, o, out, choice);
     run.Submit();
     PlanDistance(run, gpu, o);
-    PlanGlintNoise(run, gpu, o);
+    // The glint floor's mask, read once for its plan line and its guard.
+    const Image floored = gpu.glint ? gpu.glint->Download() : Image();
+    if (gpu.glint) PlanGlintNoise(run, floored, o);
     result.image = out.Download();
     Image mask = gpu.mask.Download(), clamped = gpu.clamped.Download();
     for (float m : mask.data) result.emitters += m == 0;
@@ -1175,34 +1206,9 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     }
     const bool plain = PlainPasses(in, o, result);
     const int keptPass = NforKeptPassRadius(o, plain, in.albedo);
-    if (keptPass > 0) {
-        run.AddStage("unkept", result.image);
-        NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
-                              o.keptRadius > 0};
-        result.kept = NforSmoothKept(*in.color, gpu.filtered.Download(), weights, mask, kept,
-                                     &result.image);
-        std::string what = o.keptRadius > 0 ? "kept pixels (the fits left them as they came "
-                                              "in: no neighbour weighed)"
-                                            : "";
-        if (o.weakEmitterAlbedo > 0)
-            what += fmt::format(
-                "{}emitters of albedo below {} (a light's partly covered edge; "
-                "their albedo not compared)",
-                what.empty() ? "" : " and ", o.weakEmitterAlbedo);
-        run.Plan(
-            fmt::format("{}: {}, each given the output's mean over {}x{} weighted by the "
-                        "features",
-                        what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
-    }
+    if (keptPass > 0) SmoothKept(run, in, o, gpu, weights, mask, keptPass, result);
     AddCoarsePass(context, run, in, o, gate, result);
-    if (gpu.glint) {
-        const size_t guarded = GuardGlintFloor(clamped, gpu.glint->Download(), &result.image);
-        run.AddStage("glint.guard", result.image);
-        run.Plan(fmt::format(
-            "glint guard: {} pixel-channels within {} of a raised pixel lifted to the clamped "
-            "colour's 3x3 minimum",
-            guarded, kNforGlintGuardReach));
-    }
+    if (gpu.glint) GuardGlint(run, clamped, floored, result);
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
                     "window and kept as they are but for the lights' spread (a lone one far "

@@ -12,6 +12,8 @@ layout(std430, binding = NFOR_GLINT_TRUST) readonly buffer Trust { float trust[]
 layout(std430, binding = NFOR_GLINT_VARIANCE) buffer Variance { float variance[]; };
 layout(std430, binding = NFOR_GLINT_FLOORED) writeonly buffer Floored { float floored[]; };
 
+const float inverses[NFOR_GLINT_INVERSE_COUNT] = float[](NFOR_GLINT_INVERSES);
+
 float ColorAt(int c, int x, int y) {
     return color[(c * push.height + y) * push.width + x];
 }
@@ -28,20 +30,21 @@ void main() {
     if (gated && trust[y * w + x] == 0.0) {
         int x0 = max(x - 1, 0), x1 = min(x + 1, w - 1);
         int y0 = max(y - 1, 0), y1 = min(y + 1, h - 1);
-        float n = float((x1 - x0 + 1) * (y1 - y0 + 1));
+        // 1 / n as a product (bit for bit with the CPU twin on any device).
+        float inverse = inverses[(x1 - x0 + 1) * (y1 - y0 + 1)];
         [[unroll]] for (int c = 0; c < channels; ++c) {
             // Exact arithmetic (no contraction): the CPU reference sums in the same order.
             precise float mean = 0.0;
             for (int v = y0; v <= y1; ++v)
                 for (int u = x0; u <= x1; ++u) mean += ColorAt(c, u, v);
-            mean /= n;
+            mean *= inverse;
             precise float squares = 0.0;
             for (int v = y0; v <= y1; ++v)
                 for (int u = x0; u <= x1; ++u) {
                     precise float d = ColorAt(c, u, v) - mean;
                     squares += d * d;
                 }
-            precise float bound = push.scale * (squares / n);
+            precise float bound = push.scale * (squares * inverse);
             int i = (c * h + y) * w + x;
             if (bound > variance[i]) {
                 variance[i] = bound;

@@ -6,8 +6,9 @@
 // `reach` in its row (NaN: none); glint.comp then, where the row marks reach it within
 // `reach` in its column (a Chebyshev square) and the trust (trust.comp) is 0, sets each
 // channel's variance to max(v, scale x the clamped colour's variance over the 3x3 window
-// inside the frame: its mean, then the mean squared deviation from it). A NaN on either side
-// keeps v. It writes 1 where it raised some channel, else 0. One invocation per pixel.
+// inside the frame: its mean, then the mean squared deviation from it, each a sum times
+// float(1 / n) from NFOR_GLINT_INVERSES). A NaN on either side keeps v. It writes 1 where it
+// raised some channel, else 0. One invocation per pixel.
 #ifndef MCD_SHADERS_NFOR_GLINT_H
 #define MCD_SHADERS_NFOR_GLINT_H
 
@@ -24,9 +25,25 @@
 #define NFOR_GLINT_FLOORED 4
 #define NFOR_GLINT_BINDINGS 5
 #define NFOR_GLINT_MAX_REACH 64
+// float(1 / n) for the n pixels of a 3x3 window inside the frame (1, 2, 3, 4, 6 or 9; the
+// others 0), each written out exactly: the kernel and its CPU twin multiply by the same value
+// (a product is correctly rounded; a division may be off by some ULP on a device).
+#define NFOR_GLINT_INVERSES                                      \
+    0.0f, 1.0f, 0.5f, 0.3333333432674407958984375f, 0.25f, 0.0f, \
+        0.16666667163372039794921875f, 0.0f, 0.0f, 0.111111111938953399658203125f
+#define NFOR_GLINT_INVERSE_COUNT 10
 
 #ifdef __cplusplus
 namespace mcd::shader {
+// The gate of the floor (NforOptions::glintNoise), for the host and the CPU twin alike: a
+// glint is a pixel with an albedo channel above kNforGlintAlbedo (a light, as the line
+// spread's), its reach kNforGlintReach pixels (Chebyshev). Within kNforGlintGuardReach of a
+// pixel whose noise the floor raised, the output is kept at least the clamped colour's 3x3
+// minimum.
+inline constexpr float kNforGlintAlbedo = 8;
+inline constexpr int kNforGlintReach = 16;
+inline constexpr int kNforGlintGuardReach = 3;
+inline constexpr float kNforGlintInverses[NFOR_GLINT_INVERSE_COUNT] = {NFOR_GLINT_INVERSES};
 struct NforGlintPush {
 #else
 layout(push_constant) uniform NforGlintPush {

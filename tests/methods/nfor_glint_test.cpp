@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "cpu_reference/nfor.h"
@@ -19,6 +21,7 @@
 #include "harness/inputs.h"
 #include "host/error.h"
 #include "host/kernels/nfor_kernels.h"
+#include "host/methods/nfor.h"
 
 namespace mcd::test {
 namespace {
@@ -90,10 +93,15 @@ TEST_P(NforGlintKernel, MatchesTheReferenceAndRepeats) {
     std::mt19937_64 rng(SeedFromName(name + "albedo"));
     std::uniform_real_distribution<float> unit(0.f, 1.f);
     Image albedo(w, h, 3), trust(w, h, 1);
-    const float gate = 8, nan = std::numeric_limits<float>::quiet_NaN();
+    const float gate = 8, nan = std::numeric_limits<float>::quiet_NaN(),
+                inf = std::numeric_limits<float>::infinity();
     for (float &a : albedo.data) {
         const float u = unit(rng);
-        a = u < 0.01f ? 20 * unit(rng) + gate : u < 0.02f ? gate : u < 0.03f ? nan : unit(rng);
+        a = u < 0.01f    ? 20 * unit(rng) + gate
+            : u < 0.02f  ? gate
+            : u < 0.03f  ? nan
+            : u < 0.035f ? inf
+                         : unit(rng);
     }
     for (float &t : trust.data) t = unit(rng) < 0.8f ? 0.f : 1.f;
     int raised = 0;
@@ -110,7 +118,9 @@ TEST_P(NforGlintKernel, MatchesTheReferenceAndRepeats) {
             EXPECT_TRUE(BitIdentical(got.floored, again.floored));
             for (float f : got.floored.data) raised += f > 0;
         }
-    if (w * h > 100 && kind == InputKind::Uniform) EXPECT_GT(raised, 0);
+    if (w * h > 100 && kind == InputKind::Uniform) {
+        EXPECT_GT(raised, 0);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, NforGlintKernel, testing::ValuesIn(GlintCases()),
@@ -218,6 +228,39 @@ TEST_F(GpuTest, NforGlintRejectsBadSettings) {
     EXPECT_THROW(RunGlint(Ctx(), color, albedo, trust, nan, 16, 0.1f, variance), Error);
     EXPECT_THROW(RunGlint(Ctx(), color, albedo, trust, 8, 16, -1.f, variance), Error);
     EXPECT_THROW(RunGlint(Ctx(), color, albedo, trust, 8, 16, nan, variance), Error);
+}
+
+// The host's guard on the output (GuardGlintFloor) against ref::GuardGlint, exactly (both
+// only compare and copy): thin and one-pixel frames, raised pixels in the corners and one
+// inside, NaN and +-Inf in the clamped colour; the count is the pixel-channels changed.
+TEST(NforGlintGuard, MatchesTheReference) {
+    const float nan = std::numeric_limits<float>::quiet_NaN(),
+                inf = std::numeric_limits<float>::infinity();
+    for (auto [w, h] : {std::pair{1, 1}, {1, 9}, {9, 1}, {13, 11}}) {
+        SCOPED_TRACE(fmt::format("{}x{}", w, h));
+        std::mt19937_64 rng(SeedFromName(fmt::format("glint guard {}x{}", w, h)));
+        std::uniform_real_distribution<float> unit(0.f, 1.f);
+        Image clamped(w, h, 3), output(w, h, 3), raised(w, h, 1);
+        for (float &v : clamped.data) {
+            const float u = unit(rng);
+            v = u < 0.05f ? nan : u < 0.1f ? inf : u < 0.15f ? -inf : unit(rng);
+        }
+        for (float &v : output.data) v = unit(rng) < 0.05f ? nan : 0.5f * unit(rng);
+        raised.At(0, 0, 0) = 1;
+        raised.At(0, h - 1, w - 1) = 1;
+        if (w > 8 && h > 8) raised.At(0, h / 2, w / 2) = 1;
+        Image want = output, got = output;
+        ref::GuardGlint(clamped, raised, &want);
+        const size_t count = GuardGlintFloor(clamped, raised, &got);
+        EXPECT_TRUE(BitIdentical(want, got));
+        size_t changed = 0;
+        for (size_t i = 0; i < got.data.size(); ++i)
+            changed += std::memcmp(&got.data[i], &output.data[i], sizeof(float)) != 0;
+        EXPECT_EQ(count, changed);
+        if (w * h > 1) {
+            EXPECT_GT(count, 0u);
+        }
+    }
 }
 
 }  // namespace

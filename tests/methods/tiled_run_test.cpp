@@ -886,7 +886,12 @@ TEST_F(GpuTest, TiledRunNforGlintFloorAcrossTheSeamIsBitIdentical) {
         for (int x = 0; x < width; ++x)
             if (x % tile < 24 || x % tile >= tile - 24)
                 for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = reflectance(rng);
-    Params params = {{"radius", 3}};
+    // The other reaches at their smallest (no line spread, local means or pilot), so that a
+    // halo short of the floor's gate shows in the bits.
+    Params params = {{"radius", 3},
+                     {"line-spread", 0.f},
+                     {"nfor-mean-radius", 0},
+                     {"pilot-bandwidths", std::string("none")}};
     const api::TileNeeds plain = NeedsWith("nfor", params, frame);
     albedo.At(0, 12, tile - 2) = 2 * kNforGlintAlbedo;
     albedo.At(1, 5, tile + 1) = 2 * kNforGlintAlbedo;
@@ -904,6 +909,38 @@ TEST_F(GpuTest, TiledRunNforGlintFloorAcrossTheSeamIsBitIdentical) {
                               line.find(" at 0 pixels") == std::string::npos);
     EXPECT_TRUE(floored) << "the plan counts the pixels the floor raised";
     ExpectSameBits(whole.image, tiled.image, "nfor tiled, the glint floor across the seams");
+}
+
+// nfor's glint floor on a partly covered pixel whose straight albedo (albedo / alpha) passes
+// the gate, beside a seam, with no albedo above kNforGlintAlbedo as written: the reach grows
+// all the same and the tiled result is the untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforGlintFloorCountsAPartlyCoveredGlint) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 320, height = 24, tile = 160;
+    Frame frame = RenderedFrame(width, height, render::kLayersAll);
+    frame.layers.erase("variance");
+    frame.layers["alpha"] = Image(width, height, 1);
+    Image &albedo = frame.layers.at("albedo"), &alpha = frame.layers.at("alpha");
+    std::fill(alpha.data.begin(), alpha.data.end(), 1.f);
+    std::mt19937_64 rng(SeedFromName("tiled glint floor, partly covered"));
+    std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
+    for (int y = 0; y < height; ++y)
+        for (int x = tile - 24; x < tile + 24; ++x)
+            for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = reflectance(rng);
+    Params params = {{"radius", 3},
+                     {"line-spread", 0.f},
+                     {"nfor-mean-radius", 0},
+                     {"pilot-bandwidths", std::string("none")}};
+    const api::TileNeeds plain = NeedsWith("nfor", params, frame);
+    alpha.At(0, 12, tile + 2) = 0.5f;
+    albedo.At(0, 12, tile + 2) = 0.625f * kNforGlintAlbedo;
+    const api::TileNeeds glints = NeedsWith("nfor", params, frame);
+    EXPECT_GT(glints.reach, plain.reach);
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_EQ(tiled.plan[0].find("1 tile(s)"), std::string::npos) << tiled.plan[0];
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, a partly covered glint by a seam");
 }
 
 // nfor's memory per pixel counts the trust plane (one float) where the distance trusts an
