@@ -246,9 +246,15 @@ TEST(NforGlintGuard, MatchesTheReference) {
             v = u < 0.05f ? nan : u < 0.1f ? inf : u < 0.15f ? -inf : unit(rng);
         }
         for (float &v : output.data) v = unit(rng) < 0.05f ? nan : 0.5f * unit(rng);
+        // The centre's window all +Inf in channel 0 and all NaN in channel 1: no minimum.
+        for (int y = std::max(0, h / 2 - 1); y <= std::min(h - 1, h / 2 + 1); ++y)
+            for (int x = std::max(0, w / 2 - 1); x <= std::min(w - 1, w / 2 + 1); ++x) {
+                clamped.At(0, y, x) = inf;
+                clamped.At(1, y, x) = nan;
+            }
         raised.At(0, 0, 0) = 1;
         raised.At(0, h - 1, w - 1) = 1;
-        if (w > 8 && h > 8) raised.At(0, h / 2, w / 2) = 1;
+        raised.At(0, h / 2, w / 2) = 1;
         Image want = output, got = output;
         ref::GuardGlint(clamped, raised, &want);
         const size_t count = GuardGlintFloor(clamped, raised, &got);
