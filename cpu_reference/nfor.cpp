@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "cpu_reference/local_mean.h"
@@ -352,6 +353,64 @@ Image NforAlbedoTrust(const Image &color, const Image &albedo, double noise) {
             trust.At(0, y, x) = rough && roughens ? 0.f : 1.f;
         }
     return trust;
+}
+
+Image NforGlintRows(const Image &albedo, double gate, int reach) {
+    const int w = albedo.width, h = albedo.height;
+    Image rows(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
+                for (int c = 0; c < albedo.channels; ++c)
+                    if (double(albedo.At(c, y, u)) > gate) rows.At(0, y, x) = 1.f;
+    return rows;
+}
+
+Image NforGlintNoise(const Image &color, const Image &albedo, const Image &trust, double gate,
+                     int reach, double scale, Image *variance) {
+    const int w = color.width, h = color.height;
+    auto glint = [&](int x, int y) {
+        for (int c = 0; c < albedo.channels; ++c)
+            if (double(albedo.At(c, y, x)) > gate) return true;
+        return false;
+    };
+    Image floored(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (trust.At(0, y, x) != 0.f) continue;
+            // Any glint in the square of half-side `reach` around the pixel.
+            bool near = false;
+            for (int v = y - reach; v <= y + reach && !near; ++v)
+                for (int u = x - reach; u <= x + reach && !near; ++u)
+                    near = Inside(color, u, v) && glint(u, v);
+            if (!near) continue;
+            int count = 0;
+            for (int v = y - 1; v <= y + 1; ++v)
+                for (int u = x - 1; u <= x + 1; ++u) count += Inside(color, u, v);
+            const float inverse = shader::kNforGlintInverses[count];
+            for (int c = 0; c < color.channels; ++c) {
+                // The window's mean, then its squared deviations, in raster order.
+                float mean = 0.f;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if (Inside(color, u, v)) mean += color.At(c, v, u);
+                mean *= inverse;
+                float squares = 0.f;
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if (Inside(color, u, v)) {
+                            const float d = color.At(c, v, u) - mean;
+                            squares += d * d;
+                        }
+                const float bound = float(scale) * (squares * inverse);
+                float &value = variance->At(c, y, x);
+                if (bound > value) {
+                    value = bound;
+                    floored.At(0, y, x) = 1.f;
+                }
+            }
+        }
+    return floored;
 }
 
 namespace {
@@ -708,6 +767,25 @@ Image NforSelect(const std::vector<Image> &outputs, const std::vector<Image> &ha
     return out;
 }
 
+void GuardGlint(const Image &clamped, const Image &raised, Image *out) {
+    const int w = clamped.width, h = clamped.height, r = kNforGlintGuardReach;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            bool near = false;
+            for (int v = y - r; v <= y + r; ++v)
+                for (int u = x - r; u <= x + r; ++u)
+                    near = near || (Inside(clamped, u, v) && raised.At(0, v, u) > 0.f);
+            if (!near) continue;
+            for (int c = 0; c < clamped.channels; ++c) {
+                double low = std::numeric_limits<double>::infinity();
+                for (int v = y - 1; v <= y + 1; ++v)
+                    for (int u = x - 1; u <= x + 1; ++u)
+                        if (Inside(clamped, u, v)) low = std::fmin(low, clamped.At(c, v, u));
+                if (std::isfinite(low) && low > out->At(c, y, x)) out->At(c, y, x) = float(low);
+            }
+        }
+}
+
 namespace {
 
 // A pass's candidate: its bandwidth and window half-size, and the distances over it.
@@ -871,6 +949,41 @@ void NforCapLayer(const NforInputs &in, const NforParams &p, const Image &clampe
             std::min(variance->data[i], float(p.layerNoiseCap) * estimate.data[i]);
 }
 
+// What the fits leave by design: an emitter's colour (clamped), every channel.
+std::vector<bool> LeftByTheFits(const Image &clamped, const Image &mask) {
+    std::vector<bool> left(clamped.data.size(), false);
+    for (int c = 0; c < clamped.channels; ++c)
+        for (int y = 0; y < clamped.height; ++y)
+            for (int x = 0; x < clamped.width; ++x)
+                left[(size_t(c) * clamped.height + y) * clamped.width + x] =
+                    mask.At(0, y, x) == 0;
+    return left;
+}
+
+// The features as the passes read them: prefiltered where p.prefilterRadius > 0.
+Image PrefilteredFeatures(const Image &features, const NforParams &p) {
+    if (p.prefilterRadius <= 0) return features;
+    Image featureVariance = NforNoise(features, nullptr, p.noiseRadius, p.noiseMinCalibration);
+    return NforPrefilter(features, featureVariance, p.prefilterRadius, p.prefilterPatch,
+                         p.prefilterBandwidth);
+}
+
+// Near a glint, where the albedo is noise: the weights' noise floored (a frame without a
+// layer, with a trust). Returns the raised pixels' mask, empty where the floor does not run.
+template <typename Keep>
+Image FloorGlints(const NforInputs &in, const NforParams &p, const Image &clamped,
+                  const Image *trust, Keep &keep, Image *variance) {
+    const bool glints = trust && !in.variance && p.edgeNoise && p.glintNoise > 0 &&
+                        std::any_of(in.albedo->data.begin(), in.albedo->data.end(),
+                                    [](float a) { return double(a) > kNforGlintAlbedo; });
+    if (!glints) return Image();
+    Image glintMask = NforGlintNoise(clamped, *in.albedo, *trust, kNforGlintAlbedo,
+                                     kNforGlintReach, p.glintNoise, variance);
+    keep("glint", glintMask);
+    keep("glint.variance", *variance);
+    return glintMask;
+}
+
 // The method on straight values (every stage but output), its result before any alpha;
 // `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
 // the frame's coverage as given, which guards the clamp's light (not with p.premultiplied).
@@ -908,13 +1021,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     }
     NforCapLayer(in, p, clamped, alpha, &variance);
     keep("variance", variance);
-    Image features = *in.features;
-    if (p.prefilterRadius > 0) {
-        Image featureVariance =
-            NforNoise(features, nullptr, p.noiseRadius, p.noiseMinCalibration);
-        features = NforPrefilter(features, featureVariance, p.prefilterRadius, p.prefilterPatch,
-                                 p.prefilterBandwidth);
-    }
+    const Image features = PrefilteredFeatures(*in.features, p);
     keep("features", features);
     // The distance's divisor, and where its albedo is noise (the pairs there compare colours).
     const Image *divisor = p.demodulateDistance ? in.albedo : nullptr;
@@ -925,6 +1032,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         keep("trust", trustImage);
         trust = &trustImage;
     }
+    const Image glintMask = FloorGlints(in, p, clamped, trust, keep, &variance);
     Image distance = NforDistance(clamped, variance, divisor, p.radius, p.patchRadius, p.alpha,
                                   p.minVariance, trust);
     keep("distance", distance);
@@ -956,13 +1064,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
             NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out);
             keep("specks", out);
         }
-        // What the fits leave by design: an emitter's colour (clamped), every channel.
-        std::vector<bool> left(clamped.data.size(), false);
-        for (int c = 0; c < clamped.channels; ++c)
-            for (int y = 0; y < clamped.height; ++y)
-                for (int x = 0; x < clamped.width; ++x)
-                    left[(size_t(c) * clamped.height + y) * clamped.width + x] =
-                        mask.At(0, y, x) == 0;
+        std::vector<bool> left = LeftByTheFits(clamped, mask);
         RestoreLocalMeans(clamped, p.meanRadius, &out, nullptr, -1, false, &left);
         RestoreClampLight(in, p, plain, clamped, mask, left, keep, &out);
     }
@@ -974,6 +1076,10 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
                        in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
     }
     if (NforCoarseGateOpen(color, in.albedo, p)) AddCoarse(in, p, stages, &out);
+    if (glintMask.PixelCount() > 0) {
+        GuardGlint(clamped, glintMask, &out);
+        keep("glint.guard", out);
+    }
     if (clampedOut) *clampedOut = clamped;
     return out;
 }

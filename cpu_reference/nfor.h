@@ -81,6 +81,7 @@
 #include <vector>
 
 #include "host/image.h"
+#include "nfor/glint.h"
 
 namespace mcd::ref {
 
@@ -99,6 +100,10 @@ constexpr double kNforAgreementFloor = 1e-3;
 // The albedo trust's margin: colour / albedo rougher than the colour by more than this
 // (a window whose colour holds one non-zero value is a tie).
 constexpr double kNforTrustTie = 1e-3;
+// The glint floor's gate and guard: one definition with the kernels' (nfor/glint.h).
+using shader::kNforGlintAlbedo;
+using shader::kNforGlintGuardReach;
+using shader::kNforGlintReach;
 // The clamp's loss counts only where it clamped at least this share of the pixel-channels.
 constexpr double kNforClampLossMinShare = 1e-3;
 
@@ -114,6 +119,10 @@ struct NforParams {
     // The distance's pairs with an end whose albedo is noise (NforAlbedoTrust with this
     // bound) compare colours; 0: every pair compares colour / albedo.
     double albedoNoise = 0.1;
+    // Without a variance layer (edgeNoise), where the trust is 0 within kNforGlintReach of an
+    // albedo channel above kNforGlintAlbedo: the variance floored at this times the clamped
+    // colour's 3x3 variance (NforGlintNoise), for every later step that reads it; 0: off.
+    double glintNoise = 0.1;
     double ridge = 0.001;  // lambda
     // Feature weight per feature plane (s_j); empty: no feature term.
     std::vector<double> featureWeights;
@@ -255,6 +264,24 @@ Image NforPrefilter(const Image &features, const Image &variance, int radius, in
 // colour / albedo is rougher than the colour by more than kNforTrustTie (the albedo is noise,
 // as on glossy metal whose albedo follows the sampled bounce, not texture the colour follows).
 Image NforAlbedoTrust(const Image &color, const Image &albedo, double noise);
+
+// The weights' noise floored near a glint, per pixel: where `trust` is 0 and some albedo
+// channel above `gate` lies within `reach` (Chebyshev, inside the frame), each channel of
+// `variance` becomes scale x the colour's variance over the 3x3 window inside the frame
+// (mean squared deviation from the window's mean, in float) where that is larger; a NaN on
+// either side keeps the variance. Returns 1 where some channel was raised, else 0.
+Image NforGlintNoise(const Image &color, const Image &albedo, const Image &trust, double gate,
+                     int reach, double scale, Image *variance);
+
+// The glint floor's guard: each pixel with a pixel of `raised` above 0 in its square of
+// half-side kNforGlintGuardReach (inside the frame) has each channel of *out at least the
+// minimum of the clamped colour's 3x3 window inside the frame (a NaN neither bounds nor is
+// raised; an infinite minimum raises nothing).
+void GuardGlint(const Image &clamped, const Image &raised, Image *out);
+
+// The floor's row marks, per pixel: 1 where some albedo channel above `gate` lies within
+// `reach` pixels in the same row (inside the frame), else 0.
+Image NforGlintRows(const Image &albedo, double gate, int reach);
 
 // Patch distance D(p, o) for the stored offsets (NforOffset), one plane each, of the colour
 // (divisor nullptr) or of colour / divisor where the divisor is above the floor; with a trust

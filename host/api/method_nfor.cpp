@@ -76,6 +76,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "the colour (glossy metal, whose albedo follows the sampled bounce); "
                           "0: every pair compares colour / albedo",
                           &O::albedoNoise, 0, 100)),
+        nested(FloatParam("glint-noise",
+                          "on a frame without a variance layer, where the albedo is noise "
+                          "(--albedo-noise) within 16 pixels of a glint (an albedo channel "
+                          "above 8), the weights' noise (also SURE's and the pilot's) at "
+                          "least this times the clamped colour's variance over 3x3: the fits "
+                          "average a reflected light's "
+                          "hits and misses instead of keeping them (the output within 3 "
+                          "pixels of such a pixel then at least the clamped colour's 3x3 "
+                          "minimum); 0: off",
+                          &O::glintNoise, 0, 100)),
         nested(FloatParam("alpha", "variance cancellation in the colour distance", &O::alpha, 0,
                           10)),
         nested(EnumParam("distance-variance",
@@ -329,6 +339,23 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         return ResultOf(NforDenoise(context, InputsOf(inputs), o, inputs.Memo()));
     }
 
+    // Whether the frame holds a glint for the floor (NforOptions::glintNoise): an albedo
+    // channel above kNforGlintAlbedo, or a partly covered pixel's that its alpha's division
+    // would lift above it.
+    static bool GlintMayRun(Inputs &inputs) {
+        const Image &albedo = inputs.Get("albedo");
+        if (NforLineSpreads(albedo, kNforGlintAlbedo)) return true;
+        if (!inputs.Has("alpha")) return false;
+        const Image &alpha = inputs.Get("alpha");
+        for (size_t i = 0; i < alpha.PixelCount(); ++i) {
+            const float a = alpha.data[i];
+            if (!(a > 0.f && a < 1.f)) continue;
+            for (int c = 0; c < albedo.channels; ++c)
+                if (albedo.Plane(c)[i] > kNforGlintAlbedo * a) return true;
+        }
+        return false;
+    }
+
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
         const NforOptions &o = options.options;
         int channels = inputs.Get("color").channels;
@@ -352,7 +379,17 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         const bool trusts =
             o.albedoNoise > 0 && !o.noDemodulatedDistance && inputs.Has("albedo");
         const int trustReach = trusts ? 1 : 0;
-        int colourReach = o.patchRadius + std::max(o.noiseRadius, trustReach) + clampReach;
+        // The glint floor (where the noise is the frame's own, on a frame with a glint) reads
+        // the albedo kNforGlintReach away, the trust and the clamped colour of the 8
+        // neighbours; its guard on the output reads the floor kNforGlintGuardReach away,
+        // within the passes' reach.
+        const bool glints = trusts && o.glintNoise > 0 && !o.noEdgeNoise &&
+                            !(options.noise == "auto" && inputs.Has("variance")) &&
+                            GlintMayRun(inputs);
+        const int glintReach = glints ? kNforGlintReach : 0;
+        int colourReach =
+            o.patchRadius +
+            std::max(std::max(o.noiseRadius, trustReach) + clampReach, glintReach);
         int featureReach = o.prefilterRadius > 0
                                ? o.prefilterRadius + o.prefilterPatch + o.noiseRadius + 1
                                : 0;
@@ -372,7 +409,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         needs.reachText = fmt::format(
             "a pixel averages the fits of windows up to {} away, each fit reads {} further "
             "and the distances there {} more; {} for the second pass over the pilot; {} for "
-            "the noise, clamp, patches and the distance's trust (or the features' "
+            "the noise, clamp, patches, the distance's trust and the glint floor (or the "
+            "features' "
             "prefilter); {} for the SURE "
             "average; {} for the specks' neighbours; {} for the local means; {} for the "
             "kept pixels' mean; {} for the lights' spread",
@@ -389,7 +427,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         needs.bytesPerPixel = 4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
                                      NforPackedFloats(features) + kNforIlluminationFloats +
                                      candidates * (channels + 1) + 6 * channels + 3 * features +
-                                     3 + (trusts ? 1 : 0));
+                                     3 + (trusts ? 1 : 0) + (glints ? 2 : 0));
         // Whether the gate lets the coarse pass run is measured only for a frame too large
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =
@@ -462,6 +500,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.pilotMinVariance = NforPilotMinVariance(o);
         p.demodulateDistance = !o.noDemodulatedDistance;
         p.albedoNoise = o.albedoNoise;
+        p.glintNoise = o.glintNoise;
         p.ridge = o.ridge;
         p.featureWeights.assign(weights.begin(), weights.end());
         p.noiseRadius = o.noiseRadius;

@@ -15,6 +15,9 @@
 #include "nfor/distance.h"
 #include "nfor/fit.h"
 #include "nfor/gather_spv.h"
+#include "nfor/glint.h"
+#include "nfor/glint_rows_spv.h"
+#include "nfor/glint_spv.h"
 #include "nfor/illumination_spv.h"
 #include "nfor/noise.h"
 #include "nfor/noise_spv.h"
@@ -246,6 +249,70 @@ void RecordNforTrust(vk::Context &context, vk::Recorder &recorder, const vk::Gpu
                       {{NFOR_TRUST_COLOR, &color.buffer, vk::Access::Read},
                        {NFOR_TRUST_ALBEDO, &albedo.buffer, vk::Access::Read},
                        {NFOR_TRUST_OUT, &trust.buffer, vk::Access::Write}},
+                      push, Groups(color.width), uint32_t(color.height));
+}
+
+namespace {
+
+void CheckGlintGate(float gate, int reach) {
+    if (reach < 0 || reach > NFOR_GLINT_MAX_REACH || !std::isfinite(gate))
+        throw Error(fmt::format("nfor glint: reach {} (0..{}) or gate {} (finite) out of range",
+                                reach, NFOR_GLINT_MAX_REACH, gate),
+                    ErrorKind::InvalidArgument);
+}
+
+}  // namespace
+
+void RecordNforGlintRows(vk::Context &context, vk::Recorder &recorder,
+                         const vk::GpuImage &albedo, float gate, int reach,
+                         vk::GpuImage &near) {
+    CheckSize("nfor glint rows", albedo, near, 1);
+    CheckGlintGate(gate, reach);
+    shader::NforGlintPush push{albedo.width, albedo.height, albedo.channels, reach, gate, 0};
+    const vk::Kernel &rows = context.GetKernel({"nfor_glint_rows",
+                                                k_nfor_glint_rows_spv,
+                                                sizeof(k_nfor_glint_rows_spv),
+                                                NFOR_GLINT_ROWS_BINDINGS,
+                                                sizeof(shader::NforGlintPush),
+                                                {},
+                                                0,
+                                                0});
+    recorder.Dispatch(rows, "nfor.glint.rows",
+                      {{NFOR_GLINT_ROWS_ALBEDO, &albedo.buffer, vk::Access::Read},
+                       {NFOR_GLINT_ROWS_NEAR, &near.buffer, vk::Access::Write}},
+                      push, Groups(albedo.width), uint32_t(albedo.height));
+}
+
+void RecordNforGlintNoise(vk::Context &context, vk::Recorder &recorder,
+                          const vk::GpuImage &color, const vk::GpuImage &albedo,
+                          const vk::GpuImage &trust, float gate, int reach, float scale,
+                          vk::GpuImage &near, vk::GpuImage &variance, vk::GpuImage &floored) {
+    CheckColor("nfor glint noise", color);
+    CheckSize("nfor glint noise", color, albedo, 0);
+    CheckSize("nfor glint noise", color, trust, 1);
+    CheckSize("nfor glint noise", color, near, 1);
+    CheckSize("nfor glint noise", color, variance, color.channels);
+    CheckSize("nfor glint noise", color, floored, 1);
+    CheckGlintGate(gate, reach);
+    if (!(scale >= 0) || !std::isfinite(scale))
+        throw Error(fmt::format("nfor glint noise: scale {} must be finite and >= 0", scale),
+                    ErrorKind::InvalidArgument);
+    RecordNforGlintRows(context, recorder, albedo, gate, reach, near);
+    shader::NforGlintPush push{color.width, color.height, albedo.channels, reach, gate, scale};
+    const vk::Kernel &floor = context.GetKernel({"nfor_glint",
+                                                 k_nfor_glint_spv,
+                                                 sizeof(k_nfor_glint_spv),
+                                                 NFOR_GLINT_BINDINGS,
+                                                 sizeof(shader::NforGlintPush),
+                                                 {{NFOR_SPEC_CHANNELS, color.channels}},
+                                                 0,
+                                                 0});
+    recorder.Dispatch(floor, "nfor.glint",
+                      {{NFOR_GLINT_NEAR, &near.buffer, vk::Access::Read},
+                       {NFOR_GLINT_COLOR, &color.buffer, vk::Access::Read},
+                       {NFOR_GLINT_TRUST, &trust.buffer, vk::Access::Read},
+                       {NFOR_GLINT_VARIANCE, &variance.buffer, vk::Access::ReadWrite},
+                       {NFOR_GLINT_FLOORED, &floored.buffer, vk::Access::Write}},
                       push, Groups(color.width), uint32_t(color.height));
 }
 

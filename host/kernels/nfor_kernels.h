@@ -47,6 +47,21 @@ void RecordNforPrefilter(vk::Context &context, vk::Recorder &recorder,
 void RecordNforTrust(vk::Context &context, vk::Recorder &recorder, const vk::GpuImage &color,
                      const vk::GpuImage &albedo, float noise, vk::GpuImage &trust);
 
+// shaders/nfor/glint_rows.comp: per pixel 1 where some albedo channel above `gate` lies
+// within `reach` in its row, else 0, into `near` (1 plane).
+void RecordNforGlintRows(vk::Context &context, vk::Recorder &recorder,
+                         const vk::GpuImage &albedo, float gate, int reach, vk::GpuImage &near);
+
+// shaders/nfor/glint_rows.comp (RecordNforGlintRows) and glint.comp: where `trust` is 0 and
+// some albedo channel above `gate` lies within `reach` (Chebyshev), raises each channel of
+// `variance` (in place) to scale x the colour's variance over the 3x3 window inside the frame
+// where that is larger (nfor/glint.h); `floored` (1 plane) is 1 where some channel was raised,
+// else 0. `near` (1 plane) is the row pass's scratch. The albedo has any channel count.
+void RecordNforGlintNoise(vk::Context &context, vk::Recorder &recorder,
+                          const vk::GpuImage &color, const vk::GpuImage &albedo,
+                          const vk::GpuImage &trust, float gate, int reach, float scale,
+                          vk::GpuImage &near, vk::GpuImage &variance, vk::GpuImage &floored);
+
 // shaders/nfor/illumination.comp: per pixel the colour and its variance, each channel
 // divided by the albedo's channel (and its square) where that is above the floor
 // (nfor/distance.h), into `illumination` (kNforIlluminationFloats planes' worth, per pixel:

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "host/common/local_mean.h"
@@ -89,6 +90,36 @@ Image NforFeatures(const NforInputs &in, const NforOptions &o, std::vector<float
     return features;
 }
 
+size_t GuardGlintFloor(const Image &clamped, const Image &floored, Image *output) {
+    const int w = clamped.width, h = clamped.height, r = kNforGlintGuardReach;
+    // The raised pixels' square of radius r: along rows, then columns.
+    std::vector<char> rows(size_t(w) * h, 0), near(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int u = std::max(0, x - r); u <= std::min(w - 1, x + r); ++u)
+                rows[size_t(y) * w + x] |= floored.data[size_t(y) * w + u] > 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
+                near[size_t(y) * w + x] |= rows[size_t(v) * w + x];
+    size_t raised = 0;
+    for (int c = 0; c < clamped.channels; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (!near[size_t(y) * w + x]) continue;
+                float low = std::numeric_limits<float>::infinity();
+                for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v)
+                    for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u)
+                        if (clamped.At(c, v, u) < low) low = clamped.At(c, v, u);
+                float &value = output->At(c, y, x);
+                if (std::isfinite(low) && low > value) {
+                    value = low;
+                    ++raised;
+                }
+            }
+    return raised;
+}
+
 namespace {
 
 void CheckLayer(const Image &image, const char *what, int width, int height, int channels,
@@ -135,12 +166,14 @@ void CheckOptions(const NforOptions &o) {
         !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
         !(o.lightShare >= 0 && o.lightShare <= 0.25f) ||
         !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0) ||
-        !(finite(o.albedoNoise) && o.albedoNoise >= 0))
+        !(finite(o.albedoNoise) && o.albedoNoise >= 0) ||
+        !(finite(o.glintNoise) && o.glintNoise >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
             "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
-            "speck floor, layer noise cap and albedo noise finite and >= 0, speck relative "
+            "speck floor, layer noise cap, albedo noise and glint noise finite and >= 0, "
+            "speck relative "
             "finite, mean "
             "radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
@@ -282,6 +315,11 @@ struct NforGpu {
             albedo->Upload(*in.albedo);
             if (o.albedoNoise > 0 && !o.noDemodulatedDistance)
                 trust.emplace(context, color.width, color.height, 1, "nfor.trust");
+            if (trust && !in.variance && !o.noEdgeNoise && o.glintNoise > 0 &&
+                NforLineSpreads(*in.albedo, kNforGlintAlbedo)) {
+                glintNear.emplace(context, color.width, color.height, 1, "nfor.glintNear");
+                glint.emplace(context, color.width, color.height, 1, "nfor.glint");
+            }
         }
         // A pass's candidates differing in their bandwidth alone are fitted two at a time.
         if (CandidateCount(o) > 1)
@@ -303,7 +341,7 @@ struct NforGpu {
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
         scratch, illumination, packed, beta, hat, candidates;
     std::optional<vk::GpuImage> albedo, trust, pilot, pilotDistance, wideDistance, wideScratch,
-        secondBeta;
+        secondBeta, glintNear, glint;
 };
 
 // Planes [first, first + count) of a downloaded image.
@@ -550,6 +588,17 @@ void RecordTrust(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
     run.StageAtEnd("trust", *gpu.trust);
 }
 
+// Near a glint, where the albedo is noise: the weights' noise at least o.glintNoise times the
+// clamped colour's 3x3 variance (a frame without a variance layer; NforOptions::glintNoise).
+void RecordGlintNoise(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
+    if (!gpu.glint) return;
+    RecordNforGlintNoise(run.Context(), run.Recorder(), gpu.clamped, *gpu.albedo, *gpu.trust,
+                         kNforGlintAlbedo, kNforGlintReach, o.glintNoise, *gpu.glintNear,
+                         gpu.variance, *gpu.glint);
+    run.StageAtEnd("glint", *gpu.glint);
+    run.StageAtEnd("glint.variance", gpu.variance);
+}
+
 // Noise, emitters and fireflies, features, the patch distances. `alpha`: the coverage of a
 // frame whose partly covered pixels were divided by it (nullptr: none).
 void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
@@ -574,10 +623,15 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
         gpu.variance.Upload(NforDivideByAlpha(gpu.variance.Download(), *alpha));
     }
     if (in.variance && o.layerNoiseCap > 0) CapLayerNoise(run, gpu, in, o, alpha);
-    run.StageAtEnd("variance", gpu.variance);
+    // The glint floor rewrites the variance below: its stage is read before.
+    if (gpu.glint)
+        run.Stage("variance", gpu.variance);
+    else
+        run.StageAtEnd("variance", gpu.variance);
     RecordFeatures(run, gpu, o, memo, featuresId);
     run.StageAtEnd("features", gpu.filtered);
     RecordTrust(run, gpu, o);
+    RecordGlintNoise(run, gpu, o);
     RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
                        o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
                        o.alpha, o.minVariance, gpu.illumination, gpu.scratch, gpu.distance,
@@ -736,6 +790,52 @@ void PlanDistance(StagedRun &run, NforGpu &gpu, const NforOptions &o) {
         "noise (its relative variance over 3x3 above {}, --albedo-noise, and dividing by it "
         "roughens the colour)",
         untrusted, 100.0 * double(untrusted) / double(trust.PixelCount()), o.albedoNoise));
+}
+
+// Where the glint floor raised the weights' noise (`floored`: its mask, read back after the
+// run's submit).
+void PlanGlintNoise(StagedRun &run, const Image &floored, const NforOptions &o) {
+    size_t count = 0;
+    for (float f : floored.data) count += f > 0;
+    run.Plan(fmt::format(
+        "glint floor: the weights' noise raised to {} x the clamped colour's 3x3 variance at "
+        "{} pixels whose albedo is noise within {} of a glint (an albedo above {}; "
+        "--glint-noise)",
+        o.glintNoise, count, kNforGlintReach, kNforGlintAlbedo));
+}
+
+// The kept pixels' and weak emitters' pass over radius keptPass, its stage and plan line.
+void SmoothKept(StagedRun &run, const NforInputs &in, const NforOptions &o, NforGpu &gpu,
+                const std::vector<float> &weights, const Image &mask, int keptPass,
+                NforResult &result) {
+    run.AddStage("unkept", result.image);
+    NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
+                          o.keptRadius > 0};
+    result.kept =
+        NforSmoothKept(*in.color, gpu.filtered.Download(), weights, mask, kept, &result.image);
+    std::string what = o.keptRadius > 0 ? "kept pixels (the fits left them as they came "
+                                          "in: no neighbour weighed)"
+                                        : "";
+    if (o.weakEmitterAlbedo > 0)
+        what += fmt::format(
+            "{}emitters of albedo below {} (a light's partly covered edge; "
+            "their albedo not compared)",
+            what.empty() ? "" : " and ", o.weakEmitterAlbedo);
+    run.Plan(
+        fmt::format("{}: {}, each given the output's mean over {}x{} weighted by the "
+                    "features",
+                    what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
+}
+
+// The glint floor's guard on the output, its stage and its plan line.
+void GuardGlint(StagedRun &run, const Image &clamped, const Image &floored,
+                NforResult &result) {
+    const size_t guarded = GuardGlintFloor(clamped, floored, &result.image);
+    run.AddStage("glint.guard", result.image);
+    run.Plan(fmt::format(
+        "glint guard: {} pixel-channels within {} of a raised pixel lifted to the clamped "
+        "colour's 3x3 minimum",
+        guarded, kNforGlintGuardReach));
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
@@ -1086,6 +1186,9 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     RecordPasses(run, gpu, weights, o, out, choice);
     run.Submit();
     PlanDistance(run, gpu, o);
+    // The glint floor's mask, read once for its plan line and its guard.
+    const Image floored = gpu.glint ? gpu.glint->Download() : Image();
+    if (gpu.glint) PlanGlintNoise(run, floored, o);
     result.image = out.Download();
     Image mask = gpu.mask.Download(), clamped = gpu.clamped.Download();
     for (float m : mask.data) result.emitters += m == 0;
@@ -1103,26 +1206,9 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
     }
     const bool plain = PlainPasses(in, o, result);
     const int keptPass = NforKeptPassRadius(o, plain, in.albedo);
-    if (keptPass > 0) {
-        run.AddStage("unkept", result.image);
-        NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
-                              o.keptRadius > 0};
-        result.kept = NforSmoothKept(*in.color, gpu.filtered.Download(), weights, mask, kept,
-                                     &result.image);
-        std::string what = o.keptRadius > 0 ? "kept pixels (the fits left them as they came "
-                                              "in: no neighbour weighed)"
-                                            : "";
-        if (o.weakEmitterAlbedo > 0)
-            what += fmt::format(
-                "{}emitters of albedo below {} (a light's partly covered edge; "
-                "their albedo not compared)",
-                what.empty() ? "" : " and ", o.weakEmitterAlbedo);
-        run.Plan(
-            fmt::format("{}: {}, each given the output's mean over {}x{} weighted by the "
-                        "features",
-                        what, result.kept, 2 * keptPass + 1, 2 * keptPass + 1));
-    }
+    if (keptPass > 0) SmoothKept(run, in, o, gpu, weights, mask, keptPass, result);
     AddCoarsePass(context, run, in, o, gate, result);
+    if (gpu.glint) GuardGlint(run, clamped, floored, result);
     run.Plan(
         fmt::format("emitters (largest albedo channel > {}): {} pixels, left out of every "
                     "window and kept as they are but for the lights' spread (a lone one far "

@@ -17,8 +17,14 @@
 #include "host/image.h"
 #include "host/methods/staged_run.h"
 #include "host/vk/context.h"
+#include "nfor/glint.h"
 
 namespace mcd {
+
+// The glint floor's gate and guard (NforOptions::glintNoise), defined once in nfor/glint.h.
+using shader::kNforGlintAlbedo;
+using shader::kNforGlintGuardReach;
+using shader::kNforGlintReach;
 
 struct NforOptions {
     int radius = 7;  // regression window half-size
@@ -41,6 +47,15 @@ struct NforOptions {
     // roughens the colour (glossy metal, whose albedo follows the sampled bounce); 0: every
     // pair compares colour / albedo.
     float albedoNoise = 0.1f;
+    // On a frame without a variance layer, where the albedo is noise (albedoNoise's trust 0)
+    // within kNforGlintReach of a glint: the weights' noise at least this times the clamped
+    // colour's variance over 3x3 (the variance SURE's choice and the pilot's distance read
+    // too). The frame's robust estimate reads the misses between a
+    // reflected light's hits, so the weights keep hits and gaps as signal. Within
+    // kNforGlintGuardReach of a raised pixel each output channel is then at least the clamped
+    // colour's minimum over 3x3: the fits, weighing a bright neighbour more, would otherwise
+    // undershoot a dark pixel beside a highlight. 0: off.
+    float glintNoise = 0.1f;
     float ridge = 0.001f;  // lambda: ridge of lambda sum(w) on the non-constant columns
     // Feature weights: s_j = 1 / (featureBandwidth x the group's sigma); 0: no feature term.
     // The albedo's scale is wide: an edge pixel's albedo, a mix of its two sides, still
@@ -283,6 +298,12 @@ bool NforCoarseRuns(vk::Context &context, const NforInputs &in, const NforOption
 
 // Whether the second pass's colour distance is normalised by 2 min(v_p, v_q).
 bool NforPilotMinVariance(const NforOptions &o);
+
+// The glint floor's guard (NforOptions::glintNoise): within kNforGlintGuardReach of a pixel
+// where `floored` is above 0, each channel of *output at least the clamped colour's minimum
+// over its 3x3 window inside the frame (NaN values neither bound nor are raised). Returns the
+// pixel-channels raised. NforDenoise's pass on the host, declared for its test.
+size_t GuardGlintFloor(const Image &clamped, const Image &floored, Image *output);
 
 class RunMemo;
 

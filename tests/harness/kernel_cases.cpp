@@ -50,9 +50,12 @@ std::string_view KernelOfSuite(std::string_view suite) {
 namespace {
 
 // Kernels whose Record function records another kernel too, which their cases may then
-// dispatch: RecordWaveletSynthesizeShrink's rows pass is the plain synthesis's.
+// dispatch: RecordWaveletSynthesizeShrink's rows pass is the plain synthesis's,
+// RecordNforGlintNoise's gate rows are RecordNforGlintRows's.
 std::string_view CompanionOf(std::string_view kernel) {
-    return kernel == "wavelet/synthesize_shrink" ? "wavelet_synthesize" : "";
+    return kernel == "wavelet/synthesize_shrink" ? "wavelet_synthesize"
+           : kernel == "nfor/glint"              ? "nfor_glint_rows"
+                                                 : "";
 }
 
 // Checks after each test of a kernel's suite that the test dispatched that kernel, and

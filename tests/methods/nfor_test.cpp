@@ -1677,7 +1677,8 @@ Image LayerWithFireflies(const Frame &f) {
 void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &options,
                        bool withVariance = false, bool covered = false, bool lights = false,
                        bool whole = false,
-                       const std::function<void(Frame *, Image *)> &edit = {}) {
+                       const std::function<void(Frame *, Image *)> &edit = {},
+                       std::vector<std::string> *stageNames = nullptr) {
     Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
     Image alpha = covered ? Cover(&f, whole) : Image();
     if (lights) AddLightsAtTheEdge(&f, covered ? &alpha : nullptr);
@@ -1689,6 +1690,8 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     NforOptions o = options;
     o.keepStages = true;
     NforResult gpu = NforDenoise(context, gpuIn, o);
+    if (stageNames)
+        for (const auto &stage : gpu.stages) stageNames->push_back(stage.first);
     std::vector<float> weights;
     std::vector<std::string> names;
     Image features = NforFeatures(InputsOf(f), o, &weights, &names);
@@ -1736,6 +1739,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.layerNoiseCap = o.layerNoiseCap;
     p.demodulateDistance = !o.noDemodulatedDistance;
     p.albedoNoise = o.albedoNoise;
+    p.glintNoise = o.glintNoise;
     ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr,
                           covered ? &alpha : nullptr};
     std::vector<std::pair<std::string, Image>> cpu;
@@ -1798,6 +1802,49 @@ TEST_F(NforMethod, AlbedoTrustStagesMatchTheReference) {
     for (float bad : {-1.f, std::numeric_limits<float>::quiet_NaN(),
                       std::numeric_limits<float>::infinity()}) {
         o.albedoNoise = bad;
+        EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error) << bad;
+    }
+}
+
+// The glint floor: over a frame whose left half's albedo is noise with one glint (an albedo
+// above kNforGlintAlbedo) in it, the floor's stages (the raised pixels, the variance after)
+// match the reference and raise some pixels; off (0) or with no glint, no floor stage.
+TEST_F(NforMethod, GlintNoiseStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    bool glint = true;
+    auto noisy = [&](Frame *f, Image *) {
+        std::mt19937_64 rng(SeedFromName("stagesGlint"));
+        std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
+        const int w = f->color.width, h = f->color.height;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w / 2; ++x)
+                for (int c = 0; c < 3; ++c) f->albedo.At(c, y, x) = reflectance(rng);
+        if (glint) f->albedo.At(1, h / 2, w / 4) = 2 * kNforGlintAlbedo;
+    };
+    auto floored = [](const std::vector<std::string> &names) {
+        return std::count(names.begin(), names.end(), "glint") == 1 &&
+               std::count(names.begin(), names.end(), "glint.variance") == 1;
+    };
+    std::vector<std::string> names;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, false, false, noisy, &names);
+    EXPECT_TRUE(floored(names));
+    glint = false;
+    names.clear();
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, false, false, noisy, &names);
+    EXPECT_FALSE(floored(names)) << "no glint, no floor";
+    glint = true;
+    names.clear();
+    ExpectStagesMatch(Ctx(), 29, 23, o, true, false, false, false, noisy, &names);
+    EXPECT_FALSE(floored(names)) << "a variance layer, no floor";
+    o.glintNoise = 0;
+    names.clear();
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, false, false, noisy, &names);
+    EXPECT_FALSE(floored(names)) << "off";
+    Frame f = MakeFrame(7, 5, 0.3, "glintBound");
+    for (float bad : {-1.f, std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::infinity()}) {
+        o.glintNoise = bad;
         EXPECT_THROW(NforDenoise(Ctx(), InputsOf(f), o), Error) << bad;
     }
 }

@@ -22,6 +22,7 @@
 #include "host/api/front_end.h"
 #include "host/api/registry.h"
 #include "host/api/tiled_run.h"
+#include "host/methods/nfor.h"
 #include "host/methods/nfor_line.h"
 #include "host/methods/run_memo.h"
 #include "mcdenoise/mcdenoise.h"
@@ -776,9 +777,10 @@ TEST_F(GpuTest, TiledRunNforLineSpreadAcrossTheSeamIsBitIdentical) {
 }
 
 // nfor's halo grows by the line spread's reach on a frame with a light (an albedo channel
-// above the gate, beside a NaN one too), and says so; not on a frame without one.
+// above the gate, beside a NaN one too), and says so; not on a frame without one. The glint
+// floor (off here: its gate is such a light too) grows it further.
 TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
-    int reach[3] = {};
+    int reach[3] = {}, floored[3] = {};
     for (int lit : {0, 1, 2}) {
         SCOPED_TRACE(fmt::format("light {}", lit));
         Frame frame = RenderedFrame(64, 32, render::kLayersAll);
@@ -787,15 +789,17 @@ TEST_F(GpuTest, TiledRunNforHaloTakesTheLineSpreadNearALight) {
         if (lit > 0)
             for (int c = 0; c < 3; ++c) albedo.At(c, 16, 32) = 40.f;
         if (lit == 2) albedo.At(0, 16, 32) = std::nanf("");
-        std::unique_ptr<api::FrontEnd> nfor = api::FindMethod("nfor")->make();
-        api::Inputs inputs(frame, false, "nfor");
-        api::TileNeeds needs = nfor->Tiling(Ctx(), inputs);
+        api::TileNeeds needs = NeedsWith("nfor", {{"glint-noise", 0.f}}, frame);
         reach[lit] = needs.reach;
+        floored[lit] = NeedsWith("nfor", {}, frame).reach;
         const std::string text = fmt::format("{} for the line spread", kNforLineReach);
         EXPECT_EQ(needs.reachText.find(text) != std::string::npos, lit > 0) << needs.reachText;
     }
     EXPECT_EQ(reach[1], reach[0] + kNforLineReach);
     EXPECT_EQ(reach[2], reach[1]);
+    EXPECT_EQ(floored[0], reach[0]);
+    EXPECT_GT(floored[1], reach[1]);
+    EXPECT_EQ(floored[2], floored[1]);
 }
 
 // nfor on a plain frame over a transparent background (no variance layer, an alpha with
@@ -864,6 +868,79 @@ TEST_F(GpuTest, TiledRunNforNoisyAlbedoAcrossTheSeamIsBitIdentical) {
                                   line.find(": 0 pixels") == std::string::npos);
     EXPECT_TRUE(untrusted) << "the plan counts pixels whose albedo is noise";
     ExpectSameBits(whole.image, tiled.image, "nfor tiled, a noisy albedo across the seams");
+}
+
+// nfor's glint floor: a noisy albedo across the seams with glints (an albedo channel above
+// kNforGlintAlbedo) just either side of one and one 16 pixels off the other: the halo takes
+// the floor's gate and its guard, the result is the untiled one bit for bit, and the reach
+// and memory grow only on a frame with a glint.
+TEST_F(GpuTest, TiledRunNforGlintFloorAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 640, height = 24, tile = 160;
+    Frame frame = RenderedFrame(width, height, render::kLayersAll);
+    frame.layers.erase("variance");
+    Image &albedo = frame.layers.at("albedo");
+    std::mt19937_64 rng(SeedFromName("tiled glint floor"));
+    std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            if (x % tile < 24 || x % tile >= tile - 24)
+                for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = reflectance(rng);
+    // The other reaches at their smallest (no line spread, local means or pilot), so that a
+    // halo short of the floor's gate shows in the bits.
+    Params params = {{"radius", 3},
+                     {"line-spread", 0.f},
+                     {"nfor-mean-radius", 0},
+                     {"pilot-bandwidths", std::string("none")}};
+    const api::TileNeeds plain = NeedsWith("nfor", params, frame);
+    albedo.At(0, 12, tile - 2) = 2 * kNforGlintAlbedo;
+    albedo.At(1, 5, tile + 1) = 2 * kNforGlintAlbedo;
+    albedo.At(2, 18, 2 * tile + kNforGlintReach) = 2 * kNforGlintAlbedo;
+    const api::TileNeeds glints = NeedsWith("nfor", params, frame);
+    EXPECT_GT(glints.reach, plain.reach);
+    EXPECT_EQ(glints.bytesPerPixel, plain.bytesPerPixel + 8.0);
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_EQ(tiled.plan[0].find("1 tile(s)"), std::string::npos) << tiled.plan[0];
+    bool floored = false;
+    for (const std::string &line : whole.plan)
+        floored = floored || (line.find("glint floor:") != std::string::npos &&
+                              line.find(" at 0 pixels") == std::string::npos);
+    EXPECT_TRUE(floored) << "the plan counts the pixels the floor raised";
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, the glint floor across the seams");
+}
+
+// nfor's glint floor on a partly covered pixel whose straight albedo (albedo / alpha) passes
+// the gate, beside a seam, with no albedo above kNforGlintAlbedo as written: the reach grows
+// all the same and the tiled result is the untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforGlintFloorCountsAPartlyCoveredGlint) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 320, height = 24, tile = 160;
+    Frame frame = RenderedFrame(width, height, render::kLayersAll);
+    frame.layers.erase("variance");
+    frame.layers["alpha"] = Image(width, height, 1);
+    Image &albedo = frame.layers.at("albedo"), &alpha = frame.layers.at("alpha");
+    std::fill(alpha.data.begin(), alpha.data.end(), 1.f);
+    std::mt19937_64 rng(SeedFromName("tiled glint floor, partly covered"));
+    std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
+    for (int y = 0; y < height; ++y)
+        for (int x = tile - 24; x < tile + 24; ++x)
+            for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = reflectance(rng);
+    Params params = {{"radius", 3},
+                     {"line-spread", 0.f},
+                     {"nfor-mean-radius", 0},
+                     {"pilot-bandwidths", std::string("none")}};
+    const api::TileNeeds plain = NeedsWith("nfor", params, frame);
+    alpha.At(0, 12, tile + 2) = 0.5f;
+    albedo.At(0, 12, tile + 2) = 0.625f * kNforGlintAlbedo;
+    const api::TileNeeds glints = NeedsWith("nfor", params, frame);
+    EXPECT_GT(glints.reach, plain.reach);
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_EQ(tiled.plan[0].find("1 tile(s)"), std::string::npos) << tiled.plan[0];
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, a partly covered glint by a seam");
 }
 
 // nfor's memory per pixel counts the trust plane (one float) where the distance trusts an
