@@ -22,6 +22,7 @@
 #include "host/io/hints.h"
 #include "host/io/layer_names.h"
 #include "host/methods/auto.h"
+#include "host/methods/auto_object_floor.h"
 #include "host/methods/run_memo.h"
 
 namespace mcd::api {
@@ -185,6 +186,14 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "noise estimate); --auto-noise other than auto or --auto-combine mean "
                     "combine too",
                     &O::plain, {"nfor", "combine"}),
+        ChoiceParam("auto-object-floor",
+                    "with the relative combination on a frame with an objectId layer: an "
+                    "object whose luminance summed over it fell below every candidate's "
+                    "moves toward the candidates' weighted mean (the same weights) by the one "
+                    "fraction that brings the sum to the darkest candidate's, after the "
+                    "local-mean restore (after), before it (before), or never (off); "
+                    "--explain names each object moved",
+                    &O::objectFloor, {"after", "before", "off"}),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -974,6 +983,36 @@ void CheckNeededOptions(const AutoFrontEnd::Options &o) {
                     ErrorKind::InvalidArgument);
 }
 
+// Whether the object floor runs, else (with `why`) the plan's line on why not.
+bool FloorsObjects(const AutoFrontEnd::Options &o, const AutoOptions &c, Inputs &inputs,
+                   std::string *why) {
+    if (o.objectFloor == "off") return false;
+    if (c.combination != AutoCombination::Relative)
+        *why = "auto: object floor: left out (the combination is not the relative one)";
+    else if (!inputs.Has("objectId"))
+        *why = "auto: object floor: left out (the frame has no objectId layer)";
+    return why->empty();
+}
+
+// The object floor on `image` (host/methods/auto_object_floor.h), one plan line per object.
+void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
+                  const std::vector<const Image *> &outputs, const Image &weighted,
+                  const std::string &when, Image *image, std::vector<std::string> *plan) {
+    std::vector<AutoObjectMove> moved =
+        AutoObjectFloor(inputs.Get("objectId"), outputs, weighted, image);
+    if (moved.empty())
+        plan->push_back(fmt::format(
+            "auto: object floor ({} the local-mean restore): no object below every candidate",
+            when));
+    for (const AutoObjectMove &m : moved)
+        plan->push_back(fmt::format(
+            "auto: object floor ({} the local-mean restore): object {:g} ({} px) at {:.3f} of "
+            "its darkest candidate's luminance ({}) moved {:.3f} of the way to the "
+            "candidates' weighted mean ({:.3f} of it)",
+            when, m.id, m.pixels, m.before / m.target, list[m.darkest].label, m.alpha,
+            m.weighted / m.target));
+}
+
 }  // namespace
 
 AutoFrontEnd::AutoFrontEnd() {
@@ -1216,13 +1255,41 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     const bool check = noise.halves && options.meanRadius > 0 && options.meanCheck == "halves";
     Image half0 = check ? noise.half0 : Image();
     const AutoEstimateInputs estimate = EstimateInputs(noise, combine);
+    std::string noFloor;
+    const bool floor = FloorsObjects(options, combine, inputs, &noFloor);
+    combine.keepWeights = floor;
     AutoResult combined = AutoCombine(context, color, list, estimate, combine);
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
+    if (!noFloor.empty()) plan.push_back(noFloor);
+    // The floor's weighted mean reuses the combination's weights: no second combination.
+    std::vector<Image> outputs;
+    std::vector<const Image *> outputPointers;
+    for (AutoCandidate &c : list) outputPointers.push_back(&c.output);
+    Image weighted;
+    if (floor) {
+        weighted = AutoWeightedMean(outputPointers, combined.weights, combined.image);
+        combined.weights = Image();
+        // After the restore the move is the weighted mean's over the combination, from the
+        // restored value: minus the combination now, plus the restored value below.
+        if (options.objectFloor == "after")
+            for (size_t i = 0; i < weighted.data.size(); ++i)
+                weighted.data[i] -= combined.image.data[i];
+        if (options.objectFloor == "before")
+            FloorObjects(inputs, list, outputPointers, weighted, "before", &combined.image,
+                         &plan);
+    }
     Result result = ResultOf(std::move(combined));
     const Image *variance = inputs.Has("variance") ? &inputs.Get("variance") : nullptr;
     if (check) {
-        // The candidates' outputs are combined: their half0 runs take their place.
-        for (AutoCandidate &c : list) c.output = c.probe;
+        // The candidates' outputs are combined: their half0 runs take their place (the
+        // floor after the restore keeps the outputs).
+        const bool keep = floor && options.objectFloor == "after";
+        outputPointers.clear();
+        for (AutoCandidate &c : list) {
+            if (keep) outputs.push_back(std::move(c.output));
+            c.output = c.probe;
+        }
+        for (const Image &output : outputs) outputPointers.push_back(&output);
         AutoOptions quiet = combine;
         quiet.keepStages = quiet.map = false;
         quiet.meanGuardVarianceScale = 2;  // half0 holds half the samples
@@ -1246,6 +1313,11 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         plan.push_back("auto: local mean: " +
                        RestoreLocalMeansRebalanced(color, options.meanRadius, &result.image,
                                                    variance, kLocalMeanRebalanceAuto));
+    }
+    if (floor && options.objectFloor == "after") {
+        for (size_t i = 0; i < weighted.data.size(); ++i)
+            weighted.data[i] += result.image.data[i];
+        FloorObjects(inputs, list, outputPointers, weighted, "after", &result.image, &plan);
     }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();

@@ -116,6 +116,11 @@ class AutoFrontEnd : public FrontEnd {
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
+        // Beside the relative combination on a frame with an objectId layer: each object
+        // whose luminance sum fell below every candidate's is brought to the darkest one's,
+        // "after" or "before" the local-mean restore, or "off" (issue 29,
+        // host/methods/auto_object_floor.h).
+        std::string objectFloor = "after";
         // The parameters the user set (not a parameter): auto's settings for the
         // candidates' (MethodEntry::autoSettings) give way; an option that needs another
         // is refused without it.

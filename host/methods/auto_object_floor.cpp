@@ -1,0 +1,106 @@
+// Method `auto`'s object floor (host/methods/auto_object_floor.h).
+#include "host/methods/auto_object_floor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace mcd {
+namespace {
+
+// Rec. 709 luminance of the first three channels, else the channels' mean.
+double Luminance(const Image &image, size_t i) {
+    const size_t pixels = image.PixelCount();
+    if (image.channels >= 3)
+        return 0.2126 * image.data[i] + 0.7152 * image.data[pixels + i] +
+               0.0722 * image.data[2 * pixels + i];
+    double sum = 0;
+    for (int c = 0; c < image.channels; ++c) sum += image.data[c * pixels + i];
+    return sum / image.channels;
+}
+
+// One object's sums over the pixels that count.
+struct ObjectSums {
+    size_t pixels = 0;
+    double image = 0, weighted = 0;
+    std::vector<double> outputs;
+};
+
+}  // namespace
+
+Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &weights,
+                       const Image &image) {
+    const size_t pixels = image.PixelCount();
+    Image mean = image;
+    for (size_t i = 0; i < pixels; ++i) {
+        double total = 0;
+        for (size_t k = 0; k < outputs.size(); ++k) {
+            float w = weights.data[k * pixels + i];
+            if (w > 0 && std::isfinite(w)) total += w;
+        }
+        if (!(total > 0)) continue;
+        for (int c = 0; c < image.channels; ++c) {
+            double sum = 0;
+            for (size_t k = 0; k < outputs.size(); ++k) {
+                float w = weights.data[k * pixels + i];
+                float v = outputs[k]->data[c * pixels + i];
+                if (w > 0 && std::isfinite(w) && std::isfinite(v)) sum += w / total * v;
+            }
+            mean.data[c * pixels + i] = float(sum);
+        }
+    }
+    return mean;
+}
+
+std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
+                                            const std::vector<const Image *> &outputs,
+                                            const Image &weighted, Image *image) {
+    const size_t pixels = image->PixelCount();
+    // Each pixel's id where every image's luminance there is finite, else NaN.
+    std::vector<float> pixelIds(pixels, NAN);
+    std::map<float, ObjectSums> objects;
+    std::vector<double> lum(outputs.size());
+    for (size_t i = 0; i < pixels; ++i) {
+        float id = ids.data[i];
+        double own = Luminance(*image, i), mean = Luminance(weighted, i);
+        bool finite = std::isfinite(id) && std::isfinite(own) && std::isfinite(mean);
+        for (size_t k = 0; k < outputs.size(); ++k) {
+            lum[k] = Luminance(*outputs[k], i);
+            finite = finite && std::isfinite(lum[k]);
+        }
+        if (!finite) continue;
+        pixelIds[i] = id;
+        ObjectSums &sums = objects[id];
+        sums.outputs.resize(outputs.size(), 0.0);
+        ++sums.pixels;
+        sums.image += own;
+        sums.weighted += mean;
+        for (size_t k = 0; k < outputs.size(); ++k) sums.outputs[k] += lum[k];
+    }
+    // The fraction each object moves: its sum brought to the darkest candidate's.
+    std::map<float, double> alphas;
+    std::vector<AutoObjectMove> moved;
+    for (const auto &[id, sums] : objects) {
+        if (sums.outputs.empty()) continue;
+        int darkest = int(std::min_element(sums.outputs.begin(), sums.outputs.end()) -
+                          sums.outputs.begin());
+        double target = sums.outputs[darkest];
+        if (!(sums.image < target) || !(sums.weighted > sums.image)) continue;
+        double alpha = std::min(1.0, (target - sums.image) / (sums.weighted - sums.image));
+        alphas[id] = alpha;
+        moved.push_back({id, sums.pixels, sums.image, target, sums.weighted, darkest, alpha});
+    }
+    if (alphas.empty()) return moved;
+    for (size_t i = 0; i < pixels; ++i) {
+        if (std::isnan(pixelIds[i])) continue;
+        auto it = alphas.find(pixelIds[i]);
+        if (it == alphas.end()) continue;
+        for (int c = 0; c < image->channels; ++c) {
+            float &v = image->data[c * pixels + i];
+            v = float(v + it->second * (double(weighted.data[c * pixels + i]) - v));
+        }
+    }
+    return moved;
+}
+
+}  // namespace mcd
