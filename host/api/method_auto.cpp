@@ -190,8 +190,10 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "with the relative combination on a frame with an objectId layer: an "
                     "object whose luminance summed over it fell below every candidate's "
                     "moves toward the candidates' weighted mean (the same weights) by the one "
-                    "fraction that brings the sum to the darkest candidate's, after the "
-                    "local-mean restore (after), before it (before), or never (off); "
+                    "fraction that brings the sum to the darkest candidate's: after the "
+                    "local-mean restore (after; the move is the weighted mean's over the "
+                    "combination, the restore's change kept), before it (before), or never "
+                    "(off); "
                     "--explain names each object moved",
                     &O::objectFloor, {"after", "before", "off"}),
         ChoiceParam("auto-candidates",
@@ -1106,8 +1108,8 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // it costs, nfor's coarse gate) is not the tiles'.
     const unsigned estimate = EstimateOnLayers(inputs, options);
     needs.notLocal =
-        "auto: each tile fixes its candidates' frame-wide quantities, its own estimates and "
-        "the restore's gain and lift";
+        "auto: each tile fixes its candidates' frame-wide quantities, its own estimates, "
+        "the restore's gain and lift and the object floor's sums";
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
