@@ -188,14 +188,19 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     &O::plain, {"nfor", "combine"}),
         ChoiceParam("auto-object-floor",
                     "with the relative combination on a frame with an objectId layer: an "
-                    "object whose luminance summed over it fell below every candidate's "
-                    "moves toward the candidates' weighted mean (the same weights) by the one "
-                    "fraction that brings the sum to the darkest candidate's: after the "
+                    "object whose luminance summed over it fell below "
+                    "--auto-object-floor-level times the darkest candidate's moves toward the "
+                    "candidates' weighted mean (the same weights) by the one fraction that "
+                    "brings the sum to that level: after the "
                     "local-mean restore (after; the move is the weighted mean's over the "
                     "combination, the restore's change kept), before it (before), or never "
                     "(off); "
                     "--explain names each object moved",
                     &O::objectFloor, {"after", "before", "off"}),
+        FloatParam("auto-object-floor-level",
+                   "with --auto-object-floor after or before: the share of the darkest "
+                   "candidate's luminance sum an object is held to (1: all of it)",
+                   &O::objectFloorLevel, 0.5, 1),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -999,13 +1004,16 @@ bool FloorsObjects(const AutoFrontEnd::Options &o, const AutoOptions &c, Inputs 
 // The object floor on `image` (host/methods/auto_object_floor.h), one plan line per object.
 void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
                   const std::vector<const Image *> &outputs, const Image &weighted,
-                  const std::string &when, Image *image, std::vector<std::string> *plan) {
+                  const std::string &when, double level, Image *image,
+                  std::vector<std::string> *plan) {
     std::vector<AutoObjectMove> moved =
-        AutoObjectFloor(inputs.Get("objectId"), outputs, weighted, image);
+        AutoObjectFloor(inputs.Get("objectId"), outputs, weighted, level, image);
     if (moved.empty())
-        plan->push_back(fmt::format(
-            "auto: object floor ({} the local-mean restore): no object below every candidate",
-            when));
+        plan->push_back(
+            fmt::format("auto: object floor ({} the local-mean restore): no object below {:g} "
+                        "of its darkest "
+                        "candidate's luminance",
+                        when, level));
     for (const AutoObjectMove &m : moved)
         plan->push_back(fmt::format(
             "auto: object floor ({} the local-mean restore): object {:g} ({} px) at {:.3f} of "
@@ -1277,8 +1285,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
             for (size_t i = 0; i < weighted.data.size(); ++i)
                 weighted.data[i] -= combined.image.data[i];
         if (options.objectFloor == "before")
-            FloorObjects(inputs, list, outputPointers, weighted, "before", &combined.image,
-                         &plan);
+            FloorObjects(inputs, list, outputPointers, weighted, "before",
+                         options.objectFloorLevel, &combined.image, &plan);
     }
     Result result = ResultOf(std::move(combined));
     const Image *variance = inputs.Has("variance") ? &inputs.Get("variance") : nullptr;
@@ -1319,7 +1327,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     if (floor && options.objectFloor == "after") {
         for (size_t i = 0; i < weighted.data.size(); ++i)
             weighted.data[i] += result.image.data[i];
-        FloorObjects(inputs, list, outputPointers, weighted, "after", &result.image, &plan);
+        FloorObjects(inputs, list, outputPointers, weighted, "after", options.objectFloorLevel,
+                     &result.image, &plan);
     }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();

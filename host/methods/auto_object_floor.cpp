@@ -54,7 +54,7 @@ Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &w
 
 std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
                                             const std::vector<const Image *> &outputs,
-                                            const Image &weighted, Image *image) {
+                                            const Image &weighted, double level, Image *image) {
     const size_t pixels = image->PixelCount();
     // Each pixel's id where every image's luminance there is finite, else NaN.
     std::vector<float> pixelIds(pixels, NAN);
@@ -77,16 +77,16 @@ std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
         sums.weighted += mean;
         for (size_t k = 0; k < outputs.size(); ++k) sums.outputs[k] += lum[k];
     }
-    // The fraction each object moves: its sum brought to the darkest candidate's.
+    // The fraction each object moves: its sum brought to `level` times the darkest candidate's.
     std::map<float, double> alphas;
     std::vector<AutoObjectMove> moved;
     for (const auto &[id, sums] : objects) {
         if (sums.outputs.empty()) continue;
         int darkest = int(std::min_element(sums.outputs.begin(), sums.outputs.end()) -
                           sums.outputs.begin());
-        double target = sums.outputs[darkest];
-        if (!(sums.image < target) || !(sums.weighted > sums.image)) continue;
-        double alpha = std::min(1.0, (target - sums.image) / (sums.weighted - sums.image));
+        double target = sums.outputs[darkest], floor = level * target;
+        if (!(sums.image < floor) || !(sums.weighted > sums.image)) continue;
+        double alpha = std::min(1.0, (floor - sums.image) / (sums.weighted - sums.image));
         alphas[id] = alpha;
         moved.push_back({id, sums.pixels, sums.image, target, sums.weighted, darkest, alpha});
     }

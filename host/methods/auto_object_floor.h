@@ -1,9 +1,9 @@
 // Method `auto`'s object floor (issue 29): the relative combination leans to the darkest
 // candidate where the candidates disagree, and where different candidates are dark at
 // different pixels an object's mean falls below every candidate's. Per object id, where
-// the combination's luminance summed over the object is below the darkest candidate's,
-// each pixel of the object moves toward the candidates' weighted mean by the one fraction
-// that brings the sum to that candidate's (docs/methods/auto.md).
+// the combination's luminance summed over the object is below a level (a share) of the
+// darkest candidate's, each pixel of the object moves toward the candidates' weighted mean
+// by the one fraction that brings the sum to that level (docs/methods/auto.md).
 #pragma once
 
 #include <cstddef>
@@ -29,13 +29,14 @@ struct AutoObjectMove {
 Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &weights,
                        const Image &image);
 
-// Floor `image` per object of `ids` (image's size, its first channel the id) at the darkest
-// of `outputs` (the candidates') by moving toward `weighted` (image's shape). Luminance is
+// Floor `image` per object of `ids` (image's size, its first channel the id) at `level` times
+// the darkest of `outputs`' sums (the candidates') by moving toward `weighted` (image's
+// shape). Luminance is
 // Rec. 709's of the first three channels, else the channels' mean. Pixels with a
 // non-finite id or value in any image are left out of the sums and left as they are.
 // Returns the objects moved, by id.
 std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
                                             const std::vector<const Image *> &outputs,
-                                            const Image &weighted, Image *image);
+                                            const Image &weighted, double level, Image *image);
 
 }  // namespace mcd

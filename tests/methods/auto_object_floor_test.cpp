@@ -83,7 +83,7 @@ TEST(AutoObjectFloor, BringsADarkenedObjectToItsDarkestCandidateAndLeavesTheOthe
               ObjectSum(f.candidates[0], f.ids, 2).first);
 
     Image floored = relative.color;
-    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, weighted, &floored);
+    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, weighted, 1, &floored);
     ASSERT_EQ(moved.size(), 1u);
     EXPECT_EQ(moved[0].id, 1.f);
     EXPECT_EQ(moved[0].darkest, 0);
@@ -99,6 +99,11 @@ TEST(AutoObjectFloor, BringsADarkenedObjectToItsDarkestCandidateAndLeavesTheOthe
                 ASSERT_EQ(floored.At(c, y, x), relative.color.At(c, y, x)) << c << y << x;
     // Without the floor's move the weighted mean's object 1 is brighter than the darkest.
     EXPECT_GT(ObjectSum(weighted, f.ids, 1).first, darkest);
+    // A lower level holds the object to that share of the darkest candidate's sum.
+    Image lower = relative.color;
+    ASSERT_EQ(AutoObjectFloor(f.ids, outputs, weighted, 0.9, &lower).size(), 1u);
+    auto [lowerSum, lowerMagnitude] = ObjectSum(lower, f.ids, 1);
+    EXPECT_NEAR(lowerSum, 0.9 * darkest, 4 * kUnitRoundoff * lowerMagnitude);
 }
 
 TEST(AutoObjectFloor, WeightedMeanKeepsTheImageWhereNoCandidateWeighs) {
