@@ -1275,16 +1275,15 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     std::vector<Image> outputs;
     std::vector<const Image *> outputPointers;
     for (AutoCandidate &c : list) outputPointers.push_back(&c.output);
-    Image weighted;
+    Image weighted, unrestored;
     if (floor) {
         weighted = AutoWeightedMean(outputPointers, combined.weights, combined.image);
         combined.weights = Image();
-        // After the restore the move is the weighted mean's over the combination, from the
-        // restored value: minus the combination now, plus the restored value below.
+        // After the restore the target is the restored value plus the weighted mean's
+        // excess over this unrestored combination (AutoFloorTarget).
         if (options.objectFloor == "after")
-            for (size_t i = 0; i < weighted.data.size(); ++i)
-                weighted.data[i] -= combined.image.data[i];
-        if (options.objectFloor == "before")
+            unrestored = combined.image;
+        else
             FloorObjects(inputs, list, outputPointers, weighted, "before",
                          options.objectFloorLevel, &combined.image, &plan);
     }
@@ -1301,7 +1300,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         }
         for (const Image &output : outputs) outputPointers.push_back(&output);
         AutoOptions quiet = combine;
-        quiet.keepStages = quiet.map = false;
+        quiet.keepStages = quiet.map = quiet.keepWeights = false;
         quiet.meanGuardVarianceScale = 2;  // half0 holds half the samples
         Image combinedHalf = AutoCombine(context, half0, list, estimate, quiet).image;
         Image combinedFull = std::move(result.image);
@@ -1325,8 +1324,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                                                    variance, kLocalMeanRebalanceAuto));
     }
     if (floor && options.objectFloor == "after") {
-        for (size_t i = 0; i < weighted.data.size(); ++i)
-            weighted.data[i] += result.image.data[i];
+        weighted = AutoFloorTarget(weighted, unrestored, result.image);
+        unrestored = Image();
         FloorObjects(inputs, list, outputPointers, weighted, "after", options.objectFloorLevel,
                      &result.image, &plan);
     }

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <map>
 
+#include <fmt/format.h>
+
+#include "host/error.h"
+
 namespace mcd {
 namespace {
 
@@ -31,25 +35,48 @@ struct ObjectSums {
 Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &weights,
                        const Image &image) {
     const size_t pixels = image.PixelCount();
+    bool shapes = weights.width == image.width && weights.height == image.height &&
+                  size_t(weights.channels) == outputs.size() &&
+                  weights.data.size() == pixels * outputs.size();
+    for (const Image *output : outputs) shapes = shapes && output->SameShape(image);
+    if (!shapes)
+        throw Error(
+            fmt::format("auto: the weighted mean needs one weight plane per output ({}) "
+                        "and outputs of the image's shape",
+                        outputs.size()),
+            ErrorKind::InvalidArgument);
     Image mean = image;
-    for (size_t i = 0; i < pixels; ++i) {
-        double total = 0;
-        for (size_t k = 0; k < outputs.size(); ++k) {
-            float w = weights.data[k * pixels + i];
-            if (w > 0 && std::isfinite(w)) total += w;
-        }
-        if (!(total > 0)) continue;
+    for (size_t i = 0; i < pixels; ++i)
         for (int c = 0; c < image.channels; ++c) {
-            double sum = 0;
-            for (size_t k = 0; k < outputs.size(); ++k) {
+            // Normalise over the pairs that count, so a non-finite value biases nothing.
+            auto counts = [&](size_t k) {
                 float w = weights.data[k * pixels + i];
-                float v = outputs[k]->data[c * pixels + i];
-                if (w > 0 && std::isfinite(w) && std::isfinite(v)) sum += w / total * v;
-            }
+                return w > 0 && std::isfinite(w) &&
+                       std::isfinite(outputs[k]->data[c * pixels + i]);
+            };
+            double total = 0;
+            for (size_t k = 0; k < outputs.size(); ++k)
+                if (counts(k)) total += weights.data[k * pixels + i];
+            if (!(total > 0)) continue;
+            double sum = 0;
+            for (size_t k = 0; k < outputs.size(); ++k)
+                if (counts(k))
+                    sum +=
+                        weights.data[k * pixels + i] / total * outputs[k]->data[c * pixels + i];
             mean.data[c * pixels + i] = float(sum);
         }
-    }
     return mean;
+}
+
+Image AutoFloorTarget(const Image &weightedMean, const Image &combination,
+                      const Image &restored) {
+    if (!weightedMean.SameShape(combination) || !weightedMean.SameShape(restored))
+        throw Error("auto: the floor's target needs images of one shape",
+                    ErrorKind::InvalidArgument);
+    Image target = restored;
+    for (size_t i = 0; i < target.data.size(); ++i)
+        target.data[i] = restored.data[i] + (weightedMean.data[i] - combination.data[i]);
+    return target;
 }
 
 std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
@@ -85,6 +112,7 @@ std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
         int darkest = int(std::min_element(sums.outputs.begin(), sums.outputs.end()) -
                           sums.outputs.begin());
         double target = sums.outputs[darkest], floor = level * target;
+        if (!(target > 0)) continue;  // a level of a sum at or below 0 is no floor
         if (!(sums.image < floor) || !(sums.weighted > sums.image)) continue;
         double alpha = std::min(1.0, (floor - sums.image) / (sums.weighted - sums.image));
         alphas[id] = alpha;

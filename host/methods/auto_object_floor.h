@@ -25,15 +25,24 @@ struct AutoObjectMove {
 };
 
 // The weighted mean of `outputs` (each `image`'s shape) under `weights` (one plane per
-// output, as the combination returns them); `image`'s value where the weights are all 0.
+// output, as the combination returns them), per channel over the pairs of a positive finite
+// weight and a finite value; `image`'s value where there is no such pair. Throws where the
+// shapes do not match.
 Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &weights,
                        const Image &image);
+
+// The floor's target after the local-mean restore: `restored` plus the weighted mean's
+// excess over the unrestored `combination`, so the floor keeps the restore's change.
+// Throws where the shapes do not match.
+Image AutoFloorTarget(const Image &weightedMean, const Image &combination,
+                      const Image &restored);
 
 // Floor `image` per object of `ids` (image's size, its first channel the id) at `level` times
 // the darkest of `outputs`' sums (the candidates') by moving toward `weighted` (image's
 // shape). Luminance is
 // Rec. 709's of the first three channels, else the channels' mean. Pixels with a
 // non-finite id or value in any image are left out of the sums and left as they are.
+// Objects whose darkest sum is not positive are left as they are.
 // Returns the objects moved, by id.
 std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
                                             const std::vector<const Image *> &outputs,

@@ -115,6 +115,65 @@ TEST(AutoObjectFloor, WeightedMeanKeepsTheImageWhereNoCandidateWeighs) {
     EXPECT_EQ(mean.data[1], 7.f);
 }
 
+// The default path, after the local-mean restore: a stand-in restore (a gain and a lift)
+// changes the combination (object 2 stays above its darkest), the floor moves from the restored
+// value by alpha times the weighted mean's excess over the unrestored combination, and reaches
+// the darkest's sum.
+TEST(AutoObjectFloor, AfterTheRestoreKeepsTheRestoresChangeAndReachesTheDarkest) {
+    const int w = 9, h = 7;
+    TwoObjects f = MakeTwoObjects(w, h);
+    ref::AutoCombined relative =
+        ref::AutoCombineRelative(f.color, f.candidates, f.errors, f.variance, 2, 1e-5, 30, 4);
+    std::vector<const Image *> outputs = {&f.candidates[0], &f.candidates[1]};
+    const Image mean = AutoWeightedMean(outputs, relative.weights, relative.color);
+    Image restored = relative.color;
+    for (float &v : restored.data) v = 0.9f * v + 0.25f;
+    const Image target = AutoFloorTarget(mean, relative.color, restored);
+    Image floored = restored;
+    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, target, 1, &floored);
+    ASSERT_EQ(moved.size(), 1u);
+    EXPECT_EQ(moved[0].id, 1.f);
+    ASSERT_GT(moved[0].alpha, 0);
+    ASSERT_LT(moved[0].alpha, 1);
+    const double darkest = ObjectSum(f.candidates[0], f.ids, 1).first;
+    auto [sum, magnitude] = ObjectSum(floored, f.ids, 1);
+    EXPECT_NEAR(sum, darkest, 4 * kUnitRoundoff * magnitude);
+    // Each moved value: the target's two float roundings (scaled by alpha) and the move's.
+    const double alpha = moved[0].alpha;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double r = restored.At(c, y, x), m = mean.At(c, y, x);
+                double u = relative.color.At(c, y, x);
+                double expected = x < w / 2 ? r + alpha * (m - u) : r;
+                EXPECT_NEAR(floored.At(c, y, x), expected,
+                            4 * kUnitRoundoff * (std::abs(r) + std::abs(m) + std::abs(u)))
+                    << c << " " << y << " " << x;
+            }
+    EXPECT_THROW(AutoFloorTarget(mean, Image(w, h, 1), restored), Error);
+}
+
+TEST(AutoObjectFloor, LeavesAnObjectWhoseDarkestSumIsNotPositive) {
+    Image ids(3, 2, 1, 1.f), a(3, 2, 3, -1.f), b(3, 2, 3, -0.5f);
+    Image image(3, 2, 3, -3.f), weighted(3, 2, 3, -0.75f);
+    const Image before = image;
+    EXPECT_TRUE(AutoObjectFloor(ids, {&a, &b}, weighted, 0.98, &image).empty());
+    EXPECT_EQ(image.data, before.data);
+}
+
+TEST(AutoObjectFloor, WeightedMeanNormalisesOverFinitePairsAndChecksShapes) {
+    Image image(1, 1, 2), weights(1, 1, 2), a(1, 1, 2), b(1, 1, 2, 5.f);
+    image.data = {7.f, 7.f};
+    a.data = {NAN, 3.f};
+    weights.data = {0.25f, 0.75f};  // a 1/4, b 3/4; a's channel 0 is not finite
+    Image mean = AutoWeightedMean({&a, &b}, weights, image);
+    EXPECT_FLOAT_EQ(mean.data[0], 5.f);
+    EXPECT_FLOAT_EQ(mean.data[1], 4.5f);
+    EXPECT_THROW(AutoWeightedMean({&a, &b}, Image(), image), Error);
+    EXPECT_THROW(AutoWeightedMean({&a, &b}, Image(1, 1, 1), image), Error);
+    EXPECT_THROW(AutoWeightedMean({&a, &b}, weights, Image(2, 1, 2)), Error);
+}
+
 // The front end: without an objectId layer the output is the floor-off one bit for bit,
 // and --explain says why; with ids, every pixel outside the objects moved is the floor-off
 // one's, and each object moved is no longer below its darkest candidate's share.
