@@ -1006,8 +1006,15 @@ void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
                   const std::vector<const Image *> &outputs, const Image &weighted,
                   const std::string &when, double level, Image *image,
                   std::vector<std::string> *plan) {
+    size_t small = 0;
     std::vector<AutoObjectMove> moved =
-        AutoObjectFloor(inputs.Get("objectId"), outputs, weighted, level, image);
+        AutoObjectFloor(inputs.Get("objectId"), outputs, weighted, level, image,
+                        kAutoObjectFloorMinPixels, &small);
+    if (small > 0)
+        plan->push_back(
+            fmt::format("auto: object floor ({} the local-mean restore): left out {} "
+                        "object{} of fewer than {} px",
+                        when, small, small > 1 ? "s" : "", kAutoObjectFloorMinPixels));
     if (moved.empty())
         plan->push_back(
             fmt::format("auto: object floor ({} the local-mean restore): no object below {:g} "

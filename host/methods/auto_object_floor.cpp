@@ -81,7 +81,8 @@ Image AutoFloorTarget(const Image &weightedMean, const Image &combination,
 
 std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
                                             const std::vector<const Image *> &outputs,
-                                            const Image &weighted, double level, Image *image) {
+                                            const Image &weighted, double level, Image *image,
+                                            size_t minPixels, size_t *small) {
     const size_t pixels = image->PixelCount();
     // Each pixel's id where every image's luminance there is finite, else NaN.
     std::vector<float> pixelIds(pixels, NAN);
@@ -107,7 +108,12 @@ std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
     // The fraction each object moves: its sum brought to `level` times the darkest candidate's.
     std::map<float, double> alphas;
     std::vector<AutoObjectMove> moved;
+    if (small) *small = 0;
     for (const auto &[id, sums] : objects) {
+        if (sums.pixels < minPixels) {
+            if (small) ++*small;
+            continue;
+        }
         if (sums.outputs.empty()) continue;
         int darkest = int(std::min_element(sums.outputs.begin(), sums.outputs.end()) -
                           sums.outputs.begin());

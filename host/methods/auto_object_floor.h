@@ -13,6 +13,9 @@
 
 namespace mcd {
 
+// The fewest pixels an object needs for the floor to move it.
+constexpr size_t kAutoObjectFloorMinPixels = 64;
+
 // One object the floor moved.
 struct AutoObjectMove {
     float id = 0;
@@ -42,10 +45,13 @@ Image AutoFloorTarget(const Image &weightedMean, const Image &combination,
 // shape). Luminance is
 // Rec. 709's of the first three channels, else the channels' mean. Pixels with a
 // non-finite id or value in any image are left out of the sums and left as they are.
-// Objects whose darkest sum is not positive are left as they are.
-// Returns the objects moved, by id.
+// Objects whose darkest sum is not positive, and objects of fewer than `minPixels` pixels
+// that count (their sums are too few pixels to floor; counted in `small` where given), are
+// left as they are. Id 0 is an object like any other. Returns the objects moved, by id.
 std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
                                             const std::vector<const Image *> &outputs,
-                                            const Image &weighted, double level, Image *image);
+                                            const Image &weighted, double level, Image *image,
+                                            size_t minPixels = kAutoObjectFloorMinPixels,
+                                            size_t *small = nullptr);
 
 }  // namespace mcd

@@ -83,7 +83,8 @@ TEST(AutoObjectFloor, BringsADarkenedObjectToItsDarkestCandidateAndLeavesTheOthe
               ObjectSum(f.candidates[0], f.ids, 2).first);
 
     Image floored = relative.color;
-    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, weighted, 1, &floored);
+    std::vector<AutoObjectMove> moved =
+        AutoObjectFloor(f.ids, outputs, weighted, 1, &floored, 1);
     ASSERT_EQ(moved.size(), 1u);
     EXPECT_EQ(moved[0].id, 1.f);
     EXPECT_EQ(moved[0].darkest, 0);
@@ -99,9 +100,16 @@ TEST(AutoObjectFloor, BringsADarkenedObjectToItsDarkestCandidateAndLeavesTheOthe
                 ASSERT_EQ(floored.At(c, y, x), relative.color.At(c, y, x)) << c << y << x;
     // Without the floor's move the weighted mean's object 1 is brighter than the darkest.
     EXPECT_GT(ObjectSum(weighted, f.ids, 1).first, darkest);
+    // Objects of fewer pixels than the minimum (28 and 35 here) are left, and counted.
+    Image few = relative.color;
+    size_t small = 0;
+    EXPECT_TRUE(AutoObjectFloor(f.ids, outputs, weighted, 1, &few, 29, &small).empty());
+    EXPECT_EQ(small, 1u);
+    EXPECT_EQ(few.data, relative.color.data);
+    EXPECT_TRUE(AutoObjectFloor(f.ids, outputs, weighted, 1, &few).empty());  // 64 px
     // A lower level holds the object to that share of the darkest candidate's sum.
     Image lower = relative.color;
-    ASSERT_EQ(AutoObjectFloor(f.ids, outputs, weighted, 0.9, &lower).size(), 1u);
+    ASSERT_EQ(AutoObjectFloor(f.ids, outputs, weighted, 0.9, &lower, 1).size(), 1u);
     auto [lowerSum, lowerMagnitude] = ObjectSum(lower, f.ids, 1);
     EXPECT_NEAR(lowerSum, 0.9 * darkest, 4 * kUnitRoundoff * lowerMagnitude);
 }
@@ -130,7 +138,7 @@ TEST(AutoObjectFloor, AfterTheRestoreKeepsTheRestoresChangeAndReachesTheDarkest)
     for (float &v : restored.data) v = 0.9f * v + 0.25f;
     const Image target = AutoFloorTarget(mean, relative.color, restored);
     Image floored = restored;
-    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, target, 1, &floored);
+    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, target, 1, &floored, 1);
     ASSERT_EQ(moved.size(), 1u);
     EXPECT_EQ(moved[0].id, 1.f);
     ASSERT_GT(moved[0].alpha, 0);
@@ -157,7 +165,7 @@ TEST(AutoObjectFloor, LeavesAnObjectWhoseDarkestSumIsNotPositive) {
     Image ids(3, 2, 1, 1.f), a(3, 2, 3, -1.f), b(3, 2, 3, -0.5f);
     Image image(3, 2, 3, -3.f), weighted(3, 2, 3, -0.75f);
     const Image before = image;
-    EXPECT_TRUE(AutoObjectFloor(ids, {&a, &b}, weighted, 0.98, &image).empty());
+    EXPECT_TRUE(AutoObjectFloor(ids, {&a, &b}, weighted, 0.98, &image, 1).empty());
     EXPECT_EQ(image.data, before.data);
 }
 
