@@ -1030,6 +1030,23 @@ void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
             m.weighted / m.target));
 }
 
+// The floor's weighted mean from the combination's own weights (no second combination),
+// which are dropped. Before the restore the floor moves the combination now; after it, the
+// target is the restored value plus the weighted mean's excess over the unrestored
+// combination kept here (AutoFloorTarget).
+void StartFloor(const AutoFrontEnd::Options &options, Inputs &inputs,
+                const std::vector<AutoCandidate> &list,
+                const std::vector<const Image *> &outputs, AutoResult *combined,
+                Image *weighted, Image *unrestored, std::vector<std::string> *plan) {
+    *weighted = AutoWeightedMean(outputs, combined->weights, combined->image);
+    combined->weights = Image();
+    if (options.objectFloor == "after")
+        *unrestored = combined->image;
+    else
+        FloorObjects(inputs, list, outputs, *weighted, "before", options.objectFloorLevel,
+                     &combined->image, plan);
+}
+
 }  // namespace
 
 AutoFrontEnd::AutoFrontEnd() {
@@ -1283,17 +1300,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     std::vector<const Image *> outputPointers;
     for (AutoCandidate &c : list) outputPointers.push_back(&c.output);
     Image weighted, unrestored;
-    if (floor) {
-        weighted = AutoWeightedMean(outputPointers, combined.weights, combined.image);
-        combined.weights = Image();
-        // After the restore the target is the restored value plus the weighted mean's
-        // excess over this unrestored combination (AutoFloorTarget).
-        if (options.objectFloor == "after")
-            unrestored = combined.image;
-        else
-            FloorObjects(inputs, list, outputPointers, weighted, "before",
-                         options.objectFloorLevel, &combined.image, &plan);
-    }
+    if (floor)
+        StartFloor(options, inputs, list, outputPointers, &combined, &weighted, &unrestored,
+                   &plan);
     Result result = ResultOf(std::move(combined));
     const Image *variance = inputs.Has("variance") ? &inputs.Get("variance") : nullptr;
     if (check) {
