@@ -22,6 +22,7 @@
 #include "host/io/hints.h"
 #include "host/io/layer_names.h"
 #include "host/methods/auto.h"
+#include "host/methods/auto_object_floor.h"
 #include "host/methods/run_memo.h"
 
 namespace mcd::api {
@@ -185,6 +186,21 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "noise estimate); --auto-noise other than auto or --auto-combine mean "
                     "combine too",
                     &O::plain, {"nfor", "combine"}),
+        ChoiceParam("auto-object-floor",
+                    "with the relative combination on a frame with an objectId layer: an "
+                    "object whose luminance summed over it fell below "
+                    "--auto-object-floor-level times the darkest candidate's moves toward the "
+                    "candidates' weighted mean (the same weights) by the one fraction that "
+                    "brings the sum to that level: after the "
+                    "local-mean restore (after; the move is the weighted mean's over the "
+                    "combination, the restore's change kept), before it (before), or never "
+                    "(off); "
+                    "--explain names each object moved",
+                    &O::objectFloor, {"after", "before", "off"}),
+        FloatParam("auto-object-floor-level",
+                   "with --auto-object-floor after or before: the share of the darkest "
+                   "candidate's luminance sum an object is held to (1: all of it)",
+                   &O::objectFloorLevel, 0.5, 1),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -974,6 +990,63 @@ void CheckNeededOptions(const AutoFrontEnd::Options &o) {
                     ErrorKind::InvalidArgument);
 }
 
+// Whether the object floor runs, else (with `why`) the plan's line on why not.
+bool FloorsObjects(const AutoFrontEnd::Options &o, const AutoOptions &c, Inputs &inputs,
+                   std::string *why) {
+    if (o.objectFloor == "off") return false;
+    if (c.combination != AutoCombination::Relative)
+        *why = "auto: object floor: left out (the combination is not the relative one)";
+    else if (!inputs.Has("objectId"))
+        *why = "auto: object floor: left out (the frame has no objectId layer)";
+    return why->empty();
+}
+
+// The object floor on `image` (host/methods/auto_object_floor.h), one plan line per object.
+void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
+                  const std::vector<const Image *> &outputs, const Image &weighted,
+                  const std::string &when, double level, Image *image,
+                  std::vector<std::string> *plan) {
+    size_t small = 0;
+    std::vector<AutoObjectMove> moved =
+        AutoObjectFloor(inputs.Get("objectId"), outputs, weighted, level, image,
+                        kAutoObjectFloorMinPixels, &small);
+    if (small > 0)
+        plan->push_back(
+            fmt::format("auto: object floor ({} the local-mean restore): left out {} "
+                        "object{} of fewer than {} px",
+                        when, small, small > 1 ? "s" : "", kAutoObjectFloorMinPixels));
+    if (moved.empty())
+        plan->push_back(
+            fmt::format("auto: object floor ({} the local-mean restore): no object below {:g} "
+                        "of its darkest "
+                        "candidate's luminance",
+                        when, level));
+    for (const AutoObjectMove &m : moved)
+        plan->push_back(fmt::format(
+            "auto: object floor ({} the local-mean restore): object {:g} ({} px) at {:.3f} of "
+            "its darkest candidate's luminance ({}) moved {:.3f} of the way to the "
+            "candidates' weighted mean ({:.3f} of it)",
+            when, m.id, m.pixels, m.before / m.target, list[m.darkest].label, m.alpha,
+            m.weighted / m.target));
+}
+
+// The floor's weighted mean from the combination's own weights (no second combination),
+// which are dropped. Before the restore the floor moves the combination now; after it, the
+// target is the restored value plus the weighted mean's excess over the unrestored
+// combination kept here (AutoFloorTarget).
+void StartFloor(const AutoFrontEnd::Options &options, Inputs &inputs,
+                const std::vector<AutoCandidate> &list,
+                const std::vector<const Image *> &outputs, AutoResult *combined,
+                Image *weighted, Image *unrestored, std::vector<std::string> *plan) {
+    *weighted = AutoWeightedMean(outputs, combined->weights, combined->image);
+    combined->weights = Image();
+    if (options.objectFloor == "after")
+        *unrestored = combined->image;
+    else
+        FloorObjects(inputs, list, outputs, *weighted, "before", options.objectFloorLevel,
+                     &combined->image, plan);
+}
+
 }  // namespace
 
 AutoFrontEnd::AutoFrontEnd() {
@@ -1067,8 +1140,8 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     // it costs, nfor's coarse gate) is not the tiles'.
     const unsigned estimate = EstimateOnLayers(inputs, options);
     needs.notLocal =
-        "auto: each tile fixes its candidates' frame-wide quantities, its own estimates and "
-        "the restore's gain and lift";
+        "auto: each tile fixes its candidates' frame-wide quantities, its own estimates, "
+        "the restore's gain and lift and the object floor's sums";
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
@@ -1216,15 +1289,34 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     const bool check = noise.halves && options.meanRadius > 0 && options.meanCheck == "halves";
     Image half0 = check ? noise.half0 : Image();
     const AutoEstimateInputs estimate = EstimateInputs(noise, combine);
+    std::string noFloor;
+    const bool floor = FloorsObjects(options, combine, inputs, &noFloor);
+    combine.keepWeights = floor;
     AutoResult combined = AutoCombine(context, color, list, estimate, combine);
     PlanCombination(options, combine, noise, list, candidates.ran, combined, &plan);
+    if (!noFloor.empty()) plan.push_back(noFloor);
+    // The floor's weighted mean reuses the combination's weights: no second combination.
+    std::vector<Image> outputs;
+    std::vector<const Image *> outputPointers;
+    for (AutoCandidate &c : list) outputPointers.push_back(&c.output);
+    Image weighted, unrestored;
+    if (floor)
+        StartFloor(options, inputs, list, outputPointers, &combined, &weighted, &unrestored,
+                   &plan);
     Result result = ResultOf(std::move(combined));
     const Image *variance = inputs.Has("variance") ? &inputs.Get("variance") : nullptr;
     if (check) {
-        // The candidates' outputs are combined: their half0 runs take their place.
-        for (AutoCandidate &c : list) c.output = c.probe;
+        // The candidates' outputs are combined: their half0 runs take their place (the
+        // floor after the restore keeps the outputs).
+        const bool keep = floor && options.objectFloor == "after";
+        outputPointers.clear();
+        for (AutoCandidate &c : list) {
+            if (keep) outputs.push_back(std::move(c.output));
+            c.output = c.probe;
+        }
+        for (const Image &output : outputs) outputPointers.push_back(&output);
         AutoOptions quiet = combine;
-        quiet.keepStages = quiet.map = false;
+        quiet.keepStages = quiet.map = quiet.keepWeights = false;
         quiet.meanGuardVarianceScale = 2;  // half0 holds half the samples
         Image combinedHalf = AutoCombine(context, half0, list, estimate, quiet).image;
         Image combinedFull = std::move(result.image);
@@ -1246,6 +1338,12 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         plan.push_back("auto: local mean: " +
                        RestoreLocalMeansRebalanced(color, options.meanRadius, &result.image,
                                                    variance, kLocalMeanRebalanceAuto));
+    }
+    if (floor && options.objectFloor == "after") {
+        weighted = AutoFloorTarget(weighted, unrestored, result.image);
+        unrestored = Image();
+        FloorObjects(inputs, list, outputPointers, weighted, "after", options.objectFloorLevel,
+                     &result.image, &plan);
     }
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();

@@ -116,6 +116,14 @@ class AutoFrontEnd : public FrontEnd {
         std::string plain = "nfor";
         // The candidates' labels, comma-separated, or all.
         std::string candidates = "all";
+        // Beside the relative combination on a frame with an objectId layer: each object
+        // whose luminance sum fell below objectFloorLevel times the darkest candidate's is
+        // brought to that level,
+        // "after" or "before" the local-mean restore, or "off" (issue 29,
+        // host/methods/auto_object_floor.h).
+        std::string objectFloor = "after";
+        // The share of the darkest candidate's sum the floor holds an object to.
+        float objectFloorLevel = 0.98f;
         // The parameters the user set (not a parameter): auto's settings for the
         // candidates' (MethodEntry::autoSettings) give way; an option that needs another
         // is refused without it.

@@ -587,6 +587,7 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
     bool map = options.map || options.keepStages;
     Image mapImage = Tally(weights, candidates, map, result);
     if (map) result.stages.emplace_back("auto.map", std::move(mapImage));
+    if (options.keepWeights) result.weights = std::move(weights);
     return result;
 }
 

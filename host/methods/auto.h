@@ -101,7 +101,8 @@ struct AutoOptions {
     double halvesFrameNoise = 0;
     AutoHalvesSums *halvesSums = nullptr;
     bool keepStages = false;
-    bool map = false;  // return stage "auto.map" even without keepStages
+    bool map = false;          // return stage "auto.map" even without keepStages
+    bool keepWeights = false;  // return the weights in AutoResult::weights
     // Rows per strip of the combination (0: the whole frame, or strips where it does not
     // fit the device; tests force strips).
     int stripRows = 0;
@@ -115,6 +116,7 @@ struct AutoOptions {
 // of the candidate of the largest weight (black where none weighs).
 struct AutoResult : MethodResult {
     std::vector<double> sharePercent, wonPercent;
+    Image weights;  // with keepWeights: each candidate's weight per pixel, one plane each
 };
 
 // Combine `candidates` (1 to kAutoMaxCandidates, each output of color's shape, 1 to 4

@@ -1,0 +1,57 @@
+// Method `auto`'s object floor (issue 29): the relative combination leans to the darkest
+// candidate where the candidates disagree, and where different candidates are dark at
+// different pixels an object's mean falls below every candidate's. Per object id, where
+// the combination's luminance summed over the object is below a level (a share) of the
+// darkest candidate's, each pixel of the object moves toward the candidates' weighted mean
+// by the one fraction that brings the sum to that level (docs/methods/auto.md).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "host/image.h"
+
+namespace mcd {
+
+// The fewest pixels an object needs for the floor to move it.
+constexpr size_t kAutoObjectFloorMinPixels = 64;
+
+// One object the floor moved.
+struct AutoObjectMove {
+    float id = 0;
+    size_t pixels = 0;
+    // The object's luminance sums: the combination's before the floor, the darkest
+    // candidate's (the target), the weighted mean's.
+    double before = 0, target = 0, weighted = 0;
+    int darkest = 0;   // that candidate's index
+    double alpha = 0;  // the fraction moved toward the weighted mean, in (0, 1]
+};
+
+// The weighted mean of `outputs` (each `image`'s shape) under `weights` (one plane per
+// output, as the combination returns them), per channel over the pairs of a positive finite
+// weight and a finite value; `image`'s value where there is no such pair. Throws where the
+// shapes do not match.
+Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &weights,
+                       const Image &image);
+
+// The floor's target after the local-mean restore: `restored` plus the weighted mean's
+// excess over the unrestored `combination`, so the floor keeps the restore's change.
+// Throws where the shapes do not match.
+Image AutoFloorTarget(const Image &weightedMean, const Image &combination,
+                      const Image &restored);
+
+// Floor `image` per object of `ids` (image's size, its first channel the id) at `level` times
+// the darkest of `outputs`' sums (the candidates') by moving toward `weighted` (image's
+// shape). Luminance is
+// Rec. 709's of the first three channels, else the channels' mean. Pixels with a
+// non-finite id or value in any image are left out of the sums and left as they are.
+// Objects whose darkest sum is not positive, and objects of fewer than `minPixels` pixels
+// that count (their sums are too few pixels to floor; counted in `small` where given), are
+// left as they are. Id 0 is an object like any other. Returns the objects moved, by id.
+std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
+                                            const std::vector<const Image *> &outputs,
+                                            const Image &weighted, double level, Image *image,
+                                            size_t minPixels = kAutoObjectFloorMinPixels,
+                                            size_t *small = nullptr);
+
+}  // namespace mcd
