@@ -15,6 +15,12 @@ vk::Context &TestContext() {
     return *context;
 }
 
+vk::GpuImage UploadImage(vk::Context &ctx, const Image &image, const char *name) {
+    vk::GpuImage gpu(ctx, image.width, image.height, image.channels, name);
+    gpu.Upload(image);
+    return gpu;
+}
+
 void GpuTest::SetUp() {
     TestContext().TakeValidationMessages();
 }

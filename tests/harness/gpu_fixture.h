@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include "host/image.h"
 #include "host/vk/context.h"
+#include "host/vk/gpu_image.h"
 
 namespace mcd::test {
 
@@ -17,6 +19,9 @@ class GpuTest : public ::testing::Test {
     void TearDown() override;
     vk::Context &Ctx() { return TestContext(); }
 };
+
+// A GPU image of `image`'s shape holding its values.
+vk::GpuImage UploadImage(vk::Context &ctx, const Image &image, const char *name);
 
 template <typename Param>
 class GpuTestWithParam : public GpuTest, public ::testing::WithParamInterface<Param> {};

@@ -26,12 +26,6 @@
 namespace mcd::test {
 namespace {
 
-vk::GpuImage UploadImage(vk::Context &ctx, const Image &image, const char *name) {
-    vk::GpuImage gpu(ctx, image.width, image.height, image.channels, name);
-    gpu.Upload(image);
-    return gpu;
-}
-
 // The kernels' floored variance and mask.
 struct GlintRun {
     Image variance, floored;

@@ -21,12 +21,6 @@
 namespace mcd::test {
 namespace {
 
-vk::GpuImage UploadImage(vk::Context &ctx, const Image &image, const char *name) {
-    vk::GpuImage gpu(ctx, image.width, image.height, image.channels, name);
-    gpu.Upload(image);
-    return gpu;
-}
-
 Image RunTrust(vk::Context &ctx, const Image &color, const Image &albedo, float noise) {
     vk::GpuImage c = UploadImage(ctx, color, "color"), a = UploadImage(ctx, albedo, "albedo");
     vk::GpuImage out(ctx, color.width, color.height, 1, "trust");
