@@ -153,9 +153,11 @@ std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
 Image AutoLuminanceVariance(const Image &color, const Image *variance, const Image *half0,
                             const Image *half1) {
     if (!variance && !(half0 && half1)) return Image();
-    const Image &shape = variance ? *variance : *half0;
-    if (!shape.SameShape(color) || (!variance && !half1->SameShape(color)))
-        throw Error("auto: the object lift's variance needs layers of the colour's shape",
+    auto sized = [&](const Image &layer) {
+        return layer.width == color.width && layer.height == color.height && layer.channels > 0;
+    };
+    if (variance ? !sized(*variance) : !sized(*half0) || !sized(*half1))
+        throw Error("auto: the object lift's variance needs layers of the colour's size",
                     ErrorKind::InvalidArgument);
     const size_t pixels = color.PixelCount();
     Image out(color.width, color.height, 1);
@@ -184,7 +186,8 @@ std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image 
     const bool halves = half0 && half1;
     if (!input.SameShape(*image) || ids.width != image->width || ids.height != image->height ||
         lumVariance.width != image->width || lumVariance.height != image->height ||
-        (halves && (!half0->SameShape(input) || !half1->SameShape(input))))
+        (halves && (half0->width != image->width || half0->height != image->height ||
+                    half1->width != image->width || half1->height != image->height)))
         throw Error(
             "auto: the object lift needs ids, input, variance and halves of the "
             "image's size",

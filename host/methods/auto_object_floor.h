@@ -74,7 +74,7 @@ struct AutoObjectLift {
 // bound of the luminance's variance (sqrt of it is the weighted sum of the channels'
 // standard deviations); else from the half-buffers, a quarter of the squared difference of
 // their luminances. Either may be null; both null returns an empty image. Throws where the
-// shapes do not match `color`.
+// sizes do not match `color`'s.
 Image AutoLuminanceVariance(const Image &color, const Image *variance, const Image *half0,
                             const Image *half1);
 
@@ -82,10 +82,10 @@ Image AutoLuminanceVariance(const Image &color, const Image *variance, const Ima
 // luminance sum is below the sum of `input` (image's shape) less `k` standard errors of it
 // is scaled to that bound. The standard error's square is the sum of `lumVariance`
 // (AutoLuminanceVariance) over the object, or, where `half0` and `half1` (input's shape) are
-// given and larger, a quarter of the squared difference of their sums: noise shared by the
-// object's pixels (a jittered accumulation moves every edge at once) is in that one and
-// not in the pixels' sum. Pixels with a non-finite id or value in any image are left out of
-// the sums and left as they are; objects of fewer than `minPixels` pixels that count
+// given (image's size) and larger, a quarter of the squared difference of their sums: noise
+// shared by the object's pixels (a jittered accumulation moves every edge at once) is in that
+// one and not in the pixels' sum. Pixels with a non-finite id or value in any image are left
+// out of the sums and left as they are; objects of fewer than `minPixels` pixels that count
 // (counted in `small` where given) and objects whose sum is not positive are left as they
 // are. Scales the channels the luminance reads (the first three of four, alpha kept).
 // Returns the objects lifted, by id.

@@ -100,7 +100,8 @@ TEST(AutoObjectLift, LiftsAnObjectDarkenedFarBelowItsInputToTheBoundAndLeavesThe
     // Each pixel is scaled in double and rounded to float once (u relative), and the
     // variance layer's float deviations (a few u) reach the bound through k * error.
     const auto [after, magnitude] = ObjectSum(lifted, f.ids, 1);
-    EXPECT_NEAR(after, bound, 4 * kUnitRoundoff * magnitude + 16 * kUnitRoundoff * k * std::abs(bound));
+    EXPECT_NEAR(after, bound,
+                4 * kUnitRoundoff * magnitude + 16 * kUnitRoundoff * k * std::abs(bound));
     EXPECT_NEAR(moved[0].bound, bound, 16 * kUnitRoundoff * std::abs(bound));
     EXPECT_GT(after, ObjectSum(f.output, f.ids, 1).first);
 
@@ -259,13 +260,15 @@ TEST_F(AutoObjectLiftMethod, LeavesAFrameWithoutIdsAndOnlyScalesTheObjectsItName
     for (const std::string &line : lifted.plan)
         if (line.starts_with("auto: object lift: object "))
             liftedIds.push_back(std::stof(line.substr(26)));
+    EXPECT_FALSE(liftedIds.empty());
     const Image &ids = frame.layers.at("objectId");
     const size_t pixels = ids.PixelCount();
     for (int c = 0; c < lifted.image.channels; ++c)
         for (size_t i = 0; i < pixels; ++i)
-            if (std::find(liftedIds.begin(), liftedIds.end(), ids.data[i]) == liftedIds.end())
+            if (std::find(liftedIds.begin(), liftedIds.end(), ids.data[i]) == liftedIds.end()) {
                 ASSERT_EQ(lifted.image.data[c * pixels + i],
                           unlifted.image.data[c * pixels + i]);
+            }
     for (float id : liftedIds)
         EXPECT_GT(ObjectSum(lifted.image, ids, id).first,
                   ObjectSum(unlifted.image, ids, id).first);
