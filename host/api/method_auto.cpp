@@ -207,10 +207,9 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "more than this many standard errors of the input's sum (from the "
                    "variance layer, its channels taken as fully correlated, else from the "
                    "halves' difference per pixel; where the halves' difference summed over "
-                   "the object says more, from that) is scaled up to that bound, as the "
-                   "input is the "
-                   "unbiased estimate of its light (0: off); --explain names each object "
-                   "lifted",
+                   "the object says more, from that) is scaled up to that bound (at most twice "
+                   "its light), as the input is the unbiased estimate of its light (0: off); "
+                   "--explain names each object lifted",
                    &O::objectLift, 0, 100),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
@@ -1201,7 +1200,7 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     const unsigned estimate = EstimateOnLayers(inputs, options);
     needs.notLocal =
         "auto: each tile fixes its candidates' frame-wide quantities, its own estimates, "
-        "the restore's gain and lift and the object floor's sums";
+        "the restore's gain and lift and the object floor's and lift's sums";
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))

@@ -27,7 +27,9 @@ double Luminance(const Image &image, size_t i) {
 double DeviationLuminance(const Image &variance, size_t i) {
     const size_t pixels = variance.PixelCount();
     auto deviation = [&](int c) {
-        return std::sqrt(std::max(0.0, double(variance.data[c * pixels + i])));
+        // A NaN stays NaN, so that the pixel is left out of the sums.
+        double v = variance.data[c * pixels + i];
+        return std::isnan(v) ? v : std::sqrt(std::max(0.0, v));
     };
     if (variance.channels >= 3)
         return 0.2126 * deviation(0) + 0.7152 * deviation(1) + 0.0722 * deviation(2);
@@ -229,7 +231,9 @@ std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image 
         double error = std::sqrt(std::max(sums.variance, shared));
         double bound = sums.input - k * error;
         if (!(sums.image > 0) || !(sums.image < bound)) continue;
-        scales[id] = bound / sums.image;
+        // An object nearly black but for its input is a fault the scale would turn into
+        // fireflies: it rises at most kAutoObjectLiftMaxScale times.
+        scales[id] = std::min(bound / sums.image, kAutoObjectLiftMaxScale);
         lifted.push_back(
             {id, sums.pixels, sums.image, sums.input, error, bound, shared > sums.variance});
     }

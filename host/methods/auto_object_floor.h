@@ -16,6 +16,9 @@ namespace mcd {
 // The fewest pixels an object needs for the floor to move it.
 constexpr size_t kAutoObjectFloorMinPixels = 64;
 
+// The largest scale the object lift gives an object.
+constexpr double kAutoObjectLiftMaxScale = 2;
+
 // One object the floor moved.
 struct AutoObjectMove {
     float id = 0;

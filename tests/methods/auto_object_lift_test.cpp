@@ -162,6 +162,34 @@ TEST(AutoObjectLift, LeavesObjectsWithinTheirNoiseSmallObjectsAndNonFinitePixels
     EXPECT_EQ(odd.data[pixels + 1], INFINITY);
     EXPECT_EQ(odd.data[1], far.output.data[1]);  // the Inf pixel's other channels too
     EXPECT_GT(odd.data[2], far.output.data[2]);  // a finite pixel of object 1 moved
+
+    // A NaN in the variance layer: that pixel is left out of the sums and kept.
+    Image variance = far.variance;
+    variance.data[pixels + 3] = NAN;
+    Image nanVariance = AutoLuminanceVariance(far.input, &variance, nullptr, nullptr);
+    Image withNan = far.output;
+    moved = AutoObjectLiftToInput(far.ids, far.input, nanVariance, nullptr, nullptr, k,
+                                  &withNan, 1);
+    ASSERT_EQ(moved.size(), 1u);
+    EXPECT_EQ(moved[0].pixels, size_t(h) * (w / 2) - 1);
+    EXPECT_EQ(withNan.data[3], far.output.data[3]);
+    EXPECT_GT(withNan.data[2], far.output.data[2]);
+}
+
+TEST(AutoObjectLift, ANearlyBlackObjectRisesAtMostByTheLargestScale) {
+    const int w = 17, h = 13;
+    const double k = 3;
+    LiftFrame f = MakeLiftFrame(w, h, 0.001, k);
+    Image lumVariance = AutoLuminanceVariance(f.input, &f.variance, nullptr, nullptr);
+    Image image = f.output;
+    std::vector<AutoObjectLift> moved =
+        AutoObjectLiftToInput(f.ids, f.input, lumVariance, nullptr, nullptr, k, &image, 1);
+    ASSERT_EQ(moved.size(), 1u);
+    // Each pixel scaled in double and rounded to float once.
+    const auto [before, magnitude] = ObjectSum(f.output, f.ids, 1);
+    EXPECT_NEAR(ObjectSum(image, f.ids, 1).first, kAutoObjectLiftMaxScale * before,
+                4 * kUnitRoundoff * kAutoObjectLiftMaxScale * magnitude);
+    EXPECT_LT(kAutoObjectLiftMaxScale * before, moved[0].bound);
 }
 
 TEST(AutoObjectLift, TheHalvesDisagreementOverTheObjectWidensTheBound) {
@@ -183,7 +211,8 @@ TEST(AutoObjectLift, TheHalvesDisagreementOverTheObjectWidensTheBound) {
     EXPECT_TRUE(AutoObjectLiftToInput(f.ids, f.input, lumVariance, &half0, &half1, k, &image, 1)
                     .empty());
     EXPECT_EQ(image.data, f.output.data);
-    // At a bound of one such standard error it is lifted to 0.6 of the input, and says why.
+    // At a quarter of one such standard error (0.1 of the input) it is lifted to 0.9 of the
+    // input, and says why.
     std::vector<AutoObjectLift> moved =
         AutoObjectLiftToInput(f.ids, f.input, lumVariance, &half0, &half1, 0.25, &image, 1);
     ASSERT_EQ(moved.size(), 1u);
@@ -251,9 +280,9 @@ TEST_F(AutoObjectLiftMethod, LeavesAFrameWithoutIdsAndOnlyScalesTheObjectsItName
         << fmt::format("{}", fmt::join(withoutIds.plan, "\n"));
 
     // Ids that make object 1 the pixels where the lift-off output is below the input: its
-    // sum falls short of the input's by about its pixels' mean deviation each, which the
-    // frame's heavy-tailed variance layer puts between 1 and 3 standard errors (a bound of
-    // 0.5 reaches it); the rest is object 2.
+    // sum falls short of the input's by about its pixels' mean deviation each, within a few
+    // standard errors of this small frame's heavy-tailed variance layer, so a low bound of
+    // 0.5 reaches it; the rest is object 2.
     Frame frame = RenderCornell(true);
     const Image reference = off.Run(device, frame).image;
     const Image &input = frame.layers.at("color");
