@@ -201,6 +201,16 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "with --auto-object-floor after or before: the share of the darkest "
                    "candidate's luminance sum an object is held to (1: all of it)",
                    &O::objectFloorLevel, 0.5, 1),
+        FloatParam("auto-object-lift",
+                   "on a frame with an objectId layer and a variance layer or half-buffers, "
+                   "last: an object whose luminance summed over it is below the input's by "
+                   "more than this many standard errors of the input's sum (from the "
+                   "variance layer, its channels taken as fully correlated, else from the "
+                   "halves' difference per pixel; where the halves' difference summed over "
+                   "the object says more, from that) is scaled up to that bound (at most twice "
+                   "its light), as the input is the unbiased estimate of its light (0: off); "
+                   "--explain names each object lifted",
+                   &O::objectLift, 0, 100),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -1030,6 +1040,55 @@ void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
             m.weighted / m.target));
 }
 
+// The object lift on `image` (host/methods/auto_object_floor.h), one plan line per object
+// lifted, or one on why it was left out or lifted nothing.
+void LiftObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &color,
+                 Image *image, std::vector<std::string> *plan) {
+    if (o.objectLift == 0) return;
+    if (!inputs.Has("objectId")) {
+        plan->push_back("auto: object lift: left out (the frame has no objectId layer)");
+        return;
+    }
+    const bool variance = inputs.Has("variance");
+    const bool halves = inputs.Has("half0.color") && inputs.Has("half1.color");
+    if (!variance && !halves) {
+        plan->push_back(
+            "auto: object lift: left out (the frame has no variance layer nor half-buffers)");
+        return;
+    }
+    // The halves' disagreement over each object beside the pixels' variance.
+    const Image *half0 = halves ? &inputs.Get("half0.color") : nullptr;
+    const Image *half1 = halves ? &inputs.Get("half1.color") : nullptr;
+    Image lumVariance = AutoLuminanceVariance(
+        color, variance ? &inputs.Get("variance") : nullptr, half0, half1);
+    size_t small = 0;
+    std::vector<AutoObjectLift> lifted =
+        AutoObjectLiftToInput(inputs.Get("objectId"), color, lumVariance, half0, half1,
+                              o.objectLift, image, kAutoObjectFloorMinPixels, &small);
+    const char *source = variance ? (halves ? "the variance layer or, where larger, the "
+                                              "halves' difference over the object"
+                                            : "the variance layer")
+                                  : "the half-buffers";
+    if (lifted.empty())
+        plan->push_back(fmt::format(
+            "auto: object lift: no object below the input's luminance by over {:g} standard "
+            "errors (from {}){}",
+            o.objectLift, source,
+            small > 0 ? fmt::format("; left out {} of fewer than {} px", small,
+                                    kAutoObjectFloorMinPixels)
+                      : ""));
+    for (const AutoObjectLift &l : lifted)
+        plan->push_back(fmt::format(
+            "auto: object lift: object {:g} ({} px) at {:.3f} of the input's luminance, "
+            "below its bound {:.3f} (the input's less {:g} standard errors of {:.4f}, from "
+            "{}): scaled by {:.4f} to it",
+            l.id, l.pixels, l.before / l.input, l.bound / l.input, o.objectLift,
+            l.error / l.input,
+            l.halves ? "the halves' difference over it"
+                     : (variance ? "the variance layer" : "the half-buffers"),
+            l.bound / l.before));
+}
+
 // The floor's weighted mean from the combination's own weights (no second combination),
 // which are dropped. Before the restore the floor moves the combination now; after it, the
 // target is the restored value plus the weighted mean's excess over the unrestored
@@ -1141,7 +1200,7 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     const unsigned estimate = EstimateOnLayers(inputs, options);
     needs.notLocal =
         "auto: each tile fixes its candidates' frame-wide quantities, its own estimates, "
-        "the restore's gain and lift and the object floor's sums";
+        "the restore's gain and lift and the object floor's and lift's sums";
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
@@ -1345,6 +1404,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         FloorObjects(inputs, list, outputPointers, weighted, "after", options.objectFloorLevel,
                      &result.image, &plan);
     }
+    LiftObjects(options, inputs, color, &result.image, &plan);
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();
     result.method = "auto";

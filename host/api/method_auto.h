@@ -124,6 +124,11 @@ class AutoFrontEnd : public FrontEnd {
         std::string objectFloor = "after";
         // The share of the darkest candidate's sum the floor holds an object to.
         float objectFloorLevel = 0.98f;
+        // On a frame with an objectId layer and a variance layer or half-buffers: each
+        // object whose output luminance sum is below the input's by more than this many
+        // standard errors of the input's sum is scaled up to that bound (0: off; issue 29,
+        // host/methods/auto_object_floor.h).
+        float objectLift = 3;
         // The parameters the user set (not a parameter): auto's settings for the
         // candidates' (MethodEntry::autoSettings) give way; an option that needs another
         // is refused without it.

@@ -16,6 +16,9 @@ namespace mcd {
 // The fewest pixels an object needs for the floor to move it.
 constexpr size_t kAutoObjectFloorMinPixels = 64;
 
+// The largest scale the object lift gives an object.
+constexpr double kAutoObjectLiftMaxScale = 2;
+
 // One object the floor moved.
 struct AutoObjectMove {
     float id = 0;
@@ -53,5 +56,46 @@ std::vector<AutoObjectMove> AutoObjectFloor(const Image &ids,
                                             const Image &weighted, double level, Image *image,
                                             size_t minPixels = kAutoObjectFloorMinPixels,
                                             size_t *small = nullptr);
+
+// The input floor (the lift): the input is the unbiased estimate of each object's light, so
+// an object whose output luminance sum is below the input's by more than k standard errors
+// of the input's sum (more than its noise explains) is scaled up to that bound.
+
+// One object the lift scaled.
+struct AutoObjectLift {
+    float id = 0;
+    size_t pixels = 0;
+    // The object's luminance sums: the output's before the lift, the input's, the input's
+    // standard error and the bound (the input's less k standard errors).
+    double before = 0, input = 0, error = 0, bound = 0;
+    bool halves = false;  // the error is the halves' disagreement over the object
+};
+
+// The variance of each pixel's luminance (Rec. 709's of the first three channels, else the
+// channels' mean, as the floor's) in an image of one channel: from `variance` (the variance
+// of the pixel mean per channel) with the channels taken as fully correlated, the upper
+// bound of the luminance's variance (sqrt of it is the weighted sum of the channels'
+// standard deviations); else from the half-buffers, a quarter of the squared difference of
+// their luminances. Either may be null; both null returns an empty image. Throws where the
+// sizes do not match `color`'s.
+Image AutoLuminanceVariance(const Image &color, const Image *variance, const Image *half0,
+                            const Image *half1);
+
+// Lift `image` per object of `ids` (image's size, its first channel the id): an object whose
+// luminance sum is below the sum of `input` (image's shape) less `k` standard errors of it
+// is scaled to that bound. The standard error's square is the sum of `lumVariance`
+// (AutoLuminanceVariance) over the object, or, where `half0` and `half1` (input's shape) are
+// given (image's size) and larger, a quarter of the squared difference of their sums: noise
+// shared by the object's pixels (a jittered accumulation moves every edge at once) is in that
+// one and not in the pixels' sum. Pixels with a non-finite id or value in any image are left
+// out of the sums and left as they are; objects of fewer than `minPixels` pixels that count
+// (counted in `small` where given) and objects whose sum is not positive are left as they
+// are. Scales the channels the luminance reads (the first three of four, alpha kept).
+// Returns the objects lifted, by id.
+std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image &input,
+                                                  const Image &lumVariance, const Image *half0,
+                                                  const Image *half1, double k, Image *image,
+                                                  size_t minPixels = kAutoObjectFloorMinPixels,
+                                                  size_t *small = nullptr);
 
 }  // namespace mcd
