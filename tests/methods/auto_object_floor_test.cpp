@@ -227,9 +227,10 @@ TEST_F(AutoObjectFloorMethod, LeavesAFrameWithoutIdsAndOnlyMovesTheObjectsItName
     const size_t pixels = ids.PixelCount();
     for (int c = 0; c < floored.image.channels; ++c)
         for (size_t i = 0; i < pixels; ++i)
-            if (std::find(movedIds.begin(), movedIds.end(), ids.data[i]) == movedIds.end())
+            if (std::find(movedIds.begin(), movedIds.end(), ids.data[i]) == movedIds.end()) {
                 ASSERT_EQ(floored.image.data[c * pixels + i],
                           unfloored.image.data[c * pixels + i]);
+            }
     for (float id : movedIds)
         EXPECT_GT(ObjectSum(floored.image, ids, id).first,
                   ObjectSum(unfloored.image, ids, id).first);
