@@ -266,6 +266,11 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "beside a variance layer the weights read min(layer, this x the "
                           "frame's own estimate of the clamped colour's noise); 0: the layer",
                           &O::layerNoiseCap, 0, 1e6)),
+        nested(FloatParam("pilot-noise-cap",
+                          "beside a variance layer the second pass's distance reads min(the "
+                          "weights' noise, this x the frame's own estimate of the clamped "
+                          "colour's noise); 0: the weights' noise",
+                          &O::pilotNoiseCap, 0, 1e6)),
         nested(IntParam("clamp-light-reach",
                         "the clamp's light is not given back within this many pixels of an "
                         "emitter or a partly covered pixel",
@@ -545,6 +550,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.premultiplied = o.premultiplied;
         p.layerPasses = !o.noLayerPasses;
         p.layerNoiseCap = o.layerNoiseCap;
+        p.pilotNoiseCap = o.pilotNoiseCap;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance, in.alpha};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);
