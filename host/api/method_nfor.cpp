@@ -429,10 +429,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         needs.bindingBytesPerPixel =
             4.0 * std::max({offsets, NforBetaStride(features, channels), candidates * channels,
                             NforPackedFloats(features), kNforIlluminationFloats});
-        needs.bytesPerPixel = 4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
-                                     NforPackedFloats(features) + kNforIlluminationFloats +
-                                     candidates * (channels + 1) + 6 * channels + 3 * features +
-                                     3 + (trusts ? 1 : 0) + (glints ? 2 : 0));
+        // The second pass's capped copy of the variance layer.
+        const bool cappedPilot = o.pilotNoiseCap > 0 && options.noise == "auto" &&
+                                 inputs.Has("variance") && !o.pilotBandwidths.empty();
+        needs.bytesPerPixel =
+            4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
+                   NforPackedFloats(features) + kNforIlluminationFloats +
+                   candidates * (channels + 1) + 6 * channels + 3 * features + 3 +
+                   (trusts ? 1 : 0) + (glints ? 2 : 0) + (cappedPilot ? channels : 0));
         // Whether the gate lets the coarse pass run is measured only for a frame too large
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =

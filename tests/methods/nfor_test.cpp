@@ -1909,6 +1909,9 @@ TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
             o.layerNoiseCap = cap;
             ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
             ExpectStagesMatch(Ctx(), 7, 1, o, true);
+            // The wide windows' distance reads the capped variance too.
+            o.pilotWideRadius = o.radius + 2;
+            ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
         }
     Frame f = MakeFrame(29, 23, 0.3, "stages29x23");
     AddLightsAtTheEdge(&f, nullptr);
@@ -1989,6 +1992,9 @@ TEST_F(NforMethod, PilotNoiseCapReadsTheEstimateAtABrightPath) {
             o.layerNoiseCap = layerCap;
             ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
             ExpectStagesMatch(Ctx(), 7, 1, o, true);
+            // The wide windows' distance reads the capped variance too.
+            o.pilotWideRadius = o.radius + 2;
+            ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
         }
     const double noise = 0.1;
     Frame f = MakeFrame(41, 33, noise, "brightpath41x33");
@@ -2020,11 +2026,12 @@ TEST_F(NforMethod, PilotNoiseCapReadsTheEstimateAtABrightPath) {
         for (int c = 0; c < 3; ++c)
             EXPECT_LT(pilotVariance->At(c, cy, cx), 0.01f * layer.At(c, cy, cx)) << c;
     }
-    // The default reads the weights' noise, bit for bit as the cap 0.
-    NforOptions uncapped;
-    uncapped.pilotNoiseCap = 0;
-    EXPECT_EQ(NforDenoise(Ctx(), in, NforOptions()).image.data,
-              NforDenoise(Ctx(), in, uncapped).image.data);
+    // Off by default; where it runs the second pass reads it (the output moves).
+    EXPECT_EQ(NforOptions().pilotNoiseCap, 0.f);
+    NforOptions capped;
+    capped.pilotNoiseCap = 1;
+    EXPECT_NE(NforDenoise(Ctx(), in, capped).image.data,
+              NforDenoise(Ctx(), in, NforOptions()).image.data);
     for (float bad : {-1.f, std::numeric_limits<float>::quiet_NaN(),
                       std::numeric_limits<float>::infinity()}) {
         NforOptions o;
