@@ -936,17 +936,16 @@ Image NforClampFrame(const NforInputs &in, const NforParams &p, const Image &var
     return clamped;
 }
 
-// Beside a variance layer with p.layerNoiseCap > 0: `variance` (the layer) capped at
-// layerNoiseCap times the clamped colour's own estimate, edge pixels relaxed, divided by
+// Beside a variance layer with cap > 0 (p.layerNoiseCap, p.pilotNoiseCap): `variance` capped
+// at cap times the clamped colour's own estimate, edge pixels relaxed, divided by
 // `alpha` (nullptr: none) as without a layer.
 void NforCapLayer(const NforInputs &in, const NforParams &p, const Image &clamped,
-                  const Image *alpha, Image *variance) {
-    if (!in.variance || p.layerNoiseCap <= 0) return;
+                  const Image *alpha, double cap, Image *variance) {
+    if (!in.variance || cap <= 0) return;
     Image estimate = NforNoise(clamped, in.albedo, p.noiseRadius, p.noiseMinCalibration, true);
     if (alpha) estimate = NforStraight(estimate, *alpha, 1);
     for (size_t i = 0; i < variance->data.size(); ++i)
-        variance->data[i] =
-            std::min(variance->data[i], float(p.layerNoiseCap) * estimate.data[i]);
+        variance->data[i] = std::min(variance->data[i], float(cap) * estimate.data[i]);
 }
 
 // What the fits leave by design: an emitter's colour (clamped), every channel.
@@ -1019,7 +1018,7 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         // covered pixels its estimate read.
         if (alpha) variance = NforStraight(variance, *alpha, 1);
     }
-    NforCapLayer(in, p, clamped, alpha, &variance);
+    NforCapLayer(in, p, clamped, alpha, p.layerNoiseCap, &variance);
     keep("variance", variance);
     const Image features = PrefilteredFeatures(*in.features, p);
     keep("features", features);
@@ -1041,14 +1040,20 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     Image out = NforPass(clamped, variance, features, mask, p, first, "", keep);
     if (!p.pilotBandwidths.empty()) {
         keep("pilot", out);
-        Image pilotDistance = NforDistance(out, variance, divisor, p.radius, p.patchRadius,
+        // The second pass's distances read the weights' noise capped beside a layer.
+        Image pilotVariance = variance;
+        if (in.variance && p.pilotNoiseCap > 0) {
+            NforCapLayer(in, p, clamped, alpha, p.pilotNoiseCap, &pilotVariance);
+            keep("pilot.variance", pilotVariance);
+        }
+        Image pilotDistance = NforDistance(out, pilotVariance, divisor, p.radius, p.patchRadius,
                                            p.pilotAlpha, p.pilotMinVariance, trust);
         keep("pilot.distance", pilotDistance);
         std::vector<PassCandidate> second;
         for (double k : p.pilotBandwidths) second.push_back({k, p.radius, &pilotDistance});
         Image wideDistance;
         if (p.pilotWideRadius > 0) {
-            wideDistance = NforDistance(out, variance, divisor, p.pilotWideRadius,
+            wideDistance = NforDistance(out, pilotVariance, divisor, p.pilotWideRadius,
                                         p.patchRadius, p.pilotAlpha, p.pilotMinVariance, trust);
             keep("pilot.wide.distance", wideDistance);
             for (double k : p.pilotBandwidths)

@@ -205,6 +205,9 @@ struct NforParams {
     // > 0: beside a variance layer the weights, distances and SURE read min(layer, this x
     // the clamped colour's own estimate, edge pixels relaxed, as without a layer).
     double layerNoiseCap = 0;
+    // > 0: beside a variance layer the second pass's distances read min(the weights' noise,
+    // this x the clamped colour's own estimate as layerNoiseCap's).
+    double pilotNoiseCap = 0;
     // The frame's alpha is not divided by (the values as written); the lights' spread still
     // reads it (its zeros take no part).
     bool premultiplied = false;

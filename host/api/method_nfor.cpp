@@ -266,6 +266,11 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                           "beside a variance layer the weights read min(layer, this x the "
                           "frame's own estimate of the clamped colour's noise); 0: the layer",
                           &O::layerNoiseCap, 0, 1e6)),
+        nested(FloatParam("pilot-noise-cap",
+                          "beside a variance layer the second pass's distance reads min(the "
+                          "weights' noise, this x the frame's own estimate of the clamped "
+                          "colour's noise); 0: the weights' noise",
+                          &O::pilotNoiseCap, 0, 1e6)),
         nested(IntParam("clamp-light-reach",
                         "the clamp's light is not given back within this many pixels of an "
                         "emitter or a partly covered pixel",
@@ -424,10 +429,14 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         needs.bindingBytesPerPixel =
             4.0 * std::max({offsets, NforBetaStride(features, channels), candidates * channels,
                             NforPackedFloats(features), kNforIlluminationFloats});
-        needs.bytesPerPixel = 4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
-                                     NforPackedFloats(features) + kNforIlluminationFloats +
-                                     candidates * (channels + 1) + 6 * channels + 3 * features +
-                                     3 + (trusts ? 1 : 0) + (glints ? 2 : 0));
+        // The second pass's capped copy of the variance layer.
+        const bool cappedPilot = o.pilotNoiseCap > 0 && options.noise == "auto" &&
+                                 inputs.Has("variance") && !o.pilotBandwidths.empty();
+        needs.bytesPerPixel =
+            4.0 * (2 * offsets + 2 * NforBetaStride(features, channels) +
+                   NforPackedFloats(features) + kNforIlluminationFloats +
+                   candidates * (channels + 1) + 6 * channels + 3 * features + 3 +
+                   (trusts ? 1 : 0) + (glints ? 2 : 0) + (cappedPilot ? channels : 0));
         // Whether the gate lets the coarse pass run is measured only for a frame too large
         // to run whole (a whole frame's run does not read the reach): a noise pass saved.
         bool whole =
@@ -545,6 +554,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.premultiplied = o.premultiplied;
         p.layerPasses = !o.noLayerPasses;
         p.layerNoiseCap = o.layerNoiseCap;
+        p.pilotNoiseCap = o.pilotNoiseCap;
         ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance, in.alpha};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);

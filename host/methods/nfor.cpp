@@ -166,16 +166,15 @@ void CheckOptions(const NforOptions &o) {
         !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
         !(o.lightShare >= 0 && o.lightShare <= 0.25f) ||
         !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0) ||
+        !(finite(o.pilotNoiseCap) && o.pilotNoiseCap >= 0) ||
         !(finite(o.albedoNoise) && o.albedoNoise >= 0) ||
         !(finite(o.glintNoise) && o.glintNoise >= 0))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
             "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
-            "speck floor, layer noise cap, albedo noise and glint noise finite and >= 0, "
-            "speck relative "
-            "finite, mean "
-            "radius >= 0, light shares 0 to 0.25",
+            "speck floor, layer and pilot noise caps, albedo noise and glint noise finite and "
+            ">= 0, speck relative finite, mean radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -327,6 +326,9 @@ struct NforGpu {
                                "nfor.secondBeta");
         if (!o.pilotBandwidths.empty()) {
             pilot.emplace(context, color.width, color.height, color.channels, "nfor.pilot");
+            if (in.variance && o.pilotNoiseCap > 0)
+                pilotVariance.emplace(context, color.width, color.height, color.channels,
+                                      "nfor.pilotVariance");
             pilotDistance.emplace(context, color.width, color.height, NforOffsetCount(o.radius),
                                   "nfor.pilotDistance");
         }
@@ -340,8 +342,8 @@ struct NforGpu {
     }
     vk::GpuImage color, variance, clampVariance, clamped, mask, features, filtered, distance,
         scratch, illumination, packed, beta, hat, candidates;
-    std::optional<vk::GpuImage> albedo, trust, pilot, pilotDistance, wideDistance, wideScratch,
-        secondBeta, glintNear, glint;
+    std::optional<vk::GpuImage> albedo, trust, pilot, pilotVariance, pilotDistance,
+        wideDistance, wideScratch, secondBeta, glintNear, glint;
 };
 
 // Planes [first, first + count) of a downloaded image.
@@ -359,6 +361,12 @@ void PlanNoise(StagedRun &run, const NforInputs &in, const NforOptions &o) {
                                    "(--layer-noise-cap)",
                                    o.layerNoiseCap)
                      : std::string("noise of the colour: the frame's variance layer"));
+        if (o.pilotNoiseCap > 0 && !o.pilotBandwidths.empty())
+            run.Plan(fmt::format(
+                "the second pass's distance reads that noise capped at {} x the clamped "
+                "colour's noise estimated from the frame (--pilot-noise-cap: a bright path's "
+                "variance in the layer would let its pixel weigh with any neighbour)",
+                o.pilotNoiseCap));
         return;
     }
     run.Plan(fmt::format(
@@ -562,8 +570,16 @@ bool PlainPasses(const NforInputs &in, const NforOptions &o, const NforResult &r
     return !in.variance || (!o.noLayerPasses && !o.clampLayer && !result.clampOnLayer);
 }
 
+// `variance` capped at `cap` times `estimate`, value by value.
+Image CapNoise(Image variance, const Image &estimate, float cap) {
+    for (size_t i = 0; i < variance.data.size(); ++i)
+        variance.data[i] = std::min(variance.data[i], cap * estimate.data[i]);
+    return variance;
+}
+
 // Beside a variance layer: the layer (gpu.variance) capped at o.layerNoiseCap times the
-// frame's own estimate of the clamped colour's noise, made as without a layer.
+// frame's own estimate of the clamped colour's noise, made as without a layer, and the
+// second pass's noise (gpu.pilotVariance) at o.pilotNoiseCap times it.
 void CapLayerNoise(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforOptions &o,
                    const Image *alpha) {
     vk::GpuImage estimate(run.Context(), gpu.variance.width, gpu.variance.height,
@@ -572,12 +588,12 @@ void CapLayerNoise(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
                     gpu.albedo ? &*gpu.albedo : nullptr, o.noiseRadius, o.noiseCalibration,
                     estimate, true);
     run.Submit();
-    Image cap = estimate.Download();
-    if (alpha) cap = NforDivideByAlpha(cap, *alpha);
-    Image capped = *in.variance;
-    for (size_t i = 0; i < capped.data.size(); ++i)
-        capped.data[i] = std::min(capped.data[i], o.layerNoiseCap * cap.data[i]);
-    gpu.variance.Upload(capped);
+    Image own = estimate.Download();
+    if (alpha) own = NforDivideByAlpha(own, *alpha);
+    Image capped =
+        o.layerNoiseCap > 0 ? CapNoise(*in.variance, own, o.layerNoiseCap) : *in.variance;
+    if (o.layerNoiseCap > 0) gpu.variance.Upload(capped);
+    if (gpu.pilotVariance) gpu.pilotVariance->Upload(CapNoise(capped, own, o.pilotNoiseCap));
 }
 
 // Where the colour distance trusts the albedo (albedoNoise > 0), from the clamped colour.
@@ -622,7 +638,8 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
         run.Submit();
         gpu.variance.Upload(NforDivideByAlpha(gpu.variance.Download(), *alpha));
     }
-    if (in.variance && o.layerNoiseCap > 0) CapLayerNoise(run, gpu, in, o, alpha);
+    if (in.variance && (o.layerNoiseCap > 0 || gpu.pilotVariance))
+        CapLayerNoise(run, gpu, in, o, alpha);
     // The glint floor rewrites the variance below: its stage is read before.
     if (gpu.glint)
         run.Stage("variance", gpu.variance);
@@ -721,9 +738,12 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
     // The pilot's distance trusts the albedo where the first's did (of the clamped colour).
     const vk::GpuImage *albedo =
         gpu.albedo && !o.noDemodulatedDistance ? &*gpu.albedo : nullptr;
-    RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, gpu.variance, albedo,
-                       o.radius, o.patchRadius, o.pilotAlpha, pilotMin, gpu.illumination,
-                       gpu.scratch, *gpu.pilotDistance, gpu.trust ? &*gpu.trust : nullptr);
+    // Beside a layer with --pilot-noise-cap, the second pass's distances read it capped.
+    vk::GpuImage &variance = gpu.pilotVariance ? *gpu.pilotVariance : gpu.variance;
+    if (gpu.pilotVariance) run.Stage("pilot.variance", *gpu.pilotVariance);
+    RecordNforDistance(run.Context(), run.Recorder(), *gpu.pilot, variance, albedo, o.radius,
+                       o.patchRadius, o.pilotAlpha, pilotMin, gpu.illumination, gpu.scratch,
+                       *gpu.pilotDistance, gpu.trust ? &*gpu.trust : nullptr);
     run.Stage("pilot.distance", *gpu.pilotDistance);
     std::vector<PassCandidate> second;
     for (float k : o.pilotBandwidths) second.push_back({o.radius, k, &*gpu.pilotDistance});

@@ -186,6 +186,13 @@ struct NforOptions {
     // anything. 0 (the default: on our renders' layers the cap cost much): the layer as it
     // is.
     float layerNoiseCap = 0;
+    // Beside a variance layer, with a second pass: its distance (not the first's, nor SURE)
+    // reads min(the weights' noise, this x the frame's own estimate of the clamped colour's
+    // noise): a pixel whose few samples caught a rare bright path reports that path's variance
+    // in the layer, and the pilot's distance, normalised by it without cancellation, would
+    // weigh it with any neighbour and spread its light into a streak. 0 (the default: on our
+    // renders' layers it cost): the weights' noise.
+    float pilotNoiseCap = 0;
     // Denoise partly covered pixels as the frame holds them, premultiplied by their alpha;
     // by default divided by it and multiplied back after (host/methods/nfor_alpha.h).
     bool premultiplied = false;

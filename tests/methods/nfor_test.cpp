@@ -1737,6 +1737,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.premultiplied = o.premultiplied;
     p.layerPasses = !o.noLayerPasses;
     p.layerNoiseCap = o.layerNoiseCap;
+    p.pilotNoiseCap = o.pilotNoiseCap;
     p.demodulateDistance = !o.noDemodulatedDistance;
     p.albedoNoise = o.albedoNoise;
     p.glintNoise = o.glintNoise;
@@ -1908,6 +1909,9 @@ TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
             o.layerNoiseCap = cap;
             ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
             ExpectStagesMatch(Ctx(), 7, 1, o, true);
+            // The wide windows' distance reads the capped variance too.
+            o.pilotWideRadius = o.radius + 2;
+            ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
         }
     Frame f = MakeFrame(29, 23, 0.3, "stages29x23");
     AddLightsAtTheEdge(&f, nullptr);
@@ -1954,6 +1958,84 @@ TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
                       std::numeric_limits<float>::infinity()}) {
         NforOptions o;
         o.layerNoiseCap = bad;
+        EXPECT_THROW(NforDenoise(Ctx(), in, o), Error) << bad;
+    }
+}
+
+// A frame whose pixel (cx, cy) holds a bright path: one of its 16 samples 64 times the
+// truth, so its mean is 5 times the truth, and the layer reports that sample's variance;
+// the layer elsewhere the noise's own. Returns the layer.
+Image AddBrightPath(Frame *f, int cx, int cy, double noise) {
+    Image layer(f->truth.width, f->truth.height, 3);
+    for (size_t i = 0; i < layer.Size(); ++i) {
+        double sigma = noise * f->truth.data[i];
+        layer.data[i] = float(sigma * sigma);
+    }
+    for (int c = 0; c < 3; ++c) {
+        const double truth = f->truth.At(c, cy, cx), sample = 64 * truth;
+        f->color.At(c, cy, cx) = float((15 * truth + sample) / 16);
+        layer.At(c, cy, cx) = float((sample - truth) * (sample - truth) / 256);
+    }
+    return layer;
+}
+
+// Beside a variance layer the second pass's distance reads the layer capped at
+// --pilot-noise-cap times the frame's own estimate (off by default): a pixel whose layer
+// reports a bright path's variance would otherwise weigh with every neighbour in the pilot's
+// distance (normalised by the variances' sum, not cancelled) and spread its light around.
+// The stages agree with the reference's; the first pass reads the layer as it is.
+TEST_F(NforMethod, PilotNoiseCapReadsTheEstimateAtABrightPath) {
+    for (float cap : {1.f, 0.f})
+        for (float layerCap : {3.f, 0.f}) {
+            NforOptions o;
+            o.pilotNoiseCap = cap;
+            o.layerNoiseCap = layerCap;
+            ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
+            ExpectStagesMatch(Ctx(), 7, 1, o, true);
+            // The wide windows' distance reads the capped variance too.
+            o.pilotWideRadius = o.radius + 2;
+            ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
+        }
+    const double noise = 0.1;
+    Frame f = MakeFrame(41, 33, noise, "brightpath41x33");
+    const int cx = 20, cy = 8;
+    Image layer = AddBrightPath(&f, cx, cy, noise);
+    NforInputs in = InputsOf(f);
+    in.variance = &layer;
+    for (float cap : {0.f, 1.f}) {
+        NforOptions o;
+        o.keepStages = true;
+        o.pilotNoiseCap = cap;
+        NforResult result = NforDenoise(Ctx(), in, o);
+        const Image *pilotVariance = nullptr;
+        for (const auto &stage : result.stages) {
+            if (stage.first == "variance") {
+                EXPECT_EQ(stage.second.data, layer.data);
+            }
+            if (stage.first == "pilot.variance") pilotVariance = &stage.second;
+        }
+        EXPECT_EQ(pilotVariance != nullptr, cap > 0);
+        bool planned = false;  // --explain names the cap where it runs
+        for (const std::string &line : result.plan)
+            planned = planned || line.find("--pilot-noise-cap") != std::string::npos;
+        EXPECT_EQ(planned, cap > 0);
+        if (!pilotVariance) continue;
+        // Nowhere above the layer; at the bright path far below it (its neighbours' noise).
+        for (size_t i = 0; i < layer.Size(); ++i)
+            EXPECT_LE(pilotVariance->data[i], layer.data[i]) << i;
+        for (int c = 0; c < 3; ++c)
+            EXPECT_LT(pilotVariance->At(c, cy, cx), 0.01f * layer.At(c, cy, cx)) << c;
+    }
+    // Off by default; where it runs the second pass reads it (the output moves).
+    EXPECT_EQ(NforOptions().pilotNoiseCap, 0.f);
+    NforOptions capped;
+    capped.pilotNoiseCap = 1;
+    EXPECT_NE(NforDenoise(Ctx(), in, capped).image.data,
+              NforDenoise(Ctx(), in, NforOptions()).image.data);
+    for (float bad : {-1.f, std::numeric_limits<float>::quiet_NaN(),
+                      std::numeric_limits<float>::infinity()}) {
+        NforOptions o;
+        o.pilotNoiseCap = bad;
         EXPECT_THROW(NforDenoise(Ctx(), in, o), Error) << bad;
     }
 }

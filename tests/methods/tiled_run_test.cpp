@@ -677,6 +677,24 @@ TEST_F(GpuTest, TiledRunNforLayerNoiseCapIsTheWholeFrames) {
     }
 }
 
+// nfor beside a variance layer whose second pass reads it capped at --pilot-noise-cap times
+// the frame's own estimate: the tiled result is the untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforPilotNoiseCapIsTheWholeFrames) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 256, height = 48, tile = 128;
+    Frame frame = RareBrightLeftFrame(width, height, 0);
+    Params params = {{"radius", 3}, {"pilot-noise-cap", 1.f}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+    bool capped = false;
+    for (const std::string &line : whole.plan)
+        capped = capped || line.find("--pilot-noise-cap") != std::string::npos;
+    EXPECT_TRUE(capped);
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, second pass capped");
+}
+
 // bayes --zeros restore fills missed samples from their 3x3 neighbours before the filters:
 // its halo is one pixel wider than --zeros denoise's, and says why.
 TEST_F(GpuTest, TiledRunBayesRestoreHaloTakesTheFill) {
