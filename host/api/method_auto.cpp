@@ -1081,12 +1081,13 @@ void LiftObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &co
         plan->push_back(fmt::format(
             "auto: object lift: object {:g} ({} px) at {:.3f} of the input's luminance, "
             "below its bound {:.3f} (the input's less {:g} standard errors of {:.4f}, from "
-            "{}): scaled by {:.4f} to it",
+            "{}): scaled by {:.4f}{}",
             l.id, l.pixels, l.before / l.input, l.bound / l.input, o.objectLift,
             l.error / l.input,
             l.halves ? "the halves' difference over it"
                      : (variance ? "the variance layer" : "the half-buffers"),
-            l.bound / l.before));
+            l.scale,
+            l.scale < l.bound / l.before ? " (the largest scale, short of it)" : " to it"));
 }
 
 // The floor's weighted mean from the combination's own weights (no second combination),

@@ -233,9 +233,10 @@ std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image 
         if (!(sums.image > 0) || !(sums.image < bound)) continue;
         // An object nearly black but for its input is a fault the scale would turn into
         // fireflies: it rises at most kAutoObjectLiftMaxScale times.
-        scales[id] = std::min(bound / sums.image, kAutoObjectLiftMaxScale);
-        lifted.push_back(
-            {id, sums.pixels, sums.image, sums.input, error, bound, shared > sums.variance});
+        double scale = std::min(bound / sums.image, kAutoObjectLiftMaxScale);
+        scales[id] = scale;
+        lifted.push_back({id, sums.pixels, sums.image, sums.input, error, bound, scale,
+                          shared > sums.variance});
     }
     if (scales.empty()) return lifted;
     // Scale the channels the luminance reads (a fourth, alpha, keeps its value).

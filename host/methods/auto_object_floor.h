@@ -68,6 +68,7 @@ struct AutoObjectLift {
     // The object's luminance sums: the output's before the lift, the input's, the input's
     // standard error and the bound (the input's less k standard errors).
     double before = 0, input = 0, error = 0, bound = 0;
+    double scale = 1;     // the scale it took: to the bound, at most kAutoObjectLiftMaxScale
     bool halves = false;  // the error is the halves' disagreement over the object
 };
 
@@ -90,8 +91,8 @@ Image AutoLuminanceVariance(const Image &color, const Image *variance, const Ima
 // one and not in the pixels' sum. Pixels with a non-finite id or value in any image are left
 // out of the sums and left as they are; objects of fewer than `minPixels` pixels that count
 // (counted in `small` where given) and objects whose sum is not positive are left as they
-// are. Scales the channels the luminance reads (the first three of four, alpha kept).
-// Returns the objects lifted, by id.
+// are. Scales the channels the luminance reads (the first three of four, alpha kept), by
+// at most kAutoObjectLiftMaxScale. Returns the objects lifted, by id.
 std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image &input,
                                                   const Image &lumVariance, const Image *half0,
                                                   const Image *half1, double k, Image *image,

@@ -91,6 +91,7 @@ TEST(AutoObjectLift, LiftsAnObjectDarkenedFarBelowItsInputToTheBoundAndLeavesThe
     EXPECT_EQ(moved[0].id, 1.f);
     const size_t count1 = size_t(h) * (w / 2);
     EXPECT_EQ(moved[0].pixels, count1);
+    EXPECT_EQ(moved[0].scale, moved[0].bound / moved[0].before);  // short of the largest
 
     // The bound from the sums in double: the input's less k times the root of the summed
     // variance of the luminance (each pixel's deviation the tinted 0.01).
@@ -190,6 +191,7 @@ TEST(AutoObjectLift, ANearlyBlackObjectRisesAtMostByTheLargestScale) {
     EXPECT_NEAR(ObjectSum(image, f.ids, 1).first, kAutoObjectLiftMaxScale * before,
                 4 * kUnitRoundoff * kAutoObjectLiftMaxScale * magnitude);
     EXPECT_LT(kAutoObjectLiftMaxScale * before, moved[0].bound);
+    EXPECT_EQ(moved[0].scale, kAutoObjectLiftMaxScale);
 }
 
 TEST(AutoObjectLift, TheHalvesDisagreementOverTheObjectWidensTheBound) {
