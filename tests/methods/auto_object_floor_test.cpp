@@ -15,28 +15,13 @@
 #include "host/api/device.h"
 #include "host/methods/auto_object_floor.h"
 #include "mcdenoise/mcdenoise.h"
+#include "methods/auto_object_frames.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
 namespace {
 
 constexpr double kUnitRoundoff = 0x1p-24;
-
-double Luminance(const Image &image, int y, int x) {
-    return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) + 0.0722 * image.At(2, y, x);
-}
-
-// The luminance summed over the pixels of `ids` equal to id, and the sum of its magnitude.
-std::pair<double, double> ObjectSum(const Image &image, const Image &ids, float id) {
-    double sum = 0, magnitude = 0;
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x)
-            if (ids.At(0, y, x) == id) {
-                sum += Luminance(image, y, x);
-                magnitude += std::abs(Luminance(image, y, x));
-            }
-    return {sum, magnitude};
-}
 
 // Two objects side by side. On object 1 the candidates disagree pixel by pixel (a
 // checkerboard of 1 and 4, swapped between them, b a little brighter); on object 2 they
@@ -186,24 +171,6 @@ TEST(AutoObjectFloor, WeightedMeanNormalisesOverFinitePairsAndChecksShapes) {
 // and --explain says why; with ids, every pixel outside the objects moved is the floor-off
 // one's, and each object moved is no longer below its darkest candidate's share.
 class AutoObjectFloorMethod : public GpuTest {};
-
-Frame RenderCornell(bool ids) {
-    render::RenderOptions options;
-    options.width = 32, options.height = 24, options.spp = 8;
-    options.layers = render::kLayersAll;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers)
-        if (ids || name != "objectId") frame.layers[name] = std::move(image);
-    return frame;
-}
-
-bool PlanHas(const Result &result, const std::string &text) {
-    return std::any_of(result.plan.begin(), result.plan.end(), [&](const std::string &line) {
-        return line.find(text) != std::string::npos;
-    });
-}
 
 TEST_F(AutoObjectFloorMethod, LeavesAFrameWithoutIdsAndOnlyMovesTheObjectsItNames) {
     Device device = api::BorrowDevice(Ctx());

@@ -16,29 +16,13 @@
 #include "host/api/device.h"
 #include "host/methods/auto_object_floor.h"
 #include "mcdenoise/mcdenoise.h"
+#include "methods/auto_object_frames.h"
 #include "tools/render/renderer.h"
 
 namespace mcd::test {
 namespace {
 
 constexpr double kUnitRoundoff = 0x1p-24;
-
-double Luminance(const Image &image, size_t i) {
-    const size_t pixels = image.PixelCount();
-    return 0.2126 * image.data[i] + 0.7152 * image.data[pixels + i] +
-           0.0722 * image.data[2 * pixels + i];
-}
-
-// The luminance summed over the pixels of `ids` equal to id, and the sum of its magnitude.
-std::pair<double, double> ObjectSum(const Image &image, const Image &ids, float id) {
-    double sum = 0, magnitude = 0;
-    for (size_t i = 0; i < image.PixelCount(); ++i)
-        if (ids.data[i] == id) {
-            sum += Luminance(image, i);
-            magnitude += std::abs(Luminance(image, i));
-        }
-    return {sum, magnitude};
-}
 
 // Two objects of an odd-sized frame, RGBA: the input is noisy around a tinted level on
 // both (seeded), its variance layer that of the pixel mean. The output holds object 1 at
@@ -253,24 +237,6 @@ TEST(AutoObjectLift, LuminanceVarianceFromTheVarianceLayerOrTheHalves) {
 // objects lifted is the lift-off output's.
 class AutoObjectLiftMethod : public GpuTest {};
 
-Frame RenderCornell(bool ids) {
-    render::RenderOptions options;
-    options.width = 32, options.height = 24, options.spp = 8;
-    options.layers = render::kLayersAll;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers)
-        if (ids || name != "objectId") frame.layers[name] = std::move(image);
-    return frame;
-}
-
-bool PlanHas(const Result &result, const std::string &text) {
-    return std::any_of(result.plan.begin(), result.plan.end(), [&](const std::string &line) {
-        return line.find(text) != std::string::npos;
-    });
-}
-
 TEST_F(AutoObjectLiftMethod, LeavesAFrameWithoutIdsAndOnlyScalesTheObjectsItNames) {
     Device device = api::BorrowDevice(Ctx());
     Method on("auto"), off("auto");
@@ -291,7 +257,7 @@ TEST_F(AutoObjectLiftMethod, LeavesAFrameWithoutIdsAndOnlyScalesTheObjectsItName
     Image &ids = frame.layers.at("objectId");
     const size_t pixels = ids.PixelCount();
     for (size_t i = 0; i < pixels; ++i)
-        ids.data[i] = Luminance(reference, i) < Luminance(input, i) ? 1.f : 2.f;
+        ids.data[i] = PixelLuminance(reference, i) < PixelLuminance(input, i) ? 1.f : 2.f;
     Method lift("auto");
     lift.Set("auto-object-lift", 0.5);
     Result lifted = lift.Run(device, frame), unlifted = off.Run(device, frame);
