@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <random>
 #include <string>
 #include <tuple>
@@ -856,6 +857,23 @@ TEST_F(GpuTest, TiledRunNforPlainFrameWithAlphaIsBitIdentical) {
     ExpectSameBits(whole.image, tiled.image, "nfor tiled with alpha");
 }
 
+// Noise for an albedo (reflectances drawn per pixel and channel, seeded by `seed`, row by
+// row) in the columns `column` takes: the colour does not follow it.
+void NoisyAlbedo(Image *albedo, const std::string &seed,
+                 const std::function<bool(int)> &column) {
+    std::mt19937_64 rng(SeedFromName(seed));
+    std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
+    for (int y = 0; y < albedo->height; ++y)
+        for (int x = 0; x < albedo->width; ++x)
+            if (column(x))
+                for (int c = 0; c < 3; ++c) albedo->At(c, y, x) = reflectance(rng);
+}
+
+// Bands of 24 columns either side of each seam of tiles `tile` wide.
+std::function<bool(int)> SeamBands(int tile) {
+    return [tile](int x) { return x % tile < 24 || x % tile >= tile - 24; };
+}
+
 // nfor on a rendered frame whose albedo is noise (random per pixel and channel, which the
 // colour does not follow) in bands across the tile seams: the distance's trust, which reads
 // the clamped colour and albedo of the 8 neighbours, gives in tiles the untiled result bit
@@ -866,13 +884,7 @@ TEST_F(GpuTest, TiledRunNforNoisyAlbedoAcrossTheSeamIsBitIdentical) {
     const int width = 640, height = 24, tile = 160;
     Frame frame = RenderedFrame(width, height, render::kLayersAll);
     frame.layers.erase("variance");
-    Image &albedo = frame.layers.at("albedo");
-    std::mt19937_64 rng(SeedFromName("tiled noisy albedo"));
-    std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            if (x % tile < 24 || x % tile >= tile - 24)
-                for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = reflectance(rng);
+    NoisyAlbedo(&frame.layers.at("albedo"), "tiled noisy albedo", SeamBands(tile));
     Params params = {{"radius", 3}};
     Result whole = RunWith(device, "nfor", params, frame, 0);
     Result tiled = RunWith(device, "nfor", params, frame, tile);
@@ -898,12 +910,7 @@ TEST_F(GpuTest, TiledRunNforGlintFloorAcrossTheSeamIsBitIdentical) {
     Frame frame = RenderedFrame(width, height, render::kLayersAll);
     frame.layers.erase("variance");
     Image &albedo = frame.layers.at("albedo");
-    std::mt19937_64 rng(SeedFromName("tiled glint floor"));
-    std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            if (x % tile < 24 || x % tile >= tile - 24)
-                for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = reflectance(rng);
+    NoisyAlbedo(&albedo, "tiled glint floor", SeamBands(tile));
     // The other reaches at their smallest (no line spread, local means or pilot), so that a
     // halo short of the floor's gate shows in the bits.
     Params params = {{"radius", 3},
@@ -940,11 +947,8 @@ TEST_F(GpuTest, TiledRunNforGlintFloorCountsAPartlyCoveredGlint) {
     frame.layers["alpha"] = Image(width, height, 1);
     Image &albedo = frame.layers.at("albedo"), &alpha = frame.layers.at("alpha");
     std::fill(alpha.data.begin(), alpha.data.end(), 1.f);
-    std::mt19937_64 rng(SeedFromName("tiled glint floor, partly covered"));
-    std::uniform_real_distribution<float> reflectance(0.05f, 0.95f);
-    for (int y = 0; y < height; ++y)
-        for (int x = tile - 24; x < tile + 24; ++x)
-            for (int c = 0; c < 3; ++c) albedo.At(c, y, x) = reflectance(rng);
+    NoisyAlbedo(&albedo, "tiled glint floor, partly covered",
+                [tile](int x) { return x >= tile - 24 && x < tile + 24; });
     Params params = {{"radius", 3},
                      {"line-spread", 0.f},
                      {"nfor-mean-radius", 0},
