@@ -135,7 +135,7 @@ class AutoFrontEnd : public FrontEnd {
         // this many standard errors of the input's sum (objectGuardSign "dark"; "both":
         // departs from it) weighs less on the object (0: off; issue 29,
         // host/methods/auto_object_floor.h).
-        float objectGuard = 0;
+        float objectGuard = 3.5f;
         std::string objectGuardSign = "dark";
         std::string objectGuardFrames = "halves";
         // The parameters the user set (not a parameter): auto's settings for the

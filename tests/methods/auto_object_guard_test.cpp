@@ -234,8 +234,9 @@ TEST_F(AutoObjectGuardMethod, LeavesAFrameWithoutIdsAndObjectsWithinTheirNoise) 
     EXPECT_EQ(within.image.data, off.Run(device, frame).image.data);
     EXPECT_TRUE(PlanHas(within, "auto: object guard: no candidate's object sum departs"))
         << fmt::format("{}", fmt::join(within.plan, "\n"));
-    // The sign and the frames need the guard on.
+    // The sign and the frames need the guard on (off: refused).
     Method lone("auto");
+    lone.Set("auto-object-guard", 0.0);
     lone.Set("auto-object-guard-sign", std::string("both"));
     EXPECT_THROW(lone.Run(device, frame), Error);
 }
