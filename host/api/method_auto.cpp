@@ -212,8 +212,9 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "--explain names each object lifted",
                    &O::objectLift, 0, 100),
         FloatParam("auto-object-guard",
-                   "on a frame with an objectId layer and a variance layer or half-buffers, "
-                   "before the combination: per object of at least 64 px and per "
+                   "on a frame with an objectId layer and half-buffers (with "
+                   "--auto-object-guard-frames all, or a variance layer), before the "
+                   "combination: per object of at least 64 px and per "
                    "candidate, t is the candidate's luminance summed over the object less "
                    "the input's, in standard errors of the input's sum (as "
                    "--auto-object-lift's, at least 1% of the sum); where t is below minus "
@@ -1162,7 +1163,7 @@ Image GuardObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &
             "auto: object guard: object {:g} ({} px): {} at t = {:.2f} standard errors of the "
             "input's sum, its estimate there times {:.3g} (--auto-object-guard {:g})",
             hit.id, hit.pixels, list[hit.candidate].label, hit.t, hit.factor, o.objectGuard));
-    if (!small.empty()) plan->push_back("auto: object guard" + small.substr(1));
+    if (!small.empty()) plan->push_back("auto: object guard:" + small.substr(1));
     return std::move(guarded.factors);
 }
 
@@ -1425,6 +1426,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     const bool check = noise.halves && options.meanRadius > 0 && options.meanCheck == "halves";
     Image half0 = check ? noise.half0 : Image();
     AutoEstimateInputs estimate = EstimateInputs(noise, combine);
+    // The half0 runs' combination (the restore's check) reads the same factors: the same
+    // combination, the objects judged on the whole frame's samples.
     estimate.objectFactors = GuardObjects(options, inputs, color, noise, list, &plan);
     std::string noFloor;
     const bool floor = FloorsObjects(options, combine, inputs, &noFloor);
