@@ -133,11 +133,46 @@ TEST(AutoObjectGuard, WeighsDownOnlyTheCandidatesThatDepartFarFromTheInputsSum) 
     for (float factor : none.factors.data) ASSERT_EQ(factor, 1.f);
 }
 
-// A combination on SURE estimates: c0 is the input (the identity), c1 the true level, but
-// at 0.7 of it on a small object. c1's window estimates barely see the object, so it takes
-// the weight there and fades it; the guard's factors move the weight to c0, which keeps the
-// object's light. Off the object the weights and the output are the unguarded ones bit for
-// bit (their factors are 1).
+// Checks a guarded combination against the unguarded one on object 1, where candidate 1
+// (`faded`) fades the input: unguarded it takes the object; guarded it weighs under 1e-3 of
+// candidate 0 (the input) there, and the object keeps the input's sum within the tolerance
+// from the weights. Off the object the output and the weights keep their bits.
+void ExpectGuarded(const AutoResult &plain, const AutoResult &kept, const GuardFrame &f,
+                   const Image &faded, float sigma, float z) {
+    const auto [inputSum, error] = InputSum(f, 1, sigma);
+    // Unguarded, the faded candidate takes the object: its sum is short by many errors.
+    EXPECT_LT(ObjectSum(plain.image, f.ids, 1).first, inputSum - z * error);
+    // Guarded, its estimate there is at least floorError times the factor (e^13.5 at t = -6),
+    // so its share of the weight is at most (c0's estimate / that)^2. The object's output
+    // departs from c0's (the input) by each pixel's share of c1's departure, summed: the
+    // tolerance, from the weights returned, plus the float mean's rounding.
+    const size_t pixels = f.input.PixelCount();
+    double bound = 0;
+    for (size_t i = 0; i < pixels; ++i)
+        if (f.ids.data[i] == 1.f) {
+            const double w0 = kept.weights.data[i], w1 = kept.weights.data[pixels + i];
+            ASSERT_LT(w1, 1e-3 * w0) << "pixel " << i;
+            bound += w1 / (w0 + w1) *
+                     std::abs(PixelLuminance(faded, i) - PixelLuminance(f.input, i));
+        }
+    EXPECT_NEAR(ObjectSum(kept.image, f.ids, 1).first, inputSum,
+                bound + 16 * 4 * 0x1p-24 * inputSum);
+    for (int c = 0; c < 3; ++c)
+        for (size_t i = 0; i < pixels; ++i)
+            if (f.ids.data[i] != 1.f) {
+                ASSERT_EQ(kept.image.data[c * pixels + i], plain.image.data[c * pixels + i]);
+            }
+    for (size_t i = 0; i < kept.weights.data.size(); ++i)
+        if (f.ids.data[i % pixels] != 1.f) {
+            ASSERT_EQ(kept.weights.data[i], plain.weights.data[i]);
+        }
+}
+
+// A combination on SURE estimates, then beside the half-buffers (the default path): c0 is
+// the input (the identity), c1 the true level, but at 0.7 of it on a small object. c1's
+// window estimates barely see the object, so it takes the weight there and fades it; the
+// guard's factors move the weight to c0, which keeps the object's light. Off the object the
+// weights and the output are the unguarded ones bit for bit (their factors are 1).
 class AutoObjectGuardCombine : public GpuTest {};
 
 TEST_F(AutoObjectGuardCombine, ACandidateThatFadesAnObjectLosesItsWeightThere) {
@@ -179,36 +214,33 @@ TEST_F(AutoObjectGuardCombine, ACandidateThatFadesAnObjectLosesItsWeightThere) {
     in.objectFactors = guarded.factors;
     const AutoResult kept = AutoCombine(Ctx(), f.input, candidates, in, options);
 
-    const auto [inputSum, error] = InputSum(f, 1, sigma);
-    // Unguarded, the faded candidate takes the object: its sum is short by many errors.
-    EXPECT_LT(ObjectSum(plain.image, f.ids, 1).first, inputSum - z * error);
-    // Guarded, its estimate there is at least floorError times the factor (e^13.5 at t = -6),
-    // so its share of the weight is at most (c0's estimate / that)^2. The object's output
-    // departs from c0's (the input) by each pixel's share of c1's departure, summed: the
-    // tolerance, from the weights returned, plus the float mean's rounding.
-    const size_t pixels = f.input.PixelCount();
-    double bound = 0;
-    for (size_t i = 0; i < pixels; ++i)
-        if (f.ids.data[i] == 1.f) {
-            const double w0 = kept.weights.data[i], w1 = kept.weights.data[pixels + i];
-            ASSERT_LT(w1, 1e-3 * w0) << "pixel " << i;
-            bound += w1 / (w0 + w1) *
-                     std::abs(PixelLuminance(faded.output, i) - PixelLuminance(f.input, i));
-        }
-    EXPECT_NEAR(ObjectSum(kept.image, f.ids, 1).first, inputSum,
-                bound + 16 * 4 * 0x1p-24 * inputSum);
-    for (int c = 0; c < 3; ++c)
-        for (size_t i = 0; i < pixels; ++i)
-            if (f.ids.data[i] != 1.f) {
-                ASSERT_EQ(kept.image.data[c * pixels + i], plain.image.data[c * pixels + i]);
-            }
-    for (size_t i = 0; i < kept.weights.data.size(); ++i)
-        if (f.ids.data[i % pixels] != 1.f) {
-            ASSERT_EQ(kept.weights.data[i], plain.weights.data[i]);
-        }
+    ExpectGuarded(plain, kept, f, faded.output, sigma, z);
     // In strips the factors are cut with the rows: the whole frame's bits.
     options.stripRows = 5;
     EXPECT_EQ(AutoCombine(Ctx(), f.input, candidates, in, options).image.data, kept.image.data);
+
+    // Beside the half-buffers the factors go on after the halves' adjustment (the default
+    // path): c0's probe is F(half0) = half0, a second draw of the input's noise, scored
+    // against half1, a third; the probe is zero.
+    SCOPED_TRACE("half-buffers");
+    const GuardFrame half0 = MakeGuardFrame(w, h, left, level, sigma, false, "object guard h0");
+    const GuardFrame half1 = MakeGuardFrame(w, h, left, level, sigma, false, "object guard h1");
+    std::vector<AutoCandidate> halvesCandidates = candidates;
+    halvesCandidates[0].probe = half0.input;
+    AutoEstimateInputs halves;
+    halves.variance = f.variance, halves.probe = Image(w, h, 3), halves.half1 = half1.input;
+    // A drop no candidate reaches: the halves' adjustment runs and leaves the estimates.
+    options.stripRows = 0;
+    options.halvesDrop = 100;
+    const AutoResult halvesPlain =
+        AutoCombine(Ctx(), f.input, halvesCandidates, halves, options);
+    halves.objectFactors = guarded.factors;
+    const AutoResult halvesKept =
+        AutoCombine(Ctx(), f.input, halvesCandidates, halves, options);
+    ExpectGuarded(halvesPlain, halvesKept, f, faded.output, sigma, z);
+    options.stripRows = 5;
+    EXPECT_EQ(AutoCombine(Ctx(), f.input, halvesCandidates, halves, options).image.data,
+              halvesKept.image.data);
 }
 
 // The front end: a frame without ids is the guard-off output bit for bit and --explain says
