@@ -26,7 +26,7 @@ namespace {
 
 // An odd-sized RGB frame of two objects (id 1 the left columns, id 2 the rest) whose input
 // is `level` plus seeded normal noise of deviation `sigma` per value, and whose variance
-// layer is sigma^2; one pixel of object 2 is NaN where `nan`.
+// layer is sigma^2; one pixel of object 1 is NaN where `nan`.
 struct GuardFrame {
     Image input, ids, variance;
 };
@@ -39,7 +39,7 @@ GuardFrame MakeGuardFrame(int w, int h, int leftColumns, float level, float sigm
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) f.ids.At(0, y, x) = x < leftColumns ? 1.f : 2.f;
     for (float &v : f.input.data) v = level + normal(rng);
-    if (nan) f.input.At(1, h - 1, w - 1) = NAN;
+    if (nan) f.input.At(1, 0, 0) = NAN;
     return f;
 }
 
@@ -98,7 +98,7 @@ TEST(AutoObjectGuard, WeighsDownOnlyTheCandidatesThatDepartFarFromTheInputsSum) 
         ASSERT_EQ(result.hits.size(), both ? 2u : 1u);
         EXPECT_EQ(result.hits[0].id, 1.f);
         EXPECT_EQ(result.hits[0].candidate, 1);
-        EXPECT_EQ(result.hits[0].pixels, size_t(left * h));
+        EXPECT_EQ(result.hits[0].pixels, size_t(left * h - 1));  // the NaN pixel out
         // t and the factor from the sums in double; the float sums' rounding over the
         // object's pixels is far below the tolerance, and the factor's slope is t.
         const double t1 = (0.7 * sum1 - sum1) / error1;
@@ -109,10 +109,12 @@ TEST(AutoObjectGuard, WeighsDownOnlyTheCandidatesThatDepartFarFromTheInputsSum) 
             EXPECT_EQ(result.hits[1].candidate, 2);
             EXPECT_NEAR(result.hits[1].t, -t1, 1e-4 * std::abs(t1));
         }
-        // Every other candidate, object and the NaN pixel keep the factor 1 exactly.
+        // Every other candidate, object and the guarded object's NaN pixel keep the factor 1
+        // exactly.
         for (int k = 0; k < 3; ++k)
             for (size_t i = 0; i < pixels; ++i) {
-                const bool guarded = f.ids.data[i] == 1.f && (k == 1 || (both && k == 2));
+                const bool guarded =
+                    f.ids.data[i] == 1.f && i != 0 && (k == 1 || (both && k == 2));
                 const float factor = result.factors.data[k * pixels + i];
                 const float expected =
                     guarded ? float(result.hits[k == 1 ? 0 : 1].factor) : 1.f;
@@ -131,6 +133,31 @@ TEST(AutoObjectGuard, WeighsDownOnlyTheCandidatesThatDepartFarFromTheInputsSum) 
     EXPECT_TRUE(none.hits.empty());
     EXPECT_EQ(none.small, 2u);
     for (float factor : none.factors.data) ASSERT_EQ(factor, 1.f);
+}
+
+// With a tiny variance the error is the floor, kAutoGuardRelative of the input's sum: a
+// departure of 5 of them is guarded at t = -5, one of 2 (hundreds of the variance's standard
+// errors) is not.
+TEST(AutoObjectGuard, TheErrorIsAtLeastAHundredthOfTheInputsSum) {
+    const int w = 13, h = 9, left = 5;
+    const float sigma = 1e-4f, z = 3;
+    const GuardFrame f = MakeGuardFrame(w, h, left, 0.5f, sigma, false, "object guard floor");
+    const auto [sum1, error1] = InputSum(f, 1, sigma);
+    ASSERT_LT(100 * error1, kAutoGuardRelative * sum1);
+    const Image keep = f.input, fivePercent = ScaledOn(f, 1, 0.95f),
+                twoPercent = ScaledOn(f, 1, 0.98f);
+    const Image lumVariance = AutoLuminanceVariance(f.input, &f.variance, nullptr, nullptr);
+    AutoObjectGuard guard;
+    guard.z = z, guard.minPixels = 1;
+    const AutoObjectGuardResult result =
+        AutoObjectGuardFactors(f.ids, f.input, lumVariance, nullptr, nullptr,
+                               {&keep, &fivePercent, &twoPercent}, guard);
+    ASSERT_EQ(result.hits.size(), 1u);
+    EXPECT_EQ(result.hits[0].id, 1.f);
+    EXPECT_EQ(result.hits[0].candidate, 1);
+    // t = -0.05 sum / (0.01 sum), up to the float scale's and sums' rounding.
+    const double t = -0.05 / kAutoGuardRelative;
+    EXPECT_NEAR(result.hits[0].t, t, 1e-4 * std::abs(t));
 }
 
 // Checks a guarded combination against the unguarded one on object 1, where candidate 1
@@ -271,6 +298,10 @@ TEST_F(AutoObjectGuardMethod, LeavesAFrameWithoutIdsAndObjectsWithinTheirNoise) 
     lone.Set("auto-object-guard", 0.0);
     lone.Set("auto-object-guard-sign", std::string("both"));
     EXPECT_THROW(lone.Run(device, frame), Error);
+    Method loneFrames("auto");
+    loneFrames.Set("auto-object-guard", 0.0);
+    loneFrames.Set("auto-object-guard-frames", std::string("all"));
+    EXPECT_THROW(loneFrames.Run(device, frame), Error);
 }
 
 }  // namespace
