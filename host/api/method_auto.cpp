@@ -1123,14 +1123,19 @@ void LiftObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &co
 Image GuardObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &color,
                    const Noise &noise, const std::vector<AutoCandidate> &list,
                    std::vector<std::string> *plan) {
-    if (o.objectGuard == 0 || !noise.scored) return Image();
+    if (o.objectGuard == 0) return Image();
     const bool variance = inputs.Has("variance");
-    const bool halves = noise.halves && inputs.Has("half0.color") && inputs.Has("half1.color");
-    const char *why = !inputs.Has("objectId") ? "the frame has no objectId layer"
+    const bool layers = inputs.Has("half0.color") && inputs.Has("half1.color");
+    const bool halves = noise.halves && layers;
+    const char *why = !noise.scored             ? "no estimates: the mean combination"
+                      : !inputs.Has("objectId") ? "the frame has no objectId layer"
                       : !variance && !halves
                           ? "the frame has no variance layer nor half-buffers"
                       : !halves && o.objectGuardFrames == "halves"
-                          ? "the frame has no half-buffers; --auto-object-guard-frames all"
+                          ? (layers ? "the estimates are not the half-buffers'; "
+                                      "--auto-object-guard-frames all"
+                                    : "the frame has no half-buffers; "
+                                      "--auto-object-guard-frames all")
                           : nullptr;
     if (why) {
         plan->push_back(fmt::format("auto: object guard: left out ({})", why));

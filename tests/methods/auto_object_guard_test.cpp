@@ -302,6 +302,27 @@ TEST_F(AutoObjectGuardMethod, LeavesAFrameWithoutIdsAndObjectsWithinTheirNoise) 
     loneFrames.Set("auto-object-guard", 0.0);
     loneFrames.Set("auto-object-guard-frames", std::string("all"));
     EXPECT_THROW(loneFrames.Run(device, frame), Error);
+    // The plan says why the guard (on by default) is left out: no estimates under the mean
+    // combination; estimates not the halves' on a frame that has them.
+    Method mean("auto");
+    mean.Set("auto-combine", std::string("mean"));
+    const Result meanRun = mean.Run(device, frame);
+    EXPECT_TRUE(PlanHas(meanRun, "object guard: left out (no estimates: the mean combination)"))
+        << fmt::format("{}", fmt::join(meanRun.plan, "\n"));
+    render::RenderOptions options;
+    options.width = 32, options.height = 24, options.spp = 8;
+    options.layers = render::kLayersAll | render::kLayersHalves;
+    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
+    Frame halves;
+    halves.width = options.width, halves.height = options.height;
+    for (auto &[name, image] : rendered.layers) halves.layers[name] = std::move(image);
+    Method sure("auto");
+    sure.Set("auto-noise", std::string("variance"));
+    const Result sureRun = sure.Run(device, halves);
+    EXPECT_TRUE(PlanHas(sureRun,
+                        "object guard: left out (the estimates are not the "
+                        "half-buffers'; --auto-object-guard-frames all)"))
+        << fmt::format("{}", fmt::join(sureRun.plan, "\n"));
 }
 
 }  // namespace
