@@ -211,6 +211,27 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "its light), as the input is the unbiased estimate of its light (0: off); "
                    "--explain names each object lifted",
                    &O::objectLift, 0, 100),
+        FloatParam("auto-object-guard",
+                   "on a frame with an objectId layer and half-buffers (with "
+                   "--auto-object-guard-frames all, or a variance layer), before the "
+                   "combination: per object of at least 64 px and per "
+                   "candidate, t is the candidate's luminance summed over the object less "
+                   "the input's, in standard errors of the input's sum (as "
+                   "--auto-object-lift's, at least 1% of the sum); where t is below minus "
+                   "this (with --auto-object-guard-sign both, |t| above it) the candidate's "
+                   "error estimate on the object is multiplied by exp((t^2 - this^2) / 2), "
+                   "as --auto-mean-guard's, so that the weights there move to the "
+                   "candidates that keep the object's light (0: off); --explain names each "
+                   "object and candidate it weighed down",
+                   &O::objectGuard, 0, 100),
+        ChoiceParam("auto-object-guard-sign",
+                    "with --auto-object-guard: the departures it counts, darkening alone "
+                    "(dark) or brightening too (both)",
+                    &O::objectGuardSign, {"dark", "both"}),
+        ChoiceParam("auto-object-guard-frames",
+                    "with --auto-object-guard: the frames it runs on, those with half-buffers "
+                    "(halves) or also those with a variance layer alone (all)",
+                    &O::objectGuardFrames, {"halves", "all"}),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -998,6 +1019,12 @@ void CheckNeededOptions(const AutoFrontEnd::Options &o) {
                                 "tents have no bandwidth)",
                                 o.windowBandwidth),
                     ErrorKind::InvalidArgument);
+    for (const char *name : {"auto-object-guard-sign", "auto-object-guard-frames"})
+        if (o.objectGuard == 0 &&
+            std::find(o.given.begin(), o.given.end(), name) != o.given.end())
+            throw Error(
+                fmt::format("--{} needs --auto-object-guard above 0 (the guard is off)", name),
+                ErrorKind::InvalidArgument);
 }
 
 // Whether the object floor runs, else (with `why`) the plan's line on why not.
@@ -1088,6 +1115,61 @@ void LiftObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &co
                      : (variance ? "the variance layer" : "the half-buffers"),
             l.scale,
             l.scale < l.bound / l.before ? " (the largest scale, short of it)" : " to it"));
+}
+
+// The object guard's factors on the candidates' estimates (host/methods/auto_object_floor.h),
+// one plan line per object and candidate weighed down, or one on why it did not run; empty
+// factors where it did not.
+Image GuardObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &color,
+                   const Noise &noise, const std::vector<AutoCandidate> &list,
+                   std::vector<std::string> *plan) {
+    if (o.objectGuard == 0) return Image();
+    const bool variance = inputs.Has("variance");
+    const bool layers = inputs.Has("half0.color") && inputs.Has("half1.color");
+    const bool halves = noise.halves && layers;
+    const char *why = !noise.scored             ? "no estimates: the mean combination"
+                      : !inputs.Has("objectId") ? "the frame has no objectId layer"
+                      : !variance && !halves
+                          ? "the frame has no variance layer nor half-buffers"
+                      : !halves && o.objectGuardFrames == "halves"
+                          ? (layers ? "the estimates are not the half-buffers'; "
+                                      "--auto-object-guard-frames all"
+                                    : "the frame has no half-buffers; "
+                                      "--auto-object-guard-frames all")
+                          : nullptr;
+    if (why) {
+        plan->push_back(fmt::format("auto: object guard: left out ({})", why));
+        return Image();
+    }
+    const Image *half0 = halves ? &inputs.Get("half0.color") : nullptr;
+    const Image *half1 = halves ? &inputs.Get("half1.color") : nullptr;
+    const Image lumVariance = AutoLuminanceVariance(
+        color, variance ? &inputs.Get("variance") : nullptr, half0, half1);
+    std::vector<const Image *> outputs;
+    for (const AutoCandidate &c : list) outputs.push_back(&c.output);
+    AutoObjectGuard guard;
+    guard.z = o.objectGuard, guard.both = o.objectGuardSign == "both";
+    AutoObjectGuardResult guarded = AutoObjectGuardFactors(
+        inputs.Get("objectId"), color, lumVariance, half0, half1, outputs, guard);
+    const std::string small =
+        guarded.small > 0
+            ? fmt::format("; left out {} object{} of fewer than {} px", guarded.small,
+                          guarded.small > 1 ? "s" : "", guard.minPixels)
+            : "";
+    if (guarded.hits.empty()) {
+        plan->push_back(fmt::format(
+            "auto: object guard: no candidate's object sum {} the input's by over {:g} "
+            "standard errors{}",
+            guard.both ? "departs from" : "below", o.objectGuard, small));
+        return Image();
+    }
+    for (const AutoObjectGuardHit &hit : guarded.hits)
+        plan->push_back(fmt::format(
+            "auto: object guard: object {:g} ({} px): {} at t = {:.2f} standard errors of the "
+            "input's sum, its estimate there times {:.3g} (--auto-object-guard {:g})",
+            hit.id, hit.pixels, list[hit.candidate].label, hit.t, hit.factor, o.objectGuard));
+    if (!small.empty()) plan->push_back("auto: object guard:" + small.substr(1));
+    return std::move(guarded.factors);
 }
 
 // The floor's weighted mean from the combination's own weights (no second combination),
@@ -1201,7 +1283,7 @@ TileNeeds AutoFrontEnd::Tiling(vk::Context &context, Inputs &inputs) const {
     const unsigned estimate = EstimateOnLayers(inputs, options);
     needs.notLocal =
         "auto: each tile fixes its candidates' frame-wide quantities, its own estimates, "
-        "the restore's gain and lift and the object floor's and lift's sums";
+        "the restore's gain and lift and the object floor's, lift's and guard's sums";
     for (const RegisteredVariant &v : AutoVariants()) {
         const FrontEnd &base = Base(v.method->name);
         if (!base.Missing(inputs.Source()).empty() || !(v.variant->estimates & estimate))
@@ -1348,7 +1430,10 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     // The half0 runs' combination, for the restore's check against half1.
     const bool check = noise.halves && options.meanRadius > 0 && options.meanCheck == "halves";
     Image half0 = check ? noise.half0 : Image();
-    const AutoEstimateInputs estimate = EstimateInputs(noise, combine);
+    AutoEstimateInputs estimate = EstimateInputs(noise, combine);
+    // The half0 runs' combination (the restore's check) reads the same factors: the same
+    // combination, the objects judged on the whole frame's samples.
+    estimate.objectFactors = GuardObjects(options, inputs, color, noise, list, &plan);
     std::string noFloor;
     const bool floor = FloorsObjects(options, combine, inputs, &noFloor);
     combine.keepWeights = floor;

@@ -129,6 +129,15 @@ class AutoFrontEnd : public FrontEnd {
         // standard errors of the input's sum is scaled up to that bound (0: off; issue 29,
         // host/methods/auto_object_floor.h).
         float objectLift = 3;
+        // Beside the half-buffers (objectGuardFrames "halves") or also on a frame with a
+        // variance layer alone ("all"), with an objectId layer: before the combination, a
+        // candidate whose luminance sum over an object is below the input's by more than
+        // this many standard errors of the input's sum (objectGuardSign "dark"; "both":
+        // departs from it) weighs less on the object (0: off; issue 29,
+        // host/methods/auto_object_floor.h).
+        float objectGuard = 3.5f;
+        std::string objectGuardSign = "dark";
+        std::string objectGuardFrames = "halves";
         // The parameters the user set (not a parameter): auto's settings for the
         // candidates' (MethodEntry::autoSettings) give way; an option that needs another
         // is refused without it.

@@ -12,6 +12,7 @@
 #include "host/kernels/auto_noise.h"
 #include "host/kernels/auto_smooth.h"
 #include "host/methods/auto_halves.h"
+#include "host/methods/auto_object_floor.h"
 #include "host/vk/gpu_image.h"
 #include "shaders/auto/auto.h"
 #include "shaders/auto/noise.h"
@@ -76,6 +77,12 @@ void CheckAutoInputs(const Image &color, const std::vector<AutoCandidate> &candi
     if ((halves && !estimate.half1.SameShape(color)) ||
         (!estimate.offset.Empty() && !estimate.offset.SameShape(color)))
         throw Error("auto: half1 and the split's offset must have the colour's shape",
+                    ErrorKind::Internal);
+    if (!estimate.objectFactors.Empty() &&
+        (estimate.objectFactors.width != color.width ||
+         estimate.objectFactors.height != color.height ||
+         estimate.objectFactors.channels != int(candidates.size())))
+        throw Error("auto: the object guard's factors need one plane per candidate",
                     ErrorKind::Internal);
     if (options.combination == AutoCombination::Relative &&
         !estimate.meanVariance.SameShape(color))
@@ -275,6 +282,7 @@ void AdjustHalvesEstimates(StagedRun &run, AutoGpu &gpu, EstimateGpu &est,
     settings.power = options.power;
     AutoHalvesResult adjusted = AutoAdjustHalvesEstimates(smooth, halfNoise, settings);
     if (options.meanGuard > 0) GuardLocalMeans(run, smooth, color, candidates, in, options);
+    AutoApplyObjectGuard(smooth, in.objectFactors, options.floorError);
     gpu.smooth.Upload(smooth);
     if (options.halvesFloor > 0)
         run.Plan(fmt::format(
@@ -345,8 +353,14 @@ void RecordGuidedEstimates(StagedRun &run, AutoGpu &gpu, const Image &color,
     RecordEstimates(run, gpu, est, candidates, halves, guide, options.noiseCap, options.radius,
                     options.windowBandwidth);
     if (halves && (options.halvesFloor > 0 || options.halvesDrop > 0 ||
-                   SharesVariants(options) || options.meanGuard > 0))
+                   SharesVariants(options) || options.meanGuard > 0)) {
         AdjustHalvesEstimates(run, gpu, est, candidates, options, guide, color, in);
+    } else if (!in.objectFactors.Empty()) {
+        run.Submit();
+        Image smooth = gpu.smooth.Download();
+        AutoApplyObjectGuard(smooth, in.objectFactors, options.floorError);
+        gpu.smooth.Upload(smooth);
+    }
 }
 
 // Without an estimate every method gets the same weight, shared by its variants: a
@@ -536,10 +550,12 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
             for (int y0 = 0; y0 < H; y0 += rows) {
                 const int y1 = std::min(H, y0 + rows);
                 const int wy0 = std::max(0, y0 - halo), wy1 = std::min(H, y1 + halo);
-                AutoEstimateInputs in{
-                    Rows(estimate.variance, wy0, wy1), Rows(estimate.probe, wy0, wy1),
-                    Rows(estimate.half1, wy0, wy1), Rows(estimate.offset, wy0, wy1),
-                    Rows(estimate.meanVariance, wy0, wy1)};
+                AutoEstimateInputs in{Rows(estimate.variance, wy0, wy1),
+                                      Rows(estimate.probe, wy0, wy1),
+                                      Rows(estimate.half1, wy0, wy1),
+                                      Rows(estimate.offset, wy0, wy1),
+                                      Rows(estimate.meanVariance, wy0, wy1),
+                                      Rows(estimate.objectFactors, wy0, wy1)};
                 if (sums) sums->rowBegin = y0 - wy0, sums->rowEnd = y1 - wy0;
                 Image stripWeights;
                 AutoResult part = CombineWindow(context, Rows(color, wy0, wy1),

@@ -55,6 +55,9 @@ struct AutoEstimateInputs {
     Image offset;  // bayes's split output: 2 (v - Cov(I, y)) per value; empty: none
     // The relative combination: the variance of the pixel mean.
     Image meanVariance;
+    // The object guard's factors on the final estimates, one plane per candidate
+    // (AutoObjectGuardFactors, host/methods/auto_object_floor.h); empty: none.
+    Image objectFactors;
 };
 
 enum class AutoCombination {

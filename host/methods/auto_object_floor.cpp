@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "host/error.h"
+#include "host/methods/auto_halves.h"
 
 namespace mcd {
 namespace {
@@ -180,43 +181,79 @@ Image AutoLuminanceVariance(const Image &color, const Image *variance, const Ima
     return out;
 }
 
+namespace {
+
+// One object's sums over the pixels that count: the input's luminance, its variance, the
+// halves' difference and each image's luminance.
+struct InputSums {
+    size_t pixels = 0;
+    double input = 0, variance = 0, difference = 0;
+    std::vector<double> images;
+    // The standard error of the input's sum: the pixels' variance summed, or the halves'
+    // difference over the object where that says more (Var(S0 - S1) is four times the
+    // variance of the object's sum).
+    double Error() const { return std::sqrt(std::max(variance, difference * difference / 4)); }
+    bool Halves() const { return difference * difference / 4 > variance; }
+};
+
+// Per object of `ids`, the sums over the pixels where the id and every value (the input's,
+// its variance, the halves' difference, each of `images`) are finite; `pixelIds` gets each
+// pixel's id there, NaN elsewhere. Throws where a size does not match the input's.
+std::map<float, InputSums> SumObjects(const Image &ids, const Image &input,
+                                      const Image &lumVariance, const Image *half0,
+                                      const Image *half1,
+                                      const std::vector<const Image *> &images,
+                                      std::vector<float> *pixelIds) {
+    const size_t pixels = input.PixelCount();
+    const bool halves = half0 && half1;
+    auto sized = [&](const Image &layer) {
+        return layer.width == input.width && layer.height == input.height;
+    };
+    bool shapes =
+        sized(ids) && sized(lumVariance) && (!halves || (sized(*half0) && sized(*half1)));
+    for (const Image *image : images) shapes = shapes && image->SameShape(input);
+    if (!shapes)
+        throw Error(
+            "auto: the object sums need ids, input, variance, halves and images of the "
+            "input's size",
+            ErrorKind::InvalidArgument);
+    pixelIds->assign(pixels, NAN);
+    std::map<float, InputSums> objects;
+    std::vector<double> lum(images.size());
+    for (size_t i = 0; i < pixels; ++i) {
+        float id = ids.data[i];
+        double in = Luminance(input, i), v = lumVariance.data[i];
+        double d = halves ? Luminance(*half0, i) - Luminance(*half1, i) : 0;
+        bool finite =
+            std::isfinite(id) && std::isfinite(in) && std::isfinite(v) && std::isfinite(d);
+        for (size_t k = 0; k < images.size(); ++k) {
+            lum[k] = Luminance(*images[k], i);
+            finite = finite && std::isfinite(lum[k]);
+        }
+        if (!finite) continue;
+        (*pixelIds)[i] = id;
+        InputSums &sums = objects[id];
+        sums.images.resize(images.size(), 0.0);
+        ++sums.pixels;
+        sums.input += in;
+        sums.variance += v;
+        sums.difference += d;
+        for (size_t k = 0; k < images.size(); ++k) sums.images[k] += lum[k];
+    }
+    return objects;
+}
+
+}  // namespace
+
 std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image &input,
                                                   const Image &lumVariance, const Image *half0,
                                                   const Image *half1, double k, Image *image,
                                                   size_t minPixels, size_t *small) {
     const size_t pixels = image->PixelCount();
-    const bool halves = half0 && half1;
-    if (!input.SameShape(*image) || ids.width != image->width || ids.height != image->height ||
-        lumVariance.width != image->width || lumVariance.height != image->height ||
-        (halves && (half0->width != image->width || half0->height != image->height ||
-                    half1->width != image->width || half1->height != image->height)))
-        throw Error(
-            "auto: the object lift needs ids, input, variance and halves of the "
-            "image's size",
-            ErrorKind::InvalidArgument);
-    struct Sums {
-        size_t pixels = 0;
-        double image = 0, input = 0, variance = 0, difference = 0;
-    };
     // Each pixel's id where every value there is finite, else NaN.
-    std::vector<float> pixelIds(pixels, NAN);
-    std::map<float, Sums> objects;
-    for (size_t i = 0; i < pixels; ++i) {
-        float id = ids.data[i];
-        double own = Luminance(*image, i), in = Luminance(input, i);
-        double v = lumVariance.data[i];
-        double d = halves ? Luminance(*half0, i) - Luminance(*half1, i) : 0;
-        if (!std::isfinite(id) || !std::isfinite(own) || !std::isfinite(in) ||
-            !std::isfinite(v) || !std::isfinite(d))
-            continue;
-        pixelIds[i] = id;
-        Sums &sums = objects[id];
-        ++sums.pixels;
-        sums.image += own;
-        sums.input += in;
-        sums.variance += v;
-        sums.difference += d;
-    }
+    std::vector<float> pixelIds;
+    const std::map<float, InputSums> objects =
+        SumObjects(ids, input, lumVariance, half0, half1, {image}, &pixelIds);
     // The scale each object takes: its sum brought to the input's less k standard errors.
     std::map<float, double> scales;
     std::vector<AutoObjectLift> lifted;
@@ -226,17 +263,15 @@ std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image 
             if (small) ++*small;
             continue;
         }
-        // Var(S0 - S1) is four times the variance of the object's sum.
-        double shared = sums.difference * sums.difference / 4;
-        double error = std::sqrt(std::max(sums.variance, shared));
+        const double own = sums.images[0], error = sums.Error();
         double bound = sums.input - k * error;
-        if (!(sums.image > 0) || !(sums.image < bound)) continue;
+        if (!(own > 0) || !(own < bound)) continue;
         // An object nearly black but for its input is a fault the scale would turn into
         // fireflies: it rises at most kAutoObjectLiftMaxScale times.
-        double scale = std::min(bound / sums.image, kAutoObjectLiftMaxScale);
+        double scale = std::min(bound / own, kAutoObjectLiftMaxScale);
         scales[id] = scale;
-        lifted.push_back({id, sums.pixels, sums.image, sums.input, error, bound, scale,
-                          shared > sums.variance});
+        lifted.push_back(
+            {id, sums.pixels, own, sums.input, error, bound, scale, sums.Halves()});
     }
     if (scales.empty()) return lifted;
     // Scale the channels the luminance reads (a fourth, alpha, keeps its value).
@@ -251,6 +286,66 @@ std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image 
         }
     }
     return lifted;
+}
+
+AutoObjectGuardResult AutoObjectGuardFactors(const Image &ids, const Image &input,
+                                             const Image &lumVariance, const Image *half0,
+                                             const Image *half1,
+                                             const std::vector<const Image *> &outputs,
+                                             const AutoObjectGuard &guard) {
+    const size_t pixels = input.PixelCount(), count = outputs.size();
+    AutoObjectGuardResult result;
+    result.factors = Image(input.width, input.height, int(count));
+    std::fill(result.factors.data.begin(), result.factors.data.end(), 1.f);
+    if (guard.z <= 0) return result;
+    std::vector<float> pixelIds;
+    const std::map<float, InputSums> objects =
+        SumObjects(ids, input, lumVariance, half0, half1, outputs, &pixelIds);
+    // Each guarded object's factor per candidate (1: unguarded).
+    std::map<float, std::vector<float>> factors;
+    const double z2 = double(guard.z) * guard.z;
+    for (const auto &[id, sums] : objects) {
+        if (sums.pixels < guard.minPixels) {
+            ++result.small;
+            continue;
+        }
+        // At least the mean guard's least share of the sum: a departure of a few parts in a
+        // hundred of a large object is a candidate's bias, not a faded object.
+        const double error = std::max(sums.Error(), kAutoGuardRelative * std::abs(sums.input));
+        if (!(error > 0)) continue;
+        for (size_t k = 0; k < count; ++k) {
+            const double t = (sums.images[k] - sums.input) / error;
+            if (!(guard.both ? std::abs(t) > guard.z : t < -guard.z)) continue;
+            // The normal density's ratio at z over that at t, as the mean guard's.
+            const double factor = std::exp(std::min(0.5 * (t * t - z2), kAutoGuardMostLog));
+            std::vector<float> &row = factors[id];
+            row.resize(count, 1.f);
+            row[k] = float(factor);
+            result.hits.push_back({id, sums.pixels, int(k), t, factor});
+        }
+    }
+    for (size_t i = 0; i < pixels && !factors.empty(); ++i) {
+        if (std::isnan(pixelIds[i])) continue;
+        auto it = factors.find(pixelIds[i]);
+        if (it == factors.end()) continue;
+        for (size_t k = 0; k < count; ++k) result.factors.data[k * pixels + i] = it->second[k];
+    }
+    return result;
+}
+
+void AutoApplyObjectGuard(Image &smooth, const Image &factors, float floorError) {
+    if (factors.Empty()) return;
+    if (factors.width != smooth.width || factors.height != smooth.height ||
+        factors.channels != smooth.channels)
+        throw Error("auto: the object guard's factors need one plane per estimate",
+                    ErrorKind::Internal);
+    for (size_t i = 0; i < smooth.data.size(); ++i) {
+        const float factor = factors.data[i];
+        float &e = smooth.data[i];
+        // An unguarded pixel keeps its estimate to the bit; a left-out one (inf) stays out.
+        if (factor == 1.f || !std::isfinite(e)) continue;
+        e = float(double(std::max(e, floorError)) * factor);
+    }
 }
 
 }  // namespace mcd

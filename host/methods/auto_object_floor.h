@@ -99,4 +99,49 @@ std::vector<AutoObjectLift> AutoObjectLiftToInput(const Image &ids, const Image 
                                                   size_t minPixels = kAutoObjectFloorMinPixels,
                                                   size_t *small = nullptr);
 
+// The object guard (issue 29), before the combination: a candidate that fades a small object
+// (blurs it into its surroundings) keeps its window estimates nearly as they were, the
+// object's error being a small part of each window's, yet its luminance summed over the
+// object departs from the input's by many standard errors of the input's sum. Per object of
+// at least `minPixels` pixels and per candidate, t = (the candidate's sum - the input's) /
+// that standard error (as the lift's: the variance summed over the object, or the halves'
+// difference over it where larger; at least kAutoGuardRelative of the input's sum). Where
+// t < -z (with `both`, |t| > z) the candidate's estimate on the object's pixels is
+// multiplied by exp(min((t^2 - z^2) / 2, kAutoGuardMostLog)), as the mean guard's (z 0:
+// off).
+struct AutoObjectGuard {
+    float z = 0;
+    bool both = false;  // brightening too, not only darkening
+    size_t minPixels = kAutoObjectFloorMinPixels;
+};
+
+// One object and candidate the guard weighed down.
+struct AutoObjectGuardHit {
+    float id = 0;
+    size_t pixels = 0;
+    int candidate = 0;
+    double t = 0, factor = 1;
+};
+
+struct AutoObjectGuardResult {
+    // One plane per candidate, each pixel's factor on its estimate (1: unguarded).
+    Image factors;
+    std::vector<AutoObjectGuardHit> hits;
+    size_t small = 0;  // objects of fewer than minPixels pixels, left out
+};
+
+// The guard's factors for `outputs` (the candidates', `input`'s shape) on the frame of
+// `input`, `ids` and `lumVariance` (AutoLuminanceVariance), with `half0` and `half1` where
+// given. Pixels with a non-finite id or value in any image are left out of the sums and
+// keep factor 1. Throws where the sizes do not match.
+AutoObjectGuardResult AutoObjectGuardFactors(const Image &ids, const Image &input,
+                                             const Image &lumVariance, const Image *half0,
+                                             const Image *half1,
+                                             const std::vector<const Image *> &outputs,
+                                             const AutoObjectGuard &guard);
+
+// Multiply each finite estimate of `smooth` (one plane per candidate), read as at least
+// floorError, by `factors` (smooth's shape) where the factor is not 1; empty factors: none.
+void AutoApplyObjectGuard(Image &smooth, const Image &factors, float floorError);
+
 }  // namespace mcd
