@@ -8,6 +8,14 @@
 
 namespace mcd::test {
 
+Frame RenderedFrame(const std::string &scene, const render::RenderOptions &options) {
+    render::RenderResult rendered = render::Render(render::BuildScene(scene), options);
+    Frame frame;
+    frame.width = options.width, frame.height = options.height;
+    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    return frame;
+}
+
 Frame SampledFrame(int w, int h, const std::function<double(int, int, int)> &sample, int spp) {
     const int bins = 20;
     Image color(w, h, 3), variance(w, h, 3), hist(w, h, 3 * bins + 1);

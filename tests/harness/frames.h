@@ -2,9 +2,11 @@
 #pragma once
 
 #include <functional>
+#include <string>
 
 #include "host/image.h"
 #include "mcdenoise/mcdenoise.h"
+#include "tools/render/renderer.h"
 
 namespace mcd::test {
 
@@ -16,6 +18,9 @@ inline Frame ColorAndVariance(const Image &color, const Image &variance) {
     frame.layers["variance"] = variance;
     return frame;
 }
+
+// The built-in `scene` rendered with `options`, every layer it wrote in the frame.
+Frame RenderedFrame(const std::string &scene, const render::RenderOptions &options);
 
 // A frame of `spp` samples a pixel whose samples `sample(x, y, s)` gives (the same value in
 // every colour), with rhf's histograms of 20 bins a colour and the variance of the mean as the

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "harness/frames.h"
 #include "host/image.h"
 #include "mcdenoise/mcdenoise.h"
 #include "tools/render/renderer.h"
@@ -36,11 +37,8 @@ inline Frame RenderCornell(bool ids) {
     render::RenderOptions options;
     options.width = 32, options.height = 24, options.spp = 8;
     options.layers = render::kLayersAll;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers)
-        if (ids || name != "objectId") frame.layers[name] = std::move(image);
+    Frame frame = RenderedFrame("cornell", options);
+    if (!ids) frame.layers.erase("objectId");
     return frame;
 }
 

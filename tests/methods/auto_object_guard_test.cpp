@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
@@ -312,10 +313,7 @@ TEST_F(AutoObjectGuardMethod, LeavesAFrameWithoutIdsAndObjectsWithinTheirNoise) 
     render::RenderOptions options;
     options.width = 32, options.height = 24, options.spp = 8;
     options.layers = render::kLayersAll | render::kLayersHalves;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame halves;
-    halves.width = options.width, halves.height = options.height;
-    for (auto &[name, image] : rendered.layers) halves.layers[name] = std::move(image);
+    const Frame halves = RenderedFrame("cornell", options);
     Method sure("auto");
     sure.Set("auto-noise", std::string("variance"));
     const Result sureRun = sure.Run(device, halves);

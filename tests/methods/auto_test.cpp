@@ -18,6 +18,7 @@
 #include "cpu_reference/auto_combine.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
+#include "harness/frames.h"
 #include "harness/gpu_auto.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
@@ -1198,10 +1199,7 @@ TEST_F(AutoMethod, EstimatesFromHalvesAndAveragesWithoutStatistics) {
     render::RenderOptions options;
     options.width = 24, options.height = 20, options.spp = 8;
     options.layers = render::kLayersGbuffer | render::kLayersHalves;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    Frame frame = RenderedFrame("cornell", options);
     Device device = api::BorrowDevice(Ctx());
     Method automatic("auto");
     automatic.Set("auto-noise", "halves");

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cpu_reference/exact_pixels.h"
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
@@ -134,10 +135,7 @@ TEST_F(ExactPixelsMethods, AwrAndRhfKeepAnEmitterBesideAFirefly) {
     render::RenderOptions options;
     options.width = 64, options.height = 64, options.spp = 4;
     options.layers = render::kLayersHist;
-    render::RenderResult rendered = render::Render(render::BuildScene("fireflies"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    Frame frame = RenderedFrame("fireflies", options);
     const Image &color = frame.layers.at("color"), &variance = frame.layers.at("variance");
     size_t exact = 0;
     for (size_t i = 0; i < color.data.size(); ++i)

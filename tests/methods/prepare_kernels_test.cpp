@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "harness/frames.h"
 #include "host/api/front_end.h"
 #include "host/api/method_auto.h"
 #include "host/api/registry.h"
@@ -36,11 +37,8 @@ Frame CornellFrame(int width, int height, int layers, const std::vector<std::str
     render::RenderOptions options;
     options.width = width, options.height = height, options.spp = 4;
     options.layers = layers;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame frame;
+    Frame frame = RenderedFrame("cornell", options);
     frame.path = "cornell";
-    frame.width = width, frame.height = height;
-    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
     for (const std::string &name : drop) frame.layers.erase(name);
     return frame;
 }

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "harness/frames.h"
 #include "harness/gpu_fixture.h"
 #include "host/api/device.h"
 #include "host/vk/dispatch_count.h"
@@ -38,10 +39,7 @@ inline const std::vector<vk::KeptDispatch> &MethodDispatches(
     render::RenderOptions options;
     options.width = 37, options.height = 29, options.spp = 4;
     options.layers = render::kLayersAll;
-    render::RenderResult rendered = render::Render(render::BuildScene("cornell"), options);
-    Frame frame;
-    frame.width = options.width, frame.height = options.height;
-    for (auto &[name, image] : rendered.layers) frame.layers[name] = std::move(image);
+    Frame frame = test::RenderedFrame("cornell", options);
     for (const std::string &name : without) frame.layers.erase(name);
     Device device = api::BorrowDevice(test::TestContext());
     Method m(method);
