@@ -890,6 +890,11 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
     if (in.variance) halfVariance = NforHalf(*in.variance, true);
     NforInputs half{&halfColor, in.albedo ? &halfAlbedo : nullptr, &halfFeatures,
                     in.variance ? &halfVariance : nullptr};
+    Image halfPilot;
+    if (in.pilot) {
+        halfPilot = NforHalf(*in.pilot);
+        half.pilot = &halfPilot;
+    }
     NforParams coarseParams = p;
     coarseParams.coarse = false;
     coarseParams.coarseGate = 0;
@@ -1037,7 +1042,10 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     keep("distance", distance);
     std::vector<PassCandidate> first;
     for (double k : p.bandwidths) first.push_back({k, p.radius, &distance});
-    Image out = NforPass(clamped, variance, features, mask, p, first, "", keep);
+    // A pilot from outside takes the first pass's place.
+    const bool givenPilot = in.pilot && !p.pilotBandwidths.empty();
+    Image out = givenPilot ? *in.pilot
+                           : NforPass(clamped, variance, features, mask, p, first, "", keep);
     if (!p.pilotBandwidths.empty()) {
         keep("pilot", out);
         // The second pass's distances read the weights' noise capped beside a layer.
@@ -1106,8 +1114,11 @@ Image Nfor(const NforInputs &in, const NforParams &p,
               features = NforStraight(*in.features, alpha, 1), variance;
         if (in.albedo) albedo = NforStraight(*in.albedo, alpha, 1);
         if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
-        NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
-                            in.variance ? &variance : nullptr, &alpha};
+        Image pilot;
+        if (in.pilot) pilot = NforStraight(*in.pilot, alpha, 1);
+        NforInputs straight{&color,    in.albedo ? &albedo : nullptr,
+                            &features, in.variance ? &variance : nullptr,
+                            &alpha,    in.pilot ? &pilot : nullptr};
         out = NforStraightRun(straight, p, stages, &alpha, &plain, &clamped);
         clamped = NforPremultiply(clamped, alpha);
         if (stages) stages->emplace_back("straight", out);

@@ -225,6 +225,7 @@ void CheckLayers(const NforInputs &in) {
     if (in.depth) CheckLayer(*in.depth, "depth", w, h, 1, false);
     if (in.pivot) CheckLayer(*in.pivot, "pivot", w, h, 3, false);
     if (in.alpha) CheckLayer(*in.alpha, "alpha", w, h, 1, false);
+    if (in.pilot) CheckLayer(*in.pilot, "pilot", w, h, ch, false);
 }
 
 // The inputs with each partly covered pixel divided by its alpha (host/methods/nfor_alpha.h):
@@ -250,6 +251,7 @@ struct StraightInputs {
         divide(given.depth, depth, &inputs.depth);
         divide(given.pivot, pivot, &inputs.pivot);
         divide(given.variance, variance, &inputs.variance, 2);
+        divide(given.pilot, pilot, &inputs.pilot);
         if (inputs.depthScale <= 0) inputs.depthScale = NforDepthScale(given.depth);
         if (inputs.pivotScale <= 0) inputs.pivotScale = NforPivotScale(given.pivot);
     }
@@ -258,7 +260,7 @@ struct StraightInputs {
 
     NforInputs inputs;
     size_t partlyCovered = 0;
-    std::optional<Image> color, albedo, normal, depth, pivot, variance;
+    std::optional<Image> color, albedo, normal, depth, pivot, variance, pilot;
 };
 
 void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
@@ -326,6 +328,7 @@ struct NforGpu {
                                "nfor.secondBeta");
         if (!o.pilotBandwidths.empty()) {
             pilot.emplace(context, color.width, color.height, color.channels, "nfor.pilot");
+            if (in.pilot) pilot->Upload(*in.pilot);
             if (in.variance && o.pilotNoiseCap > 0)
                 pilotVariance.emplace(context, color.width, color.height, color.channels,
                                       "nfor.pilotVariance");
@@ -723,7 +726,8 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
 // Both passes: the first weighted by the colour's distance; with pilot bandwidths a second
 // weighted by the distance of the first's output (the pilot) against the colour's variance.
 void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
-                  const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
+                  const NforOptions &o, bool givenPilot, vk::GpuImage &out,
+                  vk::GpuImage &choice) {
     RecordNforPack(run.Context(), run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
                    gpu.packed);
     std::vector<PassCandidate> first;
@@ -732,7 +736,8 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
         RecordPass(run, gpu, weights, o, first, "", out, choice);
         return;
     }
-    RecordPass(run, gpu, weights, o, first, "", *gpu.pilot, choice);
+    // A pilot given from outside replaces the first pass.
+    if (!givenPilot) RecordPass(run, gpu, weights, o, first, "", *gpu.pilot, choice);
     run.Stage("pilot", *gpu.pilot);
     bool pilotMin = NforPilotMinVariance(o);
     // The pilot's distance trusts the albedo where the first's did (of the clamped colour).
@@ -1069,7 +1074,8 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
     };
     std::optional<Image> color = half(in.color), albedo = half(in.albedo),
                          normal = half(in.normal), depth = half(in.depth),
-                         pivot = half(in.pivot), variance = half(in.variance, true);
+                         pivot = half(in.pivot), variance = half(in.variance, true),
+                         pilot = half(in.pilot);
     auto pointer = [](std::optional<Image> &image) { return image ? &*image : nullptr; };
     NforInputs coarse{pointer(color),
                       pointer(albedo),
@@ -1080,6 +1086,7 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
                       in.depthScale > 0 ? in.depthScale : NforDepthScale(in.depth),
                       in.pivotScale > 0 ? in.pivotScale : NforPivotScale(in.pivot)};
     coarse.clampLoss = in.coarseClampLoss;
+    coarse.pilot = pointer(pilot);
     NforOptions options = o;
     options.coarse = false;
     options.coarseGate = 0;
@@ -1203,7 +1210,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                   straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
-    RecordPasses(run, gpu, weights, o, out, choice);
+    RecordPasses(run, gpu, weights, o, in.pilot != nullptr, out, choice);
     run.Submit();
     PlanDistance(run, gpu, o);
     // The glint floor's mask, read once for its plan line and its guard.
