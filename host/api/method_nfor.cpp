@@ -345,6 +345,12 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         if (!options.pilotLayer.empty()) layers.push_back(options.pilotLayer);
         return layers;
     }
+    std::string Undemodulable(const Frame &, const std::string &) const override {
+        // The pilot layer stays in radiance while the colour is divided.
+        return options.pilotLayer.empty()
+                   ? ""
+                   : "--nfor-pilot-layer: the pilot layer is not demodulated";
+    }
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
         NforOptions o = Options();
