@@ -652,6 +652,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     run.StageAtEnd("features", gpu.filtered);
     RecordTrust(run, gpu, o);
     RecordGlintNoise(run, gpu, o);
+    // Computed with a given pilot too: the CPU twin's "distance" stage stays aligned.
     RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
                        o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
                        o.alpha, o.minVariance, gpu.illumination, gpu.scratch, gpu.distance,
@@ -864,25 +865,30 @@ void GuardGlint(StagedRun &run, const Image &clamped, const Image &floored,
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
-void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice,
-                NforResult &result) {
+void PlanPasses(StagedRun &run, const NforOptions &o, bool givenPilot,
+                const vk::GpuImage &choice, NforResult &result) {
     auto list = [](const std::vector<float> &ks) {
         std::string text;
         for (float k : ks) text += fmt::format("{}{}", text.empty() ? "" : ", ", k);
         return text;
     };
-    run.Plan(
-        fmt::format("regression over {}x{} windows, colour patches {}x{} (alpha {}), "
-                    "ridge {}; bandwidths k = {}; each window's fit averaged at every "
-                    "pixel it holds",
-                    2 * o.radius + 1, 2 * o.radius + 1, 2 * o.patchRadius + 1,
-                    2 * o.patchRadius + 1, o.alpha, o.ridge, list(o.bandwidths)));
+    // A given pilot replaces the first pass: its bandwidths are not used.
+    givenPilot = givenPilot && !o.pilotBandwidths.empty();
+    run.Plan(fmt::format(
+        "regression over {}x{} windows, colour patches {}x{} (alpha {}), "
+        "ridge {}; {}each window's fit averaged at every pixel it holds",
+        2 * o.radius + 1, 2 * o.radius + 1, 2 * o.patchRadius + 1, 2 * o.patchRadius + 1,
+        o.alpha, o.ridge,
+        givenPilot ? std::string() : fmt::format("bandwidths k = {}; ", list(o.bandwidths))));
     if (!o.pilotBandwidths.empty())
         run.Plan(
-            fmt::format("second pass: the colour distance of the first pass's output "
-                        "(the pilot) over the colour's variance (alpha {}), bandwidths "
-                        "k = {}",
-                        o.pilotAlpha, list(o.pilotBandwidths)));
+            fmt::format("second pass: the colour distance of {} over the colour's "
+                        "variance (alpha {}), bandwidths k = {}{}",
+                        givenPilot ? "the pilot" : "the first pass's output (the pilot)",
+                        o.pilotAlpha, list(o.pilotBandwidths),
+                        givenPilot ? "; the pilot read from a layer of the frame, the first "
+                                     "pass did not run"
+                                   : ""));
     // The last pass's candidates, named by bandwidth (and window where two sizes run).
     std::vector<std::string> last;
     for (float k : o.pilotBandwidths.empty() ? o.bandwidths : o.pilotBandwidths)
@@ -1255,7 +1261,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                                    : std::string())
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
     if (in.variance) PlanClamp(run, in, o, result);
-    PlanPasses(run, o, choice, result);
+    PlanPasses(run, o, in.pilot != nullptr, choice, result);
     if (straight.partlyCovered > 0) {
         run.AddStage("straight", result.image);
         NforMultiplyByAlpha(*given.alpha, &result.image);
