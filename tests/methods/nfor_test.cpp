@@ -28,6 +28,7 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/device.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 #include "host/methods/nfor_alpha.h"
@@ -2019,6 +2020,36 @@ TEST_F(NforMethod, GivenPilotReplacesTheFirstPass) {
     NforInputs plain = InputsOf(f);
     EXPECT_TRUE(
         BitIdentical(NforDenoise(Ctx(), in, o).image, NforDenoise(Ctx(), plain, o).image));
+}
+
+// The front end's --nfor-pilot-layer reads the frame's layer as the pilot: its output is
+// NforDenoise's with that pilot bit for bit and moves from the run without the option; a
+// missing layer and --demodulate beside the option are refused.
+TEST_F(NforMethod, PilotLayerOptionReadsTheLayer) {
+    const Frame f = MakeFrame(31, 27, 0.3, "pilot layer");
+    const Image pilot = PilotNearTruth(f);
+    mcd::Frame frame;
+    frame.width = f.color.width, frame.height = f.color.height;
+    frame.layers = {{"color", f.color},
+                    {"albedo", f.albedo},
+                    {"normal", f.normal},
+                    {"depth", f.depth},
+                    {"p", pilot}};
+    Device device = api::BorrowDevice(Ctx());
+    Method given("nfor");
+    given.Set("nfor-pilot-layer", "p");
+    const Image out = given.Run(device, frame).image;
+    NforInputs in = InputsOf(f);
+    in.pilot = &pilot;
+    EXPECT_TRUE(BitIdentical(out, NforDenoise(Ctx(), in, NforOptions()).image));
+    EXPECT_FALSE(BitIdentical(out, Method("nfor").Run(device, frame).image));
+    Method missing("nfor");
+    missing.Set("nfor-pilot-layer", "nosuch");
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::MissingLayer, [&] { missing.Run(device, frame); }, "nosuch"));
+    given.Set("demodulate", "albedo");
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { given.Run(device, frame); }, "not demodulated"));
 }
 
 // A frame whose pixel (cx, cy) holds a bright path: one of its 16 samples 64 times the
