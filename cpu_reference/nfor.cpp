@@ -890,6 +890,11 @@ void AddCoarse(const NforInputs &in, const NforParams &p,
     if (in.variance) halfVariance = NforHalf(*in.variance, true);
     NforInputs half{&halfColor, in.albedo ? &halfAlbedo : nullptr, &halfFeatures,
                     in.variance ? &halfVariance : nullptr};
+    Image halfPilot;
+    if (in.pilot) {
+        halfPilot = NforHalf(*in.pilot);
+        half.pilot = &halfPilot;
+    }
     NforParams coarseParams = p;
     coarseParams.coarse = false;
     coarseParams.coarseGate = 0;
@@ -983,6 +988,47 @@ Image FloorGlints(const NforInputs &in, const NforParams &p, const Image &clampe
     return glintMask;
 }
 
+// The first pass over the colour's distance (or the pilot given from outside in its place)
+// and, with pilot bandwidths, the second pass over the pilot's distance.
+template <typename Keep>
+Image NforPasses(const NforInputs &in, const NforParams &p, const Image &clamped,
+                 const Image &variance, const Image &features, const Image &mask,
+                 const Image &distance, const Image *divisor, const Image *trust,
+                 const Image *alpha, Keep &keep) {
+    std::vector<PassCandidate> first;
+    for (double k : p.bandwidths) first.push_back({k, p.radius, &distance});
+    // A pilot from outside takes the first pass's place.
+    const bool givenPilot = in.pilot && !p.pilotBandwidths.empty();
+    Image out = givenPilot ? *in.pilot
+                           : NforPass(clamped, variance, features, mask, p, first, "", keep);
+    if (!p.pilotBandwidths.empty()) {
+        keep("pilot", out);
+        // The second pass's distances read the weights' noise capped beside a layer.
+        Image pilotVariance = variance;
+        if (in.variance && p.pilotNoiseCap > 0) {
+            NforCapLayer(in, p, clamped, alpha, p.pilotNoiseCap, &pilotVariance);
+            keep("pilot.variance", pilotVariance);
+        }
+        Image pilotDistance = NforDistance(out, pilotVariance, divisor, p.radius, p.patchRadius,
+                                           p.pilotAlpha, p.pilotMinVariance, trust);
+        keep("pilot.distance", pilotDistance);
+        std::vector<PassCandidate> second;
+        for (double k : p.pilotBandwidths) second.push_back({k, p.radius, &pilotDistance});
+        Image wideDistance;
+        if (p.pilotWideRadius > 0) {
+            wideDistance = NforDistance(out, pilotVariance, divisor, p.pilotWideRadius,
+                                        p.patchRadius, p.pilotAlpha, p.pilotMinVariance, trust);
+            keep("pilot.wide.distance", wideDistance);
+            for (double k : p.pilotBandwidths)
+                second.push_back({k, p.pilotWideRadius, &wideDistance});
+        }
+        double agreement =
+            p.pilotWideRadius > 0 && p.pilotBandwidths.size() == 1 ? p.wideAgreement : 0;
+        out = NforPass(clamped, variance, features, mask, p, second, "pilot.", keep, agreement);
+    }
+    return out;
+}
+
 // The method on straight values (every stage but output), its result before any alpha;
 // `alpha`: the coverage the partly covered pixels were divided by (nullptr: none); in.alpha:
 // the frame's coverage as given, which guards the clamp's light (not with p.premultiplied).
@@ -1035,34 +1081,8 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     Image distance = NforDistance(clamped, variance, divisor, p.radius, p.patchRadius, p.alpha,
                                   p.minVariance, trust);
     keep("distance", distance);
-    std::vector<PassCandidate> first;
-    for (double k : p.bandwidths) first.push_back({k, p.radius, &distance});
-    Image out = NforPass(clamped, variance, features, mask, p, first, "", keep);
-    if (!p.pilotBandwidths.empty()) {
-        keep("pilot", out);
-        // The second pass's distances read the weights' noise capped beside a layer.
-        Image pilotVariance = variance;
-        if (in.variance && p.pilotNoiseCap > 0) {
-            NforCapLayer(in, p, clamped, alpha, p.pilotNoiseCap, &pilotVariance);
-            keep("pilot.variance", pilotVariance);
-        }
-        Image pilotDistance = NforDistance(out, pilotVariance, divisor, p.radius, p.patchRadius,
-                                           p.pilotAlpha, p.pilotMinVariance, trust);
-        keep("pilot.distance", pilotDistance);
-        std::vector<PassCandidate> second;
-        for (double k : p.pilotBandwidths) second.push_back({k, p.radius, &pilotDistance});
-        Image wideDistance;
-        if (p.pilotWideRadius > 0) {
-            wideDistance = NforDistance(out, pilotVariance, divisor, p.pilotWideRadius,
-                                        p.patchRadius, p.pilotAlpha, p.pilotMinVariance, trust);
-            keep("pilot.wide.distance", wideDistance);
-            for (double k : p.pilotBandwidths)
-                second.push_back({k, p.pilotWideRadius, &wideDistance});
-        }
-        double agreement =
-            p.pilotWideRadius > 0 && p.pilotBandwidths.size() == 1 ? p.wideAgreement : 0;
-        out = NforPass(clamped, variance, features, mask, p, second, "pilot.", keep, agreement);
-    }
+    Image out = NforPasses(in, p, clamped, variance, features, mask, distance, divisor, trust,
+                           alpha, keep);
     if (p.meanRadius > 0) {
         keep("fit", out);
         if (p.speckRelative >= 0 && plain) {
@@ -1106,8 +1126,11 @@ Image Nfor(const NforInputs &in, const NforParams &p,
               features = NforStraight(*in.features, alpha, 1), variance;
         if (in.albedo) albedo = NforStraight(*in.albedo, alpha, 1);
         if (in.variance) variance = NforStraight(*in.variance, alpha, 2);
-        NforInputs straight{&color, in.albedo ? &albedo : nullptr, &features,
-                            in.variance ? &variance : nullptr, &alpha};
+        Image pilot;
+        if (in.pilot) pilot = NforStraight(*in.pilot, alpha, 1);
+        NforInputs straight{&color,    in.albedo ? &albedo : nullptr,
+                            &features, in.variance ? &variance : nullptr,
+                            &alpha,    in.pilot ? &pilot : nullptr};
         out = NforStraightRun(straight, p, stages, &alpha, &plain, &clamped);
         clamped = NforPremultiply(clamped, alpha);
         if (stages) stages->emplace_back("straight", out);

@@ -229,6 +229,9 @@ struct NforInputs {
     // (variance by its square) before the rest, the output multiplied by it after
     // (cpu_reference/nfor_alpha.h); nullptr: none.
     const Image *alpha = nullptr;
+    // With pilot bandwidths, the second pass's pilot (as color) in place of the first
+    // pass's output, which is then not run; nullptr: the first pass's.
+    const Image *pilot = nullptr;
 };
 
 // Variance of the pixel mean estimated from `image` (divisor: albedo or nullptr).

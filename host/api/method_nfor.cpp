@@ -22,6 +22,7 @@ struct NforParamsApi {
     std::string bandwidths = "0.5,1";
     std::string pilotBandwidths = "1";
     std::string noise = "auto", pivot = "auto";
+    std::string pilotLayer;  // empty: the first pass's output is the pilot
 };
 
 std::vector<float> ParseBandwidths(const std::string &text, const char *option) {
@@ -321,7 +322,11 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                     "auto (the variance layer when present) or estimate (from the frame)",
                     &NforParamsApi::noise, {"auto", "estimate"}),
         ChoiceParam("pivot-feature", "auto (the pivot layer as features when present) or off",
-                    &NforParamsApi::pivot, {"auto", "off"})};
+                    &NforParamsApi::pivot, {"auto", "off"}),
+        ChoiceParam("nfor-pilot-layer",
+                    "a layer of the frame (RGB) read as the second pass's pilot in place of "
+                    "the first pass's output (empty: the first pass's)",
+                    &NforParamsApi::pilotLayer, {})};
 }
 
 class Nfor : public FrontEndOf<NforParamsApi> {
@@ -335,7 +340,16 @@ class Nfor : public FrontEndOf<NforParamsApi> {
                "output; runs on plain frames";
     }
     std::vector<std::string> Uses() const override {
-        return {"color", "albedo", "normal", "depth", "pivot", "variance", "alpha"};
+        std::vector<std::string> layers = {"color", "albedo",   "normal", "depth",
+                                           "pivot", "variance", "alpha"};
+        if (!options.pilotLayer.empty()) layers.push_back(options.pilotLayer);
+        return layers;
+    }
+    std::string Undemodulable(const Frame &, const std::string &) const override {
+        // The pilot layer stays in radiance while the colour is divided.
+        return options.pilotLayer.empty()
+                   ? ""
+                   : "--nfor-pilot-layer: the pilot layer is not demodulated";
     }
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
@@ -555,7 +569,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         p.layerPasses = !o.noLayerPasses;
         p.layerNoiseCap = o.layerNoiseCap;
         p.pilotNoiseCap = o.pilotNoiseCap;
-        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance, in.alpha};
+        ref::NforInputs cpuIn{in.color, in.albedo, &features, in.variance, in.alpha, in.pilot};
         std::vector<std::pair<std::string, Image>> cpu;
         ref::Nfor(cpuIn, p, &cpu);
         std::vector<Stage> stages;
@@ -581,6 +595,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             if (inputs.Has(layer)) *field = &inputs.Get(layer);
         if (options.pivot == "auto" && inputs.Has("pivot")) in.pivot = &inputs.Get("pivot");
         if (inputs.Has("alpha")) in.alpha = &inputs.Get("alpha");
+        if (!options.pilotLayer.empty()) in.pilot = &inputs.Get(options.pilotLayer);
         if (options.noise == "auto" && inputs.Has("variance"))
             in.variance = &inputs.Get("variance");
         in.depthScale = depthScale;

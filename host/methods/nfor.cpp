@@ -225,6 +225,7 @@ void CheckLayers(const NforInputs &in) {
     if (in.depth) CheckLayer(*in.depth, "depth", w, h, 1, false);
     if (in.pivot) CheckLayer(*in.pivot, "pivot", w, h, 3, false);
     if (in.alpha) CheckLayer(*in.alpha, "alpha", w, h, 1, false);
+    if (in.pilot) CheckLayer(*in.pilot, "pilot", w, h, ch, false);
 }
 
 // The inputs with each partly covered pixel divided by its alpha (host/methods/nfor_alpha.h):
@@ -250,6 +251,7 @@ struct StraightInputs {
         divide(given.depth, depth, &inputs.depth);
         divide(given.pivot, pivot, &inputs.pivot);
         divide(given.variance, variance, &inputs.variance, 2);
+        divide(given.pilot, pilot, &inputs.pilot);
         if (inputs.depthScale <= 0) inputs.depthScale = NforDepthScale(given.depth);
         if (inputs.pivotScale <= 0) inputs.pivotScale = NforPivotScale(given.pivot);
     }
@@ -258,7 +260,7 @@ struct StraightInputs {
 
     NforInputs inputs;
     size_t partlyCovered = 0;
-    std::optional<Image> color, albedo, normal, depth, pivot, variance;
+    std::optional<Image> color, albedo, normal, depth, pivot, variance, pilot;
 };
 
 void CheckInputs(vk::Context &context, const NforInputs &in, const NforOptions &o) {
@@ -326,6 +328,7 @@ struct NforGpu {
                                "nfor.secondBeta");
         if (!o.pilotBandwidths.empty()) {
             pilot.emplace(context, color.width, color.height, color.channels, "nfor.pilot");
+            if (in.pilot) pilot->Upload(*in.pilot);
             if (in.variance && o.pilotNoiseCap > 0)
                 pilotVariance.emplace(context, color.width, color.height, color.channels,
                                       "nfor.pilotVariance");
@@ -649,6 +652,7 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     run.StageAtEnd("features", gpu.filtered);
     RecordTrust(run, gpu, o);
     RecordGlintNoise(run, gpu, o);
+    // Computed with a given pilot too: the CPU twin's "distance" stage stays aligned.
     RecordNforDistance(context, run.Recorder(), gpu.clamped, gpu.variance,
                        o.noDemodulatedDistance ? nullptr : albedo, o.radius, o.patchRadius,
                        o.alpha, o.minVariance, gpu.illumination, gpu.scratch, gpu.distance,
@@ -723,7 +727,8 @@ void RecordPass(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
 // Both passes: the first weighted by the colour's distance; with pilot bandwidths a second
 // weighted by the distance of the first's output (the pilot) against the colour's variance.
 void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weights,
-                  const NforOptions &o, vk::GpuImage &out, vk::GpuImage &choice) {
+                  const NforOptions &o, bool givenPilot, vk::GpuImage &out,
+                  vk::GpuImage &choice) {
     RecordNforPack(run.Context(), run.Recorder(), gpu.clamped, gpu.filtered, gpu.mask,
                    gpu.packed);
     std::vector<PassCandidate> first;
@@ -732,7 +737,8 @@ void RecordPasses(StagedRun &run, NforGpu &gpu, const std::vector<float> &weight
         RecordPass(run, gpu, weights, o, first, "", out, choice);
         return;
     }
-    RecordPass(run, gpu, weights, o, first, "", *gpu.pilot, choice);
+    // A pilot given from outside replaces the first pass.
+    if (!givenPilot) RecordPass(run, gpu, weights, o, first, "", *gpu.pilot, choice);
     run.Stage("pilot", *gpu.pilot);
     bool pilotMin = NforPilotMinVariance(o);
     // The pilot's distance trusts the albedo where the first's did (of the clamped colour).
@@ -859,25 +865,30 @@ void GuardGlint(StagedRun &run, const Image &clamped, const Image &floored,
 }
 
 // The bandwidths of each pass and the shares of the last pass's choice.
-void PlanPasses(StagedRun &run, const NforOptions &o, const vk::GpuImage &choice,
-                NforResult &result) {
+void PlanPasses(StagedRun &run, const NforOptions &o, bool givenPilot,
+                const vk::GpuImage &choice, NforResult &result) {
     auto list = [](const std::vector<float> &ks) {
         std::string text;
         for (float k : ks) text += fmt::format("{}{}", text.empty() ? "" : ", ", k);
         return text;
     };
-    run.Plan(
-        fmt::format("regression over {}x{} windows, colour patches {}x{} (alpha {}), "
-                    "ridge {}; bandwidths k = {}; each window's fit averaged at every "
-                    "pixel it holds",
-                    2 * o.radius + 1, 2 * o.radius + 1, 2 * o.patchRadius + 1,
-                    2 * o.patchRadius + 1, o.alpha, o.ridge, list(o.bandwidths)));
+    // A given pilot replaces the first pass: its bandwidths are not used.
+    givenPilot = givenPilot && !o.pilotBandwidths.empty();
+    run.Plan(fmt::format(
+        "regression over {}x{} windows, colour patches {}x{} (alpha {}), "
+        "ridge {}; {}each window's fit averaged at every pixel it holds",
+        2 * o.radius + 1, 2 * o.radius + 1, 2 * o.patchRadius + 1, 2 * o.patchRadius + 1,
+        o.alpha, o.ridge,
+        givenPilot ? std::string() : fmt::format("bandwidths k = {}; ", list(o.bandwidths))));
     if (!o.pilotBandwidths.empty())
         run.Plan(
-            fmt::format("second pass: the colour distance of the first pass's output "
-                        "(the pilot) over the colour's variance (alpha {}), bandwidths "
-                        "k = {}",
-                        o.pilotAlpha, list(o.pilotBandwidths)));
+            fmt::format("second pass: the colour distance of {} over the colour's "
+                        "variance (alpha {}), bandwidths k = {}{}",
+                        givenPilot ? "the pilot" : "the first pass's output (the pilot)",
+                        o.pilotAlpha, list(o.pilotBandwidths),
+                        givenPilot ? "; the pilot read from a layer of the frame, the first "
+                                     "pass did not run"
+                                   : ""));
     // The last pass's candidates, named by bandwidth (and window where two sizes run).
     std::vector<std::string> last;
     for (float k : o.pilotBandwidths.empty() ? o.bandwidths : o.pilotBandwidths)
@@ -1069,7 +1080,8 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
     };
     std::optional<Image> color = half(in.color), albedo = half(in.albedo),
                          normal = half(in.normal), depth = half(in.depth),
-                         pivot = half(in.pivot), variance = half(in.variance, true);
+                         pivot = half(in.pivot), variance = half(in.variance, true),
+                         pilot = half(in.pilot);
     auto pointer = [](std::optional<Image> &image) { return image ? &*image : nullptr; };
     NforInputs coarse{pointer(color),
                       pointer(albedo),
@@ -1080,6 +1092,7 @@ Image CoarseOutput(vk::Context &context, const NforInputs &in, const NforOptions
                       in.depthScale > 0 ? in.depthScale : NforDepthScale(in.depth),
                       in.pivotScale > 0 ? in.pivotScale : NforPivotScale(in.pivot)};
     coarse.clampLoss = in.coarseClampLoss;
+    coarse.pilot = pointer(pilot);
     NforOptions options = o;
     options.coarse = false;
     options.coarseGate = 0;
@@ -1203,7 +1216,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                   straight.partlyCovered > 0 ? given.alpha : nullptr, result);
     int w = in.color->width, h = in.color->height, ch = in.color->channels;
     vk::GpuImage out(context, w, h, ch, "nfor.out"), choice(context, w, h, 1, "nfor.choice");
-    RecordPasses(run, gpu, weights, o, out, choice);
+    RecordPasses(run, gpu, weights, o, in.pilot != nullptr, out, choice);
     run.Submit();
     PlanDistance(run, gpu, o);
     // The glint floor's mask, read once for its plan line and its guard.
@@ -1248,7 +1261,7 @@ NforResult NforDenoise(vk::Context &context, const NforInputs &given, const Nfor
                                    : std::string())
                  : std::string("left out: the firefly clamp (--firefly-threshold 0)"));
     if (in.variance) PlanClamp(run, in, o, result);
-    PlanPasses(run, o, choice, result);
+    PlanPasses(run, o, in.pilot != nullptr, choice, result);
     if (straight.partlyCovered > 0) {
         run.AddStage("straight", result.image);
         NforMultiplyByAlpha(*given.alpha, &result.image);

@@ -244,6 +244,9 @@ struct NforInputs {
     // premultiplied by it, as on a transparent background (host/methods/nfor_alpha.h);
     // nullptr: none.
     const Image *alpha = nullptr;
+    // A pilot from outside (as color): the second pass's distances read it in place of the
+    // first pass's output, which is not run; nullptr: the first pass's.
+    const Image *pilot = nullptr;
 };
 
 // With keepStages, the stages of cpu_reference/nfor.h (variance, mask, color, features,

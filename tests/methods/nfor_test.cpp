@@ -28,6 +28,7 @@
 #include "harness/errors.h"
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
+#include "host/api/device.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 #include "host/methods/nfor_alpha.h"
@@ -1656,6 +1657,16 @@ void AddLightsAtTheEdge(Frame *f, const Image *alpha) {
 
 class NforMethod : public GpuTest {};
 
+// A pilot from outside: the frame's truth with a seeded 5% noise of its own, scaled alike
+// where the truth is (premultiplied by Cover's alpha, 0 where a pixel is empty).
+Image PilotNearTruth(const Frame &f) {
+    std::mt19937_64 rng(SeedFromName("givenPilot"));
+    std::normal_distribution<double> normal(0, 1);
+    Image pilot = f.truth;
+    for (float &v : pilot.data) v = float(v * (1 + 0.05 * normal(rng)));
+    return pilot;
+}
+
 // A variance layer for MakeFrame's frame: the truth's noise with every seventh value's 100x
 // (a firefly among its samples) and every eleventh's 0 (samples that agreed).
 Image LayerWithFireflies(const Frame &f) {
@@ -1678,15 +1689,18 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
                        bool withVariance = false, bool covered = false, bool lights = false,
                        bool whole = false,
                        const std::function<void(Frame *, Image *)> &edit = {},
-                       std::vector<std::string> *stageNames = nullptr) {
+                       std::vector<std::string> *stageNames = nullptr,
+                       bool givenPilot = false) {
     Frame f = MakeFrame(w, h, 0.3, fmt::format("stages{}x{}", w, h));
     Image alpha = covered ? Cover(&f, whole) : Image();
     if (lights) AddLightsAtTheEdge(&f, covered ? &alpha : nullptr);
     if (edit) edit(&f, &alpha);
     Image variance = LayerWithFireflies(f);
+    Image pilot = givenPilot ? PilotNearTruth(f) : Image();
     NforInputs gpuIn = InputsOf(f);
     if (withVariance) gpuIn.variance = &variance;
     if (covered) gpuIn.alpha = &alpha;
+    if (givenPilot) gpuIn.pilot = &pilot;
     NforOptions o = options;
     o.keepStages = true;
     NforResult gpu = NforDenoise(context, gpuIn, o);
@@ -1741,8 +1755,12 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.demodulateDistance = !o.noDemodulatedDistance;
     p.albedoNoise = o.albedoNoise;
     p.glintNoise = o.glintNoise;
-    ref::NforInputs cpuIn{&f.color, &f.albedo, &features, withVariance ? &variance : nullptr,
-                          covered ? &alpha : nullptr};
+    ref::NforInputs cpuIn{&f.color,
+                          &f.albedo,
+                          &features,
+                          withVariance ? &variance : nullptr,
+                          covered ? &alpha : nullptr,
+                          givenPilot ? &pilot : nullptr};
     std::vector<std::pair<std::string, Image>> cpu;
     Image expected = ref::Nfor(cpuIn, p, &cpu);
     ASSERT_EQ(gpu.stages.size(), cpu.size());
@@ -1960,6 +1978,78 @@ TEST_F(NforMethod, VarianceLayerPassesAndCapMatchTheReference) {
         o.layerNoiseCap = bad;
         EXPECT_THROW(NforDenoise(Ctx(), in, o), Error) << bad;
     }
+}
+
+// A pilot given from outside takes the first pass's place: the second pass's distances read
+// it, on the GPU as in the reference; over partly covered pixels (divided by their alpha),
+// beside a variance layer and with the coarse pass (halved like the colour).
+TEST_F(NforMethod, GivenPilotStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+        ExpectStagesMatch(Ctx(), w, h, o, false, false, false, false, {}, nullptr, true);
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, true, false, false, {}, nullptr, true);
+    ExpectStagesMatch(Ctx(), 29, 23, o, true, false, false, false, {}, nullptr, true);
+    o.coarse = true;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, false, false, {}, nullptr, true);
+}
+
+// The given pilot is the pilot stage bit for bit, no first pass runs, the output moves with
+// it and a rerun gives the same bits; with no second pass it is not read.
+TEST_F(NforMethod, GivenPilotReplacesTheFirstPass) {
+    Frame f = MakeFrame(31, 27, 0.3, "given pilot");
+    Image pilot = PilotNearTruth(f);
+    NforOptions o;
+    o.radius = 3;
+    o.keepStages = true;
+    NforInputs in = InputsOf(f);
+    const Image own = NforDenoise(Ctx(), in, o).image;
+    in.pilot = &pilot;
+    NforResult given = NforDenoise(Ctx(), in, o);
+    std::set<std::string> names = StageNames(given);
+    ASSERT_TRUE(names.count("pilot"));
+    EXPECT_FALSE(names.count("k0.output")) << "the first pass ran";
+    for (const auto &[name, image] : given.stages)
+        if (name == "pilot") {
+            EXPECT_TRUE(BitIdentical(image, pilot));
+        }
+    EXPECT_FALSE(BitIdentical(given.image, own));
+    EXPECT_TRUE(BitIdentical(given.image, NforDenoise(Ctx(), in, o).image));
+    o.pilotBandwidths = {};
+    o.keepStages = false;
+    NforInputs plain = InputsOf(f);
+    EXPECT_TRUE(
+        BitIdentical(NforDenoise(Ctx(), in, o).image, NforDenoise(Ctx(), plain, o).image));
+}
+
+// The front end's --nfor-pilot-layer reads the frame's layer as the pilot: its output is
+// NforDenoise's with that pilot bit for bit and moves from the run without the option; a
+// missing layer and --demodulate beside the option are refused.
+TEST_F(NforMethod, PilotLayerOptionReadsTheLayer) {
+    const Frame f = MakeFrame(31, 27, 0.3, "pilot layer");
+    const Image pilot = PilotNearTruth(f);
+    mcd::Frame frame;
+    frame.width = f.color.width, frame.height = f.color.height;
+    frame.layers = {{"color", f.color},
+                    {"albedo", f.albedo},
+                    {"normal", f.normal},
+                    {"depth", f.depth},
+                    {"p", pilot}};
+    Device device = api::BorrowDevice(Ctx());
+    Method given("nfor");
+    given.Set("nfor-pilot-layer", "p");
+    const Image out = given.Run(device, frame).image;
+    NforInputs in = InputsOf(f);
+    in.pilot = &pilot;
+    EXPECT_TRUE(BitIdentical(out, NforDenoise(Ctx(), in, NforOptions()).image));
+    EXPECT_FALSE(BitIdentical(out, Method("nfor").Run(device, frame).image));
+    Method missing("nfor");
+    missing.Set("nfor-pilot-layer", "nosuch");
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::MissingLayer, [&] { missing.Run(device, frame); }, "nosuch"));
+    given.Set("demodulate", "albedo");
+    EXPECT_TRUE(ThrowsError(
+        ErrorKind::InvalidArgument, [&] { given.Run(device, frame); }, "not demodulated"));
 }
 
 // A frame whose pixel (cx, cy) holds a bright path: one of its 16 samples 64 times the
