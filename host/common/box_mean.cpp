@@ -134,15 +134,15 @@ void PrefixWindows(const float *row, float *dst, int w, int r, int x0, int x1, i
     sum.resize(size_t(b - a) + 1);
     sum[0] = 0;
     for (int x = a; x < b; ++x) sum[x - a + 1] = sum[x - a] + row[x];
-    const double *at = sum.data() - a;  // at[x]: the sum of the values in [a, x)
+    // sum[x - a]: the sum of the values in [a, x).
     const int lo = std::clamp(r, x0, x1), hi = std::clamp(w - r, lo, x1);  // interior part
     auto clipped = [&](int x) {
         const int from = std::max(0, x - r), to = std::min(w - 1, x + r);
-        dst[x] = float((at[to + 1] - at[from]) / (to - from + 1));
+        dst[x] = float((sum[to + 1 - a] - sum[from - a]) / (to - from + 1));
     };
     for (int x = x0; x < lo; ++x) clipped(x);
     const double count = 2 * r + 1;
-    for (int x = lo; x < hi; ++x) dst[x] = float((at[x + r + 1] - at[x - r]) / count);
+    for (int x = lo; x < hi; ++x) dst[x] = float((sum[x + r + 1 - a] - sum[x - r - a]) / count);
     for (int x = hi; x < x1; ++x) clipped(x);
 }
 
