@@ -176,6 +176,8 @@ void SummedWindows(const float *row, float *dst, int w, int r, int x0, int x1) {
 void BoxRow(const float *row, float *dst, int w, int r, std::vector<double> &sum) {
     if (r > 2 && ExactSums(row, w)) return PrefixWindows(row, dst, w, r, 0, w, 0, w, sum);
     const int segment = std::max(256, 8 * r);
+    // One segment would read the whole row again: its test has just failed.
+    if (w <= segment) return SummedWindows(row, dst, w, r, 0, w);
     for (int x0 = 0; x0 < w; x0 += segment) {
         const int x1 = std::min(w, x0 + segment);
         const int a = std::max(0, x0 - r), b = std::min(w, x1 + r);  // values read: [a, b)
