@@ -127,35 +127,64 @@ bool ExactSums(const float *values, int n) {
     return WithinExactBound(sum, least);
 }
 
-// One row's box means: differences of prefix sums where those are exact, else each window
-// summed in order (the interior's windows side by side, so the sums run over contiguous
-// memory).
-void BoxRow(const float *row, float *dst, int w, int r, std::vector<double> &sum) {
-    if (r > 2 && ExactSums(row, w)) {
-        // Every partial sum exact: a window's sum is the difference of two prefix sums.
-        sum.resize(size_t(w) + 1);
-        sum[0] = 0;
-        for (int x = 0; x < w; ++x) sum[x + 1] = sum[x] + row[x];
-        const int lo = std::min(r, w), hi = std::max(lo, w - r);  // interior: [lo, hi)
-        const double count = 2 * r + 1;
-        for (int x = lo; x < hi; ++x) dst[x] = float((sum[x + r + 1] - sum[x - r]) / count);
-        auto clipped = [&](int x) {
-            int a = std::max(0, x - r), b = std::min(w - 1, x + r);
-            dst[x] = float((sum[b + 1] - sum[a]) / (b - a + 1));
-        };
-        for (int x = 0; x < lo; ++x) clipped(x);
-        for (int x = hi; x < w; ++x) clipped(x);
-        return;
+// Outputs [x0, x1) of a row whose values [a, b) have exact partial sums in any order: each
+// window's sum is the difference of two prefix sums from a, the same value as summed in order.
+void PrefixWindows(const float *row, float *dst, int w, int r, int x0, int x1, int a, int b,
+                   std::vector<double> &sum) {
+    sum.resize(size_t(b - a) + 1);
+    sum[0] = 0;
+    for (int x = a; x < b; ++x) sum[x - a + 1] = sum[x - a] + row[x];
+    // sum[x - a]: the sum of the values in [a, x).
+    const int lo = std::clamp(r, x0, x1), hi = std::clamp(w - r, lo, x1);  // interior part
+    auto clipped = [&](int x) {
+        const int from = std::max(0, x - r), to = std::min(w - 1, x + r);
+        dst[x] = float((sum[to + 1 - a] - sum[from - a]) / (to - from + 1));
+    };
+    for (int x = x0; x < lo; ++x) clipped(x);
+    const double count = 2 * r + 1;
+    for (int x = lo; x < hi; ++x) dst[x] = float((sum[x + r + 1 - a] - sum[x - r - a]) / count);
+    for (int x = hi; x < x1; ++x) clipped(x);
+}
+
+// Outputs [x0, x1) of a row, each window summed in order from its left. Interior windows go
+// kLanes at a time, their sums held in registers while the window's values are added.
+void SummedWindows(const float *row, float *dst, int w, int r, int x0, int x1) {
+    constexpr int kLanes = 16;
+    const int lo = std::clamp(r, x0, x1), hi = std::clamp(w - r, lo, x1);  // interior part
+    auto clipped = [&](int x) {
+        const int from = std::max(0, x - r), to = std::min(w - 1, x + r);
+        double s = 0;
+        for (int j = from; j <= to; ++j) s += row[j];
+        dst[x] = float(s / (to - from + 1));
+    };
+    for (int x = x0; x < lo; ++x) clipped(x);
+    const double count = 2 * r + 1;
+    int x = lo;
+    for (; x + kLanes <= hi; x += kLanes) {
+        double acc[kLanes] = {};
+        const float *from = row + (x - r);
+        for (int j = 0; j <= 2 * r; ++j)
+            for (int k = 0; k < kLanes; ++k) acc[k] += from[j + k];
+        for (int k = 0; k < kLanes; ++k) dst[x + k] = float(acc[k] / count);
     }
-    sum.assign(size_t(w), 0.0);
-    const int lo = std::min(r, w), hi = std::max(lo, w - r);  // interior: [lo, hi)
-    for (int j = 0; j <= 2 * r; ++j)
-        for (int x = lo; x < hi; ++x) sum[x] += row[x - r + j];
-    for (int x = 0; x < w; ++x) {
-        int a = std::max(0, x - r), b = std::min(w - 1, x + r);
-        if (x < lo || x >= hi)
-            for (int j = a; j <= b; ++j) sum[x] += row[j];
-        dst[x] = float(sum[x] / (b - a + 1));
+    for (; x < x1; ++x) clipped(x);
+}
+
+// One row's box means: differences of prefix sums where the row's sums are exact; else in
+// segments of outputs, each tested on the values its windows read (a segment's range of
+// values is narrower than the row's, so more of it passes), else each window summed in order.
+void BoxRow(const float *row, float *dst, int w, int r, std::vector<double> &sum) {
+    if (r > 2 && ExactSums(row, w)) return PrefixWindows(row, dst, w, r, 0, w, 0, w, sum);
+    const int segment = std::max(256, 8 * r);
+    // One segment would read the whole row again: its test has just failed.
+    if (w <= segment) return SummedWindows(row, dst, w, r, 0, w);
+    for (int x0 = 0; x0 < w; x0 += segment) {
+        const int x1 = std::min(w, x0 + segment);
+        const int a = std::max(0, x0 - r), b = std::min(w, x1 + r);  // values read: [a, b)
+        if (r > 2 && ExactSums(row + a, b - a))
+            PrefixWindows(row, dst, w, r, x0, x1, a, b, sum);
+        else
+            SummedWindows(row, dst, w, r, x0, x1);
     }
 }
 

@@ -13,9 +13,9 @@ namespace mcd {
 // the same bits, in a fraction of the time. Bands split over threads.
 void BoxMeanColumns(const float *in, float *out, int w, int h, int r);
 
-// The same along the rows (each window summed in order from its left; where a row's sums
-// are exact, its windows' sums are differences of its prefix sums): the bits of
-// BoxMeanColumns on the transposed plane.
+// The same along the rows (each window summed in order from its left; where the sums of the
+// values a segment of a row's windows reads are exact, those windows' sums are differences
+// of prefix sums): the bits of BoxMeanColumns on the transposed plane.
 void BoxMeanRows(const float *in, float *out, int w, int h, int r);
 
 }  // namespace mcd

@@ -184,5 +184,36 @@ TEST(BoxMeanColumns, LinesOverTheBoundRoundWhenSlid) {
     }
 }
 
+// A row whose sums round (large values among small ones) is split into segments, each
+// tested on the values its windows read, its halo included: a segment whose halo holds the
+// large values must sum in order too (as differences of prefix sums that pass them, the
+// windows after them would keep the large values' rounding); the plain segments further
+// off may take differences of prefix sums. Every way, the same bits as each window in order.
+TEST(BoxMeanRows, SegmentsOfRowsWhoseSumsRound) {
+    for (int r : {8, 40}) {
+        const int segment = std::max(256, 8 * r), w = 4 * segment + 77, h = 5;
+        std::vector<float> in = MakePlane(w, h, Kind::Plain);
+        // Large values in the second segment's last columns, within the third's halo.
+        for (int y = 0; y < h; ++y)
+            for (int x = 2 * segment - r / 2; x < 2 * segment; ++x)
+                in[size_t(y) * w + x] = 1e13f * (1.f + float(x % 5));
+        // A cancelling pair in the first segment's right halo alone: its test must read it.
+        for (int y = 0; y < h; ++y) {
+            in[size_t(y) * w + segment + 1] = 1e18f;
+            in[size_t(y) * w + segment + r / 2] = -1e18f;
+        }
+        const std::vector<float> expected =
+            Transposed(WindowsOneByOne(Transposed(in, w, h), h, w, r), h, w);
+        for (int parts : {1, 3}) {
+            SCOPED_TRACE("radius " + std::to_string(r) + ", " + std::to_string(parts) +
+                         " part(s)");
+            ForceParallelParts force(parts);
+            std::vector<float> got(in.size(), -7.f);
+            BoxMeanRows(in.data(), got.data(), w, h, r);
+            EXPECT_EQ(0, std::memcmp(got.data(), expected.data(), got.size() * sizeof(float)));
+        }
+    }
+}
+
 }  // namespace
 }  // namespace mcd
