@@ -179,52 +179,25 @@ Moments columnSums(int x, int ya, int yb, float mean, float radius) {
     return m;
 }
 
-// The sums with eq. 10's weight of one segment of a ring: row `line`'s pixels a..b, or
-// column `line`'s where `column` (clipped to the image).
-Moments segmentSums(bool column, int line, int a, int b, float mean, float radius) {
-    Moments m = zeroMoments();
-    if (line < 0 || line >= (column ? w : h)) return m;
-    for (int t = max(a, 0); t <= min(b, (column ? h : w) - 1); ++t) {
-        int x = column ? line : t, y = column ? t : line;
-        float z, s;
-        float wt = weightAt(x, y, mean, radius, z, s);
-        if (wt == 0.0) continue;
-        addSample(m, float(x - x0), float(y - y0), wt, z, s);
-        sumZ += z;
-        ++fitted;
-    }
-    return m;
-}
-
 // Ring r of the square (r = 0: the centre) into the parts, growth's weight (<z> = mean, no
-// distance term): its rows y0 - r and y0 + r, then its columns x0 - r and x0 + r without
-// their corners, each split at the axis into before, on and after it. The rows and the
-// columns share one copy of the code (a loop of two): the pipeline builds faster.
+// distance term).
 void addRing(int r, float mean) {
     if (r == 0) {
         middle = plus(middle, rowSums(y0, x0, x0, mean, 0.0));
         return;
     }
-    for (int pass = 0; pass < 2; ++pass) {
-        bool column = pass == 1;
-        int c = column ? y0 : x0, corner = column ? 1 : 0;
-        int before = (column ? x0 : y0) - r, after = (column ? x0 : y0) + r;
-        Moments m = segmentSums(column, before, c - r + corner, c - 1, mean, 0.0);
-        open2 = plus(open2, m);
-        m = segmentSums(column, before, c, c, mean, 0.0);
-        if (column) axisXm = plus(axisXm, m);
-        else axisYm = plus(axisYm, m);
-        m = segmentSums(column, before, c + 1, c + r - corner, mean, 0.0);
-        if (column) open1 = plus(open1, m);
-        else open3 = plus(open3, m);
-        m = segmentSums(column, after, c - r + corner, c - 1, mean, 0.0);
-        if (column) open3 = plus(open3, m);
-        else open1 = plus(open1, m);
-        m = segmentSums(column, after, c, c, mean, 0.0);
-        if (column) axisXp = plus(axisXp, m);
-        else axisYp = plus(axisYp, m);
-        open0 = plus(open0, segmentSums(column, after, c + 1, c + r - corner, mean, 0.0));
-    }
+    open2 = plus(open2, rowSums(y0 - r, x0 - r, x0 - 1, mean, 0.0));
+    axisYm = plus(axisYm, rowSums(y0 - r, x0, x0, mean, 0.0));
+    open3 = plus(open3, rowSums(y0 - r, x0 + 1, x0 + r, mean, 0.0));
+    open1 = plus(open1, rowSums(y0 + r, x0 - r, x0 - 1, mean, 0.0));
+    axisYp = plus(axisYp, rowSums(y0 + r, x0, x0, mean, 0.0));
+    open0 = plus(open0, rowSums(y0 + r, x0 + 1, x0 + r, mean, 0.0));
+    open2 = plus(open2, columnSums(x0 - r, y0 - r + 1, y0 - 1, mean, 0.0));
+    axisXm = plus(axisXm, columnSums(x0 - r, y0, y0, mean, 0.0));
+    open1 = plus(open1, columnSums(x0 - r, y0 + 1, y0 + r - 1, mean, 0.0));
+    open3 = plus(open3, columnSums(x0 + r, y0 - r + 1, y0 - 1, mean, 0.0));
+    axisXp = plus(axisXp, columnSums(x0 + r, y0, y0, mean, 0.0));
+    open0 = plus(open0, columnSums(x0 + r, y0 + 1, y0 + r - 1, mean, 0.0));
 }
 
 // |Z(centre) - Zm(centre)| beyond the limit plus twice the quadrant's predicted std.
