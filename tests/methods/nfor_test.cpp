@@ -1756,6 +1756,15 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.albedoNoise = o.albedoNoise;
     p.glintNoise = o.glintNoise;
     p.edgeNoise = !o.noEdgeNoise;
+    p.alpha = o.alpha;
+    p.ridge = o.ridge;
+    p.fireflyThreshold = o.fireflyThreshold;
+    p.fireflyRelative = o.fireflyRelative;
+    p.emitterAlbedo = o.emitterAlbedo;
+    p.prefilterBandwidth = o.prefilterBandwidth;
+    p.sureRadius = o.sureRadius;
+    p.pilotAlpha = o.pilotAlpha;
+    p.wideAgreement = o.wideAgreement;
     ref::NforInputs cpuIn{&f.color,
                           &f.albedo,
                           &features,
