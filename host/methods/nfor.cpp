@@ -441,7 +441,9 @@ void RecordClamp(StagedRun &run, NforGpu &gpu, const NforInputs &in, const NforO
     vk::Context &context = run.Context();
     const vk::GpuImage *albedo = gpu.albedo ? &*gpu.albedo : nullptr;
     vk::GpuImage &clampVariance = ownClamp ? gpu.clampVariance : gpu.variance;
-    if (ownClamp)
+    // Without a layer the clamp always reads the frame's own estimate: under --no-edge-noise
+    // it is made once, here, and the weights read it too.
+    if (ownClamp || !in.variance)
         RecordNforNoise(context, run.Recorder(), gpu.color, albedo, o.noiseRadius,
                         o.noiseCalibration, clampVariance);
     auto clamp = [&](vk::GpuImage &variance) {

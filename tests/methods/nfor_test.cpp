@@ -1755,6 +1755,16 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     p.demodulateDistance = !o.noDemodulatedDistance;
     p.albedoNoise = o.albedoNoise;
     p.glintNoise = o.glintNoise;
+    p.edgeNoise = !o.noEdgeNoise;
+    p.alpha = o.alpha;
+    p.ridge = o.ridge;
+    p.fireflyThreshold = o.fireflyThreshold;
+    p.fireflyRelative = o.fireflyRelative;
+    p.emitterAlbedo = o.emitterAlbedo;
+    p.prefilterBandwidth = o.prefilterBandwidth;
+    p.sureRadius = o.sureRadius;
+    p.pilotAlpha = o.pilotAlpha;
+    p.wideAgreement = o.wideAgreement;
     ref::NforInputs cpuIn{&f.color,
                           &f.albedo,
                           &features,
@@ -1791,6 +1801,25 @@ TEST_F(NforMethod, StagesMatchTheReference) {
     o.meanRadius = 0;
     for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
         ExpectStagesMatch(Ctx(), w, h, o);
+}
+
+// --no-edge-noise on a frame without a variance layer: one estimate of the colour's noise
+// for the firefly clamp and the weights alike, made before the clamp reads it (with and
+// without alpha, and a frame beside a layer, where the option changes nothing).
+TEST_F(NforMethod, NoEdgeNoiseStagesMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.gatherRadius = -1;
+    o.patchRadius = 3;
+    o.bandwidths = {0.5f, 1.f};
+    o.noiseRadius = 2;
+    o.prefilterRadius = 3;
+    o.meanRadius = 0;
+    o.noEdgeNoise = true;
+    for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
+        ExpectStagesMatch(Ctx(), w, h, o);
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, true, true);
+    ExpectStagesMatch(Ctx(), 29, 23, o, true);
 }
 
 // The distance's albedo trust: off (no trust stage), and on over a frame whose left half's
