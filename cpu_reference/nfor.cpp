@@ -1063,6 +1063,9 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
         // A partly covered pixel holds a N of its N samples: 1 / a times the variance of the
         // covered pixels its estimate read.
         if (alpha) variance = NforStraight(variance, *alpha, 1);
+    } else if (!in.variance && alpha) {
+        // The one estimate (no edge noise), after the clamp read it: 1 / a for the weights.
+        variance = NforStraight(variance, *alpha, 1);
     }
     NforCapLayer(in, p, clamped, alpha, p.layerNoiseCap, &variance);
     keep("variance", variance);

@@ -637,9 +637,10 @@ void RecordPrepare(StagedRun &run, NforGpu &gpu, const NforInputs &in, const Nfo
     if (again)
         RecordNforNoise(context, run.Recorder(), gpu.clamped, albedo, o.noiseRadius,
                         o.noiseCalibration, gpu.variance, true);
-    if (again && alpha) {
+    if (!in.variance && alpha) {
         // A partly covered pixel divided by its alpha is the mean of a N of its N samples:
-        // 1 / a times the variance of the covered pixels whose pairs its estimate read.
+        // 1 / a times the variance of the covered pixels whose pairs its estimate read (the
+        // weights' estimate; under --no-edge-noise the one the clamp read before).
         run.Submit();
         gpu.variance.Upload(NforDivideByAlpha(gpu.variance.Download(), *alpha));
     }
