@@ -29,6 +29,7 @@
 #include "harness/gpu_fixture.h"
 #include "harness/inputs.h"
 #include "host/api/device.h"
+#include "host/api/nfor_reference.h"
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 #include "host/methods/nfor_alpha.h"
@@ -1709,62 +1710,7 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     std::vector<float> weights;
     std::vector<std::string> names;
     Image features = NforFeatures(InputsOf(f), o, &weights, &names);
-    ref::NforParams p;
-    p.radius = o.radius;
-    p.gatherRadius = o.gatherRadius < 0 ? o.radius : std::min(o.gatherRadius, o.radius);
-    p.patchRadius = o.patchRadius;
-    p.bandwidths.assign(o.bandwidths.begin(), o.bandwidths.end());
-    p.pilotBandwidths.assign(o.pilotBandwidths.begin(), o.pilotBandwidths.end());
-    p.meanRadius = o.meanRadius;
-    p.clampLightRadius = o.clampLightRadius;
-    p.clampLightFine = o.clampLightFine;
-    p.clampLightReach = o.clampLightReach;
-    p.clampLightNoise = kClampLightNoise;
-    p.speckRelative = o.speckRelative;
-    p.speckFloor = o.speckFloor;
-    p.speckRank = o.speckRank;
-    p.noiseRadius = o.noiseRadius;
-    p.fireflyRank = o.fireflyRank;
-    p.fireflyLightEdge = o.fireflyLightEdge;
-    p.fireflySum = !o.fireflyEachChannel;
-    p.fireflyLine = o.fireflyLine;
-    p.fireflyLoneLight = o.fireflyLoneLight;
-    p.fireflyLineFloor = o.fireflyLineFloor;
-    p.pilotWideRadius = o.pilotWideRadius;
-    p.minVariance = o.minVariance;
-    p.pilotMinVariance = NforPilotMinVariance(o);
-    p.coarse = o.coarse;
-    p.coarseRelative = o.coarseRelative;
-    p.coarseNoise = o.coarseNoise;
-    p.coarseGate = o.coarseGate;
-    p.keptRadius = o.keptRadius;
-    p.weakEmitterAlbedo = o.weakEmitterAlbedo;
-    p.weakLightShare = o.weakLightShare;
-    p.lightShare = o.lightShare;
-    p.lineSpread = o.lineSpread;
-    p.prefilterRadius = o.prefilterRadius;
-    p.prefilterPatch = o.prefilterPatch;
-    p.featureWeights.assign(weights.begin(), weights.end());
-    p.noiseMinCalibration = o.noiseCalibration;
-    p.clampEstimate = !o.clampLayer;
-    p.clampLoss = o.clampLoss;
-    p.premultiplied = o.premultiplied;
-    p.layerPasses = !o.noLayerPasses;
-    p.layerNoiseCap = o.layerNoiseCap;
-    p.pilotNoiseCap = o.pilotNoiseCap;
-    p.demodulateDistance = !o.noDemodulatedDistance;
-    p.albedoNoise = o.albedoNoise;
-    p.glintNoise = o.glintNoise;
-    p.edgeNoise = !o.noEdgeNoise;
-    p.alpha = o.alpha;
-    p.ridge = o.ridge;
-    p.fireflyThreshold = o.fireflyThreshold;
-    p.fireflyRelative = o.fireflyRelative;
-    p.emitterAlbedo = o.emitterAlbedo;
-    p.prefilterBandwidth = o.prefilterBandwidth;
-    p.sureRadius = o.sureRadius;
-    p.pilotAlpha = o.pilotAlpha;
-    p.wideAgreement = o.wideAgreement;
+    const ref::NforParams p = api::NforReferenceParams(o, weights);
     ref::NforInputs cpuIn{&f.color,
                           &f.albedo,
                           &features,
