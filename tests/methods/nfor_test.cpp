@@ -1770,6 +1770,33 @@ TEST_F(NforMethod, NoEdgeNoiseStagesMatchTheReference) {
     ExpectStagesMatch(poisoned, 29, 23, o, true);
 }
 
+// Options away from their defaults that reach the twin only through the one mapping: the
+// distance's variance cancellation, the ridge, the firefly clamp's threshold and rho, the
+// emitters' albedo, the prefilter's bandwidth, SURE's window, and the second pass's alpha
+// and wide windows' agreement.
+TEST_F(NforMethod, OptionsAwayFromDefaultsMatchTheReference) {
+    NforOptions o;
+    o.radius = 3;
+    o.patchRadius = 2;
+    o.noiseRadius = 2;
+    o.prefilterRadius = 2;
+    o.meanRadius = 0;
+    o.alpha = 0.5f;
+    o.ridge = 0.01f;
+    o.fireflyThreshold = 3;
+    o.fireflyRelative = 0.25f;
+    o.emitterAlbedo = 2;
+    o.prefilterBandwidth = 0.7f;
+    o.sureRadius = 2;
+    o.pilotAlpha = 0.5f;
+    ExpectStagesMatch(Ctx(), 29, 23, o, false, false, true);
+    ExpectStagesMatch(Ctx(), 29, 23, o, true);
+    o.pilotBandwidths = {1.f};
+    o.pilotWideRadius = o.radius + 2;
+    o.wideAgreement = 0.5f;
+    ExpectStagesMatch(Ctx(), 29, 23, o, true, true, true);
+}
+
 // The distance's albedo trust: off (no trust stage), and on over a frame whose left half's
 // albedo is noise (random per pixel and channel, which the colour does not follow), where
 // the trust stage marks pixels untrusted and the pilot's and the second pass's distances
