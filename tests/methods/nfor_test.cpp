@@ -1734,17 +1734,24 @@ void ExpectStagesMatch(vk::Context &context, int w, int h, const NforOptions &op
     EXPECT_LE(d.nmse, 1e-8) << w << "x" << h;
 }
 
-// The one-pass path of the papers: two bandwidths by SURE, the features prefiltered.
-TEST_F(NforMethod, StagesMatchTheReference) {
+// Windows small enough for the stage tests' frames: two bandwidths, the features
+// prefiltered, no local mean.
+NforOptions SmallWindowOptions() {
     NforOptions o;
     o.radius = 3;
     o.gatherRadius = -1;
     o.patchRadius = 3;
     o.bandwidths = {0.5f, 1.f};
-    o.pilotBandwidths = {};
     o.noiseRadius = 2;
     o.prefilterRadius = 3;
     o.meanRadius = 0;
+    return o;
+}
+
+// The one-pass path of the papers: two bandwidths by SURE, the features prefiltered.
+TEST_F(NforMethod, StagesMatchTheReference) {
+    NforOptions o = SmallWindowOptions();
+    o.pilotBandwidths = {};
     for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
         ExpectStagesMatch(Ctx(), w, h, o);
 }
@@ -1755,14 +1762,7 @@ TEST_F(NforMethod, StagesMatchTheReference) {
 // handed out filled with NaN, so a stage read before anything wrote it cannot pass.
 TEST_F(NforMethod, NoEdgeNoiseStagesMatchTheReference) {
     vk::Context poisoned(vk::ContextOptions{.pipelineThreads = 1, .poisonBuffers = true});
-    NforOptions o;
-    o.radius = 3;
-    o.gatherRadius = -1;
-    o.patchRadius = 3;
-    o.bandwidths = {0.5f, 1.f};
-    o.noiseRadius = 2;
-    o.prefilterRadius = 3;
-    o.meanRadius = 0;
+    NforOptions o = SmallWindowOptions();
     o.noEdgeNoise = true;
     for (auto [w, h] : {std::pair{29, 23}, std::pair{1, 1}, std::pair{7, 1}})
         ExpectStagesMatch(poisoned, w, h, o);
