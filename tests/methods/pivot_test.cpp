@@ -393,6 +393,44 @@ INSTANTIATE_TEST_SUITE_P(Cases, PivotFitKernel, testing::ValuesIn(FitCases()), S
 // the largest |z|.
 class PivotGatherKernel : public GpuTestWithParam<StageCase> {};
 
+// Stage 3 on the GPU in two row strips from the reference's ratio and fits; without the
+// edge test's inputs a dispatch that asks for the test is refused.
+Image GatherOnGpu(vk::Context &ctx, const Frame &f, const ref::PivotRatio &ratio,
+                  const Image &fits, bool guides, bool edgeInputs, float edge) {
+    const int w = f.color.width, h = f.color.height;
+    vk::GpuImage color(ctx, w, h, 3, "color"), pivot(ctx, w, h, 3, "pivot");
+    vk::GpuImage out(ctx, w, h, 3, "out");
+    std::vector<vk::GpuImage> zsn;
+    for (const Image &packed :
+         PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise, edgeInputs))
+        zsn.emplace_back(ctx, w, h, packed.channels, "zsn").Upload(packed);
+    vk::GpuImage guide(ctx, w, h, PIVOT_GUIDE_STRIDE, "guides");
+    PivotFitBuffers fitBuffers(ctx, w, h, 3, "fit");
+    color.Upload(f.color);
+    pivot.Upload(f.pivot);
+    guide.Upload(GuideOf(f));
+    fitBuffers.Upload(fits);
+    int reach = 0;
+    Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
+    vk::GpuImage tiles(ctx, tileOrder.width, tileOrder.height, tileOrder.channels, "tiles");
+    tiles.Upload(tileOrder);
+    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
+    vk::Recorder recorder(ctx);
+    for (auto [rowBase, rows] :
+         h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
+               : std::vector<std::pair<int, int>>{{0, h}})
+        RecordPivotGather(ctx, recorder, color, pivot, zsn, fitBuffers, gpuGuides, tiles, reach,
+                          edge, out, rowBase, rows);
+    recorder.Submit();
+    if (!edgeInputs) {
+        vk::Recorder refused(ctx);
+        EXPECT_THROW(RecordPivotGather(ctx, refused, color, pivot, zsn, fitBuffers, gpuGuides,
+                                       tiles, reach, 4.f, out, 0, h),
+                     Error);
+    }
+    return out.Download();
+}
+
 TEST_P(PivotGatherKernel, MatchesReference) {
     const int w = GetParam().w, h = GetParam().h;
     const bool guides = GetParam().guides, edgeInputs = GetParam().edgeInputs;
@@ -406,45 +444,52 @@ TEST_P(PivotGatherKernel, MatchesReference) {
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image fits = ref::PivotFit(ratio, refGuides, o);
     Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides, o.edge);
-
-    vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
-    vk::GpuImage out(Ctx(), w, h, 3, "out");
-    std::vector<vk::GpuImage> zsn;
-    for (const Image &packed :
-         PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise, edgeInputs))
-        zsn.emplace_back(Ctx(), w, h, packed.channels, "zsn").Upload(packed);
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
-    PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
-    color.Upload(f.color);
-    pivot.Upload(f.pivot);
-    guide.Upload(GuideOf(f));
-    fitBuffers.Upload(fits);
-    int reach = 0;
-    Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
-    vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, tileOrder.channels, "tiles");
-    tiles.Upload(tileOrder);
-    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
-    vk::Recorder recorder(Ctx());
-    for (auto [rowBase, rows] :
-         h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
-               : std::vector<std::pair<int, int>>{{0, h}})
-        RecordPivotGather(Ctx(), recorder, color, pivot, zsn, fitBuffers, gpuGuides, tiles,
-                          reach, o.edge, out, rowBase, rows);
-    recorder.Submit();
-    if (!edgeInputs) {
-        vk::Recorder refused(Ctx());
-        EXPECT_THROW(RecordPivotGather(Ctx(), refused, color, pivot, zsn, fitBuffers, gpuGuides,
-                                       tiles, reach, 4.f, out, 0, h),
-                     Error);
-    }
+    Image actual = GatherOnGpu(Ctx(), f, ratio, fits, guides, edgeInputs, o.edge);
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     Image magnitude = f.pivot;
     for (size_t i = 0; i < magnitude.Size(); ++i)
         magnitude.data[i] =
             float(std::fabs(f.pivot.data[i]) * zScale + std::fabs(f.color.data[i]));
-    EXPECT_TRUE(
-        ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
+    EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
+}
+
+// A filtered value is never bitwise its input, on the GPU or in the twin: the passes after
+// the gather tell kept values by equality, and a fit rounded onto its input would be kept on
+// one side and filtered on the other. With the colour equal to the pivot every z is 1, so
+// many fits land on their input (or within an ulp of it) and move one float away.
+class PivotGatherFitted : public GpuTest {};
+
+TEST_F(PivotGatherFitted, ValuesNeverEqualTheirInput) {
+    const int w = 23, h = 17;
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName("gather-fitted"));
+    for (int i = 0; i < int(f.pivot.Size()); i += 7) f.pivot.data[i] = 0;
+    f.color = f.pivot;
+    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, nullptr);
+    PivotParams o;
+    o.maxRadius = 12;
+    const ref::PivotGuides none{nullptr, nullptr};
+    Image fits = ref::PivotFit(ratio, none, o);
+    const Image twin = ref::PivotGather(f.color, f.pivot, ratio, fits, none, o.edge);
+    const Image gpu = GatherOnGpu(Ctx(), f, ratio, fits, false, true, o.edge);
+    for (const Image *out : {&twin, &gpu}) {
+        int equal = 0, nudged = 0, withZ = 0;
+        for (size_t i = 0; i < out->Size(); ++i) {
+            if (ratio.nu.data[i] < 0) {
+                EXPECT_EQ(out->data[i], f.color.data[i]) << "a pixel without z keeps its input";
+                continue;
+            }
+            ++withZ;
+            const float in = f.color.data[i], value = out->data[i];
+            equal += std::memcmp(&in, &value, sizeof(float)) == 0;
+            nudged += value == std::nextafter(in, in > 0 ? INFINITY : -INFINITY) ||
+                      (in == 0 && value == std::numeric_limits<float>::min());
+        }
+        EXPECT_GT(withZ, 0);
+        EXPECT_EQ(equal, 0) << (out == &gpu ? "GPU" : "twin");
+        EXPECT_GT(nudged, 0) << (out == &gpu ? "GPU" : "twin")
+                             << ": no fit landed on its input";
+    }
 }
 
 // Without the edge test: z, s, nu one texel a pixel.
