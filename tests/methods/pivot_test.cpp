@@ -454,44 +454,6 @@ TEST_P(PivotGatherKernel, MatchesReference) {
     EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
-// A filtered value is never bitwise its input, on the GPU or in the twin: the passes after
-// the gather tell kept values by equality, and a fit rounded onto its input would be kept on
-// one side and filtered on the other. With the colour equal to the pivot every z is 1, so
-// many fits land on their input (or within an ulp of it) and move one float away.
-class PivotGatherFitted : public GpuTest {};
-
-TEST_F(PivotGatherFitted, ValuesNeverEqualTheirInput) {
-    const int w = 23, h = 17;
-    Frame f = MakeFrame(w, h, 0.3, SeedFromName("gather-fitted"));
-    for (int i = 0; i < int(f.pivot.Size()); i += 7) f.pivot.data[i] = 0;
-    f.color = f.pivot;
-    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, nullptr);
-    PivotParams o;
-    o.maxRadius = 12;
-    const ref::PivotGuides none{nullptr, nullptr};
-    Image fits = ref::PivotFit(ratio, none, o);
-    const Image twin = ref::PivotGather(f.color, f.pivot, ratio, fits, none, o.edge);
-    const Image gpu = GatherOnGpu(Ctx(), f, ratio, fits, false, true, o.edge);
-    for (const Image *out : {&twin, &gpu}) {
-        int equal = 0, nudged = 0, withZ = 0;
-        for (size_t i = 0; i < out->Size(); ++i) {
-            if (ratio.nu.data[i] < 0) {
-                EXPECT_EQ(out->data[i], f.color.data[i]) << "a pixel without z keeps its input";
-                continue;
-            }
-            ++withZ;
-            const float in = f.color.data[i], value = out->data[i];
-            equal += std::memcmp(&in, &value, sizeof(float)) == 0;
-            nudged += value == std::nextafter(in, in > 0 ? INFINITY : -INFINITY) ||
-                      (in == 0 && value == std::numeric_limits<float>::min());
-        }
-        EXPECT_GT(withZ, 0);
-        EXPECT_EQ(equal, 0) << (out == &gpu ? "GPU" : "twin");
-        EXPECT_GT(nudged, 0) << (out == &gpu ? "GPU" : "twin")
-                             << ": no fit landed on its input";
-    }
-}
-
 // Without the edge test: z, s, nu one texel a pixel.
 std::vector<StageCase> GatherCases() {
     std::vector<StageCase> cases = StageCases({{27, 19}, {1, 1}, {1, 10}, {7, 1}});
@@ -507,6 +469,26 @@ INSTANTIATE_TEST_SUITE_P(Cases, PivotGatherKernel, testing::ValuesIn(GatherCases
 // few u on lavapipe), the result a weighted mean.
 class PivotBilateralKernel : public GpuTestWithParam<StageCase> {};
 
+// The bilateral baseline on the GPU from the reference's ratio.
+Image BilateralOnGpu(vk::Context &ctx, const Frame &f, const ref::PivotRatio &ratio,
+                     bool guides, const PivotParams &o) {
+    const int w = f.color.width, h = f.color.height;
+    vk::GpuImage color(ctx, w, h, 3, "color"), pivot(ctx, w, h, 3, "pivot");
+    vk::GpuImage z(ctx, w, h, 3, "z"), nu(ctx, w, h, 3, "nu"), out(ctx, w, h, 3, "o");
+    vk::GpuImage guide(ctx, w, h, PIVOT_GUIDE_STRIDE, "guides");
+    color.Upload(f.color);
+    pivot.Upload(f.pivot);
+    z.Upload(ratio.z);
+    nu.Upload(ratio.nu);
+    guide.Upload(GuideOf(f));
+    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
+    vk::Recorder recorder(ctx);
+    RecordPivotBilateral(ctx, recorder, color, pivot, z, nu, gpuGuides,
+                         {o.bilateralRadius, o.sigmaRange, o.goodNoise}, out);
+    recorder.Submit();
+    return out.Download();
+}
+
 TEST_P(PivotBilateralKernel, MatchesReference) {
     const int w = GetParam().w, h = GetParam().h;
     const bool guides = GetParam().guides;
@@ -517,30 +499,59 @@ TEST_P(PivotBilateralKernel, MatchesReference) {
     o.bilateralRadius = 4;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, o);
-    vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
-    vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "o");
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
-    color.Upload(f.color);
-    pivot.Upload(f.pivot);
-    z.Upload(ratio.z);
-    nu.Upload(ratio.nu);
-    guide.Upload(GuideOf(f));
-    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
-    vk::Recorder recorder(Ctx());
-    RecordPivotBilateral(Ctx(), recorder, color, pivot, z, nu, gpuGuides,
-                         {o.bilateralRadius, o.sigmaRange, o.goodNoise}, out);
-    recorder.Submit();
+    Image actual = BilateralOnGpu(Ctx(), f, ratio, guides, o);
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     Image magnitude = f.pivot;
     for (float &v : magnitude.data) v = float(std::fabs(v) * zScale);
-    EXPECT_TRUE(
-        ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
+    EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, PivotBilateralKernel,
                          testing::ValuesIn(StageCases({{31, 17}, {1, 1}, {1, 8}, {10, 1}})),
                          StageCaseName);
+
+// A filtered value is never bitwise its input, on the GPU or in the twin, gathered or
+// filtered by the bilateral baseline: the passes after the filter tell kept values by
+// equality, and a fit rounded onto its input would be kept on one side and filtered on the
+// other. With the colour equal to the pivot every z is 1, so many values land on their input
+// (or within an ulp of it) and move one float away.
+class PivotFittedValues : public GpuTest {};
+
+TEST_F(PivotFittedValues, NeverEqualTheirInput) {
+    const int w = 23, h = 17;
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName("gather-fitted"));
+    for (int i = 0; i < int(f.pivot.Size()); i += 7) f.pivot.data[i] = 0;
+    f.color = f.pivot;
+    ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, nullptr);
+    PivotParams o;
+    o.maxRadius = 12;
+    o.bilateralRadius = 4;
+    const ref::PivotGuides none{nullptr, nullptr};
+    Image fits = ref::PivotFit(ratio, none, o);
+    const std::pair<const char *, Image> outputs[] = {
+        {"gather, twin", ref::PivotGather(f.color, f.pivot, ratio, fits, none, o.edge)},
+        {"gather, GPU", GatherOnGpu(Ctx(), f, ratio, fits, false, true, o.edge)},
+        {"bilateral, twin", ref::PivotBilateral(f.color, f.pivot, ratio, none, o)},
+        {"bilateral, GPU", BilateralOnGpu(Ctx(), f, ratio, false, o)}};
+    for (const auto &[what, out] : outputs) {
+        int equal = 0, nudged = 0, withZ = 0;
+        for (size_t i = 0; i < out.Size(); ++i) {
+            const float in = f.color.data[i], value = out.data[i];
+            if (ratio.nu.data[i] < 0) {
+                EXPECT_EQ(value, in) << what << ": a pixel without z keeps its input";
+                continue;
+            }
+            ++withZ;
+            equal += std::memcmp(&in, &value, sizeof(float)) == 0;
+            nudged += value == std::nextafter(in, in > 0 ? INFINITY : -INFINITY) ||
+                      (in == 0 && value == std::numeric_limits<float>::min());
+        }
+        EXPECT_GT(withZ, 0) << what;
+        EXPECT_EQ(equal, 0) << what;
+        EXPECT_GT(nudged, 0) << what << ": no value landed on its input";
+    }
+}
 
 PivotInputs InputsOf(const Frame &f, bool guides, Image *objectId, Image *partId) {
     PivotInputs in;
