@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <limits>
 #include <vector>
+
+#include "cpu_reference/kept_edges.h"
 
 namespace mcd::ref {
 namespace {
@@ -119,18 +119,6 @@ double Combine(double z, double zm) {
     else
         t = std::pow(lo / hi, 8.0);
     return (t * z + zm) / (t + 1);
-}
-
-// A filtered value, never bitwise its input: the passes after the filter tell kept values
-// by equality, and a fit rounded onto its input must not count as kept. Such a value moves
-// one float away from zero (0 to the smallest normal); one not finite is left.
-float FittedValue(double fitted, float input) {
-    const float value = float(fitted);
-    if (std::memcmp(&value, &input, sizeof(float)) != 0 || !std::isfinite(value)) return value;
-    if (value == 0) return std::numeric_limits<float>::min();
-    return std::fabs(value) == std::numeric_limits<float>::max()
-               ? std::nextafter(value, 0.f)
-               : std::nextafter(value, std::copysign(INFINITY, value));
 }
 
 }  // namespace
@@ -514,8 +502,8 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                                     fits.At(5 * channels + c, y, x));
                 }
                 if (sumW > 0)
-                    out.At(c, y, x) =
-                        FittedValue(pivot.At(c, y, x) * (sumWz / sumW), color.At(c, y, x));
+                    out.At(c, y, x) = FilteredValue(float(pivot.At(c, y, x) * (sumWz / sumW)),
+                                                    color.At(c, y, x));
             }
     return out;
 }
@@ -548,8 +536,8 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
                         sumWz += weight * ratio.z.At(c, v, u);
                     }
                 if (sumW > 0)
-                    out.At(c, y, x) =
-                        FittedValue(pivot.At(c, y, x) * (sumWz / sumW), color.At(c, y, x));
+                    out.At(c, y, x) = FilteredValue(float(pivot.At(c, y, x) * (sumWz / sumW)),
+                                                    color.At(c, y, x));
             }
     return out;
 }
