@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 namespace mcd::ref {
@@ -26,6 +27,14 @@ bool SameFloat(float a, float b) {
 }
 
 }  // namespace
+
+float FilteredValue(float value, float input) {
+    if (value != input || !std::isfinite(value)) return value;
+    if (value == 0) return std::numeric_limits<float>::min();
+    if (std::fabs(value) == std::numeric_limits<float>::max())
+        return std::nextafter(value, 0.f);
+    return std::nextafter(value, std::copysign(INFINITY, value));
+}
 
 size_t ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
                            const Image *partId, Image *output) {
@@ -153,7 +162,7 @@ size_t ClampEdgeFitsToSides(const Image &input, const Image &pivot, const Image 
                 }
                 const float z = o / a;
                 if (!std::isfinite(z) || (z >= lo && z <= hi)) continue;
-                output->At(c, y, x) = (z < lo ? lo : hi) * a;
+                output->At(c, y, x) = FilteredValue((z < lo ? lo : hi) * a, input.At(c, y, x));
                 ++changed;
             }
     return changed;

@@ -8,6 +8,13 @@
 
 namespace mcd::ref {
 
+// A value a filter wrote, never its input: where it equals the input (as floats: +0 and -0
+// too) and is finite, the next float away from zero (0 becomes the smallest normal float; the
+// largest finite magnitude steps toward zero). Kept values are told by equality, and a
+// filtered value that rounds onto its input would count as kept on one side of a GPU/CPU
+// comparison only.
+float FilteredValue(float value, float input);
+
 // A value is kept where output and input are the same float. Each kept, finite value of a
 // pixel with a 4-neighbour of other (objectId, partId) becomes the nearest value of [min,
 // max] over the finite, not kept values of its channel at the other pixels of its 3x3

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "cpu_reference/kept_edges.h"
+
 namespace mcd::ref {
 namespace {
 
@@ -499,7 +501,9 @@ Image PivotGather(const Image &color, const Image &pivot, const PivotRatio &rati
                     sumWz = Combine(fits.At(2 * channels + c, y, x),
                                     fits.At(5 * channels + c, y, x));
                 }
-                if (sumW > 0) out.At(c, y, x) = float(pivot.At(c, y, x) * (sumWz / sumW));
+                if (sumW > 0)
+                    out.At(c, y, x) = FilteredValue(float(pivot.At(c, y, x) * (sumWz / sumW)),
+                                                    color.At(c, y, x));
             }
     return out;
 }
@@ -531,7 +535,9 @@ Image PivotBilateral(const Image &color, const Image &pivot, const PivotRatio &r
                         sumW += weight;
                         sumWz += weight * ratio.z.At(c, v, u);
                     }
-                if (sumW > 0) out.At(c, y, x) = float(pivot.At(c, y, x) * (sumWz / sumW));
+                if (sumW > 0)
+                    out.At(c, y, x) = FilteredValue(float(pivot.At(c, y, x) * (sumWz / sumW)),
+                                                    color.At(c, y, x));
             }
     return out;
 }

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -78,6 +80,16 @@ void CheckEdgeLayers(const char *step, const Image &input, const Image &pivot,
 }
 
 }  // namespace
+
+float FilteredValue(float value, float input) {
+    if (value != input || !std::isfinite(value)) return value;
+    if (value == 0) return std::numeric_limits<float>::min();
+    uint32_t bits;
+    std::memcpy(&bits, &value, sizeof bits);
+    bits = (bits & 0x7fffffffu) == 0x7f7fffffu ? bits - 1 : bits + 1;
+    std::memcpy(&value, &bits, sizeof bits);
+    return value;
+}
 
 KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
                               const Image *partId, Image *output) {
@@ -182,7 +194,7 @@ size_t ClampEdgeFitsToSides(const Image &input, const Image &pivot, const Image 
                 }
                 const float z = out[p] / piv[p];
                 if (!std::isfinite(z) || (z >= lo && z <= hi)) continue;
-                out[p] = std::clamp(z, lo, hi) * piv[p];
+                out[p] = FilteredValue(std::clamp(z, lo, hi) * piv[p], in[p]);
                 ++moved;
             }
     }

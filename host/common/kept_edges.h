@@ -20,6 +20,13 @@
 
 namespace mcd {
 
+// A value a filter wrote, never its input: where it equals the input (as floats: +0 and -0
+// too) and is finite, the next float away from zero (0 becomes the smallest normal float;
+// the largest finite magnitude steps toward zero). The passes after a filter tell the values
+// it kept by equality, and one that rounds onto its input would count as kept on the GPU or
+// in the CPU twin alone. shaders/pivot/fitted.glsl is its kernels' twin.
+float FilteredValue(float value, float input);
+
 // For each value of `output` equal to `input`'s (bit for bit: kept) at a pixel with a
 // 4-neighbour of another object or part id (`objectId`, `partId`: one channel each, or null),
 // the range of the other values of its channel in its 3x3 window (clipped to the image) that

@@ -15,6 +15,7 @@ layout(std430, binding = PIVOT_BILATERAL_OUT) writeonly buffer Out { float outIm
 
 int planeSize, gw, gh;
 
+#include "pivot/fitted.glsl"
 #include "pivot/guides.glsl"
 
 // The pivot's channel mean: the range guide, shared by the channels.
@@ -54,6 +55,8 @@ void main() {
             sumW += weight;
             sumWz += weight * texelFetch(zIn, base + q).r;
         }
+    float inputValue = texelFetch(color, at).r;
     outImage[at] =
-        sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;
+        sumW > 0.0 ? FittedValue(texelFetch(pivot, at).r * (sumWz / sumW), inputValue)
+                   : inputValue;
 }

@@ -25,6 +25,7 @@ int planeSize, gw, gh;
 #endif
 
 #include "pivot/edge.glsl"
+#include "pivot/fitted.glsl"
 #include "pivot/guides.glsl"
 #include "pivot/lattice.glsl"
 
@@ -164,6 +165,8 @@ void main() {
         sumW = 1.0;
         sumWz = combine(texelFetch(fitLo, 2 * i).z, texelFetch(fitLo, 2 * i + 1).y);
     }
+    float inputValue = texelFetch(color, at).r;
     outImage[at] =
-        sumW > 0.0 ? texelFetch(pivot, at).r * (sumWz / sumW) : texelFetch(color, at).r;
+        sumW > 0.0 ? FittedValue(texelFetch(pivot, at).r * (sumWz / sumW), inputValue)
+                   : inputValue;
 }

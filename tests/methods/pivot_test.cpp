@@ -393,6 +393,44 @@ INSTANTIATE_TEST_SUITE_P(Cases, PivotFitKernel, testing::ValuesIn(FitCases()), S
 // the largest |z|.
 class PivotGatherKernel : public GpuTestWithParam<StageCase> {};
 
+// Stage 3 on the GPU in two row strips from the reference's ratio and fits; without the
+// edge test's inputs a dispatch that asks for the test is refused.
+Image GatherOnGpu(vk::Context &ctx, const Frame &f, const ref::PivotRatio &ratio,
+                  const Image &fits, bool guides, bool edgeInputs, float edge) {
+    const int w = f.color.width, h = f.color.height;
+    vk::GpuImage color(ctx, w, h, 3, "color"), pivot(ctx, w, h, 3, "pivot");
+    vk::GpuImage out(ctx, w, h, 3, "out");
+    std::vector<vk::GpuImage> zsn;
+    for (const Image &packed :
+         PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise, edgeInputs))
+        zsn.emplace_back(ctx, w, h, packed.channels, "zsn").Upload(packed);
+    vk::GpuImage guide(ctx, w, h, PIVOT_GUIDE_STRIDE, "guides");
+    PivotFitBuffers fitBuffers(ctx, w, h, 3, "fit");
+    color.Upload(f.color);
+    pivot.Upload(f.pivot);
+    guide.Upload(GuideOf(f));
+    fitBuffers.Upload(fits);
+    int reach = 0;
+    Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
+    vk::GpuImage tiles(ctx, tileOrder.width, tileOrder.height, tileOrder.channels, "tiles");
+    tiles.Upload(tileOrder);
+    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
+    vk::Recorder recorder(ctx);
+    for (auto [rowBase, rows] :
+         h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
+               : std::vector<std::pair<int, int>>{{0, h}})
+        RecordPivotGather(ctx, recorder, color, pivot, zsn, fitBuffers, gpuGuides, tiles, reach,
+                          edge, out, rowBase, rows);
+    recorder.Submit();
+    if (!edgeInputs) {
+        vk::Recorder refused(ctx);
+        EXPECT_THROW(RecordPivotGather(ctx, refused, color, pivot, zsn, fitBuffers, gpuGuides,
+                                       tiles, reach, 4.f, out, 0, h),
+                     Error);
+    }
+    return out.Download();
+}
+
 TEST_P(PivotGatherKernel, MatchesReference) {
     const int w = GetParam().w, h = GetParam().h;
     const bool guides = GetParam().guides, edgeInputs = GetParam().edgeInputs;
@@ -406,45 +444,14 @@ TEST_P(PivotGatherKernel, MatchesReference) {
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image fits = ref::PivotFit(ratio, refGuides, o);
     Image expected = ref::PivotGather(f.color, f.pivot, ratio, fits, refGuides, o.edge);
-
-    vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
-    vk::GpuImage out(Ctx(), w, h, 3, "out");
-    std::vector<vk::GpuImage> zsn;
-    for (const Image &packed :
-         PivotZsnOf(ratio.z, ratio.s, ratio.nu, ratio.level, ratio.noise, edgeInputs))
-        zsn.emplace_back(Ctx(), w, h, packed.channels, "zsn").Upload(packed);
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
-    PivotFitBuffers fitBuffers(Ctx(), w, h, 3, "fit");
-    color.Upload(f.color);
-    pivot.Upload(f.pivot);
-    guide.Upload(GuideOf(f));
-    fitBuffers.Upload(fits);
-    int reach = 0;
-    Image tileOrder = PivotTileOrder(Planes(fits, 15, 1, 3), &reach);
-    vk::GpuImage tiles(Ctx(), tileOrder.width, tileOrder.height, tileOrder.channels, "tiles");
-    tiles.Upload(tileOrder);
-    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
-    vk::Recorder recorder(Ctx());
-    for (auto [rowBase, rows] :
-         h > 1 ? std::vector<std::pair<int, int>>{{0, h / 2}, {h / 2, h - h / 2}}
-               : std::vector<std::pair<int, int>>{{0, h}})
-        RecordPivotGather(Ctx(), recorder, color, pivot, zsn, fitBuffers, gpuGuides, tiles,
-                          reach, o.edge, out, rowBase, rows);
-    recorder.Submit();
-    if (!edgeInputs) {
-        vk::Recorder refused(Ctx());
-        EXPECT_THROW(RecordPivotGather(Ctx(), refused, color, pivot, zsn, fitBuffers, gpuGuides,
-                                       tiles, reach, 4.f, out, 0, h),
-                     Error);
-    }
+    Image actual = GatherOnGpu(Ctx(), f, ratio, fits, guides, edgeInputs, o.edge);
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     Image magnitude = f.pivot;
     for (size_t i = 0; i < magnitude.Size(); ++i)
         magnitude.data[i] =
             float(std::fabs(f.pivot.data[i]) * zScale + std::fabs(f.color.data[i]));
-    EXPECT_TRUE(
-        ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
+    EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
 // Without the edge test: z, s, nu one texel a pixel.
@@ -462,6 +469,26 @@ INSTANTIATE_TEST_SUITE_P(Cases, PivotGatherKernel, testing::ValuesIn(GatherCases
 // few u on lavapipe), the result a weighted mean.
 class PivotBilateralKernel : public GpuTestWithParam<StageCase> {};
 
+// The bilateral baseline on the GPU from the reference's ratio.
+Image BilateralOnGpu(vk::Context &ctx, const Frame &f, const ref::PivotRatio &ratio,
+                     bool guides, const PivotParams &o) {
+    const int w = f.color.width, h = f.color.height;
+    vk::GpuImage color(ctx, w, h, 3, "color"), pivot(ctx, w, h, 3, "pivot");
+    vk::GpuImage z(ctx, w, h, 3, "z"), nu(ctx, w, h, 3, "nu"), out(ctx, w, h, 3, "o");
+    vk::GpuImage guide(ctx, w, h, PIVOT_GUIDE_STRIDE, "guides");
+    color.Upload(f.color);
+    pivot.Upload(f.pivot);
+    z.Upload(ratio.z);
+    nu.Upload(ratio.nu);
+    guide.Upload(GuideOf(f));
+    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
+    vk::Recorder recorder(ctx);
+    RecordPivotBilateral(ctx, recorder, color, pivot, z, nu, gpuGuides,
+                         {o.bilateralRadius, o.sigmaRange, o.goodNoise}, out);
+    recorder.Submit();
+    return out.Download();
+}
+
 TEST_P(PivotBilateralKernel, MatchesReference) {
     const int w = GetParam().w, h = GetParam().h;
     const bool guides = GetParam().guides;
@@ -472,30 +499,63 @@ TEST_P(PivotBilateralKernel, MatchesReference) {
     o.bilateralRadius = 4;
     ref::PivotGuides refGuides{guides ? &f.normal : nullptr, guides ? &f.ids : nullptr};
     Image expected = ref::PivotBilateral(f.color, f.pivot, ratio, refGuides, o);
-    vk::GpuImage color(Ctx(), w, h, 3, "color"), pivot(Ctx(), w, h, 3, "pivot");
-    vk::GpuImage z(Ctx(), w, h, 3, "z"), nu(Ctx(), w, h, 3, "nu"), out(Ctx(), w, h, 3, "o");
-    vk::GpuImage guide(Ctx(), w, h, PIVOT_GUIDE_STRIDE, "guides");
-    color.Upload(f.color);
-    pivot.Upload(f.pivot);
-    z.Upload(ratio.z);
-    nu.Upload(ratio.nu);
-    guide.Upload(GuideOf(f));
-    PivotGpuGuides gpuGuides{guides ? &guide : nullptr, guides, guides};
-    vk::Recorder recorder(Ctx());
-    RecordPivotBilateral(Ctx(), recorder, color, pivot, z, nu, gpuGuides,
-                         {o.bilateralRadius, o.sigmaRange, o.goodNoise}, out);
-    recorder.Submit();
+    Image actual = BilateralOnGpu(Ctx(), f, ratio, guides, o);
     double zScale = 0;
     for (float v : ratio.z.data) zScale = std::max(zScale, double(std::fabs(v)));
     Image magnitude = f.pivot;
     for (float &v : magnitude.data) v = float(std::fabs(v) * zScale);
-    EXPECT_TRUE(
-        ImagesMatch(expected, out.Download(), magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
+    EXPECT_TRUE(ImagesMatch(expected, actual, magnitude, {64 * kUnitRoundoff, 0, 1e-9}));
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, PivotBilateralKernel,
                          testing::ValuesIn(StageCases({{31, 17}, {1, 1}, {1, 8}, {10, 1}})),
                          StageCaseName);
+
+// A filtered value is never bitwise its input, on the GPU or in the twin, gathered or
+// filtered by the bilateral baseline: the passes after the filter tell kept values by
+// equality, and a fit rounded onto its input would be kept on one side and filtered on the
+// other. With the colour z times the pivot, z 1 or -1 everywhere, most values land on their
+// input and move one float away from zero. Without ids every pixel with z has a centre or a
+// fit of its own. (A colour of 0 everywhere has no fits: the zero branch is
+// FilteredValueNeverItsInput's.)
+class PivotFittedValues : public GpuTest {};
+
+TEST_F(PivotFittedValues, NeverEqualTheirInput) {
+    const int w = 23, h = 17;
+    Frame f = MakeFrame(w, h, 0.3, SeedFromName("gather-fitted"));
+    for (int i = 0; i < int(f.pivot.Size()); i += 7) f.pivot.data[i] = 0;
+    const Image pivot = f.pivot;
+    for (float z : {1.f, -1.f}) {
+        for (size_t i = 0; i < f.color.Size(); ++i) f.color.data[i] = z * pivot.data[i];
+        ref::PivotRatio ratio = ref::PivotRatioOf(f.color, f.pivot, &f.variance, 1e-3, nullptr);
+        PivotParams o;
+        o.maxRadius = 12;
+        o.bilateralRadius = 4;
+        const ref::PivotGuides none{nullptr, nullptr};
+        Image fits = ref::PivotFit(ratio, none, o);
+        const std::pair<const char *, Image> outputs[] = {
+            {"gather, twin", ref::PivotGather(f.color, f.pivot, ratio, fits, none, o.edge)},
+            {"gather, GPU", GatherOnGpu(Ctx(), f, ratio, fits, false, true, o.edge)},
+            {"bilateral, twin", ref::PivotBilateral(f.color, f.pivot, ratio, none, o)},
+            {"bilateral, GPU", BilateralOnGpu(Ctx(), f, ratio, false, o)}};
+        for (const auto &[what, out] : outputs) {
+            int equal = 0, moved = 0, withZ = 0;
+            for (size_t i = 0; i < out.Size(); ++i) {
+                const float in = f.color.data[i], value = out.data[i];
+                if (ratio.nu.data[i] < 0) {
+                    EXPECT_EQ(value, in) << what << ": a pixel without z keeps its input";
+                    continue;
+                }
+                ++withZ;
+                equal += std::memcmp(&in, &value, sizeof(float)) == 0;
+                moved += value == std::nextafter(in, in > 0 ? INFINITY : -INFINITY);
+            }
+            EXPECT_GT(withZ, 0) << what << ", z " << z;
+            EXPECT_EQ(equal, 0) << what << ", z " << z;
+            EXPECT_GT(2 * moved, withZ) << what << ", z " << z << ": few values moved";
+        }
+    }
+}
 
 PivotInputs InputsOf(const Frame &f, bool guides, Image *objectId, Image *partId) {
     PivotInputs in;
@@ -861,6 +921,65 @@ TEST_F(PivotMethod, PixelsThatSawTheSurfaceInPartAreNotItsData) {
         << "the wall beside the rim: mean relative error " << error
         << ", with the rim's normals at full length " << fullError;
     ExpectMatchesGuidedReference(f, p, result.image);
+}
+
+// A filtered value moved off its input where it lands there, the host's and the twin's bit
+// for bit: equal values (+0 against -0 too) step away from zero, 0 to the smallest normal,
+// the largest finite magnitude toward zero; others, and values not finite, stay.
+TEST(PivotKeptEdges, FilteredValueNeverItsInput) {
+    const float inf = std::numeric_limits<float>::infinity(),
+                nan = std::numeric_limits<float>::quiet_NaN(),
+                top = std::numeric_limits<float>::max(),
+                tiny = std::numeric_limits<float>::denorm_min(),
+                normal = std::numeric_limits<float>::min();
+    struct Case {
+        float value, input, expected;
+    };
+    const Case cases[] = {{1.f, 1.f, std::nextafter(1.f, 2.f)},
+                          {-3.f, -3.f, std::nextafter(-3.f, -4.f)},
+                          {0.f, 0.f, normal},
+                          {-0.f, 0.f, normal},
+                          {0.f, -0.f, normal},
+                          {tiny, tiny, 2 * tiny},
+                          {top, top, std::nextafter(top, 0.f)},
+                          {-top, -top, std::nextafter(-top, 0.f)},
+                          {inf, inf, inf},
+                          {0.5f, 0.25f, 0.5f},
+                          {std::nextafter(1.f, 0.f), 1.f, std::nextafter(1.f, 0.f)}};
+    for (const Case &c : cases) {
+        const float host = FilteredValue(c.value, c.input),
+                    twin = ref::FilteredValue(c.value, c.input);
+        EXPECT_EQ(std::memcmp(&host, &c.expected, sizeof(float)), 0)
+            << c.value << " over " << c.input << ": " << host;
+        EXPECT_EQ(std::memcmp(&twin, &c.expected, sizeof(float)), 0)
+            << c.value << " over " << c.input << ": " << twin;
+    }
+    EXPECT_TRUE(std::isnan(FilteredValue(nan, nan)));
+    EXPECT_TRUE(std::isnan(ref::FilteredValue(nan, nan)));
+}
+
+// A filtered value beside other ids clamped to its outline's level, which its own input
+// sets, lands on that input: it moves off it (host and twin alike), so the passes after still
+// count it filtered.
+TEST(PivotKeptEdges, SidesClampNeverLandsOnTheInput) {
+    const int w = 6, h = 5;
+    Image input(w, h, 1), pivot(w, h, 1), output(w, h, 1), objectId(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool own = x < 3;
+            objectId.At(0, y, x) = own ? 0.f : 1.f;
+            pivot.At(0, y, x) = 1;
+            // Its own side filtered 0.5 -> 0.4, the other 0.3 -> 0.2; the outline (x 2 and
+            // 3, beside other ids) 0.9 on its own side, overshot by its fits.
+            input.At(0, y, x) = x == 2 ? 0.9f : own ? 0.5f : 0.3f;
+            output.At(0, y, x) = x == 2 ? 2.f : own ? 0.4f : 0.2f;
+        }
+    Image host = output, twin = output;
+    EXPECT_EQ(ClampEdgeFitsToSides(input, pivot, &objectId, nullptr, &host), size_t(h));
+    EXPECT_EQ(ref::ClampEdgeFitsToSides(input, pivot, &objectId, nullptr, &twin), size_t(h));
+    EXPECT_TRUE(BitIdentical(host, twin));
+    for (int y = 0; y < h; ++y)
+        EXPECT_EQ(host.At(0, y, 2), std::nextafter(0.9f, 1.f)) << "row " << y;
 }
 
 // Values kept at their input beside other ids against the CPU reference (bit for bit: copies
