@@ -1436,13 +1436,17 @@ Image StageOf(const Stages &stages, const std::string &name) {
 // was kept on the side that landed (the twin, in double) and scaled on the other (still_life's
 // accumulated frame). A 16x16 block of 1 in multiplicative noise: one Haar level keeps its
 // details 0, so its exp gives 1 back exactly on both sides, and the noise around it pulls
-// the restore's gain over it.
+// the restore's gain over it. Lone zeros (one channel of a lit pixel) are denoised, so
+// filtered too; a black line is kept black.
 TEST_F(BayesProperties, RestoreScalesValuesThatLandOnTheirInput) {
     const int w = 48, h = 48, x0 = 16, y0 = 16, side = 16;
     Image color = LogNormalNoise(w, h, SeedFromName("landed on the input"), 1.0);
     for (int c = 0; c < 3; ++c)
         for (int y = y0; y < y0 + side; ++y)
             for (int x = x0; x < x0 + side; ++x) color.At(c, y, x) = 1.f;
+    const std::pair<int, int> zeros[] = {{5, 6}, {40, 9}, {8, 41}};
+    for (auto [x, y] : zeros) color.At(1, y, x) = 0;
+    for (int x = 0; x < w; ++x) color.At(2, 44, x) = 0;
     BayesParams options = PaperBayesParams();
     options.levels = 1;
     options.meanRadius = 2;
@@ -1468,6 +1472,8 @@ TEST_F(BayesProperties, RestoreScalesValuesThatLandOnTheirInput) {
                 }
         EXPECT_EQ(landed, 3 * side * side);  // the case holds: every exp on its input
         EXPECT_EQ(moved, 3 * side * side);
+        for (auto [x, y] : zeros) EXPECT_NE(out.At(1, y, x), exp.At(1, y, x)) << x << ", " << y;
+        for (int x = 0; x < w; ++x) EXPECT_EQ(out.At(2, 44, x), 0.f);
     }
     Image logGpu = gpu.image, logCpu = cpu.image;
     for (float &v : logGpu.data) v = std::log(v);
