@@ -219,9 +219,22 @@ void KeepMean(const Image &color, BayesResult *result) {
         "keep mean: channels scaled by {} to the input's mean (log-domain bias)", scales));
 }
 
-// Restore the input's local means (BayesParams::meanRadius).
+// The values bayes leaves as they were: the zeros it keeps black (--zeros restore), 0 in and
+// out. A positive value is always filtered, even where its exp lands on its input: the twin
+// (double, rounded once) can land there where the GPU (float) misses it by its rounding, and an
+// equality test would keep it on one side only.
+std::vector<bool> KeptZeros(const Image &color, const Image &output) {
+    std::vector<bool> kept(color.data.size());
+    for (size_t i = 0; i < kept.size(); ++i)
+        kept[i] = color.data[i] == 0 && output.data[i] == 0;
+    return kept;
+}
+
+// Restore the input's local means (BayesParams::meanRadius), keeping only KeptZeros.
 void LocalMean(const Image &color, int radius, const Image *variance, BayesResult *result) {
-    LocalMeanFactors f = RestoreLocalMeans(color, radius, &result->image, variance);
+    std::vector<bool> kept = KeptZeros(color, result->image);
+    LocalMeanFactors f =
+        RestoreLocalMeans(color, radius, &result->image, variance, -1, false, &kept);
     result->plan.push_back(
         fmt::format("local mean: the input's means over tents of radius {}, then {} restored "
                     "(the log domain's bias; factors {:.3g} to {:.3g})",

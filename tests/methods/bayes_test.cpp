@@ -1423,6 +1423,64 @@ TEST_F(BayesProperties, SplitAddsTheDirectPartBack) {
     EXPECT_TRUE(Contains(split.plan[0], "split"));
 }
 
+// The stage of one of bayes's results by name (empty when missing).
+template <typename Stages>
+Image StageOf(const Stages &stages, const std::string &name) {
+    for (const auto &[stageName, image] : stages)
+        if (stageName == name) return image;
+    return Image();
+}
+
+// A value whose exp lands bitwise on its input was filtered all the same: the local means'
+// restore scales it as its neighbours, on the GPU and in the twin alike. Told by equality it
+// was kept on the side that landed (the twin, in double) and scaled on the other (still_life's
+// accumulated frame). A 16x16 block of 1 in multiplicative noise: one Haar level keeps its
+// details 0, so its exp gives 1 back exactly on both sides, and the noise around it pulls
+// the restore's gain over it. Lone zeros (one channel of a lit pixel) are denoised, so
+// filtered too; a black line is kept black.
+TEST_F(BayesProperties, RestoreScalesValuesThatLandOnTheirInput) {
+    const int w = 48, h = 48, x0 = 16, y0 = 16, side = 16;
+    Image color = LogNormalNoise(w, h, SeedFromName("landed on the input"), 1.0);
+    for (int c = 0; c < 3; ++c)
+        for (int y = y0; y < y0 + side; ++y)
+            for (int x = x0; x < x0 + side; ++x) color.At(c, y, x) = 1.f;
+    const std::pair<int, int> zeros[] = {{5, 6}, {40, 9}, {8, 41}};
+    for (auto [x, y] : zeros) color.At(1, y, x) = 0;
+    for (int x = 0; x < w; ++x) color.At(2, 44, x) = 0;
+    BayesParams options = PaperBayesParams();
+    options.levels = 1;
+    options.meanRadius = 2;
+    RunSetup setup;
+    setup.keepStages = true;
+    BayesResult gpu = BayesDenoise(Ctx(), color, options, setup);
+    ref::BayesRefRun run;
+    run.keepStages = true;
+    ref::BayesRefResult cpu = ref::BayesDenoise(color, options, run);
+    const std::pair<const char *, std::pair<Image, Image>> sides[] = {
+        {"gpu", {StageOf(gpu.stages, "exp"), gpu.image}},
+        {"twin", {StageOf(cpu.stages, "exp"), cpu.image}}};
+    for (const auto &[name, images] : sides) {
+        SCOPED_TRACE(name);
+        const Image &exp = images.first, &out = images.second;
+        ASSERT_TRUE(exp.SameShape(color));
+        int landed = 0, moved = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int y = y0; y < y0 + side; ++y)
+                for (int x = x0; x < x0 + side; ++x) {
+                    landed += exp.At(c, y, x) == 1.f;
+                    moved += out.At(c, y, x) != exp.At(c, y, x);
+                }
+        EXPECT_EQ(landed, 3 * side * side);  // the case holds: every exp on its input
+        EXPECT_EQ(moved, 3 * side * side);
+        for (auto [x, y] : zeros) EXPECT_NE(out.At(1, y, x), exp.At(1, y, x)) << x << ", " << y;
+        for (int x = 0; x < w; ++x) EXPECT_EQ(out.At(2, 44, x), 0.f);
+    }
+    Image logGpu = gpu.image, logCpu = cpu.image;
+    for (float &v : logGpu.data) v = std::log(v);
+    for (float &v : logCpu.data) v = std::log(v);
+    EXPECT_TRUE(ImagesMatch(logCpu, logGpu, {}, {0, 2e-3, 1e-4}));
+}
+
 // ---------------------------------------------------------------- --noise variance
 
 class BayesVariance : public GpuTest {};
