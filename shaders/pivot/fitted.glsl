@@ -4,7 +4,7 @@
 // equals the input (as floats: +0 and -0 too) and is finite, the next float away from zero (0
 // becomes the smallest normal float, which no device flushes; the largest finite magnitude
 // steps toward zero). Tested on the bits: a device may assume floats finite.
-float FittedValue(float fitted, float inputValue) {
+float FilteredValue(float fitted, float inputValue) {
     uint bits = floatBitsToUint(fitted), inputBits = floatBitsToUint(inputValue);
     // Equal as floats, on the bits (a device may flush denormals in a comparison).
     bool equal = bits == inputBits || ((bits | inputBits) & 0x7fffffffu) == 0u;

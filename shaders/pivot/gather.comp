@@ -167,6 +167,6 @@ void main() {
     }
     float inputValue = texelFetch(color, at).r;
     outImage[at] =
-        sumW > 0.0 ? FittedValue(texelFetch(pivot, at).r * (sumWz / sumW), inputValue)
+        sumW > 0.0 ? FilteredValue(texelFetch(pivot, at).r * (sumWz / sumW), inputValue)
                    : inputValue;
 }
