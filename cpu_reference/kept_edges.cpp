@@ -30,7 +30,7 @@ bool SameFloat(float a, float b) {
 
 float FilteredValue(float value, float input) {
     if (value != input || !std::isfinite(value)) return value;
-    if (value == 0) return std::numeric_limits<float>::min();
+    if (value == 0) return input;
     if (std::fabs(value) == std::numeric_limits<float>::max())
         return std::nextafter(value, 0.f);
     return std::nextafter(value, std::copysign(INFINITY, value));

@@ -8,11 +8,11 @@
 
 namespace mcd::ref {
 
-// A value a filter wrote, never its input: where it equals the input (as floats: +0 and -0
-// too) and is finite, the next float away from zero (0 becomes the smallest normal float; the
-// largest finite magnitude steps toward zero). Kept values are told by equality, and a
-// filtered value that rounds onto its input would count as kept on one side of a GPU/CPU
-// comparison only.
+// A value a filter wrote, never its input but for 0: where it equals a nonzero input and is
+// finite, the next float away from zero (the largest finite magnitude steps toward zero); a
+// zero on an input of zero (+0 or -0) is the input itself, kept. Kept values are told by
+// equality, and a filtered value that rounds onto its input would count as kept on one side
+// of a GPU/CPU comparison only.
 float FilteredValue(float value, float input);
 
 // A value is kept where output and input are the same float. Each kept, finite value of a

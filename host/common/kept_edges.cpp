@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -83,7 +82,7 @@ void CheckEdgeLayers(const char *step, const Image &input, const Image &pivot,
 
 float FilteredValue(float value, float input) {
     if (value != input || !std::isfinite(value)) return value;
-    if (value == 0) return std::numeric_limits<float>::min();
+    if (value == 0) return input;
     uint32_t bits;
     std::memcpy(&bits, &value, sizeof bits);
     bits = (bits & 0x7fffffffu) == 0x7f7fffffu ? bits - 1 : bits + 1;

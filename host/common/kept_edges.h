@@ -20,11 +20,12 @@
 
 namespace mcd {
 
-// A value a filter wrote, never its input: where it equals the input (as floats: +0 and -0
-// too) and is finite, the next float away from zero (+0 and -0 become the smallest positive
-// normal float; the largest finite magnitude steps toward zero). The passes after a filter
-// tell the values it kept by equality, and one that rounds onto its input would count as
-// kept on the GPU or in the CPU twin alone. shaders/pivot/fitted.glsl is its kernels' copy.
+// A value a filter wrote, never its input but for 0: where it equals a nonzero input and is
+// finite, the next float away from zero (the largest finite magnitude steps toward zero). The
+// passes after a filter tell the values it kept by equality, and one that rounds onto its
+// input would count as kept on the GPU or in the CPU twin alone. A zero on an input of zero
+// (+0 or -0) becomes the input itself, kept: both sides fit 0 exactly where every z around
+// is 0, and a black channel stays black. shaders/pivot/fitted.glsl is its kernels' copy.
 float FilteredValue(float value, float input);
 
 // For each value of `output` equal to `input`'s (bit for bit: kept) at a pixel with a

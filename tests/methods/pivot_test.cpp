@@ -924,8 +924,8 @@ TEST_F(PivotMethod, PixelsThatSawTheSurfaceInPartAreNotItsData) {
 }
 
 // A filtered value moved off its input where it lands there, the host's and the twin's bit
-// for bit: equal values (+0 against -0 too) step away from zero, 0 to the smallest normal,
-// the largest finite magnitude toward zero; others, and values not finite, stay.
+// for bit: equal nonzero values step away from zero, the largest finite magnitude toward
+// zero; a zero on a zero (+0 or -0) becomes the input; others, and values not finite, stay.
 TEST(PivotKeptEdges, FilteredValueNeverItsInput) {
     const float inf = std::numeric_limits<float>::infinity(),
                 nan = std::numeric_limits<float>::quiet_NaN(),
@@ -937,9 +937,10 @@ TEST(PivotKeptEdges, FilteredValueNeverItsInput) {
     };
     const Case cases[] = {{1.f, 1.f, std::nextafter(1.f, 2.f)},
                           {-3.f, -3.f, std::nextafter(-3.f, -4.f)},
-                          {0.f, 0.f, normal},
-                          {-0.f, 0.f, normal},
-                          {0.f, -0.f, normal},
+                          {0.f, 0.f, 0.f},
+                          {-0.f, 0.f, 0.f},
+                          {0.f, -0.f, -0.f},
+                          {normal, 0.f, normal},
                           {tiny, tiny, 2 * tiny},
                           {top, top, std::nextafter(top, 0.f)},
                           {-top, -top, std::nextafter(-top, 0.f)},
