@@ -10,10 +10,12 @@
 #include <vector>
 
 #include "cpu_reference/exact_pixels.h"
+#include "cpu_reference/kept_edges.h"
 #include "cpu_reference/local_mean.h"
 #include "cpu_reference/rhf.h"
 #include "host/api/front_end.h"
 #include "host/common/exact_pixels.h"
+#include "host/common/kept_edges.h"
 #include "host/common/local_mean.h"
 #include "host/io/hints.h"
 #include "host/kernels/rhf_select.h"
@@ -112,6 +114,10 @@ class Rhf : public FrontEndOf<RhfParams> {
         if (setup.memo) setup.histId = inputs.LayerId(HistogramLayer(inputs));
         Result result = ResultOf(
             RhfDenoise(context, anyCut ? cut : color, Histograms(inputs), options, setup));
+        // What the filter wrote counts as filtered: the restore tells the values given back
+        // below (rims, clusters, exact pixels) by equality, and a mean that rounds onto its
+        // input would be kept on the GPU or in the twin alone.
+        MarkFiltered(color, &result.image);
         if (options.meanRadius > 0)
             result.plan.insert(
                 result.plan.begin(),
@@ -291,6 +297,8 @@ class Rhf : public FrontEndOf<RhfParams> {
         // raw).
         if (!options.keepNegative)
             for (float &v : out.data) v = v < 0 ? 0.f : v;
+        for (size_t i = 0; i < out.data.size(); ++i)
+            out.data[i] = ref::FilteredValue(out.data[i], inputs.Get("color").data[i]);
         ref::KeepExactPixels(inputs.Get("color"), variance, &out, ExactReach());
         GiveBack(inputs.Get("color"), rims, &out);
         GiveBack(inputs.Get("color"), clusters, &out);

@@ -90,6 +90,14 @@ float FilteredValue(float value, float input) {
     return value;
 }
 
+void MarkFiltered(const Image &input, Image *output) {
+    if (!input.SameShape(*output))
+        throw Error("MarkFiltered: the output must be of the input's shape",
+                    ErrorKind::Internal);
+    for (size_t i = 0; i < output->data.size(); ++i)
+        output->data[i] = FilteredValue(output->data[i], input.data[i]);
+}
+
 KeptEdges ClampKeptEdgeValues(const Image &input, const Image &pivot, const Image *objectId,
                               const Image *partId, Image *output) {
     CheckEdgeLayers("ClampKeptEdgeValues", input, pivot, objectId, partId, *output);

@@ -27,6 +27,10 @@ namespace mcd {
 // (+0 or -0) becomes the input itself, kept: both sides fit 0 exactly where every z around
 // is 0, and a black channel stays black. shaders/pivot/fitted.glsl is its kernels' copy.
 float FilteredValue(float value, float input);
+// FilteredValue on every value of `output` against the same value of `input` (its shape):
+// for a filter whose kernels see another colour than the one its restore compares with (rhf
+// reads its spikes and rims cut).
+void MarkFiltered(const Image &input, Image *output);
 
 // For each value of `output` equal to `input`'s (bit for bit: kept) at a pixel with a
 // 4-neighbour of another object or part id (`objectId`, `partId`: one channel each, or null),

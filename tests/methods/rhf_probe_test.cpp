@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <string>
@@ -35,11 +36,14 @@ int CountIn(const Result &result, const std::string &prefix) {
     return -1;
 }
 
-// The stage `name` of `result` (empty if none).
-Image StageOf(const Result &result, const std::string &name) {
-    for (const Stage &stage : result.stages)
+// The stage `name` of `stages` (empty if none).
+Image StageOf(const std::vector<Stage> &stages, const std::string &name) {
+    for (const Stage &stage : stages)
         if (stage.name == name) return stage.image;
     return Image();
+}
+Image StageOf(const Result &result, const std::string &name) {
+    return StageOf(result.stages, name);
 }
 
 // A wall of 16 samples a pixel with a light's reflection of 4 pixels (1, 2, 1 and 3 samples
@@ -401,6 +405,48 @@ TEST_F(RhfProbe, NoneWithoutCuts) {
     api::Inputs inputs(frame, false, "rhf");
     EXPECT_EQ(rhf->ForProbe(Ctx(), inputs, true), nullptr);
     EXPECT_EQ(rhf->ForProbe(Ctx(), inputs, false), nullptr);
+}
+
+// What the filter wrote is never its input but for 0 (FilteredValue), on the GPU and in the
+// twin: the restore after it keeps the values equal to their input, and a mean that rounds
+// onto its input on one side only was kept there and restored on the other. The left part's
+// pixels have the same samples (mean 0.4, variance above 0, so not exact pixels), so their
+// means are of equal values: the twin's double mean rounds onto the input.
+TEST_F(RhfProbe, FilteredValuesNeverEqualTheirInput) {
+    const int w = 31, h = 23, flat = 15;
+    std::mt19937_64 rng(SeedFromName("rhf filtered values"));
+    std::uniform_real_distribution<double> wallSample(0.05, 0.5);
+    const Frame frame = SampledFrame(w, h, [&](int x, int, int s) {
+        const double wall = wallSample(rng);
+        return x < flat ? (s % 2 ? 0.6 : 0.2) : wall;
+    });
+    Device device = api::BorrowDevice(Ctx());
+    Method rhf("rhf");
+    RunOptions keep;
+    keep.keepStages = true;
+    const Result run = rhf.Run(device, frame, keep);
+    const std::vector<Stage> cpu = rhf.Reference(device, frame);
+    const Image &given = frame.Get("color");
+    const std::pair<std::string, Image> sides[] = {{"GPU", StageOf(run, "exact pixels")},
+                                                   {"twin", StageOf(cpu, "exact pixels")}};
+    for (const auto &[what, filtered] : sides) {
+        ASSERT_EQ(filtered.Size(), given.Size()) << what;
+        int equal = 0, moved = 0;
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const float in = given.At(c, y, x), out = filtered.At(c, y, x);
+                    equal += std::memcmp(&in, &out, sizeof(float)) == 0;
+                    moved += x < flat && out == std::nextafter(in, INFINITY);
+                }
+        EXPECT_EQ(equal, 0) << what;
+        if (what == "twin") {
+            EXPECT_GT(moved, 3 * flat * h / 2) << "few values moved";
+        }
+    }
+    Tolerance tolerance;
+    tolerance.relTol = 1e-3, tolerance.absTol = 1e-5, tolerance.maxNmse = 1e-8;
+    EXPECT_TRUE(ImagesMatch(cpu.back().image, run.image, Image(), tolerance));
 }
 
 }  // namespace
