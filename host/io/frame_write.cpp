@@ -74,13 +74,23 @@ bool SyncFile(const fs::path &path) {
 // (".name.tmp<pid>-<n>.ext": same file system, so the rename is atomic), then rename it over
 // path. Readers see the old file or the new one, never a part of one; on any failure (write
 // throws) the temporary file is removed and the old file left as it was.
+// A path that is a symbolic link is written through: the file it leads to is replaced (the
+// link stays a link), and an existing file keeps its permission bits.
 void WriteAtomically(const std::string &path,
                      const std::function<void(const std::string &temp)> &write) {
     static std::atomic<int> tempCount{0};
+    std::error_code ec;
     fs::path target(path);
+    if (fs::is_symlink(target, ec)) {
+        fs::path resolved = fs::weakly_canonical(target, ec);
+        if (ec)
+            throw Error(fmt::format("cannot write '{}': the link leads nowhere readable: {}",
+                                    path, ec.message()),
+                        ErrorKind::Io);
+        target = resolved;
+    }
     fs::path dir = target.parent_path();
     if (dir.empty()) dir = ".";
-    std::error_code ec;
     if (!fs::is_directory(dir, ec))
         throw Error(fmt::format("cannot write '{}': '{}' is not an existing directory", path,
                                 dir.string()),
@@ -97,6 +107,13 @@ void WriteAtomically(const std::string &path,
             fmt::format("cannot write '{}': flushing '{}' failed", path, temp.Path().string()),
             ErrorKind::Io);
 
+    if (fs::file_status old = fs::status(target, ec); !ec && fs::is_regular_file(old)) {
+        fs::permissions(temp.Path(), old.permissions(), ec);
+        if (ec)
+            throw Error(fmt::format("cannot write '{}': keeping its permissions failed: {}",
+                                    path, ec.message()),
+                        ErrorKind::Io);
+    }
     fs::rename(temp.Path(), target, ec);
     if (ec)
         throw Error(fmt::format("cannot write '{}': renaming '{}' onto it failed: {}", path,

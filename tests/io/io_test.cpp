@@ -706,6 +706,34 @@ TEST_F(IoTest, FailedWritesLeaveTheOldFileIntact) {
     EXPECT_EQ(Listing(), (std::vector<std::string>{"frame.exr", "taken.exr"}));
 }
 
+// A write onto a symbolic link replaces the file it leads to and leaves the link a link; an
+// existing file keeps its permission bits (the temporary file's are the umask's).
+TEST_F(IoTest, WritesThroughLinksAndKeepsPermissions) {
+    fs::create_directory(dir / "real");
+    const std::string target = Path("real/target.exr"), link = Path("link.exr");
+    Image first = Ramp(6, 5, 3, 1.f), second(6, 5, 3, 4.f);
+    WriteExr(target, {{"color", &first}});
+    fs::permissions(target, fs::perms::owner_read | fs::perms::owner_write);
+    fs::create_symlink(fs::path("real") / "target.exr", link);
+    WriteExr(link, {{"color", &second}});
+    EXPECT_TRUE(fs::is_symlink(link));
+    EXPECT_TRUE(BitEqual(ReadImage(target), second));
+    EXPECT_EQ(fs::status(target).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write);
+    for (const auto &entry : fs::directory_iterator(dir / "real"))
+        EXPECT_EQ(entry.path().filename(), "target.exr") << "a temporary file was left";
+    // A PNG too, and a file of other bits.
+    const std::string png = Path("real/image.png"), pngLink = Path("image.png");
+    WritePng(png, first);
+    fs::permissions(png,
+                    fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+    fs::create_symlink(fs::path("real") / "image.png", pngLink);
+    WritePng(pngLink, second);
+    EXPECT_TRUE(fs::is_symlink(pngLink));
+    EXPECT_EQ(fs::status(png).permissions() & fs::perms::all,
+              fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+}
+
 TEST_F(IoTest, WritePngShowsNonFiniteAsMagenta) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();

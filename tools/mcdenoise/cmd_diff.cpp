@@ -126,8 +126,9 @@ void AddDiffCommand(CLI::App &app) {
     cmd->add_option("--method", opt->method, MethodOptions::Names())->capture_default_str();
     cmd->add_option("--dump", opt->dump, "directory: write <stage>.gpu.exr and .cpu.exr here");
     cmd->add_option("--max-nmse", opt->maxNmse,
-                    "fail (exit 1) when a stage's NMSE exceeds this or its non-finite "
-                    "elements differ");
+                    "fail (exit 3) when a stage's NMSE exceeds this or its non-finite "
+                    "elements differ")
+        ->check(CLI::NonNegativeNumber);
     opt->device.Add(cmd);
     opt->methods.Add(cmd);
     cmd->callback([opt] { RunDiff(*opt); });

@@ -1,8 +1,12 @@
 // The helpers every command shares (commands.h).
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+
+#include <unistd.h>
 
 #include "host/error.h"
 #include "host/io/frame.h"
@@ -75,6 +79,17 @@ void CheckOutputPath(const std::string &path, std::initializer_list<const char *
         throw Error(
             fmt::format("{} '{}': directory '{}' does not exist", role, path, dir.string()),
             ErrorKind::Io);
+    // The write goes to a new file beside the target, renamed over it: the directory must
+    // take one, and a file the user made read-only stays so.
+    const std::string where = dir.empty() ? "." : dir.string();
+    if (::access(where.c_str(), W_OK | X_OK) != 0)
+        throw Error(fmt::format("{} '{}': directory '{}' is not writable: {}", role, path,
+                                where, std::strerror(errno)),
+                    ErrorKind::Io);
+    if (::access(path.c_str(), F_OK) == 0 && ::access(path.c_str(), W_OK) != 0)
+        throw Error(fmt::format("{} '{}' exists and is not writable: {}", role, path,
+                                std::strerror(errno)),
+                    ErrorKind::Io);
 }
 
 void CheckInputFile(const std::string &path, const std::string &role) {
