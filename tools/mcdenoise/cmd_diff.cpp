@@ -13,6 +13,7 @@
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
 #include "tools/mcdenoise/path_guard.h"
+#include "tools/mcdenoise/usage.h"
 
 namespace mcd::tool {
 namespace {
@@ -125,10 +126,10 @@ void AddDiffCommand(CLI::App &app) {
         ->required();
     cmd->add_option("--method", opt->method, MethodOptions::Names())->capture_default_str();
     cmd->add_option("--dump", opt->dump, "directory: write <stage>.gpu.exr and .cpu.exr here");
-    cmd->add_option("--max-nmse", opt->maxNmse,
-                    "fail (exit 3) when a stage's NMSE exceeds this or its non-finite "
-                    "elements differ")
-        ->check(CLI::NonNegativeNumber);
+    CheckRange(cmd->add_option("--max-nmse", opt->maxNmse,
+                               "fail (exit 3) when a stage's NMSE exceeds this or its "
+                               "non-finite elements differ"),
+               0, 1e30, false);
     opt->device.Add(cmd);
     opt->methods.Add(cmd);
     cmd->callback([opt] { RunDiff(*opt); });
