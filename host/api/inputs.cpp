@@ -151,15 +151,20 @@ const Image &Inputs::Get(const std::string &layer) {
     const Image &image = it != overrides.end() ? it->second : frame.Get(layer);
     if (checked[layer]) return image;
     checked[layer] = true;
-    // Count the non-finite values and find the first, in storage order.
-    size_t bad = 0, first = 0;
-    for (size_t i = 0; i < image.data.size(); ++i)
-        if (!std::isfinite(image.data[i]) && bad++ == 0) first = i;
+    // Count the non-finite values and find the first in raster order (row by row, a pixel's
+    // channels together), as a user reads the image.
+    size_t bad = 0;
+    const size_t pixels = std::max<size_t>(image.PixelCount(), 1);
+    size_t firstPixel = pixels, firstChannel = 0;
+    for (size_t i = 0; i < image.data.size(); ++i) {
+        if (std::isfinite(image.data[i])) continue;
+        ++bad;
+        if (i % pixels < firstPixel) firstPixel = i % pixels, firstChannel = i / pixels;
+    }
     if (bad == 0) return image;
-    size_t pixels = std::max<size_t>(image.PixelCount(), 1);
-    int channel = int(first / pixels);
-    int y = int(first % pixels) / std::max(image.width, 1);
-    int x = int(first % pixels) % std::max(image.width, 1);
+    int channel = int(firstChannel);
+    int y = int(firstPixel) / std::max(image.width, 1);
+    int x = int(firstPixel) % std::max(image.width, 1);
     std::string where = fmt::format(
         "layer '{}' of {} has {} NaN/Inf value{}, the first at "
         "pixel ({}, {}), channel {}",

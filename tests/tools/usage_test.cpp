@@ -253,8 +253,19 @@ TEST_F(CliUsage, CompareRefusesNonFiniteValues) {
     ToolResult r = Run("compare nan.exr ref.exr");
     EXPECT_EQ(r.code, int(tool::ExitStatus::NonFiniteInput)) << r.All();
     EXPECT_TRUE(Contains(r.err,
-                         "'nan.exr' has 2 NaN/Inf values in layer color (the first at "
-                         "pixel (5, 4), channel 0)"))
+                         "image 'nan.exr' has 2 NaN/Inf values in layer color (the first at "
+                         "pixel (3, 2), channel 1)"))
+        << r.err;
+    // The first in raster order, and the reference named as the image is.
+    r = Run("compare ref.exr nan.exr");
+    EXPECT_EQ(r.code, int(tool::ExitStatus::NonFiniteInput)) << r.All();
+    EXPECT_TRUE(Contains(r.err,
+                         "reference 'nan.exr' has 2 NaN/Inf values in layer color (the first "
+                         "at pixel (3, 2), channel 1)"))
+        << r.err;
+    r = Run("denoise nan.exr -o out.exr --method bayes");
+    EXPECT_EQ(r.code, int(tool::ExitStatus::NonFiniteInput)) << r.All();
+    EXPECT_TRUE(Contains(r.err, "has 2 NaN/Inf values, the first at pixel (3, 2), channel 1"))
         << r.err;
     EXPECT_FALSE(Contains(r.out, "relMSE")) << r.out;
     r = Run("compare ref.exr ref.exr");

@@ -15,24 +15,25 @@ struct CompareOptions {
     std::string image, reference, layer = "color";
 };
 
-// An image with NaN/Inf values has no error to speak of (the metrics would call it
-// infinite, or measure another image than the one given): refused, naming the first.
-void RefuseNonFinite(const Image &image, const std::string &path, const std::string &layer) {
+// An image or a reference with NaN/Inf values has no error to speak of (the metrics would
+// call it infinite, or measure another image than the one given): refused, naming the count
+// and the first in raster order (row by row, a pixel's channels together).
+void RefuseNonFinite(const Image &image, const std::string &path, const std::string &layer,
+                     const char *what) {
     size_t count = 0;
     int first[3] = {};
-    for (int c = 0; c < image.channels; ++c)
-        for (int y = 0; y < image.height; ++y)
-            for (int x = 0; x < image.width; ++x)
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            for (int c = 0; c < image.channels; ++c)
                 if (!std::isfinite(image.At(c, y, x)) && count++ == 0)
                     first[0] = x, first[1] = y, first[2] = c;
     if (count)
         throw Error(
-            fmt::format(
-                "'{}' has {} NaN/Inf value{} in layer {} (the first at pixel ({}, {}), channel "
-                "{}): its error against a reference is not defined; replace them first "
-                "(denoise "
-                "--non-finite zero does)",
-                path, count, count == 1 ? "" : "s", layer, first[0], first[1], first[2]),
+            fmt::format("{} '{}' has {} NaN/Inf value{} in layer {} (the first at pixel "
+                        "({}, {}), channel {}): the error is not defined; replace them "
+                        "first (denoise --non-finite zero does)",
+                        what, path, count, count == 1 ? "" : "s", layer, first[0], first[1],
+                        first[2]),
             ErrorKind::NonFiniteInput);
 }
 
@@ -41,7 +42,8 @@ void RunCompare(const CompareOptions &opt) {
     CheckInputFile(opt.reference, "reference");
     Image image = io::ReadImage(opt.image, opt.layer);
     Image reference = io::ReadImage(opt.reference, opt.layer);
-    RefuseNonFinite(image, opt.image, opt.layer);
+    RefuseNonFinite(image, opt.image, opt.layer, "image");
+    RefuseNonFinite(reference, opt.reference, opt.layer, "reference");
     ErrorMetrics m = CompareImages(image, reference);
     fmt::print(
         "{} vs {}: relMSE {:.6g}, PSNR {:.2f} dB, SSIM {:.4f}, mean brightness {:.4f} of the "
