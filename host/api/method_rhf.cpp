@@ -297,8 +297,9 @@ class Rhf : public FrontEndOf<RhfParams> {
         // raw).
         if (!options.keepNegative)
             for (float &v : out.data) v = v < 0 ? 0.f : v;
+        const Image &given = inputs.Get("color");
         for (size_t i = 0; i < out.data.size(); ++i)
-            out.data[i] = ref::FilteredValue(out.data[i], inputs.Get("color").data[i]);
+            out.data[i] = ref::FilteredValue(out.data[i], given.data[i]);
         ref::KeepExactPixels(inputs.Get("color"), variance, &out, ExactReach());
         GiveBack(inputs.Get("color"), rims, &out);
         GiveBack(inputs.Get("color"), clusters, &out);

@@ -51,7 +51,8 @@ constexpr int kMaxImageSide = 32768;
 void ParseSize(const std::string &text, int *width, int *height);
 
 // Refuse, before any work, an output that is a directory, whose extension is not listed,
-// whose directory does not exist or is not writable, or that exists and is not writable. `role` names it in the message ("output", "--preview").
+// whose directory does not exist or is not writable, or that exists and is not writable.
+// `role` names it in the message ("output", "--preview").
 void CheckOutputPath(const std::string &path, std::initializer_list<const char *> extensions,
                      const std::string &role = "output");
 
