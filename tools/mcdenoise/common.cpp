@@ -79,8 +79,10 @@ void CheckOutputPath(const std::string &path, std::initializer_list<const char *
         throw Error(
             fmt::format("{} '{}': directory '{}' does not exist", role, path, dir.string()),
             ErrorKind::Io);
-    // The write goes to a new file beside the target, renamed over it: the directory must
-    // take one, and a file the user made read-only stays so.
+    // The write goes to a new file beside the target (through a link, the file it leads
+    // to), renamed over it: that directory must take one, and a file the user made
+    // read-only stays so.
+    if (fs::is_symlink(path, ec)) dir = fs::weakly_canonical(path, ec).parent_path();
     const std::string where = dir.empty() ? "." : dir.string();
     if (::access(where.c_str(), W_OK | X_OK) != 0)
         throw Error(fmt::format("{} '{}': directory '{}' is not writable: {}", role, path,
