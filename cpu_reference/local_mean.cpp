@@ -649,8 +649,12 @@ size_t BoundToInputRange(const Image &input, const Image &variance, int radius, 
                         if (q < least) least = q;
                         if (q > most) most = q;
                     }
-                lo[c] = least - k * spread;
-                hi[c] = most + k * spread;
+                // Widened by a slack of the window's scale: a pixel that is its window's
+                // extreme and a fit a rounding beyond it would otherwise take every channel
+                // back to its input.
+                double slack = 1e-5 * std::max(std::fabs(least), std::fabs(most));
+                lo[c] = least - k * spread - slack;
+                hi[c] = most + k * spread + slack;
                 if (out > hi[c]) t = std::min(t, (hi[c] - in) / (out - in));
                 if (out < lo[c]) t = std::min(t, (in - lo[c]) / (in - out));
             }

@@ -99,7 +99,8 @@ size_t BoundToNoise(const Image &input, const Image &variance, double k, Image *
 double NoiseSpread(const Image &variance, int c, int x, int y);
 
 // Each output value held to [min - k s, max + k s], min and max over the finite input values
-// of its channel in the (2 radius + 1)^2 window clipped to the image, s as BoundToNoise's
+// of its channel in the (2 radius + 1)^2 window clipped to the image, widened by 1e-5 of the
+// larger of |min| and |max|, s as BoundToNoise's
 // spread over its k (the square root of the larger of the pixel's variance and its 3x3
 // window's mean without the largest); the channels of a pixel whose variance is above 0, whose
 // input and output are finite and whose window's variances are finite and not negative move

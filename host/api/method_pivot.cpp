@@ -276,7 +276,9 @@ class Pivot : public FrontEndOf<PivotSettings> {
                          &PivotSettings::fitClusters),
                IntParam("pivot-range",
                         "each pixel's channels end within the range of their input's values "
-                        "in the window of this half-size, moved toward their input by one "
+                        "in the window of this half-size (widened by 1e-5 of its largest "
+                        "magnitude, so that a rounding does not count), moved toward their "
+                        "input by one "
                         "share (plane fits that extrapolate a highlight's slope or its "
                         "fireflies beyond every input around them; beyond the paper; 0: off); "
                         "a channel whose variance is 0, or whose 3x3 window holds a variance "

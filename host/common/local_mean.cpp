@@ -984,7 +984,9 @@ size_t BoundToInputRange(const Image &input, const Image &variance, int radius, 
                     least = std::min(least, q);
                     most = std::max(most, q);
                 }
-            limit = {true, false, double(least) - k * spread, double(most) + k * spread, 1};
+            const double slack = kRangeSlack * std::max(std::fabs(least), std::fabs(most));
+            limit = {true, false, double(least) - k * spread - slack,
+                     double(most) + k * spread + slack, 1};
             if (o > limit.hi) limit.share = (limit.hi - i) / (o - i);
             if (o < limit.lo) limit.share = (i - limit.lo) / (i - o);
             return limit;

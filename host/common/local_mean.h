@@ -280,6 +280,12 @@ double NoiseSpread(const Image &variance, int c, int x, int y);
 // bounded, they kept the input's grain), whose input or output is not finite, or whose window
 // has a variance that is not finite or is negative, are left. `variance`: 1 or the input's
 // channels. Returns how many values moved.
+//
+// The range is widened by kRangeSlack of the window's largest magnitude: where the pixel is
+// its window's extreme, a fit one rounding beyond it would otherwise set the share to 0 and
+// take every channel back to its input (a jump from a rounding: the GPU's and the twin's
+// fits then end the pass far apart); with the slack the share falls continuously from 1.
+constexpr double kRangeSlack = 1e-5;
 size_t BoundToInputRange(const Image &input, const Image &variance, int radius, double k,
                          Image *output);
 

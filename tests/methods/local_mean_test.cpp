@@ -746,11 +746,12 @@ TEST(LocalMeanProperties, BoundToInputRangeMovesAPixelsChannelsByOneShare) {
     output.At(2, 0, 4) = 1.f;
     Image widened = output, still = output;
     EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &output), 3u);
-    // Red allows 0.1 of its 4.0 move: t = 1 / 40, every channel moves by it.
-    EXPECT_NEAR(output.At(0, 0, 2), 1.3f, 1e-6f);
+    // Red allows 0.1 of its 4.0 move (and the range's slack, kRangeSlack of 1.3): t about
+    // 1 / 40, every channel moves by it.
+    EXPECT_NEAR(output.At(0, 0, 2), 1.3 * (1 + kRangeSlack), 1e-6);
     EXPECT_NEAR(output.At(1, 0, 2), 1.2f + 0.05f / 40, 1e-6f);
     EXPECT_EQ(output.At(2, 0, 2), 1.2f);
-    EXPECT_NEAR(output.At(2, 0, 4), 1.3f, 1e-6f);
+    EXPECT_NEAR(output.At(2, 0, 4), 1.3 - 1.4 * kRangeSlack, 1e-6);
     for (int c = 0; c < 3; ++c) EXPECT_EQ(output.At(c, 0, 1), input.At(c, 0, 1)) << c;
     Image wide = input;
     wide.At(0, 0, 3) = 10;  // a firefly within 1 widens pixel 2's range
@@ -761,11 +762,48 @@ TEST(LocalMeanProperties, BoundToInputRangeMovesAPixelsChannelsByOneShare) {
     EXPECT_EQ(kept.At(0, 0, 2), 5.2f);
     // Widened by 10 deviations of 0.01: red allows 0.2 of its 4.0 move.
     BoundToInputRange(input, variance, 1, 10, &widened);
-    EXPECT_NEAR(widened.At(0, 0, 2), 1.4f, 1e-6f);
+    EXPECT_NEAR(widened.At(0, 0, 2), 1.4 + 1.3 * kRangeSlack, 1e-6);
     // Variance 0 in red: red is not bounded, green and blue stay inside theirs.
     variance.At(0, 0, 2) = 0;
     EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &still), 1u);
     EXPECT_EQ(still.At(0, 0, 2), 5.2f);
+}
+
+// Issue #29, the range pass's flip: a pixel that is its window's largest value, whose fit
+// lies one rounding above it, keeps its fits (the range's slack); before the slack the share
+// was 0 and every channel went back to its input, so a GPU and a twin whose fits differed by
+// an ulp ended the pass far apart. Beyond the slack the share falls from 1, not to 0, and
+// the host and the reference agree to the bit on both.
+TEST(LocalMeanProperties, BoundToInputRangeIsContinuousAtTheWindowsExtreme) {
+    Image input(3, 1, 3), variance(3, 1, 3, 1e-4f);
+    for (int c = 0; c < 3; ++c)
+        for (int x = 0; x < 3; ++x) input.At(c, 0, x) = 0.5f + 0.25f * x;
+    // Pixel 2 holds its window's largest red; its fit lies one float step above that red,
+    // and its green well inside the range.
+    Image output = input;
+    output.At(0, 0, 2) = std::nextafter(1.f, 2.f);
+    output.At(1, 0, 2) = 0.75f;
+    Image reference = output;
+    EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &output), 0u);
+    EXPECT_EQ(output.At(0, 0, 2), std::nextafter(1.f, 2.f));
+    EXPECT_EQ(output.At(1, 0, 2), 0.75f);
+    EXPECT_EQ(ref::BoundToInputRange(input, variance, 1, 0, &reference), 0u);
+    EXPECT_EQ(0,
+              std::memcmp(reference.data.data(), output.data.data(), output.data.size() * 4));
+    // Twice the slack above: half the move stays, in every channel.
+    Image beyond = input;
+    const double slack = 1e-5;
+    beyond.At(0, 0, 2) = float(1 + 2 * slack);
+    beyond.At(1, 0, 2) = 0.75f;
+    Image beyondReference = beyond;
+    EXPECT_EQ(BoundToInputRange(input, variance, 1, 0, &beyond), 2u);
+    const double t = slack / (float(1 + 2 * slack) - 1.0);
+    EXPECT_NEAR(beyond.At(0, 0, 2), 1 + slack, 1e-7);
+    EXPECT_NEAR(beyond.At(1, 0, 2), 1 + t * (0.75 - 1), 1e-6);
+    EXPECT_NEAR(t, 0.5, 0.01);
+    ref::BoundToInputRange(input, variance, 1, 0, &beyondReference);
+    EXPECT_EQ(0, std::memcmp(beyondReference.data.data(), beyond.data.data(),
+                             beyond.data.size() * 4));
 }
 
 // Lone spikes against the reference on the random inputs (NaN, Inf, zeros, negatives,
