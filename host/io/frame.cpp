@@ -122,7 +122,8 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
 
     // Only part 0 is read: a multi-part EXR's other parts are ignored (renderers we take
     // frames from, pbrt-v4 and Blender, write all layers into one part). The data window
-    // is the frame; an EXR display window is ignored.
+    // is the frame; its origin and the display window go into the metadata (below) for the
+    // writers.
     int channelCount = int(spec.channelNames.size());
     if (spec.width <= 0 || spec.height <= 0 || channelCount <= 0)
         throw Error(fmt::format("cannot read '{}': it has zero size ({}x{}, {} channels)", path,
@@ -205,6 +206,8 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     // The file's string attributes; "oiio:*" are OpenImageIO's hints, not the file's.
     for (const auto &[name, value] : spec.strings)
         if (!name.starts_with("oiio:")) frame.metadata[name] = value;
+    // An EXR's windows, so that WriteExr keeps them.
+    AddWindows(spec, frame.metadata);
     // Numbers only for the conventions (pbrt-v4's samplesPerPixel is an int).
     std::map<std::string, double> numbers;
     for (const auto &[name, value] : spec.ints) numbers[name] = value;

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -168,6 +169,31 @@ bool IsExrFile(const std::string &path) {
     return exr;
 }
 
+std::string WindowText(int x, int y, int width, int height) {
+    return fmt::format("{} {} {} {}", x, y, x + width - 1, y + height - 1);
+}
+
+bool ParseWindow(const std::string &text, int *x, int *y, int *width, int *height) {
+    long v[4];
+    char tail;
+    if (std::sscanf(text.c_str(), "%ld %ld %ld %ld %c", &v[0], &v[1], &v[2], &v[3], &tail) != 4)
+        return false;
+    for (long value : v)
+        if (value < INT_MIN / 2 || value > INT_MAX / 2) return false;
+    if (v[2] < v[0] || v[3] < v[1]) return false;
+    *x = int(v[0]), *y = int(v[1]);
+    *width = int(v[2] - v[0] + 1), *height = int(v[3] - v[1] + 1);
+    return true;
+}
+
+void AddWindows(const ImageHeader &h, std::map<std::string, std::string> &metadata) {
+    if (!h.exr || (h.x == 0 && h.y == 0 && h.fullX == h.x && h.fullY == h.y &&
+                   h.fullWidth == h.width && h.fullHeight == h.height))
+        return;
+    metadata[kDataWindowKey] = WindowText(h.x, h.y, h.width, h.height);
+    metadata[kDisplayWindowKey] = WindowText(h.fullX, h.fullY, h.fullWidth, h.fullHeight);
+}
+
 ImageHeader ReadExrHeader(const std::string &path) {
     ImageHeader header;
     header.exr = true;
@@ -179,6 +205,10 @@ ImageHeader ReadExrHeader(const std::string &path) {
         header.x = window.min.x, header.y = window.min.y;
         header.width = window.max.x - window.min.x + 1;
         header.height = window.max.y - window.min.y + 1;
+        const Imath::Box2i display = h.displayWindow();
+        header.fullX = display.min.x, header.fullY = display.min.y;
+        header.fullWidth = display.max.x - display.min.x + 1;
+        header.fullHeight = display.max.y - display.min.y + 1;
         header.tiled = h.hasTileDescription();
         header.deep = h.hasType() && Imf::isDeepData(h.type());
         std::vector<std::string> names;
@@ -305,6 +335,8 @@ ModuleImage::ModuleImage(const std::string &path) : path(path) {
 void ModuleImage::FillHeader(const McdOiioHeader *h) {
     header.x = h->x, header.y = h->y, header.width = h->width, header.height = h->height;
     header.depth = h->depth, header.tiled = h->tiled, header.deep = h->deep;
+    header.fullX = h->x, header.fullY = h->y, header.fullWidth = h->width;
+    header.fullHeight = h->height;
     header.parts = h->subimages;
     for (int c = 0; c < h->channelCount; ++c) {
         header.channelNames.push_back(h->channelNames[c]);

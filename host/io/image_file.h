@@ -18,6 +18,8 @@ enum class SampleType { UInt8, UInt16, UInt32, Half, Float, Double, Other };
 struct ImageHeader {
     bool exr = false;
     int x = 0, y = 0, width = 0, height = 0, depth = 1;
+    // The display window (an EXR's displayWindow); the data window where the file has none.
+    int fullX = 0, fullY = 0, fullWidth = 0, fullHeight = 0;
     // In OpenImageIO's order (an EXR's unprefixed channels first, R,G,B,A before others
     // within a layer), which GroupChannels' ties depend on.
     std::vector<std::string> channelNames;
@@ -31,6 +33,22 @@ struct ImageHeader {
     std::map<std::string, int> ints;
     std::map<std::string, float> floats;
 };
+
+// The frame metadata keys that carry an EXR's windows from ReadFrame to WriteExr, as
+// "xmin ymin xmax ymax" (OpenEXR's names: layout, never written as attributes). ReadFrame
+// sets them only when the data window does not start at 0,0 or the display window differs.
+inline constexpr const char *kDataWindowKey = "dataWindow";
+inline constexpr const char *kDisplayWindowKey = "displayWindow";
+
+// A window as "xmin ymin xmax ymax".
+std::string WindowText(int x, int y, int width, int height);
+
+// The window of WindowText's form; false when text is not one.
+bool ParseWindow(const std::string &text, int *x, int *y, int *width, int *height);
+
+// Set kDataWindowKey and kDisplayWindowKey in metadata for an EXR whose windows are not
+// the default ones (data window at 0,0, display window the same).
+void AddWindows(const ImageHeader &header, std::map<std::string, std::string> &metadata);
 
 // Whether the file starts with OpenEXR's magic number.
 bool IsExrFile(const std::string &path);

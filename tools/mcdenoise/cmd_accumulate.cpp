@@ -10,6 +10,7 @@
 #include "host/error.h"
 #include "host/io/accumulate.h"
 #include "host/io/frame.h"
+#include "host/io/image_file.h"
 #include "host/io/layer_names.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/path_guard.h"
@@ -171,7 +172,8 @@ void RunAccumulate(const AccumulateOptions &opt) {
     io::Frame frame = Accumulate(accumulator, opt.inputs, &bytes);
     // The total the metadata states; an spp layer may vary per pixel (adaptive inputs).
     if (h.spp > 0 && h.sameSpp) frame.metadata["mcd:spp"] = std::to_string(h.spp * total);
-    for (const char *key : {"mcd:scene", "mcd:size"})
+    // The first frame's windows too (the frames share the data window).
+    for (const char *key : {"mcd:scene", "mcd:size", io::kDataWindowKey, io::kDisplayWindowKey})
         if (auto it = h.headers.front().metadata.find(key);
             it != h.headers.front().metadata.end())
             frame.metadata[key] = it->second;

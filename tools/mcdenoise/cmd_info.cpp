@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/io/frame.h"
+#include "host/io/image_file.h"
 #include "tools/mcdenoise/commands.h"
 
 namespace mcd::tool {
@@ -46,6 +47,9 @@ void PrintFrame(const std::string &path) {
     CheckInputFile(path, "frame");
     io::Frame frame = io::ReadFrame(path);
     fmt::print("{}: {}x{}\n", path, frame.width, frame.height);
+    if (auto data = frame.metadata.find(io::kDataWindowKey); data != frame.metadata.end())
+        fmt::print("  data window {}, display window {} (xmin ymin xmax ymax)\n", data->second,
+                   frame.metadata[io::kDisplayWindowKey]);
     for (const auto &[name, image] : frame.layers) {
         double sum = 0;
         size_t nonFinite = 0;
