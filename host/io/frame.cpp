@@ -99,6 +99,22 @@ void ReadBands(ModuleImage &in, const std::vector<Decode> &decode,
     }
 }
 
+// Which part of a multi-part EXR was read, and the parts that were not; "" for one part.
+std::string PartsNote(const ImageHeader &spec) {
+    if (spec.partList.size() < 2) return "";
+    auto label = [&](int k) {
+        const std::string &name = spec.partList[k].name;
+        return name.empty() ? std::to_string(k) : fmt::format("{} ({})", k, name);
+    };
+    std::string others;
+    for (int k = 0; k < int(spec.partList.size()); ++k)
+        if (k != spec.part) others += (others.empty() ? "" : ", ") + label(k);
+    return fmt::format("part {} of {}{}; not read: part{} {}", label(spec.part),
+                       spec.partList.size(),
+                       spec.partList[spec.part].color ? ", the colour's" : "",
+                       spec.partList.size() > 2 ? "s" : "", others);
+}
+
 }  // namespace
 
 // The machine's physical memory in bytes (0 if unknown).
@@ -120,10 +136,8 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
         module = std::make_unique<ModuleImage>(path);
     const ImageHeader &spec = module ? module->Header() : exrHeader;
 
-    // Only part 0 is read: a multi-part EXR's other parts are ignored (renderers we take
-    // frames from, pbrt-v4 and Blender, write all layers into one part). The data window
-    // is the frame; its origin and the display window go into the metadata (below) for the
-    // writers.
+    // The data window is the frame; its origin and the display window go into the
+    // metadata (below) for the writers.
     int channelCount = int(spec.channelNames.size());
     if (spec.width <= 0 || spec.height <= 0 || channelCount <= 0)
         throw Error(fmt::format("cannot read '{}': it has zero size ({}x{}, {} channels)", path,
@@ -197,7 +211,8 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
         std::vector<ExrTarget> targets;
         for (int c = 0; c < channelCount; ++c)
             if (destination[c]) targets.push_back({spec.channelNames[c], destination[c]});
-        if (!ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets))
+        if (!ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets,
+                             ExrDecoder::Auto, spec.part))
             throw Error(
                 fmt::format("cannot read '{}': subsampled channels are unsupported", path),
                 ErrorKind::Io);
@@ -213,6 +228,11 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     for (const auto &[name, value] : spec.ints) numbers[name] = value;
     for (const auto &[name, value] : spec.floats) numbers[name] = value;
     ApplyConventions(frame, spec.channelNames, numbers);
+    std::string note = PartsNote(spec);
+    if (!note.empty()) {
+        std::string &text = frame.metadata[kConventionKey];
+        text += (text.empty() ? "" : " | ") + note;
+    }
     return frame;
 }
 

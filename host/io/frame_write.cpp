@@ -327,7 +327,10 @@ void io::WriteDenoisedOver(const std::string &path, const Image &denoised,
         throw fail(e.what());
     }
     if (inSpec.parts > 1)
-        throw fail(fmt::format("it has {} parts and only the first is read", inSpec.parts));
+        throw fail(
+            fmt::format("it has {} parts, and only one-part files are written over "
+                        "(write the result with -o instead)",
+                        inSpec.parts));
     if (inSpec.deep) throw fail("deep and volume images are unsupported");
     OverwriteTargets t;
     try {

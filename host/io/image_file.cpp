@@ -26,6 +26,7 @@
 #include <set>
 
 #include "host/error.h"
+#include "host/io/layer_names.h"
 
 #ifndef MCD_INSTALL_LIBDIR
 #define MCD_INSTALL_LIBDIR ""
@@ -194,54 +195,96 @@ void AddWindows(const ImageHeader &h, std::map<std::string, std::string> &metada
     metadata[kDisplayWindowKey] = WindowText(h.fullX, h.fullY, h.fullWidth, h.fullHeight);
 }
 
+namespace {
+
+// Whether a part's channels make a "color" layer (malformed names make none).
+bool HoldsColor(const std::vector<std::string> &channelNames) {
+    try {
+        for (const LayerChannels &layer : GroupChannels(channelNames))
+            if (layer.name == "color") return true;
+    } catch (const Error &) {
+    }
+    return false;
+}
+
+// The part a frame is read from: part 0 unless another part holds the colour and it does not.
+int ColorPart(const std::vector<ImageHeader::Part> &parts) {
+    if (parts.empty() || parts.front().color) return 0;
+    for (size_t k = 1; k < parts.size(); ++k)
+        if (parts[k].color) return int(k);
+    return 0;
+}
+
+// Part `part` of the file in ImageHeader's terms (not the list of parts).
+void DescribePart(Imf::MultiPartInputFile &file, int part, ImageHeader &header) {
+    const Imf::Header &h = file.header(part);
+    header.part = part;
+    const Imath::Box2i window = h.dataWindow();
+    header.x = window.min.x, header.y = window.min.y;
+    header.width = window.max.x - window.min.x + 1;
+    header.height = window.max.y - window.min.y + 1;
+    const Imath::Box2i display = h.displayWindow();
+    header.fullX = display.min.x, header.fullY = display.min.y;
+    header.fullWidth = display.max.x - display.min.x + 1;
+    header.fullHeight = display.max.y - display.min.y + 1;
+    header.tiled = h.hasTileDescription();
+    header.deep = h.hasType() && Imf::isDeepData(h.type());
+    std::vector<std::string> names;
+    std::vector<Imf::PixelType> types;
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+            throw std::runtime_error(
+                fmt::format("channel '{}' is subsampled, which is unsupported", it.name()));
+        names.push_back(it.name());
+        types.push_back(it.channel().type);
+    }
+    for (int i : OiioChannelOrder(names)) {
+        header.channelNames.push_back(names[i]);
+        SampleType type = types[i] == Imf::HALF    ? SampleType::Half
+                          : types[i] == Imf::FLOAT ? SampleType::Float
+                                                   : SampleType::UInt32;
+        header.channelTypes.push_back(type);
+        header.typeNames.push_back(type == SampleType::Half    ? "half"
+                                   : type == SampleType::Float ? "float"
+                                                               : "uint32");
+    }
+    header.strings["compression"] = CompressionName(h.compression());
+    for (auto it = h.begin(); it != h.end(); ++it) {
+        std::string name = it.name();
+        if (IsLayoutAttribute(name)) continue;
+        name = OiioAttributeName(name);
+        if (auto *s = dynamic_cast<const Imf::StringAttribute *>(&it.attribute()))
+            header.strings[name] = s->value();
+        else if (auto *i = dynamic_cast<const Imf::IntAttribute *>(&it.attribute()))
+            header.ints[name] = i->value();
+        else if (auto *f = dynamic_cast<const Imf::FloatAttribute *>(&it.attribute()))
+            header.floats[name] = f->value();
+    }
+}
+
+}  // namespace
+
 ImageHeader ReadExrHeader(const std::string &path) {
     ImageHeader header;
     header.exr = true;
     try {
         Imf::MultiPartInputFile file(path.c_str());
         header.parts = file.parts();
-        const Imf::Header &h = file.header(0);
-        const Imath::Box2i window = h.dataWindow();
-        header.x = window.min.x, header.y = window.min.y;
-        header.width = window.max.x - window.min.x + 1;
-        header.height = window.max.y - window.min.y + 1;
-        const Imath::Box2i display = h.displayWindow();
-        header.fullX = display.min.x, header.fullY = display.min.y;
-        header.fullWidth = display.max.x - display.min.x + 1;
-        header.fullHeight = display.max.y - display.min.y + 1;
-        header.tiled = h.hasTileDescription();
-        header.deep = h.hasType() && Imf::isDeepData(h.type());
-        std::vector<std::string> names;
-        std::vector<Imf::PixelType> types;
-        for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
-            if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
-                throw std::runtime_error(
-                    fmt::format("channel '{}' is subsampled, which is unsupported", it.name()));
-            names.push_back(it.name());
-            types.push_back(it.channel().type);
+        if (header.parts > 1) {
+            for (int k = 0; k < header.parts; ++k) {
+                const Imf::Header &h = file.header(k);
+                ImageHeader::Part part;
+                if (h.hasName()) part.name = h.name();
+                const Imath::Box2i window = h.dataWindow();
+                part.width = window.max.x - window.min.x + 1;
+                part.height = window.max.y - window.min.y + 1;
+                for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
+                    part.channelNames.push_back(it.name());
+                part.color = HoldsColor(part.channelNames);
+                header.partList.push_back(std::move(part));
+            }
         }
-        for (int i : OiioChannelOrder(names)) {
-            header.channelNames.push_back(names[i]);
-            SampleType type = types[i] == Imf::HALF    ? SampleType::Half
-                              : types[i] == Imf::FLOAT ? SampleType::Float
-                                                       : SampleType::UInt32;
-            header.channelTypes.push_back(type);
-            header.typeNames.push_back(type == SampleType::Half    ? "half"
-                                       : type == SampleType::Float ? "float"
-                                                                   : "uint32");
-        }
-        header.strings["compression"] = CompressionName(h.compression());
-        for (auto it = h.begin(); it != h.end(); ++it) {
-            std::string name = it.name();
-            if (IsLayoutAttribute(name)) continue;
-            name = OiioAttributeName(name);
-            if (auto *s = dynamic_cast<const Imf::StringAttribute *>(&it.attribute()))
-                header.strings[name] = s->value();
-            else if (auto *i = dynamic_cast<const Imf::IntAttribute *>(&it.attribute()))
-                header.ints[name] = i->value();
-            else if (auto *f = dynamic_cast<const Imf::FloatAttribute *>(&it.attribute()))
-                header.floats[name] = f->value();
-        }
+        DescribePart(file, ColorPart(header.partList), header);
     } catch (const std::exception &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }

@@ -26,7 +26,16 @@ struct ImageHeader {
     std::vector<SampleType> channelTypes;
     std::vector<std::string> typeNames;  // for messages
     bool tiled = false, deep = false;
+    // A multi-part EXR: the part described (the one a frame is read from) and every part.
     int parts = 1;
+    int part = 0;
+    struct Part {
+        std::string name;  // "" when the file names none
+        int width = 0, height = 0;
+        std::vector<std::string> channelNames;  // the file's order
+        bool color = false;                     // its channels make a "color" layer
+    };
+    std::vector<Part> partList;  // filled for EXRs of more than one part
     // The file's attributes by OpenImageIO's names ("capDate" is "DateTime", an EXR's
     // compression a string); "oiio:*" names are OpenImageIO's hints, not the file's.
     std::map<std::string, std::string> strings;
@@ -53,7 +62,9 @@ void AddWindows(const ImageHeader &header, std::map<std::string, std::string> &m
 // Whether the file starts with OpenEXR's magic number.
 bool IsExrFile(const std::string &path);
 
-// The header of part 0 of an EXR. Throws mcd::Error (Io) naming the path.
+// The header of the EXR part a frame is read from: part 0 when it holds the colour (a
+// "color" layer) or no part does, else the first part that does; partList lists them all.
+// Throws mcd::Error (Io) naming the path.
 ImageHeader ReadExrHeader(const std::string &path);
 
 // The header of any image file: EXR with OpenEXR, others with the module.

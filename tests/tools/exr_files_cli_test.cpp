@@ -1,6 +1,7 @@
 // EXR files as renderers and compositors write them, through the command line: a data
 // window away from 0,0 inside a larger display window stays in what denoise and accumulate
-// write.
+// write; a multi-part file is read from the part that holds the colour and `info` lists
+// every part.
 #include <Imath/ImathBox.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -161,6 +162,46 @@ TEST_F(CliExrFiles, DenoiseAndAccumulateKeepTheWindows) {
     EXPECT_EQ(r.code, int(tool::ExitStatus::InvalidArgument)) << r.All();
     EXPECT_TRUE(Contains(r.err, "'plain.exr' has data window 0 0 11 7")) << r.err;
     EXPECT_FALSE(fs::exists(Path("acc2.exr")));
+}
+
+// A compositor's layout: the albedo in part 0, the beauty in part 1. The frame is read from
+// part 1, as the same colour in a one-part file is, and `info` lists both parts.
+TEST_F(CliExrFiles, MultiPartFramesAreReadFromThePartWithTheColour) {
+    std::vector<std::pair<std::string, std::vector<float>>> albedo;
+    for (const char *name : {"albedo.B", "albedo.G", "albedo.R"})
+        albedo.push_back({name, std::vector<float>(10 * 6, 0.25f)});
+    const Imath::Box2i window = Box(0, 0, 9, 5);
+    WriteParts(Path("multi.exr"), {{"aux", window, window, albedo},
+                                   {"beauty", window, window, NoisyChannels(10, 6, 3)}});
+    WriteParts(Path("one.exr"), {{"", window, window, NoisyChannels(10, 6, 3)}});
+
+    ToolResult r = Run("info multi.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "part 0 'aux': 10x6, 3 channels (albedo.B,albedo.G,albedo.R)"))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out,
+                         "part 1 'beauty': 10x6, 6 channels (B,G,R,variance.B,"
+                         "variance.G,variance.R)  <- read: it holds the colour"))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out,
+                         "mcd:convention = part 1 (beauty) of 2, the colour's; not "
+                         "read: part 0 (aux)"))
+        << r.out;
+
+    io::Frame multi = io::ReadFrame(Path("multi.exr")), one = io::ReadFrame(Path("one.exr"));
+    ASSERT_TRUE(multi.Has("color") && multi.Has("variance")) << r.out;
+    EXPECT_TRUE(BitIdentical(multi.Get("color"), one.Get("color")));
+    EXPECT_FALSE(multi.Has("albedo"));
+
+    r = Run("denoise multi.exr --method awr -o dm.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    ASSERT_EQ(Run("denoise one.exr --method awr -o d1.exr").code, 0);
+    EXPECT_TRUE(BitIdentical(io::ReadImage(Path("dm.exr")), io::ReadImage(Path("d1.exr"))));
+
+    // Written over, a multi-part file is refused, and left as it was.
+    r = Run("denoise multi.exr --method awr -o multi.exr --overwrite-input");
+    EXPECT_NE(r.code, 0);
+    EXPECT_TRUE(Contains(r.err, "it has 2 parts")) << r.err;
 }
 
 }  // namespace
