@@ -99,6 +99,24 @@ void ReadBands(ModuleImage &in, const std::vector<Decode> &decode,
     }
 }
 
+// A frame denoised in place (WriteDenoisedOver) keeps the render's colour in
+// kNoisyColorLayer and the denoised one as its colour: the noisy one is the frame's colour,
+// so that denoising it again starts from the render, and the denoised one is not read.
+// Whether it did so.
+bool TakeNoisyColor(std::vector<LayerChannels> &grouped) {
+    auto named = [&](const std::string &name) {
+        return std::find_if(grouped.begin(), grouped.end(),
+                            [&](const LayerChannels &l) { return l.name == name; });
+    };
+    auto color = named("color"), noisy = named(kNoisyColorLayer);
+    if (color == grouped.end() || noisy == grouped.end() ||
+        color->channels.size() != noisy->channels.size())
+        return false;
+    color->channels = noisy->channels;
+    grouped.erase(noisy);
+    return true;
+}
+
 // Which part of a multi-part EXR was read, and the parts that were not; "" for one part.
 std::string PartsNote(const ImageHeader &spec) {
     if (spec.partList.size() < 2) return "";
@@ -170,8 +188,10 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     }
 
     std::vector<LayerChannels> grouped;
+    bool tookNoisy = false;
     try {
         grouped = GroupChannels(spec.channelNames);
+        tookNoisy = TakeNoisyColor(grouped);
     } catch (const Error &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
@@ -229,6 +249,9 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     for (const auto &[name, value] : spec.floats) numbers[name] = value;
     ApplyConventions(frame, spec.channelNames, numbers);
     std::string note = PartsNote(spec);
+    if (tookNoisy)
+        note += fmt::format("{}color from {} (the colour channels hold a denoised result)",
+                            note.empty() ? "" : " | ", kNoisyColorLayer);
     if (!note.empty()) {
         std::string &text = frame.metadata[kConventionKey];
         text += (text.empty() ? "" : " | ") + note;

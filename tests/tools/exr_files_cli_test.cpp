@@ -1,7 +1,7 @@
 // EXR files as renderers and compositors write them, through the command line: a data
 // window away from 0,0 inside a larger display window stays in what denoise and accumulate
 // write; a multi-part file is read from the part that holds the colour and `info` lists
-// every part.
+// every part; a second `denoise --overwrite-input` denoises the render's colour again.
 #include <Imath/ImathBox.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -202,6 +202,43 @@ TEST_F(CliExrFiles, MultiPartFramesAreReadFromThePartWithTheColour) {
     r = Run("denoise multi.exr --method awr -o multi.exr --overwrite-input");
     EXPECT_NE(r.code, 0);
     EXPECT_TRUE(Contains(r.err, "it has 2 parts")) << r.err;
+}
+
+// The first run writes the denoised colour into R,G,B and the render's into color.noisy;
+// the second denoises color.noisy again (the same result, bit for bit, as one run) and adds
+// no second copy.
+TEST_F(CliExrFiles, OverwriteInputTwiceDenoisesTheRendersColour) {
+    const Imath::Box2i window = Box(0, 0, 15, 11);
+    WriteParts(Path("f.exr"), {{"", window, window, NoisyChannels(16, 12, 4)}});
+    fs::copy_file(Path("f.exr"), Path("g.exr"));
+    io::Frame before = io::ReadFrame(Path("f.exr"));
+    ASSERT_EQ(Run("denoise g.exr --method awr -o once.exr").code, 0);
+    Image once = io::ReadImage(Path("once.exr"));
+
+    for (int run = 0; run < 2; ++run) {
+        ToolResult r = Run("denoise f.exr --method awr -o f.exr --overwrite-input");
+        ASSERT_EQ(r.code, 0) << r.All();
+        Imf::InputFile in(Path("f.exr").c_str());
+        int channels = 0;
+        for (auto it = in.header().channels().begin(); it != in.header().channels().end(); ++it)
+            ++channels;
+        EXPECT_EQ(channels, 9) << "run " << run;
+
+        Image rgb(16, 12, 3), noisy(16, 12, 3);
+        ASSERT_TRUE(io::ReadExrChannels(Path("f.exr"), 0, 0, 16, 12,
+                                        {{"R", rgb.Plane(0)},
+                                         {"G", rgb.Plane(1)},
+                                         {"B", rgb.Plane(2)},
+                                         {"color.noisy.R", noisy.Plane(0)},
+                                         {"color.noisy.G", noisy.Plane(1)},
+                                         {"color.noisy.B", noisy.Plane(2)}}));
+        EXPECT_TRUE(BitIdentical(rgb, once)) << "run " << run;
+        EXPECT_TRUE(BitIdentical(noisy, before.Get("color"))) << "run " << run;
+        // The frame's colour is the render's; the convention says why.
+        io::Frame frame = io::ReadFrame(Path("f.exr"));
+        EXPECT_TRUE(BitIdentical(frame.Get("color"), before.Get("color")));
+        EXPECT_TRUE(Contains(frame.metadata["mcd:convention"], "color from color.noisy"));
+    }
 }
 
 }  // namespace
