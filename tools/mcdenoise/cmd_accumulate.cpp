@@ -84,6 +84,15 @@ Headers ReadHeaders(const std::vector<std::string> &inputs) {
                    "weights frames equally\n",
                    header.path, io::SppFromMetadata(header.metadata), first.path, h.spp);
     }
+    // No count anywhere (every frame has the first's layers): say what is assumed, once.
+    if (h.spp == 0 && h.sameSpp && !first.layers.count("spp"))
+        fmt::print(stderr,
+                   "warning: the frames state no sample count (no spp layer, no mcd:spp, "
+                   "samplesPerPixel or cycles.<view layer>.samples attribute): accumulate "
+                   "weights them equally and counts 1 spp per frame, so the spp layer is {} "
+                   "(awr reads it); state each frame's count in its header, e.g. oiiotool "
+                   "f.exr --attrib:type=int mcd:spp 16 -o f.exr\n",
+                   h.headers.size());
     return h;
 }
 
