@@ -133,6 +133,19 @@ std::string PartsNote(const ImageHeader &spec) {
                        spec.partList.size() > 2 ? "s" : "", others);
 }
 
+// Add to the frame's mcd:convention which part it was read from and whether its colour is
+// the noisy one kept beside a denoised result.
+void AddReadNotes(Frame &frame, const ImageHeader &spec, bool tookNoisy) {
+    std::string note = PartsNote(spec);
+    if (tookNoisy)
+        note += fmt::format("{}color from {} (the colour channels hold a denoised result)",
+                            note.empty() ? "" : " | ", kNoisyColorLayer);
+    if (!note.empty()) {
+        std::string &text = frame.metadata[kConventionKey];
+        text += (text.empty() ? "" : " | ") + note;
+    }
+}
+
 }  // namespace
 
 // The machine's physical memory in bytes (0 if unknown).
@@ -248,14 +261,7 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     for (const auto &[name, value] : spec.ints) numbers[name] = value;
     for (const auto &[name, value] : spec.floats) numbers[name] = value;
     ApplyConventions(frame, spec.channelNames, numbers);
-    std::string note = PartsNote(spec);
-    if (tookNoisy)
-        note += fmt::format("{}color from {} (the colour channels hold a denoised result)",
-                            note.empty() ? "" : " | ", kNoisyColorLayer);
-    if (!note.empty()) {
-        std::string &text = frame.metadata[kConventionKey];
-        text += (text.empty() ? "" : " | ") + note;
-    }
+    AddReadNotes(frame, spec, tookNoisy);
     return frame;
 }
 
