@@ -80,6 +80,7 @@ FrameHeader ReadFrameHeader(const std::string &path) {
     for (const auto &[name, value] : spec.strings)
         if (!name.starts_with("oiio:")) header.metadata[name] = value;
     for (const auto &[name, value] : spec.ints) header.metadata[name] = std::to_string(value);
+    AddWindows(spec, header.metadata);
     return header;
 }
 
@@ -88,6 +89,16 @@ void CheckSameLayout(const FrameHeader &first, const FrameHeader &other) {
         throw Error(fmt::format("'{}' is {}x{} but '{}' is {}x{}: accumulate needs one size",
                                 other.path, other.width, other.height, first.path, first.width,
                                 first.height),
+                    ErrorKind::InvalidArgument);
+    // The frames' pixels must be the same pixels of the image.
+    auto window = [](const FrameHeader &h) {
+        auto it = h.metadata.find(kDataWindowKey);
+        return it == h.metadata.end() ? WindowText(0, 0, h.width, h.height) : it->second;
+    };
+    if (window(other) != window(first))
+        throw Error(fmt::format("'{}' has data window {} but '{}' has {}: accumulate needs one "
+                                "window",
+                                other.path, window(other), first.path, window(first)),
                     ErrorKind::InvalidArgument);
     auto list = [](const std::map<std::string, int> &layers) {
         std::string text;

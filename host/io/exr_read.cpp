@@ -7,6 +7,8 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfInputPart.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfThreading.h>
 #include <fmt/format.h>
@@ -317,8 +319,10 @@ bool ReadChunks(Imf::InputFile &file, const std::vector<ExrTarget> &targets) {
     return true;
 }
 
-// OpenEXR's own reader, straight into the planes, decompressing on every core.
-void ReadWithOpenExr(Imf::InputFile &file, const std::vector<ExrTarget> &targets) {
+// OpenEXR's own reader, straight into the planes, decompressing on every core. File: an
+// Imf::InputFile, or an Imf::InputPart for a part other than the first.
+template <typename File>
+void ReadWithOpenExr(File &file, const std::vector<ExrTarget> &targets) {
     static std::once_flag threads;
     std::call_once(threads, [] {
         Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
@@ -351,21 +355,39 @@ void ReadWithOpenExr(Imf::InputFile &file, const std::vector<ExrTarget> &targets
 
 }  // namespace
 
+namespace {
+
+// Whether the data window is x, y, width, height and no channel is subsampled; throws for a
+// target's channel the header does not have.
+bool Readable(const Imf::Header &header, int x, int y, int width, int height,
+              const std::vector<ExrTarget> &targets) {
+    const Imath::Box2i window = header.dataWindow();
+    if (window.min.x != x || window.min.y != y || window.max.x - window.min.x + 1 != width ||
+        window.max.y - window.min.y + 1 != height)
+        return false;
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+        if (it.channel().xSampling != 1 || it.channel().ySampling != 1) return false;
+    for (const ExrTarget &target : targets)
+        if (target.plane && !header.channels().findChannel(target.channel))
+            throw std::runtime_error(fmt::format("it has no channel '{}'", target.channel));
+    return true;
+}
+
+}  // namespace
+
 bool ReadExrChannels(const std::string &path, int x, int y, int width, int height,
-                     const std::vector<ExrTarget> &targets, ExrDecoder decoder) {
+                     const std::vector<ExrTarget> &targets, ExrDecoder decoder, int part) {
     try {
+        // A later part through OpenEXR's reader: ours decodes single-part files.
+        if (part != 0) {
+            Imf::MultiPartInputFile file(path.c_str());
+            Imf::InputPart in(file, part);
+            if (!Readable(in.header(), x, y, width, height, targets)) return false;
+            ReadWithOpenExr(in, targets);
+            return true;
+        }
         Imf::InputFile file(path.c_str());
-        const Imath::Box2i window = file.header().dataWindow();
-        if (window.min.x != x || window.min.y != y ||
-            window.max.x - window.min.x + 1 != width ||
-            window.max.y - window.min.y + 1 != height)
-            return false;
-        for (auto it = file.header().channels().begin(); it != file.header().channels().end();
-             ++it)
-            if (it.channel().xSampling != 1 || it.channel().ySampling != 1) return false;
-        for (const ExrTarget &target : targets)
-            if (target.plane && !file.header().channels().findChannel(target.channel))
-                throw std::runtime_error(fmt::format("it has no channel '{}'", target.channel));
+        if (!Readable(file.header(), x, y, width, height, targets)) return false;
         if (decoder == ExrDecoder::OpenExr || !ReadChunks(file, targets))
             ReadWithOpenExr(file, targets);
     } catch (const std::exception &e) {

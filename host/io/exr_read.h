@@ -20,12 +20,13 @@ enum class ExrDecoder {
     OpenExr,  // always OpenEXR's (the tests' reference)
 };
 
-// Read part 0 of the EXR at path into the targets as float (half widened, 32-bit unsigned
-// converted as OpenEXR does). The data window must be x, y, width, height. False, with
-// nothing read, when the file has subsampled channels (the caller reads it otherwise).
-// Throws mcd::Error naming the path for a damaged file or a channel it does not have.
+// Read part `part` of the EXR at path into the targets as float (half widened, 32-bit
+// unsigned converted as OpenEXR does; parts after the first always by OpenEXR's reader).
+// The data window must be x, y, width, height. False, with nothing read, when the file has
+// subsampled channels (the caller reads it otherwise). Throws mcd::Error naming the path for
+// a damaged file or a channel it does not have.
 bool ReadExrChannels(const std::string &path, int x, int y, int width, int height,
                      const std::vector<ExrTarget> &targets,
-                     ExrDecoder decoder = ExrDecoder::Auto);
+                     ExrDecoder decoder = ExrDecoder::Auto, int part = 0);
 
 }  // namespace mcd::io

@@ -99,6 +99,53 @@ void ReadBands(ModuleImage &in, const std::vector<Decode> &decode,
     }
 }
 
+// A frame denoised in place (WriteDenoisedOver) keeps the render's colour in
+// kNoisyColorLayer and the denoised one as its colour: the noisy one is the frame's colour,
+// so that denoising it again starts from the render, and the denoised one is not read.
+// Whether it did so.
+bool TakeNoisyColor(std::vector<LayerChannels> &grouped) {
+    auto named = [&](const std::string &name) {
+        return std::find_if(grouped.begin(), grouped.end(),
+                            [&](const LayerChannels &l) { return l.name == name; });
+    };
+    auto color = named("color"), noisy = named(kNoisyColorLayer);
+    if (color == grouped.end() || noisy == grouped.end() ||
+        color->channels.size() != noisy->channels.size())
+        return false;
+    color->channels = noisy->channels;
+    grouped.erase(noisy);
+    return true;
+}
+
+// Which part of a multi-part EXR was read, and the parts that were not; "" for one part.
+std::string PartsNote(const ImageHeader &spec) {
+    if (spec.partList.size() < 2) return "";
+    auto label = [&](int k) {
+        const std::string &name = spec.partList[k].name;
+        return name.empty() ? std::to_string(k) : fmt::format("{} ({})", k, name);
+    };
+    std::string others;
+    for (int k = 0; k < int(spec.partList.size()); ++k)
+        if (k != spec.part) others += (others.empty() ? "" : ", ") + label(k);
+    return fmt::format("part {} of {}{}; not read: part{} {}", label(spec.part),
+                       spec.partList.size(),
+                       spec.partList[spec.part].color ? ", the colour's" : "",
+                       spec.partList.size() > 2 ? "s" : "", others);
+}
+
+// Add to the frame's mcd:convention which part it was read from and whether its colour is
+// the noisy one kept beside a denoised result.
+void AddReadNotes(Frame &frame, const ImageHeader &spec, bool tookNoisy) {
+    std::string note = PartsNote(spec);
+    if (tookNoisy)
+        note += fmt::format("{}color from {} (the colour channels hold a denoised result)",
+                            note.empty() ? "" : " | ", kNoisyColorLayer);
+    if (!note.empty()) {
+        std::string &text = frame.metadata[kConventionKey];
+        text += (text.empty() ? "" : " | ") + note;
+    }
+}
+
 }  // namespace
 
 // The machine's physical memory in bytes (0 if unknown).
@@ -120,9 +167,8 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
         module = std::make_unique<ModuleImage>(path);
     const ImageHeader &spec = module ? module->Header() : exrHeader;
 
-    // Only part 0 is read: a multi-part EXR's other parts are ignored (renderers we take
-    // frames from, pbrt-v4 and Blender, write all layers into one part). The data window
-    // is the frame; an EXR display window is ignored.
+    // The data window is the frame; its origin and the display window go into the
+    // metadata (below) for the writers.
     int channelCount = int(spec.channelNames.size());
     if (spec.width <= 0 || spec.height <= 0 || channelCount <= 0)
         throw Error(fmt::format("cannot read '{}': it has zero size ({}x{}, {} channels)", path,
@@ -155,8 +201,10 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     }
 
     std::vector<LayerChannels> grouped;
+    bool tookNoisy = false;
     try {
         grouped = GroupChannels(spec.channelNames);
+        tookNoisy = TakeNoisyColor(grouped);
     } catch (const Error &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
@@ -196,7 +244,8 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
         std::vector<ExrTarget> targets;
         for (int c = 0; c < channelCount; ++c)
             if (destination[c]) targets.push_back({spec.channelNames[c], destination[c]});
-        if (!ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets))
+        if (!ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets,
+                             ExrDecoder::Auto, spec.part))
             throw Error(
                 fmt::format("cannot read '{}': subsampled channels are unsupported", path),
                 ErrorKind::Io);
@@ -205,11 +254,14 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
     // The file's string attributes; "oiio:*" are OpenImageIO's hints, not the file's.
     for (const auto &[name, value] : spec.strings)
         if (!name.starts_with("oiio:")) frame.metadata[name] = value;
+    // An EXR's windows, so that WriteExr keeps them.
+    AddWindows(spec, frame.metadata);
     // Numbers only for the conventions (pbrt-v4's samplesPerPixel is an int).
     std::map<std::string, double> numbers;
     for (const auto &[name, value] : spec.ints) numbers[name] = value;
     for (const auto &[name, value] : spec.floats) numbers[name] = value;
     ApplyConventions(frame, spec.channelNames, numbers);
+    AddReadNotes(frame, spec, tookNoisy);
     return frame;
 }
 

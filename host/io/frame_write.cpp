@@ -155,6 +155,22 @@ void SetStringAttributes(Imf::Header &header,
     }
 }
 
+// The windows the metadata states (ReadFrame's, of the frame the layers come from) on a
+// header of the layers' size: the data window moved to its origin, the display window as
+// it was. Windows of another size are not these layers' and are left out.
+void SetWindows(Imf::Header &header, const std::map<std::string, std::string> &metadata) {
+    auto data = metadata.find(kDataWindowKey), display = metadata.find(kDisplayWindowKey);
+    int x, y, w, h, fx, fy, fw, fh;
+    Imath::Box2i &window = header.dataWindow();
+    if (data == metadata.end() || display == metadata.end() ||
+        !ParseWindow(data->second, &x, &y, &w, &h) ||
+        !ParseWindow(display->second, &fx, &fy, &fw, &fh) ||
+        w != window.max.x - window.min.x + 1 || h != window.max.y - window.min.y + 1)
+        return;
+    window = Imath::Box2i({x, y}, {x + w - 1, y + h - 1});
+    header.displayWindow() = Imath::Box2i({fx, fy}, {fx + fw - 1, fy + fh - 1});
+}
+
 uint8_t EncodeSrgb8(float v) {
     v = std::clamp(v, 0.f, 1.f);
     v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.f / 2.4f) - 0.055f;
@@ -311,7 +327,10 @@ void io::WriteDenoisedOver(const std::string &path, const Image &denoised,
         throw fail(e.what());
     }
     if (inSpec.parts > 1)
-        throw fail(fmt::format("it has {} parts and only the first is read", inSpec.parts));
+        throw fail(
+            fmt::format("it has {} parts, and only one-part files are written over "
+                        "(write the result with -o instead)",
+                        inSpec.parts));
     if (inSpec.deep) throw fail("deep and volume images are unsupported");
     OverwriteTargets t;
     try {
@@ -420,21 +439,28 @@ void WriteExr(const std::string &path,
 
     int width = first->width, height = first->height;
     Imf::Header header(width, height);
+    SetWindows(header, metadata);
     header.compression() = Imf::ZIP_COMPRESSION;
     for (const std::string &name : channelNames)
         header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     SetStringAttributes(header, metadata);
 
-    // OpenEXR reads the planar layers as they are: no interleaved copy.
+    // OpenEXR reads the planar layers as they are: no interleaved copy. It addresses pixel
+    // (x, y) of the data window at base + x xStride + y yStride.
+    const Imath::Box2i window = header.dataWindow();
+    std::ptrdiff_t origin =
+        std::ptrdiff_t(window.min.x) * std::ptrdiff_t(sizeof(float)) +
+        std::ptrdiff_t(window.min.y) * std::ptrdiff_t(sizeof(float)) * width;
     Imf::FrameBuffer buffer;
     for (const auto &[name, image] : layers) {
         std::vector<std::string> names = ChannelNamesOf(name, image->channels);
         for (int c = 0; c < image->channels; ++c)
             buffer.insert(
                 names[c],
-                Imf::Slice(Imf::FLOAT,
-                           reinterpret_cast<char *>(const_cast<float *>(image->Plane(c))),
-                           sizeof(float), sizeof(float) * size_t(width)));
+                Imf::Slice(
+                    Imf::FLOAT,
+                    reinterpret_cast<char *>(const_cast<float *>(image->Plane(c))) - origin,
+                    sizeof(float), sizeof(float) * size_t(width)));
     }
     UseAllCores();
     WriteAtomically(path, [&](const std::string &temp) {

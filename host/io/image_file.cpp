@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -25,6 +26,7 @@
 #include <set>
 
 #include "host/error.h"
+#include "host/io/layer_names.h"
 
 #ifndef MCD_INSTALL_LIBDIR
 #define MCD_INSTALL_LIBDIR ""
@@ -168,50 +170,121 @@ bool IsExrFile(const std::string &path) {
     return exr;
 }
 
+std::string WindowText(int x, int y, int width, int height) {
+    return fmt::format("{} {} {} {}", x, y, x + width - 1, y + height - 1);
+}
+
+bool ParseWindow(const std::string &text, int *x, int *y, int *width, int *height) {
+    long v[4];
+    char tail;
+    if (std::sscanf(text.c_str(), "%ld %ld %ld %ld %c", &v[0], &v[1], &v[2], &v[3], &tail) != 4)
+        return false;
+    for (long value : v)
+        if (value < INT_MIN / 2 || value > INT_MAX / 2) return false;
+    if (v[2] < v[0] || v[3] < v[1]) return false;
+    *x = int(v[0]), *y = int(v[1]);
+    *width = int(v[2] - v[0] + 1), *height = int(v[3] - v[1] + 1);
+    return true;
+}
+
+void AddWindows(const ImageHeader &h, std::map<std::string, std::string> &metadata) {
+    if (!h.exr || (h.x == 0 && h.y == 0 && h.fullX == h.x && h.fullY == h.y &&
+                   h.fullWidth == h.width && h.fullHeight == h.height))
+        return;
+    metadata[kDataWindowKey] = WindowText(h.x, h.y, h.width, h.height);
+    metadata[kDisplayWindowKey] = WindowText(h.fullX, h.fullY, h.fullWidth, h.fullHeight);
+}
+
+namespace {
+
+// Whether a part's channels make a "color" layer (malformed names make none).
+bool HoldsColor(const std::vector<std::string> &channelNames) {
+    try {
+        for (const LayerChannels &layer : GroupChannels(channelNames))
+            if (layer.name == "color") return true;
+    } catch (const Error &) {
+    }
+    return false;
+}
+
+// The part a frame is read from: part 0 unless another part holds the colour and it does not.
+int ColorPart(const std::vector<ImageHeader::Part> &parts) {
+    if (parts.empty() || parts.front().color) return 0;
+    for (size_t k = 1; k < parts.size(); ++k)
+        if (parts[k].color) return int(k);
+    return 0;
+}
+
+// Part `part` of the file in ImageHeader's terms (not the list of parts).
+void DescribePart(Imf::MultiPartInputFile &file, int part, ImageHeader &header) {
+    const Imf::Header &h = file.header(part);
+    header.part = part;
+    const Imath::Box2i window = h.dataWindow();
+    header.x = window.min.x, header.y = window.min.y;
+    header.width = window.max.x - window.min.x + 1;
+    header.height = window.max.y - window.min.y + 1;
+    const Imath::Box2i display = h.displayWindow();
+    header.fullX = display.min.x, header.fullY = display.min.y;
+    header.fullWidth = display.max.x - display.min.x + 1;
+    header.fullHeight = display.max.y - display.min.y + 1;
+    header.tiled = h.hasTileDescription();
+    header.deep = h.hasType() && Imf::isDeepData(h.type());
+    std::vector<std::string> names;
+    std::vector<Imf::PixelType> types;
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+            throw std::runtime_error(
+                fmt::format("channel '{}' is subsampled, which is unsupported", it.name()));
+        names.push_back(it.name());
+        types.push_back(it.channel().type);
+    }
+    for (int i : OiioChannelOrder(names)) {
+        header.channelNames.push_back(names[i]);
+        SampleType type = types[i] == Imf::HALF    ? SampleType::Half
+                          : types[i] == Imf::FLOAT ? SampleType::Float
+                                                   : SampleType::UInt32;
+        header.channelTypes.push_back(type);
+        header.typeNames.push_back(type == SampleType::Half    ? "half"
+                                   : type == SampleType::Float ? "float"
+                                                               : "uint32");
+    }
+    header.strings["compression"] = CompressionName(h.compression());
+    for (auto it = h.begin(); it != h.end(); ++it) {
+        std::string name = it.name();
+        if (IsLayoutAttribute(name)) continue;
+        name = OiioAttributeName(name);
+        if (auto *s = dynamic_cast<const Imf::StringAttribute *>(&it.attribute()))
+            header.strings[name] = s->value();
+        else if (auto *i = dynamic_cast<const Imf::IntAttribute *>(&it.attribute()))
+            header.ints[name] = i->value();
+        else if (auto *f = dynamic_cast<const Imf::FloatAttribute *>(&it.attribute()))
+            header.floats[name] = f->value();
+    }
+}
+
+}  // namespace
+
 ImageHeader ReadExrHeader(const std::string &path) {
     ImageHeader header;
     header.exr = true;
     try {
         Imf::MultiPartInputFile file(path.c_str());
         header.parts = file.parts();
-        const Imf::Header &h = file.header(0);
-        const Imath::Box2i window = h.dataWindow();
-        header.x = window.min.x, header.y = window.min.y;
-        header.width = window.max.x - window.min.x + 1;
-        header.height = window.max.y - window.min.y + 1;
-        header.tiled = h.hasTileDescription();
-        header.deep = h.hasType() && Imf::isDeepData(h.type());
-        std::vector<std::string> names;
-        std::vector<Imf::PixelType> types;
-        for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
-            if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
-                throw std::runtime_error(
-                    fmt::format("channel '{}' is subsampled, which is unsupported", it.name()));
-            names.push_back(it.name());
-            types.push_back(it.channel().type);
+        if (header.parts > 1) {
+            for (int k = 0; k < header.parts; ++k) {
+                const Imf::Header &h = file.header(k);
+                ImageHeader::Part part;
+                if (h.hasName()) part.name = h.name();
+                const Imath::Box2i window = h.dataWindow();
+                part.width = window.max.x - window.min.x + 1;
+                part.height = window.max.y - window.min.y + 1;
+                for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
+                    part.channelNames.push_back(it.name());
+                part.color = HoldsColor(part.channelNames);
+                header.partList.push_back(std::move(part));
+            }
         }
-        for (int i : OiioChannelOrder(names)) {
-            header.channelNames.push_back(names[i]);
-            SampleType type = types[i] == Imf::HALF    ? SampleType::Half
-                              : types[i] == Imf::FLOAT ? SampleType::Float
-                                                       : SampleType::UInt32;
-            header.channelTypes.push_back(type);
-            header.typeNames.push_back(type == SampleType::Half    ? "half"
-                                       : type == SampleType::Float ? "float"
-                                                                   : "uint32");
-        }
-        header.strings["compression"] = CompressionName(h.compression());
-        for (auto it = h.begin(); it != h.end(); ++it) {
-            std::string name = it.name();
-            if (IsLayoutAttribute(name)) continue;
-            name = OiioAttributeName(name);
-            if (auto *s = dynamic_cast<const Imf::StringAttribute *>(&it.attribute()))
-                header.strings[name] = s->value();
-            else if (auto *i = dynamic_cast<const Imf::IntAttribute *>(&it.attribute()))
-                header.ints[name] = i->value();
-            else if (auto *f = dynamic_cast<const Imf::FloatAttribute *>(&it.attribute()))
-                header.floats[name] = f->value();
-        }
+        DescribePart(file, ColorPart(header.partList), header);
     } catch (const std::exception &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
@@ -305,6 +378,8 @@ ModuleImage::ModuleImage(const std::string &path) : path(path) {
 void ModuleImage::FillHeader(const McdOiioHeader *h) {
     header.x = h->x, header.y = h->y, header.width = h->width, header.height = h->height;
     header.depth = h->depth, header.tiled = h->tiled, header.deep = h->deep;
+    header.fullX = h->x, header.fullY = h->y, header.fullWidth = h->width;
+    header.fullHeight = h->height;
     header.parts = h->subimages;
     for (int c = 0; c < h->channelCount; ++c) {
         header.channelNames.push_back(h->channelNames[c]);

@@ -18,13 +18,24 @@ enum class SampleType { UInt8, UInt16, UInt32, Half, Float, Double, Other };
 struct ImageHeader {
     bool exr = false;
     int x = 0, y = 0, width = 0, height = 0, depth = 1;
+    // The display window (an EXR's displayWindow); the data window where the file has none.
+    int fullX = 0, fullY = 0, fullWidth = 0, fullHeight = 0;
     // In OpenImageIO's order (an EXR's unprefixed channels first, R,G,B,A before others
     // within a layer), which GroupChannels' ties depend on.
     std::vector<std::string> channelNames;
     std::vector<SampleType> channelTypes;
     std::vector<std::string> typeNames;  // for messages
     bool tiled = false, deep = false;
+    // A multi-part EXR: the part described (the one a frame is read from) and every part.
     int parts = 1;
+    int part = 0;
+    struct Part {
+        std::string name;  // "" when the file names none
+        int width = 0, height = 0;
+        std::vector<std::string> channelNames;  // the file's order
+        bool color = false;                     // its channels make a "color" layer
+    };
+    std::vector<Part> partList;  // filled for EXRs of more than one part
     // The file's attributes by OpenImageIO's names ("capDate" is "DateTime", an EXR's
     // compression a string); "oiio:*" names are OpenImageIO's hints, not the file's.
     std::map<std::string, std::string> strings;
@@ -32,10 +43,28 @@ struct ImageHeader {
     std::map<std::string, float> floats;
 };
 
+// The frame metadata keys that carry an EXR's windows from ReadFrame to WriteExr, as
+// "xmin ymin xmax ymax" (OpenEXR's names: layout, never written as attributes). ReadFrame
+// sets them only when the data window does not start at 0,0 or the display window differs.
+inline constexpr const char *kDataWindowKey = "dataWindow";
+inline constexpr const char *kDisplayWindowKey = "displayWindow";
+
+// A window as "xmin ymin xmax ymax".
+std::string WindowText(int x, int y, int width, int height);
+
+// The window of WindowText's form; false when text is not one.
+bool ParseWindow(const std::string &text, int *x, int *y, int *width, int *height);
+
+// Set kDataWindowKey and kDisplayWindowKey in metadata for an EXR whose windows are not
+// the default ones (data window at 0,0, display window the same).
+void AddWindows(const ImageHeader &header, std::map<std::string, std::string> &metadata);
+
 // Whether the file starts with OpenEXR's magic number.
 bool IsExrFile(const std::string &path);
 
-// The header of part 0 of an EXR. Throws mcd::Error (Io) naming the path.
+// The header of the EXR part a frame is read from: part 0 when it holds the colour (a
+// "color" layer) or no part does, else the first part that does; partList lists them all.
+// Throws mcd::Error (Io) naming the path.
 ImageHeader ReadExrHeader(const std::string &path);
 
 // The header of any image file: EXR with OpenEXR, others with the module.

@@ -180,7 +180,7 @@ TEST_F(IoTest, ExrRoundTripIsBitExact) {
         {"color", &color},      {"variance", &variance}, {"spp", &spp},
         {"normal", &normal},    {"depth", &depth},       {"hist", &hist},
         {"DiffInd", &diffInd},  {"feature", &feature},   {"alpha", &alpha},
-        {"color.noisy", &noisy}};
+        {"color.extra", &noisy}};
     std::map<std::string, std::string> metadata = {{"mcd:spp", "64"},
                                                    {"mcd:scene", "cornell box"}};
     std::string path = Path("frame.exr");
@@ -206,7 +206,7 @@ TEST_F(IoTest, ExrRoundTripIsBitExact) {
         EXPECT_EQ(spec.channelformat(c), OIIO::TypeFloat) << spec.channelnames[c];
     for (const char *name :
          {"R", "G", "B", "variance.R", "spp.Y", "normal.X", "normal.Z", "depth.Z", "Bin_0000",
-          "Bin_0060", "DiffInd.B", "feature.11", "A", "color.noisy.R"})
+          "Bin_0060", "DiffInd.B", "feature.11", "A", "color.extra.R"})
         EXPECT_NE(std::find(spec.channelnames.begin(), spec.channelnames.end(), name),
                   spec.channelnames.end())
             << name;

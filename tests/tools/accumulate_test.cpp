@@ -287,6 +287,31 @@ TEST_F(CliAccumulate, CountsNonFiniteAndLeavesThemOut) {
     EXPECT_EQ(acc.Get("hist").At(60, 2, 3), 2.f);
 }
 
+// Frames that state no sample count are counted 1 spp each, which is said once on stderr;
+// frames with a count in their metadata, or an spp layer, say nothing of it.
+TEST_F(CliAccumulate, WarnsOnceWhenTheFramesStateNoSampleCount) {
+    for (int k = 0; k < 3; ++k) {
+        Image color(4, 3, 3, float(k + 1)), spp(4, 3, 1, 8.f);
+        io::WriteExr(Path(fmt::format("u{}.exr", k)), {{"color", &color}});
+        io::WriteExr(Path(fmt::format("s{}.exr", k)), {{"color", &color}}, {{"mcd:spp", "4"}});
+        io::WriteExr(Path(fmt::format("l{}.exr", k)), {{"color", &color}, {"spp", &spp}});
+    }
+    const std::string warning = "the frames state no sample count";
+    ToolResult r = Run("accumulate u0.exr u1.exr u2.exr -o u.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    size_t at = r.err.find(warning);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find(warning, at + 1), std::string::npos) << "said twice: " << r.err;
+    EXPECT_TRUE(Contains(r.err, "counts 1 spp per frame, so the spp layer is 3")) << r.err;
+    EXPECT_TRUE(Contains(r.err, "mcd:spp")) << r.err;
+    EXPECT_EQ(io::ReadFrame(Path("u.exr")).Get("spp").At(0, 2, 3), 3.f);
+    for (const char *set : {"s", "l"}) {
+        r = Run(fmt::format("accumulate {0}0.exr {0}1.exr {0}2.exr -o {0}.exr", set));
+        ASSERT_EQ(r.code, 0) << r.All();
+        EXPECT_FALSE(Contains(r.All(), warning)) << set << ": " << r.All();
+    }
+}
+
 // Layers the frames have that the result does not carry are named, whether accumulate
 // read them (a renderer's pass) or not (partials); those made anew (variance) are not.
 TEST_F(CliAccumulate, NamesTheLayersItDoesNotCarry) {

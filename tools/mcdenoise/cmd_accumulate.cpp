@@ -10,6 +10,7 @@
 #include "host/error.h"
 #include "host/io/accumulate.h"
 #include "host/io/frame.h"
+#include "host/io/image_file.h"
 #include "host/io/layer_names.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/path_guard.h"
@@ -83,6 +84,15 @@ Headers ReadHeaders(const std::vector<std::string> &inputs) {
                    "weights frames equally\n",
                    header.path, io::SppFromMetadata(header.metadata), first.path, h.spp);
     }
+    // No count anywhere (every frame has the first's layers): say what is assumed, once.
+    if (h.spp == 0 && h.sameSpp && !first.layers.count("spp"))
+        fmt::print(stderr,
+                   "warning: the frames state no sample count (no spp layer, no mcd:spp, "
+                   "samplesPerPixel or cycles.<view layer>.samples attribute): accumulate "
+                   "weights them equally and counts 1 spp per frame, so the spp layer is {} "
+                   "(awr reads it); state each frame's count in its header, e.g. oiiotool "
+                   "f.exr --attrib:type=int mcd:spp 16 -o f.exr\n",
+                   h.headers.size());
     return h;
 }
 
@@ -171,7 +181,8 @@ void RunAccumulate(const AccumulateOptions &opt) {
     io::Frame frame = Accumulate(accumulator, opt.inputs, &bytes);
     // The total the metadata states; an spp layer may vary per pixel (adaptive inputs).
     if (h.spp > 0 && h.sameSpp) frame.metadata["mcd:spp"] = std::to_string(h.spp * total);
-    for (const char *key : {"mcd:scene", "mcd:size"})
+    // The first frame's windows too (the frames share the data window).
+    for (const char *key : {"mcd:scene", "mcd:size", io::kDataWindowKey, io::kDisplayWindowKey})
         if (auto it = h.headers.front().metadata.find(key);
             it != h.headers.front().metadata.end())
             frame.metadata[key] = it->second;

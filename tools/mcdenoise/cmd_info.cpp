@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/io/frame.h"
+#include "host/io/image_file.h"
 #include "tools/mcdenoise/commands.h"
 
 namespace mcd::tool {
@@ -42,10 +43,33 @@ void PrintDevices(const std::string &selected) {
     fmt::print("(* = the device mcdenoise uses with these settings)\n");
 }
 
+// Every part of a multi-part EXR: its name, size and channels, and which one is read.
+void PrintParts(const std::string &path) {
+    if (!io::IsExrFile(path)) return;
+    io::ImageHeader header = io::ReadExrHeader(path);
+    for (size_t k = 0; k < header.partList.size(); ++k) {
+        const io::ImageHeader::Part &part = header.partList[k];
+        std::string channels;
+        for (const std::string &name : part.channelNames)
+            channels += (channels.empty() ? "" : ",") + name;
+        fmt::print("  part {}{}: {}x{}, {} channel{} ({}){}\n", k,
+                   part.name.empty() ? "" : fmt::format(" '{}'", part.name), part.width,
+                   part.height, part.channelNames.size(),
+                   part.channelNames.size() == 1 ? "" : "s", channels,
+                   int(k) == header.part
+                       ? (part.color ? "  <- read: it holds the colour" : "  <- read")
+                       : "");
+    }
+}
+
 void PrintFrame(const std::string &path) {
     CheckInputFile(path, "frame");
     io::Frame frame = io::ReadFrame(path);
     fmt::print("{}: {}x{}\n", path, frame.width, frame.height);
+    PrintParts(path);
+    if (auto data = frame.metadata.find(io::kDataWindowKey); data != frame.metadata.end())
+        fmt::print("  data window {}, display window {} (xmin ymin xmax ymax)\n", data->second,
+                   frame.metadata[io::kDisplayWindowKey]);
     for (const auto &[name, image] : frame.layers) {
         double sum = 0;
         size_t nonFinite = 0;

@@ -18,6 +18,7 @@
 #include "host/error.h"
 #include "host/io/conventions.h"
 #include "host/io/frame.h"
+#include "host/io/image_file.h"
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/exit_status.h"
@@ -520,6 +521,10 @@ Pending DenoiseRun::Denoise(size_t i, LoadedFrame &loaded) {
             ErrorLine(loaded.frame.Get("color"), result.image, loaded.reference, f.reference);
     FrameOutput output;
     output.provenance = Provenance(method, result, f.input);
+    // The input's EXR windows, which io::WriteExr keeps in the output.
+    for (const char *key : {io::kDataWindowKey, io::kDisplayWindowKey})
+        if (auto it = loaded.frame.metadata.find(key); it != loaded.frame.metadata.end())
+            output.provenance[key] = it->second;
     if (g.temporal)
         output.provenance["mcd:temporal"] = g.temporal->frame.metadata["mcd:temporalOffsets"];
     output.image = std::move(result.image);
