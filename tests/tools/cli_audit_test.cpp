@@ -1,0 +1,83 @@
+// Issue #29's command-line audit, as a user runs the tool: `wavelet` on NaN/Inf input,
+// `diff` on a frame too small for its method, `compare` on a Blender frame whose colour is
+// denoised in place, the exit status of each kind of failure, and `render`'s refusals of
+// options that make no sense. Tiny frames only.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include "harness/tool.h"
+#include "host/image.h"
+#include "host/io/frame.h"
+#include "tools/mcdenoise/exit_status.h"
+
+namespace mcd::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kBlenderFrame =
+    std::string(MCD_SOURCE_DIR) + "/tests/data/cycles_transparent_24_16spp_s1.exr";
+
+::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
+    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "'" << part << "' not in:\n" << text;
+}
+
+// A failure: the status, one "mcdenoise: error: " line naming `part`, nothing on stdout.
+::testing::AssertionResult Fails(const ToolResult &r, tool::ExitStatus status,
+                                 const std::string &part) {
+    if (r.code != int(status))
+        return ::testing::AssertionFailure()
+               << "exit status " << r.code << ", expected " << int(status) << ":\n"
+               << r.All();
+    if (r.err.rfind("mcdenoise: error: ", 0) != 0)
+        return ::testing::AssertionFailure() << "stderr lacks the prefix:\n" << r.err;
+    return Contains(r.err, part);
+}
+
+class CliAudit : public ::testing::Test {
+  protected:
+    ToolResult Run(const std::string &args) { return tool.Run(args); }
+    fs::path Path(const std::string &name) const { return tool.Path(name); }
+
+    // An 8x6 RGB frame at 0.5 with a NaN at (3, 2) channel 1 and an Inf at (5, 4) channel 0.
+    void WriteNonFiniteFrame(const std::string &name) {
+        Image color(8, 6, 3, 0.5f);
+        color.At(1, 2, 3) = NAN;
+        color.At(0, 4, 5) = INFINITY;
+        io::WriteExr(Path(name).string(), {{"color", &color}});
+    }
+
+    ToolDir tool{"mcd_cli_audit_test"};
+};
+
+// wavelet treats NaN/Inf as denoise does: refused by default (status 5, the layer, count
+// and first pixel named, no output), replaced by 0 with a warning under --non-finite zero.
+TEST_F(CliAudit, WaveletNonFiniteInputIsRefusedOrZeroed) {
+    WriteNonFiniteFrame("nan.exr");
+    ToolResult r = Run("wavelet nan.exr -o out.exr");
+    EXPECT_TRUE(Fails(r, tool::ExitStatus::NonFiniteInput,
+                      "layer 'color' of nan.exr has 2 NaN/Inf values, the first at pixel "
+                      "(3, 2), channel 1 (--non-finite zero replaces them with 0)"));
+    EXPECT_FALSE(Contains(r.out, "round trip")) << r.out;
+    EXPECT_FALSE(fs::exists(Path("out.exr")));
+
+    r = Run("wavelet nan.exr -o out.exr --non-finite zero --levels 2");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.err,
+                         "warning: layer 'color' of nan.exr has 2 NaN/Inf values, the "
+                         "first at pixel (3, 2), channel 1: replaced by 0"));
+    Image back = io::ReadImage(Path("out.exr").string());
+    for (float v : back.data) ASSERT_TRUE(std::isfinite(v));
+    EXPECT_NEAR(back.At(1, 2, 3), 0.f, 1e-5f);
+    EXPECT_NEAR(back.At(0, 0, 0), 0.5f, 1e-5f);
+
+    EXPECT_EQ(Run("wavelet nan.exr --non-finite maybe").code, int(tool::ExitStatus::Usage));
+}
+
+}  // namespace
+}  // namespace mcd::test
