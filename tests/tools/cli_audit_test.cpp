@@ -79,5 +79,19 @@ TEST_F(CliAudit, WaveletNonFiniteInputIsRefusedOrZeroed) {
     EXPECT_EQ(Run("wavelet nan.exr --non-finite maybe").code, int(tool::ExitStatus::Usage));
 }
 
+// diff on a 1x1 frame with awr: one sentence naming the size and the minimum, and what to
+// do, not the method's plan.
+TEST_F(CliAudit, DiffOnAFrameTooSmallSaysSoInOneSentence) {
+    Image color(1, 1, 3, 0.5f), variance(1, 1, 3, 0.01f);
+    io::WriteExr(Path("one.exr").string(), {{"color", &color}, {"variance", &variance}});
+    ToolResult r = Run("diff one.exr --method awr");
+    EXPECT_TRUE(Fails(r, tool::ExitStatus::InvalidArgument,
+                      "mcdenoise: error: diff: awr has nothing to compare on 'one.exr': a "
+                      "1x1 frame is too small for its wavelet transform (at least 2 pixels "
+                      "on a side); diff a larger frame\n"));
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line:\n" << r.err;
+    EXPECT_LT(r.err.size(), 200u) << r.err;
+}
+
 }  // namespace
 }  // namespace mcd::test
