@@ -93,5 +93,27 @@ TEST_F(CliAudit, DiffOnAFrameTooSmallSaysSoInOneSentence) {
     EXPECT_LT(r.err.size(), 200u) << r.err;
 }
 
+// A Blender frame denoised in place holds the denoised colour in Combined and the noisy one
+// in Noisy Image: compare measures Combined, the image the file shows, as denoise wrote it.
+TEST_F(CliAudit, CompareMeasuresBlenderCombined) {
+    fs::copy_file(kBlenderFrame, Path("frame.exr"));
+    fs::copy_file(kBlenderFrame, Path("noisy.exr"));
+    ASSERT_EQ(Run("denoise noisy.exr -o separate.exr --method bayes --alpha-rim 0").code, 0);
+    ToolResult r = Run("denoise frame.exr -o frame.exr --overwrite-input --method bayes");
+    ASSERT_EQ(r.code, 0) << r.All();
+
+    // The in-place result equals the separate one, and it is not the noisy frame.
+    r = Run("compare frame.exr separate.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "frame.exr (ViewLayer.Combined) vs separate.exr: relMSE 0,"));
+    r = Run("compare frame.exr noisy.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Contains(r.out, "relMSE 0,")) << r.out;
+    // A frame without Noisy Image is measured on its colour (Combined) as before.
+    r = Run("compare noisy.exr noisy.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "noisy.exr vs noisy.exr: relMSE 0,"));
+}
+
 }  // namespace
 }  // namespace mcd::test
