@@ -115,5 +115,35 @@ TEST_F(CliAudit, CompareMeasuresBlenderCombined) {
     EXPECT_TRUE(Contains(r.out, "noisy.exr vs noisy.exr: relMSE 0,"));
 }
 
+// The names in a directory (not recursive).
+std::set<std::string> Listing(const fs::path &dir) {
+    std::set<std::string> names;
+    for (const fs::directory_entry &e : fs::directory_iterator(dir))
+        names.insert(e.path().filename().string());
+    return names;
+}
+
+// One representative failure per exit status of docs/usage.md's table that the command line
+// can meet on a tiny frame: usage 2, invalid argument 1, missing layer 4, non-finite 5, I/O 8.
+TEST_F(CliAudit, ExitStatusPerKindOfFailure) {
+    Image color(4, 4, 3, 0.5f);
+    io::WriteExr(Path("f.exr").string(), {{"color", &color}});
+    WriteNonFiniteFrame("nan.exr");
+    using tool::ExitStatus;
+    EXPECT_TRUE(Fails(Run("compare f.exr f.exr --bogus"), ExitStatus::Usage, "--bogus"));
+    EXPECT_TRUE(Fails(Run("wavelet f.exr --levels 99"), ExitStatus::Usage, "--levels"));
+    EXPECT_TRUE(Fails(Run("diff f.exr --method auto"), ExitStatus::InvalidArgument, "'auto'"));
+    EXPECT_TRUE(Fails(Run("wavelet f.exr -o out.txt"), ExitStatus::InvalidArgument, ".txt"));
+    EXPECT_TRUE(
+        Fails(Run("compare f.exr f.exr --layer nope"), ExitStatus::MissingLayer, "'nope'"));
+    EXPECT_TRUE(Fails(Run("diff f.exr --method rhf"), ExitStatus::MissingLayer, "rhf"));
+    EXPECT_TRUE(Fails(Run("compare nan.exr f.exr"), ExitStatus::NonFiniteInput, "nan.exr"));
+    EXPECT_TRUE(Fails(Run("compare missing.exr f.exr"), ExitStatus::Io, "missing.exr"));
+    EXPECT_TRUE(Fails(Run("diff missing.exr"), ExitStatus::Io, "missing.exr"));
+    EXPECT_TRUE(
+        Fails(Run("render --size 4x4 --spp 1 -o nodir/r.exr"), ExitStatus::Io, "nodir"));
+    EXPECT_EQ(Listing(tool.Dir()), (std::set<std::string>{"f.exr", "nan.exr"}));
+}
+
 }  // namespace
 }  // namespace mcd::test
