@@ -145,5 +145,41 @@ TEST_F(CliAudit, ExitStatusPerKindOfFailure) {
     EXPECT_EQ(Listing(tool.Dir()), (std::set<std::string>{"f.exr", "nan.exr"}));
 }
 
+// render refuses options that make no sense as a parse error (status 2), before any work and
+// without writing anything; an unknown scene or layer group as an unknown method is (1).
+TEST_F(CliAudit, RenderRefusesNonsenseBeforeWork) {
+    using tool::ExitStatus;
+    const std::string base = "render --size 4x4 --spp 1 -o r.exr ";
+    struct Case {
+        std::string args;
+        ExitStatus status;
+        std::string part;
+    };
+    const Case cases[] = {
+        {"render --size 0x4 -o r.exr", ExitStatus::Usage, "--size: size '0x4'"},
+        {"render --size -4x4 -o r.exr", ExitStatus::Usage, "--size: size '-4x4'"},
+        {"render --size 4 -o r.exr", ExitStatus::Usage, "WIDTHxHEIGHT"},
+        {"render --size 4x4 --spp 0 -o r.exr", ExitStatus::Usage, "--spp: 0 is out of range"},
+        {"render --size 4x4 --spp -3 -o r.exr", ExitStatus::Usage, "--spp: -3"},
+        {base + "--threads -2", ExitStatus::Usage, "--threads: -2 is out of range"},
+        {base + "--denoised d.exr", ExitStatus::Usage, "--denoised requires --adaptive"},
+        {base + "--density d.png", ExitStatus::Usage, "--density requires --adaptive"},
+        {base + "--reference --layers all", ExitStatus::Usage, "excludes"},
+        {base + "--reference --seed 3", ExitStatus::Usage, "excludes"},
+        {base + "--scene nope", ExitStatus::InvalidArgument, "unknown scene 'nope'"},
+        {base + "--layers nope", ExitStatus::InvalidArgument, "unknown layer group 'nope'"},
+        {base + "--frame 2", ExitStatus::InvalidArgument, "--camera-move"},
+        {base + "--preview p.exr", ExitStatus::InvalidArgument, "'.exr'"},
+    };
+    for (const Case &c : cases) {
+        SCOPED_TRACE(c.args);
+        EXPECT_TRUE(Fails(Run(c.args), c.status, c.part));
+    }
+    EXPECT_TRUE(Listing(tool.Dir()).empty());
+    // The same options, each where it belongs, render.
+    ToolResult r = Run(base + "--threads 1 --seed 3");
+    EXPECT_EQ(r.code, 0) << r.All();
+}
+
 }  // namespace
 }  // namespace mcd::test
