@@ -456,7 +456,9 @@ TEST_F(CliTest, RenderAndCompare) {
     EXPECT_TRUE(Contains(r.out, "relMSE"));
     EXPECT_TRUE(
         IsError(Run("render --scene nope -o h.exr"), ErrorKind::InvalidArgument, "cornell"));
-    EXPECT_TRUE(IsError(Run("render --spp 0 -o h.exr"), ErrorKind::InvalidArgument, "samples"));
+    r = Run("render --spp 0 -o h.exr");  // a value out of its range: a usage error
+    EXPECT_EQ(r.code, int(tool::ExitStatus::Usage)) << r.All();
+    EXPECT_TRUE(Contains(r.err, "--spp: 0 is out of range (at least 1)"));
     EXPECT_TRUE(
         IsError(Run("render --layers hist,nope -o h.exr"), ErrorKind::InvalidArgument, "nope"));
     EXPECT_TRUE(IsError(Run("render --size 4x4 -o h.png"), ErrorKind::InvalidArgument, ".png"));

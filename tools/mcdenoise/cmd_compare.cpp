@@ -37,18 +37,44 @@ void RefuseNonFinite(const Image &image, const std::string &path, const std::str
             ErrorKind::NonFiniteInput);
 }
 
+// The layer of a file that compare measures: `layer` as the conventions read it, except a
+// Blender frame's colour. Its "color" is the renderer's Noisy Image when the file has one
+// (the input a denoiser wants), but the image the file shows, the one to measure, is its
+// Combined, which then keeps its own name ("ViewLayer.Combined" or "Combined").
+std::string MeasuredLayer(const io::Frame &frame, const std::string &layer) {
+    auto convention = frame.metadata.find("mcd:convention");
+    if (layer != "color" || convention == frame.metadata.end() ||
+        convention->second.find("color from Noisy Image") == std::string::npos)
+        return layer;
+    for (const auto &[name, image] : frame.layers)
+        if (name == "Combined" || name.ends_with(".Combined")) return name;
+    return layer;
+}
+
+// The image's name as the result line gives it: its path, and the layer where that is not
+// the one asked for.
+std::string Named(const std::string &path, const std::string &layer, const std::string &asked) {
+    return layer == asked ? path : fmt::format("{} ({})", path, layer);
+}
+
 void RunCompare(const CompareOptions &opt) {
     CheckInputFile(opt.image, "image");
     CheckInputFile(opt.reference, "reference");
-    Image image = io::ReadImage(opt.image, opt.layer);
-    Image reference = io::ReadImage(opt.reference, opt.layer);
-    RefuseNonFinite(image, opt.image, opt.layer, "image");
-    RefuseNonFinite(reference, opt.reference, opt.layer, "reference");
+    io::Frame imageFrame = io::ReadFrame(opt.image);
+    io::Frame referenceFrame = io::ReadFrame(opt.reference);
+    const std::string imageLayer = MeasuredLayer(imageFrame, opt.layer);
+    const std::string referenceLayer = MeasuredLayer(referenceFrame, opt.layer);
+    const Image &image = imageFrame.Get(imageLayer);
+    const Image &reference = referenceFrame.Get(referenceLayer);
+    RefuseNonFinite(image, opt.image, imageLayer, "image");
+    RefuseNonFinite(reference, opt.reference, referenceLayer, "reference");
     ErrorMetrics m = CompareImages(image, reference);
     fmt::print(
         "{} vs {}: relMSE {:.6g}, PSNR {:.2f} dB, SSIM {:.4f}, mean brightness {:.4f} of the "
         "reference's\n",
-        opt.image, opt.reference, m.relMse, m.psnr, m.ssim, m.brightness);
+        Named(opt.image, imageLayer, opt.layer),
+        Named(opt.reference, referenceLayer, opt.layer), m.relMse, m.psnr, m.ssim,
+        m.brightness);
 }
 
 }  // namespace

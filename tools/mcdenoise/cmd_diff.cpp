@@ -10,6 +10,7 @@
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "host/metrics.h"
+#include "host/wavelet.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
 #include "tools/mcdenoise/path_guard.h"
@@ -82,6 +83,29 @@ std::string PrintStages(const DiffOptions &opt, const std::vector<Stage> &gpu,
     return worst;
 }
 
+// Why a run left no stage to compare, in one sentence: a frame too small for any wavelet
+// level (awr's transform needs a side of 2 pixels), else the reason the plan gives.
+Error NothingToCompare(const std::string &method, const io::Frame &frame,
+                       const std::vector<std::string> &plan) {
+    std::string reason = "no stage ran";
+    const std::string leftOut = "left out: ";
+    for (const std::string &line : plan)
+        if (line.rfind(leftOut, 0) == 0) {
+            reason = line.substr(leftOut.size());
+            break;
+        }
+    if (MaxWaveletLevels(frame.width, frame.height) == 0 &&
+        reason.find("(0 levels)") != std::string::npos)
+        return Error(fmt::format("diff: {} has nothing to compare on '{}': a {}x{} frame is "
+                                 "too small for its wavelet transform (at least 2 pixels on a "
+                                 "side); diff a larger frame",
+                                 method, frame.path, frame.width, frame.height),
+                     ErrorKind::InvalidArgument);
+    return Error(fmt::format("diff: {} has nothing to compare on '{}': it left out {}", method,
+                             frame.path, reason),
+                 ErrorKind::InvalidArgument);
+}
+
 void RunDiff(const DiffOptions &opt) {
     if (opt.method == "auto")
         throw Error(fmt::format("diff: unknown method 'auto' (methods with stages: {})",
@@ -101,11 +125,7 @@ void RunDiff(const DiffOptions &opt) {
     run.keepStages = true;
     Result gpu = method.Run(device, frame, run);
     std::vector<Stage> cpu = method.Reference(device, frame);
-    if (gpu.stages.empty())
-        throw Error(
-            fmt::format("{}: nothing to compare: {}", method.Name(),
-                        gpu.plan.empty() ? std::string("no stage ran") : gpu.plan.back()),
-            ErrorKind::InvalidArgument);
+    if (gpu.stages.empty()) throw NothingToCompare(method.Name(), frame, gpu.plan);
     CheckStagesPaired(method.Name(), gpu.stages, cpu);
     fmt::print("{} on {} ({}), GPU against the CPU reference:\n", method.Name(), opt.input,
                device.Name());

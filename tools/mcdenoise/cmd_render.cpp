@@ -237,8 +237,23 @@ void AddFrameOptions(CLI::App *cmd, RenderCommandOptions &opt) {
     for (const std::string &n : render::SceneNames()) names += (names.empty() ? "" : ", ") + n;
     cmd->add_option("-o,--output", opt.output, "output EXR")->required();
     cmd->add_option("--scene", opt.scene, "scene: " + names)->capture_default_str();
-    cmd->add_option("--spp", opt.spp, "samples per pixel (default 16; 4096 with --reference)");
-    cmd->add_option("--size", opt.size, "image size WxH")->capture_default_str();
+    CheckRange(cmd->add_option("--spp", opt.spp,
+                               "samples per pixel (default 16; 4096 with --reference)"),
+               1, 1e30, true);
+    // A malformed or empty size is a command-line mistake, refused by the parse.
+    cmd->add_option("--size", opt.size, "image size WxH")
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](std::string &text) -> std::string {
+                int width = 0, height = 0;
+                try {
+                    ParseSize(text, &width, &height);
+                } catch (const Error &e) {
+                    return e.what();
+                }
+                return "";
+            },
+            ""));
     cmd->add_option("--seed", opt.seed, "random seed (same seed, same frame)")
         ->capture_default_str();
     cmd->add_option("--layers", opt.layers,
@@ -254,8 +269,9 @@ void AddFrameOptions(CLI::App *cmd, RenderCommandOptions &opt) {
                     "also half0.<layer> for variance, spp, min, max and each group's hist, "
                     "split and gbuffer layers but the ids, of the even samples alone); color, "
                     "variance, spp, min and max are always written");
-    cmd->add_option("--threads", opt.threads,
-                    "threads (default: all cores; the frame is the same)");
+    CheckRange(cmd->add_option("--threads", opt.threads,
+                               "threads (default 0: all cores; the frame is the same)"),
+               0, 4096, true);
     cmd->add_option("--preview", opt.preview, "also write a tonemapped PNG of the color");
     cmd->add_option("--camera-move", opt.cameraMove,
                     "a frame of a camera move: X,Y,Z, the camera's step a frame in world units "
@@ -270,6 +286,8 @@ void AddFrameOptions(CLI::App *cmd, RenderCommandOptions &opt) {
         "a converged reference (the always-written layers, its own fixed seed), cached under "
         "$XDG_CACHE_HOME/mcdenoise (else ~/.cache/mcdenoise) by scene, size, spp and "
         "renderer version, so tests and benchmarks render it once");
+    // The reference has its own seed and layers: refuse options it would ignore.
+    cmd->get_option("--reference")->excludes("--layers")->excludes("--seed");
 }
 
 void AddAdaptiveOptions(CLI::App *cmd, RenderCommandOptions &opt) {
@@ -301,6 +319,9 @@ void AddAdaptiveOptions(CLI::App *cmd, RenderCommandOptions &opt) {
             ->capture_default_str()
             ->group(group),
         0, 1e6, false);
+    // These mean nothing without the sampler: say so rather than ignore them.
+    for (const char *name : {"--denoised", "--density", "--sampler-renorm", "--contrast-floor"})
+        cmd->get_option(name)->needs("--adaptive");
 }
 
 void AddTracingOptions(CLI::App *cmd, RenderCommandOptions &opt) {

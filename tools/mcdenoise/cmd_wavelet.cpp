@@ -116,17 +116,51 @@ void DumpBands(const std::filesystem::path &dir, const Image &coef, int levels) 
 }
 
 struct WaveletCommandOptions {
-    std::string input, output, layer = "color", basis = "cdf97", dump;
+    std::string input, output, layer = "color", basis = "cdf97", dump, nonFinite = "refuse";
     int levels = -1;
     DeviceOptions device;
 };
 
+// The count of NaN/Inf values in `image` and the first in raster order (row by row, a
+// pixel's channels together) as "pixel (x, y), channel c".
+size_t CountNonFinite(const Image &image, std::string *first) {
+    size_t count = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            for (int c = 0; c < image.channels; ++c)
+                if (!std::isfinite(image.At(c, y, x)) && count++ == 0)
+                    *first = fmt::format("pixel ({}, {}), channel {}", x, y, c);
+    return count;
+}
+
+// NaN/Inf in the input, as denoise's --non-finite has it: refused (the default), or replaced
+// by 0 with a warning; either way the message names the layer, the count and the first pixel.
+void ApplyNonFinitePolicy(const WaveletCommandOptions &opt, Image &image) {
+    std::string first;
+    size_t count = CountNonFinite(image, &first);
+    if (count == 0) return;
+    std::string where = fmt::format("layer '{}' of {} has {} NaN/Inf value{}, the first at {}",
+                                    opt.layer, opt.input, count, count == 1 ? "" : "s", first);
+    if (opt.nonFinite == "refuse")
+        throw Error(fmt::format("wavelet: {} (--non-finite zero replaces them with 0)", where),
+                    ErrorKind::NonFiniteInput);
+    for (float &v : image.data)
+        if (!std::isfinite(v)) v = 0.f;
+    fmt::print(stderr, "warning: {}: replaced by 0 (--non-finite zero)\n", where);
+}
+
 // The round trip's error and times, printed.
 void PrintRoundTrip(const WaveletCommandOptions &opt, const Image &image, int levels,
                     WaveletBasis basis, const WaveletRoundTrip &trip, vk::Context &context) {
+    // A finite input that comes back NaN/Inf is a failure of the transform, not a figure.
+    std::string first;
+    if (size_t bad = CountNonFinite(trip.reconstruction, &first))
+        throw Error(fmt::format("wavelet: the round trip of {} gave {} NaN/Inf value{} from a "
+                                "finite input, the first at {}",
+                                opt.input, bad, bad == 1 ? "" : "s", first),
+                    ErrorKind::Internal);
     double maxError = 0, maxValue = 0;
     for (size_t i = 0; i < image.Size(); ++i) {
-        if (!std::isfinite(image.data[i])) continue;
         maxError =
             std::max(maxError, double(std::fabs(trip.reconstruction.data[i] - image.data[i])));
         maxValue = std::max(maxValue, double(std::fabs(image.data[i])));
@@ -152,6 +186,7 @@ void RunWavelet(const WaveletCommandOptions &opt) {
     if (!opt.dump.empty()) PrepareDirectory(opt.dump);
     if (!builtin) CheckInputFile(opt.input);
     Image image = builtin ? BuiltinImage(opt.input) : io::ReadImage(opt.input, opt.layer);
+    ApplyNonFinitePolicy(opt, image);
     int maxLevels = MaxWaveletLevels(image.width, image.height);
     int levels = opt.levels < 0 ? maxLevels : opt.levels;
     if (levels > maxLevels)
@@ -199,6 +234,11 @@ void AddWaveletCommand(CLI::App &app) {
                                "decomposition levels (default: as many as fit)"),
                0, 64, true);
     cmd->add_option("--dump", opt->dump, "directory for the coefficient bands");
+    cmd->add_option("--non-finite", opt->nonFinite,
+                    "NaN/Inf input values: refuse (stop, naming the layer, the count and the "
+                    "first pixel) or zero (replace them with 0 and warn so)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"refuse", "zero"}));
     opt->device.Add(cmd);
     cmd->callback([opt] { RunWavelet(*opt); });
 }
