@@ -101,8 +101,8 @@ void ReadBands(ModuleImage &in, const std::vector<Decode> &decode,
 
 // A frame denoised in place (WriteDenoisedOver) keeps the render's colour in
 // kNoisyColorLayer and the denoised one as its colour: the noisy one is the frame's colour,
-// so that denoising it again starts from the render, and the denoised one is not read.
-// Whether it did so.
+// so that denoising it again starts from the render, and the denoised one is the layer
+// kDenoisedColorLayer, so that compare can measure it. Whether it did so.
 bool TakeNoisyColor(std::vector<LayerChannels> &grouped) {
     auto named = [&](const std::string &name) {
         return std::find_if(grouped.begin(), grouped.end(),
@@ -112,8 +112,8 @@ bool TakeNoisyColor(std::vector<LayerChannels> &grouped) {
     if (color == grouped.end() || noisy == grouped.end() ||
         color->channels.size() != noisy->channels.size())
         return false;
-    color->channels = noisy->channels;
-    grouped.erase(noisy);
+    std::swap(color->channels, noisy->channels);
+    noisy->name = kDenoisedColorLayer;
     return true;
 }
 

@@ -17,6 +17,10 @@ using mcd::WritePng;
 // replaced, in our names (ARCHITECTURE.md's layer table); Blender frames use Cycles' own.
 inline constexpr const char *kNoisyColorLayer = "color.noisy";
 
+// The frame's name for the colour channels of such a file once it is read: they hold the
+// denoised result, and kNoisyColorLayer is read as the frame's colour.
+inline constexpr const char *kDenoisedColorLayer = "color.denoised";
+
 // Write a denoised colour into the EXR frame at `path` in place of the renderer's colour
 // (denoise --overwrite-input). Every channel of the file stays under its own name, in its
 // own pixel type, alpha included; the denoised colour goes where the renderer's colour was

@@ -28,9 +28,9 @@ struct ReadOptions {
     uint64_t memoryLimit = 0;
 };
 
-// Read part 0 of an image file, all channels as float, grouped into layers (owned). 8- and
-// 16-bit data (PNG, ...) is sRGB-decoded to linear; 32-bit unsigned EXR channels (ids)
-// keep their integer values. Throws mcd::Error naming the path on any failure.
+// Read an image file (of a multi-part EXR the part that holds the colour, else part 0), all
+// channels as float, grouped into layers (owned). 8- and 16-bit data (PNG, ...) is
+// sRGB-decoded to linear; 32-bit unsigned EXR channels (ids) keep their integer values. Throws mcd::Error naming the path on any failure.
 Frame ReadFrame(const std::string &path, const ReadOptions &options = {});
 
 // ReadFrame(path).Get(layer).

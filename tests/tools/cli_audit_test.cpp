@@ -115,6 +115,26 @@ TEST_F(CliAudit, CompareMeasuresBlenderCombined) {
     EXPECT_TRUE(Contains(r.out, "noisy.exr vs noisy.exr: relMSE 0,"));
 }
 
+// A frame of our names denoised in place holds the result in R,G,B and the render's colour in
+// color.noisy: compare measures the result (color.denoised), not the colour denoise reads.
+TEST_F(CliAudit, CompareMeasuresTheResultOfAFrameDenoisedInPlace) {
+    Image color(8, 6, 3), variance(8, 6, 3, 0.01f);
+    for (size_t i = 0; i < color.data.size(); ++i) color.data[i] = 0.2f + 0.1f * float(i % 7);
+    io::WriteExr(Path("frame.exr").string(), {{"color", &color}, {"variance", &variance}});
+    fs::copy_file(Path("frame.exr"), Path("noisy.exr"));
+    ASSERT_EQ(Run("denoise noisy.exr -o separate.exr --method bayes").code, 0);
+    ToolResult r = Run("denoise frame.exr -o frame.exr --overwrite-input --method bayes");
+    ASSERT_EQ(r.code, 0) << r.All();
+
+    r = Run("compare frame.exr separate.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "frame.exr (color.denoised) vs separate.exr: relMSE 0,"))
+        << r.out;
+    r = Run("compare frame.exr noisy.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Contains(r.out, "relMSE 0,")) << r.out;
+}
+
 // The names in a directory (not recursive).
 std::set<std::string> Listing(const fs::path &dir) {
     std::set<std::string> names;
@@ -140,6 +160,8 @@ TEST_F(CliAudit, ExitStatusPerKindOfFailure) {
     EXPECT_TRUE(Fails(Run("compare nan.exr f.exr"), ExitStatus::NonFiniteInput, "nan.exr"));
     EXPECT_TRUE(Fails(Run("compare missing.exr f.exr"), ExitStatus::Io, "missing.exr"));
     EXPECT_TRUE(Fails(Run("diff missing.exr"), ExitStatus::Io, "missing.exr"));
+    EXPECT_TRUE(
+        Fails(Run("accumulate f.exr missing.exr -o a.exr"), ExitStatus::Io, "missing.exr"));
     EXPECT_TRUE(
         Fails(Run("render --size 4x4 --spp 1 -o nodir/r.exr"), ExitStatus::Io, "nodir"));
     EXPECT_EQ(Listing(tool.Dir()), (std::set<std::string>{"f.exr", "nan.exr"}));

@@ -254,7 +254,7 @@ TEST_F(CliInputSafety, OverwriteInputKeepsEveryLayerAndTheNoisyColor) {
     ASSERT_EQ(r.code, 0) << r.All();
 
     // The file's colour channels hold the result; ReadFrame takes color.noisy, the
-    // render's colour, as the frame's colour.
+    // render's colour, as the frame's colour, and the result as color.denoised.
     auto stored = [&] {
         Image rgb(before.width, before.height, 3);
         EXPECT_TRUE(io::ReadExrChannels(
@@ -263,12 +263,13 @@ TEST_F(CliInputSafety, OverwriteInputKeepsEveryLayerAndTheNoisyColor) {
         return rgb;
     };
     io::Frame after = io::ReadFrame(Path("f.exr").string());
-    EXPECT_EQ(after.layers.size(), before.layers.size());
+    EXPECT_EQ(after.layers.size(), before.layers.size() + 1);
     for (const auto &[name, image] : before.layers) {
         EXPECT_TRUE(BitIdentical(after.Get(name), image)) << name;
     }
     Image denoised = io::ReadImage(Path("d.exr").string());
     EXPECT_TRUE(BitIdentical(stored(), denoised));
+    EXPECT_TRUE(BitIdentical(after.Get(io::kDenoisedColorLayer), denoised));
     EXPECT_FALSE(BitIdentical(denoised, before.Get("color")));
     // The render's metadata stays, the provenance is added.
     EXPECT_EQ(after.metadata["mcd:scene"], before.metadata["mcd:scene"]);
@@ -281,7 +282,7 @@ TEST_F(CliInputSafety, OverwriteInputKeepsEveryLayerAndTheNoisyColor) {
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(fs::is_symlink(Path("link.exr")));
     io::Frame again = io::ReadFrame(Path("f.exr").string());
-    EXPECT_EQ(again.layers.size(), before.layers.size());
+    EXPECT_EQ(again.layers.size(), before.layers.size() + 1);
     EXPECT_TRUE(BitIdentical(again.Get("color"), before.Get("color")));
     EXPECT_TRUE(BitIdentical(stored(), denoised));
 

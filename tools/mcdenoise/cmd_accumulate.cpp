@@ -167,7 +167,10 @@ void PrintAccumulateNotes(const io::Accumulator &accumulator, int total, const H
 void RunAccumulate(const AccumulateOptions &opt) {
     CheckOutputPath(opt.output, {".exr"});
     std::vector<RolePath> inputs;
-    for (const std::string &path : opt.inputs) inputs.push_back({"input", path, ""});
+    for (const std::string &path : opt.inputs) {
+        CheckInputFile(path);
+        inputs.push_back({"input", path, ""});
+    }
     RefuseOverwritingInputs(inputs, {{"-o", opt.output}});
     if (opt.inputs.size() < 2)
         throw Error("accumulate needs two or more frames (the variance is their spread)",
@@ -236,9 +239,8 @@ void AddAccumulateCommand(CLI::App &app) {
         "and writes mcd:sharedCameraRays = 1 on the output (0 when the rays differ). Blender "
         "Cycles frames made with sample_offset are pieces of one stratified sequence, not "
         "independent: the variance across them over-estimates.");
-    cmd->add_option("inputs", opt->inputs, "input frames (EXR), two or more")
-        ->required()
-        ->check(CLI::ExistingFile);
+    // A missing frame is an I/O error (status 8) named by the reader, not a usage error.
+    cmd->add_option("inputs", opt->inputs, "input frames (EXR), two or more")->required();
     cmd->add_option("-o,--output", opt->output, "output EXR")->required();
     CheckRange(cmd->add_option("--hist-bins", opt->histBins, "histogram bins per channel")
                    ->capture_default_str(),

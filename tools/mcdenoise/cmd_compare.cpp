@@ -37,15 +37,19 @@ void RefuseNonFinite(const Image &image, const std::string &path, const std::str
             ErrorKind::NonFiniteInput);
 }
 
-// The layer of a file that compare measures: `layer` as the conventions read it, except a
-// Blender frame's colour. Its "color" is the renderer's Noisy Image when the file has one
-// (the input a denoiser wants), but the image the file shows, the one to measure, is its
-// Combined, which then keeps its own name ("ViewLayer.Combined" or "Combined").
+// The layer of a file that compare measures: `layer` as the conventions read it, except the
+// colour of a frame denoised in place. Its "color" is the noisy colour kept beside the result
+// (Blender's Noisy Image, else kNoisyColorLayer: the input a denoiser wants), but the image
+// the file shows, the one to measure, is the result: Blender's Combined, which then keeps its
+// own name ("ViewLayer.Combined" or "Combined"), else kDenoisedColorLayer.
 std::string MeasuredLayer(const io::Frame &frame, const std::string &layer) {
     auto convention = frame.metadata.find("mcd:convention");
-    if (layer != "color" || convention == frame.metadata.end() ||
-        convention->second.find("color from Noisy Image") == std::string::npos)
-        return layer;
+    if (layer != "color" || convention == frame.metadata.end()) return layer;
+    const std::string &text = convention->second;
+    if (text.find(fmt::format("color from {}", io::kNoisyColorLayer)) != std::string::npos &&
+        frame.Has(io::kDenoisedColorLayer))
+        return io::kDenoisedColorLayer;
+    if (text.find("color from Noisy Image") == std::string::npos) return layer;
     for (const auto &[name, image] : frame.layers)
         if (name == "Combined" || name.ends_with(".Combined")) return name;
     return layer;
