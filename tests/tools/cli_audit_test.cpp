@@ -184,6 +184,7 @@ TEST_F(CliAudit, RenderRefusesNonsenseBeforeWork) {
         {"render --size 4x4 --spp 0 -o r.exr", ExitStatus::Usage, "--spp: 0 is out of range"},
         {"render --size 4x4 --spp -3 -o r.exr", ExitStatus::Usage, "--spp: -3"},
         {base + "--threads -2", ExitStatus::Usage, "--threads: -2 is out of range"},
+        {base + "--seed -1", ExitStatus::Usage, "--seed: -1 is out of range"},
         {base + "--denoised d.exr", ExitStatus::Usage, "--denoised requires --adaptive"},
         {base + "--density d.png", ExitStatus::Usage, "--density requires --adaptive"},
         {base + "--reference --layers all", ExitStatus::Usage, "excludes"},

@@ -85,7 +85,7 @@ void RunBenchRead(const ReadBenchOptions &opt) {
             for (io::ExrDecoder decoder : {io::ExrDecoder::Auto, io::ExrDecoder::OpenExr})
                 ms[decoder == io::ExrDecoder::OpenExr] = MedianMs(opt.repeats, [&] {
                     io::ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets,
-                                        decoder);
+                                        decoder, spec.part);
                 });
             fmt::print("  pixels, {:2} of {} channels: {}; OpenEXR's reader {}\n",
                        targets.size(), spec.channelNames.size(), ms[0], ms[1]);

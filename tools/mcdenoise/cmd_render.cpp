@@ -254,8 +254,16 @@ void AddFrameOptions(CLI::App *cmd, RenderCommandOptions &opt) {
                 return "";
             },
             ""));
+    // A negative seed would wrap to a huge one: refused, not taken.
     cmd->add_option("--seed", opt.seed, "random seed (same seed, same frame)")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](std::string &value) -> std::string {
+                return value.starts_with('-')
+                           ? value + " is out of range (a whole number, 0 or more)"
+                           : "";
+            },
+            ""));
     cmd->add_option("--layers", opt.layers,
                     "extra layer groups, comma-separated: hist (RHF histograms), split "
                     "(direct, indirect and the variances of their means), pivot, gbuffer "
