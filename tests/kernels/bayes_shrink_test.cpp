@@ -215,10 +215,10 @@ TEST_F(BayesTableKernel, MatchesReference) {
 // The cause is the quadrature, not the float arithmetic: the reference and the kernel share
 // the midpoint rule on the sinh grid, whose error at the cusp |c|^p_c (p_c < 1) is large
 // and depends on where the nodes fall, so float nodes and double nodes differ by more than
-// rounding. An exact reference (adaptive Gauss-Legendre split at the cusps, branch
-// bayes-table) shows the kernel's rule itself off beyond the bound at every shape; the
-// kernel's rule must be split at its cusps before this case can pass. Replay with
-// --gtest_also_run_disabled_tests.
+// rounding. An exact reference (adaptive Gauss-Legendre split at the cusps, tried on a
+// branch that did not land) showed the kernel's rule itself off beyond the bound at every
+// shape; the kernel's rule must be split at its cusps before this case can pass. Replay
+// with --gtest_also_run_disabled_tests.
 TEST_F(BayesTableKernel, DISABLED_LowShapeMatchesReference) {
     ExpectTable(true, "bayes table kernel p_low");
 }
