@@ -167,6 +167,30 @@ TEST_F(CliAudit, ExitStatusPerKindOfFailure) {
     EXPECT_EQ(Listing(tool.Dir()), (std::set<std::string>{"f.exr", "nan.exr"}));
 }
 
+// A --dump directory is checked before any work and made only when something is written
+// into it: a refused run leaves no empty directory behind; a file in its place is refused.
+TEST_F(CliAudit, DumpDirectoryIsMadeOnlyWhenWritten) {
+    WriteNonFiniteFrame("nan.exr");
+    Image tiny(1, 1, 3, 0.5f), variance(1, 1, 3, 0.01f);
+    io::WriteExr(Path("one.exr").string(), {{"color", &tiny}, {"variance", &variance}});
+    using tool::ExitStatus;
+    EXPECT_TRUE(
+        Fails(Run("wavelet nan.exr --dump bands"), ExitStatus::NonFiniteInput, "nan.exr"));
+    EXPECT_TRUE(Fails(Run("wavelet f.exr --dump bands"), ExitStatus::Io, "f.exr"));
+    EXPECT_TRUE(Fails(Run("diff one.exr --method awr --dump stages"),
+                      ExitStatus::InvalidArgument, "too small"));
+    EXPECT_FALSE(fs::exists(Path("bands")));
+    EXPECT_FALSE(fs::exists(Path("stages")));
+    EXPECT_TRUE(Fails(Run("wavelet nan.exr --non-finite zero --dump one.exr"), ExitStatus::Io,
+                      "'one.exr' is a file, not a directory"));
+    EXPECT_TRUE(Fails(Run("diff one.exr --method awr --dump one.exr/x"), ExitStatus::Io,
+                      "is a file, not a directory"));
+    // A run that writes makes the directory, with its parents.
+    ToolResult r = Run("wavelet nan.exr --non-finite zero --levels 1 --dump deep/bands");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_FALSE(Listing(Path("deep/bands")).empty());
+}
+
 // render refuses options that make no sense as a parse error (status 2), before any work and
 // without writing anything; an unknown scene or layer group as an unknown method is (1).
 TEST_F(CliAudit, RenderRefusesNonsenseBeforeWork) {
@@ -189,6 +213,8 @@ TEST_F(CliAudit, RenderRefusesNonsenseBeforeWork) {
         {base + "--density d.png", ExitStatus::Usage, "--density requires --adaptive"},
         {base + "--reference --layers all", ExitStatus::Usage, "excludes"},
         {base + "--reference --seed 3", ExitStatus::Usage, "excludes"},
+        {base + "--tracing-filter --reference", ExitStatus::Usage, "excludes"},
+        {base + "--tracing-filter --adaptive awr", ExitStatus::Usage, "excludes"},
         {base + "--scene nope", ExitStatus::InvalidArgument, "unknown scene 'nope'"},
         {base + "--layers nope", ExitStatus::InvalidArgument, "unknown layer group 'nope'"},
         {base + "--frame 2", ExitStatus::InvalidArgument, "--camera-move"},

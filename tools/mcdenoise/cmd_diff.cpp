@@ -74,6 +74,7 @@ std::string PrintStages(const DiffOptions &opt, const std::vector<Stage> &gpu,
                 "{} elements finite on one side only",
                 g.name, e.nmse, opt.maxNmse, e.parity);
         if (!opt.dump.empty()) {
+            PrepareDirectory(opt.dump);
             std::filesystem::path dir(opt.dump);
             io::WriteExr((dir / (FileName(g.name) + ".gpu.exr")).string(),
                          {{"color", &g.image}});
@@ -117,7 +118,7 @@ void RunDiff(const DiffOptions &opt) {
                             [](const std::string &name) {
                                 return name.ends_with(".gpu.exr") || name.ends_with(".cpu.exr");
                             });
-    if (!opt.dump.empty()) PrepareDirectory(opt.dump);
+    if (!opt.dump.empty()) CheckDirectory(opt.dump, "--dump");
     CheckInputFile(opt.input);
     io::Frame frame = io::ReadFrame(opt.input);
     Device device(opt.device.Options());

@@ -183,9 +183,6 @@ void RenderFrame(const render::Scene &scene, const RenderCommandOptions &opt,
 }
 
 void RunRender(const RenderCommandOptions &opt) {
-    if (opt.tracingFilter && (opt.reference || !opt.adaptive.empty()))
-        throw Error("--tracing-filter renders its own frame; drop --reference and --adaptive",
-                    ErrorKind::InvalidArgument);
     render::RenderOptions options;
     ParseSize(opt.size, &options.width, &options.height);
     options.spp = opt.reference && !opt.sppGiven ? 4096 : opt.spp;
@@ -392,6 +389,8 @@ void AddRenderCommand(CLI::App &app) {
     opt->device.Add(cmd);
     AddAdaptiveOptions(cmd, *opt);
     AddTracingOptions(cmd, *opt);
+    // The tracing filter renders its own frame: refuse the options that make another.
+    cmd->get_option("--tracing-filter")->excludes("--reference")->excludes("--adaptive");
     cmd->callback([opt, cmd] {
         opt->sppGiven = cmd->get_option("--spp")->count() > 0;
         RunRender(*opt);

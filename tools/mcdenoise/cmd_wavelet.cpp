@@ -183,7 +183,7 @@ void RunWavelet(const WaveletCommandOptions &opt) {
     bool builtin = opt.input.rfind("builtin:", 0) == 0;
     std::vector<RolePath> inputs = {{"input", builtin ? "" : opt.input}};
     RefuseOverwritingInputs(inputs, {{"-o", opt.output}});
-    if (!opt.dump.empty()) PrepareDirectory(opt.dump);
+    if (!opt.dump.empty()) CheckDirectory(opt.dump, "--dump");
     if (!builtin) CheckInputFile(opt.input);
     Image image = builtin ? BuiltinImage(opt.input) : io::ReadImage(opt.input, opt.layer);
     ApplyNonFinitePolicy(opt, image);
@@ -205,6 +205,7 @@ void RunWavelet(const WaveletCommandOptions &opt) {
     WaveletRoundTrip trip = RunWaveletRoundTrip(context, image, *basis, levels);
     PrintRoundTrip(opt, image, levels, *basis, trip, context);
     if (!opt.dump.empty()) {
+        PrepareDirectory(opt.dump);
         DumpBands(opt.dump, trip.coefficients, levels);
         fmt::print("  bands written to {}\n", opt.dump);
     }

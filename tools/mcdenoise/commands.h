@@ -69,4 +69,9 @@ void WriteImage(const std::string &path, const Image &image,
 // Create `path` as a directory (with parents) or throw if it cannot be one.
 void PrepareDirectory(const std::string &path);
 
+// Refuse, before any work and creating nothing, a directory PrepareDirectory could not
+// make: `path` is a file, or the nearest existing directory above it is not writable.
+// `role` names it in the message ("--dump").
+void CheckDirectory(const std::string &path, const std::string &role);
+
 }  // namespace mcd::tool

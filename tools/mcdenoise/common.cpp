@@ -123,4 +123,24 @@ void PrepareDirectory(const std::string &path) {
                     ErrorKind::Io);
 }
 
+void CheckDirectory(const std::string &path, const std::string &role) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::path dir = fs::absolute(path, ec);
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+        throw Error(fmt::format("{} '{}' is a file, not a directory", role, path),
+                    ErrorKind::Io);
+    // The nearest existing directory takes the new ones.
+    while (!fs::exists(dir, ec) && dir.has_parent_path() && dir.parent_path() != dir)
+        dir = dir.parent_path();
+    if (!fs::is_directory(dir, ec))
+        throw Error(
+            fmt::format("{} '{}': '{}' is a file, not a directory", role, path, dir.string()),
+            ErrorKind::Io);
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+        throw Error(fmt::format("{} '{}': directory '{}' is not writable: {}", role, path,
+                                dir.string(), std::strerror(errno)),
+                    ErrorKind::Io);
+}
+
 }  // namespace mcd::tool
