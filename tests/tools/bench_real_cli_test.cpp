@@ -253,6 +253,33 @@ TEST_F(CliBenchReal, ReferenceFromTheChunksPresent) {
     EXPECT_NE(r.out.find("its own relMSE noise unknown"), std::string::npos) << r.out;
 }
 
+// A peer that fails leaves its rows refused with the last two lines it printed, whole, and
+// the run goes on: the methods' rows and the report are written, exit 0.
+TEST_F(CliBenchReal, AFailingPeerIsARefusedRowWithItsLastLines) {
+    if (!fs::exists("/usr/bin/python3")) GTEST_SKIP() << "the peer runs by /usr/bin/python3";
+    fs::create_directories(tool.Path("peer"));
+    std::ofstream(tool.Path("peer/denoise_exr.py"))
+        << "import sys\n"
+           "print('first line of a long log ' * 20)\n"
+           "print(' lib/oidnDenoise.bin: error while loading shared libraries: x.so.2')\n"
+           "print('oidnDenoise failed (rc=127)')\n"
+           "sys.exit(1)\n";
+    ToolResult r = tool.Run("bench real set --oidn peer --methods awr -o report");
+    ASSERT_EQ(r.code, 0) << r.All();
+    const std::string want =
+        "failed: lib/oidnDenoise.bin: error while loading shared "
+        "libraries: x.so.2 / oidnDenoise failed (rc=127)";
+    std::string csv = Read("report/real.csv");
+    for (const char *key : {"scene_a,plain,oidn,", "scene_a,accumulated,oidn color,"}) {
+        std::map<std::string, std::string> row = CsvRow(csv, key);
+        ASSERT_FALSE(row.empty()) << key << " not in:\n" << csv;
+        EXPECT_NE(row["refused"].find(want), std::string::npos)
+            << key << ": " << row["refused"];
+        EXPECT_EQ(row["refused"].find("first line"), std::string::npos) << row["refused"];
+    }
+    EXPECT_FALSE(CsvRow(csv, "scene_a,plain,awr,").empty()) << csv;
+}
+
 TEST_F(CliBenchReal, RefusesWhatIsNotASet) {
     ToolResult r = tool.Run("bench real missing --no-oidn -o report");
     EXPECT_NE(r.code, 0);

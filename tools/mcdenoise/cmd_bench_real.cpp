@@ -119,8 +119,15 @@ Image RunOidn(const std::string &oidn, const std::string &input, const std::stri
     while (std::fgets(buffer, sizeof buffer, pipe)) log += buffer;
     int status = pclose(pipe);
     if (status != 0 || !fs::exists(output)) {
-        std::string tail = log.size() > 300 ? log.substr(log.size() - 300) : log;
-        std::replace(tail.begin(), tail.end(), '\n', ' ');
+        // Its last two lines, whole: the loader's or the script's own complaint.
+        std::vector<std::string> lines;
+        std::istringstream stream(log);
+        for (std::string line; std::getline(stream, line);)
+            if (size_t start = line.find_first_not_of(" \t"); start != std::string::npos)
+                lines.push_back(line.substr(start));
+        std::string tail;
+        for (size_t k = lines.size() > 2 ? lines.size() - 2 : 0; k < lines.size(); ++k)
+            tail += (tail.empty() ? "" : " / ") + lines[k];
         throw Error(
             fmt::format("{}{} on {} failed: {}", (fs::path(oidn) / "denoise_exr.py").string(),
                         aux ? " --aux" : "", input, tail),
