@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <cstring>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <new>
 #include <stdexcept>
@@ -35,6 +36,7 @@
 #endif
 
 #include "host/error.h"
+#include "host/io/image_file.h"
 
 namespace mcd::io {
 
@@ -393,6 +395,31 @@ bool ReadExrChannels(const std::string &path, int x, int y, int width, int heigh
     } catch (const std::exception &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }
+    return true;
+}
+
+bool ReadExrFrameChannels(const std::string &path, const ImageHeader &header,
+                          const std::vector<ExrTarget> &targets, ExrDecoder decoder) {
+    if (header.channelSources.empty())
+        return ReadExrChannels(path, header.x, header.y, header.width, header.height, targets,
+                               decoder, header.part);
+    // The targets by the part that stores them, under their names there.
+    std::map<int, std::vector<ExrTarget>> byPart;
+    for (const ExrTarget &target : targets) {
+        auto it =
+            std::find(header.channelNames.begin(), header.channelNames.end(), target.channel);
+        if (it == header.channelNames.end())
+            throw Error(
+                fmt::format("cannot read '{}': it has no channel '{}'", path, target.channel),
+                ErrorKind::Io);
+        const ImageHeader::ChannelSource &source =
+            header.channelSources[it - header.channelNames.begin()];
+        byPart[source.part].push_back({source.name, target.plane});
+    }
+    for (const auto &[part, partTargets] : byPart)
+        if (!ReadExrChannels(path, header.x, header.y, header.width, header.height, partTargets,
+                             decoder, part))
+            return false;
     return true;
 }
 

@@ -29,4 +29,14 @@ bool ReadExrChannels(const std::string &path, int x, int y, int width, int heigh
                      const std::vector<ExrTarget> &targets,
                      ExrDecoder decoder = ExrDecoder::Auto, int part = 0);
 
+struct ImageHeader;
+
+// Read the channels of a frame's header (ReadExrHeader's) into the targets, each target named
+// as the header names its channel: the read part's through ReadExrChannels, a joined part's
+// from that part under its own name there (ImageHeader::channelSources). False as
+// ReadExrChannels.
+bool ReadExrFrameChannels(const std::string &path, const ImageHeader &header,
+                          const std::vector<ExrTarget> &targets,
+                          ExrDecoder decoder = ExrDecoder::Auto);
+
 }  // namespace mcd::io

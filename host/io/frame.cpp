@@ -117,20 +117,30 @@ bool TakeNoisyColor(std::vector<LayerChannels> &grouped) {
     return true;
 }
 
-// Which part of a multi-part EXR was read, and the parts that were not; "" for one part.
+// Which part of a multi-part EXR was read, the parts joined to it and what was not read,
+// and why; "" for one part.
 std::string PartsNote(const ImageHeader &spec) {
     if (spec.partList.size() < 2) return "";
     auto label = [&](int k) {
         const std::string &name = spec.partList[k].name;
         return name.empty() ? std::to_string(k) : fmt::format("{} ({})", k, name);
     };
-    std::string others;
-    for (int k = 0; k < int(spec.partList.size()); ++k)
-        if (k != spec.part) others += (others.empty() ? "" : ", ") + label(k);
-    return fmt::format("part {} of {}{}; not read: part{} {}", label(spec.part),
-                       spec.partList.size(),
-                       spec.partList[spec.part].color ? ", the colour's" : "",
-                       spec.partList.size() > 2 ? "s" : "", others);
+    std::string joined, left;
+    for (int k = 0; k < int(spec.partList.size()); ++k) {
+        if (k == spec.part) continue;
+        const ImageHeader::Part &part = spec.partList[k];
+        if (part.joined) joined += (joined.empty() ? "" : ", ") + label(k);
+        if (!part.left.empty())
+            left += fmt::format("{}part {}{}: {}", left.empty() ? "" : "; ", label(k),
+                                part.joined ? "'s other channels" : "", part.left);
+    }
+    std::string note = fmt::format("part {} of {}{}", label(spec.part), spec.partList.size(),
+                                   spec.partList[spec.part].color ? ", the colour's" : "");
+    if (!joined.empty())
+        note += "; joined: part" +
+                std::string(joined.find(',') == std::string::npos ? " " : "s ") + joined;
+    if (!left.empty()) note += "; not read: " + left;
+    return note;
 }
 
 // Add to the frame's mcd:convention which part it was read from and whether its colour is
@@ -244,8 +254,7 @@ Frame ReadFrame(const std::string &path, const ReadOptions &options) {
         std::vector<ExrTarget> targets;
         for (int c = 0; c < channelCount; ++c)
             if (destination[c]) targets.push_back({spec.channelNames[c], destination[c]});
-        if (!ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets,
-                             ExrDecoder::Auto, spec.part))
+        if (!ReadExrFrameChannels(path, spec, targets))
             throw Error(
                 fmt::format("cannot read '{}': subsampled channels are unsupported", path),
                 ErrorKind::Io);

@@ -215,6 +215,10 @@ int ColorPart(const std::vector<ImageHeader::Part> &parts) {
     return 0;
 }
 
+const char *SampleTypeName(SampleType type) {
+    return type == SampleType::Half ? "half" : type == SampleType::Float ? "float" : "uint32";
+}
+
 // Part `part` of the file in ImageHeader's terms (not the list of parts).
 void DescribePart(Imf::MultiPartInputFile &file, int part, ImageHeader &header) {
     const Imf::Header &h = file.header(part);
@@ -244,9 +248,7 @@ void DescribePart(Imf::MultiPartInputFile &file, int part, ImageHeader &header) 
                           : types[i] == Imf::FLOAT ? SampleType::Float
                                                    : SampleType::UInt32;
         header.channelTypes.push_back(type);
-        header.typeNames.push_back(type == SampleType::Half    ? "half"
-                                   : type == SampleType::Float ? "float"
-                                                               : "uint32");
+        header.typeNames.push_back(SampleTypeName(type));
     }
     header.strings["compression"] = CompressionName(h.compression());
     for (auto it = h.begin(); it != h.end(); ++it) {
@@ -259,6 +261,65 @@ void DescribePart(Imf::MultiPartInputFile &file, int part, ImageHeader &header) 
             header.ints[name] = i->value();
         else if (auto *f = dynamic_cast<const Imf::FloatAttribute *>(&it.attribute()))
             header.floats[name] = f->value();
+    }
+}
+
+// Why part k cannot be joined to the read part's channels; "" when it can.
+std::string JoinRefusal(const Imf::Header &h, const ImageHeader &header, int k) {
+    const ImageHeader::Part &part = header.partList[k];
+    if (h.hasType() && Imf::isDeepData(h.type())) return "deep";
+    if (part.x != header.x || part.y != header.y || part.width != header.width ||
+        part.height != header.height)
+        return fmt::format("its data window {}x{} at {},{} is not the colour's {}x{} at {},{}",
+                           part.width, part.height, part.x, part.y, header.width, header.height,
+                           header.x, header.y);
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
+        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+            return fmt::format("channel '{}' is subsampled", it.name());
+    return "";
+}
+
+// Join part k's channels to the header's (the read part's): after them, in OpenImageIO's
+// order within the part, each recorded in channelSources. Names the frame already has are
+// left, and said so in the part's `left`.
+void JoinPart(Imf::MultiPartInputFile &file, int k, ImageHeader &header) {
+    const Imf::Header &h = file.header(k);
+    ImageHeader::Part &part = header.partList[k];
+    part.left = JoinRefusal(h, header, k);
+    if (!part.left.empty()) return;
+    if (header.channelSources.empty())
+        for (const std::string &name : header.channelNames)
+            header.channelSources.push_back({header.part, name});
+    std::vector<std::string> names;
+    std::vector<Imf::PixelType> types;
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+        names.push_back(it.name());
+        types.push_back(it.channel().type);
+    }
+    std::vector<std::string> clashes;
+    for (int i : OiioChannelOrder(names)) {
+        // An unprefixed channel of a named part is that part's layer.
+        std::string full = names[i].find('.') == std::string::npos && !part.name.empty()
+                               ? part.name + "." + names[i]
+                               : names[i];
+        if (std::find(header.channelNames.begin(), header.channelNames.end(), full) !=
+            header.channelNames.end()) {
+            clashes.push_back(full);
+            continue;
+        }
+        SampleType type = types[i] == Imf::HALF    ? SampleType::Half
+                          : types[i] == Imf::FLOAT ? SampleType::Float
+                                                   : SampleType::UInt32;
+        header.channelNames.push_back(full);
+        header.channelTypes.push_back(type);
+        header.typeNames.push_back(SampleTypeName(type));
+        header.channelSources.push_back({k, names[i]});
+        part.joined = true;
+    }
+    if (!clashes.empty()) {
+        std::string list;
+        for (const std::string &name : clashes) list += (list.empty() ? "" : ",") + name;
+        part.left = fmt::format("the frame already has {}", list);
     }
 }
 
@@ -276,6 +337,7 @@ ImageHeader ReadExrHeader(const std::string &path) {
                 ImageHeader::Part part;
                 if (h.hasName()) part.name = h.name();
                 const Imath::Box2i window = h.dataWindow();
+                part.x = window.min.x, part.y = window.min.y;
                 part.width = window.max.x - window.min.x + 1;
                 part.height = window.max.y - window.min.y + 1;
                 for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
@@ -285,6 +347,8 @@ ImageHeader ReadExrHeader(const std::string &path) {
             }
         }
         DescribePart(file, ColorPart(header.partList), header);
+        for (int k = 0; k < int(header.partList.size()); ++k)
+            if (k != header.part) JoinPart(file, k, header);
     } catch (const std::exception &e) {
         throw Error(fmt::format("cannot read '{}': {}", path, e.what()), ErrorKind::Io);
     }

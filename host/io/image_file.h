@@ -30,12 +30,21 @@ struct ImageHeader {
     int parts = 1;
     int part = 0;
     struct Part {
-        std::string name;  // "" when the file names none
-        int width = 0, height = 0;
-        std::vector<std::string> channelNames;  // the file's order
-        bool color = false;                     // its channels make a "color" layer
+        std::string name;                         // "" when the file names none
+        int x = 0, y = 0, width = 0, height = 0;  // the data window
+        std::vector<std::string> channelNames;    // the file's order
+        bool color = false;                       // its channels make a "color" layer
+        bool joined = false;  // some of its channels are joined to the read part's
+        std::string left;     // why it, or some of its channels, were not joined
     };
     std::vector<Part> partList;  // filled for EXRs of more than one part
+    // Where each of channelNames is stored: its part and its name there. Empty when every
+    // channel is the read part's under its own name.
+    struct ChannelSource {
+        int part = 0;
+        std::string name;
+    };
+    std::vector<ChannelSource> channelSources;
     // The file's attributes by OpenImageIO's names ("capDate" is "DateTime", an EXR's
     // compression a string); "oiio:*" names are OpenImageIO's hints, not the file's.
     std::map<std::string, std::string> strings;
@@ -64,6 +73,9 @@ bool IsExrFile(const std::string &path);
 
 // The header of the EXR part a frame is read from: part 0 when it holds the colour (a
 // "color" layer) or no part does, else the first part that does; partList lists them all.
+// The channels of the other parts of the same data window are joined to it (after its own,
+// channelSources saying where each is stored), an unprefixed name ("R") taking its part's
+// name as its layer ("albedo.R"); a name the frame already has stays the read part's.
 // Throws mcd::Error (Io) naming the path.
 ImageHeader ReadExrHeader(const std::string &path);
 

@@ -165,7 +165,8 @@ TEST_F(CliExrFiles, DenoiseAndAccumulateKeepTheWindows) {
 }
 
 // A compositor's layout: the albedo in part 0, the beauty in part 1. The frame is read from
-// part 1, as the same colour in a one-part file is, and `info` lists both parts.
+// part 1 with part 0's albedo joined to it, as the same channels in a one-part file are, and
+// `info` lists both parts.
 TEST_F(CliExrFiles, MultiPartFramesAreReadFromThePartWithTheColour) {
     std::vector<std::pair<std::string, std::vector<float>>> albedo;
     for (const char *name : {"albedo.B", "albedo.G", "albedo.R"})
@@ -173,25 +174,28 @@ TEST_F(CliExrFiles, MultiPartFramesAreReadFromThePartWithTheColour) {
     const Imath::Box2i window = Box(0, 0, 9, 5);
     WriteParts(Path("multi.exr"), {{"aux", window, window, albedo},
                                    {"beauty", window, window, NoisyChannels(10, 6, 3)}});
-    WriteParts(Path("one.exr"), {{"", window, window, NoisyChannels(10, 6, 3)}});
+    std::vector<std::pair<std::string, std::vector<float>>> all = NoisyChannels(10, 6, 3);
+    all.insert(all.end(), albedo.begin(), albedo.end());
+    WriteParts(Path("one.exr"), {{"", window, window, all}});
 
     ToolResult r = Run("info multi.exr");
     ASSERT_EQ(r.code, 0) << r.All();
-    EXPECT_TRUE(Contains(r.out, "part 0 'aux': 10x6, 3 channels (albedo.B,albedo.G,albedo.R)"))
+    EXPECT_TRUE(Contains(
+        r.out, "part 0 'aux': 10x6, 3 channels (albedo.B,albedo.G,albedo.R)  <- joined\n"))
         << r.out;
     EXPECT_TRUE(Contains(r.out,
                          "part 1 'beauty': 10x6, 6 channels (B,G,R,variance.B,"
                          "variance.G,variance.R)  <- read: it holds the colour"))
         << r.out;
     EXPECT_TRUE(Contains(r.out,
-                         "mcd:convention = part 1 (beauty) of 2, the colour's; not "
-                         "read: part 0 (aux)"))
+                         "mcd:convention = part 1 (beauty) of 2, the colour's; joined: "
+                         "part 0 (aux)\n"))
         << r.out;
 
     io::Frame multi = io::ReadFrame(Path("multi.exr")), one = io::ReadFrame(Path("one.exr"));
-    ASSERT_TRUE(multi.Has("color") && multi.Has("variance")) << r.out;
-    EXPECT_TRUE(BitIdentical(multi.Get("color"), one.Get("color")));
-    EXPECT_FALSE(multi.Has("albedo"));
+    ASSERT_TRUE(multi.Has("color") && multi.Has("variance") && multi.Has("albedo")) << r.out;
+    for (const char *layer : {"color", "variance", "albedo"})
+        EXPECT_TRUE(BitIdentical(multi.Get(layer), one.Get(layer))) << layer;
 
     r = Run("denoise multi.exr --method awr -o dm.exr");
     ASSERT_EQ(r.code, 0) << r.All();
@@ -202,6 +206,73 @@ TEST_F(CliExrFiles, MultiPartFramesAreReadFromThePartWithTheColour) {
     r = Run("denoise multi.exr --method awr -o multi.exr --overwrite-input");
     EXPECT_NE(r.code, 0);
     EXPECT_TRUE(Contains(r.err, "it has 2 parts")) << r.err;
+}
+
+// Parts of the colour's data window are joined: an unprefixed part's channels under its name
+// ("albedo" holding R,G,B), a prefixed one's as they are; a name the frame already has and a
+// part of another window are not read, and `info` and mcd:convention say why. nfor, which
+// reads albedo and normal, gives the one-part file's bits.
+TEST_F(CliExrFiles, MultiPartLayersOfTheColoursWindowAreJoined) {
+    const int width = 16, height = 12;
+    const Imath::Box2i window = Box(0, 0, width - 1, height - 1);
+    auto constant = [&](std::initializer_list<const char *> names, float first, int w, int h) {
+        std::vector<std::pair<std::string, std::vector<float>>> channels;
+        float value = first;
+        for (const char *name : names) {
+            std::vector<float> values(size_t(w) * h);
+            for (size_t i = 0; i < values.size(); ++i) values[i] = value + 0.01f * float(i % 7);
+            channels.push_back({name, values});
+            value += 0.1f;
+        }
+        return channels;
+    };
+    auto albedo = constant({"B", "G", "R"}, 0.3f, width, height);
+    auto aux =
+        constant({"normal.X", "normal.Y", "normal.Z", "variance.R"}, 0.2f, width, height);
+    WriteParts(Path("multi.exr"),
+               {{"beauty", window, window, NoisyChannels(width, height, 5)},
+                {"albedo", window, window, albedo},
+                {"aux", window, window, aux},
+                {"half", Box(0, 0, 4, 2), window, constant({"Y"}, 0.5f, 5, 3)}});
+    std::vector<std::pair<std::string, std::vector<float>>> all =
+        NoisyChannels(width, height, 5);
+    for (auto &[name, values] : albedo) all.push_back({"albedo." + name, values});
+    for (auto &[name, values] : aux)
+        if (name != "variance.R") all.push_back({name, values});
+    WriteParts(Path("one.exr"), {{"", window, window, all}});
+
+    ToolResult r = Run("info multi.exr");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(Contains(r.out, "part 1 'albedo': 16x12, 3 channels (B,G,R)  <- joined\n"))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out, "  <- joined (not read: the frame already has variance.R)\n"))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out,
+                         "part 3 'half': 5x3, 1 channel (Y) (not read: its data window 5x3 "
+                         "at 0,0 is not the colour's 16x12 at 0,0)\n"))
+        << r.out;
+    EXPECT_TRUE(Contains(r.out,
+                         "mcd:convention = part 0 (beauty) of 4, the colour's; joined: parts "
+                         "1 (albedo), 2 (aux); not read: part 2 (aux)'s other channels: the "
+                         "frame already has variance.R; part 3 (half): its data window"))
+        << r.out;
+
+    io::Frame multi = io::ReadFrame(Path("multi.exr")), one = io::ReadFrame(Path("one.exr"));
+    for (const char *layer : {"color", "variance", "albedo", "normal"}) {
+        ASSERT_TRUE(multi.Has(layer)) << layer;
+        EXPECT_TRUE(BitIdentical(multi.Get(layer), one.Get(layer))) << layer;
+    }
+    EXPECT_FALSE(multi.Has("Y"));
+
+    ASSERT_EQ(Run("denoise multi.exr --method nfor -o dm.exr").code, 0);
+    ASSERT_EQ(Run("denoise one.exr --method nfor -o d1.exr").code, 0);
+    EXPECT_TRUE(BitIdentical(io::ReadImage(Path("dm.exr")), io::ReadImage(Path("d1.exr"))));
+    // nfor read the joined layers: without them its output differs.
+    std::vector<std::pair<std::string, std::vector<float>>> bare =
+        NoisyChannels(width, height, 5);
+    WriteParts(Path("bare.exr"), {{"", window, window, bare}});
+    ASSERT_EQ(Run("denoise bare.exr --method nfor -o db.exr").code, 0);
+    EXPECT_FALSE(BitIdentical(io::ReadImage(Path("dm.exr")), io::ReadImage(Path("db.exr"))));
 }
 
 // The first run writes the denoised colour into R,G,B and the render's into color.noisy;

@@ -84,8 +84,7 @@ void RunBenchRead(const ReadBenchOptions &opt) {
             std::string ms[2];
             for (io::ExrDecoder decoder : {io::ExrDecoder::Auto, io::ExrDecoder::OpenExr})
                 ms[decoder == io::ExrDecoder::OpenExr] = MedianMs(opt.repeats, [&] {
-                    io::ReadExrChannels(path, spec.x, spec.y, spec.width, spec.height, targets,
-                                        decoder, spec.part);
+                    io::ReadExrFrameChannels(path, spec, targets, decoder);
                 });
             fmt::print("  pixels, {:2} of {} channels: {}; OpenEXR's reader {}\n",
                        targets.size(), spec.channelNames.size(), ms[0], ms[1]);

@@ -43,7 +43,8 @@ void PrintDevices(const std::string &selected) {
     fmt::print("(* = the device mcdenoise uses with these settings)\n");
 }
 
-// Every part of a multi-part EXR: its name, size and channels, and which one is read.
+// Every part of a multi-part EXR: its name, size and channels, which one is read, which
+// are joined to it, and what is not read and why.
 void PrintParts(const std::string &path) {
     if (!io::IsExrFile(path)) return;
     io::ImageHeader header = io::ReadExrHeader(path);
@@ -52,13 +53,15 @@ void PrintParts(const std::string &path) {
         std::string channels;
         for (const std::string &name : part.channelNames)
             channels += (channels.empty() ? "" : ",") + name;
-        fmt::print("  part {}{}: {}x{}, {} channel{} ({}){}\n", k,
+        fmt::print("  part {}{}: {}x{}, {} channel{} ({}){}{}\n", k,
                    part.name.empty() ? "" : fmt::format(" '{}'", part.name), part.width,
                    part.height, part.channelNames.size(),
                    part.channelNames.size() == 1 ? "" : "s", channels,
                    int(k) == header.part
                        ? (part.color ? "  <- read: it holds the colour" : "  <- read")
-                       : "");
+                   : part.joined ? "  <- joined"
+                                 : "",
+                   part.left.empty() ? "" : fmt::format(" (not read: {})", part.left));
     }
 }
 
