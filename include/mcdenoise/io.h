@@ -28,17 +28,22 @@ struct ReadOptions {
     uint64_t memoryLimit = 0;
 };
 
-// Read an image file (of a multi-part EXR the part that holds the colour, else part 0), all
-// channels as float, grouped into layers (owned). 8- and 16-bit data (PNG, ...) is
-// sRGB-decoded to linear; 32-bit unsigned EXR channels (ids) keep their integer values. Throws mcd::Error naming the path on any failure.
+// Read an image file (of a multi-part EXR the part that holds the colour, else part 0, with
+// the other parts of its data window joined: docs/frames.md), all channels as float,
+// grouped into layers (owned). 8- and 16-bit data (PNG, ...) is sRGB-decoded to linear;
+// 32-bit unsigned EXR channels (ids) keep their integer values. Throws mcd::Error naming the
+// path on any failure.
 Frame ReadFrame(const std::string &path, const ReadOptions &options = {});
 
 // ReadFrame(path).Get(layer).
 Image ReadImage(const std::string &path, const std::string &layer = "color");
 
 // Write float32 EXR (zip) with the layers in the given order; ReadFrame gives back the same
-// layers bit for bit. All layers must have the same size. Atomic: the file at path is
-// either the old one or the new one.
+// layers bit for bit. All layers must have the same size. The metadata keys dataWindow and
+// displayWindow (ReadFrame sets them for an EXR whose windows are not the default ones) place
+// the layers where their frame was; windows of another size than the layers' are not theirs
+// and are left out (data and display window at 0,0, the layers' size). Atomic: the file at
+// path is either the old one or the new one.
 void WriteExr(const std::string &path,
               const std::vector<std::pair<std::string, const Image *>> &layers,
               const std::map<std::string, std::string> &metadata = {});
