@@ -215,6 +215,12 @@ int ColorPart(const std::vector<ImageHeader::Part> &parts) {
     return 0;
 }
 
+SampleType SampleTypeOf(Imf::PixelType type) {
+    return type == Imf::HALF    ? SampleType::Half
+           : type == Imf::FLOAT ? SampleType::Float
+                                : SampleType::UInt32;
+}
+
 const char *SampleTypeName(SampleType type) {
     return type == SampleType::Half ? "half" : type == SampleType::Float ? "float" : "uint32";
 }
@@ -244,11 +250,8 @@ void DescribePart(Imf::MultiPartInputFile &file, int part, ImageHeader &header) 
     }
     for (int i : OiioChannelOrder(names)) {
         header.channelNames.push_back(names[i]);
-        SampleType type = types[i] == Imf::HALF    ? SampleType::Half
-                          : types[i] == Imf::FLOAT ? SampleType::Float
-                                                   : SampleType::UInt32;
-        header.channelTypes.push_back(type);
-        header.typeNames.push_back(SampleTypeName(type));
+        header.channelTypes.push_back(SampleTypeOf(types[i]));
+        header.typeNames.push_back(SampleTypeName(header.channelTypes.back()));
     }
     header.strings["compression"] = CompressionName(h.compression());
     for (auto it = h.begin(); it != h.end(); ++it) {
@@ -307,12 +310,9 @@ void JoinPart(Imf::MultiPartInputFile &file, int k, ImageHeader &header) {
             clashes.push_back(full);
             continue;
         }
-        SampleType type = types[i] == Imf::HALF    ? SampleType::Half
-                          : types[i] == Imf::FLOAT ? SampleType::Float
-                                                   : SampleType::UInt32;
         header.channelNames.push_back(full);
-        header.channelTypes.push_back(type);
-        header.typeNames.push_back(SampleTypeName(type));
+        header.channelTypes.push_back(SampleTypeOf(types[i]));
+        header.typeNames.push_back(SampleTypeName(header.channelTypes.back()));
         header.channelSources.push_back({k, names[i]});
         part.joined = true;
     }
