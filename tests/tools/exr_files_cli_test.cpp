@@ -273,6 +273,23 @@ TEST_F(CliExrFiles, MultiPartLayersOfTheColoursWindowAreJoined) {
     WriteParts(Path("bare.exr"), {{"", window, window, bare}});
     ASSERT_EQ(Run("denoise bare.exr --method nfor -o db.exr").code, 0);
     EXPECT_FALSE(BitIdentical(io::ReadImage(Path("dm.exr")), io::ReadImage(Path("db.exr"))));
+
+    // bench read reads what ReadFrame reads: the joined channels as the one-part file's.
+    auto readCounts = [&](const std::string &file) {
+        ToolResult b = Run("bench read " + file + " --method nfor --repeat 1");
+        EXPECT_EQ(b.code, 0) << b.All();
+        std::string counts;
+        size_t layers = b.out.find(" layers,");
+        if (size_t start = b.out.rfind(", ", layers); layers != std::string::npos)
+            counts += b.out.substr(start, layers - start);
+        for (size_t at = b.out.find("pixels, "); at != std::string::npos;
+             at = b.out.find("pixels, ", at + 1))
+            counts += "; " + b.out.substr(at, b.out.find(':', at) - at);
+        return counts;
+    };
+    std::string multiCounts = readCounts("multi.exr");
+    EXPECT_TRUE(Contains(multiCounts, "of 12 channels")) << multiCounts;
+    EXPECT_EQ(multiCounts, readCounts("one.exr"));
 }
 
 // The first run writes the denoised colour into R,G,B and the render's into color.noisy;
