@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "host/api/front_end.h"
+#include "host/common/non_finite.h"
 #include "host/common/parallel.h"
 #include "host/methods/run_memo.h"
 
@@ -151,25 +152,13 @@ const Image &Inputs::Get(const std::string &layer) {
     const Image &image = it != overrides.end() ? it->second : frame.Get(layer);
     if (checked[layer]) return image;
     checked[layer] = true;
-    // Count the non-finite values and find the first in raster order (row by row, a pixel's
-    // channels together), as a user reads the image.
-    size_t bad = 0;
-    const size_t pixels = std::max<size_t>(image.PixelCount(), 1);
-    size_t firstPixel = pixels, firstChannel = 0;
-    for (size_t i = 0; i < image.data.size(); ++i) {
-        if (std::isfinite(image.data[i])) continue;
-        ++bad;
-        if (i % pixels < firstPixel) firstPixel = i % pixels, firstChannel = i / pixels;
-    }
-    if (bad == 0) return image;
-    int channel = int(firstChannel);
-    int y = int(firstPixel) / std::max(image.width, 1);
-    int x = int(firstPixel) % std::max(image.width, 1);
+    const NonFiniteCount bad = CountNonFinite(image);
+    if (bad.count == 0) return image;
     std::string where = fmt::format(
         "layer '{}' of {} has {} NaN/Inf value{}, the first at "
         "pixel ({}, {}), channel {}",
-        layer, frame.path.empty() ? "the frame" : frame.path, bad, bad == 1 ? "" : "s", x, y,
-        channel);
+        layer, frame.path.empty() ? "the frame" : frame.path, bad.count,
+        bad.count == 1 ? "" : "s", bad.x, bad.y, bad.channel);
     if (refuseNonFinite)
         throw Error(
             fmt::format("{}: {} (--non-finite zero replaces them with 0)", method, where),

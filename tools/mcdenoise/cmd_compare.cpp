@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "host/common/non_finite.h"
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "host/metrics.h"
@@ -20,20 +21,14 @@ struct CompareOptions {
 // and the first in raster order (row by row, a pixel's channels together).
 void RefuseNonFinite(const Image &image, const std::string &path, const std::string &layer,
                      const char *what) {
-    size_t count = 0;
-    int first[3] = {};
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x)
-            for (int c = 0; c < image.channels; ++c)
-                if (!std::isfinite(image.At(c, y, x)) && count++ == 0)
-                    first[0] = x, first[1] = y, first[2] = c;
-    if (count)
+    const NonFiniteCount bad = CountNonFinite(image);
+    if (bad.count)
         throw Error(
             fmt::format("{} '{}' has {} NaN/Inf value{} in layer {} (the first at pixel "
                         "({}, {}), channel {}): the error is not defined; replace them "
                         "first (denoise --non-finite zero does)",
-                        what, path, count, count == 1 ? "" : "s", layer, first[0], first[1],
-                        first[2]),
+                        what, path, bad.count, bad.count == 1 ? "" : "s", layer, bad.x, bad.y,
+                        bad.channel),
             ErrorKind::NonFiniteInput);
 }
 

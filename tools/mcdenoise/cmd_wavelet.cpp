@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "host/common/non_finite.h"
 #include "host/error.h"
 #include "host/io/frame.h"
 #include "host/vk/gpu_image.h"
@@ -121,26 +122,19 @@ struct WaveletCommandOptions {
     DeviceOptions device;
 };
 
-// The count of NaN/Inf values in `image` and the first in raster order (row by row, a
-// pixel's channels together) as "pixel (x, y), channel c".
-size_t CountNonFinite(const Image &image, std::string *first) {
-    size_t count = 0;
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x)
-            for (int c = 0; c < image.channels; ++c)
-                if (!std::isfinite(image.At(c, y, x)) && count++ == 0)
-                    *first = fmt::format("pixel ({}, {}), channel {}", x, y, c);
-    return count;
+// The first NaN/Inf value of a count, as messages name it.
+std::string FirstNonFinite(const NonFiniteCount &bad) {
+    return fmt::format("pixel ({}, {}), channel {}", bad.x, bad.y, bad.channel);
 }
 
 // NaN/Inf in the input, as denoise's --non-finite has it: refused (the default), or replaced
 // by 0 with a warning; either way the message names the layer, the count and the first pixel.
 void ApplyNonFinitePolicy(const WaveletCommandOptions &opt, Image &image) {
-    std::string first;
-    size_t count = CountNonFinite(image, &first);
-    if (count == 0) return;
-    std::string where = fmt::format("layer '{}' of {} has {} NaN/Inf value{}, the first at {}",
-                                    opt.layer, opt.input, count, count == 1 ? "" : "s", first);
+    const NonFiniteCount bad = CountNonFinite(image);
+    if (bad.count == 0) return;
+    std::string where =
+        fmt::format("layer '{}' of {} has {} NaN/Inf value{}, the first at {}", opt.layer,
+                    opt.input, bad.count, bad.count == 1 ? "" : "s", FirstNonFinite(bad));
     if (opt.nonFinite == "refuse")
         throw Error(fmt::format("wavelet: {} (--non-finite zero replaces them with 0)", where),
                     ErrorKind::NonFiniteInput);
@@ -153,12 +147,12 @@ void ApplyNonFinitePolicy(const WaveletCommandOptions &opt, Image &image) {
 void PrintRoundTrip(const WaveletCommandOptions &opt, const Image &image, int levels,
                     WaveletBasis basis, const WaveletRoundTrip &trip, vk::Context &context) {
     // A finite input that comes back NaN/Inf is a failure of the transform, not a figure.
-    std::string first;
-    if (size_t bad = CountNonFinite(trip.reconstruction, &first))
-        throw Error(fmt::format("wavelet: the round trip of {} gave {} NaN/Inf value{} from a "
-                                "finite input, the first at {}",
-                                opt.input, bad, bad == 1 ? "" : "s", first),
-                    ErrorKind::Internal);
+    if (const NonFiniteCount bad = CountNonFinite(trip.reconstruction); bad.count)
+        throw Error(
+            fmt::format("wavelet: the round trip of {} gave {} NaN/Inf value{} from a "
+                        "finite input, the first at {}",
+                        opt.input, bad.count, bad.count == 1 ? "" : "s", FirstNonFinite(bad)),
+            ErrorKind::Internal);
     double maxError = 0, maxValue = 0;
     for (size_t i = 0; i < image.Size(); ++i) {
         maxError =
