@@ -55,8 +55,11 @@ std::optional<Thrown> ThrownBy(F &&f) {
     return std::nullopt;
 }
 
-inline bool Contains(const std::string &text, const std::string &part) {
-    return text.find(part) != std::string::npos;
+// Whether `text` holds `part`; a failure quotes both, so a test's message shows the text.
+inline ::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
+    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure()
+           << "'" << text << "' does not contain '" << part << "'";
 }
 
 // Whether f throws an mcd::Error of `kind` (whose message holds `part`, when one is given:

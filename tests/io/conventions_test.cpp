@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/errors.h"
 #include "host/error.h"
 #include "host/image.h"
 #include "host/io/conventions.h"
@@ -30,15 +31,10 @@ namespace mcd::io {
 namespace {
 
 namespace fs = std::filesystem;
+using test::Contains;
 
 const std::string kTransparent =
     std::string(MCD_SOURCE_DIR) + "/tests/data/cycles_transparent_24_16spp_s1.exr";
-
-::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
-    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure()
-           << "'" << text << "' does not contain '" << part << "'";
-}
 
 std::string ReadBytes(const fs::path &path) {
     std::ifstream in(path, std::ios::binary);

@@ -31,14 +31,9 @@ namespace mcd::io {
 namespace {
 
 namespace fs = std::filesystem;
+using test::Contains;
 using test::ErrorOf;
 using test::ThrowsError;
-
-::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
-    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure()
-           << "'" << text << "' does not contain '" << part << "'";
-}
 
 std::string ReadBytes(const fs::path &path) {
     std::ifstream in(path, std::ios::binary);

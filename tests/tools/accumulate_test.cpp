@@ -32,10 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool Contains(const std::string &text, const std::string &part) {
-    return text.find(part) != std::string::npos;
-}
-
 // Relative closeness for float results of double sums.
 void ExpectClose(float got, double want, const std::string &what) {
     EXPECT_LE(std::abs(got - want), 1e-5 * std::max(1.0, std::abs(want))) << what;

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/errors.h"
 #include "harness/tool.h"
 #include "host/image.h"
 #include "host/io/frame.h"
@@ -25,10 +26,6 @@ namespace fs = std::filesystem;
 
 const std::string kData = std::string(MCD_SOURCE_DIR) + "/tests/data/";
 const std::string kFrame = kData + "cycles_transparent_24_16spp_s1.exr";
-
-bool Contains(const std::string &text, const std::string &part) {
-    return text.find(part) != std::string::npos;
-}
 
 bool SameBits(float a, float b) {
     return std::memcmp(&a, &b, sizeof a) == 0;

@@ -9,6 +9,7 @@
 #include <set>
 #include <string>
 
+#include "harness/errors.h"
 #include "harness/tool.h"
 #include "host/image.h"
 #include "host/io/frame.h"
@@ -21,11 +22,6 @@ namespace fs = std::filesystem;
 
 const std::string kBlenderFrame =
     std::string(MCD_SOURCE_DIR) + "/tests/data/cycles_transparent_24_16spp_s1.exr";
-
-::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
-    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << "'" << part << "' not in:\n" << text;
-}
 
 // A failure: the status, one "mcdenoise: error: " line naming `part`, nothing on stdout.
 ::testing::AssertionResult Fails(const ToolResult &r, tool::ExitStatus status,

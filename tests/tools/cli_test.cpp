@@ -23,6 +23,7 @@
 #include "bayes/bayes.h"
 #include "cpu_reference/wavelet_analyze.h"
 #include "harness/compare.h"
+#include "harness/errors.h"
 #include "harness/inputs.h"
 #include "harness/tool.h"
 #include "host/image.h"
@@ -42,12 +43,6 @@ using RunResult = ToolResult;
 std::string ReadBytes(const fs::path &path) {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
-    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure()
-           << "'" << text << "' does not contain '" << part << "'";
 }
 
 // A failure reported by main(): the exit status of its kind, stderr starting with

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "harness/compare.h"
+#include "harness/errors.h"
 #include "harness/tool.h"
 #include "host/image.h"
 #include "host/io/exr_read.h"
@@ -31,10 +32,6 @@ namespace mcd::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool Contains(const std::string &text, const std::string &part) {
-    return text.find(part) != std::string::npos;
-}
 
 // One part of a file written with OpenEXR itself: float channels, each a plane of the data
 // window's size.

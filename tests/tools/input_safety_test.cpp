@@ -41,12 +41,6 @@ std::string ReadBytes(const fs::path &path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-::testing::AssertionResult Contains(const std::string &text, const std::string &part) {
-    if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure()
-           << "'" << text << "' does not contain '" << part << "'";
-}
-
 // A refusal reported by main(): an invalid argument's exit status, "mcdenoise: error:",
 // naming every part.
 ::testing::AssertionResult IsError(const ToolResult &r, const std::vector<std::string> &parts) {

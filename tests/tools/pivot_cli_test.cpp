@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "harness/errors.h"
 #include "harness/tool.h"
 #include "host/image.h"
 #include "host/io/frame.h"
@@ -25,10 +26,6 @@ namespace {
 namespace fs = std::filesystem;
 
 using RunResult = ToolResult;
-
-bool Contains(const std::string &text, const std::string &part) {
-    return text.find(part) != std::string::npos;
-}
 
 class PivotCli : public ::testing::Test {
   protected:
