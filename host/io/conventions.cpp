@@ -188,6 +188,10 @@ std::string ReadBlender(Frame &frame, const std::set<std::string> &names,
                         const std::set<std::string> &passes, const std::string &viewLayer) {
     std::vector<std::string> parts;
     bool noisy = passes.count("Noisy Image") > 0;
+    if (noisy)
+        for (const auto &[name, image] : frame.layers)
+            if (name == "Combined" || name.ends_with(".Combined"))
+                frame.metadata[kShownColorKey] = name;
     if (frame.Has("color"))
         parts.push_back(noisy ? "color from Noisy Image (Combined is denoised)"
                               : "color from Combined");
@@ -311,6 +315,7 @@ bool IsSplitSource(const std::string &layer) {
 void ApplyConventions(Frame &frame, const std::vector<std::string> &channelNames,
                       const std::map<std::string, double> &numbers) {
     frame.metadata.erase(kConventionKey);
+    frame.metadata.erase(kShownColorKey);
     std::set<std::string> names(channelNames.begin(), channelNames.end()), prefixes;
     for (const std::string &name : channelNames) prefixes.insert(PrefixOf(name));
 

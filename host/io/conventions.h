@@ -14,6 +14,11 @@ namespace mcd::io {
 
 // The metadata key that says how a frame was read; absent for frames in our own names.
 inline constexpr const char *kConventionKey = "mcd:convention";
+// The metadata key naming the layer that holds the image a file shows when the frame's
+// colour is a noisy colour kept beside a denoised result (Blender's Combined beside its
+// Noisy Image; kDenoisedColorLayer beside kNoisyColorLayer); absent otherwise. Set on
+// read, so a file's own value is dropped like its mcd:convention.
+inline constexpr const char *kShownColorKey = "mcd:shownColor";
 
 // Convert the layers of a frame just read: channelNames are the file's channel names,
 // numbers its numeric header attributes (pbrt-v4's samplesPerPixel is an int).

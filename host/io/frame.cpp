@@ -144,12 +144,14 @@ std::string PartsNote(const ImageHeader &spec) {
 }
 
 // Add to the frame's mcd:convention which part it was read from and whether its colour is
-// the noisy one kept beside a denoised result.
+// the noisy one kept beside a denoised result (then kShownColorKey names the result).
 void AddReadNotes(Frame &frame, const ImageHeader &spec, bool tookNoisy) {
     std::string note = PartsNote(spec);
-    if (tookNoisy)
+    if (tookNoisy) {
         note += fmt::format("{}color from {} (the colour channels hold a denoised result)",
                             note.empty() ? "" : " | ", kNoisyColorLayer);
+        frame.metadata[kShownColorKey] = kDenoisedColorLayer;
+    }
     if (!note.empty()) {
         std::string &text = frame.metadata[kConventionKey];
         text += (text.empty() ? "" : " | ") + note;

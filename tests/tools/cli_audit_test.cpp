@@ -109,6 +109,9 @@ TEST_F(CliAudit, CompareMeasuresBlenderCombined) {
     r = Run("compare noisy.exr noisy.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "noisy.exr vs noisy.exr: relMSE 0,"));
+    // The reader names the shown layer; info prints it.
+    EXPECT_TRUE(Contains(Run("info frame.exr").out, "mcd:shownColor = ViewLayer.Combined"));
+    EXPECT_FALSE(Contains(Run("info noisy.exr").out, "mcd:shownColor"));
 }
 
 // A frame of our names denoised in place holds the result in R,G,B and the render's colour in
@@ -126,6 +129,7 @@ TEST_F(CliAudit, CompareMeasuresTheResultOfAFrameDenoisedInPlace) {
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_TRUE(Contains(r.out, "frame.exr (color.denoised) vs separate.exr: relMSE 0,"))
         << r.out;
+    EXPECT_TRUE(Contains(Run("info frame.exr").out, "mcd:shownColor = color.denoised"));
     r = Run("compare frame.exr noisy.exr");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_FALSE(Contains(r.out, "relMSE 0,")) << r.out;

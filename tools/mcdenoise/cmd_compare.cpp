@@ -5,6 +5,7 @@
 
 #include "host/common/non_finite.h"
 #include "host/error.h"
+#include "host/io/conventions.h"
 #include "host/io/frame.h"
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
@@ -35,19 +36,13 @@ void RefuseNonFinite(const Image &image, const std::string &path, const std::str
 // The layer of a file that compare measures: `layer` as the conventions read it, except the
 // colour of a frame denoised in place. Its "color" is the noisy colour kept beside the result
 // (Blender's Noisy Image, else kNoisyColorLayer: the input a denoiser wants), but the image
-// the file shows, the one to measure, is the result: Blender's Combined, which then keeps its
-// own name ("ViewLayer.Combined" or "Combined"), else kDenoisedColorLayer.
+// the file shows, the one to measure, is the result that the reader names in
+// kShownColorKey: Blender's Combined under its own name, else kDenoisedColorLayer.
 std::string MeasuredLayer(const io::Frame &frame, const std::string &layer) {
-    auto convention = frame.metadata.find("mcd:convention");
-    if (layer != "color" || convention == frame.metadata.end()) return layer;
-    const std::string &text = convention->second;
-    if (text.find(fmt::format("color from {}", io::kNoisyColorLayer)) != std::string::npos &&
-        frame.Has(io::kDenoisedColorLayer))
-        return io::kDenoisedColorLayer;
-    if (text.find("color from Noisy Image") == std::string::npos) return layer;
-    for (const auto &[name, image] : frame.layers)
-        if (name == "Combined" || name.ends_with(".Combined")) return name;
-    return layer;
+    auto shown = frame.metadata.find(io::kShownColorKey);
+    if (layer != "color" || shown == frame.metadata.end() || !frame.Has(shown->second))
+        return layer;
+    return shown->second;
 }
 
 // The image's name as the result line gives it: its path, and the layer where that is not
