@@ -186,6 +186,59 @@ TEST_F(CliBenchReal, InputRowsAndReferenceNoiseFollowTheirDefinitions) {
     EXPECT_NE(Read("report/real.md").find("| mean over the scenes |"), std::string::npos);
 }
 
+// Each object's light from the accumulated frame's objectId layer, for both frames' rows:
+// an object of its ids' pixels, one under kObjectPixels left out; the darkest named in the
+// CSV, the rows and the object table.
+TEST_F(CliBenchReal, ObjectsLightFollowsItsDefinition) {
+    // Object 1 the left half (128 pixels), 2 the right half but 8 pixels of 3.
+    Image ids(kSide, kSide, 1), variance(kSide, kSide, 3, 1e-3f), spp(kSide, kSide, 1, 16.f);
+    for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide; ++x)
+            ids.At(0, y, x) = x < kSide / 2 ? 1.f : y == 0 && x >= kSide / 2 ? 3.f : 2.f;
+    io::WriteExr(
+        Path("set/scene_a/acc.exr"),
+        {{"color", &reference}, {"variance", &variance}, {"spp", &spp}, {"objectId", &ids}},
+        {{"mcd:spp", "16"}});
+    ToolResult r = tool.Run("bench real set --no-oidn --methods awr -o report");
+    ASSERT_EQ(r.code, 0) << r.All();
+
+    // The plain frame's light over the reference's per object, from the definition.
+    auto light = [&](const Image &image, float id) {
+        double sum = 0;
+        for (int y = 0; y < kSide; ++y)
+            for (int x = 0; x < kSide; ++x)
+                if (ids.At(0, y, x) == id)
+                    sum += 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) +
+                           0.0722 * image.At(2, y, x);
+        return sum;
+    };
+    double one = light(plain, 1) / light(reference, 1),
+           two = light(plain, 2) / light(reference, 2);
+    // Both lie near 0.9; the bad pixels (x = 3, 7: object 1; x = 11: object 2) lift them.
+    ASSERT_NE(one, two);
+    std::string csv = Read("report/real.csv");
+    auto input = CsvRow(csv, "scene_a,plain,input");
+    ExpectRelative(input["darkest_object"], std::min(one, two), 1e-4, "darkest object");
+    EXPECT_EQ(input["darkest_object_id"], one < two ? "1" : "2");
+    auto accumulated = CsvRow(csv, "scene_a,accumulated,input");
+    EXPECT_EQ(std::stod(accumulated["darkest_object"]), 1.0);
+
+    std::string md = Read("report/real.md");
+    EXPECT_NE(md.find("| scene_a plain | pixels | input | awr |"), std::string::npos) << md;
+    EXPECT_NE(md.find(fmt::format("| object 1 | 128 | {:.3f} |", one)), std::string::npos);
+    EXPECT_NE(md.find(fmt::format("| object 2 | 120 | {:.3f} |", two)), std::string::npos);
+    EXPECT_EQ(md.find("| object 3 |"), std::string::npos) << "8 pixels are measured";
+}
+
+// Without ids no object is measured and the report has no object table.
+TEST_F(CliBenchReal, NoObjectsWithoutIds) {
+    ToolResult r = tool.Run("bench real set --no-oidn --methods awr -o report");
+    ASSERT_EQ(r.code, 0) << r.All();
+    EXPECT_TRUE(
+        CsvRow(Read("report/real.csv"), "scene_a,plain,input")["darkest_object"].empty());
+    EXPECT_EQ(Read("report/real.md").find("## Objects"), std::string::npos);
+}
+
 // A scene with reference chunks (realset.sh while it renders): the reference is the mean
 // of the chunks present, whatever an older ref.exr holds, its noise from the odd and the
 // even chunks (two halves of 2 and 1 chunks), its spp their sum.

@@ -2,6 +2,7 @@
 // scripts/blender/realset.sh writes) and the report written from them.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -10,13 +11,28 @@
 
 namespace mcd::tool {
 
+// Objects smaller than this many pixels are not measured on their own: their light is
+// too few pixels' noise.
+inline constexpr int kObjectPixels = 64;
+
+// An object's light in an output over the reference's: Rec. 709 luminance summed over the
+// pixels of its id.
+struct ObjectLight {
+    int pixels = 0;
+    double ratio = 1;
+};
+
 // One output measured against its scene's reference: the input itself ("input"), a
 // method, auto, or a peer ("oidn", "oidn color").
 struct RealRow {
     std::string scene, frame, method;  // frame: "plain" or "accumulated"
     std::string refused;               // why the method did not run on the frame
-    ErrorMetrics error;   // with the mean brightness of the output over the reference's
-    double worst = 0;     // mean relMSE term of the worst 1% of pixels
+    ErrorMetrics error;  // with the mean brightness of the output over the reference's
+    double worst = 0;    // mean relMSE term of the worst 1% of pixels
+    // Each object id's light (objects of kObjectPixels or more where the scene has ids) and
+    // the darkest of them (id -1: none measured).
+    std::map<int, ObjectLight> objects;
+    int darkestId = -1;
     double seconds = -1;  // denoise wall time; negative for the input
     std::string note;     // e.g. what auto ran
     std::string png;      // the output's preview, relative to the report directory
@@ -33,14 +49,23 @@ struct RealScene {
     int referenceSpp = 0;
     std::string referenceFrom;  // ref.exr, or the chunks it was assembled from
     std::string referencePng;
+    // Object ids (one channel) from the scene's frames, for the objects' light; empty when
+    // neither frame has an objectId layer.
+    Image objects;
 };
 
 // Where the Open Image Denoise peer is looked for when no --oidn is given: $MCDENOISE_OIDN,
 // else ../shared/peers/oidn (beside the repository, for a run from its root).
 std::string DefaultOidnPeer();
 
-// The error figure beyond CompareImages': the mean relMSE term of the worst 1% of pixels.
-void MeasureRow(const Image &output, const Image &reference, RealRow *row);
+// The figures beyond CompareImages': the mean relMSE term of the worst 1% of pixels, and
+// where `objects` holds ids (not empty), each object's light over the reference's.
+void MeasureRow(const Image &output, const Image &reference, const Image &objects,
+                RealRow *row);
+
+// The object ids of a scene's folder: the objectId layer of acc.exr, else of plain.exr;
+// an empty image when neither has one.
+Image LoadObjects(const std::string &sceneDir);
 
 // relMSE the reference carries: from its two halves, the means of count0 and count1
 // chunks (frames) of equal spp and different seeds.

@@ -110,6 +110,17 @@ bool HasReference(const std::string &sceneDir) {
            ReferenceChunks(sceneDir).size() >= 2;
 }
 
+Image LoadObjects(const std::string &sceneDir) {
+    for (const char *file : {"acc.exr", "plain.exr"}) {
+        fs::path path = fs::path(sceneDir) / file;
+        std::error_code ec;
+        if (!fs::exists(path, ec)) continue;
+        Frame frame = ReadFrame(path.string(), {{"objectId"}});
+        if (frame.Has("objectId")) return frame.Get("objectId");
+    }
+    return {};
+}
+
 RealScene LoadScene(const std::string &set, const std::string &name) {
     fs::path dir = fs::path(set) / name, file = dir / "ref.exr";
     std::vector<std::string> chunks = ReferenceChunks(dir.string());

@@ -19,9 +19,48 @@ namespace fs = std::filesystem;
 
 const char *kFloorMark = "†";
 
+// Each object's light in `output` over the reference's, by the ids in `objects`; the
+// darkest object's id in row->darkestId.
+void MeasureObjects(const Image &output, const Image &reference, const Image &objects,
+                    RealRow *row) {
+    struct Sums {
+        int pixels = 0;
+        double output = 0, reference = 0;
+    };
+    auto luminance = [](const Image &image, int y, int x) {
+        if (image.channels < 3) return double(image.At(0, y, x));
+        return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) +
+               0.0722 * image.At(2, y, x);
+    };
+    std::map<int, Sums> sums;
+    for (int y = 0; y < output.height; ++y)
+        for (int x = 0; x < output.width; ++x) {
+            float id = objects.At(0, y, x);
+            if (!std::isfinite(id)) continue;
+            Sums &s = sums[int(std::lround(id))];
+            ++s.pixels;
+            s.output += luminance(output, y, x);
+            s.reference += luminance(reference, y, x);
+        }
+    double darkest = INFINITY;
+    for (const auto &[id, s] : sums) {
+        if (s.pixels < kObjectPixels || !(s.reference > 0)) continue;
+        // A non-finite output makes the object's ratio NaN: the darkest there can be.
+        double ratio = std::isfinite(s.output) ? s.output / s.reference : NAN;
+        row->objects[id] = {s.pixels, ratio};
+        double rank = std::isnan(ratio) ? -INFINITY : ratio;
+        if (rank < darkest) darkest = rank, row->darkestId = id;
+    }
+}
+
 }  // namespace
 
-void MeasureRow(const Image &output, const Image &reference, RealRow *row) {
+void MeasureRow(const Image &output, const Image &reference, const Image &objects,
+                RealRow *row) {
+    if (objects.width == output.width && objects.height == output.height &&
+        objects.channels >= 1)
+        MeasureObjects(output, reference, objects, row);
+
     // Each pixel's relMSE term over its first three channels; a non-finite output is the
     // worst a pixel can be.
     int channels = std::min({output.channels, reference.channels, 3});
@@ -69,7 +108,21 @@ struct Summary {
     int ran = 0, scenes = 0;
     double relMse = 0, brightness = 0, worst = 0, psnr = 0, ssim = 0, seconds = 0;
     int timed = 0;
+    // The darkest object over the scenes, "" where no scene has ids.
+    std::string darkest;
 };
+
+// An object's light as the tables give it; NaN (a non-finite output) as "nan".
+std::string Light(double ratio) {
+    return fmt::format("{:.3f}", ratio);
+}
+
+// The row's darkest object: "0.799 (object 5)", or "" where none was measured.
+std::string Darkest(const RealRow &row) {
+    if (row.darkestId < 0) return "";
+    return fmt::format("{} (object {})", Light(row.objects.at(row.darkestId).ratio),
+                       row.darkestId);
+}
 
 std::vector<std::string> Ordered(const std::vector<RealRow> &rows, bool frames) {
     std::vector<std::string> names;
@@ -85,6 +138,7 @@ std::vector<Summary> Summarize(const std::vector<RealRow> &rows) {
     for (const std::string &frame : Ordered(rows, true))
         for (const std::string &method : Ordered(rows, false)) {
             Summary s{frame, method};
+            double darkest = INFINITY;
             for (const RealRow &row : rows) {
                 if (row.frame != frame || row.method != method) continue;
                 ++s.scenes;
@@ -96,6 +150,13 @@ std::vector<Summary> Summarize(const std::vector<RealRow> &rows) {
                 s.psnr += row.error.psnr;
                 s.ssim += row.error.ssim;
                 if (row.seconds > 0) s.seconds += std::log(row.seconds), ++s.timed;
+                if (row.darkestId >= 0) {
+                    double ratio = row.objects.at(row.darkestId).ratio;
+                    if (!(ratio >= darkest))
+                        darkest = ratio,
+                        s.darkest = fmt::format("{} ({} object {})", Light(ratio), row.scene,
+                                                row.darkestId);
+                }
             }
             if (!s.scenes) continue;
             if (s.ran) {
@@ -159,14 +220,20 @@ std::string RelMse(const RealRow &row, const std::vector<RealScene> &scenes) {
 
 std::string Csv(const std::vector<RealRow> &rows) {
     std::string csv =
-        "scene,frame,method,relmse,psnr,ssim,brightness,worst1pct,seconds,refused,note\n";
-    for (const RealRow &r : rows)
-        csv += r.Ran() ? fmt::format("{},{},{},{:.6g},{:.4f},{:.5f},{:.5f},{:.6g},{},,{}\n",
+        "scene,frame,method,relmse,psnr,ssim,brightness,worst1pct,darkest_object,"
+        "darkest_object_id,seconds,refused,note\n";
+    for (const RealRow &r : rows) {
+        std::string darkest =
+            r.darkestId >= 0
+                ? fmt::format("{:.5f},{}", r.objects.at(r.darkestId).ratio, r.darkestId)
+                : ",";
+        csv += r.Ran() ? fmt::format("{},{},{},{:.6g},{:.4f},{:.5f},{:.5f},{:.6g},{},{},,{}\n",
                                      r.scene, r.frame, r.method, r.error.relMse, r.error.psnr,
-                                     r.error.ssim, r.error.brightness, r.worst,
+                                     r.error.ssim, r.error.brightness, r.worst, darkest,
                                      Seconds(r.seconds), CsvField(r.note))
-                       : fmt::format("{},{},{},,,,,,,{},\n", r.scene, r.frame,
+                       : fmt::format("{},{},{},,,,,,,,,{},\n", r.scene, r.frame,
                                      CsvField(r.method), CsvField(r.refused));
+    }
     return csv;
 }
 
@@ -242,31 +309,65 @@ std::string Matrix(const std::vector<RealScene> &scenes, const std::vector<RealR
 std::string SummaryTable(const std::vector<Summary> &summaries) {
     std::string md =
         "| frame | method | scenes | relMSE | PSNR | SSIM | mean brightness | worst 1% | "
-        "time s |\n|---|---|---|---|---|---|---|---|---|\n";
+        "darkest object | time s |\n|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Summary &s : summaries)
         md += s.ran ? fmt::format(
                           "| {} | {} | {} of {} | {:.4g} | {:.2f} | {:.4f} | {:.3f} | "
-                          "{:.4g} | {} |\n",
+                          "{:.4g} | {} | {} |\n",
                           s.frame, s.method, s.ran, s.scenes, s.relMse, s.psnr, s.ssim,
-                          s.brightness, s.worst, Seconds(s.seconds))
-                    : fmt::format("| {} | {} | 0 of {} | refused | | | | | |\n", s.frame,
+                          s.brightness, s.worst, s.darkest, Seconds(s.seconds))
+                    : fmt::format("| {} | {} | 0 of {} | refused | | | | | | |\n", s.frame,
                                   s.method, s.scenes);
     return md;
 }
 
 std::string RowTable(const std::vector<RealScene> &scenes, const std::vector<RealRow> &rows) {
     std::string md =
-        "| scene | frame | method | relMSE | PSNR | SSIM | mean brightness | worst 1% | time s "
-        "| note |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        "| scene | frame | method | relMSE | PSNR | SSIM | mean brightness | worst 1% | "
+        "darkest object | time s | note |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const RealRow &r : rows)
         md += r.Ran() ? fmt::format(
                             "| {} | {} | {} | {} | {:.2f} | {:.4f} | {:.3f} | {:.4g} | "
-                            "{} | {} |\n",
+                            "{} | {} | {} |\n",
                             r.scene, r.frame, r.method, RelMse(r, scenes), r.error.psnr,
-                            r.error.ssim, r.error.brightness, r.worst, Seconds(r.seconds),
-                            Escape(Shortened(r.note, 200), false))
-                      : fmt::format("| {} | {} | {} | refused | | | | | | {} |\n", r.scene,
+                            r.error.ssim, r.error.brightness, r.worst, Darkest(r),
+                            Seconds(r.seconds), Escape(Shortened(r.note, 200), false))
+                      : fmt::format("| {} | {} | {} | refused | | | | | | | {} |\n", r.scene,
                                     r.frame, r.method, Escape(r.refused, false));
+    return md;
+}
+
+// Per scene with object ids and frame: an object (id, pixels) a row, a method a column,
+// the object's light over the reference's; "" where no scene has ids.
+std::string ObjectTables(const std::vector<RealScene> &scenes,
+                         const std::vector<RealRow> &rows) {
+    std::vector<std::string> methods = Ordered(rows, false);
+    std::string md;
+    for (const RealScene &scene : scenes)
+        for (const std::string &frame : Ordered(rows, true)) {
+            std::map<int, int> pixels;
+            for (const RealRow &row : rows)
+                if (row.scene == scene.name && row.frame == frame)
+                    for (const auto &[id, light] : row.objects) pixels[id] = light.pixels;
+            if (pixels.empty()) continue;
+            md += fmt::format("\n| {} {} | pixels |", scene.name, frame);
+            for (const std::string &m : methods) md += " " + m + " |";
+            md += "\n|---|---|";
+            for (size_t i = 0; i < methods.size(); ++i) md += "---|";
+            md += "\n";
+            for (const auto &[id, count] : pixels) {
+                md += fmt::format("| object {} | {} |", id, count);
+                for (const std::string &m : methods) {
+                    std::string cell = " ";
+                    for (const RealRow &row : rows)
+                        if (row.scene == scene.name && row.frame == frame && row.method == m &&
+                            row.objects.count(id))
+                            cell = Light(row.objects.at(id).ratio);
+                    md += " " + cell + " |";
+                }
+                md += "\n";
+            }
+        }
     return md;
 }
 
@@ -275,7 +376,8 @@ std::string Markdown(const std::string &header, const std::vector<RealScene> &sc
     std::string md = fmt::format(
         "# mcdenoise bench real\n\n{}\n\nrelMSE = mean((x - r)^2 / (r^2 + 0.01)); mean "
         "brightness = mean luminance of the output over the reference's; worst 1% = the mean "
-        "relMSE term of the worst 1% of pixels; time = denoise wall time (the methods: one "
+        "relMSE term of the worst 1% of pixels; darkest object = the lowest light of an object "
+        "over the reference's (below); time = denoise wall time (the methods: one "
         "run after an untimed warm-up, uploads and downloads included; the peer: its filter's "
         "own time, median over runs). {} marks a relMSE within 3x of the reference's own "
         "noise. Means over the scenes: geometric for relMSE, brightness, worst 1% and time, "
@@ -285,6 +387,12 @@ std::string Markdown(const std::string &header, const std::vector<RealScene> &sc
         md += fmt::format("\n## {} frames: relMSE / PSNR dB / SSIM (mean brightness)\n\n{}",
                           frame, Matrix(scenes, rows, summaries, frame));
     md += "\n## Means over the scenes\n\n" + SummaryTable(summaries);
+    if (std::string objects = ObjectTables(scenes, rows); !objects.empty())
+        md += fmt::format(
+            "\n## Objects: light over the reference's\n\nRec. 709 luminance summed over "
+            "the pixels of an object id (the frames' objectId layer; objects of {} pixels or "
+            "more) in the output, over the reference's.\n{}",
+            kObjectPixels, objects);
     md += "\n## Every row\n\n" + RowTable(scenes, rows);
     return md;
 }

@@ -155,16 +155,20 @@ void AddMeasured(FrameRun &run, const std::string &method, Image output, double 
                  const std::string &note) {
     RealRow row{run.scene.name, run.kind, method};
     row.error = CompareImages(output, run.scene.reference);
-    MeasureRow(output, run.scene.reference, &row);
+    MeasureRow(output, run.scene.reference, run.scene.objects, &row);
     row.seconds = seconds;
     row.note = note;
     row.png = PngName(run.scene.name, run.kind, method);
     WritePng((fs::path(run.out) / row.png).string(), output);
     fmt::print(
         "  {:<20} {:<11} {:<10} relMSE {:<10.4g} PSNR {:6.2f} SSIM {:.4f} mean {:.3f} "
-        "worst1% {:<9.4g} {}\n",
+        "worst1% {:<9.4g} {}{}\n",
         run.scene.name, run.kind, method, row.error.relMse, row.error.psnr, row.error.ssim,
-        row.error.brightness, row.worst, seconds >= 0 ? fmt::format("{:.3f} s", seconds) : "");
+        row.error.brightness, row.worst,
+        row.darkestId >= 0 ? fmt::format("darkest object {:.3f} ({}) ",
+                                         row.objects.at(row.darkestId).ratio, row.darkestId)
+                           : "",
+        seconds >= 0 ? fmt::format("{:.3f} s", seconds) : "");
     std::fflush(stdout);
     run.rows.push_back(std::move(row));
     run.strip.push_back(std::move(output));
@@ -300,6 +304,7 @@ void RunBenchReal(const BenchRealOptions &opt) {
     std::set<std::string> warm;
     for (const std::string &name : names) {
         scenes.push_back(LoadScene(set, name));
+        scenes.back().objects = LoadObjects((fs::path(set) / name).string());
         const RealScene &scene = scenes.back();
         scenes.back().referencePng = PngName(name, "reference", "color");
         WritePng((fs::path(opt.out) / scene.referencePng).string(), scene.reference);
@@ -336,7 +341,8 @@ void AddBenchRealCommand(CLI::App *bench) {
         "Every method, auto and Open Image Denoise on a set of real renders\n\n"
         "Per scene of the set (scripts/blender/realset.sh renders one), its plain frame (what "
         "a user has) and its accumulated frame against the scene's reference; relMSE, PSNR, "
-        "SSIM, mean brightness over the reference's, the worst 1% of pixels, time; CSV, "
+        "SSIM, mean brightness over the reference's, the worst 1% of pixels, each object's "
+        "light (the frames' objectId layer), time; CSV, "
         "Markdown and an HTML page with a strip per scene. Open Image Denoise, where present, "
         "is a peer to measure against.");
     real->add_option("set", opt->set,
