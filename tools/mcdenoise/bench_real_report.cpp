@@ -49,7 +49,10 @@ void MeasureObjects(const Image &output, const Image &reference, const Image &ob
         double ratio = std::isfinite(s.output) ? s.output / s.reference : NAN;
         row->objects[id] = {s.pixels, ratio};
         double rank = std::isnan(ratio) ? -INFINITY : ratio;
-        if (rank < darkest) darkest = rank, row->darkestId = id;
+        if (rank < darkest) {
+            darkest = rank;
+            row->darkestId = id;
+        }
     }
 }
 
@@ -152,10 +155,12 @@ std::vector<Summary> Summarize(const std::vector<RealRow> &rows) {
                 if (row.seconds > 0) s.seconds += std::log(row.seconds), ++s.timed;
                 if (row.darkestId >= 0) {
                     double ratio = row.objects.at(row.darkestId).ratio;
-                    if (!(ratio >= darkest))
-                        darkest = ratio,
+                    double rank = std::isnan(ratio) ? -INFINITY : ratio;
+                    if (rank < darkest) {
+                        darkest = rank;
                         s.darkest = fmt::format("{} ({} object {})", Light(ratio), row.scene,
                                                 row.darkestId);
+                    }
                 }
             }
             if (!s.scenes) continue;
