@@ -1101,7 +1101,8 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     if (keptPass > 0 && plain && (p.keptRadius > 0 || in.albedo)) {
         keep("unkept", out);
         NforSmoothKept(color, features, p.featureWeights, mask, keptPass, p.weakEmitterAlbedo,
-                       in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0);
+                       in.albedo, in.albedo ? 3 : 0, &out, p.keptRadius > 0, p.weakEmitterLine,
+                       p.weakEmitterRange);
     }
     if (NforCoarseGateOpen(color, in.albedo, p)) AddCoarse(in, p, stages, &out);
     if (glintMask.PixelCount() > 0) {

@@ -45,18 +45,49 @@ bool Weak(const Image &mask, const Image *albedo, double weakAlbedo, int x, int 
     return most < weakAlbedo;
 }
 
+// S: the positive parts of (x, y)'s channels in o, summed; 0 where one is not finite.
+double Positive(const Image &o, int x, int y) {
+    double s = 0;
+    for (int c = 0; c < o.channels; ++c) {
+        double v = o.At(c, y, x);
+        if (!std::isfinite(v)) return 0;
+        s += v > 0 ? v : 0;
+    }
+    return s;
+}
+
+bool OnLine(const Image &o, double ratio, int x, int y) {
+    if (!(ratio > 0)) return false;
+    const int dirs[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    for (const auto &d : dirs) {
+        int sides = 0;
+        for (int side : {-1, 1}) {
+            bool found = false;
+            for (int k = 1; k <= 2; ++k) {
+                int u = x + side * k * d[0], v = y + side * k * d[1];
+                if (u < 0 || v < 0 || u >= o.width || v >= o.height) continue;
+                if (Positive(o, u, v) >= ratio * Positive(o, x, y)) found = true;
+            }
+            sides += found;
+        }
+        if (sides == 2) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 void NforSmoothKept(const Image &input, const Image &features,
                     const std::vector<double> &featureWeights, const Image &mask, int r,
                     double weakAlbedo, const Image *albedo, int albedoPlanes, Image *output,
-                    bool keptPixels) {
+                    bool keptPixels, double lineRatio, double lineRange) {
     if (r <= 0) return;
     Image o = *output;
     for (int y = 0; y < o.height; ++y)
         for (int x = 0; x < o.width; ++x) {
             bool weak = Weak(mask, albedo, weakAlbedo, x, y);
             if (!weak && (!keptPixels || !Kept(input, o, mask, r, x, y))) continue;
+            bool line = weak && OnLine(o, lineRatio, x, y);
             for (int c = 0; c < o.channels; ++c) {
                 double num = 0, den = 0;
                 for (int dy = -r; dy <= r; ++dy)
@@ -77,6 +108,12 @@ void NforSmoothKept(const Image &input, const Image &features,
                             double d = featureWeights[size_t(j)] *
                                        (double(features.At(j, v, u)) - features.At(j, y, x));
                             e += d * d;
+                        }
+                        if (line) {
+                            double n = o.channels;
+                            double l = std::log((Positive(o, u, v) / n + 0.01) /
+                                                (Positive(o, x, y) / n + 0.01));
+                            e += l * l / (2 * lineRange * lineRange);
                         }
                         double wq = std::exp(-e);
                         num += wq * o.At(c, v, u);

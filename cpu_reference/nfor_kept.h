@@ -16,10 +16,14 @@ namespace mcd::ref {
 // (F_q,j - F_p,j))^2), o the output before any change. With weakAlbedo > 0, an emitter (mask 0)
 // whose largest albedo channel is below it is smoothed too, its sum over j from albedoPlanes
 // on, and counts among the q; other emitters do not. With keptPixels false only such
-// emitters change (the kept pixels are still left out of every mean).
+// emitters change (the kept pixels are still left out of every mean). With lineRatio > 0,
+// a weak emitter p with, along (1,0), (0,1), (1,1) or (1,-1), on both sides at 1 or 2 steps
+// (inside the image) a pixel whose positive parts' sum S (of o; 0 where a channel is not
+// finite) is at least lineRatio S_p, multiplies each w_q by exp(-ln((S_q / n + 0.01) / (S_p
+// / n + 0.01))^2 / (2 lineRange^2)), n the channel count.
 void NforSmoothKept(const Image &input, const Image &features,
                     const std::vector<double> &featureWeights, const Image &mask, int r,
                     double weakAlbedo, const Image *albedo, int albedoPlanes, Image *output,
-                    bool keptPixels = true);
+                    bool keptPixels = true, double lineRatio = 0, double lineRange = 0.5);
 
 }  // namespace mcd::ref

@@ -197,6 +197,18 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                        "albedo not compared, over --kept-radius (2 where that is 0); 0: "
                        "emitters kept",
                        &O::weakEmitterAlbedo, 0, 1e30)),
+        nested(FloatParam("weak-emitter-line",
+                          "a weak emitter (--weak-emitter-albedo) on a bright line, with a "
+                          "pixel at least this x as bright on both sides along an axis or a "
+                          "diagonal within 2 steps (a glossy highlight's streak), weighs the "
+                          "pixels of its mean also by their brightness against its own "
+                          "(--weak-emitter-range): it averages along the streak, not with the "
+                          "darker ground beside it; 0: off",
+                          &O::weakEmitterLine, 0, 1e30)),
+        nested(FloatParam("weak-emitter-range",
+                          "--weak-emitter-line's brightness weight: a Gaussian of this in the "
+                          "log of the channels' mean (+ 0.01)",
+                          &O::weakEmitterRange, 1e-3, 1e30)),
         nested(
             FloatParam("weak-light-share",
                        "on a frame without a variance layer (or beside one where the clamp "

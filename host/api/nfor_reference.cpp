@@ -51,6 +51,8 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.speckRank = o.speckRank;
     p.keptRadius = o.keptRadius;
     p.weakEmitterAlbedo = o.weakEmitterAlbedo;
+    p.weakEmitterLine = o.weakEmitterLine;
+    p.weakEmitterRange = o.weakEmitterRange;
     p.weakLightShare = o.weakLightShare;
     p.lightShare = o.lightShare;
     p.lineSpread = o.lineSpread;

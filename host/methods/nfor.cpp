@@ -165,6 +165,8 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.speckFloor) && o.speckFloor >= 0) ||
         !(o.weakLightShare >= 0 && o.weakLightShare <= 0.25f) ||
         !(o.lightShare >= 0 && o.lightShare <= 0.25f) ||
+        !(finite(o.weakEmitterLine) && o.weakEmitterLine >= 0) ||
+        !(finite(o.weakEmitterRange) && o.weakEmitterRange > 0) ||
         !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0) ||
         !(finite(o.pilotNoiseCap) && o.pilotNoiseCap >= 0) ||
         !(finite(o.albedoNoise) && o.albedoNoise >= 0) ||
@@ -173,8 +175,9 @@ void CheckOptions(const NforOptions &o) {
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
             "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
-            "speck floor, layer and pilot noise caps, albedo noise and glint noise finite and "
-            ">= 0, speck relative finite, mean radius >= 0, light shares 0 to 0.25",
+            "speck floor, layer and pilot noise caps, albedo noise, glint noise and weak "
+            "emitter line finite and >= 0, weak emitter range finite and > 0, speck relative "
+            "finite, mean radius >= 0, light shares 0 to 0.25",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -840,6 +843,8 @@ void SmoothKept(StagedRun &run, const NforInputs &in, const NforOptions &o, Nfor
     run.AddStage("unkept", result.image);
     NforKeptSettings kept{keptPass, o.weakEmitterAlbedo, in.albedo, in.albedo ? 3 : 0,
                           o.keptRadius > 0};
+    kept.lineRatio = o.weakEmitterLine;
+    kept.lineRange = o.weakEmitterRange;
     result.kept =
         NforSmoothKept(*in.color, gpu.filtered.Download(), weights, mask, kept, &result.image);
     std::string what = o.keptRadius > 0 ? "kept pixels (the fits left them as they came "
@@ -848,8 +853,14 @@ void SmoothKept(StagedRun &run, const NforInputs &in, const NforOptions &o, Nfor
     if (o.weakEmitterAlbedo > 0)
         what += fmt::format(
             "{}emitters of albedo below {} (a light's partly covered edge; "
-            "their albedo not compared)",
-            what.empty() ? "" : " and ", o.weakEmitterAlbedo);
+            "their albedo not compared{})",
+            what.empty() ? "" : " and ", o.weakEmitterAlbedo,
+            o.weakEmitterLine > 0
+                ? fmt::format("; one on a bright line, a pixel at least {} x as bright on "
+                              "both sides within 2 steps, weighs them by their brightness too, "
+                              "a Gaussian of {} in the log",
+                              o.weakEmitterLine, o.weakEmitterRange)
+                : "");
     run.Plan(
         fmt::format("{}: {}, each given the output's mean over {}x{} weighted by the "
                     "features",

@@ -148,6 +148,12 @@ struct NforOptions {
     // the output's feature-weighted mean over keptRadius (kWeakEmitterRadius where that is
     // 0), their albedo not compared; 0: emitters kept.
     float weakEmitterAlbedo = 8;
+    // > 0: a weak emitter on a bright line (on both sides, along an axis or a diagonal within
+    // 2 steps, a pixel at least this x as bright, channels' positive parts summed: a glossy
+    // highlight's streak) weighs its mean's pixels also by their brightness against its own,
+    // a Gaussian of weakEmitterRange in the log (host/methods/nfor_kept.h); 0: off.
+    float weakEmitterLine = 0;
+    float weakEmitterRange = 0.5f;
     // On a frame with an albedo and without a variance layer read as the noise, or beside one
     // where the clamp reads the frame's own estimate (unless noLayerPasses), last: each
     // emitter gives this share of its output (weak ones, of albedo below weakEmitterAlbedo,

@@ -50,7 +50,39 @@ float FeatureTerm(const Image &features, const std::vector<float> &s, int px, in
     return e;
 }
 
+// The positive parts of (x, y)'s channels in `image`, summed in double (0 where one is not
+// finite: such a pixel reads as dark).
+double PositiveSum(const Image &image, int x, int y) {
+    double sum = 0;
+    for (int c = 0; c < image.channels; ++c) {
+        float v = image.At(c, y, x);
+        if (!std::isfinite(v)) return 0;
+        sum += std::max(0.f, v);
+    }
+    return sum;
+}
+
 }  // namespace
+
+bool NforWeakEmitterOnLine(const Image &output, float ratio, int x, int y) {
+    if (!(ratio > 0)) return false;
+    const double bound = double(ratio) * PositiveSum(output, x, y);
+    static const int kDirections[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    for (const auto &d : kDirections) {
+        bool both = true;
+        for (int side = -1; side <= 1 && both; side += 2) {
+            bool bright = false;
+            for (int step = 1; step <= 2 && !bright; ++step) {
+                int u = x + side * step * d[0], v = y + side * step * d[1];
+                if (u < 0 || v < 0 || u >= output.width || v >= output.height) continue;
+                bright = PositiveSum(output, u, v) >= bound;
+            }
+            both = bright;
+        }
+        if (both) return true;
+    }
+    return false;
+}
 
 namespace {
 
@@ -94,6 +126,10 @@ size_t NforSmoothKept(const Image &input, const Image &features,
             bool weak = kind[size_t(y) * w + x] == 1;
             if (!kept[size_t(y) * w + x] || (!weak && !k.keptPixels)) continue;
             const std::vector<float> &s = weak ? unlit : featureWeights;
+            // A weak emitter on a bright line averages along it (lineRatio).
+            const bool line = weak && NforWeakEmitterOnLine(before, k.lineRatio, x, y);
+            const double own = std::log(PositiveSum(before, x, y) / ch + 0.01);
+            const double range2 = 2.0 * double(k.lineRange) * double(k.lineRange);
             std::vector<double> sum(size_t(ch), 0.0);
             double total = 0;
             for (int v = std::max(0, y - r); v <= std::min(h - 1, y + r); ++v)
@@ -108,6 +144,10 @@ size_t NforSmoothKept(const Image &input, const Image &features,
                     float d2 = float((u - x) * (u - x) + (v - y) * (v - y));
                     double wq =
                         std::exp(-d2 / (2 * sigma2) - FeatureTerm(features, s, x, y, u, v));
+                    if (line) {
+                        double l = std::log(PositiveSum(before, u, v) / ch + 0.01) - own;
+                        wq *= std::exp(-l * l / range2);
+                    }
                     for (int c = 0; c < ch; ++c) sum[size_t(c)] += wq * before.At(c, v, u);
                     total += wq;
                 }

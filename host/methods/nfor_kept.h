@@ -30,15 +30,27 @@ struct NforKeptSettings {
     const Image *albedo = nullptr;  // the frame's (for weak emitters)
     int albedoPlanes = 0;           // the features' first planes that are the albedo
     bool keptPixels = true;  // false: only the weak emitters change (kept pixels still unread)
+    // > 0: a weak emitter on a bright line (a glossy highlight's streak: along an axis or a
+    // diagonal, on both sides within 2 steps a pixel whose channels' positive parts sum to
+    // at least this x its own) weighs each pixel of its mean also by its brightness against
+    // its own, exp(-ln((b_q + 0.01) / (b_p + 0.01))^2 / (2 lineRange^2)), b the channels'
+    // positive parts' mean: it averages along its streak, not with the darker ground beside
+    // it (a streak one or two pixels wide lost half its light); 0: off.
+    float lineRatio = 0;
+    float lineRange = 0.5f;
 };
 
-// Each kept pixel of `output` (unless !keptPixels) and each weak emitter replaced by the mean of the output
-// over the window of radius r clipped to the image with weights exp(-|d|^2 / (2 (r / 2)^2)
+// Whether the weak emitter (x, y) lies on a bright line of `output` as lineRatio reads one.
+bool NforWeakEmitterOnLine(const Image &output, float ratio, int x, int y);
+
+// Each kept pixel of `output` (unless !keptPixels) and each weak emitter replaced by the mean
+// of the output over the window of radius r clipped to the image with weights exp(-|d|^2 / (2
+// (r / 2)^2)
 // - sum_j (s_j (F_q,j - F_p,j))^2) (features F and weights s as the fits', the albedo's
-// planes left out at a weak emitter), the other kept pixels (their input: a firefly would
-// spread), emitters other than weak ones and non-finite values left out of the mean; the
-// pixel itself has weight 1. The outputs read are those before
-// any replacement. Returns how many pixels changed.
+// planes left out at a weak emitter; on a bright line, lineRatio's brightness term too), the
+// other kept pixels (their input: a firefly would spread), emitters other than weak ones and
+// non-finite values left out of the mean; the pixel itself has weight 1. The outputs read are
+// those before any replacement. Returns how many pixels changed.
 size_t NforSmoothKept(const Image &input, const Image &features,
                       const std::vector<float> &featureWeights, const Image &mask,
                       const NforKeptSettings &settings, Image *output);

@@ -2738,10 +2738,13 @@ TEST(NforKept, MatchesTheReferenceAndRepeats) {
     for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{2, 5}, std::pair{16, 16}})
         for (InputKind kind :
              {InputKind::Uniform, InputKind::LogNormalFireflies, InputKind::Constant})
-            for (auto [weak, keptPixels] :
-                 {std::pair{0.f, true}, std::pair{1.8f, true}, std::pair{1.8f, false}}) {
+            for (auto [weak, keptPixels, line] :
+                 {std::tuple{0.f, true, 0.f}, std::tuple{1.8f, true, 0.f},
+                  std::tuple{1.8f, false, 0.f}, std::tuple{1.8f, false, 0.3f},
+                  std::tuple{1.8f, true, 1.f}}) {
                 std::string name = fmt::format("kept {}x{} {} weak {} kept pixels {}", w, h,
                                                InputKindName(kind), weak, keptPixels);
+                if (line > 0) name += fmt::format(" line {}", line);
                 uint64_t seed = SeedFromName(name);
                 std::mt19937 random{uint32_t(seed)};
                 Image input = MakeInput(kind, w, h, 3, seed), output = input;
@@ -2762,12 +2765,12 @@ TEST(NforKept, MatchesTheReferenceAndRepeats) {
                 if (w * h > 4) output.At(1, h / 2, w / 2 + 1) = std::nanf("");
                 std::vector<float> s = {3.3f, 3.3f, 3.3f, 1.7f, 1.7f, 1.7f, 6.7f};
                 std::vector<double> sd(s.begin(), s.end());
-                NforKeptSettings k{2, weak, &albedo, 3, keptPixels};
+                NforKeptSettings k{2, weak, &albedo, 3, keptPixels, line, 0.5f};
                 Image host = output, again = output, cpu = output;
                 NforSmoothKept(input, features, s, mask, k, &host);
                 NforSmoothKept(input, features, s, mask, k, &again);
                 ref::NforSmoothKept(input, features, sd, mask, 2, weak, &albedo, 3, &cpu,
-                                    keptPixels);
+                                    keptPixels, line, 0.5);
                 EXPECT_TRUE(ImagesMatch(cpu, host, {}, {1e-5, 0, 1e-7})) << name;
                 EXPECT_EQ(0, std::memcmp(host.data.data(), again.data.data(),
                                          host.data.size() * sizeof(float)))
@@ -2818,6 +2821,71 @@ TEST(NforKept, SmoothsOnlyPixelsTheFitsLeft) {
     EXPECT_EQ(NforSmoothKept(input, features, s, mask, k, &onlyWeak), 1u);
     EXPECT_EQ(onlyWeak.At(0, 3, 4), weak.At(0, 3, 4));
     EXPECT_EQ(onlyWeak.At(0, 4, 4), 3.f);
+}
+
+// A glossy highlight's streak two pixels wide on a darker surface of the same features,
+// drawn by few samples (motion_blur's pendulum, issue 29): its pixels whose albedo reads the
+// reflected light are weak emitters, and the 5x5 mean took the dark rows above and below
+// into each, half the streak's light. On a line (a pixel at least lineRatio x as bright on
+// both sides) the mean weighs its pixels by their brightness too: the streak keeps its
+// light. Its ends and a lone weak emitter on the dark ground are on no line and are
+// smoothed as before; lineRatio 0 is the pass as before, bit for bit.
+TEST(NforKept, WeakEmittersOnABrightLineKeepTheirLight) {
+    const int w = 21, h = 9;
+    Image input(w, h, 3, 0.5f), features(w, h, 1, 0.f), mask(w, h, 1, 1.f),
+        albedo(w, h, 3, 0.5f);
+    // Rows 4 and 5, columns 5-15: noisy hits around 3.5, every one an emitter of albedo 2-4.
+    const float hits[11] = {2.f, 5.f, 3.f, 4.5f, 2.5f, 3.5f, 5.f, 2.f, 4.f, 3.f, 2.5f};
+    for (int y = 4; y <= 5; ++y)
+        for (int x = 5; x <= 15; ++x) {
+            float v = hits[(x - 5 + 3 * (y - 4)) % 11];
+            for (int c = 0; c < 3; ++c) {
+                input.At(c, y, x) = v;
+                albedo.At(c, y, x) = 0.8f * v;
+            }
+            mask.At(0, y, x) = 0;
+        }
+    // A lone weak emitter on the ground.
+    for (int c = 0; c < 3; ++c) {
+        input.At(c, 1, 2) = 3.f;
+        albedo.At(c, 1, 2) = 2.f;
+    }
+    mask.At(0, 1, 2) = 0;
+    std::vector<float> s = {10.f};
+    auto streak = [&](const Image &image) {
+        double sum = 0;
+        for (int y = 4; y <= 5; ++y)
+            for (int x = 5; x <= 15; ++x) sum += image.At(0, y, x);
+        return sum;
+    };
+    NforKeptSettings before{2, 8.f, &albedo, 1, false};
+    Image off = input;
+    EXPECT_EQ(NforSmoothKept(input, features, s, mask, before, &off), 23u);
+    NforKeptSettings line = before;
+    line.lineRatio = 0.3f;
+    Image on = input;
+    EXPECT_EQ(NforSmoothKept(input, features, s, mask, line, &on), 23u);
+    const double light = streak(input);
+    EXPECT_LT(streak(off), 0.75 * light);  // the mean with the dark ground
+    EXPECT_GT(streak(on), 0.9 * light);
+    EXPECT_LT(streak(on), 1.02 * light);
+    // Smoother than the hits: the largest and smallest come closer to the streak's mean.
+    for (int y = 4; y <= 5; ++y)
+        for (int x = 6; x <= 14; ++x) {
+            EXPECT_GE(on.At(0, y, x), 2.f) << x << "," << y;
+            EXPECT_LE(on.At(0, y, x), 5.f) << x << "," << y;
+        }
+    // The ends (a pixel as bright on one side only) and the lone one: as before.
+    for (auto [x, y] : {std::pair{5, 4}, std::pair{15, 5}, std::pair{2, 1}})
+        EXPECT_EQ(on.At(0, y, x), off.At(0, y, x)) << x << "," << y;
+    EXPECT_TRUE(NforWeakEmitterOnLine(input, 0.3f, 10, 4));
+    EXPECT_FALSE(NforWeakEmitterOnLine(input, 0.3f, 2, 1));
+    EXPECT_FALSE(NforWeakEmitterOnLine(input, 0.f, 10, 4));
+    // The CPU reference agrees.
+    Image cpu = input;
+    ref::NforSmoothKept(input, features, {10.0}, mask, 2, 8.0, &albedo, 1, &cpu, false, 0.3,
+                        0.5);
+    EXPECT_TRUE(ImagesMatch(cpu, on, {}, {1e-5, 0, 1e-7}));
 }
 
 // The lights' spread against its reference: values of every kind, emitters weak and
