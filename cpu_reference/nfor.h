@@ -188,7 +188,7 @@ struct NforParams {
     // pixel whose channels' positive parts sum to at least this x its own weighs each q also
     // by exp(-ln((b_q + 0.01) / (b_p + 0.01))^2 / (2 weakEmitterRange^2)), b the channels'
     // positive parts' mean, all on the output before the pass.
-    double weakEmitterLine = 0, weakEmitterRange = 0.5;
+    double weakEmitterLine = 0, weakEmitterRange = 0.4;
     // Without a variance layer, with an albedo, last: each emitter gives this share of its
     // output (weak ones, below weakEmitterAlbedo, the first) to each of its 4 neighbours that
     // is no emitter (NforSpreadLights, cpu_reference/nfor_lights.h); both 0: off.

@@ -152,8 +152,8 @@ struct NforOptions {
     // 2 steps, a pixel at least this x as bright, channels' positive parts summed: a glossy
     // highlight's streak) weighs its mean's pixels also by their brightness against its own,
     // a Gaussian of weakEmitterRange in the log (host/methods/nfor_kept.h); 0: off.
-    float weakEmitterLine = 0;
-    float weakEmitterRange = 0.5f;
+    float weakEmitterLine = 0.3f;
+    float weakEmitterRange = 0.4f;
     // On a frame with an albedo and without a variance layer read as the noise, or beside one
     // where the clamp reads the frame's own estimate (unless noLayerPasses), last: each
     // emitter gives this share of its output (weak ones, of albedo below weakEmitterAlbedo,

@@ -37,7 +37,7 @@ struct NforKeptSettings {
     // positive parts' mean: it averages along its streak, not with the darker ground beside
     // it (a streak one or two pixels wide lost half its light); 0: off.
     float lineRatio = 0;
-    float lineRange = 0.5f;
+    float lineRange = 0.4f;
 };
 
 // Whether the weak emitter (x, y) lies on a bright line of `output` as lineRatio reads one.

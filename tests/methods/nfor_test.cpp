@@ -2884,7 +2884,7 @@ TEST(NforKept, WeakEmittersOnABrightLineKeepTheirLight) {
     // The CPU reference agrees.
     Image cpu = input;
     ref::NforSmoothKept(input, features, {10.0}, mask, 2, 8.0, &albedo, 1, &cpu, false, 0.3,
-                        0.5);
+                        line.lineRange);
     EXPECT_TRUE(ImagesMatch(cpu, on, {}, {1e-5, 0, 1e-7}));
 }
 
@@ -3061,6 +3061,39 @@ TEST_F(NforMethod, DefaultsSmoothWeakEmittersOfPlainFrames) {
         else
             EXPECT_EQ(a.data[i], b.data[i]) << p;
     }
+}
+
+// By default a weak emitters' streak two pixels wide (a glossy highlight whose albedo reads
+// the reflected light, motion_blur's pendulum: issue 29) keeps its light: its pixels average
+// along it, not with the dark ground above and below (--weak-emitter-line 0: as before).
+TEST_F(NforMethod, DefaultsKeepAWeakEmittersStreaksLight) {
+    Frame f = MakeFrame(32, 20, 0.2, "weak emitter streak");
+    const float hits[7] = {2.f, 5.f, 3.f, 4.5f, 2.5f, 3.5f, 4.f};
+    double light = 0;
+    for (int y = 9; y <= 10; ++y)
+        for (int x = 8; x <= 23; ++x)
+            for (int c = 0; c < 3; ++c) {
+                f.albedo.At(c, y, x) = 2.f;
+                f.color.At(c, y, x) = hits[(x + 2 * y) % 7];
+                light += f.color.At(c, y, x);
+            }
+    NforOptions defaults, off;
+    defaults.weakLightShare = defaults.lightShare = 0;
+    off.weakEmitterLine = 0;
+    off.weakLightShare = off.lightShare = 0;
+    EXPECT_GT(defaults.weakEmitterLine, 0.f);
+    auto streak = [](const Image &image) {
+        double sum = 0;
+        for (int y = 9; y <= 10; ++y)
+            for (int x = 8; x <= 23; ++x)
+                for (int c = 0; c < 3; ++c) sum += image.At(c, y, x);
+        return sum;
+    };
+    double kept = streak(NforDenoise(Ctx(), InputsOf(f), defaults).image);
+    double before = streak(NforDenoise(Ctx(), InputsOf(f), off).image);
+    EXPECT_LT(before, 0.8 * light);
+    EXPECT_GT(kept, 0.9 * light);
+    EXPECT_LT(kept, 1.02 * light);
 }
 
 TEST_F(NforMethod, RerunsAreBitIdentical) {
