@@ -16,7 +16,8 @@ FONT = "/usr/share/fonts/truetype/dejavu/DejaVuSans-Bold.ttf"
 STRIPS = [("sunlit_room", "accumulated", ["pivot", "rhf", "auto", "oidn"]),
           ("glossy_lights", "plain", ["pivot", "auto", "oidn"]),
           ("glossy_lights", "accumulated", ["rhf", "nfor", "auto", "oidn"]),
-          ("product_transparent", "accumulated", ["bayes", "auto", "oidn"])]
+          ("product_transparent", "accumulated", ["bayes", "auto", "oidn"]),
+          ("motion_blur", "plain", ["pivot", "auto", "oidn"])]
 GAP, LABEL = 4, 22
 
 
