@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -587,10 +588,35 @@ TEST_F(CliTest, BenchQuality) {
     std::vector<std::string> fields;
     std::stringstream stream(row);
     for (std::string f; std::getline(stream, f, ',');) fields.push_back(f);
-    ASSERT_EQ(fields.size(), 11u) << row;
+    ASSERT_EQ(fields.size(), 13u) << row;
     EXPECT_NEAR(std::stod(fields[7]), relMse, 1e-5 * relMse) << row;
-    EXPECT_EQ(lines[0].substr(lines[0].rfind(',') + 1), "brightness");
+    EXPECT_TRUE(Contains(lines[0], ",brightness,darkest_object,darkest_object_id"));
     EXPECT_NEAR(std::stod(fields[10]), error.brightness, 1e-5) << row;
+    // The darkest object: luminance summed over an id of the frame with every layer (the
+    // same render), over the reference's, of the objects of 64 pixels or more.
+    ASSERT_EQ(
+        Run("render --scene dof-arealight --size 24x16 --spp 2 --layers all -o full2.exr").code,
+        0);
+    const Image &ids = io::ReadFrame(Path("full2.exr").string()).Get("objectId");
+    std::map<int, std::array<double, 3>> sums;  // pixels, mc's light, the reference's
+    auto luminance = [](const Image &image, int y, int x) {
+        return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) +
+               0.0722 * image.At(2, y, x);
+    };
+    for (int y = 0; y < ids.height; ++y)
+        for (int x = 0; x < ids.width; ++x) {
+            auto &s = sums[int(std::lround(ids.At(0, y, x)))];
+            s[0] += 1, s[1] += luminance(mc.Get("color"), y, x),
+                s[2] += luminance(ref.Get("color"), y, x);
+        }
+    double darkest = INFINITY;
+    int darkestId = -1;
+    for (const auto &[id, s] : sums)
+        if (s[0] >= 64 && s[2] > 0 && s[1] / s[2] < darkest)
+            darkest = s[1] / s[2], darkestId = id;
+    ASSERT_GE(darkestId, 0) << "no object of 64 pixels";
+    EXPECT_NEAR(std::stod(fields[11]), darkest, 1e-4) << row;
+    EXPECT_EQ(fields[12], std::to_string(darkestId)) << row;
     for (const char *file :
          {"bq/index.html", "bq/dof-arealight.svg", "bq/dof-arealight-input.png",
           "bq/dof-arealight-awr.png", "bq/dof-arealight-reference.png"})

@@ -8,19 +8,9 @@
 
 #include "host/metrics.h"
 #include "mcdenoise/image.h"
+#include "tools/mcdenoise/object_light.h"
 
 namespace mcd::tool {
-
-// Objects smaller than this many pixels are not measured on their own: their light is
-// too few pixels' noise.
-inline constexpr int kObjectPixels = 64;
-
-// An object's light in an output over the reference's: Rec. 709 luminance summed over the
-// pixels of its id.
-struct ObjectLight {
-    int pixels = 0;
-    double ratio = 1;
-};
 
 // One output measured against its scene's reference: the input itself ("input"), a
 // method, auto, or a peer ("oidn", "oidn color").

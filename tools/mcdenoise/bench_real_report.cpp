@@ -19,50 +19,13 @@ namespace fs = std::filesystem;
 
 const char *kFloorMark = "†";
 
-// Each object's light in `output` over the reference's, by the ids in `objects`; the
-// darkest object's id in row->darkestId.
-void MeasureObjects(const Image &output, const Image &reference, const Image &objects,
-                    RealRow *row) {
-    struct Sums {
-        int pixels = 0;
-        double output = 0, reference = 0;
-    };
-    auto luminance = [](const Image &image, int y, int x) {
-        if (image.channels < 3) return double(image.At(0, y, x));
-        return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) +
-               0.0722 * image.At(2, y, x);
-    };
-    std::map<int, Sums> sums;
-    for (int y = 0; y < output.height; ++y)
-        for (int x = 0; x < output.width; ++x) {
-            float id = objects.At(0, y, x);
-            if (!std::isfinite(id)) continue;
-            Sums &s = sums[int(std::lround(id))];
-            ++s.pixels;
-            s.output += luminance(output, y, x);
-            s.reference += luminance(reference, y, x);
-        }
-    double darkest = INFINITY;
-    for (const auto &[id, s] : sums) {
-        if (s.pixels < kObjectPixels || !(s.reference > 0)) continue;
-        // A non-finite output makes the object's ratio NaN: the darkest there can be.
-        double ratio = std::isfinite(s.output) ? s.output / s.reference : NAN;
-        row->objects[id] = {s.pixels, ratio};
-        double rank = std::isnan(ratio) ? -INFINITY : ratio;
-        if (rank < darkest) {
-            darkest = rank;
-            row->darkestId = id;
-        }
-    }
-}
-
 }  // namespace
 
 void MeasureRow(const Image &output, const Image &reference, const Image &objects,
                 RealRow *row) {
-    if (objects.width == output.width && objects.height == output.height &&
-        objects.channels >= 1)
-        MeasureObjects(output, reference, objects, row);
+    ObjectLights lights = MeasureObjectLights(output, reference, objects);
+    row->objects = std::move(lights.objects);
+    row->darkestId = lights.darkestId;
 
     // Each pixel's relMSE term over its first three channels; a non-finite output is the
     // worst a pixel can be.

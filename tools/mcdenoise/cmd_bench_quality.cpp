@@ -17,6 +17,7 @@
 #include "host/metrics.h"
 #include "tools/mcdenoise/commands.h"
 #include "tools/mcdenoise/method_options.h"
+#include "tools/mcdenoise/object_light.h"
 #include "tools/mcdenoise/path_guard.h"
 #include "tools/mcdenoise/reference_cache.h"
 #include "tools/mcdenoise/usage.h"
@@ -46,13 +47,32 @@ struct Point {
     int spp = 0;
     double renderSeconds = 0, denoiseSeconds = 0, gpuSeconds = 0;
     ErrorMetrics error;
+    // The darkest object's light over the reference's (object_light.h); id -1: none.
+    double darkest = NAN;
+    int darkestId = -1;
     double Total() const { return renderSeconds + denoiseSeconds; }
 };
+
+// The point's figures, and its darkest object by the frame's ids where it has them.
+void Measure(Point &p, const Image &output, const Image &reference, const io::Frame &frame) {
+    p.error = CompareImages(output, reference);
+    if (!frame.Has("objectId")) return;
+    ObjectLights lights = MeasureObjectLights(output, reference, frame.Get("objectId"));
+    p.darkestId = lights.darkestId;
+    if (lights.darkestId >= 0) p.darkest = lights.objects.at(lights.darkestId).ratio;
+}
 
 // The four figures no table shows apart: relMSE / PSNR / SSIM (mean brightness).
 std::string Figures(const ErrorMetrics &e) {
     return fmt::format("{:.4g} / {:.2f} / {:.3f} ({:.3f})", e.relMse, e.psnr, e.ssim,
                        e.brightness);
+}
+
+// The figures as a line gives them, with the darkest object where one was measured.
+std::string LineFigures(const Point &p) {
+    return Figures(p.error) + (p.darkestId >= 0 ? fmt::format(", darkest object {:.3f} ({})",
+                                                              p.darkest, p.darkestId)
+                                                : "");
 }
 
 std::vector<std::string> SplitList(const std::string &text) {
@@ -280,10 +300,10 @@ std::string MeasureMethod(const QualityOptions &opt, Device &device, const Metho
         Result result = method.Run(device, frame);
         Point p{scene, method.Name(), rung.spp, renderSeconds, Seconds(Clock::now() - start)};
         p.gpuSeconds = result.GpuMs() * 1e-3;
-        p.error = CompareImages(result.image, reference);
+        Measure(p, result.image, reference, rung.full);
         s.curves[m + 1].second.push_back(p);
         if (rung.spp == opt.cropSpp) s.crops[method.Name()] = std::move(result.image);
-        return fmt::format("\n    {:<6} {} in {:.2f} s", method.Name(), Figures(p.error),
+        return fmt::format("\n    {:<6} {} in {:.2f} s", method.Name(), LineFigures(p),
                            p.Total());
     } catch (const Error &e) {
         // A frame that lacks a method's layers fails the same way at every spp.
@@ -305,20 +325,21 @@ SceneCurves MeasureScene(const QualityOptions &opt, const QualityPlan &plan, Dev
         options.width = plan.width, options.height = plan.height, options.spp = spp;
         options.threads = opt.threads;
         render::RenderResult plain = render::Render(scene, options);
-        Point mc{sceneName, "mc", spp, plain.seconds};
-        mc.error = CompareImages(plain.layers[0].second, reference);
-        s.curves[0].second.push_back(mc);
-        if (spp == opt.cropSpp) s.crops["input"] = plain.layers[0].second;
+        Image plainColor = plain.layers[0].second;
         // Every layer group, for the methods that need more than the plain frame has.
         options.layers = render::kLayersAll;
         render::RenderResult full = render::Render(scene, options);
         Rung rung{spp, FrameOf(plain, sceneName, spp, plan.width, plan.height),
                   FrameOf(full, sceneName, spp, plan.width, plan.height), plain.seconds,
                   full.seconds};
+        Point mc{sceneName, "mc", spp, plain.seconds};
+        Measure(mc, plainColor, reference, rung.full);
+        s.curves[0].second.push_back(mc);
+        if (spp == opt.cropSpp) s.crops["input"] = plainColor;
         std::string line = fmt::format(
             "  {} {} spp, relMSE / PSNR dB / SSIM (mean brightness):\n    {:<6} {} in "
             "{:.2f} s",
-            sceneName, spp, "mc", Figures(mc.error), mc.renderSeconds);
+            sceneName, spp, "mc", LineFigures(mc), mc.renderSeconds);
         for (size_t m = 0; m < plan.methods.size(); ++m)
             if (!s.skipped.count(plan.methods[m].Name()))
                 line += MeasureMethod(opt, device, plan.methods[m], rung, reference, sceneName,
@@ -414,12 +435,13 @@ std::string HtmlHeader(const QualityOptions &opt, const QualityPlan &plan, Devic
 void WriteCsv(const QualityOptions &opt, const std::vector<Point> &points) {
     std::string csv =
         "scene,spp,method,render_s,denoise_wall_s,denoise_gpu_s,total_s,relmse,psnr,ssim,"
-        "brightness\n";
+        "brightness,darkest_object,darkest_object_id\n";
     for (const Point &p : points)
-        csv += fmt::format("{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},{:.5f},{:.5f}\n",
-                           p.scene, p.spp, p.method, p.renderSeconds, p.denoiseSeconds,
-                           p.gpuSeconds, p.Total(), p.error.relMse, p.error.psnr, p.error.ssim,
-                           p.error.brightness);
+        csv += fmt::format(
+            "{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},{:.5f},{:.5f},{}\n", p.scene,
+            p.spp, p.method, p.renderSeconds, p.denoiseSeconds, p.gpuSeconds, p.Total(),
+            p.error.relMse, p.error.psnr, p.error.ssim, p.error.brightness,
+            p.darkestId >= 0 ? fmt::format("{:.5f},{}", p.darkest, p.darkestId) : ",");
     std::ofstream(fs::path(opt.out) / "quality.csv") << csv;
 }
 
@@ -459,7 +481,9 @@ void AddBenchQualityCommand(CLI::App *bench) {
         "quality",
         "Error against run time of every method over a ladder of spp per scene\n\n"
         "Renders each scene at a ladder of spp, runs every method, measures against cached "
-        "references; writes a CSV, SVG plots and an HTML report.");
+        "references; writes a CSV (relMSE, PSNR, SSIM, mean brightness, the darkest object's "
+        "light "
+        "by the frame's objectId: docs/real-scenes.md), SVG plots and an HTML report.");
     quality->add_option("--scenes", opt->scenes, "comma-separated scene names, or all")
         ->capture_default_str();
     quality->add_option("--spp", opt->spp, "the ladder of sample counts")

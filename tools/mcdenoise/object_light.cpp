@@ -1,0 +1,48 @@
+#include "tools/mcdenoise/object_light.h"
+
+#include <cmath>
+
+namespace mcd::tool {
+
+ObjectLights MeasureObjectLights(const Image &output, const Image &reference,
+                                 const Image &objects) {
+    ObjectLights lights;
+    if (objects.width != output.width || objects.height != output.height ||
+        objects.channels < 1 || reference.width != output.width ||
+        reference.height != output.height)
+        return lights;
+    struct Sums {
+        int pixels = 0;
+        double output = 0, reference = 0;
+    };
+    auto luminance = [](const Image &image, int y, int x) {
+        if (image.channels < 3) return double(image.At(0, y, x));
+        return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) +
+               0.0722 * image.At(2, y, x);
+    };
+    std::map<int, Sums> sums;
+    for (int y = 0; y < output.height; ++y)
+        for (int x = 0; x < output.width; ++x) {
+            float id = objects.At(0, y, x);
+            if (!std::isfinite(id)) continue;
+            Sums &s = sums[int(std::lround(id))];
+            ++s.pixels;
+            s.output += luminance(output, y, x);
+            s.reference += luminance(reference, y, x);
+        }
+    double darkest = INFINITY;
+    for (const auto &[id, s] : sums) {
+        if (s.pixels < kObjectPixels || !(s.reference > 0)) continue;
+        // A non-finite output makes the object's ratio NaN: the darkest there can be.
+        double ratio = std::isfinite(s.output) ? s.output / s.reference : NAN;
+        lights.objects[id] = {s.pixels, ratio};
+        double rank = std::isnan(ratio) ? -INFINITY : ratio;
+        if (rank < darkest) {
+            darkest = rank;
+            lights.darkestId = id;
+        }
+    }
+    return lights;
+}
+
+}  // namespace mcd::tool
