@@ -37,12 +37,6 @@ std::vector<double> DisplayLuminance(const Image &image) {
     return y;
 }
 
-// Linear luminance of a pixel (one channel: itself).
-double Luminance(const Image &image, int y, int x) {
-    if (image.channels < 3) return image.At(0, y, x);
-    return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) + 0.0722 * image.At(2, y, x);
-}
-
 // Mean luminance of the image over the reference's, over the pixels finite in the image.
 double BrightnessRatio(const Image &image, const Image &reference) {
     double sumImage = 0, sumReference = 0;
@@ -81,6 +75,11 @@ std::vector<double> Blur(const std::vector<double> &in, int w, int h) {
 }
 
 }  // namespace
+
+double Luminance(const Image &image, int y, int x) {
+    if (image.channels < 3) return image.At(0, y, x);
+    return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) + 0.0722 * image.At(2, y, x);
+}
 
 ErrorMetrics CompareImages(const Image &image, const Image &reference) {
     if (image.width != reference.width || image.height != reference.height)

@@ -16,6 +16,9 @@ struct ErrorMetrics {
     size_t nonFinite = 0;  // elements of x that are NaN/Inf: then relMSE inf, PSNR 0, SSIM 0
 };
 
+// Linear luminance of a pixel, Rec. 709 weights (one channel: itself), as `brightness` sums.
+double Luminance(const Image &image, int y, int x);
+
 // Throws mcd::Error when the sizes or channel counts differ (3 or more compare the first
 // three) or the reference has non-finite values.
 ErrorMetrics CompareImages(const Image &image, const Image &reference);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "host/metrics.h"
+
 namespace mcd::tool {
 
 ObjectLights MeasureObjectLights(const Image &output, const Image &reference,
@@ -15,11 +17,6 @@ ObjectLights MeasureObjectLights(const Image &output, const Image &reference,
         int pixels = 0;
         double output = 0, reference = 0;
     };
-    auto luminance = [](const Image &image, int y, int x) {
-        if (image.channels < 3) return double(image.At(0, y, x));
-        return 0.2126 * image.At(0, y, x) + 0.7152 * image.At(1, y, x) +
-               0.0722 * image.At(2, y, x);
-    };
     std::map<int, Sums> sums;
     for (int y = 0; y < output.height; ++y)
         for (int x = 0; x < output.width; ++x) {
@@ -27,8 +24,8 @@ ObjectLights MeasureObjectLights(const Image &output, const Image &reference,
             if (!std::isfinite(id)) continue;
             Sums &s = sums[int(std::lround(id))];
             ++s.pixels;
-            s.output += luminance(output, y, x);
-            s.reference += luminance(reference, y, x);
+            s.output += Luminance(output, y, x);
+            s.reference += Luminance(reference, y, x);
         }
     double darkest = INFINITY;
     for (const auto &[id, s] : sums) {
