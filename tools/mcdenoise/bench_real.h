@@ -17,12 +17,9 @@ namespace mcd::tool {
 struct RealRow {
     std::string scene, frame, method;  // frame: "plain" or "accumulated"
     std::string refused;               // why the method did not run on the frame
-    ErrorMetrics error;  // with the mean brightness of the output over the reference's
-    double worst = 0;    // mean relMSE term of the worst 1% of pixels
-    // Each object id's light (objects of kObjectPixels or more where the scene has ids) and
-    // the darkest of them (id -1: none measured).
-    std::map<int, ObjectLight> objects;
-    int darkestId = -1;
+    ErrorMetrics error;   // with the mean brightness of the output over the reference's
+    double worst = 0;     // mean relMSE term of the worst 1% of pixels
+    ObjectLights lights;  // each object's light, where the scene has ids
     double seconds = -1;  // denoise wall time; negative for the input
     std::string note;     // e.g. what auto ran
     std::string png;      // the output's preview, relative to the report directory

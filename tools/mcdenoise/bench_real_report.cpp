@@ -23,9 +23,7 @@ const char *kFloorMark = "†";
 
 void MeasureRow(const Image &output, const Image &reference, const Image &objects,
                 RealRow *row) {
-    ObjectLights lights = MeasureObjectLights(output, reference, objects);
-    row->objects = std::move(lights.objects);
-    row->darkestId = lights.darkestId;
+    row->lights = MeasureObjectLights(output, reference, objects);
 
     // Each pixel's relMSE term over its first three channels; a non-finite output is the
     // worst a pixel can be.
@@ -85,9 +83,8 @@ std::string Light(double ratio) {
 
 // The row's darkest object: "0.799 (object 5)", or "" where none was measured.
 std::string Darkest(const RealRow &row) {
-    if (row.darkestId < 0) return "";
-    return fmt::format("{} (object {})", Light(row.objects.at(row.darkestId).ratio),
-                       row.darkestId);
+    if (row.lights.darkestId < 0) return "";
+    return fmt::format("{} (object {})", Light(row.lights.Darkest()), row.lights.darkestId);
 }
 
 std::vector<std::string> Ordered(const std::vector<RealRow> &rows, bool frames) {
@@ -116,13 +113,13 @@ std::vector<Summary> Summarize(const std::vector<RealRow> &rows) {
                 s.psnr += row.error.psnr;
                 s.ssim += row.error.ssim;
                 if (row.seconds > 0) s.seconds += std::log(row.seconds), ++s.timed;
-                if (row.darkestId >= 0) {
-                    double ratio = row.objects.at(row.darkestId).ratio;
+                if (row.lights.darkestId >= 0) {
+                    double ratio = row.lights.Darkest();
                     double rank = std::isnan(ratio) ? -INFINITY : ratio;
                     if (rank < darkest) {
                         darkest = rank;
                         s.darkest = fmt::format("{} ({} object {})", Light(ratio), row.scene,
-                                                row.darkestId);
+                                                row.lights.darkestId);
                     }
                 }
             }
@@ -191,10 +188,7 @@ std::string Csv(const std::vector<RealRow> &rows) {
         "scene,frame,method,relmse,psnr,ssim,brightness,worst1pct,darkest_object,"
         "darkest_object_id,seconds,refused,note\n";
     for (const RealRow &r : rows) {
-        std::string darkest =
-            r.darkestId >= 0
-                ? fmt::format("{:.5f},{}", r.objects.at(r.darkestId).ratio, r.darkestId)
-                : ",";
+        std::string darkest = DarkestCsv(r.lights);
         csv += r.Ran() ? fmt::format("{},{},{},{:.6g},{:.4f},{:.5f},{:.5f},{:.6g},{},{},,{}\n",
                                      r.scene, r.frame, r.method, r.error.relMse, r.error.psnr,
                                      r.error.ssim, r.error.brightness, r.worst, darkest,
@@ -316,7 +310,8 @@ std::string ObjectTables(const std::vector<RealScene> &scenes,
             std::map<int, int> pixels;
             for (const RealRow &row : rows)
                 if (row.scene == scene.name && row.frame == frame)
-                    for (const auto &[id, light] : row.objects) pixels[id] = light.pixels;
+                    for (const auto &[id, light] : row.lights.objects)
+                        pixels[id] = light.pixels;
             if (pixels.empty()) continue;
             md += fmt::format("\n| {} {} | pixels |", scene.name, frame);
             for (const std::string &m : methods) md += " " + m + " |";
@@ -329,8 +324,8 @@ std::string ObjectTables(const std::vector<RealScene> &scenes,
                     std::string cell = " ";
                     for (const RealRow &row : rows)
                         if (row.scene == scene.name && row.frame == frame && row.method == m &&
-                            row.objects.count(id))
-                            cell = Light(row.objects.at(id).ratio);
+                            row.lights.objects.count(id))
+                            cell = Light(row.lights.objects.at(id).ratio);
                     md += " " + cell + " |";
                 }
                 md += "\n";

@@ -47,19 +47,15 @@ struct Point {
     int spp = 0;
     double renderSeconds = 0, denoiseSeconds = 0, gpuSeconds = 0;
     ErrorMetrics error;
-    // The darkest object's light over the reference's (object_light.h); id -1: none.
-    double darkest = NAN;
-    int darkestId = -1;
+    ObjectLights lights;  // each object's light, where the frame has ids
     double Total() const { return renderSeconds + denoiseSeconds; }
 };
 
 // The point's figures, and its darkest object by the frame's ids where it has them.
 void Measure(Point &p, const Image &output, const Image &reference, const io::Frame &frame) {
     p.error = CompareImages(output, reference);
-    if (!frame.Has("objectId")) return;
-    ObjectLights lights = MeasureObjectLights(output, reference, frame.Get("objectId"));
-    p.darkestId = lights.darkestId;
-    if (lights.darkestId >= 0) p.darkest = lights.objects.at(lights.darkestId).ratio;
+    if (frame.Has("objectId"))
+        p.lights = MeasureObjectLights(output, reference, frame.Get("objectId"));
 }
 
 // The four figures no table shows apart: relMSE / PSNR / SSIM (mean brightness).
@@ -70,9 +66,10 @@ std::string Figures(const ErrorMetrics &e) {
 
 // The figures as a line gives them, with the darkest object where one was measured.
 std::string LineFigures(const Point &p) {
-    return Figures(p.error) + (p.darkestId >= 0 ? fmt::format(", darkest object {:.3f} ({})",
-                                                              p.darkest, p.darkestId)
-                                                : "");
+    return Figures(p.error) + (p.lights.darkestId >= 0
+                                   ? fmt::format(", darkest object {:.3f} ({})",
+                                                 p.lights.Darkest(), p.lights.darkestId)
+                                   : "");
 }
 
 std::vector<std::string> SplitList(const std::string &text) {
@@ -437,11 +434,11 @@ void WriteCsv(const QualityOptions &opt, const std::vector<Point> &points) {
         "scene,spp,method,render_s,denoise_wall_s,denoise_gpu_s,total_s,relmse,psnr,ssim,"
         "brightness,darkest_object,darkest_object_id\n";
     for (const Point &p : points)
-        csv += fmt::format(
-            "{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},{:.5f},{:.5f},{}\n", p.scene,
-            p.spp, p.method, p.renderSeconds, p.denoiseSeconds, p.gpuSeconds, p.Total(),
-            p.error.relMse, p.error.psnr, p.error.ssim, p.error.brightness,
-            p.darkestId >= 0 ? fmt::format("{:.5f},{}", p.darkest, p.darkestId) : ",");
+        csv +=
+            fmt::format("{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4f},{:.5f},{:.5f},{}\n",
+                        p.scene, p.spp, p.method, p.renderSeconds, p.denoiseSeconds,
+                        p.gpuSeconds, p.Total(), p.error.relMse, p.error.psnr, p.error.ssim,
+                        p.error.brightness, DarkestCsv(p.lights));
     std::ofstream(fs::path(opt.out) / "quality.csv") << csv;
 }
 

@@ -165,9 +165,9 @@ void AddMeasured(FrameRun &run, const std::string &method, Image output, double 
         "worst1% {:<9.4g} {}{}\n",
         run.scene.name, run.kind, method, row.error.relMse, row.error.psnr, row.error.ssim,
         row.error.brightness, row.worst,
-        row.darkestId >= 0 ? fmt::format("darkest object {:.3f} ({}) ",
-                                         row.objects.at(row.darkestId).ratio, row.darkestId)
-                           : "",
+        row.lights.darkestId >= 0 ? fmt::format("darkest object {:.3f} ({}) ",
+                                                row.lights.Darkest(), row.lights.darkestId)
+                                  : "",
         seconds >= 0 ? fmt::format("{:.3f} s", seconds) : "");
     std::fflush(stdout);
     run.rows.push_back(std::move(row));

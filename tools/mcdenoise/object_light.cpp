@@ -1,10 +1,21 @@
 #include "tools/mcdenoise/object_light.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "host/metrics.h"
 
 namespace mcd::tool {
+
+double ObjectLights::Darkest() const {
+    return darkestId >= 0 ? objects.at(darkestId).ratio : NAN;
+}
+
+std::string DarkestCsv(const ObjectLights &lights) {
+    return lights.darkestId >= 0 ? fmt::format("{:.5f},{}", lights.Darkest(), lights.darkestId)
+                                 : ",";
+}
 
 ObjectLights MeasureObjectLights(const Image &output, const Image &reference,
                                  const Image &objects) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <string>
 
 #include "mcdenoise/image.h"
 
@@ -25,7 +26,13 @@ struct ObjectLight {
 struct ObjectLights {
     std::map<int, ObjectLight> objects;
     int darkestId = -1;
+
+    // The darkest object's light over the reference's; NaN where none was measured.
+    double Darkest() const;
 };
+
+// The CSV fields darkest_object,darkest_object_id ("," where none was measured).
+std::string DarkestCsv(const ObjectLights &lights);
 
 // `objects`: one channel of ids (rounded), of the output's size; anything else (an empty
 // image) measures nothing.
