@@ -230,6 +230,40 @@ TEST_F(CliBenchReal, ObjectsLightFollowsItsDefinition) {
     EXPECT_EQ(md.find("| object 3 |"), std::string::npos) << "8 pixels are measured";
 }
 
+// A transparent film's background: id 0 on the right half, empty (alpha 0) but for a
+// column of rims, is no object; id 1, covered, is measured. With alpha 1 everywhere id 0
+// is an object like any other.
+TEST_F(CliBenchReal, TransparentBackgroundIsNoObject) {
+    Image ids(kSide, kSide, 1), alpha(kSide, kSide, 1, 1.f), variance(kSide, kSide, 3, 1e-3f),
+        spp(kSide, kSide, 1, 16.f);
+    for (int y = 0; y < kSide; ++y)
+        for (int x = kSide / 2; x < kSide; ++x) {
+            ids.At(0, y, x) = 0.f;
+            alpha.At(0, y, x) = x == kSide / 2 ? 0.5f : 0.f;
+        }
+    for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide / 2; ++x) ids.At(0, y, x) = 1.f;
+    auto run = [&](const Image &coverage) {
+        io::WriteExr(Path("set/scene_a/acc.exr"),
+                     {{"color", &reference},
+                      {"variance", &variance},
+                      {"spp", &spp},
+                      {"objectId", &ids},
+                      {"alpha", &coverage}},
+                     {{"mcd:spp", "16"}});
+        ToolResult r = tool.Run("bench real set --no-oidn --methods awr -o report");
+        EXPECT_EQ(r.code, 0) << r.All();
+        return Read("report/real.md");
+    };
+    std::string md = run(alpha);
+    EXPECT_NE(md.find("| object 1 | 128 |"), std::string::npos) << md;
+    EXPECT_EQ(md.find("| object 0 |"), std::string::npos) << md;
+    EXPECT_EQ(CsvRow(Read("report/real.csv"), "scene_a,plain,input")["darkest_object_id"], "1");
+
+    md = run(Image(kSide, kSide, 1, 1.f));
+    EXPECT_NE(md.find("| object 0 | 128 |"), std::string::npos) << md;
+}
+
 // Without ids no object is measured and the report has no object table.
 TEST_F(CliBenchReal, NoObjectsWithoutIds) {
     ToolResult r = tool.Run("bench real set --no-oidn --methods awr -o report");

@@ -36,9 +36,9 @@ struct RealScene {
     int referenceSpp = 0;
     std::string referenceFrom;  // ref.exr, or the chunks it was assembled from
     std::string referencePng;
-    // Object ids (one channel) from the scene's frames, for the objects' light; empty when
+    // Object ids and coverage from the scene's frames, for the objects' light; no ids when
     // neither frame has an objectId layer.
-    Image objects;
+    ObjectMap objects;
 };
 
 // Where the Open Image Denoise peer is looked for when no --oidn is given: $MCDENOISE_OIDN,
@@ -47,12 +47,12 @@ std::string DefaultOidnPeer();
 
 // The figures beyond CompareImages': the mean relMSE term of the worst 1% of pixels, and
 // where `objects` holds ids (not empty), each object's light over the reference's.
-void MeasureRow(const Image &output, const Image &reference, const Image &objects,
+void MeasureRow(const Image &output, const Image &reference, const ObjectMap &objects,
                 RealRow *row);
 
-// The object ids of a scene's folder: the objectId layer of acc.exr, else of plain.exr;
-// an empty image when neither has one.
-Image LoadObjects(const std::string &sceneDir);
+// The objects of a scene's folder: the objectId layer of acc.exr, else of plain.exr, with
+// that file's alpha where it has one; no ids when neither has an objectId layer.
+ObjectMap LoadObjects(const std::string &sceneDir);
 
 // relMSE the reference carries: from its two halves, the means of count0 and count1
 // chunks (frames) of equal spp and different seeds.

@@ -110,13 +110,14 @@ bool HasReference(const std::string &sceneDir) {
            ReferenceChunks(sceneDir).size() >= 2;
 }
 
-Image LoadObjects(const std::string &sceneDir) {
+ObjectMap LoadObjects(const std::string &sceneDir) {
     for (const char *file : {"acc.exr", "plain.exr"}) {
         fs::path path = fs::path(sceneDir) / file;
         std::error_code ec;
         if (!fs::exists(path, ec)) continue;
-        Frame frame = ReadFrame(path.string(), {{"objectId"}});
-        if (frame.Has("objectId")) return frame.Get("objectId");
+        Frame frame = ReadFrame(path.string(), {{"objectId", "alpha"}});
+        if (frame.Has("objectId"))
+            return {frame.Get("objectId"), frame.Has("alpha") ? frame.Get("alpha") : Image{}};
     }
     return {};
 }

@@ -21,7 +21,7 @@ const char *kFloorMark = "†";
 
 }  // namespace
 
-void MeasureRow(const Image &output, const Image &reference, const Image &objects,
+void MeasureRow(const Image &output, const Image &reference, const ObjectMap &objects,
                 RealRow *row) {
     row->lights = MeasureObjectLights(output, reference, objects);
 
@@ -354,7 +354,8 @@ std::string Markdown(const std::string &header, const std::vector<RealScene> &sc
         md += fmt::format(
             "\n## Objects: light over the reference's\n\nRec. 709 luminance summed over "
             "the pixels of an object id (the frames' objectId layer; objects of {} pixels or "
-            "more) in the output, over the reference's.\n{}",
+            "more; not an id most of whose pixels are empty, alpha 0: a transparent film's "
+            "background) in the output, over the reference's.\n{}",
             kObjectPixels, objects);
     md += "\n## Every row\n\n" + RowTable(scenes, rows);
     return md;

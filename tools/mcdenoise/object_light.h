@@ -34,9 +34,17 @@ struct ObjectLights {
 // The CSV fields darkest_object,darkest_object_id ("," where none was measured).
 std::string DarkestCsv(const ObjectLights &lights);
 
-// `objects`: one channel of ids (rounded), of the output's size; anything else (an empty
-// image) measures nothing.
+// Where a frame's objects lie: one channel of ids (rounded) and, where the frame has one,
+// its coverage (alpha). An id most of whose pixels are empty (alpha 0: a transparent film's
+// background) is no object: what light it holds is the rims of the objects in front.
+struct ObjectMap {
+    Image ids;
+    Image coverage;  // empty: every pixel covered
+};
+
+// `objects.ids` of the output's size; anything else (an empty image) measures nothing, and
+// a coverage of another size is not read.
 ObjectLights MeasureObjectLights(const Image &output, const Image &reference,
-                                 const Image &objects);
+                                 const ObjectMap &objects);
 
 }  // namespace mcd::tool
