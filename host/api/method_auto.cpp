@@ -193,7 +193,8 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "candidates' weighted mean (the same weights) by the one fraction that "
                     "brings the sum to that level: after the "
                     "local-mean restore (after; the move is the weighted mean's over the "
-                    "combination, the restore's change kept), before it (before), or never "
+                    "combination, the restore's change kept, taken --auto-object-floor-input "
+                    "of the way on to the input), before it (before), or never "
                     "(off); "
                     "--explain names each object moved",
                     &O::objectFloor, {"after", "before", "off"}),
@@ -201,6 +202,13 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "with --auto-object-floor after or before: the share of the darkest "
                    "candidate's luminance sum an object is held to (1: all of it)",
                    &O::objectFloorLevel, 0.5, 1),
+        FloatParam("auto-object-floor-input",
+                   "with --auto-object-floor after: the share of the way from the "
+                   "candidates' weighted mean (the restore's change kept) to the input that "
+                   "the floor moves an object toward, so that its light goes back where the "
+                   "samples found it rather than where the candidates spread it (0: the "
+                   "weighted mean alone)",
+                   &O::objectFloorInput, 0, 1),
         FloatParam("auto-object-lift",
                    "on a frame with an objectId layer and a variance layer or half-buffers, "
                    "last: an object whose luminance summed over it is below the input's by "
@@ -1041,8 +1049,8 @@ bool FloorsObjects(const AutoFrontEnd::Options &o, const AutoOptions &c, Inputs 
 // The object floor on `image` (host/methods/auto_object_floor.h), one plan line per object.
 void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
                   const std::vector<const Image *> &outputs, const Image &weighted,
-                  const std::string &when, double level, Image *image,
-                  std::vector<std::string> *plan) {
+                  const std::string &when, const std::string &toward, double level,
+                  Image *image, std::vector<std::string> *plan) {
     size_t small = 0;
     std::vector<AutoObjectMove> moved =
         AutoObjectFloor(inputs.Get("objectId"), outputs, weighted, level, image,
@@ -1061,9 +1069,9 @@ void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
     for (const AutoObjectMove &m : moved)
         plan->push_back(fmt::format(
             "auto: object floor ({} the local-mean restore): object {:g} ({} px) at {:.3f} of "
-            "its darkest candidate's luminance ({}) moved {:.3f} of the way to the "
-            "candidates' weighted mean ({:.3f} of it)",
-            when, m.id, m.pixels, m.before / m.target, list[m.darkest].label, m.alpha,
+            "its darkest candidate's luminance ({}) moved {:.3f} of the way to {} ({:.3f} of "
+            "it)",
+            when, m.id, m.pixels, m.before / m.target, list[m.darkest].label, m.alpha, toward,
             m.weighted / m.target));
 }
 
@@ -1185,7 +1193,8 @@ void StartFloor(const AutoFrontEnd::Options &options, Inputs &inputs,
     if (options.objectFloor == "after")
         *unrestored = combined->image;
     else
-        FloorObjects(inputs, list, outputs, *weighted, "before", options.objectFloorLevel,
+        FloorObjects(inputs, list, outputs, *weighted, "before",
+                     "the candidates' weighted mean", options.objectFloorLevel,
                      &combined->image, plan);
 }
 
@@ -1485,10 +1494,15 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                                                    variance, kLocalMeanRebalanceAuto));
     }
     if (floor && options.objectFloor == "after") {
-        weighted = AutoFloorTarget(weighted, unrestored, result.image);
+        weighted = AutoFloorTarget(weighted, unrestored, result.image, &color,
+                                   options.objectFloorInput);
         unrestored = Image();
-        FloorObjects(inputs, list, outputPointers, weighted, "after", options.objectFloorLevel,
-                     &result.image, &plan);
+        std::string toward = "the candidates' weighted mean";
+        if (options.objectFloorInput > 0)
+            toward +=
+                fmt::format(" taken {:g} of the way to the input", options.objectFloorInput);
+        FloorObjects(inputs, list, outputPointers, weighted, "after", toward,
+                     options.objectFloorLevel, &result.image, &plan);
     }
     LiftObjects(options, inputs, color, &result.image, &plan);
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);

@@ -124,6 +124,9 @@ class AutoFrontEnd : public FrontEnd {
         std::string objectFloor = "after";
         // The share of the darkest candidate's sum the floor holds an object to.
         float objectFloorLevel = 0.98f;
+        // With objectFloor "after": the share of the way from the weighted mean's value to
+        // the input's the floor's target takes.
+        float objectFloorInput = 0.5f;
         // On a frame with an objectId layer and a variance layer or half-buffers: each
         // object whose output luminance sum is below the input's by more than this many
         // standard errors of the input's sum is scaled up to that bound (0: off; issue 29,

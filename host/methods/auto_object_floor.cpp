@@ -85,13 +85,18 @@ Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &w
 }
 
 Image AutoFloorTarget(const Image &weightedMean, const Image &combination,
-                      const Image &restored) {
-    if (!weightedMean.SameShape(combination) || !weightedMean.SameShape(restored))
+                      const Image &restored, const Image *input, float inputShare) {
+    if (!weightedMean.SameShape(combination) || !weightedMean.SameShape(restored) ||
+        (input && !input->SameShape(restored)))
         throw Error("auto: the floor's target needs images of one shape",
                     ErrorKind::InvalidArgument);
+    // Without an input no share of it is taken.
+    const double share = input ? inputShare : 0.0;
     Image target = restored;
-    for (size_t i = 0; i < target.data.size(); ++i)
-        target.data[i] = restored.data[i] + (weightedMean.data[i] - combination.data[i]);
+    for (size_t i = 0; i < target.data.size(); ++i) {
+        double mean = double(restored.data[i]) + (weightedMean.data[i] - combination.data[i]);
+        target.data[i] = float(share > 0 ? mean + share * (input->data[i] - mean) : mean);
+    }
     return target;
 }
 

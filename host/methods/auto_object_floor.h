@@ -38,10 +38,13 @@ Image AutoWeightedMean(const std::vector<const Image *> &outputs, const Image &w
                        const Image &image);
 
 // The floor's target after the local-mean restore: `restored` plus the weighted mean's
-// excess over the unrestored `combination`, so the floor keeps the restore's change.
-// Throws where the shapes do not match.
+// excess over the unrestored `combination`, so the floor keeps the restore's change; with
+// `input` (the frame's colour), that value moved `inputShare` (in [0, 1]) of the way to the
+// input, whose light lies in the pixels where the samples found it (a glossy band's specks),
+// not where the candidates spread it. Throws where the shapes do not match.
 Image AutoFloorTarget(const Image &weightedMean, const Image &combination,
-                      const Image &restored);
+                      const Image &restored, const Image *input = nullptr,
+                      float inputShare = 0);
 
 // Floor `image` per object of `ids` (image's size, its first channel the id) at `level` times
 // the darkest of `outputs`' sums (the candidates') by moving toward `weighted` (image's

@@ -146,6 +146,57 @@ TEST(AutoObjectFloor, AfterTheRestoreKeepsTheRestoresChangeAndReachesTheDarkest)
     EXPECT_THROW(AutoFloorTarget(mean, Image(w, h, 1), restored), Error);
 }
 
+// With the input: the target is the weighted mean's value (the restore's change kept) taken
+// the share of the way to the input, the floor still reaches the darkest's sum, and a share of
+// 0 is the target without the input, bit for bit.
+TEST(AutoObjectFloor, AfterTheRestoreTakesItsShareOfTheWayToTheInput) {
+    const int w = 9, h = 7;
+    TwoObjects f = MakeTwoObjects(w, h);
+    ref::AutoCombined relative =
+        ref::AutoCombineRelative(f.color, f.candidates, f.errors, f.variance, 2, 1e-5, 30, 4);
+    std::vector<const Image *> outputs = {&f.candidates[0], &f.candidates[1]};
+    const Image mean = AutoWeightedMean(outputs, relative.weights, relative.color);
+    Image restored = relative.color;
+    for (float &v : restored.data) v = 0.9f * v + 0.25f;
+    // The input holds object 1's light in its even pixels, where the samples found it.
+    Image input = f.color;
+    for (int c = 0; c < 3; ++c)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) input.At(c, y, x) *= (x + y) % 2 == 0 ? 1.6f : 0.4f;
+    const float share = 0.5f;
+    const Image target = AutoFloorTarget(mean, relative.color, restored, &input, share);
+    const Image without = AutoFloorTarget(mean, relative.color, restored);
+    const Image none = AutoFloorTarget(mean, relative.color, restored, &input, 0);
+    EXPECT_EQ(none.data, without.data);
+    bool differs = false;
+    for (size_t i = 0; i < target.data.size(); ++i) {
+        double m = double(restored.data[i]) + (mean.data[i] - relative.color.data[i]);
+        double expected = m + share * (input.data[i] - m);
+        EXPECT_NEAR(target.data[i], expected,
+                    4 * kUnitRoundoff * (std::abs(m) + std::abs(input.data[i])))
+            << i;
+        differs = differs || std::abs(target.data[i] - without.data[i]) > 1e-3f;
+    }
+    EXPECT_TRUE(differs);
+    Image floored = restored;
+    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, target, 1, &floored, 1);
+    ASSERT_EQ(moved.size(), 1u);
+    ASSERT_GT(moved[0].alpha, 0);
+    ASSERT_LT(moved[0].alpha, 1);
+    const double darkest = ObjectSum(f.candidates[0], f.ids, 1).first;
+    auto [sum, magnitude] = ObjectSum(floored, f.ids, 1);
+    EXPECT_NEAR(sum, darkest, 4 * kUnitRoundoff * magnitude);
+    const double alpha = moved[0].alpha;
+    for (size_t i = 0; i < floored.data.size(); ++i) {
+        const bool left = int(i % (size_t(w) * h)) % w < w / 2;
+        double r = restored.data[i], t = target.data[i];
+        double expected = left ? r + alpha * (t - r) : r;
+        EXPECT_NEAR(floored.data[i], expected, 4 * kUnitRoundoff * (std::abs(r) + std::abs(t)))
+            << i;
+    }
+    EXPECT_THROW(AutoFloorTarget(mean, relative.color, restored, &f.ids, share), Error);
+}
+
 TEST(AutoObjectFloor, LeavesAnObjectWhoseDarkestSumIsNotPositive) {
     Image ids(3, 2, 1, 1.f), a(3, 2, 3, -1.f), b(3, 2, 3, -0.5f);
     Image image(3, 2, 3, -3.f), weighted(3, 2, 3, -0.75f);
