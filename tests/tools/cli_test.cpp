@@ -290,6 +290,25 @@ TEST_F(CliTest, FailedRunKeepsExistingOutput) {
     EXPECT_EQ(Listing(tool.Dir()), (std::set<std::string>{"afile", "in.exr", "out.exr"}));
 }
 
+// `denoise` reads its frame while the device starts on another thread: a frame whose pixels
+// cannot be read is still the error reported, not the device's; a frame that reads, on a
+// device that is not there, reports the device; neither writes an output.
+TEST_F(CliTest, DenoiseReportsAnUnreadableFrameBeforeTheDevice) {
+    Image color = MakeInput(InputKind::Uniform, 37, 23, 3, SeedFromName("cli frame"));
+    Image variance(37, 23, 3, 0.25f);
+    io::WriteExr(Path("in.exr").string(), {{"color", &color}, {"variance", &variance}});
+    const std::string whole = ReadBytes(Path("in.exr"));
+    // The header whole, the pixels cut short.
+    std::ofstream(Path("cut.exr"), std::ios::binary) << whole.substr(0, whole.size() * 2 / 3);
+    RunResult r = Run("denoise cut.exr -o out.exr --method awr --device no-such-gpu");
+    EXPECT_TRUE(IsError(r, ErrorKind::Io, "cut.exr"));
+    r = Run("denoise in.exr -o out.exr --method awr --device no-such-gpu");
+    EXPECT_TRUE(IsError(r, ErrorKind::InvalidArgument, "no-such-gpu"));
+    EXPECT_EQ(Listing(tool.Dir()), (std::set<std::string>{"cut.exr", "in.exr"}));
+    r = Run("denoise in.exr -o out.exr --method awr");
+    EXPECT_EQ(r.code, 0) << r.All();
+}
+
 // A --dump path that is an existing file is refused up front, as an error naming it.
 TEST_F(CliTest, DumpOntoFileIsAnError) {
     std::ofstream(Path("afile")) << "not a directory";
@@ -336,7 +355,7 @@ DiffRows ParseDiff(const std::string &out) {
     return d;
 }
 
-// `diff --method bayes`: every stage of the GPU run (float32) against the CPU reference
+// `diff --method awr`: every stage of the GPU run (float32) against the CPU reference
 // (double where it matters), with bounds derived stage by stage (u = 2^-24):
 // - log, analysis, moments: float rounding of a few to tens of u per element (GLSL log 3
 //   ulp; Haar 2 u per level; the moment sums (count/256 + 12) u, and m4 carries 4 times
@@ -358,7 +377,7 @@ TEST_F(CliTest, DiffBayesStages) {
     // The bounds below read the DWT's Mallat layout (the CLI's default is swt), without the
     // local mean (its stage: BayesSwtCli.DenoiseDiffAndErrors).
     RunResult r =
-        Run("diff f.exr --method bayes --bayes-transform dwt --bayes-mean-radius 0 --dump db");
+        Run("diff f.exr --method awr --bayes-transform dwt --bayes-mean-radius 0 --dump db");
     ASSERT_EQ(r.code, 0) << r.All();
     DiffRows d = ParseDiff(r.out);
     const std::vector<std::string> stages = {"log",       "analysis",  "moments", "fits",
@@ -404,7 +423,7 @@ TEST_F(CliTest, DiffBayesStages) {
     // not printed (only the unshifted run's stages are): taken as at most twice the
     // unshifted one's, so 4 dz^2; keep mean scales by a ratio of sums good to ~1e-7.
     r =
-        Run("diff f.exr --method bayes --no-split --colour opponent --spins 2 --keep-mean "
+        Run("diff f.exr --method awr --no-split --colour opponent --spins 2 --keep-mean "
             "--noise auto --bayes-mean-radius 0 --dump db2");
     ASSERT_EQ(r.code, 0) << r.All();
     d = ParseDiff(r.out);
@@ -425,7 +444,7 @@ TEST_F(CliTest, DiffBayesStages) {
     EXPECT_LT(d.rows["fits"].first, 1e-9) << r.out;
     // A 1x1 frame has no detail band: log and exp only.
     ASSERT_EQ(Run("render --size 1x1 --spp 2 -o one.exr").code, 0);
-    r = Run("diff one.exr --method bayes --bayes-mean-radius 0");
+    r = Run("diff one.exr --method awr --bayes-mean-radius 0");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_EQ(ParseDiff(r.out).order, (std::vector<std::string>{"log", "exp"})) << r.out;
 }

@@ -177,18 +177,29 @@ class FrameCache {
         return window;
     }
 
-    // Start reading frame i's window and the next frame's; drop every other frame.
-    void Keep(size_t i) {
+    // Start reading frame i's window and the next frame's; drop every other frame. With
+    // `here`, frame i (not read yet) is read on this thread, after the others are started:
+    // its planes then come from this thread's heap (the main one, on huge pages: heap.h),
+    // where a loader thread's own arena faults fresh memory in 4 KiB pages.
+    void Keep(size_t i, bool here = false) {
         std::vector<size_t> keep = Window(i);
         if (i + 1 < frames.size())
             for (size_t j : Window(i + 1)) keep.push_back(j);
         for (auto it = slots.begin(); it != slots.end();)
             it = std::count(keep.begin(), keep.end(), it->first) ? std::next(it)
                                                                  : slots.erase(it);
+        here = here && !slots.count(i);
         for (size_t j : keep)
-            if (!slots.count(j))
+            if (!slots.count(j) && !(here && j == i))
                 slots[j].pending = std::async(std::launch::async, LoadFrame,
                                               std::cref(frames[j]), std::cref(read));
+        if (!here) return;
+        Slot &slot = slots[i];
+        try {
+            slot.frame = LoadFrame(frames[i], read);
+        } catch (...) {
+            slot.error = std::current_exception();
+        }
     }
 
     // Frame j, once read (Keep started it); throws what its read threw.
@@ -406,12 +417,14 @@ class DenoiseRun {
 // written.
 void DenoiseRun::Run() {
     Clock::time_point start = Clock::now();
-    cache.Keep(0);
-    // The device starts while the loader thread reads the first frame. A single frame that
-    // cannot be read is still the error reported, before any of the device's.
+    // The device starts on a helper thread while this one reads the first frame. A single
+    // frame that cannot be read is still the error reported, before any of the device's.
+    std::future<void> opening =
+        std::async(std::launch::async, [this] { device.emplace(settings.device); });
+    cache.Keep(0, true);
     std::exception_ptr deviceError;
     try {
-        device.emplace(settings.device);
+        opening.get();
     } catch (...) {
         deviceError = std::current_exception();
     }
