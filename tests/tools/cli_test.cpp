@@ -355,7 +355,7 @@ DiffRows ParseDiff(const std::string &out) {
     return d;
 }
 
-// `diff --method awr`: every stage of the GPU run (float32) against the CPU reference
+// `diff --method bayes`: every stage of the GPU run (float32) against the CPU reference
 // (double where it matters), with bounds derived stage by stage (u = 2^-24):
 // - log, analysis, moments: float rounding of a few to tens of u per element (GLSL log 3
 //   ulp; Haar 2 u per level; the moment sums (count/256 + 12) u, and m4 carries 4 times
@@ -377,7 +377,7 @@ TEST_F(CliTest, DiffBayesStages) {
     // The bounds below read the DWT's Mallat layout (the CLI's default is swt), without the
     // local mean (its stage: BayesSwtCli.DenoiseDiffAndErrors).
     RunResult r =
-        Run("diff f.exr --method awr --bayes-transform dwt --bayes-mean-radius 0 --dump db");
+        Run("diff f.exr --method bayes --bayes-transform dwt --bayes-mean-radius 0 --dump db");
     ASSERT_EQ(r.code, 0) << r.All();
     DiffRows d = ParseDiff(r.out);
     const std::vector<std::string> stages = {"log",       "analysis",  "moments", "fits",
@@ -423,7 +423,7 @@ TEST_F(CliTest, DiffBayesStages) {
     // not printed (only the unshifted run's stages are): taken as at most twice the
     // unshifted one's, so 4 dz^2; keep mean scales by a ratio of sums good to ~1e-7.
     r =
-        Run("diff f.exr --method awr --no-split --colour opponent --spins 2 --keep-mean "
+        Run("diff f.exr --method bayes --no-split --colour opponent --spins 2 --keep-mean "
             "--noise auto --bayes-mean-radius 0 --dump db2");
     ASSERT_EQ(r.code, 0) << r.All();
     d = ParseDiff(r.out);
@@ -444,7 +444,7 @@ TEST_F(CliTest, DiffBayesStages) {
     EXPECT_LT(d.rows["fits"].first, 1e-9) << r.out;
     // A 1x1 frame has no detail band: log and exp only.
     ASSERT_EQ(Run("render --size 1x1 --spp 2 -o one.exr").code, 0);
-    r = Run("diff one.exr --method awr --bayes-mean-radius 0");
+    r = Run("diff one.exr --method bayes --bayes-mean-radius 0");
     ASSERT_EQ(r.code, 0) << r.All();
     EXPECT_EQ(ParseDiff(r.out).order, (std::vector<std::string>{"log", "exp"})) << r.out;
 }
