@@ -1089,7 +1089,8 @@ Image NforStraightRun(const NforInputs &in, const NforParams &p,
     if (p.meanRadius > 0) {
         keep("fit", out);
         if (p.speckRelative >= 0 && plain) {
-            NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out);
+            NforClampSpecks(mask, p.speckRank, p.speckRelative, p.speckFloor, &out,
+                            p.speckFlatShare, p.speckFlatRelative);
             keep("specks", out);
         }
         std::vector<bool> left = LeftByTheFits(clamped, mask);

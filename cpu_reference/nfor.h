@@ -178,6 +178,7 @@ struct NforParams {
     // clamped (NforClampSpecks, cpu_reference/nfor_specks.h); speckRelative < 0: off.
     double speckRelative = -1, speckFloor = 0.01;
     int speckRank = 2;
+    double speckFlatShare = 0, speckFlatRelative = 0.1;  // NforOptions' speckFlat*
     // Pixels the fits left as they came in: the output's feature-weighted mean over this
     // radius (NforSmoothKept, cpu_reference/nfor_kept.h); 0: kept.
     int keptRadius = 0;

@@ -16,8 +16,8 @@ double Mean(const Image &image, int x, int y) {
 
 }  // namespace
 
-void NforClampSpecks(const Image &mask, int rank, double relative, double floor,
-                     Image *output) {
+void NforClampSpecks(const Image &mask, int rank, double relative, double floor, Image *output,
+                     double flatShare, double flatRelative) {
     const Image before = *output;
     for (int y = 0; y < before.height; ++y)
         for (int x = 0; x < before.width; ++x) {
@@ -38,7 +38,10 @@ void NforClampSpecks(const Image &mask, int rank, double relative, double floor,
             if (emitter || !finite || neighbours.size() < 8) continue;
             std::sort(neighbours.begin(), neighbours.end());
             double n = neighbours[neighbours.size() - size_t(rank)];
-            double bound = (1 + relative) * n + floor, l = Mean(before, x, y);
+            // The 5th brightest of the 8: the neighbours' median, on a flat ground near n.
+            bool flat = flatShare > 0 && neighbours[3] >= flatShare * n;
+            double bound = (1 + (flat ? flatRelative : relative)) * n + floor,
+                   l = Mean(before, x, y);
             if (!(l > bound)) continue;
             for (int c = 0; c < before.channels; ++c)
                 output->At(c, y, x) = float(before.At(c, y, x) * (bound / l));

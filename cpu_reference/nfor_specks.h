@@ -9,6 +9,9 @@ namespace mcd::ref {
 // 0: with L the mean of a pixel's channels and n the rank-th
 // largest L of its neighbours, where L_p > b = (1 + relative) n + floor, every channel
 // becomes its value times b / L_p. L, n and b are read on the output before any change.
-void NforClampSpecks(const Image &mask, int rank, double relative, double floor, Image *output);
+// With flatShare > 0, where the 5th largest L of the neighbours is at least flatShare x n,
+// flatRelative takes relative's place.
+void NforClampSpecks(const Image &mask, int rank, double relative, double floor, Image *output,
+                     double flatShare = 0, double flatRelative = 0);
 
 }  // namespace mcd::ref

@@ -305,6 +305,16 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                      "--speck-relative's bound is over the pixel's this-th brightest "
                      "neighbour: a pixel with this many bright neighbours (a line's) is kept",
                      &O::speckRank, 1, 8)),
+        nested(FloatParam(
+            "speck-flat-share",
+            "a pixel whose 8 neighbours' median luminance (the 5th brightest) is at least "
+            "this x its --speck-rank-th brightest neighbour's (a speck on a flat "
+            "ground, not on a highlight's slope) is held to "
+            "--speck-flat-relative in place of --speck-relative; 0: off",
+            &O::speckFlatShare, 0, 1)),
+        nested(FloatParam("speck-flat-relative",
+                          "--speck-relative's bound on a flat ground (--speck-flat-share)",
+                          &O::speckFlatRelative, 0, 1e3)),
         nested(
             BoolParam("nfor-coarse",
                       "on every frame, denoise the frame again at half the resolution and "

@@ -49,6 +49,8 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.speckRelative = o.speckRelative;
     p.speckFloor = o.speckFloor;
     p.speckRank = o.speckRank;
+    p.speckFlatShare = o.speckFlatShare;
+    p.speckFlatRelative = o.speckFlatRelative;
     p.keptRadius = o.keptRadius;
     p.weakEmitterAlbedo = o.weakEmitterAlbedo;
     p.weakEmitterLine = o.weakEmitterLine;

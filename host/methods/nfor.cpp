@@ -947,14 +947,21 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
                   const Image &clamped, NforResult &result, std::vector<bool> *meansLeft) {
     run.AddStage("fit", result.image);
     if (o.speckRelative >= 0 && PlainPasses(in, o, result)) {
-        result.specks =
-            NforClampSpecks(mask, {o.speckRelative, o.speckFloor, o.speckRank}, &result.image);
+        result.specks = NforClampSpecks(
+            mask,
+            {o.speckRelative, o.speckFloor, o.speckRank, o.speckFlatShare, o.speckFlatRelative},
+            &result.image);
         run.AddStage("specks", result.image);
         run.Plan(fmt::format(
             "specks: {} pixels of the fits' output above (1 + {}) x the luminance of their "
-            "neighbour ranked {} by brightness + {} scaled down to that, before the local "
+            "neighbour ranked {} by brightness + {}{} scaled down to that, before the local "
             "means give the pixels around them what of their light they hold for certain",
-            result.specks, o.speckRelative, o.speckRank, o.speckFloor));
+            result.specks, o.speckRelative, o.speckRank, o.speckFloor,
+            o.speckFlatShare > 0
+                ? fmt::format(" ((1 + {}) x where the neighbours' median is at least {} x "
+                              "that neighbour's: a flat ground)",
+                              o.speckFlatRelative, o.speckFlatShare)
+                : std::string()));
     }
     *meansLeft = FitsLeft(mask, clamped.channels);
     LocalMeanFactors f =

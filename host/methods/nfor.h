@@ -138,6 +138,9 @@ struct NforOptions {
     // (host/methods/nfor_specks.h); speckRelative < 0: off.
     float speckRelative = 0.2f, speckFloor = 0.01f;
     int speckRank = 2;  // a pixel with this many bright neighbours (a line's) is kept
+    // On a flat ground (the neighbours' median at least speckFlatShare x the speckRank-th
+    // brightest) the bound takes speckFlatRelative in place of speckRelative; 0: off.
+    float speckFlatShare = 0.8f, speckFlatRelative = 0.1f;
     // On a frame without a variance layer, or beside one where the clamp reads the frame's
     // own estimate (unless noLayerPasses), a pixel the fits left as it came in (it weighed
     // only itself: a partly covered edge unlike all around it) takes the feature-weighted

@@ -44,7 +44,14 @@ size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &s, Image *out
             const int k = std::clamp(s.rank, 1, 8) - 1;
             std::nth_element(around.begin(), around.begin() + k, around.end(),
                              std::greater<double>());
-            const double bound = (1.0 + s.relative) * around[k] + double(s.floor);
+            const double rankth = around[k];
+            // On a flat ground (the neighbours' median near the rank-th brightest) a speck
+            // is held to the tighter bound.
+            std::nth_element(around.begin(), around.begin() + 4, around.end(),
+                             std::greater<double>());
+            const bool flat = s.flatShare > 0 && around[4] >= s.flatShare * rankth;
+            const double bound =
+                (1.0 + (flat ? s.flatRelative : s.relative)) * rankth + double(s.floor);
             const double l = luminance[p];
             if (!(l > bound)) continue;
             const double scale = bound / l;

@@ -17,6 +17,10 @@ struct NforSpeckSettings {
     float floor = 0.01f;
     // A pixel with this many bright neighbours or more (a line's, a highlight's) is kept.
     int rank = 2;
+    // Where the neighbours' median is at least flatShare x the rank-th brightest (a speck
+    // on a flat ground, no highlight's slope), the bound takes flatRelative; 0: off.
+    float flatShare = 0;
+    float flatRelative = 0.2f;
 };
 
 // Each pixel of `output` (mask 1, not on the frame's border, no emitter, mask 0, among its

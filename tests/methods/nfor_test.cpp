@@ -2365,8 +2365,11 @@ TEST(NforSpecks, MatchesTheReference) {
             for (size_t i = 5; i < mask.Size(); i += 13) mask.data[i] = 0;
             Image gpuSide = input, cpuSide = input;
             int rank = 1 + int(seed % 4);
-            size_t count = NforClampSpecks(mask, {0.3f, 0.02f, rank}, &gpuSide);
-            ref::NforClampSpecks(mask, rank, 0.3, 0.02, &cpuSide);
+            // Every other case with the flat ground's bound on.
+            const float flatShare = seed % 2 ? 0.6f : 0.f;
+            size_t count =
+                NforClampSpecks(mask, {0.3f, 0.02f, rank, flatShare, 0.05f}, &gpuSide);
+            ref::NforClampSpecks(mask, rank, 0.3, 0.02, &cpuSide, flatShare, 0.05);
             EXPECT_TRUE(ImagesMatch(cpuSide, gpuSide, {}, {4 * kU, 0, 1e-12})) << name;
             size_t moved = 0;
             for (size_t i = 0; i < input.PixelCount(); ++i)
@@ -2377,6 +2380,34 @@ TEST(NforSpecks, MatchesTheReference) {
             changed += count;
         }
     EXPECT_GT(changed, 0u);
+}
+
+// The flat ground's bound: a pixel at 1.15x its 8 flat neighbours (under the bound of 1.2x +
+// 0.01, above 1.1x + 0.01) is scaled to 1.1x + 0.01 where the neighbours' median is at
+// least 0.8 of the 2nd brightest; the same pixel beside a slope (two neighbours of 0.3,
+// the rest 0.1: a highlight's edge) keeps its value; with the share 0 both keep theirs.
+TEST(NforSpecks, HoldsASpeckOnAFlatGroundToTheTighterBound) {
+    auto frame = [](bool flat) {
+        Image image(5, 5, 3, flat ? 0.3f : 0.1f);
+        if (!flat)
+            for (int c = 0; c < 3; ++c) image.At(c, 1, 1) = image.At(c, 1, 2) = 0.3f;
+        for (int c = 0; c < 3; ++c) image.At(c, 2, 2) = 0.345f;
+        return image;
+    };
+    const Image mask(5, 5, 1, 1.f);
+    for (bool flat : {true, false}) {
+        Image on = frame(flat), off = frame(flat);
+        size_t clamped = NforClampSpecks(mask, {0.2f, 0.01f, 2, 0.8f, 0.1f}, &on);
+        EXPECT_EQ(NforClampSpecks(mask, {0.2f, 0.01f, 2, 0.f, 0.1f}, &off), 0u);
+        EXPECT_EQ(off.At(0, 2, 2), 0.345f);
+        if (flat) {
+            EXPECT_EQ(clamped, 1u);
+            EXPECT_NEAR(on.At(1, 2, 2), 1.1 * 0.3 + 0.01, 1e-6);
+        } else {
+            EXPECT_EQ(clamped, 0u);
+            EXPECT_EQ(on.At(1, 2, 2), 0.345f);
+        }
+    }
 }
 
 // A speck the firefly clamp leaves (a pixel at 1.7x its flat neighbours, under the clamp's
