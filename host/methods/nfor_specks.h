@@ -20,14 +20,15 @@ struct NforSpeckSettings {
     // Where the neighbours' median is at least flatShare x the rank-th brightest (a speck
     // on a flat ground, no highlight's slope), the bound takes flatRelative; 0: off.
     float flatShare = 0;
-    float flatRelative = 0.2f;
+    float flatRelative = 0.1f;
 };
 
 // Each pixel of `output` (mask 1, not on the frame's border, no emitter, mask 0, among its
 // 8 neighbours) whose luminance (the mean of its channels) is above (1 + relative) n +
-// floor, n the rank-th largest (1 to 8) luminance of its neighbours, scaled by that bound
-// over its luminance (its hue kept); every decision on the output as it came in. Returns
-// how many pixels changed.
+// floor, n the rank-th largest (1 to 8) luminance of its neighbours (flatRelative in place
+// of relative where their 5th largest is at least flatShare x n), scaled by that bound over
+// its luminance (its hue kept); every decision on the output as it came in. Returns how
+// many pixels changed.
 size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &settings, Image *output);
 
 }  // namespace mcd
