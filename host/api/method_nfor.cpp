@@ -24,6 +24,10 @@ struct NforParamsApi {
     std::string pilotBandwidths = "1";
     std::string noise = "auto", pivot = "auto";
     std::string pilotLayer;  // empty: the first pass's output is the pilot
+    // On a frame without a variance layer, where --pilot-wide-radius is 0: the second
+    // pass's wide windows and the agreement that takes their fit (0: off).
+    int plainWideRadius = 8;
+    float plainWideAgreement = 0.001f;
 };
 
 std::vector<float> ParseBandwidths(const std::string &text, const char *option) {
@@ -257,6 +261,17 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "the second pass also fits over windows of this half-size (above "
                         "--radius) and SURE picks per pixel among both sizes; 0: off",
                         &O::pilotWideRadius, 0, 10)),
+        IntParam("plain-wide-radius",
+                 "on a frame without a variance layer (a plain render), where "
+                 "--pilot-wide-radius is 0 and the second pass has one bandwidth: it also "
+                 "fits over windows of this half-size and takes their fit where it agrees "
+                 "with the narrow one's (--plain-wide-agreement): an interior's walls; 0, or "
+                 "not above --radius: off",
+                 &NforParamsApi::plainWideRadius, 0, 10),
+        FloatParam("plain-wide-agreement",
+                   "with --plain-wide-radius: the --wide-agreement it runs with (0: SURE "
+                   "picks between the two sizes)",
+                   &NforParamsApi::plainWideAgreement, 0, 1e6),
         nested(IntParam("nfor-mean-radius",
                         "restore the clamped colour's local means over tents of 8x, then 2x "
                         "this radius after the fits; 0: off",
@@ -376,7 +391,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     }
 
     Result Run(vk::Context &context, Inputs &inputs, const RunOptions &run) const override {
-        NforOptions o = Options();
+        NforOptions o = Options(inputs);
         o.keepStages = run.keepStages;
         return ResultOf(NforDenoise(context, InputsOf(inputs), o, inputs.Memo()));
     }
@@ -399,7 +414,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     }
 
     TileNeeds Tiling(vk::Context &context, Inputs &inputs) const override {
-        const NforOptions &o = options.options;
+        const NforOptions o = Options(inputs);
         int channels = inputs.Get("color").channels;
         // The kept pixels' pass runs where the noise is the frame's own (InputsOf), and
         // beside a layer unless --no-layer-passes (where the clamp reads the frame's own
@@ -490,7 +505,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // A frame that fits whole takes its gate's verdict unmeasured: the larger reach.
         const bool measured = o.coarse || !whole;
         if ((o.coarse || o.coarseGate > 0) &&
-            (whole || NforCoarseRuns(context, InputsOf(inputs), Options()))) {
+            (whole || NforCoarseRuns(context, InputsOf(inputs), o))) {
             // The half-resolution pass reaches twice as far in this frame's pixels, its
             // 2x2 blocks on the frame's grid; the correction's windows 6 pixels more.
             needs.reach = 2 * needs.reach + 2 + 6;
@@ -521,7 +536,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         copy->pivotScale = NforPivotScale(in.pivot);
         // Whether the coarse pass runs and whether the clamp reads the variance layer:
         // decided once for the frame.
-        const NforOptions o = Options();
+        const NforOptions o = Options(whole);
         if (!o.coarse && o.coarseGate > 0) in.coarseLevel = NforCoarseLevel(context, in, o);
         copy->coarseLevel = in.coarseLevel;
         NforFrameClampLoss(context, &in, o);
@@ -531,7 +546,7 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     }
 
     std::vector<Stage> Reference(vk::Context &, Inputs &inputs) const override {
-        NforOptions o = Options();
+        NforOptions o = Options(inputs);
         NforInputs in = InputsOf(inputs);
         std::vector<float> weights;
         std::vector<std::string> names;
@@ -546,12 +561,21 @@ class Nfor : public FrontEndOf<NforParamsApi> {
     }
 
   private:
-    NforOptions Options() const {
+    // The options for this frame: the given ones, with the plain frame's wide windows
+    // where the frame has no variance layer and the second pass has one bandwidth and no
+    // wide windows of its own (a frame with statistics gains little from them for their
+    // time).
+    NforOptions Options(Inputs &inputs) const {
         NforOptions o = options.options;
         o.bandwidths = ParseBandwidths(options.bandwidths, "bandwidths");
         o.pilotBandwidths.clear();
         if (options.pilotBandwidths != "none")
             o.pilotBandwidths = ParseBandwidths(options.pilotBandwidths, "pilot-bandwidths");
+        if (options.plainWideRadius > o.radius && o.pilotWideRadius == 0 &&
+            o.pilotBandwidths.size() == 1 && !inputs.Has("variance")) {
+            o.pilotWideRadius = options.plainWideRadius;
+            o.wideAgreement = options.plainWideAgreement;
+        }
         return o;
     }
 

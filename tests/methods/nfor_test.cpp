@@ -2045,7 +2045,11 @@ TEST_F(NforMethod, PilotLayerOptionReadsTheLayer) {
     const Image out = given.Run(device, frame).image;
     NforInputs in = InputsOf(f);
     in.pilot = &pilot;
-    EXPECT_TRUE(BitIdentical(out, NforDenoise(Ctx(), in, NforOptions()).image));
+    // The front end's defaults on a frame without a variance layer: the wide second pass.
+    NforOptions defaults;
+    defaults.pilotWideRadius = 8;
+    defaults.wideAgreement = 0.001f;
+    EXPECT_TRUE(BitIdentical(out, NforDenoise(Ctx(), in, defaults).image));
     EXPECT_FALSE(BitIdentical(out, Method("nfor").Run(device, frame).image));
     Method missing("nfor");
     missing.Set("nfor-pilot-layer", "nosuch");
@@ -3333,6 +3337,48 @@ TEST_F(NforMethod, ApiRunsPlainFramesAndPairsStages) {
     Result zeroed = method.Run(device, frame);
     EXPECT_FALSE(zeroed.warnings.empty());
     for (float v : zeroed.image.data) ASSERT_TRUE(std::isfinite(v));
+}
+
+// On a frame without a variance layer the second pass also fits over --plain-wide-radius
+// windows, taken where they agree (the same bits as those options given as
+// --pilot-wide-radius and --wide-agreement); beside a variance layer, with 0, or with a
+// radius not below it, it does not.
+TEST_F(NforMethod, PlainFramesTakeTheWideSecondPass) {
+    Frame f = MakeFrame(19, 15, 0.3, "plain wide");
+    mcd::Frame frame;
+    frame.path = "plain.exr";
+    frame.width = 19;
+    frame.height = 15;
+    frame.layers = {
+        {"color", f.color}, {"albedo", f.albedo}, {"normal", f.normal}, {"depth", f.depth}};
+    Device device;
+    auto run = [&](const mcd::Frame &input, int plainWide, int radius, int pilotWide) {
+        Method method("nfor");
+        method.Set("radius", radius);
+        method.Set("plain-wide-radius", plainWide);
+        if (pilotWide > 0) {
+            method.Set("pilot-wide-radius", pilotWide);
+            method.Set("wide-agreement", 0.001);
+        }
+        return method.Run(device, input);
+    };
+    auto wide = [](const Result &r, int radius) {
+        bool found = false;
+        for (const std::string &line : r.plan)
+            found |= Contains(line, fmt::format("also over {0}x{0} windows", 2 * radius + 1));
+        return found;
+    };
+    Result plain = run(frame, 5, 3, 0);
+    EXPECT_TRUE(wide(plain, 5));
+    EXPECT_TRUE(BitIdentical(plain.image, run(frame, 0, 3, 5).image));
+    Result narrow = run(frame, 0, 3, 0);
+    EXPECT_FALSE(wide(narrow, 5));
+    EXPECT_FALSE(BitIdentical(plain.image, narrow.image));
+    EXPECT_FALSE(wide(run(frame, 5, 5, 0), 5));
+
+    mcd::Frame layered = frame;
+    layered.layers["variance"] = Image(19, 15, 3, 0.01f);
+    EXPECT_FALSE(wide(run(layered, 5, 3, 0), 5));
 }
 
 // What the method is for: a rendered plain frame (colour, albedo, normal, depth only) comes
