@@ -12,6 +12,6 @@ namespace mcd::ref {
 // With flatShare > 0, where the 5th largest L of the neighbours is at least flatShare x n,
 // flatRelative takes relative's place.
 void NforClampSpecks(const Image &mask, int rank, double relative, double floor, Image *output,
-                     double flatShare = 0, double flatRelative = 0);
+                     double flatShare = 0, double flatRelative = 0.1);
 
 }  // namespace mcd::ref

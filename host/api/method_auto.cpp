@@ -1075,6 +1075,24 @@ void FloorObjects(Inputs &inputs, const std::vector<AutoCandidate> &list,
             m.weighted / m.target));
 }
 
+// The object floor after the local-mean restore on `image`: its target the weighted mean's
+// value with the restore's change kept, taken --auto-object-floor-input of the way to the
+// input `color`. Frees `weighted` and `unrestored` (the unrestored combination) as it goes.
+void FloorAfterRestore(const AutoFrontEnd::Options &o, Inputs &inputs,
+                       const std::vector<AutoCandidate> &list,
+                       const std::vector<const Image *> &outputs, const Image &color,
+                       Image *weighted, Image *unrestored, Image *image,
+                       std::vector<std::string> *plan) {
+    Image target = AutoFloorTarget(*weighted, *unrestored, *image, &color, o.objectFloorInput);
+    *weighted = Image();
+    *unrestored = Image();
+    std::string toward = "the candidates' weighted mean";
+    if (o.objectFloorInput > 0)
+        toward += fmt::format(" taken {:g} of the way to the input", o.objectFloorInput);
+    FloorObjects(inputs, list, outputs, target, "after", toward, o.objectFloorLevel, image,
+                 plan);
+}
+
 // The object lift on `image` (host/methods/auto_object_floor.h), one plan line per object
 // lifted, or one on why it was left out or lifted nothing.
 void LiftObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &color,
@@ -1493,17 +1511,9 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                        RestoreLocalMeansRebalanced(color, options.meanRadius, &result.image,
                                                    variance, kLocalMeanRebalanceAuto));
     }
-    if (floor && options.objectFloor == "after") {
-        weighted = AutoFloorTarget(weighted, unrestored, result.image, &color,
-                                   options.objectFloorInput);
-        unrestored = Image();
-        std::string toward = "the candidates' weighted mean";
-        if (options.objectFloorInput > 0)
-            toward +=
-                fmt::format(" taken {:g} of the way to the input", options.objectFloorInput);
-        FloorObjects(inputs, list, outputPointers, weighted, "after", toward,
-                     options.objectFloorLevel, &result.image, &plan);
-    }
+    if (floor && options.objectFloor == "after")
+        FloorAfterRestore(options, inputs, list, outputPointers, color, &weighted, &unrestored,
+                          &result.image, &plan);
     LiftObjects(options, inputs, color, &result.image, &plan);
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();

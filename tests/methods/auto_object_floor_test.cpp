@@ -168,6 +168,10 @@ TEST(AutoObjectFloor, AfterTheRestoreTakesItsShareOfTheWayToTheInput) {
     const Image without = AutoFloorTarget(mean, relative.color, restored);
     const Image none = AutoFloorTarget(mean, relative.color, restored, &input, 0);
     EXPECT_EQ(none.data, without.data);
+    // Without the input the target is the float sum as before the share existed.
+    for (size_t i = 0; i < without.data.size(); ++i)
+        ASSERT_EQ(without.data[i], restored.data[i] + (mean.data[i] - relative.color.data[i]))
+            << i;
     bool differs = false;
     for (size_t i = 0; i < target.data.size(); ++i) {
         double m = double(restored.data[i]) + (mean.data[i] - relative.color.data[i]);

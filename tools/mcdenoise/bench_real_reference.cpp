@@ -116,8 +116,7 @@ ObjectMap LoadObjects(const std::string &sceneDir) {
         std::error_code ec;
         if (!fs::exists(path, ec)) continue;
         Frame frame = ReadFrame(path.string(), {{"objectId", "alpha"}});
-        if (frame.Has("objectId"))
-            return {frame.Get("objectId"), frame.Has("alpha") ? frame.Get("alpha") : Image{}};
+        if (frame.Has("objectId")) return ObjectsOf(frame);
     }
     return {};
 }

@@ -55,9 +55,7 @@ struct Point {
 void Measure(Point &p, const Image &output, const Image &reference, const io::Frame &frame) {
     p.error = CompareImages(output, reference);
     if (frame.Has("objectId"))
-        p.lights = MeasureObjectLights(
-            output, reference,
-            {frame.Get("objectId"), frame.Has("alpha") ? frame.Get("alpha") : Image{}});
+        p.lights = MeasureObjectLights(output, reference, ObjectsOf(frame));
 }
 
 // The four figures no table shows apart: relMSE / PSNR / SSIM (mean brightness).

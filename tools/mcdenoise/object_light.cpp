@@ -17,6 +17,13 @@ std::string DarkestCsv(const ObjectLights &lights) {
                                  : ",";
 }
 
+ObjectMap ObjectsOf(const Frame &frame) {
+    ObjectMap objects;
+    if (frame.Has("objectId")) objects.ids = frame.Get("objectId");
+    if (frame.Has("alpha")) objects.coverage = frame.Get("alpha");
+    return objects;
+}
+
 ObjectLights MeasureObjectLights(const Image &output, const Image &reference,
                                  const ObjectMap &objects) {
     ObjectLights lights;

@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "mcdenoise/frame.h"
 #include "mcdenoise/image.h"
 
 namespace mcd::tool {
@@ -41,6 +42,9 @@ struct ObjectMap {
     Image ids;
     Image coverage;  // empty: every pixel covered
 };
+
+// A frame's objectId layer (none: no ids) and its alpha where it has one.
+ObjectMap ObjectsOf(const Frame &frame);
 
 // `objects.ids` of the output's size; anything else (an empty image) measures nothing, and
 // a coverage of another size is not read.
