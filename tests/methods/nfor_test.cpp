@@ -2356,9 +2356,9 @@ TEST_F(NforMethod, DenoisesPartlyCoveredPixelsAsTheirSurface) {
 
 // The specks' clamp against its reference on values of every kind (fireflies and impulses
 // among them), masks with emitters, frames of one pixel, one row and 3x3: the same pixels
-// change, to round-off; some do.
+// change, to round-off; some do, and the flat ground's bound holds some tighter.
 TEST(NforSpecks, MatchesTheReference) {
-    size_t changed = 0;
+    size_t changed = 0, flatChanged = 0;
     for (auto [w, h] : {std::pair{31, 17}, std::pair{1, 1}, std::pair{9, 1}, std::pair{3, 3}})
         for (InputKind kind : {InputKind::Uniform, InputKind::LogNormalFireflies,
                                InputKind::Constant, InputKind::Impulse}) {
@@ -2373,7 +2373,13 @@ TEST(NforSpecks, MatchesTheReference) {
             const float flatShare = seed % 2 ? 0.6f : 0.f;
             size_t count =
                 NforClampSpecks(mask, {0.3f, 0.02f, rank, flatShare, 0.05f}, &gpuSide);
-            ref::NforClampSpecks(mask, rank, 0.3, 0.02, &cpuSide, flatShare, 0.05);
+            ref::NforClampSpecks(mask, rank, 0.3, 0.02, &cpuSide, flatShare, 0.05f);
+            if (flatShare > 0) {
+                Image loose = input;
+                NforClampSpecks(mask, {0.3f, 0.02f, rank, 0.f, 0.05f}, &loose);
+                for (size_t i = 0; i < loose.Size(); ++i)
+                    flatChanged += loose.data[i] != gpuSide.data[i];
+            }
             EXPECT_TRUE(ImagesMatch(cpuSide, gpuSide, {}, {4 * kU, 0, 1e-12})) << name;
             size_t moved = 0;
             for (size_t i = 0; i < input.PixelCount(); ++i)
@@ -2384,6 +2390,7 @@ TEST(NforSpecks, MatchesTheReference) {
             changed += count;
         }
     EXPECT_GT(changed, 0u);
+    EXPECT_GT(flatChanged, 0u) << "the flat ground's bound holds some value tighter";
 }
 
 // The flat ground's bound: a pixel at 1.15x its 8 flat neighbours (under the bound of 1.2x +
@@ -2411,6 +2418,20 @@ TEST(NforSpecks, HoldsASpeckOnAFlatGroundToTheTighterBound) {
             EXPECT_EQ(clamped, 0u);
             EXPECT_EQ(on.At(1, 2, 2), 0.345f);
         }
+    }
+    // The ground is the neighbours' median (their 5th largest): with four of the eight at
+    // 0.3 and four at 0.1 the speck is kept, with five at 0.3 it is held.
+    const int ring[8][2] = {{1, 1}, {1, 2}, {1, 3}, {2, 3}, {3, 3}, {3, 2}, {3, 1}, {2, 1}};
+    for (int bright : {4, 5}) {
+        Image image(5, 5, 3, 0.1f);
+        for (int k = 0; k < bright; ++k)
+            for (int c = 0; c < 3; ++c) image.At(c, ring[k][0], ring[k][1]) = 0.3f;
+        for (int c = 0; c < 3; ++c) image.At(c, 2, 2) = 0.345f;
+        NforClampSpecks(mask, {0.2f, 0.01f, 2, 0.8f, 0.1f}, &image);
+        if (bright == 5)
+            EXPECT_NEAR(image.At(1, 2, 2), 1.1 * 0.3 + 0.01, 1e-6);
+        else
+            EXPECT_EQ(image.At(1, 2, 2), 0.345f);
     }
 }
 

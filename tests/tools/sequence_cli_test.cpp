@@ -342,6 +342,12 @@ TEST_F(CliSequence, AFailingFrameIsReportedAndTheOthersGoOn) {
                  "those beyond it: it has no "))
         << r.err;
     EXPECT_FALSE(Contains(r.out, "gathered")) << r.out;
+    // A run's first frame, read while the device opens, fails as any other: the rest are
+    // written.
+    r = tool.Run("denoise 'f.####.exr' --frames 2-3 -o out2/ --method bayes");
+    EXPECT_EQ(r.code, int(tool::ExitStatus::Io)) << r.All();
+    EXPECT_EQ(Listing("out2"), (std::set<std::string>{"f.0003.exr"}));
+    EXPECT_TRUE(Contains(r.err, "mcdenoise: error: frame 2 (f.0002.exr): ")) << r.err;
     // From frame 4 on, the first failure is frame 4's NaN.
     r = tool.Run("denoise 'f.####.exr' --frames 4-6 -o out4/ --method bayes");
     EXPECT_EQ(r.code, int(tool::ExitStatus::NonFiniteInput)) << r.All();
