@@ -108,36 +108,64 @@ TEST(AutoObjectFloor, WeightedMeanKeepsTheImageWhereNoCandidateWeighs) {
     EXPECT_EQ(mean.data[1], 7.f);
 }
 
+// Two objects combined, their candidates' weighted mean, and a stand-in restore of the
+// combination (a gain and a lift): the floor's inputs after the local-mean restore.
+struct AfterRestore {
+    TwoObjects f;
+    ref::AutoCombined relative;
+    Image mean, restored;
+    std::vector<const Image *> Outputs() const { return {&f.candidates[0], &f.candidates[1]}; }
+};
+
+AfterRestore MakeAfterRestore(int w, int h) {
+    AfterRestore a;
+    a.f = MakeTwoObjects(w, h);
+    a.relative = ref::AutoCombineRelative(a.f.color, a.f.candidates, a.f.errors, a.f.variance,
+                                          2, 1e-5, 30, 4);
+    a.mean = AutoWeightedMean({&a.f.candidates[0], &a.f.candidates[1]}, a.relative.weights,
+                              a.relative.color);
+    a.restored = a.relative.color;
+    for (float &v : a.restored.data) v = 0.9f * v + 0.25f;
+    return a;
+}
+
+// The floor of a's restored image toward `target`, each object held to all of its darkest
+// candidate's sum: object 1 alone moves, part of the way, and reaches that sum. Returns the
+// fraction it moved (NaN where it did not move alone).
+double FloorObjectOne(const AfterRestore &a, const Image &target, Image *floored) {
+    *floored = a.restored;
+    std::vector<AutoObjectMove> moved =
+        AutoObjectFloor(a.f.ids, a.Outputs(), target, 1, floored, 1);
+    EXPECT_EQ(moved.size(), 1u);
+    if (moved.size() != 1) return NAN;
+    EXPECT_EQ(moved[0].id, 1.f);
+    EXPECT_GT(moved[0].alpha, 0);
+    EXPECT_LT(moved[0].alpha, 1);
+    const double darkest = ObjectSum(a.f.candidates[0], a.f.ids, 1).first;
+    auto [sum, magnitude] = ObjectSum(*floored, a.f.ids, 1);
+    EXPECT_NEAR(sum, darkest, 4 * kUnitRoundoff * magnitude);
+    return moved[0].alpha;
+}
+
 // The default path, after the local-mean restore: a stand-in restore (a gain and a lift)
 // changes the combination (object 2 stays above its darkest), the floor moves from the restored
 // value by alpha times the weighted mean's excess over the unrestored combination, and reaches
 // the darkest's sum.
 TEST(AutoObjectFloor, AfterTheRestoreKeepsTheRestoresChangeAndReachesTheDarkest) {
-    const int w = 9, h = 7;
-    TwoObjects f = MakeTwoObjects(w, h);
-    ref::AutoCombined relative =
-        ref::AutoCombineRelative(f.color, f.candidates, f.errors, f.variance, 2, 1e-5, 30, 4);
-    std::vector<const Image *> outputs = {&f.candidates[0], &f.candidates[1]};
-    const Image mean = AutoWeightedMean(outputs, relative.weights, relative.color);
-    Image restored = relative.color;
-    for (float &v : restored.data) v = 0.9f * v + 0.25f;
-    const Image target = AutoFloorTarget(mean, relative.color, restored);
-    Image floored = restored;
-    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, target, 1, &floored, 1);
-    ASSERT_EQ(moved.size(), 1u);
-    EXPECT_EQ(moved[0].id, 1.f);
-    ASSERT_GT(moved[0].alpha, 0);
-    ASSERT_LT(moved[0].alpha, 1);
-    const double darkest = ObjectSum(f.candidates[0], f.ids, 1).first;
-    auto [sum, magnitude] = ObjectSum(floored, f.ids, 1);
-    EXPECT_NEAR(sum, darkest, 4 * kUnitRoundoff * magnitude);
+    const AfterRestore a = MakeAfterRestore(9, 7);
+    const TwoObjects &f = a.f;
+    const Image &mean = a.mean, &restored = a.restored, &combined = a.relative.color;
+    const int w = combined.width, h = combined.height;
+    const Image target = AutoFloorTarget(mean, combined, restored);
+    Image floored;
+    const double alpha = FloorObjectOne(a, target, &floored);
+    ASSERT_TRUE(std::isfinite(alpha));
     // Each moved value: the target's two float roundings (scaled by alpha) and the move's.
-    const double alpha = moved[0].alpha;
     for (int c = 0; c < 3; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 double r = restored.At(c, y, x), m = mean.At(c, y, x);
-                double u = relative.color.At(c, y, x);
+                double u = combined.At(c, y, x);
                 double expected = x < w / 2 ? r + alpha * (m - u) : r;
                 EXPECT_NEAR(floored.At(c, y, x), expected,
                             4 * kUnitRoundoff * (std::abs(r) + std::abs(m) + std::abs(u)))
@@ -150,31 +178,26 @@ TEST(AutoObjectFloor, AfterTheRestoreKeepsTheRestoresChangeAndReachesTheDarkest)
 // the share of the way to the input, the floor still reaches the darkest's sum, and a share of
 // 0 is the target without the input, bit for bit.
 TEST(AutoObjectFloor, AfterTheRestoreTakesItsShareOfTheWayToTheInput) {
-    const int w = 9, h = 7;
-    TwoObjects f = MakeTwoObjects(w, h);
-    ref::AutoCombined relative =
-        ref::AutoCombineRelative(f.color, f.candidates, f.errors, f.variance, 2, 1e-5, 30, 4);
-    std::vector<const Image *> outputs = {&f.candidates[0], &f.candidates[1]};
-    const Image mean = AutoWeightedMean(outputs, relative.weights, relative.color);
-    Image restored = relative.color;
-    for (float &v : restored.data) v = 0.9f * v + 0.25f;
+    const AfterRestore a = MakeAfterRestore(9, 7);
+    const TwoObjects &f = a.f;
+    const Image &mean = a.mean, &restored = a.restored, &combined = a.relative.color;
+    const int w = combined.width, h = combined.height;
     // The input holds object 1's light in its even pixels, where the samples found it.
     Image input = f.color;
     for (int c = 0; c < 3; ++c)
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) input.At(c, y, x) *= (x + y) % 2 == 0 ? 1.6f : 0.4f;
     const float share = 0.5f;
-    const Image target = AutoFloorTarget(mean, relative.color, restored, &input, share);
-    const Image without = AutoFloorTarget(mean, relative.color, restored);
-    const Image none = AutoFloorTarget(mean, relative.color, restored, &input, 0);
+    const Image target = AutoFloorTarget(mean, combined, restored, &input, share);
+    const Image without = AutoFloorTarget(mean, combined, restored);
+    const Image none = AutoFloorTarget(mean, combined, restored, &input, 0);
     EXPECT_EQ(none.data, without.data);
     // Without the input the target is the float sum as before the share existed.
     for (size_t i = 0; i < without.data.size(); ++i)
-        ASSERT_EQ(without.data[i], restored.data[i] + (mean.data[i] - relative.color.data[i]))
-            << i;
+        ASSERT_EQ(without.data[i], restored.data[i] + (mean.data[i] - combined.data[i])) << i;
     bool differs = false;
     for (size_t i = 0; i < target.data.size(); ++i) {
-        double m = double(restored.data[i]) + (mean.data[i] - relative.color.data[i]);
+        double m = double(restored.data[i]) + (mean.data[i] - combined.data[i]);
         double expected = m + share * (input.data[i] - m);
         EXPECT_NEAR(target.data[i], expected,
                     4 * kUnitRoundoff * (std::abs(m) + std::abs(input.data[i])))
@@ -182,15 +205,9 @@ TEST(AutoObjectFloor, AfterTheRestoreTakesItsShareOfTheWayToTheInput) {
         differs = differs || std::abs(target.data[i] - without.data[i]) > 1e-3f;
     }
     EXPECT_TRUE(differs);
-    Image floored = restored;
-    std::vector<AutoObjectMove> moved = AutoObjectFloor(f.ids, outputs, target, 1, &floored, 1);
-    ASSERT_EQ(moved.size(), 1u);
-    ASSERT_GT(moved[0].alpha, 0);
-    ASSERT_LT(moved[0].alpha, 1);
-    const double darkest = ObjectSum(f.candidates[0], f.ids, 1).first;
-    auto [sum, magnitude] = ObjectSum(floored, f.ids, 1);
-    EXPECT_NEAR(sum, darkest, 4 * kUnitRoundoff * magnitude);
-    const double alpha = moved[0].alpha;
+    Image floored;
+    const double alpha = FloorObjectOne(a, target, &floored);
+    ASSERT_TRUE(std::isfinite(alpha));
     for (size_t i = 0; i < floored.data.size(); ++i) {
         const bool left = int(i % (size_t(w) * h)) % w < w / 2;
         double r = restored.data[i], t = target.data[i];
@@ -198,7 +215,7 @@ TEST(AutoObjectFloor, AfterTheRestoreTakesItsShareOfTheWayToTheInput) {
         EXPECT_NEAR(floored.data[i], expected, 4 * kUnitRoundoff * (std::abs(r) + std::abs(t)))
             << i;
     }
-    EXPECT_THROW(AutoFloorTarget(mean, relative.color, restored, &f.ids, share), Error);
+    EXPECT_THROW(AutoFloorTarget(mean, combined, restored, &f.ids, share), Error);
 }
 
 TEST(AutoObjectFloor, LeavesAnObjectWhoseDarkestSumIsNotPositive) {

@@ -3331,14 +3331,19 @@ TEST_F(NforMethod, BadInputsAreRefusedWithTheirPlace) {
 // Through the API: NaN in a plain frame is refused by default and replaced by 0 with a
 // warning under non-finite=zero, the output then finite; the GPU's stages pair with the
 // reference's by name (what `mcdenoise diff --method nfor` needs).
-TEST_F(NforMethod, ApiRunsPlainFramesAndPairsStages) {
-    Frame f = MakeFrame(19, 15, 0.3, "api");
+// A plain frame (colour, albedo, normal, depth) for the public API.
+mcd::Frame PlainApiFrame(const Frame &f, const char *path) {
     mcd::Frame frame;
-    frame.path = "api.exr";
-    frame.width = 19;
-    frame.height = 15;
+    frame.path = path;
+    frame.width = f.color.width;
+    frame.height = f.color.height;
     frame.layers = {
         {"color", f.color}, {"albedo", f.albedo}, {"normal", f.normal}, {"depth", f.depth}};
+    return frame;
+}
+
+TEST_F(NforMethod, ApiRunsPlainFramesAndPairsStages) {
+    mcd::Frame frame = PlainApiFrame(MakeFrame(19, 15, 0.3, "api"), "api.exr");
     Device device;
     Method method("nfor");
     method.Set("radius", 3);
@@ -3365,13 +3370,7 @@ TEST_F(NforMethod, ApiRunsPlainFramesAndPairsStages) {
 // --pilot-wide-radius and --wide-agreement); beside a variance layer, with 0, or with a
 // radius not below it, it does not.
 TEST_F(NforMethod, PlainFramesTakeTheWideSecondPass) {
-    Frame f = MakeFrame(19, 15, 0.3, "plain wide");
-    mcd::Frame frame;
-    frame.path = "plain.exr";
-    frame.width = 19;
-    frame.height = 15;
-    frame.layers = {
-        {"color", f.color}, {"albedo", f.albedo}, {"normal", f.normal}, {"depth", f.depth}};
+    mcd::Frame frame = PlainApiFrame(MakeFrame(19, 15, 0.3, "plain wide"), "plain.exr");
     Device device;
     auto run = [&](const mcd::Frame &input, int plainWide, int radius, int pilotWide) {
         Method method("nfor");
