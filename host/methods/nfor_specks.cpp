@@ -44,15 +44,20 @@ size_t NforClampSpecks(const Image &mask, const NforSpeckSettings &s, Image *out
             const int k = std::clamp(s.rank, 1, 8) - 1;
             std::nth_element(around.begin(), around.begin() + k, around.end(),
                              std::greater<double>());
-            const double rankth = around[k];
+            const double rankth = around[k], l = luminance[p];
+            const double loose = (1.0 + s.relative) * rankth + double(s.floor);
+            const double tight = (1.0 + s.flatRelative) * rankth + double(s.floor);
+            // Only a pixel above a bound it may take needs the neighbours' median.
+            if (!(l > loose) && !(s.flatShare > 0 && l > tight)) continue;
             // On a flat ground (the neighbours' median near the rank-th brightest) a speck
             // is held to the tighter bound.
-            std::nth_element(around.begin(), around.begin() + 4, around.end(),
-                             std::greater<double>());
-            const bool flat = s.flatShare > 0 && around[4] >= s.flatShare * rankth;
-            const double bound =
-                (1.0 + (flat ? s.flatRelative : s.relative)) * rankth + double(s.floor);
-            const double l = luminance[p];
+            bool flat = false;
+            if (s.flatShare > 0) {
+                std::nth_element(around.begin(), around.begin() + 4, around.end(),
+                                 std::greater<double>());
+                flat = around[4] >= s.flatShare * rankth;
+            }
+            const double bound = flat ? tight : loose;
             if (!(l > bound)) continue;
             const double scale = bound / l;
             for (int c = 0; c < in.channels; ++c)
