@@ -41,6 +41,31 @@ Image Moved(const Image &output, const std::vector<bool> &kept) {
     return moved;
 }
 
+// Whether (y, x) is exact and lit: every channel's variance 0, the input's channels summed
+// finite and above 0.
+bool ExactLitAt(const Image &input, const Image &variance, int y, int x) {
+    double in = 0;
+    for (int c = 0; c < input.channels; ++c) {
+        if (variance.At(variance.channels == 1 ? 0 : c, y, x) != 0) return false;
+        in += input.At(c, y, x);
+    }
+    return std::isfinite(in) && in > 0;
+}
+
+// Whether every neighbour of (y, x) inside the frame, 3 or more, is exact and lit: the
+// pixel's spread is its footprint's coverage of something bright, not a rare path.
+bool AmongExactLitAt(const Image &input, const Image &variance, int y, int x) {
+    int count = 0;
+    for (int v = y - 1; v <= y + 1; ++v)
+        for (int u = x - 1; u <= x + 1; ++u) {
+            if ((u == x && v == y) || u < 0 || v < 0 || u >= input.width || v >= input.height)
+                continue;
+            if (!ExactLitAt(input, variance, v, u)) return false;
+            ++count;
+        }
+    return count >= 3;
+}
+
 bool OverAt(const Image &input, const Image *variance, const Image &moved, const Image &level,
             int y, int x) {
     double in = 0, out = 0, around = 0, v = 0;
@@ -52,7 +77,8 @@ bool OverAt(const Image &input, const Image *variance, const Image &moved, const
         if (variance) v += variance->At(variance->channels == 1 ? 0 : c, y, x);
     }
     if (!(in > 0 && in > 16 * std::min(out, around))) return false;
-    return !variance || (std::isfinite(v) && (in - out) * (in - out) > 16 * v);
+    return !variance || (std::isfinite(v) && ((in - out) * (in - out) > 16 * v ||
+                                              AmongExactLitAt(input, *variance, y, x)));
 }
 
 // One ring of highlights: the pixels over the test (read against the output's tent mean

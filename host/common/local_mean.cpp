@@ -109,9 +109,46 @@ constexpr int kHighlightNeighbours = 2;
 // pixel's variance away from the output.
 constexpr double kHighlightSigmas = 4;
 
+// Pixels every sample of which was the same, and not black: the variance of the pixel mean
+// 0 in every channel, the input's channels summed above 0. Their paths are deterministic (a
+// mirror's reflection of a lit wall); samples that all missed a light say less.
+std::vector<char> ExactLitPixels(const Image &input, const Image &variance) {
+    const size_t n = input.PixelCount();
+    std::vector<char> exact(n, 0);
+    for (size_t p = 0; p < n; ++p) {
+        double in = 0;
+        bool zero = true;
+        for (int c = 0; c < input.channels; ++c) {
+            in += input.Plane(c)[p];
+            zero = zero && variance.Plane(variance.channels == 1 ? 0 : c)[p] == 0;
+        }
+        exact[p] = zero && std::isfinite(in) && in > 0;
+    }
+    return exact;
+}
+
+// Whether every neighbour of (x, y) inside the frame, kAmongExactLeast or more, is exact and
+// lit: the pixel's own spread then comes from its footprint's coverage of something bright
+// (a small light seen in a mirror), not from a rare path, and its light belongs where it is.
+constexpr int kAmongExactLeast = 3;
+
+bool AmongExactLit(const std::vector<char> &exact, int w, int h, int x, int y) {
+    int count = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int u = x + dx, v = y + dy;
+            if (!(dx || dy) || u < 0 || u >= w || v < 0 || v >= h) continue;
+            if (!exact[size_t(v) * w + u]) return false;
+            ++count;
+        }
+    return count >= kAmongExactLeast;
+}
+
 // Which pixels are over (KeepHighlights): the input far above the output, or above the
-// output's tent mean without the kept values, and with a variance so many deviations away.
-std::vector<char> OverPixels(const Image &input, const Image *variance, int r,
+// output's tent mean without the kept values, and with a variance so many deviations away
+// or every neighbour exact and lit (`exact`, ExactLitPixels; empty without a variance).
+std::vector<char> OverPixels(const Image &input, const Image *variance,
+                             const std::vector<char> &exact, int r,
                              const std::vector<bool> &kept, const Image &output,
                              RestoreScratch *scratch) {
     const size_t n = input.PixelCount();
@@ -139,8 +176,10 @@ std::vector<char> OverPixels(const Image &input, const Image *variance, int r,
                 double v = 0;
                 for (int c = 0; c < input.channels; ++c)
                     v += variance->Plane(variance->channels == 1 ? 0 : c)[p];
+                const int x = int(p % input.width), y = int(p / input.width);
                 over[p] = std::isfinite(v) &&
-                          (in - out) * (in - out) > kHighlightSigmas * kHighlightSigmas * v;
+                          ((in - out) * (in - out) > kHighlightSigmas * kHighlightSigmas * v ||
+                           AmongExactLit(exact, input.width, input.height, x, y));
             }
         }
     });
@@ -167,9 +206,11 @@ void KeepHighlights(const Image &input, const Image *variance, int r, std::vecto
                     Image *output, RestoreScratch *scratch) {
     const int w = input.width, h = input.height;
     const size_t n = input.PixelCount();
-    std::vector<char> taken(n, 0);
+    std::vector<char> taken(n, 0), exact;
+    if (variance) exact = ExactLitPixels(input, *variance);
     for (int ring = 0; ring <= kHighlightRings; ++ring) {
-        const std::vector<char> over = OverPixels(input, variance, r, *kept, *output, scratch);
+        const std::vector<char> over =
+            OverPixels(input, variance, exact, r, *kept, *output, scratch);
         std::vector<size_t> take;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -1027,6 +1068,32 @@ Image RestoreGain(const Image &a, const Image &a0, const Image &b0, const Image 
     return terms;
 }
 
+// The highlights the restore took back among exact lit neighbours (AmongExactLit): every
+// channel of `restored` the input's and some channel not `combined`'s. One sample of many
+// saw such a light, so it lies in one half alone and the other cannot confirm it; the
+// neighbours' samples, all equal, say it is coverage, not a rare path. Empty of marks
+// without a variance of the input's size.
+std::vector<char> CoverageHighlights(const Image &input, const Image *variance,
+                                     const Image &combined, const Image &restored) {
+    const size_t n = input.PixelCount();
+    std::vector<char> marked(n, 0);
+    if (!variance || variance->width != input.width || variance->height != input.height ||
+        (variance->channels != 1 && variance->channels != input.channels))
+        return marked;
+    const std::vector<char> exact = ExactLitPixels(input, *variance);
+    for (size_t i = 0; i < n; ++i) {
+        bool taken = true, moved = false;
+        for (int c = 0; c < input.channels; ++c) {
+            taken = taken && restored.data[c * n + i] == input.data[c * n + i];
+            moved = moved || restored.data[c * n + i] != combined.data[c * n + i];
+        }
+        marked[i] = taken && moved &&
+                    AmongExactLit(exact, input.width, input.height, int(i % input.width),
+                                  int(i / input.width));
+    }
+    return marked;
+}
+
 }  // namespace
 
 RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
@@ -1047,10 +1114,11 @@ RestoreCheck RestoreLocalMeansChecked(const Image &input, const Image &half0,
     Image terms = TentMean(RestoreGain(combined, combinedHalf, restoredHalf, half1), s);
     const size_t n = input.PixelCount();
     std::vector<double> share(n, 1.0);
+    const std::vector<char> coverage = CoverageHighlights(input, variance, combined, restored);
     // The means of the input, of the checked output and of what a full lift would add.
     double in = 0, checked = 0, rest = 0, total = 0;
     for (size_t i = 0; i < n; ++i) {
-        if (terms.data[n + i] > 0)
+        if (terms.data[n + i] > 0 && !coverage[i])
             share[i] = std::clamp(double(terms.data[i]) / terms.data[n + i], 0.0, 1.0);
         total += share[i];
         for (int c = 0; c < input.channels; ++c) {

@@ -9,27 +9,30 @@
 // its 8 neighbours so too (a small light or a light's edge the method cut; a firefly stands
 // alone), takes its input back (but its values kept already) and counts as left; with a
 // variance layer, instead of the neighbours, its input must be over 4 standard deviations from
-// the output. A light's rim, dimmer than its core, passes only once the core is kept: up to 4
-// rings more grow from the kept highlights, each read against the tent mean without them (a rim
-// the method cut and the restore spread made a glowing square around each small light). Then at
-// each value, over a tent window of radius 2s (a box of radius s twice, each clipped to the
-// image), m_in and m_out are the means of the input's finite values >= 0 and of the output.
-// Their difference d = m_in - m_out is shrunk by the noise of m_in, estimated as the mean of
-// (input - output)^2 over the same window times the tent's sum of squared weights, q: d' = d
-// max(0, 1 - q / d^2) (positive-part James-Stein), and the output multiplied by (m_out + d') /
-// m_out. A difference that comes from a few pixels (fireflies the method removed) should have q
-// near d^2 and leave the method's output, rather than spreading their energy over a glowing
-// square; a darkening shared by many pixels is restored. With `pixelNoise` (pivot, rhf, auto) q
-// is the variance of the tent mean of independent values each of variance its own (input -
-// output)^2: the sum of their squared weights times those, so one pixel's difference has q =
-// d^2 wherever it lies in the window. The window's mean squared difference times the sum of
-// squared weights (without) gives one pixel near the centre q = 4/9 d^2: its energy spread over
-// the rounded square where its weight is over 4/9 of the peak's. This runs at s = 4r first and
-// then at s = r on its result: what is uncertain at the fine scale is restored at the coarse
-// one. The fine scale's shrinkage is lopsided where the noise is heavy-tailed: windows without
-// a rare bright sample give the coarse gain back with confidence, windows with one keep it only
-// in part, so the frame loses energy. A last pass at s = 4r, its noise weighted by `rebalance`,
-// returns it over the coarse tents.
+// the output, or its 8 neighbours within the frame (3 or more) each exact and lit (every
+// sample equal, above 0): its spread is then its footprint's coverage of something bright (a
+// small light in a mirror), which a single sample of many saw, not a rare path. A light's rim,
+// dimmer than its core, passes only once the core is kept: up to 4 rings more grow from the
+// kept highlights, each read against the tent mean without them (a rim the method cut and the
+// restore spread made a glowing square around each small light). Then at each value, over a
+// tent window of radius 2s (a box of radius s twice, each clipped to the image), m_in and m_out
+// are the means of the input's finite values >= 0 and of the output. Their difference d = m_in
+// - m_out is shrunk by the noise of m_in, estimated as the mean of (input - output)^2 over the
+// same window times the tent's sum of squared weights, q: d' = d max(0, 1 - q / d^2)
+// (positive-part James-Stein), and the output multiplied by (m_out + d') / m_out. A difference
+// that comes from a few pixels (fireflies the method removed) should have q near d^2 and leave
+// the method's output, rather than spreading their energy over a glowing square; a darkening
+// shared by many pixels is restored. With `pixelNoise` (pivot, rhf, auto) q is the variance of
+// the tent mean of independent values each of variance its own (input - output)^2: the sum of
+// their squared weights times those, so one pixel's difference has q = d^2 wherever it lies in
+// the window. The window's mean squared difference times the sum of squared weights (without)
+// gives one pixel near the centre q = 4/9 d^2: its energy spread over the rounded square where
+// its weight is over 4/9 of the peak's. This runs at s = 4r first and then at s = r on its
+// result: what is uncertain at the fine scale is restored at the coarse one. The fine scale's
+// shrinkage is lopsided where the noise is heavy-tailed: windows without a rare bright sample
+// give the coarse gain back with confidence, windows with one keep it only in part, so the
+// frame loses energy. A last pass at s = 4r, its noise weighted by `rebalance`, returns it over
+// the coarse tents.
 #pragma once
 
 #include <string>

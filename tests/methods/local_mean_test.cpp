@@ -598,6 +598,42 @@ TEST(LocalMeanProperties, ALightsRimIsKeptWithItsCore) {
             }
 }
 
+// A small light seen in a mirror: one sample of the pixel's 16 hit it, so the variance
+// layer gives the pixel a standard deviation as large as its value, as a firefly's, and its
+// input is not 4 of them from the method's output. Its neighbours' samples all agree (variance
+// 0, lit): its spread is its footprint's coverage, not a rare path, so it takes its input
+// back rather than have its energy spread over the restore's tents. Beside noisy neighbours,
+// or black ones (samples that all missed a light), it does not.
+TEST(LocalMeanProperties, ALightAmongExactPixelsIsKept) {
+    const int w = 48, h = 48, r = 4, cx = 20, cy = 22;
+    for (int around : {0, 1, 2}) {  // exact and lit, noisy, exact and black
+        Image input(w, h, 3), output(w, h, 3), variance(w, h, 3);
+        for (int c = 0; c < 3; ++c)
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    input.At(c, y, x) = around == 2 ? 0.f : 1.425f;
+                    variance.At(c, y, x) = around == 1 ? 1e-4f : 0.f;
+                    output.At(c, y, x) = around == 2 ? 0.01f : 1.5f;
+                }
+        for (int c = 0; c < 3; ++c) {
+            input.At(c, cy, cx) = 238.8f;
+            variance.At(c, cy, cx) = 56364.f;
+            output.At(c, cy, cx) = 1.7f;
+        }
+        Image got = output, expected = output;
+        RestoreLocalMeans(input, r, &got, &variance, kLocalMeanRebalance, true);
+        ref::RestoreLocalMeans(input, r, &expected, &variance, kLocalMeanRebalance, true);
+        ASSERT_NO_FATAL_FAILURE(
+            ExpectRestoreNear(got, expected, "around " + std::to_string(around), true));
+        for (int c = 0; c < 3; ++c) {
+            if (around == 0)
+                EXPECT_EQ(got.At(c, cy, cx), input.At(c, cy, cx)) << c;
+            else
+                EXPECT_NE(got.At(c, cy, cx), input.At(c, cy, cx)) << around << " " << c;
+        }
+    }
+}
+
 // One pixel's energy the method cut (a firefly, or a light of one pixel: the neighbours
 // cannot tell them apart) on a wall the method left as it was: with each value's own noise
 // its difference is all noise wherever it lies in a window, and the wall stays; with the
@@ -1294,6 +1330,32 @@ TEST(LocalMeanProperties, RestoreCheckKeepsWhatHalfOneConfirms) {
                 double a = combined.At(c, y, x), b = restored.At(c, y, x);
                 EXPECT_EQ(gained.At(c, y, x), float(a + alone.lift * (b - a)));
             }
+}
+
+// A small light seen in a mirror that one sample of 16 hit, among neighbours whose samples
+// all agree (ALightAmongExactPixelsIsKept): the sample lies in half0, so half1 sees the
+// mirror alone there and would take the restore's highlight back off. The check keeps it
+// whole: one half cannot confirm what a single sample saw, and the neighbours say it is
+// coverage, not a rare path. Without a variance layer nothing marks it, and half1 decides.
+TEST(LocalMeanProperties, RestoreCheckKeepsALightAmongExactPixels) {
+    const int w = 48, h = 48, r = 2, s = 1, cx = 20, cy = 22;
+    Image input(w, h, 3, 1.425f), half0(w, h, 3, 1.425f), half1(w, h, 3, 1.425f);
+    Image variance(w, h, 3, 0.f), combined(w, h, 3, 1.5f), combinedHalf(w, h, 3, 1.5f);
+    for (int c = 0; c < 3; ++c) {
+        input.At(c, cy, cx) = 238.8f;
+        half0.At(c, cy, cx) = 476.2f;
+        variance.At(c, cy, cx) = 56364.f;
+        combined.At(c, cy, cx) = combinedHalf.At(c, cy, cx) = 1.7f;
+    }
+    Image output, unmarked;
+    RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, &variance,
+                             kLocalMeanRebalanceAuto, s, 0, &output);
+    RestoreLocalMeansChecked(input, half0, half1, combined, combinedHalf, r, nullptr,
+                             kLocalMeanRebalanceAuto, s, 0, &unmarked);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(output.At(c, cy, cx), input.At(c, cy, cx)) << c;
+        EXPECT_LT(unmarked.At(c, cy, cx), 10.f) << c;
+    }
 }
 
 // A half of another shape is refused, not read past its end.
