@@ -121,7 +121,9 @@ std::string RestoreLocalMeansRebalanced(const Image &input, int r, Image *output
 // t = sum w (a0 - h1)(a0 - b0) / sum w (a0 - b0)^2 clamped to [0, 1], w = 1 / (a^2 + 0.01)
 // (channels' mean a), where a0, b0 are the half's combination unrestored and restored (the
 // expectation of the sum is that of the reference's in place of h1: a0 and b0 do not
-// depend on h1). relMSE prefers a dark output where the noise is heavy-tailed, so the
+// depend on h1); t = 1 at a highlight the restore took back among exact lit neighbours (one
+// sample saw it, so it lies in one half alone and the other cannot confirm it). relMSE
+// prefers a dark output where the noise is heavy-tailed, so the
 // restore's brightness is then kept to `floorShare` of the input's mean: t' = t + l (1 -
 // t) with the least l in [0, 1] that gives it. Before that lift the checked output is
 // taken times one gain g, at most `maxGain` and what the whole restore would add, towards
