@@ -14,6 +14,7 @@
 #include "cpu_reference/nfor_kept.h"
 #include "cpu_reference/nfor_lights.h"
 #include "cpu_reference/nfor_line.h"
+#include "cpu_reference/nfor_rare.h"
 #include "cpu_reference/nfor_specks.h"
 
 namespace mcd::ref {
@@ -835,12 +836,10 @@ bool NforCoarseGateOpen(const Image &color, const Image *albedo, const NforParam
     return NforRelativeNoise(color, own) >= p.coarseGate;
 }
 
-// The colour whose local means give the clamp's light back: the clamped colour within
-// `reach` of an emitter (mask 0) or of a partly covered pixel, the colour elsewhere.
-Image ClampLightSource(const Image &color, const Image &clamped, const Image &mask,
-                       const Image *alpha, int reach) {
-    Image source = clamped;
-    const int w = color.width, h = color.height;
+// 1 at each pixel within `reach` of an emitter (mask 0) or of a partly covered pixel.
+std::vector<char> ClampLightNear(const Image &mask, const Image *alpha, int reach) {
+    const int w = mask.width, h = mask.height;
+    std::vector<char> flags(mask.PixelCount());
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             bool near = false;
@@ -848,7 +847,19 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
                 for (int u = std::max(0, x - reach); u <= std::min(w - 1, x + reach); ++u)
                     near = near || mask.At(0, v, u) == 0 ||
                            (alpha && NforPartlyCovered(alpha->At(0, v, u)));
-            if (near) continue;
+            flags[size_t(y) * w + x] = near;
+        }
+    return flags;
+}
+
+// The colour whose local means give the clamp's light back: the clamped colour within
+// `reach` of an emitter (mask 0) or of a partly covered pixel, the colour elsewhere.
+Image ClampLightSource(const Image &color, const Image &clamped,
+                       const std::vector<char> &near) {
+    Image source = clamped;
+    for (int y = 0; y < color.height; ++y)
+        for (int x = 0; x < color.width; ++x) {
+            if (near[size_t(y) * color.width + x]) continue;
             for (int c = 0; c < color.channels; ++c) source.At(c, y, x) = color.At(c, y, x);
         }
     return source;
@@ -867,8 +878,9 @@ void RestoreClampLight(const NforInputs &in, const NforParams &p, bool plain,
                        Keep &keep, Image *out) {
     if (p.clampLightRadius <= 0 || !plain || NforCoarseGateOpen(*in.color, in.albedo, p))
         return;
-    Image source = ClampLightSource(*in.color, clamped, mask,
-                                    p.premultiplied ? nullptr : in.alpha, p.clampLightReach);
+    const std::vector<char> near =
+        ClampLightNear(mask, p.premultiplied ? nullptr : in.alpha, p.clampLightReach);
+    Image source = ClampLightSource(*in.color, clamped, near);
     std::vector<bool> stay = left;
     for (size_t i = 0; i < stay.size(); ++i)
         if (source.data[i] != clamped.data[i]) stay[i] = false;
@@ -876,6 +888,11 @@ void RestoreClampLight(const NforInputs &in, const NforParams &p, bool plain,
     if (p.clampLightFine > 0)
         RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, out, &stay);
     keep("clamp.light", *out);
+    if (p.rareLightShare > 0) {
+        NforSpreadRareLight(*in.color, clamped, near, p.rareLightShare, p.rareLightRatio, 2, 6,
+                            16, out);
+        keep("rare", *out);
+    }
 }
 
 // Give `out` the low frequencies of the same method at half the resolution (without a coarse

@@ -205,6 +205,11 @@ struct NforParams {
     // (Chebyshev) of an emitter or a partly covered pixel; clampLightRadius 0: off.
     int clampLightRadius = 0, clampLightFine = 0, clampLightReach = 4;
     double clampLightNoise = 2;
+    // After the clamp's light, where it runs: this share of the light the clamp took from
+    // each pixel it cut to under 1 / rareLightRatio with another within 16, scattered as a
+    // Gaussian of 2 pixels over radius 6 (NforSpreadRareLight, cpu_reference/nfor_rare.h), away
+    // from clampLightReach's pixels; 0: off.
+    double rareLightShare = 0, rareLightRatio = 40;
     // Beside a variance layer, the specks' clamp, the clamp's light, the weak emitters' mean
     // and the lights' spread run as without one; false: only without one.
     bool layerPasses = true;

@@ -305,6 +305,20 @@ std::vector<ParamDef<NforParamsApi>> Defs() {
                         "emitter or a partly covered pixel",
                         &O::clampLightReach, 0, 16)),
         nested(FloatParam(
+            "rare-light-share",
+            "on a frame without a variance layer, where the clamp's light is restored, after "
+            "it: a pixel the firefly clamp cut to under 1 / --rare-light-ratio of its colour, "
+            "with another such within 16 pixels (rare bright samples: a glossy floor's "
+            "reflection of a "
+            "light that few samples hit; a lone one is a firefly), gives this share of the "
+            "light the clamp took to the pixels around it, a Gaussian of 2 pixels, none "
+            "within --clamp-light-reach of an emitter or a partly covered pixel; 0: off",
+            &O::rareLightShare, 0, 1)),
+        nested(FloatParam("rare-light-ratio",
+                          "--rare-light-share's cut: a pixel's colour over its clamped colour "
+                          "(the channels' sums) above this",
+                          &O::rareLightRatio, 1, 1e6)),
+        nested(FloatParam(
             "speck-relative",
             "where no variance layer is read (the frame's own noise estimate; or beside one "
             "where the clamp reads that estimate, unless --no-layer-passes), with the local "
@@ -576,6 +590,8 @@ class Nfor : public FrontEndOf<NforParamsApi> {
             o.pilotWideRadius = options.plainWideRadius;
             o.wideAgreement = options.plainWideAgreement;
         }
+        // The rare light's share was measured on frames without statistics only.
+        if (inputs.Has("variance")) o.rareLightShare = 0;
         return o;
     }
 

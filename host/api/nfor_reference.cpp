@@ -46,6 +46,8 @@ ref::NforParams NforReferenceParams(const NforOptions &o,
     p.clampLightFine = o.clampLightFine;
     p.clampLightReach = o.clampLightReach;
     p.clampLightNoise = kClampLightNoise;
+    p.rareLightShare = o.rareLightShare;
+    p.rareLightRatio = o.rareLightRatio;
     p.speckRelative = o.speckRelative;
     p.speckFloor = o.speckFloor;
     p.speckRank = o.speckRank;

@@ -16,6 +16,7 @@
 #include "host/methods/nfor_kept.h"
 #include "host/methods/nfor_lights.h"
 #include "host/methods/nfor_line.h"
+#include "host/methods/nfor_rare.h"
 #include "host/methods/nfor_specks.h"
 #include "host/methods/run_memo.h"
 #include "host/vk/gpu_image.h"
@@ -170,14 +171,17 @@ void CheckOptions(const NforOptions &o) {
         !(finite(o.layerNoiseCap) && o.layerNoiseCap >= 0) ||
         !(finite(o.pilotNoiseCap) && o.pilotNoiseCap >= 0) ||
         !(finite(o.albedoNoise) && o.albedoNoise >= 0) ||
-        !(finite(o.glintNoise) && o.glintNoise >= 0))
+        !(finite(o.glintNoise) && o.glintNoise >= 0) ||
+        !(o.rareLightShare >= 0 && o.rareLightShare <= 1) ||
+        !(finite(o.rareLightRatio) && o.rareLightRatio >= 1))
         throw Error(
             "nfor: ridge, noise calibration, prefilter bandwidth and the feature sigmas must "
             "be finite and > 0; alpha, feature bandwidth, firefly threshold, firefly lone "
             "light, pilot alpha, coarse relative, coarse noise, coarse gate, wide agreement, "
             "speck floor, layer and pilot noise caps, albedo noise, glint noise and weak "
             "emitter line finite and >= 0, weak emitter range finite and > 0, speck relative "
-            "finite, mean radius >= 0, light shares 0 to 0.25",
+            "finite, mean radius >= 0, light shares 0 to 0.25, rare light share 0 to 1 and "
+            "ratio finite and >= 1",
             ErrorKind::InvalidArgument);
     if (o.pilotWideRadius != 0 &&
         (o.pilotWideRadius <= o.radius || o.pilotWideRadius > NFOR_MAX_RADIUS ||
@@ -972,15 +976,13 @@ void RestoreMeans(StagedRun &run, const NforInputs &in, const NforOptions &o, co
                     8 * o.meanRadius, 2 * o.meanRadius, f.lo, f.hi));
 }
 
-// The colour whose local means give the clamp's light back: the clamped colour within
-// o.clampLightReach of an emitter or of a partly covered pixel (their own light is the
-// lights' spread's and the kept pixels' to place), the colour elsewhere. An empty pixel
-// (alpha 0) is no partly covered one: a hard edge blocks nothing, so that a tile holding
-// no partly covered pixel (run without the alpha) blocks what the whole frame's run does.
-Image ClampLightSource(const Image &color, const Image &clamped, const Image &mask,
-                       const Image *alpha, int reach) {
-    const int w = color.width, h = color.height;
-    std::vector<char> blocked(size_t(w) * h), rows(size_t(w) * h);
+// Whether each pixel lies within `reach` of an emitter or of a partly covered pixel (their
+// own light is the lights' spread's and the kept pixels' to place). An empty pixel (alpha 0)
+// is no partly covered one: a hard edge blocks nothing, so that a tile holding no partly
+// covered pixel (run without the alpha) blocks what the whole frame's run does.
+std::vector<char> ClampLightNear(const Image &mask, const Image *alpha, int reach) {
+    const int w = mask.width, h = mask.height;
+    std::vector<char> blocked(size_t(w) * h), rows(size_t(w) * h), near(size_t(w) * h);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             blocked[size_t(y) * w + x] =
@@ -993,16 +995,43 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
                 any = blocked[size_t(y) * w + u];
             rows[size_t(y) * w + x] = any;
         }
-    Image source = clamped;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             char any = 0;
             for (int v = std::max(0, y - reach); v <= std::min(h - 1, y + reach) && !any; ++v)
                 any = rows[size_t(v) * w + x];
-            if (any) continue;
-            for (int c = 0; c < color.channels; ++c) source.At(c, y, x) = color.At(c, y, x);
+            near[size_t(y) * w + x] = any;
         }
+    return near;
+}
+
+// The colour whose local means give the clamp's light back: the clamped colour where
+// ClampLightNear flags the pixel, the colour elsewhere.
+Image ClampLightSource(const Image &color, const Image &clamped,
+                       const std::vector<char> &near) {
+    Image source = clamped;
+    for (size_t i = 0; i < color.PixelCount(); ++i) {
+        if (near[i]) continue;
+        for (int c = 0; c < color.channels; ++c) source.Plane(c)[i] = color.Plane(c)[i];
+    }
     return source;
+}
+
+// After the clamp's light: a share of the light the clamp took from the pixels it cut far
+// down (rare bright samples: a glossy floor's reflection of a light, hit by few of
+// the 16 samples) given to the pixels around them (host/methods/nfor_rare.h).
+void SpreadRareLight(StagedRun &run, const NforInputs &in, const NforOptions &o,
+                     const Image &clamped, const std::vector<char> &near, NforResult &result) {
+    NforRareLightSettings s;
+    s.share = o.rareLightShare;
+    s.ratio = o.rareLightRatio;
+    const size_t sources = NforSpreadRareLight(*in.color, clamped, near, s, &result.image);
+    run.AddStage("rare", result.image);
+    run.Plan(fmt::format(
+        "rare light: {} pixels the firefly clamp cut to under 1/{} of their colour, each "
+        "with another such within {} (away from emitters and partly covered pixels), gave "
+        "{} of the light it took to the pixels around them, a Gaussian of {} pixels",
+        sources, s.ratio, s.pair, s.share, s.sigma));
 }
 
 // After the local means, the colour's own (the clamp's light back) over the tents of
@@ -1015,7 +1044,8 @@ Image ClampLightSource(const Image &color, const Image &clamped, const Image &ma
 void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &o,
                        const Image &mask, const Image &clamped, const Image *alpha,
                        const std::vector<bool> &meansLeft, NforResult &result) {
-    Image source = ClampLightSource(*in.color, clamped, mask, alpha, o.clampLightReach);
+    const std::vector<char> near = ClampLightNear(mask, alpha, o.clampLightReach);
+    Image source = ClampLightSource(*in.color, clamped, near);
     // Both are inputs: the colour where the clamp left it, or the clamped colour copied.
     std::vector<bool> left(meansLeft.size());
     for (size_t i = 0; i < left.size(); ++i)
@@ -1037,6 +1067,7 @@ void RestoreClampLight(StagedRun &run, const NforInputs &in, const NforOptions &
         o.clampLightFine > 0 ? fmt::format(", then {}", 2 * o.clampLightFine) : "",
         kClampLightNoise, o.clampLightReach,
         o.premultiplied ? " (no alpha read: --premultiplied)" : "", f.lo, f.hi));
+    if (o.rareLightShare > 0) SpreadRareLight(run, in, o, clamped, near, result);
 }
 
 // Each emitter's share of its output given to its neighbours that are no emitter.

@@ -175,6 +175,13 @@ struct NforOptions {
     // colour kept within clampLightReach of an emitter or a partly covered pixel (a light's
     // rim, a silhouette). clampLightRadius 0: off.
     int clampLightRadius = 16, clampLightFine = 2, clampLightReach = 4;
+    // Where the clamp's light is restored, after it: this share of the light the firefly
+    // clamp took from each pixel it cut to under 1 / rareLightRatio with another such within
+    // 16 (rare bright samples) given to the pixels around it as a Gaussian, away from
+    // clampLightReach's pixels
+    // (host/methods/nfor_rare.h); 0: off. The method's API sets it on frames without a
+    // variance layer only.
+    float rareLightShare = 0.4f, rareLightRatio = 40;
     // Denoise the frame again at half the resolution and give the output the coarse
     // output's low frequencies where they differ by under min(coarseRelative x the
     // output's local magnitude, coarseNoise x its local residual) (host/methods/nfor_coarse.h):

@@ -23,6 +23,7 @@
 #include "cpu_reference/nfor_kept.h"
 #include "cpu_reference/nfor_lights.h"
 #include "cpu_reference/nfor_line.h"
+#include "cpu_reference/nfor_rare.h"
 #include "cpu_reference/nfor_specks.h"
 #include "harness/compare.h"
 #include "harness/errors.h"
@@ -37,6 +38,7 @@
 #include "host/methods/nfor_kept.h"
 #include "host/methods/nfor_lights.h"
 #include "host/methods/nfor_line.h"
+#include "host/methods/nfor_rare.h"
 #include "host/methods/nfor_specks.h"
 #include "host/metrics.h"
 #include "mcdenoise/mcdenoise.h"
@@ -2435,6 +2437,94 @@ TEST(NforSpecks, HoldsASpeckOnAFlatGroundToTheTighterBound) {
     }
 }
 
+// The rare light's spread against its reference: fireflies cut to a 50th by a clamp,
+// `near` flags in stripes, frames of one pixel and one row; the same sources, the same
+// output to round-off; some give, and the lone ones of the sparse frame do not.
+TEST(NforRareLight, MatchesTheReference) {
+    size_t given = 0;
+    for (auto [w, h] : {std::pair{41, 37}, std::pair{1, 1}, std::pair{23, 1}})
+        for (int every : {3, 61}) {
+            std::string name = fmt::format("rare {}x{} every {}", w, h, every);
+            uint64_t seed = SeedFromName(name);
+            Image color = MakeVarianceInput(InputKind::LogNormalFireflies, w, h, 3, seed);
+            Image clamped = color;
+            for (size_t i = seed % 5; i < color.PixelCount(); i += every)
+                for (int c = 0; c < 3; ++c) clamped.Plane(c)[i] = color.Plane(c)[i] * 0.02f;
+            std::vector<char> near(color.PixelCount());
+            for (size_t i = 0; i < near.size(); ++i) near[i] = (i / 7) % 5 == 0;
+            Image output = MakeVarianceInput(InputKind::Uniform, w, h, 3, seed + 1);
+            Image host = output, cpu = output;
+            NforRareLightSettings s;
+            const size_t count = NforSpreadRareLight(color, clamped, near, s, &host);
+            EXPECT_EQ(count, ref::NforSpreadRareLight(color, clamped, near, s.share, s.ratio,
+                                                      s.sigma, s.radius, s.pair, &cpu))
+                << name;
+            EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12})) << name;
+            if (count == 0) EXPECT_EQ(host.data, output.data) << name;
+            given += count;
+        }
+    EXPECT_GT(given, 0u);
+}
+
+// Two pixels of a dark ground cut by the clamp to a 50th, 5 apart, give share 0.4 of
+// their lost light around them as a Gaussian of 2: the frame gains that light (the
+// Gaussian's square inside the frame), a pixel between them more than one beyond; a pixel
+// cut to a fifth gives nothing (to a 50th with the ratio 60 neither); the same pair flagged
+// `near` gives nothing and a flagged receiver gets nothing; one of them alone (no other within
+// 16) is a firefly and gives nothing; share 0 leaves the output as it was.
+TEST(NforRareLight, SpreadsCutPixelsLightButNotALoneOnes) {
+    const int w = 31, h = 25;
+    auto frame = [&](Image *color, Image *clamped, std::vector<std::pair<int, int>> hits,
+                     float cut) {
+        *color = Image(w, h, 3, 0.02f);
+        for (auto [y, x] : hits)
+            for (int c = 0; c < 3; ++c) color->At(c, y, x) = 2.f;
+        *clamped = *color;
+        for (auto [y, x] : hits)
+            for (int c = 0; c < 3; ++c) clamped->At(c, y, x) = 2.f * cut;
+    };
+    Image color, clamped;
+    frame(&color, &clamped, {{12, 10}, {12, 15}}, 0.02f);
+    std::vector<char> none(size_t(w) * h, 0);
+    const Image output(w, h, 3, 0.02f);
+    Image spread = output;
+    NforRareLightSettings s;
+    ASSERT_EQ(NforSpreadRareLight(color, clamped, none, s, &spread), 2u);
+    double gained = 0;
+    for (size_t i = 0; i < spread.PixelCount(); ++i) gained += spread.data[i] - output.data[i];
+    EXPECT_NEAR(gained, 0.4 * 2 * (2 - 0.04), 1e-4);
+    EXPECT_GT(spread.At(0, 12, 12), spread.At(0, 12, 20));
+    EXPECT_GT(spread.At(0, 12, 20), output.At(0, 12, 20));
+    Image copy = output;
+    frame(&color, &clamped, {{12, 10}, {12, 15}}, 0.2f);
+    EXPECT_EQ(NforSpreadRareLight(color, clamped, none, s, &copy), 0u);
+    EXPECT_EQ(copy.data, output.data);
+    frame(&color, &clamped, {{12, 10}, {12, 15}}, 0.02f);
+    NforRareLightSettings higher = s;
+    higher.ratio = 60;
+    EXPECT_EQ(NforSpreadRareLight(color, clamped, none, higher, &copy), 0u);
+    EXPECT_EQ(copy.data, output.data);
+    frame(&color, &clamped, {{12, 10}, {12, 15}}, 0.02f);
+    std::vector<char> nearHits = none, nearReceiver = none;
+    nearHits[12 * w + 10] = nearHits[12 * w + 15] = 1;
+    EXPECT_EQ(NforSpreadRareLight(color, clamped, nearHits, s, &copy), 0u);
+    EXPECT_EQ(copy.data, output.data);
+    nearReceiver[12 * w + 12] = 1;
+    copy = output;
+    EXPECT_EQ(NforSpreadRareLight(color, clamped, nearReceiver, s, &copy), 2u);
+    EXPECT_EQ(copy.At(0, 12, 12), output.At(0, 12, 12));
+    EXPECT_EQ(copy.At(0, 12, 13), spread.At(0, 12, 13));
+    frame(&color, &clamped, {{12, 10}}, 0.02f);
+    copy = output;
+    EXPECT_EQ(NforSpreadRareLight(color, clamped, none, s, &copy), 0u);
+    EXPECT_EQ(copy.data, output.data);
+    frame(&color, &clamped, {{12, 10}, {12, 15}}, 0.02f);
+    s.share = 0;
+    copy = output;
+    NforSpreadRareLight(color, clamped, none, s, &copy);
+    EXPECT_EQ(copy.data, output.data);
+}
+
 // A speck the firefly clamp leaves (a pixel at 1.7x its flat neighbours, under the clamp's
 // limit) and the fits keep (its normal unlike its neighbours') comes out near its neighbours:
 // scaled down to the bound, its light given to the pixels around it by the local means, the
@@ -3399,6 +3489,40 @@ TEST_F(NforMethod, PlainFramesTakeTheWideSecondPass) {
     mcd::Frame layered = frame;
     layered.layers["variance"] = Image(19, 15, 3, 0.01f);
     EXPECT_FALSE(wide(run(layered, 5, 3, 0), 5));
+}
+
+// Through the API: on a plain frame two far-out hits on a flat ground, 3 apart, which the
+// firefly clamp cuts, give a share of their light around them (the plan names them; with
+// --rare-light-share 0 the output differs); beside a variance layer the pass does not run.
+TEST_F(NforMethod, PlainFramesSpreadTheRareLight) {
+    Frame f = MakeFrame(29, 23, 0, "rare light");
+    for (int y = 0; y < 23; ++y)
+        for (int x = 0; x < 29; ++x)
+            for (int c = 0; c < 3; ++c) {
+                f.albedo.At(c, y, x) = 0.5f;
+                f.normal.At(c, y, x) = c == 2 ? 1.f : 0.f;
+                f.color.At(c, y, x) = 0.02f * (1 + 0.1f * float((x * 7 + y * 3) % 5));
+            }
+    for (int c = 0; c < 3; ++c) f.color.At(c, 11, 13) = f.color.At(c, 11, 16) = 3.f;
+    mcd::Frame frame = PlainApiFrame(f, "rare.exr");
+    Device device;
+    auto run = [&](const mcd::Frame &input, double share) {
+        Method method("nfor");
+        method.Set("rare-light-share", share);
+        return method.Run(device, input);
+    };
+    auto rare = [](const Result &r) {
+        bool found = false;
+        for (const std::string &line : r.plan) found |= Contains(line, "rare light: 2 pixels");
+        return found;
+    };
+    Result on = run(frame, 0.4), off = run(frame, 0);
+    EXPECT_TRUE(rare(on));
+    EXPECT_FALSE(rare(off));
+    EXPECT_GT(on.image.At(1, 11, 14), off.image.At(1, 11, 14));
+    mcd::Frame layered = frame;
+    layered.layers["variance"] = Image(29, 23, 3, 0.0001f);
+    EXPECT_FALSE(rare(run(layered, 0.4)));
 }
 
 // What the method is for: a rendered plain frame (colour, albedo, normal, depth only) comes

@@ -1029,6 +1029,38 @@ TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
     ASSERT_LE(tile + needs.reach, soft);
 }
 
+// nfor's rare light (a plain frame, the coarse pass shut): pairs of hits the firefly clamp
+// cuts far down, one each side of the seam, one on it and one lone: a source's pair and
+// its Gaussian reach across the seam, so the tiled result is the untiled one bit for bit.
+TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
+    Device device = api::BorrowDevice(Ctx());
+    const int width = 400, height = 32, tile = 200;
+    Frame frame;
+    frame.path = "rare light across a seam";
+    frame.width = width, frame.height = height;
+    Image color(width, height, 3), albedo(width, height, 3, 0.5f);
+    std::mt19937_64 rng(SeedFromName(frame.path));
+    std::normal_distribution<double> noise(0, 0.05);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) color.At(c, y, x) = float(0.02 * (1 + noise(rng)));
+    for (auto [y, x] : {std::pair{10, 190}, {14, 205}, {20, 196}, {22, 201}, {8, 60}})
+        for (int c = 0; c < 3; ++c) color.At(c, y, x) = 4.f;
+    frame.layers["color"] = std::move(color);
+    frame.layers["albedo"] = std::move(albedo);
+    Params params = {
+        {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
+    Result whole = RunWith(device, "nfor", params, frame, 0);
+    Result tiled = RunWith(device, "nfor", params, frame, tile);
+    ASSERT_FALSE(tiled.plan.empty());
+    EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+    bool ran = false;
+    for (const std::string &line : whole.plan)
+        ran |= line.find("rare light: 4 pixels") != std::string::npos;
+    EXPECT_TRUE(ran);
+    ExpectSameBits(whole.image, tiled.image, "nfor tiled, the rare light");
+}
+
 // nfor's halo holds the clamp's light's reach only where the pass runs: on a plain frame
 // the coarse pass leaves; not beside a variance layer, nor where the coarse pass runs
 // (whose half-resolution run has no such pass), whose reach is then doubled.
