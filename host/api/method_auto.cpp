@@ -23,6 +23,7 @@
 #include "host/io/layer_names.h"
 #include "host/methods/auto.h"
 #include "host/methods/auto_object_floor.h"
+#include "host/methods/nfor_lights.h"
 #include "host/methods/run_memo.h"
 
 namespace mcd::api {
@@ -240,6 +241,14 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                     "with --auto-object-guard: the frames it runs on, those with half-buffers "
                     "(halves) or also those with a variance layer alone (all)",
                     &O::objectGuardFrames, {"halves", "all"}),
+        FloatParam("auto-light-share",
+                   "on a frame with an albedo layer, last: each emitter pixel (largest albedo "
+                   "channel above 1.5) gives this share of nfor's lights' spread "
+                   "(--weak-light-share 0.08, --light-share 0.004 of its output, nfor's "
+                   "defaults) to each of its 4 neighbours that is no emitter, and keeps the "
+                   "rest: a light's rim, which few samples hit and the combination leaves "
+                   "dark (0: off)",
+                   &O::lightShare, 0, 4),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -1093,6 +1102,24 @@ void FloorAfterRestore(const AutoFrontEnd::Options &o, Inputs &inputs,
                  plan);
 }
 
+// nfor's lights' spread at --auto-light-share of its shares on `image`, one plan line.
+void SpreadLights(const AutoFrontEnd::Options &o, Inputs &inputs, Image *image,
+                  std::vector<std::string> *plan) {
+    if (o.lightShare == 0 || !inputs.Has("albedo")) return;
+    NforLightSettings s;
+    s.weakShare *= o.lightShare;
+    s.strongShare *= o.lightShare;
+    const Image *alpha = inputs.Has("alpha") ? &inputs.Get("alpha") : nullptr;
+    const size_t lights = NforSpreadLights(inputs.Get("albedo"), alpha, s, image);
+    if (lights == 0) return;
+    plan->push_back(fmt::format(
+        "auto: lights: {} emitter pixels (albedo above {:g}) gave {:g} (albedo below {:g}) or "
+        "{:g} of their output to each of their 4 neighbours that is no emitter, {:g} of "
+        "nfor's spread (--auto-light-share): a light's rim, which few samples hit and the "
+        "combination left dark",
+        lights, s.emitterAlbedo, s.weakShare, s.weakAlbedo, s.strongShare, o.lightShare));
+}
+
 // The object lift on `image` (host/methods/auto_object_floor.h), one plan line per object
 // lifted, or one on why it was left out or lifted nothing.
 void LiftObjects(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &color,
@@ -1515,6 +1542,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
         FloorAfterRestore(options, inputs, list, outputPointers, color, &weighted, &unrestored,
                           &result.image, &plan);
     LiftObjects(options, inputs, color, &result.image, &plan);
+    SpreadLights(options, inputs, &result.image, &plan);
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);
     list.clear();
     result.method = "auto";

@@ -141,6 +141,11 @@ class AutoFrontEnd : public FrontEnd {
         float objectGuard = 3.5f;
         std::string objectGuardSign = "dark";
         std::string objectGuardFrames = "halves";
+        // Last, on a frame with an albedo layer: each emitter gives this share of nfor's
+        // lights' spread (host/methods/nfor_lights.h) to its 4 neighbours that are no
+        // emitter. The combination leans to the candidates that leave a light's rim dark,
+        // which few samples hit (0: off; docs/methods/auto.md).
+        float lightShare = 0.5f;
         // The parameters the user set (not a parameter): auto's settings for the
         // candidates' (MethodEntry::autoSettings) give way; an option that needs another
         // is refused without it.

@@ -1,0 +1,82 @@
+// Method auto's lights' spread (issue 30): last, each emitter pixel gives --auto-light-share
+// of nfor's lights' spread to its 4 neighbours that are no emitter; a frame without emitters
+// keeps its bits.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+
+#include "harness/gpu_fixture.h"
+#include "host/api/device.h"
+#include "host/methods/nfor_lights.h"
+#include "mcdenoise/mcdenoise.h"
+#include "methods/auto_object_frames.h"
+
+namespace mcd::test {
+namespace {
+
+class AutoLights : public GpuTest {};
+
+TEST_F(AutoLights, AFrameWithoutEmittersKeepsItsBits) {
+    Device device = api::BorrowDevice(Ctx());
+    Method on("auto"), off("auto");
+    off.Set("auto-light-share", 0.0);
+    const Frame frame = RenderCornell(true);
+    Result spread = on.Run(device, frame);
+    EXPECT_EQ(spread.image.data, off.Run(device, frame).image.data);
+    EXPECT_FALSE(PlanHas(spread, "auto: lights: "))
+        << fmt::format("{}", fmt::join(spread.plan, "\n"));
+}
+
+TEST_F(AutoLights, EmittersGiveTheirRimsHalfOfNforsShares) {
+    Device device = api::BorrowDevice(Ctx());
+    // A 2x3 light in the frame (albedo 10, a strong emitter) and a weak one-pixel light
+    // (albedo 4) at the border.
+    Frame frame = RenderCornell(true);
+    Image &albedo = frame.layers.at("albedo");
+    const Image &color = frame.layers.at("color");
+    const int w = color.width, h = color.height;
+    for (int y = 10; y < 12; ++y)
+        for (int x = 14; x < 17; ++x)
+            for (int c = 0; c < albedo.channels; ++c) albedo.At(c, y, x) = 10.f;
+    for (int c = 0; c < albedo.channels; ++c) albedo.At(c, 0, w - 1) = 4.f;
+
+    Method on("auto"), off("auto");
+    off.Set("auto-light-share", 0.0);
+    Result spread = on.Run(device, frame);
+    const Image unspread = off.Run(device, frame).image;
+    EXPECT_TRUE(PlanHas(spread, "auto: lights: 7 emitter pixels"))
+        << fmt::format("{}", fmt::join(spread.plan, "\n"));
+
+    // The same as nfor's spread at half its shares on the output without it, bit for bit.
+    NforLightSettings half;
+    half.weakShare *= 0.5f;
+    half.strongShare *= 0.5f;
+    Image expected = unspread;
+    const Image *alpha = frame.layers.count("alpha") ? &frame.layers.at("alpha") : nullptr;
+    ASSERT_EQ(NforSpreadLights(albedo, alpha, half, &expected), 7u);
+    EXPECT_EQ(spread.image.data, expected.data);
+
+    // A rim pixel took the light's share of each emitter beside it; the light kept the rest.
+    const size_t pixels = color.PixelCount();
+    for (int c = 0; c < 3; ++c) {
+        const float light = unspread.At(c, 10, 14);
+        EXPECT_FLOAT_EQ(spread.image.At(c, 10, 13), unspread.At(c, 10, 13) + 0.002f * light);
+        EXPECT_LT(spread.image.At(c, 10, 14), light);
+        double before = 0, after = 0;  // the light moves, none is made or lost
+        for (size_t i = 0; i < pixels; ++i) {
+            before += unspread.data[c * pixels + i];
+            after += spread.image.data[c * pixels + i];
+        }
+        EXPECT_NEAR(after, before, 1e-5 * before);
+    }
+    // The weak light gives 0.04 to its two neighbours inside the frame.
+    EXPECT_NE(spread.image.At(0, 1, w - 1), unspread.At(0, 1, w - 1));
+    EXPECT_NE(spread.image.At(0, 0, w - 2), unspread.At(0, 0, w - 2));
+    EXPECT_EQ(spread.image.At(0, h - 1, 0), unspread.At(0, h - 1, 0));
+}
+
+}  // namespace
+}  // namespace mcd::test
