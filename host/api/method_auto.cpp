@@ -22,6 +22,7 @@
 #include "host/io/hints.h"
 #include "host/io/layer_names.h"
 #include "host/methods/auto.h"
+#include "host/methods/auto_flat.h"
 #include "host/methods/auto_object_floor.h"
 #include "host/methods/nfor_lights.h"
 #include "host/methods/run_memo.h"
@@ -249,6 +250,13 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "rest: a light's rim, which few samples hit and the combination leaves "
                    "dark (0: off)",
                    &O::lightShare, 0, 4),
+        FloatParam("auto-flat-nfor",
+                   "beside half-buffers, on a frame with albedo and normals, after the "
+                   "object floor: where no albedo, normal or shading edge lies within a pixel "
+                   "and the nfor candidate's output is within this share of the "
+                   "combination's, nfor's output, if its light over those pixels is at least "
+                   "0.995 of the combination's (0: off)",
+                   &O::flatNfor, 0, 1),
         ChoiceParam("auto-candidates",
                     "the candidates auto may run, by their --explain labels, comma-separated "
                     "(\"nfor,rhf,pivot k0\"), or all (every one but awr and nfor layer, "
@@ -1102,6 +1110,32 @@ void FloorAfterRestore(const AutoFrontEnd::Options &o, Inputs &inputs,
                  plan);
 }
 
+// A copy of the nfor candidate's output on the frame where --auto-flat-nfor will read it
+// (beside the half-buffers, with albedo and normals), else empty.
+Image FlatNforOutput(const AutoFrontEnd::Options &o, Inputs &inputs, const Noise &noise,
+                     const std::vector<AutoCandidate> &list) {
+    if (o.flatNfor == 0 || !noise.halves || !inputs.Has("albedo") || !inputs.Has("normal"))
+        return Image();
+    for (const AutoCandidate &c : list)
+        if (c.label == "nfor") return c.output;
+    return Image();
+}
+
+// nfor's output at the flat pixels where it agrees (host/methods/auto_flat.h), one plan line.
+void TakeNforWhereFlat(const AutoFrontEnd::Options &o, Inputs &inputs, const Image &nfor,
+                       Image *image, std::vector<std::string> *plan) {
+    if (nfor.Empty()) return;
+    AutoFlatSettings s;
+    s.agreement = o.flatNfor;
+    AutoFlatResult r =
+        AutoTakeNforWhereFlat(inputs.Get("albedo"), inputs.Get("normal"), nfor, s, image);
+    plan->push_back(fmt::format(
+        "auto: flat: {} pixels without an albedo, normal or shading edge within a pixel where "
+        "nfor is within {:g} of the combination, nfor holding {:.4f} of its light there: {} "
+        "(--auto-flat-nfor; at least {:g} of the light)",
+        r.pixels, s.agreement, r.light, r.taken ? "nfor's output taken" : "left", s.keep));
+}
+
 // nfor's lights' spread at --auto-light-share of its shares on `image`, one plan line.
 void SpreadLights(const AutoFrontEnd::Options &o, Inputs &inputs, Image *image,
                   std::vector<std::string> *plan) {
@@ -1504,6 +1538,8 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
                    &plan);
     Result result = ResultOf(std::move(combined));
     const Image *variance = inputs.Has("variance") ? &inputs.Get("variance") : nullptr;
+    // nfor's output on the frame for the flat pixels: the check puts the probes in its place.
+    const Image flatNfor = FlatNforOutput(options, inputs, noise, list);
     if (check) {
         // The candidates' outputs are combined: their half0 runs take their place (the
         // floor after the restore keeps the outputs).
@@ -1541,6 +1577,7 @@ Result AutoFrontEnd::Run(vk::Context &context, Inputs &inputs, const RunOptions 
     if (floor && options.objectFloor == "after")
         FloorAfterRestore(options, inputs, list, outputPointers, color, &weighted, &unrestored,
                           &result.image, &plan);
+    TakeNforWhereFlat(options, inputs, flatNfor, &result.image, &plan);
     LiftObjects(options, inputs, color, &result.image, &plan);
     SpreadLights(options, inputs, &result.image, &plan);
     for (const AutoCandidate &c : list) result.candidates.push_back(c.label);

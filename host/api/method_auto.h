@@ -146,6 +146,10 @@ class AutoFrontEnd : public FrontEnd {
         // emitter. The combination leans to the candidates that leave a light's rim dark,
         // which few samples hit (0: off; docs/methods/auto.md).
         float lightShare = 0.5f;
+        // Beside the half-buffers, with albedo and normals: where the frame is flat and nfor's
+        // output is within this share of the combination's, nfor's output, if it holds
+        // the combination's light there (0: off; host/methods/auto_flat.h).
+        float flatNfor = 0.1f;
         // The parameters the user set (not a parameter): auto's settings for the
         // candidates' (MethodEntry::autoSettings) give way; an option that needs another
         // is refused without it.
