@@ -2,10 +2,18 @@
 // shading edge lies within a pixel and nfor agrees, if it keeps the light there.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <vector>
 
+#include "harness/frames.h"
+#include "harness/gpu_fixture.h"
+#include "host/api/device.h"
 #include "host/error.h"
 #include "host/methods/auto_flat.h"
+#include "mcdenoise/mcdenoise.h"
+#include "methods/auto_object_frames.h"
+#include "tools/render/renderer.h"
 
 namespace mcd {
 namespace {
@@ -94,6 +102,33 @@ TEST(AutoFlat, RefusesLayersOfAnotherSize) {
     FlatFrame f = MakeFlat(1.f);
     Image small(4, 4, 3);
     EXPECT_THROW(AutoTakeNforWhereFlat(small, f.normal, f.nfor, {}, &f.output), Error);
+}
+
+// The front end: beside the half-buffers the plan says what the flat step found and the
+// output moves only where it took nfor's; without halves, or at 0, it does not run.
+class AutoFlatMethod : public test::GpuTest {};
+
+TEST_F(AutoFlatMethod, RunsBesideTheHalvesAlone) {
+    Device device = api::BorrowDevice(Ctx());
+    render::RenderOptions options;
+    options.width = 32, options.height = 24, options.spp = 8;
+    options.layers = render::kLayersAll | render::kLayersHalves;
+    const Frame halves = test::RenderedFrame("cornell", options);
+    Method on("auto"), off("auto");
+    off.Set("auto-flat-nfor", 0.0);
+    Result flat = on.Run(device, halves), unflat = off.Run(device, halves);
+    ASSERT_TRUE(test::PlanHas(flat, "auto: flat: "))
+        << fmt::format("{}", fmt::join(flat.plan, "\n"));
+    EXPECT_FALSE(test::PlanHas(unflat, "auto: flat: "));
+    if (test::PlanHas(flat, "nfor's output taken"))
+        EXPECT_NE(flat.image.data, unflat.image.data);
+    else
+        EXPECT_EQ(flat.image.data, unflat.image.data);
+    // A variance layer and no halves: no nfor candidate, no flat step.
+    const Frame plain = test::RenderCornell(true);
+    Result noHalves = on.Run(device, plain);
+    EXPECT_FALSE(test::PlanHas(noHalves, "auto: flat: "));
+    EXPECT_EQ(noHalves.image.data, off.Run(device, plain).image.data);
 }
 
 }  // namespace
