@@ -80,6 +80,23 @@ Result RunWith(Device &device, const std::string &name, const Params &params,
     return method.Run(device, frame, run);
 }
 
+// nfor on `frame` whole and in tiles of `tile` columns, the tiled plan checked for two tiles.
+struct WholeAndTiled {
+    Result whole, tiled;
+};
+
+WholeAndTiled RunNforInTwoTiles(Device &device, const Params &params, const Frame &frame,
+                                int tile) {
+    WholeAndTiled runs{RunWith(device, "nfor", params, frame, 0),
+                       RunWith(device, "nfor", params, frame, tile)};
+    if (runs.tiled.plan.empty())
+        ADD_FAILURE() << "the tiled run printed no plan";
+    else
+        EXPECT_NE(runs.tiled.plan[0].find("2 tile(s)"), std::string::npos)
+            << runs.tiled.plan[0];
+    return runs;
+}
+
 // What method `name` with `params` asks of tiles on `frame` (its halo, its binding).
 api::TileNeeds NeedsWith(const std::string &name, const Params &params, const Frame &frame) {
     std::unique_ptr<api::FrontEnd> method = api::FindMethod(name)->make();
@@ -583,10 +600,7 @@ TEST_F(GpuTest, TiledRunNforSpreadsLightsAcrossTheSeam) {
     frame.layers["albedo"] = std::move(albedo);
     frame.layers["normal"] = MakeInput(InputKind::Uniform, width, height, 3, seed + 2);
     Params params = {{"radius", 3}, {"pilot-bandwidths", std::string("none")}};
-    Result whole = RunWith(device, "nfor", params, frame, 0);
-    Result tiled = RunWith(device, "nfor", params, frame, tile);
-    ASSERT_FALSE(tiled.plan.empty());
-    EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
     bool spread = false;
     for (const std::string &line : whole.plan) spread = spread || line.find("lights: ") == 0;
     EXPECT_TRUE(spread);
@@ -611,10 +625,8 @@ TEST_F(GpuTest, TiledRunNforClampDecidesOnceForTheFrame) {
                          {"pilot-bandwidths", std::string("none")},
                          {"nfor-mean-radius", 0},
                          {"nfor-coarse", coarse}};
-        Result whole = RunWith(device, "nfor", params, frame, 0);
-        Result tiled = RunWith(device, "nfor", params, frame, tile);
+        auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
         ASSERT_FALSE(tiled.plan.empty());
-        EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
         EXPECT_NE(tiled.plan[0].find("bit for bit"), std::string::npos) << tiled.plan[0];
         EXPECT_TRUE(ClampReadsTheLayer(whole));
         ExpectSameBits(whole.image, tiled.image, "nfor tiled");
@@ -665,10 +677,7 @@ TEST_F(GpuTest, TiledRunNforLayerNoiseCapIsTheWholeFrames) {
         Frame frame = RareBrightLeftFrame(width, height, bright);
         Params params = {
             {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"layer-noise-cap", 3.f}};
-        Result whole = RunWith(device, "nfor", params, frame, 0);
-        Result tiled = RunWith(device, "nfor", params, frame, tile);
-        ASSERT_FALSE(tiled.plan.empty());
-        EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+        auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
         EXPECT_EQ(ClampReadsTheLayer(whole), bright > 0);
         bool capped = false;
         for (const std::string &line : whole.plan)
@@ -685,10 +694,7 @@ TEST_F(GpuTest, TiledRunNforPilotNoiseCapIsTheWholeFrames) {
     const int width = 256, height = 48, tile = 128;
     Frame frame = RareBrightLeftFrame(width, height, 0);
     Params params = {{"radius", 3}, {"pilot-noise-cap", 1.f}};
-    Result whole = RunWith(device, "nfor", params, frame, 0);
-    Result tiled = RunWith(device, "nfor", params, frame, tile);
-    ASSERT_FALSE(tiled.plan.empty());
-    EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
     bool capped = false;
     for (const std::string &line : whole.plan)
         capped = capped || line.find("--pilot-noise-cap") != std::string::npos;
@@ -1016,10 +1022,7 @@ TEST_F(GpuTest, TiledRunNforClampLightAcrossTheSeamIsBitIdentical) {
     frame.layers["alpha"] = alpha;
     Params params = {
         {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
-    Result whole = RunWith(device, "nfor", params, frame, 0);
-    Result tiled = RunWith(device, "nfor", params, frame, tile);
-    ASSERT_FALSE(tiled.plan.empty());
-    EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
     EXPECT_TRUE(ClampLightRan(whole));
     EXPECT_TRUE(ClampLightRan(tiled));
     ExpectSameBits(whole.image, tiled.image, "nfor tiled, the clamp's light");
@@ -1050,10 +1053,7 @@ TEST_F(GpuTest, TiledRunNforRareLightAcrossTheSeamIsBitIdentical) {
     frame.layers["albedo"] = std::move(albedo);
     Params params = {
         {"radius", 3}, {"pilot-bandwidths", std::string("none")}, {"coarse-gate", 0.f}};
-    Result whole = RunWith(device, "nfor", params, frame, 0);
-    Result tiled = RunWith(device, "nfor", params, frame, tile);
-    ASSERT_FALSE(tiled.plan.empty());
-    EXPECT_NE(tiled.plan[0].find("2 tile(s)"), std::string::npos) << tiled.plan[0];
+    auto [whole, tiled] = RunNforInTwoTiles(device, params, frame, tile);
     bool ran = false;
     for (const std::string &line : whole.plan)
         ran |= line.find("rare light: 4 pixels") != std::string::npos;
