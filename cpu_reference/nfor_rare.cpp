@@ -21,7 +21,7 @@ size_t NforSpreadRareLight(const Image &color, const Image &clamped,
             a += color.At(c, y, x);
             b += clamped.At(c, y, x);
         }
-        return a > 0 && a > ratio * b;
+        return std::isfinite(a) && a > 0 && a > ratio * b;
     };
     std::vector<double> given(color.data.size(), 0.0);
     size_t sources = 0;

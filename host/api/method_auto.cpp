@@ -249,7 +249,7 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
                    "defaults) to each of its 4 neighbours that is no emitter, and keeps the "
                    "rest: a light's rim, which few samples hit and the combination leaves "
                    "dark (0: off)",
-                   &O::lightShare, 0, 4),
+                   &O::lightShare, 0, 1),
         FloatParam("auto-flat-nfor",
                    "beside half-buffers, on a frame with albedo and normals, after the "
                    "object floor: where no albedo, normal or shading edge lies within a pixel "
@@ -1116,6 +1116,9 @@ Image FlatNforOutput(const AutoFrontEnd::Options &o, Inputs &inputs, const Noise
                      const std::vector<AutoCandidate> &list) {
     if (o.flatNfor == 0 || !noise.halves || !inputs.Has("albedo") || !inputs.Has("normal"))
         return Image();
+    // The step reads three channels of each: a grey frame or a grey albedo is left as it is.
+    for (const char *layer : {"color", "albedo", "normal"})
+        if (inputs.Get(layer).channels < 3) return Image();
     for (const AutoCandidate &c : list)
         if (c.label == "nfor") return c.output;
     return Image();

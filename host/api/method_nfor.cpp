@@ -14,6 +14,7 @@
 #include "host/kernels/nfor_kernels.h"
 #include "host/methods/nfor.h"
 #include "host/methods/nfor_line.h"
+#include "host/methods/nfor_rare.h"
 
 namespace mcd::api {
 namespace {
@@ -511,9 +512,15 @@ class Nfor : public FrontEndOf<NforParamsApi> {
         // reach 2s for the means and 2s more for the gain's average, and the reach of its
         // guard, where it runs: where the passes of a frame without a variance layer do (not
         // under --no-layer-passes beside one), the coarse pass shut.
+        // The rare light's spread runs after it: a receiver reads sources within its
+        // Gaussian's reach, each its pair's distance further, and that one the clamp's
+        // light's reach of an emitter.
         const int clampLightReach =
             o.meanRadius > 0 && o.clampLightRadius > 0 && !passesOff
-                ? 4 * o.clampLightRadius + 4 * o.clampLightFine + o.clampLightReach
+                ? std::max(4 * o.clampLightRadius + 4 * o.clampLightFine + o.clampLightReach,
+                           o.rareLightShare > 0
+                               ? kNforRareRadius + kNforRarePair + o.clampLightReach
+                               : 0)
                 : 0;
         const int fineReach = needs.reach + clampLightReach;
         // A frame that fits whole takes its gate's verdict unmeasured: the larger reach.

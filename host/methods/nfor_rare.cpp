@@ -27,7 +27,7 @@ size_t NforSpreadRareLight(const Image &color, const Image &clamped,
             a += color.Plane(c)[i];
             b += clamped.Plane(c)[i];
         }
-        cut[i] = a > 0 && a > s.ratio * b;
+        cut[i] = std::isfinite(a) && a > 0 && a > s.ratio * b;
     }
     // A lone one is a firefly, its light kept out: a source has another within s.pair (a
     // reflection's footprint holds several hits). Its lost light, 0 elsewhere.

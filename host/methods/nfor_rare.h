@@ -22,8 +22,9 @@ struct NforRareLightSettings {
     int radius = 6;      // the Gaussian's reach (a square of 2 radius + 1), weights to sum 1
     int pair = 16;       // a cut pixel with another within this (Chebyshev) is a source
 };
-// The Gaussian's reach (NforRareLightSettings::radius) a tiled run's halo holds.
-constexpr int kNforRareRadius = 6;
+// What a tiled run's halo holds for the pass: the Gaussian's reach
+// (NforRareLightSettings::radius) and a source's pairing distance (pair).
+constexpr int kNforRareRadius = 6, kNforRarePair = 16;
 
 // Each pixel of `output` not flagged in `near` (one flag per pixel: within the clamp's
 // light's reach of an emitter or a partly covered pixel) receives share x the Gaussian

@@ -2460,7 +2460,9 @@ TEST(NforRareLight, MatchesTheReference) {
                                                       s.sigma, s.radius, s.pair, &cpu))
                 << name;
             EXPECT_TRUE(ImagesMatch(cpu, host, {}, {4 * kU, 0, 1e-12})) << name;
-            if (count == 0) EXPECT_EQ(host.data, output.data) << name;
+            if (count == 0) {
+                EXPECT_EQ(host.data, output.data) << name;
+            }
             given += count;
         }
     EXPECT_GT(given, 0u);
@@ -2523,6 +2525,27 @@ TEST(NforRareLight, SpreadsCutPixelsLightButNotALoneOnes) {
     copy = output;
     NforSpreadRareLight(color, clamped, none, s, &copy);
     EXPECT_EQ(copy.data, output.data);
+}
+
+// A colour of +Inf over a finite clamped value is no source: its loss would spread Inf over
+// the Gaussian's square. Host and CPU twin alike.
+TEST(NforRareLight, AnInfiniteColourIsNoSource) {
+    const int w = 31, h = 25;
+    Image color(w, h, 3, 0.02f), clamped(w, h, 3, 0.02f);
+    for (auto [y, x] : {std::pair{12, 10}, {12, 15}})
+        for (int c = 0; c < 3; ++c) {
+            color.At(c, y, x) = std::numeric_limits<float>::infinity();
+            clamped.At(c, y, x) = 0.04f;
+        }
+    std::vector<char> none(size_t(w) * h, 0);
+    const Image output(w, h, 3, 0.02f);
+    Image host = output, twin = output;
+    NforRareLightSettings s;
+    EXPECT_EQ(NforSpreadRareLight(color, clamped, none, s, &host), 0u);
+    EXPECT_EQ(host.data, output.data);
+    ref::NforSpreadRareLight(color, clamped, none, s.share, s.ratio, s.sigma, s.radius, s.pair,
+                             &twin);
+    EXPECT_EQ(twin.data, output.data);
 }
 
 // A speck the firefly clamp leaves (a pixel at 1.7x its flat neighbours, under the clamp's
