@@ -1018,8 +1018,8 @@ Image ClampLightSource(const Image &color, const Image &clamped,
 }
 
 // After the clamp's light: a share of the light the clamp took from the pixels it cut far
-// down (rare bright samples: a glossy floor's reflection of a light, hit by few of
-// the 16 samples) given to the pixels around them (host/methods/nfor_rare.h).
+// down (rare bright samples: a glossy floor's reflection of a light, hit by few samples)
+// given to the pixels around them (host/methods/nfor_rare.h).
 void SpreadRareLight(StagedRun &run, const NforInputs &in, const NforOptions &o,
                      const Image &clamped, const std::vector<char> &near, NforResult &result) {
     NforRareLightSettings s;

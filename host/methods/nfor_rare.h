@@ -1,7 +1,6 @@
 // nfor's rare light (beyond the papers): on a frame without a variance layer, a pixel that
-// the firefly clamp cut far below its colour (to under a 40th by default) held a rare bright
-// sample (one of
-// its 16 that a glossy floor reflected from a light). Such hits lie scattered over a
+// the firefly clamp cut far below its colour (under 1 / ratio) held a rare bright sample (one
+// of its few that a glossy floor reflected from a light). Such hits lie scattered over a
 // reflection's footprint with dark misses between them; the fits keep the misses, and the
 // restore of the clamp's light, which takes each value's difference for its noise, gives
 // little of their light back. Here a share of each such pixel's lost light, where another
@@ -17,7 +16,7 @@ namespace mcd {
 
 struct NforRareLightSettings {
     float share = 0.4f;  // of the light the clamp took from a source, given around it
-    float ratio = 40;    // a source's colour over its clamped colour (channels' means)
+    float ratio = 40;    // a source's colour over its clamped colour (channels' sums)
     float sigma = 2;     // the Gaussian's scale in pixels
     int radius = 6;      // the Gaussian's reach (a square of 2 radius + 1), weights to sum 1
     int pair = 16;       // a cut pixel with another within this (Chebyshev) is a source
