@@ -889,8 +889,8 @@ void RestoreClampLight(const NforInputs &in, const NforParams &p, bool plain,
         RestoreLocalMeanAt(source, p.clampLightFine, p.clampLightNoise, out, &stay);
     keep("clamp.light", *out);
     if (p.rareLightShare > 0) {
-        NforSpreadRareLight(*in.color, clamped, near, p.rareLightShare, p.rareLightRatio, 2, 6,
-                            16, out);
+        NforSpreadRareLight(*in.color, clamped, near, p.rareLightShare, p.rareLightRatio,
+                            p.rareLightSigma, p.rareLightRadius, p.rareLightPair, out);
         keep("rare", *out);
     }
 }

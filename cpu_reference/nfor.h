@@ -206,10 +206,12 @@ struct NforParams {
     int clampLightRadius = 0, clampLightFine = 0, clampLightReach = 4;
     double clampLightNoise = 2;
     // After the clamp's light, where it runs: this share of the light the clamp took from
-    // each pixel it cut to under 1 / rareLightRatio with another within 16, scattered as a
-    // Gaussian of 2 pixels over radius 6 (NforSpreadRareLight, cpu_reference/nfor_rare.h), away
-    // from clampLightReach's pixels; 0: off.
-    double rareLightShare = 0, rareLightRatio = 40;
+    // each pixel it cut to under 1 / rareLightRatio with another within rareLightPair,
+    // scattered as a Gaussian of rareLightSigma pixels over rareLightRadius
+    // (NforSpreadRareLight, cpu_reference/nfor_rare.h), away from clampLightReach's pixels; 0:
+    // off.
+    double rareLightShare = 0, rareLightRatio = 40, rareLightSigma = 2;
+    int rareLightRadius = 6, rareLightPair = 16;
     // Beside a variance layer, the specks' clamp, the clamp's light, the weak emitters' mean
     // and the lights' spread run as without one; false: only without one.
     bool layerPasses = true;
