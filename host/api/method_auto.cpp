@@ -139,7 +139,8 @@ std::vector<ParamDef<AutoFrontEnd::Options>> OwnDefs() {
         FloatParam("auto-halves-drop",
                    "beside half-buffers: leave out a candidate whose error estimate over the "
                    "frame is above this times the candidates' median (0: off; at least 1, so "
-                   "the median's own is kept; none where that median is under 1e-4)",
+                   "the median's own is kept; none where that median is under 1e-4 or under "
+                   "0.01 x half1's variance over the frame, within the halves' noise)",
                    &O::halvesDrop, 0, 1e6),
         FloatParam("auto-floor", "smallest relative error estimate a weight takes",
                    &O::floorError, 1e-12, 1),

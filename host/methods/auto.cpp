@@ -582,8 +582,8 @@ AutoResult AutoCombine(vk::Context &context, const Image &color,
             AutoHalvesResult frame;
             frame.frameEstimates = sums.Means();
             frame.frameNoise = sums.NoiseMean();
-            frame.dropped =
-                AutoHalvesDropped(frame.frameEstimates, options.halvesDrop, &frame.median);
+            frame.dropped = AutoHalvesDropped(frame.frameEstimates, options.halvesDrop,
+                                              frame.frameNoise, &frame.median);
             dropPlan = HalvesDropPlan(candidates, options, frame);
             stripOptions.halvesSums = nullptr;
             stripOptions.halvesDropped = frame.dropped;

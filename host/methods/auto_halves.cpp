@@ -33,9 +33,9 @@ double Median(std::vector<double> values) {
 constexpr double kDropFloor = 1e-4;
 
 // The smallest share of half1's variance over the frame a candidate's estimate over the
-// frame counts as in the rank: below it the frame's noise hides the differences (fence_grass
-// in docs/methods/auto.md), and a candidate whose estimate is about zero or below would take
-// every weight.
+// frame counts as in the rank, and that the candidates' median must pass for the drop: below
+// it the frame's noise hides the differences (fence_grass in docs/methods/auto.md), and a
+// candidate whose estimate is about zero or below would take every weight.
 constexpr double kRankNoise = 0.01;
 
 // Each candidate's factor on the floor: (its frame estimate / the smallest of those left
@@ -126,10 +126,12 @@ std::vector<double> AutoHalvesSums::Means() const {
 }
 
 std::vector<bool> AutoHalvesDropped(const std::vector<double> &frameEstimates, float drop,
-                                    double *median) {
+                                    double frameNoise, double *median) {
     *median = Median(frameEstimates);
     std::vector<bool> dropped(frameEstimates.size(), false);
-    if (drop > 0 && *median > kDropFloor)
+    // A median within the share of half1's variance the rank reads as noise tells nothing
+    // either: the candidates' estimates over the frame differ by less than half1's noise.
+    if (drop > 0 && *median > std::max(kDropFloor, kRankNoise * frameNoise))
         for (size_t k = 0; k < frameEstimates.size(); ++k)
             dropped[k] = frameEstimates[k] > drop * *median;
     return dropped;
@@ -166,7 +168,8 @@ AutoHalvesResult AutoAdjustHalvesEstimates(Image &smooth, const Image &noise,
     for (int k = 0; k < count; ++k)
         result.frameEstimates.push_back(FiniteMean(smooth.Plane(k), n));
     result.frameNoise = FiniteMean(noise.data.data(), n);
-    result.dropped = AutoHalvesDropped(result.frameEstimates, settings.drop, &result.median);
+    result.dropped = AutoHalvesDropped(result.frameEstimates, settings.drop, result.frameNoise,
+                                       &result.median);
     if (settings.dropped) {
         if (settings.dropped->size() != size_t(count))
             throw Error("auto: the halves' decided drop must hold one flag per candidate",

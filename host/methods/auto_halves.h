@@ -67,9 +67,10 @@ struct AutoHalvesSums {
 };
 
 // Which candidates `drop` leaves out, given each one's estimate over the frame (the mean of
-// its finite window means) and their median, which the ratio is taken against.
+// its finite window means) and their median, which the ratio is taken against: none where
+// that median is under 1e-4 or under 0.01 x half1's variance over the frame (`frameNoise`).
 std::vector<bool> AutoHalvesDropped(const std::vector<double> &frameEstimates, float drop,
-                                    double *median);
+                                    double frameNoise, double *median);
 
 // Each candidate's factor on its estimate that makes a method's variants share one weight
 // under weights 1 / e^power: (its method's candidates left in) ^ (1 / power), at most the
